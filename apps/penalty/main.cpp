@@ -1,0 +1,2 @@
+// Placeholder entry point replaced below once the force field exists.
+int main() { return 0; }

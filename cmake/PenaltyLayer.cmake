@@ -1,0 +1,28 @@
+# penalty_add_layer(<name> FOLDER <folder> DEPENDS <targets...>)
+# One library per pipeline stage, from include/penalty/<folder>/*.hpp and src/<folder>/*.cpp.
+# A layer without .cpp files is an INTERFACE (header-only) target. Sources are globbed with
+# CONFIGURE_DEPENDS so that adding a file needs no CMake edit.
+function(penalty_add_layer name)
+  cmake_parse_arguments(L "" "FOLDER" "DEPENDS" ${ARGN})
+  file(GLOB_RECURSE _srcs CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/src/${L_FOLDER}/*.cpp")
+  set(_target penalty_${name})
+  if(_srcs)
+    add_library(${_target} STATIC ${_srcs})
+    target_include_directories(${_target} PUBLIC
+      $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+      $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>
+      PRIVATE ${PROJECT_SOURCE_DIR}/src)
+    target_link_libraries(${_target} PUBLIC ${L_DEPENDS} PRIVATE $<BUILD_INTERFACE:penalty_warnings>)
+    target_compile_features(${_target} PUBLIC cxx_std_20)
+  else()
+    add_library(${_target} INTERFACE)
+    target_include_directories(${_target} INTERFACE
+      $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+      $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+    target_link_libraries(${_target} INTERFACE ${L_DEPENDS})
+    target_compile_features(${_target} INTERFACE cxx_std_20)
+  endif()
+  set_target_properties(${_target} PROPERTIES EXPORT_NAME ${name})
+  add_library(penalty::${name} ALIAS ${_target})
+  set_property(GLOBAL APPEND PROPERTY PENALTY_INSTALL_TARGETS ${_target})
+endfunction()
