@@ -16,6 +16,7 @@
 #include "penalty/core/types.hpp"
 
 #include <array>
+#include <memory>
 #include <cstdint>
 #include <vector>
 
