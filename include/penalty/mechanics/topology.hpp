@@ -32,8 +32,14 @@ using Hexahedron = std::array<PointId, 8>;
 class MeshTopology {
 public:
     MeshTopology() = default;
+    MeshTopology(const MeshTopology&) = default;
+    MeshTopology(MeshTopology&&) noexcept = default;
+    MeshTopology& operator=(const MeshTopology&) = default;
+    MeshTopology& operator=(MeshTopology&&) noexcept = default;
+    ~MeshTopology() = default;
 
-    /// Element lists as given by the user or a loader (before derivation).
+    /// Element lists as given by the user or a loader (before derivation). Negative indices throw
+    /// std::invalid_argument; indices >= an explicit num_points throw on first query.
     void set_num_points(std::size_t n);
     void set_edges(std::vector<Edge> edges);
     void set_triangles(std::vector<Triangle> triangles);
@@ -61,6 +67,32 @@ public:
     [[nodiscard]] const std::vector<std::array<std::int32_t, 3>>& edges_in_triangle() const;
     /// Vertices sharing an edge with v (SOFA's verticesAroundVertex).
     [[nodiscard]] const std::vector<std::vector<PointId>>& vertices_around_vertex() const;
+    /// edges_in_quad()[q][j]: index of the edge (q[j+1], q[j+2]) of quad q (SOFA's EdgesInQuad).
+    [[nodiscard]] const std::vector<std::array<std::int32_t, 4>>& edges_in_quad() const;
+    /// Quads sharing each edge, in quad index order.
+    [[nodiscard]] const std::vector<std::vector<std::int32_t>>& quads_around_edge() const;
+    /// Hexahedra using each vertex, in hexahedron index order.
+    [[nodiscard]] const std::vector<std::vector<std::int32_t>>& hexahedra_around_vertex() const;
+
+    /// SOFA's getEdgeIndex(a, b): the first edge of edges_around_vertex()[a] whose other end is b,
+    /// whatever its orientation; -1 when there is none.
+    [[nodiscard]] std::int32_t edge_index(PointId a, PointId b) const;
+
+    /// True when the mesh has tetrahedra or hexahedra (SOFA's hasVolume).
+    [[nodiscard]] bool has_volume() const { return !tetrahedra_.empty() || !hexahedra_.empty(); }
+
+    /// Local vertex pairs of the 6 tetrahedron edges and the 12 hexahedron edges, and the four
+    /// oriented faces of a tetrahedron (SOFA's tables; faces point outward for a positive tetra).
+    static constexpr std::array<std::array<int, 2>, 6> kTetraEdges{
+        {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+    static constexpr std::array<std::array<int, 2>, 12> kHexaEdges{{{0, 1}, {0, 3}, {0, 4}, {1, 2},
+                                                                    {1, 5}, {2, 3}, {2, 6}, {3, 7},
+                                                                    {4, 5}, {4, 7}, {5, 6}, {6, 7}}};
+    static constexpr std::array<std::array<int, 3>, 4> kTetraFaces{
+        {{1, 2, 3}, {0, 3, 2}, {1, 3, 0}, {0, 2, 1}}};
+    /// Hexahedron faces in SOFA's order (-z, +z, -y, +x, +y, -x for the grid vertex numbering).
+    static constexpr std::array<std::array<int, 4>, 6> kHexaFaces{
+        {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
 
 private:
     void invalidate();
@@ -72,7 +104,9 @@ private:
     std::vector<Tetrahedron> tetrahedra_;
     std::vector<Hexahedron> hexahedra_;
     struct Cache;
-    mutable std::shared_ptr<Cache> cache_;
+    const Cache& cache() const;  ///< builds every derived list once (thread-safe)
+    static std::shared_ptr<Cache> new_cache();
+    mutable std::shared_ptr<Cache> cache_ = new_cache();
 };
 
 }  // namespace penalty
