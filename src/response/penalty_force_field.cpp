@@ -1,0 +1,383 @@
+#include "penalty/response/penalty_force_field.hpp"
+
+#include "penalty/core/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace penalty {
+
+namespace {
+
+/// P·w with P = I − n·nᵀ: the part of w in the tangent plane of n.
+Vec3 tangential_part(const Vec3& w, const Vec3& n) { return w - w.dot(n) * n; }
+
+/// ξ re-projected on the tangent plane of n with its length kept (LAMMPS / Chrono DEM history
+/// rotation). A spring parallel to n has no tangential direction left and is dropped.
+Vec3 rotate_onto_tangent_plane(const Vec3& shear, const Vec3& n) {
+    const Vec3 projected = tangential_part(shear, n);
+    const double projected_norm = projected.norm();
+    if (projected_norm <= 1e-300) return Vec3::Zero();
+    return projected * (shear.norm() / projected_norm);
+}
+
+void check_non_negative(const char* what, double value, std::size_t contact) {
+    if (!std::isfinite(value) || value < 0.0)
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", contact, ": ", what,
+                               " = ", value, " must be finite and >= 0");
+}
+
+}  // namespace
+
+void PenaltyParameters::validate() const {
+    if (!std::isfinite(damping) || damping < 0.0)
+        throw_invalid_argument("PenaltyParameters: damping = ", damping, " must be finite and >= 0");
+    if (!std::isfinite(tangential_damping) || tangential_damping < 0.0)
+        throw_invalid_argument("PenaltyParameters: tangential_damping = ", tangential_damping,
+                               " must be finite and >= 0");
+    if (!std::isfinite(tangential_stiffness_ratio) || tangential_stiffness_ratio <= 0.0)
+        throw_invalid_argument("PenaltyParameters: tangential_stiffness_ratio = ",
+                               tangential_stiffness_ratio, " must be finite and > 0");
+    if (!std::isfinite(time_step) || time_step <= 0.0)
+        throw_invalid_argument("PenaltyParameters: time_step = ", time_step, " must be finite and > 0");
+}
+
+PenaltyForceField::PenaltyForceField(PenaltyParameters parameters) { set_parameters(parameters); }
+
+void PenaltyForceField::set_parameters(const PenaltyParameters& parameters) {
+    parameters.validate();
+    parameters_ = parameters;
+}
+
+void PenaltyForceField::clear(std::size_t reserve) {
+    previous_.swap(contacts_);
+    contacts_.clear();
+    if (reserve > 0) contacts_.reserve(reserve);
+    checked_size1_ = checked_size2_ = kUnchecked;
+}
+
+void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index index2,
+                                    const Vec3& normal, double dist, double ks, double mu_s,
+                                    double mu_v, Index old_index) {
+    const std::size_t id = contacts_.size();
+    if (m1 < 0 || m2 < 0)
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": DOF index m1 = ",
+                               m1, ", m2 = ", m2, " must be >= 0");
+    if (!normal.allFinite() || std::abs(normal.norm() - 1.0) > 1e-6)
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": normal (",
+                               normal.x(), ", ", normal.y(), ", ", normal.z(),
+                               ") must be a finite unit vector");
+    if (!std::isfinite(dist))
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": dist = ", dist,
+                               " must be finite");
+    check_non_negative("stiffness ks", ks, id);
+    check_non_negative("static friction mu_s", mu_s, id);
+    check_non_negative("dynamic friction mu_v", mu_v, id);
+
+    PenaltyContact& contact = contacts_.emplace_back();
+    contact.m1 = m1;
+    contact.m2 = m2;
+    contact.index1 = index1;
+    contact.index2 = index2;
+    contact.normal = normal;
+    contact.dist = dist;
+    contact.ks = ks;
+    contact.mu_s = mu_s;
+    contact.mu_v = mu_v;
+    // SOFA: age carries over only from a valid 1-based index into the previous list
+    if (old_index >= 1 && static_cast<std::size_t>(old_index) <= previous_.size()) {
+        const PenaltyContact& old = previous_[static_cast<std::size_t>(old_index - 1)];
+        contact.age = old.age + 1;
+        // tangential spring history: kept only if the previous contact was active
+        if (old.friction_state != FrictionState::none) {
+            contact.shear_start = old.shear;
+            contact.has_history = true;
+            contact.slid_last_step = old.friction_state == FrictionState::sliding;
+        }
+    }
+    checked_size1_ = checked_size2_ = kUnchecked;
+}
+
+void PenaltyForceField::renew_contacts() {
+    clear(contacts_.size());
+    for (std::size_t i = 0; i < previous_.size(); ++i) {
+        const PenaltyContact& c = previous_[i];
+        add_contact(c.m1, c.m2, c.index1, c.index2, c.normal, c.dist, c.ks, c.mu_s, c.mu_v,
+                    static_cast<Index>(i + 1));
+    }
+}
+
+void PenaltyForceField::check_indices(const char* function, std::size_t n1, std::size_t n2) const {
+    if (checked_size1_ == n1 && checked_size2_ == n2) return;
+    for (std::size_t i = 0; i < contacts_.size(); ++i) {
+        const PenaltyContact& c = contacts_[i];
+        if (static_cast<std::size_t>(c.m1) >= n1)
+            throw_invalid_argument("PenaltyForceField::", function, "(): contact ", i, ": m1 = ", c.m1,
+                                   " is outside state 1 (size ", n1, ")");
+        if (static_cast<std::size_t>(c.m2) >= n2)
+            throw_invalid_argument("PenaltyForceField::", function, "(): contact ", i, ": m2 = ", c.m2,
+                                   " is outside state 2 (size ", n2, ")");
+    }
+    checked_size1_ = n1;
+    checked_size2_ = n2;
+}
+
+void PenaltyForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2,
+                                  ConstVec3Span v1, ConstVec3Span v2) {
+    if (f1.size() != x1.size() || f2.size() != x2.size())
+        throw_invalid_argument("PenaltyForceField::add_force(): force sizes (", f1.size(), ", ",
+                               f2.size(), ") differ from position sizes (", x1.size(), ", ",
+                               x2.size(), ")");
+    check_indices("add_force", x1.size(), x2.size());
+    const bool damping = parameters_.damping > 0.0;
+    const bool friction = parameters_.friction == FrictionModel::coulomb;
+    if ((damping || friction) && (v1.size() != x1.size() || v2.size() != x2.size()))
+        throw_invalid_argument("PenaltyForceField::add_force(): velocity sizes (", v1.size(), ", ",
+                               v2.size(), ") differ from position sizes (", x1.size(), ", ",
+                               x2.size(), "); damping and friction need velocities");
+    if (damping) {
+        if (friction) add_force_impl<true, true>(f1, f2, x1, x2, v1, v2);
+        else add_force_impl<true, false>(f1, f2, x1, x2, v1, v2);
+    } else {
+        if (friction) add_force_impl<false, true>(f1, f2, x1, x2, v1, v2);
+        else add_force_impl<false, false>(f1, f2, x1, x2, v1, v2);
+    }
+}
+
+template <bool kDamping, bool kFriction>
+void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2,
+                                       ConstVec3Span v1, ConstVec3Span v2) {
+    const double c = parameters_.damping;
+    const double c_t = parameters_.tangential_damping;
+    const double h = parameters_.time_step;
+    for (PenaltyContact& ct : contacts_) {
+        const Vec3& n = ct.normal;
+        const Vec3 u = x2[ct.m2] - x1[ct.m1];
+        // pen = dist − (x2 − x1)·n  (m)
+        const double pen = ct.dist - u.dot(n);
+        ct.pen = pen;
+        const bool first_evaluation_of_step = !ct.step_started;
+        ct.step_started = true;
+        if (!(pen > 0.0)) {
+            ct.normal_force = 0.0;
+            if constexpr (kFriction) {
+                // out of contact: the tangential spring is dropped (anchor released)
+                ct.tangential_force.setZero();
+                ct.shear.setZero();
+                ct.friction_state = FrictionState::none;
+                if (first_evaluation_of_step) {
+                    ct.has_history = false;
+                    ct.shear_start.setZero();
+                    ct.u_start = u;
+                }
+            }
+            continue;
+        }
+
+        // normal force on side 2 along n: f_n = ks·pen − c·v_n  (N)
+        double normal_force = ct.ks * pen;
+        Vec3 v_rel = Vec3::Zero();
+        if constexpr (kDamping || kFriction) v_rel = v2[ct.m2] - v1[ct.m1];
+        if constexpr (kDamping) {
+            const double v_n = v_rel.dot(n);
+            normal_force -= c * v_n;
+            if (first_evaluation_of_step) dissipated_damping_ += c * v_n * v_n * h;
+        }
+        ct.normal_force = normal_force;
+        Vec3 force2 = normal_force * n;
+
+        if constexpr (kFriction) {
+            if (first_evaluation_of_step) {
+                // ξ₀: the previous spring rotated onto this tangent plane plus the tangential motion
+                // of the previous step (h·v_t); a new contact is anchored here with ξ₀ = 0.
+                const Vec3 v_t = tangential_part(v_rel, n);
+                ct.shear_start = ct.has_history
+                                     ? Vec3(rotate_onto_tangent_plane(ct.shear_start, n) + h * v_t)
+                                     : Vec3::Zero();
+                ct.u_start = u;
+            }
+            const double kt = parameters_.tangential_stiffness_ratio * ct.ks;
+            const Vec3 v_t = tangential_part(v_rel, n);
+            // ξ(x) = ξ₀ + P·(u − u₀)
+            const Vec3 shear = ct.shear_start + tangential_part(u - ct.u_start, n);
+            const Vec3 trial = -kt * shear - c_t * v_t;
+            const double trial_norm = trial.norm();
+            const double mu_threshold = ct.slid_last_step ? ct.mu_v : ct.mu_s;
+            const double abs_fn = std::abs(normal_force);
+            if (trial_norm <= mu_threshold * abs_fn) {
+                ct.friction_state = FrictionState::sticking;
+                ct.tangential_force = trial;
+                ct.shear = shear;
+                if (first_evaluation_of_step) dissipated_damping_ += c_t * v_t.squaredNorm() * h;
+            } else {
+                // sliding: force scaled to the dynamic cap, anchor moved to match it
+                ct.friction_state = FrictionState::sliding;
+                ct.tangential_force = (ct.mu_v * abs_fn / trial_norm) * trial;
+                ct.shear = kt > 0.0 ? Vec3(-(ct.tangential_force + c_t * v_t) / kt) : Vec3::Zero();
+                if (first_evaluation_of_step)
+                    dissipated_sliding_ += std::max(0.0, -ct.tangential_force.dot(v_t)) * h;
+            }
+            // the anchor moved at the step start belongs to the whole step
+            if (first_evaluation_of_step) ct.shear_start = ct.shear;
+            force2 += ct.tangential_force;
+        }
+
+        f1[ct.m1] -= force2;
+        f2[ct.m2] += force2;
+    }
+}
+
+void PenaltyForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2,
+                                   double k_factor, double b_factor) const {
+    if (df1.size() != dx1.size() || df2.size() != dx2.size())
+        throw_invalid_argument("PenaltyForceField::add_dforce(): df sizes (", df1.size(), ", ",
+                               df2.size(), ") differ from dx sizes (", dx1.size(), ", ", dx2.size(), ")");
+    check_indices("add_dforce", dx1.size(), dx2.size());
+    const double c = parameters_.damping;
+    const double c_t = parameters_.tangential_damping;
+    const double ratio = parameters_.tangential_stiffness_ratio;
+    const bool friction = parameters_.friction == FrictionModel::coulomb;
+    for (const PenaltyContact& ct : contacts_) {
+        if (!(ct.pen > 0.0)) continue;  // SOFA: the active set of the last add_force
+        const Vec3& n = ct.normal;
+        const Vec3 du = dx2[ct.m2] - dx1[ct.m1];
+        // df2 = −(kF·ks + bF·c)·n·(n·du)  [normal spring and dashpot]
+        Vec3 ddf2 = -(k_factor * ct.ks + b_factor * c) * n.dot(du) * n;
+        if (friction && ct.friction_state == FrictionState::sticking) {
+            // df2 −= (kF·kt + bF·c_t)·P·du  [sticking tangential spring and damper]
+            ddf2 -= (k_factor * ratio * ct.ks + b_factor * c_t) * tangential_part(du, n);
+        }
+        df1[ct.m1] -= ddf2;
+        df2[ct.m2] += ddf2;
+    }
+}
+
+namespace {
+
+/// Appends the four 3×3 blocks of one contact: (1,1): −B, (1,2): +B, (2,1): +B, (2,2): −B.
+void append_contact_blocks(TripletList& triplets, const Mat3& block, Index row1, Index row2) {
+    for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b) {
+            const double value = block(a, b);
+            if (value == 0.0) continue;
+            triplets.emplace_back(row1 + a, row1 + b, -value);
+            triplets.emplace_back(row1 + a, row2 + b, value);
+            triplets.emplace_back(row2 + a, row1 + b, value);
+            triplets.emplace_back(row2 + a, row2 + b, -value);
+        }
+    }
+}
+
+SparseMatrix to_matrix(const TripletList& triplets, Index n1, Index n2, bool same_state) {
+    const Index size = same_state ? 3 * n1 : 3 * (n1 + n2);
+    SparseMatrix matrix(size, size);
+    matrix.setFromTriplets(triplets.begin(), triplets.end());
+    return matrix;
+}
+
+}  // namespace
+
+void PenaltyForceField::add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2,
+                                               double factor) const {
+    const bool friction = parameters_.friction == FrictionModel::coulomb;
+    for (const PenaltyContact& ct : contacts_) {
+        if (!(ct.pen > 0.0)) continue;
+        const Vec3& n = ct.normal;
+        // B = factor·(ks·n·nᵀ + kt·P while sticking)
+        Mat3 block = ct.ks * n * n.transpose();
+        if (friction && ct.friction_state == FrictionState::sticking)
+            block += parameters_.tangential_stiffness_ratio * ct.ks * (Mat3::Identity() - n * n.transpose());
+        append_contact_blocks(triplets, factor * block, offset1 + 3 * ct.m1, offset2 + 3 * ct.m2);
+    }
+}
+
+void PenaltyForceField::add_damping_triplets(TripletList& triplets, Index offset1, Index offset2,
+                                             double factor) const {
+    const double c = parameters_.damping;
+    const double c_t = parameters_.tangential_damping;
+    const bool friction = parameters_.friction == FrictionModel::coulomb;
+    if (c == 0.0 && (!friction || c_t == 0.0)) return;  // SOFA: empty damping matrix
+    for (const PenaltyContact& ct : contacts_) {
+        if (!(ct.pen > 0.0)) continue;
+        const Vec3& n = ct.normal;
+        Mat3 block = c * n * n.transpose();
+        if (friction && ct.friction_state == FrictionState::sticking)
+            block += c_t * (Mat3::Identity() - n * n.transpose());
+        append_contact_blocks(triplets, factor * block, offset1 + 3 * ct.m1, offset2 + 3 * ct.m2);
+    }
+}
+
+SparseMatrix PenaltyForceField::stiffness_matrix(Index n1, Index n2, bool same_state) const {
+    TripletList triplets;
+    add_stiffness_triplets(triplets, 0, same_state ? 0 : 3 * n1);
+    return to_matrix(triplets, n1, n2, same_state);
+}
+
+SparseMatrix PenaltyForceField::damping_matrix(Index n1, Index n2, bool same_state) const {
+    TripletList triplets;
+    add_damping_triplets(triplets, 0, same_state ? 0 : 3 * n1);
+    return to_matrix(triplets, n1, n2, same_state);
+}
+
+double PenaltyForceField::potential_energy() const {
+    const double ratio = parameters_.tangential_stiffness_ratio;
+    const bool friction = parameters_.friction == FrictionModel::coulomb;
+    double energy = 0.0;
+    for (const PenaltyContact& ct : contacts_) {
+        if (!(ct.pen > 0.0)) continue;
+        energy += 0.5 * ct.ks * ct.pen * ct.pen;  // ½·ks·pen²
+        if (friction) energy += 0.5 * ratio * ct.ks * ct.shear.squaredNorm();  // ½·kt·|ξ|²
+    }
+    return energy;
+}
+
+void PenaltyForceField::reset_dissipated_energy() {
+    dissipated_damping_ = 0.0;
+    dissipated_sliding_ = 0.0;
+}
+
+std::size_t PenaltyForceField::active_count() const {
+    return static_cast<std::size_t>(std::count_if(
+        contacts_.begin(), contacts_.end(), [](const PenaltyContact& c) { return c.pen > 0.0; }));
+}
+
+std::vector<ContactSegment> PenaltyForceField::export_contacts(ConstVec3Span x1, ConstVec3Span x2) const {
+    check_indices("export_contacts", x1.size(), x2.size());
+    std::vector<ContactSegment> segments;
+    segments.reserve(contacts_.size());
+    for (const PenaltyContact& ct : contacts_) {
+        ContactSegment& s = segments.emplace_back();
+        s.point1 = x1[ct.m1];
+        s.point2 = x2[ct.m2];
+        s.normal = ct.normal;
+        s.pen = ct.dist - (s.point2 - s.point1).dot(ct.normal);
+        s.age = ct.age;
+        s.force = ct.pen > 0.0 ? Vec3(ct.normal_force * ct.normal + ct.tangential_force) : Vec3::Zero();
+        s.index1 = ct.index1;
+        s.index2 = ct.index2;
+    }
+    return segments;
+}
+
+std::vector<GrabbedPoint> PenaltyForceField::grab_points(ContactSide tool_side,
+                                                         std::span<const Index> tool_dofs,
+                                                         ConstVec3Span other_positions) const {
+    std::vector<GrabbedPoint> grabbed;
+    for (std::size_t i = 0; i < contacts_.size(); ++i) {
+        const PenaltyContact& ct = contacts_[i];
+        const Index tool_dof = tool_side == ContactSide::first ? ct.m1 : ct.m2;
+        const Index other_dof = tool_side == ContactSide::first ? ct.m2 : ct.m1;
+        const Index other_element = tool_side == ContactSide::first ? ct.index2 : ct.index1;
+        for (const Index dof : tool_dofs) {
+            if (dof != tool_dof) continue;
+            if (static_cast<std::size_t>(other_dof) >= other_positions.size())
+                throw_invalid_argument("PenaltyForceField::grab_points(): contact ", i,
+                                       ": other-side DOF ", other_dof, " is outside the given positions (size ",
+                                       other_positions.size(), ")");
+            grabbed.push_back({other_positions[static_cast<std::size_t>(other_dof)], other_element, dof});
+        }
+    }
+    return grabbed;
+}
+
+}  // namespace penalty
