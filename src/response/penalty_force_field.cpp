@@ -88,8 +88,13 @@ void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index inde
     if (old_index >= 1 && static_cast<std::size_t>(old_index) <= previous_.size()) {
         const PenaltyContact& old = previous_[static_cast<std::size_t>(old_index - 1)];
         contact.age = old.age + 1;
-        // tangential spring history: kept only if the previous contact was active
-        if (old.friction_state != FrictionState::none) {
+        if (!old.step_started) {
+            // never evaluated (two detections without a solve): pass its carried history on
+            contact.shear_start = old.shear_start;
+            contact.has_history = old.has_history;
+            contact.slid_last_step = old.slid_last_step;
+        } else if (old.friction_state != FrictionState::none) {
+            // tangential spring history: kept only if the previous contact was active
             contact.shear_start = old.shear;
             contact.has_history = true;
             contact.slid_last_step = old.friction_state == FrictionState::sliding;
