@@ -171,6 +171,10 @@ void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x
                 ct.shear.setZero();
                 ct.friction_state = FrictionState::none;
                 if (first_evaluation_of_step) {
+                    // the released spring's energy is lost
+                    if (ct.has_history)
+                        dissipated_sliding_ += 0.5 * parameters_.tangential_stiffness_ratio * ct.ks *
+                                               ct.shear_start.squaredNorm();
                     ct.has_history = false;
                     ct.shear_start.setZero();
                     ct.u_start = u;
@@ -203,24 +207,39 @@ void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x
             }
             const double kt = parameters_.tangential_stiffness_ratio * ct.ks;
             const Vec3 v_t = tangential_part(v_rel, n);
-            // ξ(x) = ξ₀ + P·(u − u₀)
+            // ξ(x) = ξ₀ + P·(u − u₀); spring force f_s = −kt·ξ
             const Vec3 shear = ct.shear_start + tangential_part(u - ct.u_start, n);
-            const Vec3 trial = -kt * shear - c_t * v_t;
-            const double trial_norm = trial.norm();
-            const double mu_threshold = ct.slid_last_step ? ct.mu_v : ct.mu_s;
+            const double spring_norm = kt * shear.norm();
             const double abs_fn = std::abs(normal_force);
-            if (trial_norm <= mu_threshold * abs_fn) {
+            const double cap = (ct.slid_last_step ? ct.mu_v : ct.mu_s) * abs_fn;
+            if (spring_norm <= cap) {
+                // sticking: spring plus damper, the damper scaled by α ∈ [0, 1] so that
+                // |f_s + α·f_d| ≤ cap (Coulomb's bound holds for the whole tangential force)
                 ct.friction_state = FrictionState::sticking;
-                ct.tangential_force = trial;
+                const Vec3 spring_force = -kt * shear;
+                const Vec3 damper_force = -c_t * v_t;
+                double alpha = 1.0;
+                const double b2 = damper_force.squaredNorm();
+                if (b2 > 0.0 && (spring_force + damper_force).norm() > cap) {
+                    const double ab = spring_force.dot(damper_force);
+                    const double discriminant = ab * ab - b2 * (spring_force.squaredNorm() - cap * cap);
+                    alpha = std::clamp((-ab + std::sqrt(std::max(0.0, discriminant))) / b2, 0.0, 1.0);
+                }
+                ct.damper_scale = alpha;
+                ct.tangential_force = spring_force + alpha * damper_force;
                 ct.shear = shear;
-                if (first_evaluation_of_step) dissipated_damping_ += c_t * v_t.squaredNorm() * h;
+                if (first_evaluation_of_step) dissipated_damping_ += alpha * c_t * v_t.squaredNorm() * h;
             } else {
-                // sliding: force scaled to the dynamic cap, anchor moved to match it
+                // sliding: the spring is cut back to the dynamic cap (never lengthened) and the
+                // anchor moves by the slip
                 ct.friction_state = FrictionState::sliding;
-                ct.tangential_force = (ct.mu_v * abs_fn / trial_norm) * trial;
-                ct.shear = kt > 0.0 ? Vec3(-(ct.tangential_force + c_t * v_t) / kt) : Vec3::Zero();
+                ct.damper_scale = 0.0;
+                const double sliding_force = std::min(ct.mu_v * abs_fn, spring_norm);
+                ct.shear = (sliding_force / spring_norm) * shear;
+                ct.tangential_force = -kt * ct.shear;
+                // Coulomb work of the slip: sliding force × slip length (m)
                 if (first_evaluation_of_step)
-                    dissipated_sliding_ += std::max(0.0, -ct.tangential_force.dot(v_t)) * h;
+                    dissipated_sliding_ += sliding_force * (shear.norm() - ct.shear.norm());
             }
             // the anchor moved at the step start belongs to the whole step
             if (first_evaluation_of_step) ct.shear_start = ct.shear;
@@ -250,7 +269,7 @@ void PenaltyForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1
         Vec3 ddf2 = -(k_factor * ct.ks + b_factor * c) * n.dot(du) * n;
         if (friction && ct.friction_state == FrictionState::sticking) {
             // df2 −= (kF·kt + bF·c_t)·P·du  [sticking tangential spring and damper]
-            ddf2 -= (k_factor * ratio * ct.ks + b_factor * c_t) * tangential_part(du, n);
+            ddf2 -= (k_factor * ratio * ct.ks + b_factor * ct.damper_scale * c_t) * tangential_part(du, n);
         }
         df1[ct.m1] -= ddf2;
         df2[ct.m2] += ddf2;
@@ -285,6 +304,9 @@ SparseMatrix to_matrix(const TripletList& triplets, Index n1, Index n2, bool sam
 void PenaltyForceField::add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2,
                                                double factor) const {
     const bool friction = parameters_.friction == FrictionModel::coulomb;
+    // at most 4 blocks of 3×3 per contact; geometric growth keeps repeated appends amortised
+    const std::size_t needed = triplets.size() + 36 * contacts_.size();
+    if (triplets.capacity() < needed) triplets.reserve(std::max(needed, 2 * triplets.capacity()));
     for (const PenaltyContact& ct : contacts_) {
         if (!(ct.pen > 0.0)) continue;
         const Vec3& n = ct.normal;
@@ -307,7 +329,7 @@ void PenaltyForceField::add_damping_triplets(TripletList& triplets, Index offset
         const Vec3& n = ct.normal;
         Mat3 block = c * n * n.transpose();
         if (friction && ct.friction_state == FrictionState::sticking)
-            block += c_t * (Mat3::Identity() - n * n.transpose());
+            block += ct.damper_scale * c_t * (Mat3::Identity() - n * n.transpose());
         append_contact_blocks(triplets, factor * block, offset1 + 3 * ct.m1, offset2 + 3 * ct.m2);
     }
 }

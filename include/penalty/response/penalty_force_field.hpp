@@ -18,16 +18,16 @@
 /// Beyond SOFA, opt-in (PenaltyParameters); with the defaults every result is SOFA's:
 ///   damping c (N·s/m):  v_n = (v2[m2] − v1[m1])·n, f2 += −c·v_n·n while pen > 0,
 ///                       B = ∂f/∂v with blocks of −c·n·nᵀ as above;
-///   Coulomb friction:   a tangential spring ξ (m, in the tangent plane, side 2 relative to
-///                       side 1) anchored when the contact becomes active, carried across steps
-///                       through old_index, re-projected on the current tangent plane with its
-///                       length kept, and capped: f_t2 = −kt·ξ while kt·|ξ| ≤ mu·|f_n|
-///                       (sticking: mu = mu_s, or mu_v if the contact slid the previous step);
-///                       otherwise sliding: f_t2 = −mu_v·|f_n|·ξ/|ξ| and the anchor moves so that
-///                       kt·|ξ| = mu_v·|f_n|. kt = tangential_stiffness_ratio·ks (N/m).
-///                       With tangential damping c_t the sticking force is −kt·ξ − c_t·v_t and the
-///                       cap applies to that sum; when it is exceeded the force is scaled to the
-///                       cap and ξ is reset to −(f_t2 + c_t·v_t)/kt (LAMMPS granular history).
+///   Coulomb friction:   an elastic–perfectly-plastic tangential spring ξ (m, in the tangent
+///                       plane, side 2 relative to side 1; Cundall–Strack), anchored when the
+///                       contact becomes active, carried across steps through old_index,
+///                       re-projected on the current tangent plane with its length kept.
+///                       kt = tangential_stiffness_ratio·ks (N/m), f_s = −kt·ξ.
+///                       Sticking while kt·|ξ| ≤ mu·|f_n| (mu = mu_s, or mu_v if the contact slid
+///                       the step before): f_t2 = f_s − α·c_t·v_t, the damper scaled by
+///                       α ∈ [0, 1] so that |f_t2| ≤ mu·|f_n|.
+///                       Sliding otherwise: ξ is cut back to kt·|ξ| = mu_v·|f_n| (the anchor moves,
+///                       the released spring energy is dissipated) and f_t2 = −kt·ξ.
 ///                       Within a step ξ(x) = ξ₀ + P·(u − u₀), P = I − n·nᵀ, so while sticking
 ///                       the tangential force is −∂(½·kt·|ξ|²)/∂x and K gains −kt·P blocks.
 ///                       Between steps ξ₀ = rotate(ξ_prev) + h·P·(v2 − v1): the motion of the
@@ -82,6 +82,7 @@ struct PenaltyContact {
     double normal_force = 0.0;       ///< f_n = ks·pen − c·v_n on side 2 along n (N), 0 if inactive
     Vec3 tangential_force = Vec3::Zero();  ///< friction force on side 2 (N), ⟂ n
     Vec3 shear = Vec3::Zero();       ///< ξ after the cap at the last add_force (m)
+    double damper_scale = 1.0;       ///< α: share of the tangential damper applied while sticking
     FrictionState friction_state = FrictionState::none;
 
     // step bookkeeping (set at the first add_force after add_contact)
