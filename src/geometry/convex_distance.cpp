@@ -12,20 +12,20 @@ namespace penalty {
 
 ConvexShape ConvexShape::point(const Vec3& p) {
     ConvexShape s;
-    s.kind = Kind::Point;
+    s.kind = Kind::kPoint;
     s.v[0] = p;
     return s;
 }
 ConvexShape ConvexShape::segment(const Vec3& a, const Vec3& b) {
     ConvexShape s;
-    s.kind = Kind::Segment;
+    s.kind = Kind::kSegment;
     s.v[0] = a;
     s.v[1] = b;
     return s;
 }
 ConvexShape ConvexShape::triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     ConvexShape s;
-    s.kind = Kind::Triangle;
+    s.kind = Kind::kTriangle;
     s.v[0] = a;
     s.v[1] = b;
     s.v[2] = c;
@@ -33,18 +33,18 @@ ConvexShape ConvexShape::triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 ConvexShape ConvexShape::make_cylinder(const CylinderShape& c) {
     ConvexShape s;
-    s.kind = Kind::Cylinder;
+    s.kind = Kind::kCylinder;
     s.cylinder = c;
     return s;
 }
 
 Vec3 ConvexShape::support(const Vec3& d) const {
     switch (kind) {
-        case Kind::Point:
+        case Kind::kPoint:
             return v[0];
-        case Kind::Segment:
+        case Kind::kSegment:
             return d.dot(v[1]) > d.dot(v[0]) ? v[1] : v[0];
-        case Kind::Triangle: {
+        case Kind::kTriangle: {
             int best = 0;
             double bd = d.dot(v[0]);
             for (int i = 1; i < 3; ++i) {
@@ -56,7 +56,7 @@ Vec3 ConvexShape::support(const Vec3& d) const {
             }
             return v[best];
         }
-        case Kind::Cylinder: {
+        case Kind::kCylinder: {
             const Vec3& u = cylinder.axis;
             const double da = d.dot(u);
             Vec3 s = cylinder.center + (da >= 0.0 ? 1.0 : -1.0) * cylinder.half_height * u;
@@ -71,10 +71,10 @@ Vec3 ConvexShape::support(const Vec3& d) const {
 
 Vec3 ConvexShape::inner_point() const {
     switch (kind) {
-        case Kind::Point: return v[0];
-        case Kind::Segment: return 0.5 * (v[0] + v[1]);
-        case Kind::Triangle: return (v[0] + v[1] + v[2]) / 3.0;
-        case Kind::Cylinder: return cylinder.center;
+        case Kind::kPoint: return v[0];
+        case Kind::kSegment: return 0.5 * (v[0] + v[1]);
+        case Kind::kTriangle: return (v[0] + v[1] + v[2]) / 3.0;
+        case Kind::kCylinder: return cylinder.center;
     }
     return v[0];
 }
@@ -84,11 +84,11 @@ namespace {
 double extent(const ConvexShape& s) {
     const Vec3 c = s.inner_point();
     switch (s.kind) {
-        case ConvexShape::Kind::Point: return 0.0;
-        case ConvexShape::Kind::Segment: return std::max((s.v[0] - c).norm(), (s.v[1] - c).norm());
-        case ConvexShape::Kind::Triangle:
+        case ConvexShape::Kind::kPoint: return 0.0;
+        case ConvexShape::Kind::kSegment: return std::max((s.v[0] - c).norm(), (s.v[1] - c).norm());
+        case ConvexShape::Kind::kTriangle:
             return std::max({(s.v[0] - c).norm(), (s.v[1] - c).norm(), (s.v[2] - c).norm()});
-        case ConvexShape::Kind::Cylinder: return s.cylinder.radius + s.cylinder.half_height;
+        case ConvexShape::Kind::kCylinder: return s.cylinder.radius + s.cylinder.half_height;
     }
     return 0.0;
 }

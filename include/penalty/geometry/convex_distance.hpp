@@ -13,10 +13,10 @@ namespace penalty {
 
 /// A convex primitive described by its support function.
 struct ConvexShape {
-    enum class Kind : std::uint8_t { Point, Segment, Triangle, Cylinder };
-    Kind kind = Kind::Point;
+    enum class Kind : std::uint8_t { kPoint, kSegment, kTriangle, kCylinder };
+    Kind kind = Kind::kPoint;
     Vec3 v[3] = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};  ///< vertices (point/segment/triangle)
-    CylinderShape cylinder;                                    ///< when kind == Cylinder
+    CylinderShape cylinder;                                    ///< when kind == kCylinder
 
     static ConvexShape point(const Vec3& p);
     static ConvexShape segment(const Vec3& a, const Vec3& b);

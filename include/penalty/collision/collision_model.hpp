@@ -1,0 +1,125 @@
+#pragma once
+/// @file
+/// Base of every collision model (SOFA's CollisionModel): the common parameters with SOFA's
+/// defaults (spec §3.1), the model kind, per-element and per-model axis-aligned boxes, and the
+/// `canCollideWith` rule.
+
+#include "penalty/core/types.hpp"
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace penalty {
+
+/// The kinds of collision model. The numeric order is the row/column order of the dispatch
+/// table (see intersection.hpp).
+enum class ModelType : std::uint8_t { Point, Line, Triangle, Sphere, RigidSphere, Cylinder, Tetrahedron };
+inline constexpr int kModelTypeCount = 7;
+
+/// SOFA-like name: "Point", "Line", "Triangle", "Sphere", "RigidSphere", "Cylinder", "Tetrahedron".
+[[nodiscard]] const char* model_type_name(ModelType t);
+
+/// Axis-aligned box [min, max] (m). An empty box has min > max.
+struct Aabb {
+    Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
+    Vec3 max = Vec3::Constant(-std::numeric_limits<double>::infinity());
+
+    [[nodiscard]] bool empty() const { return (min.array() > max.array()).any(); }
+    void extend(const Vec3& p) {
+        min = min.cwiseMin(p);
+        max = max.cwiseMax(p);
+    }
+    void extend(const Aabb& b) {
+        min = min.cwiseMin(b.min);
+        max = max.cwiseMax(b.max);
+    }
+    /// Grows the box by m on every side.
+    void inflate(double m) {
+        min.array() -= m;
+        max.array() += m;
+    }
+    /// SOFA's proximity cube test: the boxes are disjoint iff on some axis
+    /// min1 > max2 + margin or min2 > max1 + margin (so touching boxes overlap).
+    [[nodiscard]] bool overlaps(const Aabb& o, double margin = 0.0) const {
+        for (int i = 0; i < 3; ++i)
+            if (min[i] > o.max[i] + margin || o.min[i] > max[i] + margin) return false;
+        return true;
+    }
+};
+
+/// The Data common to all SOFA collision models, with SOFA's defaults.
+struct CollisionModelParams {
+    std::string name;                 ///< used in error messages and contact names
+    bool active = true;               ///< excluded from detection if false
+    bool moving = true;               ///< false: per-element data (normals) computed once only
+    bool simulated = true;            ///< pairs of two non-simulated models are skipped
+    bool self_collision = false;      ///< models of the same node collide only if true
+    double contact_distance = 0.0;    ///< SOFA `contactDistance` (alias `proximity`), m, ≥ 0:
+                                      ///< skin added to alarm/contact distances and to `dist`
+    double contact_stiffness = 10.0;  ///< SOFA `contactStiffness` k (ks = k1·k2/dist), ≥ 0
+    double contact_friction = 0.0;    ///< summed into mu_v, unused by the penalty response
+    double contact_restitution = 0.0; ///< unused
+    std::string contact_response;     ///< per-model response override ("" = none)
+    std::vector<int> group;           ///< models sharing a group id never collide
+    /// Identifier of the scene-graph node (SOFA "context") that holds the model. Two models
+    /// with the same node id ≥ 0, or a model with itself, are "in the same node".
+    /// −1 (default) = a node of its own.
+    int node = -1;
+    bool both_side = false;           ///< SOFA `bothSide` (Point/Line/Triangle; LMD filters)
+};
+
+/// A collision model: a list of elements over a mechanical state.
+class CollisionModel {
+public:
+    CollisionModel(ModelType type, CollisionModelParams params);
+    virtual ~CollisionModel() = default;
+    CollisionModel(const CollisionModel&) = default;
+    CollisionModel& operator=(const CollisionModel&) = default;
+
+    [[nodiscard]] ModelType type() const { return type_; }
+    [[nodiscard]] const CollisionModelParams& params() const { return params_; }
+    /// Mutable parameters; call validate() after changing them.
+    [[nodiscard]] CollisionModelParams& params() { return params_; }
+    [[nodiscard]] const std::string& name() const { return params_.name; }
+
+    /// Number of elements.
+    [[nodiscard]] virtual std::size_t size() const = 0;
+    /// Box of element i (SOFA's leaf cube): see each model for its enlargement.
+    [[nodiscard]] virtual Aabb element_box(Index i) const = 0;
+    /// Union of the element boxes (empty box for an empty model).
+    [[nodiscard]] Aabb model_box() const;
+
+    /// Recomputes per-element derived data from the current positions (SOFA's
+    /// computeBoundingTree part that matters for detection: triangle normals, tetrahedron
+    /// coord2bary). When `moving` is false only the first call recomputes.
+    void update();
+
+    /// Checks parameters and positions; throws std::invalid_argument naming the model, the
+    /// element and the parameter (NaN/inf positions, negative radius, bad indices, ...).
+    virtual void validate() const;
+
+protected:
+    virtual void do_update() {}
+    /// Throws for a non-finite position of element `elem`.
+    void check_point(const Vec3& p, Index elem, const char* what) const;
+
+private:
+    ModelType type_;
+    CollisionModelParams params_;
+    bool updated_once_ = false;
+};
+
+/// True when the two models are in the same scene-graph node (or are the same model).
+[[nodiscard]] bool same_node(const CollisionModel& a, const CollisionModel& b);
+
+/// SOFA's canCollideWith(a, b): same node → a.self_collision; else if either group set is
+/// empty → true; else true iff the group sets are disjoint.
+[[nodiscard]] bool can_collide_with(const CollisionModel& a, const CollisionModel& b);
+
+/// The model-pair filter of SOFA's broad phase: both active, not both non-simulated,
+/// can_collide_with(a, b) && can_collide_with(b, a).
+[[nodiscard]] bool keep_model_pair(const CollisionModel& a, const CollisionModel& b);
+
+}  // namespace penalty

@@ -1,0 +1,126 @@
+#pragma once
+/// @file
+/// The four intersection methods of SOFA (DiscreteIntersection, NewProximityIntersection,
+/// MinProximityIntersection, LocalMinDistance) with their parameters and defaults (spec §5.1),
+/// the [type][type] dispatch table with explicit "unsupported"/"ignored" entries, the SOFA
+/// quirk switches (§14) and an exhaustive all-element-pairs loop (reference narrow phase).
+
+#include "penalty/collision/collision_model.hpp"
+#include "penalty/collision/detection_output.hpp"
+
+#include <cstdint>
+#include <string>
+
+namespace penalty {
+
+enum class IntersectionMethod : std::uint8_t { Discrete, NewProximity, MinProximity, LocalMinDistance };
+inline constexpr int kIntersectionMethodCount = 4;
+[[nodiscard]] const char* intersection_method_name(IntersectionMethod m);
+
+/// What to do when a proximity routine finds two coincident points (zero distance, so the
+/// normal d/|d| is undefined). SOFA (§14 item 8) emits a NaN normal in NewProximity
+/// (point/line/triangle routines) and LocalMinDistance; MinProximity and NewProximity
+/// Triangle–Sphere substitute (1,0,0).
+enum class ZeroDistanceNormal : std::uint8_t {
+    FallbackX,  ///< default: normal (1,0,0), as SOFA's MinProximity does (never NaN)
+    Drop,       ///< emit no output for that element pair
+    SofaNaN,    ///< reproduce SOFA exactly: NaN normal where SOFA has no guard
+};
+
+/// Switches for SOFA behaviours we consider bugs (spec §14). Default = reproduce SOFA
+/// (all false), except item 8 whose default never emits NaN (see ZeroDistanceNormal).
+struct SofaQuirkFixes {
+    /// §14.1 MinProximity Line–Sphere/RigidSphere builds the closest point mirrored about the
+    /// segment midpoint. true: use the true projection.
+    bool fix_minproximity_line_sphere_mirror = false;
+    /// §14.2 NewProximity Triangle–Sphere checks FLAG_E12 for edge AC and FLAG_E31 for edge BC.
+    /// true: check FLAG_E31 and FLAG_E23 (as Triangle–Point does).
+    bool fix_newproximity_triangle_sphere_edge_flags = false;
+    /// §14.3 NewProximity Triangle–Triangle tests vertex 1 of e1 without its ownership flag.
+    /// true: require FLAG_P1 like the other vertices.
+    bool fix_newproximity_triangle_triangle_vertex1_flag = false;
+    /// §14.4 NewProximity Triangle–Triangle overwrites the stored normals (bothSide logic).
+    /// true: leave the stored normals alone.
+    bool fix_newproximity_triangle_triangle_normal_overwrite = false;
+    /// §14.8 zero-distance normal policy.
+    ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
+};
+
+/// Parameters of an intersection method. Build with one of the factories to get SOFA's
+/// defaults for that method.
+struct IntersectionParams {
+    IntersectionMethod method = IntersectionMethod::NewProximity;
+    double alarm_distance = 1.0;    ///< A (m), ≥ 0; Discrete: 0
+    double contact_distance = 0.5;  ///< C (m), ≥ 0; Discrete: 0
+    // NewProximity and MinProximity
+    bool use_line_line = false;     ///< NewProximity default false, MinProximity default true
+    // MinProximity switches (false = pair registered as ignored)
+    bool use_sphere_triangle = true;  ///< Sphere/RigidSphere vs Point, Line, Triangle
+    bool use_point_point = true;
+    bool use_line_point = true;
+    bool use_surface_normals = false; ///< Triangle–Point normal = stored triangle normal
+    // LocalMinDistance
+    bool filter_intersection = true;
+    double angle_cone = 0.0;
+    double cone_factor = 0.5;
+    bool use_lmd_filters = false;   ///< true: skip the built-in validity filters
+    /// Beyond SOFA (opt-in, SOFA has no intersector): the four Cylinder pairs (NewProximity
+    /// and MinProximity) and Tetrahedron–Point (all methods, proximity semantics).
+    bool enable_beyond_sofa_pairs = false;
+    SofaQuirkFixes quirks;
+
+    [[nodiscard]] static IntersectionParams discrete();
+    [[nodiscard]] static IntersectionParams new_proximity();
+    [[nodiscard]] static IntersectionParams min_proximity();
+    [[nodiscard]] static IntersectionParams local_min_distance();
+
+    /// Throws std::invalid_argument for negative or non-finite distances/cone parameters.
+    void validate() const;
+};
+
+/// How a method handles a pair of model types.
+enum class PairSupport : std::uint8_t {
+    Supported,    ///< SOFA has an intersector and so do we
+    Ignored,      ///< SOFA registers the pair as ignored (e.g. MinProximity Triangle–Triangle,
+                  ///< or a MinProximity use* switch is false): no output, by design
+    Unsupported,  ///< SOFA has no intersector for the pair: no output (SOFA warns once)
+    BeyondSofa,   ///< not in SOFA; implemented here, active when enable_beyond_sofa_pairs
+};
+[[nodiscard]] const char* pair_support_name(PairSupport s);
+
+/// True if (a, b) is SOFA's registered order for that pair of types (the order of model 1,
+/// model 2 in DetectionOutputs and in the response). Exactly one of (a,b), (b,a) is registered
+/// unless a == b.
+[[nodiscard]] bool is_registered_order(ModelType a, ModelType b);
+
+/// Support of the (unordered) pair {a, b} by the method, taking the use* switches and
+/// enable_beyond_sofa_pairs into account (BeyondSofa is returned whatever the switch; it is
+/// active only when the switch is on).
+[[nodiscard]] PairSupport pair_support(const IntersectionParams& params, ModelType a, ModelType b);
+
+/// Runs the element intersector for (e1 of m1, e2 of m2); (m1, m2) must be in registered order.
+/// Appends 0 or more outputs to `out` and returns their number. Throws std::invalid_argument
+/// for an unsupported/ignored pair or a wrong order (callers should check pair_support first).
+/// May modify m1/m2 (SOFA's Triangle–Triangle normal overwrite, quirk §14.4).
+int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1,
+                       CollisionModel& m2, Index e2, DetectionOutputList& out);
+
+/// Result of detecting one model pair.
+struct ModelPairDetection {
+    CollisionModel* model1 = nullptr;  ///< first in registered order
+    CollisionModel* model2 = nullptr;
+    PairSupport support = PairSupport::Unsupported;
+    bool skipped = false;  ///< pair filtered out (inactive, both non-simulated, canCollideWith)
+    DetectionOutputList outputs;
+};
+
+/// Exhaustive narrow phase (the reference for the broad phase of issue 4): validates both
+/// models, applies the model-pair filter (keep_model_pair) and, for a supported pair, calls the
+/// element intersector on every element pair (e1 ascending, then e2 ascending) whose element
+/// boxes pass SOFA's proximity cube test (which never changes the result, §3.8) and which pass
+/// the self-collision element filters. Models are swapped into registered order. For a model
+/// paired with itself, each unordered element pair is visited once.
+[[nodiscard]] ModelPairDetection detect_model_pair(const IntersectionParams& params,
+                                                   CollisionModel& a, CollisionModel& b);
+
+}  // namespace penalty

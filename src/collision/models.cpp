@@ -1,0 +1,271 @@
+#include "penalty/collision/models.hpp"
+
+#include "penalty/core/error.hpp"
+
+#include <cmath>
+
+namespace penalty {
+
+namespace {
+
+template <class Ids>
+void check_indices(const CollisionModel& m, Index elem, const Ids& ids, std::size_t n) {
+    for (auto v : ids) {
+        if (v < 0 || std::size_t(v) >= n) {
+            throw_invalid_argument(model_type_name(m.type()), "Model '", m.name(), "': element ", elem,
+                                   ": vertex index ", v, " out of range (state has ", n, " points)");
+        }
+    }
+}
+
+void check_radius(const CollisionModel& m, Index elem, double r, const char* what) {
+    if (!(r >= 0.0) || !std::isfinite(r)) {
+        throw_invalid_argument(model_type_name(m.type()), "Model '", m.name(), "': element ", elem,
+                               ": ", what, " is ", r, " (must be finite and >= 0)");
+    }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+PointModel::PointModel(const Vec3State& state, const MeshTopology* topology, CollisionModelParams params)
+    : CollisionModel(ModelType::Point, std::move(params)), state_(&state), topology_(topology) {}
+
+Aabb PointModel::element_box(Index i) const {
+    Aabb b;
+    b.extend(point(i));
+    b.inflate(params().contact_distance);
+    return b;
+}
+
+void PointModel::validate() const {
+    CollisionModel::validate();
+    for (std::size_t i = 0; i < size(); ++i) check_point(point(Index(i)), Index(i), "position");
+}
+
+// ---------------------------------------------------------------------------------------------
+LineModel::LineModel(const Vec3State& state, const MeshTopology& topology, CollisionModelParams params)
+    : CollisionModel(ModelType::Line, std::move(params)), state_(&state), topology_(&topology),
+      edges_(topology.edges()) {
+    const auto& eav = topology.edges_around_vertex();
+    flags_.assign(edges_.size(), 0u);
+    for (std::size_t i = 0; i < edges_.size(); ++i) {
+        for (int k = 0; k < 2; ++k) {
+            const auto v = std::size_t(edges_[i][std::size_t(k)]);
+            if (v >= eav.size() || eav[v].empty()) continue;
+            if (std::size_t(eav[v].front()) == i) flags_[i] |= (k == 0 ? kP1 : kP2);
+            if (eav[v].size() == 1) flags_[i] |= (k == 0 ? kBP1 : kBP2);
+        }
+    }
+}
+
+Aabb LineModel::element_box(Index i) const {
+    Aabb b;
+    b.extend(p1(i));
+    b.extend(p2(i));
+    b.inflate(params().contact_distance);
+    return b;
+}
+
+void LineModel::validate() const {
+    CollisionModel::validate();
+    for (std::size_t i = 0; i < edges_.size(); ++i) check_indices(*this, Index(i), edges_[i], state_->size());
+    for (std::size_t i = 0; i < edges_.size(); ++i) {
+        check_point(p1(Index(i)), Index(i), "vertex 1 position");
+        check_point(p2(Index(i)), Index(i), "vertex 2 position");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+TriangleModel::TriangleModel(const Vec3State& state, const MeshTopology& topology, CollisionModelParams params)
+    : CollisionModel(ModelType::Triangle, std::move(params)), state_(&state), topology_(&topology) {
+    const auto& tris = topology.triangles();
+    const auto& quads = topology.quads();
+    num_topology_triangles_ = tris.size();
+    triangles_ = tris;
+    // each quad (q0,q1,q2,q3) -> (q1,q2,q0) and (q3,q0,q2), SOFA's split
+    for (const Quad& q : quads) {
+        triangles_.push_back(Triangle{q[1], q[2], q[0]});
+        triangles_.push_back(Triangle{q[3], q[0], q[2]});
+    }
+    flags_.assign(triangles_.size(), 0u);
+    if (!tris.empty()) {
+        const auto& tav = topology.triangles_around_vertex();
+        const auto& tae = topology.triangles_around_edge();
+        const auto& eit = topology.edges_in_triangle();
+        for (std::size_t t = 0; t < tris.size(); ++t) {
+            std::uint32_t f = 0;
+            for (std::size_t j = 0; j < 3; ++j) {
+                const auto v = std::size_t(tris[t][j]);
+                if (v < tav.size() && !tav[v].empty() && std::size_t(tav[v].front()) == t) f |= (kP1 << j);
+                if (t < eit.size()) {
+                    const auto e = std::size_t(eit[t][j]);  // edge opposite vertex j
+                    if (e < tae.size() && !tae[e].empty()) {
+                        if (std::size_t(tae[e].front()) == t) f |= (kE23 << j);
+                        if (tae[e].size() == 1) f |= (kBE23 << j);
+                    }
+                }
+            }
+            flags_[t] = f;
+        }
+    }
+    normals_.assign(triangles_.size(), Vec3::Zero());
+}
+
+void TriangleModel::do_update() {
+    if (!compute_normals) return;
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+        const Vec3 n = (p(Index(i), 1) - p(Index(i), 0)).cross(p(Index(i), 2) - p(Index(i), 0));
+        const double len = n.norm();
+        // SOFA normalises without a guard; a zero-area triangle keeps a zero normal here
+        normals_[i] = len > 0.0 ? Vec3(n / len) : Vec3::Zero();
+    }
+}
+
+Aabb TriangleModel::element_box(Index i) const {
+    Aabb b;
+    for (int k = 0; k < 3; ++k) b.extend(p(i, k));
+    b.inflate(params().contact_distance);
+    return b;
+}
+
+void TriangleModel::validate() const {
+    CollisionModel::validate();
+    for (std::size_t i = 0; i < triangles_.size(); ++i) check_indices(*this, Index(i), triangles_[i], state_->size());
+    for (std::size_t i = 0; i < triangles_.size(); ++i)
+        for (int k = 0; k < 3; ++k) check_point(p(Index(i), k), Index(i), "vertex position");
+}
+
+// ---------------------------------------------------------------------------------------------
+SphereModel::SphereModel(const Vec3State& state, double radius, std::vector<double> list_radius,
+                         CollisionModelParams params)
+    : CollisionModel(ModelType::Sphere, std::move(params)), state_(&state), radius_(radius),
+      list_radius_(std::move(list_radius)) {}
+
+Aabb SphereModel::element_box(Index i) const {
+    Aabb b;
+    b.extend(center(i));
+    b.inflate(radius(i) + params().contact_distance);
+    return b;
+}
+
+void SphereModel::validate() const {
+    CollisionModel::validate();
+    check_radius(*this, -1, radius_, "radius");
+    for (std::size_t i = 0; i < size(); ++i) {
+        check_radius(*this, Index(i), radius(Index(i)), "radius");
+        check_point(center(Index(i)), Index(i), "centre");
+    }
+}
+
+RigidSphereModel::RigidSphereModel(const Rigid3State& state, double radius, std::vector<double> list_radius,
+                                   CollisionModelParams params)
+    : CollisionModel(ModelType::RigidSphere, std::move(params)), state_(&state), radius_(radius),
+      list_radius_(std::move(list_radius)) {}
+
+Aabb RigidSphereModel::element_box(Index i) const {
+    Aabb b;
+    b.extend(center(i));
+    b.inflate(radius(i) + params().contact_distance);
+    return b;
+}
+
+void RigidSphereModel::validate() const {
+    CollisionModel::validate();
+    check_radius(*this, -1, radius_, "radius");
+    for (std::size_t i = 0; i < size(); ++i) {
+        check_radius(*this, Index(i), radius(Index(i)), "radius");
+        check_point(center(Index(i)), Index(i), "centre");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+CylinderModel::CylinderModel(const Rigid3State& state, double default_radius, double default_height,
+                             Vec3 default_local_axis, CollisionModelParams params)
+    : CollisionModel(ModelType::Cylinder, std::move(params)), state_(&state),
+      default_radius_(default_radius), default_height_(default_height), default_axis_(default_local_axis) {}
+
+double CylinderModel::radius(Index i) const {
+    return std::size_t(i) < radii.size() ? radii[std::size_t(i)] : default_radius_;
+}
+double CylinderModel::height(Index i) const {
+    return std::size_t(i) < heights.size() ? heights[std::size_t(i)] : default_height_;
+}
+
+CylinderShape CylinderModel::shape(Index i) const {
+    const RigidFrame& f = frame(i);
+    const Vec3 local = std::size_t(i) < local_axes.size() ? local_axes[std::size_t(i)] : default_axis_;
+    CylinderShape s;
+    s.center = f.center;
+    s.axis = (f.orientation * local).normalized();
+    s.radius = radius(i);
+    s.half_height = 0.5 * height(i);
+    return s;
+}
+
+Aabb CylinderModel::element_box(Index i) const {
+    const CylinderShape s = shape(i);
+    Aabb b;
+    b.extend(s.center - s.half_height * s.axis);
+    b.extend(s.center + s.half_height * s.axis);
+    b.inflate(s.radius);
+    return b;
+}
+
+void CylinderModel::validate() const {
+    CollisionModel::validate();
+    check_radius(*this, -1, default_radius_, "defaultRadius");
+    check_radius(*this, -1, default_height_, "defaultHeight");
+    for (std::size_t i = 0; i < size(); ++i) {
+        check_radius(*this, Index(i), radius(Index(i)), "radius");
+        check_radius(*this, Index(i), height(Index(i)), "height");
+        check_point(frame(Index(i)).center, Index(i), "centre");
+        const Vec3 local = i < local_axes.size() ? local_axes[i] : default_axis_;
+        if (!local.allFinite() || !(local.norm() > 0.0)) {
+            throw_invalid_argument("CylinderModel '", name(), "': element ", i,
+                                   ": local axis must be finite and non-zero");
+        }
+        if (!frame(Index(i)).orientation.coeffs().allFinite() ||
+            !(frame(Index(i)).orientation.norm() > 0.0)) {
+            throw_invalid_argument("CylinderModel '", name(), "': element ", i,
+                                   ": orientation must be a finite non-zero quaternion");
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+TetrahedronModel::TetrahedronModel(const Vec3State& state, const MeshTopology& topology, CollisionModelParams params)
+    : CollisionModel(ModelType::Tetrahedron, std::move(params)), state_(&state),
+      tetrahedra_(topology.tetrahedra()), coord2bary_(tetrahedra_.size(), Mat3::Zero()) {}
+
+void TetrahedronModel::do_update() {
+    for (std::size_t i = 0; i < tetrahedra_.size(); ++i) {
+        Mat3 m;
+        m.col(0) = p(Index(i), 1) - p(Index(i), 0);
+        m.col(1) = p(Index(i), 2) - p(Index(i), 0);
+        m.col(2) = p(Index(i), 3) - p(Index(i), 0);
+        const double det = m.determinant();
+        coord2bary_[i] = det != 0.0 ? Mat3(m.inverse()) : Mat3::Zero();
+    }
+}
+
+std::array<double, 4> TetrahedronModel::barycentric(Index i, const Vec3& P) const {
+    const Vec3 f = coord2bary_[std::size_t(i)] * (P - p(i, 0));
+    return {1.0 - f.x() - f.y() - f.z(), f.x(), f.y(), f.z()};
+}
+
+Aabb TetrahedronModel::element_box(Index i) const {
+    Aabb b;
+    for (int k = 0; k < 4; ++k) b.extend(p(i, k));
+    b.inflate(params().contact_distance);
+    return b;
+}
+
+void TetrahedronModel::validate() const {
+    CollisionModel::validate();
+    for (std::size_t i = 0; i < tetrahedra_.size(); ++i) check_indices(*this, Index(i), tetrahedra_[i], state_->size());
+    for (std::size_t i = 0; i < tetrahedra_.size(); ++i)
+        for (int k = 0; k < 4; ++k) check_point(p(Index(i), k), Index(i), "vertex position");
+}
+
+}  // namespace penalty
