@@ -1,0 +1,157 @@
+#pragma once
+/// @file
+/// Mappings (SOFA's Mapping<In, Out>): a child (output) state whose positions are a function of
+/// a parent (input) state, x_out = φ(x_in), with J = ∂φ/∂x_in:
+///   apply: x_out = φ(x_in);  apply_j: v_out = J·v_in;  apply_jt: f_in += Jᵀ·f_out.
+/// Mappings chain (a contact point mapped on a surface mapped on a volume): solvers call them
+/// top-down for apply/apply_j and bottom-up for apply_jt.
+
+#include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <array>
+#include <vector>
+
+namespace penalty {
+
+class BaseMapping {
+public:
+    virtual ~BaseMapping() = default;
+    [[nodiscard]] virtual BaseState* from() const = 0;
+    [[nodiscard]] virtual BaseState* to() const = 0;
+    /// Sizes the output state and computes its positions (and rest positions).
+    virtual void init() = 0;
+    virtual void apply_position() = 0;     ///< to.x = φ(from.x)
+    virtual void apply_velocity() = 0;     ///< to.v = J from.v
+    virtual void apply_dx() = 0;           ///< to.dx = J from.dx
+    virtual void apply_jt_force() = 0;     ///< from.f += Jᵀ to.f
+    virtual void apply_jt_df() = 0;        ///< from.df += Jᵀ to.df
+    /// J as triplets (rows: output scalars + row_offset, columns: input scalars + col_offset).
+    virtual void add_jacobian_triplets(TripletList& triplets, Index row_offset, Index col_offset) const = 0;
+};
+
+template <class In, class Out>
+class Mapping : public BaseMapping {
+public:
+    using InCoord = typename In::Coord;
+    using InDeriv = typename In::Deriv;
+    using OutCoord = typename Out::Coord;
+    using OutDeriv = typename Out::Deriv;
+
+    Mapping(MechanicalObject<In>& from, MechanicalObject<Out>& to) : in_(&from), out_(&to) {}
+
+    /// out = φ(in) (out already sized).
+    virtual void apply(std::span<OutCoord> out, std::span<const InCoord> in) = 0;
+    /// out = J·in (overwrites).
+    virtual void apply_j(std::span<OutDeriv> out, std::span<const InDeriv> in) const = 0;
+    /// in += Jᵀ·out.
+    virtual void apply_jt(std::span<InDeriv> in, std::span<const OutDeriv> out) const = 0;
+    /// Number of output DOFs.
+    [[nodiscard]] virtual std::size_t output_size() const = 0;
+
+    [[nodiscard]] BaseState* from() const override { return in_; }
+    [[nodiscard]] BaseState* to() const override { return out_; }
+    void init() override {
+        out_->position.resize(output_size());
+        apply(out_->position, in_->position);
+        out_->rest_position = out_->position;
+        out_->velocity.resize(output_size());
+        out_->init();
+        apply_velocity();
+    }
+    void apply_position() override { apply(out_->position, in_->position); }
+    void apply_velocity() override { apply_j(out_->velocity, in_->velocity); }
+    void apply_dx() override { apply_j(out_->dx, in_->dx); }
+    void apply_jt_force() override { apply_jt(in_->force, out_->force); }
+    void apply_jt_df() override { apply_jt(in_->df, out_->df); }
+
+protected:
+    MechanicalObject<In>* in_;
+    MechanicalObject<Out>* out_;
+};
+
+/// IdentityMapping Vec3 -> Vec3: x_out[i] = x_in[i].
+class IdentityMapping final : public Mapping<Vec3Types, Vec3Types> {
+public:
+    using Mapping::Mapping;
+    void apply(std::span<Vec3> out, std::span<const Vec3> in) override;
+    void apply_j(std::span<Vec3> out, std::span<const Vec3> in) const override;
+    void apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const override;
+    void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override;
+    [[nodiscard]] std::size_t output_size() const override { return in_->num_dofs(); }
+};
+
+/// IdentityMapping Rigid3 -> Vec3 as SOFA: x_out[i] = centre of frame i; v_out = linear velocity;
+/// f_in.linear += f_out (no torque).
+class RigidCenterIdentityMapping final : public Mapping<Rigid3Types, Vec3Types> {
+public:
+    using Mapping::Mapping;
+    void apply(std::span<Vec3> out, std::span<const RigidFrame> in) override;
+    void apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const override;
+    void apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> out) const override;
+    void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override;
+    [[nodiscard]] std::size_t output_size() const override { return in_->num_dofs(); }
+};
+
+/// RigidMapping Rigid3 -> Vec3: x_out[i] = c_r + R_r·p_i with p_i the local point and r the frame
+/// of point i (frame index per point, default 0). J: v_out = v_r + ω_r × (R_r p_i), using the
+/// rotated points of the last apply (SOFA); Jᵀ: f_r += f, τ_r += (R_r p_i) × f.
+class RigidMapping final : public Mapping<Rigid3Types, Vec3Types> {
+public:
+    RigidMapping(Rigid3Object& from, Vec3Object& to) : Mapping(from, to) {}
+    /// Local coordinates (in the frame) of each output point, and the frame index of each point
+    /// (empty: all on frame 0).
+    void set_points(std::vector<Vec3> local_points, std::vector<Index> frame_index = {});
+    /// SOFA's default: local points = R⁻¹ (x_out − c) from the output's current positions.
+    void set_points_from_world(std::span<const Vec3> world_points, std::vector<Index> frame_index = {});
+    [[nodiscard]] const std::vector<Vec3>& local_points() const { return local_; }
+
+    void apply(std::span<Vec3> out, std::span<const RigidFrame> in) override;
+    void apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const override;
+    void apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> out) const override;
+    void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override;
+    [[nodiscard]] std::size_t output_size() const override { return local_.size(); }
+
+private:
+    [[nodiscard]] std::size_t frame_of(std::size_t i) const;
+    std::vector<Vec3> local_;
+    std::vector<Index> frame_;
+    std::vector<Vec3> rotated_;  ///< R_r p_i at the last apply
+};
+
+/// Linear combination mapping Vec3 -> Vec3: x_out[i] = Σ_k w_ik x_in[j_ik] (BarycentricMapping).
+/// J is constant: the weights.
+class BarycentricMapping final : public Mapping<Vec3Types, Vec3Types> {
+public:
+    struct Entry {
+        Index index;
+        double weight;
+    };
+    using Mapping::Mapping;
+
+    /// Weights given directly (row i = output point i).
+    void set_weights(std::vector<std::vector<Entry>> rows);
+    /// Maps `points` onto the tetrahedra of `topology` with positions `x`: each point goes to the
+    /// first tetrahedron minimising max(−b0, −b1, −b2, b0+b1+b2−1) over its barycentric
+    /// coordinates (the containing one, or the nearest for outside points), like SOFA's mapper.
+    void map_on_tetrahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
+    /// Maps onto hexahedra with trilinear weights (inverse trilinear map by Newton; SOFA's
+    /// parallelepiped approximation gives the same weights for parallelepipeds).
+    void map_on_hexahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
+    [[nodiscard]] const std::vector<std::vector<Entry>>& weights() const { return rows_; }
+
+    void apply(std::span<Vec3> out, std::span<const Vec3> in) override;
+    void apply_j(std::span<Vec3> out, std::span<const Vec3> in) const override;
+    void apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const override;
+    void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override;
+    [[nodiscard]] std::size_t output_size() const override { return rows_.size(); }
+
+private:
+    std::vector<std::vector<Entry>> rows_;
+};
+
+/// Trilinear weights of local coordinates (u, v, w) ∈ [0,1]³ in SOFA's hexahedron vertex order
+/// (0:(0,0,0) 1:(1,0,0) 2:(1,1,0) 3:(0,1,0) 4:(0,0,1) 5:(1,0,1) 6:(1,1,1) 7:(0,1,1)).
+std::array<double, 8> trilinear_weights(const Vec3& uvw);
+
+}  // namespace penalty

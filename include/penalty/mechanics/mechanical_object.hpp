@@ -1,0 +1,123 @@
+#pragma once
+/// @file
+/// SOFA's MechanicalObject: a MechanicalState plus the solver work vectors (dx, df) and a
+/// type-erased interface (BaseState) through which solvers see every state as flat vectors of
+/// scalars. Flat layout: DOF i occupies scalars [i*deriv_size, (i+1)*deriv_size); Vec3 = x y z;
+/// Rigid3 = linear x y z then angular x y z (world frame).
+
+#include "penalty/core/error.hpp"
+#include "penalty/core/types.hpp"
+#include "penalty/mechanics/state.hpp"
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace penalty {
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be 3 packed doubles");
+static_assert(sizeof(RigidDeriv) == 6 * sizeof(double), "RigidDeriv must be 6 packed doubles");
+
+using FlatVector = Eigen::Map<Eigen::VectorXd>;
+using ConstFlatVector = Eigen::Map<const Eigen::VectorXd>;
+
+/// Type-erased mechanical state seen by solvers, mappings and constraints.
+class BaseState {
+public:
+    virtual ~BaseState() = default;
+    [[nodiscard]] virtual std::string_view state_name() const = 0;
+    [[nodiscard]] virtual std::size_t num_dofs() const = 0;
+    [[nodiscard]] virtual int deriv_size() const = 0;
+    [[nodiscard]] std::size_t scalar_size() const { return num_dofs() * static_cast<std::size_t>(deriv_size()); }
+
+    /// Flat views of the derivative-sized vectors (length scalar_size()).
+    virtual FlatVector velocity_flat() = 0;
+    virtual FlatVector force_flat() = 0;
+    virtual FlatVector external_force_flat() = 0;
+    virtual FlatVector dx_flat() = 0;  ///< solver work vector: a displacement / velocity increment
+    virtual FlatVector df_flat() = 0;  ///< solver work vector: a force increment
+
+    /// x <- x + h·v for the flat velocity-like vector v (Rigid3: first-order quaternion update
+    /// q <- normalize(q + ½·h·(ω ⊗ q)), SOFA's Coord + Deriv).
+    virtual void add_to_position(double h, const Eigen::Ref<const Eigen::VectorXd>& v) = 0;
+
+    /// Sizes every vector to the number of positions (velocity, force ... zero-filled).
+    virtual void init() = 0;
+};
+
+/// Applies SOFA's MechanicalObject init transform to a point: scale3d, then the rotation given as
+/// Euler angles in degrees (R = Rz·Ry·Rx), then translation.
+struct InitialTransform {
+    Vec3 translation = Vec3::Zero();
+    Vec3 rotation_deg = Vec3::Zero();
+    Vec3 scale3d = Vec3::Ones();
+    [[nodiscard]] bool is_identity() const {
+        return translation.isZero(0) && rotation_deg.isZero(0) && scale3d == Vec3::Ones();
+    }
+    /// Rotation of the Euler angles (degrees, x then y then z, i.e. R = Rz(z)·Ry(y)·Rx(x)).
+    [[nodiscard]] Quat rotation() const;
+};
+
+/// MechanicalObject<Vec3d | Rigid3d>. Fill `position` (and optionally `velocity`,
+/// `rest_position`, `transform`) then call init().
+template <class DataTypes>
+class MechanicalObject final : public BaseState, public MechanicalState<DataTypes> {
+public:
+    using Coord = typename DataTypes::Coord;
+    using Deriv = typename DataTypes::Deriv;
+    using State = MechanicalState<DataTypes>;
+
+    explicit MechanicalObject(std::string object_name = "dofs") { this->name = std::move(object_name); }
+
+    InitialTransform transform;  ///< applied once by init() to position and rest_position
+    std::vector<Deriv> dx;       ///< solver work vector
+    std::vector<Deriv> df;       ///< solver work vector
+
+    [[nodiscard]] std::string_view state_name() const override { return this->name; }
+    [[nodiscard]] std::size_t num_dofs() const override { return this->position.size(); }
+    [[nodiscard]] int deriv_size() const override { return DataTypes::kDerivSize; }
+
+    FlatVector velocity_flat() override { return flat(this->velocity); }
+    FlatVector force_flat() override { return flat(this->force); }
+    FlatVector external_force_flat() override { return flat(this->external_force); }
+    FlatVector dx_flat() override { return flat(dx); }
+    FlatVector df_flat() override { return flat(df); }
+
+    void add_to_position(double h, const Eigen::Ref<const Eigen::VectorXd>& v) override;
+    void init() override;
+
+    /// Flat view of a vector of Deriv.
+    static FlatVector flat(std::vector<Deriv>& v) {
+        return FlatVector(reinterpret_cast<double*>(v.data()),
+                          static_cast<Eigen::Index>(v.size()) * DataTypes::kDerivSize);
+    }
+    static ConstFlatVector flat(const std::vector<Deriv>& v) {
+        return ConstFlatVector(reinterpret_cast<const double*>(v.data()),
+                               static_cast<Eigen::Index>(v.size()) * DataTypes::kDerivSize);
+    }
+
+private:
+    bool initialized_ = false;
+};
+
+using Vec3Object = MechanicalObject<Vec3Types>;
+using Rigid3Object = MechanicalObject<Rigid3Types>;
+
+/// SOFA's Rigid3 Coord + h·Deriv: centre += h·v; q <- normalize(q + ½ (h ω, 0) ⊗ q).
+RigidFrame rigid_add(const RigidFrame& x, const RigidDeriv& v, double h);
+
+/// Views a flat vector as Derivs (the length must be a multiple of kDerivSize).
+template <class DataTypes>
+std::span<typename DataTypes::Deriv> as_derivs(Eigen::Ref<Eigen::VectorXd> v) {
+    PENALTY_ASSERT(v.size() % DataTypes::kDerivSize == 0);
+    return {reinterpret_cast<typename DataTypes::Deriv*>(v.data()),
+            static_cast<std::size_t>(v.size() / DataTypes::kDerivSize)};
+}
+
+template <> void MechanicalObject<Vec3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
+template <> void MechanicalObject<Rigid3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
+template <> void MechanicalObject<Vec3Types>::init();
+template <> void MechanicalObject<Rigid3Types>::init();
+
+}  // namespace penalty

@@ -1,0 +1,75 @@
+#pragma once
+/// @file
+/// Springs (spec §10.5): SpringForceField / StiffSpringForceField, MeshSpringForceField and
+/// RegularGridSpringForceField (the latter two only build the spring list).
+
+#include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <vector>
+
+namespace penalty {
+
+/// One spring between DOF a of state 1 and DOF b of state 2.
+struct Spring {
+    Index a = 0;
+    Index b = 0;
+    double ks = 0.0;           ///< stiffness (N/m), >= 0
+    double kd = 0.0;           ///< damping (N·s/m), >= 0
+    double rest_length = 0.0;  ///< L (m), >= 0
+};
+
+/// SpringForceField (SOFA's SpringForceField = StiffSpringForceField), between two Vec3 states or
+/// inside one (pass the same state twice). For a spring (a, b): u = x_b − x_a, d = |u|, û = u/d,
+/// intensity F = ks (d − L) + kd (v_b − v_a)·û, force +F û on a and −F û on b; springs with
+/// d <= 1e-9 are ignored. Stiffness block (linearised at add_force):
+///   m = (ks − F/d) ûûᵀ + (F/d) I,  K_aa = K_bb = −m,  K_ab = K_ba = +m  (SOFA sign).
+/// Damping is explicit only: add_dforce ignores b_factor (SOFA). Energy ½ ks (d − L)².
+class SpringForceField : public Vec3InteractionForceField {
+public:
+    SpringForceField(Vec3Object& state1, Vec3Object& state2) : Vec3InteractionForceField(state1, state2) {}
+    /// Spring inside one state.
+    explicit SpringForceField(Vec3Object& state) : Vec3InteractionForceField(state, state) {}
+
+    /// Adds a spring; throws std::invalid_argument on negative/non-finite parameters.
+    void add_spring(const Spring& s);
+    /// Checks the indices against the state sizes.
+    void init() override;
+    [[nodiscard]] const std::vector<Spring>& springs() const { return springs_; }
+
+    void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
+                   ConstVec3Span v2) override;
+    void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
+                    double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2,
+                                double factor) const override;
+    [[nodiscard]] double potential_energy() const override { return energy_; }
+    [[nodiscard]] std::vector<BaseState*> states() const override;
+
+private:
+    std::vector<Spring> springs_;
+    std::vector<Mat3> dfdx_;  ///< m per spring (see class comment), from the last add_force
+    double energy_ = 0.0;
+};
+
+/// Per-element-type stiffness/damping of MeshSpringForceField (SOFA's linesStiffness …
+/// cubesStiffness; `stiffness` / `damping` set them all). Units: N (stiffness is divided by the
+/// rest length to give ks in N/m) and N·s (damping / L gives kd).
+struct MeshSpringParameters {
+    double lines_stiffness = 0, lines_damping = 0;
+    double triangles_stiffness = 0, triangles_damping = 0;
+    double quads_stiffness = 0, quads_damping = 0;
+    double tetras_stiffness = 0, tetras_damping = 0;
+    double cubes_stiffness = 0, cubes_damping = 0;
+    /// Sets every stiffness and damping (SOFA's `stiffness` and `damping` aliases).
+    static MeshSpringParameters uniform(double stiffness, double damping);
+};
+
+/// Spring list of SOFA's MeshSpringForceField: for each element type with a non-zero stiffness or
+/// damping, in the order edges, triangles (3 pairs), quads (6), tetrahedra (6), hexahedra (all 28
+/// pairs), one spring per vertex pair not seen before, oriented as in the element;
+/// ks = stiffness / L, kd = damping / L with L the rest length (throws if L == 0).
+std::vector<Spring> mesh_springs(const MeshTopology& topology, std::span<const Vec3> rest_positions,
+                                 const MeshSpringParameters& parameters);
+
+}  // namespace penalty

@@ -1,0 +1,120 @@
+#pragma once
+/// @file
+/// Scene graph (SOFA's Node): a tree of nodes, each holding at most one mechanical state, one
+/// mass, one mapping (whose output is the node's state), force fields (on one state or between
+/// two), projective constraints and at most one ODE solver. Context (gravity, dt) is inherited
+/// from the parent unless set on the node.
+///
+/// Solver subtrees (spec §2.1): the first node on a path from the root that owns an ODE solver
+/// integrates its whole subtree implicitly (every force field stored in the subtree, including
+/// interaction force fields, enters the linear system). An interaction force field stored in a node
+/// above any solver (typically the root) is evaluated explicitly once per step, with the
+/// start-of-step positions, and its forces are added to its states' external_force. A state
+/// outside every solver subtree (a static object) never moves; in a solve it has dx = 0.
+
+#include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/mapping.hpp"
+#include "penalty/mechanics/mechanical_object.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace penalty {
+
+class OdeSolver;
+
+class Node {
+public:
+    explicit Node(std::string name, Node* parent = nullptr) : name_(std::move(name)), parent_(parent) {}
+    Node(const Node&) = delete;
+    Node& operator=(const Node&) = delete;
+
+    [[nodiscard]] const std::string& name() const { return name_; }
+    [[nodiscard]] Node* parent() const { return parent_; }
+    /// Adds a child node and returns it (owned by this node).
+    Node& add_child(std::string name);
+    [[nodiscard]] const std::vector<std::unique_ptr<Node>>& children() const { return children_; }
+
+    /// Context: gravity (m/s², default (0, −9.81, 0)) and time step (s, default 0.01), inherited.
+    void set_gravity(const Vec3& g);
+    void set_dt(double dt);
+    [[nodiscard]] Vec3 gravity() const;
+    [[nodiscard]] double dt() const;
+
+    /// Creates the node's mechanical state (one per node).
+    template <class DataTypes>
+    MechanicalObject<DataTypes>& add_state(std::string state_name = "dofs") {
+        if (state_) throw_invalid_argument("Node '", name_, "': already has a mechanical state");
+        auto s = std::make_unique<MechanicalObject<DataTypes>>(std::move(state_name));
+        auto& ref = *s;
+        state_ = std::move(s);
+        return ref;
+    }
+    [[nodiscard]] BaseState* state() const { return state_.get(); }
+
+    /// Adds a component of type C constructed from args (returns it; owned by the node).
+    template <class C, class... Args>
+    C& add_force_field(Args&&... args) {
+        auto c = std::make_unique<C>(std::forward<Args>(args)...);
+        auto& ref = *c;
+        force_fields_.push_back(std::move(c));
+        return ref;
+    }
+    template <class C, class... Args>
+    C& set_mass(Args&&... args) {
+        auto c = std::make_unique<C>(std::forward<Args>(args)...);
+        auto& ref = *c;
+        mass_ = std::move(c);
+        return ref;
+    }
+    template <class C, class... Args>
+    C& set_mapping(Args&&... args) {
+        auto c = std::make_unique<C>(std::forward<Args>(args)...);
+        auto& ref = *c;
+        mapping_ = std::move(c);
+        return ref;
+    }
+    template <class C, class... Args>
+    C& add_constraint(Args&&... args) {
+        auto c = std::make_unique<C>(std::forward<Args>(args)...);
+        auto& ref = *c;
+        constraints_.push_back(std::move(c));
+        return ref;
+    }
+    template <class C, class... Args>
+    C& set_ode_solver(Args&&... args) {
+        auto c = std::make_unique<C>(std::forward<Args>(args)...);
+        auto& ref = *c;
+        solver_ = std::move(c);
+        return ref;
+    }
+    /// Takes ownership of an already-built force field (e.g. a contact adapter).
+    BaseForceField& add_force_field_ptr(std::unique_ptr<BaseForceField> ff);
+    /// Removes (and destroys) a force field of this node; returns false if not found.
+    bool remove_force_field(const BaseForceField* ff);
+
+    [[nodiscard]] const std::vector<std::unique_ptr<BaseForceField>>& force_fields() const { return force_fields_; }
+    [[nodiscard]] BaseMass* mass() const { return mass_.get(); }
+    [[nodiscard]] BaseMapping* mapping() const { return mapping_.get(); }
+    [[nodiscard]] const std::vector<std::unique_ptr<BaseProjectiveConstraint>>& constraints() const { return constraints_; }
+    [[nodiscard]] OdeSolver* ode_solver() const { return solver_.get(); }
+
+    ~Node();
+
+private:
+    std::string name_;
+    Node* parent_;
+    std::optional<Vec3> gravity_;
+    std::optional<double> dt_;
+    std::unique_ptr<BaseState> state_;
+    std::unique_ptr<BaseMass> mass_;
+    std::unique_ptr<BaseMapping> mapping_;
+    std::vector<std::unique_ptr<BaseForceField>> force_fields_;
+    std::vector<std::unique_ptr<BaseProjectiveConstraint>> constraints_;
+    std::unique_ptr<OdeSolver> solver_;
+    std::vector<std::unique_ptr<Node>> children_;
+};
+
+}  // namespace penalty

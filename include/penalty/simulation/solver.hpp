@@ -1,0 +1,163 @@
+#pragma once
+/// @file
+/// ODE and linear solvers (spec §10.2, §10.3): EulerImplicitSolver with SOFA's matrix-free
+/// CGLinearSolver, EulerExplicitSolver (symplectic), and the mechanical system of one solver
+/// subtree (SubtreeSystem) they work on.
+
+#include "penalty/simulation/node.hpp"
+
+#include <Eigen/Core>
+
+#include <functional>
+#include <string_view>
+#include <unordered_map>
+
+namespace penalty {
+
+/// Result of one CG solve.
+struct CgStats {
+    int iterations = 0;                        ///< iterations started (SOFA's nb_iter)
+    std::string_view end_condition = "none";   ///< "iterations", "tolerance", "threshold", "den=0", "b=0"
+    double error = 0.0;                        ///< last |r|/|b| evaluated
+};
+
+/// SOFA's CGLinearSolver (GraphScattered, matrix-free), exact stopping rules: x₀ = 0, r = b; for
+/// k = 1..iterations: ρ = r·r, err = √ρ/|b|; stop if err <= tolerance; p = r (k = 1) or
+/// r + (ρ/ρ_prev) p; q = A p; den = p·q; stop if den == 0; stop if |den| <= threshold; x += α p,
+/// r −= α q with α = ρ/den. The two "stop" tests at k = 1 are skipped (SOFA only warns) during the
+/// very first solve of this instance. If |b| = 0, x = 0.
+class CGLinearSolver {
+public:
+    using Operator = std::function<void(const Eigen::VectorXd& p, Eigen::VectorXd& q)>;
+    int iterations = 25;
+    double tolerance = 1e-5;
+    double threshold = 1e-5;
+
+    /// Validates the parameters (std::invalid_argument on iterations < 1 or negative/NaN values).
+    void check() const;
+    CgStats solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+    [[nodiscard]] int solve_count() const { return solve_count_; }
+
+private:
+    int solve_count_ = 0;
+};
+
+/// The independent and mapped states, masses, force fields, mappings and constraints of one
+/// solver subtree, with flat-vector operations over its independent DOFs (concatenated in
+/// depth-first order of their nodes).
+class SubtreeSystem {
+public:
+    explicit SubtreeSystem(Node& root);
+
+    [[nodiscard]] Eigen::Index size() const { return size_; }
+    [[nodiscard]] const std::vector<BaseState*>& independent_states() const { return independent_; }
+    [[nodiscard]] const std::vector<BaseMapping*>& mappings() const { return mappings_; }
+    [[nodiscard]] const std::vector<BaseForceField*>& force_fields() const { return force_fields_; }
+    /// Scalar offset of a state in the system, or size() for a state outside it.
+    [[nodiscard]] Index offset(const BaseState* s) const;
+
+    void gather_velocity(Eigen::VectorXd& v) const;
+    void scatter_velocity(const Eigen::VectorXd& v) const;
+    /// x <- x + h·v for every independent state.
+    void add_to_positions(double h, const Eigen::VectorXd& v) const;
+    /// Propagates positions and velocities to the mapped states (top-down).
+    void propagate_positions_and_velocities() const;
+    /// f = external forces + gravity + Σ force fields, mapped forces brought up by Jᵀ.
+    void compute_force(Eigen::VectorXd& f) const;
+    /// out = (m·M + b·B + k·K)·dx (matrix-free, through the mappings), projected if asked.
+    void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project) const;
+    /// Applies every projective constraint to a flat vector.
+    void project(Eigen::VectorXd& v) const;
+    /// out = M⁻¹·in (independent states; each must have a mass).
+    void apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const;
+    /// Assembled m·M + k·K (Jᵀ K J for mapped states), constraints not applied.
+    [[nodiscard]] SparseMatrix assemble(double m, double k) const;
+    /// Σ potential energies of the force fields (J) plus gravity potential and kinetic energy.
+    [[nodiscard]] double total_energy() const;
+
+private:
+    void collect(Node& node, bool is_root);
+    std::vector<BaseState*> independent_;
+    std::vector<Index> offsets_;
+    std::unordered_map<const BaseState*, Index> offset_of_;
+    std::vector<BaseState*> mapped_;
+    std::vector<BaseState*> external_;  ///< states used by the subtree's fields but outside it
+    std::vector<BaseMapping*> mappings_;
+    std::vector<std::pair<BaseMass*, Vec3>> masses_;  ///< with the gravity of their node
+    std::vector<BaseForceField*> force_fields_;
+    std::vector<BaseProjectiveConstraint*> constraints_;
+    Eigen::Index size_ = 0;
+};
+
+/// An ODE solver integrates the subtree of the node that owns it over one time step.
+class OdeSolver {
+public:
+    virtual ~OdeSolver() = default;
+    virtual void init(Node& /*node*/) {}
+    virtual void solve(Node& node, double dt) = 0;
+};
+
+/// Beyond SOFA (opt-in): Newton iterations on the backward-Euler residual
+/// R(Δv) = M Δv − h f(x_n + h (v_n + Δv), v_n + Δv), each iteration re-running `update_geometry`
+/// (e.g. contact detection) at the current iterate before the forces are evaluated.
+struct NewtonOptions {
+    bool enabled = false;
+    int max_iterations = 10;
+    double tolerance = 1e-10;               ///< on |R| / max(1, |R₀|)
+    std::function<void()> update_geometry;  ///< called at each iterate (positions already updated)
+};
+
+/// SOFA's EulerImplicitSolver (spec §10.2). With h = dt, tr = ½ (trapezoidal) or 1:
+///   b = h (f + (h·tr + rs) K v − rm M v)  (firstOrder: b = f), projected;
+///   A = (1 + tr h rm) M − tr h B − tr h (tr h + rs) K  (firstOrder: M − h tr K);
+///   A Δv = b by CG; v ← v + Δv (firstOrder: v ← Δv); x ← x + h v; v ← v·exp(−h·vdamping).
+class EulerImplicitSolver final : public OdeSolver {
+public:
+    double rayleigh_stiffness = 0.0;
+    double rayleigh_mass = 0.0;
+    double vdamping = 0.0;
+    bool first_order = false;
+    bool trapezoidal_scheme = false;
+    CGLinearSolver cg;
+    NewtonOptions newton;
+
+    void init(Node& node) override;
+    void solve(Node& node, double dt) override;
+    [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
+    [[nodiscard]] int last_newton_iterations() const { return last_newton_iterations_; }
+
+private:
+    void solve_newton(SubtreeSystem& system, double dt);
+    CgStats last_cg_;
+    int last_newton_iterations_ = 0;
+};
+
+/// SOFA's EulerExplicitSolver, symplectic: a = M⁻¹ f (projected), v ← v + h a, x ← x + h v.
+class EulerExplicitSolver final : public OdeSolver {
+public:
+    void solve(Node& node, double dt) override;
+};
+
+/// DefaultAnimationLoop (spec §2): owns the root node.
+class Simulation {
+public:
+    Simulation() : root_("root") {}
+    [[nodiscard]] Node& root() { return root_; }
+    /// Initialises every state, mapping, mass, force field, constraint and solver (top-down).
+    void init();
+    /// One step: collision hook (positions of the end of the previous step) → explicit interaction
+    /// force fields of nodes without solver → solver subtrees → project velocities, propagate to
+    /// mapped states → clear external forces → time += dt.
+    void step();
+    [[nodiscard]] double time() const { return time_; }
+    /// Called at the start of each step (collision detection + response).
+    std::function<void(Simulation&)> collision_hook;
+
+private:
+    void solve_node(Node& node, double dt);
+    Node root_;
+    double time_ = 0.0;
+    bool initialized_ = false;
+};
+
+}  // namespace penalty

@@ -1,0 +1,151 @@
+#include "penalty/mechanics/mass.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+
+namespace penalty {
+
+namespace {
+void check_mass(double m, const char* parameter) {
+    if (!std::isfinite(m) || m <= 0.0) throw_invalid_argument("UniformMass: ", parameter, " must be finite and > 0, got ", m);
+}
+}  // namespace
+
+template <class DT>
+void UniformMass<DT>::set_vertex_mass(double m) {
+    check_mass(m, "vertexMass");
+    vertex_mass_ = m;
+}
+
+template <class DT>
+void UniformMass<DT>::set_total_mass(double m) {
+    check_mass(m, "totalMass");
+    total_mass_ = m;
+}
+
+template <class DT>
+void UniformMass<DT>::set_inertia(const Mat3& inertia) {
+    if (!inertia.allFinite() || !inertia.isApprox(inertia.transpose(), 1e-12) ||
+        Eigen::SelfAdjointEigenSolver<Mat3>(inertia).eigenvalues().minCoeff() <= 0.0) {
+        throw_invalid_argument("UniformMass: inertiaMatrix must be symmetric positive definite");
+    }
+    inertia_ = inertia;
+}
+
+template <class DT>
+void UniformMass<DT>::init() {
+    if (total_mass_) {
+        if (state_->num_dofs() == 0) throw_invalid_argument("UniformMass: totalMass given for a state with no DOF");
+        mass_ = *total_mass_ / static_cast<double>(state_->num_dofs());
+    } else if (vertex_mass_) {
+        mass_ = *vertex_mass_;
+    } else {
+        throw_invalid_argument("UniformMass: neither vertexMass nor totalMass is set");
+    }
+}
+
+template <>
+void UniformMass<Vec3Types>::add_gravity_force(const Vec3& g) {
+    for (auto& f : state_->force) f += mass_ * g;
+}
+template <>
+void UniformMass<Rigid3Types>::add_gravity_force(const Vec3& g) {
+    for (auto& f : state_->force) f.linear += mass_ * g;
+}
+
+template <>
+void UniformMass<Vec3Types>::add_mdx(double factor) {
+    for (std::size_t i = 0; i < state_->df.size(); ++i) state_->df[i] += state_->dx[i] * (mass_ * factor);
+}
+template <>
+void UniformMass<Rigid3Types>::add_mdx(double factor) {
+    const Mat3 j = inertia_ * mass_;
+    for (std::size_t i = 0; i < state_->df.size(); ++i) {
+        state_->df[i].linear += state_->dx[i].linear * (mass_ * factor);
+        state_->df[i].angular += (j * state_->dx[i].angular) * factor;
+    }
+}
+
+template <>
+void UniformMass<Vec3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in,
+                                           Eigen::Ref<Eigen::VectorXd> out) const {
+    out = in / mass_;
+}
+template <>
+void UniformMass<Rigid3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in,
+                                             Eigen::Ref<Eigen::VectorXd> out) const {
+    const Mat3 jinv = (inertia_ * mass_).inverse();
+    for (Eigen::Index i = 0; i < in.size() / 6; ++i) {
+        out.segment<3>(6 * i) = in.segment<3>(6 * i) / mass_;
+        out.segment<3>(6 * i + 3) = jinv * in.segment<3>(6 * i + 3);
+    }
+}
+
+template <>
+void UniformMass<Vec3Types>::add_mass_triplets(TripletList& t, Index offset, double factor) const {
+    for (Index i = 0; i < static_cast<Index>(3 * state_->num_dofs()); ++i) t.emplace_back(offset + i, offset + i, factor * mass_);
+}
+template <>
+void UniformMass<Rigid3Types>::add_mass_triplets(TripletList& t, Index offset, double factor) const {
+    for (Index i = 0; i < static_cast<Index>(state_->num_dofs()); ++i) {
+        const Index o = offset + 6 * i;
+        for (Index a = 0; a < 3; ++a) t.emplace_back(o + a, o + a, factor * mass_);
+        for (Index a = 0; a < 3; ++a)
+            for (Index b = 0; b < 3; ++b) t.emplace_back(o + 3 + a, o + 3 + b, factor * mass_ * inertia_(a, b));
+    }
+}
+
+template <>
+double UniformMass<Vec3Types>::kinetic_energy() const {
+    double e = 0.0;
+    for (const auto& v : state_->velocity) e += v.squaredNorm();
+    return 0.5 * mass_ * e;
+}
+template <>
+double UniformMass<Rigid3Types>::kinetic_energy() const {
+    double e = 0.0;
+    for (const auto& v : state_->velocity) e += mass_ * v.linear.squaredNorm() + mass_ * v.angular.dot(inertia_ * v.angular);
+    return 0.5 * e;
+}
+
+template <>
+double UniformMass<Vec3Types>::gravity_potential_energy(const Vec3& g) const {
+    double e = 0.0;
+    for (const auto& x : state_->position) e -= mass_ * g.dot(x);
+    return e;
+}
+template <>
+double UniformMass<Rigid3Types>::gravity_potential_energy(const Vec3& g) const {
+    double e = 0.0;
+    for (const auto& x : state_->position) e -= mass_ * g.dot(x.center);
+    return e;
+}
+
+template class UniformMass<Vec3Types>;
+template class UniformMass<Rigid3Types>;
+
+void FixedProjectiveConstraint::init() {
+    for (const Index i : indices_) {
+        if (i < 0 || static_cast<std::size_t>(i) >= state_->num_dofs()) {
+            throw_invalid_argument("FixedProjectiveConstraint: index ", i, " out of range for state '",
+                                   state_->state_name(), "' of ", state_->num_dofs(), " DOFs");
+        }
+    }
+}
+
+void FixedProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
+    if (fix_all_) {
+        v.setZero();
+        return;
+    }
+    const Index d = state_->deriv_size();
+    for (const Index i : indices_) v.segment(d * i, d).setZero();
+}
+
+void FixedProjectiveConstraint::project_velocity() {
+    FlatVector v = state_->velocity_flat();
+    project_response(v);
+}
+
+}  // namespace penalty

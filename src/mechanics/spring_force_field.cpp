@@ -1,0 +1,130 @@
+#include "penalty/mechanics/spring_force_field.hpp"
+
+#include <cmath>
+#include <set>
+#include <utility>
+
+namespace penalty {
+
+void SpringForceField::add_spring(const Spring& s) {
+    if (!std::isfinite(s.ks) || s.ks < 0) throw_invalid_argument("SpringForceField: stiffness must be finite and >= 0, got ", s.ks);
+    if (!std::isfinite(s.kd) || s.kd < 0) throw_invalid_argument("SpringForceField: damping must be finite and >= 0, got ", s.kd);
+    if (!std::isfinite(s.rest_length) || s.rest_length < 0)
+        throw_invalid_argument("SpringForceField: rest length must be finite and >= 0, got ", s.rest_length);
+    if (s.a < 0 || s.b < 0) throw_invalid_argument("SpringForceField: negative spring index (", s.a, ", ", s.b, ")");
+    springs_.push_back(s);
+}
+
+void SpringForceField::init() {
+    for (const auto& s : springs_) {
+        if (static_cast<std::size_t>(s.a) >= s1_->num_dofs() || static_cast<std::size_t>(s.b) >= s2_->num_dofs()) {
+            throw_invalid_argument("SpringForceField: spring (", s.a, ", ", s.b, ") out of range for states of ",
+                                   s1_->num_dofs(), " and ", s2_->num_dofs(), " DOFs");
+        }
+    }
+    dfdx_.assign(springs_.size(), Mat3::Zero());
+}
+
+std::vector<BaseState*> SpringForceField::states() const {
+    if (s1_ == s2_) return {s1_};
+    return {s1_, s2_};
+}
+
+void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
+                                 ConstVec3Span v2) {
+    dfdx_.resize(springs_.size());
+    energy_ = 0.0;
+    for (std::size_t i = 0; i < springs_.size(); ++i) {
+        const Spring& s = springs_[i];
+        const auto a = static_cast<std::size_t>(s.a);
+        const auto b = static_cast<std::size_t>(s.b);
+        const Vec3 u = x2[b] - x1[a];
+        const double d = u.norm();
+        if (d <= 1e-9) {
+            dfdx_[i].setZero();
+            continue;
+        }
+        const Vec3 n = u / d;
+        const double elongation = d - s.rest_length;
+        energy_ += 0.5 * s.ks * elongation * elongation;
+        const double intensity = s.ks * elongation + s.kd * (v2[b] - v1[a]).dot(n);
+        const Vec3 force = intensity * n;
+        f1[a] += force;
+        f2[b] -= force;
+        const double t = intensity / d;
+        dfdx_[i] = (s.ks - t) * (n * n.transpose()) + t * Mat3::Identity();
+    }
+}
+
+void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
+                                  double /*b_factor*/) const {
+    PENALTY_DEMAND(dfdx_.size() == springs_.size());
+    for (std::size_t i = 0; i < springs_.size(); ++i) {
+        const auto a = static_cast<std::size_t>(springs_[i].a);
+        const auto b = static_cast<std::size_t>(springs_[i].b);
+        const Vec3 d = dfdx_[i] * (dx2[b] - dx1[a]) * k_factor;
+        df1[a] += d;
+        df2[b] -= d;
+    }
+}
+
+void SpringForceField::add_stiffness_triplets(TripletList& t, Index o1, Index o2, double factor) const {
+    PENALTY_DEMAND(dfdx_.size() == springs_.size());
+    for (std::size_t i = 0; i < springs_.size(); ++i) {
+        const Index ra = o1 + 3 * springs_[i].a;
+        const Index rb = o2 + 3 * springs_[i].b;
+        const Mat3 m = factor * dfdx_[i];
+        for (Index r = 0; r < 3; ++r)
+            for (Index c = 0; c < 3; ++c) {
+                const double v = m(r, c);
+                t.emplace_back(ra + r, ra + c, -v);
+                t.emplace_back(ra + r, rb + c, v);
+                t.emplace_back(rb + r, ra + c, v);
+                t.emplace_back(rb + r, rb + c, -v);
+            }
+    }
+}
+
+MeshSpringParameters MeshSpringParameters::uniform(double k, double d) {
+    MeshSpringParameters p;
+    p.lines_stiffness = p.triangles_stiffness = p.quads_stiffness = p.tetras_stiffness = p.cubes_stiffness = k;
+    p.lines_damping = p.triangles_damping = p.quads_damping = p.tetras_damping = p.cubes_damping = d;
+    return p;
+}
+
+namespace {
+template <class Element>
+void add_element_springs(const std::vector<Element>& elements, double ks, double kd, std::span<const Vec3> x0,
+                         std::set<std::pair<PointId, PointId>>& seen, std::vector<Spring>& out) {
+    if (ks == 0.0 && kd == 0.0) return;
+    if (!std::isfinite(ks) || ks < 0 || !std::isfinite(kd) || kd < 0)
+        throw_invalid_argument("MeshSpringForceField: stiffness and damping must be finite and >= 0, got ", ks, ", ", kd);
+    const std::size_t n = std::tuple_size<Element>::value;
+    for (const auto& e : elements) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i + 1; j < n; ++j) {
+                const PointId a = e[i], b = e[j];
+                const auto key = a < b ? std::make_pair(a, b) : std::make_pair(b, a);
+                if (!seen.insert(key).second) continue;
+                if (static_cast<std::size_t>(std::max(a, b)) >= x0.size())
+                    throw_invalid_argument("MeshSpringForceField: vertex ", std::max(a, b), " has no rest position");
+                const double l = (x0[static_cast<std::size_t>(b)] - x0[static_cast<std::size_t>(a)]).norm();
+                if (!(l > 0.0)) throw_invalid_argument("MeshSpringForceField: zero rest length between vertices ", a, " and ", b);
+                out.push_back(Spring{a, b, ks / l, kd / l, l});
+            }
+    }
+}
+}  // namespace
+
+std::vector<Spring> mesh_springs(const MeshTopology& topo, std::span<const Vec3> x0, const MeshSpringParameters& p) {
+    std::vector<Spring> out;
+    std::set<std::pair<PointId, PointId>> seen;
+    add_element_springs(topo.edges(), p.lines_stiffness, p.lines_damping, x0, seen, out);
+    add_element_springs(topo.triangles(), p.triangles_stiffness, p.triangles_damping, x0, seen, out);
+    add_element_springs(topo.quads(), p.quads_stiffness, p.quads_damping, x0, seen, out);
+    add_element_springs(topo.tetrahedra(), p.tetras_stiffness, p.tetras_damping, x0, seen, out);
+    add_element_springs(topo.hexahedra(), p.cubes_stiffness, p.cubes_damping, x0, seen, out);
+    return out;
+}
+
+}  // namespace penalty

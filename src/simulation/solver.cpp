@@ -1,0 +1,417 @@
+#include "penalty/simulation/solver.hpp"
+
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <cmath>
+
+namespace penalty {
+
+// ---- CG ---------------------------------------------------------------------------------------
+void CGLinearSolver::check() const {
+    if (iterations < 1) throw_invalid_argument("CGLinearSolver: iterations must be >= 1, got ", iterations);
+    if (!std::isfinite(tolerance) || tolerance < 0) throw_invalid_argument("CGLinearSolver: tolerance must be >= 0, got ", tolerance);
+    if (!std::isfinite(threshold) || threshold < 0) throw_invalid_argument("CGLinearSolver: threshold must be >= 0, got ", threshold);
+}
+
+CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    check();
+    CgStats stats;
+    const bool first_solve = solve_count_ == 0;
+    ++solve_count_;
+    x = Eigen::VectorXd::Zero(b.size());
+    const double norm_b = b.norm();
+    if (!std::isfinite(norm_b)) throw_invalid_argument("CGLinearSolver: right-hand side is not finite");
+    if (norm_b == 0.0) {
+        stats.end_condition = "b=0";
+        return stats;
+    }
+    Eigen::VectorXd r = b;
+    Eigen::VectorXd p(b.size());
+    Eigen::VectorXd q(b.size());
+    double rho_prev = 0.0;
+    stats.end_condition = "iterations";
+    for (int k = 1; k <= iterations; ++k) {
+        stats.iterations = k;
+        const double rho = r.dot(r);
+        const double err = std::sqrt(rho) / norm_b;
+        stats.error = err;
+        if (err <= tolerance && !(k == 1 && first_solve)) {
+            stats.end_condition = "tolerance";
+            break;
+        }
+        if (k == 1) {
+            p = r;
+        } else {
+            p = r + (rho / rho_prev) * p;
+        }
+        a(p, q);
+        const double den = p.dot(q);
+        if (den == 0.0) {
+            stats.end_condition = "den=0";
+            break;
+        }
+        if (std::abs(den) <= threshold && !(k == 1 && first_solve)) {
+            stats.end_condition = "threshold";
+            break;
+        }
+        const double alpha = rho / den;
+        x += alpha * p;
+        r -= alpha * q;
+        rho_prev = rho;
+    }
+    if (!x.allFinite()) throw_invalid_argument("CGLinearSolver: solution is not finite (singular or indefinite system)");
+    return stats;
+}
+
+// ---- SubtreeSystem ----------------------------------------------------------------------------
+SubtreeSystem::SubtreeSystem(Node& root) {
+    collect(root, true);
+    // External states: used by a force field or a mapping but not part of the subtree.
+    auto known = [&](const BaseState* s) {
+        return offset_of_.count(s) != 0 || std::find(mapped_.begin(), mapped_.end(), s) != mapped_.end() ||
+               std::find(external_.begin(), external_.end(), s) != external_.end();
+    };
+    for (const auto* ff : force_fields_)
+        for (BaseState* s : ff->states())
+            if (!known(s)) external_.push_back(s);
+    for (const auto* m : mappings_)
+        if (!known(m->from())) external_.push_back(m->from());
+}
+
+void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
+    if (BaseState* s = node.state()) {
+        if (node.mapping()) {
+            if (node.mapping()->to() != s) throw_invalid_argument("Node '", node.name(), "': the mapping output is not the node's state");
+            mapped_.push_back(s);
+            mappings_.push_back(node.mapping());
+        } else {
+            offsets_.push_back(size_);
+            offset_of_[s] = size_;
+            independent_.push_back(s);
+            size_ += static_cast<Eigen::Index>(s->scalar_size());
+        }
+    } else if (node.mapping()) {
+        throw_invalid_argument("Node '", node.name(), "': a mapping needs the node's state as output");
+    }
+    if (BaseMass* m = node.mass()) {
+        if (node.mapping()) throw_invalid_argument("Node '", node.name(), "': a mass on a mapped state is not supported");
+        masses_.emplace_back(m, node.gravity());
+    }
+    for (const auto& ff : node.force_fields()) force_fields_.push_back(ff.get());
+    for (const auto& c : node.constraints()) constraints_.push_back(c.get());
+    for (const auto& child : node.children()) collect(*child, false);
+}
+
+Index SubtreeSystem::offset(const BaseState* s) const {
+    const auto it = offset_of_.find(s);
+    return it == offset_of_.end() ? static_cast<Index>(size_) : it->second;
+}
+
+void SubtreeSystem::gather_velocity(Eigen::VectorXd& v) const {
+    v.resize(size_);
+    for (std::size_t i = 0; i < independent_.size(); ++i)
+        v.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->velocity_flat();
+}
+
+void SubtreeSystem::scatter_velocity(const Eigen::VectorXd& v) const {
+    for (std::size_t i = 0; i < independent_.size(); ++i)
+        independent_[i]->velocity_flat() = v.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size()));
+}
+
+void SubtreeSystem::add_to_positions(double h, const Eigen::VectorXd& v) const {
+    for (std::size_t i = 0; i < independent_.size(); ++i)
+        independent_[i]->add_to_position(h, v.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())));
+}
+
+void SubtreeSystem::propagate_positions_and_velocities() const {
+    for (BaseMapping* m : mappings_) {
+        m->apply_position();
+        m->apply_velocity();
+    }
+}
+
+void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
+    for (BaseState* s : independent_) s->force_flat() = s->external_force_flat();
+    for (BaseState* s : mapped_) s->force_flat() = s->external_force_flat();
+    for (BaseState* s : external_) s->force_flat().setZero();
+    for (const auto& [mass, g] : masses_) mass->add_gravity_force(g);
+    for (BaseForceField* ff : force_fields_) ff->accumulate_force();
+    for (auto it = mappings_.rbegin(); it != mappings_.rend(); ++it) (*it)->apply_jt_force();
+    f.resize(size_);
+    for (std::size_t i = 0; i < independent_.size(); ++i)
+        f.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->force_flat();
+}
+
+void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k,
+                              bool do_project) const {
+    for (std::size_t i = 0; i < independent_.size(); ++i) {
+        independent_[i]->dx_flat() = dx.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size()));
+        independent_[i]->df_flat().setZero();
+    }
+    for (BaseState* s : external_) {
+        s->dx_flat().setZero();
+        s->df_flat().setZero();
+    }
+    for (BaseMapping* map : mappings_) map->apply_dx();
+    for (BaseState* s : mapped_) s->df_flat().setZero();
+    if (m != 0.0)
+        for (const auto& entry : masses_) entry.first->add_mdx(m);
+    for (BaseForceField* ff : force_fields_) ff->accumulate_dforce(k, b);
+    for (auto it = mappings_.rbegin(); it != mappings_.rend(); ++it) (*it)->apply_jt_df();
+    out.resize(size_);
+    for (std::size_t i = 0; i < independent_.size(); ++i)
+        out.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->df_flat();
+    if (do_project) project(out);
+}
+
+void SubtreeSystem::project(Eigen::VectorXd& v) const {
+    for (BaseProjectiveConstraint* c : constraints_) {
+        const auto it = offset_of_.find(c->state());
+        if (it == offset_of_.end()) continue;  // constraints on mapped states are not supported
+        c->project_response(v.segment(it->second, static_cast<Eigen::Index>(c->state()->scalar_size())));
+    }
+}
+
+void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
+    out = Eigen::VectorXd::Zero(size_);
+    for (std::size_t i = 0; i < independent_.size(); ++i) {
+        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const auto it = std::find_if(masses_.begin(), masses_.end(), [&](const auto& e) { return e.first->state() == independent_[i]; });
+        if (it == masses_.end()) throw_invalid_argument("EulerExplicitSolver: state '", independent_[i]->state_name(), "' has no mass");
+        it->first->apply_inverse(in.segment(offsets_[i], n), out.segment(offsets_[i], n));
+    }
+}
+
+SparseMatrix SubtreeSystem::assemble(double m, double k) const {
+    // Extended index space: independent scalars, then mapped scalars; P maps system DOFs to it.
+    std::unordered_map<const BaseState*, Index> ext_offset(offset_of_.begin(), offset_of_.end());
+    Index total = size_;
+    for (BaseState* s : mapped_) {
+        ext_offset[s] = total;
+        total += static_cast<Index>(s->scalar_size());
+    }
+    using ColMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, Eigen::Index>;
+    std::unordered_map<const BaseState*, ColMatrix> p_rows;  // (state scalars) x size_
+    for (std::size_t i = 0; i < independent_.size(); ++i) {
+        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        ColMatrix id(n, size_);
+        TripletList t;
+        for (Eigen::Index j = 0; j < n; ++j) t.emplace_back(j, offsets_[i] + j, 1.0);
+        id.setFromTriplets(t.begin(), t.end());
+        p_rows[independent_[i]] = std::move(id);
+    }
+    for (BaseMapping* map : mappings_) {
+        const auto nin = static_cast<Eigen::Index>(map->from()->scalar_size());
+        const auto nout = static_cast<Eigen::Index>(map->to()->scalar_size());
+        ColMatrix j(nout, nin);
+        TripletList t;
+        map->add_jacobian_triplets(t, 0, 0);
+        j.setFromTriplets(t.begin(), t.end());
+        const auto it = p_rows.find(map->from());
+        ColMatrix rows = it == p_rows.end() ? ColMatrix(nout, size_) : ColMatrix(j * it->second);
+        p_rows[map->to()] = std::move(rows);
+    }
+    ColMatrix p(total, size_);
+    {
+        TripletList t;
+        for (const auto& [s, rows] : p_rows) {
+            const Index o = ext_offset.at(s);
+            for (Eigen::Index c = 0; c < rows.outerSize(); ++c)
+                for (ColMatrix::InnerIterator itr(rows, c); itr; ++itr) t.emplace_back(o + itr.row(), itr.col(), itr.value());
+        }
+        p.setFromTriplets(t.begin(), t.end());
+    }
+    TripletList kt;
+    const StateOffsets offs = [&](const BaseState* s) {
+        const auto it = ext_offset.find(s);
+        return it == ext_offset.end() ? total : it->second;
+    };
+    for (BaseForceField* ff : force_fields_) ff->add_stiffness(kt, offs, k);
+    kt.erase(std::remove_if(kt.begin(), kt.end(), [&](const Triplet& t) { return t.row() >= total || t.col() >= total; }), kt.end());
+    ColMatrix kext(total, total);
+    kext.setFromTriplets(kt.begin(), kt.end());
+    TripletList mt;
+    for (const auto& entry : masses_) entry.first->add_mass_triplets(mt, offset(entry.first->state()), m);
+    ColMatrix mm(size_, size_);
+    mm.setFromTriplets(mt.begin(), mt.end());
+    ColMatrix a = ColMatrix(ColMatrix(p.transpose()) * kext * p) + mm;
+    return SparseMatrix(a);
+}
+
+double SubtreeSystem::total_energy() const {
+    double e = 0.0;
+    for (const BaseForceField* ff : force_fields_) e += ff->potential_energy();
+    for (const auto& [mass, g] : masses_) e += mass->kinetic_energy() + mass->gravity_potential_energy(g);
+    return e;
+}
+
+// ---- EulerImplicitSolver ----------------------------------------------------------------------
+void EulerImplicitSolver::init(Node& /*node*/) {
+    cg.check();
+    if (!std::isfinite(rayleigh_stiffness) || rayleigh_stiffness < 0)
+        throw_invalid_argument("EulerImplicitSolver: rayleighStiffness must be >= 0, got ", rayleigh_stiffness);
+    if (!std::isfinite(rayleigh_mass) || rayleigh_mass < 0)
+        throw_invalid_argument("EulerImplicitSolver: rayleighMass must be >= 0, got ", rayleigh_mass);
+    if (!std::isfinite(vdamping) || vdamping < 0) throw_invalid_argument("EulerImplicitSolver: vdamping must be >= 0, got ", vdamping);
+}
+
+void EulerImplicitSolver::solve(Node& node, double dt) {
+    SubtreeSystem sys(node);
+    if (newton.enabled) {
+        solve_newton(sys, dt);
+        return;
+    }
+    const double h = dt;
+    const double tr = trapezoidal_scheme ? 0.5 : 1.0;
+    const double rs = rayleigh_stiffness;
+    const double rm = rayleigh_mass;
+    Eigen::VectorXd f;
+    sys.compute_force(f);
+    Eigen::VectorXd v;
+    sys.gather_velocity(v);
+    Eigen::VectorXd b;
+    if (first_order) {
+        b = f;
+    } else {
+        Eigen::VectorXd kv;
+        sys.apply_mbk(v, kv, -rm, 0.0, h * tr + rs, false);
+        b = h * (f + kv);
+    }
+    sys.project(b);
+    const double mf = first_order ? 1.0 : 1.0 + tr * h * rm;
+    const double bf = first_order ? 0.0 : -tr * h;
+    const double kf = first_order ? -h * tr : -tr * h * (tr * h + rs);
+    Eigen::VectorXd x;
+    last_cg_ = cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x);
+    Eigen::VectorXd v_new = first_order ? x : Eigen::VectorXd(v + x);
+    sys.scatter_velocity(v_new);
+    sys.add_to_positions(h, v_new);
+    if (vdamping != 0.0) {
+        v_new *= std::exp(-h * vdamping);
+        sys.scatter_velocity(v_new);
+    }
+}
+
+void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
+    const double h = dt;
+    Eigen::VectorXd v0;
+    sys.gather_velocity(v0);
+    Eigen::VectorXd dv = Eigen::VectorXd::Zero(v0.size());
+    Eigen::VectorXd applied = Eigen::VectorXd::Zero(v0.size());  // h·v currently added to x_n
+    double r0 = -1.0;
+    last_newton_iterations_ = 0;
+    for (int it = 0; it < newton.max_iterations; ++it) {
+        // Iterate: x = x_n + h (v_n + dv) (x = x_n at the first iterate), v = v_n + dv.
+        const Eigen::VectorXd v = v0 + dv;
+        if (it > 0) {
+            const Eigen::VectorXd target = h * v;
+            sys.add_to_positions(1.0, target - applied);
+            applied = target;
+        }
+        sys.scatter_velocity(v);
+        sys.propagate_positions_and_velocities();
+        if (newton.update_geometry) newton.update_geometry();
+        Eigen::VectorXd f;
+        sys.compute_force(f);
+        Eigen::VectorXd mdv;
+        sys.apply_mbk(dv, mdv, 1.0, 0.0, 0.0, false);
+        // −R = h f − M dv; at it = 0 add the implicit term of the linearisation at x_n.
+        Eigen::VectorXd rhs = h * f - mdv;
+        if (it == 0) {
+            Eigen::VectorXd kv;
+            sys.apply_mbk(v, kv, 0.0, 0.0, h, false);
+            rhs += h * kv;
+        }
+        sys.project(rhs);
+        const double rn = rhs.norm();
+        if (r0 < 0) r0 = std::max(1.0, rn);
+        last_newton_iterations_ = it + 1;
+        if (it > 0 && rn <= newton.tolerance * r0) break;
+        Eigen::VectorXd delta;
+        last_cg_ = cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, 1.0, -h, -h * h, true); },
+                            rhs, delta);
+        dv += delta;
+    }
+    const Eigen::VectorXd v = v0 + dv;
+    sys.add_to_positions(1.0, h * v - applied);
+    sys.scatter_velocity(v);
+}
+
+// ---- EulerExplicitSolver ----------------------------------------------------------------------
+void EulerExplicitSolver::solve(Node& node, double dt) {
+    SubtreeSystem sys(node);
+    Eigen::VectorXd f;
+    sys.compute_force(f);
+    Eigen::VectorXd a;
+    sys.apply_inverse_mass(f, a);
+    sys.project(a);
+    Eigen::VectorXd v;
+    sys.gather_velocity(v);
+    v += dt * a;
+    sys.scatter_velocity(v);
+    sys.add_to_positions(dt, v);
+}
+
+// ---- Simulation -------------------------------------------------------------------------------
+namespace {
+template <class F>
+void for_each_node(Node& n, const F& f) {
+    f(n);
+    for (const auto& c : n.children()) for_each_node(*c, f);
+}
+}  // namespace
+
+void Simulation::init() {
+    for_each_node(root_, [](Node& n) {
+        if (n.mapping()) {
+            n.mapping()->init();
+        } else if (n.state()) {
+            n.state()->init();
+        }
+    });
+    for_each_node(root_, [](Node& n) {
+        if (n.mass()) n.mass()->init();
+        for (const auto& ff : n.force_fields()) ff->init();
+        for (const auto& c : n.constraints()) c->init();
+        if (n.ode_solver()) n.ode_solver()->init(n);
+    });
+    initialized_ = true;
+}
+
+void Simulation::solve_node(Node& node, double dt) {
+    if (OdeSolver* solver = node.ode_solver()) {
+        solver->solve(node, dt);
+        return;
+    }
+    for (const auto& ff : node.force_fields()) {
+        // Explicit: forces from the start-of-step x, v, added as external forces for the step.
+        for (BaseState* s : ff->states()) s->force_flat().setZero();
+        ff->accumulate_force();
+        for (BaseState* s : ff->states()) {
+            s->external_force_flat() += s->force_flat();
+            s->force_flat().setZero();
+        }
+    }
+    for (const auto& child : node.children()) solve_node(*child, dt);
+}
+
+void Simulation::step() {
+    if (!initialized_) init();
+    const double dt = root_.dt();
+    if (collision_hook) collision_hook(*this);
+    solve_node(root_, dt);
+    for_each_node(root_, [](Node& n) {
+        for (const auto& c : n.constraints()) c->project_velocity();
+        if (n.mapping()) {
+            n.mapping()->apply_position();
+            n.mapping()->apply_velocity();
+        }
+    });
+    for_each_node(root_, [](Node& n) {
+        if (n.state()) n.state()->external_force_flat().setZero();
+    });
+    time_ += dt;
+}
+
+}  // namespace penalty

@@ -1,0 +1,196 @@
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/spring_force_field.hpp"
+
+#include "penalty_test/finite_difference.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace penalty {
+namespace {
+
+Eigen::VectorXd flat_positions(const Vec3Object& s) {
+    Eigen::VectorXd x(3 * static_cast<Eigen::Index>(s.num_dofs()));
+    for (std::size_t i = 0; i < s.num_dofs(); ++i) x.segment<3>(3 * static_cast<Eigen::Index>(i)) = s.position[i];
+    return x;
+}
+void set_positions(Vec3Object& s, const Eigen::VectorXd& x) {
+    for (std::size_t i = 0; i < s.num_dofs(); ++i) s.position[i] = x.segment<3>(3 * static_cast<Eigen::Index>(i));
+}
+
+/// Checks a single-state force field: add_dforce and the stiffness triplets equal ∂f/∂x by FD,
+/// and f = −∂E/∂x. Returns |K|∞ (so callers can require a non-vacuous check).
+double check_force_field_derivatives(BaseForceField& ff, Vec3Object& s, double tol) {
+    const Eigen::VectorXd x0 = flat_positions(s);
+    auto force = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
+        set_positions(s, x);
+        std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
+        ff.accumulate_force();
+        return Vec3Object::flat(s.force);
+    };
+    const Eigen::MatrixXd k_fd = test::finite_jacobian(x0, force, 1e-6);
+    force(x0);  // linearise at x0
+    const auto n = x0.size();
+    Eigen::MatrixXd k_df(n, n);
+    for (Eigen::Index j = 0; j < n; ++j) {
+        std::fill(s.dx.begin(), s.dx.end(), Vec3::Zero());
+        std::fill(s.df.begin(), s.df.end(), Vec3::Zero());
+        Vec3Object::flat(s.dx)[j] = 1.0;
+        ff.accumulate_dforce(1.0, 0.0);
+        k_df.col(j) = Vec3Object::flat(s.df);
+    }
+    TripletList t;
+    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    SparseMatrix k_sp(n, n);
+    k_sp.setFromTriplets(t.begin(), t.end());
+    const Eigen::MatrixXd k_as = Eigen::MatrixXd(k_sp);
+    EXPECT_TRUE(test::near_relative(k_df, k_fd, tol)) << "addDForce vs FD\n" << k_df << "\n--\n" << k_fd;
+    EXPECT_TRUE(test::near_relative(k_as, k_df, 1e-12)) << "assembled vs addDForce";
+    const Eigen::VectorXd f0 = force(x0);
+    auto energy = [&](const Eigen::VectorXd& x) {
+        force(x);
+        return ff.potential_energy();
+    };
+    const Eigen::VectorXd grad = test::finite_gradient(x0, energy, 1e-6);
+    EXPECT_TRUE(test::near_relative(Eigen::VectorXd(-grad), f0, tol)) << "f = -dE/dx";
+    force(x0);
+    return k_fd.cwiseAbs().maxCoeff();
+}
+
+TEST(SpringForceField, ForceMatchesFormulaAndSign) {
+    Vec3Object s;
+    s.position = {Vec3(0, 0, 0), Vec3(2, 0, 0)};
+    s.velocity = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
+    s.init();
+    SpringForceField ff(s);
+    ff.add_spring({0, 1, 10.0, 3.0, 1.5});
+    ff.init();
+    ff.accumulate_force();
+    // F = 10 (2 − 1.5) + 3 (1) = 8 along +x on a, −x on b.
+    EXPECT_NEAR(s.force[0].x(), 8.0, 1e-14);
+    EXPECT_NEAR(s.force[1].x(), -8.0, 1e-14);
+    EXPECT_NEAR(ff.potential_energy(), 0.5 * 10 * 0.25, 1e-14);
+    EXPECT_THROW(ff.add_spring({0, 1, -1.0, 0, 1}), std::invalid_argument);
+    EXPECT_THROW(ff.add_spring({0, 1, 1.0, NAN, 1}), std::invalid_argument);
+    ff.add_spring({0, 5, 1.0, 0, 1});
+    EXPECT_THROW(ff.init(), std::invalid_argument);
+}
+
+TEST(SpringForceField, DerivativesMatchFiniteDifferencesOnRandomSprings) {
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int checked = 0;
+    for (int trial = 0; trial < 20; ++trial) {
+        Vec3Object s;
+        for (int i = 0; i < 5; ++i) s.position.emplace_back(u(rng), u(rng), u(rng));
+        s.init();
+        SpringForceField ff(s);
+        for (int k = 0; k < 6; ++k) {
+            const Index a = static_cast<Index>(rng() % 5);
+            const Index b = (a + 1 + static_cast<Index>(rng() % 4)) % 5;
+            ff.add_spring({a, b, 10 + 90 * std::abs(u(rng)), 0.5, std::abs(u(rng))});
+        }
+        ff.init();
+        const double kmax = check_force_field_derivatives(ff, s, 1e-5);
+        EXPECT_GT(kmax, 1.0);
+        ++checked;
+    }
+    EXPECT_EQ(checked, 20);
+}
+
+TEST(MeshSpringForceField, SpringsPerElementAndStiffnessOverLength) {
+    MeshTopology topo;
+    topo.set_hexahedra({{0, 1, 2, 3, 4, 5, 6, 7}});
+    std::vector<Vec3> x0 = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0, 2, 0),
+                            Vec3(0, 0, 2), Vec3(2, 0, 2), Vec3(2, 2, 2), Vec3(0, 2, 2)};
+    const auto springs = mesh_springs(topo, x0, MeshSpringParameters::uniform(10.0, 4.0));
+    ASSERT_EQ(springs.size(), 28u);  // 12 edges, then 12 face diagonals (quads), then 4 body diagonals
+    EXPECT_EQ(springs[0].a, 0);
+    EXPECT_EQ(springs[0].b, 1);
+    EXPECT_NEAR(springs[0].ks, 5.0, 1e-15);
+    EXPECT_NEAR(springs[0].kd, 2.0, 1e-15);
+    EXPECT_NEAR(springs[12].rest_length, std::sqrt(8.0), 1e-15);
+    EXPECT_NEAR(springs[27].rest_length, std::sqrt(12.0), 1e-15);
+    EXPECT_NEAR(springs[27].ks, 10.0 / std::sqrt(12.0), 1e-15);
+    // Only lines: 12 springs.
+    MeshSpringParameters lines;
+    lines.lines_stiffness = 1.0;
+    EXPECT_EQ(mesh_springs(topo, x0, lines).size(), 12u);
+    // Tetra: 6 pairs. Zero rest length rejected.
+    MeshTopology tet;
+    tet.set_tetrahedra({{0, 1, 2, 3}});
+    EXPECT_EQ(mesh_springs(tet, x0, MeshSpringParameters::uniform(1, 0)).size(), 6u);
+    std::vector<Vec3> bad = {Vec3::Zero(), Vec3::Zero(), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    EXPECT_THROW(mesh_springs(tet, bad, MeshSpringParameters::uniform(1, 0)), std::invalid_argument);
+    EXPECT_THROW(mesh_springs(tet, x0, MeshSpringParameters::uniform(-1, 0)), std::invalid_argument);
+}
+
+TEST(UniformMass, VertexAndTotalMassRules) {
+    Vec3Object s;
+    s.position = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+    s.velocity = {Vec3(1, 0, 0), Vec3::Zero(), Vec3::Zero(), Vec3(0, 2, 0)};
+    s.init();
+    UniformMass<Vec3Types> m(s);
+    EXPECT_THROW(m.init(), std::invalid_argument);
+    m.set_vertex_mass(3.0);
+    m.init();
+    EXPECT_EQ(m.vertex_mass(), 3.0);
+    m.set_total_mass(2.0);  // totalMass wins
+    m.init();
+    EXPECT_EQ(m.vertex_mass(), 0.5);
+    EXPECT_NEAR(m.kinetic_energy(), 0.5 * 0.5 * 5.0, 1e-15);
+    m.add_gravity_force(Vec3(0, -10, 0));
+    EXPECT_EQ(s.force[2], Vec3(0, -5, 0));
+    EXPECT_NEAR(m.gravity_potential_energy(Vec3(0, -10, 0)), 0.5 * 10 * 1.0, 1e-15);
+    EXPECT_THROW(m.set_total_mass(0.0), std::invalid_argument);
+    EXPECT_THROW(m.set_vertex_mass(NAN), std::invalid_argument);
+}
+
+TEST(UniformMass, Rigid3MassAndInertia) {
+    Rigid3Object s;
+    s.position.resize(1);
+    s.init();
+    UniformMass<Rigid3Types> m(s);
+    m.set_vertex_mass(2.0);
+    Mat3 j = Mat3::Identity();
+    j(2, 2) = 3.0;
+    m.set_inertia(j);
+    m.init();
+    s.dx[0].linear = Vec3(1, 0, 0);
+    s.dx[0].angular = Vec3(0, 0, 1);
+    m.add_mdx(0.5);
+    EXPECT_EQ(s.df[0].linear, Vec3(1, 0, 0));
+    EXPECT_EQ(s.df[0].angular, Vec3(0, 0, 3));
+    Eigen::VectorXd in(6), out(6);
+    in << 2, 0, 0, 0, 0, 6;
+    m.apply_inverse(in, out);
+    EXPECT_NEAR(out[0], 1.0, 1e-15);
+    EXPECT_NEAR(out[5], 1.0, 1e-15);
+    m.add_gravity_force(Vec3(0, -1, 0));
+    EXPECT_EQ(s.force[0].linear, Vec3(0, -2, 0));
+    EXPECT_EQ(s.force[0].angular, Vec3::Zero());
+    EXPECT_THROW(m.set_inertia(-Mat3::Identity()), std::invalid_argument);
+}
+
+TEST(MechanicalObject, InitialTransformScaleRotateTranslate) {
+    Vec3Object s;
+    s.position = {Vec3(1, 0, 0)};
+    s.transform.scale3d = Vec3(2, 1, 1);
+    s.transform.rotation_deg = Vec3(0, 0, 90);
+    s.transform.translation = Vec3(0, 0, 5);
+    s.init();
+    EXPECT_TRUE(s.position[0].isApprox(Vec3(0, 2, 5), 1e-14));
+    EXPECT_TRUE(s.rest_position[0].isApprox(Vec3(0, 2, 5), 1e-14));
+    Vec3Object bad;
+    bad.position = {Vec3(NAN, 0, 0)};
+    EXPECT_THROW(bad.init(), std::invalid_argument);
+    Rigid3Object r;
+    r.position.resize(1);
+    r.transform.rotation_deg = Vec3(90, 0, 0);
+    r.init();
+    EXPECT_TRUE((r.position[0].orientation * Vec3::UnitY()).isApprox(Vec3::UnitZ(), 1e-14));
+}
+
+}  // namespace
+}  // namespace penalty

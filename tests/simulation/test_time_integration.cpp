@@ -1,0 +1,401 @@
+// Worked example E (spec §11), free fall, harmonic oscillator energy, CG stopping rules, solver
+// subtrees (implicit vs explicit interaction, static side), FixedProjectiveConstraint, Newton.
+
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/spring_force_field.hpp"
+#include "penalty/simulation/solver.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace penalty {
+namespace {
+
+/// Test stand-in for a penalty contact with frozen geometry: pen = dist − (x2[0] − x1[0])·n;
+/// when pen > 0: f2 += ks·pen·n, f1 −= ks·pen·n; K = −ks n nᵀ on (dx2 − dx1) (SOFA sign).
+class PlanarContact final : public Vec3InteractionForceField {
+public:
+    PlanarContact(Vec3Object& a, Vec3Object& b, Vec3 n, double dist, double ks)
+        : Vec3InteractionForceField(a, b), n_(std::move(n)), dist_(dist), ks_(ks) {}
+    void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span, ConstVec3Span) override {
+        const double pen = dist_ - (x2[0] - x1[0]).dot(n_);
+        active_ = pen > 0;
+        last_pen_ = pen;
+        if (!active_) return;
+        f2[0] += ks_ * pen * n_;
+        f1[0] -= ks_ * pen * n_;
+    }
+    void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k, double) const override {
+        if (!active_) return;
+        const Vec3 d = -ks_ * n_ * n_.dot(dx2[0] - dx1[0]) * k;
+        df2[0] += d;
+        df1[0] -= d;
+    }
+    void add_stiffness_triplets(TripletList& t, Index o1, Index o2, double factor) const override {
+        if (!active_) return;
+        const Mat3 m = -ks_ * factor * n_ * n_.transpose();
+        for (Index r = 0; r < 3; ++r)
+            for (Index c = 0; c < 3; ++c) {
+                t.emplace_back(o2 + r, o2 + c, m(r, c));
+                t.emplace_back(o1 + r, o1 + c, m(r, c));
+                t.emplace_back(o2 + r, o1 + c, -m(r, c));
+                t.emplace_back(o1 + r, o2 + c, -m(r, c));
+            }
+    }
+    double last_pen_ = 0;
+
+private:
+    Vec3 n_;
+    double dist_, ks_;
+    bool active_ = false;
+};
+
+struct ExampleE {
+    Simulation sim;
+    Vec3Object* sphere = nullptr;
+    Vec3Object* floor = nullptr;
+    EulerImplicitSolver* solver = nullptr;
+    PlanarContact* contact = nullptr;
+
+    ExampleE(bool implicit_contact, double cg_tolerance, double cg_threshold) {
+        Node& root = sim.root();
+        Node& body = root.add_child("sphere");
+        solver = &body.set_ode_solver<EulerImplicitSolver>();
+        solver->cg.iterations = 25;
+        solver->cg.tolerance = cg_tolerance;
+        solver->cg.threshold = cg_threshold;
+        sphere = &body.add_state<Vec3Types>("sphere");
+        sphere->position = {Vec3(0.2, 0.9, 0.3)};
+        body.set_mass<UniformMass<Vec3Types>>(*sphere).set_vertex_mass(1.0);
+        Node& fl = root.add_child("floor");
+        floor = &fl.add_state<Vec3Types>("floor");
+        floor->position = {Vec3(0.2, 0.0, 0.3)};
+        Node& holder = implicit_contact ? body : root;
+        contact = &holder.add_force_field<PlanarContact>(*floor, *sphere, Vec3(0, 1, 0), 1.0, 100.0);
+        sim.init();
+    }
+};
+
+TEST(WorkedExampleE, ImplicitContactMatchesSpecTable) {
+    ExampleE e(true, 1e-9, 1e-9);
+    const double pen[5] = {0.1, 0.0999811881188119, 0.0999439368689344, 0.0998887976426307, 0.0998164934815118};
+    const double dv[5] = {0.0018811881188119, 0.0018439368689344, 0.0017887976426307, 0.0017164934815118,
+                          0.0016279102182108};
+    const double v[5] = {0.0018811881188119, 0.0037251249877462, 0.0055139226303769, 0.0072304161118887,
+                         0.0088583263300995};
+    const double y[5] = {0.9000188118811882, 0.9000560631310656, 0.9001112023573693, 0.9001835065184882,
+                         0.9002720897817892};
+    double v_prev = 0.0;
+    for (int s = 0; s < 5; ++s) {
+        e.sim.step();
+        EXPECT_NEAR(e.contact->last_pen_, pen[s], 1e-12) << "step " << s + 1;
+        EXPECT_NEAR(e.sphere->velocity[0].y() - v_prev, dv[s], 1e-12) << "step " << s + 1;
+        EXPECT_NEAR(e.sphere->velocity[0].y(), v[s], 1e-12) << "step " << s + 1;
+        EXPECT_NEAR(e.sphere->position[0].y(), y[s], 1e-12) << "step " << s + 1;
+        EXPECT_NEAR(e.sphere->position[0].x(), 0.2, 1e-15);
+        EXPECT_NEAR(e.sphere->velocity[0].z(), 0.0, 1e-15);
+        v_prev = e.sphere->velocity[0].y();
+    }
+    // The static side never moves.
+    EXPECT_EQ(e.floor->position[0], Vec3(0.2, 0.0, 0.3));
+    EXPECT_NEAR(e.sim.time(), 0.05, 1e-15);
+}
+
+TEST(WorkedExampleE, ExplicitContactMatchesSpecValues) {
+    ExampleE e(false, 1e-9, 1e-9);
+    const double v[3] = {0.0019, 0.003781, 0.00562419};
+    const double y[3] = {0.900019, 0.90005681, 0.9001130519};
+    for (int s = 0; s < 3; ++s) {
+        e.sim.step();
+        EXPECT_NEAR(e.sphere->velocity[0].y(), v[s], 1e-12) << "step " << s + 1;
+        EXPECT_NEAR(e.sphere->position[0].y(), y[s], 1e-12) << "step " << s + 1;
+        // External forces are cleared at the end of the step.
+        EXPECT_EQ(e.sphere->external_force[0], Vec3::Zero());
+    }
+}
+
+TEST(WorkedExampleE, CgThresholdQuirkFreezesVelocityAfterFirstSolve) {
+    ExampleE e(true, 1e-5, 1e-5);
+    e.sim.step();
+    EXPECT_NEAR(e.sphere->velocity[0].y(), 0.0018811881188118586, 1e-15);
+    for (int s = 2; s <= 4; ++s) {
+        e.sim.step();
+        EXPECT_EQ(e.solver->last_cg_stats().end_condition, "threshold");
+        EXPECT_EQ(e.solver->last_cg_stats().iterations, 1);
+        EXPECT_NEAR(e.sphere->velocity[0].y(), 0.0018811881188118586, 1e-15) << "step " << s;
+    }
+}
+
+TEST(CGLinearSolver, StoppingRulesAndFirstSolveException) {
+    CGLinearSolver cg;
+    cg.tolerance = 0.5;
+    cg.threshold = 0.0;
+    const auto identity = [](const Eigen::VectorXd& p, Eigen::VectorXd& q) { q = p; };
+    Eigen::VectorXd b = Eigen::VectorXd::Constant(3, 1.0);
+    Eigen::VectorXd x;
+    // First solve: err = 1 > 0.5 anyway; one step solves an identity system.
+    auto s1 = cg.solve(identity, b, x);
+    EXPECT_EQ(s1.end_condition, "tolerance");
+    EXPECT_EQ(s1.iterations, 2);
+    EXPECT_TRUE(x.isApprox(b));
+    // |b| = 0 -> x = 0.
+    auto s0 = cg.solve(identity, Eigen::VectorXd::Zero(3), x);
+    EXPECT_EQ(s0.end_condition, "b=0");
+    EXPECT_EQ(x, Eigen::VectorXd::Zero(3));
+    // Tolerance 2: from the second solve on, stop before any update.
+    CGLinearSolver cg2;
+    cg2.tolerance = 2.0;
+    auto f1 = cg2.solve(identity, b, x);
+    EXPECT_TRUE(x.isApprox(b)) << "first solve exempt at k=1";
+    EXPECT_EQ(f1.iterations, 2);
+    auto f2 = cg2.solve(identity, b, x);
+    EXPECT_EQ(f2.end_condition, "tolerance");
+    EXPECT_EQ(f2.iterations, 1);
+    EXPECT_EQ(x, Eigen::VectorXd::Zero(3));
+    // Iteration cap on an ill-conditioned diagonal system.
+    CGLinearSolver cg3;
+    cg3.iterations = 2;
+    cg3.tolerance = 0;
+    cg3.threshold = 0;
+    Eigen::VectorXd d(4);
+    d << 1, 10, 100, 1000;
+    auto s3 = cg3.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { q = d.cwiseProduct(p); }, Eigen::VectorXd::Ones(4), x);
+    EXPECT_EQ(s3.end_condition, "iterations");
+    EXPECT_EQ(s3.iterations, 2);
+    EXPECT_GT((d.cwiseProduct(x) - Eigen::VectorXd::Ones(4)).norm(), 1e-3);
+    CGLinearSolver bad;
+    bad.iterations = 0;
+    EXPECT_THROW(bad.solve(identity, b, x), std::invalid_argument);
+}
+
+TEST(EulerImplicit, FreeFallIsExact) {
+    Simulation sim;
+    Node& body = sim.root().add_child("body");
+    auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+    solver.cg.tolerance = 1e-12;
+    solver.cg.threshold = 1e-20;
+    auto& dofs = body.add_state<Vec3Types>();
+    dofs.position = {Vec3(0, 10, 0), Vec3(1, 10, 0)};
+    body.set_mass<UniformMass<Vec3Types>>(dofs).set_total_mass(4.0);
+    sim.init();
+    const double h = 0.01, g = 9.81;
+    for (int n = 1; n <= 50; ++n) {
+        sim.step();
+        EXPECT_NEAR(dofs.velocity[0].y(), -g * h * n, 1e-12);
+        EXPECT_NEAR(dofs.position[1].y(), 10 - g * h * h * n * (n + 1) / 2.0, 1e-12);
+    }
+    EXPECT_EQ(dofs.position[1].x(), 1.0);
+}
+
+TEST(EulerExplicit, FreeFallIsSymplecticEuler) {
+    Simulation sim;
+    sim.root().set_gravity(Vec3(0, 0, -2));
+    sim.root().set_dt(0.1);
+    Node& body = sim.root().add_child("body");
+    body.set_ode_solver<EulerExplicitSolver>();
+    auto& dofs = body.add_state<Vec3Types>();
+    dofs.position = {Vec3::Zero()};
+    body.set_mass<UniformMass<Vec3Types>>(dofs).set_vertex_mass(3.0);
+    sim.init();
+    for (int n = 1; n <= 10; ++n) {
+        sim.step();
+        EXPECT_NEAR(dofs.velocity[0].z(), -0.2 * n, 1e-13);
+        EXPECT_NEAR(dofs.position[0].z(), -0.02 * n * (n + 1) / 2.0, 1e-13);
+    }
+}
+
+/// Oscillator: unit mass on a spring (ks = 100, L = 1) to a fixed anchor, no gravity. Returns
+/// E_final / E_0 and the maximum relative energy excursion.
+struct EnergyHistory {
+    double final_ratio;
+    double max_excursion;
+    bool monotone;
+};
+
+template <class Configure>
+EnergyHistory run_oscillator(const Configure& configure, int steps) {
+    Simulation sim;
+    sim.root().set_gravity(Vec3::Zero());
+    Node& anchor = sim.root().add_child("anchor");
+    auto& a = anchor.add_state<Vec3Types>();
+    a.position = {Vec3::Zero()};
+    Node& body = sim.root().add_child("body");
+    configure(body);
+    auto& x = body.add_state<Vec3Types>();
+    x.position = {Vec3(1.1, 0, 0)};
+    body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(1.0);
+    auto& spring = body.add_force_field<SpringForceField>(a, x);
+    spring.add_spring({0, 0, 100.0, 0.0, 1.0});
+    sim.init();
+    auto energy = [&] {
+        const double d = x.position[0].norm() - 1.0;
+        return 0.5 * x.velocity[0].squaredNorm() + 0.5 * 100.0 * d * d;
+    };
+    const double e0 = energy();
+    EnergyHistory h{1.0, 0.0, true};
+    double prev = e0;
+    for (int s = 0; s < steps; ++s) {
+        sim.step();
+        const double e = energy();
+        h.max_excursion = std::max(h.max_excursion, std::abs(e / e0 - 1.0));
+        if (e > prev * (1 + 1e-12)) h.monotone = false;
+        prev = e;
+    }
+    h.final_ratio = prev / e0;
+    return h;
+}
+
+TEST(Integrators, HarmonicOscillatorEnergyBehaviour) {
+    const auto implicit = run_oscillator(
+        [](Node& n) {
+            auto& s = n.set_ode_solver<EulerImplicitSolver>();
+            s.cg.tolerance = 1e-12;
+            s.cg.threshold = 1e-30;
+        },
+        1000);
+    const auto trapezoidal = run_oscillator(
+        [](Node& n) {
+            auto& s = n.set_ode_solver<EulerImplicitSolver>();
+            s.trapezoidal_scheme = true;
+            s.cg.tolerance = 1e-12;
+            s.cg.threshold = 1e-30;
+        },
+        1000);
+    const auto symplectic = run_oscillator([](Node& n) { n.set_ode_solver<EulerExplicitSolver>(); }, 1000);
+    // Backward Euler: |amplification|² = 1/(1 + ω²h²) = 1/1.01 per step, energy decays monotonically.
+    EXPECT_TRUE(implicit.monotone);
+    EXPECT_NEAR(std::log(implicit.final_ratio), -1000 * std::log(1.01), 0.05 * 1000 * std::log(1.01));
+    // Symplectic Euler: bounded energy error O(ωh), no drift.
+    EXPECT_LT(symplectic.max_excursion, 0.06);
+    EXPECT_GT(symplectic.final_ratio, 0.94);
+    // Trapezoidal variant dissipates far less than backward Euler.
+    EXPECT_GT(trapezoidal.final_ratio, 100 * implicit.final_ratio);
+}
+
+TEST(SolverSubtrees, SimulatedPairWithRootSpringIsExplicit) {
+    // Two unit masses on a spring stored in the root (no solver there): the spring force is
+    // computed once from x(t_n) and applied as a constant external force: Δv = h f / m.
+    Simulation sim;
+    sim.root().set_gravity(Vec3::Zero());
+    Vec3Object* s[2];
+    for (int i = 0; i < 2; ++i) {
+        Node& n = sim.root().add_child("b" + std::to_string(i));
+        n.set_ode_solver<EulerImplicitSolver>().cg.threshold = 0;
+        s[i] = &n.add_state<Vec3Types>();
+        s[i]->position = {Vec3(1.5 * i, 0, 0)};
+        n.set_mass<UniformMass<Vec3Types>>(*s[i]).set_vertex_mass(1.0);
+    }
+    sim.root().add_force_field<SpringForceField>(*s[0], *s[1]).add_spring({0, 0, 1000.0, 0.0, 1.0});
+    sim.init();
+    sim.step();
+    // f on b0 = +1000·0.5 along x -> Δv = 0.01·500 = 5 exactly (explicit); implicit would be 5/(1+0.2).
+    EXPECT_NEAR(s[0]->velocity[0].x(), 5.0, 1e-12);
+    EXPECT_NEAR(s[1]->velocity[0].x(), -5.0, 1e-12);
+}
+
+TEST(SolverSubtrees, CommonSolverMakesTheSpringImplicit) {
+    Simulation sim;
+    sim.root().set_gravity(Vec3::Zero());
+    sim.root().set_ode_solver<EulerImplicitSolver>().cg.threshold = 0;
+    Vec3Object* s[2];
+    for (int i = 0; i < 2; ++i) {
+        Node& n = sim.root().add_child("b" + std::to_string(i));
+        s[i] = &n.add_state<Vec3Types>();
+        s[i]->position = {Vec3(1.5 * i, 0, 0)};
+        n.set_mass<UniformMass<Vec3Types>>(*s[i]).set_vertex_mass(1.0);
+    }
+    sim.root().add_force_field<SpringForceField>(*s[0], *s[1]).add_spring({0, 0, 1000.0, 0.0, 1.0});
+    sim.init();
+    sim.step();
+    // Relative mode: (1 + 2 h² k) Δv_rel = 2 h f -> Δv0 = 5 / (1 + 0.2).
+    EXPECT_NEAR(s[0]->velocity[0].x(), 5.0 / 1.2, 1e-10);
+    EXPECT_NEAR(s[1]->velocity[0].x(), -5.0 / 1.2, 1e-10);
+}
+
+TEST(FixedProjectiveConstraint, FixedDofsDoNotMove) {
+    Simulation sim;
+    Node& n = sim.root().add_child("chain");
+    n.set_ode_solver<EulerImplicitSolver>().cg.threshold = 1e-20;
+    auto& x = n.add_state<Vec3Types>();
+    x.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+    n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(1.0);
+    auto& springs = n.add_force_field<SpringForceField>(x);
+    springs.add_spring({0, 1, 100, 0, 1});
+    springs.add_spring({1, 2, 100, 0, 1});
+    auto& fixed = n.add_constraint<FixedProjectiveConstraint>(x);
+    fixed.set_indices({0});
+    sim.init();
+    for (int i = 0; i < 20; ++i) sim.step();
+    EXPECT_EQ(x.position[0], Vec3::Zero());
+    EXPECT_EQ(x.velocity[0], Vec3::Zero());
+    EXPECT_LT(x.position[2].y(), -0.01);  // the free end falls
+    fixed.set_indices({3});
+    EXPECT_THROW(fixed.init(), std::invalid_argument);
+}
+
+TEST(EulerImplicitNewton, ConvergesOnStiffNonlinearSpringAndReportsIterations) {
+    // A stiff spring rotating: Newton iterations converge the backward-Euler residual; the first
+    // iterate equals the SOFA (one linear solve) step.
+    auto make = [](bool newton_on, Simulation& sim) -> Vec3Object& {
+        sim.root().set_gravity(Vec3::Zero());
+        Node& anchor = sim.root().add_child("anchor");
+        auto& a = anchor.add_state<Vec3Types>();
+        a.position = {Vec3::Zero()};
+        Node& n = sim.root().add_child("body");
+        auto& s = n.set_ode_solver<EulerImplicitSolver>();
+        s.cg.tolerance = 1e-14;
+        s.cg.threshold = 1e-40;
+        s.newton.enabled = newton_on;
+        s.newton.max_iterations = 20;
+        s.newton.tolerance = 1e-12;
+        auto& x = n.add_state<Vec3Types>();
+        x.position = {Vec3(1.3, 0, 0)};
+        x.velocity = {Vec3(0, 5, 0)};
+        n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(1.0);
+        n.add_force_field<SpringForceField>(a, x).add_spring({0, 0, 1e4, 0, 1.0});
+        sim.init();
+        return x;
+    };
+    Simulation lin_sim, newton_sim;
+    Vec3Object& xl = make(false, lin_sim);
+    Vec3Object& xn = make(true, newton_sim);
+    lin_sim.step();
+    newton_sim.step();
+    auto* solver = dynamic_cast<EulerImplicitSolver*>(newton_sim.root().children()[1]->ode_solver());
+    ASSERT_NE(solver, nullptr);
+    EXPECT_GE(solver->last_newton_iterations(), 3);
+    EXPECT_LT(solver->last_newton_iterations(), 20);
+    // Backward-Euler residual at the Newton solution: v1 − v0 − h f(x0 + h v1) / m = 0.
+    const double h = 0.01;
+    const Vec3 x1 = xn.position[0];
+    const Vec3 v1 = xn.velocity[0];
+    const double d = x1.norm();
+    const Vec3 f = -1e4 * (d - 1.0) * x1 / d;
+    EXPECT_LT((v1 - Vec3(0, 5, 0) - h * f).norm(), 1e-8);
+    EXPECT_NEAR((x1 - Vec3(1.3, 0, 0) - h * v1).norm(), 0.0, 1e-12);
+    // The linearised step is not a solution of the nonlinear residual.
+    const Vec3 xl1 = xl.position[0];
+    const Vec3 fl = -1e4 * (xl1.norm() - 1.0) * xl1 / xl1.norm();
+    EXPECT_GT((xl.velocity[0] - Vec3(0, 5, 0) - h * fl).norm(), 1e-3);
+}
+
+TEST(Simulation, BadInputThrows) {
+    Simulation sim;
+    EXPECT_THROW(sim.root().set_dt(-1), std::invalid_argument);
+    EXPECT_THROW(sim.root().set_gravity(Vec3(NAN, 0, 0)), std::invalid_argument);
+    Node& n = sim.root().add_child("n");
+    auto& x = n.add_state<Vec3Types>();
+    x.position = {Vec3::Zero()};
+    EXPECT_THROW(n.add_state<Vec3Types>(), std::invalid_argument);
+    auto& m = n.set_mass<UniformMass<Vec3Types>>(x);
+    EXPECT_THROW(m.set_vertex_mass(-1), std::invalid_argument);
+    EXPECT_THROW(sim.init(), std::invalid_argument);  // neither vertexMass nor totalMass
+    auto& s = n.set_ode_solver<EulerImplicitSolver>();
+    s.rayleigh_stiffness = -0.1;
+    m.set_vertex_mass(1);
+    EXPECT_THROW(sim.init(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penalty
