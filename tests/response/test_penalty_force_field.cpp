@@ -338,6 +338,42 @@ INSTANTIATE_TEST_SUITE_P(Layouts, RandomFiniteDifferences,
                          ::testing::Values(LayoutCase{false, "TwoStates"}, LayoutCase{true, "SameState"}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
 
+TEST(PenaltyForceField, SeparatedContactsGiveExactlyZero) {
+    // random contacts all with pen < 0: energy, forces, K and add_dforce are exactly zero
+    std::mt19937 rng(99);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    PenaltyParameters parameters;
+    parameters.damping = 2.0;
+    parameters.friction = FrictionModel::coulomb;
+    PenaltyForceField ff(parameters);
+    Vec3List x1(8), x2(8), v(8);
+    for (std::size_t i = 0; i < 8; ++i) {
+        x1[i] = Vec3(unit(rng), unit(rng), unit(rng));
+        x2[i] = Vec3(unit(rng), unit(rng), unit(rng));
+        v[i] = Vec3(unit(rng), unit(rng), unit(rng));
+    }
+    for (Index i = 0; i < 8; ++i) {
+        const Vec3 n = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
+        const double gap = (x2[static_cast<std::size_t>(i)] - x1[static_cast<std::size_t>(7 - i)]).dot(n);
+        ff.add_contact(7 - i, i, 0, 0, n, gap - 0.01 - 0.1 * (unit(rng) + 1.0), 50.0, 0.5, 0.5);
+    }
+    Vec3List f1(8, Vec3::Zero()), f2(8, Vec3::Zero());
+    ff.add_force(f1, f2, x1, x2, v, v);
+    EXPECT_EQ(ff.active_count(), 0u);
+    EXPECT_EQ(ff.potential_energy(), 0.0);
+    for (std::size_t i = 0; i < 8; ++i) {
+        EXPECT_EQ(f1[i], Vec3::Zero());
+        EXPECT_EQ(f2[i], Vec3::Zero());
+        EXPECT_LT(ff.contacts()[i].pen, 0.0);
+    }
+    EXPECT_EQ(ff.stiffness_matrix(8, 8, false).nonZeros(), 0);
+    EXPECT_EQ(ff.damping_matrix(8, 8, false).nonZeros(), 0);
+    Vec3List df1(8, Vec3::Zero()), df2(8, Vec3::Zero());
+    ff.add_dforce(df1, df2, v, v, 1.0, 1.0);
+    for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(df1[i], Vec3::Zero());
+    EXPECT_EQ(ff.dissipated_energy(), 0.0);
+}
+
 TEST(PenaltyForceField, TwoStateAndSameStateAssemblyAgree) {
     // the same physical contacts, written once with two states and once with one merged state
     Vec3List x1{Vec3(0, 0, 0), Vec3(1, 0, 0)}, x2{Vec3(0.1, 0.5, 0), Vec3(1, 0.2, 0.1)};
