@@ -141,6 +141,7 @@ void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
     f.resize(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i)
         f.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->force_flat();
+    if (!f.allFinite()) throw_invalid_argument("SubtreeSystem: the forces are not finite (NaN or infinite positions, velocities or parameters)");
 }
 
 void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k,

@@ -1,0 +1,92 @@
+#pragma once
+/// @file
+/// Linear-elastic finite elements: TetrahedronFEMForceField (4-node linear tetrahedra) and
+/// HexahedronFEMForceField (8-node trilinear hexahedra, 2×2×2 Gauss quadrature), each with
+/// method "small" (linear elasticity in the world frame) or "large" (corotational, SOFA's
+/// default). Isotropic material: Young's modulus E (Pa) > 0, Poisson's ratio ν ∈ (−1, 0.5).
+///
+/// Corotational ("large") as SOFA: each element gets a rotation R (rows = local axes) built from
+/// its edges — tetrahedron: x̂ along p1−p0, ẑ ⟂ (p1−p0, p2−p0), ŷ = ẑ × x̂; hexahedron: x̂ along
+/// the mean of the four edges 0→1, ŷ from the mean of the edges 0→3 made orthogonal. With rest
+/// local coordinates r_i = R₀(x⁰_i − x⁰_0) and current ones d_i = R(x_i − x_0):
+///   f_i = −Rᵀ Σ_j K^e_ij (d_j − r_j),  K = ∂f/∂x ≈ −Rᵀ K^e R  (rotation derivative ignored, as
+/// SOFA: exact at stress-free configurations). Energy ½ uᵀ K^e u with u = d − r.
+
+#include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <Eigen/Core>
+
+namespace penalty {
+
+enum class FemMethod { Small, Large };
+
+/// Isotropic material stiffness in Voigt notation (εxx, εyy, εzz, γxy, γyz, γzx), Pa.
+Eigen::Matrix<double, 6, 6> isotropic_elasticity(double young_modulus, double poisson_ratio);
+
+template <int N>
+class LinearElementForceField : public ForceField<Vec3Types> {
+public:
+    using Element = std::array<PointId, N>;
+    using ElementMatrix = Eigen::Matrix<double, 3 * N, 3 * N>;
+
+    LinearElementForceField(Vec3Object& state, std::vector<Element> elements, double young_modulus,
+                            double poisson_ratio, FemMethod method, const char* component);
+
+    /// Precomputes rest frames and element stiffness from the state's rest positions.
+    void init() override;
+    void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
+    [[nodiscard]] double potential_energy() const override { return energy_; }
+    [[nodiscard]] const std::vector<ElementMatrix>& element_stiffness() const { return ke_; }
+
+protected:
+    /// Element stiffness K^e (SPD, 3N×3N) from local rest coordinates.
+    [[nodiscard]] virtual ElementMatrix compute_stiffness(const std::array<Vec3, N>& rest_local,
+                                                          const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const = 0;
+    /// Rotation (rows = local axes) of an element with vertex positions p.
+    [[nodiscard]] virtual Mat3 element_rotation(const std::array<Vec3, N>& p) const = 0;
+
+    std::vector<Element> elements_;
+    double young_, poisson_;
+    FemMethod method_;
+    const char* component_;
+    std::vector<ElementMatrix> ke_;
+    std::vector<std::array<Vec3, N>> rest_local_;
+    std::vector<Mat3> rotation_;  ///< R per element at the last add_force (identity for small)
+    double energy_ = 0.0;
+};
+
+/// SOFA's TetrahedronFEMForceField (methods small and large).
+class TetrahedronFEMForceField final : public LinearElementForceField<4> {
+public:
+    TetrahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
+                             double poisson_ratio, FemMethod method = FemMethod::Large)
+        : LinearElementForceField<4>(state, topology.tetrahedra(), young_modulus, poisson_ratio, method,
+                                     "TetrahedronFEMForceField") {}
+
+protected:
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
+                                                  std::size_t e) const override;
+    [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 4>& p) const override;
+};
+
+/// SOFA's HexahedronFEMForceField (methods small and large), SOFA vertex order (see topology).
+class HexahedronFEMForceField final : public LinearElementForceField<8> {
+public:
+    HexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
+                            double poisson_ratio, FemMethod method = FemMethod::Large)
+        : LinearElementForceField<8>(state, topology.hexahedra(), young_modulus, poisson_ratio, method,
+                                     "HexahedronFEMForceField") {}
+
+protected:
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
+                                                  std::size_t e) const override;
+    [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override;
+};
+
+extern template class LinearElementForceField<4>;
+extern template class LinearElementForceField<8>;
+
+}  // namespace penalty

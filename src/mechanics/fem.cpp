@@ -1,0 +1,197 @@
+#include "penalty/mechanics/fem.hpp"
+
+#include <Eigen/Dense>
+
+#include <cmath>
+
+namespace penalty {
+
+Eigen::Matrix<double, 6, 6> isotropic_elasticity(double e, double nu) {
+    const double lambda = e * nu / ((1 + nu) * (1 - 2 * nu));
+    const double mu = e / (2 * (1 + nu));
+    Eigen::Matrix<double, 6, 6> d = Eigen::Matrix<double, 6, 6>::Zero();
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) d(i, j) = lambda;
+        d(i, i) = lambda + 2 * mu;
+        d(i + 3, i + 3) = mu;
+    }
+    return d;
+}
+
+namespace {
+/// Strain-displacement rows for one node with shape-function gradient g (Voigt, engineering shear).
+void fill_b(Eigen::Matrix<double, 6, Eigen::Dynamic>& b, int node, const Vec3& g) {
+    const int c = 3 * node;
+    b(0, c) = g.x();
+    b(1, c + 1) = g.y();
+    b(2, c + 2) = g.z();
+    b(3, c) = g.y();
+    b(3, c + 1) = g.x();
+    b(4, c + 1) = g.z();
+    b(4, c + 2) = g.y();
+    b(5, c) = g.z();
+    b(5, c + 2) = g.x();
+}
+}  // namespace
+
+template <int N>
+LinearElementForceField<N>::LinearElementForceField(Vec3Object& state, std::vector<Element> elements, double young,
+                                                    double poisson, FemMethod method, const char* component)
+    : ForceField<Vec3Types>(state), elements_(std::move(elements)), young_(young), poisson_(poisson), method_(method),
+      component_(component) {
+    if (!std::isfinite(young) || young <= 0) throw_invalid_argument(component, ": youngModulus must be finite and > 0, got ", young);
+    if (!std::isfinite(poisson) || poisson <= -1.0 || poisson >= 0.5)
+        throw_invalid_argument(component, ": poissonRatio must be in (-1, 0.5), got ", poisson);
+}
+
+template <int N>
+void LinearElementForceField<N>::init() {
+    const auto& x0 = state_->rest_position;
+    const Eigen::Matrix<double, 6, 6> d = isotropic_elasticity(young_, poisson_);
+    ke_.resize(elements_.size());
+    rest_local_.resize(elements_.size());
+    rotation_.assign(elements_.size(), Mat3::Identity());
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        std::array<Vec3, N> p;
+        for (int k = 0; k < N; ++k) {
+            const PointId v = elements_[e][static_cast<std::size_t>(k)];
+            if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
+                throw_invalid_argument(component_, ": element ", e, " uses vertex ", v, " out of range (", x0.size(), " DOFs)");
+            p[static_cast<std::size_t>(k)] = x0[static_cast<std::size_t>(v)];
+        }
+        const Mat3 r = method_ == FemMethod::Large ? element_rotation(p) : Mat3::Identity();
+        rotation_[e] = r;
+        for (int k = 0; k < N; ++k) rest_local_[e][static_cast<std::size_t>(k)] = r * (p[static_cast<std::size_t>(k)] - p[0]);
+        ke_[e] = compute_stiffness(rest_local_[e], d, e);
+    }
+}
+
+template <int N>
+void LinearElementForceField<N>::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+    PENALTY_DEMAND(ke_.size() == elements_.size());
+    energy_ = 0.0;
+    Eigen::Matrix<double, 3 * N, 1> u;
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        const auto& el = elements_[e];
+        std::array<Vec3, N> p;
+        for (int k = 0; k < N; ++k) p[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+        if (method_ == FemMethod::Large) {
+            rotation_[e] = element_rotation(p);
+            for (int k = 0; k < N; ++k)
+                u.template segment<3>(3 * k) = rotation_[e] * (p[static_cast<std::size_t>(k)] - p[0]) - rest_local_[e][static_cast<std::size_t>(k)];
+        } else {
+            for (int k = 0; k < N; ++k)
+                u.template segment<3>(3 * k) = p[static_cast<std::size_t>(k)] - state_->rest_position[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+        }
+        const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
+        energy_ += 0.5 * u.dot(fl);
+        for (int k = 0; k < N; ++k)
+            f[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -= rotation_[e].transpose() * fl.template segment<3>(3 * k);
+    }
+}
+
+template <int N>
+void LinearElementForceField<N>::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
+    Eigen::Matrix<double, 3 * N, 1> u;
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        const auto& el = elements_[e];
+        for (int k = 0; k < N; ++k) u.template segment<3>(3 * k) = rotation_[e] * dx[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+        const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
+        for (int k = 0; k < N; ++k)
+            df[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -= k_factor * (rotation_[e].transpose() * fl.template segment<3>(3 * k));
+    }
+}
+
+template <int N>
+void LinearElementForceField<N>::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        const auto& el = elements_[e];
+        for (int a = 0; a < N; ++a)
+            for (int b = 0; b < N; ++b) {
+                const Mat3 blk = -factor * rotation_[e].transpose() * ke_[e].template block<3, 3>(3 * a, 3 * b) * rotation_[e];
+                const Index ra = offset + 3 * el[static_cast<std::size_t>(a)];
+                const Index cb = offset + 3 * el[static_cast<std::size_t>(b)];
+                for (Index r = 0; r < 3; ++r)
+                    for (Index c = 0; c < 3; ++c) t.emplace_back(ra + r, cb + c, blk(r, c));
+            }
+    }
+}
+
+template class LinearElementForceField<4>;
+template class LinearElementForceField<8>;
+
+// ---- tetrahedron --------------------------------------------------------------------------------
+TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffness(const std::array<Vec3, 4>& p,
+                                                                                    const Eigen::Matrix<double, 6, 6>& d,
+                                                                                    std::size_t e) const {
+    Mat3 m;
+    m << p[1] - p[0], p[2] - p[0], p[3] - p[0];
+    const double det = m.determinant();
+    const double scale = std::max({(p[1] - p[0]).norm(), (p[2] - p[0]).norm(), (p[3] - p[0]).norm()});
+    if (!std::isfinite(det) || std::abs(det) <= 1e-12 * scale * scale * scale)
+        throw_invalid_argument(component_, ": tetrahedron ", e, " is degenerate (volume ", det / 6, ")");
+    const Mat3 inv = m.inverse();  // rows: gradients of N1, N2, N3
+    Eigen::Matrix<double, 6, Eigen::Dynamic> b = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, 12);
+    fill_b(b, 0, -(inv.row(0) + inv.row(1) + inv.row(2)).transpose());
+    for (int k = 1; k < 4; ++k) fill_b(b, k, inv.row(k - 1).transpose());
+    const double volume = std::abs(det) / 6.0;
+    return volume * b.transpose() * d * b;
+}
+
+Mat3 TetrahedronFEMForceField::element_rotation(const std::array<Vec3, 4>& p) const {
+    const Vec3 a = p[1] - p[0];
+    const Vec3 b = p[2] - p[0];
+    const Vec3 xh = a.normalized();
+    const Vec3 zh = a.cross(b).normalized();
+    const Vec3 yh = zh.cross(xh);
+    Mat3 r;
+    r.row(0) = xh;
+    r.row(1) = yh;
+    r.row(2) = zh;
+    return r;
+}
+
+// ---- hexahedron ---------------------------------------------------------------------------------
+HexahedronFEMForceField::ElementMatrix HexahedronFEMForceField::compute_stiffness(const std::array<Vec3, 8>& p,
+                                                                                  const Eigen::Matrix<double, 6, 6>& d,
+                                                                                  std::size_t e) const {
+    static constexpr int kSign[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                        {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    const double g = 1.0 / std::sqrt(3.0);
+    ElementMatrix k = ElementMatrix::Zero();
+    for (int q = 0; q < 8; ++q) {
+        const Vec3 xi(kSign[q][0] * g, kSign[q][1] * g, kSign[q][2] * g);
+        Eigen::Matrix<double, 8, 3> dn;  // dN/dξ
+        for (int a = 0; a < 8; ++a) {
+            const Vec3 s(kSign[a][0], kSign[a][1], kSign[a][2]);
+            dn(a, 0) = 0.125 * s.x() * (1 + s.y() * xi.y()) * (1 + s.z() * xi.z());
+            dn(a, 1) = 0.125 * s.y() * (1 + s.x() * xi.x()) * (1 + s.z() * xi.z());
+            dn(a, 2) = 0.125 * s.z() * (1 + s.x() * xi.x()) * (1 + s.y() * xi.y());
+        }
+        Mat3 jac = Mat3::Zero();  // ∂x/∂ξ
+        for (int a = 0; a < 8; ++a) jac += p[static_cast<std::size_t>(a)] * dn.row(a);
+        const double det = jac.determinant();
+        if (!std::isfinite(det) || det <= 0.0)
+            throw_invalid_argument(component_, ": hexahedron ", e, " is degenerate or inverted (Jacobian ", det, ")");
+        const Eigen::Matrix<double, 8, 3> grad = dn * jac.inverse();
+        Eigen::Matrix<double, 6, Eigen::Dynamic> b = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, 24);
+        for (int a = 0; a < 8; ++a) fill_b(b, a, grad.row(a).transpose());
+        k += det * b.transpose() * d * b;
+    }
+    return k;
+}
+
+Mat3 HexahedronFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const {
+    const Vec3 horizontal = (p[1] - p[0] + p[2] - p[3] + p[5] - p[4] + p[6] - p[7]) * 0.25;
+    const Vec3 vertical = (p[3] - p[0] + p[2] - p[1] + p[7] - p[4] + p[6] - p[5]) * 0.25;
+    const Vec3 xh = horizontal.normalized();
+    const Vec3 zh = horizontal.cross(vertical).normalized();
+    const Vec3 yh = zh.cross(xh);
+    Mat3 r;
+    r.row(0) = xh;
+    r.row(1) = yh;
+    r.row(2) = zh;
+    return r;
+}
+
+}  // namespace penalty

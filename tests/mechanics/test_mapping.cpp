@@ -1,0 +1,230 @@
+#include "penalty/mechanics/mapping.hpp"
+
+#include "penalty_test/finite_difference.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace penalty {
+namespace {
+
+std::mt19937 rng(7);
+double uni() { return std::uniform_real_distribution<double>(-1, 1)(rng); }
+Vec3 rand_vec() { return Vec3(uni(), uni(), uni()); }
+
+/// Generic checks of a mapping whose input has `in_size` scalars per DOF:
+///  ⟨J dx, y⟩ = ⟨dx, Jᵀ y⟩, J (apply_j) = FD of apply, triplets = apply_j.
+/// `perturb(h, i)` moves input scalar i by h (and restores with −h); `read_out()` returns the
+/// output positions flattened.
+template <class In>
+void check_mapping(Mapping<In, Vec3Types>& map, MechanicalObject<In>& in, Vec3Object& out,
+                   const std::function<void(double, Eigen::Index)>& perturb) {
+    map.init();
+    const auto nin = static_cast<Eigen::Index>(in.scalar_size());
+    const auto nout = static_cast<Eigen::Index>(out.scalar_size());
+    ASSERT_GT(nout, 0);
+    // Adjoint identity on random vectors.
+    for (int trial = 0; trial < 5; ++trial) {
+        Eigen::VectorXd dx = Eigen::VectorXd::NullaryExpr(nin, [] { return uni(); });
+        Eigen::VectorXd y = Eigen::VectorXd::NullaryExpr(nout, [] { return uni(); });
+        in.dx_flat() = dx;
+        map.apply_dx();
+        const double lhs = out.dx_flat().dot(y);
+        out.df_flat() = y;
+        in.df_flat().setZero();
+        map.apply_jt_df();
+        const double rhs = dx.dot(in.df_flat());
+        EXPECT_NEAR(lhs, rhs, 1e-12 * std::max(1.0, std::abs(lhs)));
+        EXPECT_GT(std::abs(lhs), 1e-6);
+    }
+    // J column by column vs central finite differences of apply.
+    map.apply_position();
+    Eigen::MatrixXd j(nout, nin), j_fd(nout, nin);
+    const double h = 1e-6;
+    for (Eigen::Index c = 0; c < nin; ++c) {
+        in.dx_flat().setZero();
+        in.dx_flat()[c] = 1.0;
+        map.apply_dx();
+        j.col(c) = out.dx_flat();
+        perturb(h, c);
+        map.apply_position();
+        const Eigen::VectorXd xp = ConstFlatVector(reinterpret_cast<const double*>(out.position.data()), nout);
+        perturb(-2 * h, c);
+        map.apply_position();
+        const Eigen::VectorXd xm = ConstFlatVector(reinterpret_cast<const double*>(out.position.data()), nout);
+        perturb(h, c);
+        map.apply_position();
+        j_fd.col(c) = (xp - xm) / (2 * h);
+    }
+    EXPECT_TRUE(test::near_relative(j, j_fd, 1e-7)) << j << "\n--\n" << j_fd;
+    EXPECT_GT(j.cwiseAbs().maxCoeff(), 0.1);
+    TripletList t;
+    map.add_jacobian_triplets(t, 0, 0);
+    SparseMatrix js(nout, nin);
+    js.setFromTriplets(t.begin(), t.end());
+    EXPECT_TRUE(test::near_relative(Eigen::MatrixXd(js), j, 1e-14));
+}
+
+void perturb_vec3(Vec3Object& in, double h, Eigen::Index c) { in.position[static_cast<std::size_t>(c / 3)][c % 3] += h; }
+
+void perturb_rigid(Rigid3Object& in, double h, Eigen::Index c) {
+    RigidFrame& f = in.position[static_cast<std::size_t>(c / 6)];
+    const auto k = c % 6;
+    if (k < 3) {
+        f.center[k] += h;
+    } else {
+        // World-frame small rotation about axis k−3 (matches the angular velocity convention).
+        f.orientation = Quat(Eigen::AngleAxisd(h, Vec3::Unit(k - 3))) * f.orientation;
+    }
+}
+
+TEST(Mapping, IdentityVec3) {
+    Vec3Object in, out;
+    for (int i = 0; i < 4; ++i) in.position.push_back(rand_vec());
+    in.init();
+    IdentityMapping map(in, out);
+    check_mapping<Vec3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_vec3(in, h, c); });
+    EXPECT_EQ(out.position[2], in.position[2]);
+}
+
+TEST(Mapping, IdentityRigidToVec3TakesCentres) {
+    Rigid3Object in;
+    Vec3Object out;
+    for (int i = 0; i < 3; ++i) in.position.push_back({rand_vec(), Quat(Eigen::AngleAxisd(uni(), rand_vec().normalized()))});
+    in.init();
+    RigidCenterIdentityMapping map(in, out);
+    check_mapping<Rigid3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_rigid(in, h, c); });
+    EXPECT_EQ(out.position[1], in.position[1].center);
+}
+
+TEST(Mapping, RigidMappingAdjointAndFiniteDifferences) {
+    Rigid3Object in;
+    Vec3Object out;
+    for (int i = 0; i < 2; ++i) in.position.push_back({rand_vec(), Quat(Eigen::AngleAxisd(2 * uni(), rand_vec().normalized()))});
+    in.velocity = {RigidDeriv{rand_vec(), rand_vec()}, RigidDeriv{rand_vec(), rand_vec()}};
+    in.init();
+    RigidMapping map(in, out);
+    std::vector<Vec3> local;
+    for (int i = 0; i < 5; ++i) local.push_back(rand_vec());
+    map.set_points(local, {0, 1, 1, 0, 1});
+    check_mapping<Rigid3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_rigid(in, h, c); });
+    map.apply_position();
+    EXPECT_TRUE(out.position[1].isApprox(in.position[1].center + in.position[1].orientation * local[1], 1e-14));
+    // Velocity of a material point: v + ω × r.
+    map.apply_velocity();
+    const Vec3 r = in.position[0].orientation * local[3];
+    EXPECT_TRUE(out.velocity[3].isApprox(in.velocity[0].linear + in.velocity[0].angular.cross(r), 1e-14));
+    EXPECT_THROW(map.set_points(local, {0, 2, 0, 0, 0}), std::invalid_argument);
+    // set_points_from_world inverts apply.
+    RigidMapping map2(in, out);
+    std::vector<Vec3> world(out.position.begin(), out.position.end());
+    map2.set_points_from_world(world, {0, 1, 1, 0, 1});
+    for (std::size_t i = 0; i < local.size(); ++i) EXPECT_TRUE(map2.local_points()[i].isApprox(local[i], 1e-12));
+}
+
+TEST(Mapping, BarycentricOnTetrahedra) {
+    Vec3Object in, out;
+    in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(1, 1, 1)};
+    in.init();
+    MeshTopology topo;
+    topo.set_tetrahedra({{0, 1, 2, 3}, {1, 2, 3, 4}});
+    BarycentricMapping map(in, out);
+    const std::vector<Vec3> pts = {Vec3(0.1, 0.2, 0.3), Vec3(0.6, 0.6, 0.6), Vec3(-0.5, 0.1, 0.1)};
+    map.map_on_tetrahedra(topo, in.position, pts);
+    check_mapping<Vec3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_vec3(in, h, c); });
+    map.apply_position();
+    for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_TRUE(out.position[i].isApprox(pts[i], 1e-14)) << i;
+    EXPECT_EQ(map.weights()[0][0].index, 0);   // inside tetra 0
+    EXPECT_EQ(map.weights()[1][3].index, 4);   // inside tetra 1
+    EXPECT_NEAR(map.weights()[0][0].weight, 0.4, 1e-15);
+}
+
+TEST(Mapping, BarycentricOnHexahedraIsTrilinear) {
+    Vec3Object in, out;
+    // A distorted hexahedron (not a parallelepiped).
+    in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.2, 1, 0), Vec3(0, 1, 0.1),
+                   Vec3(0, 0, 1), Vec3(1, 0.1, 1), Vec3(1, 1, 1.3), Vec3(-0.1, 1, 1)};
+    in.init();
+    MeshTopology topo;
+    topo.set_hexahedra({{0, 1, 2, 3, 4, 5, 6, 7}});
+    BarycentricMapping map(in, out);
+    std::vector<Vec3> pts;
+    std::vector<Vec3> uvw = {Vec3(0.3, 0.6, 0.2), Vec3(0.9, 0.1, 0.5)};
+    for (const Vec3& u : uvw) {
+        const auto w = trilinear_weights(u);
+        Vec3 p = Vec3::Zero();
+        for (int k = 0; k < 8; ++k) p += w[static_cast<std::size_t>(k)] * in.position[static_cast<std::size_t>(k)];
+        pts.push_back(p);
+    }
+    map.map_on_hexahedra(topo, in.position, pts);
+    check_mapping<Vec3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_vec3(in, h, c); });
+    map.apply_position();
+    for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_TRUE(out.position[i].isApprox(pts[i], 1e-12));
+    const auto w0 = trilinear_weights(uvw[0]);
+    for (int k = 0; k < 8; ++k) EXPECT_NEAR(map.weights()[0][static_cast<std::size_t>(k)].weight, w0[static_cast<std::size_t>(k)], 1e-12);
+}
+
+TEST(Mapping, ChainedMappingsComposeJacobians) {
+    // rigid frame -> surface points (RigidMapping) -> contact point (barycentric on a triangle).
+    Rigid3Object frame;
+    frame.position = {{Vec3(0.5, -0.2, 1.0), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()))}};
+    frame.init();
+    Vec3Object surface, contact;
+    RigidMapping rigid(frame, surface);
+    rigid.set_points({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)});
+    rigid.init();
+    BarycentricMapping bary(surface, contact);
+    bary.set_weights({{{0, 0.5}, {1, 0.25}, {2, 0.25}}});
+    bary.init();
+    // J_total = J_bary J_rigid via apply_dx; adjoint through the chain.
+    Eigen::VectorXd dx = Eigen::VectorXd::NullaryExpr(6, [] { return uni(); });
+    frame.dx_flat() = dx;
+    rigid.apply_dx();
+    bary.apply_dx();
+    const Eigen::VectorXd jdx = contact.dx_flat();
+    const Eigen::VectorXd y = Eigen::VectorXd::NullaryExpr(3, [] { return uni(); });
+    contact.df_flat() = y;
+    surface.df_flat().setZero();
+    frame.df_flat().setZero();
+    bary.apply_jt_df();
+    rigid.apply_jt_df();
+    EXPECT_NEAR(jdx.dot(y), dx.dot(frame.df_flat()), 1e-12);
+    // FD of the composed apply.
+    const double h = 1e-6;
+    for (int c = 0; c < 6; ++c) {
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(6);
+        e[c] = 1;
+        frame.dx_flat() = e;
+        rigid.apply_dx();
+        bary.apply_dx();
+        const Vec3 col = contact.dx[0];
+        perturb_rigid(frame, h, c);
+        rigid.apply_position();
+        bary.apply_position();
+        const Vec3 xp = contact.position[0];
+        perturb_rigid(frame, -2 * h, c);
+        rigid.apply_position();
+        bary.apply_position();
+        const Vec3 xm = contact.position[0];
+        perturb_rigid(frame, h, c);
+        rigid.apply_position();
+        bary.apply_position();
+        EXPECT_TRUE(test::near_relative(col, Vec3((xp - xm) / (2 * h)), 1e-7)) << c;
+    }
+}
+
+TEST(Mapping, BadInputThrows) {
+    Vec3Object in, out;
+    in.position = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitX() + Vec3::UnitY()};
+    in.init();
+    BarycentricMapping map(in, out);
+    EXPECT_THROW(map.set_weights({{{7, 1.0}}}), std::invalid_argument);
+    EXPECT_THROW(map.set_weights({{{0, NAN}}}), std::invalid_argument);
+    MeshTopology flat;
+    flat.set_tetrahedra({{0, 1, 2, 3}});  // coplanar: degenerate
+    EXPECT_THROW(map.map_on_tetrahedra(flat, in.position, std::vector<Vec3>{Vec3::Zero()}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penalty
