@@ -219,6 +219,8 @@ int np_triangle_sphere(PairCtx& c) {
     const SphereElem s = sphere_elem(c.m2, c.e2);
     const std::uint32_t flags = t.flags(c.e1);
     const bool fix = c.p.quirks.fix_newproximity_triangle_sphere_edge_flags;
+    const bool fix_range = c.p.quirks.fix_newproximity_triangle_sphere_edge_range;
+    const double lo = fix_range ? 1e-6 : -std::numeric_limits<double>::infinity();
     const double sk = skins(c);
     const double R = c.p.alarm_distance + sk + s.r;
     const Vec3& p1 = t.p(c.e1, 0);
@@ -230,15 +232,15 @@ int np_triangle_sphere(PairCtx& c) {
     if (alpha < 1e-6 || beta < 1e-6 || alpha + beta > 0.999999) {
         const double pAB = g.b0 / g.g00;
         const double pAC = g.b1 / g.g11;
-        if (pAB < 1e-6 && pAC < 1e-7) {
+        if (pAB < 1e-6 && pAC < (fix_range ? 1e-6 : 1e-7)) {
             if (!(flags & F::kP1)) return 0;
             alpha = 0.0;
             beta = 0.0;
-        } else if (pAB < 0.999999 && beta < 1e-6) {
+        } else if (pAB < 0.999999 && pAB >= lo && beta < 1e-6) {
             if (!(flags & F::kE12)) return 0;
             alpha = pAB;
             beta = 0.0;
-        } else if (pAC < 0.999999 && alpha < 1e-6) {
+        } else if (pAC < 0.999999 && pAC >= lo && alpha < 1e-6) {
             // SOFA checks FLAG_E12 here (§14.2)
             if (!(flags & (fix ? F::kE31 : F::kE12))) return 0;
             alpha = 0.0;

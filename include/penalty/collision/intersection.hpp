@@ -36,6 +36,12 @@ struct SofaQuirkFixes {
     /// §14.2 NewProximity Triangle–Sphere checks FLAG_E12 for edge AC and FLAG_E31 for edge BC.
     /// true: check FLAG_E31 and FLAG_E23 (as Triangle–Point does).
     bool fix_newproximity_triangle_sphere_edge_flags = false;
+    /// Found while characterizing (not in spec §14): NewProximity Triangle–Sphere's edge tests
+    /// have no lower bound on the edge parameter (pAB, pAC may be negative when the vertex-A
+    /// test, which uses 1e-7 for pAC, fails), so the contact point can lie on the extension of
+    /// an edge outside the triangle and the reported distance can be below the true one.
+    /// true: vertex A uses 1e-6 for both, edges require pAB ≥ 1e-6 / pAC ≥ 1e-6 (as NP-TP).
+    bool fix_newproximity_triangle_sphere_edge_range = false;
     /// §14.3 NewProximity Triangle–Triangle tests vertex 1 of e1 without its ownership flag.
     /// true: require FLAG_P1 like the other vertices.
     bool fix_newproximity_triangle_triangle_vertex1_flag = false;
