@@ -57,8 +57,7 @@ void RigidMapping::set_points(std::vector<Vec3> local_points, std::vector<Index>
     if (!frame_index.empty() && frame_index.size() != local_points.size())
         throw_invalid_argument("RigidMapping: ", frame_index.size(), " frame indices for ", local_points.size(), " points");
     for (const Index r : frame_index)
-        if (r < 0 || static_cast<std::size_t>(r) >= in_->num_dofs())
-            throw_invalid_argument("RigidMapping: frame index ", r, " out of range (", in_->num_dofs(), " frames)");
+        if (r < 0) throw_invalid_argument("RigidMapping: negative frame index ", r);
     local_ = std::move(local_points);
     frame_ = std::move(frame_index);
     rotated_.assign(local_.size(), Vec3::Zero());
@@ -74,6 +73,13 @@ void RigidMapping::set_points_from_world(std::span<const Vec3> world, std::vecto
         local[i] = f.orientation.conjugate() * (world[i] - f.center);
     }
     set_points(std::move(local), std::move(frame_index));
+}
+
+void RigidMapping::init() {
+    for (std::size_t i = 0; i < local_.size(); ++i)
+        if (frame_of(i) >= in_->num_dofs())
+            throw_invalid_argument("RigidMapping: point ", i, " uses frame ", frame_of(i), " out of range (", in_->num_dofs(), " frames)");
+    Mapping::init();
 }
 
 std::size_t RigidMapping::frame_of(std::size_t i) const { return frame_.empty() ? 0 : static_cast<std::size_t>(frame_[i]); }
@@ -122,12 +128,19 @@ std::array<double, 8> trilinear_weights(const Vec3& p) {
 void BarycentricMapping::set_weights(std::vector<std::vector<Entry>> rows) {
     for (std::size_t i = 0; i < rows.size(); ++i)
         for (const Entry& e : rows[i]) {
-            if (e.index < 0 || static_cast<std::size_t>(e.index) >= in_->num_dofs())
-                throw_invalid_argument("BarycentricMapping: point ", i, " uses input index ", e.index, " out of range (",
-                                       in_->num_dofs(), ")");
+            if (e.index < 0) throw_invalid_argument("BarycentricMapping: point ", i, " uses a negative input index ", e.index);
             if (!std::isfinite(e.weight)) throw_invalid_argument("BarycentricMapping: point ", i, " has a non-finite weight");
         }
     rows_ = std::move(rows);
+}
+
+void BarycentricMapping::init() {
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+        for (const Entry& e : rows_[i])
+            if (static_cast<std::size_t>(e.index) >= in_->num_dofs())
+                throw_invalid_argument("BarycentricMapping: point ", i, " uses input index ", e.index, " out of range (",
+                                       in_->num_dofs(), " input DOFs)");
+    Mapping::init();
 }
 
 void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {

@@ -115,7 +115,10 @@ TEST(Mapping, RigidMappingAdjointAndFiniteDifferences) {
     map.apply_velocity();
     const Vec3 r = in.position[0].orientation * local[3];
     EXPECT_TRUE(out.velocity[3].isApprox(in.velocity[0].linear + in.velocity[0].angular.cross(r), 1e-14));
-    EXPECT_THROW(map.set_points(local, {0, 2, 0, 0, 0}), std::invalid_argument);
+    RigidMapping bad_frames(in, out);
+    bad_frames.set_points(local, {0, 2, 0, 0, 0});
+    EXPECT_THROW(bad_frames.init(), std::invalid_argument);
+    EXPECT_THROW(bad_frames.set_points(local, {0, -1, 0, 0, 0}), std::invalid_argument);
     // set_points_from_world inverts apply.
     RigidMapping map2(in, out);
     std::vector<Vec3> world(out.position.begin(), out.position.end());
@@ -219,7 +222,9 @@ TEST(Mapping, BadInputThrows) {
     in.position = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitX() + Vec3::UnitY()};
     in.init();
     BarycentricMapping map(in, out);
-    EXPECT_THROW(map.set_weights({{{7, 1.0}}}), std::invalid_argument);
+    map.set_weights({{{7, 1.0}}});
+    EXPECT_THROW(map.init(), std::invalid_argument);
+    EXPECT_THROW(map.set_weights({{{-1, 1.0}}}), std::invalid_argument);
     EXPECT_THROW(map.set_weights({{{0, NAN}}}), std::invalid_argument);
     MeshTopology flat;
     flat.set_tetrahedra({{0, 1, 2, 3}});  // coplanar: degenerate

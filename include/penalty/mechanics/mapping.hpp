@@ -105,6 +105,8 @@ public:
     /// SOFA's default: local points = R⁻¹ (x_out − c) from the output's current positions.
     void set_points_from_world(std::span<const Vec3> world_points, std::vector<Index> frame_index = {});
     [[nodiscard]] const std::vector<Vec3>& local_points() const { return local_; }
+    /// Checks the frame indices against the input size, then sizes and computes the output.
+    void init() override;
 
     void apply(std::span<Vec3> out, std::span<const RigidFrame> in) override;
     void apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const override;
@@ -129,7 +131,7 @@ public:
     };
     using Mapping::Mapping;
 
-    /// Weights given directly (row i = output point i).
+    /// Weights given directly (row i = output point i); indices are checked at init().
     void set_weights(std::vector<std::vector<Entry>> rows);
     /// Maps `points` onto the tetrahedra of `topology` with positions `x`: each point goes to the
     /// first tetrahedron minimising max(−b0, −b1, −b2, b0+b1+b2−1) over its barycentric
@@ -139,6 +141,8 @@ public:
     /// parallelepiped approximation gives the same weights for parallelepipeds).
     void map_on_hexahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
     [[nodiscard]] const std::vector<std::vector<Entry>>& weights() const { return rows_; }
+    /// Checks the input indices against the input size, then sizes and computes the output.
+    void init() override;
 
     void apply(std::span<Vec3> out, std::span<const Vec3> in) override;
     void apply_j(std::span<Vec3> out, std::span<const Vec3> in) const override;
