@@ -72,6 +72,9 @@ int cylinder_cylinder(PairCtx& c) {
     const Vec3 w = ss.q - ss.p;
     cand.push_back(w - w.dot(a.axis) * a.axis);
     cand.push_back(w - w.dot(b.axis) * b.axis);
+    // radial fallbacks (coincident or concentric axes give zero vectors above)
+    cand.push_back(m1.radial_direction(c.e1));
+    cand.push_back(m2.radial_direction(c.e2));
     const ConvexContact k = convex_contact(ConvexShape::make_cylinder(a), ConvexShape::make_cylinder(b), cand);
     const double sk = skins(c);
     if (!(k.d < c.p.alarm_distance + sk)) return 0;
@@ -89,6 +92,7 @@ int cylinder_triangle(PairCtx& c) {
         cand.push_back(x);
         cand.push_back(x.cross(a.axis));  // radial direction ⟂ axis in the edge's plane
     }
+    cand.push_back(m1.radial_direction(c.e1));
     const ConvexContact k = convex_contact(ConvexShape::make_cylinder(a), ConvexShape::triangle(p0, p1, p2), cand);
     const double sk = skins(c);
     if (!(k.d < c.p.alarm_distance + sk)) return 0;

@@ -192,9 +192,18 @@ double CylinderModel::height(Index i) const {
     return std::size_t(i) < heights.size() ? heights[std::size_t(i)] : default_height_;
 }
 
+Vec3 CylinderModel::local_axis(Index i) const {
+    const Vec3 local = std::size_t(i) < local_axes.size() ? local_axes[std::size_t(i)] : default_axis_;
+    return local.normalized();
+}
+
+Vec3 CylinderModel::radial_direction(Index i) const {
+    return (frame(i).orientation * any_orthogonal(local_axis(i))).normalized();
+}
+
 CylinderShape CylinderModel::shape(Index i) const {
     const RigidFrame& f = frame(i);
-    const Vec3 local = std::size_t(i) < local_axes.size() ? local_axes[std::size_t(i)] : default_axis_;
+    const Vec3 local = local_axis(i);
     CylinderShape s;
     s.center = f.center;
     s.axis = (f.orientation * local).normalized();

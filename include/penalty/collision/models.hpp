@@ -186,6 +186,10 @@ public:
 
     [[nodiscard]] double radius(Index i) const;
     [[nodiscard]] double height(Index i) const;
+    /// Unit local axis of element i (body frame).
+    [[nodiscard]] Vec3 local_axis(Index i) const;
+    /// A unit world vector ⟂ to the axis, fixed in the body frame (moves with the cylinder).
+    [[nodiscard]] Vec3 radial_direction(Index i) const;
     /// World-frame solid cylinder of element i.
     [[nodiscard]] CylinderShape shape(Index i) const;
     [[nodiscard]] const RigidFrame& frame(Index i) const { return state_->position[std::size_t(i)]; }
