@@ -380,6 +380,65 @@ TEST(EulerImplicitNewton, ConvergesOnStiffNonlinearSpringAndReportsIterations) {
     EXPECT_GT((xl.velocity[0] - Vec3(0, 5, 0) - h * fl).norm(), 1e-3);
 }
 
+/// One DOF on a spring (k = 100, L = 1, anchor at 0) with x0 = 1.1, v0 = 0.3, m = 2, no gravity:
+/// one step of EulerImplicitSolver against the closed form of spec §10.2.
+struct OneDofStep {
+    double x, v;
+};
+OneDofStep one_dof_step(double rs, double rm, double vd, bool first_order, bool trapezoidal) {
+    Simulation sim;
+    sim.root().set_gravity(Vec3::Zero());
+    Node& anchor = sim.root().add_child("anchor");
+    auto& a = anchor.add_state<Vec3Types>();
+    a.position = {Vec3::Zero()};
+    Node& n = sim.root().add_child("body");
+    auto& s = n.set_ode_solver<EulerImplicitSolver>();
+    s.rayleigh_stiffness = rs;
+    s.rayleigh_mass = rm;
+    s.vdamping = vd;
+    s.first_order = first_order;
+    s.trapezoidal_scheme = trapezoidal;
+    s.cg.tolerance = 1e-14;
+    s.cg.threshold = 0;
+    auto& x = n.add_state<Vec3Types>();
+    x.position = {Vec3(1.1, 0, 0)};
+    x.velocity = {Vec3(0.3, 0, 0)};
+    n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(2.0);
+    n.add_force_field<SpringForceField>(a, x).add_spring({0, 0, 100.0, 0.0, 1.0});
+    sim.init();
+    sim.step();
+    EXPECT_EQ(x.velocity[0].y(), 0.0);
+    return {x.position[0].x(), x.velocity[0].x()};
+}
+
+TEST(EulerImplicit, RayleighDampingFirstOrderTrapezoidalAndVdampingFollowTheFormulas) {
+    const double h = 0.01, k = 100, m = 2, f = -10, v0 = 0.3, x0 = 1.1;
+    {
+        const double rs = 0.1, rm = 0.2, vd = 0.5;
+        const double b = h * (f + (h + rs) * (-k) * v0 - rm * m * v0);
+        const double a = (1 + h * rm) * m + h * (h + rs) * k;
+        const double v1 = v0 + b / a;
+        const auto r = one_dof_step(rs, rm, vd, false, false);
+        EXPECT_NEAR(r.x, x0 + h * v1, 1e-14);
+        EXPECT_NEAR(r.v, v1 * std::exp(-h * vd), 1e-14);
+    }
+    {
+        const double rs = 0.05, rm = 0.3;
+        const double b = h * (f + (0.5 * h + rs) * (-k) * v0 - rm * m * v0);
+        const double a = (1 + 0.5 * h * rm) * m + 0.5 * h * (0.5 * h + rs) * k;
+        const double v1 = v0 + b / a;
+        const auto r = one_dof_step(rs, rm, 0, false, true);
+        EXPECT_NEAR(r.v, v1, 1e-14);
+        EXPECT_NEAR(r.x, x0 + h * v1, 1e-14);
+    }
+    {
+        const double v1 = f / (m + h * k);  // first order: M v = f + h K v
+        const auto r = one_dof_step(0, 0, 0, true, false);
+        EXPECT_NEAR(r.v, v1, 1e-14);
+        EXPECT_NEAR(r.x, x0 + h * v1, 1e-14);
+    }
+}
+
 TEST(Simulation, BadInputThrows) {
     Simulation sim;
     EXPECT_THROW(sim.root().set_dt(-1), std::invalid_argument);
