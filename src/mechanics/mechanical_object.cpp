@@ -48,15 +48,29 @@ void MechanicalObject<Rigid3Types>::add_to_position(double h, const Eigen::Ref<c
     }
 }
 
+namespace {
+/// SOFA's size rules: rest positions given without positions become the positions; fewer
+/// velocities than positions are completed with the last given one.
+template <class State>
+void complete_sizes(State& s) {
+    if (s.rest_position.size() > s.position.size()) s.position = s.rest_position;
+    const std::size_t n = s.position.size();
+    if (s.velocity.size() > n)
+        throw_invalid_argument("MechanicalObject '", s.name, "': ", s.velocity.size(), " velocities for ", n, " positions");
+    if (!s.velocity.empty() && s.velocity.size() < n) s.velocity.resize(n, s.velocity.back());
+}
+}  // namespace
+
 template <>
 void MechanicalObject<Vec3Types>::init() {
+    complete_sizes(*this);
     const std::size_t n = position.size();
     for (std::size_t i = 0; i < n; ++i) check_finite(position[i], name, i);
     if (!transform.is_identity() && !initialized_) {
+        // SOFA's reinit(): scale, rotation, translation of the positions only; the rest
+        // positions are copied from the transformed positions unless given with the right size.
         const Mat3 r = transform.rotation().toRotationMatrix();
-        auto apply = [&](Vec3& p) { p = r * p.cwiseProduct(transform.scale3d) + transform.translation; };
-        for (auto& p : position) apply(p);
-        for (auto& p : rest_position) apply(p);
+        for (auto& p : position) p = r * p.cwiseProduct(transform.scale3d) + transform.translation;
     }
     if (rest_position.size() != n) rest_position = position;
     velocity.resize(n, Vec3::Zero());
@@ -69,6 +83,7 @@ void MechanicalObject<Vec3Types>::init() {
 
 template <>
 void MechanicalObject<Rigid3Types>::init() {
+    complete_sizes(*this);
     const std::size_t n = position.size();
     for (std::size_t i = 0; i < n; ++i) {
         check_finite(position[i].center, name, i);
@@ -84,7 +99,6 @@ void MechanicalObject<Rigid3Types>::init() {
             p.orientation = q * p.orientation;
         };
         for (auto& p : position) apply(p);
-        for (auto& p : rest_position) apply(p);
     }
     if (rest_position.size() != n) rest_position = position;
     velocity.resize(n);

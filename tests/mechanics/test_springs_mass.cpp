@@ -182,6 +182,20 @@ TEST(MechanicalObject, InitialTransformScaleRotateTranslate) {
     s.init();
     EXPECT_TRUE(s.position[0].isApprox(Vec3(0, 2, 5), 1e-14));
     EXPECT_TRUE(s.rest_position[0].isApprox(Vec3(0, 2, 5), 1e-14));
+    // Given rest positions are not transformed (SOFA); velocities completed with the last one.
+    Vec3Object given;
+    given.position = {Vec3(1, 0, 0), Vec3(2, 0, 0)};
+    given.rest_position = {Vec3(1, 0, 0), Vec3(2, 0, 0)};
+    given.velocity = {Vec3(0, 3, 0)};
+    given.transform.translation = Vec3(0, 0, 1);
+    given.init();
+    EXPECT_EQ(given.position[1], Vec3(2, 0, 1));
+    EXPECT_EQ(given.rest_position[1], Vec3(2, 0, 0));
+    EXPECT_EQ(given.velocity[1], Vec3(0, 3, 0));
+    Vec3Object rest_only;
+    rest_only.rest_position = {Vec3(4, 5, 6)};
+    rest_only.init();
+    EXPECT_EQ(rest_only.position[0], Vec3(4, 5, 6));
     Vec3Object bad;
     bad.position = {Vec3(NAN, 0, 0)};
     EXPECT_THROW(bad.init(), std::invalid_argument);

@@ -60,7 +60,10 @@ struct InitialTransform {
 };
 
 /// MechanicalObject<Vec3d | Rigid3d>. Fill `position` (and optionally `velocity`,
-/// `rest_position`, `transform`) then call init().
+/// `rest_position`, `transform`) then call init(), which follows SOFA: rest positions given
+/// without positions become the positions; missing velocities repeat the last given one (zero if
+/// none); `transform` (scale3d, rotation, translation) is applied to the positions only; rest
+/// positions not given (or of another size) are copied from the transformed positions.
 template <class DataTypes>
 class MechanicalObject final : public BaseState, public MechanicalState<DataTypes> {
 public:
@@ -70,7 +73,7 @@ public:
 
     explicit MechanicalObject(std::string object_name = "dofs") { this->name = std::move(object_name); }
 
-    InitialTransform transform;  ///< applied once by init() to position and rest_position
+    InitialTransform transform;  ///< applied once by init() to the positions
     std::vector<Deriv> dx;       ///< solver work vector
     std::vector<Deriv> df;       ///< solver work vector
 
