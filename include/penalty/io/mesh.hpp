@@ -1,0 +1,101 @@
+#pragma once
+/// @file
+/// Mesh files as SOFA's mesh loaders read them: Wavefront OBJ (MeshOBJLoader), Gmsh v1/v2 ASCII
+/// (MeshGmshLoader), sphere lists `.sph` (SphereLoader) and legacy ASCII VTK (MeshVTKLoader),
+/// plus the loaders' common post-processing (transform, sub-elements, triangulation).
+///
+/// Element indices are 0-based point indices into `positions`. Every index is checked against
+/// the number of points; a bad file raises penalty::io::LoadError naming the file and the line.
+/// Nothing is reserved from a count read in a file before it has been checked against what is
+/// left of the file, so a corrupt count cannot exhaust memory.
+
+#include "penalty/core/types.hpp"
+#include "penalty/io/error.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <filesystem>
+#include <vector>
+
+namespace penalty::io {
+
+/// A loaded mesh: positions and element lists, in file order.
+struct MeshData {
+    std::vector<Vec3> positions;          ///< point coordinates
+    std::vector<Edge> edges;              ///< 2 point indices each
+    std::vector<Triangle> triangles;      ///< 3 point indices each (file orientation)
+    std::vector<Quad> quads;              ///< 4 point indices each
+    std::vector<Tetrahedron> tetrahedra;  ///< 4 point indices each
+    std::vector<Hexahedron> hexahedra;    ///< 8 point indices each (SOFA/VTK order)
+    std::vector<double> radii;            ///< one radius per point (`.sph` files only; else empty)
+};
+
+/// Reads a Wavefront OBJ file as SOFA's MeshOBJLoader does (handleSeams = false):
+///  - `v x y z` adds a point (extra coordinates are ignored); `vn`, `vt`, `g`, `o`, `s`,
+///    `usemtl`, `mtllib` and unknown keywords are ignored;
+///  - `f` and `l` records take the first number of each `v/vt/vn` token; negative indices
+///    count back from the points defined so far; 2 vertices give an edge (stored sorted),
+///    4 vertices a quad (or two fan triangles when `triangulate`), 3 or more than 4 vertices
+///    the fan triangles (v0, v[j-1], v[j]);
+///  - index 0, a record with fewer than 2 vertices, or an index outside [0, number of points)
+///    is an error.
+/// @throws LoadError `path:line: what`
+[[nodiscard]] MeshData load_obj(const std::filesystem::path& path, bool triangulate = false);
+
+/// Reads a Gmsh mesh in the legacy v1 (`$NOD`/`$ELM`) or v2 ASCII (`$MeshFormat 2.x`) format,
+/// as SOFA's MeshGmshLoader does: node numbers are mapped to their position in the node list;
+/// element types 1 (edge), 2 (triangle), 3 (quad), 4 (tetrahedron), 5 (hexahedron),
+/// 8/9/11 (second-order edge/triangle/tetrahedron: only the corner nodes are kept) are stored,
+/// type 15 (point) and other types are skipped. Sub-elements are NOT created here: SOFA's
+/// MeshGmshLoader does it by default, call create_subelements() (load_scene_mesh() does).
+/// Binary files and format 4 are rejected.
+/// @throws LoadError `path:line: what`
+[[nodiscard]] MeshData load_gmsh(const std::filesystem::path& path);
+
+/// Reads a SOFA sphere file (`.sph`): first line `sph 1.0`, then `nums N`,
+/// `sphe index x y z radius` records and `#` comments; unknown keywords skip their line.
+/// Fills `positions` and `radii`. A negative radius is an error.
+/// @throws LoadError `path:line: what`
+[[nodiscard]] MeshData load_sph(const std::filesystem::path& path);
+
+/// Reads a legacy ASCII VTK file (`# vtk DataFile Version 2.x/3.x/4.x`, `ASCII`) with a
+/// `DATASET POLYDATA` (POINTS, LINES -> consecutive edges, POLYGONS -> triangle/quad/fan,
+/// VERTICES ignored) or `DATASET UNSTRUCTURED_GRID` (POINTS, CELLS, CELL_TYPES with types
+/// 1 vertex (ignored), 3 line, 4 polyline, 5 triangle, 7 polygon (fan), 8 pixel, 9 quad,
+/// 10 tetrahedron, 11 voxel, 12 hexahedron). POINT_DATA / CELL_DATA end the geometry.
+/// BINARY files, other datasets and other cell types are errors.
+/// @throws LoadError `path:line: what`
+[[nodiscard]] MeshData load_vtk_legacy(const std::filesystem::path& path);
+
+/// Dispatches on the extension (case-insensitive): .obj, .msh, .sph, .vtk.
+/// @throws LoadError for another extension or a bad file
+[[nodiscard]] MeshData load_mesh_file(const std::filesystem::path& path);
+
+/// SOFA's Euler angles (Quat::createQuaterFromEuler, default order): angles (a, b, c) in
+/// degrees about x, y, z; the rotation is R = Rz(c) * Ry(b) * Rx(a) (x applied first).
+[[nodiscard]] Mat3 euler_degrees_to_matrix(const Vec3& rotation_degrees);
+
+/// SOFA MeshLoader transform of every point: p' = translation + R(rotation) * (scale3d ∘ p),
+/// i.e. scale first, then rotation (euler_degrees_to_matrix), then translation.
+/// Sphere radii are not changed (SOFA's SphereLoader does not scale them either).
+void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees,
+                     const Vec3& scale3d);
+
+/// Same transform on a plain list of points.
+void apply_transform(std::vector<Vec3>& points, const Vec3& translation,
+                     const Vec3& rotation_degrees, const Vec3& scale3d);
+
+/// SOFA MeshLoader `createSubelements`: in this order, appends the missing boundary quads of
+/// the hexahedra (faces (0,3,2,1), (4,5,6,7), (0,1,5,4), (1,2,6,5), (2,3,7,6), (3,0,4,7)), the
+/// missing triangles of the tetrahedra ((0,2,1), (0,1,3), (0,3,2), (1,2,3)), the missing edges
+/// of the quads, then of the triangles (edge j = (e[j+1], e[j+2]) in element order). An
+/// element is missing when no element with the same vertex set exists yet.
+void create_subelements(MeshData& mesh);
+
+/// SOFA MeshLoader `triangulate` post-pass: every quad (q0,q1,q2,q3) becomes (q0,q1,q2) and
+/// (q0,q2,q3), appended after the existing triangles; the quad list is emptied.
+void triangulate_quads(MeshData& mesh);
+
+/// SOFA MeshLoader `flipNormals`: reverses the vertex order of every triangle and quad.
+void flip_normals(MeshData& mesh);
+
+}  // namespace penalty::io

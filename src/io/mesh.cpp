@@ -1,0 +1,557 @@
+#include "penalty/io/mesh.hpp"
+
+#include "io/text.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <set>
+#include <string>
+#include <unordered_map>
+
+namespace penalty::io {
+
+using detail::fail;
+using detail::parse_double;
+using detail::parse_int;
+using detail::Token;
+using detail::Tokenizer;
+
+namespace {
+
+constexpr std::int64_t kMaxPointId = std::numeric_limits<PointId>::max();
+
+std::string quoted(std::string_view s) { return "'" + std::string(s) + "'"; }
+
+// ---------------------------------------------------------------------------------------------
+// OBJ
+
+struct ObjRecord {
+    std::vector<std::int64_t> nodes;
+    int line = 0;
+};
+
+}  // namespace
+
+MeshData load_obj(const std::filesystem::path& path, bool triangulate) {
+    const std::string text = detail::read_file(path);
+    MeshData mesh;
+    std::vector<ObjRecord> records;
+
+    std::size_t pos = 0;
+    int line_number = 0;
+    while (pos < text.size()) {
+        const std::size_t end = std::min(text.find('\n', pos), text.size());
+        const std::string_view line(text.data() + pos, end - pos);
+        pos = end + 1;
+        ++line_number;
+        const auto tokens = detail::split_blanks(line);
+        if (tokens.empty()) continue;
+        const std::string_view key = tokens[0];
+        if (key == "v") {
+            if (tokens.size() < 4) {
+                fail(path, line_number,
+                     "vertex needs 3 coordinates, found " + std::to_string(tokens.size() - 1));
+            }
+            Vec3 p;
+            for (int k = 0; k < 3; ++k) {
+                const auto value = parse_double(tokens[static_cast<std::size_t>(k) + 1]);
+                if (!value) {
+                    fail(path, line_number,
+                         "expected a vertex coordinate (a number), found " +
+                             quoted(tokens[static_cast<std::size_t>(k) + 1]));
+                }
+                p[k] = *value;
+            }
+            mesh.positions.push_back(p);
+        } else if (key == "f" || key == "l") {
+            ObjRecord record;
+            record.line = line_number;
+            for (std::size_t t = 1; t < tokens.size(); ++t) {
+                const std::string_view token = tokens[t];
+                const std::string_view first = token.substr(0, token.find('/'));
+                const auto index = parse_int(first);
+                if (!index) fail(path, line_number, "expected a vertex index, found " + quoted(token));
+                if (*index == 0) fail(path, line_number, "vertex index 0 is invalid (OBJ indices start at 1)");
+                // positive: 1-based; negative: relative to the points defined so far
+                const std::int64_t resolved =
+                    *index > 0 ? *index - 1 : static_cast<std::int64_t>(mesh.positions.size()) + *index;
+                if (resolved < 0) {
+                    fail(path, line_number,
+                         "relative vertex index " + std::to_string(*index) + " goes before the first vertex");
+                }
+                record.nodes.push_back(resolved);
+            }
+            if (record.nodes.size() < 2) {
+                fail(path, line_number,
+                     std::string(key == "f" ? "face" : "line") + " needs at least 2 vertices, found " +
+                         std::to_string(record.nodes.size()));
+            }
+            records.push_back(std::move(record));
+        }
+        // comments, vn, vt, g, o, s, usemtl, mtllib and unknown keywords are ignored
+    }
+
+    // indices may refer to points defined later in the file (SOFA resolves them at the end)
+    const auto n = static_cast<std::int64_t>(mesh.positions.size());
+    for (const ObjRecord& r : records) {
+        for (const std::int64_t v : r.nodes) {
+            if (v >= n || v > kMaxPointId) {
+                fail(path, r.line,
+                     "vertex index " + std::to_string(v + 1) + " out of range (" + std::to_string(n) +
+                         " vertices)");
+            }
+        }
+        const auto id = [&](std::size_t k) { return static_cast<PointId>(r.nodes[k]); };
+        if (r.nodes.size() == 2) {
+            mesh.edges.push_back(Edge{std::min(id(0), id(1)), std::max(id(0), id(1))});
+        } else if (r.nodes.size() == 4 && !triangulate) {
+            mesh.quads.push_back(Quad{id(0), id(1), id(2), id(3)});
+        } else {
+            for (std::size_t j = 2; j < r.nodes.size(); ++j) {
+                mesh.triangles.push_back(Triangle{id(0), id(j - 1), id(j)});
+            }
+        }
+    }
+    return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Gmsh
+
+namespace {
+
+bool starts_with(std::string_view s, std::string_view prefix) {
+    return s.substr(0, prefix.size()) == prefix;
+}
+
+// Number of nodes of a v2 element type; -1 when the type is unknown.
+int gmsh_node_count(std::int64_t type) {
+    switch (type) {
+        case 15: return 1;
+        case 1: return 2;
+        case 2: return 3;
+        case 3: return 4;
+        case 4: return 4;
+        case 5: return 8;
+        case 8: return 3;
+        case 9: return 6;
+        case 11: return 10;
+        default: return -1;
+    }
+}
+
+}  // namespace
+
+MeshData load_gmsh(const std::filesystem::path& path) {
+    const std::string text = detail::read_file(path);
+    Tokenizer tok(text, path);
+    MeshData mesh;
+
+    int format = 0;
+    const auto first = tok.next();
+    if (!first) fail(path, 1, "empty file (expected $MeshFormat or $NOD)");
+    if (starts_with(first->text, "$MeshFormat")) {
+        const Token version = tok.expect("format version");
+        const auto v = parse_double(version.text);
+        if (!v) fail(path, version.line, "expected a format version, found " + quoted(version.text));
+        format = static_cast<int>(*v);
+        if (format != 2) {
+            fail(path, version.line,
+                 "Gmsh format " + std::string(version.text) + " is not supported (only 1 and 2 ASCII)");
+        }
+        const Token file_type = tok.expect("file type");
+        if (file_type.text != "0") fail(path, file_type.line, "binary Gmsh files are not supported");
+        (void)tok.expect("data size");
+        const Token end = tok.expect("$EndMeshFormat");
+        if (!starts_with(end.text, "$EndMeshFormat")) {
+            fail(path, end.line, "expected $EndMeshFormat, found " + quoted(end.text));
+        }
+        // skip other sections until $Nodes
+        for (;;) {
+            const Token t = tok.expect("$Nodes");
+            if (starts_with(t.text, "$Nodes")) break;
+        }
+    } else if (starts_with(first->text, "$NOD")) {
+        format = 1;
+    } else {
+        fail(path, first->line, "not a Gmsh file (first line must be $MeshFormat or $NOD)");
+    }
+
+    // nodes: "number x y z"
+    const std::int64_t npoints = tok.expect_int("number of nodes");
+    tok.check_count(npoints, 4, "node");
+    mesh.positions.reserve(static_cast<std::size_t>(npoints));
+    std::unordered_map<std::int64_t, std::int64_t> number_to_index;  // node number -> position index
+    for (std::int64_t i = 0; i < npoints; ++i) {
+        const std::int64_t number = tok.expect_int("node number");
+        Vec3 p;
+        for (int k = 0; k < 3; ++k) p[k] = tok.expect_double("node coordinate");
+        number_to_index[number] = i;  // a repeated number: the last definition wins (as SOFA)
+        mesh.positions.push_back(p);
+    }
+    const Token end_nodes = tok.expect(format == 1 ? "$ENDNOD" : "$EndNodes");
+    if (!starts_with(end_nodes.text, "$ENDNOD") && !starts_with(end_nodes.text, "$EndNodes")) {
+        fail(path, end_nodes.line,
+             std::string("expected ") + (format == 1 ? "$ENDNOD" : "$EndNodes") + ", found " +
+                 quoted(end_nodes.text));
+    }
+    const Token elements = tok.expect(format == 1 ? "$ELM" : "$Elements");
+    if (!starts_with(elements.text, "$ELM") && !starts_with(elements.text, "$Elements")) {
+        fail(path, elements.line,
+             std::string("expected ") + (format == 1 ? "$ELM" : "$Elements") + ", found " +
+                 quoted(elements.text));
+    }
+
+    const std::int64_t nelems = tok.expect_int("number of elements");
+    tok.check_count(nelems, 4, "element");
+    std::vector<PointId> nodes;
+    for (std::int64_t e = 0; e < nelems; ++e) {
+        (void)tok.expect_int("element number");
+        const int element_line = tok.line();
+        const std::int64_t type = tok.expect_int("element type");
+        std::int64_t nnodes = 0;
+        if (format == 1) {
+            (void)tok.expect_int("physical region");
+            (void)tok.expect_int("elementary region");
+            nnodes = tok.expect_int("number of element nodes");
+            const int expected = gmsh_node_count(type);
+            if (nnodes < 0 || nnodes > 1000 || (expected >= 0 && nnodes != expected)) {
+                fail(path, element_line,
+                     "element of type " + std::to_string(type) + " has " + std::to_string(nnodes) +
+                         " nodes" + (expected >= 0 ? " (expected " + std::to_string(expected) + ")" : ""));
+            }
+        } else {
+            const std::int64_t ntags = tok.expect_int("number of tags");
+            tok.check_count(ntags, 1, "tag");
+            for (std::int64_t t = 0; t < ntags; ++t) (void)tok.expect_int("tag");
+            nnodes = gmsh_node_count(type);
+            if (nnodes < 0) {
+                // SOFA warns and skips the rest of the line
+                (void)tok.rest_of_line();
+                continue;
+            }
+        }
+        nodes.clear();
+        for (std::int64_t k = 0; k < nnodes; ++k) {
+            const std::int64_t number = tok.expect_int("element node");
+            const auto found = number_to_index.find(number);
+            if (found == number_to_index.end()) {
+                fail(path, tok.line(), "element node " + std::to_string(number) + " is not a defined node");
+            }
+            nodes.push_back(static_cast<PointId>(found->second));
+        }
+        switch (type) {
+            case 1:
+            case 8: mesh.edges.push_back(Edge{nodes[0], nodes[1]}); break;
+            case 2:
+            case 9: mesh.triangles.push_back(Triangle{nodes[0], nodes[1], nodes[2]}); break;
+            case 3: mesh.quads.push_back(Quad{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
+            case 4:
+            case 11: mesh.tetrahedra.push_back(Tetrahedron{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
+            case 5:
+                mesh.hexahedra.push_back(Hexahedron{nodes[0], nodes[1], nodes[2], nodes[3], nodes[4],
+                                                    nodes[5], nodes[6], nodes[7]});
+                break;
+            default: break;  // points and unknown types are skipped
+        }
+        // second-order elements: SOFA also adds their edges (corner pairs) for the mid nodes
+        if (type == 9 || type == 11) {
+            static constexpr int tri_edges[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+            static constexpr int tet_edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}};
+            std::set<std::pair<PointId, PointId>> seen;
+            const int count = type == 9 ? 3 : 6;
+            for (int j = 0; j < count; ++j) {
+                const auto& ab = type == 9 ? tri_edges[j] : tet_edges[j];
+                const PointId a = std::min(nodes[static_cast<std::size_t>(ab[0])], nodes[static_cast<std::size_t>(ab[1])]);
+                const PointId b = std::max(nodes[static_cast<std::size_t>(ab[0])], nodes[static_cast<std::size_t>(ab[1])]);
+                if (seen.insert({a, b}).second) mesh.edges.push_back(Edge{a, b});
+            }
+        }
+    }
+    const Token end_elements = tok.expect(format == 1 ? "$ENDELM" : "$EndElements");
+    if (!starts_with(end_elements.text, "$ENDELM") && !starts_with(end_elements.text, "$EndElements")) {
+        fail(path, end_elements.line,
+             std::string("expected ") + (format == 1 ? "$ENDELM" : "$EndElements") + ", found " +
+                 quoted(end_elements.text));
+    }
+    return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// SPH
+
+MeshData load_sph(const std::filesystem::path& path) {
+    const std::string text = detail::read_file(path);
+    Tokenizer tok(text, path);
+    MeshData mesh;
+    const auto header = tok.next();
+    if (!header || header->text != "sph") {
+        fail(path, header ? header->line : 1, "not a sphere file (first line must be 'sph 1.0')");
+    }
+    (void)tok.rest_of_line();
+    while (auto key = tok.next()) {
+        if (key->text == "nums") {
+            const std::int64_t total = tok.expect_int("sphere count");
+            tok.check_count(total, 6, "sphere");
+            mesh.positions.reserve(static_cast<std::size_t>(total));
+            mesh.radii.reserve(static_cast<std::size_t>(total));
+        } else if (key->text == "sphe") {
+            (void)tok.expect_int("sphere index");
+            Vec3 c;
+            for (int k = 0; k < 3; ++k) c[k] = tok.expect_double("sphere center coordinate");
+            const double r = tok.expect_double("sphere radius");
+            if (r < 0.0) fail(path, tok.line(), "negative sphere radius " + std::string(std::to_string(r)));
+            mesh.positions.push_back(c);
+            mesh.radii.push_back(r);
+        } else if (key->text.front() == '#') {
+            (void)tok.rest_of_line();
+        } else {
+            (void)tok.rest_of_line();  // SOFA: unknown keyword, skip its line
+        }
+    }
+    return mesh;
+}
+
+// ---------------------------------------------------------------------------------------------
+// legacy VTK
+
+namespace {
+
+std::string upper(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    return out;
+}
+
+PointId vtk_index(Tokenizer& tok, std::int64_t npoints) {
+    const std::int64_t v = tok.expect_int("point index");
+    if (v < 0 || v >= npoints) {
+        fail(tok.path(), tok.line(),
+             "point index " + std::to_string(v) + " out of range (" + std::to_string(npoints) + " points)");
+    }
+    return static_cast<PointId>(v);
+}
+
+void add_polygon(MeshData& mesh, const std::vector<PointId>& p) {
+    if (p.size() == 3) {
+        mesh.triangles.push_back(Triangle{p[0], p[1], p[2]});
+    } else if (p.size() == 4) {
+        mesh.quads.push_back(Quad{p[0], p[1], p[2], p[3]});
+    } else {
+        for (std::size_t j = 2; j < p.size(); ++j) mesh.triangles.push_back(Triangle{p[0], p[j - 1], p[j]});
+    }
+}
+
+}  // namespace
+
+MeshData load_vtk_legacy(const std::filesystem::path& path) {
+    const std::string text = detail::read_file(path);
+    Tokenizer tok(text, path);
+    MeshData mesh;
+
+    const std::string_view magic = tok.rest_of_line();
+    if (magic.substr(0, 5) != "# vtk") fail(path, 1, "not a legacy VTK file (first line must start with '# vtk')");
+    (void)tok.rest_of_line();  // title
+    const std::string format = upper(tok.rest_of_line());
+    if (format != "ASCII") fail(path, 3, "only ASCII legacy VTK files are supported, found '" + format + "'");
+    const Token dataset = tok.expect("DATASET");
+    if (upper(dataset.text) != "DATASET") fail(path, dataset.line, "expected DATASET, found " + quoted(dataset.text));
+    const Token kind = tok.expect("dataset type");
+    const std::string kind_name = upper(kind.text);
+    const bool polydata = kind_name == "POLYDATA";
+    if (!polydata && kind_name != "UNSTRUCTURED_GRID") {
+        fail(path, kind.line, "VTK dataset " + std::string(kind.text) + " is not supported (POLYDATA or UNSTRUCTURED_GRID)");
+    }
+
+    std::int64_t npoints = -1;
+    std::vector<std::vector<PointId>> cells;
+    std::vector<int> cell_lines;
+    bool have_types = false;
+    while (auto section = tok.next()) {
+        const std::string name = upper(section->text);
+        if (name == "POINTS") {
+            npoints = tok.expect_int("number of points");
+            tok.check_count(npoints, 3, "point");
+            (void)tok.expect("point data type");
+            mesh.positions.reserve(static_cast<std::size_t>(npoints));
+            for (std::int64_t i = 0; i < npoints; ++i) {
+                Vec3 p;
+                for (int k = 0; k < 3; ++k) p[k] = tok.expect_double("point coordinate");
+                mesh.positions.push_back(p);
+            }
+        } else if (name == "POLYGONS" || name == "LINES" || name == "VERTICES" || name == "CELLS" ||
+                   name == "TRIANGLE_STRIPS") {
+            if (npoints < 0) fail(path, section->line, name + " before POINTS");
+            if (name == "TRIANGLE_STRIPS") fail(path, section->line, "TRIANGLE_STRIPS are not supported");
+            if (name == "CELLS" && polydata) fail(path, section->line, "CELLS in a POLYDATA dataset");
+            if (name != "CELLS" && !polydata) fail(path, section->line, name + " in an UNSTRUCTURED_GRID dataset");
+            const std::int64_t n = tok.expect_int("number of cells");
+            const std::int64_t size = tok.expect_int("cell list size");
+            tok.check_count(size, 1, "cell list size");
+            tok.check_count(n, 2, name + " cell");
+            std::int64_t read = 0;
+            std::vector<PointId> p;
+            for (std::int64_t c = 0; c < n; ++c) {
+                const std::int64_t k = tok.expect_int("cell point count");
+                const int line = tok.line();
+                if (k < 0 || k > size) fail(path, line, "bad cell point count " + std::to_string(k));
+                p.clear();
+                for (std::int64_t j = 0; j < k; ++j) p.push_back(vtk_index(tok, npoints));
+                read += k + 1;
+                if (name == "LINES") {
+                    for (std::size_t j = 1; j < p.size(); ++j) mesh.edges.push_back(Edge{p[j - 1], p[j]});
+                } else if (name == "POLYGONS") {
+                    if (p.size() < 3) fail(path, line, "polygon with fewer than 3 points");
+                    add_polygon(mesh, p);
+                } else if (name == "CELLS") {
+                    cells.push_back(p);
+                    cell_lines.push_back(line);
+                }
+            }
+            if (read != size) {
+                fail(path, section->line,
+                     name + " list size " + std::to_string(size) + " does not match its content (" +
+                         std::to_string(read) + " numbers)");
+            }
+        } else if (name == "OFFSETS" || name == "CONNECTIVITY") {
+            fail(path, section->line, "the VTK 5 OFFSETS/CONNECTIVITY layout is not supported");
+        } else if (name == "CELL_TYPES") {
+            const std::int64_t n = tok.expect_int("number of cell types");
+            if (n != static_cast<std::int64_t>(cells.size())) {
+                fail(path, section->line,
+                     "CELL_TYPES count " + std::to_string(n) + " does not match CELLS count " +
+                         std::to_string(cells.size()));
+            }
+            for (std::size_t c = 0; c < cells.size(); ++c) {
+                const std::int64_t type = tok.expect_int("cell type");
+                const auto& p = cells[c];
+                const auto need = [&](std::size_t count) {
+                    if (p.size() != count) {
+                        fail(path, cell_lines[c],
+                             "cell of type " + std::to_string(type) + " needs " + std::to_string(count) +
+                                 " points, found " + std::to_string(p.size()));
+                    }
+                };
+                switch (type) {
+                    case 1: break;  // vertex
+                    case 3: need(2); mesh.edges.push_back(Edge{p[0], p[1]}); break;
+                    case 4:
+                        for (std::size_t j = 1; j < p.size(); ++j) mesh.edges.push_back(Edge{p[j - 1], p[j]});
+                        break;
+                    case 5: need(3); mesh.triangles.push_back(Triangle{p[0], p[1], p[2]}); break;
+                    case 7:
+                        if (p.size() < 3) fail(path, cell_lines[c], "polygon with fewer than 3 points");
+                        add_polygon(mesh, p);
+                        break;
+                    case 8: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[3], p[2]}); break;
+                    case 9: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[2], p[3]}); break;
+                    case 10: need(4); mesh.tetrahedra.push_back(Tetrahedron{p[0], p[1], p[2], p[3]}); break;
+                    case 11:
+                        need(8);
+                        mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[3], p[2], p[4], p[5], p[7], p[6]});
+                        break;
+                    case 12:
+                        need(8);
+                        mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]});
+                        break;
+                    default:
+                        fail(path, tok.line(), "VTK cell type " + std::to_string(type) + " is not supported");
+                }
+            }
+            have_types = true;
+        } else if (name == "POINT_DATA" || name == "CELL_DATA" || name == "FIELD" || name == "METADATA") {
+            break;  // attributes: not geometry
+        } else {
+            fail(path, section->line, "unexpected VTK keyword " + quoted(section->text));
+        }
+    }
+    if (npoints < 0) fail(path, tok.line(), "no POINTS section");
+    if (!cells.empty() && !have_types) fail(path, tok.line(), "CELLS without CELL_TYPES");
+    return mesh;
+}
+
+MeshData load_mesh_file(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".obj") return load_obj(path);
+    if (ext == ".msh") return load_gmsh(path);
+    if (ext == ".sph") return load_sph(path);
+    if (ext == ".vtk") return load_vtk_legacy(path);
+    fail(path, 0, "unknown mesh file extension '" + ext + "' (expected .obj, .msh, .sph or .vtk)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// post-processing
+
+Mat3 euler_degrees_to_matrix(const Vec3& rotation_degrees) {
+    const Vec3 a = rotation_degrees * (std::numbers::pi / 180.0);
+    const Quat q = Eigen::AngleAxisd(a.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(a.y(), Vec3::UnitY()) *
+                   Eigen::AngleAxisd(a.x(), Vec3::UnitX());
+    return q.toRotationMatrix();
+}
+
+void apply_transform(std::vector<Vec3>& points, const Vec3& translation, const Vec3& rotation_degrees,
+                     const Vec3& scale3d) {
+    if (translation.isZero(0.0) && rotation_degrees.isZero(0.0) && scale3d == Vec3::Ones()) return;
+    // M = R * diag(scale): the linear part of SOFA's T * R * S matrix
+    const Mat3 m = euler_degrees_to_matrix(rotation_degrees) * scale3d.asDiagonal();
+    for (Vec3& p : points) p = m * p + translation;
+}
+
+void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees,
+                     const Vec3& scale3d) {
+    apply_transform(mesh.positions, translation, rotation_degrees, scale3d);
+}
+
+namespace {
+
+template <std::size_t N>
+std::array<PointId, N> sorted(std::array<PointId, N> a) {
+    std::sort(a.begin(), a.end());
+    return a;
+}
+
+template <std::size_t N, class Elements, class Faces>
+void add_missing(std::vector<std::array<PointId, N>>& target, const Elements& elements, const Faces& faces) {
+    std::set<std::array<PointId, N>> known;
+    for (const auto& t : target) known.insert(sorted(t));
+    for (const auto& e : elements) {
+        for (const auto& f : faces) {
+            std::array<PointId, N> face{};
+            for (std::size_t k = 0; k < N; ++k) face[k] = e[static_cast<std::size_t>(f[k])];
+            if (known.insert(sorted(face)).second) target.push_back(face);
+        }
+    }
+}
+
+}  // namespace
+
+void create_subelements(MeshData& mesh) {
+    static constexpr std::array<std::array<int, 4>, 6> hexa_faces{{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                                                   {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
+    static constexpr std::array<std::array<int, 3>, 4> tetra_faces{{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}};
+    static constexpr std::array<std::array<int, 2>, 4> quad_edges{{{1, 2}, {2, 3}, {3, 0}, {0, 1}}};
+    static constexpr std::array<std::array<int, 2>, 3> triangle_edges{{{1, 2}, {2, 0}, {0, 1}}};
+    if (!mesh.hexahedra.empty()) add_missing(mesh.quads, mesh.hexahedra, hexa_faces);
+    if (!mesh.tetrahedra.empty()) add_missing(mesh.triangles, mesh.tetrahedra, tetra_faces);
+    if (!mesh.quads.empty()) add_missing(mesh.edges, mesh.quads, quad_edges);
+    if (!mesh.triangles.empty()) add_missing(mesh.edges, mesh.triangles, triangle_edges);
+}
+
+void triangulate_quads(MeshData& mesh) {
+    for (const Quad& q : mesh.quads) {
+        mesh.triangles.push_back(Triangle{q[0], q[1], q[2]});
+        mesh.triangles.push_back(Triangle{q[0], q[2], q[3]});
+    }
+    mesh.quads.clear();
+}
+
+void flip_normals(MeshData& mesh) {
+    for (Triangle& t : mesh.triangles) std::reverse(t.begin(), t.end());
+    for (Quad& q : mesh.quads) std::reverse(q.begin(), q.end());
+}
+
+}  // namespace penalty::io

@@ -1,0 +1,445 @@
+#include "penalty/io/scene_file.hpp"
+
+#include "io/text.hpp"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cctype>
+
+namespace penalty::io {
+
+// ---------------------------------------------------------------------------------------------
+// tree
+
+const SceneAttribute* SceneElement::find(std::string_view attribute) const {
+    for (const auto& a : attributes) {
+        if (a.name == attribute) return &a;
+    }
+    return nullptr;
+}
+
+std::string SceneElement::describe() const {
+    return name.empty() ? type : type + " '" + name + "'";
+}
+
+const SceneNode* SceneNode::child(std::string_view child_name) const {
+    for (const auto& c : children) {
+        if (c->name == child_name) return c.get();
+    }
+    return nullptr;
+}
+
+const SceneComponent* SceneNode::component(std::string_view component_name) const {
+    for (const auto& c : components) {
+        if (c->name == component_name) return c.get();
+    }
+    return nullptr;
+}
+
+std::string SceneNode::path() const {
+    if (parent == nullptr) return "/";
+    const std::string up = parent->path();
+    return (up == "/" ? std::string() : up) + "/" + name;
+}
+
+std::filesystem::path SceneFile::directory() const {
+    if (path.empty()) return ".";
+    const auto dir = path.parent_path();
+    return dir.empty() ? std::filesystem::path(".") : dir;
+}
+
+// ---------------------------------------------------------------------------------------------
+// parsing
+
+namespace {
+
+std::string xml_error_text(tinyxml2::XMLError error) {
+    switch (error) {
+        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: return "mismatched closing tag";
+        case tinyxml2::XML_ERROR_PARSING_ELEMENT: return "malformed or unclosed element";
+        case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE: return "malformed attribute";
+        case tinyxml2::XML_ERROR_PARSING_TEXT: return "malformed text";
+        case tinyxml2::XML_ERROR_PARSING_COMMENT: return "malformed comment";
+        case tinyxml2::XML_ERROR_PARSING_DECLARATION: return "malformed declaration";
+        case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: return "empty document";
+        default: return tinyxml2::XMLDocument::ErrorIDToName(error);
+    }
+}
+
+[[noreturn]] void scene_fail(const std::string& file, int line, const std::string& what) {
+    throw SceneError(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what);
+}
+
+void read_attributes(const tinyxml2::XMLElement& xml, SceneElement& out, std::string* template_name) {
+    for (const tinyxml2::XMLAttribute* a = xml.FirstAttribute(); a != nullptr; a = a->Next()) {
+        const std::string_view name = a->Name();
+        if (name == "name") {
+            out.name = a->Value();
+        } else if (name == "template" && template_name != nullptr) {
+            *template_name = a->Value();
+        } else {
+            out.attributes.push_back(SceneAttribute{std::string(name), a->Value(), a->GetLineNum()});
+        }
+    }
+}
+
+void read_node(const tinyxml2::XMLElement& xml, SceneNode& node, const std::string& file, int depth) {
+    if (depth > 256) scene_fail(file, xml.GetLineNum(), "nodes nested more than 256 levels deep");
+    node.type = "Node";
+    node.file = file;
+    node.line = xml.GetLineNum();
+    read_attributes(xml, node, nullptr);
+    for (const tinyxml2::XMLElement* e = xml.FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
+        const std::string_view tag = e->Name();
+        if (tag == "Node") {
+            auto child = std::make_unique<SceneNode>();
+            child->parent = &node;
+            read_node(*e, *child, file, depth + 1);
+            node.children.push_back(std::move(child));
+            continue;
+        }
+        auto component = std::make_unique<SceneComponent>();
+        component->type = std::string(tag);
+        component->file = file;
+        component->line = e->GetLineNum();
+        component->node = &node;
+        component->index = node.components.size();
+        read_attributes(*e, *component, &component->template_name);
+        if (tag == "Object") {  // SOFA's older syntax: <Object type="MechanicalObject" .../>
+            const auto it = std::find_if(component->attributes.begin(), component->attributes.end(),
+                                         [](const SceneAttribute& a) { return a.name == "type"; });
+            if (it == component->attributes.end() || it->value.empty()) {
+                scene_fail(file, component->line, "<Object> without a 'type' attribute");
+            }
+            component->type = it->value;
+            component->attributes.erase(it);
+        }
+        node.components.push_back(std::move(component));
+    }
+}
+
+SceneFile parse(const char* xml, std::size_t size, std::filesystem::path path, const std::string& label) {
+    tinyxml2::XMLDocument doc(true, tinyxml2::PRESERVE_WHITESPACE);
+    const tinyxml2::XMLError error = doc.Parse(xml, size);
+    if (error != tinyxml2::XML_SUCCESS) {
+        scene_fail(label, doc.ErrorLineNum(), "XML error: " + xml_error_text(error));
+    }
+    const tinyxml2::XMLElement* root = doc.RootElement();
+    if (root == nullptr) scene_fail(label, 0, "XML error: empty document");
+    if (std::string_view(root->Name()) != "Node") {
+        scene_fail(label, root->GetLineNum(),
+                   "root element must be <Node>, found <" + std::string(root->Name()) + ">");
+    }
+    SceneFile scene;
+    scene.path = std::move(path);
+    scene.root = std::make_unique<SceneNode>();
+    read_node(*root, *scene.root, label, 0);
+    return scene;
+}
+
+}  // namespace
+
+SceneFile parse_scene_file(const std::filesystem::path& path) {
+    std::string text;
+    try {
+        text = detail::read_file(path);
+    } catch (const LoadError& e) {
+        throw SceneError(e.what());
+    }
+    return parse(text.data(), text.size(), path, path.string());
+}
+
+SceneFile parse_scene_string(std::string_view xml, std::string file_label) {
+    return parse(xml.data(), xml.size(), {}, file_label);
+}
+
+// ---------------------------------------------------------------------------------------------
+// typed attributes
+
+void throw_attribute_error(const SceneElement& element, std::string_view attribute, const std::string& what) {
+    const SceneAttribute* a = element.find(attribute);
+    const int line = a != nullptr ? a->line : element.line;
+    throw SceneError(element.file + ":" + std::to_string(line) + ": " + element.describe() + ": attribute '" +
+                     std::string(attribute) + "': " + what);
+}
+
+void throw_element_error(const SceneElement& element, const std::string& what) {
+    throw SceneError(element.file + ":" + std::to_string(element.line) + ": " + element.describe() + ": " + what);
+}
+
+namespace {
+
+// The attribute's value, refusing links where a value is expected.
+const std::string* value_of(const SceneElement& e, std::string_view attr) {
+    const SceneAttribute* a = e.find(attr);
+    if (a == nullptr) return nullptr;
+    if (is_link(a->value)) {
+        throw_attribute_error(e, attr, "expected a value, found the link '" + a->value + "' (resolve it first)");
+    }
+    return &a->value;
+}
+
+std::string shorten(std::string_view s) {
+    return s.size() <= 40 ? std::string(s) : std::string(s.substr(0, 37)) + "...";
+}
+
+double number_or_throw(const SceneElement& e, std::string_view attr, std::string_view token) {
+    const auto v = detail::parse_double(token);
+    if (!v) throw_attribute_error(e, attr, "expected a number, found '" + shorten(token) + "'");
+    return *v;
+}
+
+}  // namespace
+
+std::optional<std::string> get_string(const SceneElement& e, std::string_view attr) {
+    const SceneAttribute* a = e.find(attr);
+    if (a == nullptr) return std::nullopt;
+    return a->value;
+}
+
+std::optional<double> get_double(const SceneElement& e, std::string_view attr) {
+    const std::string* v = value_of(e, attr);
+    if (v == nullptr) return std::nullopt;
+    const auto tokens = detail::split_blanks(*v);
+    if (tokens.size() != 1) {
+        throw_attribute_error(e, attr, "expected one number, found '" + shorten(*v) + "'");
+    }
+    return number_or_throw(e, attr, tokens[0]);
+}
+
+double get_double_or(const SceneElement& e, std::string_view attr, double fallback) {
+    return get_double(e, attr).value_or(fallback);
+}
+
+std::optional<std::int64_t> get_int(const SceneElement& e, std::string_view attr) {
+    const std::string* v = value_of(e, attr);
+    if (v == nullptr) return std::nullopt;
+    const auto tokens = detail::split_blanks(*v);
+    const auto value = tokens.size() == 1 ? detail::parse_int(tokens[0]) : std::nullopt;
+    if (!value) throw_attribute_error(e, attr, "expected an integer, found '" + shorten(*v) + "'");
+    return *value;
+}
+
+std::int64_t get_int_or(const SceneElement& e, std::string_view attr, std::int64_t fallback) {
+    return get_int(e, attr).value_or(fallback);
+}
+
+std::optional<bool> get_bool(const SceneElement& e, std::string_view attr) {
+    const std::string* v = value_of(e, attr);
+    if (v == nullptr) return std::nullopt;
+    std::string lower(detail::trim(*v));
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower == "1" || lower == "true") return true;
+    if (lower == "0" || lower == "false") return false;
+    throw_attribute_error(e, attr, "expected a boolean (0, 1, true or false), found '" + shorten(*v) + "'");
+}
+
+bool get_bool_or(const SceneElement& e, std::string_view attr, bool fallback) {
+    return get_bool(e, attr).value_or(fallback);
+}
+
+std::vector<double> get_doubles(const SceneElement& e, std::string_view attr) {
+    const std::string* v = value_of(e, attr);
+    if (v == nullptr) return {};
+    std::vector<double> out;
+    for (const auto token : detail::split_blanks(*v)) out.push_back(number_or_throw(e, attr, token));
+    return out;
+}
+
+std::optional<Vec3> get_vec3(const SceneElement& e, std::string_view attr) {
+    if (!e.has(attr)) return std::nullopt;
+    const std::vector<double> v = get_doubles(e, attr);
+    if (v.size() != 3) {
+        throw_attribute_error(e, attr, "expected 3 numbers, found " + std::to_string(v.size()));
+    }
+    return Vec3(v[0], v[1], v[2]);
+}
+
+Vec3 get_vec3_or(const SceneElement& e, std::string_view attr, const Vec3& fallback) {
+    return get_vec3(e, attr).value_or(fallback);
+}
+
+std::vector<Vec3> get_vec3_list(const SceneElement& e, std::string_view attr) {
+    const std::vector<double> v = get_doubles(e, attr);
+    if (v.size() % 3 != 0) {
+        throw_attribute_error(e, attr, "expected a multiple of 3 numbers, found " + std::to_string(v.size()));
+    }
+    std::vector<Vec3> out;
+    out.reserve(v.size() / 3);
+    for (std::size_t i = 0; i < v.size(); i += 3) out.emplace_back(v[i], v[i + 1], v[i + 2]);
+    return out;
+}
+
+std::vector<RigidFrame> get_rigid_list(const SceneElement& e, std::string_view attr) {
+    const std::vector<double> v = get_doubles(e, attr);
+    if (v.size() % 7 != 0) {
+        throw_attribute_error(e, attr,
+                              "expected a multiple of 7 numbers (x y z qx qy qz qw), found " + std::to_string(v.size()));
+    }
+    std::vector<RigidFrame> out;
+    for (std::size_t i = 0; i < v.size(); i += 7) {
+        RigidFrame f;
+        f.center = Vec3(v[i], v[i + 1], v[i + 2]);
+        f.orientation = Quat(v[i + 6], v[i + 3], v[i + 4], v[i + 5]);  // Eigen: (w, x, y, z)
+        const double norm = f.orientation.norm();
+        if (!(norm > 0.0)) {
+            throw_attribute_error(e, attr, "rigid frame " + std::to_string(i / 7) + " has a zero quaternion");
+        }
+        f.orientation.normalize();
+        out.push_back(f);
+    }
+    return out;
+}
+
+std::vector<PointId> get_indices(const SceneElement& e, std::string_view attr) {
+    const std::string* v = value_of(e, attr);
+    if (v == nullptr) return {};
+    std::vector<PointId> out;
+    for (const auto token : detail::split_blanks(*v)) {
+        const auto value = detail::parse_int(token);
+        if (!value || *value < 0 || *value > std::numeric_limits<PointId>::max()) {
+            throw_attribute_error(e, attr, "expected a non-negative integer index, found '" + shorten(token) + "'");
+        }
+        out.push_back(static_cast<PointId>(*value));
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// links
+
+bool is_link(std::string_view value) {
+    const std::string_view t = detail::trim(value);
+    return !t.empty() && t.front() == '@';
+}
+
+namespace {
+
+[[noreturn]] void broken(const SceneComponent& from, std::string_view attr, std::string_view link,
+                         const std::string& why) {
+    throw_attribute_error(from, attr, "broken link '@" + std::string(link) + "': " + why);
+}
+
+}  // namespace
+
+LinkTarget resolve_link_text(const SceneComponent& from, std::string_view link, std::string_view attr) {
+    link = detail::trim(link);
+    if (!link.empty() && link.front() == '@') link.remove_prefix(1);
+    if (from.node == nullptr) broken(from, attr, link, "the component is not in a scene tree");
+
+    // split "path.data": the data name follows the last '.' of the last segment (not "." / "..")
+    std::string_view path = link;
+    std::string data;
+    {
+        const std::size_t slash = link.rfind('/');
+        const std::size_t seg_start = slash == std::string_view::npos ? 0 : slash + 1;
+        const std::string_view segment = link.substr(seg_start);
+        const std::size_t dot = segment.rfind('.');
+        if (segment != "." && segment != ".." && dot != std::string_view::npos && dot > 0) {
+            data = std::string(segment.substr(dot + 1));
+            path = link.substr(0, seg_start + dot);
+            if (data.empty()) broken(from, attr, link, "empty data name after '.'");
+        }
+    }
+
+    LinkTarget target;
+    // self reference / index in the node's component list
+    if (path.empty()) {
+        target.component = &from;
+        target.data = data;
+        return target;
+    }
+    if (path.front() == '[') {
+        if (path.back() != ']') broken(from, attr, link, "malformed index (expected [-k])");
+        const auto k = detail::parse_int(path.substr(1, path.size() - 2));
+        if (!k || *k > 0) broken(from, attr, link, "malformed index (expected [-k] with k >= 0)");
+        const auto back = static_cast<std::size_t>(-*k);
+        if (back > from.index) {
+            broken(from, attr, link,
+                   "only " + std::to_string(from.index) + " component(s) before it in node '" + from.node->path() + "'");
+        }
+        target.component = from.node->components[from.index - back].get();
+        target.data = data;
+        return target;
+    }
+
+    const SceneNode* node = from.node;
+    const SceneComponent* component = nullptr;
+    bool based = false;
+    std::size_t pos = 0;
+    if (path.front() == '/') {
+        while (node->parent != nullptr) node = node->parent;
+        pos = 1;
+        based = true;
+    }
+    while (pos < path.size()) {
+        const std::size_t end = std::min(path.find('/', pos), path.size());
+        const std::string_view segment = path.substr(pos, end - pos);
+        pos = end + 1;
+        if (segment.empty()) continue;  // extra '/'
+        if (component != nullptr) {
+            broken(from, attr, link, "'" + component->describe() + "' is a component, it has no child '" +
+                                         std::string(segment) + "'");
+        }
+        if (segment == ".") {
+            based = true;
+            continue;
+        }
+        if (segment == "..") {
+            if (node->parent == nullptr) broken(from, attr, link, "'..' goes above the root node");
+            node = node->parent;
+            based = true;
+            continue;
+        }
+        const SceneNode* search = node;
+        for (;;) {
+            if (const SceneNode* child = search->child(segment)) {
+                node = child;
+                break;
+            }
+            if (const SceneComponent* c = search->component(segment)) {
+                node = search;
+                component = c;
+                break;
+            }
+            if (based || search->parent == nullptr) {
+                broken(from, attr, link,
+                       "no node or component named '" + std::string(segment) + "' in node '" + node->path() + "'" +
+                           (based ? "" : " or its ancestors"));
+            }
+            search = search->parent;
+        }
+        based = true;
+    }
+    if (component != nullptr) {
+        target.component = component;
+    } else {
+        target.node = node;
+    }
+    target.data = data;
+    return target;
+}
+
+LinkTarget resolve_link(const SceneComponent& from, std::string_view attr) {
+    const SceneAttribute* a = from.find(attr);
+    if (a == nullptr) throw_attribute_error(from, attr, "missing (a link was expected)");
+    const auto tokens = detail::split_blanks(a->value);
+    if (tokens.size() != 1 || !is_link(tokens[0])) {
+        throw_attribute_error(from, attr, "expected one link '@...', found '" + shorten(a->value) + "'");
+    }
+    return resolve_link_text(from, tokens[0], attr);
+}
+
+std::vector<LinkTarget> resolve_links(const SceneComponent& from, std::string_view attr) {
+    const SceneAttribute* a = from.find(attr);
+    if (a == nullptr) return {};
+    std::vector<LinkTarget> out;
+    for (const auto token : detail::split_blanks(a->value)) {
+        if (!is_link(token)) throw_attribute_error(from, attr, "expected links '@...', found '" + shorten(token) + "'");
+        out.push_back(resolve_link_text(from, token, attr));
+    }
+    return out;
+}
+
+}  // namespace penalty::io

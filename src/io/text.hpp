@@ -1,0 +1,74 @@
+#pragma once
+/// @file
+/// Internal text helpers of the io layer: whole-file reading, number parsing, a whitespace
+/// tokenizer that tracks line numbers, and error formatting.
+
+#include "penalty/io/error.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace penalty::io::detail {
+
+/// Reads a whole file; throws LoadError `path: cannot open file` when it cannot be read.
+std::string read_file(const std::filesystem::path& path);
+
+/// Parses a finite double from the whole token (leading '+' allowed); nullopt otherwise.
+std::optional<double> parse_double(std::string_view token);
+/// Parses a 64-bit signed integer from the whole token (leading '+' allowed); nullopt otherwise.
+std::optional<std::int64_t> parse_int(std::string_view token);
+
+/// Splits on blanks (space, tab, CR, LF, VT, FF).
+std::vector<std::string_view> split_blanks(std::string_view text);
+
+/// Removes leading and trailing blanks.
+std::string_view trim(std::string_view text);
+
+/// `path:line: what` (or `path: what` when line <= 0), as a LoadError.
+[[noreturn]] void fail(const std::filesystem::path& path, int line, const std::string& what);
+
+/// A token and the 1-based line it starts on.
+struct Token {
+    std::string_view text;
+    int line = 0;
+};
+
+/// Whitespace tokenizer over a whole file, tracking line numbers. Tokens are views into the
+/// text given at construction, which must outlive the tokenizer.
+class Tokenizer {
+public:
+    Tokenizer(std::string_view text, std::filesystem::path path);
+
+    /// Next token, or nullopt at the end of the text.
+    std::optional<Token> next();
+    /// Next token; at the end of the text throws `path:line: unexpected end of file (expected <what>)`.
+    Token expect(std::string_view what);
+    /// Next token as a finite double / integer; throws naming `what` on a bad or missing token.
+    double expect_double(std::string_view what);
+    std::int64_t expect_int(std::string_view what);
+    /// The rest of the current line (without the newline), trimmed; moves to the next line.
+    std::string_view rest_of_line();
+    /// Bytes not read yet (an upper bound for the number of tokens left is remaining()/2 + 1).
+    [[nodiscard]] std::size_t remaining() const { return text_.size() - pos_; }
+    /// Line of the last token returned (or the current line before any token).
+    [[nodiscard]] int line() const { return token_line_; }
+    [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+    /// Throws LoadError when `count` items of at least `tokens_per_item` tokens each cannot fit in
+    /// the rest of the file: `path:line: <what> count N exceeds what the file can hold`.
+    void check_count(std::int64_t count, int tokens_per_item, std::string_view what) const;
+
+private:
+    void skip_blanks();
+    std::string_view text_;
+    std::filesystem::path path_;
+    std::size_t pos_ = 0;
+    int line_ = 1;       // line of the read position
+    int token_line_ = 1; // line of the last token
+};
+
+}  // namespace penalty::io::detail
