@@ -1,5 +1,7 @@
 #include "penalty/mechanics/fem.hpp"
 
+#include "penalty/mechanics/regular_grid_topology.hpp"
+
 #include <Eigen/Dense>
 
 #include <cmath>
@@ -121,6 +123,22 @@ template class LinearElementForceField<4>;
 template class LinearElementForceField<8>;
 
 // ---- tetrahedron --------------------------------------------------------------------------------
+namespace {
+std::vector<Tetrahedron> tetrahedra_of(const MeshTopology& topo, int nx, int ny) {
+    if (!topo.tetrahedra().empty()) return topo.tetrahedra();
+    return tetrahedra_from_hexahedra(topo.hexahedra(), nx, ny);
+}
+}  // namespace
+
+TetrahedronFEMForceField::TetrahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young,
+                                                   double poisson, FemMethod method)
+    : LinearElementForceField<4>(state, tetrahedra_of(topology, 2, 1), young, poisson, method, "TetrahedronFEMForceField") {}
+
+TetrahedronFEMForceField::TetrahedronFEMForceField(Vec3Object& state, const RegularGridTopology& grid, double young,
+                                                   double poisson, FemMethod method)
+    : LinearElementForceField<4>(state, tetrahedra_of(grid.mesh(), grid.cells_x(), grid.cells_y()), young, poisson,
+                                 method, "TetrahedronFEMForceField") {}
+
 TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffness(const std::array<Vec3, 4>& p,
                                                                                     const Eigen::Matrix<double, 6, 6>& d,
                                                                                     std::size_t e) const {

@@ -30,41 +30,89 @@ std::vector<Vec3> RegularGridTopology::points() const {
     return p;
 }
 
-MeshTopology RegularGridTopology::mesh() const {
+MeshTopology RegularGridTopology::mesh(bool with_triangles) const {
     MeshTopology topo;
     topo.set_num_points(num_points());
-    std::array<int, 3> axes{};
-    int dims = 0;
-    for (int a = 0; a < 3; ++a)
-        if (n_[static_cast<std::size_t>(a)] > 1) axes[static_cast<std::size_t>(dims++)] = a;
-    if (dims == 3) {
-        std::vector<Hexahedron> hexas;
-        for (int k = 0; k + 1 < n_[2]; ++k)
-            for (int j = 0; j + 1 < n_[1]; ++j)
-                for (int i = 0; i + 1 < n_[0]; ++i)
-                    hexas.push_back({point_index(i, j, k), point_index(i + 1, j, k), point_index(i + 1, j + 1, k),
-                                     point_index(i, j + 1, k), point_index(i, j, k + 1), point_index(i + 1, j, k + 1),
-                                     point_index(i + 1, j + 1, k + 1), point_index(i, j + 1, k + 1)});
-        topo.set_hexahedra(std::move(hexas));
-    } else if (dims == 2) {
-        const int a0 = axes[0], a1 = axes[1];
-        std::vector<Quad> quads;
-        auto idx = [&](int u, int v) {
-            std::array<int, 3> c{0, 0, 0};
-            c[static_cast<std::size_t>(a0)] = u;
-            c[static_cast<std::size_t>(a1)] = v;
-            return point_index(c[0], c[1], c[2]);
-        };
-        for (int v = 0; v + 1 < n_[static_cast<std::size_t>(a1)]; ++v)
-            for (int u = 0; u + 1 < n_[static_cast<std::size_t>(a0)]; ++u)
-                quads.push_back({idx(u, v), idx(u + 1, v), idx(u + 1, v + 1), idx(u, v + 1)});
-        topo.set_quads(std::move(quads));
-    } else if (dims == 1) {
-        std::vector<Edge> edges;
-        for (int u = 0; u + 1 < static_cast<int>(num_points()); ++u) edges.push_back({u, u + 1});
+    const int nx = n_[0], ny = n_[1], nz = n_[2];
+    auto p = [this](int i, int j, int k) { return point_index(i, j, k); };
+    std::vector<Hexahedron> hexas;
+    for (int z = 0; z + 1 < nz; ++z)
+        for (int y = 0; y + 1 < ny; ++y)
+            for (int x = 0; x + 1 < nx; ++x)
+                hexas.push_back({p(x, y, z), p(x + 1, y, z), p(x + 1, y + 1, z), p(x, y + 1, z), p(x, y, z + 1),
+                                 p(x + 1, y, z + 1), p(x + 1, y + 1, z + 1), p(x, y + 1, z + 1)});
+    std::vector<Quad> quads;  // XY planes, then XZ, then YZ (every face, interior ones included)
+    for (int z = 0; z < nz; ++z)
+        for (int y = 0; y + 1 < ny; ++y)
+            for (int x = 0; x + 1 < nx; ++x) quads.push_back({p(x, y, z), p(x + 1, y, z), p(x + 1, y + 1, z), p(x, y + 1, z)});
+    for (int z = 0; z + 1 < nz; ++z)
+        for (int y = 0; y < ny; ++y)
+            for (int x = 0; x + 1 < nx; ++x) quads.push_back({p(x, y, z), p(x + 1, y, z), p(x + 1, y, z + 1), p(x, y, z + 1)});
+    for (int z = 0; z + 1 < nz; ++z)
+        for (int y = 0; y + 1 < ny; ++y)
+            for (int x = 0; x < nx; ++x) quads.push_back({p(x, y, z), p(x, y + 1, z), p(x, y + 1, z + 1), p(x, y, z + 1)});
+    if (with_triangles) {
+        // Triangles from quads; edges then derived from the triangles (oriented, first occurrence).
+        std::vector<Triangle> tris;
+        for (const Quad& q : quads) {
+            tris.push_back({q[0], q[1], q[2]});
+            tris.push_back({q[0], q[2], q[3]});
+        }
+        MeshTopology surface;
+        surface.set_triangles(tris);
+        topo.set_edges(surface.edges());
+        topo.set_triangles(std::move(tris));
+    } else {
+        std::vector<Edge> edges;  // lines along X, then Y, then Z
+        for (int z = 0; z < nz; ++z)
+            for (int y = 0; y < ny; ++y)
+                for (int x = 0; x + 1 < nx; ++x) edges.push_back({p(x, y, z), p(x + 1, y, z)});
+        for (int z = 0; z < nz; ++z)
+            for (int y = 0; y + 1 < ny; ++y)
+                for (int x = 0; x < nx; ++x) edges.push_back({p(x, y, z), p(x, y + 1, z)});
+        for (int z = 0; z + 1 < nz; ++z)
+            for (int y = 0; y < ny; ++y)
+                for (int x = 0; x < nx; ++x) edges.push_back({p(x, y, z), p(x, y, z + 1)});
         topo.set_edges(std::move(edges));
     }
+    topo.set_quads(std::move(quads));
+    topo.set_hexahedra(std::move(hexas));
     return topo;
+}
+
+std::vector<Tetrahedron> tetrahedra_from_hexahedra(const std::vector<Hexahedron>& hexas, int nx, int ny) {
+    if (nx < 1 || ny < 1) throw_invalid_argument("tetrahedra_from_hexahedra: nx and ny must be >= 1");
+    std::vector<Tetrahedron> tetras;
+    tetras.reserve(6 * hexas.size());
+    for (std::size_t i = 0; i < hexas.size(); ++i) {
+        Hexahedron c = hexas[i];
+        const auto si = static_cast<long>(i);
+        if (((si % nx) & 1) == 0) {  // mirror along x
+            std::swap(c[0], c[1]);
+            std::swap(c[3], c[2]);
+            std::swap(c[4], c[5]);
+            std::swap(c[7], c[6]);
+        }
+        if (((si / nx) % ny) & 1) {  // mirror along y
+            std::swap(c[0], c[3]);
+            std::swap(c[1], c[2]);
+            std::swap(c[4], c[7]);
+            std::swap(c[5], c[6]);
+        }
+        if ((si / (static_cast<long>(nx) * ny)) & 1) {  // mirror along z
+            std::swap(c[0], c[4]);
+            std::swap(c[1], c[5]);
+            std::swap(c[2], c[6]);
+            std::swap(c[3], c[7]);
+        }
+        tetras.push_back({c[0], c[5], c[1], c[6]});
+        tetras.push_back({c[0], c[1], c[3], c[6]});
+        tetras.push_back({c[1], c[3], c[6], c[2]});
+        tetras.push_back({c[6], c[3], c[0], c[7]});
+        tetras.push_back({c[6], c[7], c[0], c[5]});
+        tetras.push_back({c[7], c[5], c[4], c[0]});
+    }
+    return tetras;
 }
 
 std::pair<std::array<int, 3>, Vec3> RegularGridTopology::locate(const Vec3& p) const {
@@ -105,7 +153,9 @@ std::vector<Spring> regular_grid_springs(const RegularGridTopology& grid, const 
     q.cubes_stiffness = p.cubes_stiffness;
     q.cubes_damping = p.cubes_damping;
     const std::vector<Vec3> x = grid.points();
-    return mesh_springs(grid.mesh(), x, q);
+    MeshTopology m = grid.mesh();
+    m.set_triangles({});  // springs from edges, quads and hexahedra only
+    return mesh_springs(m, x, q);
 }
 
 }  // namespace penalty

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <set>
 
 namespace penalty {
 namespace {
@@ -186,6 +187,44 @@ TEST(TetrahedronFEM, LargeMethodIsInvariantUnderRotation) {
     EXPECT_GT(fmax, 1e-2);
 }
 
+TEST(TetrahedronFEM, HexahedraSplitAsSofaFillsTheGrid) {
+    RegularGridTopology g({4, 3, 3}, Vec3(0, 0, 0), Vec3(3, 2, 2));
+    const auto tets = tetrahedra_from_hexahedra(g.mesh().hexahedra(), g.cells_x(), g.cells_y());
+    ASSERT_EQ(tets.size(), 6u * 12u);
+    const auto x = g.points();
+    double volume = 0;
+    for (const auto& t : tets) {
+        Mat3 m;
+        for (int k = 0; k < 3; ++k) m.col(k) = x[static_cast<std::size_t>(t[static_cast<std::size_t>(k + 1)])] - x[static_cast<std::size_t>(t[0])];
+        EXPECT_GT(std::abs(m.determinant()), 1e-12);
+        volume += std::abs(m.determinant()) / 6;
+    }
+    EXPECT_NEAR(volume, 12.0, 1e-12);
+    // Conforming (a ball): V − E + F − T = 1 with F the distinct faces. (The split mixes
+    // orientations, so MeshTopology's derived triangles, which only merge opposite orientations,
+    // keep duplicates, as in SOFA.)
+    MeshTopology topo;
+    topo.set_tetrahedra(tets);
+    std::set<std::array<PointId, 3>> faces;
+    for (const auto& t : tets)
+        for (const auto& f : MeshTopology::kTetraFaces) {
+            std::array<PointId, 3> k{t[static_cast<std::size_t>(f[0])], t[static_cast<std::size_t>(f[1])], t[static_cast<std::size_t>(f[2])]};
+            std::sort(k.begin(), k.end());
+            faces.insert(k);
+        }
+    const long v = static_cast<long>(topo.num_points()), e = static_cast<long>(topo.edges().size());
+    const long f = static_cast<long>(faces.size()), t = static_cast<long>(tets.size());
+    EXPECT_EQ(v - e + f - t, 1);
+    patch_test<TetrahedronFEMForceField>(topo, g, FemMethod::Small);
+    Vec3Object s;
+    s.position = g.points();
+    s.init();
+    TetrahedronFEMForceField from_grid(s, g, 100, 0.3);
+    EXPECT_EQ(from_grid.tetrahedra(), tets);
+    TetrahedronFEMForceField from_mesh(s, g.mesh(), 100, 0.3);  // SOFA's non-grid fallback nx=2, ny=1
+    EXPECT_EQ(from_mesh.tetrahedra().size(), tets.size());
+}
+
 TEST(FEM, BadInputThrows) {
     Vec3Object s;
     s.position = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3(1, 1, 0)};
@@ -287,6 +326,20 @@ TEST(RegularGridTopology, IndexingSpringsAndBarycentricMapping) {
     EXPECT_NEAR(wsum, 1.0, 1e-15);
     RegularGridTopology quads({3, 3, 1}, Vec3::Zero(), Vec3(1, 1, 0));
     EXPECT_EQ(quads.mesh().quads().size(), 4u);
+    EXPECT_TRUE(quads.mesh().hexahedra().empty());
+    EXPECT_EQ(quads.mesh().edges().size(), 12u);
+    // SOFA GridTopology order: XY quads first, then XZ, then YZ; edges X, Y, Z lines.
+    EXPECT_EQ(m.quads().size(), 2u * 2 + 2u * 2 + 3u * 1);  // (nx−1)(ny−1)nz + (nx−1)ny(nz−1) + nx(ny−1)(nz−1)
+    EXPECT_EQ(m.quads()[0], (Quad{0, 1, 4, 3}));
+    EXPECT_EQ(m.quads()[4], (Quad{0, 1, 7, 6}));
+    EXPECT_EQ(m.quads()[8], (Quad{0, 3, 9, 6}));
+    EXPECT_EQ(m.edges()[0], (Edge{0, 1}));
+    EXPECT_EQ(m.edges()[8], (Edge{0, 3}));
+    EXPECT_EQ(m.edges()[14], (Edge{0, 6}));
+    const MeshTopology mt = g.mesh(true);
+    EXPECT_EQ(mt.triangles().size(), 2 * m.quads().size());
+    EXPECT_EQ(mt.triangles()[1], (Triangle{0, 4, 3}));
+    EXPECT_EQ(mt.edges().size(), 20u + 11u);  // + one diagonal per quad
     EXPECT_THROW(RegularGridTopology({0, 2, 2}, Vec3::Zero(), Vec3::Ones()), std::invalid_argument);
     EXPECT_THROW(RegularGridTopology({2, 2, 2}, Vec3::Ones(), Vec3::Zero()), std::invalid_argument);
 }

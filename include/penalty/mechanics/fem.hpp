@@ -58,13 +58,19 @@ protected:
     double energy_ = 0.0;
 };
 
-/// SOFA's TetrahedronFEMForceField (methods small and large).
+class RegularGridTopology;
+
+/// SOFA's TetrahedronFEMForceField (methods small and large). As SOFA, a topology without
+/// tetrahedra but with hexahedra is split into 6 tetrahedra per hexahedron
+/// (tetrahedra_from_hexahedra, with the grid's cell counts for a RegularGridTopology and SOFA's
+/// fallback nx = 2, ny = 1 otherwise).
 class TetrahedronFEMForceField final : public LinearElementForceField<4> {
 public:
     TetrahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
-                             double poisson_ratio, FemMethod method = FemMethod::Large)
-        : LinearElementForceField<4>(state, topology.tetrahedra(), young_modulus, poisson_ratio, method,
-                                     "TetrahedronFEMForceField") {}
+                             double poisson_ratio, FemMethod method = FemMethod::Large);
+    TetrahedronFEMForceField(Vec3Object& state, const RegularGridTopology& grid, double young_modulus,
+                             double poisson_ratio, FemMethod method = FemMethod::Large);
+    [[nodiscard]] const std::vector<Element>& tetrahedra() const { return elements_; }
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,

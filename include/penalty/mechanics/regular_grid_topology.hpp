@@ -4,12 +4,17 @@
 /// max (spacing (max − min) / (n − 1) per axis with n > 1). Point (i, j, k) has index
 /// i + nx (j + ny k); cell (i, j, k) has index i + (nx−1)(j + (ny−1) k) and SOFA's hexahedron
 /// vertex order (i,j,k) (i+1,j,k) (i+1,j+1,k) (i,j+1,k) then the same at k+1.
-/// A grid with one axis of 1 point is made of quads, with two such axes of edges.
+/// Elements as SOFA's GridTopology builds them (not derived by MeshTopology): hexahedra (x fastest),
+/// quads of every face (XY planes for each z, then XZ, then YZ, interior faces included), edges
+/// (lines along X, then Y, then Z). SOFA's GridTopology also builds two triangles per quad
+/// (computeTriangleList, default true in recent versions), and then derives the edges from them:
+/// mesh(true) reproduces that variant.
 
 #include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
 
+#include <algorithm>
 #include <array>
 
 namespace penalty {
@@ -29,8 +34,11 @@ public:
     [[nodiscard]] Vec3 point(int i, int j, int k) const;
     /// All points, index order.
     [[nodiscard]] std::vector<Vec3> points() const;
-    /// The grid as a MeshTopology (hexahedra, or quads, or edges; derived elements as SOFA).
-    [[nodiscard]] MeshTopology mesh() const;
+    /// The grid as a MeshTopology with SOFA's GridTopology element lists (see the file comment).
+    [[nodiscard]] MeshTopology mesh(bool with_triangles = false) const;
+    /// Hexahedra per row (nx − 1) and per layer row (ny − 1), for tetrahedra_from_hexahedra.
+    [[nodiscard]] int cells_x() const { return std::max(1, n_[0] - 1); }
+    [[nodiscard]] int cells_y() const { return std::max(1, n_[1] - 1); }
     /// Cell containing p (clamped to the grid for outside points) and the local coordinates
     /// (u, v, w) of p in it (in [0,1]³ inside the grid, extrapolated outside). 3-D grids only.
     [[nodiscard]] std::pair<std::array<int, 3>, Vec3> locate(const Vec3& p) const;
@@ -39,6 +47,11 @@ private:
     std::array<int, 3> n_;
     Vec3 min_, max_, dx_;
 };
+
+/// SOFA's TetrahedronFEMForceField split of hexahedra (when its topology has no tetrahedra): 6
+/// tetrahedra per hexahedron, mirrored on alternate cells so the diagonals match; nx, ny = number
+/// of cells along x and y for a grid (SOFA uses 2 and 1 for a non-grid topology).
+std::vector<Tetrahedron> tetrahedra_from_hexahedra(const std::vector<Hexahedron>& hexas, int nx = 2, int ny = 1);
 
 /// BarycentricMapping of points onto a 3-D regular grid: trilinear weights in the containing
 /// (or nearest) cell, as SOFA's BarycentricMapperRegularGridTopology.
