@@ -35,7 +35,7 @@ public:
     [[nodiscard]] virtual double potential_energy() const { return 0.0; }
     /// States this force field reads and writes (one, or two for an interaction).
     [[nodiscard]] virtual std::vector<BaseState*> states() const = 0;
-    /// Number of scalar DOFs of the states of this field (for checks).
+    /// True when the field acts between two distinct states.
     [[nodiscard]] bool is_interaction() const { return states().size() > 1; }
 };
 
