@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <set>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 
@@ -24,6 +25,12 @@ namespace {
 constexpr std::int64_t kMaxPointId = std::numeric_limits<PointId>::max();
 
 std::string quoted(std::string_view s) { return "'" + std::string(s) + "'"; }
+
+std::string tok_text_of(double x) {
+    std::ostringstream out;
+    out << x;
+    return out.str();
+}
 
 // ---------------------------------------------------------------------------------------------
 // OBJ
@@ -303,7 +310,7 @@ MeshData load_sph(const std::filesystem::path& path) {
             Vec3 c;
             for (int k = 0; k < 3; ++k) c[k] = tok.expect_double("sphere center coordinate");
             const double r = tok.expect_double("sphere radius");
-            if (r < 0.0) fail(path, tok.line(), "negative sphere radius " + std::string(std::to_string(r)));
+            if (r < 0.0) fail(path, tok.line(), "negative sphere radius " + std::string(tok_text_of(r)));
             mesh.positions.push_back(c);
             mesh.radii.push_back(r);
         } else if (key->text.front() == '#') {

@@ -81,10 +81,7 @@ void Tokenizer::skip_blanks() {
 
 std::optional<Token> Tokenizer::next() {
     skip_blanks();
-    if (pos_ >= text_.size()) {
-        token_line_ = line_;
-        return std::nullopt;
-    }
+    if (pos_ >= text_.size()) return std::nullopt;  // token_line_ stays on the last token
     const std::size_t start = pos_;
     while (pos_ < text_.size() && !is_blank(text_[pos_])) ++pos_;
     token_line_ = line_;
@@ -93,7 +90,7 @@ std::optional<Token> Tokenizer::next() {
 
 Token Tokenizer::expect(std::string_view what) {
     auto token = next();
-    if (!token) fail(path_, line_, "unexpected end of file (expected " + std::string(what) + ")");
+    if (!token) fail(path_, token_line_, "unexpected end of file (expected " + std::string(what) + ")");
     return *token;
 }
 
