@@ -56,7 +56,8 @@ namespace {
 
 std::string xml_error_text(tinyxml2::XMLError error) {
     switch (error) {
-        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: return "mismatched closing tag";
+        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: return "element closed by a mismatched tag";
+        case tinyxml2::XML_ERROR_PARSING: return "unclosed element or malformed document";
         case tinyxml2::XML_ERROR_PARSING_ELEMENT: return "malformed or unclosed element";
         case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE: return "malformed attribute";
         case tinyxml2::XML_ERROR_PARSING_TEXT: return "malformed text";
