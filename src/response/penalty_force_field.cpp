@@ -163,6 +163,16 @@ void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x
         ct.pen = pen;
         const bool first_evaluation_of_step = !ct.step_started;
         ct.step_started = true;
+        if constexpr (!kDamping && !kFriction) {
+            // SOFA's path, branch-free (half the contacts are typically inactive and the branch
+            // would be unpredictable): f2 += ks·max(pen, 0)·n, adding zero when inactive
+            const double normal_force = pen > 0.0 ? ct.ks * pen : 0.0;
+            ct.normal_force = normal_force;
+            const Vec3 force2 = normal_force * n;
+            f1[ct.m1] -= force2;
+            f2[ct.m2] += force2;
+            continue;
+        }
         if (!(pen > 0.0)) {
             ct.normal_force = 0.0;
             if constexpr (kFriction) {

@@ -65,32 +65,33 @@ struct PenaltyParameters {
 enum class FrictionState : std::uint8_t { none, sticking, sliding };
 
 /// One penalty spring. Plain data; fields document sign, frame and units.
+/// The fields add_force reads and writes on SOFA's path come first (the first 80 bytes, two
+/// cache lines), the friction history and bookkeeping after.
 struct PenaltyContact {
     Index m1 = 0;             ///< DOF in state 1 (contact point of model 1)
     Index m2 = 0;             ///< DOF in state 2
-    Index index1 = 0;         ///< collision element of model 1 (export / grab only)
-    Index index2 = 0;         ///< collision element of model 2
     Vec3 normal = Vec3::UnitX();  ///< unit, from side 1 toward side 2 (world)
     double dist = 0.0;        ///< rest distance (m): the spring pushes while (x2 − x1)·n < dist
     double ks = 0.0;          ///< normal stiffness (N/m)
+    double pen = 0.0;         ///< penetration dist − (x2 − x1)·n at the last add_force (m)
+    double normal_force = 0.0;  ///< f_n = ks·pen − c·v_n on side 2 along n (N), 0 if inactive
+    int age = 0;              ///< steps this contact has persisted (0 = new)
+    FrictionState friction_state = FrictionState::none;
+    bool step_started = false;   ///< add_force ran since add_contact (per-step bookkeeping done)
+    bool slid_last_step = false; ///< the dynamic threshold applies (hysteresis)
+    bool has_history = false;    ///< shear_start carries a previous step's spring
+
+    Index index1 = 0;         ///< collision element of model 1 (export / grab only)
+    Index index2 = 0;         ///< collision element of model 2
     double mu_s = 0.0;        ///< static friction coefficient (used only with FrictionModel::coulomb)
     double mu_v = 0.0;        ///< dynamic friction coefficient (idem)
-    double pen = 0.0;         ///< penetration dist − (x2 − x1)·n at the last add_force (m)
-    int age = 0;              ///< steps this contact has persisted (0 = new)
 
     // --- beyond SOFA: set by add_force, carried by add_contact(old_index) -------------------
-    double normal_force = 0.0;       ///< f_n = ks·pen − c·v_n on side 2 along n (N), 0 if inactive
     Vec3 tangential_force = Vec3::Zero();  ///< friction force on side 2 (N), ⟂ n
     Vec3 shear = Vec3::Zero();       ///< ξ after the cap at the last add_force (m)
     double damper_scale = 1.0;       ///< α: share of the tangential damper applied while sticking
-    FrictionState friction_state = FrictionState::none;
-
-    // step bookkeeping (set at the first add_force after add_contact)
     Vec3 shear_start = Vec3::Zero(); ///< ξ₀ at the start of the step (m)
     Vec3 u_start = Vec3::Zero();     ///< u at the start of the step (m)
-    bool step_started = false;
-    bool slid_last_step = false;     ///< dynamic threshold applies (hysteresis)
-    bool has_history = false;        ///< shear_start carries a previous step's spring
 };
 
 /// A contact drawn as a segment x1[m1] → x2[m2] (replaces SOFA's draw).
