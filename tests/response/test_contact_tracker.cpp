@@ -1,0 +1,90 @@
+// SOFA's id deduplication (spec §7.1) and worked example D (§11).
+#include "penalty/response/contact_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace penalty {
+namespace {
+
+DetectionOutput output(std::int64_t id, double value) {
+    DetectionOutput o;
+    o.id = id;
+    o.value = value;
+    return o;
+}
+
+TEST(ContactTracker, WorkedExampleD) {
+    const std::vector<DetectionOutput> outputs{output(7, -0.10), output(3, -0.05), output(7, -0.30),
+                                               output(7, -0.30)};
+    ContactTracker tracker;
+    const auto kept = tracker.update(outputs);
+    // #2 replaces #0 (−0.30 < −0.10); #3 is ignored (−0.30 ≤ −0.30 keeps the earlier one)
+    ASSERT_EQ(kept.size(), 2u);
+    EXPECT_EQ(kept[0].output, 1u);
+    EXPECT_EQ(kept[1].output, 2u);
+    EXPECT_EQ(kept[0].old_index, 0);
+    EXPECT_EQ(kept[1].old_index, 0);
+    // contactIndex map {3 → 1, 7 → 2}
+    EXPECT_EQ(tracker.position_of(3), 1);
+    EXPECT_EQ(tracker.position_of(7), 2);
+    EXPECT_EQ(tracker.tracked_ids(), 2u);
+}
+
+TEST(ContactTracker, PersistentIdsCarryTheirPreviousPositionAndVanishedIdsAreForgotten) {
+    ContactTracker tracker;
+    (void)tracker.update(std::vector<DetectionOutput>{output(10, -0.1), output(20, -0.2), output(30, -0.3)});
+    // next step: 30 first, 10 gone, 20 duplicated (the second is smaller and wins), 40 new
+    const auto kept = tracker.update(std::vector<DetectionOutput>{output(30, -0.3), output(20, -0.1),
+                                                                  output(40, 0.0), output(20, -0.2)});
+    ASSERT_EQ(kept.size(), 3u);
+    EXPECT_EQ(kept[0].output, 0u);
+    EXPECT_EQ(kept[0].old_index, 3);  // id 30 was at position 3
+    EXPECT_EQ(kept[1].output, 2u);
+    EXPECT_EQ(kept[1].old_index, 0);  // id 40 is new
+    EXPECT_EQ(kept[2].output, 3u);
+    EXPECT_EQ(kept[2].old_index, 2);  // id 20 inherits position 2 through the replaced output #1
+    EXPECT_EQ(tracker.position_of(10), 0);
+    EXPECT_EQ(tracker.position_of(30), 1);
+    EXPECT_EQ(tracker.position_of(40), 2);
+    EXPECT_EQ(tracker.position_of(20), 3);
+    // an empty step forgets everything (SOFA drops an empty pair)
+    EXPECT_TRUE(tracker.update({}).empty());
+    EXPECT_EQ(tracker.tracked_ids(), 0u);
+}
+
+TEST(ContactTracker, KeepsExactlyTheFirstMinimumPerIdOnRandomLists) {
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> id_draw(0, 9);
+    std::uniform_int_distribution<int> value_draw(-4, 0);  // coarse values: many ties
+    ContactTracker tracker;
+    std::size_t duplicates = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<DetectionOutput> outputs;
+        const int n = 1 + trial % 25;
+        for (int i = 0; i < n; ++i) outputs.push_back(output(id_draw(rng), 0.1 * value_draw(rng)));
+        const auto kept = tracker.update(outputs);
+        // reference: per id, the first index with the minimal value
+        std::vector<std::size_t> expected;
+        for (std::size_t i = 0; i < outputs.size(); ++i) {
+            bool winner = true;
+            for (std::size_t j = 0; j < outputs.size(); ++j) {
+                if (j == i || outputs[j].id != outputs[i].id) continue;
+                if (outputs[j].value < outputs[i].value || (outputs[j].value == outputs[i].value && j < i))
+                    winner = false;
+            }
+            if (winner) expected.push_back(i);
+        }
+        ASSERT_EQ(kept.size(), expected.size()) << "trial " << trial;
+        for (std::size_t k = 0; k < kept.size(); ++k) {
+            EXPECT_EQ(kept[k].output, expected[k]);
+            EXPECT_EQ(tracker.position_of(outputs[kept[k].output].id), static_cast<Index>(k + 1));
+        }
+        duplicates += outputs.size() - kept.size();
+    }
+    EXPECT_GT(duplicates, 500u);  // the lists really contained duplicates and ties
+}
+
+}  // namespace
+}  // namespace penalty
