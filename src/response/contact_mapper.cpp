@@ -1,0 +1,345 @@
+#include "penalty/response/contact_mapper.hpp"
+
+#include "penalty/core/error.hpp"
+
+#include <limits>
+
+namespace penalty {
+
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+void check_element(const CollisionModel& m, const char* function, Index element, const Vec3& P) {
+    if (element < 0 || static_cast<std::size_t>(element) >= m.size())
+        throw_invalid_argument(function, ": model '", m.name(), "' (", model_type_name(m.type()),
+                               "): element ", element, " out of range [0, ", m.size(), ")");
+    if (!P.allFinite())
+        throw_invalid_argument(function, ": model '", m.name(), "', element ", element,
+                               ": non-finite contact point P (", P.transpose(), ")");
+}
+
+Vec3 load3(std::span<const double> v, std::size_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
+
+void add3(std::span<double> v, std::size_t i, const Vec3& a) {
+    v[3 * i] += a.x();
+    v[3 * i + 1] += a.y();
+    v[3 * i + 2] += a.z();
+}
+
+}  // namespace
+
+void ContactMapper::check_sizes(const char* function, std::size_t contact_size,
+                                std::size_t parent_scalars) const {
+    if (contact_size != size() || parent_scalars != parent_scalar_size())
+        throw_invalid_argument(function, ": model '", model().name(), "': contact vector size ",
+                               contact_size, " (expected ", size(), "), parent vector size ",
+                               parent_scalars, " (expected ", parent_scalar_size(), ")");
+}
+
+// ---------------------------------------------------------------------------- identity
+
+IdentityContactMapper::IdentityContactMapper(const CollisionModel& model) : model_(&model) {
+    if (const auto* p = dynamic_cast<const PointModel*>(&model)) {
+        state_ = &p->state();
+    } else if (const auto* s = dynamic_cast<const SphereModel*>(&model)) {
+        state_ = &s->state();
+        sphere_ = s;
+    } else {
+        throw_invalid_argument("IdentityContactMapper: model '", model.name(), "' (",
+                               model_type_name(model.type()), ") is neither a Point nor a Sphere model");
+    }
+}
+
+Index IdentityContactMapper::add_point(const Vec3& P, Index element, double& r) {
+    check_element(*model_, "IdentityContactMapper::add_point", element, P.allFinite() ? P : Vec3::Zero());
+    if (sphere_) r = sphere_->radius(element);
+    return element;
+}
+
+ConstVec3Span IdentityContactMapper::velocities() const {
+    if (state_->velocity.size() == state_->size()) return state_->velocity;
+    zero_velocity_.assign(state_->size(), Vec3::Zero());
+    return zero_velocity_;
+}
+
+void IdentityContactMapper::apply_j(std::span<const double> dq, Vec3Span out) const {
+    check_sizes("IdentityContactMapper::apply_j", out.size(), dq.size());
+    for (std::size_t i = 0; i < out.size(); ++i) out[i] = load3(dq, i);
+}
+
+void IdentityContactMapper::apply_jt(ConstVec3Span f, std::span<double> parent_f) const {
+    check_sizes("IdentityContactMapper::apply_jt", f.size(), parent_f.size());
+    for (std::size_t i = 0; i < f.size(); ++i) add3(parent_f, i, f[i]);
+}
+
+void IdentityContactMapper::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
+    for (std::size_t i = 0; i < size(); ++i)
+        for (int a = 0; a < 3; ++a) t.emplace_back(ro + 3 * Index(i) + a, co + 3 * Index(i) + a, 1.0);
+}
+
+// ---------------------------------------------------------------------------- barycentric
+
+std::array<double, 2> line_contact_weights(const Vec3& a, const Vec3& b, const Vec3& P) {
+    const Vec3 ab = b - a;
+    const double l2 = ab.squaredNorm();
+    const double f = l2 < kEps ? 0.0 : (P - a).dot(ab) / l2;
+    return {1.0 - f, f};
+}
+
+std::array<double, 2> triangle_contact_coordinates(const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                                                   const Vec3& P) {
+    const Vec3 ab = p1 - p0, ac = p2 - p0, aq = P - p0;
+    const double g00 = ab.dot(ab), g01 = ab.dot(ac), g11 = ac.dot(ac);
+    const double b0 = aq.dot(ab), b1 = aq.dot(ac);
+    const double det = g00 * g11 - g01 * g01;
+    double a = (b0 * g11 - b1 * g01) / det;
+    double b = (b1 * g00 - b0 * g01) / det;
+    if (a < 0 || b < 0 || a + b > 1) {
+        // outside: closest edge or vertex, thresholds 0 and 1
+        const double p_ab = b0 / g00, p_ac = b1 / g11;
+        if (p_ab < 0 && p_ac < 0) {
+            a = 0;
+            b = 0;
+        } else if (p_ab < 1 && b < 0) {
+            a = p_ab;
+            b = 0;
+        } else if (p_ac < 1 && a < 0) {
+            a = 0;
+            b = p_ac;
+        } else {
+            const double p_bc = (b1 - b0 + g00 - g01) / (g00 + g11 - 2 * g01);
+            if (p_bc < 0) {
+                a = 1;
+                b = 0;
+            } else if (p_bc > 1) {
+                a = 0;
+                b = 1;
+            } else {
+                a = 1 - p_bc;
+                b = p_bc;
+            }
+        }
+    }
+    return {a, b};
+}
+
+std::array<double, 2> quad_contact_coordinates(const Vec3& q0, const Vec3& q1, const Vec3& q3, const Vec3& P) {
+    Mat3 m;
+    m.col(0) = q1 - q0;
+    m.col(1) = q3 - q0;
+    m.col(2) = m.col(0).cross(m.col(1));
+    const Vec3 c = m.inverse() * (P - q0);
+    return {c.x(), c.y()};
+}
+
+BarycentricContactMapper::BarycentricContactMapper(const CollisionModel& model) : model_(&model) {
+    if (const auto* l = dynamic_cast<const LineModel*>(&model)) state_ = &l->state();
+    else if (const auto* t = dynamic_cast<const TriangleModel*>(&model)) state_ = &t->state();
+    else if (const auto* h = dynamic_cast<const TetrahedronModel*>(&model)) state_ = &h->state();
+    else
+        throw_invalid_argument("BarycentricContactMapper: model '", model.name(), "' (",
+                               model_type_name(model.type()),
+                               ") is not a Line, Triangle or Tetrahedron model");
+}
+
+void BarycentricContactMapper::resize(std::size_t n) {
+    rows_.clear();
+    rows_.reserve(n);
+    positions_.clear();
+    velocities_.clear();
+}
+
+BarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index e) const {
+    BarycentricRow row;
+    const auto& x = state_->position;
+    if (const auto* l = dynamic_cast<const LineModel*>(model_)) {
+        const Edge& ed = l->edge(e);
+        const auto w = line_contact_weights(x[std::size_t(ed[0])], x[std::size_t(ed[1])], P);
+        row.count = 2;
+        row.index = {ed[0], ed[1], 0, 0};
+        row.weight = {w[0], w[1], 0, 0};
+    } else if (const auto* t = dynamic_cast<const TriangleModel*>(model_)) {
+        const std::size_t nt = t->num_topology_triangles();
+        if (std::size_t(e) < nt) {
+            const Triangle& tr = t->triangle(e);
+            const auto ab = triangle_contact_coordinates(x[std::size_t(tr[0])], x[std::size_t(tr[1])],
+                                                         x[std::size_t(tr[2])], P);
+            row.count = 3;
+            row.index = {tr[0], tr[1], tr[2], 0};
+            row.weight = {1.0 - ab[0] - ab[1], ab[0], ab[1], 0};
+        } else {
+            const std::size_t k = (std::size_t(e) - nt) / 2;
+            const Quad& q = t->topology().quads()[k];
+            const auto f = quad_contact_coordinates(x[std::size_t(q[0])], x[std::size_t(q[1])],
+                                                    x[std::size_t(q[3])], P);
+            row.count = 4;
+            row.index = {q[0], q[1], q[2], q[3]};
+            row.weight = {(1 - f[0]) * (1 - f[1]), f[0] * (1 - f[1]), f[0] * f[1], (1 - f[0]) * f[1]};
+        }
+    } else {
+        const auto* h = static_cast<const TetrahedronModel*>(model_);
+        const Tetrahedron& te = h->tetrahedron(e);
+        const auto w = h->barycentric(e, P);
+        row.count = 4;
+        row.index = {te[0], te[1], te[2], te[3]};
+        row.weight = {w[0], w[1], w[2], w[3]};
+    }
+    return row;
+}
+
+Index BarycentricContactMapper::add_point(const Vec3& P, Index element, double& /*r*/) {
+    check_element(*model_, "BarycentricContactMapper::add_point", element, P);
+    rows_.push_back(compute_row(P, element));
+    positions_.emplace_back(Vec3::Zero());
+    velocities_.emplace_back(Vec3::Zero());
+    return Index(rows_.size()) - 1;
+}
+
+void BarycentricContactMapper::update() {
+    const bool has_v = state_->velocity.size() == state_->size();
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        const auto& r = rows_[i];
+        Vec3 x = Vec3::Zero(), v = Vec3::Zero();
+        for (int k = 0; k < r.count; ++k) {
+            x += r.weight[std::size_t(k)] * state_->position[std::size_t(r.index[std::size_t(k)])];
+            if (has_v) v += r.weight[std::size_t(k)] * state_->velocity[std::size_t(r.index[std::size_t(k)])];
+        }
+        positions_[i] = x;
+        velocities_[i] = v;
+    }
+}
+
+void BarycentricContactMapper::apply_j(std::span<const double> dq, Vec3Span out) const {
+    check_sizes("BarycentricContactMapper::apply_j", out.size(), dq.size());
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        const auto& r = rows_[i];
+        Vec3 d = Vec3::Zero();
+        for (int k = 0; k < r.count; ++k)
+            d += r.weight[std::size_t(k)] * load3(dq, std::size_t(r.index[std::size_t(k)]));
+        out[i] = d;
+    }
+}
+
+void BarycentricContactMapper::apply_jt(ConstVec3Span f, std::span<double> parent_f) const {
+    check_sizes("BarycentricContactMapper::apply_jt", f.size(), parent_f.size());
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        const auto& r = rows_[i];
+        for (int k = 0; k < r.count; ++k)
+            add3(parent_f, std::size_t(r.index[std::size_t(k)]), r.weight[std::size_t(k)] * f[i]);
+    }
+}
+
+void BarycentricContactMapper::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        const auto& r = rows_[i];
+        for (int k = 0; k < r.count; ++k)
+            for (int a = 0; a < 3; ++a)
+                t.emplace_back(ro + 3 * Index(i) + a, co + 3 * r.index[std::size_t(k)] + a,
+                               r.weight[std::size_t(k)]);
+    }
+}
+
+// ---------------------------------------------------------------------------- rigid
+
+RigidContactMapper::RigidContactMapper(const CollisionModel& model, RigidSphereRadius radius_rule)
+    : model_(&model), radius_rule_(radius_rule) {
+    if (const auto* s = dynamic_cast<const RigidSphereModel*>(&model)) {
+        state_ = &s->state();
+        sphere_ = s;
+    } else if (const auto* c = dynamic_cast<const CylinderModel*>(&model)) {
+        state_ = &c->state();
+    } else {
+        throw_invalid_argument("RigidContactMapper: model '", model.name(), "' (",
+                               model_type_name(model.type()), ") is neither a RigidSphere nor a Cylinder model");
+    }
+}
+
+void RigidContactMapper::resize(std::size_t n) {
+    local_.clear();
+    frame_.clear();
+    rotated_.clear();
+    positions_.clear();
+    velocities_.clear();
+    local_.reserve(n);
+    frame_.reserve(n);
+}
+
+Index RigidContactMapper::add_point(const Vec3& P, Index element, double& r) {
+    check_element(*model_, "RigidContactMapper::add_point", element, P);
+    const RigidFrame& fr = state_->position[std::size_t(element)];
+    local_.push_back(fr.orientation.conjugate() * (P - fr.center));
+    frame_.push_back(element);
+    rotated_.emplace_back(Vec3::Zero());
+    positions_.emplace_back(Vec3::Zero());
+    velocities_.emplace_back(Vec3::Zero());
+    if (sphere_ && radius_rule_ == RigidSphereRadius::sofa_head) r = sphere_->radius(element);
+    return Index(local_.size()) - 1;
+}
+
+void RigidContactMapper::update() {
+    const bool has_v = state_->velocity.size() == state_->size();
+    for (std::size_t i = 0; i < local_.size(); ++i) {
+        const RigidFrame& fr = state_->position[std::size_t(frame_[i])];
+        rotated_[i] = fr.orientation * local_[i];
+        positions_[i] = fr.center + rotated_[i];
+        if (has_v) {
+            const RigidDeriv& v = state_->velocity[std::size_t(frame_[i])];
+            velocities_[i] = v.linear + v.angular.cross(rotated_[i]);
+        } else {
+            velocities_[i].setZero();
+        }
+    }
+}
+
+void RigidContactMapper::apply_j(std::span<const double> dq, Vec3Span out) const {
+    check_sizes("RigidContactMapper::apply_j", out.size(), dq.size());
+    for (std::size_t i = 0; i < local_.size(); ++i) {
+        const std::size_t b = 6 * std::size_t(frame_[i]);
+        const Vec3 dc(dq[b], dq[b + 1], dq[b + 2]);
+        const Vec3 dw(dq[b + 3], dq[b + 4], dq[b + 5]);
+        out[i] = dc + dw.cross(rotated_[i]);
+    }
+}
+
+void RigidContactMapper::apply_jt(ConstVec3Span f, std::span<double> parent_f) const {
+    check_sizes("RigidContactMapper::apply_jt", f.size(), parent_f.size());
+    for (std::size_t i = 0; i < local_.size(); ++i) {
+        const std::size_t b = 6 * std::size_t(frame_[i]);
+        const Vec3 tau = rotated_[i].cross(f[i]);
+        for (int a = 0; a < 3; ++a) {
+            parent_f[b + std::size_t(a)] += f[i][a];
+            parent_f[b + 3 + std::size_t(a)] += tau[a];
+        }
+    }
+}
+
+void RigidContactMapper::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
+    for (std::size_t i = 0; i < local_.size(); ++i) {
+        const Index row = ro + 3 * Index(i);
+        const Index col = co + 6 * frame_[i];
+        const Vec3& p = rotated_[i];
+        // v = dc + dω × p = dc − [p]× dω
+        const Mat3 px = (Mat3() << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0).finished();
+        for (int a = 0; a < 3; ++a) {
+            t.emplace_back(row + a, col + a, 1.0);
+            for (int b = 0; b < 3; ++b)
+                if (px(a, b) != 0.0) t.emplace_back(row + a, col + 3 + b, -px(a, b));
+        }
+    }
+}
+
+std::unique_ptr<ContactMapper> make_contact_mapper(const CollisionModel& model, RigidSphereRadius radius_rule) {
+    switch (model.type()) {
+        case ModelType::Point:
+        case ModelType::Sphere: return std::make_unique<IdentityContactMapper>(model);
+        case ModelType::Line:
+        case ModelType::Triangle:
+        case ModelType::Tetrahedron: return std::make_unique<BarycentricContactMapper>(model);
+        case ModelType::RigidSphere:
+        case ModelType::Cylinder: return std::make_unique<RigidContactMapper>(model, radius_rule);
+    }
+    throw_invalid_argument("make_contact_mapper: model '", model.name(), "': unknown model type");
+}
+
+}  // namespace penalty
