@@ -1,0 +1,117 @@
+#pragma once
+/// @file
+/// CollisionResponse: SOFA's contact manager and Contact factory (spec §6, §7.2). It chooses the
+/// response of each model pair by name, creates one BarycentricPenaltyContact per pair that has
+/// detection outputs, feeds it each step, and destroys a pair as soon as it has no output for
+/// one step (recreated from scratch — empty id map, ages 0 — when outputs come back, as SOFA).
+///
+/// Names: the response name is `key` or `key?name=value&name=value`. The only key is
+/// "PenalityContactForceField" (SOFA's spelling); "nullptr" disables a pair. Name resolution
+/// per pair (SOFA's getContactResponse): base = response (+ "?" + response_params when not
+/// empty); r1, r2 = the models' contact_response: both empty → base; one non-empty → it; both
+/// non-empty and equal → it; both non-empty and different → base.
+///
+/// responseParams (beyond SOFA; SOFA's penalty contact has no Data, so SOFA only logs "not
+/// found" for any key): damping (N·s/m), friction = ignored | coulomb, tangentialStiffnessRatio,
+/// tangentialDamping (N·s/m), timeStep (s), stiffnessLaw = sofa | physical, rigidSphereRadius =
+/// head | v26.06. Unknown keys are reported in warnings() (as SOFA logs them) and ignored;
+/// malformed values of known keys throw std::invalid_argument naming the key.
+///
+/// Registered pairs (model 1, model 2), in that order, never swapped (§6): Sphere–Sphere,
+/// Sphere–RigidSphere, RigidSphere–RigidSphere, Sphere–Point, RigidSphere–Point, Point–Point,
+/// Line–Point, Line–Line, Line–Sphere, Line–RigidSphere, Triangle–Sphere, Triangle–RigidSphere,
+/// Triangle–Point, Triangle–Line, Triangle–Triangle, Cylinder–Cylinder, Cylinder–Triangle,
+/// Cylinder–Sphere, Cylinder–RigidSphere, Tetrahedron–{Sphere, Point, Line, Triangle, Tetrahedron}.
+/// A pair outside this list gets no contact and a warning (SOFA: "creation failed").
+
+#include "penalty/collision/intersection.hpp"
+#include "penalty/response/barycentric_penalty_contact.hpp"
+
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace penalty {
+
+/// SOFA's factory key of the penalty response.
+inline constexpr std::string_view kPenaltyResponseName = "PenalityContactForceField";
+
+/// True if (t1, t2), in this order, is registered for the penalty response.
+[[nodiscard]] bool is_penalty_response_pair(ModelType t1, ModelType t2);
+
+/// Applies `name=value&name=value` to `parameters`; unknown keys are appended to `unknown`.
+/// Throws std::invalid_argument naming the key for a malformed item or value.
+void apply_response_params(std::string_view params, ContactResponseParameters& parameters,
+                           std::vector<std::string>* unknown = nullptr);
+
+/// One live model pair.
+struct ContactPairEntry {
+    const CollisionModel* model1 = nullptr;
+    const CollisionModel* model2 = nullptr;
+    std::string response;  ///< resolved name (key?params)
+    std::unique_ptr<BarycentricPenaltyContact> contact;  ///< null for a "nullptr" response
+};
+
+/// Critical time step of one live pair (see contact_critical_time_step).
+struct PairTimeScale {
+    ModelType type1, type2;
+    std::string name1, name2;
+    double max_stiffness;       ///< largest ks of the pair's springs (N/m)
+    double critical_time_step;  ///< sqrt(m/ks) (s) with the reduced mass of the given masses
+};
+
+class CollisionResponse {
+public:
+    /// `response`: "PenalityContactForceField" (default), "nullptr" or "" (SOFA ≥ v25.12 without
+    /// a response: no contact is ever created, a warning is recorded). Any other key throws
+    /// std::invalid_argument naming the parameter `response`. `base` supplies the C++-side
+    /// parameters that response_params then override.
+    explicit CollisionResponse(std::string response = std::string(kPenaltyResponseName),
+                               std::string response_params = "",
+                               const ContactResponseParameters& base = {});
+
+    /// The name resolved for a pair (see the file comment).
+    [[nodiscard]] std::string response_name(const CollisionModel& m1, const CollisionModel& m2) const;
+
+    /// Factory: a new contact for `name` and (m1, m2) in this order; nullptr for "nullptr", an
+    /// empty name, or an unregistered pair (then a warning is recorded). Throws
+    /// std::invalid_argument for an unknown key or malformed parameters.
+    [[nodiscard]] std::unique_ptr<BarycentricPenaltyContact> create_contact(
+        const std::string& name, const CollisionModel& m1, const CollisionModel& m2,
+        double intersection_contact_distance);
+
+    /// One step of SOFA's contact manager: every detection with outputs gets its pair's contact
+    /// (created when new) and set_detection_outputs; pairs without outputs this step are
+    /// destroyed (on_destroy runs first). Pairs keep their creation order (deterministic).
+    void set_detections(std::span<const ModelPairDetection> detections, double intersection_contact_distance);
+    /// Destroys every pair.
+    void clear();
+
+    [[nodiscard]] const std::vector<ContactPairEntry>& pairs() const { return pairs_; }
+    /// The live contact of (m1, m2), or nullptr.
+    [[nodiscard]] BarycentricPenaltyContact* find(const CollisionModel& m1, const CollisionModel& m2) const;
+    [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
+    [[nodiscard]] const ContactResponseParameters& base_parameters() const { return base_; }
+
+    /// Critical time step sqrt(m/ks) of each live pair; `mass_of` gives the mass (kg) a contact
+    /// point of a model carries (+inf for a static model).
+    [[nodiscard]] std::vector<PairTimeScale> time_scales(
+        const std::function<double(const CollisionModel&)>& mass_of) const;
+
+    /// Hooks for the scene-graph glue: called after a pair's contact is created and before it
+    /// is destroyed.
+    std::function<void(BarycentricPenaltyContact&)> on_create;
+    std::function<void(BarycentricPenaltyContact&)> on_destroy;
+
+private:
+    std::string response_;
+    std::string response_params_;
+    ContactResponseParameters base_;
+    std::vector<ContactPairEntry> pairs_;
+    std::vector<std::string> warnings_;
+};
+
+}  // namespace penalty

@@ -1,0 +1,207 @@
+#include "penalty/response/collision_response.hpp"
+
+#include "penalty/core/error.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+namespace penalty {
+
+namespace {
+
+using MT = ModelType;
+
+constexpr std::pair<MT, MT> kRegistered[] = {
+    {MT::Sphere, MT::Sphere},           {MT::Sphere, MT::RigidSphere},     {MT::RigidSphere, MT::RigidSphere},
+    {MT::Sphere, MT::Point},            {MT::RigidSphere, MT::Point},      {MT::Point, MT::Point},
+    {MT::Line, MT::Point},              {MT::Line, MT::Line},              {MT::Line, MT::Sphere},
+    {MT::Line, MT::RigidSphere},        {MT::Triangle, MT::Sphere},        {MT::Triangle, MT::RigidSphere},
+    {MT::Triangle, MT::Point},          {MT::Triangle, MT::Line},          {MT::Triangle, MT::Triangle},
+    {MT::Cylinder, MT::Cylinder},       {MT::Cylinder, MT::Triangle},      {MT::Cylinder, MT::Sphere},
+    {MT::Cylinder, MT::RigidSphere},    {MT::Tetrahedron, MT::Sphere},     {MT::Tetrahedron, MT::Point},
+    {MT::Tetrahedron, MT::Line},        {MT::Tetrahedron, MT::Triangle},   {MT::Tetrahedron, MT::Tetrahedron},
+};
+
+double parse_double(std::string_view key, std::string_view value) {
+    double v = 0.0;
+    const auto* end = value.data() + value.size();
+    const auto r = std::from_chars(value.data(), end, v);
+    if (r.ec != std::errc() || r.ptr != end || !std::isfinite(v))
+        throw_invalid_argument("responseParams: parameter '", key, "': '", value, "' is not a finite number");
+    return v;
+}
+
+std::pair<std::string_view, std::string_view> split_name(std::string_view name) {
+    const auto q = name.find('?');
+    if (q == std::string_view::npos) return {name, {}};
+    return {name.substr(0, q), name.substr(q + 1)};
+}
+
+}  // namespace
+
+bool is_penalty_response_pair(ModelType t1, ModelType t2) {
+    return std::any_of(std::begin(kRegistered), std::end(kRegistered),
+                       [&](const auto& p) { return p.first == t1 && p.second == t2; });
+}
+
+void apply_response_params(std::string_view params, ContactResponseParameters& p,
+                           std::vector<std::string>* unknown) {
+    std::size_t start = 0;
+    while (start <= params.size()) {
+        std::size_t amp = params.find('&', start);
+        if (amp == std::string_view::npos) amp = params.size();
+        const std::string_view item = params.substr(start, amp - start);
+        start = amp + 1;
+        if (item.empty()) continue;
+        const auto eq = item.find('=');
+        if (eq == std::string_view::npos || eq == 0)
+            throw_invalid_argument("responseParams: item '", item, "' is not name=value");
+        const std::string_view key = item.substr(0, eq), value = item.substr(eq + 1);
+        if (key == "damping") {
+            p.penalty.damping = parse_double(key, value);
+        } else if (key == "friction") {
+            if (value == "ignored") p.penalty.friction = FrictionModel::ignored;
+            else if (value == "coulomb") p.penalty.friction = FrictionModel::coulomb;
+            else throw_invalid_argument("responseParams: parameter 'friction': '", value, "' (expected ignored or coulomb)");
+        } else if (key == "tangentialStiffnessRatio" || key == "tangential_stiffness_ratio") {
+            p.penalty.tangential_stiffness_ratio = parse_double(key, value);
+        } else if (key == "tangentialDamping" || key == "tangential_damping") {
+            p.penalty.tangential_damping = parse_double(key, value);
+        } else if (key == "timeStep" || key == "time_step") {
+            p.penalty.time_step = parse_double(key, value);
+        } else if (key == "stiffnessLaw" || key == "stiffness_law") {
+            if (value == "sofa") p.stiffness_law = StiffnessLaw::sofa;
+            else if (value == "physical") p.stiffness_law = StiffnessLaw::physical;
+            else throw_invalid_argument("responseParams: parameter 'stiffnessLaw': '", value, "' (expected sofa or physical)");
+        } else if (key == "rigidSphereRadius" || key == "rigid_sphere_radius") {
+            if (value == "head") p.rigid_sphere_radius = RigidSphereRadius::sofa_head;
+            else if (value == "v26.06") p.rigid_sphere_radius = RigidSphereRadius::sofa_v26_06;
+            else throw_invalid_argument("responseParams: parameter 'rigidSphereRadius': '", value, "' (expected head or v26.06)");
+        } else if (unknown) {
+            unknown->emplace_back(key);
+        }
+        if (amp == params.size()) break;
+    }
+    p.validate();
+}
+
+CollisionResponse::CollisionResponse(std::string response, std::string response_params,
+                                     const ContactResponseParameters& base)
+    : response_(std::move(response)), response_params_(std::move(response_params)), base_(base) {
+    if (response_.empty()) {
+        warnings_.emplace_back("CollisionResponse: no response method has been set: no contact will be created");
+    } else if (response_ != kPenaltyResponseName && response_ != "nullptr") {
+        throw_invalid_argument("CollisionResponse: parameter 'response': unknown response '", response_,
+                               "' (available: ", kPenaltyResponseName, ", nullptr)");
+    }
+    base_.validate();
+    // check the parameters once, up front
+    ContactResponseParameters check = base_;
+    apply_response_params(response_params_, check, nullptr);
+}
+
+std::string CollisionResponse::response_name(const CollisionModel& m1, const CollisionModel& m2) const {
+    std::string base = response_;
+    if (!response_params_.empty()) base += "?" + response_params_;
+    const std::string& r1 = m1.params().contact_response;
+    const std::string& r2 = m2.params().contact_response;
+    if (r1.empty() && r2.empty()) return base;
+    if (r1.empty()) return r2;
+    if (r2.empty()) return r1;
+    return r1 == r2 ? r1 : base;
+}
+
+std::unique_ptr<BarycentricPenaltyContact> CollisionResponse::create_contact(
+    const std::string& name, const CollisionModel& m1, const CollisionModel& m2, double intersection_cd) {
+    const auto [key, params] = split_name(name);
+    if (key.empty() || key == "nullptr") return nullptr;
+    if (key != kPenaltyResponseName)
+        throw_invalid_argument("CollisionResponse: models '", m1.name(), "' and '", m2.name(),
+                               "': unknown response '", key, "'");
+    if (!is_penalty_response_pair(m1.type(), m2.type())) {
+        warnings_.push_back(std::string("CollisionResponse: contact ") + std::string(key) + " between '" +
+                            m1.name() + "' (" + model_type_name(m1.type()) + ") and '" + m2.name() + "' (" +
+                            model_type_name(m2.type()) + ") creation failed: pair not registered");
+        return nullptr;
+    }
+    ContactResponseParameters p = base_;
+    std::vector<std::string> unknown;
+    apply_response_params(params, p, &unknown);
+    for (const auto& u : unknown)
+        warnings_.push_back("CollisionResponse: responseParams: parameter '" + u + "' not found");
+    return std::make_unique<BarycentricPenaltyContact>(m1, m2, intersection_cd, p);
+}
+
+void CollisionResponse::set_detections(std::span<const ModelPairDetection> detections, double intersection_cd) {
+    std::vector<char> seen(pairs_.size(), 0);
+    std::vector<ContactPairEntry> created;
+    std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed;
+    for (const ModelPairDetection& d : detections) {
+        if (d.skipped || d.outputs.empty() || !d.model1 || !d.model2) continue;
+        auto it = std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
+            return e.model1 == d.model1 && e.model2 == d.model2;
+        });
+        if (it != pairs_.end()) {
+            seen[std::size_t(it - pairs_.begin())] = 1;
+            if (it->contact) feed.emplace_back(it->contact.get(), &d);
+            continue;
+        }
+        auto ct = std::find_if(created.begin(), created.end(), [&](const ContactPairEntry& e) {
+            return e.model1 == d.model1 && e.model2 == d.model2;
+        });
+        if (ct != created.end()) {
+            if (ct->contact) feed.emplace_back(ct->contact.get(), &d);
+            continue;
+        }
+        ContactPairEntry e;
+        e.model1 = d.model1;
+        e.model2 = d.model2;
+        e.response = response_name(*d.model1, *d.model2);
+        e.contact = create_contact(e.response, *d.model1, *d.model2, intersection_cd);
+        if (e.contact) feed.emplace_back(e.contact.get(), &d);
+        created.push_back(std::move(e));
+    }
+    // pairs without outputs this step: destroyed (SOFA's cleanup)
+    std::vector<ContactPairEntry> kept;
+    kept.reserve(pairs_.size() + created.size());
+    for (std::size_t i = 0; i < pairs_.size(); ++i) {
+        if (seen[i]) {
+            kept.push_back(std::move(pairs_[i]));
+        } else if (pairs_[i].contact && on_destroy) {
+            on_destroy(*pairs_[i].contact);
+        }
+    }
+    for (auto& e : created) {
+        if (e.contact && on_create) on_create(*e.contact);
+        kept.push_back(std::move(e));
+    }
+    pairs_ = std::move(kept);
+    for (auto& [c, d] : feed) c->set_detection_outputs(d->outputs);
+}
+
+void CollisionResponse::clear() {
+    for (auto& e : pairs_)
+        if (e.contact && on_destroy) on_destroy(*e.contact);
+    pairs_.clear();
+}
+
+BarycentricPenaltyContact* CollisionResponse::find(const CollisionModel& m1, const CollisionModel& m2) const {
+    for (const auto& e : pairs_)
+        if (e.model1 == &m1 && e.model2 == &m2) return e.contact.get();
+    return nullptr;
+}
+
+std::vector<PairTimeScale> CollisionResponse::time_scales(
+    const std::function<double(const CollisionModel&)>& mass_of) const {
+    std::vector<PairTimeScale> out;
+    for (const auto& e : pairs_) {
+        if (!e.contact) continue;
+        const double k = e.contact->max_stiffness();
+        out.push_back({e.model1->type(), e.model2->type(), e.model1->name(), e.model2->name(), k,
+                       contact_critical_time_step(k, mass_of(*e.model1), mass_of(*e.model2))});
+    }
+    return out;
+}
+
+}  // namespace penalty
