@@ -189,6 +189,14 @@ TEST(Characterization, UnsupportedAndDisabledPairsAreExplicit) {
 // ---------------------------------------------------------------------------------------------
 // Random single-element models and their brute-force sampling.
 
+// Sampling resolution divisor: Debug/sanitizer builds sample twice as coarsely (the tolerance
+// follows the resolution, the number of configurations and the hit-rate gates do not change).
+#ifdef NDEBUG
+constexpr int kCoarse = 1;
+#else
+constexpr int kCoarse = 2;
+#endif
+
 struct Elem {
     T type;
     Vec3State vs;
@@ -217,7 +225,7 @@ std::unique_ptr<Elem> make_elem(T t, const Vec3& c, std::mt19937& g) {
             e->topo.set_num_points(2);
             e->topo.set_edges({{0, 1}});
             e->model = std::make_unique<LineModel>(e->vs, e->topo);
-            const int n = 400;
+            const int n = 400 / kCoarse;
             for (int i = 0; i <= n; ++i) e->samples.push_back(a + (double(i) / n) * (b - a));
             e->spacing = (b - a).norm() / n;
             break;
@@ -231,7 +239,7 @@ std::unique_ptr<Elem> make_elem(T t, const Vec3& c, std::mt19937& g) {
             e->topo.set_num_points(3);
             e->topo.set_triangles({{0, 1, 2}});
             e->model = std::make_unique<TriangleModel>(e->vs, e->topo);
-            const int n = 40;
+            const int n = 40 / kCoarse;
             for (int i = 0; i <= n; ++i)
                 for (int j = 0; i + j <= n; ++j)
                     e->samples.push_back(p[0] + (double(i) / n) * (p[1] - p[0]) + (double(j) / n) * (p[2] - p[0]));
@@ -258,7 +266,7 @@ std::unique_ptr<Elem> make_elem(T t, const Vec3& c, std::mt19937& g) {
             const CylinderShape s = cyl->shape(0);
             e->model = std::move(cyl);
             const Vec3 e1 = any_orthogonal(s.axis), e2 = s.axis.cross(e1);
-            const int na = 64, nh = 24, nr = 8;
+            const int na = 64 / kCoarse, nh = 24 / kCoarse, nr = 8 / kCoarse;
             for (int i = 0; i < na; ++i) {
                 const double th = 2 * std::numbers::pi * i / na;
                 const Vec3 rad = std::cos(th) * e1 + std::sin(th) * e2;
@@ -288,7 +296,7 @@ std::unique_ptr<Elem> make_elem(T t, const Vec3& c, std::mt19937& g) {
             e->topo.set_tetrahedra({{0, 1, 2, 3}});
             e->model = std::make_unique<TetrahedronModel>(e->vs, e->topo);
             const int f[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-            const int n = 30;
+            const int n = 30 / kCoarse;
             double lmax = 0;
             for (const auto& fk : f) {
                 const Vec3 &a = p[fk[0]], &b = p[fk[1]], &cc = p[fk[2]];
