@@ -14,6 +14,13 @@ Node& Node::add_child(std::string child_name) {
     return *children_.back();
 }
 
+bool Node::remove_child(const Node* child) {
+    const auto it = std::find_if(children_.begin(), children_.end(), [&](const auto& c) { return c.get() == child; });
+    if (it == children_.end()) return false;
+    children_.erase(it);
+    return true;
+}
+
 void Node::set_gravity(const Vec3& g) {
     if (!g.allFinite()) throw_invalid_argument("Node '", name_, "': gravity is not finite");
     gravity_ = g;

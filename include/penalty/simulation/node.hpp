@@ -36,6 +36,9 @@ public:
     /// Adds a child node and returns it (owned by this node).
     Node& add_child(std::string name);
     [[nodiscard]] const std::vector<std::unique_ptr<Node>>& children() const { return children_; }
+    /// Removes (and destroys, with its whole subtree) a direct child; returns false if `child`
+    /// is not a child of this node. Pointers into the removed subtree dangle afterwards.
+    bool remove_child(const Node* child);
 
     /// Context: gravity (m/s², default (0, −9.81, 0)) and time step (s, default 0.01), inherited.
     void set_gravity(const Vec3& g);
