@@ -16,7 +16,7 @@
 ///
 /// Embedding: call set_detection_outputs() once per step after detection, then evaluate the
 /// forces on the parents with add_force() (explicit) or hand force_field() and the mappers to a
-/// solver (see simulation/contact_glue.hpp for the scene-graph version).
+/// solver (see simulation/contact_pipeline.hpp for the scene-graph version).
 
 #include "penalty/collision/collision_model.hpp"
 #include "penalty/collision/detection_output.hpp"
