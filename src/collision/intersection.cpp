@@ -249,6 +249,8 @@ const void* state_of(const CollisionModel& m) {
     return nullptr;
 }
 
+}  // namespace
+
 // self-collision element filters for two models of the same node (spec §3.2, §3.4)
 bool elements_may_collide(const CollisionModel& m1, Index e1, const CollisionModel& m2, Index e2) {
     if (&m1 == &m2) {
@@ -272,8 +274,6 @@ bool elements_may_collide(const CollisionModel& m1, Index e1, const CollisionMod
     if (m2.type() == ModelType::Point && state_of(m1) == state_of(m2)) return !has_vertex(m1, e1, e2);
     return true;
 }
-
-}  // namespace
 
 PairSupport pair_support(const IntersectionParams& params, ModelType a, ModelType b) {
     const Entry& e = entry(params.method, a, b);

@@ -111,6 +111,13 @@ enum class PairSupport : std::uint8_t {
 int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1,
                        CollisionModel& m2, Index e2, DetectionOutputList& out);
 
+/// Self-collision element filters of SOFA (spec §3.2, §3.4), applied by the narrow phase only
+/// to two models of the same node (same_node(m1, m2)): a Point model with itself rejects
+/// topological neighbours, a Line model with itself rejects edges sharing a vertex, and a mesh
+/// element against a Point model over the same state rejects its own vertices. (m1, m2) in
+/// registered order, as passed to intersect_elements.
+[[nodiscard]] bool elements_may_collide(const CollisionModel& m1, Index e1, const CollisionModel& m2, Index e2);
+
 /// Result of detecting one model pair.
 struct ModelPairDetection {
     CollisionModel* model1 = nullptr;  ///< first in registered order
