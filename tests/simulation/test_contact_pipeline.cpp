@@ -332,6 +332,21 @@ TEST(ContactPipeline, SpheresCarriedByARigidMappingGetTheTorque) {
     };
     const double eps = 1e-6;
     EXPECT_NEAR(frame.force[0].angular.z(), -(contact_energy(eps) - contact_energy(-eps)) / (2 * eps), 1e-6);
+    // The assembled matrix (Jacobian triplets of the contact mappings through the RigidMapping)
+    // equals the matrix-free operator M + k·K at the step's active set.
+    {
+        SubtreeSystem sys(body);
+        ASSERT_EQ(sys.size(), 6);
+        const Eigen::VectorXd dx = (Eigen::VectorXd(6) << 0.3, -0.7, 0.2, 0.5, -0.1, 0.9).finished();
+        Eigen::VectorXd free;
+        sys.apply_mbk(dx, free, 1.0, 0.0, -1e-4, false);
+        const Eigen::VectorXd assembled = sys.assemble(1.0, -1e-4) * dx;
+        EXPECT_LT((free - assembled).norm(), 1e-12 * free.norm());
+        // K ≠ 0: the contact stiffness enters (the angular/linear coupling of the lower point).
+        Eigen::VectorXd mdx;
+        sys.apply_mbk(dx, mdx, 1.0, 0.0, 0.0, false);
+        EXPECT_GT((free - mdx).norm(), 1e-4);
+    }
     // The body starts turning the right way (clockwise, ω_z < 0) and rising.
     EXPECT_LT(frame.velocity[0].angular.z(), 0.0);
     EXPECT_GT(frame.velocity[0].linear.y(), 0.0);
