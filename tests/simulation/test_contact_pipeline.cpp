@@ -355,6 +355,55 @@ TEST(ContactPipeline, SpheresCarriedByARigidMappingGetTheTorque) {
     EXPECT_LT(frame.velocity[0].linear.y(), 0.01 * (-2.0 * 9.81 + F) / 2.0);
 }
 
+/// Worked example C (MinProximity Sphere–Sphere, r = 1, centres 2.2 apart, A = 1, C = 0.5:
+/// dist 2.5, ks 40, pen 0.3, 12 N) between two simulated spheres of mass 1, no gravity.
+/// `common_solver`: one EulerImplicit at the root (the contact, stored at the root, is inside it →
+/// implicit); else one solver per sphere and none at the root (→ explicit).
+void two_spheres_step(bool common_solver, double& v1, double& v2) {
+    Simulation sim;
+    sim.root().set_gravity(Vec3::Zero());
+    sim.root().set_dt(0.01);
+    if (common_solver) sim.root().set_ode_solver<EulerImplicitSolver>().cg.tolerance = 1e-14;
+    std::vector<std::unique_ptr<SphereModel>> models;
+    std::vector<Vec3Object*> states;
+    for (int i = 0; i < 2; ++i) {
+        Node& n = sim.root().add_child(i == 0 ? "a" : "b");
+        if (!common_solver) n.set_ode_solver<EulerImplicitSolver>().cg.tolerance = 1e-14;
+        auto& x = n.add_state<Vec3Types>(i == 0 ? "a" : "b");
+        x.position = {Vec3(2.2 * i, 0, 0)};
+        n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(1.0);
+        CollisionModelParams p;
+        p.name = i == 0 ? "a" : "b";
+        models.push_back(std::make_unique<SphereModel>(x, 1.0, std::vector<double>{}, p));
+        states.push_back(&x);
+    }
+    ContactPipeline pipeline(sim, IntersectionParams::min_proximity());
+    pipeline.add_model(*models[0], *sim.root().children()[0]);
+    pipeline.add_model(*models[1], *sim.root().children()[1]);
+    sim.init();
+    sim.step();
+    ASSERT_EQ(pipeline.graph_entries().size(), 1u);
+    const PenaltyContact& c = pipeline.graph_entries()[0].contact->force_field().contacts()[0];
+    EXPECT_DOUBLE_EQ(c.dist, 2.5);
+    EXPECT_DOUBLE_EQ(c.ks, 40.0);
+    EXPECT_NEAR(c.pen, 0.3, 1e-12);
+    EXPECT_EQ(pipeline.graph_entries()[0].host, &sim.root());  // both simulated → pipeline node
+    v1 = states[0]->velocity[0].x();
+    v2 = states[1]->velocity[0].x();
+    EXPECT_DOUBLE_EQ(states[0]->velocity[0].y(), 0.0);
+}
+
+TEST(ContactPipeline, TwoSimulatedModelsContactAtPipelineNodeImplicitOrExplicit) {
+    double v1 = 0, v2 = 0;
+    two_spheres_step(/*common_solver=*/false, v1, v2);
+    EXPECT_NEAR(v2, 0.12, 1e-14);  // explicit: Δv = h·f/m
+    EXPECT_NEAR(v1, -0.12, 1e-14);
+    two_spheres_step(/*common_solver=*/true, v1, v2);
+    // implicit: (m + 2h²ks)·Δv = h·ks·pen for the symmetric pair
+    EXPECT_NEAR(v2, 0.12 / (1.0 + 2.0 * 1e-4 * 40.0), 1e-14);
+    EXPECT_NEAR(v1, -0.12 / (1.0 + 2.0 * 1e-4 * 40.0), 1e-14);
+}
+
 TEST(ContactPipeline, BadInputThrows) {
     Simulation sim;
     Floor floor(sim.root(), false);
