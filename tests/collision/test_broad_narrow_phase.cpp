@@ -1,0 +1,540 @@
+// Broad and narrow phase (issue 4): BruteForceBroadPhase + BVHNarrowPhase via per-model bounding
+// trees must find exactly what the exhaustive all-element-pairs loop finds (same pairs, same
+// outputs, same order, bit for bit), for every method, with any number of threads.
+#include "detection_scenes.hpp"
+#include "fixtures.hpp"
+#include "penalty/collision/collision_pipeline.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <string>
+#include <tuple>
+
+namespace penalty {
+namespace {
+
+using test::random_cloud;
+using test::random_radii;
+
+CollisionModelParams mp(const char* name, int node = -1, bool self = false, std::vector<int> group = {},
+                        double cd = 0.0) {
+    CollisionModelParams p;
+    p.name = name;
+    p.node = node;
+    p.self_collision = self;
+    p.group = std::move(group);
+    p.contact_distance = cd;
+    return p;
+}
+
+IntersectionParams method_params(IntersectionMethod m) {
+    IntersectionParams p;
+    switch (m) {
+        case IntersectionMethod::Discrete: p = IntersectionParams::discrete(); break;
+        case IntersectionMethod::NewProximity: p = IntersectionParams::new_proximity(); break;
+        case IntersectionMethod::MinProximity: p = IntersectionParams::min_proximity(); break;
+        case IntersectionMethod::LocalMinDistance: p = IntersectionParams::local_min_distance(); break;
+    }
+    if (m != IntersectionMethod::Discrete) {
+        p.alarm_distance = 0.05;
+        p.contact_distance = 0.02;
+    }
+    return p;
+}
+
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+bool same_bits(const Vec3& a, const Vec3& b) {
+    return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
+}
+bool same_output(const DetectionOutput& a, const DetectionOutput& b) {
+    return a.elem1 == b.elem1 && a.elem2 == b.elem2 && a.id == b.id && same_bits(a.point[0], b.point[0]) &&
+           same_bits(a.point[1], b.point[1]) && same_bits(a.normal, b.normal) && same_bits(a.value, b.value);
+}
+
+/// Same pairs, keys and outputs, in the same order, bit for bit.
+void expect_identical(const SceneDetection& got, const SceneDetection& ref) {
+    ASSERT_EQ(got.size(), ref.size());
+    for (std::size_t k = 0; k < ref.size(); ++k) {
+        ASSERT_EQ(got[k].model1, ref[k].model1) << "pair " << k;
+        ASSERT_EQ(got[k].model2, ref[k].model2) << "pair " << k;
+        ASSERT_EQ(got[k].outputs.size(), ref[k].outputs.size())
+            << got[k].model1->name() << "-" << got[k].model2->name();
+        for (std::size_t i = 0; i < ref[k].outputs.size(); ++i) {
+            ASSERT_TRUE(same_output(got[k].outputs[i], ref[k].outputs[i]))
+                << got[k].model1->name() << "-" << got[k].model2->name() << " output " << i << " elems ("
+                << got[k].outputs[i].elem1 << "," << got[k].outputs[i].elem2 << ") vs (" << ref[k].outputs[i].elem1
+                << "," << ref[k].outputs[i].elem2 << ")";
+        }
+    }
+}
+
+std::size_t count_outputs(const SceneDetection& d) {
+    std::size_t n = 0;
+    for (const auto& p : d) n += p.outputs.size();
+    return n;
+}
+
+const ModelPairOutputs* find_pair(const SceneDetection& d, const CollisionModel* a, const CollisionModel* b) {
+    for (const auto& p : d)
+        if (p.model1 == a && p.model2 == b) return &p;
+    return nullptr;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scenes
+
+/// Sphere clouds: self-collision on and off, groups, a rigid sphere model, per-model skins.
+struct SphereScene {
+    Vec3State sa, sb, sc;
+    Rigid3State sr;
+    std::unique_ptr<SphereModel> a, b, c;
+    std::unique_ptr<RigidSphereModel> r;
+    std::vector<CollisionModel*> models;
+
+    explicit SphereScene(std::uint32_t seed) {
+        std::mt19937 g(seed);
+        sa = random_cloud(400, 1.0, g);
+        sb = random_cloud(300, 1.0, g, Vec3(0.3, 0, 0));
+        sc = random_cloud(300, 1.0, g, Vec3(0, 0.3, 0));
+        sr.resize(150);
+        std::uniform_real_distribution<double> u(-1.0, 1.0);
+        for (auto& f : sr.position) f.center = Vec3(u(g), u(g), u(g));
+        a = std::make_unique<SphereModel>(sa, 0.05, random_radii(400, 0.02, 0.07, g), mp("A", 0, true, {}, 0.01));
+        b = std::make_unique<SphereModel>(sb, 0.04, std::vector<double>{}, mp("B", 1, false, {1}));
+        c = std::make_unique<SphereModel>(sc, 0.04, random_radii(100, 0.03, 0.05, g), mp("C", 2, true, {1, 2}));
+        r = std::make_unique<RigidSphereModel>(sr, 0.06, std::vector<double>{}, mp("R", 3, false, {3}, 0.005));
+        models = {a.get(), b.get(), c.get(), r.get()};
+    }
+    void jiggle(std::mt19937& g, double s) {
+        for (auto* st : {&sa, &sb, &sc})
+            for (auto& p : st->position) p += test::rand_vec(g, s);
+        for (auto& f : sr.position) f.center += test::rand_vec(g, s);
+    }
+};
+
+/// Triangle meshes with their edges and vertices in the same node (self-collision filters),
+/// a second torus, and a point cloud.
+struct MeshScene {
+    std::unique_ptr<test::TorusMesh> t1, t2;
+    Vec3State cloud;
+    std::unique_ptr<TriangleModel> tri1, tri2;
+    std::unique_ptr<LineModel> line1;
+    std::unique_ptr<PointModel> pts1, pts2, free_pts;
+    std::unique_ptr<SphereModel> balls;
+    std::vector<CollisionModel*> models;
+
+    MeshScene(std::uint32_t seed, bool self) {
+        std::mt19937 g(seed);
+        t1 = test::make_torus(28, 12, 0.5, 0.18, Vec3::Zero(), g, 0.3);
+        t2 = test::make_torus(20, 10, 0.4, 0.15, Vec3(0.35, 0.1, 0.12), g, 0.3);
+        cloud = random_cloud(500, 0.8, g);
+        tri1 = std::make_unique<TriangleModel>(t1->state, t1->topo, mp("torus1", 1, self, {}, 0.005));
+        line1 = std::make_unique<LineModel>(t1->state, t1->topo, mp("torus1-edges", 1, self));
+        pts1 = std::make_unique<PointModel>(t1->state, &t1->topo, mp("torus1-points", 1, self));
+        tri2 = std::make_unique<TriangleModel>(t2->state, t2->topo, mp("torus2", 2, false));
+        pts2 = std::make_unique<PointModel>(t2->state, &t2->topo, mp("torus2-points", 2, false));
+        free_pts = std::make_unique<PointModel>(cloud, nullptr, mp("cloud", 3, false, {}, 0.01));
+        balls = std::make_unique<SphereModel>(cloud, 0.03, std::vector<double>{}, mp("balls", 4, false));
+        models = {tri1.get(), line1.get(), pts1.get(), tri2.get(), pts2.get(), free_pts.get(), balls.get()};
+    }
+    void jiggle(std::mt19937& g, double s) {
+        for (auto* st : {&t1->state, &t2->state, &cloud})
+            for (auto& p : st->position) p += test::rand_vec(g, s);
+    }
+};
+
+constexpr IntersectionMethod kMethods[] = {IntersectionMethod::Discrete, IntersectionMethod::NewProximity,
+                                           IntersectionMethod::MinProximity, IntersectionMethod::LocalMinDistance};
+
+// ---------------------------------------------------------------------------------------------
+// Bounding tree
+
+TEST(Bvh, IsAValidTreeOverTheElementBoxes) {
+    std::mt19937 g(7);
+    Vec3State st = random_cloud(1000, 1.0, g);
+    SphereModel m(st, 0.03, random_radii(1000, 0.01, 0.05, g), mp("s"));
+    Bvh t;
+    t.build(m, 4);
+    ASSERT_FALSE(t.empty());
+    EXPECT_EQ(t.build_count(), 1u);
+    // permutation of the elements
+    auto o = t.order();
+    std::sort(o.begin(), o.end());
+    for (std::uint32_t i = 0; i < 1000; ++i) ASSERT_EQ(o[i], i);
+    // leaves of <= 4 elements, boxes contain their elements / children, counts add up
+    std::size_t leaf_elems = 0;
+    auto contains = [](const Aabb& outer, const Aabb& inner) {
+        return (outer.min.array() <= inner.min.array()).all() && (outer.max.array() >= inner.max.array()).all();
+    };
+    for (std::size_t k = 0; k < t.nodes().size(); ++k) {
+        const BvhNode& n = t.nodes()[k];
+        if (n.leaf()) {
+            EXPECT_LE(n.count, 4u);
+            EXPECT_GE(n.count, 1u);
+            leaf_elems += n.count;
+            for (std::uint32_t s = n.first; s < n.first + n.count; ++s)
+                ASSERT_TRUE(contains(n.box, t.element_boxes()[t.order()[s]]));
+        } else {
+            const BvhNode& l = t.nodes()[k + 1];
+            const BvhNode& r = t.nodes()[n.right];
+            EXPECT_EQ(l.count + r.count, n.count);
+            EXPECT_EQ(l.first, n.first);
+            EXPECT_EQ(r.first, n.first + l.count);
+            ASSERT_TRUE(contains(n.box, l.box) && contains(n.box, r.box));
+        }
+    }
+    EXPECT_EQ(leaf_elems, 1000u);
+    // balanced median split: 1000 -> 500 -> 250 -> 125 -> 62/63 -> 31/32 -> 15/16 -> 7/8 -> 3/4
+    EXPECT_EQ(t.depth(), 9);
+    EXPECT_EQ(t.nodes().size(), 2 * 256u - 1);
+    for (std::uint32_t i = 0; i < 1000; ++i) ASSERT_TRUE(same_bits(t.element_boxes()[i].min, m.element_box(Index(i)).min));
+}
+
+TEST(Bvh, RefitKeepsTheTreeForSmallMotionAndRebuildsWhenDegraded) {
+    std::mt19937 g(8);
+    Vec3State st = random_cloud(2000, 1.0, g);
+    SphereModel m(st, 0.02, {}, mp("s"));
+    Bvh t;
+    t.build(m);
+    for (auto& p : st.position) p += test::rand_vec(g, 0.001);
+    EXPECT_FALSE(t.refit(m));
+    EXPECT_EQ(t.build_count(), 1u);
+    EXPECT_TRUE(same_bits(t.root_box().max, m.model_box().max));
+    EXPECT_TRUE(same_bits(t.root_box().min, m.model_box().min));
+    // scramble: every element moves across the box -> the refitted tree is far worse
+    st.position = random_cloud(2000, 1.0, g).position;
+    EXPECT_TRUE(t.refit(m));
+    EXPECT_EQ(t.build_count(), 2u);
+}
+
+TEST(Bvh, NonFinitePositionNamesModelAndElement) {
+    std::mt19937 g(9);
+    Vec3State st = random_cloud(100, 1.0, g);
+    st.position[17].y() = std::numeric_limits<double>::quiet_NaN();
+    SphereModel m(st, 0.02, {}, mp("cloud"));
+    Bvh t;
+    try {
+        t.build(m);
+        FAIL() << "no exception";
+    } catch (const std::invalid_argument& e) {
+        const std::string w = e.what();
+        EXPECT_NE(w.find("cloud"), std::string::npos) << w;
+        EXPECT_NE(w.find("element 17"), std::string::npos) << w;
+        EXPECT_NE(w.find("not finite"), std::string::npos) << w;
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Broad phase
+
+TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
+    std::mt19937 g(11);
+    Vec3State s = random_cloud(10, 1.0, g);
+    auto tm = test::make_torus(8, 6, 0.5, 0.2, Vec3::Zero(), g);
+    SphereModel a(s, 0.1, {}, mp("a", 0, true));           // self pair
+    TriangleModel t(tm->state, tm->topo, mp("t", 1, true));  // self pair (Triangle-Triangle NP)
+    PointModel p(tm->state, &tm->topo, mp("p", 1, true));    // same node as t: kept (self_collision)
+    SphereModel off(s, 0.1, {}, mp("off"));
+    off.params().active = false;
+    SphereModel ns1(s, 0.1, {}, mp("ns1", 5, true));
+    ns1.params().simulated = false;                          // no self pair (non-simulated)
+    SphereModel ns2(s, 0.1, {}, mp("ns2"));
+    ns2.params().simulated = false;                          // ns1-ns2 never pair
+    SphereModel g1(s, 0.1, {}, mp("g1", -1, false, {4, 7}));
+    SphereModel g2(s, 0.1, {}, mp("g2", -1, false, {7}));   // shares group 7 with g1
+    PointModel p2(tm->state, &tm->topo, mp("p2", 1, false)); // same node as t, self_collision off
+    std::vector<CollisionModel*> models = {&a, &t, &p, &off, &ns1, &ns2, &g1, &g2, &p2};
+    const auto pairs = brute_force_broad_phase(IntersectionParams::new_proximity(), models);
+    std::vector<std::string> got;
+    for (const auto& q : pairs) got.push_back(q.model1->name() + "-" + q.model2->name());
+    // per model: the self pair first, then the earlier models in order; each pair in registered
+    // order (Triangle before Sphere and Point, Sphere before Point)
+    const std::vector<std::string> expected = {
+        "a-a",   "t-t",   "t-a",    "p-p",   "a-p",   "t-p",   "ns1-a", "t-ns1", "ns1-p", "ns2-a",
+        "t-ns2", "ns2-p", "g1-a",   "t-g1",  "g1-p",  "g1-ns1", "g1-ns2", "g2-a", "t-g2", "g2-p",
+        "g2-ns1", "g2-ns2", "a-p2", "ns1-p2", "ns2-p2", "g1-p2", "g2-p2"};
+    EXPECT_EQ(got, expected);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Narrow phase: equality with the exhaustive loop
+
+TEST(NarrowPhase, SphereCloudsEqualExhaustiveForEveryMethodOverSteps) {
+    for (const auto method : kMethods) {
+        SCOPED_TRACE(intersection_method_name(method));
+        for (std::uint32_t seed : {1u, 2u, 3u}) {
+            SphereScene sc(seed);
+            std::mt19937 g(seed + 100);
+            const IntersectionParams params = method_params(method);
+            CollisionPipeline pipe(params);
+            pipe.set_models(sc.models);
+            std::size_t total = 0;
+            for (int step = 0; step < 3; ++step) {
+                const SceneDetection got = pipe.detect();
+                const SceneDetection ref = detect_scene_exhaustive(params, sc.models);
+                expect_identical(got, ref);
+                total += count_outputs(got);
+                // groups: B and C share group 1 and never pair
+                EXPECT_EQ(find_pair(got, sc.b.get(), sc.c.get()), nullptr);
+                EXPECT_EQ(find_pair(got, sc.c.get(), sc.b.get()), nullptr);
+                sc.jiggle(g, 0.02);
+            }
+            // hit rate: about 1000 spheres of radius ~0.045 in a box of side 2
+            EXPECT_GT(total, 300u);
+            SphereScene fresh(seed);
+            const SceneDetection d = detect_scene_exhaustive(params, fresh.models);
+            ASSERT_NE(find_pair(d, fresh.a.get(), fresh.a.get()), nullptr);  // self-collision on
+            EXPECT_EQ(find_pair(d, fresh.b.get(), fresh.b.get()), nullptr);  // self-collision off
+        }
+    }
+}
+
+TEST(NarrowPhase, MeshScenesEqualExhaustiveForEveryMethodSelfCollisionOnAndOff) {
+    for (const auto method : kMethods) {
+        SCOPED_TRACE(intersection_method_name(method));
+        for (const bool self : {false, true}) {
+            for (const bool line_line : {false, true}) {
+                MeshScene sc(42, self);
+                std::mt19937 g(43);
+                IntersectionParams params = method_params(method);
+                params.use_line_line = line_line;
+                CollisionPipeline pipe(params);
+                pipe.set_models(sc.models);
+                std::size_t total = 0;
+                for (int step = 0; step < 2; ++step) {
+                    const SceneDetection got = pipe.detect();
+                    const SceneDetection ref = detect_scene_exhaustive(params, sc.models);
+                    expect_identical(got, ref);
+                    total += count_outputs(got);
+                    sc.jiggle(g, 0.005);
+                }
+                if (method == IntersectionMethod::Discrete) {
+                    EXPECT_GT(total, 0u);  // alarm 0: only touching elements
+                } else {
+                    EXPECT_GT(total, 500u);
+                }
+                const SceneDetection last = pipe.detect();
+                // pairs of two models of torus1's node exist only with self-collision on
+                std::size_t self_pairs = 0;
+                for (const auto& p : last) self_pairs += same_node(*p.model1, *p.model2) ? 1 : 0;
+                if (!self) {
+                    EXPECT_EQ(self_pairs, 0u);
+                } else if (method == IntersectionMethod::NewProximity ||
+                           method == IntersectionMethod::MinProximity) {
+                    // (LocalMinDistance's cone filters reject these near-surface self contacts)
+                    EXPECT_GT(self_pairs, 0u);
+                }
+            }
+        }
+    }
+}
+
+TEST(NarrowPhase, SelfCollisionFiltersAreApplied) {
+    // torus1 triangles vs its own vertices (same node): no output of a triangle with one of its vertices
+    MeshScene sc(5, true);
+    const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
+    CollisionPipeline pipe(params);
+    pipe.set_models(sc.models);
+    const SceneDetection d = pipe.detect();
+    const ModelPairOutputs* tp = find_pair(d, sc.tri1.get(), sc.pts1.get());
+    ASSERT_NE(tp, nullptr);
+    EXPECT_GT(tp->outputs.size(), 10u);
+    for (const auto& o : tp->outputs)
+        for (auto v : sc.tri1->triangle(o.elem1)) ASSERT_NE(v, o.elem2);
+}
+
+TEST(NarrowPhase, PointAndLineSelfCollisionSkipTopologicalNeighbours) {
+    // a chain of 40 points 0.02 apart: neighbours (0.02) are filtered, second neighbours (0.04 <
+    // alarm 0.05) collide, third neighbours (0.06) are too far -> exactly the 38 pairs (i+2, i)
+    const int n = 40;
+    Vec3State st;
+    st.resize(n);
+    for (int i = 0; i < n; ++i) st.position[std::size_t(i)] = Vec3(0.02 * i, 0.0, 0.0);
+    MeshTopology topo;
+    topo.set_num_points(std::size_t(n));
+    std::vector<Edge> edges;
+    for (int i = 0; i + 1 < n; ++i) edges.push_back({i, i + 1});
+    topo.set_edges(edges);
+    PointModel pts(st, &topo, mp("chain-points", 0, true));
+    LineModel lines(st, topo, mp("chain-lines", 0, true));
+    IntersectionParams params = method_params(IntersectionMethod::NewProximity);
+    params.use_line_line = true;
+    CollisionPipeline pipe(params);
+    pipe.set_models({&pts, &lines});
+    const SceneDetection d = pipe.detect();
+    expect_identical(d, detect_scene_exhaustive(params, {&pts, &lines}));
+    const ModelPairOutputs* pp = find_pair(d, &pts, &pts);
+    ASSERT_NE(pp, nullptr);
+    ASSERT_EQ(pp->outputs.size(), std::size_t(n - 2));
+    for (std::size_t k = 0; k < pp->outputs.size(); ++k) {
+        EXPECT_EQ(pp->outputs[k].elem1, Index(k + 2));
+        EXPECT_EQ(pp->outputs[k].elem2, Index(k));
+    }
+    const ModelPairOutputs* ll = find_pair(d, &lines, &lines);
+    ASSERT_NE(ll, nullptr);
+    EXPECT_GT(ll->outputs.size(), std::size_t(n / 2));
+    for (const auto& o : ll->outputs) {
+        EXPECT_GE(o.elem1 - o.elem2, 2) << "edges sharing a vertex must be filtered";
+    }
+    // the line-point pair of the same state and node: a line never meets its own end points
+    const ModelPairOutputs* lp = find_pair(d, &lines, &pts);
+    ASSERT_NE(lp, nullptr);
+    for (const auto& o : lp->outputs) {
+        EXPECT_NE(lines.edge(o.elem1)[0], o.elem2);
+        EXPECT_NE(lines.edge(o.elem1)[1], o.elem2);
+    }
+}
+
+TEST(NarrowPhase, StaticModelIsBuiltOnce) {
+    std::mt19937 g(21);
+    Vec3State fixed = random_cloud(500, 1.0, g);
+    Vec3State mov = random_cloud(500, 1.0, g);
+    SphereModel f(fixed, 0.05, {}, mp("floor"));
+    f.params().moving = false;
+    f.params().simulated = false;
+    SphereModel m(mov, 0.05, {}, mp("balls"));
+    const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
+    CollisionPipeline pipe(params);
+    pipe.set_models({&f, &m});
+    for (int step = 0; step < 4; ++step) {
+        const SceneDetection got = pipe.detect();
+        expect_identical(got, detect_scene_exhaustive(params, {&f, &m}));
+        EXPECT_GT(count_outputs(got), 20u);
+        for (auto& p : mov.position) p += test::rand_vec(g, 0.01);
+    }
+    EXPECT_EQ(pipe.tree(0).build_count(), 1u);
+    EXPECT_EQ(pipe.tree(1).build_count(), 1u);  // small motion: refitted, not rebuilt
+    mov.position = random_cloud(500, 1.0, g).position;
+    const SceneDetection got = pipe.detect();
+    expect_identical(got, detect_scene_exhaustive(params, {&f, &m}));
+    EXPECT_EQ(pipe.tree(1).build_count(), 2u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Determinism with 1, 2 and 4 threads
+
+SceneDetection run_with_threads(int threads, std::uint32_t seed, IntersectionMethod method) {
+    tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    tbb::task_arena arena(threads);
+    SceneDetection out;
+    arena.execute([&] {
+        MeshScene sc(seed, true);
+        std::mt19937 g(seed);
+        Vec3State big = random_cloud(20000, 1.0, g);
+        SphereModel cloud(big, 0.01, random_radii(20000, 0.004, 0.012, g), mp("big", 9, true));
+        std::vector<CollisionModel*> models = sc.models;
+        models.push_back(&cloud);
+        NarrowPhaseOptions narrow;
+        narrow.chunk_size = 64;  // many chunks so that threads really interleave
+        CollisionPipelineOptions opt;
+        opt.narrow = narrow;
+        CollisionPipeline pipe(method_params(method), opt);
+        pipe.set_models(models);
+        out = pipe.detect();
+        // the pointers die with the scene: keep the names in model-free form
+        for (auto& p : out) {
+            p.model1 = reinterpret_cast<CollisionModel*>(std::uintptr_t(std::find(models.begin(), models.end(), p.model1) - models.begin()));
+            p.model2 = reinterpret_cast<CollisionModel*>(std::uintptr_t(std::find(models.begin(), models.end(), p.model2) - models.begin()));
+        }
+    });
+    return out;
+}
+
+TEST(NarrowPhase, BitIdenticalWith1And2And4Threads) {
+    for (const auto method : {IntersectionMethod::NewProximity, IntersectionMethod::LocalMinDistance}) {
+        SCOPED_TRACE(intersection_method_name(method));
+        const SceneDetection one = run_with_threads(1, 77, method);
+        EXPECT_GT(count_outputs(one), 5000u);
+        expect_identical(run_with_threads(2, 77, method), one);
+        expect_identical(run_with_threads(4, 77, method), one);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Errors
+
+TEST(NarrowPhase, NaNOrInfinitePositionRaisesNamingModelAndElement) {
+    for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+        std::mt19937 g(31);
+        Vec3State s1 = random_cloud(300, 1.0, g);
+        Vec3State s2 = random_cloud(300, 1.0, g);
+        SphereModel a(s1, 0.05, {}, mp("alpha"));
+        SphereModel b(s2, 0.05, {}, mp("beta"));
+        CollisionPipeline pipe(method_params(IntersectionMethod::NewProximity));
+        pipe.set_models({&a, &b});
+        EXPECT_GT(count_outputs(pipe.detect()), 0u);  // a good first step, then the refit path
+        s2.position[123].z() = bad;
+        try {
+            (void)pipe.detect();
+            FAIL() << "no exception";
+        } catch (const std::invalid_argument& e) {
+            const std::string w = e.what();
+            EXPECT_NE(w.find("beta"), std::string::npos) << w;
+            EXPECT_NE(w.find("123"), std::string::npos) << w;
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Size
+
+TEST(NarrowPhase, HundredThousandSpheresCompleteAndMatchSampledExhaustiveRows) {
+    std::mt19937 g(2024);
+    const std::size_t n = 100000;
+    Vec3State st = random_cloud(n, 0.5, g);
+    SphereModel m(st, 0.005, {}, mp("box", 0, true));
+    IntersectionParams params = IntersectionParams::new_proximity();
+    params.alarm_distance = 0.005;
+    params.contact_distance = 0.002;
+    CollisionPipeline pipe(params);
+    pipe.set_models({&m});
+    const auto t0 = std::chrono::steady_clock::now();
+    const SceneDetection d = pipe.detect();
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ASSERT_EQ(d.size(), 1u);
+    const auto& out = d[0].outputs;
+    // expected neighbours per sphere: n * 4/3 pi 0.015^3 = 1.41 -> about 7e4 pairs
+    EXPECT_GT(out.size(), 50000u);
+    EXPECT_LT(out.size(), 90000u);
+    EXPECT_TRUE(std::is_sorted(out.begin(), out.end(), [](const auto& x, const auto& y) {
+        return std::tie(x.elem1, x.elem2) < std::tie(y.elem1, y.elem2);
+    }));
+    // exhaustive rows for 300 sampled spheres: every pair involving them
+    std::uniform_int_distribution<std::size_t> pick(0, n - 1);
+    std::size_t hits = 0;
+    for (int s = 0; s < 300; ++s) {
+        const auto i = Index(pick(g));
+        DetectionOutputList ref;
+        const Aabb bi = m.element_box(i);
+        for (std::size_t j = 0; j < n; ++j) {
+            if (Index(j) == i || !bi.overlaps(m.element_box(Index(j)), box_margin(params, m, m))) continue;
+            intersect_elements(params, m, std::max(i, Index(j)), m, std::min(i, Index(j)), ref);
+        }
+        DetectionOutputList mine;
+        for (const auto& o : out)
+            if (o.elem1 == i || o.elem2 == i) mine.push_back(o);
+        auto key = [](const DetectionOutput& o) { return std::tie(o.elem1, o.elem2, o.id); };
+        std::sort(ref.begin(), ref.end(), [&](const auto& x, const auto& y) { return key(x) < key(y); });
+        ASSERT_EQ(mine.size(), ref.size()) << "sphere " << i;
+        for (std::size_t k = 0; k < ref.size(); ++k) ASSERT_TRUE(same_output(mine[k], ref[k]));
+        hits += ref.size();
+    }
+    EXPECT_GT(hits, 200u);
+#ifdef NDEBUG
+    EXPECT_LT(secs, 5.0);
+#endif
+    RecordProperty("seconds", std::to_string(secs));
+}
+
+}  // namespace
+}  // namespace penalty
