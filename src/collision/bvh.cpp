@@ -36,34 +36,41 @@ std::uint32_t subtree_nodes(std::uint32_t n, std::uint32_t leaf) {
     return 2 * leaves(n, leaf, memo) - 1;
 }
 
+// Element centres (twice the centre: min + max) with the element index, permuted in place.
+struct Item {
+    double c[3];
+    std::uint32_t id;
+};
+
 struct Builder {
     std::vector<BvhNode>& nodes;
-    std::vector<std::uint32_t>& order;
-    const std::vector<Aabb>& boxes;
+    std::vector<Item>& items;
     std::uint32_t leaf;
 
-    // builds the subtree of elements order[first, first+count) at node index `at`
+    // builds the topology of the subtree of items[first, first+count) at node index `at`
+    // (node boxes are filled afterwards by Bvh::refit_nodes)
     void build(std::uint32_t at, std::uint32_t first, std::uint32_t count) {
         BvhNode& node = nodes[at];
         node.first = first;
         node.count = count;
-        Aabb box;
-        for (std::uint32_t k = first; k < first + count; ++k) box.extend(boxes[order[k]]);
-        node.box = box;
         if (count <= leaf) {
             node.right = 0;
             return;
         }
+        double lo[3] = {items[first].c[0], items[first].c[1], items[first].c[2]};
+        double hi[3] = {lo[0], lo[1], lo[2]};
+        for (std::uint32_t k = first + 1; k < first + count; ++k)
+            for (int d = 0; d < 3; ++d) {
+                lo[d] = std::min(lo[d], items[k].c[d]);
+                hi[d] = std::max(hi[d], items[k].c[d]);
+            }
         int axis = 0;
-        const Vec3 ext = box.max - box.min;
-        if (ext.y() > ext[axis]) axis = 1;
-        if (ext.z() > ext[axis]) axis = 2;
+        if (hi[1] - lo[1] > hi[axis] - lo[axis]) axis = 1;
+        if (hi[2] - lo[2] > hi[axis] - lo[axis]) axis = 2;
         const std::uint32_t half = count / 2;
-        auto* b = order.data() + first;
-        std::nth_element(b, b + half, b + count, [&](std::uint32_t i, std::uint32_t j) {
-            const double ci = boxes[i].min[axis] + boxes[i].max[axis];
-            const double cj = boxes[j].min[axis] + boxes[j].max[axis];
-            return ci < cj || (ci == cj && i < j);
+        Item* b = items.data() + first;
+        std::nth_element(b, b + half, b + count, [axis](const Item& i, const Item& j) {
+            return i.c[axis] < j.c[axis] || (i.c[axis] == j.c[axis] && i.id < j.id);
         });
         const std::uint32_t right = at + 1 + subtree_nodes(half, leaf);
         node.right = right;
@@ -106,6 +113,14 @@ void Bvh::compute_boxes(const CollisionModel& model) {
     }
 }
 
+void Bvh::reorder_boxes() {
+    ordered_.resize(boxes_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes_.size(), 4096),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t s = r.begin(); s != r.end(); ++s) ordered_[s] = boxes_[order_[s]];
+                      });
+}
+
 void Bvh::build(const CollisionModel& model, std::size_t leaf_size) {
     compute_boxes(model);
     const auto n = std::uint32_t(boxes_.size());
@@ -115,15 +130,22 @@ void Bvh::build(const CollisionModel& model, std::size_t leaf_size) {
     for (std::uint32_t i = 0; i < n; ++i) order_[i] = i;
     nodes_.clear();
     if (n == 0) {
+        ordered_.clear();
         built_area_ = 0.0;
         return;
     }
     nodes_.resize(subtree_nodes(n, leaf));
-    Builder{nodes_, order_, boxes_, leaf}.build(0, 0, n);
-    double sum = 0.0;
-    for (const auto& node : nodes_)
-        if (!node.leaf()) sum += area(node.box);
-    built_area_ = sum;
+    std::vector<Item> items(n);
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, n, 4096), [&](const tbb::blocked_range<std::uint32_t>& r) {
+        for (std::uint32_t i = r.begin(); i != r.end(); ++i) {
+            const Aabb& b = boxes_[i];
+            items[i] = Item{{b.min[0] + b.max[0], b.min[1] + b.max[1], b.min[2] + b.max[2]}, i};
+        }
+    });
+    Builder{nodes_, items, leaf}.build(0, 0, n);
+    for (std::uint32_t s = 0; s < n; ++s) order_[s] = items[s].id;
+    reorder_boxes();
+    built_area_ = refit_nodes();
 }
 
 double Bvh::refit_nodes() {
@@ -132,7 +154,7 @@ double Bvh::refit_nodes() {
         BvhNode& node = nodes_[k];
         Aabb box;
         if (node.leaf()) {
-            for (std::uint32_t s = node.first; s < node.first + node.count; ++s) box.extend(boxes_[order_[s]]);
+            for (std::uint32_t s = node.first; s < node.first + node.count; ++s) box.extend(ordered_[s]);
         } else {
             box = nodes_[k + 1].box;
             box.extend(nodes_[node.right].box);
@@ -149,6 +171,7 @@ bool Bvh::refit(const CollisionModel& model, double rebuild_ratio, std::size_t l
         return true;
     }
     compute_boxes(model);
+    reorder_boxes();
     const double sum = refit_nodes();
     if (sum > rebuild_ratio * built_area_) {
         build(model, leaf_size);

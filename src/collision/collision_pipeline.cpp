@@ -20,7 +20,11 @@ using Keys = std::vector<std::uint64_t>;
 
 std::uint64_t key(std::uint32_t e1, std::uint32_t e2) { return (std::uint64_t(e1) << 32) | e2; }
 
-// Dual-tree traversal collecting the element pairs whose boxes pass the §3.8 test.
+// Dual-tree traversal collecting the element pairs whose boxes pass the §3.8 test. Below
+// kBruteForceBelow element pairs, a node pair is finished by testing all its element pairs
+// (the same element box test, so the same pairs, with less recursion).
+constexpr std::uint32_t kBruteForceBelow = 64;
+
 struct Traversal {
     const Bvh& a;
     const Bvh& b;
@@ -34,67 +38,62 @@ struct Traversal {
         else out.push_back(key(ea, eb));
     }
 
-    void leaf_pair(const BvhNode& na, const BvhNode& nb) const {
-        Keys& out = buffers.local();
-        const auto& oa = a.order();
-        const auto& ob = b.order();
-        const auto& ba = a.element_boxes();
-        const auto& bb = b.element_boxes();
+    void all_pairs(const BvhNode& na, const BvhNode& nb, Keys& out) const {
+        const std::uint32_t* oa = a.order().data();
+        const std::uint32_t* ob = b.order().data();
+        const Aabb* ba = a.ordered_boxes().data();
+        const Aabb* bb = b.ordered_boxes().data();
         for (std::uint32_t s = na.first; s < na.first + na.count; ++s) {
-            const std::uint32_t ea = oa[s];
-            const Aabb& boxa = ba[ea];
-            for (std::uint32_t t = nb.first; t < nb.first + nb.count; ++t) {
-                const std::uint32_t eb = ob[t];
-                if (boxa.overlaps(bb[eb], margin)) emit(out, ea, eb);
-            }
+            const Aabb& boxa = ba[s];
+            if (!boxa.overlaps(nb.box, margin)) continue;  // prunes only: nb.box contains bb[t]
+            for (std::uint32_t t = nb.first; t < nb.first + nb.count; ++t)
+                if (boxa.overlaps(bb[t], margin)) emit(out, oa[s], ob[t]);
         }
     }
 
-    void pair(std::uint32_t ia, std::uint32_t ib) const {
+    void pair(std::uint32_t ia, std::uint32_t ib, Keys* out) const {
         const BvhNode& na = a.nodes()[ia];
         const BvhNode& nb = b.nodes()[ib];
         if (!na.box.overlaps(nb.box, margin)) return;
-        if (na.leaf() && nb.leaf()) {
-            leaf_pair(na, nb);
+        if ((na.leaf() && nb.leaf()) || na.count * nb.count <= kBruteForceBelow) {
+            all_pairs(na, nb, *out);
             return;
         }
         const bool fork = parallel && na.count + nb.count >= kParallelTraversalMin;
-        if (!na.leaf() && (nb.leaf() || na.count >= nb.count)) {
-            const std::uint32_t l = ia + 1, r = na.right;
-            if (fork) tbb::parallel_invoke([&] { pair(l, ib); }, [&] { pair(r, ib); });
-            else {
-                pair(l, ib);
-                pair(r, ib);
-            }
+        const bool split_a = !na.leaf() && (nb.leaf() || na.count >= nb.count);
+        const std::uint32_t l = split_a ? ia + 1 : ib + 1;
+        const std::uint32_t r = split_a ? na.right : nb.right;
+        if (fork) {
+            tbb::parallel_invoke([&] { split_a ? pair(l, ib, &buffers.local()) : pair(ia, l, &buffers.local()); },
+                                 [&] { split_a ? pair(r, ib, &buffers.local()) : pair(ia, r, &buffers.local()); });
+        } else if (split_a) {
+            pair(l, ib, out);
+            pair(r, ib, out);
         } else {
-            const std::uint32_t l = ib + 1, r = nb.right;
-            if (fork) tbb::parallel_invoke([&] { pair(ia, l); }, [&] { pair(ia, r); });
-            else {
-                pair(ia, l);
-                pair(ia, r);
-            }
+            pair(ia, l, out);
+            pair(ia, r, out);
         }
     }
 
     // all pairs inside the subtree of node i (self traversal only)
-    void inside(std::uint32_t i) const {
+    void inside(std::uint32_t i, Keys* out) const {
         const BvhNode& n = a.nodes()[i];
-        if (n.leaf()) {
-            Keys& out = buffers.local();
-            const auto& o = a.order();
-            const auto& boxes = a.element_boxes();
+        if (n.leaf() || n.count * n.count <= 2 * kBruteForceBelow) {
+            const std::uint32_t* o = a.order().data();
+            const Aabb* boxes = a.ordered_boxes().data();
             for (std::uint32_t s = n.first; s < n.first + n.count; ++s)
                 for (std::uint32_t t = s + 1; t < n.first + n.count; ++t)
-                    if (boxes[o[s]].overlaps(boxes[o[t]], margin)) emit(out, o[s], o[t]);
+                    if (boxes[s].overlaps(boxes[t], margin)) emit(*out, o[s], o[t]);
             return;
         }
         const std::uint32_t l = i + 1, r = n.right;
         if (parallel && n.count >= kParallelTraversalMin) {
-            tbb::parallel_invoke([&] { inside(l); }, [&] { inside(r); }, [&] { pair(l, r); });
+            tbb::parallel_invoke([&] { inside(l, &buffers.local()); }, [&] { inside(r, &buffers.local()); },
+                                 [&] { pair(l, r, &buffers.local()); });
         } else {
-            inside(l);
-            inside(r);
-            pair(l, r);
+            inside(l, out);
+            inside(r, out);
+            pair(l, r, out);
         }
     }
 };
@@ -152,17 +151,41 @@ std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool sam
     if (t1.empty() || t2.empty()) return {};
     tbb::enumerable_thread_specific<Keys> buffers;
     const Traversal tr{t1, t2, same_model, margin, parallel, buffers};
-    if (same_model) tr.inside(0);
-    else tr.pair(0, 0);
+    if (same_model) tr.inside(0, &buffers.local());
+    else tr.pair(0, 0, &buffers.local());
     std::size_t total = 0;
     for (const Keys& k : buffers) total += k.size();
     Keys keys;
     keys.reserve(total);
     for (const Keys& k : buffers) keys.insert(keys.end(), k.begin(), k.end());
     // keys are unique, so the sorted sequence does not depend on how the buffers were filled
-    if (parallel) tbb::parallel_sort(keys.begin(), keys.end());
-    else std::sort(keys.begin(), keys.end());
-    return keys;
+    const std::size_t n1 = t1.element_boxes().size();
+    if (keys.size() < n1 / 4 || keys.size() < 4096) {
+        if (parallel) tbb::parallel_sort(keys.begin(), keys.end());
+        else std::sort(keys.begin(), keys.end());
+        return keys;
+    }
+    // many candidates: counting sort on elem1, then each (short) elem1 bucket sorted by elem2
+    std::vector<std::size_t> start(n1 + 1, 0);
+    for (const std::uint64_t k : keys) ++start[std::size_t(k >> 32) + 1];
+    for (std::size_t i = 0; i < n1; ++i) start[i + 1] += start[i];
+    Keys sorted(keys.size());
+    {
+        std::vector<std::size_t> pos(start.begin(), start.end() - 1);
+        for (const std::uint64_t k : keys) sorted[pos[std::size_t(k >> 32)]++] = k;
+    }
+    auto sort_buckets = [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t e = lo; e < hi; ++e)
+            if (start[e + 1] - start[e] > 1)
+                std::sort(sorted.begin() + std::ptrdiff_t(start[e]), sorted.begin() + std::ptrdiff_t(start[e + 1]));
+    };
+    if (parallel) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n1, 4096),
+                          [&](const tbb::blocked_range<std::size_t>& r) { sort_buckets(r.begin(), r.end()); });
+    } else {
+        sort_buckets(0, n1);
+    }
+    return sorted;
 }
 
 DetectionOutputList bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1,

@@ -3,7 +3,7 @@
 /// Axis-aligned bounding-box tree over the element boxes of one collision model (the role of
 /// SOFA's CubeCollisionModel, spec §3.8). Leaves hold at most `leaf_size` elements; internal
 /// nodes are split at the median element (by box centre, ties by element index) along the
-/// largest extent of the node box. Nodes are stored in depth-first pre-order: the left child of
+/// largest extent of the element centres of the node. Nodes are stored in depth-first pre-order: the left child of
 /// node i is i + 1, the right child is `right`. The tree only prunes: the leaf boxes are exactly
 /// CollisionModel::element_box(i), so a traversal finds the same element pairs as an
 /// exhaustive loop with the same box test.
@@ -42,6 +42,9 @@ public:
     [[nodiscard]] const std::vector<std::uint32_t>& order() const { return order_; }
     /// element_box(i) of the model at the last build/refit, indexed by element.
     [[nodiscard]] const std::vector<Aabb>& element_boxes() const { return boxes_; }
+    /// The element boxes in tree order: ordered_boxes()[s] == element_boxes()[order()[s]]
+    /// (contiguous per node, for the traversal).
+    [[nodiscard]] const std::vector<Aabb>& ordered_boxes() const { return ordered_; }
     [[nodiscard]] const Aabb& root_box() const { return nodes_.front().box; }
     /// Depth of the tree (a single leaf has depth 1; 0 when empty).
     [[nodiscard]] int depth() const;
@@ -50,11 +53,13 @@ public:
 
 private:
     void compute_boxes(const CollisionModel& model);
+    void reorder_boxes();
     double refit_nodes();  // returns the summed surface area of the internal nodes
 
     std::vector<BvhNode> nodes_;
     std::vector<std::uint32_t> order_;
     std::vector<Aabb> boxes_;
+    std::vector<Aabb> ordered_;
     double built_area_ = 0.0;
     std::size_t builds_ = 0;
 };

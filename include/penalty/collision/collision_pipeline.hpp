@@ -82,7 +82,7 @@ struct CollisionPipelineOptions {
     /// compatibility; the trees here always go down to `leaf_size` elements (the output does not
     /// depend on the depth in SOFA either, §3.8).
     int depth = 6;
-    std::size_t leaf_size = 4;     ///< maximum elements per leaf
+    std::size_t leaf_size = 8;      ///< maximum elements per leaf
     double rebuild_ratio = 2.0;    ///< moving models: rebuild when refitting degrades the tree (Bvh::refit)
     NarrowPhaseOptions narrow;
 };
