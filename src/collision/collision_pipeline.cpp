@@ -55,11 +55,11 @@ struct Traversal {
         const BvhNode& na = a.nodes()[ia];
         const BvhNode& nb = b.nodes()[ib];
         if (!na.box.overlaps(nb.box, margin)) return;
-        if ((na.leaf() && nb.leaf()) || na.count * nb.count <= kBruteForceBelow) {
+        if ((na.leaf() && nb.leaf()) || std::uint64_t(na.count) * nb.count <= kBruteForceBelow) {
             all_pairs(na, nb, *out);
             return;
         }
-        const bool fork = parallel && na.count + nb.count >= kParallelTraversalMin;
+        const bool fork = parallel && std::uint64_t(na.count) + nb.count >= kParallelTraversalMin;
         const bool split_a = !na.leaf() && (nb.leaf() || na.count >= nb.count);
         const std::uint32_t l = split_a ? ia + 1 : ib + 1;
         const std::uint32_t r = split_a ? na.right : nb.right;
@@ -78,7 +78,7 @@ struct Traversal {
     // all pairs inside the subtree of node i (self traversal only)
     void inside(std::uint32_t i, Keys* out) const {
         const BvhNode& n = a.nodes()[i];
-        if (n.leaf() || n.count * n.count <= 2 * kBruteForceBelow) {
+        if (n.leaf() || std::uint64_t(n.count) * n.count <= 2 * kBruteForceBelow) {
             const std::uint32_t* o = a.order().data();
             const Aabb* boxes = a.ordered_boxes().data();
             for (std::uint32_t s = n.first; s < n.first + n.count; ++s)
