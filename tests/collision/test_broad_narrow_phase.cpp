@@ -339,6 +339,74 @@ TEST(NarrowPhase, MeshScenesEqualExhaustiveForEveryMethodSelfCollisionOnAndOff) 
     }
 }
 
+TEST(NarrowPhase, TriangleTriangleWithoutNormalOverwriteRunsInParallelAndEqualsExhaustive) {
+    // with the §14.4 fix the Triangle–Triangle kernel is read-only and evaluated in parallel chunks
+    MeshScene sc(44, true);
+    IntersectionParams params = method_params(IntersectionMethod::NewProximity);
+    params.quirks.fix_newproximity_triangle_triangle_normal_overwrite = true;
+    CollisionPipelineOptions opt;
+    opt.narrow.chunk_size = 16;
+    CollisionPipeline pipe(params, opt);
+    pipe.set_models(sc.models);
+    const SceneDetection got = pipe.detect();
+    expect_identical(got, detect_scene_exhaustive(params, sc.models));
+    const ModelPairOutputs* tt = find_pair(got, sc.tri2.get(), sc.tri1.get());
+    ASSERT_NE(tt, nullptr);
+    EXPECT_GT(tt->outputs.size(), 100u);
+}
+
+/// Every model type, with the beyond-SOFA pairs (Cylinder, Tetrahedron–Point) enabled.
+TEST(NarrowPhase, MixedModelsWithBeyondSofaPairsEqualExhaustive) {
+    std::mt19937 g(55);
+    Rigid3State cyl_state, rs_state;
+    cyl_state.resize(60);
+    rs_state.resize(80);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (auto& f : cyl_state.position) f = RigidFrame{Vec3(u(g), u(g), u(g)), test::rand_quat(g)};
+    for (auto& f : rs_state.position) f = RigidFrame{Vec3(u(g), u(g), u(g)), test::rand_quat(g)};
+    // a soup of 200 small tetrahedra
+    Vec3State tet_state;
+    tet_state.resize(800);
+    MeshTopology tet_topo;
+    std::vector<Tetrahedron> tets;
+    for (int t = 0; t < 200; ++t) {
+        const Vec3 c(u(g), u(g), u(g));
+        const Vec3 e0 = 0.1 * test::rand_unit(g), e1 = 0.1 * test::rand_unit(g), e2 = 0.1 * test::rand_unit(g);
+        const bool pos = e0.dot(e1.cross(e2)) > 0.0;
+        tet_state.position[std::size_t(4 * t)] = c;
+        tet_state.position[std::size_t(4 * t + 1)] = c + e0;
+        tet_state.position[std::size_t(4 * t + 2)] = c + (pos ? e1 : e2);
+        tet_state.position[std::size_t(4 * t + 3)] = c + (pos ? e2 : e1);
+        tets.push_back({4 * t, 4 * t + 1, 4 * t + 2, 4 * t + 3});
+    }
+    tet_topo.set_num_points(800);
+    tet_topo.set_tetrahedra(tets);
+    Vec3State cloud = random_cloud(1500, 1.0, g);
+    auto torus = test::make_torus(24, 10, 0.6, 0.2, Vec3::Zero(), g, 0.2);
+    CylinderModel cyl(cyl_state, 0.05, 0.3, Vec3::UnitY(), mp("cylinders", 1));
+    RigidSphereModel rs(rs_state, 0.05, {}, mp("rigid-spheres", 2, false, {}, 0.01));
+    TetrahedronModel tet(tet_state, tet_topo, mp("tetras", 3));
+    PointModel pts(cloud, nullptr, mp("cloud", 4));
+    SphereModel balls(cloud, 0.02, {}, mp("balls", 5, true));
+    TriangleModel tri(torus->state, torus->topo, mp("torus", 6));
+    LineModel lines(torus->state, torus->topo, mp("torus-edges", 6));
+    std::vector<CollisionModel*> models = {&cyl, &rs, &tet, &pts, &balls, &tri, &lines};
+    for (const auto method : kMethods) {
+        SCOPED_TRACE(intersection_method_name(method));
+        IntersectionParams params = method_params(method);
+        params.enable_beyond_sofa_pairs = true;
+        CollisionPipeline pipe(params);
+        pipe.set_models(models);
+        const SceneDetection got = pipe.detect();
+        expect_identical(got, detect_scene_exhaustive(params, models));
+        EXPECT_GT(count_outputs(got), method == IntersectionMethod::Discrete ? 20u : 500u);
+        if (method == IntersectionMethod::NewProximity) {
+            EXPECT_NE(find_pair(got, &cyl, &balls), nullptr);
+            EXPECT_NE(find_pair(got, &tet, &pts), nullptr);
+        }
+    }
+}
+
 TEST(NarrowPhase, SelfCollisionFiltersAreApplied) {
     // torus1 triangles vs its own vertices (same node): no output of a triangle with one of its vertices
     MeshScene sc(5, true);
