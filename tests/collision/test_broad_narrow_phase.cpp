@@ -579,13 +579,16 @@ TEST(NarrowPhase, HundredThousandSpheresCompleteAndMatchSampledExhaustiveRows) {
     }));
     // exhaustive rows for 300 sampled spheres: every pair involving them
     std::uniform_int_distribution<std::size_t> pick(0, n - 1);
+    std::vector<Aabb> boxes(n);
+    for (std::size_t j = 0; j < n; ++j) boxes[j] = m.element_box(Index(j));
+    const double margin = box_margin(params, m, m);
     std::size_t hits = 0;
     for (int s = 0; s < 300; ++s) {
         const auto i = Index(pick(g));
         DetectionOutputList ref;
-        const Aabb bi = m.element_box(i);
+        const Aabb& bi = boxes[std::size_t(i)];
         for (std::size_t j = 0; j < n; ++j) {
-            if (Index(j) == i || !bi.overlaps(m.element_box(Index(j)), box_margin(params, m, m))) continue;
+            if (Index(j) == i || !bi.overlaps(boxes[j], margin)) continue;
             intersect_elements(params, m, std::max(i, Index(j)), m, std::min(i, Index(j)), ref);
         }
         DetectionOutputList mine;
