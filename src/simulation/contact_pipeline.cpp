@@ -134,8 +134,17 @@ void ContactPipeline::update() {
             CollisionModel& b = *models_[j].model;
             if (!keep_model_pair(a, b)) continue;
             const PairSupport s = pair_support(intersection_, a.type(), b.type());
-            if (s != PairSupport::Supported && !(s == PairSupport::BeyondSofa && intersection_.enable_beyond_sofa_pairs))
+            if (s != PairSupport::Supported && !(s == PairSupport::BeyondSofa && intersection_.enable_beyond_sofa_pairs)) {
+                const std::pair<const CollisionModel*, const CollisionModel*> key{&a, &b};
+                if (std::find(skipped_keys_.begin(), skipped_keys_.end(), key) == skipped_keys_.end()) {
+                    skipped_keys_.push_back(key);
+                    skipped_pairs_.push_back(detail::concat(
+                        "ContactPipeline: models '", a.name(), "' (", model_type_name(a.type()), ") and '",
+                        b.name(), "' (", model_type_name(b.type()), "): pair ", pair_support_name(s),
+                        " for this intersection method, no contact"));
+                }
                 continue;
+            }
             detections_.push_back(detect_model_pair(intersection_, a, b));
         }
     }

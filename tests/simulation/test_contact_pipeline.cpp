@@ -404,6 +404,25 @@ TEST(ContactPipeline, TwoSimulatedModelsContactAtPipelineNodeImplicitOrExplicit)
     EXPECT_NEAR(v1, -0.12 / (1.0 + 2.0 * 1e-4 * 40.0), 1e-14);
 }
 
+TEST(ContactPipeline, PairsTheMethodDoesNotDetectAreReportedNotSilentlySkipped) {
+    // MinProximity registers Triangle–Triangle as ignored (spec §5.2): the pair is reported once
+    Simulation sim;
+    Floor a(sim.root(), true);
+    Floor b(sim.root(), true);
+    b.model->params().name = "lid";
+    ContactPipeline pipeline(sim, IntersectionParams::min_proximity());
+    pipeline.add_model(*a.model, *a.node);
+    pipeline.add_model(*b.model, *b.node);
+    pipeline.update();
+    ASSERT_EQ(pipeline.skipped_pairs().size(), 1u);
+    EXPECT_EQ(pipeline.skipped_pairs()[0],
+              "ContactPipeline: models 'floor' (Triangle) and 'lid' (Triangle): pair ignored for this "
+              "intersection method, no contact");
+    EXPECT_TRUE(pipeline.detections().empty());
+    pipeline.update();
+    EXPECT_EQ(pipeline.skipped_pairs().size(), 1u);  // once per pair, not once per step
+}
+
 TEST(ContactPipeline, BadInputThrows) {
     Simulation sim;
     Floor floor(sim.root(), false);

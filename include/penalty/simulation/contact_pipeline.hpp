@@ -36,6 +36,8 @@
 #include <array>
 #include <memory>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 namespace penalty {
@@ -140,6 +142,10 @@ public:
     [[nodiscard]] const CollisionResponse& response() const { return response_; }
     /// Detections of the last update (one per detected model pair, registered order).
     [[nodiscard]] const std::vector<ModelPairDetection>& detections() const { return detections_; }
+    /// Model pairs that may collide but that the intersection method does not detect (SOFA
+    /// registers them as ignored, has no intersector, or they are beyond-SOFA pairs not enabled),
+    /// one line per pair, recorded the first time the pair is met: never silently skipped.
+    [[nodiscard]] const std::vector<std::string>& skipped_pairs() const { return skipped_pairs_; }
     /// Graph entries of the live pairs (creation order).
     [[nodiscard]] const std::vector<ContactGraphEntry>& graph_entries() const { return entries_; }
     /// The entry of a live pair (m1, m2 in registered order), or nullptr.
@@ -164,6 +170,8 @@ private:
     std::vector<ModelEntry> models_;
     std::vector<const Node*> node_ids_;
     std::vector<ModelPairDetection> detections_;
+    std::vector<std::string> skipped_pairs_;
+    std::vector<std::pair<const CollisionModel*, const CollisionModel*>> skipped_keys_;
     std::vector<ContactGraphEntry> entries_;
     std::size_t created_count_ = 0;
 };
