@@ -2,6 +2,7 @@
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
 #include "penalty_test/finite_difference.hpp"
+#include "penalty_test/grid_meshes.hpp"
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
@@ -13,33 +14,7 @@
 namespace penalty {
 namespace {
 
-/// Kuhn subdivision of a regular grid into positive tetrahedra (6 per cell).
-MeshTopology tetra_grid(const RegularGridTopology& g) {
-    std::vector<Tetrahedron> tetras;
-    const auto pts = g.points();
-    for (int k = 0; k + 1 < g.n()[2]; ++k)
-        for (int j = 0; j + 1 < g.n()[1]; ++j)
-            for (int i = 0; i + 1 < g.n()[0]; ++i) {
-                std::array<int, 3> axes{0, 1, 2};
-                do {
-                    std::array<int, 3> c{i, j, k};
-                    Tetrahedron t{};
-                    t[0] = g.point_index(c[0], c[1], c[2]);
-                    for (std::size_t s = 0; s < 3; ++s) {
-                        ++c[static_cast<std::size_t>(axes[s])];
-                        t[s + 1] = g.point_index(c[0], c[1], c[2]);
-                    }
-                    Mat3 m;
-                    for (int s = 0; s < 3; ++s)
-                        m.col(s) = pts[static_cast<std::size_t>(t[static_cast<std::size_t>(s + 1)])] - pts[static_cast<std::size_t>(t[0])];
-                    if (m.determinant() < 0) std::swap(t[1], t[2]);
-                    tetras.push_back(t);
-                } while (std::next_permutation(axes.begin(), axes.end()));
-            }
-    MeshTopology topo;
-    topo.set_tetrahedra(std::move(tetras));
-    return topo;
-}
+using test::kuhn_tetrahedra;
 
 bool is_boundary(const RegularGridTopology& g, int i, int j, int k) {
     return i == 0 || j == 0 || k == 0 || i == g.n()[0] - 1 || j == g.n()[1] - 1 || k == g.n()[2] - 1;
@@ -84,7 +59,7 @@ void patch_test(const MeshTopology& topo, const RegularGridTopology& g, FemMetho
 
 TEST(TetrahedronFEM, PatchTestSmall) {
     RegularGridTopology g({4, 4, 4}, Vec3(0, 0, 0), Vec3(1.5, 1, 2));
-    const MeshTopology topo = tetra_grid(g);
+    const MeshTopology topo = kuhn_tetrahedra(g);
     patch_test<TetrahedronFEMForceField>(topo, g, FemMethod::Small);
 }
 
@@ -148,7 +123,7 @@ void check_fem_derivatives(const MeshTopology& topo, std::vector<Vec3> rest, Fem
 
 TEST(TetrahedronFEM, StiffnessMatchesFiniteDifferences) {
     RegularGridTopology g({2, 2, 3}, Vec3(0, 0, 0), Vec3(1, 1.2, 2));
-    const MeshTopology topo = tetra_grid(g);
+    const MeshTopology topo = kuhn_tetrahedra(g);
     check_fem_derivatives<TetrahedronFEMForceField>(topo, g.points(), FemMethod::Small, false);
     check_fem_derivatives<TetrahedronFEMForceField>(topo, g.points(), FemMethod::Large, true);
 }
@@ -162,7 +137,7 @@ TEST(HexahedronFEM, StiffnessMatchesFiniteDifferences) {
 TEST(TetrahedronFEM, LargeMethodIsInvariantUnderRotation) {
     // Corotational forces of a deformed block, rotated, are the rotated forces.
     RegularGridTopology g({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1));
-    const MeshTopology topo = tetra_grid(g);
+    const MeshTopology topo = kuhn_tetrahedra(g);
     Vec3Object s;
     s.position = g.points();
     s.init();
