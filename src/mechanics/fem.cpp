@@ -156,17 +156,22 @@ TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffn
     return volume * b.transpose() * d * b;
 }
 
-Mat3 TetrahedronFEMForceField::element_rotation(const std::array<Vec3, 4>& p) const {
-    const Vec3 a = p[1] - p[0];
-    const Vec3 b = p[2] - p[0];
-    const Vec3 xh = a.normalized();
-    const Vec3 zh = a.cross(b).normalized();
-    const Vec3 yh = zh.cross(xh);
+namespace {
+/// Rows (x̂, ŷ, ẑ) of the element frame: x̂ along `first`, ẑ normal to (first, second), ŷ = ẑ × x̂
+/// (SOFA's corotational frame for tetrahedra and hexahedra).
+Mat3 frame_from_axes(const Vec3& first, const Vec3& second) {
+    const Vec3 xh = first.normalized();
+    const Vec3 zh = first.cross(second).normalized();
     Mat3 r;
     r.row(0) = xh;
-    r.row(1) = yh;
+    r.row(1) = zh.cross(xh);
     r.row(2) = zh;
     return r;
+}
+}  // namespace
+
+Mat3 TetrahedronFEMForceField::element_rotation(const std::array<Vec3, 4>& p) const {
+    return frame_from_axes(p[1] - p[0], p[2] - p[0]);
 }
 
 // ---- hexahedron ---------------------------------------------------------------------------------
@@ -202,14 +207,7 @@ HexahedronFEMForceField::ElementMatrix HexahedronFEMForceField::compute_stiffnes
 Mat3 HexahedronFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const {
     const Vec3 horizontal = (p[1] - p[0] + p[2] - p[3] + p[5] - p[4] + p[6] - p[7]) * 0.25;
     const Vec3 vertical = (p[3] - p[0] + p[2] - p[1] + p[7] - p[4] + p[6] - p[5]) * 0.25;
-    const Vec3 xh = horizontal.normalized();
-    const Vec3 zh = horizontal.cross(vertical).normalized();
-    const Vec3 yh = zh.cross(xh);
-    Mat3 r;
-    r.row(0) = xh;
-    r.row(1) = yh;
-    r.row(2) = zh;
-    return r;
+    return frame_from_axes(horizontal, vertical);
 }
 
 }  // namespace penalty
