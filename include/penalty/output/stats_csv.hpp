@@ -1,0 +1,74 @@
+#pragma once
+/// @file
+/// Per-step statistics as CSV, and helpers that compute them from the live scene.
+///
+/// File: a header line, then one row per write, comma-separated, numbers in shortest round-trip
+/// form (format.hpp), integers in decimal:
+///   step,time,contacts,active_contacts,max_penetration,contact_energy,kinetic_energy,
+///   dissipated_energy,detection_seconds,response_seconds,solve_seconds,output_seconds
+/// (one line). Units: time s, max_penetration m, energies J, *_seconds wall-clock s.
+
+#include "penalty/output/state_record.hpp"
+#include "penalty/output/vtk_writer.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <span>
+
+namespace penalty::output {
+
+struct StepStats {
+    std::int64_t step = 0;
+    double time = 0.0;                  ///< s
+    std::size_t contacts = 0;
+    std::size_t active_contacts = 0;
+    double max_penetration = 0.0;       ///< m, 0 if none
+    double contact_energy = 0.0;        ///< J
+    double kinetic_energy = 0.0;        ///< J
+    double dissipated_energy = 0.0;     ///< J, cumulative
+    double detection_seconds = 0.0;
+    double response_seconds = 0.0;
+    double solve_seconds = 0.0;
+    double output_seconds = 0.0;
+};
+
+/// The CSV header line (without newline).
+[[nodiscard]] const char* stats_csv_header();
+
+class StatsCsvWriter {
+public:
+    /// Creates the parent directory and the file (truncated) and writes the header.
+    /// Throws std::runtime_error naming the path on failure.
+    explicit StatsCsvWriter(const std::filesystem::path& file);
+    /// Appends one row and flushes. A non-finite value throws NonFiniteValueError naming the
+    /// column and the step (nothing written); an I/O failure throws std::runtime_error.
+    void write(const StepStats& stats);
+
+    [[nodiscard]] const std::filesystem::path& file() const { return file_; }
+
+private:
+    std::filesystem::path file_;
+    std::ofstream stream_;
+};
+
+/// The row write() appends (without newline), after the same finiteness check.
+[[nodiscard]] std::string format_stats_row(const StepStats& stats);
+
+struct ContactSummary {
+    std::size_t contacts = 0;         ///< Σ field->size()
+    std::size_t active_contacts = 0;  ///< Σ field->active_count() (pen > 0 at the last add_force)
+    double max_penetration = 0.0;     ///< max(0, max pen of export_contacts at the current positions) (m)
+    double contact_energy = 0.0;      ///< Σ field->potential_energy() (J)
+    double dissipated_energy = 0.0;   ///< Σ field->dissipated_energy() (J, cumulative)
+};
+
+/// Sums over the records (a null field or state throws std::invalid_argument).
+[[nodiscard]] ContactSummary summarize_contacts(std::span<const ContactRecord> contacts);
+
+/// Σ ½ vᵀ M v (J) over the records that have a mass (StateRecord::mass->kinetic_energy());
+/// records without a mass contribute nothing (a mapped state's motion is counted through the
+/// mass of the state it is mapped from, a static state has no mass).
+[[nodiscard]] double kinetic_energy(std::span<const StateRecord> states);
+
+}  // namespace penalty::output
