@@ -21,8 +21,8 @@
 
 namespace penalty::output {
 
-/// Writes the k-th state to DIR/<k>_<name>_mstate.txt (k from 0, name as given, SOFA's naming
-/// of regression files). The constructor creates DIR and truncates the files.
+/// Writes the k-th state to DIR/<k>_<name>_mstate.txt (k from 0, name = sanitize_file_name of the
+/// record's name, i.e. the name itself for ordinary names: SOFA's naming of regression files). The constructor creates DIR and truncates the files.
 /// Throws std::runtime_error naming the path when a directory or file cannot be created/written,
 /// std::invalid_argument for a null state or a state that is neither Vec3 nor Rigid3.
 class StateExporter {
@@ -70,12 +70,14 @@ struct StateSample {
 ///   error_s = ( Σ_r Σ_i |X_i(T_r) − Xref_i(T_r)| ) / n_dofs
 /// where X(T_r) is our sample with |t_j − T_r| ≤ 1e-9·max(1, |T_r|), i runs over the scalars of the
 /// X line (3 per Vec3 DOF, 7 per Rigid3 DOF: the quaternion components are compared as numbers),
-/// and n_dofs = (values on the reference X line) / values_per_dof[s]; n_dofs = 0 gives error 0.
+/// and n_dofs = (values on the first reference X line) / values_per_dof[s]; n_dofs = 0 gives
+/// error 0.
 ///   mean_error = Σ_s error_s / (number of states)   (0 when there is no state)
 /// The run passes when no message was produced and mean_error ≤ 1e-4 (RegressionResult::passed).
 /// Our samples at times absent from the reference are ignored.
 ///
-/// Errors produce a message naming the file (and time) and set that state's error to +inf:
+/// The first error of a state produces a message naming the file (and time) and sets that
+/// state's error to +inf (the state's comparison stops there):
 /// unreadable or malformed file, empty reference, a reference time without our sample, X lines
 /// of different lengths, a reference line length not a multiple of values_per_dof, a non-finite
 /// value. Different numbers of reference and our files is a message; only the common prefix is

@@ -8,8 +8,10 @@
 ///   <k>_<name>.pvd          Collection of state k's pieces, one DataSet per step
 ///   contacts_<s:06>.vtp     PolyData of every contact at step s (valid, empty, when none)
 ///   contacts.pvd            Collection of the contact pieces
-/// The .pvd files are rewritten (to a temporary file, then renamed) after every step, so a run
-/// killed between steps is still viewable. See docs/output.md for the arrays.
+/// The .pvd files are created (empty, valid) by the constructor and brought up to date after
+/// every step (the closing tags are rewritten after the new DataSet line), so a run killed between
+/// steps is still viewable. Every piece carries its time in FieldData `TimeValue`.
+/// See docs/output.md for the arrays.
 ///
 /// Vec3 state pieces: points = positions (m); point data `velocity` (m/s, 3 components);
 /// cells from the topology, the highest dimension it holds: tetrahedra (VTK_TETRA = 10) and
@@ -32,7 +34,9 @@
 #include "penalty/output/state_record.hpp"
 #include "penalty/response/penalty_force_field.hpp"
 
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -61,6 +65,9 @@ class VtkSeriesWriter {
 public:
     /// Creates DIR. Throws std::invalid_argument for a null or unsupported state.
     VtkSeriesWriter(std::filesystem::path directory, std::vector<const StateRecord*> states);
+    ~VtkSeriesWriter();
+    VtkSeriesWriter(VtkSeriesWriter&&) noexcept;
+    VtkSeriesWriter& operator=(VtkSeriesWriter&&) noexcept;
 
     /// Writes one .vtu per state and one contacts .vtp for this step, then rewrites every .pvd.
     /// Contact pieces: for each record (pair index p, in span order), for each contact c of
@@ -86,6 +93,8 @@ private:
     std::vector<std::string> stems_;  ///< <k>_<name>
     std::vector<std::filesystem::path> state_collections_;
     std::vector<double> times_;
+    class Collection;
+    std::vector<std::unique_ptr<Collection>> collections_;  ///< one per state, then contacts.pvd
 };
 
 /// The cells the writer emits for a topology over `num_points` points (rule above):

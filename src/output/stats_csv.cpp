@@ -1,0 +1,86 @@
+#include "penalty/output/stats_csv.hpp"
+
+#include "output/file_io.hpp"
+#include "penalty/core/error.hpp"
+#include "penalty/output/format.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace penalty::output {
+
+const char* stats_csv_header() {
+    return "step,time,contacts,active_contacts,max_penetration,contact_energy,kinetic_energy,dissipated_energy,"
+           "detection_seconds,response_seconds,solve_seconds,output_seconds";
+}
+
+std::string format_stats_row(const StepStats& stats) {
+    const std::pair<const char*, double> reals[] = {
+        {"time", stats.time},
+        {"max_penetration", stats.max_penetration},
+        {"contact_energy", stats.contact_energy},
+        {"kinetic_energy", stats.kinetic_energy},
+        {"dissipated_energy", stats.dissipated_energy},
+        {"detection_seconds", stats.detection_seconds},
+        {"response_seconds", stats.response_seconds},
+        {"solve_seconds", stats.solve_seconds},
+        {"output_seconds", stats.output_seconds},
+    };
+    for (const auto& [column, value] : reals)
+        if (!std::isfinite(value))
+            throw NonFiniteValueError(std::string("stats: ") + column + " is " + format_number(value) + " at step " +
+                                      std::to_string(stats.step) + " (the simulation diverged)");
+    std::string row = std::to_string(stats.step);
+    row += ',';
+    append_number(row, stats.time);
+    row += ',' + std::to_string(stats.contacts) + ',' + std::to_string(stats.active_contacts);
+    for (std::size_t i = 1; i < std::size(reals); ++i) {
+        row += ',';
+        append_number(row, reals[i].second);
+    }
+    return row;
+}
+
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& file) : file_(file) {
+    if (file_.has_parent_path()) detail::create_directory(file_.parent_path());
+    stream_.open(file_, std::ios::binary | std::ios::trunc);
+    if (!stream_) throw std::runtime_error("cannot open " + detail::quoted(file_) + " for writing");
+    stream_ << stats_csv_header() << '\n';
+    stream_.flush();
+    if (!stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));
+}
+
+void StatsCsvWriter::write(const StepStats& stats) {
+    const std::string row = format_stats_row(stats);
+    stream_ << row << '\n';
+    stream_.flush();
+    if (!stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));
+}
+
+ContactSummary summarize_contacts(std::span<const ContactRecord> contacts) {
+    ContactSummary summary;
+    for (std::size_t p = 0; p < contacts.size(); ++p) {
+        const ContactRecord& record = contacts[p];
+        if (record.field == nullptr || record.state1 == nullptr || record.state2 == nullptr)
+            throw_invalid_argument("summarize_contacts: contact record ", p, " ('", record.name,
+                                   "') has a null field or state");
+        summary.contacts += record.field->size();
+        summary.active_contacts += record.field->active_count();
+        summary.contact_energy += record.field->potential_energy();
+        summary.dissipated_energy += record.field->dissipated_energy();
+        for (const ContactSegment& segment :
+             record.field->export_contacts(record.state1->position, record.state2->position))
+            summary.max_penetration = std::max(summary.max_penetration, segment.pen);
+    }
+    return summary;
+}
+
+double kinetic_energy(std::span<const StateRecord> states) {
+    double energy = 0.0;
+    for (const StateRecord& record : states)
+        if (record.mass != nullptr) energy += record.mass->kinetic_energy();
+    return energy;
+}
+
+}  // namespace penalty::output
