@@ -2,7 +2,10 @@
 
 #include "penalty/collision/models.hpp"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
+#include <chrono>
 #include <string>
 
 namespace penalty {
@@ -74,20 +77,34 @@ std::pair<const void*, bool> model_state(const CollisionModel& m) {
 constexpr int kNodeIdBase = 1 << 24;
 }  // namespace
 
+/// Runs `f` on at most `threads` TBB threads (0: TBB's default arena).
+template <class F>
+void run_with_threads(int threads, const F& f) {
+    if (threads <= 0) {
+        f();
+        return;
+    }
+    tbb::task_arena arena(threads);
+    arena.execute(f);
+}
+
 ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParams& intersection,
-                                 CollisionResponse response, Node* node)
+                                 CollisionResponse response, Node* node, const ContactPipelineOptions& options)
     : simulation_(&simulation), intersection_(intersection), response_(std::move(response)),
-      node_(node ? node : &simulation.root()) {
+      node_(node ? node : &simulation.root()), options_(options) {
     intersection_.validate();
-    if (simulation.collision_hook)
+    if (options_.threads < 0) throw_invalid_argument("ContactPipeline: options.threads must be >= 0, got ", options_.threads);
+    if (options_.bvh.leaf_size == 0) throw_invalid_argument("ContactPipeline: options.bvh.leaf_size must be >= 1");
+    if (options_.attach_hook && simulation.collision_hook)
         throw_invalid_argument("ContactPipeline: the simulation already has a collision_hook");
     response_.on_create = [this](BarycentricPenaltyContact& c) { on_create(c); };
     response_.on_destroy = [this](BarycentricPenaltyContact& c) { on_destroy(c); };
-    simulation.collision_hook = [this](Simulation&) { update(); };
+    if (options_.attach_hook) simulation.collision_hook = [this](Simulation&) { update(); };
 }
 
 ContactPipeline::~ContactPipeline() {
-    simulation_->collision_hook = nullptr;
+    if (options_.attach_hook) simulation_->collision_hook = nullptr;
+    for (EulerImplicitSolver* s : attached_solvers_) s->newton.update_geometry = nullptr;
     response_.clear();  // on_destroy removes every graph entry
     response_.on_create = nullptr;
     response_.on_destroy = nullptr;
@@ -97,7 +114,7 @@ void ContactPipeline::add_model(CollisionModel& model, Node& node) {
     for (const auto& e : models_)
         if (e.model == &model) throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' is already registered");
     const auto [state, rigid] = model_state(model);
-    ModelEntry e{&model, &node, nullptr, nullptr};
+    ModelEntry e{&model, &node, nullptr, nullptr, {}, {}, {}, {}};
     if (rigid) {
         e.rigid = dynamic_cast<Rigid3Object*>(node.state());
         if (!e.rigid || static_cast<const Rigid3State*>(e.rigid) != state)
@@ -118,6 +135,13 @@ void ContactPipeline::add_model(CollisionModel& model, Node& node) {
         model.params().node = kNodeIdBase + static_cast<int>(it - node_ids_.begin());
     }
     models_.push_back(e);
+    trees_.emplace_back();
+}
+
+std::size_t ContactPipeline::model_index(const CollisionModel& m) const {
+    for (std::size_t i = 0; i < models_.size(); ++i)
+        if (models_[i].model == &m) return i;
+    throw_invalid_argument("ContactPipeline: model '", m.name(), "' is not registered");
 }
 
 const ContactPipeline::ModelEntry& ContactPipeline::model_entry(const CollisionModel& m) const {
@@ -126,8 +150,38 @@ const ContactPipeline::ModelEntry& ContactPipeline::model_entry(const CollisionM
     throw_invalid_argument("ContactPipeline: model '", m.name(), "' is not registered");
 }
 
-void ContactPipeline::update() {
+void ContactPipeline::refit_trees() {
+    // As CollisionPipeline::detect: moving models validated and refitted, static ones built once.
+    for (std::size_t i = 0; i < models_.size(); ++i) {
+        CollisionModel& m = *models_[i].model;
+        if (!m.params().active) continue;
+        Bvh& tree = trees_[i];
+        if (m.params().moving) {
+            m.validate();
+            tree.refit(m, options_.bvh.rebuild_ratio, options_.bvh.leaf_size);
+        } else if (tree.build_count() == 0 || tree.element_boxes().size() != m.size()) {
+            m.validate();
+            tree.build(m, options_.bvh.leaf_size);
+        }
+    }
+}
+
+DetectionOutputList ContactPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2) {
+    if (options_.detection == ContactDetection::exhaustive) return detect_model_pair(intersection_, m1, m2).outputs;
+    // Same element pairs as detect_model_pair's box-tested loop (bvh_narrow_phase's guarantee);
+    // update() first, unconditionally, as detect_model_pair does.
+    m1.update();
+    if (&m2 != &m1) m2.update();
+    const Bvh& t1 = trees_[model_index(m1)];
+    const Bvh& t2 = trees_[model_index(m2)];
+    if (t1.empty() || t2.empty()) return {};
+    if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), box_margin(intersection_, m1, m2))) return {};
+    return bvh_narrow_phase(intersection_, m1, t1, m2, t2, options_.bvh.narrow);
+}
+
+void ContactPipeline::detect_all() {
     detections_.clear();
+    if (options_.detection == ContactDetection::bvh) refit_trees();
     for (std::size_t i = 0; i < models_.size(); ++i) {
         for (std::size_t j = i; j < models_.size(); ++j) {
             CollisionModel& a = *models_[i].model;
@@ -145,14 +199,169 @@ void ContactPipeline::update() {
                 }
                 continue;
             }
-            detections_.push_back(detect_model_pair(intersection_, a, b));
+            if (options_.detection == ContactDetection::exhaustive) {
+                detections_.push_back(detect_model_pair(intersection_, a, b));
+                continue;
+            }
+            // detect_model_pair's key: (a, b) if registered in that order, else (b, a)
+            ModelPairDetection d;
+            const bool keep_order = is_registered_order(a.type(), b.type());
+            d.model1 = keep_order ? &a : &b;
+            d.model2 = keep_order ? &b : &a;
+            d.support = s;
+            d.outputs = detect_pair(*d.model1, *d.model2);
+            detections_.push_back(std::move(d));
         }
     }
+}
+
+void ContactPipeline::update() {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    run_with_threads(options_.detection == ContactDetection::bvh ? options_.threads : 0, [&] { detect_all(); });
+    const auto t1 = Clock::now();
+    // Newton iterates rebuild from the state before this update (see the header).
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        StepStart& st = step_start_[i];
+        if (keep_step_start_) st.field_before = entries_[i].contact->force_field();
+        st.outputs_before = std::move(st.last_outputs);
+        st.last_outputs.clear();
+    }
     response_.set_detections(detections_, intersection_.contact_distance);
+    // The outputs each live pair was fed (set_detections feeds every pair with outputs).
+    for (const ModelPairDetection& d : detections_) {
+        if (d.outputs.empty()) continue;
+        for (std::size_t i = 0; i < entries_.size(); ++i) {
+            if (&entries_[i].contact->model1() == d.model1 && &entries_[i].contact->model2() == d.model2) {
+                step_start_[i].last_outputs = d.outputs;
+                break;
+            }
+        }
+    }
+    if (keep_step_start_) {
+        for (ModelEntry& m : models_) {
+            if (m.vec3) {
+                m.start_x = m.vec3->position;
+                m.start_v = m.vec3->velocity;
+            } else {
+                m.start_rx = m.rigid->position;
+                m.start_rv = m.rigid->velocity;
+            }
+        }
+    }
+    snapshot_valid_ = keep_step_start_;
+    geometry_updates_ = 0;
     // The springs and contact points are rebuilt: size the mapped contact states to them.
     for (auto& e : entries_)
         for (BaseMapping* m : e.mappings)
             if (m) m->init();
+    const auto t2 = Clock::now();
+    timings_.detection_seconds = std::chrono::duration<double>(t1 - t0).count();
+    timings_.response_seconds = std::chrono::duration<double>(t2 - t1).count();
+}
+
+void ContactPipeline::update_geometry(const Node& subtree) { update_geometry_if(&subtree); }
+
+void ContactPipeline::update_geometry() { update_geometry_if(nullptr); }
+
+void ContactPipeline::update_geometry_if(const Node* subtree) {
+    if (!keep_step_start_)
+        throw_invalid_argument("ContactPipeline::update_geometry: call attach_newton(solver) first (the pipeline must ",
+                               "keep the pre-step contact state)");
+    if (!snapshot_valid_)
+        throw_invalid_argument("ContactPipeline::update_geometry: update() has not run since attach_newton (run one ",
+                               "collision step first)");
+    ++geometry_updates_;
+    const auto in_subtree = [subtree](const Node* n) {
+        if (subtree == nullptr) return true;
+        for (; n != nullptr; n = n->parent())
+            if (n == subtree) return true;
+        return false;
+    };
+    std::vector<std::size_t> chosen;
+    for (std::size_t i = 0; i < entries_.size(); ++i)
+        if (in_subtree(entries_[i].host)) chosen.push_back(i);
+    if (chosen.empty()) return;
+    const bool bvh = options_.detection == ContactDetection::bvh;
+    run_with_threads(bvh ? options_.threads : 0, [&] {
+        if (bvh) refit_trees();
+        for (const std::size_t i : chosen) {
+            ContactGraphEntry& e = entries_[i];
+            StepStart& st = step_start_[i];
+            BarycentricPenaltyContact& contact = *e.contact;
+            CollisionModel& m1 = *models_[model_index(contact.model1())].model;
+            CollisionModel& m2 = *models_[model_index(contact.model2())].model;
+            DetectionOutputList outputs = detect_pair(m1, m2);
+            // Back to the state before this step's update(): the id map of the previous step
+            // (rebuilt from the outputs that made it) and its contact list (ages, friction history,
+            // dissipated energy) ...
+            contact.set_detection_outputs(st.outputs_before);
+            contact.force_field() = st.field_before;
+            // ... then this step's contacts at the iterate's geometry, tracked against it.
+            contact.set_detection_outputs(outputs);
+            st.last_outputs = std::move(outputs);
+            evaluate_at_step_start(i);
+            for (BaseMapping* m : e.mappings)
+                if (m) m->init();
+        }
+    });
+}
+
+void ContactPipeline::swap_with_start(ModelEntry& e) {
+    if (e.vec3) {
+        std::swap(e.vec3->position, e.start_x);
+        std::swap(e.vec3->velocity, e.start_v);
+    } else {
+        std::swap(e.rigid->position, e.start_rx);
+        std::swap(e.rigid->velocity, e.start_rv);
+    }
+}
+
+void ContactPipeline::evaluate_at_step_start(std::size_t entry) {
+    // The first add_force of a step fixes the per-step friction anchor (u₀, ξ₀ = rotate(ξ_prev) +
+    // h·P·(v2 − v1)) and counts the dissipated energy. For a rebuilt pair it is run here at the
+    // start-of-step x_n, v_n (the contacts are the iterate's), so that, as without geometry
+    // updates, the in-step tangential stretch is P·(u(x) − u(x_n)) and is consistent with the
+    // sticking stiffness −kt·P the Newton matrix uses. Without friction and damping the first
+    // evaluation has no effect and is skipped.
+    BarycentricPenaltyContact& contact = *entries_[entry].contact;
+    const PenaltyParameters& pp = contact.force_field().parameters();
+    if (pp.friction != FrictionModel::coulomb && !(pp.damping > 0.0)) return;
+    if (contact.force_field().size() == 0) return;
+    ModelEntry& m1 = models_[model_index(contact.model1())];
+    ModelEntry& m2 = models_[model_index(contact.model2())];
+    const bool same_state = m1.node == m2.node;
+    swap_with_start(m1);
+    if (!same_state) swap_with_start(m2);
+    const BaseState* s1 = m1.node->state();
+    const BaseState* s2 = m2.node->state();
+    std::vector<double> f1(s1->scalar_size(), 0.0);
+    std::vector<double> f2(same_state ? 0 : s2->scalar_size(), 0.0);
+    try {
+        contact.add_force(f1, same_state ? std::span<double>(f1) : std::span<double>(f2));
+    } catch (...) {
+        swap_with_start(m1);
+        if (!same_state) swap_with_start(m2);
+        throw;
+    }
+    swap_with_start(m1);
+    if (!same_state) swap_with_start(m2);
+    contact.update_contact_points();
+}
+
+void ContactPipeline::attach_newton(EulerImplicitSolver& solver) {
+    const Node* owner = nullptr;
+    const auto search = [&](const auto& self, const Node& n) -> void {
+        if (n.ode_solver() == &solver) owner = &n;
+        for (const auto& c : n.children()) self(self, *c);
+    };
+    search(search, simulation_->root());
+    if (owner == nullptr)
+        throw_invalid_argument("ContactPipeline::attach_newton: the solver is not owned by a node of the simulation");
+    keep_step_start_ = true;
+    if (std::find(attached_solvers_.begin(), attached_solvers_.end(), &solver) == attached_solvers_.end())
+        attached_solvers_.push_back(&solver);
+    solver.newton.update_geometry = [this, owner] { update_geometry(*owner); };
 }
 
 const ContactGraphEntry* ContactPipeline::find(const CollisionModel& m1, const CollisionModel& m2) const {
@@ -203,6 +412,11 @@ void ContactPipeline::on_create(BarycentricPenaltyContact& contact) {
     e.force_field = ff.get();
     e.host->add_force_field_ptr(std::move(ff));
     entries_.push_back(e);
+    // A new pair's "before" state: no contact, no tracked id (its first set_detection_outputs
+    // follows this hook).
+    StepStart st;
+    st.field_before = contact.force_field();
+    step_start_.push_back(std::move(st));
 }
 
 void ContactPipeline::remove_entry(ContactGraphEntry& e) {
@@ -215,6 +429,7 @@ void ContactPipeline::on_destroy(BarycentricPenaltyContact& contact) {
     const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const ContactGraphEntry& e) { return e.contact == &contact; });
     if (it == entries_.end()) return;
     remove_entry(*it);
+    step_start_.erase(step_start_.begin() + (it - entries_.begin()));
     entries_.erase(it);
 }
 

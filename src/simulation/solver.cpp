@@ -302,6 +302,7 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
     Eigen::VectorXd applied = Eigen::VectorXd::Zero(v0.size());  // h·v currently added to x_n
     double r0 = -1.0;
     last_newton_iterations_ = 0;
+    last_newton_converged_ = false;
     for (int it = 0; it < newton.max_iterations; ++it) {
         // Iterate: x = x_n + h (v_n + dv) (x = x_n at the first iterate), v = v_n + dv.
         const Eigen::VectorXd v = v0 + dv;
@@ -328,7 +329,11 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
         const double rn = rhs.norm();
         if (r0 < 0) r0 = std::max(1.0, rn);
         last_newton_iterations_ = it + 1;
-        if (it > 0 && rn <= newton.tolerance * r0) break;
+        last_newton_residual_ = rn / r0;
+        if (it > 0 && rn <= newton.tolerance * r0) {
+            last_newton_converged_ = true;
+            break;
+        }
         Eigen::VectorXd delta;
         last_cg_ = cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, 1.0, -h, -h * h, true); },
                             rhs, delta);

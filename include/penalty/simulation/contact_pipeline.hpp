@@ -3,11 +3,18 @@
 /// ContactPipeline: puts penalty contacts into a Simulation (spec §2, §2.1). It is SOFA's
 /// CollisionPipeline + CollisionResponse + the scene-graph part of BarycentricPenalityContact:
 ///
-/// At the start of every step (Simulation::collision_hook, i.e. with the positions of the end
-/// of the previous step, as SOFA's DefaultAnimationLoop) it
-///   1. detects every model pair (i ≤ j in registration order; SOFA's broad-phase filter
-///      keep_model_pair; pairs the method does not support are skipped) with the exhaustive
-///      detect_model_pair, which puts each pair in the intersector's registered order;
+/// update() — once per step; by default run by Simulation::collision_hook, i.e. with the
+/// positions of the end of the previous step, as SOFA's DefaultAnimationLoop
+/// (options.attach_hook = false leaves the hook alone: the caller runs update(), e.g. several
+/// pipelines from one hook as SOFA's CompositeCollisionPipeline) — does:
+///   1. detection of every model pair (i ≤ j in registration order; SOFA's broad-phase filter
+///      keep_model_pair; pairs the method does not support are skipped and listed in
+///      skipped_pairs()), each pair in the intersector's registered order, either
+///      - ContactDetection::exhaustive (default): detect_model_pair, all element pairs, or
+///      - ContactDetection::bvh: one Bvh per model (refitted each update for moving models,
+///        built once for static ones), root-box pruning with SOFA's §3.8 margin, then
+///        bvh_narrow_phase (parallel, TBB, `threads`). The outputs are bit-identical to the
+///        exhaustive path, pairs in the same order (tested), so everything downstream is too;
 ///   2. hands the outputs to its CollisionResponse (create / feed / destroy pairs);
 ///   3. keeps the scene graph in step with the live pairs:
 ///      - contact points of side s: an Identity mapper (Point, Sphere<Vec3>) uses the model's own
@@ -25,15 +32,38 @@
 ///        solver;
 ///      - a pair destroyed by the response (no output for one step) has its force field and its
 ///        contact-point nodes removed from the graph; it is rebuilt from scratch if it returns.
+///   last_timings(): detection and response (+ graph update) wall times of the last update().
+///
+/// Newton with contact-geometry updates (beyond SOFA, opt-in): attach_newton(solver) sets
+/// solver.newton.update_geometry so that every Newton iterate of that solver re-detects the
+/// live pairs whose force field lies in the solver's subtree, at the iterate's positions
+/// (update_geometry(subtree)). The graph is not changed mid-solve (the solver's SubtreeSystem
+/// holds pointers): the same ContactInteraction, PenaltyForceField, contact-point nodes and
+/// mappings are kept; the contact list, the mappers and the contact-point states (resized by
+/// ContactPointMapping::init) are rebuilt in place. A live pair without outputs at an iterate
+/// keeps its (now empty) force field until the next update() destroys it; a pair that would
+/// appear mid-solve is not created: the next update() (next step) picks it up.
+/// Contact tracking across iterates: each iterate rebuilds the step's contacts *from the
+/// state before this step's update()* (the pair's id map and contact list of the previous step
+/// are restored first), so old_index always refers to the previous step's list: a contact's
+/// age is (previous age + 1) or 0 whatever the number of iterates, friction history (ξ) is
+/// inherited from the previous step once, and the dissipated-energy counters count the step
+/// once (the last iterate's). The converged iterate's contacts are the step's contacts, and the
+/// next update() tracks against them. With Coulomb friction the per-step anchor (u₀, ξ₀ =
+/// rotate(ξ_prev) + h·P·(v2 − v1)) is taken at the iterate, i.e. with the end-of-step velocity:
+/// ξ_{n+1} = rotate(ξ_n) + h·P·v_{n+1}, the backward-Euler update of the tangential spring.
 ///
 /// Lifetime: the Simulation, the nodes and the models must outlive the pipeline; the pipeline's
-/// destructor removes what it added to the graph and resets Simulation::collision_hook.
+/// destructor removes what it added to the graph, resets Simulation::collision_hook if it set
+/// it, and clears the update_geometry of the solvers it was attached to.
 
+#include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/intersection.hpp"
 #include "penalty/response/collision_response.hpp"
 #include "penalty/simulation/solver.hpp"
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <string>
@@ -114,15 +144,42 @@ struct ContactGraphEntry {
     std::array<BaseMapping*, 2> mappings{};      ///< null for an identity side
 };
 
+/// How ContactPipeline::update() detects a model pair (identical outputs either way).
+enum class ContactDetection : std::uint8_t {
+    exhaustive,  ///< detect_model_pair: every element pair (box-tested), O(n1·n2) per pair
+    bvh,         ///< per-model Bvh + root pruning + bvh_narrow_phase (parallel, TBB)
+};
+
+/// Options of ContactPipeline (the defaults keep the original behaviour).
+struct ContactPipelineOptions {
+    ContactDetection detection = ContactDetection::exhaustive;
+    /// bvh: leaf_size, rebuild_ratio and narrow-phase chunking (depth is not used).
+    CollisionPipelineOptions bvh;
+    /// bvh: maximum TBB threads of the detection (0 = TBB's default). Output does not depend on it.
+    int threads = 0;
+    /// true: the constructor sets Simulation::collision_hook to run update() each step (throws
+    /// if a hook is already set). false: the hook is left alone; the caller runs update() once
+    /// per step (e.g. several pipelines from one hook, SOFA's CompositeCollisionPipeline).
+    bool attach_hook = true;
+};
+
+/// Wall-clock times (s, std::chrono::steady_clock) of the phases of the last update().
+struct ContactPipelineTimings {
+    double detection_seconds = 0.0;  ///< broad + narrow phase (exhaustive or BVH)
+    double response_seconds = 0.0;   ///< CollisionResponse::set_detections + graph update
+};
+
 class ContactPipeline {
 public:
-    /// Attaches to `simulation` (sets its collision_hook; throws std::invalid_argument if a hook
-    /// is already set). `node`: where a contact between two simulated models goes (default: the
-    /// root). `response` supplies the response name and parameters; its on_create / on_destroy
-    /// hooks are taken over by the pipeline.
+    /// Attaches to `simulation` (sets its collision_hook unless options.attach_hook is false;
+    /// throws std::invalid_argument if a hook is already set). `node`: where a contact between
+    /// two simulated models goes (default: the root). `response` supplies the response name and
+    /// parameters; its on_create / on_destroy hooks are taken over by the pipeline. Throws
+    /// std::invalid_argument for options.threads < 0.
     explicit ContactPipeline(Simulation& simulation,
                              const IntersectionParams& intersection = IntersectionParams::new_proximity(),
-                             CollisionResponse response = CollisionResponse(), Node* node = nullptr);
+                             CollisionResponse response = CollisionResponse(), Node* node = nullptr,
+                             const ContactPipelineOptions& options = {});
     ~ContactPipeline();
     ContactPipeline(const ContactPipeline&) = delete;
     ContactPipeline& operator=(const ContactPipeline&) = delete;
@@ -134,8 +191,29 @@ public:
     /// or for a model registered twice.
     void add_model(CollisionModel& model, Node& node);
 
-    /// One collision step (detection, response, graph update); run by the collision hook.
+    /// One collision step (detection, response, graph update); run by the collision hook, or
+    /// by the caller once per step when options().attach_hook is false.
     void update();
+
+    /// Newton iterate (beyond SOFA): re-detects the live pairs whose force field is stored in
+    /// `subtree` (the node or a descendant) at the current positions and rebuilds their
+    /// contacts in place, tracked against the previous step (see the file comment). Needs
+    /// attach_newton() (which records the state before each update()); throws
+    /// std::invalid_argument otherwise. Never adds or removes nodes or force fields.
+    void update_geometry(const Node& subtree);
+    /// Same for every live pair.
+    void update_geometry();
+    /// Sets solver.newton.update_geometry to update_geometry(node of `solver`) (the solver must
+    /// be owned by a node of the simulation, else std::invalid_argument). Does not enable
+    /// Newton: set solver.newton.enabled. From the next update() on, the pipeline keeps the
+    /// pre-step contact state the iterates need (one copy of each live pair's force field and
+    /// outputs per step).
+    void attach_newton(EulerImplicitSolver& solver);
+    /// update_geometry calls since the last update().
+    [[nodiscard]] int geometry_updates_this_step() const { return geometry_updates_; }
+
+    [[nodiscard]] const ContactPipelineOptions& options() const { return options_; }
+    [[nodiscard]] const ContactPipelineTimings& last_timings() const { return timings_; }
 
     [[nodiscard]] const IntersectionParams& intersection() const { return intersection_; }
     [[nodiscard]] CollisionResponse& response() { return response_; }
@@ -157,16 +235,46 @@ private:
         Node* node;
         Vec3Object* vec3;    ///< the node's state when Vec3
         Rigid3Object* rigid; ///< the node's state when Rigid3
+        // Newton (attach_newton): the state's positions and velocities at the last update()
+        std::vector<Vec3> start_x, start_v;
+        std::vector<Rigid3Types::Coord> start_rx;
+        std::vector<Rigid3Types::Deriv> start_rv;
     };
+    /// Swaps the positions/velocities of a model's state with those recorded at update().
+    static void swap_with_start(ModelEntry& e);
+    /// First evaluation of a rebuilt pair at the start-of-step state (friction anchor, damping).
+    void evaluate_at_step_start(std::size_t entry);
     const ModelEntry& model_entry(const CollisionModel& m) const;
     void on_create(BarycentricPenaltyContact& contact);
     void on_destroy(BarycentricPenaltyContact& contact);
     void remove_entry(ContactGraphEntry& e);
+    void detect_all();
+    /// Outputs of one model pair (m1, m2 in registered order) at the current positions, by the
+    /// configured method (BVH: the trees must be up to date, see refit_trees).
+    [[nodiscard]] DetectionOutputList detect_pair(CollisionModel& m1, CollisionModel& m2);
+    void refit_trees();
+    [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
+    void update_geometry_if(const Node* subtree);
+
+    /// Per live pair (same index as entries_): what update_geometry restores before rebuilding.
+    struct StepStart {
+        PenaltyForceField field_before;         ///< the pair's field before this step's update()
+        DetectionOutputList outputs_before;     ///< the outputs that built field_before's contacts
+        DetectionOutputList last_outputs;       ///< the outputs that built the current contacts
+    };
 
     Simulation* simulation_;
     IntersectionParams intersection_;
     CollisionResponse response_;
     Node* node_;
+    ContactPipelineOptions options_;
+    ContactPipelineTimings timings_;
+    std::vector<Bvh> trees_;                    ///< BVH path: one per model (models_ order)
+    std::vector<StepStart> step_start_;
+    bool keep_step_start_ = false;             ///< attach_newton was called
+    bool snapshot_valid_ = false;              ///< step_start_ recorded by an update() since then
+    int geometry_updates_ = 0;
+    std::vector<EulerImplicitSolver*> attached_solvers_;
     std::vector<ModelEntry> models_;
     std::vector<const Node*> node_ids_;
     std::vector<ModelPairDetection> detections_;

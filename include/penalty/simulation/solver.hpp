@@ -124,12 +124,20 @@ public:
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
     [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
+    /// Newton (newton.enabled): residual evaluations of the last solve (iterates 0..n−1; the
+    /// last one either met the tolerance or was followed by the max_iterations-th update).
     [[nodiscard]] int last_newton_iterations() const { return last_newton_iterations_; }
+    /// |R| / max(1, |R₀|) at the last evaluated iterate of the last solve.
+    [[nodiscard]] double last_newton_residual() const { return last_newton_residual_; }
+    /// True if the last solve stopped on the tolerance (false: max_iterations reached).
+    [[nodiscard]] bool last_newton_converged() const { return last_newton_converged_; }
 
 private:
     void solve_newton(SubtreeSystem& system, double dt);
     CgStats last_cg_;
     int last_newton_iterations_ = 0;
+    double last_newton_residual_ = 0.0;
+    bool last_newton_converged_ = false;
 };
 
 /// SOFA's EulerExplicitSolver, symplectic: a = M⁻¹ f (projected), v ← v + h a, x ← x + h v.
