@@ -1,33 +1,193 @@
 // `penalty`: command-line entry point.
-// Until the scene runner lands, the main job is `penalty demo`: the penalty force field on real
-// numbers (two bodies pressed together, then a damped, frictional drop), run by default.
+//   penalty run [SCENE] [options]   run a SOFA scene headless (built-in scene when none is given)
+//   penalty info SCENE              the component tree and what penalty does with each component
+//   penalty demo                    the force field alone on worked numbers
+// Exit codes: 0 success; 1 invalid scene or input file; 2 command-line error; 3 the simulation
+// diverged (NaN/inf); 4 the states differ from the SOFA reference (--reference); 5 other errors
+// (output files, ...).
 #include "demo.hpp"
 
-#include <CLI/CLI.hpp>
+#include "penalty/scene/scene.hpp"  // first: collision_model.hpp before topology.hpp (GCC -Wshadow on ModelType)
+#include "penalty/io/error.hpp"
+#include "penalty/output/format.hpp"
+#include "penalty/output/state_file.hpp"
+#include "penalty/scene/runner.hpp"
 
+#include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <cstdio>
 #include <exception>
 #include <iostream>
+#include <memory>
+#include <optional>
+#include <unistd.h>
+
+namespace {
+
+enum ExitCode : int { kOk = 0, kBadInput = 1, kUsage = 2, kDiverged = 3, kReferenceMismatch = 4, kOther = 5 };
+
+struct RunArguments {
+    std::string scene;
+    std::int64_t steps = -1;
+    double dt = 0.0;
+    int threads = 0;
+    std::vector<std::string> data_dirs;
+    std::string vtk, states, stats, reference;
+    std::int64_t vtk_every = 1, export_every = 1;
+    bool export_mapped = false;
+    bool exhaustive = false;
+    bool quiet = false;
+};
+
+/// One progress line on a terminal (stderr), redrawn at most 10 times per second.
+class ProgressBar {
+public:
+    explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+    void operator()(std::int64_t done, std::int64_t total, const penalty::scene::RunSummary& s) {
+        if (!enabled_) return;
+        const auto now = std::chrono::steady_clock::now();
+        if (done < total && now - last_ < std::chrono::milliseconds(100)) return;
+        last_ = now;
+        const int width = 30;
+        const int filled = total > 0 ? int(double(width) * double(done) / double(total)) : width;
+        std::fprintf(stderr, "\r[%s%s] %3d%%  step %lld/%lld  t = %.4g s  %.0f steps/s ", std::string(std::size_t(filled), '#').c_str(),
+                     std::string(std::size_t(width - filled), '.').c_str(), total > 0 ? int(100 * done / total) : 100,
+                     static_cast<long long>(done), static_cast<long long>(total), s.simulated_time,
+                     s.detection_seconds + s.response_seconds + s.solve_seconds > 0
+                         ? double(done) / (s.detection_seconds + s.response_seconds + s.solve_seconds + s.output_seconds)
+                         : 0.0);
+        if (done == total) std::fprintf(stderr, "\n");
+        std::fflush(stderr);
+    }
+
+private:
+    bool enabled_;
+    std::chrono::steady_clock::time_point last_{};
+};
+
+int run_command(const RunArguments& a) {
+    namespace sc = penalty::scene;
+    sc::BuildOptions build;
+    for (const auto& d : a.data_dirs) build.data_dirs.emplace_back(d);
+    if (a.dt > 0) build.dt = a.dt;
+    build.threads = a.threads;
+    build.exhaustive_detection = a.exhaustive;
+    std::optional<tbb::global_control> threads;
+    if (a.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(a.threads));
+
+    const bool builtin = a.scene.empty();
+    std::unique_ptr<sc::Scene> scene =
+        builtin ? sc::build_scene(penalty::io::parse_scene_string(sc::default_scene_xml(), "<built-in scene>"), build)
+                : sc::load_scene(a.scene, build);
+    std::cout << "penalty run: " << (builtin ? std::string("built-in scene (soft cube and rigid ball on a floor)") : a.scene)
+              << "\n";
+    std::cout << scene->states().size() << " states, " << scene->collision_models().size() << " collision models, "
+              << scene->pipelines().size() << " collision pipeline(s)\n";
+    for (const std::string& w : scene->warnings()) std::cout << "note: " << w << "\n";
+
+    sc::RunOptions run;
+    run.steps = a.steps >= 0 ? a.steps : (builtin ? 400 : 100);
+    if (!a.vtk.empty()) run.vtk_directory = a.vtk;
+    run.vtk_every = a.vtk_every;
+    if (!a.states.empty()) run.states_directory = a.states;
+    run.export_mapped = a.export_mapped;
+    run.export_every = a.export_every;
+    if (!a.stats.empty()) run.stats_file = a.stats;
+    ProgressBar bar(!a.quiet && isatty(STDERR_FILENO) != 0);
+    const sc::RunSummary summary = sc::run_scene(*scene, run, std::ref(bar));
+    std::cout << sc::format_summary(summary);
+    if (!a.states.empty()) std::cout << "states: " << summary.state_files.size() << " files in " << a.states << "\n";
+    if (!a.vtk.empty()) std::cout << "vtk: series in " << a.vtk << " (open the .pvd files in ParaView)\n";
+    if (!a.stats.empty()) std::cout << "stats: " << a.stats << "\n";
+
+    if (!a.reference.empty()) {
+        if (builtin) throw std::invalid_argument("--reference needs a scene file");
+        const auto refs = sc::reference_files(a.reference, a.scene, summary.state_files);
+        const penalty::output::RegressionResult r =
+            penalty::output::compare_with_reference(refs, summary.state_files, summary.values_per_dof);
+        for (const auto& m : r.messages) std::cout << "reference: " << m << "\n";
+        for (std::size_t i = 0; i < r.per_state_error.size(); ++i)
+            std::cout << "reference: " << refs[i].filename().string() << ": error " << r.per_state_error[i] << "\n";
+        std::cout << "reference: mean error " << r.mean_error << " (SOFA's criterion: <= 1e-4): "
+                  << (r.passed() ? "PASS" : "FAIL") << "\n";
+        if (!r.passed()) return kReferenceMismatch;
+    }
+    return kOk;
+}
+
+int info_command(const std::string& scene_path) {
+    const penalty::io::SceneFile file = penalty::io::parse_scene_file(scene_path);
+    std::cout << penalty::scene::describe_scene(file);
+    return kOk;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"penalty: fast, validated penalty-based contact for deformable and rigid bodies"};
-    app.require_subcommand(0, 1);
-    auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field (default)");
-    penalty::apps::DemoOptions options;
-    demo->add_option("--stiffness", options.stiffness, "Contact stiffness ks (N/m)")
-        ->check(CLI::PositiveNumber);
-    demo->add_option("--damping", options.damping, "Normal damping c (N·s/m) of the drop")
+    app.require_subcommand(1);
+
+    RunArguments args;
+    auto* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
+    run->add_option("scene", args.scene, "SOFA .scn file")->check(CLI::ExistingFile);
+    run->add_option("--steps", args.steps, "Number of time steps (default 100; 400 for the built-in scene)")
         ->check(CLI::NonNegativeNumber);
+    run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")->check(CLI::PositiveNumber);
+    run->add_option("--threads", args.threads, "Threads for the narrow phase (default: all cores)")->check(CLI::PositiveNumber);
+    run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
+    run->add_option("--vtk", args.vtk, "Write a ParaView time series (.pvd + .vtu/.vtp) into DIR");
+    run->add_option("--vtk-every", args.vtk_every, "Write one VTK step in M")->check(CLI::PositiveNumber);
+    run->add_option("--export-states", args.states, "Write SOFA regression state files into DIR");
+    run->add_flag("--export-mapped", args.export_mapped, "Also export mapped states");
+    run->add_option("--export-every", args.export_every, "Export one step in M, plus the last")->check(CLI::PositiveNumber);
+    run->add_option("--stats", args.stats, "Write per-step statistics to FILE.csv");
+    run->add_option("--reference", args.reference,
+                    "Compare the exported states with SOFA's reference files in DIR (needs --export-states)");
+    run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
+    run->add_flag("--quiet", args.quiet, "No progress bar");
+
+    std::string info_scene;
+    auto* info = app.add_subcommand("info", "Show a scene's component tree and what penalty does with each component");
+    info->add_option("scene", info_scene, "SOFA .scn file")->required()->check(CLI::ExistingFile);
+
+    auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field alone");
+    penalty::apps::DemoOptions options;
+    demo->add_option("--stiffness", options.stiffness, "Contact stiffness ks (N/m)")->check(CLI::PositiveNumber);
+    demo->add_option("--damping", options.damping, "Normal damping c (N·s/m) of the drop")->check(CLI::NonNegativeNumber);
     demo->add_option("--friction", options.friction, "Friction coefficient mu (static = dynamic) of the drop")
         ->check(CLI::NonNegativeNumber);
+
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return kUsage;
     }
     try {
+        if (*run) {
+            if (!args.reference.empty() && args.states.empty()) {
+                std::cerr << "penalty: error: --reference needs --export-states DIR\n";
+                return kUsage;
+            }
+            return run_command(args);
+        }
+        if (*info) return info_command(info_scene);
         return penalty::apps::run_demo(options, std::cout);
+    } catch (const penalty::io::LoadError& e) {
+        std::cerr << "penalty: error: " << e.what() << "\n";
+        return kBadInput;
+    } catch (const penalty::output::NonFiniteValueError& e) {
+        std::cerr << "penalty: error: " << e.what() << "\n";
+        return kDiverged;
+    } catch (const std::invalid_argument& e) {
+        std::cerr << "penalty: error: " << e.what() << "\n";
+        return kBadInput;
     } catch (const std::exception& e) {
         std::cerr << "penalty: error: " << e.what() << "\n";
-        return 1;
+        return kOther;
     }
 }

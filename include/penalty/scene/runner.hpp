@@ -1,0 +1,71 @@
+#pragma once
+/// @file
+/// Runs a built scene for a number of steps with the outputs of `penalty run` (SOFA regression
+/// states, VTK series, per-step CSV), a progress line and a summary.
+///
+/// Order within step k (k = 0 … steps−1), as SOFA's DefaultAnimationLoop with WriteState:
+///   1. outputs of the state at time t_k = k·dt (state files when k is kept, VTK pieces);
+///   2. the step (collision with the positions at t_k, then the solvers);
+///   3. divergence check of every state (a NaN/inf position stops the run with an error naming
+///      the state, the DOF and the step), statistics row.
+/// After the last step, the VTK series gets the final state at t = steps·dt.
+
+#include "penalty/scene/scene.hpp"
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace penalty::scene {
+
+struct RunOptions {
+    std::int64_t steps = 100;
+    std::optional<std::filesystem::path> vtk_directory;     ///< `--vtk DIR`
+    std::int64_t vtk_every = 1;                              ///< `--vtk-every M`
+    std::optional<std::filesystem::path> states_directory;  ///< `--export-states DIR`
+    bool export_mapped = false;                              ///< `--export-mapped`
+    std::int64_t export_every = 1;                           ///< `--export-every M`: steps k with k % M == 0, and the last
+    std::optional<std::filesystem::path> stats_file;        ///< `--stats FILE.csv`
+};
+
+/// Totals of a run.
+struct RunSummary {
+    std::int64_t steps = 0;
+    double dt = 0.0;                 ///< s
+    double simulated_time = 0.0;     ///< s
+    double wall_seconds = 0.0;       ///< whole loop, outputs included
+    double detection_seconds = 0.0;  ///< Σ over steps
+    double response_seconds = 0.0;
+    double solve_seconds = 0.0;
+    double output_seconds = 0.0;
+    double mean_contacts = 0.0;      ///< contacts per step (after the step's collision)
+    std::size_t max_contacts = 0;
+    double max_penetration = 0.0;    ///< m, over the run
+    double kinetic_energy = 0.0;     ///< J, at the end
+    double contact_energy = 0.0;     ///< J, stored in the contact springs at the end
+    double dissipated_energy = 0.0;  ///< J, by contact damping/friction (cumulative, live pairs)
+    std::vector<std::filesystem::path> state_files;  ///< the files written by --export-states
+    std::vector<int> values_per_dof;                 ///< per state file (3 Vec3, 7 Rigid3)
+};
+
+/// Called after each step with (steps done, steps total, summary so far) — the progress bar.
+using ProgressCallback = std::function<void(std::int64_t, std::int64_t, const RunSummary&)>;
+
+/// Runs `options.steps` steps. Throws std::runtime_error on divergence or I/O failure and
+/// std::invalid_argument for invalid options (steps < 0, every < 1).
+RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress = {});
+
+/// The summary as printed at the end of `penalty run` (several lines).
+[[nodiscard]] std::string format_summary(const RunSummary& summary);
+
+/// SOFA's reference file names for the exported states of a scene: for state file
+/// `<k>_<name>_mstate.txt` of scene `S.scn`, `<reference_dir>/S.scn.reference_<k>_<name>_mstate.txt`.
+[[nodiscard]] std::vector<std::filesystem::path> reference_files(const std::filesystem::path& reference_dir,
+                                                                 const std::filesystem::path& scene_file,
+                                                                 const std::vector<std::filesystem::path>& state_files);
+
+}  // namespace penalty::scene

@@ -1,0 +1,126 @@
+#pragma once
+/// @file
+/// A runnable scene built from a parsed SOFA `.scn` file (io::SceneFile): the Simulation graph,
+/// the collision models, one ContactPipeline per SOFA collision pipeline, and the list of states
+/// the writers see. See docs/scene-format.md ("Building the simulation") and
+/// docs/sofa-compatibility.md for the components and attributes, and what each becomes.
+///
+/// Build order (SOFA's, where it changes numbers): nodes depth first, file order; in a node, the
+/// topology, then the MechanicalObject (positions from `position`, `src`, the node's topology, in
+/// that priority; then `translation`/`rotation`/`scale3d`), mass, force fields, constraints,
+/// mapping, solver, collision models. Collision models are registered with their pipelines in
+/// depth-first order, which is the model order SOFA's broad phase uses.
+
+#include "penalty/collision/collision_model.hpp"
+#include "penalty/io/scene_file.hpp"
+#include "penalty/output/state_record.hpp"
+#include "penalty/output/vtk_writer.hpp"
+#include "penalty/simulation/contact_pipeline.hpp"
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace penalty::scene {
+
+/// Options of build_scene (the command line's `penalty run` flags).
+struct BuildOptions {
+    std::vector<std::filesystem::path> data_dirs;  ///< `--data-dir`, searched after the scene's folder
+    std::optional<double> dt;                      ///< overrides the root node's dt (s)
+    int threads = 0;                               ///< narrow-phase threads (0: TBB's default)
+    /// Detection algorithm: BVH narrow phase (default) or SOFA's exhaustive pair loop; both give
+    /// the same outputs in the same order.
+    bool exhaustive_detection = false;
+};
+
+/// One collision model of the scene and where it comes from.
+struct SceneCollisionModel {
+    std::unique_ptr<CollisionModel> model;
+    Node* node = nullptr;                            ///< node holding the model's state
+    const io::SceneComponent* component = nullptr;   ///< its `<...CollisionModel>` element
+};
+
+/// One SOFA collision pipeline (CollisionPipeline, or a SubCollisionPipeline of a
+/// CompositeCollisionPipeline) as built.
+struct ScenePipeline {
+    std::string name;                              ///< component name or type
+    std::string intersection;                      ///< "NewProximity", "MinProximity", "Discrete"
+    std::unique_ptr<ContactPipeline> pipeline;
+};
+
+/// Wall-clock time of the phases of the last step (s).
+struct StepTimings {
+    double detection_seconds = 0.0;  ///< broad + narrow phase
+    double response_seconds = 0.0;   ///< contact creation/update and scene-graph update
+    double solve_seconds = 0.0;      ///< explicit forces, ODE solvers, propagation
+};
+
+class Scene;
+std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options);
+
+class Scene {
+public:
+    Scene();
+    ~Scene();
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    /// The parsed scene file this scene was built from.
+    [[nodiscard]] const io::SceneFile& file() const { return file_; }
+    [[nodiscard]] Simulation& simulation() { return *simulation_; }
+    [[nodiscard]] const Simulation& simulation() const { return *simulation_; }
+    /// Time step of the root node (s).
+    [[nodiscard]] double dt() const;
+    /// Runs one step (collision at the start, then the solvers) and records its timings.
+    void step();
+    [[nodiscard]] const StepTimings& last_timings() const { return timings_; }
+
+    /// Every MechanicalObject of the scene file, depth first (parent before children, file
+    /// order), with its topology, mapped flag and solver-subtree flag. Contact-point states the
+    /// pipelines add are not in this list.
+    [[nodiscard]] const std::vector<output::StateRecord>& states() const { return states_; }
+    /// The live contact pairs of every pipeline (force field and its two point states).
+    [[nodiscard]] std::vector<output::ContactRecord> contacts() const;
+    [[nodiscard]] const std::vector<SceneCollisionModel>& collision_models() const { return models_; }
+    [[nodiscard]] const std::vector<ScenePipeline>& pipelines() const { return pipelines_; }
+    /// Σ ½ vᵀ M v over the states that have a mass (J).
+    [[nodiscard]] double kinetic_energy() const;
+    /// Notes for the user: ignored visual components (one line), attributes penalty does not
+    /// read, pairs the intersection method does not detect, response warnings.
+    [[nodiscard]] std::vector<std::string> warnings() const;
+
+private:
+    friend class SceneBuilder;
+    friend std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options);
+    io::SceneFile file_;
+    std::unique_ptr<Simulation> simulation_;
+    std::vector<std::unique_ptr<MeshTopology>> topologies_;
+    std::vector<output::StateRecord> states_;
+    std::vector<SceneCollisionModel> models_;
+    std::vector<ScenePipeline> pipelines_;
+    std::vector<std::string> build_warnings_;
+    std::vector<BaseMass*> masses_;
+    StepTimings timings_;
+};
+
+/// Builds a scene. Every error is an io::SceneError naming the file, the line, the component
+/// and, when one attribute is at fault, the attribute (errors thrown by the library's
+/// constructors, std::invalid_argument, are wrapped the same way).
+/// The scene keeps `file` (its components are referenced by the built objects).
+[[nodiscard]] std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options = {});
+
+/// Parses and builds a scene file.
+[[nodiscard]] std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const BuildOptions& options = {});
+
+/// The built-in scene of `penalty run` without a scene file (SOFA XML; see
+/// src/scene/default_scene.cpp for what it shows).
+[[nodiscard]] std::string_view default_scene_xml();
+
+/// `penalty info`: the component tree, one line per node and component, each component marked
+/// with what penalty does with it (built, loader, ignored), then the check's summary line.
+[[nodiscard]] std::string describe_scene(const io::SceneFile& file);
+
+}  // namespace penalty::scene

@@ -1,0 +1,155 @@
+#include "penalty/scene/runner.hpp"
+
+#include "penalty/output/format.hpp"
+#include "penalty/output/state_file.hpp"
+#include "penalty/output/stats_csv.hpp"
+#include "penalty/output/vtk_writer.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+namespace penalty::scene {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// Throws when a state holds a NaN or an infinite position (the run diverged).
+void check_finite_states(const Scene& scene, std::int64_t step, double time) {
+    for (const output::StateRecord& r : scene.states()) {
+        std::optional<std::size_t> bad;
+        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
+            for (std::size_t i = 0; i < v->position.size() && !bad; ++i)
+                if (!v->position[i].allFinite()) bad = i;
+        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
+            for (std::size_t i = 0; i < g->position.size() && !bad; ++i)
+                if (!g->position[i].center.allFinite() || !g->position[i].orientation.coeffs().allFinite()) bad = i;
+        }
+        if (bad) {
+            throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
+                                              output::format_number(time) + " s): state '" + output::state_label(r) +
+                                              "' DOF " + std::to_string(*bad) + " is not finite");
+        }
+    }
+}
+
+}  // namespace
+
+RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress) {
+    if (options.steps < 0) throw std::invalid_argument("steps must be >= 0");
+    if (options.export_every < 1) throw std::invalid_argument("--export-every must be >= 1");
+    if (options.vtk_every < 1) throw std::invalid_argument("--vtk-every must be >= 1");
+
+    RunSummary summary;
+    summary.dt = scene.dt();
+    std::optional<output::StateExporter> exporter;
+    if (options.states_directory) {
+        exporter.emplace(*options.states_directory, output::select_exported_states(scene.states(), options.export_mapped));
+        summary.state_files = exporter->files();
+        summary.values_per_dof = exporter->values_per_dof();
+    }
+    std::optional<output::VtkSeriesWriter> vtk;
+    if (options.vtk_directory) {
+        std::vector<const output::StateRecord*> all;
+        for (const auto& r : scene.states()) all.push_back(&r);
+        vtk.emplace(*options.vtk_directory, std::move(all));
+    }
+    std::optional<output::StatsCsvWriter> stats;
+    if (options.stats_file) stats.emplace(*options.stats_file);
+
+    Simulation& sim = scene.simulation();
+    const auto run_start = Clock::now();
+    double contact_sum = 0.0;
+    for (std::int64_t k = 0; k < options.steps; ++k) {
+        const double t = sim.time();
+        const auto out_start = Clock::now();
+        if (exporter && (k % options.export_every == 0 || k == options.steps - 1)) exporter->write(t);
+        if (vtk && k % options.vtk_every == 0) vtk->write_step(t, scene.contacts());
+        double output_seconds = seconds_since(out_start);
+
+        scene.step();
+        check_finite_states(scene, k, sim.time());
+
+        const StepTimings& timing = scene.last_timings();
+        summary.detection_seconds += timing.detection_seconds;
+        summary.response_seconds += timing.response_seconds;
+        summary.solve_seconds += timing.solve_seconds;
+        const std::vector<output::ContactRecord> contacts = scene.contacts();
+        const output::ContactSummary cs = output::summarize_contacts(contacts);
+        contact_sum += double(cs.contacts);
+        summary.max_contacts = std::max(summary.max_contacts, cs.contacts);
+        summary.max_penetration = std::max(summary.max_penetration, cs.max_penetration);
+        summary.contact_energy = cs.contact_energy;
+        summary.dissipated_energy = cs.dissipated_energy;
+        if (stats) {
+            const auto stats_start = Clock::now();
+            output::StepStats row;
+            row.step = k;
+            row.time = sim.time();
+            row.contacts = cs.contacts;
+            row.active_contacts = cs.active_contacts;
+            row.max_penetration = cs.max_penetration;
+            row.contact_energy = cs.contact_energy;
+            row.kinetic_energy = scene.kinetic_energy();
+            row.dissipated_energy = cs.dissipated_energy;
+            row.detection_seconds = timing.detection_seconds;
+            row.response_seconds = timing.response_seconds;
+            row.solve_seconds = timing.solve_seconds;
+            row.output_seconds = output_seconds;
+            stats->write(row);
+            output_seconds += seconds_since(stats_start);
+        }
+        summary.output_seconds += output_seconds;
+        summary.steps = k + 1;
+        summary.simulated_time = sim.time();
+        if (progress) progress(k + 1, options.steps, summary);
+    }
+    if (vtk && options.steps > 0) {
+        const auto out_start = Clock::now();
+        vtk->write_step(sim.time(), scene.contacts());
+        summary.output_seconds += seconds_since(out_start);
+    }
+    summary.wall_seconds = seconds_since(run_start);
+    summary.mean_contacts = options.steps > 0 ? contact_sum / double(options.steps) : 0.0;
+    summary.kinetic_energy = scene.kinetic_energy();
+    return summary;
+}
+
+std::string format_summary(const RunSummary& s) {
+    char buf[512];
+    std::ostringstream out;
+    const double per_step = s.steps > 0 ? 1e3 / double(s.steps) : 0.0;
+    std::snprintf(buf, sizeof buf, "steps: %lld  (dt %g s, simulated %g s) in %.3f s wall: %.1f steps/s\n",
+                  static_cast<long long>(s.steps), s.dt, s.simulated_time, s.wall_seconds,
+                  s.wall_seconds > 0 ? double(s.steps) / s.wall_seconds : 0.0);
+    out << buf;
+    std::snprintf(buf, sizeof buf, "contacts per step: mean %.1f, max %zu; maximum penetration %.6g m\n",
+                  s.mean_contacts, s.max_contacts, s.max_penetration);
+    out << buf;
+    std::snprintf(buf, sizeof buf,
+                  "energies at the end: kinetic %.6g J, stored in contacts %.6g J, dissipated by contacts %.6g J\n",
+                  s.kinetic_energy, s.contact_energy, s.dissipated_energy);
+    out << buf;
+    std::snprintf(buf, sizeof buf,
+                  "time per step: detection %.3f ms, response %.3f ms, solve %.3f ms, output %.3f ms\n",
+                  s.detection_seconds * per_step, s.response_seconds * per_step, s.solve_seconds * per_step,
+                  s.output_seconds * per_step);
+    out << buf;
+    return out.str();
+}
+
+std::vector<std::filesystem::path> reference_files(const std::filesystem::path& reference_dir,
+                                                   const std::filesystem::path& scene_file,
+                                                   const std::vector<std::filesystem::path>& state_files) {
+    std::vector<std::filesystem::path> out;
+    for (const auto& f : state_files)
+        out.push_back(reference_dir / (scene_file.filename().string() + ".reference_" + f.filename().string()));
+    return out;
+}
+
+}  // namespace penalty::scene

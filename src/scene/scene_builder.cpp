@@ -1,0 +1,863 @@
+// Builds a Simulation from a parsed SOFA scene (see include/penalty/scene/scene.hpp).
+#include "penalty/scene/scene.hpp"
+
+#include "penalty/collision/models.hpp"
+#include "penalty/io/components.hpp"
+#include "penalty/io/data_path.hpp"
+#include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
+#include "penalty/mechanics/spring_force_field.hpp"
+#include "scene/attributes.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace penalty::scene {
+
+using io::SceneComponent;
+using io::SceneNode;
+
+namespace {
+
+/// What the builder knows about one scene node while it builds it and its children.
+struct NodeInfo {
+    Node* node = nullptr;
+    const SceneComponent* state_component = nullptr;
+    const MeshTopology* topology = nullptr;      ///< MeshTopology, or the grid's element lists
+    std::vector<Vec3> topology_positions;        ///< points given to the topology (may be empty)
+    std::optional<RegularGridTopology> grid;
+    const SceneComponent* topology_component = nullptr;
+    bool mapped = false;
+    bool in_solver_subtree = false;
+    int node_id = 0;                             ///< depth-first index (collision same-node rule)
+};
+
+bool is_collision_model_type(std::string_view t) {
+    return t == "PointCollisionModel" || t == "LineCollisionModel" || t == "TriangleCollisionModel" ||
+           t == "SphereCollisionModel" || t == "CylinderCollisionModel" || t == "TetrahedronCollisionModel";
+}
+bool is_intersection_type(std::string_view t) {
+    return t == "MinProximityIntersection" || t == "NewProximityIntersection" || t == "DiscreteIntersection";
+}
+
+bool is_rigid_template(const SceneComponent& c, std::string_view name) {
+    if (name.empty() || name == "Vec3d" || name == "Vec3" || name == "Vec3f") return false;
+    if (name == "Rigid3d" || name == "Rigid3" || name == "Rigid" || name == "Rigid3f") return true;
+    io::throw_element_error(c, "template '" + std::string(name) + "' is not supported (Vec3d or Rigid3d)");
+}
+
+double nonnegative(const SceneComponent& c, std::string_view attr, double fallback) {
+    const double v = io::get_double_or(c, attr, fallback);
+    if (v < 0) io::throw_attribute_error(c, attr, "must be >= 0, found " + std::to_string(v));
+    return v;
+}
+double positive(const SceneComponent& c, std::string_view attr, double fallback) {
+    const double v = io::get_double_or(c, attr, fallback);
+    if (!(v > 0)) io::throw_attribute_error(c, attr, "must be > 0, found " + std::to_string(v));
+    return v;
+}
+
+}  // namespace
+
+class SceneBuilder {
+public:
+    SceneBuilder(const io::SceneFile& file, const BuildOptions& options, Scene& scene)
+        : file_(file), options_(options), scene_(scene), scene_dir_(file.directory()) {}
+
+    void build() {
+        if (!file_.root) throw io::SceneError(file_.path.string() + ": empty scene");
+        check_ = io::validate(file_);
+        for (const SceneComponent* c : check_.ignored) ignored_.insert(c);
+        if (!check_.ignored.empty()) scene_.build_warnings_.push_back(check_.summary);
+
+        Simulation& sim = *scene_.simulation_;
+        build_node(*file_.root, sim.root(), false);
+        if (options_.dt) {
+            if (!(*options_.dt > 0) || !std::isfinite(*options_.dt))
+                throw io::SceneError("--dt must be a positive number of seconds");
+            sim.root().set_dt(*options_.dt);
+        }
+        for (auto& m : scene_.models_) {
+            m.model->validate();
+        }
+        build_pipelines();
+        for (const auto& w : attribute_warnings_) scene_.build_warnings_.push_back(w);
+        try {
+            sim.init();
+        } catch (const std::invalid_argument& e) {
+            throw io::SceneError(file_.path.string() + ": " + e.what());
+        }
+    }
+
+private:
+    // ---- helpers ------------------------------------------------------------------------------
+    template <class F>
+    auto guarded(const io::SceneElement& c, F&& f) -> decltype(f()) {
+        try {
+            return f();
+        } catch (const io::LoadError&) {
+            throw;
+        } catch (const std::invalid_argument& e) {
+            io::throw_element_error(c, e.what());
+        }
+    }
+
+    void note_unread_attributes(const io::SceneElement& c) {
+        for (const std::string& a : unread_attributes(c))
+            attribute_warnings_.push_back(c.file + ":" + std::to_string(c.find(a)->line) + ": " + c.describe() +
+                                          ": attribute '" + a + "' is not read by penalty (ignored)");
+    }
+
+    const io::MeshData& mesh_of(const SceneComponent& loader) {
+        auto it = meshes_.find(&loader);
+        if (it == meshes_.end()) {
+            it = meshes_.emplace(&loader, io::load_scene_mesh(loader, scene_dir_, options_.data_dirs)).first;
+        }
+        return it->second;
+    }
+
+    /// Positions named by a data link (`@loader.position`, `@[-1].position`, `@../dofs.position`).
+    std::vector<Vec3> linked_positions(const SceneComponent& c, std::string_view attr) {
+        const io::LinkTarget t = io::resolve_link(c, attr);
+        if (t.component == nullptr)
+            io::throw_attribute_error(c, attr, "link must name a loader, a topology or a MechanicalObject");
+        const SceneComponent& src = *t.component;
+        if (!t.data.empty() && t.data != "position" && t.data != "rest_position")
+            io::throw_attribute_error(c, attr, "cannot read positions from data '" + t.data + "'");
+        if (io::component_category(src.type) == io::ComponentCategory::loader) return mesh_of(src).positions;
+        if (src.type == "MechanicalObject") {
+            auto it = vec3_states_.find(&src);
+            if (it == vec3_states_.end())
+                io::throw_attribute_error(c, attr, "links to " + src.describe() + ", which is not a built Vec3d state");
+            return it->second->position;
+        }
+        if (src.type == "MeshTopology") {
+            auto it = topology_positions_.find(&src);
+            if (it != topology_positions_.end()) return it->second;
+        }
+        io::throw_attribute_error(c, attr, "cannot read positions from " + src.describe());
+    }
+
+    // ---- nodes --------------------------------------------------------------------------------
+    void build_node(const SceneNode& sn, Node& node, bool parent_in_solver) {
+        NodeInfo& info = infos_[&sn];
+        info.node = &node;
+        info.node_id = node_count_++;
+        node_of_[&sn] = &node;
+        guarded(sn, [&] {
+            if (auto dt = io::get_double(sn, "dt")) {
+                if (!(*dt > 0)) io::throw_attribute_error(sn, "dt", "must be > 0");
+                node.set_dt(*dt);
+            }
+            if (auto g = io::get_vec3(sn, "gravity")) node.set_gravity(*g);
+        });
+        note_unread_attributes(sn);
+
+        std::vector<const SceneComponent*> physics;
+        for (const auto& c : sn.components)
+            if (!ignored_.count(c.get())) physics.push_back(c.get());
+        auto of_type = [&](auto pred) {
+            std::vector<const SceneComponent*> out;
+            for (const SceneComponent* c : physics)
+                if (pred(c->type)) out.push_back(c);
+            return out;
+        };
+
+        for (const SceneComponent* c : of_type([](std::string_view t) { return t == "Gravity"; })) {
+            guarded(*c, [&] { node.set_gravity(io::get_vec3_or(*c, "gravity", Vec3(0, -9.81, 0))); });
+            note_unread_attributes(*c);
+        }
+        const auto solvers = of_type([](std::string_view t) { return t == "EulerImplicitSolver" || t == "EulerExplicitSolver"; });
+        info.in_solver_subtree = parent_in_solver || !solvers.empty();
+
+        const auto topologies = of_type([](std::string_view t) { return t == "MeshTopology" || t == "RegularGridTopology"; });
+        if (topologies.size() > 1) io::throw_element_error(*topologies[1], "a node may hold only one topology");
+        if (!topologies.empty()) build_topology(*topologies.front(), info);
+
+        const auto states = of_type([](std::string_view t) { return t == "MechanicalObject"; });
+        if (states.size() > 1) io::throw_element_error(*states[1], "a node may hold only one MechanicalObject");
+        const auto mappings = of_type([](std::string_view t) { return io::is_mapping_type(t); });
+        if (mappings.size() > 1) io::throw_element_error(*mappings[1], "a node may hold only one mapping");
+        info.mapped = !mappings.empty();
+        if (!states.empty()) build_state(*states.front(), info);
+        if (!mappings.empty()) build_mapping(*mappings.front(), sn, info);
+
+        for (const SceneComponent* c : physics) {
+            const std::string& t = c->type;
+            if (t == "UniformMass") build_mass(*c, info);
+            else if (t == "MeshSpringForceField" || t == "RegularGridSpringForceField") build_springs(*c, info);
+            else if (t == "TetrahedronFEMForceField" || t == "HexahedronFEMForceField") build_fem(*c, info);
+            else if (t == "FixedProjectiveConstraint" || t == "FixedConstraint") build_fixed(*c, info);
+        }
+        if (solvers.size() > 1) io::throw_element_error(*solvers[1], "a node may hold only one ODE solver");
+        if (!solvers.empty()) build_solver(*solvers.front(), physics, node);
+        for (const SceneComponent* c : physics)
+            if (is_collision_model_type(c->type)) build_collision_model(*c, info);
+        for (const SceneComponent* c : physics) {
+            if (c->type == "CollisionPipeline" || c->type == "CompositeCollisionPipeline") pipeline_components_.push_back(c);
+            if (c->type == "DefaultAnimationLoop" || c->type == "BruteForceBroadPhase" || c->type == "BVHNarrowPhase" ||
+                c->type == "CGLinearSolver" || c->type == "CollisionResponse" || is_intersection_type(c->type) ||
+                c->type == "SubCollisionPipeline" || c->type == "CollisionPipeline" || c->type == "CompositeCollisionPipeline")
+                note_unread_attributes(*c);
+        }
+
+        if (info.state_component) {
+            output::StateRecord r;
+            r.name = std::string(node.state()->state_name());
+            r.node_path = sn.path();
+            r.state = node.state();
+            r.topology = info.topology;
+            r.mapped = info.mapped;
+            r.in_solver_subtree = info.in_solver_subtree;
+            r.mass = node.mass();
+            scene_.states_.push_back(std::move(r));
+        }
+        for (const auto& child : sn.children) build_node(*child, node.add_child(child->name), info.in_solver_subtree);
+    }
+
+    // ---- topology -----------------------------------------------------------------------------
+    void build_topology(const SceneComponent& c, NodeInfo& info) {
+        info.topology_component = &c;
+        guarded(c, [&] {
+            if (c.type == "RegularGridTopology") {
+                std::array<int, 3> n{2, 2, 2};
+                if (c.has("n")) {
+                    const std::vector<double> v = io::get_doubles(c, "n");
+                    if (v.size() != 3) io::throw_attribute_error(c, "n", "expected 3 integers");
+                    n = {int(v[0]), int(v[1]), int(v[2])};
+                }
+                n[0] = int(io::get_int_or(c, "nx", n[0]));
+                n[1] = int(io::get_int_or(c, "ny", n[1]));
+                n[2] = int(io::get_int_or(c, "nz", n[2]));
+                for (int k = 0; k < 3; ++k)
+                    if (n[k] < 1 || n[k] > 100000)
+                        io::throw_attribute_error(c, std::string("n") + char('x' + k), "must be between 1 and 100000");
+                Vec3 lo = io::get_vec3_or(c, "min", Vec3::Zero()), hi = io::get_vec3_or(c, "max", Vec3::Ones());
+                lo = Vec3(io::get_double_or(c, "xmin", lo.x()), io::get_double_or(c, "ymin", lo.y()),
+                          io::get_double_or(c, "zmin", lo.z()));
+                hi = Vec3(io::get_double_or(c, "xmax", hi.x()), io::get_double_or(c, "ymax", hi.y()),
+                          io::get_double_or(c, "zmax", hi.z()));
+                info.grid.emplace(n, lo, hi);
+                info.topology_positions = info.grid->points();
+                auto t = std::make_unique<MeshTopology>(info.grid->mesh(false));
+                info.topology = t.get();
+                scene_.topologies_.push_back(std::move(t));
+            } else {
+                auto t = std::make_unique<MeshTopology>();
+                io::MeshData mesh;
+                if (c.has("src")) {
+                    const io::LinkTarget src = io::resolve_link(c, "src");
+                    if (src.component == nullptr || io::component_category(src.component->type) != io::ComponentCategory::loader)
+                        io::throw_attribute_error(c, "src", "must link to a mesh loader");
+                    mesh = mesh_of(*src.component);
+                } else if (c.has("filename")) {
+                    mesh = mesh_of(c);
+                }
+                if (c.has("position")) mesh.positions = io::get_vec3_list(c, "position");
+                if (c.has("edges")) mesh.edges = io::get_elements<2>(c, "edges");
+                if (c.has("triangles")) mesh.triangles = io::get_elements<3>(c, "triangles");
+                if (c.has("quads")) mesh.quads = io::get_elements<4>(c, "quads");
+                for (const char* a : {"tetrahedra", "tetras"})
+                    if (c.has(a)) mesh.tetrahedra = io::get_elements<4>(c, a);
+                for (const char* a : {"hexahedra", "hexas"})
+                    if (c.has(a)) mesh.hexahedra = io::get_elements<8>(c, a);
+                if (!mesh.positions.empty()) t->set_num_points(mesh.positions.size());
+                t->set_edges(mesh.edges);
+                t->set_triangles(mesh.triangles);
+                t->set_quads(mesh.quads);
+                t->set_tetrahedra(mesh.tetrahedra);
+                t->set_hexahedra(mesh.hexahedra);
+                (void)t->edges();  // checks indices against the point count now
+                info.topology_positions = mesh.positions;
+                topology_positions_[&c] = mesh.positions;
+                info.topology = t.get();
+                scene_.topologies_.push_back(std::move(t));
+            }
+        });
+        note_unread_attributes(c);
+    }
+
+    // ---- states -------------------------------------------------------------------------------
+    static InitialTransform read_transform(const SceneComponent& c) {
+        InitialTransform tr;
+        tr.translation = io::get_vec3_or(c, "translation", Vec3::Zero());
+        tr.rotation_deg = io::get_vec3_or(c, "rotation", Vec3::Zero());
+        tr.scale3d = io::get_vec3_or(c, "scale3d", Vec3::Ones());
+        // SOFA's short forms: dx dy dz (translation), rx ry rz (degrees), scale (uniform).
+        for (int k = 0; k < 3; ++k) {
+            const std::string axis(1, char('x' + k));
+            tr.translation[k] = io::get_double_or(c, "d" + axis, tr.translation[k]);
+            tr.rotation_deg[k] = io::get_double_or(c, "r" + axis, tr.rotation_deg[k]);
+        }
+        if (auto s = io::get_double(c, "scale")) tr.scale3d *= *s;
+        return tr;
+    }
+
+    void build_state(const SceneComponent& c, NodeInfo& info) {
+        info.state_component = &c;
+        const bool rigid = is_rigid_template(c, c.template_name);
+        const std::string name = c.name.empty() ? std::string("dofs") : c.name;
+        Node& node = *info.node;
+        guarded(c, [&] {
+            const InitialTransform tr = read_transform(c);
+            if (rigid) {
+                auto& s = node.add_state<Rigid3Types>(name);
+                if (c.has("position")) s.position = io::get_rigid_list(c, "position");
+                if (c.has("rest_position")) s.rest_position = io::get_rigid_list(c, "rest_position");
+                if (c.has("velocity")) {
+                    const std::vector<double> v = io::get_doubles(c, "velocity");
+                    if (v.size() % 6 != 0) io::throw_attribute_error(c, "velocity", "expected a multiple of 6 numbers");
+                    for (std::size_t i = 0; i < v.size(); i += 6)
+                        s.velocity.push_back(RigidDeriv{Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])});
+                }
+                if (s.position.empty() && s.rest_position.empty() && !info.mapped)
+                    s.position.assign(std::size_t(io::get_int_or(c, "size", 1)), RigidFrame{});
+                s.transform = tr;
+                if (!info.mapped) s.init();
+                rigid_states_[&c] = &s;
+            } else {
+                auto& s = node.add_state<Vec3Types>(name);
+                if (c.has("position")) {
+                    s.position = io::is_link(c.find("position")->value) ? linked_positions(c, "position")
+                                                                         : io::get_vec3_list(c, "position");
+                } else if (c.has("src")) {
+                    const io::LinkTarget src = io::resolve_link(c, "src");
+                    if (src.component == nullptr || io::component_category(src.component->type) != io::ComponentCategory::loader)
+                        io::throw_attribute_error(c, "src", "must link to a mesh loader");
+                    s.position = mesh_of(*src.component).positions;
+                } else if (!info.topology_positions.empty()) {
+                    s.position = info.topology_positions;  // SOFA: a state without positions takes its topology's
+                } else if (c.has("size")) {
+                    const auto n = io::get_int_or(c, "size", 1);
+                    if (n < 0) io::throw_attribute_error(c, "size", "must be >= 0");
+                    s.position.assign(std::size_t(n), Vec3::Zero());
+                } else if (!info.mapped) {
+                    s.position.assign(1, Vec3::Zero());  // SOFA's default size 1
+                }
+                if (c.has("rest_position")) s.rest_position = io::get_vec3_list(c, "rest_position");
+                if (c.has("velocity")) s.velocity = io::get_vec3_list(c, "velocity");
+                s.transform = tr;
+                s.init();
+                vec3_states_[&c] = &s;
+            }
+        });
+        note_unread_attributes(c);
+    }
+
+    Vec3Object& vec3_state(const SceneComponent& c, const NodeInfo& info) {
+        auto* s = dynamic_cast<Vec3Object*>(info.node->state());
+        if (s == nullptr) {
+            io::throw_element_error(c, info.node->state() ? "needs a Vec3d MechanicalObject in its node (found Rigid3d)"
+                                                          : "needs a MechanicalObject in its node");
+        }
+        return *s;
+    }
+    const MeshTopology& topology_of(const SceneComponent& c, const NodeInfo& info) {
+        if (c.has("topology")) {
+            const io::LinkTarget t = io::resolve_link(c, "topology");
+            if (t.component != nullptr) {
+                for (const auto& [sn, i] : infos_)
+                    if (i.topology_component == t.component) return *i.topology;
+            }
+            io::throw_attribute_error(c, "topology", "must link to a MeshTopology or RegularGridTopology already built");
+        }
+        if (info.topology == nullptr) io::throw_element_error(c, "needs a topology (MeshTopology or RegularGridTopology) in its node");
+        return *info.topology;
+    }
+
+    // ---- mappings -----------------------------------------------------------------------------
+    /// The state a mapping's `input` / `output` link names (default: parent's / own node's).
+    BaseState* mapping_end(const SceneComponent& c, std::string_view attr, const SceneNode* fallback) {
+        const SceneNode* target_node = fallback;
+        if (c.has(attr)) {
+            const io::LinkTarget t = io::resolve_link(c, attr);
+            if (t.node != nullptr) {
+                target_node = t.node;
+            } else if (t.component != nullptr && t.component->type == "MechanicalObject") {
+                target_node = t.component->node;
+                if (infos_[target_node].state_component != t.component)
+                    io::throw_attribute_error(c, attr, "links to a MechanicalObject that was not built");
+            } else {
+                io::throw_attribute_error(c, attr, "must link to a node or a MechanicalObject");
+            }
+        }
+        if (target_node == nullptr || infos_.count(target_node) == 0 || infos_[target_node].node == nullptr ||
+            infos_[target_node].node->state() == nullptr)
+            io::throw_attribute_error(c, attr, "no MechanicalObject to map " + std::string(attr == "input" ? "from" : "to"));
+        return infos_[target_node].node->state();
+    }
+
+    void build_mapping(const SceneComponent& c, const SceneNode& sn, NodeInfo& info) {
+        if (info.state_component == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node (its output)");
+        BaseState* in = mapping_end(c, "input", sn.parent);
+        BaseState* out = mapping_end(c, "output", &sn);
+        if (out != info.node->state())
+            io::throw_attribute_error(c, "output", "must be the MechanicalObject of the mapping's own node");
+        const NodeInfo* in_info = nullptr;
+        for (const auto& [n, i] : infos_)
+            if (i.node && i.node->state() == in) in_info = &i;
+        auto* out3 = dynamic_cast<Vec3Object*>(out);
+        if (out3 == nullptr) io::throw_attribute_error(c, "output", "must be a Vec3d MechanicalObject");
+        auto* in3 = dynamic_cast<Vec3Object*>(in);
+        auto* inr = dynamic_cast<Rigid3Object*>(in);
+        Node& node = *info.node;
+        guarded(c, [&] {
+            if (c.type == "IdentityMapping") {
+                if (in3) node.set_mapping<IdentityMapping>(*in3, *out3);
+                else node.set_mapping<RigidCenterIdentityMapping>(*inr, *out3);
+            } else if (c.type == "RigidMapping") {
+                if (!inr) io::throw_attribute_error(c, "input", "RigidMapping needs a Rigid3d input");
+                auto& m = node.set_mapping<RigidMapping>(*inr, *out3);
+                std::vector<Index> frames;
+                for (const char* a : {"rigidIndexPerPoint", "index"})
+                    if (c.has(a))
+                        for (PointId i : io::get_indices(c, a)) frames.push_back(i);
+                if (frames.size() == 1) frames.assign(out3->position.size(), frames.front());
+                std::vector<Vec3> pts = c.has("points") ? io::get_vec3_list(c, "points") : out3->position;
+                if (io::get_bool_or(c, "globalToLocalCoords", false)) m.set_points_from_world(pts, frames);
+                else m.set_points(pts, frames);
+            } else if (c.type == "SubsetMapping") {
+                if (!in3) io::throw_attribute_error(c, "input", "SubsetMapping needs a Vec3d input");
+                auto& m = node.set_mapping<BarycentricMapping>(*in3, *out3);
+                std::vector<std::vector<BarycentricMapping::Entry>> rows;
+                for (PointId i : io::get_indices(c, "indices")) rows.push_back({{Index(i), 1.0}});
+                m.set_weights(std::move(rows));
+            } else {  // BarycentricMapping
+                if (!in3) io::throw_attribute_error(c, "input", "BarycentricMapping needs a Vec3d input");
+                if (in_info == nullptr || in_info->topology == nullptr)
+                    io::throw_attribute_error(c, "input", "the input's node has no topology to map onto");
+                auto& m = node.set_mapping<BarycentricMapping>(*in3, *out3);
+                map_barycentric(c, m, *in_info, *in3, out3->position);
+            }
+        });
+        note_unread_attributes(c);
+    }
+
+    /// Weights of `points` in the input's volume elements, computed at the input's rest
+    /// positions (i.e. after its MechanicalObject transform): a grid is located with SOFA's
+    /// regular-grid mapper on the grid moved by the state's translation and scale; a rotated grid
+    /// falls back to inverse-trilinear weights in its hexahedra (same weights inside).
+    void map_barycentric(const SceneComponent& c, BarycentricMapping& m, const NodeInfo& in_info, const Vec3Object& in,
+                         std::span<const Vec3> points) {
+        if (in_info.grid) {
+            const InitialTransform& tr = in.transform;
+            if (tr.rotation_deg.isZero(0)) {
+                const RegularGridTopology moved(in_info.grid->n(), in_info.grid->min().cwiseProduct(tr.scale3d) + tr.translation,
+                                                in_info.grid->max().cwiseProduct(tr.scale3d) + tr.translation);
+                map_on_regular_grid(m, moved, points);
+            } else {
+                m.map_on_hexahedra(*in_info.topology, in.rest_position, points);
+            }
+            return;
+        }
+        if (!in_info.topology->tetrahedra().empty()) {
+            m.map_on_tetrahedra(*in_info.topology, in.rest_position, points);
+        } else if (!in_info.topology->hexahedra().empty()) {
+            m.map_on_hexahedra(*in_info.topology, in.rest_position, points);
+        } else {
+            io::throw_element_error(c, "the input topology has no tetrahedra or hexahedra (penalty maps onto volumes only)");
+        }
+    }
+
+    // ---- mass, force fields, constraints, solvers ---------------------------------------------
+    void build_mass(const SceneComponent& c, NodeInfo& info) {
+        BaseState* s = info.node->state();
+        if (s == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node");
+        guarded(c, [&] {
+            auto set = [&](auto& mass) {
+                if (c.has("totalMass")) mass.set_total_mass(positive(c, "totalMass", 1.0));
+                else if (c.has("vertexMass")) mass.set_vertex_mass(positive(c, "vertexMass", 1.0));
+                else io::throw_element_error(c, "needs vertexMass or totalMass (SOFA refuses a UniformMass without them)");
+            };
+            if (auto* v = dynamic_cast<Vec3Object*>(s)) {
+                auto& mass = info.node->set_mass<UniformMass<Vec3Types>>(*v);
+                set(mass);
+            } else {
+                auto& mass = info.node->set_mass<UniformMass<Rigid3Types>>(*dynamic_cast<Rigid3Object*>(s));
+                set(mass);
+                if (c.has("inertiaMatrix")) {
+                    const std::vector<double> j = io::get_doubles(c, "inertiaMatrix");
+                    if (j.size() != 9) io::throw_attribute_error(c, "inertiaMatrix", "expected 9 numbers");
+                    mass.set_inertia(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(j.data()));
+                }
+            }
+        });
+        scene_.masses_.push_back(info.node->mass());
+        note_unread_attributes(c);
+    }
+
+    void build_springs(const SceneComponent& c, NodeInfo& info) {
+        Vec3Object& s = vec3_state(c, info);
+        guarded(c, [&] {
+            MeshSpringParameters p = MeshSpringParameters::uniform(nonnegative(c, "stiffness", 0.0), nonnegative(c, "damping", 0.0));
+            if (c.type == "RegularGridSpringForceField" && !c.has("stiffness")) p = MeshSpringParameters::uniform(100.0, 0.0);
+            auto pick = [&](const char* k, const char* d, double& ks, double& kd) {
+                ks = nonnegative(c, k, ks);
+                kd = nonnegative(c, d, kd);
+            };
+            pick("linesStiffness", "linesDamping", p.lines_stiffness, p.lines_damping);
+            pick("trianglesStiffness", "trianglesDamping", p.triangles_stiffness, p.triangles_damping);
+            pick("quadsStiffness", "quadsDamping", p.quads_stiffness, p.quads_damping);
+            pick("tetrasStiffness", "tetrasDamping", p.tetras_stiffness, p.tetras_damping);
+            pick("cubesStiffness", "cubesDamping", p.cubes_stiffness, p.cubes_damping);
+            std::vector<Spring> springs;
+            if (c.type == "RegularGridSpringForceField") {
+                if (!info.grid) io::throw_element_error(c, "needs a RegularGridTopology in its node");
+                springs = mesh_springs(info.grid->mesh(false), s.rest_position, p);
+            } else {
+                springs = mesh_springs(topology_of(c, info), s.rest_position, p);
+            }
+            auto& ff = info.node->add_force_field<SpringForceField>(s);
+            for (const Spring& sp : springs) ff.add_spring(sp);
+        });
+        note_unread_attributes(c);
+    }
+
+    void build_fem(const SceneComponent& c, NodeInfo& info) {
+        Vec3Object& s = vec3_state(c, info);
+        guarded(c, [&] {
+            const double young = positive(c, "youngModulus", 5000.0);
+            const double poisson = io::get_double_or(c, "poissonRatio", 0.45);
+            if (!(poisson > -1.0 && poisson < 0.5)) io::throw_attribute_error(c, "poissonRatio", "must be in (-1, 0.5)");
+            const std::string method = io::get_string(c, "method").value_or("large");
+            FemMethod m = FemMethod::Large;
+            if (method == "small") m = FemMethod::Small;
+            else if (method != "large")
+                io::throw_attribute_error(c, "method", "'" + method + "' is not supported (small or large)");
+            if (c.type == "TetrahedronFEMForceField") {
+                if (info.grid) info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, young, poisson, m);
+                else info.node->add_force_field<TetrahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
+            } else {
+                info.node->add_force_field<HexahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
+            }
+        });
+        note_unread_attributes(c);
+    }
+
+    void build_fixed(const SceneComponent& c, NodeInfo& info) {
+        BaseState* s = info.node->state();
+        if (s == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node");
+        guarded(c, [&] {
+            auto& f = info.node->add_constraint<FixedProjectiveConstraint>(*s);
+            std::vector<Index> idx;
+            for (PointId i : io::get_indices(c, "indices")) idx.push_back(i);
+            for (Index i : idx)
+                if (std::size_t(i) >= s->num_dofs())
+                    io::throw_attribute_error(c, "indices", "index " + std::to_string(i) + " out of range (" +
+                                                                std::to_string(s->num_dofs()) + " DOFs)");
+            f.set_indices(std::move(idx));
+            f.set_fix_all(io::get_bool_or(c, "fixAll", false));
+        });
+        note_unread_attributes(c);
+    }
+
+    void build_solver(const SceneComponent& c, const std::vector<const SceneComponent*>& physics, Node& node) {
+        guarded(c, [&] {
+            if (c.type == "EulerExplicitSolver") {
+                if (io::get_bool_or(c, "symplectic", true) == false)
+                    io::throw_attribute_error(c, "symplectic", "only the symplectic scheme is supported");
+                node.set_ode_solver<EulerExplicitSolver>();
+                return;
+            }
+            auto& s = node.set_ode_solver<EulerImplicitSolver>();
+            s.rayleigh_stiffness = io::get_double_or(c, "rayleighStiffness", 0.0);
+            s.rayleigh_mass = io::get_double_or(c, "rayleighMass", 0.0);
+            s.vdamping = nonnegative(c, "vdamping", 0.0);
+            s.first_order = io::get_bool_or(c, "firstOrder", false);
+            s.trapezoidal_scheme = io::get_bool_or(c, "trapezoidalScheme", false);
+            s.newton.enabled = io::get_bool_or(c, "newton", false);  // beyond SOFA
+            s.newton.max_iterations = int(io::get_int_or(c, "newtonIterations", s.newton.max_iterations));
+            s.newton.tolerance = nonnegative(c, "newtonTolerance", s.newton.tolerance);
+            for (const SceneComponent* l : physics) {
+                if (l->type != "CGLinearSolver") continue;
+                const auto it = io::get_int_or(*l, "iterations", 25);
+                if (it < 1) io::throw_attribute_error(*l, "iterations", "must be >= 1");
+                s.cg.iterations = int(it);
+                s.cg.tolerance = nonnegative(*l, "tolerance", 1e-5);
+                s.cg.threshold = nonnegative(*l, "threshold", 1e-5);
+                break;
+            }
+        });
+        note_unread_attributes(c);
+    }
+
+    // ---- collision models ---------------------------------------------------------------------
+    CollisionModelParams model_params(const SceneComponent& c, const NodeInfo& info) {
+        CollisionModelParams p;
+        p.name = c.name.empty() ? c.type : c.name;
+        p.active = io::get_bool_or(c, "active", true);
+        p.moving = io::get_bool_or(c, "moving", true);
+        p.simulated = io::get_bool_or(c, "simulated", true);
+        p.self_collision = io::get_bool_or(c, "selfCollision", false);
+        p.contact_distance = nonnegative(c, "proximity", 0.0);
+        p.contact_distance = nonnegative(c, "contactDistance", p.contact_distance);
+        p.contact_stiffness = nonnegative(c, "contactStiffness", 10.0);
+        p.contact_friction = nonnegative(c, "contactFriction", 0.0);
+        p.contact_restitution = nonnegative(c, "contactRestitution", 0.0);
+        p.contact_response = io::get_string(c, "contactResponse").value_or("");
+        for (PointId g : io::get_indices(c, "group")) p.group.push_back(g);
+        p.node = info.node_id;
+        p.both_side = io::get_bool_or(c, "bothSide", false);
+        return p;
+    }
+
+    std::vector<double> radii(const SceneComponent& c, std::string_view attr) {
+        if (!c.has(attr)) return {};
+        if (!io::is_link(c.find(attr)->value)) return io::get_doubles(c, attr);
+        const io::LinkTarget t = io::resolve_link(c, attr);
+        if (t.component == nullptr || io::component_category(t.component->type) != io::ComponentCategory::loader)
+            io::throw_attribute_error(c, attr, "must link to a SphereLoader's listRadius");
+        return mesh_of(*t.component).radii;
+    }
+
+    void build_collision_model(const SceneComponent& c, NodeInfo& info) {
+        BaseState* state = info.node->state();
+        if (state == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node");
+        std::unique_ptr<CollisionModel> model;
+        guarded(c, [&] {
+            CollisionModelParams p = model_params(c, info);
+            auto* v = dynamic_cast<Vec3Object*>(state);
+            auto* r = dynamic_cast<Rigid3Object*>(state);
+            const std::string& t = c.type;
+            if (t == "SphereCollisionModel") {
+                const double radius = positive(c, "radius", 1.0);
+                std::vector<double> list = radii(c, "listRadius");
+                for (double x : list)
+                    if (!(x > 0)) io::throw_attribute_error(c, "listRadius", "radii must be > 0");
+                const bool want_rigid = is_rigid_template(c, c.template_name) || (c.template_name.empty() && r != nullptr);
+                if (want_rigid) {
+                    if (!r) io::throw_element_error(c, "template Rigid3d needs a Rigid3d MechanicalObject");
+                    model = std::make_unique<RigidSphereModel>(*r, radius, std::move(list), p);
+                } else {
+                    if (!v) io::throw_element_error(c, "needs a Vec3d MechanicalObject (or template=\"Rigid3d\")");
+                    model = std::make_unique<SphereModel>(*v, radius, std::move(list), p);
+                }
+            } else if (t == "CylinderCollisionModel") {
+                if (!r) io::throw_element_error(c, "needs a Rigid3d MechanicalObject");
+                auto m = std::make_unique<CylinderModel>(*r, positive(c, "defaultRadius", 0.5), positive(c, "defaultHeight", 2.0),
+                                                         io::get_vec3_or(c, "defaultLocalAxis", Vec3::UnitY()), p);
+                m->radii = io::get_doubles(c, "radii");
+                m->heights = io::get_doubles(c, "heights");
+                m->local_axes = io::get_vec3_list(c, "localAxes");  // beyond SOFA (no scene name there)
+                model = std::move(m);
+            } else {
+                if (!v) io::throw_element_error(c, "needs a Vec3d MechanicalObject");
+                if (t == "PointCollisionModel") {
+                    model = std::make_unique<PointModel>(*v, info.topology, p);
+                } else if (t == "LineCollisionModel") {
+                    model = std::make_unique<LineModel>(*v, topology_of(c, info), p);
+                } else if (t == "TriangleCollisionModel") {
+                    model = std::make_unique<TriangleModel>(*v, topology_of(c, info), p);
+                } else {
+                    model = std::make_unique<TetrahedronModel>(*v, topology_of(c, info), p);
+                }
+            }
+        });
+        note_unread_attributes(c);
+        scene_.models_.push_back(SceneCollisionModel{std::move(model), info.node, &c});
+    }
+
+    // ---- collision pipelines ------------------------------------------------------------------
+    static bool is_below(const SceneNode* n, const SceneNode* ancestor) {
+        for (; n != nullptr; n = n->parent)
+            if (n == ancestor) return true;
+        return false;
+    }
+    /// First component of a type family in the subtree of `n` (its own components first).
+    const SceneComponent* first_below(const SceneNode& n, bool (*pred)(std::string_view)) const {
+        for (const auto& c : n.components)
+            if (pred(c->type) && !ignored_.count(c.get())) return c.get();
+        for (const auto& child : n.children)
+            if (const SceneComponent* c = first_below(*child, pred)) return c;
+        return nullptr;
+    }
+
+    IntersectionParams intersection_params(const SceneComponent& c) {
+        return guarded(c, [&] {
+            IntersectionParams p;
+            if (c.type == "DiscreteIntersection") {
+                p = IntersectionParams::discrete();
+            } else {
+                p = c.type == "MinProximityIntersection" ? IntersectionParams::min_proximity()
+                                                         : IntersectionParams::new_proximity();
+                p.alarm_distance = nonnegative(c, "alarmDistance", 1.0);
+                p.contact_distance = nonnegative(c, "contactDistance", 0.5);
+                if (p.contact_distance > p.alarm_distance)
+                    io::throw_attribute_error(c, "contactDistance", "must not exceed alarmDistance");
+                p.use_line_line = io::get_bool_or(c, "useLineLine", p.use_line_line);
+                if (c.type == "MinProximityIntersection") {
+                    p.use_sphere_triangle = io::get_bool_or(c, "useSphereTriangle", p.use_sphere_triangle);
+                    p.use_point_point = io::get_bool_or(c, "usePointPoint", p.use_point_point);
+                    p.use_line_point = io::get_bool_or(c, "useLinePoint", p.use_line_point);
+                    p.use_surface_normals = io::get_bool_or(c, "useSurfaceNormals", p.use_surface_normals);
+                }
+            }
+            p.enable_beyond_sofa_pairs = io::get_bool_or(c, "beyondSofaPairs", false);  // beyond SOFA
+            p.validate();
+            return p;
+        });
+    }
+
+    CollisionResponse response_of(const SceneComponent& c) {
+        return guarded(c, [&] {
+            const std::string response = io::get_string(c, "response").value_or(std::string(kPenaltyResponseName));
+            return CollisionResponse(response, io::get_string(c, "responseParams").value_or(""));
+        });
+    }
+
+    void add_pipeline(const std::string& name, const SceneComponent* intersection, const SceneComponent* response,
+                      const std::vector<const SceneCollisionModel*>& models, Node& host) {
+        Simulation& sim = *scene_.simulation_;
+        ScenePipeline sp;
+        sp.name = name;
+        const IntersectionParams params = intersection_params(*intersection);
+        sp.intersection = intersection->type.substr(0, intersection->type.size() - std::string_view("Intersection").size());
+        sim.collision_hook = nullptr;  // each pipeline takes the hook; the scene runs them all
+        sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(*response), &host);
+        for (const SceneCollisionModel* m : models) sp.pipeline->add_model(*m->model, *m->node);
+        scene_.pipelines_.push_back(std::move(sp));
+    }
+
+    void build_pipelines() {
+        for (const SceneComponent* p : pipeline_components_) {
+            Node& host = *node_of_.at(p->node);
+            if (p->type == "CollisionPipeline") {
+                const SceneComponent* inter = first_below(*p->node, is_intersection_type);
+                const SceneComponent* resp = first_below(*p->node, [](std::string_view t) { return t == "CollisionResponse"; });
+                const SceneComponent* broad = first_below(*p->node, [](std::string_view t) { return t == "BruteForceBroadPhase"; });
+                const SceneComponent* narrow = first_below(*p->node, [](std::string_view t) { return t == "BVHNarrowPhase"; });
+                if (!inter || !resp || !broad || !narrow) {
+                    scene_.build_warnings_.push_back(
+                        p->file + ":" + std::to_string(p->line) + ": " + p->describe() +
+                        ": no contact will be detected: SOFA needs an intersection method, a CollisionResponse, "
+                        "a BruteForceBroadPhase and a BVHNarrowPhase below the pipeline's node");
+                    continue;
+                }
+                std::vector<const SceneCollisionModel*> models;
+                for (const auto& m : scene_.models_)
+                    if (is_below(m.component->node, p->node)) models.push_back(&m);
+                add_pipeline(p->name.empty() ? p->type : p->name, inter, resp, models, host);
+            } else {  // CompositeCollisionPipeline
+                for (const io::LinkTarget& t : io::resolve_links(*p, "subCollisionPipelines")) {
+                    if (t.component == nullptr || t.component->type != "SubCollisionPipeline")
+                        io::throw_attribute_error(*p, "subCollisionPipelines", "must link to SubCollisionPipeline components");
+                    const SceneComponent& sub = *t.component;
+                    auto linked = [&](const char* attr, bool (*pred)(std::string_view)) {
+                        const io::LinkTarget l = io::resolve_link(sub, attr);
+                        if (l.component == nullptr || !pred(l.component->type))
+                            io::throw_attribute_error(sub, attr, "links to the wrong kind of component");
+                        return l.component;
+                    };
+                    const SceneComponent* inter = linked("intersectionMethod", is_intersection_type);
+                    const SceneComponent* resp = linked("contactManager", [](std::string_view x) { return x == "CollisionResponse"; });
+                    linked("broadPhaseDetection", [](std::string_view x) { return x == "BruteForceBroadPhase"; });
+                    linked("narrowPhaseDetection", [](std::string_view x) { return x == "BVHNarrowPhase"; });
+                    std::vector<const SceneCollisionModel*> models;
+                    for (const io::LinkTarget& m : io::resolve_links(sub, "collisionModels")) {
+                        const auto it = std::find_if(scene_.models_.begin(), scene_.models_.end(),
+                                                     [&](const SceneCollisionModel& x) { return x.component == m.component; });
+                        if (it == scene_.models_.end())
+                            io::throw_attribute_error(sub, "collisionModels", "links to something that is not a collision model");
+                        models.push_back(&*it);
+                    }
+                    add_pipeline(sub.name.empty() ? sub.type : sub.name, inter, resp, models, *node_of_.at(sub.node));
+                }
+            }
+        }
+        Simulation& sim = *scene_.simulation_;
+        sim.collision_hook = nullptr;
+        if (!scene_.pipelines_.empty()) {
+            Scene* scene = &scene_;
+            sim.collision_hook = [scene](Simulation&) {
+                for (ScenePipeline& p : scene->pipelines_) {
+                    const auto t0 = std::chrono::steady_clock::now();
+                    p.pipeline->update();
+                    scene->timings_.detection_seconds +=
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                }
+            };
+        }
+    }
+
+    const io::SceneFile& file_;
+    const BuildOptions& options_;
+    Scene& scene_;
+    std::filesystem::path scene_dir_;
+    io::SceneCheck check_;
+    std::set<const SceneComponent*> ignored_;
+    std::map<const SceneNode*, NodeInfo> infos_;
+    std::unordered_map<const SceneNode*, Node*> node_of_;
+    std::map<const SceneComponent*, io::MeshData> meshes_;
+    std::unordered_map<const SceneComponent*, std::vector<Vec3>> topology_positions_;
+    std::unordered_map<const SceneComponent*, Vec3Object*> vec3_states_;
+    std::unordered_map<const SceneComponent*, Rigid3Object*> rigid_states_;
+    std::vector<const SceneComponent*> pipeline_components_;
+    std::vector<std::string> attribute_warnings_;
+    int node_count_ = 0;
+};
+
+// ---- Scene ----------------------------------------------------------------------------------------
+Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
+Scene::~Scene() {
+    pipelines_.clear();  // they remove what they added to the graph
+}
+
+double Scene::dt() const { return const_cast<Simulation&>(*simulation_).root().dt(); }
+
+void Scene::step() {
+    timings_ = StepTimings{};
+    const auto t0 = std::chrono::steady_clock::now();
+    simulation_->step();
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
+}
+
+std::vector<output::ContactRecord> Scene::contacts() const {
+    std::vector<output::ContactRecord> out;
+    for (const ScenePipeline& p : pipelines_) {
+        for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
+            if (e.contact == nullptr || e.force_field == nullptr) continue;
+            output::ContactRecord r;
+            r.name = e.contact->model1().name() + "-" + e.contact->model2().name();
+            r.field = &e.force_field->field();
+            r.state1 = e.point_states[0];
+            r.state2 = e.point_states[1];
+            out.push_back(std::move(r));
+        }
+    }
+    return out;
+}
+
+double Scene::kinetic_energy() const {
+    double e = 0.0;
+    for (const BaseMass* m : masses_) e += m->kinetic_energy();
+    return e;
+}
+
+std::vector<std::string> Scene::warnings() const {
+    std::vector<std::string> out = build_warnings_;
+    for (const ScenePipeline& p : pipelines_) {
+        for (const std::string& s : p.pipeline->skipped_pairs()) out.push_back(p.name + ": " + s);
+        for (const std::string& s : p.pipeline->response().warnings()) out.push_back(p.name + ": " + s);
+    }
+    return out;
+}
+
+std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
+    auto scene = std::make_unique<Scene>();
+    scene->file_ = std::move(file);
+    SceneBuilder(scene->file_, options, *scene).build();
+    return scene;
+}
+
+std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const BuildOptions& options) {
+    return build_scene(io::parse_scene_file(file), options);
+}
+
+}  // namespace penalty::scene
