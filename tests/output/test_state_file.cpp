@@ -156,6 +156,25 @@ TEST(ReadStateFile, ReadsSofaLayoutWithVLinesAndBlankLines) {
     EXPECT_THAT(samples[1].x, ElementsAre(-4.99544, -2.30941, -0.000787169, 0, 0, 0, 1));
 }
 
+TEST(ReadStateFile, ReadsSofaReferenceFiles) {
+    // SOFA's own regression reference (in the shared area, not in the repository).
+    const std::filesystem::path file = std::filesystem::path(PENALTY_SHARED_DIR) / "sofa" / "reference" /
+                                       "CompositeCollisionPipeline_none.scn.reference_0_rigid_mstate.txt";
+    if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " not available";
+    const auto samples = read_state_file(file);
+    ASSERT_EQ(samples.size(), 2u);
+    EXPECT_EQ(samples[0].time, 0.0);
+    EXPECT_THAT(samples[0].x, ElementsAre(-5, 10, 0, 0, 0, 0, 1));
+    EXPECT_EQ(samples[1].time, 1.99);
+    EXPECT_EQ(samples[1].x.size(), 7u);
+    // compared with itself through the criterion: one Rigid3 state, no error
+    const std::vector<std::filesystem::path> files{file};
+    const std::vector<int> widths{7};
+    const auto result = compare_with_reference(files, files, widths);
+    EXPECT_TRUE(result.passed());
+    EXPECT_EQ(result.mean_error, 0.0);
+}
+
 struct MalformedCase {
     const char* text;
     const char* expected;  // message after "<file>:"
