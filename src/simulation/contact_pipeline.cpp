@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
+#include <unordered_map>
 #include <string>
 
 namespace penalty {
@@ -75,6 +77,16 @@ std::pair<const void*, bool> model_state(const CollisionModel& m) {
 
 /// Ids given to nodes for the same-node rule, far from ids users typically choose.
 constexpr int kNodeIdBase = 1 << 24;
+
+/// The id of a node for the same-node rule, shared by every pipeline of the process (a model
+/// registered in two pipelines keeps one id, and two nodes never get the same id).
+int node_id(const Node& node) {
+    static std::mutex mutex;
+    static std::unordered_map<const Node*, int> ids;
+    const std::lock_guard<std::mutex> lock(mutex);
+    const auto [it, inserted] = ids.try_emplace(&node, kNodeIdBase + static_cast<int>(ids.size()));
+    return it->second;
+}
 }  // namespace
 
 /// Runs `f` on at most `threads` TBB threads (0: TBB's default arena).
@@ -127,12 +139,7 @@ void ContactPipeline::add_model(CollisionModel& model, Node& node) {
                                    ") reads a Vec3 state that is not the state of node '", node.name(), "'");
     }
     if (model.params().node == -1) {
-        auto it = std::find(node_ids_.begin(), node_ids_.end(), &node);
-        if (it == node_ids_.end()) {
-            node_ids_.push_back(&node);
-            it = node_ids_.end() - 1;
-        }
-        model.params().node = kNodeIdBase + static_cast<int>(it - node_ids_.begin());
+        model.params().node = node_id(node);
     }
     models_.push_back(e);
     trees_.emplace_back();

@@ -187,7 +187,8 @@ public:
     /// Registers a collision model held by `node`, whose state must be the model's state
     /// (Vec3 for Point/Line/Triangle/Sphere/Tetrahedron, Rigid3 for RigidSphere/Cylinder).
     /// A model whose params().node is −1 gets an id of its node (SOFA's "same context" rule for
-    /// self-collision). Throws std::invalid_argument naming the model and the node otherwise,
+    /// self-collision), unique in the process, so that models shared by several pipelines keep
+    /// consistent ids. Throws std::invalid_argument naming the model and the node otherwise,
     /// or for a model registered twice.
     void add_model(CollisionModel& model, Node& node);
 
@@ -276,7 +277,6 @@ private:
     int geometry_updates_ = 0;
     std::vector<EulerImplicitSolver*> attached_solvers_;
     std::vector<ModelEntry> models_;
-    std::vector<const Node*> node_ids_;
     std::vector<ModelPairDetection> detections_;
     std::vector<std::string> skipped_pairs_;
     std::vector<std::pair<const CollisionModel*, const CollisionModel*>> skipped_keys_;
