@@ -439,10 +439,13 @@ private:
         note_unread_attributes(c);
     }
 
-    /// Weights of `points` in the input's volume elements, computed at the input's rest
-    /// positions (i.e. after its MechanicalObject transform): a grid is located with SOFA's
-    /// regular-grid mapper on the grid moved by the state's translation and scale; a rotated grid
-    /// falls back to inverse-trilinear weights in its hexahedra (same weights inside).
+    /// Weights of `points` in the input's volume elements. A RegularGridTopology is searched as
+    /// an axis-aligned grid (SOFA's regular-grid mapper): moved by the input state's translation
+    /// and scale, so that a surface written with the same translation as its grid state maps onto
+    /// it (RegularGridSpringForceField.scn); a rotation cannot move an axis-aligned grid, so a
+    /// rotated grid state is searched in its written coordinates, and a surface written at the
+    /// origin follows the grid wherever dx/rx put it (Gravity.scn). Mesh topologies use the
+    /// input's rest positions. SOFA's own rule is not documented: docs/differences-from-sofa.md.
     void map_barycentric(const SceneComponent& c, BarycentricMapping& m, const NodeInfo& in_info, const Vec3Object& in,
                          std::span<const Vec3> points) {
         if (in_info.grid) {
@@ -452,7 +455,7 @@ private:
                                                 in_info.grid->max().cwiseProduct(tr.scale3d) + tr.translation);
                 map_on_regular_grid(m, moved, points);
             } else {
-                m.map_on_hexahedra(*in_info.topology, in.rest_position, points);
+                map_on_regular_grid(m, *in_info.grid, points);
             }
             return;
         }
@@ -572,6 +575,7 @@ private:
             s.first_order = io::get_bool_or(c, "firstOrder", false);
             s.trapezoidal_scheme = io::get_bool_or(c, "trapezoidalScheme", false);
             s.newton.enabled = io::get_bool_or(c, "newton", false);  // beyond SOFA
+            if (s.newton.enabled) newton_solvers_.emplace_back(&s, &node);
             s.newton.max_iterations = int(io::get_int_or(c, "newtonIterations", s.newton.max_iterations));
             s.newton.tolerance = nonnegative(c, "newtonTolerance", s.newton.tolerance);
             for (const SceneComponent* l : physics) {
@@ -718,8 +722,11 @@ private:
         sp.name = name;
         const IntersectionParams params = intersection_params(*intersection);
         sp.intersection = intersection->type.substr(0, intersection->type.size() - std::string_view("Intersection").size());
-        sim.collision_hook = nullptr;  // each pipeline takes the hook; the scene runs them all
-        sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(*response), &host);
+        ContactPipelineOptions options;
+        options.detection = options_.exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
+        options.threads = options_.threads;
+        options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
+        sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(*response), &host, options);
         for (const SceneCollisionModel* m : models) sp.pipeline->add_model(*m->model, *m->node);
         scene_.pipelines_.push_back(std::move(sp));
     }
@@ -771,15 +778,23 @@ private:
             }
         }
         Simulation& sim = *scene_.simulation_;
-        sim.collision_hook = nullptr;
+        // Beyond SOFA: a solver with newton="1" re-runs the contact geometry at each iterate.
+        for (auto [solver, solver_node] : newton_solvers_) {
+            for (ScenePipeline& p : scene_.pipelines_) p.pipeline->attach_newton(*solver);
+            std::vector<ContactPipeline*> all;
+            for (ScenePipeline& p : scene_.pipelines_) all.push_back(p.pipeline.get());
+            const Node* subtree = solver_node;
+            solver->newton.update_geometry = [all, subtree] {
+                for (ContactPipeline* p : all) p->update_geometry(*subtree);
+            };
+        }
         if (!scene_.pipelines_.empty()) {
             Scene* scene = &scene_;
             sim.collision_hook = [scene](Simulation&) {
                 for (ScenePipeline& p : scene->pipelines_) {
-                    const auto t0 = std::chrono::steady_clock::now();
                     p.pipeline->update();
-                    scene->timings_.detection_seconds +=
-                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+                    scene->timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
+                    scene->timings_.response_seconds += p.pipeline->last_timings().response_seconds;
                 }
             };
         }
@@ -799,6 +814,7 @@ private:
     std::unordered_map<const SceneComponent*, Rigid3Object*> rigid_states_;
     std::vector<const SceneComponent*> pipeline_components_;
     std::vector<std::string> attribute_warnings_;
+    std::vector<std::pair<EulerImplicitSolver*, Node*>> newton_solvers_;
     int node_count_ = 0;
 };
 
