@@ -53,7 +53,7 @@ std::string describe_scene(const io::SceneFile& file) {
     const std::set<const io::SceneComponent*> ignored(check.ignored.begin(), check.ignored.end());
     if (file.root) describe_node(*file.root, 0, loaders, ignored, out);
     out << check.physics.size() << " simulated components, " << check.loaders.size() << " loaders";
-    if (!check.summary.empty()) out << "; " << check.summary;
+    if (!check.ignored.empty()) out << "; " << check.summary;
     out << "\n";
     return out.str();
 }

@@ -25,16 +25,47 @@ void check_finite_states(const Scene& scene, std::int64_t step, double time) {
         std::optional<std::size_t> bad;
         if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
             for (std::size_t i = 0; i < v->position.size() && !bad; ++i)
-                if (!v->position[i].allFinite()) bad = i;
+                if (!v->position[i].allFinite() || !v->velocity[i].allFinite()) bad = i;
         } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
             for (std::size_t i = 0; i < g->position.size() && !bad; ++i)
-                if (!g->position[i].center.allFinite() || !g->position[i].orientation.coeffs().allFinite()) bad = i;
+                if (!g->position[i].center.allFinite() || !g->position[i].orientation.coeffs().allFinite() ||
+                    !g->velocity[i].linear.allFinite() || !g->velocity[i].angular.allFinite())
+                    bad = i;
         }
         if (bad) {
             throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
                                               output::format_number(time) + " s): state '" + output::state_label(r) +
-                                              "' DOF " + std::to_string(*bad) + " is not finite");
+                                              "' DOF " + std::to_string(*bad) +
+                                              " is not finite (position or velocity); try a smaller --dt");
         }
+    }
+}
+
+/// After a solver refused non-finite forces with finite states: names the state whose position
+/// is largest when it is beyond any physical scale (|x| > 1e100 m), i.e. the run blew up.
+void check_exploded_states(const Scene& scene, std::int64_t step, double time, const std::string& what) {
+    double largest = 0.0;
+    const output::StateRecord* where = nullptr;
+    std::size_t dof = 0;
+    for (const output::StateRecord& r : scene.states()) {
+        auto visit = [&](const Vec3& p, std::size_t i) {
+            if (p.cwiseAbs().maxCoeff() > largest) {
+                largest = p.cwiseAbs().maxCoeff();
+                where = &r;
+                dof = i;
+            }
+        };
+        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
+            for (std::size_t i = 0; i < v->position.size(); ++i) visit(v->position[i], i);
+        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
+            for (std::size_t i = 0; i < g->position.size(); ++i) visit(g->position[i].center, i);
+        }
+    }
+    if (where != nullptr && largest > 1e100) {
+        throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
+                                          output::format_number(time) + " s): state '" + output::state_label(*where) +
+                                          "' DOF " + std::to_string(dof) + " is at |x| = " + output::format_number(largest) +
+                                          " m and the forces are not finite (" + what + "); try a smaller --dt");
     }
 }
 
@@ -72,7 +103,16 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         if (vtk && k % options.vtk_every == 0) vtk->write_step(t, scene.contacts());
         double output_seconds = seconds_since(out_start);
 
-        scene.step();
+        try {
+            scene.step();
+        } catch (const output::NonFiniteValueError&) {
+            throw;
+        } catch (const std::exception& e) {
+            // The solvers refuse non-finite forces: name the state that diverged, if one did.
+            check_finite_states(scene, k, t);
+            check_exploded_states(scene, k, t, e.what());
+            throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
+        }
         check_finite_states(scene, k, sim.time());
 
         const StepTimings& timing = scene.last_timings();

@@ -83,9 +83,7 @@ public:
                 throw io::SceneError("--dt must be a positive number of seconds");
             sim.root().set_dt(*options_.dt);
         }
-        for (auto& m : scene_.models_) {
-            m.model->validate();
-        }
+        for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
         build_pipelines();
         for (const auto& w : attribute_warnings_) scene_.build_warnings_.push_back(w);
         try {
@@ -103,7 +101,7 @@ private:
             return f();
         } catch (const io::LoadError&) {
             throw;
-        } catch (const std::invalid_argument& e) {
+        } catch (const std::exception& e) {  // the library's own checks (invalid_argument, ...)
             io::throw_element_error(c, e.what());
         }
     }

@@ -1,0 +1,379 @@
+// The scene builder: what each SOFA component becomes, error messages on bad scenes, the
+// built-in scene, and SOFA's regression reference for CompositeCollisionPipeline_none.scn.
+#include "penalty/scene/scene.hpp"  // first: collision_model.hpp before topology.hpp (GCC -Wshadow)
+
+#include "penalty/io/error.hpp"
+#include "penalty/output/state_file.hpp"
+#include "penalty/scene/runner.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace {
+
+using namespace penalty;
+using penalty::scene::build_scene;
+using ::testing::HasSubstr;
+
+std::unique_ptr<scene::Scene> build(const std::string& xml, const scene::BuildOptions& options = {}) {
+    return build_scene(io::parse_scene_string(xml, "test.scn"), options);
+}
+
+/// The message of the SceneError the scene raises (fails the test when none is raised).
+std::string error_of(const std::string& xml) {
+    try {
+        (void)build(xml);
+    } catch (const io::SceneError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no SceneError for:\n" << xml;
+    return {};
+}
+
+std::filesystem::path temp_dir(const std::string& name) {
+    const auto d = std::filesystem::temp_directory_path() /
+                   ("penalty_scene_test_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    std::filesystem::remove_all(d);
+    return d;
+}
+
+// A cube of 8 springs-connected points (SOFA's tutorial cube) over a static floor of 2 triangles;
+// dx, dz keep the bottom points off the floor's diagonal edge x = z, where MinProximity rejects
+// Triangle–Point contacts (spec §12.1).
+const std::string kCubeOnFloor = R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <CollisionPipeline/>
+  <BruteForceBroadPhase/>
+  <BVHNarrowPhase/>
+  <MinProximityIntersection alarmDistance="0.2" contactDistance="0.1"/>
+  <CollisionResponse response="PenalityContactForceField"/>
+  <Node name="Cube">
+    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
+    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
+    <MechanicalObject name="cube" position="0 0 0  1 0 0  0 1 0  1 1 0  0 0 1  1 0 1  0 1 1  1 1 1" dx="0.3" dy="0.15" dz="0.1"/>
+    <MeshTopology hexas="0 1 3 2 4 5 7 6"/>
+    <UniformMass totalMass="1"/>
+    <MeshSpringForceField stiffness="100" damping="1"/>
+    <PointCollisionModel name="cube_points"/>
+  </Node>
+  <Node name="Floor">
+    <MeshTopology position="-5 0 -5  5 0 -5  5 0 5  -5 0 5" triangles="0 2 1  0 3 2"/>
+    <MechanicalObject name="floor"/>
+    <TriangleCollisionModel name="floor_triangles" simulated="0" moving="0"/>
+  </Node>
+</Node>)";
+
+TEST(SceneBuilder, CubeOnFloorStatesRecordsAndContactPlacement) {
+    auto s = build(kCubeOnFloor);
+    ASSERT_EQ(s->states().size(), 2u);
+    EXPECT_EQ(s->states()[0].node_path, "/Cube");
+    EXPECT_EQ(s->states()[0].name, "cube");
+    EXPECT_TRUE(s->states()[0].in_solver_subtree);
+    EXPECT_FALSE(s->states()[0].mapped);
+    EXPECT_NE(s->states()[0].mass, nullptr);
+    EXPECT_EQ(s->states()[1].node_path, "/Floor");
+    EXPECT_FALSE(s->states()[1].in_solver_subtree);
+    // dy = 0.15 moved every point up.
+    const auto& cube = dynamic_cast<const Vec3Object&>(*s->states()[0].state);
+    EXPECT_DOUBLE_EQ(cube.position[0].y(), 0.15);
+    EXPECT_DOUBLE_EQ(cube.position[0].x(), 0.3);
+    EXPECT_DOUBLE_EQ(cube.position[7].y(), 1.15);
+    ASSERT_EQ(s->pipelines().size(), 1u);
+    EXPECT_EQ(s->pipelines()[0].intersection, "MinProximity");
+    EXPECT_DOUBLE_EQ(s->pipelines()[0].pipeline->intersection().alarm_distance, 0.2);
+
+    s->step();  // the 4 bottom points are within the alarm distance 0.2 of the floor
+    const auto& entries = s->pipelines()[0].pipeline->graph_entries();
+    ASSERT_EQ(entries.size(), 1u);
+    // Static floor vs simulated cube: the force field is stored in the cube's node (implicit).
+    EXPECT_EQ(entries[0].host->name(), "Cube");
+    const auto contacts = s->contacts();
+    ASSERT_EQ(contacts.size(), 1u);
+    EXPECT_EQ(contacts[0].name, "floor_triangles-cube_points");
+    EXPECT_EQ(contacts[0].field->size(), 4u);
+
+    // The cube settles on the floor: after 2 s it rests with its bottom at the contact distance
+    // minus the static penetration (k = 10·10/0.1 = 1000 N/m per contact, weight 9.81 N over
+    // 4 contacts: mg/4k = 2.45 mm).
+    scene::RunOptions run;
+    run.steps = 200;
+    const auto summary = scene::run_scene(*s, run);
+    EXPECT_EQ(summary.steps, 200);
+    EXPECT_NEAR(summary.simulated_time, 2.01, 1e-9);  // after the first step above
+    for (int i : {0, 1, 4, 5}) EXPECT_NEAR(cube.position[std::size_t(i)].y(), 0.1 - 9.81 / 4000.0, 1e-6);
+    EXPECT_LT(s->kinetic_energy(), 1e-3);
+}
+
+TEST(SceneBuilder, BothSimulatedContactGoesToThePipelineNodeAndIsExplicit) {
+    // Two spheres, one solver each: the contact is stored at the root (no solver) → explicit.
+    const std::string xml = R"(<Node name="root" gravity="0 0 0">
+      <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/>
+      <NewProximityIntersection alarmDistance="0.5" contactDistance="0.1"/>
+      <CollisionResponse response="PenalityContactForceField"/>
+      <Node name="A"><EulerImplicitSolver/><CGLinearSolver/>
+        <MechanicalObject position="0 0 0" velocity="1 0 0"/><UniformMass totalMass="1"/>
+        <SphereCollisionModel name="a" radius="0.5"/></Node>
+      <Node name="B"><EulerImplicitSolver/><CGLinearSolver/>
+        <MechanicalObject position="1.2 0 0"/><UniformMass totalMass="1"/>
+        <SphereCollisionModel name="b" radius="0.5"/></Node>
+    </Node>)";
+    auto s = build(xml);
+    s->step();
+    const auto& entries = s->pipelines()[0].pipeline->graph_entries();
+    ASSERT_EQ(entries.size(), 1u);
+    EXPECT_EQ(entries[0].host, &s->simulation().root());
+    // Momentum is conserved by the explicit exchange: m v_A + m v_B = 1 after any number of steps.
+    for (int i = 0; i < 50; ++i) s->step();
+    const auto& a = dynamic_cast<const Vec3Object&>(*s->states()[0].state);
+    const auto& b = dynamic_cast<const Vec3Object&>(*s->states()[1].state);
+    EXPECT_NEAR(a.velocity[0].x() + b.velocity[0].x(), 1.0, 1e-12);
+    EXPECT_LT(a.velocity[0].x(), 0.5);  // the spheres pushed each other
+}
+
+TEST(SceneBuilder, RegularGridStateAndBarycentricSurface) {
+    const std::string xml = R"(<Node name="root">
+      <Node name="Grid"><EulerImplicitSolver/><CGLinearSolver/>
+        <RegularGridTopology nx="3" ny="2" nz="2" xmin="0" xmax="2" ymin="0" ymax="1" zmin="0" zmax="1"/>
+        <MechanicalObject name="grid" translation="10 0 0"/>
+        <UniformMass vertexMass="0.5"/>
+        <RegularGridSpringForceField stiffness="100"/>
+        <Node name="Surface">
+          <MechanicalObject name="surface" position="10.5 0.5 0.5  11.5 0.25 0.75" />
+          <BarycentricMapping/>
+        </Node>
+      </Node>
+    </Node>)";
+    auto s = build(xml);
+    ASSERT_EQ(s->states().size(), 2u);
+    const auto& grid = dynamic_cast<const Vec3Object&>(*s->states()[0].state);
+    ASSERT_EQ(grid.position.size(), 12u);
+    EXPECT_DOUBLE_EQ(grid.position[0].x(), 10.0);
+    EXPECT_DOUBLE_EQ(grid.position[2].x(), 12.0);
+    EXPECT_TRUE(s->states()[1].mapped);
+    EXPECT_TRUE(s->states()[1].in_solver_subtree);
+    const auto& surface = dynamic_cast<const Vec3Object&>(*s->states()[1].state);
+    // The mapping reproduces the written points (they lie in the translated grid).
+    EXPECT_NEAR((surface.position[0] - Vec3(10.5, 0.5, 0.5)).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((surface.position[1] - Vec3(11.5, 0.25, 0.75)).norm(), 0.0, 1e-12);
+    // Free fall of the grid carries the surface: after one implicit step both moved by g·h².
+    s->step();
+    EXPECT_NEAR(surface.position[0].y(), 0.5 - 9.81 * 0.01 * 0.01, 1e-9);
+}
+
+TEST(SceneBuilder, RigidBodyWithIdentityMappedCollisionSphere) {
+    const std::string xml = R"(<Node name="root" dt="0.01">
+      <Node name="Body"><EulerImplicitSolver/><CGLinearSolver iterations="250" tolerance="1e-9" threshold="1e-9"/>
+        <MechanicalObject name="rigid" template="Rigid3d" position="1 2 3 0 0 0 1"/>
+        <UniformMass totalMass="2"/>
+        <Node name="Collision"><MechanicalObject name="points"/>
+          <SphereCollisionModel radius="0.5"/><IdentityMapping input="@../rigid" output="@points"/></Node>
+      </Node>
+    </Node>)";
+    auto s = build(xml);
+    ASSERT_EQ(s->states().size(), 2u);
+    EXPECT_EQ(s->states()[1].node_path, "/Body/Collision");
+    EXPECT_TRUE(s->states()[1].mapped);
+    const auto& pts = dynamic_cast<const Vec3Object&>(*s->states()[1].state);
+    ASSERT_EQ(pts.position.size(), 1u);
+    EXPECT_EQ(pts.position[0], Vec3(1, 2, 3));
+    // Only the unmapped state of a solver subtree is exported (SOFA's regression selection).
+    const auto exported = output::select_exported_states(s->states(), false);
+    ASSERT_EQ(exported.size(), 1u);
+    EXPECT_EQ(exported[0]->name, "rigid");
+}
+
+TEST(SceneBuilder, CompositePipelineRunsEachSubPipelineWithItsOwnMethod) {
+    const std::string xml = R"(<Node name="root">
+      <Node name="A"><MechanicalObject position="0 0 0"/><SphereCollisionModel name="a" simulated="0"/></Node>
+      <Node name="B"><MechanicalObject position="5 0 0"/><SphereCollisionModel name="b"/></Node>
+      <BruteForceBroadPhase name="bp"/><BVHNarrowPhase name="np"/>
+      <NewProximityIntersection name="i1" alarmDistance="2" contactDistance="1"/>
+      <MinProximityIntersection name="i2" alarmDistance="3" contactDistance="1"/>
+      <CollisionResponse name="r"/>
+      <SubCollisionPipeline name="p1" collisionModels="@A/a" broadPhaseDetection="@bp" narrowPhaseDetection="@np"
+        intersectionMethod="@i1" contactManager="@r"/>
+      <SubCollisionPipeline name="p2" collisionModels="@B/b" broadPhaseDetection="@bp" narrowPhaseDetection="@np"
+        intersectionMethod="@i2" contactManager="@r"/>
+      <CompositeCollisionPipeline subCollisionPipelines="@p1 @p2"/>
+    </Node>)";
+    auto s = build(xml);
+    ASSERT_EQ(s->pipelines().size(), 2u);
+    EXPECT_EQ(s->pipelines()[0].name, "p1");
+    EXPECT_EQ(s->pipelines()[0].intersection, "NewProximity");
+    EXPECT_EQ(s->pipelines()[1].intersection, "MinProximity");
+    EXPECT_DOUBLE_EQ(s->pipelines()[1].pipeline->intersection().alarm_distance, 3.0);
+}
+
+TEST(SceneBuilder, IncompletePipelineAndUnreadAttributesAreReported) {
+    const std::string xml = R"(<Node name="root">
+      <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/>
+      <CollisionResponse/>
+      <VisualStyle displayFlags="showAll"/>
+      <Node name="A"><EulerImplicitSolver fancyOption="3"/><CGLinearSolver/>
+        <MechanicalObject position="0 0 0"/><UniformMass vertexMass="1"/></Node>
+    </Node>)";
+    auto s = build(xml);
+    EXPECT_TRUE(s->pipelines().empty());
+    const auto w = s->warnings();
+    EXPECT_THAT(w, ::testing::Contains(HasSubstr("ignored 1 visual-only component: VisualStyle x1")));
+    EXPECT_THAT(w, ::testing::Contains(HasSubstr("test.scn:2: CollisionPipeline: no contact will be detected")));
+    EXPECT_THAT(w, ::testing::Contains("test.scn:5: EulerImplicitSolver: attribute 'fancyOption' is not read by penalty (ignored)"));
+}
+
+TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <FancyForceField/>
+</Node>)"),
+              "test.scn:2: unknown component 'FancyForceField' (not supported by penalty)");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject position="0 0 0"/>
+  <UniformMass name="m"/>
+</Node>)"),
+              "test.scn:3: UniformMass 'm': needs vertexMass or totalMass (SOFA refuses a UniformMass without them)");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject position="0 0 0"/>
+  <SphereCollisionModel name="s" contactStiffness="-1"/>
+</Node>)"),
+              "test.scn:3: SphereCollisionModel 's': attribute 'contactStiffness': must be >= 0, found -1.000000");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject template="Vec2d" position="0 0"/>
+</Node>)"),
+              "test.scn:2: MechanicalObject: template 'Vec2d' is not supported (Vec3d or Rigid3d)");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject position="0 0 0  1 0 0"/>
+  <TriangleCollisionModel/>
+</Node>)"),
+              "test.scn:3: TriangleCollisionModel: needs a topology (MeshTopology or RegularGridTopology) in its node");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MinProximityIntersection alarmDistance="0.1" contactDistance="0.5"/>
+  <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/><CollisionResponse/>
+</Node>)"),
+              "test.scn:2: MinProximityIntersection: attribute 'contactDistance': must not exceed alarmDistance");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject position="0 0 0"/>
+  <FixedProjectiveConstraint indices="0 3"/>
+</Node>)"),
+              "test.scn:3: FixedProjectiveConstraint: attribute 'indices': index 3 out of range (1 DOFs)");
+    EXPECT_EQ(error_of(R"(<Node name="root" dt="-0.1"/>)"), "test.scn:1: Node 'root': attribute 'dt': must be > 0");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject position="0 0 0"/>
+  <MechanicalObject position="0 0 0"/>
+</Node>)"),
+              "test.scn:3: MechanicalObject: a node may hold only one MechanicalObject");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject position="0 nan 0"/>
+</Node>)"),
+              "test.scn:2: MechanicalObject: attribute 'position': expected a number, found 'nan'");
+    EXPECT_THAT(error_of(R"(<Node name="root">
+  <MeshOBJLoader name="l" filename="no/such/mesh.obj"/>
+  <MeshTopology src="@l"/>
+</Node>)"),
+                HasSubstr("test.scn:2: MeshOBJLoader 'l': attribute 'filename': cannot find data file 'no/such/mesh.obj'"));
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <Node name="A"><MechanicalObject position="0 0 0"/><IdentityMapping input="@../nothing"/></Node>
+</Node>)"),
+              "test.scn:2: IdentityMapping: attribute 'input': broken link '@../nothing': no node or component named "
+              "'nothing' in node '/'");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <MechanicalObject position="0 0 0  1 0 0  0 1 0"/>
+  <MeshTopology triangles="0 1 5"/>
+  <TriangleCollisionModel/>
+</Node>)"),
+              "test.scn:4: TriangleCollisionModel: TriangleModel 'TriangleCollisionModel': element 0: vertex index 5 out "
+              "of range (state has 3 points)");
+}
+
+TEST(SceneBuilder, BuiltInSceneRunsAndMakesContacts) {
+    auto s = build_scene(io::parse_scene_string(scene::default_scene_xml(), "<built-in scene>"));
+    ASSERT_EQ(s->states().size(), 3u);
+    scene::RunOptions run;
+    run.steps = 200;
+    std::size_t max_pairs = 0;
+    const auto summary = scene::run_scene(*s, run, [&](std::int64_t, std::int64_t, const scene::RunSummary&) {
+        max_pairs = std::max(max_pairs, s->contacts().size());
+    });
+    EXPECT_GE(summary.max_contacts, 25u);  // the cube's 25 bottom points on the floor
+    EXPECT_EQ(max_pairs, 2u);              // floor–cube points, then ball–cube points too
+    EXPECT_LT(summary.max_penetration, 0.1);
+    EXPECT_GT(summary.detection_seconds, 0.0);
+    EXPECT_GT(summary.solve_seconds, 0.0);
+}
+
+TEST(SceneBuilder, RunnerWritesStatesEveryMStepsPlusTheLast) {
+    auto s = build(kCubeOnFloor);
+    scene::RunOptions run;
+    run.steps = 8;
+    run.export_every = 3;
+    run.states_directory = temp_dir("every");
+    run.stats_file = *run.states_directory / "stats.csv";
+    const auto summary = scene::run_scene(*s, run);
+    ASSERT_EQ(summary.state_files.size(), 1u);  // the floor is outside every solver subtree
+    EXPECT_EQ(summary.state_files[0].filename(), "0_cube_mstate.txt");
+    const auto samples = output::read_state_file(summary.state_files[0]);
+    ASSERT_EQ(samples.size(), 4u);  // steps 0, 3, 6 and the last, 7: T = 0, 0.03, 0.06, 0.07
+    EXPECT_DOUBLE_EQ(samples[0].time, 0.0);
+    EXPECT_NEAR(samples[1].time, 0.03, 1e-12);
+    EXPECT_NEAR(samples[2].time, 0.06, 1e-12);
+    EXPECT_NEAR(samples[3].time, 0.07, 1e-12);
+    EXPECT_EQ(samples[0].x.size(), 24u);
+    EXPECT_DOUBLE_EQ(samples[0].x[1], 0.15);
+    std::filesystem::remove_all(*run.states_directory);
+}
+
+TEST(SceneBuilder, DivergenceStopsTheRunNamingStateAndStep) {
+    // A spring far too stiff for explicit Euler: the positions blow up to inf/NaN.
+    const std::string xml = R"(<Node name="root" dt="0.1" gravity="0 0 0">
+      <Node name="A"><EulerExplicitSolver/>
+        <MechanicalObject name="p" position="0 0 0  1.5 0 0" rest_position="0 0 0  1 0 0"/><MeshTopology edges="0 1"/>
+        <UniformMass vertexMass="0.001"/><MeshSpringForceField stiffness="1e6"/></Node>
+    </Node>)";
+    auto s = build(xml);
+    scene::RunOptions run;
+    run.steps = 2000;
+    try {
+        (void)scene::run_scene(*s, run);
+        FAIL() << "no divergence reported";
+    } catch (const std::runtime_error& e) {
+        EXPECT_THAT(e.what(), HasSubstr("simulation diverged at step "));
+        EXPECT_THAT(e.what(), HasSubstr("state '/A/p' DOF "));
+        EXPECT_THAT(e.what(), HasSubstr("try a smaller --dt"));
+    }
+}
+
+TEST(SceneBuilder, DescribeShowsTreeAndWhatIsDone) {
+    const std::string text = scene::describe_scene(io::parse_scene_string(kCubeOnFloor, "test.scn"));
+    EXPECT_THAT(text, HasSubstr("Node / (root)  dt=0.01  gravity=0 -9.81 0"));
+    EXPECT_THAT(text, HasSubstr("  Node /Cube\n"));
+    EXPECT_THAT(text, HasSubstr("PointCollisionModel 'cube_points'"));
+    EXPECT_THAT(text, HasSubstr("simulated"));
+    EXPECT_THAT(text, HasSubstr("15 simulated components, 0 loaders\n"));
+}
+
+// SOFA's regression reference (kept outside the repository, in ../shared): two rigid spheres
+// falling on fixed tori, 200 steps, compared by SOFA's criterion.
+TEST(SceneBuilder, CompositeCollisionPipelineNoneReproducesSofaReference) {
+    const std::filesystem::path shared = PENALTY_SHARED_DIR;
+    const auto scene_file = shared / "sofa/scenes/CompositeCollisionPipeline_none.scn";
+    if (!std::filesystem::exists(scene_file)) GTEST_SKIP() << "no " << scene_file;
+    scene::BuildOptions options;
+    options.data_dirs.push_back(shared / "sofa");
+    auto s = scene::load_scene(scene_file, options);
+    scene::RunOptions run;
+    run.steps = 200;
+    run.states_directory = temp_dir("reference");
+    const auto summary = scene::run_scene(*s, run);
+    ASSERT_EQ(summary.state_files.size(), 2u);
+    const auto refs = scene::reference_files(shared / "sofa/reference", scene_file, summary.state_files);
+    EXPECT_EQ(refs[0].filename(), "CompositeCollisionPipeline_none.scn.reference_0_rigid_mstate.txt");
+    const auto result = output::compare_with_reference(refs, summary.state_files, summary.values_per_dof);
+    EXPECT_TRUE(result.messages.empty()) << result.messages.front();
+    EXPECT_TRUE(result.passed());
+    // The reference holds 6 significant digits: 5.7e-6 is its rounding, far below SOFA's 1e-4.
+    EXPECT_LT(result.mean_error, 2e-5);
+    EXPECT_GT(summary.max_contacts, 0u);
+    std::filesystem::remove_all(*run.states_directory);
+}
+
+}  // namespace
