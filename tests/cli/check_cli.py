@@ -1,0 +1,108 @@
+#!/usr/bin/env python3
+"""End-to-end checks of the `penalty` command line: exit codes, messages and output files.
+
+Usage: check_cli.py PENALTY_EXECUTABLE TESTS_CLI_DIR WORK_DIR
+Every check prints one line; the script exits 1 at the first failure (with the command's output).
+"""
+import csv
+import os
+import re
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+penalty, data, work = sys.argv[1], sys.argv[2], sys.argv[3]
+shutil.rmtree(work, ignore_errors=True)
+os.makedirs(work)
+
+
+def run(*args, expect):
+    p = subprocess.run([penalty, *args], capture_output=True, text=True, timeout=300)
+    if p.returncode != expect:
+        print(f"FAIL: penalty {' '.join(args)}: exit {p.returncode}, expected {expect}\n--- stdout\n{p.stdout}--- stderr\n{p.stderr}")
+        sys.exit(1)
+    print(f"ok: penalty {' '.join(args)} -> exit {expect}")
+    return p
+
+
+def check(condition, what):
+    if not condition:
+        print(f"FAIL: {what}")
+        sys.exit(1)
+    print(f"ok: {what}")
+
+
+scene = os.path.join(data, "cube_on_floor.scn")
+
+# Exit codes and one-line reasons.
+p = run("run", os.path.join(data, "malformed.scn"), expect=1)
+check(p.stderr.strip().endswith("malformed.scn:3: UniformMass 'mass': attribute 'totalMass': expected a number, found 'abc'"),
+      "malformed attribute: file, line, component and attribute named")
+p = run("run", os.path.join(data, "unknown_component.scn"), expect=1)
+check("unknown_component.scn:3: unknown component 'FancyForceField' (not supported by penalty)" in p.stderr,
+      "unknown component named with file and line")
+p = run("run", os.path.join(data, "diverges.scn"), "--steps", "1000", "--quiet", expect=3)
+check(re.search(r"simulation diverged at step \d+ .*state '/A/p' DOF \d", p.stderr) is not None, "divergence names the state")
+run("run", scene, "--steps", "-3", expect=2)
+run("run", os.path.join(data, "no_such_scene.scn"), expect=2)
+run("bogus", expect=2)
+run("run", scene, "--reference", work, expect=2)  # --reference needs --export-states
+
+# info
+p = run("info", scene, expect=0)
+check("Node /Cube" in p.stdout and "PointCollisionModel 'cube_points'" in p.stdout and
+      "ignored 1 visual-only component: VisualStyle x1" in p.stdout, "info shows the tree and the ignored components")
+
+# run with every output
+states, vtk, stats = (os.path.join(work, d) for d in ("states", "vtk", "stats.csv"))
+steps = 30
+p = run("run", scene, "--steps", str(steps), "--quiet", "--export-states", states, "--export-every", "7",
+        "--vtk", vtk, "--vtk-every", "10", "--stats", stats, "--export-mapped", expect=0)
+check(re.search(r"steps: 30 +\(dt 0.01 s, simulated 0.3 s\)", p.stdout) is not None, "summary line of steps")
+check(re.search(r"contacts per step: mean [0-9.]+, max [1-9]", p.stdout) is not None, "contacts happened")
+check("time per step: detection" in p.stdout and "solve" in p.stdout, "per-phase timings printed")
+
+# SOFA regression state files: the cube (solver subtree, unmapped) then the mapped surface.
+names = sorted(os.listdir(states))
+check(names == ["0_cube_mstate.txt", "1_surface_mstate.txt"], f"state files {names}")
+lines = open(os.path.join(states, "0_cube_mstate.txt")).read().splitlines()
+times = [float(l[3:]) for l in lines[0::2]]
+check(all(l.startswith("T= ") for l in lines[0::2]) and all(l.startswith("  X= ") for l in lines[1::2]),
+      "state file layout: 'T= t' then '  X= x0 y0 z0 ...'")
+expected_times = [k * 0.01 for k in range(0, steps, 7)] + [(steps - 1) * 0.01]
+check(len(times) == len(expected_times) and all(abs(a - b) < 1e-12 for a, b in zip(times, expected_times)),
+      f"exported times {times} (every 7 steps plus the last)")
+first = [float(v) for v in lines[1][5:].split()]
+check(len(first) == 24 and first[0:3] == [0.3, 0.5, 0.1], "8 Vec3 DOFs, transformed by dx dy dz")
+
+# VTK series: .pvd collections list every written step; pieces parse and have the right sizes.
+pvds = sorted(f for f in os.listdir(vtk) if f.endswith(".pvd"))
+check(pvds == ["0_cube.pvd", "1_surface.pvd", "2_floor.pvd", "contacts.pvd"], f"pvd files {pvds}")
+collection = ET.parse(os.path.join(vtk, "0_cube.pvd")).getroot().find("Collection")
+datasets = collection.findall("DataSet")
+check(len(datasets) == 4, "pvd lists steps 0, 10, 20 and the final state")  # 30 steps, every 10, plus the end
+check(abs(float(datasets[-1].get("timestep")) - 0.3) < 1e-12, "last VTK step is the final state at t = 0.3")
+piece = ET.parse(os.path.join(vtk, datasets[0].get("file"))).getroot().find("UnstructuredGrid/Piece")
+check(piece.get("NumberOfPoints") == "8" and piece.get("NumberOfCells") == "1", "cube piece: 8 points, 1 hexahedron")
+types = piece.find("Cells/DataArray[@Name='types']").text.split()
+check(types == ["12"], "cell type VTK_HEXAHEDRON")
+contacts = ET.parse(os.path.join(vtk, ET.parse(os.path.join(vtk, "contacts.pvd")).getroot()
+                                 .find("Collection").findall("DataSet")[-1].get("file"))).getroot()
+cpiece = contacts.find("PolyData/Piece")
+check(int(cpiece.get("NumberOfLines")) > 0, f"contact springs at the end: {cpiece.get('NumberOfLines')}")
+check(cpiece.find("CellData/DataArray[@Name='force']") is not None, "contact force array")
+
+# CSV statistics: header and one row per step.
+with open(stats) as f:
+    rows = list(csv.DictReader(f))
+check(len(rows) == steps, f"{len(rows)} CSV rows")
+check(list(rows[0].keys())[:5] == ["step", "time", "contacts", "active_contacts", "max_penetration"], "CSV header")
+check(int(rows[-1]["step"]) == steps - 1 and abs(float(rows[-1]["time"]) - 0.3) < 1e-12, "last CSV row is step 29 at t = 0.3")
+check(max(int(r["contacts"]) for r in rows) > 0, "CSV records contacts")
+
+# The built-in scene (the README's main job).
+p = run("run", "--steps", "60", "--quiet", expect=0)
+check("built-in scene" in p.stdout and re.search(r"contacts per step: mean [0-9.]+, max [1-9]", p.stdout) is not None,
+      "built-in scene runs and makes contacts")
+print("all CLI checks passed")
