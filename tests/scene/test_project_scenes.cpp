@@ -52,6 +52,8 @@ struct ManifestRun {
     std::int64_t every = 1;
 };
 
+void PrintTo(const ManifestRun& r, std::ostream* os) { *os << r.scene << " (" << r.steps << " steps, every " << r.every << ")"; }
+
 std::vector<ManifestRun> read_manifest() {
     std::ifstream in(kExpected / "manifest.txt");
     std::vector<ManifestRun> runs;
