@@ -228,23 +228,16 @@ void ContactPipeline::update() {
     run_with_threads(options_.detection == ContactDetection::bvh ? options_.threads : 0, [&] { detect_all(); });
     const auto t1 = Clock::now();
     // Newton iterates rebuild from the state before this update (see the header).
-    for (std::size_t i = 0; i < entries_.size(); ++i) {
-        StepStart& st = step_start_[i];
-        if (keep_step_start_) st.field_before = entries_[i].contact->force_field();
-        st.outputs_before = std::move(st.last_outputs);
-        st.last_outputs.clear();
-    }
-    response_.set_detections(detections_, intersection_.contact_distance);
-    // The outputs each live pair was fed (set_detections feeds every pair with outputs).
-    for (const ModelPairDetection& d : detections_) {
-        if (d.outputs.empty()) continue;
+    if (keep_step_start_) {
         for (std::size_t i = 0; i < entries_.size(); ++i) {
-            if (&entries_[i].contact->model1() == d.model1 && &entries_[i].contact->model2() == d.model2) {
-                step_start_[i].last_outputs = d.outputs;
-                break;
-            }
+            StepStart& st = step_start_[i];
+            st.field_before = entries_[i].contact->force_field();
+            st.outputs_before = std::move(st.last_outputs);
+            st.last_outputs.clear();
         }
     }
+    response_.set_detections(detections_, intersection_.contact_distance);
+    if (keep_step_start_) record_fed_outputs();
     if (keep_step_start_) {
         for (ModelEntry& m : models_) {
             if (m.vec3) {
@@ -265,6 +258,20 @@ void ContactPipeline::update() {
     const auto t2 = Clock::now();
     timings_.detection_seconds = std::chrono::duration<double>(t1 - t0).count();
     timings_.response_seconds = std::chrono::duration<double>(t2 - t1).count();
+}
+
+void ContactPipeline::record_fed_outputs() {
+    // The outputs each live pair was fed by the last update (set_detections feeds every pair
+    // that has outputs).
+    for (const ModelPairDetection& d : detections_) {
+        if (d.outputs.empty()) continue;
+        for (std::size_t i = 0; i < entries_.size(); ++i) {
+            if (&entries_[i].contact->model1() == d.model1 && &entries_[i].contact->model2() == d.model2) {
+                step_start_[i].last_outputs = d.outputs;
+                break;
+            }
+        }
+    }
 }
 
 void ContactPipeline::update_geometry(const Node& subtree) { update_geometry_if(&subtree); }
@@ -365,7 +372,11 @@ void ContactPipeline::attach_newton(EulerImplicitSolver& solver) {
     search(search, simulation_->root());
     if (owner == nullptr)
         throw_invalid_argument("ContactPipeline::attach_newton: the solver is not owned by a node of the simulation");
-    keep_step_start_ = true;
+    if (!keep_step_start_) {
+        // Live pairs were last fed by the last update(): their outputs are still in detections_.
+        keep_step_start_ = true;
+        record_fed_outputs();
+    }
     if (std::find(attached_solvers_.begin(), attached_solvers_.end(), &solver) == attached_solvers_.end())
         attached_solvers_.push_back(&solver);
     solver.newton.update_geometry = [this, owner] { update_geometry(*owner); };

@@ -457,6 +457,25 @@ TEST(NewtonContact, FrictionHistoryAndDissipationCountedOncePerStep) {
     }
 }
 
+TEST(NewtonContact, AttachingMidRunKeepsTheContactAges) {
+    // Linearised steps first (SOFA), then attach_newton: the live pair's outputs come from the
+    // last update, so tracking continues (age = steps − 1) instead of restarting.
+    Drop d(false, false, kDist - kMass * kG / kKs, 0.0);  // at rest on the floor
+    d.sim.init();
+    for (int k = 0; k < 5; ++k) d.sim.step();
+    const auto age = [&] { return d.pipeline->graph_entries().at(0).contact->force_field().contacts()[0].age; };
+    EXPECT_EQ(age(), 4);
+    d.solver->newton.enabled = true;
+    d.pipeline->attach_newton(*d.solver);
+    for (int k = 0; k < 5; ++k) {
+        d.sim.step();
+        EXPECT_EQ(age(), 5 + k);
+        EXPECT_GE(d.pipeline->geometry_updates_this_step(), 2);
+        EXPECT_TRUE(d.solver->last_newton_converged());
+        EXPECT_NEAR(kDist - d.y(), kMass * kG / kKs, 1e-12);  // stays at rest
+    }
+}
+
 TEST(NewtonContact, ErrorsAndHooks) {
     Drop d(true, false);
     // update_geometry without attach_newton: the pre-step state was not kept.

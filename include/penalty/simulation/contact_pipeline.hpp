@@ -175,7 +175,7 @@ public:
     /// throws std::invalid_argument if a hook is already set). `node`: where a contact between
     /// two simulated models goes (default: the root). `response` supplies the response name and
     /// parameters; its on_create / on_destroy hooks are taken over by the pipeline. Throws
-    /// std::invalid_argument for options.threads < 0.
+    /// std::invalid_argument for options.threads < 0 or options.bvh.leaf_size = 0.
     explicit ContactPipeline(Simulation& simulation,
                              const IntersectionParams& intersection = IntersectionParams::new_proximity(),
                              CollisionResponse response = CollisionResponse(), Node* node = nullptr,
@@ -207,8 +207,8 @@ public:
     /// Sets solver.newton.update_geometry to update_geometry(node of `solver`) (the solver must
     /// be owned by a node of the simulation, else std::invalid_argument). Does not enable
     /// Newton: set solver.newton.enabled. From the next update() on, the pipeline keeps the
-    /// pre-step contact state the iterates need (one copy of each live pair's force field and
-    /// outputs per step).
+    /// pre-step contact state the iterates need (per step: a copy of each live pair's force
+    /// field and of the registered models' positions and velocities).
     void attach_newton(EulerImplicitSolver& solver);
     /// update_geometry calls since the last update().
     [[nodiscard]] int geometry_updates_this_step() const { return geometry_updates_; }
@@ -256,6 +256,7 @@ private:
     void refit_trees();
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
     void update_geometry_if(const Node* subtree);
+    void record_fed_outputs();
 
     /// Per live pair (same index as entries_): what update_geometry restores before rebuilding.
     struct StepStart {
