@@ -207,7 +207,7 @@ INSTANTIATE_TEST_SUITE_P(
                       MalformedCase{"T=\n", "1: expected 'T= <time>'"},
                       MalformedCase{"T= 0\n  Y= 1\n", "2: unknown keyword 'Y=' (expected T=, X= or V=)"},
                       MalformedCase{"T= 1e\n", "1: '1e' is not a number"}),
-    [](const ::testing::TestParamInfo<MalformedCase>& info) { return "Case" + std::to_string(info.index); });
+    [](const ::testing::TestParamInfo<MalformedCase>& param) { return "Case" + std::to_string(param.index); });
 
 TEST(ReadStateFile, MissingFileThrowsNamingIt) {
     TempDir dir;
