@@ -7,11 +7,11 @@
 // (output files, ...).
 #include "demo.hpp"
 
-#include "penalty/scene/scene.hpp"  // first: collision_model.hpp before topology.hpp (GCC -Wshadow on ModelType)
 #include "penalty/io/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
+#include "penalty/scene/scene.hpp"
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>

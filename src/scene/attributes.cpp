@@ -23,12 +23,12 @@ const std::vector<std::string> kCollisionCommon = {"active",        "moving",   
                                                    "selfCollision", "proximity",        "contactDistance",
                                                    "contactStiffness", "contactFriction", "contactRestitution",
                                                    "contactResponse", "group",           "bothSide",
-                                                   "topology",      "computeNormals"};
+                                                   "topology"};
 
 const std::map<std::string, std::vector<std::string>, std::less<>>& table() {
     static const std::map<std::string, std::vector<std::string>, std::less<>> t = [] {
         std::map<std::string, std::vector<std::string>, std::less<>> m;
-        m["Node"] = {"dt", "gravity", "time", "animate"};
+        m["Node"] = {"dt", "gravity"};
         m["DefaultAnimationLoop"] = {};
         m["CollisionPipeline"] = {};
         m["CompositeCollisionPipeline"] = {"subCollisionPipelines"};
@@ -58,17 +58,22 @@ const std::map<std::string, std::vector<std::string>, std::less<>>& table() {
                                                   "tetrasDamping",   "cubesStiffness",  "cubesDamping"};
         m["MeshSpringForceField"] = springs;
         m["RegularGridSpringForceField"] = springs;
+        // computeGlobalMatrix / updateStiffnessMatrix only choose how SOFA stores the same
+        // matrices; penalty always recomputes the corotational stiffness each step (method large).
         m["TetrahedronFEMForceField"] = {"youngModulus", "poissonRatio", "method", "computeGlobalMatrix",
                                          "updateStiffnessMatrix"};
         m["HexahedronFEMForceField"] = {"youngModulus", "poissonRatio", "method"};
         m["FixedProjectiveConstraint"] = {"indices", "fixAll"};
         m["FixedConstraint"] = {"indices", "fixAll"};
-        for (const char* t : {"PointCollisionModel", "LineCollisionModel", "TriangleCollisionModel",
-                              "TetrahedronCollisionModel"})
-            m[t] = kCollisionCommon;
-        m["SphereCollisionModel"] = kCollisionCommon;
+        for (const char* type : {"PointCollisionModel", "LineCollisionModel", "TetrahedronCollisionModel"})
+            m[type] = kCollisionCommon;
+        m["TriangleCollisionModel"] = kCollisionCommon;
+        m["TriangleCollisionModel"].push_back("computeNormals");
+        std::vector<std::string> no_topology = kCollisionCommon;
+        no_topology.erase(std::find(no_topology.begin(), no_topology.end(), "topology"));
+        m["SphereCollisionModel"] = no_topology;
         m["SphereCollisionModel"].insert(m["SphereCollisionModel"].end(), {"radius", "listRadius"});
-        m["CylinderCollisionModel"] = kCollisionCommon;
+        m["CylinderCollisionModel"] = no_topology;
         m["CylinderCollisionModel"].insert(m["CylinderCollisionModel"].end(),
                                            {"radii", "heights", "defaultRadius", "defaultHeight", "defaultLocalAxis",
                                             "localAxes"});

@@ -1,6 +1,6 @@
 // `penalty info`: the component tree of a scene and what penalty does with each component.
-#include "penalty/scene/scene.hpp"
 #include "penalty/io/components.hpp"
+#include "penalty/scene/scene.hpp"
 #include "scene/attributes.hpp"
 
 #include <set>

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -37,6 +38,9 @@ struct NodeInfo {
     bool in_solver_subtree = false;
     int node_id = 0;                             ///< depth-first index (collision same-node rule)
 };
+
+/// Largest number of DOFs a state or grid may have (10⁸ points = 2.4 GB of positions alone).
+constexpr std::uint64_t kMaxDofs = 100'000'000;
 
 bool is_collision_model_type(std::string_view t) {
     return t == "PointCollisionModel" || t == "LineCollisionModel" || t == "TriangleCollisionModel" ||
@@ -84,11 +88,17 @@ public:
             sim.root().set_dt(*options_.dt);
         }
         for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
+        // Initialise every component once here, in Simulation::init's order (states and mappings
+        // top-down, then masses, force fields, constraints, solvers), so that an error names its
+        // component and line; Simulation::init then repeats it (idempotent).
+        for (int phase : {0, 1})
+            for (const InitStep& step : init_steps_)
+                if (step.phase == phase) guarded(*step.component, step.init);
         build_pipelines();
         for (const auto& w : attribute_warnings_) scene_.build_warnings_.push_back(w);
         try {
             sim.init();
-        } catch (const std::invalid_argument& e) {
+        } catch (const std::exception& e) {
             throw io::SceneError(file_.path.string() + ": " + e.what());
         }
     }
@@ -236,6 +246,9 @@ private:
                 for (int k = 0; k < 3; ++k)
                     if (n[k] < 1 || n[k] > 100000)
                         io::throw_attribute_error(c, std::string("n") + char('x' + k), "must be between 1 and 100000");
+                const auto points = std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
+                if (points > kMaxDofs)
+                    io::throw_element_error(c, std::to_string(points) + " grid points (more than " + std::to_string(kMaxDofs) + ")");
                 Vec3 lo = io::get_vec3_or(c, "min", Vec3::Zero()), hi = io::get_vec3_or(c, "max", Vec3::Ones());
                 lo = Vec3(io::get_double_or(c, "xmin", lo.x()), io::get_double_or(c, "ymin", lo.y()),
                           io::get_double_or(c, "zmin", lo.z()));
@@ -282,6 +295,14 @@ private:
     }
 
     // ---- states -------------------------------------------------------------------------------
+    /// `size` (default 1), bounded so that a typo cannot allocate the machine's memory.
+    static std::size_t dof_count(const SceneComponent& c) {
+        const auto n = io::get_int_or(c, "size", 1);
+        if (n < 0 || std::uint64_t(n) > kMaxDofs)
+            io::throw_attribute_error(c, "size", "must be between 0 and " + std::to_string(kMaxDofs));
+        return std::size_t(n);
+    }
+
     static InitialTransform read_transform(const SceneComponent& c) {
         InitialTransform tr;
         tr.translation = io::get_vec3_or(c, "translation", Vec3::Zero());
@@ -315,7 +336,7 @@ private:
                         s.velocity.push_back(RigidDeriv{Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])});
                 }
                 if (s.position.empty() && s.rest_position.empty() && !info.mapped)
-                    s.position.assign(std::size_t(io::get_int_or(c, "size", 1)), RigidFrame{});
+                    s.position.assign(dof_count(c), RigidFrame{});
                 s.transform = tr;
                 if (!info.mapped) s.init();
                 rigid_states_[&c] = &s;
@@ -332,9 +353,7 @@ private:
                 } else if (!info.topology_positions.empty()) {
                     s.position = info.topology_positions;  // SOFA: a state without positions takes its topology's
                 } else if (c.has("size")) {
-                    const auto n = io::get_int_or(c, "size", 1);
-                    if (n < 0) io::throw_attribute_error(c, "size", "must be >= 0");
-                    s.position.assign(std::size_t(n), Vec3::Zero());
+                    s.position.assign(dof_count(c), Vec3::Zero());
                 } else if (!info.mapped) {
                     s.position.assign(1, Vec3::Zero());  // SOFA's default size 1
                 }
@@ -434,6 +453,8 @@ private:
                 map_barycentric(c, m, *in_info, *in3, out3->position);
             }
         });
+        BaseMapping* mapping = node.mapping();
+        init_steps_.push_back({0, [mapping] { mapping->init(); }, &c});
         note_unread_attributes(c);
     }
 
@@ -489,7 +510,9 @@ private:
                 }
             }
         });
-        scene_.masses_.push_back(info.node->mass());
+        BaseMass* mass = info.node->mass();
+        scene_.masses_.push_back(mass);
+        init_steps_.push_back({1, [mass] { mass->init(); }, &c});
         note_unread_attributes(c);
     }
 
@@ -516,6 +539,7 @@ private:
             }
             auto& ff = info.node->add_force_field<SpringForceField>(s);
             for (const Spring& sp : springs) ff.add_spring(sp);
+            init_steps_.push_back({1, [f = &ff] { f->init(); }, &c});
         });
         note_unread_attributes(c);
     }
@@ -531,12 +555,14 @@ private:
             if (method == "small") m = FemMethod::Small;
             else if (method != "large")
                 io::throw_attribute_error(c, "method", "'" + method + "' is not supported (small or large)");
+            BaseForceField* ff = nullptr;
             if (c.type == "TetrahedronFEMForceField") {
-                if (info.grid) info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, young, poisson, m);
-                else info.node->add_force_field<TetrahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
+                if (info.grid) ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, young, poisson, m);
+                else ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
             } else {
-                info.node->add_force_field<HexahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
+                ff = &info.node->add_force_field<HexahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
             }
+            init_steps_.push_back({1, [ff] { ff->init(); }, &c});
         });
         note_unread_attributes(c);
     }
@@ -554,6 +580,7 @@ private:
                                                                 std::to_string(s->num_dofs()) + " DOFs)");
             f.set_indices(std::move(idx));
             f.set_fix_all(io::get_bool_or(c, "fixAll", false));
+            init_steps_.push_back({1, [p = &f] { p->init(); }, &c});
         });
         note_unread_attributes(c);
     }
@@ -563,10 +590,12 @@ private:
             if (c.type == "EulerExplicitSolver") {
                 if (io::get_bool_or(c, "symplectic", true) == false)
                     io::throw_attribute_error(c, "symplectic", "only the symplectic scheme is supported");
-                node.set_ode_solver<EulerExplicitSolver>();
+                auto& explicit_solver = node.set_ode_solver<EulerExplicitSolver>();
+                init_steps_.push_back({1, [p = &explicit_solver, n = &node] { p->init(*n); }, &c});
                 return;
             }
             auto& s = node.set_ode_solver<EulerImplicitSolver>();
+            init_steps_.push_back({1, [p = &s, n = &node] { p->init(*n); }, &c});
             s.rayleigh_stiffness = io::get_double_or(c, "rayleighStiffness", 0.0);
             s.rayleigh_mass = io::get_double_or(c, "rayleighMass", 0.0);
             s.vdamping = nonnegative(c, "vdamping", 0.0);
@@ -651,11 +680,13 @@ private:
             } else {
                 if (!v) io::throw_element_error(c, "needs a Vec3d MechanicalObject");
                 if (t == "PointCollisionModel") {
-                    model = std::make_unique<PointModel>(*v, info.topology, p);
+                    model = std::make_unique<PointModel>(*v, c.has("topology") ? &topology_of(c, info) : info.topology, p);
                 } else if (t == "LineCollisionModel") {
                     model = std::make_unique<LineModel>(*v, topology_of(c, info), p);
                 } else if (t == "TriangleCollisionModel") {
-                    model = std::make_unique<TriangleModel>(*v, topology_of(c, info), p);
+                    auto m = std::make_unique<TriangleModel>(*v, topology_of(c, info), p);
+                    m->compute_normals = io::get_bool_or(c, "computeNormals", true);
+                    model = std::move(m);
                 } else {
                     model = std::make_unique<TetrahedronModel>(*v, topology_of(c, info), p);
                 }
@@ -706,10 +737,14 @@ private:
         });
     }
 
-    CollisionResponse response_of(const SceneComponent& c) {
+    /// The response; the friction spring's time step defaults to the scene's dt (responseParams
+    /// `timeStep` overrides it).
+    CollisionResponse response_of(const SceneComponent& c, double dt) {
         return guarded(c, [&] {
             const std::string response = io::get_string(c, "response").value_or(std::string(kPenaltyResponseName));
-            return CollisionResponse(response, io::get_string(c, "responseParams").value_or(""));
+            ContactResponseParameters base;
+            base.penalty.time_step = dt;
+            return CollisionResponse(response, io::get_string(c, "responseParams").value_or(""), base);
         });
     }
 
@@ -724,7 +759,8 @@ private:
         options.detection = options_.exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = options_.threads;
         options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
-        sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(*response), &host, options);
+        const double dt = options_.dt ? *options_.dt : sim.root().dt();
+        sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(*response, dt), &host, options);
         for (const SceneCollisionModel* m : models) sp.pipeline->add_model(*m->model, *m->node);
         scene_.pipelines_.push_back(std::move(sp));
     }
@@ -813,6 +849,12 @@ private:
     std::vector<const SceneComponent*> pipeline_components_;
     std::vector<std::string> attribute_warnings_;
     std::vector<std::pair<EulerImplicitSolver*, Node*>> newton_solvers_;
+    struct InitStep {
+        int phase;  ///< 0: mappings (top-down), 1: masses, force fields, constraints, solvers
+        std::function<void()> init;
+        const SceneComponent* component;
+    };
+    std::vector<InitStep> init_steps_;
     int node_count_ = 0;
 };
 

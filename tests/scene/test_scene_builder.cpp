@@ -1,10 +1,9 @@
 // The scene builder: what each SOFA component becomes, error messages on bad scenes, the
 // built-in scene, and SOFA's regression reference for CompositeCollisionPipeline_none.scn.
-#include "penalty/scene/scene.hpp"  // first: collision_model.hpp before topology.hpp (GCC -Wshadow)
-
 #include "penalty/io/error.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
+#include "penalty/scene/scene.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -14,8 +14,17 @@
 namespace penalty {
 
 /// The kinds of collision model. The numeric order is the row/column order of the dispatch
-/// table (see intersection.hpp).
+/// table (see intersection.hpp). The scoped enumerators Triangle and Tetrahedron share their
+/// names with the element types of topology.hpp; GCC's -Wshadow reports that when topology.hpp is
+/// included first, although scoped enumerators cannot be confused with them.
+#if defined(__GNUC__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
+#endif
 enum class ModelType : std::uint8_t { Point, Line, Triangle, Sphere, RigidSphere, Cylinder, Tetrahedron };
+#if defined(__GNUC__)
+#pragma GCC diagnostic pop
+#endif
 inline constexpr int kModelTypeCount = 7;
 
 /// SOFA-like name: "Point", "Line", "Triangle", "Sphere", "RigidSphere", "Cylinder", "Tetrahedron".
