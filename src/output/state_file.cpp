@@ -187,10 +187,16 @@ double state_regression_error(std::span<const StateSample> reference, std::span<
 
     double sum = 0.0;  // Σ_T Σ_i |X_i(T) − Xref_i(T)|
     for (const StateSample& expected : reference) {
-        const double tolerance = 1e-9 * std::max(1.0, std::abs(expected.time));
-        const auto match = std::find_if(ours.begin(), ours.end(), [&](const StateSample& sample) {
-            return std::abs(sample.time - expected.time) <= tolerance;
-        });
+        // SOFA writes times with 6 significant digits: a reference time matches our closest
+        // sample within half a unit of its 6th digit (and within 1e-9·max(1, |T|) at least).
+        const double magnitude = std::abs(expected.time);
+        const double rounding = magnitude > 0 ? 0.5 * std::pow(10.0, std::floor(std::log10(magnitude)) - 5.0) : 0.0;
+        const double tolerance = std::max(1e-9 * std::max(1.0, magnitude), rounding);
+        auto match = ours.end();
+        for (auto it = ours.begin(); it != ours.end(); ++it) {
+            const double gap = std::abs(it->time - expected.time);
+            if (gap <= tolerance && (match == ours.end() || gap < std::abs(match->time - expected.time))) match = it;
+        }
         if (match == ours.end()) return fail("no sample at reference time T= " + format_number(expected.time));
         if (match->x.size() != expected.x.size())
             return fail("at T= " + format_number(expected.time) + " X has " + std::to_string(match->x.size()) +

@@ -256,6 +256,23 @@ TEST(Regression, IdenticalFilesPassAndTimeToleranceIsRelative) {
     EXPECT_TRUE(result.passed());
 }
 
+TEST(Regression, ReferenceTimesRoundedToSixDigitsMatchTheClosestSample) {
+    TempDir dir;
+    const auto d = dir.path();
+    // SOFA wrote 123.4567 and 123.4572 as 123.457 (6 significant digits; half a unit = 5e-4).
+    write_text(d / "ref.txt", "T= 123.457\n  X= 1 2 3\n");
+    write_text(d / "our.txt", "T= 123.4567\n  X= 9 9 9\nT= 123.4572\n  X= 1 2 4\nT= 123.4576\n  X= 9 9 9\n");
+    const std::vector<std::filesystem::path> refs{d / "ref.txt"};
+    const std::vector<std::filesystem::path> ours{d / "our.txt"};
+    const std::vector<int> widths{3};
+    const RegressionResult result = compare_with_reference(refs, ours, widths);
+    EXPECT_TRUE(result.messages.empty());
+    EXPECT_EQ(result.mean_error, 1.0);  // the closest sample (123.4572) is compared: |4 − 3| / 1 DOF
+    write_text(d / "far.txt", "T= 123.4564\n  X= 1 2 3\n");  // 6e-4 away: not the same time
+    const std::vector<std::filesystem::path> far{d / "far.txt"};
+    EXPECT_EQ(compare_with_reference(refs, far, widths).messages.size(), 1u);
+}
+
 TEST(Regression, MismatchesAreMessagesWithInfiniteError) {
     TempDir dir;
     const auto d = dir.path();

@@ -68,7 +68,8 @@ struct StateSample {
 ///
 /// For state s with reference samples (T_r, Xref_r) and our samples (t_j, X_j):
 ///   error_s = ( Σ_r Σ_i |X_i(T_r) − Xref_i(T_r)| ) / n_dofs
-/// where X(T_r) is our sample with |t_j − T_r| ≤ 1e-9·max(1, |T_r|), i runs over the scalars of the
+/// where X(T_r) is our sample closest to T_r within max(1e-9·max(1, |T_r|), half a unit of the 6th
+/// significant digit of T_r) (SOFA writes 6 significant digits), i runs over the scalars of the
 /// X line (3 per Vec3 DOF, 7 per Rigid3 DOF: the quaternion components are compared as numbers),
 /// and n_dofs = (values on the first reference X line) / values_per_dof[s]; n_dofs = 0 gives
 /// error 0.
