@@ -94,8 +94,12 @@ void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index inde
             contact.has_history = old.has_history;
             contact.slid_last_step = old.slid_last_step;
         } else if (old.friction_state != FrictionState::none) {
-            // tangential spring history: kept only if the previous contact was active
-            contact.shear_start = old.shear;
+            // tangential spring history: kept only if the previous contact was active. It is the
+            // spring of the previous step's FIRST evaluation (at x_n, after its slip): the next
+            // step adds the step's motion h·P·v_{n+1} itself, so a later evaluation within the
+            // step (Newton iterates, energy reports) must not be carried, or the motion would
+            // count twice. With SOFA's single evaluation per step both are the same.
+            contact.shear_start = old.shear_start;
             contact.has_history = true;
             contact.slid_last_step = old.friction_state == FrictionState::sliding;
         }

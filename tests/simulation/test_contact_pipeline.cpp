@@ -139,7 +139,9 @@ TEST(ContactPipeline, WorkedExampleECgThresholdQuirk) {
         EXPECT_NEAR(s.sphere->velocity[0].y(), 0.0018811881188118586, 1e-15) << "step " << k + 1;
         y += 0.01 * 0.0018811881188118586;
         EXPECT_NEAR(s.sphere->position[0].y(), y, 1e-13) << "step " << k + 1;
-        if (k > 0) EXPECT_EQ(s.solver->last_cg_stats().end_condition, "threshold");
+        if (k > 0) {
+            EXPECT_EQ(s.solver->last_cg_stats().end_condition, "threshold");
+        }
     }
 }
 
@@ -175,7 +177,9 @@ TEST(ContactPipeline, PairWithoutOutputsIsRemovedFromTheGraphAndRecreated) {
             ASSERT_EQ(e.contact->force_field().size(), 1u);
             EXPECT_EQ(e.point_states[0]->position.size(), 1u);
             // A recreated pair starts from scratch (SOFA): its spring is new (age 0).
-            if (!live_before) EXPECT_EQ(e.contact->force_field().contacts()[0].age, 0) << "step " << k + 1;
+            if (!live_before) {
+                EXPECT_EQ(e.contact->force_field().contacts()[0].age, 0) << "step " << k + 1;
+            }
         }
         if (live != live_before) events.push_back(live ? k + 1 : -(k + 1));
         live_before = live;
