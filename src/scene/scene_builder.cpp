@@ -603,12 +603,15 @@ private:
             s.trapezoidal_scheme = io::get_bool_or(c, "trapezoidalScheme", false);
             s.newton.enabled = io::get_bool_or(c, "newton", false);  // beyond SOFA
             if (s.newton.enabled) newton_solvers_.emplace_back(&s, &node);
-            s.newton.max_iterations = int(io::get_int_or(c, "newtonIterations", s.newton.max_iterations));
+            const auto newton_iterations = io::get_int_or(c, "newtonIterations", s.newton.max_iterations);
+            if (newton_iterations < 1 || newton_iterations > 1000)
+                io::throw_attribute_error(c, "newtonIterations", "must be between 1 and 1000");
+            s.newton.max_iterations = int(newton_iterations);
             s.newton.tolerance = nonnegative(c, "newtonTolerance", s.newton.tolerance);
             for (const SceneComponent* l : physics) {
                 if (l->type != "CGLinearSolver") continue;
                 const auto it = io::get_int_or(*l, "iterations", 25);
-                if (it < 1) io::throw_attribute_error(*l, "iterations", "must be >= 1");
+                if (it < 1 || it > 1'000'000) io::throw_attribute_error(*l, "iterations", "must be between 1 and 1000000");
                 s.cg.iterations = int(it);
                 s.cg.tolerance = nonnegative(*l, "tolerance", 1e-5);
                 s.cg.threshold = nonnegative(*l, "threshold", 1e-5);

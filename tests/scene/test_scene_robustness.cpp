@@ -119,6 +119,11 @@ TEST(SceneRobustness, HugeSizesAreRefusedBeforeAllocating) {
   <MechanicalObject size="5000000000000"/>
 </Node>)"),
               "huge.scn:2: MechanicalObject: attribute 'size': must be between 0 and 100000000");
+    EXPECT_EQ(error_of(R"(<Node name="root">
+  <EulerImplicitSolver/>
+  <CGLinearSolver iterations="99999999999" tolerance="0" threshold="0"/>
+</Node>)"),
+              "huge.scn:3: CGLinearSolver: attribute 'iterations': must be between 1 and 1000000");
 }
 
 }  // namespace
