@@ -11,6 +11,7 @@
 #include "penalty/simulation/solver.hpp"
 
 #include "output_test_support.hpp"
+#include "penalty_test/static_floor.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -26,9 +27,7 @@ using test::TempDir;
 /// static two-triangle floor at y = 0; one contact spring, dist = 1 m, ks = 100 N/m.
 struct SphereOnFloor {
     Simulation sim;
-    Vec3Object* floor = nullptr;
-    MeshTopology floor_topology;
-    std::unique_ptr<TriangleModel> floor_model;
+    penalty::test::StaticFloor floor{sim.root(), penalty::test::floor_params(10.0), "Floor"};
     Vec3Object* sphere = nullptr;
     std::unique_ptr<SphereModel> sphere_model;
     std::unique_ptr<ContactPipeline> pipeline;
@@ -36,17 +35,6 @@ struct SphereOnFloor {
     SphereOnFloor() {
         sim.root().set_gravity(Vec3(0, -9.81, 0));
         sim.root().set_dt(0.01);
-        Node& floor_node = sim.root().add_child("Floor");
-        floor = &floor_node.add_state<Vec3Types>("floor");
-        floor->position = {Vec3(-10, 0, -10), Vec3(-10, 0, 10), Vec3(10, 0, 10), Vec3(10, 0, -10)};
-        floor_topology.set_num_points(4);
-        floor_topology.set_triangles({Triangle{0, 1, 2}, Triangle{0, 2, 3}});
-        CollisionModelParams floor_params;
-        floor_params.name = "floor";
-        floor_params.contact_stiffness = 10.0;
-        floor_params.simulated = false;
-        floor_params.moving = false;
-        floor_model = std::make_unique<TriangleModel>(*floor, floor_topology, floor_params);
 
         Node& body = sim.root().add_child("Sphere");
         auto& solver = body.set_ode_solver<EulerImplicitSolver>();
@@ -61,7 +49,7 @@ struct SphereOnFloor {
         sphere_params.contact_stiffness = 10.0;
         sphere_model = std::make_unique<SphereModel>(*sphere, 0.5, std::vector<double>{}, sphere_params);
         pipeline = std::make_unique<ContactPipeline>(sim, IntersectionParams::new_proximity());
-        pipeline->add_model(*floor_model, floor_node);
+        pipeline->add_model(*floor.model, *floor.node);
         pipeline->add_model(*sphere_model, body);
     }
     ~SphereOnFloor() { pipeline.reset(); }
@@ -74,7 +62,7 @@ TEST(RunOutputs, SphereOnFloorWritesConsistentFiles) {
 
     std::vector<StateRecord> records = collect_state_records(scene.sim.root());
     ASSERT_EQ(records.size(), 2u);
-    records[0].topology = &scene.floor_topology;
+    records[0].topology = &scene.floor.topology;
     EXPECT_EQ(state_label(records[0]), "/Floor/floor");
     EXPECT_EQ(state_label(records[1]), "/Sphere/dofs");
     const std::vector<const StateRecord*> exported = select_exported_states(records, false);

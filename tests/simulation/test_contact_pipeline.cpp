@@ -6,6 +6,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
 
@@ -30,26 +31,9 @@ void count(const Node& n, int& nodes, int& ffs) {
     for (const auto& c : n.children()) count(*c, nodes, ffs);
 }
 
-/// Two-triangle static floor at y = 0 (normal +y), ±10 m.
-struct Floor {
-    Node* node;
-    Vec3Object* state;
-    MeshTopology topology;
-    std::unique_ptr<TriangleModel> model;
-
-    Floor(Node& parent, bool simulated) {
-        node = &parent.add_child("floor");
-        state = &node->add_state<Vec3Types>("floor");
-        state->position = {Vec3(-10, 0, -10), Vec3(-10, 0, 10), Vec3(10, 0, 10), Vec3(10, 0, -10)};
-        topology.set_num_points(4);
-        topology.set_triangles({Triangle{0, 1, 2}, Triangle{0, 2, 3}});
-        CollisionModelParams p;
-        p.name = "floor";
-        p.contact_stiffness = 10.0;
-        p.simulated = simulated;
-        p.moving = false;
-        model = std::make_unique<TriangleModel>(*state, topology, p);
-    }
+/// Two-triangle static floor at y = 0 (normal +y), ±10 m, contact stiffness 10.
+struct Floor : test::StaticFloor {
+    Floor(Node& parent, bool simulated) : StaticFloor(parent, test::floor_params(10.0, simulated)) {}
 };
 
 /// Example E scene: a Vec3 sphere (vertexMass 1, radius 0.5, k 10) at (0.2, 0.9, 0.3), v = 0,

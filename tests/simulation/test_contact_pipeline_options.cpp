@@ -7,6 +7,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
 
@@ -229,25 +230,14 @@ TEST(ContactPipelineOptions, BvhDetectionEqualsExhaustiveWithNewtonGeometryUpdat
 // ---- attach_hook = false: several pipelines from one hook ---------------------------------------
 struct TwoSpheres {
     Simulation sim;
-    Node* floor_node;
-    MeshTopology topology;
-    std::unique_ptr<TriangleModel> floor;
+    test::StaticFloor floor{sim.root(), test::floor_params(10.0)};
     std::array<Node*, 2> nodes{};
     std::array<Vec3Object*, 2> states{};
     std::array<std::unique_ptr<SphereModel>, 2> spheres;
 
     TwoSpheres() {
         sim.root().set_dt(0.01);
-        floor_node = &sim.root().add_child("floor");
-        auto& fx = floor_node->add_state<Vec3Types>("floor");
-        fx.position = {Vec3(-10, 0, -10), Vec3(-10, 0, 10), Vec3(10, 0, 10), Vec3(10, 0, -10)};
-        topology.set_num_points(4);
-        topology.set_triangles({Triangle{0, 1, 2}, Triangle{0, 2, 3}});
         CollisionModelParams p;
-        p.name = "floor";
-        p.simulated = false;
-        p.moving = false;
-        floor = std::make_unique<TriangleModel>(fx, topology, p);
         for (int i = 0; i < 2; ++i) {
             Node& n = sim.root().add_child(i == 0 ? "s0" : "s1");
             n.set_ode_solver<EulerImplicitSolver>().cg.tolerance = 1e-12;
@@ -270,7 +260,7 @@ TEST(ContactPipelineOptions, PipelinesWithoutHookRunFromOneCallerHook) {
     std::vector<Vec3> ref_positions;
     {
         ContactPipeline p(ref.sim);
-        p.add_model(*ref.floor, *ref.floor_node);
+        p.add_model(*ref.floor.model, *ref.floor.node);
         p.add_model(*ref.spheres[0], *ref.nodes[0]);
         p.add_model(*ref.spheres[1], *ref.nodes[1]);
         for (int k = 0; k < 60; ++k) ref.sim.step();
@@ -288,9 +278,9 @@ TEST(ContactPipelineOptions, PipelinesWithoutHookRunFromOneCallerHook) {
     {
         ContactPipeline p0(two.sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, no_hook);
         ContactPipeline p1(two.sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, no_hook);
-        p0.add_model(*two.floor, *two.floor_node);
+        p0.add_model(*two.floor.model, *two.floor.node);
         p0.add_model(*two.spheres[0], *two.nodes[0]);
-        p1.add_model(*two.floor, *two.floor_node);
+        p1.add_model(*two.floor.model, *two.floor.node);
         p1.add_model(*two.spheres[1], *two.nodes[1]);
         EXPECT_FALSE(p0.options().attach_hook);
         two.sim.collision_hook = [&](Simulation&) {

@@ -8,6 +8,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
 
@@ -23,25 +24,8 @@ namespace {
 constexpr double kG = 9.81;
 
 /// Static two-triangle floor at y = 0 (normal +y), ±10 m, contact stiffness k (N/m, physical law).
-struct Floor {
-    Node* node;
-    Vec3Object* state;
-    MeshTopology topology;
-    std::unique_ptr<TriangleModel> model;
-
-    Floor(Node& parent, double k) {
-        node = &parent.add_child("floor");
-        state = &node->add_state<Vec3Types>("floor");
-        state->position = {Vec3(-10, 0, -10), Vec3(-10, 0, 10), Vec3(10, 0, 10), Vec3(10, 0, -10)};
-        topology.set_num_points(4);
-        topology.set_triangles({Triangle{0, 1, 2}, Triangle{0, 2, 3}});
-        CollisionModelParams p;
-        p.name = "floor";
-        p.contact_stiffness = k;
-        p.simulated = false;
-        p.moving = false;
-        model = std::make_unique<TriangleModel>(*state, topology, p);
-    }
+struct Floor : test::StaticFloor {
+    Floor(Node& parent, double k) : StaticFloor(parent, test::floor_params(k)) {}
 };
 
 /// NewProximity with alarm distance A and contact distance C (m).
