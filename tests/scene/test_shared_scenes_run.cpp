@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 namespace {
@@ -25,6 +26,8 @@ struct SharedScene {
     std::size_t collision_models;
     bool contacts_expected;      ///< some contact during the run
 };
+
+void PrintTo(const SharedScene& scene, std::ostream* out) { *out << scene.file; }
 
 class SharedSceneRun : public ::testing::TestWithParam<SharedScene> {};
 
