@@ -47,7 +47,9 @@ TEST_P(SharedSceneRun, RunsAndStaysFinite) {
     EXPECT_EQ(summary.steps, kSteps);
     EXPECT_NEAR(summary.simulated_time, double(kSteps) * s->dt(), 1e-9 * double(kSteps));
     EXPECT_TRUE(std::isfinite(summary.kinetic_energy));
-    if (GetParam().contacts_expected) {
+    // Contacts happen within 1000 steps (the falling spheres of the CompositeCollisionPipeline
+    // scenes reach their tori after about 1 s); the short sanitizer runs do not get there.
+    if (GetParam().contacts_expected && kSteps >= 1000) {
         EXPECT_GT(summary.max_contacts, 0u);
     }
 }
