@@ -69,9 +69,15 @@ ContactSummary summarize_contacts(std::span<const ContactRecord> contacts) {
         summary.active_contacts += record.field->active_count();
         summary.contact_energy += record.field->potential_energy();
         summary.dissipated_energy += record.field->dissipated_energy();
-        for (const ContactSegment& segment :
-             record.field->export_contacts(record.state1->position, record.state2->position))
-            summary.max_penetration = std::max(summary.max_penetration, segment.pen);
+        // pen = dist − (x2 − x1)·n at the current positions (as export_contacts, without its copy)
+        const auto& x1 = record.state1->position;
+        const auto& x2 = record.state2->position;
+        for (const PenaltyContact& c : record.field->contacts()) {
+            if (std::size_t(c.m1) >= x1.size() || std::size_t(c.m2) >= x2.size())
+                throw_invalid_argument("summarize_contacts: contact record ", p, " ('", record.name,
+                                       "') refers to a DOF outside its states");
+            summary.max_penetration = std::max(summary.max_penetration, c.dist - (x2[std::size_t(c.m2)] - x1[std::size_t(c.m1)]).dot(c.normal));
+        }
     }
     return summary;
 }

@@ -119,8 +119,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         summary.detection_seconds += timing.detection_seconds;
         summary.response_seconds += timing.response_seconds;
         summary.solve_seconds += timing.solve_seconds;
-        const std::vector<output::ContactRecord> contacts = scene.contacts();
-        const output::ContactSummary cs = output::summarize_contacts(contacts);
+        const output::ContactSummary cs = output::summarize_contacts(scene.contacts());
         contact_sum += double(cs.contacts);
         summary.max_contacts = std::max(summary.max_contacts, cs.contacts);
         summary.max_penetration = std::max(summary.max_penetration, cs.max_penetration);

@@ -877,8 +877,20 @@ void Scene::step() {
     timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
 }
 
-std::vector<output::ContactRecord> Scene::contacts() const {
-    std::vector<output::ContactRecord> out;
+const std::vector<output::ContactRecord>& Scene::contacts() const {
+    // Same live pairs as the cached list (same force fields and point states, same order)?
+    std::size_t n = 0;
+    bool same = true;
+    for (const ScenePipeline& p : pipelines_) {
+        for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
+            if (e.contact == nullptr || e.force_field == nullptr) continue;
+            same = same && n < contacts_cache_.size() && contacts_cache_[n].field == &e.force_field->field() &&
+                   contacts_cache_[n].state1 == e.point_states[0] && contacts_cache_[n].state2 == e.point_states[1];
+            ++n;
+        }
+    }
+    if (same && n == contacts_cache_.size()) return contacts_cache_;
+    contacts_cache_.clear();
     for (const ScenePipeline& p : pipelines_) {
         for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
             if (e.contact == nullptr || e.force_field == nullptr) continue;
@@ -887,10 +899,10 @@ std::vector<output::ContactRecord> Scene::contacts() const {
             r.field = &e.force_field->field();
             r.state1 = e.point_states[0];
             r.state2 = e.point_states[1];
-            out.push_back(std::move(r));
+            contacts_cache_.push_back(std::move(r));
         }
     }
-    return out;
+    return contacts_cache_;
 }
 
 double Scene::kinetic_energy() const {

@@ -82,8 +82,10 @@ public:
     /// order), with its topology, mapped flag and solver-subtree flag. Contact-point states the
     /// pipelines add are not in this list.
     [[nodiscard]] const std::vector<output::StateRecord>& states() const { return states_; }
-    /// The live contact pairs of every pipeline (force field and its two point states).
-    [[nodiscard]] std::vector<output::ContactRecord> contacts() const;
+    /// The live contact pairs of every pipeline (force field and its two point states). The list
+    /// is kept between calls and rebuilt only when the live pairs changed (no per-step
+    /// allocation while the pairs stay); the reference is valid until the next call or step.
+    [[nodiscard]] const std::vector<output::ContactRecord>& contacts() const;
     [[nodiscard]] const std::vector<SceneCollisionModel>& collision_models() const { return models_; }
     [[nodiscard]] const std::vector<ScenePipeline>& pipelines() const { return pipelines_; }
     /// Σ ½ vᵀ M v over the states that have a mass (J).
@@ -104,6 +106,7 @@ private:
     std::vector<std::string> build_warnings_;
     std::vector<BaseMass*> masses_;
     StepTimings timings_;
+    mutable std::vector<output::ContactRecord> contacts_cache_;
 };
 
 /// Builds a scene. Every error is an io::SceneError naming the file, the line, the component
