@@ -146,8 +146,8 @@ private:
             return it->second->position;
         }
         if (src.type == "MeshTopology") {
-            auto it = topology_positions_.find(&src);
-            if (it != topology_positions_.end()) return it->second;
+            for (const auto& [node, info] : infos_)
+                if (info.topology_component == &src) return info.topology_positions;
         }
         io::throw_attribute_error(c, attr, "cannot read positions from " + src.describe());
     }
@@ -286,7 +286,6 @@ private:
                 t->set_hexahedra(mesh.hexahedra);
                 (void)t->edges();  // checks indices against the point count now
                 info.topology_positions = mesh.positions;
-                topology_positions_[&c] = mesh.positions;
                 info.topology = t.get();
                 scene_.topologies_.push_back(std::move(t));
             }
@@ -339,7 +338,6 @@ private:
                     s.position.assign(dof_count(c), RigidFrame{});
                 s.transform = tr;
                 if (!info.mapped) s.init();
-                rigid_states_[&c] = &s;
             } else {
                 auto& s = node.add_state<Vec3Types>(name);
                 if (c.has("position")) {
@@ -846,9 +844,7 @@ private:
     std::map<const SceneNode*, NodeInfo> infos_;
     std::unordered_map<const SceneNode*, Node*> node_of_;
     std::map<const SceneComponent*, io::MeshData> meshes_;
-    std::unordered_map<const SceneComponent*, std::vector<Vec3>> topology_positions_;
     std::unordered_map<const SceneComponent*, Vec3Object*> vec3_states_;
-    std::unordered_map<const SceneComponent*, Rigid3Object*> rigid_states_;
     std::vector<const SceneComponent*> pipeline_components_;
     std::vector<std::string> attribute_warnings_;
     std::vector<std::pair<EulerImplicitSolver*, Node*>> newton_solvers_;
