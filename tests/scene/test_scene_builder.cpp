@@ -221,6 +221,20 @@ TEST(SceneBuilder, IncompletePipelineAndUnreadAttributesAreReported) {
     EXPECT_THAT(w, ::testing::Contains("test.scn:5: EulerImplicitSolver: attribute 'fancyOption' is not read by penalty (ignored)"));
 }
 
+TEST(SceneBuilder, PositionsLinkedFromATopologyOrAState) {
+    auto s = build(R"(<Node name="root">
+      <Node name="A"><MeshTopology name="topo" position="0 0 0  1 0 0  0 1 0" triangles="0 1 2"/>
+        <MechanicalObject name="a" position="@topo.position" translation="0 0 1"/></Node>
+      <Node name="B"><MechanicalObject name="b" position="@../A/a.position" scale="2"/></Node>
+    </Node>)");
+    const auto& a = dynamic_cast<const Vec3Object&>(*s->states()[0].state);
+    const auto& b = dynamic_cast<const Vec3Object&>(*s->states()[1].state);
+    ASSERT_EQ(a.position.size(), 3u);
+    EXPECT_EQ(a.position[1], Vec3(1, 0, 1));
+    ASSERT_EQ(b.position.size(), 3u);
+    EXPECT_EQ(b.position[1], Vec3(2, 0, 2));  // a's transformed positions, scaled by 2
+}
+
 TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
     EXPECT_EQ(error_of(R"(<Node name="root">
   <FancyForceField/>
