@@ -1,4 +1,5 @@
 #include "penalty/mechanics/mapping.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
 
 #include "penalty_test/finite_difference.hpp"
 
@@ -166,6 +167,28 @@ TEST(Mapping, BarycentricOnHexahedraIsTrilinear) {
     for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_TRUE(out.position[i].isApprox(pts[i], 1e-12));
     const auto w0 = trilinear_weights(uvw[0]);
     for (int k = 0; k < 8; ++k) EXPECT_NEAR(map.weights()[0][static_cast<std::size_t>(k)].weight, w0[static_cast<std::size_t>(k)], 1e-12);
+}
+
+TEST(Mapping, BarycentricOnRegularGridAdjointAndFiniteDifferences) {
+    // Points located in the cells of a 3 x 2 x 3 grid (one outside, clamped to the nearest
+    // cell as SOFA does); the grid nodes are then moved off the grid so J is not trivially
+    // the trilinear interpolation of a box.
+    RegularGridTopology g({3, 2, 3}, Vec3(-1, 0, 0.5), Vec3(1, 0.8, 2.5));
+    Vec3Object in, out;
+    in.position = g.points();
+    in.init();
+    const std::vector<Vec3> pts = {Vec3(-0.7, 0.1, 0.6), Vec3(0.4, 0.5, 2.2), Vec3(0.0, 0.4, 1.5),
+                                   Vec3(1.3, 0.2, 1.0)};
+    BarycentricMapping map(in, out);
+    map_on_regular_grid(map, g, pts);
+    for (auto& x : in.position) x += 0.1 * rand_vec();
+    check_mapping<Vec3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_vec3(in, h, c); });
+    ASSERT_EQ(map.weights().size(), pts.size());
+    for (const auto& w : map.weights()) {
+        double sum = 0;
+        for (const auto& e : w) sum += e.weight;
+        EXPECT_NEAR(sum, 1.0, 1e-14);  // partition of unity: a translation of the grid moves every point
+    }
 }
 
 TEST(Mapping, ChainedMappingsComposeJacobians) {
