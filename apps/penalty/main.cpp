@@ -1,6 +1,6 @@
 // `penalty`: command-line entry point.
 //   penalty run [SCENE] [options]   run a SOFA scene headless (built-in scene when none is given)
-//   penalty info SCENE              the component tree and what penalty does with each component
+//   penalty info SCENE              builds the scene: what each component becomes, the contact pairs
 //   penalty demo                    the force field alone on worked numbers
 // Exit codes: 0 success; 1 invalid scene or input file; 2 command-line error; 3 the simulation
 // diverged (NaN/inf); 4 the states differ from the SOFA reference (--reference); 5 other errors
@@ -117,9 +117,11 @@ int run_command(const RunArguments& a) {
     return kOk;
 }
 
-int info_command(const std::string& scene_path) {
-    const penalty::io::SceneFile file = penalty::io::parse_scene_file(scene_path);
-    std::cout << penalty::scene::describe_scene(file);
+int info_command(const std::string& scene_path, const std::vector<std::string>& data_dirs) {
+    penalty::scene::BuildOptions build;
+    for (const auto& d : data_dirs) build.data_dirs.emplace_back(d);
+    const std::unique_ptr<penalty::scene::Scene> scene = penalty::scene::load_scene(scene_path, build);
+    std::cout << penalty::scene::describe_scene(*scene);
     return kOk;
 }
 
@@ -149,8 +151,11 @@ int main(int argc, char** argv) {
     run->add_flag("--quiet", args.quiet, "No progress bar");
 
     std::string info_scene;
-    auto* info = app.add_subcommand("info", "Show a scene's component tree and what penalty does with each component");
+    std::vector<std::string> info_data_dirs;
+    auto* info = app.add_subcommand(
+        "info", "Build a scene without running it: what each component becomes, and which model pairs make contacts where");
     info->add_option("scene", info_scene, "SOFA .scn file")->required()->check(CLI::ExistingFile);
+    info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
 
     auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field alone");
     penalty::apps::DemoOptions options;
@@ -175,7 +180,7 @@ int main(int argc, char** argv) {
             }
             return run_command(args);
         }
-        if (*info) return info_command(info_scene);
+        if (*info) return info_command(info_scene, info_data_dirs);
         return penalty::apps::run_demo(options, std::cout);
     } catch (const penalty::io::LoadError& e) {
         std::cerr << "penalty: error: " << e.what() << "\n";

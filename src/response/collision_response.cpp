@@ -101,9 +101,12 @@ CollisionResponse::CollisionResponse(std::string response, std::string response_
     apply_response_params(response_params_, check, nullptr);
 }
 
+std::string CollisionResponse::base_response_name() const {
+    return response_params_.empty() ? response_ : response_ + "?" + response_params_;
+}
+
 std::string CollisionResponse::response_name(const CollisionModel& m1, const CollisionModel& m2) const {
-    std::string base = response_;
-    if (!response_params_.empty()) base += "?" + response_params_;
+    std::string base = base_response_name();
     const std::string& r1 = m1.params().contact_response;
     const std::string& r2 = m2.params().contact_response;
     if (r1.empty() && r2.empty()) return base;

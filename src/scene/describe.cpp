@@ -1,8 +1,12 @@
-// `penalty info`: the component tree of a scene and what penalty does with each component.
+// `penalty info`: what a built scene is made of, component by component, and which model pairs
+// can make contacts, with where each contact goes (spec §2.1).
 #include "penalty/io/components.hpp"
+#include "penalty/response/collision_response.hpp"
 #include "penalty/scene/scene.hpp"
 #include "scene/attributes.hpp"
 
+#include <cstdio>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -10,22 +14,59 @@ namespace penalty::scene {
 
 namespace {
 
-void describe_node(const io::SceneNode& node, int depth, const std::set<const io::SceneComponent*>& loaders,
-                   const std::set<const io::SceneComponent*>& ignored, std::ostringstream& out) {
+/// Six significant digits (a display, not a round trip).
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+
+/// Path of a simulation node as in the file ("/" for the root, "/A/B" below).
+std::string path_of(const Node& n) {
+    if (n.parent() == nullptr) return "/";
+    std::string out;
+    for (const Node* x = &n; x->parent() != nullptr; x = x->parent()) out.insert(0, "/" + x->name());
+    return out;
+}
+
+/// The node whose solver integrates `n`: the first node from the root owning an ODE solver.
+const Node* integrating_node(const Node& n) {
+    const Node* found = nullptr;
+    for (const Node* x = &n; x != nullptr; x = x->parent())
+        if (x->ode_solver() != nullptr) found = x;
+    return found;
+}
+
+std::string ignored_reason(const io::SceneComponent& c) {
+    if (io::component_category(c.type) == io::ComponentCategory::ignored) {
+        for (const io::ComponentInfo& info : io::known_components())
+            if (info.type == c.type) return "ignored (" + std::string(info.role) + ")";
+    }
+    if (io::component_category(c.type) == io::ComponentCategory::loader) return "ignored (loader no physics component uses)";
+    return "ignored (maps onto a visual model)";
+}
+
+void describe_node(const Scene& scene, const io::SceneNode& sn, int depth, const std::set<const io::SceneComponent*>& ignored,
+                   std::ostringstream& out) {
     const std::string indent(std::size_t(2 * depth), ' ');
-    out << indent << "Node " << (node.parent ? node.path() : std::string("/ (") + node.name + ")");
-    for (const char* a : {"dt", "gravity"})
-        if (const io::SceneAttribute* at = node.find(a)) out << "  " << a << "=" << at->value;
+    out << indent << "Node " << (sn.parent ? sn.path() : std::string("/ (") + sn.name + ")");
+    // dt and gravity where they are set (the root always), inherited below
+    const Node* n = scene.node_of(sn);
+    const Node* parent = n ? n->parent() : nullptr;
+    if (n && (parent == nullptr || parent->dt() != n->dt())) out << ": dt " << num(n->dt()) << " s";
+    if (n && (parent == nullptr || parent->gravity() != n->gravity())) {
+        const Vec3 g = n->gravity();
+        out << (parent && parent->dt() == n->dt() ? ": " : ", ") << "gravity (" << num(g.x()) << ", " << num(g.y()) << ", "
+            << num(g.z()) << ") m/s^2";
+    }
     out << "\n";
-    for (const auto& c : node.components) {
+    for (const auto& c : sn.components) {
         std::string what;
         if (ignored.count(c.get())) {
-            what = "ignored (visual only)";
-        } else if (loaders.count(c.get())) {
-            what = "loader";
-            if (const io::SceneAttribute* f = c->find("filename")) what += " (" + f->value + ")";
+            what = ignored_reason(*c);
         } else {
-            what = "simulated";
+            what = scene.role(*c);
+            if (what.empty()) what = "built";
             const std::vector<std::string> unread = unread_attributes(*c);
             if (!unread.empty()) {
                 what += "; not read:";
@@ -35,26 +76,97 @@ void describe_node(const io::SceneNode& node, int depth, const std::set<const io
         std::string label = c->type;
         if (!c->template_name.empty()) label += "<" + c->template_name + ">";
         if (!c->name.empty()) label += " '" + c->name + "'";
-        out << indent << "  " << label;
-        const std::size_t width = 50;
-        out << std::string(label.size() + indent.size() + 2 < width ? width - label.size() - indent.size() - 2 : 1, ' ')
-            << what << "\n";
+        const std::size_t width = 46, used = indent.size() + 2 + label.size();
+        out << indent << "  " << label << std::string(used + 1 < width ? width - used : 1, ' ') << what << "\n";
     }
-    for (const auto& child : node.children) describe_node(*child, depth + 1, loaders, ignored, out);
+    for (const auto& child : sn.children) describe_node(scene, *child, depth + 1, ignored, out);
+}
+
+std::string support_text(PairSupport s, const IntersectionParams& p, const std::string& method) {
+    switch (s) {
+        case PairSupport::Supported: return "";
+        case PairSupport::Ignored: return "not detected: " + method + " ignores this pair (SOFA registers it so, or a use* switch is off)";
+        case PairSupport::Unsupported: return "not detected: " + method + " has no intersector for this pair (as SOFA)";
+        case PairSupport::BeyondSofa:
+            return p.enable_beyond_sofa_pairs ? "" : "not detected: beyond-SOFA pair, off (beyondSofaPairs=\"1\" on the intersection turns it on)";
+    }
+    return "";
+}
+
+std::string model_label(const SceneCollisionModel& m) {
+    return m.model->name() + " (" + model_type_name(m.model->type()) + ", " + path_of(*m.node) + ")";
+}
+
+/// Why SOFA's broad phase drops the pair (keep_model_pair is false).
+std::string exclusion_reason(const CollisionModel& a, const CollisionModel& b) {
+    if (!a.params().active || !b.params().active) return "an inactive model";
+    if (!a.params().simulated && !b.params().simulated) return "both non-simulated";
+    if (&a == &b || same_node(a, b)) return "same node without selfCollision";
+    return "a shared collision group";
+}
+
+void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
+    const ContactPipeline& pipeline = *sp.pipeline;
+    const IntersectionParams& params = pipeline.intersection();
+    out << "contact pairs of collision pipeline '" << sp.name << "' (" << sp.intersection;
+    if (sp.intersection != "Discrete")
+        out << ", alarm " << num(params.alarm_distance) << " m, contact " << num(params.contact_distance) << " m";
+    const std::string base = pipeline.response().base_response_name();
+    out << ", response " << (base.empty() ? std::string("none") : base) << "):\n";
+    std::map<std::string, int> excluded;
+    int kept = 0, contacting = 0;
+    for (std::size_t i = 0; i < sp.models.size(); ++i) {
+        for (std::size_t j = i; j < sp.models.size(); ++j) {
+            const SceneCollisionModel* a = sp.models[i];
+            const SceneCollisionModel* b = sp.models[j];
+            if (!keep_model_pair(*a->model, *b->model)) {
+                ++excluded[exclusion_reason(*a->model, *b->model)];
+                continue;
+            }
+            ++kept;
+            if (!is_registered_order(a->model->type(), b->model->type())) std::swap(a, b);
+            std::string what = support_text(pair_support(params, a->model->type(), b->model->type()), params, sp.intersection);
+            if (what.empty()) {
+                const std::string name = pipeline.response().response_name(*a->model, *b->model);
+                const std::string key = name.substr(0, name.find('?'));
+                if (key.empty() || key == "nullptr") {
+                    what = "detected; no response (" + (key.empty() ? std::string("none set") : key) + "): no contact";
+                } else if (!is_penalty_response_pair(a->model->type(), b->model->type())) {
+                    what = "detected; the penalty response has no contact for this pair (as SOFA)";
+                } else {
+                    ++contacting;
+                    const Node* host = pipeline.host_node(*a->model, *b->model);
+                    const Node* solver = integrating_node(*host);
+                    what = "penalty contact in " + path_of(*host) + ", " +
+                           (solver ? "implicit (solver of " + path_of(*solver) + ")"
+                                   : std::string("explicit (no solver above it: forces from the start of the step)"));
+                    if (name != kPenaltyResponseName) what += ", response " + name;
+                }
+            }
+            out << "  " << model_label(*a) << " - " << model_label(*b) << ": " << what << "\n";
+        }
+    }
+    out << "  " << kept << " model pair" << (kept == 1 ? "" : "s") << " kept by the broad phase, " << contacting
+        << " can make penalty contacts";
+    for (const auto& [reason, n] : excluded) out << "; " << n << " excluded (" << reason << ")";
+    out << "\n";
 }
 
 }  // namespace
 
-std::string describe_scene(const io::SceneFile& file) {
+std::string describe_scene(const Scene& scene) {
+    const io::SceneFile& file = scene.file();
     const io::SceneCheck check = io::validate(file);
     std::ostringstream out;
     out << "scene: " << file.path.string() << "\n";
-    const std::set<const io::SceneComponent*> loaders(check.loaders.begin(), check.loaders.end());
     const std::set<const io::SceneComponent*> ignored(check.ignored.begin(), check.ignored.end());
-    if (file.root) describe_node(*file.root, 0, loaders, ignored, out);
-    out << check.physics.size() << " simulated components, " << check.loaders.size() << " loaders";
-    if (!check.ignored.empty()) out << "; " << check.summary;
-    out << "\n";
+    if (file.root) describe_node(scene, *file.root, 0, ignored, out);
+    out << check.physics.size() << " physics components, " << check.loaders.size() << " loaders, "
+        << check.ignored.size() << " ignored\n";
+    for (const ScenePipeline& sp : scene.pipelines()) describe_pipeline(sp, out);
+    if (scene.pipelines().empty()) out << "no collision pipeline: no contact\n";
+    for (const std::string& w : scene.warnings())
+        if (w != check.summary) out << "note: " << w << "\n";
     return out.str();
 }
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <functional>
 #include <map>
 #include <optional>
@@ -36,6 +37,7 @@ struct NodeInfo {
     const SceneComponent* topology_component = nullptr;
     bool mapped = false;
     bool in_solver_subtree = false;
+    const SceneNode* solver_node = nullptr;      ///< first node from the root owning an ODE solver
     int node_id = 0;                             ///< depth-first index (collision same-node rule)
 };
 
@@ -66,6 +68,56 @@ double positive(const SceneComponent& c, std::string_view attr, double fallback)
     if (!(v > 0)) io::throw_attribute_error(c, attr, "must be > 0, found " + std::to_string(v));
     return v;
 }
+
+// ---- one-line descriptions for `penalty info` -----------------------------------------------------
+/// Six significant digits (a display, not a round trip).
+std::string num(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return buf;
+}
+std::string vec(const Vec3& v) { return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")"; }
+std::string counted(std::size_t n, std::string_view singular, std::string_view plural) {
+    return std::to_string(n) + " " + std::string(n == 1 ? singular : plural);
+}
+std::string element_counts(std::size_t points, const MeshTopology& t) {
+    std::string out = counted(points, "point", "points");
+    auto add = [&](std::size_t n, std::string_view one, std::string_view many) {
+        if (n > 0) out += ", " + counted(n, one, many);
+    };
+    add(t.edges().size(), "edge", "edges");
+    add(t.triangles().size(), "triangle", "triangles");
+    add(t.quads().size(), "quad", "quads");
+    add(t.tetrahedra().size(), "tetrahedron", "tetrahedra");
+    add(t.hexahedra().size(), "hexahedron", "hexahedra");
+    return out;
+}
+std::string mesh_counts(const io::MeshData& m) {
+    std::string out = counted(m.positions.size(), "point", "points");
+    auto add = [&](std::size_t n, std::string_view one, std::string_view many) {
+        if (n > 0) out += ", " + counted(n, one, many);
+    };
+    add(m.edges.size(), "edge", "edges");
+    add(m.triangles.size(), "triangle", "triangles");
+    add(m.quads.size(), "quad", "quads");
+    add(m.tetrahedra.size(), "tetrahedron", "tetrahedra");
+    add(m.hexahedra.size(), "hexahedron", "hexahedra");
+    if (!m.radii.empty()) out += ", radii";
+    return out;
+}
+std::string element_words(ModelType t, std::size_t n) {
+    switch (t) {
+        case ModelType::Point: return counted(n, "point", "points");
+        case ModelType::Line: return counted(n, "edge", "edges");
+        case ModelType::Triangle: return counted(n, "triangle", "triangles");
+        case ModelType::Sphere: return counted(n, "sphere", "spheres");
+        case ModelType::RigidSphere: return counted(n, "rigid sphere", "rigid spheres");
+        case ModelType::Cylinder: return counted(n, "cylinder", "cylinders");
+        case ModelType::Tetrahedron: return counted(n, "tetrahedron", "tetrahedra");
+    }
+    return counted(n, "element", "elements");
+}
+std::string path_of(const SceneNode& n) { return n.parent ? n.path() : std::string("/"); }
 
 }  // namespace
 
@@ -101,10 +153,17 @@ public:
         } catch (const std::exception& e) {
             throw io::SceneError(file_.path.string() + ": " + e.what());
         }
+        for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
+        for (const auto& [sn, info] : infos_) scene_.nodes_[sn] = info.node;
     }
 
 private:
     // ---- helpers ------------------------------------------------------------------------------
+    /// Records how to describe what `c` became; evaluated once the scene is initialised.
+    void role(const SceneComponent& c, std::function<std::string()> describe) {
+        roles_.emplace_back(&c, std::move(describe));
+    }
+
     template <class F>
     auto guarded(const io::SceneElement& c, F&& f) -> decltype(f()) {
         try {
@@ -126,6 +185,10 @@ private:
         auto it = meshes_.find(&loader);
         if (it == meshes_.end()) {
             it = meshes_.emplace(&loader, io::load_scene_mesh(loader, scene_dir_, options_.data_dirs)).first;
+            std::string file;
+            if (const auto name = io::get_string(loader, "filename"))
+                file = io::resolve_data_file(*name, scene_dir_, options_.data_dirs).string() + ": ";
+            role(loader, [file, counts = mesh_counts(it->second)] { return "reads " + file + counts; });
         }
         return it->second;
     }
@@ -179,10 +242,13 @@ private:
 
         for (const SceneComponent* c : of_type([](std::string_view t) { return t == "Gravity"; })) {
             guarded(*c, [&] { node.set_gravity(io::get_vec3_or(*c, "gravity", Vec3(0, -9.81, 0))); });
+            role(*c, [n = &node] { return "gravity " + vec(n->gravity()) + " m/s^2 in this node and below"; });
             note_unread_attributes(*c);
         }
         const auto solvers = of_type([](std::string_view t) { return t == "EulerImplicitSolver" || t == "EulerExplicitSolver"; });
         info.in_solver_subtree = parent_in_solver || !solvers.empty();
+        const SceneNode* parent_solver = sn.parent ? infos_[sn.parent].solver_node : nullptr;
+        info.solver_node = parent_solver ? parent_solver : (solvers.empty() ? nullptr : &sn);
 
         const auto topologies = of_type([](std::string_view t) { return t == "MeshTopology" || t == "RegularGridTopology"; });
         if (topologies.size() > 1) io::throw_element_error(*topologies[1], "a node may hold only one topology");
@@ -290,6 +356,15 @@ private:
                 scene_.topologies_.push_back(std::move(t));
             }
         });
+        if (info.grid) {
+            role(c, [g = &*info.grid, t = info.topology] {
+                return "grid " + std::to_string(g->n()[0]) + " x " + std::to_string(g->n()[1]) + " x " +
+                       std::to_string(g->n()[2]) + " from " + vec(g->min()) + " to " + vec(g->max()) + ": " +
+                       element_counts(g->num_points(), *t);
+            });
+        } else {
+            role(c, [t = info.topology] { return element_counts(t->num_points(), *t); });
+        }
         note_unread_attributes(c);
     }
 
@@ -361,6 +436,19 @@ private:
                 s.init();
                 vec3_states_[&c] = &s;
             }
+        });
+        std::string where;
+        if (info.mapped) where = "mapped: positions and velocities from its mapping";
+        else if (info.solver_node) where = "integrated by the ODE solver of " + path_of(*info.solver_node);
+        else where = "static: in no solver's subtree, never moves";
+        const InitialTransform tr = read_transform(c);
+        std::string moved;
+        if (!tr.scale3d.isOnes(0)) moved += ", scaled " + vec(tr.scale3d);
+        if (!tr.rotation_deg.isZero(0)) moved += ", rotated " + vec(tr.rotation_deg) + " deg";
+        if (!tr.translation.isZero(0)) moved += ", translated " + vec(tr.translation);
+        role(c, [st = info.node->state(), rigid, where, moved] {
+            return std::string(rigid ? "Rigid3d" : "Vec3d") + " state, " + counted(st->num_dofs(), "DOF", "DOFs") + moved +
+                   "; " + where;
         });
         note_unread_attributes(c);
     }
@@ -453,6 +541,17 @@ private:
         });
         BaseMapping* mapping = node.mapping();
         init_steps_.push_back({0, [mapping] { mapping->init(); }, &c});
+        std::string from = "?";
+        for (const auto& [n, i] : infos_)
+            if (i.node && i.node->state() == in) from = path_of(*n);
+        std::string how;
+        if (c.type == "IdentityMapping") how = inr ? "identity: the frames' centres" : "identity";
+        else if (c.type == "RigidMapping") how = "rigid: points fixed in the frames";
+        else if (c.type == "SubsetMapping") how = "subset: one input point per output point";
+        else if (in_info && in_info->grid) how = "barycentric: trilinear in the grid's cells";
+        else if (in_info && !in_info->topology->tetrahedra().empty()) how = "barycentric: in the input's tetrahedra";
+        else how = "barycentric: trilinear in the input's hexahedra";
+        role(c, [out3, from, how] { return "maps " + from + " onto this node's " + counted(out3->num_dofs(), "point", "points") + " (" + how + ")"; });
         note_unread_attributes(c);
     }
 
@@ -510,6 +609,12 @@ private:
         });
         BaseMass* mass = info.node->mass();
         scene_.masses_.push_back(mass);
+        role(c, [mass, st = s] {
+            double m = 0.0;
+            if (auto* v = dynamic_cast<const UniformMass<Vec3Types>*>(mass)) m = v->vertex_mass();
+            if (auto* r = dynamic_cast<const UniformMass<Rigid3Types>*>(mass)) m = r->vertex_mass();
+            return "mass " + num(m) + " kg per DOF, " + num(m * double(st->num_dofs())) + " kg in all";
+        });
         init_steps_.push_back({1, [mass] { mass->init(); }, &c});
         note_unread_attributes(c);
     }
@@ -538,6 +643,10 @@ private:
             auto& ff = info.node->add_force_field<SpringForceField>(s);
             for (const Spring& sp : springs) ff.add_spring(sp);
             init_steps_.push_back({1, [f = &ff] { f->init(); }, &c});
+            role(c, [f = &ff] {
+                return counted(f->springs().size(), "spring", "springs") + " between the topology's vertex pairs " +
+                       "(ks = stiffness / rest length, kd = damping / rest length)";
+            });
         });
         note_unread_attributes(c);
     }
@@ -561,6 +670,13 @@ private:
                 ff = &info.node->add_force_field<HexahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
             }
             init_steps_.push_back({1, [ff] { ff->init(); }, &c});
+            const std::string law = ", E = " + num(young) + " Pa, nu = " + num(poisson) + ", " +
+                                    (m == FemMethod::Large ? "corotational (large)" : "linear (small)");
+            if (const auto* tet = dynamic_cast<const TetrahedronFEMForceField*>(ff)) {
+                role(c, [tet, law] { return counted(tet->tetrahedra().size(), "tetrahedron", "tetrahedra") + law; });
+            } else if (const auto* hex = dynamic_cast<const HexahedronFEMForceField*>(ff)) {
+                role(c, [hex, law] { return counted(hex->element_stiffness().size(), "hexahedron", "hexahedra") + law; });
+            }
         });
         note_unread_attributes(c);
     }
@@ -579,6 +695,11 @@ private:
             f.set_indices(std::move(idx));
             f.set_fix_all(io::get_bool_or(c, "fixAll", false));
             init_steps_.push_back({1, [p = &f] { p->init(); }, &c});
+            const bool all = io::get_bool_or(c, "fixAll", false);
+            role(c, [p = &f, s, all] {
+                return all ? "fixes all " + counted(s->num_dofs(), "DOF", "DOFs")
+                           : "fixes " + std::to_string(p->indices().size()) + " of " + counted(s->num_dofs(), "DOF", "DOFs");
+            });
         });
         note_unread_attributes(c);
     }
@@ -590,6 +711,7 @@ private:
                     io::throw_attribute_error(c, "symplectic", "only the symplectic scheme is supported");
                 auto& explicit_solver = node.set_ode_solver<EulerExplicitSolver>();
                 init_steps_.push_back({1, [p = &explicit_solver, n = &node] { p->init(*n); }, &c});
+                role(c, [n = &node] { return "symplectic explicit Euler over this subtree (" + subtree_dofs(*n) + ")"; });
                 return;
             }
             auto& s = node.set_ode_solver<EulerImplicitSolver>();
@@ -606,6 +728,7 @@ private:
                 io::throw_attribute_error(c, "newtonIterations", "must be between 1 and 1000");
             s.newton.max_iterations = int(newton_iterations);
             s.newton.tolerance = nonnegative(c, "newtonTolerance", s.newton.tolerance);
+            const SceneComponent* linear = nullptr;
             for (const SceneComponent* l : physics) {
                 if (l->type != "CGLinearSolver") continue;
                 const auto it = io::get_int_or(*l, "iterations", 25);
@@ -613,10 +736,41 @@ private:
                 s.cg.iterations = int(it);
                 s.cg.tolerance = nonnegative(*l, "tolerance", 1e-5);
                 s.cg.threshold = nonnegative(*l, "threshold", 1e-5);
+                linear = l;
+                role(*l, [p = &s] {
+                    return "conjugate gradient of the implicit Euler solver: at most " + std::to_string(p->cg.iterations) +
+                           " iterations, tolerance " + num(p->cg.tolerance) + ", threshold " + num(p->cg.threshold);
+                });
                 break;
             }
+            role(c, [p = &s, n = &node, linear] {
+                std::string out = "implicit Euler over this subtree (" + subtree_dofs(*n) + ")";
+                if (p->rayleigh_stiffness != 0 || p->rayleigh_mass != 0)
+                    out += ", Rayleigh stiffness " + num(p->rayleigh_stiffness) + " mass " + num(p->rayleigh_mass);
+                if (p->vdamping != 0) out += ", vdamping " + num(p->vdamping);
+                if (p->first_order) out += ", first order";
+                if (p->trapezoidal_scheme) out += ", trapezoidal";
+                if (p->newton.enabled)
+                    out += ", Newton (at most " + std::to_string(p->newton.max_iterations) + " iterations, contact geometry re-detected)";
+                if (linear == nullptr) out += "; no CGLinearSolver in its node: CG with SOFA's defaults";
+                return out;
+            });
         });
         note_unread_attributes(c);
+    }
+
+    /// "N independent DOFs in K states" of a solver's subtree (mapped states not counted).
+    static std::string subtree_dofs(const Node& n) {
+        std::size_t dofs = 0, states = 0;
+        std::function<void(const Node&)> visit = [&](const Node& x) {
+            if (x.state() != nullptr && x.mapping() == nullptr) {
+                dofs += x.state()->num_dofs();
+                ++states;
+            }
+            for (const auto& child : x.children()) visit(*child);
+        };
+        visit(n);
+        return counted(dofs, "DOF", "DOFs") + " in " + counted(states, "state", "states");
     }
 
     // ---- collision models ---------------------------------------------------------------------
@@ -694,6 +848,31 @@ private:
             }
         });
         note_unread_attributes(c);
+        std::string shape;
+        if (c.type == "SphereCollisionModel")
+            shape = c.has("listRadius") ? ", radii from listRadius" : ", radius " + num(io::get_double_or(c, "radius", 1.0));
+        role(c, [this, m = model.get(), shape] {
+            const CollisionModelParams& p = m->params();
+            std::string out = element_words(m->type(), m->size()) + shape;
+            if (!p.simulated && !p.moving) out += ", static obstacle (simulated=0, moving=0)";
+            else if (!p.simulated) out += ", not simulated";
+            else if (!p.moving) out += ", simulated, not moving";
+            else out += ", simulated";
+            out += ", contactStiffness " + num(p.contact_stiffness);
+            if (p.contact_distance > 0) out += ", contactDistance " + num(p.contact_distance);
+            if (p.self_collision) out += ", self-collision";
+            if (!p.active) out += ", inactive";
+            if (!p.group.empty()) {
+                out += ", group";
+                for (int g : p.group) out += " " + std::to_string(g);
+            }
+            if (!p.contact_response.empty()) out += ", contactResponse " + p.contact_response;
+            std::string in;
+            for (const ScenePipeline& sp : scene_.pipelines_)
+                for (const SceneCollisionModel* x : sp.models)
+                    if (x->model.get() == m) in += (in.empty() ? "" : ", ") + sp.name;
+            return out + (in.empty() ? "; in no collision pipeline: never collides" : "; pipeline " + in);
+        });
         scene_.models_.push_back(SceneCollisionModel{std::move(model), info.node, &c});
     }
 
@@ -749,8 +928,8 @@ private:
         });
     }
 
-    void add_pipeline(const std::string& name, const SceneComponent* intersection, const SceneComponent* response,
-                      const std::vector<const SceneCollisionModel*>& models, Node& host) {
+    void add_pipeline(const SceneComponent* pipeline_component, const std::string& name, const SceneComponent* intersection,
+                      const SceneComponent* response, const std::vector<const SceneCollisionModel*>& models, Node& host) {
         Simulation& sim = *scene_.simulation_;
         ScenePipeline sp;
         sp.name = name;
@@ -763,6 +942,15 @@ private:
         const double dt = options_.dt ? *options_.dt : sim.root().dt();
         sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(*response, dt), &host, options);
         for (const SceneCollisionModel* m : models) sp.pipeline->add_model(*m->model, *m->node);
+        sp.models = models;
+        std::string summary = sp.intersection;
+        if (sp.intersection != "Discrete")
+            summary += " (alarm " + num(params.alarm_distance) + " m, contact " + num(params.contact_distance) + " m)";
+        summary += ", " + counted(models.size(), "collision model", "collision models") + ", response " +
+                   (sp.pipeline->response().base_response_name().empty() ? std::string("none")
+                                                                          : sp.pipeline->response().base_response_name());
+        role(*pipeline_component, [summary] { return "collision pipeline: " + summary; });
+        used_pieces_.insert({intersection, response});
         scene_.pipelines_.push_back(std::move(sp));
     }
 
@@ -775,6 +963,7 @@ private:
                 const SceneComponent* broad = first_below(*p->node, [](std::string_view t) { return t == "BruteForceBroadPhase"; });
                 const SceneComponent* narrow = first_below(*p->node, [](std::string_view t) { return t == "BVHNarrowPhase"; });
                 if (!inter || !resp || !broad || !narrow) {
+                    role(*p, [] { return "incomplete: no contact will be detected (see the notes)"; });
                     scene_.build_warnings_.push_back(
                         p->file + ":" + std::to_string(p->line) + ": " + p->describe() +
                         ": no contact will be detected: SOFA needs an intersection method, a CollisionResponse, "
@@ -784,8 +973,10 @@ private:
                 std::vector<const SceneCollisionModel*> models;
                 for (const auto& m : scene_.models_)
                     if (is_below(m.component->node, p->node)) models.push_back(&m);
-                add_pipeline(p->name.empty() ? p->type : p->name, inter, resp, models, host);
+                used_pieces_.insert({broad, narrow});
+                add_pipeline(p, p->name.empty() ? p->type : p->name, inter, resp, models, host);
             } else {  // CompositeCollisionPipeline
+                std::string subs;
                 for (const io::LinkTarget& t : io::resolve_links(*p, "subCollisionPipelines")) {
                     if (t.component == nullptr || t.component->type != "SubCollisionPipeline")
                         io::throw_attribute_error(*p, "subCollisionPipelines", "must link to SubCollisionPipeline components");
@@ -798,8 +989,8 @@ private:
                     };
                     const SceneComponent* inter = linked("intersectionMethod", is_intersection_type);
                     const SceneComponent* resp = linked("contactManager", [](std::string_view x) { return x == "CollisionResponse"; });
-                    linked("broadPhaseDetection", [](std::string_view x) { return x == "BruteForceBroadPhase"; });
-                    linked("narrowPhaseDetection", [](std::string_view x) { return x == "BVHNarrowPhase"; });
+                    used_pieces_.insert(linked("broadPhaseDetection", [](std::string_view x) { return x == "BruteForceBroadPhase"; }));
+                    used_pieces_.insert(linked("narrowPhaseDetection", [](std::string_view x) { return x == "BVHNarrowPhase"; }));
                     std::vector<const SceneCollisionModel*> models;
                     for (const io::LinkTarget& m : io::resolve_links(sub, "collisionModels")) {
                         const auto it = std::find_if(scene_.models_.begin(), scene_.models_.end(),
@@ -808,10 +999,13 @@ private:
                             io::throw_attribute_error(sub, "collisionModels", "links to something that is not a collision model");
                         models.push_back(&*it);
                     }
-                    add_pipeline(sub.name.empty() ? sub.type : sub.name, inter, resp, models, *node_of_.at(sub.node));
+                    add_pipeline(&sub, sub.name.empty() ? sub.type : sub.name, inter, resp, models, *node_of_.at(sub.node));
+                    subs += (subs.empty() ? "" : ", ") + (sub.name.empty() ? sub.type : sub.name);
                 }
+                role(*p, [subs] { return "composite: runs the sub-pipelines " + subs + " each step"; });
             }
         }
+        describe_pipeline_pieces();
         Simulation& sim = *scene_.simulation_;
         // Beyond SOFA: a solver with newton="1" re-runs the contact geometry at each iterate.
         for (auto [solver, solver_node] : newton_solvers_) {
@@ -835,6 +1029,40 @@ private:
         }
     }
 
+    /// Roles of the animation loop, intersection methods, responses, broad and narrow phases.
+    void describe_pipeline_pieces() {
+        for (const SceneComponent* c : check_.physics) {
+            const std::string& t = c->type;
+            const bool used = used_pieces_.count(c) != 0;
+            std::string d;
+            if (t == "DefaultAnimationLoop") {
+                d = "each step: collision with the positions of the previous step's end, then the solvers";
+            } else if (!used && (is_intersection_type(t) || t == "CollisionResponse" || t == "BruteForceBroadPhase" ||
+                                 t == "BVHNarrowPhase")) {
+                d = "not used by any collision pipeline";
+            } else if (is_intersection_type(t)) {
+                const IntersectionParams p = intersection_params(*c);
+                d = t == "DiscreteIntersection" ? "contact only where elements overlap"
+                                                : "alarm distance " + num(p.alarm_distance) + " m, contact distance " +
+                                                      num(p.contact_distance) + " m";
+                if (p.enable_beyond_sofa_pairs) d += ", beyond-SOFA pairs on";
+            } else if (t == "CollisionResponse") {
+                const std::string r = io::get_string(*c, "response").value_or(std::string(kPenaltyResponseName));
+                const std::string params = io::get_string(*c, "responseParams").value_or("");
+                d = "response " + (r.empty() ? std::string("none: no contact is created") : r) +
+                    (params.empty() ? "" : ", parameters " + params);
+            } else if (t == "BruteForceBroadPhase") {
+                d = "model pairs kept by SOFA's rules (active, not both non-simulated, self-collision, groups)";
+            } else if (t == "BVHNarrowPhase") {
+                d = options_.exhaustive_detection ? "element pairs by SOFA's exhaustive loop (--exhaustive)"
+                                                  : "element pairs from one BVH per model (the same outputs as SOFA's loop)";
+            } else {
+                continue;
+            }
+            role(*c, [d] { return d; });
+        }
+    }
+
     const io::SceneFile& file_;
     const BuildOptions& options_;
     Scene& scene_;
@@ -848,6 +1076,8 @@ private:
     std::vector<const SceneComponent*> pipeline_components_;
     std::vector<std::string> attribute_warnings_;
     std::vector<std::pair<EulerImplicitSolver*, Node*>> newton_solvers_;
+    std::vector<std::pair<const SceneComponent*, std::function<std::string()>>> roles_;
+    std::set<const SceneComponent*> used_pieces_;  ///< intersection, response, broad and narrow phases in use
     struct InitStep {
         int phase;  ///< 0: mappings (top-down), 1: masses, force fields, constraints, solvers
         std::function<void()> init;
@@ -899,6 +1129,16 @@ const std::vector<output::ContactRecord>& Scene::contacts() const {
         }
     }
     return contacts_cache_;
+}
+
+std::string Scene::role(const io::SceneComponent& component) const {
+    const auto it = roles_.find(&component);
+    return it == roles_.end() ? std::string() : it->second;
+}
+
+const Node* Scene::node_of(const io::SceneNode& node) const {
+    const auto it = nodes_.find(&node);
+    return it == nodes_.end() ? nullptr : it->second;
 }
 
 double Scene::kinetic_energy() const {

@@ -388,6 +388,15 @@ const ContactGraphEntry* ContactPipeline::find(const CollisionModel& m1, const C
     return nullptr;
 }
 
+Node* ContactPipeline::host_node(const CollisionModel& m1, const CollisionModel& m2) const {
+    // Spec §2.1 (SubCollisionPipeline::computeCollisionResponse).
+    if (!m1.params().simulated) return model_entry(m2).node;
+    if (!m2.params().simulated) return model_entry(m1).node;
+    (void)model_entry(m1);  // both must be registered here
+    (void)model_entry(m2);
+    return node_;
+}
+
 void ContactPipeline::on_create(BarycentricPenaltyContact& contact) {
     const ModelEntry& me1 = model_entry(contact.model1());
     const ModelEntry& me2 = model_entry(contact.model2());
@@ -418,14 +427,7 @@ void ContactPipeline::on_create(BarycentricPenaltyContact& contact) {
         e.point_states[std::size_t(s)] = &st;
         e.mappings[std::size_t(s)] = map;
     }
-    // Spec §2.1 (SubCollisionPipeline::computeCollisionResponse).
-    if (!contact.model1().params().simulated) {
-        e.host = me2.node;
-    } else if (!contact.model2().params().simulated) {
-        e.host = me1.node;
-    } else {
-        e.host = node_;
-    }
+    e.host = host_node(contact.model1(), contact.model2());
     auto ff = std::make_unique<ContactInteraction>(*e.point_states[0], *e.point_states[1], contact.force_field());
     e.force_field = ff.get();
     e.host->add_force_field_ptr(std::move(ff));

@@ -52,7 +52,12 @@ run("run", scene, "--reference", work, expect=2)  # --reference needs --export-s
 # info
 p = run("info", scene, expect=0)
 check("Node /Cube" in p.stdout and "PointCollisionModel 'cube_points'" in p.stdout and
-      "ignored 1 visual-only component: VisualStyle x1" in p.stdout, "info shows the tree and the ignored components")
+      re.search(r"VisualStyle +ignored \(display flags\)", p.stdout) is not None,
+      "info shows the tree and the ignored components")
+check("floor_triangles (Triangle, /Floor) - cube_points (Point, /Cube): penalty contact in /Cube, implicit (solver of /Cube)"
+      in p.stdout, "info shows where the contacts of each model pair go")
+p = run("info", os.path.join(data, "malformed.scn"), expect=1)
+check("malformed.scn:3: UniformMass 'mass': attribute 'totalMass'" in p.stderr, "info builds the scene and reports its errors")
 
 # run with every output
 states, vtk, stats = (os.path.join(work, d) for d in ("states", "vtk", "stats.csv"))

@@ -73,6 +73,8 @@ public:
                                std::string response_params = "",
                                const ContactResponseParameters& base = {});
 
+    /// The pipeline-wide name: response, plus "?" + response_params when not empty.
+    [[nodiscard]] std::string base_response_name() const;
     /// The name resolved for a pair (see the file comment).
     [[nodiscard]] std::string response_name(const CollisionModel& m1, const CollisionModel& m2) const;
 

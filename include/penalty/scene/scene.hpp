@@ -18,6 +18,7 @@
 #include "penalty/simulation/contact_pipeline.hpp"
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -49,6 +50,7 @@ struct ScenePipeline {
     std::string name;                              ///< component name or type
     std::string intersection;                      ///< "NewProximity", "MinProximity", "Discrete"
     std::unique_ptr<ContactPipeline> pipeline;
+    std::vector<const SceneCollisionModel*> models;  ///< the models it detects, registration order
 };
 
 /// Wall-clock time of the phases of the last step (s).
@@ -93,6 +95,12 @@ public:
     /// Notes for the user: ignored visual components (one line), attributes penalty does not
     /// read, pairs the intersection method does not detect, response warnings.
     [[nodiscard]] std::vector<std::string> warnings() const;
+    /// What the builder made of a component of the file, one line for `penalty info` (e.g.
+    /// "Vec3d state, 81 DOFs, static: in no solver's subtree, never moves"); "" for a component
+    /// that was not built (ignored, or a loader no physics component uses).
+    [[nodiscard]] std::string role(const io::SceneComponent& component) const;
+    /// The simulation node built for a node of the file (nullptr for a node of another file).
+    [[nodiscard]] const Node* node_of(const io::SceneNode& node) const;
 
 private:
     friend class SceneBuilder;
@@ -105,6 +113,8 @@ private:
     std::vector<ScenePipeline> pipelines_;
     std::vector<std::string> build_warnings_;
     std::vector<BaseMass*> masses_;
+    std::map<const io::SceneComponent*, std::string> roles_;
+    std::map<const io::SceneNode*, const Node*> nodes_;
     StepTimings timings_;
     mutable std::vector<output::ContactRecord> contacts_cache_;
 };
@@ -122,8 +132,11 @@ private:
 /// src/scene/default_scene.cpp for what it shows).
 [[nodiscard]] std::string_view default_scene_xml();
 
-/// `penalty info`: the component tree, one line per node and component, each component marked
-/// with what penalty does with it (built, loader, ignored), then the check's summary line.
-[[nodiscard]] std::string describe_scene(const io::SceneFile& file);
+/// `penalty info`: the component tree of a built scene, one line per node (effective dt and
+/// gravity) and per component (what it became: Scene::role, or why it is ignored), then, per
+/// collision pipeline, every model pair its broad phase keeps with the pair's support by the
+/// intersection method, its response and where the contact goes (implicit in a solver's
+/// subtree, explicit, or nowhere), the model pairs SOFA's rules exclude, and the build notes.
+[[nodiscard]] std::string describe_scene(const Scene& scene);
 
 }  // namespace penalty::scene

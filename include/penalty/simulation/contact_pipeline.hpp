@@ -229,6 +229,10 @@ public:
     [[nodiscard]] const std::vector<ContactGraphEntry>& graph_entries() const { return entries_; }
     /// The entry of a live pair (m1, m2 in registered order), or nullptr.
     [[nodiscard]] const ContactGraphEntry* find(const CollisionModel& m1, const CollisionModel& m2) const;
+    /// The node that stores the force field of a pair (m1, m2 registered, in SOFA's registered
+    /// order), spec §2.1: m1 not simulated → m2's node; else m2 not simulated → m1's node; else
+    /// the pipeline's node. Throws std::invalid_argument for a model not registered here.
+    [[nodiscard]] Node* host_node(const CollisionModel& m1, const CollisionModel& m2) const;
 
 private:
     struct ModelEntry {
