@@ -122,7 +122,8 @@ std::pair<std::array<int, 3>, Vec3> RegularGridTopology::locate(const Vec3& p) c
         const auto ua = static_cast<std::size_t>(a);
         if (n_[ua] < 2) throw_invalid_argument("RegularGridTopology: locate needs a 3-D grid");
         const double t = (p[a] - min_[a]) / dx_[a];
-        const int c = std::clamp(static_cast<int>(std::floor(t)), 0, n_[ua] - 2);
+        // SOFA's findCube / findNearestCube: the cell index is clamped, the fraction is not
+        const int c = static_cast<int>(std::clamp(std::floor(t), 0.0, static_cast<double>(n_[ua] - 2)));
         cell[ua] = c;
         uvw[a] = t - c;
     }

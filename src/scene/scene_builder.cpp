@@ -555,24 +555,16 @@ private:
         note_unread_attributes(c);
     }
 
-    /// Weights of `points` in the input's volume elements. A RegularGridTopology is searched as
-    /// an axis-aligned grid (SOFA's regular-grid mapper): moved by the input state's translation
-    /// and scale, so that a surface written with the same translation as its grid state maps onto
-    /// it (RegularGridSpringForceField.scn); a rotation cannot move an axis-aligned grid, so a
-    /// rotated grid state is searched in its written coordinates, and a surface written at the
-    /// origin follows the grid wherever dx/rx put it (Gravity.scn). Mesh topologies use the
-    /// input's rest positions. SOFA's own rule is not documented: docs/differences-from-sofa.md.
+    /// Weights of `points` (the output's positions after its own transform) in the input's
+    /// volume elements. A RegularGridTopology is searched as SOFA's regular-grid mapper does
+    /// (RegularGridTopology::findCube, then findNearestCube): in the grid's written coordinates
+    /// (min, max, n), whatever translation, rotation or scale the input state applied to its
+    /// positions; a point outside the grid takes the nearest cell with unclamped (extrapolated)
+    /// trilinear coordinates. Mesh topologies use the input's rest positions.
     void map_barycentric(const SceneComponent& c, BarycentricMapping& m, const NodeInfo& in_info, const Vec3Object& in,
                          std::span<const Vec3> points) {
         if (in_info.grid) {
-            const InitialTransform& tr = in.transform;
-            if (tr.rotation_deg.isZero(0)) {
-                const RegularGridTopology moved(in_info.grid->n(), in_info.grid->min().cwiseProduct(tr.scale3d) + tr.translation,
-                                                in_info.grid->max().cwiseProduct(tr.scale3d) + tr.translation);
-                map_on_regular_grid(m, moved, points);
-            } else {
-                map_on_regular_grid(m, *in_info.grid, points);
-            }
+            map_on_regular_grid(m, *in_info.grid, points);
             return;
         }
         if (!in_info.topology->tetrahedra().empty()) {

@@ -131,6 +131,9 @@ TEST(SceneBuilder, BothSimulatedContactGoesToThePipelineNodeAndIsExplicit) {
     EXPECT_LT(a.velocity[0].x(), 0.5);  // the spheres pushed each other
 }
 
+// SOFA's regular-grid mapper (BarycentricMapperRegularGridTopology::init) locates the output's
+// positions with RegularGridTopology::findCube / findNearestCube, i.e. in the grid's written
+// coordinates, while MechanicalObject::init moves the grid's copied positions by `translation`.
 TEST(SceneBuilder, RegularGridStateAndBarycentricSurface) {
     const std::string xml = R"(<Node name="root">
       <Node name="Grid"><EulerImplicitSolver/><CGLinearSolver/>
@@ -139,13 +142,17 @@ TEST(SceneBuilder, RegularGridStateAndBarycentricSurface) {
         <UniformMass vertexMass="0.5"/>
         <RegularGridSpringForceField stiffness="100"/>
         <Node name="Surface">
-          <MechanicalObject name="surface" position="10.5 0.5 0.5  11.5 0.25 0.75" />
+          <MechanicalObject name="surface" position="0.5 0.5 0.5  1.5 0.25 0.75  2.5 0.5 -0.5" />
+          <BarycentricMapping/>
+        </Node>
+        <Node name="Moved">
+          <MechanicalObject name="moved" position="0.5 0.5 0.5" translation="10 0 0"/>
           <BarycentricMapping/>
         </Node>
       </Node>
     </Node>)";
     auto s = build(xml);
-    ASSERT_EQ(s->states().size(), 2u);
+    ASSERT_EQ(s->states().size(), 3u);
     const auto& grid = dynamic_cast<const Vec3Object&>(*s->states()[0].state);
     ASSERT_EQ(grid.position.size(), 12u);
     EXPECT_DOUBLE_EQ(grid.position[0].x(), 10.0);
@@ -153,9 +160,14 @@ TEST(SceneBuilder, RegularGridStateAndBarycentricSurface) {
     EXPECT_TRUE(s->states()[1].mapped);
     EXPECT_TRUE(s->states()[1].in_solver_subtree);
     const auto& surface = dynamic_cast<const Vec3Object&>(*s->states()[1].state);
-    // The mapping reproduces the written points (they lie in the translated grid).
+    // Written in the grid's coordinates: the points follow the translated grid. The third lies
+    // outside the grid: nearest cell, extrapolated weights, which reproduce the affine motion.
     EXPECT_NEAR((surface.position[0] - Vec3(10.5, 0.5, 0.5)).norm(), 0.0, 1e-12);
     EXPECT_NEAR((surface.position[1] - Vec3(11.5, 0.25, 0.75)).norm(), 0.0, 1e-12);
+    EXPECT_NEAR((surface.position[2] - Vec3(12.5, 0.5, -0.5)).norm(), 0.0, 1e-12);
+    // A surface given the grid's translation itself is moved twice, as in SOFA.
+    const auto& moved = dynamic_cast<const Vec3Object&>(*s->states()[2].state);
+    EXPECT_NEAR((moved.position[0] - Vec3(20.5, 0.5, 0.5)).norm(), 0.0, 1e-12);
     // Free fall of the grid carries the surface: after one implicit step both moved by g·h².
     s->step();
     EXPECT_NEAR(surface.position[0].y(), 0.5 - 9.81 * 0.01 * 0.01, 1e-9);

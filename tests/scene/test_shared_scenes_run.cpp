@@ -24,7 +24,10 @@ struct SharedScene {
     const char* file;
     std::size_t states;          ///< MechanicalObjects built
     std::size_t collision_models;
-    bool contacts_expected;      ///< some contact during the run
+    /// true: some contact during the run; false: none at all (RegularGridSpringForceField.scn:
+    /// its link surfaces are moved twice by SOFA's regular-grid mapping rule, so the links do
+    /// not interlock, docs/sofa-compatibility.md).
+    bool contacts_expected;
 };
 
 void PrintTo(const SharedScene& scene, std::ostream* out) { *out << scene.file; }
@@ -49,8 +52,9 @@ TEST_P(SharedSceneRun, RunsAndStaysFinite) {
     EXPECT_TRUE(std::isfinite(summary.kinetic_energy));
     // Contacts happen within 1000 steps (the falling spheres of the CompositeCollisionPipeline
     // scenes reach their tori after about 1 s); the short sanitizer runs do not get there.
-    if (GetParam().contacts_expected && kSteps >= 1000) {
-        EXPECT_GT(summary.max_contacts, 0u);
+    if (kSteps >= 1000) {
+        if (GetParam().contacts_expected) EXPECT_GT(summary.max_contacts, 0u);
+        else EXPECT_EQ(summary.max_contacts, 0u);
     }
 }
 
@@ -65,7 +69,7 @@ INSTANTIATE_TEST_SUITE_P(
                       SharedScene{"ModelizationSphereBased.scn", 2, 2, true},
                       SharedScene{"ModelizationTriangleBased.scn", 2, 4, true},
                       SharedScene{"MultipleObjectsTwoCubes.scn", 3, 5, true},
-                      SharedScene{"RegularGridSpringForceField.scn", 9, 5, true},
+                      SharedScene{"RegularGridSpringForceField.scn", 9, 5, false},
                       SharedScene{"SphereModel.scn", 3, 2, true},
                       SharedScene{"collisionMultiple.scn", 7, 12, true}),
     [](const ::testing::TestParamInfo<SharedScene>& param_info) {
