@@ -113,6 +113,21 @@ void append_cells(std::string& out, const VtkCells& cells) {
     out += "      </Cells>\n";
 }
 
+/// Point data `radius` of a state covered by a sphere model (nothing when record.radius is empty).
+void append_radius(std::string& out, const StateRecord& record, std::size_t n, const std::string& label) {
+    if (record.radius.empty()) return;
+    if (record.radius.size() != n)
+        throw_invalid_argument(label, ": ", record.radius.size(), " radii for ", n, " DOFs");
+    XmlArray radius(out, "Float64", "radius", 1);
+    for (double r : record.radius) radius.add(r);
+}
+
+/// `<PointData ...>`: velocity is the vector field, radius (when present) the scalar field.
+std::string point_data_open(const StateRecord& record) {
+    return record.radius.empty() ? "      <PointData Vectors=\"velocity\">\n"
+                                 : "      <PointData Scalars=\"radius\" Vectors=\"velocity\">\n";
+}
+
 std::string vec3_piece(const StateRecord& record, const Vec3Object& state, double time) {
     const std::string label = "state " + state_label(record);
     for (std::size_t i = 0; i < state.position.size(); ++i) check_finite(state.position[i], label + " position", i, "DOF", time);
@@ -131,11 +146,12 @@ std::string vec3_piece(const StateRecord& record, const Vec3Object& state, doubl
     append_time_field(out, time);
     out += "    <Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfCells=\"" +
            std::to_string(cells.types.size()) + "\">\n";
-    out += "      <PointData Vectors=\"velocity\">\n";
+    out += point_data_open(record);
     {
         XmlArray velocity(out, "Float64", "velocity", 3);
         for (std::size_t i = 0; i < n; ++i) velocity.add_vector(i < state.velocity.size() ? state.velocity[i] : Vec3::Zero().eval());
     }
+    append_radius(out, record, n, label);
     out += "      </PointData>\n      <Points>\n";
     {
         XmlArray points(out, "Float64", "position", 3);
@@ -169,11 +185,12 @@ std::string rigid_piece(const StateRecord& record, const Rigid3Object& state, do
     append_header(out, "UnstructuredGrid");
     append_time_field(out, time);
     out += "    <Piece NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfCells=\"" + std::to_string(n) + "\">\n";
-    out += "      <PointData Vectors=\"velocity\">\n";
+    out += point_data_open(record);
     {
         XmlArray velocity(out, "Float64", "velocity", 3);
         for (std::size_t i = 0; i < n; ++i) velocity.add_vector(velocity_of(i).linear);
     }
+    append_radius(out, record, n, label);
     {
         XmlArray angular(out, "Float64", "angular_velocity", 3);
         for (std::size_t i = 0; i < n; ++i) angular.add_vector(velocity_of(i).angular);

@@ -290,6 +290,15 @@ private:
             r.mapped = info.mapped;
             r.in_solver_subtree = info.in_solver_subtree;
             r.mass = node.mass();
+            for (const SceneCollisionModel& m : scene_.models_) {  // spheres: VTK radius per DOF
+                if (m.node != &node) continue;
+                if (const auto* sphere = dynamic_cast<const SphereModel*>(m.model.get())) {
+                    for (std::size_t i = 0; i < sphere->size(); ++i) r.radius.push_back(sphere->radius(Index(i)));
+                } else if (const auto* rigid = dynamic_cast<const RigidSphereModel*>(m.model.get())) {
+                    for (std::size_t i = 0; i < rigid->size(); ++i) r.radius.push_back(rigid->radius(Index(i)));
+                }
+                if (!r.radius.empty()) break;
+            }
             scene_.states_.push_back(std::move(r));
         }
         for (const auto& child : sn.children) build_node(*child, node.add_child(child->name), info.in_solver_subtree);

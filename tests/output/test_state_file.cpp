@@ -49,8 +49,8 @@ struct TwoStates {
         rigid.position[0].center = Vec3(5, 10, 0);
         rigid.position[0].orientation = Quat(0.5, 0.5, -0.5, 0.5);  // w x y z
         rigid.init();
-        records.push_back({"dofs", "/A", &points, nullptr, false, true, nullptr});
-        records.push_back({"rigid", "/B", &rigid, nullptr, false, true, nullptr});
+        records.push_back({"dofs", "/A", &points, nullptr, false, true, nullptr, {}});
+        records.push_back({"rigid", "/B", &rigid, nullptr, false, true, nullptr, {}});
     }
     std::vector<const StateRecord*> pointers() const { return {&records[0], &records[1]}; }
 };
@@ -85,7 +85,7 @@ TEST(StateExporter, ExactTextVec3AndRigid3) {
 TEST(StateExporter, EmptyStateWritesEmptyXLine) {
     TempDir dir;
     Vec3Object empty("empty");
-    const StateRecord record{"empty", "/", &empty, nullptr, false, true, nullptr};
+    const StateRecord record{"empty", "/", &empty, nullptr, false, true, nullptr, {}};
     StateExporter exporter(dir.path(), {&record});
     exporter.write(0.5);
     EXPECT_EQ(read_text(exporter.files()[0]), "T= 0.5\n  X= \n");
@@ -126,7 +126,7 @@ TEST(StateExporter, UnwritableDirectoryThrowsNamingPath) {
 
 TEST(StateExporter, NullStateIsInvalidArgument) {
     TempDir dir;
-    const StateRecord record{"x", "/", nullptr, nullptr, false, true, nullptr};
+    const StateRecord record{"x", "/", nullptr, nullptr, false, true, nullptr, {}};
     EXPECT_THROW(StateExporter(dir.path(), {&record}), std::invalid_argument);
 }
 
@@ -351,7 +351,7 @@ TEST(Regression, OurExportMatchesItselfAndSofaLayoutReference) {
     rigid.position.resize(1);
     rigid.position[0].center = Vec3(-4.995441234, -2.309412, -0.000787169);
     rigid.init();
-    const StateRecord record{"rigid", "/", &rigid, nullptr, false, true, nullptr};
+    const StateRecord record{"rigid", "/", &rigid, nullptr, false, true, nullptr, {}};
     StateExporter exporter(dir.path() / "ours", {&record});
     exporter.write(1.99);
     write_text(dir.path() / "ref.txt", "T= 1.99\n  X= -4.99544 -2.30941 -0.000787169 0 0 0 1\n");

@@ -13,10 +13,10 @@ namespace {
 
 TEST(SelectExportedStates, KeepsSolverSubtreeAndMappedOnlyOnRequest) {
     std::vector<StateRecord> records(4);
-    records[0] = {"static", "/", nullptr, nullptr, false, false, nullptr};
-    records[1] = {"dofs", "/A", nullptr, nullptr, false, true, nullptr};
-    records[2] = {"surface", "/A/S", nullptr, nullptr, true, true, nullptr};
-    records[3] = {"free", "/B", nullptr, nullptr, false, true, nullptr};
+    records[0] = {"static", "/", nullptr, nullptr, false, false, nullptr, {}};
+    records[1] = {"dofs", "/A", nullptr, nullptr, false, true, nullptr, {}};
+    records[2] = {"surface", "/A/S", nullptr, nullptr, true, true, nullptr, {}};
+    records[3] = {"free", "/B", nullptr, nullptr, false, true, nullptr, {}};
     EXPECT_THAT(select_exported_states(records, false), ::testing::ElementsAre(&records[1], &records[3]));
     EXPECT_THAT(select_exported_states(records, true),
                 ::testing::ElementsAre(&records[1], &records[2], &records[3]));
@@ -79,8 +79,8 @@ TEST(KineticEnergy, SumsTheMassesOfTheRecords) {
     b.velocity = {Vec3(100, 0, 0)};
     b.init();
     std::vector<StateRecord> records(2);
-    records[0] = {"a", "/", &a, nullptr, false, true, &mass_a};
-    records[1] = {"b", "/B", &b, nullptr, true, true, nullptr};
+    records[0] = {"a", "/", &a, nullptr, false, true, &mass_a, {}};
+    records[1] = {"b", "/B", &b, nullptr, true, true, nullptr, {}};
     // ½·3·(1 + 4) = 7.5 J
     EXPECT_DOUBLE_EQ(kinetic_energy(records), 7.5);
 }

@@ -114,10 +114,10 @@ struct Scene {
         frame.position[0].orientation = Quat(Eigen::AngleAxisd(M_PI / 2, Vec3::UnitZ()));
         frame.velocity = {RigidDeriv{Vec3(1, 0, 0), Vec3(0, 0, 2)}};
         frame.init();
-        records.push_back({"block dofs", "/Block", &block, &volume, false, true, nullptr});
-        records.push_back({"block dofs", "/Block/Surface", &surface, &triangles, true, true, nullptr});
-        records.push_back({"cloud", "/Cloud", &cloud, nullptr, false, true, nullptr});
-        records.push_back({"rigid", "/Rigid", &frame, nullptr, false, true, nullptr});
+        records.push_back({"block dofs", "/Block", &block, &volume, false, true, nullptr, {}});
+        records.push_back({"block dofs", "/Block/Surface", &surface, &triangles, true, true, nullptr, {}});
+        records.push_back({"cloud", "/Cloud", &cloud, nullptr, false, true, nullptr, {}});
+        records.push_back({"rigid", "/Rigid", &frame, nullptr, false, true, nullptr, {}});
     }
     std::vector<const StateRecord*> pointers() const {
         std::vector<const StateRecord*> out;
@@ -248,7 +248,7 @@ TEST(VtkSeriesWriter, NumbersRoundTripExactly) {
     Vec3Object state("p");
     state.position = {Vec3(1.0 / 3.0, -5, 1e-300)};
     state.init();
-    const StateRecord record{"p", "/", &state, nullptr, false, true, nullptr};
+    const StateRecord record{"p", "/", &state, nullptr, false, true, nullptr, {}};
     VtkSeriesWriter writer(dir.path(), {&record});
     writer.write_step(0.1, {});
     VtkFile file(writer.state_piece(0, 0));
@@ -288,6 +288,35 @@ TEST(VtkSeriesWriter, RigidPieceHasFramesOrientationAndAxes) {
     EXPECT_THAT(array_values(piece, "PointData", "angular_velocity"), ElementsAre(0, 0, 2));
 }
 
+TEST(VtkSeriesWriter, SphereRadiiArePointScalars) {
+    TempDir dir;
+    Scene scene;
+    scene.records[2].radius = {0.25, 0.5};  // the cloud carries Vec3 spheres
+    scene.records[3].radius = {0.75};       // the frame a rigid sphere
+    VtkSeriesWriter writer(dir.path(), scene.pointers());
+    writer.write_step(0.0, {});
+    VtkFile cloud(writer.state_piece(2, 0));
+    const auto* piece = cloud.piece("UnstructuredGrid");
+    EXPECT_STREQ(piece->FirstChildElement("PointData")->Attribute("Scalars"), "radius");
+    int components = 0;
+    EXPECT_THAT(array_values(piece, "PointData", "radius", &components), ElementsAre(0.25, 0.5));
+    EXPECT_EQ(components, 1);
+    VtkFile rigid(writer.state_piece(3, 0));
+    EXPECT_THAT(array_values(rigid.piece("UnstructuredGrid"), "PointData", "radius"), ElementsAre(0.75));
+    // without radii: no scalars attribute
+    VtkFile block(writer.state_piece(0, 0));
+    EXPECT_EQ(block.piece("UnstructuredGrid")->FirstChildElement("PointData")->Attribute("Scalars"), nullptr);
+    // a radius list that does not match the DOFs names the state
+    scene.records[2].radius = {0.25};
+    VtkSeriesWriter bad(dir.path() / "bad", scene.pointers());
+    try {
+        bad.write_step(0.0, {});
+        ADD_FAILURE() << "no error";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_THAT(e.what(), HasSubstr("/Cloud/cloud: 1 radii for 2 DOFs"));
+    }
+}
+
 TEST(VtkSeriesWriter, ContactsPieceHasOneLinePerContact) {
     TempDir dir;
     Vec3Object a("a");
@@ -307,7 +336,7 @@ TEST(VtkSeriesWriter, ContactsPieceHasOneLinePerContact) {
     field2.renew_contacts();
     const std::vector<ContactRecord> contacts{{"ab", &field1, &a, &b}, {"ba", &field2, &b, &a}};
 
-    const StateRecord record{"a", "/", &a, nullptr, false, true, nullptr};
+    const StateRecord record{"a", "/", &a, nullptr, false, true, nullptr, {}};
     VtkSeriesWriter writer(dir.path(), {&record});
     writer.write_step(0.0, {});  // no contact: a valid, empty file
     writer.write_step(0.5, contacts);
@@ -399,7 +428,7 @@ TEST(VtkSeriesWriter, ErrorsNameTheirSubject) {
     } catch (const std::runtime_error& error) {
         EXPECT_THAT(error.what(), HasSubstr("blocker"));
     }
-    const StateRecord null_state{"x", "/", nullptr, nullptr, false, true, nullptr};
+    const StateRecord null_state{"x", "/", nullptr, nullptr, false, true, nullptr, {}};
     EXPECT_THROW(VtkSeriesWriter(dir.path(), {&null_state}), std::invalid_argument);
 
     // a topology larger than its state
@@ -408,7 +437,7 @@ TEST(VtkSeriesWriter, ErrorsNameTheirSubject) {
     small.init();
     MeshTopology topology;
     topology.set_triangles({{0, 1, 2}});
-    const StateRecord mismatched{"small", "/S", &small, &topology, false, true, nullptr};
+    const StateRecord mismatched{"small", "/S", &small, &topology, false, true, nullptr, {}};
     VtkSeriesWriter writer(dir.path() / "ok", {&mismatched});
     try {
         writer.write_step(0.0, {});

@@ -26,6 +26,9 @@ struct StateRecord {
     bool mapped = false;                     ///< its node has a mapping whose output is this state
     bool in_solver_subtree = false;          ///< its node is in the subtree of a node with an ODE solver
     const BaseMass* mass = nullptr;          ///< the node's mass (for kinetic_energy); nullptr: none
+    /// Sphere radius of each DOF (m) when a Sphere collision model covers the state, written as
+    /// VTK point data `radius` (glyph scale in ParaView); empty: no sphere model.
+    std::vector<double> radius;
 };
 
 /// SOFA's regression selection: the records with in_solver_subtree && (!mapped || include_mapped),

@@ -25,11 +25,15 @@
 /// Rigid3 state pieces: points = frame centres (m), one VTK_VERTEX per frame; point data
 /// `velocity` (linear, m/s), `angular_velocity` (rad/s, world), `orientation` (quaternion
 /// qx qy qz qw) and `axis_x`, `axis_y`, `axis_z` (the body axes in world coordinates, unit).
+/// Both: point data `radius` (m, the active scalars) when StateRecord::radius is set (a sphere
+/// collision model covers the state), for ParaView's Glyph filter (sphere, scale by radius,
+/// scale factor 2: the glyph source has radius 0.5).
 ///
 /// Errors: std::runtime_error naming the path on I/O failure; NonFiniteValueError naming the
 /// state or contact, the DOF or contact index, and the time, before any file of the step is
-/// written; std::invalid_argument for a null state / field, an unsupported state type, or a
-/// topology element referring to a point the state does not have.
+/// written; std::invalid_argument for a null state / field, an unsupported state type, a
+/// topology element referring to a point the state does not have, or a radius list whose size
+/// is not the DOF count.
 
 #include "penalty/output/state_record.hpp"
 #include "penalty/response/penalty_force_field.hpp"
