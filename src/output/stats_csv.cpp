@@ -12,7 +12,7 @@ namespace penalty::output {
 
 const char* stats_csv_header() {
     return "step,time,contacts,active_contacts,max_penetration,contact_energy,kinetic_energy,dissipated_energy,"
-           "detection_seconds,response_seconds,solve_seconds,output_seconds";
+           "detection_seconds,response_seconds,solve_seconds,output_seconds,cg_iterations,newton_iterations";
 }
 
 std::string format_stats_row(const StepStats& stats) {
@@ -39,6 +39,7 @@ std::string format_stats_row(const StepStats& stats) {
         row += ',';
         append_number(row, reals[i].second);
     }
+    row += ',' + std::to_string(stats.cg_iterations) + ',' + std::to_string(stats.newton_iterations);
     return row;
 }
 

@@ -96,6 +96,9 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     Simulation& sim = scene.simulation();
     const auto run_start = Clock::now();
     double contact_sum = 0.0;
+    double cg_sum = 0.0, newton_sum = 0.0;
+    summary.cg = scene.uses_cg();
+    summary.newton = scene.uses_newton();
     for (std::int64_t k = 0; k < options.steps; ++k) {
         const double t = sim.time();
         const auto out_start = Clock::now();
@@ -119,6 +122,13 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         summary.detection_seconds += timing.detection_seconds;
         summary.response_seconds += timing.response_seconds;
         summary.solve_seconds += timing.solve_seconds;
+        const StepSolverStats& solver = scene.last_solver_stats();
+        cg_sum += solver.cg_iterations;
+        newton_sum += solver.newton_iterations;
+        summary.max_cg_iterations = std::max(summary.max_cg_iterations, solver.cg_iterations);
+        summary.max_newton_iterations = std::max(summary.max_newton_iterations, solver.newton_iterations);
+        summary.cg_limit_steps += solver.cg_limit_reached ? 1 : 0;
+        summary.newton_unconverged_steps += solver.newton_unconverged ? 1 : 0;
         const output::ContactSummary cs = output::summarize_contacts(scene.contacts());
         contact_sum += double(cs.contacts);
         summary.max_contacts = std::max(summary.max_contacts, cs.contacts);
@@ -140,6 +150,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             row.response_seconds = timing.response_seconds;
             row.solve_seconds = timing.solve_seconds;
             row.output_seconds = output_seconds;
+            row.cg_iterations = solver.cg_iterations;
+            row.newton_iterations = solver.newton_iterations;
             stats->write(row);
             output_seconds += seconds_since(stats_start);
         }
@@ -155,6 +167,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     }
     summary.wall_seconds = seconds_since(run_start);
     summary.mean_contacts = options.steps > 0 ? contact_sum / double(options.steps) : 0.0;
+    summary.mean_cg_iterations = options.steps > 0 ? cg_sum / double(options.steps) : 0.0;
+    summary.mean_newton_iterations = options.steps > 0 ? newton_sum / double(options.steps) : 0.0;
     summary.kinetic_energy = scene.kinetic_energy();
     return summary;
 }
@@ -179,6 +193,16 @@ std::string format_summary(const RunSummary& s) {
                   s.detection_seconds * per_step, s.response_seconds * per_step, s.solve_seconds * per_step,
                   s.output_seconds * per_step);
     out << buf;
+    if (s.cg) {
+        std::snprintf(buf, sizeof buf, "CG iterations per step: mean %.1f, max %d; iteration limit reached in %lld steps\n",
+                      s.mean_cg_iterations, s.max_cg_iterations, static_cast<long long>(s.cg_limit_steps));
+        out << buf;
+    }
+    if (s.newton) {
+        std::snprintf(buf, sizeof buf, "Newton iterations per step: mean %.2f, max %d; not converged in %lld steps\n",
+                      s.mean_newton_iterations, s.max_newton_iterations, static_cast<long long>(s.newton_unconverged_steps));
+        out << buf;
+    }
     return out.str();
 }
 

@@ -717,6 +717,7 @@ private:
             }
             auto& s = node.set_ode_solver<EulerImplicitSolver>();
             init_steps_.push_back({1, [p = &s, n = &node] { p->init(*n); }, &c});
+            scene_.implicit_solvers_.push_back(&s);
             s.rayleigh_stiffness = io::get_double_or(c, "rayleighStiffness", 0.0);
             s.rayleigh_mass = io::get_double_or(c, "rayleighMass", 0.0);
             s.vdamping = nonnegative(c, "vdamping", 0.0);
@@ -1102,6 +1103,20 @@ void Scene::step() {
     simulation_->step();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
+    solver_stats_ = StepSolverStats{};
+    for (const EulerImplicitSolver* s : implicit_solvers_) {
+        solver_stats_.cg_iterations += s->last_step_cg_iterations();
+        solver_stats_.cg_limit_reached = solver_stats_.cg_limit_reached || s->last_step_cg_limit_reached();
+        if (s->newton.enabled) {
+            solver_stats_.newton_iterations += s->last_newton_iterations();
+            solver_stats_.newton_unconverged = solver_stats_.newton_unconverged || !s->last_newton_converged();
+        }
+    }
+}
+
+bool Scene::uses_newton() const {
+    return std::any_of(implicit_solvers_.begin(), implicit_solvers_.end(),
+                       [](const EulerImplicitSolver* s) { return s->newton.enabled; });
 }
 
 const std::vector<output::ContactRecord>& Scene::contacts() const {

@@ -257,8 +257,16 @@ void EulerImplicitSolver::init(Node& /*node*/) {
     if (!std::isfinite(vdamping) || vdamping < 0) throw_invalid_argument("EulerImplicitSolver: vdamping must be >= 0, got ", vdamping);
 }
 
+void EulerImplicitSolver::record_cg(const CgStats& stats) {
+    last_cg_ = stats;
+    step_cg_iterations_ += stats.iterations;
+    step_cg_limit_reached_ = step_cg_limit_reached_ || stats.end_condition == "iterations";
+}
+
 void EulerImplicitSolver::solve(Node& node, double dt) {
     SubtreeSystem sys(node);
+    step_cg_iterations_ = 0;
+    step_cg_limit_reached_ = false;
     if (newton.enabled) {
         solve_newton(sys, dt);
         return;
@@ -284,7 +292,7 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     const double bf = first_order ? 0.0 : -tr * h;
     const double kf = first_order ? -h * tr : -tr * h * (tr * h + rs);
     Eigen::VectorXd x;
-    last_cg_ = cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x);
+    record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x));
     Eigen::VectorXd v_new = first_order ? x : Eigen::VectorXd(v + x);
     sys.scatter_velocity(v_new);
     sys.add_to_positions(h, v_new);
@@ -335,8 +343,8 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
             break;
         }
         Eigen::VectorXd delta;
-        last_cg_ = cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, 1.0, -h, -h * h, true); },
-                            rhs, delta);
+        record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, 1.0, -h, -h * h, true); },
+                           rhs, delta));
         dv += delta;
     }
     const Eigen::VectorXd v = v0 + dv;

@@ -22,7 +22,7 @@ TEST(StatsCsv, HeaderAndRowsExactly) {
     StatsCsvWriter writer(file);
     EXPECT_EQ(read_text(file),
               "step,time,contacts,active_contacts,max_penetration,contact_energy,kinetic_energy,dissipated_energy,"
-              "detection_seconds,response_seconds,solve_seconds,output_seconds\n");
+              "detection_seconds,response_seconds,solve_seconds,output_seconds,cg_iterations,newton_iterations\n");
     StepStats stats;
     stats.step = 3;
     stats.time = 0.03;
@@ -36,9 +36,11 @@ TEST(StatsCsv, HeaderAndRowsExactly) {
     stats.response_seconds = 0.125;
     stats.solve_seconds = 1.5;
     stats.output_seconds = 0.001;
+    stats.cg_iterations = 41;
+    stats.newton_iterations = 3;
     writer.write(stats);
     EXPECT_EQ(read_text(file),
-              std::string(stats_csv_header()) + "\n3,0.03,12,7,0.0015,1e-300,2.5,0,0.25,0.125,1.5,0.001\n");
+              std::string(stats_csv_header()) + "\n3,0.03,12,7,0.0015,1e-300,2.5,0,0.25,0.125,1.5,0.001,41,3\n");
 }
 
 TEST(StatsCsv, NonFiniteThrowsNamingColumnAndStep) {

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace {
@@ -345,6 +346,58 @@ TEST(SceneBuilder, RunnerWritesStatesEveryMStepsPlusTheLast) {
     EXPECT_EQ(samples[0].x.size(), 24u);
     EXPECT_DOUBLE_EQ(samples[0].x[1], 0.15);
     std::filesystem::remove_all(*run.states_directory);
+}
+
+TEST(SceneBuilder, RunnerReportsCgAndNewtonIterations) {
+    // Two free particles, one solver each; B runs Newton. Free fall is linear: CG on the
+    // diagonal system M dv = h f is exact after one update, and stops when iteration 2 finds a
+    // zero residual; SOFA's nb_iter counts the iterations started, so 2 per solve, 4 per step.
+    // Newton meets its tolerance at its second iterate (the first update is exact).
+    const std::string xml = R"(<Node name="root" dt="0.01">
+      <Node name="A"><EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-30"/>
+        <MechanicalObject name="a" position="0 0 0"/><UniformMass vertexMass="1"/></Node>
+      <Node name="B"><EulerImplicitSolver newton="1" newtonIterations="5"/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-30"/>
+        <MechanicalObject name="b" position="1 0 0"/><UniformMass vertexMass="1"/></Node>
+    </Node>)";
+    auto s = build(xml);
+    EXPECT_TRUE(s->uses_cg());
+    EXPECT_TRUE(s->uses_newton());
+    scene::RunOptions run;
+    run.steps = 4;
+    run.stats_file = temp_dir("solver_stats") / "stats.csv";
+    const auto summary = scene::run_scene(*s, run);
+    EXPECT_TRUE(summary.cg);
+    EXPECT_TRUE(summary.newton);
+    EXPECT_EQ(s->last_solver_stats().newton_iterations, 2);
+    EXPECT_FALSE(s->last_solver_stats().newton_unconverged);
+    EXPECT_EQ(s->last_solver_stats().cg_iterations, 4);
+    EXPECT_FALSE(s->last_solver_stats().cg_limit_reached);
+    EXPECT_DOUBLE_EQ(summary.mean_newton_iterations, 2.0);
+    EXPECT_EQ(summary.max_cg_iterations, 4);
+    EXPECT_EQ(summary.cg_limit_steps, 0);
+    EXPECT_EQ(summary.newton_unconverged_steps, 0);
+    const std::string text = scene::format_summary(summary);
+    EXPECT_THAT(text, HasSubstr("CG iterations per step: mean 4.0, max 4; iteration limit reached in 0 steps\n"));
+    EXPECT_THAT(text, HasSubstr("Newton iterations per step: mean 2.00, max 2; not converged in 0 steps\n"));
+    std::ifstream csv(*run.stats_file);
+    std::string header, row;
+    std::getline(csv, header);
+    std::getline(csv, row);
+    EXPECT_TRUE(header.ends_with(",cg_iterations,newton_iterations")) << header;
+    EXPECT_TRUE(row.ends_with(",4,2")) << row;
+    // A CG limit of 1 iteration on a coupled system is reached and counted.
+    auto stiff = build(R"(<Node name="root" dt="0.01">
+      <Node name="A"><EulerImplicitSolver/><CGLinearSolver iterations="1" tolerance="1e-12" threshold="1e-30"/>
+        <MechanicalObject name="a" position="0 0 0  1 0 0  0 1 0"/><MeshTopology triangles="0 1 2"/>
+        <UniformMass vertexMass="1"/><MeshSpringForceField stiffness="100"/></Node>
+    </Node>)");
+    run.steps = 3;
+    run.stats_file.reset();
+    const auto limited = scene::run_scene(*stiff, run);
+    EXPECT_EQ(limited.cg_limit_steps, 3);
+    EXPECT_FALSE(limited.newton);
+    EXPECT_THAT(scene::format_summary(limited), ::testing::Not(HasSubstr("Newton")));
+    std::filesystem::remove_all(run.stats_file ? run.stats_file->parent_path() : temp_dir("solver_stats"));
 }
 
 TEST(SceneBuilder, DivergenceStopsTheRunNamingStateAndStep) {

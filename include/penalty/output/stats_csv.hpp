@@ -5,7 +5,8 @@
 /// File: a header line, then one row per write, comma-separated, numbers in shortest round-trip
 /// form (format.hpp), integers in decimal:
 ///   step,time,contacts,active_contacts,max_penetration,contact_energy,kinetic_energy,
-///   dissipated_energy,detection_seconds,response_seconds,solve_seconds,output_seconds
+///   dissipated_energy,detection_seconds,response_seconds,solve_seconds,output_seconds,
+///   cg_iterations,newton_iterations
 /// (one line). Units: time s, max_penetration m, energies J, *_seconds wall-clock s.
 
 #include "penalty/output/state_record.hpp"
@@ -31,6 +32,8 @@ struct StepStats {
     double response_seconds = 0.0;
     double solve_seconds = 0.0;
     double output_seconds = 0.0;
+    int cg_iterations = 0;              ///< CG iterations of the step, every implicit solver
+    int newton_iterations = 0;          ///< Newton iterates of the step (0 without Newton)
 };
 
 /// The CSV header line (without newline).

@@ -48,6 +48,14 @@ struct RunSummary {
     double kinetic_energy = 0.0;     ///< J, at the end
     double contact_energy = 0.0;     ///< J, stored in the contact springs at the end
     double dissipated_energy = 0.0;  ///< J, by contact damping/friction (cumulative, live pairs)
+    bool cg = false;                         ///< the scene has an implicit solver
+    double mean_cg_iterations = 0.0;         ///< per step, all implicit solvers
+    int max_cg_iterations = 0;
+    std::int64_t cg_limit_steps = 0;         ///< steps where a linear solve hit its iteration limit
+    bool newton = false;                     ///< a solver runs Newton iterations
+    double mean_newton_iterations = 0.0;     ///< per step
+    int max_newton_iterations = 0;
+    std::int64_t newton_unconverged_steps = 0;  ///< steps where Newton stopped on newtonIterations
     std::vector<std::filesystem::path> state_files;  ///< the files written by --export-states
     std::vector<int> values_per_dof;                 ///< per state file (3 Vec3, 7 Rigid3)
 };

@@ -60,6 +60,14 @@ struct StepTimings {
     double solve_seconds = 0.0;      ///< explicit forces, ODE solvers, propagation
 };
 
+/// What the implicit solvers did in the last step (summed over every EulerImplicitSolver).
+struct StepSolverStats {
+    int cg_iterations = 0;            ///< CG iterations, all linear solves of the step
+    bool cg_limit_reached = false;    ///< a linear solve stopped on its `iterations` limit
+    int newton_iterations = 0;        ///< Newton iterates (solvers with newton="1")
+    bool newton_unconverged = false;  ///< a Newton solve stopped on newtonIterations
+};
+
 class Scene;
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options);
 
@@ -79,6 +87,11 @@ public:
     /// Runs one step (collision at the start, then the solvers) and records its timings.
     void step();
     [[nodiscard]] const StepTimings& last_timings() const { return timings_; }
+    [[nodiscard]] const StepSolverStats& last_solver_stats() const { return solver_stats_; }
+    /// True if the scene has an implicit solver with Newton iterations (newton="1").
+    [[nodiscard]] bool uses_newton() const;
+    /// True if the scene has an implicit solver (CG statistics are meaningful).
+    [[nodiscard]] bool uses_cg() const { return !implicit_solvers_.empty(); }
 
     /// Every MechanicalObject of the scene file, depth first (parent before children, file
     /// order), with its topology, mapped flag and solver-subtree flag. Contact-point states the
@@ -116,6 +129,8 @@ private:
     std::map<const io::SceneComponent*, std::string> roles_;
     std::map<const io::SceneNode*, const Node*> nodes_;
     StepTimings timings_;
+    StepSolverStats solver_stats_;
+    std::vector<const EulerImplicitSolver*> implicit_solvers_;
     mutable std::vector<output::ContactRecord> contacts_cache_;
 };
 

@@ -124,6 +124,10 @@ public:
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
     [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
+    /// CG iterations of the last solve() in all (one linear solve, or one per Newton iterate).
+    [[nodiscard]] int last_step_cg_iterations() const { return step_cg_iterations_; }
+    /// True if a linear solve of the last solve() stopped on its iteration limit.
+    [[nodiscard]] bool last_step_cg_limit_reached() const { return step_cg_limit_reached_; }
     /// Newton (newton.enabled): residual evaluations of the last solve (iterates 0..n−1; the
     /// last one either met the tolerance or was followed by the max_iterations-th update).
     [[nodiscard]] int last_newton_iterations() const { return last_newton_iterations_; }
@@ -135,6 +139,9 @@ public:
 private:
     void solve_newton(SubtreeSystem& system, double dt);
     CgStats last_cg_;
+    void record_cg(const CgStats& stats);
+    int step_cg_iterations_ = 0;
+    bool step_cg_limit_reached_ = false;
     int last_newton_iterations_ = 0;
     double last_newton_residual_ = 0.0;
     bool last_newton_converged_ = false;
