@@ -80,30 +80,28 @@ std::string vec(const Vec3& v) { return "(" + num(v.x()) + ", " + num(v.y()) + "
 std::string counted(std::size_t n, std::string_view singular, std::string_view plural) {
     return std::to_string(n) + " " + std::string(n == 1 ? singular : plural);
 }
-std::string element_counts(std::size_t points, const MeshTopology& t) {
+/// "81 points, 208 edges, 128 triangles": the non-zero element counts.
+std::string element_counts(std::size_t points, std::size_t edges, std::size_t triangles, std::size_t quads,
+                           std::size_t tetrahedra, std::size_t hexahedra) {
     std::string out = counted(points, "point", "points");
     auto add = [&](std::size_t n, std::string_view one, std::string_view many) {
         if (n > 0) out += ", " + counted(n, one, many);
     };
-    add(t.edges().size(), "edge", "edges");
-    add(t.triangles().size(), "triangle", "triangles");
-    add(t.quads().size(), "quad", "quads");
-    add(t.tetrahedra().size(), "tetrahedron", "tetrahedra");
-    add(t.hexahedra().size(), "hexahedron", "hexahedra");
+    add(edges, "edge", "edges");
+    add(triangles, "triangle", "triangles");
+    add(quads, "quad", "quads");
+    add(tetrahedra, "tetrahedron", "tetrahedra");
+    add(hexahedra, "hexahedron", "hexahedra");
     return out;
 }
+std::string element_counts(std::size_t points, const MeshTopology& t) {
+    return element_counts(points, t.edges().size(), t.triangles().size(), t.quads().size(), t.tetrahedra().size(),
+                          t.hexahedra().size());
+}
 std::string mesh_counts(const io::MeshData& m) {
-    std::string out = counted(m.positions.size(), "point", "points");
-    auto add = [&](std::size_t n, std::string_view one, std::string_view many) {
-        if (n > 0) out += ", " + counted(n, one, many);
-    };
-    add(m.edges.size(), "edge", "edges");
-    add(m.triangles.size(), "triangle", "triangles");
-    add(m.quads.size(), "quad", "quads");
-    add(m.tetrahedra.size(), "tetrahedron", "tetrahedra");
-    add(m.hexahedra.size(), "hexahedron", "hexahedra");
-    if (!m.radii.empty()) out += ", radii";
-    return out;
+    return element_counts(m.positions.size(), m.edges.size(), m.triangles.size(), m.quads.size(), m.tetrahedra.size(),
+                          m.hexahedra.size()) +
+           (m.radii.empty() ? "" : ", radii");
 }
 std::string element_words(ModelType t, std::size_t n) {
     switch (t) {
