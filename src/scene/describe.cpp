@@ -4,8 +4,8 @@
 #include "penalty/response/collision_response.hpp"
 #include "penalty/scene/scene.hpp"
 #include "scene/attributes.hpp"
+#include "scene/display.hpp"
 
-#include <cstdio>
 #include <map>
 #include <set>
 #include <sstream>
@@ -14,20 +14,8 @@ namespace penalty::scene {
 
 namespace {
 
-/// Six significant digits (a display, not a round trip).
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
-
-/// Path of a simulation node as in the file ("/" for the root, "/A/B" below).
-std::string path_of(const Node& n) {
-    if (n.parent() == nullptr) return "/";
-    std::string out;
-    for (const Node* x = &n; x->parent() != nullptr; x = x->parent()) out.insert(0, "/" + x->name());
-    return out;
-}
+using display::node_path;
+std::string num(double v) { return display::number(v); }
 
 /// The node whose solver integrates `n`: the first node from the root owning an ODE solver.
 const Node* integrating_node(const Node& n) {
@@ -94,7 +82,7 @@ std::string support_text(PairSupport s, const IntersectionParams& p, const std::
 }
 
 std::string model_label(const SceneCollisionModel& m) {
-    return m.model->name() + " (" + model_type_name(m.model->type()) + ", " + path_of(*m.node) + ")";
+    return m.model->name() + " (" + model_type_name(m.model->type()) + ", " + node_path(*m.node) + ")";
 }
 
 /// Why SOFA's broad phase drops the pair (keep_model_pair is false).
@@ -137,8 +125,8 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
                     ++contacting;
                     const Node* host = pipeline.host_node(*a->model, *b->model);
                     const Node* solver = integrating_node(*host);
-                    what = "penalty contact in " + path_of(*host) + ", " +
-                           (solver ? "implicit (solver of " + path_of(*solver) + ")"
+                    what = "penalty contact in " + node_path(*host) + ", " +
+                           (solver ? "implicit (solver of " + node_path(*solver) + ")"
                                    : std::string("explicit (no solver above it: forces from the start of the step)"));
                     if (name != kPenaltyResponseName) what += ", response " + name;
                 }

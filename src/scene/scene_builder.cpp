@@ -9,10 +9,10 @@
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "scene/attributes.hpp"
+#include "scene/display.hpp"
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <functional>
 #include <map>
 #include <optional>
@@ -36,8 +36,7 @@ struct NodeInfo {
     std::optional<RegularGridTopology> grid;
     const SceneComponent* topology_component = nullptr;
     bool mapped = false;
-    bool in_solver_subtree = false;
-    const SceneNode* solver_node = nullptr;      ///< first node from the root owning an ODE solver
+    const SceneNode* solver_node = nullptr;      ///< first node from the root owning an ODE solver (null: none)
     int node_id = 0;                             ///< depth-first index (collision same-node rule)
 };
 
@@ -70,13 +69,9 @@ double positive(const SceneComponent& c, std::string_view attr, double fallback)
 }
 
 // ---- one-line descriptions for `penalty info` -----------------------------------------------------
-/// Six significant digits (a display, not a round trip).
-std::string num(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
-    return buf;
-}
-std::string vec(const Vec3& v) { return "(" + num(v.x()) + ", " + num(v.y()) + ", " + num(v.z()) + ")"; }
+using display::node_path;
+std::string num(double v) { return display::number(v); }
+std::string vec(const Vec3& v) { return display::vector(v); }
 std::string counted(std::size_t n, std::string_view singular, std::string_view plural) {
     return std::to_string(n) + " " + std::string(n == 1 ? singular : plural);
 }
@@ -115,7 +110,6 @@ std::string element_words(ModelType t, std::size_t n) {
     }
     return counted(n, "element", "elements");
 }
-std::string path_of(const SceneNode& n) { return n.parent ? n.path() : std::string("/"); }
 
 }  // namespace
 
@@ -131,7 +125,7 @@ public:
         if (!check_.ignored.empty()) scene_.build_warnings_.push_back(check_.summary);
 
         Simulation& sim = *scene_.simulation_;
-        build_node(*file_.root, sim.root(), false);
+        build_node(*file_.root, sim.root());
         if (options_.dt) {
             if (!(*options_.dt > 0) || !std::isfinite(*options_.dt))
                 throw io::SceneError("--dt must be a positive number of seconds");
@@ -214,7 +208,7 @@ private:
     }
 
     // ---- nodes --------------------------------------------------------------------------------
-    void build_node(const SceneNode& sn, Node& node, bool parent_in_solver) {
+    void build_node(const SceneNode& sn, Node& node) {
         NodeInfo& info = infos_[&sn];
         info.node = &node;
         info.node_id = node_count_++;
@@ -244,7 +238,6 @@ private:
             note_unread_attributes(*c);
         }
         const auto solvers = of_type([](std::string_view t) { return t == "EulerImplicitSolver" || t == "EulerExplicitSolver"; });
-        info.in_solver_subtree = parent_in_solver || !solvers.empty();
         const SceneNode* parent_solver = sn.parent ? infos_[sn.parent].solver_node : nullptr;
         info.solver_node = parent_solver ? parent_solver : (solvers.empty() ? nullptr : &sn);
 
@@ -286,7 +279,7 @@ private:
             r.state = node.state();
             r.topology = info.topology;
             r.mapped = info.mapped;
-            r.in_solver_subtree = info.in_solver_subtree;
+            r.in_solver_subtree = info.solver_node != nullptr;
             r.mass = node.mass();
             for (const SceneCollisionModel& m : scene_.models_) {  // spheres: VTK radius per DOF
                 if (m.node != &node) continue;
@@ -299,7 +292,7 @@ private:
             }
             scene_.states_.push_back(std::move(r));
         }
-        for (const auto& child : sn.children) build_node(*child, node.add_child(child->name), info.in_solver_subtree);
+        for (const auto& child : sn.children) build_node(*child, node.add_child(child->name));
     }
 
     // ---- topology -----------------------------------------------------------------------------
@@ -446,7 +439,7 @@ private:
         });
         std::string where;
         if (info.mapped) where = "mapped: positions and velocities from its mapping";
-        else if (info.solver_node) where = "integrated by the ODE solver of " + path_of(*info.solver_node);
+        else if (info.solver_node) where = "integrated by the ODE solver of " + node_path(*info.solver_node);
         else where = "static: in no solver's subtree, never moves";
         const InitialTransform tr = read_transform(c);
         std::string moved;
@@ -550,7 +543,7 @@ private:
         init_steps_.push_back({0, [mapping] { mapping->init(); }, &c});
         std::string from = "?";
         for (const auto& [n, i] : infos_)
-            if (i.node && i.node->state() == in) from = path_of(*n);
+            if (i.node && i.node->state() == in) from = node_path(*n);
         std::string how;
         if (c.type == "IdentityMapping") how = inr ? "identity: the frames' centres" : "identity";
         else if (c.type == "RigidMapping") how = "rigid: points fixed in the frames";
