@@ -145,12 +145,29 @@ public:
         } catch (const std::exception& e) {
             throw io::SceneError(file_.path.string() + ": " + e.what());
         }
+        record_sphere_radii();
         for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
         for (const auto& [sn, info] : infos_) scene_.nodes_[sn] = info.node;
     }
 
 private:
     // ---- helpers ------------------------------------------------------------------------------
+    /// StateRecord::radius (VTK point scalars) of every state a sphere model covers, once the
+    /// scene is initialised (a mapped state gets its size from its mapping's init).
+    void record_sphere_radii() {
+        for (output::StateRecord& r : scene_.states_) {
+            for (const SceneCollisionModel& m : scene_.models_) {
+                if (m.node->state() != r.state) continue;
+                if (const auto* sphere = dynamic_cast<const SphereModel*>(m.model.get())) {
+                    for (std::size_t i = 0; i < sphere->size(); ++i) r.radius.push_back(sphere->radius(Index(i)));
+                } else if (const auto* rigid = dynamic_cast<const RigidSphereModel*>(m.model.get())) {
+                    for (std::size_t i = 0; i < rigid->size(); ++i) r.radius.push_back(rigid->radius(Index(i)));
+                }
+                if (!r.radius.empty()) break;
+            }
+        }
+    }
+
     /// Records how to describe what `c` became; evaluated once the scene is initialised.
     void role(const SceneComponent& c, std::function<std::string()> describe) {
         roles_.emplace_back(&c, std::move(describe));
@@ -281,15 +298,6 @@ private:
             r.mapped = info.mapped;
             r.in_solver_subtree = info.solver_node != nullptr;
             r.mass = node.mass();
-            for (const SceneCollisionModel& m : scene_.models_) {  // spheres: VTK radius per DOF
-                if (m.node != &node) continue;
-                if (const auto* sphere = dynamic_cast<const SphereModel*>(m.model.get())) {
-                    for (std::size_t i = 0; i < sphere->size(); ++i) r.radius.push_back(sphere->radius(Index(i)));
-                } else if (const auto* rigid = dynamic_cast<const RigidSphereModel*>(m.model.get())) {
-                    for (std::size_t i = 0; i < rigid->size(); ++i) r.radius.push_back(rigid->radius(Index(i)));
-                }
-                if (!r.radius.empty()) break;
-            }
             scene_.states_.push_back(std::move(r));
         }
         for (const auto& child : sn.children) build_node(*child, node.add_child(child->name));

@@ -184,6 +184,15 @@ TEST(Mapping, BarycentricOnRegularGridAdjointAndFiniteDifferences) {
     for (auto& x : in.position) x += 0.1 * rand_vec();
     check_mapping<Vec3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_vec3(in, h, c); });
     ASSERT_EQ(map.weights().size(), pts.size());
+    // A point far outside the grid (cell index beyond int) takes the last cell, with
+    // extrapolated weights that still reproduce it on the undeformed grid.
+    BarycentricMapping far_map(in, out);
+    const std::vector<Vec3> far = {Vec3(1e30, 0.4, 1.5)};
+    map_on_regular_grid(far_map, g, far);
+    EXPECT_EQ(far_map.weights()[0][0].index, g.point_index(1, 0, 1));
+    Vec3 reproduced = Vec3::Zero();
+    for (const auto& e : far_map.weights()[0]) reproduced += e.weight * g.points()[std::size_t(e.index)];
+    EXPECT_TRUE(reproduced.isApprox(far[0], 1e-12)) << reproduced.transpose();
     for (const auto& w : map.weights()) {
         double sum = 0;
         for (const auto& e : w) sum += e.weight;

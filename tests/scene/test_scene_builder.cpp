@@ -190,6 +190,9 @@ TEST(SceneBuilder, RigidBodyWithIdentityMappedCollisionSphere) {
     const auto& pts = dynamic_cast<const Vec3Object&>(*s->states()[1].state);
     ASSERT_EQ(pts.position.size(), 1u);
     EXPECT_EQ(pts.position[0], Vec3(1, 2, 3));
+    // The sphere model's radius per DOF goes to the VTK writer; the rigid frame has no sphere.
+    EXPECT_EQ(s->states()[1].radius, std::vector<double>{0.5});
+    EXPECT_TRUE(s->states()[0].radius.empty());
     // Only the unmapped state of a solver subtree is exported (SOFA's regression selection).
     const auto exported = output::select_exported_states(s->states(), false);
     ASSERT_EQ(exported.size(), 1u);
