@@ -12,12 +12,18 @@
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty/simulation/solver.hpp"
 
 #include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <string_view>
+#include <thread>
 #include <exception>
 #include <iostream>
 #include <memory>
@@ -28,6 +34,57 @@ namespace {
 
 enum ExitCode : int { kOk = 0, kBadInput = 1, kUsage = 2, kDiverged = 3, kReferenceMismatch = 4, kOther = 5 };
 
+// ---- argument limits (docs/reliability.md) -------------------------------------------------------
+/// Most steps one run may ask for: 10⁹ (a 1 µs step would take 17 minutes; beyond that a typo).
+constexpr std::int64_t kMaxSteps = 1'000'000'000;
+/// Most threads: 4 × the hardware threads, and at least 64 (TBB refuses an arena above 65,536
+/// and allocates per thread; more threads than cores never helps).
+int max_threads() { return std::max(64, 4 * int(std::max(1u, std::thread::hardware_concurrency()))); }
+/// Largest time step accepted on the command line (s): a day.
+constexpr double kMaxDt = 86400.0;
+
+/// A validator for a whole number in [lo, hi]: the text must be an integer (no sign games, no
+/// exponent), and a value out of range is named with the range, never a 309-digit bound.
+CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) -> std::string {
+            std::int64_t value = 0;
+            const char* first = text.data();
+            const char* last = text.data() + text.size();
+            if (first != last && *first == '+') ++first;
+            const auto [ptr, ec] = std::from_chars(first, last, value);
+            if (ec == std::errc::result_out_of_range)
+                return "'" + text + "' is out of range (" + std::to_string(lo) + " to " + std::to_string(hi) + ")";
+            if (ec != std::errc() || ptr != last || first == last) return "'" + text + "' is not a whole number";
+            if (value < lo || value > hi)
+                return std::to_string(value) + " is out of range (" + std::to_string(lo) + " to " + std::to_string(hi) + ")";
+            return {};
+        },
+        "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+}
+
+/// A validator for a finite number in (lo, hi] (lo_open) or [lo, hi]; nan and inf are refused.
+CLI::Validator number_in(double lo, double hi, bool lo_open) {
+    return CLI::Validator(
+        [lo, hi, lo_open](std::string& text) -> std::string {
+            double value = 0.0;
+            const char* first = text.data();
+            const char* last = text.data() + text.size();
+            if (first != last && *first == '+') ++first;
+            const auto [ptr, ec] = std::from_chars(first, last, value);
+            if (ec != std::errc() || ptr != last || first == last) return "'" + text + "' is not a number";
+            if (!std::isfinite(value)) return "'" + text + "' is not a finite number";
+            const bool low = lo_open ? !(value > lo) : !(value >= lo);
+            if (low || value > hi) {
+                char range[96];
+                std::snprintf(range, sizeof range, "%s%g, %g]", lo_open ? "(" : "[", lo, hi);
+                return "'" + text + "' is out of range " + range;
+            }
+            return {};
+        },
+        "NUMBER");
+}
+
 struct RunArguments {
     std::string scene;
     std::int64_t steps = -1;
@@ -36,6 +93,7 @@ struct RunArguments {
     std::vector<std::string> data_dirs;
     std::string vtk, states, stats, reference;
     std::int64_t vtk_every = 1, export_every = 1;
+    double divergence_factor = 1000.0;
     bool export_mapped = false;
     bool exhaustive = false;
     bool quiet = false;
@@ -95,10 +153,13 @@ int run_command(const RunArguments& a) {
     run.export_mapped = a.export_mapped;
     run.export_every = a.export_every;
     if (!a.stats.empty()) run.stats_file = a.stats;
+    run.divergence_factor = a.divergence_factor;
     ProgressBar bar(!a.quiet && isatty(STDERR_FILENO) != 0);
     const sc::RunSummary summary = sc::run_scene(*scene, run, std::ref(bar));
     std::cout << sc::format_summary(summary);
-    if (!a.states.empty()) std::cout << "states: " << summary.state_files.size() << " files in " << a.states << "\n";
+    if (!a.states.empty())
+        std::cout << "states: " << summary.state_files.size() << " files in " << a.states
+                  << (summary.steps == 0 ? " (0 steps: the initial state only)" : "") << "\n";
     if (!a.vtk.empty()) std::cout << "vtk: series in " << a.vtk << " (open the .pvd files in ParaView)\n";
     if (!a.stats.empty()) std::cout << "stats: " << a.stats << "\n";
 
@@ -135,15 +196,19 @@ int main(int argc, char** argv) {
     auto* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
     run->add_option("scene", args.scene, "SOFA .scn file")->check(CLI::ExistingFile);
     run->add_option("--steps", args.steps, "Number of time steps (default 100; 400 for the built-in scene)")
-        ->check(CLI::NonNegativeNumber);
-    run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")->check(CLI::PositiveNumber);
-    run->add_option("--threads", args.threads, "Threads for the narrow phase (default: all cores)")->check(CLI::PositiveNumber);
+        ->check(integer_in(0, kMaxSteps));
+    run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")->check(number_in(0.0, kMaxDt, true));
+    run->add_option("--threads", args.threads, "Threads for the narrow phase (default: all cores)")
+        ->check(integer_in(1, max_threads()));
     run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
     run->add_option("--vtk", args.vtk, "Write a ParaView time series (.pvd + .vtu/.vtp) into DIR");
-    run->add_option("--vtk-every", args.vtk_every, "Write one VTK step in M")->check(CLI::PositiveNumber);
+    run->add_option("--vtk-every", args.vtk_every, "Write one VTK step in M")->check(integer_in(1, kMaxSteps));
     run->add_option("--export-states", args.states, "Write SOFA regression state files into DIR");
     run->add_flag("--export-mapped", args.export_mapped, "Also export mapped states");
-    run->add_option("--export-every", args.export_every, "Export one step in M, plus the last")->check(CLI::PositiveNumber);
+    run->add_option("--export-every", args.export_every, "Export one step in M, plus the last")->check(integer_in(1, kMaxSteps));
+    run->add_option("--divergence-factor", args.divergence_factor,
+                    "Diverged when a DOF gets farther than F times the initial scene size from its centre (default 1000; 0: off)")
+        ->check(number_in(0.0, 1e100, false));
     run->add_option("--stats", args.stats, "Write per-step statistics to FILE.csv");
     run->add_option("--reference", args.reference,
                     "Compare the exported states with SOFA's reference files in DIR (needs --export-states)");
@@ -159,17 +224,19 @@ int main(int argc, char** argv) {
 
     auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field alone");
     penalty::apps::DemoOptions options;
-    demo->add_option("--stiffness", options.stiffness, "Contact stiffness ks (N/m)")->check(CLI::PositiveNumber);
-    demo->add_option("--damping", options.damping, "Normal damping c (N·s/m) of the drop")->check(CLI::NonNegativeNumber);
+    demo->add_option("--stiffness", options.stiffness, "Contact stiffness ks (N/m)")->check(number_in(0.0, 1e12, true));
+    demo->add_option("--damping", options.damping, "Normal damping c (N·s/m) of the drop")->check(number_in(0.0, 1e12, false));
     demo->add_option("--friction", options.friction, "Friction coefficient mu (static = dynamic) of the drop")
-        ->check(CLI::NonNegativeNumber);
+        ->check(number_in(0.0, 100.0, false));
 
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
+        // One line with the tool's prefix (CLI11's own printer has none), then where to look.
+        std::cerr << "penalty: error: " << e.what() << "\n"
+                  << "Run 'penalty --help' or 'penalty run --help' for the options.\n";
         return kUsage;
     }
     try {
@@ -187,6 +254,9 @@ int main(int argc, char** argv) {
         return kBadInput;
     } catch (const penalty::output::NonFiniteValueError& e) {
         std::cerr << "penalty: error: " << e.what() << "\n";
+        return kDiverged;
+    } catch (const penalty::NonFiniteSolveError& e) {
+        std::cerr << "penalty: error: simulation diverged: " << e.what() << "\n";
         return kDiverged;
     } catch (const std::invalid_argument& e) {
         std::cerr << "penalty: error: " << e.what() << "\n";

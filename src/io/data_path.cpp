@@ -1,5 +1,7 @@
 #include "penalty/io/data_path.hpp"
 
+#include "io/text.hpp"
+
 #include <cstdlib>
 #include <string>
 
@@ -26,15 +28,21 @@ std::filesystem::path resolve_data_file(std::string_view name, const std::filesy
                                         const std::vector<std::filesystem::path>& data_dirs) {
     if (name.empty()) throw LoadError("empty data file name");
     const std::filesystem::path file{std::string(name)};
-    std::error_code ec;
     if (file.is_absolute()) {
-        if (std::filesystem::is_regular_file(file, ec)) return file;
-        throw LoadError("cannot find data file '" + std::string(name) + "'");
+        const auto why = detail::unreadable_reason(file);
+        if (!why) return file;
+        if (*why == "does not exist") throw LoadError("cannot find data file '" + std::string(name) + "'");
+        throw LoadError("data file '" + std::string(name) + "' " + *why);
     }
+    // The first directory where the name exists decides: a directory, a device or a link loop
+    // found there is reported as such rather than as "cannot find".
     std::string looked;
     for (const auto& dir : data_search_dirs(scene_dir, data_dirs)) {
         const std::filesystem::path candidate = dir / file;
-        if (std::filesystem::is_regular_file(candidate, ec)) return candidate;
+        const auto why = detail::unreadable_reason(candidate);
+        if (!why) return candidate;
+        if (*why != "does not exist")
+            throw LoadError("data file '" + std::string(name) + "' found as " + candidate.string() + ", which " + *why);
         looked += (looked.empty() ? "" : ", ") + dir.string();
     }
     throw LoadError("cannot find data file '" + std::string(name) + "'; looked in: " + looked);

@@ -43,7 +43,10 @@ struct ObjRecord {
 }  // namespace
 
 MeshData load_obj(const std::filesystem::path& path, bool triangulate) {
-    const std::string text = detail::read_file(path);
+    return parse_obj(detail::read_file(path), path, triangulate);
+}
+
+MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate) {
     MeshData mesh;
     std::vector<ObjRecord> records;
 
@@ -70,6 +73,8 @@ MeshData load_obj(const std::filesystem::path& path, bool triangulate) {
                          "expected a vertex coordinate (a number), found " +
                              quoted(tokens[static_cast<std::size_t>(k) + 1]));
                 }
+                if (const auto problem = detail::magnitude_problem(*value))
+                    fail(path, line_number, "vertex coordinate " + quoted(tokens[static_cast<std::size_t>(k) + 1]) + ": " + *problem);
                 p[k] = *value;
             }
             mesh.positions.push_back(p);
@@ -101,6 +106,7 @@ MeshData load_obj(const std::filesystem::path& path, bool triangulate) {
         // comments, vn, vt, g, o, s, usemtl, mtllib and unknown keywords are ignored
     }
 
+    if (mesh.positions.empty()) fail(path, 0, "no vertices (an empty file, or not a Wavefront OBJ file: no 'v' line)");
     // indices may refer to points defined later in the file (SOFA resolves them at the end)
     const auto n = static_cast<std::int64_t>(mesh.positions.size());
     for (const ObjRecord& r : records) {
@@ -152,8 +158,9 @@ int gmsh_node_count(std::int64_t type) {
 
 }  // namespace
 
-MeshData load_gmsh(const std::filesystem::path& path) {
-    const std::string text = detail::read_file(path);
+MeshData load_gmsh(const std::filesystem::path& path) { return parse_gmsh(detail::read_file(path), path); }
+
+MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path) {
     Tokenizer tok(text, path);
     MeshData mesh;
 
@@ -190,6 +197,7 @@ MeshData load_gmsh(const std::filesystem::path& path) {
     // nodes: "number x y z"
     const std::int64_t npoints = tok.expect_int("number of nodes");
     tok.check_count(npoints, 4, "node");
+    if (npoints == 0) fail(path, tok.line(), "no nodes (node count 0)");
     mesh.positions.reserve(static_cast<std::size_t>(npoints));
     std::unordered_map<std::int64_t, std::int64_t> number_to_index;  // node number -> position index
     for (std::int64_t i = 0; i < npoints; ++i) {
@@ -290,8 +298,9 @@ MeshData load_gmsh(const std::filesystem::path& path) {
 // ---------------------------------------------------------------------------------------------
 // SPH
 
-MeshData load_sph(const std::filesystem::path& path) {
-    const std::string text = detail::read_file(path);
+MeshData load_sph(const std::filesystem::path& path) { return parse_sph(detail::read_file(path), path); }
+
+MeshData parse_sph(std::string_view text, const std::filesystem::path& path) {
     Tokenizer tok(text, path);
     MeshData mesh;
     const auto header = tok.next();
@@ -319,6 +328,7 @@ MeshData load_sph(const std::filesystem::path& path) {
             (void)tok.rest_of_line();  // SOFA: unknown keyword, skip its line
         }
     }
+    if (mesh.positions.empty()) fail(path, 0, "no spheres (no 'sphe' line)");
     return mesh;
 }
 
@@ -354,8 +364,9 @@ void add_polygon(MeshData& mesh, const std::vector<PointId>& p) {
 
 }  // namespace
 
-MeshData load_vtk_legacy(const std::filesystem::path& path) {
-    const std::string text = detail::read_file(path);
+MeshData load_vtk_legacy(const std::filesystem::path& path) { return parse_vtk_legacy(detail::read_file(path), path); }
+
+MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& path) {
     Tokenizer tok(text, path);
     MeshData mesh;
 
@@ -476,6 +487,7 @@ MeshData load_vtk_legacy(const std::filesystem::path& path) {
         }
     }
     if (npoints < 0) fail(path, tok.line(), "no POINTS section");
+    if (npoints == 0) fail(path, tok.line(), "no vertices (POINTS 0)");
     if (!cells.empty() && !have_types) fail(path, tok.line(), "CELLS without CELL_TYPES");
     return mesh;
 }

@@ -185,9 +185,28 @@ std::string shorten(std::string_view s) {
     return s.size() <= 40 ? std::string(s) : std::string(s.substr(0, 37)) + "...";
 }
 
+/// Refuses an inline list of more than kMaxInlineValues numbers before parsing it (counting
+/// blank-separated tokens costs one pass over the text, no allocation).
+void check_inline_size(const SceneElement& e, std::string_view attr, std::string_view text) {
+    std::size_t tokens = 0;
+    bool in_token = false;
+    for (const char ch : text) {
+        const bool blank = ch == ' ' || ch == '\t' || ch == '\r' || ch == '\n' || ch == '\v' || ch == '\f';
+        if (!blank && !in_token) ++tokens;
+        in_token = !blank;
+    }
+    if (tokens > kMaxInlineValues) {
+        throw_attribute_error(e, attr, std::to_string(tokens) + " values, more than penalty's limit of " +
+                                           std::to_string(kMaxInlineValues) +
+                                           " in one attribute (put large data in a mesh file)");
+    }
+}
+
 double number_or_throw(const SceneElement& e, std::string_view attr, std::string_view token) {
     const auto v = detail::parse_double(token);
     if (!v) throw_attribute_error(e, attr, "expected a number, found '" + shorten(token) + "'");
+    if (const auto problem = detail::magnitude_problem(*v))
+        throw_attribute_error(e, attr, "'" + shorten(token) + "': " + *problem);
     return *v;
 }
 
@@ -243,6 +262,7 @@ bool get_bool_or(const SceneElement& e, std::string_view attr, bool fallback) {
 std::vector<double> get_doubles(const SceneElement& e, std::string_view attr) {
     const std::string* v = value_of(e, attr);
     if (v == nullptr) return {};
+    check_inline_size(e, attr, *v);
     std::vector<double> out;
     for (const auto token : detail::split_blanks(*v)) out.push_back(number_or_throw(e, attr, token));
     return out;
@@ -296,6 +316,7 @@ std::vector<RigidFrame> get_rigid_list(const SceneElement& e, std::string_view a
 std::vector<PointId> get_indices(const SceneElement& e, std::string_view attr) {
     const std::string* v = value_of(e, attr);
     if (v == nullptr) return {};
+    check_inline_size(e, attr, *v);
     std::vector<PointId> out;
     for (const auto token : detail::split_blanks(*v)) {
         const auto value = detail::parse_int(token);

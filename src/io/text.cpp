@@ -7,9 +7,38 @@
 
 namespace penalty::io::detail {
 
-std::string read_file(const std::filesystem::path& path) {
+std::optional<std::string> unreadable_reason(const std::filesystem::path& path) {
+    namespace fs = std::filesystem;
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) fail(path, 0, "cannot open file (it is a directory)");
+    const fs::file_status link = fs::symlink_status(path, ec);
+    if (ec || link.type() == fs::file_type::not_found) return "does not exist";
+    const fs::file_status target = fs::status(path, ec);
+    if (ec) {
+        if (ec == std::errc::too_many_symbolic_link_levels) return "is a symbolic link loop";
+        if (link.type() == fs::file_type::symlink) return "is a symbolic link to a missing file";
+        return "cannot be examined (" + ec.message() + ")";
+    }
+    switch (target.type()) {
+        case fs::file_type::regular: break;
+        case fs::file_type::directory: return "is a directory, not a file";
+        case fs::file_type::character: return "is a character device, not a regular file";
+        case fs::file_type::block: return "is a block device, not a regular file";
+        case fs::file_type::fifo: return "is a named pipe, not a regular file";
+        case fs::file_type::socket: return "is a socket, not a regular file";
+        case fs::file_type::not_found: return "is a symbolic link to a missing file";
+        default: return "is not a regular file";
+    }
+    const std::uintmax_t bytes = fs::file_size(path, ec);
+    if (ec) return "cannot be examined (" + ec.message() + ")";
+    if (bytes > kMaxFileBytes) {
+        return "is " + std::to_string(bytes >> 20) + " MiB (more than penalty's limit of " +
+               std::to_string(kMaxFileBytes >> 20) + " MiB)";
+    }
+    return std::nullopt;
+}
+
+std::string read_file(const std::filesystem::path& path) {
+    if (const auto why = unreadable_reason(path)) fail(path, 0, "cannot read: the path " + *why);
     std::ifstream in(path, std::ios::binary);
     if (!in) fail(path, 0, "cannot open file");
     std::ostringstream out;
@@ -33,6 +62,11 @@ std::optional<double> parse_double(std::string_view token) {
     const auto [ptr, ec] = std::from_chars(first, last, value);
     if (ec != std::errc() || ptr != last || !std::isfinite(value)) return std::nullopt;
     return value;
+}
+
+std::optional<std::string> magnitude_problem(double value) {
+    if (std::abs(value) <= kMaxMagnitude) return std::nullopt;
+    return std::string("magnitude above 1e100 (penalty's limit for any number in a scene or mesh file)");
 }
 
 std::optional<std::int64_t> parse_int(std::string_view token) {
@@ -101,6 +135,8 @@ double Tokenizer::expect_double(std::string_view what) {
         fail(path_, token.line,
              "expected " + std::string(what) + " (a number), found '" + std::string(token.text) + "'");
     }
+    if (const auto problem = magnitude_problem(*value))
+        fail(path_, token.line, std::string(what) + " '" + std::string(token.text) + "': " + *problem);
     return *value;
 }
 

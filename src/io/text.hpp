@@ -14,11 +14,30 @@
 
 namespace penalty::io::detail {
 
-/// Reads a whole file; throws LoadError `path: cannot open file` when it cannot be read.
+/// Largest file penalty reads (bytes): 2 GiB. A bigger scene or mesh is refused before reading.
+inline constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t(2) << 30;
+
+/// Why `path` cannot be read as a data file, or nullopt when it is a readable regular file of at
+/// most kMaxFileBytes: "does not exist", "is a directory", "is a symbolic link loop",
+/// "is a character device (not a regular file)", "is 3.1 GiB (more than 2 GiB)", ...
+/// Never reads the file, so a device (/dev/zero) or a FIFO cannot hang it.
+std::optional<std::string> unreadable_reason(const std::filesystem::path& path);
+
+/// Reads a whole regular file; throws LoadError `path: <unreadable_reason>` or
+/// `path: cannot open file` when it cannot be read.
 std::string read_file(const std::filesystem::path& path);
 
 /// Parses a finite double from the whole token (leading '+' allowed); nullopt otherwise.
 std::optional<double> parse_double(std::string_view token);
+
+/// Largest magnitude of any number in a scene or mesh file: 1e100. No physical quantity in any
+/// unit system comes near it, and products of two or three such numbers (m·g, ks·dt², …) stay
+/// finite, so a value that would overflow the solve is refused where it is written.
+inline constexpr double kMaxMagnitude = 1e100;
+
+/// "magnitude above 1e100 (penalty's limit for any number in a scene or mesh file)" when
+/// |value| > kMaxMagnitude, nullopt otherwise.
+std::optional<std::string> magnitude_problem(double value);
 /// Parses a 64-bit signed integer from the whole token (leading '+' allowed); nullopt otherwise.
 std::optional<std::int64_t> parse_int(std::string_view token);
 

@@ -4,9 +4,13 @@
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/stats_csv.hpp"
 #include "penalty/output/vtk_writer.hpp"
+#include "penalty/simulation/solver.hpp"
+
+#include <Eigen/Geometry>
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <optional>
 #include <sstream>
@@ -69,7 +73,103 @@ void check_exploded_states(const Scene& scene, std::int64_t step, double time, c
     }
 }
 
+/// `Type 'name' (file:line)` of the component that built `object`, or `fallback`.
+std::string component_label(const Scene& scene, const void* object, const std::string& fallback) {
+    const io::SceneComponent* c = object != nullptr ? scene.component_of(object) : nullptr;
+    if (c == nullptr) return fallback;
+    return c->describe() + " (" + c->file + ":" + std::to_string(c->line) + ")";
+}
+
+/// A non-finite value inside the solve of step `step`. At the first step, with finite states and
+/// a known component, the scene's parameters make a product overflow: invalid input naming the
+/// component (io::SceneError, exit 1). Otherwise the run diverged (NonFiniteValueError, exit 3)
+/// naming the step, the state and, where known, the force field or mass.
+[[noreturn]] void report_non_finite_solve(const Scene& scene, std::int64_t step, double time,
+                                          const NonFiniteSolveError& e) {
+    const void* source = e.force_field() != nullptr ? static_cast<const void*>(e.force_field())
+                                                    : static_cast<const void*>(e.mass());
+    const io::SceneComponent* c = source != nullptr ? scene.component_of(source) : nullptr;
+    if (step == 0 && c != nullptr) {
+        // Name the attributes that hold large numbers (and the node's gravity for a mass).
+        std::string large;
+        const auto scan = [&](const io::SceneElement& element, const std::string& prefix) {
+            for (const io::SceneAttribute& a : element.attributes) {
+                bool big = false;
+                std::size_t i = 0;
+                while (i < a.value.size() && !big) {
+                    const std::size_t end = std::min(a.value.find(' ', i), a.value.size());
+                    const std::string token = a.value.substr(i, end - i);
+                    char* stop = nullptr;
+                    const double v = std::strtod(token.c_str(), &stop);
+                    big = !token.empty() && stop == token.c_str() + token.size() && std::abs(v) >= 1e30;
+                    i = end + 1;
+                }
+                if (big) large += (large.empty() ? "" : ", ") + prefix + "attribute '" + a.name + "' = " + a.value;
+            }
+        };
+        scan(*c, "");
+        if (e.mass() != nullptr)
+            for (const io::SceneNode* n = c->node; n != nullptr; n = n->parent) scan(*n, "node " + n->path() + " ");
+        io::throw_element_error(*c, std::string(e.what()) + ", at the first step from finite initial states: " +
+                                        (large.empty() ? std::string("a parameter is too large")
+                                                       : "too large: " + large) +
+                                        " (a product overflows)");
+    }
+    std::string where;
+    if (e.force_field() != nullptr)
+        where = "; from " + component_label(scene, e.force_field(), "contact springs added by a collision pipeline");
+    else if (e.mass() != nullptr)
+        where = "; from " + component_label(scene, e.mass(), "a mass");
+    throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
+                                      output::format_number(time) + " s): " + e.what() + where +
+                                      "; try a smaller --dt or a softer contact stiffness");
+}
+
 }  // namespace
+
+DivergenceBound::DivergenceBound(const Scene& scene, double factor) : factor_(factor) {
+    if (!(factor >= 0.0) || !std::isfinite(factor))
+        throw std::invalid_argument("the divergence factor must be a finite number >= 0, got " + output::format_number(factor));
+    Eigen::AlignedBox3d box;
+    for (const output::StateRecord& r : scene.states()) {
+        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
+            for (const Vec3& p : v->position) box.extend(p);
+        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
+            for (const RigidFrame& f : g->position) box.extend(f.center);
+        }
+    }
+    if (box.isEmpty()) {
+        factor_ = 0.0;  // nothing to watch
+        return;
+    }
+    center_ = box.center();
+    const double diagonal = box.diagonal().norm();
+    // One point, or all at one place: the scene's own scale is its distance from the origin.
+    size_ = diagonal > 0.0 ? diagonal : std::max(1.0, center_.norm());
+}
+
+void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) const {
+    if (factor_ == 0.0) return;
+    const double limit = factor_ * size_;
+    for (const output::StateRecord& r : scene.states()) {
+        auto test = [&](const Vec3& p, std::size_t dof) {
+            const double distance = (p - center_).norm();
+            if (distance > limit) {
+                throw output::NonFiniteValueError(
+                    "simulation diverged at step " + std::to_string(step) + " (t = " + output::format_number(time) +
+                    " s): state '" + output::state_label(r) + "' DOF " + std::to_string(dof) + " is " +
+                    output::format_number(distance) + " m from the centre of the initial scene, more than " +
+                    output::format_number(factor_) + " times the initial scene size (" + output::format_number(size_) +
+                    " m); try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 to turn this check off");
+            }
+        };
+        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
+            for (std::size_t i = 0; i < v->position.size(); ++i) test(v->position[i], i);
+        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
+            for (std::size_t i = 0; i < g->position.size(); ++i) test(g->position[i].center, i);
+        }
+    }
+}
 
 RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress) {
     if (options.steps < 0) throw std::invalid_argument("steps must be >= 0");
@@ -94,6 +194,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     if (options.stats_file) stats.emplace(*options.stats_file);
 
     Simulation& sim = scene.simulation();
+    const DivergenceBound bound(scene, options.divergence_factor);
     const auto run_start = Clock::now();
     double contact_sum = 0.0;
     double cg_sum = 0.0, newton_sum = 0.0;
@@ -110,6 +211,9 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             scene.step();
         } catch (const output::NonFiniteValueError&) {
             throw;
+        } catch (const NonFiniteSolveError& e) {
+            check_finite_states(scene, k, t);
+            report_non_finite_solve(scene, k, t, e);
         } catch (const std::exception& e) {
             // The solvers refuse non-finite forces: name the state that diverged, if one did.
             check_finite_states(scene, k, t);
@@ -117,6 +221,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
         }
         check_finite_states(scene, k, sim.time());
+        bound.check(scene, k, sim.time());
 
         const StepTimings& timing = scene.last_timings();
         summary.detection_seconds += timing.detection_seconds;
@@ -160,9 +265,12 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         summary.simulated_time = sim.time();
         if (progress) progress(k + 1, options.steps, summary);
     }
-    if (vtk && options.steps > 0) {
+    {
+        // The final state: VTK gets it after the last step; a run of 0 steps writes its initial
+        // state (the state at its end) into the state files too, so no file is left empty.
         const auto out_start = Clock::now();
-        vtk->write_step(sim.time(), scene.contacts());
+        if (vtk) vtk->write_step(sim.time(), scene.contacts());
+        if (exporter && options.steps == 0) exporter->write(sim.time());
         summary.output_seconds += seconds_since(out_start);
     }
     summary.wall_seconds = seconds_since(run_start);

@@ -12,6 +12,7 @@
 #include "scene/display.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <functional>
 #include <map>
@@ -40,8 +41,6 @@ struct NodeInfo {
     int node_id = 0;                             ///< depth-first index (collision same-node rule)
 };
 
-/// Largest number of DOFs a state or grid may have (10⁸ points = 2.4 GB of positions alone).
-constexpr std::uint64_t kMaxDofs = 100'000'000;
 
 bool is_collision_model_type(std::string_view t) {
     return t == "PointCollisionModel" || t == "LineCollisionModel" || t == "TriangleCollisionModel" ||
@@ -59,12 +58,12 @@ bool is_rigid_template(const SceneComponent& c, std::string_view name) {
 
 double nonnegative(const SceneComponent& c, std::string_view attr, double fallback) {
     const double v = io::get_double_or(c, attr, fallback);
-    if (v < 0) io::throw_attribute_error(c, attr, "must be >= 0, found " + std::to_string(v));
+    if (v < 0) io::throw_attribute_error(c, attr, "must be >= 0, found '" + io::get_string(c, attr).value_or("") + "'");
     return v;
 }
 double positive(const SceneComponent& c, std::string_view attr, double fallback) {
     const double v = io::get_double_or(c, attr, fallback);
-    if (!(v > 0)) io::throw_attribute_error(c, attr, "must be > 0, found " + std::to_string(v));
+    if (!(v > 0)) io::throw_attribute_error(c, attr, "must be > 0, found '" + io::get_string(c, attr).value_or("") + "'");
     return v;
 }
 
@@ -146,6 +145,7 @@ public:
             throw io::SceneError(file_.path.string() + ": " + e.what());
         }
         record_sphere_radii();
+        warn_degenerate_triangles();
         for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
         for (const auto& [sn, info] : infos_) scene_.nodes_[sn] = info.node;
     }
@@ -168,6 +168,31 @@ private:
         }
     }
 
+    /// A note per triangle collision model with zero-area triangles (coincident or collinear
+    /// corners at init): they have no normal, so SOFA's kernels skip or mis-orient them and a
+    /// body can pass through. Zero area: |(b − a) × (c − a)| ≤ 1e-12 · (longest edge)².
+    void warn_degenerate_triangles() {
+        for (const SceneCollisionModel& m : scene_.models_) {
+            const auto* tri = dynamic_cast<const TriangleModel*>(m.model.get());
+            if (tri == nullptr) continue;
+            std::size_t count = 0;
+            std::size_t first = 0;
+            for (std::size_t i = 0; i < tri->size(); ++i) {
+                const Vec3 &a = tri->p(Index(i), 0), &b = tri->p(Index(i), 1), &c = tri->p(Index(i), 2);
+                const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+                if ((b - a).cross(c - a).norm() <= 1e-12 * longest || longest == 0.0) {
+                    if (count++ == 0) first = i;
+                }
+            }
+            if (count == 0) continue;
+            const io::SceneComponent& c = *m.component;
+            scene_.build_warnings_.push_back(c.file + ":" + std::to_string(c.line) + ": " + c.describe() + ": " +
+                                             std::to_string(count) + " of " + std::to_string(tri->size()) +
+                                             " triangles have zero area (first: triangle " + std::to_string(first) +
+                                             "); they make no reliable contact");
+        }
+    }
+
     /// Records how to describe what `c` became; evaluated once the scene is initialised.
     void role(const SceneComponent& c, std::function<std::string()> describe) {
         roles_.emplace_back(&c, std::move(describe));
@@ -180,7 +205,11 @@ private:
         } catch (const io::LoadError&) {
             throw;
         } catch (const std::exception& e) {  // the library's own checks (invalid_argument, ...)
-            io::throw_element_error(c, e.what());
+            // The library names its class ("UniformMass: ..."); the element is named already.
+            std::string_view what = e.what();
+            const std::string own_prefix = c.type + ": ";
+            if (what.substr(0, own_prefix.size()) == own_prefix) what.remove_prefix(own_prefix.size());
+            io::throw_element_error(c, std::string(what));
         }
     }
 
@@ -225,6 +254,36 @@ private:
     }
 
     // ---- nodes --------------------------------------------------------------------------------
+    /// SOFA keeps one component of each of these kinds per node (a second one replaces or
+    /// shadows the first in SOFA's context); penalty refuses the second, naming both lines.
+    static void check_once_per_node(const std::vector<const SceneComponent*>& physics) {
+        struct Kind {
+            std::string_view what;
+            bool (*is)(std::string_view);
+        };
+        static constexpr std::array kinds{
+            Kind{"mechanical state", [](std::string_view t) { return t == "MechanicalObject"; }},
+            Kind{"topology", [](std::string_view t) { return t == "MeshTopology" || t == "RegularGridTopology"; }},
+            Kind{"mass", [](std::string_view t) { return t == "UniformMass"; }},
+            Kind{"mapping", [](std::string_view t) { return io::is_mapping_type(t); }},
+            Kind{"ODE solver", [](std::string_view t) { return t == "EulerImplicitSolver" || t == "EulerExplicitSolver"; }},
+            Kind{"linear solver", [](std::string_view t) { return t == "CGLinearSolver"; }},
+            Kind{"animation loop", [](std::string_view t) { return t == "DefaultAnimationLoop"; }},
+        };
+        for (const Kind& kind : kinds) {
+            const SceneComponent* first = nullptr;
+            for (const SceneComponent* c : physics) {
+                if (!kind.is(c->type)) continue;
+                if (first == nullptr) {
+                    first = c;
+                    continue;
+                }
+                io::throw_element_error(*c, "a node holds one " + std::string(kind.what) + ", and this node already has " +
+                                                first->describe() + " at line " + std::to_string(first->line));
+            }
+        }
+    }
+
     void build_node(const SceneNode& sn, Node& node) {
         NodeInfo& info = infos_[&sn];
         info.node = &node;
@@ -254,18 +313,16 @@ private:
             role(*c, [n = &node] { return "gravity " + vec(n->gravity()) + " m/s^2 in this node and below"; });
             note_unread_attributes(*c);
         }
+        check_once_per_node(physics);
         const auto solvers = of_type([](std::string_view t) { return t == "EulerImplicitSolver" || t == "EulerExplicitSolver"; });
         const SceneNode* parent_solver = sn.parent ? infos_[sn.parent].solver_node : nullptr;
         info.solver_node = parent_solver ? parent_solver : (solvers.empty() ? nullptr : &sn);
 
         const auto topologies = of_type([](std::string_view t) { return t == "MeshTopology" || t == "RegularGridTopology"; });
-        if (topologies.size() > 1) io::throw_element_error(*topologies[1], "a node may hold only one topology");
         if (!topologies.empty()) build_topology(*topologies.front(), info);
 
         const auto states = of_type([](std::string_view t) { return t == "MechanicalObject"; });
-        if (states.size() > 1) io::throw_element_error(*states[1], "a node may hold only one MechanicalObject");
         const auto mappings = of_type([](std::string_view t) { return io::is_mapping_type(t); });
-        if (mappings.size() > 1) io::throw_element_error(*mappings[1], "a node may hold only one mapping");
         info.mapped = !mappings.empty();
         if (!states.empty()) build_state(*states.front(), info);
         if (!mappings.empty()) build_mapping(*mappings.front(), sn, info);
@@ -277,7 +334,6 @@ private:
             else if (t == "TetrahedronFEMForceField" || t == "HexahedronFEMForceField") build_fem(*c, info);
             else if (t == "FixedProjectiveConstraint" || t == "FixedConstraint") build_fixed(*c, info);
         }
-        if (solvers.size() > 1) io::throw_element_error(*solvers[1], "a node may hold only one ODE solver");
         if (!solvers.empty()) build_solver(*solvers.front(), physics, node);
         for (const SceneComponent* c : physics)
             if (is_collision_model_type(c->type)) build_collision_model(*c, info);
@@ -321,8 +377,9 @@ private:
                     if (n[k] < 1 || n[k] > 100000)
                         io::throw_attribute_error(c, std::string("n") + char('x' + k), "must be between 1 and 100000");
                 const auto points = std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
-                if (points > kMaxDofs)
-                    io::throw_element_error(c, std::to_string(points) + " grid points (more than " + std::to_string(kMaxDofs) + ")");
+                if (points > options_.max_dofs)
+                    io::throw_element_error(c, std::to_string(points) + " grid points (more than " +
+                                                   std::to_string(options_.max_dofs) + ")");
                 Vec3 lo = io::get_vec3_or(c, "min", Vec3::Zero()), hi = io::get_vec3_or(c, "max", Vec3::Ones());
                 lo = Vec3(io::get_double_or(c, "xmin", lo.x()), io::get_double_or(c, "ymin", lo.y()),
                           io::get_double_or(c, "zmin", lo.z()));
@@ -378,10 +435,10 @@ private:
 
     // ---- states -------------------------------------------------------------------------------
     /// `size` (default 1), bounded so that a typo cannot allocate the machine's memory.
-    static std::size_t dof_count(const SceneComponent& c) {
+    std::size_t dof_count(const SceneComponent& c) const {
         const auto n = io::get_int_or(c, "size", 1);
-        if (n < 0 || std::uint64_t(n) > kMaxDofs)
-            io::throw_attribute_error(c, "size", "must be between 0 and " + std::to_string(kMaxDofs));
+        if (n < 0 || std::uint64_t(n) > options_.max_dofs)
+            io::throw_attribute_error(c, "size", "must be between 0 and " + std::to_string(options_.max_dofs));
         return std::size_t(n);
     }
 
@@ -440,6 +497,9 @@ private:
                 }
                 if (c.has("rest_position")) s.rest_position = io::get_vec3_list(c, "rest_position");
                 if (c.has("velocity")) s.velocity = io::get_vec3_list(c, "velocity");
+                if (s.position.size() > options_.max_dofs)  // from a mesh file or a linked state
+                    io::throw_element_error(c, std::to_string(s.position.size()) + " DOFs (more than " +
+                                                   std::to_string(options_.max_dofs) + ")");
                 s.transform = tr;
                 s.init();
                 vec3_states_[&c] = &s;
@@ -609,6 +669,7 @@ private:
         });
         BaseMass* mass = info.node->mass();
         scene_.masses_.push_back(mass);
+        scene_.built_from_[mass] = &c;
         role(c, [mass, st = s] {
             double m = 0.0;
             if (auto* v = dynamic_cast<const UniformMass<Vec3Types>*>(mass)) m = v->vertex_mass();
@@ -641,6 +702,7 @@ private:
                 springs = mesh_springs(topology_of(c, info), s.rest_position, p);
             }
             auto& ff = info.node->add_force_field<SpringForceField>(s);
+            scene_.built_from_[&ff] = &c;
             for (const Spring& sp : springs) ff.add_spring(sp);
             init_steps_.push_back({1, [f = &ff] { f->init(); }, &c});
             role(c, [f = &ff] {
@@ -669,6 +731,7 @@ private:
             } else {
                 ff = &info.node->add_force_field<HexahedronFEMForceField>(s, topology_of(c, info), young, poisson, m);
             }
+            scene_.built_from_[ff] = &c;
             init_steps_.push_back({1, [ff] { ff->init(); }, &c});
             const std::string law = ", E = " + num(young) + " Pa, nu = " + num(poisson) + ", " +
                                     (m == FemMethod::Large ? "corotational (large)" : "linear (small)");
@@ -733,7 +796,9 @@ private:
             for (const SceneComponent* l : physics) {
                 if (l->type != "CGLinearSolver") continue;
                 const auto it = io::get_int_or(*l, "iterations", 25);
-                if (it < 1 || it > 1'000'000) io::throw_attribute_error(*l, "iterations", "must be between 1 and 1000000");
+                if (it < 1 || std::uint64_t(it) > options_.max_cg_iterations)
+                    io::throw_attribute_error(*l, "iterations",
+                                              "must be between 1 and " + std::to_string(options_.max_cg_iterations));
                 s.cg.iterations = int(it);
                 s.cg.tolerance = nonnegative(*l, "tolerance", 1e-5);
                 s.cg.threshold = nonnegative(*l, "threshold", 1e-5);
@@ -1149,6 +1214,11 @@ const std::vector<output::ContactRecord>& Scene::contacts() const {
 std::string Scene::role(const io::SceneComponent& component) const {
     const auto it = roles_.find(&component);
     return it == roles_.end() ? std::string() : it->second;
+}
+
+const io::SceneComponent* Scene::component_of(const void* built) const {
+    const auto it = built_from_.find(built);
+    return it == built_from_.end() ? nullptr : it->second;
 }
 
 const Node* Scene::node_of(const io::SceneNode& node) const {

@@ -105,7 +105,9 @@ ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParam
     : simulation_(&simulation), intersection_(intersection), response_(std::move(response)),
       node_(node ? node : &simulation.root()), options_(options) {
     intersection_.validate();
-    if (options_.threads < 0) throw_invalid_argument("ContactPipeline: options.threads must be >= 0, got ", options_.threads);
+    if (options_.threads < 0 || options_.threads > kMaxDetectionThreads)
+        throw_invalid_argument("ContactPipeline: options.threads must be between 0 and ", kMaxDetectionThreads, ", got ",
+                               options_.threads);
     if (options_.bvh.leaf_size == 0) throw_invalid_argument("ContactPipeline: options.bvh.leaf_size must be >= 1");
     if (options_.attach_hook && simulation.collision_hook)
         throw_invalid_argument("ContactPipeline: the simulation already has a collision_hook");

@@ -1,5 +1,7 @@
 #include "penalty/simulation/solver.hpp"
 
+#include <cstdio>
+
 #include <Eigen/SparseCore>
 
 #include <algorithm>
@@ -21,7 +23,8 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
     ++solve_count_;
     x = Eigen::VectorXd::Zero(b.size());
     const double norm_b = b.norm();
-    if (!std::isfinite(norm_b)) throw_invalid_argument("CGLinearSolver: right-hand side is not finite");
+    if (!std::isfinite(norm_b))
+        throw NonFiniteSolveError("CGLinearSolver: the right-hand side is not finite (|b| overflows)", nullptr, nullptr, nullptr);
     if (norm_b == 0.0) {
         stats.end_condition = "b=0";
         return stats;
@@ -60,7 +63,9 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
         r -= alpha * q;
         rho_prev = rho;
     }
-    if (!x.allFinite()) throw_invalid_argument("CGLinearSolver: solution is not finite (singular or indefinite system)");
+    if (!x.allFinite())
+        throw NonFiniteSolveError("CGLinearSolver: the solution is not finite (singular or indefinite system, or an overflow)",
+                                  nullptr, nullptr, nullptr);
     return stats;
 }
 
@@ -131,17 +136,109 @@ void SubtreeSystem::propagate_positions_and_velocities() const {
     }
 }
 
-void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
+void SubtreeSystem::reset_forces() const {
     for (BaseState* s : independent_) s->force_flat() = s->external_force_flat();
     for (BaseState* s : mapped_) s->force_flat() = s->external_force_flat();
     for (BaseState* s : external_) s->force_flat().setZero();
+}
+
+void SubtreeSystem::throw_non_finite_force() const {
+    // The states a contribution writes into, checked after each contribution in compute_force's
+    // order; velocities that are already non-finite are named first (the runner checks positions).
+    std::vector<BaseState*> all(independent_);
+    all.insert(all.end(), mapped_.begin(), mapped_.end());
+    all.insert(all.end(), external_.begin(), external_.end());
+    const auto first_bad = [&](bool kinematics) -> const BaseState* {
+        for (const BaseState* s : all) {
+            if (kinematics ? !const_cast<BaseState*>(s)->velocity_flat().allFinite()
+                           : !const_cast<BaseState*>(s)->force_flat().allFinite())
+                return s;
+        }
+        return nullptr;
+    };
+    if (const BaseState* s = first_bad(true))
+        throw NonFiniteSolveError("the velocities of state '" + std::string(s->state_name()) + "' are not finite",
+                                  nullptr, nullptr, s);
+    reset_forces();
+    if (const BaseState* s = first_bad(false))
+        throw NonFiniteSolveError("the external forces on state '" + std::string(s->state_name()) + "' are not finite",
+                                  nullptr, nullptr, s);
+    for (const auto& [mass, g] : masses_) {
+        mass->add_gravity_force(g);
+        if (const BaseState* s = first_bad(false))
+            throw NonFiniteSolveError("the gravity force m·g on state '" + std::string(s->state_name()) + "' is not finite",
+                                      nullptr, mass, s);
+    }
+    for (BaseForceField* ff : force_fields_) {
+        ff->accumulate_force();
+        if (const BaseState* s = first_bad(false))
+            throw NonFiniteSolveError("a force field's force on state '" + std::string(s->state_name()) + "' is not finite",
+                                      ff, nullptr, s);
+    }
+    throw NonFiniteSolveError("the forces are not finite after the mappings' Jᵀ", nullptr, nullptr, nullptr);
+}
+
+void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
+    // Each contribution alone, in compute_force's order; the one with the largest |f|∞ is named
+    // (an overflow of |b| or of a CG product starts from the largest force).
+    std::vector<BaseState*> all(independent_);
+    all.insert(all.end(), mapped_.begin(), mapped_.end());
+    all.insert(all.end(), external_.begin(), external_.end());
+    const auto largest = [&](const BaseState*& where) {
+        double m = 0.0;
+        for (BaseState* s : all) {
+            const double v = s->force_flat().size() > 0 ? s->force_flat().cwiseAbs().maxCoeff() : 0.0;
+            if (!(v <= m)) {  // NaN counts as largest
+                m = v;
+                where = s;
+            }
+        }
+        return m;
+    };
+    double best = -1.0;
+    const BaseForceField* best_ff = nullptr;
+    const BaseMass* best_mass = nullptr;
+    const BaseState* best_state = nullptr;
+    const auto consider = [&](const BaseForceField* ff, const BaseMass* mass) {
+        const BaseState* where = nullptr;
+        const double m = largest(where);
+        if (!(m <= best)) {
+            best = m;
+            best_ff = ff;
+            best_mass = mass;
+            best_state = where;
+        }
+    };
+    for (const auto& [mass, g] : masses_) {
+        reset_forces();
+        for (BaseState* s : all) s->force_flat().setZero();
+        mass->add_gravity_force(g);
+        consider(nullptr, mass);
+    }
+    for (BaseForceField* ff : force_fields_) {
+        for (BaseState* s : all) s->force_flat().setZero();
+        ff->accumulate_force();
+        consider(ff, nullptr);
+    }
+    std::string source;
+    char magnitude[32];
+    std::snprintf(magnitude, sizeof magnitude, "%.6g", best);
+    if (best_state != nullptr)
+        source = "; the largest force (" + std::string(magnitude) + " N) is " +
+                 (best_mass != nullptr ? "the gravity force m·g" : "a force field's") + " on state '" +
+                 std::string(best_state->state_name()) + "'";
+    throw NonFiniteSolveError(what + source, best_ff, best_mass, best_state);
+}
+
+void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
+    reset_forces();
     for (const auto& [mass, g] : masses_) mass->add_gravity_force(g);
     for (BaseForceField* ff : force_fields_) ff->accumulate_force();
     for (auto it = mappings_.rbegin(); it != mappings_.rend(); ++it) (*it)->apply_jt_force();
     f.resize(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i)
         f.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->force_flat();
-    if (!f.allFinite()) throw_invalid_argument("SubtreeSystem: the forces are not finite (NaN or infinite positions, velocities or parameters)");
+    if (!f.allFinite()) throw_non_finite_force();
 }
 
 void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k,
@@ -292,7 +389,13 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     const double bf = first_order ? 0.0 : -tr * h;
     const double kf = first_order ? -h * tr : -tr * h * (tr * h + rs);
     Eigen::VectorXd x;
-    record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x));
+    try {
+        record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x));
+    } catch (const NonFiniteSolveError& e) {
+        // Finite forces, yet the solve overflowed (|b|², p·q): name the largest force.
+        if (e.force_field() == nullptr && e.mass() == nullptr) sys.throw_naming_largest_force(e.what());
+        throw;
+    }
     Eigen::VectorXd v_new = first_order ? x : Eigen::VectorXd(v + x);
     sys.scatter_velocity(v_new);
     sys.add_to_positions(h, v_new);

@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -566,9 +565,7 @@ TEST(NarrowPhase, HundredThousandSpheresCompleteAndMatchSampledExhaustiveRows) {
     params.contact_distance = 0.002;
     CollisionPipeline pipe(params);
     pipe.set_models({&m});
-    const auto t0 = std::chrono::steady_clock::now();
     const SceneDetection d = pipe.detect();
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     ASSERT_EQ(d.size(), 1u);
     const auto& out = d[0].outputs;
     // expected neighbours per sphere: n * 4/3 pi 0.015^3 = 1.41 -> about 7e4 pairs
@@ -600,11 +597,7 @@ TEST(NarrowPhase, HundredThousandSpheresCompleteAndMatchSampledExhaustiveRows) {
         for (std::size_t k = 0; k < ref.size(); ++k) ASSERT_TRUE(same_output(mine[k], ref[k]));
         hits += ref.size();
     }
-    EXPECT_GT(hits, 200u);
-#ifdef NDEBUG
-    EXPECT_LT(secs, 5.0);
-#endif
-    RecordProperty("seconds", std::to_string(secs));
+    EXPECT_GT(hits, 200u);  // speed is measured by penalty_bench_detection, not here
 }
 
 }  // namespace

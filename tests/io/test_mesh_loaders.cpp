@@ -52,7 +52,7 @@ TEST(ObjLoader, IndicesMayReferToLaterVertices) {
 
 TEST(ObjLoader, MissingFile) {
     const auto p = data_dir() / "mesh" / "no_such_file.obj";
-    EXPECT_EQ(message_of<LoadError>([&] { (void)load_obj(p); }), p.string() + ": cannot open file");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_obj(p); }), p.string() + ": cannot read: the path does not exist");
 }
 
 TEST(ObjLoader, BadNumber) {

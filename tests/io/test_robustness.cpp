@@ -73,16 +73,24 @@ TEST(Robustness, CorruptedBytesLoadOrThrowLoadError) {
 
 TEST(Robustness, EveryPrefixOfASceneParsesOrThrowsSceneError) {
     const std::string text = slurp(data_dir() / "scenes" / "tiny.scn");
-    int parsed = 0;
+    // A prefix is a complete scene exactly when it holds the root's closing tag: every shorter one
+    // must be refused with a SceneError (anything else escaping fails the test).
+    const std::size_t root_end = text.rfind("</Node>") + std::string_view("</Node>").size();
+    ASSERT_NE(text.rfind("</Node>"), std::string::npos);
+    std::size_t parsed = 0, refused = 0;
     for (std::size_t n = 0; n <= text.size(); ++n) {
+        bool ok = false;
         try {
             const SceneFile s = parse_scene_string(text.substr(0, n), "prefix.scn");
             (void)validate(s);
-            ++parsed;
+            ok = true;
         } catch (const SceneError&) {
         }
+        EXPECT_EQ(ok, n >= root_end) << "prefix of " << n << " bytes";
+        (ok ? parsed : refused) += 1;
     }
-    EXPECT_GE(parsed, 1);
+    EXPECT_EQ(parsed, text.size() - root_end + 1);
+    EXPECT_EQ(refused, root_end);
 }
 
 }  // namespace

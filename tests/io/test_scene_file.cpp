@@ -84,7 +84,7 @@ TEST(SceneParser, ObjectSyntaxAndUnnamedNodes) {
 
 TEST(SceneParser, MissingFile) {
     const auto p = data_dir() / "scenes" / "no_such.scn";
-    EXPECT_EQ(message_of<SceneError>([&] { (void)parse_scene_file(p); }), p.string() + ": cannot open file");
+    EXPECT_EQ(message_of<SceneError>([&] { (void)parse_scene_file(p); }), p.string() + ": cannot read: the path does not exist");
 }
 
 TEST(SceneParser, UnclosedTagNamesTheLine) {

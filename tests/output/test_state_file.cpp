@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace penalty::output {
 namespace {
@@ -167,12 +168,29 @@ TEST(ReadStateFile, ReadsSofaReferenceFiles) {
     EXPECT_THAT(samples[0].x, ElementsAre(-5, 10, 0, 0, 0, 0, 1));
     EXPECT_EQ(samples[1].time, 1.99);
     EXPECT_EQ(samples[1].x.size(), 7u);
-    // compared with itself through the criterion: one Rigid3 state, no error
-    const std::vector<std::filesystem::path> files{file};
+    // Through the criterion, against runs written from the samples: an exact copy (error 0) and
+    // one whose last sample is moved by 3e-4 along x (error 3e-4 per DOF: above SOFA's 1e-4).
+    TempDir dir;
+    const auto write_run = [&](const std::string& name, double shift) {
+        std::ostringstream text;
+        text.precision(17);
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            text << "T= " << samples[k].time << "\n  X=";
+            for (std::size_t i = 0; i < samples[k].x.size(); ++i)
+                text << ' ' << samples[k].x[i] + (k + 1 == samples.size() && i == 0 ? shift : 0.0);
+            text << "\n";
+        }
+        write_text(dir.path() / name, text.str());
+        return std::vector<std::filesystem::path>{dir.path() / name};
+    };
+    const std::vector<std::filesystem::path> refs{file};
     const std::vector<int> widths{7};
-    const auto result = compare_with_reference(files, files, widths);
-    EXPECT_TRUE(result.passed());
-    EXPECT_EQ(result.mean_error, 0.0);
+    const auto same = compare_with_reference(refs, write_run("copy.txt", 0.0), widths);
+    EXPECT_TRUE(same.passed());
+    EXPECT_EQ(same.mean_error, 0.0);
+    const auto moved = compare_with_reference(refs, write_run("moved.txt", 3e-4), widths);
+    EXPECT_FALSE(moved.passed());
+    EXPECT_NEAR(moved.mean_error, 3e-4, 1e-12);
 }
 
 struct MalformedCase {

@@ -265,7 +265,7 @@ TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
   <MechanicalObject position="0 0 0"/>
   <SphereCollisionModel name="s" contactStiffness="-1"/>
 </Node>)"),
-              "test.scn:3: SphereCollisionModel 's': attribute 'contactStiffness': must be >= 0, found -1.000000");
+              "test.scn:3: SphereCollisionModel 's': attribute 'contactStiffness': must be >= 0, found '-1'");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <MechanicalObject template="Vec2d" position="0 0"/>
 </Node>)"),
@@ -290,7 +290,7 @@ TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
   <MechanicalObject position="0 0 0"/>
   <MechanicalObject position="0 0 0"/>
 </Node>)"),
-              "test.scn:3: MechanicalObject: a node may hold only one MechanicalObject");
+              "test.scn:3: MechanicalObject: a node holds one mechanical state, and this node already has MechanicalObject at line 2");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <MechanicalObject position="0 nan 0"/>
 </Node>)"),
@@ -326,8 +326,6 @@ TEST(SceneBuilder, BuiltInSceneRunsAndMakesContacts) {
     EXPECT_GE(summary.max_contacts, 25u);  // the cube's 25 bottom points on the floor
     EXPECT_EQ(max_pairs, 2u);              // floor–cube points, then ball–cube points too
     EXPECT_LT(summary.max_penetration, 0.1);
-    EXPECT_GT(summary.detection_seconds, 0.0);
-    EXPECT_GT(summary.solve_seconds, 0.0);
 }
 
 TEST(SceneBuilder, RunnerWritesStatesEveryMStepsPlusTheLast) {

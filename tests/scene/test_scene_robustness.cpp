@@ -114,11 +114,11 @@ TEST(SceneRobustness, HugeSizesAreRefusedBeforeAllocating) {
   <RegularGridTopology nx="100000" ny="100000" nz="100000"/>
   <MechanicalObject/>
 </Node>)"),
-              "huge.scn:2: RegularGridTopology: 1000000000000000 grid points (more than 100000000)");
+              "huge.scn:2: RegularGridTopology: 1000000000000000 grid points (more than 10000000)");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <MechanicalObject size="5000000000000"/>
 </Node>)"),
-              "huge.scn:2: MechanicalObject: attribute 'size': must be between 0 and 100000000");
+              "huge.scn:2: MechanicalObject: attribute 'size': must be between 0 and 10000000");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <EulerImplicitSolver/>
   <CGLinearSolver iterations="99999999999" tolerance="0" threshold="0"/>

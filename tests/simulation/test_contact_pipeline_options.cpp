@@ -317,8 +317,6 @@ TEST(ContactPipelineOptions, PhaseTimingsAreMeasuredEachUpdate) {
         EXPECT_TRUE(std::isfinite(t.response_seconds));
         EXPECT_GT(t.detection_seconds, 0.0);   // 5 models, 800-triangle floor: never 0 ns
         EXPECT_GE(t.response_seconds, 0.0);
-        EXPECT_LT(t.detection_seconds, 10.0);
-        EXPECT_LT(t.response_seconds, 10.0);
         total_detection += t.detection_seconds;
         total_response += t.response_seconds;
     }

@@ -14,6 +14,7 @@
 #include "penalty/mechanics/topology.hpp"
 
 #include <filesystem>
+#include <string_view>
 #include <vector>
 
 namespace penalty::io {
@@ -69,6 +70,14 @@ struct MeshData {
 /// Dispatches on the extension (case-insensitive): .obj, .msh, .sph, .vtk.
 /// @throws LoadError for another extension or a bad file
 [[nodiscard]] MeshData load_mesh_file(const std::filesystem::path& path);
+
+/// The parsers behind the loaders, on a file's text already in memory; `path` only names the
+/// file in errors. Same results and errors as load_obj, load_gmsh, load_sph, load_vtk_legacy
+/// (which read the file, refusing what is not a regular file, then call these).
+[[nodiscard]] MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate = false);
+[[nodiscard]] MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path);
+[[nodiscard]] MeshData parse_sph(std::string_view text, const std::filesystem::path& path);
+[[nodiscard]] MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& path);
 
 /// SOFA's Euler angles (Quat::createQuaterFromEuler, default order): angles (a, b, c) in
 /// degrees about x, y, z; the rotation is R = Rz(c) * Ry(b) * Rx(a) (x applied first).

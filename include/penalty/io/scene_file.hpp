@@ -122,6 +122,11 @@ void for_each_component(const SceneNode& node, F&& f) {
 [[nodiscard]] std::optional<bool> get_bool(const SceneElement& e, std::string_view attr);
 [[nodiscard]] bool get_bool_or(const SceneElement& e, std::string_view attr, bool fallback);
 /// Any count of numbers separated by blanks ("" gives an empty list).
+/// Largest number of values in one inline attribute (`position="..."`, `triangles="..."`):
+/// 1,000,000 (333,333 points). Larger data belongs in a mesh file; the list is refused
+/// before it is parsed.
+inline constexpr std::size_t kMaxInlineValues = 1'000'000;
+
 [[nodiscard]] std::vector<double> get_doubles(const SceneElement& e, std::string_view attr);
 /// Exactly 3 numbers: `"0 -9.81 0"`.
 [[nodiscard]] std::optional<Vec3> get_vec3(const SceneElement& e, std::string_view attr);

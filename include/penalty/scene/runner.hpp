@@ -6,8 +6,11 @@
 /// Order within step k (k = 0 … steps−1), as SOFA's DefaultAnimationLoop with WriteState:
 ///   1. outputs of the state at time t_k = k·dt (state files when k is kept, VTK pieces);
 ///   2. the step (collision with the positions at t_k, then the solvers);
-///   3. divergence check of every state (a NaN/inf position stops the run with an error naming
-///      the state, the DOF and the step), statistics row.
+///   3. divergence check of every state (a NaN/inf position, or a DOF beyond DivergenceBound,
+///      stops the run with an error naming the state, the DOF and the step), statistics row.
+/// A non-finite value inside the solve (NonFiniteSolveError) is a divergence naming the step, the
+/// state and the force field or mass; at the first step, from a known component, it is invalid
+/// input naming that component (a parameter too large).
 /// After the last step, the VTK series gets the final state at t = steps·dt.
 
 #include "penalty/scene/scene.hpp"
@@ -30,6 +33,29 @@ struct RunOptions {
     bool export_mapped = false;                              ///< `--export-mapped`
     std::int64_t export_every = 1;                           ///< `--export-every M`: steps k with k % M == 0, and the last
     std::optional<std::filesystem::path> stats_file;        ///< `--stats FILE.csv`
+    /// `--divergence-factor F`: the run has diverged when a DOF gets farther than F times the
+    /// initial scene size from the initial scene's centre (DivergenceBound); 0 turns it off.
+    double divergence_factor = 1000.0;
+};
+
+/// The divergence criterion of run_scene, besides non-finite values: with B the bounding box of
+/// every state's positions at the start of the run (rigid frames: their centres), c its centre
+/// and L its diagonal (for a box of zero size, max(1, |c|)), a step after which some DOF lies
+/// farther than F·L from c is a divergence (exit 3). F = 1000 keeps every regular scene (a body
+/// dropped on a floor, a chain falling for thousands of steps) far inside, and catches a body
+/// ejected by an unstable explicit step or tunnelling through the floor at a huge dt.
+class DivergenceBound {
+public:
+    /// Records c and L from the scene's current states; factor 0 turns the check off.
+    DivergenceBound(const Scene& scene, double factor);
+    /// Throws output::NonFiniteValueError naming the step, the state and the DOF.
+    void check(const Scene& scene, std::int64_t step, double time) const;
+    [[nodiscard]] double scene_size() const { return size_; }
+
+private:
+    double factor_;
+    Vec3 center_ = Vec3::Zero();
+    double size_ = 0.0;
 };
 
 /// Totals of a run.

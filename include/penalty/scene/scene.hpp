@@ -17,6 +17,7 @@
 #include "penalty/output/vtk_writer.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -35,6 +36,11 @@ struct BuildOptions {
     /// Detection algorithm: BVH narrow phase (default) or SOFA's exhaustive pair loop; both give
     /// the same outputs in the same order.
     bool exhaustive_detection = false;
+    /// Largest number of DOFs of a state or points of a grid: 10⁷ by default (a step costs about
+    /// 1.5 kB per DOF, so this keeps a run within a 24 GB machine). The fuzz targets lower it.
+    std::uint64_t max_dofs = 10'000'000;
+    /// Largest `iterations` of a CGLinearSolver: 10⁶ by default (a typo cannot hang a run).
+    std::uint64_t max_cg_iterations = 1'000'000;
 };
 
 /// One collision model of the scene and where it comes from.
@@ -112,6 +118,9 @@ public:
     /// "Vec3d state, 81 DOFs, static: in no solver's subtree, never moves"); "" for a component
     /// that was not built (ignored, or a loader no physics component uses).
     [[nodiscard]] std::string role(const io::SceneComponent& component) const;
+    /// The component of the file a built object (mass, force field, state) was made from, or
+    /// nullptr (e.g. the contact force fields the collision pipelines add).
+    [[nodiscard]] const io::SceneComponent* component_of(const void* built) const;
     /// The simulation node built for a node of the file (nullptr for a node of another file).
     [[nodiscard]] const Node* node_of(const io::SceneNode& node) const;
 
@@ -128,6 +137,7 @@ private:
     std::vector<BaseMass*> masses_;
     std::map<const io::SceneComponent*, std::string> roles_;
     std::map<const io::SceneNode*, const Node*> nodes_;
+    std::map<const void*, const io::SceneComponent*> built_from_;
     StepTimings timings_;
     StepSolverStats solver_stats_;
     std::vector<const EulerImplicitSolver*> implicit_solvers_;

@@ -150,12 +150,17 @@ enum class ContactDetection : std::uint8_t {
     bvh,         ///< per-model Bvh + root pruning + bvh_narrow_phase (parallel, TBB)
 };
 
+/// Most detection threads a ContactPipeline accepts: 1024 (TBB cannot make an arena above
+/// 65,536 and reserves memory per slot; no machine this runs on has more cores).
+inline constexpr int kMaxDetectionThreads = 1024;
+
 /// Options of ContactPipeline (the defaults keep the original behaviour).
 struct ContactPipelineOptions {
     ContactDetection detection = ContactDetection::exhaustive;
     /// bvh: leaf_size, rebuild_ratio and narrow-phase chunking (depth is not used).
     CollisionPipelineOptions bvh;
-    /// bvh: maximum TBB threads of the detection (0 = TBB's default). Output does not depend on it.
+    /// bvh: maximum TBB threads of the detection (0 = TBB's default; at most
+    /// kMaxDetectionThreads). Output does not depend on it.
     int threads = 0;
     /// true: the constructor sets Simulation::collision_hook to run update() each step (throws
     /// if a hook is already set). false: the hook is left alone; the caller runs update() once
@@ -175,7 +180,8 @@ public:
     /// throws std::invalid_argument if a hook is already set). `node`: where a contact between
     /// two simulated models goes (default: the root). `response` supplies the response name and
     /// parameters; its on_create / on_destroy hooks are taken over by the pipeline. Throws
-    /// std::invalid_argument for options.threads < 0 or options.bvh.leaf_size = 0.
+    /// std::invalid_argument for options.threads outside [0, kMaxDetectionThreads] or
+    /// options.bvh.leaf_size = 0.
     explicit ContactPipeline(Simulation& simulation,
                              const IntersectionParams& intersection = IntersectionParams::new_proximity(),
                              CollisionResponse response = CollisionResponse(), Node* node = nullptr,

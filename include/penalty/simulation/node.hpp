@@ -67,6 +67,8 @@ public:
     }
     template <class C, class... Args>
     C& set_mass(Args&&... args) {
+        // One per node, as in SOFA: replacing would leave dangling pointers to the old one.
+        if (mass_) throw_invalid_argument("Node '", name_, "': already has a mass");
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         mass_ = std::move(c);
@@ -74,6 +76,7 @@ public:
     }
     template <class C, class... Args>
     C& set_mapping(Args&&... args) {
+        if (mapping_) throw_invalid_argument("Node '", name_, "': already has a mapping");
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         mapping_ = std::move(c);
@@ -88,6 +91,7 @@ public:
     }
     template <class C, class... Args>
     C& set_ode_solver(Args&&... args) {
+        if (solver_) throw_invalid_argument("Node '", name_, "': already has an ODE solver");
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         solver_ = std::move(c);

@@ -9,10 +9,31 @@
 #include <Eigen/Core>
 
 #include <functional>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 #include <unordered_map>
 
 namespace penalty {
+
+/// A non-finite value in a solve (forces, right-hand side or CG solution): the run diverged, or a
+/// parameter makes a product overflow. Names what produced it where the solver can tell: the
+/// first force field whose contribution is not finite (nullptr: unknown, or the gravity force of
+/// a mass, see `mass`), and the state where it shows.
+class NonFiniteSolveError : public std::runtime_error {
+public:
+    NonFiniteSolveError(const std::string& what, const BaseForceField* force_field, const BaseMass* mass,
+                        const BaseState* state)
+        : std::runtime_error(what), force_field_(force_field), mass_(mass), state_(state) {}
+    [[nodiscard]] const BaseForceField* force_field() const { return force_field_; }
+    [[nodiscard]] const BaseMass* mass() const { return mass_; }
+    [[nodiscard]] const BaseState* state() const { return state_; }
+
+private:
+    const BaseForceField* force_field_;
+    const BaseMass* mass_;
+    const BaseState* state_;
+};
 
 /// Result of one CG solve.
 struct CgStats {
@@ -63,7 +84,12 @@ public:
     /// Propagates positions and velocities to the mapped states (top-down).
     void propagate_positions_and_velocities() const;
     /// f = external forces + gravity + Σ force fields, mapped forces brought up by Jᵀ.
+    /// Throws NonFiniteSolveError naming the first non-finite contribution.
     void compute_force(Eigen::VectorXd& f) const;
+    /// After an overflow in the solve with finite forces: evaluates each mass's gravity and each
+    /// force field alone and throws NonFiniteSolveError(what + ...) naming the largest one.
+    /// Leaves the states' force vectors overwritten (the step is abandoned).
+    [[noreturn]] void throw_naming_largest_force(const std::string& what) const;
     /// out = (m·M + b·B + k·K)·dx (matrix-free, through the mappings), projected if asked.
     void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project) const;
     /// Applies every projective constraint to a flat vector.
@@ -76,6 +102,10 @@ public:
     [[nodiscard]] double total_energy() const;
 
 private:
+    /// After a non-finite total force: evaluates the contributions again one at a time (external
+    /// forces, each mass's gravity, each force field) and throws naming the first non-finite one.
+    [[noreturn]] void throw_non_finite_force() const;
+    void reset_forces() const;
     void collect(Node& node, bool is_root);
     std::vector<BaseState*> independent_;
     std::vector<Index> offsets_;

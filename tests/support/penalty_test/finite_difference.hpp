@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// Central finite differences for derivative tests (gradient of a scalar, Jacobian of a vector
-/// function) and a relative comparison that refuses vacuous passes.
+/// function) and a relative comparison that refuses vacuous passes (all-zero operands).
 
 #include <Eigen/Core>
 
@@ -45,11 +45,15 @@ inline Eigen::MatrixXd finite_jacobian(const Eigen::VectorXd& x,
     return jac;
 }
 
-/// |a - b| <= tol * max(1, |a|, |b|) in the infinity norm: relative for large values, absolute
-/// near zero.
+/// |a − b|∞ <= tol · max(|a|∞, |b|∞): relative to the larger operand at every scale (a
+/// derivative of size 1e-6 is checked to tol·1e-6, not to tol). Refuses vacuous passes: two
+/// all-zero operands (nothing was checked), different sizes, and non-finite values fail.
 template <class A, class B>
 bool near_relative(const A& a, const B& b, double tol) {
-    const double scale = std::max({1.0, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff()});
+    if (a.size() != b.size() || a.size() == 0) return false;
+    if (!a.allFinite() || !b.allFinite()) return false;
+    const double scale = std::max(a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff());
+    if (scale == 0.0) return false;
     return (a - b).cwiseAbs().maxCoeff() <= tol * scale;
 }
 

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (preset `fuzz`: clang++, ASan + UBSan) and runs each one.
+#   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET ...]     (default: 40 s each, every target)
+# Targets: scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk.
+# Corpora grow in build/fuzz-corpus/<target> (kept between runs, so a long run by hand resumes
+# where the last one stopped); seeds come from scenes/, tests/ and fuzz/seeds/. A crash, leak,
+# sanitizer report or time-out leaves its input in build/fuzz-artifacts/<target>/ and makes this
+# script fail; copy such an input into fuzz/regressions/ (tests/scene/test_fuzz_regressions.cpp
+# runs every file there in the normal test suite). See docs/reliability.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds="${1:-40}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk)
+
+command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (scripts/install-deps.sh installs it)"; exit 1; }
+cmake --preset fuzz >/dev/null
+cmake --build --preset fuzz
+
+root="$PWD"
+seeds_of() {
+  case "$1" in
+    scene_*) ls "$root"/scenes/*.scn "$root"/tests/cli/*.scn "$root"/tests/io/data/scenes/*.scn "$root"/fuzz/seeds/scene/* ;;
+    mesh_obj) ls "$root"/scenes/mesh/*.obj "$root"/tests/io/data/mesh/*.obj "$root"/fuzz/seeds/obj/* ;;
+    mesh_gmsh) ls "$root"/scenes/mesh/*.msh "$root"/tests/io/data/mesh/*.msh "$root"/fuzz/seeds/gmsh/* ;;
+    mesh_sph) ls "$root"/scenes/mesh/*.sph "$root"/tests/io/data/mesh/*.sph "$root"/fuzz/seeds/sph/* ;;
+    mesh_vtk) ls "$root"/tests/io/data/mesh/*.vtk "$root"/fuzz/seeds/vtk/* ;;
+  esac
+}
+
+failed=()
+for t in "${targets[@]}"; do
+  corpus="$root/build/fuzz-corpus/$t"
+  artifacts="$root/build/fuzz-artifacts/$t/"
+  mkdir -p "$corpus" "$artifacts"
+  seed_dir="$(mktemp -d)"
+  for f in $(seeds_of "$t" 2>/dev/null); do cp "$f" "$seed_dir/"; done
+  echo "=== fuzz $t: ${seconds} s, seed 1, corpus $(ls "$corpus" | wc -l) inputs + $(ls "$seed_dir" | wc -l) seeds"
+  dict=()
+  case "$t" in scene_*) dict=(-dict="$root/fuzz/scene.dict") ;; esac
+  # Scene inputs resolve mesh names against scenes/ (the seeds' own meshes).
+  if ( cd "$root/scenes" && "$root/build/fuzz/fuzz/penalty_fuzz_$t" -seed=1 -max_total_time="$seconds" \
+         -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+         "${dict[@]}" -artifact_prefix="$artifacts" "$corpus" "$seed_dir" ) \
+       > "$root/build/fuzz-$t.log" 2>&1; then
+    grep -E "stat::number_of_executed_units|cov:" "$root/build/fuzz-$t.log" | tail -2
+  else
+    echo "fuzz $t FAILED: see build/fuzz-$t.log and $artifacts"; tail -40 "$root/build/fuzz-$t.log"
+    failed+=("$t")
+  fi
+  rm -rf "$seed_dir"
+done
+if [ ${#failed[@]} -gt 0 ]; then echo "fuzz: findings in ${failed[*]}"; exit 1; fi
+echo "fuzz: ${#targets[@]} targets, no finding"

@@ -1,0 +1,290 @@
+// Reliability (docs/reliability.md): one component of a kind per node, the divergence criterion,
+// non-finite values inside a solve named by their source, a run of 0 steps, degenerate collision
+// triangles, and every input the fuzzers found (fuzz/regressions/).
+#include "penalty/io/error.hpp"
+#include "penalty/io/mesh.hpp"
+#include "penalty/io/scene_file.hpp"
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/output/format.hpp"
+#include "penalty/output/state_file.hpp"
+#include "penalty/scene/runner.hpp"
+#include "penalty/scene/scene.hpp"
+#include "penalty/simulation/contact_pipeline.hpp"
+#include "penalty/simulation/solver.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+using namespace penalty;
+using ::testing::HasSubstr;
+
+std::unique_ptr<scene::Scene> build(const std::string& xml) {
+    return scene::build_scene(io::parse_scene_string(xml, "test.scn"));
+}
+
+std::string build_error(const std::string& xml) {
+    try {
+        (void)build(xml);
+    } catch (const io::LoadError& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+template <class E>
+std::string run_error(scene::Scene& s, scene::RunOptions options) {
+    try {
+        (void)scene::run_scene(s, options);
+    } catch (const E& e) {
+        return e.what();
+    }
+    return "no error";
+}
+
+// ---- one component of a kind per node -------------------------------------------------------------
+
+TEST(OnePerNode, SecondMassIsRefusedNamingBothLines) {
+    // Was a use after free: the second mass replaced the first while its init was still queued.
+    EXPECT_EQ(build_error(R"(<Node name="root" dt="0.01">
+    <EulerImplicitSolver/>
+    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
+    <MechanicalObject position="0 0 0"/>
+    <UniformMass totalMass="1"/>
+    <UniformMass totalMass="1"/>
+</Node>)"),
+              "test.scn:6: UniformMass: a node holds one mass, and this node already has UniformMass at line 5");
+}
+
+TEST(OnePerNode, SecondLinearSolverIsRefused) {
+    EXPECT_EQ(build_error(R"(<Node name="root">
+    <EulerImplicitSolver/>
+    <CGLinearSolver name="a"/>
+    <CGLinearSolver name="b" iterations="3"/>
+    <MechanicalObject position="0 0 0"/>
+    <UniformMass totalMass="1"/>
+</Node>)"),
+              "test.scn:4: CGLinearSolver 'b': a node holds one linear solver, and this node already has "
+              "CGLinearSolver 'a' at line 3");
+}
+
+TEST(OnePerNode, TheNodeApiRefusesReplacingAMassASolverOrAMapping) {
+    Simulation sim;
+    Node& n = sim.root();
+    auto& x = n.add_state<Vec3Types>("x");
+    x.position = {Vec3::Zero()};
+    n.set_mass<UniformMass<Vec3Types>>(x);
+    EXPECT_THROW((n.set_mass<UniformMass<Vec3Types>>(x)), std::invalid_argument);
+    n.set_ode_solver<EulerImplicitSolver>();
+    EXPECT_THROW(n.set_ode_solver<EulerExplicitSolver>(), std::invalid_argument);
+}
+
+TEST(Threads, AContactPipelineRefusesMoreThanItsMaximum) {
+    Simulation sim;
+    ContactPipelineOptions options;
+    options.threads = kMaxDetectionThreads + 1;
+    EXPECT_THROW(ContactPipeline(sim, IntersectionParams::min_proximity(), CollisionResponse(), nullptr, options),
+                 std::invalid_argument);
+    options.threads = 65537;  // TBB crashed on an arena this size
+    EXPECT_THROW(ContactPipeline(sim, IntersectionParams::min_proximity(), CollisionResponse(), nullptr, options),
+                 std::invalid_argument);
+}
+
+// ---- divergence ---------------------------------------------------------------------------------
+
+// A particle in free fall beside a static point 10 m away: the scene's box has diagonal 10 m and
+// centre (5, 0, 0). Implicit Euler is exact on uniform acceleration: y_n = −g·h²·n(n+1)/2 after
+// n steps (g = 10 m/s², h = 0.1 s: y_n = −0.05·n(n+1) m).
+const std::string kFreeFall = R"(<Node name="root" dt="0.1" gravity="0 -10 0">
+  <Node name="Particle">
+    <EulerImplicitSolver/>
+    <CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-20"/>
+    <MechanicalObject name="p" position="0 0 0"/>
+    <UniformMass totalMass="1"/>
+  </Node>
+  <Node name="Marker"><MechanicalObject name="m" position="10 0 0"/></Node>
+</Node>)";
+
+TEST(Divergence, APositionBeyondFTimesTheSceneSizeStopsTheRunAtTheRightStep) {
+    // F = 2: the limit is 20 m from (5, 0, 0), i.e. |y| > √375 = 19.36 m; n(n+1) > 387.3 first at
+    // n = 20, the step of index 19.
+    auto s = build(kFreeFall);
+    EXPECT_DOUBLE_EQ(scene::DivergenceBound(*s, 2.0).scene_size(), 10.0);
+    scene::RunOptions run;
+    run.steps = 100;
+    run.divergence_factor = 2.0;
+    const std::string message = run_error<output::NonFiniteValueError>(*s, run);
+    // After 20 steps y = −21 m: the distance to the centre is √(5² + 21²) = √466 m.
+    EXPECT_THAT(message, HasSubstr("simulation diverged at step 19 (t = 2."));
+    EXPECT_THAT(message, HasSubstr("state '/Particle/p' DOF 0 is " + output::format_number(std::sqrt(466.0)) + " m from"));
+    EXPECT_THAT(message, HasSubstr("more than 2 times the initial scene size (10 m)"));
+}
+
+TEST(Divergence, TheCheckCanBeTurnedOffAndTheFallIsExact) {
+    auto s = build(kFreeFall);
+    scene::RunOptions run;
+    run.steps = 100;
+    run.divergence_factor = 0.0;
+    (void)scene::run_scene(*s, run);
+    const auto* p = dynamic_cast<const Vec3Object*>(s->states()[0].state);
+    ASSERT_NE(p, nullptr);
+    EXPECT_NEAR(p->position[0].y(), -0.05 * 100 * 101, 1e-9 * 505);
+    scene::RunOptions bad;
+    bad.divergence_factor = std::nan("");
+    EXPECT_THROW((void)scene::run_scene(*s, bad), std::invalid_argument);
+}
+
+TEST(Divergence, TheDefaultKeepsARegularFallInside) {
+    // 100 steps fall 505 m, 50 scene sizes: far inside the default F = 1000.
+    auto s = build(kFreeFall);
+    scene::RunOptions run;
+    run.steps = 100;
+    EXPECT_EQ(scene::run_scene(*s, run).steps, 100);
+}
+
+// ---- non-finite values inside a solve -------------------------------------------------------------
+
+TEST(NonFiniteSolve, AnOverflowAtTheFirstStepIsInvalidInputNamingTheComponentAndAttributes) {
+    // m·g = 1e200 N is finite, |b|² = (h·m·g)² overflows in the CG solve.
+    auto s = build(R"(<Node name="root" dt="0.01" gravity="0 -1e100 0">
+  <Node name="Ball">
+    <EulerImplicitSolver/>
+    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
+    <MechanicalObject name="p" position="0 0 0"/>
+    <UniformMass name="mass" totalMass="1e100"/>
+  </Node>
+</Node>)");
+    const std::string message = run_error<io::LoadError>(*s, scene::RunOptions{});
+    EXPECT_THAT(message, HasSubstr("test.scn:6: UniformMass 'mass': CGLinearSolver: the right-hand side is not finite"));
+    EXPECT_THAT(message, HasSubstr("the largest force (1e+200 N) is the gravity force m·g on state 'p'"));
+    EXPECT_THAT(message, HasSubstr("attribute 'totalMass' = 1e100, node / attribute 'gravity' = 0 -1e100 0"));
+}
+
+TEST(NonFiniteSolve, AnOverflowDuringTheRunIsADivergenceNamingTheForceField) {
+    // An explicit spring of 1e100 N/m stretched 1 m: the particle is thrown to 1e100 m, then
+    // 1e200 m, and the force k·Δx overflows while the states are still finite.
+    auto s = build(R"(<Node name="root" dt="1" gravity="0 0 0">
+  <Node name="A">
+    <EulerExplicitSolver/>
+    <MechanicalObject name="p" position="0 0 0  2 0 0" rest_position="0 0 0  1 0 0"/>
+    <MeshTopology edges="0 1"/>
+    <UniformMass vertexMass="1"/>
+    <MeshSpringForceField name="springs" stiffness="1e100"/>
+  </Node>
+</Node>)");
+    scene::RunOptions run;
+    run.steps = 20;
+    run.divergence_factor = 0.0;
+    const std::string message = run_error<output::NonFiniteValueError>(*s, run);
+    EXPECT_THAT(message, HasSubstr("simulation diverged at step "));
+    EXPECT_THAT(message, HasSubstr("from MeshSpringForceField 'springs' (test.scn:7)"));
+}
+
+// ---- a run of 0 steps -------------------------------------------------------------------------
+
+TEST(ZeroSteps, TheStateFilesHoldTheInitialState) {
+    auto s = build(kFreeFall);
+    const auto dir = std::filesystem::temp_directory_path() / "penalty_zero_steps";
+    std::filesystem::remove_all(dir);
+    scene::RunOptions run;
+    run.steps = 0;
+    run.states_directory = dir;
+    const scene::RunSummary summary = scene::run_scene(*s, run);
+    ASSERT_EQ(summary.state_files.size(), 1u);
+    const auto samples = output::read_state_file(summary.state_files[0]);
+    ASSERT_EQ(samples.size(), 1u);
+    EXPECT_EQ(samples[0].time, 0.0);
+    EXPECT_THAT(samples[0].x, ::testing::ElementsAre(0.0, 0.0, 0.0));
+    std::filesystem::remove_all(dir);
+}
+
+// ---- degenerate collision triangles ---------------------------------------------------------------
+
+TEST(DegenerateTriangles, ACollisionModelWithZeroAreaTrianglesIsReported) {
+    // Triangle 1 repeats a corner, triangle 2 is collinear: 2 of 3 have no area.
+    auto s = build(R"(<Node name="root">
+  <Node name="Floor">
+    <MechanicalObject position="0 0 0  1 0 0  0 0 1  2 0 0"/>
+    <MeshTopology triangles="0 2 1  0 1 1  0 1 3"/>
+    <TriangleCollisionModel name="floor" simulated="0" moving="0"/>
+  </Node>
+</Node>)");
+    bool found = false;
+    for (const std::string& w : s->warnings())
+        found = found || w == "test.scn:5: TriangleCollisionModel 'floor': 2 of 3 triangles have zero area (first: triangle 1); "
+                              "they make no reliable contact";
+    EXPECT_TRUE(found);
+}
+
+// ---- inline arrays and numbers ----------------------------------------------------------------
+
+TEST(InlineArrays, AListAboveTheCapIsRefusedBeforeParsing) {
+    std::string many;
+    many.reserve(3 * (io::kMaxInlineValues / 3 + 1) * 2);
+    for (std::size_t i = 0; i < io::kMaxInlineValues / 3 + 1; ++i) many += "0 0 0 ";
+    EXPECT_EQ(build_error("<Node name=\"root\"><MechanicalObject name=\"m\" position=\"" + many + "\"/></Node>"),
+              "test.scn:1: MechanicalObject 'm': attribute 'position': 1000002 values, more than penalty's limit of "
+              "1000000 in one attribute (put large data in a mesh file)");
+}
+
+TEST(Numbers, AMagnitudeAbove1e100IsRefusedWhereItIsWritten) {
+    EXPECT_EQ(build_error(R"(<Node name="root" dt="1e300"><MechanicalObject position="0 0 0"/></Node>)"),
+              "test.scn:1: Node 'root': attribute 'dt': '1e300': magnitude above 1e100 (penalty's limit for any "
+              "number in a scene or mesh file)");
+    EXPECT_EQ(build_error(R"(<Node name="root" dt="1e100"><MechanicalObject position="0 -1e100 0"/></Node>)"), "no error");
+}
+
+// ---- inputs the fuzzers found -------------------------------------------------------------------
+
+/// Every file in fuzz/regressions/: a scene (`.scn`) is built and stepped 3 times, a mesh is
+/// parsed; each must end normally or with a documented error, never a crash or a sanitizer report
+/// (the ASan suite runs this too).
+TEST(FuzzRegressions, EveryFoundInputIsHandled) {
+    const std::filesystem::path dir = std::filesystem::path(PENALTY_SOURCE_DIR) / "fuzz" / "regressions";
+    int inputs = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        const std::filesystem::path p = entry.path();
+        const std::string ext = p.extension().string();
+        if (ext == ".md") continue;
+        std::ifstream in(p, std::ios::binary);
+        std::stringstream text;
+        text << in.rdbuf();
+        ++inputs;
+        SCOPED_TRACE(p.filename().string());
+        try {
+            if (ext == ".scn") {
+                scene::BuildOptions options;
+                options.max_dofs = 5'000;
+                options.max_cg_iterations = 200;
+                auto s = scene::build_scene(io::parse_scene_string(text.str(), p.filename().string()), options);
+                (void)scene::describe_scene(*s);
+                scene::RunOptions run;
+                run.steps = 3;
+                (void)scene::run_scene(*s, run);
+            } else if (ext == ".obj") {
+                (void)io::parse_obj(text.str(), p);
+            } else if (ext == ".msh") {
+                (void)io::parse_gmsh(text.str(), p);
+            } else if (ext == ".sph") {
+                (void)io::parse_sph(text.str(), p);
+            } else if (ext == ".vtk") {
+                (void)io::parse_vtk_legacy(text.str(), p);
+            } else {
+                ADD_FAILURE() << "unknown regression input kind " << ext;
+            }
+        } catch (const io::LoadError&) {
+        } catch (const output::NonFiniteValueError&) {
+        } catch (const NonFiniteSolveError&) {
+        }
+    }
+    EXPECT_GE(inputs, 1) << "fuzz/regressions/ holds no input";
+}
+
+}  // namespace
