@@ -93,7 +93,7 @@ struct RunArguments {
     std::vector<std::string> data_dirs;
     std::string vtk, states, stats, reference;
     std::int64_t vtk_every = 1, export_every = 1;
-    double divergence_factor = 1000.0;
+    double divergence_factor = 100.0;
     bool export_mapped = false;
     bool exhaustive = false;
     bool quiet = false;
@@ -207,7 +207,7 @@ int main(int argc, char** argv) {
     run->add_flag("--export-mapped", args.export_mapped, "Also export mapped states");
     run->add_option("--export-every", args.export_every, "Export one step in M, plus the last")->check(integer_in(1, kMaxSteps));
     run->add_option("--divergence-factor", args.divergence_factor,
-                    "Diverged when a DOF gets farther than F times the initial scene size from its centre (default 1000; 0: off)")
+                    "Diverged when a step moves a DOF by more than F times the initial scene size (default 100; 0: off)")
         ->check(number_in(0.0, 1e100, false));
     run->add_option("--stats", args.stats, "Write per-step statistics to FILE.csv");
     run->add_option("--reference", args.reference,

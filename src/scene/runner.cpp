@@ -127,48 +127,78 @@ std::string component_label(const Scene& scene, const void* object, const std::s
 
 }  // namespace
 
+template <class F>
+void DivergenceBound::for_each_position(const Scene& scene, F&& f) {
+    for (const output::StateRecord& r : scene.states()) {
+        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
+            for (std::size_t i = 0; i < v->position.size(); ++i) f(r, i, v->position[i]);
+        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
+            for (std::size_t i = 0; i < g->position.size(); ++i) f(r, i, g->position[i].center);
+        }
+    }
+}
+
 DivergenceBound::DivergenceBound(const Scene& scene, double factor) : factor_(factor) {
     if (!(factor >= 0.0) || !std::isfinite(factor))
         throw std::invalid_argument("the divergence factor must be a finite number >= 0, got " + output::format_number(factor));
     Eigen::AlignedBox3d box;
-    for (const output::StateRecord& r : scene.states()) {
-        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
-            for (const Vec3& p : v->position) box.extend(p);
-        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
-            for (const RigidFrame& f : g->position) box.extend(f.center);
-        }
-    }
+    for_each_position(scene, [&](const output::StateRecord&, std::size_t, const Vec3& p) {
+        box.extend(p);
+        previous_.push_back(p);
+    });
     if (box.isEmpty()) {
         factor_ = 0.0;  // nothing to watch
         return;
     }
-    center_ = box.center();
     const double diagonal = box.diagonal().norm();
     // One point, or all at one place: the scene's own scale is its distance from the origin.
-    size_ = diagonal > 0.0 ? diagonal : std::max(1.0, center_.norm());
+    size_ = diagonal > 0.0 ? diagonal : std::max(1.0, box.center().norm());
+    // The force fields report their stored energy as of their last force evaluation, which is
+    // the first step's, at these positions: the stored part is added at the first check.
+    initial_energy_ = scene.kinetic_energy() + scene.potential_energy() - scene.stored_energy();
+    energy_scale_ = scene.kinetic_energy() + scene.gravity_energy_scale(size_);
 }
 
-void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) const {
+void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) {
     if (factor_ == 0.0) return;
     const double limit = factor_ * size_;
-    for (const output::StateRecord& r : scene.states()) {
-        auto test = [&](const Vec3& p, std::size_t dof) {
-            const double distance = (p - center_).norm();
-            if (distance > limit) {
-                throw output::NonFiniteValueError(
-                    "simulation diverged at step " + std::to_string(step) + " (t = " + output::format_number(time) +
-                    " s): state '" + output::state_label(r) + "' DOF " + std::to_string(dof) + " is " +
-                    output::format_number(distance) + " m from the centre of the initial scene, more than " +
-                    output::format_number(factor_) + " times the initial scene size (" + output::format_number(size_) +
-                    " m); try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 to turn this check off");
-            }
-        };
-        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
-            for (std::size_t i = 0; i < v->position.size(); ++i) test(v->position[i], i);
-        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
-            for (std::size_t i = 0; i < g->position.size(); ++i) test(g->position[i].center, i);
+    std::size_t count = 0;
+    for_each_position(scene, [&](const output::StateRecord&, std::size_t, const Vec3&) { ++count; });
+    if (count != previous_.size()) {  // the states changed size: compare from the next step on
+        previous_.clear();
+        for_each_position(scene, [&](const output::StateRecord&, std::size_t, const Vec3& p) { previous_.push_back(p); });
+        return;
+    }
+    if (!stored_energy_known_) {
+        const double stored = scene.stored_energy();  // evaluated at the initial positions
+        initial_energy_ += stored;
+        energy_scale_ += std::abs(stored);
+        stored_energy_known_ = true;
+    } else if (energy_scale_ > 0.0) {
+        const double created = scene.kinetic_energy() + scene.potential_energy() - initial_energy_;
+        if (created > 10.0 * factor_ * energy_scale_) {
+            throw output::NonFiniteValueError(
+                "simulation diverged at step " + std::to_string(step) + " (t = " + output::format_number(time) +
+                " s): the energy grew by " + output::format_number(created) + " J, more than " +
+                output::format_number(10.0 * factor_) + " times the scene's energy scale (" +
+                output::format_number(energy_scale_) + " J: kinetic + stored energy at the start, plus every mass "
+                "dropped by the scene size); try a smaller --dt or a softer contact stiffness, or "
+                "--divergence-factor 0 to turn this check off");
         }
     }
+    std::size_t k = 0;
+    for_each_position(scene, [&](const output::StateRecord& r, std::size_t dof, const Vec3& p) {
+        const double moved = (p - previous_[k]).norm();
+        previous_[k++] = p;
+        if (moved > limit) {
+            throw output::NonFiniteValueError(
+                "simulation diverged at step " + std::to_string(step) + " (t = " + output::format_number(time) +
+                " s): state '" + output::state_label(r) + "' DOF " + std::to_string(dof) + " moved " +
+                output::format_number(moved) + " m in one step, more than " + output::format_number(factor_) +
+                " times the initial scene size (" + output::format_number(size_) +
+                " m); try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 to turn this check off");
+        }
+    });
 }
 
 RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress) {
@@ -194,7 +224,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     if (options.stats_file) stats.emplace(*options.stats_file);
 
     Simulation& sim = scene.simulation();
-    const DivergenceBound bound(scene, options.divergence_factor);
+    DivergenceBound bound(scene, options.divergence_factor);
     const auto run_start = Clock::now();
     double contact_sum = 0.0;
     double cg_sum = 0.0, newton_sum = 0.0;

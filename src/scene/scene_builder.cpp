@@ -669,6 +669,7 @@ private:
         });
         BaseMass* mass = info.node->mass();
         scene_.masses_.push_back(mass);
+        scene_.mass_nodes_.push_back(info.node);
         scene_.built_from_[mass] = &c;
         role(c, [mass, st = s] {
             double m = 0.0;
@@ -1229,6 +1230,32 @@ const Node* Scene::node_of(const io::SceneNode& node) const {
 double Scene::kinetic_energy() const {
     double e = 0.0;
     for (const BaseMass* m : masses_) e += m->kinetic_energy();
+    return e;
+}
+
+namespace {
+double force_field_energy(const Node& node) {
+    double e = 0.0;
+    for (const auto& ff : node.force_fields()) e += ff->potential_energy();
+    for (const auto& child : node.children()) e += force_field_energy(*child);
+    return e;
+}
+}  // namespace
+
+double Scene::potential_energy() const {
+    double e = stored_energy();
+    for (std::size_t i = 0; i < masses_.size(); ++i) e += masses_[i]->gravity_potential_energy(mass_nodes_[i]->gravity());
+    return e;
+}
+
+double Scene::stored_energy() const { return force_field_energy(simulation_->root()); }
+
+double Scene::gravity_energy_scale(double length) const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < masses_.size(); ++i) {
+        const double m = masses_[i]->total_mass();
+        e += m * mass_nodes_[i]->gravity().norm() * length;
+    }
     return e;
 }
 

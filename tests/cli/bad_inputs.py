@@ -234,10 +234,10 @@ case("--vtk onto a file", 5, ["penalty: error:"], scene=BALL, args=["--vtk", "af
 
 # ---- runs that diverge, and the edge of normal ----------------------------------------------------
 case("explicit solver, stiff contact: ejected", 3,
-     ["penalty: error: simulation diverged at step", "state '/Ball/dofs' DOF 0", "times the initial scene size"],
+     ["penalty: error: simulation diverged at step", "the energy grew by", "times the scene's energy scale"],
      scene=ball('<EulerImplicitSolver name="odesolver" rayleighStiffness="0.1" rayleighMass="0.1"/>', '<EulerExplicitSolver name="odesolver"/>')
      .replace('contactStiffness="100"', 'contactStiffness="1e6"').replace('dt="0.01"', 'dt="0.02"'), args=["--steps", "2000"])
-case("implicit, dt = 1000: tunnels away", 3, ["simulation diverged at step 0", "state '/Ball/dofs' DOF 0", "times the initial scene size"],
+case("implicit, dt = 1000: tunnels away", 3, ["simulation diverged at step 0", "state '/Ball/dofs' DOF 0", "in one step, more than 100 times the initial scene size"],
      scene=BALL, args=["--dt", "1000", "--steps", "3"])
 case("the same with the check off", 0, ["steps: 3"], scene=BALL, args=["--dt", "1000", "--steps", "3", "--divergence-factor", "0"])
 case("--steps 0 writes the initial state", 0, ["states: 1 files", "the initial state only"], scene=BALL, args=["--steps", "0", "--export-states", "out"])

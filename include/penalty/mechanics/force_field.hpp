@@ -118,6 +118,8 @@ public:
     [[nodiscard]] virtual double kinetic_energy() const = 0;
     /// −Σ m g·x (J), gravity's potential.
     [[nodiscard]] virtual double gravity_potential_energy(const Vec3& gravity) const = 0;
+    /// Σ m over the DOFs (kg).
+    [[nodiscard]] virtual double total_mass() const = 0;
     [[nodiscard]] virtual BaseState* state() const = 0;
 };
 

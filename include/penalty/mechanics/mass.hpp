@@ -38,6 +38,7 @@ public:
     [[nodiscard]] double kinetic_energy() const override;
     [[nodiscard]] double gravity_potential_energy(const Vec3& gravity) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
+    [[nodiscard]] double total_mass() const override { return mass_ * double(state_->num_dofs()); }
 
 private:
     MechanicalObject<DataTypes>* state_;

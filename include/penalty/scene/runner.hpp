@@ -6,8 +6,9 @@
 /// Order within step k (k = 0 … steps−1), as SOFA's DefaultAnimationLoop with WriteState:
 ///   1. outputs of the state at time t_k = k·dt (state files when k is kept, VTK pieces);
 ///   2. the step (collision with the positions at t_k, then the solvers);
-///   3. divergence check of every state (a NaN/inf position, or a DOF beyond DivergenceBound,
-///      stops the run with an error naming the state, the DOF and the step), statistics row.
+///   3. divergence check of every state (a NaN/inf position, or a DOF that jumped beyond
+///      DivergenceBound, stops the run with an error naming the state, the DOF and the step),
+///      statistics row.
 /// A non-finite value inside the solve (NonFiniteSolveError) is a divergence naming the step, the
 /// state and the force field or mass; at the first step, from a known component, it is invalid
 /// input naming that component (a parameter too large).
@@ -33,29 +34,44 @@ struct RunOptions {
     bool export_mapped = false;                              ///< `--export-mapped`
     std::int64_t export_every = 1;                           ///< `--export-every M`: steps k with k % M == 0, and the last
     std::optional<std::filesystem::path> stats_file;        ///< `--stats FILE.csv`
-    /// `--divergence-factor F`: the run has diverged when a DOF gets farther than F times the
-    /// initial scene size from the initial scene's centre (DivergenceBound); 0 turns it off.
-    double divergence_factor = 1000.0;
+    /// `--divergence-factor F`: the run has diverged when a step moves a DOF by more than F times
+    /// the initial scene size (DivergenceBound); 0 turns the check off.
+    double divergence_factor = 100.0;
 };
 
-/// The divergence criterion of run_scene, besides non-finite values: with B the bounding box of
-/// every state's positions at the start of the run (rigid frames: their centres), c its centre
-/// and L its diagonal (for a box of zero size, max(1, |c|)), a step after which some DOF lies
-/// farther than F·L from c is a divergence (exit 3). F = 1000 keeps every regular scene (a body
-/// dropped on a floor, a chain falling for thousands of steps) far inside, and catches a body
-/// ejected by an unstable explicit step or tunnelling through the floor at a huge dt.
+/// The divergence criterion of run_scene, besides non-finite values. L is the diagonal of the
+/// bounding box of every state's positions at the start of the run (rigid frames: their centres;
+/// for a box of zero size, max(1, |c|) with c its centre). A step that moves some DOF by more than
+/// F·L is a divergence (exit 3). A simulation that resolves its contacts moves a body by a small
+/// fraction of the scene per step (contact detection needs less than the alarm distance); F = 100
+/// catches a body ejected by an unstable explicit step or dropped through the floor by a huge dt
+/// at the step it happens, and never a long, legitimate free fall (its step length grows as g·t·dt).
+/// Second rule, energy: with E = kinetic + potential energy (gravity, springs, FEM, contacts) and
+/// E_ref = kinetic₀ + |stored₀| + Σ m·|g|·L (the energy of dropping every body by the scene's size),
+/// a step after which E − E₀ > 10·F·E_ref is a divergence (from the second step on: the force
+/// fields report their stored energy once the first step has evaluated them): energy created from nothing, as by an
+/// unstable explicit contact that throws a ball out with 10⁷ times its energy while each step stays
+/// short. A scene with E_ref = 0 (at rest, no gravity, nothing stored) has no energy rule.
 class DivergenceBound {
 public:
-    /// Records c and L from the scene's current states; factor 0 turns the check off.
+    /// Records L and the positions of the scene's states; factor 0 turns the check off.
     DivergenceBound(const Scene& scene, double factor);
-    /// Throws output::NonFiniteValueError naming the step, the state and the DOF.
-    void check(const Scene& scene, std::int64_t step, double time) const;
+    /// Compares with the positions of the previous call (or of construction), then records the
+    /// current ones. Throws output::NonFiniteValueError naming the step, the state, the DOF and
+    /// the distance moved.
+    void check(const Scene& scene, std::int64_t step, double time);
     [[nodiscard]] double scene_size() const { return size_; }
 
 private:
+    /// Calls f(record, dof, position) for every DOF of every state (rigid frames: centres).
+    template <class F>
+    static void for_each_position(const Scene& scene, F&& f);
     double factor_;
-    Vec3 center_ = Vec3::Zero();
     double size_ = 0.0;
+    std::vector<Vec3> previous_;  ///< every DOF's position after the last checked step
+    double initial_energy_ = 0.0;  ///< E₀ (J)
+    double energy_scale_ = 0.0;    ///< E_ref (J)
+    bool stored_energy_known_ = false;  ///< the force fields' energy at the start is read at the first check
 };
 
 /// Totals of a run.

@@ -111,6 +111,14 @@ public:
     [[nodiscard]] const std::vector<ScenePipeline>& pipelines() const { return pipelines_; }
     /// Σ ½ vᵀ M v over the states that have a mass (J).
     [[nodiscard]] double kinetic_energy() const;
+    /// Potential energy (J): gravity (−Σ m·g·x, each mass with its node's gravity, origin at 0)
+    /// plus every force field's stored energy (springs, FEM, contacts) as of its last force
+    /// evaluation.
+    [[nodiscard]] double potential_energy() const;
+    /// The force fields' part of potential_energy() (J).
+    [[nodiscard]] double stored_energy() const;
+    /// Σ m·|g|·length over the masses (J): the energy of dropping every body by `length`.
+    [[nodiscard]] double gravity_energy_scale(double length) const;
     /// Notes for the user: ignored visual components (one line), attributes penalty does not
     /// read, pairs the intersection method does not detect, response warnings.
     [[nodiscard]] std::vector<std::string> warnings() const;
@@ -135,6 +143,7 @@ private:
     std::vector<ScenePipeline> pipelines_;
     std::vector<std::string> build_warnings_;
     std::vector<BaseMass*> masses_;
+    std::vector<const Node*> mass_nodes_;  ///< the node of each mass (its gravity)
     std::map<const io::SceneComponent*, std::string> roles_;
     std::map<const io::SceneNode*, const Node*> nodes_;
     std::map<const void*, const io::SceneComponent*> built_from_;
