@@ -1,0 +1,153 @@
+"""SofaPython3 scene scripts, unchanged: the Sofa / Sofa.Core / Sofa.Simulation / SofaRuntime
+subset, controllers, data fields, errors naming the script's line, `penalty run scene.py`, and the
+11 shared SOFA scenes rewritten as scripts giving bit-identical trajectories to their .scn."""
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import penalty
+from penalty import sofa_api
+
+HERE = Path(__file__).resolve().parent
+SCRIPTS = HERE / "scripts"
+SOFA_SCENES = HERE / "sofa_scenes"
+REPO = HERE.parents[1]
+
+SHARED_SCENES = ["AdvancedSolversMultipleGroupsSolver", "CompositeCollisionPipeline", "CompositeCollisionPipeline_none",
+                 "Gravity", "MeshSpringForceField", "ModelizationSphereBased", "ModelizationTriangleBased",
+                 "MultipleObjectsTwoCubes", "RegularGridSpringForceField", "SphereModel", "collisionMultiple"]
+
+
+def test_script_scene_steps_and_controller_runs_every_step():
+    scene = penalty.load_scene(SCRIPTS / "falling_cube.py")
+    recorder = scene.root.recorder
+    assert scene.dt == 0.01
+    scene.step(150)
+    assert recorder.begin_calls == 150 and recorder.end_calls == 150
+    # the cube fell from y = 1 and rests on the floor: its lowest point is near y = 0, kept above
+    # −contactDistance by the contacts (penalty springs allow a small penetration)
+    assert recorder.lowest[0] < 1.0
+    assert -0.1 < recorder.lowest[-1] < 0.15
+    assert len(scene.contacts()["penetration"]) > 0
+
+
+def test_data_fields_view_the_state():
+    scene = penalty.load_scene(SCRIPTS / "falling_cube.py")
+    dofs = scene.root.Cube.dofs
+    value = dofs.position.value
+    assert value.shape == (8, 3)
+    assert np.shares_memory(value, scene.states["/Cube/dofs"].positions)
+    assert not value.flags.writeable  # .value is read-only, as SofaPython3's
+    np.testing.assert_array_equal(dofs.findData("position").value, value)
+    np.testing.assert_array_equal(dofs.position.array(), value)
+    with dofs.position.writeableArray() as wa:
+        wa[:, 1] += 3.0
+    assert scene.states["/Cube/dofs"].positions[:, 1].min() == 4.0
+    assert scene.root.dt.value == 0.01
+    np.testing.assert_array_equal(scene.root.gravity.value, [0, -9.81, 0])
+    assert scene.root.Cube.name.value == "Cube"
+    assert scene.root.getChild("Floor").getObject("triangles").getClassName() == "TriangleCollisionModel"
+    assert dofs.getLinkPath() == "@/Cube/dofs"
+
+
+def test_controller_writes_through_writeable_array():
+    # same scene, the controller gives the cube 1 m/s along x at the first step: it drifts along +x
+    root = sofa_api.Node("root")
+    namespace = {}
+    exec(compile((SCRIPTS / "falling_cube.py").read_text(), str(SCRIPTS / "falling_cube.py"), "exec"), namespace)
+    namespace["createScene"](root, push=1.0)
+    sofa_api.init(root)
+    scene = root._penalty_scene
+    x0 = scene.states["/Cube/dofs"].positions[:, 0].mean()
+    sofa_api.animate(root, 0.01)
+    sofa_api.animate(root, root.dt.value)
+    assert scene.time == pytest.approx(0.02)
+    assert scene.states["/Cube/dofs"].positions[:, 0].mean() - x0 == pytest.approx(0.02, rel=0.05)
+
+
+def test_bad_attribute_names_the_script_line():
+    path = SCRIPTS / "bad_attribute.py"
+    with pytest.raises(penalty.SceneError) as error:
+        penalty.load_scene(path)
+    assert str(error.value) == f"{path}:8: UniformMass 'mass': attribute 'totalMass': expected a number, found 'abc'"
+
+
+def test_unsupported_api_names_the_call():
+    with pytest.raises(NotImplementedError, match=r"Sofa\.Core\.ForceFieldVec3d is not supported"):
+        penalty.load_scene(SCRIPTS / "unsupported_api.py")
+    root = sofa_api.Node("root")
+    root.addObject("MechanicalObject", name="m", position=[0, 0, 0])
+    sofa_api.init(root)
+    with pytest.raises(NotImplementedError, match="Node.addObject after Sofa.Simulation.init"):
+        root.addObject("UniformMass")
+    with pytest.raises(NotImplementedError, match=r"Sofa.Simulation.animate\(root, 0.5\)"):
+        sofa_api.animate(root, 0.5)
+    with pytest.raises(AttributeError, match="no child, object or data 'Missing'"):
+        root.Missing
+
+
+def test_values_become_sofa_text():
+    assert sofa_api.to_sofa_text([[0, 1.5], np.array([2.0, 1e-9])], "x") == "0 1.5 2.0 1e-09"
+    assert sofa_api.to_sofa_text(True, "x") == "1"
+    assert sofa_api.to_sofa_text(np.float64(0.1), "x") == "0.1"
+    with pytest.raises(TypeError, match="attribute 'x'"):
+        sofa_api.to_sofa_text({"a": 1}, "attribute 'x'")
+
+
+def test_reset_rebuilds_the_scene():
+    root = sofa_api.Node("root")
+    child = root.addChild("Ball")
+    child.addObject("EulerImplicitSolver")
+    child.addObject("CGLinearSolver", iterations=25, tolerance=1e-9, threshold=1e-9)
+    child.addObject("MechanicalObject", name="dofs", position=[0, 1, 0])
+    child.addObject("UniformMass", totalMass=1)
+    sofa_api.init(root)
+    for _ in range(5):
+        sofa_api.animate(root)
+    assert root.Ball.dofs.position.value[0, 1] < 1.0
+    sofa_api.reset(root)
+    assert root.time.value == 0.0
+    assert root.Ball.dofs.position.value[0, 1] == 1.0
+
+
+def test_standalone_script_runs_with_python():
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([penalty.sofa_path, str(Path(penalty.__file__).parents[1])]))
+    r = subprocess.run([sys.executable, str(SCRIPTS / "falling_cube.py")], capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stderr
+    assert "after 150 steps" in r.stdout
+
+
+def cli():
+    exe = os.environ.get("PENALTY_CLI", str(REPO / "build" / "release" / "bin" / "penalty"))
+    if not Path(exe).exists():
+        pytest.skip("penalty command line not built")
+    return exe
+
+
+def test_cli_runs_a_script(tmp_path):
+    r = subprocess.run([cli(), "run", str(SCRIPTS / "falling_cube.py"), "--steps", "50", "--quiet",
+                        "--stats", str(tmp_path / "s.csv")], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "steps: 50" in r.stdout
+    assert len((tmp_path / "s.csv").read_text().splitlines()) == 51
+    bad = subprocess.run([cli(), "run", str(SCRIPTS / "bad_attribute.py")], capture_output=True, text=True)
+    assert bad.returncode == 1
+    assert f"bad_attribute.py:8: UniformMass 'mass': attribute 'totalMass'" in bad.stderr
+
+
+@pytest.mark.parametrize("name", SHARED_SCENES)
+def test_shared_scene_script_is_bit_identical_to_scn(name, shared_sofa):
+    scn = penalty.load_scene(shared_sofa / "scenes" / f"{name}.scn", data_dirs=[shared_sofa])
+    script = penalty.load_scene(SOFA_SCENES / f"{name}.py", data_dirs=[shared_sofa])
+    assert script.states.keys() == scn.states.keys()
+    for step in range(300):
+        scn.step()
+        script.step()
+        for a, b in zip(scn.states, script.states):
+            assert np.array_equal(a.positions, b.positions) and np.array_equal(a.velocities, b.velocities), \
+                f"{name}: state {a.path} differs at step {step}"
+    assert scn.time == script.time
