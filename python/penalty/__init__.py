@@ -122,14 +122,36 @@ class Scene:
         return self._scene.warnings()
 
     def run(self, steps: int, *, vtk=None, vtk_every: int = 1, export_states=None, export_mapped: bool = False,
-            export_every: int = 1, stats=None, progress=None, callback=None) -> dict:
+            export_every: int = 1, stats=None, progress=None, callback=None, record: bool = False) -> dict:
         """Runs `steps` steps with the CLI's writers (`penalty run`'s --vtk, --export-states,
         --stats): VTK series into `vtk`, SOFA state files into `export_states`, per-step CSV into
         `stats`. A progress bar is drawn on stderr when it is a terminal (progress=None) or when
-        progress=True. callback(done, total) is called after each step. Returns the summary."""
+        progress=True. callback(done, total) is called after each step. Returns the summary
+        (the CLI's numbers, and its text under "text"); with record=True it also holds
+        "history": per-step arrays time, kinetic, contact, dissipated_damping,
+        dissipated_friction (J) and contacts (count), after each step."""
         as_path = lambda p: None if p is None else os.fspath(p)  # noqa: E731
-        return self._scene._run(steps, as_path(vtk), vtk_every, as_path(export_states), export_mapped, export_every,
-                                as_path(stats), progress, callback)
+        history = None
+        step_callback = callback
+        if record:
+            import numpy as np
+            history = {key: np.zeros(steps) for key in ("time", "kinetic", "contact", "dissipated_damping",
+                                                        "dissipated_friction", "contacts")}
+
+            def step_callback(done, total):
+                e = self._scene.energies()
+                row = done - 1
+                history["time"][row] = self._scene.time
+                for key in ("kinetic", "contact", "dissipated_damping", "dissipated_friction"):
+                    history[key][row] = e[key]
+                history["contacts"][row] = len(self._scene.contacts()["age"])
+                if callback is not None:
+                    callback(done, total)
+        summary = self._scene._run(steps, as_path(vtk), vtk_every, as_path(export_states), export_mapped,
+                                   export_every, as_path(stats), progress, step_callback)
+        if history is not None:
+            summary["history"] = history
+        return summary
 
     def __repr__(self):
         return f"<penalty.Scene {self.file} t={self.time:g} s, {len(self.states)} states>"

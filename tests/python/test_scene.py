@@ -139,6 +139,18 @@ def test_run_writes_the_cli_outputs(scene, output_dir):
     assert "steps: 40" in summary["text"]
 
 
+def test_run_records_energies_per_step(output_dir):
+    scene = penalty.builtin_scene()
+    summary = scene.run(30, progress=False, record=True, stats=output_dir / "stats.csv")
+    h = summary["history"]
+    np.testing.assert_allclose(h["time"], 0.005 * np.arange(1, 31), rtol=1e-12)
+    rows = list(csv.DictReader(open(output_dir / "stats.csv")))
+    # the same numbers as the CLI's statistics file (written with %.17g or shorter)
+    np.testing.assert_allclose(h["kinetic"], [float(r["kinetic_energy"]) for r in rows], rtol=1e-12)
+    np.testing.assert_allclose(h["contacts"], [float(r["contacts"]) for r in rows])
+    assert h["contacts"][-1] > 0
+
+
 def test_run_calls_back_and_is_the_same_as_step():
     a, b = penalty.builtin_scene(), penalty.builtin_scene()
     calls = []
