@@ -154,6 +154,11 @@ class Data:
 
     @value.setter
     def value(self, new):
+        if self._name == "name":
+            if self._owner._initialised():
+                _unsupported(f"renaming {self._owner._describe()} after Sofa.Simulation.init")
+            object.__setattr__(self._owner, "_name", str(new))
+            return
         state = self._state()
         if state is not None:
             setattr(state, _STATE_DATA[self._name], new)

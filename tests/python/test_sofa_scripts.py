@@ -98,6 +98,36 @@ def test_values_become_sofa_text():
         sofa_api.to_sofa_text({"a": 1}, "attribute 'x'")
 
 
+def test_names_set_as_data_rename():
+    root = sofa_api.Node("root")
+    child = root.addChild("A")
+    child.name = "Body"
+    child.addObject("MechanicalObject", name="m", position=[0, 0, 0])
+    child.m.name.value = "dofs"
+    sofa_api.init(root)
+    assert root._penalty_scene.states.keys() == ["/Body/dofs"]
+
+
+def test_controller_exception_stops_the_run():
+    class Stop(sofa_api.Controller):
+        def onAnimateEndEvent(self, event):
+            if event["time"] >= 0.05 - 1e-12:
+                raise StopIteration("enough")
+
+    root = sofa_api.Node("root")
+    body = root.addChild("Body")
+    body.addObject("EulerImplicitSolver")
+    body.addObject("CGLinearSolver", iterations=25, tolerance=1e-9, threshold=1e-9)
+    body.addObject("MechanicalObject", name="dofs", position=[0, 1, 0])
+    body.addObject("UniformMass", totalMass=1)
+    root.addObject(Stop(name="stop"))
+    sofa_api.init(root)
+    scene = root._penalty_scene
+    with pytest.raises(StopIteration, match="enough"):
+        scene.run(100, progress=False)
+    assert scene.time == pytest.approx(0.05)
+
+
 def test_reset_rebuilds_the_scene():
     root = sofa_api.Node("root")
     child = root.addChild("Ball")
