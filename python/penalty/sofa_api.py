@@ -111,6 +111,10 @@ class Data:
     def getLinkPath(self):
         return self._owner.getLinkPath() + "." + self._name
 
+    @property
+    def linkpath(self):
+        return self.getLinkPath()
+
     def _state(self):
         owner = self._owner
         if isinstance(owner, Object) and owner._type == "MechanicalObject" and self._name in _STATE_DATA:
@@ -262,6 +266,8 @@ class Object(Base):
         if name.startswith("__"):
             raise AttributeError(name)
         if name in self._values or (self._type == "MechanicalObject" and name in _STATE_DATA):
+            return Data(self, name)
+        if self._type.endswith("Loader"):  # a loader's outputs (position, triangles, listRadius...), for links
             return Data(self, name)
         raise AttributeError(f"{self._describe()} has no data or method '{name}' in penalty's SofaPython3 subset")
 

@@ -22,6 +22,18 @@ SHARED_SCENES = ["AdvancedSolversMultipleGroupsSolver", "CompositeCollisionPipel
                  "MultipleObjectsTwoCubes", "RegularGridSpringForceField", "SphereModel", "collisionMultiple"]
 
 
+def load_script(path, data_dirs=(), **kwargs):
+    """Runs createScene(root, **kwargs) of a script and builds it."""
+    penalty._install_sofa_path()  # `import Sofa` in the script
+    root = sofa_api.Node("root")
+    namespace = {}
+    exec(compile(Path(path).read_text(), str(path), "exec"), namespace)
+    namespace["createScene"](root, **kwargs)
+    object.__setattr__(root, "_file", str(path))
+    sofa_api.init(root, build_options=([str(d) for d in data_dirs], None, 0, False))
+    return root._penalty_scene
+
+
 def test_script_scene_steps_and_controller_runs_every_step():
     scene = penalty.load_scene(SCRIPTS / "falling_cube.py")
     recorder = scene.root.recorder
@@ -56,17 +68,27 @@ def test_data_fields_view_the_state():
 
 def test_controller_writes_through_writeable_array():
     # same scene, the controller gives the cube 1 m/s along x at the first step: it drifts along +x
-    root = sofa_api.Node("root")
-    namespace = {}
-    exec(compile((SCRIPTS / "falling_cube.py").read_text(), str(SCRIPTS / "falling_cube.py"), "exec"), namespace)
-    namespace["createScene"](root, push=1.0)
-    sofa_api.init(root)
-    scene = root._penalty_scene
+    scene = load_script(SCRIPTS / "falling_cube.py", push=1.0)
+    root = scene.root
     x0 = scene.states["/Cube/dofs"].positions[:, 0].mean()
     sofa_api.animate(root, 0.01)
     sofa_api.animate(root, root.dt.value)
     assert scene.time == pytest.approx(0.02)
     assert scene.states["/Cube/dofs"].positions[:, 0].mean() - x0 == pytest.approx(0.02, rel=0.05)
+
+
+def test_links_as_objects_and_data_equal_links_as_text():
+    data = [REPO / "scenes"]
+    a = load_script(SCRIPTS / "plate_links.py", data, links_as_objects=True)
+    b = load_script(SCRIPTS / "plate_links.py", data, links_as_objects=False)
+    assert a.states["plate"].positions.shape == (81, 3)
+    for _ in range(80):
+        a.step()
+        b.step()
+    np.testing.assert_array_equal(a.states["ball"].positions, b.states["ball"].positions)
+    # the ball (r = 0.1 m) rests on the plate (y = 0) at about C + r = 0.12 m
+    assert 0.1 < a.states["ball"].positions[0, 1] < 0.15
+    assert len(a.contacts()["penetration"]) > 0
 
 
 def test_bad_attribute_names_the_script_line():
