@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import traceback
 
 import penalty
 
@@ -78,8 +79,9 @@ def main(argv=None) -> int:
         print(f"penalty: error: {type(e).__name__}: {e}" if not isinstance(e, ValueError) else f"penalty: error: {e}",
               file=sys.stderr)
         return 1
-    except Exception as e:  # noqa: BLE001 - the command line's "other errors"
-        print(f"penalty: error: {e}", file=sys.stderr)
+    except Exception as e:  # noqa: BLE001 - the command line's "other errors" (e.g. raised by a script)
+        traceback.print_exc()
+        print(f"penalty: error: {type(e).__name__}: {e}", file=sys.stderr)
         return 5
 
 
