@@ -10,18 +10,21 @@ import SofaRuntime
 
 def createScene(rootNode):
     rootNode.dt = 0.01
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Algorithm')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Intersection')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Geometry')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Response.Contact')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.IO.Mesh')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.LinearSolver.Iterative')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Mapping.Linear')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Mass')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.ODESolver.Backward')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.StateContainer')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Topology.Container.Constant')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Visual')
+    for plugin in [
+            'Sofa.Component.Collision.Detection.Algorithm',
+            'Sofa.Component.Collision.Detection.Intersection',
+            'Sofa.Component.Collision.Geometry',
+            'Sofa.Component.Collision.Response.Contact',
+            'Sofa.Component.IO.Mesh',
+            'Sofa.Component.LinearSolver.Iterative',
+            'Sofa.Component.Mapping.Linear',
+            'Sofa.Component.Mass',
+            'Sofa.Component.ODESolver.Backward',
+            'Sofa.Component.StateContainer',
+            'Sofa.Component.Topology.Container.Constant',
+            'Sofa.Component.Visual',
+    ]:
+        rootNode.addObject('RequiredPlugin', pluginName=plugin)
     rootNode.addObject('DefaultAnimationLoop')
     rootNode.addObject('CollisionPipeline')
     rootNode.addObject('BruteForceBroadPhase')

@@ -10,21 +10,24 @@ import SofaRuntime
 
 def createScene(rootNode):
     rootNode.dt = 0.03333
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Algorithm')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Intersection')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Geometry')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Response.Contact')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.IO.Mesh')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.LinearSolver.Iterative')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Mapping.Linear')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Mass')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.MechanicalLoad')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.ODESolver.Backward')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.SolidMechanics.Spring')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.StateContainer')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Topology.Container.Constant')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Topology.Container.Grid')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.GL.Component.Rendering3D')
+    for plugin in [
+            'Sofa.Component.Collision.Detection.Algorithm',
+            'Sofa.Component.Collision.Detection.Intersection',
+            'Sofa.Component.Collision.Geometry',
+            'Sofa.Component.Collision.Response.Contact',
+            'Sofa.Component.IO.Mesh',
+            'Sofa.Component.LinearSolver.Iterative',
+            'Sofa.Component.Mapping.Linear',
+            'Sofa.Component.Mass',
+            'Sofa.Component.MechanicalLoad',
+            'Sofa.Component.ODESolver.Backward',
+            'Sofa.Component.SolidMechanics.Spring',
+            'Sofa.Component.StateContainer',
+            'Sofa.Component.Topology.Container.Constant',
+            'Sofa.Component.Topology.Container.Grid',
+            'Sofa.GL.Component.Rendering3D',
+    ]:
+        rootNode.addObject('RequiredPlugin', pluginName=plugin)
     rootNode.addObject('CollisionPipeline', verbose=0, depth=10, draw=0)
     rootNode.addObject('BruteForceBroadPhase')
     rootNode.addObject('BVHNarrowPhase')

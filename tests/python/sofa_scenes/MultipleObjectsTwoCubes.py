@@ -11,17 +11,20 @@ import SofaRuntime
 def createScene(rootNode):
     rootNode.dt = 0.01
     rootNode.gravity = [0, -9.81, 0]
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Algorithm')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Intersection')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Geometry')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Response.Contact')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.LinearSolver.Iterative')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Mass')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.ODESolver.Backward')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.SolidMechanics.Spring')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.StateContainer')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Topology.Container.Constant')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Visual')
+    for plugin in [
+            'Sofa.Component.Collision.Detection.Algorithm',
+            'Sofa.Component.Collision.Detection.Intersection',
+            'Sofa.Component.Collision.Geometry',
+            'Sofa.Component.Collision.Response.Contact',
+            'Sofa.Component.LinearSolver.Iterative',
+            'Sofa.Component.Mass',
+            'Sofa.Component.ODESolver.Backward',
+            'Sofa.Component.SolidMechanics.Spring',
+            'Sofa.Component.StateContainer',
+            'Sofa.Component.Topology.Container.Constant',
+            'Sofa.Component.Visual',
+    ]:
+        rootNode.addObject('RequiredPlugin', pluginName=plugin)
     rootNode.addObject('VisualStyle', displayFlags='showBehavior showCollisionModels')
     rootNode.addObject('CollisionPipeline')
     rootNode.addObject('BruteForceBroadPhase')

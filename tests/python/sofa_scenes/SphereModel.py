@@ -10,20 +10,23 @@ import SofaRuntime
 
 def createScene(rootNode):
     rootNode.dt = 0.02
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Algorithm')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Detection.Intersection')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Geometry')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Collision.Response.Contact')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.IO.Mesh')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.LinearSolver.Iterative')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Mapping.Linear')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Mass')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.ODESolver.Backward')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.SolidMechanics.FEM.Elastic')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.StateContainer')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Topology.Container.Grid')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.Component.Visual')
-    rootNode.addObject('RequiredPlugin', pluginName='Sofa.GL.Component.Rendering3D')
+    for plugin in [
+            'Sofa.Component.Collision.Detection.Algorithm',
+            'Sofa.Component.Collision.Detection.Intersection',
+            'Sofa.Component.Collision.Geometry',
+            'Sofa.Component.Collision.Response.Contact',
+            'Sofa.Component.IO.Mesh',
+            'Sofa.Component.LinearSolver.Iterative',
+            'Sofa.Component.Mapping.Linear',
+            'Sofa.Component.Mass',
+            'Sofa.Component.ODESolver.Backward',
+            'Sofa.Component.SolidMechanics.FEM.Elastic',
+            'Sofa.Component.StateContainer',
+            'Sofa.Component.Topology.Container.Grid',
+            'Sofa.Component.Visual',
+            'Sofa.GL.Component.Rendering3D',
+    ]:
+        rootNode.addObject('RequiredPlugin', pluginName=plugin)
     rootNode.addObject('DefaultAnimationLoop')
     rootNode.addObject('VisualStyle', displayFlags='showBehaviorModels showForceFields showCollision')
     rootNode.addObject('CollisionPipeline', verbose=0)
@@ -51,9 +54,9 @@ def createScene(rootNode):
     rootNode.addObject('SphereLoader', filename='mesh/floor.sph')
     rootNode.addObject('MechanicalObject', position='@[-1].position', translation=[0, -12.5, 0])
     rootNode.addObject('SphereCollisionModel', name='Floor', listRadius='@[-2].listRadius', simulated=0, moving=0, contactStiffness=1000)
-    node = rootNode.addChild('Node')
-    node.addObject('MeshOBJLoader', name='meshLoader_1', filename='mesh/floor2.obj', translation=[0, -12.5, 0], handleSeams=1)
-    node.addObject('OglModel', name='FloorV', src='@meshLoader_1', texturename='textures/floor2.bmp')
+    floorVisual = rootNode.addChild('FloorVisual')
+    floorVisual.addObject('MeshOBJLoader', name='meshLoader_1', filename='mesh/floor2.obj', translation=[0, -12.5, 0], handleSeams=1)
+    floorVisual.addObject('OglModel', name='FloorV', src='@meshLoader_1', texturename='textures/floor2.bmp')
     return rootNode
 
 
