@@ -13,6 +13,7 @@ import numbers
 import os
 import runpy
 import sys
+import weakref
 from pathlib import Path
 
 import numpy as np
@@ -511,19 +512,27 @@ def init(root: Node, *, build_options=None):
         if hasattr(c, "init") and callable(getattr(type(c), "init", None)):
             c.init()
 
-    def before():
-        ev = _Event(type="AnimateBeginEvent", dt=scene.dt, time=scene.time)
-        for c in controllers:
-            handler = getattr(type(c), "onAnimateBeginEvent", None)
+    # The hooks live in the C++ scene, which the garbage collector cannot traverse: they hold the
+    # scene and the controllers weakly so that no reference cycle keeps a scene alive.
+    scene_ref = weakref.ref(scene)
+    controller_refs = [weakref.ref(c) for c in controllers]
+
+    def send(event_type, method):
+        live = scene_ref()
+        if live is None:
+            return
+        ev = _Event(type=event_type, dt=live.dt, time=live.time)
+        for ref in controller_refs:
+            c = ref()
+            handler = getattr(type(c), method, None) if c is not None else None
             if handler is not None:
                 handler(c, ev)
 
+    def before():
+        send("AnimateBeginEvent", "onAnimateBeginEvent")
+
     def after():
-        ev = _Event(type="AnimateEndEvent", dt=scene.dt, time=scene.time)
-        for c in controllers:
-            handler = getattr(type(c), "onAnimateEndEvent", None)
-            if handler is not None:
-                handler(c, ev)
+        send("AnimateEndEvent", "onAnimateEndEvent")
 
     if any(getattr(type(c), "onAnimateBeginEvent", None) or getattr(type(c), "onAnimateEndEvent", None)
            for c in controllers):

@@ -150,6 +150,24 @@ def test_controller_exception_stops_the_run():
     assert scene.time == pytest.approx(0.05)
 
 
+def test_scene_with_controllers_is_freed():
+    import gc
+    import weakref
+    scene = penalty.load_scene(SCRIPTS / "falling_cube.py")
+    scene.step(2)
+    positions = scene.states["/Cube/dofs"].positions
+    expected = positions.copy()
+    wrapper, core = weakref.ref(scene), weakref.ref(scene._scene)
+    del scene
+    gc.collect()
+    assert wrapper() is None         # the script's nodes, controllers and hooks form no leaking cycle
+    assert core() is not None        # the view keeps the C++ scene alive...
+    np.testing.assert_array_equal(positions, expected)
+    del positions
+    gc.collect()
+    assert core() is None            # ...and nothing else does
+
+
 def test_reset_rebuilds_the_scene():
     root = sofa_api.Node("root")
     child = root.addChild("Ball")
