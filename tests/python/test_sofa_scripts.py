@@ -221,3 +221,19 @@ def test_shared_scene_script_is_bit_identical_to_scn(name, shared_sofa):
             assert np.array_equal(a.positions, b.positions) and np.array_equal(a.velocities, b.velocities), \
                 f"{name}: state {a.path} differs at step {step}"
     assert scn.time == script.time
+
+
+def test_cli_outputs_of_a_script_equal_those_of_its_scn(shared_sofa, tmp_path):
+    outputs = {}
+    for kind, scene in (("scn", shared_sofa / "scenes" / "CompositeCollisionPipeline.scn"),
+                        ("py", SOFA_SCENES / "CompositeCollisionPipeline.py")):
+        out = tmp_path / kind
+        r = subprocess.run([cli(), "run", str(scene), "--data-dir", str(shared_sofa), "--steps", "60", "--quiet",
+                            "--export-states", str(out / "states"), "--vtk", str(out / "vtk")],
+                           capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        outputs[kind] = {p.relative_to(out): p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
+    assert len(outputs["scn"]) > 10
+    assert outputs["scn"].keys() == outputs["py"].keys()
+    for name, content in outputs["scn"].items():
+        assert outputs["py"][name] == content, f"{name} differs"
