@@ -19,6 +19,7 @@ namespace {
 /// A collision model with the state and topology it reads (owned here, unlike in a scene).
 struct PyModel {
     std::unique_ptr<Vec3State> state = std::make_unique<Vec3State>();
+    std::unique_ptr<Rigid3State> frames;  ///< rigid models only
     std::unique_ptr<MeshTopology> topology = std::make_unique<MeshTopology>();
     std::unique_ptr<CollisionModel> model;
 };
@@ -133,11 +134,23 @@ void bind_collision(py::module_& parent) {
         .def_property("points",
             [](py::object self) {
                 auto& p = self.cast<PyModel&>();
+                if (p.frames) {  // the frame centres (view; the frame is padded to 64 bytes)
+                    auto& f = p.frames->position;
+                    return view(f.empty() ? nullptr : f.data()->center.data(), py::ssize_t(f.size()), 3,
+                                sizeof(RigidFrame), self);
+                }
                 auto& x = p.state->position;
                 return view(x.empty() ? nullptr : x.data()->data(), py::ssize_t(x.size()), 3, sizeof(Vec3), self);
             },
             [](PyModel& p, const py::handle& v) {
                 const auto a = as_points(v, "points");
+                if (p.frames) {
+                    if (std::size_t(a.shape(0)) != p.frames->position.size())
+                        throw py::value_error("points: expected " + std::to_string(p.frames->position.size()) + " points");
+                    for (std::size_t i = 0; i < p.frames->position.size(); ++i)
+                        p.frames->position[i].center = Vec3(a.at(py::ssize_t(i), 0), a.at(py::ssize_t(i), 1), a.at(py::ssize_t(i), 2));
+                    return;
+                }
                 if (std::size_t(a.shape(0)) != p.state->position.size())
                     throw py::value_error("points: expected " + std::to_string(p.state->position.size()) + " points");
                 const auto* q = reinterpret_cast<const Vec3*>(a.data());
@@ -195,6 +208,39 @@ void bind_collision(py::module_& parent) {
     }, py::arg("centers"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
+    m.def("RigidSphereModel", [](const py::handle& frames, const py::handle& radius, const std::string& name,
+                                 double contact_distance, double contact_stiffness, bool simulated, bool moving,
+                                 bool self_collision, const std::vector<int>& group) {
+        auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(frames);
+        if (!a || a.ndim() != 2 || (a.shape(1) != 3 && a.shape(1) != 7))
+            throw py::value_error("frames: expected shape (n, 7) x y z qx qy qz qw, or (n, 3) centres");
+        auto p = std::make_unique<PyModel>();
+        p->frames = std::make_unique<Rigid3State>();
+        for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+            RigidFrame f;
+            f.center = Vec3(a.at(i, 0), a.at(i, 1), a.at(i, 2));
+            if (a.shape(1) == 7) {
+                f.orientation = Quat(a.at(i, 6), a.at(i, 3), a.at(i, 4), a.at(i, 5));
+                if (!(f.orientation.norm() > 0.0)) throw py::value_error("frames: zero quaternion in frame " + std::to_string(i));
+                f.orientation.normalize();
+            }
+            p->frames->position.push_back(f);
+        }
+        p->frames->velocity.assign(p->frames->position.size(), RigidDeriv{});
+        p->frames->rest_position = p->frames->position;
+        auto r = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(radius);
+        if (!r) throw py::type_error("radius: expected a number or an array of numbers");
+        std::vector<double> list;
+        double uniform = 1.0;
+        if (r.ndim() == 0) uniform = *r.data();
+        else list.assign(r.data(), r.data() + r.size());
+        p->model = std::make_unique<RigidSphereModel>(*p->frames, uniform, std::move(list),
+            model_params(name.empty() ? "rigid_spheres" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
+        return p;
+    }, py::arg("frames"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
+       py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
+       py::arg("self_collision") = false, py::arg("group") = std::vector<int>{},
+       "Spheres on rigid frames (SOFA's SphereCollisionModel<Rigid3d>); points views the centres");
     (void)model;
 
     m.def("detect", [](PyModel& a, PyModel& b, const std::string& method, const py::kwargs& options) {

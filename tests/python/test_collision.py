@@ -49,3 +49,17 @@ def test_bad_input_raises():
         collision.detect(floor(), floor(), "Nope")
     with pytest.raises(TypeError, match="unknown intersection parameter 'alarm'"):
         collision.detect(floor(), floor(), "MinProximity", alarm=1.0)
+
+
+def test_rigid_sphere_matches_vec3_sphere_min_proximity():
+    frames = [[0.3, 0.2, -0.2, 0.0, 0.0, 0.38268343, 0.92387953]]   # rotated 45° about z: no effect on a sphere
+    rigid = collision.RigidSphereModel(frames, radius=0.15, name="rigid")
+    plain = collision.SphereModel([[0.3, 0.2, -0.2]], radius=0.15, name="plain")
+    a = collision.detect(floor(), rigid, "MinProximity", alarm_distance=0.1, contact_distance=0.02)
+    b = collision.detect(floor(), plain, "MinProximity", alarm_distance=0.1, contact_distance=0.02)
+    assert len(a["distance"]) == 1
+    np.testing.assert_allclose(a["distance"], b["distance"], rtol=1e-12)
+    np.testing.assert_allclose(a["distance"], [0.2 - 0.15 - 0.02], rtol=1e-12)  # gap minus contact distance
+    np.testing.assert_allclose(rigid.points, [[0.3, 0.2, -0.2]])
+    rigid.points[0, 1] = 1.0   # the view moves the frame
+    assert len(collision.detect(floor(), rigid, "MinProximity", alarm_distance=0.1, contact_distance=0.02)["distance"]) == 0
