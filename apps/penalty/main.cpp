@@ -151,8 +151,9 @@ int run_python_scene(int argc, char** argv) {
 #else
     (void)argc;
     (void)argv;
-    std::cerr << "penalty: error: SofaPython3 scenes (.py) need the Python module, which this build does not have "
-                 "(install pybind11-dev, python3-dev, python3-numpy and rebuild)\n";
+    std::cerr << "penalty: error: SofaPython3 scenes (.py) need the Python module, which this build does not include "
+                 "(PENALTY_BUILD_PYTHON: it needs pybind11-dev, python3-dev and python3-numpy, and is off under the "
+                 "sanitizers); use a release build or python3 -m penalty\n";
     return kBadInput;
 #endif
 }
