@@ -158,11 +158,18 @@ int run_python_scene(int argc, char** argv) {
 #endif
 }
 
+/// True for `penalty run|info ... scene.py ...`: the positional scene argument ends in ".py"
+/// (option values, e.g. `--stats out.py`, are skipped).
 bool is_python_scene_command(int argc, char** argv) {
     if (argc < 3 || (std::strcmp(argv[1], "run") != 0 && std::strcmp(argv[1], "info") != 0)) return false;
     for (int i = 2; i < argc; ++i) {
         const std::string_view a = argv[i];
-        if (a.size() > 3 && a.substr(a.size() - 3) == ".py" && a.front() != '-') return true;
+        if (a.starts_with("-")) {
+            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--quiet" || a.find('=') != a.npos;
+            if (!flag) ++i;  // its value
+            continue;
+        }
+        return a.size() > 3 && a.ends_with(".py");
     }
     return false;
 }

@@ -6,6 +6,7 @@ C++ command line: 0 success, 1 invalid scene or input, 2 command-line error, 3 d
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import traceback
 
@@ -68,6 +69,9 @@ def main(argv=None) -> int:
             print(f"vtk: series in {args.vtk} (open the .pvd files in ParaView)")
         if args.stats:
             print(f"stats: {args.stats}")
+        return 0
+    except BrokenPipeError:  # output piped into e.g. `head`: stop quietly, as the C++ command line
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
     except penalty.SceneError as e:
         print(f"penalty: error: {e}", file=sys.stderr)
