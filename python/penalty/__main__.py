@@ -30,6 +30,10 @@ def _parser():
     run.add_argument("--stats", default=None)
     run.add_argument("--exhaustive", action="store_true")
     run.add_argument("--quiet", action="store_true")
+    script = sub.add_parser("script", help="Run a SofaPython3 script as __main__ (its own main block), with "
+                                           "Sofa, Sofa.Core, Sofa.Simulation and SofaRuntime importable")
+    script.add_argument("scene")
+    script.add_argument("arguments", nargs=argparse.REMAINDER)
     info = sub.add_parser("info", help="Build a scene and describe it")
     info.add_argument("scene")
     info.add_argument("--data-dir", action="append", default=[])
@@ -46,6 +50,13 @@ def main(argv=None) -> int:
                                   or (args.dt is not None and args.dt <= 0)):
         print("penalty: error: --steps must be >= 0, --vtk-every and --export-every >= 1, --dt > 0", file=sys.stderr)
         return 2
+    if args.command == "script":
+        import runpy
+        penalty._install_sofa_path()
+        sys.argv = [args.scene, *args.arguments]
+        sys.path.insert(0, os.path.dirname(os.path.abspath(args.scene)))
+        runpy.run_path(args.scene, run_name="__main__")
+        return 0
     try:
         if args.command == "info":
             scene = penalty.load_scene(args.scene, data_dirs=args.data_dir)

@@ -191,6 +191,14 @@ def test_standalone_script_runs_with_python():
     assert "after 150 steps" in r.stdout
 
 
+def test_script_command_runs_the_main_block():
+    env = dict(os.environ, PYTHONPATH=str(Path(penalty.__file__).parents[1]))
+    r = subprocess.run([sys.executable, "-m", "penalty", "script", str(SCRIPTS / "falling_cube.py")],
+                       capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stderr
+    assert "after 150 steps" in r.stdout
+
+
 def cli():
     exe = os.environ.get("PENALTY_CLI", str(REPO / "build" / "release" / "bin" / "penalty"))
     if not Path(exe).exists():
