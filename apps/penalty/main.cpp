@@ -22,6 +22,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <string_view>
 #include <thread>
 #include <exception>
@@ -186,15 +190,61 @@ int info_command(const std::string& scene_path, const std::vector<std::string>& 
     return kOk;
 }
 
+/// `penalty run|info scene.py ...`: a SofaPython3 script runs in the Python module (same options,
+/// output and exit codes), through Debian's interpreter: `python3 -m penalty <same arguments>`.
+/// Returns only if the script cannot be handed over.
+int run_python_scene(int argc, char** argv) {
+#ifdef PENALTY_PYTHON_EXECUTABLE
+    namespace fs = std::filesystem;
+    std::string path;
+    for (const char* dir : {PENALTY_PYTHON_BUILD_PATH, PENALTY_PYTHON_INSTALL_PATH}) {
+        std::error_code ec;
+        if (fs::exists(fs::path(dir) / "penalty" / "__init__.py", ec)) path += (path.empty() ? "" : ":") + std::string(dir);
+    }
+    if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += (path.empty() ? "" : ":") + std::string(old);
+    setenv("PYTHONPATH", path.c_str(), 1);
+    std::vector<char*> args{const_cast<char*>(PENALTY_PYTHON_EXECUTABLE), const_cast<char*>("-m"), const_cast<char*>("penalty")};
+    for (int i = 1; i < argc; ++i) args.push_back(argv[i]);
+    args.push_back(nullptr);
+    execv(PENALTY_PYTHON_EXECUTABLE, args.data());
+    std::cerr << "penalty: error: cannot start " << PENALTY_PYTHON_EXECUTABLE << " for the Python scene: " << std::strerror(errno) << "\n";
+    return kOther;
+#else
+    (void)argc;
+    (void)argv;
+    std::cerr << "penalty: error: SofaPython3 scenes (.py) need the Python module, which this build does not include "
+                 "(PENALTY_BUILD_PYTHON: it needs pybind11-dev, python3-dev and python3-numpy, and is off under the "
+                 "sanitizers); use a release build or python3 -m penalty\n";
+    return kBadInput;
+#endif
+}
+
+/// True for `penalty run|info ... scene.py ...`: the positional scene argument ends in ".py"
+/// (option values, e.g. `--stats out.py`, are skipped).
+bool is_python_scene_command(int argc, char** argv) {
+    if (argc < 3 || (std::strcmp(argv[1], "run") != 0 && std::strcmp(argv[1], "info") != 0)) return false;
+    for (int i = 2; i < argc; ++i) {
+        const std::string_view a = argv[i];
+        if (a.starts_with("-")) {
+            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--quiet" || a.find('=') != a.npos;
+            if (!flag) ++i;  // its value
+            continue;
+        }
+        return a.size() > 3 && a.ends_with(".py");
+    }
+    return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    if (is_python_scene_command(argc, argv)) return run_python_scene(argc, argv);
     CLI::App app{"penalty: fast, validated penalty-based contact for deformable and rigid bodies"};
     app.require_subcommand(1);
 
     RunArguments args;
     auto* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
-    run->add_option("scene", args.scene, "SOFA .scn file")->check(CLI::ExistingFile);
+    run->add_option("scene", args.scene, "SOFA .scn file (or SofaPython3 .py script, run by the Python module)")->check(CLI::ExistingFile);
     run->add_option("--steps", args.steps, "Number of time steps (default 100; 400 for the built-in scene)")
         ->check(integer_in(0, kMaxSteps));
     run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")->check(number_in(0.0, kMaxDt, true));

@@ -1,0 +1,184 @@
+"""penalty: SOFA's penalty contact from Python.
+
+    import penalty
+    scene = penalty.load_scene("scene.scn", data_dirs=["../shared/sofa"])   # or a SofaPython3 .py
+    scene.step(10)
+    x = scene.states["/Cube/dofs"].positions       # (n, 3) numpy view of the C++ positions
+    c = scene.contacts()                             # dict of arrays, one row per contact
+
+The force field alone: penalty.PenaltyForceField; collision detection alone: penalty.collision.
+See docs/python.md.
+"""
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from . import _core
+from ._core import DivergedError, PenaltyForceField, SceneError, State
+
+__all__ = [
+    "load_scene", "builtin_scene", "Scene", "States", "State", "PenaltyForceField",
+    "SceneError", "DivergedError", "sofa_path",
+]
+
+#: Folder to put first on sys.path so that `import Sofa`, `import SofaRuntime` resolve to
+#: penalty's SofaPython3 subset (load_scene does it for you; `python3 scene.py` needs it).
+sofa_path = str(Path(__file__).resolve().parent / "sofa_compat")
+
+
+class States:
+    """The MechanicalObjects of a scene, depth first: by index, by SOFA path ("/Cube/dofs") and by
+    name (the name must be unique in the scene)."""
+
+    def __init__(self, states):
+        self._list = list(states)
+        self._by_path = {s.path: s for s in self._list}
+        self._by_name = {}
+        for s in self._list:
+            self._by_name.setdefault(s.name, []).append(s)
+
+    def __len__(self):
+        return len(self._list)
+
+    def __iter__(self):
+        return iter(self._list)
+
+    def __contains__(self, key):
+        try:
+            self[key]
+            return True
+        except KeyError:
+            return False
+
+    def keys(self):
+        return [s.path for s in self._list]
+
+    def __getitem__(self, key):
+        if isinstance(key, int):
+            return self._list[key]
+        if key in self._by_path:
+            return self._by_path[key]
+        if not key.startswith("/") and "/" + key in self._by_path:
+            return self._by_path["/" + key]
+        found = self._by_name.get(key, [])
+        if len(found) == 1:
+            return found[0]
+        if len(found) > 1:
+            raise KeyError(f"state name '{key}' is ambiguous: {', '.join(s.path for s in found)}; use the path")
+        raise KeyError(f"no state '{key}'; states: {', '.join(self.keys())}")
+
+    def __repr__(self):
+        return "States(" + ", ".join(self.keys()) + ")"
+
+
+class Scene:
+    """A built scene. `states` views the C++ memory; step() runs the solvers (and the SofaPython3
+    controllers of a script)."""
+
+    def __init__(self, core_scene, root=None):
+        self._scene = core_scene
+        self.root = root  #: the Sofa.Core.Node root of a SofaPython3 script (None for .scn)
+        self.states = States(core_scene._state_list())
+
+    def step(self, n: int = 1):
+        """Runs n steps (collision detection at the start of each, then the solvers)."""
+        self._scene.step(n)
+
+    @property
+    def time(self) -> float:
+        """Simulated time (s)."""
+        return self._scene.time
+
+    @property
+    def dt(self) -> float:
+        """Time step (s)."""
+        return self._scene.dt
+
+    @property
+    def file(self):
+        return self._scene.file
+
+    def contacts(self) -> dict:
+        """The live contacts after the last step, one row per contact (dict of numpy arrays):
+        pairs (names "<model1>-<model2>") and pair_index into it, element1/element2 (collision
+        elements), dof1/dof2 (contact-point DOFs), point1/point2 (m), normal (side 1 -> 2), dist (m),
+        stiffness (N/m), penetration (m, at the last force evaluation), normal_force (N),
+        tangential_force (N, on side 2), friction_state (0 none, 1 sticking, 2 sliding), age (steps)."""
+        return self._scene.contacts()
+
+    def energies(self) -> dict:
+        """kinetic, contact (stored in the contact springs), dissipated_damping,
+        dissipated_friction, dissipated (J; dissipation cumulative over the live contact pairs)."""
+        return self._scene.energies()
+
+    def info(self) -> dict:
+        """What `penalty info` prints, as data: nodes (path, dt, gravity), components (type, name,
+        file, line, role), pipelines, warnings, and the text itself."""
+        return self._scene.info()
+
+    def warnings(self):
+        return self._scene.warnings()
+
+    def run(self, steps: int, *, vtk=None, vtk_every: int = 1, export_states=None, export_mapped: bool = False,
+            export_every: int = 1, stats=None, progress=None, callback=None, record: bool = False) -> dict:
+        """Runs `steps` steps with the CLI's writers (`penalty run`'s --vtk, --export-states,
+        --stats): VTK series into `vtk`, SOFA state files into `export_states`, per-step CSV into
+        `stats`. A progress bar is drawn on stderr when it is a terminal (progress=None) or when
+        progress=True. callback(done, total) is called after each step. Returns the summary
+        (the CLI's numbers, and its text under "text"); with record=True it also holds
+        "history": per-step arrays time, kinetic, contact, dissipated_damping,
+        dissipated_friction (J) and contacts (count), after each step."""
+        as_path = lambda p: None if p is None else os.fspath(p)  # noqa: E731
+        history = None
+        step_callback = callback
+        if record:
+            import numpy as np
+            history = {key: np.zeros(steps) for key in ("time", "kinetic", "contact", "dissipated_damping",
+                                                        "dissipated_friction", "contacts")}
+
+            def step_callback(done, total):
+                e = self._scene.energies()
+                row = done - 1
+                history["time"][row] = self._scene.time
+                for key in ("kinetic", "contact", "dissipated_damping", "dissipated_friction"):
+                    history[key][row] = e[key]
+                history["contacts"][row] = len(self._scene.contacts()["age"])
+                if callback is not None:
+                    callback(done, total)
+        summary = self._scene._run(steps, as_path(vtk), vtk_every, as_path(export_states), export_mapped,
+                                   export_every, as_path(stats), progress, step_callback)
+        if history is not None:
+            summary["history"] = history
+        return summary
+
+    def __repr__(self):
+        return f"<penalty.Scene {self.file} t={self.time:g} s, {len(self.states)} states>"
+
+
+def _load_options(data_dirs, dt, threads, exhaustive):
+    return [os.fspath(d) for d in (data_dirs or [])], dt, int(threads), bool(exhaustive)
+
+
+def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False) -> Scene:
+    """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
+    is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's
+    folder; dt overrides the root node's time step."""
+    path = Path(path)
+    options = _load_options(data_dirs, dt, threads, exhaustive)
+    if path.suffix == ".py":
+        from . import sofa_api
+        root = sofa_api.run_scene_script(path, options)
+        return root._penalty_scene
+    return Scene(_core._load_scene(os.fspath(path), *options))
+
+
+def builtin_scene(*, dt=None) -> Scene:
+    """The built-in scene of `penalty run` (a soft FEM cube and a rigid ball dropped on a floor)."""
+    return Scene(_core._builtin_scene(dt))
+
+
+def _install_sofa_path():
+    if sofa_path not in sys.path:
+        sys.path.insert(0, sofa_path)

@@ -1,0 +1,104 @@
+"""`python3 -m penalty run|info SCENE [options]`: the command line's `run` and `info` through the
+module, for `.scn` files and SofaPython3 `.py` scripts. `penalty run scene.py` (the C++ command
+line) hands `.py` scenes to this (see docs/python.md). Same options, output and exit codes as the
+C++ command line: 0 success, 1 invalid scene or input, 2 command-line error, 3 diverged, 5 other.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import traceback
+
+import penalty
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog="penalty", description="penalty: run SOFA scenes (.scn or SofaPython3 .py)")
+    sub = p.add_subparsers(dest="command", required=True)
+    run = sub.add_parser("run", help="Run a scene headless")
+    run.add_argument("scene")
+    run.add_argument("--steps", type=int, default=100, help="Number of time steps (default 100)")
+    run.add_argument("--dt", type=float, default=None, help="Time step (s), overrides the scene's")
+    run.add_argument("--threads", type=int, default=0)
+    run.add_argument("--data-dir", action="append", default=[], help="Folder searched for mesh files (repeatable)")
+    run.add_argument("--vtk", default=None)
+    run.add_argument("--vtk-every", type=int, default=1)
+    run.add_argument("--export-states", default=None)
+    run.add_argument("--export-mapped", action="store_true")
+    run.add_argument("--export-every", type=int, default=1)
+    run.add_argument("--stats", default=None)
+    run.add_argument("--exhaustive", action="store_true")
+    run.add_argument("--quiet", action="store_true")
+    script = sub.add_parser("script", help="Run a SofaPython3 script as __main__ (its own main block), with "
+                                           "Sofa, Sofa.Core, Sofa.Simulation and SofaRuntime importable")
+    script.add_argument("scene")
+    script.add_argument("arguments", nargs=argparse.REMAINDER)
+    info = sub.add_parser("info", help="Build a scene and describe it")
+    info.add_argument("scene")
+    info.add_argument("--data-dir", action="append", default=[])
+    return p
+
+
+def main(argv=None) -> int:
+    parser = _parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as e:
+        return 0 if e.code == 0 else 2
+    if args.command == "run" and (args.steps < 0 or args.vtk_every < 1 or args.export_every < 1
+                                  or (args.dt is not None and args.dt <= 0)):
+        print("penalty: error: --steps must be >= 0, --vtk-every and --export-every >= 1, --dt > 0", file=sys.stderr)
+        return 2
+    if args.command == "script":
+        import runpy
+        penalty._install_sofa_path()
+        sys.argv = [args.scene, *args.arguments]
+        sys.path.insert(0, os.path.dirname(os.path.abspath(args.scene)))
+        runpy.run_path(args.scene, run_name="__main__")
+        return 0
+    try:
+        if args.command == "info":
+            scene = penalty.load_scene(args.scene, data_dirs=args.data_dir)
+            print(scene.info()["text"], end="")
+            return 0
+        scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads,
+                                   exhaustive=args.exhaustive)
+        print(f"penalty run: {args.scene}")
+        info = scene.info()
+        print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"
+              f" collision models, {len(info['pipelines'])} collision pipeline(s)")
+        for w in scene.warnings():
+            print(f"note: {w}")
+        summary = scene.run(args.steps, vtk=args.vtk, vtk_every=args.vtk_every, export_states=args.export_states,
+                            export_mapped=args.export_mapped, export_every=args.export_every, stats=args.stats,
+                            progress=False if args.quiet else None)
+        print(summary["text"], end="")
+        if args.export_states:
+            print(f"states: {len(summary['state_files'])} files in {args.export_states}")
+        if args.vtk:
+            print(f"vtk: series in {args.vtk} (open the .pvd files in ParaView)")
+        if args.stats:
+            print(f"stats: {args.stats}")
+        return 0
+    except BrokenPipeError:  # output piped into e.g. `head`: stop quietly, as the C++ command line
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    except penalty.SceneError as e:
+        print(f"penalty: error: {e}", file=sys.stderr)
+        return 1
+    except penalty.DivergedError as e:
+        print(f"penalty: error: {e}", file=sys.stderr)
+        return 3
+    except (ValueError, TypeError, NotImplementedError, AttributeError) as e:
+        print(f"penalty: error: {type(e).__name__}: {e}" if not isinstance(e, ValueError) else f"penalty: error: {e}",
+              file=sys.stderr)
+        return 1
+    except Exception as e:  # noqa: BLE001 - the command line's "other errors" (e.g. raised by a script)
+        traceback.print_exc()
+        print(f"penalty: error: {type(e).__name__}: {e}", file=sys.stderr)
+        return 5
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,5 @@
+import Sofa.Core
+
+
+def createScene(rootNode):
+    rootNode.addObject(Sofa.Core.ForceFieldVec3d)

@@ -1,0 +1,196 @@
+"""Scenes from Python: stepping, states as views of the C++ memory, contacts, energies, outputs,
+errors."""
+import csv
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import penalty
+
+REPO = Path(__file__).resolve().parents[2]
+CLI_DIR = REPO / "tests" / "cli"
+
+
+@pytest.fixture
+def scene():
+    return penalty.builtin_scene()
+
+
+def test_step_time_dt(scene):
+    assert scene.dt == 0.005
+    assert scene.time == 0.0
+    scene.step(10)
+    assert scene.time == pytest.approx(0.05, abs=1e-15)
+    scene.step()
+    assert scene.time == pytest.approx(0.055, abs=1e-15)
+    with pytest.raises(ValueError, match="n must be >= 0"):
+        scene.step(-1)
+
+
+def test_states_by_path_and_name(scene):
+    assert scene.states.keys() == ["/Floor/floor", "/SoftCube/cube", "/Ball/ball"]
+    cube = scene.states["/SoftCube/cube"]
+    assert scene.states["cube"] is not None and scene.states["cube"].path == cube.path
+    assert cube.positions.shape == (125, 3) and cube.template == "Vec3d"
+    ball = scene.states["ball"]
+    assert ball.template == "Rigid3d"
+    assert ball.positions.shape == (1, 7) and ball.velocities.shape == (1, 6)
+    np.testing.assert_array_equal(ball.positions[0], [0.1, 1.2, 0.05, 0, 0, 0, 1])
+    with pytest.raises(KeyError, match="no state 'nope'"):
+        scene.states["nope"]
+
+
+def test_positions_are_views_not_copies(scene):
+    cube = scene.states["/SoftCube/cube"]
+    x = cube.positions
+    again = cube.positions
+    # the same C++ buffer, read twice: same address, shared memory, nothing owned by numpy
+    assert x.__array_interface__["data"][0] == again.__array_interface__["data"][0]
+    assert np.shares_memory(x, again)
+    assert not x.flags.owndata
+    y0 = x[:, 1].copy()
+    scene.step(20)
+    # the array read before the steps sees the C++ state move (falling under gravity)
+    assert np.all(x[:, 1] < y0)
+    np.testing.assert_array_equal(x, cube.positions)
+
+
+def test_writing_positions_moves_the_body(scene):
+    cube = scene.states["/SoftCube/cube"]
+    x = cube.positions
+    x[:, 1] += 10.0  # lift the cube 10 m through the view
+    np.testing.assert_array_equal(cube.positions[:, 1], x[:, 1])
+    assert cube.positions[:, 1].min() > 10.0
+    scene.step(1)
+    # far above the floor, one step of free fall from rest: y decreases by g·dt² (implicit Euler)
+    assert cube.positions[:, 1].min() > 10.0 - 0.01
+    v = cube.velocities
+    assert v[:, 1].mean() == pytest.approx(-9.81 * 0.005, rel=1e-3)
+
+
+def test_rigid_centers_are_views(scene):
+    ball = scene.states["ball"]
+    c = ball.centers
+    c[0] = [0.0, 5.0, 0.0]
+    np.testing.assert_array_equal(ball.positions[0, :3], [0.0, 5.0, 0.0])
+    ball.positions = np.array([[0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 2.0]])  # the quaternion is normalised
+    np.testing.assert_array_equal(ball.positions[0], [0.0, 6.0, 0.0, 0.0, 0.0, 0.0, 1.0])
+    assert np.linalg.norm(ball.orientations[0]) == 1.0
+    with pytest.raises(ValueError, match=r"expected shape \(1, 7\)"):
+        ball.positions = np.zeros((2, 7))
+
+
+def test_contacts_after_landing(scene):
+    scene.step(60)  # the cube lands at about t = 0.1 s
+    c = scene.contacts()
+    n = len(c["penetration"])
+    assert n > 0
+    for key in ("point1", "point2", "normal", "tangential_force"):
+        assert c[key].shape == (n, 3)
+    np.testing.assert_allclose(np.linalg.norm(c["normal"], axis=1), 1.0, rtol=1e-12)
+    active = c["penetration"] > 0
+    assert active.any()
+    # SOFA's law without damping: f_n = ks·pen on active contacts, 0 otherwise
+    np.testing.assert_allclose(c["normal_force"][active], c["stiffness"][active] * c["penetration"][active], rtol=1e-12)
+    assert np.all(c["normal_force"][~active] == 0.0)
+    assert set(c["pairs"]) <= {"floor_triangles-cube_points", "ball_sphere-cube_points", "ball_sphere-floor_triangles",
+                               "floor_triangles-ball_sphere", "cube_points-ball_sphere"}
+    assert np.all(c["age"] >= 0) and np.all(c["friction_state"] == 0)
+
+
+def test_energies(scene):
+    e0 = scene.energies()
+    assert e0["kinetic"] == 0.0 and e0["contact"] == 0.0
+    scene.step(10)
+    e = scene.energies()
+    # only the cube (1 kg, 125 DOFs) and the ball (0.5 kg) move: ½ Σ m_i v_i²
+    cube = scene.states["cube"].velocities
+    ball = scene.states["ball"].velocities
+    expected = 0.5 * (1.0 / 125) * np.sum(cube * cube) + 0.5 * 0.5 * np.sum(ball[:, :3] ** 2)
+    assert e["kinetic"] == pytest.approx(expected, rel=1e-9)
+    assert e["dissipated"] == e["dissipated_damping"] + e["dissipated_friction"]
+
+
+def test_info_is_data(scene):
+    info = scene.info()
+    types = [c["type"] for c in info["components"]]
+    assert "TetrahedronFEMForceField" in types
+    mo = [c for c in info["components"] if c["type"] == "MechanicalObject" and c["name"] == "cube"][0]
+    assert mo["built"] and "125 DOFs" in mo["role"]
+    assert info["nodes"][0]["dt"] == 0.005
+    assert info["pipelines"][0]["intersection"] == "MinProximity"
+    assert "SoftCube" in info["text"]
+
+
+def test_run_writes_the_cli_outputs(scene, output_dir):
+    summary = scene.run(40, vtk=output_dir / "vtk", stats=output_dir / "stats.csv",
+                        export_states=output_dir / "states", progress=False)
+    assert summary["steps"] == 40
+    assert scene.time == pytest.approx(0.2)
+    rows = list(csv.DictReader(open(output_dir / "stats.csv")))
+    assert len(rows) == 40
+    assert float(rows[-1]["time"]) == pytest.approx(0.2)
+    assert any((output_dir / "vtk").glob("*.pvd"))
+    assert len(summary["state_files"]) == 3  # floor, cube, ball: all under the root solver, none mapped
+    assert "steps: 40" in summary["text"]
+
+
+def test_run_records_energies_per_step(output_dir):
+    scene = penalty.builtin_scene()
+    summary = scene.run(30, progress=False, record=True, stats=output_dir / "stats.csv")
+    h = summary["history"]
+    np.testing.assert_allclose(h["time"], 0.005 * np.arange(1, 31), rtol=1e-12)
+    rows = list(csv.DictReader(open(output_dir / "stats.csv")))
+    # the same numbers as the CLI's statistics file (written with %.17g or shorter)
+    np.testing.assert_allclose(h["kinetic"], [float(r["kinetic_energy"]) for r in rows], rtol=1e-12)
+    np.testing.assert_allclose(h["contacts"], [float(r["contacts"]) for r in rows])
+    assert h["contacts"][-1] > 0
+
+
+def test_run_calls_back_and_is_the_same_as_step():
+    a, b = penalty.builtin_scene(), penalty.builtin_scene()
+    calls = []
+    a.run(30, progress=False, callback=lambda done, total: calls.append((done, total)))
+    b.step(30)
+    assert calls[0] == (1, 30) and calls[-1] == (30, 30) and len(calls) == 30
+    for sa, sb in zip(a.states, b.states):
+        np.testing.assert_array_equal(sa.positions, sb.positions)
+
+
+def cli_error(*args):
+    cli = os.environ.get("PENALTY_CLI", str(REPO / "build" / "release" / "bin" / "penalty"))
+    if not Path(cli).exists():
+        pytest.skip("penalty command line not built")
+    r = subprocess.run([cli, *args], capture_output=True, text=True)
+    prefix = "penalty: error: "
+    line = [l for l in r.stderr.splitlines() if l.startswith(prefix)][0]
+    return r.returncode, line[len(prefix):]
+
+
+def test_scene_errors_have_the_cli_message():
+    path = str(CLI_DIR / "malformed.scn")
+    with pytest.raises(penalty.SceneError) as error:
+        penalty.load_scene(path)
+    assert "attribute 'totalMass': expected a number, found 'abc'" in str(error.value)
+    assert isinstance(error.value, ValueError)
+    code, message = cli_error("run", path)
+    assert code == 1 and message == str(error.value)
+
+
+def test_missing_file_raises():
+    with pytest.raises(penalty.SceneError, match="cannot open file"):
+        penalty.load_scene("/nonexistent/scene.scn")
+
+
+def test_divergence_raises_with_the_cli_message():
+    path = str(CLI_DIR / "diverges.scn")
+    scene = penalty.load_scene(path)
+    with pytest.raises(penalty.DivergedError) as error:
+        scene.run(100, progress=False)
+    assert "simulation diverged at step" in str(error.value)
+    code, message = cli_error("run", path, "--steps", "100", "--quiet")
+    assert code == 3 and message == str(error.value)
