@@ -182,7 +182,7 @@ def test_scene_errors_have_the_cli_message():
 
 
 def test_missing_file_raises():
-    with pytest.raises(penalty.SceneError, match="cannot open file"):
+    with pytest.raises(penalty.SceneError, match="cannot read: the path does not exist"):
         penalty.load_scene("/nonexistent/scene.scn")
 
 
