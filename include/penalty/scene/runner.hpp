@@ -8,7 +8,7 @@
 ///   2. the step (collision with the positions at t_k, then the solvers);
 ///   3. divergence check of every state (a NaN/inf position stops the run with an error naming
 ///      the state, the DOF and the step), statistics row.
-/// After the last step, the VTK series gets the final state at t = steps·dt.
+/// After the last step, the VTK series and the viewer get the final state at t = steps·dt.
 
 #include "penalty/scene/scene.hpp"
 
@@ -30,6 +30,9 @@ struct RunOptions {
     bool export_mapped = false;                              ///< `--export-mapped`
     std::int64_t export_every = 1;                           ///< `--export-every M`: steps k with k % M == 0, and the last
     std::optional<std::filesystem::path> stats_file;        ///< `--stats FILE.csv`
+    std::optional<std::filesystem::path> view_directory;    ///< `--view DIR`: the browser viewer (viewer.hpp)
+    std::int64_t view_every = 1;                             ///< `--view-every M`: frames k with k % M == 0, and the end
+    std::string view_title;                                  ///< the viewer page's title (the scene's name)
 };
 
 /// Totals of a run.
