@@ -76,6 +76,11 @@ bool finite(const Vec3& v) { return v.allFinite(); }
 
 }  // namespace
 
+void write_viewer_page(const std::filesystem::path& directory) {
+    detail::create_directory(directory);
+    for (const ViewerAsset& asset : viewer_assets()) detail::write_file(directory / asset.name, asset.content);
+}
+
 ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const StateRecord*> states,
                            std::vector<ViewerShape> shapes, std::string title)
     : directory_(std::move(directory)), states_(std::move(states)), shapes_(std::move(shapes)), title_(std::move(title)) {
@@ -115,8 +120,7 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
         offset += shape.indices.size();
     }
 
-    detail::create_directory(directory_);
-    for (const ViewerAsset& asset : viewer_assets()) detail::write_file(directory_ / asset.name, asset.content);
+    write_viewer_page(directory_);
     std::string topology;
     for (const ViewerShape& shape : shapes_)
         topology.append(reinterpret_cast<const char*>(shape.indices.data()), shape.indices.size() * sizeof(std::uint32_t));

@@ -114,4 +114,8 @@ struct ViewerAsset {
 };
 [[nodiscard]] std::span<const ViewerAsset> viewer_assets();
 
+/// Writes the page files (viewer_assets()) into DIR, creating it; the data files are untouched
+/// (`penalty view DIR` refreshes the page of a run written by an older binary).
+void write_viewer_page(const std::filesystem::path& directory);
+
 }  // namespace penalty::output
