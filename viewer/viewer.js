@@ -35,10 +35,10 @@ async function loadRun() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Colour map of the normal force: 0 → blue, ½ → yellow-green, 1 → red (a short "turbo"-like ramp).
+// Colour map of the normal force: 0 → blue, ½ → green-yellow, 1 → red (a short "turbo"-like ramp,
+// bright at both ends so that weak contacts stay visible on the dark background).
 
-const RAMP = [[0.19, 0.07, 0.23], [0.27, 0.51, 0.99], [0.1, 0.9, 0.69], [0.64, 0.99, 0.24], [0.98, 0.73, 0.21],
-              [0.85, 0.23, 0.04], [0.48, 0.02, 0.01]];
+const RAMP = [[0.27, 0.51, 0.99], [0.1, 0.9, 0.69], [0.64, 0.99, 0.24], [0.98, 0.73, 0.21], [0.92, 0.2, 0.08]];
 function forceColor(u, out) {
   const x = Math.min(Math.max(u, 0), 1) * (RAMP.length - 1);
   const i = Math.min(Math.floor(x), RAMP.length - 2);
@@ -47,10 +47,25 @@ function forceColor(u, out) {
   return out;
 }
 
+/// A white disc on transparent black: points are drawn as round dots (alphaTest cuts the corners).
+let discTexture = null;
+function disc() {
+  if (discTexture) return discTexture;
+  const c = document.createElement('canvas');
+  c.width = c.height = 64;
+  const g = c.getContext('2d');
+  g.fillStyle = '#fff';
+  g.beginPath();
+  g.arc(32, 32, 30, 0, 2 * Math.PI);
+  g.fill();
+  discTexture = new THREE.CanvasTexture(c);
+  return discTexture;
+}
+
 function formatNumber(x) {
   if (x === 0) return '0';
   const a = Math.abs(x);
-  return a >= 1e4 || a < 1e-3 ? x.toExponential(3) : x.toPrecision(4).replace(/\.?0+$/, '');
+  return a >= 1e4 || a < 1e-2 ? x.toExponential(2) : x.toPrecision(4).replace(/(\.\d*?)0+$/, '$1').replace(/\.$/, '');
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -82,7 +97,8 @@ class ShapeView {
       } else if (shape.kind === 'lines') {
         this.object = new THREE.LineSegments(this.geometry, new THREE.LineBasicMaterial({ color }));
       } else {
-        this.object = new THREE.Points(this.geometry, new THREE.PointsMaterial({ color, size: 6, sizeAttenuation: false }));
+        this.object = new THREE.Points(this.geometry, new THREE.PointsMaterial({ color, size: 7, sizeAttenuation: false, map: disc(),
+                                                                                alphaTest: 0.5 }));
       }
     } else {
       const n = shape.index_count;
@@ -166,7 +182,7 @@ class ContactView {
                                            new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
     this.ends = new THREE.Points(this.segments.geometry,
                                  new THREE.PointsMaterial({ vertexColors: true, size: 5, sizeAttenuation: false,
-                                                            depthTest: false }));
+                                                            depthTest: false, map: disc(), alphaTest: 0.5 }));
     this.normals = new THREE.LineSegments(make(2 * this.capacity),
                                           new THREE.LineBasicMaterial({ color: 0xffffff, depthTest: false }));
     this.normals.visible = false;
@@ -332,11 +348,13 @@ class Viewer {
       this.scene.add(v.object);
       return v;
     });
-    this.bounds = this.computeBounds();
+    this.bounds = this.computeBounds(false);
+    this.focus = this.computeBounds(true);
     const diagonal = this.bounds.getSize(new THREE.Vector3()).length() || 1;
     let maxContacts = 0;
     for (const c of run.frames.contacts) maxContacts = Math.max(maxContacts, c);
-    this.contacts = new ContactView(maxContacts, run.max_normal_force, 0.05 * diagonal);
+    this.forceScale = forceScale(data.contacts, run.contact_floats, run.max_normal_force);
+    this.contacts = new ContactView(maxContacts, this.forceScale, 0.05 * diagonal);
     this.scene.add(this.contacts.group);
     this.camera.near = diagonal * 1e-3;
     this.camera.far = diagonal * 100;
@@ -355,12 +373,22 @@ class Viewer {
     document.body.dataset.ready = 'true';
   }
 
-  computeBounds() {
+  /// Box of every shape at the first frame; with `movingOnly`, of the shapes whose state moves
+  /// during the run (the camera frames them: a large static floor would make them small), or of
+  /// everything when nothing moves.
+  computeBounds(movingOnly) {
     const box = new THREE.Box3();
     const { run, positions } = this.data;
+    const last = (run.frames.count - 1) * run.frame_floats;
+    const moves = (state) => {
+      const n = state.dofs * (state.type === 'Rigid3d' ? 7 : 3);
+      for (let i = state.offset; i < state.offset + n; i++) if (positions[i] !== positions[last + i]) return true;
+      return false;
+    };
     const p = new THREE.Vector3();
     for (const shape of run.shapes) {
       const state = run.states[shape.state];
+      if (movingOnly && !moves(state)) continue;
       const stride = state.type === 'Rigid3d' ? 7 : 3;
       // spheres and cylinders reach beyond their centres
       const reach = [...(shape.radius || []), ...(shape.height || []).map((h) => h / 2)].reduce((a, b) => Math.max(a, b), 0);
@@ -371,14 +399,14 @@ class Viewer {
         box.expandByPoint(p.clone().subScalar(reach));
       }
     }
-    if (box.isEmpty()) box.set(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
+    if (box.isEmpty()) return movingOnly ? this.computeBounds(false) : box.set(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
     return box;
   }
 
   resetCamera() {
-    const center = this.bounds.getCenter(new THREE.Vector3());
-    const size = this.bounds.getSize(new THREE.Vector3()).length() || 1;
-    this.camera.position.copy(center).add(new THREE.Vector3(0.55, 0.45, 1).normalize().multiplyScalar(1.6 * size));
+    const center = this.focus.getCenter(new THREE.Vector3());
+    const size = this.focus.getSize(new THREE.Vector3()).length() || 1;
+    this.camera.position.copy(center).add(new THREE.Vector3(0.55, 0.4, 1).normalize().multiplyScalar(2.2 * size));
     this.camera.up.set(0, 1, 0);
     this.controls.target.copy(center);
     this.camera.lookAt(center);
@@ -502,10 +530,13 @@ class Viewer {
       g.fillStyle = `rgb(${rgb.map((c) => Math.round(255 * c)).join(',')})`;
       g.fillRect(x, 0, 1, 1);
     }
-    const max = this.data.run.max_normal_force;
+    const max = this.forceScale;
+    const clipped = max < this.data.run.max_normal_force;
     $('colorbar-min').textContent = '0';
     $('colorbar-mid').textContent = formatNumber(max / 2);
-    $('colorbar-max').textContent = `${formatNumber(max)} N`;
+    $('colorbar-max').textContent = `${clipped ? '≥ ' : ''}${formatNumber(max)} N`;
+    $('colorbar').title = `colour scale: 99th percentile of |f·n| over the run (${formatNumber(max)} N); ` +
+                          `largest ${formatNumber(this.data.run.max_normal_force)} N`;
     $('colorbar').hidden = false;
     $('show-contacts').addEventListener('change', (e) => { this.contacts.group.visible = e.target.checked; this.requestRender(); });
     $('show-normals').addEventListener('change', (e) => { this.contacts.normals.visible = e.target.checked; this.requestRender(); });
@@ -598,6 +629,19 @@ class Viewer {
       if (this.playing) this.requestRender();
     });
   }
+}
+
+/// The top of the colour scale: the 99th percentile of |f·n| over every contact of the run (a few
+/// impacts would otherwise squeeze everything else into one colour), at most `largest`.
+function forceScale(contacts, stride, largest) {
+  const n = Math.floor(contacts.length / stride);
+  if (n === 0) return largest > 0 ? largest : 1;
+  const step = Math.max(1, Math.floor(n / 200000));  // a sample of at most ~200k contacts
+  const values = [];
+  for (let c = 0; c < n; c += step) values.push(Math.abs(contacts[c * stride + 9]));
+  values.sort((a, b) => a - b);
+  const p99 = values[Math.min(values.length - 1, Math.floor(0.99 * values.length))];
+  return p99 > 0 ? Math.min(p99, largest) : (largest > 0 ? largest : 1);
 }
 
 function escapeHtml(text) {
