@@ -176,10 +176,13 @@ int main(int argc, char** argv) {
                     "Compare the exported states with SOFA's reference files in DIR (needs --export-states)");
     run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
     run->add_flag("--quiet", args.quiet, "No progress bar");
-    run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
-    run->add_option("--view-every", args.view_every, "Keep one viewer frame in M (and the last)")->check(CLI::PositiveNumber);
-    run->add_flag("--no-serve", args.no_serve, "With --view: only write the files");
-    run->add_option("--port", args.port, "With --view: the port to serve on (default: a free one)")->check(CLI::Range(0, 65535));
+    auto* view_option =
+        run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
+    run->add_option("--view-every", args.view_every, "Keep one viewer frame in M (and the last)")
+        ->check(CLI::PositiveNumber)->needs(view_option);
+    run->add_flag("--no-serve", args.no_serve, "With --view: only write the files")->needs(view_option);
+    run->add_option("--port", args.port, "With --view: the port to serve on (default: a free one)")
+        ->check(CLI::Range(0, 65535))->needs(view_option);
 
     std::string view_dir;
     int view_port = 0;

@@ -125,6 +125,13 @@ check(frames["count"] == 4 and all(abs(a - b) < 1e-12 for a, b in zip(frames["ti
 with open(view_stats) as f:
     view_rows = list(csv.DictReader(f))
 check(frames["contacts"][-1] == int(view_rows[-1]["contacts"]) > 0, "viewer's last contact count is the CSV's")
+# frame j (step k = 10·j ≥ 1, then the end) reports what CSV row k − 1 reports
+for j, k in enumerate([10, 20, 30], start=1):
+    row = view_rows[k - 1]
+    check(abs(frames["time"][j] - float(row["time"])) < 1e-12 and frames["contacts"][j] == int(row["contacts"]) and
+          all(abs(frames[c][j] - float(row[c])) <= 1e-12 * max(1.0, abs(float(row[c])))
+              for c in ["kinetic_energy", "contact_energy", "dissipated_energy", "max_penetration"]),
+          f"viewer frame {j} has the statistics of CSV row {k - 1}")
 check(os.path.getsize(os.path.join(view, "positions.f32")) == 4 * 4 * manifest["frame_floats"], "positions.f32: 4 frames of float32")
 check(os.path.getsize(os.path.join(view, "contacts.f32")) == 4 * 10 * sum(frames["contacts"]), "contacts.f32: 10 floats per contact")
 check(os.path.exists(os.path.join(view, "index.html")) and os.path.exists(os.path.join(view, "three.module.min.js")),
