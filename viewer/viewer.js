@@ -23,6 +23,7 @@ async function loadRun() {
   ]);
   if (run.format !== 'penalty-viewer') throw new Error('run.json is not a penalty viewer manifest');
   const frames = run.frames.count;
+  if (frames === 0) throw new Error('the run has no frame (it stopped before writing one)');
   const positionArray = new Float32Array(positions);
   if (positionArray.length < frames * run.frame_floats)
     throw new Error(`positions.f32 holds ${positionArray.length} floats, ${frames} frames need ${frames * run.frame_floats}`);
@@ -596,7 +597,7 @@ class Viewer {
     this.plots = [
       new Plot($('plot-energy'), 'energy', 'J', fr.time, [
         { label: 'kinetic', color: '#4fa3ff', values: fr.kinetic_energy },
-        { label: 'stored in contacts', color: '#f2a541', values: fr.contact_energy },
+        { label: 'stored', color: '#f2a541', values: fr.contact_energy },
         { label: 'dissipated', color: '#e0607e', values: fr.dissipated_energy },
       ]),
       new Plot($('plot-contacts'), 'contacts', 'count', fr.time, [{ label: 'contacts', color: '#6cc551', values: fr.contacts }]),
