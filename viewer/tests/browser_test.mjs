@@ -9,7 +9,7 @@
 import { spawn, spawnSync } from 'node:child_process';
 import { mkdirSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import net from 'node:net';
-import { tmpdir } from 'node:os';
+import { networkInterfaces, tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
@@ -75,7 +75,21 @@ try {
   check('server: POST is 405', (await rawRequest('POST / HTTP/1.1\r\nContent-Length: 0\r\n\r\n')).includes(' 405 '));
   check('server: garbage is 400', (await rawRequest('\x00\x01garbage\r\n\r\n')).includes(' 400 '));
   check('server: oversized header is refused', (await rawRequest(`GET / HTTP/1.1\r\nX: ${'a'.repeat(40000)}\r\n\r\n`)).includes(' 431 '));
+  check('server: percent-escaped path is 404', (await rawRequest('GET /%2e%2e/run.json HTTP/1.1\r\n\r\n')).includes(' 404 '));
+  check('server: hidden name is 404', (await rawRequest('GET /.profile HTTP/1.1\r\n\r\n')).includes(' 404 '));
+  check('server: HEAD is 200', (await rawRequest('HEAD /run.json HTTP/1.1\r\n\r\n')).includes(' 200 '));
+  check('server: query string ignored', (await rawRequest('GET /index.html?v=2 HTTP/1.1\r\n\r\n')).includes(' 200 '));
   check('server: still serves run.json', (await rawRequest('GET /run.json HTTP/1.1\r\n\r\n')).includes(' 200 '));
+  // Bound to 127.0.0.1 only: the machine's other addresses refuse the port.
+  const external = Object.values(networkInterfaces()).flat().filter((a) => a && a.family === 'IPv4' && !a.internal);
+  for (const address of external.slice(0, 2)) {
+    const refused = await new Promise((done) => {
+      const socket = net.connect(port, address.address);
+      socket.on('connect', () => { socket.destroy(); done(false); });
+      socket.on('error', () => done(true));
+    });
+    check(`server: not reachable on ${address.address}`, refused);
+  }
 
   // ---- 4. the page in Chromium
   // A fresh profile directory (playwright's persistent context passes it as --user-data-dir).
