@@ -8,8 +8,9 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <cstring>
+#include <cstdio>
 #include <stdexcept>
+#include <type_traits>
 
 namespace penalty::output {
 
