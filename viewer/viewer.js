@@ -239,7 +239,7 @@ class Plot {
     this.ratio = ratio;
     this.area = { left: 48 * ratio, right: w - 8 * ratio, top: 20 * ratio, bottom: h - 18 * ratio };
     let lo = Infinity, hi = -Infinity;
-    for (const s of this.series) for (const v of s.values) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+    for (const s of this.series) for (const v of s.values) if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
     if (!Number.isFinite(lo)) { lo = 0; hi = 1; }
     lo = Math.min(lo, 0);
     if (hi <= lo) hi = lo + 1;
@@ -274,9 +274,12 @@ class Plot {
       g.strokeStyle = s.color;
       g.lineWidth = 1.5 * ratio;
       g.beginPath();
+      let pen = false;  // null (not finite) values break the line
       for (let i = 0; i < s.values.length; i++) {
+        if (!Number.isFinite(s.values[i])) { pen = false; continue; }
         const px = this.xOf(this.times[i]), py = this.yOf(s.values[i]);
-        if (i === 0) g.moveTo(px, py); else g.lineTo(px, py);
+        if (pen) g.lineTo(px, py); else g.moveTo(px, py);
+        pen = true;
       }
       g.stroke();
       if (this.series.length > 1) {

@@ -138,6 +138,11 @@ TEST(ViewerWriter, NonFinitePositionThrowsAndWritesNothingOfTheFrame) {
     }
     EXPECT_EQ(writer.frame_count(), 1u);
     EXPECT_EQ(std::filesystem::file_size(dir.path() / "positions.f32"), writer.frame_floats() * sizeof(float));
+    // finite positions with an overflowed kinetic energy: the frame is written, the energy is null
+    bodies.surface.position[3].y() = 0.0;
+    writer.write_frame(0.03, {}, std::numeric_limits<double>::infinity());
+    writer.finish();
+    EXPECT_THAT(test::read_text(dir.path() / "run.json"), HasSubstr("\"kinetic_energy\":[0,null]"));
 }
 
 TEST(ViewerWriter, BadShapesAreRejectedNamingTheShape) {

@@ -69,7 +69,9 @@ public:
     /// the frame's statistics (time in s, kinetic energy in J; contact count, maximum
     /// penetration, stored and dissipated energy from the contacts as stats_csv.hpp computes
     /// them). A non-finite position or contact value throws NonFiniteValueError naming the state
-    /// or contact and the time, and nothing of the frame is written.
+    /// or contact and the time, and nothing of the frame is written. A non-finite kinetic energy
+    /// (finite but huge velocities, the step before the runner reports divergence) is written as
+    /// null in run.json.
     void write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy);
 
     /// Writes run.json (may be called again after more frames).
