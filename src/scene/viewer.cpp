@@ -1,6 +1,7 @@
 #include "penalty/scene/viewer.hpp"
 
 #include "penalty/collision/models.hpp"
+#include "penalty/mechanics/mechanical_object.hpp"
 
 #include <algorithm>
 #include <map>
@@ -97,6 +98,21 @@ ViewerBodies viewer_bodies(const Scene& scene) {
             continue;
         }
         out.shapes.push_back(std::move(shape));
+    }
+    if (out.shapes.empty()) {
+        // No collision model at all: show the Vec3 states as points, so the run is not an empty view.
+        for (const output::StateRecord& r : scene.states()) {
+            const auto* v = dynamic_cast<const Vec3Object*>(r.state);
+            if (v == nullptr) continue;
+            output::ViewerShape shape;
+            shape.name = r.name;
+            shape.type = "state";
+            shape.kind = output::ViewerShapeKind::points;
+            shape.state = out.states.size();
+            for (std::size_t i = 0; i < v->position.size(); ++i) shape.indices.push_back(std::uint32_t(i));
+            out.states.push_back(&r);
+            out.shapes.push_back(std::move(shape));
+        }
     }
     return out;
 }

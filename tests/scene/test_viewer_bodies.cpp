@@ -87,5 +87,18 @@ TEST(ViewerBodies, CylindersCarryRadiusHeightAndAxis) {
     EXPECT_EQ(bodies.shapes.size(), scene->collision_models().size());
 }
 
+TEST(ViewerBodies, SceneWithoutCollisionModelsShowsItsStatesAsPoints) {
+    auto scene = build_scene(io::parse_scene_string(R"(<Node name="root">
+        <Node name="A"><MechanicalObject name="p" position="0 0 0  1 0 0  2 0 0"/></Node>
+        <Node name="B"><MechanicalObject name="r" template="Rigid3d" position="0 0 0  0 0 0 1"/></Node>
+    </Node>)", "bare.scn"));
+    const ViewerBodies bodies = viewer_bodies(*scene);
+    ASSERT_EQ(bodies.shapes.size(), 1u);  // the Vec3 state; the Rigid3 one has no size to draw
+    EXPECT_EQ(bodies.shapes[0].type, "state");
+    EXPECT_EQ(bodies.shapes[0].kind, ViewerShapeKind::points);
+    EXPECT_THAT(bodies.shapes[0].indices, ElementsAre(0, 1, 2));
+    EXPECT_EQ(output::state_label(*bodies.states[bodies.shapes[0].state]), "/A/p");
+}
+
 }  // namespace
 }  // namespace penalty::scene

@@ -22,6 +22,7 @@ struct ViewerBodies {
 /// Triangle models: their triangles; Tetrahedron models: the faces that belong to one
 /// tetrahedron only (the boundary); Line: edges; Point: every DOF; Sphere and RigidSphere:
 /// every DOF with its radius; Cylinder: every frame with radius, height and local axis.
+/// A scene without any collision model gets one points shape (type "state") per Vec3 state.
 /// Throws std::invalid_argument when a model's state is not one of the scene's states.
 [[nodiscard]] ViewerBodies viewer_bodies(const Scene& scene);
 
