@@ -2,14 +2,17 @@
 //   penalty run [SCENE] [options]   run a SOFA scene headless (built-in scene when none is given)
 //   penalty info SCENE              builds the scene: what each component becomes, the contact pairs
 //   penalty demo                    the force field alone on worked numbers
+//   penalty view DIR                serves the browser viewer written by `penalty run --view DIR`
 // Exit codes: 0 success; 1 invalid scene or input file; 2 command-line error; 3 the simulation
 // diverged (NaN/inf); 4 the states differ from the SOFA reference (--reference); 5 other errors
 // (output files, ...).
 #include "demo.hpp"
+#include "view_server.hpp"
 
 #include "penalty/io/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
+#include "penalty/output/viewer_writer.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/solver.hpp"
@@ -29,6 +32,7 @@
 #include <string_view>
 #include <thread>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -101,6 +105,10 @@ struct RunArguments {
     bool export_mapped = false;
     bool exhaustive = false;
     bool quiet = false;
+    std::string view;                // --view DIR: the browser viewer (docs/viewer.md)
+    std::int64_t view_every = 1;
+    bool no_serve = false;
+    int port = 0;                    // 0: a free port
 };
 
 /// One progress line on a terminal (stderr), redrawn at most 10 times per second.
@@ -158,6 +166,9 @@ int run_command(const RunArguments& a) {
     run.export_every = a.export_every;
     if (!a.stats.empty()) run.stats_file = a.stats;
     run.divergence_factor = a.divergence_factor;
+    if (!a.view.empty()) run.view_directory = a.view;
+    run.view_every = a.view_every;
+    run.view_title = builtin ? std::string("built-in scene") : std::filesystem::path(a.scene).filename().string();
     ProgressBar bar(!a.quiet && isatty(STDERR_FILENO) != 0);
     const sc::RunSummary summary = sc::run_scene(*scene, run, std::ref(bar));
     std::cout << sc::format_summary(summary);
@@ -166,6 +177,7 @@ int run_command(const RunArguments& a) {
                   << (summary.steps == 0 ? " (0 steps: the initial state only)" : "") << "\n";
     if (!a.vtk.empty()) std::cout << "vtk: series in " << a.vtk << " (open the .pvd files in ParaView)\n";
     if (!a.stats.empty()) std::cout << "stats: " << a.stats << "\n";
+    if (!a.view.empty()) std::cout << "view: browser viewer in " << a.view << " (penalty view " << a.view << ")\n";
 
     if (!a.reference.empty()) {
         if (builtin) throw std::invalid_argument("--reference needs a scene file");
@@ -179,6 +191,21 @@ int run_command(const RunArguments& a) {
                   << (r.passed() ? "PASS" : "FAIL") << "\n";
         if (!r.passed()) return kReferenceMismatch;
     }
+    if (!a.view.empty() && !a.no_serve) penalty::apps::serve_directory(a.view, a.port, std::cout);
+    return kOk;
+}
+
+/// `penalty view DIR`: refreshes the page files of a viewer directory and serves it.
+int view_command(const std::string& directory, int port, bool no_serve) {
+    if (!std::filesystem::is_regular_file(std::filesystem::path(directory) / "run.json"))
+        throw std::invalid_argument("'" + directory + "' has no run.json: not a viewer directory (write one with "
+                                    "`penalty run SCENE --view " + directory + "`)");
+    penalty::output::write_viewer_page(directory);
+    if (no_serve) {
+        std::cout << "penalty view: page files written in " << directory << "\n";
+        return kOk;
+    }
+    penalty::apps::serve_directory(directory, port, std::cout);
     return kOk;
 }
 
@@ -264,6 +291,21 @@ int main(int argc, char** argv) {
                     "Compare the exported states with SOFA's reference files in DIR (needs --export-states)");
     run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
     run->add_flag("--quiet", args.quiet, "No progress bar");
+    auto* view_option =
+        run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
+    run->add_option("--view-every", args.view_every, "Keep one viewer frame in M (and the last)")
+        ->check(CLI::PositiveNumber)->needs(view_option);
+    run->add_flag("--no-serve", args.no_serve, "With --view: only write the files")->needs(view_option);
+    run->add_option("--port", args.port, "With --view: the port to serve on (default: a free one)")
+        ->check(CLI::Range(0, 65535))->needs(view_option);
+
+    std::string view_dir;
+    int view_port = 0;
+    bool view_no_serve = false;
+    auto* view = app.add_subcommand("view", "Serve the browser viewer of a run (written by penalty run --view DIR) on 127.0.0.1");
+    view->add_option("dir", view_dir, "Viewer directory")->required()->check(CLI::ExistingDirectory);
+    view->add_option("--port", view_port, "Port (default: a free one)")->check(CLI::Range(0, 65535));
+    view->add_flag("--no-serve", view_no_serve, "Only refresh the page files");
 
     std::string info_scene;
     std::vector<std::string> info_data_dirs;
@@ -298,6 +340,7 @@ int main(int argc, char** argv) {
             return run_command(args);
         }
         if (*info) return info_command(info_scene, info_data_dirs);
+        if (*view) return view_command(view_dir, view_port, view_no_serve);
         return penalty::apps::run_demo(options, std::cout);
     } catch (const penalty::io::LoadError& e) {
         std::cerr << "penalty: error: " << e.what() << "\n";

@@ -7,11 +7,13 @@
 #include "penalty/simulation/solver.hpp"
 
 #include <Eigen/Geometry>
+#include "penalty/scene/viewer.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -205,6 +207,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     if (options.steps < 0) throw std::invalid_argument("steps must be >= 0");
     if (options.export_every < 1) throw std::invalid_argument("--export-every must be >= 1");
     if (options.vtk_every < 1) throw std::invalid_argument("--vtk-every must be >= 1");
+    if (options.view_every < 1) throw std::invalid_argument("--view-every must be >= 1");
 
     RunSummary summary;
     summary.dt = scene.dt();
@@ -222,6 +225,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     }
     std::optional<output::StatsCsvWriter> stats;
     if (options.stats_file) stats.emplace(*options.stats_file);
+    std::unique_ptr<output::ViewerWriter> viewer;
+    if (options.view_directory) viewer = open_viewer(scene, *options.view_directory, options.view_title);
 
     Simulation& sim = scene.simulation();
     DivergenceBound bound(scene, options.divergence_factor);
@@ -235,6 +240,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         const auto out_start = Clock::now();
         if (exporter && (k % options.export_every == 0 || k == options.steps - 1)) exporter->write(t);
         if (vtk && k % options.vtk_every == 0) vtk->write_step(t, scene.contacts());
+        if (viewer && k % options.view_every == 0) viewer->write_frame(t, scene.contacts(), scene.kinetic_energy());
         double output_seconds = seconds_since(out_start);
 
         try {
@@ -301,6 +307,12 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         const auto out_start = Clock::now();
         if (vtk) vtk->write_step(sim.time(), scene.contacts());
         if (exporter && options.steps == 0) exporter->write(sim.time());
+        summary.output_seconds += seconds_since(out_start);
+    }
+    if (viewer) {
+        const auto out_start = Clock::now();
+        viewer->write_frame(sim.time(), scene.contacts(), scene.kinetic_energy());  // the end (or t = 0 without steps)
+        viewer->finish();
         summary.output_seconds += seconds_since(out_start);
     }
     summary.wall_seconds = seconds_since(run_start);

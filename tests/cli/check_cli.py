@@ -5,6 +5,7 @@ Usage: check_cli.py PENALTY_EXECUTABLE TESTS_CLI_DIR WORK_DIR
 Every check prints one line; the script exits 1 at the first failure (with the command's output).
 """
 import csv
+import json
 import os
 import re
 import shutil
@@ -110,4 +111,34 @@ check(max(int(r["contacts"]) for r in rows) > 0, "CSV records contacts")
 p = run("run", "--steps", "60", "--quiet", expect=0)
 check("built-in scene" in p.stdout and re.search(r"contacts per step: mean [0-9.]+, max [1-9]", p.stdout) is not None,
       "built-in scene runs and makes contacts")
+# The browser viewer's files (docs/viewer.md): frames 0, 10, 20 and the end; the last frame's
+# time and contact count are the CSV's last row.
+view = os.path.join(work, "view")
+view_stats = os.path.join(work, "view_stats.csv")
+run("run", scene, "--steps", "30", "--quiet", "--view", view, "--view-every", "10", "--no-serve", "--stats", view_stats,
+    expect=0)
+with open(os.path.join(view, "run.json")) as f:
+    manifest = json.load(f)
+frames = manifest["frames"]
+check(frames["count"] == 4 and all(abs(a - b) < 1e-12 for a, b in zip(frames["time"], [0, 0.1, 0.2, 0.3])),
+      f"viewer frames at t = 0, 0.1, 0.2, 0.3: {frames['time']}")
+with open(view_stats) as f:
+    view_rows = list(csv.DictReader(f))
+check(frames["contacts"][-1] == int(view_rows[-1]["contacts"]) > 0, "viewer's last contact count is the CSV's")
+# frame j (step k = 10·j ≥ 1, then the end) reports what CSV row k − 1 reports
+for j, k in enumerate([10, 20, 30], start=1):
+    row = view_rows[k - 1]
+    check(abs(frames["time"][j] - float(row["time"])) < 1e-12 and frames["contacts"][j] == int(row["contacts"]) and
+          all(abs(frames[c][j] - float(row[c])) <= 1e-12 * max(1.0, abs(float(row[c])))
+              for c in ["kinetic_energy", "contact_energy", "dissipated_energy", "max_penetration"]),
+          f"viewer frame {j} has the statistics of CSV row {k - 1}")
+check(os.path.getsize(os.path.join(view, "positions.f32")) == 4 * 4 * manifest["frame_floats"], "positions.f32: 4 frames of float32")
+check(os.path.getsize(os.path.join(view, "contacts.f32")) == 4 * 10 * sum(frames["contacts"]), "contacts.f32: 10 floats per contact")
+check(os.path.exists(os.path.join(view, "index.html")) and os.path.exists(os.path.join(view, "three.module.min.js")),
+      "viewer page files written")
+run("view", view, "--no-serve", expect=0)
+p = run("view", work, "--no-serve", expect=1)
+check("has no run.json: not a viewer directory" in p.stderr, "penalty view names a directory without run.json")
+run("run", scene, "--view", view, "--view-every", "0", expect=2)
+
 print("all CLI checks passed")

@@ -12,7 +12,7 @@
 /// A non-finite value inside the solve (NonFiniteSolveError) is a divergence naming the step, the
 /// state and the force field or mass; at the first step, from a known component, it is invalid
 /// input naming that component (a parameter too large).
-/// After the last step, the VTK series gets the final state at t = steps·dt.
+/// After the last step, the VTK series and the viewer get the final state at t = steps·dt.
 
 #include "penalty/scene/scene.hpp"
 
@@ -37,6 +37,9 @@ struct RunOptions {
     /// `--divergence-factor F`: the run has diverged when a step moves a DOF by more than F times
     /// the initial scene size (DivergenceBound); 0 turns the check off.
     double divergence_factor = 100.0;
+    std::optional<std::filesystem::path> view_directory;    ///< `--view DIR`: the browser viewer (viewer.hpp)
+    std::int64_t view_every = 1;                             ///< `--view-every M`: frames k with k % M == 0, and the end
+    std::string view_title;                                  ///< the viewer page's title (the scene's name)
 };
 
 /// The divergence criterion of run_scene, besides non-finite values. L is the diagonal of the

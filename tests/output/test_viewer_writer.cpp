@@ -1,0 +1,181 @@
+// Browser viewer data: positions and contact segments read back from the binary files, the
+// manifest's per-frame statistics, the page files, and errors.
+#include "penalty/output/format.hpp"
+#include "penalty/output/viewer_writer.hpp"
+
+#include "output_test_support.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace penalty::output {
+namespace {
+
+using test::TempDir;
+using ::testing::ElementsAre;
+using ::testing::ElementsAreArray;
+using ::testing::HasSubstr;
+
+template <class T>
+std::vector<T> read_binary(const std::filesystem::path& file) {
+    const std::string bytes = test::read_text(file);
+    EXPECT_EQ(bytes.size() % sizeof(T), 0u) << file;
+    std::vector<T> out(bytes.size() / sizeof(T));
+    std::memcpy(out.data(), bytes.data(), out.size() * sizeof(T));
+    return out;
+}
+
+/// A Vec3 surface of two triangles (4 points), a Rigid3 ball, and a penalty field between them.
+struct TwoBodies {
+    Vec3Object surface{"surface"};
+    Rigid3Object ball{"ball"};
+    Vec3Object ball_point{"ball_point"};  ///< the contact-point state of the ball side
+    StateRecord surface_record;
+    StateRecord ball_record;
+    PenaltyForceField field;
+
+    TwoBodies() {
+        surface.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 1), Vec3(0, 0, 1)};
+        surface.init();
+        ball.position = {RigidFrame{Vec3(0.5, 0.25, 0.5), Quat(Eigen::AngleAxisd(0.5, Vec3::UnitZ()))}};
+        ball.init();
+        ball_point.position = {Vec3(0.5, -0.1, 0.5)};
+        ball_point.init();
+        surface_record = {"surface", "/Floor", &surface, nullptr, false, false, nullptr, {}};
+        ball_record = {"ball", "/Ball", &ball, nullptr, false, true, nullptr, {0.25}};
+        // pen = dist − (x2 − x1)·n = 0 − (−0.1 − 0)·1 = 0.1 m; ks = 100 N/m: force on side 2 = +10 N along y
+        field.add_contact(1, 0, 0, 0, Vec3::UnitY(), 0.0, 100.0);
+        Vec3List f1(4, Vec3::Zero()), f2(1, Vec3::Zero());
+        field.add_force(f1, f2, surface.position, ball_point.position, Vec3List(4, Vec3::Zero()), Vec3List(1, Vec3::Zero()));
+    }
+    [[nodiscard]] std::vector<ViewerShape> shapes() const {
+        ViewerShape floor{"floor_triangles", "Triangle", ViewerShapeKind::triangles, 0, {0, 2, 1, 0, 3, 2}, {}, {}, {}};
+        ViewerShape sphere{"ball_sphere", "RigidSphere", ViewerShapeKind::spheres, 1, {0}, {0.25}, {}, {}};
+        return {floor, sphere};
+    }
+};
+
+TEST(ViewerWriter, PositionsAndContactSegmentsRoundTrip) {
+    TempDir dir;
+    TwoBodies bodies;
+    const std::vector<ContactRecord> contacts{{"floor-ball", &bodies.field, &bodies.surface, &bodies.ball_point}};
+    ViewerWriter writer(dir.path() / "view", {&bodies.surface_record, &bodies.ball_record}, bodies.shapes(), "two bodies");
+    EXPECT_EQ(writer.frame_floats(), 4u * 3 + 7);
+    writer.write_frame(0.0, {}, 0.0);
+    bodies.surface.position[2] = Vec3(1.5, -0.125, 1);  // move a point between frames
+    bodies.ball.position[0].center = Vec3(0.5, 0.2, 0.5);
+    writer.write_frame(0.01, contacts, 0.0625);
+    writer.finish();
+    EXPECT_EQ(writer.frame_count(), 2u);
+
+    const std::vector<float> positions = read_binary<float>(dir.path() / "view" / "positions.f32");
+    ASSERT_EQ(positions.size(), 2 * writer.frame_floats());
+    const Quat q = bodies.ball.position[0].orientation;
+    // frame 0: the four surface points, then the ball frame (x y z qx qy qz qw)
+    EXPECT_THAT(std::vector<float>(positions.begin(), positions.begin() + 19),
+                ElementsAre(0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1, 0.5f, 0.25f, 0.5f, float(q.x()), float(q.y()),
+                            float(q.z()), float(q.w())));
+    // frame 1: the moved point and ball centre
+    EXPECT_THAT(std::vector<float>(positions.begin() + 19 + 6, positions.begin() + 19 + 9), ElementsAre(1.5f, -0.125f, 1.0f));
+    EXPECT_THAT(std::vector<float>(positions.begin() + 19 + 12, positions.begin() + 19 + 15), ElementsAre(0.5f, 0.2f, 0.5f));
+    EXPECT_FLOAT_EQ(q.z(), float(std::sin(0.25)));
+
+    // one contact, in frame 1 only: point1 = surface[1], point2 = ball_point[0], normal +y, f·n = 10 N
+    const std::vector<float> segments = read_binary<float>(dir.path() / "view" / "contacts.f32");
+    EXPECT_THAT(segments, ElementsAre(1, 0, 0, 0.5f, -0.1f, 0.5f, 0, 1, 0, 10.0f));
+
+    const std::vector<std::uint32_t> topology = read_binary<std::uint32_t>(dir.path() / "view" / "topology.u32");
+    EXPECT_THAT(topology, ElementsAre(0, 2, 1, 0, 3, 2, 0));
+
+    const std::string manifest = test::read_text(dir.path() / "view" / "run.json");
+    EXPECT_THAT(manifest, HasSubstr("\"title\":\"two bodies\""));
+    EXPECT_THAT(manifest, HasSubstr("\"frame_floats\":19,\"contact_floats\":10,\"max_normal_force\":10"));
+    EXPECT_THAT(manifest, HasSubstr("{\"name\":\"surface\",\"node_path\":\"/Floor\",\"type\":\"Vec3d\",\"dofs\":4,\"offset\":0,"));
+    EXPECT_THAT(manifest, HasSubstr("{\"name\":\"ball\",\"node_path\":\"/Ball\",\"type\":\"Rigid3d\",\"dofs\":1,\"offset\":12,"));
+    EXPECT_THAT(manifest, HasSubstr("\"kind\":\"triangles\",\"state\":0,\"index_offset\":0,\"index_count\":6}"));
+    EXPECT_THAT(manifest, HasSubstr("\"kind\":\"spheres\",\"state\":1,\"index_offset\":6,\"index_count\":1,\"radius\":[0.25]}"));
+    // per-frame statistics: contact energy ½·100·0.1² = 0.5 J
+    EXPECT_THAT(manifest, HasSubstr("\"frames\":{\"count\":2,\"time\":[0,0.01],\"contacts\":[0,1],\"active_contacts\":[0,1],"
+                                    "\"max_penetration\":[0,0.1],\"contact_energy\":[0," +
+                                    format_number(0.5 * 100 * 0.1 * 0.1) +
+                                    "],\"kinetic_energy\":[0,0.0625],\"dissipated_energy\":[0,0]}"));
+
+    // the page files are there, the page loads the vendored three.js, not another host
+    const std::string page = test::read_text(dir.path() / "view" / "index.html");
+    EXPECT_THAT(page, HasSubstr("viewer.js"));
+    EXPECT_THAT(page, ::testing::Not(HasSubstr("http")));
+    EXPECT_GT(std::filesystem::file_size(dir.path() / "view" / "three.module.min.js"), 100000u);
+    EXPECT_THAT(test::read_text(dir.path() / "view" / "OrbitControls.js"), HasSubstr("from './three.module.min.js'"));
+}
+
+TEST(ViewerWriter, DestructorWritesTheManifestOfTheFramesSoFar) {
+    TempDir dir;
+    TwoBodies bodies;
+    {
+        ViewerWriter writer(dir.path(), {&bodies.surface_record}, {bodies.shapes()[0]}, "t\"itle\\");
+        writer.write_frame(0.5, {}, 1.0);
+    }
+    const std::string manifest = test::read_text(dir.path() / "run.json");
+    EXPECT_THAT(manifest, HasSubstr("\"title\":\"t\\\"itle\\\\\""));
+    EXPECT_THAT(manifest, HasSubstr("\"count\":1,\"time\":[0.5]"));
+}
+
+TEST(ViewerWriter, NonFinitePositionThrowsAndWritesNothingOfTheFrame) {
+    TempDir dir;
+    TwoBodies bodies;
+    ViewerWriter writer(dir.path(), {&bodies.surface_record, &bodies.ball_record}, bodies.shapes(), "diverging");
+    writer.write_frame(0.0, {}, 0.0);
+    bodies.surface.position[3].y() = std::numeric_limits<double>::quiet_NaN();
+    try {
+        writer.write_frame(0.02, {}, 0.0);
+        ADD_FAILURE() << "no error";
+    } catch (const NonFiniteValueError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("state '/Floor/surface' DOF 3 is not finite at t = 0.02 s"));
+    }
+    EXPECT_EQ(writer.frame_count(), 1u);
+    EXPECT_EQ(std::filesystem::file_size(dir.path() / "positions.f32"), writer.frame_floats() * sizeof(float));
+    // finite positions with an overflowed kinetic energy: the frame is written, the energy is null
+    bodies.surface.position[3].y() = 0.0;
+    writer.write_frame(0.03, {}, std::numeric_limits<double>::infinity());
+    writer.finish();
+    EXPECT_THAT(test::read_text(dir.path() / "run.json"), HasSubstr("\"kinetic_energy\":[0,null]"));
+}
+
+TEST(ViewerWriter, BadShapesAreRejectedNamingTheShape) {
+    TempDir dir;
+    TwoBodies bodies;
+    auto expect_error = [&](ViewerShape shape, const std::string& message) {
+        try {
+            ViewerWriter writer(dir.path(), {&bodies.surface_record, &bodies.ball_record}, {shape}, "bad");
+            ADD_FAILURE() << "no error for " << message;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_THAT(e.what(), HasSubstr(message));
+        }
+    };
+    expect_error({"tri", "Triangle", ViewerShapeKind::triangles, 0, {0, 1, 4}, {}, {}, {}},
+                 "shape 'tri': DOF index 4 out of range (state '/Floor/surface' has 4 DOFs)");
+    expect_error({"tri", "Triangle", ViewerShapeKind::triangles, 0, {0, 1}, {}, {}, {}}, "2 indices, not a multiple of 3");
+    expect_error({"s", "Sphere", ViewerShapeKind::spheres, 2, {0}, {1.0}, {}, {}}, "state index 2 out of range (2 states)");
+    expect_error({"s", "Sphere", ViewerShapeKind::spheres, 0, {0, 1}, {1.0}, {}, {}}, "1 radii for 2 elements");
+    expect_error({"c", "Cylinder", ViewerShapeKind::cylinders, 0, {0}, {1.0}, {2.0}, {Vec3::UnitY()}},
+                 "cylinders need a Rigid3 state");
+}
+
+TEST(ViewerWriter, UnwritableDirectoryThrowsNamingIt) {
+    TempDir dir;
+    test::write_text(dir.path() / "blocker", "x");
+    TwoBodies bodies;
+    try {
+        ViewerWriter writer(dir.path() / "blocker" / "view", {&bodies.surface_record}, {}, "x");
+        FAIL();
+    } catch (const std::runtime_error& e) {
+        EXPECT_THAT(e.what(), HasSubstr("blocker"));
+    }
+}
+
+}  // namespace
+}  // namespace penalty::output

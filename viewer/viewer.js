@@ -1,0 +1,661 @@
+// penalty's browser viewer (docs/viewer.md): reads run.json, topology.u32, positions.f32 and
+// contacts.f32 from the directory the page is served from and draws the run with three.js.
+import * as THREE from './three.module.min.js';
+import { OrbitControls } from './OrbitControls.js';
+
+const $ = (id) => document.getElementById(id);
+const BACKGROUND = 0x1e2228;
+const PALETTE = [0x4fa3ff, 0xf2a541, 0x6cc551, 0xe0607e, 0xb38cf0, 0x3fc1c9, 0xd9d262, 0xf07f4f, 0x9aa5b8, 0x8fd694];
+
+// ---------------------------------------------------------------------------------------------
+// Data
+
+async function fetchChecked(name, kind) {
+  const response = await fetch(name, { cache: 'no-store' });
+  if (!response.ok) throw new Error(`${name}: HTTP ${response.status}`);
+  return kind === 'json' ? response.json() : response.arrayBuffer();
+}
+
+async function loadRun() {
+  const [run, topology, positions, contacts] = await Promise.all([
+    fetchChecked('run.json', 'json'), fetchChecked('topology.u32'), fetchChecked('positions.f32'),
+    fetchChecked('contacts.f32'),
+  ]);
+  if (run.format !== 'penalty-viewer') throw new Error('run.json is not a penalty viewer manifest');
+  const frames = run.frames.count;
+  if (frames === 0) throw new Error('the run has no frame (it stopped before writing one)');
+  const positionArray = new Float32Array(positions);
+  if (positionArray.length < frames * run.frame_floats)
+    throw new Error(`positions.f32 holds ${positionArray.length} floats, ${frames} frames need ${frames * run.frame_floats}`);
+  // Contacts of frame f: floats [offset[f], offset[f + 1]) of contacts.f32, 10 per contact.
+  const contactOffset = new Array(frames + 1);
+  contactOffset[0] = 0;
+  for (let f = 0; f < frames; f++) contactOffset[f + 1] = contactOffset[f] + run.frames.contacts[f] * run.contact_floats;
+  return { run, topology: new Uint32Array(topology), positions: positionArray, contacts: new Float32Array(contacts),
+           contactOffset };
+}
+
+// ---------------------------------------------------------------------------------------------
+// Colour map of the normal force: 0 → blue, ½ → green-yellow, 1 → red (a short "turbo"-like ramp,
+// bright at both ends so that weak contacts stay visible on the dark background).
+
+const RAMP = [[0.27, 0.51, 0.99], [0.1, 0.9, 0.69], [0.64, 0.99, 0.24], [0.98, 0.73, 0.21], [0.92, 0.2, 0.08]];
+function forceColor(u, out) {
+  const x = Math.min(Math.max(u, 0), 1) * (RAMP.length - 1);
+  const i = Math.min(Math.floor(x), RAMP.length - 2);
+  const t = x - i;
+  for (let k = 0; k < 3; k++) out[k] = RAMP[i][k] * (1 - t) + RAMP[i + 1][k] * t;
+  return out;
+}
+
+/// A white disc on transparent black: points are drawn as round dots (alphaTest cuts the corners).
+let discTexture = null;
+function disc() {
+  if (discTexture) return discTexture;
+  const c = document.createElement('canvas');
+  c.width = c.height = 64;
+  const g = c.getContext('2d');
+  g.fillStyle = '#fff';
+  g.beginPath();
+  g.arc(32, 32, 30, 0, 2 * Math.PI);
+  g.fill();
+  discTexture = new THREE.CanvasTexture(c);
+  return discTexture;
+}
+
+function formatNumber(x) {
+  if (x === 0) return '0';
+  const a = Math.abs(x);
+  return a >= 1e4 || a < 1e-2 ? x.toExponential(2) : x.toPrecision(4).replace(/(\.\d*?)0+$/, '$1').replace(/\.$/, '');
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene objects, one per shape
+
+class ShapeView {
+  constructor(shape, state, run, topology, color) {
+    this.shape = shape;
+    this.state = state;
+    this.stride = state.type === 'Rigid3d' ? 7 : 3;
+    this.indices = topology.subarray(shape.index_offset, shape.index_offset + shape.index_count);
+    this.color = color;
+    const material = (extra) => new THREE.MeshPhongMaterial({ color, flatShading: true, side: THREE.DoubleSide,
+                                                              shininess: 20, ...extra });
+    if (shape.kind === 'triangles' || shape.kind === 'lines' || shape.kind === 'points') {
+      this.geometry = new THREE.BufferGeometry();
+      this.positionAttribute = new THREE.BufferAttribute(new Float32Array(state.dofs * 3), 3);
+      this.positionAttribute.setUsage(THREE.DynamicDrawUsage);
+      this.geometry.setAttribute('position', this.positionAttribute);
+      this.geometry.setIndex(new THREE.BufferAttribute(this.indices, 1));
+      if (shape.kind === 'triangles') {
+        this.object = new THREE.Mesh(this.geometry, material({ polygonOffset: true, polygonOffsetFactor: 1,
+                                                               polygonOffsetUnits: 1 }));
+        this.edges = new THREE.LineSegments(new THREE.WireframeGeometry(this.geometry),
+                                            new THREE.LineBasicMaterial({ color: 0x000000, transparent: true,
+                                                                          opacity: 0.35 }));
+        this.edges.visible = false;
+        this.object.add(this.edges);
+      } else if (shape.kind === 'lines') {
+        this.object = new THREE.LineSegments(this.geometry, new THREE.LineBasicMaterial({ color }));
+      } else {
+        this.object = new THREE.Points(this.geometry, new THREE.PointsMaterial({ color, size: 7, sizeAttenuation: false, map: disc(),
+                                                                                alphaTest: 0.5 }));
+      }
+    } else {
+      const n = shape.index_count;
+      const geometry = shape.kind === 'spheres' ? new THREE.SphereGeometry(1, 32, 20)
+                                                : new THREE.CylinderGeometry(1, 1, 1, 32, 1);
+      this.object = new THREE.InstancedMesh(geometry, material({ flatShading: false, shininess: 40 }), n);
+      this.object.instanceMatrix.setUsage(THREE.DynamicDrawUsage);
+      // Cylinders: three's cylinder runs along y; turn it onto the shape's local axis.
+      this.align = [];
+      if (shape.kind === 'cylinders') {
+        for (let e = 0; e < n; e++) {
+          const axis = new THREE.Vector3(...shape.axis[e]).normalize();
+          this.align.push(new THREE.Quaternion().setFromUnitVectors(new THREE.Vector3(0, 1, 0), axis));
+        }
+      }
+    }
+    this.object.name = shape.name;
+    this.object.frustumCulled = false;  // moving geometry: bounding volumes would go stale
+  }
+
+  /// Copies the shape's state at frame f (positions: the run's Float32Array) into the GPU buffers.
+  update(positions, frameOffset) {
+    const base = frameOffset + this.state.offset;
+    if (this.positionAttribute) {
+      this.positionAttribute.array.set(positions.subarray(base, base + this.state.dofs * 3));
+      this.positionAttribute.needsUpdate = true;
+      if (this.edges && this.edges.visible) {
+        this.edges.geometry.dispose();
+        this.edges.geometry = new THREE.WireframeGeometry(this.geometry);
+      }
+      return;
+    }
+    const m = new THREE.Matrix4();
+    const p = new THREE.Vector3();
+    const q = new THREE.Quaternion();
+    const s = new THREE.Vector3();
+    for (let e = 0; e < this.indices.length; e++) {
+      const i = base + this.indices[e] * this.stride;
+      p.set(positions[i], positions[i + 1], positions[i + 2]);
+      if (this.stride === 7) q.set(positions[i + 3], positions[i + 4], positions[i + 5], positions[i + 6]);
+      else q.identity();
+      const r = this.shape.radius[e];
+      if (this.shape.kind === 'cylinders') {
+        q.multiply(this.align[e]);
+        s.set(r, this.shape.height[e], r);
+      } else {
+        s.set(r, r, r);
+      }
+      this.object.setMatrixAt(e, m.compose(p, q, s));
+    }
+    this.object.instanceMatrix.needsUpdate = true;
+  }
+
+  setWireframe(on) {
+    if (this.edges) {
+      this.edges.visible = on;
+      this.edges.geometry.dispose();
+      this.edges.geometry = new THREE.WireframeGeometry(this.geometry);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Contacts: segments point1 → point2 and points at both ends, coloured by |f·n|; normals optional.
+
+class ContactView {
+  constructor(capacity, maxForce, normalLength) {
+    this.capacity = Math.max(capacity, 1);
+    this.maxForce = maxForce > 0 ? maxForce : 1;
+    this.normalLength = normalLength;
+    const make = (count) => {
+      const geometry = new THREE.BufferGeometry();
+      const position = new THREE.BufferAttribute(new Float32Array(count * 3), 3).setUsage(THREE.DynamicDrawUsage);
+      const color = new THREE.BufferAttribute(new Float32Array(count * 3), 3).setUsage(THREE.DynamicDrawUsage);
+      geometry.setAttribute('position', position);
+      geometry.setAttribute('color', color);
+      geometry.setDrawRange(0, 0);
+      return geometry;
+    };
+    this.segments = new THREE.LineSegments(make(2 * this.capacity),
+                                           new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
+    this.ends = new THREE.Points(this.segments.geometry,
+                                 new THREE.PointsMaterial({ vertexColors: true, size: 5, sizeAttenuation: false,
+                                                            depthTest: false, map: disc(), alphaTest: 0.5 }));
+    this.normals = new THREE.LineSegments(make(2 * this.capacity),
+                                          new THREE.LineBasicMaterial({ color: 0xffffff, depthTest: false }));
+    this.normals.visible = false;
+    this.group = new THREE.Group();
+    this.group.add(this.segments, this.ends, this.normals);
+    this.group.renderOrder = 10;
+    for (const o of [this.segments, this.ends, this.normals]) { o.frustumCulled = false; o.renderOrder = 10; }
+  }
+
+  update(contacts, begin, end) {
+    const count = Math.min((end - begin) / 10, this.capacity);
+    const pos = this.segments.geometry.attributes.position.array;
+    const col = this.segments.geometry.attributes.color.array;
+    const npos = this.normals.geometry.attributes.position.array;
+    const rgb = [0, 0, 0];
+    for (let c = 0; c < count; c++) {
+      const i = begin + 10 * c;
+      for (let k = 0; k < 6; k++) pos[6 * c + k] = contacts[i + k];
+      forceColor(Math.abs(contacts[i + 9]) / this.maxForce, rgb);
+      for (let k = 0; k < 6; k++) col[6 * c + k] = rgb[k % 3];
+      for (let k = 0; k < 3; k++) {
+        npos[6 * c + k] = contacts[i + k];
+        npos[6 * c + 3 + k] = contacts[i + k] + this.normalLength * contacts[i + 6 + k];
+      }
+    }
+    this.segments.geometry.setDrawRange(0, 2 * count);
+    this.normals.geometry.setDrawRange(0, 2 * count);
+    this.segments.geometry.attributes.position.needsUpdate = true;
+    this.segments.geometry.attributes.color.needsUpdate = true;
+    this.normals.geometry.attributes.position.needsUpdate = true;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Plots under the view: series over time, the current frame marked; a click seeks.
+
+class Plot {
+  constructor(canvas, title, unit, times, series) {
+    this.canvas = canvas;
+    this.title = title;
+    this.unit = unit;
+    this.times = times;
+    this.series = series;  // [{label, color, values}]
+    this.background = null;
+  }
+
+  layout() {
+    const ratio = window.devicePixelRatio || 1;
+    const w = Math.max(1, Math.round(this.canvas.clientWidth * ratio));
+    const h = Math.max(1, Math.round(this.canvas.clientHeight * ratio));
+    this.canvas.width = w;
+    this.canvas.height = h;
+    this.ratio = ratio;
+    this.area = { left: 48 * ratio, right: w - 8 * ratio, top: 20 * ratio, bottom: h - 18 * ratio };
+    let lo = Infinity, hi = -Infinity;
+    for (const s of this.series) for (const v of s.values) if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+    if (!Number.isFinite(lo)) { lo = 0; hi = 1; }
+    lo = Math.min(lo, 0);
+    if (hi <= lo) hi = lo + 1;
+    this.lo = lo;
+    this.hi = hi;
+    this.t0 = this.times[0] ?? 0;
+    this.t1 = this.times[this.times.length - 1] ?? 1;
+    if (this.t1 <= this.t0) this.t1 = this.t0 + 1;
+    // The static part (axes, series, legend) is drawn once per size into an offscreen canvas.
+    const off = document.createElement('canvas');
+    off.width = w;
+    off.height = h;
+    const g = off.getContext('2d');
+    const a = this.area;
+    g.font = `${11 * ratio}px system-ui, sans-serif`;
+    g.fillStyle = '#8b94a3';
+    g.strokeStyle = '#3a414c';
+    g.lineWidth = ratio;
+    g.strokeRect(a.left, a.top, a.right - a.left, a.bottom - a.top);
+    g.textAlign = 'right';
+    g.fillText(formatNumber(hi), a.left - 4 * ratio, a.top + 8 * ratio);
+    g.fillText(formatNumber(lo), a.left - 4 * ratio, a.bottom);
+    g.textAlign = 'left';
+    g.fillText(`${this.t0.toPrecision(3)} s`, a.left, h - 4 * ratio);
+    g.textAlign = 'right';
+    g.fillText(`${this.t1.toPrecision(3)} s`, a.right, h - 4 * ratio);
+    g.textAlign = 'left';
+    g.fillStyle = '#d8dde6';
+    g.fillText(`${this.title} (${this.unit})`, a.left, 13 * ratio);
+    let x = a.left + g.measureText(`${this.title} (${this.unit})`).width + 12 * ratio;
+    for (const s of this.series) {
+      g.strokeStyle = s.color;
+      g.lineWidth = 1.5 * ratio;
+      g.beginPath();
+      let pen = false;  // null (not finite) values break the line
+      for (let i = 0; i < s.values.length; i++) {
+        if (!Number.isFinite(s.values[i])) { pen = false; continue; }
+        const px = this.xOf(this.times[i]), py = this.yOf(s.values[i]);
+        if (pen) g.lineTo(px, py); else g.moveTo(px, py);
+        pen = true;
+      }
+      g.stroke();
+      if (this.series.length > 1) {
+        g.fillStyle = s.color;
+        g.fillText(s.label, x, 13 * ratio);
+        x += g.measureText(s.label).width + 10 * ratio;
+      }
+    }
+    this.background = off;
+  }
+
+  xOf(t) { return this.area.left + (t - this.t0) / (this.t1 - this.t0) * (this.area.right - this.area.left); }
+  yOf(v) { return this.area.bottom - (v - this.lo) / (this.hi - this.lo) * (this.area.bottom - this.area.top); }
+  timeAt(clientX) {
+    const r = this.canvas.getBoundingClientRect();
+    const x = (clientX - r.left) * this.ratio;
+    return this.t0 + (x - this.area.left) / (this.area.right - this.area.left) * (this.t1 - this.t0);
+  }
+
+  draw(frame) {
+    if (!this.background) this.layout();
+    const g = this.canvas.getContext('2d');
+    g.clearRect(0, 0, this.canvas.width, this.canvas.height);
+    g.drawImage(this.background, 0, 0);
+    const x = this.xOf(this.times[frame]);
+    g.strokeStyle = '#ffffff';
+    g.lineWidth = this.ratio;
+    g.beginPath();
+    g.moveTo(x, this.area.top);
+    g.lineTo(x, this.area.bottom);
+    g.stroke();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The viewer
+
+class Viewer {
+  constructor(data) {
+    this.data = data;
+    const { run } = data;
+    this.frames = run.frames.count;
+    this.frame = 0;
+    this.playing = false;
+    this.speed = 1;
+
+    const view = $('view');
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+    this.renderer.setClearColor(BACKGROUND);
+    this.renderer.domElement.className = 'three';
+    view.prepend(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.camera = new THREE.PerspectiveCamera(40, 1, 0.001, 1000);
+    this.scene.add(new THREE.HemisphereLight(0xffffff, 0x404850, 1.6));
+    const sun = new THREE.DirectionalLight(0xffffff, 1.6);
+    sun.position.set(0.5, 1, 0.8);
+    this.camera.add(sun);
+    this.scene.add(this.camera);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener('change', () => this.requestRender());
+
+    // Bodies: one colour per node holding collision models.
+    this.nodeColor = new Map();
+    this.shapes = run.shapes.map((shape) => {
+      const state = run.states[shape.state];
+      if (!this.nodeColor.has(state.node_path))
+        this.nodeColor.set(state.node_path, PALETTE[this.nodeColor.size % PALETTE.length]);
+      const v = new ShapeView(shape, state, run, data.topology, this.nodeColor.get(state.node_path));
+      this.scene.add(v.object);
+      return v;
+    });
+    this.bounds = this.computeBounds(false);
+    this.focus = this.computeBounds(true);
+    const diagonal = this.bounds.getSize(new THREE.Vector3()).length() || 1;
+    let maxContacts = 0;
+    for (const c of run.frames.contacts) maxContacts = Math.max(maxContacts, c);
+    this.forceScale = forceScale(data.contacts, run.contact_floats, run.max_normal_force);
+    this.contacts = new ContactView(maxContacts, this.forceScale, 0.05 * diagonal);
+    this.scene.add(this.contacts.group);
+    this.camera.near = diagonal * 1e-3;
+    this.camera.far = diagonal * 100;
+    this.resetCamera();
+
+    this.buildTree();
+    this.buildColorbar();
+    this.buildTimeline();
+    this.buildPlots();
+    $('title').textContent = `penalty · ${run.title}`;
+    document.title = `penalty viewer · ${run.title}`;
+    new ResizeObserver(() => this.resize()).observe(view);
+    this.resize();
+    this.setFrame(0);
+    $('status').textContent = '';
+    document.body.dataset.ready = 'true';
+  }
+
+  /// Box of every shape at the first frame; with `movingOnly`, of the shapes whose state moves
+  /// during the run (the camera frames them: a large static floor would make them small), or of
+  /// everything when nothing moves.
+  computeBounds(movingOnly) {
+    const box = new THREE.Box3();
+    const { run, positions } = this.data;
+    const last = (run.frames.count - 1) * run.frame_floats;
+    const moves = (state) => {
+      const n = state.dofs * (state.type === 'Rigid3d' ? 7 : 3);
+      for (let i = state.offset; i < state.offset + n; i++) if (positions[i] !== positions[last + i]) return true;
+      return false;
+    };
+    const p = new THREE.Vector3();
+    for (const shape of run.shapes) {
+      const state = run.states[shape.state];
+      if (movingOnly && !moves(state)) continue;
+      const stride = state.type === 'Rigid3d' ? 7 : 3;
+      // spheres and cylinders reach beyond their centres
+      const reach = [...(shape.radius || []), ...(shape.height || []).map((h) => h / 2)].reduce((a, b) => Math.max(a, b), 0);
+      for (let d = 0; d < state.dofs; d++) {
+        const i = state.offset + d * stride;
+        p.set(positions[i], positions[i + 1], positions[i + 2]);
+        box.expandByPoint(p.clone().addScalar(reach));
+        box.expandByPoint(p.clone().subScalar(reach));
+      }
+    }
+    if (box.isEmpty()) return movingOnly ? this.computeBounds(false) : box.set(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
+    return box;
+  }
+
+  resetCamera() {
+    const center = this.focus.getCenter(new THREE.Vector3());
+    const size = this.focus.getSize(new THREE.Vector3()).length() || 1;
+    this.camera.position.copy(center).add(new THREE.Vector3(0.55, 0.4, 1).normalize().multiplyScalar(2.2 * size));
+    this.camera.up.set(0, 1, 0);
+    this.controls.target.copy(center);
+    this.camera.lookAt(center);
+    this.controls.update();
+    this.requestRender();
+  }
+
+  resize() {
+    const view = $('view');
+    const w = Math.max(1, view.clientWidth), h = Math.max(1, view.clientHeight);
+    this.renderer.setSize(w, h, false);
+    this.renderer.domElement.style.width = `${w}px`;
+    this.renderer.domElement.style.height = `${h}px`;
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+    for (const p of this.plots) p.background = null;
+    this.drawPlots();
+    this.requestRender();
+  }
+
+  setFrame(f) {
+    f = Math.min(Math.max(Math.round(f), 0), this.frames - 1);
+    this.frame = f;
+    const { run, positions, contacts, contactOffset } = this.data;
+    const frameOffset = f * run.frame_floats;
+    for (const s of this.shapes) s.update(positions, frameOffset);
+    this.contacts.update(contacts, contactOffset[f], contactOffset[f + 1]);
+    $('frame-label').textContent = `${f} / ${this.frames - 1}`;
+    $('time-label').textContent = run.frames.time[f].toPrecision(6);
+    $('contacts-label').textContent = String(run.frames.contacts[f]);
+    $('penetration-label').textContent = formatNumber(run.frames.max_penetration[f]);
+    const slider = $('slider');
+    if (Number(slider.value) !== f) slider.value = String(f);
+    document.body.dataset.frame = String(f);
+    this.drawPlots();
+    this.requestRender();
+  }
+
+  // -- side panel: nodes → states → collision models, each with a visibility checkbox
+  buildTree() {
+    const { run } = this.data;
+    const root = { name: run.title, path: '/', children: new Map(), states: [] };
+    const nodeAt = (path) => {
+      let node = root;
+      let sofar = '';
+      for (const part of path.split('/').filter(Boolean)) {
+        sofar += `/${part}`;
+        if (!node.children.has(part)) node.children.set(part, { name: part, path: sofar, children: new Map(), states: [] });
+        node = node.children.get(part);
+      }
+      return node;
+    };
+    run.states.forEach((state, k) => nodeAt(state.node_path).states.push({ state, k }));
+    this.hiddenNodes = new Set();
+    this.hiddenShapes = new Set();
+    const render = (node) => {
+      const li = document.createElement('li');
+      const color = this.nodeColor.get(node.path);
+      li.innerHTML = `<label><input type="checkbox" checked data-node="${escapeHtml(node.path)}">` +
+        (color !== undefined ? `<span class="swatch" style="background:#${color.toString(16).padStart(6, '0')}"></span>` : ' ') +
+        `<b>${escapeHtml(node.name)}</b></label>`;
+      const ul = document.createElement('ul');
+      for (const { state, k } of node.states) {
+        const sli = document.createElement('li');
+        sli.innerHTML = `${escapeHtml(state.name)} <span class="kind">${state.type}, ${state.dofs} DOF${state.dofs === 1 ? '' : 's'}` +
+          `${state.mapped ? ', mapped' : ''}</span>`;
+        const sul = document.createElement('ul');
+        this.shapes.forEach((v, s) => {
+          if (v.shape.state !== k) return;
+          const count = v.shape.kind === 'triangles' ? v.indices.length / 3 : v.shape.kind === 'lines' ? v.indices.length / 2
+                                                                                                          : v.indices.length;
+          const mli = document.createElement('li');
+          mli.innerHTML = `<label><input type="checkbox" checked data-shape="${s}">${escapeHtml(v.shape.name)} ` +
+            `<span class="kind">${escapeHtml(v.shape.type)}, ${count} ${v.shape.kind}</span></label>`;
+          sul.append(mli);
+        });
+        sli.append(sul);
+        ul.append(sli);
+      }
+      for (const child of node.children.values()) ul.append(render(child));
+      li.append(ul);
+      return li;
+    };
+    const top = document.createElement('ul');
+    top.append(render(root));
+    $('tree').append(top);
+    $('tree').addEventListener('change', (event) => {
+      const input = event.target;
+      if (input.dataset.node !== undefined) {
+        if (input.checked) this.hiddenNodes.delete(input.dataset.node); else this.hiddenNodes.add(input.dataset.node);
+      } else if (input.dataset.shape !== undefined) {
+        const s = Number(input.dataset.shape);
+        if (input.checked) this.hiddenShapes.delete(s); else this.hiddenShapes.add(s);
+      }
+      this.applyVisibility();
+    });
+  }
+
+  applyVisibility() {
+    const hiddenBy = (path) => {
+      if (this.hiddenNodes.has('/')) return true;
+      let sofar = '';
+      for (const part of path.split('/').filter(Boolean)) {
+        sofar += `/${part}`;
+        if (this.hiddenNodes.has(sofar)) return true;
+      }
+      return false;
+    };
+    this.shapes.forEach((v, s) => {
+      v.object.visible = !this.hiddenShapes.has(s) && !hiddenBy(this.data.run.states[v.shape.state].node_path);
+    });
+    this.requestRender();
+  }
+
+  buildColorbar() {
+    const canvas = $('colorbar-gradient');
+    const g = canvas.getContext('2d');
+    const rgb = [0, 0, 0];
+    for (let x = 0; x < canvas.width; x++) {
+      forceColor(x / (canvas.width - 1), rgb);
+      g.fillStyle = `rgb(${rgb.map((c) => Math.round(255 * c)).join(',')})`;
+      g.fillRect(x, 0, 1, 1);
+    }
+    const max = this.forceScale;
+    const clipped = max < this.data.run.max_normal_force;
+    $('colorbar-min').textContent = '0';
+    $('colorbar-mid').textContent = formatNumber(max / 2);
+    $('colorbar-max').textContent = `${clipped ? '≥ ' : ''}${formatNumber(max)} N`;
+    $('colorbar').title = `colour scale: 99th percentile of |f·n| over the run (${formatNumber(max)} N); ` +
+                          `largest ${formatNumber(this.data.run.max_normal_force)} N`;
+    $('colorbar').hidden = false;
+    $('show-contacts').addEventListener('change', (e) => { this.contacts.group.visible = e.target.checked; this.requestRender(); });
+    $('show-normals').addEventListener('change', (e) => { this.contacts.normals.visible = e.target.checked; this.requestRender(); });
+    $('show-wireframe').addEventListener('change', (e) => { for (const s of this.shapes) s.setWireframe(e.target.checked); this.requestRender(); });
+    $('reset-camera').addEventListener('click', () => this.resetCamera());
+  }
+
+  buildTimeline() {
+    const slider = $('slider');
+    slider.max = String(this.frames - 1);
+    slider.addEventListener('input', () => { this.pause(); this.setFrame(Number(slider.value)); });
+    $('play').addEventListener('click', () => (this.playing ? this.pause() : this.play()));
+    $('step-back').addEventListener('click', () => { this.pause(); this.setFrame(this.frame - 1); });
+    $('step-forward').addEventListener('click', () => { this.pause(); this.setFrame(this.frame + 1); });
+    $('speed').addEventListener('change', (e) => { this.speed = Number(e.target.value); this.playStart = null; });
+    window.addEventListener('keydown', (e) => {
+      if (e.target instanceof HTMLInputElement && e.target.type !== 'range') return;
+      if (e.key === ' ') { e.preventDefault(); this.playing ? this.pause() : this.play(); }
+      else if (e.key === 'ArrowRight') { this.pause(); this.setFrame(this.frame + 1); }
+      else if (e.key === 'ArrowLeft') { this.pause(); this.setFrame(this.frame - 1); }
+    });
+  }
+
+  play() {
+    if (this.frames < 2) return;
+    if (this.frame >= this.frames - 1) this.setFrame(0);
+    this.playing = true;
+    this.playStart = null;
+    $('play').textContent = '❚❚ pause';
+    document.body.dataset.playing = 'true';
+    this.requestRender();
+  }
+
+  pause() {
+    this.playing = false;
+    $('play').textContent = '▶ play';
+    document.body.dataset.playing = 'false';
+  }
+
+  /// Playback follows simulated time: after w seconds of wall time at speed s, the frame shown is
+  /// the last one with time ≤ t_start + s·w (at least one frame further per animation frame).
+  advance(now) {
+    const times = this.data.run.frames.time;
+    if (this.playStart === null) this.playStart = { wall: now, time: times[this.frame], frame: this.frame };
+    const target = this.playStart.time + this.speed * (now - this.playStart.wall) / 1000;
+    let f = this.frame;
+    while (f + 1 < this.frames && times[f + 1] <= target) f++;
+    if (f === this.frame && this.speed >= 1) f = this.frame + 1;
+    if (f >= this.frames) { this.pause(); return; }
+    if (f !== this.frame) this.setFrame(f);
+    if (this.frame >= this.frames - 1) this.pause();
+  }
+
+  buildPlots() {
+    const { run } = this.data;
+    const fr = run.frames;
+    this.plots = [
+      new Plot($('plot-energy'), 'energy', 'J', fr.time, [
+        { label: 'kinetic', color: '#4fa3ff', values: fr.kinetic_energy },
+        { label: 'stored', color: '#f2a541', values: fr.contact_energy },
+        { label: 'dissipated', color: '#e0607e', values: fr.dissipated_energy },
+      ]),
+      new Plot($('plot-contacts'), 'contacts', 'count', fr.time, [{ label: 'contacts', color: '#6cc551', values: fr.contacts }]),
+      new Plot($('plot-penetration'), 'max penetration', 'm', fr.time,
+               [{ label: 'max penetration', color: '#b38cf0', values: fr.max_penetration }]),
+    ];
+    for (const p of this.plots) {
+      p.canvas.addEventListener('click', (e) => {
+        const t = p.timeAt(e.clientX);
+        let f = 0;
+        while (f + 1 < this.frames && fr.time[f + 1] <= t) f++;
+        this.pause();
+        this.setFrame(f);
+      });
+    }
+  }
+
+  drawPlots() {
+    if (this.plots) for (const p of this.plots) p.draw(this.frame);
+  }
+
+  requestRender() {
+    if (this.renderPending) return;
+    this.renderPending = true;
+    requestAnimationFrame((now) => {
+      this.renderPending = false;
+      if (this.playing) this.advance(now);
+      this.renderer.render(this.scene, this.camera);
+      document.body.dataset.rendered = String((Number(document.body.dataset.rendered) || 0) + 1);
+      if (this.playing) this.requestRender();
+    });
+  }
+}
+
+/// The top of the colour scale: the 99th percentile of |f·n| over every contact of the run (a few
+/// impacts would otherwise squeeze everything else into one colour), at most `largest`.
+function forceScale(contacts, stride, largest) {
+  const n = Math.floor(contacts.length / stride);
+  if (n === 0) return largest > 0 ? largest : 1;
+  const step = Math.max(1, Math.floor(n / 200000));  // a sample of at most ~200k contacts
+  const values = [];
+  for (let c = 0; c < n; c += step) values.push(Math.abs(contacts[c * stride + 9]));
+  values.sort((a, b) => a - b);
+  const p99 = values[Math.min(values.length - 1, Math.floor(0.99 * values.length))];
+  return p99 > 0 ? Math.min(p99, largest) : (largest > 0 ? largest : 1);
+}
+
+function escapeHtml(text) {
+  return String(text).replace(/[&<>"']/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;', "'": '&#39;' })[c]);
+}
+
+loadRun()
+  .then((data) => { window.penaltyViewer = new Viewer(data); })
+  .catch((error) => {
+    $('status').textContent = `cannot load the run: ${error.message}`;
+    document.body.dataset.error = error.message;
+    console.error(error);
+  });
