@@ -35,6 +35,9 @@ struct BuildOptions {
     /// Detection algorithm: BVH narrow phase (default) or SOFA's exhaustive pair loop; both give
     /// the same outputs in the same order.
     bool exhaustive_detection = false;
+    /// Fixes of SOFA bugs turned on for every intersection method of the scene
+    /// (`--fix-sofa-quirk NAME`), in addition to those its `fixSofaQuirks` attribute turns on.
+    SofaQuirkFixes sofa_quirk_fixes;
 };
 
 /// One collision model of the scene and where it comes from.
