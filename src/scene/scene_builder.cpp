@@ -661,7 +661,10 @@ private:
         Vec3Object& s = vec3_state(c, info);
         guarded(c, [&] {
             MeshSpringParameters p = MeshSpringParameters::uniform(nonnegative(c, "stiffness", 0.0), nonnegative(c, "damping", 0.0));
-            if (c.type == "RegularGridSpringForceField" && !c.has("stiffness")) p = MeshSpringParameters::uniform(100.0, 0.0);
+            // SOFA's RegularGridSpringForceField defaults: stiffness 100, damping 5 (its Data
+            // linesStiffness … cubesDamping, which `stiffness` and `damping` alias).
+            if (c.type == "RegularGridSpringForceField")
+                p = MeshSpringParameters::uniform(nonnegative(c, "stiffness", 100.0), nonnegative(c, "damping", 5.0));
             auto pick = [&](const char* k, const char* d, double& ks, double& kd) {
                 ks = nonnegative(c, k, ks);
                 kd = nonnegative(c, d, kd);
@@ -674,7 +677,7 @@ private:
             std::vector<Spring> springs;
             if (c.type == "RegularGridSpringForceField") {
                 if (!info.grid) io::throw_element_error(c, "needs a RegularGridTopology in its node");
-                springs = mesh_springs(info.grid->mesh(false), s.rest_position, p);
+                springs = regular_grid_springs(*info.grid, p);  // SOFA's order and rest lengths
             } else {
                 springs = mesh_springs(topology_of(c, info), s.rest_position, p);
             }
@@ -1008,7 +1011,6 @@ private:
         std::string summary = sp.intersection;
         if (sp.intersection != "Discrete")
             summary += " (alarm " + num(params.alarm_distance) + " m, contact " + num(params.contact_distance) + " m)";
-        summary += ", SOFA quirk fixes: " + quirk_summary(params.quirks);
         summary += ", " + counted(models.size(), "collision model", "collision models") + ", response " +
                    (sp.pipeline->response().base_response_name().empty() ? std::string("none")
                                                                           : sp.pipeline->response().base_response_name());

@@ -14,13 +14,23 @@ void CGLinearSolver::check() const {
     if (!std::isfinite(threshold) || threshold < 0) throw_invalid_argument("CGLinearSolver: threshold must be >= 0, got ", threshold);
 }
 
-CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+namespace {
+/// Σ aᵢbᵢ, left to right (no vectorised partial sums).
+double sequential_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < a.size(); ++i) sum += a[i] * b[i];
+    return sum;
+}
+}  // namespace
+
+CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x, const Dot& dot_product) {
     check();
+    const Dot& dot = dot_product ? dot_product : Dot(sequential_dot);
     CgStats stats;
     const bool first_solve = solve_count_ == 0;
     ++solve_count_;
     x = Eigen::VectorXd::Zero(b.size());
-    const double norm_b = b.norm();
+    const double norm_b = std::sqrt(dot(b, b));  // SOFA: MultiVec::norm() = sqrt(v_dot(b, b))
     if (!std::isfinite(norm_b)) throw_invalid_argument("CGLinearSolver: right-hand side is not finite");
     if (norm_b == 0.0) {
         stats.end_condition = "b=0";
@@ -33,7 +43,7 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
     stats.end_condition = "iterations";
     for (int k = 1; k <= iterations; ++k) {
         stats.iterations = k;
-        const double rho = r.dot(r);
+        const double rho = dot(r, r);
         const double err = std::sqrt(rho) / norm_b;
         stats.error = err;
         if (err <= tolerance && !(k == 1 && first_solve)) {
@@ -46,7 +56,7 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
             p = r + (rho / rho_prev) * p;
         }
         a(p, q);
-        const double den = p.dot(q);
+        const double den = dot(p, q);
         if (den == 0.0) {
             stats.end_condition = "den=0";
             break;
@@ -106,6 +116,23 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
 Index SubtreeSystem::offset(const BaseState* s) const {
     const auto it = offset_of_.find(s);
     return it == offset_of_.end() ? static_cast<Index>(size_) : it->second;
+}
+
+double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+    double total = 0.0;
+    for (std::size_t s = 0; s < independent_.size(); ++s) {
+        const Eigen::Index width = independent_[s]->deriv_size();
+        const Eigen::Index begin = offsets_[s];
+        const Eigen::Index end = begin + static_cast<Eigen::Index>(independent_[s]->scalar_size());
+        double state_sum = 0.0;
+        for (Eigen::Index i = begin; i < end; i += width) {
+            double dof = a[i] * b[i];
+            for (Eigen::Index c = 1; c < width; ++c) dof += a[i + c] * b[i + c];
+            state_sum += dof;
+        }
+        total += state_sum;
+    }
+    return total;
 }
 
 void SubtreeSystem::gather_velocity(Eigen::VectorXd& v) const {
@@ -292,7 +319,8 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     const double bf = first_order ? 0.0 : -tr * h;
     const double kf = first_order ? -h * tr : -tr * h * (tr * h + rs);
     Eigen::VectorXd x;
-    record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x));
+    record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x,
+                       [&](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
     Eigen::VectorXd v_new = first_order ? x : Eigen::VectorXd(v + x);
     sys.scatter_velocity(v_new);
     sys.add_to_positions(h, v_new);
@@ -344,7 +372,7 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
         }
         Eigen::VectorXd delta;
         record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, 1.0, -h, -h * h, true); },
-                           rhs, delta));
+                           rhs, delta, [&](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
         dv += delta;
     }
     const Eigen::VectorXd v = v0 + dv;

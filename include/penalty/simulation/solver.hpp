@@ -29,13 +29,17 @@ struct CgStats {
 class CGLinearSolver {
 public:
     using Operator = std::function<void(const Eigen::VectorXd& p, Eigen::VectorXd& q)>;
+    /// Dot product of two flat vectors. SOFA sums in a fixed order (SubtreeSystem::dot); the
+    /// rounding of ρ, pᵀq and |b| depends on it, so the solve uses the system's order.
+    using Dot = std::function<double(const Eigen::VectorXd& a, const Eigen::VectorXd& b)>;
     int iterations = 25;
     double tolerance = 1e-5;
     double threshold = 1e-5;
 
     /// Validates the parameters (std::invalid_argument on iterations < 1 or negative/NaN values).
     void check() const;
-    CgStats solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+    /// `dot` empty: the plain sequential sum Σ aᵢbᵢ.
+    CgStats solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x, const Dot& dot = {});
     [[nodiscard]] int solve_count() const { return solve_count_; }
 
 private:
@@ -55,6 +59,12 @@ public:
     [[nodiscard]] const std::vector<BaseForceField*>& force_fields() const { return force_fields_; }
     /// Scalar offset of a state in the system, or size() for a state outside it.
     [[nodiscard]] Index offset(const BaseState* s) const;
+
+    /// aᵀb summed as SOFA's VectorOperations::v_dot (MechanicalVDotVisitor over the independent
+    /// states in visiting order, each MechanicalObject::vDot): per DOF d = Σ_c a_c·b_c left to right
+    /// (Vec3: 3 components; Rigid3 deriv: 6, RigidDeriv::operator*), per state r = 0, r += d for
+    /// each DOF in order, total = 0, total += r for each state in order.
+    [[nodiscard]] double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
 
     void gather_velocity(Eigen::VectorXd& v) const;
     void scatter_velocity(const Eigen::VectorXd& v) const;
