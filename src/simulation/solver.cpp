@@ -172,10 +172,15 @@ void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
 }
 
 void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k,
-                              bool do_project) const {
+                              bool do_project, bool accumulate) const {
+    if (accumulate) PENALTY_DEMAND(out.size() == size_);
     for (std::size_t i = 0; i < independent_.size(); ++i) {
-        independent_[i]->dx_flat() = dx.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size()));
-        independent_[i]->df_flat().setZero();
+        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        independent_[i]->dx_flat() = dx.segment(offsets_[i], n);
+        // accumulate: each contribution is added to out's value in turn, as SOFA's addMBKv
+        // adds into b = f (((f + c1) + c2) ..., not f + (c1 + c2 ...)).
+        if (accumulate) independent_[i]->df_flat() = out.segment(offsets_[i], n);
+        else independent_[i]->df_flat().setZero();
     }
     for (BaseState* s : external_) {
         s->dx_flat().setZero();
@@ -306,13 +311,13 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     sys.compute_force(f);
     Eigen::VectorXd v;
     sys.gather_velocity(v);
-    Eigen::VectorXd b;
-    if (first_order) {
-        b = f;
-    } else {
-        Eigen::VectorXd kv;
-        sys.apply_mbk(v, kv, -rm, 0.0, h * tr + rs, false);
-        b = h * (f + kv);
+    // SOFA's EulerImplicitSolver::solve: b = f; b += (−rm·M + (h·tr + rs)·K)·v, each force
+    // field (and mass) adding into b in turn (MappingGraphMechanicalOperations::addMBKv);
+    // b = b·h (b.teq(h)).
+    Eigen::VectorXd b = f;
+    if (!first_order) {
+        sys.apply_mbk(v, b, -rm, 0.0, h * tr + rs, false, /*accumulate=*/true);
+        b *= h;
     }
     sys.project(b);
     const double mf = first_order ? 1.0 : 1.0 + tr * h * rm;

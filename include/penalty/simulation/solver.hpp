@@ -75,7 +75,10 @@ public:
     /// f = external forces + gravity + Σ force fields, mapped forces brought up by Jᵀ.
     void compute_force(Eigen::VectorXd& f) const;
     /// out = (m·M + b·B + k·K)·dx (matrix-free, through the mappings), projected if asked.
-    void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project) const;
+    /// accumulate: out += (m·M + b·B + k·K)·dx, each contribution added to out in turn (out must
+    /// have size()); the projection, if asked, applies to the sum.
+    void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project,
+                   bool accumulate = false) const;
     /// Applies every projective constraint to a flat vector.
     void project(Eigen::VectorXd& v) const;
     /// out = M⁻¹·in (independent states; each must have a mass).
