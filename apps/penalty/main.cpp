@@ -40,6 +40,8 @@ struct RunArguments {
     std::string vtk, states, stats, reference;
     std::string compare_trajectory;          ///< --compare-trajectory DIR
     double trajectory_threshold = 1e-12;     ///< --trajectory-threshold
+    std::int64_t debug_step = -1;            ///< --debug-step K
+    std::string debug_file = "penalty-debug-step.txt";  ///< --debug-file FILE
     std::vector<std::string> quirk_fixes;    ///< --fix-sofa-quirk NAME (repeatable), --fix-sofa-quirks all
     std::int64_t vtk_every = 1, export_every = 1;
     bool export_mapped = false;
@@ -141,12 +143,19 @@ int run_command(const RunArguments& a) {
     run.export_mapped = a.export_mapped;
     run.export_every = a.export_every;
     if (!a.stats.empty()) run.stats_file = a.stats;
+    if (a.debug_step >= 0) {
+        if (a.debug_step >= run.steps)
+            throw UsageError("--debug-step " + std::to_string(a.debug_step) + " is not below --steps " + std::to_string(run.steps));
+        run.debug_step = a.debug_step;
+        run.debug_file = a.debug_file;
+    }
     ProgressBar bar(!a.quiet && isatty(STDERR_FILENO) != 0);
     const sc::RunSummary summary = sc::run_scene(*scene, run, std::ref(bar));
     std::cout << sc::format_summary(summary);
     if (!a.states.empty()) std::cout << "states: " << summary.state_files.size() << " files in " << a.states << "\n";
     if (!a.vtk.empty()) std::cout << "vtk: series in " << a.vtk << " (open the .pvd files in ParaView)\n";
     if (!a.stats.empty()) std::cout << "stats: " << a.stats << "\n";
+    if (a.debug_step >= 0) std::cout << "debug: step " << a.debug_step << " in " << a.debug_file << "\n";
 
     if (!a.reference.empty()) {
         if (builtin) throw std::invalid_argument("--reference needs a scene file");
@@ -215,6 +224,10 @@ int main(int argc, char** argv) {
     run->add_option("--trajectory-threshold", args.trajectory_threshold,
                     "Largest |x - x_SOFA| per value accepted by --compare-trajectory (default 1e-12)")
         ->check(CLI::NonNegativeNumber);
+    run->add_option("--debug-step", args.debug_step,
+                    "After step K (0 = the first), write its contacts, linear solves and forces (--debug-file)")
+        ->check(CLI::NonNegativeNumber);
+    run->add_option("--debug-file", args.debug_file, "File of --debug-step (default penalty-debug-step.txt)");
     run->add_option("--fix-sofa-quirk", args.quirk_fixes,
                     "Fix a SOFA bug in every intersection method (repeatable; 'all' for every one; names: penalty info)");
     run->add_option("--fix-sofa-quirks", args.quirk_fixes, "Same as --fix-sofa-quirk (e.g. --fix-sofa-quirks all)");

@@ -758,6 +758,7 @@ private:
             auto& s = node.set_ode_solver<EulerImplicitSolver>();
             init_steps_.push_back({1, [p = &s, n = &node] { p->init(*n); }, &c});
             scene_.implicit_solvers_.push_back(&s);
+            scene_.implicit_solver_paths_.push_back(node_path(node));
             s.rayleigh_stiffness = io::get_double_or(c, "rayleighStiffness", 0.0);
             s.rayleigh_mass = io::get_double_or(c, "rayleighMass", 0.0);
             s.vdamping = nonnegative(c, "vdamping", 0.0);
@@ -1176,6 +1177,12 @@ void Scene::step() {
             solver_stats_.newton_unconverged = solver_stats_.newton_unconverged || !s->last_newton_converged();
         }
     }
+}
+
+std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
+    std::vector<std::pair<std::string, const EulerImplicitSolver*>> out;
+    for (std::size_t i = 0; i < implicit_solvers_.size(); ++i) out.emplace_back(implicit_solver_paths_[i], implicit_solvers_[i]);
+    return out;
 }
 
 bool Scene::uses_newton() const {

@@ -291,6 +291,7 @@ void EulerImplicitSolver::init(Node& /*node*/) {
 
 void EulerImplicitSolver::record_cg(const CgStats& stats) {
     last_cg_ = stats;
+    step_cg_solves_.push_back(stats);
     step_cg_iterations_ += stats.iterations;
     step_cg_limit_reached_ = step_cg_limit_reached_ || stats.end_condition == "iterations";
 }
@@ -298,6 +299,7 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
 void EulerImplicitSolver::solve(Node& node, double dt) {
     SubtreeSystem sys(node);
     step_cg_iterations_ = 0;
+    step_cg_solves_.clear();
     step_cg_limit_reached_ = false;
     if (newton.enabled) {
         solve_newton(sys, dt);

@@ -30,6 +30,9 @@ struct RunOptions {
     bool export_mapped = false;                              ///< `--export-mapped`
     std::int64_t export_every = 1;                           ///< `--export-every M`: steps k with k % M == 0, and the last
     std::optional<std::filesystem::path> stats_file;        ///< `--stats FILE.csv`
+    /// `--debug-step K --debug-file FILE`: after step K, write what it did (write_step_debug).
+    std::optional<std::int64_t> debug_step;
+    std::filesystem::path debug_file = "penalty-debug-step.txt";
 };
 
 /// Totals of a run.
@@ -66,6 +69,21 @@ using ProgressCallback = std::function<void(std::int64_t, std::int64_t, const Ru
 /// Runs `options.steps` steps. Throws std::runtime_error on divergence or I/O failure and
 /// std::invalid_argument for invalid options (steps < 0, every < 1).
 RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress = {});
+
+/// The debug export of one step (`penalty run --debug-step K`), written right after step k
+/// (which started at time t_start and detected contacts with the positions at t_start). Plain
+/// text, one record per line, numbers with 17 significant digits, sections:
+///   # header: scene, step, t_start, dt
+///   contacts: per live contact pair "pair <model 1>-<model 2> (<n> contacts)", then per contact
+///     "contact <i> elements <e1> <e2> point1 <x y z> point2 <x y z> normal <x y z> distance <d>
+///      penetration <pen> stiffness <ks> force <f_n>" (points: the contact points at the end of the
+///     step's collision, i.e. mapped from the positions at t_start; penetration and force from the
+///     last force evaluation of the step)
+///   solves: per implicit solver "solve <node path> linear solve <j>: iterations <n> end <cond>
+///     residual <|r|/|b|>"
+///   forces: per state (every MechanicalObject of the scene, depth first) its force vector as the
+///     step's solver computed it at t_start, "force <state> <dof> <fx fy fz>" (Rigid3: 6 values).
+[[nodiscard]] std::string step_debug_text(const Scene& scene, std::int64_t step, double t_start);
 
 /// The summary as printed at the end of `penalty run` (several lines).
 [[nodiscard]] std::string format_summary(const RunSummary& summary);

@@ -95,6 +95,8 @@ public:
     [[nodiscard]] bool uses_newton() const;
     /// True if the scene has an implicit solver (CG statistics are meaningful).
     [[nodiscard]] bool uses_cg() const { return !implicit_solvers_.empty(); }
+    /// The implicit solvers with the path of their node, in build order (depth first).
+    [[nodiscard]] std::vector<std::pair<std::string, const EulerImplicitSolver*>> implicit_solvers() const;
 
     /// Every MechanicalObject of the scene file, depth first (parent before children, file
     /// order), with its topology, mapped flag and solver-subtree flag. Contact-point states the
@@ -134,6 +136,7 @@ private:
     StepTimings timings_;
     StepSolverStats solver_stats_;
     std::vector<const EulerImplicitSolver*> implicit_solvers_;
+    std::vector<std::string> implicit_solver_paths_;  ///< node path of each implicit solver
     mutable std::vector<output::ContactRecord> contacts_cache_;
 };
 

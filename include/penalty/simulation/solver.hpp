@@ -137,6 +137,8 @@ public:
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
     [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
+    /// Every linear solve of the last solve() in order (one, or one per Newton iterate).
+    [[nodiscard]] const std::vector<CgStats>& last_step_cg_solves() const { return step_cg_solves_; }
     /// CG iterations of the last solve() in all (one linear solve, or one per Newton iterate).
     [[nodiscard]] int last_step_cg_iterations() const { return step_cg_iterations_; }
     /// True if a linear solve of the last solve() stopped on its iteration limit.
@@ -154,6 +156,7 @@ private:
     CgStats last_cg_;
     void record_cg(const CgStats& stats);
     int step_cg_iterations_ = 0;
+    std::vector<CgStats> step_cg_solves_;
     bool step_cg_limit_reached_ = false;
     int last_newton_iterations_ = 0;
     double last_newton_residual_ = 0.0;
