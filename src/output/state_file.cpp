@@ -439,7 +439,9 @@ std::string format_trajectory_comparison(const TrajectoryComparison& c) {
     for (const TrajectoryStateComparison& s : c.states) {
         out << "trajectory: " << s.our_file.filename().string();
         if (!s.sofa_file.empty()) out << " vs " << s.sofa_file.filename().string();
-        out << ": error " << format_number(s.criterion) << ", " << s.steps_compared << " steps compared";
+        out << ": error " << format_number(s.criterion) << " (per step "
+            << format_number(s.steps_compared > 0 ? s.criterion / double(s.steps_compared) : 0.0) << "), "
+            << s.steps_compared << " steps compared";
         if (s.sofa_steps_not_compared > 0) out << " (" << s.sofa_steps_not_compared << " of SOFA's steps not exported)";
         out << "\n";
         if (!s.problem.empty()) out << "trajectory:   problem: " << s.problem << "\n";
@@ -453,7 +455,8 @@ std::string format_trajectory_comparison(const TrajectoryComparison& c) {
         if (s.largest) out << "trajectory:   largest: " << describe_difference(*s.largest) << "\n";
         if (s.last) out << "trajectory:   at the end: " << describe_difference(*s.last) << "\n";
     }
-    out << "trajectory: SOFA's criterion " << format_number(c.mean_criterion) << " (<= 1e-4), "
+    out << "trajectory: SOFA's criterion " << format_number(c.mean_criterion)
+        << " (<= 1e-4; CompareState's sum over the compared steps), "
         << (all_within ? "every state within " : "states beyond ") << format_number(c.threshold)
         << (all_within ? " at every step: " : ": ") << (c.passed() ? "PASS" : "FAIL") << "\n";
     return out.str();
