@@ -121,7 +121,10 @@ std::pair<std::array<int, 3>, Vec3> RegularGridTopology::locate(const Vec3& p) c
     for (int a = 0; a < 3; ++a) {
         const auto ua = static_cast<std::size_t>(a);
         if (n_[ua] < 2) throw_invalid_argument("RegularGridTopology: locate needs a 3-D grid");
-        const double t = (p[a] - min_[a]) / dx_[a];
+        // SOFA's RegularGridTopology::findCube: x = ((pos − p0)·dx)·inv_dx2, inv_dx2 = 1/(dx·dx),
+        // with dx the cell vector (one non-zero component, so the dot product is one product).
+        const double inverse_squared = 1 / (dx_[a] * dx_[a]);
+        const double t = ((p[a] - min_[a]) * dx_[a]) * inverse_squared;
         // SOFA's findCube / findNearestCube: the cell index is clamped, the fraction is not
         const int c = static_cast<int>(std::clamp(std::floor(t), 0.0, static_cast<double>(n_[ua] - 2)));
         cell[ua] = c;
@@ -135,12 +138,15 @@ void map_on_regular_grid(BarycentricMapping& mapping, const RegularGridTopology&
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (!points[i].allFinite()) throw_invalid_argument("BarycentricMapping: point ", i, " is not finite");
         const auto [c, uvw] = grid.locate(points[i]);
-        const auto w = trilinear_weights(uvw);
-        const std::array<PointId, 8> v = {grid.point_index(c[0], c[1], c[2]),         grid.point_index(c[0] + 1, c[1], c[2]),
-                                          grid.point_index(c[0] + 1, c[1] + 1, c[2]), grid.point_index(c[0], c[1] + 1, c[2]),
-                                          grid.point_index(c[0], c[1], c[2] + 1),     grid.point_index(c[0] + 1, c[1], c[2] + 1),
-                                          grid.point_index(c[0] + 1, c[1] + 1, c[2] + 1), grid.point_index(c[0], c[1] + 1, c[2] + 1)};
-        for (std::size_t k = 0; k < 8; ++k) rows[i].push_back({v[k], w[k]});
+        // SOFA's BarycentricMapperRegularGridTopology::apply sums the cube's corners in the order
+        // cube[0], [1], [3], [2], [4], [5], [7], [6] (x fastest, then y, then z), each weight
+        // ((1−fx)·(1−fy))·(1−fz) etc.; the rounding of the mapped points depends on that order.
+        const double fx = uvw.x(), fy = uvw.y(), fz = uvw.z();
+        for (int k = 0; k < 8; ++k) {
+            const int dx = k & 1, dy = (k >> 1) & 1, dz = (k >> 2) & 1;
+            const double weight = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy) * (dz ? fz : 1 - fz);
+            rows[i].push_back({grid.point_index(c[0] + dx, c[1] + dy, c[2] + dz), weight});
+        }
     }
     mapping.set_weights(std::move(rows));
 }
