@@ -95,14 +95,14 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(TrajectoryCase{"AdvancedSolversMultipleGroupsSolver", 95, 0.1},
                       TrajectoryCase{"CompositeCollisionPipeline", -1, 0.0},
                       TrajectoryCase{"CompositeCollisionPipeline_none", -1, 0.0},
-                      TrajectoryCase{"Gravity", 51, 5.0},
+                      TrajectoryCase{"Gravity", 52, 5.0},
                       TrajectoryCase{"MeshSpringForceField", 30, 0.05},
                       TrajectoryCase{"ModelizationSphereBased", -1, 0.0},
                       TrajectoryCase{"ModelizationTriangleBased", -1, 0.0},
                       TrajectoryCase{"MultipleObjectsTwoCubes", -1, 0.0},
                       TrajectoryCase{"RegularGridSpringForceField", -1, 0.0},
                       TrajectoryCase{"SphereModel", 17, 1e-7},
-                      TrajectoryCase{"collisionMultiple", 15, 0.02}),
+                      TrajectoryCase{"collisionMultiple", 60, 0.02}),
     [](const ::testing::TestParamInfo<TrajectoryCase>& info) { return std::string(info.param.scene); });
 
 }  // namespace
