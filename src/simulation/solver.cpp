@@ -435,10 +435,12 @@ void Simulation::solve_node(Node& node, double dt) {
     }
     for (const auto& ff : node.force_fields()) {
         // Explicit: forces from the start-of-step x, v, added as external forces for the step.
-        for (BaseState* s : ff->states()) s->force_flat().setZero();
+        // As SOFA's SolveVisitor::fwdInteractionForceField (addForce into externalForce): each
+        // contribution is added to the external force in turn, ((e + c1) + c2), not e + (c1 + c2).
+        for (BaseState* s : ff->states()) s->force_flat() = s->external_force_flat();
         ff->accumulate_force();
         for (BaseState* s : ff->states()) {
-            s->external_force_flat() += s->force_flat();
+            s->external_force_flat() = s->force_flat();
             s->force_flat().setZero();
         }
     }
