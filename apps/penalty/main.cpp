@@ -9,6 +9,7 @@
 #include "demo.hpp"
 #include "view_server.hpp"
 
+#include "penalty/collision/intersection.hpp"
 #include "penalty/io/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
@@ -36,6 +37,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <unistd.h>
 
 namespace {
@@ -100,6 +102,11 @@ struct RunArguments {
     int threads = 0;
     std::vector<std::string> data_dirs;
     std::string vtk, states, stats, reference;
+    std::string compare_trajectory;          ///< --compare-trajectory DIR
+    double trajectory_threshold = 1e-12;     ///< --trajectory-threshold
+    std::int64_t debug_step = -1;            ///< --debug-step K
+    std::string debug_file = "penalty-debug-step.txt";  ///< --debug-file FILE
+    std::vector<std::string> quirk_fixes;    ///< --fix-sofa-quirk NAME (repeatable), --fix-sofa-quirks all
     std::int64_t vtk_every = 1, export_every = 1;
     double divergence_factor = 100.0;
     bool export_mapped = false;
@@ -109,6 +116,35 @@ struct RunArguments {
     std::int64_t view_every = 1;
     bool no_serve = false;
     int port = 0;                    // 0: a free port
+};
+
+/// A command-line value that is well-formed but not accepted (exit code 2).
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+std::string quirk_names() {
+    std::string out = "known: all";
+    for (const penalty::SofaQuirkInfo& q : penalty::sofa_quirk_table()) out += ", " + std::string(q.name);
+    return out;
+}
+
+/// A fresh folder under the system's temporary directory, removed with its files at the end.
+struct TemporaryDirectory {
+    std::filesystem::path path;
+    TemporaryDirectory() {
+        const std::filesystem::path base = std::filesystem::temp_directory_path();
+        for (int attempt = 0;; ++attempt) {
+            path = base / ("penalty-states-" + std::to_string(::getpid()) + "-" + std::to_string(attempt));
+            if (std::filesystem::create_directory(path)) return;
+        }
+    }
+    ~TemporaryDirectory() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+    TemporaryDirectory(const TemporaryDirectory&) = delete;
+    TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
 };
 
 /// One progress line on a terminal (stderr), redrawn at most 10 times per second.
@@ -144,6 +180,9 @@ int run_command(const RunArguments& a) {
     if (a.dt > 0) build.dt = a.dt;
     build.threads = a.threads;
     build.exhaustive_detection = a.exhaustive;
+    for (const std::string& name : a.quirk_fixes)
+        if (!penalty::enable_sofa_quirk_fix(build.sofa_quirk_fixes, name))
+            throw UsageError("--fix-sofa-quirk: unknown SOFA quirk '" + name + "' (" + quirk_names() + ")");
     std::optional<tbb::global_control> threads;
     if (a.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, std::size_t(a.threads));
 
@@ -157,11 +196,19 @@ int run_command(const RunArguments& a) {
               << scene->pipelines().size() << " collision pipeline(s)\n";
     for (const std::string& w : scene->warnings()) std::cout << "note: " << w << "\n";
 
+    // --compare-trajectory without --export-states: the states go to a temporary folder.
+    std::optional<TemporaryDirectory> temporary_states;
+    std::string states_directory = a.states;
+    if (!a.compare_trajectory.empty() && states_directory.empty()) {
+        temporary_states.emplace();
+        states_directory = temporary_states->path.string();
+    }
+
     sc::RunOptions run;
     run.steps = a.steps >= 0 ? a.steps : (builtin ? 400 : 100);
     if (!a.vtk.empty()) run.vtk_directory = a.vtk;
     run.vtk_every = a.vtk_every;
-    if (!a.states.empty()) run.states_directory = a.states;
+    if (!states_directory.empty()) run.states_directory = states_directory;
     run.export_mapped = a.export_mapped;
     run.export_every = a.export_every;
     if (!a.stats.empty()) run.stats_file = a.stats;
@@ -169,6 +216,12 @@ int run_command(const RunArguments& a) {
     if (!a.view.empty()) run.view_directory = a.view;
     run.view_every = a.view_every;
     run.view_title = builtin ? std::string("built-in scene") : std::filesystem::path(a.scene).filename().string();
+    if (a.debug_step >= 0) {
+        if (a.debug_step >= run.steps)
+            throw UsageError("--debug-step " + std::to_string(a.debug_step) + " is not below --steps " + std::to_string(run.steps));
+        run.debug_step = a.debug_step;
+        run.debug_file = a.debug_file;
+    }
     ProgressBar bar(!a.quiet && isatty(STDERR_FILENO) != 0);
     const sc::RunSummary summary = sc::run_scene(*scene, run, std::ref(bar));
     std::cout << sc::format_summary(summary);
@@ -178,6 +231,7 @@ int run_command(const RunArguments& a) {
     if (!a.vtk.empty()) std::cout << "vtk: series in " << a.vtk << " (open the .pvd files in ParaView)\n";
     if (!a.stats.empty()) std::cout << "stats: " << a.stats << "\n";
     if (!a.view.empty()) std::cout << "view: browser viewer in " << a.view << " (penalty view " << a.view << ")\n";
+    if (a.debug_step >= 0) std::cout << "debug: step " << a.debug_step << " in " << a.debug_file << "\n";
 
     if (!a.reference.empty()) {
         if (builtin) throw std::invalid_argument("--reference needs a scene file");
@@ -190,6 +244,13 @@ int run_command(const RunArguments& a) {
         std::cout << "reference: mean error " << r.mean_error << " (SOFA's criterion: <= 1e-4): "
                   << (r.passed() ? "PASS" : "FAIL") << "\n";
         if (!r.passed()) return kReferenceMismatch;
+    }
+    if (!a.compare_trajectory.empty()) {
+        if (builtin) throw std::invalid_argument("--compare-trajectory needs a scene file");
+        const penalty::output::TrajectoryComparison c = penalty::output::compare_trajectories(
+            a.compare_trajectory, summary.state_files, summary.values_per_dof, a.trajectory_threshold);
+        std::cout << penalty::output::format_trajectory_comparison(c);
+        if (!c.passed()) return kReferenceMismatch;
     }
     if (!a.view.empty() && !a.no_serve) penalty::apps::serve_directory(a.view, a.port, std::cout);
     return kOk;
@@ -209,11 +270,19 @@ int view_command(const std::string& directory, int port, bool no_serve) {
     return kOk;
 }
 
-int info_command(const std::string& scene_path, const std::vector<std::string>& data_dirs) {
+int info_command(const std::string& scene_path, const std::vector<std::string>& data_dirs,
+                 const std::vector<std::string>& quirk_fixes) {
     penalty::scene::BuildOptions build;
     for (const auto& d : data_dirs) build.data_dirs.emplace_back(d);
+    for (const std::string& name : quirk_fixes)
+        if (!penalty::enable_sofa_quirk_fix(build.sofa_quirk_fixes, name))
+            throw UsageError("--fix-sofa-quirk: unknown SOFA quirk '" + name + "' (" + quirk_names() + ")");
     const std::unique_ptr<penalty::scene::Scene> scene = penalty::scene::load_scene(scene_path, build);
     std::cout << penalty::scene::describe_scene(*scene);
+    std::cout << "SOFA quirk fixes (--fix-sofa-quirk NAME, or fixSofaQuirks=\"NAME ...\" on an intersection method):\n";
+    for (const penalty::SofaQuirkInfo& q : penalty::sofa_quirk_table())
+        std::cout << "  " << q.name << (build.sofa_quirk_fixes.*q.member ? " [on for every pipeline]" : "") << ": "
+                  << q.description << "\n";
     return kOk;
 }
 
@@ -289,6 +358,20 @@ int main(int argc, char** argv) {
     run->add_option("--stats", args.stats, "Write per-step statistics to FILE.csv");
     run->add_option("--reference", args.reference,
                     "Compare the exported states with SOFA's reference files in DIR (needs --export-states)");
+    run->add_option("--compare-trajectory", args.compare_trajectory,
+                    "Compare every exported step with SOFA's state files (<k>_<name>_mstate.txt[.gz]) in DIR: SOFA's "
+                    "criterion, first step above --trajectory-threshold per state; exit code 4 on a mismatch")
+        ->check(CLI::ExistingDirectory);
+    run->add_option("--trajectory-threshold", args.trajectory_threshold,
+                    "Largest |x - x_SOFA| per value accepted by --compare-trajectory (default 1e-12)")
+        ->check(CLI::NonNegativeNumber);
+    run->add_option("--debug-step", args.debug_step,
+                    "After step K (0 = the first), write its contacts, linear solves and forces (--debug-file)")
+        ->check(CLI::NonNegativeNumber);
+    run->add_option("--debug-file", args.debug_file, "File of --debug-step (default penalty-debug-step.txt)");
+    run->add_option("--fix-sofa-quirk", args.quirk_fixes,
+                    "Fix a SOFA bug in every intersection method (repeatable; 'all' for every one; names: penalty info)");
+    run->add_option("--fix-sofa-quirks", args.quirk_fixes, "Same as --fix-sofa-quirk (e.g. --fix-sofa-quirks all)");
     run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
     run->add_flag("--quiet", args.quiet, "No progress bar");
     auto* view_option =
@@ -313,6 +396,8 @@ int main(int argc, char** argv) {
         "info", "Build a scene without running it: what each component becomes, and which model pairs make contacts where");
     info->add_option("scene", info_scene, "SOFA .scn file")->required()->check(CLI::ExistingFile);
     info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
+    std::vector<std::string> info_quirk_fixes;
+    info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
 
     auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field alone");
     penalty::apps::DemoOptions options;
@@ -339,9 +424,12 @@ int main(int argc, char** argv) {
             }
             return run_command(args);
         }
-        if (*info) return info_command(info_scene, info_data_dirs);
+        if (*info) return info_command(info_scene, info_data_dirs, info_quirk_fixes);
         if (*view) return view_command(view_dir, view_port, view_no_serve);
         return penalty::apps::run_demo(options, std::cout);
+    } catch (const UsageError& e) {
+        std::cerr << "penalty: error: " << e.what() << "\n";
+        return kUsage;
     } catch (const penalty::io::LoadError& e) {
         std::cerr << "penalty: error: " << e.what() << "\n";
         return kBadInput;

@@ -28,6 +28,61 @@ const char* pair_support_name(PairSupport s) {
     return "?";
 }
 
+namespace {
+constexpr std::array<SofaQuirkInfo, 5> kSofaQuirks{{
+    {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
+     "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
+    {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
+     "NewProximity Triangle-Sphere: edges AC and BC tested with their own ownership flags (spec 14.2)"},
+    {"newproximity_triangle_sphere_edge_range", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_range,
+     "NewProximity Triangle-Sphere: edge parameters bounded below, no contact on an edge's extension"},
+    {"newproximity_triangle_triangle_vertex1_flag", &SofaQuirkFixes::fix_newproximity_triangle_triangle_vertex1_flag,
+     "NewProximity Triangle-Triangle: vertex 1 of the first triangle needs its ownership flag (spec 14.3)"},
+    {"newproximity_triangle_triangle_normal_overwrite",
+     &SofaQuirkFixes::fix_newproximity_triangle_triangle_normal_overwrite,
+     "NewProximity Triangle-Triangle: stored triangle normals left alone (spec 14.4)"},
+}};
+}  // namespace
+
+std::span<const SofaQuirkInfo> sofa_quirk_table() { return kSofaQuirks; }
+
+bool enable_sofa_quirk_fix(SofaQuirkFixes& fixes, std::string_view name) {
+    if (name == "all") {
+        for (const SofaQuirkInfo& q : kSofaQuirks) fixes.*q.member = true;
+        return true;
+    }
+    for (const SofaQuirkInfo& q : kSofaQuirks) {
+        if (q.name == name) {
+            fixes.*q.member = true;
+            return true;
+        }
+    }
+    return false;
+}
+
+std::vector<std::string> enabled_sofa_quirk_fixes(const SofaQuirkFixes& fixes) {
+    std::vector<std::string> out;
+    for (const SofaQuirkInfo& q : kSofaQuirks)
+        if (fixes.*q.member) out.emplace_back(q.name);
+    return out;
+}
+
+SofaQuirkFixes merge_sofa_quirk_fixes(const SofaQuirkFixes& a, const SofaQuirkFixes& b) {
+    SofaQuirkFixes out = a;
+    for (const SofaQuirkInfo& q : kSofaQuirks) out.*q.member = a.*q.member || b.*q.member;
+    if (b.zero_distance_normal != ZeroDistanceNormal::FallbackX) out.zero_distance_normal = b.zero_distance_normal;
+    return out;
+}
+
+const char* zero_distance_normal_name(ZeroDistanceNormal policy) {
+    switch (policy) {
+        case ZeroDistanceNormal::FallbackX: return "fallbackX";
+        case ZeroDistanceNormal::Drop: return "drop";
+        case ZeroDistanceNormal::SofaNaN: return "sofaNaN";
+    }
+    return "?";
+}
+
 IntersectionParams IntersectionParams::discrete() {
     IntersectionParams p;
     p.method = IntersectionMethod::Discrete;

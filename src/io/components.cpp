@@ -25,6 +25,7 @@ constexpr std::array kComponents{
     ComponentInfo{"MinProximityIntersection", C::physics, "proximity intersection (MinProximity)"},
     ComponentInfo{"NewProximityIntersection", C::physics, "proximity intersection (NewProximity)"},
     ComponentInfo{"DiscreteIntersection", C::physics, "discrete (overlap-only) intersection"},
+    ComponentInfo{"LocalMinDistance", C::physics, "proximity intersection (LocalMinDistance)"},
     // solvers
     ComponentInfo{"EulerImplicitSolver", C::physics, "implicit Euler ODE solver"},
     ComponentInfo{"EulerExplicitSolver", C::physics, "explicit Euler ODE solver"},

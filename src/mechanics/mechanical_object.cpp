@@ -5,12 +5,58 @@
 
 namespace penalty {
 
-Quat InitialTransform::rotation() const {
-    const double k = std::numbers::pi / 180.0;
-    return Quat(Eigen::AngleAxisd(rotation_deg.z() * k, Vec3::UnitZ()) *
-                Eigen::AngleAxisd(rotation_deg.y() * k, Vec3::UnitY()) *
-                Eigen::AngleAxisd(rotation_deg.x() * k, Vec3::UnitX()));
+namespace {
+
+/// SOFA's Quat<double>::createQuaterFromEuler(Vec3(rx, ry, rz) * M_PI / 180.0) with its default
+/// order (EulerOrder::ZYX), operation by operation: angles a = (deg·π)/180, half angles a/2,
+/// products left to right. Returned as Eigen's (w, x, y, z).
+Quat sofa_quaternion_from_euler_degrees(const Vec3& degrees) {
+    const double a0 = degrees.x() * std::numbers::pi / 180.0;
+    const double a1 = degrees.y() * std::numbers::pi / 180.0;
+    const double a2 = degrees.z() * std::numbers::pi / 180.0;
+    const double c1 = std::cos(a0 / 2), c2 = std::cos(a1 / 2), c3 = std::cos(a2 / 2);
+    const double s1 = std::sin(a0 / 2), s2 = std::sin(a1 / 2), s3 = std::sin(a2 / 2);
+    const double x = s1 * c2 * c3 - c1 * s2 * s3;
+    const double y = c1 * s2 * c3 + s1 * c2 * s3;
+    const double z = c1 * c2 * s3 - s1 * s2 * c3;
+    const double w = c1 * c2 * c3 + s1 * s2 * s3;
+    return Quat(w, x, y, z);
 }
+
+/// SOFA's Vec3::cross, component by component.
+Vec3 sofa_cross(const Vec3& a, const Vec3& b) {
+    return Vec3(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
+}
+
+/// SOFA's Quat::rotate(v): t = 2 (q × v), v' = v + w t + q × t (q = vector part).
+Vec3 sofa_rotate(const Quat& q, const Vec3& v) {
+    const Vec3 qv(q.x(), q.y(), q.z());
+    const Vec3 t = sofa_cross(qv, v) * 2.0;
+    const Vec3 wt(q.w() * t[0], q.w() * t[1], q.w() * t[2]);
+    const Vec3 c = sofa_cross(qv, t);
+    return Vec3(v[0] + wt[0] + c[0], v[1] + wt[1] + c[1], v[2] + wt[2] + c[2]);
+}
+
+/// SOFA's Quat::operator*(q1) (this = a, q1 = b), component by component.
+Quat sofa_quaternion_product(const Quat& a, const Quat& b) {
+    const double w = a.w() * b.w() - (a.x() * b.x() + a.y() * b.y() + a.z() * b.z());
+    const double x = a.w() * b.x() + a.x() * b.w() + a.y() * b.z() - a.z() * b.y();
+    const double y = a.w() * b.y() + a.y() * b.w() + a.z() * b.x() - a.x() * b.z();
+    const double z = a.w() * b.z() + a.z() * b.w() + a.x() * b.y() - a.y() * b.x();
+    return Quat(w, x, y, z);
+}
+
+/// SOFA's MechanicalObject::reinit on one point: applyScale (x·s per component), applyRotation
+/// (Quat::rotate), applyTranslation (x += t), each rounded in turn.
+Vec3 sofa_transform_point(const InitialTransform& tr, const Quat& q, const Vec3& p) {
+    const Vec3 scaled(p[0] * tr.scale3d[0], p[1] * tr.scale3d[1], p[2] * tr.scale3d[2]);
+    const Vec3 rotated = sofa_rotate(q, scaled);
+    return Vec3(rotated[0] + tr.translation[0], rotated[1] + tr.translation[1], rotated[2] + tr.translation[2]);
+}
+
+}  // namespace
+
+Quat InitialTransform::rotation() const { return sofa_quaternion_from_euler_degrees(rotation_deg); }
 
 RigidFrame rigid_add(const RigidFrame& x, const RigidDeriv& v, double h) {
     RigidFrame out;
@@ -69,8 +115,10 @@ void MechanicalObject<Vec3Types>::init() {
     if (!transform.is_identity() && !initialized_) {
         // SOFA's reinit(): scale, rotation, translation of the positions only; the rest
         // positions are copied from the transformed positions unless given with the right size.
-        const Mat3 r = transform.rotation().toRotationMatrix();
-        for (auto& p : position) p = r * p.cwiseProduct(transform.scale3d) + transform.translation;
+        // SOFA's own floating-point operations (MechanicalObject::applyScale/applyRotation/
+        // applyTranslation), so that the initial positions agree to the last bit.
+        const Quat q = transform.rotation();
+        for (auto& p : position) p = sofa_transform_point(transform, q, p);
     }
     if (rest_position.size() != n) rest_position = position;
     velocity.resize(n, Vec3::Zero());
@@ -94,9 +142,10 @@ void MechanicalObject<Rigid3Types>::init() {
     }
     if (!transform.is_identity() && !initialized_) {
         const Quat q = transform.rotation();
+        // MechanicalObject<Rigid3Types>::applyRotation: centre rotated, orientation q * o.
         auto apply = [&](RigidFrame& p) {
-            p.center = q * p.center.cwiseProduct(transform.scale3d) + transform.translation;
-            p.orientation = q * p.orientation;
+            p.center = sofa_transform_point(transform, q, p.center);
+            p.orientation = sofa_quaternion_product(q, p.orientation);
         };
         for (auto& p : position) apply(p);
     }

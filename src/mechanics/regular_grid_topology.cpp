@@ -121,7 +121,10 @@ std::pair<std::array<int, 3>, Vec3> RegularGridTopology::locate(const Vec3& p) c
     for (int a = 0; a < 3; ++a) {
         const auto ua = static_cast<std::size_t>(a);
         if (n_[ua] < 2) throw_invalid_argument("RegularGridTopology: locate needs a 3-D grid");
-        const double t = (p[a] - min_[a]) / dx_[a];
+        // SOFA's RegularGridTopology::findCube: x = ((pos − p0)·dx)·inv_dx2, inv_dx2 = 1/(dx·dx),
+        // with dx the cell vector (one non-zero component, so the dot product is one product).
+        const double inverse_squared = 1 / (dx_[a] * dx_[a]);
+        const double t = ((p[a] - min_[a]) * dx_[a]) * inverse_squared;
         // SOFA's findCube / findNearestCube: the cell index is clamped, the fraction is not
         const int c = static_cast<int>(std::clamp(std::floor(t), 0.0, static_cast<double>(n_[ua] - 2)));
         cell[ua] = c;
@@ -135,28 +138,88 @@ void map_on_regular_grid(BarycentricMapping& mapping, const RegularGridTopology&
     for (std::size_t i = 0; i < points.size(); ++i) {
         if (!points[i].allFinite()) throw_invalid_argument("BarycentricMapping: point ", i, " is not finite");
         const auto [c, uvw] = grid.locate(points[i]);
-        const auto w = trilinear_weights(uvw);
-        const std::array<PointId, 8> v = {grid.point_index(c[0], c[1], c[2]),         grid.point_index(c[0] + 1, c[1], c[2]),
-                                          grid.point_index(c[0] + 1, c[1] + 1, c[2]), grid.point_index(c[0], c[1] + 1, c[2]),
-                                          grid.point_index(c[0], c[1], c[2] + 1),     grid.point_index(c[0] + 1, c[1], c[2] + 1),
-                                          grid.point_index(c[0] + 1, c[1] + 1, c[2] + 1), grid.point_index(c[0], c[1] + 1, c[2] + 1)};
-        for (std::size_t k = 0; k < 8; ++k) rows[i].push_back({v[k], w[k]});
+        // SOFA's BarycentricMapperRegularGridTopology::apply sums the cube's corners in the order
+        // cube[0], [1], [3], [2], [4], [5], [7], [6] (x fastest, then y, then z), each weight
+        // ((1−fx)·(1−fy))·(1−fz) etc.; the rounding of the mapped points depends on that order.
+        const double fx = uvw.x(), fy = uvw.y(), fz = uvw.z();
+        for (int k = 0; k < 8; ++k) {
+            const int dx = k & 1, dy = (k >> 1) & 1, dz = (k >> 2) & 1;
+            const double weight = (dx ? fx : 1 - fx) * (dy ? fy : 1 - fy) * (dz ? fz : 1 - fz);
+            rows[i].push_back({grid.point_index(c[0] + dx, c[1] + dy, c[2] + dz), weight});
+        }
     }
     mapping.set_weights(std::move(rows));
 }
 
 std::vector<Spring> regular_grid_springs(const RegularGridTopology& grid, const MeshSpringParameters& p) {
-    MeshSpringParameters q;
-    q.lines_stiffness = p.lines_stiffness;
-    q.lines_damping = p.lines_damping;
-    q.quads_stiffness = p.quads_stiffness;
-    q.quads_damping = p.quads_damping;
-    q.cubes_stiffness = p.cubes_stiffness;
-    q.cubes_damping = p.cubes_damping;
-    const std::vector<Vec3> x = grid.points();
-    MeshTopology m = grid.mesh();
-    m.set_triangles({});  // springs from edges, quads and hexahedra only
-    return mesh_springs(m, x, q);
+    // SOFA's RegularGridSpringForceField::addForce builds its springs on the fly from the grid,
+    // in this order, with rest lengths from the grid's cell vectors (getDx/getDy/getDz, i.e. the
+    // written min/max, not the state's possibly moved rest positions).
+    const Vec3 spacing = grid.spacing();
+    const Vec3 dx(spacing.x(), 0, 0), dy(0, spacing.y(), 0), dz(0, 0, spacing.z());
+    const auto length = [](const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+    const int nx = grid.n()[0], ny = grid.n()[1], nz = grid.n()[2];
+    std::vector<Spring> out;
+    auto add = [&](int x1, int y1, int z1, int x2, int y2, int z2, double rest, double ks, double kd) {
+        out.push_back(Spring{grid.point_index(x1, y1, z1), grid.point_index(x2, y2, z2), ks, kd, rest});
+    };
+    if (p.lines_stiffness != 0.0 || p.lines_damping != 0.0) {
+        double l = length(dx);
+        for (int z = 0; z < nz; ++z)
+            for (int y = 0; y < ny; ++y)
+                for (int x = 0; x < nx - 1; ++x) add(x, y, z, x + 1, y, z, l, p.lines_stiffness / l, p.lines_damping / l);
+        l = length(dy);
+        for (int z = 0; z < nz; ++z)
+            for (int y = 0; y < ny - 1; ++y)
+                for (int x = 0; x < nx; ++x) add(x, y, z, x, y + 1, z, l, p.lines_stiffness / l, p.lines_damping / l);
+        l = length(dz);
+        for (int z = 0; z < nz - 1; ++z)
+            for (int y = 0; y < ny; ++y)
+                for (int x = 0; x < nx; ++x) add(x, y, z, x, y, z + 1, l, p.lines_stiffness / l, p.lines_damping / l);
+    }
+    if (p.quads_stiffness != 0.0 || p.quads_damping != 0.0) {
+        const double ks = p.quads_stiffness, kd = p.quads_damping;
+        double l1 = length(dx + dy), l2 = length(dx - dy);
+        for (int z = 0; z < nz; ++z)
+            for (int y = 0; y < ny - 1; ++y)
+                for (int x = 0; x < nx - 1; ++x) {
+                    add(x, y, z, x + 1, y + 1, z, l1, ks / l1, kd / l1);
+                    add(x + 1, y, z, x, y + 1, z, l2, ks / l2, kd / l2);
+                }
+        l1 = length(dx + dz);
+        l2 = length(dx - dz);
+        for (int z = 0; z < nz - 1; ++z)
+            for (int y = 0; y < ny; ++y)
+                for (int x = 0; x < nx - 1; ++x) {
+                    add(x, y, z, x + 1, y, z + 1, l1, ks / l1, kd / l1);
+                    add(x + 1, y, z, x, y, z + 1, l2, ks / l2, kd / l2);
+                }
+        l1 = length(dy + dz);
+        l2 = length(dy - dz);
+        for (int z = 0; z < nz - 1; ++z)
+            for (int y = 0; y < ny - 1; ++y)
+                for (int x = 0; x < nx; ++x) {
+                    add(x, y, z, x, y + 1, z + 1, l1, ks / l1, kd / l1);
+                    // As SOFA (RegularGridSpringForceField::addForce, YZ plane): the second
+                    // diagonal's ks and kd are divided by the first diagonal's length. Harmless:
+                    // dy and dz are axis-aligned, so |dy − dz| and |dy + dz| are the same double.
+                    add(x, y + 1, z, x, y, z + 1, l2, ks / l1, kd / l1);
+                }
+    }
+    if (p.cubes_stiffness != 0.0 || p.cubes_damping != 0.0) {
+        const double ks = p.cubes_stiffness, kd = p.cubes_damping;
+        const double l1 = length(dx + dy + dz), l2 = length(-dx + dy + dz), l3 = length(dx - dy + dz),
+                     l4 = length(dx + dy - dz);
+        for (int z = 0; z < nz - 1; ++z)
+            for (int y = 0; y < ny - 1; ++y)
+                for (int x = 0; x < nx - 1; ++x) {
+                    add(x, y, z, x + 1, y + 1, z + 1, l1, ks / l1, kd / l1);
+                    add(x + 1, y, z, x, y + 1, z + 1, l2, ks / l2, kd / l2);
+                    add(x, y + 1, z, x + 1, y, z + 1, l3, ks / l3, kd / l3);
+                    add(x, y, z + 1, x + 1, y + 1, z, l4, ks / l4, kd / l4);
+                }
+    }
+    return out;
 }
 
 }  // namespace penalty

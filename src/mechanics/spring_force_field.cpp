@@ -38,21 +38,32 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
         const Spring& s = springs_[i];
         const auto a = static_cast<std::size_t>(s.a);
         const auto b = static_cast<std::size_t>(s.b);
+        // SOFA's SpringForceField::computeSpringForce, operation by operation (the rounding of
+        // every step is SOFA's): u = x_b − x_a, d = |u|, U = u·(1/d), elongation e = d − l0,
+        // intensity f = ks·e + kd·(U·(v_b − v_a)), force f·U, dF/dX = (ks − f/d)·U·Uᵀ + f/d·I with
+        // f/d computed as f·(1/d) and each entry ((ks − t)·U_j)·U_k.
         const Vec3 u = x2[b] - x1[a];
-        const double d = u.norm();
+        const double d = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
         if (d <= 1e-9) {
             dfdx_[i].setZero();
             continue;
         }
-        const Vec3 n = u / d;
+        const double inverse_length = 1.0 / d;
+        const Vec3 n(u[0] * inverse_length, u[1] * inverse_length, u[2] * inverse_length);
         const double elongation = d - s.rest_length;
-        energy_ += 0.5 * s.ks * elongation * elongation;
-        const double intensity = s.ks * elongation + s.kd * (v2[b] - v1[a]).dot(n);
-        const Vec3 force = intensity * n;
+        energy_ += elongation * elongation * s.ks / 2;
+        const Vec3 relative_velocity = v2[b] - v1[a];
+        const double elongation_velocity = n[0] * relative_velocity[0] + n[1] * relative_velocity[1] + n[2] * relative_velocity[2];
+        const double intensity = s.ks * elongation + s.kd * elongation_velocity;
+        const Vec3 force(n[0] * intensity, n[1] * intensity, n[2] * intensity);
         f1[a] += force;
         f2[b] -= force;
-        const double t = intensity / d;
-        dfdx_[i] = (s.ks - t) * (n * n.transpose()) + t * Mat3::Identity();
+        const double t = intensity * inverse_length;
+        Mat3& m = dfdx_[i];
+        for (int j = 0; j < 3; ++j) {
+            for (int k = 0; k < 3; ++k) m(j, k) = (s.ks - t) * n[j] * n[k];
+            m(j, j) += t;
+        }
     }
 }
 
@@ -62,7 +73,11 @@ void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1,
     for (std::size_t i = 0; i < springs_.size(); ++i) {
         const auto a = static_cast<std::size_t>(springs_[i].a);
         const auto b = static_cast<std::size_t>(springs_[i].b);
-        const Vec3 d = dfdx_[i] * (dx2[b] - dx1[a]) * k_factor;
+        // SOFA's computeSpringDForce: (dfdx·(dx_b − dx_a))·kFactor, rows summed left to right.
+        const Vec3 dx = dx2[b] - dx1[a];
+        const Mat3& m = dfdx_[i];
+        Vec3 d;
+        for (int r = 0; r < 3; ++r) d[r] = (m(r, 0) * dx[0] + m(r, 1) * dx[1] + m(r, 2) * dx[2]) * k_factor;
         df1[a] += d;
         df2[b] -= d;
     }

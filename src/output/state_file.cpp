@@ -8,8 +8,12 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+
+#include <zlib.h>
 
 namespace penalty::output {
 
@@ -130,9 +134,33 @@ std::string format_positions(const BaseState& state) {
 
 // --- reader -------------------------------------------------------------------------------------
 
-std::vector<StateSample> read_state_file(const std::filesystem::path& file) {
+namespace {
+/// The whole content of a file, decompressed when its name ends in ".gz" (SOFA's compressed
+/// trajectories and references). Throws std::runtime_error naming the file.
+std::string read_possibly_compressed(const std::filesystem::path& file) {
+    std::string content;
+    if (file.extension() == ".gz") {
+        gzFile in = gzopen(file.c_str(), "rb");
+        if (in == nullptr) throw std::runtime_error("cannot open state file " + detail::quoted(file));
+        char buffer[1 << 16];
+        int n = 0;
+        while ((n = gzread(in, buffer, sizeof buffer)) > 0) content.append(buffer, std::size_t(n));
+        const bool failed = n < 0;
+        gzclose(in);
+        if (failed) throw std::runtime_error("cannot decompress state file " + detail::quoted(file));
+        return content;
+    }
     std::ifstream in(file, std::ios::binary);
     if (!in) throw std::runtime_error("cannot open state file " + detail::quoted(file));
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw std::runtime_error("cannot read state file " + detail::quoted(file));
+    return std::move(text).str();
+}
+}  // namespace
+
+std::vector<StateSample> read_state_file(const std::filesystem::path& file) {
+    std::istringstream in(read_possibly_compressed(file));
     std::vector<StateSample> samples;
     bool has_x = true;  // the current sample (if any) has its X line
     std::size_t sample_line = 0;
@@ -163,7 +191,6 @@ std::vector<StateSample> read_state_file(const std::filesystem::path& file) {
             fail_at(file, line_number, "unknown keyword '" + std::string(keyword) + "' (expected T=, X= or V=)");
         }
     }
-    if (in.bad()) throw std::runtime_error("cannot read state file " + detail::quoted(file));
     if (!has_x) fail_at(file, sample_line, "sample T= " + format_number(samples.back().time) + " has no X line");
     return samples;
 }
@@ -243,6 +270,196 @@ RegressionResult compare_with_reference(std::span<const std::filesystem::path> r
     result.mean_error = result.per_state_error.empty() ? 0.0 : total / static_cast<double>(result.per_state_error.size());
     if (reference_files.size() != our_files.size()) result.mean_error = kInfinity;
     return result;
+}
+
+// --- trajectory comparison ----------------------------------------------------------------------
+
+namespace {
+/// "<k>" of a state file name "<k>_<name>_mstate.txt[.gz]", or nullopt.
+std::optional<std::size_t> state_file_index(const std::string& name) {
+    std::size_t k = 0;
+    const auto [end, ec] = std::from_chars(name.data(), name.data() + name.size(), k);
+    if (ec != std::errc{} || end == name.data() || end == name.data() + name.size() || *end != '_') return std::nullopt;
+    return k;
+}
+std::string state_file_stem(std::string name) {
+    if (name.size() > 3 && name.ends_with(".gz")) name.resize(name.size() - 3);
+    return name;
+}
+}  // namespace
+
+std::vector<std::filesystem::path> find_trajectory_files(const std::filesystem::path& directory,
+                                                         std::span<const std::filesystem::path> our_files,
+                                                         std::vector<std::string>& messages) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(directory, ec))
+        throw std::runtime_error("trajectory directory " + detail::quoted(directory) + " does not exist");
+    std::map<std::size_t, std::vector<std::filesystem::path>> by_index;
+    for (const auto& entry : std::filesystem::directory_iterator(directory)) {
+        const std::string name = entry.path().filename().string();
+        const std::string stem = state_file_stem(name);
+        if (!stem.ends_with("_mstate.txt")) continue;
+        if (const auto k = state_file_index(name)) by_index[*k].push_back(entry.path());
+    }
+    std::vector<std::filesystem::path> out;
+    for (std::size_t k = 0; k < our_files.size(); ++k) {
+        const std::string ours = our_files[k].filename().string();
+        const auto it = by_index.find(k);
+        if (it == by_index.end()) {
+            messages.push_back("no SOFA state file " + std::to_string(k) + "_*_mstate.txt[.gz] in " +
+                               detail::quoted(directory) + " for " + ours);
+            out.emplace_back();
+            continue;
+        }
+        // Same index: the file whose name matches ours (SOFA's names may hold spaces, which our
+        // file names replace by '_'), else the only one with that index.
+        std::filesystem::path chosen;
+        for (const auto& f : it->second)
+            if (sanitize_file_name(state_file_stem(f.filename().string())) == ours) chosen = f;
+        if (chosen.empty()) {
+            chosen = it->second.front();
+            messages.push_back("note: SOFA's state file " + chosen.filename().string() + " is compared with " + ours +
+                               " (same index, different name)");
+        }
+        out.push_back(chosen);
+    }
+    if (!by_index.empty() && by_index.rbegin()->first >= our_files.size())
+        messages.push_back(std::to_string(by_index.rbegin()->first + 1 - our_files.size()) +
+                           " more SOFA state file index(es) in " + detail::quoted(directory) + " than exported states (" +
+                           std::to_string(our_files.size()) + ")");
+    return out;
+}
+
+TrajectoryStateComparison compare_state_trajectory(std::span<const StateSample> sofa, std::span<const StateSample> ours,
+                                                   int values_per_dof, double threshold) {
+    if (values_per_dof <= 0) throw_invalid_argument("compare_state_trajectory: values_per_dof = ", values_per_dof);
+    TrajectoryStateComparison c;
+    const auto vpd = static_cast<std::size_t>(values_per_dof);
+    double sum = 0.0;  // SOFA's error_s over the compared samples: Σ_T Σ_i |ΔX_i(T)| / n_dofs
+    std::size_t j = 0;  // both files are in time order: walk ours alongside SOFA's
+    for (std::size_t step = 0; step < sofa.size(); ++step) {
+        const StateSample& expected = sofa[step];
+        const double tolerance = 1e-9 * std::max(1.0, std::abs(expected.time));
+        while (j < ours.size() && ours[j].time < expected.time - tolerance) ++j;
+        if (j == ours.size() || std::abs(ours[j].time - expected.time) > tolerance) {  // not exported
+            ++c.sofa_steps_not_compared;
+            continue;
+        }
+        const StateSample& mine = ours[j];
+        if (mine.x.size() != expected.x.size()) {
+            c.problem = "at step " + std::to_string(step) + " (T= " + format_number(expected.time) + ") X has " +
+                        std::to_string(mine.x.size()) + " values, SOFA's " + std::to_string(expected.x.size());
+            c.criterion = kInfinity;
+            return c;
+        }
+        ++c.steps_compared;
+        StepDifference d{step, expected.time, 0, 0.0};
+        for (std::size_t i = 0; i < expected.x.size(); ++i) {
+            const double diff = std::abs(mine.x[i] - expected.x[i]);
+            sum += diff;
+            if (diff > d.max_difference || std::isnan(diff)) {
+                d.max_difference = std::isnan(diff) ? kInfinity : diff;
+                d.value_index = i;
+            }
+        }
+        d.dof = d.value_index / vpd;
+        d.component = d.value_index % vpd;
+        if (!c.first_over_threshold && d.max_difference > threshold) c.first_over_threshold = d;
+        if (!c.largest || d.max_difference > c.largest->max_difference) c.largest = d;
+        c.last = d;
+    }
+    const std::size_t dofs = sofa.empty() ? 0 : sofa.front().x.size() / vpd;
+    c.criterion = dofs == 0 ? 0.0 : sum / static_cast<double>(dofs);
+    if (std::isnan(c.criterion)) c.criterion = kInfinity;
+    if (c.steps_compared == 0) c.problem = "no exported time matches a time of SOFA's file";
+    return c;
+}
+
+bool TrajectoryComparison::passed(double criterion_tolerance) const {
+    if (!messages_are_notes() || !(mean_criterion <= criterion_tolerance)) return false;
+    for (const TrajectoryStateComparison& s : states)
+        if (s.first_over_threshold || !s.problem.empty() || s.steps_compared == 0) return false;
+    return true;
+}
+
+bool TrajectoryComparison::messages_are_notes() const {
+    return std::all_of(messages.begin(), messages.end(), [](const std::string& m) { return m.starts_with("note: "); });
+}
+
+TrajectoryComparison compare_trajectories(const std::filesystem::path& sofa_directory,
+                                          std::span<const std::filesystem::path> our_files,
+                                          std::span<const int> values_per_dof, double threshold) {
+    if (values_per_dof.size() != our_files.size())
+        throw_invalid_argument("compare_trajectories: ", values_per_dof.size(), " values_per_dof for ", our_files.size(),
+                               " files");
+    if (!(threshold >= 0.0)) throw_invalid_argument("compare_trajectories: threshold ", threshold, " must be >= 0");
+    TrajectoryComparison result;
+    result.threshold = threshold;
+    const std::vector<std::filesystem::path> sofa_files = find_trajectory_files(sofa_directory, our_files, result.messages);
+    double total = 0.0;
+    for (std::size_t k = 0; k < our_files.size(); ++k) {
+        TrajectoryStateComparison c;
+        c.sofa_file = sofa_files[k];
+        c.our_file = our_files[k];
+        if (c.sofa_file.empty()) {
+            c.criterion = kInfinity;
+            c.problem = "no SOFA file";
+        } else {
+            try {
+                const std::vector<StateSample> sofa = read_state_file(c.sofa_file);
+                const std::vector<StateSample> ours = read_state_file(c.our_file);
+                TrajectoryStateComparison computed = compare_state_trajectory(sofa, ours, values_per_dof[k], threshold);
+                computed.sofa_file = c.sofa_file;
+                computed.our_file = c.our_file;
+                c = std::move(computed);
+            } catch (const std::runtime_error& error) {
+                c.criterion = kInfinity;
+                c.problem = error.what();
+            }
+        }
+        total += c.criterion;
+        result.states.push_back(std::move(c));
+    }
+    result.mean_criterion = result.states.empty() ? 0.0 : total / static_cast<double>(result.states.size());
+    return result;
+}
+
+namespace {
+std::string describe_difference(const StepDifference& d) {
+    static constexpr const char* kComponents[] = {"x", "y", "z", "qx", "qy", "qz", "qw"};
+    return "step " + std::to_string(d.step) + " (t = " + format_number(d.time) + " s) DOF " + std::to_string(d.dof) +
+           " " + (d.component < 7 ? kComponents[d.component] : "?") + ": " + format_number(d.max_difference);
+}
+}  // namespace
+
+std::string format_trajectory_comparison(const TrajectoryComparison& c) {
+    std::ostringstream out;
+    for (const std::string& m : c.messages) out << "trajectory: " << m << "\n";
+    bool all_within = true;
+    for (const TrajectoryStateComparison& s : c.states) {
+        out << "trajectory: " << s.our_file.filename().string();
+        if (!s.sofa_file.empty()) out << " vs " << s.sofa_file.filename().string();
+        out << ": error " << format_number(s.criterion) << " (per step "
+            << format_number(s.steps_compared > 0 ? s.criterion / double(s.steps_compared) : 0.0) << "), "
+            << s.steps_compared << " steps compared";
+        if (s.sofa_steps_not_compared > 0) out << " (" << s.sofa_steps_not_compared << " of SOFA's steps not exported)";
+        out << "\n";
+        if (!s.problem.empty()) out << "trajectory:   problem: " << s.problem << "\n";
+        if (s.first_over_threshold) {
+            all_within = false;
+            out << "trajectory:   first step with |dx| > " << format_number(c.threshold) << ": "
+                << describe_difference(*s.first_over_threshold) << "\n";
+        } else if (s.steps_compared > 0) {
+            out << "trajectory:   within " << format_number(c.threshold) << " at every step\n";
+        }
+        if (s.largest) out << "trajectory:   largest: " << describe_difference(*s.largest) << "\n";
+        if (s.last) out << "trajectory:   at the end: " << describe_difference(*s.last) << "\n";
+    }
+    out << "trajectory: SOFA's criterion " << format_number(c.mean_criterion)
+        << " (<= 1e-4; CompareState's sum over the compared steps), "
+        << (all_within ? "every state within " : "states beyond ") << format_number(c.threshold)
+        << (all_within ? " at every step: " : ": ") << (c.passed() ? "PASS" : "FAIL") << "\n";
+    return out.str();
 }
 
 }  // namespace penalty::output

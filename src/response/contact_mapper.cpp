@@ -173,9 +173,11 @@ BarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index e) con
             const Quad& q = t->topology().quads()[k];
             const auto f = quad_contact_coordinates(x[std::size_t(q[0])], x[std::size_t(q[1])],
                                                     x[std::size_t(q[3])], P);
+            // SOFA's BarycentricMapperMeshTopology::apply sums a quad's vertices in the order
+            // q0, q1, q3, q2; so do we (the rounding of the mapped point depends on it).
             row.count = 4;
-            row.index = {q[0], q[1], q[2], q[3]};
-            row.weight = {(1 - f[0]) * (1 - f[1]), f[0] * (1 - f[1]), f[0] * f[1], (1 - f[0]) * f[1]};
+            row.index = {q[0], q[1], q[3], q[2]};
+            row.weight = {(1 - f[0]) * (1 - f[1]), f[0] * (1 - f[1]), (1 - f[0]) * f[1], f[0] * f[1]};
         }
     } else {
         const auto* h = static_cast<const TetrahedronModel*>(model_);

@@ -37,10 +37,15 @@ const std::map<std::string, std::vector<std::string>, std::less<>>& table() {
         m["BruteForceBroadPhase"] = {};
         m["BVHNarrowPhase"] = {};
         m["CollisionResponse"] = {"response", "responseParams"};
-        m["NewProximityIntersection"] = {"alarmDistance", "contactDistance", "useLineLine", "beyondSofaPairs"};
+        // beyondSofaPairs, fixSofaQuirks, zeroDistanceNormal: beyond SOFA (docs/sofa-compatibility.md).
+        m["NewProximityIntersection"] = {"alarmDistance", "contactDistance", "useLineLine", "beyondSofaPairs",
+                                         "fixSofaQuirks", "zeroDistanceNormal"};
         m["MinProximityIntersection"] = {"alarmDistance",  "contactDistance",  "useLineLine",     "useSphereTriangle",
-                                         "usePointPoint",  "useLinePoint",     "useSurfaceNormals", "beyondSofaPairs"};
-        m["DiscreteIntersection"] = {"beyondSofaPairs"};
+                                         "usePointPoint",  "useLinePoint",     "useSurfaceNormals", "beyondSofaPairs",
+                                         "fixSofaQuirks",  "zeroDistanceNormal"};
+        m["LocalMinDistance"] = {"alarmDistance", "contactDistance", "filterIntersection", "angleCone", "coneFactor",
+                                 "useLMDFilters", "beyondSofaPairs", "fixSofaQuirks", "zeroDistanceNormal"};
+        m["DiscreteIntersection"] = {"beyondSofaPairs", "fixSofaQuirks", "zeroDistanceNormal"};
         m["EulerImplicitSolver"] = {"rayleighStiffness", "rayleighMass", "vdamping", "firstOrder",
                                     "trapezoidalScheme", "newton", "newtonIterations", "newtonTolerance"};
         m["EulerExplicitSolver"] = {"symplectic"};

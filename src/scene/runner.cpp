@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstdio>
 #include <memory>
+#include <fstream>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -257,6 +258,13 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
         }
         check_finite_states(scene, k, sim.time());
+        if (options.debug_step && *options.debug_step == k) {
+            const auto debug_start = Clock::now();
+            std::ofstream debug(options.debug_file, std::ios::binary | std::ios::trunc);
+            debug << step_debug_text(scene, k, t);
+            if (!debug) throw std::runtime_error("cannot write the debug export '" + options.debug_file.string() + "'");
+            output_seconds += seconds_since(debug_start);
+        }
         bound.check(scene, k, sim.time());
 
         const StepTimings& timing = scene.last_timings();
@@ -321,6 +329,48 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     summary.mean_newton_iterations = options.steps > 0 ? newton_sum / double(options.steps) : 0.0;
     summary.kinetic_energy = scene.kinetic_energy();
     return summary;
+}
+
+std::string step_debug_text(const Scene& scene, std::int64_t step, double t_start) {
+    std::ostringstream out;
+    char buf[128];
+    const auto number = [&](double v) {
+        std::snprintf(buf, sizeof buf, "%.17g", v);
+        return std::string(buf);
+    };
+    const auto vec3 = [&](const Vec3& v) { return number(v.x()) + " " + number(v.y()) + " " + number(v.z()); };
+    out << "# penalty debug export: step " << step << ", t_start " << number(t_start) << " s, dt " << number(scene.dt())
+        << " s, scene " << scene.file().path.string() << "\n";
+    out << "contacts:\n";
+    for (const output::ContactRecord& r : scene.contacts()) {
+        const auto contacts = r.field->contacts();
+        out << "pair " << r.name << " (" << contacts.size() << " contacts)\n";
+        for (std::size_t i = 0; i < contacts.size(); ++i) {
+            const PenaltyContact& c = contacts[i];
+            out << "contact " << i << " elements " << c.index1 << " " << c.index2 << " point1 "
+                << vec3(r.state1->position[std::size_t(c.m1)]) << " point2 " << vec3(r.state2->position[std::size_t(c.m2)])
+                << " normal " << vec3(c.normal) << " distance " << number(c.dist) << " penetration " << number(c.pen)
+                << " stiffness " << number(c.ks) << " force " << number(c.normal_force) << "\n";
+        }
+    }
+    out << "solves:\n";
+    for (const auto& [path, solver] : scene.implicit_solvers()) {
+        const auto& solves = solver->last_step_cg_solves();
+        for (std::size_t j = 0; j < solves.size(); ++j)
+            out << "solve " << path << " linear solve " << j << ": iterations " << solves[j].iterations << " end "
+                << solves[j].end_condition << " residual " << number(solves[j].error) << "\n";
+    }
+    out << "forces:\n";
+    for (const output::StateRecord& r : scene.states()) {
+        const std::string label = output::state_label(r);
+        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
+            for (std::size_t i = 0; i < v->force.size(); ++i) out << "force " << label << " " << i << " " << vec3(v->force[i]) << "\n";
+        } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
+            for (std::size_t i = 0; i < g->force.size(); ++i)
+                out << "force " << label << " " << i << " " << vec3(g->force[i].linear) << " " << vec3(g->force[i].angular) << "\n";
+        }
+    }
+    return out.str();
 }
 
 std::string format_summary(const RunSummary& s) {

@@ -18,6 +18,7 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -47,7 +48,44 @@ bool is_collision_model_type(std::string_view t) {
            t == "SphereCollisionModel" || t == "CylinderCollisionModel" || t == "TetrahedronCollisionModel";
 }
 bool is_intersection_type(std::string_view t) {
-    return t == "MinProximityIntersection" || t == "NewProximityIntersection" || t == "DiscreteIntersection";
+    return t == "MinProximityIntersection" || t == "NewProximityIntersection" || t == "DiscreteIntersection" ||
+           t == "LocalMinDistance";
+}
+
+/// SOFA's class name of a component type (its ObjectFactory alias resolved), for default names.
+std::string_view sofa_class_name(std::string_view type) {
+    if (type == "FixedConstraint") return "FixedProjectiveConstraint";
+    return type;
+}
+
+/// SOFA's name for an unnamed component of the XML loader (ObjectElement::initNode →
+/// ComponentNameHelper::resolveName, xml convention): its class name followed by a counter of the
+/// unnamed components of that class created so far in the same node (context), from 1; e.g. the
+/// one unnamed MechanicalObject of a node is "MechanicalObject1".
+std::string sofa_default_name(const SceneComponent& c) {
+    const std::string_view cls = sofa_class_name(c.type);
+    int count = 0;
+    for (const auto& other : c.node->components) {
+        if (other->name.empty() && sofa_class_name(other->type) == cls) ++count;
+        if (other.get() == &c) break;
+    }
+    return std::string(cls) + std::to_string(count);
+}
+
+/// "none", or the names of the fixes that are on, and the zero-distance policy when not the default.
+std::string quirk_summary(const SofaQuirkFixes& q) {
+    std::string out;
+    for (const std::string& name : enabled_sofa_quirk_fixes(q)) out += (out.empty() ? "" : " ") + name;
+    if (q.zero_distance_normal != ZeroDistanceNormal::FallbackX)
+        out += (out.empty() ? "" : " ") + std::string("zeroDistanceNormal=") + zero_distance_normal_name(q.zero_distance_normal);
+    return out.empty() ? "none" : out;
+}
+
+/// The accepted quirk names, for error messages.
+std::string quirk_choices() {
+    std::string out = "known: all";
+    for (const SofaQuirkInfo& q : sofa_quirk_table()) out += ", " + std::string(q.name);
+    return out;
 }
 
 bool is_rigid_template(const SceneComponent& c, std::string_view name) {
@@ -460,7 +498,7 @@ private:
     void build_state(const SceneComponent& c, NodeInfo& info) {
         info.state_component = &c;
         const bool rigid = is_rigid_template(c, c.template_name);
-        const std::string name = c.name.empty() ? std::string("dofs") : c.name;
+        const std::string name = c.name.empty() ? sofa_default_name(c) : c.name;
         Node& node = *info.node;
         guarded(c, [&] {
             const InitialTransform tr = read_transform(c);
@@ -685,7 +723,10 @@ private:
         Vec3Object& s = vec3_state(c, info);
         guarded(c, [&] {
             MeshSpringParameters p = MeshSpringParameters::uniform(nonnegative(c, "stiffness", 0.0), nonnegative(c, "damping", 0.0));
-            if (c.type == "RegularGridSpringForceField" && !c.has("stiffness")) p = MeshSpringParameters::uniform(100.0, 0.0);
+            // SOFA's RegularGridSpringForceField defaults: stiffness 100, damping 5 (its Data
+            // linesStiffness … cubesDamping, which `stiffness` and `damping` alias).
+            if (c.type == "RegularGridSpringForceField")
+                p = MeshSpringParameters::uniform(nonnegative(c, "stiffness", 100.0), nonnegative(c, "damping", 5.0));
             auto pick = [&](const char* k, const char* d, double& ks, double& kd) {
                 ks = nonnegative(c, k, ks);
                 kd = nonnegative(c, d, kd);
@@ -698,7 +739,7 @@ private:
             std::vector<Spring> springs;
             if (c.type == "RegularGridSpringForceField") {
                 if (!info.grid) io::throw_element_error(c, "needs a RegularGridTopology in its node");
-                springs = mesh_springs(info.grid->mesh(false), s.rest_position, p);
+                springs = regular_grid_springs(*info.grid, p);  // SOFA's order and rest lengths
             } else {
                 springs = mesh_springs(topology_of(c, info), s.rest_position, p);
             }
@@ -781,6 +822,7 @@ private:
             auto& s = node.set_ode_solver<EulerImplicitSolver>();
             init_steps_.push_back({1, [p = &s, n = &node] { p->init(*n); }, &c});
             scene_.implicit_solvers_.push_back(&s);
+            scene_.implicit_solver_paths_.push_back(node_path(node));
             s.rayleigh_stiffness = io::get_double_or(c, "rayleighStiffness", 0.0);
             s.rayleigh_mass = io::get_double_or(c, "rayleighMass", 0.0);
             s.vdamping = nonnegative(c, "vdamping", 0.0);
@@ -965,20 +1007,41 @@ private:
                 p = IntersectionParams::discrete();
             } else {
                 p = c.type == "MinProximityIntersection" ? IntersectionParams::min_proximity()
+                    : c.type == "LocalMinDistance"       ? IntersectionParams::local_min_distance()
                                                          : IntersectionParams::new_proximity();
                 p.alarm_distance = nonnegative(c, "alarmDistance", 1.0);
                 p.contact_distance = nonnegative(c, "contactDistance", 0.5);
                 if (p.contact_distance > p.alarm_distance)
                     io::throw_attribute_error(c, "contactDistance", "must not exceed alarmDistance");
-                p.use_line_line = io::get_bool_or(c, "useLineLine", p.use_line_line);
+                if (c.type != "LocalMinDistance") p.use_line_line = io::get_bool_or(c, "useLineLine", p.use_line_line);
                 if (c.type == "MinProximityIntersection") {
                     p.use_sphere_triangle = io::get_bool_or(c, "useSphereTriangle", p.use_sphere_triangle);
                     p.use_point_point = io::get_bool_or(c, "usePointPoint", p.use_point_point);
                     p.use_line_point = io::get_bool_or(c, "useLinePoint", p.use_line_point);
                     p.use_surface_normals = io::get_bool_or(c, "useSurfaceNormals", p.use_surface_normals);
                 }
+                if (c.type == "LocalMinDistance") {  // SOFA's LocalMinDistance Data and defaults
+                    p.filter_intersection = io::get_bool_or(c, "filterIntersection", p.filter_intersection);
+                    p.angle_cone = nonnegative(c, "angleCone", p.angle_cone);
+                    p.cone_factor = nonnegative(c, "coneFactor", p.cone_factor);
+                    p.use_lmd_filters = io::get_bool_or(c, "useLMDFilters", p.use_lmd_filters);
+                }
             }
             p.enable_beyond_sofa_pairs = io::get_bool_or(c, "beyondSofaPairs", false);  // beyond SOFA
+            // Beyond SOFA: fixes of SOFA bugs (default: reproduce SOFA), then the command line's.
+            if (const auto names = io::get_string(c, "fixSofaQuirks")) {
+                std::istringstream words(*names);
+                for (std::string w; words >> w;)
+                    if (!enable_sofa_quirk_fix(p.quirks, w))
+                        io::throw_attribute_error(c, "fixSofaQuirks", "unknown SOFA quirk '" + w + "' (" + quirk_choices() + ")");
+            }
+            if (const auto policy = io::get_string(c, "zeroDistanceNormal")) {
+                if (*policy == "fallbackX") p.quirks.zero_distance_normal = ZeroDistanceNormal::FallbackX;
+                else if (*policy == "drop") p.quirks.zero_distance_normal = ZeroDistanceNormal::Drop;
+                else if (*policy == "sofaNaN") p.quirks.zero_distance_normal = ZeroDistanceNormal::SofaNaN;
+                else io::throw_attribute_error(c, "zeroDistanceNormal", "expected fallbackX, drop or sofaNaN");
+            }
+            p.quirks = merge_sofa_quirk_fixes(p.quirks, options_.sofa_quirk_fixes);
             p.validate();
             return p;
         });
@@ -1001,7 +1064,9 @@ private:
         ScenePipeline sp;
         sp.name = name;
         const IntersectionParams params = intersection_params(*intersection);
-        sp.intersection = intersection->type.substr(0, intersection->type.size() - std::string_view("Intersection").size());
+        sp.intersection = intersection->type == "LocalMinDistance"
+                              ? intersection->type
+                              : intersection->type.substr(0, intersection->type.size() - std::string_view("Intersection").size());
         ContactPipelineOptions options;
         options.detection = options_.exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = options_.threads;
@@ -1113,6 +1178,7 @@ private:
                                                 : "alarm distance " + num(p.alarm_distance) + " m, contact distance " +
                                                       num(p.contact_distance) + " m";
                 if (p.enable_beyond_sofa_pairs) d += ", beyond-SOFA pairs on";
+                d += ", SOFA quirk fixes: " + quirk_summary(p.quirks);
             } else if (t == "CollisionResponse") {
                 const std::string r = io::get_string(*c, "response").value_or(std::string(kPenaltyResponseName));
                 const std::string params = io::get_string(*c, "responseParams").value_or("");
@@ -1177,6 +1243,12 @@ void Scene::step() {
             solver_stats_.newton_unconverged = solver_stats_.newton_unconverged || !s->last_newton_converged();
         }
     }
+}
+
+std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
+    std::vector<std::pair<std::string, const EulerImplicitSolver*>> out;
+    for (std::size_t i = 0; i < implicit_solvers_.size(); ++i) out.emplace_back(implicit_solver_paths_[i], implicit_solvers_[i]);
+    return out;
 }
 
 bool Scene::uses_newton() const {

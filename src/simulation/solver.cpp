@@ -16,13 +16,23 @@ void CGLinearSolver::check() const {
     if (!std::isfinite(threshold) || threshold < 0) throw_invalid_argument("CGLinearSolver: threshold must be >= 0, got ", threshold);
 }
 
-CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+namespace {
+/// Σ aᵢbᵢ, left to right (no vectorised partial sums).
+double sequential_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+    double sum = 0.0;
+    for (Eigen::Index i = 0; i < a.size(); ++i) sum += a[i] * b[i];
+    return sum;
+}
+}  // namespace
+
+CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x, const Dot& dot_product) {
     check();
+    const Dot& dot = dot_product ? dot_product : Dot(sequential_dot);
     CgStats stats;
     const bool first_solve = solve_count_ == 0;
     ++solve_count_;
     x = Eigen::VectorXd::Zero(b.size());
-    const double norm_b = b.norm();
+    const double norm_b = std::sqrt(dot(b, b));  // SOFA: MultiVec::norm() = sqrt(v_dot(b, b))
     if (!std::isfinite(norm_b))
         throw NonFiniteSolveError("CGLinearSolver: the right-hand side is not finite (|b| overflows)", nullptr, nullptr, nullptr);
     if (norm_b == 0.0) {
@@ -36,7 +46,7 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
     stats.end_condition = "iterations";
     for (int k = 1; k <= iterations; ++k) {
         stats.iterations = k;
-        const double rho = r.dot(r);
+        const double rho = dot(r, r);
         const double err = std::sqrt(rho) / norm_b;
         stats.error = err;
         if (err <= tolerance && !(k == 1 && first_solve)) {
@@ -49,7 +59,7 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
             p = r + (rho / rho_prev) * p;
         }
         a(p, q);
-        const double den = p.dot(q);
+        const double den = dot(p, q);
         if (den == 0.0) {
             stats.end_condition = "den=0";
             break;
@@ -111,6 +121,23 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
 Index SubtreeSystem::offset(const BaseState* s) const {
     const auto it = offset_of_.find(s);
     return it == offset_of_.end() ? static_cast<Index>(size_) : it->second;
+}
+
+double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+    double total = 0.0;
+    for (std::size_t s = 0; s < independent_.size(); ++s) {
+        const Eigen::Index width = independent_[s]->deriv_size();
+        const Eigen::Index begin = offsets_[s];
+        const Eigen::Index end = begin + static_cast<Eigen::Index>(independent_[s]->scalar_size());
+        double state_sum = 0.0;
+        for (Eigen::Index i = begin; i < end; i += width) {
+            double dof = a[i] * b[i];
+            for (Eigen::Index c = 1; c < width; ++c) dof += a[i + c] * b[i + c];
+            state_sum += dof;
+        }
+        total += state_sum;
+    }
+    return total;
 }
 
 void SubtreeSystem::gather_velocity(Eigen::VectorXd& v) const {
@@ -242,10 +269,15 @@ void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
 }
 
 void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k,
-                              bool do_project) const {
+                              bool do_project, bool accumulate) const {
+    if (accumulate) PENALTY_DEMAND(out.size() == size_);
     for (std::size_t i = 0; i < independent_.size(); ++i) {
-        independent_[i]->dx_flat() = dx.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size()));
-        independent_[i]->df_flat().setZero();
+        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        independent_[i]->dx_flat() = dx.segment(offsets_[i], n);
+        // accumulate: each contribution is added to out's value in turn, as SOFA's addMBKv
+        // adds into b = f (((f + c1) + c2) ..., not f + (c1 + c2 ...)).
+        if (accumulate) independent_[i]->df_flat() = out.segment(offsets_[i], n);
+        else independent_[i]->df_flat().setZero();
     }
     for (BaseState* s : external_) {
         s->dx_flat().setZero();
@@ -356,6 +388,7 @@ void EulerImplicitSolver::init(Node& /*node*/) {
 
 void EulerImplicitSolver::record_cg(const CgStats& stats) {
     last_cg_ = stats;
+    step_cg_solves_.push_back(stats);
     step_cg_iterations_ += stats.iterations;
     step_cg_limit_reached_ = step_cg_limit_reached_ || stats.end_condition == "iterations";
 }
@@ -363,6 +396,7 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
 void EulerImplicitSolver::solve(Node& node, double dt) {
     SubtreeSystem sys(node);
     step_cg_iterations_ = 0;
+    step_cg_solves_.clear();
     step_cg_limit_reached_ = false;
     if (newton.enabled) {
         solve_newton(sys, dt);
@@ -376,13 +410,13 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     sys.compute_force(f);
     Eigen::VectorXd v;
     sys.gather_velocity(v);
-    Eigen::VectorXd b;
-    if (first_order) {
-        b = f;
-    } else {
-        Eigen::VectorXd kv;
-        sys.apply_mbk(v, kv, -rm, 0.0, h * tr + rs, false);
-        b = h * (f + kv);
+    // SOFA's EulerImplicitSolver::solve: b = f; b += (−rm·M + (h·tr + rs)·K)·v, each force
+    // field (and mass) adding into b in turn (MappingGraphMechanicalOperations::addMBKv);
+    // b = b·h (b.teq(h)).
+    Eigen::VectorXd b = f;
+    if (!first_order) {
+        sys.apply_mbk(v, b, -rm, 0.0, h * tr + rs, false, /*accumulate=*/true);
+        b *= h;
     }
     sys.project(b);
     const double mf = first_order ? 1.0 : 1.0 + tr * h * rm;
@@ -390,7 +424,8 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     const double kf = first_order ? -h * tr : -tr * h * (tr * h + rs);
     Eigen::VectorXd x;
     try {
-        record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x));
+        record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x,
+                           [&](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
     } catch (const NonFiniteSolveError& e) {
         // Finite forces, yet the solve overflowed (|b|², p·q): name the largest force.
         if (e.force_field() == nullptr && e.mass() == nullptr) sys.throw_naming_largest_force(e.what());
@@ -447,7 +482,7 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
         }
         Eigen::VectorXd delta;
         record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, 1.0, -h, -h * h, true); },
-                           rhs, delta));
+                           rhs, delta, [&](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
         dv += delta;
     }
     const Eigen::VectorXd v = v0 + dv;
@@ -503,10 +538,12 @@ void Simulation::solve_node(Node& node, double dt) {
     }
     for (const auto& ff : node.force_fields()) {
         // Explicit: forces from the start-of-step x, v, added as external forces for the step.
-        for (BaseState* s : ff->states()) s->force_flat().setZero();
+        // As SOFA's SolveVisitor::fwdInteractionForceField (addForce into externalForce): each
+        // contribution is added to the external force in turn, ((e + c1) + c2), not e + (c1 + c2).
+        for (BaseState* s : ff->states()) s->force_flat() = s->external_force_flat();
         ff->accumulate_force();
         for (BaseState* s : ff->states()) {
-            s->external_force_flat() += s->force_flat();
+            s->external_force_flat() = s->force_flat();
             s->force_flat().setZero();
         }
     }

@@ -107,6 +107,42 @@ check(list(rows[0].keys())[:5] == ["step", "time", "contacts", "active_contacts"
 check(int(rows[-1]["step"]) == steps - 1 and abs(float(rows[-1]["time"]) - 0.3) < 1e-12, "last CSV row is step 29 at t = 0.3")
 check(max(int(r["contacts"]) for r in rows) > 0, "CSV records contacts")
 
+# --compare-trajectory: a run against its own every-step export passes (plain and gzip files);
+# one value moved by 1e-6 at step 5 is found (step, state, DOF) and gives exit code 4.
+import gzip
+traj = os.path.join(work, "trajectory")
+run("run", scene, "--steps", "20", "--quiet", "--export-states", traj, expect=0)
+p = run("run", scene, "--steps", "20", "--quiet", "--compare-trajectory", traj, expect=0)
+check("every state within 1e-12 at every step: PASS" in p.stdout, "self comparison passes")
+cube = os.path.join(traj, "0_cube_mstate.txt")
+lines = open(cube).read().splitlines()
+x = lines[11].split()  # step 5: lines 10 (T=) and 11 (X=)
+x[2] = repr(float(x[2]) + 1e-6)  # DOF 0, y
+lines[11] = "  " + " ".join(x)
+with gzip.open(cube + ".gz", "wt") as f:
+    f.write("\n".join(lines) + "\n")
+os.remove(cube)
+p = run("run", scene, "--steps", "20", "--quiet", "--compare-trajectory", traj, expect=4)
+check(re.search(r"0_cube_mstate.txt vs 0_cube_mstate.txt.gz: .*\n.*first step with \|dx\| > 1e-12: step 5 \(t = 0.05 s\) DOF 0 y", p.stdout)
+      is not None, "gzip trajectory read, first step, DOF and component of the difference")
+p = run("run", scene, "--steps", "20", "--quiet", "--compare-trajectory", traj, "--trajectory-threshold", "1e-5", expect=0)
+check("PASS" in p.stdout, "a looser --trajectory-threshold accepts the difference")
+
+# SOFA-quirk switches and the debug export.
+p = run("run", scene, "--steps", "2", "--quiet", "--fix-sofa-quirk", "no_such_quirk", expect=2)
+check("unknown SOFA quirk 'no_such_quirk'" in p.stderr, "unknown quirk names itself")
+p = run("info", scene, "--fix-sofa-quirks", "all", expect=0)
+check("newproximity_triangle_sphere_edge_flags [on for every pipeline]" in p.stdout and
+      "SOFA quirk fixes: minproximity_line_sphere_mirror" in p.stdout, "info shows the quirk fixes that are on")
+debug = os.path.join(work, "debug.txt")
+p = run("run", scene, "--steps", "30", "--quiet", "--debug-step", "25", "--debug-file", debug, expect=0)
+text = open(debug).read()
+check(text.startswith("# penalty debug export: step 25, t_start 0.25") and "\ncontacts:\n" in text and
+      re.search(r"\ncontact 0 elements \d+ \d+ point1 \S+ \S+ \S+ point2 .* normal .* distance .* penetration", text)
+      and re.search(r"\nsolve /Cube linear solve 0: iterations \d+ end \w+ residual", text)
+      and "\nforce /Cube/cube 7 " in text, "debug export: contacts, linear solves, forces")
+run("run", scene, "--steps", "30", "--quiet", "--debug-step", "30", expect=2)
+
 # The built-in scene (the README's main job).
 p = run("run", "--steps", "60", "--quiet", expect=0)
 check("built-in scene" in p.stdout and re.search(r"contacts per step: mean [0-9.]+, max [1-9]", p.stdout) is not None,

@@ -9,7 +9,10 @@
 #include "penalty/collision/detection_output.hpp"
 
 #include <cstdint>
+#include <span>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace penalty {
 
@@ -51,6 +54,26 @@ struct SofaQuirkFixes {
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };
+
+/// One switchable SOFA quirk: its name in scenes (`fixSofaQuirks="NAME ..."` on an intersection
+/// component) and on the command line (`--fix-sofa-quirk NAME`), the member of SofaQuirkFixes it
+/// sets, and one line on what the fix does.
+struct SofaQuirkInfo {
+    std::string_view name;
+    bool SofaQuirkFixes::*member;
+    std::string_view description;
+};
+/// Every boolean quirk fix, in a fixed order (the zero-distance normal policy is not a fix of a
+/// SOFA bug but a choice among three behaviours: `zeroDistanceNormal`).
+[[nodiscard]] std::span<const SofaQuirkInfo> sofa_quirk_table();
+/// Turns on the fix named `name` ("all" turns every fix on). Returns false for an unknown name.
+bool enable_sofa_quirk_fix(SofaQuirkFixes& fixes, std::string_view name);
+/// Names of the fixes that are on, in table order.
+[[nodiscard]] std::vector<std::string> enabled_sofa_quirk_fixes(const SofaQuirkFixes& fixes);
+/// Every fix on in `a` or in `b` (the zero-distance policy of `a` unless `b`'s is not the default).
+[[nodiscard]] SofaQuirkFixes merge_sofa_quirk_fixes(const SofaQuirkFixes& a, const SofaQuirkFixes& b);
+/// "fallbackX", "drop", "sofaNaN".
+[[nodiscard]] const char* zero_distance_normal_name(ZeroDistanceNormal policy);
 
 /// Parameters of an intersection method. Build with one of the factories to get SOFA's
 /// defaults for that method.

@@ -55,7 +55,8 @@ struct InitialTransform {
     [[nodiscard]] bool is_identity() const {
         return translation.isZero(0) && rotation_deg.isZero(0) && scale3d == Vec3::Ones();
     }
-    /// Rotation of the Euler angles (degrees, x then y then z, i.e. R = Rz(z)·Ry(y)·Rx(x)).
+    /// Rotation of the Euler angles (degrees, x then y then z, i.e. R = Rz(z)·Ry(y)·Rx(x)), computed
+    /// as SOFA's Quat::createQuaterFromEuler(angles · π / 180) (ZYX order), operation by operation.
     [[nodiscard]] Quat rotation() const;
 };
 

@@ -57,9 +57,12 @@ std::vector<Tetrahedron> tetrahedra_from_hexahedra(const std::vector<Hexahedron>
 /// (or nearest) cell, as SOFA's BarycentricMapperRegularGridTopology.
 void map_on_regular_grid(BarycentricMapping& mapping, const RegularGridTopology& grid, std::span<const Vec3> points);
 
-/// Springs of SOFA's RegularGridSpringForceField: grid edges (lines stiffness), face diagonals
-/// (quads stiffness) and cell diagonals (cubes stiffness), ks = stiffness / L, kd = damping / L.
-/// Same spring set as MeshSpringForceField on the grid (order: lines, quads, cubes).
+/// Springs of SOFA's RegularGridSpringForceField, in the order its addForce visits them: grid
+/// edges along x, y, z (lines stiffness), face diagonals of the xy, xz, yz planes, two per face
+/// (quads stiffness), the four cell diagonals (cubes stiffness); ks = stiffness / L,
+/// kd = damping / L, with L the length of the grid's cell vectors (dx, dx + dy, ...), not of the
+/// state's rest positions (which a MechanicalObject rotation may have moved by rounding). The
+/// second yz diagonal takes ks, kd from the first one's length, as SOFA.
 std::vector<Spring> regular_grid_springs(const RegularGridTopology& grid, const MeshSpringParameters& parameters);
 
 }  // namespace penalty

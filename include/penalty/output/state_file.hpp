@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -57,7 +58,7 @@ struct StateSample {
     std::vector<double> x;
 };
 
-/// Reads a state file. Blank lines are skipped, leading spaces ignored; "T= t" starts a sample,
+/// Reads a state file (gzip-compressed when its name ends in ".gz"). Blank lines are skipped, leading spaces ignored; "T= t" starts a sample,
 /// "X= ..." gives its positions (exactly one per sample), "V= ..." lines (SOFA's writeV) are
 /// ignored. Throws std::runtime_error "<file>:<line>: <reason>" for an unreadable file, a number
 /// that does not parse, an X line before any T line, a second X line for one time, a sample
@@ -101,5 +102,69 @@ struct RegressionResult {
 [[nodiscard]] double state_regression_error(std::span<const StateSample> reference, std::span<const StateSample> ours,
                                             int values_per_dof, const std::string& label,
                                             std::vector<std::string>& messages);
+
+/// The largest difference between two samples of a state at one step.
+struct StepDifference {
+    std::size_t step = 0;          ///< index of the sample in SOFA's file (step k: state at T = k·dt)
+    double time = 0.0;             ///< s
+    std::size_t value_index = 0;   ///< index in the X line
+    double max_difference = 0.0;   ///< max_i |X_i − Xsofa_i| (+inf for a NaN)
+    std::size_t dof = 0;           ///< value_index / values_per_dof
+    std::size_t component = 0;     ///< value_index % values_per_dof (0..2 x y z, 3..6 qx qy qz qw)
+};
+
+/// One exported state against SOFA's trajectory of it (every sample of SOFA's file whose time
+/// we exported, times matched within 1e-9·max(1, |T|); SOFA's samples at other times, e.g. beyond
+/// our last step, are counted, not compared). criterion is SOFA's error_s over the compared
+/// samples: Σ_T Σ_i |X_i(T) − Xsofa_i(T)| / n_dofs (as compare_with_reference).
+struct TrajectoryStateComparison {
+    std::filesystem::path sofa_file, our_file;
+    double criterion = 0.0;                          ///< SOFA's error_s (compare_with_reference)
+    std::size_t steps_compared = 0;
+    std::size_t sofa_steps_not_compared = 0;         ///< SOFA samples at times we did not export
+    std::optional<StepDifference> first_over_threshold;  ///< first step with max|Δx| > threshold
+    std::optional<StepDifference> largest;           ///< the step with the largest max|Δx|
+    std::optional<StepDifference> last;              ///< the last compared step
+    std::string problem;                             ///< unreadable file, missing time, ... ("" if none)
+};
+
+/// Every exported state against SOFA's trajectory (`penalty run --compare-trajectory DIR`).
+struct TrajectoryComparison {
+    std::vector<TrajectoryStateComparison> states;
+    double mean_criterion = 0.0;   ///< SOFA's criterion: mean of the states' error_s
+    double threshold = 1e-12;      ///< m (or quaternion units) per value
+    std::vector<std::string> messages;  ///< file pairing problems; "note: ..." ones are informative
+    [[nodiscard]] bool messages_are_notes() const;
+    /// No pairing problem, every state compared at least once, SOFA's criterion ≤ tolerance and
+    /// no state above the threshold at any step.
+    [[nodiscard]] bool passed(double criterion_tolerance = 1e-4) const;
+};
+
+/// SOFA's state files in `directory` for our files `<k>_<name>_mstate.txt`: the file
+/// `<k>_<name>_mstate.txt` or `.txt.gz` (a name that differs from ours only by the characters
+/// sanitize_file_name replaces), else the one file of index k (a note is added to `messages`).
+/// A missing index gives an empty path and a message. Throws std::runtime_error when
+/// `directory` does not exist.
+[[nodiscard]] std::vector<std::filesystem::path> find_trajectory_files(const std::filesystem::path& directory,
+                                                                       std::span<const std::filesystem::path> our_files,
+                                                                       std::vector<std::string>& messages);
+
+/// One state's comparison on samples already read (SOFA's first, ours second).
+[[nodiscard]] TrajectoryStateComparison compare_state_trajectory(std::span<const StateSample> sofa,
+                                                                 std::span<const StateSample> ours, int values_per_dof,
+                                                                 double threshold);
+
+/// Reads SOFA's files of `sofa_directory` (plain or .gz) and our exported files and compares
+/// them step by step. values_per_dof: one per file (StateExporter::values_per_dof()).
+[[nodiscard]] TrajectoryComparison compare_trajectories(const std::filesystem::path& sofa_directory,
+                                                        std::span<const std::filesystem::path> our_files,
+                                                        std::span<const int> values_per_dof, double threshold = 1e-12);
+
+/// The report printed by `--compare-trajectory`: per state, SOFA's error, the first step above
+/// the threshold (step, time, DOF, component, difference), the largest difference and the
+/// difference at the last step; then SOFA's criterion and the verdict, e.g.
+///   trajectory: 0_Particles_mstate.txt: error 1.2e-10; first step > 1e-12: 23 (t = 0.23 s) DOF 5 y, 3.1e-12; ...
+///   trajectory: SOFA's criterion 1.2e-10 (<= 1e-4), every state within 1e-12 at every step: PASS
+[[nodiscard]] std::string format_trajectory_comparison(const TrajectoryComparison& comparison);
 
 }  // namespace penalty::output

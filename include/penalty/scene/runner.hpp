@@ -40,6 +40,9 @@ struct RunOptions {
     std::optional<std::filesystem::path> view_directory;    ///< `--view DIR`: the browser viewer (viewer.hpp)
     std::int64_t view_every = 1;                             ///< `--view-every M`: frames k with k % M == 0, and the end
     std::string view_title;                                  ///< the viewer page's title (the scene's name)
+    /// `--debug-step K --debug-file FILE`: after step K, write what it did (write_step_debug).
+    std::optional<std::int64_t> debug_step;
+    std::filesystem::path debug_file = "penalty-debug-step.txt";
 };
 
 /// The divergence criterion of run_scene, besides non-finite values. L is the diagonal of the
@@ -111,6 +114,21 @@ using ProgressCallback = std::function<void(std::int64_t, std::int64_t, const Ru
 /// Runs `options.steps` steps. Throws std::runtime_error on divergence or I/O failure and
 /// std::invalid_argument for invalid options (steps < 0, every < 1).
 RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress = {});
+
+/// The debug export of one step (`penalty run --debug-step K`), written right after step k
+/// (which started at time t_start and detected contacts with the positions at t_start). Plain
+/// text, one record per line, numbers with 17 significant digits, sections:
+///   # header: scene, step, t_start, dt
+///   contacts: per live contact pair "pair <model 1>-<model 2> (<n> contacts)", then per contact
+///     "contact <i> elements <e1> <e2> point1 <x y z> point2 <x y z> normal <x y z> distance <d>
+///      penetration <pen> stiffness <ks> force <f_n>" (points: the contact points at the end of the
+///     step's collision, i.e. mapped from the positions at t_start; penetration and force from the
+///     last force evaluation of the step)
+///   solves: per implicit solver "solve <node path> linear solve <j>: iterations <n> end <cond>
+///     residual <|r|/|b|>"
+///   forces: per state (every MechanicalObject of the scene, depth first) its force vector as the
+///     step's solver computed it at t_start, "force <state> <dof> <fx fy fz>" (Rigid3: 6 values).
+[[nodiscard]] std::string step_debug_text(const Scene& scene, std::int64_t step, double t_start);
 
 /// The summary as printed at the end of `penalty run` (several lines).
 [[nodiscard]] std::string format_summary(const RunSummary& summary);

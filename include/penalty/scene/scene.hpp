@@ -41,6 +41,9 @@ struct BuildOptions {
     std::uint64_t max_dofs = 10'000'000;
     /// Largest `iterations` of a CGLinearSolver: 10⁶ by default (a typo cannot hang a run).
     std::uint64_t max_cg_iterations = 1'000'000;
+    /// Fixes of SOFA bugs turned on for every intersection method of the scene
+    /// (`--fix-sofa-quirk NAME`), in addition to those its `fixSofaQuirks` attribute turns on.
+    SofaQuirkFixes sofa_quirk_fixes;
 };
 
 /// One collision model of the scene and where it comes from.
@@ -98,6 +101,8 @@ public:
     [[nodiscard]] bool uses_newton() const;
     /// True if the scene has an implicit solver (CG statistics are meaningful).
     [[nodiscard]] bool uses_cg() const { return !implicit_solvers_.empty(); }
+    /// The implicit solvers with the path of their node, in build order (depth first).
+    [[nodiscard]] std::vector<std::pair<std::string, const EulerImplicitSolver*>> implicit_solvers() const;
 
     /// Every MechanicalObject of the scene file, depth first (parent before children, file
     /// order), with its topology, mapped flag and solver-subtree flag. Contact-point states the
@@ -150,6 +155,7 @@ private:
     StepTimings timings_;
     StepSolverStats solver_stats_;
     std::vector<const EulerImplicitSolver*> implicit_solvers_;
+    std::vector<std::string> implicit_solver_paths_;  ///< node path of each implicit solver
     mutable std::vector<output::ContactRecord> contacts_cache_;
 };
 

@@ -50,13 +50,17 @@ struct CgStats {
 class CGLinearSolver {
 public:
     using Operator = std::function<void(const Eigen::VectorXd& p, Eigen::VectorXd& q)>;
+    /// Dot product of two flat vectors. SOFA sums in a fixed order (SubtreeSystem::dot); the
+    /// rounding of ρ, pᵀq and |b| depends on it, so the solve uses the system's order.
+    using Dot = std::function<double(const Eigen::VectorXd& a, const Eigen::VectorXd& b)>;
     int iterations = 25;
     double tolerance = 1e-5;
     double threshold = 1e-5;
 
     /// Validates the parameters (std::invalid_argument on iterations < 1 or negative/NaN values).
     void check() const;
-    CgStats solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x);
+    /// `dot` empty: the plain sequential sum Σ aᵢbᵢ.
+    CgStats solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x, const Dot& dot = {});
     [[nodiscard]] int solve_count() const { return solve_count_; }
 
 private:
@@ -77,6 +81,12 @@ public:
     /// Scalar offset of a state in the system, or size() for a state outside it.
     [[nodiscard]] Index offset(const BaseState* s) const;
 
+    /// aᵀb summed as SOFA's VectorOperations::v_dot (MechanicalVDotVisitor over the independent
+    /// states in visiting order, each MechanicalObject::vDot): per DOF d = Σ_c a_c·b_c left to right
+    /// (Vec3: 3 components; Rigid3 deriv: 6, RigidDeriv::operator*), per state r = 0, r += d for
+    /// each DOF in order, total = 0, total += r for each state in order.
+    [[nodiscard]] double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
+
     void gather_velocity(Eigen::VectorXd& v) const;
     void scatter_velocity(const Eigen::VectorXd& v) const;
     /// x <- x + h·v for every independent state.
@@ -91,7 +101,10 @@ public:
     /// Leaves the states' force vectors overwritten (the step is abandoned).
     [[noreturn]] void throw_naming_largest_force(const std::string& what) const;
     /// out = (m·M + b·B + k·K)·dx (matrix-free, through the mappings), projected if asked.
-    void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project) const;
+    /// accumulate: out += (m·M + b·B + k·K)·dx, each contribution added to out in turn (out must
+    /// have size()); the projection, if asked, applies to the sum.
+    void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project,
+                   bool accumulate = false) const;
     /// Applies every projective constraint to a flat vector.
     void project(Eigen::VectorXd& v) const;
     /// out = M⁻¹·in (independent states; each must have a mass).
@@ -154,6 +167,8 @@ public:
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
     [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
+    /// Every linear solve of the last solve() in order (one, or one per Newton iterate).
+    [[nodiscard]] const std::vector<CgStats>& last_step_cg_solves() const { return step_cg_solves_; }
     /// CG iterations of the last solve() in all (one linear solve, or one per Newton iterate).
     [[nodiscard]] int last_step_cg_iterations() const { return step_cg_iterations_; }
     /// True if a linear solve of the last solve() stopped on its iteration limit.
@@ -171,6 +186,7 @@ private:
     CgStats last_cg_;
     void record_cg(const CgStats& stats);
     int step_cg_iterations_ = 0;
+    std::vector<CgStats> step_cg_solves_;
     bool step_cg_limit_reached_ = false;
     int last_newton_iterations_ = 0;
     double last_newton_residual_ = 0.0;
