@@ -182,6 +182,9 @@ public:
         } catch (const std::exception& e) {
             throw io::SceneError(file_.path.string() + ": " + e.what());
         }
+        // Again once every mapped state has its size (a model over a mapped state was checked
+        // against an empty state above): an element that indexes past its state is a scene error.
+        for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
         record_sphere_radii();
         warn_degenerate_triangles();
         for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
@@ -406,14 +409,16 @@ private:
                 if (c.has("n")) {
                     const std::vector<double> v = io::get_doubles(c, "n");
                     if (v.size() != 3) io::throw_attribute_error(c, "n", "expected 3 integers");
+                    for (const double x : v)
+                        if (!(x >= 1 && x <= 100000)) io::throw_attribute_error(c, "n", "each count must be between 1 and 100000");
                     n = {int(v[0]), int(v[1]), int(v[2])};
                 }
-                n[0] = int(io::get_int_or(c, "nx", n[0]));
-                n[1] = int(io::get_int_or(c, "ny", n[1]));
-                n[2] = int(io::get_int_or(c, "nz", n[2]));
-                for (int k = 0; k < 3; ++k)
-                    if (n[k] < 1 || n[k] > 100000)
-                        io::throw_attribute_error(c, std::string("n") + char('x' + k), "must be between 1 and 100000");
+                for (int k = 0; k < 3; ++k) {
+                    const std::string axis = std::string("n") + char('x' + k);
+                    const std::int64_t count = io::get_int_or(c, axis, n[std::size_t(k)]);
+                    if (count < 1 || count > 100000) io::throw_attribute_error(c, axis, "must be between 1 and 100000");
+                    n[std::size_t(k)] = int(count);  // checked before the narrowing cast
+                }
                 const auto points = std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
                 if (points > options_.max_dofs)
                     io::throw_element_error(c, std::to_string(points) + " grid points (more than " +

@@ -491,6 +491,13 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
 }
 
 // ---- EulerExplicitSolver ----------------------------------------------------------------------
+void EulerExplicitSolver::init(Node& node) {
+    const SubtreeSystem sys(node);
+    Eigen::VectorXd probe = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(sys.size()));
+    Eigen::VectorXd out;
+    sys.apply_inverse_mass(probe, out);  // throws naming a state without a mass
+}
+
 void EulerExplicitSolver::solve(Node& node, double dt) {
     SubtreeSystem sys(node);
     Eigen::VectorXd f;

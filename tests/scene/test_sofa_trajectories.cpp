@@ -103,6 +103,6 @@ INSTANTIATE_TEST_SUITE_P(
                       TrajectoryCase{"RegularGridSpringForceField", -1, 0.0},
                       TrajectoryCase{"SphereModel", 17, 1e-7},
                       TrajectoryCase{"collisionMultiple", 60, 0.02}),
-    [](const ::testing::TestParamInfo<TrajectoryCase>& info) { return std::string(info.param.scene); });
+    [](const ::testing::TestParamInfo<TrajectoryCase>& param_info) { return std::string(param_info.param.scene); });
 
 }  // namespace

@@ -196,6 +196,9 @@ private:
 /// SOFA's EulerExplicitSolver, symplectic: a = M⁻¹ f (projected), v ← v + h a, x ← x + h v.
 class EulerExplicitSolver final : public OdeSolver {
 public:
+    /// Checks that every independent state of the subtree has a mass (a = M⁻¹ f needs one);
+    /// std::invalid_argument naming the state otherwise.
+    void init(Node& node) override;
     void solve(Node& node, double dt) override;
 };
 
