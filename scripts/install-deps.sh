@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages that building and testing `penalty` needs.
+# Installs the Debian 12 packages that building and testing `penalty` needs (clang and its
+# runtime libraries build the libFuzzer targets, scripts/fuzz.sh).
 # Idempotent: packages already present are left alone. Runs as root or through sudo.
 set -euo pipefail
 
@@ -8,6 +9,7 @@ packages=(
   libeigen3-dev libtinyxml2-dev libcli11-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
+  clang libclang-rt-14-dev
 )
 
 missing=()
