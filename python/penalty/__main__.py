@@ -6,6 +6,7 @@ C++ command line: 0 success, 1 invalid scene or input, 2 command-line error, 3 d
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 import traceback
@@ -30,6 +31,8 @@ def _parser():
     run.add_argument("--stats", default=None)
     run.add_argument("--exhaustive", action="store_true")
     run.add_argument("--quiet", action="store_true")
+    run.add_argument("--divergence-factor", type=float, default=100.0,
+                     help="Diverged when a step moves a DOF by more than F times the scene size (default 100; 0: off)")
     script = sub.add_parser("script", help="Run a SofaPython3 script as __main__ (its own main block), with "
                                            "Sofa, Sofa.Core, Sofa.Simulation and SofaRuntime importable")
     script.add_argument("scene")
@@ -46,10 +49,25 @@ def main(argv=None) -> int:
         args = parser.parse_args(argv)
     except SystemExit as e:
         return 0 if e.code == 0 else 2
-    if args.command == "run" and (args.steps < 0 or args.vtk_every < 1 or args.export_every < 1
-                                  or (args.dt is not None and args.dt <= 0)):
-        print("penalty: error: --steps must be >= 0, --vtk-every and --export-every >= 1, --dt > 0", file=sys.stderr)
-        return 2
+    if args.command == "run":
+        # The same limits as the C++ command line (docs/reliability.md).
+        max_threads = max(64, 4 * (os.cpu_count() or 1))
+        problems = []
+        if not 0 <= args.steps <= 1_000_000_000:
+            problems.append(f"--steps: {args.steps} is out of range (0 to 1000000000)")
+        if args.dt is not None and not (math.isfinite(args.dt) and 0 < args.dt <= 86400):
+            problems.append(f"--dt: '{args.dt}' is out of range (0, 86400]")
+        if not 0 <= args.threads <= max_threads:
+            problems.append(f"--threads: {args.threads} is out of range (1 to {max_threads})")
+        for name, value in (("--vtk-every", args.vtk_every), ("--export-every", args.export_every)):
+            if not 1 <= value <= 1_000_000_000:
+                problems.append(f"{name}: {value} is out of range (1 to 1000000000)")
+        if not (math.isfinite(args.divergence_factor) and args.divergence_factor >= 0):
+            problems.append(f"--divergence-factor: '{args.divergence_factor}' is out of range [0, 1e100]")
+        if problems:
+            for p in problems:
+                print(f"penalty: error: {p}", file=sys.stderr)
+            return 2
     if args.command == "script":
         import runpy
         penalty._install_sofa_path()
@@ -70,7 +88,7 @@ def main(argv=None) -> int:
               f" collision models, {len(info['pipelines'])} collision pipeline(s)")
         for w in scene.warnings():
             print(f"note: {w}")
-        summary = scene.run(args.steps, vtk=args.vtk, vtk_every=args.vtk_every, export_states=args.export_states,
+        summary = scene.run(args.steps, vtk=args.vtk, vtk_every=args.vtk_every, export_states=args.export_states, divergence_factor=args.divergence_factor,
                             export_mapped=args.export_mapped, export_every=args.export_every, stats=args.stats,
                             progress=False if args.quiet else None)
         print(summary["text"], end="")
