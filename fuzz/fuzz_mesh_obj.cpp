@@ -1,19 +1,7 @@
-// Fuzz target: the obj mesh parser (parse_obj) on arbitrary text, then SOFA's sub-element creation
-// and a transform, as a loader in a scene does. A LoadError naming the file is the only refusal.
-#include "penalty/io/error.hpp"
-#include "penalty/io/mesh.hpp"
-
-#include <cstddef>
-#include <cstdint>
-#include <string_view>
+// Fuzz target: the obj mesh parser on arbitrary text (fuzz_mesh.hpp).
+#include "fuzz_mesh.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-    const std::string_view text(reinterpret_cast<const char*>(data), size);
-    try {
-        penalty::io::MeshData mesh = penalty::io::parse_obj(text, "fuzz.obj");
-        penalty::io::create_subelements(mesh);
-        penalty::io::apply_transform(mesh, penalty::Vec3(1, 2, 3), penalty::Vec3(10, 20, 30), penalty::Vec3(1, 2, 0.5));
-    } catch (const penalty::io::LoadError&) {
-    }
-    return 0;
+    const auto parse = [](std::string_view text, const std::filesystem::path& path) { return penalty::io::parse_obj(text, path); };
+    return penalty::fuzz::run_mesh_input(data, size, parse, "fuzz.obj");
 }
