@@ -188,6 +188,8 @@ case("spring stiffness 1e300", 1, [attr(10, "MeshSpringForceField 'springs'", "s
 case("grid n = 0", 1, ["bad.scn:6: RegularGridTopology 'grid': attribute 'n"], scene=soft('n="3 3 3"', 'n="0 3 3"'))
 case("grid too many points", 1, ["bad.scn:6", "RegularGridTopology 'grid'", "grid points"], scene=soft('n="3 3 3"', 'n="100000 100000 3"'))
 case("fixed index out of range", 1, [attr(11, "FixedConstraint 'fixed'", "indices"), "index 99 out of range"], scene=soft('indices="0 1 2"', 'indices="0 1 99"'))
+case("totalMass on a state with no DOF (no doubled prefix)", 1, ["bad.scn:13: UniformMass 'mass': totalMass given for a state with no DOF"],
+     scene=ball('position="0.3 0.5 0.2"', 'size="0"'))
 case("state size huge", 1, [attr(12, "MechanicalObject 'dofs'", "size")], scene=ball('position="0.3 0.5 0.2"', 'size="100000000000"'))
 
 # ---- links ----------------------------------------------------------------------------------------
@@ -280,6 +282,8 @@ def run_case(index, c):
         problems.append(f"exit {p.returncode}, expected {c['expect']}")
     if p.returncode != 0 and "penalty: error:" not in p.stderr:
         problems.append("no 'penalty: error:' line on stderr")
+    if "UniformMass: UniformMass" in out or "': UniformMass:" in out:
+        problems.append("doubled component prefix in the message")
     for fragment in c["fragments"]:
         if fragment not in out:
             problems.append(f"missing {fragment!r}")
