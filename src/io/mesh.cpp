@@ -171,6 +171,11 @@ MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path) {
         const Token version = tok.expect("format version");
         const auto v = parse_double(version.text);
         if (!v) fail(path, version.line, "expected a format version, found " + quoted(version.text));
+        // Version 2.x only; checked on the double, before the narrowing cast.
+        if (!(*v >= 2.0 && *v < 3.0)) {
+            fail(path, version.line,
+                 "Gmsh format " + std::string(version.text) + " is not supported (only 1 and 2 ASCII)");
+        }
         format = static_cast<int>(*v);
         if (format != 2) {
             fail(path, version.line,
