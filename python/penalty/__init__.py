@@ -123,7 +123,7 @@ class Scene:
 
     def run(self, steps: int, *, vtk=None, vtk_every: int = 1, export_states=None, export_mapped: bool = False,
             export_every: int = 1, stats=None, progress=None, callback=None, record: bool = False,
-            divergence_factor: float = 100.0) -> dict:
+            divergence_factor: float = 100.0, view=None, view_every: int = 1) -> dict:
         """Runs `steps` steps with the CLI's writers (`penalty run`'s --vtk, --export-states,
         --stats): VTK series into `vtk`, SOFA state files into `export_states`, per-step CSV into
         `stats`. A progress bar is drawn on stderr when it is a terminal (progress=None) or when
@@ -131,7 +131,9 @@ class Scene:
         (the CLI's numbers, and its text under "text"); with record=True it also holds
         "history": per-step arrays time, kinetic, contact, dissipated_damping,
         dissipated_friction (J) and contacts (count), after each step. divergence_factor is the
-        CLI's --divergence-factor (docs/reliability.md; 0 turns the check off)."""
+        CLI's --divergence-factor (docs/reliability.md; 0 turns the check off). view writes the
+        browser viewer into that folder (`penalty run --view`, one frame in view_every); serve it
+        with `penalty view DIR` (docs/viewer.md)."""
         as_path = lambda p: None if p is None else os.fspath(p)  # noqa: E731
         history = None
         step_callback = callback
@@ -150,7 +152,8 @@ class Scene:
                 if callback is not None:
                     callback(done, total)
         summary = self._scene._run(steps, as_path(vtk), vtk_every, as_path(export_states), export_mapped,
-                                   export_every, as_path(stats), progress, step_callback, float(divergence_factor))
+                                   export_every, as_path(stats), progress, step_callback, float(divergence_factor),
+                                   as_path(view), view_every)
         if history is not None:
             summary["history"] = history
         return summary

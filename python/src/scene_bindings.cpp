@@ -409,10 +409,13 @@ void bind_scene(py::module_& m) {
         .def("_run", [](PyScene& s, std::int64_t steps, std::optional<std::filesystem::path> vtk, std::int64_t vtk_every,
                         std::optional<std::filesystem::path> states, bool export_mapped, std::int64_t export_every,
                         std::optional<std::filesystem::path> stats, std::optional<bool> progress, py::object callback,
-                        double divergence_factor) {
+                        double divergence_factor, std::optional<std::filesystem::path> view, std::int64_t view_every) {
             scene::RunOptions o;
             o.steps = steps;
             o.divergence_factor = divergence_factor;
+            o.view_directory = view;
+            o.view_every = view_every;
+            o.view_title = s.scene->file().path.filename().string();
             o.vtk_directory = vtk;
             o.vtk_every = vtk_every;
             o.states_directory = states;

@@ -194,3 +194,19 @@ def test_divergence_raises_with_the_cli_message():
     assert "simulation diverged at step" in str(error.value)
     code, message = cli_error("run", path, "--steps", "100", "--quiet")
     assert code == 3 and message == str(error.value)
+
+
+def test_run_writes_the_browser_viewer(scene, output_dir):
+    # The same viewer as `penalty run --view`: 40 steps kept one in 10 give frames at steps
+    # 0, 10, 20, 30 and the end (t = 0.2 s); the manifest's per-frame times and contact counts
+    # are those of the run.
+    import json
+    scene.run(40, view=output_dir / "view", view_every=10, stats=output_dir / "stats.csv", progress=False)
+    manifest = json.loads((output_dir / "view" / "run.json").read_text())
+    frames = manifest["frames"]
+    assert frames["count"] == 5
+    assert frames["time"] == pytest.approx([0.0, 0.05, 0.1, 0.15, 0.2])
+    rows = list(csv.DictReader(open(output_dir / "stats.csv")))
+    assert frames["contacts"][-1] == int(rows[-1]["contacts"])
+    assert (output_dir / "view" / "index.html").is_file()
+    assert (output_dir / "view" / "positions.f32").stat().st_size > 0
