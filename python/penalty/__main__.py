@@ -23,6 +23,8 @@ def _parser():
     run.add_argument("--dt", type=float, default=None, help="Time step (s), overrides the scene's")
     run.add_argument("--threads", type=int, default=0)
     run.add_argument("--data-dir", action="append", default=[], help="Folder searched for mesh files (repeatable)")
+    run.add_argument("--set", action="append", default=[], dest="overrides", metavar="PATH.attribute=value",
+                     help="Override an attribute before the scene is built (repeatable; docs/sweeps.md)")
     run.add_argument("--vtk", default=None)
     run.add_argument("--vtk-every", type=int, default=1)
     run.add_argument("--export-states", default=None)
@@ -64,6 +66,11 @@ def main(argv=None) -> int:
                 problems.append(f"{name}: {value} is out of range (1 to 1000000000)")
         if not (math.isfinite(args.divergence_factor) and args.divergence_factor >= 0):
             problems.append(f"--divergence-factor: '{args.divergence_factor}' is out of range [0, 1e100]")
+        for o in args.overrides:
+            try:
+                penalty._core._check_override(o)
+            except ValueError as e:
+                problems.append(str(e))
         if problems:
             for p in problems:
                 print(f"penalty: error: {p}", file=sys.stderr)
@@ -81,7 +88,7 @@ def main(argv=None) -> int:
             print(scene.info()["text"], end="")
             return 0
         scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads,
-                                   exhaustive=args.exhaustive)
+                                   exhaustive=args.exhaustive, overrides=args.overrides)
         print(f"penalty run: {args.scene}")
         info = scene.info()
         print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"
