@@ -20,7 +20,7 @@ from ._core import DivergedError, PenaltyForceField, SceneError, State
 
 __all__ = [
     "load_scene", "builtin_scene", "Scene", "States", "State", "PenaltyForceField",
-    "SceneError", "DivergedError", "sofa_path", "format_overrides",
+    "SceneError", "DivergedError", "sofa_path", "sweep", "format_overrides",
 ]
 
 #: Folder to put first on sys.path so that `import Sofa`, `import SofaRuntime` resolve to
@@ -216,6 +216,12 @@ def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: boo
 def builtin_scene(*, dt=None) -> Scene:
     """The built-in scene of `penalty run` (a soft FEM cube and a rigid ball dropped on a floor)."""
     return Scene(_core._builtin_scene(dt))
+
+
+def sweep(scene, grid, steps, **kwargs):
+    """Parameter sweep on Dask: see penalty.sweeps.sweep and docs/sweeps.md."""
+    from .sweeps import sweep as _sweep
+    return _sweep(scene, grid, steps, **kwargs)
 
 
 def _install_sofa_path():
