@@ -254,13 +254,15 @@ def _ensure_worker_path():
 
 
 def local_cluster(workers=None, **kwargs):
-    """A LocalCluster of `workers` single-threaded processes bound to 127.0.0.1, no dashboard."""
+    """A LocalCluster of `workers` single-threaded processes bound to 127.0.0.1, no dashboard (the
+    scheduler's and workers' small HTTP servers, /health and /metrics, take free ports on 127.0.0.1)."""
     import logging
 
     from distributed import LocalCluster
     _ensure_worker_path()
     options = dict(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
-                   host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR)
+                   host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR,
+                   scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}, worker_dashboard_address="127.0.0.1:0")
     options.update(kwargs)
     return LocalCluster(**options)
 
@@ -367,7 +369,8 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
     columns = [c for c in first if c in df.columns] + [c for c in df.columns if c not in first and c != "index"]
     df = df[columns]
     if out_dir is not None:
-        df.to_csv(out_dir / "results.csv", index=False)
+        # %.17g: every float written exactly (read it back with float_precision="round_trip").
+        df.to_csv(out_dir / "results.csv", index=False, float_format="%.17g")
     return df
 
 
