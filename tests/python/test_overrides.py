@@ -55,3 +55,10 @@ def test_module_command_line_set(capsys):
     assert "--set '/.dt': expected PATH.attribute=value (no '=')" in capsys.readouterr().err
     assert main(["run", str(SCENE), "--steps", "10", "--quiet", "--set", "/Nope.dt=1"]) == 1
     assert "no node or component 'Nope' in '/'" in capsys.readouterr().err
+
+
+def test_overrides_apply_to_sofapython3_scripts():
+    script = Path(__file__).resolve().parent / "scripts" / "falling_cube.py"
+    assert penalty.load_scene(script, overrides={"/.dt": 0.00123}).dt == 0.00123
+    with pytest.raises(penalty.SceneError, match=r"falling_cube.py: --set '/Nope.dt=1': no node or component 'Nope'"):
+        penalty.load_scene(script, overrides={"/Nope.dt": 1})
