@@ -81,9 +81,13 @@ def test_grid_rows_equal_serial_runs(client, tmp_path):
 
 
 def test_invalid_value_is_a_failed_row(client):
-    df = penalty.sweep(SCENE, [{STIFFNESS: "abc"}, {STIFFNESS: 30}, {"/BallC/ball.radius": 1}],
+    df = penalty.sweep(SCENE, [{STIFFNESS: "abc"}, {STIFFNESS: 30}, {"/BallC/ball.radius": 1},
+                               {STIFFNESS: 1e9, "/.dt": 1e-3}],
                        2000, client=client, progress=False)
-    assert list(df["status"]) == ["invalid", "ok", "invalid"]
+    assert list(df["status"]) == ["invalid", "ok", "invalid", "diverged"]
+    # A diverging task: the divergence check's message, the metrics up to the step where it stopped.
+    assert df["message"][3].startswith("simulation diverged at step 143 (t = 0.144")
+    assert df["steps_done"][3] == 143 and df["contacts_max"][3] == 2
     assert df["message"][0] == (f"{SCENE}:37: PointCollisionModel 'ball_b_point': attribute 'contactStiffness': "
                                 "expected a number, found 'abc'")
     assert df["message"][2].startswith(f"{SCENE}: --set '/BallC/ball.radius=1': no node 'BallC' in '/'")
