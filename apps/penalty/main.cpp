@@ -320,7 +320,7 @@ int run_python_scene(int argc, char** argv) {
 #else
     (void)argc;
     (void)argv;
-    std::cerr << "penalty: error: SofaPython3 scenes (.py) need the Python module, which this build does not include "
+    std::cerr << "penalty: error: SofaPython3 scenes (.py) and `penalty sweep` need the Python module, which this build does not include "
                  "(PENALTY_BUILD_PYTHON: it needs pybind11-dev, python3-dev and python3-numpy, and is off under the "
                  "sanitizers); use a release build or python3 -m penalty\n";
     return kBadInput;
@@ -416,6 +416,10 @@ int main(int argc, char** argv) {
     std::vector<std::string> info_quirk_fixes;
     info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
 
+    // Listed for --help only: `penalty sweep ...` is handed to the Python module before parsing.
+    app.add_subcommand("sweep", "Parameter sweep on Dask: one run per override set (python3 -m penalty sweep --help; "
+                                "docs/sweeps.md)")
+        ->allow_extras();
     auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field alone");
     penalty::apps::DemoOptions options;
     demo->add_option("--stiffness", options.stiffness, "Contact stiffness ks (N/m)")->check(number_in(0.0, 1e12, true));
