@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libtinyxml2-dev libcli11-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
+  python3-distributed python3-h5py python3-pandas
   clang libclang-rt-14-dev
 )
 

@@ -10,6 +10,7 @@
 #include "view_server.hpp"
 
 #include "penalty/collision/intersection.hpp"
+#include "penalty/io/overrides.hpp"
 #include "penalty/io/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
@@ -107,6 +108,7 @@ struct RunArguments {
     std::int64_t debug_step = -1;            ///< --debug-step K
     std::string debug_file = "penalty-debug-step.txt";  ///< --debug-file FILE
     std::vector<std::string> quirk_fixes;    ///< --fix-sofa-quirk NAME (repeatable), --fix-sofa-quirks all
+    std::vector<std::string> overrides;      ///< --set PATH.attribute=value (repeatable)
     std::int64_t vtk_every = 1, export_every = 1;
     double divergence_factor = 100.0;
     bool export_mapped = false;
@@ -180,6 +182,16 @@ int run_command(const RunArguments& a) {
     if (a.dt > 0) build.dt = a.dt;
     build.threads = a.threads;
     build.exhaustive_detection = a.exhaustive;
+    // A malformed --set is a usage error (exit 2); a path or attribute the scene lacks is an
+    // invalid input (exit 1, from the builder).
+    for (const std::string& o : a.overrides) {
+        try {
+            (void)penalty::io::parse_override(o);
+        } catch (const penalty::io::OverrideSyntaxError& e) {
+            throw UsageError(e.what());
+        }
+    }
+    build.overrides = a.overrides;
     for (const std::string& name : a.quirk_fixes)
         if (!penalty::enable_sofa_quirk_fix(build.sofa_quirk_fixes, name))
             throw UsageError("--fix-sofa-quirk: unknown SOFA quirk '" + name + "' (" + quirk_names() + ")");
@@ -286,7 +298,7 @@ int info_command(const std::string& scene_path, const std::vector<std::string>& 
     return kOk;
 }
 
-/// `penalty run|info scene.py ...`: a SofaPython3 script runs in the Python module (same options,
+/// `penalty run|info scene.py ...` and `penalty sweep ...`: a SofaPython3 script, or a sweep, runs in the Python module (same options,
 /// output and exit codes), through Debian's interpreter: `python3 -m penalty <same arguments>`.
 /// Returns only if the script cannot be handed over.
 int run_python_scene(int argc, char** argv) {
@@ -308,7 +320,7 @@ int run_python_scene(int argc, char** argv) {
 #else
     (void)argc;
     (void)argv;
-    std::cerr << "penalty: error: SofaPython3 scenes (.py) need the Python module, which this build does not include "
+    std::cerr << "penalty: error: SofaPython3 scenes (.py) and `penalty sweep` need the Python module, which this build does not include "
                  "(PENALTY_BUILD_PYTHON: it needs pybind11-dev, python3-dev and python3-numpy, and is off under the "
                  "sanitizers); use a release build or python3 -m penalty\n";
     return kBadInput;
@@ -334,7 +346,9 @@ bool is_python_scene_command(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    if (is_python_scene_command(argc, argv)) return run_python_scene(argc, argv);
+    // `penalty sweep ...`: parameter sweeps on Dask run in the Python module (docs/sweeps.md).
+    if (is_python_scene_command(argc, argv) || (argc >= 2 && std::strcmp(argv[1], "sweep") == 0))
+        return run_python_scene(argc, argv);
     CLI::App app{"penalty: fast, validated penalty-based contact for deformable and rigid bodies"};
     app.require_subcommand(1);
 
@@ -346,6 +360,9 @@ int main(int argc, char** argv) {
     run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")->check(number_in(0.0, kMaxDt, true));
     run->add_option("--threads", args.threads, "Threads for the narrow phase (default: all cores)")
         ->check(integer_in(1, max_threads()));
+    run->add_option("--set", args.overrides,
+                    "Override an attribute before the scene is built: PATH.attribute=value, e.g. "
+                    "/Floor/FloorTri1.contactStiffness=200 or /.dt=0.005 (repeatable; docs/sweeps.md)");
     run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
     run->add_option("--vtk", args.vtk, "Write a ParaView time series (.pvd + .vtu/.vtp) into DIR");
     run->add_option("--vtk-every", args.vtk_every, "Write one VTK step in M")->check(integer_in(1, kMaxSteps));
@@ -399,6 +416,10 @@ int main(int argc, char** argv) {
     std::vector<std::string> info_quirk_fixes;
     info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
 
+    // Listed for --help only: `penalty sweep ...` is handed to the Python module before parsing.
+    app.add_subcommand("sweep", "Parameter sweep on Dask: one run per override set (python3 -m penalty sweep --help; "
+                                "docs/sweeps.md)")
+        ->allow_extras();
     auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field alone");
     penalty::apps::DemoOptions options;
     demo->add_option("--stiffness", options.stiffness, "Contact stiffness ks (N/m)")->check(number_in(0.0, 1e12, true));

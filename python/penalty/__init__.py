@@ -20,7 +20,7 @@ from ._core import DivergedError, PenaltyForceField, SceneError, State
 
 __all__ = [
     "load_scene", "builtin_scene", "Scene", "States", "State", "PenaltyForceField",
-    "SceneError", "DivergedError", "sofa_path",
+    "SceneError", "DivergedError", "sofa_path", "sweep", "format_overrides",
 ]
 
 #: Folder to put first on sys.path so that `import Sofa`, `import SofaRuntime` resolve to
@@ -162,16 +162,53 @@ class Scene:
         return f"<penalty.Scene {self.file} t={self.time:g} s, {len(self.states)} states>"
 
 
-def _load_options(data_dirs, dt, threads, exhaustive):
-    return [os.fspath(d) for d in (data_dirs or [])], dt, int(threads), bool(exhaustive)
+def _format_value(value) -> str:
+    """An override value as scene text: numbers exactly (repr round-trips a float), booleans as
+    1/0, sequences blank-separated, strings as they are."""
+    if isinstance(value, bool):
+        return "1" if value else "0"
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (int, float)):
+        return repr(value) if isinstance(value, float) else str(value)
+    try:
+        import numpy as np
+        if isinstance(value, np.generic):
+            return _format_value(value.item())
+    except ImportError:  # pragma: no cover
+        pass
+    if hasattr(value, "__iter__"):
+        return " ".join(_format_value(v) for v in value)
+    return str(value)
 
 
-def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False) -> Scene:
+def format_overrides(overrides) -> list:
+    """Overrides as `PATH.attribute=value` strings: from a dict {"/Floor/tri.contactStiffness": 200}
+    or an iterable of "PATH.attribute=value" strings (kept as they are)."""
+    if overrides is None:
+        return []
+    if isinstance(overrides, dict):
+        return [f"{key}={_format_value(value)}" for key, value in overrides.items()]
+    if isinstance(overrides, str):
+        return [overrides]
+    return [str(o) for o in overrides]
+
+
+def _load_options(data_dirs, dt, threads, exhaustive, overrides=None):
+    return ([os.fspath(d) for d in (data_dirs or [])], dt, int(threads), bool(exhaustive),
+            format_overrides(overrides))
+
+
+def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False,
+               overrides=None) -> Scene:
     """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
     is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's
-    folder; dt overrides the root node's time step."""
+    folder; dt overrides the root node's time step. overrides sets attributes of the parsed scene
+    before it is built, as `penalty run --set` (docs/sweeps.md): {"/Floor/tri.contactStiffness": 200,
+    "/.dt": 0.005} or ["/Floor/tri.contactStiffness=200"]; a path or attribute the scene does not
+    have raises SceneError naming it, a malformed key ValueError."""
     path = Path(path)
-    options = _load_options(data_dirs, dt, threads, exhaustive)
+    options = _load_options(data_dirs, dt, threads, exhaustive, overrides)
     if path.suffix == ".py":
         from . import sofa_api
         root = sofa_api.run_scene_script(path, options)
@@ -182,6 +219,12 @@ def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: boo
 def builtin_scene(*, dt=None) -> Scene:
     """The built-in scene of `penalty run` (a soft FEM cube and a rigid ball dropped on a floor)."""
     return Scene(_core._builtin_scene(dt))
+
+
+def sweep(scene, grid, steps, **kwargs):
+    """Parameter sweep on Dask: see penalty.sweeps.sweep and docs/sweeps.md."""
+    from .sweeps import sweep as _sweep
+    return _sweep(scene, grid, steps, **kwargs)
 
 
 def _install_sofa_path():

@@ -23,6 +23,8 @@ def _parser():
     run.add_argument("--dt", type=float, default=None, help="Time step (s), overrides the scene's")
     run.add_argument("--threads", type=int, default=0)
     run.add_argument("--data-dir", action="append", default=[], help="Folder searched for mesh files (repeatable)")
+    run.add_argument("--set", action="append", default=[], dest="overrides", metavar="PATH.attribute=value",
+                     help="Override an attribute before the scene is built (repeatable; docs/sweeps.md)")
     run.add_argument("--vtk", default=None)
     run.add_argument("--vtk-every", type=int, default=1)
     run.add_argument("--export-states", default=None)
@@ -37,6 +39,24 @@ def _parser():
                                            "Sofa, Sofa.Core, Sofa.Simulation and SofaRuntime importable")
     script.add_argument("scene")
     script.add_argument("arguments", nargs=argparse.REMAINDER)
+    sw = sub.add_parser("sweep", help="Run a scene once per override set, on Dask (docs/sweeps.md)")
+    sw.add_argument("scene")
+    sw.add_argument("--grid", action="append", default=[], metavar="PATH.attribute=v1,v2,...",
+                    help="Values of one attribute (repeatable: the Cartesian product of all --grid)")
+    sw.add_argument("--set", action="append", default=[], dest="overrides", metavar="PATH.attribute=value",
+                    help="An override of every task (repeatable)")
+    sw.add_argument("--steps", type=int, default=100, help="Steps per task (default 100)")
+    sw.add_argument("--out", required=True, help="Output folder: results.csv, rows/, trajectories/ (resumes)")
+    sw.add_argument("--scheduler", default=None, help="Dask scheduler address (default: a LocalCluster here)")
+    sw.add_argument("--workers", type=int, default=None, help="LocalCluster worker processes (default: the cores)")
+    sw.add_argument("--save-every", type=int, default=None, metavar="K",
+                    help="Write each task's states every K steps and its contacts to an HDF5 file")
+    sw.add_argument("--data-dir", action="append", default=[])
+    sw.add_argument("--dt", type=float, default=None)
+    sw.add_argument("--divergence-factor", type=float, default=100.0)
+    sw.add_argument("--retries", type=int, default=2, help="Dask retries of a task whose worker died (default 2)")
+    sw.add_argument("--no-resume", action="store_true", help="Run every task, even those with rows in --out")
+    sw.add_argument("--quiet", action="store_true")
     info = sub.add_parser("info", help="Build a scene and describe it")
     info.add_argument("scene")
     info.add_argument("--data-dir", action="append", default=[])
@@ -64,10 +84,17 @@ def main(argv=None) -> int:
                 problems.append(f"{name}: {value} is out of range (1 to 1000000000)")
         if not (math.isfinite(args.divergence_factor) and args.divergence_factor >= 0):
             problems.append(f"--divergence-factor: '{args.divergence_factor}' is out of range [0, 1e100]")
+        for o in args.overrides:
+            try:
+                penalty._core._check_override(o)
+            except ValueError as e:
+                problems.append(str(e))
         if problems:
             for p in problems:
                 print(f"penalty: error: {p}", file=sys.stderr)
             return 2
+    if args.command == "sweep":
+        return _sweep_command(args)
     if args.command == "script":
         import runpy
         penalty._install_sofa_path()
@@ -81,7 +108,7 @@ def main(argv=None) -> int:
             print(scene.info()["text"], end="")
             return 0
         scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads,
-                                   exhaustive=args.exhaustive)
+                                   exhaustive=args.exhaustive, overrides=args.overrides)
         print(f"penalty run: {args.scene}")
         info = scene.info()
         print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"
@@ -116,6 +143,63 @@ def main(argv=None) -> int:
         traceback.print_exc()
         print(f"penalty: error: {type(e).__name__}: {e}", file=sys.stderr)
         return 5
+
+
+def _sweep_command(args) -> int:
+    """`penalty sweep`: exit 0 when every task ran (even when some rows failed: they are results),
+    1 for an invalid scene path or grid, 2 for a command-line error, 5 when the sweep itself
+    failed (e.g. no scheduler at the address)."""
+    from . import sweeps
+    problems = []
+    if not os.path.isfile(args.scene):
+        problems.append(f"scene '{args.scene}' not found")
+    if not 0 <= args.steps <= 1_000_000_000:
+        problems.append(f"--steps: {args.steps} is out of range (0 to 1000000000)")
+    if args.workers is not None and not 1 <= args.workers <= 1024:
+        problems.append(f"--workers: {args.workers} is out of range (1 to 1024)")
+    if args.save_every is not None and args.save_every < 1:
+        problems.append(f"--save-every: {args.save_every} is out of range (1 to 1000000000)")
+    if args.workers is not None and args.scheduler is not None:
+        problems.append("--workers starts a LocalCluster: not with --scheduler (start workers on the cluster)")
+    grid = {}
+    for g in args.grid:
+        try:
+            key, values = sweeps.parse_grid_option(g)
+            penalty._core._check_override(f"{key}={values[0]}")
+            grid[key] = values
+        except ValueError as e:
+            problems.append(str(e))
+    fixed = {}
+    for o in args.overrides:
+        try:
+            path_, attribute, value = penalty._core._check_override(o)
+            fixed[o.split("=", 1)[0]] = value
+        except ValueError as e:
+            problems.append(str(e))
+    if problems:
+        for p in problems:
+            print(f"penalty: error: {p}", file=sys.stderr)
+        return 2
+    sets = sweeps.expand_grid(grid) if grid else [{}]
+    sets = [{**fixed, **s} for s in sets]
+    print(f"penalty sweep: {args.scene}, {len(sets)} task(s) of {args.steps} steps, "
+          + (f"scheduler {args.scheduler}" if args.scheduler else f"LocalCluster of {args.workers or os.cpu_count()} workers")
+          + f", results in {args.out}", flush=True)
+    try:
+        df = sweeps.sweep(args.scene, sets, args.steps, out=args.out, save=args.save_every, client=args.scheduler,
+                          workers=args.workers, data_dirs=args.data_dir, dt=args.dt,
+                          divergence_factor=args.divergence_factor, retries=args.retries,
+                          resume=not args.no_resume, progress=False if args.quiet else None)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"penalty: error: {e}", file=sys.stderr)
+        return 1
+    except Exception as e:  # noqa: BLE001 - e.g. no scheduler at the address
+        print(f"penalty: error: sweep failed: {type(e).__name__}: {e}", file=sys.stderr)
+        return 5
+    print(sweeps.summary_table(df))
+    resumed = int(df["resumed"].sum()) if "resumed" in df else 0
+    print(f"results: {os.path.join(args.out, 'results.csv')}" + (f" ({resumed} row(s) from an earlier run)" if resumed else ""))
+    return 0
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 // CLI's writers.
 #include "bindings.hpp"
 
+#include "penalty/io/overrides.hpp"
 #include "penalty/io/scene_file.hpp"
 #include "penalty/output/stats_csv.hpp"
 #include "penalty/scene/runner.hpp"
@@ -293,8 +294,9 @@ void read_tree_node(const py::dict& d, io::SceneNode& node, int depth) {
 }
 
 scene::BuildOptions build_options(const std::vector<std::filesystem::path>& data_dirs, std::optional<double> dt,
-                                  int threads, bool exhaustive) {
+                                  int threads, bool exhaustive, std::vector<std::string> overrides = {}) {
     scene::BuildOptions o;
+    o.overrides = std::move(overrides);
     o.data_dirs = data_dirs;
     o.dt = dt;
     o.threads = threads;
@@ -439,11 +441,16 @@ void bind_scene(py::module_& m) {
         });
 
     m.def("_load_scene", [](const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs,
-                            std::optional<double> dt, int threads, bool exhaustive) {
+                            std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides) {
         PyScene s;
-        s.scene = scene::load_scene(path, build_options(data_dirs, dt, threads, exhaustive));
+        s.scene = scene::load_scene(path, build_options(data_dirs, dt, threads, exhaustive, std::move(overrides)));
         return s;
-    });
+    }, py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
+       py::arg("overrides") = std::vector<std::string>{});
+    m.def("_check_override", [](const std::string& text) {
+        const io::Override o = io::parse_override(text);
+        return py::make_tuple(o.path, o.attribute, o.value);
+    }, "Parses PATH.attribute=value; ValueError naming what is malformed");
     m.def("_builtin_scene", [](std::optional<double> dt) {
         PyScene s;
         s.scene = scene::build_scene(io::parse_scene_string(scene::default_scene_xml(), "<built-in scene>"),
@@ -452,15 +459,16 @@ void bind_scene(py::module_& m) {
     });
     m.def("_build_tree", [](const py::dict& root, const std::filesystem::path& path,
                             const std::vector<std::filesystem::path>& data_dirs, std::optional<double> dt, int threads,
-                            bool exhaustive) {
+                            bool exhaustive, std::vector<std::string> overrides) {
         io::SceneFile file;
         file.path = path;
         file.root = std::make_unique<io::SceneNode>();
         read_tree_node(root, *file.root, 0);
         PyScene s;
-        s.scene = scene::build_scene(std::move(file), build_options(data_dirs, dt, threads, exhaustive));
+        s.scene = scene::build_scene(std::move(file), build_options(data_dirs, dt, threads, exhaustive, std::move(overrides)));
         return s;
-    }, "Builds a scene from the node tree of a SofaPython3 script (nested dicts), with the .scn builder");
+    }, py::arg("root"), py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
+       py::arg("overrides") = std::vector<std::string>{}, "Builds a scene from the node tree of a SofaPython3 script (nested dicts), with the .scn builder");
 }
 
 }  // namespace penalty::python

@@ -232,6 +232,20 @@ case("scene is a directory", 2, ["penalty: error:", "directory"], args=["."])
 case("scene is /dev/zero", 1, ["penalty: error:", "/dev/zero", "character device"], args=["/dev/zero"])
 case("--reference without --export-states", 2, ["penalty: error:", "--reference needs --export-states"], scene=BALL, args=["--reference", "."])
 case("--data-dir missing", 2, ["penalty: error:", "--data-dir"], scene=BALL, args=["--data-dir", "no_such_dir"])
+# --set (docs/sweeps.md): malformed is a usage error (2); a path or attribute the scene lacks, or a
+# value the builder refuses, is an invalid input (1) naming it.
+case("--set without '='", 2, ["penalty: error:", "--set '/Ball/ball.radius'", "no '='"], scene=BALL,
+     args=["--set", "/Ball/ball.radius"])
+case("--set without attribute", 2, ["penalty: error:", "--set '/Ball/ball=1'", "no '.attribute'"], scene=BALL,
+     args=["--set", "/Ball/ball=1"])
+case("--set unknown node", 1, ["penalty: error:", "bad.scn: --set '/Bal/ball.radius=1'", "no node 'Bal' in '/'"],
+     scene=BALL, args=["--set", "/Bal/ball.radius=1"])
+case("--set unknown attribute", 1, ["penalty: error:", "bad.scn:14: SphereCollisionModel 'ball'",
+                                    "no attribute 'radios'", "penalty does not read it"],
+     scene=BALL, args=["--set", "/Ball/ball.radios=1"])
+case("--set refused value", 1, [attr(14, "SphereCollisionModel 'ball'", "radius")], scene=BALL,
+     args=["--set", "/Ball/ball.radius=abc"])
+case("--set root dt refused", 1, [attr(2, "Node 'root'", "dt")], scene=BALL, args=["--set", "/root.dt=-1"])
 case("--vtk onto a file", 5, ["penalty: error:"], scene=BALL, args=["--vtk", "afile", "--steps", "2"], files={"afile": "x"})
 
 # ---- runs that diverge, and the edge of normal ----------------------------------------------------

@@ -44,6 +44,9 @@ struct BuildOptions {
     /// Fixes of SOFA bugs turned on for every intersection method of the scene
     /// (`--fix-sofa-quirk NAME`), in addition to those its `fixSofaQuirks` attribute turns on.
     SofaQuirkFixes sofa_quirk_fixes;
+    /// Attribute overrides `PATH.attribute=value` (`--set`, io/overrides.hpp), applied in order to
+    /// the parsed tree before anything is built (see scene::apply_overrides).
+    std::vector<std::string> overrides;
 };
 
 /// One collision model of the scene and where it comes from.
@@ -164,6 +167,12 @@ private:
 /// constructors, std::invalid_argument, are wrapped the same way).
 /// The scene keeps `file` (its components are referenced by the built objects).
 [[nodiscard]] std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options = {});
+
+/// Applies overrides `PATH.attribute=value` to a parsed scene (io::apply_overrides): an attribute
+/// the file lacks may be added when the builder reads it for that component type; any other
+/// unknown attribute, and a path that names nothing, is a SceneError naming it.
+/// @throws io::OverrideSyntaxError for a malformed override text.
+void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overrides);
 
 /// Parses and builds a scene file.
 [[nodiscard]] std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const BuildOptions& options = {});
