@@ -51,7 +51,9 @@ SceneComponent* child_component(SceneNode& node, std::string_view name) {
 }  // namespace
 
 Override parse_override(std::string_view text) {
-    const std::string quoted = "'" + std::string(text) + "'";
+    std::string quoted;  // built by appends: GCC 12 warns (-Wrestrict, a false positive) on "'" + string
+    quoted.reserve(text.size() + 2);
+    quoted.append(1, '\'').append(text).append(1, '\'');
     const std::size_t eq = text.find('=');
     if (eq == std::string_view::npos)
         throw OverrideSyntaxError("--set " + quoted + ": expected PATH.attribute=value (no '=')");
@@ -67,7 +69,7 @@ Override parse_override(std::string_view text) {
     o.text = std::string(text);
     if (!valid_attribute_name(o.attribute))
         throw OverrideSyntaxError("--set " + quoted + ": '" + o.attribute + "' is not an attribute name");
-    if (o.path.empty()) o.path = "/";
+    if (o.path.empty()) o.path.assign(1, '/');
     return o;
 }
 
