@@ -377,8 +377,11 @@ double SubtreeSystem::total_energy() const {
 }
 
 // ---- EulerImplicitSolver ----------------------------------------------------------------------
-void EulerImplicitSolver::init(Node& /*node*/) {
+void EulerImplicitSolver::init(Node& node) {
     cg.check();
+    // The subtree's structure (mapped states, masses, mappings) is checked here, at init, so
+    // that a scene the solver cannot integrate is refused before the run (not at step 0).
+    (void)SubtreeSystem(node);
     if (!std::isfinite(rayleigh_stiffness) || rayleigh_stiffness < 0)
         throw_invalid_argument("EulerImplicitSolver: rayleighStiffness must be >= 0, got ", rayleigh_stiffness);
     if (!std::isfinite(rayleigh_mass) || rayleigh_mass < 0)
