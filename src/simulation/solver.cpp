@@ -169,12 +169,17 @@ void SubtreeSystem::reset_forces() const {
     for (BaseState* s : external_) s->force_flat().setZero();
 }
 
-void SubtreeSystem::throw_non_finite_force() const {
-    // The states a contribution writes into, checked after each contribution in compute_force's
-    // order; velocities that are already non-finite are named first (the runner checks positions).
+std::vector<BaseState*> SubtreeSystem::all_states() const {
     std::vector<BaseState*> all(independent_);
     all.insert(all.end(), mapped_.begin(), mapped_.end());
     all.insert(all.end(), external_.begin(), external_.end());
+    return all;
+}
+
+void SubtreeSystem::throw_non_finite_force() const {
+    // The states a contribution writes into, checked after each contribution in compute_force's
+    // order; velocities that are already non-finite are named first (the runner checks positions).
+    const std::vector<BaseState*> all = all_states();
     const auto first_bad = [&](bool kinematics) -> const BaseState* {
         for (const BaseState* s : all) {
             if (kinematics ? !const_cast<BaseState*>(s)->velocity_flat().allFinite()
@@ -208,9 +213,7 @@ void SubtreeSystem::throw_non_finite_force() const {
 void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
     // Each contribution alone, in compute_force's order; the one with the largest |f|∞ is named
     // (an overflow of |b| or of a CG product starts from the largest force).
-    std::vector<BaseState*> all(independent_);
-    all.insert(all.end(), mapped_.begin(), mapped_.end());
-    all.insert(all.end(), external_.begin(), external_.end());
+    const std::vector<BaseState*> all = all_states();
     const auto largest = [&](const BaseState*& where) {
         double m = 0.0;
         for (BaseState* s : all) {

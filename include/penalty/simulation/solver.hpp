@@ -118,6 +118,8 @@ private:
     /// After a non-finite total force: evaluates the contributions again one at a time (external
     /// forces, each mass's gravity, each force field) and throws naming the first non-finite one.
     [[noreturn]] void throw_non_finite_force() const;
+    /// Independent, mapped and external states, in that order (the diagnostics' walk).
+    [[nodiscard]] std::vector<BaseState*> all_states() const;
     void reset_forces() const;
     void collect(Node& node, bool is_root);
     std::vector<BaseState*> independent_;
