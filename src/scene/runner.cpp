@@ -137,13 +137,6 @@ DivergenceBound::DivergenceBound(const Scene& scene, double factor) : factor_(fa
 void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) {
     if (factor_ == 0.0) return;
     const double limit = factor_ * size_;
-    std::size_t count = 0;
-    for_each_position(scene, [&](const output::StateRecord&, std::size_t, const Vec3&) { ++count; });
-    if (count != previous_.size()) {  // the states changed size: compare from the next step on
-        previous_.clear();
-        for_each_position(scene, [&](const output::StateRecord&, std::size_t, const Vec3& p) { previous_.push_back(p); });
-        return;
-    }
     if (!stored_energy_known_) {
         const double stored = scene.stored_energy();  // evaluated at the initial positions
         initial_energy_ += stored;
@@ -161,8 +154,11 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) 
                 "--divergence-factor 0 to turn this check off");
         }
     }
+    // One pass over the positions. The states keep their sizes during a run; a DOF beyond those
+    // recorded is only recorded (compared from the next step on).
     std::size_t k = 0;
     for_each_position(scene, [&](const output::StateRecord& r, std::size_t dof, const Vec3& p) {
+        if (k == previous_.size()) previous_.push_back(p);
         const double moved = (p - previous_[k]).norm();
         previous_[k++] = p;
         if (moved > limit) {
@@ -174,6 +170,7 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) 
                 " m); try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 to turn this check off");
         }
     });
+    previous_.resize(k);
 }
 
 RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress) {
