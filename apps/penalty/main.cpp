@@ -16,6 +16,7 @@
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/viewer_writer.hpp"
 #include "penalty/scene/runner.hpp"
+#include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/solver.hpp"
 
@@ -411,7 +412,12 @@ int main(int argc, char** argv) {
     std::vector<std::string> info_data_dirs;
     auto* info = app.add_subcommand(
         "info", "Build a scene without running it: what each component becomes, and which model pairs make contacts where");
-    info->add_option("scene", info_scene, "SOFA .scn file")->required()->check(CLI::ExistingFile);
+    info->add_option("scene", info_scene, "SOFA .scn file")->check(CLI::ExistingFile);
+    bool info_all_components = false;
+    std::string info_component;
+    info->add_flag("--components", info_all_components,
+                   "List every supported component type with the attributes it reads (kind, unit, check, default)");
+    info->add_option("--component", info_component, "The same for one component type (e.g. UniformMass)");
     info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
     std::vector<std::string> info_quirk_fixes;
     info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
@@ -445,6 +451,11 @@ int main(int argc, char** argv) {
             }
             return run_command(args);
         }
+        if (*info && (info_all_components || !info_component.empty())) {
+            std::cout << penalty::scene::describe_components(info_component);
+            return kOk;
+        }
+        if (*info && info_scene.empty()) throw UsageError("info: a scene file, or --components, or --component TYPE");
         if (*info) return info_command(info_scene, info_data_dirs, info_quirk_fixes);
         if (*view) return view_command(view_dir, view_port, view_no_serve);
         return penalty::apps::run_demo(options, std::cout);

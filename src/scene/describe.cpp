@@ -1,9 +1,8 @@
 // `penalty info`: what a built scene is made of, component by component, and which model pairs
 // can make contacts, with where each contact goes (spec §2.1).
-#include "penalty/io/components.hpp"
+#include "penalty/scene/components.hpp"
 #include "penalty/response/collision_response.hpp"
 #include "penalty/scene/scene.hpp"
-#include "scene/attributes.hpp"
 #include "scene/display.hpp"
 
 #include <map>
@@ -26,11 +25,11 @@ const Node* integrating_node(const Node& n) {
 }
 
 std::string ignored_reason(const io::SceneComponent& c) {
-    if (io::component_category(c.type) == io::ComponentCategory::ignored) {
-        for (const io::ComponentInfo& info : io::known_components())
-            if (info.type == c.type) return "ignored (" + std::string(info.role) + ")";
-    }
-    if (io::component_category(c.type) == io::ComponentCategory::loader) return "ignored (loader no physics component uses)";
+    const ComponentSpec* spec = find_component(c.type);
+    if (spec != nullptr && category_of(spec->family) == ComponentCategory::ignored)
+        return "ignored (" + std::string(spec->summary) + ")";
+    if (spec != nullptr && category_of(spec->family) == ComponentCategory::loader)
+        return "ignored (loader no physics component uses)";
     return "ignored (maps onto a visual model)";
 }
 
@@ -144,7 +143,7 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
 
 std::string describe_scene(const Scene& scene) {
     const io::SceneFile& file = scene.file();
-    const io::SceneCheck check = io::validate(file);
+    const SceneCheck check = validate(file);
     std::ostringstream out;
     out << "scene: " << file.path.string() << "\n";
     const std::set<const io::SceneComponent*> ignored(check.ignored.begin(), check.ignored.end());

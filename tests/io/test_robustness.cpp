@@ -3,7 +3,8 @@
 
 #include "io_test_util.hpp"
 
-#include "penalty/io/components.hpp"
+#include "penalty/io/scene_mesh.hpp"
+#include "penalty/scene/components.hpp"
 #include "penalty/io/mesh.hpp"
 #include "penalty/io/scene_file.hpp"
 
@@ -82,7 +83,7 @@ TEST(Robustness, EveryPrefixOfASceneParsesOrThrowsSceneError) {
         bool ok = false;
         try {
             const SceneFile s = parse_scene_string(text.substr(0, n), "prefix.scn");
-            (void)validate(s);
+            (void)scene::validate(s);
             ok = true;
         } catch (const SceneError&) {
         }

@@ -3,7 +3,8 @@
 
 #include "io_test_util.hpp"
 
-#include "penalty/io/components.hpp"
+#include "penalty/io/scene_mesh.hpp"
+#include "penalty/scene/components.hpp"
 #include "penalty/io/data_path.hpp"
 #include "penalty/io/scene_file.hpp"
 
@@ -261,7 +262,7 @@ TEST(SceneLinks, BrokenLinksNameTheAttribute) {
 
 TEST(SceneValidation, ClassifiesComponentsAndSummarizesIgnoredOnes) {
     const SceneFile s = parse_scene_file(tiny_path());
-    const SceneCheck check = validate(s);
+    const scene::SceneCheck check = scene::validate(s);
     EXPECT_EQ(check.physics.size(), 22u);
     ASSERT_EQ(check.loaders.size(), 3u);
     EXPECT_EQ(check.loaders[0]->name, "shared_loader");
@@ -271,10 +272,10 @@ TEST(SceneValidation, ClassifiesComponentsAndSummarizesIgnoredOnes) {
     EXPECT_EQ(check.summary,
               "ignored 5 visual-only components: BarycentricMapping (visual output) x1, MeshOBJLoader (visual only) x1, "
               "OglModel x1, RequiredPlugin x1, VisualStyle x1");
-    EXPECT_EQ(component_category("TriangleCollisionModel"), ComponentCategory::physics);
-    EXPECT_EQ(component_category("OglModel"), ComponentCategory::ignored);
-    EXPECT_EQ(component_category("MeshGmshLoader"), ComponentCategory::loader);
-    EXPECT_EQ(component_category("FancyForceField"), std::nullopt);
+    EXPECT_EQ(scene::component_category("TriangleCollisionModel"), scene::ComponentCategory::physics);
+    EXPECT_EQ(scene::component_category("OglModel"), scene::ComponentCategory::ignored);
+    EXPECT_EQ(scene::component_category("MeshGmshLoader"), scene::ComponentCategory::loader);
+    EXPECT_EQ(scene::component_category("FancyForceField"), std::nullopt);
 }
 
 TEST(SceneValidation, UnknownComponentIsAnError) {
@@ -282,7 +283,7 @@ TEST(SceneValidation, UnknownComponentIsAnError) {
         "<Node name='root'>\n  <VisualStyle/>\n  <Node name='A'>\n    <MechanicalObject/>\n"
         "    <FancyForceField stiffness='3'/>\n  </Node>\n</Node>\n",
         "unknown.scn");
-    EXPECT_EQ(message_of<SceneError>([&] { (void)validate(s); }),
+    EXPECT_EQ(message_of<SceneError>([&] { (void)scene::validate(s); }),
               "unknown.scn:5: unknown component 'FancyForceField' (not supported by penalty)");
 }
 
@@ -291,14 +292,14 @@ TEST(SceneValidation, BrokenLinkOfAPhysicsComponentIsAnError) {
         "<Node name='root'>\n  <Node name='A'>\n    <MechanicalObject name='m'/>\n"
         "    <IdentityMapping input='@../m' output='@m'/>\n  </Node>\n</Node>\n",
         "broken.scn");
-    EXPECT_EQ(message_of<SceneError>([&] { (void)validate(s); }),
+    EXPECT_EQ(message_of<SceneError>([&] { (void)scene::validate(s); }),
               "broken.scn:4: IdentityMapping: attribute 'input': broken link '@../m': no node or component named 'm' "
               "in node '/'");
 }
 
 TEST(SceneValidation, NoIgnoredComponent) {
     const SceneFile s = parse_scene_string("<Node name='root'><DefaultAnimationLoop/></Node>", "plain.scn");
-    EXPECT_EQ(validate(s).summary, "ignored 0 visual-only components");
+    EXPECT_EQ(scene::validate(s).summary, "ignored 0 visual-only components");
 }
 
 // ---------------------------------------------------------------------------------------------

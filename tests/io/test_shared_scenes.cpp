@@ -2,7 +2,8 @@
 // components use. Skipped when the shared folder is absent (the SOFA files are not part of
 // this repository).
 
-#include "penalty/io/components.hpp"
+#include "penalty/io/scene_mesh.hpp"
+#include "penalty/scene/components.hpp"
 #include "penalty/io/scene_file.hpp"
 
 #include <gtest/gtest.h>
@@ -96,7 +97,7 @@ TEST(SharedScenes, EverySceneParsesValidatesAndLoadsItsMeshes) {
         const std::string name = entry.path().filename().string();
         SCOPED_TRACE(name);
         const SceneFile scene = parse_scene_file(entry.path());
-        const SceneCheck check = validate(scene);
+        const scene::SceneCheck check = scene::validate(scene);
 
         // meshes used by physics: linked loaders, and MeshTopology filename=
         std::vector<const SceneComponent*> mesh_sources = check.loaders;

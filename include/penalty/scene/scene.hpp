@@ -60,7 +60,7 @@ struct SceneCollisionModel {
 /// CompositeCollisionPipeline) as built.
 struct ScenePipeline {
     std::string name;                              ///< component name or type
-    std::string intersection;                      ///< "NewProximity", "MinProximity", "Discrete"
+    std::string intersection;                      ///< "NewProximity", "MinProximity", "Discrete", "LocalMinDistance"
     std::unique_ptr<ContactPipeline> pipeline;
     std::vector<const SceneCollisionModel*> models;  ///< the models it detects, registration order
 };
@@ -111,10 +111,11 @@ public:
     /// order), with its topology, mapped flag and solver-subtree flag. Contact-point states the
     /// pipelines add are not in this list.
     [[nodiscard]] const std::vector<output::StateRecord>& states() const { return states_; }
-    /// The live contact pairs of every pipeline (force field and its two point states). The list
-    /// is kept between calls and rebuilt only when the live pairs changed (no per-step
-    /// allocation while the pairs stay); the reference is valid until the next call or step.
-    [[nodiscard]] const std::vector<output::ContactRecord>& contacts() const;
+    /// The live contact pairs of every pipeline (force field and its two point states) as of the
+    /// end of the last step (or the build). step() rebuilds the list only when the live pairs
+    /// changed (no per-step allocation while the pairs stay); the reference stays valid, and
+    /// its contents are replaced at the next step.
+    [[nodiscard]] const std::vector<output::ContactRecord>& contacts() const { return contacts_; }
     [[nodiscard]] const std::vector<SceneCollisionModel>& collision_models() const { return models_; }
     [[nodiscard]] const std::vector<ScenePipeline>& pipelines() const { return pipelines_; }
     /// Σ ½ vᵀ M v over the states that have a mass (J).
@@ -143,6 +144,8 @@ public:
 private:
     friend class SceneBuilder;
     friend std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options);
+    /// The contact records of the pipelines' live pairs (see contacts()).
+    void refresh_contacts();
     io::SceneFile file_;
     std::unique_ptr<Simulation> simulation_;
     std::vector<std::unique_ptr<MeshTopology>> topologies_;
@@ -159,7 +162,7 @@ private:
     StepSolverStats solver_stats_;
     std::vector<const EulerImplicitSolver*> implicit_solvers_;
     std::vector<std::string> implicit_solver_paths_;  ///< node path of each implicit solver
-    mutable std::vector<output::ContactRecord> contacts_cache_;
+    std::vector<output::ContactRecord> contacts_;
 };
 
 /// Builds a scene. Every error is an io::SceneError naming the file, the line, the component

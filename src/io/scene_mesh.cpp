@@ -1,0 +1,93 @@
+#include "penalty/io/scene_mesh.hpp"
+
+#include "penalty/io/data_path.hpp"
+
+
+namespace penalty::io {
+
+// ---------------------------------------------------------------------------------------------
+// loading the mesh of a component
+
+namespace {
+
+void refuse_if_set(const SceneComponent& c, std::string_view attr, bool value_that_is_unsupported) {
+    if (c.has(attr) && get_bool_or(c, attr, !value_that_is_unsupported) == value_that_is_unsupported) {
+        throw_attribute_error(c, attr, "not supported by penalty (it changes the point list)");
+    }
+}
+
+}  // namespace
+
+MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& scene_dir,
+                         const std::vector<std::filesystem::path>& data_dirs) {
+    const bool is_mesh_loader = c.type == "MeshOBJLoader" || c.type == "MeshGmshLoader" || c.type == "MeshVTKLoader";
+    const bool is_sphere_loader = c.type == "SphereLoader";
+    const bool is_topology_file = c.type == "MeshTopology" || c.type == "MechanicalObject";
+    if (!is_mesh_loader && !is_sphere_loader && !is_topology_file) {
+        throw_element_error(c, "is not a mesh loader");
+    }
+    const auto filename = get_string(c, "filename");
+    if (!filename || filename->empty()) throw_attribute_error(c, "filename", "missing (a mesh file name is required)");
+    if (is_link(*filename)) throw_attribute_error(c, "filename", "links are not supported here");
+
+    // options that change the point list and that penalty does not implement
+    if (is_mesh_loader) {
+        refuse_if_set(c, "handleSeams", true);
+        refuse_if_set(c, "onlyAttachedPoints", true);
+        if (c.has("transformation")) {
+            const std::vector<double> m = get_doubles(c, "transformation");
+            const bool identity = m.size() == 16 && [&] {
+                for (std::size_t i = 0; i < 16; ++i) {
+                    if (m[i] != (i % 5 == 0 ? 1.0 : 0.0)) return false;
+                }
+                return true;
+            }();
+            if (!identity) throw_attribute_error(c, "transformation", "not supported by penalty (use translation, rotation, scale3d)");
+        }
+    }
+    // validate the transform attributes before reading the file
+    const Vec3 translation = get_vec3_or(c, "translation", Vec3::Zero());
+    const Vec3 rotation = get_vec3_or(c, "rotation", Vec3::Zero());
+    Vec3 scale3d = Vec3::Ones();
+    if (is_mesh_loader) {
+        scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * get_double_or(c, "scale", 1.0);
+    } else if (is_sphere_loader) {
+        if (c.has("scale") && c.has("scale3d")) throw_attribute_error(c, "scale3d", "'scale' and its alias 'scale3d' are both set");
+        scale3d = get_vec3_or(c, c.has("scale3d") ? "scale3d" : "scale", Vec3::Ones());
+    }
+    const bool triangulate = is_mesh_loader && get_bool_or(c, "triangulate", false);
+    const bool flip = is_mesh_loader && get_bool_or(c, "flipNormals", false);
+    const bool subelements = is_mesh_loader && get_bool_or(c, "createSubelements", c.type == "MeshGmshLoader");
+
+    MeshData mesh;
+    try {
+        const std::filesystem::path file = resolve_data_file(*filename, scene_dir, data_dirs);
+        if (c.type == "MeshOBJLoader") {
+            mesh = load_obj(file, triangulate);
+        } else if (c.type == "MeshGmshLoader") {
+            mesh = load_gmsh(file);
+        } else if (c.type == "MeshVTKLoader") {
+            mesh = load_vtk_legacy(file);
+        } else if (is_sphere_loader) {
+            mesh = load_sph(file);
+        } else {
+            mesh = load_mesh_file(file);
+        }
+    } catch (const SceneError&) {
+        throw;
+    } catch (const LoadError& e) {
+        throw_attribute_error(c, "filename", e.what());
+    }
+    if (is_topology_file) return mesh;
+
+    // SOFA MeshLoader order: transform of the points, then element post-processing
+    apply_transform(mesh, translation, rotation, scale3d);
+    if (is_mesh_loader) {
+        if (flip && c.type != "MeshGmshLoader") flip_normals(mesh);
+        if (triangulate) triangulate_quads(mesh);
+        if (subelements) create_subelements(mesh);
+    }
+    return mesh;
+}
+
+}  // namespace penalty::io

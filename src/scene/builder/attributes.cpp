@@ -1,0 +1,148 @@
+// The attribute reader of the family build functions (scene_builder.hpp: Attributes), and the
+// naming helpers they share.
+#include "scene/builder/scene_builder.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+namespace penalty::scene {
+
+using io::SceneComponent;
+
+// ---- attribute reader -------------------------------------------------------------------------
+
+Attributes::Attributes(const SceneComponent& component)
+    : component_(component), spec_([&]() -> const ComponentSpec& {
+          const ComponentSpec* spec = find_component(component.type);
+          if (spec == nullptr) throw std::logic_error("penalty: no ComponentSpec for " + component.type);
+          return *spec;
+      }()) {}
+
+const AttributeSpec& Attributes::declared(std::string_view name) const {
+    if (const AttributeSpec* a = find_attribute(spec_, name)) return *a;
+    throw std::logic_error("penalty: the builder of " + component_.type + " reads attribute '" + std::string(name) +
+                           "', which its ComponentSpec does not declare");
+}
+
+void Attributes::check(const AttributeSpec& spec, double value) const {
+    const auto found = [&] { return io::get_string(component_, spec.name).value_or(""); };
+    if (spec.check == ValueCheck::nonnegative && value < 0)
+        io::throw_attribute_error(component_, spec.name, "must be >= 0, found '" + found() + "'");
+    if (spec.check == ValueCheck::positive && !(value > 0))
+        io::throw_attribute_error(component_, spec.name, "must be > 0, found '" + found() + "'");
+}
+
+namespace {
+/// A default written in a spec, as a number (a spec's text, so a malformed one is a penalty bug).
+double parse_default_number(const AttributeSpec& a) {
+    const std::string text(a.default_value);
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+        v = std::stod(text, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used == 0 || used != text.size())
+        throw std::logic_error("penalty: attribute '" + std::string(a.name) + "' has no numeric default");
+    return v;
+}
+Vec3 parse_default_vector(const AttributeSpec& a) {
+    std::istringstream in{std::string(a.default_value)};
+    Vec3 v;
+    if (!(in >> v.x() >> v.y() >> v.z()))
+        throw std::logic_error("penalty: attribute '" + std::string(a.name) + "' has no 3-number default");
+    return v;
+}
+}  // namespace
+
+bool Attributes::has(std::string_view name) const { return component_.has(declared(name).name); }
+double Attributes::real(std::string_view name) const {
+    const AttributeSpec& a = declared(name);
+    return real_or(name, parse_default_number(a));
+}
+double Attributes::real_or(std::string_view name, double fallback) const {
+    const AttributeSpec& a = declared(name);
+    const double v = io::get_double_or(component_, a.name, fallback);
+    check(a, v);
+    return v;
+}
+std::optional<double> Attributes::optional_real(std::string_view name) const {
+    const AttributeSpec& a = declared(name);
+    const std::optional<double> v = io::get_double(component_, a.name);
+    if (v) check(a, *v);
+    return v;
+}
+std::int64_t Attributes::integer(std::string_view name) const {
+    return integer_or(name, std::int64_t(parse_default_number(declared(name))));
+}
+std::int64_t Attributes::integer_or(std::string_view name, std::int64_t fallback) const {
+    return io::get_int_or(component_, declared(name).name, fallback);
+}
+bool Attributes::boolean(std::string_view name) const {
+    return boolean_or(name, parse_default_number(declared(name)) != 0.0);
+}
+bool Attributes::boolean_or(std::string_view name, bool fallback) const {
+    return io::get_bool_or(component_, declared(name).name, fallback);
+}
+Vec3 Attributes::vector3(std::string_view name) const {
+    return vector3_or(name, parse_default_vector(declared(name)));
+}
+Vec3 Attributes::vector3_or(std::string_view name, const Vec3& fallback) const {
+    return io::get_vec3_or(component_, declared(name).name, fallback);
+}
+std::optional<Vec3> Attributes::optional_vector3(std::string_view name) const {
+    return io::get_vec3(component_, declared(name).name);
+}
+std::string Attributes::text(std::string_view name) const {
+    const AttributeSpec& a = declared(name);
+    return io::get_string(component_, a.name).value_or(std::string(a.default_value));
+}
+std::optional<std::string> Attributes::optional_text(std::string_view name) const {
+    return io::get_string(component_, declared(name).name);
+}
+std::vector<double> Attributes::numbers(std::string_view name) const { return io::get_doubles(component_, declared(name).name); }
+std::vector<PointId> Attributes::indices(std::string_view name) const { return io::get_indices(component_, declared(name).name); }
+std::vector<Vec3> Attributes::points(std::string_view name) const { return io::get_vec3_list(component_, declared(name).name); }
+std::vector<RigidFrame> Attributes::frames(std::string_view name) const {
+    return io::get_rigid_list(component_, declared(name).name);
+}
+io::LinkTarget Attributes::link(std::string_view name) const { return io::resolve_link(component_, declared(name).name); }
+std::vector<io::LinkTarget> Attributes::links(std::string_view name) const {
+    return io::resolve_links(component_, declared(name).name);
+}
+bool Attributes::is_link(std::string_view name) const {
+    const io::SceneAttribute* a = component_.find(declared(name).name);
+    return a != nullptr && io::is_link(a->value);
+}
+void Attributes::fail(std::string_view name, const std::string& what) const {
+    io::throw_attribute_error(component_, declared(name).name, what);
+}
+
+// ---- helpers ----------------------------------------------------------------------------------
+
+/// SOFA's name for an unnamed component of the XML loader (ObjectElement::initNode →
+/// ComponentNameHelper::resolveName, xml convention): its class name followed by a counter of the
+/// unnamed components of that class created so far in the same node (context), from 1; e.g. the
+/// one unnamed MechanicalObject of a node is "MechanicalObject1".
+std::string sofa_default_name(const SceneComponent& c) {
+    const auto class_of = [](const SceneComponent& x) {
+        const ComponentSpec* spec = find_component(x.type);
+        return spec != nullptr && !spec->sofa_class.empty() ? spec->sofa_class : std::string_view(x.type);
+    };
+    const std::string_view cls = class_of(c);
+    int count = 0;
+    for (const auto& other : c.node->components) {
+        if (other->name.empty() && class_of(*other) == cls) ++count;
+        if (other.get() == &c) break;
+    }
+    return std::string(cls) + std::to_string(count);
+}
+
+bool is_rigid_template(const SceneComponent& c, std::string_view name) {
+    if (name.empty() || name == "Vec3d" || name == "Vec3" || name == "Vec3f") return false;
+    if (name == "Rigid3d" || name == "Rigid3" || name == "Rigid" || name == "Rigid3f") return true;
+    io::throw_element_error(c, "template '" + std::string(name) + "' is not supported (Vec3d or Rigid3d)");
+}
+
+}  // namespace penalty::scene

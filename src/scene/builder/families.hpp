@@ -1,0 +1,17 @@
+#pragma once
+// The component tables of the builder's family files: each family file declares the components
+// it builds (ComponentSpec: type, attributes, build function) next to their build functions;
+// src/scene/components.cpp assembles them into the registry.
+#include "penalty/scene/components.hpp"
+
+#include <span>
+
+namespace penalty::scene::builder {
+
+std::span<const ComponentSpec> state_and_topology_components();    // states_and_topologies.cpp
+std::span<const ComponentSpec> mass_and_force_field_components();  // masses_and_force_fields.cpp
+std::span<const ComponentSpec> mapping_and_constraint_components(); // mappings_and_constraints.cpp
+std::span<const ComponentSpec> solver_components();                // solvers.cpp
+std::span<const ComponentSpec> collision_components();             // collision.cpp
+
+}  // namespace penalty::scene::builder

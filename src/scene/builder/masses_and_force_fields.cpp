@@ -1,0 +1,228 @@
+// Masses, gravity and force fields: UniformMass, Gravity, MeshSpringForceField,
+// RegularGridSpringForceField, TetrahedronFEMForceField, HexahedronFEMForceField.
+#include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/spring_force_field.hpp"
+#include "scene/builder/families.hpp"
+#include "scene/builder/scene_builder.hpp"
+
+namespace penalty::scene::builder {
+
+namespace {
+
+using io::SceneComponent;
+using K = AttributeKind;
+using F = ComponentFamily;
+
+// ---- Gravity --------------------------------------------------------------------------------
+constexpr AttributeSpec kGravity[] = {
+    {"gravity", K::vector3, "0 -9.81 0", "m/s^2", ValueCheck::none, "of its node and below"},
+};
+
+void build_gravity(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    b.guarded(c, [&] { info.node->set_gravity(a.vector3("gravity")); });
+    b.role(c, [n = info.node] { return "gravity " + vec(n->gravity()) + " m/s^2 in this node and below"; });
+    b.note_unread_attributes(c);
+}
+
+// ---- UniformMass ----------------------------------------------------------------------------
+constexpr AttributeSpec kUniformMass[] = {
+    {"vertexMass", K::real, "", "kg", ValueCheck::positive, "mass of each DOF (or totalMass)"},
+    {"totalMass", K::real, "", "kg", ValueCheck::positive, "shared equally by the DOFs; wins over vertexMass"},
+    {"inertiaMatrix", K::numbers, "(identity)", "kg m^2", ValueCheck::none, "Rigid3d: 9 numbers, per unit mass"},
+};
+
+void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    BaseState& s = b.state(c, info);
+    b.guarded(c, [&] {
+        auto set = [&](auto& mass) {
+            if (a.has("totalMass")) mass.set_total_mass(a.real_or("totalMass", 1.0));
+            else if (a.has("vertexMass")) mass.set_vertex_mass(a.real_or("vertexMass", 1.0));
+            else io::throw_element_error(c, "needs vertexMass or totalMass (SOFA refuses a UniformMass without them)");
+        };
+        if (auto* v = dynamic_cast<Vec3Object*>(&s)) {
+            set(info.node->set_mass<UniformMass<Vec3Types>>(*v));
+        } else {
+            auto& mass = info.node->set_mass<UniformMass<Rigid3Types>>(dynamic_cast<Rigid3Object&>(s));
+            set(mass);
+            if (a.has("inertiaMatrix")) {
+                const std::vector<double> j = a.numbers("inertiaMatrix");
+                if (j.size() != 9) a.fail("inertiaMatrix", "expected 9 numbers");
+                mass.set_inertia(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(j.data()));
+            }
+        }
+    });
+    BaseMass* mass = info.node->mass();
+    b.record_mass(*mass, *info.node, c);
+    b.role(c, [mass, st = &s] {
+        double m = 0.0;
+        if (auto* v = dynamic_cast<const UniformMass<Vec3Types>*>(mass)) m = v->vertex_mass();
+        if (auto* r = dynamic_cast<const UniformMass<Rigid3Types>*>(mass)) m = r->vertex_mass();
+        return "mass " + num(m) + " kg per DOF, " + num(m * double(st->num_dofs())) + " kg in all";
+    });
+    b.add_init(1, c, [mass] { mass->init(); });
+    b.note_unread_attributes(c);
+}
+
+// ---- springs --------------------------------------------------------------------------------
+/// The per-element-kind stiffness and damping both spring fields read; `stiffness` and `damping`
+/// set all of them (SOFA's MeshSpringForceField: ks = stiffness / rest length per spring).
+constexpr AttributeSpec kSpringKinds[] = {
+    {"linesStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "springs of the edges"},
+    {"linesDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"trianglesStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "springs of the triangles' edges"},
+    {"trianglesDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"quadsStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "quads' edges and diagonals"},
+    {"quadsDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"tetrasStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "tetrahedra's edges"},
+    {"tetrasDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"cubesStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "hexahedra's edges and diagonals"},
+    {"cubesDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+};
+constexpr AttributeSpec kMeshSprings[] = {
+    {"stiffness", K::real, "0", "N/m", ValueCheck::nonnegative, "every kind's stiffness"},
+    {"damping", K::real, "0", "N s/m", ValueCheck::nonnegative, "every kind's damping"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
+};
+// SOFA's RegularGridSpringForceField defaults: stiffness 100, damping 5 (its Data linesStiffness …
+// cubesDamping, which `stiffness` and `damping` alias).
+constexpr AttributeSpec kGridSprings[] = {
+    {"stiffness", K::real, "100", "N/m", ValueCheck::nonnegative, "every kind's stiffness"},
+    {"damping", K::real, "5", "N s/m", ValueCheck::nonnegative, "every kind's damping"},
+};
+
+MeshSpringParameters spring_parameters(const Attributes& a) {
+    MeshSpringParameters p = MeshSpringParameters::uniform(a.real("stiffness"), a.real("damping"));
+    auto pick = [&](const char* k, const char* d, double& ks, double& kd) {
+        ks = a.real_or(k, ks);
+        kd = a.real_or(d, kd);
+    };
+    pick("linesStiffness", "linesDamping", p.lines_stiffness, p.lines_damping);
+    pick("trianglesStiffness", "trianglesDamping", p.triangles_stiffness, p.triangles_damping);
+    pick("quadsStiffness", "quadsDamping", p.quads_stiffness, p.quads_damping);
+    pick("tetrasStiffness", "tetrasDamping", p.tetras_stiffness, p.tetras_damping);
+    pick("cubesStiffness", "cubesDamping", p.cubes_stiffness, p.cubes_damping);
+    return p;
+}
+
+void add_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, Vec3Object& s, const std::vector<Spring>& springs) {
+    auto& ff = info.node->add_force_field<SpringForceField>(s);
+    b.record_origin(&ff, c);
+    for (const Spring& sp : springs) ff.add_spring(sp);
+    b.add_init(1, c, [f = &ff] { f->init(); });
+    b.role(c, [f = &ff] {
+        return counted(f->springs().size(), "spring", "springs") + " between the topology's vertex pairs " +
+               "(ks = stiffness / rest length, kd = damping / rest length)";
+    });
+}
+
+void build_mesh_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    Vec3Object& s = b.vec3_state(c, info);
+    b.guarded(c, [&] {
+        const MeshSpringParameters p = spring_parameters(a);
+        add_springs(b, c, info, s, mesh_springs(b.topology_of(a, info), s.rest_position, p));
+    });
+    b.note_unread_attributes(c);
+}
+
+void build_grid_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    Vec3Object& s = b.vec3_state(c, info);
+    b.guarded(c, [&] {
+        const MeshSpringParameters p = spring_parameters(a);
+        if (!info.grid) io::throw_element_error(c, "needs a RegularGridTopology in its node");
+        add_springs(b, c, info, s, regular_grid_springs(*info.grid, p));  // SOFA's order and rest lengths
+    });
+    b.note_unread_attributes(c);
+}
+
+// ---- FEM ------------------------------------------------------------------------------------
+constexpr AttributeSpec kTetrahedronFem[] = {
+    {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
+    {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},
+    {"method", K::text, "large", "", ValueCheck::none, "large (corotational) or small (linear)"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
+    // computeGlobalMatrix / updateStiffnessMatrix only choose how SOFA stores the same matrices;
+    // penalty always recomputes the corotational stiffness each step (method large).
+    {"computeGlobalMatrix", K::boolean, "0", "", ValueCheck::none, "storage only: no effect"},
+    {"updateStiffnessMatrix", K::boolean, "0", "", ValueCheck::none, "storage only: no effect"},
+};
+constexpr AttributeSpec kHexahedronFem[] = {
+    {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
+    {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},
+    {"method", K::text, "large", "", ValueCheck::none, "large (corotational) or small (linear)"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
+};
+
+struct FemLaw {
+    double young;
+    double poisson;
+    FemMethod method;
+};
+
+FemLaw fem_law(const Attributes& a) {
+    FemLaw law{a.real("youngModulus"), a.real("poissonRatio"), FemMethod::Large};
+    if (!(law.poisson > -1.0 && law.poisson < 0.5)) a.fail("poissonRatio", "must be in (-1, 0.5)");
+    const std::string method = a.text("method");
+    if (method == "small") law.method = FemMethod::Small;
+    else if (method != "large") a.fail("method", "'" + method + "' is not supported (small or large)");
+    return law;
+}
+
+std::string law_text(const FemLaw& law) {
+    return ", E = " + num(law.young) + " Pa, nu = " + num(law.poisson) + ", " +
+           (law.method == FemMethod::Large ? "corotational (large)" : "linear (small)");
+}
+
+void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    Vec3Object& s = b.vec3_state(c, info);
+    b.guarded(c, [&] {
+        const FemLaw law = fem_law(a);
+        TetrahedronFEMForceField* ff = nullptr;
+        if (info.grid) ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, law.young, law.poisson, law.method);
+        else ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson, law.method);
+        b.record_origin(ff, c);
+        b.add_init(1, c, [ff] { ff->init(); });
+        b.role(c, [ff, text = law_text(law)] { return counted(ff->tetrahedra().size(), "tetrahedron", "tetrahedra") + text; });
+    });
+    b.note_unread_attributes(c);
+}
+
+void build_hexahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    Vec3Object& s = b.vec3_state(c, info);
+    b.guarded(c, [&] {
+        const FemLaw law = fem_law(a);
+        auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson,
+                                                                        law.method);
+        b.record_origin(ff, c);
+        b.add_init(1, c, [ff] { ff->init(); });
+        b.role(c, [ff, text = law_text(law)] { return counted(ff->element_stiffness().size(), "hexahedron", "hexahedra") + text; });
+    });
+    b.note_unread_attributes(c);
+}
+
+constexpr ComponentSpec kComponents[] = {
+    {.type = "Gravity", .family = F::gravity, .summary = "gravity of its node's context", .attributes = kGravity,
+     .build = build_gravity},
+    {.type = "UniformMass", .family = F::mass, .summary = "uniform mass", .attributes = kUniformMass,
+     .build = build_uniform_mass},
+    {.type = "MeshSpringForceField", .family = F::force_field, .summary = "springs on the mesh edges",
+     .attributes = kMeshSprings, .shared_attributes = kSpringKinds, .build = build_mesh_springs},
+    {.type = "RegularGridSpringForceField", .family = F::force_field, .summary = "springs on a regular grid",
+     .attributes = kGridSprings, .shared_attributes = kSpringKinds, .build = build_grid_springs},
+    {.type = "TetrahedronFEMForceField", .family = F::force_field, .summary = "linear tetrahedral FEM",
+     .attributes = kTetrahedronFem, .build = build_tetrahedron_fem},
+    {.type = "HexahedronFEMForceField", .family = F::force_field, .summary = "linear hexahedral FEM",
+     .attributes = kHexahedronFem, .build = build_hexahedron_fem},
+};
+
+}  // namespace
+
+std::span<const ComponentSpec> mass_and_force_field_components() { return kComponents; }
+
+}  // namespace penalty::scene::builder

@@ -1,0 +1,330 @@
+// Builds a Simulation from a parsed SOFA scene (include/penalty/scene/scene.hpp): the node walk
+// and SOFA's order inside a node; each component is built by the function its ComponentSpec
+// names (src/scene/builder/<family>.cpp).
+#include "scene/builder/scene_builder.hpp"
+
+#include "penalty/io/data_path.hpp"
+#include "penalty/io/overrides.hpp"
+
+#include <algorithm>
+#include <array>
+#include <initializer_list>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace penalty::scene {
+
+using io::SceneComponent;
+using io::SceneNode;
+
+// ---- the builder ------------------------------------------------------------------------------
+
+SceneBuilder::SceneBuilder(const io::SceneFile& file, const BuildOptions& options, Scene& scene)
+    : file_(file), options_(options), scene_(scene), scene_dir_(file.directory()) {}
+
+void SceneBuilder::build() {
+    if (!file_.root) throw io::SceneError(file_.path.string() + ": empty scene");
+    check_ = validate(file_);
+    for (const SceneComponent* c : check_.ignored) ignored_.insert(c);
+    if (!check_.ignored.empty()) warn(check_.summary);
+
+    Simulation& sim = simulation();
+    build_node(*file_.root, sim.root());
+    if (options_.dt) {
+        if (!(*options_.dt > 0) || !std::isfinite(*options_.dt)) throw io::SceneError("--dt must be a positive number of seconds");
+        sim.root().set_dt(*options_.dt);
+    }
+    for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
+    // Initialise every component once here, in Simulation::init's order (states and mappings
+    // top-down, then masses, force fields, constraints, solvers), so that an error names its
+    // component and line; Simulation::init then repeats it (idempotent).
+    for (int phase : {0, 1})
+        for (const InitStep& step : init_steps_)
+            if (step.phase == phase) guarded(*step.component, step.init);
+    build_collision_pipelines(*this);
+    for (const auto& w : attribute_warnings_) warn(w);
+    try {
+        sim.init();
+    } catch (const std::exception& e) {
+        throw io::SceneError(file_.path.string() + ": " + e.what());
+    }
+    // Again once every mapped state has its size (a model over a mapped state was checked
+    // against an empty state above): an element that indexes past its state is a scene error.
+    for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
+    record_sphere_radii();
+    warn_degenerate_triangles();
+    for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
+    for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
+}
+
+void SceneBuilder::rethrow_naming(const io::SceneElement& c, const std::exception& e) {
+    // The library names its class ("UniformMass: ..."); the element is named already.
+    std::string_view what = e.what();
+    const std::string own_prefix = c.type + ": ";
+    if (what.substr(0, own_prefix.size()) == own_prefix) what.remove_prefix(own_prefix.size());
+    io::throw_element_error(c, std::string(what));
+}
+
+void SceneBuilder::role(const SceneComponent& c, std::function<std::string()> describe) {
+    roles_.emplace_back(&c, std::move(describe));
+}
+
+void SceneBuilder::note_unread_attributes(const io::SceneElement& c) {
+    for (const std::string& a : unread_attributes(c))
+        attribute_warnings_.push_back(c.file + ":" + std::to_string(c.find(a)->line) + ": " + c.describe() +
+                                      ": attribute '" + a + "' is not read by penalty (ignored)");
+}
+
+void SceneBuilder::add_init(int phase, const SceneComponent& c, std::function<void()> init) {
+    init_steps_.push_back({phase, std::move(init), &c});
+}
+
+void SceneBuilder::install_collision_hook() {
+    Scene* scene = &scene_;
+    simulation().collision_hook = [scene](Simulation&) {
+        for (ScenePipeline& p : scene->pipelines_) {
+            p.pipeline->update();
+            scene->timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
+            scene->timings_.response_seconds += p.pipeline->last_timings().response_seconds;
+        }
+    };
+}
+
+void SceneBuilder::record_implicit_solver(EulerImplicitSolver& s, const Node& n) {
+    scene_.implicit_solvers_.push_back(&s);
+    scene_.implicit_solver_paths_.push_back(node_path(n));
+}
+
+const io::MeshData& SceneBuilder::mesh_of(const SceneComponent& loader) {
+    auto it = meshes_.find(&loader);
+    if (it == meshes_.end()) {
+        it = meshes_.emplace(&loader, io::load_scene_mesh(loader, scene_dir_, options_.data_dirs)).first;
+        std::string file;
+        if (const auto name = io::get_string(loader, "filename"))
+            file = io::resolve_data_file(*name, scene_dir_, options_.data_dirs).string() + ": ";
+        role(loader, [file, counts = mesh_counts(it->second)] { return "reads " + file + counts; });
+    }
+    return it->second;
+}
+
+const io::MeshData& SceneBuilder::linked_mesh(const Attributes& a, std::string_view attr) {
+    const io::LinkTarget src = a.link(attr);
+    if (src.component == nullptr || component_category(src.component->type) != ComponentCategory::loader)
+        a.fail(attr, "must link to a mesh loader");
+    return mesh_of(*src.component);
+}
+
+std::vector<Vec3> SceneBuilder::linked_positions(const Attributes& a, std::string_view attr) {
+    const io::LinkTarget t = a.link(attr);
+    if (t.component == nullptr) a.fail(attr, "link must name a loader, a topology or a MechanicalObject");
+    const SceneComponent& src = *t.component;
+    if (!t.data.empty() && t.data != "position" && t.data != "rest_position")
+        a.fail(attr, "cannot read positions from data '" + t.data + "'");
+    const ComponentSpec* spec = find_component(src.type);
+    if (component_category(src.type) == ComponentCategory::loader) return mesh_of(src).positions;
+    if (spec != nullptr && spec->family == ComponentFamily::state) {
+        const auto it = vec3_states_.find(&src);
+        if (it == vec3_states_.end()) a.fail(attr, "links to " + src.describe() + ", which is not a built Vec3d state");
+        return it->second->position;
+    }
+    if (spec != nullptr && spec->family == ComponentFamily::topology) {
+        for (const auto& [node, info] : nodes_)
+            if (info.topology_component == &src && !info.grid) return info.topology_positions;
+    }
+    a.fail(attr, "cannot read positions from " + src.describe());
+}
+
+Vec3Object& SceneBuilder::vec3_state(const SceneComponent& c, const NodeBuild& info) {
+    auto* s = dynamic_cast<Vec3Object*>(info.node->state());
+    if (s == nullptr) {
+        io::throw_element_error(c, info.node->state() ? "needs a Vec3d MechanicalObject in its node (found Rigid3d)"
+                                                      : "needs a MechanicalObject in its node");
+    }
+    return *s;
+}
+
+BaseState& SceneBuilder::state(const SceneComponent& c, const NodeBuild& info) {
+    if (info.node->state() == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node");
+    return *info.node->state();
+}
+
+const MeshTopology& SceneBuilder::topology_of(const Attributes& a, const NodeBuild& info) {
+    if (a.has("topology")) {
+        const io::LinkTarget t = a.link("topology");
+        if (t.component != nullptr) {
+            for (const auto& [sn, i] : nodes_)
+                if (i.topology_component == t.component) return *i.topology;
+        }
+        a.fail("topology", "must link to a MeshTopology or RegularGridTopology already built");
+    }
+    if (info.topology == nullptr)
+        io::throw_element_error(a.component(), "needs a topology (MeshTopology or RegularGridTopology) in its node");
+    return *info.topology;
+}
+
+namespace {
+
+/// SOFA keeps one component of each of these families per node (a second one replaces or
+/// shadows the first in SOFA's context); penalty refuses the second, naming both lines.
+void check_once_per_node(const std::vector<const SceneComponent*>& physics) {
+    static constexpr std::array<std::pair<ComponentFamily, std::string_view>, 7> kinds{{
+        {ComponentFamily::state, "mechanical state"},
+        {ComponentFamily::topology, "topology"},
+        {ComponentFamily::mass, "mass"},
+        {ComponentFamily::mapping, "mapping"},
+        {ComponentFamily::ode_solver, "ODE solver"},
+        {ComponentFamily::linear_solver, "linear solver"},
+        {ComponentFamily::animation_loop, "animation loop"},
+    }};
+    for (const auto& [family, what] : kinds) {
+        const SceneComponent* first = nullptr;
+        for (const SceneComponent* c : physics) {
+            if (find_component(c->type)->family != family) continue;
+            if (first == nullptr) {
+                first = c;
+                continue;
+            }
+            io::throw_element_error(*c, "a node holds one " + std::string(what) + ", and this node already has " +
+                                            first->describe() + " at line " + std::to_string(first->line));
+        }
+    }
+}
+
+}  // namespace
+
+void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
+    NodeBuild& info = nodes_[&sn];
+    info.node = &node;
+    info.scene_node = &sn;
+    info.node_id = node_count_++;
+    node_of_[&sn] = &node;
+    guarded(sn, [&] {
+        if (auto dt = io::get_double(sn, "dt")) {
+            if (!(*dt > 0)) io::throw_attribute_error(sn, "dt", "must be > 0");
+            node.set_dt(*dt);
+        }
+        if (auto g = io::get_vec3(sn, "gravity")) node.set_gravity(*g);
+    });
+    note_unread_attributes(sn);
+
+    for (const auto& c : sn.components)
+        if (!ignored_.count(c.get())) info.physics.push_back(c.get());
+    const auto has = [&](ComponentFamily family) {
+        return std::any_of(info.physics.begin(), info.physics.end(),
+                           [&](const SceneComponent* c) { return find_component(c->type)->family == family; });
+    };
+    // SOFA's order in a node (where it changes numbers): context, topology, state (positions from
+    // the topology), mapping, masses/force fields/constraints in file order, solver, collision
+    // models in file order (the broad phase's model order), then the collision pipelines' parts.
+    const auto build_family = [&](std::initializer_list<ComponentFamily> families) {
+        for (const SceneComponent* c : info.physics) {
+            const ComponentSpec& spec = *find_component(c->type);
+            if (std::find(families.begin(), families.end(), spec.family) != families.end()) spec.build(*this, *c, info);
+        }
+    };
+    using F = ComponentFamily;
+    build_family({F::gravity});
+    check_once_per_node(info.physics);
+    const SceneNode* parent_solver = sn.parent ? nodes_[sn.parent].solver_node : nullptr;
+    info.solver_node = parent_solver ? parent_solver : (has(F::ode_solver) ? &sn : nullptr);
+    info.mapped = has(F::mapping);
+    build_family({F::topology});
+    build_family({F::state});
+    build_family({F::mapping});
+    build_family({F::mass, F::force_field, F::constraint});
+    build_family({F::ode_solver});
+    build_family({F::collision_model});
+    build_family({F::animation_loop, F::linear_solver, F::collision_pipeline, F::composite_pipeline, F::sub_pipeline,
+                  F::broad_phase, F::narrow_phase, F::intersection, F::contact_manager});
+
+    if (info.state_component) record_state(sn, info);
+    for (const auto& child : sn.children) build_node(*child, node.add_child(child->name));
+}
+
+void SceneBuilder::record_state(const SceneNode& sn, const NodeBuild& info) {
+    output::StateRecord r;
+    r.name = std::string(info.node->state()->state_name());
+    r.node_path = sn.path();
+    r.state = info.node->state();
+    r.topology = info.topology;
+    r.mapped = info.mapped;
+    r.in_solver_subtree = info.solver_node != nullptr;
+    r.mass = info.node->mass();
+    scene_.states_.push_back(std::move(r));
+}
+
+/// StateRecord::radius (VTK point scalars) of every state a sphere model covers, once the scene
+/// is initialised (a mapped state gets its size from its mapping's init).
+void SceneBuilder::record_sphere_radii() {
+    for (output::StateRecord& r : scene_.states_) {
+        for (const SceneCollisionModel& m : scene_.models_) {
+            if (m.node->state() != r.state) continue;
+            if (const auto* sphere = dynamic_cast<const SphereModel*>(m.model.get())) {
+                for (std::size_t i = 0; i < sphere->size(); ++i) r.radius.push_back(sphere->radius(Index(i)));
+            } else if (const auto* rigid = dynamic_cast<const RigidSphereModel*>(m.model.get())) {
+                for (std::size_t i = 0; i < rigid->size(); ++i) r.radius.push_back(rigid->radius(Index(i)));
+            }
+            if (!r.radius.empty()) break;
+        }
+    }
+}
+
+/// A note per triangle collision model with zero-area triangles (coincident or collinear corners
+/// at init): they have no normal, so SOFA's kernels skip or mis-orient them and a body can pass
+/// through. Zero area: |(b − a) × (c − a)| ≤ 1e-12 · (longest edge)².
+void SceneBuilder::warn_degenerate_triangles() {
+    for (const SceneCollisionModel& m : scene_.models_) {
+        const auto* tri = dynamic_cast<const TriangleModel*>(m.model.get());
+        if (tri == nullptr) continue;
+        std::size_t count = 0;
+        std::size_t first = 0;
+        for (std::size_t i = 0; i < tri->size(); ++i) {
+            const Vec3 &a = tri->p(Index(i), 0), &b = tri->p(Index(i), 1), &c = tri->p(Index(i), 2);
+            const double longest = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+            if ((b - a).cross(c - a).norm() <= 1e-12 * longest || longest == 0.0) {
+                if (count++ == 0) first = i;
+            }
+        }
+        if (count == 0) continue;
+        const SceneComponent& c = *m.component;
+        warn(c.file + ":" + std::to_string(c.line) + ": " + c.describe() + ": " + std::to_string(count) + " of " +
+             std::to_string(tri->size()) + " triangles have zero area (first: triangle " + std::to_string(first) +
+             "); they make no reliable contact");
+    }
+}
+
+// ---- entry points -------------------------------------------------------------------------------
+
+void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overrides) {
+    std::vector<io::Override> parsed;
+    parsed.reserve(overrides.size());
+    for (const std::string& o : overrides) parsed.push_back(io::parse_override(o));
+    const auto reads = [](const io::SceneElement& e, std::string_view attribute) {
+        const std::vector<std::string> known = read_attributes(e.type);
+        return std::find(known.begin(), known.end(), attribute) != known.end();
+    };
+    const auto known = [](const io::SceneElement& e) {
+        const std::vector<std::string> names = read_attributes(e.type);
+        if (names.empty()) return std::string("it reads none");
+        std::string out = "it reads:";
+        for (const std::string& n : names) out += " " + n;
+        return out;
+    };
+    io::apply_overrides(file, parsed, reads, known);
+}
+
+std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
+    if (!options.overrides.empty()) apply_overrides(file, options.overrides);
+    auto scene = std::make_unique<Scene>();
+    scene->file_ = std::move(file);
+    SceneBuilder(scene->file_, options, *scene).build();
+    scene->refresh_contacts();
+    return scene;
+}
+
+std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const BuildOptions& options) {
+    return build_scene(io::parse_scene_file(file), options);
+}
+
+}  // namespace penalty::scene

@@ -1,0 +1,225 @@
+#pragma once
+// The scene builder: turns a parsed scene (io::SceneFile) into a Scene, node by node, each
+// component by the build function its ComponentSpec names (include/penalty/scene/components.hpp).
+// This header is what the family files (states_and_topologies.cpp, masses_and_force_fields.cpp,
+// mappings_and_constraints.cpp, solvers.cpp, collision.cpp) share: the record of a node being
+// built, the attribute reader, and the builder's services (errors naming the component, mesh
+// loading, links to built objects, `penalty info` roles, init order).
+#include "penalty/collision/models.hpp"
+#include "penalty/io/scene_mesh.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
+#include "penalty/scene/components.hpp"
+#include "penalty/scene/scene.hpp"
+#include "scene/display.hpp"
+
+#include <functional>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace penalty::scene {
+
+/// What the builder knows about one scene node while it builds it and its children.
+struct NodeBuild {
+    Node* node = nullptr;
+    const io::SceneNode* scene_node = nullptr;
+    const io::SceneComponent* state_component = nullptr;
+    const MeshTopology* topology = nullptr;      ///< MeshTopology, or the grid's element lists
+    std::vector<Vec3> topology_positions;        ///< points given to the topology (may be empty)
+    std::optional<RegularGridTopology> grid;
+    const io::SceneComponent* topology_component = nullptr;
+    bool mapped = false;
+    const io::SceneNode* solver_node = nullptr;  ///< first node from the root owning an ODE solver (null: none)
+    int node_id = 0;                             ///< depth-first index (collision same-node rule)
+    std::vector<const io::SceneComponent*> physics;  ///< the node's physics components, file order
+};
+
+/// Typed reading of a component's attributes through its ComponentSpec: the default, unit and
+/// check of each attribute are the spec's (one place for each); reading an attribute the spec
+/// does not declare is a penalty bug (std::logic_error), so that the registry lists every
+/// attribute the builder reads.
+class Attributes {
+public:
+    explicit Attributes(const io::SceneComponent& component);
+
+    [[nodiscard]] const io::SceneComponent& component() const { return component_; }
+    [[nodiscard]] bool has(std::string_view name) const;
+    /// The value, or the spec's default; ValueCheck applied.
+    [[nodiscard]] double real(std::string_view name) const;
+    /// The value, or `fallback` (a default that depends on the scene); ValueCheck applied.
+    [[nodiscard]] double real_or(std::string_view name, double fallback) const;
+    [[nodiscard]] std::int64_t integer(std::string_view name) const;
+    [[nodiscard]] std::int64_t integer_or(std::string_view name, std::int64_t fallback) const;
+    [[nodiscard]] bool boolean(std::string_view name) const;
+    [[nodiscard]] bool boolean_or(std::string_view name, bool fallback) const;
+    [[nodiscard]] Vec3 vector3(std::string_view name) const;
+    [[nodiscard]] Vec3 vector3_or(std::string_view name, const Vec3& fallback) const;
+    [[nodiscard]] std::optional<Vec3> optional_vector3(std::string_view name) const;
+    [[nodiscard]] std::optional<double> optional_real(std::string_view name) const;
+    /// The text, or the spec's default ("" when none).
+    [[nodiscard]] std::string text(std::string_view name) const;
+    [[nodiscard]] std::optional<std::string> optional_text(std::string_view name) const;
+    [[nodiscard]] std::vector<double> numbers(std::string_view name) const;
+    [[nodiscard]] std::vector<PointId> indices(std::string_view name) const;
+    [[nodiscard]] std::vector<Vec3> points(std::string_view name) const;
+    [[nodiscard]] std::vector<RigidFrame> frames(std::string_view name) const;
+    template <std::size_t N>
+    [[nodiscard]] std::vector<std::array<PointId, N>> elements(std::string_view name) const {
+        return io::get_elements<N>(component_, declared(name).name);
+    }
+    [[nodiscard]] io::LinkTarget link(std::string_view name) const;
+    [[nodiscard]] std::vector<io::LinkTarget> links(std::string_view name) const;
+    /// True when the attribute holds a link (`@...`).
+    [[nodiscard]] bool is_link(std::string_view name) const;
+
+    [[noreturn]] void fail(std::string_view name, const std::string& what) const;
+
+private:
+    const AttributeSpec& declared(std::string_view name) const;
+    void check(const AttributeSpec& spec, double value) const;
+    const io::SceneComponent& component_;
+    const ComponentSpec& spec_;
+};
+
+class SceneBuilder {
+public:
+    SceneBuilder(const io::SceneFile& file, const BuildOptions& options, Scene& scene);
+    void build();
+
+    // ---- services for the family build functions ----------------------------------------------
+    [[nodiscard]] const BuildOptions& options() const { return options_; }
+    [[nodiscard]] Scene& scene() { return scene_; }
+    [[nodiscard]] Simulation& simulation() { return *scene_.simulation_; }
+
+    /// Runs `f`, turning the library's own exceptions (std::invalid_argument, ...) into a
+    /// SceneError naming `element` (io::LoadError passes through).
+    template <class F>
+    auto guarded(const io::SceneElement& element, F&& f) -> decltype(f()) {
+        try {
+            return f();
+        } catch (const io::LoadError&) {
+            throw;
+        } catch (const std::exception& e) {
+            rethrow_naming(element, e);
+        }
+    }
+    /// Records how `penalty info` describes what `c` became; evaluated once the scene is built.
+    void role(const io::SceneComponent& c, std::function<std::string()> describe);
+    /// Notes each attribute of `element` penalty does not read.
+    void note_unread_attributes(const io::SceneElement& element);
+    /// A build note for `penalty info` and `penalty run`.
+    void warn(std::string note) { scene_.build_warnings_.push_back(std::move(note)); }
+    /// Runs `init` once the graph is built: phase 0 (mappings, top-down), then phase 1 (masses,
+    /// force fields, constraints, solvers), in build order; an error names `c`.
+    void add_init(int phase, const io::SceneComponent& c, std::function<void()> init);
+    /// Records that `built` (a mass, force field, ...) comes from `c` (Scene::component_of).
+    void record_origin(const void* built, const io::SceneComponent& c) { scene_.built_from_[built] = &c; }
+
+    /// The mesh of a loader (or of a MeshTopology/MechanicalObject `filename`), loaded once.
+    const io::MeshData& mesh_of(const io::SceneComponent& loader);
+    /// The mesh of the loader an attribute links to (`src="@loader"`).
+    const io::MeshData& linked_mesh(const Attributes& a, std::string_view attr);
+    /// Positions named by a data link (`@loader.position`, `@[-1].position`, `@../dofs.position`).
+    std::vector<Vec3> linked_positions(const Attributes& a, std::string_view attr);
+    /// The node's Vec3d state, or an error naming `c`.
+    Vec3Object& vec3_state(const io::SceneComponent& c, const NodeBuild& node);
+    /// The node's state, or an error naming `c`.
+    BaseState& state(const io::SceneComponent& c, const NodeBuild& node);
+    /// The topology `topology="@..."` links to, else the node's.
+    const MeshTopology& topology_of(const Attributes& a, const NodeBuild& node);
+    /// The build record of a node of the file (built already: ancestors of the current node).
+    NodeBuild& node_build(const io::SceneNode& n) { return nodes_[&n]; }
+    const std::map<const io::SceneNode*, NodeBuild>& node_builds() const { return nodes_; }
+    Node& node_of(const io::SceneNode& n) { return *node_of_.at(&n); }
+    /// A Vec3d state built from `c` (for links to its positions).
+    void record_vec3_state(const io::SceneComponent& c, Vec3Object& s) { vec3_states_[&c] = &s; }
+
+    /// Keeps a topology alive for the scene's lifetime.
+    const MeshTopology* add_topology(std::unique_ptr<MeshTopology> t) {
+        scene_.topologies_.push_back(std::move(t));
+        return scene_.topologies_.back().get();
+    }
+    /// A mass of node `n` (kinetic and gravity energies).
+    void record_mass(BaseMass& m, const Node& n, const io::SceneComponent& c) {
+        scene_.masses_.push_back(&m);
+        scene_.mass_nodes_.push_back(&n);
+        record_origin(&m, c);
+    }
+
+    // collision (src/scene/builder/collision.cpp)
+    void add_collision_model(SceneCollisionModel model) { scene_.models_.push_back(std::move(model)); }
+    [[nodiscard]] std::vector<SceneCollisionModel>& collision_models() { return scene_.models_; }
+    [[nodiscard]] std::vector<ScenePipeline>& pipelines() { return scene_.pipelines_; }
+    /// Runs every pipeline at the start of each step (SOFA's composite) and adds its timings to
+    /// the scene's.
+    void install_collision_hook();
+    void add_pipeline_component(const io::SceneComponent& c) { pipeline_components_.push_back(&c); }
+    void add_intersection(const io::SceneComponent& c, const IntersectionParams& p) { intersections_[&c] = p; }
+    [[nodiscard]] const IntersectionParams& intersection_params(const io::SceneComponent& c) const {
+        return intersections_.at(&c);
+    }
+    /// An implicit solver with newton="1" and its node (re-runs contact geometry per iterate).
+    void add_newton_solver(EulerImplicitSolver& s, Node& n) { newton_solvers_.emplace_back(&s, &n); }
+    void record_implicit_solver(EulerImplicitSolver& s, const Node& n);
+    /// Components a collision pipeline uses (the others are described as unused).
+    void mark_used(const io::SceneComponent* c) { used_pieces_.insert(c); }
+    [[nodiscard]] bool is_used(const io::SceneComponent* c) const { return used_pieces_.count(c) != 0; }
+    [[nodiscard]] const std::vector<const io::SceneComponent*>& pipeline_components() const { return pipeline_components_; }
+    [[nodiscard]] const std::vector<std::pair<EulerImplicitSolver*, Node*>>& newton_solvers() const { return newton_solvers_; }
+    [[nodiscard]] const SceneCheck& check() const { return check_; }
+    /// True for a component the scene check ignored (visual).
+    [[nodiscard]] bool is_ignored(const io::SceneComponent* c) const { return ignored_.count(c) != 0; }
+
+private:
+    [[noreturn]] static void rethrow_naming(const io::SceneElement& element, const std::exception& e);
+    void build_node(const io::SceneNode& sn, Node& node);
+    void record_state(const io::SceneNode& sn, const NodeBuild& info);
+    void record_sphere_radii();
+    void warn_degenerate_triangles();
+
+    const io::SceneFile& file_;
+    const BuildOptions& options_;
+    Scene& scene_;
+    std::filesystem::path scene_dir_;
+    SceneCheck check_;
+    std::set<const io::SceneComponent*> ignored_;
+    std::map<const io::SceneNode*, NodeBuild> nodes_;
+    std::unordered_map<const io::SceneNode*, Node*> node_of_;
+    std::map<const io::SceneComponent*, io::MeshData> meshes_;
+    std::unordered_map<const io::SceneComponent*, Vec3Object*> vec3_states_;
+    std::map<const io::SceneComponent*, IntersectionParams> intersections_;
+    std::vector<const io::SceneComponent*> pipeline_components_;
+    std::vector<std::string> attribute_warnings_;
+    std::vector<std::pair<EulerImplicitSolver*, Node*>> newton_solvers_;
+    std::vector<std::pair<const io::SceneComponent*, std::function<std::string()>>> roles_;
+    std::set<const io::SceneComponent*> used_pieces_;
+    struct InitStep {
+        int phase;
+        std::function<void()> init;
+        const io::SceneComponent* component;
+    };
+    std::vector<InitStep> init_steps_;
+    int node_count_ = 0;
+};
+
+/// The collision pipelines, once every node is built (src/scene/builder/collision.cpp).
+void build_collision_pipelines(SceneBuilder& builder);
+
+// ---- helpers shared by the family files --------------------------------------------------------
+/// SOFA's default name of an unnamed component (see scene_builder.cpp).
+[[nodiscard]] std::string sofa_default_name(const io::SceneComponent& c);
+/// True for Rigid3d templates, false for Vec3d ones (and none); an error for others.
+[[nodiscard]] bool is_rigid_template(const io::SceneComponent& c, std::string_view name);
+using display::counted;
+using display::element_counts;
+using display::mesh_counts;
+inline std::string num(double v) { return display::number(v); }
+inline std::string vec(const Vec3& v) { return display::vector(v); }
+using display::node_path;
+
+}  // namespace penalty::scene

@@ -1,0 +1,243 @@
+// States and topologies: MechanicalObject, MeshTopology, RegularGridTopology.
+#include "scene/builder/families.hpp"
+#include "scene/builder/scene_builder.hpp"
+
+namespace penalty::scene::builder {
+
+namespace {
+
+using io::SceneComponent;
+using K = AttributeKind;
+using F = ComponentFamily;
+
+// ---- MeshTopology ---------------------------------------------------------------------------
+constexpr AttributeSpec kMeshTopology[] = {
+    {"src", K::link, "", "", ValueCheck::none, "mesh loader whose points and elements it takes"},
+    {"filename", K::text, "", "", ValueCheck::none, "mesh file read directly (no transform)"},
+    {"position", K::points, "", "m", ValueCheck::none, "points (override src/filename)"},
+    {"edges", K::elements, "", "", ValueCheck::none, "point pairs"},
+    {"triangles", K::elements, "", "", ValueCheck::none, "point triples"},
+    {"quads", K::elements, "", "", ValueCheck::none, "4 points each"},
+    {"tetrahedra", K::elements, "", "", ValueCheck::none, "4 points each"},
+    {"tetras", K::elements, "", "", ValueCheck::none, "alias of tetrahedra"},
+    {"hexahedra", K::elements, "", "", ValueCheck::none, "8 points each"},
+    {"hexas", K::elements, "", "", ValueCheck::none, "alias of hexahedra"},
+};
+
+void build_mesh_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    info.topology_component = &c;
+    b.guarded(c, [&] {
+        auto t = std::make_unique<MeshTopology>();
+        io::MeshData mesh;
+        if (a.has("src")) mesh = b.linked_mesh(a, "src");
+        else if (a.has("filename")) mesh = b.mesh_of(c);
+        if (a.has("position")) mesh.positions = a.points("position");
+        if (a.has("edges")) mesh.edges = a.elements<2>("edges");
+        if (a.has("triangles")) mesh.triangles = a.elements<3>("triangles");
+        if (a.has("quads")) mesh.quads = a.elements<4>("quads");
+        for (const char* name : {"tetrahedra", "tetras"})
+            if (a.has(name)) mesh.tetrahedra = a.elements<4>(name);
+        for (const char* name : {"hexahedra", "hexas"})
+            if (a.has(name)) mesh.hexahedra = a.elements<8>(name);
+        if (!mesh.positions.empty()) t->set_num_points(mesh.positions.size());
+        t->set_edges(mesh.edges);
+        t->set_triangles(mesh.triangles);
+        t->set_quads(mesh.quads);
+        t->set_tetrahedra(mesh.tetrahedra);
+        t->set_hexahedra(mesh.hexahedra);
+        (void)t->edges();  // checks indices against the point count now
+        info.topology_positions = mesh.positions;
+        info.topology = b.add_topology(std::move(t));
+    });
+    b.role(c, [t = info.topology] { return element_counts(t->num_points(), *t); });
+    b.note_unread_attributes(c);
+}
+
+// ---- RegularGridTopology --------------------------------------------------------------------
+constexpr AttributeSpec kRegularGrid[] = {
+    {"n", K::indices, "2 2 2", "", ValueCheck::none, "points along x, y, z (1 to 100000 each)"},
+    {"nx", K::integer, "(n[0])", "", ValueCheck::none, "points along x"},
+    {"ny", K::integer, "(n[1])", "", ValueCheck::none, "points along y"},
+    {"nz", K::integer, "(n[2])", "", ValueCheck::none, "points along z"},
+    {"min", K::vector3, "0 0 0", "m", ValueCheck::none, "lower corner"},
+    {"max", K::vector3, "1 1 1", "m", ValueCheck::none, "upper corner"},
+    {"xmin", K::real, "(min[0])", "m", ValueCheck::none, ""},
+    {"xmax", K::real, "(max[0])", "m", ValueCheck::none, ""},
+    {"ymin", K::real, "(min[1])", "m", ValueCheck::none, ""},
+    {"ymax", K::real, "(max[1])", "m", ValueCheck::none, ""},
+    {"zmin", K::real, "(min[2])", "m", ValueCheck::none, ""},
+    {"zmax", K::real, "(max[2])", "m", ValueCheck::none, ""},
+};
+
+void build_regular_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    info.topology_component = &c;
+    b.guarded(c, [&] {
+        std::array<int, 3> n{2, 2, 2};
+        if (a.has("n")) {
+            const std::vector<double> v = a.numbers("n");
+            if (v.size() != 3) a.fail("n", "expected 3 integers");
+            for (const double x : v)
+                if (!(x >= 1 && x <= 100000)) a.fail("n", "each count must be between 1 and 100000");
+            n = {int(v[0]), int(v[1]), int(v[2])};
+        }
+        for (int k = 0; k < 3; ++k) {
+            const std::string axis = std::string("n") + char('x' + k);
+            const std::int64_t count = a.integer_or(axis, n[std::size_t(k)]);
+            if (count < 1 || count > 100000) a.fail(axis, "must be between 1 and 100000");
+            n[std::size_t(k)] = int(count);  // checked before the narrowing cast
+        }
+        const auto points = std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
+        if (points > b.options().max_dofs)
+            io::throw_element_error(c, std::to_string(points) + " grid points (more than " +
+                                           std::to_string(b.options().max_dofs) + ")");
+        Vec3 lo = a.vector3("min"), hi = a.vector3("max");
+        lo = Vec3(a.real_or("xmin", lo.x()), a.real_or("ymin", lo.y()), a.real_or("zmin", lo.z()));
+        hi = Vec3(a.real_or("xmax", hi.x()), a.real_or("ymax", hi.y()), a.real_or("zmax", hi.z()));
+        info.grid.emplace(n, lo, hi);
+        info.topology_positions = info.grid->points();
+        auto t = std::make_unique<MeshTopology>(info.grid->mesh(false));
+        info.topology = b.add_topology(std::move(t));
+    });
+    b.role(c, [g = &*info.grid, t = info.topology] {
+        return "grid " + std::to_string(g->n()[0]) + " x " + std::to_string(g->n()[1]) + " x " + std::to_string(g->n()[2]) +
+               " from " + vec(g->min()) + " to " + vec(g->max()) + ": " + element_counts(g->num_points(), *t);
+    });
+    b.note_unread_attributes(c);
+}
+
+// ---- MechanicalObject -----------------------------------------------------------------------
+constexpr AttributeSpec kMechanicalObject[] = {
+    {"position", K::points, "(the topology's points, else size points at 0)", "m", ValueCheck::none,
+     "Vec3d: x y z per point, or a link; Rigid3d: x y z qx qy qz qw per frame"},
+    {"velocity", K::points, "0", "m/s", ValueCheck::none, "Rigid3d: v and omega, 6 numbers per frame"},
+    {"rest_position", K::points, "(position)", "m", ValueCheck::none, ""},
+    {"src", K::link, "", "", ValueCheck::none, "mesh loader whose points it takes"},
+    {"size", K::integer, "1", "", ValueCheck::none, "DOF count when no positions are given"},
+    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied to the initial positions, after rotation"},
+    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
+    {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "applied first"},
+    {"dx", K::real, "(translation[0])", "m", ValueCheck::none, ""},
+    {"dy", K::real, "(translation[1])", "m", ValueCheck::none, ""},
+    {"dz", K::real, "(translation[2])", "m", ValueCheck::none, ""},
+    {"rx", K::real, "(rotation[0])", "deg", ValueCheck::none, ""},
+    {"ry", K::real, "(rotation[1])", "deg", ValueCheck::none, ""},
+    {"rz", K::real, "(rotation[2])", "deg", ValueCheck::none, ""},
+    {"scale", K::real, "1", "", ValueCheck::none, "uniform factor on scale3d"},
+};
+
+/// `size`, bounded so that a typo cannot allocate the machine's memory.
+std::size_t dof_count(const SceneBuilder& b, const Attributes& a) {
+    const auto n = a.integer("size");
+    if (n < 0 || std::uint64_t(n) > b.options().max_dofs)
+        a.fail("size", "must be between 0 and " + std::to_string(b.options().max_dofs));
+    return std::size_t(n);
+}
+
+InitialTransform read_transform(const Attributes& a) {
+    InitialTransform tr;
+    tr.translation = a.vector3("translation");
+    tr.rotation_deg = a.vector3("rotation");
+    tr.scale3d = a.vector3("scale3d");
+    // SOFA's short forms: dx dy dz (translation), rx ry rz (degrees), scale (uniform).
+    for (int k = 0; k < 3; ++k) {
+        const std::string axis(1, char('x' + k));
+        tr.translation[k] = a.real_or("d" + axis, tr.translation[k]);
+        tr.rotation_deg[k] = a.real_or("r" + axis, tr.rotation_deg[k]);
+    }
+    if (auto s = a.optional_real("scale")) tr.scale3d *= *s;
+    return tr;
+}
+
+void fill_rigid_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info, Rigid3Object& s) {
+    if (a.has("position")) s.position = a.frames("position");
+    if (a.has("rest_position")) s.rest_position = a.frames("rest_position");
+    if (a.has("velocity")) {
+        const std::vector<double> v = a.numbers("velocity");
+        if (v.size() % 6 != 0) a.fail("velocity", "expected a multiple of 6 numbers");
+        for (std::size_t i = 0; i < v.size(); i += 6)
+            s.velocity.push_back(RigidDeriv{Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])});
+    }
+    if (s.position.empty() && s.rest_position.empty() && !info.mapped) s.position.assign(dof_count(b, a), RigidFrame{});
+}
+
+void fill_vec3_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info, Vec3Object& s) {
+    if (a.has("position")) {
+        s.position = a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
+    } else if (a.has("src")) {
+        s.position = b.linked_mesh(a, "src").positions;
+    } else if (!info.topology_positions.empty()) {
+        s.position = info.topology_positions;  // SOFA: a state without positions takes its topology's
+    } else if (a.has("size")) {
+        s.position.assign(dof_count(b, a), Vec3::Zero());
+    } else if (!info.mapped) {
+        s.position.assign(1, Vec3::Zero());  // SOFA's default size 1
+    }
+    if (a.has("rest_position")) s.rest_position = a.points("rest_position");
+    if (a.has("velocity")) s.velocity = a.points("velocity");
+    if (s.position.size() > b.options().max_dofs)  // from a mesh file or a linked state
+        io::throw_element_error(a.component(), std::to_string(s.position.size()) + " DOFs (more than " +
+                                                   std::to_string(b.options().max_dofs) + ")");
+}
+
+void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    info.state_component = &c;
+    const bool rigid = is_rigid_template(c, c.template_name);
+    const std::string name = c.name.empty() ? sofa_default_name(c) : c.name;
+    Node& node = *info.node;
+    b.guarded(c, [&] {
+        const InitialTransform tr = read_transform(a);
+        if (rigid) {
+            auto& s = node.add_state<Rigid3Types>(name);
+            fill_rigid_state(b, a, info, s);
+            s.transform = tr;
+            if (!info.mapped) s.init();
+        } else {
+            auto& s = node.add_state<Vec3Types>(name);
+            fill_vec3_state(b, a, info, s);
+            s.transform = tr;
+            s.init();
+            b.record_vec3_state(c, s);
+        }
+    });
+    std::string where;
+    if (info.mapped) where = "mapped: positions and velocities from its mapping";
+    else if (info.solver_node) where = "integrated by the ODE solver of " + node_path(*info.solver_node);
+    else where = "static: in no solver's subtree, never moves";
+    const InitialTransform tr = read_transform(a);
+    std::string moved;
+    if (!tr.scale3d.isOnes(0)) moved += ", scaled " + vec(tr.scale3d);
+    if (!tr.rotation_deg.isZero(0)) moved += ", rotated " + vec(tr.rotation_deg) + " deg";
+    if (!tr.translation.isZero(0)) moved += ", translated " + vec(tr.translation);
+    b.role(c, [st = info.node->state(), rigid, where, moved] {
+        return std::string(rigid ? "Rigid3d" : "Vec3d") + " state, " + counted(st->num_dofs(), "DOF", "DOFs") + moved + "; " +
+               where;
+    });
+    b.note_unread_attributes(c);
+}
+
+constexpr ComponentSpec kComponents[] = {
+    {.type = "MechanicalObject",
+     .family = F::state,
+     .summary = "state (Vec3d or Rigid3d)",
+     .attributes = kMechanicalObject,
+     .build = build_mechanical_object},
+    {.type = "MeshTopology",
+     .family = F::topology,
+     .summary = "mesh topology (element lists or filename)",
+     .attributes = kMeshTopology,
+     .build = build_mesh_topology},
+    {.type = "RegularGridTopology",
+     .family = F::topology,
+     .summary = "regular grid topology",
+     .attributes = kRegularGrid,
+     .build = build_regular_grid},
+};
+
+}  // namespace
+
+std::span<const ComponentSpec> state_and_topology_components() { return kComponents; }
+
+}  // namespace penalty::scene::builder

@@ -1,0 +1,320 @@
+// The component registry (include/penalty/scene/components.hpp): the family tables of
+// src/scene/builder/, the loaders and the visual-only types, and what reads them (the scene
+// check, the unread-attribute notes, `penalty info --components`).
+#include "penalty/scene/components.hpp"
+
+#include "scene/builder/families.hpp"
+
+#include <algorithm>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace penalty::scene {
+
+namespace {
+
+using F = ComponentFamily;
+using K = AttributeKind;
+
+// ---- loaders: read by io::load_scene_mesh (src/io/components.cpp), SOFA's MeshLoader Data ----
+constexpr AttributeSpec kMeshLoaderAttributes[] = {
+    {"filename", K::text, "", "", ValueCheck::none, "mesh file, found next to the scene or in --data-dir"},
+    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied after rotation and scale"},
+    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
+    {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
+    {"scale", K::real, "1", "", ValueCheck::none, "uniform scale"},
+    {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
+    {"flipNormals", K::boolean, "0", "", ValueCheck::none, "reverse the triangles' orientation (not Gmsh)"},
+    {"createSubelements", K::boolean, "0", "", ValueCheck::none, "derive edges and triangles of the volumes"},
+    {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
+    {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},
+};
+constexpr AttributeSpec kGmshLoaderAttributes[] = {
+    {"filename", K::text, "", "", ValueCheck::none, "Gmsh v1/v2 ASCII file"},
+    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied after rotation and scale"},
+    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
+    {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
+    {"scale", K::real, "1", "", ValueCheck::none, "uniform scale"},
+    {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
+    {"flipNormals", K::boolean, "0", "", ValueCheck::none, "ignored for Gmsh, as SOFA"},
+    {"createSubelements", K::boolean, "1", "", ValueCheck::none, "derive edges and triangles of the volumes"},
+    {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
+    {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},
+};
+constexpr AttributeSpec kSphereLoaderAttributes[] = {
+    {"filename", K::text, "", "", ValueCheck::none, ".sph file of centres and radii"},
+    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "of the centres"},
+    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "of the centres"},
+    {"scale", K::vector3, "1 1 1", "", ValueCheck::none, "of the centres (radii unchanged)"},
+    {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "alias of scale"},
+};
+
+constexpr ComponentSpec kLoaders[] = {
+    {.type = "MeshOBJLoader", .family = F::loader, .summary = "Wavefront OBJ mesh", .attributes = kMeshLoaderAttributes},
+    {.type = "MeshGmshLoader", .family = F::loader, .summary = "Gmsh v1/v2 ASCII mesh", .attributes = kGmshLoaderAttributes},
+    {.type = "SphereLoader", .family = F::loader, .summary = "sphere list (.sph)", .attributes = kSphereLoaderAttributes},
+    {.type = "MeshVTKLoader", .family = F::loader, .summary = "legacy ASCII VTK mesh", .attributes = kMeshLoaderAttributes},
+};
+
+constexpr ComponentSpec kVisual[] = {
+    {.type = "RequiredPlugin", .summary = "plugin loading"},
+    {.type = "VisualStyle", .summary = "display flags"},
+    {.type = "OglModel", .summary = "OpenGL visual model"},
+    {.type = "VisualModel", .summary = "visual model"},
+    {.type = "OglSceneFrame", .summary = "frame drawn in a corner"},
+    {.type = "OglLabel", .summary = "text label"},
+    {.type = "OglGrid", .summary = "drawn grid"},
+    {.type = "VisualGrid", .summary = "drawn grid"},
+    {.type = "LineAxis", .summary = "drawn axes"},
+    {.type = "InteractiveCamera", .summary = "camera"},
+    {.type = "Camera", .summary = "camera"},
+    {.type = "LightManager", .summary = "lights"},
+    {.type = "DirectionalLight", .summary = "light"},
+    {.type = "PositionalLight", .summary = "light"},
+    {.type = "SpotLight", .summary = "light"},
+    {.type = "BackgroundSetting", .summary = "background colour"},
+    {.type = "DefaultVisualManagerLoop", .summary = "visual loop"},
+    {.type = "ClipPlane", .summary = "clipping plane"},
+};
+
+constexpr AttributeSpec kNodeAttributes[] = {
+    {"dt", K::real, "0.01", "s", ValueCheck::positive, "time step (root), inherited below"},
+    {"gravity", K::vector3, "0 -9.81 0", "m/s^2", ValueCheck::none, "inherited below"},
+};
+
+// SOFA Data that never change the numbers (logging, display, bookkeeping).
+constexpr std::string_view kHarmless[] = {"printLog", "tags", "listening", "draw", "verbose", "bbox",
+                                          "componentState", "showObject", "showObjectScale", "drawMode",
+                                          "color", "showIndices", "showIndicesScale", "showColor",
+                                          "showVectors", "showVectorsScale", "drawArrows", "drawSize",
+                                          "showImpostors", "displayFreePosition", "showEdges", "showTriangles",
+                                          "drawEdges", "drawTriangles", "drawHeterogeneousTetra", "showStressColorMap",
+                                          "showStressAlpha", "showVonMisesStressPerNode", "computeVonMisesStress",
+                                          "showWireFrame", "showAxisSizeFactor", "showGravity", "showLines",
+                                          "drawElements", "activated", "depth", "handleSeams"};
+
+const std::vector<ComponentSpec>& registry() {
+    static const std::vector<ComponentSpec> all = [] {
+        std::vector<ComponentSpec> out;
+        for (std::span<const ComponentSpec> family :
+             {builder::solver_components(), builder::state_and_topology_components(),
+              builder::mass_and_force_field_components(), builder::mapping_and_constraint_components(),
+              builder::collision_components(), std::span<const ComponentSpec>(kLoaders),
+              std::span<const ComponentSpec>(kVisual)})
+            out.insert(out.end(), family.begin(), family.end());
+        return out;
+    }();
+    return all;
+}
+
+std::string_view kind_name(AttributeKind k) {
+    switch (k) {
+        case K::boolean: return "bool";
+        case K::integer: return "integer";
+        case K::real: return "number";
+        case K::vector3: return "3 numbers";
+        case K::numbers: return "numbers";
+        case K::indices: return "indices";
+        case K::points: return "points";
+        case K::frames: return "rigid frames";
+        case K::elements: return "elements";
+        case K::text: return "text";
+        case K::link: return "link";
+        case K::links: return "links";
+    }
+    return "?";
+}
+
+std::string_view family_name(ComponentFamily f) {
+    switch (f) {
+        case F::gravity: return "context";
+        case F::topology: return "topologies";
+        case F::state: return "states";
+        case F::mapping: return "mappings";
+        case F::mass: return "masses";
+        case F::force_field: return "force fields";
+        case F::constraint: return "constraints";
+        case F::ode_solver: return "ODE solvers";
+        case F::linear_solver: return "linear solvers";
+        case F::collision_model: return "collision models";
+        case F::animation_loop: return "animation loops";
+        case F::collision_pipeline: return "collision pipelines";
+        case F::composite_pipeline: return "composite collision pipelines";
+        case F::sub_pipeline: return "sub-pipelines of a composite";
+        case F::broad_phase: return "broad phases";
+        case F::narrow_phase: return "narrow phases";
+        case F::intersection: return "intersection methods";
+        case F::contact_manager: return "contact managers";
+        case F::loader: return "loaders";
+        case F::visual: return "visual or editor only (ignored)";
+    }
+    return "?";
+}
+
+void describe_one(const ComponentSpec& spec, std::ostringstream& out) {
+    out << "  " << spec.type << ": " << spec.summary << "\n";
+    for (std::span<const AttributeSpec> list : {spec.attributes, spec.shared_attributes}) {
+        for (const AttributeSpec& a : list) {
+            out << "    " << a.name << " (" << kind_name(a.kind);
+            if (!a.unit.empty()) out << ", " << a.unit;
+            if (a.check == ValueCheck::nonnegative) out << ", >= 0";
+            if (a.check == ValueCheck::positive) out << ", > 0";
+            out << ")";
+            if (!a.default_value.empty()) out << " default " << a.default_value;
+            if (!a.meaning.empty()) out << ": " << a.meaning;
+            out << "\n";
+        }
+    }
+}
+
+}  // namespace
+
+ComponentCategory category_of(ComponentFamily family) {
+    if (family == F::loader) return ComponentCategory::loader;
+    if (family == F::visual) return ComponentCategory::ignored;
+    return ComponentCategory::physics;
+}
+
+std::span<const ComponentSpec> component_registry() { return registry(); }
+
+const ComponentSpec* find_component(std::string_view type) {
+    for (const ComponentSpec& spec : registry())
+        if (spec.type == type) return &spec;
+    return nullptr;
+}
+
+std::optional<ComponentCategory> component_category(std::string_view type) {
+    const ComponentSpec* spec = find_component(type);
+    if (spec == nullptr) return std::nullopt;
+    return category_of(spec->family);
+}
+
+const AttributeSpec* find_attribute(const ComponentSpec& spec, std::string_view name) {
+    for (std::span<const AttributeSpec> list : {spec.attributes, spec.shared_attributes})
+        for (const AttributeSpec& a : list)
+            if (a.name == name) return &a;
+    return nullptr;
+}
+
+std::span<const AttributeSpec> node_attributes() { return kNodeAttributes; }
+
+std::vector<std::string> read_attributes(std::string_view type) {
+    std::vector<std::string> out;
+    if (type == "Node") {
+        for (const AttributeSpec& a : kNodeAttributes) out.emplace_back(a.name);
+        return out;
+    }
+    if (const ComponentSpec* spec = find_component(type))
+        for (std::span<const AttributeSpec> list : {spec->attributes, spec->shared_attributes})
+            for (const AttributeSpec& a : list) out.emplace_back(a.name);
+    return out;
+}
+
+std::vector<std::string> unread_attributes(const io::SceneElement& element) {
+    std::vector<std::string> out;
+    const ComponentSpec* spec = element.type == "Node" ? nullptr : find_component(element.type);
+    if (element.type != "Node" && (spec == nullptr || spec->family == F::visual)) return out;
+    for (const io::SceneAttribute& a : element.attributes) {
+        if (std::find(std::begin(kHarmless), std::end(kHarmless), a.name) != std::end(kHarmless)) continue;
+        const bool read = spec != nullptr ? find_attribute(*spec, a.name) != nullptr
+                                          : std::any_of(std::begin(kNodeAttributes), std::end(kNodeAttributes),
+                                                        [&](const AttributeSpec& n) { return n.name == a.name; });
+        if (!read) out.push_back(a.name);
+    }
+    return out;
+}
+
+std::string describe_components(std::string_view type) {
+    std::ostringstream out;
+    if (!type.empty()) {
+        const ComponentSpec* spec = find_component(type);
+        if (spec == nullptr)
+            throw io::SceneError("unknown component '" + std::string(type) + "' (penalty info --components lists them)");
+        out << family_name(spec->family) << ":\n";
+        describe_one(*spec, out);
+        return out.str();
+    }
+    std::map<int, std::vector<const ComponentSpec*>> by_family;
+    for (const ComponentSpec& spec : registry()) by_family[int(spec.family)].push_back(&spec);
+    out << registry().size() << " component types (attributes: kind, unit, check, default)\n";
+    for (const auto& [family, specs] : by_family) {
+        out << "\n" << family_name(ComponentFamily(family)) << ":\n";
+        for (const ComponentSpec* spec : specs) describe_one(*spec, out);
+    }
+    return out.str();
+}
+
+// ---- the scene check ------------------------------------------------------------------------
+
+SceneCheck validate(const io::SceneFile& scene) {
+    SceneCheck check;
+    if (!scene.root) return check;
+
+    std::vector<const io::SceneComponent*> all;
+    io::for_each_component(*scene.root, [&](const io::SceneComponent& c) { all.push_back(&c); });
+
+    // 1. every type is known
+    for (const io::SceneComponent* c : all) {
+        if (find_component(c->type) == nullptr) {
+            throw io::SceneError(c->file + ":" + std::to_string(c->line) + ": unknown component '" + c->type +
+                                 "' (not supported by penalty)");
+        }
+    }
+
+    // 2. classify; resolve the links of physics components
+    const auto is_ignored = [](const io::SceneComponent& c) {
+        return component_category(c.type) == ComponentCategory::ignored;
+    };
+    std::map<std::string, int> ignored_counts;
+    std::set<const io::SceneComponent*> used_loaders;
+    std::vector<const io::SceneComponent*> loaders;
+    for (const io::SceneComponent* c : all) {
+        const ComponentSpec& spec = *find_component(c->type);
+        const ComponentCategory category = category_of(spec.family);
+        if (category == ComponentCategory::ignored) {
+            check.ignored.push_back(c);
+            ++ignored_counts[c->type];
+            continue;
+        }
+        if (category == ComponentCategory::loader) {
+            loaders.push_back(c);
+            continue;
+        }
+        if (spec.family == F::mapping && c->has("output") && io::is_link(c->find("output")->value)) {
+            const io::LinkTarget out = io::resolve_link(*c, "output");
+            if (out.component != nullptr && is_ignored(*out.component)) {
+                check.ignored.push_back(c);
+                ++ignored_counts[c->type + " (visual output)"];
+                continue;
+            }
+        }
+        check.physics.push_back(c);
+        for (const io::SceneAttribute& a : c->attributes) {
+            if (!io::is_link(a.value)) continue;
+            for (const io::LinkTarget& t : io::resolve_links(*c, a.name)) {
+                if (t.component != nullptr && component_category(t.component->type) == ComponentCategory::loader) {
+                    used_loaders.insert(t.component);
+                }
+            }
+        }
+    }
+    for (const io::SceneComponent* c : loaders) {
+        if (used_loaders.count(c) != 0) {
+            check.loaders.push_back(c);
+        } else {
+            check.ignored.push_back(c);
+            ++ignored_counts[c->type + " (visual only)"];
+        }
+    }
+
+    std::string list;
+    for (const auto& [type, count] : ignored_counts) {
+        list += (list.empty() ? "" : ", ") + type + " x" + std::to_string(count);
+    }
+    check.summary = "ignored " + std::to_string(check.ignored.size()) + " visual-only component" +
+                    (check.ignored.size() == 1 ? "" : "s") + (list.empty() ? "" : ": " + list);
+    return check;
+}
+
+}  // namespace penalty::scene

@@ -1,0 +1,132 @@
+// Scene: what a built scene offers its users (stepping, states, contacts, energies, roles);
+// src/scene/builder/ builds it.
+#include "penalty/scene/scene.hpp"
+
+#include "penalty/mechanics/mass.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace penalty::scene {
+
+Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
+Scene::~Scene() {
+    pipelines_.clear();  // they remove what they added to the graph
+}
+
+double Scene::dt() const { return const_cast<Simulation&>(*simulation_).root().dt(); }
+
+void Scene::step() {
+    timings_ = StepTimings{};
+    const auto t0 = std::chrono::steady_clock::now();
+    simulation_->step();
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
+    solver_stats_ = StepSolverStats{};
+    for (const EulerImplicitSolver* s : implicit_solvers_) {
+        solver_stats_.cg_iterations += s->last_step_cg_iterations();
+        solver_stats_.cg_limit_reached = solver_stats_.cg_limit_reached || s->last_step_cg_limit_reached();
+        if (s->newton.enabled) {
+            solver_stats_.newton_iterations += s->last_newton_iterations();
+            solver_stats_.newton_unconverged = solver_stats_.newton_unconverged || !s->last_newton_converged();
+        }
+    }
+    refresh_contacts();
+}
+
+std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
+    std::vector<std::pair<std::string, const EulerImplicitSolver*>> out;
+    for (std::size_t i = 0; i < implicit_solvers_.size(); ++i) out.emplace_back(implicit_solver_paths_[i], implicit_solvers_[i]);
+    return out;
+}
+
+bool Scene::uses_newton() const {
+    return std::any_of(implicit_solvers_.begin(), implicit_solvers_.end(),
+                       [](const EulerImplicitSolver* s) { return s->newton.enabled; });
+}
+
+void Scene::refresh_contacts() {
+    // Same live pairs as the list (same force fields and point states, same order)? Then the
+    // records stand (no allocation while the pairs stay).
+    std::size_t n = 0;
+    bool same = true;
+    for (const ScenePipeline& p : pipelines_) {
+        for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
+            if (e.contact == nullptr || e.force_field == nullptr) continue;
+            same = same && n < contacts_.size() && contacts_[n].field == &e.force_field->field() &&
+                   contacts_[n].state1 == e.point_states[0] && contacts_[n].state2 == e.point_states[1];
+            ++n;
+        }
+    }
+    if (same && n == contacts_.size()) return;
+    contacts_.clear();
+    for (const ScenePipeline& p : pipelines_) {
+        for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
+            if (e.contact == nullptr || e.force_field == nullptr) continue;
+            output::ContactRecord r;
+            r.name = e.contact->model1().name() + "-" + e.contact->model2().name();
+            r.field = &e.force_field->field();
+            r.state1 = e.point_states[0];
+            r.state2 = e.point_states[1];
+            contacts_.push_back(std::move(r));
+        }
+    }
+}
+
+std::string Scene::role(const io::SceneComponent& component) const {
+    const auto it = roles_.find(&component);
+    return it == roles_.end() ? std::string() : it->second;
+}
+
+const io::SceneComponent* Scene::component_of(const void* built) const {
+    const auto it = built_from_.find(built);
+    return it == built_from_.end() ? nullptr : it->second;
+}
+
+const Node* Scene::node_of(const io::SceneNode& node) const {
+    const auto it = nodes_.find(&node);
+    return it == nodes_.end() ? nullptr : it->second;
+}
+
+double Scene::kinetic_energy() const {
+    double e = 0.0;
+    for (const BaseMass* m : masses_) e += m->kinetic_energy();
+    return e;
+}
+
+namespace {
+double force_field_energy(const Node& node) {
+    double e = 0.0;
+    for (const auto& ff : node.force_fields()) e += ff->potential_energy();
+    for (const auto& child : node.children()) e += force_field_energy(*child);
+    return e;
+}
+}  // namespace
+
+double Scene::potential_energy() const {
+    double e = stored_energy();
+    for (std::size_t i = 0; i < masses_.size(); ++i) e += masses_[i]->gravity_potential_energy(mass_nodes_[i]->gravity());
+    return e;
+}
+
+double Scene::stored_energy() const { return force_field_energy(simulation_->root()); }
+
+double Scene::gravity_energy_scale(double length) const {
+    double e = 0.0;
+    for (std::size_t i = 0; i < masses_.size(); ++i) {
+        const double m = masses_[i]->total_mass();
+        e += m * mass_nodes_[i]->gravity().norm() * length;
+    }
+    return e;
+}
+
+std::vector<std::string> Scene::warnings() const {
+    std::vector<std::string> out = build_warnings_;
+    for (const ScenePipeline& p : pipelines_) {
+        for (const std::string& s : p.pipeline->skipped_pairs()) out.push_back(p.name + ": " + s);
+        for (const std::string& s : p.pipeline->response().warnings()) out.push_back(p.name + ": " + s);
+    }
+    return out;
+}
+
+}  // namespace penalty::scene
