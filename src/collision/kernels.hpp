@@ -108,14 +108,14 @@ struct LineLineConstants {
 };
 
 /// NewProximity's closest feature of a triangle (p1, p2, p3) to a point, from the barycentric
-/// α, β of its projection and the edge parameters p_AB, p_AC, p_BC: the face iff α, β ≥ small and
-/// α + β ≤ large; else vertex A iff p_AB < small and p_AC < vertex_a_ac, edge AB iff p_AB ∈
-/// [edge_lo, large) and β < small, edge AC likewise, else along BC (vertex B below small, C above
-/// large). A feature gives an output only if the triangle owns it (its flag; SOFA's
-/// triangle–sphere routine checks other edges' flags, see edge_ac_flag / edge_bc_flag).
+/// α, β of its projection and the edge parameters p_AB, p_AC, p_BC: the face iff α, β ≥ inside_lo
+/// and α + β ≤ inside_hi; else vertex A iff p_AB < inside_lo and p_AC < vertex_a_ac, edge AB iff
+/// p_AB ∈ [edge_lo, inside_hi) and β < inside_lo, edge AC likewise, else along BC (vertex B below
+/// inside_lo, C above inside_hi). A feature gives an output only if the triangle owns it (its
+/// flag; SOFA's triangle–sphere routine checks other edges' flags, see edge_ac_flag / edge_bc_flag).
 struct TriangleRegionConstants {
-    double small;
-    double large;
+    double inside_lo;
+    double inside_hi;
     double vertex_a_ac;
     double edge_lo;
     std::uint32_t edge_ac_flag;
@@ -132,14 +132,14 @@ struct NewProximityConstants {
 inline constexpr NewProximityConstants kNewProximity{
     .point_point_guard = Guard::None,
     .line_line = {.parallel = 1e-12, .lo = 1e-6, .hi = 0.999999, .guard = Guard::None},
-    .triangle_point = {.small = std::numeric_limits<double>::epsilon(),
-                       .large = 1.0 - std::numeric_limits<double>::epsilon(),
+    .triangle_point = {.inside_lo = std::numeric_limits<double>::epsilon(),
+                       .inside_hi = 1.0 - std::numeric_limits<double>::epsilon(),
                        .vertex_a_ac = std::numeric_limits<double>::epsilon(),
                        .edge_lo = std::numeric_limits<double>::epsilon(),
                        .edge_ac_flag = TriangleModel::kE31,
                        .edge_bc_flag = TriangleModel::kE23},
-    .triangle_sphere = {.small = 1e-6,
-                        .large = 0.999999,
+    .triangle_sphere = {.inside_lo = 1e-6,
+                        .inside_hi = 0.999999,
                         .vertex_a_ac = 1e-7,
                         .edge_lo = -std::numeric_limits<double>::infinity(),
                         .edge_ac_flag = TriangleModel::kE12,

@@ -88,28 +88,28 @@ bool closest_feature(const Gram& g, std::uint32_t flags, const TriangleRegionCon
     using F = TriangleModel::Flags;
     alpha = g.alpha;
     beta = g.beta;
-    if (!(alpha < k.small || beta < k.small || alpha + beta > k.large)) return true;
+    if (!(alpha < k.inside_lo || beta < k.inside_lo || alpha + beta > k.inside_hi)) return true;
     const double pAB = g.b0 / g.g00;
     const double pAC = g.b1 / g.g11;
-    if (pAB < k.small && pAC < k.vertex_a_ac) {
+    if (pAB < k.inside_lo && pAC < k.vertex_a_ac) {
         if (!(flags & F::kP1)) return false;
         alpha = 0.0;
         beta = 0.0;
-    } else if (pAB < k.large && pAB >= k.edge_lo && beta < k.small) {
+    } else if (pAB < k.inside_hi && pAB >= k.edge_lo && beta < k.inside_lo) {
         if (!(flags & F::kE12)) return false;
         alpha = pAB;
         beta = 0.0;
-    } else if (pAC < k.large && pAC >= k.edge_lo && alpha < k.small) {
+    } else if (pAC < k.inside_hi && pAC >= k.edge_lo && alpha < k.inside_lo) {
         if (!(flags & k.edge_ac_flag)) return false;
         alpha = 0.0;
         beta = pAC;
     } else {
         const double pBC = (g.b1 - g.b0 + g.g00 - g.g01) / (g.g00 + g.g11 - 2.0 * g.g01);
-        if (pBC < k.small) {
+        if (pBC < k.inside_lo) {
             if (!(flags & F::kP2)) return false;
             alpha = 1.0;
             beta = 0.0;
-        } else if (pBC > k.large) {
+        } else if (pBC > k.inside_hi) {
             if (!(flags & F::kP3)) return false;
             alpha = 0.0;
             beta = 1.0;
@@ -217,7 +217,7 @@ int np_triangle_sphere(PairCtx& c) {
     const SphereElem s = sphere_elem(c.m2, c.e2);
     // SOFA's thresholds of this routine; §14.2: it checks FLAG_E12 on edge AC and FLAG_E31 on BC
     TriangleRegionConstants region = kNewProximity.triangle_sphere;
-    if (c.p.quirks.fix_newproximity_triangle_sphere_edge_range) region.vertex_a_ac = region.edge_lo = region.small;
+    if (c.p.quirks.fix_newproximity_triangle_sphere_edge_range) region.vertex_a_ac = region.edge_lo = region.inside_lo;
     if (c.p.quirks.fix_newproximity_triangle_sphere_edge_flags) {
         region.edge_ac_flag = kNewProximity.triangle_point.edge_ac_flag;
         region.edge_bc_flag = kNewProximity.triangle_point.edge_bc_flag;
