@@ -14,6 +14,8 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/grid_meshes.hpp"
+#include "penalty_test/spheres_on_floor.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -27,61 +29,22 @@
 namespace penalty {
 namespace {
 
-constexpr double kG = 9.81, kRadius = 0.1, kKs = 1e5, kC = 0.005, kDist = kC + kRadius;
+using namespace test::stiff_drop;
 
-struct StiffDrop {
-    Simulation sim;
-    MeshTopology floor_topology;
-    std::unique_ptr<TriangleModel> floor;
-    std::unique_ptr<SphereModel> spheres;
-    std::unique_ptr<ContactPipeline> pipeline;
-    EulerImplicitSolver* solver;
-    Vec3Object* x;
-
-    explicit StiffDrop(bool newton) {
-        sim.root().set_gravity(Vec3(0, -kG, 0));
-        sim.root().set_dt(0.01);
-        Node& floor_node = sim.root().add_child("floor");
-        auto& fx = floor_node.add_state<Vec3Types>("floor");
-        fx.position = {Vec3(-10, 0, -10), Vec3(-10, 0, 10), Vec3(10, 0, 10), Vec3(10, 0, -10)};
-        floor_topology.set_num_points(4);
-        floor_topology.set_triangles({Triangle{0, 1, 2}, Triangle{0, 2, 3}});
-        CollisionModelParams p;
-        p.name = "floor";
-        p.contact_stiffness = 2.0 * kKs;
-        p.simulated = false;
-        p.moving = false;
-        floor = std::make_unique<TriangleModel>(fx, floor_topology, p);
-        Node& body = sim.root().add_child("spheres");
-        solver = &body.set_ode_solver<EulerImplicitSolver>();
-        solver->cg.iterations = 100;
-        solver->cg.tolerance = 1e-15;
-        solver->cg.threshold = 1e-30;
-        solver->newton.enabled = newton;
-        solver->newton.max_iterations = 20;
-        solver->newton.tolerance = 1e-10;
-        x = &body.add_state<Vec3Types>("spheres");
-        for (int i = 0; i < 10; ++i)
-            for (int j = 0; j < 10; ++j) {
-                x->position.emplace_back(0.5 * i - 2.25, 0.15 + 0.001 * ((i * 7 + j * 3) % 10), 0.5 * j - 2.25);
-                x->velocity.emplace_back(0.0, -8.0, 0.0);
-            }
-        body.set_mass<UniformMass<Vec3Types>>(*x).set_vertex_mass(1.0);
-        p.name = "spheres";
-        p.simulated = true;
-        p.moving = true;
-        spheres = std::make_unique<SphereModel>(*x, kRadius, std::vector<double>{}, p);
-        IntersectionParams ip = IntersectionParams::new_proximity();
-        ip.alarm_distance = 0.1;
-        ip.contact_distance = kC;
-        ContactResponseParameters base;
-        base.stiffness_law = StiffnessLaw::physical;
-        pipeline = std::make_unique<ContactPipeline>(sim, ip, CollisionResponse(std::string(kPenaltyResponseName), "", base));
-        pipeline->add_model(*floor, floor_node);
-        pipeline->add_model(*spheres, body);
-        if (newton) pipeline->attach_newton(*solver);
+/// The stiff drop (spheres_on_floor.hpp) of 100 spheres, A = 0.1 m; Newton with geometry updates
+/// or SOFA's linearised step.
+struct StiffDrop : test::SpheresOnFloor {
+    explicit StiffDrop(bool newton) : SpheresOnFloor(setup("spheres", start_positions(), start_velocities(), 0.1)) {
+        configure_solver(*this, newton, newton);
     }
-    ~StiffDrop() { pipeline.reset(); }
+    /// A 10 × 10 grid, 0.5 m apart, 0.150–0.159 m high.
+    static std::vector<Vec3> start_positions() {
+        std::vector<Vec3> x;
+        for (int i = 0; i < 10; ++i)
+            for (int j = 0; j < 10; ++j) x.emplace_back(0.5 * i - 2.25, 0.15 + 0.001 * ((i * 7 + j * 3) % 10), 0.5 * j - 2.25);
+        return x;
+    }
+    static std::vector<Vec3> start_velocities() { return std::vector<Vec3>(100, Vec3(0.0, -8.0, 0.0)); }
 };
 
 void BM_StiffDrop(benchmark::State& state) {
@@ -98,10 +61,10 @@ void BM_StiffDrop(benchmark::State& state) {
             seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             iterations += s.solver->last_newton_iterations();
             max_iterations = std::max(max_iterations, s.solver->last_newton_iterations());
-            for (const Vec3& p : s.x->position) max_pen = std::max(max_pen, kDist - p.y());
+            for (const Vec3& p : s.spheres->position) max_pen = std::max(max_pen, kDist - p.y());
         }
         rest_err = 0.0;
-        for (const Vec3& p : s.x->position) rest_err = std::max(rest_err, std::abs(kDist - p.y() - kG / kKs));
+        for (const Vec3& p : s.spheres->position) rest_err = std::max(rest_err, std::abs(kDist - p.y() - kG / kKs));
     }
     const double steps = double(kSteps) * double(state.iterations());
     state.counters["us_per_step"] = 1e6 * seconds / steps;
@@ -124,22 +87,11 @@ struct MeshScene {
         Node& floor_node = sim.root().add_child("floor");
         auto& fx = floor_node.add_state<Vec3Types>("floor");
         const double s = 5.0;
-        auto grid = [](int m, double half, double y, std::vector<Vec3>& pts, MeshTopology& topo) {
-            pts.clear();
-            for (int j = 0; j <= m; ++j)
-                for (int i = 0; i <= m; ++i)
-                    pts.emplace_back(-half + 2.0 * half * i / m, y + 0.02 * std::sin(1.7 * i + 0.3 * j), -half + 2.0 * half * j / m);
-            std::vector<Triangle> tris;
-            for (int j = 0; j < m; ++j)
-                for (int i = 0; i < m; ++i) {
-                    const int a = j * (m + 1) + i, b = a + 1, c = a + m + 1, d = c + 1;
-                    tris.push_back(Triangle{a, b, d});
-                    tris.push_back(Triangle{a, d, c});
-                }
-            topo.set_num_points(pts.size());
-            topo.set_triangles(std::move(tris));
+        // waviness of amplitude 2 cm along the grid indices
+        const auto wavy = [](double y) {
+            return [y](const test::GridVertex& v) { return y + 0.02 * std::sin(1.7 * double(v.i) + 0.3 * double(v.j)); };
         };
-        grid(n, s, 0.0, fx.position, floor_topology);
+        test::grid_mesh(std::size_t(n), s, wavy(0.0), fx.position, floor_topology);
         Node& bodies = sim.root().add_child("bodies");
         auto& solver = bodies.set_ode_solver<EulerImplicitSolver>();
         solver.cg.iterations = 10;
@@ -151,7 +103,7 @@ struct MeshScene {
         cloud_node.set_mass<UniformMass<Vec3Types>>(cloud).set_vertex_mass(0.01);
         Node& sheet_node = bodies.add_child("sheet");
         auto& sheet = sheet_node.add_state<Vec3Types>("sheet");
-        grid(16, 1.0, 0.3, sheet.position, sheet_topology);
+        test::grid_mesh(16, 1.0, wavy(0.3), sheet.position, sheet_topology);
         sheet.velocity.assign(sheet.position.size(), Vec3(0, -2.0, 0));
         sheet_node.set_mass<UniformMass<Vec3Types>>(sheet).set_vertex_mass(0.01);
         CollisionModelParams p;

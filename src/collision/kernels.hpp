@@ -6,6 +6,8 @@
 #include "penalty/collision/models.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace penalty::detail {
 
@@ -71,6 +73,16 @@ inline bool unit_normal(const PairCtx& c, const Vec3& d, double len, Guard g, Ve
     return false;
 }
 
+/// The closing test of SOFA's proximity routines, d from the point on one element to the point
+/// on the other: true iff |d|² < R² (strict) and a normal n = d/|d| is given by `g` (see
+/// unit_normal), with len = |d|.
+inline bool within(const PairCtx& c, const Vec3& d, double R, Guard g, double& len, Vec3& n) {
+    const double n2 = d.squaredNorm();
+    if (!(n2 < R * R)) return false;
+    len = std::sqrt(n2);
+    return unit_normal(c, d, len, g, n);
+}
+
 inline int push(PairCtx& c, std::int64_t id, const Vec3& p0, const Vec3& p1, const Vec3& n, double value) {
     DetectionOutput o;
     o.elem1 = c.e1;
@@ -81,6 +93,109 @@ inline int push(PairCtx& c, std::int64_t id, const Vec3& p0, const Vec3& p1, con
     o.value = value;
     c.out.push_back(o);
     return 1;
+}
+
+// ---- the constants of each method's routines (SOFA's values), one row per method ----
+
+/// Segment–segment closest points p = p1 + α (p2 − p1), q = q1 + β (q2 − q1): the 2 × 2 normal
+/// equations are solved unless |det| ≤ parallel (near-parallel segments: α = β = ½), and an
+/// output exists only if α, β ∈ [lo, hi] (interior closest points).
+struct LineLineConstants {
+    double parallel;
+    double lo;
+    double hi;
+    Guard guard;  ///< normal at zero distance
+};
+
+/// NewProximity's closest feature of a triangle (p1, p2, p3) to a point, from the barycentric
+/// α, β of its projection and the edge parameters p_AB, p_AC, p_BC: the face iff α, β ≥ inside_lo
+/// and α + β ≤ inside_hi; else vertex A iff p_AB < inside_lo and p_AC < vertex_a_ac, edge AB iff
+/// p_AB ∈ [edge_lo, inside_hi) and β < inside_lo, edge AC likewise, else along BC (vertex B below
+/// inside_lo, C above inside_hi). A feature gives an output only if the triangle owns it (its
+/// flag; SOFA's triangle–sphere routine checks other edges' flags, see edge_ac_flag / edge_bc_flag).
+struct TriangleRegionConstants {
+    double inside_lo;
+    double inside_hi;
+    double vertex_a_ac;
+    double edge_lo;
+    std::uint32_t edge_ac_flag;
+    std::uint32_t edge_bc_flag;
+};
+
+/// NewProximity (SOFA's NewProximityIntersection::doIntersection* routines).
+struct NewProximityConstants {
+    Guard point_point_guard;                   ///< point–point, sphere–sphere, sphere–point
+    LineLineConstants line_line;               ///< line–line, triangle–line, triangle–triangle edges
+    TriangleRegionConstants triangle_point;    ///< triangle–point, triangle–line, triangle–triangle
+    TriangleRegionConstants triangle_sphere;   ///< as SOFA (quirks may fix the range and flags)
+};
+inline constexpr NewProximityConstants kNewProximity{
+    .point_point_guard = Guard::None,
+    .line_line = {.parallel = 1e-12, .lo = 1e-6, .hi = 0.999999, .guard = Guard::None},
+    .triangle_point = {.inside_lo = std::numeric_limits<double>::epsilon(),
+                       .inside_hi = 1.0 - std::numeric_limits<double>::epsilon(),
+                       .vertex_a_ac = std::numeric_limits<double>::epsilon(),
+                       .edge_lo = std::numeric_limits<double>::epsilon(),
+                       .edge_ac_flag = TriangleModel::kE31,
+                       .edge_bc_flag = TriangleModel::kE23},
+    .triangle_sphere = {.inside_lo = 1e-6,
+                        .inside_hi = 0.999999,
+                        .vertex_a_ac = 1e-7,
+                        .edge_lo = -std::numeric_limits<double>::infinity(),
+                        .edge_ac_flag = TriangleModel::kE12,
+                        .edge_bc_flag = TriangleModel::kE31},
+};
+
+/// MinProximity (SOFA's MinProximityIntersection::doIntersection* routines).
+struct MinProximityConstants {
+    Guard point_point_guard;     ///< point–point
+    LineLineConstants line_line;
+    double interior_lo;          ///< strict interior of a segment (t) or triangle (α, β, α + β)
+    double interior_hi;
+};
+inline constexpr MinProximityConstants kMinProximity{
+    .point_point_guard = Guard::Sofa,
+    .line_line = {.parallel = 1e-15, .lo = 1e-6, .hi = 0.999999, .guard = Guard::Sofa},
+    .interior_lo = 1e-6,
+    .interior_hi = 0.999999,
+};
+
+/// LocalMinDistance (SOFA's LocalMinDistance::computeIntersection routines).
+struct LocalMinDistanceConstants {
+    LineLineConstants line_line;
+    double interior_lo;          ///< strict interior of a segment (t) or triangle (α, β, α + β)
+    double interior_hi;
+    double degenerate_segment;   ///< no contact if |AB| < this · |AP| (segment–point, segment–sphere)
+};
+inline constexpr LocalMinDistanceConstants kLocalMinDistance{
+    .line_line = {.parallel = 1e-30, .lo = 1e-15, .hi = 1.0 - 1e-15, .guard = Guard::None},
+    .interior_lo = 1e-6,
+    .interior_hi = 0.999999,
+    .degenerate_segment = 1e-12,
+};
+
+/// The closest points of SOFA's line–line routines (see LineLineConstants); false: no output.
+inline bool line_line_points(const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3& q2,
+                             const LineLineConstants& k, Vec3& p, Vec3& q) {
+    const Vec3 ab = p2 - p1;
+    const Vec3 cd = q2 - q1;
+    const Vec3 ac = q1 - p1;
+    const double a00 = ab.dot(ab);
+    const double a11 = cd.dot(cd);
+    const double a01 = -cd.dot(ab);
+    const double b0 = ab.dot(ac);
+    const double b1 = -cd.dot(ac);
+    const double det = a00 * a11 - a01 * a01;
+    double alpha = 0.5;
+    double beta = 0.5;
+    if (det < -k.parallel || det > k.parallel) {
+        alpha = (b0 * a11 - b1 * a01) / det;
+        beta = (b1 * a00 - b0 * a01) / det;
+        if (alpha < k.lo || alpha > k.hi || beta < k.lo || beta > k.hi) return false;
+    }
+    p = p1 + ab * alpha;
+    q = q1 + cd * beta;
+    return true;
 }
 
 // ---- kernels, by method (definitions in the kernels_*.cpp files) ----

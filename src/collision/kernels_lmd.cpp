@@ -99,6 +99,19 @@ bool valid_triangle(const PairCtx& c, const TriangleModel& m, Index i, const Vec
     return n.dot(pq) >= 0.0;
 }
 
+// strict interior projection Q = A + t·AB of P on segment [A, B] (t ∈ [interior_lo,
+// interior_hi]); false for a segment degenerate against |AP| (SOFA's guard) or P beyond it
+bool segment_interior(const Vec3& a, const Vec3& b, const Vec3& P, Vec3& Q) {
+    const Vec3 ab = b - a;
+    const Vec3 ap = P - a;
+    const double A = ab.squaredNorm();
+    if (ab.norm() < kLocalMinDistance.degenerate_segment * ap.norm() || !(A > 0.0)) return false;
+    const double t = ap.dot(ab) / A;
+    if (t < kLocalMinDistance.interior_lo || t > kLocalMinDistance.interior_hi) return false;
+    Q = a + t * ab;
+    return true;
+}
+
 // output with the LMD convention: normal = d/|d| without guard (zero-distance policy applies)
 int lmd_push(PairCtx& c, std::int64_t id, const Vec3& p0, const Vec3& p1, double cfull) {
     const Vec3 d = p1 - p0;
@@ -148,14 +161,8 @@ int lmd_line_point(PairCtx& c) {
     const auto& l = static_cast<const LineModel&>(c.m1);
     const auto& pm = static_cast<const PointModel&>(c.m2);
     const Vec3& P = pm.point(c.e2);
-    const Vec3& a = l.p1(c.e1);
-    const Vec3 ab = l.p2(c.e1) - a;
-    const Vec3 ap = P - a;
-    const double A = ab.squaredNorm();
-    if (ab.norm() < 1e-12 * ap.norm() || !(A > 0.0)) return 0;
-    const double t = ap.dot(ab) / A;
-    if (t < 1e-6 || t > 0.999999) return 0;
-    const Vec3 Q = a + t * ab;
+    Vec3 Q;
+    if (!segment_interior(l.p1(c.e1), l.p2(c.e1), P, Q)) return 0;
     const double sk = skins(c);
     const double R = c.p.alarm_distance + sk;
     const Vec3 qp = P - Q;
@@ -167,20 +174,10 @@ int lmd_line_point(PairCtx& c) {
 int lmd_line_line(PairCtx& c) {
     const auto& l1 = static_cast<const LineModel&>(c.m1);
     const auto& l2 = static_cast<const LineModel&>(c.m2);
-    const Vec3 ab = l1.p2(c.e1) - l1.p1(c.e1);
-    const Vec3 cd = l2.p2(c.e2) - l2.p1(c.e2);
-    const Vec3 ac = l2.p1(c.e2) - l1.p1(c.e1);
-    const double a00 = ab.dot(ab), a11 = cd.dot(cd), a01 = -cd.dot(ab);
-    const double b0 = ab.dot(ac), b1 = -cd.dot(ac);
-    const double det = a00 * a11 - a01 * a01;
-    double alpha = 0.5, beta = 0.5;
-    if (det < -1e-30 || det > 1e-30) {
-        alpha = (b0 * a11 - b1 * a01) / det;
-        beta = (b1 * a00 - b0 * a01) / det;
-        if (alpha < 1e-15 || alpha > 1.0 - 1e-15 || beta < 1e-15 || beta > 1.0 - 1e-15) return 0;
-    }
-    const Vec3 P = l1.p1(c.e1) + ab * alpha;
-    const Vec3 Q = l2.p1(c.e2) + cd * beta;
+    Vec3 P;
+    Vec3 Q;
+    if (!line_line_points(l1.p1(c.e1), l1.p2(c.e1), l2.p1(c.e2), l2.p2(c.e2), kLocalMinDistance.line_line, P, Q))
+        return 0;
     const Vec3 pq = Q - P;
     const double sk = skins(c);
     const double R = c.p.alarm_distance + sk;
@@ -192,14 +189,8 @@ int lmd_line_line(PairCtx& c) {
 int lmd_line_sphere(PairCtx& c) {
     const auto& l = static_cast<const LineModel&>(c.m1);
     const SphereElem s = sphere_elem(c.m2, c.e2);
-    const Vec3& a = l.p1(c.e1);
-    const Vec3 ab = l.p2(c.e1) - a;
-    const Vec3 ap = s.c - a;
-    const double A = ab.squaredNorm();
-    if (ab.norm() < 1e-12 * ap.norm() || !(A > 0.0)) return 0;
-    const double t = ap.dot(ab) / A;
-    if (t < 1e-6 || t > 0.999999) return 0;
-    const Vec3 Q = a + t * ab;
+    Vec3 Q;
+    if (!segment_interior(l.p1(c.e1), l.p2(c.e1), s.c, Q)) return 0;
     const double sk = skins(c);
     const double R = c.p.alarm_distance + s.r + sk;
     const Vec3 qp = s.c - Q;
@@ -217,7 +208,8 @@ bool lmd_interior(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q,
     const double b0 = aq.dot(ab), b1 = aq.dot(ac);
     const double alpha = (b0 * g11 - b1 * g01) / det;
     const double beta = (b1 * g00 - b0 * g01) / det;
-    if (alpha < 1e-6 || beta < 1e-6 || alpha + beta > 0.999999) return false;
+    const double lo = kLocalMinDistance.interior_lo;
+    if (alpha < lo || beta < lo || alpha + beta > kLocalMinDistance.interior_hi) return false;
     Q = p1 + ab * alpha + ac * beta;
     return true;
 }

@@ -1,29 +1,33 @@
-// NewProximity, MinProximity and Discrete element intersectors (spec §5.3–5.5).
+// NewProximity, MinProximity and Discrete element intersectors (spec §5.3–5.5); each method's
+// constants (tolerances, normal guards, SOFA's flag quirks) are its row in kernels.hpp.
 #include "kernels.hpp"
 
 #include "penalty/geometry/segment_triangle.hpp"
-
-#include <limits>
 
 namespace penalty::detail {
 
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
 // ---------------------------------------------------------------------------------------------
 // NewProximity helpers. Every helper tests |d|² < R² (strict) and returns the number of outputs;
 // `value` is the raw distance minus `cfull`.
 
-// NP-PP: point p (element 1 side) vs point q (element 2 side)
-int np_pp(PairCtx& c, const Vec3& p, const Vec3& q, double R, double cfull, std::int64_t id) {
-    const Vec3 d = q - p;
-    const double n2 = d.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+// NP-PP: point p (element 1 side) vs point q (element 2 side), normal by `g`
+int np_pp(PairCtx& c, const Vec3& p, const Vec3& q, double R, double cfull, std::int64_t id, Guard g) {
+    double len = 0.0;
     Vec3 n;
-    if (!unit_normal(c, d, len, Guard::None, n)) return 0;
+    if (!within(c, q - p, R, g, len, n)) return 0;
     return push(c, id, p, q, n, len - cfull);
+}
+
+// The output of a closest point p of a segment or triangle to the point q; swap: the point is
+// element 1 (the output goes from q to p).
+int np_closest_output(PairCtx& c, const Vec3& p, const Vec3& q, double R, double cfull, std::int64_t id, bool swap) {
+    const Vec3 pq = q - p;
+    double len = 0.0;
+    Vec3 n;
+    if (!within(c, swap ? Vec3(-pq) : pq, R, Guard::None, len, n)) return 0;
+    return swap ? push(c, id, q, p, n, len - cfull) : push(c, id, p, q, n, len - cfull);
 }
 
 // NP-LP: segment [a, b] vs point q, clamped projection; swap: the point is element 1.
@@ -37,42 +41,18 @@ int np_lp(PairCtx& c, const Vec3& a, const Vec3& b, const Vec3& q, double R, dou
     if (alpha < 0.0) alpha = 0.0;
     else if (alpha > 1.0) alpha = 1.0;
     const Vec3 p = a + ab * alpha;
-    const Vec3 pq = q - p;
-    const double n2 = pq.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
-    Vec3 n;
-    if (!unit_normal(c, swap ? Vec3(-pq) : pq, len, Guard::None, n)) return 0;
-    return swap ? push(c, id, q, p, n, len - cfull) : push(c, id, p, q, n, len - cfull);
+    return np_closest_output(c, p, q, R, cfull, id, swap);
 }
 
-// NP-LL: segment [p1, p2] vs segment [q1, q2] (interior closest points only unless parallel)
+// NP-LL: segment [p1, p2] vs segment [q1, q2] (see LineLineConstants)
 int np_ll(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3& q2, double R,
-          double cfull, std::int64_t id, double det_threshold, double lo, double hi, Guard g) {
-    const Vec3 ab = p2 - p1;
-    const Vec3 cd = q2 - q1;
-    const Vec3 ac = q1 - p1;
-    const double a00 = ab.dot(ab);
-    const double a11 = cd.dot(cd);
-    const double a01 = -cd.dot(ab);
-    const double b0 = ab.dot(ac);
-    const double b1 = -cd.dot(ac);
-    const double det = a00 * a11 - a01 * a01;
-    double alpha = 0.5;
-    double beta = 0.5;
-    if (det < -det_threshold || det > det_threshold) {
-        alpha = (b0 * a11 - b1 * a01) / det;
-        beta = (b1 * a00 - b0 * a01) / det;
-        if (alpha < lo || alpha > hi || beta < lo || beta > hi) return 0;
-    }
-    const Vec3 p = p1 + ab * alpha;
-    const Vec3 q = q1 + cd * beta;
-    const Vec3 pq = q - p;
-    const double n2 = pq.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+          double cfull, std::int64_t id, const LineLineConstants& k) {
+    Vec3 p;
+    Vec3 q;
+    if (!line_line_points(p1, p2, q1, q2, k, p, q)) return 0;
+    double len = 0.0;
     Vec3 n;
-    if (!unit_normal(c, pq, len, g, n)) return 0;
+    if (!within(c, q - p, R, k.guard, len, n)) return 0;
     return push(c, id, p, q, n, len - cfull);
 }
 
@@ -101,59 +81,69 @@ Gram gram(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q) {
     return g;
 }
 
-// NP-TP (ε = machine epsilon, flag checks on vertex/edge regions)
-int np_tp(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& p3, std::uint32_t flags,
-          const Vec3& q, double R, double cfull, std::int64_t id, bool swap) {
+/// NewProximity's closest feature of the triangle to the projected point (see
+/// TriangleRegionConstants): its α, β, or false if the triangle does not own it (`flags`).
+bool closest_feature(const Gram& g, std::uint32_t flags, const TriangleRegionConstants& k, double& alpha,
+                     double& beta) {
     using F = TriangleModel::Flags;
-    const Gram g = gram(p1, p2, p3, q);
-    if (g.degenerate) return 0;
-    double alpha = g.alpha;
-    double beta = g.beta;
-    if (alpha < kEps || beta < kEps || alpha + beta > 1.0 - kEps) {
-        const double pAB = g.b0 / g.g00;
-        const double pAC = g.b1 / g.g11;
-        if (pAB < kEps && pAC < kEps) {
-            if (!(flags & F::kP1)) return 0;
-            alpha = 0.0;
+    alpha = g.alpha;
+    beta = g.beta;
+    if (!(alpha < k.inside_lo || beta < k.inside_lo || alpha + beta > k.inside_hi)) return true;
+    const double pAB = g.b0 / g.g00;
+    const double pAC = g.b1 / g.g11;
+    if (pAB < k.inside_lo && pAC < k.vertex_a_ac) {
+        if (!(flags & F::kP1)) return false;
+        alpha = 0.0;
+        beta = 0.0;
+    } else if (pAB < k.inside_hi && pAB >= k.edge_lo && beta < k.inside_lo) {
+        if (!(flags & F::kE12)) return false;
+        alpha = pAB;
+        beta = 0.0;
+    } else if (pAC < k.inside_hi && pAC >= k.edge_lo && alpha < k.inside_lo) {
+        if (!(flags & k.edge_ac_flag)) return false;
+        alpha = 0.0;
+        beta = pAC;
+    } else {
+        const double pBC = (g.b1 - g.b0 + g.g00 - g.g01) / (g.g00 + g.g11 - 2.0 * g.g01);
+        if (pBC < k.inside_lo) {
+            if (!(flags & F::kP2)) return false;
+            alpha = 1.0;
             beta = 0.0;
-        } else if (pAB < 1.0 - kEps && pAB >= kEps && beta < kEps) {
-            if (!(flags & F::kE12)) return 0;
-            alpha = pAB;
-            beta = 0.0;
-        } else if (pAC < 1.0 - kEps && pAC >= kEps && alpha < kEps) {
-            if (!(flags & F::kE31)) return 0;
+        } else if (pBC > k.inside_hi) {
+            if (!(flags & F::kP3)) return false;
             alpha = 0.0;
-            beta = pAC;
+            beta = 1.0;
         } else {
-            const double pBC = (g.b1 - g.b0 + g.g00 - g.g01) / (g.g00 + g.g11 - 2.0 * g.g01);
-            if (pBC < kEps) {
-                if (!(flags & F::kP2)) return 0;
-                alpha = 1.0;
-                beta = 0.0;
-            } else if (pBC > 1.0 - kEps) {
-                if (!(flags & F::kP3)) return 0;
-                alpha = 0.0;
-                beta = 1.0;
-            } else {
-                if (!(flags & F::kE23)) return 0;
-                alpha = 1.0 - pBC;
-                beta = pBC;
-            }
+            if (!(flags & k.edge_bc_flag)) return false;
+            alpha = 1.0 - pBC;
+            beta = pBC;
         }
     }
-    const Vec3 p = p1 + g.ab * alpha + g.ac * beta;
-    const Vec3 pq = q - p;
-    const double n2 = pq.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
-    Vec3 n;
-    if (!unit_normal(c, swap ? Vec3(-pq) : pq, len, Guard::None, n)) return 0;
-    return swap ? push(c, id, q, p, n, len - cfull) : push(c, id, p, q, n, len - cfull);
+    return true;
 }
 
-// SOFA's strict-interior triangle test (MinProximity, LocalMinDistance): thresholds 1e-6.
-bool interior_projection(const Gram& g) {
-    return !g.degenerate && !(g.alpha < 1e-6 || g.beta < 1e-6 || g.alpha + g.beta > 0.999999);
+// NP-TP: triangle (p1, p2, p3) vs point q, flag checks on vertex/edge regions; swap: the point is
+// element 1.
+int np_tp(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& p3, std::uint32_t flags,
+          const Vec3& q, double R, double cfull, std::int64_t id, bool swap) {
+    const Gram g = gram(p1, p2, p3, q);
+    if (g.degenerate) return 0;
+    double alpha = 0.0;
+    double beta = 0.0;
+    if (!closest_feature(g, flags, kNewProximity.triangle_point, alpha, beta)) return 0;
+    const Vec3 p = p1 + g.ab * alpha + g.ac * beta;
+    return np_closest_output(c, p, q, R, cfull, id, swap);
+}
+
+// MinProximity's triangle projection: Q, the projection of P strictly inside triangle e1 of m1
+// (α, β ≥ interior_lo, α + β ≤ interior_hi); false if outside or the triangle is degenerate.
+bool min_triangle_projection(const PairCtx& c, const Vec3& P, Vec3& Q) {
+    const auto& t = static_cast<const TriangleModel&>(c.m1);
+    const Gram g = gram(t.p(c.e1, 0), t.p(c.e1, 1), t.p(c.e1, 2), P);
+    const double lo = kMinProximity.interior_lo;
+    if (g.degenerate || g.alpha < lo || g.beta < lo || g.alpha + g.beta > kMinProximity.interior_hi) return false;
+    Q = t.p(c.e1, 0) + g.alpha * g.ab + g.beta * g.ac;
+    return true;
 }
 
 }  // namespace
@@ -165,36 +155,45 @@ int np_sphere_sphere(PairCtx& c) {
     const SphereElem s2 = sphere_elem(c.m2, c.e2);
     const double sk = skins(c);
     return np_pp(c, s1.c, s2.c, c.p.alarm_distance + sk + s1.r + s2.r,
-                 c.p.contact_distance + sk + s1.r + s2.r, id_big(c));
+                 c.p.contact_distance + sk + s1.r + s2.r, id_big(c), kNewProximity.point_point_guard);
 }
 
 int np_sphere_point(PairCtx& c) {
     const SphereElem s = sphere_elem(c.m1, c.e1);
     const Vec3& q = static_cast<const PointModel&>(c.m2).point(c.e2);
     const double sk = skins(c);
-    return np_pp(c, s.c, q, c.p.alarm_distance + sk + s.r, c.p.contact_distance + sk + s.r, id_big(c));
+    return np_pp(c, s.c, q, c.p.alarm_distance + sk + s.r, c.p.contact_distance + sk + s.r, id_big(c),
+                 kNewProximity.point_point_guard);
 }
 
-int np_point_point(PairCtx& c) {
+// Point–point and line–line are one routine in both methods, with the method's constants.
+namespace {
+int point_point(PairCtx& c, Guard g) {
     const Vec3& p = static_cast<const PointModel&>(c.m1).point(c.e1);
     const Vec3& q = static_cast<const PointModel&>(c.m2).point(c.e2);
     const double sk = skins(c);
-    return np_pp(c, p, q, c.p.alarm_distance + sk, c.p.contact_distance + sk, id_big(c));
+    return np_pp(c, p, q, c.p.alarm_distance + sk, c.p.contact_distance + sk, id_big(c), g);
 }
+
+int line_line(PairCtx& c, const LineLineConstants& k) {
+    const auto& l1 = static_cast<const LineModel&>(c.m1);
+    const auto& l2 = static_cast<const LineModel&>(c.m2);
+    const double sk = skins(c);
+    return np_ll(c, l1.p1(c.e1), l1.p2(c.e1), l2.p1(c.e2), l2.p2(c.e2), c.p.alarm_distance + sk,
+                 c.p.contact_distance + sk, id_big(c), k);
+}
+}  // namespace
+
+int np_point_point(PairCtx& c) { return point_point(c, kNewProximity.point_point_guard); }
+int min_point_point(PairCtx& c) { return point_point(c, kMinProximity.point_point_guard); }
+int np_line_line(PairCtx& c) { return line_line(c, kNewProximity.line_line); }
+int min_line_line(PairCtx& c) { return line_line(c, kMinProximity.line_line); }
 
 int np_line_point(PairCtx& c) {
     const auto& l = static_cast<const LineModel&>(c.m1);
     const Vec3& q = static_cast<const PointModel&>(c.m2).point(c.e2);
     const double sk = skins(c);
     return np_lp(c, l.p1(c.e1), l.p2(c.e1), q, c.p.alarm_distance + sk, c.p.contact_distance + sk, c.e2, false);
-}
-
-int np_line_line(PairCtx& c) {
-    const auto& l1 = static_cast<const LineModel&>(c.m1);
-    const auto& l2 = static_cast<const LineModel&>(c.m2);
-    const double sk = skins(c);
-    return np_ll(c, l1.p1(c.e1), l1.p2(c.e1), l2.p1(c.e2), l2.p2(c.e2), c.p.alarm_distance + sk,
-                 c.p.contact_distance + sk, id_big(c), 1e-12, 1e-6, 0.999999, Guard::None);
 }
 
 int np_line_sphere(PairCtx& c) {
@@ -214,62 +213,27 @@ int np_triangle_point(PairCtx& c) {
 }
 
 int np_triangle_sphere(PairCtx& c) {
-    using F = TriangleModel::Flags;
     const auto& t = static_cast<const TriangleModel&>(c.m1);
     const SphereElem s = sphere_elem(c.m2, c.e2);
-    const std::uint32_t flags = t.flags(c.e1);
-    const bool fix = c.p.quirks.fix_newproximity_triangle_sphere_edge_flags;
-    const bool fix_range = c.p.quirks.fix_newproximity_triangle_sphere_edge_range;
-    const double lo = fix_range ? 1e-6 : -std::numeric_limits<double>::infinity();
+    // SOFA's thresholds of this routine; §14.2: it checks FLAG_E12 on edge AC and FLAG_E31 on BC
+    TriangleRegionConstants region = kNewProximity.triangle_sphere;
+    if (c.p.quirks.fix_newproximity_triangle_sphere_edge_range) region.vertex_a_ac = region.edge_lo = region.inside_lo;
+    if (c.p.quirks.fix_newproximity_triangle_sphere_edge_flags) {
+        region.edge_ac_flag = kNewProximity.triangle_point.edge_ac_flag;
+        region.edge_bc_flag = kNewProximity.triangle_point.edge_bc_flag;
+    }
     const double sk = skins(c);
     const double R = c.p.alarm_distance + sk + s.r;
     const Vec3& p1 = t.p(c.e1, 0);
     const Gram g = gram(p1, t.p(c.e1, 1), t.p(c.e1, 2), s.c);
     if (g.degenerate) return 0;
-    double alpha = g.alpha;
-    double beta = g.beta;
-    // this routine's own thresholds (1e-6 / 0.999999, and 1e-7 for pAC at vertex A)
-    if (alpha < 1e-6 || beta < 1e-6 || alpha + beta > 0.999999) {
-        const double pAB = g.b0 / g.g00;
-        const double pAC = g.b1 / g.g11;
-        if (pAB < 1e-6 && pAC < (fix_range ? 1e-6 : 1e-7)) {
-            if (!(flags & F::kP1)) return 0;
-            alpha = 0.0;
-            beta = 0.0;
-        } else if (pAB < 0.999999 && pAB >= lo && beta < 1e-6) {
-            if (!(flags & F::kE12)) return 0;
-            alpha = pAB;
-            beta = 0.0;
-        } else if (pAC < 0.999999 && pAC >= lo && alpha < 1e-6) {
-            // SOFA checks FLAG_E12 here (§14.2)
-            if (!(flags & (fix ? F::kE31 : F::kE12))) return 0;
-            alpha = 0.0;
-            beta = pAC;
-        } else {
-            const double pBC = (g.b1 - g.b0 + g.g00 - g.g01) / (g.g00 + g.g11 - 2.0 * g.g01);
-            if (pBC < 1e-6) {
-                if (!(flags & F::kP2)) return 0;
-                alpha = 1.0;
-                beta = 0.0;
-            } else if (pBC > 0.999999) {
-                if (!(flags & F::kP3)) return 0;
-                alpha = 0.0;
-                beta = 1.0;
-            } else {
-                // SOFA checks FLAG_E31 here (§14.2)
-                if (!(flags & (fix ? F::kE23 : F::kE31))) return 0;
-                alpha = 1.0 - pBC;
-                beta = pBC;
-            }
-        }
-    }
+    double alpha = 0.0;
+    double beta = 0.0;
+    if (!closest_feature(g, t.flags(c.e1), region, alpha, beta)) return 0;
     const Vec3 p = p1 + g.ab * alpha + g.ac * beta;
-    const Vec3 pq = s.c - p;
-    const double n2 = pq.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+    double len = 0.0;
     Vec3 n;
-    unit_normal(c, pq, len, Guard::Sofa, n);
+    if (!within(c, s.c - p, R, Guard::Sofa, len, n)) return 0;
     return push(c, c.e2, p, s.point_by_normal(n), n, len - (c.p.contact_distance + sk + s.r));
 }
 
@@ -296,9 +260,10 @@ int np_triangle_line(PairCtx& c) {
     n += np_tp(c, p1, p2, p3, f, q1, R, cf, id, false);
     n += np_tp(c, p1, p2, p3, f, q2, R, cf, id, false);
     if (c.p.use_line_line) {
-        if (f & F::kE12) n += np_ll(c, p1, p2, q1, q2, R, cf, id, 1e-12, 1e-6, 0.999999, Guard::None);
-        if (f & F::kE23) n += np_ll(c, p2, p3, q1, q2, R, cf, id, 1e-12, 1e-6, 0.999999, Guard::None);
-        if (f & F::kE31) n += np_ll(c, p3, p1, q1, q2, R, cf, id, 1e-12, 1e-6, 0.999999, Guard::None);
+        const LineLineConstants& k = kNewProximity.line_line;
+        if (f & F::kE12) n += np_ll(c, p1, p2, q1, q2, R, cf, id, k);
+        if (f & F::kE23) n += np_ll(c, p2, p3, q1, q2, R, cf, id, k);
+        if (f & F::kE31) n += np_ll(c, p3, p1, q1, q2, R, cf, id, k);
     }
     return n;
 }
@@ -353,7 +318,7 @@ int np_triangle_triangle(PairCtx& c) {
             for (int j = 0; j < 3; ++j) {
                 if (!(f2 & e[j])) continue;
                 n += np_ll(c, *pa[i][0], *pa[i][1], *qa[j][0], *qa[j][1], R, cf, id2 + 3 + 3 * i + j,
-                           1e-12, 1e-6, 0.999999, Guard::None);
+                           kNewProximity.line_line);
             }
         }
     }
@@ -401,28 +366,10 @@ int min_sphere_point(PairCtx& c) {
     const SphereElem s = sphere_elem(c.m1, c.e1);
     const Vec3& q = static_cast<const PointModel&>(c.m2).point(c.e2);
     const double sk = skins(c);
-    const double R = c.p.alarm_distance + s.r + sk;
-    const Vec3 d = q - s.c;
-    const double n2 = d.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+    double len = 0.0;
     Vec3 n;
-    unit_normal(c, d, len, Guard::Sofa, n);
+    if (!within(c, q - s.c, c.p.alarm_distance + s.r + sk, Guard::Sofa, len, n)) return 0;
     return push(c, c.e1, s.point_by_normal(-n), q, n, len - (c.p.contact_distance + s.r + sk));
-}
-
-int min_point_point(PairCtx& c) {
-    const Vec3& p = static_cast<const PointModel&>(c.m1).point(c.e1);
-    const Vec3& q = static_cast<const PointModel&>(c.m2).point(c.e2);
-    const double sk = skins(c);
-    const double R = c.p.alarm_distance + sk;
-    const Vec3 d = q - p;
-    const double n2 = d.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
-    Vec3 n;
-    unit_normal(c, d, len, Guard::Sofa, n);
-    return push(c, id_big(c), p, q, n, len - (c.p.contact_distance + sk));
 }
 
 int min_line_point(PairCtx& c) {
@@ -435,22 +382,10 @@ int min_line_point(PairCtx& c) {
     const double t = (P - a).dot(ab) / A;
     const Vec3 Q = t <= 0.0 ? a : (t >= 1.0 ? Vec3(l.p2(c.e1)) : Vec3(a + t * ab));
     const double sk = skins(c);
-    const double R = c.p.alarm_distance + sk;
-    const Vec3 d = P - Q;
-    const double n2 = d.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+    double len = 0.0;
     Vec3 n;
-    unit_normal(c, d, len, Guard::Sofa, n);
+    if (!within(c, P - Q, c.p.alarm_distance + sk, Guard::Sofa, len, n)) return 0;
     return push(c, c.e2, Q, P, n, len - (c.p.contact_distance + sk));
-}
-
-int min_line_line(PairCtx& c) {
-    const auto& l1 = static_cast<const LineModel&>(c.m1);
-    const auto& l2 = static_cast<const LineModel&>(c.m2);
-    const double sk = skins(c);
-    return np_ll(c, l1.p1(c.e1), l1.p2(c.e1), l2.p1(c.e2), l2.p2(c.e2), c.p.alarm_distance + sk,
-                 c.p.contact_distance + sk, id_big(c), 1e-15, 1e-6, 0.999999, Guard::Sofa);
 }
 
 int min_line_sphere(PairCtx& c) {
@@ -463,52 +398,36 @@ int min_line_sphere(PairCtx& c) {
     if (!(A > 0.0)) return 0;
     // t measured from p2 toward p1
     const double t = ba.dot(s.c - p2) / A;
-    if (t < 1e-6 || t > 0.999999) return 0;
+    if (t < kMinProximity.interior_lo || t > kMinProximity.interior_hi) return 0;
     // §14.1: SOFA applies t from p1 toward p2 (mirror about the midpoint)
     const Vec3 Q = c.p.quirks.fix_minproximity_line_sphere_mirror ? Vec3(p2 + t * ba) : Vec3(p1 + t * (p2 - p1));
     const double sk = skins(c);
-    const double R = c.p.alarm_distance + s.r + sk;
-    const Vec3 d = s.c - Q;
-    const double n2 = d.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+    double len = 0.0;
     Vec3 n;
-    unit_normal(c, d, len, Guard::Sofa, n);
+    if (!within(c, s.c - Q, c.p.alarm_distance + s.r + sk, Guard::Sofa, len, n)) return 0;
     return push(c, c.e2, Q, s.point_by_normal(n), n, len - (c.p.contact_distance + s.r + sk));
 }
 
 int min_triangle_point(PairCtx& c) {
-    const auto& t = static_cast<const TriangleModel&>(c.m1);
     const Vec3& P = static_cast<const PointModel&>(c.m2).point(c.e2);
-    const Gram g = gram(t.p(c.e1, 0), t.p(c.e1, 1), t.p(c.e1, 2), P);
-    if (!interior_projection(g)) return 0;
-    const Vec3 Q = t.p(c.e1, 0) + g.alpha * g.ab + g.beta * g.ac;
+    Vec3 Q;
+    if (!min_triangle_projection(c, P, Q)) return 0;
     const double sk = skins(c);
-    const double R = c.p.alarm_distance + sk;
-    const Vec3 d = P - Q;
-    const double n2 = d.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+    double len = 0.0;
     Vec3 n;
-    unit_normal(c, d, len, Guard::Sofa, n);
-    if (c.p.use_surface_normals) n = t.normal(c.e1);
+    if (!within(c, P - Q, c.p.alarm_distance + sk, Guard::Sofa, len, n)) return 0;
+    if (c.p.use_surface_normals) n = static_cast<const TriangleModel&>(c.m1).normal(c.e1);
     return push(c, c.e2, Q, P, n, len - (c.p.contact_distance + sk));
 }
 
 int min_triangle_sphere(PairCtx& c) {
-    const auto& t = static_cast<const TriangleModel&>(c.m1);
     const SphereElem s = sphere_elem(c.m2, c.e2);
-    const Gram g = gram(t.p(c.e1, 0), t.p(c.e1, 1), t.p(c.e1, 2), s.c);
-    if (!interior_projection(g)) return 0;
-    const Vec3 Q = t.p(c.e1, 0) + g.alpha * g.ab + g.beta * g.ac;
+    Vec3 Q;
+    if (!min_triangle_projection(c, s.c, Q)) return 0;
     const double sk = skins(c);
-    const double R = c.p.alarm_distance + s.r + sk;
-    const Vec3 d = s.c - Q;
-    const double n2 = d.squaredNorm();
-    if (!(n2 < R * R)) return 0;
-    const double len = std::sqrt(n2);
+    double len = 0.0;
     Vec3 n;
-    unit_normal(c, d, len, Guard::Sofa, n);
+    if (!within(c, s.c - Q, c.p.alarm_distance + s.r + sk, Guard::Sofa, len, n)) return 0;
     return push(c, c.e2, Q, s.point_by_normal(n), n, len - (c.p.contact_distance + s.r + sk));
 }
 

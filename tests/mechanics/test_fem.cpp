@@ -1,7 +1,7 @@
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
-#include "penalty_test/finite_difference.hpp"
+#include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
 #include <Eigen/Dense>
@@ -68,6 +68,9 @@ TEST(HexahedronFEM, PatchTestSmall) {
     patch_test<HexahedronFEMForceField>(g.mesh(), g, FemMethod::Small);
 }
 
+/// The shared derivative check (K by FD, assembled K, f = −∂E/∂x for the small-strain method, whose
+/// energy is the potential of its force) at a rotated, optionally deformed, configuration; K is
+/// symmetric, and a rigid motion is stress-free for the corotational method.
 template <class Field>
 void check_fem_derivatives(const MeshTopology& topo, std::vector<Vec3> rest, FemMethod method, bool rotate_only) {
     std::mt19937 rng(11);
@@ -82,42 +85,16 @@ void check_fem_derivatives(const MeshTopology& topo, std::vector<Vec3> rest, Fem
         s.position[i] = r * rest[i] + Vec3(0.3, -1, 2);
         if (!rotate_only) s.position[i] += 0.05 * Vec3(u(rng), u(rng), u(rng));
     }
-    const auto n = static_cast<Eigen::Index>(3 * rest.size());
-    Eigen::VectorXd x0(n);
-    for (std::size_t i = 0; i < rest.size(); ++i) x0.segment<3>(3 * static_cast<Eigen::Index>(i)) = s.position[i];
-    auto force = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-        for (std::size_t i = 0; i < rest.size(); ++i) s.position[i] = x.segment<3>(3 * static_cast<Eigen::Index>(i));
-        std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
-        ff.accumulate_force();
-        return Vec3Object::flat(s.force);
-    };
-    const Eigen::MatrixXd k_fd = test::finite_jacobian(x0, force, 1e-6);
-    const Eigen::VectorXd f0 = force(x0);
-    Eigen::MatrixXd k_df(n, n);
-    for (Eigen::Index j = 0; j < n; ++j) {
-        std::fill(s.dx.begin(), s.dx.end(), Vec3::Zero());
-        std::fill(s.df.begin(), s.df.end(), Vec3::Zero());
-        Vec3Object::flat(s.dx)[j] = 1.0;
-        ff.accumulate_dforce(1.0, 0.0);
-        k_df.col(j) = Vec3Object::flat(s.df);
-    }
-    TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
-    SparseMatrix ks(n, n);
-    ks.setFromTriplets(t.begin(), t.end());
-    EXPECT_GT(k_fd.cwiseAbs().maxCoeff(), 10.0);
-    EXPECT_TRUE(test::near_relative(k_df, k_fd, 1e-6)) << "max diff " << (k_df - k_fd).cwiseAbs().maxCoeff();
-    EXPECT_TRUE(test::near_relative(Eigen::MatrixXd(ks), k_df, 1e-12));
-    EXPECT_TRUE(k_df.isApprox(k_df.transpose(), 1e-12));
-    if (method == FemMethod::Small) {
-        auto energy = [&](const Eigen::VectorXd& x) {
-            force(x);
-            return ff.potential_energy();
-        };
-        const Eigen::VectorXd grad = test::finite_gradient(x0, energy, 1e-6);
-        EXPECT_TRUE(test::near_relative(Eigen::VectorXd(-grad), f0, 1e-6));
-    } else if (rotate_only) {
-        EXPECT_LT(f0.cwiseAbs().maxCoeff(), 1e-10);  // a rigid motion is stress-free
+    // the small-strain energy is the potential of its force; the corotational one is not
+    const test::DerivativeTolerances tol{
+        .dforce_vs_fd = 1e-6,
+        .assembled_vs_dforce = 1e-12,
+        .force_vs_energy = method == FemMethod::Small ? std::optional<double>(1e-6) : std::nullopt};
+    const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, s, tol);
+    EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0);
+    EXPECT_TRUE(d.k_dforce.isApprox(d.k_dforce.transpose(), 1e-12));
+    if (method != FemMethod::Small && rotate_only) {
+        EXPECT_LT(d.force.cwiseAbs().maxCoeff(), 1e-10);  // a rigid motion is stress-free
     }
 }
 

@@ -1,7 +1,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 
-#include "penalty_test/finite_difference.hpp"
+#include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,54 +9,6 @@
 
 namespace penalty {
 namespace {
-
-Eigen::VectorXd flat_positions(const Vec3Object& s) {
-    Eigen::VectorXd x(3 * static_cast<Eigen::Index>(s.num_dofs()));
-    for (std::size_t i = 0; i < s.num_dofs(); ++i) x.segment<3>(3 * static_cast<Eigen::Index>(i)) = s.position[i];
-    return x;
-}
-void set_positions(Vec3Object& s, const Eigen::VectorXd& x) {
-    for (std::size_t i = 0; i < s.num_dofs(); ++i) s.position[i] = x.segment<3>(3 * static_cast<Eigen::Index>(i));
-}
-
-/// Checks a single-state force field: add_dforce and the stiffness triplets equal ∂f/∂x by FD,
-/// and f = −∂E/∂x. Returns |K|∞ (so callers can require a non-vacuous check).
-double check_force_field_derivatives(BaseForceField& ff, Vec3Object& s, double tol) {
-    const Eigen::VectorXd x0 = flat_positions(s);
-    auto force = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
-        set_positions(s, x);
-        std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
-        ff.accumulate_force();
-        return Vec3Object::flat(s.force);
-    };
-    const Eigen::MatrixXd k_fd = test::finite_jacobian(x0, force, 1e-6);
-    force(x0);  // linearise at x0
-    const auto n = x0.size();
-    Eigen::MatrixXd k_df(n, n);
-    for (Eigen::Index j = 0; j < n; ++j) {
-        std::fill(s.dx.begin(), s.dx.end(), Vec3::Zero());
-        std::fill(s.df.begin(), s.df.end(), Vec3::Zero());
-        Vec3Object::flat(s.dx)[j] = 1.0;
-        ff.accumulate_dforce(1.0, 0.0);
-        k_df.col(j) = Vec3Object::flat(s.df);
-    }
-    TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
-    SparseMatrix k_sp(n, n);
-    k_sp.setFromTriplets(t.begin(), t.end());
-    const Eigen::MatrixXd k_as = Eigen::MatrixXd(k_sp);
-    EXPECT_TRUE(test::near_relative(k_df, k_fd, tol)) << "addDForce vs FD\n" << k_df << "\n--\n" << k_fd;
-    EXPECT_TRUE(test::near_relative(k_as, k_df, 1e-12)) << "assembled vs addDForce";
-    const Eigen::VectorXd f0 = force(x0);
-    auto energy = [&](const Eigen::VectorXd& x) {
-        force(x);
-        return ff.potential_energy();
-    };
-    const Eigen::VectorXd grad = test::finite_gradient(x0, energy, 1e-6);
-    EXPECT_TRUE(test::near_relative(Eigen::VectorXd(-grad), f0, tol)) << "f = -dE/dx";
-    force(x0);
-    return k_fd.cwiseAbs().maxCoeff();
-}
 
 TEST(SpringForceField, ForceMatchesFormulaAndSign) {
     Vec3Object s;
@@ -92,8 +44,8 @@ TEST(SpringForceField, DerivativesMatchFiniteDifferencesOnRandomSprings) {
             ff.add_spring({a, b, 10 + 90 * std::abs(u(rng)), 0.5, std::abs(u(rng))});
         }
         ff.init();
-        const double kmax = check_force_field_derivatives(ff, s, 1e-5);
-        EXPECT_GT(kmax, 1.0);
+        const auto d = test::check_force_field_derivatives(ff, s, {.dforce_vs_fd = 1e-5, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-5});
+        EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 1.0);
         ++checked;
     }
     EXPECT_EQ(checked, 20);

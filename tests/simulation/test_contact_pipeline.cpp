@@ -6,6 +6,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/spheres_on_floor.hpp"
 #include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
@@ -36,37 +37,23 @@ struct Floor : test::StaticFloor {
     Floor(Node& parent, bool simulated) : StaticFloor(parent, test::floor_params(10.0, simulated)) {}
 };
 
+/// Example E's setup (the fixture's defaults), the floor simulated or not.
+test::SpheresOnFloorSetup example_e(bool floor_simulated) {
+    test::SpheresOnFloorSetup setup;
+    setup.floor_simulated = floor_simulated;
+    return setup;
+}
+
 /// Example E scene: a Vec3 sphere (vertexMass 1, radius 0.5, k 10) at (0.2, 0.9, 0.3), v = 0,
 /// EulerImplicit rs = rm = 0, CG 25 iterations with tolerance = threshold = `cg_eps`.
-struct SphereOnFloor {
-    Simulation sim;
-    Floor floor;
-    Node* body;
-    EulerImplicitSolver* solver;
-    Vec3Object* sphere;
-    std::unique_ptr<SphereModel> model;
-    std::unique_ptr<ContactPipeline> pipeline;
+struct SphereOnFloor : test::SpheresOnFloor {
+    Vec3Object* sphere = spheres;  // the one sphere's state
 
-    explicit SphereOnFloor(bool explicit_contact, double cg_eps = 1e-9) : floor(sim.root(), explicit_contact) {
-        sim.root().set_gravity(Vec3(0, -9.81, 0));
-        sim.root().set_dt(0.01);
-        body = &sim.root().add_child("sphere");
-        solver = &body->set_ode_solver<EulerImplicitSolver>();
+    explicit SphereOnFloor(bool explicit_contact, double cg_eps = 1e-9) : SpheresOnFloor(example_e(explicit_contact)) {
         solver->cg.iterations = 25;
         solver->cg.tolerance = cg_eps;
         solver->cg.threshold = cg_eps;
-        sphere = &body->add_state<Vec3Types>("sphere");
-        sphere->position = {Vec3(0.2, 0.9, 0.3)};
-        body->set_mass<UniformMass<Vec3Types>>(*sphere).set_vertex_mass(1.0);
-        CollisionModelParams p;
-        p.name = "sphere";
-        p.contact_stiffness = 10.0;
-        model = std::make_unique<SphereModel>(*sphere, 0.5, std::vector<double>{}, p);
-        pipeline = std::make_unique<ContactPipeline>(sim, IntersectionParams::new_proximity());
-        pipeline->add_model(*floor.model, *floor.node);
-        pipeline->add_model(*model, *body);
     }
-    ~SphereOnFloor() { pipeline.reset(); }
 };
 
 TEST(ContactPipeline, WorkedExampleEImplicitEndToEnd) {

@@ -7,6 +7,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/grid_meshes.hpp"
 #include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
@@ -24,27 +25,6 @@ namespace {
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
 bool same_bits(const Vec3& a, const Vec3& b) {
     return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
-}
-
-/// Grid of n × n quads split in two triangles, x, z ∈ [−s, s], height y(x, z).
-template <class Height>
-void grid_mesh(std::size_t n, double s, const Height& height, std::vector<Vec3>& points, MeshTopology& topology) {
-    points.clear();
-    for (std::size_t j = 0; j <= n; ++j)
-        for (std::size_t i = 0; i <= n; ++i) {
-            const double x = -s + 2.0 * s * double(i) / double(n);
-            const double z = -s + 2.0 * s * double(j) / double(n);
-            points.emplace_back(x, height(x, z), z);
-        }
-    std::vector<Triangle> tris;
-    for (std::size_t j = 0; j < n; ++j)
-        for (std::size_t i = 0; i < n; ++i) {
-            const int a = int(j * (n + 1) + i), b = a + 1, c = a + int(n + 1), d = c + 1;
-            tris.push_back(Triangle{a, b, d});
-            tris.push_back(Triangle{a, d, c});
-        }
-    topology.set_num_points(points.size());
-    topology.set_triangles(std::move(tris));
 }
 
 /// A static bumpy floor (20 × 20 quads = 800 triangles), a falling sheet (8 × 8 quads, moving
@@ -67,8 +47,8 @@ struct MeshScene {
         sim.root().set_dt(0.01);
         Node& floor = sim.root().add_child("floor");
         auto& fx = floor.add_state<Vec3Types>("floor");
-        grid_mesh(20, 2.0, [](double x, double z) { return 0.05 * std::sin(3.0 * x) * std::cos(2.0 * z); },
-                  fx.position, floor_topology);
+        test::grid_mesh(20, 2.0, [](const test::GridVertex& v) { return 0.05 * std::sin(3.0 * v.x) * std::cos(2.0 * v.z); },
+                        fx.position, floor_topology);
         bodies = &sim.root().add_child("bodies");
         solver = &bodies->set_ode_solver<EulerImplicitSolver>();
         solver->cg.iterations = 50;
@@ -96,7 +76,7 @@ struct MeshScene {
         few_node.set_mass<UniformMass<Vec3Types>>(*few).set_vertex_mass(0.1);
         Node& sheet_node = bodies->add_child("sheet");
         sheet = &sheet_node.add_state<Vec3Types>("sheet");
-        grid_mesh(8, 0.6, [](double, double) { return 0.45; }, sheet->position, sheet_topology);
+        test::grid_mesh(8, 0.6, [](const test::GridVertex&) { return 0.45; }, sheet->position, sheet_topology);
         sheet->velocity.assign(sheet->position.size(), Vec3(0.2, -1.5, 0.0));
         sheet_node.set_mass<UniformMass<Vec3Types>>(*sheet).set_vertex_mass(0.05);
 

@@ -8,6 +8,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/spheres_on_floor.hpp"
 #include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
@@ -21,83 +22,32 @@
 namespace penalty {
 namespace {
 
-constexpr double kG = 9.81;
+using namespace test::stiff_drop;
 
 /// Static two-triangle floor at y = 0 (normal +y), ±10 m, contact stiffness k (N/m, physical law).
 struct Floor : test::StaticFloor {
     Floor(Node& parent, double k) : StaticFloor(parent, test::floor_params(k)) {}
 };
 
-/// NewProximity with alarm distance A and contact distance C (m).
-IntersectionParams proximity(double alarm, double contact) {
-    IntersectionParams ip = IntersectionParams::new_proximity();
-    ip.alarm_distance = alarm;
-    ip.contact_distance = contact;
-    return ip;
-}
-
-/// Physical stiffness law: ks = k1·k2/(k1 + k2) (N/m), independent of dist.
-CollisionResponse physical_response(const PenaltyParameters& penalty = {}) {
-    ContactResponseParameters base;
-    base.stiffness_law = StiffnessLaw::physical;
-    base.penalty = penalty;
-    return CollisionResponse(std::string(kPenaltyResponseName), "", base);
-}
-
-void tight_cg(EulerImplicitSolver& s) {
-    s.cg.iterations = 100;
-    s.cg.tolerance = 1e-15;
-    s.cg.threshold = 1e-30;
-}
-
 // ---- stiff drop on a plane ---------------------------------------------------------------------
-// Sphere r = 0.1 m, m = 1 kg, ks = 1e5 N/m (k = 2e5 per side, physical law), C = 0.005 m so
-// dist = C + r = 0.105 m, A = 0.1 m; dt = 0.01 s (ω·h = √(ks/m)·h = 3.2: stiff). Dropped from
-// y0 = 0.15 m at v0 = −8 m/s: the pair is detected at the start of step 1 (gap 0.05 < A) with
-// pen = −0.045 (inactive), so SOFA's linearised step ignores the spring and falls 8 cm.
-constexpr double kRadius = 0.1, kMass = 1.0, kKs = 1e5, kC = 0.005, kDist = kC + kRadius, kH = 0.01;
+// One sphere of the stiff drop (spheres_on_floor.hpp: r = 0.1 m, m = 1 kg, ks = 1e5 N/m, C = 0.005 m
+// so dist = 0.105 m, dt = 0.01 s, ω·h = 3.2), A = 0.1 m. Dropped from y0 = 0.15 m at v0 = −8 m/s:
+// the pair is detected at the start of step 1 (gap 0.05 < A) with pen = −0.045 (inactive), so
+// SOFA's linearised step ignores the spring and falls 8 cm.
 constexpr double kY0 = 0.15, kV0 = -8.0;
 
-struct Drop {
-    Simulation sim;
-    Floor floor;
-    Node* body;
-    EulerImplicitSolver* solver;
-    Vec3Object* sphere;
-    std::unique_ptr<SphereModel> model;
-    std::unique_ptr<ContactPipeline> pipeline;
-
+struct Drop : test::SpheresOnFloor {
     Drop(bool newton, bool geometry, double y0 = kY0, double v0 = kV0, double alarm = 0.1)
-        : floor(sim.root(), 2.0 * kKs) {
-        sim.root().set_gravity(Vec3(0, -kG, 0));
-        sim.root().set_dt(kH);
-        body = &sim.root().add_child("sphere");
-        solver = &body->set_ode_solver<EulerImplicitSolver>();
-        tight_cg(*solver);
-        solver->newton.enabled = newton;
-        solver->newton.max_iterations = 20;
-        solver->newton.tolerance = 1e-10;
-        sphere = &body->add_state<Vec3Types>("sphere");
-        sphere->position = {Vec3(0.2, y0, 0.3)};
-        sphere->velocity = {Vec3(0, v0, 0)};
-        body->set_mass<UniformMass<Vec3Types>>(*sphere).set_vertex_mass(kMass);
-        CollisionModelParams p;
-        p.name = "sphere";
-        p.contact_stiffness = 2.0 * kKs;
-        model = std::make_unique<SphereModel>(*sphere, kRadius, std::vector<double>{}, p);
-        pipeline = std::make_unique<ContactPipeline>(sim, proximity(alarm, kC), physical_response());
-        pipeline->add_model(*floor.model, *floor.node);
-        pipeline->add_model(*model, *body);
-        if (geometry) pipeline->attach_newton(*solver);
+        : SpheresOnFloor(setup("sphere", {Vec3(0.2, y0, 0.3)}, {Vec3(0, v0, 0)}, alarm)) {
+        configure_solver(*this, newton, geometry);
     }
-    ~Drop() { pipeline.reset(); }
 
-    [[nodiscard]] double y() const { return sphere->position[0].y(); }
-    [[nodiscard]] double vy() const { return sphere->velocity[0].y(); }
+    [[nodiscard]] double y() const { return spheres->position[0].y(); }
+    [[nodiscard]] double vy() const { return spheres->velocity[0].y(); }
     /// Total energy (J): ½·m·v² + m·g·y + ½·ks·max(0, dist − y)² (the plane's closed form).
     [[nodiscard]] double energy() const {
         const double pen = std::max(0.0, kDist - y());
-        return 0.5 * kMass * sphere->velocity[0].squaredNorm() + kMass * kG * y() + 0.5 * kKs * pen * pen;
+        return 0.5 * kMass * spheres->velocity[0].squaredNorm() + kMass * kG * y() + 0.5 * kKs * pen * pen;
     }
 };
 
@@ -352,8 +302,7 @@ TEST(NewtonContact, ContactsAppearAndDisappearBetweenIterates) {
     for (int i = 1; i <= 2; ++i) {
         const double y0 = i == 1 ? r + 0.03 : r + 0.04;
         const double v0 = i == 1 ? -6.0 : -7.0;
-        const double v1 = (kMass * v0 - kH * kMass * kG + kH * kKs * (kDist - y0)) / (kMass + kH * kH * kKs);
-        EXPECT_NEAR(trio->velocity[std::size_t(i)].y(), v1, 1e-9) << "sphere " << i;
+        EXPECT_NEAR(trio->velocity[std::size_t(i)].y(), be_velocity(y0, v0), 1e-9) << "sphere " << i;
     }
     // Sphere 0 and the leaver fly freely; the newcomer fell through the alarm zone unseen.
     EXPECT_NEAR(trio->velocity[0].y(), 5.0 - kH * kG, 1e-12);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -39,6 +40,34 @@ inline MeshTopology kuhn_tetrahedra(const RegularGridTopology& g) {
     MeshTopology topo;
     topo.set_tetrahedra(std::move(tetras));
     return topo;
+}
+
+/// A vertex of grid_mesh: its grid indices (i along x, j along z) and its x, z (m).
+struct GridVertex {
+    std::size_t i, j;
+    double x, z;
+};
+
+/// Height field of n × n quads over x, z ∈ [−s, s], y = height(GridVertex); each quad (lowest
+/// corner a, b = a + x step, c = a + z step, d = c + 1) split in triangles (a, b, d), (a, d, c).
+template <class Height>
+void grid_mesh(std::size_t n, double s, const Height& height, std::vector<Vec3>& points, MeshTopology& topology) {
+    points.clear();
+    for (std::size_t j = 0; j <= n; ++j)
+        for (std::size_t i = 0; i <= n; ++i) {
+            const double x = -s + 2.0 * s * double(i) / double(n);
+            const double z = -s + 2.0 * s * double(j) / double(n);
+            points.emplace_back(x, height(GridVertex{i, j, x, z}), z);
+        }
+    std::vector<Triangle> tris;
+    for (std::size_t j = 0; j < n; ++j)
+        for (std::size_t i = 0; i < n; ++i) {
+            const int a = int(j * (n + 1) + i), b = a + 1, c = a + int(n + 1), d = c + 1;
+            tris.push_back(Triangle{a, b, d});
+            tris.push_back(Triangle{a, d, c});
+        }
+    topology.set_num_points(points.size());
+    topology.set_triangles(std::move(tris));
 }
 
 }  // namespace penalty::test
