@@ -7,13 +7,28 @@
 
 namespace penalty {
 
-namespace {
-Mat3 cross_matrix(const Vec3& a) {
-    Mat3 m;
-    m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-    return m;
+// ---- Jacobian rows ----------------------------------------------------------------------------
+void BarycentricRow::push(Index index, double weight) {
+    if (count == kCapacity) throw_invalid_argument("BarycentricRow: more than ", kCapacity, " input points");
+    entries[static_cast<std::size_t>(count++)] = {index, weight};
 }
-}  // namespace
+
+void BarycentricRow::add_triplets(TripletList& t, Index first_row, Index col_offset) const {
+    for (const Entry& e : *this)
+        for (Index a = 0; a < 3; ++a) t.emplace_back(first_row + a, col_offset + 3 * e.index + a, e.weight);
+}
+
+void RigidPointRow::add_triplets(TripletList& t, Index first_row, Index col_offset) const {
+    const Index r = first_row;
+    const Index c = col_offset + 6 * frame;
+    const Vec3& p = rotated;
+    // ω × p = −[p]× ω, [p]× = [[0, −p_z, p_y], [p_z, 0, −p_x], [−p_y, p_x, 0]]
+    const Mat3 minus_px = -(Mat3() << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0).finished();
+    for (Index a = 0; a < 3; ++a) {
+        t.emplace_back(r + a, c + a, 1.0);
+        for (Index b = 0; b < 3; ++b) t.emplace_back(r + a, c + 3 + b, minus_px(a, b));
+    }
+}
 
 // ---- IdentityMapping --------------------------------------------------------------------------
 void IdentityMapping::apply(std::span<Vec3> out, std::span<const Vec3> in) {
@@ -58,9 +73,11 @@ void RigidMapping::set_points(std::vector<Vec3> local_points, std::vector<Index>
         throw_invalid_argument("RigidMapping: ", frame_index.size(), " frame indices for ", local_points.size(), " points");
     for (const Index r : frame_index)
         if (r < 0) throw_invalid_argument("RigidMapping: negative frame index ", r);
-    local_ = std::move(local_points);
-    frame_ = std::move(frame_index);
-    rotated_.assign(local_.size(), Vec3::Zero());
+    rows_.assign(local_points.size(), RigidPointRow{});
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        rows_[i].frame = frame_index.empty() ? 0 : frame_index[i];
+        rows_[i].local = local_points[i];
+    }
 }
 
 void RigidMapping::set_points_from_world(std::span<const Vec3> world, std::vector<Index> frame_index) {
@@ -76,46 +93,24 @@ void RigidMapping::set_points_from_world(std::span<const Vec3> world, std::vecto
 }
 
 void RigidMapping::init() {
-    for (std::size_t i = 0; i < local_.size(); ++i)
-        if (frame_of(i) >= in_->num_dofs())
-            throw_invalid_argument("RigidMapping: point ", i, " uses frame ", frame_of(i), " out of range (", in_->num_dofs(), " frames)");
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+        if (static_cast<std::size_t>(rows_[i].frame) >= in_->num_dofs())
+            throw_invalid_argument("RigidMapping: point ", i, " uses frame ", rows_[i].frame, " out of range (", in_->num_dofs(), " frames)");
     Mapping::init();
 }
 
-std::size_t RigidMapping::frame_of(std::size_t i) const { return frame_.empty() ? 0 : static_cast<std::size_t>(frame_[i]); }
-
 void RigidMapping::apply(std::span<Vec3> out, std::span<const RigidFrame> in) {
-    PENALTY_DEMAND(out.size() == local_.size());
-    rotated_.resize(local_.size());
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        const RigidFrame& f = in[frame_of(i)];
-        rotated_[i] = f.orientation * local_[i];
-        out[i] = f.center + rotated_[i];
-    }
+    PENALTY_DEMAND(out.size() == rows_.size());
+    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].place(in[static_cast<std::size_t>(rows_[i].frame)]);
 }
 void RigidMapping::apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const {
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        const RigidDeriv& v = in[frame_of(i)];
-        out[i] = v.linear + v.angular.cross(rotated_[i]);
-    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].velocity(in[static_cast<std::size_t>(rows_[i].frame)]);
 }
 void RigidMapping::apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> out) const {
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        RigidDeriv& f = in[frame_of(i)];
-        f.linear += out[i];
-        f.angular += rotated_[i].cross(out[i]);
-    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].spread(in[static_cast<std::size_t>(rows_[i].frame)], out[i]);
 }
 void RigidMapping::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        const Index r = ro + 3 * static_cast<Index>(i);
-        const Index c = co + 6 * static_cast<Index>(frame_of(i));
-        const Mat3 w = -cross_matrix(rotated_[i]);  // ω × p = −[p]× ω
-        for (Index a = 0; a < 3; ++a) {
-            t.emplace_back(r + a, c + a, 1.0);
-            for (Index b = 0; b < 3; ++b) t.emplace_back(r + a, c + 3 + b, w(a, b));
-        }
-    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].add_triplets(t, ro + 3 * static_cast<Index>(i), co);
 }
 
 // ---- BarycentricMapping -----------------------------------------------------------------------
@@ -126,6 +121,17 @@ std::array<double, 8> trilinear_weights(const Vec3& p) {
 }
 
 void BarycentricMapping::set_weights(std::vector<std::vector<Entry>> rows) {
+    std::vector<BarycentricRow> fixed(rows.size());
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (rows[i].size() > static_cast<std::size_t>(BarycentricRow::kCapacity))
+            throw_invalid_argument("BarycentricMapping: point ", i, " has ", rows[i].size(), " weights (at most ",
+                                   BarycentricRow::kCapacity, ")");
+        for (const Entry& e : rows[i]) fixed[i].push(e.index, e.weight);
+    }
+    set_rows(std::move(fixed));
+}
+
+void BarycentricMapping::set_rows(std::vector<BarycentricRow> rows) {
     for (std::size_t i = 0; i < rows.size(); ++i)
         for (const Entry& e : rows[i]) {
             if (e.index < 0) throw_invalid_argument("BarycentricMapping: point ", i, " uses a negative input index ", e.index);
@@ -156,7 +162,7 @@ void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<c
         if (std::abs(m.determinant()) < 1e-300) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " is degenerate");
         inv[t] = m.inverse();
     }
-    std::vector<std::vector<Entry>> rows(points.size());
+    std::vector<BarycentricRow> rows(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         double best = std::numeric_limits<double>::infinity();
         for (std::size_t t = 0; t < tetras.size(); ++t) {
@@ -164,17 +170,21 @@ void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<c
             const double d = std::max(std::max(-b[0], -b[1]), std::max(-b[2], b.sum() - 1.0));
             if (d < best) {
                 best = d;
-                rows[i] = {{tetras[t][0], 1.0 - b.sum()}, {tetras[t][1], b[0]}, {tetras[t][2], b[1]}, {tetras[t][3], b[2]}};
+                rows[i] = BarycentricRow{};
+                rows[i].push(tetras[t][0], 1.0 - b.sum());
+                rows[i].push(tetras[t][1], b[0]);
+                rows[i].push(tetras[t][2], b[1]);
+                rows[i].push(tetras[t][3], b[2]);
             }
         }
     }
-    set_weights(std::move(rows));
+    set_rows(std::move(rows));
 }
 
 void BarycentricMapping::map_on_hexahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {
     const auto& hexas = topo.hexahedra();
     if (hexas.empty()) throw_invalid_argument("BarycentricMapping: topology has no hexahedron");
-    std::vector<std::vector<Entry>> rows(points.size());
+    std::vector<BarycentricRow> rows(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         double best = std::numeric_limits<double>::infinity();
         for (std::size_t h = 0; h < hexas.size(); ++h) {
@@ -208,36 +218,25 @@ void BarycentricMapping::map_on_hexahedra(const MeshTopology& topo, std::span<co
             if (d < best) {
                 best = d;
                 const auto w = trilinear_weights(u);
-                rows[i].clear();
-                for (std::size_t k = 0; k < 8; ++k) rows[i].push_back({hexas[h][k], w[k]});
+                rows[i] = BarycentricRow{};
+                for (std::size_t k = 0; k < 8; ++k) rows[i].push(hexas[h][k], w[k]);
             }
         }
     }
-    set_weights(std::move(rows));
+    set_rows(std::move(rows));
 }
 
 void BarycentricMapping::apply(std::span<Vec3> out, std::span<const Vec3> in) {
-    for (std::size_t i = 0; i < rows_.size(); ++i) {
-        Vec3 s = Vec3::Zero();
-        for (const Entry& e : rows_[i]) s += e.weight * in[static_cast<std::size_t>(e.index)];
-        out[i] = s;
-    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].combine(in);
 }
 void BarycentricMapping::apply_j(std::span<Vec3> out, std::span<const Vec3> in) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i) {
-        Vec3 s = Vec3::Zero();
-        for (const Entry& e : rows_[i]) s += e.weight * in[static_cast<std::size_t>(e.index)];
-        out[i] = s;
-    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].combine(in);
 }
 void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i)
-        for (const Entry& e : rows_[i]) in[static_cast<std::size_t>(e.index)] += e.weight * out[i];
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].spread(in, out[i]);
 }
 void BarycentricMapping::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i)
-        for (const Entry& e : rows_[i])
-            for (Index a = 0; a < 3; ++a) t.emplace_back(ro + 3 * static_cast<Index>(i) + a, co + 3 * e.index + a, e.weight);
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].add_triplets(t, ro + 3 * static_cast<Index>(i), co);
 }
 
 }  // namespace penalty

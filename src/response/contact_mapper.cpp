@@ -19,12 +19,15 @@ void check_element(const CollisionModel& m, const char* function, Index element,
                                ": non-finite contact point P (", P.transpose(), ")");
 }
 
-Vec3 load3(std::span<const double> v, std::size_t i) { return {v[3 * i], v[3 * i + 1], v[3 * i + 2]}; }
-
-void add3(std::span<double> v, std::size_t i, const Vec3& a) {
-    v[3 * i] += a.x();
-    v[3 * i + 1] += a.y();
-    v[3 * i + 2] += a.z();
+/// A flat parent vector as the per-DOF values it holds (Vec3: 3 scalars, RigidDeriv: 6; the
+/// layout of flat_span).
+template <class Deriv>
+std::span<const Deriv> as_derivs(std::span<const double> v) {
+    return {reinterpret_cast<const Deriv*>(v.data()), v.size() / (sizeof(Deriv) / sizeof(double))};
+}
+template <class Deriv>
+std::span<Deriv> as_derivs(std::span<double> v) {
+    return {reinterpret_cast<Deriv*>(v.data()), v.size() / (sizeof(Deriv) / sizeof(double))};
 }
 
 }  // namespace
@@ -65,12 +68,14 @@ ConstVec3Span IdentityContactMapper::velocities() const {
 
 void IdentityContactMapper::apply_j(std::span<const double> dq, Vec3Span out) const {
     check_sizes("IdentityContactMapper::apply_j", out.size(), dq.size());
-    for (std::size_t i = 0; i < out.size(); ++i) out[i] = load3(dq, i);
+    const std::span<const Vec3> in = as_derivs<Vec3>(dq);
+    std::copy(in.begin(), in.end(), out.begin());
 }
 
 void IdentityContactMapper::apply_jt(ConstVec3Span f, std::span<double> parent_f) const {
     check_sizes("IdentityContactMapper::apply_jt", f.size(), parent_f.size());
-    for (std::size_t i = 0; i < f.size(); ++i) add3(parent_f, i, f[i]);
+    const std::span<Vec3> out = as_derivs<Vec3>(parent_f);
+    for (std::size_t i = 0; i < f.size(); ++i) out[i] += f[i];
 }
 
 void IdentityContactMapper::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
@@ -156,18 +161,17 @@ BarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index e) con
     if (const auto* l = dynamic_cast<const LineModel*>(model_)) {
         const Edge& ed = l->edge(e);
         const auto w = line_contact_weights(x[std::size_t(ed[0])], x[std::size_t(ed[1])], P);
-        row.count = 2;
-        row.index = {ed[0], ed[1], 0, 0};
-        row.weight = {w[0], w[1], 0, 0};
+        row.push(ed[0], w[0]);
+        row.push(ed[1], w[1]);
     } else if (const auto* t = dynamic_cast<const TriangleModel*>(model_)) {
         const std::size_t nt = t->num_topology_triangles();
         if (std::size_t(e) < nt) {
             const Triangle& tr = t->triangle(e);
             const auto ab = triangle_contact_coordinates(x[std::size_t(tr[0])], x[std::size_t(tr[1])],
                                                          x[std::size_t(tr[2])], P);
-            row.count = 3;
-            row.index = {tr[0], tr[1], tr[2], 0};
-            row.weight = {1.0 - ab[0] - ab[1], ab[0], ab[1], 0};
+            row.push(tr[0], 1.0 - ab[0] - ab[1]);
+            row.push(tr[1], ab[0]);
+            row.push(tr[2], ab[1]);
         } else {
             const std::size_t k = (std::size_t(e) - nt) / 2;
             const Quad& q = t->topology().quads()[k];
@@ -175,17 +179,16 @@ BarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index e) con
                                                     x[std::size_t(q[3])], P);
             // SOFA's BarycentricMapperMeshTopology::apply sums a quad's vertices in the order
             // q0, q1, q3, q2; so do we (the rounding of the mapped point depends on it).
-            row.count = 4;
-            row.index = {q[0], q[1], q[3], q[2]};
-            row.weight = {(1 - f[0]) * (1 - f[1]), f[0] * (1 - f[1]), (1 - f[0]) * f[1], f[0] * f[1]};
+            row.push(q[0], (1 - f[0]) * (1 - f[1]));
+            row.push(q[1], f[0] * (1 - f[1]));
+            row.push(q[3], (1 - f[0]) * f[1]);
+            row.push(q[2], f[0] * f[1]);
         }
     } else {
         const auto* h = static_cast<const TetrahedronModel*>(model_);
         const Tetrahedron& te = h->tetrahedron(e);
         const auto w = h->barycentric(e, P);
-        row.count = 4;
-        row.index = {te[0], te[1], te[2], te[3]};
-        row.weight = {w[0], w[1], w[2], w[3]};
+        for (std::size_t k = 0; k < 4; ++k) row.push(te[k], w[k]);
     }
     return row;
 }
@@ -201,45 +204,25 @@ Index BarycentricContactMapper::add_point(const Vec3& P, Index element, double& 
 void BarycentricContactMapper::update() {
     const bool has_v = state_->velocity.size() == state_->size();
     for (std::size_t i = 0; i < rows_.size(); ++i) {
-        const auto& r = rows_[i];
-        Vec3 x = Vec3::Zero(), v = Vec3::Zero();
-        for (int k = 0; k < r.count; ++k) {
-            x += r.weight[std::size_t(k)] * state_->position[std::size_t(r.index[std::size_t(k)])];
-            if (has_v) v += r.weight[std::size_t(k)] * state_->velocity[std::size_t(r.index[std::size_t(k)])];
-        }
-        positions_[i] = x;
-        velocities_[i] = v;
+        positions_[i] = rows_[i].combine(state_->position);
+        velocities_[i] = has_v ? rows_[i].combine(state_->velocity) : Vec3(Vec3::Zero());
     }
 }
 
 void BarycentricContactMapper::apply_j(std::span<const double> dq, Vec3Span out) const {
     check_sizes("BarycentricContactMapper::apply_j", out.size(), dq.size());
-    for (std::size_t i = 0; i < rows_.size(); ++i) {
-        const auto& r = rows_[i];
-        Vec3 d = Vec3::Zero();
-        for (int k = 0; k < r.count; ++k)
-            d += r.weight[std::size_t(k)] * load3(dq, std::size_t(r.index[std::size_t(k)]));
-        out[i] = d;
-    }
+    const std::span<const Vec3> in = as_derivs<Vec3>(dq);
+    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].combine(in);
 }
 
 void BarycentricContactMapper::apply_jt(ConstVec3Span f, std::span<double> parent_f) const {
     check_sizes("BarycentricContactMapper::apply_jt", f.size(), parent_f.size());
-    for (std::size_t i = 0; i < rows_.size(); ++i) {
-        const auto& r = rows_[i];
-        for (int k = 0; k < r.count; ++k)
-            add3(parent_f, std::size_t(r.index[std::size_t(k)]), r.weight[std::size_t(k)] * f[i]);
-    }
+    const std::span<Vec3> out = as_derivs<Vec3>(parent_f);
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].spread(out, f[i]);
 }
 
 void BarycentricContactMapper::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i) {
-        const auto& r = rows_[i];
-        for (int k = 0; k < r.count; ++k)
-            for (int a = 0; a < 3; ++a)
-                t.emplace_back(ro + 3 * Index(i) + a, co + 3 * r.index[std::size_t(k)] + a,
-                               r.weight[std::size_t(k)]);
-    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].add_triplets(t, ro + 3 * Index(i), co);
 }
 
 // ---------------------------------------------------------------------------- rigid
@@ -258,77 +241,47 @@ RigidContactMapper::RigidContactMapper(const CollisionModel& model, RigidSphereR
 }
 
 void RigidContactMapper::resize(std::size_t n) {
-    local_.clear();
-    frame_.clear();
-    rotated_.clear();
+    rows_.clear();
     positions_.clear();
     velocities_.clear();
-    local_.reserve(n);
-    frame_.reserve(n);
+    rows_.reserve(n);
 }
 
 Index RigidContactMapper::add_point(const Vec3& P, Index element, double& r) {
     check_element(*model_, "RigidContactMapper::add_point", element, P);
     const RigidFrame& fr = state_->position[std::size_t(element)];
-    local_.push_back(fr.orientation.conjugate() * (P - fr.center));
-    frame_.push_back(element);
-    rotated_.emplace_back(Vec3::Zero());
+    RigidPointRow& row = rows_.emplace_back();
+    row.frame = element;
+    row.local = fr.orientation.conjugate() * (P - fr.center);
     positions_.emplace_back(Vec3::Zero());
     velocities_.emplace_back(Vec3::Zero());
     if (sphere_ && radius_rule_ == RigidSphereRadius::sofa_head) r = sphere_->radius(element);
-    return Index(local_.size()) - 1;
+    return Index(rows_.size()) - 1;
 }
 
 void RigidContactMapper::update() {
     const bool has_v = state_->velocity.size() == state_->size();
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        const RigidFrame& fr = state_->position[std::size_t(frame_[i])];
-        rotated_[i] = fr.orientation * local_[i];
-        positions_[i] = fr.center + rotated_[i];
-        if (has_v) {
-            const RigidDeriv& v = state_->velocity[std::size_t(frame_[i])];
-            velocities_[i] = v.linear + v.angular.cross(rotated_[i]);
-        } else {
-            velocities_[i].setZero();
-        }
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        const auto body = std::size_t(rows_[i].frame);
+        positions_[i] = rows_[i].place(state_->position[body]);
+        velocities_[i] = has_v ? rows_[i].velocity(state_->velocity[body]) : Vec3(Vec3::Zero());
     }
 }
 
 void RigidContactMapper::apply_j(std::span<const double> dq, Vec3Span out) const {
     check_sizes("RigidContactMapper::apply_j", out.size(), dq.size());
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        const std::size_t b = 6 * std::size_t(frame_[i]);
-        const Vec3 dc(dq[b], dq[b + 1], dq[b + 2]);
-        const Vec3 dw(dq[b + 3], dq[b + 4], dq[b + 5]);
-        out[i] = dc + dw.cross(rotated_[i]);
-    }
+    const std::span<const RigidDeriv> in = as_derivs<RigidDeriv>(dq);
+    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].velocity(in[std::size_t(rows_[i].frame)]);
 }
 
 void RigidContactMapper::apply_jt(ConstVec3Span f, std::span<double> parent_f) const {
     check_sizes("RigidContactMapper::apply_jt", f.size(), parent_f.size());
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        const std::size_t b = 6 * std::size_t(frame_[i]);
-        const Vec3 tau = rotated_[i].cross(f[i]);
-        for (int a = 0; a < 3; ++a) {
-            parent_f[b + std::size_t(a)] += f[i][a];
-            parent_f[b + 3 + std::size_t(a)] += tau[a];
-        }
-    }
+    const std::span<RigidDeriv> out = as_derivs<RigidDeriv>(parent_f);
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].spread(out[std::size_t(rows_[i].frame)], f[i]);
 }
 
 void RigidContactMapper::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
-    for (std::size_t i = 0; i < local_.size(); ++i) {
-        const Index row = ro + 3 * Index(i);
-        const Index col = co + 6 * frame_[i];
-        const Vec3& p = rotated_[i];
-        // v = dc + dω × p = dc − [p]× dω
-        const Mat3 px = (Mat3() << 0, -p.z(), p.y(), p.z(), 0, -p.x(), -p.y(), p.x(), 0).finished();
-        for (int a = 0; a < 3; ++a) {
-            t.emplace_back(row + a, col + a, 1.0);
-            for (int b = 0; b < 3; ++b)
-                if (px(a, b) != 0.0) t.emplace_back(row + a, col + 3 + b, -px(a, b));
-        }
-    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].add_triplets(t, ro + 3 * Index(i), co);
 }
 
 std::unique_ptr<ContactMapper> make_contact_mapper(const CollisionModel& model, RigidSphereRadius radius_rule) {

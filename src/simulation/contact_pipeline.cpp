@@ -26,17 +26,17 @@ std::span<double> flat_of(std::span<Deriv> v) {
 
 template <class In>
 void ContactPointMapping<In>::init() {
+    // The mapper's points are current (set_detection_outputs updated them at these parent
+    // positions and velocities): copied, not computed again.
     Vec3Object& out = *this->out_;
     const std::size_t n = mapper_->size();
-    out.position.assign(n, Vec3::Zero());
-    out.velocity.assign(n, Vec3::Zero());
+    out.position.assign(mapper_->positions().begin(), mapper_->positions().end());
+    out.velocity.assign(mapper_->velocities().begin(), mapper_->velocities().end());
     out.force.assign(n, Vec3::Zero());
     out.external_force.assign(n, Vec3::Zero());
     out.dx.assign(n, Vec3::Zero());
     out.df.assign(n, Vec3::Zero());
-    this->apply_position();
     out.rest_position = out.position;
-    this->apply_velocity();
 }
 
 template <class In>
@@ -430,7 +430,7 @@ void ContactPipeline::on_create(BarycentricPenaltyContact& contact) {
         e.mappings[std::size_t(s)] = map;
     }
     e.host = host_node(contact.model1(), contact.model2());
-    auto ff = std::make_unique<ContactInteraction>(*e.point_states[0], *e.point_states[1], contact.force_field());
+    auto ff = std::make_unique<PenaltyInteraction>(*e.point_states[0], *e.point_states[1], contact.force_field());
     e.force_field = ff.get();
     e.host->add_force_field_ptr(std::move(ff));
     entries_.push_back(e);

@@ -7,23 +7,47 @@
 
 namespace penalty {
 
+namespace {
+/// Erases (and destroys) the element of `owners` that owns `p`; false if there is none.
+template <class T>
+bool erase_owned(std::vector<std::unique_ptr<T>>& owners, const T* p) {
+    const auto it = std::find_if(owners.begin(), owners.end(), [&](const auto& o) { return o.get() == p; });
+    if (it == owners.end()) return false;
+    owners.erase(it);
+    return true;
+}
+}  // namespace
+
 Node::~Node() = default;
+
+std::uint64_t Node::structure_version() const {
+    const Node* root = this;
+    while (root->parent_ != nullptr) root = root->parent_;
+    return root->structure_version_;
+}
+
+void Node::structure_changed() {
+    Node* root = this;
+    while (root->parent_ != nullptr) root = root->parent_;
+    ++root->structure_version_;
+}
 
 Node& Node::add_child(std::string child_name) {
     children_.push_back(std::make_unique<Node>(std::move(child_name), this));
+    structure_changed();
     return *children_.back();
 }
 
 bool Node::remove_child(const Node* child) {
-    const auto it = std::find_if(children_.begin(), children_.end(), [&](const auto& c) { return c.get() == child; });
-    if (it == children_.end()) return false;
-    children_.erase(it);
+    if (!erase_owned(children_, child)) return false;
+    structure_changed();
     return true;
 }
 
 void Node::set_gravity(const Vec3& g) {
     if (!g.allFinite()) throw_invalid_argument("Node '", name_, "': gravity is not finite");
     gravity_ = g;
+    structure_changed();
 }
 
 void Node::set_dt(double dt) {
@@ -44,13 +68,13 @@ double Node::dt() const {
 BaseForceField& Node::add_force_field_ptr(std::unique_ptr<BaseForceField> ff) {
     if (!ff) throw_invalid_argument("Node '", name_, "': null force field");
     force_fields_.push_back(std::move(ff));
+    structure_changed();
     return *force_fields_.back();
 }
 
 bool Node::remove_force_field(const BaseForceField* ff) {
-    const auto it = std::find_if(force_fields_.begin(), force_fields_.end(), [&](const auto& p) { return p.get() == ff; });
-    if (it == force_fields_.end()) return false;
-    force_fields_.erase(it);
+    if (!erase_owned(force_fields_, ff)) return false;
+    structure_changed();
     return true;
 }
 

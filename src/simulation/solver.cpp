@@ -1,6 +1,7 @@
 #include "penalty/simulation/solver.hpp"
 
 #include <cstdio>
+#include <ostream>
 
 #include <Eigen/SparseCore>
 
@@ -10,6 +11,20 @@
 namespace penalty {
 
 // ---- CG ---------------------------------------------------------------------------------------
+std::string_view cg_end_condition_name(CgEndCondition condition) {
+    switch (condition) {
+        case CgEndCondition::none: return "none";
+        case CgEndCondition::iterations: return "iterations";
+        case CgEndCondition::tolerance: return "tolerance";
+        case CgEndCondition::threshold: return "threshold";
+        case CgEndCondition::den_zero: return "den=0";
+        case CgEndCondition::b_zero: return "b=0";
+    }
+    return "unknown";
+}
+
+std::ostream& operator<<(std::ostream& out, CgEndCondition condition) { return out << cg_end_condition_name(condition); }
+
 void CGLinearSolver::check() const {
     if (iterations < 1) throw_invalid_argument("CGLinearSolver: iterations must be >= 1, got ", iterations);
     if (!std::isfinite(tolerance) || tolerance < 0) throw_invalid_argument("CGLinearSolver: tolerance must be >= 0, got ", tolerance);
@@ -31,26 +46,29 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
     CgStats stats;
     const bool first_solve = solve_count_ == 0;
     ++solve_count_;
-    x = Eigen::VectorXd::Zero(b.size());
+    x.setZero(b.size());
     const double norm_b = std::sqrt(dot(b, b));  // SOFA: MultiVec::norm() = sqrt(v_dot(b, b))
     if (!std::isfinite(norm_b))
         throw NonFiniteSolveError("CGLinearSolver: the right-hand side is not finite (|b| overflows)", nullptr, nullptr, nullptr);
     if (norm_b == 0.0) {
-        stats.end_condition = "b=0";
+        stats.end_condition = CgEndCondition::b_zero;
         return stats;
     }
-    Eigen::VectorXd r = b;
-    Eigen::VectorXd p(b.size());
-    Eigen::VectorXd q(b.size());
+    Eigen::VectorXd& r = r_;
+    Eigen::VectorXd& p = p_;
+    Eigen::VectorXd& q = q_;
+    r = b;
+    p.resize(b.size());
+    q.resize(b.size());
     double rho_prev = 0.0;
-    stats.end_condition = "iterations";
+    stats.end_condition = CgEndCondition::iterations;
     for (int k = 1; k <= iterations; ++k) {
         stats.iterations = k;
         const double rho = dot(r, r);
         const double err = std::sqrt(rho) / norm_b;
         stats.error = err;
         if (err <= tolerance && !(k == 1 && first_solve)) {
-            stats.end_condition = "tolerance";
+            stats.end_condition = CgEndCondition::tolerance;
             break;
         }
         if (k == 1) {
@@ -61,11 +79,11 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
         a(p, q);
         const double den = dot(p, q);
         if (den == 0.0) {
-            stats.end_condition = "den=0";
+            stats.end_condition = CgEndCondition::den_zero;
             break;
         }
         if (std::abs(den) <= threshold && !(k == 1 && first_solve)) {
-            stats.end_condition = "threshold";
+            stats.end_condition = CgEndCondition::threshold;
             break;
         }
         const double alpha = rho / den;
@@ -116,6 +134,27 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
     for (const auto& ff : node.force_fields()) force_fields_.push_back(ff.get());
     for (const auto& c : node.constraints()) constraints_.push_back(c.get());
     for (const auto& child : node.children()) collect(*child, false);
+}
+
+bool SubtreeSystem::offsets_valid() const {
+    Eigen::Index end = 0;
+    for (std::size_t i = 0; i < independent_.size(); ++i) {
+        if (offsets_[i] != end) return false;
+        end += static_cast<Eigen::Index>(independent_[i]->scalar_size());
+    }
+    return end == size_;
+}
+
+SubtreeSystem& SubtreeSystemCache::get(Node& node) {
+    const std::uint64_t version = node.structure_version();
+    if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid()) {
+        system_.reset();  // the old system first: its pointers may dangle
+        system_.emplace(node);
+        node_ = &node;
+        version_ = version;
+        ++builds_;
+    }
+    return *system_;
 }
 
 Index SubtreeSystem::offset(const BaseState* s) const {
@@ -307,7 +346,7 @@ void SubtreeSystem::project(Eigen::VectorXd& v) const {
 }
 
 void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
-    out = Eigen::VectorXd::Zero(size_);
+    out.setZero(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i) {
         const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
         const auto it = std::find_if(masses_.begin(), masses_.end(), [&](const auto& e) { return e.first->state() == independent_[i]; });
@@ -396,11 +435,11 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
     last_cg_ = stats;
     step_cg_solves_.push_back(stats);
     step_cg_iterations_ += stats.iterations;
-    step_cg_limit_reached_ = step_cg_limit_reached_ || stats.end_condition == "iterations";
+    step_cg_limit_reached_ = step_cg_limit_reached_ || stats.end_condition == CgEndCondition::iterations;
 }
 
 void EulerImplicitSolver::solve(Node& node, double dt) {
-    SubtreeSystem sys(node);
+    SubtreeSystem& sys = system_.get(node);
     step_cg_iterations_ = 0;
     step_cg_solves_.clear();
     step_cg_limit_reached_ = false;
@@ -412,37 +451,40 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     const double tr = trapezoidal_scheme ? 0.5 : 1.0;
     const double rs = rayleigh_stiffness;
     const double rm = rayleigh_mass;
-    Eigen::VectorXd f;
-    sys.compute_force(f);
-    Eigen::VectorXd v;
-    sys.gather_velocity(v);
+    sys.compute_force(f_);
+    sys.gather_velocity(v_);
     // SOFA's EulerImplicitSolver::solve: b = f; b += (−rm·M + (h·tr + rs)·K)·v, each force
     // field (and mass) adding into b in turn (MappingGraphMechanicalOperations::addMBKv);
     // b = b·h (b.teq(h)).
-    Eigen::VectorXd b = f;
+    b_ = f_;
     if (!first_order) {
-        sys.apply_mbk(v, b, -rm, 0.0, h * tr + rs, false, /*accumulate=*/true);
-        b *= h;
+        sys.apply_mbk(v_, b_, -rm, 0.0, h * tr + rs, false, /*accumulate=*/true);
+        b_ *= h;
     }
-    sys.project(b);
-    const double mf = first_order ? 1.0 : 1.0 + tr * h * rm;
-    const double bf = first_order ? 0.0 : -tr * h;
-    const double kf = first_order ? -h * tr : -tr * h * (tr * h + rs);
-    Eigen::VectorXd x;
+    sys.project(b_);
+    // A = mf·M + bf·B + kf·K; the operator captures one pointer (std::function keeps it
+    // without allocating).
+    struct Mbk {
+        const SubtreeSystem* sys;
+        double m, b, k;
+    } const mbk{&sys, first_order ? 1.0 : 1.0 + tr * h * rm, first_order ? 0.0 : -tr * h,
+                first_order ? -h * tr : -tr * h * (tr * h + rs)};
     try {
-        record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, mf, bf, kf, true); }, b, x,
-                           [&](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
+        record_cg(cg.solve([&mbk](const Eigen::VectorXd& p, Eigen::VectorXd& q) { mbk.sys->apply_mbk(p, q, mbk.m, mbk.b, mbk.k, true); },
+                           b_, x_, [&sys](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
     } catch (const NonFiniteSolveError& e) {
         // Finite forces, yet the solve overflowed (|b|², p·q): name the largest force.
         if (e.force_field() == nullptr && e.mass() == nullptr) sys.throw_naming_largest_force(e.what());
         throw;
     }
-    Eigen::VectorXd v_new = first_order ? x : Eigen::VectorXd(v + x);
-    sys.scatter_velocity(v_new);
-    sys.add_to_positions(h, v_new);
+    // v_new = x (first order) or v + x, kept in v_
+    if (first_order) v_ = x_;
+    else v_ += x_;
+    sys.scatter_velocity(v_);
+    sys.add_to_positions(h, v_);
     if (vdamping != 0.0) {
-        v_new *= std::exp(-h * vdamping);
-        sys.scatter_velocity(v_new);
+        v_ *= std::exp(-h * vdamping);
+        sys.scatter_velocity(v_);
     }
 }
 
@@ -505,17 +547,14 @@ void EulerExplicitSolver::init(Node& node) {
 }
 
 void EulerExplicitSolver::solve(Node& node, double dt) {
-    SubtreeSystem sys(node);
-    Eigen::VectorXd f;
-    sys.compute_force(f);
-    Eigen::VectorXd a;
-    sys.apply_inverse_mass(f, a);
-    sys.project(a);
-    Eigen::VectorXd v;
-    sys.gather_velocity(v);
-    v += dt * a;
-    sys.scatter_velocity(v);
-    sys.add_to_positions(dt, v);
+    const SubtreeSystem& sys = system_.get(node);
+    sys.compute_force(f_);
+    sys.apply_inverse_mass(f_, a_);
+    sys.project(a_);
+    sys.gather_velocity(v_);
+    v_ += dt * a_;
+    sys.scatter_velocity(v_);
+    sys.add_to_positions(dt, v_);
 }
 
 // ---- Simulation -------------------------------------------------------------------------------
@@ -544,30 +583,45 @@ void Simulation::init() {
     initialized_ = true;
 }
 
-void Simulation::solve_node(Node& node, double dt) {
-    if (OdeSolver* solver = node.ode_solver()) {
-        solver->solve(node, dt);
+void Simulation::plan_node(Node& node) {
+    // The first node with an ODE solver on a path integrates its whole subtree; at a node without
+    // solver, each force field is explicit, then the children.
+    if (node.ode_solver() != nullptr) {
+        plan_.push_back({&node, nullptr, {}});
         return;
     }
-    for (const auto& ff : node.force_fields()) {
-        // Explicit: forces from the start-of-step x, v, added as external forces for the step.
-        // As SOFA's SolveVisitor::fwdInteractionForceField (addForce into externalForce): each
-        // contribution is added to the external force in turn, ((e + c1) + c2), not e + (c1 + c2).
-        for (BaseState* s : ff->states()) s->force_flat() = s->external_force_flat();
-        ff->accumulate_force();
-        for (BaseState* s : ff->states()) {
-            s->external_force_flat() = s->force_flat();
-            s->force_flat().setZero();
-        }
+    for (const auto& ff : node.force_fields()) plan_.push_back({nullptr, ff.get(), ff->states()});
+    for (const auto& child : node.children()) plan_node(*child);
+}
+
+const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
+    if (plan_version_ != root_.structure_version()) {
+        plan_.clear();
+        plan_node(root_);
+        plan_version_ = root_.structure_version();
     }
-    for (const auto& child : node.children()) solve_node(*child, dt);
+    return plan_;
 }
 
 void Simulation::step() {
     if (!initialized_) init();
     const double dt = root_.dt();
     if (collision_hook) collision_hook(*this);
-    solve_node(root_, dt);
+    for (const SolveAction& action : solve_plan()) {
+        if (action.solver_node != nullptr) {
+            action.solver_node->ode_solver()->solve(*action.solver_node, dt);
+            continue;
+        }
+        // Explicit: forces from the start-of-step x, v, added as external forces for the step.
+        // As SOFA's SolveVisitor::fwdInteractionForceField (addForce into externalForce): each
+        // contribution is added to the external force in turn, ((e + c1) + c2), not e + (c1 + c2).
+        for (BaseState* s : action.states) s->force_flat() = s->external_force_flat();
+        action.explicit_field->accumulate_force();
+        for (BaseState* s : action.states) {
+            s->external_force_flat() = s->force_flat();
+            s->force_flat().setZero();
+        }
+    }
     for_each_node(root_, [](Node& n) {
         for (const auto& c : n.constraints()) c->project_velocity();
         if (n.mapping()) {

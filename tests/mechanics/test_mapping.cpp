@@ -124,7 +124,7 @@ TEST(Mapping, RigidMappingAdjointAndFiniteDifferences) {
     RigidMapping map2(in, out);
     std::vector<Vec3> world(out.position.begin(), out.position.end());
     map2.set_points_from_world(world, {0, 1, 1, 0, 1});
-    for (std::size_t i = 0; i < local.size(); ++i) EXPECT_TRUE(map2.local_points()[i].isApprox(local[i], 1e-12));
+    for (std::size_t i = 0; i < local.size(); ++i) EXPECT_TRUE(map2.points()[i].local.isApprox(local[i], 1e-12));
 }
 
 TEST(Mapping, BarycentricOnTetrahedra) {

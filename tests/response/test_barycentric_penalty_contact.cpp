@@ -47,9 +47,9 @@ TEST(BarycentricPenaltyContact, WorkedExampleA_TriangleSphereEndToEnd) {
     // contact point on the triangle: weights (0.5, 0.25, 0.25)
     const auto& bm = dynamic_cast<const BarycentricContactMapper&>(c.mapper1());
     ASSERT_EQ(bm.rows().size(), 1u);
-    EXPECT_DOUBLE_EQ(bm.rows()[0].weight[0], 0.5);
-    EXPECT_DOUBLE_EQ(bm.rows()[0].weight[1], 0.25);
-    EXPECT_DOUBLE_EQ(bm.rows()[0].weight[2], 0.25);
+    EXPECT_DOUBLE_EQ(bm.rows()[0][0].weight, 0.5);
+    EXPECT_DOUBLE_EQ(bm.rows()[0][1].weight, 0.25);
+    EXPECT_DOUBLE_EQ(bm.rows()[0][2].weight, 0.25);
     EXPECT_TRUE(c.mapper1().positions()[0].isApprox(Vec3(0.25, 0.25, 0)));
 
     std::vector<Vec3> f_tri(3, Vec3::Zero()), f_ball(1, Vec3::Zero());
@@ -81,8 +81,8 @@ TEST(BarycentricPenaltyContact, WorkedExampleB_RigidSphereHeadAndV2606) {
         BarycentricPenaltyContact c(s.tri, s.sph, params.contact_distance, rp);
         c.set_detection_outputs(det.outputs);
         const auto& rm = dynamic_cast<const RigidContactMapper&>(c.mapper2());
-        ASSERT_EQ(rm.local_points().size(), 1u);
-        EXPECT_NEAR((rm.local_points()[0] - Vec3(0, 0, -0.5)).norm(), 0.0, 1e-15);
+        ASSERT_EQ(rm.points().size(), 1u);
+        EXPECT_NEAR((rm.points()[0].local - Vec3(0, 0, -0.5)).norm(), 0.0, 1e-15);
         std::vector<Vec3> f_tri(3, Vec3::Zero());
         std::vector<RigidDeriv> f_body(1);
         c.add_force(flat_span(f_tri), flat_span(f_body));

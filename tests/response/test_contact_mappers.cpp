@@ -196,7 +196,7 @@ TEST(ContactMapper, JacobianMatchesFiniteDifferencesAndAdjoint) {
             if (const auto* bm = dynamic_cast<const BarycentricContactMapper*>(mapper.get()))
                 for (const auto& row : bm->rows()) {
                     double sum = 0;
-                    for (int k = 0; k < row.count; ++k) sum += row.weight[std::size_t(k)];
+                    for (const auto& entry : row) sum += entry.weight;
                     ASSERT_NEAR(sum, 1.0, 1e-12);
                 }
             ++checked;

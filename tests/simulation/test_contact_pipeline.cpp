@@ -111,7 +111,7 @@ TEST(ContactPipeline, WorkedExampleECgThresholdQuirk) {
         y += 0.01 * 0.0018811881188118586;
         EXPECT_NEAR(s.sphere->position[0].y(), y, 1e-13) << "step " << k + 1;
         if (k > 0) {
-            EXPECT_EQ(s.solver->last_cg_stats().end_condition, "threshold");
+            EXPECT_EQ(s.solver->last_cg_stats().end_condition, CgEndCondition::threshold);
         }
     }
 }

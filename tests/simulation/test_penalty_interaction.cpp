@@ -22,7 +22,8 @@ TEST(PenaltyInteraction, WorkedExampleEImplicitWithPenaltyForceField) {
     auto& floor = floor_node.add_state<Vec3Types>("floor");
     floor.position = {Vec3(0.2, 0.0, 0.3)};
     // Static vs simulated: the contact sits in the simulated object's subtree (implicit).
-    auto& contact = body.add_force_field<PenaltyInteraction>(floor, sphere);
+    PenaltyForceField field;
+    auto& contact = body.add_force_field<PenaltyInteraction>(floor, sphere, field);
     sim.collision_hook = [&](Simulation&) {
         // Detection at the start of the step: the projection onto the floor follows the sphere.
         floor.position[0] = Vec3(sphere.position[0].x(), 0.0, sphere.position[0].z());

@@ -129,5 +129,50 @@ TEST(RigidBody, RigidMappedSpringPendulumSwingsAndStaysBounded) {
     EXPECT_TRUE(p.position[0].isApprox(r.position[0].center + r.position[0].orientation * Vec3(-0.5, 0.5, 0), 1e-12));
 }
 
+TEST(SubtreeSystemCache, BuiltOnceAndRebuiltWhenTheGraphChanges) {
+    // A free point under gravity: the solver's system is built at the first solve and reused;
+    // adding a force field, removing it, or setting a gravity builds it again, and the step then
+    // uses the new graph.
+    Simulation sim;
+    sim.root().set_dt(0.01);
+    Node& anchor_node = sim.root().add_child("anchor");
+    auto& anchor = anchor_node.add_state<Vec3Types>();
+    anchor.position = {Vec3(0, 1, 0)};
+    Node& body = sim.root().add_child("body");
+    auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+    auto& x = body.add_state<Vec3Types>();
+    x.position = {Vec3(0, 0, 0)};
+    body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(1.0);
+    sim.init();
+    const std::uint64_t v0 = body.structure_version();
+    EXPECT_EQ(v0, sim.root().structure_version());  // one version for the whole graph
+    for (int i = 0; i < 3; ++i) sim.step();
+    EXPECT_EQ(solver.system_cache().builds(), 1);
+    EXPECT_EQ(body.structure_version(), v0);  // stepping does not change the structure
+    EXPECT_LT(x.velocity[0].y(), 0.0);        // falls
+
+    // A spring pulling up (rest length 0, 1e4 N/m): the next solve sees it.
+    auto& spring = body.add_force_field<SpringForceField>(anchor, x);
+    spring.add_spring({0, 0, 1e4, 0.0, 0.0});
+    spring.init();
+    EXPECT_GT(body.structure_version(), v0);
+    const double vy = x.velocity[0].y();
+    sim.step();
+    EXPECT_EQ(solver.system_cache().builds(), 2);
+    EXPECT_GT(x.velocity[0].y(), vy);  // pulled up
+
+    // Removing it, then switching gravity off: each change rebuilds once.
+    ASSERT_TRUE(body.remove_force_field(&spring));
+    sim.step();
+    EXPECT_EQ(solver.system_cache().builds(), 3);
+    sim.root().set_gravity(Vec3::Zero());
+    const Vec3 v_before = x.velocity[0];
+    sim.step();
+    EXPECT_EQ(solver.system_cache().builds(), 4);
+    EXPECT_TRUE(x.velocity[0].isApprox(v_before, 1e-12));  // no force: constant velocity
+    sim.step();
+    EXPECT_EQ(solver.system_cache().builds(), 4);
+}
+
 }  // namespace
 }  // namespace penalty

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <sstream>
 
 namespace penalty {
 namespace {
@@ -121,7 +122,7 @@ TEST(WorkedExampleE, CgThresholdQuirkFreezesVelocityAfterFirstSolve) {
     EXPECT_NEAR(e.sphere->velocity[0].y(), 0.0018811881188118586, 1e-15);
     for (int s = 2; s <= 4; ++s) {
         e.sim.step();
-        EXPECT_EQ(e.solver->last_cg_stats().end_condition, "threshold");
+        EXPECT_EQ(e.solver->last_cg_stats().end_condition, CgEndCondition::threshold);
         EXPECT_EQ(e.solver->last_cg_stats().iterations, 1);
         EXPECT_NEAR(e.sphere->velocity[0].y(), 0.0018811881188118586, 1e-15) << "step " << s;
     }
@@ -136,12 +137,12 @@ TEST(CGLinearSolver, StoppingRulesAndFirstSolveException) {
     Eigen::VectorXd x;
     // First solve: err = 1 > 0.5 anyway; one step solves an identity system.
     auto s1 = cg.solve(identity, b, x);
-    EXPECT_EQ(s1.end_condition, "tolerance");
+    EXPECT_EQ(s1.end_condition, CgEndCondition::tolerance);
     EXPECT_EQ(s1.iterations, 2);
     EXPECT_TRUE(x.isApprox(b));
     // |b| = 0 -> x = 0.
     auto s0 = cg.solve(identity, Eigen::VectorXd::Zero(3), x);
-    EXPECT_EQ(s0.end_condition, "b=0");
+    EXPECT_EQ(s0.end_condition, CgEndCondition::b_zero);
     EXPECT_EQ(x, Eigen::VectorXd::Zero(3));
     // Tolerance 2: from the second solve on, stop before any update.
     CGLinearSolver cg2;
@@ -150,7 +151,7 @@ TEST(CGLinearSolver, StoppingRulesAndFirstSolveException) {
     EXPECT_TRUE(x.isApprox(b)) << "first solve exempt at k=1";
     EXPECT_EQ(f1.iterations, 2);
     auto f2 = cg2.solve(identity, b, x);
-    EXPECT_EQ(f2.end_condition, "tolerance");
+    EXPECT_EQ(f2.end_condition, CgEndCondition::tolerance);
     EXPECT_EQ(f2.iterations, 1);
     EXPECT_EQ(x, Eigen::VectorXd::Zero(3));
     // Iteration cap on an ill-conditioned diagonal system.
@@ -161,7 +162,7 @@ TEST(CGLinearSolver, StoppingRulesAndFirstSolveException) {
     Eigen::VectorXd d(4);
     d << 1, 10, 100, 1000;
     auto s3 = cg3.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { q = d.cwiseProduct(p); }, Eigen::VectorXd::Ones(4), x);
-    EXPECT_EQ(s3.end_condition, "iterations");
+    EXPECT_EQ(s3.end_condition, CgEndCondition::iterations);
     EXPECT_EQ(s3.iterations, 2);
     EXPECT_GT((d.cwiseProduct(x) - Eigen::VectorXd::Ones(4)).norm(), 1e-3);
     CGLinearSolver bad;
@@ -454,6 +455,19 @@ TEST(Simulation, BadInputThrows) {
     s.rayleigh_stiffness = -0.1;
     m.set_vertex_mass(1);
     EXPECT_THROW(sim.init(), std::invalid_argument);
+}
+
+TEST(CGLinearSolver, EndConditionNamesAreSofasWords) {
+    // The names printed (run reports, `penalty run --report`) are SOFA's log words.
+    EXPECT_EQ(cg_end_condition_name(CgEndCondition::none), "none");
+    EXPECT_EQ(cg_end_condition_name(CgEndCondition::iterations), "iterations");
+    EXPECT_EQ(cg_end_condition_name(CgEndCondition::tolerance), "tolerance");
+    EXPECT_EQ(cg_end_condition_name(CgEndCondition::threshold), "threshold");
+    EXPECT_EQ(cg_end_condition_name(CgEndCondition::den_zero), "den=0");
+    EXPECT_EQ(cg_end_condition_name(CgEndCondition::b_zero), "b=0");
+    std::ostringstream out;
+    out << CgEndCondition::den_zero << " " << CgEndCondition::b_zero;
+    EXPECT_EQ(out.str(), "den=0 b=0");
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
+#include <span>
 #include <vector>
 
 namespace penalty {
@@ -70,6 +71,68 @@ protected:
     MechanicalObject<Out>* out_;
 };
 
+/// One output point of a linear-combination (barycentric) map: x_out = Σ_{k<count} w_k·x_in[i_k],
+/// summed from zero in k order (the rounding of the mapped point depends on the order). J is the
+/// weights: v_out = Σ w_k v_in[i_k]; Jᵀ: f_in[i_k] += w_k·f_out, k in order. The one
+/// implementation of this Jacobian, used by BarycentricMapping and BarycentricContactMapper.
+struct BarycentricRow {
+    struct Entry {
+        Index index;    ///< input point
+        double weight;  ///< its weight
+    };
+    /// Most input points of a row: a hexahedron's 8 vertices.
+    static constexpr int kCapacity = 8;
+    std::array<Entry, kCapacity> entries{};
+    int count = 0;
+
+    /// Appends (index, weight); std::invalid_argument past kCapacity.
+    void push(Index index, double weight);
+    [[nodiscard]] const Entry& operator[](std::size_t k) const { return entries[k]; }
+    [[nodiscard]] std::size_t size() const { return static_cast<std::size_t>(count); }
+    [[nodiscard]] const Entry* begin() const { return entries.data(); }
+    [[nodiscard]] const Entry* end() const { return entries.data() + count; }
+
+    /// Σ_k w_k·in[i_k] (positions, velocities or displacements).
+    [[nodiscard]] Vec3 combine(std::span<const Vec3> in) const {
+        Vec3 s = Vec3::Zero();
+        for (const Entry& e : *this) s += e.weight * in[static_cast<std::size_t>(e.index)];
+        return s;
+    }
+    /// in[i_k] += w_k·f for each k (Jᵀ of one output point).
+    void spread(std::span<Vec3> in, const Vec3& f) const {
+        for (const Entry& e : *this) in[static_cast<std::size_t>(e.index)] += e.weight * f;
+    }
+    /// J's entries of this output point: rows first_row + a, columns col_offset + 3·i_k + a.
+    void add_triplets(TripletList& t, Index first_row, Index col_offset) const;
+};
+
+/// One output point rigidly attached to a body frame r: x_out = c_r + R_r·L with L the local
+/// point. J at the rotated point p = R_r·L of the last place(): v_out = v_r + ω_r × p; Jᵀ:
+/// f_r += f, τ_r += p × f (N·m, world frame). The one implementation of this Jacobian, used by
+/// RigidMapping and RigidContactMapper.
+struct RigidPointRow {
+    Index frame = 0;         ///< input frame index
+    Vec3 local = Vec3::Zero();    ///< L, in the frame (m)
+    Vec3 rotated = Vec3::Zero();  ///< p = R_r·L at the last place() (m, world axes)
+
+    /// Updates p from `f` and returns x_out = c + p.
+    Vec3 place(const RigidFrame& f) {
+        rotated = f.orientation * local;
+        return f.center + rotated;
+    }
+    /// v_r + ω_r × p (J·v of this point).
+    [[nodiscard]] Vec3 velocity(const RigidDeriv& v) const { return v.linear + v.angular.cross(rotated); }
+    /// f_r += f, τ_r += p × f (Jᵀ of this point).
+    void spread(RigidDeriv& in, const Vec3& f) const {
+        in.linear += f;
+        in.angular += rotated.cross(f);
+    }
+    /// J's entries of this output point (rows first_row + a): identity on the linear block,
+    /// −[p]× on the angular one (ω × p = −[p]× ω), all nine entries (a constant pattern);
+    /// columns col_offset + 6·r + (0..5).
+    void add_triplets(TripletList& t, Index first_row, Index col_offset) const;
+};
+
 /// IdentityMapping Vec3 -> Vec3: x_out[i] = x_in[i].
 class IdentityMapping final : public Mapping<Vec3Types, Vec3Types> {
 public:
@@ -104,7 +167,7 @@ public:
     void set_points(std::vector<Vec3> local_points, std::vector<Index> frame_index = {});
     /// SOFA's default: local points = R⁻¹ (x_out − c) from the output's current positions.
     void set_points_from_world(std::span<const Vec3> world_points, std::vector<Index> frame_index = {});
-    [[nodiscard]] const std::vector<Vec3>& local_points() const { return local_; }
+    [[nodiscard]] const std::vector<RigidPointRow>& points() const { return rows_; }
     /// Checks the frame indices against the input size, then sizes and computes the output.
     void init() override;
 
@@ -112,27 +175,23 @@ public:
     void apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const override;
     void apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> out) const override;
     void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override;
-    [[nodiscard]] std::size_t output_size() const override { return local_.size(); }
+    [[nodiscard]] std::size_t output_size() const override { return rows_.size(); }
 
 private:
-    [[nodiscard]] std::size_t frame_of(std::size_t i) const;
-    std::vector<Vec3> local_;
-    std::vector<Index> frame_;
-    std::vector<Vec3> rotated_;  ///< R_r p_i at the last apply
+    std::vector<RigidPointRow> rows_;  ///< frame, L and R·L (at the last apply) per output point
 };
 
 /// Linear combination mapping Vec3 -> Vec3: x_out[i] = Σ_k w_ik x_in[j_ik] (BarycentricMapping).
 /// J is constant: the weights.
 class BarycentricMapping final : public Mapping<Vec3Types, Vec3Types> {
 public:
-    struct Entry {
-        Index index;
-        double weight;
-    };
+    using Entry = BarycentricRow::Entry;
     using Mapping::Mapping;
 
-    /// Weights given directly (row i = output point i); indices are checked at init().
+    /// Weights given directly (row i = output point i, at most BarycentricRow::kCapacity
+    /// entries); indices are checked at init().
     void set_weights(std::vector<std::vector<Entry>> rows);
+    void set_rows(std::vector<BarycentricRow> rows);
     /// Maps `points` onto the tetrahedra of `topology` with positions `x`: each point goes to the
     /// first tetrahedron minimising max(−b0, −b1, −b2, b0+b1+b2−1) over its barycentric
     /// coordinates (the containing one, or the nearest for outside points), like SOFA's mapper.
@@ -140,7 +199,8 @@ public:
     /// Maps onto hexahedra with trilinear weights (inverse trilinear map by Newton; SOFA's
     /// parallelepiped approximation gives the same weights for parallelepipeds).
     void map_on_hexahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
-    [[nodiscard]] const std::vector<std::vector<Entry>>& weights() const { return rows_; }
+    /// Row i: the (input index, weight) entries of output point i (iterable, rows[i][k]).
+    [[nodiscard]] const std::vector<BarycentricRow>& weights() const { return rows_; }
     /// Checks the input indices against the input size, then sizes and computes the output.
     void init() override;
 
@@ -151,7 +211,7 @@ public:
     [[nodiscard]] std::size_t output_size() const override { return rows_.size(); }
 
 private:
-    std::vector<std::vector<Entry>> rows_;
+    std::vector<BarycentricRow> rows_;
 };
 
 /// Trilinear weights of local coordinates (u, v, w) ∈ [0,1]³ in SOFA's hexahedron vertex order

@@ -32,6 +32,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace penalty {
@@ -114,6 +115,10 @@ private:
     ContactResponseParameters base_;
     std::vector<ContactPairEntry> pairs_;
     std::vector<std::string> warnings_;
+    // set_detections' scratch (kept between steps so that a steady step allocates nothing)
+    std::vector<char> seen_;
+    std::vector<ContactPairEntry> created_, kept_;
+    std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed_;
 };
 
 }  // namespace penalty

@@ -7,9 +7,11 @@
 ///   Identity    (Point, Sphere<Vec3>): the contact point IS the DOF (index = element index);
 ///               P is ignored; a sphere sets r = radius(element).
 ///   Barycentric (Line, Triangle incl. split quads, Tetrahedron): x = Σ w_i x_vi with weights
-///               computed from P at add_point and frozen for the step.
+///               computed from P at add_point and frozen for the step (a BarycentricRow, the
+///               Jacobian BarycentricMapping uses too).
 ///   Rigid       (RigidSphere, Cylinder): local point L = R⁻¹(P − c), frozen for the step;
-///               x = c + R·L, v = v_c + ω × (R·L); Jᵀ: force F and torque (R·L) × F.
+///               x = c + R·L, v = v_c + ω × (R·L); Jᵀ: force F and torque (R·L) × F (a
+///               RigidPointRow, the Jacobian RigidMapping uses too).
 ///
 /// Parent vectors are passed flat (std::span<double>): a Vec3 parent uses 3 scalars per DOF
 /// (x y z), a Rigid3 parent 6 (linear x y z, then angular x y z, world frame), the layout of
@@ -18,6 +20,7 @@
 
 #include "penalty/collision/models.hpp"
 #include "penalty/core/types.hpp"
+#include "penalty/mechanics/mapping.hpp"
 
 #include <array>
 #include <memory>
@@ -104,13 +107,6 @@ private:
     mutable std::vector<Vec3> zero_velocity_;  // when the state has no velocities
 };
 
-/// One contact point of a barycentric mapper: x = Σ_{k<count} weight[k]·x[index[k]].
-struct BarycentricRow {
-    std::array<Index, 4> index{};
-    std::array<double, 4> weight{};
-    int count = 0;
-};
-
 /// Line, Triangle (with split quads) and Tetrahedron: contact points are linear combinations of
 /// the element's vertices (SOFA's BarycentricContactMapper over the model's topology, §8.1).
 class BarycentricContactMapper final : public ContactMapper {
@@ -184,17 +180,15 @@ public:
     void apply_jt(ConstVec3Span f, std::span<double> parent_f) const override;
     void add_jacobian_triplets(TripletList& triplets, Index row_offset, Index col_offset) const override;
 
-    [[nodiscard]] const std::vector<Vec3>& local_points() const { return local_; }
-    [[nodiscard]] const std::vector<Index>& frames() const { return frame_; }
+    /// Frame (= element), local point L and R·L (at the last update) of each contact point.
+    [[nodiscard]] const std::vector<RigidPointRow>& points() const { return rows_; }
 
 private:
     const CollisionModel* model_;
     const Rigid3State* state_;
     const RigidSphereModel* sphere_ = nullptr;
     RigidSphereRadius radius_rule_;
-    std::vector<Vec3> local_;
-    std::vector<Index> frame_;
-    std::vector<Vec3> rotated_;
+    std::vector<RigidPointRow> rows_;
     std::vector<Vec3> positions_;
     std::vector<Vec3> velocities_;
 };

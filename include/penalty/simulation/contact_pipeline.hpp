@@ -23,7 +23,7 @@
 ///        mapped by a ContactPointMapping (J of the mapper: weights, or v_c + ω × (R·L) with
 ///        force and torque (R·L) × f on the way back). Models on mapped states (e.g. spheres
 ///        carried by a RigidMapping) chain through the existing mappings;
-///      - the pair's PenaltyForceField, wrapped in a ContactInteraction, is stored in the node
+///      - the pair's PenaltyForceField, wrapped in a PenaltyInteraction, is stored in the node
 ///        chosen by §2.1: model1 not simulated → model2's node; else model2 not simulated →
 ///        model1's node; else the pipeline's node (default: the root). So a contact between a
 ///        static and a simulated object is integrated implicitly by the simulated object's
@@ -38,7 +38,7 @@
 /// solver.newton.update_geometry so that every Newton iterate of that solver re-detects the
 /// live pairs whose force field lies in the solver's subtree, at the iterate's positions
 /// (update_geometry(subtree)). The graph is not changed mid-solve (the solver's SubtreeSystem
-/// holds pointers): the same ContactInteraction, PenaltyForceField, contact-point nodes and
+/// holds pointers): the same PenaltyInteraction, PenaltyForceField, contact-point nodes and
 /// mappings are kept; the contact list, the mappers and the contact-point states (resized by
 /// ContactPointMapping::init) are rebuilt in place. A live pair without outputs at an iterate
 /// keeps its (now empty) force field until the next update() destroys it; a pair that would
@@ -60,6 +60,7 @@
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/intersection.hpp"
 #include "penalty/response/collision_response.hpp"
+#include "penalty/simulation/penalty_interaction.hpp"
 #include "penalty/simulation/solver.hpp"
 
 #include <array>
@@ -87,7 +88,8 @@ public:
         : Mapping<In, Vec3Types>(from, to), mapper_(&mapper) {}
 
     /// Resizes the output state to the mapper's contact points (every vector, zero-filled) and
-    /// computes their positions and velocities. Called after each set_detection_outputs.
+    /// copies their positions and velocities from the mapper, which must be current: called
+    /// after each set_detection_outputs (which updates the mapper), never recomputed here.
     void init() override;
     void apply(std::span<Vec3> out, std::span<const InCoord> in) override;
     void apply_j(std::span<Vec3> out, std::span<const InDeriv> in) const override;
@@ -105,40 +107,11 @@ private:
 extern template class ContactPointMapping<Vec3Types>;
 extern template class ContactPointMapping<Rigid3Types>;
 
-/// Interaction force field of the scene graph over a PenaltyForceField it does not own (the
-/// one of a BarycentricPenaltyContact, rebuilt by set_detection_outputs each step).
-class ContactInteraction final : public Vec3InteractionForceField {
-public:
-    ContactInteraction(Vec3Object& state1, Vec3Object& state2, PenaltyForceField& field)
-        : Vec3InteractionForceField(state1, state2), field_(&field) {}
-
-    [[nodiscard]] PenaltyForceField& field() const { return *field_; }
-    void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
-                   ConstVec3Span v2) override {
-        field_->add_force(f1, f2, x1, x2, v1, v2);
-    }
-    void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
-                    double b_factor) const override {
-        field_->add_dforce(df1, df2, dx1, dx2, k_factor, b_factor);
-    }
-    void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2, double factor) const override {
-        field_->add_stiffness_triplets(triplets, offset1, offset2, factor);
-    }
-    [[nodiscard]] double potential_energy() const override { return field_->potential_energy(); }
-    [[nodiscard]] std::vector<BaseState*> states() const override {
-        if (s1_ == s2_) return {s1_};
-        return {s1_, s2_};
-    }
-
-private:
-    PenaltyForceField* field_;
-};
-
 /// What the pipeline put into the graph for one live pair.
 struct ContactGraphEntry {
     BarycentricPenaltyContact* contact = nullptr;
     Node* host = nullptr;                        ///< node storing the force field (§2.1)
-    ContactInteraction* force_field = nullptr;   ///< owned by `host`
+    PenaltyInteraction* force_field = nullptr;   ///< owned by `host`
     std::array<Node*, 2> point_nodes{};          ///< contact-point nodes (null: identity mapper)
     std::array<Vec3Object*, 2> point_states{};   ///< the states the force field acts on
     std::array<BaseMapping*, 2> mappings{};      ///< null for an identity side

@@ -16,6 +16,7 @@
 #include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,6 +54,7 @@ public:
         auto s = std::make_unique<MechanicalObject<DataTypes>>(std::move(state_name));
         auto& ref = *s;
         state_ = std::move(s);
+        structure_changed();
         return ref;
     }
     [[nodiscard]] BaseState* state() const { return state_.get(); }
@@ -63,6 +65,7 @@ public:
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         force_fields_.push_back(std::move(c));
+        structure_changed();
         return ref;
     }
     template <class C, class... Args>
@@ -72,6 +75,7 @@ public:
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         mass_ = std::move(c);
+        structure_changed();
         return ref;
     }
     template <class C, class... Args>
@@ -80,6 +84,7 @@ public:
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         mapping_ = std::move(c);
+        structure_changed();
         return ref;
     }
     template <class C, class... Args>
@@ -87,6 +92,7 @@ public:
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         constraints_.push_back(std::move(c));
+        structure_changed();
         return ref;
     }
     template <class C, class... Args>
@@ -95,6 +101,7 @@ public:
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         solver_ = std::move(c);
+        structure_changed();
         return ref;
     }
     /// Takes ownership of an already-built force field (e.g. a contact adapter).
@@ -108,9 +115,17 @@ public:
     [[nodiscard]] const std::vector<std::unique_ptr<BaseProjectiveConstraint>>& constraints() const { return constraints_; }
     [[nodiscard]] OdeSolver* ode_solver() const { return solver_.get(); }
 
+    /// Version of the structure of the whole graph (kept by the root): changes whenever a node,
+    /// state, mass, mapping, force field, constraint or solver is added or removed anywhere, or
+    /// a gravity is set. Solvers cache what they build from the graph (SubtreeSystem) and build
+    /// it again when this changes; contact pipelines change the graph only through these calls.
+    [[nodiscard]] std::uint64_t structure_version() const;
+
     ~Node();
 
 private:
+    /// Bumps the root's structure version (see structure_version()).
+    void structure_changed();
     std::string name_;
     Node* parent_;
     std::optional<Vec3> gravity_;
@@ -122,6 +137,7 @@ private:
     std::vector<std::unique_ptr<BaseProjectiveConstraint>> constraints_;
     std::unique_ptr<OdeSolver> solver_;
     std::vector<std::unique_ptr<Node>> children_;
+    std::uint64_t structure_version_ = 0;  ///< used on the root only
 };
 
 }  // namespace penalty

@@ -8,7 +8,10 @@
 
 #include <Eigen/Core>
 
+#include <cstdint>
 #include <functional>
+#include <optional>
+#include <iosfwd>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -35,11 +38,27 @@ private:
     const BaseState* state_;
 };
 
+/// Why a CG solve stopped (SOFA's CGLinearSolver end conditions).
+enum class CgEndCondition : std::uint8_t {
+    none,        ///< no solve yet
+    iterations,  ///< the iteration limit was reached
+    tolerance,   ///< |r|/|b| <= tolerance
+    threshold,   ///< |pᵀAp| <= threshold
+    den_zero,    ///< pᵀAp == 0
+    b_zero,      ///< |b| == 0 (x = 0, no iteration)
+};
+
+/// The name printed for an end condition: "none", "iterations", "tolerance", "threshold",
+/// "den=0", "b=0" (SOFA's log words).
+[[nodiscard]] std::string_view cg_end_condition_name(CgEndCondition condition);
+/// Writes cg_end_condition_name(condition).
+std::ostream& operator<<(std::ostream& out, CgEndCondition condition);
+
 /// Result of one CG solve.
 struct CgStats {
-    int iterations = 0;                        ///< iterations started (SOFA's nb_iter)
-    std::string_view end_condition = "none";   ///< "iterations", "tolerance", "threshold", "den=0", "b=0"
-    double error = 0.0;                        ///< last |r|/|b| evaluated
+    int iterations = 0;                                ///< iterations started (SOFA's nb_iter)
+    CgEndCondition end_condition = CgEndCondition::none;
+    double error = 0.0;                                ///< last |r|/|b| evaluated
 };
 
 /// SOFA's CGLinearSolver (GraphScattered, matrix-free), exact stopping rules: x₀ = 0, r = b; for
@@ -65,6 +84,7 @@ public:
 
 private:
     int solve_count_ = 0;
+    Eigen::VectorXd r_, p_, q_;  ///< residual, direction, A·p (kept: no allocation per solve)
 };
 
 /// The independent and mapped states, masses, force fields, mappings and constraints of one
@@ -75,6 +95,9 @@ public:
     explicit SubtreeSystem(Node& root);
 
     [[nodiscard]] Eigen::Index size() const { return size_; }
+    /// True while every independent state has the size it had when the system was built (the
+    /// offsets are still right).
+    [[nodiscard]] bool offsets_valid() const;
     [[nodiscard]] const std::vector<BaseState*>& independent_states() const { return independent_; }
     [[nodiscard]] const std::vector<BaseMapping*>& mappings() const { return mappings_; }
     [[nodiscard]] const std::vector<BaseForceField*>& force_fields() const { return force_fields_; }
@@ -134,6 +157,23 @@ private:
     Eigen::Index size_ = 0;
 };
 
+/// The SubtreeSystem of one solver node, built at the first use and built again only when the
+/// graph changed (Node::structure_version: a contact pipeline adding or removing a pair's
+/// force field and contact-point nodes, a component added or removed), the node is another
+/// one, or an independent state was resized. In steady state a solve reuses it as is.
+class SubtreeSystemCache {
+public:
+    [[nodiscard]] SubtreeSystem& get(Node& node);
+    /// Number of builds so far.
+    [[nodiscard]] int builds() const { return builds_; }
+
+private:
+    std::optional<SubtreeSystem> system_;
+    const Node* node_ = nullptr;
+    std::uint64_t version_ = 0;
+    int builds_ = 0;
+};
+
 /// An ODE solver integrates the subtree of the node that owns it over one time step.
 class OdeSolver {
 public:
@@ -182,9 +222,13 @@ public:
     [[nodiscard]] double last_newton_residual() const { return last_newton_residual_; }
     /// True if the last solve stopped on the tolerance (false: max_iterations reached).
     [[nodiscard]] bool last_newton_converged() const { return last_newton_converged_; }
+    /// The cached system of the solver's subtree (builds() counts its rebuilds).
+    [[nodiscard]] const SubtreeSystemCache& system_cache() const { return system_; }
 
 private:
     void solve_newton(SubtreeSystem& system, double dt);
+    SubtreeSystemCache system_;
+    Eigen::VectorXd f_, v_, b_, x_;  ///< force, velocity, right-hand side, CG solution (kept)
     CgStats last_cg_;
     void record_cg(const CgStats& stats);
     int step_cg_iterations_ = 0;
@@ -202,6 +246,10 @@ public:
     /// std::invalid_argument naming the state otherwise.
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
+
+private:
+    SubtreeSystemCache system_;
+    Eigen::VectorXd f_, a_, v_;  ///< force, acceleration, velocity (kept)
 };
 
 /// DefaultAnimationLoop (spec §2): owns the root node.
@@ -220,8 +268,19 @@ public:
     std::function<void(Simulation&)> collision_hook;
 
 private:
-    void solve_node(Node& node, double dt);
+    /// One entry of a step's solve phase, in depth-first order: a solver node (integrates its
+    /// subtree) or an explicit force field with its states.
+    struct SolveAction {
+        Node* solver_node = nullptr;
+        BaseForceField* explicit_field = nullptr;
+        std::vector<BaseState*> states;  ///< of explicit_field
+    };
+    /// The solve phase's actions, rebuilt when the graph's structure changes.
+    const std::vector<SolveAction>& solve_plan();
+    void plan_node(Node& node);
     Node root_;
+    std::vector<SolveAction> plan_;
+    std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;
     bool initialized_ = false;
 };

@@ -1,0 +1,213 @@
+// No heap allocation in a steady step (issue 14, item 5): one EulerImplicitSolver + CG step of a
+// spring/FEM scene, and the contact force field / contact-point mapping path of a scene with a
+// persistent contact (the collision hook itself, detection and response, is not counted here).
+//
+// Its own executable: it interposes the C allocation functions (malloc, calloc, realloc and the
+// aligned ones, glibc's __libc_* underneath), which every C++ operator new and every Eigen
+// allocation reach, and counts the calls made while `counting` is set.
+
+#include "penalty/collision/models.hpp"
+#include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/spring_force_field.hpp"
+#include "penalty/simulation/contact_pipeline.hpp"
+#include "penalty/simulation/solver.hpp"
+#include "penalty_test/static_floor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstddef>
+
+extern "C" {
+void* __libc_malloc(std::size_t size);
+void* __libc_calloc(std::size_t count, std::size_t size);
+void* __libc_realloc(void* p, std::size_t size);
+void* __libc_memalign(std::size_t alignment, std::size_t size);
+}
+
+namespace {
+std::atomic<bool> counting{false};
+std::atomic<long> allocations{0};
+void note() {
+    if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+
+extern "C" {
+void* malloc(std::size_t size) {
+    note();
+    return __libc_malloc(size);
+}
+void* calloc(std::size_t count, std::size_t size) {
+    note();
+    return __libc_calloc(count, size);
+}
+void* realloc(void* p, std::size_t size) {
+    note();
+    return __libc_realloc(p, size);
+}
+void* aligned_alloc(std::size_t alignment, std::size_t size) {
+    note();
+    return __libc_memalign(alignment, size);
+}
+void* memalign(std::size_t alignment, std::size_t size) {
+    note();
+    return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
+    note();
+    *out = __libc_memalign(alignment, size);
+    return *out != nullptr ? 0 : 12;  // ENOMEM
+}
+}
+
+namespace penalty {
+namespace {
+
+/// Heap allocations made by f().
+template <class F>
+long allocations_in(const F& f) {
+    allocations = 0;
+    counting = true;
+    f();
+    counting = false;
+    return allocations.load();
+}
+
+TEST(SolverAllocation, CountingSeesOperatorNewAndEigen) {
+    // The counter is live: a vector and an Eigen vector are both seen.
+    const long n = allocations_in([] {
+        std::vector<double> v(10, 1.0);
+        Eigen::VectorXd e = Eigen::VectorXd::Ones(10);
+        EXPECT_EQ(v.size() + static_cast<std::size_t>(e.size()), 20u);
+    });
+    EXPECT_EQ(n, 2);
+}
+
+TEST(SolverAllocation, ImplicitStepOfSpringAndFemSceneAllocatesNothing) {
+    // A tetrahedron block (FEM, large) hanging from springs to a static anchor, under gravity.
+    Simulation sim;
+    sim.root().set_dt(0.01);
+    Node& anchor_node = sim.root().add_child("anchor");
+    auto& anchor = anchor_node.add_state<Vec3Types>("anchor");
+    anchor.position = {Vec3(0, 1, 0), Vec3(1, 1, 0)};
+    Node& body = sim.root().add_child("body");
+    auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+    solver.cg.iterations = 25;
+    solver.cg.tolerance = 1e-12;
+    solver.cg.threshold = 1e-20;
+    auto& x = body.add_state<Vec3Types>("block");
+    x.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1), Vec3(0, -1, 0), Vec3(1, -1, 1)};
+    body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.5);
+    MeshTopology topology;
+    topology.set_num_points(5);
+    topology.set_tetrahedra({Tetrahedron{0, 1, 2, 3}, Tetrahedron{1, 2, 3, 4}});
+    body.add_force_field<TetrahedronFEMForceField>(x, topology, 1e4, 0.3, FemMethod::Large);
+    auto& springs = body.add_force_field<SpringForceField>(anchor, x);
+    springs.add_spring({0, 0, 200.0, 1.0, 1.0});
+    springs.add_spring({1, 1, 200.0, 1.0, 1.0});
+    sim.init();
+    for (int s = 0; s < 50; ++s) sim.step();
+    const long n = allocations_in([&] {
+        for (int s = 50; s < 100; ++s) sim.step();
+    });
+    EXPECT_EQ(n, 0);
+    EXPECT_EQ(solver.system_cache().builds(), 1);  // built once, reused by every solve
+    EXPECT_GT(solver.last_cg_stats().iterations, 1);
+    EXPECT_TRUE(x.position[0].allFinite());
+    EXPECT_LT(x.position[0].y(), 0.0);  // it fell and hangs
+    // The count sees the library's allocations: a graph change makes the next solve build its
+    // system again (vectors, hash map).
+    body.add_force_field<SpringForceField>(anchor, x).add_spring({0, 2, 200.0, 0.0, 1.0});
+    EXPECT_GT(allocations_in([&] { sim.step(); }), 0);
+    EXPECT_EQ(solver.system_cache().builds(), 2);
+}
+
+/// Steps 50–100 of a scene with one persistent contact pair; counts the step without its
+/// collision hook (detection and response).
+struct ContactScene {
+    Simulation sim;
+    test::StaticFloor floor;
+    std::unique_ptr<ContactPipeline> pipeline;
+
+    /// floor_simulated: the pair's force field goes to the root, without solver (explicit).
+    explicit ContactScene(bool floor_simulated = false) : floor(sim.root(), test::floor_params(10.0, floor_simulated)) {}
+
+    long count_steps_without_hook(CollisionModel& model, Node& body, EulerImplicitSolver& solver) {
+        ContactPipelineOptions options;
+        options.attach_hook = false;  // the hook below runs update() outside the count
+        pipeline = std::make_unique<ContactPipeline>(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr,
+                                                     options);
+        pipeline->add_model(*floor.model, *floor.node);
+        pipeline->add_model(model, body);
+        sim.collision_hook = [this](Simulation&) {
+            const bool was = counting.exchange(false);
+            pipeline->update();
+            counting = was;
+        };
+        sim.init();
+        for (int s = 0; s < 50; ++s) sim.step();
+        const int builds = solver.system_cache().builds();
+        const long n = allocations_in([&] {
+            for (int s = 50; s < 100; ++s) sim.step();
+        });
+        EXPECT_EQ(solver.system_cache().builds(), builds);  // same pairs: the system is reused
+        EXPECT_EQ(pipeline->graph_entries().size(), 1u);
+        EXPECT_GT(pipeline->graph_entries()[0].contact->force_field().size(), 0u);
+        return n;
+    }
+    ~ContactScene() { pipeline.reset(); }
+};
+
+/// Worked example E at rest on the floor: the floor's barycentric contact point (mapped, outside
+/// the solver's subtree), the sphere's own DOF, PenaltyInteraction in the solve (implicit) or
+/// evaluated at the root before the solve (explicit).
+void expect_vec3_sphere_on_floor_allocates_nothing(bool explicit_contact) {
+    ContactScene scene(explicit_contact);
+    Node& body = scene.sim.root().add_child("sphere");
+    auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+    solver.cg.tolerance = 1e-9;
+    solver.cg.threshold = 1e-9;
+    auto& sphere = body.add_state<Vec3Types>("sphere");
+    sphere.position = {Vec3(0.2, 0.9, 0.3)};
+    body.set_mass<UniformMass<Vec3Types>>(sphere).set_vertex_mass(1.0);
+    CollisionModelParams p;
+    p.name = "sphere";
+    p.contact_stiffness = 10.0;
+    SphereModel model(sphere, 0.5, {}, p);
+    EXPECT_EQ(scene.count_steps_without_hook(model, body, solver), 0);
+    EXPECT_EQ(scene.pipeline->graph_entries()[0].host, explicit_contact ? &scene.sim.root() : &body);
+}
+
+TEST(SolverAllocation, Vec3SphereOnFloorContactPathAllocatesNothing) { expect_vec3_sphere_on_floor_allocates_nothing(false); }
+
+TEST(SolverAllocation, Vec3SphereOnFloorExplicitContactPathAllocatesNothing) {
+    expect_vec3_sphere_on_floor_allocates_nothing(true);
+}
+
+TEST(SolverAllocation, RigidBallOnFloorContactPathAllocatesNothing) {
+    // A rigid ball at rest on the floor: its contact point is mapped by the rigid contact mapper
+    // inside the solver's subtree (J, Jᵀ with torque in every CG iteration).
+    ContactScene scene;
+    Node& body = scene.sim.root().add_child("ball");
+    auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+    solver.cg.tolerance = 1e-12;
+    solver.cg.threshold = 1e-20;
+    auto& ball = body.add_state<Rigid3Types>("ball");
+    RigidFrame f0;
+    f0.center = Vec3(0.2, 1.45, 0.3);
+    f0.orientation = Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+    ball.position = {f0};
+    auto& mass = body.set_mass<UniformMass<Rigid3Types>>(ball);
+    mass.set_vertex_mass(1.0);
+    mass.set_inertia(Mat3::Identity() * 0.1);
+    CollisionModelParams p;
+    p.name = "ball";
+    p.contact_stiffness = 10.0;
+    RigidSphereModel model(ball, 0.5, {}, p);
+    EXPECT_EQ(scene.count_steps_without_hook(model, body, solver), 0);
+}
+
+}  // namespace
+}  // namespace penalty
