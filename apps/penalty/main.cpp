@@ -201,7 +201,8 @@ int run_command(const RunArguments& a) {
     const bool builtin = a.scene.empty();
     std::unique_ptr<sc::Scene> scene =
         builtin ? sc::build_scene(penalty::io::parse_scene_string(sc::default_scene_xml(), "<built-in scene>"), build)
-                : sc::load_scene(a.scene, build);
+                // load_scene, with the data folders also searched for <include>d files
+                : sc::build_scene(penalty::io::parse_scene_file(a.scene, build.data_dirs), build);
     std::cout << "penalty run: " << (builtin ? std::string("built-in scene (soft cube and rigid ball on a floor)") : a.scene)
               << "\n";
     std::cout << scene->states().size() << " states, " << scene->collision_models().size() << " collision models, "
@@ -289,7 +290,8 @@ int info_command(const std::string& scene_path, const std::vector<std::string>& 
     for (const std::string& name : quirk_fixes)
         if (!penalty::enable_sofa_quirk_fix(build.sofa_quirk_fixes, name))
             throw UsageError("--fix-sofa-quirk: unknown SOFA quirk '" + name + "' (" + quirk_names() + ")");
-    const std::unique_ptr<penalty::scene::Scene> scene = penalty::scene::load_scene(scene_path, build);
+    const std::unique_ptr<penalty::scene::Scene> scene =  // load_scene, data folders also searched for <include>s
+        penalty::scene::build_scene(penalty::io::parse_scene_file(scene_path, build.data_dirs), build);
     std::cout << penalty::scene::describe_scene(*scene);
     std::cout << "SOFA quirk fixes (--fix-sofa-quirk NAME, or fixSofaQuirks=\"NAME ...\" on an intersection method):\n";
     for (const penalty::SofaQuirkInfo& q : penalty::sofa_quirk_table())
@@ -363,7 +365,7 @@ int main(int argc, char** argv) {
     run->add_option("--set", args.overrides,
                     "Override an attribute before the scene is built: PATH.attribute=value, e.g. "
                     "/Floor/FloorTri1.contactStiffness=200 or /.dt=0.005 (repeatable; docs/sweeps.md)");
-    run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
+    run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh and included files (repeatable)")->check(CLI::ExistingDirectory);
     run->add_option("--vtk", args.vtk, "Write a ParaView time series (.pvd + .vtu/.vtp) into DIR");
     run->add_option("--vtk-every", args.vtk_every, "Write one VTK step in M")->check(integer_in(1, kMaxSteps));
     run->add_option("--export-states", args.states, "Write SOFA regression state files into DIR");
@@ -412,7 +414,7 @@ int main(int argc, char** argv) {
     auto* info = app.add_subcommand(
         "info", "Build a scene without running it: what each component becomes, and which model pairs make contacts where");
     info->add_option("scene", info_scene, "SOFA .scn file")->required()->check(CLI::ExistingFile);
-    info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
+    info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh and included files (repeatable)")->check(CLI::ExistingDirectory);
     std::vector<std::string> info_quirk_fixes;
     info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
 

@@ -443,7 +443,9 @@ void bind_scene(py::module_& m) {
     m.def("_load_scene", [](const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs,
                             std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides) {
         PyScene s;
-        s.scene = scene::load_scene(path, build_options(data_dirs, dt, threads, exhaustive, std::move(overrides)));
+        // load_scene, with the data folders also searched for <include>d files
+        s.scene = scene::build_scene(io::parse_scene_file(path, data_dirs),
+                                     build_options(data_dirs, dt, threads, exhaustive, std::move(overrides)));
         return s;
     }, py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
        py::arg("overrides") = std::vector<std::string>{});
