@@ -146,6 +146,10 @@ def check_scene(args, scene):
                                     args.timeout)
         m = re.search(r"SOFA's criterion ([^ ]+)", out)
         criterion = m.group(1) if m else None
+        try:
+            criterion = f'{float(criterion):.3g}'
+        except (TypeError, ValueError):
+            pass
         if code == 0:
             row['sofa'] = f'yes ({criterion})'
         elif code is None:
@@ -207,7 +211,9 @@ def write_table(args, rows, unknown, out):
         '(`../shared/sofa/examples-states/`, about half of the scenes) under SOFA\'s criterion (mean absolute',
         'error per DOF summed over the compared steps, averaged over the states, ≤ 1e-4; the figure is in',
         'parentheses). *First blocker* is the component named by the first error. Steps/s are wall-clock on',
-        'the machine that ran the script (one thread, two scenes at a time).',
+        'the machine that ran the script (one thread, two scenes at a time). Regenerate with',
+        '`scripts/sofa-examples.py` (`--write-expected` also rewrites `tests/sofa_examples_expected.txt`, the',
+        'scenes CI\'s `scripts/sofa-examples.py --check` requires to run).',
         '',
         f'**builds {builds} / runs {runs} of {total}**; matches SOFA {matches} of the {len(with_states)} scenes with '
         f'SOFA states ({sum(r["runs"] for r in with_states)} of them run).',
