@@ -364,7 +364,7 @@ int main(int argc, char** argv) {
     run->add_option("--set", args.overrides,
                     "Override an attribute before the scene is built: PATH.attribute=value, e.g. "
                     "/Floor/FloorTri1.contactStiffness=200 or /.dt=0.005 (repeatable; docs/sweeps.md)");
-    run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
+    run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh and included files (repeatable)")->check(CLI::ExistingDirectory);
     run->add_option("--vtk", args.vtk, "Write a ParaView time series (.pvd + .vtu/.vtp) into DIR");
     run->add_option("--vtk-every", args.vtk_every, "Write one VTK step in M")->check(integer_in(1, kMaxSteps));
     run->add_option("--export-states", args.states, "Write SOFA regression state files into DIR");
@@ -418,7 +418,7 @@ int main(int argc, char** argv) {
     info->add_flag("--components", info_all_components,
                    "List every supported component type with the attributes it reads (kind, unit, check, default)");
     info->add_option("--component", info_component, "The same for one component type (e.g. UniformMass)");
-    info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh files (repeatable)")->check(CLI::ExistingDirectory);
+    info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh and included files (repeatable)")->check(CLI::ExistingDirectory);
     std::vector<std::string> info_quirk_fixes;
     info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
 

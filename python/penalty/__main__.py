@@ -22,7 +22,7 @@ def _parser():
     run.add_argument("--steps", type=int, default=100, help="Number of time steps (default 100)")
     run.add_argument("--dt", type=float, default=None, help="Time step (s), overrides the scene's")
     run.add_argument("--threads", type=int, default=0)
-    run.add_argument("--data-dir", action="append", default=[], help="Folder searched for mesh files (repeatable)")
+    run.add_argument("--data-dir", action="append", default=[], help="Folder searched for mesh and included files (repeatable)")
     run.add_argument("--set", action="append", default=[], dest="overrides", metavar="PATH.attribute=value",
                      help="Override an attribute before the scene is built (repeatable; docs/sweeps.md)")
     run.add_argument("--vtk", default=None)

@@ -1,6 +1,7 @@
 #include "penalty/io/scene_file.hpp"
 
 #include "io/text.hpp"
+#include "penalty/io/data_path.hpp"
 
 #include <tinyxml2.h>
 
@@ -72,6 +73,27 @@ std::string xml_error_text(tinyxml2::XMLError error) {
     throw SceneError(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + what);
 }
 
+/// What the reading of one scene shares across its included files.
+struct ReadContext {
+    /// Folders searched for an included file after the including file's own folder.
+    std::vector<std::filesystem::path> data_dirs;
+    /// The files being read, outermost first (the scene, then each open `<include>`'s file),
+    /// as given and as lexically normal absolute paths (for loop detection).
+    std::vector<std::string> open_labels;
+    std::vector<std::filesystem::path> open_files;
+    /// `file:line` of each open `<include>` element, outermost first.
+    std::vector<std::string> include_sites;
+};
+
+/// " (included from a.xml:3, included from scene.scn:12)" for an element read inside includes.
+std::string included_from_text(const ReadContext& context) {
+    std::string out;
+    for (auto it = context.include_sites.rbegin(); it != context.include_sites.rend(); ++it) {
+        out += (out.empty() ? " (included from " : ", included from ") + *it;
+    }
+    return out.empty() ? out : out + ")";
+}
+
 void read_attributes(const tinyxml2::XMLElement& xml, SceneElement& out, std::string* template_name) {
     for (const tinyxml2::XMLAttribute* a = xml.FirstAttribute(); a != nullptr; a = a->Next()) {
         const std::string_view name = a->Name();
@@ -85,42 +107,195 @@ void read_attributes(const tinyxml2::XMLElement& xml, SceneElement& out, std::st
     }
 }
 
-void read_node(const tinyxml2::XMLElement& xml, SceneNode& node, const std::string& file, int depth) {
-    if (depth > 256) scene_fail(file, xml.GetLineNum(), "nodes nested more than 256 levels deep");
+void read_node(const tinyxml2::XMLElement& xml, SceneNode& node, const std::string& file, int depth,
+               ReadContext& context);
+
+std::unique_ptr<SceneComponent> read_component(const tinyxml2::XMLElement& xml, const std::string& file,
+                                               const ReadContext& context) {
+    auto component = std::make_unique<SceneComponent>();
+    component->type = xml.Name();
+    component->file = file;
+    component->included_from = included_from_text(context);
+    component->line = xml.GetLineNum();
+    read_attributes(xml, *component, &component->template_name);
+    if (component->type == "Object") {  // SOFA's older syntax: <Object type="MechanicalObject" .../>
+        const auto it = std::find_if(component->attributes.begin(), component->attributes.end(),
+                                     [](const SceneAttribute& a) { return a.name == "type"; });
+        if (it == component->attributes.end() || it->value.empty()) {
+            scene_fail(file, component->line, "<Object> without a 'type' attribute" + component->included_from);
+        }
+        component->type = it->value;
+        component->attributes.erase(it);
+    }
+    return component;
+}
+
+void add_component(SceneNode& node, std::unique_ptr<SceneComponent> component) {
+    component->node = &node;
+    component->index = node.components.size();
+    node.components.push_back(std::move(component));
+}
+
+void add_child(SceneNode& node, std::unique_ptr<SceneNode> child) {
+    child->parent = &node;
+    node.children.push_back(std::move(child));
+}
+
+/// One attribute of an `<include>` element, written onto the included elements as SOFA's
+/// XML loader does (sofa::simulation::xml::includeNode, then recReplaceAttribute, applied in
+/// ObjectElement::initNode): a component that already has the attribute gets the include's
+/// value; the attribute is never added, and nodes keep theirs (NodeElement::initNode ignores
+/// the replacements). `only_named` ("" = every element) restricts it to elements of that name
+/// (SOFA's `Name__attribute` form). Since every SOFA element has a `name` data, `name` always
+/// applies; `template` applies where one is written.
+void replace_attribute(SceneNode& tree, std::string_view only_named, const SceneAttribute& replacement) {
+    const auto replace_in = [&](SceneComponent& c) {
+        if (!only_named.empty() && c.name != only_named) return;
+        if (replacement.name == "name") {
+            c.name = replacement.value;
+        } else if (replacement.name == "template") {
+            if (!c.template_name.empty()) c.template_name = replacement.value;
+        } else {
+            for (auto& a : c.attributes) {
+                if (a.name == replacement.name) a.value = replacement.value;
+            }
+        }
+    };
+    for (auto& c : tree.components) replace_in(*c);
+    for (auto& child : tree.children) replace_attribute(*child, only_named, replacement);
+}
+
+/// Deepest nesting of `<include>` elements (SOFA has no limit; a loop is reported as such).
+constexpr std::size_t kMaxIncludeDepth = 16;
+
+/// `<include href="Objects/X.xml" name=".." attr="value" Name__attr="value"/>` in `node`, with
+/// SOFA's semantics (sofa::simulation::xml::includeNode and createNode):
+///  - `href` is looked for in the including file's folder, then the data folders
+///    (FileRepository::findFileFromFile: the base file's folder, then SOFA's data path);
+///  - the included file's root element (a node or one component) is read, its own includes
+///    expanded first;
+///  - `name` renames that root; every other attribute is replaced in the included tree
+///    (replace_attribute), in the include element's attribute order, after the nested includes'
+///    own replacements (so the outer include wins);
+///  - a root node named `Group` or `_Group_` (after renaming) is dissolved: its components and
+///    child nodes are added to `node` (INCLUDE_NODE_GROUP); otherwise the root is added as a
+///    child node (or component) of `node` (INCLUDE_NODE_CHILD).
+/// SOFA's `_Merge_` roots (INCLUDE_NODE_MERGE) are refused.
+void read_include(const tinyxml2::XMLElement& xml, SceneNode& node, const std::string& file, int depth,
+                  ReadContext& context) {
+    const int line = xml.GetLineNum();
+    const std::string site = file + ":" + std::to_string(line);
+    const auto fail = [&](const std::string& what) {
+        scene_fail(file, line, "<include>: " + what + included_from_text(context));
+    };
+    const char* href = xml.Attribute("href");
+    if (href == nullptr || *href == '\0') fail("no 'href' attribute (the included file)");
+
+    const std::filesystem::path including_dir = std::filesystem::path(file).parent_path();
+    std::filesystem::path included;
+    try {
+        included = resolve_data_file(href, including_dir, context.data_dirs);
+    } catch (const LoadError& e) {
+        fail(e.what());
+    }
+    const std::filesystem::path identity = std::filesystem::absolute(included).lexically_normal();
+    for (std::size_t i = 0; i < context.open_files.size(); ++i) {
+        if (context.open_files[i] != identity) continue;
+        std::string chain;
+        for (std::size_t k = i; k < context.open_labels.size(); ++k) chain += context.open_labels[k] + " includes ";
+        fail("include loop: " + chain + included.string());
+    }
+    if (context.include_sites.size() >= kMaxIncludeDepth) {
+        fail("includes nested more than " + std::to_string(kMaxIncludeDepth) + " levels deep");
+    }
+
+    std::string text;
+    try {
+        text = detail::read_file(included);
+    } catch (const LoadError& e) {
+        fail(e.what());
+    }
+    const std::string label = included.string();
+    context.include_sites.push_back(site);
+    context.open_labels.push_back(label);
+    context.open_files.push_back(identity);
+    const std::string from = included_from_text(context);
+
+    tinyxml2::XMLDocument doc(true, tinyxml2::PRESERVE_WHITESPACE);
+    const tinyxml2::XMLError error = doc.Parse(text.data(), text.size());
+    if (error != tinyxml2::XML_SUCCESS) scene_fail(label, doc.ErrorLineNum(), "XML error: " + xml_error_text(error) + from);
+    const tinyxml2::XMLElement* root = doc.RootElement();
+    if (root == nullptr) scene_fail(label, 0, "XML error: empty document" + from);
+    const std::string_view root_tag = root->Name();
+    if (root_tag == "include") scene_fail(label, root->GetLineNum(), "the root of an included file cannot be an <include>" + from);
+
+    // The included tree, under a holder node that stands for SOFA's returned element.
+    SceneNode holder;
+    if (root_tag == "Node") {
+        auto child = std::make_unique<SceneNode>();
+        read_node(*root, *child, label, depth + 1, context);
+        add_child(holder, std::move(child));
+    } else {
+        add_component(holder, read_component(*root, label, context));
+    }
+    SceneElement& included_root = holder.children.empty() ? static_cast<SceneElement&>(*holder.components.front())
+                                                           : static_cast<SceneElement&>(*holder.children.front());
+    for (const tinyxml2::XMLAttribute* a = xml.FirstAttribute(); a != nullptr; a = a->Next()) {
+        const std::string_view name = a->Name();
+        if (name == "href") continue;
+        if (name == "name") {
+            included_root.name = a->Value();
+            continue;
+        }
+        const std::size_t separator = name.find("__");
+        const std::string_view only_named = separator == std::string_view::npos ? std::string_view() : name.substr(0, separator);
+        const std::string_view attribute = separator == std::string_view::npos ? name : name.substr(separator + 2);
+        replace_attribute(holder, only_named, SceneAttribute{std::string(attribute), a->Value(), a->GetLineNum()});
+    }
+    context.include_sites.pop_back();
+    context.open_labels.pop_back();
+    context.open_files.pop_back();
+
+    if (holder.children.empty()) {
+        add_component(node, std::move(holder.components.front()));
+        return;
+    }
+    std::unique_ptr<SceneNode> root_node = std::move(holder.children.front());
+    if (root_node->name == "_Merge_") {
+        scene_fail(label, root_node->line, "SOFA's '_Merge_' included node is not supported by penalty" + from);
+    }
+    if (root_node->name == "Group" || root_node->name == "_Group_") {
+        for (auto& c : root_node->components) add_component(node, std::move(c));
+        for (auto& n : root_node->children) add_child(node, std::move(n));
+        return;
+    }
+    add_child(node, std::move(root_node));
+}
+
+void read_node(const tinyxml2::XMLElement& xml, SceneNode& node, const std::string& file, int depth,
+               ReadContext& context) {
+    if (depth > 256) scene_fail(file, xml.GetLineNum(), "nodes nested more than 256 levels deep" + included_from_text(context));
     node.type = "Node";
     node.file = file;
+    node.included_from = included_from_text(context);
     node.line = xml.GetLineNum();
     read_attributes(xml, node, nullptr);
     for (const tinyxml2::XMLElement* e = xml.FirstChildElement(); e != nullptr; e = e->NextSiblingElement()) {
         const std::string_view tag = e->Name();
         if (tag == "Node") {
             auto child = std::make_unique<SceneNode>();
-            child->parent = &node;
-            read_node(*e, *child, file, depth + 1);
-            node.children.push_back(std::move(child));
-            continue;
+            read_node(*e, *child, file, depth + 1, context);
+            add_child(node, std::move(child));
+        } else if (tag == "include") {
+            read_include(*e, node, file, depth, context);
+        } else {
+            add_component(node, read_component(*e, file, context));
         }
-        auto component = std::make_unique<SceneComponent>();
-        component->type = std::string(tag);
-        component->file = file;
-        component->line = e->GetLineNum();
-        component->node = &node;
-        component->index = node.components.size();
-        read_attributes(*e, *component, &component->template_name);
-        if (tag == "Object") {  // SOFA's older syntax: <Object type="MechanicalObject" .../>
-            const auto it = std::find_if(component->attributes.begin(), component->attributes.end(),
-                                         [](const SceneAttribute& a) { return a.name == "type"; });
-            if (it == component->attributes.end() || it->value.empty()) {
-                scene_fail(file, component->line, "<Object> without a 'type' attribute");
-            }
-            component->type = it->value;
-            component->attributes.erase(it);
-        }
-        node.components.push_back(std::move(component));
     }
 }
 
-SceneFile parse(const char* xml, std::size_t size, std::filesystem::path path, const std::string& label) {
+SceneFile parse(const char* xml, std::size_t size, std::filesystem::path path, const std::string& label,
+                const std::vector<std::filesystem::path>& data_dirs) {
     tinyxml2::XMLDocument doc(true, tinyxml2::PRESERVE_WHITESPACE);
     const tinyxml2::XMLError error = doc.Parse(xml, size);
     if (error != tinyxml2::XML_SUCCESS) {
@@ -132,27 +307,34 @@ SceneFile parse(const char* xml, std::size_t size, std::filesystem::path path, c
         scene_fail(label, root->GetLineNum(),
                    "root element must be <Node>, found <" + std::string(root->Name()) + ">");
     }
+    ReadContext context;
+    context.data_dirs = data_dirs;
+    if (!path.empty()) {
+        context.open_labels.push_back(label);
+        context.open_files.push_back(std::filesystem::absolute(path).lexically_normal());
+    }
     SceneFile scene;
     scene.path = std::move(path);
     scene.root = std::make_unique<SceneNode>();
-    read_node(*root, *scene.root, label, 0);
+    read_node(*root, *scene.root, label, 0, context);
     return scene;
 }
 
 }  // namespace
 
-SceneFile parse_scene_file(const std::filesystem::path& path) {
+SceneFile parse_scene_file(const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs) {
     std::string text;
     try {
         text = detail::read_file(path);
     } catch (const LoadError& e) {
         throw SceneError(e.what());
     }
-    return parse(text.data(), text.size(), path, path.string());
+    return parse(text.data(), text.size(), path, path.string(), data_dirs);
 }
 
-SceneFile parse_scene_string(std::string_view xml, std::string file_label) {
-    return parse(xml.data(), xml.size(), {}, file_label);
+SceneFile parse_scene_string(std::string_view xml, std::string file_label,
+                             const std::vector<std::filesystem::path>& data_dirs) {
+    return parse(xml.data(), xml.size(), {}, file_label, data_dirs);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -162,11 +344,12 @@ void throw_attribute_error(const SceneElement& element, std::string_view attribu
     const SceneAttribute* a = element.find(attribute);
     const int line = a != nullptr ? a->line : element.line;
     throw SceneError(element.file + ":" + std::to_string(line) + ": " + element.describe() + ": attribute '" +
-                     std::string(attribute) + "': " + what);
+                     std::string(attribute) + "': " + what + element.included_from);
 }
 
 void throw_element_error(const SceneElement& element, const std::string& what) {
-    throw SceneError(element.file + ":" + std::to_string(element.line) + ": " + element.describe() + ": " + what);
+    throw SceneError(element.file + ":" + std::to_string(element.line) + ": " + element.describe() + ": " + what +
+                     element.included_from);
 }
 
 namespace {

@@ -258,7 +258,7 @@ SceneCheck validate(const io::SceneFile& scene) {
     for (const io::SceneComponent* c : all) {
         if (find_component(c->type) == nullptr) {
             throw io::SceneError(c->file + ":" + std::to_string(c->line) + ": unknown component '" + c->type +
-                                 "' (not supported by penalty)");
+                                 "' (not supported by penalty)" + c->included_from);
         }
     }
 

@@ -9,6 +9,18 @@
 /// syntax). The `name` and `template` attributes are stored in their own fields; every other
 /// attribute is kept, in file order, with its line. Comments and text are ignored.
 ///
+/// `<include href="Objects/X.xml" name=".." attr=".." Name__attr=".."/>` is expanded while
+/// parsing, with SOFA's semantics (sofa::simulation::xml::includeNode): the included file's root
+/// becomes a child of the including node (its components and child nodes are spliced into the
+/// including node when that root is named `Group` or `_Group_`), `name` renames that root, and
+/// every other attribute replaces the value of that attribute in every component of the
+/// included tree that has it (only in components named `Name` for `Name__attr`); it never adds an
+/// attribute and never changes a node's. So `dx`, `rx`, `scale`, `src`, `contactStiffness`, ...
+/// act through the included components that carry them. The file is looked for in the
+/// including file's folder, then the data folders (`data_dirs`, then PENALTY_DATA_PATH);
+/// includes nest up to 16 levels, and a loop is an error naming the chain of files.
+/// scene-format.md has the details.
+///
 /// Every error is a SceneError whose message names the file, the line, the component and,
 /// when one attribute is at fault, the attribute:
 /// `scene.scn:12: UniformMass 'mass': attribute 'totalMass': expected a number, found 'abc'`.
@@ -41,7 +53,12 @@ struct SceneElement {
     std::string name;                       ///< `name` attribute ("" when absent)
     std::vector<SceneAttribute> attributes; ///< all other attributes, in file order
     int line = 0;                           ///< line of the opening tag
-    std::string file;                       ///< the scene file, as given to the parser
+    std::string file;                       ///< the file it was read from: the scene file as given to the
+                                            ///< parser, or the resolved path of an `<include>`d file
+    /// "" for an element of the scene file itself; for one read from an included file,
+    /// ` (included from a.xml:3, included from scene.scn:12)`, innermost include first (appended
+    /// to error messages).
+    std::string included_from;
 
     /// The attribute with that name, or nullptr.
     [[nodiscard]] const SceneAttribute* find(std::string_view attribute) const;
@@ -82,13 +99,20 @@ struct SceneFile {
     [[nodiscard]] std::filesystem::path directory() const;
 };
 
-/// Parses a `.scn` file.
+/// Parses a `.scn` file, expanding its `<include>`s (looked for in the including file's folder,
+/// then in `data_dirs`, then in PENALTY_DATA_PATH's folders).
 /// @throws SceneError `file: cannot open file`, `file:line: XML error: ...`,
-///         `file:line: root element must be <Node>, found <X>`, `<Object>` without `type`.
-[[nodiscard]] SceneFile parse_scene_file(const std::filesystem::path& path);
+///         `file:line: root element must be <Node>, found <X>`, `<Object>` without `type`;
+///         for an include, `file:line: <include>: ...` (no `href`, cannot find the file, include
+///         loop `a.scn includes b.xml includes a.scn`, nested more than 16 deep), or an error
+///         inside the included file followed by ` (included from file:line)`.
+[[nodiscard]] SceneFile parse_scene_file(const std::filesystem::path& path,
+                                         const std::vector<std::filesystem::path>& data_dirs = {});
 
-/// Parses scene text; `file_label` is used as the file name in messages.
-[[nodiscard]] SceneFile parse_scene_string(std::string_view xml, std::string file_label);
+/// Parses scene text; `file_label` is used as the file name in messages; included files are
+/// looked for in `file_label`'s folder (the current folder for a bare name), then as above.
+[[nodiscard]] SceneFile parse_scene_string(std::string_view xml, std::string file_label,
+                                           const std::vector<std::filesystem::path>& data_dirs = {});
 
 /// Calls f(component) for every component of the tree, depth first, a node's components
 /// before its children.

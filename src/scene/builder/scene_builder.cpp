@@ -324,7 +324,7 @@ std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& optio
 }
 
 std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const BuildOptions& options) {
-    return build_scene(io::parse_scene_file(file), options);
+    return build_scene(io::parse_scene_file(file, options.data_dirs), options);  // data folders: <include>s too
 }
 
 }  // namespace penalty::scene
