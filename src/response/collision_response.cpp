@@ -137,24 +137,25 @@ std::unique_ptr<BarycentricPenaltyContact> CollisionResponse::create_contact(
 }
 
 void CollisionResponse::set_detections(std::span<const ModelPairDetection> detections, double intersection_cd) {
-    std::vector<char> seen(pairs_.size(), 0);
-    std::vector<ContactPairEntry> created;
-    std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed;
+    // buffers kept from step to step: with the same live pairs, a step allocates nothing here
+    seen_.assign(pairs_.size(), 0);
+    created_.clear();
+    feed_.clear();
     for (const ModelPairDetection& d : detections) {
         if (d.skipped || d.outputs.empty() || !d.model1 || !d.model2) continue;
         auto it = std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
             return e.model1 == d.model1 && e.model2 == d.model2;
         });
         if (it != pairs_.end()) {
-            seen[std::size_t(it - pairs_.begin())] = 1;
-            if (it->contact) feed.emplace_back(it->contact.get(), &d);
+            seen_[std::size_t(it - pairs_.begin())] = 1;
+            if (it->contact) feed_.emplace_back(it->contact.get(), &d);
             continue;
         }
-        auto ct = std::find_if(created.begin(), created.end(), [&](const ContactPairEntry& e) {
+        auto ct = std::find_if(created_.begin(), created_.end(), [&](const ContactPairEntry& e) {
             return e.model1 == d.model1 && e.model2 == d.model2;
         });
-        if (ct != created.end()) {
-            if (ct->contact) feed.emplace_back(ct->contact.get(), &d);
+        if (ct != created_.end()) {
+            if (ct->contact) feed_.emplace_back(ct->contact.get(), &d);
             continue;
         }
         ContactPairEntry e;
@@ -162,25 +163,26 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         e.model2 = d.model2;
         e.response = response_name(*d.model1, *d.model2);
         e.contact = create_contact(e.response, *d.model1, *d.model2, intersection_cd);
-        if (e.contact) feed.emplace_back(e.contact.get(), &d);
-        created.push_back(std::move(e));
+        if (e.contact) feed_.emplace_back(e.contact.get(), &d);
+        created_.push_back(std::move(e));
     }
-    // pairs without outputs this step: destroyed (SOFA's cleanup)
-    std::vector<ContactPairEntry> kept;
-    kept.reserve(pairs_.size() + created.size());
+    // pairs without outputs this step: destroyed (SOFA's cleanup), the others keep their order
+    std::size_t live = 0;
     for (std::size_t i = 0; i < pairs_.size(); ++i) {
-        if (seen[i]) {
-            kept.push_back(std::move(pairs_[i]));
+        if (seen_[i]) {
+            if (live != i) pairs_[live] = std::move(pairs_[i]);
+            ++live;
         } else if (pairs_[i].contact && on_destroy) {
             on_destroy(*pairs_[i].contact);
         }
     }
-    for (auto& e : created) {
+    pairs_.erase(pairs_.begin() + std::ptrdiff_t(live), pairs_.end());
+    for (auto& e : created_) {
         if (e.contact && on_create) on_create(*e.contact);
-        kept.push_back(std::move(e));
+        pairs_.push_back(std::move(e));
     }
-    pairs_ = std::move(kept);
-    for (auto& [c, d] : feed) c->set_detection_outputs(d->outputs);
+    created_.clear();
+    for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
 }
 
 void CollisionResponse::clear() {

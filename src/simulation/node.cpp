@@ -7,6 +7,13 @@
 
 namespace penalty {
 
+Node::Node(std::string name, Node* parent) : name_(std::move(name)), parent_(parent) {
+    if (parent_ == nullptr) return;
+    Node* root = parent_;
+    while (root->parent_ != nullptr) root = root->parent_;
+    id_ = ++root->ids_issued_;
+}
+
 Node::~Node() = default;
 
 Node& Node::add_child(std::string child_name) {

@@ -32,6 +32,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace penalty {
@@ -114,6 +115,10 @@ private:
     ContactResponseParameters base_;
     std::vector<ContactPairEntry> pairs_;
     std::vector<std::string> warnings_;
+    // set_detections' scratch, reused from step to step
+    std::vector<char> seen_;                      // per pair: fed this step
+    std::vector<ContactPairEntry> created_;       // pairs new this step
+    std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed_;
 };
 
 }  // namespace penalty
