@@ -179,8 +179,8 @@ public:
     /// throws std::invalid_argument if a hook is already set). `node`: where a contact between
     /// two simulated models goes (default: the root). `response` supplies the response name and
     /// parameters; its on_create / on_destroy hooks are taken over by the pipeline. Throws
-    /// std::invalid_argument for options.threads outside [0, kMaxDetectionThreads] or
-    /// options.bvh.leaf_size = 0.
+    /// std::invalid_argument for options.threads outside [0, kMaxDetectionThreads],
+    /// options.bvh.leaf_size = 0 or options.bvh.rebuild_ratio < 1 (checked by CollisionPipeline).
     explicit ContactPipeline(Simulation& simulation,
                              const IntersectionParams& intersection = IntersectionParams::new_proximity(),
                              CollisionResponse response = CollisionResponse(), Node* node = nullptr,
