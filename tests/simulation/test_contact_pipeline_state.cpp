@@ -10,6 +10,12 @@
 namespace penalty {
 namespace {
 
+CollisionModelParams named(const char* name) {
+    CollisionModelParams p;
+    p.name = name;
+    return p;
+}
+
 TEST(NodeId, UniqueInItsGraphInCreationOrderAndNeverReused) {
     Simulation sim;
     EXPECT_EQ(sim.root().id(), 0);
@@ -33,15 +39,10 @@ TEST(ContactPipelineState, ModelsWithoutNodeIdGetTheirNodesIdentity) {
     auto& s2 = other.add_state<Vec3Types>("s2");
     s1.position = {Vec3(0, 0, 0), Vec3(0.05, 0, 0)};
     s2.position = {Vec3(0, 0.05, 0)};
-    CollisionModelParams p;
-    p.name = "points";
-    PointModel pts(s1, nullptr, p);
-    p.name = "spheres";
-    SphereModel sph(s1, 0.01, std::vector<double>{}, p);
-    p.name = "far";
-    PointModel far(s2, nullptr, p);
-    CollisionModelParams fixed = p;
-    fixed.name = "numbered";
+    PointModel pts(s1, nullptr, named("points"));
+    SphereModel sph(s1, 0.01, std::vector<double>{}, named("spheres"));
+    PointModel far(s2, nullptr, named("far"));
+    CollisionModelParams fixed = named("numbered");
     fixed.node = 7;  // set by the caller (the scene builder numbers its nodes): kept
     PointModel numbered(s2, nullptr, fixed);
     ContactPipeline pipeline(sim);
@@ -56,8 +57,9 @@ TEST(ContactPipelineState, ModelsWithoutNodeIdGetTheirNodesIdentity) {
     EXPECT_TRUE(same_node(pts, sph));    // same node: no pair without self-collision
     EXPECT_FALSE(same_node(pts, far));
     // a second pipeline of the same simulation gives the same identity
-    ContactPipeline second(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr,
-                           ContactPipelineOptions{.attach_hook = false});
+    ContactPipelineOptions no_hook;
+    no_hook.attach_hook = false;  // the first pipeline holds the simulation's hook
+    ContactPipeline second(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, no_hook);
     PointModel again(s1, nullptr, CollisionModelParams{});
     second.add_model(again, body);
     EXPECT_TRUE(same_node(again, pts));
@@ -71,11 +73,8 @@ TEST(ContactPipelineState, DetectionsAreTheDriversResult) {
     auto& sb = b.add_state<Vec3Types>("sb");
     sa.position = {Vec3(0, 0, 0)};
     sb.position = {Vec3(0.3, 0, 0)};  // 0.3 apart: within NewProximity's alarm distance 1
-    CollisionModelParams p;
-    p.name = "a";
-    SphereModel ma(sa, 0.1, std::vector<double>{}, p);
-    p.name = "b";
-    SphereModel mb(sb, 0.1, std::vector<double>{}, p);
+    SphereModel ma(sa, 0.1, std::vector<double>{}, named("a"));
+    SphereModel mb(sb, 0.1, std::vector<double>{}, named("b"));
     ContactPipeline pipeline(sim);
     pipeline.add_model(ma, a);
     pipeline.add_model(mb, b);

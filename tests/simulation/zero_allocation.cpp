@@ -152,10 +152,10 @@ INSTANTIATE_TEST_SUITE_P(Scenes, ZeroAllocation,
                          ::testing::Combine(::testing::Values("sphere_pairs.scn", "line_pairs.scn", "cylinders.scn",
                                                               "tetra_point.scn", "friction_incline.scn"),
                                             ::testing::Bool()),
-                         [](const auto& info) {
-                             std::string name = std::get<0>(info.param);
+                         [](const auto& test_info) {
+                             std::string name = std::get<0>(test_info.param);
                              name = name.substr(0, name.find('.'));
-                             return name + (std::get<1>(info.param) ? "_bvh" : "_exhaustive");
+                             return name + (std::get<1>(test_info.param) ? "_bvh" : "_exhaustive");
                          });
 
 }  // namespace
