@@ -2,6 +2,8 @@
 // that dominate penalty scenes: point–triangle, sphere–triangle, line–line, sphere–sphere
 // (NewProximity and MinProximity), plus the exact geometric kernels for reference.
 // Random configurations in a unit box so that roughly half the tests report a contact.
+// Each test goes through intersect_elements, the call CollisionPipeline's narrow phase makes for
+// every candidate element pair in `penalty run` (whole-scene detection: bench_detection.cpp).
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/models.hpp"
 #include "penalty/geometry/point_triangle.hpp"

@@ -240,7 +240,7 @@ py::dict info_dict(const Scene& scene) {
     for (const auto& p : scene.pipelines()) {
         py::dict d;
         d["name"] = p.name;
-        d["intersection"] = p.intersection;
+        d["intersection"] = intersection_method_short_name(p.intersection);
         py::list models;
         for (const auto* m : p.models) models.append(m->component != nullptr ? m->component->describe() : std::string());
         d["models"] = models;

@@ -107,73 +107,51 @@ bool kernel_writes_models(const IntersectionParams& p, const CollisionModel& m1,
 
 }  // namespace
 
-bool has_active_intersector(const IntersectionParams& params, ModelType a, ModelType b) {
-    const PairSupport s = pair_support(params, a, b);
-    return s == PairSupport::Supported || (s == PairSupport::BeyondSofa && params.enable_beyond_sofa_pairs);
-}
+struct NarrowPhaseScratch::Buffers {
+    tbb::enumerable_thread_specific<Keys> per_thread;  // traversal output of each thread
+    Keys keys;                                         // the sorted candidates
+    Keys sorted;                                       // counting sort: its output
+    std::vector<std::size_t> start, pos;               // counting sort: bucket starts, cursors
+    std::vector<DetectionOutputList> parts;            // parallel evaluation: one list per chunk
+};
 
-double box_margin(const IntersectionParams& params, const CollisionModel& m1, const CollisionModel& m2) {
-    return params.method == IntersectionMethod::Discrete
-               ? params.alarm_distance
-               : params.alarm_distance + m1.params().contact_distance + m2.params().contact_distance;
-}
+NarrowPhaseScratch::NarrowPhaseScratch() : buffers_(std::make_unique<Buffers>()) {}
+NarrowPhaseScratch::~NarrowPhaseScratch() = default;
+NarrowPhaseScratch::NarrowPhaseScratch(NarrowPhaseScratch&&) noexcept = default;
+NarrowPhaseScratch& NarrowPhaseScratch::operator=(NarrowPhaseScratch&&) noexcept = default;
 
-std::vector<ModelPair> brute_force_broad_phase(const IntersectionParams& params,
-                                               const std::vector<CollisionModel*>& models,
-                                               const std::vector<Aabb>* roots) {
-    if (roots != nullptr && roots->size() != models.size()) {
-        throw_invalid_argument("brute_force_broad_phase(): ", roots->size(), " root boxes for ", models.size(),
-                               " models");
-    }
-    std::vector<ModelPair> pairs;
-    std::vector<std::size_t> added;
-    for (std::size_t i = 0; i < models.size(); ++i) {
-        CollisionModel* m = models[i];
-        if (m == nullptr) throw_invalid_argument("brute_force_broad_phase(): model ", i, " is null");
-        if (!m->params().active || m->size() == 0) continue;
-        if (keep_model_pair(*m, *m) && has_active_intersector(params, m->type(), m->type())) pairs.push_back({m, m});
-        for (const std::size_t j : added) {
-            CollisionModel* prev = models[j];
-            if (!keep_model_pair(*m, *prev) || !has_active_intersector(params, m->type(), prev->type())) continue;
-            const bool keep = is_registered_order(m->type(), prev->type());
-            CollisionModel* m1 = keep ? m : prev;
-            CollisionModel* m2 = keep ? prev : m;
-            if (roots != nullptr && !(*roots)[i].overlaps((*roots)[j], box_margin(params, *m1, *m2))) continue;
-            pairs.push_back({m1, m2});
-        }
-        added.push_back(i);
-    }
-    return pairs;
-}
+namespace {
 
-std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin,
-                                          bool parallel) {
-    if (t1.empty() || t2.empty()) return {};
-    tbb::enumerable_thread_specific<Keys> buffers;
-    const Traversal tr{t1, t2, same_model, margin, parallel, buffers};
-    if (same_model) tr.inside(0, &buffers.local());
-    else tr.pair(0, 0, &buffers.local());
+// The candidates of bvh_candidates, left sorted in b.keys (every buffer of `b` reused).
+void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin, bool parallel,
+                        NarrowPhaseScratch::Buffers& b) {
+    Keys& keys = b.keys;
+    keys.clear();
+    if (t1.empty() || t2.empty()) return;
+    for (Keys& k : b.per_thread) k.clear();
+    const Traversal tr{t1, t2, same_model, margin, parallel, b.per_thread};
+    if (same_model) tr.inside(0, &b.per_thread.local());
+    else tr.pair(0, 0, &b.per_thread.local());
     std::size_t total = 0;
-    for (const Keys& k : buffers) total += k.size();
-    Keys keys;
+    for (const Keys& k : b.per_thread) total += k.size();
     keys.reserve(total);
-    for (const Keys& k : buffers) keys.insert(keys.end(), k.begin(), k.end());
+    for (const Keys& k : b.per_thread) keys.insert(keys.end(), k.begin(), k.end());
     // keys are unique, so the sorted sequence does not depend on how the buffers were filled
     const std::size_t n1 = t1.element_boxes().size();
     if (keys.size() < n1 / 4 || keys.size() < 4096) {
         if (parallel) tbb::parallel_sort(keys.begin(), keys.end());
         else std::sort(keys.begin(), keys.end());
-        return keys;
+        return;
     }
     // many candidates: counting sort on elem1, then each (short) elem1 bucket sorted by elem2
-    std::vector<std::size_t> start(n1 + 1, 0);
+    std::vector<std::size_t>& start = b.start;
+    start.assign(n1 + 1, 0);
     for (const std::uint64_t k : keys) ++start[std::size_t(k >> 32) + 1];
     for (std::size_t i = 0; i < n1; ++i) start[i + 1] += start[i];
-    Keys sorted(keys.size());
-    {
-        std::vector<std::size_t> pos(start.begin(), start.end() - 1);
-        for (const std::uint64_t k : keys) sorted[pos[std::size_t(k >> 32)]++] = k;
-    }
+    Keys& sorted = b.sorted;
+    sorted.resize(keys.size());
+    b.pos.assign(start.begin(), start.end() - 1);
+    for (const std::uint64_t k : keys) sorted[b.pos[std::size_t(k >> 32)]++] = k;
     auto sort_buckets = [&](std::size_t lo, std::size_t hi) {
         for (std::size_t e = lo; e < hi; ++e)
             if (start[e + 1] - start[e] > 1)
@@ -185,47 +163,82 @@ std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool sam
     } else {
         sort_buckets(0, n1);
     }
-    return sorted;
+    std::swap(keys, sorted);
 }
 
-DetectionOutputList bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1,
-                                     CollisionModel& m2, const Bvh& t2, const NarrowPhaseOptions& opt) {
+}  // namespace
+
+void broad_phase(const IntersectionParams& params, std::span<CollisionModel* const> models,
+                 std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported) {
+    pairs.clear();
+    if (unsupported != nullptr) unsupported->clear();
+    for (std::size_t i = 0; i < models.size(); ++i)
+        if (models[i] == nullptr) throw_invalid_argument("broad_phase(): model ", i, " is null");
+    for (std::size_t i = 0; i < models.size(); ++i) {
+        for (std::size_t j = i; j < models.size(); ++j) {
+            CollisionModel* a = models[i];
+            CollisionModel* b = models[j];
+            if (!keep_model_pair(*a, *b)) continue;
+            if (!has_active_intersector(params, a->type(), b->type())) {
+                if (unsupported != nullptr) unsupported->push_back({a, b});
+                continue;
+            }
+            const bool keep_order = is_registered_order(a->type(), b->type());
+            pairs.push_back(keep_order ? ModelPair{a, b} : ModelPair{b, a});
+        }
+    }
+}
+
+std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin,
+                                          bool parallel) {
+    NarrowPhaseScratch scratch;
+    collect_candidates(t1, t2, same_model, margin, parallel, scratch.buffers());
+    return std::move(scratch.buffers().keys);
+}
+
+void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
+                      const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
+                      DetectionOutputList& out) {
     const bool same_model = &m1 == &m2;
     if (t1.element_boxes().size() != m1.size() || t2.element_boxes().size() != m2.size()) {
         throw_invalid_argument("bvh_narrow_phase(): the trees of '", m1.name(), "' and '", m2.name(),
                                "' are out of date (model sizes changed)");
     }
-    const Keys keys = bvh_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel);
+    NarrowPhaseScratch::Buffers& b = scratch.buffers();
+    collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel, b);
+    const Keys& keys = b.keys;
     const bool node = same_node(m1, m2);
-    auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& out) {
+    auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
         for (std::size_t k = begin; k < end; ++k) {
             const auto e1 = Index(keys[k] >> 32);
             const auto e2 = Index(keys[k] & 0xffffffffu);
             if (node && !elements_may_collide(m1, e1, m2, e2)) continue;
-            intersect_elements(params, m1, e1, m2, e2, out);
+            intersect_elements(params, m1, e1, m2, e2, to);
         }
     };
-    DetectionOutputList outputs;
     if (!opt.parallel || kernel_writes_models(params, m1, m2) || keys.size() <= opt.chunk_size) {
-        run(0, keys.size(), outputs);
-        return outputs;
+        run(0, keys.size(), out);
+        return;
     }
     const std::size_t chunk = std::max<std::size_t>(1, opt.chunk_size);
     const std::size_t nchunks = (keys.size() + chunk - 1) / chunk;
-    std::vector<DetectionOutputList> parts(nchunks);
+    std::vector<DetectionOutputList>& parts = b.parts;
+    if (parts.size() < nchunks) parts.resize(nchunks);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, nchunks, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t c = r.begin(); c != r.end(); ++c)
+        for (std::size_t c = r.begin(); c != r.end(); ++c) {
+            parts[c].clear();
             run(c * chunk, std::min(keys.size(), (c + 1) * chunk), parts[c]);
+        }
     });
-    std::size_t total = 0;
-    for (const auto& p : parts) total += p.size();
-    outputs.reserve(total);
-    for (auto& p : parts) outputs.insert(outputs.end(), p.begin(), p.end());
-    return outputs;
+    std::size_t total = out.size();
+    for (std::size_t c = 0; c < nchunks; ++c) total += parts[c].size();
+    out.reserve(total);
+    for (std::size_t c = 0; c < nchunks; ++c) out.insert(out.end(), parts[c].begin(), parts[c].end());
 }
 
-CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt)
-    : params_(std::move(params)), opt_(opt) {
+CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
+                                     ContactDetection detection)
+    : params_(std::move(params)), opt_(opt), detection_(detection) {
     params_.validate();
     if (opt_.depth < 0) opt_.depth = 6;  // SOFA resets a negative depth to 6
     if (opt_.leaf_size == 0) throw_invalid_argument("CollisionPipeline: leaf_size must be >= 1");
@@ -239,8 +252,19 @@ void CollisionPipeline::set_models(std::vector<CollisionModel*> models) {
     trees_.assign(models_.size(), Bvh{});
 }
 
-SceneDetection CollisionPipeline::detect() {
-    std::vector<Aabb> roots(models_.size());
+void CollisionPipeline::add_model(CollisionModel& model) {
+    models_.push_back(&model);
+    trees_.emplace_back();
+}
+
+std::size_t CollisionPipeline::model_index(const CollisionModel& m) const {
+    for (std::size_t i = 0; i < models_.size(); ++i)
+        if (models_[i] == &m) return i;
+    throw_invalid_argument("CollisionPipeline: model '", m.name(), "' is not registered");
+}
+
+void CollisionPipeline::refit() {
+    if (detection_ != ContactDetection::bvh) return;
     for (std::size_t i = 0; i < models_.size(); ++i) {
         CollisionModel& m = *models_[i];
         if (!m.params().active) continue;
@@ -252,31 +276,39 @@ SceneDetection CollisionPipeline::detect() {
             m.validate();  // static: checked and built once (SOFA: bounding tree computed once)
             tree.build(m, opt_.leaf_size);
         }
-        if (!tree.empty()) roots[i] = tree.root_box();
     }
-    auto tree_of = [&](const CollisionModel* m) -> const Bvh& {
-        for (std::size_t i = 0; i < models_.size(); ++i)
-            if (models_[i] == m) return trees_[i];
-        throw_invalid_argument("CollisionPipeline: unknown model");
-    };
-    SceneDetection result;
-    for (const ModelPair& p : brute_force_broad_phase(params_, models_, &roots)) {
-        p.model1->update();
-        if (p.model2 != p.model1) p.model2->update();
-        DetectionOutputList out = bvh_narrow_phase(params_, *p.model1, tree_of(p.model1), *p.model2,
-                                                   tree_of(p.model2), opt_.narrow);
-        if (!out.empty()) result.push_back({p.model1, p.model2, std::move(out)});
-    }
-    return result;
 }
 
-SceneDetection detect_scene_exhaustive(const IntersectionParams& params, const std::vector<CollisionModel*>& models) {
-    SceneDetection result;
-    for (const ModelPair& p : brute_force_broad_phase(params, models)) {
-        ModelPairDetection d = detect_model_pair(params, *p.model1, *p.model2);
-        if (!d.outputs.empty()) result.push_back({d.model1, d.model2, std::move(d.outputs)});
+void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
+    out.clear();
+    if (detection_ == ContactDetection::exhaustive) {
+        exhaustive_narrow_phase(params_, m1, m2, out, boxes_);
+        return;
     }
-    return result;
+    // the same element pairs as the exhaustive loop (bvh_narrow_phase's guarantee); update()
+    // first, unconditionally, as exhaustive_narrow_phase does
+    m1.update();
+    if (&m2 != &m1) m2.update();
+    const Bvh& t1 = trees_[model_index(m1)];
+    const Bvh& t2 = trees_[model_index(m2)];
+    if (t1.empty() || t2.empty()) return;
+    if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), box_margin(params_, m1, m2))) return;
+    bvh_narrow_phase(params_, m1, t1, m2, t2, opt_.narrow, scratch_, out);
+}
+
+const SceneDetection& CollisionPipeline::detect() {
+    refit();
+    broad_phase(params_, models_, pairs_, &unsupported_);
+    result_.resize(pairs_.size());  // the remaining entries keep their output capacity
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+        ModelPairDetection& d = result_[k];
+        d.model1 = pairs_[k].model1;
+        d.model2 = pairs_[k].model2;
+        d.support = pair_support(params_, d.model1->type(), d.model2->type());
+        d.skipped = false;
+        detect_pair(*d.model1, *d.model2, d.outputs);
+    }
+    return result_;
 }
 
 }  // namespace penalty

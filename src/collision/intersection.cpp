@@ -18,6 +18,16 @@ const char* intersection_method_name(IntersectionMethod m) {
     return "?";
 }
 
+const char* intersection_method_short_name(IntersectionMethod m) {
+    switch (m) {
+        case IntersectionMethod::Discrete: return "Discrete";
+        case IntersectionMethod::NewProximity: return "NewProximity";
+        case IntersectionMethod::MinProximity: return "MinProximity";
+        case IntersectionMethod::LocalMinDistance: return "LocalMinDistance";
+    }
+    return "?";
+}
+
 const char* pair_support_name(PairSupport s) {
     switch (s) {
         case PairSupport::Supported: return "supported";
@@ -357,6 +367,42 @@ int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Ind
     return e.fn(ctx);
 }
 
+bool has_active_intersector(const IntersectionParams& params, ModelType a, ModelType b) {
+    return active(params, entry(params.method, a, b));
+}
+
+double box_margin(const IntersectionParams& params, const CollisionModel& m1, const CollisionModel& m2) {
+    return params.method == IntersectionMethod::Discrete
+               ? params.alarm_distance
+               : params.alarm_distance + m1.params().contact_distance + m2.params().contact_distance;
+}
+
+void exhaustive_narrow_phase(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
+                             DetectionOutputList& out, std::vector<Aabb>& box_scratch) {
+    m1.validate();
+    if (&m2 != &m1) m2.validate();
+    const Entry& e = entry(params.method, m1.type(), m2.type());
+    PENALTY_DEMAND(is_registered_order(m1.type(), m2.type()) && active(params, e));
+    m1.update();
+    if (&m2 != &m1) m2.update();
+    // SOFA's cube test margin (§3.8): conservative, never changes the set of outputs
+    const double margin = box_margin(params, m1, m2);
+    const bool same_model = &m1 == &m2;
+    const bool node = same_node(m1, m2);
+    box_scratch.resize(m2.size());
+    for (std::size_t j = 0; j < m2.size(); ++j) box_scratch[j] = m2.element_box(Index(j));
+    for (std::size_t i = 0; i < m1.size(); ++i) {
+        const Aabb box1 = m1.element_box(Index(i));
+        const std::size_t end = same_model ? i : m2.size();
+        for (std::size_t j = 0; j < end; ++j) {
+            if (!box1.overlaps(box_scratch[j], margin)) continue;
+            if (node && !elements_may_collide(m1, Index(i), m2, Index(j))) continue;
+            detail::PairCtx ctx{params, m1, m2, Index(i), Index(j), out};
+            e.fn(ctx);
+        }
+    }
+}
+
 ModelPairDetection detect_model_pair(const IntersectionParams& params, CollisionModel& a, CollisionModel& b) {
     params.validate();
     a.validate();
@@ -365,36 +411,14 @@ ModelPairDetection detect_model_pair(const IntersectionParams& params, Collision
     const bool keep_order = is_registered_order(a.type(), b.type());
     res.model1 = keep_order ? &a : &b;
     res.model2 = keep_order ? &b : &a;
-    CollisionModel& m1 = *res.model1;
-    CollisionModel& m2 = *res.model2;
-    res.support = pair_support(params, m1.type(), m2.type());
-    if (!keep_model_pair(m1, m2)) {
+    res.support = pair_support(params, res.model1->type(), res.model2->type());
+    if (!keep_model_pair(*res.model1, *res.model2)) {
         res.skipped = true;
         return res;
     }
-    const Entry& e = entry(params.method, m1.type(), m2.type());
-    if (!active(params, e)) return res;
-
-    m1.update();
-    if (&m2 != &m1) m2.update();
-    // SOFA's cube test margin (§3.8): conservative, never changes the set of outputs
-    const double margin = params.method == IntersectionMethod::Discrete
-                              ? params.alarm_distance
-                              : params.alarm_distance + m1.params().contact_distance + m2.params().contact_distance;
-    const bool same_model = &m1 == &m2;
-    const bool node = same_node(m1, m2);
-    std::vector<Aabb> boxes2(m2.size());
-    for (std::size_t j = 0; j < m2.size(); ++j) boxes2[j] = m2.element_box(Index(j));
-    for (std::size_t i = 0; i < m1.size(); ++i) {
-        const Aabb box1 = m1.element_box(Index(i));
-        const std::size_t end = same_model ? i : m2.size();
-        for (std::size_t j = 0; j < end; ++j) {
-            if (!box1.overlaps(boxes2[j], margin)) continue;
-            if (node && !elements_may_collide(m1, Index(i), m2, Index(j))) continue;
-            detail::PairCtx ctx{params, m1, m2, Index(i), Index(j), res.outputs};
-            e.fn(ctx);
-        }
-    }
+    if (!has_active_intersector(params, res.model1->type(), res.model2->type())) return res;
+    std::vector<Aabb> boxes;
+    exhaustive_narrow_phase(params, *res.model1, *res.model2, res.outputs, boxes);
     return res;
 }
 

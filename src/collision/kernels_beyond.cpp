@@ -16,7 +16,8 @@
 #include "penalty/geometry/point_tetrahedron.hpp"
 #include "penalty/geometry/segment_segment.hpp"
 
-#include <vector>
+#include <array>
+#include <span>
 
 namespace penalty::detail {
 
@@ -36,7 +37,7 @@ struct ConvexContact {
     bool ok;
 };
 
-ConvexContact convex_contact(const ConvexShape& a, const ConvexShape& b, const std::vector<Vec3>& candidates) {
+ConvexContact convex_contact(const ConvexShape& a, const ConvexShape& b, std::span<const Vec3> candidates) {
     const ConvexDistanceResult g = convex_distance(a, b);
     const Vec3 d = g.point_b - g.point_a;
     const double len = d.norm();
@@ -64,17 +65,15 @@ int cylinder_cylinder(PairCtx& c) {
     const auto& m2 = static_cast<const CylinderModel&>(c.m2);
     const CylinderShape a = m1.shape(c.e1);
     const CylinderShape b = m2.shape(c.e2);
-    // candidate separating directions for the overlapping case
-    std::vector<Vec3> cand = {a.axis, b.axis, a.axis.cross(b.axis), b.center - a.center};
+    // candidate separating directions for the overlapping case (fixed size: no allocation)
     const SegmentSegmentResult ss = segment_segment_closest_points(
         a.center - a.half_height * a.axis, a.center + a.half_height * a.axis,
         b.center - b.half_height * b.axis, b.center + b.half_height * b.axis);
     const Vec3 w = ss.q - ss.p;
-    cand.push_back(w - w.dot(a.axis) * a.axis);
-    cand.push_back(w - w.dot(b.axis) * b.axis);
-    // radial fallbacks (coincident or concentric axes give zero vectors above)
-    cand.push_back(m1.radial_direction(c.e1));
-    cand.push_back(m2.radial_direction(c.e2));
+    const std::array<Vec3, 8> cand = {a.axis, b.axis, a.axis.cross(b.axis), b.center - a.center,
+                                      w - w.dot(a.axis) * a.axis, w - w.dot(b.axis) * b.axis,
+                                      // radial fallbacks (coincident or concentric axes give zero vectors above)
+                                      m1.radial_direction(c.e1), m2.radial_direction(c.e2)};
     const ConvexContact k = convex_contact(ConvexShape::make_cylinder(a), ConvexShape::make_cylinder(b), cand);
     const double sk = skins(c);
     if (!(k.d < c.p.alarm_distance + sk)) return 0;
@@ -86,13 +85,19 @@ int cylinder_triangle(PairCtx& c) {
     const auto& t = static_cast<const TriangleModel&>(c.m2);
     const CylinderShape a = m1.shape(c.e1);
     const Vec3 &p0 = t.p(c.e2, 0), &p1 = t.p(c.e2, 1), &p2 = t.p(c.e2, 2);
-    std::vector<Vec3> cand = {(p1 - p0).cross(p2 - p0), a.axis, (p0 + p1 + p2) / 3.0 - a.center};
+    // candidate separating directions (fixed size: no allocation): the face normal, the axis, the
+    // centre offset, per edge e (e × axis) and its radial direction ⟂ axis, a radial fallback
+    std::array<Vec3, 10> cand;
+    cand[0] = (p1 - p0).cross(p2 - p0);
+    cand[1] = a.axis;
+    cand[2] = (p0 + p1 + p2) / 3.0 - a.center;
+    std::size_t k_cand = 3;
     for (const Vec3& e : {Vec3(p1 - p0), Vec3(p2 - p1), Vec3(p0 - p2)}) {
         const Vec3 x = e.cross(a.axis);
-        cand.push_back(x);
-        cand.push_back(x.cross(a.axis));  // radial direction ⟂ axis in the edge's plane
+        cand[k_cand++] = x;
+        cand[k_cand++] = x.cross(a.axis);
     }
-    cand.push_back(m1.radial_direction(c.e1));
+    cand[k_cand] = m1.radial_direction(c.e1);
     const ConvexContact k = convex_contact(ConvexShape::make_cylinder(a), ConvexShape::triangle(p0, p1, p2), cand);
     const double sk = skins(c);
     if (!(k.d < c.p.alarm_distance + sk)) return 0;

@@ -58,7 +58,7 @@ BarycentricPenaltyContact::BarycentricPenaltyContact(const CollisionModel& model
 }
 
 void BarycentricPenaltyContact::set_detection_outputs(std::span<const DetectionOutput> outputs) {
-    const std::vector<KeptOutput> kept = tracker_.update(outputs);
+    const std::span<const KeptOutput> kept = tracker_.update(outputs);
     field_.clear(kept.size());
     mapper1_->resize(kept.size());
     mapper2_->resize(kept.size());

@@ -137,23 +137,20 @@ std::unique_ptr<BarycentricPenaltyContact> CollisionResponse::create_contact(
 }
 
 void CollisionResponse::set_detections(std::span<const ModelPairDetection> detections, double intersection_cd) {
-    // The scratch vectors are members: with the same pairs as the previous step nothing is
-    // allocated.
+    // buffers kept from step to step: with the same live pairs, a step allocates nothing here
     seen_.assign(pairs_.size(), 0);
     created_.clear();
     feed_.clear();
-    const auto same_pair = [](const ModelPairDetection& d) {
-        return [&d](const ContactPairEntry& e) { return e.model1 == d.model1 && e.model2 == d.model2; };
-    };
     for (const ModelPairDetection& d : detections) {
         if (d.skipped || d.outputs.empty() || !d.model1 || !d.model2) continue;
-        auto it = std::find_if(pairs_.begin(), pairs_.end(), same_pair(d));
+        const auto same_pair = [&d](const ContactPairEntry& e) { return e.model1 == d.model1 && e.model2 == d.model2; };
+        auto it = std::find_if(pairs_.begin(), pairs_.end(), same_pair);
         if (it != pairs_.end()) {
             seen_[std::size_t(it - pairs_.begin())] = 1;
             if (it->contact) feed_.emplace_back(it->contact.get(), &d);
             continue;
         }
-        auto ct = std::find_if(created_.begin(), created_.end(), same_pair(d));
+        auto ct = std::find_if(created_.begin(), created_.end(), same_pair);
         if (ct != created_.end()) {
             if (ct->contact) feed_.emplace_back(ct->contact.get(), &d);
             continue;
@@ -166,22 +163,21 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         if (e.contact) feed_.emplace_back(e.contact.get(), &d);
         created_.push_back(std::move(e));
     }
-    // pairs without outputs this step: destroyed (SOFA's cleanup)
-    kept_.clear();
-    kept_.reserve(pairs_.size() + created_.size());
+    // pairs without outputs this step: destroyed (SOFA's cleanup), the others keep their order
+    std::size_t live = 0;
     for (std::size_t i = 0; i < pairs_.size(); ++i) {
         if (seen_[i]) {
-            kept_.push_back(std::move(pairs_[i]));
+            if (live != i) pairs_[live] = std::move(pairs_[i]);
+            ++live;
         } else if (pairs_[i].contact && on_destroy) {
             on_destroy(*pairs_[i].contact);
         }
     }
+    pairs_.erase(pairs_.begin() + std::ptrdiff_t(live), pairs_.end());
     for (auto& e : created_) {
         if (e.contact && on_create) on_create(*e.contact);
-        kept_.push_back(std::move(e));
+        pairs_.push_back(std::move(e));
     }
-    pairs_.swap(kept_);
-    kept_.clear();  // the moved-from entries, and the destroyed pairs' contacts
     created_.clear();
     for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
 }

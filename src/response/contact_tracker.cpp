@@ -1,55 +1,57 @@
 #include "penalty/response/contact_tracker.hpp"
 
+#include <algorithm>
+
 namespace penalty {
 
-std::vector<KeptOutput> ContactTracker::update(std::span<const DetectionOutput> outputs) {
-    // Slots in the map: > 0 = 1-based position in the previous list; < 0 = −1 − i for output i
-    // currently holding the id in this step. old_[i]: ≥ 0 kept (0 = new, > 0 = previous position),
-    // −1 ignored (a duplicate with a value not strictly smaller).
+namespace {
+bool id_less(const ContactTracker::IdPosition& a, std::int64_t id) { return a.id < id; }
+}  // namespace
+
+std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutput> outputs) {
+    // Outputs grouped by id (sorted by (id, output index), so each group is in output order).
+    // Per group the winner is the first output with the minimal value: a later output replaces
+    // the current winner only if the winner's value is not <= its value (strict `<`, and a NaN
+    // winner is replaced, as SOFA's comparison). The winner inherits the id's previous position.
     const std::size_t n = outputs.size();
-    old_.assign(n, 0);
-    for (std::size_t i = 0; i < n; ++i) {
-        std::int64_t& slot = contact_index_[outputs[i].id];  // inserted as 0 (new) when absent
-        const auto current = -1 - static_cast<std::int64_t>(i);
-        if (slot < 0) {
-            const auto j = static_cast<std::size_t>(-1 - slot);
-            if (outputs[j].value <= outputs[i].value) {
-                old_[i] = -1;  // the earlier output keeps the id
-                continue;
-            }
-            old_[i] = old_[j];  // output i replaces j and inherits its previous position
-            old_[j] = -1;
-            slot = current;
-        } else {
-            old_[i] = slot;
-            slot = current;
-        }
+    by_id_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) by_id_[i] = i;
+    std::sort(by_id_.begin(), by_id_.end(), [&](std::size_t a, std::size_t b) {
+        return outputs[a].id != outputs[b].id ? outputs[a].id < outputs[b].id : a < b;
+    });
+    // old_[i]: ≥ 0 kept (0 = new, > 0 = previous 1-based position), −1 not kept
+    old_.assign(n, -1);
+    for (std::size_t g = 0; g < n;) {
+        const std::int64_t id = outputs[by_id_[g]].id;
+        std::size_t winner = by_id_[g];
+        std::size_t end = g + 1;
+        for (; end < n && outputs[by_id_[end]].id == id; ++end)
+            if (!(outputs[winner].value <= outputs[by_id_[end]].value)) winner = by_id_[end];
+        const auto it = std::lower_bound(previous_.begin(), previous_.end(), id, id_less);
+        old_[winner] = (it != previous_.end() && it->id == id) ? it->position : 0;
+        g = end;
     }
 
     // kept outputs get positions 1, 2, … in output order
-    std::vector<KeptOutput> kept;
-    std::vector<std::int64_t> new_position(n, 0);
+    kept_.clear();
+    new_position_.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         if (old_[i] < 0) continue;
-        kept.push_back({i, static_cast<Index>(old_[i])});
-        new_position[i] = static_cast<std::int64_t>(kept.size());
+        kept_.push_back({i, static_cast<Index>(old_[i])});
+        new_position_[i] = static_cast<std::int64_t>(kept_.size());
     }
 
-    // ids not seen this step are forgotten; the others point at their new position
-    for (auto it = contact_index_.begin(); it != contact_index_.end();) {
-        if (it->second >= 0) {
-            it = contact_index_.erase(it);
-        } else {
-            it->second = new_position[static_cast<std::size_t>(-1 - it->second)];
-            ++it;
-        }
-    }
-    return kept;
+    // the id → position map of this step (ids not kept are forgotten), sorted by id
+    next_.clear();
+    for (const std::size_t i : by_id_)
+        if (old_[i] >= 0) next_.push_back({outputs[i].id, new_position_[i]});
+    std::swap(previous_, next_);
+    return kept_;
 }
 
 Index ContactTracker::position_of(std::int64_t id) const {
-    const auto it = contact_index_.find(id);
-    return it == contact_index_.end() ? 0 : static_cast<Index>(it->second);
+    const auto it = std::lower_bound(previous_.begin(), previous_.end(), id, id_less);
+    return (it != previous_.end() && it->id == id) ? static_cast<Index>(it->position) : 0;
 }
 
 }  // namespace penalty

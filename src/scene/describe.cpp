@@ -95,8 +95,9 @@ std::string exclusion_reason(const CollisionModel& a, const CollisionModel& b) {
 void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
     const ContactPipeline& pipeline = *sp.pipeline;
     const IntersectionParams& params = pipeline.intersection();
-    out << "contact pairs of collision pipeline '" << sp.name << "' (" << sp.intersection;
-    if (sp.intersection != "Discrete")
+    const std::string method = intersection_method_short_name(sp.intersection);
+    out << "contact pairs of collision pipeline '" << sp.name << "' (" << method;
+    if (sp.intersection != IntersectionMethod::Discrete)
         out << ", alarm " << num(params.alarm_distance) << " m, contact " << num(params.contact_distance) << " m";
     const std::string base = pipeline.response().base_response_name();
     out << ", response " << (base.empty() ? std::string("none") : base) << "):\n";
@@ -112,7 +113,7 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
             }
             ++kept;
             if (!is_registered_order(a->model->type(), b->model->type())) std::swap(a, b);
-            std::string what = support_text(pair_support(params, a->model->type(), b->model->type()), params, sp.intersection);
+            std::string what = support_text(pair_support(params, a->model->type(), b->model->type()), params, method);
             if (what.empty()) {
                 const std::string name = pipeline.response().response_name(*a->model, *b->model);
                 const std::string key = name.substr(0, name.find('?'));

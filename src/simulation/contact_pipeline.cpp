@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <mutex>
-#include <unordered_map>
 #include <string>
 
 namespace penalty {
@@ -75,40 +73,33 @@ std::pair<const void*, bool> model_state(const CollisionModel& m) {
     throw_invalid_argument("ContactPipeline::add_model: model '", m.name(), "' has an unknown model class");
 }
 
-/// Ids given to nodes for the same-node rule, far from ids users typically choose.
-constexpr int kNodeIdBase = 1 << 24;
-
-/// The id of a node for the same-node rule, shared by every pipeline of the process (a model
-/// registered in two pipelines keeps one id, and two nodes never get the same id).
-int node_id(const Node& node) {
-    static std::mutex mutex;
-    static std::unordered_map<const Node*, int> ids;
-    const std::lock_guard<std::mutex> lock(mutex);
-    const auto [it, inserted] = ids.try_emplace(&node, kNodeIdBase + static_cast<int>(ids.size()));
-    return it->second;
-}
 }  // namespace
 
-/// Runs `f` on at most `threads` TBB threads (0: TBB's default arena).
+struct ContactPipeline::ThreadArena {
+    explicit ThreadArena(int threads) : arena(threads) {}
+    tbb::task_arena arena;
+};
+
 template <class F>
-void run_with_threads(int threads, const F& f) {
-    if (threads <= 0) {
+void ContactPipeline::run_detection(const F& f) {
+    if (arena_ == nullptr) {
         f();
         return;
     }
-    tbb::task_arena arena(threads);
-    arena.execute(f);
+    arena_->arena.execute(f);
 }
 
 ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParams& intersection,
                                  CollisionResponse response, Node* node, const ContactPipelineOptions& options)
     : simulation_(&simulation), intersection_(intersection), response_(std::move(response)),
-      node_(node ? node : &simulation.root()), options_(options) {
-    intersection_.validate();
+      node_(node ? node : &simulation.root()), options_(options),
+      collision_(intersection, options.bvh, options.detection) {
     if (options_.threads < 0 || options_.threads > kMaxDetectionThreads)
         throw_invalid_argument("ContactPipeline: options.threads must be between 0 and ", kMaxDetectionThreads, ", got ",
                                options_.threads);
-    if (options_.bvh.leaf_size == 0) throw_invalid_argument("ContactPipeline: options.bvh.leaf_size must be >= 1");
+    // options.bvh.leaf_size = 0 and bad intersection parameters: thrown by collision_
+    if (options_.detection == ContactDetection::bvh && options_.threads > 0)
+        arena_ = std::make_unique<ThreadArena>(options_.threads);  // once: TBB makes its threads lazily
     if (options_.attach_hook && simulation.collision_hook)
         throw_invalid_argument("ContactPipeline: the simulation already has a collision_hook");
     response_.on_create = [this](BarycentricPenaltyContact& c) { on_create(c); };
@@ -140,11 +131,9 @@ void ContactPipeline::add_model(CollisionModel& model, Node& node) {
             throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' (", model_type_name(model.type()),
                                    ") reads a Vec3 state that is not the state of node '", node.name(), "'");
     }
-    if (model.params().node == -1) {
-        model.params().node = node_id(node);
-    }
+    if (model.params().node == -1) model.params().node = kAutoNodeIdBase + node.id();
     models_.push_back(e);
-    trees_.emplace_back();
+    collision_.add_model(model);
 }
 
 std::size_t ContactPipeline::model_index(const CollisionModel& m) const {
@@ -159,75 +148,24 @@ const ContactPipeline::ModelEntry& ContactPipeline::model_entry(const CollisionM
     throw_invalid_argument("ContactPipeline: model '", m.name(), "' is not registered");
 }
 
-void ContactPipeline::refit_trees() {
-    // As CollisionPipeline::detect: moving models validated and refitted, static ones built once.
-    for (std::size_t i = 0; i < models_.size(); ++i) {
-        CollisionModel& m = *models_[i].model;
-        if (!m.params().active) continue;
-        Bvh& tree = trees_[i];
-        if (m.params().moving) {
-            m.validate();
-            tree.refit(m, options_.bvh.rebuild_ratio, options_.bvh.leaf_size);
-        } else if (tree.build_count() == 0 || tree.element_boxes().size() != m.size()) {
-            m.validate();
-            tree.build(m, options_.bvh.leaf_size);
-        }
-    }
-}
-
-DetectionOutputList ContactPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2) {
-    if (options_.detection == ContactDetection::exhaustive) return detect_model_pair(intersection_, m1, m2).outputs;
-    // Same element pairs as detect_model_pair's box-tested loop (bvh_narrow_phase's guarantee);
-    // update() first, unconditionally, as detect_model_pair does.
-    m1.update();
-    if (&m2 != &m1) m2.update();
-    const Bvh& t1 = trees_[model_index(m1)];
-    const Bvh& t2 = trees_[model_index(m2)];
-    if (t1.empty() || t2.empty()) return {};
-    if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), box_margin(intersection_, m1, m2))) return {};
-    return bvh_narrow_phase(intersection_, m1, t1, m2, t2, options_.bvh.narrow);
-}
-
-void ContactPipeline::detect_all() {
-    detections_.clear();
-    if (options_.detection == ContactDetection::bvh) refit_trees();
-    for (std::size_t i = 0; i < models_.size(); ++i) {
-        for (std::size_t j = i; j < models_.size(); ++j) {
-            CollisionModel& a = *models_[i].model;
-            CollisionModel& b = *models_[j].model;
-            if (!keep_model_pair(a, b)) continue;
-            const PairSupport s = pair_support(intersection_, a.type(), b.type());
-            if (s != PairSupport::Supported && !(s == PairSupport::BeyondSofa && intersection_.enable_beyond_sofa_pairs)) {
-                const std::pair<const CollisionModel*, const CollisionModel*> key{&a, &b};
-                if (std::find(skipped_keys_.begin(), skipped_keys_.end(), key) == skipped_keys_.end()) {
-                    skipped_keys_.push_back(key);
-                    skipped_pairs_.push_back(detail::concat(
-                        "ContactPipeline: models '", a.name(), "' (", model_type_name(a.type()), ") and '",
-                        b.name(), "' (", model_type_name(b.type()), "): pair ", pair_support_name(s),
-                        " for this intersection method, no contact"));
-                }
-                continue;
-            }
-            if (options_.detection == ContactDetection::exhaustive) {
-                detections_.push_back(detect_model_pair(intersection_, a, b));
-                continue;
-            }
-            // detect_model_pair's key: (a, b) if registered in that order, else (b, a)
-            ModelPairDetection d;
-            const bool keep_order = is_registered_order(a.type(), b.type());
-            d.model1 = keep_order ? &a : &b;
-            d.model2 = keep_order ? &b : &a;
-            d.support = s;
-            d.outputs = detect_pair(*d.model1, *d.model2);
-            detections_.push_back(std::move(d));
-        }
+void ContactPipeline::record_skipped_pairs() {
+    for (const ModelPair& p : collision_.unsupported_pairs()) {
+        if (std::find(skipped_keys_.begin(), skipped_keys_.end(), p) != skipped_keys_.end()) continue;
+        skipped_keys_.push_back(p);
+        const CollisionModel& a = *p.model1;
+        const CollisionModel& b = *p.model2;
+        skipped_pairs_.push_back(detail::concat(
+            "ContactPipeline: models '", a.name(), "' (", model_type_name(a.type()), ") and '", b.name(), "' (",
+            model_type_name(b.type()), "): pair ", pair_support_name(pair_support(intersection_, a.type(), b.type())),
+            " for this intersection method, no contact"));
     }
 }
 
 void ContactPipeline::update() {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
-    run_with_threads(options_.detection == ContactDetection::bvh ? options_.threads : 0, [&] { detect_all(); });
+    run_detection([&] { (void)collision_.detect(); });
+    record_skipped_pairs();
     const auto t1 = Clock::now();
     // Newton iterates rebuild from the state before this update (see the header).
     if (keep_step_start_) {
@@ -238,7 +176,7 @@ void ContactPipeline::update() {
             st.last_outputs.clear();
         }
     }
-    response_.set_detections(detections_, intersection_.contact_distance);
+    response_.set_detections(collision_.detections(), intersection_.contact_distance);
     if (keep_step_start_) record_fed_outputs();
     if (keep_step_start_) {
         for (ModelEntry& m : models_) {
@@ -265,7 +203,7 @@ void ContactPipeline::update() {
 void ContactPipeline::record_fed_outputs() {
     // The outputs each live pair was fed by the last update (set_detections feeds every pair
     // that has outputs).
-    for (const ModelPairDetection& d : detections_) {
+    for (const ModelPairDetection& d : collision_.detections()) {
         if (d.outputs.empty()) continue;
         for (std::size_t i = 0; i < entries_.size(); ++i) {
             if (&entries_[i].contact->model1() == d.model1 && &entries_[i].contact->model2() == d.model2) {
@@ -298,24 +236,23 @@ void ContactPipeline::update_geometry_if(const Node* subtree) {
     for (std::size_t i = 0; i < entries_.size(); ++i)
         if (in_subtree(entries_[i].host)) chosen.push_back(i);
     if (chosen.empty()) return;
-    const bool bvh = options_.detection == ContactDetection::bvh;
-    run_with_threads(bvh ? options_.threads : 0, [&] {
-        if (bvh) refit_trees();
+    run_detection([&] {
+        collision_.refit();
         for (const std::size_t i : chosen) {
             ContactGraphEntry& e = entries_[i];
             StepStart& st = step_start_[i];
             BarycentricPenaltyContact& contact = *e.contact;
             CollisionModel& m1 = *models_[model_index(contact.model1())].model;
             CollisionModel& m2 = *models_[model_index(contact.model2())].model;
-            DetectionOutputList outputs = detect_pair(m1, m2);
+            collision_.detect_pair(m1, m2, st.iterate_outputs);
             // Back to the state before this step's update(): the id map of the previous step
             // (rebuilt from the outputs that made it) and its contact list (ages, friction history,
             // dissipated energy) ...
             contact.set_detection_outputs(st.outputs_before);
             contact.force_field() = st.field_before;
             // ... then this step's contacts at the iterate's geometry, tracked against it.
-            contact.set_detection_outputs(outputs);
-            st.last_outputs = std::move(outputs);
+            contact.set_detection_outputs(st.iterate_outputs);
+            std::swap(st.last_outputs, st.iterate_outputs);
             evaluate_at_step_start(i);
             for (BaseMapping* m : e.mappings)
                 if (m) m->init();
@@ -375,7 +312,7 @@ void ContactPipeline::attach_newton(EulerImplicitSolver& solver) {
     if (owner == nullptr)
         throw_invalid_argument("ContactPipeline::attach_newton: the solver is not owned by a node of the simulation");
     if (!keep_step_start_) {
-        // Live pairs were last fed by the last update(): their outputs are still in detections_.
+        // Live pairs were last fed by the last update(): their outputs are still in detections().
         keep_step_start_ = true;
         record_fed_outputs();
     }

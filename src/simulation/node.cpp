@@ -18,6 +18,13 @@ bool erase_owned(std::vector<std::unique_ptr<T>>& owners, const T* p) {
 }
 }  // namespace
 
+Node::Node(std::string name, Node* parent) : name_(std::move(name)), parent_(parent) {
+    if (parent_ == nullptr) return;
+    Node* root = parent_;
+    while (root->parent_ != nullptr) root = root->parent_;
+    id_ = ++root->ids_issued_;
+}
+
 Node::~Node() = default;
 
 std::uint64_t Node::structure_version() const {

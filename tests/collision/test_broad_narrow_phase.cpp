@@ -1,6 +1,7 @@
 // Broad and narrow phase (issue 4): BruteForceBroadPhase + BVHNarrowPhase via per-model bounding
 // trees must find exactly what the exhaustive all-element-pairs loop finds (same pairs, same
-// outputs, same order, bit for bit), for every method, with any number of threads.
+// outputs, same order, bit for bit), for every method, with any number of threads. Both are
+// CollisionPipeline (the one detection driver), with ContactDetection::bvh and ::exhaustive.
 #include "detection_scenes.hpp"
 #include "fixtures.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
@@ -83,10 +84,18 @@ std::size_t count_outputs(const SceneDetection& d) {
     return n;
 }
 
-const ModelPairOutputs* find_pair(const SceneDetection& d, const CollisionModel* a, const CollisionModel* b) {
+/// The pair (a, b) if it has outputs, else nullptr.
+const ModelPairDetection* find_pair(const SceneDetection& d, const CollisionModel* a, const CollisionModel* b) {
     for (const auto& p : d)
-        if (p.model1 == a && p.model2 == b) return &p;
+        if (p.model1 == a && p.model2 == b && !p.outputs.empty()) return &p;
     return nullptr;
+}
+
+/// The reference: the same driver with the exhaustive all-element-pairs narrow phase.
+SceneDetection detect_scene_exhaustive(const IntersectionParams& params, std::vector<CollisionModel*> models) {
+    CollisionPipeline pipe(params, {}, ContactDetection::exhaustive);
+    pipe.set_models(std::move(models));
+    return pipe.detect();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -253,16 +262,23 @@ TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
     SphereModel g2(s, 0.1, {}, mp("g2", -1, false, {7}));   // shares group 7 with g1
     PointModel p2(tm->state, &tm->topo, mp("p2", 1, false)); // same node as t, self_collision off
     std::vector<CollisionModel*> models = {&a, &t, &p, &off, &ns1, &ns2, &g1, &g2, &p2};
-    const auto pairs = brute_force_broad_phase(IntersectionParams::new_proximity(), models);
+    std::vector<ModelPair> pairs, unsupported;
+    broad_phase(IntersectionParams::new_proximity(), models, pairs, &unsupported);
     std::vector<std::string> got;
     for (const auto& q : pairs) got.push_back(q.model1->name() + "-" + q.model2->name());
-    // per model: the self pair first, then the earlier models in order; each pair in registered
-    // order (Triangle before Sphere and Point, Sphere before Point)
+    // per model i: the self pair first, then the later models in order (i <= j); each pair in
+    // registered order (Triangle before Sphere and Point, Sphere before Point)
     const std::vector<std::string> expected = {
-        "a-a",   "t-t",   "t-a",    "p-p",   "a-p",   "t-p",   "ns1-a", "t-ns1", "ns1-p", "ns2-a",
-        "t-ns2", "ns2-p", "g1-a",   "t-g1",  "g1-p",  "g1-ns1", "g1-ns2", "g2-a", "t-g2", "g2-p",
-        "g2-ns1", "g2-ns2", "a-p2", "ns1-p2", "ns2-p2", "g1-p2", "g2-p2"};
+        "a-a",    "t-a",    "a-p",    "a-ns1", "a-ns2", "a-g1",  "a-g2",  "a-p2",   "t-t",
+        "t-p",    "t-ns1",  "t-ns2",  "t-g1",  "t-g2",  "p-p",   "ns1-p", "ns2-p",  "g1-p",
+        "g2-p",   "ns1-g1", "ns1-g2", "ns1-p2", "ns2-g1", "ns2-g2", "ns2-p2", "g1-p2", "g2-p2"};
     EXPECT_EQ(got, expected);
+    EXPECT_TRUE(unsupported.empty());  // NewProximity detects every pair of these types
+    // MinProximity ignores Triangle-Triangle: the kept pair goes to `unsupported`, not `pairs`
+    broad_phase(IntersectionParams::min_proximity(), models, pairs, &unsupported);
+    ASSERT_EQ(unsupported.size(), 1u);
+    EXPECT_EQ(unsupported[0], (ModelPair{&t, &t}));
+    EXPECT_EQ(pairs.size(), expected.size() - 1);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -349,7 +365,8 @@ TEST(NarrowPhase, TriangleTriangleWithoutNormalOverwriteRunsInParallelAndEqualsE
     pipe.set_models(sc.models);
     const SceneDetection got = pipe.detect();
     expect_identical(got, detect_scene_exhaustive(params, sc.models));
-    const ModelPairOutputs* tt = find_pair(got, sc.tri2.get(), sc.tri1.get());
+    // same types: the pair keeps model order (the earlier model first)
+    const ModelPairDetection* tt = find_pair(got, sc.tri1.get(), sc.tri2.get());
     ASSERT_NE(tt, nullptr);
     EXPECT_GT(tt->outputs.size(), 100u);
 }
@@ -413,7 +430,7 @@ TEST(NarrowPhase, SelfCollisionFiltersAreApplied) {
     CollisionPipeline pipe(params);
     pipe.set_models(sc.models);
     const SceneDetection d = pipe.detect();
-    const ModelPairOutputs* tp = find_pair(d, sc.tri1.get(), sc.pts1.get());
+    const ModelPairDetection* tp = find_pair(d, sc.tri1.get(), sc.pts1.get());
     ASSERT_NE(tp, nullptr);
     EXPECT_GT(tp->outputs.size(), 10u);
     for (const auto& o : tp->outputs)
@@ -440,21 +457,21 @@ TEST(NarrowPhase, PointAndLineSelfCollisionSkipTopologicalNeighbours) {
     pipe.set_models({&pts, &lines});
     const SceneDetection d = pipe.detect();
     expect_identical(d, detect_scene_exhaustive(params, {&pts, &lines}));
-    const ModelPairOutputs* pp = find_pair(d, &pts, &pts);
+    const ModelPairDetection* pp = find_pair(d, &pts, &pts);
     ASSERT_NE(pp, nullptr);
     ASSERT_EQ(pp->outputs.size(), std::size_t(n - 2));
     for (std::size_t k = 0; k < pp->outputs.size(); ++k) {
         EXPECT_EQ(pp->outputs[k].elem1, Index(k + 2));
         EXPECT_EQ(pp->outputs[k].elem2, Index(k));
     }
-    const ModelPairOutputs* ll = find_pair(d, &lines, &lines);
+    const ModelPairDetection* ll = find_pair(d, &lines, &lines);
     ASSERT_NE(ll, nullptr);
     EXPECT_GT(ll->outputs.size(), std::size_t(n / 2));
     for (const auto& o : ll->outputs) {
         EXPECT_GE(o.elem1 - o.elem2, 2) << "edges sharing a vertex must be filtered";
     }
     // the line-point pair of the same state and node: a line never meets its own end points
-    const ModelPairOutputs* lp = find_pair(d, &lines, &pts);
+    const ModelPairDetection* lp = find_pair(d, &lines, &pts);
     ASSERT_NE(lp, nullptr);
     for (const auto& o : lp->outputs) {
         EXPECT_NE(lines.edge(o.elem1)[0], o.elem2);

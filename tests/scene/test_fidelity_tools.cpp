@@ -47,7 +47,7 @@ TEST(FidelityTools, LocalMinDistanceReadsSofaData) {
     auto s = build(two_spheres(R"(<LocalMinDistance alarmDistance="2" contactDistance="0.5" angleCone="0.1"
                                      coneFactor="0.7" filterIntersection="0" useLMDFilters="1"/>)"));
     ASSERT_EQ(s->pipelines().size(), 1u);
-    EXPECT_EQ(s->pipelines()[0].intersection, "LocalMinDistance");
+    EXPECT_EQ(s->pipelines()[0].intersection, IntersectionMethod::LocalMinDistance);
     const IntersectionParams& p = s->pipelines()[0].pipeline->intersection();
     EXPECT_EQ(p.method, IntersectionMethod::LocalMinDistance);
     EXPECT_DOUBLE_EQ(p.alarm_distance, 2.0);

@@ -81,7 +81,7 @@ TEST(SceneBuilder, CubeOnFloorStatesRecordsAndContactPlacement) {
     EXPECT_DOUBLE_EQ(cube.position[0].x(), 0.3);
     EXPECT_DOUBLE_EQ(cube.position[7].y(), 1.15);
     ASSERT_EQ(s->pipelines().size(), 1u);
-    EXPECT_EQ(s->pipelines()[0].intersection, "MinProximity");
+    EXPECT_EQ(s->pipelines()[0].intersection, IntersectionMethod::MinProximity);
     EXPECT_DOUBLE_EQ(s->pipelines()[0].pipeline->intersection().alarm_distance, 0.2);
 
     s->step();  // the 4 bottom points are within the alarm distance 0.2 of the floor
@@ -216,8 +216,8 @@ TEST(SceneBuilder, CompositePipelineRunsEachSubPipelineWithItsOwnMethod) {
     auto s = build(xml);
     ASSERT_EQ(s->pipelines().size(), 2u);
     EXPECT_EQ(s->pipelines()[0].name, "p1");
-    EXPECT_EQ(s->pipelines()[0].intersection, "NewProximity");
-    EXPECT_EQ(s->pipelines()[1].intersection, "MinProximity");
+    EXPECT_EQ(s->pipelines()[0].intersection, IntersectionMethod::NewProximity);
+    EXPECT_EQ(s->pipelines()[1].intersection, IntersectionMethod::MinProximity);
     EXPECT_DOUBLE_EQ(s->pipelines()[1].pipeline->intersection().alarm_distance, 3.0);
 }
 

@@ -1,64 +1,71 @@
 #pragma once
 /// @file
-/// Collision detection of a whole scene: SOFA's CollisionPipeline with BruteForceBroadPhase and
-/// BVHNarrowPhase (spec §3.8, §4), re-implemented with per-model bounding trees (bvh.hpp), a
-/// parallel dual-tree traversal and parallel element evaluation.
+/// Collision detection of a whole scene, the one detection driver (`penalty run`, the tests and
+/// the benchmarks all go through CollisionPipeline::detect): SOFA's CollisionPipeline with
+/// BruteForceBroadPhase and BVHNarrowPhase (spec §3.8, §4), re-implemented with per-model
+/// bounding trees (bvh.hpp), a parallel dual-tree traversal and parallel element evaluation, or
+/// with the exhaustive all-element-pairs loop (ContactDetection::exhaustive, the reference).
 ///
-/// Guarantees (tested against the exhaustive loop, detect_scene_exhaustive):
-/// - the model pairs, their keys (model1, model2 in the intersector's registered order) and
-///   their order are those of BruteForceBroadPhase; pairs without outputs are dropped;
-/// - the outputs of each pair are exactly those of detect_model_pair, in the same order:
+/// Guarantees (tested: BVH against exhaustive):
+/// - the model pairs are those of broad_phase(), in its order, each keyed (model1, model2) in
+///   the intersector's registered order; every kept pair is listed, with or without outputs;
+/// - the outputs of each pair are exactly those of exhaustive_narrow_phase, in the same order:
 ///   element pairs by (elem1, elem2) ascending, each pair's outputs in kernel order. The output
-///   is therefore bit-identical for any number of threads.
+///   is therefore bit-identical for any number of threads and either detection.
+/// - in steady state (same pairs, outputs no more numerous than before) detect() allocates
+///   nothing: the result and every scratch buffer keep their capacity from step to step.
 
 #include "penalty/collision/bvh.hpp"
 #include "penalty/collision/intersection.hpp"
 
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <utility>
 #include <vector>
 
 namespace penalty {
 
-/// The outputs of one model pair (SOFA's map entry (model1, model2) → DetectionOutputVector).
-struct ModelPairOutputs {
-    CollisionModel* model1 = nullptr;  ///< first in the intersector's registered order
-    CollisionModel* model2 = nullptr;
-    DetectionOutputList outputs;
-};
-
-/// All outputs of one detection, model pairs in broad-phase order.
-using SceneDetection = std::vector<ModelPairOutputs>;
+/// All outputs of one detection: one entry per pair kept by the broad phase, in its order.
+using SceneDetection = std::vector<ModelPairDetection>;
 
 /// A model pair kept by the broad phase, in registered order.
 struct ModelPair {
     CollisionModel* model1 = nullptr;
     CollisionModel* model2 = nullptr;
+    friend bool operator==(const ModelPair&, const ModelPair&) = default;
 };
 
-/// True when `params` has an active intersector for the pair of types (Supported and its use*
-/// switch on, or BeyondSofa with enable_beyond_sofa_pairs).
-[[nodiscard]] bool has_active_intersector(const IntersectionParams& params, ModelType a, ModelType b);
-
-/// SOFA's BruteForceBroadPhase: for each model in order (inactive or empty models are skipped),
-/// first the model with itself if keep_model_pair(m, m) (active, simulated, self_collision),
-/// then the model against every previously added model (earliest first) if
-/// keep_model_pair and the method has an active intersector for the pair. Pairs are returned in
-/// registered order. If `roots` is given (root box per model, same indexing), pairs whose root
-/// boxes do not overlap with the §3.8 margin are also dropped (pruning only).
-[[nodiscard]] std::vector<ModelPair> brute_force_broad_phase(const IntersectionParams& params,
-                                                             const std::vector<CollisionModel*>& models,
-                                                             const std::vector<Aabb>* roots = nullptr);
-
-/// SOFA's cube-test margin for a model pair (§3.8): Discrete → alarm_distance, otherwise
-/// alarm_distance + contact_distance(m1) + contact_distance(m2).
-[[nodiscard]] double box_margin(const IntersectionParams& params, const CollisionModel& m1,
-                                const CollisionModel& m2);
+/// SOFA's broad-phase filter over the models in order: every pair (models[i], models[j]) with
+/// i ≤ j (the model with itself first, then the later models in order) that passes
+/// keep_model_pair (active, simulated, self_collision, groups), keyed in registered order.
+/// Pairs with an active intersector go to `pairs`; the others (the method ignores or does not
+/// support them) to `unsupported` when given. Both are cleared first. Throws
+/// std::invalid_argument for a null model.
+void broad_phase(const IntersectionParams& params, std::span<CollisionModel* const> models,
+                 std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported = nullptr);
 
 /// Tuning of the narrow phase (none of it changes the output).
 struct NarrowPhaseOptions {
     std::size_t chunk_size = 512;  ///< element pairs per evaluation task (fixed, not per thread)
     bool parallel = true;          ///< false: traverse and evaluate on the calling thread
+};
+
+/// Buffers of the BVH narrow phase, kept from call to call so that a steady state allocates
+/// nothing (opaque; one per driver, not shared between threads).
+class NarrowPhaseScratch {
+public:
+    NarrowPhaseScratch();
+    ~NarrowPhaseScratch();
+    NarrowPhaseScratch(const NarrowPhaseScratch&) = delete;
+    NarrowPhaseScratch& operator=(const NarrowPhaseScratch&) = delete;
+    NarrowPhaseScratch(NarrowPhaseScratch&&) noexcept;
+    NarrowPhaseScratch& operator=(NarrowPhaseScratch&&) noexcept;
+    struct Buffers;
+    [[nodiscard]] Buffers& buffers() { return *buffers_; }
+
+private:
+    std::unique_ptr<Buffers> buffers_;
 };
 
 /// Candidate element pairs of (m1, m2) (registered order) found by the dual-tree traversal with
@@ -69,12 +76,19 @@ struct NarrowPhaseOptions {
 
 /// SOFA's BVHNarrowPhase for one model pair in registered order with up-to-date trees: traverses
 /// the trees, applies the self-collision element filters for models of the same node, and calls
-/// the pair's intersector. Does not call update()/validate(). Evaluates in parallel over fixed
-/// chunks of the sorted candidates, except for NewProximity Triangle–Triangle with SOFA's normal
-/// overwrite (§14.4), whose kernel writes the models and runs sequentially.
-[[nodiscard]] DetectionOutputList bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1,
-                                                   const Bvh& t1, CollisionModel& m2, const Bvh& t2,
-                                                   const NarrowPhaseOptions& opt = {});
+/// the pair's intersector, appending to `out`. Does not call update()/validate(). Evaluates in
+/// parallel over fixed chunks of the sorted candidates, except for NewProximity
+/// Triangle–Triangle with SOFA's normal overwrite (§14.4), whose kernel writes the models and
+/// runs sequentially.
+void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
+                      const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
+                      DetectionOutputList& out);
+
+/// How the narrow phase of a model pair is done (identical outputs either way).
+enum class ContactDetection : std::uint8_t {
+    exhaustive,  ///< exhaustive_narrow_phase: every element pair (box-tested), O(n1·n2) per pair
+    bvh,         ///< per-model Bvh + root pruning + bvh_narrow_phase (parallel, TBB)
+};
 
 /// Options of CollisionPipeline.
 struct CollisionPipelineOptions {
@@ -87,37 +101,61 @@ struct CollisionPipelineOptions {
     NarrowPhaseOptions narrow;
 };
 
-/// SOFA's CollisionPipeline + BruteForceBroadPhase + BVHNarrowPhase over a fixed list of models.
+/// SOFA's CollisionPipeline + BruteForceBroadPhase + BVHNarrowPhase over a list of models.
 /// Models are not owned and must outlive the pipeline; their order is SOFA's model order.
 class CollisionPipeline {
 public:
-    explicit CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt = {});
+    /// Throws std::invalid_argument for invalid `params`, leaf_size 0 or rebuild_ratio < 1.
+    explicit CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt = {},
+                               ContactDetection detection = ContactDetection::bvh);
 
     /// Sets the models (and forgets the trees).
     void set_models(std::vector<CollisionModel*> models);
+    /// Appends one model (its tree is built at the next refit).
+    void add_model(CollisionModel& model);
     [[nodiscard]] const std::vector<CollisionModel*>& models() const { return models_; }
     [[nodiscard]] const IntersectionParams& params() const { return params_; }
     [[nodiscard]] const CollisionPipelineOptions& options() const { return opt_; }
+    [[nodiscard]] ContactDetection detection() const { return detection_; }
 
-    /// One detection step. For every active model: validate() (std::invalid_argument naming the
-    /// model and the element for NaN/inf positions), then its tree is refitted (moving) or built
-    /// once (moving = false). Then the broad phase and, per pair, update() of both models (as
-    /// detect_model_pair does) and the narrow phase. Pairs with no output are dropped.
-    [[nodiscard]] SceneDetection detect();
+    /// One detection step: refit(), broad_phase(), then for each kept pair (registered order)
+    /// its narrow phase: exhaustive_narrow_phase, or (bvh) update() of both models and, unless
+    /// the root boxes are apart by more than the §3.8 margin, bvh_narrow_phase. Returns every
+    /// kept pair (outputs possibly empty); the reference is valid until the next detect().
+    const SceneDetection& detect();
+    /// The result of the last detect().
+    [[nodiscard]] const SceneDetection& detections() const { return result_; }
+    /// Pairs of the last detect() that passed the model-pair filter but have no active
+    /// intersector (the method ignores or does not support them): not detected.
+    [[nodiscard]] const std::vector<ModelPair>& unsupported_pairs() const { return unsupported_; }
 
-    /// The tree of models()[i] (empty before the first detect() or for an inactive model).
+    /// bvh: for every active model, validate() (std::invalid_argument naming the model and the
+    /// element for NaN/inf positions), then its tree is refitted (moving) or built once
+    /// (moving = false; rebuilt if its size changed). exhaustive: nothing (the narrow phase
+    /// validates).
+    void refit();
+    /// The narrow phase of one pair (m1, m2 registered here, in registered order, with an active
+    /// intersector) at the current positions, as detect() does it; trees as left by refit().
+    /// `out` is cleared first.
+    void detect_pair(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out);
+
+    /// The tree of models()[i] (empty before the first detect() or for an inactive model, and
+    /// always for the exhaustive detection).
     [[nodiscard]] const Bvh& tree(std::size_t i) const { return trees_[i]; }
 
 private:
+    [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
+
     IntersectionParams params_;
     CollisionPipelineOptions opt_;
+    ContactDetection detection_;
     std::vector<CollisionModel*> models_;
     std::vector<Bvh> trees_;
+    std::vector<ModelPair> pairs_;        // scratch: this step's broad-phase pairs
+    std::vector<ModelPair> unsupported_;
+    SceneDetection result_;               // entries and their output lists keep their capacity
+    NarrowPhaseScratch scratch_;
+    std::vector<Aabb> boxes_;             // exhaustive: element boxes of model 2
 };
-
-/// Reference: the broad phase of brute_force_broad_phase (without root pruning) followed by
-/// detect_model_pair (the exhaustive all-element-pairs loop) for every pair; empty pairs dropped.
-[[nodiscard]] SceneDetection detect_scene_exhaustive(const IntersectionParams& params,
-                                                     const std::vector<CollisionModel*>& models);
 
 }  // namespace penalty

@@ -18,7 +18,12 @@ namespace penalty {
 
 enum class IntersectionMethod : std::uint8_t { Discrete, NewProximity, MinProximity, LocalMinDistance };
 inline constexpr int kIntersectionMethodCount = 4;
+/// SOFA's component type of the method: "DiscreteIntersection", "NewProximityIntersection",
+/// "MinProximityIntersection", "LocalMinDistance".
 [[nodiscard]] const char* intersection_method_name(IntersectionMethod m);
+/// The method as `penalty info` and the scene summary name it: the component type without
+/// "Intersection" ("Discrete", "NewProximity", "MinProximity", "LocalMinDistance").
+[[nodiscard]] const char* intersection_method_short_name(IntersectionMethod m);
 
 /// What to do when a proximity routine finds two coincident points (zero distance, so the
 /// normal d/|d| is undefined). SOFA (§14 item 8) emits a NaN normal in NewProximity
@@ -127,6 +132,15 @@ enum class PairSupport : std::uint8_t {
 /// active only when the switch is on).
 [[nodiscard]] PairSupport pair_support(const IntersectionParams& params, ModelType a, ModelType b);
 
+/// True when `params` has an active intersector for the pair of types: Supported with its use*
+/// switch on, or BeyondSofa with enable_beyond_sofa_pairs.
+[[nodiscard]] bool has_active_intersector(const IntersectionParams& params, ModelType a, ModelType b);
+
+/// SOFA's cube-test margin for a model pair (§3.8): Discrete → alarm_distance, otherwise
+/// alarm_distance + contact_distance(m1) + contact_distance(m2).
+[[nodiscard]] double box_margin(const IntersectionParams& params, const CollisionModel& m1,
+                                const CollisionModel& m2);
+
 /// Runs the element intersector for (e1 of m1, e2 of m2); (m1, m2) must be in registered order.
 /// Appends 0 or more outputs to `out` and returns their number. Throws std::invalid_argument
 /// for an unsupported/ignored pair or a wrong order (callers should check pair_support first).
@@ -141,7 +155,8 @@ int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Ind
 /// registered order, as passed to intersect_elements.
 [[nodiscard]] bool elements_may_collide(const CollisionModel& m1, Index e1, const CollisionModel& m2, Index e2);
 
-/// Result of detecting one model pair.
+/// The detection of one model pair: SOFA's map entry (model1, model2) → DetectionOutputVector.
+/// The one result type of detection (detect_model_pair, CollisionPipeline, CollisionResponse).
 struct ModelPairDetection {
     CollisionModel* model1 = nullptr;  ///< first in registered order
     CollisionModel* model2 = nullptr;
@@ -150,12 +165,19 @@ struct ModelPairDetection {
     DetectionOutputList outputs;
 };
 
-/// Exhaustive narrow phase (the reference for the broad phase of issue 4): validates both
-/// models, applies the model-pair filter (keep_model_pair) and, for a supported pair, calls the
-/// element intersector on every element pair (e1 ascending, then e2 ascending) whose element
-/// boxes pass SOFA's proximity cube test (which never changes the result, §3.8) and which pass
-/// the self-collision element filters. Models are swapped into registered order. For a model
-/// paired with itself, each unordered element pair is visited once.
+/// Exhaustive narrow phase of one model pair (m1, m2) in registered order with an active
+/// intersector: validates both models, update()s them, then calls the element intersector on
+/// every element pair (e1 ascending, then e2 ascending) whose element boxes pass SOFA's
+/// proximity cube test (which never changes the result, §3.8) and which pass the self-collision
+/// element filters. For a model paired with itself, each unordered element pair is visited
+/// once (e1 > e2). Outputs are appended to `out`; `box_scratch` holds m2's element boxes (its
+/// capacity is reused from call to call).
+void exhaustive_narrow_phase(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
+                             DetectionOutputList& out, std::vector<Aabb>& box_scratch);
+
+/// One model pair, exhaustively (the reference of the BVH narrow phase): validates both
+/// models, swaps them into registered order, applies the model-pair filter (keep_model_pair:
+/// skipped) and, for a pair with an active intersector, runs exhaustive_narrow_phase.
 [[nodiscard]] ModelPairDetection detect_model_pair(const IntersectionParams& params,
                                                    CollisionModel& a, CollisionModel& b);
 

@@ -115,9 +115,9 @@ private:
     ContactResponseParameters base_;
     std::vector<ContactPairEntry> pairs_;
     std::vector<std::string> warnings_;
-    // set_detections' scratch (kept between steps so that a steady step allocates nothing)
-    std::vector<char> seen_;
-    std::vector<ContactPairEntry> created_, kept_;
+    // set_detections' scratch, reused from step to step
+    std::vector<char> seen_;                      // per pair: fed this step
+    std::vector<ContactPairEntry> created_;       // pairs new this step
     std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed_;
 };
 

@@ -10,7 +10,6 @@
 
 #include <cstdint>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 namespace penalty {
@@ -21,22 +20,39 @@ struct KeptOutput {
     Index old_index = 0;     ///< 1-based position of its id in the previous list, 0 when new
 };
 
-/// The `contactIndex` map of one model pair, carried from step to step.
+/// The `contactIndex` map of one model pair, carried from step to step. Every buffer is reused:
+/// once the capacities are reached (as many outputs and ids as before), update() allocates
+/// nothing.
 class ContactTracker {
 public:
     /// Deduplicates this step's outputs and updates the id → position map. The result lists the
     /// kept outputs in output order; the k-th kept output becomes contact k of the force field.
-    [[nodiscard]] std::vector<KeptOutput> update(std::span<const DetectionOutput> outputs);
+    /// It views a buffer of the tracker, valid until the next update(); with the same ids as the
+    /// step before and no more outputs, update() allocates nothing (every buffer is reused).
+    [[nodiscard]] std::span<const KeptOutput> update(std::span<const DetectionOutput> outputs);
 
     /// 1-based position of `id` in the last list, or 0 when the id was not kept last step.
     [[nodiscard]] Index position_of(std::int64_t id) const;
-    [[nodiscard]] std::size_t tracked_ids() const { return contact_index_.size(); }
+    [[nodiscard]] std::size_t tracked_ids() const { return previous_.size(); }
     /// Forgets every id (a pair destroyed and recreated from scratch, as SOFA's cleanup).
-    void reset() { contact_index_.clear(); }
+    void reset() { previous_.clear(); }
+
+    /// One entry of the map: an id and its 1-based position in the last list.
+    struct IdPosition {
+        std::int64_t id;
+        std::int64_t position;
+    };
 
 private:
-    std::unordered_map<std::int64_t, std::int64_t> contact_index_;
-    std::vector<std::int64_t> old_;  // scratch, reused across steps
+    // SOFA's contactIndex map as a vector sorted by id: no allocation once its capacity is
+    // reached, whichever ids come and go
+    std::vector<IdPosition> previous_;
+    // scratch, reused across steps
+    std::vector<IdPosition> next_;            // the map being built (swapped with previous_)
+    std::vector<std::size_t> by_id_;          // output indices sorted by (id, index)
+    std::vector<std::int64_t> old_;           // per output: previous position, 0 new, −1 dropped
+    std::vector<std::int64_t> new_position_;  // per output: 1-based position in this step's list
+    std::vector<KeptOutput> kept_;            // the result of the last update()
 };
 
 }  // namespace penalty

@@ -60,7 +60,7 @@ struct SceneCollisionModel {
 /// CompositeCollisionPipeline) as built.
 struct ScenePipeline {
     std::string name;                              ///< component name or type
-    std::string intersection;                      ///< "NewProximity", "MinProximity", "Discrete", "LocalMinDistance"
+    IntersectionMethod intersection = IntersectionMethod::NewProximity;  ///< named by intersection_method_short_name
     std::unique_ptr<ContactPipeline> pipeline;
     std::vector<const SceneCollisionModel*> models;  ///< the models it detects, registration order
 };

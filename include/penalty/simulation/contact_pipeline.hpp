@@ -7,10 +7,11 @@
 /// positions of the end of the previous step, as SOFA's DefaultAnimationLoop
 /// (options.attach_hook = false leaves the hook alone: the caller runs update(), e.g. several
 /// pipelines from one hook as SOFA's CompositeCollisionPipeline) — does:
-///   1. detection of every model pair (i ≤ j in registration order; SOFA's broad-phase filter
+///   1. detection by its CollisionPipeline (collision_pipeline.hpp, the one detection driver):
+///      every model pair of broad_phase() (i ≤ j in registration order; SOFA's filter
 ///      keep_model_pair; pairs the method does not support are skipped and listed in
 ///      skipped_pairs()), each pair in the intersector's registered order, either
-///      - ContactDetection::exhaustive (default): detect_model_pair, all element pairs, or
+///      - ContactDetection::exhaustive (default): exhaustive_narrow_phase, all element pairs, or
 ///      - ContactDetection::bvh: one Bvh per model (refitted each update for moving models,
 ///        built once for static ones), root-box pruning with SOFA's §3.8 margin, then
 ///        bvh_narrow_phase (parallel, TBB, `threads`). The outputs are bit-identical to the
@@ -117,11 +118,9 @@ struct ContactGraphEntry {
     std::array<BaseMapping*, 2> mappings{};      ///< null for an identity side
 };
 
-/// How ContactPipeline::update() detects a model pair (identical outputs either way).
-enum class ContactDetection : std::uint8_t {
-    exhaustive,  ///< detect_model_pair: every element pair (box-tested), O(n1·n2) per pair
-    bvh,         ///< per-model Bvh + root pruning + bvh_narrow_phase (parallel, TBB)
-};
+/// Node ids given by ContactPipeline::add_model (base + Node::id()), far from the ids users and
+/// the scene builder choose.
+inline constexpr int kAutoNodeIdBase = 1 << 24;
 
 /// Most detection threads a ContactPipeline accepts: 1024 (TBB cannot make an arena above
 /// 65,536 and reserves memory per slot; no machine this runs on has more cores).
@@ -153,8 +152,8 @@ public:
     /// throws std::invalid_argument if a hook is already set). `node`: where a contact between
     /// two simulated models goes (default: the root). `response` supplies the response name and
     /// parameters; its on_create / on_destroy hooks are taken over by the pipeline. Throws
-    /// std::invalid_argument for options.threads outside [0, kMaxDetectionThreads] or
-    /// options.bvh.leaf_size = 0.
+    /// std::invalid_argument for options.threads outside [0, kMaxDetectionThreads],
+    /// options.bvh.leaf_size = 0 or options.bvh.rebuild_ratio < 1 (checked by CollisionPipeline).
     explicit ContactPipeline(Simulation& simulation,
                              const IntersectionParams& intersection = IntersectionParams::new_proximity(),
                              CollisionResponse response = CollisionResponse(), Node* node = nullptr,
@@ -165,10 +164,13 @@ public:
 
     /// Registers a collision model held by `node`, whose state must be the model's state
     /// (Vec3 for Point/Line/Triangle/Sphere/Tetrahedron, Rigid3 for RigidSphere/Cylinder).
-    /// A model whose params().node is −1 gets an id of its node (SOFA's "same context" rule for
-    /// self-collision), unique in the process, so that models shared by several pipelines keep
-    /// consistent ids. Throws std::invalid_argument naming the model and the node otherwise,
-    /// or for a model registered twice.
+    /// The model stays the caller's, but its node identity (params().node, SOFA's "same
+    /// context" rule for self-collision) is part of what it means to register it here: a model
+    /// whose params().node is −1 gets kAutoNodeIdBase + node.id() (Node::id is unique in its
+    /// graph and never reused, so models shared by several pipelines of one simulation keep
+    /// consistent ids); a model with an id ≥ 0 keeps it (the scene builder numbers its nodes).
+    /// Throws std::invalid_argument naming the model and the node otherwise, or for a model
+    /// registered twice.
     void add_model(CollisionModel& model, Node& node);
 
     /// One collision step (detection, response, graph update); run by the collision hook, or
@@ -198,8 +200,11 @@ public:
     [[nodiscard]] const IntersectionParams& intersection() const { return intersection_; }
     [[nodiscard]] CollisionResponse& response() { return response_; }
     [[nodiscard]] const CollisionResponse& response() const { return response_; }
-    /// Detections of the last update (one per detected model pair, registered order).
-    [[nodiscard]] const std::vector<ModelPairDetection>& detections() const { return detections_; }
+    /// Detections of the last update (one per model pair kept by the broad phase, in its order,
+    /// registered order within a pair; outputs possibly empty).
+    [[nodiscard]] const SceneDetection& detections() const { return collision_.detections(); }
+    /// The detection driver (its models are the registered ones, in registration order).
+    [[nodiscard]] const CollisionPipeline& collision() const { return collision_; }
     /// Model pairs that may collide but that the intersection method does not detect (SOFA
     /// registers them as ignored, has no intersector, or they are beyond-SOFA pairs not enabled),
     /// one line per pair, recorded the first time the pair is met: never silently skipped.
@@ -232,11 +237,11 @@ private:
     void on_create(BarycentricPenaltyContact& contact);
     void on_destroy(BarycentricPenaltyContact& contact);
     void remove_entry(ContactGraphEntry& e);
-    void detect_all();
-    /// Outputs of one model pair (m1, m2 in registered order) at the current positions, by the
-    /// configured method (BVH: the trees must be up to date, see refit_trees).
-    [[nodiscard]] DetectionOutputList detect_pair(CollisionModel& m1, CollisionModel& m2);
-    void refit_trees();
+    /// Records the pairs of the last detection that the method does not detect (once each).
+    void record_skipped_pairs();
+    /// Runs `f` in the detection's thread arena (TBB's default one when options.threads = 0).
+    template <class F>
+    void run_detection(const F& f);
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
     void update_geometry_if(const Node* subtree);
     void record_fed_outputs();
@@ -246,6 +251,7 @@ private:
         PenaltyForceField field_before;         ///< the pair's field before this step's update()
         DetectionOutputList outputs_before;     ///< the outputs that built field_before's contacts
         DetectionOutputList last_outputs;       ///< the outputs that built the current contacts
+        DetectionOutputList iterate_outputs;    ///< scratch: the outputs at a Newton iterate
     };
 
     Simulation* simulation_;
@@ -254,16 +260,17 @@ private:
     Node* node_;
     ContactPipelineOptions options_;
     ContactPipelineTimings timings_;
-    std::vector<Bvh> trees_;                    ///< BVH path: one per model (models_ order)
+    CollisionPipeline collision_;               ///< the detection driver over models_' models
+    struct ThreadArena;                         ///< a tbb::task_arena, made once (threads > 0)
+    std::unique_ptr<ThreadArena> arena_;
     std::vector<StepStart> step_start_;
     bool keep_step_start_ = false;             ///< attach_newton was called
     bool snapshot_valid_ = false;              ///< step_start_ recorded by an update() since then
     int geometry_updates_ = 0;
     std::vector<EulerImplicitSolver*> attached_solvers_;
     std::vector<ModelEntry> models_;
-    std::vector<ModelPairDetection> detections_;
     std::vector<std::string> skipped_pairs_;
-    std::vector<std::pair<const CollisionModel*, const CollisionModel*>> skipped_keys_;
+    std::vector<ModelPair> skipped_keys_;       ///< the pairs of skipped_pairs_
     std::vector<ContactGraphEntry> entries_;
     std::size_t created_count_ = 0;
 };

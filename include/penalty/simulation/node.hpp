@@ -28,12 +28,16 @@ class OdeSolver;
 
 class Node {
 public:
-    explicit Node(std::string name, Node* parent = nullptr) : name_(std::move(name)), parent_(parent) {}
+    explicit Node(std::string name, Node* parent = nullptr);
     Node(const Node&) = delete;
     Node& operator=(const Node&) = delete;
 
     [[nodiscard]] const std::string& name() const { return name_; }
     [[nodiscard]] Node* parent() const { return parent_; }
+    /// Identity of the node in its graph: 0 for a root, then 1, 2, … in creation order; unique
+    /// among the nodes ever created under the same root, never reused (ContactPipeline's
+    /// same-node rule).
+    [[nodiscard]] int id() const { return id_; }
     /// Adds a child node and returns it (owned by this node).
     Node& add_child(std::string name);
     [[nodiscard]] const std::vector<std::unique_ptr<Node>>& children() const { return children_; }
@@ -128,6 +132,8 @@ private:
     void structure_changed();
     std::string name_;
     Node* parent_;
+    int id_ = 0;
+    int ids_issued_ = 0;  ///< on a root: ids given to the nodes created under it
     std::optional<Vec3> gravity_;
     std::optional<double> dt_;
     std::unique_ptr<BaseState> state_;

@@ -124,9 +124,7 @@ private:
         ScenePipeline sp;
         sp.name = name;
         const IntersectionParams& params = b_.intersection_params(intersection);
-        sp.intersection = intersection.type == "LocalMinDistance"
-                              ? intersection.type
-                              : intersection.type.substr(0, intersection.type.size() - std::string_view("Intersection").size());
+        sp.intersection = params.method;
         ContactPipelineOptions options;
         options.detection = b_.options().exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = b_.options().threads;
@@ -135,8 +133,8 @@ private:
         sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(response, dt), &host, options);
         for (const SceneCollisionModel* m : models) sp.pipeline->add_model(*m->model, *m->node);
         sp.models = models;
-        std::string summary = sp.intersection;
-        if (sp.intersection != "Discrete")
+        std::string summary = intersection_method_short_name(sp.intersection);
+        if (sp.intersection != IntersectionMethod::Discrete)
             summary += " (alarm " + num(params.alarm_distance) + " m, contact " + num(params.contact_distance) + " m)";
         summary += ", " + counted(models.size(), "collision model", "collision models") + ", response " +
                    (sp.pipeline->response().base_response_name().empty() ? std::string("none")
