@@ -136,16 +136,7 @@ TEST_P(ZeroAllocation, WholeStep) {
     const auto& [file, bvh] = GetParam();
     const Counts c = run_scene(file, bvh);
     ASSERT_GT(c.live_pairs, 0u);
-    if (c.whole_step != 0 && c.contact_path == 0) {
-        // Remaining allocations (measured with backtraces on these scenes) are all in the
-        // implicit solve, branch `jacobian`'s work: EulerImplicitSolver::solve rebuilds its
-        // SubtreeSystem at every solve (SubtreeSystem::collect's hash maps and vectors, and the
-        // std::vector that each ContactInteraction::states() returns to it), src/simulation/solver.cpp.
-        GTEST_SKIP() << file << ": " << c.whole_step
-                     << " allocations over steps 50-100, all outside the contact path: EulerImplicitSolver::solve "
-                        "rebuilds its SubtreeSystem every solve (solver.cpp); enable this assertion once it is kept";
-    }
-    EXPECT_EQ(c.whole_step, 0) << file;
+    EXPECT_EQ(c.whole_step, 0) << file << ": a step allocated over steps 50-100 (contact path: " << c.contact_path << ")";
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ZeroAllocation,
