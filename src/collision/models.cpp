@@ -137,25 +137,36 @@ void TriangleModel::validate() const {
 }
 
 // ---------------------------------------------------------------------------------------------
+namespace {
+/// Box of sphere i of a Vec3 or rigid sphere model: centre ± (radius + contactDistance).
+template <class Spheres>
+Aabb sphere_box(const Spheres& m, Index i) {
+    Aabb b;
+    b.extend(m.center(i));
+    b.inflate(m.radius(i) + m.params().contact_distance);
+    return b;
+}
+/// Positive finite radii (the default one too) and finite centres.
+template <class Spheres>
+void check_spheres(const Spheres& m, double default_radius) {
+    check_radius(m, -1, default_radius, "radius");
+    for (std::size_t i = 0; i < m.size(); ++i) {
+        check_radius(m, Index(i), m.radius(Index(i)), "radius");
+        m.check_point(m.center(Index(i)), Index(i), "centre");
+    }
+}
+}  // namespace
+
 SphereModel::SphereModel(const Vec3State& state, double radius, std::vector<double> list_radius,
                          CollisionModelParams params)
     : CollisionModel(ModelType::Sphere, std::move(params)), state_(&state), radius_(radius),
       list_radius_(std::move(list_radius)) {}
 
-Aabb SphereModel::element_box(Index i) const {
-    Aabb b;
-    b.extend(center(i));
-    b.inflate(radius(i) + params().contact_distance);
-    return b;
-}
+Aabb SphereModel::element_box(Index i) const { return sphere_box(*this, i); }
 
 void SphereModel::validate() const {
     CollisionModel::validate();
-    check_radius(*this, -1, radius_, "radius");
-    for (std::size_t i = 0; i < size(); ++i) {
-        check_radius(*this, Index(i), radius(Index(i)), "radius");
-        check_point(center(Index(i)), Index(i), "centre");
-    }
+    check_spheres(*this, radius_);
 }
 
 RigidSphereModel::RigidSphereModel(const Rigid3State& state, double radius, std::vector<double> list_radius,
@@ -163,20 +174,11 @@ RigidSphereModel::RigidSphereModel(const Rigid3State& state, double radius, std:
     : CollisionModel(ModelType::RigidSphere, std::move(params)), state_(&state), radius_(radius),
       list_radius_(std::move(list_radius)) {}
 
-Aabb RigidSphereModel::element_box(Index i) const {
-    Aabb b;
-    b.extend(center(i));
-    b.inflate(radius(i) + params().contact_distance);
-    return b;
-}
+Aabb RigidSphereModel::element_box(Index i) const { return sphere_box(*this, i); }
 
 void RigidSphereModel::validate() const {
     CollisionModel::validate();
-    check_radius(*this, -1, radius_, "radius");
-    for (std::size_t i = 0; i < size(); ++i) {
-        check_radius(*this, Index(i), radius(Index(i)), "radius");
-        check_point(center(Index(i)), Index(i), "centre");
-    }
+    check_spheres(*this, radius_);
 }
 
 // ---------------------------------------------------------------------------------------------

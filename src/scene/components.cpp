@@ -17,7 +17,8 @@ namespace {
 using F = ComponentFamily;
 using K = AttributeKind;
 
-// ---- loaders: read by io::load_scene_mesh (src/io/components.cpp), SOFA's MeshLoader Data ----
+// ---- loaders: read by io::load_scene_mesh (src/io/scene_mesh.cpp), SOFA's MeshLoader Data ----
+/// What every mesh loader reads (SOFA's MeshLoader Data).
 constexpr AttributeSpec kMeshLoaderAttributes[] = {
     {"filename", K::text, "", "", ValueCheck::none, "mesh file, found next to the scene or in --data-dir"},
     {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied after rotation and scale"},
@@ -25,22 +26,16 @@ constexpr AttributeSpec kMeshLoaderAttributes[] = {
     {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
     {"scale", K::real, "1", "", ValueCheck::none, "uniform scale"},
     {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
-    {"flipNormals", K::boolean, "0", "", ValueCheck::none, "reverse the triangles' orientation (not Gmsh)"},
-    {"createSubelements", K::boolean, "0", "", ValueCheck::none, "derive edges and triangles of the volumes"},
     {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
     {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},
 };
+constexpr AttributeSpec kObjVtkLoaderAttributes[] = {
+    {"flipNormals", K::boolean, "0", "", ValueCheck::none, "reverse the triangles' orientation"},
+    {"createSubelements", K::boolean, "0", "", ValueCheck::none, "derive edges and triangles of the volumes"},
+};
 constexpr AttributeSpec kGmshLoaderAttributes[] = {
-    {"filename", K::text, "", "", ValueCheck::none, "Gmsh v1/v2 ASCII file"},
-    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied after rotation and scale"},
-    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
-    {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
-    {"scale", K::real, "1", "", ValueCheck::none, "uniform scale"},
-    {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
     {"flipNormals", K::boolean, "0", "", ValueCheck::none, "ignored for Gmsh, as SOFA"},
     {"createSubelements", K::boolean, "1", "", ValueCheck::none, "derive edges and triangles of the volumes"},
-    {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
-    {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},
 };
 constexpr AttributeSpec kSphereLoaderAttributes[] = {
     {"filename", K::text, "", "", ValueCheck::none, ".sph file of centres and radii"},
@@ -51,10 +46,13 @@ constexpr AttributeSpec kSphereLoaderAttributes[] = {
 };
 
 constexpr ComponentSpec kLoaders[] = {
-    {.type = "MeshOBJLoader", .family = F::loader, .summary = "Wavefront OBJ mesh", .attributes = kMeshLoaderAttributes},
-    {.type = "MeshGmshLoader", .family = F::loader, .summary = "Gmsh v1/v2 ASCII mesh", .attributes = kGmshLoaderAttributes},
+    {.type = "MeshOBJLoader", .family = F::loader, .summary = "Wavefront OBJ mesh", .attributes = kObjVtkLoaderAttributes,
+     .shared_attributes = kMeshLoaderAttributes},
+    {.type = "MeshGmshLoader", .family = F::loader, .summary = "Gmsh v1/v2 ASCII mesh", .attributes = kGmshLoaderAttributes,
+     .shared_attributes = kMeshLoaderAttributes},
     {.type = "SphereLoader", .family = F::loader, .summary = "sphere list (.sph)", .attributes = kSphereLoaderAttributes},
-    {.type = "MeshVTKLoader", .family = F::loader, .summary = "legacy ASCII VTK mesh", .attributes = kMeshLoaderAttributes},
+    {.type = "MeshVTKLoader", .family = F::loader, .summary = "legacy ASCII VTK mesh", .attributes = kObjVtkLoaderAttributes,
+     .shared_attributes = kMeshLoaderAttributes},
 };
 
 constexpr ComponentSpec kVisual[] = {

@@ -11,6 +11,8 @@ namespace penalty::scene {
 
 Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
 Scene::~Scene() {
+    // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
+    for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
     pipelines_.clear();  // they remove what they added to the graph
 }
 

@@ -302,6 +302,13 @@ void ContactPipeline::evaluate_at_step_start(std::size_t entry) {
     contact.update_contact_points();
 }
 
+void ContactPipeline::keep_step_start() {
+    if (keep_step_start_) return;
+    // Live pairs were last fed by the last update(): their outputs are still in detections().
+    keep_step_start_ = true;
+    record_fed_outputs();
+}
+
 void ContactPipeline::attach_newton(EulerImplicitSolver& solver) {
     const Node* owner = nullptr;
     const auto search = [&](const auto& self, const Node& n) -> void {
@@ -311,11 +318,7 @@ void ContactPipeline::attach_newton(EulerImplicitSolver& solver) {
     search(search, simulation_->root());
     if (owner == nullptr)
         throw_invalid_argument("ContactPipeline::attach_newton: the solver is not owned by a node of the simulation");
-    if (!keep_step_start_) {
-        // Live pairs were last fed by the last update(): their outputs are still in detections().
-        keep_step_start_ = true;
-        record_fed_outputs();
-    }
+    keep_step_start();
     if (std::find(attached_solvers_.begin(), attached_solvers_.end(), &solver) == attached_solvers_.end())
         attached_solvers_.push_back(&solver);
     solver.newton.update_geometry = [this, owner] { update_geometry(*owner); };

@@ -10,6 +10,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <sstream>
 #include <string>
@@ -220,6 +222,31 @@ TEST(ComponentRegistry, SpelledOutDefaultsChangeNothing) {
     EXPECT_EQ(a, b);
     EXPECT_THAT(a, HasSubstr("alarm distance 1 m, contact distance 0.5 m"));
     EXPECT_THAT(a, HasSubstr("contactStiffness 10"));
+}
+
+}  // namespace
+
+namespace {
+
+// The fuzz dictionary (fuzz/scene.dict) lists the registry's tags and attributes, so that the
+// scene fuzzers reach every build function: it must not fall behind the registry.
+TEST(ComponentRegistry, FuzzDictionaryCoversTheRegistry) {
+    std::ifstream in(std::string(PENALTY_SOURCE_DIR) + "/fuzz/scene.dict");
+    ASSERT_TRUE(in) << "fuzz/scene.dict (scripts/update-fuzz-dictionary.py adds what it lacks)";
+    const std::string dict((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::size_t entries = 0;
+    for (const ComponentSpec& s : component_registry()) {
+        EXPECT_NE(dict.find("\"<" + std::string(s.type) + " \""), std::string::npos) << "tag " << s.type;
+        ++entries;
+        if (category_of(s.family) == ComponentCategory::ignored) continue;
+        for (std::span<const AttributeSpec> list : {s.attributes, s.shared_attributes}) {
+            for (const AttributeSpec& a : list) {
+                EXPECT_NE(dict.find("\" " + std::string(a.name) + "=\\\"\""), std::string::npos) << s.type << "." << a.name;
+                ++entries;
+            }
+        }
+    }
+    EXPECT_GT(entries, 200u);
 }
 
 }  // namespace

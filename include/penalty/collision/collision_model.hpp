@@ -108,11 +108,11 @@ public:
     /// Checks parameters and positions; throws std::invalid_argument naming the model, the
     /// element and the parameter (NaN/inf positions, negative radius, bad indices, ...).
     virtual void validate() const;
+    /// Throws std::invalid_argument for a non-finite position of element `elem` (validate()'s rule).
+    void check_point(const Vec3& p, Index elem, const char* what) const;
 
 protected:
     virtual void do_update() {}
-    /// Throws for a non-finite position of element `elem`.
-    void check_point(const Vec3& p, Index elem, const char* what) const;
 
 private:
     ModelType type_;

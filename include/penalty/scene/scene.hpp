@@ -160,7 +160,7 @@ private:
     std::map<const void*, const io::SceneComponent*> built_from_;
     StepTimings timings_;
     StepSolverStats solver_stats_;
-    std::vector<const EulerImplicitSolver*> implicit_solvers_;
+    std::vector<EulerImplicitSolver*> implicit_solvers_;
     std::vector<std::string> implicit_solver_paths_;  ///< node path of each implicit solver
     std::vector<output::ContactRecord> contacts_;
 };

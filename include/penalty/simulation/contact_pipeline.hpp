@@ -190,7 +190,12 @@ public:
     /// Newton: set solver.newton.enabled. From the next update() on, the pipeline keeps the
     /// pre-step contact state the iterates need (per step: a copy of each live pair's force
     /// field and of the registered models' positions and velocities).
+    /// The hook is this pipeline's: its destructor clears it. A caller that drives several
+    /// pipelines from one solver calls keep_step_start() on each and owns the solver's hook.
     void attach_newton(EulerImplicitSolver& solver);
+    /// What attach_newton() does to the pipeline, without touching a solver: from the next
+    /// update() on, keep the pre-step contact state update_geometry() needs.
+    void keep_step_start();
     /// update_geometry calls since the last update().
     [[nodiscard]] int geometry_updates_this_step() const { return geometry_updates_; }
 

@@ -145,12 +145,17 @@ private:
         b_.pipelines().push_back(std::move(sp));
     }
 
-    /// Beyond SOFA: a solver with newton="1" re-runs the contact geometry at each iterate.
+    /// Beyond SOFA: a solver with newton="1" re-runs the contact geometry of every pipeline at
+    /// each iterate. The scene owns the solver's hook (Scene::~Scene clears it before the
+    /// pipelines go); each pipeline only keeps its pre-step state.
     void attach_newton() {
+        if (b_.newton_solvers().empty()) return;
+        std::vector<ContactPipeline*> all;
+        for (ScenePipeline& p : b_.pipelines()) {
+            p.pipeline->keep_step_start();
+            all.push_back(p.pipeline.get());
+        }
         for (auto [solver, solver_node] : b_.newton_solvers()) {
-            for (ScenePipeline& p : b_.pipelines()) p.pipeline->attach_newton(*solver);
-            std::vector<ContactPipeline*> all;
-            for (ScenePipeline& p : b_.pipelines()) all.push_back(p.pipeline.get());
             const Node* subtree = solver_node;
             solver->newton.update_geometry = [all, subtree] {
                 for (ContactPipeline* p : all) p->update_geometry(*subtree);
