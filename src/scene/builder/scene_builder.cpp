@@ -294,37 +294,4 @@ void SceneBuilder::warn_degenerate_triangles() {
     }
 }
 
-// ---- entry points -------------------------------------------------------------------------------
-
-void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overrides) {
-    std::vector<io::Override> parsed;
-    parsed.reserve(overrides.size());
-    for (const std::string& o : overrides) parsed.push_back(io::parse_override(o));
-    const auto reads = [](const io::SceneElement& e, std::string_view attribute) {
-        const std::vector<std::string> known = read_attributes(e.type);
-        return std::find(known.begin(), known.end(), attribute) != known.end();
-    };
-    const auto known = [](const io::SceneElement& e) {
-        const std::vector<std::string> names = read_attributes(e.type);
-        if (names.empty()) return std::string("it reads none");
-        std::string out = "it reads:";
-        for (const std::string& n : names) out += " " + n;
-        return out;
-    };
-    io::apply_overrides(file, parsed, reads, known);
-}
-
-std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
-    if (!options.overrides.empty()) apply_overrides(file, options.overrides);
-    auto scene = std::make_unique<Scene>();
-    scene->file_ = std::move(file);
-    SceneBuilder(scene->file_, options, *scene).build();
-    scene->refresh_contacts();
-    return scene;
-}
-
-std::unique_ptr<Scene> load_scene(const std::filesystem::path& file, const BuildOptions& options) {
-    return build_scene(io::parse_scene_file(file, options.data_dirs), options);  // data folders: <include>s too
-}
-
 }  // namespace penalty::scene
