@@ -22,7 +22,8 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
                          const std::vector<std::filesystem::path>& data_dirs) {
     const bool is_mesh_loader = c.type == "MeshOBJLoader" || c.type == "MeshGmshLoader" || c.type == "MeshVTKLoader";
     const bool is_sphere_loader = c.type == "SphereLoader";
-    const bool is_topology_file = c.type == "MeshTopology" || c.type == "MechanicalObject";
+    const bool is_topology_file = c.type == "MeshTopology" || c.type == "MechanicalObject" ||
+                                  c.type.ends_with("SetTopologyContainer");  // BaseMeshTopology::load
     if (!is_mesh_loader && !is_sphere_loader && !is_topology_file) {
         throw_element_error(c, "is not a mesh loader");
     }

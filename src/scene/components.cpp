@@ -98,7 +98,8 @@ const std::vector<ComponentSpec>& registry() {
         for (std::span<const ComponentSpec> family :
              {builder::solver_components(), builder::state_and_topology_components(),
               builder::mass_and_force_field_components(), builder::mapping_and_constraint_components(),
-              builder::collision_components(), std::span<const ComponentSpec>(kLoaders),
+              builder::collision_components(), builder::topology_container_components(),
+              std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual)})
             out.insert(out.end(), family.begin(), family.end());
         return out;
@@ -128,6 +129,7 @@ std::string_view family_name(ComponentFamily f) {
     switch (f) {
         case F::gravity: return "context";
         case F::topology: return "topologies";
+        case F::topology_helper: return "topology modifiers and algorithms (accepted; only topological changes use them)";
         case F::state: return "states";
         case F::mapping: return "mappings";
         case F::mass: return "masses";

@@ -36,6 +36,7 @@ enum class ComponentCategory {
 enum class ComponentFamily {
     gravity,              ///< sets its node's gravity (before anything else of the node)
     topology,             ///< one per node
+    topology_helper,      ///< topology modifiers and geometry algorithms: accepted, build nothing (static topologies)
     state,                ///< MechanicalObject: one per node
     mapping,              ///< one per node
     mass,                 ///< one per node

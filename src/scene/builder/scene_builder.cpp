@@ -230,6 +230,7 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
     info.solver_node = parent_solver ? parent_solver : (has(F::ode_solver) ? &sn : nullptr);
     info.mapped = has(F::mapping);
     build_family({F::topology});
+    build_family({F::topology_helper});
     build_family({F::state});
     build_family({F::mapping});
     build_family({F::mass, F::force_field, F::constraint});

@@ -1,4 +1,5 @@
 // States and topologies: MechanicalObject, MeshTopology, RegularGridTopology.
+#include "scene/builder/element_topology.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -25,33 +26,8 @@ constexpr AttributeSpec kMeshTopology[] = {
 };
 
 void build_mesh_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
-    const Attributes a(c);
-    info.topology_component = &c;
-    b.guarded(c, [&] {
-        auto t = std::make_unique<MeshTopology>();
-        io::MeshData mesh;
-        if (a.has("src")) mesh = b.linked_mesh(a, "src");
-        else if (a.has("filename")) mesh = b.mesh_of(c);
-        if (a.has("position")) mesh.positions = a.points("position");
-        if (a.has("edges")) mesh.edges = a.elements<2>("edges");
-        if (a.has("triangles")) mesh.triangles = a.elements<3>("triangles");
-        if (a.has("quads")) mesh.quads = a.elements<4>("quads");
-        for (const char* name : {"tetrahedra", "tetras"})
-            if (a.has(name)) mesh.tetrahedra = a.elements<4>(name);
-        for (const char* name : {"hexahedra", "hexas"})
-            if (a.has(name)) mesh.hexahedra = a.elements<8>(name);
-        if (!mesh.positions.empty()) t->set_num_points(mesh.positions.size());
-        t->set_edges(mesh.edges);
-        t->set_triangles(mesh.triangles);
-        t->set_quads(mesh.quads);
-        t->set_tetrahedra(mesh.tetrahedra);
-        t->set_hexahedra(mesh.hexahedra);
-        (void)t->edges();  // checks indices against the point count now
-        info.topology_positions = mesh.positions;
-        info.topology = b.add_topology(std::move(t));
-    });
-    b.role(c, [t = info.topology] { return element_counts(t->num_points(), *t); });
-    b.note_unread_attributes(c);
+    build_element_topology(b, c, info,
+                           {.edges = true, .triangles = true, .quads = true, .tetrahedra = true, .hexahedra = true});
 }
 
 // ---- RegularGridTopology --------------------------------------------------------------------

@@ -1,0 +1,95 @@
+// Topologies from element lists: MeshTopology (states_and_topologies.cpp) and SOFA's static
+// ...SetTopologyContainer classes (topology_containers.cpp) share this build.
+#include "scene/builder/element_topology.hpp"
+
+#include <algorithm>
+
+namespace penalty::scene::builder {
+
+namespace {
+
+using io::SceneComponent;
+
+/// The list a data link names (`triangles="@loader.triangles"`, `tetrahedra="@../topo.tetrahedra"`):
+/// a loader's list, or a built topology's (with its derived elements, as SOFA's Data).
+template <class Element>
+std::vector<Element> linked_elements(SceneBuilder& b, const Attributes& a, std::string_view attr,
+                                     std::vector<Element> io::MeshData::*loaded,
+                                     const std::vector<Element>& (MeshTopology::*built)() const) {
+    const io::LinkTarget t = a.link(attr);
+    if (t.component == nullptr) a.fail(attr, "link must name a loader or a topology");
+    if (component_category(t.component->type) == ComponentCategory::loader) return b.mesh_of(*t.component).*loaded;
+    for (const auto& [node, info] : b.node_builds())
+        if (info.topology_component == t.component && info.topology != nullptr) return (info.topology->*built)();
+    a.fail(attr, "cannot read elements from " + t.component->describe() + " (a loader or a topology built before it)");
+}
+
+template <class Element>
+void read_list(SceneBuilder& b, const Attributes& a, std::string_view attr, std::vector<Element>& out,
+               std::vector<Element> io::MeshData::*loaded, const std::vector<Element>& (MeshTopology::*built)() const) {
+    if (!a.has(attr)) return;
+    if (a.is_link(attr)) out = linked_elements(b, a, attr, loaded, built);
+    else out = a.elements<std::tuple_size_v<Element>>(attr);
+}
+
+}  // namespace
+
+void build_element_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, const ElementLists& lists) {
+    const Attributes a(c);
+    info.topology_component = &c;
+    b.guarded(c, [&] {
+        auto t = std::make_unique<MeshTopology>();
+        io::MeshData mesh;
+        if (a.has("src")) mesh = b.linked_mesh(a, "src");
+        else if (a.has("filename")) mesh = b.mesh_of(c);
+        // SOFA's `src` links only the Data the class declares.
+        if (!lists.edges) mesh.edges.clear();
+        if (!lists.triangles) mesh.triangles.clear();
+        if (!lists.quads) mesh.quads.clear();
+        if (!lists.tetrahedra) mesh.tetrahedra.clear();
+        if (!lists.hexahedra) mesh.hexahedra.clear();
+        for (const char* name : {"position", "points"}) {
+            if (!lists.nb_points && std::string_view(name) == "points") continue;
+            if (a.has(name)) mesh.positions = a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
+        }
+        if (lists.edges) read_list(b, a, "edges", mesh.edges, &io::MeshData::edges, &MeshTopology::edges);
+        if (lists.triangles)
+            read_list(b, a, "triangles", mesh.triangles, &io::MeshData::triangles, &MeshTopology::triangles);
+        if (lists.quads) read_list(b, a, "quads", mesh.quads, &io::MeshData::quads, &MeshTopology::quads);
+        if (lists.tetrahedra)
+            for (const char* name : {"tetrahedra", "tetras"})
+                read_list(b, a, name, mesh.tetrahedra, &io::MeshData::tetrahedra, &MeshTopology::tetrahedra);
+        if (lists.hexahedra)
+            for (const char* name : {"hexahedra", "hexas"})
+                read_list(b, a, name, mesh.hexahedra, &io::MeshData::hexahedra, &MeshTopology::hexahedra);
+        if (!mesh.positions.empty()) {
+            t->set_num_points(mesh.positions.size());
+        } else if (lists.nb_points && a.has("nbPoints")) {
+            // PointSetTopologyContainer::init: nbPoints, raised to cover every element's indices.
+            const std::int64_t n = a.integer("nbPoints");
+            if (n < 0 || std::uint64_t(n) > b.options().max_dofs)
+                a.fail("nbPoints", "must be between 0 and " + std::to_string(b.options().max_dofs));
+            MeshTopology counted_topology;
+            counted_topology.set_edges(mesh.edges);
+            counted_topology.set_triangles(mesh.triangles);
+            counted_topology.set_quads(mesh.quads);
+            counted_topology.set_tetrahedra(mesh.tetrahedra);
+            counted_topology.set_hexahedra(mesh.hexahedra);
+            t->set_num_points(std::max(std::size_t(n), counted_topology.num_points()));
+        }
+        t->set_edges(mesh.edges);
+        t->set_triangles(mesh.triangles);
+        t->set_quads(mesh.quads);
+        t->set_tetrahedra(mesh.tetrahedra);
+        t->set_hexahedra(mesh.hexahedra);
+        (void)t->edges();  // checks indices against the point count now
+        info.topology_positions = mesh.positions;
+        info.topology = b.add_topology(std::move(t));
+    });
+    // By reference: a topological mapping may refill this topology later (NodeBuild addresses
+    // are stable while the builder runs, and roles are described before it ends).
+    b.role(c, [&info] { return element_counts(info.topology->num_points(), *info.topology); });
+    b.note_unread_attributes(c);
+}
+
+}  // namespace penalty::scene::builder
