@@ -44,7 +44,7 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
         // f/d computed as f·(1/d) and each entry ((ks − t)·U_j)·U_k.
         const Vec3 u = x2[b] - x1[a];
         const double d = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-        if (d <= 1e-9) {
+        if (d <= null_length_) {
             dfdx_[i].setZero();
             continue;
         }

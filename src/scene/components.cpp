@@ -99,6 +99,7 @@ const std::vector<ComponentSpec>& registry() {
              {builder::solver_components(), builder::state_and_topology_components(),
               builder::mass_and_force_field_components(), builder::mapping_and_constraint_components(),
               builder::collision_components(), builder::topology_container_components(),
+              builder::surface_force_field_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual)})
             out.insert(out.end(), family.begin(), family.end());

@@ -22,7 +22,7 @@ struct Spring {
 /// SpringForceField (SOFA's SpringForceField = StiffSpringForceField), between two Vec3 states or
 /// inside one (pass the same state twice). For a spring (a, b): u = x_b − x_a, d = |u|, û = u/d,
 /// intensity F = ks (d − L) + kd (v_b − v_a)·û, force +F û on a and −F û on b; springs with
-/// d <= 1e-9 are ignored. Stiffness block (linearised at add_force):
+/// d <= the null length (1e-9, set_null_length) are ignored. Stiffness block (linearised at add_force):
 ///   m = (ks − F/d) ûûᵀ + (F/d) I,  K_aa = K_bb = −m,  K_ab = K_ba = +m  (SOFA sign).
 /// Damping is explicit only: add_dforce ignores b_factor (SOFA). Energy ½ ks (d − L)².
 class SpringForceField : public Vec3InteractionForceField {
@@ -36,6 +36,9 @@ public:
     /// Checks the indices against the state sizes.
     void init() override;
     [[nodiscard]] const std::vector<Spring>& springs() const { return springs_; }
+    /// Springs with d <= `length` (m) give no force and no stiffness (SpringForceField: 1e-9;
+    /// TriangularBendingSprings::addForce: 1e-4).
+    void set_null_length(double length) { null_length_ = length; }
 
     void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
                    ConstVec3Span v2) override;
@@ -50,6 +53,7 @@ private:
     std::vector<Spring> springs_;
     std::vector<Mat3> dfdx_;  ///< m per spring (see class comment), from the last add_force
     double energy_ = 0.0;
+    double null_length_ = 1e-9;
 };
 
 /// Per-element-type stiffness/damping of MeshSpringForceField (SOFA's linesStiffness …

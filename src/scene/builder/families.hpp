@@ -14,5 +14,6 @@ std::span<const ComponentSpec> mapping_and_constraint_components(); // mappings_
 std::span<const ComponentSpec> solver_components();                // solvers.cpp
 std::span<const ComponentSpec> collision_components();             // collision.cpp
 std::span<const ComponentSpec> topology_container_components();     // topology_containers.cpp
+std::span<const ComponentSpec> surface_force_field_components();   // surface_force_fields.cpp
 
 }  // namespace penalty::scene::builder

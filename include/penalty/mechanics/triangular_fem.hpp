@@ -1,0 +1,91 @@
+#pragma once
+/// @file
+/// SOFA's TriangularFEMForceField: a membrane of linear triangles (plane stress, unit thickness)
+/// on a Vec3 state, method "large" (co-rotational, SOFA's default) or "small".
+///
+/// Per triangle (a, b, c), as SOFA's TriangularFEMForceField and TriangleFEMUtils:
+///   - material (computeMaterialStiffness): Dₐ = E/(1−ν²)·A₀·[[1, ν, 0], [ν, 1, 0], [0, 0, (1−ν)/2]]
+///     with A₀ the rest area (Pa·m² = N/m for a unit thickness);
+///   - large (initLarge, accumulateForceLarge): frame R (rows = local axes) with x̂ along b − a,
+///     ẑ ⟂ (b − a, c − a), ŷ = ẑ × x̂ (computeRotationLarge); rest local coordinates
+///     r_b = R₀(b⁰ − a⁰), r_c = R₀(c⁰ − a⁰); current ones d_b = R(b − a), d_c = R(c − a);
+///     displacement D = (0, 0, r_bx − d_bx, 0, r_cx − d_cx, r_cy − d_cy) (computeDisplacementLarge);
+///     J (6×3, strain-displacement of the CURRENT local triangle, computeStrainDisplacementLocal);
+///     ε = Jᵀ D, σ = Dₐ ε, F = J σ, f_i += Rᵀ (F_2i, F_2i+1, 0);
+///   - small (initSmall, accumulateForceSmall): no frame: world x, y of b − a and c − a, J from
+///     the current world triangle (computeStrainDisplacementGlobal, 1/|(b−a)×(c−a)|), forces
+///     (F_2i, F_2i+1, 0) — world z is ignored, as SOFA;
+///   - stiffness (applyStiffnessLarge / applyStiffnessSmall, buildStiffnessMatrix):
+///     K_e = −Rᵀ [J Dₐ Jᵀ]_xy R with R and J of the last add_force (their derivatives ignored, as
+///     SOFA: exact at a stress-free configuration).
+/// SOFA does not implement its potential energy; potential_energy() here returns Σ ½ ε·σ at the
+/// last add_force (a diagnostic: f is not exactly its gradient, since J follows the deformation).
+///
+/// The older TriangleFEMForceField (flavor TriangleFEM) is the same element with three differences
+/// (TriangleFEMForceField::computeMaterialStiffnesses, accumulateForceSmall, init):
+///   - material Dₐ times thickness·A₀ with A₀ = ½|(b⁰−a⁰)×(c⁰−a⁰)|, and optionally plane strain
+///     E/((1+ν)(1−2ν))·[[1−ν, ν, 0], [ν, 1−ν, 0], [0, 0, ½−ν]];
+///   - method small: J by the local formula (det = b_x·c_y) applied to the world b − a, c − a;
+///   - a topology without triangles but with quads is split, quad q → (q0, q1, q2), (q0, q2, q3).
+
+#include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <Eigen/Core>
+
+namespace penalty {
+
+/// Which SOFA component the element follows (see the file comment).
+enum class TriangleFemFlavor { TriangularFEM, TriangleFEM };
+
+struct TriangleFemParameters {
+    double young_modulus = 5000.0;  ///< E (Pa), > 0
+    double poisson_ratio = 0.45;    ///< ν ∈ (−1, 0.5)
+    FemMethod method = FemMethod::Large;
+    TriangleFemFlavor flavor = TriangleFemFlavor::TriangularFEM;
+    double thickness = 1.0;         ///< m, > 0 (TriangleFEM flavor only)
+    bool plane_strain = false;      ///< TriangleFEM flavor only
+};
+
+class TriangularFEMForceField final : public ForceField<Vec3Types> {
+public:
+    using StrainDisplacement = Eigen::Matrix<double, 6, 3>;
+
+    /// The triangles of `topology` (in its order); E > 0 (Pa), ν ∈ (−1, 0.5).
+    TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
+                            double poisson_ratio, FemMethod method = FemMethod::Large);
+    /// Either flavor; the TriangleFEM flavor splits the quads of a topology without triangles.
+    TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology, const TriangleFemParameters& parameters);
+
+    /// Rest frames, rest local coordinates, areas and material matrices from the rest positions;
+    /// throws std::invalid_argument for a degenerate (zero-area) triangle.
+    void init() override;
+    void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
+    [[nodiscard]] double potential_energy() const override { return energy_; }
+
+    [[nodiscard]] const std::vector<Triangle>& triangles() const { return triangles_; }
+    /// Rest area A₀ of each triangle (m²).
+    [[nodiscard]] const std::vector<double>& rest_areas() const { return area_; }
+    [[nodiscard]] FemMethod method() const { return parameters_.method; }
+    [[nodiscard]] const TriangleFemParameters& parameters() const { return parameters_; }
+
+private:
+    /// One triangle's force: updates j_[e], rotation_[e]; returns ½ ε·σ (false: degenerate now).
+    bool element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
+    /// −[J Dₐ Jᵀ] (6×6, local x, y per vertex) of triangle e at the last add_force.
+    [[nodiscard]] Eigen::Matrix<double, 6, 6> local_stiffness(std::size_t e) const;
+
+    std::vector<Triangle> triangles_;
+    TriangleFemParameters parameters_;
+    std::vector<std::array<Vec3, 2>> rest_local_;  ///< r_b, r_c (rotatedInitialElements 1, 2)
+    std::vector<double> area_;
+    std::vector<Mat3> material_;                   ///< Dₐ (includes A₀)
+    std::vector<StrainDisplacement> j_;            ///< J at the last add_force
+    std::vector<Mat3> rotation_;                   ///< Rᵀ (columns = local axes) at the last add_force
+    double energy_ = 0.0;
+};
+
+}  // namespace penalty

@@ -1,0 +1,236 @@
+#include "penalty/mechanics/triangular_fem.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace penalty {
+
+namespace {
+
+const char* component_name(TriangleFemFlavor flavor) {
+    return flavor == TriangleFemFlavor::TriangularFEM ? "TriangularFEMForceField" : "TriangleFEMForceField";
+}
+
+/// The elements: the topology's triangles; for TriangleFEMForceField::init without triangles,
+/// each quad q split into (q0, q1, q2), (q0, q2, q3).
+std::vector<Triangle> elements_of(const MeshTopology& topology, TriangleFemFlavor flavor) {
+    if (flavor == TriangleFemFlavor::TriangleFEM && topology.triangles().empty()) {
+        std::vector<Triangle> split;
+        split.reserve(2 * topology.quads().size());
+        for (const Quad& q : topology.quads()) {
+            split.push_back({q[0], q[1], q[2]});
+            split.push_back({q[0], q[2], q[3]});
+        }
+        return split;
+    }
+    return topology.triangles();
+}
+
+/// Frame of triangle (a, b, c), rows = local axes: x̂ along b − a, ẑ along x̂ × (c − a),
+/// ŷ = ẑ × x̂ (TriangleFEMUtils::computeRotationLarge).
+Mat3 triangle_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ex = (b - a).normalized();
+    const Vec3 ez = ex.cross(c - a).normalized();
+    const Vec3 ey = ez.cross(ex);
+    Mat3 r;
+    r.row(0) = ex;
+    r.row(1) = ey;
+    r.row(2) = ez;
+    return r;
+}
+
+/// J for a local triangle a = 0, b = (b_x, 0), c = (c_x, c_y), det = b_x·c_y
+/// (TriangleFEMUtils::computeStrainDisplacementLocal); false when |det| < machine epsilon.
+bool strain_displacement_local(TriangularFEMForceField::StrainDisplacement& j, const Vec3& b, const Vec3& c) {
+    const double det = b.x() * c.y();
+    if (std::abs(det) < std::numeric_limits<double>::epsilon()) return false;
+    const double inv = 1 / det;
+    j.setZero();
+    j(0, 0) = j(1, 2) = -c.y() * inv;
+    j(0, 2) = j(1, 1) = (c.x() - b.x()) * inv;
+    j(2, 0) = j(3, 2) = c.y() * inv;
+    j(2, 2) = j(3, 1) = -c.x() * inv;
+    j(4, 2) = j(5, 1) = b.x() * inv;
+    return true;
+}
+
+/// J of the world triangle (0, b, c) from its x, y coordinates, scaled by 1/|b × c|
+/// (TriangleFEMUtils::computeStrainDisplacementGlobal with a = 0); false when degenerate.
+bool strain_displacement_global(TriangularFEMForceField::StrainDisplacement& j, const Vec3& b, const Vec3& c) {
+    const double det = b.cross(c).norm();
+    if (std::abs(det) < std::numeric_limits<double>::epsilon()) return false;
+    const double inv = 1 / det;
+    const double x13 = (0.0 - c.x()) * inv, x21 = (b.x() - 0.0) * inv, x32 = (c.x() - b.x()) * inv;
+    const double y12 = (0.0 - b.y()) * inv, y23 = (b.y() - c.y()) * inv, y31 = (c.y() - 0.0) * inv;
+    j << y23, 0, x32,  //
+        0, x32, y23,   //
+        y31, 0, x13,   //
+        0, x13, y31,   //
+        y12, 0, x21,   //
+        0, x21, y12;
+    return true;
+}
+
+}  // namespace
+
+TriangularFEMForceField::TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology, double young,
+                                                 double poisson, FemMethod method)
+    : TriangularFEMForceField(state, topology, TriangleFemParameters{.young_modulus = young, .poisson_ratio = poisson, .method = method}) {}
+
+TriangularFEMForceField::TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology,
+                                                 const TriangleFemParameters& parameters)
+    : ForceField<Vec3Types>(state), triangles_(elements_of(topology, parameters.flavor)), parameters_(parameters) {
+    const char* name = component_name(parameters.flavor);
+    const double young = parameters.young_modulus, poisson = parameters.poisson_ratio;
+    if (!std::isfinite(young) || young <= 0) throw_invalid_argument(name, ": youngModulus must be finite and > 0, got ", young);
+    if (!std::isfinite(poisson) || poisson <= -1.0 || poisson >= 0.5)
+        throw_invalid_argument(name, ": poissonRatio must be in (-1, 0.5), got ", poisson);
+    if (!std::isfinite(parameters.thickness) || parameters.thickness <= 0)
+        throw_invalid_argument(name, ": thickness must be finite and > 0, got ", parameters.thickness);
+}
+
+void TriangularFEMForceField::init() {
+    const char* kComponent = component_name(parameters_.flavor);
+    const bool triangular = parameters_.flavor == TriangleFemFlavor::TriangularFEM;
+    const auto& x0 = state_->rest_position;
+    const std::size_t n = triangles_.size();
+    rest_local_.resize(n);
+    area_.resize(n);
+    material_.resize(n);
+    j_.resize(n);
+    rotation_.assign(n, Mat3::Identity());
+    for (std::size_t e = 0; e < n; ++e) {
+        for (const PointId v : triangles_[e])
+            if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
+                throw_invalid_argument(kComponent, ": triangle ", e, " uses point ", v, " but the state has ", x0.size(),
+                                       " points");
+        const Vec3& a = x0[static_cast<std::size_t>(triangles_[e][0])];
+        const Vec3& b = x0[static_cast<std::size_t>(triangles_[e][1])];
+        const Vec3& c = x0[static_cast<std::size_t>(triangles_[e][2])];
+        bool ok = false;
+        if (parameters_.method == FemMethod::Large) {
+            // initLarge: rest coordinates in the rest frame, area = ½ r_bx·r_cy
+            const Mat3 r0 = triangle_frame(a, b, c);
+            rest_local_[e] = {r0 * (b - a), r0 * (c - a)};
+            rotation_[e] = r0.transpose();
+            ok = strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
+            area_[e] = rest_local_[e][0].x() * rest_local_[e][1].y() * 0.5;
+        } else {
+            // initSmall: world edge vectors, area = ½ |(b − a) × (c − a)|
+            rest_local_[e] = {b - a, c - a};
+            ok = triangular ? strain_displacement_global(j_[e], rest_local_[e][0], rest_local_[e][1])
+                            : strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
+            area_[e] = rest_local_[e][0].cross(rest_local_[e][1]).norm() * 0.5;
+        }
+        if (!ok) throw_invalid_argument(kComponent, ": triangle ", e, " is degenerate at rest (zero area)");
+        const double p = parameters_.poisson_ratio;
+        const double young = parameters_.young_modulus;
+        Mat3 d;
+        if (triangular) {
+            // TriangularFEMForceField::computeMaterialStiffness: plane stress times the rest area
+            d << 1, p, 0, p, 1, 0, 0, 0, (1.0 - p) * 0.5;
+            material_[e] = d * ((young / (1.0 - p * p)) * area_[e]);
+        } else {
+            // TriangleFEMForceField::computeMaterialStiffnesses: times thickness·½|(b−a)×(c−a)|
+            area_[e] = (b - a).cross(c - a).norm() * 0.5;
+            const double volume = parameters_.thickness * area_[e];
+            if (parameters_.plane_strain) {
+                d << 1 - p, p, 0, p, 1 - p, 0, 0, 0, 0.5 - p;
+                material_[e] = d * (young / ((1 + p) * (1 - 2 * p)) * volume);
+            } else {
+                d << 1, p, 0, p, 1, 0, 0, 0, 0.5 * (1 - p);
+                material_[e] = d * (young / (1 - p * p) * volume);
+            }
+        }
+    }
+}
+
+bool TriangularFEMForceField::element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy) {
+    const auto [ia, ib, ic] = triangles_[e];
+    const Vec3& pa = x[static_cast<std::size_t>(ia)];
+    const Vec3& pb = x[static_cast<std::size_t>(ib)];
+    const Vec3& pc = x[static_cast<std::size_t>(ic)];
+    const auto& [rb, rc] = rest_local_[e];
+    Eigen::Matrix<double, 6, 1> displacement;
+    StrainDisplacement j;
+    Mat3 to_world = Mat3::Identity();
+    if (parameters_.method == FemMethod::Large) {
+        // accumulateForceLarge / computeDisplacementLarge: the current local triangle
+        const Mat3 r = triangle_frame(pa, pb, pc);
+        const Vec3 db = r * (pb - pa);
+        const Vec3 dc = r * (pc - pa);
+        displacement << 0, 0, rb.x() - db.x(), 0, rc.x() - dc.x(), rc.y() - dc.y();
+        if (!strain_displacement_local(j, db, dc)) return false;
+        to_world = r.transpose();
+    } else {
+        // accumulateForceSmall / computeDisplacementSmall: world x, y of the edges
+        const Vec3 db = pb - pa;
+        const Vec3 dc = pc - pa;
+        displacement << 0, 0, rb.x() - db.x(), rb.y() - db.y(), rc.x() - dc.x(), rc.y() - dc.y();
+        // TriangleFEMForceField::accumulateForceSmall uses the local formula on world vectors
+        const bool ok = parameters_.flavor == TriangleFemFlavor::TriangularFEM ? strain_displacement_global(j, db, dc)
+                                                                           : strain_displacement_local(j, db, dc);
+        if (!ok) return false;
+    }
+    const Vec3 strain = j.transpose() * displacement;  // (εxx, εyy, γxy)
+    const Vec3 stress = material_[e] * strain;          // area-weighted σ (N/m)
+    const Eigen::Matrix<double, 6, 1> nodal = j * stress;
+    f[static_cast<std::size_t>(ia)] += to_world * Vec3(nodal[0], nodal[1], 0);
+    f[static_cast<std::size_t>(ib)] += to_world * Vec3(nodal[2], nodal[3], 0);
+    f[static_cast<std::size_t>(ic)] += to_world * Vec3(nodal[4], nodal[5], 0);
+    j_[e] = j;
+    rotation_[e] = to_world;
+    energy += 0.5 * strain.dot(stress);
+    return true;
+}
+
+void TriangularFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+    energy_ = 0.0;
+    for (std::size_t e = 0; e < triangles_.size(); ++e)
+        // SOFA logs a null determinant and stops this pass (accumulateForceLarge's catch: break)
+        if (!element_force(e, f, x, energy_)) break;
+}
+
+Eigen::Matrix<double, 6, 6> TriangularFEMForceField::local_stiffness(std::size_t e) const {
+    return -(j_[e] * material_[e] * j_[e].transpose());
+}
+
+void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
+    // applyStiffnessLarge / applyStiffnessSmall: dx in the element frame, local x, y only
+    for (std::size_t e = 0; e < triangles_.size(); ++e) {
+        const Mat3& to_world = rotation_[e];
+        const Mat3 to_local = to_world.transpose();
+        Eigen::Matrix<double, 6, 1> local_dx;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Vec3 d = to_local * dx[static_cast<std::size_t>(triangles_[e][k])];
+            local_dx[static_cast<Eigen::Index>(2 * k)] = d.x();
+            local_dx[static_cast<Eigen::Index>(2 * k + 1)] = d.y();
+        }
+        const Vec3 stress = material_[e] * (j_[e].transpose() * local_dx);
+        const Eigen::Matrix<double, 6, 1> nodal = j_[e] * stress;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const auto i = static_cast<Eigen::Index>(2 * k);
+            df[static_cast<std::size_t>(triangles_[e][k])] += (to_world * Vec3(-nodal[i], -nodal[i + 1], 0)) * k_factor;
+        }
+    }
+}
+
+void TriangularFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    // buildStiffnessMatrix: −R [J Dₐ Jᵀ]_xy Rᵀ per 3×3 vertex block (R = rotation_, columns = axes)
+    for (std::size_t e = 0; e < triangles_.size(); ++e) {
+        const Eigen::Matrix<double, 6, 6> k = local_stiffness(e);
+        const Mat3& r = rotation_[e];
+        for (std::size_t a = 0; a < 3; ++a)
+            for (std::size_t b = 0; b < 3; ++b) {
+                Mat3 local = Mat3::Zero();
+                local.topLeftCorner<2, 2>() = k.block<2, 2>(static_cast<Eigen::Index>(2 * a), static_cast<Eigen::Index>(2 * b));
+                const Mat3 blk = factor * r * local * r.transpose();
+                const Index ra = offset + 3 * triangles_[e][a];
+                const Index cb = offset + 3 * triangles_[e][b];
+                for (Index i = 0; i < 3; ++i)
+                    for (Index j = 0; j < 3; ++j) t.emplace_back(ra + i, cb + j, blk(i, j));
+            }
+    }
+}
+
+}  // namespace penalty
