@@ -52,7 +52,7 @@ TEST(ComponentRegistry, EachTypeOnceEachAttributeOncePhysicsIsBuilt) {
             EXPECT_EQ(s.build, nullptr) << s.type;
         }
     }
-    EXPECT_EQ(physics, 35u);  // the physics types of docs/sofa-compatibility.md
+    EXPECT_EQ(physics, 39u);  // the physics types of docs/sofa-compatibility.md
     EXPECT_EQ(component_category("TriangleCollisionModel"), ComponentCategory::physics);
     EXPECT_EQ(component_category("SphereLoader"), ComponentCategory::loader);
     EXPECT_EQ(component_category("OglModel"), ComponentCategory::ignored);

@@ -13,5 +13,6 @@ std::span<const ComponentSpec> mass_and_force_field_components();  // masses_and
 std::span<const ComponentSpec> mapping_and_constraint_components(); // mappings_and_constraints.cpp
 std::span<const ComponentSpec> solver_components();                // solvers.cpp
 std::span<const ComponentSpec> collision_components();             // collision.cpp
+std::span<const ComponentSpec> mass_and_region_components();        // masses_and_regions.cpp
 
 }  // namespace penalty::scene::builder
