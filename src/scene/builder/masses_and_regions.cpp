@@ -130,7 +130,7 @@ void build_fixed_plane(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
         f.set_indices(std::move(indices));
         b.add_init(1, c, [p = &f] { p->init(); });
         b.role(c, [p = &f, st = &s] {
-            return "removes the response along (" + vec(p->direction()) + ") of " + std::to_string(p->indices().size()) +
+            return "removes the response along " + vec(p->direction()) + " of " + std::to_string(p->indices().size()) +
                    " of " + counted(st->num_dofs(), "DOF", "DOFs");
         });
     });
@@ -156,7 +156,7 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "FixedPlaneConstraint", .family = F::constraint, .summary = "FixedPlaneProjectiveConstraint (older name)",
      .attributes = kFixedPlane, .build = build_fixed_plane, .sofa_class = "FixedPlaneProjectiveConstraint"},
     {.type = "BoxConstraint", .family = F::visual,
-     .summary = "unknown to SOFA (not created): ignored, as SOFA runs the scene without it", .attributes = kBoxConstraint},
+     .summary = "unknown to SOFA today, which creates nothing and runs the scene without it", .attributes = kBoxConstraint},
 };
 
 }  // namespace
