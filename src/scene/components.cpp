@@ -99,7 +99,7 @@ const std::vector<ComponentSpec>& registry() {
              {builder::solver_components(), builder::state_and_topology_components(),
               builder::mass_and_force_field_components(), builder::mapping_and_constraint_components(),
               builder::collision_components(), builder::topology_container_components(),
-              builder::surface_force_field_components(),
+              builder::surface_force_field_components(), builder::mass_and_region_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual)})
             out.insert(out.end(), family.begin(), family.end());
@@ -136,6 +136,7 @@ std::string_view family_name(ComponentFamily f) {
         case F::mass: return "masses";
         case F::force_field: return "force fields";
         case F::constraint: return "constraints";
+        case F::engine: return "engines";
         case F::ode_solver: return "ODE solvers";
         case F::linear_solver: return "linear solvers";
         case F::collision_model: return "collision models";

@@ -55,6 +55,7 @@ enum class ComponentFamily {
     contact_manager,      ///< CollisionResponse: read by a pipeline
     loader,               ///< mesh and sphere files
     visual,               ///< ignored
+    engine,               ///< data engines (BoxROI): built in file order with masses, force fields, constraints
 };
 
 /// The kind of value an attribute holds (as written in a scene file).

@@ -15,5 +15,6 @@ std::span<const ComponentSpec> solver_components();                // solvers.cp
 std::span<const ComponentSpec> collision_components();             // collision.cpp
 std::span<const ComponentSpec> topology_container_components();     // topology_containers.cpp
 std::span<const ComponentSpec> surface_force_field_components();   // surface_force_fields.cpp
+std::span<const ComponentSpec> mass_and_region_components();        // masses_and_regions.cpp
 
 }  // namespace penalty::scene::builder

@@ -164,7 +164,7 @@ void build_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     b.guarded(c, [&] {
         auto& f = info.node->add_constraint<FixedProjectiveConstraint>(s);
         std::vector<Index> idx;
-        for (PointId i : a.indices("indices")) idx.push_back(i);
+        for (PointId i : b.indices(a, "indices")) idx.push_back(i);
         for (Index i : idx)
             if (std::size_t(i) >= s.num_dofs())
                 a.fail("indices", "index " + std::to_string(i) + " out of range (" + std::to_string(s.num_dofs()) + " DOFs)");

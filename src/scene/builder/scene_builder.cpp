@@ -135,6 +135,17 @@ std::vector<Vec3> SceneBuilder::linked_positions(const Attributes& a, std::strin
     a.fail(attr, "cannot read positions from " + src.describe());
 }
 
+std::vector<PointId> SceneBuilder::indices(const Attributes& a, std::string_view attr) {
+    if (!a.is_link(attr)) return a.indices(attr);
+    const io::LinkTarget t = a.link(attr);
+    if (t.component == nullptr || t.data.empty()) a.fail(attr, "link must name an engine's data (@engine.indices)");
+    const auto it = engine_indices_.find({t.component, t.data});
+    if (it == engine_indices_.end())
+        a.fail(attr, "cannot read indices from data '" + t.data + "' of " + t.component->describe() +
+                         " (penalty reads the indices of a BoxROI built before this component)");
+    return it->second;
+}
+
 Vec3Object& SceneBuilder::vec3_state(const SceneComponent& c, const NodeBuild& info) {
     auto* s = dynamic_cast<Vec3Object*>(info.node->state());
     if (s == nullptr) {
@@ -233,7 +244,7 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
     build_family({F::topology_helper});
     build_family({F::state});
     build_family({F::mapping});
-    build_family({F::mass, F::force_field, F::constraint});
+    build_family({F::mass, F::force_field, F::constraint, F::engine});
     build_family({F::ode_solver});
     build_family({F::collision_model});
     build_family({F::animation_loop, F::linear_solver, F::collision_pipeline, F::composite_pipeline, F::sub_pipeline,

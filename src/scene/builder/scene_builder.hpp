@@ -126,6 +126,13 @@ public:
     const io::MeshData& linked_mesh(const Attributes& a, std::string_view attr);
     /// Positions named by a data link (`@loader.position`, `@[-1].position`, `@../dofs.position`).
     std::vector<Vec3> linked_positions(const Attributes& a, std::string_view attr);
+    /// Records an index list an engine computed (BoxROI's `indices`), read through links `@engine.data`.
+    void record_engine_indices(const io::SceneComponent& engine, const std::string& data, std::vector<PointId> indices) {
+        engine_indices_[{&engine, data}] = std::move(indices);
+    }
+    /// Attribute `attr` as indices: inline, or a link `@engine.data` to a list recorded by an engine
+    /// built before (in file order).
+    std::vector<PointId> indices(const Attributes& a, std::string_view attr);
     /// The node's Vec3d state, or an error naming `c`.
     Vec3Object& vec3_state(const io::SceneComponent& c, const NodeBuild& node);
     /// The node's state, or an error naming `c`.
@@ -192,6 +199,7 @@ private:
     std::unordered_map<const io::SceneNode*, Node*> node_of_;
     std::map<const io::SceneComponent*, io::MeshData> meshes_;
     std::unordered_map<const io::SceneComponent*, Vec3Object*> vec3_states_;
+    std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<PointId>> engine_indices_;
     std::map<const io::SceneComponent*, IntersectionParams> intersections_;
     std::vector<const io::SceneComponent*> pipeline_components_;
     std::vector<std::string> attribute_warnings_;

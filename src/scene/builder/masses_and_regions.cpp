@@ -1,0 +1,166 @@
+// Lumped masses, regions of interest and the projective constraints that read them:
+// DiagonalMass, BoxROI, FixedPlaneProjectiveConstraint; BoxConstraint (ignored, as SOFA does).
+#include "penalty/mechanics/diagonal_mass.hpp"
+#include "penalty/mechanics/fixed_plane_constraint.hpp"
+#include "penalty/mechanics/regions.hpp"
+#include "scene/builder/families.hpp"
+#include "scene/builder/scene_builder.hpp"
+
+namespace penalty::scene::builder {
+
+namespace {
+
+using io::SceneComponent;
+using K = AttributeKind;
+using F = ComponentFamily;
+
+// ---- DiagonalMass ---------------------------------------------------------------------------
+// SOFA's DiagonalMass data: massDensity and totalMass default to 1, the default being used as
+// totalMass = 1 when none of the three is set (DiagonalMass::massInitialization).
+constexpr AttributeSpec kDiagonalMass[] = {
+    {"massDensity", K::real, "1", "kg/m^3", ValueCheck::nonnegative, "per volume, area or length of the lumped elements"},
+    {"totalMass", K::real, "1", "kg", ValueCheck::nonnegative, "shared in proportion to the lumped elements; wins"},
+    {"vertexMass", K::numbers, "", "kg", ValueCheck::none, "mass of each vertex (a short list is padded with its last value)"},
+    {"computeMassOnRest", K::boolean, "1", "", ValueCheck::none, "penalty lumps on rest positions only"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "the elements to lump"},
+    {"geometryState", K::link, "(the node's state)", "", ValueCheck::none, "penalty: the mass's own state only"},
+    {"showGravityCenter", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"showAxisSizeFactor", K::real, "1", "", ValueCheck::none, "drawing only"},
+};
+
+void build_diagonal_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    BaseState& s = b.state(c, info);
+    DiagonalMass* mass = nullptr;
+    b.guarded(c, [&] {
+        auto* v = dynamic_cast<Vec3Object*>(&s);
+        if (v == nullptr) io::throw_element_error(c, "penalty's DiagonalMass supports Vec3d states only");
+        if (!a.boolean("computeMassOnRest")) a.fail("computeMassOnRest", "penalty lumps on the rest positions only");
+        if (a.has("geometryState")) {
+            const io::LinkTarget g = a.link("geometryState");
+            if (g.component != info.state_component) a.fail("geometryState", "must be the mass's own state");
+        }
+        const MeshTopology& topology = b.topology_of(a, info);
+        mass = &info.node->set_mass<DiagonalMass>(*v, topology);
+        if (a.has("totalMass")) mass->set_total_mass(a.real("totalMass"));
+        if (a.has("massDensity")) mass->set_mass_density(a.real("massDensity"));
+        if (a.has("vertexMass")) mass->set_vertex_masses(a.numbers("vertexMass"));
+    });
+    b.record_mass(*mass, *info.node, c);
+    b.role(c, [mass] {
+        return "lumped mass from the " + std::string(lumped_element_name(mass->element_kind())) + ", density " +
+               num(mass->mass_density()) + ", " + num(mass->total_mass()) + " kg in all";
+    });
+    b.add_init(1, c, [mass] { mass->init(); });
+    b.note_unread_attributes(c);
+}
+
+// ---- BoxROI ---------------------------------------------------------------------------------
+// SOFA's BoxROI (BaseROI::init, BoxROI::roiInit): the points of `position` (default: the rest
+// positions of the node's state) inside any box; with no box, the box 0 0 0 1 1 1.
+constexpr AttributeSpec kBoxRoi[] = {
+    {"box", K::numbers, "0 0 0 1 1 1", "m", ValueCheck::none, "boxes: xmin ymin zmin xmax ymax zmax each"},
+    {"orientedBox", K::numbers, "", "m", ValueCheck::none, "refused by penalty"},
+    {"position", K::points, "(rest positions of the node's state)", "m", ValueCheck::none, "points tested"},
+    {"indices", K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"},
+    {"drawBoxes", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawROI", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawPoints", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawEdges", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawTriangles", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawTetrahedra", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawSize", K::real, "0", "", ValueCheck::none, "drawing only"},
+};
+
+void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    std::vector<AlignedBox> boxes;
+    std::size_t num_points = 0;
+    std::size_t num_selected = 0;
+    b.guarded(c, [&] {
+        if (a.has("orientedBox")) a.fail("orientedBox", "oriented boxes are not supported by penalty");
+        const std::vector<double> v = a.has("box") ? a.numbers("box") : std::vector<double>{0, 0, 0, 1, 1, 1};
+        if (v.empty() || v.size() % 6 != 0) a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
+        for (std::size_t i = 0; i < v.size(); i += 6)
+            boxes.push_back(AlignedBox::from_corners(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])));
+        std::vector<Vec3> points;
+        if (a.has("position")) {
+            points = a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
+        } else {
+            points = b.vec3_state(c, info).rest_position;
+        }
+        num_points = points.size();
+        std::vector<PointId> inside = points_in_boxes(points, boxes);
+        num_selected = inside.size();
+        b.record_engine_indices(c, "indices", std::move(inside));
+    });
+    b.role(c, [n = boxes.size(), num_points, num_selected] {
+        return "selects " + std::to_string(num_selected) + " of " + counted(num_points, "point", "points") + " (inside " +
+               counted(n, "box", "boxes") + ")";
+    });
+    b.note_unread_attributes(c);
+}
+
+// ---- FixedPlaneProjectiveConstraint ------------------------------------------------------------
+// SOFA's defaults: direction unset (0 0 0), dmin = dmax = 0; the points between the planes are
+// selected (appended to `indices`) only when dmin != dmax (FixedPlaneProjectiveConstraint::init).
+constexpr AttributeSpec kFixedPlane[] = {
+    {"direction", K::vector3, "0 0 0", "", ValueCheck::none, "the constrained direction (not normalised, as SOFA)"},
+    {"dmin", K::real, "0", "m", ValueCheck::none, "points with dmin < x.direction < dmax are selected"},
+    {"dmax", K::real, "0", "m", ValueCheck::none, ""},
+    {"indices", K::indices, "", "", ValueCheck::none, "DOFs constrained besides the selected ones"},
+};
+
+void build_fixed_plane(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    BaseState& s = b.state(c, info);
+    b.guarded(c, [&] {
+        const Vec3 direction = a.vector3("direction");
+        const double dmin = a.real("dmin");
+        const double dmax = a.real("dmax");
+        std::vector<Index> indices;
+        for (PointId i : b.indices(a, "indices")) indices.push_back(i);
+        if (dmin != dmax) {
+            std::vector<Vec3> points;
+            if (auto* v = dynamic_cast<Vec3Object*>(&s)) points = v->position;
+            else for (const RigidFrame& f : dynamic_cast<Rigid3Object&>(s).position) points.push_back(f.center);
+            for (Index i : points_between_planes(points, direction, dmin, dmax)) indices.push_back(i);
+        }
+        auto& f = info.node->add_constraint<FixedPlaneProjectiveConstraint>(s, direction);
+        f.set_indices(std::move(indices));
+        b.add_init(1, c, [p = &f] { p->init(); });
+        b.role(c, [p = &f, st = &s] {
+            return "removes the response along " + vec(p->direction()) + " of " + std::to_string(p->indices().size()) +
+                   " of " + counted(st->num_dofs(), "DOF", "DOFs");
+        });
+    });
+    b.note_unread_attributes(c);
+}
+
+// ---- BoxConstraint ------------------------------------------------------------------------------
+// An old SOFA name (BoxROI + FixedConstraint) that SOFA today neither knows nor lists as renamed:
+// its factory creates nothing and the scene runs without it (the shared examples' SOFA states
+// show the points of the box falling). penalty reproduces that: the component is ignored.
+constexpr AttributeSpec kBoxConstraint[] = {
+    {"box", K::numbers, "", "m", ValueCheck::none, "ignored (SOFA creates no BoxConstraint)"},
+};
+
+constexpr ComponentSpec kComponents[] = {
+    {.type = "DiagonalMass", .family = F::mass, .summary = "lumped mass from the topology's elements",
+     .attributes = kDiagonalMass, .build = build_diagonal_mass},
+    {.type = "BoxROI", .family = F::engine, .summary = "indices of the points inside boxes", .attributes = kBoxRoi,
+     .build = build_box_roi},
+    {.type = "FixedPlaneProjectiveConstraint", .family = F::constraint,
+     .summary = "no response along a direction for the points between two planes", .attributes = kFixedPlane,
+     .build = build_fixed_plane},
+    {.type = "FixedPlaneConstraint", .family = F::constraint, .summary = "FixedPlaneProjectiveConstraint (older name)",
+     .attributes = kFixedPlane, .build = build_fixed_plane, .sofa_class = "FixedPlaneProjectiveConstraint"},
+    {.type = "BoxConstraint", .family = F::visual,
+     .summary = "unknown to SOFA today, which creates nothing and runs the scene without it", .attributes = kBoxConstraint},
+};
+
+}  // namespace
+
+std::span<const ComponentSpec> mass_and_region_components() { return kComponents; }
+
+}  // namespace penalty::scene::builder
