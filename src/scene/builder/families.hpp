@@ -6,6 +6,13 @@
 
 #include <span>
 
+namespace penalty {
+class HexahedronFEMForceField;
+namespace scene {
+struct NodeBuild;
+}
+}  // namespace penalty
+
 namespace penalty::scene::builder {
 
 std::span<const ComponentSpec> state_and_topology_components();    // states_and_topologies.cpp
@@ -13,5 +20,10 @@ std::span<const ComponentSpec> mass_and_force_field_components();  // masses_and
 std::span<const ComponentSpec> mapping_and_constraint_components(); // mappings_and_constraints.cpp
 std::span<const ComponentSpec> solver_components();                // solvers.cpp
 std::span<const ComponentSpec> collision_components();             // collision.cpp
+std::span<const ComponentSpec> sparse_grid_components();           // sparse_grid.cpp
+
+/// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
+/// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).
+void sparse_grid_stiffness_factors(HexahedronFEMForceField& ff, const NodeBuild& info);
 
 }  // namespace penalty::scene::builder
