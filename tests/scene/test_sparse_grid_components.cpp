@@ -77,4 +77,17 @@ TEST(SparseGridComponents, MissingSurfaceFileIsAnErrorNamingTheComponent) {
     }
 }
 
+TEST(NodeContext, ChildNodeGravityAndDtAreTheParentsAsInSofa) {
+    // SOFA's Node::updateContext copies the parent's gravity and dt over a child node's own
+    auto scene = scene::build_scene(io::parse_scene_string(R"(<Node name="root" dt="0.02" gravity="0 0 -9.81">
+  <Node name="Child" gravity="0 -9.81 0" dt="0.5"><MechanicalObject position="0 0 0"/></Node>
+</Node>)",
+                                                           "child_gravity.scn"));
+    const Node& child = *scene->simulation().root().children().at(0);
+    EXPECT_EQ(child.gravity(), Vec3(0, 0, -9.81));
+    EXPECT_EQ(child.dt(), 0.02);
+    EXPECT_THAT(scene::describe_scene(*scene),
+                ::testing::HasSubstr("note: /Child: gravity of a child node is ignored (SOFA copies the parent's over it)"));
+}
+
 }  // namespace

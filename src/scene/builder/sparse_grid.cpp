@@ -31,9 +31,17 @@ void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
         std::optional<std::string> file = a.optional_text("fileTopology");
         if (!file) file = a.optional_text("filename");
         if (!file) io::throw_element_error(c, "needs fileTopology (a closed surface mesh); grids from given points are not supported");
-        const std::filesystem::path path = io::resolve_data_file(*file, b.scene_dir(), b.options().data_dirs);
-        if (path.extension() != ".obj") a.fail("fileTopology", "only .obj surfaces are supported, got '" + *file + "'");
-        const io::MeshData surface = io::load_obj(path, /*triangulate=*/true);  // polygons as fans, SOFA's order
+        const char* attr = a.has("fileTopology") ? "fileTopology" : "filename";
+        io::MeshData surface;
+        try {
+            const std::filesystem::path path = io::resolve_data_file(*file, b.scene_dir(), b.options().data_dirs);
+            if (path.extension() != ".obj") a.fail(attr, "only .obj surfaces are supported, got '" + *file + "'");
+            surface = io::load_obj(path, /*triangulate=*/true);  // polygons as fans (v0, v[j-1], v[j]), as SOFA
+        } catch (const io::SceneError&) {
+            throw;
+        } catch (const io::LoadError& e) {
+            io::throw_attribute_error(c, attr, e.what());
+        }
         std::array<int, 3> n{2, 2, 2};
         if (a.has("n")) {
             const std::vector<double> v = a.numbers("n");
