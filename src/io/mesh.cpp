@@ -6,6 +6,7 @@
 #include <cctype>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -37,18 +38,30 @@ std::string tok_text_of(double x) {
 
 struct ObjRecord {
     std::vector<std::int64_t> nodes;
+    /// (texture coordinate, normal) index of each corner, 0-based, −1 when absent (handleSeams)
+    std::vector<std::pair<std::int64_t, std::int64_t>> attributes;
     int line = 0;
 };
 
-}  // namespace
-
-MeshData load_obj(const std::filesystem::path& path, bool triangulate) {
-    return parse_obj(detail::read_file(path), path, triangulate);
+/// The `vt` or `vn` index of an OBJ corner field (1-based, negative: relative to the `count`
+/// defined so far); −1 when empty, zero or not a number, as SOFA's MeshOBJLoader::readOBJ.
+std::int64_t obj_attribute_index(std::string_view field, std::int64_t count) {
+    if (field.empty()) return -1;
+    const auto index = parse_int(field);
+    if (!index || *index == 0) return -1;
+    return *index > 0 ? *index - 1 : count + *index;
 }
 
-MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate) {
+}  // namespace
+
+MeshData load_obj(const std::filesystem::path& path, bool triangulate, bool handle_seams) {
+    return parse_obj(detail::read_file(path), path, triangulate, handle_seams);
+}
+
+MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate, bool handle_seams) {
     MeshData mesh;
     std::vector<ObjRecord> records;
+    std::int64_t texture_coordinates = 0, normals = 0;  // vt and vn lines so far
 
     std::size_t pos = 0;
     int line_number = 0;
@@ -78,6 +91,10 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
                 p[k] = *value;
             }
             mesh.positions.push_back(p);
+        } else if (key == "vt") {
+            ++texture_coordinates;
+        } else if (key == "vn") {
+            ++normals;
         } else if (key == "f" || key == "l") {
             ObjRecord record;
             record.line = line_number;
@@ -95,6 +112,14 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
                          "relative vertex index " + std::to_string(*index) + " goes before the first vertex");
                 }
                 record.nodes.push_back(resolved);
+                if (handle_seams) {
+                    const std::size_t slash = token.find('/');
+                    const std::string_view rest = slash == std::string_view::npos ? std::string_view() : token.substr(slash + 1);
+                    const std::size_t slash2 = rest.find('/');
+                    const std::string_view normal = slash2 == std::string_view::npos ? std::string_view() : rest.substr(slash2 + 1);
+                    record.attributes.emplace_back(obj_attribute_index(rest.substr(0, slash2), texture_coordinates),
+                                                   obj_attribute_index(normal.substr(0, normal.find('/')), normals));
+                }
             }
             if (record.nodes.size() < 2) {
                 fail(path, line_number,
@@ -117,6 +142,26 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
                          " vertices)");
             }
         }
+    }
+    if (handle_seams) {
+        // MeshOBJLoader::readOBJ with handleSeams: point i becomes one vertex per distinct
+        // (texture coordinate, normal) pair its corners use, in increasing pair order; points no
+        // face or line uses are dropped. Elements are renumbered accordingly.
+        std::vector<std::map<std::pair<std::int64_t, std::int64_t>, std::int64_t>> split(mesh.positions.size());
+        for (const ObjRecord& r : records)
+            for (std::size_t k = 0; k < r.nodes.size(); ++k) split[std::size_t(r.nodes[k])][r.attributes[k]] = 0;
+        std::vector<Vec3> positions;
+        for (std::size_t i = 0; i < split.size(); ++i)
+            for (auto& [pair, id] : split[i]) {
+                id = static_cast<std::int64_t>(positions.size());
+                positions.push_back(mesh.positions[i]);
+            }
+        if (positions.size() > std::size_t(kMaxPointId)) fail(path, 0, "too many vertices after splitting the seams");
+        for (ObjRecord& r : records)
+            for (std::size_t k = 0; k < r.nodes.size(); ++k) r.nodes[k] = split[std::size_t(r.nodes[k])].at(r.attributes[k]);
+        mesh.positions = std::move(positions);
+    }
+    for (const ObjRecord& r : records) {
         const auto id = [&](std::size_t k) { return static_cast<PointId>(r.nodes[k]); };
         if (r.nodes.size() == 2) {
             mesh.edges.push_back(Edge{std::min(id(0), id(1)), std::max(id(0), id(1))});

@@ -33,7 +33,6 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
 
     // options that change the point list and that penalty does not implement
     if (is_mesh_loader) {
-        refuse_if_set(c, "handleSeams", true);
         refuse_if_set(c, "onlyAttachedPoints", true);
         if (c.has("transformation")) {
             const std::vector<double> m = get_doubles(c, "transformation");
@@ -64,7 +63,7 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
     try {
         const std::filesystem::path file = resolve_data_file(*filename, scene_dir, data_dirs);
         if (c.type == "MeshOBJLoader") {
-            mesh = load_obj(file, triangulate);
+            mesh = load_obj(file, triangulate, get_bool_or(c, "handleSeams", false));
         } else if (c.type == "MeshGmshLoader") {
             mesh = load_gmsh(file);
         } else if (c.type == "MeshVTKLoader") {

@@ -61,7 +61,7 @@ void LinearElementForceField<N>::init() {
                 throw_invalid_argument(component_, ": element ", e, " uses vertex ", v, " out of range (", x0.size(), " DOFs)");
             p[static_cast<std::size_t>(k)] = x0[static_cast<std::size_t>(v)];
         }
-        const Mat3 r = method_ == FemMethod::Large ? element_rotation(p) : Mat3::Identity();
+        const Mat3 r = method_ != FemMethod::Small ? element_rotation(p) : Mat3::Identity();
         rotation_[e] = r;
         for (int k = 0; k < N; ++k) rest_local_[e][static_cast<std::size_t>(k)] = r * (p[static_cast<std::size_t>(k)] - p[0]);
         ke_[e] = compute_stiffness(rest_local_[e], d, e);
@@ -77,7 +77,7 @@ void LinearElementForceField<N>::add_force(std::span<Vec3> f, std::span<const Ve
         const auto& el = elements_[e];
         std::array<Vec3, N> p;
         for (int k = 0; k < N; ++k) p[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
-        if (method_ == FemMethod::Large) {
+        if (method_ != FemMethod::Small) {
             rotation_[e] = element_rotation(p);
             for (int k = 0; k < N; ++k)
                 u.template segment<3>(3 * k) = rotation_[e] * (p[static_cast<std::size_t>(k)] - p[0]) - rest_local_[e][static_cast<std::size_t>(k)];
@@ -121,6 +121,29 @@ void LinearElementForceField<N>::add_stiffness_triplets(TripletList& t, Index of
 
 template class LinearElementForceField<4>;
 template class LinearElementForceField<8>;
+
+Mat3 polar_rotation(const Mat3& m) {
+    const auto one_norm = [](const Mat3& a) { return a.cwiseAbs().colwise().sum().maxCoeff(); };
+    const auto inf_norm = [](const Mat3& a) { return a.cwiseAbs().rowwise().sum().maxCoeff(); };
+    Mat3 x = m.transpose();
+    double x_one = one_norm(x), x_inf = inf_norm(x);
+    for (int iteration = 0; iteration < 100; ++iteration) {
+        Mat3 cofactor;
+        cofactor.row(0) = x.row(1).cross(x.row(2));
+        cofactor.row(1) = x.row(2).cross(x.row(0));
+        cofactor.row(2) = x.row(0).cross(x.row(1));
+        const double det = x.row(0).dot(cofactor.row(0));
+        if (det == 0.0) break;
+        const double gamma = std::sqrt(std::sqrt((one_norm(cofactor) * inf_norm(cofactor)) / (x_one * x_inf)) / std::abs(det));
+        const Mat3 next = x * (gamma * 0.5) + cofactor * (0.5 / (gamma * det));
+        const double change = one_norm(x - next);
+        x = next;
+        x_one = one_norm(x);
+        x_inf = inf_norm(x);
+        if (!(change > x_one * 1e-8)) break;
+    }
+    return x.transpose();
+}
 
 // ---- tetrahedron --------------------------------------------------------------------------------
 namespace {
@@ -171,6 +194,11 @@ Mat3 frame_from_axes(const Vec3& first, const Vec3& second) {
 }  // namespace
 
 Mat3 TetrahedronFEMForceField::element_rotation(const std::array<Vec3, 4>& p) const {
+    if (method_ == FemMethod::Polar) {
+        Mat3 edges;  // rows: p1 − p0, p2 − p0, p3 − p0 (TetrahedronFEMForceField::accumulateForcePolar)
+        for (int k = 0; k < 3; ++k) edges.row(k) = (p[static_cast<std::size_t>(k + 1)] - p[0]).transpose();
+        return polar_rotation(edges);
+    }
     return frame_from_axes(p[1] - p[0], p[2] - p[0]);
 }
 
@@ -201,6 +229,8 @@ HexahedronFEMForceField::ElementMatrix HexahedronFEMForceField::compute_stiffnes
         for (int a = 0; a < 8; ++a) fill_b(b, a, grad.row(a).transpose());
         k += det * b.transpose() * d * b;
     }
+    // HexahedronFEMForceField::computeElementStiffness ends with K *= stiffnessFactor
+    if (!stiffness_factors_.empty()) k *= stiffness_factors_.at(e);
     return k;
 }
 

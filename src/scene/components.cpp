@@ -28,6 +28,8 @@ constexpr AttributeSpec kMeshLoaderAttributes[] = {
     {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
     {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
     {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},
+    {"handleSeams", K::boolean, "0", "", ValueCheck::none,
+     "OBJ: one point per (texture coordinate, normal) pair of each point; unused points dropped"},
 };
 constexpr AttributeSpec kObjVtkLoaderAttributes[] = {
     {"flipNormals", K::boolean, "0", "", ValueCheck::none, "reverse the triangles' orientation"},
@@ -77,8 +79,8 @@ constexpr ComponentSpec kVisual[] = {
 };
 
 constexpr AttributeSpec kNodeAttributes[] = {
-    {"dt", K::real, "0.01", "s", ValueCheck::positive, "time step (root), inherited below"},
-    {"gravity", K::vector3, "0 -9.81 0", "m/s^2", ValueCheck::none, "inherited below"},
+    {"dt", K::real, "0.01", "s", ValueCheck::positive, "time step; the root's only (SOFA copies it over a child's)"},
+    {"gravity", K::vector3, "0 -9.81 0", "m/s^2", ValueCheck::none, "the root's only (SOFA copies it over a child's)"},
 };
 
 // SOFA Data that never change the numbers (logging, display, bookkeeping).
@@ -100,6 +102,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::mass_and_force_field_components(), builder::mapping_and_constraint_components(),
               builder::collision_components(), builder::topology_container_components(),
               builder::surface_force_field_components(), builder::mass_and_region_components(),
+              builder::sparse_grid_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual)})
             out.insert(out.end(), family.begin(), family.end());

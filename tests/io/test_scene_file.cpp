@@ -346,7 +346,7 @@ TEST(SceneMeshes, ErrorsNameTheComponentAndAttribute) {
     const std::string file = tiny_path().string();
     const SceneComponent& visual_loader = *node_at(s, {"Body", "Visu"}).components[0];
     EXPECT_EQ(message_of<SceneError>([&] { (void)load_scene_mesh(visual_loader, s.directory(), {data_dir()}); }),
-              file + ":24: MeshOBJLoader 'visual_loader': attribute 'handleSeams': not supported by penalty (it "
+              file + ":24: MeshOBJLoader 'visual_loader': attribute 'onlyAttachedPoints': not supported by penalty (it "
                      "changes the point list)");
     // without the data folder the file is not found
     EXPECT_EQ(message_of<SceneError>([&] { (void)load_scene_mesh(*s.root->component("shared_loader"), s.directory(), {}); }),

@@ -54,7 +54,7 @@ TEST(ComponentRegistry, EachTypeOnceEachAttributeOncePhysicsIsBuilt) {
             EXPECT_EQ(s.build, nullptr) << s.type;
         }
     }
-    EXPECT_EQ(physics, 66u);  // the physics types of docs/sofa-compatibility.md and docs/components/
+    EXPECT_EQ(physics, 67u);  // the physics types of docs/sofa-compatibility.md and docs/components/
     EXPECT_EQ(component_category("TriangleCollisionModel"), ComponentCategory::physics);
     EXPECT_EQ(component_category("SphereLoader"), ComponentCategory::loader);
     EXPECT_EQ(component_category("OglModel"), ComponentCategory::ignored);
@@ -166,7 +166,7 @@ TEST(ComponentRegistry, UnreadAttributesAreReportedPerElement) {
 
 TEST(ComponentRegistry, ReadAttributesListsOwnThenShared) {
     const std::vector<std::string> mass = read_attributes("UniformMass");
-    EXPECT_EQ(mass, (std::vector<std::string>{"vertexMass", "totalMass", "inertiaMatrix"}));
+    EXPECT_EQ(mass, (std::vector<std::string>{"vertexMass", "totalMass", "inertiaMatrix", "filename"}));
     const std::vector<std::string> node = read_attributes("Node");
     EXPECT_EQ(node, (std::vector<std::string>{"dt", "gravity"}));
     const std::vector<std::string> triangle = read_attributes("TriangleCollisionModel");

@@ -450,7 +450,7 @@ TEST(SceneBuilder, DescribeNamesUndetectedPairsDisabledResponsesAndExplicitConta
   <Node name="A"><EulerImplicitSolver/><CGLinearSolver/>
     <MeshTopology position="0 0 0  1 0 0  0 1 0" triangles="0 1 2"/><MechanicalObject/><UniformMass totalMass="1"/>
     <TriangleCollisionModel name="ta"/><PointCollisionModel name="pa" contactResponse="nullptr"/></Node>
-  <Node name="B" gravity="0 0 -1"><EulerImplicitSolver/><CGLinearSolver/>
+  <Node name="B"><Gravity gravity="0 0 -1"/><EulerImplicitSolver/><CGLinearSolver/>
     <MeshTopology position="0 0 1  1 0 1  0 1 1" triangles="0 1 2"/><MechanicalObject/><UniformMass totalMass="1"/>
     <TriangleCollisionModel name="tb"/><PointCollisionModel name="pb"/></Node>
 </Node>)");

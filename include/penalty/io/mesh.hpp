@@ -30,7 +30,7 @@ struct MeshData {
     std::vector<double> radii;            ///< one radius per point (`.sph` files only; else empty)
 };
 
-/// Reads a Wavefront OBJ file as SOFA's MeshOBJLoader does (handleSeams = false):
+/// Reads a Wavefront OBJ file as SOFA's MeshOBJLoader does:
 ///  - `v x y z` adds a point (extra coordinates are ignored); `vn`, `vt`, `g`, `o`, `s`,
 ///    `usemtl`, `mtllib` and unknown keywords are ignored;
 ///  - `f` and `l` records take the first number of each `v/vt/vn` token; negative indices
@@ -40,7 +40,11 @@ struct MeshData {
 ///  - index 0, a record with fewer than 2 vertices, or an index outside [0, number of points)
 ///    is an error.
 /// @throws LoadError `path:line: what`
-[[nodiscard]] MeshData load_obj(const std::filesystem::path& path, bool triangulate = false);
+///  - `handle_seams` (MeshOBJLoader's handleSeams): each point becomes one point per distinct
+///    (texture coordinate, normal) index pair its face corners use (pairs in increasing order,
+///    absent indices −1), and points no `f`/`l` record uses are dropped; without `vt`/`vn`
+///    indices this only drops the unused points.
+[[nodiscard]] MeshData load_obj(const std::filesystem::path& path, bool triangulate = false, bool handle_seams = false);
 
 /// Reads a Gmsh mesh in the legacy v1 (`$NOD`/`$ELM`) or v2 ASCII (`$MeshFormat 2.x`) format,
 /// as SOFA's MeshGmshLoader does: node numbers are mapped to their position in the node list;
@@ -74,7 +78,8 @@ struct MeshData {
 /// The parsers behind the loaders, on a file's text already in memory; `path` only names the
 /// file in errors. Same results and errors as load_obj, load_gmsh, load_sph, load_vtk_legacy
 /// (which read the file, refusing what is not a regular file, then call these).
-[[nodiscard]] MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate = false);
+[[nodiscard]] MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate = false,
+                                 bool handle_seams = false);
 [[nodiscard]] MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_sph(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& path);

@@ -24,7 +24,8 @@ namespace penalty::io {
 ///    radii unchanged;
 ///  - MeshTopology / MechanicalObject `filename`: the raw file, no transform.
 /// Options SOFA offers but penalty does not (`transformation` other than identity,
-/// `onlyAttachedPoints`, `handleSeams` true) are errors, since they change the point list.
+/// `onlyAttachedPoints` true) are errors, since they change the point list; `handleSeams` is
+/// load_obj's handle_seams (MeshOBJLoader only).
 /// @throws SceneError naming the component and attribute (a LoadError from the file is wrapped:
 ///         `file:line: MeshOBJLoader 'loader': attribute 'filename': <file error>`).
 [[nodiscard]] MeshData load_scene_mesh(const SceneComponent& component, const std::filesystem::path& scene_dir,

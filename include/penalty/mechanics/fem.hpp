@@ -19,7 +19,15 @@
 
 namespace penalty {
 
-enum class FemMethod { Small, Large };
+/// Small: linear, world frame. Large: corotational, rotation from the element's edges. Polar
+/// (tetrahedra only): corotational, rotation = orthogonal polar factor of the edge matrix.
+enum class FemMethod { Small, Large, Polar };
+
+/// The orthogonal factor Q of M = Q·S (S symmetric positive semi-definite), by the scaled Newton
+/// iteration SOFA uses (helper::Decompose::polarDecomposition: iterate on Mᵀ, X ← γ/2·X +
+/// 1/(2γ det X)·cof X, γ from the 1- and ∞-norms, until ‖ΔX‖₁ ≤ 1e-8·‖X‖₁). A reflection when
+/// det M < 0; M itself when det M = 0.
+Mat3 polar_rotation(const Mat3& m);
 
 /// Isotropic material stiffness in Voigt notation (εxx, εyy, εzz, γxy, γyz, γzx), Pa.
 Eigen::Matrix<double, 6, 6> isotropic_elasticity(double young_modulus, double poisson_ratio);
@@ -60,7 +68,10 @@ protected:
 
 class RegularGridTopology;
 
-/// SOFA's TetrahedronFEMForceField (methods small and large). As SOFA, a topology without
+/// SOFA's TetrahedronFEMForceField (methods small, large and polar). Polar
+/// (TetrahedronFEMForceField::initPolar / accumulateForcePolar): R = polar_rotation(A) with A's
+/// rows the edges p1−p0, p2−p0, p3−p0; otherwise as large (rest frame from the rest edges,
+/// stiffness −Rᵀ K^e R). As SOFA, a topology without
 /// tetrahedra but with hexahedra is split into 6 tetrahedra per hexahedron
 /// (tetrahedra_from_hexahedra, with the grid's cell counts for a RegularGridTopology and SOFA's
 /// fallback nx = 2, ny = 1 otherwise).
@@ -86,10 +97,18 @@ public:
         : LinearElementForceField<8>(state, topology.hexahedra(), young_modulus, poisson_ratio, method,
                                      "HexahedronFEMForceField") {}
 
+    /// Per-element factors on the element stiffness (SOFA's SparseGridTopology::getStiffnessCoef:
+    /// 0.5 for a sparse grid's boundary cells when fillWeighted); empty: 1 for every element.
+    /// Set before init().
+    void set_stiffness_factors(std::vector<double> factors) { stiffness_factors_ = std::move(factors); }
+
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
                                                   std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override;
+
+private:
+    std::vector<double> stiffness_factors_;
 };
 
 extern template class LinearElementForceField<4>;

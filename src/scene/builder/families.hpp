@@ -6,6 +6,13 @@
 
 #include <span>
 
+namespace penalty {
+class HexahedronFEMForceField;
+namespace scene {
+struct NodeBuild;
+}
+}  // namespace penalty
+
 namespace penalty::scene::builder {
 
 std::span<const ComponentSpec> state_and_topology_components();    // states_and_topologies.cpp
@@ -16,5 +23,10 @@ std::span<const ComponentSpec> collision_components();             // collision.
 std::span<const ComponentSpec> topology_container_components();     // topology_containers.cpp
 std::span<const ComponentSpec> surface_force_field_components();   // surface_force_fields.cpp
 std::span<const ComponentSpec> mass_and_region_components();        // masses_and_regions.cpp
+std::span<const ComponentSpec> sparse_grid_components();           // sparse_grid.cpp
+
+/// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
+/// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).
+void sparse_grid_stiffness_factors(HexahedronFEMForceField& ff, const NodeBuild& info);
 
 }  // namespace penalty::scene::builder

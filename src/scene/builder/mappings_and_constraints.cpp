@@ -19,7 +19,8 @@ constexpr AttributeSpec kMappingEnds[] = {
     {"output", K::link, "(this node's state)", "", ValueCheck::none, "must be this node's MechanicalObject"},
 };
 constexpr AttributeSpec kSubsetMapping[] = {
-    {"indices", K::indices, "", "", ValueCheck::none, "input point of each output point"},
+    {"indices", K::indices, "(matched by position)", "", ValueCheck::none, "input point of each output point"},
+    {"radius", K::real, "1e-5", "m", ValueCheck::nonnegative, "without indices: largest distance of a matched input point"},
 };
 constexpr AttributeSpec kRigidMapping[] = {
     {"points", K::points, "(the output's positions)", "m", ValueCheck::none, "points in the frames"},
@@ -119,7 +120,28 @@ void build_subset_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
         if (!in3) a.fail("input", "SubsetMapping needs a Vec3d input");
         auto& m = info.node->set_mapping<BarycentricMapping>(*in3, *ends.out);
         std::vector<std::vector<BarycentricMapping::Entry>> rows;
-        for (PointId i : a.indices("indices")) rows.push_back({{Index(i), 1.0}});
+        if (a.has("indices")) {
+            for (PointId i : a.indices("indices")) rows.push_back({{Index(i), 1.0}});
+        } else {
+            // SubsetMapping::init without indices: each output point takes the nearest input point
+            // closer than `radius` (strictly; the last one on ties)
+            const double radius = a.real("radius");
+            for (std::size_t i = 0; i < ends.out->position.size(); ++i) {
+                double best = radius;
+                Index found = -1;
+                for (std::size_t j = 0; j < in3->position.size(); ++j) {
+                    const double r = (ends.out->position[i] - in3->position[j]).norm();
+                    if (r < best) {
+                        best = r;
+                        found = Index(j);
+                    }
+                }
+                if (found < 0)
+                    io::throw_element_error(c, "output point " + std::to_string(i) + " matches no input point within radius " +
+                                                   num(radius) + " (SOFA would leave it fixed)");
+                rows.push_back({{found, 1.0}});
+            }
+        }
         m.set_weights(std::move(rows));
     });
     finish_mapping(b, c, info, ends, "subset: one input point per output point");
@@ -142,12 +164,14 @@ void build_barycentric_mapping(SceneBuilder& b, const SceneComponent& c, NodeBui
         auto& m = info.node->set_mapping<BarycentricMapping>(*in3, *ends.out);
         const std::span<const Vec3> points = ends.out->position;
         if (in->grid) map_on_regular_grid(m, *in->grid, points);
+        else if (in->sparse_grid) map_on_sparse_grid(m, *in->sparse_grid, points);
         else if (!in->topology->tetrahedra().empty()) m.map_on_tetrahedra(*in->topology, in3->rest_position, points);
         else if (!in->topology->hexahedra().empty()) m.map_on_hexahedra(*in->topology, in3->rest_position, points);
         else io::throw_element_error(c, "the input topology has no tetrahedra or hexahedra (penalty maps onto volumes only)");
     });
     std::string how = "barycentric: trilinear in the input's hexahedra";
     if (in && in->grid) how = "barycentric: trilinear in the grid's cells";
+    else if (in && in->sparse_grid) how = "barycentric: trilinear in the sparse grid's cells";
     else if (in && !in->topology->tetrahedra().empty()) how = "barycentric: in the input's tetrahedra";
     finish_mapping(b, c, info, ends, how);
 }

@@ -3,6 +3,8 @@
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
+#include "penalty/io/data_path.hpp"
+#include "penalty/io/rigid_mass_file.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -31,6 +33,8 @@ constexpr AttributeSpec kUniformMass[] = {
     {"vertexMass", K::real, "", "kg", ValueCheck::positive, "mass of each DOF (or totalMass)"},
     {"totalMass", K::real, "", "kg", ValueCheck::positive, "shared equally by the DOFs; wins over vertexMass"},
     {"inertiaMatrix", K::numbers, "(identity)", "kg m^2", ValueCheck::none, "Rigid3d: 9 numbers, per unit mass"},
+    {"filename", K::text, "", "", ValueCheck::none,
+     "Rigid3d: .rigid file whose vertexMass and inrt (inertia per unit mass) replace the attributes"},
 };
 
 void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -44,14 +48,22 @@ void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         };
         if (auto* v = dynamic_cast<Vec3Object*>(&s)) {
             set(info.node->set_mass<UniformMass<Vec3Types>>(*v));
+            if (a.has("filename")) b.warn(c.describe() + ": filename is read for Rigid3d states only (SOFA ignores it here too)");
         } else {
             auto& mass = info.node->set_mass<UniformMass<Rigid3Types>>(dynamic_cast<Rigid3Object&>(s));
-            set(mass);
+            // UniformMass<Rigid3>::loadRigidMass (at init, before vertexMass/totalMass are chosen):
+            // the file's vertexMass replaces the mass and makes vertexMass the one used.
+            io::RigidMassFile file;
+            if (a.has("filename"))
+                file = io::load_rigid_mass_file(io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
+            if (file.vertex_mass) mass.set_vertex_mass(*file.vertex_mass);
+            else set(mass);
             if (a.has("inertiaMatrix")) {
                 const std::vector<double> j = a.numbers("inertiaMatrix");
                 if (j.size() != 9) a.fail("inertiaMatrix", "expected 9 numbers");
                 mass.set_inertia(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(j.data()));
             }
+            if (file.inertia) mass.set_inertia(*file.inertia);
         }
     });
     BaseMass* mass = info.node->mass();
@@ -143,7 +155,7 @@ void build_grid_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
 constexpr AttributeSpec kTetrahedronFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
     {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},
-    {"method", K::text, "large", "", ValueCheck::none, "large (corotational) or small (linear)"},
+    {"method", K::text, "large", "", ValueCheck::none, "large (corotational), polar (corotational, polar rotation) or small (linear)"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
     // computeGlobalMatrix / updateStiffnessMatrix only choose how SOFA stores the same matrices;
     // penalty always recomputes the corotational stiffness each step (method large).
@@ -163,25 +175,31 @@ struct FemLaw {
     FemMethod method;
 };
 
-FemLaw fem_law(const Attributes& a) {
+FemLaw fem_law(const Attributes& a, bool polar_supported) {
     FemLaw law{a.real("youngModulus"), a.real("poissonRatio"), FemMethod::Large};
     if (!(law.poisson > -1.0 && law.poisson < 0.5)) a.fail("poissonRatio", "must be in (-1, 0.5)");
     const std::string method = a.text("method");
     if (method == "small") law.method = FemMethod::Small;
-    else if (method != "large") a.fail("method", "'" + method + "' is not supported (small or large)");
+    else if (method == "polar" && polar_supported) law.method = FemMethod::Polar;
+    else if (method != "large")
+        a.fail("method", "'" + method + "' is not supported (" + (polar_supported ? "small, large or polar)" : "small or large)"));
     return law;
 }
 
 std::string law_text(const FemLaw& law) {
     return ", E = " + num(law.young) + " Pa, nu = " + num(law.poisson) + ", " +
-           (law.method == FemMethod::Large ? "corotational (large)" : "linear (small)");
+           (law.method == FemMethod::Large   ? "corotational (large)"
+            : law.method == FemMethod::Polar ? "corotational (polar)"
+                                             : "linear (small)");
 }
 
 void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const FemLaw law = fem_law(a);
+        const FemLaw law = fem_law(a, /*polar_supported=*/true);
+        if (law.method == FemMethod::Polar && a.boolean("updateStiffnessMatrix"))
+            a.fail("updateStiffnessMatrix", "with method polar is not supported (SOFA recomputes the strain-displacement matrix each step)");
         TetrahedronFEMForceField* ff = nullptr;
         if (info.grid) ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, law.young, law.poisson, law.method);
         else ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson, law.method);
@@ -196,9 +214,10 @@ void build_hexahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const FemLaw law = fem_law(a);
+        const FemLaw law = fem_law(a, /*polar_supported=*/false);
         auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson,
                                                                         law.method);
+        if (info.sparse_grid && !a.has("topology")) sparse_grid_stiffness_factors(*ff, info);
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, text = law_text(law)] { return counted(ff->element_stiffness().size(), "hexahedron", "hexahedra") + text; });

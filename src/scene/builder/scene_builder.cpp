@@ -213,10 +213,17 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
     guarded(sn, [&] {
         if (auto dt = io::get_double(sn, "dt")) {
             if (!(*dt > 0)) io::throw_attribute_error(sn, "dt", "must be > 0");
-            node.set_dt(*dt);
+            if (sn.parent == nullptr) node.set_dt(*dt);
         }
-        if (auto g = io::get_vec3(sn, "gravity")) node.set_gravity(*g);
+        if (auto g = io::get_vec3(sn, "gravity"); g && sn.parent == nullptr) node.set_gravity(*g);
     });
+    // SOFA's Node::updateContext copies the parent's gravity and dt over a child node's own
+    // (Context::copySimulationContext): only the root's attributes count (a Gravity component
+    // still sets a subtree's gravity).
+    if (sn.parent != nullptr)
+        for (const char* attr : {"gravity", "dt"})
+            if (sn.has(attr))
+                warn(node_path(sn) + ": " + attr + " of a child node is ignored (SOFA copies the parent's over it)");
     note_unread_attributes(sn);
 
     for (const auto& c : sn.components)

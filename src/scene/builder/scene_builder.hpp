@@ -8,6 +8,7 @@
 #include "penalty/collision/models.hpp"
 #include "penalty/io/scene_mesh.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
+#include "penalty/mechanics/sparse_grid_topology.hpp"
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
 #include "scene/display.hpp"
@@ -32,6 +33,7 @@ struct NodeBuild {
     const MeshTopology* topology = nullptr;      ///< MeshTopology, or the grid's element lists
     std::vector<Vec3> topology_positions;        ///< points given to the topology (may be empty)
     std::optional<RegularGridTopology> grid;
+    std::optional<SparseGridTopology> sparse_grid;  ///< SparseGridTopology (src/scene/builder/sparse_grid.cpp)
     const io::SceneComponent* topology_component = nullptr;
     bool mapped = false;
     const io::SceneNode* solver_node = nullptr;  ///< first node from the root owning an ODE solver (null: none)
@@ -93,6 +95,8 @@ public:
 
     // ---- services for the family build functions ----------------------------------------------
     [[nodiscard]] const BuildOptions& options() const { return options_; }
+    /// The scene file's folder (data files resolve against it, then the data dirs).
+    [[nodiscard]] const std::filesystem::path& scene_dir() const { return scene_dir_; }
     [[nodiscard]] Scene& scene() { return scene_; }
     [[nodiscard]] Simulation& simulation() { return *scene_.simulation_; }
 

@@ -152,6 +152,13 @@ void fill_vec3_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info
     }
     if (a.has("rest_position")) s.rest_position = a.points("rest_position");
     if (a.has("velocity")) s.velocity = a.points("velocity");
+    // MechanicalObject::init: positions and velocities of at most one entry give way to the
+    // topology's points, the one velocity (if any) copied to every point.
+    if (a.has("position") && s.position.size() <= 1 && s.velocity.size() <= 1 && s.rest_position.size() <= 1 &&
+        info.topology_positions.size() > 1) {
+        s.position = info.topology_positions;
+        if (s.velocity.size() == 1) s.velocity.assign(s.position.size(), s.velocity.front());
+    }
     if (s.position.size() > b.options().max_dofs)  // from a mesh file or a linked state
         io::throw_element_error(a.component(), std::to_string(s.position.size()) + " DOFs (more than " +
                                                    std::to_string(b.options().max_dofs) + ")");

@@ -1,0 +1,72 @@
+#pragma once
+/// @file
+/// SOFA's SparseGridTopology built from a closed surface (SparseGridTopology::buildAsFinest →
+/// buildFromTriangleMesh → voxelizeTriangleMesh → buildFromRegularGridTypes):
+///  - a regular grid of n points per axis between min and max (when both are zero: the surface's
+///    bounding box grown by 1/100 of its size on each side);
+///  - each cell is BOUNDARY when it holds a surface vertex (floor of the cell coordinates) or when
+///    a surface triangle (polygons split as fans v0, v[j−1], v[j]) meets the closed cell (tested
+///    in single precision in the cell scaled to the unit cube, as SOFA's polygon–cube test), and
+///    only among the cells between the triangle's vertex cells; the cells reachable from the
+///    grid's border through non-BOUNDARY cells are OUTSIDE, the rest INSIDE;
+///  - kept cells: the BOUNDARY ones in regular-grid order (unless only_inside_cells), then the
+///    INSIDE ones in regular-grid order; their hexahedra use the grid's vertex order (i,j,k)
+///    (i+1,j,k) (i+1,j+1,k) (i,j+1,k), then the same at k+1;
+///  - points: the corners of the kept cells, sorted by position lexicographically (x, then y,
+///    then z: SOFA's std::map keyed by Vec3), i.e. by (i, j, k) with i slowest.
+#include "penalty/mechanics/mapping.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <array>
+#include <span>
+#include <vector>
+
+namespace penalty {
+
+enum class SparseCellType : unsigned char { outside, inside, boundary };
+
+class SparseGridTopology {
+public:
+    /// Voxelises the closed surface (positions, triangles) on the grid (n, min, max); n is
+    /// raised to 2 per axis (SOFA's init). Throws std::invalid_argument for an empty surface or
+    /// a surface vertex SOFA cannot place in the grid.
+    static SparseGridTopology from_surface(std::array<int, 3> n, Vec3 min, Vec3 max, std::span<const Vec3> positions,
+                                           std::span<const Triangle> triangles, bool only_inside_cells = false);
+    /// SOFA's default box: the bounding box of `positions` grown by 1/100 of its size each side.
+    static std::pair<Vec3, Vec3> default_box(std::span<const Vec3> positions);
+
+    [[nodiscard]] const RegularGridTopology& grid() const { return grid_; }
+    [[nodiscard]] const std::vector<Vec3>& points() const { return points_; }
+    [[nodiscard]] const std::vector<Hexahedron>& hexahedra() const { return hexahedra_; }
+    /// Type of each kept cell (boundary or inside), hexahedron order.
+    [[nodiscard]] const std::vector<SparseCellType>& cell_types() const { return types_; }
+    /// Type of each cell of the regular grid, regular-grid order (x fastest).
+    [[nodiscard]] const std::vector<SparseCellType>& grid_cell_types() const { return grid_types_; }
+    /// SOFA's SparseGridTopology::updateEdges: the 12 edges of each hexahedron, sorted, unique.
+    [[nodiscard]] std::vector<Edge> edges() const;
+    /// SOFA's SparseGridTopology::updateQuads: the 6 faces of each hexahedron, sorted, unique.
+    [[nodiscard]] std::vector<Quad> quads() const;
+    /// The points, hexahedra, edges and quads as a MeshTopology.
+    [[nodiscard]] MeshTopology mesh() const;
+
+    /// SOFA's SparseGridTopology::findCube, then findNearestCube: the kept cell holding p and
+    /// (fx, fy, fz) in it; a point in no kept cell takes the BOUNDARY cell whose centre is nearest
+    /// (single-precision distance, first one on ties) with (p − corner0) / diagonal.
+    [[nodiscard]] std::pair<Index, Vec3> locate(const Vec3& p) const;
+
+private:
+    explicit SparseGridTopology(const RegularGridTopology& grid) : grid_(grid) {}
+    RegularGridTopology grid_;
+    std::vector<SparseCellType> grid_types_;
+    std::vector<Index> kept_of_grid_cell_;  ///< kept cell of each regular cell, or kNotKept
+    std::vector<Vec3> points_;
+    std::vector<Hexahedron> hexahedra_;
+    std::vector<SparseCellType> types_;
+};
+
+/// BarycentricMapping of points onto a sparse grid, as SOFA's BarycentricMapperSparseGridTopology
+/// (trilinear weights summed in the corner order 0, 1, 3, 2, 4, 5, 7, 6).
+void map_on_sparse_grid(BarycentricMapping& mapping, const SparseGridTopology& grid, std::span<const Vec3> points);
+
+}  // namespace penalty

@@ -1,0 +1,95 @@
+// Sparse grids: SparseGridTopology (the voxelisation of a closed surface mesh file).
+#include "penalty/io/data_path.hpp"
+#include "penalty/io/mesh.hpp"
+#include "scene/builder/families.hpp"
+#include "scene/builder/scene_builder.hpp"
+#include "penalty/mechanics/fem.hpp"
+
+namespace penalty::scene::builder {
+
+namespace {
+
+using io::SceneComponent;
+using K = AttributeKind;
+using F = ComponentFamily;
+
+constexpr AttributeSpec kSparseGrid[] = {
+    {"n", K::indices, "2 2 2", "", ValueCheck::none, "grid points along x, y, z (raised to 2)"},
+    {"min", K::vector3, "0 0 0", "m", ValueCheck::none, "lower corner (min = max = 0: the surface's box grown by 1%)"},
+    {"max", K::vector3, "0 0 0", "m", ValueCheck::none, "upper corner"},
+    {"fileTopology", K::text, "", "", ValueCheck::none, "closed surface mesh (.obj) to voxelise"},
+    {"filename", K::text, "", "", ValueCheck::none, "alias of fileTopology"},
+    {"onlyInsideCells", K::boolean, "0", "", ValueCheck::none, "keep only the cells inside the surface"},
+    {"fillWeighted", K::boolean, "1", "", ValueCheck::none,
+     "boundary cells have half the stiffness in a HexahedronFEMForceField"},
+};
+
+void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    info.topology_component = &c;
+    b.guarded(c, [&] {
+        std::optional<std::string> file = a.optional_text("fileTopology");
+        if (!file) file = a.optional_text("filename");
+        if (!file) io::throw_element_error(c, "needs fileTopology (a closed surface mesh); grids from given points are not supported");
+        const char* attr = a.has("fileTopology") ? "fileTopology" : "filename";
+        io::MeshData surface;
+        try {
+            const std::filesystem::path path = io::resolve_data_file(*file, b.scene_dir(), b.options().data_dirs);
+            if (path.extension() != ".obj") a.fail(attr, "only .obj surfaces are supported, got '" + *file + "'");
+            surface = io::load_obj(path, /*triangulate=*/true);  // polygons as fans (v0, v[j-1], v[j]), as SOFA
+        } catch (const io::SceneError&) {
+            throw;
+        } catch (const io::LoadError& e) {
+            io::throw_attribute_error(c, attr, e.what());
+        }
+        std::array<int, 3> n{2, 2, 2};
+        if (a.has("n")) {
+            const std::vector<double> v = a.numbers("n");
+            if (v.size() != 3) a.fail("n", "expected 3 integers");
+            for (const double x : v)
+                if (!(x >= 1 && x <= 100000)) a.fail("n", "each count must be between 1 and 100000");
+            n = {int(v[0]), int(v[1]), int(v[2])};
+        }
+        const auto points = std::uint64_t(std::max(n[0], 2)) * std::uint64_t(std::max(n[1], 2)) * std::uint64_t(std::max(n[2], 2));
+        if (points > b.options().max_dofs)
+            io::throw_element_error(c, std::to_string(points) + " grid points (more than " +
+                                           std::to_string(b.options().max_dofs) + ")");
+        Vec3 lo = a.vector3("min"), hi = a.vector3("max");
+        if (lo.isZero(0) && hi.isZero(0)) std::tie(lo, hi) = SparseGridTopology::default_box(surface.positions);
+        info.sparse_grid.emplace(
+            SparseGridTopology::from_surface(n, lo, hi, surface.positions, surface.triangles, a.boolean("onlyInsideCells")));
+        info.topology_positions = info.sparse_grid->points();
+        info.topology = b.add_topology(std::make_unique<MeshTopology>(info.sparse_grid->mesh()));
+    });
+    b.role(c, [g = &*info.sparse_grid, t = info.topology] {
+        const auto& n = g->grid().n();
+        std::size_t boundary = 0;
+        for (const SparseCellType type : g->cell_types()) boundary += type == SparseCellType::boundary ? 1 : 0;
+        return "sparse grid " + std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]) + " from " +
+               vec(g->grid().min()) + " to " + vec(g->grid().max()) + ", " + std::to_string(boundary) + " boundary cells: " +
+               element_counts(g->points().size(), *t);
+    });
+    b.note_unread_attributes(c);
+}
+
+constexpr ComponentSpec kComponents[] = {
+    {.type = "SparseGridTopology",
+     .family = F::topology,
+     .summary = "sparse grid: the cells of a regular grid that meet or lie inside a closed surface",
+     .attributes = kSparseGrid,
+     .build = build_sparse_grid},
+};
+
+}  // namespace
+
+void sparse_grid_stiffness_factors(HexahedronFEMForceField& ff, const NodeBuild& info) {
+    if (!Attributes(*info.topology_component).boolean("fillWeighted")) return;
+    std::vector<double> factors;
+    for (const SparseCellType type : info.sparse_grid->cell_types())
+        factors.push_back(type == SparseCellType::boundary ? 0.5 : 1.0);  // SparseGridTopology::buildAsFinest
+    ff.set_stiffness_factors(std::move(factors));
+}
+
+std::span<const ComponentSpec> sparse_grid_components() { return kComponents; }
+
+}  // namespace penalty::scene::builder

@@ -1,0 +1,104 @@
+// TetrahedronFEMForceField method polar (SOFA's initPolar / accumulateForcePolar): the polar
+// rotation, stress-free rigid motions, rotation invariance, the stiffness against finite
+// differences at a rotated rest state, and the HexahedronFEMForceField stiffness factors.
+#include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
+
+#include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/grid_meshes.hpp"
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace penalty {
+namespace {
+
+TEST(PolarRotation, IsTheOrthogonalFactorOfRotationTimesStretch) {
+    const Mat3 r = Eigen::AngleAxisd(0.9, Vec3(1, 2, -0.5).normalized()).toRotationMatrix();
+    Mat3 s;
+    s << 2.0, 0.3, -0.1, 0.3, 1.5, 0.2, -0.1, 0.2, 0.8;  // symmetric positive definite
+    EXPECT_TRUE(polar_rotation(r * s).isApprox(r, 1e-12));
+    EXPECT_TRUE(polar_rotation(Mat3::Identity()).isApprox(Mat3::Identity(), 1e-15));
+    // a reflection stays a reflection (orthogonal, det −1), as SOFA's iteration
+    Mat3 mirror = Mat3::Identity();
+    mirror(2, 2) = -1;
+    const Mat3 q = polar_rotation(mirror * s);
+    EXPECT_TRUE((q * q.transpose()).isApprox(Mat3::Identity(), 1e-12));
+    EXPECT_NEAR(q.determinant(), -1.0, 1e-12);
+    EXPECT_TRUE(q.isApprox(mirror, 1e-12));
+}
+
+struct Block {
+    RegularGridTopology grid{{3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1.2)};
+    MeshTopology topo = test::kuhn_tetrahedra(grid);
+};
+
+TEST(TetrahedronFEMPolar, RigidMotionIsStressFreeAndStiffnessMatchesFiniteDifferences) {
+    Block b;
+    Vec3Object s;
+    s.position = b.grid.points();
+    s.init();
+    TetrahedronFEMForceField ff(s, b.topo, 500.0, 0.35, FemMethod::Polar);
+    ff.init();
+    const Mat3 r = Eigen::AngleAxisd(0.8, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
+    for (std::size_t i = 0; i < s.position.size(); ++i) s.position[i] = r * s.rest_position[i] + Vec3(0.3, -1, 2);
+    const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
+    const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, s, tol);
+    EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0);
+    EXPECT_LT(d.force.cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_TRUE(d.k_dforce.isApprox(d.k_dforce.transpose(), 1e-12));
+}
+
+TEST(TetrahedronFEMPolar, ForcesRotateWithTheBodyAndMatchLargeForSmallStrains) {
+    Block b;
+    Vec3Object polar_state, large_state;
+    for (Vec3Object* st : {&polar_state, &large_state}) {
+        st->position = b.grid.points();
+        st->init();
+    }
+    TetrahedronFEMForceField polar(polar_state, b.topo, 100, 0.3, FemMethod::Polar);
+    TetrahedronFEMForceField large(large_state, b.topo, 100, 0.3, FemMethod::Large);
+    polar.init();
+    large.init();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1e-4, 1e-4);
+    std::vector<Vec3> deformed = polar_state.rest_position;
+    for (auto& p : deformed) p += Vec3(u(rng), u(rng), u(rng));
+    polar_state.position = deformed;
+    large_state.position = deformed;
+    polar.accumulate_force();
+    large.accumulate_force();
+    const std::vector<Vec3> f1 = polar_state.force;
+    // small strains: both corotational variants agree to first order in the strain
+    double fmax = 0, diff = 0;
+    for (std::size_t i = 0; i < f1.size(); ++i) {
+        fmax = std::max(fmax, f1[i].norm());
+        diff = std::max(diff, (f1[i] - large_state.force[i]).norm());
+    }
+    EXPECT_GT(fmax, 1e-4);
+    EXPECT_LT(diff, 1e-3 * fmax);
+    // rotated body: rotated forces
+    const Mat3 r = Eigen::AngleAxisd(1.1, Vec3(0.2, 1, -0.4).normalized()).toRotationMatrix();
+    for (std::size_t i = 0; i < deformed.size(); ++i) polar_state.position[i] = r * deformed[i];
+    std::fill(polar_state.force.begin(), polar_state.force.end(), Vec3::Zero());
+    polar.accumulate_force();
+    for (std::size_t i = 0; i < f1.size(); ++i) EXPECT_LT((polar_state.force[i] - r * f1[i]).norm(), 1e-9 * fmax) << i;
+}
+
+TEST(HexahedronFEM, StiffnessFactorsScaleEachElement) {
+    RegularGridTopology g({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1));
+    Vec3Object s;
+    s.position = g.points();
+    s.init();
+    HexahedronFEMForceField full(s, g.mesh(), 1000, 0.3), weighted(s, g.mesh(), 1000, 0.3);
+    weighted.set_stiffness_factors({0.5, 1.0});
+    full.init();
+    weighted.init();
+    EXPECT_TRUE(weighted.element_stiffness()[0].isApprox(0.5 * full.element_stiffness()[0], 1e-15));
+    EXPECT_EQ(weighted.element_stiffness()[1], full.element_stiffness()[1]);
+}
+
+}  // namespace
+}  // namespace penalty
