@@ -15,18 +15,16 @@ std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutp
     // winner is replaced, as SOFA's comparison). The winner inherits the id's previous position.
     const std::size_t n = outputs.size();
     by_id_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) by_id_[i] = i;
-    std::sort(by_id_.begin(), by_id_.end(), [&](std::size_t a, std::size_t b) {
-        return outputs[a].id != outputs[b].id ? outputs[a].id < outputs[b].id : a < b;
-    });
+    for (std::size_t i = 0; i < n; ++i) by_id_[i] = {outputs[i].id, i};
+    std::sort(by_id_.begin(), by_id_.end());  // by id, then output index (all pairs distinct)
     // old_[i]: ≥ 0 kept (0 = new, > 0 = previous 1-based position), −1 not kept
     old_.assign(n, -1);
     for (std::size_t g = 0; g < n;) {
-        const std::int64_t id = outputs[by_id_[g]].id;
-        std::size_t winner = by_id_[g];
+        const std::int64_t id = by_id_[g].first;
+        std::size_t winner = by_id_[g].second;
         std::size_t end = g + 1;
-        for (; end < n && outputs[by_id_[end]].id == id; ++end)
-            if (!(outputs[winner].value <= outputs[by_id_[end]].value)) winner = by_id_[end];
+        for (; end < n && by_id_[end].first == id; ++end)
+            if (!(outputs[winner].value <= outputs[by_id_[end].second].value)) winner = by_id_[end].second;
         const auto it = std::lower_bound(previous_.begin(), previous_.end(), id, id_less);
         old_[winner] = (it != previous_.end() && it->id == id) ? it->position : 0;
         g = end;
@@ -43,8 +41,8 @@ std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutp
 
     // the id → position map of this step (ids not kept are forgotten), sorted by id
     next_.clear();
-    for (const std::size_t i : by_id_)
-        if (old_[i] >= 0) next_.push_back({outputs[i].id, new_position_[i]});
+    for (const auto& [id, i] : by_id_)
+        if (old_[i] >= 0) next_.push_back({id, new_position_[i]});
     std::swap(previous_, next_);
     return kept_;
 }

@@ -49,7 +49,7 @@ private:
     std::vector<IdPosition> previous_;
     // scratch, reused across steps
     std::vector<IdPosition> next_;            // the map being built (swapped with previous_)
-    std::vector<std::size_t> by_id_;          // output indices sorted by (id, index)
+    std::vector<std::pair<std::int64_t, std::size_t>> by_id_;  // (id, output index), sorted: compact, so the sort stays in cache
     std::vector<std::int64_t> old_;           // per output: previous position, 0 new, −1 dropped
     std::vector<std::int64_t> new_position_;  // per output: 1-based position in this step's list
     std::vector<KeptOutput> kept_;            // the result of the last update()
