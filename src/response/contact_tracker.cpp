@@ -16,7 +16,8 @@ std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutp
     const std::size_t n = outputs.size();
     by_id_.resize(n);
     for (std::size_t i = 0; i < n; ++i) by_id_[i] = {outputs[i].id, i};
-    std::sort(by_id_.begin(), by_id_.end());  // by id, then output index (all pairs distinct)
+    // by id, then output index (all pairs distinct); outputs often come in id order already
+    if (!std::is_sorted(by_id_.begin(), by_id_.end())) std::sort(by_id_.begin(), by_id_.end());
     // old_[i]: ≥ 0 kept (0 = new, > 0 = previous 1-based position), −1 not kept
     old_.assign(n, -1);
     for (std::size_t g = 0; g < n;) {
