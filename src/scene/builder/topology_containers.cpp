@@ -204,10 +204,10 @@ void build_quad2triangle(SceneBuilder& b, const SceneComponent& c, NodeBuild& no
         const NodeBuild& in = linked_topology_node(b, a, "input");
         NodeBuild& out = output_topology_node(b, a, node);
         if (!output_has_modifier(b, c, out, "TriangleSetTopologyModifier")) return;
-        const auto [nx, ny] = grid_cells(in);
+        const auto cells = grid_cells(in);  // (nx, ny); no structured binding: clang 14 cannot capture one
         const bool swapping = a.boolean("swapping");
         replace_output(b, c, out, in.topology->num_points(), [&](MeshTopology& t) {
-            t.set_triangles(triangles_of_quads(in.topology->quads(), swapping, nx, ny));
+            t.set_triangles(triangles_of_quads(in.topology->quads(), swapping, std::get<0>(cells), std::get<1>(cells)));
         });
     });
     b.note_unread_attributes(c);
@@ -218,10 +218,10 @@ void build_hexa2tetra(SceneBuilder& b, const SceneComponent& c, NodeBuild& node)
     b.guarded(c, [&] {
         const NodeBuild& in = linked_topology_node(b, a, "input");
         NodeBuild& out = output_topology_node(b, a, node);
-        const auto [nx, ny] = grid_cells(in);
+        const auto cells = grid_cells(in);  // (nx, ny); no structured binding: clang 14 cannot capture one
         const bool swapping = a.boolean("swapping");
         replace_output(b, c, out, in.topology->num_points(), [&](MeshTopology& t) {
-            t.set_tetrahedra(tetrahedra_of_hexahedra(in.topology->hexahedra(), swapping, nx, ny));
+            t.set_tetrahedra(tetrahedra_of_hexahedra(in.topology->hexahedra(), swapping, std::get<0>(cells), std::get<1>(cells)));
         });
     });
     b.note_unread_attributes(c);
