@@ -632,7 +632,103 @@ MeshData load_mesh_file(const std::filesystem::path& path) {
     if (ext == ".msh") return load_gmsh(path);
     if (ext == ".sph") return load_sph(path);
     if (ext == ".vtk") return load_vtk_legacy(path);
-    fail(path, 0, "unknown mesh file extension '" + ext + "' (expected .obj, .msh, .sph or .vtk)");
+    if (ext == ".off") return load_off(path);
+    if (ext == ".trian") return load_trian(path);
+    fail(path, 0, "unknown mesh file extension '" + ext + "' (expected .obj, .msh, .sph, .vtk, .off or .trian)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF and Trian
+
+namespace {
+
+/// Point index read from a mesh file: 0 ≤ i < point_count.
+PointId checked_point(Tokenizer& tok, std::size_t point_count, std::string_view what) {
+    const std::int64_t i = tok.expect_int(what);
+    if (i < 0 || i >= static_cast<std::int64_t>(point_count))
+        fail(tok.path(), tok.line(), std::string(what) + " " + std::to_string(i) + " is not one of the " +
+                                         std::to_string(point_count) + " points");
+    return static_cast<PointId>(i);
+}
+
+/// Skips blank lines and `#` comment lines (SOFA's MeshOffLoader::readOFF reads line by line).
+void skip_off_comments(Tokenizer& tok, std::string_view text) {
+    for (;;) {
+        const std::size_t at = text.size() - tok.remaining();
+        std::size_t i = at;
+        while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r' || text[i] == '\n')) ++i;
+        if (i >= text.size() || text[i] != '#') return;
+        (void)tok.next();           // the comment's first token
+        (void)tok.rest_of_line();  // and the rest of its line
+    }
+}
+
+}  // namespace
+
+MeshData load_off(const std::filesystem::path& path) { return parse_off(detail::read_file(path), path); }
+
+MeshData parse_off(std::string_view text, const std::filesystem::path& path) {
+    Tokenizer tok(text, path);
+    MeshData mesh;
+    const auto header = tok.next();
+    if (!header || header->text != "OFF") fail(path, header ? header->line : 1, "not an OFF file (the first word must be OFF)");
+    (void)tok.rest_of_line();
+    skip_off_comments(tok, text);
+    const std::int64_t vertices = tok.expect_int("vertex count");
+    const std::int64_t faces = tok.expect_int("face count");
+    (void)tok.rest_of_line();  // the edge count, unused
+    tok.check_count(vertices, 3, "vertex");
+    tok.check_count(faces, 4, "face");
+    mesh.positions.reserve(static_cast<std::size_t>(vertices));
+    for (std::int64_t v = 0; v < vertices; ++v) {
+        skip_off_comments(tok, text);
+        Vec3 p;
+        for (int k = 0; k < 3; ++k) p[k] = tok.expect_double("vertex coordinate");
+        (void)tok.rest_of_line();
+        mesh.positions.push_back(p);
+    }
+    for (std::int64_t f = 0; f < faces;) {
+        skip_off_comments(tok, text);
+        const std::int64_t n = tok.expect_int("face vertex count");
+        if (n == 3) {
+            Triangle t;
+            for (auto& i : t) i = checked_point(tok, mesh.positions.size(), "face vertex");
+            mesh.triangles.push_back(t);
+        } else if (n == 4) {
+            Quad q;
+            for (auto& i : q) i = checked_point(tok, mesh.positions.size(), "face vertex");
+            mesh.quads.push_back(q);
+        }
+        (void)tok.rest_of_line();
+        if (n == 3 || n == 4) ++f;  // SOFA does not count a skipped face
+        if (tok.remaining() == 0 && f < faces) fail(path, tok.line(), "unexpected end of file (expected a face)");
+    }
+    return mesh;
+}
+
+MeshData load_trian(const std::filesystem::path& path) { return parse_trian(detail::read_file(path), path); }
+
+MeshData parse_trian(std::string_view text, const std::filesystem::path& path) {
+    Tokenizer tok(text, path);
+    MeshData mesh;
+    const std::int64_t vertices = tok.expect_int("vertex count");
+    tok.check_count(vertices, 3, "vertex");
+    mesh.positions.reserve(static_cast<std::size_t>(vertices));
+    for (std::int64_t v = 0; v < vertices; ++v) {
+        Vec3 p;
+        for (int k = 0; k < 3; ++k) p[k] = tok.expect_double("vertex coordinate");
+        mesh.positions.push_back(p);
+    }
+    const std::int64_t triangles = tok.expect_int("triangle count");
+    tok.check_count(triangles, 6, "triangle");
+    mesh.triangles.reserve(static_cast<std::size_t>(triangles));
+    for (std::int64_t t = 0; t < triangles; ++t) {
+        Triangle tri;
+        for (auto& i : tri) i = checked_point(tok, mesh.positions.size(), "triangle point");
+        for (int k = 0; k < 3; ++k) (void)tok.expect_int("triangle neighbour");
+        mesh.triangles.push_back(tri);
+    }
+    return mesh;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -39,6 +39,11 @@ constexpr AttributeSpec kGmshLoaderAttributes[] = {
     {"flipNormals", K::boolean, "0", "", ValueCheck::none, "ignored for Gmsh, as SOFA"},
     {"createSubelements", K::boolean, "1", "", ValueCheck::none, "derive edges and triangles of the volumes"},
 };
+constexpr AttributeSpec kTrianLoaderAttributes[] = {
+    {"flipNormals", K::boolean, "0", "", ValueCheck::none, "reverse the triangles' orientation"},
+    {"createSubelements", K::boolean, "0", "", ValueCheck::none, "derive the edges of the triangles"},
+    {"trian2", K::boolean, "0", "", ValueCheck::none, "only 0 (the older trian format)"},
+};
 constexpr AttributeSpec kSphereLoaderAttributes[] = {
     {"filename", K::text, "", "", ValueCheck::none, ".sph file of centres and radii"},
     {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "of the centres"},
@@ -50,7 +55,11 @@ constexpr AttributeSpec kSphereLoaderAttributes[] = {
 constexpr ComponentSpec kLoaders[] = {
     {.type = "MeshOBJLoader", .family = F::loader, .summary = "Wavefront OBJ mesh", .attributes = kObjVtkLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
-    {.type = "MeshGmshLoader", .family = F::loader, .summary = "Gmsh v1/v2 ASCII mesh", .attributes = kGmshLoaderAttributes,
+    {.type = "MeshGmshLoader", .family = F::loader, .summary = "Gmsh v1/v2/v4 ASCII mesh", .attributes = kGmshLoaderAttributes,
+     .shared_attributes = kMeshLoaderAttributes},
+    {.type = "MeshOffLoader", .family = F::loader, .summary = "OFF mesh (triangles and quads)", .attributes = kObjVtkLoaderAttributes,
+     .shared_attributes = kMeshLoaderAttributes},
+    {.type = "MeshTrianLoader", .family = F::loader, .summary = "SOFA .trian triangle mesh", .attributes = kTrianLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
     {.type = "SphereLoader", .family = F::loader, .summary = "sphere list (.sph)", .attributes = kSphereLoaderAttributes},
     {.type = "MeshVTKLoader", .family = F::loader, .summary = "legacy ASCII VTK mesh", .attributes = kObjVtkLoaderAttributes,

@@ -421,5 +421,40 @@ TEST(PostProcessing, TriangulateAndFlip) {
     EXPECT_TRUE(m.quads.empty());
 }
 
+// ---------------------------------------------------------------------------------------------
+// OFF and Trian (SOFA's MeshOffLoader::readOFF, MeshTrianLoader::readTrian)
+
+TEST(OffLoader, TrianglesQuadsCommentsAndSkippedFaces) {
+    // a pentagon face (n = 5) is skipped and not counted: the 3 faces are the 3 others
+    const auto p = write_temp("mesh.off",
+                              "OFF\n# a comment\n\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n# inside\n0 1 0\n0.5 2 0\n"
+                              "3 0 1 2\n5 0 1 2 3 4\n4 0 1 2 3\n3 2 4 3\n");
+    const MeshData m = load_off(p);
+    ASSERT_EQ(m.positions.size(), 5u);
+    EXPECT_EQ(m.positions[4], Vec3(0.5, 2, 0));
+    EXPECT_THAT(m.triangles, ElementsAre(Triangle{0, 1, 2}, Triangle{2, 4, 3}));
+    EXPECT_THAT(m.quads, ElementsAre(Quad{0, 1, 2, 3}));
+}
+
+TEST(OffLoader, Errors) {
+    const auto not_off = write_temp("not.off", "COFF\n1 0 0\n0 0 0\n");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_off(not_off); }),
+              not_off.string() + ":1: not an OFF file (the first word must be OFF)");
+    const auto bad_index = write_temp("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_off(bad_index); }),
+              bad_index.string() + ":6: face vertex 3 is not one of the 3 points");
+    const auto short_file = write_temp("short.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    EXPECT_THAT(message_of<LoadError>([&] { (void)load_off(short_file); }), ::testing::HasSubstr("unexpected end of file"));
+}
+
+TEST(TrianLoader, PointsAndTrianglesNeighboursIgnored) {
+    const auto p = write_temp("mesh.trian", "4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2\n0 1 2 -1 1 -1\n0 2 3 -1 -1 0\n");
+    const MeshData m = load_trian(p);
+    ASSERT_EQ(m.positions.size(), 4u);
+    EXPECT_THAT(m.triangles, ElementsAre(Triangle{0, 1, 2}, Triangle{0, 2, 3}));
+    const auto bad = write_temp("bad.trian", "1\n0 0 0\n1\n0 0 1 -1 -1 -1\n");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_trian(bad); }), bad.string() + ":4: triangle point 1 is not one of the 1 points");
+}
+
 }  // namespace
 }  // namespace penalty::io
