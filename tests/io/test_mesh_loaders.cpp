@@ -365,7 +365,7 @@ TEST(MeshFile, DispatchesOnExtension) {
     EXPECT_EQ(load_mesh_file(mesh_file("grid.vtk")).hexahedra.size(), 1u);
     const auto p = write_temp("mesh.stl", "solid\n");
     EXPECT_EQ(message_of<LoadError>([&] { (void)load_mesh_file(p); }),
-              p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph or .vtk)");
+              p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph, .vtk, .off or .trian)");
 }
 
 // ---------------------------------------------------------------------------------------------
