@@ -274,7 +274,8 @@ TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
   <MechanicalObject position="0 0 0  1 0 0"/>
   <TriangleCollisionModel/>
 </Node>)"),
-              "test.scn:3: TriangleCollisionModel: needs a topology (MeshTopology or RegularGridTopology) in its node");
+              "test.scn:3: TriangleCollisionModel: needs a topology (MeshTopology or RegularGridTopology) in its node or an ancestor "
+              "node");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <MinProximityIntersection alarmDistance="0.1" contactDistance="0.5"/>
   <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/><CollisionResponse/>
