@@ -145,4 +145,22 @@ TEST(SubsetTopologyComponent, GlobalIndicesKeepTheWholePointSet) {
     EXPECT_NEAR(s->states()[1].mass->total_mass(), 4.0, 1e-12);
 }
 
+TEST(SubsetTopologyComponent, ATopologyMayLinkToItsNodesStateBuiltAfterIt) {
+    // SOFA's SubsetTopology.scn: the container's `position` links to the MechanicalObject of its
+    // node, which penalty builds after the topology; the state's own `position` data (here a link
+    // to the sheet's points) gives the points.
+    auto s = build(R"(<Node name="root" dt="0.01" gravity="0 0 -10">
+  <Node name="Sheet"><EulerImplicitSolver/><CGLinearSolver iterations="100" tolerance="1e-12" threshold="1e-12"/>
+    <MeshTopology name="mesh" position="0 0 0 1 0 0 0 1 0 1 1 0" triangles="0 1 3 0 3 2"/>
+    <Node name="Body">
+      <MechanicalObject name="dofs" position="@../mesh.position"/>
+      <TriangleSetTopologyContainer name="t" position="@dofs.position" triangles="@../mesh.triangles"/>
+      <DiagonalMass massDensity="3"/>
+    </Node>
+  </Node>
+</Node>)");
+    ASSERT_EQ(vec3_state(*s, 0).position.size(), 4u);
+    EXPECT_NEAR(s->states()[0].mass->total_mass(), 3.0, 1e-12);
+}
+
 }  // namespace
