@@ -116,9 +116,9 @@ void HexahedronElementMass::init() {
                 throw_invalid_argument(component_, ": hexahedron ", e, " uses vertex ", v, " out of range (", x0.size(), " DOFs)");
             p[k] = x0[static_cast<std::size_t>(v)];
         }
-        const double element_mass = box_volume(p) * density_;
         const double factor = mass_factors_.empty() ? 1.0 : mass_factors_[e];
-        element_weights_[e] = element_mass * kNodeIntegral * factor;
+        const double element_mass = box_volume(p) * factor * density_;
+        element_weights_[e] = element_mass * kNodeIntegral;
         for (const PointId v : hexahedra_[e]) {
             particle_masses_[static_cast<std::size_t>(v)] += element_mass * 0.125;
             if (lumped_) lumped_masses_[static_cast<std::size_t>(v)] += 8.0 * element_weights_[e];  // row sum: 8 blocks

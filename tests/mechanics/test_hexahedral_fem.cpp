@@ -185,5 +185,28 @@ TEST(HexahedronElementMass, AssembledMatrixIsTheProductAndTheKineticEnergy) {
     }
 }
 
+TEST(HexahedronElementMass, CellFactorsScaleTheElementMatrixAndTheParticleMasses) {
+    // Two unit cubes side by side along x, factors 0.5 and 1 (a sparse grid's boundary and inside
+    // cells): w = c·ρ·8/27, particle masses c·ρ/8 summed over the cells of each vertex.
+    RegularGridTopology g({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1));
+    Vec3Object s;
+    s.position = g.points();
+    s.init();
+    HexahedronElementMass m(s, g.mesh().hexahedra(), 4.0, false, "test");
+    m.set_mass_factors({0.5, 1.0});
+    m.init();
+    EXPECT_NEAR(m.element_weights()[0], 0.5 * 4.0 * 8.0 / 27.0, 1e-15);
+    EXPECT_NEAR(m.element_weights()[1], 4.0 * 8.0 / 27.0, 1e-15);
+    EXPECT_NEAR(m.total_mass(), 0.5 * 4.0 + 4.0, 1e-14);
+    // the middle vertices (x = 1) belong to both cells: (0.5 + 1)·ρ/8; the x = 0 ones: 0.5·ρ/8
+    for (std::size_t i = 0; i < s.position.size(); ++i) {
+        const double x = s.rest_position[i].x();
+        const double expected = x == 0.0 ? 0.25 : x == 1.0 ? 0.75 : 0.5;
+        EXPECT_NEAR(m.particle_masses()[i], expected, 1e-15) << i;
+    }
+    m.set_mass_factors({1.0});
+    EXPECT_THROW(m.init(), std::invalid_argument);  // one factor per hexahedron
+}
+
 }  // namespace
 }  // namespace penalty

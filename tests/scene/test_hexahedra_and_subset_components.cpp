@@ -8,6 +8,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 namespace {
@@ -161,6 +165,43 @@ TEST(SubsetTopologyComponent, ATopologyMayLinkToItsNodesStateBuiltAfterIt) {
 </Node>)");
     ASSERT_EQ(vec3_state(*s, 0).position.size(), 4u);
     EXPECT_NEAR(s->states()[0].mass->total_mass(), 3.0, 1e-12);
+}
+
+TEST(HexahedraComponents, SparseGridCellsWeighStiffnessAndMassAlike) {
+    // HexahedronFEMForceFieldAndMass on a SparseGridTopology (a unit cube surface voxelised in
+    // 4³ cells): SOFA's getMassCoef equals getStiffnessCoef (0.5 for boundary cells,
+    // fillWeighted) and scales the element matrices and the particle masses.
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("penalty_hexa_sparse_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "cube.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\nv 1 1 1\n"
+                                       "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    std::ofstream(dir / "scene.scn") << R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <Node name="Cube"><EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
+    <SparseGridTopology fileTopology="cube.obj" n="5 5 5"/>
+    <MechanicalObject name="grid"/>
+    <HexahedronFEMForceFieldAndMass youngModulus="1000" poissonRatio="0.3" density="2"/>
+  </Node>
+</Node>)";
+    auto s = scene::build_scene(io::parse_scene_file(dir / "scene.scn"));
+    std::filesystem::remove_all(dir);
+    const Node& cube = *s->simulation().root().children().at(0);
+    const auto* ff = dynamic_cast<const HexahedronFEMForceField*>(cube.force_fields().at(0).get());
+    const auto* mass = dynamic_cast<const HexahedronElementMass*>(s->states().at(0).mass);
+    ASSERT_NE(ff, nullptr);
+    ASSERT_NE(mass, nullptr);
+    const std::vector<double>& c = ff->stiffness_factors();
+    ASSERT_EQ(c.size(), 64u);
+    ASSERT_EQ(mass->element_weights().size(), 64u);
+    const double cell = std::pow(1.02 / 4, 3);  // the box [-0.01, 1.01]³ in 4³ cells
+    double expected_total = 0;
+    for (std::size_t e = 0; e < c.size(); ++e) {
+        EXPECT_NEAR(mass->element_weights()[e], c[e] * 2.0 * cell * 8.0 / 27.0, 1e-14) << e;
+        expected_total += c[e] * 2.0 * cell;
+    }
+    EXPECT_NEAR(mass->total_mass(), expected_total, 1e-12);
+    EXPECT_EQ(std::count(c.begin(), c.end(), 0.5), 56);  // the outer shell: boundary cells
+    EXPECT_EQ(std::count(c.begin(), c.end(), 1.0), 8);
 }
 
 }  // namespace

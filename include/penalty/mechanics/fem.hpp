@@ -106,6 +106,7 @@ public:
     /// 0.5 for a sparse grid's boundary cells when fillWeighted); empty: 1 for every element.
     /// Set before init().
     void set_stiffness_factors(std::vector<double> factors) { stiffness_factors_ = std::move(factors); }
+    [[nodiscard]] const std::vector<double>& stiffness_factors() const { return stiffness_factors_; }
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,

@@ -36,8 +36,9 @@ protected:
 /// kg/m³), on the rest positions. Per hexahedron, V = |x⁰₁ − x⁰₀|·|x⁰₃ − x⁰₀|·|x⁰₄ − x⁰₀| and:
 ///  - element mass matrix M^e = c·ρ·V·(8/27)·(1₈ 1₈ᵀ ⊗ I₃): SOFA's computeElementMass evaluates the
 ///    integral of node i for every pair (i, j), so every 3×3 block is the same (a SOFA quirk,
-///    reproduced: Σ M^e = 512/27·ρV per direction, not ρV); c is the cell's mass coefficient (1);
-///  - particle masses m_k = Σ_e ρ·V/8 over the hexahedra of k: the gravity force m_k·g
+///    reproduced: Σ M^e = 512/27·ρV per direction, not ρV); c is the cell's mass coefficient (1,
+///    or SparseGridTopology::getMassCoef: 0.5 for a boundary cell when fillWeighted);
+///  - particle masses m_k = Σ_e c·ρ·V/8 over the hexahedra of k: the gravity force m_k·g
 ///    (…AndMass::addForce adds it with the elastic force);
 ///  - lumped (`lumpedMass`): M = diag(row sums of M^e);
 ///  - M⁻¹ is not available (SOFA's accFromF is not implemented): explicit solvers are refused.
@@ -46,8 +47,8 @@ public:
     HexahedronElementMass(Vec3Object& state, std::vector<Hexahedron> hexahedra, double density, bool lumped,
                           const char* component);
 
-    /// Per-hexahedron factors on the element mass matrix (SparseGridTopology::getMassCoef);
-    /// empty: 1. Set before init().
+    /// Per-hexahedron factors c on the element mass matrix and the particle masses
+    /// (SparseGridTopology::getMassCoef); empty: 1. Set before init().
     void set_mass_factors(std::vector<double> factors) { mass_factors_ = std::move(factors); }
     void init() override;
 

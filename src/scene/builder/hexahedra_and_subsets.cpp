@@ -87,9 +87,10 @@ void build_hexahedral_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
 
 /// The element mass of an "AndMass" component, on the hexahedra of `topology`.
 void add_element_mass(SceneBuilder& b, const SceneComponent& c, const Attributes& a, NodeBuild& info, Vec3Object& s,
-                      const MeshTopology& topology) {
+                      const MeshTopology& topology, std::vector<double> mass_factors) {
     auto* mass = &info.node->set_mass<HexahedronElementMass>(s, topology.hexahedra(), a.real("density"),
                                                              a.boolean("lumpedMass"), "HexahedronElementMass");
+    mass->set_mass_factors(std::move(mass_factors));
     b.record_mass(*mass, *info.node, c);
     b.add_init(1, c, [mass] { mass->init(); });
 }
@@ -101,9 +102,9 @@ void build_fem_and_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
     b.guarded(c, [&] {
         const HexaLaw law = hexa_law(a, Hexahedral);
         const MeshTopology& topology = hexahedral_topology(b, a, info);
-        if (info.sparse_grid && !a.has("topology"))
-            io::throw_element_error(c, "on a SparseGridTopology is not supported yet (SOFA weights the boundary cells' masses)");
+        const bool sparse = info.sparse_grid && !a.has("topology");
         std::size_t count = topology.hexahedra().size();
+        std::vector<double> mass_factors;
         // SOFA's …AndMass::init: the force field first, then the masses (from the rest positions)
         if constexpr (Hexahedral) {
             auto* ff = &info.node->add_force_field<HexahedralFEMForceField>(s, topology, law.young, law.poisson, law.method);
@@ -111,10 +112,14 @@ void build_fem_and_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             b.add_init(1, c, [ff] { ff->init(); });
         } else {
             auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, topology, law.young, law.poisson, law.method);
+            // on a sparse grid SOFA weights a cell's stiffness and mass alike (SparseGridTopology's
+            // getStiffnessCoef and getMassCoef, both 0.5 for a boundary cell when fillWeighted)
+            if (sparse) sparse_grid_stiffness_factors(*ff, info);
+            mass_factors = ff->stiffness_factors();
             b.record_origin(ff, c);
             b.add_init(1, c, [ff] { ff->init(); });
         }
-        add_element_mass(b, c, a, info, s, topology);
+        add_element_mass(b, c, a, info, s, topology, std::move(mass_factors));
         b.role(c, [count, law, density = a.real("density"), lumped = a.boolean("lumpedMass")] {
             return hexa_text(count, law) + "; element mass, density " + num(density) + (lumped ? " (lumped)" : "");
         });
