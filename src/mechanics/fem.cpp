@@ -234,10 +234,12 @@ HexahedronFEMForceField::ElementMatrix HexahedronFEMForceField::compute_stiffnes
     return k;
 }
 
-Mat3 HexahedronFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const {
+Mat3 hexahedron_edge_frame(const std::array<Vec3, 8>& p) {
     const Vec3 horizontal = (p[1] - p[0] + p[2] - p[3] + p[5] - p[4] + p[6] - p[7]) * 0.25;
     const Vec3 vertical = (p[3] - p[0] + p[2] - p[1] + p[7] - p[4] + p[6] - p[5]) * 0.25;
     return frame_from_axes(horizontal, vertical);
 }
+
+Mat3 HexahedronFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const { return hexahedron_edge_frame(p); }
 
 }  // namespace penalty

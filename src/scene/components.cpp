@@ -129,6 +129,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::surface_force_field_components(), builder::mass_and_region_components(),
               builder::sparse_grid_components(),
               builder::external_load_components(),
+              builder::hexahedra_and_subset_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

@@ -29,6 +29,11 @@ enum class FemMethod { Small, Large, Polar };
 /// det M < 0; M itself when det M = 0.
 Mat3 polar_rotation(const Mat3& m);
 
+/// Rows (x̂, ŷ, ẑ) of a hexahedron's corotational frame (SOFA vertex order): x̂ along the mean of
+/// the four edges 0→1, ŷ from the mean of the four edges 0→3 made orthogonal, ẑ = x̂ × ŷ
+/// (HexahedronFEMForceField::computeRotationLarge, HexahedralFEMForceField::initLarge).
+Mat3 hexahedron_edge_frame(const std::array<Vec3, 8>& p);
+
 /// Isotropic material stiffness in Voigt notation (εxx, εyy, εzz, γxy, γyz, γzx), Pa.
 Eigen::Matrix<double, 6, 6> isotropic_elasticity(double young_modulus, double poisson_ratio);
 
@@ -101,6 +106,7 @@ public:
     /// 0.5 for a sparse grid's boundary cells when fillWeighted); empty: 1 for every element.
     /// Set before init().
     void set_stiffness_factors(std::vector<double> factors) { stiffness_factors_ = std::move(factors); }
+    [[nodiscard]] const std::vector<double>& stiffness_factors() const { return stiffness_factors_; }
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,

@@ -6,33 +6,7 @@
 
 namespace penalty::scene::builder {
 
-namespace {
-
 using io::SceneComponent;
-
-/// The list a data link names (`triangles="@loader.triangles"`, `tetrahedra="@../topo.tetrahedra"`):
-/// a loader's list, or a built topology's (with its derived elements, as SOFA's Data).
-template <class Element>
-std::vector<Element> linked_elements(SceneBuilder& b, const Attributes& a, std::string_view attr,
-                                     std::vector<Element> io::MeshData::*loaded,
-                                     const std::vector<Element>& (MeshTopology::*built)() const) {
-    const io::LinkTarget t = a.link(attr);
-    if (t.component == nullptr) a.fail(attr, "link must name a loader or a topology");
-    if (component_category(t.component->type) == ComponentCategory::loader) return b.mesh_of(*t.component).*loaded;
-    for (const auto& [node, info] : b.node_builds())
-        if (info.topology_component == t.component && info.topology != nullptr) return (info.topology->*built)();
-    a.fail(attr, "cannot read elements from " + t.component->describe() + " (a loader or a topology built before it)");
-}
-
-template <class Element>
-void read_list(SceneBuilder& b, const Attributes& a, std::string_view attr, std::vector<Element>& out,
-               std::vector<Element> io::MeshData::*loaded, const std::vector<Element>& (MeshTopology::*built)() const) {
-    if (!a.has(attr)) return;
-    if (a.is_link(attr)) out = linked_elements(b, a, attr, loaded, built);
-    else out = a.elements<std::tuple_size_v<Element>>(attr);
-}
-
-}  // namespace
 
 void build_element_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, const ElementLists& lists) {
     const Attributes a(c);
@@ -52,16 +26,16 @@ void build_element_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild&
             if (!lists.nb_points && std::string_view(name) == "points") continue;
             if (a.has(name)) mesh.positions = a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
         }
-        if (lists.edges) read_list(b, a, "edges", mesh.edges, &io::MeshData::edges, &MeshTopology::edges);
+        if (lists.edges) read_element_list(b, a, "edges", mesh.edges, &io::MeshData::edges, &MeshTopology::edges);
         if (lists.triangles)
-            read_list(b, a, "triangles", mesh.triangles, &io::MeshData::triangles, &MeshTopology::triangles);
-        if (lists.quads) read_list(b, a, "quads", mesh.quads, &io::MeshData::quads, &MeshTopology::quads);
+            read_element_list(b, a, "triangles", mesh.triangles, &io::MeshData::triangles, &MeshTopology::triangles);
+        if (lists.quads) read_element_list(b, a, "quads", mesh.quads, &io::MeshData::quads, &MeshTopology::quads);
         if (lists.tetrahedra)
             for (const char* name : {"tetrahedra", "tetras"})
-                read_list(b, a, name, mesh.tetrahedra, &io::MeshData::tetrahedra, &MeshTopology::tetrahedra);
+                read_element_list(b, a, name, mesh.tetrahedra, &io::MeshData::tetrahedra, &MeshTopology::tetrahedra);
         if (lists.hexahedra)
             for (const char* name : {"hexahedra", "hexas"})
-                read_list(b, a, name, mesh.hexahedra, &io::MeshData::hexahedra, &MeshTopology::hexahedra);
+                read_element_list(b, a, name, mesh.hexahedra, &io::MeshData::hexahedra, &MeshTopology::hexahedra);
         if (!mesh.positions.empty()) {
             t->set_num_points(mesh.positions.size());
         } else if (lists.nb_points && a.has("nbPoints")) {

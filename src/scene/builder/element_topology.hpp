@@ -16,6 +16,31 @@ struct ElementLists {
     bool nb_points = false;   ///< PointSetTopologyContainer's `nbPoints` (and `points`, alias of `position`)
 };
 
+/// The list a data link names (`triangles="@loader.triangles"`, `tetrahedra="@../topo.tetrahedra"`,
+/// `triangles="@subset.trianglesInROI"`): a loader's list, an engine's output, or a built
+/// topology's (with its derived elements, as SOFA's Data).
+template <class Element>
+std::vector<Element> linked_elements(SceneBuilder& b, const Attributes& a, std::string_view attr,
+                                     std::vector<Element> io::MeshData::*loaded,
+                                     const std::vector<Element>& (MeshTopology::*built)() const) {
+    const io::LinkTarget t = a.link(attr);
+    if (t.component == nullptr) a.fail(attr, "link must name a loader or a topology");
+    if (component_category(t.component->type) == ComponentCategory::loader) return b.mesh_of(*t.component).*loaded;
+    if (const io::MeshData* engine = b.engine_mesh(*t.component, t.data)) return engine->*loaded;
+    for (const auto& [node, info] : b.node_builds())
+        if (info.topology_component == t.component && info.topology != nullptr) return (info.topology->*built)();
+    a.fail(attr, "cannot read elements from " + t.component->describe() + " (a loader or a topology built before it)");
+}
+
+/// `out` := the list of attribute `attr` (inline or a link), when the component sets it.
+template <class Element>
+void read_element_list(SceneBuilder& b, const Attributes& a, std::string_view attr, std::vector<Element>& out,
+                       std::vector<Element> io::MeshData::*loaded, const std::vector<Element>& (MeshTopology::*built)() const) {
+    if (!a.has(attr)) return;
+    if (a.is_link(attr)) out = linked_elements(b, a, attr, loaded, built);
+    else out = a.elements<std::tuple_size_v<Element>>(attr);
+}
+
 /// Builds the node's topology from `c` (its lists as declared by `lists`), records its points
 /// (a MechanicalObject without positions takes them), and its `penalty info` role.
 void build_element_topology(SceneBuilder& b, const io::SceneComponent& c, NodeBuild& info, const ElementLists& lists);

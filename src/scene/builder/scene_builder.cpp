@@ -119,14 +119,25 @@ std::vector<Vec3> SceneBuilder::linked_positions(const Attributes& a, std::strin
     const io::LinkTarget t = a.link(attr);
     if (t.component == nullptr) a.fail(attr, "link must name a loader, a topology or a MechanicalObject");
     const SceneComponent& src = *t.component;
+    if (const io::MeshData* engine = engine_mesh(src, t.data)) return engine->positions;
     if (!t.data.empty() && t.data != "position" && t.data != "rest_position")
         a.fail(attr, "cannot read positions from data '" + t.data + "'");
     const ComponentSpec* spec = find_component(src.type);
     if (component_category(src.type) == ComponentCategory::loader) return mesh_of(src).positions;
     if (spec != nullptr && spec->family == ComponentFamily::state) {
         const auto it = vec3_states_.find(&src);
-        if (it == vec3_states_.end()) a.fail(attr, "links to " + src.describe() + ", which is not a built Vec3d state");
-        return it->second->position;
+        if (it != vec3_states_.end()) return it->second->position;
+        // a state not built yet (a topology of the state's node links to it: topologies come
+        // first): the positions its own `position` data gives, inline or from a non-state link
+        const Attributes state_attributes(src);
+        if (state_attributes.has("position")) {
+            if (!state_attributes.is_link("position")) return state_attributes.points("position");
+            const SceneComponent* inner = state_attributes.link("position").component;
+            const ComponentSpec* inner_spec = inner != nullptr ? find_component(inner->type) : nullptr;
+            if (inner_spec != nullptr && inner_spec->family != ComponentFamily::state)
+                return linked_positions(state_attributes, "position");
+        }
+        a.fail(attr, "links to " + src.describe() + ", which is not a built Vec3d state");
     }
     if (spec != nullptr && spec->family == ComponentFamily::topology) {
         for (const auto& [node, info] : nodes_)

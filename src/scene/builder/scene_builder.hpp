@@ -134,6 +134,16 @@ public:
     void record_engine_indices(const io::SceneComponent& engine, const std::string& data, std::vector<PointId> indices) {
         engine_indices_[{&engine, data}] = std::move(indices);
     }
+    /// Records points and element lists an engine computed (SubsetTopology's `pointsInROI`,
+    /// `trianglesInROI`, ...), read through links `@engine.data` to positions or element lists.
+    void record_engine_mesh(const io::SceneComponent& engine, const std::string& data, io::MeshData mesh) {
+        engine_meshes_[{&engine, data}] = std::move(mesh);
+    }
+    /// The mesh data recorded by `record_engine_mesh`, or null.
+    [[nodiscard]] const io::MeshData* engine_mesh(const io::SceneComponent& engine, const std::string& data) const {
+        const auto it = engine_meshes_.find({&engine, data});
+        return it == engine_meshes_.end() ? nullptr : &it->second;
+    }
     /// Attribute `attr` as indices: inline, or a link `@engine.data` to a list recorded by an engine
     /// built before (in file order).
     std::vector<PointId> indices(const Attributes& a, std::string_view attr);
@@ -208,6 +218,7 @@ private:
     std::map<const io::SceneComponent*, io::MeshData> meshes_;
     std::unordered_map<const io::SceneComponent*, Vec3Object*> vec3_states_;
     std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<PointId>> engine_indices_;
+    std::map<std::pair<const io::SceneComponent*, std::string>, io::MeshData> engine_meshes_;
     std::map<const io::SceneComponent*, IntersectionParams> intersections_;
     std::vector<const io::SceneComponent*> pipeline_components_;
     std::vector<std::string> attribute_warnings_;
