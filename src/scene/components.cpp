@@ -62,6 +62,7 @@ constexpr ComponentSpec kVisual[] = {
     {.type = "VisualStyle", .summary = "display flags"},
     {.type = "OglModel", .summary = "OpenGL visual model"},
     {.type = "VisualModel", .summary = "visual model"},
+    {.type = "VisualModelImpl", .summary = "visual model"},
     {.type = "OglSceneFrame", .summary = "frame drawn in a corner"},
     {.type = "OglLabel", .summary = "text label"},
     {.type = "OglGrid", .summary = "drawn grid"},
@@ -103,6 +104,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::collision_components(), builder::topology_container_components(),
               builder::surface_force_field_components(), builder::mass_and_region_components(),
               builder::sparse_grid_components(),
+              builder::bending_spring_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual)})
             out.insert(out.end(), family.begin(), family.end());
