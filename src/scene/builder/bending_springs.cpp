@@ -14,6 +14,7 @@
 #include "scene/builder/scene_builder.hpp"
 
 #include <cmath>
+#include <sstream>
 
 namespace penalty::scene::builder {
 
@@ -23,11 +24,23 @@ using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
 
+/// A number list attribute, or its spec's default (the registry holds SOFA's default once).
+std::vector<double> numbers_or_default(const Attributes& a, std::string_view name) {
+    if (a.has(name)) return a.numbers(name);
+    const ComponentSpec* spec = find_component(a.component().type);
+    const AttributeSpec* attribute = spec != nullptr ? find_attribute(*spec, name) : nullptr;
+    std::vector<double> values;
+    if (attribute == nullptr) return values;
+    std::istringstream in{std::string(attribute->default_value)};
+    for (double v = 0; in >> v;) values.push_back(v);
+    return values;
+}
+
 /// The first value of a SpringForceField `stiffness` / `damping` list (SOFA's ks[0], kd[0];
-/// SpringForceField's defaults 100 N/m and 5 N·s/m when the list is empty).
-double first_of(const Attributes& a, std::string_view name, double sofa_default) {
-    const std::vector<double> values = a.numbers(name);
-    if (values.empty()) return sofa_default;
+/// SpringForceField's defaults, 100 N/m and 5 N·s/m, when absent).
+double first_of(const Attributes& a, std::string_view name) {
+    const std::vector<double> values = numbers_or_default(a, name);
+    if (values.empty()) a.fail(name, "is empty");
     if (!std::isfinite(values[0]) || values[0] < 0) a.fail(name, "must be finite and >= 0");
     return values[0];
 }
@@ -88,8 +101,8 @@ void build_triangle_bending_springs(SceneBuilder& b, const SceneComponent& c, No
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const double ks = first_of(a, "stiffness", 100.0);
-        const double kd = first_of(a, "damping", 5.0);
+        const double ks = first_of(a, "stiffness");
+        const double kd = first_of(a, "damping");
         const MeshTopology& topology = b.topology_of(a, info);
         // springs from the positions at init (TriangleBendingSprings::addSpring)
         SpringForceField& ff = add_topology_springs(b, c, info, s, [&topology, ks, kd](const Vec3Object& state) {
@@ -114,9 +127,9 @@ void build_quad_bending_springs(SceneBuilder& b, const SceneComponent& c, NodeBu
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const double ks = first_of(a, "stiffness", 100.0);
-        const double kd = first_of(a, "damping", 5.0);
-        const std::vector<double> range_values = a.numbers("localRange");
+        const double ks = first_of(a, "stiffness");
+        const double kd = first_of(a, "damping");
+        const std::vector<double> range_values = numbers_or_default(a, "localRange");
         if (range_values.size() != 2) a.fail("localRange", "needs two integers");
         const LocalRange range{static_cast<int>(range_values[0]), static_cast<int>(range_values[1])};
         const MeshTopology& topology = b.topology_of(a, info);
@@ -194,9 +207,9 @@ std::vector<Spring> explicit_springs(const Attributes& a) {
     if (first.size() != second.size()) a.fail("indices2", "must have as many entries as indices1");
     if (first.empty()) return springs;
     const std::string_view lengths_name = a.has("lengths") || !a.has("length") ? "lengths" : "length";
-    const std::vector<double> lengths = resized(a.numbers(lengths_name), first.size(), lengths_name, a);
-    const std::vector<double> ks = resized(a.numbers("stiffness"), first.size(), "stiffness", a);
-    const std::vector<double> kd = resized(a.numbers("damping"), first.size(), "damping", a);
+    const std::vector<double> lengths = resized(numbers_or_default(a, lengths_name), first.size(), lengths_name, a);
+    const std::vector<double> ks = resized(numbers_or_default(a, "stiffness"), first.size(), "stiffness", a);
+    const std::vector<double> kd = resized(numbers_or_default(a, "damping"), first.size(), "damping", a);
     for (std::size_t i = 0; i < first.size(); ++i)
         springs.push_back({.a = first[i], .b = second[i], .ks = ks[i], .kd = kd[i], .rest_length = lengths[i]});
     return springs;
