@@ -60,6 +60,15 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
         f2[b] -= force;
         const double t = intensity * inverse_length;
         Mat3& m = dfdx_[i];
+        if (arithmetic_ == SpringArithmetic::quadular_bending_springs) {
+            // QuadularBendingSprings::computeLocalJacobian: (ks − t)·dyad(u/d, u/d) + t·I
+            const Vec3 w(u[0] / d, u[1] / d, u[2] / d);
+            for (int j = 0; j < 3; ++j) {
+                for (int k = 0; k < 3; ++k) m(j, k) = (s.ks - t) * (w[j] * w[k]);
+                m(j, j) += t;
+            }
+            continue;
+        }
         for (int j = 0; j < 3; ++j) {
             for (int k = 0; k < 3; ++k) m(j, k) = (s.ks - t) * n[j] * n[k];
             m(j, j) += t;
@@ -77,7 +86,13 @@ void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1,
         const Vec3 dx = dx2[b] - dx1[a];
         const Mat3& m = dfdx_[i];
         Vec3 d;
-        for (int r = 0; r < 3; ++r) d[r] = (m(r, 0) * dx[0] + m(r, 1) * dx[1] + m(r, 2) * dx[2]) * k_factor;
+        if (arithmetic_ == SpringArithmetic::quadular_bending_springs) {
+            // QuadularBendingSprings::addDForce: DfDx·(ddx·kFactor)
+            const Vec3 s(dx[0] * k_factor, dx[1] * k_factor, dx[2] * k_factor);
+            for (int r = 0; r < 3; ++r) d[r] = m(r, 0) * s[0] + m(r, 1) * s[1] + m(r, 2) * s[2];
+        } else {
+            for (int r = 0; r < 3; ++r) d[r] = (m(r, 0) * dx[0] + m(r, 1) * dx[1] + m(r, 2) * dx[2]) * k_factor;
+        }
         df1[a] += d;
         df2[b] -= d;
     }

@@ -71,6 +71,7 @@ constexpr ComponentSpec kVisual[] = {
     {.type = "VisualStyle", .summary = "display flags"},
     {.type = "OglModel", .summary = "OpenGL visual model"},
     {.type = "VisualModel", .summary = "visual model"},
+    {.type = "VisualModelImpl", .summary = "visual model"},
     {.type = "OglSceneFrame", .summary = "frame drawn in a corner"},
     {.type = "OglLabel", .summary = "text label"},
     {.type = "OglGrid", .summary = "drawn grid"},
@@ -130,6 +131,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::sparse_grid_components(),
               builder::external_load_components(),
               builder::hexahedra_and_subset_components(),
+              builder::bending_spring_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

@@ -19,6 +19,17 @@ struct Spring {
     double rest_length = 0.0;  ///< L (m), >= 0
 };
 
+/// Operation order of the spring law: the law is one, but SOFA's classes round it differently,
+/// and trajectories are compared to the last bit.
+enum class SpringArithmetic {
+    /// SpringForceField::computeSpringForce / computeSpringDForce: U = u·(1/d),
+    /// m_jk = ((ks − t)·U_j)·U_k, df = (m·dx)·k.
+    spring_force_field,
+    /// QuadularBendingSprings::computeLocalJacobian / addDForce: the Jacobian's direction is
+    /// u/d (a division), m_jk = (ks − t)·(U_j·U_k), df = m·(dx·k).
+    quadular_bending_springs,
+};
+
 /// SpringForceField (SOFA's SpringForceField = StiffSpringForceField), between two Vec3 states or
 /// inside one (pass the same state twice). For a spring (a, b): u = x_b − x_a, d = |u|, û = u/d,
 /// intensity F = ks (d − L) + kd (v_b − v_a)·û, force +F û on a and −F û on b; springs with
@@ -39,6 +50,8 @@ public:
     /// Springs with d <= `length` (m) give no force and no stiffness (SpringForceField: 1e-9;
     /// TriangularBendingSprings::addForce: 1e-4).
     void set_null_length(double length) { null_length_ = length; }
+    /// SOFA's operation order to reproduce (default: SpringForceField's).
+    void set_arithmetic(SpringArithmetic arithmetic) { arithmetic_ = arithmetic; }
 
     void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
                    ConstVec3Span v2) override;
@@ -54,6 +67,7 @@ private:
     std::vector<Mat3> dfdx_;  ///< m per spring (see class comment), from the last add_force
     double energy_ = 0.0;
     double null_length_ = 1e-9;
+    SpringArithmetic arithmetic_ = SpringArithmetic::spring_force_field;
 };
 
 /// Per-element-type stiffness/damping of MeshSpringForceField (SOFA's linesStiffness …

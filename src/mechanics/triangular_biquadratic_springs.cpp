@@ -1,0 +1,275 @@
+#include "penalty/mechanics/triangular_biquadratic_springs.hpp"
+
+#include <cmath>
+
+namespace penalty {
+
+namespace {
+
+// Vector helpers with SOFA's type::Vec operation order (sums left to right).
+double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross3(const Vec3& a, const Vec3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+Vec3 divided(const Vec3& a, double s) { return {a[0] / s, a[1] / s, a[2] / s}; }
+Vec3 times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
+            m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
+}
+Vec3 transpose_times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
+            m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
+}
+
+}  // namespace
+
+TriangularBiquadraticSpringsForceField::TriangularBiquadraticSpringsForceField(Vec3Object& state,
+                                                                               const MeshTopology& topology,
+                                                                               BiquadraticSpringParameters p)
+    : ForceField<Vec3Types>(state), topology_(&topology), parameters_(p) {
+    if (!std::isfinite(p.young_modulus) || p.young_modulus < 0)
+        throw_invalid_argument("TriangularBiquadraticSpringsForceField: youngModulus must be finite and >= 0, got ",
+                               p.young_modulus);
+    if (!std::isfinite(p.poisson_ratio) || p.poisson_ratio * p.poisson_ratio == 1.0)
+        throw_invalid_argument("TriangularBiquadraticSpringsForceField: poissonRatio must be finite and not +-1, got ",
+                               p.poisson_ratio);
+    if (!std::isfinite(p.damping_ratio))
+        throw_invalid_argument("TriangularBiquadraticSpringsForceField: dampingRatio must be finite, got ", p.damping_ratio);
+    // updateLameCoefficients
+    const double e = p.young_modulus;
+    const double nu = p.poisson_ratio;
+    lambda_ = e * nu / (1 - nu * nu);
+    mu_ = e * (1 - nu) / (1 - nu * nu);
+}
+
+void TriangularBiquadraticSpringsForceField::init() {
+    const auto& edges = topology_->edges();
+    const auto& tris = topology_->triangles();
+    const auto& edges_in_triangle = topology_->edges_in_triangle();
+    const std::vector<Vec3>& x0 = state_->rest_position;
+    for (const Triangle& t : tris)
+        for (const PointId v : t)
+            if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
+                throw_invalid_argument("TriangularBiquadraticSpringsForceField: point ", v, " out of range for a state of ",
+                                       x0.size(), " points");
+    // applyEdgeCreation: rest squared lengths, stiffness 0
+    rest_square_length_.resize(edges.size());
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+        const Vec3 d = x0[static_cast<std::size_t>(edges[e][1])] - x0[static_cast<std::size_t>(edges[e][0])];
+        rest_square_length_[e] = dot3(d, d);
+    }
+    edge_stiffness_.assign(edges.size(), 0.0);
+    square_length_.assign(edges.size(), 0.0);
+    delta_.assign(edges.size(), 0.0);
+    triangles_.assign(tris.size(), TriangleData{});
+    // applyTriangleCreation, triangles in order
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        TriangleData& td = triangles_[ti];
+        const Triangle& t = tris[ti];
+        const auto& te = edges_in_triangle[ti];
+        double square[3];
+        for (int j = 0; j < 3; ++j) square[j] = rest_square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
+        double area = 0;  // Heron: 16 A² = Σ ℓ_j² (ℓ_{j+1}² + ℓ_{j+2}² − ℓ_j²)
+        for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
+        area = std::sqrt(area) / 4;
+        if (!(area > 0))
+            throw_invalid_argument("TriangularBiquadraticSpringsForceField: triangle ", ti, " has a zero rest area");
+        td.rest_area = area;
+        const Vec3& p0 = x0[static_cast<std::size_t>(t[0])];
+        td.normal = divided(cross3(x0[static_cast<std::size_t>(t[1])] - p0, x0[static_cast<std::size_t>(t[2])] - p0), 2 * area);
+        td.last_valid_normal = td.normal;
+        double cotangent[3];
+        for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
+        for (int j = 0; j < 3; ++j) {
+            const int k = (j + 1) % 3;
+            const int l = (j + 2) % 3;
+            td.gamma[static_cast<std::size_t>(j)] = (2 * cotangent[k] * cotangent[l] * (lambda_ + mu_) - mu_) / (16 * area);
+            td.stiffness[static_cast<std::size_t>(j)] = (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (16 * area);
+            edge_stiffness_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])] += td.stiffness[static_cast<std::size_t>(j)];
+        }
+    }
+}
+
+void TriangularBiquadraticSpringsForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
+                                                       std::span<const Vec3> v) {
+    PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
+    const auto& edges = topology_->edges();
+    const auto& tris = topology_->triangles();
+    const auto& edges_in_triangle = topology_->edges_in_triangle();
+    const double area_stiffness = (lambda_ + mu_) * 3;
+    energy_ = 0.0;
+    // edge springs on the squared lengths (addForce, first loop)
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+        const auto v0 = static_cast<std::size_t>(edges[e][0]);
+        const auto v1 = static_cast<std::size_t>(edges[e][1]);
+        const Vec3 dp = x[v0] - x[v1];
+        const Vec3 dv = v[v0] - v[v1];
+        const double length2 = dot3(dp, dp);
+        square_length_[e] = length2;
+        delta_[e] = length2 - rest_square_length_[e] + parameters_.damping_ratio * dot3(dv, dp) / length2;
+        const Vec3 force = scaled(dp, edge_stiffness_[e] * delta_[e]);
+        f[v1] += force;
+        f[v0] -= force;
+        energy_ += edge_stiffness_[e] * delta_[e] * delta_[e] / 4;
+    }
+    if (parameters_.use_angular_springs) {
+        for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+            TriangleData& td = triangles_[ti];
+            const Triangle& t = tris[ti];
+            const auto& te = edges_in_triangle[ti];
+            const auto delta_of = [&](int j) { return delta_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])]; };
+            const auto at = [&](int j) { return static_cast<std::size_t>(t[static_cast<std::size_t>(j)]); };
+            for (int j = 0; j < 3; ++j) {
+                const int k = (j + 1) % 3;
+                const int l = (j + 2) % 3;
+                td.dp[static_cast<std::size_t>(j)] = x[at(l)] - x[at(k)];
+                const double intensity = delta_of(k) * td.gamma[static_cast<std::size_t>(l)] +
+                                         delta_of(l) * td.gamma[static_cast<std::size_t>(k)];
+                const Vec3 force = scaled(-td.dp[static_cast<std::size_t>(j)], intensity);
+                f[at(l)] += force;
+                f[at(k)] -= force;
+                energy_ += td.gamma[static_cast<std::size_t>(j)] * delta_of(k) * delta_of(l) / 2;
+            }
+            if (!parameters_.compressible) continue;
+            // area term of a compressed triangle
+            td.normal = -cross3(td.dp[2], td.dp[1]);
+            td.area = std::sqrt(dot3(td.normal, td.normal)) / 2;
+            td.j = td.area / td.rest_area;
+            if (!(td.j < 1)) continue;
+            const double jj = td.j - 1;
+            if (td.j < 1e-2) {
+                td.normal = td.last_valid_normal;  // too flat: keep the last trusted normal
+            } else {
+                td.normal = divided(td.normal, 2 * td.area);
+                if (dot3(td.normal, td.last_valid_normal) > -0.5) td.last_valid_normal = td.normal;
+                else td.normal = scaled(td.normal, -1.0);  // flipped: SOFA turns it back
+            }
+            const double intensity = area_stiffness * jj * jj * jj;
+            for (std::size_t j = 0; j < 3; ++j) {
+                td.area_vector[j] = divided(cross3(td.normal, td.dp[j]), 2);
+                f[at(static_cast<int>(j))] -= scaled(td.area_vector[j], intensity);
+            }
+            energy_ += area_stiffness * td.rest_area * jj * jj * jj * jj / 4;
+        }
+    }
+    update_stiffness();
+}
+
+void TriangularBiquadraticSpringsForceField::update_stiffness() {
+    // addDForce's DfDx[k] (SOFA computes it at the first addDForce after addForce, from the same data)
+    const auto& edges_in_triangle = topology_->edges_in_triangle();
+    const double area_stiffness = (lambda_ + mu_) * 3;
+    for (std::size_t ti = 0; ti < triangles_.size(); ++ti) {
+        TriangleData& td = triangles_[ti];
+        const auto& te = edges_in_triangle[ti];
+        const auto delta_of = [&](int j) { return delta_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])]; };
+        for (int k = 0; k < 3; ++k) {
+            Mat3& m = td.dfdx[static_cast<std::size_t>(k)];
+            const auto sk = static_cast<std::size_t>(k);
+            const Vec3 dpk = -td.dp[sk];  // x_i − x_j with i = k+1, j = k+2
+            if (!parameters_.use_angular_springs) {
+                const double diagonal = -td.stiffness[sk] * delta_of(k);
+                const double along = -2 * td.stiffness[sk];
+                for (int u = 0; u < 3; ++u) {
+                    for (int w = 0; w < 3; ++w) m(u, w) = dpk[u] * dpk[w] * along;
+                    m(u, u) += diagonal;
+                }
+                continue;
+            }
+            const int i = (k + 1) % 3;
+            const int j = (k + 2) % 3;
+            const auto si = static_cast<std::size_t>(i);
+            const auto sj = static_cast<std::size_t>(j);
+            const Vec3 dpj = td.dp[sj];   // x_i − x_k
+            const Vec3 dpi = -td.dp[si];  // x_j − x_k
+            const double diagonal = -(td.stiffness[sk] * delta_of(k) + td.gamma[si] * delta_of(j) + td.gamma[sj] * delta_of(i));
+            const double along = -2 * td.stiffness[sk];
+            const double val_k = 2 * td.gamma[sk];
+            const double val_i = 2 * td.gamma[si];
+            const double val_j = 2 * td.gamma[sj];
+            for (int u = 0; u < 3; ++u) {
+                for (int w = 0; w < 3; ++w)
+                    m(u, w) = dpk[u] * dpk[w] * along + dpj[u] * dpi[w] * val_k - dpj[u] * dpk[w] * val_i +
+                              dpk[u] * dpi[w] * val_j;
+                m(u, u) += diagonal;
+            }
+        }
+        if (!(parameters_.use_angular_springs && parameters_.compressible && td.j < 1.0)) continue;
+        // SOFA's regularised area term (addDForce): h = 1 − J weighs the tensor product of the
+        // area vectors against its trace times I
+        const double jj = td.j - 1;
+        const double h = -jj;
+        const double val2 = 3 * area_stiffness * jj * jj / td.rest_area;
+        double val1 = area_stiffness * jj * jj * jj / 2;
+        const Vec3 skew = scaled(-td.normal, val1);  // vector of the antisymmetric part
+        val1 /= 2 * td.area;
+        Mat3 nn;
+        for (int u = 0; u < 3; ++u)
+            for (int w = 0; w < 3; ++w) nn(u, w) = td.normal[u] * td.normal[w] * val1;
+        double length_square[3];
+        for (int e = 0; e < 3; ++e) length_square[e] = square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(e)])];
+        const double total = length_square[0] + length_square[1] + length_square[2];
+        for (int k = 0; k < 3; ++k) {
+            Mat3& m = td.dfdx[static_cast<std::size_t>(k)];
+            const double weight = total - 2 * length_square[k];
+            m(0, 1) += skew[2];
+            m(0, 2) -= skew[1];
+            m(1, 0) -= skew[2];
+            m(1, 2) += skew[0];
+            m(2, 0) += skew[1];
+            m(2, 1) -= skew[0];
+            const Vec3& ai = td.area_vector[static_cast<std::size_t>((k + 1) % 3)];
+            const Vec3& aj = td.area_vector[static_cast<std::size_t>((k + 2) % 3)];
+            const double trace = dot3(ai, aj);
+            for (int u = 0; u < 3; ++u)
+                for (int w = 0; w < 3; ++w) {
+                    m(u, w) += (1 - h) * ai[u] * aj[w] * val2;
+                    m(u, w) += nn(u, w) * weight;
+                    if (u == w) m(u, w) += h * val2 * trace;
+                }
+        }
+    }
+}
+
+void TriangularBiquadraticSpringsForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                                        double /*b_factor*/) const {
+    PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
+    const auto& tris = topology_->triangles();
+    // addDForce: for the pair (i, j) = (t_{k+1}, t_{k+2}), δ = dx_i − dx_j,
+    // df_i += (DfDx[k] δ)·k, df_j −= (DfDx[k]ᵀ δ)·k
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        const Triangle& t = tris[ti];
+        for (int k = 0; k < 3; ++k) {
+            const auto i = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
+            const auto j = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 2) % 3)]);
+            const Vec3 delta = dx[i] - dx[j];
+            const Mat3& m = triangles_[ti].dfdx[static_cast<std::size_t>(k)];
+            df[i] += scaled(times(m, delta), k_factor);
+            df[j] -= scaled(transpose_times(m, delta), k_factor);
+        }
+    }
+}
+
+void TriangularBiquadraticSpringsForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
+    const auto& tris = topology_->triangles();
+    // ∂f_i/∂x_i = M, ∂f_i/∂x_j = −M, ∂f_j/∂x_i = −Mᵀ, ∂f_j/∂x_j = Mᵀ
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        const Triangle& tri = tris[ti];
+        for (int k = 0; k < 3; ++k) {
+            const Index ri = offset + 3 * tri[static_cast<std::size_t>((k + 1) % 3)];
+            const Index rj = offset + 3 * tri[static_cast<std::size_t>((k + 2) % 3)];
+            const Mat3 m = factor * triangles_[ti].dfdx[static_cast<std::size_t>(k)];
+            for (Index r = 0; r < 3; ++r)
+                for (Index c = 0; c < 3; ++c) {
+                    t.emplace_back(ri + r, ri + c, m(r, c));
+                    t.emplace_back(ri + r, rj + c, -m(r, c));
+                    t.emplace_back(rj + r, ri + c, -m(c, r));
+                    t.emplace_back(rj + r, rj + c, m(c, r));
+                }
+        }
+    }
+}
+
+}  // namespace penalty

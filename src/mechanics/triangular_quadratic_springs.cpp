@@ -1,0 +1,214 @@
+#include "penalty/mechanics/triangular_quadratic_springs.hpp"
+
+#include <cmath>
+
+namespace penalty {
+
+namespace {
+
+// Vector helpers with SOFA's type::Vec operation order (sums left to right).
+double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
+            m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
+}
+Vec3 transpose_times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
+            m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
+}
+Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+
+}  // namespace
+
+TriangularQuadraticSpringsForceField::TriangularQuadraticSpringsForceField(Vec3Object& state, const MeshTopology& topology,
+                                                                           QuadraticSpringParameters p)
+    : ForceField<Vec3Types>(state), topology_(&topology), parameters_(p) {
+    if (!std::isfinite(p.young_modulus) || p.young_modulus < 0)
+        throw_invalid_argument("TriangularQuadraticSpringsForceField: youngModulus must be finite and >= 0, got ",
+                               p.young_modulus);
+    if (!std::isfinite(p.poisson_ratio) || p.poisson_ratio * p.poisson_ratio == 1.0)
+        throw_invalid_argument("TriangularQuadraticSpringsForceField: poissonRatio must be finite and not +-1, got ",
+                               p.poisson_ratio);
+    if (!std::isfinite(p.damping_ratio))
+        throw_invalid_argument("TriangularQuadraticSpringsForceField: dampingRatio must be finite, got ", p.damping_ratio);
+    // updateLameCoefficients
+    const double e = p.young_modulus;
+    const double nu = p.poisson_ratio;
+    lambda_ = e * nu / (1 - nu * nu);
+    mu_ = e * (1 - nu) / (1 - nu * nu);
+}
+
+void TriangularQuadraticSpringsForceField::init() {
+    const auto& edges = topology_->edges();
+    const auto& tris = topology_->triangles();
+    const auto& edges_in_triangle = topology_->edges_in_triangle();
+    const std::vector<Vec3>& x0 = state_->rest_position;
+    for (const Triangle& t : tris)
+        for (const PointId v : t)
+            if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
+                throw_invalid_argument("TriangularQuadraticSpringsForceField: point ", v, " out of range for a state of ",
+                                       x0.size(), " points");
+    // applyEdgeCreation: rest lengths (Edge::length = √|x_1 − x_0|²), stiffness 0
+    rest_length_.resize(edges.size());
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+        const Vec3 d = x0[static_cast<std::size_t>(edges[e][1])] - x0[static_cast<std::size_t>(edges[e][0])];
+        rest_length_[e] = std::sqrt(dot3(d, d));
+    }
+    edge_stiffness_.assign(edges.size(), 0.0);
+    length_.assign(edges.size(), 0.0);
+    delta_.assign(edges.size(), 0.0);
+    triangles_.assign(tris.size(), TriangleData{});
+    // applyTriangleCreation, triangles in order
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        TriangleData& td = triangles_[ti];
+        const auto& te = edges_in_triangle[ti];
+        double rest[3], square[3];
+        for (int j = 0; j < 3; ++j) {
+            rest[j] = rest_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
+            square[j] = rest[j] * rest[j];
+        }
+        double area = 0;  // Heron
+        for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
+        area = std::sqrt(area) / 4;
+        if (!(area > 0)) throw_invalid_argument("TriangularQuadraticSpringsForceField: triangle ", ti, " has a zero rest area");
+        double cotangent[3];
+        for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
+        for (int j = 0; j < 3; ++j) {
+            const int k = (j + 1) % 3;
+            const int l = (j + 2) % 3;
+            const auto sj = static_cast<std::size_t>(j);
+            td.gamma[sj] = rest[k] * rest[l] * (2 * cotangent[k] * cotangent[l] * (lambda_ + mu_) - mu_) / (8 * area);
+            td.stiffness[sj] = rest[j] * rest[j] * (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (8 * area);
+            edge_stiffness_[static_cast<std::size_t>(te[sj])] += td.stiffness[sj];
+        }
+    }
+}
+
+void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
+    PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
+    const auto& edges = topology_->edges();
+    const auto& tris = topology_->triangles();
+    const auto& edges_in_triangle = topology_->edges_in_triangle();
+    const bool angular = parameters_.use_angular_springs;
+    energy_ = 0.0;
+    // edge springs (addForce, first loop)
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+        const auto v0 = static_cast<std::size_t>(edges[e][0]);
+        const auto v1 = static_cast<std::size_t>(edges[e][1]);
+        const Vec3 dp = x[v0] - x[v1];
+        const Vec3 dv = v[v0] - v[v1];
+        const double length = std::sqrt(dot3(dp, dp));
+        length_[e] = length;
+        delta_[e] = length - rest_length_[e] + parameters_.damping_ratio * dot3(dv, dp) / length;
+        const double intensity = edge_stiffness_[e] * delta_[e] / length;
+        f[v1] += scaled(dp, intensity);
+        f[v0] -= scaled(dp, intensity);
+        energy_ += edge_stiffness_[e] * delta_[e] * delta_[e] / 2;
+    }
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        TriangleData& td = triangles_[ti];
+        const Triangle& t = tris[ti];
+        const auto& te = edges_in_triangle[ti];
+        const auto edge_of = [&](int j) { return static_cast<std::size_t>(te[static_cast<std::size_t>(j)]); };
+        const auto at = [&](int j) { return static_cast<std::size_t>(t[static_cast<std::size_t>(j)]); };
+        if (angular) {
+            for (int j = 0; j < 3; ++j) {
+                const int k = (j + 1) % 3;
+                const int l = (j + 2) % 3;
+                const Vec3 dp = x[at(k)] - x[at(l)];
+                const double intensity = delta_[edge_of(k)] * td.gamma[static_cast<std::size_t>(l)] +
+                                         delta_[edge_of(l)] * td.gamma[static_cast<std::size_t>(k)];
+                const Vec3 scaled_dp = scaled(dp, intensity);
+                const double length = length_[edge_of(j)];
+                const Vec3 force(scaled_dp[0] / length, scaled_dp[1] / length, scaled_dp[2] / length);
+                f[at(l)] += force;
+                f[at(k)] -= force;
+                energy_ += td.gamma[static_cast<std::size_t>(j)] * delta_[edge_of(k)] * delta_[edge_of(l)];
+            }
+        }
+        // addDForce's DfDx[k] (SOFA computes it at the first addDForce after addForce, from the
+        // positions and lengths of that addForce)
+        for (int k = 0; k < 3; ++k) {
+            const int i = (k + 1) % 3;
+            const int j = (k + 2) % 3;
+            const auto sk = static_cast<std::size_t>(k);
+            Mat3& m = td.dfdx[sk];
+            const Vec3 dpk = x[at(i)] - x[at(j)];
+            const double lk = length_[edge_of(k)];
+            if (!angular) {
+                double diagonal = -td.stiffness[sk] * delta_[edge_of(k)];
+                diagonal /= lk;
+                double along = -td.stiffness[sk] * rest_length_[edge_of(k)];
+                along /= lk * lk * lk;
+                for (int u = 0; u < 3; ++u) {
+                    for (int w = 0; w < 3; ++w) m(u, w) = dpk[u] * dpk[w] * along;
+                    m(u, u) += diagonal;
+                }
+                continue;
+            }
+            const Vec3 dpj = x[at(i)] - x[at(k)];
+            const Vec3 dpi = x[at(j)] - x[at(k)];
+            const auto si = static_cast<std::size_t>(i);
+            const auto sj = static_cast<std::size_t>(j);
+            const double li = length_[edge_of(i)];
+            const double lj = length_[edge_of(j)];
+            double diagonal =
+                -(td.stiffness[sk] * delta_[edge_of(k)] + td.gamma[si] * delta_[edge_of(j)] + td.gamma[sj] * delta_[edge_of(i)]);
+            // SOFA: −val1 − s_k ℓ_k; the Hessian: −val1 − s_k L_k (exact_angular_stiffness)
+            const double length_in_along = parameters_.exact_angular_stiffness ? lk : rest_length_[edge_of(k)];
+            double along = -diagonal - td.stiffness[sk] * length_in_along;
+            diagonal /= lk;
+            along /= lk * lk * lk;
+            const double val_k = td.gamma[sk] / (lj * li);
+            const double val_i = td.gamma[si] / (lj * lk);
+            const double val_j = td.gamma[sj] / (lk * li);
+            for (int u = 0; u < 3; ++u) {
+                for (int w = 0; w < 3; ++w)
+                    m(u, w) = dpk[u] * dpk[w] * along + dpj[u] * dpi[w] * val_k - dpj[u] * dpk[w] * val_i +
+                              dpk[u] * dpi[w] * val_j;
+                m(u, u) += diagonal;
+            }
+        }
+    }
+}
+
+void TriangularQuadraticSpringsForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                                      double /*b_factor*/) const {
+    PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
+    const auto& tris = topology_->triangles();
+    // addDForce: for (i, j) = (t_{k+1}, t_{k+2}), δ = dx_i − dx_j: df_i += (DfDx[k] δ)·k,
+    // df_j −= (DfDx[k]ᵀ δ)·k
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        const Triangle& t = tris[ti];
+        for (int k = 0; k < 3; ++k) {
+            const auto i = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
+            const auto j = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 2) % 3)]);
+            const Vec3 delta = dx[i] - dx[j];
+            const Mat3& m = triangles_[ti].dfdx[static_cast<std::size_t>(k)];
+            df[i] += scaled(times(m, delta), k_factor);
+            df[j] -= scaled(transpose_times(m, delta), k_factor);
+        }
+    }
+}
+
+void TriangularQuadraticSpringsForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
+    const auto& tris = topology_->triangles();
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        const Triangle& tri = tris[ti];
+        for (int k = 0; k < 3; ++k) {
+            const Index ri = offset + 3 * tri[static_cast<std::size_t>((k + 1) % 3)];
+            const Index rj = offset + 3 * tri[static_cast<std::size_t>((k + 2) % 3)];
+            const Mat3 m = factor * triangles_[ti].dfdx[static_cast<std::size_t>(k)];
+            for (Index r = 0; r < 3; ++r)
+                for (Index c = 0; c < 3; ++c) {
+                    t.emplace_back(ri + r, ri + c, m(r, c));
+                    t.emplace_back(ri + r, rj + c, -m(r, c));
+                    t.emplace_back(rj + r, ri + c, -m(c, r));
+                    t.emplace_back(rj + r, rj + c, m(c, r));
+                }
+        }
+    }
+}
+
+}  // namespace penalty
