@@ -1,4 +1,4 @@
-// TetrahedralCorotationalFEMForceField as a scene component: a clamped beam of 24 tetrahedra
+// TetrahedralCorotationalFEMForceField as a scene component: a clamped beam of 12 tetrahedra
 // (a 3×2×2-vertex grid cut into Kuhn tetrahedra, written into the scene) built from a .scn,
 // described, run, and compared with the same beam under TetrahedronFEMForceField.
 #include "penalty/io/error.hpp"
@@ -66,19 +66,22 @@ double max_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 TEST(CorotationalFemComponent, BuildsDescribesAndRunsLikeTetrahedronFem) {
     auto s = build(beam_scene(
         R"(<TetrahedralCorotationalFEMForceField name="fem" youngModulus="2000" poissonRatio="0.3" method="large" assembling="0"/>)"));
-    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("24 tetrahedra, E = 2000 Pa, nu = 0.3, corotational (large)"));
+    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("12 tetrahedra, E = 2000 Pa, nu = 0.3, corotational (large)"));
     const std::vector<Vec3> x = positions_after(*s, 60);
     const double sag = lowest_y(x);
     EXPECT_LT(sag, -0.01);  // it bends under gravity
     EXPECT_GT(sag, -1.0);   // and the elasticity holds it
-    // at the default options, SOFA's two tetrahedral FEMs compute the same forces and stiffness
+    // at the default options, SOFA's two tetrahedral FEMs compute the same forces and stiffness (to
+    // rounding, 1e-12 relative: tests/mechanics/test_corotational_fem.cpp); over 60 steps the CG's
+    // stopping test (residual² ≤ 1e-14) lets those roundings grow to ~2e-8 of the sag
     auto reference = build(beam_scene(R"(<TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>)"));
-    EXPECT_LT(max_distance(x, positions_after(*reference, 60)), 1e-9);
+    const double gap = max_distance(x, positions_after(*reference, 60));
+    EXPECT_LT(gap, 1e-6 * std::abs(sag)) << "sag " << sag;
 }
 
 TEST(CorotationalFemComponent, DefaultsMethodsAndOptions) {
     auto s = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField/>)"));
-    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("24 tetrahedra, E = 5000 Pa, nu = 0.45, corotational (large)"));
+    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("12 tetrahedra, E = 5000 Pa, nu = 0.45, corotational (large)"));
     for (const char* method : {"small", "polar"}) {
         auto m = build(beam_scene(std::string(R"(<TetrahedralCorotationalFEMForceField youngModulus="2000" method=")") + method + R"("/>)"));
         EXPECT_THAT(scene::describe_scene(*m), HasSubstr(std::string("(") + method + ")"));
