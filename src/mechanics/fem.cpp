@@ -172,11 +172,17 @@ TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffn
     if (!std::isfinite(det) || std::abs(det) <= 1e-12 * scale * scale * scale)
         throw_invalid_argument(component_, ": tetrahedron ", e, " is degenerate (volume ", det / 6, ")");
     const Mat3 inv = m.inverse();  // rows: gradients of N1, N2, N3
-    Eigen::Matrix<double, 6, Eigen::Dynamic> b = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, 12);
-    fill_b(b, 0, -(inv.row(0) + inv.row(1) + inv.row(2)).transpose());
-    for (int k = 1; k < 4; ++k) fill_b(b, k, inv.row(k - 1).transpose());
+    const std::array<Vec3, 4> gradients{(-(inv.row(0) + inv.row(1) + inv.row(2))).transpose(), inv.row(0).transpose(),
+                                        inv.row(1).transpose(), inv.row(2).transpose()};
     const double volume = std::abs(det) / 6.0;
-    return volume * b.transpose() * d * b;
+    return tetrahedron_stiffness_from_gradients(gradients, d, volume);
+}
+
+Eigen::Matrix<double, 12, 12> tetrahedron_stiffness_from_gradients(const std::array<Vec3, 4>& gradients,
+                                                                   const Eigen::Matrix<double, 6, 6>& d, double scale) {
+    Eigen::Matrix<double, 6, Eigen::Dynamic> b = Eigen::Matrix<double, 6, Eigen::Dynamic>::Zero(6, 12);
+    for (int k = 0; k < 4; ++k) fill_b(b, k, gradients[static_cast<std::size_t>(k)]);
+    return scale * b.transpose() * d * b;
 }
 
 namespace {
@@ -194,7 +200,12 @@ Mat3 frame_from_axes(const Vec3& first, const Vec3& second) {
 }  // namespace
 
 Mat3 TetrahedronFEMForceField::element_rotation(const std::array<Vec3, 4>& p) const {
-    if (method_ == FemMethod::Polar) {
+    return tetrahedron_rotation(p, method_);
+}
+
+Mat3 tetrahedron_rotation(const std::array<Vec3, 4>& p, FemMethod method) {
+    if (method == FemMethod::Small) return Mat3::Identity();
+    if (method == FemMethod::Polar) {
         Mat3 edges;  // rows: p1 − p0, p2 − p0, p3 − p0 (TetrahedronFEMForceField::accumulateForcePolar)
         for (int k = 0; k < 3; ++k) edges.row(k) = (p[static_cast<std::size_t>(k + 1)] - p[0]).transpose();
         return polar_rotation(edges);

@@ -37,6 +37,17 @@ Mat3 hexahedron_edge_frame(const std::array<Vec3, 8>& p);
 /// Isotropic material stiffness in Voigt notation (εxx, εyy, εzz, γxy, γyz, γzx), Pa.
 Eigen::Matrix<double, 6, 6> isotropic_elasticity(double young_modulus, double poisson_ratio);
 
+/// Stiffness of a linear tetrahedron, scale·BᵀDB (12×12): B (6×12, Voigt with engineering shear)
+/// from the gradients g_k of the four shape functions (any common scaling, compensated by `scale`).
+Eigen::Matrix<double, 12, 12> tetrahedron_stiffness_from_gradients(const std::array<Vec3, 4>& gradients,
+                                                                   const Eigen::Matrix<double, 6, 6>& d, double scale);
+
+/// Corotational frame of a tetrahedron p (rows = local axes), SOFA's computeRotationLarge of
+/// TetrahedronFEMForceField and TetrahedralCorotationalFEMForceField: x̂ along p1−p0, ẑ ⟂ (p1−p0,
+/// p2−p0), ŷ = ẑ × x̂; method Polar: polar_rotation of the matrix whose rows are p1−p0, p2−p0, p3−p0
+/// (accumulateForcePolar of both). Small: identity.
+Mat3 tetrahedron_rotation(const std::array<Vec3, 4>& p, FemMethod method);
+
 template <int N>
 class LinearElementForceField : public ForceField<Vec3Types> {
 public:

@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// SOFA's TetrahedralCorotationalFEMForceField (Nesme, Payan, Faure 2005): linear tetrahedra,
+/// methods small, large (default) and polar. With its default options it computes what
+/// TetrahedronFEMForceField computes (same frame, same rest stiffness, same −Rᵀ K^e R for
+/// add_dforce); it differs by its options:
+///  - localStiffnessFactor (M values for N elements): element e's Young's modulus is multiplied by
+///    factor[e·M/N] (computeMaterialStiffness);
+///  - updateStiffnessMatrix (large and polar): each add_force rebuilds the strain-displacement
+///    matrix J from the current shape in the element frame, keeping the rest volume:
+///    K^e = J D Jᵀ / (36 V⁰) (accumulateForceLarge / accumulateForcePolar);
+///  - computeGlobalMatrix (alias assembling) with method polar: SOFA only logs an error and adds no
+///    force (the rotation and K^e are still updated for add_dforce); reproduced.
+/// Elements are the topology's tetrahedra only (hexahedra are not split, unlike TetrahedronFEM).
+
+#include "penalty/mechanics/fem.hpp"
+
+namespace penalty {
+
+struct CorotationalFemOptions {
+    FemMethod method = FemMethod::Large;
+    std::vector<double> local_stiffness_factors;  ///< empty: 1 for every element
+    bool update_stiffness = false;
+    bool assembling = false;  ///< computeGlobalMatrix: storage only, except the polar quirk above
+};
+
+class TetrahedralCorotationalFEMForceField final : public LinearElementForceField<4> {
+public:
+    TetrahedralCorotationalFEMForceField(Vec3Object& state, std::vector<Tetrahedron> tetrahedra, double young_modulus,
+                                         double poisson_ratio, CorotationalFemOptions options = {});
+
+    void init() override;
+    void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    [[nodiscard]] const std::vector<Element>& tetrahedra() const { return elements_; }
+    [[nodiscard]] const CorotationalFemOptions& options() const { return options_; }
+    /// Element e's factor on Young's modulus (localStiffnessFactor[e·M/N], or 1).
+    [[nodiscard]] double stiffness_factor(std::size_t e) const;
+
+protected:
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
+                                                  std::size_t e) const override;
+    [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 4>& p) const override;
+
+private:
+    /// K^e = factor · J D Jᵀ / (36 V⁰), J from the local coordinates `shape`, V⁰ the rest volume.
+    [[nodiscard]] ElementMatrix stiffness_of_shape(const std::array<Vec3, 4>& shape, double rest_volume,
+                                                   std::size_t e) const;
+
+    CorotationalFemOptions options_;
+    Eigen::Matrix<double, 6, 6> material_;  ///< isotropic_elasticity(E, ν), Pa
+    std::vector<double> rest_volume_;        ///< V⁰ per element, m³
+    std::vector<Vec3> scratch_force_;        ///< polar + assembling: the force SOFA computes and drops
+};
+
+}  // namespace penalty

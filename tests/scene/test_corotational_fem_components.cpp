@@ -1,0 +1,108 @@
+// TetrahedralCorotationalFEMForceField as a scene component: a clamped beam of 12 tetrahedra
+// (a 3×2×2-vertex grid cut into Kuhn tetrahedra, written into the scene) built from a .scn,
+// described, run, and compared with the same beam under TetrahedronFEMForceField.
+#include "penalty/io/error.hpp"
+#include "penalty/mechanics/mechanical_object.hpp"
+#include "penalty/scene/scene.hpp"
+
+#include "penalty_test/grid_meshes.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+namespace {
+
+using namespace penalty;
+using ::testing::HasSubstr;
+
+/// A beam [0, 2]×[0, 0.5]×[0, 0.5] of tetrahedra, fixed at x = 0, with `force_field` (XML) in its node.
+std::string beam_scene(const std::string& force_field) {
+    const RegularGridTopology grid({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 0.5, 0.5));
+    const MeshTopology topo = test::kuhn_tetrahedra(grid);
+    std::ostringstream positions, tetrahedra, fixed;
+    positions.precision(17);
+    for (const Vec3& p : grid.points()) positions << p.x() << ' ' << p.y() << ' ' << p.z() << "  ";
+    for (const auto& t : topo.tetrahedra()) tetrahedra << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << t[3] << "  ";
+    for (std::size_t i = 0; i < grid.points().size(); ++i)
+        if (grid.points()[i].x() == 0) fixed << i << ' ';
+    return R"(<Node name="root" dt="0.02" gravity="0 -9.81 0">
+      <Node name="Beam"><EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
+        <CGLinearSolver iterations="200" tolerance="1e-14" threshold="1e-14"/>
+        <TetrahedronSetTopologyContainer name="topo" position=")" + positions.str() + R"(" tetrahedra=")" + tetrahedra.str() + R"("/>
+        <MechanicalObject name="beam"/>
+        <UniformMass totalMass="2"/>
+        <FixedConstraint indices=")" + fixed.str() + R"("/>
+        )" + force_field + R"(
+      </Node>
+    </Node>)";
+}
+
+std::unique_ptr<scene::Scene> build(const std::string& xml) {
+    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), {});
+}
+
+std::vector<Vec3> positions_after(scene::Scene& s, int steps) {
+    for (int i = 0; i < steps; ++i) s.step();
+    const auto& beam = dynamic_cast<const Vec3Object&>(*s.states()[0].state);
+    for (const Vec3& p : beam.position) EXPECT_TRUE(p.allFinite());
+    return beam.position;
+}
+
+double lowest_y(const std::vector<Vec3>& x) {
+    double lowest = 0;
+    for (const Vec3& p : x) lowest = std::min(lowest, p.y());
+    return lowest;
+}
+
+double max_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    double d = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, (a[i] - b[i]).norm());
+    return d;
+}
+
+TEST(CorotationalFemComponent, BuildsDescribesAndRunsLikeTetrahedronFem) {
+    auto s = build(beam_scene(
+        R"(<TetrahedralCorotationalFEMForceField name="fem" youngModulus="2000" poissonRatio="0.3" method="large" assembling="0"/>)"));
+    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("12 tetrahedra, E = 2000 Pa, nu = 0.3, corotational (large)"));
+    const std::vector<Vec3> x = positions_after(*s, 60);
+    const double sag = lowest_y(x);
+    EXPECT_LT(sag, -0.01);  // it bends under gravity
+    EXPECT_GT(sag, -1.0);   // and the elasticity holds it
+    // at the default options, SOFA's two tetrahedral FEMs compute the same forces and stiffness (to
+    // rounding, 1e-12 relative: tests/mechanics/test_corotational_fem.cpp); over 60 steps the CG's
+    // stopping test (residual² ≤ 1e-14) lets those roundings grow to ~2e-8 of the sag
+    auto reference = build(beam_scene(R"(<TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>)"));
+    const double gap = max_distance(x, positions_after(*reference, 60));
+    EXPECT_LT(gap, 1e-6 * std::abs(sag)) << "sag " << sag;
+}
+
+TEST(CorotationalFemComponent, DefaultsMethodsAndOptions) {
+    auto s = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField/>)"));
+    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("12 tetrahedra, E = 5000 Pa, nu = 0.45, corotational (large)"));
+    for (const char* method : {"small", "polar"}) {
+        auto m = build(beam_scene(std::string(R"(<TetrahedralCorotationalFEMForceField youngModulus="2000" method=")") + method + R"("/>)"));
+        EXPECT_THAT(scene::describe_scene(*m), HasSubstr(std::string("(") + method + ")"));
+        EXPECT_LT(lowest_y(positions_after(*m, 20)), -1e-3);
+    }
+    // updateStiffnessMatrix changes the trajectory (J of the current shape), localStiffnessFactor stiffens it
+    auto plain = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500"/>)"));
+    auto updated = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500" updateStiffnessMatrix="1"/>)"));
+    auto stiffer = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500" localStiffnessFactor="4"/>)"));
+    EXPECT_THAT(scene::describe_scene(*updated), HasSubstr("stiffness updated each step"));
+    const std::vector<Vec3> x_plain = positions_after(*plain, 40);
+    const std::vector<Vec3> x_updated = positions_after(*updated, 40);
+    const std::vector<Vec3> x_stiffer = positions_after(*stiffer, 40);
+    EXPECT_GT(max_distance(x_plain, x_updated), 1e-6);
+    EXPECT_LT(max_distance(x_plain, x_updated), 0.1 * std::abs(lowest_y(x_plain)));
+    EXPECT_GT(lowest_y(x_stiffer), lowest_y(x_plain));  // 4× stiffer: less sag
+    // unknown method text is large, as SOFA (with a build note)
+    auto odd = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500" method="qr"/>)"));
+    EXPECT_LT(max_distance(positions_after(*odd, 40), x_plain), 1e-15);
+    EXPECT_THROW(build(beam_scene(R"(<TetrahedralCorotationalFEMForceField poissonRatio="0.5"/>)")), io::SceneError);
+    EXPECT_THROW(build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="-3"/>)")), io::SceneError);
+}
+
+}  // namespace
