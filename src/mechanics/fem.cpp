@@ -78,7 +78,7 @@ void LinearElementForceField<N>::add_force(std::span<Vec3> f, std::span<const Ve
         std::array<Vec3, N> p;
         for (int k = 0; k < N; ++k) p[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
         if (method_ != FemMethod::Small) {
-            rotation_[e] = element_rotation(p);
+            rotation_[e] = element_rotation_of(p, e);
             for (int k = 0; k < N; ++k)
                 u.template segment<3>(3 * k) = rotation_[e] * (p[static_cast<std::size_t>(k)] - p[0]) - rest_local_[e][static_cast<std::size_t>(k)];
         } else {
@@ -203,9 +203,88 @@ Mat3 TetrahedronFEMForceField::element_rotation(const std::array<Vec3, 4>& p) co
     return tetrahedron_rotation(p, method_);
 }
 
+namespace {
+/// Rows p1 − p0, p2 − p0, p3 − p0.
+Mat3 edge_rows(const std::array<Vec3, 4>& p) {
+    Mat3 a;
+    for (int k = 0; k < 3; ++k) a.row(k) = (p[static_cast<std::size_t>(k + 1)] - p[0]).transpose();
+    return a;
+}
+}  // namespace
+
+void TetrahedronFEMForceField::init() {
+    LinearElementForceField<4>::init();
+    if (method_ != FemMethod::Svd) return;
+    // TetrahedronFEMForceField::initSVD: A₀⁻¹ and R₀ = polar(A₀) of the rest edges
+    const auto& x0 = state_->rest_position;
+    rest_edges_inverse_.resize(elements_.size());
+    rest_rotation_.resize(elements_.size());
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        std::array<Vec3, 4> p;
+        for (std::size_t k = 0; k < 4; ++k) p[k] = x0[static_cast<std::size_t>(elements_[e][k])];
+        const Mat3 a0 = edge_rows(p);
+        if (a0.determinant() == 0.0) throw_invalid_argument(component_, ": tetrahedron ", e, " is flat at rest (method svd)");
+        rest_edges_inverse_[e] = a0.inverse();
+        rest_rotation_[e] = polar_rotation(a0);
+    }
+}
+
+Mat3 TetrahedronFEMForceField::element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const {
+    if (method_ != FemMethod::Svd) return element_rotation(p);
+    const Mat3 a = edge_rows(p);
+    const Mat3 f = a * rest_edges_inverse_[e];
+    if (f.determinant() < 1e-6) return stable_polar_rotation(f) * rest_rotation_[e];  // inverted or too flat
+    return polar_rotation(a);
+}
+
+Mat3 stable_polar_rotation(const Mat3& f) {
+    const Eigen::SelfAdjointEigenSolver<Mat3> eigen(f.transpose() * f);
+    Mat3 v = eigen.eigenvectors();
+    Vec3 s = eigen.eigenvalues();  // squared singular values
+    if (v.determinant() < 0.0) v.col(0) = -v.col(0);
+    int degenerated = 0;
+    Vec3 s_inverse;
+    for (int i = 0; i < 3; ++i) {
+        if (s[i] < 1e-8) {
+            ++degenerated;
+            s[i] = 0.0;
+            s_inverse[i] = 1.0;
+        } else {
+            s[i] = std::sqrt(s[i]);
+            s_inverse[i] = 1.0 / s[i];
+        }
+    }
+    // order[0] the smallest value, order[2] the largest (SOFA's Sorder, ties as SOFA)
+    std::array<int, 3> order{};
+    if (s[0] < s[1]) {
+        if (s[0] < s[2]) order = s[1] < s[2] ? std::array<int, 3>{0, 1, 2} : std::array<int, 3>{0, 2, 1};
+        else order = {2, 0, 1};
+    } else {
+        if (s[1] < s[2]) order = s[0] < s[2] ? std::array<int, 3>{1, 0, 2} : std::array<int, 3>{1, 2, 0};
+        else order = {2, 1, 0};
+    }
+    Mat3 u = f * v * s_inverse.asDiagonal();
+    if (degenerated == 1) {
+        u.col(order[0]) = u.col(order[1]).cross(u.col(order[2]));
+    } else if (degenerated == 2) {
+        // SOFA's third edge mixes two columns' entries: (U(0, o2), U(1, o0), U(2, o0)), kept as SOFA
+        const Vec3 edge2(u(0, order[2]), u(1, order[0]), u(2, order[0]));
+        const Vec3 a = edge2.cwiseAbs();
+        Vec3 edge0 = a[0] > a[1] ? (a[0] > a[2] ? Vec3(0, 1, 0) : Vec3(1, 0, 0)) : (a[1] > a[2] ? Vec3(0, 0, 1) : Vec3(1, 0, 0));
+        const Vec3 edge1 = edge2.cross(edge0).normalized();
+        edge0 = edge1.cross(edge2);
+        u.col(order[0]) = edge0;
+        u.col(order[1]) = edge1;
+    } else if (degenerated == 3) {
+        u.setIdentity();
+    }
+    if (u.determinant() < 0.0) u.col(order[0]) = -u.col(order[0]);
+    return u * v.transpose();
+}
+
 Mat3 tetrahedron_rotation(const std::array<Vec3, 4>& p, FemMethod method) {
     if (method == FemMethod::Small) return Mat3::Identity();
-    if (method == FemMethod::Polar) {
+    if (method == FemMethod::Polar || method == FemMethod::Svd) {
         Mat3 edges;  // rows: p1 − p0, p2 − p0, p3 − p0 (TetrahedronFEMForceField::accumulateForcePolar)
         for (int k = 0; k < 3; ++k) edges.row(k) = (p[static_cast<std::size_t>(k + 1)] - p[0]).transpose();
         return polar_rotation(edges);

@@ -139,6 +139,65 @@ TEST(TetrahedronFEM, LargeMethodIsInvariantUnderRotation) {
     EXPECT_GT(fmax, 1e-2);
 }
 
+/// Forces of one tetrahedron (rest: the unit corner tetrahedron) at positions `x`.
+std::vector<Vec3> one_tetrahedron_forces(FemMethod method, const std::vector<Vec3>& x) {
+    MeshTopology topo;
+    topo.set_tetrahedra({Tetrahedron{0, 1, 2, 3}});
+    Vec3Object s;
+    s.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    s.init();
+    TetrahedronFEMForceField ff(s, topo, 100, 0.3, method);
+    ff.init();
+    s.position = x;
+    ff.accumulate_force();
+    return s.force;
+}
+
+TEST(TetrahedronFEM, SvdIsPolarUnlessTheElementIsInverted) {
+    // TetrahedronFEMForceField::accumulateForceSVD: det(F) >= 1e-6 -> the polar rotation.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-0.1, 0.1);
+    std::vector<Vec3> x = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    for (auto& p : x) p += Vec3(u(rng), u(rng), u(rng));
+    const Mat3 r = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+    for (auto& p : x) p = r * p;
+    const auto svd = one_tetrahedron_forces(FemMethod::Svd, x);
+    const auto polar = one_tetrahedron_forces(FemMethod::Polar, x);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(svd[i], polar[i]);
+    // Inverted: p3 pushed through the base, F = diag(1, 1, -0.5). The stable decomposition gives
+    // U = F·V·S⁻¹ = diag(1, 1, -1), inverted, so its column of the smallest value is negated:
+    // R = I, and the force is the linear one (rest frame = world frame here).
+    const std::vector<Vec3> inverted = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, -0.5)};
+    const auto svd_inverted = one_tetrahedron_forces(FemMethod::Svd, inverted);
+    const auto small_inverted = one_tetrahedron_forces(FemMethod::Small, inverted);
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_LT((svd_inverted[i] - small_inverted[i]).norm(), 1e-12) << i;
+    // it pushes the point back up (+z), with the linear stiffness
+    EXPECT_GT(svd_inverted[3].z(), 10.0);
+}
+
+TEST(TetrahedronFEM, StablePolarRotationOfDegenerateMatrices) {
+    // a rotation times a stretch: the rotation
+    const Mat3 r = Eigen::AngleAxisd(0.4, Vec3(0, 1, 1).normalized()).toRotationMatrix();
+    const Mat3 stretch = Vec3(2.0, 1.0, 0.5).asDiagonal();
+    EXPECT_LT((stable_polar_rotation(r * stretch) - r).norm(), 1e-12);
+    // flat (one zero singular value): a proper rotation that maps the two kept directions as r does
+    const Mat3 q = stable_polar_rotation(r * Mat3(Vec3(1.0, 2.0, 0.0).asDiagonal()));
+    EXPECT_LT((q * q.transpose() - Mat3::Identity()).norm(), 1e-12);
+    EXPECT_NEAR(q.determinant(), 1.0, 1e-12);
+    EXPECT_LT((q - r).norm(), 1e-12);
+    // collapsed to a line along x (two zero values): a proper rotation keeping x
+    const Mat3 line = stable_polar_rotation(Mat3(Vec3(3.0, 0.0, 0.0).asDiagonal()));
+    EXPECT_LT((line * line.transpose() - Mat3::Identity()).norm(), 1e-12);
+    EXPECT_NEAR(line.determinant(), 1.0, 1e-12);
+    EXPECT_LT((line.col(0) - Vec3(1, 0, 0)).norm(), 1e-12);
+    // SOFA's two-zero branch builds its third edge from entries of two different columns
+    // (U(0, o2), U(1, o0), U(2, o0)); reproduced, so a line off the axes gives no rotation.
+    const Mat3 tilted = stable_polar_rotation(r * Mat3(Vec3(3.0, 0.0, 0.0).asDiagonal()));
+    EXPECT_GT((tilted * tilted.transpose() - Mat3::Identity()).norm(), 1e-3);
+    // collapsed to a point: the identity
+    EXPECT_EQ(stable_polar_rotation(Mat3::Zero()), Mat3::Identity());
+}
+
 TEST(TetrahedronFEM, HexahedraSplitAsSofaFillsTheGrid) {
     RegularGridTopology g({4, 3, 3}, Vec3(0, 0, 0), Vec3(3, 2, 2));
     const auto tets = tetrahedra_from_hexahedra(g.mesh().hexahedra(), g.cells_x(), g.cells_y());

@@ -20,14 +20,24 @@
 namespace penalty {
 
 /// Small: linear, world frame. Large: corotational, rotation from the element's edges. Polar
-/// (tetrahedra only): corotational, rotation = orthogonal polar factor of the edge matrix.
-enum class FemMethod { Small, Large, Polar };
+/// (tetrahedra only): corotational, rotation = orthogonal polar factor of the edge matrix. Svd
+/// (TetrahedronFEMForceField only): as polar, except for an inverted or flat element (see
+/// TetrahedronFEMForceField).
+enum class FemMethod { Small, Large, Polar, Svd };
 
 /// The orthogonal factor Q of M = Q·S (S symmetric positive semi-definite), by the scaled Newton
 /// iteration SOFA uses (helper::Decompose::polarDecomposition: iterate on Mᵀ, X ← γ/2·X +
 /// 1/(2γ det X)·cof X, γ from the 1- and ∞-norms, until ‖ΔX‖₁ ≤ 1e-8·‖X‖₁). A reflection when
 /// det M < 0; M itself when det M = 0.
 Mat3 polar_rotation(const Mat3& m);
+
+/// SOFA's helper::Decompose::polarDecomposition_stable (SVD_stable, then Q = U·Vᵀ): V from the
+/// eigenvectors of FᵀF (a reflection made a rotation by negating its first column), singular
+/// values below 1e-8 (squared) treated as zero and the missing columns of U = F·V·S⁻¹ rebuilt
+/// (one zero: cross product of the two others; two: an orthonormal completion, with SOFA's mixed
+/// indices; three: identity); an inverted U has its column of the smallest value negated. The
+/// eigenvectors come from Eigen's solver, not SOFA's iteration (rotation equal up to rounding).
+Mat3 stable_polar_rotation(const Mat3& f);
 
 /// Rows (x̂, ŷ, ẑ) of a hexahedron's corotational frame (SOFA vertex order): x̂ along the mean of
 /// the four edges 0→1, ŷ from the mean of the four edges 0→3 made orthogonal, ẑ = x̂ × ŷ
@@ -71,6 +81,11 @@ protected:
                                                           const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const = 0;
     /// Rotation (rows = local axes) of an element with vertex positions p.
     [[nodiscard]] virtual Mat3 element_rotation(const std::array<Vec3, N>& p) const = 0;
+    /// The rotation of element `e` at positions p (element_rotation unless a field needs the
+    /// element's rest data).
+    [[nodiscard]] virtual Mat3 element_rotation_of(const std::array<Vec3, N>& p, std::size_t) const {
+        return element_rotation(p);
+    }
 
     std::vector<Element> elements_;
     double young_, poisson_;
@@ -84,7 +99,7 @@ protected:
 
 class RegularGridTopology;
 
-/// SOFA's TetrahedronFEMForceField (methods small, large and polar). Polar
+/// SOFA's TetrahedronFEMForceField (methods small, large, polar and svd). Polar
 /// (TetrahedronFEMForceField::initPolar / accumulateForcePolar): R = polar_rotation(A) with A's
 /// rows the edges p1−p0, p2−p0, p3−p0; otherwise as large (rest frame from the rest edges,
 /// stiffness −Rᵀ K^e R). As SOFA, a topology without
@@ -98,11 +113,20 @@ public:
     TetrahedronFEMForceField(Vec3Object& state, const RegularGridTopology& grid, double young_modulus,
                              double poisson_ratio, FemMethod method = FemMethod::Large);
     [[nodiscard]] const std::vector<Element>& tetrahedra() const { return elements_; }
+    void init() override;
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
                                                   std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 4>& p) const override;
+    /// Method svd (TetrahedronFEMForceField::initSVD / accumulateForceSVD): with A the rows
+    /// p1−p0, p2−p0, p3−p0 and F = A·A₀⁻¹ (A₀ at rest), R = polar_rotation(A) when det F ≥ 1e-6,
+    /// else R = stable_polar_rotation(F)·R₀ (R₀ = polar_rotation(A₀)).
+    [[nodiscard]] Mat3 element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const override;
+
+private:
+    std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
+    std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
 };
 
 /// SOFA's HexahedronFEMForceField (methods small and large), SOFA vertex order (see topology).

@@ -155,7 +155,8 @@ void build_grid_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
 constexpr AttributeSpec kTetrahedronFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
     {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},
-    {"method", K::text, "large", "", ValueCheck::none, "large (corotational), polar (corotational, polar rotation) or small (linear)"},
+    {"method", K::text, "large", "", ValueCheck::none,
+     "large (corotational), polar (corotational, polar rotation), svd (polar; stable SVD rotation for inverted elements) or small (linear)"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
     // computeGlobalMatrix / updateStiffnessMatrix only choose how SOFA stores the same matrices;
     // penalty always recomputes the corotational stiffness each step (method large).
@@ -181,8 +182,9 @@ FemLaw fem_law(const Attributes& a, bool polar_supported) {
     const std::string method = a.text("method");
     if (method == "small") law.method = FemMethod::Small;
     else if (method == "polar" && polar_supported) law.method = FemMethod::Polar;
+    else if (method == "svd" && polar_supported) law.method = FemMethod::Svd;
     else if (method != "large")
-        a.fail("method", "'" + method + "' is not supported (" + (polar_supported ? "small, large or polar)" : "small or large)"));
+        a.fail("method", "'" + method + "' is not supported (" + (polar_supported ? "small, large, polar or svd)" : "small or large)"));
     return law;
 }
 
@@ -190,6 +192,7 @@ std::string law_text(const FemLaw& law) {
     return ", E = " + num(law.young) + " Pa, nu = " + num(law.poisson) + ", " +
            (law.method == FemMethod::Large   ? "corotational (large)"
             : law.method == FemMethod::Polar ? "corotational (polar)"
+            : law.method == FemMethod::Svd   ? "corotational (svd)"
                                              : "linear (small)");
 }
 
@@ -198,8 +201,8 @@ void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
         const FemLaw law = fem_law(a, /*polar_supported=*/true);
-        if (law.method == FemMethod::Polar && a.boolean("updateStiffnessMatrix"))
-            a.fail("updateStiffnessMatrix", "with method polar is not supported (SOFA recomputes the strain-displacement matrix each step)");
+        if ((law.method == FemMethod::Polar || law.method == FemMethod::Svd) && a.boolean("updateStiffnessMatrix"))
+            a.fail("updateStiffnessMatrix", "with method polar or svd is not supported (SOFA recomputes the strain-displacement matrix each step)");
         TetrahedronFEMForceField* ff = nullptr;
         if (info.grid) ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, law.young, law.poisson, law.method);
         else ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson, law.method);
