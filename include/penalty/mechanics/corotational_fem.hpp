@@ -19,7 +19,7 @@ namespace penalty {
 
 struct CorotationalFemOptions {
     FemMethod method = FemMethod::Large;
-    std::vector<double> local_stiffness_factors;  ///< empty: 1 for every element
+    std::vector<double> local_stiffness_factors = {};  ///< empty: 1 for every element
     bool update_stiffness = false;
     bool assembling = false;  ///< computeGlobalMatrix: storage only, except the polar quirk above
 };
