@@ -87,6 +87,8 @@ constexpr ComponentSpec kVisual[] = {
     {.type = "DefaultVisualManagerLoop", .summary = "visual loop"},
     {.type = "ClipPlane", .summary = "clipping plane"},
     {.type = "RecordedCamera", .summary = "camera path"},
+    {.type = "MeshExporter", .summary = "writes mesh files (output only; penalty exports with --export-vtk)"},
+    {.type = "VisualModelOBJExporter", .summary = "writes the visual models as OBJ (output only)"},
 };
 
 // Old SOFA names that SOFA today neither knows nor lists as renamed (no class, no entry in its
