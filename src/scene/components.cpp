@@ -103,6 +103,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::collision_components(), builder::topology_container_components(),
               builder::surface_force_field_components(), builder::mass_and_region_components(),
               builder::sparse_grid_components(),
+              builder::pressure_load_components(), builder::region_of_interest_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual)})
             out.insert(out.end(), family.begin(), family.end());

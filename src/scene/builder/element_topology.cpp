@@ -10,20 +10,6 @@ namespace {
 
 using io::SceneComponent;
 
-/// The list a data link names (`triangles="@loader.triangles"`, `tetrahedra="@../topo.tetrahedra"`):
-/// a loader's list, or a built topology's (with its derived elements, as SOFA's Data).
-template <class Element>
-std::vector<Element> linked_elements(SceneBuilder& b, const Attributes& a, std::string_view attr,
-                                     std::vector<Element> io::MeshData::*loaded,
-                                     const std::vector<Element>& (MeshTopology::*built)() const) {
-    const io::LinkTarget t = a.link(attr);
-    if (t.component == nullptr) a.fail(attr, "link must name a loader or a topology");
-    if (component_category(t.component->type) == ComponentCategory::loader) return b.mesh_of(*t.component).*loaded;
-    for (const auto& [node, info] : b.node_builds())
-        if (info.topology_component == t.component && info.topology != nullptr) return (info.topology->*built)();
-    a.fail(attr, "cannot read elements from " + t.component->describe() + " (a loader or a topology built before it)");
-}
-
 template <class Element>
 void read_list(SceneBuilder& b, const Attributes& a, std::string_view attr, std::vector<Element>& out,
                std::vector<Element> io::MeshData::*loaded, const std::vector<Element>& (MeshTopology::*built)() const) {
