@@ -19,18 +19,19 @@ enum class RoiContext {
     plane_roi,
 };
 
-/// The element lists an ROI reads: `edges`, `triangles`, `quads`, `tetrahedra`, `hexahedra` (each
-/// inline or a link; the spec must declare those it lists in `lists`) and its `compute...` flags.
+/// Which element lists an ROI class has: BaseROI's five, or PlaneROI's edges, triangles and
+/// tetrahedra.
 struct RoiListNames {
     bool quads_and_hexahedra = true;  ///< false for PlaneROI (edges, triangles, tetrahedra only)
 };
 
-/// The ROI's points: `position` (inline or a link), else the context's default (see RoiContext).
+/// The ROI's points: `position` or its alias `rest_position` (inline or a link), else the
+/// context's default (see RoiContext).
 [[nodiscard]] std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBuild& info,
                                            RoiContext context);
-/// The ROI's element lists (empty when its compute flag is 0); `position` must be read first
-/// (index checks). The spec declares the lists, the `compute...` flags and (if quads) the
-/// hexahedra.
+/// The ROI's element lists: each given (inline or a link to a loader's or a topology's list), else
+/// the context's topology's; empty when its `compute...` flag is 0. The spec declares each list
+/// of `names` and its flag.
 [[nodiscard]] RoiElements roi_elements(SceneBuilder& b, const Attributes& a, const NodeBuild& info, RoiContext context,
                                        RoiListNames names = {});
 /// Records the outputs `indices`, `edgeIndices`, `triangleIndices`, `quadIndices`,
