@@ -201,6 +201,114 @@ int gmsh_node_count(std::int64_t type) {
     }
 }
 
+/// Appends one Gmsh element of `type` with point indices `nodes` (SOFA's MeshGmsh::readGmsh):
+/// lines (1, 8), triangles (2, 9), quads (3), tetrahedra (4, 11), hexahedra (5); for the
+/// second-order 9 and 11 also their corner pairs as edges, each pair once per `seen` set.
+void add_gmsh_element(MeshData& mesh, std::int64_t type, const std::vector<PointId>& nodes,
+                      std::set<std::pair<PointId, PointId>>& seen) {
+    switch (type) {
+        case 1:
+        case 8: mesh.edges.push_back(Edge{nodes[0], nodes[1]}); break;
+        case 2:
+        case 9: mesh.triangles.push_back(Triangle{nodes[0], nodes[1], nodes[2]}); break;
+        case 3: mesh.quads.push_back(Quad{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
+        case 4:
+        case 11: mesh.tetrahedra.push_back(Tetrahedron{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
+        case 5:
+            mesh.hexahedra.push_back(Hexahedron{nodes[0], nodes[1], nodes[2], nodes[3], nodes[4],
+                                                nodes[5], nodes[6], nodes[7]});
+            break;
+        default: break;  // points and unknown types are skipped
+    }
+    // second-order elements: SOFA also adds their edges (corner pairs) for the mid nodes
+    if (type == 9 || type == 11) {
+        static constexpr int tri_edges[3][2] = {{0, 1}, {1, 2}, {2, 0}};
+        static constexpr int tet_edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}};
+        const int count = type == 9 ? 3 : 6;
+        for (int j = 0; j < count; ++j) {
+            const auto& ab = type == 9 ? tri_edges[j] : tet_edges[j];
+            const PointId a = std::min(nodes[static_cast<std::size_t>(ab[0])], nodes[static_cast<std::size_t>(ab[1])]);
+            const PointId b = std::max(nodes[static_cast<std::size_t>(ab[0])], nodes[static_cast<std::size_t>(ab[1])]);
+            if (seen.insert({a, b}).second) mesh.edges.push_back(Edge{a, b});
+        }
+    }
+}
+
+/// The $Nodes and $Elements sections of a Gmsh 4 ASCII file, as SOFA's MeshGmsh::readGmsh reads
+/// them: nodes in block order (their tags are not used: an element's node n is point n − 1), one
+/// line per node tag and per coordinate (parametric coordinates ignored); elements of types 1, 2,
+/// 3, 4, 5 and the second-order 8, 9, 11 (corner nodes, and for 9 and 11 the corner pairs as edges,
+/// each pair once over the whole file); points (15), prisms (6) and unknown types are skipped.
+MeshData parse_gmsh4_sections(Tokenizer& tok, const std::filesystem::path& path) {
+    MeshData mesh;
+    const std::int64_t node_blocks = tok.expect_int("number of node blocks");
+    const std::int64_t npoints = tok.expect_int("number of nodes");
+    (void)tok.expect_int("minimum node tag");
+    (void)tok.expect_int("maximum node tag");
+    tok.check_count(node_blocks, 4, "node block");
+    tok.check_count(npoints, 4, "node");
+    (void)tok.rest_of_line();
+    mesh.positions.reserve(static_cast<std::size_t>(npoints));
+    for (std::int64_t b = 0; b < node_blocks; ++b) {
+        (void)tok.expect_int("entity dimension");
+        (void)tok.expect_int("entity tag");
+        (void)tok.expect_int("parametric flag");
+        const std::int64_t count = tok.expect_int("number of nodes in block");
+        tok.check_count(count, 4, "node");
+        (void)tok.rest_of_line();
+        for (std::int64_t i = 0; i < count; ++i) {
+            (void)tok.expect_int("node tag");
+            (void)tok.rest_of_line();
+        }
+        for (std::int64_t i = 0; i < count; ++i) {
+            Vec3 p;
+            for (int k = 0; k < 3; ++k) p[k] = tok.expect_double("node coordinate");
+            (void)tok.rest_of_line();
+            mesh.positions.push_back(p);
+        }
+    }
+    if (mesh.positions.empty()) fail(path, tok.line(), "no nodes (node count 0)");
+    const Token end_nodes = tok.expect("$EndNodes");
+    if (!starts_with(end_nodes.text, "$EndNodes")) fail(path, end_nodes.line, "expected $EndNodes, found " + quoted(end_nodes.text));
+    const Token elements = tok.expect("$Elements");
+    if (!starts_with(elements.text, "$Elements")) fail(path, elements.line, "expected $Elements, found " + quoted(elements.text));
+    const std::int64_t element_blocks = tok.expect_int("number of element blocks");
+    (void)tok.expect_int("number of elements");
+    (void)tok.expect_int("minimum element tag");
+    (void)tok.expect_int("maximum element tag");
+    tok.check_count(element_blocks, 4, "element block");
+    (void)tok.rest_of_line();
+    std::vector<PointId> nodes;
+    std::set<std::pair<PointId, PointId>> second_order_edges;  // one set for the file (SOFA's v4 reader)
+    for (std::int64_t b = 0; b < element_blocks; ++b) {
+        (void)tok.expect_int("entity dimension");
+        (void)tok.expect_int("entity tag");
+        const std::int64_t type = tok.expect_int("element type");
+        const std::int64_t count = tok.expect_int("number of elements in block");
+        tok.check_count(count, 1, "element");
+        (void)tok.rest_of_line();
+        const int nnodes = type == 6 ? 6 : std::max(gmsh_node_count(type), 0);
+        for (std::int64_t e = 0; e < count; ++e) {
+            (void)tok.expect_int("element tag");
+            nodes.clear();
+            for (int k = 0; k < nnodes; ++k) {
+                const std::int64_t tag = tok.expect_int("element node");
+                if (tag < 1 || tag > static_cast<std::int64_t>(mesh.positions.size()))
+                    fail(path, tok.line(),
+                         "element node " + std::to_string(tag) + " is not one of the " +
+                             std::to_string(mesh.positions.size()) + " nodes (Gmsh 4: node n is the n-th node read)");
+                nodes.push_back(static_cast<PointId>(tag - 1));
+            }
+            (void)tok.rest_of_line();
+            add_gmsh_element(mesh, type, nodes, second_order_edges);
+        }
+    }
+    const Token end_elements = tok.expect("$EndElements");
+    if (!starts_with(end_elements.text, "$EndElements"))
+        fail(path, end_elements.line, "expected $EndElements, found " + quoted(end_elements.text));
+    return mesh;
+}
+
 }  // namespace
 
 MeshData load_gmsh(const std::filesystem::path& path) { return parse_gmsh(detail::read_file(path), path); }
@@ -216,16 +324,13 @@ MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path) {
         const Token version = tok.expect("format version");
         const auto v = parse_double(version.text);
         if (!v) fail(path, version.line, "expected a format version, found " + quoted(version.text));
-        // Version 2.x only; checked on the double, before the narrowing cast.
-        if (!(*v >= 2.0 && *v < 3.0)) {
+        // Versions 2.x and 4.x (SOFA's MeshGmsh::readGmsh reads both); checked on the double,
+        // before the narrowing cast.
+        if (!((*v >= 2.0 && *v < 3.0) || (*v >= 4.0 && *v < 5.0))) {
             fail(path, version.line,
-                 "Gmsh format " + std::string(version.text) + " is not supported (only 1 and 2 ASCII)");
+                 "Gmsh format " + std::string(version.text) + " is not supported (only 1, 2 and 4 ASCII)");
         }
         format = static_cast<int>(*v);
-        if (format != 2) {
-            fail(path, version.line,
-                 "Gmsh format " + std::string(version.text) + " is not supported (only 1 and 2 ASCII)");
-        }
         const Token file_type = tok.expect("file type");
         if (file_type.text != "0") fail(path, file_type.line, "binary Gmsh files are not supported");
         (void)tok.expect("data size");
@@ -243,6 +348,8 @@ MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path) {
     } else {
         fail(path, first->line, "not a Gmsh file (first line must be $MeshFormat or $NOD)");
     }
+
+    if (format == 4) return parse_gmsh4_sections(tok, path);
 
     // nodes: "number x y z"
     const std::int64_t npoints = tok.expect_int("number of nodes");
@@ -308,33 +415,9 @@ MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path) {
             }
             nodes.push_back(static_cast<PointId>(found->second));
         }
-        switch (type) {
-            case 1:
-            case 8: mesh.edges.push_back(Edge{nodes[0], nodes[1]}); break;
-            case 2:
-            case 9: mesh.triangles.push_back(Triangle{nodes[0], nodes[1], nodes[2]}); break;
-            case 3: mesh.quads.push_back(Quad{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
-            case 4:
-            case 11: mesh.tetrahedra.push_back(Tetrahedron{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
-            case 5:
-                mesh.hexahedra.push_back(Hexahedron{nodes[0], nodes[1], nodes[2], nodes[3], nodes[4],
-                                                    nodes[5], nodes[6], nodes[7]});
-                break;
-            default: break;  // points and unknown types are skipped
-        }
-        // second-order elements: SOFA also adds their edges (corner pairs) for the mid nodes
-        if (type == 9 || type == 11) {
-            static constexpr int tri_edges[3][2] = {{0, 1}, {1, 2}, {2, 0}};
-            static constexpr int tet_edges[6][2] = {{0, 1}, {1, 2}, {0, 2}, {0, 3}, {2, 3}, {1, 3}};
-            std::set<std::pair<PointId, PointId>> seen;
-            const int count = type == 9 ? 3 : 6;
-            for (int j = 0; j < count; ++j) {
-                const auto& ab = type == 9 ? tri_edges[j] : tet_edges[j];
-                const PointId a = std::min(nodes[static_cast<std::size_t>(ab[0])], nodes[static_cast<std::size_t>(ab[1])]);
-                const PointId b = std::max(nodes[static_cast<std::size_t>(ab[0])], nodes[static_cast<std::size_t>(ab[1])]);
-                if (seen.insert({a, b}).second) mesh.edges.push_back(Edge{a, b});
-            }
-        }
+        // SOFA's v1/v2 reader keeps the set of second-order edges per element
+        std::set<std::pair<PointId, PointId>> second_order_edges;
+        add_gmsh_element(mesh, type, nodes, second_order_edges);
     }
     const Token end_elements = tok.expect(format == 1 ? "$ENDELM" : "$EndElements");
     if (!starts_with(end_elements.text, "$ENDELM") && !starts_with(end_elements.text, "$EndElements")) {
@@ -549,7 +632,103 @@ MeshData load_mesh_file(const std::filesystem::path& path) {
     if (ext == ".msh") return load_gmsh(path);
     if (ext == ".sph") return load_sph(path);
     if (ext == ".vtk") return load_vtk_legacy(path);
-    fail(path, 0, "unknown mesh file extension '" + ext + "' (expected .obj, .msh, .sph or .vtk)");
+    if (ext == ".off") return load_off(path);
+    if (ext == ".trian") return load_trian(path);
+    fail(path, 0, "unknown mesh file extension '" + ext + "' (expected .obj, .msh, .sph, .vtk, .off or .trian)");
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF and Trian
+
+namespace {
+
+/// Point index read from a mesh file: 0 ≤ i < point_count.
+PointId checked_point(Tokenizer& tok, std::size_t point_count, std::string_view what) {
+    const std::int64_t i = tok.expect_int(what);
+    if (i < 0 || i >= static_cast<std::int64_t>(point_count))
+        fail(tok.path(), tok.line(), std::string(what) + " " + std::to_string(i) + " is not one of the " +
+                                         std::to_string(point_count) + " points");
+    return static_cast<PointId>(i);
+}
+
+/// Skips blank lines and `#` comment lines (SOFA's MeshOffLoader::readOFF reads line by line).
+void skip_off_comments(Tokenizer& tok, std::string_view text) {
+    for (;;) {
+        const std::size_t at = text.size() - tok.remaining();
+        std::size_t i = at;
+        while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r' || text[i] == '\n')) ++i;
+        if (i >= text.size() || text[i] != '#') return;
+        (void)tok.next();           // the comment's first token
+        (void)tok.rest_of_line();  // and the rest of its line
+    }
+}
+
+}  // namespace
+
+MeshData load_off(const std::filesystem::path& path) { return parse_off(detail::read_file(path), path); }
+
+MeshData parse_off(std::string_view text, const std::filesystem::path& path) {
+    Tokenizer tok(text, path);
+    MeshData mesh;
+    const auto header = tok.next();
+    if (!header || header->text != "OFF") fail(path, header ? header->line : 1, "not an OFF file (the first word must be OFF)");
+    (void)tok.rest_of_line();
+    skip_off_comments(tok, text);
+    const std::int64_t vertices = tok.expect_int("vertex count");
+    const std::int64_t faces = tok.expect_int("face count");
+    (void)tok.rest_of_line();  // the edge count, unused
+    tok.check_count(vertices, 3, "vertex");
+    tok.check_count(faces, 4, "face");
+    mesh.positions.reserve(static_cast<std::size_t>(vertices));
+    for (std::int64_t v = 0; v < vertices; ++v) {
+        skip_off_comments(tok, text);
+        Vec3 p;
+        for (int k = 0; k < 3; ++k) p[k] = tok.expect_double("vertex coordinate");
+        (void)tok.rest_of_line();
+        mesh.positions.push_back(p);
+    }
+    for (std::int64_t f = 0; f < faces;) {
+        skip_off_comments(tok, text);
+        const std::int64_t n = tok.expect_int("face vertex count");
+        if (n == 3) {
+            Triangle t;
+            for (auto& i : t) i = checked_point(tok, mesh.positions.size(), "face vertex");
+            mesh.triangles.push_back(t);
+        } else if (n == 4) {
+            Quad q;
+            for (auto& i : q) i = checked_point(tok, mesh.positions.size(), "face vertex");
+            mesh.quads.push_back(q);
+        }
+        (void)tok.rest_of_line();
+        if (n == 3 || n == 4) ++f;  // SOFA does not count a skipped face
+        if (tok.remaining() == 0 && f < faces) fail(path, tok.line(), "unexpected end of file (expected a face)");
+    }
+    return mesh;
+}
+
+MeshData load_trian(const std::filesystem::path& path) { return parse_trian(detail::read_file(path), path); }
+
+MeshData parse_trian(std::string_view text, const std::filesystem::path& path) {
+    Tokenizer tok(text, path);
+    MeshData mesh;
+    const std::int64_t vertices = tok.expect_int("vertex count");
+    tok.check_count(vertices, 3, "vertex");
+    mesh.positions.reserve(static_cast<std::size_t>(vertices));
+    for (std::int64_t v = 0; v < vertices; ++v) {
+        Vec3 p;
+        for (int k = 0; k < 3; ++k) p[k] = tok.expect_double("vertex coordinate");
+        mesh.positions.push_back(p);
+    }
+    const std::int64_t triangles = tok.expect_int("triangle count");
+    tok.check_count(triangles, 6, "triangle");
+    mesh.triangles.reserve(static_cast<std::size_t>(triangles));
+    for (std::int64_t t = 0; t < triangles; ++t) {
+        Triangle tri;
+        for (auto& i : tri) i = checked_point(tok, mesh.positions.size(), "triangle point");
+        for (int k = 0; k < 3; ++k) (void)tok.expect_int("triangle neighbour");
+        mesh.triangles.push_back(tri);
+    }
+    return mesh;
 }
 
 // ---------------------------------------------------------------------------------------------

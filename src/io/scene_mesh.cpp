@@ -20,7 +20,8 @@ void refuse_if_set(const SceneComponent& c, std::string_view attr, bool value_th
 
 MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& scene_dir,
                          const std::vector<std::filesystem::path>& data_dirs) {
-    const bool is_mesh_loader = c.type == "MeshOBJLoader" || c.type == "MeshGmshLoader" || c.type == "MeshVTKLoader";
+    const bool is_mesh_loader = c.type == "MeshOBJLoader" || c.type == "MeshGmshLoader" || c.type == "MeshVTKLoader" ||
+                                c.type == "MeshOffLoader" || c.type == "MeshTrianLoader";
     const bool is_sphere_loader = c.type == "SphereLoader";
     const bool is_topology_file = c.type == "MeshTopology" || c.type == "MechanicalObject" ||
                                   c.type.ends_with("SetTopologyContainer");  // BaseMeshTopology::load
@@ -68,6 +69,11 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
             mesh = load_gmsh(file);
         } else if (c.type == "MeshVTKLoader") {
             mesh = load_vtk_legacy(file);
+        } else if (c.type == "MeshOffLoader") {
+            mesh = load_off(file);
+        } else if (c.type == "MeshTrianLoader") {
+            if (get_bool_or(c, "trian2", false)) throw_attribute_error(c, "trian2", "the trian2 format is not supported by penalty");
+            mesh = load_trian(file);
         } else if (is_sphere_loader) {
             mesh = load_sph(file);
         } else {

@@ -19,15 +19,18 @@ std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutp
     // by id, then output index (all pairs distinct); outputs often come in id order already
     if (!std::is_sorted(by_id_.begin(), by_id_.end())) std::sort(by_id_.begin(), by_id_.end());
     // old_[i]: ≥ 0 kept (0 = new, > 0 = previous 1-based position), −1 not kept
+    // The groups come in increasing id order and previous_ is sorted by id: one merge finds each
+    // id's previous position.
     old_.assign(n, -1);
+    auto previous = previous_.begin();
     for (std::size_t g = 0; g < n;) {
         const std::int64_t id = by_id_[g].first;
         std::size_t winner = by_id_[g].second;
         std::size_t end = g + 1;
         for (; end < n && by_id_[end].first == id; ++end)
             if (!(outputs[winner].value <= outputs[by_id_[end].second].value)) winner = by_id_[end].second;
-        const auto it = std::lower_bound(previous_.begin(), previous_.end(), id, id_less);
-        old_[winner] = (it != previous_.end() && it->id == id) ? it->position : 0;
+        while (previous != previous_.end() && previous->id < id) ++previous;
+        old_[winner] = (previous != previous_.end() && previous->id == id) ? previous->position : 0;
         g = end;
     }
 

@@ -132,9 +132,9 @@ case("second ODE solver", 1, ["bad.scn:11", "EulerExplicitSolver", "line 10"],
      scene=ball('<CGLinearSolver name="linear"', '<EulerExplicitSolver/>\n        <CGLinearSolver name="linear"'))
 case("second state", 1, ["bad.scn:13", "MechanicalObject", "line 12"],
      scene=ball('<UniformMass name="mass"', '<MechanicalObject position="1 1 1"/>\n        <UniformMass name="mass"'))
-case("second topology", 1, ["bad.scn:19", "MeshTopology", "line 18"],
+case("second topology (SOFA keeps the last)", 0, ["bad.scn:19", "MeshTopology", "replaces", "line 18"],
      scene=ball('<TriangleCollisionModel name="floor_triangles"', '<MeshTopology triangles="0 1 2"/>\n        <TriangleCollisionModel name="floor_triangles"'))
-case("second animation loop", 1, ["bad.scn:4", "DefaultAnimationLoop", "line 3"],
+case("second DefaultAnimationLoop (the same loop; SOFA keeps the last)", 0, [],
      scene=ball("<CollisionPipeline/>", "<DefaultAnimationLoop/>\n    <CollisionPipeline/>"))
 
 # ---- types ----------------------------------------------------------------------------------------

@@ -188,10 +188,79 @@ TEST(GmshLoader, NotGmsh) {
               p.string() + ":1: not a Gmsh file (first line must be $MeshFormat or $NOD)");
 }
 
-TEST(GmshLoader, Version4Refused) {
-    const auto p = write_temp("v4.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+TEST(GmshLoader, Version3Refused) {
+    const auto p = write_temp("v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n");
     EXPECT_EQ(message_of<LoadError>([&] { (void)load_gmsh(p); }),
-              p.string() + ":2: Gmsh format 4.1 is not supported (only 1 and 2 ASCII)");
+              p.string() + ":2: Gmsh format 3.0 is not supported (only 1, 2 and 4 ASCII)");
+}
+
+// A Gmsh 4.1 file (made for this test): two node blocks (the second with a parametric coordinate),
+// node tags not in order, a point element, two triangles, a prism (skipped), a second-order
+// triangle whose corner edges come once over the file (SOFA's MeshGmsh::readGmsh, version 4).
+constexpr const char* kGmsh4 = R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$Entities
+1 0 0 0
+1 0 0 0 0
+$EndEntities
+$Nodes
+2 6 1 6
+0 1 0 2
+5
+9
+0 0 0
+1 0 0
+2 7 1 4
+1
+2
+3
+4
+1 1 0 0.5
+0 1 0 0.25
+0 0 1 0.125
+1 1 1 0.0625
+$EndNodes
+$Elements
+5 6 1 6
+0 1 15 1
+1 1
+2 7 2 2
+2 1 2 3
+3 1 3 4
+3 1 6 1
+4 1 2 3 4 5 6
+2 8 9 1
+5 1 2 3 4 5 6
+2 9 9 1
+6 2 1 3 5 6 4
+$EndElements
+)";
+
+TEST(GmshLoader, Version4NodesInBlockOrderAndElementBlocks) {
+    const auto p = write_temp("v4.msh", kGmsh4);
+    const MeshData m = load_gmsh(p);
+    ASSERT_EQ(m.positions.size(), 6u);
+    EXPECT_EQ(m.positions[1], Vec3(1, 0, 0));
+    EXPECT_EQ(m.positions[3], Vec3(0, 1, 0));  // parametric coordinate ignored
+    EXPECT_EQ(m.positions[5], Vec3(1, 1, 1));
+    // node n of an element is the n-th node read (tags 5 and 9 of the first block are not used)
+    ASSERT_EQ(m.triangles.size(), 4u);
+    EXPECT_EQ(m.triangles[0], (Triangle{0, 1, 2}));
+    EXPECT_EQ(m.triangles[1], (Triangle{0, 2, 3}));
+    EXPECT_EQ(m.triangles[2], (Triangle{0, 1, 2}));
+    EXPECT_EQ(m.triangles[3], (Triangle{1, 0, 2}));
+    // corner pairs of the two second-order triangles, each pair once: (0,1), (1,2), (0,2)
+    EXPECT_EQ(m.edges, (std::vector<Edge>{{0, 1}, {1, 2}, {0, 2}}));
+    EXPECT_TRUE(m.tetrahedra.empty());
+}
+
+TEST(GmshLoader, Version4NodeBeyondTheNodesRead) {
+    std::string text = kGmsh4;
+    text.replace(text.find("3 1 3 4"), 7, "3 1 3 7");
+    const auto p = write_temp("v4_bad.msh", text);
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_gmsh(p); }),
+              p.string() + ":31: element node 7 is not one of the 6 nodes (Gmsh 4: node n is the n-th node read)");
 }
 
 TEST(GmshLoader, MissingEndSection) {
@@ -296,7 +365,7 @@ TEST(MeshFile, DispatchesOnExtension) {
     EXPECT_EQ(load_mesh_file(mesh_file("grid.vtk")).hexahedra.size(), 1u);
     const auto p = write_temp("mesh.stl", "solid\n");
     EXPECT_EQ(message_of<LoadError>([&] { (void)load_mesh_file(p); }),
-              p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph or .vtk)");
+              p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph, .vtk, .off or .trian)");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -350,6 +419,41 @@ TEST(PostProcessing, TriangulateAndFlip) {
     triangulate_quads(m);
     EXPECT_THAT(m.triangles, ElementsAre(Triangle{2, 1, 0}, Triangle{6, 5, 4}, Triangle{6, 4, 3}));
     EXPECT_TRUE(m.quads.empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// OFF and Trian (SOFA's MeshOffLoader::readOFF, MeshTrianLoader::readTrian)
+
+TEST(OffLoader, TrianglesQuadsCommentsAndSkippedFaces) {
+    // a pentagon face (n = 5) is skipped and not counted: the 3 faces are the 3 others
+    const auto p = write_temp("mesh.off",
+                              "OFF\n# a comment\n\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n# inside\n0 1 0\n0.5 2 0\n"
+                              "3 0 1 2\n5 0 1 2 3 4\n4 0 1 2 3\n3 2 4 3\n");
+    const MeshData m = load_off(p);
+    ASSERT_EQ(m.positions.size(), 5u);
+    EXPECT_EQ(m.positions[4], Vec3(0.5, 2, 0));
+    EXPECT_THAT(m.triangles, ElementsAre(Triangle{0, 1, 2}, Triangle{2, 4, 3}));
+    EXPECT_THAT(m.quads, ElementsAre(Quad{0, 1, 2, 3}));
+}
+
+TEST(OffLoader, Errors) {
+    const auto not_off = write_temp("not.off", "COFF\n1 0 0\n0 0 0\n");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_off(not_off); }),
+              not_off.string() + ":1: not an OFF file (the first word must be OFF)");
+    const auto bad_index = write_temp("bad.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_off(bad_index); }),
+              bad_index.string() + ":6: face vertex 3 is not one of the 3 points");
+    const auto short_file = write_temp("short.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    EXPECT_THAT(message_of<LoadError>([&] { (void)load_off(short_file); }), ::testing::HasSubstr("unexpected end of file"));
+}
+
+TEST(TrianLoader, PointsAndTrianglesNeighboursIgnored) {
+    const auto p = write_temp("mesh.trian", "4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2\n0 1 2 -1 1 -1\n0 2 3 -1 -1 0\n");
+    const MeshData m = load_trian(p);
+    ASSERT_EQ(m.positions.size(), 4u);
+    EXPECT_THAT(m.triangles, ElementsAre(Triangle{0, 1, 2}, Triangle{0, 2, 3}));
+    const auto bad = write_temp("bad.trian", "1\n0 0 0\n1\n0 0 1 -1 -1 -1\n");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_trian(bad); }), bad.string() + ":4: triangle point 1 is not one of the 1 points");
 }
 
 }  // namespace

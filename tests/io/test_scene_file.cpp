@@ -270,7 +270,7 @@ TEST(SceneValidation, ClassifiesComponentsAndSummarizesIgnoredOnes) {
     EXPECT_EQ(check.loaders[2]->type, "MeshGmshLoader");
     EXPECT_EQ(check.ignored.size(), 5u);
     EXPECT_EQ(check.summary,
-              "ignored 5 visual-only components: BarycentricMapping (visual output) x1, MeshOBJLoader (visual only) x1, "
+              "ignored 5 components that do not change the numbers: BarycentricMapping (visual output) x1, MeshOBJLoader (visual only) x1, "
               "OglModel x1, RequiredPlugin x1, VisualStyle x1");
     EXPECT_EQ(scene::component_category("TriangleCollisionModel"), scene::ComponentCategory::physics);
     EXPECT_EQ(scene::component_category("OglModel"), scene::ComponentCategory::ignored);
@@ -299,7 +299,7 @@ TEST(SceneValidation, BrokenLinkOfAPhysicsComponentIsAnError) {
 
 TEST(SceneValidation, NoIgnoredComponent) {
     const SceneFile s = parse_scene_string("<Node name='root'><DefaultAnimationLoop/></Node>", "plain.scn");
-    EXPECT_EQ(scene::validate(s).summary, "ignored 0 visual-only components");
+    EXPECT_EQ(scene::validate(s).summary, "ignored 0 components that do not change the numbers");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -60,28 +60,28 @@ struct SceneExpectation {
 
 const std::map<std::string, SceneExpectation> kScenes{
     {"AdvancedSolversMultipleGroupsSolver.scn",
-     {37, 1, "ignored 12 visual-only components: RequiredPlugin x11, VisualStyle x1"}},
+     {37, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
     {"CompositeCollisionPipeline.scn",
-     {36, 1, "ignored 13 visual-only components: RequiredPlugin x12, VisualStyle x1"}},
+     {36, 1, "ignored 13 components that do not change the numbers: RequiredPlugin x12, VisualStyle x1"}},
     {"CompositeCollisionPipeline_none.scn",
-     {30, 1, "ignored 13 visual-only components: RequiredPlugin x12, VisualStyle x1"}},
+     {30, 1, "ignored 13 components that do not change the numbers: RequiredPlugin x12, VisualStyle x1"}},
     {"Gravity.scn",
-     {42, 4, "ignored 25 visual-only components: BarycentricMapping (visual output) x2, MeshOBJLoader (visual only) "
+     {42, 4, "ignored 25 components that do not change the numbers: BarycentricMapping (visual output) x2, MeshOBJLoader (visual only) "
              "x4, OglModel x4, RequiredPlugin x15"}},
     {"MeshSpringForceField.scn",
-     {49, 9, "ignored 27 visual-only components: BarycentricMapping (visual output) x4, MeshOBJLoader (visual only) "
+     {49, 9, "ignored 27 components that do not change the numbers: BarycentricMapping (visual output) x4, MeshOBJLoader (visual only) "
              "x5, OglModel x5, RequiredPlugin x13"}},
-    {"ModelizationSphereBased.scn", {16, 1, "ignored 12 visual-only components: RequiredPlugin x11, VisualStyle x1"}},
-    {"ModelizationTriangleBased.scn", {18, 1, "ignored 12 visual-only components: RequiredPlugin x11, VisualStyle x1"}},
-    {"MultipleObjectsTwoCubes.scn", {25, 1, "ignored 12 visual-only components: RequiredPlugin x11, VisualStyle x1"}},
+    {"ModelizationSphereBased.scn", {16, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
+    {"ModelizationTriangleBased.scn", {18, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
+    {"MultipleObjectsTwoCubes.scn", {25, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
     {"RegularGridSpringForceField.scn",
-     {49, 5, "ignored 28 visual-only components: BarycentricMapping (visual output) x4, MeshOBJLoader (visual only) "
+     {49, 5, "ignored 28 components that do not change the numbers: BarycentricMapping (visual output) x4, MeshOBJLoader (visual only) "
              "x5, OglModel x5, RequiredPlugin x14"}},
     {"SphereModel.scn",
-     {17, 2, "ignored 21 visual-only components: MeshOBJLoader (visual only) x2, OglModel x2, RequiredPlugin x14, "
+     {17, 2, "ignored 21 components that do not change the numbers: MeshOBJLoader (visual only) x2, OglModel x2, RequiredPlugin x14, "
              "SubsetMapping (visual output) x1, VisualStyle x2"}},
     {"collisionMultiple.scn",
-     {47, 4, "ignored 34 visual-only components: BarycentricMapping (visual output) x6, MeshOBJLoader (visual only) "
+     {47, 4, "ignored 34 components that do not change the numbers: BarycentricMapping (visual output) x6, MeshOBJLoader (visual only) "
              "x7, OglModel x7, RequiredPlugin x14"}},
 };
 

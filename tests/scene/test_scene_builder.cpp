@@ -232,9 +232,24 @@ TEST(SceneBuilder, IncompletePipelineAndUnreadAttributesAreReported) {
     auto s = build(xml);
     EXPECT_TRUE(s->pipelines().empty());
     const auto w = s->warnings();
-    EXPECT_THAT(w, ::testing::Contains(HasSubstr("ignored 1 visual-only component: VisualStyle x1")));
+    EXPECT_THAT(w, ::testing::Contains(HasSubstr("ignored 1 component that does not change the numbers: VisualStyle x1")));
     EXPECT_THAT(w, ::testing::Contains(HasSubstr("test.scn:2: CollisionPipeline: no contact will be detected")));
     EXPECT_THAT(w, ::testing::Contains("test.scn:5: EulerImplicitSolver: attribute 'fancyOption' is not read by penalty (ignored)"));
+}
+
+TEST(SceneBuilder, ComponentsSofaNoLongerKnowsAreDroppedAsSofaDoes) {
+    // SOFA HEAD has no CGImplicit (nor CGImplicitSolver, PlaneConstraint, BoxConstraint): its
+    // factory creates nothing and the scene runs without it. Here the node then has no ODE
+    // solver, so its point does not move, as in SOFA.
+    auto s = build(R"(<Node name="root">
+      <Node name="A"><CGImplicit iterations="40"/><PlaneConstraint plane="0 1 0 0"/>
+        <MechanicalObject position="0 1 0"/><UniformMass vertexMass="1"/></Node>
+    </Node>)");
+    EXPECT_THAT(s->warnings(), ::testing::Contains(HasSubstr(
+                                   "ignored 2 components that do not change the numbers: CGImplicit (unknown to SOFA, "
+                                   "which drops it) x1, PlaneConstraint (unknown to SOFA, which drops it) x1")));
+    for (int i = 0; i < 10; ++i) s->step();
+    EXPECT_EQ(dynamic_cast<const Vec3Object&>(*s->states().front().state).position[0], Vec3(0, 1, 0));
 }
 
 TEST(SceneBuilder, PositionsLinkedFromATopologyOrAState) {
@@ -274,7 +289,8 @@ TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
   <MechanicalObject position="0 0 0  1 0 0"/>
   <TriangleCollisionModel/>
 </Node>)"),
-              "test.scn:3: TriangleCollisionModel: needs a topology (MeshTopology or RegularGridTopology) in its node");
+              "test.scn:3: TriangleCollisionModel: needs a topology (MeshTopology or RegularGridTopology) in its node or an ancestor "
+              "node");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <MinProximityIntersection alarmDistance="0.1" contactDistance="0.5"/>
   <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/><CollisionResponse/>

@@ -52,9 +52,22 @@ struct MeshData {
 /// 8/9/11 (second-order edge/triangle/tetrahedron: only the corner nodes are kept) are stored,
 /// type 15 (point) and other types are skipped. Sub-elements are NOT created here: SOFA's
 /// MeshGmshLoader does it by default, call create_subelements() (load_scene_mesh() does).
-/// Binary files and format 4 are rejected.
+/// Format 4 ASCII files are read as SOFA's MeshGmsh::readGmsh reads them (nodes in block
+/// order, element node n = n-th node read). Binary files and format 3 are rejected.
 /// @throws LoadError `path:line: what`
 [[nodiscard]] MeshData load_gmsh(const std::filesystem::path& path);
+
+/// Reads an OFF file as SOFA's MeshOffLoader: the `OFF` keyword, then (blank and `#` lines
+/// skipped) a line `vertices faces edges`, one vertex per line, one face per line `n i j k [l]`:
+/// n = 3 gives a triangle, n = 4 a quad, other n skip the line (not counted as a face).
+/// @throws LoadError `path:line: what`
+[[nodiscard]] MeshData load_off(const std::filesystem::path& path);
+
+/// Reads a `.trian` file as SOFA's MeshTrianLoader (trian2 = false): the vertex count, the
+/// vertices (x y z), the triangle count, then per triangle its 3 points and its 3 neighbours
+/// (the neighbours are read and not used).
+/// @throws LoadError `path:line: what`
+[[nodiscard]] MeshData load_trian(const std::filesystem::path& path);
 
 /// Reads a SOFA sphere file (`.sph`): first line `sph 1.0`, then `nums N`,
 /// `sphe index x y z radius` records and `#` comments; unknown keywords skip their line.
@@ -71,7 +84,7 @@ struct MeshData {
 /// @throws LoadError `path:line: what`
 [[nodiscard]] MeshData load_vtk_legacy(const std::filesystem::path& path);
 
-/// Dispatches on the extension (case-insensitive): .obj, .msh, .sph, .vtk.
+/// Dispatches on the extension (case-insensitive): .obj, .msh, .sph, .vtk, .off, .trian.
 /// @throws LoadError for another extension or a bad file
 [[nodiscard]] MeshData load_mesh_file(const std::filesystem::path& path);
 
@@ -83,6 +96,8 @@ struct MeshData {
 [[nodiscard]] MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_sph(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& path);
+[[nodiscard]] MeshData parse_off(std::string_view text, const std::filesystem::path& path);
+[[nodiscard]] MeshData parse_trian(std::string_view text, const std::filesystem::path& path);
 
 /// SOFA's Euler angles (Quat::createQuaterFromEuler, default order): angles (a, b, c) in
 /// degrees about x, y, z; the rotation is R = Rz(c) * Ry(b) * Rx(a) (x applied first).

@@ -113,7 +113,9 @@ void add_model(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, std::u
                std::string shape = {}) {
     b.note_unread_attributes(c);
     b.role(c, [&b, m = model.get(), shape] { return describe_model(b, *m, shape); });
-    b.add_collision_model(SceneCollisionModel{std::move(model), info.node, &c});
+    // The model's node for the same-node rule is its own (params().node); the node holding its
+    // state may be an ancestor (SceneBuilder::state_owner).
+    b.add_collision_model(SceneCollisionModel{std::move(model), b.state_owner(info)->node, &c});
 }
 
 /// Builds a model on the node's Vec3d state with `make(state, params)`.

@@ -26,6 +26,7 @@ std::span<const ComponentSpec> mass_and_region_components();        // masses_an
 std::span<const ComponentSpec> sparse_grid_components();           // sparse_grid.cpp
 std::span<const ComponentSpec> pressure_load_components();          // pressure_loads.cpp
 std::span<const ComponentSpec> region_of_interest_components();     // regions_of_interest.cpp
+std::span<const ComponentSpec> external_load_components();         // external_loads.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).

@@ -1,5 +1,5 @@
 // Lumped masses, regions of interest and the projective constraints that read them:
-// DiagonalMass, BoxROI, FixedPlaneProjectiveConstraint; BoxConstraint (ignored, as SOFA does).
+// DiagonalMass, BoxROI, FixedPlaneProjectiveConstraint.
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
 #include "penalty/mechanics/regions.hpp"
@@ -161,14 +161,6 @@ void build_fixed_plane(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
     b.note_unread_attributes(c);
 }
 
-// ---- BoxConstraint ------------------------------------------------------------------------------
-// An old SOFA name (BoxROI + FixedConstraint) that SOFA today neither knows nor lists as renamed:
-// its factory creates nothing and the scene runs without it (the shared examples' SOFA states
-// show the points of the box falling). penalty reproduces that: the component is ignored.
-constexpr AttributeSpec kBoxConstraint[] = {
-    {"box", K::numbers, "", "m", ValueCheck::none, "ignored (SOFA creates no BoxConstraint)"},
-};
-
 constexpr ComponentSpec kComponents[] = {
     {.type = "DiagonalMass", .family = F::mass, .summary = "lumped mass from the topology's elements",
      .attributes = kDiagonalMass, .build = build_diagonal_mass},
@@ -179,8 +171,6 @@ constexpr ComponentSpec kComponents[] = {
      .build = build_fixed_plane},
     {.type = "FixedPlaneConstraint", .family = F::constraint, .summary = "FixedPlaneProjectiveConstraint (older name)",
      .attributes = kFixedPlane, .build = build_fixed_plane, .sofa_class = "FixedPlaneProjectiveConstraint"},
-    {.type = "BoxConstraint", .family = F::visual,
-     .summary = "unknown to SOFA today, which creates nothing and runs the scene without it", .attributes = kBoxConstraint},
 };
 
 }  // namespace

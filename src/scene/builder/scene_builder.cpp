@@ -146,42 +146,15 @@ std::vector<PointId> SceneBuilder::indices(const Attributes& a, std::string_view
     return it->second;
 }
 
-Vec3Object& SceneBuilder::vec3_state(const SceneComponent& c, const NodeBuild& info) {
-    auto* s = dynamic_cast<Vec3Object*>(info.node->state());
-    if (s == nullptr) {
-        io::throw_element_error(c, info.node->state() ? "needs a Vec3d MechanicalObject in its node (found Rigid3d)"
-                                                      : "needs a MechanicalObject in its node");
-    }
-    return *s;
-}
-
-BaseState& SceneBuilder::state(const SceneComponent& c, const NodeBuild& info) {
-    if (info.node->state() == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node");
-    return *info.node->state();
-}
-
-const MeshTopology& SceneBuilder::topology_of(const Attributes& a, const NodeBuild& info) {
-    if (a.has("topology")) {
-        const io::LinkTarget t = a.link("topology");
-        if (t.component != nullptr) {
-            for (const auto& [sn, i] : nodes_)
-                if (i.topology_component == t.component) return *i.topology;
-        }
-        a.fail("topology", "must link to a MeshTopology or RegularGridTopology already built");
-    }
-    if (info.topology == nullptr)
-        io::throw_element_error(a.component(), "needs a topology (MeshTopology or RegularGridTopology) in its node");
-    return *info.topology;
-}
-
 namespace {
 
-/// SOFA keeps one component of each of these families per node (a second one replaces or
-/// shadows the first in SOFA's context); penalty refuses the second, naming both lines.
+/// SOFA's Node holds one component of each of these families (a NodeSingle link: adding a second
+/// replaces the first, SingleLink::add). penalty refuses a second one, naming both lines, except
+/// where the replacement is harmless and SOFA's examples rely on it: a second topology (the node's
+/// topology is the last one, see build_node) and a second animation loop of the same type.
 void check_once_per_node(const std::vector<const SceneComponent*>& physics) {
-    static constexpr std::array<std::pair<ComponentFamily, std::string_view>, 7> kinds{{
+    static constexpr std::array<std::pair<ComponentFamily, std::string_view>, 6> kinds{{
         {ComponentFamily::state, "mechanical state"},
-        {ComponentFamily::topology, "topology"},
         {ComponentFamily::mass, "mass"},
         {ComponentFamily::mapping, "mapping"},
         {ComponentFamily::ode_solver, "ODE solver"},
@@ -196,6 +169,7 @@ void check_once_per_node(const std::vector<const SceneComponent*>& physics) {
                 first = c;
                 continue;
             }
+            if (family == ComponentFamily::animation_loop && c->type == first->type) continue;
             io::throw_element_error(*c, "a node holds one " + std::string(what) + ", and this node already has " +
                                             first->describe() + " at line " + std::to_string(first->line));
         }
@@ -247,7 +221,25 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
     const SceneNode* parent_solver = sn.parent ? nodes_[sn.parent].solver_node : nullptr;
     info.solver_node = parent_solver ? parent_solver : (has(F::ode_solver) ? &sn : nullptr);
     info.mapped = has(F::mapping);
-    build_family({F::topology});
+    // Topologies in file order; SOFA's node keeps the last one (NodeSingle), so each one starts
+    // from a clean slate and the last one built is the node's topology. An earlier one is still
+    // built (a link `@name` to it is refused: penalty resolves links to a node's topology).
+    const SceneComponent* previous_topology = nullptr;
+    for (const SceneComponent* c : info.physics) {
+        const ComponentSpec& spec = *find_component(c->type);
+        if (spec.family != F::topology) continue;
+        if (previous_topology != nullptr)
+            warn(c->file + ":" + std::to_string(c->line) + ": " + c->describe() + " replaces " + previous_topology->describe() +
+                 " (line " + std::to_string(previous_topology->line) +
+                 ") as the node's topology: a SOFA node keeps its last topology");
+        previous_topology = c;
+        info.topology = nullptr;
+        info.topology_positions.clear();
+        info.grid.reset();
+        info.sparse_grid.reset();
+        info.topology_component = nullptr;
+        spec.build(*this, *c, info);
+    }
     build_family({F::topology_helper});
     build_family({F::state});
     build_family({F::mapping});

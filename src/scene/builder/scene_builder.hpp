@@ -137,9 +137,13 @@ public:
     /// Attribute `attr` as indices: inline, or a link `@engine.data` to a list recorded by an engine
     /// built before (in file order).
     std::vector<PointId> indices(const Attributes& a, std::string_view attr);
-    /// The node's Vec3d state, or an error naming `c`.
+    /// The node that holds the state a component of `node` acts on: `node` itself when it has a
+    /// MechanicalObject, else its nearest ancestor with one (SOFA's Node::getMechanicalState
+    /// searches the parents); null when none has.
+    const NodeBuild* state_owner(const NodeBuild& node);
+    /// The Vec3d state of the node (or of its nearest ancestor with a state), or an error naming `c`.
     Vec3Object& vec3_state(const io::SceneComponent& c, const NodeBuild& node);
-    /// The node's state, or an error naming `c`.
+    /// The state of the node (or of its nearest ancestor with a state), or an error naming `c`.
     BaseState& state(const io::SceneComponent& c, const NodeBuild& node);
     /// The topology `topology="@..."` links to, else the node's.
     const MeshTopology& topology_of(const Attributes& a, const NodeBuild& node);

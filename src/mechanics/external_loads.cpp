@@ -1,0 +1,210 @@
+// PlaneForceField, ConstantForceField, ConicalForceField: see include/penalty/mechanics/external_loads.hpp
+// and docs/components/external_loads.md.
+#include "penalty/mechanics/external_loads.hpp"
+
+#include "penalty/core/error.hpp"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <numbers>
+
+namespace penalty {
+
+namespace {
+
+/// Adds factor·(−k)·n nᵀ at the 3×3 diagonal block of point p (SOFA's addKToMatrix order:
+/// coefficient n_l·(−k·factor)·n_c).
+void add_normal_block(TripletList& triplets, Index offset, Index p, const Vec3& n, double minus_k_factor) {
+    const Index row = offset + 3 * p;
+    for (Index l = 0; l < 3; ++l)
+        for (Index c = 0; c < 3; ++c) triplets.emplace_back(row + l, row + c, n[l] * minus_k_factor * n[c]);
+}
+
+}  // namespace
+
+// ---- PlaneForceField ----------------------------------------------------------------------------
+
+PlaneForceField::PlaneForceField(Vec3Object& state, const PlaneForceFieldParameters& parameters)
+    : ForceField<Vec3Types>(state), parameters_(parameters) {
+    const auto& p = parameters_;
+    if (!all_finite(p.normal) || !std::isfinite(p.offset))
+        throw_invalid_argument("PlaneForceField: normal and d must be finite");
+    if (!(p.stiffness >= 0.0) || !(p.damping >= 0.0) || !(p.max_force >= 0.0))
+        throw_invalid_argument("PlaneForceField: stiffness, damping and maxForce must be >= 0, found ", p.stiffness,
+                               ", ", p.damping, ", ", p.max_force);
+}
+
+void PlaneForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
+    const auto& p = parameters_;
+    active_.clear();
+    energy_ = 0.0;
+    // localRange (PlaneForceField::addForce): [first, last] clipped to the points
+    auto begin = Index{0};
+    auto end = static_cast<Index>(x.size());
+    if (p.local_range[0] >= 0) begin = p.local_range[0];
+    if (p.local_range[1] >= 0 && p.local_range[1] + 1 < end) end = p.local_range[1] + 1;
+    const double limit_squared = p.max_force * p.max_force;
+    for (Index i = begin; i < end; ++i) {
+        const auto ui = static_cast<std::size_t>(i);
+        const double depth = x[ui].dot(p.normal) - p.offset;  // < 0 below the plane
+        if (!(p.bilateral || depth < 0.0)) continue;
+        const double force_intensity = -p.stiffness * depth;
+        const double damping_intensity = -p.damping * depth;
+        Vec3 force = p.normal * force_intensity - v[ui] * damping_intensity;
+        const double amplitude_squared = force.squaredNorm();
+        if (limit_squared > 0.0 && amplitude_squared > limit_squared) force *= std::sqrt(limit_squared / amplitude_squared);
+        f[ui] += force;
+        active_.push_back(i);
+        energy_ += 0.5 * p.stiffness * depth * depth;
+    }
+}
+
+void PlaneForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double /*b_factor*/) const {
+    // PlaneForceField::addDForce: df_p += n·(−k·kFactor·(dx_p·n)) on the active points; no B
+    const double fact = -parameters_.stiffness * k_factor;
+    const Vec3& n = parameters_.normal;
+    for (const Index p : active_) {
+        const auto up = static_cast<std::size_t>(p);
+        df[up] += n * (fact * dx[up].dot(n));
+    }
+}
+
+void PlaneForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
+    const double fact = -parameters_.stiffness * factor;
+    for (const Index p : active_) add_normal_block(triplets, offset, p, parameters_.normal, fact);
+}
+
+// ---- ConstantForceField -------------------------------------------------------------------------
+
+ConstantForceField::ConstantForceField(Vec3Object& state, ConstantForceFieldParameters parameters)
+    : ForceField<Vec3Types>(state), parameters_(std::move(parameters)) {
+    if (parameters_.forces.empty() && !parameters_.total_force)
+        throw_invalid_argument("ConstantForceField: neither 'forces' nor 'totalForce' is given");
+    for (const Vec3& force : parameters_.forces)
+        if (!all_finite(force)) throw_invalid_argument("ConstantForceField: 'forces' must be finite");
+    if (parameters_.total_force && !all_finite(*parameters_.total_force))
+        throw_invalid_argument("ConstantForceField: 'totalForce' must be finite");
+}
+
+void ConstantForceField::init() {
+    const auto size = static_cast<Index>(state_->num_dofs());
+    // ConstantForceField::init: no indices means every point
+    std::vector<Index> indices = parameters_.indices;
+    if (indices.empty())
+        for (Index i = 0; i < size; ++i) indices.push_back(i);
+    points_.clear();
+    for (const Index j : indices) {
+        if (j < 0 || j >= size)
+            throw_invalid_argument("ConstantForceField: index ", j, " is out of range (the state has ", size, " points)");
+        points_.push_back(parameters_.index_from_end ? size - 1 - j : j);
+    }
+    const auto count = indices.size();
+    point_forces_.clear();
+    if (!parameters_.forces.empty()) {
+        // updateFromForcesVector: one force for every index (computeForceFromSingleForce), or one per index
+        if (parameters_.forces.size() == 1) point_forces_.assign(count, parameters_.forces.front());
+        else if (parameters_.forces.size() == count) point_forces_ = parameters_.forces;
+        else
+            throw_invalid_argument("ConstantForceField: ", parameters_.forces.size(), " forces for ", count,
+                                   " indices (give one force, or one per index)");
+    } else {
+        // computeForceFromTotalForce: T / n for each index
+        if (count == 0) throw_invalid_argument("ConstantForceField: 'totalForce' on a state without points");
+        point_forces_.assign(count, Vec3(*parameters_.total_force / static_cast<double>(count)));
+    }
+}
+
+void ConstantForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
+    // addForce: f_p(j) += F_j; getPotentialEnergy: E = −Σ F_j·x_p(j)
+    energy_ = 0.0;
+    for (std::size_t j = 0; j < points_.size(); ++j) {
+        const auto p = static_cast<std::size_t>(points_[j]);
+        f[p] += point_forces_[j];
+        energy_ -= point_forces_[j].dot(x[p]);
+    }
+}
+
+Vec3 ConstantForceField::total_force() const {
+    Vec3 total = Vec3::Zero();
+    for (const Vec3& force : point_forces_) total += force;
+    return total;
+}
+
+// ---- ConicalForceField --------------------------------------------------------------------------
+
+ConicalForceField::ConicalForceField(Vec3Object& state, const ConicalForceFieldParameters& parameters)
+    : ForceField<Vec3Types>(state), parameters_(parameters) {
+    const auto& p = parameters_;
+    if (!all_finite(p.center) || !all_finite(p.height) || !std::isfinite(p.angle_deg))
+        throw_invalid_argument("ConicalForceField: coneCenter, coneHeight and coneAngle must be finite");
+    if (!std::isfinite(p.stiffness) || !std::isfinite(p.damping))
+        throw_invalid_argument("ConicalForceField: stiffness and damping must be finite");
+}
+
+bool ConicalForceField::is_inside(const Vec3& x) const {
+    // ConicalForceField::isIn
+    const Vec3 u = x - parameters_.center;
+    const double h = parameters_.height.norm();
+    const double distance = u.norm();
+    if (distance > h) return false;
+    const double angle_deg = std::acos(u.dot(parameters_.height) / (h * distance)) * 180.0 / std::numbers::pi;
+    return !(angle_deg > parameters_.angle_deg);  // NaN at the apex: inside
+}
+
+void ConicalForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
+    const auto& p = parameters_;
+    const double h = p.height.norm();
+    const Vec3 axis = p.height.normalized();
+    contacts_.clear();
+    energy_ = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        if (is_inside(x[i])) continue;
+        const Vec3 u = x[i] - p.center;
+        const double distance = u.norm();
+        if (distance > h) {
+            // beyond the spherical cap: radial, depth d = |u| − h; damping −v·(−c d) as SOFA
+            const double depth = distance - h;
+            const double force_intensity = -p.stiffness * depth;
+            const double damping_intensity = -p.damping * depth;
+            f[i] += u * (force_intensity / distance) - v[i] * damping_intensity;
+            contacts_.push_back({static_cast<Index>(i), u / distance});
+            energy_ += 0.5 * p.stiffness * depth * depth;
+            continue;
+        }
+        Vec3 direction;
+        double depth = 0.0;
+        if (u.dot(axis) > 0.0) {
+            // beside the cone: rotate u towards the axis by (angle(u, â) − α) about â × u, project x
+            // on that generatrix (ConicalForceField::addForce, with a quaternion there)
+            const double excess = std::acos(u.dot(axis) / distance) - p.angle_deg * std::numbers::pi / 180.0;
+            const Vec3 rotation_axis = axis.cross(u).normalized();
+            const Vec3 generatrix = (Eigen::AngleAxisd(-excess, rotation_axis) * u).normalized();
+            const Vec3 projection = p.center + generatrix * generatrix.dot(u);
+            const Vec3 to_surface = projection - x[i];
+            depth = to_surface.norm();
+            direction = to_surface / depth;
+        } else {
+            // behind the apex: towards the apex
+            depth = distance;
+            direction = -u / distance;
+        }
+        f[i] += direction * (p.stiffness * depth) + direction * (p.damping * -direction.dot(v[i]));
+        contacts_.push_back({static_cast<Index>(i), direction});
+        energy_ += 0.5 * p.stiffness * depth * depth;
+    }
+}
+
+void ConicalForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double /*b_factor*/) const {
+    // ConicalForceField::addDForce: df_i += (n (dx_i·n))·(−k)·kFactor; no B
+    for (const Contact& c : contacts_) {
+        const auto i = static_cast<std::size_t>(c.index);
+        df[i] += (c.normal * dx[i].dot(c.normal)) * -parameters_.stiffness * k_factor;
+    }
+}
+
+void ConicalForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
+    for (const Contact& c : contacts_) add_normal_block(triplets, offset, c.index, c.normal, -parameters_.stiffness * factor);
+}
+
+}  // namespace penalty
