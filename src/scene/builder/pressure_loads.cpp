@@ -1,7 +1,8 @@
 // Pressure loads on the elements of a topology: TrianglePressureForceField, EdgePressureForceField,
 // SurfacePressureForceField (penalty/mechanics/pressure_loads.hpp; docs/components/pressure_loads.md).
-// Each acts on the state of its node or, as SOFA's context, of the nearest ancestor with one, and
-// on the elements of the node's topology (or `topology="@..."`).
+// Each acts on the state of its node or, as SOFA's context, of the nearest ancestor with one
+// (SceneBuilder::vec3_state), and on the elements of `topology="@..."`, else of the nearest
+// topology (SceneBuilder::topology_of).
 #include "penalty/mechanics/pressure_loads.hpp"
 #include "scene/builder/element_topology.hpp"
 #include "scene/builder/families.hpp"
@@ -14,28 +15,6 @@ namespace {
 using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
-
-/// The state a force field of `info` acts on: the node's, else the nearest ancestor's (SOFA's
-/// ForceField::init takes the context's mechanical state, inherited from the parents).
-Vec3Object& acting_state(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info) {
-    for (const io::SceneNode* sn = info.scene_node; sn != nullptr; sn = sn->parent) {
-        const NodeBuild& n = b.node_build(*sn);
-        if (n.node == nullptr || n.node->state() == nullptr) continue;
-        auto* v = dynamic_cast<Vec3Object*>(n.node->state());
-        if (v == nullptr) io::throw_element_error(c, "needs a Vec3d MechanicalObject (found Rigid3d)");
-        return *v;
-    }
-    io::throw_element_error(c, "needs a MechanicalObject in its node or an ancestor node");
-}
-
-/// The topology: `topology="@..."`, else the node's own, else the nearest ancestor's (SOFA's
-/// getMeshTopologyLink).
-const MeshTopology& acting_topology(SceneBuilder& b, const Attributes& a, const NodeBuild& info) {
-    if (a.has("topology")) return b.topology_of(a, info);
-    for (const io::SceneNode* sn = info.scene_node; sn != nullptr; sn = sn->parent)
-        if (const MeshTopology* t = b.node_build(*sn).topology) return *t;
-    io::throw_element_error(a.component(), "needs a topology in its node or an ancestor node");
-}
 
 std::vector<Index> as_indices(const std::vector<PointId>& ids) { return {ids.begin(), ids.end()}; }
 
@@ -56,9 +35,9 @@ constexpr AttributeSpec kTrianglePressure[] = {
 
 void build_triangle_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    Vec3Object& s = acting_state(b, c, info);
+    Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const MeshTopology& topology = acting_topology(b, a, info);
+        const MeshTopology& topology = b.topology_of(a, info);
         std::vector<Index> triangles = a.has("triangleList") ? as_indices(b.indices(a, "triangleList")) : std::vector<Index>{};
         auto* ff = &info.node->add_force_field<TrianglePressureForceField>(s, topology, std::move(triangles),
                                                                            a.vector3("pressure"));
@@ -105,9 +84,9 @@ constexpr AttributeSpec kEdgePressure[] = {
 
 void build_edge_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    Vec3Object& s = acting_state(b, c, info);
+    Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const MeshTopology& topology = acting_topology(b, a, info);
+        const MeshTopology& topology = b.topology_of(a, info);
         const Vec3 pressure = a.vector3("pressure");
         if (pressure.norm() == 0.0)
             a.fail("pressure", "a zero pressure (SOFA's p_intensity along edge normals) is not supported by penalty");
@@ -160,9 +139,9 @@ constexpr AttributeSpec kSurfacePressure[] = {
 
 void build_surface_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    Vec3Object& s = acting_state(b, c, info);
+    Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const MeshTopology& topology = acting_topology(b, a, info);
+        const MeshTopology& topology = b.topology_of(a, info);
         SurfacePressureParameters p;
         p.pressure = a.real("pressure");
         p.box_min = a.vector3("min");

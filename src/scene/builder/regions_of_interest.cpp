@@ -21,11 +21,10 @@ const Vec3Object* vec3_state_of(const NodeBuild& n) {
     return n.node != nullptr ? dynamic_cast<const Vec3Object*>(n.node->state()) : nullptr;
 }
 
-/// The nearest state from the node up (SOFA's context search upward).
+/// The nearest state from the node up (SOFA's context search upward, SceneBuilder::state_owner).
 const Vec3Object* nearest_state(SceneBuilder& b, const NodeBuild& info) {
-    for (const io::SceneNode* sn = info.scene_node; sn != nullptr; sn = sn->parent)
-        if (const Vec3Object* s = vec3_state_of(b.node_build(*sn))) return s;
-    return nullptr;
+    const NodeBuild* owner = b.state_owner(info);
+    return owner != nullptr ? vec3_state_of(*owner) : nullptr;
 }
 
 /// The node's first loader (SOFA's context->get(MeshLoader*, Local)).
