@@ -131,6 +131,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::collision_components(), builder::topology_container_components(),
               builder::surface_force_field_components(), builder::mass_and_region_components(),
               builder::sparse_grid_components(),
+              builder::pressure_load_components(), builder::region_of_interest_components(),
               builder::external_load_components(),
               builder::hexahedra_and_subset_components(),
               builder::bending_spring_components(),

@@ -90,9 +90,9 @@ TEST(MassAndRegionComponents, UnsupportedDataAndLinksAreRefusedClearly) {
     std::string oriented = grid_with("");
     oriented.replace(oriented.find("drawBoxes"), 9, "orientedBox=\"0 0 0 1 0 0 0 1 0 1\" drawBoxes");
     EXPECT_THAT(error_of(oriented), HasSubstr("orientedBox"));
-    std::string triangles = grid_with("<UniformMass totalMass=\"1\"/>");
-    triangles.replace(triangles.find("@box.indices"), 12, "@box.triangleIndices");
-    EXPECT_THAT(error_of(triangles), HasSubstr("triangleIndices"));
+    std::string not_recorded = grid_with("<UniformMass totalMass=\"1\"/>");
+    not_recorded.replace(not_recorded.find("@box.indices"), 12, "@box.pointsInROI");
+    EXPECT_THAT(error_of(not_recorded), HasSubstr("pointsInROI"));
 }
 
 TEST(MassAndRegionComponents, FixedPlaneKeepsTheSelectedPointsInTheirPlaneAndBoxConstraintIsIgnored) {

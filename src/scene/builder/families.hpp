@@ -24,6 +24,8 @@ std::span<const ComponentSpec> topology_container_components();     // topology_
 std::span<const ComponentSpec> surface_force_field_components();   // surface_force_fields.cpp
 std::span<const ComponentSpec> mass_and_region_components();        // masses_and_regions.cpp
 std::span<const ComponentSpec> sparse_grid_components();           // sparse_grid.cpp
+std::span<const ComponentSpec> pressure_load_components();          // pressure_loads.cpp
+std::span<const ComponentSpec> region_of_interest_components();     // regions_of_interest.cpp
 std::span<const ComponentSpec> external_load_components();         // external_loads.cpp
 std::span<const ComponentSpec> hexahedra_and_subset_components();  // hexahedra_and_subsets.cpp
 std::span<const ComponentSpec> bending_spring_components();        // bending_springs.cpp

@@ -4,7 +4,10 @@
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
 #include "penalty/mechanics/regions.hpp"
 #include "scene/builder/families.hpp"
+#include "scene/builder/regions_of_interest.hpp"
 #include "scene/builder/scene_builder.hpp"
+
+#include <algorithm>
 
 namespace penalty::scene::builder {
 
@@ -56,19 +59,41 @@ void build_diagonal_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
 }
 
 // ---- BoxROI ---------------------------------------------------------------------------------
-// SOFA's BoxROI (BaseROI::init, BoxROI::roiInit): the points of `position` (default: the rest
-// positions of the node's state) inside any box; with no box, the box 0 0 0 1 1 1.
+// SOFA's BoxROI (BaseROI::init, BaseROI::doUpdate, BoxROI::roiInit): the points of `position`
+// (default: the rest positions of the node's state) inside any box, with no box the box
+// 0 0 0 1 1 1; and the elements (given, or the node's topology's) inside: all of their points in
+// some box (`strict`, the default), else their centre (regions_of_interest.hpp).
 constexpr AttributeSpec kBoxRoi[] = {
     {"box", K::numbers, "0 0 0 1 1 1", "m", ValueCheck::none, "boxes: xmin ymin zmin xmax ymax zmax each"},
     {"orientedBox", K::numbers, "", "m", ValueCheck::none, "refused by penalty"},
     {"position", K::points, "(rest positions of the node's state)", "m", ValueCheck::none, "points tested"},
+    {"rest_position", K::points, "", "m", ValueCheck::none, "alias of position"},
+    {"edges", K::elements, "(the node's topology)", "", ValueCheck::none, "edges tested (inline or a link)"},
+    {"triangles", K::elements, "(the node's topology)", "", ValueCheck::none, "triangles tested (inline or a link)"},
+    {"quads", K::elements, "(the node's topology)", "", ValueCheck::none, "quads tested (inline or a link)"},
+    {"tetrahedra", K::elements, "(the node's topology)", "", ValueCheck::none, "tetrahedra tested (inline or a link)"},
+    {"hexahedra", K::elements, "(the node's topology)", "", ValueCheck::none, "hexahedra tested (inline or a link)"},
+    {"computeEdges", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
+    {"computeTriangles", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
+    {"computeQuads", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
+    {"computeTetrahedra", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
+    {"computeHexahedra", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
+    {"strict", K::boolean, "1", "", ValueCheck::none, "1: all points of an element inside; 0: its centre"},
+    {"doUpdate", K::boolean, "1", "", ValueCheck::none, "penalty selects once, at build"},
     {"indices", K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"},
+    {"edgeIndices", K::indices, "", "", ValueCheck::none, "output"},
+    {"triangleIndices", K::indices, "", "", ValueCheck::none, "output"},
+    {"quadIndices", K::indices, "", "", ValueCheck::none, "output"},
+    {"tetrahedronIndices", K::indices, "", "", ValueCheck::none, "output"},
+    {"hexahedronIndices", K::indices, "", "", ValueCheck::none, "output"},
     {"drawBoxes", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"drawROI", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"drawPoints", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"drawEdges", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"drawTriangles", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawQuads", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"drawTetrahedra", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+    {"drawHexahedra", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"drawSize", K::real, "0", "", ValueCheck::none, "drawing only"},
 };
 
@@ -76,28 +101,27 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     std::vector<AlignedBox> boxes;
     std::size_t num_points = 0;
-    std::size_t num_selected = 0;
+    RoiElements elements;
+    RoiSelection selection;
     b.guarded(c, [&] {
         if (a.has("orientedBox")) a.fail("orientedBox", "oriented boxes are not supported by penalty");
         const std::vector<double> v = a.has("box") ? a.numbers("box") : std::vector<double>{0, 0, 0, 1, 1, 1};
         if (v.empty() || v.size() % 6 != 0) a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
         for (std::size_t i = 0; i < v.size(); i += 6)
             boxes.push_back(AlignedBox::from_corners(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])));
-        std::vector<Vec3> points;
-        if (a.has("position")) {
-            points = a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
-        } else {
-            points = b.vec3_state(c, info).rest_position;
-        }
+        const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
-        std::vector<PointId> inside = points_in_boxes(points, boxes);
-        num_selected = inside.size();
-        b.record_engine_indices(c, "indices", std::move(inside));
+        elements = roi_elements(b, a, info, RoiContext::base_roi);
+        const auto inside = [&boxes](const Vec3& p) {
+            return std::any_of(boxes.begin(), boxes.end(), [&p](const AlignedBox& box) { return box.contains(p); });
+        };
+        selection = select_in_region(points, elements, inside,
+                                     a.boolean("strict") ? ElementTest::all_points : ElementTest::center);
     });
-    b.role(c, [n = boxes.size(), num_points, num_selected] {
-        return "selects " + std::to_string(num_selected) + " of " + counted(num_points, "point", "points") + " (inside " +
-               counted(n, "box", "boxes") + ")";
+    b.role(c, [n = boxes.size(), num_points, selection, elements] {
+        return describe_roi_selection(selection, num_points, elements, counted(n, "box", "boxes"));
     });
+    record_roi_selection(b, c, std::move(selection));
     b.note_unread_attributes(c);
 }
 
