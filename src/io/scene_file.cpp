@@ -501,12 +501,42 @@ std::vector<PointId> get_indices(const SceneElement& e, std::string_view attr) {
     if (v == nullptr) return {};
     check_inline_size(e, attr, *v);
     std::vector<PointId> out;
-    for (const auto token : detail::split_blanks(*v)) {
-        const auto value = detail::parse_int(token);
+    const auto index = [&](std::string_view token, std::string_view text) {
+        const auto value = detail::parse_int(text);
         if (!value || *value < 0 || *value > std::numeric_limits<PointId>::max()) {
             throw_attribute_error(e, attr, "expected a non-negative integer index, found '" + shorten(token) + "'");
         }
-        out.push_back(static_cast<PointId>(*value));
+        return *value;
+    };
+    // SOFA's vector<unsigned int>::read: "A-B" is every index from A to B (down when B < A), and
+    // "A-B-S" steps by S (its sign wins: A and B swap when it points the other way).
+    constexpr std::int64_t kMostIndices = 100'000'000;
+    for (const auto token : detail::split_blanks(*v)) {
+        const std::size_t hyphen = token.find('-', 1);
+        if (hyphen == std::string_view::npos) {
+            out.push_back(static_cast<PointId>(index(token, token)));
+            continue;
+        }
+        std::int64_t first = index(token, token.substr(0, hyphen));
+        const std::size_t hyphen2 = token.find('-', hyphen + 2);
+        std::int64_t last = index(token, token.substr(hyphen + 1, hyphen2 == std::string_view::npos ? std::string_view::npos
+                                                                                                    : hyphen2 - hyphen - 1));
+        std::int64_t step = first <= last ? 1 : -1;
+        if (hyphen2 != std::string_view::npos) {
+            const auto given = detail::parse_int(token.substr(hyphen2 + 1));
+            if (!given) throw_attribute_error(e, attr, "expected a range A-B or A-B-STEP, found '" + shorten(token) + "'");
+            if (*given != 0) step = *given;
+            if ((last - first) * step < 0) std::swap(first, last);
+        }
+        const std::int64_t count = (last - first) / step + 1;
+        if (count > kMostIndices || static_cast<std::int64_t>(out.size()) + count > kMostIndices)
+            throw_attribute_error(e, attr, "the range '" + shorten(token) + "' gives more than 10^8 indices");
+        if (step < 0) {
+            for (std::int64_t t = first; t > last; t += step) out.push_back(static_cast<PointId>(t));
+            out.push_back(static_cast<PointId>(last));
+        } else {
+            for (std::int64_t t = first; t <= last; t += step) out.push_back(static_cast<PointId>(t));
+        }
     }
     return out;
 }

@@ -149,6 +149,19 @@ struct MalformedCase {
     const char* message;
 };
 
+TEST(SceneAttributes, IndexRangesAsSofa) {
+    // SOFA's vector<unsigned int>::read: "A-B" every index from A to B, down when B < A; "A-B-S"
+    // steps by S, whose sign wins (A and B swap); the last index of a downward range always ends it.
+    const SceneFile s = parse_scene_string(
+        "<Node name='root'><Thing a='4 0-3 9' b='5-2' c='0-10-4' d='10-0-3' e='0-9--4'/></Node>", "r.scn");
+    const SceneComponent& c = *s.root->components[0];
+    EXPECT_EQ(get_indices(c, "a"), (std::vector<PointId>{4, 0, 1, 2, 3, 9}));
+    EXPECT_EQ(get_indices(c, "b"), (std::vector<PointId>{5, 4, 3, 2}));
+    EXPECT_EQ(get_indices(c, "c"), (std::vector<PointId>{0, 4, 8}));
+    EXPECT_EQ(get_indices(c, "d"), (std::vector<PointId>{0, 3, 6, 9}));
+    EXPECT_EQ(get_indices(c, "e"), (std::vector<PointId>{9, 5, 1, 0}));
+}
+
 TEST(SceneAttributes, MalformedValuesNameFileLineComponentAndAttribute) {
     const std::vector<MalformedCase> cases{
         {"totalMass='abc'", [](const SceneComponent& c) { (void)get_double(c, "totalMass"); },
@@ -171,6 +184,12 @@ TEST(SceneAttributes, MalformedValuesNameFileLineComponentAndAttribute) {
          "attribute 'hexas': expected a multiple of 8 indices, found 7"},
         {"hexas='0 -4 6'", [](const SceneComponent& c) { (void)get_indices(c, "hexas"); },
          "attribute 'hexas': expected a non-negative integer index, found '-4'"},
+        {"indices='3-'", [](const SceneComponent& c) { (void)get_indices(c, "indices"); },
+         "attribute 'indices': expected a non-negative integer index, found '3-'"},
+        {"indices='0-3-x'", [](const SceneComponent& c) { (void)get_indices(c, "indices"); },
+         "attribute 'indices': expected a range A-B or A-B-STEP, found '0-3-x'"},
+        {"indices='0-2000000000'", [](const SceneComponent& c) { (void)get_indices(c, "indices"); },
+         "attribute 'indices': the range '0-2000000000' gives more than 10^8 indices"},
         {"totalMass='@../mass'", [](const SceneComponent& c) { (void)get_double(c, "totalMass"); },
          "attribute 'totalMass': expected a value, found the link '@../mass' (resolve it first)"},
     };
