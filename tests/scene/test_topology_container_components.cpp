@@ -47,6 +47,28 @@ TEST(TopologyContainers, TriangleSetDerivesOrientedEdgesInFirstOccurrenceOrder) 
     EXPECT_EQ(dofs->position[2], Vec3(1, 1, 0));
 }
 
+TEST(TopologyContainers, SrcMayLinkToATopologyBuiltBefore) {
+    // SOFA's src link copies a container's same-named Data: a triangle container fed by a
+    // tetrahedron container takes its points and its derived triangles (and edges).
+    const auto s = build(R"(<Node name="root">
+  <Node name="A">
+    <TetrahedronSetTopologyContainer name="tetras" position="0 0 0  1 0 0  0 1 0  0 0 1" tetrahedra="0 1 2 3"/>
+    <MechanicalObject name="dofs"/>
+    <Node name="B">
+      <TriangleSetTopologyContainer src="@../tetras"/>
+      <TriangleCollisionModel/>
+    </Node>
+  </Node>
+</Node>
+)");
+    ASSERT_EQ(s->collision_models().size(), 1u);
+    EXPECT_EQ(s->collision_models().front().model->size(), 4u);  // the 4 faces {1,2,3}, {0,3,2}, {0,1,3}, {0,2,1}
+    EXPECT_THROW(build(R"(<Node name="root"><Node name="A">
+    <TriangleSetTopologyContainer src="@../later"/></Node><Node name="B"><MeshTopology name="later" triangles="0 1 2"/></Node>
+</Node>)"),
+                 io::SceneError);
+}
+
 TEST(TopologyContainers, QuadSetDerivesSortedEdges) {
     // QuadSetTopologyContainer::createEdgeSetArray: (q[j+1], q[j+2]) sorted.
     const auto s = build(one_body(R"(<QuadSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0" quads="0 1 2 3"/>)"));

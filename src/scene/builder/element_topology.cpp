@@ -8,13 +8,38 @@ namespace penalty::scene::builder {
 
 using io::SceneComponent;
 
+namespace {
+
+/// What `src` links: a loader's mesh, or a topology built before (SOFA's `src` link copies the
+/// container's same-named Data: its points and its element lists, derived ones included).
+io::MeshData linked_source(SceneBuilder& b, const Attributes& a) {
+    const io::LinkTarget t = a.link("src");
+    if (t.component != nullptr && component_category(t.component->type) != ComponentCategory::loader) {
+        for (const auto& [node, built] : b.node_builds()) {
+            if (built.topology_component != t.component || built.topology == nullptr) continue;
+            io::MeshData m;
+            m.positions = built.topology_positions;
+            m.edges = built.topology->edges();
+            m.triangles = built.topology->triangles();
+            m.quads = built.topology->quads();
+            m.tetrahedra = built.topology->tetrahedra();
+            m.hexahedra = built.topology->hexahedra();
+            return m;
+        }
+        a.fail("src", "must link to a mesh loader or a topology built before this one");
+    }
+    return b.linked_mesh(a, "src");
+}
+
+}  // namespace
+
 void build_element_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, const ElementLists& lists) {
     const Attributes a(c);
     info.topology_component = &c;
     b.guarded(c, [&] {
         auto t = std::make_unique<MeshTopology>();
         io::MeshData mesh;
-        if (a.has("src")) mesh = b.linked_mesh(a, "src");
+        if (a.has("src")) mesh = linked_source(b, a);
         else if (a.has("filename")) mesh = b.mesh_of(c);
         // SOFA's `src` links only the Data the class declares.
         if (!lists.edges) mesh.edges.clear();

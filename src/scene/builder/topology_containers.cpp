@@ -30,7 +30,7 @@ using K = AttributeKind;
 using F = ComponentFamily;
 
 #define PENALTY_POINTS_ATTRIBUTES                                                                            \
-    {"src", K::link, "", "", ValueCheck::none, "mesh loader whose points and the elements of this class it takes"}, \
+    {"src", K::link, "", "", ValueCheck::none, "mesh loader, or a topology built before, whose points and elements of this class it takes"}, \
         {"position", K::points, "", "m", ValueCheck::none, "points (override src), or a link"},                    \
         {"points", K::points, "", "m", ValueCheck::none, "alias of position"},                                      \
         {"nbPoints", K::integer, "0", "", ValueCheck::none, "point count when no positions are given"},          \
