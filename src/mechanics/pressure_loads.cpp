@@ -33,12 +33,6 @@ void check_points(const char* who, const std::array<PointId, N>& e, std::size_t 
             throw_invalid_argument(who, ": an element uses point ", id, ", past the state's ", num_points, " points");
 }
 
-double constant_force_energy(std::span<const Vec3> f_of_dof, std::span<const Vec3> x) {
-    double e = 0.0;
-    for (std::size_t i = 0; i < f_of_dof.size(); ++i) e -= f_of_dof[i].dot(x[i]);
-    return e;
-}
-
 }  // namespace
 
 // ---- TrianglePressureForceField -------------------------------------------------------------
