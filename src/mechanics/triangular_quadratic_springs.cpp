@@ -1,22 +1,17 @@
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
 
+#include "mechanics/triangle_edge_blocks.hpp"
+
 #include <cmath>
 
 namespace penalty {
 
 namespace {
 
-// Vector helpers with SOFA's type::Vec operation order (sums left to right).
-double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 times(const Mat3& m, const Vec3& v) {
-    return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
-            m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
-}
-Vec3 transpose_times(const Mat3& m, const Vec3& v) {
-    return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
-            m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
-}
-Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+using edge_blocks::dot3;
+using edge_blocks::scaled;
+using edge_blocks::times;
+using edge_blocks::transpose_times;
 
 }  // namespace
 
@@ -175,40 +170,12 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
 void TriangularQuadraticSpringsForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                                       double /*b_factor*/) const {
     PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
-    const auto& tris = topology_->triangles();
-    // addDForce: for (i, j) = (t_{k+1}, t_{k+2}), δ = dx_i − dx_j: df_i += (DfDx[k] δ)·k,
-    // df_j −= (DfDx[k]ᵀ δ)·k
-    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
-        const Triangle& t = tris[ti];
-        for (int k = 0; k < 3; ++k) {
-            const auto i = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
-            const auto j = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 2) % 3)]);
-            const Vec3 delta = dx[i] - dx[j];
-            const Mat3& m = triangles_[ti].dfdx[static_cast<std::size_t>(k)];
-            df[i] += scaled(times(m, delta), k_factor);
-            df[j] -= scaled(transpose_times(m, delta), k_factor);
-        }
-    }
+    edge_blocks::add_dforce(topology_->triangles(), triangles_, df, dx, k_factor);
 }
 
 void TriangularQuadraticSpringsForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
     PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
-    const auto& tris = topology_->triangles();
-    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
-        const Triangle& tri = tris[ti];
-        for (int k = 0; k < 3; ++k) {
-            const Index ri = offset + 3 * tri[static_cast<std::size_t>((k + 1) % 3)];
-            const Index rj = offset + 3 * tri[static_cast<std::size_t>((k + 2) % 3)];
-            const Mat3 m = factor * triangles_[ti].dfdx[static_cast<std::size_t>(k)];
-            for (Index r = 0; r < 3; ++r)
-                for (Index c = 0; c < 3; ++c) {
-                    t.emplace_back(ri + r, ri + c, m(r, c));
-                    t.emplace_back(ri + r, rj + c, -m(r, c));
-                    t.emplace_back(rj + r, ri + c, -m(c, r));
-                    t.emplace_back(rj + r, rj + c, m(c, r));
-                }
-        }
-    }
+    edge_blocks::add_stiffness_triplets(topology_->triangles(), triangles_, t, offset, factor);
 }
 
 }  // namespace penalty

@@ -1,0 +1,64 @@
+#pragma once
+// What SOFA's TriangularQuadraticSpringsForceField and TriangularBiquadraticSpringsForceField share:
+// vector helpers with SOFA's type::Vec operation order (sums left to right), and the derivative
+// stored as one 3×3 block DfDx[k] per triangle edge k, for the pair (i, j) = (t_{k+1}, t_{k+2}).
+#include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <array>
+#include <span>
+#include <vector>
+
+namespace penalty::edge_blocks {
+
+inline double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+inline Vec3 times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
+            m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
+}
+inline Vec3 transpose_times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
+            m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
+}
+
+/// addDForce: δ = dx_i − dx_j, df_i += (DfDx[k] δ)·k_factor, df_j −= (DfDx[k]ᵀ δ)·k_factor.
+/// `data[t].dfdx` holds the three blocks of triangle t.
+template <class PerTriangle>
+void add_dforce(const std::vector<Triangle>& triangles, const std::vector<PerTriangle>& data, std::span<Vec3> df,
+                std::span<const Vec3> dx, double k_factor) {
+    for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
+        const Triangle& t = triangles[ti];
+        for (int k = 0; k < 3; ++k) {
+            const auto i = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
+            const auto j = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 2) % 3)]);
+            const Vec3 delta = dx[i] - dx[j];
+            const Mat3& m = data[ti].dfdx[static_cast<std::size_t>(k)];
+            df[i] += scaled(times(m, delta), k_factor);
+            df[j] -= scaled(transpose_times(m, delta), k_factor);
+        }
+    }
+}
+
+/// factor·K as triplets: ∂f_i/∂x_i = M, ∂f_i/∂x_j = −M, ∂f_j/∂x_i = −Mᵀ, ∂f_j/∂x_j = Mᵀ.
+template <class PerTriangle>
+void add_stiffness_triplets(const std::vector<Triangle>& triangles, const std::vector<PerTriangle>& data,
+                            TripletList& t, Index offset, double factor) {
+    for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
+        const Triangle& tri = triangles[ti];
+        for (int k = 0; k < 3; ++k) {
+            const Index ri = offset + 3 * tri[static_cast<std::size_t>((k + 1) % 3)];
+            const Index rj = offset + 3 * tri[static_cast<std::size_t>((k + 2) % 3)];
+            const Mat3 m = factor * data[ti].dfdx[static_cast<std::size_t>(k)];
+            for (Index r = 0; r < 3; ++r)
+                for (Index c = 0; c < 3; ++c) {
+                    t.emplace_back(ri + r, ri + c, m(r, c));
+                    t.emplace_back(ri + r, rj + c, -m(r, c));
+                    t.emplace_back(rj + r, ri + c, -m(c, r));
+                    t.emplace_back(rj + r, rj + c, m(c, r));
+                }
+        }
+    }
+}
+
+}  // namespace penalty::edge_blocks
