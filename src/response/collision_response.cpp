@@ -174,11 +174,22 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         }
     }
     pairs_.erase(pairs_.begin() + std::ptrdiff_t(live), pairs_.end());
+    // SOFA's contact-map order (model_rank): new pairs are created in it and merged into it; the
+    // merge is stable, so without model_rank the new pairs follow the old ones in creation order.
+    const auto before = [this](const ContactPairEntry& a, const ContactPairEntry& b) {
+        if (!model_rank) return false;
+        const std::size_t a1 = model_rank(*a.model1), b1 = model_rank(*b.model1);
+        return a1 != b1 ? a1 < b1 : model_rank(*a.model2) < model_rank(*b.model2);
+    };
+    if (!created_.empty()) std::stable_sort(created_.begin(), created_.end(), before);
+    const std::size_t old_count = pairs_.size();
     for (auto& e : created_) {
         if (e.contact && on_create) on_create(*e.contact);
         pairs_.push_back(std::move(e));
     }
     created_.clear();
+    if (old_count != pairs_.size())
+        std::inplace_merge(pairs_.begin(), pairs_.begin() + std::ptrdiff_t(old_count), pairs_.end(), before);
     for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
 }
 

@@ -104,6 +104,7 @@ ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParam
         throw_invalid_argument("ContactPipeline: the simulation already has a collision_hook");
     response_.on_create = [this](BarycentricPenaltyContact& c) { on_create(c); };
     response_.on_destroy = [this](BarycentricPenaltyContact& c) { on_destroy(c); };
+    response_.model_rank = [this](const CollisionModel& m) { return model_entry(m).scene_rank; };
     if (options_.attach_hook) simulation.collision_hook = [this](Simulation&) { update(); };
 }
 
@@ -115,11 +116,11 @@ ContactPipeline::~ContactPipeline() {
     response_.on_destroy = nullptr;
 }
 
-void ContactPipeline::add_model(CollisionModel& model, Node& node) {
+void ContactPipeline::add_model(CollisionModel& model, Node& node, std::size_t scene_rank) {
     for (const auto& e : models_)
         if (e.model == &model) throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' is already registered");
     const auto [state, rigid] = model_state(model);
-    ModelEntry e{&model, &node, nullptr, nullptr, {}, {}, {}, {}};
+    ModelEntry e{&model, &node, nullptr, nullptr, scene_rank == kRegistrationOrder ? models_.size() : scene_rank, {}, {}, {}, {}};
     if (rigid) {
         e.rigid = dynamic_cast<Rigid3Object*>(node.state());
         if (!e.rigid || static_cast<const Rigid3State*>(e.rigid) != state)
@@ -177,6 +178,7 @@ void ContactPipeline::update() {
         }
     }
     response_.set_detections(collision_.detections(), intersection_.contact_distance);
+    order_graph_entries();
     if (keep_step_start_) record_fed_outputs();
     if (keep_step_start_) {
         for (ModelEntry& m : models_) {
@@ -198,6 +200,43 @@ void ContactPipeline::update() {
     const auto t2 = Clock::now();
     timings_.detection_seconds = std::chrono::duration<double>(t1 - t0).count();
     timings_.response_seconds = std::chrono::duration<double>(t2 - t1).count();
+}
+
+void ContactPipeline::order_graph_entries() {
+    // entries_ holds one entry per live contact; the response's pairs are in contact-map order.
+    std::size_t k = 0;
+    bool in_order = true;
+    for (const ContactPairEntry& p : response_.pairs()) {
+        if (!p.contact) continue;
+        if (k >= entries_.size() || entries_[k].contact != p.contact.get()) in_order = false;
+        ++k;
+    }
+    if (!in_order) {
+        entries_scratch_.clear();
+        step_start_scratch_.clear();
+        for (const ContactPairEntry& p : response_.pairs()) {
+            if (!p.contact) continue;
+            const auto it = std::find_if(entries_.begin(), entries_.end(),
+                                         [&](const ContactGraphEntry& e) { return e.contact == p.contact.get(); });
+            entries_scratch_.push_back(*it);
+            step_start_scratch_.push_back(std::move(step_start_[std::size_t(it - entries_.begin())]));
+        }
+        entries_.swap(entries_scratch_);
+        step_start_.swap(step_start_scratch_);
+    }
+    // SubCollisionPipeline::computeCollisionResponse re-adds every contact's force field to its
+    // node at each step: a node visits its contact force fields in contact-map order, those of a
+    // later sub-pipeline after those of an earlier one (each update() moves its own to the end).
+    hosts_scratch_.clear();
+    for (const ContactGraphEntry& e : entries_)
+        if (std::find(hosts_scratch_.begin(), hosts_scratch_.end(), e.host) == hosts_scratch_.end())
+            hosts_scratch_.push_back(e.host);
+    for (Node* host : hosts_scratch_) {
+        fields_scratch_.clear();
+        for (const ContactGraphEntry& e : entries_)
+            if (e.host == host) fields_scratch_.push_back(e.force_field);
+        host->move_force_fields_to_end(fields_scratch_);
+    }
 }
 
 void ContactPipeline::record_fed_outputs() {

@@ -85,4 +85,30 @@ bool Node::remove_force_field(const BaseForceField* ff) {
     return true;
 }
 
+void Node::move_force_fields_to_end(std::span<BaseForceField* const> moved) {
+    const std::size_t n = moved.size();
+    const std::size_t total = force_fields_.size();
+    if (n <= total && std::equal(moved.begin(), moved.end(), force_fields_.end() - std::ptrdiff_t(n),
+                                 [](const BaseForceField* a, const auto& b) { return a == b.get(); }))
+        return;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool here = std::any_of(force_fields_.begin(), force_fields_.end(),
+                                      [&](const auto& f) { return f.get() == moved[i]; });
+        const bool repeated = std::find(moved.begin(), moved.begin() + std::ptrdiff_t(i), moved[i]) !=
+                              moved.begin() + std::ptrdiff_t(i);
+        if (!here || repeated)
+            throw_invalid_argument("Node '", name_, "': move_force_fields_to_end: entry ", i,
+                                   here ? " is listed twice" : " is not a force field of this node");
+    }
+    std::vector<std::unique_ptr<BaseForceField>> reordered;
+    reordered.reserve(total);
+    for (auto& f : force_fields_)
+        if (std::find(moved.begin(), moved.end(), f.get()) == moved.end()) reordered.push_back(std::move(f));
+    for (BaseForceField* m : moved)
+        for (auto& f : force_fields_)
+            if (f.get() == m) reordered.push_back(std::move(f));
+    force_fields_ = std::move(reordered);
+    structure_changed();
+}
+
 }  // namespace penalty

@@ -88,7 +88,8 @@ public:
 
     /// One step of SOFA's contact manager: every detection with outputs gets its pair's contact
     /// (created when new) and set_detection_outputs; pairs without outputs this step are
-    /// destroyed (on_destroy runs first). Pairs keep their creation order (deterministic).
+    /// destroyed (on_destroy runs first). pairs() is kept in SOFA's contact-map order, and the
+    /// pairs new this step are created (on_create) in that order: see model_rank.
     void set_detections(std::span<const ModelPairDetection> detections, double intersection_contact_distance);
     /// Destroys every pair.
     void clear();
@@ -103,6 +104,14 @@ public:
     /// point of a model carries (+inf for a static model).
     [[nodiscard]] std::vector<PairTimeScale> time_scales(
         const std::function<double(const CollisionModel&)>& mass_of) const;
+
+    /// SOFA keeps its contacts in a std::map keyed by the two models' addresses
+    /// (CollisionResponse::contactMap): contacts are created, and their force fields re-added to
+    /// the graph at each step, in that order (CollisionResponse::createNewContacts,
+    /// SubCollisionPipeline::computeCollisionResponse). SOFA allocates the models in scene order,
+    /// so penalty orders pairs by (model_rank(model1), model_rank(model2)), model_rank giving a
+    /// model's rank in scene order. Unset: pairs keep their creation order.
+    std::function<std::size_t(const CollisionModel&)> model_rank;
 
     /// Hooks for the scene-graph glue: called after a pair's contact is created and before it
     /// is destroyed.

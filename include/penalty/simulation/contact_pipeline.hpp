@@ -171,7 +171,10 @@ public:
     /// consistent ids); a model with an id ≥ 0 keeps it (the scene builder numbers its nodes).
     /// Throws std::invalid_argument naming the model and the node otherwise, or for a model
     /// registered twice.
-    void add_model(CollisionModel& model, Node& node);
+    /// `scene_rank`: the model's rank in scene order, which orders the contacts as SOFA's
+    /// contact map does (CollisionResponse::model_rank); default: the registration order.
+    void add_model(CollisionModel& model, Node& node, std::size_t scene_rank = kRegistrationOrder);
+    static constexpr std::size_t kRegistrationOrder = std::size_t(-1);
 
     /// One collision step (detection, response, graph update); run by the collision hook, or
     /// by the caller once per step when options().attach_hook is false.
@@ -229,6 +232,7 @@ private:
         Node* node;
         Vec3Object* vec3;    ///< the node's state when Vec3
         Rigid3Object* rigid; ///< the node's state when Rigid3
+        std::size_t scene_rank;  ///< add_model's scene_rank (the contact-map order)
         // Newton (attach_newton): the state's positions and velocities at the last update()
         std::vector<Vec3> start_x, start_v;
         std::vector<Rigid3Types::Coord> start_rx;
@@ -250,6 +254,9 @@ private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
     void update_geometry_if(const Node* subtree);
     void record_fed_outputs();
+    /// entries_ (and step_start_) in the response's pair order, and each host's contact force
+    /// fields at the end of its list in that order, as SOFA re-adds them at every step.
+    void order_graph_entries();
 
     /// Per live pair (same index as entries_): what update_geometry restores before rebuilding.
     struct StepStart {
@@ -278,6 +285,11 @@ private:
     std::vector<ModelPair> skipped_keys_;       ///< the pairs of skipped_pairs_
     std::vector<ContactGraphEntry> entries_;
     std::size_t created_count_ = 0;
+    // order_graph_entries' scratch, reused from step to step
+    std::vector<ContactGraphEntry> entries_scratch_;
+    std::vector<StepStart> step_start_scratch_;
+    std::vector<Node*> hosts_scratch_;
+    std::vector<BaseForceField*> fields_scratch_;
 };
 
 }  // namespace penalty

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -112,6 +113,13 @@ public:
     BaseForceField& add_force_field_ptr(std::unique_ptr<BaseForceField> ff);
     /// Removes (and destroys) a force field of this node; returns false if not found.
     bool remove_force_field(const BaseForceField* ff);
+    /// Moves the listed force fields of this node (each once) to the end of its list, in the
+    /// given order; the others keep their order. Nothing changes (and nothing is allocated) when
+    /// the list already ends with them in that order. Throws std::invalid_argument if one is not
+    /// a force field of this node. (SOFA re-adds every contact force field to its node at each
+    /// collision step, SubCollisionPipeline::computeCollisionResponse: the node's addForce then
+    /// visits them in the contact manager's order.)
+    void move_force_fields_to_end(std::span<BaseForceField* const> moved);
 
     [[nodiscard]] const std::vector<std::unique_ptr<BaseForceField>>& force_fields() const { return force_fields_; }
     [[nodiscard]] BaseMass* mass() const { return mass_.get(); }

@@ -131,7 +131,10 @@ private:
         options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
         const double dt = b_.options().dt ? *b_.options().dt : sim.root().dt();
         sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(response, dt), &host, options);
-        for (const SceneCollisionModel* m : models) sp.pipeline->add_model(*m->model, *m->node);
+        // the rank in scene order stands for the model's address in SOFA's contact map
+        const auto& all = b_.collision_models();
+        for (const SceneCollisionModel* m : models)
+            sp.pipeline->add_model(*m->model, *m->node, std::size_t(m - all.data()));
         sp.models = models;
         std::string summary = intersection_method_short_name(sp.intersection);
         if (sp.intersection != IntersectionMethod::Discrete)
