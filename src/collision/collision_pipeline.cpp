@@ -174,10 +174,15 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
     if (unsupported != nullptr) unsupported->clear();
     for (std::size_t i = 0; i < models.size(); ++i)
         if (models[i] == nullptr) throw_invalid_argument("broad_phase(): model ", i, " is null");
-    for (std::size_t i = 0; i < models.size(); ++i) {
-        for (std::size_t j = i; j < models.size(); ++j) {
-            CollisionModel* a = models[i];
-            CollisionModel* b = models[j];
+    // BruteForceBroadPhase::addCollisionModel: each model in turn, first with itself, then with
+    // every model added before it, the pair (new model, earlier model) swapped only when the
+    // intersector is registered the other way (so two models of one type are keyed (later,
+    // earlier), which decides the contact ids and the order of the contacts).
+    for (std::size_t j = 0; j < models.size(); ++j) {
+        for (std::size_t k = 0; k <= j; ++k) {
+            const std::size_t i = k == 0 ? j : k - 1;  // j itself first, then 0 … j−1
+            CollisionModel* a = models[j];
+            CollisionModel* b = models[i];
             if (!keep_model_pair(*a, *b)) continue;
             if (!has_active_intersector(params, a->type(), b->type())) {
                 if (unsupported != nullptr) unsupported->push_back({a, b});

@@ -266,12 +266,14 @@ TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
     broad_phase(IntersectionParams::new_proximity(), models, pairs, &unsupported);
     std::vector<std::string> got;
     for (const auto& q : pairs) got.push_back(q.model1->name() + "-" + q.model2->name());
-    // per model i: the self pair first, then the later models in order (i <= j); each pair in
-    // registered order (Triangle before Sphere and Point, Sphere before Point)
+    // SOFA's BruteForceBroadPhase::addCollisionModel: per model j, the self pair first, then the
+    // earlier models in order; each pair (model j, earlier model) swapped only into registered
+    // order (Triangle before Sphere and Point, Sphere before Point), so two models of one type
+    // are keyed (later, earlier)
     const std::vector<std::string> expected = {
-        "a-a",    "t-a",    "a-p",    "a-ns1", "a-ns2", "a-g1",  "a-g2",  "a-p2",   "t-t",
-        "t-p",    "t-ns1",  "t-ns2",  "t-g1",  "t-g2",  "p-p",   "ns1-p", "ns2-p",  "g1-p",
-        "g2-p",   "ns1-g1", "ns1-g2", "ns1-p2", "ns2-g1", "ns2-g2", "ns2-p2", "g1-p2", "g2-p2"};
+        "a-a",   "t-t",    "t-a",    "p-p",    "a-p",    "t-p",   "ns1-a", "t-ns1",  "ns1-p",
+        "ns2-a", "t-ns2",  "ns2-p",  "g1-a",   "t-g1",   "g1-p",  "g1-ns1", "g1-ns2", "g2-a",
+        "t-g2",  "g2-p",   "g2-ns1", "g2-ns2", "a-p2",   "ns1-p2", "ns2-p2", "g1-p2", "g2-p2"};
     EXPECT_EQ(got, expected);
     EXPECT_TRUE(unsupported.empty());  // NewProximity detects every pair of these types
     // MinProximity ignores Triangle-Triangle: the kept pair goes to `unsupported`, not `pairs`
@@ -365,8 +367,8 @@ TEST(NarrowPhase, TriangleTriangleWithoutNormalOverwriteRunsInParallelAndEqualsE
     pipe.set_models(sc.models);
     const SceneDetection got = pipe.detect();
     expect_identical(got, detect_scene_exhaustive(params, sc.models));
-    // same types: the pair keeps model order (the earlier model first)
-    const ModelPairDetection* tt = find_pair(got, sc.tri1.get(), sc.tri2.get());
+    // same types: SOFA's broad phase keys the pair (later model, earlier model)
+    const ModelPairDetection* tt = find_pair(got, sc.tri2.get(), sc.tri1.get());
     ASSERT_NE(tt, nullptr);
     EXPECT_GT(tt->outputs.size(), 100u);
 }

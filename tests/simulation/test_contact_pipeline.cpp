@@ -391,7 +391,7 @@ TEST(ContactPipeline, PairsTheMethodDoesNotDetectAreReportedNotSilentlySkipped) 
     pipeline.update();
     ASSERT_EQ(pipeline.skipped_pairs().size(), 1u);
     EXPECT_EQ(pipeline.skipped_pairs()[0],
-              "ContactPipeline: models 'floor' (Triangle) and 'lid' (Triangle): pair ignored for this "
+              "ContactPipeline: models 'lid' (Triangle) and 'floor' (Triangle): pair ignored for this "
               "intersection method, no contact");
     EXPECT_TRUE(pipeline.detections().empty());
     pipeline.update();

@@ -81,9 +81,12 @@ TEST(ContactPipelineState, DetectionsAreTheDriversResult) {
     pipeline.update();
     ASSERT_EQ(pipeline.collision().models().size(), 2u);
     EXPECT_EQ(&pipeline.detections(), &pipeline.collision().detections());
-    ASSERT_EQ(pipeline.detections().size(), 1u);  // (a, b): no self pairs without selfCollision
-    EXPECT_EQ(pipeline.detections()[0].model1, &ma);
-    EXPECT_EQ(pipeline.detections()[0].model2, &mb);
+    // (b, a): no self pairs without selfCollision; two models of one type are keyed (later,
+    // earlier), as SOFA's BruteForceBroadPhase::addCollisionModel pairs a new model with each
+    // model added before it
+    ASSERT_EQ(pipeline.detections().size(), 1u);
+    EXPECT_EQ(pipeline.detections()[0].model1, &mb);
+    EXPECT_EQ(pipeline.detections()[0].model2, &ma);
     ASSERT_EQ(pipeline.detections()[0].outputs.size(), 1u);
     EXPECT_NEAR(pipeline.detections()[0].outputs[0].value, 0.3 - 0.2 - 0.5, 1e-15);  // dist − radii − C
     EXPECT_EQ(pipeline.graph_entries().size(), 1u);

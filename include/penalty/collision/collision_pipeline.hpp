@@ -36,9 +36,10 @@ struct ModelPair {
     friend bool operator==(const ModelPair&, const ModelPair&) = default;
 };
 
-/// SOFA's broad-phase filter over the models in order: every pair (models[i], models[j]) with
-/// i ≤ j (the model with itself first, then the later models in order) that passes
-/// keep_model_pair (active, simulated, self_collision, groups), keyed in registered order.
+/// SOFA's broad-phase filter over the models in order (BruteForceBroadPhase::addCollisionModel):
+/// for each model j, the pair (j, j), then (j, i) for i = 0 … j−1, each kept when it passes
+/// keep_model_pair (active, simulated, self_collision, groups), keyed in registered order (a
+/// pair of two models of one type stays (models[j], models[i]): the later model first).
 /// Pairs with an active intersector go to `pairs`; the others (the method ignores or does not
 /// support them) to `unsupported` when given. Both are cleared first. Throws
 /// std::invalid_argument for a null model.
