@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <optional>
 
 namespace penalty {
 
@@ -296,8 +297,8 @@ MaterialMatrix material_over_volume(double young, double poisson, const std::arr
     return d;
 }
 
-/// Components (x 0, y 1, z 2) of each vertex that Voigt column c of J couples: xx, yy, zz, xy,
-/// yz, zx. A row 3k + comp of J is non-zero only in the columns listing comp.
+/// Components (x 0, y 1, z 2; −1 none) of each vertex that Voigt column c of J couples: xx, yy,
+/// zz, xy, yz, zx. A row 3k + comp of J is non-zero only in the columns listing comp.
 constexpr std::array<std::array<int, 2>, 6> kColumnComponents{{{0, -1}, {1, -1}, {2, -1}, {0, 1}, {1, 2}, {0, 2}}};
 /// Voigt columns of J non-zero on a vertex's x, y and z rows, in increasing order.
 constexpr std::array<std::array<int, 3>, 3> kRowColumns{{{0, 3, 5}, {1, 3, 4}, {2, 4, 5}}};
@@ -308,7 +309,7 @@ constexpr std::array<std::array<int, 3>, 3> kRowColumns{{{0, 3, 5}, {1, 3, 4}, {
 /// kFactor; absent in addForce) comes before the last product, which again sums the non-zero
 /// terms of each row in column order.
 Displacement element_force(const StrainDisplacement& j, const MaterialMatrix& m, const Displacement& delta,
-                           const double* factor) {
+                           std::optional<double> factor) {
     std::array<double, 6> strain{};
     for (std::size_t c = 0; c < 6; ++c) {
         bool first = true;
@@ -324,7 +325,7 @@ Displacement element_force(const StrainDisplacement& j, const MaterialMatrix& m,
     std::array<double, 6> stress{};
     for (int i = 0; i < 3; ++i) stress[static_cast<std::size_t>(i)] = m(i, 0) * strain[0] + m(i, 1) * strain[1] + m(i, 2) * strain[2];
     for (int i = 3; i < 6; ++i) stress[static_cast<std::size_t>(i)] = m(i, i) * strain[static_cast<std::size_t>(i)];
-    if (factor != nullptr)
+    if (factor)
         for (double& s : stress) s *= *factor;
     Displacement force;
     for (int r = 0; r < 12; ++r) {
@@ -380,7 +381,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
         delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
         for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
-        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, delta, nullptr);
+        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, delta, std::nullopt);
         energy_ += 0.5 * delta.dot(force);
         for (std::size_t k = 0; k < 4; ++k)
             f[vertex(k)] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
@@ -400,7 +401,7 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
         const Mat3& r = rotation_[e];
         for (std::size_t k = 0; k < 4; ++k)
             local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[static_cast<std::size_t>(el[k])]);
-        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, local, &k_factor);
+        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, local, k_factor);
         for (std::size_t k = 0; k < 4; ++k)
             df[static_cast<std::size_t>(el[k])] -= sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     }
