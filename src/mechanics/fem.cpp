@@ -1,10 +1,12 @@
 #include "penalty/mechanics/fem.hpp"
 
 #include "penalty/mechanics/regular_grid_topology.hpp"
+#include "sofa_vector_ops.hpp"
 
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <optional>
 
 namespace penalty {
 
@@ -214,6 +216,7 @@ Mat3 edge_rows(const std::array<Vec3, 4>& p) {
 
 void TetrahedronFEMForceField::init() {
     LinearElementForceField<4>::init();
+    if (method_ == FemMethod::Large) init_large();
     if (method_ != FemMethod::Svd) return;
     // TetrahedronFEMForceField::initSVD: A₀⁻¹ and R₀ = polar(A₀) of the rest edges
     const auto& x0 = state_->rest_position;
@@ -226,6 +229,181 @@ void TetrahedronFEMForceField::init() {
         if (a0.determinant() == 0.0) throw_invalid_argument(component_, ": tetrahedron ", e, " is flat at rest (method svd)");
         rest_edges_inverse_[e] = a0.inverse();
         rest_rotation_[e] = polar_rotation(a0);
+    }
+}
+
+// ---- tetrahedron, method large, in SOFA's operation order ----------------------------------------
+namespace {
+using Displacement = Eigen::Matrix<double, 12, 1>;  // per vertex k, components 3k … 3k+2
+using StrainDisplacement = Eigen::Matrix<double, 12, 6>;
+using MaterialMatrix = Eigen::Matrix<double, 6, 6>;
+
+/// Rows (x̂, ŷ, ẑ): x̂ = (b − a)/|b − a|, ẑ = (x̂ × (c − a))/|x̂ × (c − a)|, ŷ = ẑ × x̂
+/// (TetrahedronFEMForceField::computeRotationLarge; x̂ is normalised before the cross product).
+Mat3 large_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 x_axis = sofa_vec::normalized(b - a);
+    const Vec3 z_axis = sofa_vec::normalized(sofa_vec::cross(x_axis, c - a));
+    Mat3 r;
+    r.row(0) = x_axis;
+    r.row(1) = sofa_vec::cross(z_axis, x_axis);
+    r.row(2) = z_axis;
+    return r;
+}
+
+/// The 2×2 minors' combination u₁v₂ − v₁u₂ − u₀v₂ + v₀u₂ + u₀v₁ − v₀u₁ of the rows u, v of a
+/// 2×3 matrix, summed left to right (TetrahedronFEMForceField::peudo_determinant_for_coef).
+double minor_sum(const Vec3& u, const Vec3& v) {
+    return u[1] * v[2] - v[1] * u[2] - u[0] * v[2] + v[0] * u[2] + u[0] * v[1] - v[0] * u[1];
+}
+
+/// J of a tetrahedron with local vertices q (TetrahedronFEMForceField::computeStrainDisplacement):
+/// vertex k's rows come from the three other vertices in cyclic order (k+1, k+2, k+3), sign
+/// s = −1 for k = 0, 2 and +1 for k = 1, 3; with g_yz, g_xz, g_xy the minor sums of their
+/// (y; z), (x; z), (x; y) coordinates: J(3k, xx) = J(3k+1, xy) = J(3k+2, zx) = s·g_yz,
+/// J(3k, xy) = J(3k+1, yy) = J(3k+2, yz) = −s·g_xz, J(3k, zx) = J(3k+1, yz) = J(3k+2, zz) = s·g_xy.
+StrainDisplacement strain_displacement(const std::array<Vec3, 4>& q) {
+    StrainDisplacement j = StrainDisplacement::Zero();
+    for (int k = 0; k < 4; ++k) {
+        const Vec3& p1 = q[static_cast<std::size_t>((k + 1) % 4)];
+        const Vec3& p2 = q[static_cast<std::size_t>((k + 2) % 4)];
+        const Vec3& p3 = q[static_cast<std::size_t>((k + 3) % 4)];
+        const Vec3 xs(p1[0], p2[0], p3[0]), ys(p1[1], p2[1], p3[1]), zs(p1[2], p2[2], p3[2]);
+        const double sign = k % 2 == 0 ? -1.0 : 1.0;
+        const double yz = sign * minor_sum(ys, zs);
+        const double xz = -sign * minor_sum(xs, zs);
+        const double xy = sign * minor_sum(xs, ys);
+        const int r = 3 * k;
+        j(r, 0) = j(r + 1, 3) = j(r + 2, 5) = yz;
+        j(r, 3) = j(r + 1, 1) = j(r + 2, 4) = xz;
+        j(r, 5) = j(r + 1, 4) = j(r + 2, 2) = xy;
+    }
+    return j;
+}
+
+/// D/(36V) (TetrahedronFEMForceField::computeMaterialStiffness): the matrix with 1 on the normal
+/// diagonal, ν/(1−ν) off it and (1−2ν)/(2(1−ν)) on the shear diagonal, times
+/// E(1−ν)/((1+ν)(1−2ν)), then divided by 36·V, V = |(x1−x0) × (x2−x0) · (x3−x0)|/6 at rest.
+MaterialMatrix material_over_volume(double young, double poisson, const std::array<Vec3, 4>& x) {
+    MaterialMatrix d = MaterialMatrix::Zero();
+    const double coupling = poisson / (1 - poisson);
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) d(i, k) = i == k ? 1.0 : coupling;
+        d(i + 3, i + 3) = (1 - 2 * poisson) / (2 * (1 - poisson));
+    }
+    d *= (young * (1 - poisson)) / ((1 + poisson) * (1 - 2 * poisson));
+    const double volume =
+        std::abs(sofa_vec::dot3(sofa_vec::cross(x[1] - x[0], x[2] - x[0]), x[3] - x[0]) / 6);  // Tetrahedron::volume
+    d /= volume * 36;
+    return d;
+}
+
+/// Components (x 0, y 1, z 2; −1 none) of each vertex that Voigt column c of J couples: xx, yy,
+/// zz, xy, yz, zx. A row 3k + comp of J is non-zero only in the columns listing comp.
+constexpr std::array<std::array<int, 2>, 6> kColumnComponents{{{0, -1}, {1, -1}, {2, -1}, {0, 1}, {1, 2}, {0, 2}}};
+/// Voigt columns of J non-zero on a vertex's x, y and z rows, in increasing order.
+constexpr std::array<std::array<int, 3>, 3> kRowColumns{{{0, 3, 5}, {1, 3, 4}, {2, 4, 5}}};
+
+/// F = J·(factor·(M·(Jᵀ·δ))) with SOFA's sums (TetrahedronFEMForceField::computeForce): each
+/// entry of Jᵀδ sums J's non-zero terms of its column vertex by vertex, left to right; M·(Jᵀδ)
+/// uses M's normal 3×3 block and shear diagonal only; the scaling by `factor` (addDForce's
+/// kFactor; absent in addForce) comes before the last product, which again sums the non-zero
+/// terms of each row in column order.
+Displacement element_force(const StrainDisplacement& j, const MaterialMatrix& m, const Displacement& delta,
+                           std::optional<double> factor) {
+    std::array<double, 6> strain{};
+    for (std::size_t c = 0; c < 6; ++c) {
+        bool first = true;
+        for (int k = 0; k < 4; ++k)
+            for (int comp : kColumnComponents[c]) {
+                if (comp < 0) continue;
+                const int r = 3 * k + comp;
+                const double term = j(r, static_cast<Index>(c)) * delta[r];
+                strain[c] = first ? term : strain[c] + term;
+                first = false;
+            }
+    }
+    std::array<double, 6> stress{};
+    for (int i = 0; i < 3; ++i) stress[static_cast<std::size_t>(i)] = m(i, 0) * strain[0] + m(i, 1) * strain[1] + m(i, 2) * strain[2];
+    for (int i = 3; i < 6; ++i) stress[static_cast<std::size_t>(i)] = m(i, i) * strain[static_cast<std::size_t>(i)];
+    if (factor)
+        for (double& s : stress) s *= *factor;
+    Displacement force;
+    for (int r = 0; r < 12; ++r) {
+        const auto& columns = kRowColumns[static_cast<std::size_t>(r % 3)];
+        force[r] = j(r, columns[0]) * stress[static_cast<std::size_t>(columns[0])] +
+                   j(r, columns[1]) * stress[static_cast<std::size_t>(columns[1])] +
+                   j(r, columns[2]) * stress[static_cast<std::size_t>(columns[2])];
+    }
+    return force;
+}
+}  // namespace
+
+void TetrahedronFEMForceField::init_large() {
+    // TetrahedronFEMForceField::reinit (LARGE): computeMaterialStiffness then initLarge per element
+    const auto& x0 = state_->rest_position;
+    large_.resize(elements_.size());
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        std::array<Vec3, 4> x;
+        for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
+        large_[e].material = material_over_volume(young_, poisson_, x);
+        // rest local coordinates R₀x⁰_k − R₀x⁰_0 (each vertex rotated, then the differences)
+        const Mat3 r0 = large_frame(x[0], x[1], x[2]);
+        std::array<Vec3, 4> local;
+        for (std::size_t k = 0; k < 4; ++k) local[k] = sofa_vec::times(r0, x[k]);
+        for (std::size_t k = 1; k < 4; ++k) local[k] -= local[0];
+        local[0].setZero();
+        rest_local_[e] = local;
+        rotation_[e] = r0;
+        large_[e].strain_displacement = strain_displacement(local);
+    }
+}
+
+void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
+    if (method_ != FemMethod::Large) {
+        LinearElementForceField<4>::add_force(f, x, v);
+        return;
+    }
+    PENALTY_DEMAND(large_.size() == elements_.size());
+    energy_ = 0.0;
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        const auto& el = elements_[e];
+        const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
+        // TetrahedronFEMForceField::accumulateForceLarge: current frame, vertices rotated one by one
+        const Mat3 r = large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
+        rotation_[e] = r;
+        std::array<Vec3, 4> deformed;
+        for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
+        // δ = rest − current local coordinates; only the entries J couples are formed (vertex 0
+        // is the origin, vertex 1 lies on x̂, vertex 2 in the x̂ŷ plane), the others are 0
+        const auto& rest = rest_local_[e];
+        Displacement delta = Displacement::Zero();
+        delta[3] = rest[1][0] - (deformed[1][0] - deformed[0][0]);
+        delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
+        delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
+        for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
+        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, delta, std::nullopt);
+        energy_ += 0.5 * delta.dot(force);
+        for (std::size_t k = 0; k < 4; ++k)
+            f[vertex(k)] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+    }
+}
+
+void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                          double b_factor) const {
+    if (method_ != FemMethod::Large) {
+        LinearElementForceField<4>::add_dforce(df, dx, k_factor, b_factor);
+        return;
+    }
+    // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
+    Displacement local;
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        const auto& el = elements_[e];
+        const Mat3& r = rotation_[e];
+        for (std::size_t k = 0; k < 4; ++k)
+            local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[static_cast<std::size_t>(el[k])]);
+        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, local, k_factor);
+        for (std::size_t k = 0; k < 4; ++k)
+            df[static_cast<std::size_t>(el[k])] -= sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     }
 }
 

@@ -1,9 +1,10 @@
 #pragma once
 // What SOFA's TriangularQuadraticSpringsForceField and TriangularBiquadraticSpringsForceField share:
-// vector helpers with SOFA's type::Vec operation order (sums left to right), and the derivative
+// vector helpers with SOFA's type::Vec operation order (sofa_vector_ops.hpp), and the derivative
 // stored as one 3×3 block DfDx[k] per triangle edge k, for the pair (i, j) = (t_{k+1}, t_{k+2}).
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "sofa_vector_ops.hpp"
 
 #include <array>
 #include <span>
@@ -11,16 +12,10 @@
 
 namespace penalty::edge_blocks {
 
-inline double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-inline Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-inline Vec3 times(const Mat3& m, const Vec3& v) {
-    return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
-            m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
-}
-inline Vec3 transpose_times(const Mat3& m, const Vec3& v) {
-    return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
-            m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
-}
+using sofa_vec::dot3;
+using sofa_vec::scaled;
+using sofa_vec::times;
+using sofa_vec::transpose_times;
 
 /// addDForce: δ = dx_i − dx_j, df_i += (DfDx[k] δ)·k_factor, df_j −= (DfDx[k]ᵀ δ)·k_factor.
 /// `data[t].dfdx` holds the three blocks of triangle t.

@@ -175,6 +175,51 @@ TEST(TetrahedronFEM, SvdIsPolarUnlessTheElementIsInverted) {
     EXPECT_GT(svd_inverted[3].z(), 10.0);
 }
 
+TEST(TetrahedronFEM, LargeMethodMatchesTheUniaxialStretchClosedForm) {
+    // Unit corner tetrahedron, vertex 1 moved to (1 + ε, 0, 0): the frame stays the world's,
+    // ε_xx = ε, σ = (λ+2μ, λ, λ)·ε, and f_k = −V·σ·∇N_k with V = 1/6, ∇N_0 = (−1, −1, −1).
+    const double eps = 1e-3, e = 100, nu = 0.3;
+    const double lambda = e * nu / ((1 + nu) * (1 - 2 * nu)), mu = e / (2 * (1 + nu));
+    const auto f = one_tetrahedron_forces(FemMethod::Large,
+                                          {Vec3(0, 0, 0), Vec3(1 + eps, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
+    const double axial = (lambda + 2 * mu) * eps / 6, lateral = lambda * eps / 6;
+    const std::array<Vec3, 4> expected{Vec3(axial, lateral, lateral), Vec3(-axial, 0, 0), Vec3(0, -lateral, 0),
+                                       Vec3(0, 0, -lateral)};
+    for (std::size_t k = 0; k < 4; ++k) EXPECT_LT((f[k] - expected[k]).norm(), 1e-12 * axial) << k;
+}
+
+TEST(TetrahedronFEM, LargeMethodIsTheRotatedElementStiffnessTimesTheLocalDisplacement) {
+    // SOFA's J·(D/36V)·Jᵀ products (cofactors) against K^e = V·BᵀDB from the shape-function
+    // gradients: f_k = −Rᵀ Σ_j K^e_kj (R(x_j − x_0) − r_j), R the element frame.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.1, 0.1);
+    MeshTopology topo;
+    topo.set_tetrahedra({Tetrahedron{0, 1, 2, 3}});
+    Vec3Object s;
+    s.position = {Vec3(0.1, -0.2, 0.3), Vec3(1.2, 0.1, 0.2), Vec3(0.3, 0.9, -0.1), Vec3(0.2, 0.1, 1.4)};
+    s.init();
+    TetrahedronFEMForceField ff(s, topo, 250, 0.35, FemMethod::Large);
+    ff.init();
+    const Mat3 turn = Eigen::AngleAxisd(0.9, Vec3(-1, 2, 0.5).normalized()).toRotationMatrix();
+    for (auto& p : s.position) p = turn * (p + Vec3(u(rng), u(rng), u(rng)));
+    ff.accumulate_force();
+    const auto frame = [](const std::vector<Vec3>& x) { return tetrahedron_rotation({x[0], x[1], x[2], x[3]}, FemMethod::Large); };
+    const Mat3 r0 = frame(s.rest_position), r = frame(s.position);
+    Eigen::Matrix<double, 12, 1> displacement;
+    for (int k = 0; k < 4; ++k) {
+        const auto uk = static_cast<std::size_t>(k);
+        displacement.segment<3>(3 * k) = r * (s.position[uk] - s.position[0]) - r0 * (s.rest_position[uk] - s.rest_position[0]);
+    }
+    const Eigen::Matrix<double, 12, 1> local = ff.element_stiffness()[0] * displacement;
+    double largest = 0;
+    for (int k = 0; k < 4; ++k) largest = std::max(largest, local.segment<3>(3 * k).norm());
+    EXPECT_GT(largest, 1.0);  // deformed: the comparison is not vacuous
+    for (int k = 0; k < 4; ++k) {
+        const Vec3 expected = -(r.transpose() * local.segment<3>(3 * k));
+        EXPECT_LT((s.force[static_cast<std::size_t>(k)] - expected).norm(), 1e-12 * largest) << k;
+    }
+}
+
 TEST(TetrahedronFEM, StablePolarRotationOfDegenerateMatrices) {
     // a rotation times a stretch: the rotation
     const Mat3 r = Eigen::AngleAxisd(0.4, Vec3(0, 1, 1).normalized()).toRotationMatrix();

@@ -101,7 +101,7 @@ INSTANTIATE_TEST_SUITE_P(
                       TrajectoryCase{"ModelizationTriangleBased", -1, 0.0},
                       TrajectoryCase{"MultipleObjectsTwoCubes", -1, 0.0},
                       TrajectoryCase{"RegularGridSpringForceField", -1, 0.0},
-                      TrajectoryCase{"SphereModel", 17, 1e-7},
+                      TrajectoryCase{"SphereModel", 75, 1e-7},
                       TrajectoryCase{"collisionMultiple", 60, 0.02}),
     [](const ::testing::TestParamInfo<TrajectoryCase>& param_info) { return std::string(param_info.param.scene); });
 

@@ -106,6 +106,15 @@ class RegularGridTopology;
 /// tetrahedra but with hexahedra is split into 6 tetrahedra per hexahedron
 /// (tetrahedra_from_hexahedra, with the grid's cell counts for a RegularGridTopology and SOFA's
 /// fallback nx = 2, ny = 1 otherwise).
+///
+/// Method large follows SOFA's floating-point operations in SOFA's order, so that a scene matches
+/// SOFA's trajectory to the last bit (initLarge, computeMaterialStiffness,
+/// computeStrainDisplacement, accumulateForceLarge, computeForce, applyStiffnessCorotational):
+/// the frame R from x̂ = (p1−p0)/|p1−p0|, ẑ = x̂ × (p2−p0) normalised, ŷ = ẑ × x̂; rest local
+/// coordinates R₀x⁰_k − R₀x⁰_0; the element force J·(D/(36V))·Jᵀ·δ with J the 12×6
+/// strain-displacement matrix of cofactors (6V times the shape-function gradients) and D SOFA's
+/// material matrix, every product written over J's non-zero pattern. K^e (element_stiffness(),
+/// add_stiffness_triplets) is the same matrix, computed by the common path.
 class TetrahedronFEMForceField final : public LinearElementForceField<4> {
 public:
     TetrahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
@@ -114,6 +123,8 @@ public:
                              double poisson_ratio, FemMethod method = FemMethod::Large);
     [[nodiscard]] const std::vector<Element>& tetrahedra() const { return elements_; }
     void init() override;
+    void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
@@ -125,8 +136,19 @@ protected:
     [[nodiscard]] Mat3 element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const override;
 
 private:
+    /// Method large, per element, as SOFA stores it (TetrahedronFEMForceField::initLarge).
+    struct LargeElement {
+        /// J: row 3k+c for vertex k's component c, column the Voigt strain (xx, yy, zz, xy, yz, zx);
+        /// cofactors of the rest local coordinates, m².
+        Eigen::Matrix<double, 12, 6> strain_displacement;
+        /// D/(36V): SOFA's material matrix divided by 36 times the rest volume, Pa/m³.
+        Eigen::Matrix<double, 6, 6> material;
+    };
+    void init_large();
+
     std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
     std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
+    std::vector<LargeElement> large_;       ///< large: J and D/(36V) per element
 };
 
 /// SOFA's HexahedronFEMForceField (methods small and large), SOFA vertex order (see topology).

@@ -1,0 +1,40 @@
+#pragma once
+// 3-vector and 3×3 products with SOFA's type::Vec / type::Mat operation order: every sum runs
+// left to right from its first product (Vec::operator* (dot), Vec::norm2, Mat::operator*(Vec)),
+// and nothing is fused or reassociated (Eigen's reductions may sum in another order). Used where
+// penalty reproduces SOFA's trajectories to the last bit (docs/sofa-compatibility.md,
+// "Step-by-step fidelity").
+#include "penalty/core/types.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace penalty::sofa_vec {
+
+/// a·b = a₀b₀ + a₁b₁ + a₂b₂ (type::Vec::operator*).
+inline double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+/// a·s component by component (type::Vec::mulscalar).
+inline Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+/// M·v, row i = M(i,0)v₀ + M(i,1)v₁ + M(i,2)v₂ (type::Mat::operator*(Vec)).
+inline Vec3 times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
+            m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
+}
+/// Mᵀ·v, row i = M(0,i)v₀ + M(1,i)v₁ + M(2,i)v₂ (type::Mat::multTranspose).
+inline Vec3 transpose_times(const Mat3& m, const Vec3& v) {
+    return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
+            m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
+}
+/// a × b (type::cross).
+inline Vec3 cross(const Vec3& a, const Vec3& b) {
+    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+/// v / |v|, each component divided by |v| = √(v·v); v itself when |v| ≤ machine epsilon
+/// (type::Vec::normalized → normalizeWithNorm).
+inline Vec3 normalized(const Vec3& v) {
+    const double norm = std::sqrt(dot3(v, v));
+    if (!(norm > std::numeric_limits<double>::epsilon())) return v;
+    return {v[0] / norm, v[1] / norm, v[2] / norm};
+}
+
+}  // namespace penalty::sofa_vec
