@@ -53,9 +53,8 @@ std::unique_ptr<Scene> make_scene(int kind, std::size_t n) {
     if (kind == 0) {  // spheres in a box, same density for every n
         s->cloud = bench::sphere_cloud(n);  // seed 1000 = 1000 + kind
         s->add(std::make_unique<SphereModel>(s->cloud, bench::kSphereRadius, std::vector<double>{},
-                                             named("spheres", 0, true)));
-        s->params.alarm_distance = bench::kSphereAlarmDistance;
-        s->params.contact_distance = bench::kSphereContactDistance;
+                                             bench::sphere_model_params()));
+        s->params = bench::sphere_intersection_params();
         return s;
     }
     // a torus of about m triangles: nu = 4 nv, 2 nu nv = m

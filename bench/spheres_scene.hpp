@@ -5,6 +5,7 @@
 // depend on n. Detected with NewProximity: a pair is reported when the centres are closer than
 // 2·radius + alarm distance (np_sphere_sphere, model skins 0).
 #include "../tests/collision/detection_scenes.hpp"
+#include "penalty/collision/intersection.hpp"
 
 #include <cmath>
 #include <cstddef>
@@ -21,6 +22,23 @@ inline Vec3State sphere_cloud(std::size_t n) {
     std::mt19937 g(1000);
     const double half = 0.5 * std::cbrt(double(n) / 1e5);  // half the cube side, m
     return test::random_cloud(n, half, g);
+}
+
+/// The one self-colliding model of the scene.
+inline CollisionModelParams sphere_model_params() {
+    CollisionModelParams p;
+    p.name = "spheres";
+    p.node = 0;
+    p.self_collision = true;
+    return p;
+}
+
+/// NewProximity with the scene's alarm and contact distances.
+inline IntersectionParams sphere_intersection_params() {
+    IntersectionParams p = IntersectionParams::new_proximity();
+    p.alarm_distance = kSphereAlarmDistance;
+    p.contact_distance = kSphereContactDistance;
+    return p;
 }
 
 }  // namespace penalty::bench
