@@ -9,7 +9,10 @@
 // A timed iteration is one detection step with unchanged positions (moving models: boxes
 // recomputed and trees refitted, broad phase, traversal, evaluation). Method: NewProximity.
 // Arguments: {n, threads}; the exhaustive loop runs only where it is affordable (n <= 1e4).
+// The spheres scene against Bullet, every sphere moving: bench_detection_bullet.cpp (BM_Against_Bullet,
+// in this executable when CMake finds Bullet).
 #include "../tests/collision/detection_scenes.hpp"
+#include "spheres_scene.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
 
 #include <benchmark/benchmark.h>
@@ -48,11 +51,10 @@ std::unique_ptr<Scene> make_scene(int kind, std::size_t n) {
     auto s = std::make_unique<Scene>();
     std::mt19937 g(std::uint32_t(1000 + kind));
     if (kind == 0) {  // spheres in a box, same density for every n
-        const double half = 0.5 * std::cbrt(double(n) / 1e5);
-        s->cloud = test::random_cloud(n, half, g);
-        s->add(std::make_unique<SphereModel>(s->cloud, 0.005, std::vector<double>{}, named("spheres", 0, true)));
-        s->params.alarm_distance = 0.005;
-        s->params.contact_distance = 0.002;
+        s->cloud = bench::sphere_cloud(n);  // seed 1000 = 1000 + kind
+        s->add(std::make_unique<SphereModel>(s->cloud, bench::kSphereRadius, std::vector<double>{},
+                                             bench::sphere_model_params()));
+        s->params = bench::sphere_intersection_params();
         return s;
     }
     // a torus of about m triangles: nu = 4 nv, 2 nu nv = m

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages that building and testing `penalty` needs (clang and its
-# runtime libraries build the libFuzzer targets, scripts/fuzz.sh).
+# runtime libraries build the libFuzzer targets, scripts/fuzz.sh; libbullet-dev the optional Bullet
+# comparison of penalty_bench_detection).
 # Idempotent: packages already present are left alone. Runs as root or through sudo.
 set -euo pipefail
 
@@ -8,6 +9,7 @@ packages=(
   build-essential cmake ninja-build git pkg-config
   libeigen3-dev libtinyxml2-dev libcli11-dev libtbb-dev
   libgtest-dev libgmock-dev libbenchmark-dev zlib1g-dev
+  libbullet-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
   python3-distributed python3-h5py python3-pandas
   clang libclang-rt-14-dev
