@@ -255,11 +255,13 @@ void CollisionPipeline::set_models(std::vector<CollisionModel*> models) {
         if (models[i] == nullptr) throw_invalid_argument("CollisionPipeline::set_models(): model ", i, " is null");
     models_ = std::move(models);
     trees_.assign(models_.size(), Bvh{});
+    sofa_trees_.assign(models_.size(), SofaCubeTree{});
 }
 
 void CollisionPipeline::add_model(CollisionModel& model) {
     models_.push_back(&model);
     trees_.emplace_back();
+    sofa_trees_.emplace_back();
 }
 
 std::size_t CollisionPipeline::model_index(const CollisionModel& m) const {
@@ -286,6 +288,28 @@ void CollisionPipeline::refit() {
 
 void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
     out.clear();
+    detect_pair_unordered(m1, m2, out);
+    if (!opt_.sofa_output_order || out.size() < 2) return;
+    const std::size_t i1 = model_index(m1), i2 = model_index(m2);
+    for (const std::size_t i : {i1, i2}) {
+        // SOFA builds a model's tree at its first detection and then only refits it
+        // (CubeCollisionModel::computeBoundingTree); rebuilt here only if the model's size changed
+        if (sofa_trees_[i].empty() || sofa_trees_[i].size() != models_[i]->size())
+            sofa_trees_[i].build(*models_[i], opt_.depth);
+    }
+    sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], out, sofa_order_scratch_);
+}
+
+void CollisionPipeline::build_sofa_trees() {
+    if (!opt_.sofa_output_order) return;
+    for (std::size_t i = 0; i < models_.size(); ++i) {
+        CollisionModel& m = *models_[i];
+        if (!m.params().active || m.size() == 0) continue;
+        if (sofa_trees_[i].empty() || sofa_trees_[i].size() != m.size()) sofa_trees_[i].build(m, opt_.depth);
+    }
+}
+
+void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
     if (detection_ == ContactDetection::exhaustive) {
         exhaustive_narrow_phase(params_, m1, m2, out, boxes_);
         return;
@@ -303,6 +327,7 @@ void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, Dete
 
 const SceneDetection& CollisionPipeline::detect() {
     refit();
+    build_sofa_trees();  // SOFA computes every model's bounding tree at each detection
     broad_phase(params_, models_, pairs_, &unsupported_);
     result_.resize(pairs_.size());  // the remaining entries keep their output capacity
     for (std::size_t k = 0; k < pairs_.size(); ++k) {

@@ -91,9 +91,17 @@ const ModelPairDetection* find_pair(const SceneDetection& d, const CollisionMode
     return nullptr;
 }
 
+/// Outputs in ascending (elem1, elem2): comparable between pipelines made at different steps
+/// (SOFA's order depends on the positions at a model's first detection, see SofaOrder below).
+CollisionPipelineOptions canonical_order() {
+    CollisionPipelineOptions o;
+    o.sofa_output_order = false;
+    return o;
+}
+
 /// The reference: the same driver with the exhaustive all-element-pairs narrow phase.
 SceneDetection detect_scene_exhaustive(const IntersectionParams& params, std::vector<CollisionModel*> models) {
-    CollisionPipeline pipe(params, {}, ContactDetection::exhaustive);
+    CollisionPipeline pipe(params, canonical_order(), ContactDetection::exhaustive);
     pipe.set_models(std::move(models));
     return pipe.detect();
 }
@@ -293,7 +301,7 @@ TEST(NarrowPhase, SphereCloudsEqualExhaustiveForEveryMethodOverSteps) {
             SphereScene sc(seed);
             std::mt19937 g(seed + 100);
             const IntersectionParams params = method_params(method);
-            CollisionPipeline pipe(params);
+            CollisionPipeline pipe(params, canonical_order());
             pipe.set_models(sc.models);
             std::size_t total = 0;
             for (int step = 0; step < 3; ++step) {
@@ -325,7 +333,7 @@ TEST(NarrowPhase, MeshScenesEqualExhaustiveForEveryMethodSelfCollisionOnAndOff) 
                 std::mt19937 g(43);
                 IntersectionParams params = method_params(method);
                 params.use_line_line = line_line;
-                CollisionPipeline pipe(params);
+                CollisionPipeline pipe(params, canonical_order());
                 pipe.set_models(sc.models);
                 std::size_t total = 0;
                 for (int step = 0; step < 2; ++step) {
@@ -361,7 +369,7 @@ TEST(NarrowPhase, TriangleTriangleWithoutNormalOverwriteRunsInParallelAndEqualsE
     MeshScene sc(44, true);
     IntersectionParams params = method_params(IntersectionMethod::NewProximity);
     params.quirks.fix_newproximity_triangle_triangle_normal_overwrite = true;
-    CollisionPipelineOptions opt;
+    CollisionPipelineOptions opt = canonical_order();
     opt.narrow.chunk_size = 16;
     CollisionPipeline pipe(params, opt);
     pipe.set_models(sc.models);
@@ -413,7 +421,7 @@ TEST(NarrowPhase, MixedModelsWithBeyondSofaPairsEqualExhaustive) {
         SCOPED_TRACE(intersection_method_name(method));
         IntersectionParams params = method_params(method);
         params.enable_beyond_sofa_pairs = true;
-        CollisionPipeline pipe(params);
+        CollisionPipeline pipe(params, canonical_order());
         pipe.set_models(models);
         const SceneDetection got = pipe.detect();
         expect_identical(got, detect_scene_exhaustive(params, models));
@@ -429,7 +437,7 @@ TEST(NarrowPhase, SelfCollisionFiltersAreApplied) {
     // torus1 triangles vs its own vertices (same node): no output of a triangle with one of its vertices
     MeshScene sc(5, true);
     const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
-    CollisionPipeline pipe(params);
+    CollisionPipeline pipe(params, canonical_order());
     pipe.set_models(sc.models);
     const SceneDetection d = pipe.detect();
     const ModelPairDetection* tp = find_pair(d, sc.tri1.get(), sc.pts1.get());
@@ -455,7 +463,7 @@ TEST(NarrowPhase, PointAndLineSelfCollisionSkipTopologicalNeighbours) {
     LineModel lines(st, topo, mp("chain-lines", 0, true));
     IntersectionParams params = method_params(IntersectionMethod::NewProximity);
     params.use_line_line = true;
-    CollisionPipeline pipe(params);
+    CollisionPipeline pipe(params, canonical_order());
     pipe.set_models({&pts, &lines});
     const SceneDetection d = pipe.detect();
     expect_identical(d, detect_scene_exhaustive(params, {&pts, &lines}));
@@ -490,7 +498,7 @@ TEST(NarrowPhase, StaticModelIsBuiltOnce) {
     f.params().simulated = false;
     SphereModel m(mov, 0.05, {}, mp("balls"));
     const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
-    CollisionPipeline pipe(params);
+    CollisionPipeline pipe(params, canonical_order());
     pipe.set_models({&f, &m});
     for (int step = 0; step < 4; ++step) {
         const SceneDetection got = pipe.detect();
@@ -522,7 +530,7 @@ SceneDetection run_with_threads(int threads, std::uint32_t seed, IntersectionMet
         models.push_back(&cloud);
         NarrowPhaseOptions narrow;
         narrow.chunk_size = 64;  // many chunks so that threads really interleave
-        CollisionPipelineOptions opt;
+        CollisionPipelineOptions opt;  // SOFA's order: thread-independent too
         opt.narrow = narrow;
         CollisionPipeline pipe(method_params(method), opt);
         pipe.set_models(models);
@@ -556,7 +564,7 @@ TEST(NarrowPhase, NaNOrInfinitePositionRaisesNamingModelAndElement) {
         Vec3State s2 = random_cloud(300, 1.0, g);
         SphereModel a(s1, 0.05, {}, mp("alpha"));
         SphereModel b(s2, 0.05, {}, mp("beta"));
-        CollisionPipeline pipe(method_params(IntersectionMethod::NewProximity));
+        CollisionPipeline pipe(method_params(IntersectionMethod::NewProximity), canonical_order());
         pipe.set_models({&a, &b});
         EXPECT_GT(count_outputs(pipe.detect()), 0u);  // a good first step, then the refit path
         s2.position[123].z() = bad;
@@ -582,7 +590,7 @@ TEST(NarrowPhase, HundredThousandSpheresCompleteAndMatchSampledExhaustiveRows) {
     IntersectionParams params = IntersectionParams::new_proximity();
     params.alarm_distance = 0.005;
     params.contact_distance = 0.002;
-    CollisionPipeline pipe(params);
+    CollisionPipeline pipe(params, canonical_order());
     pipe.set_models({&m});
     const SceneDetection d = pipe.detect();
     ASSERT_EQ(d.size(), 1u);

@@ -17,6 +17,7 @@
 
 #include "penalty/collision/bvh.hpp"
 #include "penalty/collision/intersection.hpp"
+#include "penalty/collision/sofa_traversal_order.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -93,10 +94,13 @@ enum class ContactDetection : std::uint8_t {
 
 /// Options of CollisionPipeline.
 struct CollisionPipelineOptions {
-    /// SOFA's CollisionPipeline `depth` (default 6, negative → 6). Accepted for scene
-    /// compatibility; the trees here always go down to `leaf_size` elements (the output does not
-    /// depend on the depth in SOFA either, §3.8).
+    /// SOFA's CollisionPipeline `depth` (default 6, negative → 6): the depth of SOFA's bounding
+    /// trees, which decides the order of the outputs (sofa_traversal_order.hpp); the set of
+    /// outputs does not depend on it (§3.8), and penalty's own trees go down to `leaf_size`.
     int depth = 6;
+    /// Each pair's outputs in SOFA's BVHNarrowPhase order (sofa_traversal_order.hpp); false:
+    /// ascending (elem1, elem2), which is cheaper for large pairs and not SOFA's.
+    bool sofa_output_order = true;
     std::size_t leaf_size = 8;      ///< maximum elements per leaf
     double rebuild_ratio = 2.0;    ///< moving models: rebuild when refitting degrades the tree (Bvh::refit)
     NarrowPhaseOptions narrow;
@@ -146,12 +150,19 @@ public:
 
 private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
+    /// detect_pair without SOFA's output order.
+    void detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out);
+    /// SOFA's tree of every active model not built yet (or whose size changed), from the
+    /// current positions.
+    void build_sofa_trees();
 
     IntersectionParams params_;
     CollisionPipelineOptions opt_;
     ContactDetection detection_;
     std::vector<CollisionModel*> models_;
     std::vector<Bvh> trees_;
+    std::vector<SofaCubeTree> sofa_trees_;  // per model: SOFA's tree, built at its first detection
+    SofaOrderScratch sofa_order_scratch_;
     std::vector<ModelPair> pairs_;        // scratch: this step's broad-phase pairs
     std::vector<ModelPair> unsupported_;
     SceneDetection result_;               // entries and their output lists keep their capacity

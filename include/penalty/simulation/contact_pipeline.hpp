@@ -129,7 +129,7 @@ inline constexpr int kMaxDetectionThreads = 1024;
 /// Options of ContactPipeline (the defaults keep the original behaviour).
 struct ContactPipelineOptions {
     ContactDetection detection = ContactDetection::exhaustive;
-    /// bvh: leaf_size, rebuild_ratio and narrow-phase chunking (depth is not used).
+    /// leaf_size, rebuild_ratio and narrow-phase chunking (bvh), depth and SOFA's output order.
     CollisionPipelineOptions bvh;
     /// bvh: maximum TBB threads of the detection (0 = TBB's default; at most
     /// kMaxDetectionThreads). Output does not depend on it.

@@ -307,6 +307,9 @@ constexpr AttributeSpec kResponse[] = {
     {"response", K::text, "PenalityContactForceField", "", ValueCheck::none, "contact response; \"\": none"},
     {"responseParams", K::text, "", "", ValueCheck::none, "name=value pairs (e.g. damping=0.1&mu=0.5)"},
 };
+constexpr AttributeSpec kPipeline[] = {
+    {"depth", K::integer, "6", "", ValueCheck::none, "depth of SOFA's bounding trees (the order of the contacts; negative: 6)"},
+};
 constexpr AttributeSpec kComposite[] = {
     {"subCollisionPipelines", K::links, "", "", ValueCheck::none, "SubCollisionPipeline components"},
 };
@@ -316,6 +319,7 @@ constexpr AttributeSpec kSubPipeline[] = {
     {"narrowPhaseDetection", K::link, "", "", ValueCheck::none, "BVHNarrowPhase"},
     {"intersectionMethod", K::link, "", "", ValueCheck::none, "intersection method"},
     {"contactManager", K::link, "", "", ValueCheck::none, "CollisionResponse"},
+    {"depth", K::integer, "6", "", ValueCheck::none, "depth of SOFA's bounding trees (the order of the contacts)"},
 };
 
 void build_pipeline(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
@@ -326,7 +330,7 @@ void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) { b.note_un
 
 constexpr ComponentSpec kComponents[] = {
     {.type = "CollisionPipeline", .family = F::collision_pipeline,
-     .summary = "collision pipeline (broad phase, narrow phase, response)", .build = build_pipeline},
+     .summary = "collision pipeline (broad phase, narrow phase, response)", .attributes = kPipeline, .build = build_pipeline},
     {.type = "CompositeCollisionPipeline", .family = F::composite_pipeline, .summary = "runs several SubCollisionPipelines",
      .attributes = kComposite, .build = build_pipeline},
     {.type = "SubCollisionPipeline", .family = F::sub_pipeline, .summary = "collision pipeline restricted to listed models",

@@ -129,6 +129,10 @@ private:
         options.detection = b_.options().exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = b_.options().threads;
         options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
+        // SOFA's bounding-tree depth (CollisionPipeline / SubCollisionPipeline `depth`): the
+        // order of the contacts; CollisionPipeline::init resets a negative depth to 6
+        const std::int64_t depth = b_.guarded(pipeline_component, [&] { return Attributes(pipeline_component).integer("depth"); });
+        options.bvh.depth = depth < 0 || depth > 64 ? 6 : int(depth);
         const double dt = b_.options().dt ? *b_.options().dt : sim.root().dt();
         sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(response, dt), &host, options);
         // the rank in scene order stands for the model's address in SOFA's contact map

@@ -1,0 +1,73 @@
+#pragma once
+/// @file
+/// The order in which SOFA's BVHNarrowPhase visits the element pairs of a model pair, so that
+/// penalty's detection outputs come in SOFA's order. The order matters beyond ties: it is the
+/// order of a pair's contacts, hence of the sums of their forces on shared vertices (spec §4,
+/// §7.1), and SOFA's trajectories are only reproduced to the last bit with it.
+///
+/// SOFA's tree (CubeCollisionModel::computeBoundingTree) is built once, at the model's first
+/// detection, and afterwards only refitted (CubeCollisionModel::updateCubes): the root cell
+/// holds every element; level by level down to `depth`, a cell with more than 4 elements is
+/// split at its median (element index first + (n + 1) / 2) after a stable sort of its elements
+/// by box centre (min + max) along the longest extent of the cell's box (ties: x only if
+/// l.x > l.y and l.x > l.z, else y if l.y > l.z, else z). A cell that is not split keeps its
+/// elements as its children.
+///
+/// BVHNarrowPhase (processInternalCell / visitCollisionElements / visitExternalChildren) visits
+/// two child ranges element by element (first range outer, second inner): a pair of two
+/// elements is intersected at once; any other pair of boxes (a cell against a cell or an
+/// element) is pushed on a stack, and after the loop the pushed pairs are visited last pushed
+/// first. Pruning by box overlap removes pairs but does not reorder the others, so the order of
+/// the element pairs is a function of the two trees only: sofa_visits_before.
+#include "penalty/collision/collision_model.hpp"
+#include "penalty/collision/detection_output.hpp"
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace penalty {
+
+/// One step of an element's path from the root: its position in the child range it belongs
+/// to, and the size of that range.
+struct SofaTreeStep {
+    std::uint32_t index = 0;
+    std::uint32_t size = 1;
+};
+
+/// SOFA's bounding tree of one model, kept as each element's path from the root.
+class SofaCubeTree {
+public:
+    /// Builds the tree from the model's element boxes at their current positions (SOFA's leaf
+    /// cubes: the same boxes as CollisionModel::element_box). `depth`: the pipeline's `depth`.
+    void build(const CollisionModel& model, int depth);
+    [[nodiscard]] bool empty() const { return offsets_.empty(); }
+    /// Elements it was built for.
+    [[nodiscard]] std::size_t size() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
+    /// The path of element e, from the root's children down to the element.
+    [[nodiscard]] std::span<const SofaTreeStep> path(Index e) const {
+        return {steps_.data() + offsets_[e], steps_.data() + offsets_[e + 1]};
+    }
+
+private:
+    std::vector<SofaTreeStep> steps_;
+    std::vector<std::uint32_t> offsets_;
+};
+
+/// True if BVHNarrowPhase, traversing t1 against t2, intersects (a1, b1) before (a2, b2)
+/// (a = element of the first model, b = element of the second). A strict weak order.
+[[nodiscard]] bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1, Index b1, Index a2,
+                                      Index b2);
+
+/// Buffers of sort_in_sofa_order, kept from call to call (a steady state allocates nothing).
+struct SofaOrderScratch {
+    std::vector<std::uint32_t> permutation;
+    DetectionOutputList sorted;
+};
+
+/// Sorts a model pair's outputs into SOFA's visiting order; the outputs of one element pair
+/// keep their kernel order.
+void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
+                        SofaOrderScratch& scratch);
+
+}  // namespace penalty

@@ -1,0 +1,124 @@
+#include "penalty/collision/sofa_traversal_order.hpp"
+
+#include "penalty/core/error.hpp"
+
+#include <algorithm>
+
+namespace penalty {
+
+namespace {
+struct Cell {
+    std::uint32_t first = 0, last = 0;  // element range (positions in the sorted leaf order)
+    std::int32_t child = -1;            // first of its two child cells at the next level, or −1
+    Aabb box;
+};
+
+Aabb union_box(std::span<const Aabb> boxes, std::span<const Index> order, std::uint32_t first, std::uint32_t last) {
+    Aabb b;
+    for (std::uint32_t i = first; i < last; ++i) {
+        b.min = b.min.cwiseMin(boxes[order[i]].min);
+        b.max = b.max.cwiseMax(boxes[order[i]].max);
+    }
+    return b;
+}
+}  // namespace
+
+void SofaCubeTree::build(const CollisionModel& model, int depth) {
+    const std::size_t n = model.size();
+    steps_.clear();
+    offsets_.clear();
+    if (n == 0) return;
+    if (n >= (std::size_t(1) << 31)) throw_invalid_argument("SofaCubeTree: model '", model.name(), "' is too large");
+    std::vector<Aabb> boxes(n);
+    for (std::size_t e = 0; e < n; ++e) boxes[e] = model.element_box(Index(e));
+    std::vector<Index> order(n);  // leaf cube k holds element order[k]
+    for (std::size_t e = 0; e < n; ++e) order[e] = Index(e);
+    // levels[0] = {root}; each level's cells are made in the order of their parents
+    std::vector<std::vector<Cell>> levels(1);
+    levels[0].push_back({0, std::uint32_t(n), -1, union_box(boxes, order, 0, std::uint32_t(n))});
+    for (int lvl = 0; lvl < depth; ++lvl) {
+        std::vector<Cell> next;
+        for (Cell& c : levels[std::size_t(lvl)]) {
+            const std::uint32_t count = c.last - c.first;
+            if (count <= 4) continue;  // only cells with more than 4 children are split
+            const Vec3 l = c.box.max - c.box.min;
+            const int axis = l[0] > l[1] ? (l[0] > l[2] ? 0 : 2) : (l[1] > l[2] ? 1 : 2);
+            const std::uint32_t middle = c.first + (count + 1) / 2;
+            std::stable_sort(order.begin() + c.first, order.begin() + c.last, [&](Index a, Index b) {
+                return boxes[a].min[axis] + boxes[a].max[axis] < boxes[b].min[axis] + boxes[b].max[axis];
+            });
+            c.child = std::int32_t(next.size());
+            next.push_back({c.first, middle, -1, union_box(boxes, order, c.first, middle)});
+            next.push_back({middle, c.last, -1, union_box(boxes, order, middle, c.last)});
+        }
+        if (next.empty()) break;
+        levels.push_back(std::move(next));
+    }
+    // each element's path: down from the root's children to the element
+    std::vector<std::vector<SofaTreeStep>> paths(n);
+    const auto walk = [&](const auto& self, std::size_t lvl, const Cell& c) -> void {
+        if (c.child < 0) {
+            for (std::uint32_t k = c.first; k < c.last; ++k)
+                paths[order[k]].push_back({k - c.first, c.last - c.first});
+            return;
+        }
+        const std::vector<Cell>& below = levels[lvl + 1];
+        for (std::uint32_t s = 0; s < 2; ++s) {
+            const Cell& child = below[std::size_t(c.child) + s];
+            for (std::uint32_t k = child.first; k < child.last; ++k) paths[order[k]].push_back({s, 2});
+            self(self, lvl + 1, child);
+        }
+    };
+    walk(walk, 0, levels[0][0]);
+    offsets_.reserve(n + 1);
+    offsets_.push_back(0);
+    for (const auto& p : paths) {
+        steps_.insert(steps_.end(), p.begin(), p.end());
+        offsets_.push_back(std::uint32_t(steps_.size()));
+    }
+}
+
+bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1, Index b1, Index a2, Index b2) {
+    const auto pa1 = t1.path(a1), pb1 = t2.path(b1), pa2 = t1.path(a2), pb2 = t2.path(b2);
+    // At each level both pairs are in the same two ranges (their earlier steps agree). A pair
+    // of two elements is intersected during the loop (key 0, loop position); any other pair is
+    // pushed and visited after the loop, last pushed first (key 1, −loop position).
+    const auto key = [](std::span<const SofaTreeStep> p, std::span<const SofaTreeStep> q, std::size_t t,
+                        bool& leaf_pair) {
+        const SofaTreeStep s = t < p.size() ? p[t] : SofaTreeStep{};
+        const SofaTreeStep r = t < q.size() ? q[t] : SofaTreeStep{};
+        leaf_pair = t + 1 >= p.size() && t + 1 >= q.size();
+        const std::int64_t loop = std::int64_t(s.index) * std::int64_t(r.size) + std::int64_t(r.index);
+        return leaf_pair ? loop : -loop;
+    };
+    for (std::size_t t = 0;; ++t) {
+        bool leaf1 = false, leaf2 = false;
+        const std::int64_t k1 = key(pa1, pb1, t, leaf1);
+        const std::int64_t k2 = key(pa2, pb2, t, leaf2);
+        if (leaf1 != leaf2) return leaf1;  // intersected in the loop, before anything pushed
+        if (k1 != k2) return k1 < k2;
+        if (leaf1) return false;           // the same element pair
+    }
+}
+
+void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
+                        SofaOrderScratch& scratch) {
+    const std::size_t n = outputs.size();
+    if (n < 2) return;
+    // std::sort on indices with the index as the tie-break: stable, and without std::stable_sort's
+    // temporary buffer
+    std::vector<std::uint32_t>& perm = scratch.permutation;
+    perm.resize(n);
+    for (std::size_t i = 0; i < n; ++i) perm[i] = std::uint32_t(i);
+    std::sort(perm.begin(), perm.end(), [&](std::uint32_t i, std::uint32_t j) {
+        const DetectionOutput& x = outputs[i];
+        const DetectionOutput& y = outputs[j];
+        if (x.elem1 == y.elem1 && x.elem2 == y.elem2) return i < j;
+        return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
+    });
+    scratch.sorted.resize(n);
+    for (std::size_t i = 0; i < n; ++i) scratch.sorted[i] = outputs[perm[i]];
+    std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());  // the buffers stay with their owners
+}
+
+}  // namespace penalty
