@@ -18,6 +18,7 @@
 //   cubes, dofs                k³; Σ scalar DOFs of the cubes (3 per node)
 //   contacts, active           mean Σ contact springs after the step; of them, with pen > 0
 //   cg_its                     mean CG iterations (Scene::last_solver_stats)
+//   kinetic_j                  mean kinetic energy of the cubes (J): how far from rest the pile is
 //   detect_ms, response_ms, solve_ms   mean of Scene::last_timings() (wall)
 //
 // $PENALTY_SCALING_SCENES=DIR also writes the scenes as DIR/cubes_in_bowl_k<k>.scn (for
@@ -81,7 +82,7 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
         for (auto _ : state) {}
         return;
     }
-    double contacts = 0, active = 0, cg = 0, detect = 0, response = 0, solve = 0;
+    double contacts = 0, active = 0, cg = 0, kinetic = 0, detect = 0, response = 0, solve = 0;
     long steps = 0;
     try {
         for (auto _ : state) {
@@ -92,6 +93,7 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
             contacts += double(c.contacts);
             active += double(c.active_contacts);
             cg += scene->last_solver_stats().cg_iterations;
+            kinetic += scene->kinetic_energy();
             const StepTimings& t = scene->last_timings();
             detect += t.detection_seconds;
             response += t.response_seconds;
@@ -109,6 +111,7 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
     state.counters["contacts"] = contacts / n;
     state.counters["active"] = active / n;
     state.counters["cg_its"] = cg / n;
+    state.counters["kinetic_j"] = kinetic / n;
     state.counters["detect_ms"] = 1e3 * detect / n;
     state.counters["response_ms"] = 1e3 * response / n;
     state.counters["solve_ms"] = 1e3 * solve / n;

@@ -30,7 +30,7 @@ def load(path):
         u = scale[b.get("time_unit", "ns")]
         rows.append({
             "k": int(b["k"]), "cubes": int(b["cubes"]), "dofs": int(b["dofs"]),
-            "contacts": b["contacts"], "active": b["active"], "cg": b["cg_its"],
+            "contacts": b["contacts"], "active": b["active"], "cg": b["cg_its"], "kinetic": b.get("kinetic_j", float("nan")),
             "wall_ms": b["real_time"] * u, "cpu_ms": b["cpu_time"] * u,
             "detect_ms": b["detect_ms"], "response_ms": b["response_ms"], "solve_ms": b["solve_ms"],
             "steps": int(b["iterations"]),
@@ -62,12 +62,12 @@ def main():
         sys.exit("no BM_CubesInBowl results in " + a.json)
 
     print("| k | cubes | DOFs | contacts/step | active | ms/step (wall) | ms/step (CPU) | CG its/step | "
-          "detection / response / solve ms (wall) |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+          "detection / response / solve ms (wall) | kinetic energy (J) |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
     for r in rows:
         print(f"| {r['k']} | {r['cubes']} | {r['dofs']} | {r['contacts']:.0f} | {r['active']:.0f} | "
               f"{r['wall_ms']:.3g} | {r['cpu_ms']:.3g} | {r['cg']:.1f} | "
-              f"{r['detect_ms']:.3g} / {r['response_ms']:.3g} / {r['solve_ms']:.3g} |")
+              f"{r['detect_ms']:.3g} / {r['response_ms']:.3g} / {r['solve_ms']:.3g} | {r['kinetic']:.2g} |")
 
     used = [r for r in rows if r["contacts"] >= a.min_contacts]
     slopes = {}

@@ -42,7 +42,7 @@ struct Setup {
     double young_modulus = 2e5;       ///< Pa
     double poisson_ratio = 0.3;
     double spring_stiffness = 5e3;    ///< ks of every contact spring (N/m); see contact_stiffness()
-    double alarm_distance = 0.02;     ///< NewProximity alarmDistance (m)
+    double alarm_distance = 0.01;     ///< NewProximity alarmDistance A (m): springs within A are kept, active within C
     double contact_distance = 0.005;  ///< NewProximity contactDistance C (m)
     double dt = 0.005;                ///< s
     double rayleigh_stiffness = 0.05; ///< EulerImplicitSolver rayleighStiffness (s)
