@@ -87,8 +87,8 @@ TEST(CubesInBowl, BowlMeshIsTheCapWithInwardNormals) {
 }
 
 // k = 2: 8 cubes fall a few centimetres, slide to the bottom and pile up in 300 steps (1.5 s).
-// Measured on this build: kinetic energy peaks near 0.7 J and is 0.0014 J at the end; about 210
-// contact springs, 60–70 of them active; the deepest penetration at the end 0.002 m.
+// Measured on this build: kinetic energy peaks near 0.7 J and is 0.0014 J at the end; about 110
+// contact springs, 65 of them active; the deepest penetration at the end 0.002 m.
 TEST(CubesInBowl, EightCubesComeToRestAsAPileInsideTheBowl) {
     const bowl::Setup s = setup(2);
     const auto scene = build(s);
