@@ -31,6 +31,7 @@ def load(path):
         rows.append({
             "k": int(b["k"]), "cubes": int(b["cubes"]), "dofs": int(b["dofs"]),
             "contacts": b["contacts"], "active": b["active"], "cg": b["cg_its"], "kinetic": b.get("kinetic_j", float("nan")),
+            "sunk": int(b.get("sunk", -1)),
             "wall_ms": b["real_time"] * u, "cpu_ms": b["cpu_time"] * u,
             "detect_ms": b["detect_ms"], "response_ms": b["response_ms"], "solve_ms": b["solve_ms"],
             "steps": int(b["iterations"]),
@@ -55,19 +56,19 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("json")
     p.add_argument("--out", default=str(Path(__file__).resolve().parents[1] / "docs" / "images" / "scaling.png"))
-    p.add_argument("--min-contacts", type=float, default=100.0)
+    p.add_argument("--min-contacts", type=float, default=10.0)
     a = p.parse_args()
     context, rows = load(a.json)
     if not rows:
         sys.exit("no BM_CubesInBowl results in " + a.json)
 
     print("| k | cubes | DOFs | contacts/step | active | ms/step (wall) | ms/step (CPU) | CG its/step | "
-          "detection / response / solve ms (wall) | kinetic energy (J) |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|")
+          "detection / response / solve ms (wall) | kinetic energy (J) | sunk nodes |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|---:|")
     for r in rows:
         print(f"| {r['k']} | {r['cubes']} | {r['dofs']} | {r['contacts']:.0f} | {r['active']:.0f} | "
               f"{r['wall_ms']:.3g} | {r['cpu_ms']:.3g} | {r['cg']:.1f} | "
-              f"{r['detect_ms']:.3g} / {r['response_ms']:.3g} / {r['solve_ms']:.3g} | {r['kinetic']:.2g} |")
+              f"{r['detect_ms']:.3g} / {r['response_ms']:.3g} / {r['solve_ms']:.3g} | {r['kinetic']:.2g} | {r['sunk']} |")
 
     used = [r for r in rows if r["contacts"] >= a.min_contacts]
     slopes = {}

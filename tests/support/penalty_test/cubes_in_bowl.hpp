@@ -16,7 +16,8 @@
 //
 // Sizes: the bowl radius grows with the lattice so that the lattice starts inside the bowl, its
 // lowest layer just above the bowl (bowl_radius, lattice_bottom): the cubes fall a few
-// centimetres, slide toward the bottom and pile up; the contacts per step grow with k.
+// centimetres (the upper layers of large k up to about half a metre), slide toward the bottom and
+// pile up; the contacts per step grow with k.
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -42,14 +43,19 @@ struct Setup {
     double young_modulus = 2e5;       ///< Pa
     double poisson_ratio = 0.3;
     double spring_stiffness = 5e3;    ///< ks of every contact spring (N/m); see contact_stiffness()
-    double alarm_distance = 0.01;     ///< NewProximity alarmDistance A (m): springs within A are kept, active within C
-    double contact_distance = 0.005;  ///< NewProximity contactDistance C (m)
+    /// NewProximity alarmDistance A (m): element pairs closer than A get a spring, active closer than C
+    double alarm_distance = 0.015;
+    /// NewProximity contactDistance C (m): more than twice the static penetration under a column of
+    /// 8 cubes (about 20 N per corner spring / ks = 4 mm); with C = 5 mm loaded corners were seen
+    /// to sink through the bowl's triangles in piles of k ≥ 3
+    double contact_distance = 0.01;
     double dt = 0.005;                ///< s
     double rayleigh_stiffness = 0.05; ///< EulerImplicitSolver rayleighStiffness (s)
-    /// EulerImplicitSolver rayleighMass (1/s): a strong drag (terminal speed g/5 ≈ 2 m/s) so that
-    /// the frictionless cubes stop sliding in the bowl within about 1 s, and a corner moves less
-    /// than about 2·C per step (faster corners tunnel through the bowl's triangles).
-    double rayleigh_mass = 5.0;
+    /// EulerImplicitSolver rayleighMass (1/s): a strong drag (terminal speed g/10 ≈ 1 m/s, a
+    /// corner moves at most about C/2 per step) so that the frictionless cubes stop sliding within
+    /// about two seconds and fast corners do not tunnel through the bowl (with 5/s, 185 of the 4096
+    /// nodes of k = 8 ended beyond the bowl)
+    double rayleigh_mass = 10.0;
     int cg_iterations = 1000;         ///< CGLinearSolver iterations (a limit, not expected to bind)
     double cg_tolerance = 1e-9;
     double cg_threshold = 1e-12;
