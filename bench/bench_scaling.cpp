@@ -1,0 +1,143 @@
+// Whole-scene scaling (issue 17): k×k×k deformable cubes dropped into a bowl, k = 1 … 8 — time per
+// step against contacts per step. The scene is generated (tests/support/penalty_test/
+// cubes_in_bowl.hpp: one-cell FEM cubes of 0.1 m with a triangle surface, a static bowl (a
+// spherical cap), one implicit Euler + CG over every cube, NewProximity, SOFA's penalty response) and built
+// by the scene builder, so a step is the one `penalty run` takes. bench/plot_scaling.py reads the
+// JSON output (--benchmark_out=FILE --benchmark_out_format=json), fits the log-log slope and
+// draws docs/images/scaling.png; docs/performance.md ("Scaling: k×k×k cubes in a bowl") quotes it.
+//
+// Method. Per k: the scene is built and run kWarmupSteps steps untimed (1.5 s of simulated time:
+// the cubes have fallen, slid to the bottom and piled up; at k = 8 the kinetic energy is then
+// about 2 % of its peak of about 190 J), then timed_steps(k) steps are timed, one benchmark
+// iteration per step (manual time = wall time of Scene::step() alone). Narrow-phase threads: TBB's default (BuildOptions::threads = 0).
+//
+// Columns and counters (per step, over the timed steps):
+//   Time                       wall time of Scene::step() (ms)
+//   CPU                        process CPU time (all threads) of the iteration (ms): on a loaded
+//                              machine the wall time includes waiting for a core, the CPU time not
+//   cubes, dofs                k³; Σ scalar DOFs of the cubes (3 per node)
+//   contacts, active           mean Σ contact springs after the step; of them, with pen > 0
+//   cg_its                     mean CG iterations (Scene::last_solver_stats)
+//   kinetic_j                  mean kinetic energy of the cubes (J): how far from rest the pile is
+//   sunk                       cube nodes farther than R + C from the bowl's centre after the last
+//                              timed step: corners pushed through the bowl (0 for a sound pile)
+//   detect_ms, response_ms, solve_ms   mean of Scene::last_timings() (wall)
+//
+// $PENALTY_SCALING_SCENES=DIR also writes the scenes as DIR/cubes_in_bowl_k<k>.scn (for
+// `penalty run`, e.g. with --stats to see the phases of every step).
+#include "penalty/mechanics/mechanical_object.hpp"
+#include "penalty/output/stats_csv.hpp"
+#include "penalty/scene/scene.hpp"
+#include "penalty_test/cubes_in_bowl.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+namespace penalty::scene {
+namespace {
+
+namespace bowl = penalty::test::cubes_in_bowl;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kMaxK = 8;
+constexpr int kWarmupSteps = 300;  // 1.5 s at dt = 5 ms
+
+/// Timed steps for k: about 2000 cube-steps, at least 10 and at most 200.
+int timed_steps(int k) { return std::clamp(2000 / (k * k * k), 10, 200); }
+
+bowl::Setup setup(int k) {
+    bowl::Setup s;
+    s.k = k;
+    return s;
+}
+
+void write_scene_if_asked(int k, const std::string& xml) {
+    const char* dir = std::getenv("PENALTY_SCALING_SCENES");
+    if (dir == nullptr || *dir == '\0') return;
+    std::filesystem::create_directories(dir);
+    std::ofstream(std::filesystem::path(dir) / ("cubes_in_bowl_k" + std::to_string(k) + ".scn")) << xml;
+}
+
+double scalar_dofs(const Scene& s) {
+    double n = 0;
+    for (const auto& r : s.states())
+        if (!r.mapped && r.in_solver_subtree && r.state != nullptr) n += double(r.state->scalar_size());
+    return n;
+}
+
+void BM_CubesInBowl(benchmark::State& state, int k) {
+    std::unique_ptr<Scene> scene;
+    try {
+        const std::string xml = bowl::scene_xml(setup(k));
+        write_scene_if_asked(k, xml);
+        scene = build_scene(io::parse_scene_string(xml, "cubes_in_bowl_k" + std::to_string(k)));
+        for (int i = 0; i < kWarmupSteps; ++i) scene->step();
+    } catch (const std::exception& e) {
+        state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
+        for (auto _ : state) {}
+        return;
+    }
+    double contacts = 0, active = 0, cg = 0, kinetic = 0, detect = 0, response = 0, solve = 0;
+    long steps = 0;
+    try {
+        for (auto _ : state) {
+            const auto t0 = Clock::now();
+            scene->step();
+            state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+            const output::ContactSummary c = output::summarize_contacts(scene->contacts());
+            contacts += double(c.contacts);
+            active += double(c.active_contacts);
+            cg += scene->last_solver_stats().cg_iterations;
+            kinetic += scene->kinetic_energy();
+            const StepTimings& t = scene->last_timings();
+            detect += t.detection_seconds;
+            response += t.response_seconds;
+            solve += t.solve_seconds;
+            ++steps;
+        }
+    } catch (const std::exception& e) {
+        state.SkipWithError(("step failed: " + std::string(e.what())).c_str());
+        return;
+    }
+    const double n = double(std::max<long>(steps, 1));
+    const bowl::Setup s = setup(k);
+    const auto c = bowl::bowl_centre(s);
+    int sunk = 0;
+    for (const auto& r : scene->states()) {
+        if (!r.in_solver_subtree) continue;  // the bowl
+        for (const Vec3& x : dynamic_cast<const Vec3Object&>(*r.state).position)
+            if ((x - Vec3(c[0], c[1], c[2])).norm() > bowl::bowl_radius(s) + s.contact_distance) ++sunk;
+    }
+    state.counters["k"] = k;
+    state.counters["cubes"] = k * k * k;
+    state.counters["dofs"] = scalar_dofs(*scene);
+    state.counters["contacts"] = contacts / n;
+    state.counters["active"] = active / n;
+    state.counters["cg_its"] = cg / n;
+    state.counters["kinetic_j"] = kinetic / n;
+    state.counters["sunk"] = sunk;
+    state.counters["detect_ms"] = 1e3 * detect / n;
+    state.counters["response_ms"] = 1e3 * response / n;
+    state.counters["solve_ms"] = 1e3 * solve / n;
+}
+
+[[maybe_unused]] const bool registered = [] {
+    for (int k = 1; k <= kMaxK; ++k)
+        benchmark::RegisterBenchmark(("BM_CubesInBowl/k:" + std::to_string(k)).c_str(), BM_CubesInBowl, k)
+            ->Iterations(timed_steps(k))
+            ->UseManualTime()
+            ->MeasureProcessCPUTime()
+            ->Unit(benchmark::kMillisecond);
+    return true;
+}();
+
+}  // namespace
+}  // namespace penalty::scene
