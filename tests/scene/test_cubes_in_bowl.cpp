@@ -87,8 +87,10 @@ TEST(CubesInBowl, BowlMeshIsTheCapWithInwardNormals) {
 }
 
 // k = 2: 8 cubes fall a few centimetres, slide to the bottom (slowly: the drag holds them near
-// 1 m/s) and pile up in 400 steps (2 s). Measured on this build: kinetic energy peaks near 1.0 J
-// and is 1e-4 J at the end; about 85 contact springs, 60 of them active.
+// 1 m/s) and pile up in 600 steps (3 s). Measured on this build (contacts in SOFA's order): the
+// kinetic energy is 1.3e-2 J at step 400, still settling, and below 1e-4 J from step 550 on
+// (with the contacts in ascending element order the pile had settled by step 400: a pile's
+// last moves depend on the order of its contacts); about 85 contact springs, 60 of them active.
 TEST(CubesInBowl, EightCubesComeToRestAsAPileInsideTheBowl) {
     const bowl::Setup s = setup(2);
     const auto scene = build(s);
@@ -96,7 +98,7 @@ TEST(CubesInBowl, EightCubesComeToRestAsAPileInsideTheBowl) {
     const Vec3 centre(c[0], c[1], c[2]);
     const double R = bowl::bowl_radius(s);
     double peak_kinetic = 0;
-    for (int step = 0; step < 400; ++step) {
+    for (int step = 0; step < 600; ++step) {
         scene->step();
         peak_kinetic = std::max(peak_kinetic, scene->kinetic_energy());
         for (const auto& r : scene->states())
