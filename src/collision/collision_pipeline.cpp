@@ -256,18 +256,28 @@ void CollisionPipeline::set_models(std::vector<CollisionModel*> models) {
     models_ = std::move(models);
     trees_.assign(models_.size(), Bvh{});
     sofa_trees_.assign(models_.size(), SofaCubeTree{});
+    index_models();
 }
 
 void CollisionPipeline::add_model(CollisionModel& model) {
     models_.push_back(&model);
     trees_.emplace_back();
     sofa_trees_.emplace_back();
+    index_models();
 }
 
 std::size_t CollisionPipeline::model_index(const CollisionModel& m) const {
-    for (std::size_t i = 0; i < models_.size(); ++i)
-        if (models_[i] == &m) return i;
-    throw_invalid_argument("CollisionPipeline: model '", m.name(), "' is not registered");
+    // binary search in (address, index) pairs: a scene with many models asks for two per pair
+    const auto it = std::lower_bound(index_of_.begin(), index_of_.end(), std::pair<const CollisionModel*, std::size_t>(&m, 0));
+    if (it == index_of_.end() || it->first != &m)
+        throw_invalid_argument("CollisionPipeline: model '", m.name(), "' is not registered");
+    return it->second;
+}
+
+void CollisionPipeline::index_models() {
+    index_of_.clear();
+    for (std::size_t i = 0; i < models_.size(); ++i) index_of_.emplace_back(models_[i], i);
+    std::sort(index_of_.begin(), index_of_.end());
 }
 
 void CollisionPipeline::refit() {

@@ -150,6 +150,7 @@ public:
 
 private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
+    void index_models();  // index_of_ from models_
     /// detect_pair without SOFA's output order.
     void detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out);
     /// SOFA's tree of every active model not built yet (or whose size changed), from the
@@ -161,6 +162,7 @@ private:
     ContactDetection detection_;
     std::vector<CollisionModel*> models_;
     std::vector<Bvh> trees_;
+    std::vector<std::pair<const CollisionModel*, std::size_t>> index_of_;  // sorted by address
     std::vector<SofaCubeTree> sofa_trees_;  // per model: SOFA's tree, built at its first detection
     SofaOrderScratch sofa_order_scratch_;
     std::vector<ModelPair> pairs_;        // scratch: this step's broad-phase pairs
