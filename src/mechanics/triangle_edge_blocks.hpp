@@ -35,7 +35,19 @@ void add_dforce(const std::vector<Triangle>& triangles, const std::vector<PerTri
     }
 }
 
-/// factor·K as triplets: ∂f_i/∂x_i = M, ∂f_i/∂x_j = −M, ∂f_j/∂x_i = −Mᵀ, ∂f_j/∂x_j = Mᵀ.
+/// The stiffness of one edge block D between vertex rows i and j (3·vertex + offset):
+/// ∂f_i/∂x_i = D, ∂f_i/∂x_j = −D, ∂f_j/∂x_i = −Dᵀ, ∂f_j/∂x_j = Dᵀ.
+inline void add_edge_block_triplets(TripletList& t, Index ri, Index rj, const Mat3& m) {
+    for (Index r = 0; r < 3; ++r)
+        for (Index c = 0; c < 3; ++c) {
+            t.emplace_back(ri + r, ri + c, m(r, c));
+            t.emplace_back(ri + r, rj + c, -m(r, c));
+            t.emplace_back(rj + r, ri + c, -m(c, r));
+            t.emplace_back(rj + r, rj + c, m(c, r));
+        }
+}
+
+/// factor·K as triplets: one edge block factor·DfDx[k] per triangle edge k.
 template <class PerTriangle>
 void add_stiffness_triplets(const std::vector<Triangle>& triangles, const std::vector<PerTriangle>& data,
                             TripletList& t, Index offset, double factor) {
@@ -44,14 +56,7 @@ void add_stiffness_triplets(const std::vector<Triangle>& triangles, const std::v
         for (int k = 0; k < 3; ++k) {
             const Index ri = offset + 3 * tri[static_cast<std::size_t>((k + 1) % 3)];
             const Index rj = offset + 3 * tri[static_cast<std::size_t>((k + 2) % 3)];
-            const Mat3 m = factor * data[ti].dfdx[static_cast<std::size_t>(k)];
-            for (Index r = 0; r < 3; ++r)
-                for (Index c = 0; c < 3; ++c) {
-                    t.emplace_back(ri + r, ri + c, m(r, c));
-                    t.emplace_back(ri + r, rj + c, -m(r, c));
-                    t.emplace_back(rj + r, ri + c, -m(c, r));
-                    t.emplace_back(rj + r, rj + c, m(c, r));
-                }
+            add_edge_block_triplets(t, ri, rj, factor * data[ti].dfdx[static_cast<std::size_t>(k)]);
         }
     }
 }

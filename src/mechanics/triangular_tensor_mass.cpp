@@ -1,5 +1,7 @@
 #include "penalty/mechanics/triangular_tensor_mass.hpp"
 
+#include "triangle_edge_blocks.hpp"
+
 #include <cmath>
 
 namespace penalty {
@@ -131,14 +133,7 @@ void TriangularTensorMassForceField::add_stiffness_triplets(TripletList& t, Inde
     for (std::size_t i = 0; i < edges.size(); ++i) {
         const Index r0 = offset + 3 * edges[i][0];
         const Index r1 = offset + 3 * edges[i][1];
-        const Mat3 m = factor * tensors_[i];
-        for (Index r = 0; r < 3; ++r)
-            for (Index c = 0; c < 3; ++c) {
-                t.emplace_back(r1 + r, r1 + c, m(r, c));
-                t.emplace_back(r1 + r, r0 + c, -m(r, c));
-                t.emplace_back(r0 + r, r1 + c, -m(c, r));
-                t.emplace_back(r0 + r, r0 + c, m(c, r));
-            }
+        edge_blocks::add_edge_block_triplets(t, r1, r0, factor * tensors_[i]);
     }
 }
 
