@@ -130,10 +130,18 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
     if (BaseMass* m = node.mass()) {
         if (node.mapping()) throw_invalid_argument("Node '", node.name(), "': a mass on a mapped state is not supported");
         masses_.emplace_back(m, node.gravity());
+        force_steps_.push_back({.mass = m, .gravity = node.gravity()});
     }
-    for (const auto& ff : node.force_fields()) force_fields_.push_back(ff.get());
+    for (const auto& ff : node.force_fields()) {
+        force_fields_.push_back(ff.get());
+        force_steps_.push_back({.force_field = ff.get()});
+    }
     for (const auto& c : node.constraints()) constraints_.push_back(c.get());
     for (const auto& child : node.children()) collect(*child, false);
+    // SOFA's bottom-up pass (MechanicalVisitor::processNodeBottomUp, post-order): a node's
+    // mapping adds Jᵀ·f into its parent once the node's own children have added theirs, and
+    // siblings in child order, so a parent sums its children's forces first child first
+    if (node.state() && node.mapping()) force_steps_.push_back({.mapping = node.mapping()});
 }
 
 bool SubtreeSystem::offsets_valid() const {
@@ -301,9 +309,11 @@ void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
 
 void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
     reset_forces();
-    for (const auto& [mass, g] : masses_) mass->add_gravity_force(g);
-    for (BaseForceField* ff : force_fields_) ff->accumulate_force();
-    for (auto it = mappings_.rbegin(); it != mappings_.rend(); ++it) (*it)->apply_jt_force();
+    for (const ForceStep& s : force_steps_) {
+        if (s.mass != nullptr) s.mass->add_gravity_force(s.gravity);
+        else if (s.force_field != nullptr) s.force_field->accumulate_force();
+        else s.mapping->apply_jt_force();
+    }
     f.resize(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i)
         f.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->force_flat();
@@ -327,10 +337,15 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
     }
     for (BaseMapping* map : mappings_) map->apply_dx();
     for (BaseState* s : mapped_) s->df_flat().setZero();
-    if (m != 0.0)
-        for (const auto& entry : masses_) entry.first->add_mdx(m);
-    for (BaseForceField* ff : force_fields_) ff->accumulate_dforce(k, b);
-    for (auto it = mappings_.rbegin(); it != mappings_.rend(); ++it) (*it)->apply_jt_df();
+    for (const ForceStep& s : force_steps_) {
+        if (s.mass != nullptr) {
+            if (m != 0.0) s.mass->add_mdx(m);
+        } else if (s.force_field != nullptr) {
+            s.force_field->accumulate_dforce(k, b);
+        } else {
+            s.mapping->apply_jt_df();
+        }
+    }
     out.resize(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i)
         out.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->df_flat();

@@ -98,7 +98,7 @@ TEST_P(SofaTrajectory, StepByStepAgainstSofaHead) {
 // Figures of docs/sofa-compatibility.md ("Step-by-step fidelity"), 300 steps.
 INSTANTIATE_TEST_SUITE_P(
     Sofa, SofaTrajectory,
-    ::testing::Values(TrajectoryCase{"AdvancedSolversMultipleGroupsSolver", 251, 1e-8},
+    ::testing::Values(TrajectoryCase{"AdvancedSolversMultipleGroupsSolver", -1, 0.0},
                       TrajectoryCase{"CompositeCollisionPipeline", -1, 0.0},
                       TrajectoryCase{"CompositeCollisionPipeline_none", -1, 0.0},
                       TrajectoryCase{"Gravity", 131, 1e-8},

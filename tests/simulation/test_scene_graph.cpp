@@ -2,7 +2,9 @@
 // mappings (FEM volume -> barycentric points; rigid frame -> rigid-mapped points) and interaction
 // springs; rigid-body integration.
 
+#include "penalty/mechanics/external_loads.hpp"
 #include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
@@ -73,6 +75,61 @@ TEST(SubtreeSystem, MatrixFreeOperatorEqualsAssembledThroughMappings) {
     // The assembled stiffness part is symmetric (springs and corotational FEM blocks are).
     const Eigen::MatrixXd dense = Eigen::MatrixXd(a);
     EXPECT_TRUE(dense.isApprox(dense.transpose(), 1e-10));
+}
+
+// SOFA sums the forces on a state in its visiting order (MechanicalComputeForceVisitor): top-down,
+// the node's own force fields; bottom-up (post-order), each mapped child's Jᵀ·f, first child
+// first. With 1e16 and 1 the rounding of a double tells the orders apart: ((−1e16 + 1e16) + 1) = 1,
+// while adding the children the other way round, ((−1e16 + 1) + 1e16) = 0.
+TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
+    Simulation sim;
+    Node& root = sim.root();
+    root.set_ode_solver<EulerImplicitSolver>();
+    Node& body = root.add_child("body");
+    auto& x = body.add_state<Vec3Types>("body");
+    x.position = {Vec3(0, 0, 0)};
+    body.add_force_field<ConstantForceField>(x, ConstantForceFieldParameters{.forces = {Vec3(-1e16, 0, 0)}});
+    const auto mapped_child = [&](const char* name, double force) {
+        Node& child = body.add_child(name);
+        auto& cx = child.add_state<Vec3Types>(name);
+        cx.position = {Vec3(0, 0, 0)};
+        child.set_mapping<IdentityMapping>(x, cx);
+        child.add_force_field<ConstantForceField>(cx, ConstantForceFieldParameters{.forces = {Vec3(force, 0, 0)}});
+    };
+    mapped_child("first", 1e16);
+    mapped_child("second", 1.0);
+    sim.init();
+    SubtreeSystem sys(root);
+    sys.propagate_positions_and_velocities();
+    Eigen::VectorXd f;
+    sys.compute_force(f);
+    ASSERT_EQ(f.size(), 3);
+    EXPECT_EQ(f[0], 1.0);  // (own −1e16 + first child's 1e16) + second child's 1
+    // A grandchild adds its Jᵀ·f into its parent before that parent maps into the body
+    // (post-order); the other way round its force would never reach the body.
+    Simulation sim2;
+    Node& root2 = sim2.root();
+    root2.set_ode_solver<EulerImplicitSolver>();
+    Node& body2 = root2.add_child("body");
+    auto& x2 = body2.add_state<Vec3Types>("body");
+    x2.position = {Vec3(0, 0, 0)};
+    body2.add_force_field<ConstantForceField>(x2, ConstantForceFieldParameters{.forces = {Vec3(5, 0, 0)}});
+    Node& a = body2.add_child("a");
+    auto& ax = a.add_state<Vec3Types>("a");
+    ax.position = {Vec3(0, 0, 0)};
+    a.set_mapping<IdentityMapping>(x2, ax);
+    a.add_force_field<ConstantForceField>(ax, ConstantForceFieldParameters{.forces = {Vec3(2, 0, 0)}});
+    Node& a1 = a.add_child("a1");
+    auto& a1x = a1.add_state<Vec3Types>("a1");
+    a1x.position = {Vec3(0, 0, 0)};
+    a1.set_mapping<IdentityMapping>(ax, a1x);
+    a1.add_force_field<ConstantForceField>(a1x, ConstantForceFieldParameters{.forces = {Vec3(1.0, 0, 0)}});
+    sim2.init();
+    SubtreeSystem sys2(root2);
+    sys2.propagate_positions_and_velocities();
+    sys2.compute_force(f);
+    ASSERT_EQ(f.size(), 3);
+    EXPECT_EQ(f[0], 8.0);  // 5 + (2 + 1)
 }
 
 TEST(RigidBody, TorqueFreeRotationAndFreeFall) {

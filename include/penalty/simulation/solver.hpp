@@ -150,7 +150,17 @@ private:
     std::unordered_map<const BaseState*, Index> offset_of_;
     std::vector<BaseState*> mapped_;
     std::vector<BaseState*> external_;  ///< states used by the subtree's fields but outside it
-    std::vector<BaseMapping*> mappings_;
+    std::vector<BaseMapping*> mappings_;  ///< pre-order: parents before children (J·dx)
+    /// One contribution to the forces, in SOFA's visiting order (MechanicalComputeForceVisitor,
+    /// MechanicalAddMBKdxVisitor): top-down a node's mass, then its force fields; bottom-up
+    /// (post-order, siblings in child order) a mapped node's Jᵀ into its parent.
+    struct ForceStep {
+        BaseMass* mass = nullptr;  ///< with `gravity`; or
+        BaseForceField* force_field = nullptr;  ///< or
+        BaseMapping* mapping = nullptr;
+        Vec3 gravity = Vec3::Zero();
+    };
+    std::vector<ForceStep> force_steps_;
     std::vector<std::pair<BaseMass*, Vec3>> masses_;  ///< with the gravity of their node
     std::vector<BaseForceField*> force_fields_;
     std::vector<BaseProjectiveConstraint*> constraints_;
