@@ -3,6 +3,7 @@
 #include "penalty/core/error.hpp"
 
 #include <algorithm>
+#include <bit>
 
 namespace penalty {
 
@@ -72,9 +73,12 @@ void SofaCubeTree::build(const CollisionModel& model, int depth) {
     walk(walk, 0, levels[0][0]);
     offsets_.reserve(n + 1);
     offsets_.push_back(0);
+    level_max_size_.clear();
     for (const auto& p : paths) {
         steps_.insert(steps_.end(), p.begin(), p.end());
         offsets_.push_back(std::uint32_t(steps_.size()));
+        if (p.size() > level_max_size_.size()) level_max_size_.resize(p.size(), 1);
+        for (std::size_t t = 0; t < p.size(); ++t) level_max_size_[t] = std::max(level_max_size_[t], p[t].size);
     }
 }
 
@@ -101,10 +105,71 @@ bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1
     }
 }
 
+namespace {
+
+// The digits of sofa_visits_before packed into one integer, most significant level first. At
+// level t an element pair's loop position is loop = s.index·r.size + r.index < D_t = (largest
+// range of tree 1 at t)·(largest range of tree 2 at t); its digit is loop when both paths end
+// there (intersected in the loop, first) and 2·D_t − 1 − loop otherwise (pushed, visited last
+// pushed first); the levels after a pair's last are 0. Returns false when the digits need more
+// than 64 bits.
+struct PackedLevels {
+    std::vector<std::uint64_t>& span;  // D_t
+    std::vector<int>& shift;           // bit position of level t's digit
+};
+
+bool pack_levels(const SofaCubeTree& t1, const SofaCubeTree& t2, PackedLevels p) {
+    const std::size_t levels = std::max(t1.levels(), t2.levels());
+    p.span.resize(levels);
+    p.shift.resize(levels);
+    int bits = 0;
+    for (std::size_t t = 0; t < levels; ++t) {
+        p.span[t] = std::uint64_t(t1.max_range(t)) * std::uint64_t(t2.max_range(t));
+        bits += std::bit_width(2 * p.span[t] - 1);
+        if (bits > 64) return false;
+    }
+    int below = bits;
+    for (std::size_t t = 0; t < levels; ++t) {
+        below -= std::bit_width(2 * p.span[t] - 1);
+        p.shift[t] = below;
+    }
+    return true;
+}
+
+std::uint64_t packed_key(const PackedLevels& p, std::span<const SofaTreeStep> a, std::span<const SofaTreeStep> b) {
+    std::uint64_t key = 0;
+    for (std::size_t t = 0; t < p.span.size(); ++t) {
+        const SofaTreeStep s = t < a.size() ? a[t] : SofaTreeStep{};
+        const SofaTreeStep r = t < b.size() ? b[t] : SofaTreeStep{};
+        const std::uint64_t loop = std::uint64_t(s.index) * r.size + r.index;
+        const bool leaf_pair = t + 1 >= a.size() && t + 1 >= b.size();
+        key |= (leaf_pair ? loop : 2 * p.span[t] - 1 - loop) << p.shift[t];
+        if (leaf_pair) break;
+    }
+    return key;
+}
+
+}  // namespace
+
 void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
                         SofaOrderScratch& scratch) {
     const std::size_t n = outputs.size();
     if (n < 2) return;
+    const PackedLevels levels{scratch.level_span, scratch.level_shift};
+    if (pack_levels(t1, t2, levels)) {
+        std::vector<SofaOrderScratch::Keyed>& keyed = scratch.keyed;
+        keyed.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            keyed[i] = {packed_key(levels, t1.path(outputs[i].elem1), t2.path(outputs[i].elem2)), std::uint32_t(i)};
+        // the index breaks ties: the outputs of one element pair keep their order
+        std::sort(keyed.begin(), keyed.end(), [](const SofaOrderScratch::Keyed& x, const SofaOrderScratch::Keyed& y) {
+            return x.key != y.key ? x.key < y.key : x.index < y.index;
+        });
+        scratch.sorted.resize(n);
+        for (std::size_t i = 0; i < n; ++i) scratch.sorted[i] = outputs[keyed[i].index];
+        std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());
+        return;
+    }
     // std::sort on indices with the index as the tie-break: stable, and without std::stable_sort's
     // temporary buffer
     std::vector<std::uint32_t>& perm = scratch.permutation;

@@ -134,6 +134,56 @@ TEST(SofaOrder, IsAStrictTotalOrderOnRandomClouds) {
     EXPECT_GT(compared, 1000000);
 }
 
+TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
+    // sort_in_sofa_order packs each output's place into one integer; it must give exactly the
+    // stable sort by sofa_visits_before, duplicates of an element pair kept in their order
+    std::mt19937 g(17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int cases = 0, reordered = 0;
+    for (int depth : {0, 1, 2, 6, 12}) {
+        for (int n1 : {1, 5, 37, 300}) {
+            for (int n2 : {2, 9, 120}) {
+                Vec3State s1, s2;
+                for (int i = 0; i < n1; ++i) s1.position.emplace_back(u(g), u(g), u(g));
+                for (int i = 0; i < n2; ++i) s2.position.emplace_back(u(g), u(g), u(g));
+                PointModel m1(s1, nullptr, named("a", 0)), m2(s2, nullptr, named("b", 1));
+                SofaCubeTree t1, t2;
+                t1.build(m1, depth);
+                t2.build(m2, depth == 12 ? 3 : depth);
+                DetectionOutputList out;
+                std::uniform_int_distribution<int> e1(0, n1 - 1), e2(0, n2 - 1);
+                for (int k = 0; k < 400; ++k) {
+                    DetectionOutput o;
+                    o.elem1 = Index(e1(g));
+                    o.elem2 = Index(e2(g));
+                    o.value = double(k);  // the kernel order, to check stability
+                    out.push_back(o);
+                }
+                DetectionOutputList expected = out;
+                std::stable_sort(expected.begin(), expected.end(), [&](const DetectionOutput& x, const DetectionOutput& y) {
+                    return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
+                });
+                SofaOrderScratch scratch;
+                sort_in_sofa_order(t1, t2, out, scratch);
+                ASSERT_EQ(out.size(), expected.size());
+                for (std::size_t i = 0; i < out.size(); ++i) {
+                    ASSERT_EQ(out[i].elem1, expected[i].elem1) << depth << " " << n1 << " " << n2 << " " << i;
+                    ASSERT_EQ(out[i].elem2, expected[i].elem2) << i;
+                    ASSERT_EQ(out[i].value, expected[i].value) << i;
+                }
+                ++cases;
+                for (std::size_t i = 0; i < out.size(); ++i)
+                    if (out[i].value != double(i)) {
+                        ++reordered;
+                        break;
+                    }
+            }
+        }
+    }
+    EXPECT_EQ(cases, 60);
+    EXPECT_GE(reordered, 59);  // the order is not the input's (only 1×2 elements could keep it)
+}
+
 TEST(SofaOrder, BvhAndExhaustiveDetectionGiveTheSameOrderOverMovingSteps) {
     // both pipelines build SOFA's trees at their first detection, from the same positions
     std::mt19937 g(21);

@@ -48,10 +48,18 @@ public:
     [[nodiscard]] std::span<const SofaTreeStep> path(Index e) const {
         return {steps_.data() + offsets_[e], steps_.data() + offsets_[e + 1]};
     }
+    /// The longest path (levels below the root).
+    [[nodiscard]] std::size_t levels() const { return level_max_size_.size(); }
+    /// The largest child range at level t (1 beyond the tree's levels: an element whose path
+    /// has ended counts as the only child of itself).
+    [[nodiscard]] std::uint32_t max_range(std::size_t t) const {
+        return t < level_max_size_.size() ? level_max_size_[t] : 1;
+    }
 
 private:
     std::vector<SofaTreeStep> steps_;
     std::vector<std::uint32_t> offsets_;
+    std::vector<std::uint32_t> level_max_size_;
 };
 
 /// True if BVHNarrowPhase, traversing t1 against t2, intersects (a1, b1) before (a2, b2)
@@ -61,12 +69,21 @@ private:
 
 /// Buffers of sort_in_sofa_order, kept from call to call (a steady state allocates nothing).
 struct SofaOrderScratch {
+    struct Keyed {
+        std::uint64_t key;
+        std::uint32_t index;
+    };
     std::vector<std::uint32_t> permutation;
+    std::vector<Keyed> keyed;
+    std::vector<std::uint64_t> level_span;  ///< per level: the number of loop positions
+    std::vector<int> level_shift;           ///< per level: the bit position of its digit
     DetectionOutputList sorted;
 };
 
 /// Sorts a model pair's outputs into SOFA's visiting order; the outputs of one element pair
-/// keep their kernel order.
+/// keep their kernel order. The order is sofa_visits_before's; when the two trees' digits fit
+/// in 64 bits (always with SOFA's default depth and fewer than ~10⁸ elements), each output's
+/// place is first packed into one integer key (one digit per level) and the keys are sorted.
 void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
                         SofaOrderScratch& scratch);
 
