@@ -123,7 +123,7 @@ NarrowPhaseScratch& NarrowPhaseScratch::operator=(NarrowPhaseScratch&&) noexcept
 namespace {
 
 // The candidates of bvh_candidates, left sorted in b.keys (every buffer of `b` reused).
-void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin, bool parallel,
+void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin, bool parallel, bool sort,
                         NarrowPhaseScratch::Buffers& b) {
     Keys& keys = b.keys;
     keys.clear();
@@ -136,6 +136,7 @@ void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double ma
     for (const Keys& k : b.per_thread) total += k.size();
     keys.reserve(total);
     for (const Keys& k : b.per_thread) keys.insert(keys.end(), k.begin(), k.end());
+    if (!sort) return;
     // keys are unique, so the sorted sequence does not depend on how the buffers were filled
     const std::size_t n1 = t1.element_boxes().size();
     if (keys.size() < n1 / 4 || keys.size() < 4096) {
@@ -197,7 +198,7 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
 std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin,
                                           bool parallel) {
     NarrowPhaseScratch scratch;
-    collect_candidates(t1, t2, same_model, margin, parallel, scratch.buffers());
+    collect_candidates(t1, t2, same_model, margin, parallel, true, scratch.buffers());
     return std::move(scratch.buffers().keys);
 }
 
@@ -210,7 +211,9 @@ void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, cons
                                "' are out of date (model sizes changed)");
     }
     NarrowPhaseScratch::Buffers& b = scratch.buffers();
-    collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel, b);
+    const bool writes_models = kernel_writes_models(params, m1, m2);
+    collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel,
+                       opt.sorted_candidates || writes_models, b);
     const Keys& keys = b.keys;
     const bool node = same_node(m1, m2);
     auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
@@ -221,7 +224,7 @@ void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, cons
             intersect_elements(params, m1, e1, m2, e2, to);
         }
     };
-    if (!opt.parallel || kernel_writes_models(params, m1, m2) || keys.size() <= opt.chunk_size) {
+    if (!opt.parallel || writes_models || keys.size() <= opt.chunk_size) {
         run(0, keys.size(), out);
         return;
     }
@@ -332,7 +335,11 @@ void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const Bvh& t2 = trees_[model_index(m2)];
     if (t1.empty() || t2.empty()) return;
     if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), box_margin(params_, m1, m2))) return;
-    bvh_narrow_phase(params_, m1, t1, m2, t2, opt_.narrow, scratch_, out);
+    // with SOFA's output order the outputs are sorted afterwards (detect_pair): the candidates
+    // need no sort of their own
+    NarrowPhaseOptions narrow = opt_.narrow;
+    if (opt_.sofa_output_order) narrow.sorted_candidates = false;
+    bvh_narrow_phase(params_, m1, t1, m2, t2, narrow, scratch_, out);
 }
 
 const SceneDetection& CollisionPipeline::detect() {

@@ -51,6 +51,11 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
 struct NarrowPhaseOptions {
     std::size_t chunk_size = 512;  ///< element pairs per evaluation task (fixed, not per thread)
     bool parallel = true;          ///< false: traverse and evaluate on the calling thread
+    /// true: candidates evaluated, and outputs given, in (element 1, element 2) order. false: in
+    /// the traversal's order (which depends on the threads), for a caller that sorts the outputs
+    /// itself (SOFA's output order); a kernel that writes the models (NewProximity Triangle–
+    /// Triangle's normal overwrite) is still evaluated in (element 1, element 2) order.
+    bool sorted_candidates = true;
 };
 
 /// Buffers of the BVH narrow phase, kept from call to call so that a steady state allocates
