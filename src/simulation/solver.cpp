@@ -314,6 +314,7 @@ void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
 }
 
 void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
+    external_work_zeroed_ = false;  // a new solve: another solver may have used the external states
     reset_forces();
     for (const ForceStep& s : force_steps_) {
         if (s.mass != nullptr) s.mass->add_gravity_force(s.gravity);
@@ -337,9 +338,12 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         if (accumulate) independent_[i]->df_flat() = out.segment(offsets_[i], n);
         else independent_[i]->df_flat().setZero();
     }
-    for (BaseState* s : external_) {
-        s->dx_flat().setZero();
-        s->df_flat().setZero();
+    if (!external_work_zeroed_) {
+        for (BaseState* s : external_) {
+            s->dx_flat().setZero();
+            s->df_flat().setZero();
+        }
+        external_work_zeroed_ = true;
     }
     for (BaseMapping* map : mappings_) map->apply_dx();
     for (BaseState* s : mapped_) s->df_flat().setZero();
