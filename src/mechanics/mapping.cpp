@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -138,6 +139,34 @@ void BarycentricMapping::set_rows(std::vector<BarycentricRow> rows) {
             if (!std::isfinite(e.weight)) throw_invalid_argument("BarycentricMapping: point ", i, " has a non-finite weight");
         }
     rows_ = std::move(rows);
+    row_begin_.assign(1, 0);
+    entry_index_.clear();
+    entry_weight_.clear();
+    for (const BarycentricRow& row : rows_) {
+        for (const Entry& e : row) {
+            if (e.index > std::numeric_limits<std::uint32_t>::max())
+                throw_invalid_argument("BarycentricMapping: input index ", e.index, " too large");
+            entry_index_.push_back(static_cast<std::uint32_t>(e.index));
+            entry_weight_.push_back(e.weight);
+        }
+        row_begin_.push_back(static_cast<std::uint32_t>(entry_index_.size()));
+    }
+    // Transpose by counting sort; a stable pass over the rows keeps each input's entries in
+    // (row, entry) order.
+    std::uint32_t inputs = 0;
+    for (const std::uint32_t j : entry_index_) inputs = std::max(inputs, j + 1);
+    input_begin_.assign(static_cast<std::size_t>(inputs) + 1, 0);
+    for (const std::uint32_t j : entry_index_) ++input_begin_[static_cast<std::size_t>(j) + 1];
+    for (std::size_t j = 0; j < inputs; ++j) input_begin_[j + 1] += input_begin_[j];
+    input_row_.resize(entry_index_.size());
+    input_weight_.resize(entry_index_.size());
+    std::vector<std::uint32_t> next(input_begin_.begin(), input_begin_.end() - 1);
+    for (std::uint32_t i = 0; i + 1 < row_begin_.size(); ++i)
+        for (std::uint32_t k = row_begin_[i]; k < row_begin_[i + 1]; ++k) {
+            const std::uint32_t slot = next[entry_index_[k]]++;
+            input_row_[slot] = i;
+            input_weight_[slot] = entry_weight_[k];
+        }
 }
 
 void BarycentricMapping::init() {
@@ -230,10 +259,48 @@ void BarycentricMapping::apply(std::span<Vec3> out, std::span<const Vec3> in) {
     for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].combine(in);
 }
 void BarycentricMapping::apply_j(std::span<Vec3> out, std::span<const Vec3> in) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].combine(in);
+    // BarycentricRow::combine on the flattened rows: s = 0, s += w_k·in[i_k] in k order
+    const std::uint32_t* begin = row_begin_.data();
+    const std::uint32_t* index = entry_index_.data();
+    const double* weight = entry_weight_.data();
+    const Vec3* input = in.data();
+    Vec3* output = out.data();
+    const std::size_t rows = rows_.size();
+    for (std::size_t i = 0; i < rows; ++i) {
+        double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+        for (std::uint32_t k = begin[i]; k < begin[i + 1]; ++k) {
+            const double w = weight[k];
+            const Vec3& p = input[index[k]];
+            s0 += w * p[0];
+            s1 += w * p[1];
+            s2 += w * p[2];
+        }
+        output[i] = Vec3(s0, s1, s2);
+    }
 }
 void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].spread(in, out[i]);
+    // BarycentricRow::spread of every row (in[i_k] += w_k·f_i, rows in order, entries in order)
+    // as a gather: each input point adds its entries in that same order, accumulated in registers
+    // and stored once.
+    PENALTY_DEMAND(in.size() + 1 >= input_begin_.size());
+    const std::uint32_t* begin = input_begin_.data();
+    const std::uint32_t* row = input_row_.data();
+    const double* weight = input_weight_.data();
+    Vec3* input = in.data();
+    const Vec3* output = out.data();
+    const std::size_t inputs = input_begin_.empty() ? 0 : input_begin_.size() - 1;
+    for (std::size_t j = 0; j < inputs; ++j) {
+        if (begin[j] == begin[j + 1]) continue;
+        double s0 = input[j][0], s1 = input[j][1], s2 = input[j][2];
+        for (std::uint32_t k = begin[j]; k < begin[j + 1]; ++k) {
+            const double w = weight[k];
+            const Vec3& f = output[row[k]];
+            s0 += w * f[0];
+            s1 += w * f[1];
+            s2 += w * f[2];
+        }
+        input[j] = Vec3(s0, s1, s2);
+    }
 }
 void BarycentricMapping::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
     for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].add_triplets(t, ro + 3 * static_cast<Index>(i), co);

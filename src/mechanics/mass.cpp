@@ -56,7 +56,12 @@ void UniformMass<Rigid3Types>::add_gravity_force(const Vec3& g) {
 
 template <>
 void UniformMass<Vec3Types>::add_mdx(double factor) {
-    for (std::size_t i = 0; i < state_->df.size(); ++i) state_->df[i] += state_->dx[i] * (mass_ * factor);
+    // df += dx·(m·factor), the scale computed once (the same double for every DOF)
+    const double scale = mass_ * factor;
+    Vec3* df = state_->df.data();
+    const Vec3* dx = state_->dx.data();
+    const std::size_t n = state_->df.size();
+    for (std::size_t i = 0; i < n; ++i) df[i] += dx[i] * scale;
 }
 template <>
 void UniformMass<Rigid3Types>::add_mdx(double factor) {

@@ -76,26 +76,43 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
     }
 }
 
-void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
-                                  double /*b_factor*/) const {
-    PENALTY_DEMAND(dfdx_.size() == springs_.size());
-    for (std::size_t i = 0; i < springs_.size(); ++i) {
-        const auto a = static_cast<std::size_t>(springs_[i].a);
-        const auto b = static_cast<std::size_t>(springs_[i].b);
-        // SOFA's computeSpringDForce: (dfdx·(dx_b − dx_a))·kFactor, rows summed left to right.
+namespace {
+/// df1[a] += d, df2[b] −= d for each spring in order, d = SOFA's computeSpringDForce of
+/// `Arithmetic` (see SpringArithmetic). The loop reads raw pointers held in locals, so that the
+/// stores into df do not force the compiler to reload the spring list's bounds per spring; each
+/// floating-point operation and its order are those of the straightforward loop.
+template <SpringArithmetic Arithmetic>
+void spring_dforce(const Spring* springs, const Mat3* dfdx, std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1,
+                   const Vec3* dx2, double k_factor) {
+    for (std::size_t i = 0; i < count; ++i) {
+        const auto a = static_cast<std::size_t>(springs[i].a);
+        const auto b = static_cast<std::size_t>(springs[i].b);
         const Vec3 dx = dx2[b] - dx1[a];
-        const Mat3& m = dfdx_[i];
+        const Mat3& m = dfdx[i];
         Vec3 d;
-        if (arithmetic_ == SpringArithmetic::quadular_bending_springs) {
+        if constexpr (Arithmetic == SpringArithmetic::quadular_bending_springs) {
             // QuadularBendingSprings::addDForce: DfDx·(ddx·kFactor)
             const Vec3 s(dx[0] * k_factor, dx[1] * k_factor, dx[2] * k_factor);
             for (int r = 0; r < 3; ++r) d[r] = m(r, 0) * s[0] + m(r, 1) * s[1] + m(r, 2) * s[2];
         } else {
+            // SOFA's computeSpringDForce: (dfdx·(dx_b − dx_a))·kFactor, rows summed left to right.
             for (int r = 0; r < 3; ++r) d[r] = (m(r, 0) * dx[0] + m(r, 1) * dx[1] + m(r, 2) * dx[2]) * k_factor;
         }
         df1[a] += d;
         df2[b] -= d;
     }
+}
+}  // namespace
+
+void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
+                                  double /*b_factor*/) const {
+    PENALTY_DEMAND(dfdx_.size() == springs_.size());
+    if (arithmetic_ == SpringArithmetic::quadular_bending_springs)
+        spring_dforce<SpringArithmetic::quadular_bending_springs>(springs_.data(), dfdx_.data(), springs_.size(), df1.data(),
+                                                                  df2.data(), dx1.data(), dx2.data(), k_factor);
+    else
+        spring_dforce<SpringArithmetic::spring_force_field>(springs_.data(), dfdx_.data(), springs_.size(), df1.data(),
+                                                            df2.data(), dx1.data(), dx2.data(), k_factor);
 }
 
 void SpringForceField::add_stiffness_triplets(TripletList& t, Index o1, Index o2, double factor) const {

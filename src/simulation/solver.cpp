@@ -177,10 +177,16 @@ double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) co
         const Eigen::Index begin = offsets_[s];
         const Eigen::Index end = begin + static_cast<Eigen::Index>(independent_[s]->scalar_size());
         double state_sum = 0.0;
-        for (Eigen::Index i = begin; i < end; i += width) {
-            double dof = a[i] * b[i];
-            for (Eigen::Index c = 1; c < width; ++c) dof += a[i + c] * b[i + c];
-            state_sum += dof;
+        const double* pa = a.data();
+        const double* pb = b.data();
+        if (width == 3) {  // Vec3 states, the common case: the same sums with a fixed inner count
+            for (Eigen::Index i = begin; i < end; i += 3) state_sum += (pa[i] * pb[i] + pa[i + 1] * pb[i + 1]) + pa[i + 2] * pb[i + 2];
+        } else {
+            for (Eigen::Index i = begin; i < end; i += width) {
+                double dof = pa[i] * pb[i];
+                for (Eigen::Index c = 1; c < width; ++c) dof += pa[i + c] * pb[i + c];
+                state_sum += dof;
+            }
         }
         total += state_sum;
     }
@@ -308,6 +314,7 @@ void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
 }
 
 void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
+    external_work_zeroed_ = false;  // a new solve: another solver may have used the external states
     reset_forces();
     for (const ForceStep& s : force_steps_) {
         if (s.mass != nullptr) s.mass->add_gravity_force(s.gravity);
@@ -331,9 +338,12 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         if (accumulate) independent_[i]->df_flat() = out.segment(offsets_[i], n);
         else independent_[i]->df_flat().setZero();
     }
-    for (BaseState* s : external_) {
-        s->dx_flat().setZero();
-        s->df_flat().setZero();
+    if (!external_work_zeroed_) {
+        for (BaseState* s : external_) {
+            s->dx_flat().setZero();
+            s->df_flat().setZero();
+        }
+        external_work_zeroed_ = true;
     }
     for (BaseMapping* map : mappings_) map->apply_dx();
     for (BaseState* s : mapped_) s->df_flat().setZero();

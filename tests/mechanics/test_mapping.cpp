@@ -144,6 +144,34 @@ TEST(Mapping, BarycentricOnTetrahedra) {
     EXPECT_NEAR(map.weights()[0][0].weight, 0.4, 1e-15);
 }
 
+TEST(Mapping, BarycentricProductsAreBitwiseTheRowOperations) {
+    // apply_j and apply_jt run on a flattened copy of the rows (speed); they must give the bits
+    // of BarycentricRow::combine and ::spread, rows of every count, entries in row order.
+    Vec3Object in, out;
+    in.position.resize(9);
+    for (auto& p : in.position) p = rand_vec();
+    in.init();
+    std::vector<BarycentricRow> rows(7);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        for (std::size_t k = 0; k <= i; ++k) rows[i].push(static_cast<Index>((3 * i + 5 * k) % 9), uni());
+    BarycentricMapping map(in, out);
+    map.set_rows(rows);
+    map.init();
+    for (auto& d : in.dx) d = rand_vec();
+    map.apply_dx();
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const Vec3 expected = rows[i].combine(in.dx);
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(out.dx[i][c], expected[c]) << i;  // bitwise
+    }
+    for (auto& f : out.df) f = rand_vec();
+    for (auto& f : in.df) f = rand_vec();
+    std::vector<Vec3> expected(in.df.begin(), in.df.end());
+    for (std::size_t i = 0; i < rows.size(); ++i) rows[i].spread(expected, out.df[i]);
+    map.apply_jt_df();
+    for (std::size_t j = 0; j < expected.size(); ++j)
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(in.df[j][c], expected[j][c]) << j;  // bitwise
+}
+
 TEST(Mapping, BarycentricOnHexahedraIsTrilinear) {
     Vec3Object in, out;
     // A distorted hexahedron (not a parallelepiped).

@@ -51,6 +51,56 @@ TEST(SpringForceField, DerivativesMatchFiniteDifferencesOnRandomSprings) {
     EXPECT_EQ(checked, 20);
 }
 
+TEST(SpringForceField, DforceIsBitwiseSofasPerSpringProduct) {
+    // add_dforce runs a hoisted loop (speed); it must give the bits of SOFA's per-spring product in
+    // spring order: d = (m·(dx_b − dx_a))·k (SpringForceField) or m·((dx_b − dx_a)·k)
+    // (QuadularBendingSprings), df_a += d, df_b −= d; m read back from the stiffness triplets.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (const SpringArithmetic arithmetic : {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs}) {
+        Vec3Object s;
+        for (int i = 0; i < 7; ++i) s.position.emplace_back(u(rng), u(rng), u(rng));
+        for (int i = 0; i < 7; ++i) s.velocity.emplace_back(u(rng), u(rng), u(rng));
+        s.init();
+        SpringForceField ff(s);
+        ff.set_arithmetic(arithmetic);
+        for (int k = 0; k < 15; ++k) {
+            const Index a = static_cast<Index>(rng() % 7);
+            const Index b = (a + 1 + static_cast<Index>(rng() % 6)) % 7;
+            ff.add_spring({a, b, 10 + 90 * std::abs(u(rng)), 0.5, 0.3 + std::abs(u(rng))});
+        }
+        ff.init();
+        ff.accumulate_force();
+        TripletList t;
+        ff.add_stiffness_triplets(t, 0, 0, 1.0);
+        ASSERT_EQ(t.size(), 36 * ff.springs().size());
+        for (auto& d : s.dx) d = Vec3(u(rng), u(rng), u(rng));
+        for (auto& d : s.df) d = Vec3(u(rng), u(rng), u(rng));
+        std::vector<Vec3> expected(s.df.begin(), s.df.end());
+        const double k = -0.0123;
+        for (std::size_t i = 0; i < ff.springs().size(); ++i) {
+            Mat3 m;  // the (a, b) block of spring i: triplet 4·(3r + c) + 1 holds +m(r, c)
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) m(r, c) = t[36 * i + 4 * static_cast<std::size_t>(3 * r + c) + 1].value();
+            const auto a = static_cast<std::size_t>(ff.springs()[i].a);
+            const auto b = static_cast<std::size_t>(ff.springs()[i].b);
+            const Vec3 dx = s.dx[b] - s.dx[a];
+            Vec3 d;
+            for (int r = 0; r < 3; ++r) {
+                if (arithmetic == SpringArithmetic::spring_force_field)
+                    d[r] = (m(r, 0) * dx[0] + m(r, 1) * dx[1] + m(r, 2) * dx[2]) * k;
+                else
+                    d[r] = m(r, 0) * (dx[0] * k) + m(r, 1) * (dx[1] * k) + m(r, 2) * (dx[2] * k);
+            }
+            expected[a] += d;
+            expected[b] -= d;
+        }
+        ff.accumulate_dforce(k, 0.0);
+        for (std::size_t j = 0; j < expected.size(); ++j)
+            for (int c = 0; c < 3; ++c) EXPECT_EQ(s.df[j][c], expected[j][c]) << j;  // bitwise
+    }
+}
+
 TEST(MeshSpringForceField, SpringsPerElementAndStiffnessOverLength) {
     MeshTopology topo;
     topo.set_hexahedra({{0, 1, 2, 3, 4, 5, 6, 7}});

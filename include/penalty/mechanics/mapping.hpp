@@ -10,6 +10,7 @@
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -212,6 +213,18 @@ public:
 
 private:
     std::vector<BarycentricRow> rows_;
+    // rows_ flattened for the per-CG-product loops (apply_j, apply_jt): the entries of row i are
+    // [row_begin_[i], row_begin_[i + 1]) of entry_index_ / entry_weight_ (rows_ is 136 bytes a
+    // row whatever its count). Same entries, same order, same operations as BarycentricRow.
+    std::vector<std::uint32_t> row_begin_;
+    std::vector<std::uint32_t> entry_index_;
+    std::vector<double> entry_weight_;
+    // The same entries by input point (Jᵀ as a gather): input j's entries are
+    // [input_begin_[j], input_begin_[j + 1]) of input_row_ / input_weight_, in row order then
+    // entry order, i.e. the order in which BarycentricRow::spread adds them into in[j].
+    std::vector<std::uint32_t> input_begin_;
+    std::vector<std::uint32_t> input_row_;
+    std::vector<double> input_weight_;
 };
 
 /// Trilinear weights of local coordinates (u, v, w) ∈ [0,1]³ in SOFA's hexahedron vertex order

@@ -124,6 +124,9 @@ public:
     /// Leaves the states' force vectors overwritten (the step is abandoned).
     [[noreturn]] void throw_naming_largest_force(const std::string& what) const;
     /// out = (m·M + b·B + k·K)·dx (matrix-free, through the mappings), projected if asked.
+    /// External states count as fixed: their dx is 0 and their df is scratch nobody reads; both
+    /// are zeroed by the first product after compute_force (or the first ever), not by every one
+    /// (nothing in the subtree writes an external dx, and the solvers do not interleave).
     /// accumulate: out += (m·M + b·B + k·K)·dx, each contribution added to out in turn (out must
     /// have size()); the projection, if asked, applies to the sum.
     void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project,
@@ -150,6 +153,8 @@ private:
     std::unordered_map<const BaseState*, Index> offset_of_;
     std::vector<BaseState*> mapped_;
     std::vector<BaseState*> external_;  ///< states used by the subtree's fields but outside it
+    /// external_'s dx (and df) zeroed since the last compute_force (see apply_mbk)
+    mutable bool external_work_zeroed_ = false;
     std::vector<BaseMapping*> mappings_;  ///< pre-order: parents before children (J·dx)
     /// One contribution to the forces, in SOFA's visiting order (MechanicalComputeForceVisitor,
     /// MechanicalAddMBKdxVisitor): top-down a node's mass, then its force fields; bottom-up
