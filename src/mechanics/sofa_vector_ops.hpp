@@ -29,6 +29,28 @@ inline Vec3 transpose_times(const Mat3& m, const Vec3& v) {
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
+/// det M = m00·m11·m22 + m10·m21·m02 + m20·m01·m12 − m00·m21·m12 − m10·m01·m22 − m20·m11·m02,
+/// summed left to right (type::determinant of a Mat<3,3>).
+inline double determinant(const Mat3& m) {
+    return m(0, 0) * m(1, 1) * m(2, 2) + m(1, 0) * m(2, 1) * m(0, 2) + m(2, 0) * m(0, 1) * m(1, 2) -
+           m(0, 0) * m(2, 1) * m(1, 2) - m(1, 0) * m(0, 1) * m(2, 2) - m(2, 0) * m(1, 1) * m(0, 2);
+}
+/// M⁻¹ as type::invertMatrix(Mat<3,3>): each entry a 2×2 cofactor difference divided by det M
+/// (not multiplied by 1/det, as Eigen's inverse()). M must be invertible.
+inline Mat3 inverse(const Mat3& m) {
+    const double det = determinant(m);
+    Mat3 r;
+    r(0, 0) = (m(1, 1) * m(2, 2) - m(2, 1) * m(1, 2)) / det;
+    r(1, 0) = (m(1, 2) * m(2, 0) - m(2, 2) * m(1, 0)) / det;
+    r(2, 0) = (m(1, 0) * m(2, 1) - m(2, 0) * m(1, 1)) / det;
+    r(0, 1) = (m(2, 1) * m(0, 2) - m(0, 1) * m(2, 2)) / det;
+    r(1, 1) = (m(2, 2) * m(0, 0) - m(0, 2) * m(2, 0)) / det;
+    r(2, 1) = (m(2, 0) * m(0, 1) - m(0, 0) * m(2, 1)) / det;
+    r(0, 2) = (m(0, 1) * m(1, 2) - m(1, 1) * m(0, 2)) / det;
+    r(1, 2) = (m(0, 2) * m(1, 0) - m(1, 2) * m(0, 0)) / det;
+    r(2, 2) = (m(0, 0) * m(1, 1) - m(1, 0) * m(0, 1)) / det;
+    return r;
+}
 /// v / |v|, each component divided by |v| = √(v·v); v itself when |v| ≤ machine epsilon
 /// (type::Vec::normalized → normalizeWithNorm).
 inline Vec3 normalized(const Vec3& v) {

@@ -2,6 +2,8 @@
 
 #include "penalty/core/error.hpp"
 
+#include "../mechanics/sofa_vector_ops.hpp"
+
 #include <limits>
 
 namespace penalty {
@@ -130,12 +132,19 @@ std::array<double, 2> triangle_contact_coordinates(const Vec3& p0, const Vec3& p
 }
 
 std::array<double, 2> quad_contact_coordinates(const Vec3& q0, const Vec3& q1, const Vec3& q3, const Vec3& P) {
+    // BarycentricMapperMeshTopology::createPointInQuad, SOFA's operations: B = (a b a×b)⁻¹ with
+    // a = q1 − q0, b = q3 − q0 as columns, inverted by type::invertMatrix (cofactors / det);
+    // fx = B's row 0 · (P − q0), fy = row 1 · (P − q0). Eigen's inverse() (cofactors · (1/det))
+    // rounds fx, fy otherwise.
+    const Vec3 a = q1 - q0;
+    const Vec3 b = q3 - q0;
     Mat3 m;
-    m.col(0) = q1 - q0;
-    m.col(1) = q3 - q0;
-    m.col(2) = m.col(0).cross(m.col(1));
-    const Vec3 c = m.inverse() * (P - q0);
-    return {c.x(), c.y()};
+    m.col(0) = a;
+    m.col(1) = b;
+    m.col(2) = sofa_vec::cross(a, b);
+    const Mat3 base = sofa_vec::inverse(m);
+    const Vec3 pos = P - q0;
+    return {sofa_vec::dot3(base.row(0).transpose(), pos), sofa_vec::dot3(base.row(1).transpose(), pos)};
 }
 
 BarycentricContactMapper::BarycentricContactMapper(const CollisionModel& model) : model_(&model) {

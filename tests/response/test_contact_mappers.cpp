@@ -232,6 +232,20 @@ TEST(ContactMapper, TriangleProjectionAndQuadBilinear) {
     EXPECT_DOUBLE_EQ(w[1], 1.5);
 }
 
+// SOFA's BarycentricMapperMeshTopology::createPointInQuad inverts (a b a×b) by type::invertMatrix
+// (cofactors divided by det) and takes fx, fy as rows 0, 1 of the inverse · (P − q0). With this
+// quad, Eigen's inverse() (cofactors · (1/det)) gives fx and fy one and two ulps lower
+// (0x1.a08b56bfbe9c6p-3, -0x1.c0836e2470ef5p-2): the values below pin SOFA's operations.
+TEST(ContactMapper, QuadCoordinatesInSofasOperationOrder) {
+    const Vec3 q0(0.69999999999999996, 0.59999999999999998, 0.29999999999999999);
+    const Vec3 q1(1.7, 0.81000000000000005, 0.29999999999999999);
+    const Vec3 q3(0.70999999999999996, 1.6000000000000001, 0.33999999999999997);
+    const Vec3 P(0.90000000000000002, 0.20000000000000001, 0.40000000000000002);
+    const auto f = quad_contact_coordinates(q0, q1, q3, P);
+    EXPECT_EQ(f[0], 0x1.a08b56bfbe9c7p-3);
+    EXPECT_EQ(f[1], -0x1.c0836e2470ef7p-2);
+}
+
 /// Energy of the contact's springs at the current parent state (frozen contact geometry).
 double contact_energy(BarycentricPenaltyContact& c, std::size_t n1, std::size_t n2) {
     std::vector<double> f1(n1, 0.0), f2(n2, 0.0);
