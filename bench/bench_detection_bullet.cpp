@@ -87,11 +87,16 @@ struct PenaltySpheres {
     SphereModel model;
     CollisionPipeline pipe;
 
-    explicit PenaltySpheres(const SphereMotion& motion)
+    PenaltySpheres(const SphereMotion& motion, bool candidate_cache)
         : state(cloud(motion)),
           model(state, bench::kSphereRadius, {}, bench::sphere_model_params()),
-          pipe(bench::sphere_intersection_params()) {
+          pipe(bench::sphere_intersection_params(), options(candidate_cache)) {
         pipe.set_models({&model});
+    }
+    static CollisionPipelineOptions options(bool candidate_cache) {
+        CollisionPipelineOptions o;
+        o.candidate_cache = candidate_cache;
+        return o;
     }
     static Vec3State cloud(const SphereMotion& motion) {
         Vec3State s;
@@ -202,10 +207,11 @@ std::size_t symmetric_difference_size(const std::vector<SpherePair>& a, const st
 void BM_SpheresPenalty(benchmark::State& state) {
     const auto n = std::size_t(state.range(0));
     const int threads = int(state.range(1));
+    const bool candidate_cache = state.range(2) != 0;
     tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
     tbb::task_arena arena(threads);
     const SphereMotion motion(n);
-    PenaltySpheres scene(motion);
+    PenaltySpheres scene(motion, candidate_cache);
     std::int64_t k = 0;
     arena.execute([&] {
         for (; k < kWarmupSteps; ++k) scene.step(motion, k);
@@ -231,7 +237,7 @@ void BM_SpheresBullet(benchmark::State& state, double units_per_metre) {
     state.counters["bp_pairs"] = double(scene.dispatcher.getNumManifolds());
 
     // the same pairs as penalty at the same positions (penalty's detection, untimed)
-    PenaltySpheres reference(motion);
+    PenaltySpheres reference(motion, false);
     reference.step(motion, 0);
     const auto bullet_pairs = scene.pairs();
     const auto penalty_pairs = reference.pairs();
@@ -256,8 +262,11 @@ const bool registered = [] {
         if (n == 1000L)
             timing(benchmark::RegisterBenchmark("BM_Against_Bullet/bullet_metres", BM_SpheresBullet, 1.0)->Arg(n));
         timing(benchmark::RegisterBenchmark("BM_Against_Bullet/bullet", BM_SpheresBullet, kBulletScale)->Arg(n));
+        // third argument: the candidate cache on (1, the default) or off (0: the trees traversed at
+        // every step, as before the cache)
         for (const long threads : {1L, 2L})
-            timing(benchmark::RegisterBenchmark("BM_Against_Bullet/penalty", BM_SpheresPenalty)->Args({n, threads}));
+            timing(benchmark::RegisterBenchmark("BM_Against_Bullet/penalty", BM_SpheresPenalty)->Args({n, threads, 1}));
+        timing(benchmark::RegisterBenchmark("BM_Against_Bullet/penalty", BM_SpheresPenalty)->Args({n, 1, 0}));
     }
     return true;
 }();

@@ -9,6 +9,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace penalty {
 
@@ -202,19 +203,13 @@ std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool sam
     return std::move(scratch.buffers().keys);
 }
 
-void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
-                      const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
-                      DetectionOutputList& out) {
-    const bool same_model = &m1 == &m2;
-    if (t1.element_boxes().size() != m1.size() || t2.element_boxes().size() != m2.size()) {
-        throw_invalid_argument("bvh_narrow_phase(): the trees of '", m1.name(), "' and '", m2.name(),
-                               "' are out of date (model sizes changed)");
-    }
-    NarrowPhaseScratch::Buffers& b = scratch.buffers();
-    const bool writes_models = kernel_writes_models(params, m1, m2);
-    collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel,
-                       opt.sorted_candidates || writes_models, b);
-    const Keys& keys = b.keys;
+namespace {
+
+// Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order,
+// in parallel chunks concatenated in chunk order unless the kernel writes the models.
+void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& keys,
+                         const NarrowPhaseOptions& opt, bool writes_models, NarrowPhaseScratch::Buffers& b,
+                         DetectionOutputList& out) {
     const bool node = same_node(m1, m2);
     auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
         for (std::size_t k = begin; k < end; ++k) {
@@ -244,6 +239,38 @@ void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, cons
     for (std::size_t c = 0; c < nchunks; ++c) out.insert(out.end(), parts[c].begin(), parts[c].end());
 }
 
+void check_trees(const CollisionModel& m1, const Bvh& t1, const CollisionModel& m2, const Bvh& t2) {
+    if (t1.element_boxes().size() != m1.size() || t2.element_boxes().size() != m2.size()) {
+        throw_invalid_argument("bvh_narrow_phase(): the trees of '", m1.name(), "' and '", m2.name(),
+                               "' are out of date (model sizes changed)");
+    }
+}
+
+// Largest change of any box bound between two lists of the same size (stops above `limit`).
+double largest_bound_change(std::span<const Aabb> now, std::span<const Aabb> before, double limit) {
+    double moved = 0.0;
+    for (std::size_t e = 0; e < now.size(); ++e) {
+        const Vec3 d = (now[e].min - before[e].min).cwiseAbs().cwiseMax((now[e].max - before[e].max).cwiseAbs());
+        moved = std::max(moved, d.maxCoeff());
+        if (!(moved <= limit)) return moved;  // NaN too
+    }
+    return moved;
+}
+
+}  // namespace
+
+void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
+                      const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
+                      DetectionOutputList& out) {
+    const bool same_model = &m1 == &m2;
+    check_trees(m1, t1, m2, t2);
+    NarrowPhaseScratch::Buffers& b = scratch.buffers();
+    const bool writes_models = kernel_writes_models(params, m1, m2);
+    collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel,
+                       opt.sorted_candidates || writes_models, b);
+    evaluate_candidates(params, m1, m2, b.keys, opt, writes_models, b, out);
+}
+
 CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
                                      ContactDetection detection)
     : params_(std::move(params)), opt_(opt), detection_(detection) {
@@ -259,6 +286,8 @@ void CollisionPipeline::set_models(std::vector<CollisionModel*> models) {
     models_ = std::move(models);
     trees_.assign(models_.size(), Bvh{});
     sofa_trees_.assign(models_.size(), SofaCubeTree{});
+    motion_.assign(models_.size(), ModelMotion{});
+    pair_candidates_.clear();
     index_models();
 }
 
@@ -266,6 +295,7 @@ void CollisionPipeline::add_model(CollisionModel& model) {
     models_.push_back(&model);
     trees_.emplace_back();
     sofa_trees_.emplace_back();
+    motion_.emplace_back();
     index_models();
 }
 
@@ -292,11 +322,59 @@ void CollisionPipeline::refit() {
         if (m.params().moving) {
             m.validate();
             tree.refit(m, opt_.rebuild_ratio, opt_.leaf_size);
+            if (opt_.candidate_cache) track_motion(i);
         } else if (tree.build_count() == 0 || tree.element_boxes().size() != m.size()) {
             m.validate();  // static: checked and built once (SOFA: bounding tree computed once)
             tree.build(m, opt_.leaf_size);
+            if (opt_.candidate_cache) track_motion(i);
         }
     }
+}
+
+void CollisionPipeline::track_motion(std::size_t i) {
+    const std::vector<Aabb>& boxes = trees_[i].element_boxes();
+    ModelMotion& mm = motion_[i];
+    const bool moving = models_[i]->params().moving;
+    if (mm.uncached_refits > 0) {  // moving too fast for the cache: traversed at every step
+        --mm.uncached_refits;
+        if (mm.uncached_refits > 0) return;
+    } else if (mm.generation != 0 && mm.reference.size() == boxes.size() &&
+               largest_bound_change(boxes, mm.reference, mm.slack) <= mm.slack) {
+        ++mm.steps;
+        return;
+    }
+    // A new generation. Slack of a moving model: an eighth of the mean element extent (at
+    // least 1e-3 of the model's extent) to start with; doubled when a generation lasts a single
+    // refit, up to a quarter of the extent, beyond which the model is traversed at every step
+    // for 16 refits (a wider slack would only collect more candidates than it saves); halved
+    // when generations last long. A static model's boxes change only with a new build: slack 0.
+    double extent = 0.0;
+    for (const Aabb& a : boxes) extent += (a.max - a.min).maxCoeff();
+    extent = boxes.empty() ? 0.0 : extent / double(boxes.size());
+    if (!trees_[i].empty()) {
+        const Aabb& root = trees_[i].root_box();
+        extent = std::max(extent, 1e-3 * (root.max - root.min).maxCoeff());
+    }
+    if (!std::isfinite(extent)) extent = 0.0;
+    const bool fresh = mm.generation == 0 || mm.reference.size() != boxes.size();
+    if (!moving) {
+        mm.slack = 0.0;
+    } else if (fresh) {
+        mm.slack = 0.125 * extent;
+    } else if (mm.steps <= 1) {
+        if (2.0 * mm.slack > 0.25 * extent) {
+            mm.generation = 0;  // pairs with this model traverse the trees
+            mm.uncached_refits = 16;
+            mm.reference.clear();
+            return;
+        }
+        mm.slack *= 2.0;
+    } else if (mm.steps > 16) {
+        mm.slack = std::max(0.5 * mm.slack, extent / 64.0);
+    }
+    mm.reference.assign(boxes.begin(), boxes.end());
+    mm.generation = ++generations_;
+    mm.steps = 0;
 }
 
 void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
@@ -331,15 +409,50 @@ void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     // first, unconditionally, as exhaustive_narrow_phase does
     m1.update();
     if (&m2 != &m1) m2.update();
-    const Bvh& t1 = trees_[model_index(m1)];
-    const Bvh& t2 = trees_[model_index(m2)];
+    const std::size_t i1 = model_index(m1), i2 = model_index(m2);
+    const Bvh& t1 = trees_[i1];
+    const Bvh& t2 = trees_[i2];
     if (t1.empty() || t2.empty()) return;
-    if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), box_margin(params_, m1, m2))) return;
+    const double margin = box_margin(params_, m1, m2);
     // with SOFA's output order the outputs are sorted afterwards (detect_pair): the candidates
     // need no sort of their own
     NarrowPhaseOptions narrow = opt_.narrow;
     if (opt_.sofa_output_order) narrow.sorted_candidates = false;
-    bvh_narrow_phase(params_, m1, t1, m2, t2, narrow, scratch_, out);
+    const ModelMotion& a = motion_[i1];
+    const ModelMotion& b = motion_[i2];
+    if (!opt_.candidate_cache || a.generation == 0 || b.generation == 0) {
+        if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), margin)) return;
+        bvh_narrow_phase(params_, m1, t1, m2, t2, narrow, scratch_, out);
+        return;
+    }
+    // Candidate cache. Since a generation began every box bound moved by at most its model's
+    // slack s, so between the collection and now by at most 2·s: a pair overlapping now with
+    // margin m overlapped at the collection with m + 2·(s1 + s2). The kept pairs are box-tested
+    // again with m, exactly as the traversal tests them, so the candidates are the traversal's.
+    check_trees(m1, t1, m2, t2);
+    const bool writes_models = kernel_writes_models(params_, m1, m2);
+    NarrowPhaseScratch::Buffers& buf = scratch_.buffers();
+    PairCandidates& kept = pair_candidates_[(std::uint64_t(i1) << 32) | std::uint64_t(i2)];
+    if (kept.generation1 != a.generation || kept.generation2 != b.generation) {
+        ++cache_stats_.collected;
+        const double wide = margin + 2.0 * (a.slack + b.slack);
+        kept.keys.clear();
+        if (&m1 == &m2 || t1.root_box().overlaps(t2.root_box(), wide)) {
+            collect_candidates(t1, t2, &m1 == &m2, wide, narrow.parallel, narrow.sorted_candidates || writes_models, buf);
+            kept.keys.assign(buf.keys.begin(), buf.keys.end());
+        }
+        kept.generation1 = a.generation;
+        kept.generation2 = b.generation;
+    } else {
+        ++cache_stats_.reused;
+    }
+    Keys& now = buf.keys;
+    now.clear();
+    const Aabb* boxes1 = t1.element_boxes().data();
+    const Aabb* boxes2 = t2.element_boxes().data();
+    for (const std::uint64_t k : kept.keys)
+        if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);
+    evaluate_candidates(params_, m1, m2, now, narrow, writes_models, buf, out);
 }
 
 const SceneDetection& CollisionPipeline::detect() {

@@ -433,6 +433,59 @@ TEST(NarrowPhase, MixedModelsWithBeyondSofaPairsEqualExhaustive) {
     }
 }
 
+TEST(NarrowPhase, CandidateCacheGivesTheTraversalsOutputsOverManyStepsAndIsReused) {
+    // the kept candidates of a pair are re-tested with the exact box test, so a pipeline with the
+    // cache must give bit for bit what one traversing the trees at every step gives, in SOFA's
+    // order, over slow drifts (kept) and sudden jumps (collected again), self-collision included
+    for (const auto method : {IntersectionMethod::NewProximity, IntersectionMethod::MinProximity}) {
+        SCOPED_TRACE(intersection_method_name(method));
+        MeshScene sc(7, true);
+        std::mt19937 g(8);
+        const IntersectionParams params = method_params(method);
+        CollisionPipelineOptions cached_options, plain_options;
+        plain_options.candidate_cache = false;
+        CollisionPipeline cached(params, cached_options), plain(params, plain_options);
+        cached.set_models(sc.models);
+        plain.set_models(sc.models);
+        std::size_t total = 0;
+        for (int step = 0; step < 27; ++step) {
+            const SceneDetection& got = cached.detect();
+            const SceneDetection& ref = plain.detect();
+            expect_identical(got, ref);
+            total += count_outputs(got);
+            // drift of ~1 mm per step (the tori's edges are ~0.1 m), a jump of 5 cm every 13 steps
+            sc.jiggle(g, step % 13 == 12 ? 0.05 : 0.001);
+            for (auto& p : sc.t2->state.position) p += Vec3(0.002, 0.0, 0.0);
+        }
+        EXPECT_GT(total, 3000u);
+        const auto& stats = cached.candidate_cache_stats();
+        EXPECT_EQ(plain.candidate_cache_stats().reused + plain.candidate_cache_stats().collected, 0u);
+        // every pair detection is one or the other; most are answered from the kept candidates,
+        // and the jumps force new collections
+        EXPECT_GT(stats.reused, stats.collected) << stats.reused << " reused, " << stats.collected << " collected";
+        EXPECT_GT(stats.collected, 3u * 10u);
+    }
+}
+
+TEST(NarrowPhase, CandidateCacheFollowsSphereCloudsThatMoveFast) {
+    // motion larger than any slack at every step: a new collection each step, same outputs
+    SphereScene sc(4);
+    std::mt19937 g(5);
+    const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
+    CollisionPipelineOptions plain_options;
+    plain_options.candidate_cache = false;
+    CollisionPipeline cached(params), plain(params, plain_options);
+    cached.set_models(sc.models);
+    plain.set_models(sc.models);
+    std::size_t total = 0;
+    for (int step = 0; step < 8; ++step) {
+        expect_identical(cached.detect(), plain.detect());
+        total += count_outputs(cached.detections());
+        sc.jiggle(g, 0.2);
+    }
+    EXPECT_GT(total, 800u);
+}
+
 TEST(NarrowPhase, SelfCollisionFiltersAreApplied) {
     // torus1 triangles vs its own vertices (same node): no output of a triangle with one of its vertices
     MeshScene sc(5, true);

@@ -77,6 +77,13 @@ TEST(SubtreeSystem, MatrixFreeOperatorEqualsAssembledThroughMappings) {
     EXPECT_TRUE(dense.isApprox(dense.transpose(), 1e-10));
 }
 
+ConstantForceFieldParameters forces_at_point_0(const Vec3& f) {
+    ConstantForceFieldParameters p;
+    p.indices = {0};
+    p.forces = {f};
+    return p;
+}
+
 // SOFA sums the forces on a state in its visiting order (MechanicalComputeForceVisitor): top-down,
 // the node's own force fields; bottom-up (post-order), each mapped child's Jᵀ·f, first child
 // first. With 1e16 and 1 the rounding of a double tells the orders apart: ((−1e16 + 1e16) + 1) = 1,
@@ -88,13 +95,13 @@ TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
     Node& body = root.add_child("body");
     auto& x = body.add_state<Vec3Types>("body");
     x.position = {Vec3(0, 0, 0)};
-    body.add_force_field<ConstantForceField>(x, ConstantForceFieldParameters{.forces = {Vec3(-1e16, 0, 0)}});
+    body.add_force_field<ConstantForceField>(x, forces_at_point_0(Vec3(-1e16, 0, 0)));
     const auto mapped_child = [&](const char* name, double force) {
         Node& child = body.add_child(name);
         auto& cx = child.add_state<Vec3Types>(name);
         cx.position = {Vec3(0, 0, 0)};
         child.set_mapping<IdentityMapping>(x, cx);
-        child.add_force_field<ConstantForceField>(cx, ConstantForceFieldParameters{.forces = {Vec3(force, 0, 0)}});
+        child.add_force_field<ConstantForceField>(cx, forces_at_point_0(Vec3(force, 0, 0)));
     };
     mapped_child("first", 1e16);
     mapped_child("second", 1.0);
@@ -113,17 +120,17 @@ TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
     Node& body2 = root2.add_child("body");
     auto& x2 = body2.add_state<Vec3Types>("body");
     x2.position = {Vec3(0, 0, 0)};
-    body2.add_force_field<ConstantForceField>(x2, ConstantForceFieldParameters{.forces = {Vec3(5, 0, 0)}});
+    body2.add_force_field<ConstantForceField>(x2, forces_at_point_0(Vec3(5, 0, 0)));
     Node& a = body2.add_child("a");
     auto& ax = a.add_state<Vec3Types>("a");
     ax.position = {Vec3(0, 0, 0)};
     a.set_mapping<IdentityMapping>(x2, ax);
-    a.add_force_field<ConstantForceField>(ax, ConstantForceFieldParameters{.forces = {Vec3(2, 0, 0)}});
+    a.add_force_field<ConstantForceField>(ax, forces_at_point_0(Vec3(2, 0, 0)));
     Node& a1 = a.add_child("a1");
     auto& a1x = a1.add_state<Vec3Types>("a1");
     a1x.position = {Vec3(0, 0, 0)};
     a1.set_mapping<IdentityMapping>(ax, a1x);
-    a1.add_force_field<ConstantForceField>(a1x, ConstantForceFieldParameters{.forces = {Vec3(1.0, 0, 0)}});
+    a1.add_force_field<ConstantForceField>(a1x, forces_at_point_0(Vec3(1.0, 0, 0)));
     sim2.init();
     SubtreeSystem sys2(root2);
     sys2.propagate_positions_and_velocities();

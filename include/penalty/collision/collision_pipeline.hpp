@@ -23,6 +23,7 @@
 #include <memory>
 #include <span>
 #include <utility>
+#include <unordered_map>
 #include <vector>
 
 namespace penalty {
@@ -108,6 +109,10 @@ struct CollisionPipelineOptions {
     bool sofa_output_order = true;
     std::size_t leaf_size = 8;      ///< maximum elements per leaf
     double rebuild_ratio = 2.0;    ///< moving models: rebuild when refitting degrades the tree (Bvh::refit)
+    /// bvh: keep each model pair's candidates from step to step (CollisionPipeline, "candidate
+    /// cache") and only box-test them again while no element box has moved past the slack they
+    /// were collected with; the outputs are the same as traversing the trees at every step.
+    bool candidate_cache = true;
     NarrowPhaseOptions narrow;
 };
 
@@ -153,6 +158,14 @@ public:
     /// always for the exhaustive detection).
     [[nodiscard]] const Bvh& tree(std::size_t i) const { return trees_[i]; }
 
+    /// Candidate cache statistics since construction: pair detections answered from a pair's
+    /// kept candidates (`reused`) and pair detections that traversed the trees (`collected`).
+    struct CandidateCacheStats {
+        std::size_t reused = 0;
+        std::size_t collected = 0;
+    };
+    [[nodiscard]] const CandidateCacheStats& candidate_cache_stats() const { return cache_stats_; }
+
 private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
     void index_models();  // index_of_ from models_
@@ -161,6 +174,30 @@ private:
     /// SOFA's tree of every active model not built yet (or whose size changed), from the
     /// current positions.
     void build_sofa_trees();
+    /// Candidate cache: after model i's tree was refitted, starts a new reference (a new
+    /// generation) if some element box moved past the model's slack since the last one.
+    void track_motion(std::size_t i);
+
+    /// A model's element boxes when its current generation began, and how far (m, on every box
+    /// bound) they may move before the candidates collected since then are out of date.
+    struct ModelMotion {
+        std::vector<Aabb> reference;
+        double slack = 0.0;
+        std::uint64_t generation = 0;   ///< 0: none (its pairs traverse the trees)
+        std::size_t steps = 0;          ///< refits since the generation began
+        std::size_t uncached_refits = 0;  ///< > 0: too fast for the cache for that many more refits
+    };
+    /// A model pair's kept candidates: element pairs whose boxes overlapped with margin
+    /// m + 2·(slack 1 + slack 2) when collected (a superset of the pairs overlapping with m while
+    /// both generations last).
+    struct PairCandidates {
+        std::uint64_t generation1 = 0, generation2 = 0;
+        std::vector<std::uint64_t> keys;
+    };
+    std::vector<ModelMotion> motion_;
+    std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)
+    std::unordered_map<std::uint64_t, PairCandidates> pair_candidates_;  // key: (index 1 << 32) | index 2
+    CandidateCacheStats cache_stats_;
 
     IntersectionParams params_;
     CollisionPipelineOptions opt_;
