@@ -94,13 +94,18 @@ void Bvh::compute_boxes(const CollisionModel& model) {
     }
     boxes_.resize(n);
     std::atomic<std::size_t> bad{n};
+    static_assert(sizeof(Aabb) == 6 * sizeof(double), "an Aabb is six packed doubles");
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        Aabb* out = boxes_.data() + r.begin();
+        model.element_boxes(r.begin(), r.end(), out);
+        // one vectorised pass over the range's bounds; the first bad box searched only on failure
+        if (all_finite(out->min.data(), 6 * r.size())) return;
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            boxes_[i] = model.element_box(Index(i));
             if (!boxes_[i].min.allFinite() || !boxes_[i].max.allFinite()) {
                 std::size_t cur = bad.load();
                 while (i < cur && !bad.compare_exchange_weak(cur, i)) {
                 }
+                break;
             }
         }
     });

@@ -28,6 +28,15 @@ Aabb CollisionModel::model_box() const {
     return box;
 }
 
+void CollisionModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
+    for (std::size_t i = begin; i < end; ++i) *out++ = element_box(Index(i));
+}
+
+void CollisionModel::validate_for_step() const {
+    if (elements_unchanged_and_finite()) CollisionModel::validate();  // the parameters only
+    else validate();
+}
+
 void CollisionModel::update() {
     if (!params_.moving && updated_once_) return;
     do_update();

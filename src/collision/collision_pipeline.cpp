@@ -2,6 +2,8 @@
 
 #include "penalty/core/error.hpp"
 
+#include "kernels.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -211,12 +213,16 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
                          const NarrowPhaseOptions& opt, bool writes_models, NarrowPhaseScratch::Buffers& b,
                          DetectionOutputList& out) {
     const bool node = same_node(m1, m2);
+    // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
+    // models' sizes (check_trees), so every element index is in range
+    const detail::KernelFn kernel = detail::pair_kernel(params, m1, m2);
     auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
+        detail::PairCtx ctx{params, m1, m2, 0, 0, to};
         for (std::size_t k = begin; k < end; ++k) {
-            const auto e1 = Index(keys[k] >> 32);
-            const auto e2 = Index(keys[k] & 0xffffffffu);
-            if (node && !elements_may_collide(m1, e1, m2, e2)) continue;
-            intersect_elements(params, m1, e1, m2, e2, to);
+            ctx.e1 = Index(keys[k] >> 32);
+            ctx.e2 = Index(keys[k] & 0xffffffffu);
+            if (node && !elements_may_collide(m1, ctx.e1, m2, ctx.e2)) continue;
+            kernel(ctx);
         }
     };
     if (!opt.parallel || writes_models || keys.size() <= opt.chunk_size) {
@@ -320,7 +326,7 @@ void CollisionPipeline::refit() {
         if (!m.params().active) continue;
         Bvh& tree = trees_[i];
         if (m.params().moving) {
-            m.validate();
+            m.validate_for_step();
             tree.refit(m, opt_.rebuild_ratio, opt_.leaf_size);
             if (opt_.candidate_cache) track_motion(i);
         } else if (tree.build_count() == 0 || tree.element_boxes().size() != m.size()) {

@@ -346,8 +346,8 @@ PairSupport pair_support(const IntersectionParams& params, ModelType a, ModelTyp
     return e.support;
 }
 
-int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1, CollisionModel& m2,
-                       Index e2, DetectionOutputList& out) {
+detail::KernelFn detail::pair_kernel(const IntersectionParams& params, const CollisionModel& m1,
+                                     const CollisionModel& m2) {
     if (!is_registered_order(m1.type(), m2.type()) && m1.type() != m2.type()) {
         throw_invalid_argument("intersect_elements(): models '", m1.name(), "' (", model_type_name(m1.type()),
                                ") and '", m2.name(), "' (", model_type_name(m2.type()),
@@ -359,12 +359,18 @@ int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Ind
                                "intersector for ", model_type_name(m1.type()), "-", model_type_name(m2.type()),
                                " (", pair_support_name(pair_support(params, m1.type(), m2.type())), ")");
     }
+    return e.fn;
+}
+
+int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1, CollisionModel& m2,
+                       Index e2, DetectionOutputList& out) {
+    const detail::KernelFn fn = detail::pair_kernel(params, m1, m2);
     if (e1 < 0 || std::size_t(e1) >= m1.size() || e2 < 0 || std::size_t(e2) >= m2.size()) {
         throw_invalid_argument("intersect_elements(): element index out of range: ", m1.name(), "[", e1, "] (size ",
                                m1.size(), "), ", m2.name(), "[", e2, "] (size ", m2.size(), ")");
     }
     detail::PairCtx ctx{params, m1, m2, e1, e2, out};
-    return e.fn(ctx);
+    return fn(ctx);
 }
 
 bool has_active_intersector(const IntersectionParams& params, ModelType a, ModelType b) {

@@ -23,6 +23,12 @@ struct PairCtx {
 
 using KernelFn = int (*)(PairCtx&);
 
+/// The element intersector of the pair (m1, m2) for `params` (intersect_elements' lookup, done
+/// once per model pair by the narrow phase); throws as intersect_elements does for a wrong order
+/// or a pair with no active intersector.
+[[nodiscard]] KernelFn pair_kernel(const IntersectionParams& params, const CollisionModel& m1,
+                                   const CollisionModel& m2);
+
 /// A sphere element of either SphereModel or RigidSphereModel.
 struct SphereElem {
     Vec3 c;

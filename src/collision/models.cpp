@@ -25,6 +25,26 @@ void check_radius(const CollisionModel& m, Index elem, double r, const char* wha
     }
 }
 
+/// The box of a mesh element (SOFA's leaf cube): the vertices' bounds grown by the contact
+/// distance cd on every side (Aabb::extend from an empty box, then inflate(cd): the same doubles).
+template <std::size_t N>
+inline Aabb vertices_box(const std::array<const Vec3*, N>& v, double cd) {
+    Aabb b;
+    b.min = *v[0];
+    b.max = *v[0];
+    for (std::size_t k = 1; k < N; ++k) {
+        b.min = b.min.cwiseMin(*v[k]);
+        b.max = b.max.cwiseMax(*v[k]);
+    }
+    b.inflate(cd);
+    return b;
+}
+
+/// Every coordinate of every position is finite (one vectorised pass over the state).
+bool positions_finite(const std::vector<Vec3>& x) {
+    return x.empty() || all_finite(x.front().data(), 3 * x.size());
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -32,15 +52,22 @@ PointModel::PointModel(const Vec3State& state, const MeshTopology* topology, Col
     : CollisionModel(ModelType::Point, std::move(params)), state_(&state), topology_(topology) {}
 
 Aabb PointModel::element_box(Index i) const {
-    Aabb b;
-    b.extend(point(i));
-    b.inflate(params().contact_distance);
-    return b;
+    return vertices_box<1>({&point(i)}, params().contact_distance);
+}
+
+void PointModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
+    const double cd = params().contact_distance;
+    for (std::size_t i = begin; i < end; ++i) *out++ = vertices_box<1>({&point(Index(i))}, cd);
 }
 
 void PointModel::validate() const {
     CollisionModel::validate();
     for (std::size_t i = 0; i < size(); ++i) check_point(point(Index(i)), Index(i), "position");
+    validated_state_size_ = state_->size();
+}
+
+bool PointModel::elements_unchanged_and_finite() const {
+    return validated_state_size_ == state_->size() && positions_finite(state_->position);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -60,11 +87,12 @@ LineModel::LineModel(const Vec3State& state, const MeshTopology& topology, Colli
 }
 
 Aabb LineModel::element_box(Index i) const {
-    Aabb b;
-    b.extend(p1(i));
-    b.extend(p2(i));
-    b.inflate(params().contact_distance);
-    return b;
+    return vertices_box<2>({&p1(i), &p2(i)}, params().contact_distance);
+}
+
+void LineModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
+    const double cd = params().contact_distance;
+    for (std::size_t i = begin; i < end; ++i) *out++ = vertices_box<2>({&p1(Index(i)), &p2(Index(i))}, cd);
 }
 
 void LineModel::validate() const {
@@ -74,6 +102,12 @@ void LineModel::validate() const {
         check_point(p1(Index(i)), Index(i), "vertex 1 position");
         check_point(p2(Index(i)), Index(i), "vertex 2 position");
     }
+    validated_state_size_ = state_->size();
+}
+
+// the edges are fixed at construction: valid indices stay valid while the state keeps its size
+bool LineModel::elements_unchanged_and_finite() const {
+    return validated_state_size_ == state_->size() && positions_finite(state_->position);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -123,10 +157,12 @@ void TriangleModel::do_update() {
 }
 
 Aabb TriangleModel::element_box(Index i) const {
-    Aabb b;
-    for (int k = 0; k < 3; ++k) b.extend(p(i, k));
-    b.inflate(params().contact_distance);
-    return b;
+    return vertices_box<3>({&p(i, 0), &p(i, 1), &p(i, 2)}, params().contact_distance);
+}
+
+void TriangleModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
+    const double cd = params().contact_distance;
+    for (std::size_t i = begin; i < end; ++i) *out++ = vertices_box<3>({&p(Index(i), 0), &p(Index(i), 1), &p(Index(i), 2)}, cd);
 }
 
 void TriangleModel::validate() const {
@@ -134,6 +170,12 @@ void TriangleModel::validate() const {
     for (std::size_t i = 0; i < triangles_.size(); ++i) check_indices(*this, Index(i), triangles_[i], state_->size());
     for (std::size_t i = 0; i < triangles_.size(); ++i)
         for (int k = 0; k < 3; ++k) check_point(p(Index(i), k), Index(i), "vertex position");
+    validated_state_size_ = state_->size();
+}
+
+// the triangles are fixed at construction: valid indices stay valid while the state keeps its size
+bool TriangleModel::elements_unchanged_and_finite() const {
+    return validated_state_size_ == state_->size() && positions_finite(state_->position);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -266,10 +308,12 @@ std::array<double, 4> TetrahedronModel::barycentric(Index i, const Vec3& P) cons
 }
 
 Aabb TetrahedronModel::element_box(Index i) const {
-    Aabb b;
-    for (int k = 0; k < 4; ++k) b.extend(p(i, k));
-    b.inflate(params().contact_distance);
-    return b;
+    return vertices_box<4>({&p(i, 0), &p(i, 1), &p(i, 2), &p(i, 3)}, params().contact_distance);
+}
+
+void TetrahedronModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
+    const double cd = params().contact_distance;
+    for (std::size_t i = begin; i < end; ++i) *out++ = vertices_box<4>({&p(Index(i), 0), &p(Index(i), 1), &p(Index(i), 2), &p(Index(i), 3)}, cd);
 }
 
 void TetrahedronModel::validate() const {
@@ -277,6 +321,12 @@ void TetrahedronModel::validate() const {
     for (std::size_t i = 0; i < tetrahedra_.size(); ++i) check_indices(*this, Index(i), tetrahedra_[i], state_->size());
     for (std::size_t i = 0; i < tetrahedra_.size(); ++i)
         for (int k = 0; k < 4; ++k) check_point(p(Index(i), k), Index(i), "vertex position");
+    validated_state_size_ = state_->size();
+}
+
+// the tetrahedra are fixed at construction: valid indices stay valid while the state keeps its size
+bool TetrahedronModel::elements_unchanged_and_finite() const {
+    return validated_state_size_ == state_->size() && positions_finite(state_->position);
 }
 
 }  // namespace penalty

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -230,6 +232,64 @@ TEST(Validation, BadInputThrowsNamingModelElementAndParameter) {
     Vec3State small = make_state({{0, 0, 0}});
     TriangleModel bad(small, mesh->topo, test::named("surf"));
     EXPECT_THROW(bad.validate(), std::invalid_argument);
+}
+
+// The per-step check (CollisionModel::validate_for_step) has validate()'s outcome: the same
+// error for a position that became NaN/inf after a passing validate(), a full validate() again
+// when the state changed size, and nothing when all is well. element_boxes() over a range gives
+// element_box()'s doubles.
+TEST(ModelValidation, StepCheckHasValidatesOutcomeAndRangeBoxesAreElementBoxes) {
+    auto mesh = test::octahedron(Vec3(0.3, -0.2, 0.1), 1.5);
+    CollisionModelParams params = test::named("surf");
+    params.contact_distance = 0.125;
+    TriangleModel tri(mesh->state, mesh->topo, params);
+    LineModel lines(mesh->state, mesh->topo, params);
+    PointModel points(mesh->state, &mesh->topo, params);
+    const std::vector<const CollisionModel*> models{&tri, &lines, &points};
+    auto message = [](auto&& f) {
+        try {
+            f();
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    int errors = 0;
+    for (const CollisionModel* m : models) {
+        EXPECT_EQ(message([&] { m->validate_for_step(); }), "");  // first call: the full validate()
+        EXPECT_EQ(message([&] { m->validate_for_step(); }), "");  // then the quick one
+        std::vector<Aabb> boxes(m->size());
+        m->element_boxes(0, m->size(), boxes.data());
+        for (std::size_t i = 0; i < m->size(); ++i) {
+            const Aabb one = m->element_box(Index(i));
+            EXPECT_EQ(boxes[i].min, one.min);
+            EXPECT_EQ(boxes[i].max, one.max);
+        }
+        for (const double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+            for (std::size_t v = 0; v < mesh->state.size(); ++v) {
+                for (int c = 0; c < 3; ++c) {
+                    const double keep = mesh->state.position[v][c];
+                    mesh->state.position[v][c] = bad;
+                    const std::string full = message([&] { m->validate(); });
+                    const std::string quick = message([&] { m->validate_for_step(); });
+                    mesh->state.position[v][c] = keep;
+                    EXPECT_FALSE(full.empty());
+                    EXPECT_EQ(quick, full);
+                    errors += !quick.empty();
+                    EXPECT_EQ(message([&] { m->validate_for_step(); }), "");
+                }
+            }
+        }
+        // a parameter made invalid between steps is still caught
+        const_cast<CollisionModel*>(m)->params().contact_distance = -1.0;
+        EXPECT_NE(message([&] { m->validate_for_step(); }).find("contactDistance"), std::string::npos);
+        const_cast<CollisionModel*>(m)->params().contact_distance = 0.125;
+    }
+    EXPECT_EQ(errors, 3 * 2 * 6 * 3);
+    // the state shrinks under the models: validate()'s index error again, not a stale pass
+    mesh->state.position.pop_back();
+    EXPECT_NE(message([&] { tri.validate_for_step(); }).find("out of range"), std::string::npos);
+    EXPECT_NE(message([&] { lines.validate_for_step(); }).find("out of range"), std::string::npos);
 }
 
 TEST(SelfCollision, PointModelSkipsNeighboursAndVisitsEachPairOnce) {

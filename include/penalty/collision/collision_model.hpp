@@ -97,6 +97,9 @@ public:
     [[nodiscard]] virtual std::size_t size() const = 0;
     /// Box of element i (SOFA's leaf cube): see each model for its enlargement.
     [[nodiscard]] virtual Aabb element_box(Index i) const = 0;
+    /// out[k] = element_box(begin + k) for k < end − begin: one virtual call for a range (the
+    /// models of meshes override it with a loop the compiler can inline).
+    virtual void element_boxes(std::size_t begin, std::size_t end, Aabb* out) const;
     /// Union of the element boxes (empty box for an empty model).
     [[nodiscard]] Aabb model_box() const;
 
@@ -110,9 +113,20 @@ public:
     virtual void validate() const;
     /// Throws std::invalid_argument for a non-finite position of element `elem` (validate()'s rule).
     void check_point(const Vec3& p, Index elem, const char* what) const;
+    /// The check before each detection: the same outcome as validate() (the same error, if any),
+    /// cheaper when the model can tell that its elements passed validate() before and nothing
+    /// validate() reads has changed but the positions, which are all finite (see
+    /// elements_unchanged_and_finite); then only the parameters are checked again.
+    void validate_for_step() const;
 
 protected:
+    /// validated_state_size_ of a model whose elements have not passed validate() yet.
+    static constexpr std::size_t kNotValidated = std::size_t(-1);
     virtual void do_update() {}
+    /// True only if a validate() of the elements would pass: every position of the state is
+    /// finite and the state's size is the one the last successful validate() saw. Default: false
+    /// (validate_for_step() runs validate()).
+    [[nodiscard]] virtual bool elements_unchanged_and_finite() const { return false; }
 
 private:
     ModelType type_;

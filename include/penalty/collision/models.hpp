@@ -26,6 +26,7 @@ public:
 
     [[nodiscard]] std::size_t size() const override { return state_->size(); }
     [[nodiscard]] Aabb element_box(Index i) const override;
+    void element_boxes(std::size_t begin, std::size_t end, Aabb* out) const override;
     void validate() const override;
 
     [[nodiscard]] const Vec3& point(Index i) const { return state_->position[std::size_t(i)]; }
@@ -36,7 +37,11 @@ public:
     /// holds a LineCollisionModel; set this to say so (default false: filter skipped).
     bool node_has_line_model = false;
 
+protected:
+    [[nodiscard]] bool elements_unchanged_and_finite() const override;
+
 private:
+    mutable std::size_t validated_state_size_ = kNotValidated;  ///< state size at the last validate()
     const Vec3State* state_;
     const MeshTopology* topology_;
 };
@@ -52,6 +57,7 @@ public:
 
     [[nodiscard]] std::size_t size() const override { return edges_.size(); }
     [[nodiscard]] Aabb element_box(Index i) const override;
+    void element_boxes(std::size_t begin, std::size_t end, Aabb* out) const override;
     void validate() const override;
 
     [[nodiscard]] const Edge& edge(Index i) const { return edges_[std::size_t(i)]; }
@@ -61,7 +67,11 @@ public:
     [[nodiscard]] const Vec3State& state() const { return *state_; }
     [[nodiscard]] const MeshTopology& topology() const { return *topology_; }
 
+protected:
+    [[nodiscard]] bool elements_unchanged_and_finite() const override;
+
 private:
+    mutable std::size_t validated_state_size_ = kNotValidated;  ///< state size at the last validate()
     const Vec3State* state_;
     const MeshTopology* topology_;
     std::vector<Edge> edges_;
@@ -91,6 +101,7 @@ public:
 
     [[nodiscard]] std::size_t size() const override { return triangles_.size(); }
     [[nodiscard]] Aabb element_box(Index i) const override;
+    void element_boxes(std::size_t begin, std::size_t end, Aabb* out) const override;
     void validate() const override;
 
     [[nodiscard]] const Triangle& triangle(Index i) const { return triangles_[std::size_t(i)]; }
@@ -111,8 +122,10 @@ public:
 
 protected:
     void do_update() override;
+    [[nodiscard]] bool elements_unchanged_and_finite() const override;
 
 private:
+    mutable std::size_t validated_state_size_ = kNotValidated;  ///< state size at the last validate()
     const Vec3State* state_;
     const MeshTopology* topology_;
     std::vector<Triangle> triangles_;
@@ -210,6 +223,7 @@ public:
 
     [[nodiscard]] std::size_t size() const override { return tetrahedra_.size(); }
     [[nodiscard]] Aabb element_box(Index i) const override;
+    void element_boxes(std::size_t begin, std::size_t end, Aabb* out) const override;
     void validate() const override;
 
     [[nodiscard]] const Tetrahedron& tetrahedron(Index i) const { return tetrahedra_[std::size_t(i)]; }
@@ -221,9 +235,11 @@ public:
     [[nodiscard]] const Vec3State& state() const { return *state_; }
 
 protected:
+    [[nodiscard]] bool elements_unchanged_and_finite() const override;
     void do_update() override;
 
 private:
+    mutable std::size_t validated_state_size_ = kNotValidated;  ///< state size at the last validate()
     const Vec3State* state_;
     std::vector<Tetrahedron> tetrahedra_;
     std::vector<Mat3> coord2bary_;
