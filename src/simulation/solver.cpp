@@ -110,6 +110,49 @@ SubtreeSystem::SubtreeSystem(Node& root) {
             if (!known(s)) external_.push_back(s);
     for (const auto* m : mappings_)
         if (!known(m->from())) external_.push_back(m->from());
+    for (BaseMapping* m : mappings_) {
+        DxReaders r;
+        r.mapping = m;
+        // No rows: supported or not, nothing is computed (BaseMapping::apply_dx_rows).
+        r.selective = m->apply_dx_rows({});
+        for (const BaseForceField* ff : force_fields_) {
+            const std::vector<BaseState*> states = ff->states();
+            if (std::find(states.begin(), states.end(), m->to()) != states.end()) r.force_fields.push_back(ff);
+        }
+        for (const BaseMapping* child : mappings_)
+            if (child->from() == m->to()) r.mappings.push_back(child);
+        if (r.selective) {
+            // map_dx's scratch at its largest: no allocation in a product
+            dx_read_.reserve(std::max(dx_read_.capacity(), m->to()->num_dofs()));
+            dx_rows_.reserve(std::max(dx_rows_.capacity(), m->to()->num_dofs()));
+        }
+        dx_readers_.push_back(std::move(r));
+    }
+}
+
+void SubtreeSystem::map_dx(const DxReaders& r) const {
+    if (!r.selective) {
+        r.mapping->apply_dx();
+        return;
+    }
+    const BaseState& state = *r.mapping->to();
+    const std::size_t dofs = state.num_dofs();
+    dx_read_.assign(dofs, 0);
+    for (const BaseForceField* ff : r.force_fields)
+        if (!ff->mark_dx_read(state, dx_read_)) {
+            r.mapping->apply_dx();
+            return;
+        }
+    for (const BaseMapping* child : r.mappings)
+        if (!child->mark_inputs_read(dx_read_)) {
+            r.mapping->apply_dx();
+            return;
+        }
+    dx_rows_.clear();
+    for (std::size_t i = 0; i < dofs; ++i)
+        if (dx_read_[i] != 0) dx_rows_.push_back(static_cast<std::uint32_t>(i));
+    if (dx_rows_.size() == dofs) r.mapping->apply_dx();
+    else r.mapping->apply_dx_rows(dx_rows_);
 }
 
 void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
@@ -345,7 +388,7 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         }
         external_work_zeroed_ = true;
     }
-    for (BaseMapping* map : mappings_) map->apply_dx();
+    for (const DxReaders& r : dx_readers_) map_dx(r);
     for (BaseState* s : mapped_) s->df_flat().setZero();
     for (const ForceStep& s : force_steps_) {
         if (s.mass != nullptr) {
