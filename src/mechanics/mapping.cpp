@@ -172,6 +172,7 @@ void BarycentricMapping::set_rows(std::vector<BarycentricRow> rows) {
         if (input_begin_[j] != input_begin_[j + 1]) used_inputs_.push_back(j);
     // apply_jt's scratch at its largest: no allocation in a product
     forced_rows_.reserve(rows_.size());
+    row_counted_.assign(rows_.size(), 0);
     negative_zero_inputs_.reserve(used_inputs_.size());
     negative_zero_sums_.reserve(used_inputs_.size());
 }
@@ -304,10 +305,7 @@ void BarycentricMapping::apply_j_rows(std::span<Vec3> out, std::span<const Vec3>
     }
 }
 
-bool BarycentricMapping::apply_dx_rows(std::span<const std::uint32_t> rows) {
-    apply_j_rows(out_->dx, in_->dx, rows);
-    return true;
-}
+void BarycentricMapping::apply_dx_rows(std::span<const std::uint32_t> rows) { apply_j_rows(out_->dx, in_->dx, rows); }
 
 bool BarycentricMapping::mark_inputs_read(std::span<std::uint8_t> read) const {
     for (const std::uint32_t j : used_inputs_) {
@@ -318,7 +316,7 @@ bool BarycentricMapping::mark_inputs_read(std::span<std::uint8_t> read) const {
 }
 
 void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const {
-    PENALTY_DEMAND(in.size() + 1 >= input_begin_.size());
+    PENALTY_DEMAND(in.size() + 1 >= input_begin_.size() && out.size() >= rows_.size());
     // Rows whose force is ±0 in every component add only ±0 terms (w·(±0), w finite). Skipping
     // a ±0 term leaves every partial sum's value as it was and can change only the sign of a
     // zero; in round-to-nearest a sum becomes −0 only when both addends are −0, so a sum that
@@ -335,6 +333,29 @@ void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out)
         gather_jt(in, out, 0, input_begin_.empty() ? 0 : input_begin_.size() - 1);
         return;
     }
+    scatter_forced_rows(in, out, nullptr);
+}
+
+void BarycentricMapping::apply_jt_df_rows(std::span<const std::uint32_t> rows) {
+    // apply_jt with the rows outside `rows` taken as +0 (what the solver's zeroing left in them),
+    // never read: only the forced rows among `rows` are scattered, and an input starting at −0
+    // is gathered with +0 for the rows not counted.
+    std::span<Vec3> in = in_->df;
+    std::span<const Vec3> out = out_->df;
+    PENALTY_DEMAND(in.size() + 1 >= input_begin_.size() && out.size() >= rows_.size());
+    row_counted_.resize(rows_.size(), 0);
+    forced_rows_.clear();
+    for (const std::uint32_t i : rows) {
+        PENALTY_DEMAND(i < rows_.size());
+        row_counted_[i] = 1;
+        const Vec3& f = out[i];
+        if (f[0] != 0.0 || f[1] != 0.0 || f[2] != 0.0) forced_rows_.push_back(i);
+    }
+    scatter_forced_rows(in, out, row_counted_.data());
+    for (const std::uint32_t i : rows) row_counted_[i] = 0;
+}
+
+void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const Vec3> out, const std::uint8_t* counted) const {
     // Inputs starting at −0 in some component: their full gather, computed before the scatter
     // (from their value before it) and stored after it.
     negative_zero_inputs_.clear();
@@ -345,7 +366,7 @@ void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out)
                                    (v[2] == 0.0 && std::signbit(v[2]));
         if (!negative_zero) continue;
         negative_zero_inputs_.push_back(j);
-        negative_zero_sums_.push_back(gathered_jt(in, out, j));
+        negative_zero_sums_.push_back(gathered_jt(in, out, j, counted));
     }
     // BarycentricRow::spread of the forced rows, in row order
     const std::uint32_t* begin = row_begin_.data();
@@ -365,12 +386,15 @@ void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out)
     for (std::size_t n = 0; n < negative_zero_inputs_.size(); ++n) input[negative_zero_inputs_[n]] = negative_zero_sums_[n];
 }
 
-Vec3 BarycentricMapping::gathered_jt(std::span<const Vec3> in, std::span<const Vec3> out, std::uint32_t j) const {
-    // BarycentricRow::spread's additions into in[j]: its entries in (row, entry) order
+Vec3 BarycentricMapping::gathered_jt(std::span<const Vec3> in, std::span<const Vec3> out, std::uint32_t j,
+                                     const std::uint8_t* counted) const {
+    // BarycentricRow::spread's additions into in[j]: its entries in (row, entry) order; a row not
+    // counted is +0
     double s0 = in[j][0], s1 = in[j][1], s2 = in[j][2];
     for (std::uint32_t k = input_begin_[j]; k < input_begin_[j + 1]; ++k) {
         const double w = input_weight_[k];
-        const Vec3& f = out[input_row_[k]];
+        const std::uint32_t row = input_row_[k];
+        const Vec3 f = counted == nullptr || counted[row] != 0 ? out[row] : Vec3(0.0, 0.0, 0.0);
         s0 += w * f[0];
         s1 += w * f[1];
         s2 += w * f[2];

@@ -148,7 +148,8 @@ TEST(SubtreeSystem, MapsDxOnlyInTheRowsReadWithTheSameBits) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (int trial = 0; trial < 3; ++trial) {
         const Eigen::VectorXd p = Eigen::VectorXd::NullaryExpr(sys_s.size(), [&] { return u(rng); });
-        for (auto& d : selective.surface->dx) d = Vec3(nan, nan, nan);
+        for (auto& d : selective.surface->dx) d = Vec3(nan, nan, nan);  // rows not read stay NaN
+        for (auto& d : selective.surface->df) d = Vec3(nan, nan, nan);  // rows not counted: never read
         Eigen::VectorXd q_s, q_f;
         sys_s.apply_mbk(p, q_s, 1.3, -0.02, -0.7, true);
         sys_f.apply_mbk(p, q_f, 1.3, -0.02, -0.7, true);
