@@ -167,6 +167,14 @@ void BarycentricMapping::set_rows(std::vector<BarycentricRow> rows) {
             input_row_[slot] = i;
             input_weight_[slot] = entry_weight_[k];
         }
+    used_inputs_.clear();
+    for (std::uint32_t j = 0; j < inputs; ++j)
+        if (input_begin_[j] != input_begin_[j + 1]) used_inputs_.push_back(j);
+    // apply_jt's scratch at its largest: no allocation in a product
+    forced_rows_.reserve(rows_.size());
+    row_counted_.assign(rows_.size(), 0);
+    negative_zero_inputs_.reserve(used_inputs_.size());
+    negative_zero_sums_.reserve(used_inputs_.size());
 }
 
 void BarycentricMapping::init() {
@@ -258,38 +266,152 @@ void BarycentricMapping::map_on_hexahedra(const MeshTopology& topo, std::span<co
 void BarycentricMapping::apply(std::span<Vec3> out, std::span<const Vec3> in) {
     for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].combine(in);
 }
+namespace {
+/// BarycentricRow::combine on flattened entries [first, last): s = 0, s += w_k·in[i_k] in k order.
+inline Vec3 combine_flat(const std::uint32_t* index, const double* weight, std::uint32_t first, std::uint32_t last,
+                         const Vec3* input) {
+    double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+    for (std::uint32_t k = first; k < last; ++k) {
+        const double w = weight[k];
+        const Vec3& p = input[index[k]];
+        s0 += w * p[0];
+        s1 += w * p[1];
+        s2 += w * p[2];
+    }
+    return {s0, s1, s2};
+}
+}  // namespace
+
 void BarycentricMapping::apply_j(std::span<Vec3> out, std::span<const Vec3> in) const {
-    // BarycentricRow::combine on the flattened rows: s = 0, s += w_k·in[i_k] in k order
     const std::uint32_t* begin = row_begin_.data();
     const std::uint32_t* index = entry_index_.data();
     const double* weight = entry_weight_.data();
     const Vec3* input = in.data();
     Vec3* output = out.data();
     const std::size_t rows = rows_.size();
-    for (std::size_t i = 0; i < rows; ++i) {
-        double s0 = 0.0, s1 = 0.0, s2 = 0.0;
-        for (std::uint32_t k = begin[i]; k < begin[i + 1]; ++k) {
-            const double w = weight[k];
-            const Vec3& p = input[index[k]];
-            s0 += w * p[0];
-            s1 += w * p[1];
-            s2 += w * p[2];
-        }
-        output[i] = Vec3(s0, s1, s2);
+    for (std::size_t i = 0; i < rows; ++i) output[i] = combine_flat(index, weight, begin[i], begin[i + 1], input);
+}
+
+void BarycentricMapping::apply_j_rows(std::span<Vec3> out, std::span<const Vec3> in,
+                                      std::span<const std::uint32_t> rows) const {
+    const std::uint32_t* begin = row_begin_.data();
+    const std::uint32_t* index = entry_index_.data();
+    const double* weight = entry_weight_.data();
+    const Vec3* input = in.data();
+    Vec3* output = out.data();
+    for (const std::uint32_t i : rows) {
+        PENALTY_DEMAND(i < rows_.size());
+        output[i] = combine_flat(index, weight, begin[i], begin[i + 1], input);
     }
 }
+
+void BarycentricMapping::apply_dx_rows(std::span<const std::uint32_t> rows) { apply_j_rows(out_->dx, in_->dx, rows); }
+
+bool BarycentricMapping::mark_inputs_read(std::span<std::uint8_t> read) const {
+    for (const std::uint32_t j : used_inputs_) {
+        PENALTY_DEMAND(j < read.size());
+        read[j] = 1;
+    }
+    return true;
+}
+
 void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const {
+    PENALTY_DEMAND(in.size() + 1 >= input_begin_.size() && out.size() >= rows_.size());
+    // Rows whose force is ±0 in every component add only ±0 terms (w·(±0), w finite). Skipping
+    // a ±0 term leaves every partial sum's value as it was and can change only the sign of a
+    // zero; in round-to-nearest a sum becomes −0 only when both addends are −0, so a sum that
+    // does not start at −0 ends at the same bits with or without them. Hence: when few rows carry
+    // a force (a collision surface with a few contacts), scatter only those rows (each input
+    // still receives its terms in (row, entry) order), and gather inputs that start at −0 in full.
+    const std::size_t rows = rows_.size();
+    forced_rows_.clear();
+    for (std::size_t i = 0; i < rows; ++i) {
+        const Vec3& f = out[i];
+        if (f[0] != 0.0 || f[1] != 0.0 || f[2] != 0.0) forced_rows_.push_back(static_cast<std::uint32_t>(i));
+    }
+    if (forced_rows_.size() * kSparseJtRatio > rows) {
+        gather_jt(in, out, 0, input_begin_.empty() ? 0 : input_begin_.size() - 1);
+        return;
+    }
+    scatter_forced_rows(in, out, nullptr);
+}
+
+void BarycentricMapping::apply_jt_df_rows(std::span<const std::uint32_t> rows) {
+    // apply_jt with the rows outside `rows` taken as +0 (what the solver's zeroing left in them),
+    // never read: only the forced rows among `rows` are scattered, and an input starting at −0
+    // is gathered with +0 for the rows not counted.
+    std::span<Vec3> in = in_->df;
+    std::span<const Vec3> out = out_->df;
+    PENALTY_DEMAND(in.size() + 1 >= input_begin_.size() && out.size() >= rows_.size());
+    row_counted_.resize(rows_.size(), 0);
+    forced_rows_.clear();
+    for (const std::uint32_t i : rows) {
+        PENALTY_DEMAND(i < rows_.size());
+        row_counted_[i] = 1;
+        const Vec3& f = out[i];
+        if (f[0] != 0.0 || f[1] != 0.0 || f[2] != 0.0) forced_rows_.push_back(i);
+    }
+    scatter_forced_rows(in, out, row_counted_.data());
+    for (const std::uint32_t i : rows) row_counted_[i] = 0;
+}
+
+void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const Vec3> out, const std::uint8_t* counted) const {
+    // Inputs starting at −0 in some component: their full gather, computed before the scatter
+    // (from their value before it) and stored after it.
+    negative_zero_inputs_.clear();
+    negative_zero_sums_.clear();
+    for (const std::uint32_t j : used_inputs_) {
+        const Vec3& v = in[j];
+        const bool negative_zero = (v[0] == 0.0 && std::signbit(v[0])) || (v[1] == 0.0 && std::signbit(v[1])) ||
+                                   (v[2] == 0.0 && std::signbit(v[2]));
+        if (!negative_zero) continue;
+        negative_zero_inputs_.push_back(j);
+        negative_zero_sums_.push_back(gathered_jt(in, out, j, counted));
+    }
+    // BarycentricRow::spread of the forced rows, in row order
+    const std::uint32_t* begin = row_begin_.data();
+    const std::uint32_t* index = entry_index_.data();
+    const double* weight = entry_weight_.data();
+    Vec3* input = in.data();
+    for (const std::uint32_t i : forced_rows_) {
+        const Vec3 f = out[i];
+        for (std::uint32_t k = begin[i]; k < begin[i + 1]; ++k) {
+            const double w = weight[k];
+            Vec3& s = input[index[k]];
+            s[0] += w * f[0];
+            s[1] += w * f[1];
+            s[2] += w * f[2];
+        }
+    }
+    for (std::size_t n = 0; n < negative_zero_inputs_.size(); ++n) input[negative_zero_inputs_[n]] = negative_zero_sums_[n];
+}
+
+Vec3 BarycentricMapping::gathered_jt(std::span<const Vec3> in, std::span<const Vec3> out, std::uint32_t j,
+                                     const std::uint8_t* counted) const {
+    // BarycentricRow::spread's additions into in[j]: its entries in (row, entry) order; a row not
+    // counted is +0
+    double s0 = in[j][0], s1 = in[j][1], s2 = in[j][2];
+    for (std::uint32_t k = input_begin_[j]; k < input_begin_[j + 1]; ++k) {
+        const double w = input_weight_[k];
+        const std::uint32_t row = input_row_[k];
+        const Vec3 f = counted == nullptr || counted[row] != 0 ? out[row] : Vec3(0.0, 0.0, 0.0);
+        s0 += w * f[0];
+        s1 += w * f[1];
+        s2 += w * f[2];
+    }
+    return {s0, s1, s2};
+}
+
+void BarycentricMapping::gather_jt(std::span<Vec3> in, std::span<const Vec3> out, std::size_t first, std::size_t last) const {
     // BarycentricRow::spread of every row (in[i_k] += w_k·f_i, rows in order, entries in order)
     // as a gather: each input point adds its entries in that same order, accumulated in registers
     // and stored once.
-    PENALTY_DEMAND(in.size() + 1 >= input_begin_.size());
     const std::uint32_t* begin = input_begin_.data();
     const std::uint32_t* row = input_row_.data();
     const double* weight = input_weight_.data();
     Vec3* input = in.data();
     const Vec3* output = out.data();
-    const std::size_t inputs = input_begin_.empty() ? 0 : input_begin_.size() - 1;
-    for (std::size_t j = 0; j < inputs; ++j) {
+    for (std::size_t j = first; j < last; ++j) {
         if (begin[j] == begin[j + 1]) continue;
         double s0 = input[j][0], s1 = input[j][1], s2 = input[j][2];
         for (std::uint32_t k = begin[j]; k < begin[j + 1]; ++k) {

@@ -56,6 +56,17 @@ void ContactPointMapping<In>::apply_jt(std::span<InDeriv> in, std::span<const Ve
     mapper_->apply_jt(out, flat_of(in));
 }
 
+template <class In>
+bool ContactPointMapping<In>::mark_inputs_read(std::span<std::uint8_t> read) const {
+    if (mapper_->kind() != ContactMapperKind::barycentric) return false;
+    for (const BarycentricRow& row : static_cast<const BarycentricContactMapper&>(*mapper_).rows())
+        for (const BarycentricRow::Entry& e : row) {
+            PENALTY_DEMAND(static_cast<std::size_t>(e.index) < read.size());
+            read[static_cast<std::size_t>(e.index)] = 1;
+        }
+    return true;
+}
+
 template class ContactPointMapping<Vec3Types>;
 template class ContactPointMapping<Rigid3Types>;
 

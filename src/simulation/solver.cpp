@@ -110,6 +110,58 @@ SubtreeSystem::SubtreeSystem(Node& root) {
             if (!known(s)) external_.push_back(s);
     for (const auto* m : mappings_)
         if (!known(m->from())) external_.push_back(m->from());
+    for (std::size_t i = 0; i < mappings_.size(); ++i) {
+        BaseMapping* m = mappings_[i];
+        PENALTY_DEMAND(m->to() == mapped_[i]);
+        DxReaders r;
+        r.mapping = m;
+        r.selective = m->maps_selected_rows();
+        for (const BaseForceField* ff : force_fields_) {
+            const std::vector<BaseState*> states = ff->states();
+            if (std::find(states.begin(), states.end(), m->to()) != states.end()) r.force_fields.push_back(ff);
+        }
+        for (const BaseMapping* child : mappings_)
+            if (child->from() == m->to()) r.mappings.push_back(child);
+        if (r.selective) {
+            // map_dx's scratch at its largest: no allocation in a product
+            dx_read_.reserve(std::max(dx_read_.capacity(), m->to()->num_dofs()));
+            r.rows.reserve(m->to()->num_dofs());
+        }
+        dx_readers_.push_back(std::move(r));
+    }
+    for (ForceStep& s : force_steps_)
+        if (s.mapping != nullptr)
+            s.mapping_index = static_cast<std::size_t>(std::find(mappings_.begin(), mappings_.end(), s.mapping) - mappings_.begin());
+}
+
+void SubtreeSystem::map_dx(const DxReaders& r) const {
+    r.restricted = false;
+    if (!r.selective) {
+        r.mapping->apply_dx();
+        return;
+    }
+    const BaseState& state = *r.mapping->to();
+    const std::size_t dofs = state.num_dofs();
+    dx_read_.assign(dofs, 0);
+    for (const BaseForceField* ff : r.force_fields)
+        if (!ff->mark_dx_read(state, dx_read_)) {
+            r.mapping->apply_dx();
+            return;
+        }
+    for (const BaseMapping* child : r.mappings)
+        if (!child->mark_inputs_read(dx_read_)) {
+            r.mapping->apply_dx();
+            return;
+        }
+    r.rows.clear();
+    for (std::size_t i = 0; i < dofs; ++i)
+        if (dx_read_[i] != 0) r.rows.push_back(static_cast<std::uint32_t>(i));
+    if (r.rows.size() == dofs) {
+        r.mapping->apply_dx();
+        return;
+    }
+    r.restricted = true;
+    r.mapping->apply_dx_rows(r.rows);
 }
 
 void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
@@ -345,15 +397,27 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         }
         external_work_zeroed_ = true;
     }
-    for (BaseMapping* map : mappings_) map->apply_dx();
-    for (BaseState* s : mapped_) s->df_flat().setZero();
+    for (const DxReaders& r : dx_readers_) map_dx(r);
+    for (std::size_t i = 0; i < mapped_.size(); ++i) {
+        const DxReaders& r = dx_readers_[i];
+        if (!r.restricted) {
+            mapped_[i]->df_flat().setZero();
+            continue;
+        }
+        // only the rows read (and written) by the readers; Jᵀ takes no other (apply_jt_df_rows)
+        FlatVector df = mapped_[i]->df_flat();
+        const auto deriv = static_cast<Eigen::Index>(mapped_[i]->deriv_size());
+        for (const std::uint32_t row : r.rows) df.segment(deriv * static_cast<Eigen::Index>(row), deriv).setZero();
+    }
     for (const ForceStep& s : force_steps_) {
         if (s.mass != nullptr) {
             if (m != 0.0) s.mass->add_mdx(m);
         } else if (s.force_field != nullptr) {
             s.force_field->accumulate_dforce(k, b);
         } else {
-            s.mapping->apply_jt_df();
+            const DxReaders& r = dx_readers_[s.mapping_index];
+            if (r.restricted) s.mapping->apply_jt_df_rows(r.rows);
+            else s.mapping->apply_jt_df();
         }
     }
     out.resize(size_);

@@ -5,6 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 
 namespace penalty {
@@ -170,6 +175,104 @@ TEST(Mapping, BarycentricProductsAreBitwiseTheRowOperations) {
     map.apply_jt_df();
     for (std::size_t j = 0; j < expected.size(); ++j)
         for (int c = 0; c < 3; ++c) EXPECT_EQ(in.df[j][c], expected[j][c]) << j;  // bitwise
+}
+
+/// Bitwise equality of two doubles, the sign of a zero included.
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
+    // apply_jt skips the rows whose force is ±0 when they are most rows; every input must get
+    // the bits of BarycentricRow::spread over all rows, the sign of zeros included: inputs
+    // starting at −0 or +0, negative and positive weights, forced rows with zero components.
+    Vec3Object in, out;
+    in.position.resize(12);
+    for (auto& p : in.position) p = rand_vec();
+    in.init();
+    std::vector<BarycentricRow> rows(40);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        for (std::size_t k = 0; k < 1 + i % 8; ++k) rows[i].push(static_cast<Index>((7 * i + 5 * k) % 12), uni());
+    rows[3] = BarycentricRow{};
+    rows[3].push(11, -0.5);  // input 11: only negative weights (−0 terms)
+    rows[3].push(11, -0.25);
+    for (BarycentricRow& r : rows)
+        for (auto& e : r.entries)
+            if (e.index == 11 && &r != &rows[3]) e.index = 10;
+    BarycentricMapping map(in, out);
+    map.set_rows(rows);
+    map.init();
+    for (int trial = 0; trial < 4; ++trial) {
+        for (auto& f : out.df) f = Vec3(trial % 2 == 0 ? 0.0 : -0.0, -0.0, 0.0);  // unforced rows: ±0
+        out.df[5] = rand_vec();
+        out.df[17] = Vec3(uni(), -0.0, 0.0);  // forced, with zero components
+        if (trial >= 2) out.df[33] = rand_vec();
+        for (auto& v : in.df) v = rand_vec();
+        in.df[0] = Vec3(-0.0, 0.0, -0.0);  // starts at −0: the skipped +0 terms decide its sign
+        in.df[11] = Vec3(-0.0, -0.0, 0.0);  // only −0 terms from row 3 (unforced): stays −0
+        in.df[4] = Vec3(0.0, -0.0, 1.0);
+        if (trial == 3) in.df[11] = Vec3(-0.0, 2.0, -0.0);
+        std::vector<Vec3> expected(in.df.begin(), in.df.end());
+        for (std::size_t i = 0; i < rows.size(); ++i) rows[i].spread(expected, out.df[i]);
+        map.apply_jt_df();
+        for (std::size_t j = 0; j < expected.size(); ++j)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_TRUE(same_bits(in.df[j][c], expected[j][c])) << "trial " << trial << " input " << j << "." << c
+                                                                    << ": " << in.df[j][c] << " vs " << expected[j][c];
+        if (trial == 0) EXPECT_TRUE(std::signbit(in.df[11][0]));  // the −0 case was exercised
+    }
+}
+
+TEST(Mapping, BarycentricProductsOfSelectedRowsAreBitwiseTheFullOnesWithZerosElsewhere) {
+    Vec3Object in, out;
+    in.position.resize(9);
+    for (auto& p : in.position) p = rand_vec();
+    in.init();
+    std::vector<BarycentricRow> rows(10);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        for (std::size_t k = 0; k < 1 + i % 8; ++k) rows[i].push(static_cast<Index>((3 * i + 5 * k) % 9), uni());
+    BarycentricMapping map(in, out);
+    map.set_rows(rows);
+    map.init();
+    for (auto& d : in.dx) d = rand_vec();
+    const Vec3 untouched(0.125, -7.0, 3.0);
+    for (auto& d : out.dx) d = untouched;
+    const std::vector<std::uint32_t> selected = {1, 4, 5, 9};
+    ASSERT_TRUE(map.maps_selected_rows());
+    map.apply_dx_rows(selected);
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const bool is_selected = std::find(selected.begin(), selected.end(), i) != selected.end();
+        const Vec3 expected = is_selected ? rows[i].combine(in.dx) : untouched;
+        for (int c = 0; c < 3; ++c) EXPECT_TRUE(same_bits(out.dx[i][c], expected[c])) << i;
+    }
+    // Jᵀ over the selected rows: the others hold garbage, taken as +0 and not read; the bits of
+    // the full spread with +0 in them, inputs starting at −0 included.
+    for (int trial = 0; trial < 2; ++trial) {
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        for (auto& f : out.df) f = Vec3(nan, nan, nan);
+        for (const std::uint32_t i : selected) out.df[i] = Vec3(0.0, -0.0, 0.0);
+        out.df[4] = rand_vec();
+        if (trial == 1) out.df[9] = Vec3(uni(), 0.0, -0.0);
+        for (auto& v : in.df) v = rand_vec();
+        in.df[0] = Vec3(-0.0, -0.0, 0.0);
+        in.df[3] = Vec3(1.0, -0.0, -0.0);
+        std::vector<Vec3> expected(in.df.begin(), in.df.end());
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            const bool is_selected = std::find(selected.begin(), selected.end(), i) != selected.end();
+            rows[i].spread(expected, is_selected ? out.df[i] : Vec3(0.0, 0.0, 0.0));
+        }
+        map.apply_jt_df_rows(selected);
+        for (std::size_t j = 0; j < expected.size(); ++j)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_TRUE(same_bits(in.df[j][c], expected[j][c])) << "trial " << trial << " input " << j << "." << c;
+    }
+    // It reads the inputs of its entries, and only those.
+    std::vector<std::uint8_t> read(in.num_dofs(), 0);
+    ASSERT_TRUE(map.mark_inputs_read(read));
+    for (std::size_t j = 0; j < read.size(); ++j) {
+        bool used = false;
+        for (const BarycentricRow& r : rows)
+            for (const auto& e : r) used = used || static_cast<std::size_t>(e.index) == j;
+        EXPECT_EQ(read[j] != 0, used) << j;
+    }
 }
 
 TEST(Mapping, BarycentricOnHexahedraIsTrilinear) {

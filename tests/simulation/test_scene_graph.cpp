@@ -8,10 +8,15 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
+#include "penalty/simulation/penalty_interaction.hpp"
 #include "penalty/simulation/solver.hpp"
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 
 namespace penalty {
@@ -75,6 +80,87 @@ TEST(SubtreeSystem, MatrixFreeOperatorEqualsAssembledThroughMappings) {
     // The assembled stiffness part is symmetric (springs and corotational FEM blocks are).
     const Eigen::MatrixXd dense = Eigen::MatrixXd(a);
     EXPECT_TRUE(dense.isApprox(dense.transpose(), 1e-10));
+}
+
+/// A force field that adds nothing and cannot tell which DOFs it reads (BaseForceField's
+/// default): on a mapped state it makes the solver map every row of that state's dx.
+class OpaqueNoOpField final : public ForceField<Vec3Types> {
+public:
+    using ForceField::ForceField;
+    void add_force(std::span<Vec3>, std::span<const Vec3>, std::span<const Vec3>) override {}
+    void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
+    void add_stiffness_triplets(TripletList&, Index, double) const override {}
+};
+
+/// A block with a mapped collision surface of many points, read in a few rows only: a contact
+/// point mapped on it and a penalty interaction between two of its points.
+struct SurfaceScene {
+    Simulation sim;
+    PenaltyForceField field;
+    Vec3Object* surface = nullptr;
+    explicit SurfaceScene(bool opaque_reader) {
+        Node& root = sim.root();
+        root.set_ode_solver<EulerImplicitSolver>();
+        const RegularGridTopology grid({4, 3, 3}, Vec3(0, 0, 0), Vec3(3, 2, 2));
+        Node& block = root.add_child("block");
+        auto& bx = block.add_state<Vec3Types>("block");
+        bx.position = grid.points();
+        block.set_mass<UniformMass<Vec3Types>>(bx).set_total_mass(2.0);
+        block.add_force_field<HexahedronFEMForceField>(bx, grid.mesh(), 1000.0, 0.3, FemMethod::Large);
+        Node& surf = block.add_child("surface");
+        auto& sx = surf.add_state<Vec3Types>("surface");
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<double> u(0.05, 0.95);
+        std::vector<Vec3> pts(60);
+        for (auto& p : pts) p = Vec3(3 * u(rng), 2 * u(rng), 2 * u(rng));
+        map_on_regular_grid(surf.set_mapping<BarycentricMapping>(bx, sx), grid, pts);
+        Node& contact = surf.add_child("contact");
+        auto& cx = contact.add_state<Vec3Types>("contact");
+        contact.set_mapping<BarycentricMapping>(sx, cx).set_weights({{{2, 0.3}, {7, 0.7}}, {{40, 1.0}}});
+        root.add_force_field<SpringForceField>(cx, bx).add_spring({0, 5, 300.0, 0.0, 0.4});
+        surf.add_force_field<PenaltyInteraction>(sx, sx, field);
+        field.add_contact(3, 50, 0, 0, Vec3(0, 1, 0), 10.0, 100.0);
+        field.add_contact(20, 33, 0, 0, Vec3(1, 0, 0), 10.0, 80.0);
+        if (opaque_reader) surf.add_force_field<OpaqueNoOpField>(sx);
+        surface = &sx;
+        sim.init();
+        std::mt19937 move(5);
+        std::uniform_real_distribution<double> d(-0.05, 0.05);
+        for (auto& p : bx.position) p += Vec3(d(move), d(move), d(move));
+    }
+};
+
+TEST(SubtreeSystem, MapsDxOnlyInTheRowsReadWithTheSameBits) {
+    // The selective path (the surface's dx mapped only where the contact mapping and the penalty
+    // interaction read it; Jᵀ of its few forced rows) against the full one (an opaque reader on
+    // the surface): the same forces and products, bit for bit.
+    SurfaceScene selective(false), full(true);
+    SubtreeSystem sys_s(selective.sim.root()), sys_f(full.sim.root());
+    sys_s.propagate_positions_and_velocities();
+    sys_f.propagate_positions_and_velocities();
+    Eigen::VectorXd f_s, f_f;
+    sys_s.compute_force(f_s);
+    sys_f.compute_force(f_f);
+    ASSERT_EQ(f_s.size(), f_f.size());
+    for (Eigen::Index i = 0; i < f_s.size(); ++i) EXPECT_EQ(std::bit_cast<std::uint64_t>(f_s[i]), std::bit_cast<std::uint64_t>(f_f[i])) << i;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int trial = 0; trial < 3; ++trial) {
+        const Eigen::VectorXd p = Eigen::VectorXd::NullaryExpr(sys_s.size(), [&] { return u(rng); });
+        for (auto& d : selective.surface->dx) d = Vec3(nan, nan, nan);  // rows not read stay NaN
+        for (auto& d : selective.surface->df) d = Vec3(nan, nan, nan);  // rows not counted: never read
+        Eigen::VectorXd q_s, q_f;
+        sys_s.apply_mbk(p, q_s, 1.3, -0.02, -0.7, true);
+        sys_f.apply_mbk(p, q_f, 1.3, -0.02, -0.7, true);
+        ASSERT_EQ(q_s.size(), q_f.size());
+        EXPECT_GT(q_s.norm(), 1e-3);
+        for (Eigen::Index i = 0; i < q_s.size(); ++i)
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(q_s[i]), std::bit_cast<std::uint64_t>(q_f[i])) << "trial " << trial << " row " << i;
+        // Rows read: 2, 7, 40 (contact mapping), 3, 50, 20, 33 (penalty interaction); row 0 is not.
+        for (const std::size_t read : {2, 3, 7, 20, 33, 40, 50}) EXPECT_TRUE(selective.surface->dx[read].allFinite()) << read;
+        EXPECT_TRUE(std::isnan(selective.surface->dx[0][0]));
+    }
 }
 
 ConstantForceFieldParameters forces_at_point_0(const Vec3& f) {

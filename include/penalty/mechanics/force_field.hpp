@@ -12,7 +12,9 @@
 #include "penalty/core/types.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 
+#include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 namespace penalty {
@@ -37,6 +39,12 @@ public:
     [[nodiscard]] virtual std::vector<BaseState*> states() const = 0;
     /// True when the field acts between two distinct states.
     [[nodiscard]] bool is_interaction() const { return states().size() > 1; }
+    /// Sets read[i] = 1 for every DOF i of `state` (one of states()) whose dx accumulate_dforce
+    /// may read (`read` has one flag per DOF of `state`) and returns true; false (the default):
+    /// the field cannot tell, it may read any. Lets a solver map dx only where it is read.
+    [[nodiscard]] virtual bool mark_dx_read(const BaseState& /*state*/, std::span<std::uint8_t> /*read*/) const {
+        return false;
+    }
 };
 
 /// A force field acting on one state of type DataTypes.

@@ -30,6 +30,20 @@ public:
     virtual void apply_jt_df() = 0;        ///< from.df += Jᵀ to.df
     /// J as triplets (rows: output scalars + row_offset, columns: input scalars + col_offset).
     virtual void add_jacobian_triplets(TripletList& triplets, Index row_offset, Index col_offset) const = 0;
+    /// Sets read[i] = 1 for every input DOF i that apply_dx reads and apply_jt_df writes (`read`
+    /// has one flag per DOF of from()) and returns true; false (the default): the mapping cannot
+    /// tell, it may read and write any.
+    [[nodiscard]] virtual bool mark_inputs_read(std::span<std::uint8_t> /*read*/) const { return false; }
+    /// True when the mapping implements apply_dx_rows and apply_jt_df_rows (default false).
+    [[nodiscard]] virtual bool maps_selected_rows() const { return false; }
+    /// to.dx = J from.dx for the output DOFs `rows` only (ascending, each < to's size), with the
+    /// operations apply_dx does for them; the other rows of to.dx are left as they were.
+    /// Default (maps_selected_rows() false): apply_dx.
+    virtual void apply_dx_rows(std::span<const std::uint32_t> /*rows*/) { apply_dx(); }
+    /// from.df += Jᵀ to.df with to.df's rows outside `rows` (ascending) taken as +0 and not read:
+    /// the bits of apply_jt_df when those rows hold +0. Default (maps_selected_rows() false):
+    /// apply_jt_df.
+    virtual void apply_jt_df_rows(std::span<const std::uint32_t> /*rows*/) { apply_jt_df(); }
 };
 
 template <class In, class Out>
@@ -207,9 +221,17 @@ public:
 
     void apply(std::span<Vec3> out, std::span<const Vec3> in) override;
     void apply_j(std::span<Vec3> out, std::span<const Vec3> in) const override;
+    /// in += Jᵀ·out; when few rows of out are non-zero, only those rows (the same bits, see
+    /// mapping.cpp). Not reentrant (scratch kept in the mapping).
     void apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const override;
     void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override;
     [[nodiscard]] std::size_t output_size() const override { return rows_.size(); }
+    [[nodiscard]] bool mark_inputs_read(std::span<std::uint8_t> read) const override;
+    [[nodiscard]] bool maps_selected_rows() const override { return true; }
+    void apply_dx_rows(std::span<const std::uint32_t> rows) override;
+    void apply_jt_df_rows(std::span<const std::uint32_t> rows) override;
+    /// out[i] = J·in for the output points `rows` only (apply_j's operations for them).
+    void apply_j_rows(std::span<Vec3> out, std::span<const Vec3> in, std::span<const std::uint32_t> rows) const;
 
 private:
     std::vector<BarycentricRow> rows_;
@@ -225,6 +247,23 @@ private:
     std::vector<std::uint32_t> input_begin_;
     std::vector<std::uint32_t> input_row_;
     std::vector<double> input_weight_;
+    std::vector<std::uint32_t> used_inputs_;  ///< inputs with at least one entry, ascending
+    /// apply_jt scatters only the rows with a non-zero force when they are at most 1/ratio of
+    /// the rows (else the full gather).
+    static constexpr std::size_t kSparseJtRatio = 4;
+    // apply_jt's scratch (kept: no allocation per product)
+    mutable std::vector<std::uint32_t> forced_rows_;
+    mutable std::vector<std::uint32_t> negative_zero_inputs_;
+    mutable std::vector<Vec3> negative_zero_sums_;
+    mutable std::vector<std::uint8_t> row_counted_;  ///< apply_jt_df_rows: the rows given (all 0 between calls)
+    /// in[j] + Σ (row, entry) order of w·out[row] over input j's entries; with `counted`, a row
+    /// whose flag is 0 counts as +0.
+    [[nodiscard]] Vec3 gathered_jt(std::span<const Vec3> in, std::span<const Vec3> out, std::uint32_t j,
+                                   const std::uint8_t* counted) const;
+    /// Scatters forced_rows_ into in (row order), inputs starting at −0 gathered in full.
+    void scatter_forced_rows(std::span<Vec3> in, std::span<const Vec3> out, const std::uint8_t* counted) const;
+    /// The gather over inputs [first, last).
+    void gather_jt(std::span<Vec3> in, std::span<const Vec3> out, std::size_t first, std::size_t last) const;
 };
 
 /// Trilinear weights of local coordinates (u, v, w) ∈ [0,1]³ in SOFA's hexahedron vertex order

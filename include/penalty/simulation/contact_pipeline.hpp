@@ -99,6 +99,8 @@ public:
         mapper_->add_jacobian_triplets(t, row_offset, col_offset);
     }
     [[nodiscard]] std::size_t output_size() const override { return mapper_->size(); }
+    /// Barycentric mapper: the vertices of its rows; other mappers: false (any input).
+    [[nodiscard]] bool mark_inputs_read(std::span<std::uint8_t> read) const override;
     [[nodiscard]] const ContactMapper& mapper() const { return *mapper_; }
 
 private:

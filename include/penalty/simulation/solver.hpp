@@ -163,9 +163,28 @@ private:
         BaseMass* mass = nullptr;  ///< with `gravity`; or
         BaseForceField* force_field = nullptr;  ///< or
         BaseMapping* mapping = nullptr;
+        std::size_t mapping_index = 0;  ///< of `mapping` in mappings_
         Vec3 gravity = Vec3::Zero();
     };
     std::vector<ForceStep> force_steps_;
+    /// Who reads a mapped state's dx in this subtree (force fields acting on it, mappings from
+    /// it). When its mapping can map selected rows (BaseMapping::maps_selected_rows) and every
+    /// reader can tell which DOFs it reads (and so writes in df), apply_mbk maps dx only in those
+    /// rows, zeroes df only there and takes Jᵀ over them: the other rows' dx is read by nobody,
+    /// their df would be +0, and the rows kept get the same operations (same bits).
+    struct DxReaders {
+        BaseMapping* mapping = nullptr;
+        bool selective = false;  ///< mapping->maps_selected_rows()
+        std::vector<const BaseForceField*> force_fields;
+        std::vector<const BaseMapping*> mappings;
+        /// This product: restricted to `rows` (ascending), or (false) every row.
+        mutable bool restricted = false;
+        mutable std::vector<std::uint32_t> rows;
+    };
+    std::vector<DxReaders> dx_readers_;  ///< one per mappings_ (and mapped_) entry, same order
+    mutable std::vector<std::uint8_t> dx_read_;  ///< scratch of map_dx: one flag per DOF
+    /// to.dx = J from.dx for r.mapping, only the rows its readers read when they can tell.
+    void map_dx(const DxReaders& r) const;
     std::vector<std::pair<BaseMass*, Vec3>> masses_;  ///< with the gravity of their node
     std::vector<BaseForceField*> force_fields_;
     std::vector<BaseProjectiveConstraint*> constraints_;
