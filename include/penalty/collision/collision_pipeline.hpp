@@ -87,7 +87,8 @@ private:
 /// the pair's intersector, appending to `out`. Does not call update()/validate(). Evaluates in
 /// parallel over fixed chunks of the sorted candidates, except for NewProximity
 /// Triangle–Triangle with SOFA's normal overwrite (§14.4), whose kernel writes the models and
-/// runs sequentially.
+/// runs sequentially. Throws std::invalid_argument, as intersect_elements does, for models not in
+/// registered order or a pair with no active intersector (checked once, even with no candidate).
 void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
                       const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
                       DetectionOutputList& out);
