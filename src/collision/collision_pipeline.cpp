@@ -101,11 +101,9 @@ struct Traversal {
     }
 };
 
-// NewProximity Triangle–Triangle with SOFA's normal overwrite writes the models (§14.4)
+// A kernel that writes the models (detail::KernelParts) needs its candidates in a fixed order.
 bool kernel_writes_models(const IntersectionParams& p, const CollisionModel& m1, const CollisionModel& m2) {
-    return p.method == IntersectionMethod::NewProximity && m1.type() == ModelType::Triangle &&
-           m2.type() == ModelType::Triangle && !p.quirks.fix_newproximity_triangle_triangle_normal_overwrite &&
-           !(m1.params().both_side && m2.params().both_side);
+    return detail::np_triangle_triangle_writes_normals(p, m1, m2);
 }
 
 }  // namespace
@@ -207,25 +205,29 @@ std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool sam
 
 namespace {
 
-// Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order,
-// in parallel chunks concatenated in chunk order unless the kernel writes the models.
+// Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order:
+// the kernel's writes to the models first, over all candidates in order, then its reads, in
+// parallel chunks concatenated in chunk order (the outputs of the sequential loop).
 void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& keys,
-                         const NarrowPhaseOptions& opt, bool writes_models, NarrowPhaseScratch::Buffers& b,
-                         DetectionOutputList& out) {
+                         const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out) {
     const bool node = same_node(m1, m2);
     // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
     // models' sizes (check_trees), so every element index is in range
-    const detail::KernelFn kernel = detail::pair_kernel(params, m1, m2);
-    auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
+    const detail::KernelParts kernel = detail::pair_kernel_parts(params, m1, m2);
+    auto for_each_candidate = [&](std::size_t begin, std::size_t end, DetectionOutputList& to, auto&& fn) {
         detail::PairCtx ctx{params, m1, m2, 0, 0, to};
         for (std::size_t k = begin; k < end; ++k) {
             ctx.e1 = Index(keys[k] >> 32);
             ctx.e2 = Index(keys[k] & 0xffffffffu);
             if (node && !elements_may_collide(m1, ctx.e1, m2, ctx.e2)) continue;
-            kernel(ctx);
+            fn(ctx);
         }
     };
-    if (!opt.parallel || writes_models || keys.size() <= opt.chunk_size) {
+    if (kernel.writes != nullptr) for_each_candidate(0, keys.size(), out, kernel.writes);
+    auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
+        for_each_candidate(begin, end, to, kernel.reads);
+    };
+    if (!opt.parallel || keys.size() <= opt.chunk_size) {
         run(0, keys.size(), out);
         return;
     }
@@ -274,7 +276,7 @@ void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, cons
     const bool writes_models = kernel_writes_models(params, m1, m2);
     collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel,
                        opt.sorted_candidates || writes_models, b);
-    evaluate_candidates(params, m1, m2, b.keys, opt, writes_models, b, out);
+    evaluate_candidates(params, m1, m2, b.keys, opt, b, out);
 }
 
 CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
@@ -458,7 +460,7 @@ void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const Aabb* boxes2 = t2.element_boxes().data();
     for (const std::uint64_t k : kept.keys)
         if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);
-    evaluate_candidates(params_, m1, m2, now, narrow, writes_models, buf, out);
+    evaluate_candidates(params_, m1, m2, now, narrow, buf, out);
 }
 
 const SceneDetection& CollisionPipeline::detect() {

@@ -362,6 +362,14 @@ detail::KernelFn detail::pair_kernel(const IntersectionParams& params, const Col
     return e.fn;
 }
 
+detail::KernelParts detail::pair_kernel_parts(const IntersectionParams& params, const CollisionModel& m1,
+                                              const CollisionModel& m2) {
+    const KernelFn fn = pair_kernel(params, m1, m2);
+    if (fn == &np_triangle_triangle && np_triangle_triangle_writes_normals(params, m1, m2))
+        return {&np_triangle_triangle_normals, &np_triangle_triangle_geometry};
+    return {nullptr, fn};
+}
+
 int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1, CollisionModel& m2,
                        Index e2, DetectionOutputList& out) {
     const detail::KernelFn fn = detail::pair_kernel(params, m1, m2);

@@ -29,6 +29,23 @@ using KernelFn = int (*)(PairCtx&);
 [[nodiscard]] KernelFn pair_kernel(const IntersectionParams& params, const CollisionModel& m1,
                                    const CollisionModel& m2);
 
+/// A pair's kernel split into its writes to the models and the rest, which only reads them:
+/// `pair_kernel(…)(ctx)` ≡ `writes(ctx); reads(ctx)`, and no `reads` reads what a `writes`
+/// writes. The narrow phase runs the writes over the candidates in their order (SOFA's), then
+/// the reads in parallel. `writes` is nullptr for every kernel but NewProximity Triangle–Triangle
+/// with SOFA's normal overwrite (§14.4, see np_triangle_triangle_writes_normals).
+struct KernelParts {
+    void (*writes)(PairCtx&) = nullptr;
+    KernelFn reads = nullptr;
+};
+[[nodiscard]] KernelParts pair_kernel_parts(const IntersectionParams& params, const CollisionModel& m1,
+                                            const CollisionModel& m2);
+
+/// Whether NewProximity Triangle–Triangle overwrites the stored normals of (m1, m2) (§14.4:
+/// unless the quirk is fixed or both models are two-sided).
+[[nodiscard]] bool np_triangle_triangle_writes_normals(const IntersectionParams& params, const CollisionModel& m1,
+                                                       const CollisionModel& m2);
+
 /// A sphere element of either SphereModel or RigidSphereModel.
 struct SphereElem {
     Vec3 c;
@@ -215,7 +232,9 @@ int np_line_sphere(PairCtx&);       // Line–Sphere, Line–RigidSphere
 int np_triangle_point(PairCtx&);
 int np_triangle_sphere(PairCtx&);   // Triangle–Sphere, Triangle–RigidSphere
 int np_triangle_line(PairCtx&);
-int np_triangle_triangle(PairCtx&);
+int np_triangle_triangle(PairCtx&);           // ≡ the two parts below in turn
+void np_triangle_triangle_normals(PairCtx&);   // SOFA's normal overwrite, where it applies (writes the models)
+int np_triangle_triangle_geometry(PairCtx&);   // the outputs (reads the positions only)
 // MinProximity
 int min_sphere_sphere(PairCtx&);
 int min_sphere_point(PairCtx&);

@@ -268,17 +268,41 @@ int np_triangle_line(PairCtx& c) {
     return n;
 }
 
-int np_triangle_triangle(PairCtx& c) {
-    using F = TriangleModel::Flags;
+bool np_triangle_triangle_writes_normals(const IntersectionParams& p, const CollisionModel& m1,
+                                         const CollisionModel& m2) {
+    return p.method == IntersectionMethod::NewProximity && m1.type() == ModelType::Triangle &&
+           m2.type() == ModelType::Triangle && !p.quirks.fix_newproximity_triangle_triangle_normal_overwrite &&
+           !(m1.params().both_side && m2.params().both_side);
+}
+
+namespace {
+// Two triangles of one model that share a vertex are neighbours: SOFA tests neither.
+bool neighbours_in_one_model(const TriangleModel& t1, Index e1, const TriangleModel& t2, Index e2) {
+    if (&t1 != &t2) return false;
+    for (auto i : t1.triangle(e1))
+        for (auto j : t2.triangle(e2))
+            if (i == j) return true;
+    return false;
+}
+}  // namespace
+
+// §14.4: before its tests, SOFA stores the other triangle's normal, negated, as a triangle's
+// normal: n2 = −n1, or n1 = −n2 when model 1 is two-sided; the last write wins. The outputs
+// (geometry below) do not read the stored normals. Only where np_triangle_triangle_writes_normals
+// holds.
+void np_triangle_triangle_normals(PairCtx& c) {
     auto& t1 = static_cast<TriangleModel&>(c.m1);
     auto& t2 = static_cast<TriangleModel&>(c.m2);
-    const Triangle& a = t1.triangle(c.e1);
-    const Triangle& b = t2.triangle(c.e2);
-    if (&t1 == &t2) {
-        for (auto i : a)
-            for (auto j : b)
-                if (i == j) return 0;  // neighbours in the same model
-    }
+    if (neighbours_in_one_model(t1, c.e1, t2, c.e2)) return;
+    if (!t1.params().both_side) t2.set_normal(c.e2, -t1.normal(c.e1));
+    else t1.set_normal(c.e1, -t2.normal(c.e2));
+}
+
+int np_triangle_triangle_geometry(PairCtx& c) {
+    using F = TriangleModel::Flags;
+    const auto& t1 = static_cast<const TriangleModel&>(c.m1);
+    const auto& t2 = static_cast<const TriangleModel&>(c.m2);
+    if (neighbours_in_one_model(t1, c.e1, t2, c.e2)) return 0;
     const double sk = skins(c);
     const double R = c.p.alarm_distance + sk;
     const double cf = c.p.contact_distance + sk;
@@ -288,16 +312,6 @@ int np_triangle_triangle(PairCtx& c) {
     const std::uint32_t f2 = t2.flags(c.e2);
     const std::int64_t id1 = std::int64_t(c.e1) * 3;
     const std::int64_t id2 = std::int64_t(t1.size()) * 3 + std::int64_t(c.e2) * 12;
-
-    // §14.4: SOFA overwrites the stored normals according to bothSide
-    if (!c.p.quirks.fix_newproximity_triangle_triangle_normal_overwrite) {
-        const bool both1 = t1.params().both_side;
-        const bool both2 = t2.params().both_side;
-        if (!(both1 && both2)) {
-            if (!both1) t2.set_normal(c.e2, -t1.normal(c.e1));
-            else t1.set_normal(c.e1, -t2.normal(c.e2));
-        }
-    }
 
     int n = 0;
     // vertices of e1 against e2 (vertex is point[0]); §14.3: vertex 1 without its flag
@@ -323,6 +337,11 @@ int np_triangle_triangle(PairCtx& c) {
         }
     }
     return n;
+}
+
+int np_triangle_triangle(PairCtx& c) {
+    if (np_triangle_triangle_writes_normals(c.p, c.m1, c.m2)) np_triangle_triangle_normals(c);
+    return np_triangle_triangle_geometry(c);
 }
 
 // =============================================================================================

@@ -381,6 +381,40 @@ TEST(NarrowPhase, TriangleTriangleWithoutNormalOverwriteRunsInParallelAndEqualsE
     EXPECT_GT(tt->outputs.size(), 100u);
 }
 
+TEST(NarrowPhase, TriangleTriangleWithNormalOverwriteWritesInOrderAndEvaluatesInParallel) {
+    // SOFA's §14.4 overwrite runs over the candidates in order first, then the outputs are
+    // computed in parallel chunks: the outputs and the stored normals are the sequential loop's.
+    // Only the two triangle models: any later pair would update() the models' normals again.
+    MeshScene par(44, true), seq(44, true), fresh(44, true);
+    IntersectionParams params = method_params(IntersectionMethod::NewProximity);
+    CollisionPipelineOptions opt = canonical_order();
+    opt.narrow.chunk_size = 16;
+    CollisionPipeline pipe(params, opt);
+    pipe.set_models({par.tri1.get(), par.tri2.get()});
+    const SceneDetection got = pipe.detect();
+    const SceneDetection ref = detect_scene_exhaustive(params, {seq.tri1.get(), seq.tri2.get()});
+    ASSERT_EQ(got.size(), ref.size());
+    for (std::size_t k = 0; k < got.size(); ++k) {
+        ASSERT_EQ(got[k].outputs.size(), ref[k].outputs.size());
+        for (std::size_t i = 0; i < got[k].outputs.size(); ++i)
+            ASSERT_TRUE(same_output(got[k].outputs[i], ref[k].outputs[i])) << "pair " << k << " output " << i;
+    }
+    const ModelPairDetection* tt = find_pair(got, par.tri2.get(), par.tri1.get());
+    ASSERT_NE(tt, nullptr);
+    EXPECT_GT(tt->outputs.size(), 100u);
+    fresh.tri1->update();
+    fresh.tri2->update();
+    std::size_t overwritten = 0;
+    for (const auto& [a, b, f] : {std::tuple{par.tri1.get(), seq.tri1.get(), fresh.tri1.get()},
+                                  std::tuple{par.tri2.get(), seq.tri2.get(), fresh.tri2.get()}}) {
+        for (Index e = 0; e < Index(a->size()); ++e) {
+            ASSERT_TRUE(same_bits(a->normal(e), b->normal(e))) << a->name() << " triangle " << e;
+            overwritten += a->normal(e) != f->normal(e);
+        }
+    }
+    EXPECT_GT(overwritten, 50u);  // the overwrite really happened, on many triangles
+}
+
 /// Every model type, with the beyond-SOFA pairs (Cylinder, Tetrahedron–Point) enabled.
 TEST(NarrowPhase, MixedModelsWithBeyondSofaPairsEqualExhaustive) {
     std::mt19937 g(55);

@@ -55,7 +55,7 @@ struct NarrowPhaseOptions {
     /// true: candidates evaluated, and outputs given, in (element 1, element 2) order. false: in
     /// the traversal's order (which depends on the threads), for a caller that sorts the outputs
     /// itself (SOFA's output order); a kernel that writes the models (NewProximity Triangle–
-    /// Triangle's normal overwrite) is still evaluated in (element 1, element 2) order.
+    /// Triangle's normal overwrite) still makes its writes in (element 1, element 2) order.
     bool sorted_candidates = true;
 };
 
@@ -85,9 +85,9 @@ private:
 /// SOFA's BVHNarrowPhase for one model pair in registered order with up-to-date trees: traverses
 /// the trees, applies the self-collision element filters for models of the same node, and calls
 /// the pair's intersector, appending to `out`. Does not call update()/validate(). Evaluates in
-/// parallel over fixed chunks of the sorted candidates, except for NewProximity
-/// Triangle–Triangle with SOFA's normal overwrite (§14.4), whose kernel writes the models and
-/// runs sequentially. Throws std::invalid_argument, as intersect_elements does, for models not in
+/// parallel over fixed chunks of the candidates; a kernel's writes to the models (NewProximity
+/// Triangle–Triangle's normal overwrite, §14.4) run first, on one thread, in candidate order.
+/// Throws std::invalid_argument, as intersect_elements does, for models not in
 /// registered order or a pair with no active intersector (checked once, even with no candidate).
 void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
                       const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
