@@ -157,32 +157,34 @@ void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, Detectio
     if (n < 2) return;
     const PackedLevels levels{scratch.level_span, scratch.level_shift};
     if (pack_levels(t1, t2, levels)) {
+        // clear + push_back, not resize: the scratch serves pairs of every size, and growing
+        // with resize would value-initialise (zero) the new elements at every call
         std::vector<SofaOrderScratch::Keyed>& keyed = scratch.keyed;
-        keyed.resize(n);
+        keyed.clear();
         for (std::size_t i = 0; i < n; ++i)
-            keyed[i] = {packed_key(levels, t1.path(outputs[i].elem1), t2.path(outputs[i].elem2)), std::uint32_t(i)};
+            keyed.push_back({packed_key(levels, t1.path(outputs[i].elem1), t2.path(outputs[i].elem2)), std::uint32_t(i)});
         // the index breaks ties: the outputs of one element pair keep their order
         std::sort(keyed.begin(), keyed.end(), [](const SofaOrderScratch::Keyed& x, const SofaOrderScratch::Keyed& y) {
             return x.key != y.key ? x.key < y.key : x.index < y.index;
         });
-        scratch.sorted.resize(n);
-        for (std::size_t i = 0; i < n; ++i) scratch.sorted[i] = outputs[keyed[i].index];
+        scratch.sorted.clear();
+        for (std::size_t i = 0; i < n; ++i) scratch.sorted.push_back(outputs[keyed[i].index]);
         std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());
         return;
     }
     // std::sort on indices with the index as the tie-break: stable, and without std::stable_sort's
     // temporary buffer
     std::vector<std::uint32_t>& perm = scratch.permutation;
-    perm.resize(n);
-    for (std::size_t i = 0; i < n; ++i) perm[i] = std::uint32_t(i);
+    perm.clear();
+    for (std::size_t i = 0; i < n; ++i) perm.push_back(std::uint32_t(i));
     std::sort(perm.begin(), perm.end(), [&](std::uint32_t i, std::uint32_t j) {
         const DetectionOutput& x = outputs[i];
         const DetectionOutput& y = outputs[j];
         if (x.elem1 == y.elem1 && x.elem2 == y.elem2) return i < j;
         return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
     });
-    scratch.sorted.resize(n);
-    for (std::size_t i = 0; i < n; ++i) scratch.sorted[i] = outputs[perm[i]];
+    scratch.sorted.clear();
+    for (std::size_t i = 0; i < n; ++i) scratch.sorted.push_back(outputs[perm[i]]);
     std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());  // the buffers stay with their owners
 }
 
