@@ -16,7 +16,20 @@ namespace {
 
 using namespace penalty;
 
-std::filesystem::path write_cube_scene(const std::string& name, const std::string& grid_attributes) {
+// A scene folder in the temporary directory, removed with the object.
+struct CubeSceneFolder {
+    std::filesystem::path dir;
+    std::filesystem::path scene;
+    CubeSceneFolder(std::filesystem::path d, std::filesystem::path s) : dir(std::move(d)), scene(std::move(s)) {}
+    CubeSceneFolder(const CubeSceneFolder&) = delete;
+    CubeSceneFolder& operator=(const CubeSceneFolder&) = delete;
+    ~CubeSceneFolder() {
+        std::error_code ignored;
+        std::filesystem::remove_all(dir, ignored);
+    }
+};
+
+CubeSceneFolder write_cube_scene(const std::string& name, const std::string& grid_attributes) {
     const auto dir = std::filesystem::temp_directory_path() /
                      ("penalty_sparse_grid_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
     std::filesystem::remove_all(dir);
@@ -39,11 +52,12 @@ std::filesystem::path write_cube_scene(const std::string& name, const std::strin
   </Node>
 </Node>
 )";
-    return dir / "scene.scn";
+    return {dir, dir / "scene.scn"};
 }
 
 TEST(SparseGridComponents, CubeVoxelisedOnTheDefaultBoxFeedsStateFemAndMapping) {
-    auto scene = scene::build_scene(io::parse_scene_file(write_cube_scene("default", "n=\"5 5 5\"")));
+    const CubeSceneFolder folder = write_cube_scene("default", "n=\"5 5 5\"");
+    auto scene = scene::build_scene(io::parse_scene_file(folder.scene));
     const Node& cube = *scene->simulation().root().children().at(0);
     auto* grid = dynamic_cast<Vec3Object*>(cube.state());
     ASSERT_NE(grid, nullptr);
@@ -67,10 +81,10 @@ TEST(SparseGridComponents, CubeVoxelisedOnTheDefaultBoxFeedsStateFemAndMapping) 
 }
 
 TEST(SparseGridComponents, MissingSurfaceFileIsAnErrorNamingTheComponent) {
-    const auto path = write_cube_scene("missing", "n=\"5 5 5\"");
-    std::filesystem::remove(path.parent_path() / "cube.obj");
+    const CubeSceneFolder folder = write_cube_scene("missing", "n=\"5 5 5\"");
+    std::filesystem::remove(folder.dir / "cube.obj");
     try {
-        (void)scene::build_scene(io::parse_scene_file(path));
+        (void)scene::build_scene(io::parse_scene_file(folder.scene));
         ADD_FAILURE() << "no error";
     } catch (const std::exception& e) {
         EXPECT_THAT(e.what(), ::testing::HasSubstr("SparseGridTopology"));
