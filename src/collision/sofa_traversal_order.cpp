@@ -24,10 +24,65 @@ Aabb union_box(std::span<const Aabb> boxes, std::span<const Index> order, std::u
 }
 }  // namespace
 
+namespace {
+
+// The digits of sofa_visits_before packed into one integer, most significant level first. At
+// level t an element pair's loop position is loop = s.index·r.size + r.index < D_t = (largest
+// range of tree 1 at t)·(largest range of tree 2 at t); its digit is loop when both paths end
+// there (intersected in the loop, first) and 2·D_t − 1 − loop otherwise (pushed, visited last
+// pushed first); the levels after a pair's last are 0. Returns false when the digits need more
+// than 64 bits.
+struct PackedLevels {
+    std::vector<std::uint64_t>& span;  // D_t
+    std::vector<int>& shift;           // bit position of level t's digit
+};
+
+// levels: the deeper tree's; range(t): the product of the two trees' largest ranges at t
+template <class RangeProduct>
+bool pack_levels(std::size_t levels, RangeProduct range, PackedLevels p) {
+    p.span.resize(levels);
+    p.shift.resize(levels);
+    int bits = 0;
+    for (std::size_t t = 0; t < levels; ++t) {
+        p.span[t] = range(t);
+        bits += std::bit_width(2 * p.span[t] - 1);
+        if (bits > 64) return false;
+    }
+    int below = bits;
+    for (std::size_t t = 0; t < levels; ++t) {
+        below -= std::bit_width(2 * p.span[t] - 1);
+        p.shift[t] = below;
+    }
+    return true;
+}
+
+bool pack_levels(const SofaCubeTree& t1, const SofaCubeTree& t2, PackedLevels p) {
+    return pack_levels(
+        std::max(t1.levels(), t2.levels()),
+        [&](std::size_t t) { return std::uint64_t(t1.max_range(t)) * std::uint64_t(t2.max_range(t)); }, p);
+}
+
+std::uint64_t packed_key(const PackedLevels& p, std::span<const SofaTreeStep> a, std::span<const SofaTreeStep> b) {
+    std::uint64_t key = 0;
+    for (std::size_t t = 0; t < p.span.size(); ++t) {
+        const SofaTreeStep s = t < a.size() ? a[t] : SofaTreeStep{};
+        const SofaTreeStep r = t < b.size() ? b[t] : SofaTreeStep{};
+        const std::uint64_t loop = std::uint64_t(s.index) * r.size + r.index;
+        const bool leaf_pair = t + 1 >= a.size() && t + 1 >= b.size();
+        key |= (leaf_pair ? loop : 2 * p.span[t] - 1 - loop) << p.shift[t];
+        if (leaf_pair) break;
+    }
+    return key;
+}
+
+}  // namespace
+
 void SofaCubeTree::build(const CollisionModel& model, int depth) {
     const std::size_t n = model.size();
     steps_.clear();
     offsets_.clear();
+    key_as_first_.clear();
+    key_as_second_.clear();
     if (n == 0) return;
     if (n >= (std::size_t(1) << 31)) throw_invalid_argument("SofaCubeTree: model '", model.name(), "' is too large");
     std::vector<Aabb> boxes(n);
@@ -80,6 +135,28 @@ void SofaCubeTree::build(const CollisionModel& model, int depth) {
         if (p.size() > level_max_size_.size()) level_max_size_.resize(p.size(), 1);
         for (std::size_t t = 0; t < p.size(); ++t) level_max_size_[t] = std::max(level_max_size_[t], p[t].size);
     }
+    compute_keys_against_one_element();
+}
+
+void SofaCubeTree::compute_keys_against_one_element() {
+    key_as_first_.clear();
+    key_as_second_.clear();
+    // a one-element tree: one path [{0, 1}], one level, largest range 1 at every level
+    const SofaTreeStep only{0, 1};
+    const std::span<const SofaTreeStep> other(&only, 1);
+    std::vector<std::uint64_t> span;
+    std::vector<int> shift;
+    const PackedLevels levels{span, shift};
+    if (!pack_levels(std::max<std::size_t>(this->levels(), 1), [&](std::size_t t) { return std::uint64_t(max_range(t)); },
+                     levels))
+        return;
+    const std::size_t n = size();
+    key_as_first_.resize(n);
+    key_as_second_.resize(n);
+    for (std::size_t e = 0; e < n; ++e) {
+        key_as_first_[e] = packed_key(levels, path(Index(e)), other);
+        key_as_second_[e] = packed_key(levels, other, path(Index(e)));
+    }
 }
 
 bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1, Index b1, Index a2, Index b2) {
@@ -105,64 +182,32 @@ bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1
     }
 }
 
-namespace {
-
-// The digits of sofa_visits_before packed into one integer, most significant level first. At
-// level t an element pair's loop position is loop = s.index·r.size + r.index < D_t = (largest
-// range of tree 1 at t)·(largest range of tree 2 at t); its digit is loop when both paths end
-// there (intersected in the loop, first) and 2·D_t − 1 − loop otherwise (pushed, visited last
-// pushed first); the levels after a pair's last are 0. Returns false when the digits need more
-// than 64 bits.
-struct PackedLevels {
-    std::vector<std::uint64_t>& span;  // D_t
-    std::vector<int>& shift;           // bit position of level t's digit
-};
-
-bool pack_levels(const SofaCubeTree& t1, const SofaCubeTree& t2, PackedLevels p) {
-    const std::size_t levels = std::max(t1.levels(), t2.levels());
-    p.span.resize(levels);
-    p.shift.resize(levels);
-    int bits = 0;
-    for (std::size_t t = 0; t < levels; ++t) {
-        p.span[t] = std::uint64_t(t1.max_range(t)) * std::uint64_t(t2.max_range(t));
-        bits += std::bit_width(2 * p.span[t] - 1);
-        if (bits > 64) return false;
-    }
-    int below = bits;
-    for (std::size_t t = 0; t < levels; ++t) {
-        below -= std::bit_width(2 * p.span[t] - 1);
-        p.shift[t] = below;
-    }
-    return true;
-}
-
-std::uint64_t packed_key(const PackedLevels& p, std::span<const SofaTreeStep> a, std::span<const SofaTreeStep> b) {
-    std::uint64_t key = 0;
-    for (std::size_t t = 0; t < p.span.size(); ++t) {
-        const SofaTreeStep s = t < a.size() ? a[t] : SofaTreeStep{};
-        const SofaTreeStep r = t < b.size() ? b[t] : SofaTreeStep{};
-        const std::uint64_t loop = std::uint64_t(s.index) * r.size + r.index;
-        const bool leaf_pair = t + 1 >= a.size() && t + 1 >= b.size();
-        key |= (leaf_pair ? loop : 2 * p.span[t] - 1 - loop) << p.shift[t];
-        if (leaf_pair) break;
-    }
-    return key;
-}
-
-}  // namespace
 
 void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
                         SofaOrderScratch& scratch) {
     const std::size_t n = outputs.size();
     if (n < 2) return;
     const PackedLevels levels{scratch.level_span, scratch.level_shift};
-    if (pack_levels(t1, t2, levels)) {
+    // against a one-element model the key is a function of the other element, computed once
+    // when its tree was built (SofaCubeTree::keys_against_one_element)
+    const bool one2 = t2.size() == 1 && !t1.keys_against_one_element(true).empty();
+    const bool one1 = !one2 && t1.size() == 1 && !t2.keys_against_one_element(false).empty();
+    if (one1 || one2 || pack_levels(t1, t2, levels)) {
         // clear + push_back, not resize: the scratch serves pairs of every size, and growing
         // with resize would value-initialise (zero) the new elements at every call
         std::vector<SofaOrderScratch::Keyed>& keyed = scratch.keyed;
         keyed.clear();
-        for (std::size_t i = 0; i < n; ++i)
-            keyed.push_back({packed_key(levels, t1.path(outputs[i].elem1), t2.path(outputs[i].elem2)), std::uint32_t(i)});
+        if (one2) {
+            const std::span<const std::uint64_t> k = t1.keys_against_one_element(true);
+            for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(outputs[i].elem1)], std::uint32_t(i)});
+        } else if (one1) {
+            const std::span<const std::uint64_t> k = t2.keys_against_one_element(false);
+            for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(outputs[i].elem2)], std::uint32_t(i)});
+        } else {
+            for (std::size_t i = 0; i < n; ++i)
+                keyed.push_back(
+                    {packed_key(levels, t1.path(outputs[i].elem1), t2.path(outputs[i].elem2)), std::uint32_t(i)});
+        }
         // the index breaks ties: the outputs of one element pair keep their order
         std::sort(keyed.begin(), keyed.end(), [](const SofaOrderScratch::Keyed& x, const SofaOrderScratch::Keyed& y) {
             return x.key != y.key ? x.key < y.key : x.index < y.index;

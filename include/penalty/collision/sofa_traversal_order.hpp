@@ -56,10 +56,20 @@ public:
         return t < level_max_size_.size() ? level_max_size_[t] : 1;
     }
 
+    /// sort_in_sofa_order's packed key of each element paired with the element of a
+    /// one-element model (the tree's model first if `as_first`), the same for any one-element
+    /// partner; computed at build. Empty if the keys do not fit in 64 bits.
+    [[nodiscard]] std::span<const std::uint64_t> keys_against_one_element(bool as_first) const {
+        return as_first ? key_as_first_ : key_as_second_;
+    }
+
 private:
+    void compute_keys_against_one_element();
+
     std::vector<SofaTreeStep> steps_;
     std::vector<std::uint32_t> offsets_;
     std::vector<std::uint32_t> level_max_size_;
+    std::vector<std::uint64_t> key_as_first_, key_as_second_;
 };
 
 /// True if BVHNarrowPhase, traversing t1 against t2, intersects (a1, b1) before (a2, b2)
