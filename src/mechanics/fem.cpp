@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <optional>
 
 namespace penalty {
@@ -371,6 +372,7 @@ template <class T, class StrainDisplacementEntries, class MaterialEntries>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define PENALTY_AVX_KERNELS 1
+#include <immintrin.h>
 /// Four doubles, one element's value per lane; every operator is lane-wise IEEE arithmetic.
 typedef double Lanes4 __attribute__((vector_size(32), __may_alias__));
 
@@ -391,6 +393,58 @@ struct LaneMaterial {
         return *reinterpret_cast<const Lanes4*>(entry.data());
     }
 };
+
+/// sofa_vec::normalized lane by lane: v/√(v·v), or v itself where √(v·v) ≤ ε (or NaN).
+[[gnu::target("avx"), gnu::always_inline]] inline void normalized_lanes(const Lanes4 (&v)[3], Lanes4 (&out)[3]) {
+    const Lanes4 norm = _mm256_sqrt_pd(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const __m256d keep = _mm256_cmp_pd(norm, _mm256_set1_pd(std::numeric_limits<double>::epsilon()), _CMP_GT_OQ);
+    for (std::size_t c = 0; c < 3; ++c) out[c] = _mm256_blendv_pd(v[c], v[c] / norm, keep);
+}
+/// sofa_vec::cross lane by lane.
+[[gnu::always_inline]] inline void cross_lanes(const Lanes4 (&a)[3], const Lanes4 (&b)[3], Lanes4 (&out)[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/// TetrahedronFEMForceField::add_force's per-element part (method large) for the four elements
+/// of a block, one per lane, each lane the scalar operations in their order: the frame R
+/// (large_frame), δ from the rotated vertices and the rest coordinates `rest` (rest[1].x,
+/// rest[2].x, rest[2].y, rest[3].x, rest[3].y, rest[3].z), and F = element_force_of(δ).
+[[gnu::target("avx")]] void large_force_avx(const detail::TetrahedronLargeBlock& block, const Vec3* x, const Lanes4 (&rest)[6],
+                                            Lanes4 (&r)[9], Lanes4 (&delta)[12], Lanes4 (&force)[12]) {
+    Lanes4 p[4][3];
+    for (std::size_t v = 0; v < 4; ++v)
+        for (std::size_t c = 0; c < 3; ++c) {
+            const auto& dof = block.vertex[v];
+            p[v][c] = Lanes4{x[dof[0]][c], x[dof[1]][c], x[dof[2]][c], x[dof[3]][c]};
+        }
+    // large_frame(p0, p1, p2): x̂ = normalized(p1 − p0), ẑ = normalized(x̂ × (p2 − p0)), ŷ = ẑ × x̂
+    Lanes4 edge[3], x_axis[3], z_dir[3], z_axis[3], y_axis[3];
+    for (std::size_t c = 0; c < 3; ++c) edge[c] = p[1][c] - p[0][c];
+    normalized_lanes(edge, x_axis);
+    for (std::size_t c = 0; c < 3; ++c) edge[c] = p[2][c] - p[0][c];
+    cross_lanes(x_axis, edge, z_dir);
+    normalized_lanes(z_dir, z_axis);
+    cross_lanes(z_axis, x_axis, y_axis);
+    for (std::size_t c = 0; c < 3; ++c) {
+        r[c] = x_axis[c];
+        r[3 + c] = y_axis[c];
+        r[6 + c] = z_axis[c];
+    }
+    // each vertex rotated (sofa_vec::times), then δ = rest − (R·p_k − R·p_0) in the entries J couples
+    Lanes4 deformed[4][3];
+    for (std::size_t v = 0; v < 4; ++v)
+        for (std::size_t i = 0; i < 3; ++i) deformed[v][i] = r[3 * i] * p[v][0] + r[3 * i + 1] * p[v][1] + r[3 * i + 2] * p[v][2];
+    const Lanes4 zero = {0.0, 0.0, 0.0, 0.0};
+    for (auto& d : delta) d = zero;
+    delta[3] = rest[0] - (deformed[1][0] - deformed[0][0]);
+    delta[6] = rest[1] - (deformed[2][0] - deformed[0][0]);
+    delta[7] = rest[2] - (deformed[2][1] - deformed[0][1]);
+    for (std::size_t c = 0; c < 3; ++c) delta[9 + c] = rest[3 + c] - (deformed[3][c] - deformed[0][c]);
+    element_force_of<Lanes4>(LaneStrainDisplacement{&block.cofactor}, LaneMaterial{&block.material, &block.shear}, delta, nullptr,
+                             force);
+}
 
 /// TetrahedronFEMForceField::add_dforce (method large) for four elements at once, one per lane:
 /// each lane does its element's operations of the scalar loop (R·dx per vertex, element_force_of,
@@ -484,6 +538,45 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     }
     PENALTY_DEMAND(large_.size() == elements_.size());
     energy_ = 0.0;
+#ifdef PENALTY_AVX_KERNELS
+    if (kernel_path_ == KernelPath::avx) {
+        // frames, δ and F four elements at a time (large_force_avx); the energy and f += Rᵀ·F
+        // element by element in order, as below
+        for (std::size_t first = 0; first < elements_.size(); first += 4) {
+            const std::size_t lanes = std::min<std::size_t>(4, elements_.size() - first);
+            Lanes4 rest[6];
+            for (std::size_t lane = 0; lane < 4; ++lane) {
+                const auto& local = rest_local_[first + (lane < lanes ? lane : 0)];
+                rest[0][lane] = local[1][0];
+                rest[1][lane] = local[2][0];
+                rest[2][lane] = local[2][1];
+                for (std::size_t c = 0; c < 3; ++c) rest[3 + c][lane] = local[3][c];
+            }
+            Lanes4 r[9], delta[12], force[12];
+            auto& block = large_blocks_[first / 4];
+            large_force_avx(block, x.data(), rest, r, delta, force);
+            for (std::size_t lane = 0; lane < lanes; ++lane) {
+                const std::size_t e = first + lane;
+                Mat3 rotation;
+                for (std::size_t i = 0; i < 9; ++i) {
+                    rotation(static_cast<Index>(i / 3), static_cast<Index>(i % 3)) = r[i][lane];
+                    block.rotation[i][lane] = r[i][lane];
+                }
+                rotation_[e] = rotation;
+                Displacement element_delta, element_force_;
+                for (std::size_t i = 0; i < 12; ++i) {
+                    element_delta[static_cast<Index>(i)] = delta[i][lane];
+                    element_force_[static_cast<Index>(i)] = force[i][lane];
+                }
+                energy_ += 0.5 * element_delta.dot(element_force_);
+                for (std::size_t k = 0; k < 4; ++k)
+                    f[static_cast<std::size_t>(elements_[e][k])] +=
+                        sofa_vec::transpose_times(rotation, element_force_.segment<3>(3 * static_cast<Index>(k)));
+            }
+        }
+        return;
+    }
+#endif
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];
         const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };

@@ -120,11 +120,11 @@ TEST(VectorKernels, SpringProductIsBitwiseTheScalarLoopOnEveryPath) {
     EXPECT_GT(changed, 300);
 }
 
-TEST(VectorKernels, CorotationalTetrahedronProductIsBitwiseTheScalarLoop) {
+TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoops) {
     if (!avx_available()) GTEST_SKIP() << "this CPU has no AVX: only the scalar path runs";
     std::mt19937 rng(23);
     std::uniform_real_distribution<double> u(-1, 1);
-    int compared = 0, changed = 0;
+    int compared = 0, changed = 0, changed_forces = 0;
     for (const std::size_t count : {std::size_t{1}, std::size_t{2}, std::size_t{3}, std::size_t{4}, std::size_t{5},
                                     std::size_t{6}, std::size_t{9}, std::size_t{57}}) {
         // a cloud of points, each element on four distinct points with a clear rest volume
@@ -157,8 +157,16 @@ TEST(VectorKernels, CorotationalTetrahedronProductIsBitwiseTheScalarLoop) {
                 s.position[3] = s.position[2];
                 s.position[5] = Vec3::Zero();
             }
+            // add_force: f and the energy bit for bit (the vector path forms R, δ and F in lanes)
+            for (auto& f : s.force) f = Vec3(product_entry(rng), product_entry(rng), product_entry(rng));
+            const std::vector<Vec3> force_before(s.force.begin(), s.force.end());
             scalar.accumulate_force();
+            const std::vector<Vec3> expected_force(s.force.begin(), s.force.end());
+            std::copy(force_before.begin(), force_before.end(), s.force.begin());
             vector.accumulate_force();
+            expect_same_bits(expected_force, {s.force.begin(), s.force.end()}, "add_force, tetrahedra " + std::to_string(count));
+            EXPECT_EQ(scalar.potential_energy(), vector.potential_energy());
+            changed_forces += changed_dofs(force_before, expected_force);
             for (const double k : {-0.0123, 1.0}) {
                 fill_products(s, rng);
                 const std::vector<Vec3> df(s.df.begin(), s.df.end());
@@ -174,6 +182,7 @@ TEST(VectorKernels, CorotationalTetrahedronProductIsBitwiseTheScalarLoop) {
     }
     EXPECT_EQ(compared, 8 * 3 * 2);
     EXPECT_GT(changed, 200);
+    EXPECT_GT(changed_forces, 100);
 }
 
 TEST(VectorKernels, PathsAreReportedAndUnsupportedOnesRefused) {
