@@ -5,8 +5,11 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <optional>
 
 namespace penalty {
@@ -310,41 +313,172 @@ constexpr std::array<std::array<int, 8>, 6> kColumnRows{{{0, 3, 6, 9, 0, 0, 0, 0
 /// Voigt columns of J non-zero on a vertex's x, y and z rows, in increasing order.
 constexpr std::array<std::array<int, 3>, 3> kRowColumns{{{0, 3, 5}, {1, 3, 4}, {2, 4, 5}}};
 
+/// Vertex r/3's entry of J(r, c): 0 its g_yz, 1 its g_xz, 2 its g_xy (as strain_displacement
+/// places them), by row component r % 3 and Voigt column c; −1 where J is 0.
+constexpr std::array<std::array<int, 6>, 3> kCofactorOfEntry{{{0, -1, -1, 1, -1, 2}, {-1, 1, -1, 0, 2, -1}, {-1, -1, 2, -1, 1, 0}}};
+
 /// Σ over the non-zero rows r of column c, in kColumnRows order: j(r, c)·δ_r, the first term
-/// alone then each next one added (no leading 0 +).
-template <int C>
-[[gnu::always_inline]] inline double strain_entry(const StrainDisplacement& j, const Displacement& delta) {
+/// alone then each next one added (no leading 0 +). T is double (one element) or a vector of
+/// lanes (one element each, see large_dforce_avx).
+template <int C, class T, class Entries>
+[[gnu::always_inline]] inline void strain_entry(const Entries& j, const T (&delta)[12], T& sum) {
     constexpr auto& rows = kColumnRows[C];
-    double sum = j(rows[0], C) * delta[rows[0]];
+    sum = j(rows[0], C) * delta[rows[0]];
     for (int n = 1; n < kColumnRowCount[C]; ++n) sum += j(rows[static_cast<std::size_t>(n)], C) * delta[rows[static_cast<std::size_t>(n)]];
-    return sum;
 }
 
 /// F = J·(factor·(M·(Jᵀ·δ))) with SOFA's sums (TetrahedronFEMForceField::computeForce): each
 /// entry of Jᵀδ sums J's non-zero terms of its column vertex by vertex, left to right; M·(Jᵀδ)
 /// uses M's normal 3×3 block and shear diagonal only; the scaling by `factor` (addDForce's
-/// kFactor; absent in addForce) comes before the last product, which again sums the non-zero
-/// terms of each row in column order. Inlined, loops of constant counts, the last one unrolled by
-/// pragma (without it SphereModel's step costs 43 % more instructions): the solve's inner kernel.
-[[gnu::always_inline]] inline Displacement element_force(const StrainDisplacement& j, const MaterialMatrix& m,
-                                                         const Displacement& delta, std::optional<double> factor) {
-    const std::array<double, 6> strain{strain_entry<0>(j, delta), strain_entry<1>(j, delta), strain_entry<2>(j, delta),
-                                       strain_entry<3>(j, delta), strain_entry<4>(j, delta), strain_entry<5>(j, delta)};
-    std::array<double, 6> stress;
-    for (int i = 0; i < 3; ++i) stress[static_cast<std::size_t>(i)] = m(i, 0) * strain[0] + m(i, 1) * strain[1] + m(i, 2) * strain[2];
-    for (int i = 3; i < 6; ++i) stress[static_cast<std::size_t>(i)] = m(i, i) * strain[static_cast<std::size_t>(i)];
+/// kFactor; null in addForce) comes before the last product, which again sums the non-zero
+/// terms of each row in column order. j(r, c) and m(i, k) give J's and M's entries. Inlined,
+/// loops of constant counts, the last one unrolled by pragma (without it SphereModel's step costs
+/// 43 % more instructions): the solve's inner kernel, for one element (T = double) or for one
+/// element per vector lane.
+template <class T, class StrainDisplacementEntries, class MaterialEntries>
+[[gnu::always_inline]] inline void element_force_of(const StrainDisplacementEntries& j, const MaterialEntries& m,
+                                                    const T (&delta)[12], const T* factor, T (&force)[12]) {
+    T strain[6];
+    strain_entry<0>(j, delta, strain[0]);
+    strain_entry<1>(j, delta, strain[1]);
+    strain_entry<2>(j, delta, strain[2]);
+    strain_entry<3>(j, delta, strain[3]);
+    strain_entry<4>(j, delta, strain[4]);
+    strain_entry<5>(j, delta, strain[5]);
+    T stress[6];
+    for (int i = 0; i < 3; ++i) stress[i] = m(i, 0) * strain[0] + m(i, 1) * strain[1] + m(i, 2) * strain[2];
+    for (int i = 3; i < 6; ++i) stress[i] = m(i, i) * strain[i];
     if (factor)
-        for (double& s : stress) s *= *factor;
-    Displacement force;
+        for (T& s : stress) s *= *factor;
 #pragma GCC unroll 12
     for (int r = 0; r < 12; ++r) {
         const auto& columns = kRowColumns[static_cast<std::size_t>(r % 3)];
-        force[r] = j(r, columns[0]) * stress[static_cast<std::size_t>(columns[0])] +
-                   j(r, columns[1]) * stress[static_cast<std::size_t>(columns[1])] +
-                   j(r, columns[2]) * stress[static_cast<std::size_t>(columns[2])];
+        force[r] = j(r, columns[0]) * stress[columns[0]] + j(r, columns[1]) * stress[columns[1]] +
+                   j(r, columns[2]) * stress[columns[2]];
     }
+}
+
+/// element_force_of for one element with its Eigen matrices.
+[[gnu::always_inline]] inline Displacement element_force(const StrainDisplacement& j, const MaterialMatrix& m,
+                                                         const Displacement& delta, std::optional<double> factor) {
+    double in[12];
+    for (int r = 0; r < 12; ++r) in[r] = delta[r];
+    double out[12];
+    element_force_of<double>(j, m, in, factor ? &*factor : nullptr, out);
+    Displacement force;
+    for (int r = 0; r < 12; ++r) force[r] = out[r];
     return force;
 }
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define PENALTY_AVX_KERNELS 1
+#include <immintrin.h>
+/// Four doubles, one element's value per lane; every operator is lane-wise IEEE arithmetic.
+typedef double Lanes4 __attribute__((vector_size(32), __may_alias__));
+
+/// J(r, c) of the block's four elements (kCofactorOfEntry; never asked where J is 0).
+struct LaneStrainDisplacement {
+    const std::array<std::array<std::array<double, 4>, 3>, 4>* cofactor;
+    [[gnu::always_inline]] const Lanes4& operator()(int r, int c) const {
+        const auto& entry = (*cofactor)[static_cast<std::size_t>(r / 3)][static_cast<std::size_t>(kCofactorOfEntry[static_cast<std::size_t>(r % 3)][static_cast<std::size_t>(c)])];
+        return *reinterpret_cast<const Lanes4*>(entry.data());
+    }
+};
+/// D/(36V)(i, k) of the block's four elements: the normal block (i, k < 3) and the shear diagonal.
+struct LaneMaterial {
+    const std::array<std::array<double, 4>, 9>* normal;
+    const std::array<std::array<double, 4>, 3>* shear;
+    [[gnu::always_inline]] const Lanes4& operator()(int i, int k) const {
+        const auto& entry = i < 3 ? (*normal)[static_cast<std::size_t>(3 * i + k)] : (*shear)[static_cast<std::size_t>(i - 3)];
+        return *reinterpret_cast<const Lanes4*>(entry.data());
+    }
+};
+
+/// sofa_vec::normalized lane by lane: v/√(v·v), or v itself where √(v·v) ≤ ε (or NaN).
+[[gnu::target("avx"), gnu::always_inline]] inline void normalized_lanes(const Lanes4 (&v)[3], Lanes4 (&out)[3]) {
+    const Lanes4 norm = _mm256_sqrt_pd(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const __m256d keep = _mm256_cmp_pd(norm, _mm256_set1_pd(std::numeric_limits<double>::epsilon()), _CMP_GT_OQ);
+    for (std::size_t c = 0; c < 3; ++c) out[c] = _mm256_blendv_pd(v[c], v[c] / norm, keep);
+}
+/// sofa_vec::cross lane by lane.
+[[gnu::always_inline]] inline void cross_lanes(const Lanes4 (&a)[3], const Lanes4 (&b)[3], Lanes4 (&out)[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/// TetrahedronFEMForceField::add_force's per-element part (method large) for the four elements
+/// of a block, one per lane, each lane the scalar operations in their order: the frame R
+/// (large_frame), δ from the rotated vertices and the rest coordinates `rest` (rest[1].x,
+/// rest[2].x, rest[2].y, rest[3].x, rest[3].y, rest[3].z), and F = element_force_of(δ).
+[[gnu::target("avx")]] void large_force_avx(const detail::TetrahedronLargeBlock& block, const Vec3* x, const Lanes4 (&rest)[6],
+                                            Lanes4 (&r)[9], Lanes4 (&delta)[12], Lanes4 (&force)[12]) {
+    Lanes4 p[4][3];
+    for (std::size_t v = 0; v < 4; ++v)
+        for (std::size_t c = 0; c < 3; ++c) {
+            const auto& dof = block.vertex[v];
+            p[v][c] = Lanes4{x[dof[0]][c], x[dof[1]][c], x[dof[2]][c], x[dof[3]][c]};
+        }
+    // large_frame(p0, p1, p2): x̂ = normalized(p1 − p0), ẑ = normalized(x̂ × (p2 − p0)), ŷ = ẑ × x̂
+    Lanes4 edge[3], x_axis[3], z_dir[3], z_axis[3], y_axis[3];
+    for (std::size_t c = 0; c < 3; ++c) edge[c] = p[1][c] - p[0][c];
+    normalized_lanes(edge, x_axis);
+    for (std::size_t c = 0; c < 3; ++c) edge[c] = p[2][c] - p[0][c];
+    cross_lanes(x_axis, edge, z_dir);
+    normalized_lanes(z_dir, z_axis);
+    cross_lanes(z_axis, x_axis, y_axis);
+    for (std::size_t c = 0; c < 3; ++c) {
+        r[c] = x_axis[c];
+        r[3 + c] = y_axis[c];
+        r[6 + c] = z_axis[c];
+    }
+    // each vertex rotated (sofa_vec::times), then δ = rest − (R·p_k − R·p_0) in the entries J couples
+    Lanes4 deformed[4][3];
+    for (std::size_t v = 0; v < 4; ++v)
+        for (std::size_t i = 0; i < 3; ++i) deformed[v][i] = r[3 * i] * p[v][0] + r[3 * i + 1] * p[v][1] + r[3 * i + 2] * p[v][2];
+    const Lanes4 zero = {0.0, 0.0, 0.0, 0.0};
+    for (auto& d : delta) d = zero;
+    delta[3] = rest[0] - (deformed[1][0] - deformed[0][0]);
+    delta[6] = rest[1] - (deformed[2][0] - deformed[0][0]);
+    delta[7] = rest[2] - (deformed[2][1] - deformed[0][1]);
+    for (std::size_t c = 0; c < 3; ++c) delta[9 + c] = rest[3 + c] - (deformed[3][c] - deformed[0][c]);
+    element_force_of<Lanes4>(LaneStrainDisplacement{&block.cofactor}, LaneMaterial{&block.material, &block.shear}, delta, nullptr,
+                             force);
+}
+
+/// TetrahedronFEMForceField::add_dforce (method large) for four elements at once, one per lane:
+/// each lane does its element's operations of the scalar loop (R·dx per vertex, element_force_of,
+/// Rᵀ·F per vertex), in the same order, with IEEE lane-wise operations and no fused
+/// multiply-add, so each lane's F has the scalar loop's bits; df −= Rᵀ·F is then done element
+/// by element, vertex by vertex, in the scalar loop's order.
+[[gnu::target("avx")]] void large_dforce_avx(const detail::TetrahedronLargeBlock* blocks, std::size_t element_count, Vec3* df,
+                                             const Vec3* dx, double k_factor) {
+    const Lanes4 k = {k_factor, k_factor, k_factor, k_factor};
+    for (std::size_t first = 0; first < element_count; first += 4) {
+        const detail::TetrahedronLargeBlock& block = blocks[first / 4];
+        const auto* r = reinterpret_cast<const Lanes4*>(block.rotation.data());
+        Lanes4 local[12];  // R·dx_k (sofa_vec::times: row i = R(i,0)dx₀ + R(i,1)dx₁ + R(i,2)dx₂)
+        for (std::size_t v = 0; v < 4; ++v) {
+            const auto& dof = block.vertex[v];
+            Lanes4 d[3];
+            for (std::size_t c = 0; c < 3; ++c) d[c] = Lanes4{dx[dof[0]][c], dx[dof[1]][c], dx[dof[2]][c], dx[dof[3]][c]};
+            for (std::size_t i = 0; i < 3; ++i) local[3 * v + i] = r[3 * i] * d[0] + r[3 * i + 1] * d[1] + r[3 * i + 2] * d[2];
+        }
+        Lanes4 force[12];
+        element_force_of(LaneStrainDisplacement{&block.cofactor}, LaneMaterial{&block.material, &block.shear}, local, &k, force);
+        // Rᵀ·F_k (sofa_vec::transpose_times: row i = R(0,i)F₀ + R(1,i)F₁ + R(2,i)F₂), by [vertex][component]
+        Lanes4 back[4][3];
+        for (std::size_t v = 0; v < 4; ++v)
+            for (std::size_t i = 0; i < 3; ++i) back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
+        const std::size_t lanes = std::min<std::size_t>(4, element_count - first);
+        for (std::size_t e = 0; e < lanes; ++e)
+            for (std::size_t v = 0; v < 4; ++v) {
+                Vec3& target = df[block.vertex[v][e]];
+                for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] -= back[v][c][e];
+            }
+    }
+}
+#endif
 }  // namespace
 
 void TetrahedronFEMForceField::init_large() {
@@ -365,6 +499,36 @@ void TetrahedronFEMForceField::init_large() {
         rotation_[e] = r0;
         large_[e].strain_displacement = strain_displacement(local);
     }
+    // the same data four elements a block (lane e of block b: element 4b + e)
+    large_blocks_.assign((elements_.size() + 3) / 4, detail::TetrahedronLargeBlock{});
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        auto& block = large_blocks_[e / 4];
+        const std::size_t lane = e % 4;
+        const auto& j = large_[e].strain_displacement;
+        const auto& m = large_[e].material;
+        for (std::size_t k = 0; k < 4; ++k) {
+            // strain_displacement: J(3k, xx) = g_yz, J(3k, xy) = g_xz, J(3k, zx) = g_xy
+            const auto row = static_cast<Index>(3 * k);
+            block.cofactor[k][0][lane] = j(row, 0);
+            block.cofactor[k][1][lane] = j(row, 3);
+            block.cofactor[k][2][lane] = j(row, 5);
+            const auto dof = static_cast<std::size_t>(elements_[e][k]);
+            block.vertex[k][lane] = dof;
+            if (lane == 0)  // the missing elements of a last block read lane 0's vertices
+                for (std::size_t other = 1; other < 4; ++other) block.vertex[k][other] = dof;
+        }
+        for (Index i = 0; i < 3; ++i) {
+            for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
+            block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
+            for (Index k = 0; k < 3; ++k) block.rotation[static_cast<std::size_t>(3 * i + k)][lane] = rotation_[e](i, k);
+        }
+    }
+}
+
+void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
+    if (!kernel_path_supported(path))
+        throw_invalid_argument("TetrahedronFEMForceField: kernel path ", to_string(path), " is not supported by this CPU");
+    kernel_path_ = path;
 }
 
 void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
@@ -374,12 +538,54 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     }
     PENALTY_DEMAND(large_.size() == elements_.size());
     energy_ = 0.0;
+#ifdef PENALTY_AVX_KERNELS
+    if (kernel_path_ == KernelPath::avx) {
+        // frames, δ and F four elements at a time (large_force_avx); the energy and f += Rᵀ·F
+        // element by element in order, as below
+        for (std::size_t first = 0; first < elements_.size(); first += 4) {
+            const std::size_t lanes = std::min<std::size_t>(4, elements_.size() - first);
+            Lanes4 rest[6];
+            for (std::size_t lane = 0; lane < 4; ++lane) {
+                const auto& local = rest_local_[first + (lane < lanes ? lane : 0)];
+                rest[0][lane] = local[1][0];
+                rest[1][lane] = local[2][0];
+                rest[2][lane] = local[2][1];
+                for (std::size_t c = 0; c < 3; ++c) rest[3 + c][lane] = local[3][c];
+            }
+            Lanes4 r[9], delta[12], force[12];
+            auto& block = large_blocks_[first / 4];
+            large_force_avx(block, x.data(), rest, r, delta, force);
+            for (std::size_t lane = 0; lane < lanes; ++lane) {
+                const std::size_t e = first + lane;
+                Mat3 rotation;
+                for (std::size_t i = 0; i < 9; ++i) {
+                    rotation(static_cast<Index>(i / 3), static_cast<Index>(i % 3)) = r[i][lane];
+                    block.rotation[i][lane] = r[i][lane];
+                }
+                rotation_[e] = rotation;
+                Displacement element_delta, element_force_;
+                for (std::size_t i = 0; i < 12; ++i) {
+                    element_delta[static_cast<Index>(i)] = delta[i][lane];
+                    element_force_[static_cast<Index>(i)] = force[i][lane];
+                }
+                energy_ += 0.5 * element_delta.dot(element_force_);
+                for (std::size_t k = 0; k < 4; ++k)
+                    f[static_cast<std::size_t>(elements_[e][k])] +=
+                        sofa_vec::transpose_times(rotation, element_force_.segment<3>(3 * static_cast<Index>(k)));
+            }
+        }
+        return;
+    }
+#endif
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];
         const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
         // TetrahedronFEMForceField::accumulateForceLarge: current frame, vertices rotated one by one
         const Mat3 r = large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
         rotation_[e] = r;
+        auto& block_rotation = large_blocks_[e / 4].rotation;
+        for (Index i = 0; i < 3; ++i)
+            for (Index k = 0; k < 3; ++k) block_rotation[static_cast<std::size_t>(3 * i + k)][e % 4] = r(i, k);
         std::array<Vec3, 4> deformed;
         for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
         // δ = rest − current local coordinates; only the entries J couples are formed (vertex 0
@@ -404,6 +610,13 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
         return;
     }
     // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
+#ifdef PENALTY_AVX_KERNELS
+    if (kernel_path_ == KernelPath::avx) {
+        PENALTY_DEMAND(large_blocks_.size() == (elements_.size() + 3) / 4);
+        large_dforce_avx(large_blocks_.data(), elements_.size(), df.data(), dx.data(), k_factor);
+        return;
+    }
+#endif
     Displacement local;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];

@@ -13,6 +13,7 @@
 /// SOFA: exact at stress-free configurations). Energy ½ uᵀ K^e u with u = d − r.
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <Eigen/Core>
@@ -99,6 +100,20 @@ protected:
 
 class RegularGridTopology;
 
+namespace detail {
+/// TetrahedronFEMForceField's method-large data of four elements side by side, for the vector
+/// product (add_dforce): lane e of every entry belongs to element 4·block + e. The last block's
+/// missing elements have zero data and lane 0's vertices (computed, never added into df).
+struct alignas(32) TetrahedronLargeBlock {
+    using Lanes = std::array<double, 4>;
+    std::array<Lanes, 9> rotation{};                      ///< R(i, j) at 3i + j, from the last add_force
+    std::array<std::array<Lanes, 3>, 4> cofactor{};       ///< J's entries g_yz, g_xz, g_xy of each vertex
+    std::array<Lanes, 9> material{};                      ///< D/(36V)(i, k), i, k < 3, at 3i + k
+    std::array<Lanes, 3> shear{};                         ///< D/(36V)(i, i), i = 3 … 5
+    std::array<std::array<std::size_t, 4>, 4> vertex{};  ///< DOF of vertex k of each lane
+};
+}  // namespace detail
+
 /// SOFA's TetrahedronFEMForceField (methods small, large, polar and svd). Polar
 /// (TetrahedronFEMForceField::initPolar / accumulateForcePolar): R = polar_rotation(A) with A's
 /// rows the edges p1−p0, p2−p0, p3−p0; otherwise as large (rest frame from the rest edges,
@@ -125,6 +140,10 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    /// Instructions of add_dforce for method large (default best_kernel_path(); every path gives
+    /// the same bits). Throws std::invalid_argument if this machine cannot run `path`.
+    void set_kernel_path(KernelPath path);
+    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
@@ -149,6 +168,8 @@ private:
     std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
     std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
     std::vector<LargeElement> large_;       ///< large: J and D/(36V) per element
+    std::vector<detail::TetrahedronLargeBlock> large_blocks_;  ///< large: the same data and R, four elements a block
+    KernelPath kernel_path_ = best_kernel_path();
 };
 
 /// SOFA's HexahedronFEMForceField (methods small and large), SOFA vertex order (see topology).

@@ -4,8 +4,10 @@
 /// RegularGridSpringForceField (the latter two only build the spring list).
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/topology.hpp"
 
+#include <array>
 #include <vector>
 
 namespace penalty {
@@ -52,6 +54,10 @@ public:
     void set_null_length(double length) { null_length_ = length; }
     /// SOFA's operation order to reproduce (default: SpringForceField's).
     void set_arithmetic(SpringArithmetic arithmetic) { arithmetic_ = arithmetic; }
+    /// Instructions of add_dforce (default best_kernel_path(); every path gives the same bits).
+    /// Throws std::invalid_argument if this machine cannot run `path`.
+    void set_kernel_path(KernelPath path);
+    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
     void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
                    ConstVec3Span v2) override;
@@ -63,11 +69,21 @@ public:
     [[nodiscard]] std::vector<BaseState*> states() const override;
 
 private:
+    /// m of one spring (see class comment) by columns, each padded to 4 lanes with 0: column c
+    /// holds m(0, c), m(1, c), m(2, c), 0, so that one 256-bit lane r computes row r of m·dx.
+    struct alignas(32) StiffnessColumns {
+        std::array<std::array<double, 4>, 3> column{};
+        [[nodiscard]] double operator()(int row, int col) const {
+            return column[static_cast<std::size_t>(col)][static_cast<std::size_t>(row)];
+        }
+    };
+
     std::vector<Spring> springs_;
-    std::vector<Mat3> dfdx_;  ///< m per spring (see class comment), from the last add_force
+    std::vector<StiffnessColumns> dfdx_;  ///< m per spring, from the last add_force
     double energy_ = 0.0;
     double null_length_ = 1e-9;
     SpringArithmetic arithmetic_ = SpringArithmetic::spring_force_field;
+    KernelPath kernel_path_ = best_kernel_path();
 };
 
 /// Per-element-type stiffness/damping of MeshSpringForceField (SOFA's linesStiffness …
