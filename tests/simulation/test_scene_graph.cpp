@@ -170,11 +170,13 @@ ConstantForceFieldParameters forces_at_point_0(const Vec3& f) {
     return p;
 }
 
-// SOFA sums the forces on a state in its visiting order (MechanicalComputeForceVisitor): top-down,
-// the node's own force fields; bottom-up (post-order), each mapped child's Jᵀ·f, first child
-// first. With 1e16 and 1 the rounding of a double tells the orders apart: ((−1e16 + 1e16) + 1) = 1,
-// while adding the children the other way round, ((−1e16 + 1) + 1e16) = 0.
-TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
+// SOFA's EulerImplicitSolver computes f through its MappingGraph
+// (MappingGraphMechanicalOperations::computeForce): every force field first, then each mapping's
+// Jᵀ·f in the reverse of the graph's breadth-first order (MappingGraphAlgorithms::traverseBottomUp),
+// so two mapped siblings add into their parent last child first. With 1e16 and 1 the rounding of a
+// double tells the orders apart: ((−1e16 + 1) + 1e16) = 0, while first child first,
+// ((−1e16 + 1e16) + 1) = 1.
+TEST(SubtreeSystem, SumsForcesInSofasMappingGraphOrder) {
     Simulation sim;
     Node& root = sim.root();
     root.set_ode_solver<EulerImplicitSolver>();
@@ -197,9 +199,9 @@ TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
     Eigen::VectorXd f;
     sys.compute_force(f);
     ASSERT_EQ(f.size(), 3);
-    EXPECT_EQ(f[0], 1.0);  // (own −1e16 + first child's 1e16) + second child's 1
-    // A grandchild adds its Jᵀ·f into its parent before that parent maps into the body
-    // (post-order); the other way round its force would never reach the body.
+    EXPECT_EQ(f[0], 0.0);  // (own −1e16 + second child's 1) + first child's 1e16
+    // A grandchild adds its Jᵀ·f into its parent before that parent maps into the body (deeper
+    // first); the other way round its force would never reach the body.
     Simulation sim2;
     Node& root2 = sim2.root();
     root2.set_ode_solver<EulerImplicitSolver>();

@@ -185,6 +185,14 @@ private:
     mutable std::vector<std::uint8_t> dx_read_;  ///< scratch of map_dx: one flag per DOF
     /// to.dx = J from.dx for r.mapping, only the rows its readers read when they can tell.
     void map_dx(const DxReaders& r) const;
+    /// The same contributions in the order of SOFA's MappingGraph, which computeForce and addMBKv
+    /// use (EulerImplicitSolver::solve → MappingGraphMechanicalOperations): force fields and
+    /// masses by component group (one group per distinct list of states acted on, groups in order
+    /// of first appearance, members in visiting order), then every mapping's Jᵀ in the reverse of
+    /// the graph's breadth-first order (MappingGraphAlgorithms::traverseBottomUp: siblings last
+    /// first). The CG's product keeps force_steps_ (GraphScatteredMatrix::apply → visitors).
+    std::vector<ForceStep> graph_force_steps_;
+    void order_as_mapping_graph(Node& root);
     std::vector<std::pair<BaseMass*, Vec3>> masses_;  ///< with the gravity of their node
     std::vector<BaseForceField*> force_fields_;
     std::vector<BaseProjectiveConstraint*> constraints_;
