@@ -99,9 +99,9 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
 }
 
 // ---- SubtreeSystem ----------------------------------------------------------------------------
-SubtreeSystem::SubtreeSystem(Node& root) {
+SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order) : mapping_graph_order_(mapping_graph_order) {
     collect(root, true);
-    order_as_mapping_graph(root);
+    if (mapping_graph_order_) order_as_mapping_graph(root);
     // External states: used by a force field or a mapping but not part of the subtree.
     auto known = [&](const BaseState* s) {
         return offset_of_.count(s) != 0 || std::find(mapped_.begin(), mapped_.end(), s) != mapped_.end() ||
@@ -280,11 +280,12 @@ bool SubtreeSystem::offsets_valid() const {
     return end == size_;
 }
 
-SubtreeSystem& SubtreeSystemCache::get(Node& node) {
+SubtreeSystem& SubtreeSystemCache::get(Node& node, bool mapping_graph_order) {
     const std::uint64_t version = node.structure_version();
-    if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid()) {
+    if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid() ||
+        system_->mapping_graph_order() != mapping_graph_order) {
         system_.reset();  // the old system first: its pointers may dangle
-        system_.emplace(node);
+        system_.emplace(node, mapping_graph_order);
         node_ = &node;
         version_ = version;
         ++builds_;
@@ -443,7 +444,8 @@ void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
 void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
     external_work_zeroed_ = false;  // a new solve: another solver may have used the external states
     reset_forces();
-    for (const ForceStep& s : graph_force_steps_) {
+    // computeForce: SOFA HEAD's MappingGraph order (mapping_graph_order) or its visitors' order
+    for (const ForceStep& s : mapping_graph_order_ ? graph_force_steps_ : force_steps_) {
         if (s.mass != nullptr) s.mass->add_gravity_force(s.gravity);
         else if (s.force_field != nullptr) s.force_field->accumulate_force();
         else s.mapping->apply_jt_force();
@@ -486,7 +488,7 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
     }
     // addMBKv (accumulate, the right-hand side) walks SOFA's MappingGraph; the CG's product
     // (GraphScatteredMatrix::apply → MechanicalAddMBKdxVisitor) the visitors' order
-    for (const ForceStep& s : accumulate ? graph_force_steps_ : force_steps_) {
+    for (const ForceStep& s : accumulate && mapping_graph_order_ ? graph_force_steps_ : force_steps_) {
         if (s.mass != nullptr) {
             if (m != 0.0) s.mass->add_mdx(m);
         } else if (s.force_field != nullptr) {
@@ -605,7 +607,7 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
 }
 
 void EulerImplicitSolver::solve(Node& node, double dt) {
-    SubtreeSystem& sys = system_.get(node);
+    SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
     step_cg_iterations_ = 0;
     step_cg_solves_.clear();
     step_cg_limit_reached_ = false;
@@ -713,7 +715,7 @@ void EulerExplicitSolver::init(Node& node) {
 }
 
 void EulerExplicitSolver::solve(Node& node, double dt) {
-    const SubtreeSystem& sys = system_.get(node);
+    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
     sys.compute_force(f_);
     sys.apply_inverse_mass(f_, a_);
     sys.project(a_);

@@ -92,7 +92,10 @@ private:
 /// depth-first order of their nodes).
 class SubtreeSystem {
 public:
-    explicit SubtreeSystem(Node& root);
+    /// `mapping_graph_order`: computeForce and the right-hand side's addMBKv sum in the order of
+    /// SOFA HEAD's MappingGraph (graph_force_steps_) instead of its visitors' (OdeSolver).
+    explicit SubtreeSystem(Node& root, bool mapping_graph_order = false);
+    [[nodiscard]] bool mapping_graph_order() const { return mapping_graph_order_; }
 
     [[nodiscard]] Eigen::Index size() const { return size_; }
     /// True while every independent state has the size it had when the system was built (the
@@ -193,6 +196,7 @@ private:
     /// first). The CG's product keeps force_steps_ (GraphScatteredMatrix::apply → visitors).
     std::vector<ForceStep> graph_force_steps_;
     void order_as_mapping_graph(Node& root);
+    bool mapping_graph_order_ = false;
     std::vector<std::pair<BaseMass*, Vec3>> masses_;  ///< with the gravity of their node
     std::vector<BaseForceField*> force_fields_;
     std::vector<BaseProjectiveConstraint*> constraints_;
@@ -205,7 +209,7 @@ private:
 /// one, or an independent state was resized. In steady state a solve reuses it as is.
 class SubtreeSystemCache {
 public:
-    [[nodiscard]] SubtreeSystem& get(Node& node);
+    [[nodiscard]] SubtreeSystem& get(Node& node, bool mapping_graph_order = false);
     /// Number of builds so far.
     [[nodiscard]] int builds() const { return builds_; }
 
@@ -222,6 +226,11 @@ public:
     virtual ~OdeSolver() = default;
     virtual void init(Node& /*node*/) {}
     virtual void solve(Node& node, double dt) = 0;
+    /// Sum the forces of computeForce and of the right-hand side's addMBKv in the order of SOFA
+    /// HEAD's MappingGraph (MappingGraphMechanicalOperations: force fields by component group,
+    /// then the mappings' Jᵀ in reversed breadth-first order) instead of the visitors' order of
+    /// SOFA ≤ v25.12 (off by default: docs/sofa-compatibility.md, "SOFA HEAD's orders").
+    bool sofa_mapping_graph_order = false;
 };
 
 /// Beyond SOFA (opt-in): Newton iterations on the backward-Euler residual
