@@ -394,7 +394,7 @@ int main(int argc, char** argv) {
     run->add_option("--fix-sofa-quirks", args.quirk_fixes, "Same as --fix-sofa-quirk (e.g. --fix-sofa-quirks all)");
     run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
     run->add_flag("--sofa-head-orders", args.sofa_head_orders,
-                  "Sum forces through SOFA HEAD's MappingGraph and order contacts by its stable-id maps (experimental)");
+                  "Sum forces through SOFA HEAD's MappingGraph and order contacts by its stable-id maps");
     run->add_flag("--quiet", args.quiet, "No progress bar");
     auto* view_option =
         run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");

@@ -486,9 +486,9 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         const auto deriv = static_cast<Eigen::Index>(mapped_[i]->deriv_size());
         for (const std::uint32_t row : r.rows) df.segment(deriv * static_cast<Eigen::Index>(row), deriv).setZero();
     }
-    // addMBKv (accumulate, the right-hand side) walks SOFA's MappingGraph; the CG's product
-    // (GraphScatteredMatrix::apply → MechanicalAddMBKdxVisitor) the visitors' order
-    for (const ForceStep& s : accumulate && mapping_graph_order_ ? graph_force_steps_ : force_steps_) {
+    // the right-hand side's addMBKv and the CG's product in SOFA HEAD's MappingGraph order, or
+    // in its visitors' (mapping_graph_order_: see the constructor)
+    for (const ForceStep& s : mapping_graph_order_ ? graph_force_steps_ : force_steps_) {
         if (s.mass != nullptr) {
             if (m != 0.0) s.mass->add_mdx(m);
         } else if (s.force_field != nullptr) {

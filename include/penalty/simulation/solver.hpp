@@ -92,8 +92,9 @@ private:
 /// depth-first order of their nodes).
 class SubtreeSystem {
 public:
-    /// `mapping_graph_order`: computeForce and the right-hand side's addMBKv sum in the order of
-    /// SOFA HEAD's MappingGraph (graph_force_steps_) instead of its visitors' (OdeSolver).
+    /// `mapping_graph_order`: compute_force and apply_mbk (the right-hand side's addMBKv and the
+    /// CG's product) sum in the order of SOFA HEAD's MappingGraph (graph_force_steps_) instead of
+    /// its visitors' (OdeSolver::sofa_mapping_graph_order).
     explicit SubtreeSystem(Node& root, bool mapping_graph_order = false);
     [[nodiscard]] bool mapping_graph_order() const { return mapping_graph_order_; }
 
@@ -193,7 +194,10 @@ private:
     /// masses by component group (one group per distinct list of states acted on, groups in order
     /// of first appearance, members in visiting order), then every mapping's Jᵀ in the reverse of
     /// the graph's breadth-first order (MappingGraphAlgorithms::traverseBottomUp: siblings last
-    /// first). The CG's product keeps force_steps_ (GraphScatteredMatrix::apply → visitors).
+    /// first). The CG's product uses it too: measured, not read in SOFA's code, whose
+    /// GraphScatteredMatrix::apply calls MechanicalOperations::addMBKdx (visitors); with the
+    /// visitors' order for the product, AdvancedSolversMultipleGroupsSolver parts from SOFA at
+    /// step 20, with this order it is bit for bit over 300 steps (docs/sofa-compatibility.md).
     std::vector<ForceStep> graph_force_steps_;
     void order_as_mapping_graph(Node& root);
     bool mapping_graph_order_ = false;
@@ -226,10 +230,10 @@ public:
     virtual ~OdeSolver() = default;
     virtual void init(Node& /*node*/) {}
     virtual void solve(Node& node, double dt) = 0;
-    /// Sum the forces of computeForce and of the right-hand side's addMBKv in the order of SOFA
-    /// HEAD's MappingGraph (MappingGraphMechanicalOperations: force fields by component group,
-    /// then the mappings' Jᵀ in reversed breadth-first order) instead of the visitors' order of
-    /// SOFA ≤ v25.12 (off by default: docs/sofa-compatibility.md, "SOFA HEAD's orders").
+    /// Sum the forces of computeForce, of the right-hand side's addMBKv and of the CG's products
+    /// in the order of SOFA HEAD's MappingGraph (MappingGraphMechanicalOperations: force fields
+    /// by component group, then the mappings' Jᵀ in reversed breadth-first order) instead of the
+    /// visitors' order (off by default: docs/sofa-compatibility.md, "SOFA HEAD's orders").
     bool sofa_mapping_graph_order = false;
 };
 
