@@ -467,6 +467,17 @@ const SceneDetection& CollisionPipeline::detect() {
     refit();
     build_sofa_trees();  // SOFA computes every model's bounding tree at each detection
     broad_phase(params_, models_, pairs_, &unsupported_);
+    if (detection_ == ContactDetection::exhaustive) {
+        // the root boxes the trees would give (roots_within_margin)
+        root_boxes_.assign(models_.size(), Aabb{});
+        for (std::size_t i = 0; i < models_.size(); ++i) {
+            const CollisionModel& m = *models_[i];
+            if (!m.params().active || m.size() == 0) continue;
+            boxes_.resize(m.size());
+            m.element_boxes(0, m.size(), boxes_.data());
+            for (const Aabb& b : boxes_) root_boxes_[i].extend(b);
+        }
+    }
     result_.resize(pairs_.size());  // the remaining entries keep their output capacity
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
         ModelPairDetection& d = result_[k];
@@ -474,9 +485,25 @@ const SceneDetection& CollisionPipeline::detect() {
         d.model2 = pairs_[k].model2;
         d.support = pair_support(params_, d.model1->type(), d.model2->type());
         d.skipped = false;
+        d.narrow_phase = roots_within_margin(*d.model1, *d.model2);
         detect_pair(*d.model1, *d.model2, d.outputs);
     }
     return result_;
+}
+
+bool CollisionPipeline::roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const {
+    // BruteForceBroadPhase::addCollisionModel skips empty models and keeps a pair when the
+    // intersector's canIntersect passes on the root cubes (BaseProximityIntersection::
+    // testIntersection(Cube&, Cube&): within box_margin on every axis; a model with itself
+    // always passes; DiscreteIntersection's cone-angle test of a cube with itself is not emulated)
+    if (m1.size() == 0 || m2.size() == 0) return false;
+    if (&m1 == &m2) return true;
+    const std::size_t i1 = model_index(m1), i2 = model_index(m2);
+    const bool exhaustive = detection_ == ContactDetection::exhaustive;
+    if (!exhaustive && (trees_[i1].empty() || trees_[i2].empty())) return false;
+    const Aabb& r1 = exhaustive ? root_boxes_[i1] : trees_[i1].root_box();
+    const Aabb& r2 = exhaustive ? root_boxes_[i2] : trees_[i2].root_box();
+    return r1.overlaps(r2, box_margin(params_, m1, m2));
 }
 
 }  // namespace penalty

@@ -137,6 +137,79 @@ std::unique_ptr<BarycentricPenaltyContact> CollisionResponse::create_contact(
 }
 
 void CollisionResponse::set_detections(std::span<const ModelPairDetection> detections, double intersection_cd) {
+    if (!sofa_stable_id_order) {
+        set_detections_by_rank(detections, intersection_cd);
+        return;
+    }
+    // SOFA's two maps, fed with SOFA's calls in SOFA's order: their stable ids decide the order
+    // of creation and of the contact vector (stable_pair_map.hpp). Nothing else here may look a
+    // key up in them: a comparison gives ids.
+    // NarrowPhaseDetection::beginNarrowPhase: the pairs kept from the last step lose their outputs.
+    for (auto& entry : outputs_map_) entry.second = nullptr;
+    // BVHNarrowPhase::addCollisionPair → NarrowPhaseDetection::getDetectionOutputs: every pair the
+    // broad phase passes (in its order, registered order within the pair), with or without
+    // outputs, inserted with the hint end().
+    for (const ModelPairDetection& d : detections) {
+        if (d.skipped || !d.narrow_phase || !d.model1 || !d.model2) continue;
+        outputs_map_.insert_at_end({d.model1, d.model2}, nullptr)->second = &d;
+    }
+    // NarrowPhaseDetection::endNarrowPhase: the pairs without outputs leave the map.
+    for (auto it = outputs_map_.begin(); it != outputs_map_.end();)
+        it = it->second == nullptr || it->second->outputs.empty() ? outputs_map_.erase(it) : std::next(it);
+    // CollisionResponse::createNewContacts, in the outputs map's order.
+    feed_.clear();
+    for (const auto& [models, d] : outputs_map_) {
+        const auto [it, inserted] = contact_map_.insert(models, nullptr);
+        if (!inserted) {  // a live contact
+            feed_.emplace_back(it->second, d);
+            continue;
+        }
+        const auto refused = std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
+            return !e.contact && e.model1 == models.first && e.model2 == models.second;
+        });
+        const bool refused_before = refused != pairs_.end();
+        if (!refused_before) {
+            ContactPairEntry e;
+            e.model1 = d->model1;
+            e.model2 = d->model2;
+            e.response = response_name(*d->model1, *d->model2);
+            e.contact = create_contact(e.response, *d->model1, *d->model2, intersection_cd);
+            if (e.contact) {
+                it->second = e.contact.get();
+                if (on_create) on_create(*e.contact);
+                feed_.emplace_back(e.contact.get(), d);
+            }
+            pairs_.push_back(std::move(e));
+            if (it->second != nullptr) continue;
+        }
+        // no contact ("nullptr" response, pair not registered): SOFA drops the key again, and
+        // penalty keeps the pair (no contact, one warning) while it has outputs
+        contact_map_.erase(it);
+        ordered_.push_back(std::move(refused_before ? *refused : pairs_.back()));
+    }
+    // CollisionResponse::removeInactiveContacts: contacts whose pair has no outputs now.
+    for (auto it = contact_map_.begin(); it != contact_map_.end();) {
+        if (outputs_map_.contains(it->first)) {
+            ++it;
+            continue;
+        }
+        if (on_destroy) on_destroy(*it->second);
+        it = contact_map_.erase(it);
+    }
+    // CollisionResponse::createContacts: the contact vector in the contact map's order (the
+    // order of the force fields in the graph), then the pairs without contact still detected.
+    const std::size_t refused_count = ordered_.size();
+    for (const auto& [models, contact] : contact_map_) {
+        const auto e = std::find_if(pairs_.begin(), pairs_.end(), [c = contact](const ContactPairEntry& x) { return x.contact.get() == c; });
+        ordered_.push_back(std::move(*e));
+    }
+    std::rotate(ordered_.begin(), ordered_.begin() + std::ptrdiff_t(refused_count), ordered_.end());
+    pairs_.swap(ordered_);
+    ordered_.clear();  // the destroyed contacts and the pairs no longer detected
+    for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
+}
+
+void CollisionResponse::set_detections_by_rank(std::span<const ModelPairDetection> detections, double intersection_cd) {
     // buffers kept from step to step: with the same live pairs, a step allocates nothing here
     seen_.assign(pairs_.size(), 0);
     created_.clear();
@@ -197,6 +270,7 @@ void CollisionResponse::clear() {
     for (auto& e : pairs_)
         if (e.contact && on_destroy) on_destroy(*e.contact);
     pairs_.clear();
+    contact_map_.clear();  // CollisionResponse::cleanup; the ids stay
 }
 
 BarycentricPenaltyContact* CollisionResponse::find(const CollisionModel& m1, const CollisionModel& m2) const {

@@ -116,6 +116,7 @@ ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParam
     response_.on_create = [this](BarycentricPenaltyContact& c) { on_create(c); };
     response_.on_destroy = [this](BarycentricPenaltyContact& c) { on_destroy(c); };
     response_.model_rank = [this](const CollisionModel& m) { return model_entry(m).scene_rank; };
+    response_.sofa_stable_id_order = options_.sofa_stable_id_order;
     if (options_.attach_hook) simulation.collision_hook = [this](Simulation&) { update(); };
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 
 namespace penalty {
 
@@ -98,8 +99,9 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
 }
 
 // ---- SubtreeSystem ----------------------------------------------------------------------------
-SubtreeSystem::SubtreeSystem(Node& root) {
+SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order) : mapping_graph_order_(mapping_graph_order) {
     collect(root, true);
+    if (mapping_graph_order_) order_as_mapping_graph(root);
     // External states: used by a force field or a mapping but not part of the subtree.
     auto known = [&](const BaseState* s) {
         return offset_of_.count(s) != 0 || std::find(mapped_.begin(), mapped_.end(), s) != mapped_.end() ||
@@ -129,9 +131,10 @@ SubtreeSystem::SubtreeSystem(Node& root) {
         }
         dx_readers_.push_back(std::move(r));
     }
-    for (ForceStep& s : force_steps_)
-        if (s.mapping != nullptr)
-            s.mapping_index = static_cast<std::size_t>(std::find(mappings_.begin(), mappings_.end(), s.mapping) - mappings_.begin());
+    for (std::vector<ForceStep>* steps : {&force_steps_, &graph_force_steps_})
+        for (ForceStep& s : *steps)
+            if (s.mapping != nullptr)
+                s.mapping_index = static_cast<std::size_t>(std::find(mappings_.begin(), mappings_.end(), s.mapping) - mappings_.begin());
 }
 
 void SubtreeSystem::map_dx(const DxReaders& r) const {
@@ -196,6 +199,78 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
     if (node.state() && node.mapping()) force_steps_.push_back({.mapping = node.mapping()});
 }
 
+void SubtreeSystem::order_as_mapping_graph(Node& root) {
+    // SOFA's MappingGraph::build on the solver's node: nodes for the states (visiting order),
+    // one group per distinct list of states a force field or mass acts on (edges state → group),
+    // the mappings (edges from the first group holding the input state, else from the state; then
+    // mapping → output state). The force fields' leaf nodes always hang under their group and
+    // cannot change the order in which mappings are reached, so they are left out.
+    std::vector<BaseState*> states;
+    const auto visit_states = [&states](auto& self, Node& n) -> void {
+        if (BaseState* s = n.state()) states.push_back(s);
+        for (const auto& c : n.children()) self(self, *c);
+    };
+    visit_states(visit_states, root);
+    std::vector<std::vector<BaseState*>> group_states;
+    std::vector<std::vector<ForceStep>> group_members;
+    std::vector<std::vector<std::size_t>> children(states.size());
+    std::vector<int> parents(states.size(), 0);
+    const auto state_node = [&states](const BaseState* s) {
+        return static_cast<std::size_t>(std::find(states.begin(), states.end(), s) - states.begin());
+    };
+    const auto add_edge = [&children, &parents](std::size_t from, std::size_t to) {
+        children[from].push_back(to);
+        ++parents[to];
+    };
+    const std::size_t first_group = states.size();
+    for (const ForceStep& step : force_steps_) {
+        if (step.mapping != nullptr) continue;
+        std::vector<BaseState*> acted_on =
+            step.mass != nullptr ? std::vector<BaseState*>{step.mass->state()} : step.force_field->states();
+        auto it = std::find(group_states.begin(), group_states.end(), acted_on);
+        if (it == group_states.end()) {
+            const std::size_t group = children.size();
+            children.emplace_back();
+            parents.push_back(0);
+            for (const BaseState* s : acted_on)
+                if (state_node(s) < states.size()) add_edge(state_node(s), group);
+            group_states.push_back(std::move(acted_on));
+            group_members.emplace_back();
+            it = group_states.end() - 1;
+        }
+        group_members[static_cast<std::size_t>(it - group_states.begin())].push_back(step);
+    }
+    const std::size_t first_mapping = children.size();
+    for (BaseMapping* m : mappings_) {
+        const std::size_t node = children.size();
+        children.emplace_back();
+        parents.push_back(0);
+        const auto holder = std::find_if(group_states.begin(), group_states.end(), [m](const auto& g) {
+            return std::find(g.begin(), g.end(), m->from()) != g.end();
+        });
+        if (holder != group_states.end()) add_edge(first_group + static_cast<std::size_t>(holder - group_states.begin()), node);
+        else if (state_node(m->from()) < states.size()) add_edge(state_node(m->from()), node);
+        if (state_node(m->to()) < states.size()) add_edge(node, state_node(m->to()));
+    }
+    // MappingGraphAlgorithms::traverseBottomUp: the breadth-first order from the parentless nodes
+    // (in the order states, groups, mappings), reversed.
+    std::vector<BaseMapping*> reached;
+    std::deque<std::size_t> ready;
+    for (std::size_t n = 0; n < children.size(); ++n)
+        if (parents[n] == 0) ready.push_back(n);
+    while (!ready.empty()) {
+        const std::size_t n = ready.front();
+        ready.pop_front();
+        if (n >= first_mapping) reached.push_back(mappings_[n - first_mapping]);
+        for (const std::size_t c : children[n])
+            if (--parents[c] == 0) ready.push_back(c);
+    }
+    graph_force_steps_.clear();
+    for (const auto& members : group_members) graph_force_steps_.insert(graph_force_steps_.end(), members.begin(), members.end());
+    std::reverse(reached.begin(), reached.end());
+    for (BaseMapping* m : reached) graph_force_steps_.push_back({.mapping = m});
+}
+
 bool SubtreeSystem::offsets_valid() const {
     Eigen::Index end = 0;
     for (std::size_t i = 0; i < independent_.size(); ++i) {
@@ -205,11 +280,12 @@ bool SubtreeSystem::offsets_valid() const {
     return end == size_;
 }
 
-SubtreeSystem& SubtreeSystemCache::get(Node& node) {
+SubtreeSystem& SubtreeSystemCache::get(Node& node, bool mapping_graph_order) {
     const std::uint64_t version = node.structure_version();
-    if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid()) {
+    if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid() ||
+        system_->mapping_graph_order() != mapping_graph_order) {
         system_.reset();  // the old system first: its pointers may dangle
-        system_.emplace(node);
+        system_.emplace(node, mapping_graph_order);
         node_ = &node;
         version_ = version;
         ++builds_;
@@ -368,7 +444,8 @@ void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
 void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
     external_work_zeroed_ = false;  // a new solve: another solver may have used the external states
     reset_forces();
-    for (const ForceStep& s : force_steps_) {
+    // computeForce: SOFA HEAD's MappingGraph order (mapping_graph_order) or its visitors' order
+    for (const ForceStep& s : mapping_graph_order_ ? graph_force_steps_ : force_steps_) {
         if (s.mass != nullptr) s.mass->add_gravity_force(s.gravity);
         else if (s.force_field != nullptr) s.force_field->accumulate_force();
         else s.mapping->apply_jt_force();
@@ -409,7 +486,9 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         const auto deriv = static_cast<Eigen::Index>(mapped_[i]->deriv_size());
         for (const std::uint32_t row : r.rows) df.segment(deriv * static_cast<Eigen::Index>(row), deriv).setZero();
     }
-    for (const ForceStep& s : force_steps_) {
+    // the right-hand side's addMBKv and the CG's product in SOFA HEAD's MappingGraph order, or
+    // in its visitors' (mapping_graph_order_: see the constructor)
+    for (const ForceStep& s : mapping_graph_order_ ? graph_force_steps_ : force_steps_) {
         if (s.mass != nullptr) {
             if (m != 0.0) s.mass->add_mdx(m);
         } else if (s.force_field != nullptr) {
@@ -528,7 +607,7 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
 }
 
 void EulerImplicitSolver::solve(Node& node, double dt) {
-    SubtreeSystem& sys = system_.get(node);
+    SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
     step_cg_iterations_ = 0;
     step_cg_solves_.clear();
     step_cg_limit_reached_ = false;
@@ -636,7 +715,7 @@ void EulerExplicitSolver::init(Node& node) {
 }
 
 void EulerExplicitSolver::solve(Node& node, double dt) {
-    const SubtreeSystem& sys = system_.get(node);
+    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
     sys.compute_force(f_);
     sys.apply_inverse_mass(f_, a_);
     sys.project(a_);

@@ -42,6 +42,8 @@ struct TrajectoryCase {
     /// Mean |Δx| per step and per value, averaged over the states (the figure of
     /// ../shared/tools/sofa_trajectory_check.py divided by the DOFs), upper bound.
     double mean_difference_bound;
+    /// BuildOptions::sofa_head_orders (`--sofa-head-orders`).
+    bool sofa_head_orders = false;
 };
 
 void PrintTo(const TrajectoryCase& c, std::ostream* out) { *out << c.scene; }
@@ -58,6 +60,7 @@ TEST_P(SofaTrajectory, StepByStepAgainstSofaHead) {
 
     scene::BuildOptions build;
     build.data_dirs.push_back(shared / "sofa");
+    build.sofa_head_orders = GetParam().sofa_head_orders;
     auto s = scene::load_scene(scene_file, build);
     const fs::path out = fs::temp_directory_path() / ("penalty_trajectory_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(out);
@@ -125,6 +128,23 @@ INSTANTIATE_TEST_SUITE_P(
                       TrajectoryCase{"RegularGridSpringForceField", -1, -1, 0.0},
                       TrajectoryCase{"SphereModel", -1, -1, 0.0},
                       TrajectoryCase{"collisionMultiple", 55, 60, 0.038}),
+    [](const ::testing::TestParamInfo<TrajectoryCase>& param_info) { return std::string(param_info.param.scene); });
+
+// The same with SOFA HEAD's orders (docs/sofa-compatibility.md, "SOFA HEAD's orders", off by
+// default): every scene; nine of them bit for bit over the 300 steps.
+INSTANTIATE_TEST_SUITE_P(
+    SofaHeadOrders, SofaTrajectory,
+    ::testing::Values(TrajectoryCase{"AdvancedSolversMultipleGroupsSolver", -1, -1, 0.0, true},
+                      TrajectoryCase{"CompositeCollisionPipeline", -1, -1, 0.0, true},
+                      TrajectoryCase{"CompositeCollisionPipeline_none", -1, -1, 0.0, true},
+                      TrajectoryCase{"Gravity", 131, 131, 1e-8, true},
+                      TrajectoryCase{"MeshSpringForceField", 30, 30, 0.01, true},
+                      TrajectoryCase{"ModelizationSphereBased", -1, -1, 0.0, true},
+                      TrajectoryCase{"ModelizationTriangleBased", -1, -1, 0.0, true},
+                      TrajectoryCase{"MultipleObjectsTwoCubes", -1, -1, 0.0, true},
+                      TrajectoryCase{"RegularGridSpringForceField", -1, -1, 0.0, true},
+                      TrajectoryCase{"SphereModel", -1, -1, 0.0, true},
+                      TrajectoryCase{"collisionMultiple", -1, -1, 0.0, true}),
     [](const ::testing::TestParamInfo<TrajectoryCase>& param_info) { return std::string(param_info.param.scene); });
 
 }  // namespace

@@ -172,9 +172,13 @@ ConstantForceFieldParameters forces_at_point_0(const Vec3& f) {
 
 // SOFA sums the forces on a state in its visiting order (MechanicalComputeForceVisitor): top-down,
 // the node's own force fields; bottom-up (post-order), each mapped child's Jᵀ·f, first child
-// first. With 1e16 and 1 the rounding of a double tells the orders apart: ((−1e16 + 1e16) + 1) = 1,
-// while adding the children the other way round, ((−1e16 + 1) + 1e16) = 0.
-TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
+// first. SOFA HEAD's EulerImplicitSolver computes f through its MappingGraph instead
+// (MappingGraphMechanicalOperations::computeForce; SubtreeSystem's mapping_graph_order): every
+// force field first, then each mapping's Jᵀ·f in the reverse of the graph's breadth-first order
+// (MappingGraphAlgorithms::traverseBottomUp), so two mapped siblings add into their parent last
+// child first. With 1e16 and 1 the rounding of a double tells the orders apart:
+// ((−1e16 + 1e16) + 1) = 1 first child first, ((−1e16 + 1) + 1e16) = 0 last child first.
+TEST(SubtreeSystem, SumsForcesInSofasVisitingAndMappingGraphOrders) {
     Simulation sim;
     Node& root = sim.root();
     root.set_ode_solver<EulerImplicitSolver>();
@@ -192,14 +196,19 @@ TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
     mapped_child("first", 1e16);
     mapped_child("second", 1.0);
     sim.init();
-    SubtreeSystem sys(root);
-    sys.propagate_positions_and_velocities();
+    SubtreeSystem visitors(root);
+    visitors.propagate_positions_and_velocities();
     Eigen::VectorXd f;
-    sys.compute_force(f);
+    visitors.compute_force(f);
     ASSERT_EQ(f.size(), 3);
     EXPECT_EQ(f[0], 1.0);  // (own −1e16 + first child's 1e16) + second child's 1
-    // A grandchild adds its Jᵀ·f into its parent before that parent maps into the body
-    // (post-order); the other way round its force would never reach the body.
+    SubtreeSystem sys(root, true);
+    sys.propagate_positions_and_velocities();
+    sys.compute_force(f);
+    ASSERT_EQ(f.size(), 3);
+    EXPECT_EQ(f[0], 0.0);  // (own −1e16 + second child's 1) + first child's 1e16
+    // A grandchild adds its Jᵀ·f into its parent before that parent maps into the body (deeper
+    // first); the other way round its force would never reach the body.
     Simulation sim2;
     Node& root2 = sim2.root();
     root2.set_ode_solver<EulerImplicitSolver>();
@@ -218,11 +227,13 @@ TEST(SubtreeSystem, SumsForcesInSofasVisitingOrder) {
     a1.set_mapping<IdentityMapping>(ax, a1x);
     a1.add_force_field<ConstantForceField>(a1x, forces_at_point_0(Vec3(1.0, 0, 0)));
     sim2.init();
-    SubtreeSystem sys2(root2);
-    sys2.propagate_positions_and_velocities();
-    sys2.compute_force(f);
-    ASSERT_EQ(f.size(), 3);
-    EXPECT_EQ(f[0], 8.0);  // 5 + (2 + 1)
+    for (const bool graph : {false, true}) {
+        SubtreeSystem sys2(root2, graph);
+        sys2.propagate_positions_and_velocities();
+        sys2.compute_force(f);
+        ASSERT_EQ(f.size(), 3);
+        EXPECT_EQ(f[0], 8.0);  // 5 + (2 + 1)
+    }
 }
 
 TEST(RigidBody, TorqueFreeRotationAndFreeFall) {

@@ -137,7 +137,8 @@ public:
     /// One detection step: refit(), broad_phase(), then for each kept pair (registered order)
     /// its narrow phase: exhaustive_narrow_phase, or (bvh) update() of both models and, unless
     /// the root boxes are apart by more than the §3.8 margin, bvh_narrow_phase. Returns every
-    /// kept pair (outputs possibly empty); the reference is valid until the next detect().
+    /// kept pair (outputs possibly empty; narrow_phase false when SOFA's broad phase would drop
+    /// it: root boxes apart or a model empty); the reference is valid until the next detect().
     const SceneDetection& detect();
     /// The result of the last detect().
     [[nodiscard]] const SceneDetection& detections() const { return result_; }
@@ -170,6 +171,8 @@ public:
 private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
     void index_models();  // index_of_ from models_
+    /// ModelPairDetection::narrow_phase of (m1, m2): neither empty, root boxes within box_margin.
+    [[nodiscard]] bool roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const;
     /// detect_pair without SOFA's output order.
     void detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out);
     /// SOFA's tree of every active model not built yet (or whose size changed), from the
@@ -213,6 +216,7 @@ private:
     SceneDetection result_;               // entries and their output lists keep their capacity
     NarrowPhaseScratch scratch_;
     std::vector<Aabb> boxes_;             // exhaustive: element boxes of model 2
+    std::vector<Aabb> root_boxes_;        // exhaustive: each model's root box (union of its element boxes)
 };
 
 }  // namespace penalty

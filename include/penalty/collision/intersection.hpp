@@ -162,6 +162,11 @@ struct ModelPairDetection {
     CollisionModel* model2 = nullptr;
     PairSupport support = PairSupport::Unsupported;
     bool skipped = false;  ///< pair filtered out (inactive, both non-simulated, canCollideWith)
+    /// SOFA's broad phase passes the pair to the narrow phase (BruteForceBroadPhase::
+    /// addCollisionModel: neither model empty, root boxes within box_margin), which keys it in
+    /// its outputs map even without outputs (CollisionResponse orders contacts by that map).
+    /// false: the root boxes are apart (CollisionPipeline::detect); then there are no outputs.
+    bool narrow_phase = true;
     DetectionOutputList outputs;
 };
 

@@ -26,6 +26,7 @@
 
 #include "penalty/collision/intersection.hpp"
 #include "penalty/response/barycentric_penalty_contact.hpp"
+#include "penalty/response/stable_pair_map.hpp"
 
 #include <functional>
 #include <memory>
@@ -86,14 +87,24 @@ public:
         const std::string& name, const CollisionModel& m1, const CollisionModel& m2,
         double intersection_contact_distance);
 
-    /// One step of SOFA's contact manager: every detection with outputs gets its pair's contact
-    /// (created when new) and set_detection_outputs; pairs without outputs this step are
-    /// destroyed (on_destroy runs first). pairs() is kept in SOFA's contact-map order, and the
-    /// pairs new this step are created (on_create) in that order: see model_rank.
+    /// One step of SOFA's narrow-phase outputs and contact manager: every detection with outputs
+    /// gets its pair's contact (created when new) and set_detection_outputs; pairs without
+    /// outputs this step are destroyed (on_destroy runs first). The pairs' order is that of
+    /// creation (on_create) and of pairs() (the force fields' order in the graph):
+    /// - sofa_stable_id_order (SOFA HEAD's, off by default): SOFA's two maps (StablePairMap)
+    ///   fed as SOFA feeds them: `detections` are the broad phase's pairs in its order
+    ///   (CollisionPipeline::detect), each keyed in SOFA's outputs map when narrow_phase is set,
+    ///   with or without outputs; new pairs are created in the outputs map's order, and pairs()
+    ///   follows the contact map's order;
+    /// - otherwise: both by (model_rank(model1), model_rank(model2)).
     void set_detections(std::span<const ModelPairDetection> detections, double intersection_contact_distance);
-    /// Destroys every pair.
+    /// Destroys every pair (SOFA's CollisionResponse::cleanup: the contact map is emptied, its
+    /// stable ids stay).
     void clear();
 
+    /// The live pairs in the order above (sofa_stable_id_order: those with a contact, then the
+    /// pairs detected but refused a contact, "nullptr" response or pair not registered, which
+    /// SOFA drops from its map and tries again at each step).
     [[nodiscard]] const std::vector<ContactPairEntry>& pairs() const { return pairs_; }
     /// The live contact of (m1, m2), or nullptr.
     [[nodiscard]] BarycentricPenaltyContact* find(const CollisionModel& m1, const CollisionModel& m2) const;
@@ -105,12 +116,15 @@ public:
     [[nodiscard]] std::vector<PairTimeScale> time_scales(
         const std::function<double(const CollisionModel&)>& mass_of) const;
 
-    /// SOFA keeps its contacts in a std::map keyed by the two models' addresses
-    /// (CollisionResponse::contactMap): contacts are created, and their force fields re-added to
-    /// the graph at each step, in that order (CollisionResponse::createNewContacts,
-    /// SubCollisionPipeline::computeCollisionResponse). SOFA allocates the models in scene order,
-    /// so penalty orders pairs by (model_rank(model1), model_rank(model2)), model_rank giving a
-    /// model's rank in scene order. Unset: pairs keep their creation order.
+    /// SOFA HEAD's contact order (docs/sofa-compatibility.md, "SOFA HEAD's orders"): SOFA keeps
+    /// its narrow-phase outputs and its contacts in two helper::map_ptr_stable_compare maps
+    /// (NarrowPhaseDetection::DetectionOutputMap, CollisionResponse::contactMap), ordered by
+    /// stable ids given to the models in the order comparisons first meet them; contacts are
+    /// created in the first map's order (CollisionResponse::createNewContacts) and re-added to
+    /// the graph at each step in the second's (SubCollisionPipeline::computeCollisionResponse).
+    /// Off (default): pairs are ordered by (model_rank(model1), model_rank(model2)), model_rank
+    /// standing for the models' addresses in scene order (unset: creation order).
+    bool sofa_stable_id_order = false;
     std::function<std::size_t(const CollisionModel&)> model_rank;
 
     /// Hooks for the scene-graph glue: called after a pair's contact is created and before it
@@ -124,9 +138,15 @@ private:
     ContactResponseParameters base_;
     std::vector<ContactPairEntry> pairs_;
     std::vector<std::string> warnings_;
+    /// SOFA's NarrowPhaseDetection::m_outputsMap (pair → this step's detection) and
+    /// CollisionResponse::contactMap (pair → live contact): both helper::map_ptr_stable_compare.
+    StablePairMap<CollisionModel, const ModelPairDetection*> outputs_map_;
+    StablePairMap<CollisionModel, BarycentricPenaltyContact*> contact_map_;
+    void set_detections_by_rank(std::span<const ModelPairDetection> detections, double intersection_cd);
     // set_detections' scratch, reused from step to step
-    std::vector<char> seen_;                      // per pair: fed this step
-    std::vector<ContactPairEntry> created_;       // pairs new this step
+    std::vector<ContactPairEntry> ordered_;       // pairs_ in their new order
+    std::vector<char> seen_;                      // by rank: per pair, fed this step
+    std::vector<ContactPairEntry> created_;       // by rank: pairs new this step
     std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed_;
 };
 

@@ -140,6 +140,8 @@ struct ContactPipelineOptions {
     /// if a hook is already set). false: the hook is left alone; the caller runs update() once
     /// per step (e.g. several pipelines from one hook, SOFA's CompositeCollisionPipeline).
     bool attach_hook = true;
+    /// SOFA HEAD's contact order (CollisionResponse::sofa_stable_id_order); off: scene rank.
+    bool sofa_stable_id_order = false;
 };
 
 /// Wall-clock times (s, std::chrono::steady_clock) of the phases of the last update().

@@ -92,7 +92,11 @@ private:
 /// depth-first order of their nodes).
 class SubtreeSystem {
 public:
-    explicit SubtreeSystem(Node& root);
+    /// `mapping_graph_order`: compute_force and apply_mbk (the right-hand side's addMBKv and the
+    /// CG's product) sum in the order of SOFA HEAD's MappingGraph (graph_force_steps_) instead of
+    /// its visitors' (OdeSolver::sofa_mapping_graph_order).
+    explicit SubtreeSystem(Node& root, bool mapping_graph_order = false);
+    [[nodiscard]] bool mapping_graph_order() const { return mapping_graph_order_; }
 
     [[nodiscard]] Eigen::Index size() const { return size_; }
     /// True while every independent state has the size it had when the system was built (the
@@ -185,6 +189,18 @@ private:
     mutable std::vector<std::uint8_t> dx_read_;  ///< scratch of map_dx: one flag per DOF
     /// to.dx = J from.dx for r.mapping, only the rows its readers read when they can tell.
     void map_dx(const DxReaders& r) const;
+    /// The same contributions in the order of SOFA's MappingGraph, which computeForce and addMBKv
+    /// use (EulerImplicitSolver::solve → MappingGraphMechanicalOperations): force fields and
+    /// masses by component group (one group per distinct list of states acted on, groups in order
+    /// of first appearance, members in visiting order), then every mapping's Jᵀ in the reverse of
+    /// the graph's breadth-first order (MappingGraphAlgorithms::traverseBottomUp: siblings last
+    /// first). The CG's product uses it too: measured, not read in SOFA's code, whose
+    /// GraphScatteredMatrix::apply calls MechanicalOperations::addMBKdx (visitors); with the
+    /// visitors' order for the product, AdvancedSolversMultipleGroupsSolver parts from SOFA at
+    /// step 20, with this order it is bit for bit over 300 steps (docs/sofa-compatibility.md).
+    std::vector<ForceStep> graph_force_steps_;
+    void order_as_mapping_graph(Node& root);
+    bool mapping_graph_order_ = false;
     std::vector<std::pair<BaseMass*, Vec3>> masses_;  ///< with the gravity of their node
     std::vector<BaseForceField*> force_fields_;
     std::vector<BaseProjectiveConstraint*> constraints_;
@@ -197,7 +213,7 @@ private:
 /// one, or an independent state was resized. In steady state a solve reuses it as is.
 class SubtreeSystemCache {
 public:
-    [[nodiscard]] SubtreeSystem& get(Node& node);
+    [[nodiscard]] SubtreeSystem& get(Node& node, bool mapping_graph_order = false);
     /// Number of builds so far.
     [[nodiscard]] int builds() const { return builds_; }
 
@@ -214,6 +230,11 @@ public:
     virtual ~OdeSolver() = default;
     virtual void init(Node& /*node*/) {}
     virtual void solve(Node& node, double dt) = 0;
+    /// Sum the forces of computeForce, of the right-hand side's addMBKv and of the CG's products
+    /// in the order of SOFA HEAD's MappingGraph (MappingGraphMechanicalOperations: force fields
+    /// by component group, then the mappings' Jᵀ in reversed breadth-first order) instead of the
+    /// visitors' order (off by default: docs/sofa-compatibility.md, "SOFA HEAD's orders").
+    bool sofa_mapping_graph_order = false;
 };
 
 /// Beyond SOFA (opt-in): Newton iterations on the backward-Euler residual

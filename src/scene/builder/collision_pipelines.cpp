@@ -129,6 +129,7 @@ private:
         options.detection = b_.options().exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = b_.options().threads;
         options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
+        options.sofa_stable_id_order = b_.options().sofa_head_orders;
         // SOFA's bounding-tree depth (CollisionPipeline / SubCollisionPipeline `depth`): the
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6
         const std::int64_t depth = b_.guarded(pipeline_component, [&] { return Attributes(pipeline_component).integer("depth"); });

@@ -36,6 +36,7 @@ void build_explicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     b.guarded(c, [&] {
         if (!a.boolean("symplectic")) a.fail("symplectic", "only the symplectic scheme is supported");
         auto& solver = node.set_ode_solver<EulerExplicitSolver>();
+        solver.sofa_mapping_graph_order = b.options().sofa_head_orders;
         b.add_init(1, c, [p = &solver, n = &node] { p->init(*n); });
         b.role(c, [n = &node] { return "symplectic explicit Euler over this subtree (" + subtree_dofs(*n) + ")"; });
     });
@@ -83,6 +84,7 @@ void build_implicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     Node& node = *info.node;
     b.guarded(c, [&] {
         auto& s = node.set_ode_solver<EulerImplicitSolver>();
+        s.sofa_mapping_graph_order = b.options().sofa_head_orders;
         b.add_init(1, c, [p = &s, n = &node] { p->init(*n); });
         b.record_implicit_solver(s, node);
         s.rayleigh_stiffness = a.real("rayleighStiffness");

@@ -1,0 +1,180 @@
+// StablePairMap (SOFA's helper::map_ptr_stable_compare over pointer pairs) and the contact order
+// CollisionResponse takes from it. The expected orders are derived by hand from the rules of the
+// comparator (ids in the order pointers are first met; per comparison a.second, a.first,
+// b.second, b.first) and of libstdc++'s std::map (insert with the hint end(): one comparison
+// with the last key, then the insert-left test; a key inserted into an empty map meets nothing).
+#include "penalty/response/collision_response.hpp"
+#include "penalty/response/stable_pair_map.hpp"
+
+#include "../collision/fixtures.hpp"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <vector>
+
+namespace penalty {
+namespace {
+
+using test::make_state;
+using test::named;
+
+struct Obj {
+    int rank;
+};
+using Map = StablePairMap<Obj, int>;
+
+template <class M>
+std::vector<std::pair<int, int>> ranks_in_order(const M& m) {
+    std::vector<std::pair<int, int>> out;
+    for (const auto& [key, value] : m) out.emplace_back(key.first->rank, key.second->rank);
+    return out;
+}
+
+// Objects A, B, C with ranks (scene order) 0, 1, 2. The outputs map receives (C, A) then (B, A)
+// with the hint end(): (C, A) enters the empty map without a comparison; (B, A) is compared with
+// the last key (C, A) as comp((C, A), (B, A)), which gives A id 0, C id 1, B id 2, so (B, A) =
+// (2, 0) goes after (C, A) = (1, 0). Rank order would put (B, A) first.
+TEST(StablePairMap, OrdersByFirstComparisonNotByRank) {
+    Obj a{0}, b{1}, c{2};
+    Map outputs;
+    outputs.insert_at_end({&c, &a}, 1);
+    EXPECT_FALSE(outputs.stable_id(&a));  // inserted into an empty map: no comparison
+    EXPECT_FALSE(outputs.stable_id(&c));
+    outputs.insert_at_end({&b, &a}, 2);
+    EXPECT_EQ(outputs.stable_id(&a), 0u);
+    EXPECT_EQ(outputs.stable_id(&c), 1u);
+    EXPECT_EQ(outputs.stable_id(&b), 2u);
+    EXPECT_EQ(ranks_in_order(outputs), (std::vector<std::pair<int, int>>{{2, 0}, {1, 0}}));
+
+    // The contact map receives the same keys in the outputs map's order, without hint: (C, A)
+    // into the empty map, then (B, A) compared with the root (C, A) as comp((B, A), (C, A)):
+    // A id 0, B id 1, C id 2, so (B, A) goes first. The two maps order the same keys differently.
+    Map contacts;
+    for (const auto& [key, value] : outputs) EXPECT_TRUE(contacts.insert(key, value).second);
+    EXPECT_EQ(contacts.stable_id(&a), 0u);
+    EXPECT_EQ(contacts.stable_id(&b), 1u);
+    EXPECT_EQ(contacts.stable_id(&c), 2u);
+    EXPECT_EQ(ranks_in_order(contacts), (std::vector<std::pair<int, int>>{{1, 0}, {2, 0}}));
+
+    // An existing key is found, not replaced; ids outlive erase and clear.
+    EXPECT_FALSE(contacts.insert({&b, &a}, 7).second);
+    EXPECT_EQ(contacts.begin()->second, 2);
+    contacts.erase(contacts.begin());
+    contacts.clear();
+    EXPECT_TRUE(contacts.empty());
+    EXPECT_EQ(contacts.stable_id(&c), 2u);
+    // A later key with B first: (B, C) = (1, 2) goes before (C, A) = (2, 0) although it came
+    // after it.
+    contacts.insert({&c, &a}, 1);
+    contacts.insert({&b, &c}, 3);
+    EXPECT_EQ(ranks_in_order(contacts), (std::vector<std::pair<int, int>>{{1, 2}, {2, 0}}));
+    EXPECT_TRUE(contacts.contains({&b, &c}));
+    EXPECT_FALSE(contacts.contains({&a, &b}));
+}
+
+// SOFA's own calls on a std::map with SOFA's comparator, written as SOFA writes them: the
+// reference that StablePairMap (which reuses erased nodes) must follow comparison for comparison.
+struct SofaIds {
+    std::map<const Obj*, unsigned> of;
+    unsigned next = 0;
+    unsigned id(const Obj* p) {
+        const auto it = of.find(p);
+        if (it != of.end()) return it->second;
+        of.emplace(p, next);
+        return next++;
+    }
+};
+struct SofaLess {
+    SofaIds* ids;
+    bool operator()(const std::pair<const Obj*, const Obj*>& a, const std::pair<const Obj*, const Obj*>& b) const {
+        return std::make_pair(ids->id(b.first), ids->id(b.second)) > std::make_pair(ids->id(a.first), ids->id(a.second));
+    }
+};
+
+TEST(StablePairMap, SameOrderAndIdsAsSofasCallsOnAStdMap) {
+    std::vector<Obj> objs(7);
+    for (int i = 0; i < 7; ++i) objs[std::size_t(i)].rank = i;
+    std::mt19937 rng(13);
+    SofaIds ids_hint, ids_plain;
+    std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref_hint(SofaLess{&ids_hint});
+    std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref_plain(SofaLess{&ids_plain});
+    Map hint, plain;
+    for (int step = 0; step < 200; ++step) {
+        const Obj* p = &objs[rng() % 7];
+        const Obj* q = &objs[rng() % 7];
+        switch (rng() % 4) {
+        case 0:
+        case 1:  // NarrowPhaseDetection::getDetectionOutputs / CollisionResponse::createNewContacts
+            ref_hint.insert(ref_hint.end(), {{p, q}, step});
+            hint.insert_at_end({p, q}, step);
+            ref_plain.insert(decltype(ref_plain)::value_type({p, q}, step));
+            plain.insert({p, q}, step);
+            break;
+        case 2:  // endNarrowPhase / removeInactiveContacts: erase the n-th entry
+            if (!ref_hint.empty()) {
+                const std::size_t n = rng() % ref_hint.size();
+                ref_hint.erase(std::next(ref_hint.begin(), std::ptrdiff_t(n)));
+                hint.erase(std::next(hint.begin(), std::ptrdiff_t(n)));
+            }
+            if (!ref_plain.empty()) {
+                const std::size_t n = rng() % ref_plain.size();
+                ref_plain.erase(std::next(ref_plain.begin(), std::ptrdiff_t(n)));
+                plain.erase(std::next(plain.begin(), std::ptrdiff_t(n)));
+            }
+            break;
+        default:  // removeInactiveContacts' outputsMap.contains
+            EXPECT_EQ(ref_hint.contains({p, q}), hint.contains({p, q}));
+            EXPECT_EQ(ref_plain.contains({p, q}), plain.contains({p, q}));
+        }
+        ASSERT_EQ(ranks_in_order(ref_hint), ranks_in_order(hint)) << "step " << step;
+        ASSERT_EQ(ranks_in_order(ref_plain), ranks_in_order(plain)) << "step " << step;
+        for (const Obj& o : objs) {
+            const auto h = ids_hint.of.find(&o);
+            EXPECT_EQ(h == ids_hint.of.end() ? std::nullopt : std::optional<unsigned>(h->second), hint.stable_id(&o));
+            const auto g = ids_plain.of.find(&o);
+            EXPECT_EQ(g == ids_plain.of.end() ? std::nullopt : std::optional<unsigned>(g->second), plain.stable_id(&o));
+        }
+    }
+}
+
+// CollisionResponse: a floor (Triangle) A under two spheres C and B, met by the broad phase as
+// (A, C) then (A, B) (SOFA's models in the order C, B, A: each new model is paired with the earlier
+// ones). The outputs map orders them (A, C), (A, B) (comp((A, C), (A, B)): C 0, A 1, B 2), so the
+// contact of C is created first; the contact map orders (A, B) first (comp((A, B), (A, C)): B 0,
+// A 1, C 2), which is the order of pairs() and so of the force fields in the graph.
+TEST(CollisionResponse, CreatesInOutputsMapOrderAndListsInContactMapOrder) {
+    std::unique_ptr<test::Mesh> mesh = test::triangle_mesh({{-5, 0, -5}, {5, 0, -5}, {0, 0, 5}}, {{0, 2, 1}});
+    Vec3State ball_b = make_state({{0.2, 0.9, 0.3}});
+    Vec3State ball_c = make_state({{-0.5, 0.9, -0.2}});
+    TriangleModel floor{mesh->state, mesh->topo, named("floor")};
+    SphereModel b{ball_b, 0.5, {}, named("b")};
+    SphereModel c{ball_c, 0.5, {}, named("c")};
+    const IntersectionParams params = IntersectionParams::new_proximity();
+    CollisionResponse r;
+    r.sofa_stable_id_order = true;
+    std::vector<const CollisionModel*> created;
+    r.on_create = [&](BarycentricPenaltyContact& contact) { created.push_back(&contact.model2()); };
+    const auto step = [&] {
+        const std::vector<ModelPairDetection> d = {detect_model_pair(params, floor, c), detect_model_pair(params, floor, b)};
+        ASSERT_FALSE(d[0].outputs.empty());
+        ASSERT_FALSE(d[1].outputs.empty());
+        r.set_detections(d, params.contact_distance);
+    };
+    step();
+    ASSERT_EQ(created.size(), 2u);
+    EXPECT_EQ(created[0], &c);
+    EXPECT_EQ(created[1], &b);
+    ASSERT_EQ(r.pairs().size(), 2u);
+    EXPECT_EQ(r.pairs()[0].model2, &b);
+    EXPECT_EQ(r.pairs()[1].model2, &c);
+    step();  // the same pairs: nothing created, same order
+    EXPECT_EQ(created.size(), 2u);
+    ASSERT_EQ(r.pairs().size(), 2u);
+    EXPECT_EQ(r.pairs()[0].model2, &b);
+    EXPECT_EQ(r.pairs()[1].model2, &c);
+}
+
+}  // namespace
+}  // namespace penalty
