@@ -114,7 +114,7 @@ struct RunArguments {
     double divergence_factor = 100.0;
     bool export_mapped = false;
     bool exhaustive = false;
-    bool sofa_head_orders = false;
+    bool sofa_head_orders = true;
     bool quiet = false;
     std::string view;                // --view DIR: the browser viewer (docs/viewer.md)
     std::int64_t view_every = 1;
@@ -337,7 +337,7 @@ bool is_python_scene_command(int argc, char** argv) {
     for (int i = 2; i < argc; ++i) {
         const std::string_view a = argv[i];
         if (a.starts_with("-")) {
-            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--sofa-head-orders" || a == "--quiet" || a.find('=') != a.npos;
+            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--sofa-head-orders" || a == "--no-sofa-head-orders" || a == "--quiet" || a.find('=') != a.npos;
             if (!flag) ++i;  // its value
             continue;
         }
@@ -393,8 +393,9 @@ int main(int argc, char** argv) {
                     "Fix a SOFA bug in every intersection method (repeatable; 'all' for every one; names: penalty info)");
     run->add_option("--fix-sofa-quirks", args.quirk_fixes, "Same as --fix-sofa-quirk (e.g. --fix-sofa-quirks all)");
     run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
-    run->add_flag("--sofa-head-orders", args.sofa_head_orders,
-                  "Sum forces through SOFA HEAD's MappingGraph and order contacts by its stable-id maps");
+    run->add_flag("--sofa-head-orders,!--no-sofa-head-orders", args.sofa_head_orders,
+                  "Sum forces through SOFA HEAD's MappingGraph and order contacts by its stable-id maps "
+                  "(default; --no-sofa-head-orders: the visitors' order and contacts in scene order)");
     run->add_flag("--quiet", args.quiet, "No progress bar");
     auto* view_option =
         run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
