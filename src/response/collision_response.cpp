@@ -164,8 +164,11 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
             feed_.emplace_back(it->second, d);
             continue;
         }
+        // (a copy of the key: a structured binding cannot be captured by a lambda before C++20's
+        // P1091, which clang 14 lacks)
+        const auto key = models;
         const auto refused = std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
-            return !e.contact && e.model1 == models.first && e.model2 == models.second;
+            return !e.contact && e.model1 == key.first && e.model2 == key.second;
         });
         const bool refused_before = refused != pairs_.end();
         if (!refused_before) {
