@@ -177,4 +177,14 @@ p = run("view", work, "--no-serve", expect=1)
 check("has no run.json: not a viewer directory" in p.stderr, "penalty view names a directory without run.json")
 run("run", scene, "--view", view, "--view-every", "0", expect=2)
 
+# SOFA HEAD's orders: on by default, --no-sofa-head-orders turns them off (the visitors' order);
+# one contact pair here, so both orders give the same trajectory
+on, off = (os.path.join(work, d) for d in ("orders_on", "orders_off"))
+run("run", scene, "--steps", "20", "--quiet", "--export-states", on, "--sofa-head-orders", expect=0)
+run("run", scene, "--steps", "20", "--quiet", "--export-states", off, "--no-sofa-head-orders", expect=0)
+check(open(os.path.join(on, "0_cube_mstate.txt")).read() == open(os.path.join(off, "0_cube_mstate.txt")).read(),
+      "--sofa-head-orders and --no-sofa-head-orders accepted; one contact pair: the same states")
+p = run("run", "--help", expect=0)
+check("--no-sofa-head-orders" in p.stdout, "run --help names --no-sofa-head-orders")
+
 print("all CLI checks passed")
