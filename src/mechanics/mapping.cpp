@@ -1,5 +1,7 @@
 #include "penalty/mechanics/mapping.hpp"
 
+#include "sofa_vector_ops.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -187,33 +189,51 @@ void BarycentricMapping::init() {
 }
 
 void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {
+    // BarycentricMapperMeshTopology::init (tetrahedra), in SOFA's operations and order, so that
+    // the weights, hence the mapped positions and the forces mapped back, are SOFA's to the bit
     const auto& tetras = topo.tetrahedra();
     if (tetras.empty()) throw_invalid_argument("BarycentricMapping: topology has no tetrahedron");
-    std::vector<Mat3> inv(tetras.size());
+    std::vector<Mat3> bases(tetras.size());
+    std::vector<Vec3> centres(tetras.size());
     for (std::size_t t = 0; t < tetras.size(); ++t) {
         for (const PointId p : tetras[t])
             if (static_cast<std::size_t>(p) >= x.size()) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " vertex out of range");
         const Vec3& x0 = x[static_cast<std::size_t>(tetras[t][0])];
-        Mat3 m;
-        for (int k = 0; k < 3; ++k) m.col(k) = x[static_cast<std::size_t>(tetras[t][static_cast<std::size_t>(k + 1)])] - x0;
-        if (std::abs(m.determinant()) < 1e-300) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " is degenerate");
-        inv[t] = m.inverse();
+        const Vec3& x1 = x[static_cast<std::size_t>(tetras[t][1])];
+        const Vec3& x2 = x[static_cast<std::size_t>(tetras[t][2])];
+        const Vec3& x3 = x[static_cast<std::size_t>(tetras[t][3])];
+        Mat3 edges;  // columns x1 − x0, x2 − x0, x3 − x0 (SOFA: the transpose of the rows)
+        edges.col(0) = x1 - x0;
+        edges.col(1) = x2 - x0;
+        edges.col(2) = x3 - x0;
+        if (std::abs(sofa_vec::determinant(edges)) < 1e-300) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " is degenerate");
+        bases[t] = sofa_vec::inverse(edges);
+        centres[t] = sofa_vec::scaled(((x0 + x1) + x2) + x3, 0.25);
     }
     std::vector<BarycentricRow> rows(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
-        double best = std::numeric_limits<double>::infinity();
+        double best = 1e10;  // SOFA's starting distance
+        Vec3 coefs = Vec3::Zero();
+        std::size_t index = tetras.size();
         for (std::size_t t = 0; t < tetras.size(); ++t) {
-            const Vec3 b = inv[t] * (points[i] - x[static_cast<std::size_t>(tetras[t][0])]);
-            const double d = std::max(std::max(-b[0], -b[1]), std::max(-b[2], b.sum() - 1.0));
+            const Vec3 v = sofa_vec::times(bases[t], points[i] - x[static_cast<std::size_t>(tetras[t][0])]);
+            double d = std::max(std::max(-v[0], -v[1]), std::max(-v[2], v[0] + v[1] + v[2] - 1));
+            if (d > 0) {
+                const Vec3 r = points[i] - centres[t];
+                d = sofa_vec::dot3(r, r);
+            }
             if (d < best) {
                 best = d;
-                rows[i] = BarycentricRow{};
-                rows[i].push(tetras[t][0], 1.0 - b.sum());
-                rows[i].push(tetras[t][1], b[0]);
-                rows[i].push(tetras[t][2], b[1]);
-                rows[i].push(tetras[t][3], b[2]);
+                coefs = v;
+                index = t;
             }
         }
+        if (index == tetras.size()) throw_invalid_argument("BarycentricMapping: point ", i, " is 1e5 or farther from every tetrahedron");
+        const auto& tet = tetras[index];
+        rows[i].push(tet[0], 1 - coefs[0] - coefs[1] - coefs[2]);  // ((1 − fx) − fy) − fz, as SOFA
+        rows[i].push(tet[1], coefs[0]);
+        rows[i].push(tet[2], coefs[1]);
+        rows[i].push(tet[3], coefs[2]);
     }
     set_rows(std::move(rows));
 }

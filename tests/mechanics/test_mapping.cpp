@@ -149,6 +149,35 @@ TEST(Mapping, BarycentricOnTetrahedra) {
     EXPECT_NEAR(map.weights()[0][0].weight, 0.4, 1e-15);
 }
 
+TEST(Mapping, BarycentricOnTetrahedraTakesSofasNearestCentreAndWeights) {
+    // SOFA's BarycentricMapperMeshTopology::init: a point outside every tetrahedron goes to the
+    // one whose centre is nearest (|p − centre|²), not to the one it is barycentrically nearest;
+    // the first weight is ((1 − b0) − b1) − b2, not 1 − (b0 + b1 + b2).
+    Vec3Object in, out;
+    // tetra 0: the unit tetrahedron (its edge matrix is the identity: b = p exactly); tetra 1: a
+    // sliver 0.01 thick at x ≈ −0.4, its centre (−0.4025, 0.325, 0.325)
+    in.position = {Vec3(0, 0, 0),     Vec3(1, 0, 0),     Vec3(0, 1, 0),     Vec3(0, 0, 1),
+                   Vec3(-0.4, 0, 0), Vec3(-0.4, 1, 0), Vec3(-0.4, 0, 1), Vec3(-0.41, 0.3, 0.3)};
+    in.init();
+    MeshTopology topo;
+    topo.set_tetrahedra({{0, 1, 2, 3}, {4, 5, 6, 7}});
+    BarycentricMapping map(in, out);
+    // p0: outside both, 0.3 outside tetra 0 barycentrically (|p − c0|² = 0.3025) and about 10
+    // outside the sliver (|p − c1|² ≈ 0.0218): SOFA takes the sliver. p1: inside tetra 0.
+    const std::vector<Vec3> pts = {Vec3(-0.3, 0.25, 0.25), Vec3(0.1, 0.2, 0.3)};
+    map.map_on_tetrahedra(topo, in.position, pts);
+    ASSERT_EQ(map.weights()[0].size(), 4u);
+    EXPECT_EQ(map.weights()[0][0].index, 4);
+    EXPECT_EQ(map.weights()[0][3].index, 7);
+    ASSERT_EQ(map.weights()[1][0].index, 0);
+    const double w0 = map.weights()[1][0].weight;
+    EXPECT_EQ(w0, ((1.0 - 0.1) - 0.2) - 0.3);  // 0.39999999999999997
+    EXPECT_NE(w0, 1.0 - (0.1 + 0.2 + 0.3));    // 0.3999999999999999
+    EXPECT_EQ(map.weights()[1][1].weight, 0.1);
+    EXPECT_EQ(map.weights()[1][2].weight, 0.2);
+    EXPECT_EQ(map.weights()[1][3].weight, 0.3);
+}
+
 TEST(Mapping, BarycentricProductsAreBitwiseTheRowOperations) {
     // apply_j and apply_jt run on a flattened copy of the rows (speed); they must give the bits
     // of BarycentricRow::combine and ::spread, rows of every count, entries in row order.

@@ -207,9 +207,11 @@ public:
     /// entries); indices are checked at init().
     void set_weights(std::vector<std::vector<Entry>> rows);
     void set_rows(std::vector<BarycentricRow> rows);
-    /// Maps `points` onto the tetrahedra of `topology` with positions `x`: each point goes to the
-    /// first tetrahedron minimising max(−b0, −b1, −b2, b0+b1+b2−1) over its barycentric
-    /// coordinates (the containing one, or the nearest for outside points), like SOFA's mapper.
+    /// Maps `points` onto the tetrahedra of `topology` with positions `x`, with SOFA's operations
+    /// (BarycentricMapperMeshTopology::init): b = B·(p − x0), B the inverse of the edge matrix by
+    /// type::invertMatrix; a tetrahedron's distance is max(−b0, −b1, −b2, b0+b1+b2−1), replaced,
+    /// when positive (outside), by |p − centre|²; the first tetrahedron of least distance wins;
+    /// weights ((1 − b0) − b1) − b2, b0, b1, b2.
     void map_on_tetrahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
     /// Maps onto hexahedra with trilinear weights (inverse trilinear map by Newton; SOFA's
     /// parallelepiped approximation gives the same weights for parallelepipeds).
