@@ -387,16 +387,34 @@ void CollisionPipeline::track_motion(std::size_t i) {
 
 void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
     out.clear();
-    detect_pair_unordered(m1, m2, out);
-    if (!opt_.sofa_output_order || out.size() < 2) return;
+    const bool in_sofa_order = detect_pair_unordered(m1, m2, out);
+    if (!opt_.sofa_output_order || in_sofa_order || out.size() < 2) return;
     const std::size_t i1 = model_index(m1), i2 = model_index(m2);
+    ensure_sofa_trees(i1, i2);
+    sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], out, sofa_order_scratch_);
+}
+
+void CollisionPipeline::ensure_sofa_trees(std::size_t i1, std::size_t i2) {
     for (const std::size_t i : {i1, i2}) {
         // SOFA builds a model's tree at its first detection and then only refits it
         // (CubeCollisionModel::computeBoundingTree); rebuilt here only if the model's size changed
         if (sofa_trees_[i].empty() || sofa_trees_[i].size() != models_[i]->size())
             sofa_trees_[i].build(*models_[i], opt_.depth);
     }
-    sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], out, sofa_order_scratch_);
+}
+
+void CollisionPipeline::sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys) {
+    ensure_sofa_trees(i1, i2);
+    // sort_in_sofa_order on one output per key (keys are unique: no ties)
+    DetectionOutputList& as_outputs = sofa_order_keys_;
+    as_outputs.resize(keys.size());
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+        as_outputs[k].elem1 = Index(keys[k] >> 32);
+        as_outputs[k].elem2 = Index(keys[k] & 0xffffffffu);
+    }
+    sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], as_outputs, sofa_order_scratch_);
+    for (std::size_t k = 0; k < keys.size(); ++k)
+        keys[k] = (std::uint64_t(std::uint32_t(as_outputs[k].elem1)) << 32) | std::uint64_t(std::uint32_t(as_outputs[k].elem2));
 }
 
 void CollisionPipeline::build_sofa_trees() {
@@ -408,10 +426,10 @@ void CollisionPipeline::build_sofa_trees() {
     }
 }
 
-void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
+bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
     if (detection_ == ContactDetection::exhaustive) {
         exhaustive_narrow_phase(params_, m1, m2, out, boxes_);
-        return;
+        return false;
     }
     // the same element pairs as the exhaustive loop (bvh_narrow_phase's guarantee); update()
     // first, unconditionally, as exhaustive_narrow_phase does
@@ -420,7 +438,7 @@ void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const std::size_t i1 = model_index(m1), i2 = model_index(m2);
     const Bvh& t1 = trees_[i1];
     const Bvh& t2 = trees_[i2];
-    if (t1.empty() || t2.empty()) return;
+    if (t1.empty() || t2.empty()) return false;
     const double margin = box_margin(params_, m1, m2);
     // with SOFA's output order the outputs are sorted afterwards (detect_pair): the candidates
     // need no sort of their own
@@ -429,9 +447,9 @@ void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const ModelMotion& a = motion_[i1];
     const ModelMotion& b = motion_[i2];
     if (!opt_.candidate_cache || a.generation == 0 || b.generation == 0) {
-        if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), margin)) return;
+        if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), margin)) return false;
         bvh_narrow_phase(params_, m1, t1, m2, t2, narrow, scratch_, out);
-        return;
+        return false;
     }
     // Candidate cache. Since a generation began every box bound moved by at most its model's
     // slack s, so between the collection and now by at most 2·s: a pair overlapping now with
@@ -449,10 +467,30 @@ void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
             collect_candidates(t1, t2, &m1 == &m2, wide, narrow.parallel, narrow.sorted_candidates || writes_models, buf);
             kept.keys.assign(buf.keys.begin(), buf.keys.end());
         }
+        kept.in_sofa_order = false;
+        kept.outputs_sorted = 0;
+        if (opt_.sofa_output_order && !writes_models) {
+            // sort_keys_in_sofa_order's buffers, grown here (a collection allocates anyway) and not
+            // at the later step that sorts the keys
+            const std::size_t n = kept.keys.size();
+            sofa_order_keys_.reserve(n);
+            sofa_order_scratch_.keyed.reserve(n);
+            sofa_order_scratch_.permutation.reserve(n);
+            sofa_order_scratch_.sorted.reserve(n);
+        }
         kept.generation1 = a.generation;
         kept.generation2 = b.generation;
     } else {
         ++cache_stats_.reused;
+    }
+    // Kept in SOFA's visiting order, the outputs come out in it (evaluate_candidates keeps the
+    // candidates' order). Sorted when the outputs sorted in this generation outnumber the kept
+    // keys (PairCandidates). Not for a kernel that writes the models: its writes run over the
+    // candidates sorted by element.
+    if (opt_.sofa_output_order && !writes_models && !kept.in_sofa_order && kept.outputs_sorted >= kept.keys.size()) {
+        if (kept.keys.size() >= 2) sort_keys_in_sofa_order(i1, i2, kept.keys);
+        kept.in_sofa_order = true;
+        ++cache_stats_.sofa_order_sorts;
     }
     Keys& now = buf.keys;
     now.clear();
@@ -461,6 +499,9 @@ void CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     for (const std::uint64_t k : kept.keys)
         if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);
     evaluate_candidates(params_, m1, m2, now, narrow, buf, out);
+    if (kept.in_sofa_order) ++cache_stats_.in_sofa_order;
+    else kept.outputs_sorted += out.size();
+    return kept.in_sofa_order;
 }
 
 const SceneDetection& CollisionPipeline::detect() {

@@ -498,7 +498,31 @@ TEST(NarrowPhase, CandidateCacheGivesTheTraversalsOutputsOverManyStepsAndIsReuse
         // and the jumps force new collections
         EXPECT_GT(stats.reused, stats.collected) << stats.reused << " reused, " << stats.collected << " collected";
         EXPECT_GT(stats.collected, 3u * 10u);
+        // both ways to SOFA's order were taken: outputs sorted at a step, and kept candidates
+        // sorted once (rent-or-buy) so that later steps' outputs came sorted
+        EXPECT_GT(stats.sofa_order_sorts, 5u) << stats.sofa_order_sorts;
+        EXPECT_GT(stats.in_sofa_order, stats.sofa_order_sorts);
+        EXPECT_LT(stats.in_sofa_order, stats.reused + stats.collected);
     }
+}
+
+TEST(NarrowPhase, CandidateCacheInSofaOrderGivesTheSortedOutputsOfAnUnchangedScene) {
+    // a scene that does not move: one collection, then kept candidates sorted into SOFA's order
+    // as soon as the outputs sorted at the steps outnumber them; every step's outputs stay the
+    // sorted outputs of the first step, bit for bit
+    MeshScene sc(11, true);
+    const IntersectionParams params = method_params(IntersectionMethod::MinProximity);
+    CollisionPipelineOptions plain_options;
+    plain_options.candidate_cache = false;
+    CollisionPipeline cached(params), plain(params, plain_options);
+    cached.set_models(sc.models);
+    plain.set_models(sc.models);
+    const SceneDetection ref = plain.detect();
+    EXPECT_GT(count_outputs(ref), 100u);
+    for (int step = 0; step < 40; ++step) expect_identical(cached.detect(), ref);
+    const auto& stats = cached.candidate_cache_stats();
+    EXPECT_GT(stats.sofa_order_sorts, 0u);
+    EXPECT_GT(stats.in_sofa_order, 20u * stats.sofa_order_sorts);
 }
 
 TEST(NarrowPhase, CandidateCacheFollowsSphereCloudsThatMoveFast) {

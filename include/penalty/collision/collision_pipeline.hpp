@@ -161,10 +161,15 @@ public:
     [[nodiscard]] const Bvh& tree(std::size_t i) const { return trees_[i]; }
 
     /// Candidate cache statistics since construction: pair detections answered from a pair's
-    /// kept candidates (`reused`) and pair detections that traversed the trees (`collected`).
+    /// kept candidates (`reused`) and pair detections that traversed the trees (`collected`);
+    /// of both, those whose outputs came in SOFA's order without a sort (`in_sofa_order`: the
+    /// kept candidates were in that order, PairCandidates) and the times kept candidates were
+    /// sorted into it (`sofa_order_sorts`).
     struct CandidateCacheStats {
         std::size_t reused = 0;
         std::size_t collected = 0;
+        std::size_t in_sofa_order = 0;
+        std::size_t sofa_order_sorts = 0;
     };
     [[nodiscard]] const CandidateCacheStats& candidate_cache_stats() const { return cache_stats_; }
 
@@ -173,11 +178,16 @@ private:
     void index_models();  // index_of_ from models_
     /// ModelPairDetection::narrow_phase of (m1, m2): neither empty, root boxes within box_margin.
     [[nodiscard]] bool roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const;
-    /// detect_pair without SOFA's output order.
-    void detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out);
+    /// detect_pair without sorting into SOFA's output order. Returns true when `out` is in that
+    /// order already (the candidate cache's kept pairs are kept in it, PairCandidates).
+    [[nodiscard]] bool detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out);
     /// SOFA's tree of every active model not built yet (or whose size changed), from the
     /// current positions.
     void build_sofa_trees();
+    /// SOFA's trees of models i1 and i2, built if not yet (or if a model's size changed).
+    void ensure_sofa_trees(std::size_t i1, std::size_t i2);
+    /// Candidate keys (element 1 << 32 | element 2) of models i1 × i2 into SOFA's visiting order.
+    void sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys);
     /// Candidate cache: after model i's tree was refitted, starts a new reference (a new
     /// generation) if some element box moved past the model's slack since the last one.
     void track_motion(std::size_t i);
@@ -194,10 +204,18 @@ private:
     /// A model pair's kept candidates: element pairs whose boxes overlapped with margin
     /// m + 2·(slack 1 + slack 2) when collected (a superset of the pairs overlapping with m while
     /// both generations last).
+    /// With SOFA's output order, and a kernel that does not write the models, the keys may be
+    /// sorted into that order (in_sofa_order): the outputs evaluated from them then come out in
+    /// it, and the per-step sort of the outputs is skipped. They are sorted once the outputs
+    /// sorted since the generation began outnumber them (a rent-or-buy rule: at most about
+    /// twice the sorting of the cheaper choice, whether the generation is long or short).
     struct PairCandidates {
         std::uint64_t generation1 = 0, generation2 = 0;
         std::vector<std::uint64_t> keys;
+        bool in_sofa_order = false;
+        std::size_t outputs_sorted = 0;  ///< outputs sorted by detect_pair in this generation
     };
+    DetectionOutputList sofa_order_keys_;  // scratch: kept keys as outputs, sorted by sort_in_sofa_order
     std::vector<ModelMotion> motion_;
     std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)
     std::unordered_map<std::uint64_t, PairCandidates> pair_candidates_;  // key: (index 1 << 32) | index 2
