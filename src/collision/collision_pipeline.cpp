@@ -405,16 +405,7 @@ void CollisionPipeline::ensure_sofa_trees(std::size_t i1, std::size_t i2) {
 
 void CollisionPipeline::sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys) {
     ensure_sofa_trees(i1, i2);
-    // sort_in_sofa_order on one output per key (keys are unique: no ties)
-    DetectionOutputList& as_outputs = sofa_order_keys_;
-    as_outputs.resize(keys.size());
-    for (std::size_t k = 0; k < keys.size(); ++k) {
-        as_outputs[k].elem1 = Index(keys[k] >> 32);
-        as_outputs[k].elem2 = Index(keys[k] & 0xffffffffu);
-    }
-    sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], as_outputs, sofa_order_scratch_);
-    for (std::size_t k = 0; k < keys.size(); ++k)
-        keys[k] = (std::uint64_t(std::uint32_t(as_outputs[k].elem1)) << 32) | std::uint64_t(std::uint32_t(as_outputs[k].elem2));
+    penalty::sort_keys_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], keys, sofa_order_scratch_);
 }
 
 void CollisionPipeline::build_sofa_trees() {
@@ -473,10 +464,9 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
             // sort_keys_in_sofa_order's buffers, grown here (a collection allocates anyway) and not
             // at the later step that sorts the keys
             const std::size_t n = kept.keys.size();
-            sofa_order_keys_.reserve(n);
             sofa_order_scratch_.keyed.reserve(n);
             sofa_order_scratch_.permutation.reserve(n);
-            sofa_order_scratch_.sorted.reserve(n);
+            sofa_order_scratch_.sorted_keys.reserve(n);
         }
         kept.generation1 = a.generation;
         kept.generation2 = b.generation;

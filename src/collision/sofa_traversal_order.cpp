@@ -183,10 +183,16 @@ bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1
 }
 
 
-void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
-                        SofaOrderScratch& scratch) {
-    const std::size_t n = outputs.size();
-    if (n < 2) return;
+namespace {
+
+// The permutation that puts the element pairs elements(i), i < n, into SOFA's visiting order
+// (sofa_visits_before), left in scratch.permutation; pairs of the same two elements keep their
+// index order.
+template <class ElementPair>
+void sofa_order_permutation(const SofaCubeTree& t1, const SofaCubeTree& t2, std::size_t n, ElementPair elements,
+                            SofaOrderScratch& scratch) {
+    std::vector<std::uint32_t>& perm = scratch.permutation;
+    perm.clear();
     const PackedLevels levels{scratch.level_span, scratch.level_shift};
     // against a one-element model the key is a function of the other element, computed once
     // when its tree was built (SofaCubeTree::keys_against_one_element)
@@ -199,38 +205,58 @@ void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, Detectio
         keyed.clear();
         if (one2) {
             const std::span<const std::uint64_t> k = t1.keys_against_one_element(true);
-            for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(outputs[i].elem1)], std::uint32_t(i)});
+            for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(elements(i).first)], std::uint32_t(i)});
         } else if (one1) {
             const std::span<const std::uint64_t> k = t2.keys_against_one_element(false);
-            for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(outputs[i].elem2)], std::uint32_t(i)});
+            for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(elements(i).second)], std::uint32_t(i)});
         } else {
-            for (std::size_t i = 0; i < n; ++i)
-                keyed.push_back(
-                    {packed_key(levels, t1.path(outputs[i].elem1), t2.path(outputs[i].elem2)), std::uint32_t(i)});
+            for (std::size_t i = 0; i < n; ++i) {
+                const auto [a, b] = elements(i);
+                keyed.push_back({packed_key(levels, t1.path(a), t2.path(b)), std::uint32_t(i)});
+            }
         }
         // the index breaks ties: the outputs of one element pair keep their order
         std::sort(keyed.begin(), keyed.end(), [](const SofaOrderScratch::Keyed& x, const SofaOrderScratch::Keyed& y) {
             return x.key != y.key ? x.key < y.key : x.index < y.index;
         });
-        scratch.sorted.clear();
-        for (std::size_t i = 0; i < n; ++i) scratch.sorted.push_back(outputs[keyed[i].index]);
-        std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());
+        for (std::size_t i = 0; i < n; ++i) perm.push_back(keyed[i].index);
         return;
     }
     // std::sort on indices with the index as the tie-break: stable, and without std::stable_sort's
     // temporary buffer
-    std::vector<std::uint32_t>& perm = scratch.permutation;
-    perm.clear();
     for (std::size_t i = 0; i < n; ++i) perm.push_back(std::uint32_t(i));
     std::sort(perm.begin(), perm.end(), [&](std::uint32_t i, std::uint32_t j) {
-        const DetectionOutput& x = outputs[i];
-        const DetectionOutput& y = outputs[j];
-        if (x.elem1 == y.elem1 && x.elem2 == y.elem2) return i < j;
-        return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
+        const auto [a1, b1] = elements(i);
+        const auto [a2, b2] = elements(j);
+        if (a1 == a2 && b1 == b2) return i < j;
+        return sofa_visits_before(t1, t2, a1, b1, a2, b2);
     });
+}
+
+}  // namespace
+
+void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
+                        SofaOrderScratch& scratch) {
+    const std::size_t n = outputs.size();
+    if (n < 2) return;
+    sofa_order_permutation(
+        t1, t2, n, [&](std::size_t i) { return std::pair<Index, Index>(outputs[i].elem1, outputs[i].elem2); }, scratch);
     scratch.sorted.clear();
-    for (std::size_t i = 0; i < n; ++i) scratch.sorted.push_back(outputs[perm[i]]);
+    for (const std::uint32_t i : scratch.permutation) scratch.sorted.push_back(outputs[i]);
     std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());  // the buffers stay with their owners
+}
+
+void sort_keys_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, std::span<std::uint64_t> keys,
+                             SofaOrderScratch& scratch) {
+    const std::size_t n = keys.size();
+    if (n < 2) return;
+    sofa_order_permutation(
+        t1, t2, n,
+        [&](std::size_t i) { return std::pair<Index, Index>(Index(keys[i] >> 32), Index(keys[i] & 0xffffffffu)); },
+        scratch);
+    scratch.sorted_keys.clear();
+    for (const std::uint32_t i : scratch.permutation) scratch.sorted_keys.push_back(keys[i]);
+    std::copy(scratch.sorted_keys.begin(), scratch.sorted_keys.end(), keys.begin());
 }
 
 }  // namespace penalty

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <random>
 #include <utility>
 #include <vector>
@@ -136,7 +137,8 @@ TEST(SofaOrder, IsAStrictTotalOrderOnRandomClouds) {
 
 TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
     // sort_in_sofa_order packs each output's place into one integer; it must give exactly the
-    // stable sort by sofa_visits_before, duplicates of an element pair kept in their order
+    // stable sort by sofa_visits_before, duplicates of an element pair kept in their order;
+    // sort_keys_in_sofa_order the same order on the distinct element pairs
     std::mt19937 g(17);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     int cases = 0, reordered = 0;
@@ -163,6 +165,19 @@ TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
                 std::stable_sort(expected.begin(), expected.end(), [&](const DetectionOutput& x, const DetectionOutput& y) {
                     return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
                 });
+                // sort_keys_in_sofa_order: the same order on the element pairs, each once (the
+                // candidate cache's keys), given in the outputs' random order
+                std::vector<std::uint64_t> keys, expected_keys;
+                const auto key_of = [](const DetectionOutput& o) {
+                    return (std::uint64_t(std::uint32_t(o.elem1)) << 32) | std::uint64_t(std::uint32_t(o.elem2));
+                };
+                for (const DetectionOutput& o : out)
+                    if (std::find(keys.begin(), keys.end(), key_of(o)) == keys.end()) keys.push_back(key_of(o));
+                for (const DetectionOutput& o : expected)
+                    if (expected_keys.empty() || expected_keys.back() != key_of(o)) expected_keys.push_back(key_of(o));
+                SofaOrderScratch key_scratch;
+                sort_keys_in_sofa_order(t1, t2, keys, key_scratch);
+                ASSERT_EQ(keys, expected_keys) << depth << " " << n1 << " " << n2;
                 SofaOrderScratch scratch;
                 sort_in_sofa_order(t1, t2, out, scratch);
                 ASSERT_EQ(out.size(), expected.size());

@@ -215,7 +215,6 @@ private:
         bool in_sofa_order = false;
         std::size_t outputs_sorted = 0;  ///< outputs sorted by detect_pair in this generation
     };
-    DetectionOutputList sofa_order_keys_;  // scratch: kept keys as outputs, sorted by sort_in_sofa_order
     std::vector<ModelMotion> motion_;
     std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)
     std::unordered_map<std::uint64_t, PairCandidates> pair_candidates_;  // key: (index 1 << 32) | index 2

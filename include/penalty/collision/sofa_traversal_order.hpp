@@ -88,6 +88,7 @@ struct SofaOrderScratch {
     std::vector<std::uint64_t> level_span;  ///< per level: the number of loop positions
     std::vector<int> level_shift;           ///< per level: the bit position of its digit
     DetectionOutputList sorted;
+    std::vector<std::uint64_t> sorted_keys;
 };
 
 /// Sorts a model pair's outputs into SOFA's visiting order; the outputs of one element pair
@@ -96,5 +97,10 @@ struct SofaOrderScratch {
 /// place is first packed into one integer key (one digit per level) and the keys are sorted.
 void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
                         SofaOrderScratch& scratch);
+
+/// Sorts element pairs given as keys (element 1 << 32 | element 2, each pair once) into SOFA's
+/// visiting order, as sort_in_sofa_order sorts outputs.
+void sort_keys_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, std::span<std::uint64_t> keys,
+                             SofaOrderScratch& scratch);
 
 }  // namespace penalty
