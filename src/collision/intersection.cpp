@@ -39,7 +39,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 5> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 6> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -51,6 +51,9 @@ constexpr std::array<SofaQuirkInfo, 5> kSofaQuirks{{
     {"newproximity_triangle_triangle_normal_overwrite",
      &SofaQuirkFixes::fix_newproximity_triangle_triangle_normal_overwrite,
      "NewProximity Triangle-Triangle: stored triangle normals left alone (spec 14.4)"},
+    {"mechanical_object_float_short_forms", &SofaQuirkFixes::fix_mechanical_object_float_short_forms,
+     "MechanicalObject: dx dy dz, rx ry rz, scale, sx sy sz read in double, not rounded to float as SOFA's parse does "
+     "(command line or BuildOptions only: the scene is read before any intersection component)"},
 }};
 }  // namespace
 

@@ -8,6 +8,7 @@ import csv
 import json
 import os
 import re
+import struct
 import shutil
 import subprocess
 import sys
@@ -80,7 +81,8 @@ expected_times = [k * 0.01 for k in range(0, steps, 7)] + [(steps - 1) * 0.01]
 check(len(times) == len(expected_times) and all(abs(a - b) < 1e-12 for a, b in zip(times, expected_times)),
       f"exported times {times} (every 7 steps plus the last)")
 first = [float(v) for v in lines[1][5:].split()]
-check(len(first) == 24 and first[0:3] == [0.3, 0.5, 0.1], "8 Vec3 DOFs, transformed by dx dy dz")
+as_float = lambda v: struct.unpack("f", struct.pack("f", v))[0]  # SOFA reads dx dy dz as floats
+check(len(first) == 24 and first[0:3] == [as_float(0.3), as_float(0.5), as_float(0.1)], "8 Vec3 DOFs, transformed by dx dy dz")
 
 # VTK series: .pvd collections list every written step; pieces parse and have the right sizes.
 pvds = sorted(f for f in os.listdir(vtk) if f.endswith(".pvd"))
@@ -134,6 +136,19 @@ check("unknown SOFA quirk 'no_such_quirk'" in p.stderr, "unknown quirk names its
 p = run("info", scene, "--fix-sofa-quirks", "all", expect=0)
 check("newproximity_triangle_sphere_edge_flags [on for every pipeline]" in p.stdout and
       "SOFA quirk fixes: minproximity_line_sphere_mirror" in p.stdout, "info shows the quirk fixes that are on")
+# mechanical_object_float_short_forms: SOFA reads dy="0.1" as a float (0.10000000149011612); the
+# fix reads it in double.
+short = os.path.join(work, "short_forms.scn")
+with open(short, "w") as f:
+    f.write('<Node name="root" dt="0.01" gravity="0 0 0"><Node name="A"><EulerImplicitSolver/><CGLinearSolver/>'
+            '<MechanicalObject name="mo" position="0 0 0" dy="0.1"/><UniformMass totalMass="1"/></Node></Node>')
+def first_y(extra):
+    out = os.path.join(work, "short_forms_" + str(len(extra)))
+    run("run", short, "--steps", "1", "--quiet", "--export-states", out, *extra, expect=0)
+    lines = open(os.path.join(out, "0_mo_mstate.txt")).read().splitlines()
+    return float(lines[1].replace("X=", "").split()[1])
+check(first_y([]) == 0.10000000149011612, "dy is read as a float by default, as SOFA")
+check(first_y(["--fix-sofa-quirk", "mechanical_object_float_short_forms"]) == 0.1, "the quirk fix reads dy in double")
 debug = os.path.join(work, "debug.txt")
 p = run("run", scene, "--steps", "30", "--quiet", "--debug-step", "25", "--debug-file", debug, expect=0)
 text = open(debug).read()

@@ -75,11 +75,11 @@ TEST(SceneBuilder, CubeOnFloorStatesRecordsAndContactPlacement) {
     EXPECT_NE(s->states()[0].mass, nullptr);
     EXPECT_EQ(s->states()[1].node_path, "/Floor");
     EXPECT_FALSE(s->states()[1].in_solver_subtree);
-    // dy = 0.15 moved every point up.
+    // dy = 0.15 moved every point up, by 0.15 rounded to float as SOFA reads the short forms.
     const auto& cube = dynamic_cast<const Vec3Object&>(*s->states()[0].state);
-    EXPECT_DOUBLE_EQ(cube.position[0].y(), 0.15);
-    EXPECT_DOUBLE_EQ(cube.position[0].x(), 0.3);
-    EXPECT_DOUBLE_EQ(cube.position[7].y(), 1.15);
+    EXPECT_EQ(cube.position[0].y(), double(0.15f));
+    EXPECT_EQ(cube.position[0].x(), double(0.3f));
+    EXPECT_EQ(cube.position[7].y(), 1.0 + double(0.15f));
     ASSERT_EQ(s->pipelines().size(), 1u);
     EXPECT_EQ(s->pipelines()[0].intersection, IntersectionMethod::MinProximity);
     EXPECT_DOUBLE_EQ(s->pipelines()[0].pipeline->intersection().alarm_distance, 0.2);
@@ -266,6 +266,41 @@ TEST(SceneBuilder, PositionsLinkedFromATopologyOrAState) {
     EXPECT_EQ(b.position[1], Vec3(2, 0, 2));  // a's transformed positions, scaled by 2
 }
 
+TEST(SceneBuilder, MechanicalObjectShortFormsAreReadAsFloatsAsSofaDoes) {
+    // MechanicalObject::parse reads dx dy dz, rx ry rz, scale, sx sy sz with
+    // getAttributeAsFloat (strtof): scale="0.7" scales by 0.699999988079071, dx="0.1" moves by
+    // 0.100000001490116. The long forms (translation, rotation, scale3d) are doubles.
+    const std::string xml = R"(<Node name="root">
+      <Node name="A"><MechanicalObject name="a" position="1 2 3" scale="0.7" dx="0.1"/></Node>
+      <Node name="B"><MechanicalObject name="b" position="1 2 3" scale3d="0.7 0.7 0.7" translation="0.1 0 0"/></Node>
+      <Node name="C"><MechanicalObject name="c" position="1 2 3" scale3d="5 5 5" sy="0.7" rotation="0 0 90" rx="0"
+                                        translation="9 9 9" dz="0.1"/></Node>
+    </Node>)";
+    const double s = double(0.7f), t = double(0.1f);
+    ASSERT_NE(s, 0.7);
+    ASSERT_NE(t, 0.1);
+    auto sofa = build(xml);
+    const auto& a = dynamic_cast<const Vec3Object&>(*sofa->states()[0].state).position[0];
+    const auto& b = dynamic_cast<const Vec3Object&>(*sofa->states()[1].state).position[0];
+    const auto& c = dynamic_cast<const Vec3Object&>(*sofa->states()[2].state).position[0];
+    EXPECT_EQ(a, Vec3(1 * s + t, 2 * s, 3 * s));
+    EXPECT_EQ(b, Vec3(1 * 0.7 + 0.1, 2 * 0.7, 3 * 0.7));
+    // any of sx sy sz replaces scale3d (missing: 1), any of rx ry rz the rotation (missing: 0,
+    // so the 90° about z is gone), any of dx dy dz the translation (missing: 0)
+    EXPECT_EQ(c, Vec3(1, 2 * s, 3 + t));
+    // the fix: the short forms in double, as the long forms
+    scene::BuildOptions fixed;
+    ASSERT_TRUE(enable_sofa_quirk_fix(fixed.sofa_quirk_fixes, "mechanical_object_float_short_forms"));
+    auto in_double = build(xml, fixed);
+    EXPECT_EQ(dynamic_cast<const Vec3Object&>(*in_double->states()[0].state).position[0], b);
+    EXPECT_EQ(dynamic_cast<const Vec3Object&>(*in_double->states()[2].state).position[0], Vec3(1, 2 * 0.7, 3 + 0.1));
+    // a value beyond float range is an error naming the attribute, not an infinite position
+    EXPECT_THAT(error_of(R"(<Node name="root"><MechanicalObject position="1 2 3" dy="1e39"/></Node>)"),
+                HasSubstr("'dy'"));
+    EXPECT_THAT(error_of(R"(<Node name="root"><MechanicalObject position="1 2 3" dy="1e39"/></Node>)"),
+                HasSubstr("beyond float range"));
+}
+
 TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
     EXPECT_EQ(error_of(R"(<Node name="root">
   <FancyForceField/>
@@ -361,7 +396,7 @@ TEST(SceneBuilder, RunnerWritesStatesEveryMStepsPlusTheLast) {
     EXPECT_NEAR(samples[2].time, 0.06, 1e-12);
     EXPECT_NEAR(samples[3].time, 0.07, 1e-12);
     EXPECT_EQ(samples[0].x.size(), 24u);
-    EXPECT_DOUBLE_EQ(samples[0].x[1], 0.15);
+    EXPECT_EQ(samples[0].x[1], double(0.15f));  // dy="0.15", read as a float as SOFA reads it
     std::filesystem::remove_all(*run.states_directory);
 }
 

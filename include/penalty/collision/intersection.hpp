@@ -56,6 +56,12 @@ struct SofaQuirkFixes {
     /// §14.4 NewProximity Triangle–Triangle overwrites the stored normals (bothSide logic).
     /// true: leave the stored normals alone.
     bool fix_newproximity_triangle_triangle_normal_overwrite = false;
+    /// Found by the trajectory comparison (not in spec §14; not a collision quirk, but a fix of
+    /// the scene loader): MechanicalObject::parse reads the short forms `dx dy dz`, `rx ry rz`,
+    /// `scale` and `sx sy sz` with BaseObjectDescription::getAttributeAsFloat (strtof), so
+    /// `scale="0.7"` scales by 0.699999988079071. true: read them in double, as the long forms
+    /// `translation`, `rotation`, `scale3d`. Read when a scene is built (BuildOptions).
+    bool fix_mechanical_object_float_short_forms = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

@@ -3,6 +3,9 @@
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
+#include <cmath>
+#include <cstdlib>
+
 namespace penalty::scene::builder {
 
 namespace {
@@ -100,7 +103,10 @@ constexpr AttributeSpec kMechanicalObject[] = {
     {"rx", K::real, "(rotation[0])", "deg", ValueCheck::none, ""},
     {"ry", K::real, "(rotation[1])", "deg", ValueCheck::none, ""},
     {"rz", K::real, "(rotation[2])", "deg", ValueCheck::none, ""},
-    {"scale", K::real, "1", "", ValueCheck::none, "uniform factor on scale3d"},
+    {"scale", K::real, "(scale3d)", "", ValueCheck::none, "uniform scale: scale3d = (s, s, s)"},
+    {"sx", K::real, "1", "", ValueCheck::none, "if any of sx sy sz is given: scale3d = (sx, sy, sz)"},
+    {"sy", K::real, "1", "", ValueCheck::none, ""},
+    {"sz", K::real, "1", "", ValueCheck::none, ""},
 };
 
 /// `size`, bounded so that a typo cannot allocate the machine's memory.
@@ -111,18 +117,43 @@ std::size_t dof_count(const SceneBuilder& b, const Attributes& a) {
     return std::size_t(n);
 }
 
-InitialTransform read_transform(const Attributes& a) {
+/// A short form of MechanicalObject (`dx`, `rx`, `scale`, `sx` …) as SOFA's
+/// MechanicalObject::parse reads it: BaseObjectDescription::getAttributeAsFloat, strtof on the
+/// text, so rounded to float (0.7 → 0.699999988079071); in double with the SOFA quirk fix
+/// `mechanical_object_float_short_forms`. Missing: `fallback`.
+double short_form(const Attributes& a, std::string_view name, double fallback, bool in_double) {
+    if (!a.has(name)) return fallback;
+    const double value = a.real_or(name, fallback);  // checked (a number) with the scene's error messages
+    if (in_double) return value;
+    const std::string text = a.text(name);
+    const float as_float = std::strtof(text.c_str(), nullptr);
+    if (!std::isfinite(as_float))
+        a.fail(std::string(name), "'" + text + "' is beyond float range, and SOFA reads this attribute as a float "
+                                  "(--fix-sofa-quirk mechanical_object_float_short_forms reads it in double)");
+    return double(as_float);
+}
+
+/// MechanicalObject::parse, after the long forms: `scale` sets scale3d = (s, s, s); any of
+/// `sx sy sz` sets scale3d = (sx, sy, sz) (missing: 1); any of `rx ry rz` sets rotation
+/// (missing: 0); any of `dx dy dz` sets translation (missing: 0).
+InitialTransform read_transform(const Attributes& a, const SofaQuirkFixes& quirks) {
     InitialTransform tr;
     tr.translation = a.vector3("translation");
     tr.rotation_deg = a.vector3("rotation");
     tr.scale3d = a.vector3("scale3d");
-    // SOFA's short forms: dx dy dz (translation), rx ry rz (degrees), scale (uniform).
-    for (int k = 0; k < 3; ++k) {
-        const std::string axis(1, char('x' + k));
-        tr.translation[k] = a.real_or("d" + axis, tr.translation[k]);
-        tr.rotation_deg[k] = a.real_or("r" + axis, tr.rotation_deg[k]);
-    }
-    if (auto s = a.optional_real("scale")) tr.scale3d *= *s;
+    const bool in_double = quirks.fix_mechanical_object_float_short_forms;
+    const auto any_of = [&](const char* prefix) {
+        return a.has(std::string(prefix) + "x") || a.has(std::string(prefix) + "y") || a.has(std::string(prefix) + "z");
+    };
+    const auto three = [&](const char* prefix, double fallback) {
+        Vec3 v;
+        for (int k = 0; k < 3; ++k) v[k] = short_form(a, std::string(prefix) + char('x' + k), fallback, in_double);
+        return v;
+    };
+    if (a.has("scale")) tr.scale3d = Vec3::Constant(short_form(a, "scale", 1.0, in_double));
+    if (any_of("s")) tr.scale3d = three("s", 1.0);
+    if (any_of("r")) tr.rotation_deg = three("r", 0.0);
+    if (any_of("d")) tr.translation = three("d", 0.0);
     return tr;
 }
 
@@ -171,7 +202,7 @@ void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild
     const std::string name = c.name.empty() ? sofa_default_name(c) : c.name;
     Node& node = *info.node;
     b.guarded(c, [&] {
-        const InitialTransform tr = read_transform(a);
+        const InitialTransform tr = read_transform(a, b.options().sofa_quirk_fixes);
         if (rigid) {
             auto& s = node.add_state<Rigid3Types>(name);
             fill_rigid_state(b, a, info, s);
@@ -189,7 +220,7 @@ void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild
     if (info.mapped) where = "mapped: positions and velocities from its mapping";
     else if (info.solver_node) where = "integrated by the ODE solver of " + node_path(*info.solver_node);
     else where = "static: in no solver's subtree, never moves";
-    const InitialTransform tr = read_transform(a);
+    const InitialTransform tr = read_transform(a, b.options().sofa_quirk_fixes);
     std::string moved;
     if (!tr.scale3d.isOnes(0)) moved += ", scaled " + vec(tr.scale3d);
     if (!tr.rotation_deg.isZero(0)) moved += ", rotated " + vec(tr.rotation_deg) + " deg";
