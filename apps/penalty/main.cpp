@@ -390,7 +390,7 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber);
     run->add_option("--debug-file", args.debug_file, "File of --debug-step (default penalty-debug-step.txt)");
     run->add_option("--fix-sofa-quirk", args.quirk_fixes,
-                    "Fix a SOFA bug in every intersection method (repeatable; 'all' for every one; names: penalty info)");
+                    "Fix a SOFA bug: in every intersection method, or in reading MechanicalObjects (repeatable; 'all' for every one; names: penalty info)");
     run->add_option("--fix-sofa-quirks", args.quirk_fixes, "Same as --fix-sofa-quirk (e.g. --fix-sofa-quirks all)");
     run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
     run->add_flag("--sofa-head-orders,!--no-sofa-head-orders", args.sofa_head_orders,
