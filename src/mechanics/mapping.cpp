@@ -228,7 +228,7 @@ void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<c
                 index = t;
             }
         }
-        if (index == tetras.size()) throw_invalid_argument("BarycentricMapping: point ", i, " is 1e5 or farther from every tetrahedron");
+        if (index == tetras.size()) throw_invalid_argument("BarycentricMapping: point ", i, " is not finite, or 1e5 or farther from the centre of every tetrahedron (SOFA's search starts at a squared distance of 1e10)");
         const auto& tet = tetras[index];
         rows[i].push(tet[0], 1 - coefs[0] - coefs[1] - coefs[2]);  // ((1 − fx) − fy) − fz, as SOFA
         rows[i].push(tet[1], coefs[0]);

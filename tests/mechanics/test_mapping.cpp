@@ -421,6 +421,15 @@ TEST(Mapping, BadInputThrows) {
     MeshTopology flat;
     flat.set_tetrahedra({{0, 1, 2, 3}});  // coplanar: degenerate
     EXPECT_THROW(map.map_on_tetrahedra(flat, in.position, std::vector<Vec3>{Vec3::Zero()}), std::invalid_argument);
+    // a point SOFA's search cannot place (its starting squared distance is 1e10): NaN, or 1e5 or
+    // farther from every centre, is an error, not a row on no tetrahedron
+    const std::vector<Vec3> corners = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+    MeshTopology unit;
+    unit.set_tetrahedra({{0, 1, 2, 3}});
+    EXPECT_THROW(map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(NAN, 0, 0)}), std::invalid_argument);
+    EXPECT_THROW(map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(2e5, 0, 0)}), std::invalid_argument);
+    map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(9e4, 0, 0)});  // within reach: mapped
+    EXPECT_EQ(map.weights()[0][1].index, 1);
 }
 
 }  // namespace
