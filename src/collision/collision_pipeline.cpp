@@ -2,6 +2,7 @@
 
 #include "penalty/core/error.hpp"
 
+#include "penalty/collision/box_columns.hpp"
 #include "kernels.hpp"
 
 #include <tbb/blocked_range.h>
@@ -11,6 +12,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace penalty {
@@ -35,22 +37,41 @@ struct Traversal {
     double margin;
     bool parallel;
     tbb::enumerable_thread_specific<Keys>& buffers;
+    KernelPath path = best_kernel_path();  // the leaf-level box tests (box_columns.hpp)
 
     void emit(Keys& out, std::uint32_t ea, std::uint32_t eb) const {
         if (self) out.push_back(ea > eb ? key(ea, eb) : key(eb, ea));
         else out.push_back(key(ea, eb));
     }
 
+    // Every element pair of two nodes whose boxes overlap, emitted by slot of a, then of b.
     void all_pairs(const BvhNode& na, const BvhNode& nb, Keys& out) const {
         const std::uint32_t* oa = a.order().data();
         const std::uint32_t* ob = b.order().data();
         const Aabb* ba = a.ordered_boxes().data();
         const Aabb* bb = b.ordered_boxes().data();
+        if (nb.count > detail::BoxColumns::kCapacity) {
+            for (std::uint32_t s = na.first; s < na.first + na.count; ++s) {
+                const Aabb& boxa = ba[s];
+                if (!boxa.overlaps(nb.box, margin)) continue;  // prunes only: nb.box contains bb[t]
+                for (std::uint32_t t = nb.first; t < nb.first + nb.count; ++t)
+                    if (boxa.overlaps(bb[t], margin)) emit(out, oa[s], ob[t]);
+            }
+            return;
+        }
+        // The columns: the elements of nb whose box overlaps na's box. The others overlap no
+        // box of na (na.box contains them: a.min >= na.min, a.max <= na.max, exactly), and the
+        // rows likewise need to overlap nb's box. Same pairs, same order as testing every pair.
+        detail::BoxColumns columns;
+        for (std::uint32_t t = nb.first; t < nb.first + nb.count; ++t)
+            if (bb[t].overlaps(na.box, margin)) columns.push(bb[t], margin, t);
+        if (columns.size == 0) return;
+        columns.pad();
         for (std::uint32_t s = na.first; s < na.first + na.count; ++s) {
             const Aabb& boxa = ba[s];
-            if (!boxa.overlaps(nb.box, margin)) continue;  // prunes only: nb.box contains bb[t]
-            for (std::uint32_t t = nb.first; t < nb.first + nb.count; ++t)
-                if (boxa.overlaps(bb[t], margin)) emit(out, oa[s], ob[t]);
+            if (!boxa.overlaps(nb.box, margin)) continue;
+            for (std::uint64_t m = detail::overlap_mask(boxa, margin, columns, path); m != 0; m &= m - 1)
+                emit(out, oa[s], ob[columns.slot[std::countr_zero(m)]]);
         }
     }
 
