@@ -467,6 +467,23 @@ TEST(NarrowPhase, MixedModelsWithBeyondSofaPairsEqualExhaustive) {
     }
 }
 
+// Two pipelines over the same models: with the candidate cache (the default) and without it
+// (the trees traversed at every step, the reference).
+struct CachedAndPlain {
+    CollisionPipeline cached;
+    CollisionPipeline plain;
+    CachedAndPlain(const IntersectionParams& params, const std::vector<CollisionModel*>& models)
+        : cached(params), plain(params, without_cache()) {
+        cached.set_models(models);
+        plain.set_models(models);
+    }
+    static CollisionPipelineOptions without_cache() {
+        CollisionPipelineOptions o;
+        o.candidate_cache = false;
+        return o;
+    }
+};
+
 TEST(NarrowPhase, CandidateCacheGivesTheTraversalsOutputsOverManyStepsAndIsReused) {
     // the kept candidates of a pair are re-tested with the exact box test, so a pipeline with the
     // cache must give bit for bit what one traversing the trees at every step gives, in SOFA's
@@ -476,11 +493,9 @@ TEST(NarrowPhase, CandidateCacheGivesTheTraversalsOutputsOverManyStepsAndIsReuse
         MeshScene sc(7, true);
         std::mt19937 g(8);
         const IntersectionParams params = method_params(method);
-        CollisionPipelineOptions cached_options, plain_options;
-        plain_options.candidate_cache = false;
-        CollisionPipeline cached(params, cached_options), plain(params, plain_options);
-        cached.set_models(sc.models);
-        plain.set_models(sc.models);
+        CachedAndPlain pipelines(params, sc.models);
+        CollisionPipeline& cached = pipelines.cached;
+        CollisionPipeline& plain = pipelines.plain;
         std::size_t total = 0;
         for (int step = 0; step < 27; ++step) {
             const SceneDetection& got = cached.detect();
@@ -512,11 +527,9 @@ TEST(NarrowPhase, CandidateCacheInSofaOrderGivesTheSortedOutputsOfAnUnchangedSce
     // sorted outputs of the first step, bit for bit
     MeshScene sc(11, true);
     const IntersectionParams params = method_params(IntersectionMethod::MinProximity);
-    CollisionPipelineOptions plain_options;
-    plain_options.candidate_cache = false;
-    CollisionPipeline cached(params), plain(params, plain_options);
-    cached.set_models(sc.models);
-    plain.set_models(sc.models);
+    CachedAndPlain pipelines(params, sc.models);
+    CollisionPipeline& cached = pipelines.cached;
+    CollisionPipeline& plain = pipelines.plain;
     const SceneDetection ref = plain.detect();
     EXPECT_GT(count_outputs(ref), 100u);
     for (int step = 0; step < 40; ++step) expect_identical(cached.detect(), ref);
@@ -530,11 +543,9 @@ TEST(NarrowPhase, CandidateCacheFollowsSphereCloudsThatMoveFast) {
     SphereScene sc(4);
     std::mt19937 g(5);
     const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
-    CollisionPipelineOptions plain_options;
-    plain_options.candidate_cache = false;
-    CollisionPipeline cached(params), plain(params, plain_options);
-    cached.set_models(sc.models);
-    plain.set_models(sc.models);
+    CachedAndPlain pipelines(params, sc.models);
+    CollisionPipeline& cached = pipelines.cached;
+    CollisionPipeline& plain = pipelines.plain;
     std::size_t total = 0;
     for (int step = 0; step < 8; ++step) {
         expect_identical(cached.detect(), plain.detect());
