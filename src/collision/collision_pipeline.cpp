@@ -343,17 +343,27 @@ void CollisionPipeline::index_models() {
 }
 
 void CollisionPipeline::refit() {
-    if (detection_ != ContactDetection::bvh) return;
+    // SOFA's computeBoundingTree, once per detection for every active model: the model's derived
+    // data (CollisionModel::update: triangle normals, tetrahedron coord2bary) and its tree. A
+    // kernel's writes to a model (Triangle–Triangle's normal overwrite, §14.4) therefore last
+    // until the next detection, through the later pairs of this one, as in SOFA.
     for (std::size_t i = 0; i < models_.size(); ++i) {
         CollisionModel& m = *models_[i];
         if (!m.params().active) continue;
+        if (detection_ == ContactDetection::exhaustive) {
+            m.validate();
+            m.update();
+            continue;
+        }
         Bvh& tree = trees_[i];
         if (m.params().moving) {
             m.validate_for_step();
+            m.update();
             tree.refit(m, opt_.rebuild_ratio, opt_.leaf_size);
             if (opt_.candidate_cache) track_motion(i);
         } else if (tree.build_count() == 0 || tree.element_boxes().size() != m.size()) {
             m.validate();  // static: checked and built once (SOFA: bounding tree computed once)
+            m.update();    // a static model's update() computes once
             tree.build(m, opt_.leaf_size);
             if (opt_.candidate_cache) track_motion(i);
         }
@@ -439,14 +449,12 @@ void CollisionPipeline::build_sofa_trees() {
 }
 
 bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
+    // the models were validated and update()d by refit()
     if (detection_ == ContactDetection::exhaustive) {
-        exhaustive_narrow_phase(params_, m1, m2, out, boxes_);
+        detail::exhaustive_element_pairs(params_, m1, m2, out, boxes_);
         return false;
     }
-    // the same element pairs as the exhaustive loop (bvh_narrow_phase's guarantee); update()
-    // first, unconditionally, as exhaustive_narrow_phase does
-    m1.update();
-    if (&m2 != &m1) m2.update();
+    // the same element pairs as the exhaustive loop (bvh_narrow_phase's guarantee)
     const std::size_t i1 = model_index(m1), i2 = model_index(m2);
     const Bvh& t1 = trees_[i1];
     const Bvh& t2 = trees_[i2];

@@ -398,10 +398,15 @@ void exhaustive_narrow_phase(const IntersectionParams& params, CollisionModel& m
                              DetectionOutputList& out, std::vector<Aabb>& box_scratch) {
     m1.validate();
     if (&m2 != &m1) m2.validate();
-    const Entry& e = entry(params.method, m1.type(), m2.type());
-    PENALTY_DEMAND(is_registered_order(m1.type(), m2.type()) && active(params, e));
     m1.update();
     if (&m2 != &m1) m2.update();
+    detail::exhaustive_element_pairs(params, m1, m2, out, box_scratch);
+}
+
+void detail::exhaustive_element_pairs(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
+                                      DetectionOutputList& out, std::vector<Aabb>& box_scratch) {
+    const Entry& e = entry(params.method, m1.type(), m2.type());
+    PENALTY_DEMAND(is_registered_order(m1.type(), m2.type()) && active(params, e));
     // SOFA's cube test margin (§3.8): conservative, never changes the set of outputs
     const double margin = box_margin(params, m1, m2);
     const bool same_model = &m1 == &m2;

@@ -221,6 +221,12 @@ inline bool line_line_points(const Vec3& p1, const Vec3& p2, const Vec3& q1, con
     return true;
 }
 
+/// exhaustive_narrow_phase's loop over the element pairs, on models already validated and
+/// update()d (CollisionPipeline::refit does both once per detection, as SOFA's
+/// computeBoundingTree does; intersection.cpp).
+void exhaustive_element_pairs(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
+                              DetectionOutputList& out, std::vector<Aabb>& box_scratch);
+
 // ---- kernels, by method (definitions in the kernels_*.cpp files) ----
 // NewProximity
 int np_sphere_sphere(PairCtx&);     // Sphere/RigidSphere pairs (centres)

@@ -135,8 +135,8 @@ public:
     [[nodiscard]] ContactDetection detection() const { return detection_; }
 
     /// One detection step: refit(), broad_phase(), then for each kept pair (registered order)
-    /// its narrow phase: exhaustive_narrow_phase, or (bvh) update() of both models and, unless
-    /// the root boxes are apart by more than the §3.8 margin, bvh_narrow_phase. Returns every
+    /// its narrow phase: exhaustive_narrow_phase's element loop, or (bvh), unless the root boxes
+    /// are apart by more than the §3.8 margin, bvh_narrow_phase. Returns every
     /// kept pair (outputs possibly empty; narrow_phase false when SOFA's broad phase would drop
     /// it: root boxes apart or a model empty); the reference is valid until the next detect().
     const SceneDetection& detect();
@@ -146,10 +146,11 @@ public:
     /// intersector (the method ignores or does not support them): not detected.
     [[nodiscard]] const std::vector<ModelPair>& unsupported_pairs() const { return unsupported_; }
 
-    /// bvh: for every active model, validate() (std::invalid_argument naming the model and the
-    /// element for NaN/inf positions), then its tree is refitted (moving) or built once
-    /// (moving = false; rebuilt if its size changed). exhaustive: nothing (the narrow phase
-    /// validates).
+    /// For every active model, once per detection (SOFA's computeBoundingTree): validate()
+    /// (std::invalid_argument naming the model and the element for NaN/inf positions), update()
+    /// (triangle normals, tetrahedron coord2bary; a static model's only once) and, bvh, its tree
+    /// refitted (moving) or built once (moving = false; rebuilt if its size changed). A moving
+    /// model of the bvh detection is checked by validate_for_step(), the same outcome.
     void refit();
     /// The narrow phase of one pair (m1, m2 registered here, in registered order, with an active
     /// intersector) at the current positions, as detect() does it; trees as left by refit().
