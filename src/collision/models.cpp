@@ -1,5 +1,6 @@
 #include "penalty/collision/models.hpp"
 
+#include "penalty/collision/triangle_normals.hpp"
 #include "penalty/core/error.hpp"
 
 #include <cmath>
@@ -147,13 +148,9 @@ TriangleModel::TriangleModel(const Vec3State& state, const MeshTopology& topolog
 }
 
 void TriangleModel::do_update() {
-    if (!compute_normals) return;
-    for (std::size_t i = 0; i < triangles_.size(); ++i) {
-        const Vec3 n = (p(Index(i), 1) - p(Index(i), 0)).cross(p(Index(i), 2) - p(Index(i), 0));
-        const double len = n.norm();
-        // SOFA normalises without a guard; a zero-area triangle keeps a zero normal here
-        normals_[i] = len > 0.0 ? Vec3(n / len) : Vec3::Zero();
-    }
+    // SOFA's updateNormals: normalize((p1 − p0) × (p2 − p0)); a zero-area triangle keeps a zero
+    // normal here (SOFA normalises without a guard)
+    if (compute_normals) detail::triangle_normals(state_->position, triangles_, normals_, best_kernel_path());
 }
 
 Aabb TriangleModel::element_box(Index i) const {
