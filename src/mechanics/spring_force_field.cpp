@@ -4,10 +4,7 @@
 #include <set>
 #include <utility>
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define PENALTY_AVX_KERNELS 1
-#endif
+#include "penalty/core/avx_lanes.hpp"
 
 namespace penalty {
 
@@ -40,28 +37,31 @@ std::vector<BaseState*> SpringForceField::states() const {
     return {s1_, s2_};
 }
 
-void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
-                                 ConstVec3Span v2) {
-    dfdx_.resize(springs_.size());
-    energy_ = 0.0;
-    for (std::size_t i = 0; i < springs_.size(); ++i) {
-        const Spring& s = springs_[i];
+namespace {
+/// SOFA's SpringForceField::computeSpringForce for springs [begin, end), operation by operation
+/// (the rounding of every step is SOFA's): u = x_b − x_a, d = |u|, U = u·(1/d), elongation
+/// e = d − l0, intensity f = ks·e + kd·(U·(v_b − v_a)), force f·U, dF/dX = (ks − f/d)·U·Uᵀ + f/d·I
+/// with f/d computed as f·(1/d) and each entry ((ks − t)·U_j)·U_k (QuadularBendingSprings:
+/// (ks − t)·((u_j/d)·(u_k/d))). A spring no longer than the null length gets no force and a zero
+/// m. The energy ½·ks·e² is added spring by spring, in order.
+template <class Stiffness>
+void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_t begin, std::size_t end,
+                  double null_length, Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1, const Vec3* v2,
+                  Stiffness* dfdx, double& energy) {
+    for (std::size_t i = begin; i < end; ++i) {
+        const Spring& s = springs[i];
         const auto a = static_cast<std::size_t>(s.a);
         const auto b = static_cast<std::size_t>(s.b);
-        // SOFA's SpringForceField::computeSpringForce, operation by operation (the rounding of
-        // every step is SOFA's): u = x_b − x_a, d = |u|, U = u·(1/d), elongation e = d − l0,
-        // intensity f = ks·e + kd·(U·(v_b − v_a)), force f·U, dF/dX = (ks − f/d)·U·Uᵀ + f/d·I with
-        // f/d computed as f·(1/d) and each entry ((ks − t)·U_j)·U_k.
         const Vec3 u = x2[b] - x1[a];
         const double d = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-        if (d <= null_length_) {
-            dfdx_[i] = StiffnessColumns{};
+        if (d <= null_length) {
+            dfdx[i] = Stiffness{};
             continue;
         }
         const double inverse_length = 1.0 / d;
         const Vec3 n(u[0] * inverse_length, u[1] * inverse_length, u[2] * inverse_length);
         const double elongation = d - s.rest_length;
-        energy_ += elongation * elongation * s.ks / 2;
+        energy += elongation * elongation * s.ks / 2;
         const Vec3 relative_velocity = v2[b] - v1[a];
         const double elongation_velocity = n[0] * relative_velocity[0] + n[1] * relative_velocity[1] + n[2] * relative_velocity[2];
         const double intensity = s.ks * elongation + s.kd * elongation_velocity;
@@ -69,8 +69,8 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
         f1[a] += force;
         f2[b] -= force;
         const double t = intensity * inverse_length;
-        auto& m = dfdx_[i].column;  // m(j, k) is m[k][j]
-        if (arithmetic_ == SpringArithmetic::quadular_bending_springs) {
+        auto& m = dfdx[i].column;  // m(j, k) is m[k][j]
+        if (arithmetic == SpringArithmetic::quadular_bending_springs) {
             // QuadularBendingSprings::computeLocalJacobian: (ks − t)·dyad(u/d, u/d) + t·I
             const Vec3 w(u[0] / d, u[1] / d, u[2] / d);
             for (std::size_t j = 0; j < 3; ++j) {
@@ -84,6 +84,112 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
             m[j][j] += t;
         }
     }
+}
+
+#ifdef PENALTY_HAS_AVX_LANES
+/// spring_force on the first count − count % 4 springs, four springs in the four lanes: lane k
+/// does spring_force's operations for spring i + k, in its order (target avx, no fused
+/// multiply-add), so every bit is the scalar loop's; then the forces and the energy are added
+/// spring by spring in spring order, and each spring's m is stored as its three padded columns.
+/// Returns the number of springs done.
+template <SpringArithmetic Arithmetic, class Stiffness>
+[[gnu::target("avx")]] std::size_t spring_force_avx(const Spring* springs, std::size_t count, double null_length, Vec3* f1,
+                                                    Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
+                                                    const Vec3* v2, Stiffness* dfdx, double& energy) {
+    const __m256d one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0), null = _mm256_set1_pd(null_length);
+    std::size_t i = 0;
+    for (; i + 4 <= count; i += 4) {
+        const Spring* s = springs + i;
+        std::size_t a[4], b[4];
+        for (int k = 0; k < 4; ++k) {
+            a[k] = static_cast<std::size_t>(s[k].a);
+            b[k] = static_cast<std::size_t>(s[k].b);
+        }
+        const detail::Lanes3 xa = detail::load_lanes(x1[a[0]].data(), x1[a[1]].data(), x1[a[2]].data(), x1[a[3]].data());
+        const detail::Lanes3 xb = detail::load_lanes(x2[b[0]].data(), x2[b[1]].data(), x2[b[2]].data(), x2[b[3]].data());
+        const __m256d ks = _mm256_set_pd(s[3].ks, s[2].ks, s[1].ks, s[0].ks);
+        const __m256d kd = _mm256_set_pd(s[3].kd, s[2].kd, s[1].kd, s[0].kd);
+        const __m256d l0 = _mm256_set_pd(s[3].rest_length, s[2].rest_length, s[1].rest_length, s[0].rest_length);
+        const __m256d ux = _mm256_sub_pd(xb.x, xa.x), uy = _mm256_sub_pd(xb.y, xa.y), uz = _mm256_sub_pd(xb.z, xa.z);
+        const __m256d d = _mm256_sqrt_pd(
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy)), _mm256_mul_pd(uz, uz)));
+        // d <= null length (ordered: a NaN length is a spring, as in the scalar test)
+        const int short_lanes = _mm256_movemask_pd(_mm256_cmp_pd(d, null, _CMP_LE_OQ));
+        const __m256d live = _mm256_cmp_pd(d, null, _CMP_NLE_UQ);
+        const __m256d inverse_length = _mm256_div_pd(one, d);
+        const __m256d nx = _mm256_mul_pd(ux, inverse_length), ny = _mm256_mul_pd(uy, inverse_length),
+                      nz = _mm256_mul_pd(uz, inverse_length);
+        const __m256d elongation = _mm256_sub_pd(d, l0);
+        const __m256d spring_energy = _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(elongation, elongation), ks), two);
+        const detail::Lanes3 va = detail::load_lanes(v1[a[0]].data(), v1[a[1]].data(), v1[a[2]].data(), v1[a[3]].data());
+        const detail::Lanes3 vb = detail::load_lanes(v2[b[0]].data(), v2[b[1]].data(), v2[b[2]].data(), v2[b[3]].data());
+        const __m256d rx = _mm256_sub_pd(vb.x, va.x), ry = _mm256_sub_pd(vb.y, va.y), rz = _mm256_sub_pd(vb.z, va.z);
+        const __m256d elongation_velocity =
+            _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(nx, rx), _mm256_mul_pd(ny, ry)), _mm256_mul_pd(nz, rz));
+        const __m256d intensity = _mm256_add_pd(_mm256_mul_pd(ks, elongation), _mm256_mul_pd(kd, elongation_velocity));
+        alignas(32) double fx[4], fy[4], fz[4], e[4];
+        _mm256_store_pd(fx, _mm256_mul_pd(nx, intensity));
+        _mm256_store_pd(fy, _mm256_mul_pd(ny, intensity));
+        _mm256_store_pd(fz, _mm256_mul_pd(nz, intensity));
+        _mm256_store_pd(e, spring_energy);
+        for (int k = 0; k < 4; ++k) {
+            if (short_lanes & (1 << k)) continue;
+            energy += e[k];
+            const Vec3 force(fx[k], fy[k], fz[k]);
+            f1[a[k]] += force;
+            f2[b[k]] -= force;
+        }
+        const __m256d t = _mm256_mul_pd(intensity, inverse_length);
+        const __m256d c = _mm256_sub_pd(ks, t);
+        __m256d w[3];
+        if constexpr (Arithmetic == SpringArithmetic::quadular_bending_springs) {
+            w[0] = _mm256_div_pd(ux, d);
+            w[1] = _mm256_div_pd(uy, d);
+            w[2] = _mm256_div_pd(uz, d);
+        } else {
+            w[0] = nx;
+            w[1] = ny;
+            w[2] = nz;
+        }
+        for (int k = 0; k < 3; ++k) {  // column k: m[k][j] for j = 0, 1, 2; short springs get zeros
+            __m256d row[3];
+            for (int j = 0; j < 3; ++j) {
+                __m256d m;
+                if constexpr (Arithmetic == SpringArithmetic::quadular_bending_springs)
+                    m = _mm256_mul_pd(c, _mm256_mul_pd(w[j], w[k]));
+                else
+                    m = _mm256_mul_pd(_mm256_mul_pd(c, w[j]), w[k]);
+                if (j == k) m = _mm256_add_pd(m, t);
+                row[j] = _mm256_and_pd(m, live);
+            }
+            detail::store_rows_padded(row[0], row[1], row[2], dfdx[i].column[std::size_t(k)].data(),
+                                      dfdx[i + 1].column[std::size_t(k)].data(), dfdx[i + 2].column[std::size_t(k)].data(),
+                                      dfdx[i + 3].column[std::size_t(k)].data());
+        }
+    }
+    return i;
+}
+#endif
+}  // namespace
+
+void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
+                                 ConstVec3Span v2) {
+    dfdx_.resize(springs_.size());
+    energy_ = 0.0;
+    std::size_t done = 0;
+#ifdef PENALTY_HAS_AVX_LANES
+    if (kernel_path_ == KernelPath::avx) {
+        done = arithmetic_ == SpringArithmetic::quadular_bending_springs
+                   ? spring_force_avx<SpringArithmetic::quadular_bending_springs>(
+                         springs_.data(), springs_.size(), null_length_, f1.data(), f2.data(), x1.data(), x2.data(),
+                         v1.data(), v2.data(), dfdx_.data(), energy_)
+                   : spring_force_avx<SpringArithmetic::spring_force_field>(
+                         springs_.data(), springs_.size(), null_length_, f1.data(), f2.data(), x1.data(), x2.data(),
+                         v1.data(), v2.data(), dfdx_.data(), energy_);
+    }
+#endif
+    spring_force(arithmetic_, springs_.data(), done, springs_.size(), null_length_, f1.data(), f2.data(), x1.data(),
+                 x2.data(), v1.data(), v2.data(), dfdx_.data(), energy_);
 }
 
 namespace {
@@ -113,7 +219,7 @@ void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t cou
     }
 }
 
-#ifdef PENALTY_AVX_KERNELS
+#ifdef PENALTY_HAS_AVX_LANES
 /// The same product with the three rows of m·dx in the lanes 0–2 of 256-bit registers (lane 3
 /// computes 0·dx and is dropped): lane r does row r's operations of spring_dforce, in its order,
 /// each an IEEE operation of the same operands, so every bit is the scalar loop's. The
@@ -157,7 +263,7 @@ template <SpringArithmetic Arithmetic, class Stiffness>
 template <SpringArithmetic Arithmetic, class Stiffness>
 void spring_dforce_on(KernelPath path, const Spring* springs, const Stiffness* dfdx, std::size_t count, Vec3* df1,
                       Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor) {
-#ifdef PENALTY_AVX_KERNELS
+#ifdef PENALTY_HAS_AVX_LANES
     if (path == KernelPath::avx) {
         spring_dforce_avx<Arithmetic>(springs, dfdx, count, df1, df2, dx1, dx2, k_factor);
         return;
