@@ -384,7 +384,7 @@ TEST(NarrowPhase, TriangleTriangleWithoutNormalOverwriteRunsInParallelAndEqualsE
 TEST(NarrowPhase, TriangleTriangleWithNormalOverwriteWritesInOrderAndEvaluatesInParallel) {
     // SOFA's §14.4 overwrite runs over the candidates in order first, then the outputs are
     // computed in parallel chunks: the outputs and the stored normals are the sequential loop's.
-    // Only the two triangle models: any later pair would update() the models' normals again.
+    // Only the two triangle models: later pairs could overwrite the normals again.
     MeshScene par(44, true), seq(44, true), fresh(44, true);
     IntersectionParams params = method_params(IntersectionMethod::NewProximity);
     CollisionPipelineOptions opt = canonical_order();
@@ -413,6 +413,37 @@ TEST(NarrowPhase, TriangleTriangleWithNormalOverwriteWritesInOrderAndEvaluatesIn
         }
     }
     EXPECT_GT(overwritten, 50u);  // the overwrite really happened, on many triangles
+}
+
+TEST(NarrowPhase, NormalOverwriteLastsThroughTheLaterPairsOfOneDetection) {
+    // SOFA updates each model's normals once per detection (computeBoundingTree), so a normal that
+    // one pair overwrote (§14.4) is the one a later pair of the same detection reads. Three
+    // one-triangle models: B 0.1 above A, C 0.1 below A, B and C beyond each other's reach.
+    // Pair (B, A), B one-sided: n_A := −n_B. Pair (C, A), C two-sided, A one-sided: n_C := −n_A,
+    // which is n_B = +z; had A's normal been computed again between the pairs, n_C = −(+z).
+    for (const ContactDetection detection : {ContactDetection::bvh, ContactDetection::exhaustive}) {
+        auto a = test::triangle_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});         // n = +z
+        auto b = test::triangle_mesh({{0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1}}, {{0, 1, 2}});   // n = +z
+        auto c = test::triangle_mesh({{0, 0, -0.1}, {0, 1, -0.1}, {1, 0, -0.1}}, {{0, 1, 2}});  // n = −z
+        CollisionModelParams two_sided;
+        two_sided.both_side = true;
+        TriangleModel ta(a->state, a->topo), tb(b->state, b->topo), tc(c->state, c->topo, two_sided);
+        IntersectionParams params = IntersectionParams::new_proximity();
+        params.alarm_distance = 0.15;
+        params.contact_distance = 0.05;
+        CollisionPipeline pipe(params, {}, detection);
+        pipe.set_models({&ta, &tb, &tc});
+        for (int step = 0; step < 2; ++step) {  // the next detection computes them again first
+            const SceneDetection& got = pipe.detect();
+            ASSERT_NE(find_pair(got, &tb, &ta), nullptr);
+            ASSERT_NE(find_pair(got, &tc, &ta), nullptr);
+            const ModelPairDetection* cb = find_pair(got, &tc, &tb);
+            ASSERT_TRUE(cb == nullptr || cb->outputs.empty());
+            EXPECT_EQ(ta.normal(0), Vec3(0, 0, -1)) << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
+            EXPECT_EQ(tb.normal(0), Vec3(0, 0, 1)) << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
+            EXPECT_EQ(tc.normal(0), Vec3(0, 0, 1)) << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
+        }
+    }
 }
 
 /// Every model type, with the beyond-SOFA pairs (Cylinder, Tetrahedron–Point) enabled.
