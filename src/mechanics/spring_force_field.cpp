@@ -113,9 +113,9 @@ template <SpringArithmetic Arithmetic, class Stiffness>
         const __m256d ux = _mm256_sub_pd(xb.x, xa.x), uy = _mm256_sub_pd(xb.y, xa.y), uz = _mm256_sub_pd(xb.z, xa.z);
         const __m256d d = _mm256_sqrt_pd(
             _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(ux, ux), _mm256_mul_pd(uy, uy)), _mm256_mul_pd(uz, uz)));
-        // d <= null length (ordered: a NaN length is a spring, as in the scalar test)
-        const int short_lanes = _mm256_movemask_pd(_mm256_cmp_pd(d, null, _CMP_LE_OQ));
+        // not d <= null length (unordered: a NaN length is a spring, as in the scalar test)
         const __m256d live = _mm256_cmp_pd(d, null, _CMP_NLE_UQ);
+        const int live_lanes = _mm256_movemask_pd(live);
         const __m256d inverse_length = _mm256_div_pd(one, d);
         const __m256d nx = _mm256_mul_pd(ux, inverse_length), ny = _mm256_mul_pd(uy, inverse_length),
                       nz = _mm256_mul_pd(uz, inverse_length);
@@ -133,7 +133,7 @@ template <SpringArithmetic Arithmetic, class Stiffness>
         _mm256_store_pd(fz, _mm256_mul_pd(nz, intensity));
         _mm256_store_pd(e, spring_energy);
         for (int k = 0; k < 4; ++k) {
-            if (short_lanes & (1 << k)) continue;
+            if (!(live_lanes & (1 << k))) continue;
             energy += e[k];
             const Vec3 force(fx[k], fy[k], fz[k]);
             f1[a[k]] += force;
