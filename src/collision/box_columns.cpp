@@ -1,8 +1,6 @@
 #include "penalty/collision/box_columns.hpp"
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#endif
+#include "penalty/core/avx_lanes.hpp"
 
 namespace penalty::detail {
 
@@ -20,7 +18,7 @@ std::uint64_t overlap_mask_scalar(const Aabb& a, double margin, const BoxColumns
     return mask;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef PENALTY_HAS_AVX_LANES
 // Four columns per step: the six comparisons of each lane or-ed (ordered, quiet: NaN is false,
 // as the scalar `>`), then the lanes' "not disjoint" bits.
 [[gnu::target("avx")]] std::uint64_t overlap_mask_avx(const Aabb& a, double margin, const BoxColumns& c) {
@@ -46,7 +44,7 @@ std::uint64_t overlap_mask_scalar(const Aabb& a, double margin, const BoxColumns
 }  // namespace
 
 std::uint64_t overlap_mask(const Aabb& a, double margin, const BoxColumns& columns, KernelPath path) {
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef PENALTY_HAS_AVX_LANES
     if (path == KernelPath::avx) return overlap_mask_avx(a, margin, columns);
 #endif
     (void)path;

@@ -1,8 +1,7 @@
 #include "penalty/collision/triangle_normals.hpp"
 
-#include "penalty/core/error.hpp"
-
 #include "penalty/core/avx_lanes.hpp"
+#include "penalty/core/error.hpp"
 
 namespace penalty::detail {
 

@@ -1,4 +1,5 @@
 #include "penalty/mechanics/fem.hpp"
+#include "penalty/core/avx_lanes.hpp"
 
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "sofa_vector_ops.hpp"
@@ -370,9 +371,7 @@ template <class T, class StrainDisplacementEntries, class MaterialEntries>
     return force;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__)
-#define PENALTY_AVX_KERNELS 1
-#include <immintrin.h>
+#ifdef PENALTY_HAS_AVX_LANES
 /// Four doubles, one element's value per lane; every operator is lane-wise IEEE arithmetic.
 typedef double Lanes4 __attribute__((vector_size(32), __may_alias__));
 
@@ -538,7 +537,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     }
     PENALTY_DEMAND(large_.size() == elements_.size());
     energy_ = 0.0;
-#ifdef PENALTY_AVX_KERNELS
+#ifdef PENALTY_HAS_AVX_LANES
     if (kernel_path_ == KernelPath::avx) {
         // frames, δ and F four elements at a time (large_force_avx); the energy and f += Rᵀ·F
         // element by element in order, as below
@@ -610,7 +609,7 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
         return;
     }
     // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
-#ifdef PENALTY_AVX_KERNELS
+#ifdef PENALTY_HAS_AVX_LANES
     if (kernel_path_ == KernelPath::avx) {
         PENALTY_DEMAND(large_blocks_.size() == (elements_.size() + 3) / 4);
         large_dforce_avx(large_blocks_.data(), elements_.size(), df.data(), dx.data(), k_factor);

@@ -1,12 +1,14 @@
 #include "penalty/mechanics/kernel_path.hpp"
 
+#include "penalty/core/avx_lanes.hpp"
+
 namespace penalty {
 
 bool kernel_path_supported(KernelPath path) {
     switch (path) {
     case KernelPath::scalar: return true;
     case KernelPath::avx:
-#if defined(__x86_64__) && defined(__GNUC__)
+#ifdef PENALTY_HAS_AVX_LANES
         // libgcc's check includes the OS's support of the YMM state (XGETBV)
         return __builtin_cpu_supports("avx");
 #else

@@ -1,9 +1,11 @@
 #pragma once
 /// @file
-/// Helpers of the AVX kernels (KernelPath::avx): four Vec3 gathered into three registers of four
-/// lanes (x of the four, y of the four, z of the four). Internal (namespace detail). Only on
-/// x86-64 with GCC or Clang (PENALTY_HAS_AVX_LANES); the helpers are inlined into the callers'
-/// `[[gnu::target("avx")]]` functions. Loads read exactly the three doubles of each Vec3.
+/// The AVX kernels' platform switch and helpers (KernelPath::avx). PENALTY_HAS_AVX_LANES is
+/// defined, and <immintrin.h> included, only on x86-64 with GCC or Clang: the one place that
+/// decides where the AVX paths are compiled. Helpers: four Vec3 gathered into three registers of
+/// four lanes (x of the four, y of the four, z of the four) and padded rows stored back. Internal
+/// (namespace detail); inlined into the callers' `[[gnu::target("avx")]]` functions. Loads read
+/// exactly the three doubles of each Vec3.
 #if defined(__x86_64__) && defined(__GNUC__)
 #define PENALTY_HAS_AVX_LANES 1
 #include <immintrin.h>

@@ -1,10 +1,11 @@
 #pragma once
 /// @file
-/// Which instructions the force fields' per-CG-product kernels run (SpringForceField,
-/// TetrahedronFEMForceField method large). Every path gives the same bits: a vector lane does
-/// exactly the scalar operations of one spring row or one element, in the same order, with no
-/// fused multiply-add, and the results are added into df in the scalar loop's order
-/// (docs/mechanics.md, "Vector kernels").
+/// Which instructions the per-element loops with a vector path run: the force fields' kernels
+/// (SpringForceField add_force and add_dforce, TetrahedronFEMForceField method large), the
+/// triangle normals and the traversal's leaf-level box tests. Every path gives the same bits: a
+/// vector lane does exactly the scalar operations of one spring, row, element or triangle, in
+/// the same order, with no fused multiply-add, and the results are added in the scalar loop's
+/// order (docs/mechanics.md, "Vector kernels").
 
 namespace penalty {
 
