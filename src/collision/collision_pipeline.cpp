@@ -3,6 +3,7 @@
 #include "penalty/core/error.hpp"
 
 #include "penalty/collision/box_columns.hpp"
+#include "penalty/collision/separation.hpp"
 #include "kernels.hpp"
 
 #include <tbb/blocked_range.h>
@@ -229,14 +230,25 @@ namespace {
 // Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order:
 // the kernel's writes to the models first, over all candidates in order, then its reads, in
 // parallel chunks concatenated in chunk order (the outputs of the sequential loop).
+// The largest side of an element box of a Triangle or Line model (0 for the other models, whose
+// kernels have no separation tests).
+double longest_box_side(const CollisionModel& m, const Bvh& t) {
+    if (m.type() != ModelType::Triangle && m.type() != ModelType::Line) return 0.0;
+    double side = 0.0;
+    for (const Aabb& box : t.element_boxes()) side = std::max(side, (box.max - box.min).maxCoeff());
+    return side;
+}
+
+// separation_tests: run the kernels' early outs (separation.hpp), for the pair's every candidate
 void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& keys,
-                         const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out) {
+                         const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out,
+                         bool separation_tests) {
     const bool node = same_node(m1, m2);
     // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
     // models' sizes (check_trees), so every element index is in range
     const detail::KernelParts kernel = detail::pair_kernel_parts(params, m1, m2);
     auto for_each_candidate = [&](std::size_t begin, std::size_t end, DetectionOutputList& to, auto&& fn) {
-        detail::PairCtx ctx{params, m1, m2, 0, 0, to};
+        detail::PairCtx ctx{params, m1, m2, 0, 0, to, separation_tests};
         for (std::size_t k = begin; k < end; ++k) {
             ctx.e1 = Index(keys[k] >> 32);
             ctx.e2 = Index(keys[k] & 0xffffffffu);
@@ -288,16 +300,27 @@ double largest_bound_change(std::span<const Aabb> now, std::span<const Aabb> bef
 
 }  // namespace
 
-void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
-                      const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
-                      DetectionOutputList& out) {
+namespace {
+// bvh_narrow_phase with the pair's separation_tests decided by the caller
+void narrow_phase_on_trees(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
+                           const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
+                           DetectionOutputList& out, bool separation_tests) {
     const bool same_model = &m1 == &m2;
     check_trees(m1, t1, m2, t2);
     NarrowPhaseScratch::Buffers& b = scratch.buffers();
     const bool writes_models = kernel_writes_models(params, m1, m2);
     collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel,
                        opt.sorted_candidates || writes_models, b);
-    evaluate_candidates(params, m1, m2, b.keys, opt, b, out);
+    evaluate_candidates(params, m1, m2, b.keys, opt, b, out, separation_tests);
+}
+}  // namespace
+
+void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
+                      const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
+                      DetectionOutputList& out) {
+    const double side = std::max(longest_box_side(m1, t1), longest_box_side(m2, t2));
+    narrow_phase_on_trees(params, m1, t1, m2, t2, opt, scratch, out,
+                          detail::worth_separating(side, box_margin(params, m1, m2)));
 }
 
 CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
@@ -359,12 +382,14 @@ void CollisionPipeline::refit() {
         if (m.params().moving) {
             m.validate_for_step();
             m.update();
-            tree.refit(m, opt_.rebuild_ratio, opt_.leaf_size);
+            // the separation tests' size measured at each (re)build only: it decides speed, never outputs
+            if (tree.refit(m, opt_.rebuild_ratio, opt_.leaf_size)) motion_[i].longest_side = longest_box_side(m, tree);
             if (opt_.candidate_cache) track_motion(i);
         } else if (tree.build_count() == 0 || tree.element_boxes().size() != m.size()) {
             m.validate();  // static: checked and built once (SOFA: bounding tree computed once)
             m.update();    // a static model's update() computes once
             tree.build(m, opt_.leaf_size);
+            motion_[i].longest_side = longest_box_side(m, tree);
             if (opt_.candidate_cache) track_motion(i);
         }
     }
@@ -466,9 +491,10 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     if (opt_.sofa_output_order) narrow.sorted_candidates = false;
     const ModelMotion& a = motion_[i1];
     const ModelMotion& b = motion_[i2];
+    const bool separation_tests = detail::worth_separating(std::max(a.longest_side, b.longest_side), margin);
     if (!opt_.candidate_cache || a.generation == 0 || b.generation == 0) {
         if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), margin)) return false;
-        bvh_narrow_phase(params_, m1, t1, m2, t2, narrow, scratch_, out);
+        narrow_phase_on_trees(params_, m1, t1, m2, t2, narrow, scratch_, out, separation_tests);
         return false;
     }
     // Candidate cache. Since a generation began every box bound moved by at most its model's
@@ -517,7 +543,7 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const Aabb* boxes2 = t2.element_boxes().data();
     for (const std::uint64_t k : kept.keys)
         if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);
-    evaluate_candidates(params_, m1, m2, now, narrow, buf, out);
+    evaluate_candidates(params_, m1, m2, now, narrow, buf, out, separation_tests);
     if (kept.in_sofa_order) ++cache_stats_.in_sofa_order;
     else kept.outputs_sorted += out.size();
     return kept.in_sofa_order;

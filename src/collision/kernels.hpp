@@ -19,6 +19,9 @@ struct PairCtx {
     Index e1;
     Index e2;
     DetectionOutputList& out;
+    /// Run the early outs of penalty/collision/separation.hpp (the same outputs, sooner): set by
+    /// the narrow phase for model pairs with elements long against R (worth_separating).
+    bool separation_tests = false;
 };
 
 using KernelFn = int (*)(PairCtx&);

@@ -2,6 +2,7 @@
 // constants (tolerances, normal guards, SOFA's flag quirks) are its row in kernels.hpp.
 #include "kernels.hpp"
 
+#include "penalty/collision/separation.hpp"
 #include "penalty/geometry/segment_triangle.hpp"
 
 namespace penalty::detail {
@@ -146,6 +147,15 @@ bool min_triangle_projection(const PairCtx& c, const Vec3& P, Vec3& Q) {
     return true;
 }
 
+// Whether P is farther than R from the plane of triangle e1 of m1, when the pair runs the
+// separation tests (separation.hpp): then no output.
+bool beyond_triangle_plane(const PairCtx& c, const Vec3& P, double R) {
+    if (!c.separation_tests) return false;
+    const auto& t = static_cast<const TriangleModel&>(c.m1);
+    const Vec3 &p1 = t.p(c.e1, 0), &p2 = t.p(c.e1, 1), &p3 = t.p(c.e1, 2);
+    return plane_separates(p1, p2 - p1, p3 - p1, R, P);
+}
+
 }  // namespace
 
 // =============================================================================================
@@ -179,8 +189,11 @@ int line_line(PairCtx& c, const LineLineConstants& k) {
     const auto& l1 = static_cast<const LineModel&>(c.m1);
     const auto& l2 = static_cast<const LineModel&>(c.m2);
     const double sk = skins(c);
-    return np_ll(c, l1.p1(c.e1), l1.p2(c.e1), l2.p1(c.e2), l2.p2(c.e2), c.p.alarm_distance + sk,
-                 c.p.contact_distance + sk, id_big(c), k);
+    const double R = c.p.alarm_distance + sk;
+    const Vec3 &p1 = l1.p1(c.e1), &p2 = l1.p2(c.e1), &q1 = l2.p1(c.e2), &q2 = l2.p2(c.e2);
+    // segment 2 lies in the plane through q1 parallel to both segments (separation.hpp)
+    if (c.separation_tests && plane_separates(p1, p2 - p1, q2 - q1, R, q1)) return 0;
+    return np_ll(c, p1, p2, q1, q2, R, c.p.contact_distance + sk, id_big(c), k);
 }
 }  // namespace
 
@@ -208,8 +221,10 @@ int np_triangle_point(PairCtx& c) {
     const auto& t = static_cast<const TriangleModel&>(c.m1);
     const Vec3& q = static_cast<const PointModel&>(c.m2).point(c.e2);
     const double sk = skins(c);
-    return np_tp(c, t.p(c.e1, 0), t.p(c.e1, 1), t.p(c.e1, 2), t.flags(c.e1), q,
-                 c.p.alarm_distance + sk, c.p.contact_distance + sk, c.e2, false);
+    const double R = c.p.alarm_distance + sk;
+    const Vec3 &p1 = t.p(c.e1, 0), &p2 = t.p(c.e1, 1), &p3 = t.p(c.e1, 2);
+    if (c.separation_tests && plane_separates(p1, p2 - p1, p3 - p1, R, q)) return 0;
+    return np_tp(c, p1, p2, p3, t.flags(c.e1), q, R, c.p.contact_distance + sk, c.e2, false);
 }
 
 int np_triangle_sphere(PairCtx& c) {
@@ -224,8 +239,9 @@ int np_triangle_sphere(PairCtx& c) {
     }
     const double sk = skins(c);
     const double R = c.p.alarm_distance + sk + s.r;
-    const Vec3& p1 = t.p(c.e1, 0);
-    const Gram g = gram(p1, t.p(c.e1, 1), t.p(c.e1, 2), s.c);
+    const Vec3 &p1 = t.p(c.e1, 0), &p2 = t.p(c.e1, 1), &p3 = t.p(c.e1, 2);
+    if (c.separation_tests && plane_separates(p1, p2 - p1, p3 - p1, R, s.c)) return 0;
+    const Gram g = gram(p1, p2, p3, s.c);
     if (g.degenerate) return 0;
     double alpha = 0.0;
     double beta = 0.0;
@@ -249,6 +265,8 @@ int np_triangle_line(PairCtx& c) {
     const Vec3& p3 = t.p(c.e1, 2);
     const Vec3& q1 = l.p1(c.e2);
     const Vec3& q2 = l.p2(c.e2);
+    // every output joins a point of the triangle's plane to a point of the segment
+    if (c.separation_tests && plane_separates(p1, p2 - p1, p3 - p1, R, q1, q2)) return 0;
     const std::uint32_t f = t.flags(c.e1);
     const std::int64_t id = c.e2;
     int n = 0;
@@ -308,6 +326,11 @@ int np_triangle_triangle_geometry(PairCtx& c) {
     const double cf = c.p.contact_distance + sk;
     const Vec3 &p1 = t1.p(c.e1, 0), &p2 = t1.p(c.e1, 1), &p3 = t1.p(c.e1, 2);
     const Vec3 &q1 = t2.p(c.e2, 0), &q2 = t2.p(c.e2, 1), &q3 = t2.p(c.e2, 2);
+    // every output joins a point of one triangle to a point of the other: a plane holding one
+    // triangle with the other beyond R on one side rules them all out
+    if (c.separation_tests && (plane_separates(p1, p2 - p1, p3 - p1, R, q1, q2, q3) ||
+                               plane_separates(q1, q2 - q1, q3 - q1, R, p1, p2, p3)))
+        return 0;
     const std::uint32_t f1 = t1.flags(c.e1);
     const std::uint32_t f2 = t2.flags(c.e2);
     const std::int64_t id1 = std::int64_t(c.e1) * 3;
@@ -429,24 +452,28 @@ int min_line_sphere(PairCtx& c) {
 
 int min_triangle_point(PairCtx& c) {
     const Vec3& P = static_cast<const PointModel&>(c.m2).point(c.e2);
+    const double sk = skins(c);
+    const double R = c.p.alarm_distance + sk;
+    if (beyond_triangle_plane(c, P, R)) return 0;
     Vec3 Q;
     if (!min_triangle_projection(c, P, Q)) return 0;
-    const double sk = skins(c);
     double len = 0.0;
     Vec3 n;
-    if (!within(c, P - Q, c.p.alarm_distance + sk, Guard::Sofa, len, n)) return 0;
+    if (!within(c, P - Q, R, Guard::Sofa, len, n)) return 0;
     if (c.p.use_surface_normals) n = static_cast<const TriangleModel&>(c.m1).normal(c.e1);
     return push(c, c.e2, Q, P, n, len - (c.p.contact_distance + sk));
 }
 
 int min_triangle_sphere(PairCtx& c) {
     const SphereElem s = sphere_elem(c.m2, c.e2);
+    const double sk = skins(c);
+    const double R = c.p.alarm_distance + s.r + sk;
+    if (beyond_triangle_plane(c, s.c, R)) return 0;
     Vec3 Q;
     if (!min_triangle_projection(c, s.c, Q)) return 0;
-    const double sk = skins(c);
     double len = 0.0;
     Vec3 n;
-    if (!within(c, s.c - Q, c.p.alarm_distance + s.r + sk, Guard::Sofa, len, n)) return 0;
+    if (!within(c, s.c - Q, R, Guard::Sofa, len, n)) return 0;
     return push(c, c.e2, Q, s.point_by_normal(n), n, len - (c.p.contact_distance + s.r + sk));
 }
 

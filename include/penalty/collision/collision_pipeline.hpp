@@ -201,6 +201,7 @@ private:
         std::uint64_t generation = 0;   ///< 0: none (its pairs traverse the trees)
         std::size_t steps = 0;          ///< refits since the generation began
         std::size_t uncached_refits = 0;  ///< > 0: too fast for the cache for that many more refits
+        double longest_side = 0.0;  ///< largest side of a Triangle or Line element box at the tree's last build (separation.hpp)
     };
     /// A model pair's kept candidates: element pairs whose boxes overlapped with margin
     /// m + 2·(slack 1 + slack 2) when collected (a superset of the pairs overlapping with m while

@@ -1,0 +1,282 @@
+// The proximity kernels' early outs (penalty/collision/separation.hpp): a plane holding one
+// element rules out a pair only when the other element is beyond R and the rounding allowance,
+// and the kernels keep every output near R with the early outs in place.
+#include "fixtures.hpp"
+#include "penalty/collision/collision_pipeline.hpp"
+#include "penalty/collision/separation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+
+namespace penalty::test {
+namespace {
+
+using detail::plane_separates;
+using detail::worth_separating;
+
+// |n·(q − o)| / |n|, n = u × v, in long double from the same doubles (64-bit mantissa on x86-64)
+long double plane_distance(const Vec3& o, const Vec3& u, const Vec3& v, const Vec3& q) {
+    const long double n[3] = {(long double)u.y() * v.z() - (long double)u.z() * v.y(),
+                              (long double)u.z() * v.x() - (long double)u.x() * v.z(),
+                              (long double)u.x() * v.y() - (long double)u.y() * v.x()};
+    long double s = 0.0L, n2 = 0.0L;
+    for (int i = 0; i < 3; ++i) {
+        s += n[i] * ((long double)q[i] - (long double)o[i]);
+        n2 += n[i] * n[i];
+    }
+    return std::fabs(s) / std::sqrt(n2);
+}
+
+TEST(Separation, RejectsOnlyBeyondRAndTheAllowanceAndFindsTheFarOnes) {
+    std::mt19937 rng(20261124);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double scales[] = {1e-3, 1.0, 1e3};
+    int far = 0, far_rejected = 0, near = 0, near_rejected = 0, between_rejected = 0, rejected = 0;
+    for (int trial = 0; trial < 30000; ++trial) {
+        const double scale = scales[trial % 3];
+        const double R = scale * (0.01 + unit(rng));
+        const Vec3 o = rand_vec(rng, 100.0 * scale);
+        const Vec3 u = rand_vec(rng, 50.0 * R);
+        const Vec3 v = rand_vec(rng, 50.0 * R);
+        const Vec3 n = u.cross(v).normalized();
+        // a point over the plane at a height around R: just inside, at R, just beyond, far
+        const double rel[] = {-0.5, -1e-3, -1e-9, 0.0, 1e-12, 1e-9, 1e-4, 4e-4, 1e-3, 0.01, 1.0};
+        const double h = R * (1.0 + rel[trial % 11]) * (trial % 2 == 0 ? 1.0 : -1.0);
+        const Vec3 q = o + unit(rng) * u + unit(rng) * v + h * n;
+        const bool reliable = u.cross(v).squaredNorm() > 1e-6 * u.squaredNorm() * v.squaredNorm();
+        const long double d = plane_distance(o, u, v, q);
+        const bool rejects = plane_separates(o, u, v, R, q);
+        rejected += rejects;
+        if (rejects) {
+            // beyond R by far more than any kernel's rounding (1e-14 of the coordinates)
+            EXPECT_GT(d, 1.0004L * R) << "trial " << trial;
+        }
+        if (d <= R) {
+            ++near;
+            near_rejected += rejects;
+        } else if (d < 1.0004L * R) {
+            between_rejected += rejects;
+        } else if (d > 1.001L * R && reliable) {
+            ++far;
+            far_rejected += rejects;
+        }
+    }
+    EXPECT_EQ(near_rejected, 0);
+    EXPECT_EQ(between_rejected, 0);
+    EXPECT_GT(near, 8000);
+    EXPECT_GT(far, 5000);
+    // the test finds the separated points (the hit rate), not just never errs
+    EXPECT_GE(far_rejected, far * 99 / 100) << far_rejected << " of " << far;
+    EXPECT_LT(rejected, far + 30000 / 11 + 100);  // only the far ones and those at 1e-3 over R
+}
+
+TEST(Separation, EveryPointOnOneSide) {
+    const Vec3 o(0, 0, 0), u(10, 0, 0), v(0, 10, 0);
+    const Vec3 up(1, 1, 2), up2(3, -4, 5), down(1, 1, -2), close(1, 1, 0.5);
+    EXPECT_TRUE(plane_separates(o, u, v, 1.0, up, up2));
+    EXPECT_TRUE(plane_separates(o, u, v, 1.0, down));
+    EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, down));    // the element crosses the plane
+    EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, close));   // one point within R
+    EXPECT_TRUE(plane_separates(o, u, v, 1.0, up, up2, Vec3(0, 0, 1.01)));
+    EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, up2, Vec3(0, 0, 1.0003)));  // within the allowance
+}
+
+TEST(Separation, UnreliableOrNonFiniteInputsAreNeverRejected) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    const Vec3 o(0, 0, 0), u(10, 0, 0), v(0, 10, 0), far(0, 0, 100);
+    EXPECT_TRUE(plane_separates(o, u, v, 1.0, far));
+    EXPECT_FALSE(plane_separates(o, u, Vec3(10, 1e-3, 0), 1.0, far));  // nearly parallel: 1e-4 rad
+    EXPECT_FALSE(plane_separates(o, u, Vec3::Zero(), 1.0, far));       // a degenerate triangle
+    EXPECT_FALSE(plane_separates(o, u, v, nan, far));
+    EXPECT_FALSE(plane_separates(o, u, v, 1.0, Vec3(0, 0, nan)));
+    EXPECT_FALSE(plane_separates(Vec3(nan, 0, 0), u, v, 1.0, far));
+    EXPECT_FALSE(plane_separates(o, Vec3(inf, 0, 0), v, 1.0, far));
+    EXPECT_FALSE(plane_separates(o, u, v, inf, far));
+    // tiny coordinates: the products underflow, no decision
+    EXPECT_FALSE(plane_separates(o, 1e-150 * u, 1e-150 * v, 1e-150, 1e-150 * far));
+    // large coordinates: no rejection within R, rejection far beyond it; from lengths of about
+    // 1e50 on, the products (length⁶) overflow and there is no decision
+    EXPECT_FALSE(plane_separates(Vec3(1e45, 0, 0), 1e39 * u, 1e39 * v, 1e40, Vec3(1e45, 0, 0.5e40)));
+    EXPECT_TRUE(plane_separates(Vec3(1e45, 0, 0), 1e39 * u, 1e39 * v, 1e40, Vec3(1e45, 0, 3e40)));
+    EXPECT_FALSE(plane_separates(Vec3(1e150, 0, 0), 1e140 * u, 1e140 * v, 1e140, Vec3(1e150, 0, 3e140)));
+    EXPECT_FALSE(worth_separating(1.0, nan));
+    EXPECT_FALSE(worth_separating(nan, 1.0));
+    EXPECT_FALSE(worth_separating(15.9, 1.0));
+    EXPECT_TRUE(worth_separating(16.1, 1.0));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The kernels with their early outs: the BVH detection turns them on for pairs with elements
+// longer than 16 R (200 m against R = 0.75 here); the exhaustive detection never does, so it is
+// the reference without them.
+
+bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+bool same_bits(const Vec3& a, const Vec3& b) {
+    return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
+}
+
+SceneDetection detect(const IntersectionParams& params, std::vector<CollisionModel*> models, ContactDetection how) {
+    CollisionPipelineOptions o;
+    o.sofa_output_order = false;
+    CollisionPipeline pipe(params, o, how);
+    pipe.set_models(std::move(models));
+    return pipe.detect();
+}
+
+// The BVH detection's outputs, after checking them bit for bit against the exhaustive ones.
+std::size_t outputs_checked(const IntersectionParams& params, const std::vector<CollisionModel*>& models) {
+    const SceneDetection got = detect(params, models, ContactDetection::bvh);
+    const SceneDetection ref = detect(params, models, ContactDetection::exhaustive);
+    std::size_t n = 0;
+    EXPECT_EQ(got.size(), ref.size());
+    for (std::size_t k = 0; k < std::min(got.size(), ref.size()); ++k) {
+        EXPECT_EQ(got[k].outputs.size(), ref[k].outputs.size()) << "pair " << k;
+        for (std::size_t i = 0; i < std::min(got[k].outputs.size(), ref[k].outputs.size()); ++i) {
+            const DetectionOutput& a = got[k].outputs[i];
+            const DetectionOutput& b = ref[k].outputs[i];
+            EXPECT_TRUE(a.elem1 == b.elem1 && a.elem2 == b.elem2 && a.id == b.id && same_bits(a.point[0], b.point[0]) &&
+                        same_bits(a.point[1], b.point[1]) && same_bits(a.normal, b.normal) && same_bits(a.value, b.value))
+                << "pair " << k << " output " << i;
+        }
+        n += got[k].outputs.size();
+    }
+    return n;
+}
+
+MeshTopology edges_topology(std::size_t points, std::vector<Edge> edges) {
+    MeshTopology t;
+    t.set_num_points(points);
+    t.set_edges(std::move(edges));
+    return t;
+}
+
+IntersectionParams params_with_alarm(IntersectionParams p, double alarm) {
+    p.alarm_distance = alarm;
+    p.contact_distance = 0.25;
+    return p;
+}
+
+constexpr double kR = 0.75;
+constexpr double kInside = kR * (1.0 - 1e-9);  // just within R: the output stays
+constexpr double kBeyond = kR * 1.01;          // beyond R and the allowance: no output
+
+TEST(Separation, MinProximityTrianglePointAndLineLineKeepTheirOutputsNearR) {
+    const IntersectionParams min = params_with_alarm(IntersectionParams::min_proximity(), kR);
+    // a slanted 200 m triangle, and a point over its interior along its normal
+    const Vec3 a(-100, -3, -100), b(100, 7, -90), c(-20, 1, 110);
+    const Vec3 n = (b - a).cross(c - a).normalized();
+    const Vec3 inside = a + 0.3 * (b - a) + 0.3 * (c - a);
+    auto tri = triangle_mesh({a, b, c}, {{0, 1, 2}});
+    TriangleModel t(tri->state, tri->topo);
+    for (const double sign : {1.0, -1.0}) {
+        Vec3State s = make_state({inside + sign * kInside * n});
+        PointModel p(s);
+        EXPECT_EQ(outputs_checked(min, {&t, &p}), 1u) << sign;
+        s.position[0] = inside + sign * kBeyond * n;
+        EXPECT_EQ(outputs_checked(min, {&t, &p}), 0u);
+    }
+    // a 200 m segment and a 1 m segment crossing over its middle, perpendicular to both
+    Vec3State long_state = make_state({{-100, 0, 0}, {100, 0, 0}});
+    const MeshTopology long_topo = edges_topology(2, {{0, 1}});
+    LineModel long_line(long_state, long_topo);
+    const MeshTopology short_topo = edges_topology(2, {{0, 1}});
+    for (const double sign : {1.0, -1.0}) {
+        const Vec3 over(3.0, 0.0, sign * kInside);
+        Vec3State short_state = make_state({over - Vec3(0, 0.5, 0), over + Vec3(0, 0.5, 0)});
+        LineModel short_line(short_state, short_topo);
+        EXPECT_EQ(outputs_checked(min, {&long_line, &short_line}), 1u) << sign;
+        for (Vec3& x : short_state.position) x.z() = sign * kBeyond;
+        EXPECT_EQ(outputs_checked(min, {&long_line, &short_line}), 0u);
+    }
+}
+
+TEST(Separation, NewProximityTriangleKernelsKeepTheirOutputsNearR) {
+    const IntersectionParams np = params_with_alarm(IntersectionParams::new_proximity(), kR);
+    const IntersectionParams min = params_with_alarm(IntersectionParams::min_proximity(), kR);
+    // a flat 200 m triangle at z = 0, seen from both sides
+    auto big = triangle_mesh({{-100, -100, 0}, {100, -100, 0}, {0, 100, 0}}, {{0, 1, 2}});
+    TriangleModel t(big->state, big->topo);
+    const MeshTopology segment = edges_topology(2, {{0, 1}});
+    for (const double sign : {1.0, -1.0}) {
+        const double z = sign * kInside;
+        Vec3State ps = make_state({{1, 2, z}});  // a point
+        PointModel p(ps);
+        EXPECT_EQ(outputs_checked(np, {&t, &p}), 1u) << sign;
+        // a small triangle parallel to it: its three vertices face the big one
+        auto small = triangle_mesh({{1, 2, z}, {2, 2, z}, {1, 3, z}}, {{0, 1, 2}});
+        TriangleModel s(small->state, small->topo);
+        EXPECT_EQ(outputs_checked(np, {&t, &s}), 3u) << sign;
+        Vec3State ls = make_state({{1, 2, z}, {3, 2, z}});  // a segment parallel to it
+        LineModel l(ls, segment);
+        EXPECT_EQ(outputs_checked(np, {&t, &l}), 2u) << sign;
+        Vec3State ss = make_state({{1, 2, sign * (kInside + 0.5)}});  // a sphere, radius 0.5
+        SphereModel sp(ss, 0.5);
+        EXPECT_EQ(outputs_checked(np, {&t, &sp}), 1u) << sign;
+        EXPECT_EQ(outputs_checked(min, {&t, &sp}), 1u) << sign;
+        ps.position[0].z() = sign * kBeyond;
+        for (Vec3& x : small->state.position) x.z() = sign * kBeyond;
+        for (Vec3& x : ls.position) x.z() = sign * kBeyond;
+        ss.position[0].z() = sign * (kBeyond + 0.5);
+        EXPECT_EQ(outputs_checked(np, {&t, &p}), 0u);
+        EXPECT_EQ(outputs_checked(np, {&t, &s}), 0u);
+        EXPECT_EQ(outputs_checked(np, {&t, &l}), 0u);
+        EXPECT_EQ(outputs_checked(np, {&t, &sp}), 0u);
+        EXPECT_EQ(outputs_checked(min, {&t, &sp}), 0u);
+    }
+}
+
+// A pyramid of four 140 m faces (the shape of SOFA's floor2b.obj), its 8 edges and a cloud of
+// points, short segments, small triangles and spheres around its faces at heights near R: the
+// BVH detection, with the early outs, gives the exhaustive detection's outputs bit for bit.
+TEST(Separation, PyramidAndCloudEqualTheExhaustiveDetection) {
+    const std::vector<Vec3> corners = {{-75, 2, -75}, {75, 2, -75}, {75, 2, 75}, {-75, 2, 75}, {0, 52, 0}};
+    auto pyramid = triangle_mesh(corners, {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
+    const MeshTopology pyramid_edges =
+        edges_topology(5, {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 4}, {1, 4}, {2, 4}, {3, 4}});
+    TriangleModel faces(pyramid->state, pyramid->topo, named("faces"));
+    LineModel edges(pyramid->state, pyramid_edges, named("edges"));
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double rel[] = {-0.5, -1e-6, -1e-9, 1e-9, 1e-6, 1e-3, 0.5};
+    std::vector<Vec3> cloud;
+    std::vector<Edge> cloud_edges;
+    std::vector<Triangle> cloud_triangles;
+    for (int k = 0; k < 600; ++k) {
+        // a point over a face or an edge at a height near R
+        const int f = k % 4;
+        const Vec3 &a = corners[std::size_t(f)], &b = corners[std::size_t((f + 1) % 4)], &apex = corners[4];
+        const Vec3 n = (b - a).cross(apex - a).normalized();
+        const double u = unit(rng), v = unit(rng) * (1.0 - u);
+        const Vec3 foot = k % 3 == 0 ? Vec3(a + u * (apex - a)) : Vec3(a + u * (b - a) + v * (apex - a));
+        const Vec3 side = k % 3 == 0 ? Vec3(n.cross(apex - a).normalized()) : n;
+        const Vec3 base = foot + kR * (1.0 + rel[k % 7]) * (k % 2 == 0 ? 1.0 : -1.0) * side;
+        const int i = int(cloud.size());
+        const Vec3 along = rand_unit(rng).cross(side).normalized() * 0.3;  // parallel to the face
+        cloud.push_back(base);
+        cloud.push_back(base + along);
+        cloud.push_back(base + along.cross(side).normalized() * 0.3);
+        cloud_edges.push_back({i, i + 1});
+        cloud_triangles.push_back({i, i + 1, i + 2});
+    }
+    auto small = triangle_mesh(cloud, cloud_triangles);
+    small->topo.set_edges(cloud_edges);
+    PointModel points(small->state, nullptr, named("points"));
+    LineModel segments(small->state, small->topo, named("segments"));
+    TriangleModel triangles(small->state, small->topo, named("triangles"));
+    SphereModel spheres(small->state, 0.05, {}, named("spheres"));
+    for (const IntersectionParams& params : {params_with_alarm(IntersectionParams::new_proximity(), kR),
+                                             params_with_alarm(IntersectionParams::min_proximity(), kR)}) {
+        SCOPED_TRACE(intersection_method_name(params.method));
+        const std::size_t n = outputs_checked(params, {&faces, &edges, &points, &segments, &triangles, &spheres});
+        EXPECT_GT(n, 500u);  // the cloud within R of the pyramid has outputs
+    }
+}
+}  // namespace
+}  // namespace penalty::test
