@@ -227,9 +227,6 @@ std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool sam
 
 namespace {
 
-// Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order:
-// the kernel's writes to the models first, over all candidates in order, then its reads, in
-// parallel chunks concatenated in chunk order (the outputs of the sequential loop).
 // The largest side of an element box of a Triangle or Line model (0 for the other models, whose
 // kernels have no separation tests).
 double longest_box_side(const CollisionModel& m, const Bvh& t) {
@@ -239,7 +236,10 @@ double longest_box_side(const CollisionModel& m, const Bvh& t) {
     return side;
 }
 
-// separation_tests: run the kernels' early outs (separation.hpp), for the pair's every candidate
+// Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order:
+// the kernel's writes to the models first, over all candidates in order, then its reads, in
+// parallel chunks concatenated in chunk order (the outputs of the sequential loop).
+// separation_tests: the kernels run their early outs (separation.hpp) on every candidate.
 void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& keys,
                          const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out,
                          bool separation_tests) {
@@ -298,9 +298,6 @@ double largest_bound_change(std::span<const Aabb> now, std::span<const Aabb> bef
     return moved;
 }
 
-}  // namespace
-
-namespace {
 // bvh_narrow_phase with the pair's separation_tests decided by the caller
 void narrow_phase_on_trees(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
                            const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
