@@ -31,6 +31,32 @@ std::uint64_t key(std::uint32_t e1, std::uint32_t e2) { return (std::uint64_t(e1
 // (the same element box test, so the same pairs, with less recursion).
 constexpr std::uint32_t kBruteForceBelow = 64;
 
+// The traversal's row mode (detail::ElementPlanes): the model on one side of a model pair whose
+// Triangle or Line elements are long against the margin R, for a kernel whose outputs join its
+// elements' planes or lines to the other elements' boxes (outputs_join_element_points). Once a
+// node of that side holds at most kRowNodeMax elements, and the other node more (a single leaf
+// is cheaper to test pair by pair), each of its elements descends the other tree alone, and a
+// node or element box that its planes clear (every point farther than R) is dropped with all
+// it holds: such a pair has no output, so the outputs are the same. The boxes are grown by
+// `pad` (the candidate cache's collection: how far they may move while kept).
+struct LongElements {
+    const CollisionModel* model = nullptr;  // of tree a (side_a) or of tree b
+    bool side_a = true;
+    double R = 0.0;
+    double pad = 0.0;
+};
+constexpr std::uint32_t kRowNodeMax = 8;
+
+detail::ElementPlanes element_planes(const CollisionModel& m, std::uint32_t e, double R) {
+    const Index i = Index(e);
+    if (m.type() == ModelType::Triangle) {
+        const auto& t = static_cast<const TriangleModel&>(m);
+        return detail::ElementPlanes::triangle(t.p(i, 0), t.p(i, 1), t.p(i, 2), R);
+    }
+    const auto& l = static_cast<const LineModel&>(m);  // long_elements keeps Triangle and Line models only
+    return detail::ElementPlanes::segment(l.p1(i), l.p2(i), R);
+}
+
 struct Traversal {
     const Bvh& a;
     const Bvh& b;
@@ -38,6 +64,7 @@ struct Traversal {
     double margin;
     bool parallel;
     tbb::enumerable_thread_specific<Keys>& buffers;
+    const LongElements* rows = nullptr;    // the row mode, if any (never with self)
     KernelPath path = best_kernel_path();  // the leaf-level box tests (box_columns.hpp)
 
     void emit(Keys& out, std::uint32_t ea, std::uint32_t eb) const {
@@ -76,10 +103,18 @@ struct Traversal {
         }
     }
 
+    // Rows: rows != nullptr (a template argument: the test costs the other pairs nothing)
+    template <bool Rows = false>
     void pair(std::uint32_t ia, std::uint32_t ib, Keys* out) const {
         const BvhNode& na = a.nodes()[ia];
         const BvhNode& nb = b.nodes()[ib];
         if (!na.box.overlaps(nb.box, margin)) return;
+        if (Rows && (rows->side_a ? na.count : nb.count) <= kRowNodeMax &&
+            (rows->side_a ? nb.count : na.count) > kRowNodeMax) {
+            if (rows->side_a) row_pairs<true>(na, ib, out);
+            else row_pairs<false>(nb, ia, out);
+            return;
+        }
         if ((na.leaf() && nb.leaf()) || std::uint64_t(na.count) * nb.count <= kBruteForceBelow) {
             all_pairs(na, nb, *out);
             return;
@@ -89,14 +124,53 @@ struct Traversal {
         const std::uint32_t l = split_a ? ia + 1 : ib + 1;
         const std::uint32_t r = split_a ? na.right : nb.right;
         if (fork) {
-            tbb::parallel_invoke([&] { split_a ? pair(l, ib, &buffers.local()) : pair(ia, l, &buffers.local()); },
-                                 [&] { split_a ? pair(r, ib, &buffers.local()) : pair(ia, r, &buffers.local()); });
+            tbb::parallel_invoke([&] { split_a ? pair<Rows>(l, ib, &buffers.local()) : pair<Rows>(ia, l, &buffers.local()); },
+                                 [&] { split_a ? pair<Rows>(r, ib, &buffers.local()) : pair<Rows>(ia, r, &buffers.local()); });
         } else if (split_a) {
-            pair(l, ib, out);
-            pair(r, ib, out);
+            pair<Rows>(l, ib, out);
+            pair<Rows>(r, ib, out);
         } else {
-            pair(ia, l, out);
-            pair(ia, r, out);
+            pair<Rows>(ia, l, out);
+            pair<Rows>(ia, r, out);
+        }
+    }
+
+    // Row mode: each element of node n (of tree a if RowsOfA, else of b) against the subtree
+    // `other` of the other tree.
+    template <bool RowsOfA>
+    void row_pairs(const BvhNode& n, std::uint32_t other, Keys* out) const {
+        const Bvh& own = RowsOfA ? a : b;
+        for (std::uint32_t s = n.first; s < n.first + n.count; ++s) {
+            const std::uint32_t e = own.order()[s];
+            descend<RowsOfA>(own.ordered_boxes()[s], element_planes(*rows->model, e, rows->R), e, other, out);
+        }
+    }
+
+    // The elements below node i of the other tree whose boxes overlap `box` (the same test as
+    // all_pairs: Aabb::overlaps is symmetric) and that `planes` do not clear. A node box holds its
+    // elements' boxes exactly, so a node it misses or they clear holds no pair to keep.
+    template <bool RowsOfA>
+    void descend(const Aabb& box, const detail::ElementPlanes& planes, std::uint32_t e, std::uint32_t i,
+                 Keys* out) const {
+        const Bvh& other = RowsOfA ? b : a;
+        const BvhNode& n = other.nodes()[i];
+        if (!box.overlaps(n.box, margin) || planes.clears(n.box, rows->pad)) return;
+        if (n.leaf()) {
+            const std::uint32_t* o = other.order().data();
+            const Aabb* boxes = other.ordered_boxes().data();
+            for (std::uint32_t t = n.first; t < n.first + n.count; ++t) {
+                if (!box.overlaps(boxes[t], margin) || planes.clears(boxes[t], rows->pad)) continue;
+                if constexpr (RowsOfA) emit(*out, e, o[t]);
+                else emit(*out, o[t], e);
+            }
+            return;
+        }
+        if (parallel && n.count >= kParallelTraversalMin) {
+            tbb::parallel_invoke([&] { descend<RowsOfA>(box, planes, e, i + 1, &buffers.local()); },
+                                 [&] { descend<RowsOfA>(box, planes, e, n.right, &buffers.local()); });
+        } else {
+            descend<RowsOfA>(box, planes, e, i + 1, out);
+            descend<RowsOfA>(box, planes, e, n.right, out);
         }
     }
 
@@ -146,15 +220,17 @@ NarrowPhaseScratch& NarrowPhaseScratch::operator=(NarrowPhaseScratch&&) noexcept
 namespace {
 
 // The candidates of bvh_candidates, left sorted in b.keys (every buffer of `b` reused).
+// rows: the traversal's row mode (LongElements), or nullptr.
 void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin, bool parallel, bool sort,
-                        NarrowPhaseScratch::Buffers& b) {
+                        NarrowPhaseScratch::Buffers& b, const LongElements* rows = nullptr) {
     Keys& keys = b.keys;
     keys.clear();
     if (t1.empty() || t2.empty()) return;
     for (Keys& k : b.per_thread) k.clear();
-    const Traversal tr{t1, t2, same_model, margin, parallel, b.per_thread};
+    const Traversal tr{t1, t2, same_model, margin, parallel, b.per_thread, same_model ? nullptr : rows};
     if (same_model) tr.inside(0, &b.per_thread.local());
-    else tr.pair(0, 0, &b.per_thread.local());
+    else if (tr.rows != nullptr) tr.pair<true>(0, 0, &b.per_thread.local());
+    else tr.pair<false>(0, 0, &b.per_thread.local());
     std::size_t total = 0;
     for (const Keys& k : b.per_thread) total += k.size();
     keys.reserve(total);
@@ -236,6 +312,21 @@ double longest_box_side(const CollisionModel& m, const Bvh& t) {
     return side;
 }
 
+// The row mode of a model pair (LongElements) whose Triangle or Line element boxes have sides
+// up to side1 and side2 (longest_box_side), or none (model nullptr): a model with elements worth
+// separating (worth_separating), of a kernel whose outputs join element points
+// (outputs_join_element_points); the one with fewer elements if both are long.
+LongElements long_elements(const IntersectionParams& params, const CollisionModel& m1, double side1,
+                           const CollisionModel& m2, double side2) {
+    const double R = box_margin(params, m1, m2);
+    const bool long1 = detail::worth_separating(side1, R);
+    const bool long2 = detail::worth_separating(side2, R);
+    if (&m1 == &m2 || (!long1 && !long2)) return {};
+    if (!detail::outputs_join_element_points(detail::pair_kernel_parts(params, m1, m2))) return {};
+    const bool side_a = long1 && (!long2 || m1.size() <= m2.size());
+    return {side_a ? &m1 : &m2, side_a, R, 0.0};
+}
+
 // Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order:
 // the kernel's writes to the models first, over all candidates in order, then its reads, in
 // parallel chunks concatenated in chunk order (the outputs of the sequential loop).
@@ -298,26 +389,28 @@ double largest_bound_change(std::span<const Aabb> now, std::span<const Aabb> bef
     return moved;
 }
 
-// bvh_narrow_phase with the pair's separation_tests decided by the caller
+// bvh_narrow_phase with the sizes of the models' longest element boxes (longest_box_side) given
+// by the caller: they decide the pair's separation tests and the traversal's row mode
 void narrow_phase_on_trees(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
                            const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
-                           DetectionOutputList& out, bool separation_tests) {
+                           DetectionOutputList& out, double side1, double side2) {
     const bool same_model = &m1 == &m2;
     check_trees(m1, t1, m2, t2);
     NarrowPhaseScratch::Buffers& b = scratch.buffers();
     const bool writes_models = kernel_writes_models(params, m1, m2);
-    collect_candidates(t1, t2, same_model, box_margin(params, m1, m2), opt.parallel,
-                       opt.sorted_candidates || writes_models, b);
-    evaluate_candidates(params, m1, m2, b.keys, opt, b, out, separation_tests);
+    const double margin = box_margin(params, m1, m2);
+    const LongElements rows = long_elements(params, m1, side1, m2, side2);
+    collect_candidates(t1, t2, same_model, margin, opt.parallel, opt.sorted_candidates || writes_models, b,
+                       rows.model != nullptr ? &rows : nullptr);
+    evaluate_candidates(params, m1, m2, b.keys, opt, b, out, detail::worth_separating(std::max(side1, side2), margin));
 }
 }  // namespace
 
 void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
                       const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
                       DetectionOutputList& out) {
-    const double side = std::max(longest_box_side(m1, t1), longest_box_side(m2, t2));
-    narrow_phase_on_trees(params, m1, t1, m2, t2, opt, scratch, out,
-                          detail::worth_separating(side, box_margin(params, m1, m2)));
+    narrow_phase_on_trees(params, m1, t1, m2, t2, opt, scratch, out, longest_box_side(m1, t1),
+                          longest_box_side(m2, t2));
 }
 
 CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
@@ -488,12 +581,13 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     if (opt_.sofa_output_order) narrow.sorted_candidates = false;
     const ModelMotion& a = motion_[i1];
     const ModelMotion& b = motion_[i2];
-    const bool separation_tests = detail::worth_separating(std::max(a.longest_side, b.longest_side), margin);
     if (!opt_.candidate_cache || a.generation == 0 || b.generation == 0) {
         if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), margin)) return false;
-        narrow_phase_on_trees(params_, m1, t1, m2, t2, narrow, scratch_, out, separation_tests);
+        narrow_phase_on_trees(params_, m1, t1, m2, t2, narrow, scratch_, out, a.longest_side, b.longest_side);
+        candidates_evaluated_ += scratch_.buffers().keys.size();
         return false;
     }
+    const bool separation_tests = detail::worth_separating(std::max(a.longest_side, b.longest_side), margin);
     // Candidate cache. Since a generation began every box bound moved by at most its model's
     // slack s, so between the collection and now by at most 2·s: a pair overlapping now with
     // margin m overlapped at the collection with m + 2·(s1 + s2). The kept pairs are box-tested
@@ -505,9 +599,15 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     if (kept.generation1 != a.generation || kept.generation2 != b.generation) {
         ++cache_stats_.collected;
         const double wide = margin + 2.0 * (a.slack + b.slack);
+        // the row mode with the boxes grown by how far they may move while the keys are kept
+        // (2 · slack each); only for a static long model, whose elements (planes) stay put
+        LongElements rows = long_elements(params_, m1, a.longest_side, m2, b.longest_side);
+        if (rows.model != nullptr && rows.model->params().moving) rows.model = nullptr;
+        rows.pad = 2.0 * (a.slack + b.slack);
         kept.keys.clear();
         if (&m1 == &m2 || t1.root_box().overlaps(t2.root_box(), wide)) {
-            collect_candidates(t1, t2, &m1 == &m2, wide, narrow.parallel, narrow.sorted_candidates || writes_models, buf);
+            collect_candidates(t1, t2, &m1 == &m2, wide, narrow.parallel, narrow.sorted_candidates || writes_models, buf,
+                               rows.model != nullptr ? &rows : nullptr);
             kept.keys.assign(buf.keys.begin(), buf.keys.end());
         }
         kept.in_sofa_order = false;
@@ -541,6 +641,7 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     for (const std::uint64_t k : kept.keys)
         if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);
     evaluate_candidates(params_, m1, m2, now, narrow, buf, out, separation_tests);
+    candidates_evaluated_ += now.size();
     if (kept.in_sofa_order) ++cache_stats_.in_sofa_order;
     else kept.outputs_sorted += out.size();
     return kept.in_sofa_order;

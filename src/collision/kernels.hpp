@@ -49,6 +49,14 @@ struct KernelParts {
 [[nodiscard]] bool np_triangle_triangle_writes_normals(const IntersectionParams& params, const CollisionModel& m1,
                                                        const CollisionModel& m2);
 
+/// Whether every output of the kernel joins, for either element that is a Triangle or a Line, a
+/// point of its plane or line to a point within the other element's box, and needs their
+/// computed distance below box_margin plus the radius of a sphere element (which its box
+/// includes): the NewProximity and MinProximity kernels of Triangle, Line, Point and spheres,
+/// when they do not write the models. Then a box farther than box_margin from a Triangle or
+/// Line element (ElementPlanes::clears) holds no partner of that element with an output.
+[[nodiscard]] bool outputs_join_element_points(const KernelParts& kernel);
+
 /// A sphere element of either SphereModel or RigidSphereModel.
 struct SphereElem {
     Vec3 c;

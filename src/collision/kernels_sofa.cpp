@@ -367,6 +367,21 @@ int np_triangle_triangle(PairCtx& c) {
     return np_triangle_triangle_geometry(c);
 }
 
+bool outputs_join_element_points(const KernelParts& kernel) {
+    // each of these ends with within(p − q, R) for p on one element (a triangle's α, β, or a
+    // segment's parameter, possibly outside the element but on its plane or line) and q in the
+    // other (a point, a sphere's centre or surface point, a clamped or interior segment
+    // parameter, an interior or edge point of a triangle_point region)
+    static constexpr KernelFn kJoining[] = {
+        &np_line_point, &np_line_sphere, &np_line_line, &np_triangle_point, &np_triangle_sphere,
+        &np_triangle_line, &np_triangle_triangle, &np_triangle_triangle_geometry, &min_line_point,
+        &min_line_sphere, &min_line_line, &min_triangle_point, &min_triangle_sphere};
+    if (kernel.writes != nullptr) return false;
+    for (const KernelFn fn : kJoining)
+        if (kernel.reads == fn) return true;
+    return false;
+}
+
 // =============================================================================================
 // Sphere–sphere routine shared by Discrete, MinProximity and LocalMinDistance (rigid pairs):
 // no contact iff |d|² > (Aeff + r1 + r2)² (equality accepted); surface points for rigid spheres.

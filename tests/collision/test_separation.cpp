@@ -8,11 +8,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <vector>
 
 namespace penalty::test {
 namespace {
@@ -117,6 +119,138 @@ TEST(Separation, UnreliableOrNonFiniteInputsAreNeverRejected) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// ElementPlanes: whole boxes against a triangle's plane or a segment's three axis-parallel planes
+// (the traversal's row mode).
+
+using detail::ElementPlanes;
+
+// The smallest |n·(x − o)| / |n| over the corners x of `box` grown by `pad`, in long double, if
+// all corners are on one side of the plane; 0 if they straddle it.
+long double box_clearance(const long double n[3], const Vec3& o, const Aabb& box, double pad) {
+    long double lo = std::numeric_limits<long double>::infinity(), hi = -lo, n2 = 0.0L;
+    for (int i = 0; i < 3; ++i) n2 += n[i] * n[i];
+    for (int corner = 0; corner < 8; ++corner) {
+        long double d = 0.0L;
+        for (int i = 0; i < 3; ++i) {
+            const long double x = (corner >> i) & 1 ? (long double)box.max[i] + pad : (long double)box.min[i] - pad;
+            d += n[i] * (x - (long double)o[i]);
+        }
+        lo = std::min(lo, d);
+        hi = std::max(hi, d);
+    }
+    if (lo <= 0.0L && hi >= 0.0L) return 0.0L;
+    return std::min(std::fabs(lo), std::fabs(hi)) / std::sqrt(n2);
+}
+
+TEST(Separation, ElementPlanesClearOnlyBoxesBeyondRAndFindTheFarOnes) {
+    std::mt19937 rng(20261125);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const double scales[] = {1e-3, 1.0, 1e3};
+    const double rel[] = {-0.5, -1e-3, -1e-9, 0.0, 1e-12, 1e-9, 1e-4, 4e-4, 1e-3, 0.01, 1.0};
+    int far = 0, far_cleared = 0, near = 0, near_cleared = 0, between_cleared = 0, cleared = 0, band_cleared = 0;
+    for (int trial = 0; trial < 40000; ++trial) {
+        const double scale = scales[trial % 3];
+        const double R = scale * (0.01 + unit(rng));
+        const bool triangle = trial % 2 == 0;
+        const Vec3 p1 = rand_vec(rng, 100.0 * scale);
+        const Vec3 u = rand_vec(rng, 50.0 * R), v = rand_vec(rng, 50.0 * R);
+        const Vec3 p2 = p1 + u, p3 = p1 + v;
+        const ElementPlanes planes = triangle ? ElementPlanes::triangle(p1, p2, p3, R) : ElementPlanes::segment(p1, p2, R);
+        // the exact normals of the element's planes (from the stored vertices), in long double
+        std::vector<std::array<long double, 3>> normals;
+        const long double du[3] = {(long double)p2.x() - p1.x(), (long double)p2.y() - p1.y(), (long double)p2.z() - p1.z()};
+        const long double dv[3] = {(long double)p3.x() - p1.x(), (long double)p3.y() - p1.y(), (long double)p3.z() - p1.z()};
+        if (triangle) {
+            normals.push_back({du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]});
+        } else {
+            normals.push_back({0.0L, du[2], -du[1]});
+            normals.push_back({-du[2], 0.0L, du[0]});
+            normals.push_back({du[1], -du[0], 0.0L});
+        }
+        // a box over the plane the trial aims at, its nearest corner at a height around R
+        const std::size_t aim = triangle ? 0 : std::size_t(trial / 2) % 3;
+        const Vec3 n_aim = Vec3(double(normals[aim][0]), double(normals[aim][1]), double(normals[aim][2])).normalized();
+        const Vec3 half(2.0 * R * unit(rng), 2.0 * R * unit(rng), 2.0 * R * unit(rng));
+        const double pad = trial % 4 == 1 ? 0.1 * R : 0.0;
+        const double extent = n_aim.cwiseAbs().dot(half + Vec3::Constant(pad));
+        const double h = (R * (1.0 + rel[trial % 11]) + extent) * (trial % 3 == 0 ? -1.0 : 1.0);
+        const Vec3 foot = triangle ? Vec3(p1 + unit(rng) * u + unit(rng) * (1.0 - unit(rng)) * v) : Vec3(p1 + unit(rng) * u);
+        const Vec3 centre = foot + h * n_aim;
+        Aabb box;
+        box.min = centre - half;
+        box.max = centre + half;
+        const bool clears = planes.clears(box, pad);
+        long double best = 0.0L;
+        for (const auto& n : normals) best = std::max(best, box_clearance(n.data(), p1, box, pad));
+        const long double aimed = box_clearance(normals[aim].data(), p1, box, pad);
+        const bool reliable = !triangle || u.cross(v).squaredNorm() > 1e-6 * u.squaredNorm() * v.squaredNorm();
+        cleared += clears;
+        // a cleared box is beyond R by far more than any kernel's rounding, on one side of a plane
+        if (clears) {
+            EXPECT_GT(best, 1.0004L * R) << "trial " << trial;
+        }
+        if (best <= R) {
+            ++near;
+            near_cleared += clears;
+        } else if (best < 1.0004L * R) {
+            between_cleared += clears;
+        } else if (aimed > 1.001L * R && reliable) {
+            ++far;
+            far_cleared += clears;
+        } else if (best <= 1.001L * R || aimed <= 1.001L * R) {
+            band_cleared += clears;  // at the allowance's edge on the planes, either answer
+        }
+    }
+    EXPECT_EQ(near_cleared, 0);
+    EXPECT_EQ(between_cleared, 0);
+    EXPECT_GT(near, 10000) << near;
+    EXPECT_GT(far, 8000) << far;
+    EXPECT_GE(far_cleared, far * 99 / 100) << far_cleared << " of " << far;  // the hit rate
+    EXPECT_EQ(cleared, far_cleared + band_cleared);
+}
+
+TEST(Separation, ElementPlanesOfDegenerateOrNonFiniteInputsClearNothing) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double inf = std::numeric_limits<double>::infinity();
+    Aabb far_box;
+    far_box.min = Vec3(-1, -1, 10);
+    far_box.max = Vec3(1, 1, 12);
+    const ElementPlanes flat = ElementPlanes::triangle(Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 10, 0), 1.0);
+    EXPECT_EQ(flat.count, 1);
+    EXPECT_TRUE(flat.clears(far_box));
+    EXPECT_FALSE(flat.clears(far_box, 9.0));  // grown to z = 1: within R
+    Aabb crossing = far_box;
+    crossing.min.z() = -12;
+    EXPECT_FALSE(flat.clears(crossing));
+    // a segment along x: the plane with normal d × e_x is 0, the two others hold it
+    const ElementPlanes along_x = ElementPlanes::segment(Vec3(0, 0, 0), Vec3(10, 0, 0), 1.0);
+    EXPECT_EQ(along_x.count, 2);
+    EXPECT_TRUE(along_x.clears(far_box));
+    Aabb beside;  // 3 m beside the line in y, straddling its plane z = 0
+    beside.min = Vec3(-1, 3, -1);
+    beside.max = Vec3(1, 4, 1);
+    EXPECT_TRUE(along_x.clears(beside));
+    EXPECT_EQ(ElementPlanes::triangle(Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(20, 1e-4, 0), 1.0).count, 0);  // sliver
+    EXPECT_EQ(ElementPlanes::segment(Vec3(1, 2, 3), Vec3(1, 2, 3), 1.0).count, 0);
+    EXPECT_FALSE(ElementPlanes::triangle(Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 10, 0), nan).clears(far_box));
+    EXPECT_FALSE(ElementPlanes::triangle(Vec3(0, 0, 0), Vec3(10, 0, 0), Vec3(0, 10, 0), inf).clears(far_box));
+    EXPECT_FALSE(ElementPlanes::triangle(Vec3(nan, 0, 0), Vec3(10, 0, 0), Vec3(0, 10, 0), 1.0).clears(far_box));
+    EXPECT_FALSE(ElementPlanes::segment(Vec3(0, 0, 0), Vec3(inf, 0, 0), 1.0).clears(far_box));
+    Aabb bad = far_box;
+    bad.max.z() = nan;
+    EXPECT_FALSE(flat.clears(bad));
+    bad.max.z() = inf;
+    EXPECT_FALSE(flat.clears(bad));
+    EXPECT_FALSE(flat.clears(far_box, nan));
+    EXPECT_FALSE(flat.clears(far_box, inf));
+    // tiny coordinates: the bound underflows, no decision
+    Aabb tiny = far_box;
+    tiny.min *= 1e-150;
+    tiny.max *= 1e-150;
+    EXPECT_FALSE(ElementPlanes::triangle(Vec3(0, 0, 0), Vec3(1e-149, 0, 0), Vec3(0, 1e-149, 0), 1e-150).clears(tiny));
+}
+
+// ---------------------------------------------------------------------------------------------
 // The kernels with their early outs: the BVH detection turns them on for pairs with elements
 // longer than 16 R (200 m against R = 0.75 here); the exhaustive detection never does, so it is
 // the reference without them.
@@ -126,18 +260,19 @@ bool same_bits(const Vec3& a, const Vec3& b) {
     return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
 }
 
-SceneDetection detect(const IntersectionParams& params, std::vector<CollisionModel*> models, ContactDetection how) {
+SceneDetection detect(const IntersectionParams& params, std::vector<CollisionModel*> models, ContactDetection how,
+                      bool candidate_cache = true) {
     CollisionPipelineOptions o;
     o.sofa_output_order = false;
+    o.candidate_cache = candidate_cache;
     CollisionPipeline pipe(params, o, how);
     pipe.set_models(std::move(models));
     return pipe.detect();
 }
 
-// The BVH detection's outputs, after checking them bit for bit against the exhaustive ones.
-std::size_t outputs_checked(const IntersectionParams& params, const std::vector<CollisionModel*>& models) {
-    const SceneDetection got = detect(params, models, ContactDetection::bvh);
-    const SceneDetection ref = detect(params, models, ContactDetection::exhaustive);
+// Whether two detections have the same outputs bit for bit (gtest failures name the first
+// differences); returns their number of outputs.
+std::size_t same_outputs(const SceneDetection& got, const SceneDetection& ref) {
     std::size_t n = 0;
     EXPECT_EQ(got.size(), ref.size());
     for (std::size_t k = 0; k < std::min(got.size(), ref.size()); ++k) {
@@ -152,6 +287,13 @@ std::size_t outputs_checked(const IntersectionParams& params, const std::vector<
         n += got[k].outputs.size();
     }
     return n;
+}
+
+// The BVH detection's outputs, after checking them bit for bit against the exhaustive ones.
+std::size_t outputs_checked(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
+                            bool candidate_cache = true) {
+    return same_outputs(detect(params, models, ContactDetection::bvh, candidate_cache),
+                        detect(params, models, ContactDetection::exhaustive));
 }
 
 MeshTopology edges_topology(std::size_t points, std::vector<Edge> edges) {
@@ -244,8 +386,6 @@ TEST(Separation, PyramidAndCloudEqualTheExhaustiveDetection) {
     auto pyramid = triangle_mesh(corners, {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
     const MeshTopology pyramid_edges =
         edges_topology(5, {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 4}, {1, 4}, {2, 4}, {3, 4}});
-    TriangleModel faces(pyramid->state, pyramid->topo, named("faces"));
-    LineModel edges(pyramid->state, pyramid_edges, named("edges"));
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double rel[] = {-0.5, -1e-6, -1e-9, 1e-9, 1e-6, 1e-3, 0.5};
@@ -275,12 +415,92 @@ TEST(Separation, PyramidAndCloudEqualTheExhaustiveDetection) {
     LineModel segments(small->state, small->topo, named("segments"));
     TriangleModel triangles(small->state, small->topo, named("triangles"));
     SphereModel spheres(small->state, 0.05, {}, named("spheres"));
-    for (const IntersectionParams& params : {params_with_alarm(IntersectionParams::new_proximity(), kR),
-                                             params_with_alarm(IntersectionParams::min_proximity(), kR)}) {
-        SCOPED_TRACE(intersection_method_name(params.method));
-        const std::size_t n = outputs_checked(params, {&faces, &edges, &points, &segments, &triangles, &spheres});
-        EXPECT_GT(n, 500u);  // the cloud within R of the pyramid has outputs
+    // the traversal's row mode runs for the pyramid's models with or without the candidate
+    // cache, and in the cache's collection (boxes grown by the slack) when the pyramid is static
+    for (const bool pyramid_moves : {true, false}) {
+        CollisionModelParams fp = named("faces"), ep = named("edges");
+        fp.moving = ep.moving = pyramid_moves;
+        TriangleModel faces(pyramid->state, pyramid->topo, fp);
+        LineModel edges(pyramid->state, pyramid_edges, ep);
+        for (const IntersectionParams& params : {params_with_alarm(IntersectionParams::new_proximity(), kR),
+                                                 params_with_alarm(IntersectionParams::min_proximity(), kR)}) {
+            for (const bool cache : {true, false}) {
+                SCOPED_TRACE(::testing::Message() << intersection_method_name(params.method) << " pyramid moves "
+                                                  << pyramid_moves << " cache " << cache);
+                const std::size_t n =
+                    outputs_checked(params, {&faces, &edges, &points, &segments, &triangles, &spheres}, cache);
+                EXPECT_GT(n, 500u);  // the cloud within R of the pyramid has outputs
+            }
+        }
     }
 }
+// A static pyramid and a cloud of points and short segments drifting through its faces, over 60
+// detections of one pipeline with the candidate cache: the row mode (in the traversal, and in the
+// cache's collection with the boxes grown by the slack) gives the exhaustive detection's outputs
+// at every step, and hands the kernels a small part of the element pairs whose boxes overlap.
+// The cloud sinks 0.02 m a step, slowly enough for the cache to keep its candidates.
+TEST(Separation, RowModeFollowsACloudDriftingThroughAStaticPyramid) {
+    const std::vector<Vec3> corners = {{-75, 2, -75}, {75, 2, -75}, {75, 2, 75}, {-75, 2, 75}, {0, 52, 0}};
+    auto pyramid = triangle_mesh(corners, {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}});
+    const MeshTopology pyramid_edges =
+        edges_topology(5, {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 4}, {1, 4}, {2, 4}, {3, 4}});
+    CollisionModelParams fp = named("faces"), ep = named("edges");
+    fp.moving = ep.moving = false;
+    fp.simulated = ep.simulated = false;
+    TriangleModel faces(pyramid->state, pyramid->topo, fp);
+    LineModel edges(pyramid->state, pyramid_edges, ep);
+    // points and 0.4 m segments 0.5–8 m over the faces (a quarter of them over the edges' line)
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<Vec3> cloud;
+    std::vector<Edge> segments;
+    std::vector<Vec3> drift;  // per point: its face's inward normal (the cloud sinks into the faces)
+    for (int k = 0; k < 400; ++k) {
+        const int f = k % 4;
+        const Vec3 &a = corners[std::size_t(f)], &b = corners[std::size_t((f + 1) % 4)], &apex = corners[4];
+        const Vec3 n = (b - a).cross(apex - a).normalized();
+        const double u = unit(rng), v = unit(rng) * (1.0 - u);
+        const Vec3 foot = k % 4 == 0 ? Vec3(a + u * (apex - a)) : Vec3(a + u * (b - a) + v * (apex - a));
+        const Vec3 p = foot + (0.5 + 7.5 * unit(rng)) * n;
+        const Vec3 along = rand_unit(rng).cross(n).normalized() * 0.4;
+        segments.push_back({int(cloud.size()), int(cloud.size()) + 1});
+        cloud.push_back(p);
+        cloud.push_back(p + along);
+        drift.push_back(-n);
+        drift.push_back(-n);
+    }
+    Vec3State state = make_state(cloud);
+    const MeshTopology cloud_topo = edges_topology(cloud.size(), segments);
+    PointModel points(state, nullptr, named("points"));
+    LineModel lines(state, cloud_topo, named("segments"));
+    const IntersectionParams params = params_with_alarm(IntersectionParams::min_proximity(), kR);
+    for (const auto& [long_model, other] : {std::pair<CollisionModel*, CollisionModel*>{&faces, &points},
+                                            std::pair<CollisionModel*, CollisionModel*>{&edges, &lines},
+                                            std::pair<CollisionModel*, CollisionModel*>{&edges, &points}}) {
+        SCOPED_TRACE(long_model->name() + " vs " + other->name());
+        state.position = cloud;
+        CollisionPipelineOptions o;
+        o.sofa_output_order = false;
+        CollisionPipeline bvh(params, o, ContactDetection::bvh);
+        CollisionPipeline exhaustive(params, o, ContactDetection::exhaustive);
+        bvh.set_models({long_model, other});
+        exhaustive.set_models({long_model, other});
+        std::size_t outputs = 0, overlapping = 0;
+        for (int step = 0; step < 200; ++step) {
+            for (std::size_t i = 0; i < cloud.size(); ++i) state.position[i] += 0.02 * drift[i];  // 4 m in all
+            outputs += same_outputs(bvh.detect(), exhaustive.detect());
+            for (std::size_t e1 = 0; e1 < long_model->size(); ++e1)
+                for (std::size_t e2 = 0; e2 < other->size(); ++e2)
+                    overlapping += long_model->element_box(Index(e1)).overlaps(other->element_box(Index(e2)), kR + 0.5);
+        }
+        EXPECT_GT(outputs, 100u);  // 163 for the edges and segments, thousands for the others
+        EXPECT_GT(bvh.candidate_cache_stats().reused, 50u);  // the cache's path ran too (133 of 200)
+        // the element pairs the kernels saw (each gives at most one output here): those near
+        // the pyramid, 6–14 % of those whose boxes overlap
+        EXPECT_GE(bvh.candidates_evaluated(), outputs);
+        EXPECT_LT(bvh.candidates_evaluated(), overlapping / 5) << bvh.candidates_evaluated() << " of " << overlapping;
+    }
+}
+
 }  // namespace
 }  // namespace penalty::test

@@ -173,6 +173,9 @@ public:
         std::size_t sofa_order_sorts = 0;
     };
     [[nodiscard]] const CandidateCacheStats& candidate_cache_stats() const { return cache_stats_; }
+    /// Element pairs handed to the kernels by the bvh detection since construction (the
+    /// candidates left by the box tests and the traversal's plane tests; 0 for exhaustive).
+    [[nodiscard]] std::size_t candidates_evaluated() const { return candidates_evaluated_; }
 
 private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
@@ -221,6 +224,7 @@ private:
     std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)
     std::unordered_map<std::uint64_t, PairCandidates> pair_candidates_;  // key: (index 1 << 32) | index 2
     CandidateCacheStats cache_stats_;
+    std::size_t candidates_evaluated_ = 0;
 
     IntersectionParams params_;
     CollisionPipelineOptions opt_;

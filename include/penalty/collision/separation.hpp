@@ -19,7 +19,10 @@
 /// apart), so a rejected pair is one the kernel rejects too: the outputs are the same, bit for
 /// bit, only found sooner. NaN or infinite inputs compare false and are never rejected here
 /// (the kernel decides).
+#include "penalty/collision/collision_model.hpp"
 #include "penalty/core/types.hpp"
+
+#include <cmath>
 
 namespace penalty::detail {
 
@@ -62,5 +65,89 @@ template <class... Q>
     constexpr int count = int(sizeof...(Q));
     return above == count || below == count;
 }
+
+}  // namespace penalty::detail
+
+namespace penalty::detail {
+
+/// Planes that hold one element, for testing a whole box against it at once (the traversal's
+/// row mode, collision_pipeline.cpp): a triangle's plane, or for a segment the three planes
+/// through it parallel to a coordinate axis (normals d × e_x, d × e_y, d × e_z). If a box lies
+/// farther than R from one of them, so does every point in the box, and every point of an
+/// element whose box it contains is farther than R from every point of this element: a kernel
+/// that joins a point of this element's plane or line to a point within the other element's
+/// box, and needs their distance below R, has no output for the pair.
+///
+/// Same allowance as plane_separates: a box is cleared only when its gap g to the plane
+/// satisfies g² > 1.001 R² + 1e-15 S², S² = 2 (|p1|² + |u|² + |v|² + the box's largest |corner|²).
+/// The gap is computed from the box's centre and half extents to within about 1e-15 S; the
+/// triangle's plane is used only when its normal is reliable (as plane_separates); a segment's
+/// three normals are exact cross products with the axes of its computed direction, which is
+/// within one rounding of the true one componentwise, so each is within about ε of
+/// perpendicular to the true segment whatever its direction. NaN and infinities never clear.
+struct ElementPlanes {
+    Vec3 normal[3];        ///< not unit; the element lies in {x : normal·x = offset}
+    double offset[3] = {};
+    double normal2[3] = {};  ///< |normal|²
+    int count = 0;           ///< 0: nothing is ever cleared (degenerate or unreliable element)
+    double element_s2 = 0.0;  ///< 2 (|p1|² + |u|² + |v|²)
+    double R2 = 0.0;          ///< 1.001 R²
+
+    /// The plane of triangle (p1, p2, p3), when its normal is reliable.
+    [[nodiscard]] static ElementPlanes triangle(const Vec3& p1, const Vec3& p2, const Vec3& p3, double R) {
+        ElementPlanes e;
+        const Vec3 u = p2 - p1;
+        const Vec3 v = p3 - p1;
+        e.element_s2 = 2.0 * (p1.squaredNorm() + u.squaredNorm() + v.squaredNorm());
+        e.R2 = 1.001 * R * R;
+        const Vec3 n = u.cross(v);
+        const double n2 = n.squaredNorm();
+        const double uv2 = u.squaredNorm() * v.squaredNorm();
+        if (!(uv2 > 1e-280) || !(n2 > 1e-6 * uv2)) return e;
+        e.add(n, n2, p1);
+        return e;
+    }
+
+    /// The three axis-parallel planes through segment (p1, p2) (those whose normal is not 0).
+    [[nodiscard]] static ElementPlanes segment(const Vec3& p1, const Vec3& p2, double R) {
+        ElementPlanes e;
+        const Vec3 d = p2 - p1;
+        e.element_s2 = 2.0 * (p1.squaredNorm() + d.squaredNorm());
+        e.R2 = 1.001 * R * R;
+        const Vec3 normals[3] = {Vec3(0.0, d.z(), -d.y()), Vec3(-d.z(), 0.0, d.x()), Vec3(d.y(), -d.x(), 0.0)};
+        for (const Vec3& n : normals) {
+            const double n2 = n.squaredNorm();
+            if (n2 > 1e-280) e.add(n, n2, p1);
+        }
+        return e;
+    }
+
+    /// True only if every point of `box`, grown by `pad` on every side, is farther than R (with
+    /// the allowance) from one of the planes.
+    [[nodiscard]] bool clears(const Aabb& box, double pad = 0.0) const {
+        if (count == 0) return false;
+        const Vec3 lo = box.min.array() - pad;
+        const Vec3 hi = box.max.array() + pad;
+        const Vec3 centre = 0.5 * (lo + hi);
+        const Vec3 half = 0.5 * (hi - lo);
+        const double corner2 = lo.cwiseAbs().cwiseMax(hi.cwiseAbs()).squaredNorm();
+        const double allowance = R2 + 1e-15 * (element_s2 + 2.0 * corner2);
+        for (int k = 0; k < count; ++k) {
+            const double s = normal[k].dot(centre) - offset[k];
+            const double gap = std::abs(s) - normal[k].cwiseAbs().dot(half);
+            const double limit = allowance * normal2[k];
+            if (gap > 0.0 && limit > 1e-290 && gap * gap > limit) return true;
+        }
+        return false;
+    }
+
+private:
+    void add(const Vec3& n, double n2, const Vec3& origin) {
+        normal[count] = n;
+        offset[count] = n.dot(origin);
+        normal2[count] = n2;
+        ++count;
+    }
+};
 
 }  // namespace penalty::detail
