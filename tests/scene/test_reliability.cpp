@@ -18,6 +18,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -124,6 +125,65 @@ TEST(Divergence, AStepLongerThanFTimesTheSceneSizeStopsTheRunAtTheRightStep) {
     EXPECT_THAT(message, HasSubstr("simulation diverged at step 50 (t = 5."));
     EXPECT_THAT(message, HasSubstr("state '/Particle/p' DOF 0 moved 5.09999999999999"));
     EXPECT_THAT(message, HasSubstr("m in one step, more than 0.5 times the initial scene size (10 m)"));
+}
+
+// The same fall for the third DOF of a state whose first two are fixed, after a static marker and
+// a static rigid frame: the check passes over every state (a rigid frame's centre too) and names
+// the first DOF to move more than the limit; below the limit the run goes on.
+const std::string kThirdDofFalls = R"(<Node name="root" dt="0.1" gravity="0 -10 0">
+  <Node name="Marker"><MechanicalObject name="m" position="10 0 0"/></Node>
+  <Node name="Frame"><MechanicalObject name="f" template="Rigid3d" position="5 0 0  0 0 0 1"/></Node>
+  <Node name="Three">
+    <EulerImplicitSolver/>
+    <CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-20"/>
+    <MechanicalObject name="p" position="0 0 0  1 0 0  0 0 0"/>
+    <UniformMass totalMass="3"/>
+    <FixedConstraint indices="0 1"/>
+  </Node>
+</Node>)";
+
+TEST(Divergence, TheFirstDofPastTheLimitIsNamedWhateverStateItIsIn) {
+    auto s = build(kThirdDofFalls);
+    EXPECT_DOUBLE_EQ(scene::DivergenceBound(*s, 0.5).scene_size(), 10.0);
+    scene::RunOptions run;
+    run.steps = 100;
+    run.divergence_factor = 0.5;
+    const std::string message = run_error<output::NonFiniteValueError>(*s, run);
+    EXPECT_THAT(message, HasSubstr("simulation diverged at step 50 (t = 5."));
+    EXPECT_THAT(message, HasSubstr("state '/Three/p' DOF 2 moved 5.09999999999999"));
+    // a limit of 10 m: the last of 95 steps moves 9.5 m
+    auto t = build(kThirdDofFalls);
+    run.steps = 95;
+    run.divergence_factor = 1.0;
+    const scene::RunSummary summary = scene::run_scene(*t, run);
+    EXPECT_EQ(summary.steps, 95);
+    const auto* p = dynamic_cast<const Vec3Object*>(t->states()[2].state);
+    ASSERT_NE(p, nullptr);
+    EXPECT_NEAR(p->position[2].y(), -0.05 * 95 * 96, 1e-9);
+    EXPECT_EQ(p->position[1], Vec3(1, 0, 0));
+}
+
+TEST(Divergence, AStateThatIsNotFiniteIsNamedWithItsDof) {
+    // a static marker of three points whose third velocity is not finite: no solver reads it, so
+    // the run's own check after the step finds it (in one pass over the values, then the DOF)
+    for (const double bad : {std::numeric_limits<double>::quiet_NaN(), -std::numeric_limits<double>::infinity()}) {
+        auto s = build(R"(<Node name="root" dt="0.1" gravity="0 -10 0">
+  <Node name="Particle">
+    <EulerImplicitSolver/>
+    <CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-20"/>
+    <MechanicalObject name="p" position="0 0 0"/>
+    <UniformMass totalMass="1"/>
+  </Node>
+  <Node name="Marker"><MechanicalObject name="m" position="10 0 0  9 0 0  8 0 0  7 0 0  6 0 0"/></Node>
+</Node>)");
+        auto* marker = dynamic_cast<Vec3Object*>(s->states()[1].state);
+        ASSERT_NE(marker, nullptr);
+        marker->velocity[3].z() = bad;
+        scene::RunOptions run;
+        run.steps = 3;
+        const std::string message = run_error<output::NonFiniteValueError>(*s, run);
+        EXPECT_THAT(message, HasSubstr("simulation diverged at step 0 (t = 0.1 s): state '/Marker/m' DOF 3 is not finite"));
+    }
 }
 
 TEST(Divergence, TheCheckCanBeTurnedOffAndTheFallIsExact) {
