@@ -371,11 +371,12 @@ bool outputs_join_element_points(const KernelParts& kernel) {
     // each of these ends with within(p − q, R) for p on one element (a triangle's α, β, or a
     // segment's parameter, possibly outside the element but on its plane or line) and q in the
     // other (a point, a sphere's centre or surface point, a clamped or interior segment
-    // parameter, an interior or edge point of a triangle_point region)
+    // parameter, an interior or edge point of a triangle_point region). Triangle–Triangle only
+    // as np_triangle_triangle: its geometry part is a `reads` only beside the normal writes.
     static constexpr KernelFn kJoining[] = {
         &np_line_point, &np_line_sphere, &np_line_line, &np_triangle_point, &np_triangle_sphere,
-        &np_triangle_line, &np_triangle_triangle, &np_triangle_triangle_geometry, &min_line_point,
-        &min_line_sphere, &min_line_line, &min_triangle_point, &min_triangle_sphere};
+        &np_triangle_line, &np_triangle_triangle, &min_line_point, &min_line_sphere, &min_line_line,
+        &min_triangle_point, &min_triangle_sphere};
     if (kernel.writes != nullptr) return false;
     for (const KernelFn fn : kJoining)
         if (kernel.reads == fn) return true;

@@ -66,10 +66,6 @@ template <class... Q>
     return above == count || below == count;
 }
 
-}  // namespace penalty::detail
-
-namespace penalty::detail {
-
 /// Planes that hold one element, for testing a whole box against it at once (the traversal's
 /// row mode, collision_pipeline.cpp): a triangle's plane, or for a segment the three planes
 /// through it parallel to a coordinate axis (normals d × e_x, d × e_y, d × e_z). If a box lies
