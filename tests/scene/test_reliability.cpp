@@ -113,15 +113,20 @@ const std::string kFreeFall = R"(<Node name="root" dt="0.1" gravity="0 -10 0">
   <Node name="Marker"><MechanicalObject name="m" position="10 0 0"/></Node>
 </Node>)";
 
-TEST(Divergence, AStepLongerThanFTimesTheSceneSizeStopsTheRunAtTheRightStep) {
-    // Step n (1-based) moves the particle by h·v_n = g·h²·n = 0.1·n m. F = 0.5: the limit is 5 m,
-    // first passed by step n = 51, the step of index 50.
-    auto s = build(kFreeFall);
+// The error of 100 steps of a scene whose box has a 10 m diagonal, with divergence factor 0.5.
+std::string error_at_half_the_scene_size(const std::string& xml) {
+    auto s = build(xml);
     EXPECT_DOUBLE_EQ(scene::DivergenceBound(*s, 0.5).scene_size(), 10.0);
     scene::RunOptions run;
     run.steps = 100;
     run.divergence_factor = 0.5;
-    const std::string message = run_error<output::NonFiniteValueError>(*s, run);
+    return run_error<output::NonFiniteValueError>(*s, run);
+}
+
+TEST(Divergence, AStepLongerThanFTimesTheSceneSizeStopsTheRunAtTheRightStep) {
+    // Step n (1-based) moves the particle by h·v_n = g·h²·n = 0.1·n m. F = 0.5: the limit is 5 m,
+    // first passed by step n = 51, the step of index 50.
+    const std::string message = error_at_half_the_scene_size(kFreeFall);
     EXPECT_THAT(message, HasSubstr("simulation diverged at step 50 (t = 5."));
     EXPECT_THAT(message, HasSubstr("state '/Particle/p' DOF 0 moved 5.09999999999999"));
     EXPECT_THAT(message, HasSubstr("m in one step, more than 0.5 times the initial scene size (10 m)"));
@@ -143,16 +148,12 @@ const std::string kThirdDofFalls = R"(<Node name="root" dt="0.1" gravity="0 -10 
 </Node>)";
 
 TEST(Divergence, TheFirstDofPastTheLimitIsNamedWhateverStateItIsIn) {
-    auto s = build(kThirdDofFalls);
-    EXPECT_DOUBLE_EQ(scene::DivergenceBound(*s, 0.5).scene_size(), 10.0);
-    scene::RunOptions run;
-    run.steps = 100;
-    run.divergence_factor = 0.5;
-    const std::string message = run_error<output::NonFiniteValueError>(*s, run);
+    const std::string message = error_at_half_the_scene_size(kThirdDofFalls);
     EXPECT_THAT(message, HasSubstr("simulation diverged at step 50 (t = 5."));
     EXPECT_THAT(message, HasSubstr("state '/Three/p' DOF 2 moved 5.09999999999999"));
     // a limit of 10 m: the last of 95 steps moves 9.5 m
     auto t = build(kThirdDofFalls);
+    scene::RunOptions run;
     run.steps = 95;
     run.divergence_factor = 1.0;
     const scene::RunSummary summary = scene::run_scene(*t, run);
@@ -164,8 +165,8 @@ TEST(Divergence, TheFirstDofPastTheLimitIsNamedWhateverStateItIsIn) {
 }
 
 TEST(Divergence, AStateThatIsNotFiniteIsNamedWithItsDof) {
-    // a static marker of three points whose third velocity is not finite: no solver reads it, so
-    // the run's own check after the step finds it (in one pass over the values, then the DOF)
+    // a static marker of five points whose fourth velocity (DOF 3) is not finite: no solver reads
+    // it, so the run's own check after the step finds it (in one pass over the values, then the DOF)
     for (const double bad : {std::numeric_limits<double>::quiet_NaN(), -std::numeric_limits<double>::infinity()}) {
         auto s = build(R"(<Node name="root" dt="0.1" gravity="0 -10 0">
   <Node name="Particle">
