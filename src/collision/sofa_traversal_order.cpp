@@ -210,7 +210,20 @@ void sofa_order_permutation(const SofaCubeTree& t1, const SofaCubeTree& t2, std:
             const std::span<const std::uint64_t> k = t2.keys_against_one_element(false);
             for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(elements(i).second)], std::uint32_t(i)});
         } else {
+            // the pairs come in no memory order of their elements: each element's path is
+            // fetched ahead, its offset 2·kAhead pairs ahead and then its steps kAhead ahead
+            constexpr std::size_t kAhead = 16;
             for (std::size_t i = 0; i < n; ++i) {
+                if (i + 2 * kAhead < n) {
+                    const auto [a, b] = elements(i + 2 * kAhead);
+                    t1.prefetch_offset(a);
+                    t2.prefetch_offset(b);
+                }
+                if (i + kAhead < n) {
+                    const auto [a, b] = elements(i + kAhead);
+                    t1.prefetch_path(a);
+                    t2.prefetch_path(b);
+                }
                 const auto [a, b] = elements(i);
                 keyed.push_back({packed_key(levels, t1.path(a), t2.path(b)), std::uint32_t(i)});
             }
@@ -242,7 +255,12 @@ void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, Detectio
     sofa_order_permutation(
         t1, t2, n, [&](std::size_t i) { return std::pair<Index, Index>(outputs[i].elem1, outputs[i].elem2); }, scratch);
     scratch.sorted.clear();
-    for (const std::uint32_t i : scratch.permutation) scratch.sorted.push_back(outputs[i]);
+    const std::vector<std::uint32_t>& perm = scratch.permutation;
+    constexpr std::size_t kAhead = 8;  // the outputs are read in no memory order
+    for (std::size_t j = 0; j < n; ++j) {
+        if (j + kAhead < n) __builtin_prefetch(&outputs[perm[j + kAhead]]);
+        scratch.sorted.push_back(outputs[perm[j]]);
+    }
     std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());  // the buffers stay with their owners
 }
 

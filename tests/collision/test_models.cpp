@@ -164,6 +164,29 @@ TEST(Boxes, ElementAndModelBoxesIncludeSkinsAndRadii) {
     EXPECT_TRUE(b0.overlaps(far, 0.65));
 }
 
+// CollisionModel::element_row, the prefetch hint of evaluate_candidates: for the models with one
+// element per DOF it is the row of the state's positions (base + i·stride is element i's
+// centre); the others have none.
+TEST(Boxes, ElementRowOfAModelWithOneElementPerDofIsItsPositions) {
+    Vec3State s = make_state({{0, 0, 0}, {2, 1, 0}, {3, 0, 1}});
+    const auto at = [](const CollisionModel::ElementRow& row, std::size_t i) {
+        return static_cast<const void*>(row.base + i * row.stride);
+    };
+    const PointModel points(s);
+    const SphereModel spheres(s, 0.5);
+    for (std::size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(at(points.element_row(), i), static_cast<const void*>(&points.point(Index(i))));
+        EXPECT_EQ(at(spheres.element_row(), i), static_cast<const void*>(&spheres.center(Index(i))));
+    }
+    Rigid3State rs = test::make_rigid_state({RigidFrame{Vec3(0, 0, 0), Quat::Identity()},
+                                             RigidFrame{Vec3(1, 2, 3), Quat::Identity()}});
+    const RigidSphereModel rigid(rs, 0.5);
+    EXPECT_EQ(at(rigid.element_row(), 1), static_cast<const void*>(&rigid.center(Index(1))));
+    EXPECT_EQ(rigid.element_row().stride, sizeof(RigidFrame));
+    const CylinderModel cylinder(rs);
+    EXPECT_EQ(cylinder.element_row().base, nullptr);
+}
+
 TEST(CanCollideWith, SofaRule) {
     Vec3State s = make_state({{0, 0, 0}});
     PointModel a(s), b(s);

@@ -6,6 +6,7 @@
 
 #include "penalty/core/types.hpp"
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -100,6 +101,15 @@ public:
     /// out[k] = element_box(begin + k) for k < end − begin: one virtual call for a range (the
     /// models of meshes override it with a loop the compiler can inline).
     virtual void element_boxes(std::size_t begin, std::size_t end, Aabb* out) const;
+    /// Where element i's own data lies in memory: base + i·stride bytes. The kernels read it
+    /// for every candidate, in no memory order, so evaluate_candidates prefetches it a few
+    /// candidates ahead. A hint for the prefetch only, never read through; {nullptr, 0} (the
+    /// default) for a model whose elements have no such row.
+    struct ElementRow {
+        const std::byte* base = nullptr;
+        std::size_t stride = 0;
+    };
+    [[nodiscard]] virtual ElementRow element_row() const { return {}; }
     /// Union of the element boxes (empty box for an empty model).
     [[nodiscard]] Aabb model_box() const;
 

@@ -15,6 +15,12 @@
 
 namespace penalty {
 
+/// The row of a state's positions (CollisionModel::element_row of a model with one element per DOF).
+template <class State>
+[[nodiscard]] CollisionModel::ElementRow position_row(const State& state) {
+    return {reinterpret_cast<const std::byte*>(state.position.data()), sizeof(state.position[0])};
+}
+
 /// PointCollisionModel<Vec3>: one element per DOF; element index = DOF index.
 /// Box: p ± contact_distance.
 class PointModel final : public CollisionModel {
@@ -30,6 +36,7 @@ public:
     void validate() const override;
 
     [[nodiscard]] const Vec3& point(Index i) const { return state_->position[std::size_t(i)]; }
+    [[nodiscard]] ElementRow element_row() const override { return position_row(*state_); }
     [[nodiscard]] const Vec3State& state() const { return *state_; }
     [[nodiscard]] const MeshTopology* topology() const { return topology_; }
 
@@ -146,6 +153,7 @@ public:
     void validate() const override;
 
     [[nodiscard]] const Vec3& center(Index i) const { return state_->position[std::size_t(i)]; }
+    [[nodiscard]] ElementRow element_row() const override { return position_row(*state_); }
     [[nodiscard]] double radius(Index i) const {
         return std::size_t(i) < list_radius_.size() ? list_radius_[std::size_t(i)] : radius_;
     }
@@ -169,6 +177,7 @@ public:
     void validate() const override;
 
     [[nodiscard]] const Vec3& center(Index i) const { return state_->position[std::size_t(i)].center; }
+    [[nodiscard]] ElementRow element_row() const override { return position_row(*state_); }
     [[nodiscard]] const RigidFrame& frame(Index i) const { return state_->position[std::size_t(i)]; }
     [[nodiscard]] double radius(Index i) const {
         return std::size_t(i) < list_radius_.size() ? list_radius_[std::size_t(i)] : radius_;

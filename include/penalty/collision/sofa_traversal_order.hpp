@@ -48,6 +48,10 @@ public:
     [[nodiscard]] std::span<const SofaTreeStep> path(Index e) const {
         return {steps_.data() + offsets_[e], steps_.data() + offsets_[e + 1]};
     }
+    /// Prefetch hints for a caller that reads the paths of many elements in no memory order:
+    /// the bounds of e's path, then (once they are in cache) its steps.
+    void prefetch_offset(Index e) const { __builtin_prefetch(offsets_.data() + e); }
+    void prefetch_path(Index e) const { __builtin_prefetch(steps_.data() + offsets_[e]); }
     /// The longest path (levels below the root).
     [[nodiscard]] std::size_t levels() const { return level_max_size_.size(); }
     /// The largest child range at level t (1 beyond the tree's levels: an element whose path
