@@ -122,7 +122,17 @@ void Bvh::reorder_boxes() {
     ordered_.resize(boxes_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes_.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t s = r.begin(); s != r.end(); ++s) ordered_[s] = boxes_[order_[s]];
+                          // boxes_ is read in tree order, no memory order: each box is
+                          // fetched 16 ahead (both cache lines it may span)
+                          constexpr std::size_t kAhead = 16;
+                          for (std::size_t s = r.begin(); s != r.end(); ++s) {
+                              if (s + kAhead < r.end()) {
+                                  const Aabb* ahead = boxes_.data() + order_[s + kAhead];
+                                  __builtin_prefetch(ahead);
+                                  __builtin_prefetch(reinterpret_cast<const char*>(ahead) + sizeof(Aabb) - 1);
+                              }
+                              ordered_[s] = boxes_[order_[s]];
+                          }
                       });
 }
 

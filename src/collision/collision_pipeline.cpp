@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_sort.h>
 
@@ -368,7 +369,9 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
     auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
         for_each_candidate(begin, end, to, kernel.reads);
     };
-    if (!opt.parallel || keys.size() <= opt.chunk_size) {
+    // one thread (the arena's, e.g. a benchmark's or a user's task_arena of 1): the chunks would
+    // be run one after the other and then copied into `out` in order, the same outputs
+    if (!opt.parallel || keys.size() <= opt.chunk_size || tbb::this_task_arena::max_concurrency() < 2) {
         run(0, keys.size(), out);
         return;
     }

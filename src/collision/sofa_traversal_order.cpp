@@ -62,7 +62,9 @@ bool pack_levels(const SofaCubeTree& t1, const SofaCubeTree& t2, PackedLevels p)
         [&](std::size_t t) { return std::uint64_t(t1.max_range(t)) * std::uint64_t(t2.max_range(t)); }, p);
 }
 
-std::uint64_t packed_key(const PackedLevels& p, std::span<const SofaTreeStep> a, std::span<const SofaTreeStep> b) {
+// a, b: paths (std::span<const SofaTreeStep> or SofaCubeTree::LeafPath)
+template <class Path>
+std::uint64_t packed_key(const PackedLevels& p, const Path& a, const Path& b) {
     std::uint64_t key = 0;
     for (std::size_t t = 0; t < p.span.size(); ++t) {
         const SofaTreeStep s = t < a.size() ? a[t] : SofaTreeStep{};
@@ -81,6 +83,7 @@ void SofaCubeTree::build(const CollisionModel& model, int depth) {
     const std::size_t n = model.size();
     steps_.clear();
     offsets_.clear();
+    places_.clear();
     key_as_first_.clear();
     key_as_second_.clear();
     if (n == 0) return;
@@ -110,27 +113,38 @@ void SofaCubeTree::build(const CollisionModel& model, int depth) {
         if (next.empty()) break;
         levels.push_back(std::move(next));
     }
-    // each element's path: down from the root's children to the element
-    std::vector<std::vector<SofaTreeStep>> paths(n);
+    // each leaf cell's path from the root's children down to the cell (the split steps {s, 2}),
+    // and each element's place in its leaf cell; an element's path is its cell's path followed
+    // by {place, cell size}
+    places_.assign(n, Place{});
+    cell_offsets_.assign(1, 0);
+    cell_steps_.clear();
+    cell_sizes_.clear();
+    std::vector<SofaTreeStep> prefix;
     const auto walk = [&](const auto& self, std::size_t lvl, const Cell& c) -> void {
         if (c.child < 0) {
-            for (std::uint32_t k = c.first; k < c.last; ++k)
-                paths[order[k]].push_back({k - c.first, c.last - c.first});
+            const auto cell = std::uint32_t(cell_sizes_.size());
+            cell_steps_.insert(cell_steps_.end(), prefix.begin(), prefix.end());
+            cell_offsets_.push_back(std::uint32_t(cell_steps_.size()));
+            cell_sizes_.push_back(c.last - c.first);
+            for (std::uint32_t k = c.first; k < c.last; ++k) places_[order[k]] = {cell, k - c.first};
             return;
         }
         const std::vector<Cell>& below = levels[lvl + 1];
         for (std::uint32_t s = 0; s < 2; ++s) {
-            const Cell& child = below[std::size_t(c.child) + s];
-            for (std::uint32_t k = child.first; k < child.last; ++k) paths[order[k]].push_back({s, 2});
-            self(self, lvl + 1, child);
+            prefix.push_back({s, 2});
+            self(self, lvl + 1, below[std::size_t(c.child) + s]);
+            prefix.pop_back();
         }
     };
     walk(walk, 0, levels[0][0]);
     offsets_.reserve(n + 1);
     offsets_.push_back(0);
     level_max_size_.clear();
-    for (const auto& p : paths) {
-        steps_.insert(steps_.end(), p.begin(), p.end());
+    for (std::size_t e = 0; e < n; ++e) {
+        const LeafPath p = leaf_path(Index(e));
+        steps_.insert(steps_.end(), p.cell.begin(), p.cell.end());
+        steps_.push_back(p.leaf);
         offsets_.push_back(std::uint32_t(steps_.size()));
         if (p.size() > level_max_size_.size()) level_max_size_.resize(p.size(), 1);
         for (std::size_t t = 0; t < p.size(); ++t) level_max_size_[t] = std::max(level_max_size_[t], p[t].size);
@@ -185,6 +199,48 @@ bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1
 
 namespace {
 
+// Sorts v by key; equal keys keep their order in v. Least significant digit first radix sort
+// (each pass stable) over the bits the keys use, 11 bits a pass, a pass skipped when every key
+// has the same digit; std::sort with the position as the tie-break for short lists.
+void sort_by_key_stable(std::vector<SofaOrderScratch::Keyed>& v, std::vector<SofaOrderScratch::Keyed>& swap) {
+    using Keyed = SofaOrderScratch::Keyed;
+    const std::size_t n = v.size();
+    if (n < 512) {
+        // v is in index order (the caller's), so the index is the position
+        std::sort(v.begin(), v.end(), [](const Keyed& x, const Keyed& y) {
+            return x.key != y.key ? x.key < y.key : x.index < y.index;
+        });
+        return;
+    }
+    constexpr int kDigitBits = 11;
+    constexpr std::size_t kBuckets = std::size_t(1) << kDigitBits;
+    std::uint64_t used = 0;
+    for (const Keyed& k : v) used |= k.key;
+    const int passes = (std::bit_width(used) + kDigitBits - 1) / kDigitBits;
+    if (passes == 0) return;  // every key 0: already in order
+    // the counts of every pass in one read of the keys
+    std::vector<std::size_t> counts(std::size_t(passes) * kBuckets, 0);
+    for (const Keyed& k : v)
+        for (int p = 0; p < passes; ++p) ++counts[std::size_t(p) * kBuckets + ((k.key >> (p * kDigitBits)) & (kBuckets - 1))];
+    if (swap.size() < n) swap.resize(n);
+    Keyed* from = v.data();
+    Keyed* to = swap.data();
+    for (int p = 0; p < passes; ++p) {
+        std::size_t* count = counts.data() + std::size_t(p) * kBuckets;
+        const std::uint64_t first_digit = (from[0].key >> (p * kDigitBits)) & (kBuckets - 1);
+        if (count[first_digit] == n) continue;  // one digit for all: the order stays
+        std::size_t start = 0;
+        for (std::size_t b = 0; b < kBuckets; ++b) {
+            const std::size_t c = count[b];
+            count[b] = start;
+            start += c;
+        }
+        for (std::size_t i = 0; i < n; ++i) to[count[(from[i].key >> (p * kDigitBits)) & (kBuckets - 1)]++] = from[i];
+        std::swap(from, to);
+    }
+    if (from != v.data()) std::copy(from, from + n, v.data());
+}
+
 // The permutation that puts the element pairs elements(i), i < n, into SOFA's visiting order
 // (sofa_visits_before), left in scratch.permutation; pairs of the same two elements keep their
 // index order.
@@ -210,28 +266,22 @@ void sofa_order_permutation(const SofaCubeTree& t1, const SofaCubeTree& t2, std:
             const std::span<const std::uint64_t> k = t2.keys_against_one_element(false);
             for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(elements(i).second)], std::uint32_t(i)});
         } else {
-            // the pairs come in no memory order of their elements: each element's path is
-            // fetched ahead, its offset 2·kAhead pairs ahead and then its steps kAhead ahead
+            // the pairs come in no memory order of their elements: each element's place in
+            // its leaf cell is fetched kAhead pairs ahead (the cells' paths are few and stay
+            // in cache)
             constexpr std::size_t kAhead = 16;
             for (std::size_t i = 0; i < n; ++i) {
-                if (i + 2 * kAhead < n) {
-                    const auto [a, b] = elements(i + 2 * kAhead);
-                    t1.prefetch_offset(a);
-                    t2.prefetch_offset(b);
-                }
                 if (i + kAhead < n) {
                     const auto [a, b] = elements(i + kAhead);
-                    t1.prefetch_path(a);
-                    t2.prefetch_path(b);
+                    t1.prefetch_place(a);
+                    t2.prefetch_place(b);
                 }
                 const auto [a, b] = elements(i);
-                keyed.push_back({packed_key(levels, t1.path(a), t2.path(b)), std::uint32_t(i)});
+                keyed.push_back({packed_key(levels, t1.leaf_path(a), t2.leaf_path(b)), std::uint32_t(i)});
             }
         }
         // the index breaks ties: the outputs of one element pair keep their order
-        std::sort(keyed.begin(), keyed.end(), [](const SofaOrderScratch::Keyed& x, const SofaOrderScratch::Keyed& y) {
-            return x.key != y.key ? x.key < y.key : x.index < y.index;
-        });
+        sort_by_key_stable(keyed, scratch.keyed_swap);
         for (std::size_t i = 0; i < n; ++i) perm.push_back(keyed[i].index);
         return;
     }

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <random>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -141,7 +142,10 @@ TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
     // sort_keys_in_sofa_order the same order on the distinct element pairs
     std::mt19937 g(17);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
-    int cases = 0, reordered = 0;
+    int cases = 0, reordered = 0, radix_key_cases = 0;
+    // 400 outputs: sorted by std::sort; 3000: by the radix sort (512 or more), most cases with
+    // that many distinct element pairs too
+    for (int count : {400, 3000})
     for (int depth : {0, 1, 2, 6, 12}) {
         for (int n1 : {1, 5, 37, 300}) {
             for (int n2 : {1, 2, 9, 120}) {  // a one-element model: keys precomputed at build
@@ -154,7 +158,7 @@ TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
                 t2.build(m2, depth == 12 ? 3 : depth);
                 DetectionOutputList out;
                 std::uniform_int_distribution<int> e1(0, n1 - 1), e2(0, n2 - 1);
-                for (int k = 0; k < 400; ++k) {
+                for (int k = 0; k < count; ++k) {
                     DetectionOutput o;
                     o.elem1 = Index(e1(g));
                     o.elem2 = Index(e2(g));
@@ -171,8 +175,10 @@ TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
                 const auto key_of = [](const DetectionOutput& o) {
                     return (std::uint64_t(std::uint32_t(o.elem1)) << 32) | std::uint64_t(std::uint32_t(o.elem2));
                 };
+                std::set<std::uint64_t> seen;
                 for (const DetectionOutput& o : out)
-                    if (std::find(keys.begin(), keys.end(), key_of(o)) == keys.end()) keys.push_back(key_of(o));
+                    if (seen.insert(key_of(o)).second) keys.push_back(key_of(o));
+                if (keys.size() >= 512) ++radix_key_cases;
                 for (const DetectionOutput& o : expected)
                     if (expected_keys.empty() || expected_keys.back() != key_of(o)) expected_keys.push_back(key_of(o));
                 SofaOrderScratch key_scratch;
@@ -195,9 +201,12 @@ TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
             }
         }
     }
-    EXPECT_EQ(cases, 80);
+    EXPECT_EQ(cases, 160);
     // the order is not the input's (1×1 elements cannot change it, 1×2 could keep it)
-    EXPECT_GE(reordered, 74);
+    EXPECT_GE(reordered, 148);
+    // key lists of 512 or more at 3000 outputs, at every depth: n1 × n2 = 300 × 2, 5 × 120 (600
+    // pairs, nearly all drawn), 300 × 9, 37 × 120, 300 × 120
+    EXPECT_EQ(radix_key_cases, 25);
 }
 
 TEST(SofaOrder, BvhAndExhaustiveDetectionGiveTheSameOrderOverMovingSteps) {

@@ -48,10 +48,22 @@ public:
     [[nodiscard]] std::span<const SofaTreeStep> path(Index e) const {
         return {steps_.data() + offsets_[e], steps_.data() + offsets_[e + 1]};
     }
-    /// Prefetch hints for a caller that reads the paths of many elements in no memory order:
-    /// the bounds of e's path, then (once they are in cache) its steps.
-    void prefetch_offset(Index e) const { __builtin_prefetch(offsets_.data() + e); }
-    void prefetch_path(Index e) const { __builtin_prefetch(steps_.data() + offsets_[e]); }
+    /// path(e) in two parts: the path of e's leaf cell (the cells' split steps, shared by all
+    /// its elements; few, so they stay in cache) and e's last step {place in the cell, cell
+    /// size}, read from 8 bytes per element.
+    struct LeafPath {
+        std::span<const SofaTreeStep> cell;
+        SofaTreeStep leaf;
+        [[nodiscard]] std::size_t size() const { return cell.size() + 1; }
+        [[nodiscard]] SofaTreeStep operator[](std::size_t t) const { return t < cell.size() ? cell[t] : leaf; }
+    };
+    [[nodiscard]] LeafPath leaf_path(Index e) const {
+        const Place p = places_[e];
+        return {{cell_steps_.data() + cell_offsets_[p.cell], cell_steps_.data() + cell_offsets_[p.cell + 1]},
+                {p.index, cell_sizes_[p.cell]}};
+    }
+    /// Prefetch hint for a caller that reads the leaf paths of many elements in no memory order.
+    void prefetch_place(Index e) const { __builtin_prefetch(places_.data() + e); }
     /// The longest path (levels below the root).
     [[nodiscard]] std::size_t levels() const { return level_max_size_.size(); }
     /// The largest child range at level t (1 beyond the tree's levels: an element whose path
@@ -70,6 +82,14 @@ public:
 private:
     void compute_keys_against_one_element();
 
+    struct Place {
+        std::uint32_t cell = 0;   ///< leaf cell
+        std::uint32_t index = 0;  ///< position in the cell
+    };
+    std::vector<Place> places_;                 // per element
+    std::vector<SofaTreeStep> cell_steps_;      // the leaf cells' paths, one after the other
+    std::vector<std::uint32_t> cell_offsets_;   // leaf cell c's path: [offsets[c], offsets[c + 1])
+    std::vector<std::uint32_t> cell_sizes_;     // elements per leaf cell
     std::vector<SofaTreeStep> steps_;
     std::vector<std::uint32_t> offsets_;
     std::vector<std::uint32_t> level_max_size_;
@@ -89,6 +109,7 @@ struct SofaOrderScratch {
     };
     std::vector<std::uint32_t> permutation;
     std::vector<Keyed> keyed;
+    std::vector<Keyed> keyed_swap;  ///< the radix sort's second buffer
     std::vector<std::uint64_t> level_span;  ///< per level: the number of loop positions
     std::vector<int> level_shift;           ///< per level: the bit position of its digit
     DetectionOutputList sorted;
