@@ -1,6 +1,7 @@
 #include "penalty/collision/bvh.hpp"
 
 #include "penalty/core/error.hpp"
+#include "prefetch.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -120,17 +121,14 @@ void Bvh::compute_boxes(const CollisionModel& model) {
 
 void Bvh::reorder_boxes() {
     ordered_.resize(boxes_.size());
+    const bool prefetch = detail::prefetch::worth_it(boxes_.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, boxes_.size(), 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                          // boxes_ is read in tree order, no memory order: each box is
-                          // fetched 16 ahead (both cache lines it may span)
-                          constexpr std::size_t kAhead = 16;
+                          // boxes_ is read in tree order, no memory order
+                          const std::size_t ahead = detail::prefetch::kAhead;
                           for (std::size_t s = r.begin(); s != r.end(); ++s) {
-                              if (s + kAhead < r.end()) {
-                                  const Aabb* ahead = boxes_.data() + order_[s + kAhead];
-                                  __builtin_prefetch(ahead);
-                                  __builtin_prefetch(reinterpret_cast<const char*>(ahead) + sizeof(Aabb) - 1);
-                              }
+                              if (prefetch && s + ahead < r.end())
+                                  detail::prefetch::object(boxes_.data() + order_[s + ahead], sizeof(Aabb));
                               ordered_[s] = boxes_[order_[s]];
                           }
                       });

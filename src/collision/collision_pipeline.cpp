@@ -5,6 +5,7 @@
 #include "penalty/collision/box_columns.hpp"
 #include "penalty/collision/separation.hpp"
 #include "kernels.hpp"
+#include "prefetch.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -332,14 +333,6 @@ LongElements long_elements(const IntersectionParams& params, const CollisionMode
 // the kernel's writes to the models first, over all candidates in order, then its reads, in
 // parallel chunks concatenated in chunk order (the outputs of the sequential loop).
 // separation_tests: the kernels run their early outs (separation.hpp) on every candidate.
-// Candidates and kept keys come in no memory order of their elements (a tree's or SOFA's
-// order): the element data that a kernel or a kept key's box test reads is prefetched this many
-// keys ahead. A box may span two cache lines.
-constexpr std::size_t kPrefetchAhead = 16;
-inline void prefetch_box(const Aabb* box) {
-    __builtin_prefetch(box);
-    __builtin_prefetch(reinterpret_cast<const char*>(box) + sizeof(Aabb) - 1);
-}
 
 void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& keys,
                          const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out,
@@ -350,12 +343,13 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
     const detail::KernelParts kernel = detail::pair_kernel_parts(params, m1, m2);
     const CollisionModel::ElementRow row1 = m1.element_row();
     const CollisionModel::ElementRow row2 = m2.element_row();
-    const bool prefetch = row1.base != nullptr && row2.base != nullptr;
+    const bool prefetch =
+        row1.base != nullptr && row2.base != nullptr && detail::prefetch::worth_it(m1.size() + m2.size());
     auto for_each_candidate = [&](std::size_t begin, std::size_t end, DetectionOutputList& to, auto&& fn) {
         detail::PairCtx ctx{params, m1, m2, 0, 0, to, separation_tests};
         for (std::size_t k = begin; k < end; ++k) {
-            if (prefetch && k + kPrefetchAhead < end) {
-                const std::uint64_t ahead = keys[k + kPrefetchAhead];
+            if (prefetch && k + detail::prefetch::kAhead < end) {
+                const std::uint64_t ahead = keys[k + detail::prefetch::kAhead];
                 __builtin_prefetch(row1.base + row1.stride * (ahead >> 32));
                 __builtin_prefetch(row2.base + row2.stride * (ahead & 0xffffffffu));
             }
@@ -660,11 +654,12 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const Aabb* boxes2 = t2.element_boxes().data();
     const std::size_t n_kept = kept.keys.size();
     const std::uint64_t* keys = kept.keys.data();
+    const bool prefetch = detail::prefetch::worth_it(m1.size() + m2.size());
     for (std::size_t j = 0; j < n_kept; ++j) {
-        if (j + kPrefetchAhead < n_kept) {
-            const std::uint64_t ahead = keys[j + kPrefetchAhead];
-            prefetch_box(boxes1 + (ahead >> 32));
-            prefetch_box(boxes2 + (ahead & 0xffffffffu));
+        if (prefetch && j + detail::prefetch::kAhead < n_kept) {
+            const std::uint64_t ahead = keys[j + detail::prefetch::kAhead];
+            detail::prefetch::object(boxes1 + (ahead >> 32), sizeof(Aabb));
+            detail::prefetch::object(boxes2 + (ahead & 0xffffffffu), sizeof(Aabb));
         }
         const std::uint64_t k = keys[j];
         if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);

@@ -1,6 +1,7 @@
 #include "penalty/collision/sofa_traversal_order.hpp"
 
 #include "penalty/core/error.hpp"
+#include "prefetch.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -267,11 +268,11 @@ void sofa_order_permutation(const SofaCubeTree& t1, const SofaCubeTree& t2, std:
             for (std::size_t i = 0; i < n; ++i) keyed.push_back({k[std::size_t(elements(i).second)], std::uint32_t(i)});
         } else {
             // the pairs come in no memory order of their elements: each element's place in
-            // its leaf cell is fetched kAhead pairs ahead (the cells' paths are few and stay
-            // in cache)
-            constexpr std::size_t kAhead = 16;
+            // its leaf cell is fetched ahead (the cells' paths are few and stay in cache)
+            const std::size_t kAhead = detail::prefetch::kAhead;
+            const bool prefetch = detail::prefetch::worth_it(t1.size() + t2.size());
             for (std::size_t i = 0; i < n; ++i) {
-                if (i + kAhead < n) {
+                if (prefetch && i + kAhead < n) {
                     const auto [a, b] = elements(i + kAhead);
                     t1.prefetch_place(a);
                     t2.prefetch_place(b);
@@ -306,9 +307,11 @@ void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, Detectio
         t1, t2, n, [&](std::size_t i) { return std::pair<Index, Index>(outputs[i].elem1, outputs[i].elem2); }, scratch);
     scratch.sorted.clear();
     const std::vector<std::uint32_t>& perm = scratch.permutation;
-    constexpr std::size_t kAhead = 8;  // the outputs are read in no memory order
+    // the outputs are read in no memory order
+    const std::size_t ahead = detail::prefetch::kAhead;
+    const bool prefetch = detail::prefetch::worth_it(t1.size() + t2.size());
     for (std::size_t j = 0; j < n; ++j) {
-        if (j + kAhead < n) __builtin_prefetch(&outputs[perm[j + kAhead]]);
+        if (prefetch && j + ahead < n) detail::prefetch::object(&outputs[perm[j + ahead]], sizeof(DetectionOutput));
         scratch.sorted.push_back(outputs[perm[j]]);
     }
     std::copy(scratch.sorted.begin(), scratch.sorted.end(), outputs.begin());  // the buffers stay with their owners
