@@ -333,7 +333,6 @@ LongElements long_elements(const IntersectionParams& params, const CollisionMode
 // the kernel's writes to the models first, over all candidates in order, then its reads, in
 // parallel chunks concatenated in chunk order (the outputs of the sequential loop).
 // separation_tests: the kernels run their early outs (separation.hpp) on every candidate.
-
 void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& keys,
                          const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out,
                          bool separation_tests) {

@@ -63,9 +63,7 @@ bool pack_levels(const SofaCubeTree& t1, const SofaCubeTree& t2, PackedLevels p)
         [&](std::size_t t) { return std::uint64_t(t1.max_range(t)) * std::uint64_t(t2.max_range(t)); }, p);
 }
 
-// a, b: paths (std::span<const SofaTreeStep> or SofaCubeTree::LeafPath)
-template <class Path>
-std::uint64_t packed_key(const PackedLevels& p, const Path& a, const Path& b) {
+std::uint64_t packed_key(const PackedLevels& p, const SofaCubeTree::Path& a, const SofaCubeTree::Path& b) {
     std::uint64_t key = 0;
     for (std::size_t t = 0; t < p.span.size(); ++t) {
         const SofaTreeStep s = t < a.size() ? a[t] : SofaTreeStep{};
@@ -82,8 +80,6 @@ std::uint64_t packed_key(const PackedLevels& p, const Path& a, const Path& b) {
 
 void SofaCubeTree::build(const CollisionModel& model, int depth) {
     const std::size_t n = model.size();
-    steps_.clear();
-    offsets_.clear();
     places_.clear();
     key_as_first_.clear();
     key_as_second_.clear();
@@ -139,16 +135,13 @@ void SofaCubeTree::build(const CollisionModel& model, int depth) {
         }
     };
     walk(walk, 0, levels[0][0]);
-    offsets_.reserve(n + 1);
-    offsets_.push_back(0);
     level_max_size_.clear();
-    for (std::size_t e = 0; e < n; ++e) {
-        const LeafPath p = leaf_path(Index(e));
-        steps_.insert(steps_.end(), p.cell.begin(), p.cell.end());
-        steps_.push_back(p.leaf);
-        offsets_.push_back(std::uint32_t(steps_.size()));
-        if (p.size() > level_max_size_.size()) level_max_size_.resize(p.size(), 1);
-        for (std::size_t t = 0; t < p.size(); ++t) level_max_size_[t] = std::max(level_max_size_[t], p[t].size);
+    for (std::size_t c = 0; c < cell_sizes_.size(); ++c) {
+        // a cell's path: split steps of size 2, then its elements' last step of the cell's size
+        const std::size_t depth_of_cell = cell_offsets_[c + 1] - cell_offsets_[c];
+        if (depth_of_cell + 1 > level_max_size_.size()) level_max_size_.resize(depth_of_cell + 1, 1);
+        for (std::size_t t = 0; t < depth_of_cell; ++t) level_max_size_[t] = std::max<std::uint32_t>(level_max_size_[t], 2);
+        level_max_size_[depth_of_cell] = std::max(level_max_size_[depth_of_cell], cell_sizes_[c]);
     }
     compute_keys_against_one_element();
 }
@@ -157,8 +150,7 @@ void SofaCubeTree::compute_keys_against_one_element() {
     key_as_first_.clear();
     key_as_second_.clear();
     // a one-element tree: one path [{0, 1}], one level, largest range 1 at every level
-    const SofaTreeStep only{0, 1};
-    const std::span<const SofaTreeStep> other(&only, 1);
+    const Path other{{}, SofaTreeStep{0, 1}};
     std::vector<std::uint64_t> span;
     std::vector<int> shift;
     const PackedLevels levels{span, shift};
@@ -179,8 +171,7 @@ bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1
     // At each level both pairs are in the same two ranges (their earlier steps agree). A pair
     // of two elements is intersected during the loop (key 0, loop position); any other pair is
     // pushed and visited after the loop, last pushed first (key 1, −loop position).
-    const auto key = [](std::span<const SofaTreeStep> p, std::span<const SofaTreeStep> q, std::size_t t,
-                        bool& leaf_pair) {
+    const auto key = [](const SofaCubeTree::Path& p, const SofaCubeTree::Path& q, std::size_t t, bool& leaf_pair) {
         const SofaTreeStep s = t < p.size() ? p[t] : SofaTreeStep{};
         const SofaTreeStep r = t < q.size() ? q[t] : SofaTreeStep{};
         leaf_pair = t + 1 >= p.size() && t + 1 >= q.size();
@@ -203,7 +194,8 @@ namespace {
 // Sorts v by key; equal keys keep their order in v. Least significant digit first radix sort
 // (each pass stable) over the bits the keys use, 11 bits a pass, a pass skipped when every key
 // has the same digit; std::sort with the position as the tie-break for short lists.
-void sort_by_key_stable(std::vector<SofaOrderScratch::Keyed>& v, std::vector<SofaOrderScratch::Keyed>& swap) {
+void sort_by_key_stable(std::vector<SofaOrderScratch::Keyed>& v, std::vector<SofaOrderScratch::Keyed>& swap,
+                        std::vector<std::size_t>& counts) {
     using Keyed = SofaOrderScratch::Keyed;
     const std::size_t n = v.size();
     if (n < 512) {
@@ -220,7 +212,7 @@ void sort_by_key_stable(std::vector<SofaOrderScratch::Keyed>& v, std::vector<Sof
     const int passes = (std::bit_width(used) + kDigitBits - 1) / kDigitBits;
     if (passes == 0) return;  // every key 0: already in order
     // the counts of every pass in one read of the keys
-    std::vector<std::size_t> counts(std::size_t(passes) * kBuckets, 0);
+    counts.assign(std::size_t(passes) * kBuckets, 0);
     for (const Keyed& k : v)
         for (int p = 0; p < passes; ++p) ++counts[std::size_t(p) * kBuckets + ((k.key >> (p * kDigitBits)) & (kBuckets - 1))];
     if (swap.size() < n) swap.resize(n);
@@ -278,11 +270,11 @@ void sofa_order_permutation(const SofaCubeTree& t1, const SofaCubeTree& t2, std:
                     t2.prefetch_place(b);
                 }
                 const auto [a, b] = elements(i);
-                keyed.push_back({packed_key(levels, t1.leaf_path(a), t2.leaf_path(b)), std::uint32_t(i)});
+                keyed.push_back({packed_key(levels, t1.path(a), t2.path(b)), std::uint32_t(i)});
             }
         }
         // the index breaks ties: the outputs of one element pair keep their order
-        sort_by_key_stable(keyed, scratch.keyed_swap);
+        sort_by_key_stable(keyed, scratch.keyed_swap, scratch.radix_counts);
         for (std::size_t i = 0; i < n; ++i) perm.push_back(keyed[i].index);
         return;
     }

@@ -26,7 +26,8 @@ CollisionModelParams named(const char* n, int node) {
 
 std::vector<std::pair<std::uint32_t, std::uint32_t>> steps(const SofaCubeTree& t, Index e) {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
-    for (const SofaTreeStep& s : t.path(e)) out.emplace_back(s.index, s.size);
+    const SofaCubeTree::Path p = t.path(e);
+    for (std::size_t k = 0; k < p.size(); ++k) out.emplace_back(p[k].index, p[k].size);
     return out;
 }
 

@@ -15,6 +15,8 @@
 //     the implicit solver still rebuilds its SubtreeSystem at every solve.
 // Only C++ allocations (operator new) are counted: TBB's own task and thread-local storage go
 // through its allocator (malloc), outside the contact code's control.
+#include "penalty/collision/models.hpp"
+#include "penalty/collision/sofa_traversal_order.hpp"
 #include "penalty/scene/scene.hpp"
 
 #include <gtest/gtest.h>
@@ -22,6 +24,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <random>
 #include <string>
 #include <tuple>
 
@@ -137,6 +140,53 @@ TEST_P(ZeroAllocation, WholeStep) {
     const Counts c = run_scene(file, bvh);
     ASSERT_GT(c.live_pairs, 0u);
     EXPECT_EQ(c.whole_step, 0) << file << ": a step allocated over steps 50-100 (contact path: " << c.contact_path << ")";
+}
+
+// The sort into SOFA's order keeps its buffers (SofaOrderScratch) from call to call: once they
+// have grown, sorting the same number of outputs, or of keys, allocates nothing. 3000 outputs
+// go through the radix sort (512 or more), 300 through std::sort.
+TEST(ZeroAllocationSofaOrder, SortsAllocateNothingOnceTheScratchHasGrown) {
+    std::mt19937 g(23);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Vec3State s1, s2;
+    for (int i = 0; i < 300; ++i) s1.position.emplace_back(u(g), u(g), u(g));
+    for (int i = 0; i < 120; ++i) s2.position.emplace_back(u(g), u(g), u(g));
+    CollisionModelParams p1, p2;
+    p1.name = "a";
+    p2.name = "b";
+    p2.node = 1;
+    const PointModel m1(s1, nullptr, p1), m2(s2, nullptr, p2);
+    SofaCubeTree t1, t2;
+    t1.build(m1, 6);
+    t2.build(m2, 6);
+    for (const int count : {300, 3000}) {
+        DetectionOutputList outputs;
+        std::vector<std::uint64_t> keys;
+        std::uniform_int_distribution<int> e1(0, 299), e2(0, 119);
+        for (int k = 0; k < count; ++k) {
+            DetectionOutput o;
+            o.elem1 = Index(e1(g));
+            o.elem2 = Index(e2(g));
+            outputs.push_back(o);
+            keys.push_back((std::uint64_t(k) % 300) << 32 | std::uint64_t(k) % 120);  // distinct pairs
+        }
+        const std::vector<std::uint64_t> unsorted_keys = keys;
+        SofaOrderScratch scratch;
+        DetectionOutputList first = outputs;
+        std::vector<std::uint64_t> first_keys = keys;
+        sort_in_sofa_order(t1, t2, first, scratch);  // the scratch grows
+        sort_keys_in_sofa_order(t1, t2, first_keys, scratch);
+        const long n = count_allocations([&] {
+            sort_in_sofa_order(t1, t2, outputs, scratch);
+            sort_keys_in_sofa_order(t1, t2, keys, scratch);
+        });
+        EXPECT_EQ(n, 0) << count << " outputs";
+        // the same order both times (not vacuous: the sorts ran)
+        ASSERT_EQ(outputs.size(), first.size());
+        for (std::size_t i = 0; i < outputs.size(); ++i) ASSERT_EQ(outputs[i].elem1, first[i].elem1);
+        EXPECT_EQ(keys, first_keys);
+        EXPECT_NE(keys, unsorted_keys);  // the keys were given in element order, not SOFA's
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ZeroAllocation,

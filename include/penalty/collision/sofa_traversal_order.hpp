@@ -35,34 +35,32 @@ struct SofaTreeStep {
     std::uint32_t size = 1;
 };
 
-/// SOFA's bounding tree of one model, kept as each element's path from the root.
+/// SOFA's bounding tree of one model, kept as each element's path from the root (its leaf cell
+/// and its place there).
 class SofaCubeTree {
 public:
     /// Builds the tree from the model's element boxes at their current positions (SOFA's leaf
     /// cubes: the same boxes as CollisionModel::element_box). `depth`: the pipeline's `depth`.
     void build(const CollisionModel& model, int depth);
-    [[nodiscard]] bool empty() const { return offsets_.empty(); }
+    [[nodiscard]] bool empty() const { return places_.empty(); }
     /// Elements it was built for.
-    [[nodiscard]] std::size_t size() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
-    /// The path of element e, from the root's children down to the element.
-    [[nodiscard]] std::span<const SofaTreeStep> path(Index e) const {
-        return {steps_.data() + offsets_[e], steps_.data() + offsets_[e + 1]};
-    }
-    /// path(e) in two parts: the path of e's leaf cell (the cells' split steps, shared by all
-    /// its elements; few, so they stay in cache) and e's last step {place in the cell, cell
-    /// size}, read from 8 bytes per element.
-    struct LeafPath {
+    [[nodiscard]] std::size_t size() const { return places_.size(); }
+    /// The path of an element from the root's children down to it, in two parts: the path of
+    /// its leaf cell (the cells' split steps {s, 2}, shared by the cell's elements; few, so they
+    /// stay in cache) and its last step {place in the cell, cell size}, read from 8 bytes per
+    /// element.
+    struct Path {
         std::span<const SofaTreeStep> cell;
         SofaTreeStep leaf;
         [[nodiscard]] std::size_t size() const { return cell.size() + 1; }
         [[nodiscard]] SofaTreeStep operator[](std::size_t t) const { return t < cell.size() ? cell[t] : leaf; }
     };
-    [[nodiscard]] LeafPath leaf_path(Index e) const {
+    [[nodiscard]] Path path(Index e) const {
         const Place p = places_[e];
         return {{cell_steps_.data() + cell_offsets_[p.cell], cell_steps_.data() + cell_offsets_[p.cell + 1]},
                 {p.index, cell_sizes_[p.cell]}};
     }
-    /// Prefetch hint for a caller that reads the leaf paths of many elements in no memory order.
+    /// Prefetch hint for a caller that reads the paths of many elements in no memory order.
     void prefetch_place(Index e) const { __builtin_prefetch(places_.data() + e); }
     /// The longest path (levels below the root).
     [[nodiscard]] std::size_t levels() const { return level_max_size_.size(); }
@@ -90,8 +88,6 @@ private:
     std::vector<SofaTreeStep> cell_steps_;      // the leaf cells' paths, one after the other
     std::vector<std::uint32_t> cell_offsets_;   // leaf cell c's path: [offsets[c], offsets[c + 1])
     std::vector<std::uint32_t> cell_sizes_;     // elements per leaf cell
-    std::vector<SofaTreeStep> steps_;
-    std::vector<std::uint32_t> offsets_;
     std::vector<std::uint32_t> level_max_size_;
     std::vector<std::uint64_t> key_as_first_, key_as_second_;
 };
@@ -109,7 +105,8 @@ struct SofaOrderScratch {
     };
     std::vector<std::uint32_t> permutation;
     std::vector<Keyed> keyed;
-    std::vector<Keyed> keyed_swap;  ///< the radix sort's second buffer
+    std::vector<Keyed> keyed_swap;          ///< the radix sort's second buffer
+    std::vector<std::size_t> radix_counts;  ///< the radix sort's digit counts, every pass
     std::vector<std::uint64_t> level_span;  ///< per level: the number of loop positions
     std::vector<int> level_shift;           ///< per level: the bit position of its digit
     DetectionOutputList sorted;
