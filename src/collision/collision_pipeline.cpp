@@ -349,8 +349,8 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
         for (std::size_t k = begin; k < end; ++k) {
             if (prefetch && k + detail::prefetch::kAhead < end) {
                 const std::uint64_t ahead = keys[k + detail::prefetch::kAhead];
-                __builtin_prefetch(row1.base + row1.stride * (ahead >> 32));
-                __builtin_prefetch(row2.base + row2.stride * (ahead & 0xffffffffu));
+                detail::prefetch::object(row1.base + row1.stride * (ahead >> 32), row1.stride);
+                detail::prefetch::object(row2.base + row2.stride * (ahead & 0xffffffffu), row2.stride);
             }
             ctx.e1 = Index(keys[k] >> 32);
             ctx.e2 = Index(keys[k] & 0xffffffffu);
