@@ -57,6 +57,21 @@ struct KernelParts {
 /// Line element (ElementPlanes::clears) holds no partner of that element with an output.
 [[nodiscard]] bool outputs_join_element_points(const KernelParts& kernel);
 
+/// Whether every output of the kernel (with these parameters) has id e2, a first point P in the
+/// box of element 1's vertices, and value |q − P| − c, with q = element_point(m2, e2) and c the
+/// same for every output of one e2 (the pair's contact distances and element 2's radius): the
+/// Line and Triangle kernels against a Point or a sphere that take P on the segment (clamped or
+/// interior parameter) or on an owned feature or the interior of the triangle. Then no output of
+/// e2 with element 1 is shorter than the distance from q to element 1's box.
+/// NewProximity Triangle–Sphere only with its edge range fixed: under SOFA's range (§14.2) its
+/// edges AB and AC take any parameter below 1, so P may lie on the edge's line beyond A (a bound
+/// by the distances to those lines was tried: near a surface most edge lines pass closer to q
+/// than its nearest output, and it pruned nothing).
+[[nodiscard]] bool outputs_nearest_to_element2(const IntersectionParams& params, const KernelParts& kernel);
+
+/// The point of element e of a Point model, or the centre of a Sphere or RigidSphere element.
+inline const Vec3& element_point(const CollisionModel& m, Index e);
+
 /// A sphere element of either SphereModel or RigidSphereModel.
 struct SphereElem {
     Vec3 c;
@@ -73,6 +88,14 @@ inline SphereElem sphere_elem(const CollisionModel& m, Index i) {
     }
     const auto& s = static_cast<const SphereModel&>(m);
     return {s.center(i), s.radius(i), false};
+}
+
+inline const Vec3& element_point(const CollisionModel& m, Index e) {
+    switch (m.type()) {
+        case ModelType::Sphere: return static_cast<const SphereModel&>(m).center(e);
+        case ModelType::RigidSphere: return static_cast<const RigidSphereModel&>(m).center(e);
+        default: return static_cast<const PointModel&>(m).point(e);
+    }
 }
 
 inline double skins(const PairCtx& c) {

@@ -383,6 +383,22 @@ bool outputs_join_element_points(const KernelParts& kernel) {
     return false;
 }
 
+bool outputs_nearest_to_element2(const IntersectionParams& params, const KernelParts& kernel) {
+    // each pushes id c.e2, point[0] = P on the line or triangle, value |q − P| − c: np_lp clamps
+    // the segment parameter; np_tp's features have α, β, edge parameters ≥ ε (triangle_point
+    // constants); the MinProximity and LocalMinDistance ones take a clamped or strict interior
+    // parameter (min_line_sphere's mirror, §14.1, maps the interior onto itself)
+    static constexpr KernelFn kInBox[] = {&np_line_point,      &np_line_sphere,      &np_triangle_point,
+                                          &min_line_point,     &min_line_sphere,     &min_triangle_point,
+                                          &min_triangle_sphere, &lmd_line_point,     &lmd_line_sphere,
+                                          &lmd_triangle_point, &lmd_triangle_sphere};
+    if (kernel.writes != nullptr) return false;
+    if (kernel.reads == &np_triangle_sphere) return params.quirks.fix_newproximity_triangle_sphere_edge_range;
+    for (const KernelFn fn : kInBox)
+        if (kernel.reads == fn) return true;
+    return false;
+}
+
 // =============================================================================================
 // Sphere–sphere routine shared by Discrete, MinProximity and LocalMinDistance (rigid pairs):
 // no contact iff |d|² > (Aeff + r1 + r2)² (equality accepted); surface points for rigid spheres.

@@ -100,11 +100,19 @@ void ContactPipeline::run_detection(const F& f) {
     arena_->arena.execute(f);
 }
 
+namespace {
+CollisionPipelineOptions collision_options(const ContactPipelineOptions& options) {
+    CollisionPipelineOptions bvh = options.bvh;
+    bvh.contact_outputs_only = !options.all_detection_outputs;
+    return bvh;
+}
+}  // namespace
+
 ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParams& intersection,
                                  CollisionResponse response, Node* node, const ContactPipelineOptions& options)
     : simulation_(&simulation), intersection_(intersection), response_(std::move(response)),
       node_(node ? node : &simulation.root()), options_(options),
-      collision_(intersection, options.bvh, options.detection) {
+      collision_(intersection, collision_options(options), options.detection) {
     if (options_.threads < 0 || options_.threads > kMaxDetectionThreads)
         throw_invalid_argument("ContactPipeline: options.threads must be between 0 and ", kMaxDetectionThreads, ", got ",
                                options_.threads);

@@ -114,6 +114,14 @@ struct CollisionPipelineOptions {
     /// cache") and only box-test them again while no element box has moved past the slack they
     /// were collected with; the outputs are the same as traversing the trees at every step.
     bool candidate_cache = true;
+    /// bvh: give only the outputs a penalty contact may be made of. BarycentricPenaltyContact
+    /// keeps, per id, the first output of least value (ContactTracker); for the kernels whose
+    /// outputs all carry element 2 as id and measure a distance from element 2's point to
+    /// element 1 (Line and Triangle against Point and spheres), the candidates that cannot give
+    /// an output of that least value are not evaluated (CollisionPipeline::detect). The contacts
+    /// are those of all outputs; detections() lists fewer. ContactPipeline sets it unless told
+    /// otherwise (ContactPipelineOptions::all_detection_outputs).
+    bool contact_outputs_only = false;
     NarrowPhaseOptions narrow;
 };
 
@@ -219,6 +227,8 @@ private:
         std::vector<std::uint64_t> keys;
         bool in_sofa_order = false;
         std::size_t outputs_sorted = 0;  ///< outputs sorted by detect_pair in this generation
+        /// contact_outputs_only applies to the pair's kernel (set at each collection)
+        bool nearest_outputs = false;
     };
     std::vector<ModelMotion> motion_;
     std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)

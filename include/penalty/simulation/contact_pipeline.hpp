@@ -142,6 +142,10 @@ struct ContactPipelineOptions {
     bool attach_hook = true;
     /// SOFA HEAD's contact order (CollisionResponse::sofa_stable_id_order); off: scene rank.
     bool sofa_stable_id_order = false;
+    /// bvh: true: detections() lists every output of the intersection method. false: only those
+    /// a contact may be made of (CollisionPipelineOptions::contact_outputs_only, set over
+    /// `bvh`'s); the contacts, and so the trajectory, are the same.
+    bool all_detection_outputs = false;
 };
 
 /// Wall-clock times (s, std::chrono::steady_clock) of the phases of the last update().
@@ -213,7 +217,8 @@ public:
     [[nodiscard]] CollisionResponse& response() { return response_; }
     [[nodiscard]] const CollisionResponse& response() const { return response_; }
     /// Detections of the last update (one per model pair kept by the broad phase, in its order,
-    /// registered order within a pair; outputs possibly empty).
+    /// registered order within a pair; outputs possibly empty; only those a contact may be made
+    /// of unless options().all_detection_outputs).
     [[nodiscard]] const SceneDetection& detections() const { return collision_.detections(); }
     /// The detection driver (its models are the registered ones, in registration order).
     [[nodiscard]] const CollisionPipeline& collision() const { return collision_; }
