@@ -1,5 +1,8 @@
 // Step time of an implicit (EulerImplicit + matrix-free CG, 25 iterations) tetrahedral FEM block
-// and of a spring grid, about 10^4 DOFs each, reported per step and per DOF.
+// and of a spring grid, about 10^4 DOFs each, reported per step and per DOF; and the product the
+// CG repeats (add_dforce) alone, for SphereModel's FEM grid and a spring set of
+// MeshSpringForceField's size, with the flops it does (docs/performance.md, "How far from the
+// machine's limits", against penalty_bench_machine's rates).
 
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/mass.hpp"
@@ -11,6 +14,8 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cmath>
+#include <vector>
 
 namespace {
 
@@ -50,6 +55,63 @@ void run(benchmark::State& state, Model model) {
     state.counters["cg_iterations"] = solver.last_cg_stats().iterations;
 }
 
+// Flops of one element in TetrahedronFEMForceField::add_dforce, method large (fem.cpp,
+// large_dforce_avx): R·dx 60, Jᵀδ 66 (4, 4, 4, 8, 8, 8 terms), M·ε 18, the k factor 6, J·σ 60
+// (3 terms a row), Rᵀ·F 60, df −= 12.
+constexpr double kFemLargeDForceFlops = 282.0;
+// Flops of one spring in SpringForceField::add_dforce: u = dx_b − dx_a 3, K·u 15, ·k 3, df += 3, df −= 3.
+constexpr double kSpringDForceFlops = 27.0;
+
+// n³ grid points over SphereModel's cube (n = 5: its 5 × 5 × 5 grid), SOFA's grid tetrahedra.
+void BM_TetraFemLargeDForce(benchmark::State& state) {
+    const int n = static_cast<int>(state.range(0));
+    RegularGridTopology grid({n, n, n}, Vec3(-3.5, -3.5, -3.5), Vec3(3.5, 3.5, 3.5));
+    Simulation sim;
+    Node& body = sim.root().add_child("block");
+    auto& x = body.add_state<Vec3Types>();
+    x.position = grid.points();
+    auto& fem = body.add_force_field<TetrahedronFEMForceField>(x, grid, 25.0, 0.3, FemMethod::Large);
+    sim.init();
+    // a deformed state, so that the rotations are not the identity
+    for (std::size_t i = 0; i < x.position.size(); ++i) x.position[i] += 0.1 * Vec3(std::sin(double(i)), std::cos(double(i)), 0.5);
+    std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
+    fem.add_force(f, x.position, x.velocity);
+    for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 7), -1e-3, 2e-3);
+    for (auto _ : state) {
+        fem.add_dforce(df, dx, -0.25, 0.0);
+        benchmark::DoNotOptimize(df.data());
+    }
+    const double elements = double(fem.tetrahedra().size());
+    state.counters["elements"] = elements;
+    state.counters["flops"] = benchmark::Counter(elements * kFemLargeDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The springs of an n × n × (n + 1) grid (regular_grid_springs, diagonals included); n = 6: 2 306
+// springs over 252 points, in cache as one of MeshSpringForceField's tori (1 330 springs over 264
+// points).
+void BM_SpringDForce(benchmark::State& state) {
+    const int n = static_cast<int>(state.range(0));
+    RegularGridTopology grid({n, n, n + 1}, Vec3(0, 0, 0), Vec3(1, 1, 1));
+    Simulation sim;
+    Node& body = sim.root().add_child("springs");
+    auto& x = body.add_state<Vec3Types>();
+    x.position = grid.points();
+    auto& springs = body.add_force_field<SpringForceField>(x);
+    for (const Spring& s : regular_grid_springs(grid, MeshSpringParameters::uniform(1e3, 0.0))) springs.add_spring(s);
+    sim.init();
+    for (std::size_t i = 0; i < x.position.size(); ++i) x.position[i] += 0.01 * Vec3(std::sin(double(i)), 0.3, std::cos(double(i)));
+    std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
+    springs.add_force(f, f, x.position, x.position, x.velocity, x.velocity);
+    for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 5), -1e-3, 2e-3);
+    for (auto _ : state) {
+        springs.add_dforce(df, df, dx, dx, -0.25, 0.0);
+        benchmark::DoNotOptimize(df.data());
+    }
+    const double count = double(springs.springs().size());
+    state.counters["springs"] = count;
+    state.counters["flops"] = benchmark::Counter(count * kSpringDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }
 void BM_SpringGridStep(benchmark::State& state) { run(state, Model::SpringGrid); }
 
@@ -58,3 +120,5 @@ void BM_SpringGridStep(benchmark::State& state) { run(state, Model::SpringGrid);
 // n³ points, 3n³ DOFs: n = 15 -> 10125 DOFs.
 BENCHMARK(BM_TetraFemBlockStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SpringGridStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TetraFemLargeDForce)->Arg(5);
+BENCHMARK(BM_SpringDForce)->Arg(6);
