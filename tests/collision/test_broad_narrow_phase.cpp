@@ -5,13 +5,13 @@
 #include "detection_scenes.hpp"
 #include "fixtures.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
+#include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -22,6 +22,8 @@
 
 namespace penalty {
 namespace {
+
+using test::same_bits;
 
 using test::random_cloud;
 using test::random_radii;
@@ -52,10 +54,6 @@ IntersectionParams method_params(IntersectionMethod m) {
     return p;
 }
 
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-bool same_bits(const Vec3& a, const Vec3& b) {
-    return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
-}
 bool same_output(const DetectionOutput& a, const DetectionOutput& b) {
     return a.elem1 == b.elem1 && a.elem2 == b.elem2 && a.id == b.id && same_bits(a.point[0], b.point[0]) &&
            same_bits(a.point[1], b.point[1]) && same_bits(a.normal, b.normal) && same_bits(a.value, b.value);

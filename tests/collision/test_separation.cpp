@@ -4,12 +4,12 @@
 #include "fixtures.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/separation.hpp"
+#include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -254,11 +254,6 @@ TEST(Separation, ElementPlanesOfDegenerateOrNonFiniteInputsClearNothing) {
 // The kernels with their early outs: the BVH detection turns them on for pairs with elements
 // longer than 16 R (200 m against R = 0.75 here); the exhaustive detection never does, so it is
 // the reference without them.
-
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
-bool same_bits(const Vec3& a, const Vec3& b) {
-    return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
-}
 
 SceneDetection detect(const IntersectionParams& params, std::vector<CollisionModel*> models, ContactDetection how,
                       bool candidate_cache = true) {

@@ -4,11 +4,11 @@
 #include "fixtures.hpp"
 #include "penalty/collision/models.hpp"
 #include "penalty/collision/triangle_normals.hpp"
+#include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
@@ -16,14 +16,14 @@
 namespace penalty {
 namespace {
 
+using test::same_bits;
+
 // The reference, written with Eigen as SOFA writes it; the zero vector where |n| is not > 0.
 Vec3 reference_normal(const Vec3& p0, const Vec3& p1, const Vec3& p2) {
     const Vec3 n = (p1 - p0).cross(p2 - p0);
     const double len = n.norm();
     return len > 0.0 ? Vec3(n / len) : Vec3::Zero();
 }
-
-bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), 3 * sizeof(double)) == 0; }
 
 // Points of every kind: ordinary, on a coarse grid (so that triangles are exactly collinear or
 // repeat a vertex), scaled so far down that the cross product underflows or so far up that its

@@ -2,11 +2,11 @@
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
 #include "penalty_test/finite_difference.hpp"
+#include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -14,6 +14,8 @@
 
 namespace penalty {
 namespace {
+
+using test::same_bits;
 
 std::mt19937 rng(7);
 double uni() { return std::uniform_real_distribution<double>(-1, 1)(rng); }
@@ -207,7 +209,6 @@ TEST(Mapping, BarycentricProductsAreBitwiseTheRowOperations) {
 }
 
 /// Bitwise equality of two doubles, the sign of a zero included.
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
     // apply_jt skips the rows whose force is ±0 when they are most rows; every input must get

@@ -10,10 +10,11 @@
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/grid_meshes.hpp"
+#include "penalty_test/same_bits.hpp"
+#include "penalty_test/same_contacts.hpp"
 
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <map>
 #include <memory>
 #include <string>
@@ -22,10 +23,7 @@
 namespace penalty {
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
-bool same_bits(const Vec3& a, const Vec3& b) {
-    return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
-}
+using test::same_bits;
 
 struct GridScene {
     Simulation sim;
@@ -107,23 +105,7 @@ struct GridScene {
 };
 
 void expect_same_contacts(const GridScene& a, const GridScene& b, int step) {
-    const auto& ea = a.pipeline->graph_entries();
-    const auto& eb = b.pipeline->graph_entries();
-    ASSERT_EQ(ea.size(), eb.size()) << "step " << step;
-    for (std::size_t k = 0; k < ea.size(); ++k) {
-        const auto ca = ea[k].contact->force_field().contacts();
-        const auto cb = eb[k].contact->force_field().contacts();
-        ASSERT_EQ(ca.size(), cb.size()) << "step " << step << " entry " << k;
-        for (std::size_t i = 0; i < ca.size(); ++i) {
-            EXPECT_EQ(ca[i].m1, cb[i].m1);
-            EXPECT_EQ(ca[i].m2, cb[i].m2);
-            EXPECT_EQ(ca[i].index1, cb[i].index1) << "step " << step << " entry " << k << " contact " << i;
-            EXPECT_EQ(ca[i].age, cb[i].age);
-            EXPECT_TRUE(same_bits(ca[i].normal, cb[i].normal) && same_bits(ca[i].dist, cb[i].dist) &&
-                        same_bits(ca[i].ks, cb[i].ks))
-                << "step " << step << " entry " << k << " contact " << i;
-        }
-    }
+    test::expect_same_contacts(*a.pipeline, *b.pipeline, step);
     for (std::size_t i = 0; i < a.spheres->position.size(); ++i)
         EXPECT_TRUE(same_bits(a.spheres->position[i], b.spheres->position[i])) << "step " << step << " sphere " << i;
     for (std::size_t i = 0; i < a.probes->position.size(); ++i)

@@ -9,11 +9,12 @@
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/grid_meshes.hpp"
 #include "penalty_test/static_floor.hpp"
+#include "penalty_test/same_bits.hpp"
+#include "penalty_test/same_contacts.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <memory>
 #include <random>
 #include <stdexcept>
@@ -22,10 +23,7 @@
 namespace penalty {
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
-bool same_bits(const Vec3& a, const Vec3& b) {
-    return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
-}
+using test::same_bits;
 
 /// A static bumpy floor (20 × 20 quads = 800 triangles), a falling sheet (8 × 8 quads, moving
 /// mesh, its vertices also a Point model of the same node), a cloud of 60 spheres with
@@ -150,22 +148,7 @@ std::size_t expect_identical(const MeshScene& a, const MeshScene& b, int step, b
         }
         outputs += da[k].outputs.size();
     }
-    const auto& ea = a.pipeline->graph_entries();
-    const auto& eb = b.pipeline->graph_entries();
-    EXPECT_EQ(ea.size(), eb.size()) << "step " << step;
-    for (std::size_t k = 0; k < std::min(ea.size(), eb.size()); ++k) {
-        const auto ca = ea[k].contact->force_field().contacts();
-        const auto cb = eb[k].contact->force_field().contacts();
-        EXPECT_EQ(ca.size(), cb.size()) << "step " << step << " entry " << k;
-        if (ca.size() != cb.size()) continue;
-        for (std::size_t i = 0; i < ca.size(); ++i) {
-            EXPECT_EQ(ca[i].m1, cb[i].m1);
-            EXPECT_EQ(ca[i].m2, cb[i].m2);
-            EXPECT_EQ(ca[i].age, cb[i].age);
-            EXPECT_TRUE(same_bits(ca[i].normal, cb[i].normal) && same_bits(ca[i].dist, cb[i].dist) &&
-                        same_bits(ca[i].ks, cb[i].ks));
-        }
-    }
+    test::expect_same_contacts(*a.pipeline, *b.pipeline, step);
     for (std::size_t i = 0; i < a.cloud->position.size(); ++i)
         EXPECT_TRUE(same_bits(a.cloud->position[i], b.cloud->position[i])) << "step " << step << " sphere " << i;
     for (std::size_t i = 0; i < a.sheet->position.size(); ++i)
