@@ -469,11 +469,16 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
 // (but for exact ties), which does not change from step to step as the candidates' outputs do.
 // `out` was given the capacity of one output per candidate (these kernels give at most one),
 // which is that of the kept candidates in steady state: the evaluation allocates nothing.
+// The values are finite (validate() rejects non-finite positions); a NaN would make the
+// tracker's choice depend on every output (a later NaN replaces its winner), so an output list
+// with one is left whole.
 void keep_least_outputs(DetectionOutputList& out, std::size_t from, std::size_t n2, NarrowPhaseScratch::Buffers& b) {
     if (out.size() - from < 2) return;
     b.bound.assign(n2, std::numeric_limits<double>::infinity());
-    for (std::size_t i = from; i < out.size(); ++i)
+    for (std::size_t i = from; i < out.size(); ++i) {
+        if (std::isnan(out[i].value)) return;
         b.bound[std::size_t(out[i].elem2)] = std::min(b.bound[std::size_t(out[i].elem2)], out[i].value);
+    }
     std::size_t kept = from;
     for (std::size_t i = from; i < out.size(); ++i)
         if (out[i].value <= b.bound[std::size_t(out[i].elem2)]) {
@@ -516,11 +521,12 @@ void narrow_phase_on_trees(const IntersectionParams& params, CollisionModel& m1,
     collect_candidates(t1, t2, same_model, margin, opt.parallel, opt.sorted_candidates || writes_models, b,
                        rows.model != nullptr ? &rows : nullptr);
     const bool separation_tests = detail::worth_separating(std::max(side1, side2), margin);
-    const bool nearest = contact_outputs_only && worth_keeping_nearest(b.keys.size(), m2) &&
+    const std::size_t candidates = b.keys.size();
+    const bool nearest = contact_outputs_only && worth_keeping_nearest(candidates, m2) &&
                          detail::outputs_nearest_to_element2(params, detail::pair_kernel_parts(params, m1, m2));
     if (nearest) keep_nearest_candidates(params, m1, t1.element_boxes().data(), m2, b.keys, b, separation_tests);
     const std::size_t from = out.size();
-    if (nearest) out.reserve(from + b.keys.size());
+    if (nearest) out.reserve(from + candidates);
     evaluate_candidates(params, m1, m2, b.keys, opt, b, out, separation_tests);
     if (nearest) keep_least_outputs(out, from, m2.size(), b);
 }
