@@ -214,6 +214,7 @@ struct NarrowPhaseScratch::Buffers {
     std::vector<DetectionOutputList> parts;            // parallel evaluation: one list per chunk
     // keep_nearest_candidates: per candidate, the squared distance from element 2's point to
     // element 1's box; per element 2, its nearest candidate and the bound on that distance
+    // (keep_least_outputs: the least output value of each element 2)
     std::vector<double> reach;
     std::vector<double> bound;
     std::vector<std::uint32_t> nearest;
@@ -394,7 +395,7 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
 // CollisionPipelineOptions::contact_outputs_only: drops from `keys` (the rest kept in order)
 // the candidates none of whose outputs a contact can be made of, for a kernel of
 // outputs_nearest_to_element2. There the outputs of element 2 all have id e2 and value
-// |q − P| − c, with |q − P| ≥ D, the distance from q = element_point(m2, e2) to the candidate's
+// |q − P| − c, with |q − P| ≥ D, the distance from q, e2's point (with_element_points), to the candidate's
 // element-1 box (which holds P), and ContactTracker keeps, per id, the first output of least
 // value. Each element 2's candidate of least D is evaluated first: given an output of length
 // L, a candidate with D > L + tol gives no output of value ≤ that output's, so neither the
@@ -419,7 +420,7 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
     b.reach.resize(n);
     b.nearest.assign(n2, kNone);
     b.bound.assign(n2, kInf);  // first the least reach of each element 2, then its bound
-    auto reaches = [&](auto&& point_of) {
+    detail::with_element_points(m2, [&](auto&& point_of) {
         for (std::size_t k = 0; k < n; ++k) {
             const std::uint64_t key = keys[k];
             const std::size_t e2 = key & 0xffffffffu;
@@ -432,30 +433,27 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
                 b.nearest[e2] = std::uint32_t(k);
             }
         }
-    };
-    // element_point's switch once, out of the loop
-    if (m2.type() == ModelType::Sphere) reaches([&s = static_cast<const SphereModel&>(m2)](Index e) -> const Vec3& { return s.center(e); });
-    else if (m2.type() == ModelType::RigidSphere) reaches([&s = static_cast<const RigidSphereModel&>(m2)](Index e) -> const Vec3& { return s.center(e); });
-    else reaches([&p = static_cast<const PointModel&>(m2)](Index e) -> const Vec3& { return p.point(e); });
-    // (as the per-element arrays: the capacity of every element 2, not of this step's ones)
-    b.nearest_keys.clear();
-    b.nearest_keys.reserve(n2);
-    b.nearest_outputs.reserve(n2);
-    for (std::size_t e2 = 0; e2 < n2; ++e2) {
-        if (b.nearest[e2] != kNone) b.nearest_keys.push_back(keys[b.nearest[e2]]);
-        b.bound[e2] = kInf;
-    }
-    b.nearest_outputs.clear();
-    NarrowPhaseOptions serial;
-    serial.parallel = false;
-    evaluate_candidates(params, m1, m2, b.nearest_keys, serial, b, b.nearest_outputs, separation_tests);
-    for (const DetectionOutput& o : b.nearest_outputs) {
-        const Vec3& q = detail::element_point(m2, o.elem2);
-        const double length = (q - o.point[0]).norm();
-        const double scale = 1.0 + q.cwiseAbs().maxCoeff() + o.point[0].cwiseAbs().maxCoeff() + length + std::abs(o.value);
-        const double reach = length + 1e-10 * scale;
-        b.bound[std::size_t(o.elem2)] = std::min(b.bound[std::size_t(o.elem2)], reach * reach);
-    }
+        // (as the per-element arrays: the capacity of every element 2, not of this step's ones)
+        b.nearest_keys.clear();
+        b.nearest_keys.reserve(n2);
+        b.nearest_outputs.reserve(n2);
+        for (std::size_t e2 = 0; e2 < n2; ++e2) {
+            if (b.nearest[e2] != kNone) b.nearest_keys.push_back(keys[b.nearest[e2]]);
+            b.bound[e2] = kInf;
+        }
+        b.nearest_outputs.clear();
+        NarrowPhaseOptions serial;
+        serial.parallel = false;
+        evaluate_candidates(params, m1, m2, b.nearest_keys, serial, b, b.nearest_outputs, separation_tests);
+        for (const DetectionOutput& o : b.nearest_outputs) {
+            const Vec3& q = point_of(o.elem2);
+            const double length = (q - o.point[0]).norm();
+            const double scale =
+                1.0 + q.cwiseAbs().maxCoeff() + o.point[0].cwiseAbs().maxCoeff() + length + std::abs(o.value);
+            const double reach = length + 1e-10 * scale;
+            b.bound[std::size_t(o.elem2)] = std::min(b.bound[std::size_t(o.elem2)], reach * reach);
+        }
+    });
     std::size_t kept = 0;
     for (std::size_t k = 0; k < n; ++k)
         if (b.reach[k] <= b.bound[keys[k] & 0xffffffffu]) keys[kept++] = keys[k];

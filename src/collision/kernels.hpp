@@ -58,7 +58,7 @@ struct KernelParts {
 [[nodiscard]] bool outputs_join_element_points(const KernelParts& kernel);
 
 /// Whether every output of the kernel (with these parameters) has id e2, a first point P in the
-/// box of element 1's vertices, and value |q − P| − c, with q = element_point(m2, e2) and c the
+/// box of element 1's vertices, and value |q − P| − c, with q element e2's point (with_element_points) and c the
 /// same for every output of one e2 (the pair's contact distances and element 2's radius): the
 /// Line and Triangle kernels against a Point or a sphere that take P on the segment (clamped or
 /// interior parameter) or on an owned feature or the interior of the triangle. Then no output of
@@ -68,9 +68,6 @@ struct KernelParts {
 /// by the distances to those lines, or to the triangle's plane, were tried: near a surface most
 /// of them pass closer to q than its nearest output, and they pruned 3 % of the candidates).
 [[nodiscard]] bool outputs_nearest_to_element2(const IntersectionParams& params, const KernelParts& kernel);
-
-/// The point of element e of a Point model, or the centre of a Sphere or RigidSphere element.
-inline const Vec3& element_point(const CollisionModel& m, Index e);
 
 /// A sphere element of either SphereModel or RigidSphereModel.
 struct SphereElem {
@@ -90,12 +87,16 @@ inline SphereElem sphere_elem(const CollisionModel& m, Index i) {
     return {s.center(i), s.radius(i), false};
 }
 
-inline const Vec3& element_point(const CollisionModel& m, Index e) {
-    switch (m.type()) {
-        case ModelType::Sphere: return static_cast<const SphereModel&>(m).center(e);
-        case ModelType::RigidSphere: return static_cast<const RigidSphereModel&>(m).center(e);
-        default: return static_cast<const PointModel&>(m).point(e);
-    }
+/// f(point_of), point_of(e) the point of element e of a Point model or the centre of element e
+/// of a Sphere or RigidSphere model: the model's type is switched on once, outside f's loops.
+template <class F>
+void with_element_points(const CollisionModel& m, F&& f) {
+    if (m.type() == ModelType::Sphere)
+        f([&s = static_cast<const SphereModel&>(m)](Index e) -> const Vec3& { return s.center(e); });
+    else if (m.type() == ModelType::RigidSphere)
+        f([&s = static_cast<const RigidSphereModel&>(m)](Index e) -> const Vec3& { return s.center(e); });
+    else
+        f([&p = static_cast<const PointModel&>(m)](Index e) -> const Vec3& { return p.point(e); });
 }
 
 inline double skins(const PairCtx& c) {
