@@ -9,7 +9,7 @@
 // Method. Per k: the scene is built and run kWarmupSteps steps untimed (1.5 s of simulated time:
 // the cubes have fallen, slid to the bottom and piled up; at k = 8 the kinetic energy is then
 // about 2 % of its peak of about 190 J), then timed_steps(k) steps are timed, one benchmark
-// iteration per step (manual time = wall time of Scene::step() alone). Narrow-phase threads: TBB's default (BuildOptions::threads = 0).
+// iteration per step (manual time = wall time of Scene::step() alone). Threads (narrow phase, independent solvers): TBB's default (BuildOptions::threads = 0).
 //
 // Columns and counters (per step, over the timed steps):
 //   Time                       wall time of Scene::step() (ms)

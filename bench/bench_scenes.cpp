@@ -10,8 +10,8 @@
 // Method. A scene is built once (load_scene, data dirs: the scene's folder, then <shared>/sofa),
 // then kWarmupSteps steps are run untimed. A benchmark iteration is kStepsPerIteration steps; only
 // Scene::step() is timed (manual time), the contact count after each step is not. The scene is
-// never rebuilt: successive iterations continue the same trajectory. Narrow-phase threads: TBB's
-// default (BuildOptions::threads = 0).
+// never rebuilt: successive iterations continue the same trajectory. Threads of the narrow phase
+// and of independent solvers: TBB's default (BuildOptions::threads = 0).
 //
 // Counters (per step, over the timed steps of the reported run):
 //   steps_per_s               timed steps / Σ step wall time

@@ -4,6 +4,10 @@
 #include <ostream>
 
 #include <Eigen/SparseCore>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -291,6 +295,12 @@ SubtreeSystem& SubtreeSystemCache::get(Node& node, bool mapping_graph_order) {
         ++builds_;
     }
     return *system_;
+}
+
+void SubtreeSystem::append_states(std::vector<const BaseState*>& out) const {
+    out.insert(out.end(), independent_.begin(), independent_.end());
+    out.insert(out.end(), mapped_.begin(), mapped_.end());
+    out.insert(out.end(), external_.begin(), external_.end());
 }
 
 Index SubtreeSystem::offset(const BaseState* s) const {
@@ -606,6 +616,13 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
     step_cg_limit_reached_ = step_cg_limit_reached_ || stats.end_condition == CgEndCondition::iterations;
 }
 
+std::optional<std::size_t> EulerImplicitSolver::list_touched_states(Node& node, std::vector<const BaseState*>& out) {
+    if (newton.enabled) return std::nullopt;  // update_geometry (the detection) runs between iterates
+    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
+    sys.append_states(out);
+    return static_cast<std::size_t>(sys.size());
+}
+
 void EulerImplicitSolver::solve(Node& node, double dt) {
     SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
     step_cg_iterations_ = 0;
@@ -714,6 +731,12 @@ void EulerExplicitSolver::init(Node& node) {
     sys.apply_inverse_mass(probe, out);  // throws naming a state without a mass
 }
 
+std::optional<std::size_t> EulerExplicitSolver::list_touched_states(Node& node, std::vector<const BaseState*>& out) {
+    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
+    sys.append_states(out);
+    return static_cast<std::size_t>(sys.size());
+}
+
 void EulerExplicitSolver::solve(Node& node, double dt) {
     const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
     sys.compute_force(f_);
@@ -726,6 +749,21 @@ void EulerExplicitSolver::solve(Node& node, double dt) {
 }
 
 // ---- Simulation -------------------------------------------------------------------------------
+struct Simulation::ThreadArena {
+    explicit ThreadArena(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
+    tbb::task_arena arena;
+};
+
+Simulation::Simulation() : root_("root") {}
+Simulation::~Simulation() = default;
+
+void Simulation::set_threads(int threads) {
+    if (threads < 0 || threads > kMaxThreads)
+        throw_invalid_argument("Simulation: threads must be between 0 and ", kMaxThreads, ", got ", threads);
+    if (threads != threads_) arena_.reset();
+    threads_ = threads;
+}
+
 namespace {
 template <class F>
 void for_each_node(Node& n, const F& f) {
@@ -766,28 +804,98 @@ const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
     if (plan_version_ != root_.structure_version()) {
         plan_.clear();
         plan_node(root_);
+        for (std::size_t i = 0; i < plan_.size(); i = plan_[i].run_end) {
+            if (plan_[i].solver_node != nullptr) {
+                find_run(i);
+            } else {
+                plan_[i].run_end = i + 1;
+            }
+        }
         plan_version_ = root_.structure_version();
     }
     return plan_;
+}
+
+void Simulation::run_action(const SolveAction& action, double dt) {
+    if (action.solver_node != nullptr) {
+        action.solver_node->ode_solver()->solve(*action.solver_node, dt);
+        return;
+    }
+    // Explicit: forces from the start-of-step x, v, added as external forces for the step.
+    // As SOFA's SolveVisitor::fwdInteractionForceField (addForce into externalForce): each
+    // contribution is added to the external force in turn, ((e + c1) + c2), not e + (c1 + c2).
+    for (BaseState* s : action.states) s->force_flat() = s->external_force_flat();
+    action.explicit_field->accumulate_force();
+    for (BaseState* s : action.states) {
+        s->external_force_flat() = s->force_flat();
+        s->force_flat().setZero();
+    }
+}
+
+void Simulation::find_run(std::size_t begin) {
+    // Solvers whose touched states do not meet commute: none reads what another writes (a
+    // solver's subtree states, and the scratch force and dx of the outside states it reads).
+    std::vector<const BaseState*> run_states, solver_states;  // sorted
+    std::size_t end = begin;
+    int large = 0;  // solvers with kMinUnknownsPerConcurrentSolve unknowns or more
+    for (; end < plan_.size() && plan_[end].solver_node != nullptr; ++end) {
+        solver_states.clear();
+        const std::optional<std::size_t> unknowns =
+            plan_[end].solver_node->ode_solver()->list_touched_states(*plan_[end].solver_node, solver_states);
+        if (!unknowns) break;
+        std::sort(solver_states.begin(), solver_states.end());
+        bool meet = false;
+        for (auto a = run_states.begin(), b = solver_states.begin(); !meet && a != run_states.end() && b != solver_states.end();) {
+            if (*a < *b) {
+                ++a;
+            } else if (*b < *a) {
+                ++b;
+            } else {
+                meet = true;
+            }
+        }
+        if (meet) break;
+        if (*unknowns >= kMinUnknownsPerConcurrentSolve) ++large;
+        const auto middle = run_states.insert(run_states.end(), solver_states.begin(), solver_states.end());
+        std::inplace_merge(run_states.begin(), middle, run_states.end());
+    }
+    plan_[begin].run_end = std::max(end, begin + 1);
+    plan_[begin].run_worth_tasks = large >= 2;
+}
+
+void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::size_t begin, std::size_t end,
+                                    double dt) {
+    if (!arena_) arena_ = std::make_unique<ThreadArena>(threads_);
+    solve_errors_.assign(end - begin, nullptr);
+    arena_->arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                try {
+                    run_action(plan[i], dt);
+                } catch (...) {
+                    solve_errors_[i - begin] = std::current_exception();
+                }
+            }
+        });
+    });
+    // The error of the first failing solver in plan order, as a sequential run would raise it.
+    for (const std::exception_ptr& e : solve_errors_)
+        if (e) std::rethrow_exception(e);
 }
 
 void Simulation::step() {
     if (!initialized_) init();
     const double dt = root_.dt();
     if (collision_hook) collision_hook(*this);
-    for (const SolveAction& action : solve_plan()) {
-        if (action.solver_node != nullptr) {
-            action.solver_node->ode_solver()->solve(*action.solver_node, dt);
-            continue;
-        }
-        // Explicit: forces from the start-of-step x, v, added as external forces for the step.
-        // As SOFA's SolveVisitor::fwdInteractionForceField (addForce into externalForce): each
-        // contribution is added to the external force in turn, ((e + c1) + c2), not e + (c1 + c2).
-        for (BaseState* s : action.states) s->force_flat() = s->external_force_flat();
-        action.explicit_field->accumulate_force();
-        for (BaseState* s : action.states) {
-            s->external_force_flat() = s->force_flat();
-            s->force_flat().setZero();
+    const std::vector<SolveAction>& plan = solve_plan();
+    const bool concurrent = threads_ != 1 &&
+                            tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
+                            (arena_ ? arena_->arena.max_concurrency() : tbb::this_task_arena::max_concurrency()) > 1;
+    for (std::size_t i = 0; i < plan.size(); i = plan[i].run_end) {
+        if (concurrent && plan[i].run_worth_tasks) {
+            solve_concurrently(plan, i, plan[i].run_end, dt);
+        } else {
+            for (std::size_t k = i; k < plan[i].run_end; ++k) run_action(plan[k], dt);
         }
     }
     for_each_node(root_, [](Node& n) {

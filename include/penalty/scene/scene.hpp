@@ -32,7 +32,7 @@ namespace penalty::scene {
 struct BuildOptions {
     std::vector<std::filesystem::path> data_dirs;  ///< `--data-dir`, searched after the scene's folder
     std::optional<double> dt;                      ///< overrides the root node's dt (s)
-    int threads = 0;                               ///< narrow-phase threads (0: TBB's default)
+    int threads = 0;  ///< threads of the narrow phase and of independent solvers (0: TBB's default)
     /// Detection algorithm: BVH narrow phase (default) or SOFA's exhaustive pair loop; both give
     /// the same outputs in the same order.
     bool exhaustive_detection = false;

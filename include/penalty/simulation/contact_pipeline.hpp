@@ -124,9 +124,8 @@ struct ContactGraphEntry {
 /// the scene builder choose.
 inline constexpr int kAutoNodeIdBase = 1 << 24;
 
-/// Most detection threads a ContactPipeline accepts: 1024 (TBB cannot make an arena above
-/// 65,536 and reserves memory per slot; no machine this runs on has more cores).
-inline constexpr int kMaxDetectionThreads = 1024;
+/// Most detection threads a ContactPipeline accepts (kMaxThreads, solver.hpp).
+inline constexpr int kMaxDetectionThreads = kMaxThreads;
 
 /// Options of ContactPipeline (the defaults keep the original behaviour).
 struct ContactPipelineOptions {

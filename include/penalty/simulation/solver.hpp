@@ -9,13 +9,17 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <exception>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <iosfwd>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace penalty {
 
@@ -107,6 +111,11 @@ public:
     [[nodiscard]] const std::vector<BaseForceField*>& force_fields() const { return force_fields_; }
     /// Scalar offset of a state in the system, or size() for a state outside it.
     [[nodiscard]] Index offset(const BaseState* s) const;
+    /// States a force field or a mapping of the subtree uses that are not part of it (another
+    /// solver's, or a static one's): the solve reads them, and writes their force and dx scratch.
+    [[nodiscard]] const std::vector<BaseState*>& external_states() const { return external_; }
+    /// Appends the independent, mapped and external states to `out`.
+    void append_states(std::vector<const BaseState*>& out) const;
 
     /// aᵀb summed as SOFA's VectorOperations::v_dot (MechanicalVDotVisitor over the independent
     /// states in visiting order, each MechanicalObject::vDot): per DOF d = Σ_c a_c·b_c left to right
@@ -230,6 +239,16 @@ public:
     virtual ~OdeSolver() = default;
     virtual void init(Node& /*node*/) {}
     virtual void solve(Node& node, double dt) = 0;
+    /// Appends to `out` every state solve(node, dt) reads or writes (its subtree's states and the
+    /// outside ones its force fields and mappings use, SubtreeSystem::external_states) and
+    /// returns the number of scalar unknowns of its system (a measure of its work); nullopt when
+    /// the solve does more than that (Newton's geometry update between iterates) and must run in
+    /// plan order. Simulation::step runs solvers next to each other in the plan whose lists do
+    /// not meet concurrently: each then gives the bits it gives alone.
+    [[nodiscard]] virtual std::optional<std::size_t> list_touched_states(Node& /*node*/,
+                                                                         std::vector<const BaseState*>& /*out*/) {
+        return std::nullopt;
+    }
     /// Sum the forces of computeForce, of the right-hand side's addMBKv and of the CG's products
     /// in the order of SOFA HEAD's MappingGraph (MappingGraphMechanicalOperations: force fields
     /// by component group, then the mappings' Jᵀ in reversed breadth-first order) instead of the
@@ -263,6 +282,7 @@ public:
 
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
+    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node, std::vector<const BaseState*>& out) override;
     [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
     /// Every linear solve of the last solve() in order (one, or one per Newton iterate).
     [[nodiscard]] const std::vector<CgStats>& last_step_cg_solves() const { return step_cg_solves_; }
@@ -301,16 +321,30 @@ public:
     /// std::invalid_argument naming the state otherwise.
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
+    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node, std::vector<const BaseState*>& out) override;
 
 private:
     SubtreeSystemCache system_;
     Eigen::VectorXd f_, a_, v_;  ///< force, acceleration, velocity (kept)
 };
 
+/// Most threads a Simulation (and a ContactPipeline's detection) accepts: 1024 (TBB cannot make
+/// an arena above 65,536 and reserves memory per slot; no machine this runs on has more cores).
+inline constexpr int kMaxThreads = 1024;
+
+/// Fewest scalar unknowns a solver needs for Simulation::step to give it its own task: waking a
+/// TBB worker costs a few µs, more than a step of CompositeCollisionPipeline's two 6-unknown rigid
+/// solvers (their solve took 30 % longer on two threads), while RegularGridSpringForceField's four
+/// 180-unknown grids gain 1.2× (docs/performance.md, "Independent solvers in parallel").
+inline constexpr std::size_t kMinUnknownsPerConcurrentSolve = 96;
+
 /// DefaultAnimationLoop (spec §2): owns the root node.
 class Simulation {
 public:
-    Simulation() : root_("root") {}
+    Simulation();
+    ~Simulation();
+    Simulation(const Simulation&) = delete;
+    Simulation& operator=(const Simulation&) = delete;
     [[nodiscard]] Node& root() { return root_; }
     /// Initialises every state, mapping, mass, force field, constraint and solver (top-down).
     void init();
@@ -319,6 +353,15 @@ public:
     /// mapped states → clear external forces → time += dt.
     void step();
     [[nodiscard]] double time() const { return time_; }
+    /// Threads of the solve phase (0: TBB's default, the default; 1: every action in plan order
+    /// on the calling thread): solvers next to each other in the plan whose states do not meet
+    /// (OdeSolver::list_touched_states) run concurrently, one task per solver, when two of them
+    /// have at least kMinUnknownsPerConcurrentSolve unknowns. The results are
+    /// the same bits for any count (each solve is sequential inside and reads nothing another
+    /// writes), and an error is the one the first failing solver in plan order raised.
+    /// std::invalid_argument outside [0, kMaxThreads].
+    void set_threads(int threads);
+    [[nodiscard]] int threads() const { return threads_; }
     /// Called at the start of each step (collision detection + response).
     std::function<void(Simulation&)> collision_hook;
 
@@ -329,11 +372,26 @@ private:
         Node* solver_node = nullptr;
         BaseForceField* explicit_field = nullptr;
         std::vector<BaseState*> states;  ///< of explicit_field
+        /// The action after this one's run: a run is the solver actions from this one whose
+        /// touched states do not meet (one action when this one cannot run with others), found
+        /// with the plan; set on the first action of each run.
+        std::size_t run_end = 0;
+        bool run_worth_tasks = false;  ///< two solvers of the run have kMinUnknownsPerConcurrentSolve unknowns
     };
-    /// The solve phase's actions, rebuilt when the graph's structure changes.
+    /// The solve phase's actions and their runs, rebuilt when the graph's structure changes
+    /// (which is also all that changes the states a solver touches).
     const std::vector<SolveAction>& solve_plan();
     void plan_node(Node& node);
+    void run_action(const SolveAction& action, double dt);
+    /// Sets plan_[begin].run_end and run_worth_tasks.
+    void find_run(std::size_t begin);
+    /// plan[begin, end): solver actions whose touched states do not meet, concurrently.
+    void solve_concurrently(const std::vector<SolveAction>& plan, std::size_t begin, std::size_t end, double dt);
+    struct ThreadArena;
     Node root_;
+    int threads_ = 0;
+    std::unique_ptr<ThreadArena> arena_;  ///< made at the first concurrent solve
+    std::vector<std::exception_ptr> solve_errors_;  ///< per concurrent solver (kept: no allocation)
     std::vector<SolveAction> plan_;
     std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;

@@ -30,6 +30,7 @@ void SceneBuilder::build() {
     if (!check_.ignored.empty()) warn(check_.summary);
 
     Simulation& sim = simulation();
+    sim.set_threads(options_.threads);  // validated by the command line / the Python module
     build_node(*file_.root, sim.root());
     if (options_.dt) {
         if (!(*options_.dt > 0) || !std::isfinite(*options_.dt)) throw io::SceneError("--dt must be a positive number of seconds");

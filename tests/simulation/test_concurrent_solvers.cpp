@@ -1,0 +1,240 @@
+// Simulation::step runs solvers next to each other in the plan concurrently when their touched
+// states do not meet (OdeSolver::list_touched_states) and two of them have at least
+// kMinUnknownsPerConcurrentSolve unknowns: same bits as in plan order, the first failing solver's
+// error, and solvers that share a state (another solver's or a static one) kept in order.
+//
+// Whether two solves overlap in time is observed with a rendezvous force field: on its first
+// force evaluation it waits (up to a timeout) until another one has arrived. Concurrent solves
+// meet; solves in order cannot, and time out.
+
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/spring_force_field.hpp"
+#include "penalty/simulation/solver.hpp"
+
+#include "penalty_test/same_bits.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+namespace penalty {
+namespace {
+
+using namespace std::chrono_literals;
+
+/// `met` once an arrival finds another one still waiting (each waits up to `timeout`).
+struct Rendezvous {
+    explicit Rendezvous(std::chrono::milliseconds wait) : timeout(wait) {}
+    std::chrono::milliseconds timeout;
+    std::mutex mutex;
+    std::condition_variable arrived;
+    int waiting = 0;
+    bool met = false;
+
+    void arrive() {
+        std::unique_lock lock(mutex);
+        if (waiting > 0) {
+            met = true;
+            arrived.notify_all();
+            return;
+        }
+        ++waiting;
+        arrived.wait_for(lock, timeout, [this] { return met; });
+        --waiting;
+    }
+};
+
+/// No force; its first add_force arrives at the rendezvous.
+class RendezvousField final : public ForceField<Vec3Types> {
+public:
+    RendezvousField(Vec3Object& state, Rendezvous& rendezvous) : ForceField(state), rendezvous_(&rendezvous) {}
+    void add_force(std::span<Vec3>, std::span<const Vec3>, std::span<const Vec3>) override {
+        if (std::exchange(first_, false)) rendezvous_->arrive();
+    }
+    void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
+    void add_stiffness_triplets(TripletList&, Index, double) const override {}
+
+private:
+    Rendezvous* rendezvous_;
+    bool first_ = true;
+};
+
+/// A NaN force on point 0, after `delay`.
+class NanField final : public ForceField<Vec3Types> {
+public:
+    NanField(Vec3Object& state, std::chrono::milliseconds delay) : ForceField(state), delay_(delay) {}
+    void add_force(std::span<Vec3> f, std::span<const Vec3>, std::span<const Vec3>) override {
+        std::this_thread::sleep_for(delay_);
+        f[0].x() += std::numeric_limits<double>::quiet_NaN();
+    }
+    void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
+    void add_stiffness_triplets(TripletList&, Index, double) const override {}
+
+private:
+    std::chrono::milliseconds delay_;
+};
+
+/// One chain per entry of `points` (its number of points) of masses under gravity, each in its own node with its own
+/// implicit solver: neighbours joined by springs (ks 500, rest 1), point 0 hanging from a static
+/// anchor by a spring when `anchored` (one anchor state per body, or one for all when
+/// `shared_anchor`), body 0 tied to body 1 by a spring in body 0's node when `tie_bodies`.
+struct Chains {
+    Simulation sim;
+    std::vector<Vec3Object*> states;
+    std::vector<Node*> nodes;
+
+    explicit Chains(const std::vector<int>& points_per_body, bool shared_anchor = false, bool tie_bodies = false) {
+        Node& statics = sim.root().add_child("anchors");
+        Vec3Object* shared = nullptr;
+        for (int b = 0; b < int(points_per_body.size()); ++b) {
+            const int points = points_per_body[std::size_t(b)];
+            Node& n = sim.root().add_child("body" + std::to_string(b));
+            auto& solver = n.set_ode_solver<EulerImplicitSolver>();
+            solver.cg.iterations = 40;
+            solver.cg.tolerance = 1e-12;
+            solver.cg.threshold = 1e-20;
+            solver.rayleigh_stiffness = 0.05 * b;
+            Vec3Object& x = n.add_state<Vec3Types>();
+            for (int i = 0; i < points; ++i) x.position.push_back(Vec3(3.0 * b + 0.1 * i * i / points, -1.0 * i, 0.2 * b));
+            n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.5 + 0.25 * b);
+            auto& springs = n.add_force_field<SpringForceField>(x);
+            for (int i = 0; i + 1 < points; ++i) springs.add_spring({i, i + 1, 500.0 + 10.0 * b, 0.0, 1.0});
+            Vec3Object* anchor = shared;
+            if (anchor == nullptr) {
+                anchor = &statics.add_child("anchor" + std::to_string(b)).add_state<Vec3Types>();
+                anchor->position = {Vec3(3.0 * b, 1.0, 0.2 * b)};
+                if (shared_anchor) shared = anchor;
+            }
+            n.add_force_field<SpringForceField>(*anchor, x).add_spring({0, 0, 800.0, 0.0, 1.0});
+            states.push_back(&x);
+            nodes.push_back(&n);
+        }
+        if (tie_bodies) nodes[0]->add_force_field<SpringForceField>(*states[0], *states[1]).add_spring({1, 1, 300.0, 0.0, 3.0});
+    }
+
+    /// Adds a rendezvous field to every body.
+    void meet_at(Rendezvous& r) {
+        for (std::size_t b = 0; b < nodes.size(); ++b) nodes[b]->add_force_field<RendezvousField>(*states[b], r);
+    }
+
+    std::vector<Vec3> run(int threads, int steps) {
+        sim.set_threads(threads);
+        sim.init();
+        for (int s = 0; s < steps; ++s) sim.step();
+        std::vector<Vec3> out;
+        for (const Vec3Object* x : states) {
+            out.insert(out.end(), x->position.begin(), x->position.end());
+            out.insert(out.end(), x->velocity.begin(), x->velocity.end());
+        }
+        return out;
+    }
+};
+
+void expect_same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    int differing = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) differing += test::same_bits(a[i], b[i]) ? 0 : 1;
+    EXPECT_EQ(differing, 0);
+}
+
+// Enough workers for a two-thread arena even on a one-core machine.
+class ConcurrentSolvers : public ::testing::Test {
+protected:
+    tbb::global_control two_workers_{tbb::global_control::max_allowed_parallelism, 2};
+};
+
+TEST_F(ConcurrentSolvers, IndependentSolversMeetAndGiveTheBitsOfOneThread) {
+    // 3 chains of 40 points: 120 unknowns each (≥ kMinUnknownsPerConcurrentSolve), one anchor each.
+    static_assert(3 * 40 >= kMinUnknownsPerConcurrentSolve);
+    Rendezvous in_order(200ms);
+    Chains one({40, 40, 40});
+    one.meet_at(in_order);
+    const std::vector<Vec3> sequential = one.run(1, 30);
+    EXPECT_FALSE(in_order.met);
+
+    Rendezvous together(10s);  // long: a loaded machine may be slow to wake the worker
+    Chains two({40, 40, 40});
+    two.meet_at(together);
+    const std::vector<Vec3> concurrent = two.run(2, 30);
+    EXPECT_TRUE(together.met);
+    expect_same_bits(sequential, concurrent);
+    // the chains moved: the comparison is not of initial states
+    EXPECT_GT((two.states[0]->position[39] - Vec3(0.1 * 39 * 39 / 40, -39.0, 0.0)).norm(), 1e-2);
+
+    Chains automatic({40, 40, 40});  // threads 0: TBB's default
+    expect_same_bits(sequential, automatic.run(0, 30));
+}
+
+TEST_F(ConcurrentSolvers, SolversSharingAStateRunInOrder) {
+    for (const bool shared_anchor : {true, false}) {
+        // shared_anchor: both read the same static anchor (and write its scratch force and dx);
+        // otherwise body 0's tie spring reads body 1's state.
+        Rendezvous r(300ms);
+        Chains c({40, 40}, shared_anchor, /*tie_bodies=*/!shared_anchor);
+        c.meet_at(r);
+        const std::vector<Vec3> two = c.run(2, 10);
+        EXPECT_FALSE(r.met) << "shared_anchor " << shared_anchor;
+        Chains one({40, 40}, shared_anchor, !shared_anchor);
+        expect_same_bits(one.run(1, 10), two);
+    }
+}
+
+TEST_F(ConcurrentSolvers, SmallOrNewtonSolversRunInOrder) {
+    {
+        Rendezvous r(300ms);
+        Chains small({4, 4});  // 12 unknowns each
+        small.meet_at(r);
+        small.run(2, 3);
+        EXPECT_FALSE(r.met);
+    }
+    {
+        Rendezvous r(300ms);
+        Chains newton({40, 40});
+        for (Node* n : newton.nodes) static_cast<EulerImplicitSolver*>(n->ode_solver())->newton.enabled = true;
+        newton.meet_at(r);
+        newton.run(2, 2);
+        EXPECT_FALSE(r.met);
+    }
+    {
+        // one large solver among small ones: nothing to share the work with
+        Rendezvous r(300ms);
+        Chains mixed({40, 4, 4});
+        mixed.meet_at(r);
+        mixed.run(2, 3);
+        EXPECT_FALSE(r.met);
+    }
+}
+
+TEST_F(ConcurrentSolvers, ErrorIsTheFirstFailingSolverInPlanOrder) {
+    // Body 0 fails late, body 1 at once: the error raised is body 0's, as in plan order.
+    Rendezvous r(10s);
+    Chains c({40, 40});
+    c.meet_at(r);
+    auto& late = c.nodes[0]->add_force_field<NanField>(*c.states[0], 300ms);
+    c.nodes[1]->add_force_field<NanField>(*c.states[1], 0ms);
+    c.sim.set_threads(2);
+    c.sim.init();
+    try {
+        c.sim.step();
+        FAIL() << "no error";
+    } catch (const NonFiniteSolveError& e) {
+        EXPECT_EQ(e.force_field(), &late) << e.what();
+    }
+    EXPECT_TRUE(r.met);
+}
+
+TEST(Simulation, ThreadsOutsideTheRangeAreRefused) {
+    Simulation sim;
+    EXPECT_THROW(sim.set_threads(-1), std::invalid_argument);
+    EXPECT_THROW(sim.set_threads(kMaxThreads + 1), std::invalid_argument);
+    sim.set_threads(kMaxThreads);
+    EXPECT_EQ(sim.threads(), kMaxThreads);
+}
+
+}  // namespace
+}  // namespace penalty
