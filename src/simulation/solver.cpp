@@ -863,6 +863,17 @@ void Simulation::find_run(std::size_t begin) {
     plan_[begin].run_worth_tasks = large >= 2;
 }
 
+std::vector<std::vector<const Node*>> Simulation::concurrent_solver_runs() {
+    std::vector<std::vector<const Node*>> runs;
+    const std::vector<SolveAction>& plan = solve_plan();
+    for (std::size_t i = 0; i < plan.size(); i = plan[i].run_end) {
+        if (!plan[i].run_worth_tasks) continue;
+        runs.emplace_back();
+        for (std::size_t k = i; k < plan[i].run_end; ++k) runs.back().push_back(plan[k].solver_node);
+    }
+    return runs;
+}
+
 void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::size_t begin, std::size_t end,
                                     double dt) {
     if (!arena_) arena_ = std::make_unique<ThreadArena>(threads_);

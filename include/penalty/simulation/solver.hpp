@@ -362,6 +362,9 @@ public:
     /// std::invalid_argument outside [0, kMaxThreads].
     void set_threads(int threads);
     [[nodiscard]] int threads() const { return threads_; }
+    /// The runs of solvers that step() gives a task each when it has more than one thread, from
+    /// the current graph: each the solver nodes of one run, in plan order.
+    [[nodiscard]] std::vector<std::vector<const Node*>> concurrent_solver_runs();
     /// Called at the start of each step (collision detection + response).
     std::function<void(Simulation&)> collision_hook;
 
