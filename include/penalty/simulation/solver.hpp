@@ -335,7 +335,7 @@ inline constexpr int kMaxThreads = 1024;
 /// Fewest scalar unknowns a solver needs for Simulation::step to give it its own task: waking a
 /// TBB worker costs a few µs, more than a step of CompositeCollisionPipeline's two 6-unknown rigid
 /// solvers (their solve took 30 % longer on two threads), while RegularGridSpringForceField's four
-/// 180-unknown grids gain 1.2× (docs/performance.md, "Independent solvers in parallel").
+/// 180-unknown grids solve 1.4× faster (docs/performance.md, "Independent solvers in parallel").
 inline constexpr std::size_t kMinUnknownsPerConcurrentSolve = 96;
 
 /// DefaultAnimationLoop (spec §2): owns the root node.
