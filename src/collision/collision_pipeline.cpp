@@ -348,6 +348,11 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
     // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
     // models' sizes (check_trees), so every element index is in range
     const detail::KernelParts kernel = detail::pair_kernel_parts(params, m1, m2);
+    // the planes its separation tests read, for the current positions, before the parallel part
+    if (!keys.empty() && detail::reads_triangle_planes(kernel)) {
+        static_cast<TriangleModel&>(m1).update_planes();
+        static_cast<TriangleModel&>(m2).update_planes();
+    }
     const CollisionModel::ElementRow row1 = m1.element_row();
     const CollisionModel::ElementRow row2 = m2.element_row();
     const bool prefetch =

@@ -44,6 +44,10 @@ struct KernelParts {
 [[nodiscard]] KernelParts pair_kernel_parts(const IntersectionParams& params, const CollisionModel& m1,
                                             const CollisionModel& m2);
 
+/// Whether the kernel's reads are NewProximity Triangle–Triangle's, whose separation tests read
+/// both TriangleModels' planes when current (call TriangleModel::update_planes before them).
+[[nodiscard]] bool reads_triangle_planes(const KernelParts& kernel);
+
 /// Whether NewProximity Triangle–Triangle overwrites the stored normals of (m1, m2) (§14.4:
 /// unless the quirk is fixed or both models are two-sided).
 [[nodiscard]] bool np_triangle_triangle_writes_normals(const IntersectionParams& params, const CollisionModel& m1,

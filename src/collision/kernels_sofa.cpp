@@ -335,17 +335,34 @@ int np_triangle_triangle_geometry(PairCtx& c) {
     const std::uint32_t f2 = t2.flags(c.e2);
     const std::int64_t id1 = std::int64_t(c.e1) * 3;
     const std::int64_t id2 = std::int64_t(t1.size()) * 3 + std::int64_t(c.e2) * 12;
+    // The separation test per vertex (separation.hpp; beyond SOFA's code, the same outputs): a
+    // vertex–triangle output joins the vertex to a point p1 + α AB + β AC of the triangle's
+    // plane, so a vertex beyond R from that plane gives none. The models' unit plane normals are
+    // zero when not reliable (then never beyond), used only when current (TriangleModel::
+    // update_planes, run by CollisionPipeline before the candidates); S² = 12 M² bounds |p|² of
+    // every point of both triangles. Tested only before a vertex–triangle test: the edge–edge
+    // tests, bounded the same way by both ends of an edge, saved less than the other sides cost.
+    const double M = std::max(t1.coordinate_bound(), t2.coordinate_bound());
+    const double limit = separation_limit(R, 12.0 * M * M);
+    // an underflowing bound would reject too much
+    const bool usable = t1.planes_current() && t2.planes_current() && limit > 1e-290;
+    const Vec3& n1 = t1.plane_normal(c.e1);
+    const Vec3& n2 = t2.plane_normal(c.e2);
+    const auto near = [limit, usable](const Vec3& n, const Vec3& v, const Vec3& origin) {
+        const double s = n.dot(v - origin);
+        return !usable || !(s * s > limit);
+    };
 
     int n = 0;
     // vertices of e1 against e2 (vertex is point[0]); §14.3: vertex 1 without its flag
     const bool v1 = !c.p.quirks.fix_newproximity_triangle_triangle_vertex1_flag || (f1 & F::kP1);
-    if (v1) n += np_tp(c, q1, q2, q3, f2, p1, R, cf, id1 + 0, true);
-    if (f1 & F::kP2) n += np_tp(c, q1, q2, q3, f2, p2, R, cf, id1 + 1, true);
-    if (f1 & F::kP3) n += np_tp(c, q1, q2, q3, f2, p3, R, cf, id1 + 2, true);
+    if (v1 && near(n2, p1, q1)) n += np_tp(c, q1, q2, q3, f2, p1, R, cf, id1 + 0, true);
+    if ((f1 & F::kP2) && near(n2, p2, q1)) n += np_tp(c, q1, q2, q3, f2, p2, R, cf, id1 + 1, true);
+    if ((f1 & F::kP3) && near(n2, p3, q1)) n += np_tp(c, q1, q2, q3, f2, p3, R, cf, id1 + 2, true);
     // owned vertices of e2 against e1
-    if (f2 & F::kP1) n += np_tp(c, p1, p2, p3, f1, q1, R, cf, id2 + 0, false);
-    if (f2 & F::kP2) n += np_tp(c, p1, p2, p3, f1, q2, R, cf, id2 + 1, false);
-    if (f2 & F::kP3) n += np_tp(c, p1, p2, p3, f1, q3, R, cf, id2 + 2, false);
+    if ((f2 & F::kP1) && near(n1, q1, p1)) n += np_tp(c, p1, p2, p3, f1, q1, R, cf, id2 + 0, false);
+    if ((f2 & F::kP2) && near(n1, q2, p1)) n += np_tp(c, p1, p2, p3, f1, q2, R, cf, id2 + 1, false);
+    if ((f2 & F::kP3) && near(n1, q3, p1)) n += np_tp(c, p1, p2, p3, f1, q3, R, cf, id2 + 2, false);
     if (c.p.use_line_line) {
         const std::uint32_t e[3] = {F::kE12, F::kE23, F::kE31};
         const Vec3* pa[3][2] = {{&p1, &p2}, {&p2, &p3}, {&p3, &p1}};
@@ -365,6 +382,10 @@ int np_triangle_triangle_geometry(PairCtx& c) {
 int np_triangle_triangle(PairCtx& c) {
     if (np_triangle_triangle_writes_normals(c.p, c.m1, c.m2)) np_triangle_triangle_normals(c);
     return np_triangle_triangle_geometry(c);
+}
+
+bool reads_triangle_planes(const KernelParts& kernel) {
+    return kernel.reads == &np_triangle_triangle || kernel.reads == &np_triangle_triangle_geometry;
 }
 
 bool outputs_join_element_points(const KernelParts& kernel) {

@@ -1,8 +1,10 @@
 #include "penalty/collision/models.hpp"
 
+#include "penalty/collision/separation.hpp"
 #include "penalty/collision/triangle_normals.hpp"
 #include "penalty/core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penalty {
@@ -145,12 +147,32 @@ TriangleModel::TriangleModel(const Vec3State& state, const MeshTopology& topolog
         }
     }
     normals_.assign(triangles_.size(), Vec3::Zero());
+    plane_normals_.assign(triangles_.size(), Vec3::Zero());
 }
 
 void TriangleModel::do_update() {
     // SOFA's updateNormals: normalize((p1 − p0) × (p2 − p0)); a zero-area triangle keeps a zero
     // normal here (SOFA normalises without a guard)
     if (compute_normals) detail::triangle_normals(state_->position, triangles_, normals_, best_kernel_path());
+    planes_current_ = false;
+}
+
+void TriangleModel::update_planes() {
+    if (planes_current_) return;
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+        const Vec3& a = p(Index(i), 0);
+        const Vec3 ab = p(Index(i), 1) - a;
+        const Vec3 ac = p(Index(i), 2) - a;
+        const Vec3 n = ab.cross(ac);
+        const double n2 = n.squaredNorm();
+        plane_normals_[i] = detail::reliable_plane(n2, ab.squaredNorm() * ac.squaredNorm()) ? Vec3(n * (1.0 / std::sqrt(n2)))
+                                                                                          : Vec3::Zero();
+    }
+    // over the whole state: a bound for the triangles' vertices
+    double bound = 0.0;
+    for (const Vec3& x : state_->position) bound = std::max({bound, std::abs(x.x()), std::abs(x.y()), std::abs(x.z())});
+    coordinate_bound_ = bound;
+    planes_current_ = true;
 }
 
 Aabb TriangleModel::element_box(Index i) const {

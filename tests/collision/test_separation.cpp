@@ -497,5 +497,76 @@ TEST(Separation, RowModeFollowsACloudDriftingThroughAStaticPyramid) {
     }
 }
 
+// NewProximity Triangle–Triangle's per-vertex test against the other triangle's plane
+// (TriangleModel::update_planes, run by the BVH detection only): two soups of small triangles
+// (each owning its vertices and edges, so every vertex–triangle and edge–edge test runs) at
+// heights around R from each other. The BVH detection's outputs are the exhaustive detection's
+// bit for bit, and the test has work to do: a share of the vertex–triangle tests of
+// box-overlapping pairs lie beyond R from the plane (they are skipped), and outputs exist.
+TEST(Separation, TriangleTriangleVertexTestsAgainstThePlanesKeepTheOutputs) {
+    std::mt19937 rng(20261124);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const double R = 0.2;
+    IntersectionParams np = IntersectionParams::new_proximity();
+    np.alarm_distance = R;
+    np.contact_distance = 0.05;
+    auto soup = [&](double z0, int count) {
+        std::vector<Vec3> pts;
+        std::vector<Triangle> tris;
+        for (int t = 0; t < count; ++t) {
+            const Vec3 centre(unit(rng), unit(rng), z0 + 0.15 * unit(rng));
+            for (int k = 0; k < 3; ++k) pts.push_back(centre + 0.25 * Vec3(unit(rng), unit(rng), 0.4 * unit(rng)));
+            tris.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+        }
+        return triangle_mesh(pts, std::move(tris));
+    };
+    std::size_t outputs = 0, tests = 0, beyond = 0;
+    for (int round = 0; round < 4; ++round) {
+        auto lower = soup(0.0, 250);
+        auto upper = soup(0.25 + 0.05 * round, 250);
+        TriangleModel a(lower->state, lower->topo, named("lower"));
+        TriangleModel b(upper->state, upper->topo, named("upper"));
+        EXPECT_FALSE(a.planes_current());
+        outputs += outputs_checked(np, {&a, &b});
+        // the BVH detection left the planes current; count the vertex tests they decide
+        ASSERT_TRUE(a.planes_current() && b.planes_current());
+        const double M = std::max(a.coordinate_bound(), b.coordinate_bound());
+        const double limit = detail::separation_limit(R, 12.0 * M * M);
+        for (std::size_t i = 0; i < a.size(); ++i)
+            for (std::size_t j = 0; j < b.size(); ++j) {
+                if (!a.element_box(Index(i)).overlaps(b.element_box(Index(j)), R)) continue;
+                for (int k = 0; k < 3; ++k) {
+                    const double sa = a.plane_normal(Index(i)).dot(b.p(Index(j), k) - a.p(Index(i), 0));
+                    const double sb = b.plane_normal(Index(j)).dot(a.p(Index(i), k) - b.p(Index(j), 0));
+                    tests += 2;
+                    beyond += (sa * sa > limit) + (sb * sb > limit);
+                }
+            }
+        // a new update() makes them stale until the next detection
+        a.update();
+        EXPECT_FALSE(a.planes_current());
+    }
+    EXPECT_GT(outputs, 200u);
+    EXPECT_GT(tests, 20000u);
+    const double share = double(beyond) / double(tests);
+    EXPECT_GT(share, 0.2);
+    EXPECT_LT(share, 0.9);
+}
+
+TEST(Separation, TrianglePlanesAreUnitNormalsOrZeroWhenUnreliable) {
+    // a right triangle, a sliver (angle at A about 1e-4 rad: below reliable_plane's 1e-3) and a
+    // zero-area one
+    auto mesh = triangle_mesh({{0, 0, 0}, {2, 0, 0}, {0, 3, 0}, {1, 1e-4, 0}, {1, 1, 1}},
+                              {{0, 1, 2}, {0, 1, 3}, {0, 4, 4}});
+    TriangleModel t(mesh->state, mesh->topo);
+    t.update();
+    t.update_planes();
+    EXPECT_TRUE(t.planes_current());
+    EXPECT_EQ(t.plane_normal(0), Vec3(0, 0, 1));
+    EXPECT_EQ(t.plane_normal(1), Vec3::Zero());
+    EXPECT_EQ(t.plane_normal(2), Vec3::Zero());
+    EXPECT_EQ(t.coordinate_bound(), 3.0);
+}
+
 }  // namespace
 }  // namespace penalty::test

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace penalty {
@@ -120,6 +121,20 @@ public:
     /// quirk §14.4, see set_normal).
     [[nodiscard]] const Vec3& normal(Index i) const { return normals_[std::size_t(i)]; }
     void set_normal(Index i, const Vec3& n) { normals_[std::size_t(i)] = n; }
+    /// Computes, for the current positions, the planes the separation tests of NewProximity
+    /// Triangle–Triangle read (separation.hpp), unless they are current (computed since the last
+    /// update()): about 80 instructions a triangle, so CollisionPipeline calls it only for a pair
+    /// with candidates, before evaluating them. Not thread-safe.
+    void update_planes();
+    /// True when the planes were computed since the last update() (otherwise a test must not
+    /// use them).
+    [[nodiscard]] bool planes_current() const { return planes_current_; }
+    /// Unit normal of triangle i's plane (see update_planes; not SOFA's stored normal, and never
+    /// overwritten): (AB × AC) / |AB × AC|, or zero when the plane is not reliable_plane (a thin
+    /// or zero-area triangle).
+    [[nodiscard]] const Vec3& plane_normal(Index i) const { return plane_normals_[std::size_t(i)]; }
+    /// Largest |coordinate| of the state's positions at update_planes (m).
+    [[nodiscard]] double coordinate_bound() const { return coordinate_bound_; }
     /// Number of triangles that come from the topology's triangle list (the rest are split quads).
     [[nodiscard]] std::size_t num_topology_triangles() const { return num_topology_triangles_; }
     [[nodiscard]] const Vec3State& state() const { return *state_; }
@@ -138,6 +153,9 @@ private:
     std::vector<Triangle> triangles_;
     std::vector<std::uint32_t> flags_;
     std::vector<Vec3> normals_;
+    std::vector<Vec3> plane_normals_;
+    bool planes_current_ = false;
+    double coordinate_bound_ = std::numeric_limits<double>::infinity();
     std::size_t num_topology_triangles_ = 0;
 };
 

@@ -36,6 +36,15 @@ namespace penalty::detail {
 /// not per element pair, whose length check alone cost 3–4 % of the instructions.
 [[nodiscard]] inline bool worth_separating(double longest_side, double R) { return longest_side > 16.0 * R; }
 
+/// Whether a plane spanned by u and v with normal n = u × v is reliable enough for the tests:
+/// u and v more than about 1e-3 rad from parallel (|n|² > 1e-6 |u|² |v|²), and |u|² |v|² in the
+/// normal floating-point range. n2 = |n|², uv2 = |u|² |v|².
+[[nodiscard]] inline bool reliable_plane(double n2, double uv2) { return uv2 > 1e-280 && n2 > 1e-6 * uv2; }
+
+/// The file comment's allowance: a point at signed distance s from the plane (unit normal) is
+/// beyond R when s² > separation_limit(R, S2), S2 ≥ the largest |p|² of the points involved.
+[[nodiscard]] inline double separation_limit(double R, double S2) { return 1.001 * R * R + 1e-15 * S2; }
+
 /// True only if every point q lies on the same side of the plane through `origin` spanned by
 /// u and v, farther than R from it (with the file comment's allowance). False when the plane is
 /// unreliable: u and v nearly parallel (|u × v|² ≤ 1e-6 |u|² |v|²), or |u|² |v|² or the bound
@@ -48,12 +57,12 @@ template <class... Q>
     const double u2 = u.squaredNorm();
     const double v2 = v.squaredNorm();
     const double uv2 = u2 * v2;
-    if (!(uv2 > 1e-280) || !(n2 > 1e-6 * uv2)) return false;
+    if (!reliable_plane(n2, uv2)) return false;
     // S² = 2 (|origin|² + |u|² + |v|² + Σ |q|²) bounds |p|² of every point of both elements
     // (origin + u, q + a direction of the other element)
     const double S2 = 2.0 * (origin.squaredNorm() + u2 + v2 + (q.squaredNorm() + ...));
     // s² > (1.001 R² + 1e-15 S²) |n|²  ⇒  |s| / |n| > R + the allowance, s = n·(q − origin)
-    const double limit = (1.001 * R * R + 1e-15 * S2) * n2;
+    const double limit = separation_limit(R, S2) * n2;
     if (!(limit > 1e-290)) return false;  // an underflowing bound would reject too much
     int above = 0;
     int below = 0;
