@@ -15,9 +15,12 @@
 #include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <atomic>
 #include <cstddef>
+#include <string>
+#include <vector>
 
 extern "C" {
 void* __libc_malloc(std::size_t size);
@@ -122,6 +125,45 @@ TEST(SolverAllocation, ImplicitStepOfSpringAndFemSceneAllocatesNothing) {
     body.add_force_field<SpringForceField>(anchor, x).add_spring({0, 2, 200.0, 0.0, 1.0});
     EXPECT_GT(allocations_in([&] { sim.step(); }), 0);
     EXPECT_EQ(solver.system_cache().builds(), 2);
+}
+
+TEST(SolverAllocation, IndependentSolversSolvedInParallelAllocateNothing) {
+    // Three chains of 40 points (120 unknowns each), each under its own solver and hanging from
+    // its own static anchor: one run of concurrent solvers on two threads. After the first
+    // steps, neither the solves nor TBB's tasks touch the heap.
+    const tbb::global_control two_workers(tbb::global_control::max_allowed_parallelism, 2);
+    Simulation sim;
+    sim.root().set_dt(0.01);
+    sim.set_threads(2);
+    std::vector<EulerImplicitSolver*> solvers;
+    for (int b = 0; b < 3; ++b) {
+        auto& anchor = sim.root().add_child("anchor" + std::to_string(b)).add_state<Vec3Types>("anchor");
+        anchor.position = {Vec3(2.0 * b, 1, 0)};
+        Node& body = sim.root().add_child("body" + std::to_string(b));
+        auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+        solver.cg.iterations = 30;
+        solver.cg.tolerance = 1e-12;
+        solver.cg.threshold = 1e-20;
+        solvers.push_back(&solver);
+        auto& x = body.add_state<Vec3Types>("chain");
+        for (int i = 0; i < 40; ++i) x.position.push_back(Vec3(2.0 * b + 0.01 * i, -1.0 * i, 0));
+        body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.5);
+        auto& links = body.add_force_field<SpringForceField>(x);
+        for (int i = 0; i + 1 < 40; ++i) links.add_spring({i, i + 1, 500.0, 0.0, 1.0});
+        body.add_force_field<SpringForceField>(anchor, x).add_spring({0, 0, 800.0, 0.0, 1.0});
+    }
+    sim.init();
+    for (int s = 0; s < 50; ++s) sim.step();
+    ASSERT_EQ(sim.concurrent_solver_runs().size(), 1u);
+    EXPECT_EQ(sim.concurrent_solver_runs()[0].size(), 3u);
+    const long n = allocations_in([&] {
+        for (int s = 50; s < 100; ++s) sim.step();
+    });
+    EXPECT_EQ(n, 0);
+    for (const EulerImplicitSolver* s : solvers) {
+        EXPECT_EQ(s->system_cache().builds(), 1);
+        EXPECT_GT(s->last_cg_stats().iterations, 1);
+    }
 }
 
 /// Steps 50–100 of a scene with one persistent contact pair; counts the step without its
