@@ -617,7 +617,6 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
 }
 
 std::optional<std::size_t> EulerImplicitSolver::list_touched_states(Node& node, std::vector<const BaseState*>& out) {
-    if (newton.enabled) return std::nullopt;  // update_geometry (the detection) runs between iterates
     const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
     sys.append_states(out);
     return static_cast<std::size_t>(sys.size());
@@ -842,7 +841,7 @@ void Simulation::find_run(std::size_t begin) {
         solver_states.clear();
         const std::optional<std::size_t> unknowns =
             plan_[end].solver_node->ode_solver()->list_touched_states(*plan_[end].solver_node, solver_states);
-        if (!unknowns) break;
+        if (!unknowns || plan_[end].solver_node->ode_solver()->runs_in_plan_order()) break;
         std::sort(solver_states.begin(), solver_states.end());
         bool meet = false;
         for (auto a = run_states.begin(), b = solver_states.begin(); !meet && a != run_states.end() && b != solver_states.end();) {
@@ -863,11 +862,18 @@ void Simulation::find_run(std::size_t begin) {
     plan_[begin].run_worth_tasks = large >= 2;
 }
 
+bool Simulation::run_concurrently(const std::vector<SolveAction>& plan, std::size_t begin) const {
+    if (!plan[begin].run_worth_tasks) return false;
+    for (std::size_t k = begin; k < plan[begin].run_end; ++k)
+        if (plan[k].solver_node->ode_solver()->runs_in_plan_order()) return false;  // Newton turned on since
+    return true;
+}
+
 std::vector<std::vector<const Node*>> Simulation::concurrent_solver_runs() {
     std::vector<std::vector<const Node*>> runs;
     const std::vector<SolveAction>& plan = solve_plan();
     for (std::size_t i = 0; i < plan.size(); i = plan[i].run_end) {
-        if (!plan[i].run_worth_tasks) continue;
+        if (!run_concurrently(plan, i)) continue;
         runs.emplace_back();
         for (std::size_t k = i; k < plan[i].run_end; ++k) runs.back().push_back(plan[k].solver_node);
     }
@@ -903,7 +909,7 @@ void Simulation::step() {
                             tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
                             (arena_ ? arena_->arena.max_concurrency() : tbb::this_task_arena::max_concurrency()) > 1;
     for (std::size_t i = 0; i < plan.size(); i = plan[i].run_end) {
-        if (concurrent && plan[i].run_worth_tasks) {
+        if (concurrent && run_concurrently(plan, i)) {
             solve_concurrently(plan, i, plan[i].run_end, dt);
         } else {
             for (std::size_t k = i; k < plan[i].run_end; ++k) run_action(plan[k], dt);

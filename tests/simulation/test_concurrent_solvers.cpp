@@ -31,6 +31,7 @@ using namespace std::chrono_literals;
 struct Rendezvous {
     explicit Rendezvous(std::chrono::milliseconds wait) : timeout(wait) {}
     std::chrono::milliseconds timeout;
+    bool armed = true;  ///< the fields arrive only while armed
     std::mutex mutex;
     std::condition_variable arrived;
     int waiting = 0;
@@ -49,12 +50,12 @@ struct Rendezvous {
     }
 };
 
-/// No force; its first add_force arrives at the rendezvous.
+/// No force; its first add_force while the rendezvous is armed arrives at it.
 class RendezvousField final : public ForceField<Vec3Types> {
 public:
     RendezvousField(Vec3Object& state, Rendezvous& rendezvous) : ForceField(state), rendezvous_(&rendezvous) {}
     void add_force(std::span<Vec3>, std::span<const Vec3>, std::span<const Vec3>) override {
-        if (std::exchange(first_, false)) rendezvous_->arrive();
+        if (rendezvous_->armed && std::exchange(first_, false)) rendezvous_->arrive();
     }
     void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
     void add_stiffness_triplets(TripletList&, Index, double) const override {}
@@ -198,6 +199,21 @@ TEST_F(ConcurrentSolvers, SmallOrNewtonSolversRunInOrder) {
         for (Node* n : newton.nodes) static_cast<EulerImplicitSolver*>(n->ode_solver())->newton.enabled = true;
         newton.meet_at(r);
         newton.run(2, 2);
+        EXPECT_FALSE(r.met);
+    }
+    {
+        // Newton turned on after the plan (and its runs) were made: no graph change, yet the
+        // solvers run alone from the next step on
+        Rendezvous r(300ms);
+        r.armed = false;
+        Chains late({40, 40});
+        late.meet_at(r);
+        late.run(2, 2);
+        ASSERT_EQ(late.sim.concurrent_solver_runs().size(), 1u);
+        for (Node* n : late.nodes) static_cast<EulerImplicitSolver*>(n->ode_solver())->newton.enabled = true;
+        EXPECT_TRUE(late.sim.concurrent_solver_runs().empty());
+        r.armed = true;
+        late.run(2, 2);
         EXPECT_FALSE(r.met);
     }
     {

@@ -111,10 +111,9 @@ public:
     [[nodiscard]] const std::vector<BaseForceField*>& force_fields() const { return force_fields_; }
     /// Scalar offset of a state in the system, or size() for a state outside it.
     [[nodiscard]] Index offset(const BaseState* s) const;
-    /// States a force field or a mapping of the subtree uses that are not part of it (another
-    /// solver's, or a static one's): the solve reads them, and writes their force and dx scratch.
-    [[nodiscard]] const std::vector<BaseState*>& external_states() const { return external_; }
-    /// Appends the independent, mapped and external states to `out`.
+    /// Appends the independent, mapped and external states to `out` (external: used by a force
+    /// field or a mapping of the subtree but not part of it; the solve reads them, and writes
+    /// their force and dx scratch).
     void append_states(std::vector<const BaseState*>& out) const;
 
     /// aᵀb summed as SOFA's VectorOperations::v_dot (MechanicalVDotVisitor over the independent
@@ -240,15 +239,18 @@ public:
     virtual void init(Node& /*node*/) {}
     virtual void solve(Node& node, double dt) = 0;
     /// Appends to `out` every state solve(node, dt) reads or writes (its subtree's states and the
-    /// outside ones its force fields and mappings use, SubtreeSystem::external_states) and
+    /// outside ones its force fields and mappings use, SubtreeSystem::append_states) and
     /// returns the number of scalar unknowns of its system (a measure of its work); nullopt when
-    /// the solve does more than that (Newton's geometry update between iterates) and must run in
-    /// plan order. Simulation::step runs solvers next to each other in the plan whose lists do
-    /// not meet concurrently: each then gives the bits it gives alone.
+    /// the solver cannot tell. Simulation::step runs solvers next to each other in the plan
+    /// whose lists do not meet concurrently: each then gives the bits it gives alone.
     [[nodiscard]] virtual std::optional<std::size_t> list_touched_states(Node& /*node*/,
                                                                          std::vector<const BaseState*>& /*out*/) {
         return std::nullopt;
     }
+    /// True while the solve does more than touch its listed states and must run alone, in plan
+    /// order (EulerImplicitSolver: Newton, whose geometry update runs the detection between
+    /// iterates). Read at every step, so it may change without a graph change.
+    [[nodiscard]] virtual bool runs_in_plan_order() const { return false; }
     /// Sum the forces of computeForce, of the right-hand side's addMBKv and of the CG's products
     /// in the order of SOFA HEAD's MappingGraph (MappingGraphMechanicalOperations: force fields
     /// by component group, then the mappings' Jᵀ in reversed breadth-first order) instead of the
@@ -283,6 +285,7 @@ public:
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
     [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node, std::vector<const BaseState*>& out) override;
+    [[nodiscard]] bool runs_in_plan_order() const override { return newton.enabled; }
     [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
     /// Every linear solve of the last solve() in order (one, or one per Newton iterate).
     [[nodiscard]] const std::vector<CgStats>& last_step_cg_solves() const { return step_cg_solves_; }
@@ -381,6 +384,8 @@ private:
         std::size_t run_end = 0;
         bool run_worth_tasks = false;  ///< two solvers of the run have kMinUnknownsPerConcurrentSolve unknowns
     };
+    /// plan[begin] starts a run worth tasks and none of its solvers runs_in_plan_order now.
+    [[nodiscard]] bool run_concurrently(const std::vector<SolveAction>& plan, std::size_t begin) const;
     /// The solve phase's actions and their runs, rebuilt when the graph's structure changes
     /// (which is also all that changes the states a solver touches).
     const std::vector<SolveAction>& solve_plan();
