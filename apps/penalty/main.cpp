@@ -361,7 +361,7 @@ int main(int argc, char** argv) {
     run->add_option("--steps", args.steps, "Number of time steps (default 100; 400 for the built-in scene)")
         ->check(integer_in(0, kMaxSteps));
     run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")->check(number_in(0.0, kMaxDt, true));
-    run->add_option("--threads", args.threads, "Threads for the narrow phase and for independent solvers (default: all cores)")
+    run->add_option("--threads", args.threads, "Threads for the detection, the contacts' response and independent solvers (default: all cores)")
         ->check(integer_in(1, max_threads()));
     run->add_option("--set", args.overrides,
                     "Override an attribute before the scene is built: PATH.attribute=value, e.g. "

@@ -279,7 +279,7 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
     save: K > 0 writes each task's states every K steps (and the last) and its contacts at those
     steps to OUT/trajectories/<task>.h5 (needs out). client: a distributed.Client, a scheduler
     address ("tcp://host:8786"), or None for a LocalCluster of `workers` processes (default: the
-    cores) on 127.0.0.1. threads: threads per task (detection and independent solvers) (1: one task per core).
+    cores) on 127.0.0.1. threads: threads per task (detection, response and independent solvers) (1: one task per core).
     retries: Dask retries of a task whose worker raised or died. resume: reuse the complete rows
     found in OUT. progress: callable(done, total, row), True for a line per task on stderr, None
     for a bar when stderr is a terminal."""

@@ -17,12 +17,15 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <exception>
+#include <mutex>
 
 namespace penalty {
 
 namespace {
 
 constexpr std::uint32_t kParallelTraversalMin = 4096;  // element count above which a node pair forks
+constexpr std::size_t kChunksPerThread = 4;            // CollisionPipeline::detect in parallel: chunks of pairs per thread
 
 using Keys = std::vector<std::uint64_t>;
 
@@ -542,6 +545,14 @@ void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, cons
                           longest_box_side(m2, t2));
 }
 
+void CollisionPipeline::PairCounts::add_to(CandidateCacheStats& stats, std::size_t& candidates_evaluated) const {
+    stats.reused += cache.reused;
+    stats.collected += cache.collected;
+    stats.in_sofa_order += cache.in_sofa_order;
+    stats.sofa_order_sorts += cache.sofa_order_sorts;
+    candidates_evaluated += candidates;
+}
+
 CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
                                      ContactDetection detection)
     : params_(std::move(params)), opt_(opt), detection_(detection) {
@@ -550,6 +561,10 @@ CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelin
     if (opt_.leaf_size == 0) throw_invalid_argument("CollisionPipeline: leaf_size must be >= 1");
     if (!(opt_.rebuild_ratio >= 1.0)) throw_invalid_argument("CollisionPipeline: rebuild_ratio must be >= 1");
 }
+
+CollisionPipeline::~CollisionPipeline() = default;
+CollisionPipeline::CollisionPipeline(CollisionPipeline&&) noexcept = default;
+CollisionPipeline& CollisionPipeline::operator=(CollisionPipeline&&) noexcept = default;
 
 void CollisionPipeline::set_models(std::vector<CollisionModel*> models) {
     for (std::size_t i = 0; i < models.size(); ++i)
@@ -661,12 +676,19 @@ void CollisionPipeline::track_motion(std::size_t i) {
 }
 
 void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
+    PairCounts counts;
+    detect_pair_with(m1, m2, out, scratch_, counts, nullptr);
+    counts.add_to(cache_stats_, candidates_evaluated_);
+}
+
+void CollisionPipeline::detect_pair_with(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out,
+                                         PairScratch& scratch, PairCounts& counts, PairCandidates* kept) {
     out.clear();
-    const bool in_sofa_order = detect_pair_unordered(m1, m2, out);
+    const bool in_sofa_order = detect_pair_unordered(m1, m2, out, scratch, counts, kept);
     if (!opt_.sofa_output_order || in_sofa_order || out.size() < 2) return;
     const std::size_t i1 = model_index(m1), i2 = model_index(m2);
     ensure_sofa_trees(i1, i2);
-    sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], out, sofa_order_scratch_);
+    sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], out, scratch.sofa_order);
 }
 
 void CollisionPipeline::ensure_sofa_trees(std::size_t i1, std::size_t i2) {
@@ -678,9 +700,10 @@ void CollisionPipeline::ensure_sofa_trees(std::size_t i1, std::size_t i2) {
     }
 }
 
-void CollisionPipeline::sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys) {
+void CollisionPipeline::sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys,
+                                                SofaOrderScratch& scratch) {
     ensure_sofa_trees(i1, i2);
-    penalty::sort_keys_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], keys, sofa_order_scratch_);
+    penalty::sort_keys_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], keys, scratch);
 }
 
 void CollisionPipeline::build_sofa_trees() {
@@ -692,7 +715,14 @@ void CollisionPipeline::build_sofa_trees() {
     }
 }
 
-bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
+CollisionPipeline::PairCandidates* CollisionPipeline::pair_candidates_entry(std::size_t i1, std::size_t i2) {
+    if (detection_ != ContactDetection::bvh || !opt_.candidate_cache) return nullptr;
+    if (motion_[i1].generation == 0 || motion_[i2].generation == 0) return nullptr;
+    return &pair_candidates_[(std::uint64_t(i1) << 32) | std::uint64_t(i2)];
+}
+
+bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out,
+                                              PairScratch& scratch, PairCounts& counts, PairCandidates* kept_entry) {
     // the models were validated and update()d by refit()
     if (detection_ == ContactDetection::exhaustive) {
         detail::exhaustive_element_pairs(params_, m1, m2, out, boxes_);
@@ -712,9 +742,9 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const ModelMotion& b = motion_[i2];
     if (!opt_.candidate_cache || a.generation == 0 || b.generation == 0) {
         if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), margin)) return false;
-        narrow_phase_on_trees(params_, m1, t1, m2, t2, narrow, scratch_, out, a.longest_side, b.longest_side,
+        narrow_phase_on_trees(params_, m1, t1, m2, t2, narrow, scratch.narrow, out, a.longest_side, b.longest_side,
                               opt_.contact_outputs_only);
-        candidates_evaluated_ += scratch_.buffers().keys.size();
+        counts.candidates += scratch.narrow.buffers().keys.size();
         return false;
     }
     const bool separation_tests = detail::worth_separating(std::max(a.longest_side, b.longest_side), margin);
@@ -724,10 +754,10 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     // again with m, exactly as the traversal tests them, so the candidates are the traversal's.
     check_trees(m1, t1, m2, t2);
     const bool writes_models = kernel_writes_models(params_, m1, m2);
-    NarrowPhaseScratch::Buffers& buf = scratch_.buffers();
-    PairCandidates& kept = pair_candidates_[(std::uint64_t(i1) << 32) | std::uint64_t(i2)];
+    NarrowPhaseScratch::Buffers& buf = scratch.narrow.buffers();
+    PairCandidates& kept = kept_entry != nullptr ? *kept_entry : *pair_candidates_entry(i1, i2);
     if (kept.generation1 != a.generation || kept.generation2 != b.generation) {
-        ++cache_stats_.collected;
+        ++counts.cache.collected;
         const double wide = margin + 2.0 * (a.slack + b.slack);
         // the row mode with the boxes grown by how far they may move while the keys are kept
         // (2 · slack each); only for a static long model, whose elements (planes) stay put
@@ -746,25 +776,25 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
             // sort_keys_in_sofa_order's buffers, grown here (a collection allocates anyway) and not
             // at the later step that sorts the keys
             const std::size_t n = kept.keys.size();
-            sofa_order_scratch_.keyed.reserve(n);
-            sofa_order_scratch_.permutation.reserve(n);
-            sofa_order_scratch_.sorted_keys.reserve(n);
+            scratch.sofa_order.keyed.reserve(n);
+            scratch.sofa_order.permutation.reserve(n);
+            scratch.sofa_order.sorted_keys.reserve(n);
         }
         kept.generation1 = a.generation;
         kept.generation2 = b.generation;
         kept.nearest_outputs = opt_.contact_outputs_only &&
                                detail::outputs_nearest_to_element2(params_, detail::pair_kernel_parts(params_, m1, m2));
     } else {
-        ++cache_stats_.reused;
+        ++counts.cache.reused;
     }
     // Kept in SOFA's visiting order, the outputs come out in it (evaluate_candidates keeps the
     // candidates' order). Sorted when the outputs sorted in this generation outnumber the kept
     // keys (PairCandidates). Not for a kernel that writes the models: its writes run over the
     // candidates sorted by element.
     if (opt_.sofa_output_order && !writes_models && !kept.in_sofa_order && kept.outputs_sorted >= kept.keys.size()) {
-        if (kept.keys.size() >= 2) sort_keys_in_sofa_order(i1, i2, kept.keys);
+        if (kept.keys.size() >= 2) sort_keys_in_sofa_order(i1, i2, kept.keys, scratch.sofa_order);
         kept.in_sofa_order = true;
-        ++cache_stats_.sofa_order_sorts;
+        ++counts.cache.sofa_order_sorts;
     }
     Keys& now = buf.keys;
     now.clear();
@@ -788,8 +818,8 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     if (nearest) out.reserve(from + kept.keys.size());
     evaluate_candidates(params_, m1, m2, now, narrow, buf, out, separation_tests);
     if (nearest) keep_least_outputs(out, from, m2.size(), buf);
-    candidates_evaluated_ += now.size();
-    if (kept.in_sofa_order) ++cache_stats_.in_sofa_order;
+    counts.candidates += now.size();
+    if (kept.in_sofa_order) ++counts.cache.in_sofa_order;
     else kept.outputs_sorted += out.size();
     return kept.in_sofa_order;
 }
@@ -817,9 +847,87 @@ const SceneDetection& CollisionPipeline::detect() {
         d.support = pair_support(params_, d.model1->type(), d.model2->type());
         d.skipped = false;
         d.narrow_phase = roots_within_margin(*d.model1, *d.model2);
-        detect_pair(*d.model1, *d.model2, d.outputs);
     }
+    last_concurrent_ = pairs_run_concurrently();
+    if (last_concurrent_) detect_pairs_concurrently();
+    else detect_pairs_in_order();
     return result_;
+}
+
+bool CollisionPipeline::pairs_run_concurrently() const {
+    if (detection_ != ContactDetection::bvh || !opt_.narrow.parallel || tbb::this_task_arena::max_concurrency() < 2)
+        return false;
+    std::size_t within_margin = 0;
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+        // a kernel's writes are read by the later pairs of its models (§14.4): pairs in order
+        if (kernel_writes_models(params_, *pairs_[k].model1, *pairs_[k].model2)) return false;
+        within_margin += result_[k].narrow_phase ? 1 : 0;
+    }
+    return within_margin >= 2;
+}
+
+void CollisionPipeline::detect_pairs_in_order() {
+    PairCounts counts;
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+        ModelPairDetection& d = result_[k];
+        detect_pair_with(*d.model1, *d.model2, d.outputs, scratch_, counts, nullptr);
+    }
+    counts.add_to(cache_stats_, candidates_evaluated_);
+}
+
+void CollisionPipeline::detect_pairs_concurrently() {
+    // What the pairs would otherwise make or compute as they go, made first on this thread:
+    // their candidate-cache entries (the map does not change while pairs run) and the
+    // Triangle planes their separation tests read (a model's, shared by its pairs).
+    pair_kept_.resize(pairs_.size());
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+        CollisionModel& m1 = *pairs_[k].model1;
+        CollisionModel& m2 = *pairs_[k].model2;
+        pair_kept_[k] = pair_candidates_entry(model_index(m1), model_index(m2));
+        if (result_[k].narrow_phase && detail::reads_triangle_planes(detail::pair_kernel_parts(params_, m1, m2))) {
+            static_cast<TriangleModel&>(m1).update_planes();
+            static_cast<TriangleModel&>(m2).update_planes();
+        }
+    }
+    // Contiguous chunks of pairs, a few per thread (the pairs' costs differ widely: TBB hands
+    // the chunks out as threads come free), each with its own buffers: their number and
+    // bounds depend only on the number of pairs and of threads, so in steady state each
+    // chunk's buffers have the capacity its pairs need and a step allocates nothing. (A thread
+    // waiting inside a pair, in a nested parallel traversal or evaluation, may start another
+    // chunk: with the other chunk's buffers.) Errors: the first in pair order is rethrown.
+    const std::size_t n = pairs_.size();
+    const std::size_t chunks =
+        std::min(n, kChunksPerThread * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
+    if (chunk_scratch_.size() < chunks) chunk_scratch_.resize(chunks);
+    std::mutex merge;
+    PairCounts total;
+    std::size_t failed_pair = n;
+    std::exception_ptr failure;
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, chunks, 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                PairCounts counts;
+                for (std::size_t k = c * n / chunks; k < (c + 1) * n / chunks; ++k) {
+                    ModelPairDetection& d = result_[k];
+                    try {
+                        detect_pair_with(*d.model1, *d.model2, d.outputs, chunk_scratch_[c], counts, pair_kept_[k]);
+                    } catch (...) {
+                        const std::lock_guard lock(merge);
+                        if (k < failed_pair) {
+                            failed_pair = k;
+                            failure = std::current_exception();
+                        }
+                        break;
+                    }
+                }
+                const std::lock_guard lock(merge);
+                counts.add_to(total.cache, total.candidates);
+            }
+        },
+        tbb::simple_partitioner());
+    total.add_to(cache_stats_, candidates_evaluated_);
+    if (failure) std::rethrow_exception(failure);
 }
 
 bool CollisionPipeline::roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const {

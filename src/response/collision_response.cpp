@@ -2,7 +2,14 @@
 
 #include "penalty/core/error.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+
 #include <algorithm>
+#include <exception>
+#include <mutex>
 #include <charconv>
 #include <cmath>
 
@@ -209,7 +216,7 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
     std::rotate(ordered_.begin(), ordered_.begin() + std::ptrdiff_t(refused_count), ordered_.end());
     pairs_.swap(ordered_);
     ordered_.clear();  // the destroyed contacts and the pairs no longer detected
-    for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
+    feed_contacts();
 }
 
 void CollisionResponse::set_detections_by_rank(std::span<const ModelPairDetection> detections, double intersection_cd) {
@@ -266,7 +273,41 @@ void CollisionResponse::set_detections_by_rank(std::span<const ModelPairDetectio
     created_.clear();
     if (old_count != pairs_.size())
         std::inplace_merge(pairs_.begin(), pairs_.begin() + std::ptrdiff_t(old_count), pairs_.end(), before);
-    for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
+    feed_contacts();
+}
+
+void CollisionResponse::feed_contacts() {
+    // Each contact's tracking, contact points and springs read its pair's outputs, its models
+    // and their states, and write only the contact (its tracker, mappers and force field): the
+    // contacts are fed in parallel, in the calling task arena, when it has more than one
+    // thread and at least two contacts have kMinOutputsPerConcurrentFeed outputs (below that a
+    // task costs more than it saves). Same bits either way; a failing contact's exception is
+    // the first in feed order.
+    std::size_t worth_a_task = 0;
+    for (const auto& [c, d] : feed_) worth_a_task += d->outputs.size() >= kMinOutputsPerConcurrentFeed ? 1 : 0;
+    last_feed_concurrent_ = worth_a_task >= 2 && tbb::this_task_arena::max_concurrency() >= 2;
+    if (!last_feed_concurrent_) {
+        for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
+        return;
+    }
+    std::mutex merge;
+    std::size_t failed = feed_.size();
+    std::exception_ptr failure;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, feed_.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            try {
+                feed_[i].first->set_detection_outputs(feed_[i].second->outputs);
+            } catch (...) {
+                const std::lock_guard lock(merge);
+                if (i < failed) {
+                    failed = i;
+                    failure = std::current_exception();
+                }
+                return;
+            }
+        }
+    });
+    if (failure) std::rethrow_exception(failure);
 }
 
 void CollisionResponse::clear() {

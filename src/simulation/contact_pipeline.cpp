@@ -117,7 +117,7 @@ ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParam
         throw_invalid_argument("ContactPipeline: options.threads must be between 0 and ", kMaxDetectionThreads, ", got ",
                                options_.threads);
     // options.bvh.leaf_size = 0 and bad intersection parameters: thrown by collision_
-    if (options_.detection == ContactDetection::bvh && options_.threads > 0)
+    if (options_.threads > 0)
         arena_ = std::make_unique<ThreadArena>(options_.threads);  // once: TBB makes its threads lazily
     if (options_.attach_hook && simulation.collision_hook)
         throw_invalid_argument("ContactPipeline: the simulation already has a collision_hook");
@@ -197,7 +197,8 @@ void ContactPipeline::update() {
             st.last_outputs.clear();
         }
     }
-    response_.set_detections(collision_.detections(), intersection_.contact_distance);
+    // in the detection's arena: the contacts are fed in parallel there (set_detections)
+    run_detection([&] { response_.set_detections(collision_.detections(), intersection_.contact_distance); });
     order_graph_entries();
     if (keep_step_start_) record_fed_outputs();
     if (keep_step_start_) {

@@ -705,6 +705,88 @@ TEST(NarrowPhase, BitIdenticalWith1And2And4Threads) {
     }
 }
 
+// Model pairs detected in parallel (CollisionPipeline::detect, more than one thread): over
+// moving meshes, with the candidate cache's collections and reuses, the outputs, the cache's
+// statistics and the candidates evaluated are those of one thread, pair by pair, bit for bit.
+// The pairs run in parallel unless a pair's kernel writes the models (NewProximity Triangle–
+// Triangle's normal overwrite, read by the later pairs of those models).
+struct ThreadedDetections {
+    std::vector<SceneDetection> steps;
+    CollisionPipeline::CandidateCacheStats stats;
+    std::size_t candidates = 0;
+    int concurrent_steps = 0;
+};
+
+ThreadedDetections detect_moving_meshes(int threads, const IntersectionParams& params, bool both_sides) {
+    const tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    tbb::task_arena arena(threads);
+    ThreadedDetections r;
+    arena.execute([&] {
+        MeshScene sc(21, true);
+        sc.tri1->params().both_side = both_sides;
+        sc.tri2->params().both_side = both_sides;
+        std::mt19937 g(22);
+        CollisionPipeline pipe(params);
+        pipe.set_models(sc.models);
+        for (int step = 0; step < 24; ++step) {
+            r.steps.push_back(pipe.detect());
+            r.concurrent_steps += pipe.last_detection_concurrent() ? 1 : 0;
+            sc.jiggle(g, step % 11 == 10 ? 0.04 : 0.001);
+            for (auto& p : sc.t2->state.position) p += Vec3(0.002, 0.0, 0.0);
+        }
+        r.stats = pipe.candidate_cache_stats();
+        r.candidates = pipe.candidates_evaluated();
+    });
+    return r;
+}
+
+TEST(NarrowPhase, PairsDetectedInParallelGiveTheBitsOfOneThreadOverSteps) {
+    struct Case {
+        const char* name;
+        IntersectionParams params;
+        bool both_sides;
+        bool pairs_in_parallel;
+    };
+    IntersectionParams np_fixed = method_params(IntersectionMethod::NewProximity);
+    np_fixed.quirks.fix_newproximity_triangle_triangle_normal_overwrite = true;
+    const Case cases[] = {
+        {"MinProximity", method_params(IntersectionMethod::MinProximity), false, true},
+        {"LocalMinDistance", method_params(IntersectionMethod::LocalMinDistance), false, true},
+        {"Discrete", method_params(IntersectionMethod::Discrete), false, true},
+        // Triangle–Triangle without the overwrite reads planes kept per model (update_planes),
+        // shared by the pairs of a model: made before the pairs run
+        {"NewProximity, two-sided triangles", method_params(IntersectionMethod::NewProximity), true, true},
+        {"NewProximity, overwrite fixed", np_fixed, false, true},
+        {"NewProximity, with SOFA's normal overwrite", method_params(IntersectionMethod::NewProximity), false, false},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const ThreadedDetections one = detect_moving_meshes(1, c.params, c.both_sides);
+        const ThreadedDetections two = detect_moving_meshes(2, c.params, c.both_sides);
+        EXPECT_EQ(one.concurrent_steps, 0);
+        EXPECT_EQ(two.concurrent_steps, c.pairs_in_parallel ? 24 : 0);
+        ASSERT_EQ(one.steps.size(), two.steps.size());
+        std::size_t outputs = 0, pairs_with_outputs = 0;
+        for (std::size_t s = 0; s < one.steps.size(); ++s) {
+            SCOPED_TRACE(s);
+            expect_identical(two.steps[s], one.steps[s]);
+            outputs += count_outputs(one.steps[s]);
+            for (const auto& p : one.steps[s]) pairs_with_outputs += p.outputs.empty() ? 0 : 1;
+        }
+        // the scene does what it is for: many pairs with outputs at every step, the cache both
+        // collecting and reusing
+        EXPECT_GE(pairs_with_outputs, 24u * (c.params.method == IntersectionMethod::Discrete ? 2u : 6u)) << pairs_with_outputs << " pairs, " << outputs << " outputs";
+        EXPECT_GT(outputs, c.params.method == IntersectionMethod::Discrete ? 100u : 5000u);
+        EXPECT_GT(one.stats.reused, 0u);
+        EXPECT_GT(one.stats.collected, 0u);
+        EXPECT_EQ(two.stats.reused, one.stats.reused);
+        EXPECT_EQ(two.stats.collected, one.stats.collected);
+        EXPECT_EQ(two.stats.in_sofa_order, one.stats.in_sofa_order);
+        EXPECT_EQ(two.stats.sofa_order_sorts, one.stats.sofa_order_sorts);
+        EXPECT_EQ(two.candidates, one.candidates);
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Errors
 

@@ -1,9 +1,11 @@
 // A scene whose bodies have their own solvers (like SOFA's MeshSpringForceField and Gravity
 // scenes): three spring grids, each under its own EulerImplicitSolver, fall onto a static floor
 // one after the other. Their solvers touch disjoint states (each pair's contact points are its
-// own), so Simulation::step runs them concurrently on two threads: the trajectory, the contacts
-// and the CG counts must be the bits of one thread (tests/simulation/test_concurrent_solvers.cpp
-// checks that the solves do overlap).
+// own), so Simulation::step runs them concurrently on two threads; the three floor–grid pairs
+// are detected in parallel (CollisionPipeline::detect) and their contacts fed in parallel
+// (CollisionResponse::set_detections). The trajectory, the contacts and the CG counts must be
+// the bits of one thread (tests/simulation/test_concurrent_solvers.cpp checks that the solves
+// do overlap).
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/response/penalty_force_field.hpp"
 #include "penalty/scene/scene.hpp"
@@ -56,6 +58,8 @@ std::string scene_xml() {
 
 struct GridsRun {
     std::size_t concurrent_solvers = 0;  // in the one run of concurrent solvers, at the last step
+    int concurrent_detections = 0;       // steps whose model pairs were detected in parallel
+    int concurrent_feeds = 0;            // steps whose contacts were fed in parallel
     std::vector<Vec3> states;          // positions then velocities of every grid
     std::vector<std::size_t> contacts;  // per step
     std::vector<int> cg_iterations;     // per step
@@ -68,6 +72,9 @@ GridsRun run(int threads, int steps) {
     GridsRun r;
     for (int s = 0; s < steps; ++s) {
         scene->step();
+        const ContactPipeline& pipeline = *scene->pipelines().at(0).pipeline;
+        r.concurrent_detections += pipeline.collision().last_detection_concurrent() ? 1 : 0;
+        r.concurrent_feeds += pipeline.response().last_feed_concurrent() ? 1 : 0;
         std::size_t contacts = 0;
         for (const auto& c : scene->contacts()) contacts += c.field->size();
         r.contacts.push_back(contacts);
@@ -100,6 +107,12 @@ TEST(ConcurrentSolverScene, GridsOnTheirOwnSolversGiveTheBitsOfOneThread) {
     }
     // the three solvers form one run (contact pairs between grids are in the root, explicit)
     EXPECT_EQ(two.concurrent_solvers, 3u);
+    // the pairs near the floor detected in parallel, and the contacts of two grids or three
+    // (16 each) fed in parallel, at the later steps: never with one thread
+    EXPECT_EQ(one.concurrent_detections, 0);
+    EXPECT_EQ(one.concurrent_feeds, 0);
+    EXPECT_GT(two.concurrent_detections, steps / 2);
+    EXPECT_GT(two.concurrent_feeds, steps / 4);
     EXPECT_EQ(one.contacts, two.contacts);
     EXPECT_EQ(one.cg_iterations, two.cg_iterations);
     int differing = 0;

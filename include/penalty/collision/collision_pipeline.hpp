@@ -132,6 +132,11 @@ public:
     /// Throws std::invalid_argument for invalid `params`, leaf_size 0 or rebuild_ratio < 1.
     explicit CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt = {},
                                ContactDetection detection = ContactDetection::bvh);
+    ~CollisionPipeline();
+    CollisionPipeline(CollisionPipeline&&) noexcept;
+    CollisionPipeline& operator=(CollisionPipeline&&) noexcept;
+    CollisionPipeline(const CollisionPipeline&) = delete;
+    CollisionPipeline& operator=(const CollisionPipeline&) = delete;
 
     /// Sets the models (and forgets the trees).
     void set_models(std::vector<CollisionModel*> models);
@@ -147,7 +152,16 @@ public:
     /// are apart by more than the §3.8 margin, bvh_narrow_phase. Returns every
     /// kept pair (outputs possibly empty; narrow_phase false when SOFA's broad phase would drop
     /// it: root boxes apart or a model empty); the reference is valid until the next detect().
+    /// bvh, with NarrowPhaseOptions::parallel and more than one thread in the calling arena:
+    /// the pairs are detected in parallel, in contiguous chunks of pairs, each chunk on one
+    /// thread with its own buffers (their capacity kept from step to step), when at least two pairs have their root boxes within the margin and no pair's kernel
+    /// writes the models (NewProximity Triangle–Triangle's normal overwrite is read by the
+    /// later pairs of the same models, so such a detection keeps the pairs in order). A pair's
+    /// outputs do not depend on the others', so they are the same bits either way; a failing
+    /// pair's exception is the first in pair order. last_detection_concurrent() says which way.
     const SceneDetection& detect();
+    /// Whether the last detect() ran its model pairs in parallel.
+    [[nodiscard]] bool last_detection_concurrent() const { return last_concurrent_; }
     /// The result of the last detect().
     [[nodiscard]] const SceneDetection& detections() const { return result_; }
     /// Pairs of the last detect() that passed the model-pair filter but have no active
@@ -190,16 +204,43 @@ private:
     void index_models();  // index_of_ from models_
     /// ModelPairDetection::narrow_phase of (m1, m2): neither empty, root boxes within box_margin.
     [[nodiscard]] bool roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const;
+    struct PairCandidates;
+    /// The buffers of pair detections that run one after the other (detect() in parallel gives
+    /// each chunk of pairs its own).
+    struct PairScratch {
+        NarrowPhaseScratch narrow;
+        SofaOrderScratch sofa_order;
+    };
+    /// The statistics of some pair detections, added to the pipeline's after them.
+    struct PairCounts {
+        CandidateCacheStats cache;
+        std::size_t candidates = 0;
+        void add_to(CandidateCacheStats& stats, std::size_t& candidates_evaluated) const;
+    };
+    /// detect_pair with the given buffers. `kept`: the pair's entry of pair_candidates_, made
+    /// beforehand (the map is not changed while pairs run in parallel), or nullptr to look it up.
+    void detect_pair_with(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out, PairScratch& scratch,
+                          PairCounts& counts, PairCandidates* kept);
     /// detect_pair without sorting into SOFA's output order. Returns true when `out` is in that
     /// order already (the candidate cache's kept pairs are kept in it, PairCandidates).
-    [[nodiscard]] bool detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out);
+    [[nodiscard]] bool detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out,
+                                             PairScratch& scratch, PairCounts& counts, PairCandidates* kept);
+    /// The pair's entry of pair_candidates_ when the candidate cache applies to it (both
+    /// models have a generation), made if new; nullptr otherwise.
+    [[nodiscard]] PairCandidates* pair_candidates_entry(std::size_t i1, std::size_t i2);
+    /// Whether detect() may run this step's pairs in parallel (see detect()).
+    [[nodiscard]] bool pairs_run_concurrently() const;
+    /// detect()'s narrow phases, pair by pair on the calling thread or in parallel.
+    void detect_pairs_in_order();
+    void detect_pairs_concurrently();
     /// SOFA's tree of every active model not built yet (or whose size changed), from the
     /// current positions.
     void build_sofa_trees();
     /// SOFA's trees of models i1 and i2, built if not yet (or if a model's size changed).
     void ensure_sofa_trees(std::size_t i1, std::size_t i2);
     /// Candidate keys (element 1 << 32 | element 2) of models i1 × i2 into SOFA's visiting order.
-    void sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys);
+    void sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys,
+                                 SofaOrderScratch& scratch);
     /// Candidate cache: after model i's tree was refitted, starts a new reference (a new
     /// generation) if some element box moved past the model's slack since the last one.
     void track_motion(std::size_t i);
@@ -243,11 +284,13 @@ private:
     std::vector<Bvh> trees_;
     std::vector<std::pair<const CollisionModel*, std::size_t>> index_of_;  // sorted by address
     std::vector<SofaCubeTree> sofa_trees_;  // per model: SOFA's tree, built at its first detection
-    SofaOrderScratch sofa_order_scratch_;
+    PairScratch scratch_;                     // detect_pair's, and detect()'s when the pairs run in order
+    std::vector<PairScratch> chunk_scratch_;  // detect()'s in parallel: one per chunk of pairs (kChunksPerThread)
+    std::vector<PairCandidates*> pair_kept_;  // scratch: per pair of pairs_, its pair_candidates_ entry or nullptr
+    bool last_concurrent_ = false;
     std::vector<ModelPair> pairs_;        // scratch: this step's broad-phase pairs
     std::vector<ModelPair> unsupported_;
     SceneDetection result_;               // entries and their output lists keep their capacity
-    NarrowPhaseScratch scratch_;
     std::vector<Aabb> boxes_;             // exhaustive: element boxes of model 2
     std::vector<Aabb> root_boxes_;        // exhaustive: each model's root box (union of its element boxes)
 };

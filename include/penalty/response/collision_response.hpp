@@ -87,8 +87,13 @@ public:
         const std::string& name, const CollisionModel& m1, const CollisionModel& m2,
         double intersection_contact_distance);
 
+    /// Contacts fed in parallel (set_detections) only when at least two have this many outputs.
+    static constexpr std::size_t kMinOutputsPerConcurrentFeed = 16;
+
     /// One step of SOFA's narrow-phase outputs and contact manager: every detection with outputs
-    /// gets its pair's contact (created when new) and set_detection_outputs; pairs without
+    /// gets its pair's contact (created when new) and set_detection_outputs (in parallel in the
+    /// calling TBB arena when it has more than one thread and two contacts have at least
+    /// kMinOutputsPerConcurrentFeed outputs; the same results); pairs without
     /// outputs this step are destroyed (on_destroy runs first). The pairs' order is that of
     /// creation (on_create) and of pairs() (the force fields' order in the graph):
     /// - sofa_stable_id_order (SOFA HEAD's, off by default): SOFA's two maps (StablePairMap)
@@ -109,6 +114,8 @@ public:
     /// The live contact of (m1, m2), or nullptr.
     [[nodiscard]] BarycentricPenaltyContact* find(const CollisionModel& m1, const CollisionModel& m2) const;
     [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
+    /// Whether the last set_detections fed its contacts in parallel.
+    [[nodiscard]] bool last_feed_concurrent() const { return last_feed_concurrent_; }
     [[nodiscard]] const ContactResponseParameters& base_parameters() const { return base_; }
 
     /// Critical time step sqrt(m/ks) of each live pair; `mass_of` gives the mass (kg) a contact
@@ -143,11 +150,14 @@ private:
     StablePairMap<CollisionModel, const ModelPairDetection*> outputs_map_;
     StablePairMap<CollisionModel, BarycentricPenaltyContact*> contact_map_;
     void set_detections_by_rank(std::span<const ModelPairDetection> detections, double intersection_cd);
+    /// set_detection_outputs of every fed contact (feed_), in parallel when worth it.
+    void feed_contacts();
     // set_detections' scratch, reused from step to step
     std::vector<ContactPairEntry> ordered_;       // pairs_ in their new order
     std::vector<char> seen_;                      // by rank: per pair, fed this step
     std::vector<ContactPairEntry> created_;       // by rank: pairs new this step
     std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed_;
+    bool last_feed_concurrent_ = false;
 };
 
 }  // namespace penalty

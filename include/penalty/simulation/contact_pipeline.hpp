@@ -14,9 +14,11 @@
 ///      - ContactDetection::exhaustive (default): exhaustive_narrow_phase, all element pairs, or
 ///      - ContactDetection::bvh: one Bvh per model (refitted each update for moving models,
 ///        built once for static ones), root-box pruning with SOFA's §3.8 margin, then
-///        bvh_narrow_phase (parallel, TBB, `threads`). The outputs are bit-identical to the
-///        exhaustive path, pairs in the same order (tested), so everything downstream is too;
-///   2. hands the outputs to its CollisionResponse (create / feed / destroy pairs);
+///        bvh_narrow_phase (parallel, TBB, `threads`: the pairs in parallel, and within a
+///        pair). The outputs are bit-identical to the exhaustive path, pairs in the same order
+///        (tested), so everything downstream is too;
+///   2. hands the outputs to its CollisionResponse (create / feed / destroy pairs; the
+///      contacts fed in parallel, in the same arena);
 ///   3. keeps the scene graph in step with the live pairs:
 ///      - contact points of side s: an Identity mapper (Point, Sphere<Vec3>) uses the model's own
 ///        state; a Barycentric (Line, Triangle, Tetrahedron on Vec3) or Rigid (RigidSphere,
@@ -132,8 +134,9 @@ struct ContactPipelineOptions {
     ContactDetection detection = ContactDetection::exhaustive;
     /// leaf_size, rebuild_ratio and narrow-phase chunking (bvh), depth and SOFA's output order.
     CollisionPipelineOptions bvh;
-    /// bvh: maximum TBB threads of the detection (0 = TBB's default; at most
-    /// kMaxDetectionThreads). Output does not depend on it.
+    /// Maximum TBB threads of the detection (bvh: its pairs and narrow phases) and of the
+    /// response (contacts fed in parallel, CollisionResponse::set_detections); 0 = TBB's
+    /// default; at most kMaxDetectionThreads. Output does not depend on it.
     int threads = 0;
     /// true: the constructor sets Simulation::collision_hook to run update() each step (throws
     /// if a hook is already set). false: the hook is left alone; the caller runs update() once
@@ -256,7 +259,8 @@ private:
     void remove_entry(ContactGraphEntry& e);
     /// Records the pairs of the last detection that the method does not detect (once each).
     void record_skipped_pairs();
-    /// Runs `f` in the detection's thread arena (TBB's default one when options.threads = 0).
+    /// Runs `f` in the pipeline's thread arena (TBB's default one when options.threads = 0):
+    /// the detection and the response.
     template <class F>
     void run_detection(const F& f);
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
