@@ -4,8 +4,13 @@
 #include "penalty/response/collision_response.hpp"
 
 #include "../collision/fixtures.hpp"
+#include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <string>
 
 namespace penalty {
 namespace {
@@ -178,6 +183,92 @@ TEST(CollisionResponse, PairDestroyedWhenOutputsVanishAndRecreatedFromScratch) {
     EXPECT_EQ(c->force_field().previous_contacts().size(), 0u);  // fresh force field
     r.clear();
     EXPECT_EQ(destroyed, 2);
+}
+
+// Four point clouds of 40 points hovering over a floor triangle: four pairs of 40 outputs, so
+// set_detections feeds the contacts in parallel in an arena of two threads.
+struct FloorAndClouds {
+    std::unique_ptr<test::Mesh> mesh = test::triangle_mesh({{-5, 0, -5}, {5, 0, -5}, {0, 0, 5}}, {{0, 2, 1}});
+    TriangleModel floor{mesh->state, mesh->topo, named("floor")};
+    std::vector<Vec3State> states;
+    std::vector<std::unique_ptr<PointModel>> clouds;
+    IntersectionParams params = IntersectionParams::new_proximity();
+    FloorAndClouds() {
+        states.reserve(4);
+        for (int c = 0; c < 4; ++c) {
+            std::vector<Vec3> pts;
+            for (int i = 0; i < 40; ++i) pts.emplace_back(-1.0 + 0.05 * i, 0.01 * (1 + c) + 0.001 * i, 0.3 * c - 0.5);
+            states.push_back(make_state(pts));
+        }
+        for (int c = 0; c < 4; ++c) {
+            const std::string name = "cloud" + std::to_string(c);
+            clouds.push_back(std::make_unique<PointModel>(states[std::size_t(c)], nullptr, named(name.c_str())));
+        }
+    }
+    std::vector<ModelPairDetection> detect() {
+        std::vector<ModelPairDetection> d;
+        for (auto& c : clouds) d.push_back(detect_model_pair(params, floor, *c));
+        return d;
+    }
+};
+
+struct FedContacts {
+    bool concurrent = false;
+    std::vector<std::vector<PenaltyContact>> contacts;  // per cloud
+    std::string error;
+};
+
+FedContacts feed(int threads, const std::vector<ModelPairDetection>& detections, FloorAndClouds& s) {
+    const tbb::global_control gc(tbb::global_control::max_allowed_parallelism, std::size_t(threads));
+    tbb::task_arena arena(threads);
+    FedContacts r;
+    arena.execute([&] {
+        CollisionResponse response;
+        try {
+            for (int step = 0; step < 2; ++step) response.set_detections(detections, s.params.contact_distance);
+        } catch (const std::invalid_argument& e) {
+            r.error = e.what();
+        }
+        r.concurrent = response.last_feed_concurrent();
+        for (auto& c : s.clouds) {
+            const BarycentricPenaltyContact* contact = response.find(s.floor, *c);
+            r.contacts.emplace_back();
+            if (contact) r.contacts.back().assign(contact->force_field().contacts().begin(), contact->force_field().contacts().end());
+        }
+    });
+    return r;
+}
+
+TEST(CollisionResponse, ContactsFedInParallelAreThoseOfOneThreadAndTheFirstErrorInOrderIsRaised) {
+    FloorAndClouds s;
+    const std::vector<ModelPairDetection> detections = s.detect();
+    for (const auto& d : detections) ASSERT_EQ(d.outputs.size(), 40u);
+    const FedContacts one = feed(1, detections, s);
+    const FedContacts two = feed(2, detections, s);
+    EXPECT_FALSE(one.concurrent);
+    EXPECT_TRUE(two.concurrent);
+    ASSERT_EQ(one.contacts.size(), 4u);
+    for (std::size_t c = 0; c < 4; ++c) {
+        ASSERT_EQ(one.contacts[c].size(), 40u);
+        ASSERT_EQ(two.contacts[c].size(), 40u);
+        for (std::size_t i = 0; i < 40; ++i) {
+            const PenaltyContact &a = one.contacts[c][i], &b = two.contacts[c][i];
+            EXPECT_TRUE(a.m1 == b.m1 && a.m2 == b.m2 && a.index1 == b.index1 && a.index2 == b.index2 && a.age == b.age);
+            EXPECT_TRUE(test::same_bits(a.normal, b.normal) && test::same_bits(a.dist, b.dist) && test::same_bits(a.ks, b.ks));
+        }
+        EXPECT_EQ(one.contacts[c][5].age, 1);  // tracked over the two steps
+    }
+    // outputs naming points that do not exist, in the second and fourth pairs: the second
+    // pair's error, with one thread or two
+    std::vector<ModelPairDetection> bad = detections;
+    bad[1].outputs[7].elem2 = 1000;
+    bad[3].outputs[2].elem2 = 2000;
+    const FedContacts one_bad = feed(1, bad, s);
+    EXPECT_NE(one_bad.error.find("'cloud1' (Point): element 1000 out of range"), std::string::npos) << one_bad.error;
+    for (int round = 0; round < 20; ++round) {
+        const FedContacts two_bad = feed(2, bad, s);
+        ASSERT_EQ(two_bad.error, one_bad.error);
+    }
 }
 
 }  // namespace
