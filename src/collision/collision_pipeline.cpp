@@ -600,6 +600,7 @@ void CollisionPipeline::index_models() {
 }
 
 void CollisionPipeline::refit() {
+    moving_elements_ = 0;
     // SOFA's computeBoundingTree, once per detection for every active model: the model's derived
     // data (CollisionModel::update: triangle normals, tetrahedron coord2bary) and its tree. A
     // kernel's writes to a model (Triangle–Triangle's normal overwrite, §14.4) therefore last
@@ -614,6 +615,7 @@ void CollisionPipeline::refit() {
         }
         Bvh& tree = trees_[i];
         if (m.params().moving) {
+            moving_elements_ += m.size();
             m.validate_for_step();
             m.update();
             // the separation tests' size measured at each (re)build only: it decides speed, never outputs
@@ -849,28 +851,47 @@ const SceneDetection& CollisionPipeline::detect() {
         d.narrow_phase = roots_within_margin(*d.model1, *d.model2);
     }
     last_concurrent_ = pairs_run_concurrently();
+    pair_work_.resize(pairs_.size());
     if (last_concurrent_) detect_pairs_concurrently();
     else detect_pairs_in_order();
     return result_;
 }
 
 bool CollisionPipeline::pairs_run_concurrently() const {
-    if (detection_ != ContactDetection::bvh || !opt_.narrow.parallel || tbb::this_task_arena::max_concurrency() < 2)
+    if (detection_ != ContactDetection::bvh || opt_.pair_concurrency == PairConcurrency::never ||
+        !opt_.narrow.parallel || tbb::this_task_arena::max_concurrency() < 2)
         return false;
-    std::size_t within_margin = 0;
+    const bool always = opt_.pair_concurrency == PairConcurrency::always;
+    std::size_t worth_a_task = 0, candidates = 0;
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
         // a kernel's writes are read by the later pairs of its models (§14.4): pairs in order
         if (kernel_writes_models(params_, *pairs_[k].model1, *pairs_[k].model2)) return false;
-        within_margin += result_[k].narrow_phase ? 1 : 0;
+        if (!result_[k].narrow_phase) continue;
+        if (always) {
+            ++worth_a_task;
+            continue;
+        }
+        const bool known = k < pair_work_.size() && pair_work_[k].model1 == pairs_[k].model1 &&
+                           pair_work_[k].model2 == pairs_[k].model2;
+        if (!known) continue;
+        candidates += pair_work_[k].candidates;
+        worth_a_task += pair_work_[k].candidates >= kMinCandidatesPerConcurrentPair ? 1 : 0;
     }
-    return within_margin >= 2;
+    if (always) return worth_a_task >= 2;
+    return worth_a_task >= 2 && candidates >= std::max(kMinCandidatesForConcurrentPairs, moving_elements_);
+}
+
+void CollisionPipeline::record_pair_work(std::size_t k, std::size_t candidates) {
+    pair_work_[k] = {pairs_[k].model1, pairs_[k].model2, candidates};
 }
 
 void CollisionPipeline::detect_pairs_in_order() {
     PairCounts counts;
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
         ModelPairDetection& d = result_[k];
+        const std::size_t before = counts.candidates;
         detect_pair_with(*d.model1, *d.model2, d.outputs, scratch_, counts, nullptr);
+        record_pair_work(k, counts.candidates - before);
     }
     counts.add_to(cache_stats_, candidates_evaluated_);
 }
@@ -911,7 +932,9 @@ void CollisionPipeline::detect_pairs_concurrently() {
                 for (std::size_t k = c * n / chunks; k < (c + 1) * n / chunks; ++k) {
                     ModelPairDetection& d = result_[k];
                     try {
+                        const std::size_t before = counts.candidates;
                         detect_pair_with(*d.model1, *d.model2, d.outputs, chunk_scratch_[c], counts, pair_kept_[k]);
+                        record_pair_work(k, counts.candidates - before);
                     } catch (...) {
                         const std::lock_guard lock(merge);
                         if (k < failed_pair) {

@@ -726,10 +726,21 @@ ThreadedDetections detect_moving_meshes(int threads, const IntersectionParams& p
         sc.tri1->params().both_side = both_sides;
         sc.tri2->params().both_side = both_sides;
         std::mt19937 g(22);
-        CollisionPipeline pipe(params);
+        CollisionPipelineOptions options;
+        options.pair_concurrency = PairConcurrency::always;
+        CollisionPipeline pipe(params, options);
         pipe.set_models(sc.models);
         for (int step = 0; step < 24; ++step) {
             r.steps.push_back(pipe.detect());
+            // the models die with the scene: pairs named by the models' places in sc.models
+            for (auto& p : r.steps.back()) {
+                const auto place = [&](const CollisionModel* m) {
+                    return reinterpret_cast<CollisionModel*>(
+                        std::uintptr_t(std::find(sc.models.begin(), sc.models.end(), m) - sc.models.begin()));
+                };
+                p.model1 = place(p.model1);
+                p.model2 = place(p.model2);
+            }
             r.concurrent_steps += pipe.last_detection_concurrent() ? 1 : 0;
             sc.jiggle(g, step % 11 == 10 ? 0.04 : 0.001);
             for (auto& p : sc.t2->state.position) p += Vec3(0.002, 0.0, 0.0);
@@ -784,6 +795,83 @@ TEST(NarrowPhase, PairsDetectedInParallelGiveTheBitsOfOneThreadOverSteps) {
         EXPECT_EQ(two.stats.in_sofa_order, one.stats.in_sofa_order);
         EXPECT_EQ(two.stats.sofa_order_sorts, one.stats.sofa_order_sorts);
         EXPECT_EQ(two.candidates, one.candidates);
+    }
+}
+
+// PairConcurrency::automatic: a static floor (3 200 triangles) under four moving clouds of
+// 100 spheres. Resting on it, the clouds give each pair hundreds of candidates, more than the
+// 400 moving elements: the pairs run in parallel from the second detection on (the first has
+// no counts yet). With three clouds lifted off the floor (one busy pair), or with the floor
+// moving too and clouds of 25 spheres (about 1 600 candidates against 3 300 moving elements
+// to refit), they run in order. The outputs are the same each time.
+TEST(NarrowPhase, PairsRunInParallelWhenTheirCandidatesOutweighTheMovingElements) {
+    std::vector<Vec3> grid;
+    std::vector<Triangle> tris;
+    const int n = 40;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) grid.emplace_back(-1.0 + 2.0 * i / n, 0.002 * ((i * 7 + j * 3) % 5), -1.0 + 2.0 * j / n);
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const int a = i * (n + 1) + j, b = a + n + 1;
+            tris.push_back({a, b, b + 1});
+            tris.push_back({a, b + 1, a + 1});
+        }
+    struct Setting {
+        const char* name;
+        bool floor_moving;
+        double lift;  // of clouds 1, 2 and 3 (m)
+        std::size_t spheres;  // per cloud
+        int concurrent;
+    };
+    const Setting settings[] = {{"clouds resting", false, 0.0, 100, 9},
+                                {"three clouds lifted", false, 0.1, 100, 0},
+                                {"floor moving too", true, 0.0, 25, 0}};
+    for (const Setting& setting : settings) {
+        SCOPED_TRACE(setting.name);
+        auto floor_mesh = test::triangle_mesh(grid, tris);
+        CollisionModelParams fp = mp("floor", 9);
+        fp.moving = setting.floor_moving;
+        fp.simulated = setting.floor_moving;
+        TriangleModel floor(floor_mesh->state, floor_mesh->topo, fp);
+        std::mt19937 g(5);
+        std::vector<Vec3State> states;
+        std::vector<std::unique_ptr<SphereModel>> clouds;
+        states.reserve(4);
+        for (int c = 0; c < 4; ++c) {
+            Vec3State st = random_cloud(setting.spheres, 0.2, g, Vec3(-0.5 + 0.33 * c, 0.0, 0.1 * c));
+            for (auto& p : st.position) p.y() = 0.025 + 0.01 * std::abs(p.y()) + (c >= 1 ? setting.lift : 0.0);
+            states.push_back(std::move(st));
+        }
+        static const char* names[] = {"c0", "c1", "c2", "c3"};
+        for (int c = 0; c < 4; ++c)
+            clouds.push_back(std::make_unique<SphereModel>(states[std::size_t(c)], 0.02, std::vector<double>{},
+                                                           mp(names[c], c, false, {7})));  // one group: no cloud–cloud pairs
+        std::vector<CollisionModel*> models = {&floor};
+        for (auto& c : clouds) models.push_back(c.get());
+        const IntersectionParams params = method_params(IntersectionMethod::MinProximity);
+        const tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+        tbb::task_arena arena(2);
+        arena.execute([&] {
+            CollisionPipeline automatic(params);
+            CollisionPipelineOptions in_order;
+            in_order.pair_concurrency = PairConcurrency::never;
+            CollisionPipeline never(params, in_order);
+            automatic.set_models(models);
+            never.set_models(models);
+            int concurrent = 0;
+            std::size_t outputs = 0;
+            for (int step = 0; step < 10; ++step) {
+                expect_identical(automatic.detect(), never.detect());
+                EXPECT_FALSE(never.last_detection_concurrent());
+                concurrent += automatic.last_detection_concurrent() ? 1 : 0;
+                outputs += count_outputs(automatic.detections());
+                for (auto& st : states)
+                    for (auto& p : st.position) p.x() += 0.001;
+            }
+            EXPECT_EQ(concurrent, setting.concurrent);
+            EXPECT_GT(outputs, 10u * setting.spheres);  // the resting clouds touch the floor
+            EXPECT_GT(automatic.candidates_evaluated(), 10u * 4u * setting.spheres) << automatic.candidates_evaluated();
+        });
     }
 }
 

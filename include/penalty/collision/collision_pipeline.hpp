@@ -99,6 +99,14 @@ enum class ContactDetection : std::uint8_t {
     bvh,         ///< per-model Bvh + root pruning + bvh_narrow_phase (parallel, TBB)
 };
 
+/// Whether CollisionPipeline::detect runs its model pairs in parallel (never when a pair's
+/// kernel writes the models; the outputs are the same bits in every case).
+enum class PairConcurrency : std::uint8_t {
+    automatic,  ///< when worth it (CollisionPipeline::detect)
+    always,     ///< whenever two pairs have their root boxes within the margin
+    never,      ///< one pair after the other (each pair's narrow phase still parallel)
+};
+
 /// Options of CollisionPipeline.
 struct CollisionPipelineOptions {
     /// SOFA's CollisionPipeline `depth` (default 6, negative → 6): the depth of SOFA's bounding
@@ -122,6 +130,8 @@ struct CollisionPipelineOptions {
     /// are those of all outputs; detections() lists fewer. ContactPipeline sets it unless told
     /// otherwise (ContactPipelineOptions::all_detection_outputs).
     bool contact_outputs_only = false;
+    /// bvh, more than one thread: the model pairs in parallel (see CollisionPipeline::detect).
+    PairConcurrency pair_concurrency = PairConcurrency::automatic;
     NarrowPhaseOptions narrow;
 };
 
@@ -154,12 +164,24 @@ public:
     /// it: root boxes apart or a model empty); the reference is valid until the next detect().
     /// bvh, with NarrowPhaseOptions::parallel and more than one thread in the calling arena:
     /// the pairs are detected in parallel, in contiguous chunks of pairs, each chunk on one
-    /// thread with its own buffers (their capacity kept from step to step), when at least two pairs have their root boxes within the margin and no pair's kernel
-    /// writes the models (NewProximity Triangle–Triangle's normal overwrite is read by the
-    /// later pairs of the same models, so such a detection keeps the pairs in order). A pair's
-    /// outputs do not depend on the others', so they are the same bits either way; a failing
-    /// pair's exception is the first in pair order. last_detection_concurrent() says which way.
+    /// thread with its own buffers (their capacity kept from step to step), when no pair's
+    /// kernel writes the models (NewProximity Triangle–Triangle's normal overwrite is read by
+    /// the later pairs of the same models, so such a detection keeps the pairs in order) and
+    /// - PairConcurrency::always: two pairs have their root boxes within the margin;
+    /// - automatic: at the last detection two of these pairs evaluated at least
+    ///   kMinCandidatesPerConcurrentPair candidates each, and all pairs together at least
+    ///   kMinCandidatesForConcurrentPairs and at least as many as the elements of the moving
+    ///   models refitted. (The tasks pull the pairs' models and trees into the other core's
+    ///   caches, and the next refit of large moving models pays for it: Gravity's refit took
+    ///   0.149 → 0.183 ms for pairs 0.067 → 0.053 ms; docs/performance.md.)
+    /// A pair's outputs do not depend on the others', so they are the same bits either way; a
+    /// failing pair's exception is the first in pair order. last_detection_concurrent() says
+    /// which way the last detection went.
     const SceneDetection& detect();
+    /// PairConcurrency::automatic: the candidates a pair, and all pairs together, evaluated at
+    /// the last detection for the next one to run pairs in parallel.
+    static constexpr std::size_t kMinCandidatesPerConcurrentPair = 32;
+    static constexpr std::size_t kMinCandidatesForConcurrentPairs = 256;
     /// Whether the last detect() ran its model pairs in parallel.
     [[nodiscard]] bool last_detection_concurrent() const { return last_concurrent_; }
     /// The result of the last detect().
@@ -228,6 +250,8 @@ private:
     /// The pair's entry of pair_candidates_ when the candidate cache applies to it (both
     /// models have a generation), made if new; nullptr otherwise.
     [[nodiscard]] PairCandidates* pair_candidates_entry(std::size_t i1, std::size_t i2);
+    /// pair_work_[k] = this detection's pair k and the candidates it evaluated.
+    void record_pair_work(std::size_t k, std::size_t candidates);
     /// Whether detect() may run this step's pairs in parallel (see detect()).
     [[nodiscard]] bool pairs_run_concurrently() const;
     /// detect()'s narrow phases, pair by pair on the calling thread or in parallel.
@@ -287,6 +311,15 @@ private:
     PairScratch scratch_;                     // detect_pair's, and detect()'s when the pairs run in order
     std::vector<PairScratch> chunk_scratch_;  // detect()'s in parallel: one per chunk of pairs (kChunksPerThread)
     std::vector<PairCandidates*> pair_kept_;  // scratch: per pair of pairs_, its pair_candidates_ entry or nullptr
+    /// Per pair of the last detection: its models and the candidates it evaluated (whether the
+    /// next detection's pairs are worth running in parallel, pairs_run_concurrently).
+    struct PairWork {
+        const CollisionModel* model1 = nullptr;
+        const CollisionModel* model2 = nullptr;
+        std::size_t candidates = 0;
+    };
+    std::vector<PairWork> pair_work_;
+    std::size_t moving_elements_ = 0;  // elements of the moving models the last refit() refitted
     bool last_concurrent_ = false;
     std::vector<ModelPair> pairs_;        // scratch: this step's broad-phase pairs
     std::vector<ModelPair> unsupported_;
