@@ -1,6 +1,7 @@
 #include "penalty/collision/collision_pipeline.hpp"
 
 #include "penalty/core/error.hpp"
+#include "penalty/core/first_error.hpp"
 
 #include "penalty/collision/box_columns.hpp"
 #include "penalty/collision/separation.hpp"
@@ -17,7 +18,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <exception>
 #include <mutex>
 
 namespace penalty {
@@ -922,8 +922,7 @@ void CollisionPipeline::detect_pairs_concurrently() {
     if (chunk_scratch_.size() < chunks) chunk_scratch_.resize(chunks);
     std::mutex merge;
     PairCounts total;
-    std::size_t failed_pair = n;
-    std::exception_ptr failure;
+    FirstErrorInOrder failure;
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, chunks, 1),
         [&](const tbb::blocked_range<std::size_t>& r) {
@@ -936,11 +935,7 @@ void CollisionPipeline::detect_pairs_concurrently() {
                         detect_pair_with(*d.model1, *d.model2, d.outputs, chunk_scratch_[c], counts, pair_kept_[k]);
                         record_pair_work(k, counts.candidates - before);
                     } catch (...) {
-                        const std::lock_guard lock(merge);
-                        if (k < failed_pair) {
-                            failed_pair = k;
-                            failure = std::current_exception();
-                        }
+                        failure.record(k);
                         break;
                     }
                 }
@@ -950,7 +945,7 @@ void CollisionPipeline::detect_pairs_concurrently() {
         },
         tbb::simple_partitioner());
     total.add_to(cache_stats_, candidates_evaluated_);
-    if (failure) std::rethrow_exception(failure);
+    failure.rethrow_if_any();
 }
 
 bool CollisionPipeline::roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const {

@@ -1,6 +1,7 @@
 #include "penalty/response/collision_response.hpp"
 
 #include "penalty/core/error.hpp"
+#include "penalty/core/first_error.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -8,8 +9,6 @@
 
 
 #include <algorithm>
-#include <exception>
-#include <mutex>
 #include <charconv>
 #include <cmath>
 
@@ -290,24 +289,18 @@ void CollisionResponse::feed_contacts() {
         for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
         return;
     }
-    std::mutex merge;
-    std::size_t failed = feed_.size();
-    std::exception_ptr failure;
+    FirstErrorInOrder failure;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, feed_.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
             try {
                 feed_[i].first->set_detection_outputs(feed_[i].second->outputs);
             } catch (...) {
-                const std::lock_guard lock(merge);
-                if (i < failed) {
-                    failed = i;
-                    failure = std::current_exception();
-                }
+                failure.record(i);
                 return;
             }
         }
     });
-    if (failure) std::rethrow_exception(failure);
+    failure.rethrow_if_any();
 }
 
 void CollisionResponse::clear() {

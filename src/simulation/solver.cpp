@@ -1,5 +1,7 @@
 #include "penalty/simulation/solver.hpp"
 
+#include "penalty/core/first_error.hpp"
+
 #include <cstdio>
 #include <ostream>
 
@@ -883,21 +885,20 @@ std::vector<std::vector<const Node*>> Simulation::concurrent_solver_runs() {
 void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::size_t begin, std::size_t end,
                                     double dt) {
     if (!arena_) arena_ = std::make_unique<ThreadArena>(threads_);
-    solve_errors_.assign(end - begin, nullptr);
+    FirstErrorInOrder failure;
     arena_->arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t i = r.begin(); i != r.end(); ++i) {
                 try {
                     run_action(plan[i], dt);
                 } catch (...) {
-                    solve_errors_[i - begin] = std::current_exception();
+                    failure.record(i);
                 }
             }
         });
     });
     // The error of the first failing solver in plan order, as a sequential run would raise it.
-    for (const std::exception_ptr& e : solve_errors_)
-        if (e) std::rethrow_exception(e);
+    failure.rethrow_if_any();
 }
 
 void Simulation::step() {

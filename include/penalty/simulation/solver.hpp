@@ -399,7 +399,6 @@ private:
     Node root_;
     int threads_ = 0;
     std::unique_ptr<ThreadArena> arena_;  ///< made at the first concurrent solve
-    std::vector<std::exception_ptr> solve_errors_;  ///< per concurrent solver (kept: no allocation)
     std::vector<SolveAction> plan_;
     std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;
