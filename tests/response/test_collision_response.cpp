@@ -185,7 +185,7 @@ TEST(CollisionResponse, PairDestroyedWhenOutputsVanishAndRecreatedFromScratch) {
     EXPECT_EQ(destroyed, 2);
 }
 
-// Four point clouds of 40 points hovering over a floor triangle: four pairs of 40 outputs, so
+// Four point clouds of 160 points hovering over a floor triangle: four pairs of 160 outputs, so
 // set_detections feeds the contacts in parallel in an arena of two threads.
 struct FloorAndClouds {
     std::unique_ptr<test::Mesh> mesh = test::triangle_mesh({{-5, 0, -5}, {5, 0, -5}, {0, 0, 5}}, {{0, 2, 1}});
@@ -197,7 +197,7 @@ struct FloorAndClouds {
         states.reserve(4);
         for (int c = 0; c < 4; ++c) {
             std::vector<Vec3> pts;
-            for (int i = 0; i < 40; ++i) pts.emplace_back(-1.0 + 0.05 * i, 0.01 * (1 + c) + 0.001 * i, 0.3 * c - 0.5);
+            for (int i = 0; i < 160; ++i) pts.emplace_back(-2.0 + 0.025 * i, 0.01 * (1 + c) + 0.00025 * i, 0.3 * c - 0.5);
             states.push_back(make_state(pts));
         }
         for (int c = 0; c < 4; ++c) {
@@ -242,16 +242,16 @@ FedContacts feed(int threads, const std::vector<ModelPairDetection>& detections,
 TEST(CollisionResponse, ContactsFedInParallelAreThoseOfOneThreadAndTheFirstErrorInOrderIsRaised) {
     FloorAndClouds s;
     const std::vector<ModelPairDetection> detections = s.detect();
-    for (const auto& d : detections) ASSERT_EQ(d.outputs.size(), 40u);
+    for (const auto& d : detections) ASSERT_EQ(d.outputs.size(), 160u);
     const FedContacts one = feed(1, detections, s);
     const FedContacts two = feed(2, detections, s);
     EXPECT_FALSE(one.concurrent);
     EXPECT_TRUE(two.concurrent);
     ASSERT_EQ(one.contacts.size(), 4u);
     for (std::size_t c = 0; c < 4; ++c) {
-        ASSERT_EQ(one.contacts[c].size(), 40u);
-        ASSERT_EQ(two.contacts[c].size(), 40u);
-        for (std::size_t i = 0; i < 40; ++i) {
+        ASSERT_EQ(one.contacts[c].size(), 160u);
+        ASSERT_EQ(two.contacts[c].size(), 160u);
+        for (std::size_t i = 0; i < 160; ++i) {
             const PenaltyContact &a = one.contacts[c][i], &b = two.contacts[c][i];
             EXPECT_TRUE(a.m1 == b.m1 && a.m2 == b.m2 && a.index1 == b.index1 && a.index2 == b.index2 && a.age == b.age);
             EXPECT_TRUE(test::same_bits(a.normal, b.normal) && test::same_bits(a.dist, b.dist) && test::same_bits(a.ks, b.ks));

@@ -88,7 +88,7 @@ public:
         double intersection_contact_distance);
 
     /// Contacts fed in parallel (set_detections) only when at least two have this many outputs.
-    static constexpr std::size_t kMinOutputsPerConcurrentFeed = 16;
+    static constexpr std::size_t kMinOutputsPerConcurrentFeed = 128;
 
     /// One step of SOFA's narrow-phase outputs and contact manager: every detection with outputs
     /// gets its pair's contact (created when new) and set_detection_outputs (in parallel in the
