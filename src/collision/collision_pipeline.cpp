@@ -562,10 +562,6 @@ CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelin
     if (!(opt_.rebuild_ratio >= 1.0)) throw_invalid_argument("CollisionPipeline: rebuild_ratio must be >= 1");
 }
 
-CollisionPipeline::~CollisionPipeline() = default;
-CollisionPipeline::CollisionPipeline(CollisionPipeline&&) noexcept = default;
-CollisionPipeline& CollisionPipeline::operator=(CollisionPipeline&&) noexcept = default;
-
 void CollisionPipeline::set_models(std::vector<CollisionModel*> models) {
     for (std::size_t i = 0; i < models.size(); ++i)
         if (models[i] == nullptr) throw_invalid_argument("CollisionPipeline::set_models(): model ", i, " is null");

@@ -7,7 +7,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>

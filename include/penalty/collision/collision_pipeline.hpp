@@ -142,11 +142,6 @@ public:
     /// Throws std::invalid_argument for invalid `params`, leaf_size 0 or rebuild_ratio < 1.
     explicit CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt = {},
                                ContactDetection detection = ContactDetection::bvh);
-    ~CollisionPipeline();
-    CollisionPipeline(CollisionPipeline&&) noexcept;
-    CollisionPipeline& operator=(CollisionPipeline&&) noexcept;
-    CollisionPipeline(const CollisionPipeline&) = delete;
-    CollisionPipeline& operator=(const CollisionPipeline&) = delete;
 
     /// Sets the models (and forgets the trees).
     void set_models(std::vector<CollisionModel*> models);
