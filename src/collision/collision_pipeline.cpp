@@ -31,6 +31,14 @@ using Keys = std::vector<std::uint64_t>;
 
 std::uint64_t key(std::uint32_t e1, std::uint32_t e2) { return (std::uint64_t(e1) << 32) | e2; }
 
+// Aabb::overlaps (the §3.8 test: apart iff min1 > max2 + m or min2 > max1 + m on some axis, a
+// NaN bound never separating), its six comparisons combined without a branch.
+[[gnu::always_inline]] inline bool overlaps_without_branch(const Aabb& a, const Aabb& b, double margin) {
+    bool apart = false;
+    for (int i = 0; i < 3; ++i) apart |= (a.min[i] > b.max[i] + margin) | (b.min[i] > a.max[i] + margin);
+    return !apart;
+}
+
 // Dual-tree traversal collecting the element pairs whose boxes pass the §3.8 test. Below
 // kBruteForceBelow element pairs, a node pair is finished by testing all its element pairs
 // (the same element box test, so the same pairs, with less recursion).
@@ -801,14 +809,25 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
     const std::size_t n_kept = kept.keys.size();
     const std::uint64_t* keys = kept.keys.data();
     const bool prefetch = detail::prefetch::worth_it(m1.size() + m2.size());
-    for (std::size_t j = 0; j < n_kept; ++j) {
-        if (prefetch && j + detail::prefetch::kAhead < n_kept) {
-            const std::uint64_t ahead = keys[j + detail::prefetch::kAhead];
-            detail::prefetch::object(boxes1 + (ahead >> 32), sizeof(Aabb));
-            detail::prefetch::object(boxes2 + (ahead & 0xffffffffu), sizeof(Aabb));
+    // Without a branch per key (whether a kept pair overlaps now is hard to predict): each key
+    // is written to a block and the block's end advances by the test's result; full blocks
+    // are appended. The same keys, in the same order, as Aabb::overlaps one by one.
+    constexpr std::size_t kBlock = 64;
+    std::uint64_t block[kBlock];
+    for (std::size_t first = 0; first < n_kept; first += kBlock) {
+        const std::size_t last = std::min(n_kept, first + kBlock);
+        std::size_t count = 0;
+        for (std::size_t j = first; j < last; ++j) {
+            if (prefetch && j + detail::prefetch::kAhead < n_kept) {
+                const std::uint64_t ahead = keys[j + detail::prefetch::kAhead];
+                detail::prefetch::object(boxes1 + (ahead >> 32), sizeof(Aabb));
+                detail::prefetch::object(boxes2 + (ahead & 0xffffffffu), sizeof(Aabb));
+            }
+            const std::uint64_t k = keys[j];
+            block[count] = k;
+            count += overlaps_without_branch(boxes1[k >> 32], boxes2[k & 0xffffffffu], margin) ? 1 : 0;
         }
-        const std::uint64_t k = keys[j];
-        if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);
+        now.insert(now.end(), block, block + count);
     }
     const bool nearest = kept.nearest_outputs && worth_keeping_nearest(now.size(), m2);
     if (nearest) keep_nearest_candidates(params_, m1, boxes1, m2, now, buf, separation_tests);

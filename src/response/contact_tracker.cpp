@@ -14,10 +14,7 @@ std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutp
     // the current winner only if the winner's value is not <= its value (strict `<`, and a NaN
     // winner is replaced, as SOFA's comparison). The winner inherits the id's previous position.
     const std::size_t n = outputs.size();
-    by_id_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) by_id_[i] = {outputs[i].id, i};
-    // by id, then output index (all pairs distinct); outputs often come in id order already
-    if (!std::is_sorted(by_id_.begin(), by_id_.end())) std::sort(by_id_.begin(), by_id_.end());
+    sort_by_id(outputs);
     // old_[i]: ≥ 0 kept (0 = new, > 0 = previous 1-based position), −1 not kept
     // The groups come in increasing id order and previous_ is sorted by id: one merge finds each
     // id's previous position.
@@ -49,6 +46,37 @@ std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutp
         if (old_[i] >= 0) next_.push_back({id, new_position_[i]});
     std::swap(previous_, next_);
     return kept_;
+}
+
+void ContactTracker::sort_by_id(std::span<const DetectionOutput> outputs) {
+    // by id, then output index (all pairs distinct); outputs often come in id order already
+    const std::size_t n = outputs.size();
+    by_id_.resize(n);
+    bool sorted = true;
+    std::int64_t low = n > 0 ? outputs[0].id : 0, high = low;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::int64_t id = outputs[i].id;
+        by_id_[i] = {id, i};
+        sorted = sorted && (i == 0 || outputs[i - 1].id <= id);
+        low = std::min(low, id);
+        high = std::max(high, id);
+    }
+    if (sorted) return;
+    // Ids within a few times the output count (element indices of one model, the usual case):
+    // a counting sort, which places the outputs of an id in output order, so the order is the
+    // comparison sort's. Otherwise (or if the range would overflow) the comparison sort.
+    const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
+    if (n < kMinOutputsForCountingSort || high < low || span >= kCountingSortRangePerOutput * n) {
+        std::sort(by_id_.begin(), by_id_.end());
+        return;
+    }
+    id_counts_.assign(span + 2, 0);
+    for (std::size_t i = 0; i < n; ++i) ++id_counts_[static_cast<std::size_t>(outputs[i].id - low) + 1];
+    for (std::size_t k = 1; k < id_counts_.size(); ++k) id_counts_[k] += id_counts_[k - 1];  // first slot of each id
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::int64_t id = outputs[i].id;
+        by_id_[id_counts_[static_cast<std::size_t>(id - low)]++] = {id, i};
+    }
 }
 
 Index ContactTracker::position_of(std::int64_t id) const {

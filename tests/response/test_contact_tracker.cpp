@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
+#include <map>
 #include <random>
 
 namespace penalty {
@@ -84,6 +87,60 @@ TEST(ContactTracker, KeepsExactlyTheFirstMinimumPerIdOnRandomLists) {
         duplicates += outputs.size() - kept.size();
     }
     EXPECT_GT(duplicates, 500u);  // the lists really contained duplicates and ties
+}
+
+// Lists long enough for the counting sort (ContactTracker::kMinOutputsForCountingSort), with ids
+// in a narrow range (counted), a wide one and at the ends of int64 (compared), carried over steps:
+// the kept outputs and their previous positions are those of a std::map reference (SOFA's
+// contactIndex), whichever sort ran.
+TEST(ContactTracker, CountingAndComparisonSortsKeepTheSameOutputsAndPositions) {
+    std::mt19937 rng(11);
+    ContactTracker tracker;
+    std::map<std::int64_t, Index> reference;  // id -> 1-based position in the last list
+    std::size_t counted = 0, compared = 0, carried = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+        const int n = 32 + int(rng() % 400);
+        const int regime = (trial / 10) % 3;  // ten steps in a row in one regime: ids recur
+        std::vector<DetectionOutput> outputs;
+        for (int i = 0; i < n; ++i) {
+            std::int64_t id = 0;
+            if (regime == 0) id = 1000 + std::int64_t(rng() % unsigned(2 * n));  // narrow: counted
+            else if (regime == 1) id = -std::int64_t(rng() % unsigned(50 * n));  // wide: compared
+            else id = (rng() % 2 == 0 ? std::numeric_limits<std::int64_t>::max() - std::int64_t(rng() % 40)
+                                       : std::numeric_limits<std::int64_t>::min() + std::int64_t(rng() % 40));
+            outputs.push_back(output(id, 0.1 * double(int(rng() % 5))));
+        }
+        // what sort_by_id chooses (the lists are never in id order here)
+        std::int64_t low = outputs[0].id, high = low;
+        for (const auto& o : outputs) low = std::min(low, o.id), high = std::max(high, o.id);
+        const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
+        (span < ContactTracker::kCountingSortRangePerOutput * std::uint64_t(n) ? counted : compared) += 1;
+        const auto kept = tracker.update(outputs);
+        // reference: per id the first output with the least value, in output order
+        std::map<std::int64_t, std::size_t> winner;
+        for (std::size_t i = 0; i < outputs.size(); ++i) {
+            const auto [it, fresh] = winner.try_emplace(outputs[i].id, i);
+            if (!fresh && !(outputs[it->second].value <= outputs[i].value)) it->second = i;
+        }
+        std::vector<std::size_t> expected;
+        for (const auto& [id, i] : winner) expected.push_back(i);
+        std::sort(expected.begin(), expected.end());
+        ASSERT_EQ(kept.size(), expected.size()) << "trial " << trial;
+        std::map<std::int64_t, Index> next;
+        for (std::size_t k = 0; k < kept.size(); ++k) {
+            ASSERT_EQ(kept[k].output, expected[k]) << "trial " << trial;
+            const std::int64_t id = outputs[expected[k]].id;
+            const auto previous = reference.find(id);
+            const Index old_index = previous == reference.end() ? 0 : previous->second;
+            EXPECT_EQ(kept[k].old_index, old_index) << "trial " << trial;
+            carried += old_index > 0 ? 1 : 0;
+            next[id] = static_cast<Index>(k + 1);
+        }
+        reference = std::move(next);
+    }
+    EXPECT_EQ(counted, 100u);
+    EXPECT_EQ(compared, 200u);
+    EXPECT_GT(carried, 8000u);  // 10 473 with this seed;  // ids met again in the next step carried their positions
 }
 
 }  // namespace
