@@ -14,13 +14,7 @@ double combined_contact_stiffness(StiffnessLaw law, double k1, double k2, double
     if (!std::isfinite(k1) || k1 < 0 || !std::isfinite(k2) || k2 < 0)
         throw_invalid_argument("combined_contact_stiffness: contact_stiffness must be finite and >= 0 (k1 = ",
                                k1, ", k2 = ", k2, ")");
-    if (law == StiffnessLaw::physical) {
-        const double s = k1 + k2;
-        return s == 0.0 ? 0.0 : k1 * k2 / s;
-    }
-    double ks = k1 * k2;
-    if (dist != 0.0) ks /= dist;  // SOFA: exact comparison (§14.9)
-    return ks;
+    return combined_contact_stiffness_of_checked(law, k1, k2, dist);
 }
 
 double contact_critical_time_step(double ks, double m1, double m2) {
@@ -67,14 +61,17 @@ void BarycentricPenaltyContact::set_detection_outputs(std::span<const DetectionO
     const auto& p2 = model2_->params();
     const double d0 = intersection_cd_ + p1.contact_distance + p2.contact_distance;
     const double mu = p1.contact_friction + p2.contact_friction;
+    // the models' stiffnesses checked once (throws as for a contact), then used per contact
+    if (!kept.empty())
+        (void)combined_contact_stiffness(parameters_.stiffness_law, p1.contact_stiffness, p2.contact_stiffness, d0);
     for (const KeptOutput& k : kept) {
         const DetectionOutput& o = outputs[k.output];
         double r1 = 0.0, r2 = 0.0;
         const Index m1 = mapper1_->add_point(o.point[0], o.elem1, r1);
         const Index m2 = mapper2_->add_point(o.point[1], o.elem2, r2);
         const double dist = d0 + r1 + r2;
-        const double ks = combined_contact_stiffness(parameters_.stiffness_law, p1.contact_stiffness,
-                                                     p2.contact_stiffness, dist);
+        const double ks = combined_contact_stiffness_of_checked(parameters_.stiffness_law, p1.contact_stiffness,
+                                                                p2.contact_stiffness, dist);
         field_.add_contact(m1, m2, o.elem1, o.elem2, o.normal, dist, ks, mu, mu, k.old_index);
     }
     update_contact_points();

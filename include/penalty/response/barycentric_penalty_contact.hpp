@@ -49,6 +49,18 @@ struct ContactResponseParameters {
 /// Spring stiffness of a contact (see the file comment); throws for negative or non-finite k.
 [[nodiscard]] double combined_contact_stiffness(StiffnessLaw law, double k1, double k2, double dist);
 
+/// combined_contact_stiffness for k1, k2 already checked (finite, ≥ 0): physical k1·k2/(k1 + k2)
+/// (0 if both are 0); SOFA's k1·k2/dist, or k1·k2 when dist is exactly 0 (§14.9).
+[[nodiscard]] inline double combined_contact_stiffness_of_checked(StiffnessLaw law, double k1, double k2, double dist) {
+    if (law == StiffnessLaw::physical) {
+        const double s = k1 + k2;
+        return s == 0.0 ? 0.0 : k1 * k2 / s;
+    }
+    double ks = k1 * k2;
+    if (dist != 0.0) ks /= dist;
+    return ks;
+}
+
 /// Contact time scale sqrt(m/ks) (s) of a spring ks (N/m) between masses m1, m2 (kg): m is the
 /// reduced mass m1·m2/(m1 + m2) (an infinite mass = a static side: m = the other mass).
 /// An explicit (symplectic Euler) step is stable for h < 2·sqrt(m/ks); for accuracy take h of
