@@ -289,6 +289,9 @@ private:
         std::size_t outputs_sorted = 0;  ///< outputs sorted by detect_pair in this generation
         /// contact_outputs_only applies to the pair's kernel (set at each collection)
         bool nearest_outputs = false;
+        /// kept keys whose boxes overlapped at the last detection (of all keys): the box test's
+        /// loop branches per key only when this share is near 0 or 1, where a branch is predicted
+        std::size_t overlapped_last = 0;
     };
     std::vector<ModelMotion> motion_;
     std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)
