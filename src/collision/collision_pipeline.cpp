@@ -31,14 +31,6 @@ using Keys = std::vector<std::uint64_t>;
 
 std::uint64_t key(std::uint32_t e1, std::uint32_t e2) { return (std::uint64_t(e1) << 32) | e2; }
 
-// Aabb::overlaps (the §3.8 test: apart iff min1 > max2 + m or min2 > max1 + m on some axis, a
-// NaN bound never separating), its six comparisons combined without a branch.
-[[gnu::always_inline]] inline bool overlaps_without_branch(const Aabb& a, const Aabb& b, double margin) {
-    bool apart = false;
-    for (int i = 0; i < 3; ++i) apart |= (a.min[i] > b.max[i] + margin) | (b.min[i] > a.max[i] + margin);
-    return !apart;
-}
-
 // Dual-tree traversal collecting the element pairs whose boxes pass the §3.8 test. Below
 // kBruteForceBelow element pairs, a node pair is finished by testing all its element pairs
 // (the same element box test, so the same pairs, with less recursion).
@@ -558,6 +550,7 @@ void CollisionPipeline::PairCounts::add_to(CandidateCacheStats& stats, std::size
     stats.collected += cache.collected;
     stats.in_sofa_order += cache.in_sofa_order;
     stats.sofa_order_sorts += cache.sofa_order_sorts;
+    stats.branch_free_tests += cache.branch_free_tests;
     candidates_evaluated += candidates;
 }
 
@@ -828,6 +821,7 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
             if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) now.push_back(k);
         }
     } else {
+        ++counts.cache.branch_free_tests;
         constexpr std::size_t kBlock = 64;
         std::uint64_t block[kBlock];
         for (std::size_t first = 0; first < n_kept; first += kBlock) {
@@ -837,7 +831,7 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
                 prefetch_ahead(j);
                 const std::uint64_t k = keys[j];
                 block[count] = k;
-                count += overlaps_without_branch(boxes1[k >> 32], boxes2[k & 0xffffffffu], margin) ? 1 : 0;
+                count += boxes1[k >> 32].overlaps_branch_free(boxes2[k & 0xffffffffu], margin) ? 1 : 0;
             }
             now.insert(now.end(), block, block + count);
         }

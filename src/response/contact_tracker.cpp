@@ -64,9 +64,10 @@ void ContactTracker::sort_by_id(std::span<const DetectionOutput> outputs) {
     if (sorted) return;
     // Ids within a few times the output count (element indices of one model, the usual case):
     // a counting sort, which places the outputs of an id in output order, so the order is the
-    // comparison sort's. Otherwise (or if the range would overflow) the comparison sort.
+    // comparison sort's. Otherwise the comparison sort. (The span is high − low computed
+    // without overflow, whatever the int64 ids.)
     const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
-    if (n < kMinOutputsForCountingSort || high < low || span >= kCountingSortRangePerOutput * n) {
+    if (n < kMinOutputsForCountingSort || span >= kCountingSortRangePerOutput * n) {
         std::sort(by_id_.begin(), by_id_.end());
         return;
     }

@@ -57,6 +57,13 @@ struct Aabb {
             if (min[i] > o.max[i] + margin || o.min[i] > max[i] + margin) return false;
         return true;
     }
+    /// overlaps() with its six comparisons combined without a branch (for loops whose result
+    /// the branch predictor cannot guess); the same result, a NaN bound never separating.
+    [[nodiscard]] bool overlaps_branch_free(const Aabb& o, double margin = 0.0) const {
+        bool apart = false;
+        for (int i = 0; i < 3; ++i) apart |= (min[i] > o.max[i] + margin) | (o.min[i] > max[i] + margin);
+        return !apart;
+    }
 };
 
 /// The Data common to all SOFA collision models, with SOFA's defaults.
