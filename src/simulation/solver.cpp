@@ -143,34 +143,38 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order) : mapping_gra
                 s.mapping_index = static_cast<std::size_t>(std::find(mappings_.begin(), mappings_.end(), s.mapping) - mappings_.begin());
 }
 
-void SubtreeSystem::map_dx(const DxReaders& r) const {
+void SubtreeSystem::find_read_rows(const DxReaders& r) const {
     r.restricted = false;
-    if (!r.selective) {
-        r.mapping->apply_dx();
-        return;
-    }
+    r.found = readers_fixed_;
+    if (!r.selective) return;
     const BaseState& state = *r.mapping->to();
     const std::size_t dofs = state.num_dofs();
     dx_read_.assign(dofs, 0);
     for (const BaseForceField* ff : r.force_fields)
-        if (!ff->mark_dx_read(state, dx_read_)) {
-            r.mapping->apply_dx();
-            return;
-        }
+        if (!ff->mark_dx_read(state, dx_read_)) return;
     for (const BaseMapping* child : r.mappings)
-        if (!child->mark_inputs_read(dx_read_)) {
-            r.mapping->apply_dx();
-            return;
-        }
+        if (!child->mark_inputs_read(dx_read_)) return;
     r.rows.clear();
     for (std::size_t i = 0; i < dofs; ++i)
         if (dx_read_[i] != 0) r.rows.push_back(static_cast<std::uint32_t>(i));
-    if (r.rows.size() == dofs) {
-        r.mapping->apply_dx();
-        return;
-    }
-    r.restricted = true;
-    r.mapping->apply_dx_rows(r.rows);
+    r.restricted = r.rows.size() != dofs;
+}
+
+void SubtreeSystem::map_dx(const DxReaders& r) const {
+    if (!(readers_fixed_ && r.found)) find_read_rows(r);
+    if (r.restricted) r.mapping->apply_dx_rows(r.rows);
+    else r.mapping->apply_dx();
+}
+
+SubtreeSystem::FixedReaders::FixedReaders(const SubtreeSystem& system) : system_(system) {
+    PENALTY_DEMAND(!system_.readers_fixed_);
+    for (const DxReaders& r : system_.dx_readers_) r.found = false;
+    system_.readers_fixed_ = true;
+}
+
+SubtreeSystem::FixedReaders::~FixedReaders() {
+    system_.readers_fixed_ = false;
+    for (const DxReaders& r : system_.dx_readers_) r.found = false;
 }
 
 void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
@@ -496,7 +500,12 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         // only the rows read (and written) by the readers; Jᵀ takes no other (apply_jt_df_rows)
         FlatVector df = mapped_[i]->df_flat();
         const auto deriv = static_cast<Eigen::Index>(mapped_[i]->deriv_size());
-        for (const std::uint32_t row : r.rows) df.segment(deriv * static_cast<Eigen::Index>(row), deriv).setZero();
+        if (deriv == 3) {
+            // three stores a row (a segment of run-time size is a call to memset per row)
+            for (const std::uint32_t row : r.rows) df.segment<3>(3 * static_cast<Eigen::Index>(row)).setZero();
+        } else {
+            for (const std::uint32_t row : r.rows) df.segment(deriv * static_cast<Eigen::Index>(row), deriv).setZero();
+        }
     }
     // the right-hand side's addMBKv and the CG's product in SOFA HEAD's MappingGraph order, or
     // in its visitors' (mapping_graph_order_: see the constructor)
@@ -639,6 +648,7 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     const double rm = rayleigh_mass;
     sys.compute_force(f_);
     sys.gather_velocity(v_);
+    const SubtreeSystem::FixedReaders fixed_readers(sys);  // no contact changes until the solve ends
     // SOFA's EulerImplicitSolver::solve: b = f; b += (−rm·M + (h·tr + rs)·K)·v, each force
     // field (and mass) adding into b in turn (MappingGraphMechanicalOperations::addMBKv);
     // b = b·h (b.teq(h)).
@@ -694,6 +704,7 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
         sys.scatter_velocity(v);
         sys.propagate_positions_and_velocities();
         if (newton.update_geometry) newton.update_geometry();
+        const SubtreeSystem::FixedReaders fixed_readers(sys);  // the contacts of this iterate
         Eigen::VectorXd f;
         sys.compute_force(f);
         Eigen::VectorXd mdv;

@@ -143,6 +143,20 @@ public:
     /// have size()); the projection, if asked, applies to the sum.
     void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project,
                    bool accumulate = false) const;
+    /// While one lives, the readers of the mapped states (the contacts' force fields and
+    /// mappings, DxReaders) do not change: the rows of a mapped state that apply_mbk maps are
+    /// found by the first product and kept for the next ones (a solve's right-hand side and CG
+    /// products). Without one, each product finds them again. Not nested; the system outlives it.
+    class FixedReaders {
+    public:
+        explicit FixedReaders(const SubtreeSystem& system);
+        ~FixedReaders();
+        FixedReaders(const FixedReaders&) = delete;
+        FixedReaders& operator=(const FixedReaders&) = delete;
+
+    private:
+        const SubtreeSystem& system_;
+    };
     /// Applies every projective constraint to a flat vector.
     void project(Eigen::VectorXd& v) const;
     /// out = M⁻¹·in (independent states; each must have a mass).
@@ -192,9 +206,14 @@ private:
         /// This product: restricted to `rows` (ascending), or (false) every row.
         mutable bool restricted = false;
         mutable std::vector<std::uint32_t> rows;
+        /// `restricted` and `rows` were found under the current FixedReaders.
+        mutable bool found = false;
     };
     std::vector<DxReaders> dx_readers_;  ///< one per mappings_ (and mapped_) entry, same order
     mutable std::vector<std::uint8_t> dx_read_;  ///< scratch of map_dx: one flag per DOF
+    mutable bool readers_fixed_ = false;         ///< a FixedReaders lives
+    /// Sets r.restricted and r.rows: the rows r's readers read, when they can all tell.
+    void find_read_rows(const DxReaders& r) const;
     /// to.dx = J from.dx for r.mapping, only the rows its readers read when they can tell.
     void map_dx(const DxReaders& r) const;
     /// The same contributions in the order of SOFA's MappingGraph, which computeForce and addMBKv
