@@ -72,6 +72,33 @@ TEST(BoxColumns, VectorMaskEqualsScalarMaskAndOverlapsForEveryColumnCount) {
     EXPECT_LT(rate, 0.85);
 }
 
+// Aabb::overlaps_branch_free (the kept candidates' test, two comparisons an instruction with
+// SSE2) gives overlaps()'s answer on every pair: touching bounds, −0, NaN and infinite bounds,
+// margins whose sums round, both argument orders.
+TEST(BoxColumns, BranchFreeOverlapTestEqualsOverlaps) {
+    std::mt19937 g(20261125);
+    const double margins[] = {0.0, 1e-12, 0.05, 0.25, 0.1 + 0.2};
+    std::size_t tests = 0, hits = 0, touching = 0, with_nan = 0;
+    for (int k = 0; k < 200000; ++k) {
+        const Aabb a = random_box(g), b = random_box(g);
+        const double m = margins[k % 5];
+        const bool expected = a.overlaps(b, m);
+        ASSERT_EQ(a.overlaps_branch_free(b, m), expected) << "pair " << k;
+        ASSERT_EQ(b.overlaps_branch_free(a, m), b.overlaps(a, m)) << "pair " << k;
+        ++tests;
+        hits += expected ? 1 : 0;
+        for (int i = 0; i < 3; ++i) {
+            touching += (a.min[i] == b.max[i] + m || b.min[i] == a.max[i] + m) ? 1 : 0;
+            with_nan += (std::isnan(a.max[i]) || std::isnan(b.max[i])) ? 1 : 0;
+        }
+    }
+    const double rate = double(hits) / double(tests);
+    EXPECT_GT(rate, 0.15);
+    EXPECT_LT(rate, 0.85);
+    EXPECT_GT(touching, 1000u);  // the equality case, where > and >= would differ
+    EXPECT_GT(with_nan, 5000u);
+}
+
 // bvh_candidates against the all-pairs box test, for leaf sizes below, at and above the columns'
 // capacity (the leaf-level loop's two branches) and for one element against many.
 TEST(BoxColumns, BvhCandidatesEqualEveryOverlappingPairForEveryLeafSize) {
