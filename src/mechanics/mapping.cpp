@@ -11,14 +11,8 @@
 namespace penalty {
 
 // ---- Jacobian rows ----------------------------------------------------------------------------
-void BarycentricRow::push(Index index, double weight) {
-    if (count == kCapacity) throw_invalid_argument("BarycentricRow: more than ", kCapacity, " input points");
-    entries[static_cast<std::size_t>(count++)] = {index, weight};
-}
-
-void BarycentricRow::add_triplets(TripletList& t, Index first_row, Index col_offset) const {
-    for (const Entry& e : *this)
-        for (Index a = 0; a < 3; ++a) t.emplace_back(first_row + a, col_offset + 3 * e.index + a, e.weight);
+void throw_barycentric_row_full(int capacity) {
+    throw_invalid_argument("BarycentricRow: more than ", capacity, " input points");
 }
 
 void RigidPointRow::add_triplets(TripletList& t, Index first_row, Index col_offset) const {

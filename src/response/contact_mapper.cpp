@@ -164,8 +164,8 @@ void BarycentricContactMapper::resize(std::size_t n) {
     velocities_.clear();
 }
 
-BarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index e) const {
-    BarycentricRow row;
+ContactBarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index e) const {
+    ContactBarycentricRow row;
     const auto& x = state_->position;
     if (const auto* l = dynamic_cast<const LineModel*>(model_)) {
         const Edge& ed = l->edge(e);

@@ -59,8 +59,8 @@ void ContactPointMapping<In>::apply_jt(std::span<InDeriv> in, std::span<const Ve
 template <class In>
 bool ContactPointMapping<In>::mark_inputs_read(std::span<std::uint8_t> read) const {
     if (mapper_->kind() != ContactMapperKind::barycentric) return false;
-    for (const BarycentricRow& row : static_cast<const BarycentricContactMapper&>(*mapper_).rows())
-        for (const BarycentricRow::Entry& e : row) {
+    for (const ContactBarycentricRow& row : static_cast<const BarycentricContactMapper&>(*mapper_).rows())
+        for (const ContactBarycentricRow::Entry& e : row) {
             PENALTY_DEMAND(static_cast<std::size_t>(e.index) < read.size());
             read[static_cast<std::size_t>(e.index)] = 1;
         }

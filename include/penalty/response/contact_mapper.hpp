@@ -7,7 +7,7 @@
 ///   Identity    (Point, Sphere<Vec3>): the contact point IS the DOF (index = element index);
 ///               P is ignored; a sphere sets r = radius(element).
 ///   Barycentric (Line, Triangle incl. split quads, Tetrahedron): x = Σ w_i x_vi with weights
-///               computed from P at add_point and frozen for the step (a BarycentricRow, the
+///               computed from P at add_point and frozen for the step (a ContactBarycentricRow, the
 ///               Jacobian BarycentricMapping uses too).
 ///   Rigid       (RigidSphere, Cylinder): local point L = R⁻¹(P − c), frozen for the step;
 ///               x = c + R·L, v = v_c + ω × (R·L); Jᵀ: force F and torque (R·L) × F (a
@@ -135,13 +135,13 @@ public:
     void apply_jt(ConstVec3Span f, std::span<double> parent_f) const override;
     void add_jacobian_triplets(TripletList& triplets, Index row_offset, Index col_offset) const override;
 
-    [[nodiscard]] const std::vector<BarycentricRow>& rows() const { return rows_; }
+    [[nodiscard]] const std::vector<ContactBarycentricRow>& rows() const { return rows_; }
 
 private:
-    [[nodiscard]] BarycentricRow compute_row(const Vec3& P, Index element) const;
+    [[nodiscard]] ContactBarycentricRow compute_row(const Vec3& P, Index element) const;
     const CollisionModel* model_;
     const Vec3State* state_;
-    std::vector<BarycentricRow> rows_;
+    std::vector<ContactBarycentricRow> rows_;
     std::vector<Vec3> positions_;
     std::vector<Vec3> velocities_;
 };
