@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <unordered_set>
 
 namespace penalty {
 
@@ -108,28 +109,33 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
 SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order) : mapping_graph_order_(mapping_graph_order) {
     collect(root, true);
     if (mapping_graph_order_) order_as_mapping_graph(root);
-    // External states: used by a force field or a mapping but not part of the subtree.
-    auto known = [&](const BaseState* s) {
-        return offset_of_.count(s) != 0 || std::find(mapped_.begin(), mapped_.end(), s) != mapped_.end() ||
-               std::find(external_.begin(), external_.end(), s) != external_.end();
-    };
+    // External states: used by a force field or a mapping but not part of the subtree. Sets and
+    // per-state lists, not searches of the lists: a pile of bodies has thousands of contact
+    // states, and the system is built again whenever contacts come or go.
+    std::unordered_set<const BaseState*> known(mapped_.begin(), mapped_.end());
+    for (const auto& entry : offset_of_) known.insert(entry.first);
+    std::unordered_map<const BaseState*, std::vector<const BaseForceField*>> force_fields_on;
     for (const auto* ff : force_fields_)
-        for (BaseState* s : ff->states())
-            if (!known(s)) external_.push_back(s);
-    for (const auto* m : mappings_)
-        if (!known(m->from())) external_.push_back(m->from());
+        for (BaseState* s : ff->states()) {
+            std::vector<const BaseForceField*>& on = force_fields_on[s];
+            if (on.empty() || on.back() != ff) on.push_back(ff);  // a field listing a state twice counts once
+            if (known.insert(s).second) external_.push_back(s);
+        }
+    std::unordered_map<const BaseState*, std::vector<const BaseMapping*>> mappings_from;
+    for (const auto* m : mappings_) {
+        mappings_from[m->from()].push_back(m);
+        if (known.insert(m->from()).second) external_.push_back(m->from());
+    }
     for (std::size_t i = 0; i < mappings_.size(); ++i) {
         BaseMapping* m = mappings_[i];
         PENALTY_DEMAND(m->to() == mapped_[i]);
         DxReaders r;
         r.mapping = m;
         r.selective = m->maps_selected_rows();
-        for (const BaseForceField* ff : force_fields_) {
-            const std::vector<BaseState*> states = ff->states();
-            if (std::find(states.begin(), states.end(), m->to()) != states.end()) r.force_fields.push_back(ff);
-        }
-        for (const BaseMapping* child : mappings_)
-            if (child->from() == m->to()) r.mappings.push_back(child);
+        // the force fields acting on the mapped state and the mappings reading it, in the
+        // subtree's order
+        if (const auto it = force_fields_on.find(m->to()); it != force_fields_on.end()) r.force_fields = it->second;
+        if (const auto it = mappings_from.find(m->to()); it != mappings_from.end()) r.mappings = it->second;
         if (r.selective) {
             // map_dx's scratch at its largest: no allocation in a product
             dx_read_.reserve(std::max(dx_read_.capacity(), m->to()->num_dofs()));
