@@ -27,6 +27,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -38,9 +39,11 @@ public:
     using Key = std::pair<const T*, const T*>;
 
 private:
-    /// helper::ptr_stable_id: the id of a pointer, given at its first request.
+    /// helper::ptr_stable_id: the id of a pointer, given at its first request. A hash table (SOFA
+    /// uses a std::map): the ids depend only on the order of the requests, and a comparison makes
+    /// four requests, so the map's log-depth searches were most of an insertion's cost.
     struct Ids {
-        std::map<const T*, unsigned> of;
+        std::unordered_map<const T*, unsigned> of;
         unsigned next = 0;
         unsigned id(const T* p) {
             const auto [it, inserted] = of.try_emplace(p, next);
