@@ -282,9 +282,11 @@ void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double ma
 }  // namespace
 
 void broad_phase(const IntersectionParams& params, std::span<CollisionModel* const> models,
-                 std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported) {
+                 std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported,
+                 std::vector<std::array<std::size_t, 2>>* indices) {
     pairs.clear();
     if (unsupported != nullptr) unsupported->clear();
+    if (indices != nullptr) indices->clear();
     for (std::size_t i = 0; i < models.size(); ++i)
         if (models[i] == nullptr) throw_invalid_argument("broad_phase(): model ", i, " is null");
     // BruteForceBroadPhase::addCollisionModel: each model in turn, first with itself, then with
@@ -303,6 +305,7 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
             }
             const bool keep_order = is_registered_order(a->type(), b->type());
             pairs.push_back(keep_order ? ModelPair{a, b} : ModelPair{b, a});
+            if (indices != nullptr) indices->push_back(keep_order ? std::array{j, i} : std::array{i, j});
         }
     }
 }
@@ -676,16 +679,15 @@ void CollisionPipeline::track_motion(std::size_t i) {
 
 void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out) {
     PairCounts counts;
-    detect_pair_with(m1, m2, out, scratch_, counts, nullptr);
+    detect_pair_with(model_index(m1), model_index(m2), out, scratch_, counts, nullptr);
     counts.add_to(cache_stats_, candidates_evaluated_);
 }
 
-void CollisionPipeline::detect_pair_with(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out,
+void CollisionPipeline::detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out,
                                          PairScratch& scratch, PairCounts& counts, PairCandidates* kept) {
     out.clear();
-    const bool in_sofa_order = detect_pair_unordered(m1, m2, out, scratch, counts, kept);
+    const bool in_sofa_order = detect_pair_unordered(i1, i2, out, scratch, counts, kept);
     if (!opt_.sofa_output_order || in_sofa_order || out.size() < 2) return;
-    const std::size_t i1 = model_index(m1), i2 = model_index(m2);
     ensure_sofa_trees(i1, i2);
     sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], out, scratch.sofa_order);
 }
@@ -720,15 +722,16 @@ CollisionPipeline::PairCandidates* CollisionPipeline::pair_candidates_entry(std:
     return &pair_candidates_[(std::uint64_t(i1) << 32) | std::uint64_t(i2)];
 }
 
-bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out,
+bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
                                               PairScratch& scratch, PairCounts& counts, PairCandidates* kept_entry) {
     // the models were validated and update()d by refit()
+    CollisionModel& m1 = *models_[i1];
+    CollisionModel& m2 = *models_[i2];
     if (detection_ == ContactDetection::exhaustive) {
         detail::exhaustive_element_pairs(params_, m1, m2, out, boxes_);
         return false;
     }
     // the same element pairs as the exhaustive loop (bvh_narrow_phase's guarantee)
-    const std::size_t i1 = model_index(m1), i2 = model_index(m2);
     const Bvh& t1 = trees_[i1];
     const Bvh& t2 = trees_[i2];
     if (t1.empty() || t2.empty()) return false;
@@ -852,7 +855,7 @@ bool CollisionPipeline::detect_pair_unordered(CollisionModel& m1, CollisionModel
 const SceneDetection& CollisionPipeline::detect() {
     refit();
     build_sofa_trees();  // SOFA computes every model's bounding tree at each detection
-    broad_phase(params_, models_, pairs_, &unsupported_);
+    broad_phase(params_, models_, pairs_, &unsupported_, &pair_indices_);
     if (detection_ == ContactDetection::exhaustive) {
         // the root boxes the trees would give (roots_within_margin)
         root_boxes_.assign(models_.size(), Aabb{});
@@ -871,7 +874,7 @@ const SceneDetection& CollisionPipeline::detect() {
         d.model2 = pairs_[k].model2;
         d.support = pair_support(params_, d.model1->type(), d.model2->type());
         d.skipped = false;
-        d.narrow_phase = roots_within_margin(*d.model1, *d.model2);
+        d.narrow_phase = roots_within_margin(pair_indices_[k][0], pair_indices_[k][1]);
     }
     last_concurrent_ = pairs_run_concurrently();
     pair_work_.resize(pairs_.size());
@@ -904,6 +907,18 @@ bool CollisionPipeline::pairs_run_concurrently() const {
     return worth_a_task >= 2 && candidates >= std::max(kMinCandidatesForConcurrentPairs, moving_elements_);
 }
 
+bool CollisionPipeline::skips_pair(std::size_t k) {
+    // A pair whose root boxes are not within the margin has no element boxes within it (each
+    // element box lies in its root box, and the test is monotone in the bounds): no candidates
+    // and no outputs, so the trees are not traversed and the candidate cache is not looked up
+    // (SOFA's BruteForceBroadPhase does not hand such a pair to the narrow phase at all). A
+    // pile of n bodies has about n²/2 such pairs a step. Exhaustive detection runs every pair.
+    if (detection_ != ContactDetection::bvh || result_[k].narrow_phase) return false;
+    result_[k].outputs.clear();
+    record_pair_work(k, 0);
+    return true;
+}
+
 void CollisionPipeline::record_pair_work(std::size_t k, std::size_t candidates) {
     pair_work_[k] = {pairs_[k].model1, pairs_[k].model2, candidates};
 }
@@ -912,8 +927,9 @@ void CollisionPipeline::detect_pairs_in_order() {
     PairCounts counts;
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
         ModelPairDetection& d = result_[k];
+        if (skips_pair(k)) continue;
         const std::size_t before = counts.candidates;
-        detect_pair_with(*d.model1, *d.model2, d.outputs, scratch_, counts, nullptr);
+        detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], d.outputs, scratch_, counts, nullptr);
         record_pair_work(k, counts.candidates - before);
     }
     counts.add_to(cache_stats_, candidates_evaluated_);
@@ -925,9 +941,10 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // Triangle planes their separation tests read (a model's, shared by its pairs).
     pair_kept_.resize(pairs_.size());
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
+        if (skips_pair(k)) continue;
         CollisionModel& m1 = *pairs_[k].model1;
         CollisionModel& m2 = *pairs_[k].model2;
-        pair_kept_[k] = pair_candidates_entry(model_index(m1), model_index(m2));
+        pair_kept_[k] = pair_candidates_entry(pair_indices_[k][0], pair_indices_[k][1]);
         if (result_[k].narrow_phase && detail::reads_triangle_planes(detail::pair_kernel_parts(params_, m1, m2))) {
             static_cast<TriangleModel&>(m1).update_planes();
             static_cast<TriangleModel&>(m2).update_planes();
@@ -953,9 +970,11 @@ void CollisionPipeline::detect_pairs_concurrently() {
                 PairCounts counts;
                 for (std::size_t k = c * n / chunks; k < (c + 1) * n / chunks; ++k) {
                     ModelPairDetection& d = result_[k];
+                    if (!d.narrow_phase) continue;  // skips_pair(k) ran before the tasks
                     try {
                         const std::size_t before = counts.candidates;
-                        detect_pair_with(*d.model1, *d.model2, d.outputs, chunk_scratch_[c], counts, pair_kept_[k]);
+                        detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], d.outputs, chunk_scratch_[c],
+                                         counts, pair_kept_[k]);
                         record_pair_work(k, counts.candidates - before);
                     } catch (...) {
                         failure.record(k);
@@ -971,14 +990,15 @@ void CollisionPipeline::detect_pairs_concurrently() {
     failure.rethrow_if_any();
 }
 
-bool CollisionPipeline::roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const {
+bool CollisionPipeline::roots_within_margin(std::size_t i1, std::size_t i2) const {
     // BruteForceBroadPhase::addCollisionModel skips empty models and keeps a pair when the
     // intersector's canIntersect passes on the root cubes (BaseProximityIntersection::
     // testIntersection(Cube&, Cube&): within box_margin on every axis; a model with itself
     // always passes; DiscreteIntersection's cone-angle test of a cube with itself is not emulated)
+    const CollisionModel& m1 = *models_[i1];
+    const CollisionModel& m2 = *models_[i2];
     if (m1.size() == 0 || m2.size() == 0) return false;
     if (&m1 == &m2) return true;
-    const std::size_t i1 = model_index(m1), i2 = model_index(m2);
     const bool exhaustive = detection_ == ContactDetection::exhaustive;
     if (!exhaustive && (trees_[i1].empty() || trees_[i2].empty())) return false;
     const Aabb& r1 = exhaustive ? root_boxes_[i1] : trees_[i1].root_box();

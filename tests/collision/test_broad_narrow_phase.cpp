@@ -589,6 +589,57 @@ TEST(NarrowPhase, CandidateCacheFollowsSphereCloudsThatMoveFast) {
     EXPECT_GT(total, 800u);
 }
 
+TEST(NarrowPhase, PairsWhoseRootBoxesAreApartAreNeitherTraversedNorLookedUp) {
+    // A row of 12 sphere clouds 0.22 m apart (each about 0.24 m wide with its radii): each
+    // overlaps its neighbours only. One cloud travels along the row, 4 mm a step (within the
+    // cache's slack: every pair detection uses the cache). Of the 66 pairs only those whose root boxes are within the margin reach the trees and the candidate
+    // cache (one cache statistic each); the outputs stay the exhaustive loop's, with the pairs
+    // run in order and in parallel.
+    constexpr int kClouds = 12;
+    std::mt19937 g(21);
+    std::vector<Vec3State> states(kClouds);
+    std::vector<std::unique_ptr<SphereModel>> clouds;
+    std::vector<std::string> names;
+    for (int i = 0; i < kClouds; ++i) names.push_back("cloud" + std::to_string(i));
+    std::vector<CollisionModel*> models;
+    for (int i = 0; i < kClouds; ++i) {
+        states[std::size_t(i)] = random_cloud(60, 0.1, g, Vec3(0.22 * i, 0.0, 0.0));
+        clouds.push_back(std::make_unique<SphereModel>(states[std::size_t(i)], 0.02, std::vector<double>{},
+                                                       mp(names[std::size_t(i)].c_str(), i)));
+        models.push_back(clouds.back().get());
+    }
+    const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
+    for (const auto concurrency : {PairConcurrency::never, PairConcurrency::always}) {
+        SCOPED_TRACE(concurrency == PairConcurrency::never ? "pairs in order" : "pairs in parallel");
+        std::vector<Vec3State> start = states;
+        CollisionPipelineOptions options = canonical_order();
+        options.pair_concurrency = concurrency;
+        CollisionPipeline pipe(params, options);
+        pipe.set_models(models);
+        std::size_t pairs = 0, near_pairs = 0, outputs = 0;
+        for (int step = 0; step < 60; ++step) {
+            const SceneDetection& got = pipe.detect();
+            expect_identical(got, detect_scene_exhaustive(params, models));
+            pairs += got.size();
+            for (const ModelPairDetection& d : got) {
+                near_pairs += d.narrow_phase ? 1 : 0;
+                if (!d.narrow_phase) EXPECT_TRUE(d.outputs.empty());
+            }
+            outputs += count_outputs(got);
+            for (Vec3& p : states[3].position) p += Vec3(0.004, 0.0, 0.0);
+        }
+        states = start;
+        EXPECT_EQ(pairs, 60u * 66u);
+        EXPECT_GT(outputs, 1000u);
+        // neighbours only: 11 pairs a step, one more or less while the travelling cloud
+        // is near a third one
+        EXPECT_GE(near_pairs, 60u * 10u);
+        EXPECT_LE(near_pairs, 60u * 13u);
+        const auto& stats = pipe.candidate_cache_stats();
+        EXPECT_EQ(stats.reused + stats.collected, near_pairs);
+    }
+}
+
 TEST(NarrowPhase, SelfCollisionFiltersAreApplied) {
     // torus1 triangles vs its own vertices (same node): no output of a triangle with one of its vertices
     MeshScene sc(5, true);

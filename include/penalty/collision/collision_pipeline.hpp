@@ -44,9 +44,11 @@ struct ModelPair {
 /// pair of two models of one type stays (models[j], models[i]): the later model first).
 /// Pairs with an active intersector go to `pairs`; the others (the method ignores or does not
 /// support them) to `unsupported` when given. Both are cleared first. Throws
-/// std::invalid_argument for a null model.
+/// std::invalid_argument for a null model. `indices`, when given, receives for each entry of
+/// `pairs` the places of its model1 and model2 in `models`.
 void broad_phase(const IntersectionParams& params, std::span<CollisionModel* const> models,
-                 std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported = nullptr);
+                 std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported = nullptr,
+                 std::vector<std::array<std::size_t, 2>>* indices = nullptr);
 
 /// Tuning of the narrow phase (none of it changes the output).
 struct NarrowPhaseOptions {
@@ -222,8 +224,12 @@ public:
 private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
     void index_models();  // index_of_ from models_
-    /// ModelPairDetection::narrow_phase of (m1, m2): neither empty, root boxes within box_margin.
-    [[nodiscard]] bool roots_within_margin(const CollisionModel& m1, const CollisionModel& m2) const;
+    /// ModelPairDetection::narrow_phase of models_[i1], models_[i2]: neither empty, root boxes
+    /// within box_margin.
+    [[nodiscard]] bool roots_within_margin(std::size_t i1, std::size_t i2) const;
+    /// True (and the pair's outputs cleared, its work recorded as none) when pair k of this
+    /// detection needs no narrow phase: BVH detection and roots_within_margin false.
+    bool skips_pair(std::size_t k);
     struct PairCandidates;
     /// The buffers of pair detections that run one after the other (detect() in parallel gives
     /// each chunk of pairs its own).
@@ -239,11 +245,12 @@ private:
     };
     /// detect_pair with the given buffers. `kept`: the pair's entry of pair_candidates_, made
     /// beforehand (the map is not changed while pairs run in parallel), or nullptr to look it up.
-    void detect_pair_with(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out, PairScratch& scratch,
+    /// The models are models_[i1] and models_[i2].
+    void detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out, PairScratch& scratch,
                           PairCounts& counts, PairCandidates* kept);
     /// detect_pair without sorting into SOFA's output order. Returns true when `out` is in that
     /// order already (the candidate cache's kept pairs are kept in it, PairCandidates).
-    [[nodiscard]] bool detect_pair_unordered(CollisionModel& m1, CollisionModel& m2, DetectionOutputList& out,
+    [[nodiscard]] bool detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
                                              PairScratch& scratch, PairCounts& counts, PairCandidates* kept);
     /// The pair's entry of pair_candidates_ when the candidate cache applies to it (both
     /// models have a generation), made if new; nullptr otherwise.
@@ -323,6 +330,7 @@ private:
     std::size_t moving_elements_ = 0;  // elements of the moving models the last refit() refitted
     bool last_concurrent_ = false;
     std::vector<ModelPair> pairs_;        // scratch: this step's broad-phase pairs
+    std::vector<std::array<std::size_t, 2>> pair_indices_;  // scratch: their models' places in models_
     std::vector<ModelPair> unsupported_;
     SceneDetection result_;               // entries and their output lists keep their capacity
     std::vector<Aabb> boxes_;             // exhaustive: element boxes of model 2
