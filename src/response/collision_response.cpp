@@ -207,9 +207,17 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
     // CollisionResponse::createContacts: the contact vector in the contact map's order (the
     // order of the force fields in the graph), then the pairs without contact still detected.
     const std::size_t refused_count = ordered_.size();
+    // each live contact's entry found by a binary search (a search of pairs_ per contact was
+    // quadratic in the contacts)
+    place_of_.clear();
+    for (std::size_t i = 0; i < pairs_.size(); ++i)
+        if (pairs_[i].contact) place_of_.emplace_back(pairs_[i].contact.get(), i);
+    std::sort(place_of_.begin(), place_of_.end());
     for (const auto& [models, contact] : contact_map_) {
-        const auto e = std::find_if(pairs_.begin(), pairs_.end(), [c = contact](const ContactPairEntry& x) { return x.contact.get() == c; });
-        ordered_.push_back(std::move(*e));
+        const auto e = std::lower_bound(place_of_.begin(), place_of_.end(),
+                                        std::pair<const BarycentricPenaltyContact*, std::size_t>(contact, 0));
+        PENALTY_DEMAND(e != place_of_.end() && e->first == contact);
+        ordered_.push_back(std::move(pairs_[e->second]));
     }
     std::rotate(ordered_.begin(), ordered_.begin() + std::ptrdiff_t(refused_count), ordered_.end());
     pairs_.swap(ordered_);

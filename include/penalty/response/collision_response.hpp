@@ -154,6 +154,8 @@ private:
     void feed_contacts();
     // set_detections' scratch, reused from step to step
     std::vector<ContactPairEntry> ordered_;       // pairs_ in their new order
+    /// stable ids: (contact, its place in pairs_), sorted by address (kept: no allocation a step)
+    std::vector<std::pair<const BarycentricPenaltyContact*, std::size_t>> place_of_;
     std::vector<char> seen_;                      // by rank: per pair, fed this step
     std::vector<ContactPairEntry> created_;       // by rank: pairs new this step
     std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed_;
