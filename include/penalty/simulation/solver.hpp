@@ -191,7 +191,15 @@ private:
         BaseMapping* mapping = nullptr;
         std::size_t mapping_index = 0;  ///< of `mapping` in mappings_
         Vec3 gravity = Vec3::Zero();
+        /// The one component this step calls.
+        [[nodiscard]] const void* object() const {
+            return mass != nullptr ? static_cast<const void*>(mass)
+                                   : force_field != nullptr ? static_cast<const void*>(force_field)
+                                                            : static_cast<const void*>(mapping);
+        }
     };
+    /// How many objects ahead apply_mbk's loops prefetch the next objects' first words.
+    static constexpr std::size_t kObjectsAhead = 8;
     std::vector<ForceStep> force_steps_;
     /// Who reads a mapped state's dx in this subtree (force fields acting on it, mappings from
     /// it). When its mapping can map selected rows (BaseMapping::maps_selected_rows) and every
