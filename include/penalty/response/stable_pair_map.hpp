@@ -39,9 +39,9 @@ public:
     using Key = std::pair<const T*, const T*>;
 
 private:
-    /// helper::ptr_stable_id: the id of a pointer, given at its first request. A hash table (SOFA
-    /// uses a std::map): the ids depend only on the order of the requests, and a comparison makes
-    /// four requests, so the map's log-depth searches were most of an insertion's cost.
+    /// helper::ptr_stable_id: the id of a pointer, given at its first request. A hash table where
+    /// SOFA uses a std::map: the ids depend only on the order of the requests, not on the lookup
+    /// structure (a comparison makes four requests).
     struct Ids {
         std::unordered_map<const T*, unsigned> of;
         unsigned next = 0;
