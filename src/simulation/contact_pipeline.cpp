@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <string>
+#include <type_traits>
 
 namespace penalty {
 
@@ -65,6 +66,15 @@ bool ContactPointMapping<In>::mark_inputs_read(std::span<std::uint8_t> read) con
             read[static_cast<std::size_t>(e.index)] = 1;
         }
     return true;
+}
+
+template <class In>
+const std::vector<ContactBarycentricRow>* ContactPointMapping<In>::contact_barycentric_rows() const {
+    if constexpr (std::is_same_v<In, Vec3Types>) {
+        if (mapper_->kind() == ContactMapperKind::barycentric)
+            return &static_cast<const BarycentricContactMapper&>(*mapper_).rows();
+    }
+    return nullptr;
 }
 
 template class ContactPointMapping<Vec3Types>;

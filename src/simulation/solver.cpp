@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <unordered_set>
 
 namespace penalty {
@@ -106,7 +107,8 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
 }
 
 // ---- SubtreeSystem ----------------------------------------------------------------------------
-SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order) : mapping_graph_order_(mapping_graph_order) {
+SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_contact_products)
+    : fuse_contact_products_(fuse_contact_products), mapping_graph_order_(mapping_graph_order) {
     collect(root, true);
     if (mapping_graph_order_) order_as_mapping_graph(root);
     // External states: used by a force field or a mapping but not part of the subtree. Sets and
@@ -147,6 +149,160 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order) : mapping_gra
         for (ForceStep& s : *steps)
             if (s.mapping != nullptr)
                 s.mapping_index = static_cast<std::size_t>(std::find(mappings_.begin(), mappings_.end(), s.mapping) - mappings_.begin());
+    find_fused_contacts(fuse_contact_products);
+}
+
+void SubtreeSystem::find_fused_contacts(bool fuse) {
+    fused_mapping_of_.assign(mappings_.size(), -1);
+    if (!fuse) return;
+    // Candidates: barycentric contact mappings between Vec3 states whose output is read by one
+    // force field and no mapping.
+    std::unordered_map<const BaseState*, std::size_t> candidate_on;  // output state → mapping
+    std::unordered_map<Vec3Object*, std::size_t> unread_group_of;     // parent → unread_by_parent_
+    for (std::size_t i = 0; i < mappings_.size(); ++i) {
+        const DxReaders& r = dx_readers_[i];
+        if (mappings_[i]->contact_barycentric_rows() == nullptr || !r.mappings.empty() || r.force_fields.size() > 1) continue;
+        auto* from = dynamic_cast<Vec3Object*>(mappings_[i]->from());
+        auto* to = dynamic_cast<Vec3Object*>(mappings_[i]->to());
+        if (from == nullptr || to == nullptr) continue;
+        if (r.force_fields.size() == 1) {
+            candidate_on.emplace(to, i);
+            continue;
+        }
+        // read by nobody in the subtree
+        const auto [group, added] = unread_group_of.emplace(from, unread_by_parent_.size());
+        if (added) unread_by_parent_.emplace_back(from, std::vector<std::size_t>{});
+        unread_by_parent_[group->second].second.push_back(fused_mappings_.size());
+        fused_mapping_of_[i] = static_cast<std::ptrdiff_t>(fused_mappings_.size());
+        fused_mappings_.push_back({.mapping_index = i, .from = from, .to = to, .rows = mappings_[i]->contact_barycentric_rows(), .live = false});
+    }
+    const std::unordered_set<const BaseState*> external(external_.begin(), external_.end());
+    std::unordered_map<const BaseForceField*, std::ptrdiff_t> fused_field_of;
+    for (BaseForceField* ff : force_fields_) {
+        auto* field = dynamic_cast<Vec3InteractionForceField*>(ff);
+        if (field == nullptr || &field->state1() == &field->state2()) continue;
+        std::array<std::ptrdiff_t, 2> mapping_of_side{-1, -1};
+        bool fusable = true;
+        for (std::size_t side = 0; side < 2; ++side) {
+            const Vec3Object* state = side == 0 ? &field->state1() : &field->state2();
+            if (const auto it = candidate_on.find(state); it != candidate_on.end() && dx_readers_[it->second].force_fields.front() == ff)
+                mapping_of_side[side] = static_cast<std::ptrdiff_t>(it->second);
+            else if (!external.contains(state))
+                fusable = false;  // a state others read or write: the field keeps its place
+        }
+        if (!fusable || (mapping_of_side[0] < 0 && mapping_of_side[1] < 0)) continue;
+        FusedField entry;
+        entry.field = field;
+        for (std::size_t side = 0; side < 2; ++side) {
+            if (mapping_of_side[side] < 0) {
+                entry.sides[side].state = side == 0 ? &field->state1() : &field->state2();
+                continue;
+            }
+            const auto index = static_cast<std::size_t>(mapping_of_side[side]);
+            BaseMapping* m = mappings_[index];
+            fused_mapping_of_[index] = static_cast<std::ptrdiff_t>(fused_mappings_.size());
+            entry.sides[side].mapping = static_cast<std::ptrdiff_t>(fused_mappings_.size());
+            fused_mappings_.push_back({.mapping_index = index,
+                                       .from = dynamic_cast<Vec3Object*>(m->from()),
+                                       .to = dynamic_cast<Vec3Object*>(m->to()),
+                                       .rows = m->contact_barycentric_rows()});
+        }
+        fused_field_of.emplace(ff, static_cast<std::ptrdiff_t>(fused_fields_.size()));
+        fused_fields_.push_back(entry);
+    }
+    if (fused_mappings_.empty()) return;
+    for (std::vector<ForceStep>* steps : {&force_steps_, &graph_force_steps_})
+        for (ForceStep& s : *steps) {
+            if (s.mapping != nullptr) s.fused = fused_mapping_of_[s.mapping_index];
+            else if (s.force_field != nullptr)
+                if (const auto it = fused_field_of.find(s.force_field); it != fused_field_of.end()) s.fused = it->second;
+        }
+    std::size_t points = 0, parent_dofs = 0;
+    for (const FusedMapping& m : fused_mappings_) {
+        if (m.live) points += m.to->num_dofs();
+        parent_dofs = std::max(parent_dofs, m.from->num_dofs());
+    }
+    fused_rows_.reserve(points);  // today's sizes: no allocation in this step's products
+    fused_dx_.reserve(points);
+    fused_df_.reserve(points);
+    zero_add_kind_.reserve(parent_dofs);
+    zero_adds_.reserve(parent_dofs * unread_by_parent_.size());
+}
+
+SubtreeSystem::FusedContactCounts SubtreeSystem::fused_contact_counts() const {
+    FusedContactCounts counts;
+    counts.force_fields = fused_fields_.size();
+    for (const FusedMapping& m : fused_mappings_) ++(m.live ? counts.read_mappings : counts.unread_mappings);
+    return counts;
+}
+
+void SubtreeSystem::prepare_fused_contacts() const {
+    std::size_t total = 0;
+    for (const FusedMapping& m : fused_mappings_) {
+        PENALTY_DEMAND(m.rows->size() == m.to->num_dofs());
+        if (!m.live) continue;
+        m.first = total;
+        m.count = m.rows->size();
+        total += m.count;
+    }
+    fused_rows_.resize(total);
+    fused_dx_.resize(total);
+    fused_df_.resize(total);
+    for (const FusedMapping& m : fused_mappings_)
+        if (m.live) std::copy(m.rows->begin(), m.rows->end(), fused_rows_.begin() + static_cast<std::ptrdiff_t>(m.first));
+    // The unread mappings' Jᵀ: w·(+0) into each row entry; +0 when w is finite and not
+    // negative-signed, −0 (adds nothing) when negative-signed, NaN when not finite.
+    zero_adds_.clear();
+    for (const auto& [parent, unread] : unread_by_parent_) {
+        zero_add_kind_.assign(parent->num_dofs(), 0);
+        for (const std::size_t index : unread)
+            for (const ContactBarycentricRow& row : *fused_mappings_[index].rows)
+                for (const ContactBarycentricRow::Entry& e : row) {
+                    std::uint8_t& kind = zero_add_kind_[static_cast<std::size_t>(e.index)];
+                    if (!std::isfinite(e.weight)) kind = 2;
+                    else if (!std::signbit(e.weight)) kind = std::max<std::uint8_t>(kind, 1);
+                }
+        for (std::size_t dof = 0; dof < zero_add_kind_.size(); ++dof)
+            if (zero_add_kind_[dof] != 0)
+                zero_adds_.push_back({&parent->df[dof], zero_add_kind_[dof] == 2 ? std::numeric_limits<double>::quiet_NaN() : 0.0});
+    }
+    fused_ready_ = true;
+}
+
+void SubtreeSystem::apply_fused_fields(double k, double b) const {
+    for (const FusedField& f : fused_fields_) {
+        std::array<Vec3Span, 2> df;
+        std::array<ConstVec3Span, 2> dx;
+        for (std::size_t side = 0; side < 2; ++side) {
+            const FusedSide& s = f.sides[side];
+            if (s.mapping < 0) {  // external: dx 0, df scratch
+                dx[side] = s.state->dx;
+                df[side] = s.state->df;
+                continue;
+            }
+            const FusedMapping& m = fused_mappings_[static_cast<std::size_t>(s.mapping)];
+            const std::span<const Vec3> in(m.from->dx);
+            const ContactBarycentricRow* rows = fused_rows_.data() + m.first;
+            Vec3* out_dx = fused_dx_.data() + m.first;
+            Vec3* out_df = fused_df_.data() + m.first;
+            // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df
+            for (std::size_t i = 0; i < m.count; ++i) {
+                out_dx[i] = rows[i].combine(in);
+                out_df[i].setZero();
+            }
+            dx[side] = ConstVec3Span(out_dx, m.count);
+            df[side] = Vec3Span(out_df, m.count);
+        }
+        f.field->add_dforce(df[0], df[1], dx[0], dx[1], k, b);
+    }
+}
+
+void SubtreeSystem::spread_fused_mapping(const FusedMapping& m) const {
+    // ContactPointMapping::apply_jt_df (the mapper's apply_jt): from.df += Jᵀ·df, rows in order
+    const std::span<Vec3> out(m.from->df);
+    const ContactBarycentricRow* rows = fused_rows_.data() + m.first;
+    const Vec3* df = fused_df_.data() + m.first;
+    for (std::size_t i = 0; i < m.count; ++i) rows[i].spread(out, df[i]);
 }
 
 void SubtreeSystem::find_read_rows(const DxReaders& r) const {
@@ -176,10 +332,12 @@ SubtreeSystem::FixedReaders::FixedReaders(const SubtreeSystem& system) : system_
     PENALTY_DEMAND(!system_.readers_fixed_);
     for (const DxReaders& r : system_.dx_readers_) r.found = false;
     system_.readers_fixed_ = true;
+    system_.fused_ready_ = false;
 }
 
 SubtreeSystem::FixedReaders::~FixedReaders() {
     system_.readers_fixed_ = false;
+    system_.fused_ready_ = false;
     for (const DxReaders& r : system_.dx_readers_) r.found = false;
 }
 
@@ -296,12 +454,12 @@ bool SubtreeSystem::offsets_valid() const {
     return end == size_;
 }
 
-SubtreeSystem& SubtreeSystemCache::get(Node& node, bool mapping_graph_order) {
+SubtreeSystem& SubtreeSystemCache::get(Node& node, bool mapping_graph_order, bool fuse_contact_products) {
     const std::uint64_t version = node.structure_version();
     if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid() ||
-        system_->mapping_graph_order() != mapping_graph_order) {
+        system_->mapping_graph_order() != mapping_graph_order || system_->fuses_contact_products() != fuse_contact_products) {
         system_.reset();  // the old system first: its pointers may dangle
-        system_.emplace(node, mapping_graph_order);
+        system_.emplace(node, mapping_graph_order, fuse_contact_products);
         node_ = &node;
         version_ = version;
         ++builds_;
@@ -496,13 +654,18 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         }
         external_work_zeroed_ = true;
     }
+    // The fused contact block (see the header): only while the contacts cannot change.
+    const bool fused = readers_fixed_ && !fused_fields_.empty();
+    if (fused && !fused_ready_) prepare_fused_contacts();
     // The loops below call thousands of small objects (a contact pair's states and mappings) a
     // product, each a cache miss on its first word: fetched kObjectsAhead iterations earlier.
     for (std::size_t i = 0; i < dx_readers_.size(); ++i) {
+        if (fused && fused_mapping_of_[i] >= 0) continue;
         if (i + kObjectsAhead < dx_readers_.size()) __builtin_prefetch(dx_readers_[i + kObjectsAhead].mapping);
         map_dx(dx_readers_[i]);
     }
     for (std::size_t i = 0; i < mapped_.size(); ++i) {
+        if (fused && fused_mapping_of_[i] >= 0) continue;
         if (i + kObjectsAhead < mapped_.size()) __builtin_prefetch(mapped_[i + kObjectsAhead]);
         const DxReaders& r = dx_readers_[i];
         if (!r.restricted) {
@@ -522,8 +685,27 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
     // the right-hand side's addMBKv and the CG's product in SOFA HEAD's MappingGraph order, or
     // in its visitors' (mapping_graph_order_: see the constructor)
     const std::vector<ForceStep>& steps = mapping_graph_order_ ? graph_force_steps_ : force_steps_;
+    // the fused fields read only their contact points' dx and write only their df (and external
+    // scratch), which no other step reads or writes: run before the steps, same bits; the
+    // unread mappings' Jᵀ is the additions of zeros, which give the same bits in any place
+    if (fused) {
+        for (const ZeroAdd& z : zero_adds_) {
+            double* t = z.target->data();
+            t[0] += z.value;
+            t[1] += z.value;
+            t[2] += z.value;
+        }
+        apply_fused_fields(k, b);
+    }
     for (std::size_t i = 0; i < steps.size(); ++i) {
         const ForceStep& s = steps[i];
+        if (fused && s.fused >= 0) {
+            if (s.mapping != nullptr) {
+                const FusedMapping& fm = fused_mappings_[static_cast<std::size_t>(s.fused)];
+                if (fm.live) spread_fused_mapping(fm);
+            }
+            continue;  // a fused field, or an unread mapping's zeros: done above
+        }
         if (i + kObjectsAhead < steps.size()) __builtin_prefetch(steps[i + kObjectsAhead].object());
         if (s.mass != nullptr) {
             if (m != 0.0) s.mass->add_mdx(m);
@@ -643,13 +825,13 @@ void EulerImplicitSolver::record_cg(const CgStats& stats) {
 }
 
 std::optional<std::size_t> EulerImplicitSolver::list_touched_states(Node& node, std::vector<const BaseState*>& out) {
-    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
+    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order, fuse_contact_products);
     sys.append_states(out);
     return static_cast<std::size_t>(sys.size());
 }
 
 void EulerImplicitSolver::solve(Node& node, double dt) {
-    SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
+    SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order, fuse_contact_products);
     step_cg_iterations_ = 0;
     step_cg_solves_.clear();
     step_cg_limit_reached_ = false;
@@ -759,13 +941,13 @@ void EulerExplicitSolver::init(Node& node) {
 }
 
 std::optional<std::size_t> EulerExplicitSolver::list_touched_states(Node& node, std::vector<const BaseState*>& out) {
-    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
+    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order, fuse_contact_products);
     sys.append_states(out);
     return static_cast<std::size_t>(sys.size());
 }
 
 void EulerExplicitSolver::solve(Node& node, double dt) {
-    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order);
+    const SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order, fuse_contact_products);
     sys.compute_force(f_);
     sys.apply_inverse_mass(f_, a_);
     sys.project(a_);

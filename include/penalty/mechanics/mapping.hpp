@@ -16,6 +16,9 @@
 
 namespace penalty {
 
+template <int Capacity>
+struct BarycentricRowOf;
+
 class BaseMapping {
 public:
     virtual ~BaseMapping() = default;
@@ -44,6 +47,12 @@ public:
     /// the bits of apply_jt_df when those rows hold +0. Default (maps_selected_rows() false):
     /// apply_jt_df.
     virtual void apply_jt_df_rows(std::span<const std::uint32_t> /*rows*/) { apply_jt_df(); }
+    /// When J is a list of contact barycentric rows from a Vec3 state onto a Vec3 state, one row
+    /// per output DOF (ContactPointMapping over a BarycentricContactMapper: apply_dx is
+    /// to.dx[i] = rows[i].combine(from.dx), apply_jt_df is rows[i].spread(from.df, to.df[i]) for
+    /// i in order): those rows, so that a solver may apply J and Jᵀ itself with the same
+    /// operations (SubtreeSystem's fused contact products). nullptr (the default) otherwise.
+    [[nodiscard]] virtual const std::vector<BarycentricRowOf<4>>* contact_barycentric_rows() const { return nullptr; }
 };
 
 template <class In, class Out>

@@ -8,6 +8,8 @@
 
 #include <Eigen/Core>
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <exception>
 #include <functional>
@@ -99,8 +101,20 @@ public:
     /// `mapping_graph_order`: compute_force and apply_mbk (the right-hand side's addMBKv and the
     /// CG's product) sum in the order of SOFA HEAD's MappingGraph (graph_force_steps_) instead of
     /// its visitors' (OdeSolver::sofa_mapping_graph_order).
-    explicit SubtreeSystem(Node& root, bool mapping_graph_order = false);
+    /// `fuse_contact_products`: apply_mbk under a FixedReaders runs the fused contact block
+    /// (below); false: every product through the objects. The two give the same bits.
+    explicit SubtreeSystem(Node& root, bool mapping_graph_order = false, bool fuse_contact_products = true);
     [[nodiscard]] bool mapping_graph_order() const { return mapping_graph_order_; }
+    [[nodiscard]] bool fuses_contact_products() const { return fuse_contact_products_; }
+    /// What the fused contact block (below) applies: contact force fields, the barycentric contact
+    /// mappings they read, and the barycentric contact mappings nobody reads (all 0: none
+    /// qualifies, or fusion is off).
+    struct FusedContactCounts {
+        std::size_t force_fields = 0;
+        std::size_t read_mappings = 0;
+        std::size_t unread_mappings = 0;
+    };
+    [[nodiscard]] FusedContactCounts fused_contact_counts() const;
 
     [[nodiscard]] Eigen::Index size() const { return size_; }
     /// True while every independent state has the size it had when the system was built (the
@@ -182,6 +196,70 @@ private:
     /// external_'s dx (and df) zeroed since the last compute_force (see apply_mbk)
     mutable bool external_work_zeroed_ = false;
     std::vector<BaseMapping*> mappings_;  ///< pre-order: parents before children (J·dx)
+    // ---- the fused contact block ----------------------------------------------------------
+    // A pile of bodies has thousands of contact pairs, each with two contact-point states, two
+    // ContactPointMappings and a PenaltyInteraction, every one its own small heap object and
+    // arrays: a product through them is one virtual call and a cache miss per object. The
+    // contact fields whose states are each either the output of a barycentric contact mapping
+    // (BaseMapping::contact_barycentric_rows) read by that field alone, or an external state
+    // (dx 0, df scratch), are applied by apply_mbk itself under a FixedReaders: the mappings'
+    // rows are copied once a solve into one array, their contact points' dx and df live in two
+    // flat arrays, each field's add_dforce runs on those arrays right after the mappings' J
+    // (it reads and writes nothing else: nothing else reads those contact points), and each
+    // mapping's Jᵀ runs at its own force step, with the rows' combine and spread. Same
+    // operations on the same values in the same order: the same bits.
+    // A barycentric contact mapping whose contact points nobody in the subtree reads (a contact
+    // between two bodies of this solver whose field lies above the solver's node: explicit,
+    // SOFA's §2.1) is fused too: its dx is read by nobody, its df stays +0, and its Jᵀ adds only
+    // w·(+0) to its parent's df rows. Adding a zero changes a sum only when the sum is −0 (it
+    // becomes +0 when the zero is +0) or the zero is NaN (w not finite), whatever the place of
+    // that addition among the others, so one addition of +0 (or NaN) per parent row it touches,
+    // before the other steps, gives the same bits (zero_adds_).
+    struct FusedMapping {
+        std::size_t mapping_index = 0;  ///< in mappings_
+        Vec3Object* from = nullptr;
+        Vec3Object* to = nullptr;
+        const std::vector<ContactBarycentricRow>* rows = nullptr;
+        bool live = true;  ///< read by a fused field (false: read by nobody)
+        /// Range of the mapping's contact points in fused_rows_, fused_dx_, fused_df_ (this solve)
+        mutable std::size_t first = 0;
+        mutable std::size_t count = 0;
+    };
+    struct FusedSide {
+        std::ptrdiff_t mapping = -1;   ///< index in fused_mappings_, or -1: external state
+        Vec3Object* state = nullptr;   ///< the external state (mapping == -1)
+    };
+    struct FusedField {
+        Vec3InteractionForceField* field = nullptr;
+        std::array<FusedSide, 2> sides{};
+    };
+    void find_fused_contacts(bool fuse);
+    /// Copies the rows of the fused mappings (current under the FixedReaders) and sizes the flat
+    /// arrays.
+    void prepare_fused_contacts() const;
+    /// J of the fused mappings, zeroed df, and each fused field's add_dforce(k, b).
+    void apply_fused_fields(double k, double b) const;
+    /// from.df += Jᵀ·df of one fused mapping, row by row.
+    void spread_fused_mapping(const FusedMapping& m) const;
+    bool fuse_contact_products_ = true;
+    std::vector<FusedMapping> fused_mappings_;
+    std::vector<FusedField> fused_fields_;
+    std::vector<std::ptrdiff_t> fused_mapping_of_;  ///< per mappings_ entry: index in fused_mappings_ or -1
+    mutable std::vector<ContactBarycentricRow> fused_rows_;
+    mutable std::vector<Vec3> fused_dx_;
+    mutable std::vector<Vec3> fused_df_;
+    mutable bool fused_ready_ = false;  ///< fused_rows_ copied under the current FixedReaders
+    /// The parents of the fused mappings nobody reads, each with those mappings (fused_mappings_
+    /// indices), and the additions their Jᵀ amounts to in this solve: value (+0 or NaN) added to
+    /// the three components of *target.
+    std::vector<std::pair<Vec3Object*, std::vector<std::size_t>>> unread_by_parent_;
+    struct ZeroAdd {
+        Vec3* target = nullptr;
+        double value = 0.0;
+    };
+    mutable std::vector<ZeroAdd> zero_adds_;
+    mutable std::vector<std::uint8_t> zero_add_kind_;  ///< scratch: per parent DOF 0 none, 1 +0, 2 NaN
+
     /// One contribution to the forces, in SOFA's visiting order (MechanicalComputeForceVisitor,
     /// MechanicalAddMBKdxVisitor): top-down a node's mass, then its force fields; bottom-up
     /// (post-order, siblings in child order) a mapped node's Jᵀ into its parent.
@@ -190,6 +268,8 @@ private:
         BaseForceField* force_field = nullptr;  ///< or
         BaseMapping* mapping = nullptr;
         std::size_t mapping_index = 0;  ///< of `mapping` in mappings_
+        /// Index of `force_field` in fused_fields_ or of `mapping` in fused_mappings_; -1: not fused
+        std::ptrdiff_t fused = -1;
         Vec3 gravity = Vec3::Zero();
         /// The one component this step calls.
         [[nodiscard]] const void* object() const {
@@ -248,7 +328,7 @@ private:
 /// one, or an independent state was resized. In steady state a solve reuses it as is.
 class SubtreeSystemCache {
 public:
-    [[nodiscard]] SubtreeSystem& get(Node& node, bool mapping_graph_order = false);
+    [[nodiscard]] SubtreeSystem& get(Node& node, bool mapping_graph_order = false, bool fuse_contact_products = true);
     /// Number of builds so far.
     [[nodiscard]] int builds() const { return builds_; }
 
@@ -283,6 +363,10 @@ public:
     /// by component group, then the mappings' Jᵀ in reversed breadth-first order) instead of the
     /// visitors' order (off by default: docs/sofa-compatibility.md, "SOFA HEAD's orders").
     bool sofa_mapping_graph_order = false;
+    /// Apply the contact fields of many small contact-point states in one pass over flat arrays
+    /// (SubtreeSystem's fused contact block). The same bits either way; off: every product
+    /// through the objects (tests compare the two).
+    bool fuse_contact_products = true;
 };
 
 /// Beyond SOFA (opt-in): Newton iterations on the backward-Euler residual

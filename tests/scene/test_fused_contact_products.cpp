@@ -1,0 +1,201 @@
+// SubtreeSystem's fused contact block (solver.hpp): under a FixedReaders, the contact fields whose
+// contact points only they read are applied by apply_mbk on flat copies of the mappings' rows,
+// and the contact mappings nobody reads add their zeros once per parent row. Both must give the
+// bits of the products through the objects, for every (m, b, k), including the signs of zeros:
+// products with m = b = k = 0 accumulated onto signed zeros exercise exactly the additions of ±0
+// that the unread mappings stand for. Scenes:
+//  - a pile of 8 FEM cubes in a static bowl (cubes_in_bowl, k = 2): the cube–bowl fields are in
+//    the cubes' solver (one side fused, the bowl's side external), the cube–cube fields above it
+//    (explicit, SOFA's §2.1), so their contact mappings are read by nobody in the solve;
+//  - a spring cube sliding over static points, its bottom face a triangle surface carried by a
+//    BarycentricMapping (a fused mapping whose parent is a mapped state of selected rows), and
+//    spheres on its own corners (an identity side: that field is not fused and keeps its place).
+#include "penalty/io/scene_file.hpp"
+#include "penalty/mechanics/mechanical_object.hpp"
+#include "penalty/scene/scene.hpp"
+#include "penalty/simulation/solver.hpp"
+#include "penalty_test/cubes_in_bowl.hpp"
+#include "penalty_test/same_bits.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace {
+
+using namespace penalty;
+namespace bowl = penalty::test::cubes_in_bowl;
+
+std::string sliding_cube_with_spheres_xml() {
+    std::ostringstream s;
+    s << R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <CollisionPipeline/>
+  <BruteForceBroadPhase/>
+  <BVHNarrowPhase/>
+  <MinProximityIntersection alarmDistance="0.05" contactDistance="0.02"/>
+  <CollisionResponse response="PenalityContactForceField"/>
+  <Node name="Body">
+    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
+    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
+    <MechanicalObject position="0 0.02 0  0.4 0.02 0  0 0.42 0  0.4 0.42 0  0 0.02 0.4  0.4 0.02 0.4  0 0.42 0.4  0.4 0.42 0.4"
+                      velocity="2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0"/>
+    <MeshTopology hexas="0 1 3 2 4 5 7 6"/>
+    <UniformMass totalMass="1"/>
+    <MeshSpringForceField stiffness="500" damping="1"/>
+    <SphereCollisionModel radius="0.03" contactStiffness="100"/>
+    <Node name="Surface">
+      <MeshTopology position=")";
+    for (int k = 0; k <= 4; ++k)
+        for (int i = 0; i <= 4; ++i) s << 0.1 * i << " 0.02 " << 0.1 * k << "  ";
+    s << R"(" triangles=")";
+    const auto v = [](int i, int k) { return 5 * k + i; };
+    for (int k = 0; k < 4; ++k)
+        for (int i = 0; i < 4; ++i)
+            s << v(i, k) << ' ' << v(i + 1, k) << ' ' << v(i, k + 1) << "  " << v(i + 1, k) << ' ' << v(i + 1, k + 1) << ' '
+              << v(i, k + 1) << "  ";
+    s << R"("/>
+      <MechanicalObject/>
+      <TriangleCollisionModel contactStiffness="200"/>
+      <BarycentricMapping/>
+    </Node>
+  </Node>
+  <Node name="Floor">
+    <MechanicalObject position=")";
+    for (const double z : {0.0, 0.11, 0.29, 0.4})
+        for (int i = 0; i < 25; ++i) s << -0.2 + 0.13 * i << " 0 " << z << "  ";
+    s << R"("/>
+    <PointCollisionModel simulated="0" moving="0" contactStiffness="200"/>
+  </Node>
+</Node>
+)";
+    return s.str();
+}
+
+std::unique_ptr<scene::Scene> cubes_in_bowl(int k) {
+    bowl::Setup s;
+    s.k = k;
+    return scene::build_scene(io::parse_scene_string(bowl::scene_xml(s), "cubes_in_bowl.scn"));
+}
+
+Node& child(Node& parent, const std::string& name) {
+    for (const auto& c : parent.children())
+        if (c->name() == name) return *c;
+    throw std::runtime_error("no node " + name);
+}
+
+struct Tally {
+    int steps_with_fields = 0;     ///< steps whose system fused a contact field
+    int steps_with_unread = 0;     ///< steps whose system fused an unread contact mapping
+    int steps_with_plain_field = 0;  ///< steps with a contact field the block does not take
+    long compared = 0;
+    long differing = 0;
+    long signed_zeros = 0;         ///< −0 results of the zero products (the signs are exercised)
+};
+
+// After each step: two systems of `node`, fused and not, each under a FixedReaders; the same
+// random products, and products with m = b = k = 0 accumulated onto signed zeros, compared bit
+// for bit.
+void compare_products(scene::Scene& scene, Node& node, int steps, std::uint32_t seed, Tally& t) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    std::bernoulli_distribution coin(0.5);
+    const auto draw = [&](Eigen::Index n, bool zeros) {
+        Eigen::VectorXd v(n);
+        for (Eigen::Index i = 0; i < n; ++i) v[i] = zeros ? (coin(rng) ? -0.0 : 0.0) : (coin(rng) ? unit(rng) : -0.0);
+        return v;
+    };
+    const double m = 1.02, b = -0.01, k = -1.01e-4;  // an implicit-Euler operator
+    for (int step = 0; step < steps; ++step) {
+        scene.step();
+        const SubtreeSystem fused(node, true, true), plain(node, true, false);
+        ASSERT_EQ(fused.size(), plain.size());
+        const SubtreeSystem::FusedContactCounts counts = fused.fused_contact_counts();
+        t.steps_with_fields += counts.force_fields > 0 ? 1 : 0;
+        t.steps_with_unread += counts.unread_mappings > 0 ? 1 : 0;
+        std::size_t contact_fields = 0;
+        for (const BaseForceField* ff : fused.force_fields()) contact_fields += dynamic_cast<const Vec3InteractionForceField*>(ff) ? 1 : 0;
+        t.steps_with_plain_field += contact_fields > counts.force_fields ? 1 : 0;
+        EXPECT_EQ(plain.fused_contact_counts().force_fields + plain.fused_contact_counts().unread_mappings, 0u);
+
+        const Eigen::VectorXd dx1 = draw(fused.size(), false), dx2 = draw(fused.size(), false);
+        const Eigen::VectorXd zeros = draw(fused.size(), true);
+        Eigen::VectorXd f1, f2, p1, p2, fz = zeros, pz = zeros, fa = dx2, pa = dx2;
+        {
+            const SubtreeSystem::FixedReaders fixed_f(fused);
+            const SubtreeSystem::FixedReaders fixed_p(plain);
+            fused.apply_mbk(dx1, fa, -0.1, 0.0, 0.05, false, /*accumulate=*/true);  // a right-hand side
+            plain.apply_mbk(dx1, pa, -0.1, 0.0, 0.05, false, true);
+            fused.apply_mbk(dx1, f1, m, b, k, true);
+            plain.apply_mbk(dx1, p1, m, b, k, true);
+            fused.apply_mbk(dx2, f2, m, b, k, true);
+            plain.apply_mbk(dx2, p2, m, b, k, true);
+            fused.apply_mbk(dx1, fz, 0.0, 0.0, 0.0, false, true);
+            plain.apply_mbk(dx1, pz, 0.0, 0.0, 0.0, false, true);
+        }
+        for (const auto& [x, y] : {std::pair{&f1, &p1}, {&f2, &p2}, {&fz, &pz}, {&fa, &pa}}) {
+            ASSERT_EQ(x->size(), y->size());
+            for (Eigen::Index i = 0; i < x->size(); ++i) {
+                ++t.compared;
+                t.differing += test::same_bits((*x)[i], (*y)[i]) ? 0 : 1;
+            }
+        }
+        for (Eigen::Index i = 0; i < pz.size(); ++i) t.signed_zeros += pz[i] == 0.0 && std::signbit(pz[i]) ? 1 : 0;
+    }
+}
+
+TEST(FusedContactProducts, PileInABowlGivesTheProductsThroughTheObjectsBitForBit) {
+    const auto scene = cubes_in_bowl(2);
+    Tally t;
+    compare_products(*scene, child(scene->simulation().root(), "Cubes"), 120, 20261127, t);
+    EXPECT_EQ(t.differing, 0) << "of " << t.compared;
+    // the cubes land at step ~10 and pile up: fused fields (cube–bowl) and unread mappings
+    // (cube–cube contacts above the solver) at most steps, and zeros of both signs
+    EXPECT_GE(t.steps_with_fields, 100);
+    EXPECT_GE(t.steps_with_unread, 80);
+    EXPECT_GT(t.signed_zeros, 0);  // without the unread mappings' zeros, some of these differ
+}
+
+TEST(FusedContactProducts, SurfaceOnAMappedStateAndAnIdentitySideGiveTheSameBits) {
+    const auto scene = scene::build_scene(io::parse_scene_string(sliding_cube_with_spheres_xml(), "sliding_cube.scn"), {});
+    Tally t;
+    compare_products(*scene, child(scene->simulation().root(), "Body"), 60, 20261128, t);
+    EXPECT_EQ(t.differing, 0) << "of " << t.compared;
+    // the surface's contacts with the points are fused at most steps; the spheres' field (on
+    // the body's own state) is not. (No −0 survives here: the springs add zeros of both signs to
+    // every vertex; the pile's test covers the signs.)
+    EXPECT_GE(t.steps_with_fields, 40);
+    EXPECT_GE(t.steps_with_plain_field, 40);
+}
+
+// A whole run: the solver's products fused or not, the same states at every step.
+TEST(FusedContactProducts, RunsOfAPileAreTheSameBitsWithAndWithoutFusion) {
+    const auto fused = cubes_in_bowl(2);
+    const auto plain = cubes_in_bowl(2);
+    auto* solver = dynamic_cast<EulerImplicitSolver*>(child(plain->simulation().root(), "Cubes").ode_solver());
+    ASSERT_NE(solver, nullptr);
+    solver->fuse_contact_products = false;
+    ASSERT_TRUE(dynamic_cast<EulerImplicitSolver*>(child(fused->simulation().root(), "Cubes").ode_solver())->fuse_contact_products);
+    long compared = 0, differing = 0;
+    for (int step = 0; step < 200; ++step) {
+        fused->step();
+        plain->step();
+        ASSERT_EQ(fused->states().size(), plain->states().size());
+        for (std::size_t s = 0; s < fused->states().size(); ++s) {
+            const auto& a = dynamic_cast<const Vec3Object&>(*fused->states()[s].state);
+            const auto& b = dynamic_cast<const Vec3Object&>(*plain->states()[s].state);
+            ASSERT_EQ(a.position.size(), b.position.size());
+            for (std::size_t i = 0; i < a.position.size(); ++i) {
+                ++compared;
+                differing += test::same_bits(a.position[i], b.position[i]) && test::same_bits(a.velocity[i], b.velocity[i]) ? 0 : 1;
+            }
+        }
+    }
+    EXPECT_EQ(differing, 0) << "of " << compared;
+    EXPECT_GT(compared, 200 * 64);
+}
+
+}  // namespace
