@@ -15,6 +15,7 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <map>
 #include <unordered_set>
 
 namespace penalty {
@@ -145,10 +146,11 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         }
         dx_readers_.push_back(std::move(r));
     }
+    std::unordered_map<const BaseMapping*, std::size_t> mapping_index;
+    for (std::size_t i = 0; i < mappings_.size(); ++i) mapping_index.emplace(mappings_[i], i);
     for (std::vector<ForceStep>* steps : {&force_steps_, &graph_force_steps_})
         for (ForceStep& s : *steps)
-            if (s.mapping != nullptr)
-                s.mapping_index = static_cast<std::size_t>(std::find(mappings_.begin(), mappings_.end(), s.mapping) - mappings_.begin());
+            if (s.mapping != nullptr) s.mapping_index = mapping_index.at(s.mapping);
     find_fused_contacts(fuse_contact_products);
 }
 
@@ -389,9 +391,17 @@ void SubtreeSystem::order_as_mapping_graph(Node& root) {
     std::vector<std::vector<ForceStep>> group_members;
     std::vector<std::vector<std::size_t>> children(states.size());
     std::vector<int> parents(states.size(), 0);
-    const auto state_node = [&states](const BaseState* s) {
-        return static_cast<std::size_t>(std::find(states.begin(), states.end(), s) - states.begin());
+    // Lookups by hash and ordered map, not searches of the lists: a pile of bodies has thousands
+    // of contact states, fields and mappings, and the system is built again whenever contacts
+    // come or go. The first of equal entries wins, as the searches found.
+    std::unordered_map<const BaseState*, std::size_t> state_index;
+    for (std::size_t i = 0; i < states.size(); ++i) state_index.emplace(states[i], i);
+    const auto state_node = [&](const BaseState* s) {
+        const auto it = state_index.find(s);
+        return it == state_index.end() ? states.size() : it->second;
     };
+    std::map<std::vector<BaseState*>, std::size_t> group_of;     // states acted on → group
+    std::unordered_map<const BaseState*, std::size_t> first_group_holding;
     const auto add_edge = [&children, &parents](std::size_t from, std::size_t to) {
         children[from].push_back(to);
         ++parents[to];
@@ -401,29 +411,29 @@ void SubtreeSystem::order_as_mapping_graph(Node& root) {
         if (step.mapping != nullptr) continue;
         std::vector<BaseState*> acted_on =
             step.mass != nullptr ? std::vector<BaseState*>{step.mass->state()} : step.force_field->states();
-        auto it = std::find(group_states.begin(), group_states.end(), acted_on);
-        if (it == group_states.end()) {
+        auto [it, added] = group_of.emplace(acted_on, group_states.size());
+        if (added) {
             const std::size_t group = children.size();
             children.emplace_back();
             parents.push_back(0);
-            for (const BaseState* s : acted_on)
+            for (const BaseState* s : acted_on) {
                 if (state_node(s) < states.size()) add_edge(state_node(s), group);
+                first_group_holding.emplace(s, group_states.size());
+            }
             group_states.push_back(std::move(acted_on));
             group_members.emplace_back();
-            it = group_states.end() - 1;
         }
-        group_members[static_cast<std::size_t>(it - group_states.begin())].push_back(step);
+        group_members[it->second].push_back(step);
     }
     const std::size_t first_mapping = children.size();
     for (BaseMapping* m : mappings_) {
         const std::size_t node = children.size();
         children.emplace_back();
         parents.push_back(0);
-        const auto holder = std::find_if(group_states.begin(), group_states.end(), [m](const auto& g) {
-            return std::find(g.begin(), g.end(), m->from()) != g.end();
-        });
-        if (holder != group_states.end()) add_edge(first_group + static_cast<std::size_t>(holder - group_states.begin()), node);
-        else if (state_node(m->from()) < states.size()) add_edge(state_node(m->from()), node);
+        if (const auto holder = first_group_holding.find(m->from()); holder != first_group_holding.end())
+            add_edge(first_group + holder->second, node);
+        else if (state_node(m->from()) < states.size())
+            add_edge(state_node(m->from()), node);
         if (state_node(m->to()) < states.size()) add_edge(node, state_node(m->to()));
     }
     // MappingGraphAlgorithms::traverseBottomUp: the breadth-first order from the parentless nodes
