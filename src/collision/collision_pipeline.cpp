@@ -1,5 +1,7 @@
 #include "penalty/collision/collision_pipeline.hpp"
 
+#include "penalty/core/radix_sort.hpp"
+
 #include "penalty/core/error.hpp"
 #include "penalty/core/first_error.hpp"
 
@@ -13,7 +15,6 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 #include <tbb/parallel_invoke.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <bit>
@@ -202,6 +203,15 @@ struct Traversal {
     }
 };
 
+// How collect_candidates sorts its keys (elem1 << 32 | elem2, unique): fewer than
+// kMinKeysForRadixSort by comparisons (std::sort); fewer than kMinKeysForCountingSort (or fewer
+// than a quarter of the first model's elements) by the radix sort of the packed indices; more by
+// counting sorts on each element index, or, with threads and kMinKeysForParallelBucketSort
+// keys, a counting sort on elem1 and each element's candidates sorted in parallel.
+constexpr std::size_t kMinKeysForRadixSort = 256;
+constexpr std::size_t kMinKeysForCountingSort = 4096;
+constexpr std::size_t kMinKeysForParallelBucketSort = std::size_t(1) << 18;
+
 // A kernel that writes the models (detail::KernelParts) needs its candidates in a fixed order.
 bool kernel_writes_models(const IntersectionParams& p, const CollisionModel& m1, const CollisionModel& m2) {
     return detail::np_triangle_triangle_writes_normals(p, m1, m2);
@@ -214,6 +224,7 @@ struct NarrowPhaseScratch::Buffers {
     Keys keys;                                         // the sorted candidates
     Keys sorted;                                       // counting sort: its output
     std::vector<std::size_t> start, pos;               // counting sort: bucket starts, cursors
+    std::vector<std::size_t> radix_counts;             // radix sort: digit counts
     std::vector<DetectionOutputList> parts;            // parallel evaluation: one list per chunk
     // keep_nearest_candidates: per candidate, the squared distance from element 2's point to
     // element 1's box; per element 2, its nearest candidate and the bound on that distance
@@ -251,31 +262,48 @@ void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double ma
     if (!sort) return;
     // keys are unique, so the sorted sequence does not depend on how the buffers were filled
     const std::size_t n1 = t1.element_boxes().size();
-    if (keys.size() < n1 / 4 || keys.size() < 4096) {
-        if (parallel) tbb::parallel_sort(keys.begin(), keys.end());
-        else std::sort(keys.begin(), keys.end());
+    if (keys.size() < kMinKeysForRadixSort) {
+        std::sort(keys.begin(), keys.end());
         return;
     }
-    // many candidates: counting sort on elem1, then each (short) elem1 bucket sorted by elem2
+    if (keys.size() < kMinKeysForCountingSort || keys.size() < n1 / 4) {
+        // radix sort by (elem1, elem2) packed into bit_width(n2) + bit_width(n1) bits (two
+        // 11-bit passes for two models of 2 048 elements): the order of the keys, which are
+        // unique, so std::sort's, without a comparison
+        const int low_bits = std::bit_width(t2.element_boxes().size());
+        stable_radix_sort(keys, b.sorted, b.radix_counts,
+                          [low_bits](std::uint64_t k) { return (k >> 32) << low_bits | (k & 0xffffffffU); });
+        return;
+    }
     std::vector<std::size_t>& start = b.start;
+    Keys& sorted = b.sorted;
+    sorted.resize(keys.size());
+    if (!parallel || keys.size() < kMinKeysForParallelBucketSort) {
+        // many candidates: a counting sort on elem2, then a stable one on elem1 (least
+        // significant digit first over the two element indices; no comparison)
+        const std::size_t n2 = t2.element_boxes().size();
+        start.assign(n2 + 1, 0);
+        for (const std::uint64_t k : keys) ++start[std::size_t(k & 0xffffffffU) + 1];
+        for (std::size_t i = 0; i < n2; ++i) start[i + 1] += start[i];
+        for (const std::uint64_t k : keys) sorted[start[std::size_t(k & 0xffffffffU)]++] = k;
+        start.assign(n1 + 1, 0);
+        for (const std::uint64_t k : sorted) ++start[std::size_t(k >> 32) + 1];
+        for (std::size_t i = 0; i < n1; ++i) start[i + 1] += start[i];
+        for (const std::uint64_t k : sorted) keys[start[std::size_t(k >> 32)]++] = k;
+        return;
+    }
+    // very many candidates and threads: counting sort on elem1, then each (short) elem1 bucket
+    // sorted by elem2, buckets in parallel
     start.assign(n1 + 1, 0);
     for (const std::uint64_t k : keys) ++start[std::size_t(k >> 32) + 1];
     for (std::size_t i = 0; i < n1; ++i) start[i + 1] += start[i];
-    Keys& sorted = b.sorted;
-    sorted.resize(keys.size());
     b.pos.assign(start.begin(), start.end() - 1);
     for (const std::uint64_t k : keys) sorted[b.pos[std::size_t(k >> 32)]++] = k;
-    auto sort_buckets = [&](std::size_t lo, std::size_t hi) {
-        for (std::size_t e = lo; e < hi; ++e)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n1, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t e = r.begin(); e < r.end(); ++e)
             if (start[e + 1] - start[e] > 1)
                 std::sort(sorted.begin() + std::ptrdiff_t(start[e]), sorted.begin() + std::ptrdiff_t(start[e + 1]));
-    };
-    if (parallel) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n1, 4096),
-                          [&](const tbb::blocked_range<std::size_t>& r) { sort_buckets(r.begin(), r.end()); });
-    } else {
-        sort_buckets(0, n1);
-    }
+    });
     std::swap(keys, sorted);
 }
 

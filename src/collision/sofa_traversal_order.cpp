@@ -1,5 +1,7 @@
 #include "penalty/collision/sofa_traversal_order.hpp"
 
+#include "penalty/core/radix_sort.hpp"
+
 #include "penalty/core/error.hpp"
 #include "prefetch.hpp"
 
@@ -191,47 +193,19 @@ bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1
 
 namespace {
 
-// Sorts v by key; equal keys keep their order in v. Least significant digit first radix sort
-// (each pass stable) over the bits the keys use, 11 bits a pass, a pass skipped when every key
-// has the same digit; std::sort with the position as the tie-break for short lists.
+// Sorts v by key; equal keys keep their order in v: the stable radix sort (core/radix_sort.hpp),
+// or std::sort with the position as the tie-break for short lists.
 void sort_by_key_stable(std::vector<SofaOrderScratch::Keyed>& v, std::vector<SofaOrderScratch::Keyed>& swap,
                         std::vector<std::size_t>& counts) {
     using Keyed = SofaOrderScratch::Keyed;
-    const std::size_t n = v.size();
-    if (n < 512) {
+    if (v.size() < 512) {
         // v is in index order (the caller's), so the index is the position
         std::sort(v.begin(), v.end(), [](const Keyed& x, const Keyed& y) {
             return x.key != y.key ? x.key < y.key : x.index < y.index;
         });
         return;
     }
-    constexpr int kDigitBits = 11;
-    constexpr std::size_t kBuckets = std::size_t(1) << kDigitBits;
-    std::uint64_t used = 0;
-    for (const Keyed& k : v) used |= k.key;
-    const int passes = (std::bit_width(used) + kDigitBits - 1) / kDigitBits;
-    if (passes == 0) return;  // every key 0: already in order
-    // the counts of every pass in one read of the keys
-    counts.assign(std::size_t(passes) * kBuckets, 0);
-    for (const Keyed& k : v)
-        for (int p = 0; p < passes; ++p) ++counts[std::size_t(p) * kBuckets + ((k.key >> (p * kDigitBits)) & (kBuckets - 1))];
-    if (swap.size() < n) swap.resize(n);
-    Keyed* from = v.data();
-    Keyed* to = swap.data();
-    for (int p = 0; p < passes; ++p) {
-        std::size_t* count = counts.data() + std::size_t(p) * kBuckets;
-        const std::uint64_t first_digit = (from[0].key >> (p * kDigitBits)) & (kBuckets - 1);
-        if (count[first_digit] == n) continue;  // one digit for all: the order stays
-        std::size_t start = 0;
-        for (std::size_t b = 0; b < kBuckets; ++b) {
-            const std::size_t c = count[b];
-            count[b] = start;
-            start += c;
-        }
-        for (std::size_t i = 0; i < n; ++i) to[count[(from[i].key >> (p * kDigitBits)) & (kBuckets - 1)]++] = from[i];
-        std::swap(from, to);
-    }
-    if (from != v.data()) std::copy(from, from + n, v.data());
+    stable_radix_sort(v, swap, counts, [](const Keyed& k) { return k.key; });
 }
 
 // The permutation that puts the element pairs elements(i), i < n, into SOFA's visiting order

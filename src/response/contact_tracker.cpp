@@ -1,5 +1,7 @@
 #include "penalty/response/contact_tracker.hpp"
 
+#include "penalty/core/radix_sort.hpp"
+
 #include <algorithm>
 
 namespace penalty {
@@ -64,11 +66,19 @@ void ContactTracker::sort_by_id(std::span<const DetectionOutput> outputs) {
     if (sorted) return;
     // Ids within a few times the output count (element indices of one model, the usual case):
     // a counting sort, which places the outputs of an id in output order, so the order is the
-    // comparison sort's. Otherwise the comparison sort. (The span is high − low computed
-    // without overflow, whatever the int64 ids.)
+    // comparison sort's. Otherwise the radix sort by id − low (stable, and by_id_ is in output
+    // order: the comparison sort's order too), or for few outputs the comparison sort. (The span
+    // is high − low computed without overflow, whatever the int64 ids.)
     const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
     if (n < kMinOutputsForCountingSort || span >= kCountingSortRangePerOutput * n) {
-        std::sort(by_id_.begin(), by_id_.end());
+        if (n < kMinOutputsForRadixSort) {
+            std::sort(by_id_.begin(), by_id_.end());
+            return;
+        }
+        const auto offset = static_cast<std::uint64_t>(low);
+        stable_radix_sort(by_id_, by_id_swap_, radix_counts_, [offset](const std::pair<std::int64_t, std::size_t>& e) {
+            return static_cast<std::uint64_t>(e.first) - offset;
+        });
         return;
     }
     id_counts_.assign(span + 2, 0);

@@ -90,14 +90,15 @@ TEST(ContactTracker, KeepsExactlyTheFirstMinimumPerIdOnRandomLists) {
 }
 
 // Lists long enough for the counting sort (ContactTracker::kMinOutputsForCountingSort), with ids
-// in a narrow range (counted), a wide one and at the ends of int64 (compared), carried over steps:
-// the kept outputs and their previous positions are those of a std::map reference (SOFA's
-// contactIndex), whichever sort ran.
-TEST(ContactTracker, CountingAndComparisonSortsKeepTheSameOutputsAndPositions) {
+// in a narrow range (counted), a wide one and at the ends of int64 (compared below
+// kMinOutputsForRadixSort outputs, radix-sorted from there: up to 64 bits of id − low), carried
+// over steps: the kept outputs and their previous positions are those of a std::map reference
+// (SOFA's contactIndex), whichever sort ran.
+TEST(ContactTracker, CountingRadixAndComparisonSortsKeepTheSameOutputsAndPositions) {
     std::mt19937 rng(11);
     ContactTracker tracker;
     std::map<std::int64_t, Index> reference;  // id -> 1-based position in the last list
-    std::size_t counted = 0, compared = 0, carried = 0;
+    std::size_t counted = 0, compared = 0, radix_sorted = 0, carried = 0;
     for (int trial = 0; trial < 300; ++trial) {
         const int n = 32 + int(rng() % 400);
         const int regime = (trial / 10) % 3;  // ten steps in a row in one regime: ids recur
@@ -114,7 +115,8 @@ TEST(ContactTracker, CountingAndComparisonSortsKeepTheSameOutputsAndPositions) {
         std::int64_t low = outputs[0].id, high = low;
         for (const auto& o : outputs) low = std::min(low, o.id), high = std::max(high, o.id);
         const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
-        (span < ContactTracker::kCountingSortRangePerOutput * std::uint64_t(n) ? counted : compared) += 1;
+        if (span < ContactTracker::kCountingSortRangePerOutput * std::uint64_t(n)) ++counted;
+        else (std::size_t(n) < ContactTracker::kMinOutputsForRadixSort ? compared : radix_sorted) += 1;
         const auto kept = tracker.update(outputs);
         // reference: per id the first output with the least value, in output order
         std::map<std::int64_t, std::size_t> winner;
@@ -139,7 +141,9 @@ TEST(ContactTracker, CountingAndComparisonSortsKeepTheSameOutputsAndPositions) {
         reference = std::move(next);
     }
     EXPECT_EQ(counted, 100u);
-    EXPECT_EQ(compared, 200u);
+    EXPECT_EQ(compared + radix_sorted, 200u);
+    EXPECT_GT(compared, 40u);
+    EXPECT_GT(radix_sorted, 40u);
     EXPECT_GT(carried, 8000u);  // 10 473 with this seed;  // ids met again in the next step carried their positions
 }
 

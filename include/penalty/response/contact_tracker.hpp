@@ -44,9 +44,11 @@ public:
     };
 
     /// A counting sort of the outputs by id from this many outputs, when their ids span fewer
-    /// than kCountingSortRangePerOutput ids an output; a comparison sort otherwise.
+    /// than kCountingSortRangePerOutput ids an output; otherwise the stable radix sort by id from
+    /// kMinOutputsForRadixSort outputs, a comparison sort below.
     static constexpr std::size_t kMinOutputsForCountingSort = 32;
     static constexpr std::uint64_t kCountingSortRangePerOutput = 8;
+    static constexpr std::size_t kMinOutputsForRadixSort = 256;
 
 private:
     /// by_id_ = (id, output index) of every output, sorted.
@@ -59,6 +61,8 @@ private:
     std::vector<IdPosition> next_;            // the map being built (swapped with previous_)
     std::vector<std::pair<std::int64_t, std::size_t>> by_id_;  // (id, output index), sorted: compact, so the sort stays in cache
     std::vector<std::size_t> id_counts_;      // the counting sort's slots, one per id of the range
+    std::vector<std::pair<std::int64_t, std::size_t>> by_id_swap_;  // the radix sort's other buffer
+    std::vector<std::size_t> radix_counts_;   // the radix sort's digit counts
     std::vector<std::int64_t> old_;           // per output: previous position, 0 new, −1 dropped
     std::vector<std::int64_t> new_position_;  // per output: 1-based position in this step's list
     std::vector<KeptOutput> kept_;            // the result of the last update()
