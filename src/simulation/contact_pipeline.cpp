@@ -8,6 +8,7 @@
 #include <chrono>
 #include <string>
 #include <type_traits>
+#include <unordered_map>
 
 namespace penalty {
 
@@ -243,14 +244,18 @@ void ContactPipeline::order_graph_entries() {
         ++k;
     }
     if (!in_order) {
+        // each pair's entry by a hash lookup (a search per pair is quadratic in the live pairs;
+        // the graph changed, so this step allocates anyway)
+        std::unordered_map<const BarycentricPenaltyContact*, std::size_t> entry_of;
+        entry_of.reserve(entries_.size());
+        for (std::size_t i = 0; i < entries_.size(); ++i) entry_of.emplace(entries_[i].contact, i);
         entries_scratch_.clear();
         step_start_scratch_.clear();
         for (const ContactPairEntry& p : response_.pairs()) {
             if (!p.contact) continue;
-            const auto it = std::find_if(entries_.begin(), entries_.end(),
-                                         [&](const ContactGraphEntry& e) { return e.contact == p.contact.get(); });
-            entries_scratch_.push_back(*it);
-            step_start_scratch_.push_back(std::move(step_start_[std::size_t(it - entries_.begin())]));
+            const std::size_t i = entry_of.at(p.contact.get());
+            entries_scratch_.push_back(entries_[i]);
+            step_start_scratch_.push_back(std::move(step_start_[i]));
         }
         entries_.swap(entries_scratch_);
         step_start_.swap(step_start_scratch_);
@@ -258,14 +263,16 @@ void ContactPipeline::order_graph_entries() {
     // SubCollisionPipeline::computeCollisionResponse re-adds every contact's force field to its
     // node at each step: a node visits its contact force fields in contact-map order, those of a
     // later sub-pipeline after those of an earlier one (each update() moves its own to the end).
-    hosts_scratch_.clear();
-    for (const ContactGraphEntry& e : entries_)
-        if (std::find(hosts_scratch_.begin(), hosts_scratch_.end(), e.host) == hosts_scratch_.end())
-            hosts_scratch_.push_back(e.host);
-    for (Node* host : hosts_scratch_) {
+    // The entries grouped by host with a sort of (host, entry index) (a search of the hosts per
+    // entry was quadratic): each host's fields in entry order; the hosts' moves are independent.
+    host_entries_scratch_.clear();
+    for (std::size_t i = 0; i < entries_.size(); ++i) host_entries_scratch_.emplace_back(entries_[i].host, i);
+    std::sort(host_entries_scratch_.begin(), host_entries_scratch_.end());
+    for (std::size_t g = 0; g < host_entries_scratch_.size();) {
+        Node* host = host_entries_scratch_[g].first;
         fields_scratch_.clear();
-        for (const ContactGraphEntry& e : entries_)
-            if (e.host == host) fields_scratch_.push_back(e.force_field);
+        for (; g < host_entries_scratch_.size() && host_entries_scratch_[g].first == host; ++g)
+            fields_scratch_.push_back(entries_[host_entries_scratch_[g].second].force_field);
         host->move_force_fields_to_end(fields_scratch_);
     }
 }

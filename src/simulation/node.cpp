@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 namespace penalty {
 
@@ -91,22 +92,27 @@ void Node::move_force_fields_to_end(std::span<BaseForceField* const> moved) {
     if (n <= total && std::equal(moved.begin(), moved.end(), force_fields_.end() - std::ptrdiff_t(n),
                                  [](const BaseForceField* a, const auto& b) { return a == b.get(); }))
         return;
+    // Places by a hash lookup, not searches (quadratic in the fields: a pile's root node holds
+    // thousands of contact fields, moved whenever contact pairs come or go).
+    std::unordered_map<const BaseForceField*, std::size_t> place;
+    place.reserve(total);
+    for (std::size_t k = 0; k < total; ++k) place.emplace(force_fields_[k].get(), k);
+    std::vector<std::size_t> moved_places(n);
+    std::vector<bool> is_moved(total, false);
     for (std::size_t i = 0; i < n; ++i) {
-        const bool here = std::any_of(force_fields_.begin(), force_fields_.end(),
-                                      [&](const auto& f) { return f.get() == moved[i]; });
-        const bool repeated = std::find(moved.begin(), moved.begin() + std::ptrdiff_t(i), moved[i]) !=
-                              moved.begin() + std::ptrdiff_t(i);
-        if (!here || repeated)
+        const auto it = place.find(moved[i]);
+        const bool here = it != place.end();
+        if (!here || is_moved[it->second])
             throw_invalid_argument("Node '", name_, "': move_force_fields_to_end: entry ", i,
                                    here ? " is listed twice" : " is not a force field of this node");
+        is_moved[it->second] = true;
+        moved_places[i] = it->second;
     }
     std::vector<std::unique_ptr<BaseForceField>> reordered;
     reordered.reserve(total);
-    for (auto& f : force_fields_)
-        if (std::find(moved.begin(), moved.end(), f.get()) == moved.end()) reordered.push_back(std::move(f));
-    for (BaseForceField* m : moved)
-        for (auto& f : force_fields_)
-            if (f.get() == m) reordered.push_back(std::move(f));
+    for (std::size_t k = 0; k < total; ++k)
+        if (!is_moved[k]) reordered.push_back(std::move(force_fields_[k]));
+    for (const std::size_t k : moved_places) reordered.push_back(std::move(force_fields_[k]));
     force_fields_ = std::move(reordered);
     structure_changed();
 }

@@ -303,7 +303,7 @@ private:
     // order_graph_entries' scratch, reused from step to step
     std::vector<ContactGraphEntry> entries_scratch_;
     std::vector<StepStart> step_start_scratch_;
-    std::vector<Node*> hosts_scratch_;
+    std::vector<std::pair<Node*, std::size_t>> host_entries_scratch_;  ///< (host, entry index), sorted
     std::vector<BaseForceField*> fields_scratch_;
 };
 
