@@ -23,11 +23,11 @@
 /// b.second, b.first. The comparator below calls them in that order explicitly.
 
 #include <cstddef>
+#include <cstdint>
 #include <iterator>
 #include <map>
 #include <memory>
 #include <optional>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -39,16 +39,44 @@ public:
     using Key = std::pair<const T*, const T*>;
 
 private:
-    /// helper::ptr_stable_id: the id of a pointer, given at its first request. A hash table where
-    /// SOFA uses a std::map: the ids depend only on the order of the requests, not on the lookup
-    /// structure (a comparison makes four requests).
+    /// helper::ptr_stable_id: the id of a pointer, given at its first request. An open-addressing
+    /// hash table (linear probing, at most half full) where SOFA uses a std::map: the ids depend
+    /// only on the order of the requests, not on the lookup structure, and a comparison makes
+    /// four requests (a pile of bodies makes hundreds of thousands a step; a node-based hash
+    /// table's lookup was most of a comparison's cost).
     struct Ids {
-        std::unordered_map<const T*, unsigned> of;
+        struct Slot {
+            const T* pointer = nullptr;
+            unsigned id = 0;
+        };
+        std::vector<Slot> slots = std::vector<Slot>(64);  // size a power of two
         unsigned next = 0;
+        [[nodiscard]] std::size_t home(const T* p) const {
+            // Fibonacci hashing of the address (its low bits are alignment)
+            return std::size_t((reinterpret_cast<std::uintptr_t>(p) >> 3) * 0x9E3779B97F4A7C15ULL) & (slots.size() - 1);
+        }
+        /// The index of p's slot, or of the empty slot where it would go.
+        [[nodiscard]] std::size_t find(const T* p) const {
+            std::size_t i = home(p);
+            while (slots[i].pointer != nullptr && slots[i].pointer != p) i = (i + 1) & (slots.size() - 1);
+            return i;
+        }
+        std::optional<unsigned> null_id;  // a null pointer's id (the slots use null for empty)
         unsigned id(const T* p) {
-            const auto [it, inserted] = of.try_emplace(p, next);
-            if (inserted) ++next;
-            return it->second;
+            if (p == nullptr) {
+                if (!null_id) null_id = next++;
+                return *null_id;
+            }
+            const std::size_t at = find(p);
+            if (slots[at].pointer == p) return slots[at].id;
+            if (2 * (std::size_t(next) + 1) > slots.size()) {  // keep it at most half full
+                std::vector<Slot> old(2 * slots.size());
+                old.swap(slots);
+                for (const Slot& s : old)
+                    if (s.pointer != nullptr) slots[find(s.pointer)] = s;
+            }
+            slots[find(p)] = Slot{p, next};
+            return next++;
         }
     };
     struct Less {
@@ -121,9 +149,10 @@ public:
 
     /// The stable id of `p`, if a comparison has met it (does not give one).
     [[nodiscard]] std::optional<unsigned> stable_id(const T* p) const {
-        const auto it = ids_->of.find(p);
-        if (it == ids_->of.end()) return std::nullopt;
-        return it->second;
+        if (p == nullptr) return ids_->null_id;
+        const auto& slot = ids_->slots[ids_->find(p)];
+        if (slot.pointer != p) return std::nullopt;
+        return slot.id;
     }
 
 private:
