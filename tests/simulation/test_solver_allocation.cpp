@@ -18,6 +18,7 @@
 #include <tbb/global_control.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -226,6 +227,36 @@ TEST(SolverAllocation, Vec3SphereOnFloorContactPathAllocatesNothing) { expect_ve
 
 TEST(SolverAllocation, Vec3SphereOnFloorExplicitContactPathAllocatesNothing) {
     expect_vec3_sphere_on_floor_allocates_nothing(true);
+}
+
+TEST(SolverAllocation, TriangleOnFloorFusedContactPathAllocatesNothing) {
+    // A spring triangle at rest on the floor, its TriangleModel on its own state: its contact
+    // points are mapped inside the solver's subtree by a barycentric contact mapping that only
+    // the pair's field reads, the floor's side is external: the fused contact products.
+    ContactScene scene;
+    Node& body = scene.sim.root().add_child("triangle");
+    auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+    solver.cg.tolerance = 1e-9;
+    solver.cg.threshold = 1e-9;
+    auto& x = body.add_state<Vec3Types>("triangle");
+    x.position = {Vec3(0.1, 0.45, 0.2), Vec3(1.1, 0.45, 0.2), Vec3(0.1, 0.45, 1.2)};
+    body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.1);
+    auto& edges = body.add_force_field<SpringForceField>(x);
+    edges.add_spring({0, 1, 100.0, 0.0, 1.0});
+    edges.add_spring({1, 2, 100.0, 0.0, std::sqrt(2.0)});
+    edges.add_spring({2, 0, 100.0, 0.0, 1.0});
+    MeshTopology topology;
+    topology.set_num_points(3);
+    topology.set_triangles({Triangle{0, 1, 2}});
+    CollisionModelParams p;
+    p.name = "triangle";
+    p.contact_stiffness = 10.0;
+    TriangleModel model(x, topology, p);
+    EXPECT_EQ(scene.count_steps_without_hook(model, body, solver), 0);
+    EXPECT_EQ(scene.pipeline->graph_entries()[0].host, &body);
+    ASSERT_NE(solver.system_cache().current(), nullptr);
+    EXPECT_EQ(solver.system_cache().current()->fused_contact_counts().force_fields, 1u);
+    EXPECT_EQ(solver.system_cache().current()->fused_contact_counts().read_mappings, 1u);
 }
 
 TEST(SolverAllocation, RigidBallOnFloorContactPathAllocatesNothing) {

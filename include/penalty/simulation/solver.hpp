@@ -331,6 +331,8 @@ public:
     [[nodiscard]] SubtreeSystem& get(Node& node, bool mapping_graph_order = false, bool fuse_contact_products = true);
     /// Number of builds so far.
     [[nodiscard]] int builds() const { return builds_; }
+    /// The system of the last get(), or nullptr before the first.
+    [[nodiscard]] const SubtreeSystem* current() const { return system_ ? &*system_ : nullptr; }
 
 private:
     std::optional<SubtreeSystem> system_;
