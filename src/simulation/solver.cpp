@@ -156,6 +156,8 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
 
 void SubtreeSystem::find_fused_contacts(bool fuse) {
     fused_mapping_of_.assign(mappings_.size(), -1);
+    all_mappings_.resize(mappings_.size());
+    for (std::size_t i = 0; i < mappings_.size(); ++i) all_mappings_[i] = i;
     if (!fuse) return;
     // Candidates: barycentric contact mappings between Vec3 states whose output is read by one
     // force field and no mapping.
@@ -219,6 +221,12 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
             else if (s.force_field != nullptr)
                 if (const auto it = fused_field_of.find(s.force_field); it != fused_field_of.end()) s.fused = it->second;
         }
+    for (std::size_t i = 0; i < mappings_.size(); ++i)
+        if (fused_mapping_of_[i] < 0) unfused_mappings_.push_back(i);
+    for (const ForceStep& s : mapping_graph_order_ ? graph_force_steps_ : force_steps_) {
+        const bool dropped = s.fused >= 0 && (s.force_field != nullptr || !fused_mappings_[std::size_t(s.fused)].live);
+        if (!dropped) fused_steps_.push_back(s);
+    }
     std::size_t points = 0, parent_dofs = 0;
     for (const FusedMapping& m : fused_mappings_) {
         if (m.live) points += m.to->num_dofs();
@@ -665,18 +673,19 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         external_work_zeroed_ = true;
     }
     // The fused contact block (see the header): only while the contacts cannot change.
-    const bool fused = readers_fixed_ && !fused_fields_.empty();
+    const bool fused = readers_fixed_ && !fused_mappings_.empty();
     if (fused && !fused_ready_) prepare_fused_contacts();
     // The loops below call thousands of small objects (a contact pair's states and mappings) a
     // product, each a cache miss on its first word: fetched kObjectsAhead iterations earlier.
-    for (std::size_t i = 0; i < dx_readers_.size(); ++i) {
-        if (fused && fused_mapping_of_[i] >= 0) continue;
-        if (i + kObjectsAhead < dx_readers_.size()) __builtin_prefetch(dx_readers_[i + kObjectsAhead].mapping);
-        map_dx(dx_readers_[i]);
+    // (fused: only the mappings the fused block does not apply, in the same order)
+    const std::vector<std::size_t>& maps = fused ? unfused_mappings_ : all_mappings_;
+    for (std::size_t j = 0; j < maps.size(); ++j) {
+        if (j + kObjectsAhead < maps.size()) __builtin_prefetch(dx_readers_[maps[j + kObjectsAhead]].mapping);
+        map_dx(dx_readers_[maps[j]]);
     }
-    for (std::size_t i = 0; i < mapped_.size(); ++i) {
-        if (fused && fused_mapping_of_[i] >= 0) continue;
-        if (i + kObjectsAhead < mapped_.size()) __builtin_prefetch(mapped_[i + kObjectsAhead]);
+    for (std::size_t j = 0; j < maps.size(); ++j) {
+        if (j + kObjectsAhead < maps.size()) __builtin_prefetch(mapped_[maps[j + kObjectsAhead]]);
+        const std::size_t i = maps[j];
         const DxReaders& r = dx_readers_[i];
         if (!r.restricted) {
             mapped_[i]->df_flat().setZero();
@@ -694,7 +703,7 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
     }
     // the right-hand side's addMBKv and the CG's product in SOFA HEAD's MappingGraph order, or
     // in its visitors' (mapping_graph_order_: see the constructor)
-    const std::vector<ForceStep>& steps = mapping_graph_order_ ? graph_force_steps_ : force_steps_;
+    const std::vector<ForceStep>& steps = fused ? fused_steps_ : mapping_graph_order_ ? graph_force_steps_ : force_steps_;
     // the fused fields read only their contact points' dx and write only their df (and external
     // scratch), which no other step reads or writes: run before the steps, same bits; the
     // unread mappings' Jᵀ is the additions of zeros, which give the same bits in any place
@@ -709,12 +718,9 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
     }
     for (std::size_t i = 0; i < steps.size(); ++i) {
         const ForceStep& s = steps[i];
-        if (fused && s.fused >= 0) {
-            if (s.mapping != nullptr) {
-                const FusedMapping& fm = fused_mappings_[static_cast<std::size_t>(s.fused)];
-                if (fm.live) spread_fused_mapping(fm);
-            }
-            continue;  // a fused field, or an unread mapping's zeros: done above
+        if (fused && s.fused >= 0) {  // a read fused mapping (fused_steps_ holds no other fused step)
+            spread_fused_mapping(fused_mappings_[static_cast<std::size_t>(s.fused)]);
+            continue;
         }
         if (i + kObjectsAhead < steps.size()) __builtin_prefetch(steps[i + kObjectsAhead].object());
         if (s.mass != nullptr) {

@@ -249,6 +249,10 @@ private:
     mutable std::vector<Vec3> fused_dx_;
     mutable std::vector<Vec3> fused_df_;
     mutable bool fused_ready_ = false;  ///< fused_rows_ copied under the current FixedReaders
+    /// What a product visits: every mappings_ index (all_mappings_), or under fusion those not
+    /// fused (and fused_steps_, below).
+    std::vector<std::size_t> all_mappings_;
+    std::vector<std::size_t> unfused_mappings_;
     /// The parents of the fused mappings nobody reads, each with those mappings (fused_mappings_
     /// indices), and the additions their Jᵀ amounts to in this solve: value (+0 or NaN) added to
     /// the three components of *target.
@@ -281,6 +285,9 @@ private:
     /// How many objects ahead apply_mbk's loops prefetch the next objects' first words.
     static constexpr std::size_t kObjectsAhead = 8;
     std::vector<ForceStep> force_steps_;
+    /// The force steps of the system's order without the fused fields and the unread fused
+    /// mappings (the read fused mappings' Jᵀ stay, at their places): what a fused product visits.
+    std::vector<ForceStep> fused_steps_;
     /// Who reads a mapped state's dx in this subtree (force fields acting on it, mappings from
     /// it). When its mapping can map selected rows (BaseMapping::maps_selected_rows) and every
     /// reader can tell which DOFs it reads (and so writes in df), apply_mbk maps dx only in those
