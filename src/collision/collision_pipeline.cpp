@@ -883,7 +883,7 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
 const SceneDetection& CollisionPipeline::detect() {
     refit();
     build_sofa_trees();  // SOFA computes every model's bounding tree at each detection
-    broad_phase(params_, models_, pairs_, &unsupported_, &pair_indices_);
+    const bool rebuilt = update_broad_phase();
     if (detection_ == ContactDetection::exhaustive) {
         // the root boxes the trees would give (roots_within_margin)
         root_boxes_.assign(models_.size(), Aabb{});
@@ -894,33 +894,149 @@ const SceneDetection& CollisionPipeline::detect() {
             m.element_boxes(0, m.size(), boxes_.data());
             for (const Aabb& b : boxes_) root_boxes_[i].extend(b);
         }
+        for (std::size_t k = 0; k < pairs_.size(); ++k)
+            result_[k].narrow_phase = roots_within_margin(pair_indices_[k][0], pair_indices_[k][1]);
+    } else {
+        find_near_pairs();
+    }
+    last_concurrent_ = pairs_run_concurrently();
+    pair_work_.resize(pairs_.size());
+    if (last_concurrent_) detect_pairs_concurrently();
+    else detect_pairs_in_order();
+    if (detection_ == ContactDetection::bvh) {
+        // the pairs without narrow phase evaluated nothing (every one after a new broad phase,
+        // else those that just left near_)
+        if (rebuilt) {
+            for (std::size_t k = 0; k < pairs_.size(); ++k)
+                if (is_near_[k] == 0) record_pair_work(k, 0);
+        } else {
+            for (const std::size_t k : near_last_)
+                if (is_near_[k] == 0) record_pair_work(k, 0);
+        }
+    }
+    return result_;
+}
+
+bool CollisionPipeline::ModelKey::describes(const CollisionModel& m) const {
+    const CollisionModelParams& p = m.params();
+    return model == &m && type == m.type() && active == p.active && simulated == p.simulated &&
+           self_collision == p.self_collision && both_side == p.both_side && node == p.node && group == p.group;
+}
+
+bool CollisionPipeline::update_broad_phase() {
+    bool same = broad_phase_key_.size() == models_.size();
+    for (std::size_t i = 0; same && i < models_.size(); ++i) same = broad_phase_key_[i].describes(*models_[i]);
+    if (same) return false;
+    broad_phase(params_, models_, pairs_, &unsupported_, &pair_indices_);
+    broad_phase_key_.resize(models_.size());
+    for (std::size_t i = 0; i < models_.size(); ++i) {
+        const CollisionModel& m = *models_[i];
+        const CollisionModelParams& p = m.params();
+        broad_phase_key_[i] = {&m, m.type(), p.active, p.simulated, p.self_collision, p.both_side, p.node, p.group};
     }
     result_.resize(pairs_.size());  // the remaining entries keep their output capacity
+    any_pair_writes_models_ = false;
+    pair_of_models_.clear();
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
         ModelPairDetection& d = result_[k];
         d.model1 = pairs_[k].model1;
         d.model2 = pairs_[k].model2;
         d.support = pair_support(params_, d.model1->type(), d.model2->type());
         d.skipped = false;
-        d.narrow_phase = roots_within_margin(pair_indices_[k][0], pair_indices_[k][1]);
+        d.narrow_phase = false;
+        d.outputs.clear();
+        any_pair_writes_models_ = any_pair_writes_models_ || kernel_writes_models(params_, *d.model1, *d.model2);
+        const std::uint64_t lower = std::min(pair_indices_[k][0], pair_indices_[k][1]);
+        const std::uint64_t higher = std::max(pair_indices_[k][0], pair_indices_[k][1]);
+        pair_of_models_.emplace(lower << 32 | higher, k);
     }
-    last_concurrent_ = pairs_run_concurrently();
-    pair_work_.resize(pairs_.size());
-    if (last_concurrent_) detect_pairs_concurrently();
-    else detect_pairs_in_order();
-    return result_;
+    near_.clear();
+    near_last_.clear();
+    is_near_.assign(pairs_.size(), 0);
+    return true;
+}
+
+void CollisionPipeline::find_near_pairs() {
+    std::swap(near_, near_last_);
+    near_.clear();
+    const auto consider = [&](std::size_t a, std::size_t b) {  // models a <= b
+        const auto it = pair_of_models_.find(std::uint64_t(a) << 32 | b);
+        if (it == pair_of_models_.end()) return;  // filtered out by the broad phase
+        const std::size_t k = it->second;
+        if (roots_within_margin(pair_indices_[k][0], pair_indices_[k][1])) near_.push_back(k);
+    };
+    // The models roots_within_margin may pass: neither empty nor without a tree. The margin of
+    // a pair is at most `reach` (box_margin's largest terms), so a pair whose root boxes are
+    // apart by more than `reach` on the sweep's axis fails it (max + m <= max + reach, the sums
+    // rounded alike). A root box with a NaN bound, which the test never separates, is paired
+    // with every model.
+    sweep_.clear();
+    double largest_contact_distance = 0.0;
+    std::size_t wild = 0;
+    Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (std::size_t i = 0; i < models_.size(); ++i) {
+        const CollisionModel& m = *models_[i];
+        if (m.size() == 0 || trees_[i].empty()) continue;
+        largest_contact_distance = std::max(largest_contact_distance, m.params().contact_distance);
+        const Aabb& r = trees_[i].root_box();
+        if (!(r.min.allFinite() && r.max.allFinite())) {
+            sweep_.insert(sweep_.begin() + std::ptrdiff_t(wild++), i);  // the wild ones first
+            continue;
+        }
+        sweep_.push_back(i);
+        const Vec3 centre = 0.5 * (r.min + r.max);
+        low = low.cwiseMin(centre);
+        high = high.cwiseMax(centre);
+    }
+    const double reach = params_.method == IntersectionMethod::Discrete
+                             ? params_.alarm_distance
+                             : params_.alarm_distance + largest_contact_distance + largest_contact_distance;
+    // a model with itself (roots_within_margin passes it when neither is empty)
+    for (const std::size_t i : sweep_) consider(i, i);
+    for (std::size_t w = 0; w < wild; ++w)
+        for (std::size_t j = 0; j < sweep_.size(); ++j)
+            if (j != w && !(j < wild && j < w)) consider(std::min(sweep_[w], sweep_[j]), std::max(sweep_[w], sweep_[j]));
+    // sweep and prune on the axis where the boxes' centres spread most
+    int axis = 0;
+    (high - low).maxCoeff(&axis);
+    const auto lower_bound_of = [&](std::size_t i) { return trees_[i].root_box().min[axis]; };
+    std::sort(sweep_.begin() + std::ptrdiff_t(wild), sweep_.end(), [&](std::size_t a, std::size_t b) {
+        return lower_bound_of(a) != lower_bound_of(b) ? lower_bound_of(a) < lower_bound_of(b) : a < b;
+    });
+    sweep_active_.clear();
+    for (std::size_t s = wild; s < sweep_.size(); ++s) {
+        const std::size_t i = sweep_[s];
+        const double lo = lower_bound_of(i);
+        std::size_t kept = 0;
+        for (const std::size_t j : sweep_active_) {
+            if (trees_[j].root_box().max[axis] + reach < lo) continue;  // apart from i and every later one
+            sweep_active_[kept++] = j;
+            consider(std::min(i, j), std::max(i, j));
+        }
+        sweep_active_.resize(kept);
+        sweep_active_.push_back(i);
+    }
+    std::sort(near_.begin(), near_.end());
+    for (const std::size_t k : near_last_) {
+        is_near_[k] = 0;
+        result_[k].narrow_phase = false;
+        result_[k].outputs.clear();
+    }
+    for (const std::size_t k : near_) {
+        is_near_[k] = 1;
+        result_[k].narrow_phase = true;
+    }
 }
 
 bool CollisionPipeline::pairs_run_concurrently() const {
     if (detection_ != ContactDetection::bvh || opt_.pair_concurrency == PairConcurrency::never ||
         !opt_.narrow.parallel || tbb::this_task_arena::max_concurrency() < 2)
         return false;
+    // a kernel's writes are read by the later pairs of its models (§14.4): pairs in order
+    if (any_pair_writes_models_) return false;
     const bool always = opt_.pair_concurrency == PairConcurrency::always;
     std::size_t worth_a_task = 0, candidates = 0;
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-        // a kernel's writes are read by the later pairs of its models (§14.4): pairs in order
-        if (kernel_writes_models(params_, *pairs_[k].model1, *pairs_[k].model2)) return false;
-        if (!result_[k].narrow_phase) continue;
+    for (const std::size_t k : near_) {
         if (always) {
             ++worth_a_task;
             continue;
@@ -935,30 +1051,26 @@ bool CollisionPipeline::pairs_run_concurrently() const {
     return worth_a_task >= 2 && candidates >= std::max(kMinCandidatesForConcurrentPairs, moving_elements_);
 }
 
-bool CollisionPipeline::skips_pair(std::size_t k) {
-    // A pair whose root boxes are not within the margin has no element boxes within it (each
-    // element box lies in its root box, and the test is monotone in the bounds): no candidates
-    // and no outputs, so the trees are not traversed and the candidate cache is not looked up
-    // (SOFA's BruteForceBroadPhase does not hand such a pair to the narrow phase at all). A
-    // pile of n bodies has about n²/2 such pairs a step. Exhaustive detection runs every pair.
-    if (detection_ != ContactDetection::bvh || result_[k].narrow_phase) return false;
-    result_[k].outputs.clear();
-    record_pair_work(k, 0);
-    return true;
-}
-
 void CollisionPipeline::record_pair_work(std::size_t k, std::size_t candidates) {
     pair_work_[k] = {pairs_[k].model1, pairs_[k].model2, candidates};
 }
 
 void CollisionPipeline::detect_pairs_in_order() {
+    // A pair whose root boxes are not within the margin has no element boxes within it (each
+    // element box lies in its root box, and the test is monotone in the bounds): no candidates
+    // and no outputs, so the BVH detection neither traverses its trees nor looks its candidate
+    // cache up (SOFA's BruteForceBroadPhase does not hand such a pair to the narrow phase at
+    // all): it runs the pairs of near_. Exhaustive detection runs every pair.
     PairCounts counts;
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-        ModelPairDetection& d = result_[k];
-        if (skips_pair(k)) continue;
+    const auto run = [&](std::size_t k) {
         const std::size_t before = counts.candidates;
-        detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], d.outputs, scratch_, counts, nullptr);
+        detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], result_[k].outputs, scratch_, counts, nullptr);
         record_pair_work(k, counts.candidates - before);
+    };
+    if (detection_ == ContactDetection::bvh) {
+        for (const std::size_t k : near_) run(k);
+    } else {
+        for (std::size_t k = 0; k < pairs_.size(); ++k) run(k);
     }
     counts.add_to(cache_stats_, candidates_evaluated_);
 }
@@ -967,13 +1079,13 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // What the pairs would otherwise make or compute as they go, made first on this thread:
     // their candidate-cache entries (the map does not change while pairs run) and the
     // Triangle planes their separation tests read (a model's, shared by its pairs).
+    // (bvh only: the pairs of near_, ascending)
     pair_kept_.resize(pairs_.size());
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-        if (skips_pair(k)) continue;
+    for (const std::size_t k : near_) {
         CollisionModel& m1 = *pairs_[k].model1;
         CollisionModel& m2 = *pairs_[k].model2;
         pair_kept_[k] = pair_candidates_entry(pair_indices_[k][0], pair_indices_[k][1]);
-        if (result_[k].narrow_phase && detail::reads_triangle_planes(detail::pair_kernel_parts(params_, m1, m2))) {
+        if (detail::reads_triangle_planes(detail::pair_kernel_parts(params_, m1, m2))) {
             static_cast<TriangleModel&>(m1).update_planes();
             static_cast<TriangleModel&>(m2).update_planes();
         }
@@ -984,7 +1096,7 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // chunk's buffers have the capacity its pairs need and a step allocates nothing. (A thread
     // waiting inside a pair, in a nested parallel traversal or evaluation, may start another
     // chunk: with the other chunk's buffers.) Errors: the first in pair order is rethrown.
-    const std::size_t n = pairs_.size();
+    const std::size_t n = near_.size();
     const std::size_t chunks =
         std::min(n, kChunksPerThread * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
     if (chunk_scratch_.size() < chunks) chunk_scratch_.resize(chunks);
@@ -996,9 +1108,9 @@ void CollisionPipeline::detect_pairs_concurrently() {
         [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
                 PairCounts counts;
-                for (std::size_t k = c * n / chunks; k < (c + 1) * n / chunks; ++k) {
+                for (std::size_t p = c * n / chunks; p < (c + 1) * n / chunks; ++p) {
+                    const std::size_t k = near_[p];
                     ModelPairDetection& d = result_[k];
-                    if (!d.narrow_phase) continue;  // skips_pair(k) ran before the tasks
                     try {
                         const std::size_t before = counts.candidates;
                         detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], d.outputs, chunk_scratch_[c],

@@ -227,9 +227,6 @@ private:
     /// ModelPairDetection::narrow_phase of models_[i1], models_[i2]: neither empty, root boxes
     /// within box_margin.
     [[nodiscard]] bool roots_within_margin(std::size_t i1, std::size_t i2) const;
-    /// True (and the pair's outputs cleared, its work recorded as none) when pair k of this
-    /// detection needs no narrow phase: BVH detection and roots_within_margin false.
-    bool skips_pair(std::size_t k);
     struct PairCandidates;
     /// The buffers of pair detections that run one after the other (detect() in parallel gives
     /// each chunk of pairs its own).
@@ -329,9 +326,42 @@ private:
     std::vector<PairWork> pair_work_;
     std::size_t moving_elements_ = 0;  // elements of the moving models the last refit() refitted
     bool last_concurrent_ = false;
-    std::vector<ModelPair> pairs_;        // scratch: this step's broad-phase pairs
-    std::vector<std::array<std::size_t, 2>> pair_indices_;  // scratch: their models' places in models_
+    std::vector<ModelPair> pairs_;        // the broad phase's pairs (kept while broad_phase_key_ holds)
+    std::vector<std::array<std::size_t, 2>> pair_indices_;  // their models' places in models_
     std::vector<ModelPair> unsupported_;
+
+    // ---- the broad phase kept from step to step -------------------------------------------
+    // broad_phase()'s pairs depend only on the models and the parameters its filters read
+    // (keep_model_pair, the intersectors, kernel_writes_models): they are made again only when
+    // one of those changed (update_broad_phase). Of those pairs, the BVH detection finds the ones
+    // whose root boxes are within the margin (narrow_phase) by a sweep over the models' root
+    // boxes instead of testing every pair: a pile of n bodies has n²/2 pairs and about 6n near
+    // ones (find_near_pairs). The pairs, their order, their flags and outputs are those of the
+    // test of every pair.
+    struct ModelKey {
+        const CollisionModel* model = nullptr;
+        ModelType type = ModelType::Point;
+        bool active = false, simulated = false, self_collision = false, both_side = false;
+        int node = -1;
+        std::vector<int> group;
+        [[nodiscard]] bool describes(const CollisionModel& m) const;
+    };
+    std::vector<ModelKey> broad_phase_key_;
+    bool any_pair_writes_models_ = false;  // some pair's kernel writes the models (pairs in order)
+    std::unordered_map<std::uint64_t, std::size_t> pair_of_models_;  // (lower place << 32 | higher) → pair
+    std::vector<std::size_t> near_;        // bvh: this detection's pairs with narrow_phase, ascending
+    std::vector<std::size_t> near_last_;   // the last detection's
+    std::vector<std::uint8_t> is_near_;    // per pair: in near_
+    std::vector<std::size_t> sweep_;       // scratch: models in the sweep, by lower bound
+    std::vector<std::size_t> sweep_active_;
+    /// Makes the broad phase again if a model or a parameter it reads changed since the last
+    /// one: pairs_, pair_indices_, unsupported_, result_'s models and support, and (bvh) the
+    /// pairs' places; returns true if it did (every pair then without outputs, not near).
+    bool update_broad_phase();
+    /// bvh: near_ = the pairs whose root boxes are within the margin (roots_within_margin),
+    /// ascending, and their narrow_phase set; the pairs of near_last_ not in it lose their
+    /// outputs and their flag.
+    void find_near_pairs();
     SceneDetection result_;               // entries and their output lists keep their capacity
     std::vector<Aabb> boxes_;             // exhaustive: element boxes of model 2
     std::vector<Aabb> root_boxes_;        // exhaustive: each model's root box (union of its element boxes)
