@@ -1003,20 +1003,28 @@ void CollisionPipeline::find_near_pairs() {
     std::sort(sweep_.begin() + std::ptrdiff_t(wild), sweep_.end(), [&](std::size_t a, std::size_t b) {
         return lower_bound_of(a) != lower_bound_of(b) ? lower_bound_of(a) < lower_bound_of(b) : a < b;
     });
-    sweep_active_.clear();
-    for (std::size_t s = wild; s < sweep_.size(); ++s) {
-        const std::size_t i = sweep_[s];
-        const double lo = lower_bound_of(i);
+    // the root boxes of the sweep's models in sweep order (compact: the inner loop reads them)
+    sweep_boxes_.clear();
+    for (std::size_t s = wild; s < sweep_.size(); ++s) sweep_boxes_.push_back(trees_[sweep_[s]].root_box());
+    sweep_active_.clear();  // places in sweep_boxes_
+    for (std::size_t s = 0; s < sweep_boxes_.size(); ++s) {
+        const Aabb& box = sweep_boxes_[s];
+        const double lo = box.min[axis];
         std::size_t kept = 0;
-        for (const std::size_t j : sweep_active_) {
-            if (trees_[j].root_box().max[axis] + reach < lo) continue;  // apart from i and every later one
-            sweep_active_[kept++] = j;
+        for (const std::size_t t : sweep_active_) {
+            const Aabb& other = sweep_boxes_[t];
+            if (other.max[axis] + reach < lo) continue;  // apart from this box and every later one
+            sweep_active_[kept++] = t;
+            // apart by more than `reach` on some axis: the exact test fails too
+            if (!box.overlaps(other, reach)) continue;
+            const std::size_t i = sweep_[wild + s], j = sweep_[wild + t];
             consider(std::min(i, j), std::max(i, j));
         }
         sweep_active_.resize(kept);
-        sweep_active_.push_back(i);
+        sweep_active_.push_back(s);
     }
-    std::sort(near_.begin(), near_.end());
+    if (near_.size() < kMinKeysForRadixSort) std::sort(near_.begin(), near_.end());
+    else stable_radix_sort(near_, sweep_swap_, sweep_counts_, [](std::size_t k) { return std::uint64_t(k); });
     for (const std::size_t k : near_last_) {
         is_near_[k] = 0;
         result_[k].narrow_phase = false;

@@ -641,14 +641,14 @@ TEST(NarrowPhase, PairsWhoseRootBoxesAreApartAreNeitherTraversedNorLookedUp) {
 }
 
 TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
-    // 80 sphere clouds (6 spheres, 0.05 m wide) drift in a 1.2 m box, each with its own skin
+    // 160 sphere clouds (6 spheres, 0.05 m wide) drift in a 0.8 m box, each with its own skin
     // (contactDistance 0-20 mm, so margins differ by pair), some sharing a node (self-collision
     // filters), two of them empty: the BVH detection keeps its broad phase and finds the pairs
     // whose root boxes are within the margin by a sweep. Every step: the exhaustive driver's
     // pairs, narrow-phase flags and outputs. Between steps the models' filters change (one made
     // inactive then active again, groups, self-collision, both-sided), which must give the new
     // broad phase at once.
-    constexpr int kClouds = 80;
+    constexpr int kClouds = 160;
     std::mt19937 g(20261127);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     std::vector<Vec3State> states(kClouds);
@@ -658,11 +658,11 @@ TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
     for (int i = 0; i < kClouds; ++i) names.push_back("cloud" + std::to_string(i));
     std::vector<CollisionModel*> models;
     for (int i = 0; i < kClouds; ++i) {
-        const Vec3 centre(1.2 * unit(g), 1.2 * unit(g), 1.2 * unit(g));
+        const Vec3 centre(0.8 * unit(g), 0.8 * unit(g), 0.8 * unit(g));
         states[std::size_t(i)] = random_cloud(i == 7 || i == 50 ? 0 : 6, 0.025, g, centre);
         velocity[std::size_t(i)] = Vec3(unit(g) - 0.5, unit(g) - 0.5, unit(g) - 0.5) * 0.01;
         clouds.push_back(std::make_unique<SphereModel>(states[std::size_t(i)], 0.01, std::vector<double>{},
-                                                       mp(names[std::size_t(i)].c_str(), i % 70, false, {}, 0.02 * unit(g))));
+                                                       mp(names[std::size_t(i)].c_str(), i % 150, false, {}, 0.02 * unit(g))));
         models.push_back(clouds.back().get());
     }
     const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
@@ -673,13 +673,13 @@ TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
         options.pair_concurrency = concurrency;
         CollisionPipeline pipe(params, options);
         pipe.set_models(models);
-        std::size_t pairs = 0, near_pairs = 0, outputs = 0, flag_steps = 0;
+        std::size_t pairs = 0, near_pairs = 0, outputs = 0, flag_steps = 0, most_near = 0;
         for (int step = 0; step < 60; ++step) {
             // the filters the broad phase reads, changed between detections
             if (step == 10) clouds[3]->params().active = false;
             if (step == 20) clouds[3]->params().active = true;
             if (step == 25) clouds[11]->params().group = {4}, clouds[12]->params().group = {4};
-            if (step == 35) clouds[5]->params().self_collision = true, clouds[75]->params().self_collision = true;
+            if (step == 35) clouds[5]->params().self_collision = true, clouds[155]->params().self_collision = true;
             if (step == 45) clouds[20]->params().both_side = true;
             const SceneDetection& got = pipe.detect();
             const SceneDetection ref = detect_scene_exhaustive(params, models);
@@ -688,10 +688,13 @@ TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
             for (std::size_t k = 0; k < ref.size(); ++k) same_flags = same_flags && got[k].narrow_phase == ref[k].narrow_phase;
             flag_steps += same_flags ? 1 : 0;
             pairs += got.size();
+            std::size_t near_now = 0;
             for (const ModelPairDetection& d : got) {
-                near_pairs += d.narrow_phase ? 1 : 0;
+                near_now += d.narrow_phase ? 1 : 0;
                 if (!d.narrow_phase) EXPECT_TRUE(d.outputs.empty());
             }
+            near_pairs += near_now;
+            most_near = std::max(most_near, near_now);
             outputs += count_outputs(got);
             for (int i = 0; i < kClouds; ++i) {
                 Vec3& v = velocity[std::size_t(i)];
@@ -699,16 +702,18 @@ TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
                 if (!states[std::size_t(i)].position.empty()) {
                     const Vec3& p = states[std::size_t(i)].position[0];
                     for (int a = 0; a < 3; ++a)
-                        if (p[a] < 0.0 || p[a] > 1.2) v[a] = -v[a];
+                        if (p[a] < 0.0 || p[a] > 0.8) v[a] = -v[a];
                 }
             }
         }
         states = start;
         EXPECT_EQ(flag_steps, 60u);
-        // of about 3 100 pairs a step, a few per cent are near; the clouds meet
-        EXPECT_GT(pairs, 60u * 3000u);
+        // of about 12 800 pairs a step, a few per cent are near (more than 256 at some steps:
+        // near_ is then radix-sorted); the clouds meet
+        EXPECT_GT(pairs, 60u * 12000u);
         EXPECT_GT(near_pairs, pairs / 200);
         EXPECT_LT(near_pairs, pairs / 10);
+        EXPECT_GT(most_near, 256u);
         EXPECT_GT(outputs, 100u);
     }
 }

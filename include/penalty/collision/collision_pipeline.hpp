@@ -354,6 +354,9 @@ private:
     std::vector<std::uint8_t> is_near_;    // per pair: in near_
     std::vector<std::size_t> sweep_;       // scratch: models in the sweep, by lower bound
     std::vector<std::size_t> sweep_active_;
+    std::vector<Aabb> sweep_boxes_;
+    std::vector<std::size_t> sweep_swap_;    // near_'s radix sort: its other buffer and counts
+    std::vector<std::size_t> sweep_counts_;
     /// Makes the broad phase again if a model or a parameter it reads changed since the last
     /// one: pairs_, pair_indices_, unsupported_, result_'s models and support, and (bvh) the
     /// pairs' places; returns true if it did (every pair then without outputs, not near).
