@@ -203,6 +203,10 @@ struct Traversal {
     }
 };
 
+// find_near_pairs tests every pair's root boxes, in pair order, up to this many pairs; beyond,
+// it sweeps over the models' root boxes.
+constexpr std::size_t kMaxPairsTestedOneByOne = 64;
+
 // How collect_candidates sorts its keys (elem1 << 32 | elem2, unique): fewer than
 // kMinKeysForRadixSort by comparisons (std::sort); fewer than kMinKeysForCountingSort (or fewer
 // than a quarter of the first model's elements) by the radix sort of the packed indices; more by
@@ -966,6 +970,13 @@ bool CollisionPipeline::update_broad_phase() {
 void CollisionPipeline::find_near_pairs() {
     std::swap(near_, near_last_);
     near_.clear();
+    if (pairs_.size() <= kMaxPairsTestedOneByOne) {
+        // few pairs: each one's test, in pair order, costs less than a sweep
+        for (std::size_t k = 0; k < pairs_.size(); ++k)
+            if (roots_within_margin(pair_indices_[k][0], pair_indices_[k][1])) near_.push_back(k);
+        mark_near_pairs();
+        return;
+    }
     const auto consider = [&](std::size_t a, std::size_t b) {  // models a <= b
         const auto it = pair_of_models_.find(std::uint64_t(a) << 32 | b);
         if (it == pair_of_models_.end()) return;  // filtered out by the broad phase
@@ -1032,6 +1043,10 @@ void CollisionPipeline::find_near_pairs() {
     }
     if (near_.size() < kMinKeysForRadixSort) std::sort(near_.begin(), near_.end());
     else stable_radix_sort(near_, sweep_swap_, sweep_counts_, [](std::size_t k) { return std::uint64_t(k); });
+    mark_near_pairs();
+}
+
+void CollisionPipeline::mark_near_pairs() {
     for (const std::size_t k : near_last_) {
         is_near_[k] = 0;
         result_[k].narrow_phase = false;

@@ -365,6 +365,8 @@ private:
     /// ascending, and their narrow_phase set; the pairs of near_last_ not in it lose their
     /// outputs and their flag.
     void find_near_pairs();
+    /// The flags and outputs of near_ and near_last_ (find_near_pairs' end).
+    void mark_near_pairs();
     SceneDetection result_;               // entries and their output lists keep their capacity
     std::vector<Aabb> boxes_;             // exhaustive: element boxes of model 2
     std::vector<Aabb> root_boxes_;        // exhaustive: each model's root box (union of its element boxes)

@@ -62,7 +62,13 @@ private:
             return i;
         }
         std::optional<unsigned> null_id;  // a null pointer's id (the slots use null for empty)
+        /// The id of p: found at its home slot (the common case, inlined), else by the probe.
         unsigned id(const T* p) {
+            const Slot& s = slots[home(p)];
+            if (s.pointer == p && p != nullptr) return s.id;
+            return id_slow(p);
+        }
+        [[gnu::noinline]] unsigned id_slow(const T* p) {
             if (p == nullptr) {
                 if (!null_id) null_id = next++;
                 return *null_id;
