@@ -20,6 +20,7 @@
 #include <bit>
 #include <cmath>
 #include <mutex>
+#include <type_traits>
 
 namespace penalty {
 
@@ -851,32 +852,30 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
     // Either way the keys kept are gathered in blocks of 64 and appended a block at a time (a
     // push_back per key was a call when the compiler did not inline it).
     const std::size_t share_eighths = n_kept == 0 ? 0 : 8 * kept.overlapped_last / n_kept;
-    constexpr std::size_t kBlock = 64;
-    std::uint64_t block[kBlock];
-    if (share_eighths == 0 || share_eighths >= 7) {
+    const auto test_keys = [&](auto branch_free) {
+        constexpr std::size_t kBlock = 64;
+        std::uint64_t block[kBlock];
         for (std::size_t first = 0; first < n_kept; first += kBlock) {
             const std::size_t last = std::min(n_kept, first + kBlock);
             std::size_t count = 0;
             for (std::size_t j = first; j < last; ++j) {
                 prefetch_ahead(j);
                 const std::uint64_t k = keys[j];
-                if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) block[count++] = k;
+                if constexpr (decltype(branch_free)::value) {
+                    block[count] = k;
+                    count += boxes1[k >> 32].overlaps_branch_free(boxes2[k & 0xffffffffu], margin) ? 1 : 0;
+                } else if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) {
+                    block[count++] = k;
+                }
             }
             now.insert(now.end(), block, block + count);
         }
+    };
+    if (share_eighths == 0 || share_eighths >= 7) {
+        test_keys(std::false_type{});
     } else {
         ++counts.cache.branch_free_tests;
-        for (std::size_t first = 0; first < n_kept; first += kBlock) {
-            const std::size_t last = std::min(n_kept, first + kBlock);
-            std::size_t count = 0;
-            for (std::size_t j = first; j < last; ++j) {
-                prefetch_ahead(j);
-                const std::uint64_t k = keys[j];
-                block[count] = k;
-                count += boxes1[k >> 32].overlaps_branch_free(boxes2[k & 0xffffffffu], margin) ? 1 : 0;
-            }
-            now.insert(now.end(), block, block + count);
-        }
+        test_keys(std::true_type{});
     }
     kept.overlapped_last = now.size();
     const bool nearest = kept.nearest_outputs && worth_keeping_nearest(now.size(), m2);

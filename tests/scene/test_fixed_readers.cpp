@@ -13,67 +13,20 @@
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/same_bits.hpp"
+#include "penalty_test/sliding_cube.hpp"
 
 #include <gtest/gtest.h>
 
 #include <memory>
 #include <random>
-#include <sstream>
 #include <string>
 
 namespace {
 
 using namespace penalty;
 
-// Cube: 0.4 m, 8 points, springs on its hexahedron, 2 m/s along x; its bottom face (y = 0.02)
-// a 5 × 5 vertex grid of 32 triangles facing down. Floor: two lines of static points 0.13 m
-// apart, under a few of the face's triangles at a time.
-std::string sliding_cube_xml() {
-    std::ostringstream s;
-    s << R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
-  <CollisionPipeline/>
-  <BruteForceBroadPhase/>
-  <BVHNarrowPhase/>
-  <MinProximityIntersection alarmDistance="0.05" contactDistance="0.02"/>
-  <CollisionResponse response="PenalityContactForceField"/>
-  <Node name="Body">
-    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
-    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
-    <MechanicalObject position="0 0.02 0  0.4 0.02 0  0 0.42 0  0.4 0.42 0  0 0.02 0.4  0.4 0.02 0.4  0 0.42 0.4  0.4 0.42 0.4"
-                      velocity="2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0"/>
-    <MeshTopology hexas="0 1 3 2 4 5 7 6"/>
-    <UniformMass totalMass="1"/>
-    <MeshSpringForceField stiffness="500" damping="1"/>
-    <Node name="Surface">
-      <MeshTopology position=")";
-    for (int k = 0; k <= 4; ++k)
-        for (int i = 0; i <= 4; ++i) s << 0.1 * i << " 0.02 " << 0.1 * k << "  ";
-    s << R"(" triangles=")";
-    const auto v = [](int i, int k) { return 5 * k + i; };
-    for (int k = 0; k < 4; ++k)
-        for (int i = 0; i < 4; ++i)
-            s << v(i, k) << ' ' << v(i + 1, k) << ' ' << v(i, k + 1) << "  " << v(i + 1, k) << ' ' << v(i + 1, k + 1) << ' '
-              << v(i, k + 1) << "  ";
-    s << R"("/>
-      <MechanicalObject/>
-      <TriangleCollisionModel contactStiffness="200"/>
-      <BarycentricMapping/>
-    </Node>
-  </Node>
-  <Node name="Floor">
-    <MechanicalObject position=")";
-    for (const double z : {0.11, 0.29})
-        for (int i = 0; i < 25; ++i) s << -0.2 + 0.13 * i << " 0 " << z << "  ";
-    s << R"("/>
-    <PointCollisionModel simulated="0" moving="0" contactStiffness="200"/>
-  </Node>
-</Node>
-)";
-    return s.str();
-}
-
 TEST(FixedReaders, ProductsOfOneSolveKeepTheRowsTheFirstFoundAndTheNextSolveFindsThemAgain) {
-    const auto scene = scene::build_scene(io::parse_scene_string(sliding_cube_xml(), "sliding_cube.scn"), {});
+    const auto scene = scene::build_scene(io::parse_scene_string(test::sliding_cube_xml(), "sliding_cube.scn"), {});
     Node& root = scene->simulation().root();
     Node* body = nullptr;
     for (const auto& child : root.children())

@@ -16,6 +16,7 @@
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/cubes_in_bowl.hpp"
 #include "penalty_test/same_bits.hpp"
+#include "penalty_test/sliding_cube.hpp"
 
 #include <gtest/gtest.h>
 
@@ -29,51 +30,6 @@ namespace {
 
 using namespace penalty;
 namespace bowl = penalty::test::cubes_in_bowl;
-
-std::string sliding_cube_with_spheres_xml() {
-    std::ostringstream s;
-    s << R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
-  <CollisionPipeline/>
-  <BruteForceBroadPhase/>
-  <BVHNarrowPhase/>
-  <MinProximityIntersection alarmDistance="0.05" contactDistance="0.02"/>
-  <CollisionResponse response="PenalityContactForceField"/>
-  <Node name="Body">
-    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
-    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
-    <MechanicalObject position="0 0.02 0  0.4 0.02 0  0 0.42 0  0.4 0.42 0  0 0.02 0.4  0.4 0.02 0.4  0 0.42 0.4  0.4 0.42 0.4"
-                      velocity="2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0  2 0 0"/>
-    <MeshTopology hexas="0 1 3 2 4 5 7 6"/>
-    <UniformMass totalMass="1"/>
-    <MeshSpringForceField stiffness="500" damping="1"/>
-    <SphereCollisionModel radius="0.03" contactStiffness="100"/>
-    <Node name="Surface">
-      <MeshTopology position=")";
-    for (int k = 0; k <= 4; ++k)
-        for (int i = 0; i <= 4; ++i) s << 0.1 * i << " 0.02 " << 0.1 * k << "  ";
-    s << R"(" triangles=")";
-    const auto v = [](int i, int k) { return 5 * k + i; };
-    for (int k = 0; k < 4; ++k)
-        for (int i = 0; i < 4; ++i)
-            s << v(i, k) << ' ' << v(i + 1, k) << ' ' << v(i, k + 1) << "  " << v(i + 1, k) << ' ' << v(i + 1, k + 1) << ' '
-              << v(i, k + 1) << "  ";
-    s << R"("/>
-      <MechanicalObject/>
-      <TriangleCollisionModel contactStiffness="200"/>
-      <BarycentricMapping/>
-    </Node>
-  </Node>
-  <Node name="Floor">
-    <MechanicalObject position=")";
-    for (const double z : {0.0, 0.11, 0.29, 0.4})
-        for (int i = 0; i < 25; ++i) s << -0.2 + 0.13 * i << " 0 " << z << "  ";
-    s << R"("/>
-    <PointCollisionModel simulated="0" moving="0" contactStiffness="200"/>
-  </Node>
-</Node>
-)";
-    return s.str();
-}
 
 // Two spring cubes of 0.4 m under one solver, pushed at each other (0.05 m/s each, 0.04 m apart): no
 // static model, so their contact field lies at the root (explicit) and the solve has only unread
@@ -194,7 +150,8 @@ TEST(FusedContactProducts, PileInABowlGivesTheProductsThroughTheObjectsBitForBit
 }
 
 TEST(FusedContactProducts, SurfaceOnAMappedStateAndAnIdentitySideGiveTheSameBits) {
-    const auto scene = scene::build_scene(io::parse_scene_string(sliding_cube_with_spheres_xml(), "sliding_cube.scn"), {});
+    const std::string xml = test::sliding_cube_xml({.floor_rows_z = {0.0, 0.11, 0.29, 0.4}, .corner_spheres = true});
+    const auto scene = scene::build_scene(io::parse_scene_string(xml, "sliding_cube.scn"), {});
     Tally t;
     compare_products(*scene, child(scene->simulation().root(), "Body"), 60, 20261128, t);
     EXPECT_EQ(t.differing, 0) << "of " << t.compared;
@@ -221,7 +178,9 @@ TEST(FusedContactProducts, RunsOfAPileAreTheSameBitsWithAndWithoutFusion) {
     auto* solver = dynamic_cast<EulerImplicitSolver*>(child(plain->simulation().root(), "Cubes").ode_solver());
     ASSERT_NE(solver, nullptr);
     solver->fuse_contact_products = false;
-    ASSERT_TRUE(dynamic_cast<EulerImplicitSolver*>(child(fused->simulation().root(), "Cubes").ode_solver())->fuse_contact_products);
+    const auto* fused_solver = dynamic_cast<const EulerImplicitSolver*>(child(fused->simulation().root(), "Cubes").ode_solver());
+    ASSERT_NE(fused_solver, nullptr);
+    ASSERT_TRUE(fused_solver->fuse_contact_products);
     long compared = 0, differing = 0;
     for (int step = 0; step < 200; ++step) {
         fused->step();
