@@ -985,21 +985,16 @@ void CollisionPipeline::find_near_pairs() {
     // The models roots_within_margin may pass: neither empty nor without a tree. The margin of
     // a pair is at most `reach` (box_margin's largest terms), so a pair whose root boxes are
     // apart by more than `reach` on the sweep's axis fails it (max + m <= max + reach, the sums
-    // rounded alike). A root box with a NaN bound, which the test never separates, is paired
-    // with every model.
+    // rounded alike). The root boxes are finite: a tree refuses an element box that is not.
     sweep_.clear();
     double largest_contact_distance = 0.0;
-    std::size_t wild = 0;
     Vec3 low = Vec3::Constant(std::numeric_limits<double>::infinity()), high = -low;
     for (std::size_t i = 0; i < models_.size(); ++i) {
         const CollisionModel& m = *models_[i];
         if (m.size() == 0 || trees_[i].empty()) continue;
         largest_contact_distance = std::max(largest_contact_distance, m.params().contact_distance);
         const Aabb& r = trees_[i].root_box();
-        if (!(r.min.allFinite() && r.max.allFinite())) {
-            sweep_.insert(sweep_.begin() + std::ptrdiff_t(wild++), i);  // the wild ones first
-            continue;
-        }
+        PENALTY_DEMAND(r.min.allFinite() && r.max.allFinite());
         sweep_.push_back(i);
         const Vec3 centre = 0.5 * (r.min + r.max);
         low = low.cwiseMin(centre);
@@ -1010,19 +1005,16 @@ void CollisionPipeline::find_near_pairs() {
                              : params_.alarm_distance + largest_contact_distance + largest_contact_distance;
     // a model with itself (roots_within_margin passes it when neither is empty)
     for (const std::size_t i : sweep_) consider(i, i);
-    for (std::size_t w = 0; w < wild; ++w)
-        for (std::size_t j = 0; j < sweep_.size(); ++j)
-            if (j != w && !(j < wild && j < w)) consider(std::min(sweep_[w], sweep_[j]), std::max(sweep_[w], sweep_[j]));
     // sweep and prune on the axis where the boxes' centres spread most
     int axis = 0;
     (high - low).maxCoeff(&axis);
     const auto lower_bound_of = [&](std::size_t i) { return trees_[i].root_box().min[axis]; };
-    std::sort(sweep_.begin() + std::ptrdiff_t(wild), sweep_.end(), [&](std::size_t a, std::size_t b) {
+    std::sort(sweep_.begin(), sweep_.end(), [&](std::size_t a, std::size_t b) {
         return lower_bound_of(a) != lower_bound_of(b) ? lower_bound_of(a) < lower_bound_of(b) : a < b;
     });
     // the root boxes of the sweep's models in sweep order (compact: the inner loop reads them)
     sweep_boxes_.clear();
-    for (std::size_t s = wild; s < sweep_.size(); ++s) sweep_boxes_.push_back(trees_[sweep_[s]].root_box());
+    for (const std::size_t i : sweep_) sweep_boxes_.push_back(trees_[i].root_box());
     sweep_active_.clear();  // places in sweep_boxes_
     for (std::size_t s = 0; s < sweep_boxes_.size(); ++s) {
         const Aabb& box = sweep_boxes_[s];
@@ -1034,7 +1026,7 @@ void CollisionPipeline::find_near_pairs() {
             sweep_active_[kept++] = t;
             // apart by more than `reach` on some axis: the exact test fails too
             if (!box.overlaps(other, reach)) continue;
-            const std::size_t i = sweep_[wild + s], j = sweep_[wild + t];
+            const std::size_t i = sweep_[s], j = sweep_[t];
             consider(std::min(i, j), std::max(i, j));
         }
         sweep_active_.resize(kept);
