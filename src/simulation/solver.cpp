@@ -161,7 +161,12 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
     if (!fuse) return;
     // Candidates: barycentric contact mappings between Vec3 states whose output is read by one
     // force field and no mapping.
-    std::unordered_map<const BaseState*, std::size_t> candidate_on;  // output state → mapping
+    struct Candidate {
+        std::size_t mapping_index;
+        Vec3Object* from;
+        Vec3Object* to;
+    };
+    std::unordered_map<const BaseState*, Candidate> candidate_on;  // output state → mapping
     std::unordered_map<Vec3Object*, std::size_t> unread_group_of;     // parent → unread_by_parent_
     for (std::size_t i = 0; i < mappings_.size(); ++i) {
         const DxReaders& r = dx_readers_[i];
@@ -170,7 +175,7 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
         auto* to = dynamic_cast<Vec3Object*>(mappings_[i]->to());
         if (from == nullptr || to == nullptr) continue;
         if (r.force_fields.size() == 1) {
-            candidate_on.emplace(to, i);
+            candidate_on.emplace(to, Candidate{i, from, to});
             continue;
         }
         // read by nobody in the subtree
@@ -185,31 +190,31 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
     for (BaseForceField* ff : force_fields_) {
         auto* field = dynamic_cast<Vec3InteractionForceField*>(ff);
         if (field == nullptr || &field->state1() == &field->state2()) continue;
-        std::array<std::ptrdiff_t, 2> mapping_of_side{-1, -1};
+        std::array<const Candidate*, 2> mapping_of_side{nullptr, nullptr};
         bool fusable = true;
         for (std::size_t side = 0; side < 2; ++side) {
             const Vec3Object* state = side == 0 ? &field->state1() : &field->state2();
-            if (const auto it = candidate_on.find(state); it != candidate_on.end() && dx_readers_[it->second].force_fields.front() == ff)
-                mapping_of_side[side] = static_cast<std::ptrdiff_t>(it->second);
+            if (const auto it = candidate_on.find(state);
+                it != candidate_on.end() && dx_readers_[it->second.mapping_index].force_fields.front() == ff)
+                mapping_of_side[side] = &it->second;
             else if (!external.contains(state))
                 fusable = false;  // a state others read or write: the field keeps its place
         }
-        if (!fusable || (mapping_of_side[0] < 0 && mapping_of_side[1] < 0)) continue;
+        if (!fusable || (mapping_of_side[0] == nullptr && mapping_of_side[1] == nullptr)) continue;
         FusedField entry;
         entry.field = field;
         for (std::size_t side = 0; side < 2; ++side) {
-            if (mapping_of_side[side] < 0) {
+            const Candidate* c = mapping_of_side[side];
+            if (c == nullptr) {
                 entry.sides[side].state = side == 0 ? &field->state1() : &field->state2();
                 continue;
             }
-            const auto index = static_cast<std::size_t>(mapping_of_side[side]);
-            BaseMapping* m = mappings_[index];
-            fused_mapping_of_[index] = static_cast<std::ptrdiff_t>(fused_mappings_.size());
+            fused_mapping_of_[c->mapping_index] = static_cast<std::ptrdiff_t>(fused_mappings_.size());
             entry.sides[side].mapping = static_cast<std::ptrdiff_t>(fused_mappings_.size());
-            fused_mappings_.push_back({.mapping_index = index,
-                                       .from = dynamic_cast<Vec3Object*>(m->from()),
-                                       .to = dynamic_cast<Vec3Object*>(m->to()),
-                                       .rows = m->contact_barycentric_rows()});
+            fused_mappings_.push_back({.mapping_index = c->mapping_index,
+                                       .from = c->from,
+                                       .to = c->to,
+                                       .rows = mappings_[c->mapping_index]->contact_barycentric_rows()});
         }
         fused_field_of.emplace(ff, static_cast<std::ptrdiff_t>(fused_fields_.size()));
         fused_fields_.push_back(entry);
@@ -347,7 +352,6 @@ SubtreeSystem::FixedReaders::FixedReaders(const SubtreeSystem& system) : system_
 
 SubtreeSystem::FixedReaders::~FixedReaders() {
     system_.readers_fixed_ = false;
-    system_.fused_ready_ = false;
     for (const DxReaders& r : system_.dx_readers_) r.found = false;
 }
 
