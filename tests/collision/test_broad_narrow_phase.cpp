@@ -623,7 +623,9 @@ TEST(NarrowPhase, PairsWhoseRootBoxesAreApartAreNeitherTraversedNorLookedUp) {
             pairs += got.size();
             for (const ModelPairDetection& d : got) {
                 near_pairs += d.narrow_phase ? 1 : 0;
-                if (!d.narrow_phase) EXPECT_TRUE(d.outputs.empty());
+                if (!d.narrow_phase) {
+                    EXPECT_TRUE(d.outputs.empty());
+                }
             }
             outputs += count_outputs(got);
             for (Vec3& p : states[3].position) p += Vec3(0.004, 0.0, 0.0);
@@ -691,7 +693,9 @@ TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
             std::size_t near_now = 0;
             for (const ModelPairDetection& d : got) {
                 near_now += d.narrow_phase ? 1 : 0;
-                if (!d.narrow_phase) EXPECT_TRUE(d.outputs.empty());
+                if (!d.narrow_phase) {
+                    EXPECT_TRUE(d.outputs.empty());
+                }
             }
             near_pairs += near_now;
             most_near = std::max(most_near, near_now);

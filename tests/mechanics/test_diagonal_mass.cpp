@@ -1,4 +1,5 @@
 #include "penalty/mechanics/diagonal_mass.hpp"
+#include "penalty_test/point_state.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,12 +20,7 @@ MeshTopology kuhn_cube() {
     return t;
 }
 
-Vec3Object state_at(std::vector<Vec3> points) {
-    Vec3Object s;
-    s.position = std::move(points);
-    s.init();
-    return s;
-}
+using test::state_at;
 
 TEST(DiagonalMass, TetrahedraShareAQuarterOfTheirMassWithEachVertex) {
     Vec3Object s = state_at(unit_cube_points());

@@ -1,9 +1,10 @@
 // PlaneForceField, ConstantForceField, ConicalForceField (SOFA's MechanicalLoad): closed forms of
 // their forces, SOFA's quirks (unnormalised plane normal, depth-scaled damping, the cone's
 // normal-only stiffness), and finite-difference checks of f = −∂E/∂x and df = K·dx.
-#include "penalty/mechanics/external_loads.hpp"
 
+#include "penalty/mechanics/external_loads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/point_state.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,12 +14,7 @@
 namespace penalty {
 namespace {
 
-Vec3Object state_at(std::vector<Vec3> positions) {
-    Vec3Object s;
-    s.position = std::move(positions);
-    s.init();
-    return s;
-}
+using test::state_at;
 
 /// The field's force alone at the state's positions and velocities.
 std::vector<Vec3> force_of(BaseForceField& ff, Vec3Object& s) {

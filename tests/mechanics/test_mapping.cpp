@@ -247,7 +247,9 @@ TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
             for (int c = 0; c < 3; ++c)
                 EXPECT_TRUE(same_bits(in.df[j][c], expected[j][c])) << "trial " << trial << " input " << j << "." << c
                                                                     << ": " << in.df[j][c] << " vs " << expected[j][c];
-        if (trial == 0) EXPECT_TRUE(std::signbit(in.df[11][0]));  // the −0 case was exercised
+        if (trial == 0) {
+            EXPECT_TRUE(std::signbit(in.df[11][0]));  // the −0 case was exercised
+        }
     }
 }
 

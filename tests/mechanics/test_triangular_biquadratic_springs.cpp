@@ -4,6 +4,7 @@
 // compression checked for what it is (symmetric part of the spring terms, not exact).
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 
+#include "penalty_test/cloth.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -12,21 +13,7 @@ namespace penalty {
 namespace {
 
 /// A 3×3-vertex cloth in the x-z plane (8 triangles, both diagonal directions).
-struct Cloth {
-    Vec3Object state;
-    MeshTopology topology;
-    Cloth() {
-        for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) state.position.emplace_back(i, 0.0, 1.2 * j);
-        state.init();
-        topology.set_triangles({{0, 1, 4}, {0, 4, 3}, {1, 2, 4}, {2, 5, 4}, {3, 4, 6}, {4, 7, 6}, {4, 5, 8}, {4, 8, 7}});
-    }
-    Eigen::VectorXd force(BaseForceField& ff) {
-        std::fill(state.force.begin(), state.force.end(), Vec3::Zero());
-        ff.accumulate_force();
-        return Vec3Object::flat(state.force);
-    }
-};
+using test::Cloth;
 
 TEST(TriangularBiquadraticSprings, RestCoefficientsOfOneRightTriangle) {
     // (0,0,0), (1,0,0), (0,1,0): A = ½, ℓ² = (2, 1, 1), cot = (0, 1, 1);

@@ -2,6 +2,7 @@
 // rest, and f = −∂E/∂x, df = K·dx by finite differences, with and without angular springs.
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
 
+#include "penalty_test/cloth.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -31,45 +32,32 @@ TEST(TriangularQuadraticSprings, RestCoefficientsOfOneRightTriangle) {
 
 /// The cloth of the derivative tests, stretched in x, squeezed in z and lifted: edges both longer
 /// and shorter than at rest.
-struct Cloth {
-    Vec3Object s;
-    MeshTopology topo;
-    Cloth() {
-        for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 3; ++i) s.position.emplace_back(i, 0.0, 1.2 * j);
-        s.init();
-        topo.set_triangles({{0, 1, 4}, {0, 4, 3}, {1, 2, 4}, {2, 5, 4}, {3, 4, 6}, {4, 7, 6}, {4, 5, 8}, {4, 8, 7}});
-    }
-    void deform() {
-        for (std::size_t i = 0; i < s.position.size(); ++i)
-            s.position[i] = Vec3(1.1 * s.position[i].x(), 0.2 * std::sin(1.0 + i), 0.9 * s.position[i].z() + 0.02 * i);
-    }
-};
+using test::Cloth;
 
 TEST(TriangularQuadraticSprings, SofasAngularStiffnessIsOffByOneTerm) {
     // SOFA's matrix with angular springs is not the Hessian (see exact_angular_stiffness): the
     // exact variant matches finite differences, SOFA's differs from it by Σ s_k δ_k/L U Uᵀ
     Cloth exact_cloth;
-    TriangularQuadraticSpringsForceField exact(exact_cloth.s, exact_cloth.topo,
+    TriangularQuadraticSpringsForceField exact(exact_cloth.state, exact_cloth.topology,
                                                {.young_modulus = 15.0, .poisson_ratio = 0.3, .exact_angular_stiffness = true});
     exact.init();
     exact_cloth.deform();
-    const auto e = test::check_force_field_derivatives(exact, exact_cloth.s, {1e-6, 1e-12, 1e-6});
+    const auto e = test::check_force_field_derivatives(exact, exact_cloth.state, {1e-6, 1e-12, 1e-6});
     Cloth sofa_cloth;
-    TriangularQuadraticSpringsForceField sofa(sofa_cloth.s, sofa_cloth.topo, {.young_modulus = 15.0, .poisson_ratio = 0.3});
+    TriangularQuadraticSpringsForceField sofa(sofa_cloth.state, sofa_cloth.topology, {.young_modulus = 15.0, .poisson_ratio = 0.3});
     sofa.init();
     sofa_cloth.deform();
-    const auto n = static_cast<Eigen::Index>(3 * sofa_cloth.s.num_dofs());
-    std::fill(sofa_cloth.s.force.begin(), sofa_cloth.s.force.end(), Vec3::Zero());
+    const auto n = static_cast<Eigen::Index>(3 * sofa_cloth.state.num_dofs());
+    std::fill(sofa_cloth.state.force.begin(), sofa_cloth.state.force.end(), Vec3::Zero());
     sofa.accumulate_force();
-    EXPECT_TRUE(test::near_relative(Vec3Object::flat(sofa_cloth.s.force).eval(), e.force, 1e-15));  // same force
+    EXPECT_TRUE(test::near_relative(Vec3Object::flat(sofa_cloth.state.force).eval(), e.force, 1e-15));  // same force
     Eigen::MatrixXd k_sofa(n, n);
     for (Eigen::Index j = 0; j < n; ++j) {
-        std::fill(sofa_cloth.s.dx.begin(), sofa_cloth.s.dx.end(), Vec3::Zero());
-        std::fill(sofa_cloth.s.df.begin(), sofa_cloth.s.df.end(), Vec3::Zero());
-        Vec3Object::flat(sofa_cloth.s.dx)[j] = 1.0;
+        std::fill(sofa_cloth.state.dx.begin(), sofa_cloth.state.dx.end(), Vec3::Zero());
+        std::fill(sofa_cloth.state.df.begin(), sofa_cloth.state.df.end(), Vec3::Zero());
+        Vec3Object::flat(sofa_cloth.state.dx)[j] = 1.0;
         sofa.accumulate_dforce(1.0, 0.0);
-        k_sofa.col(j) = Vec3Object::flat(sofa_cloth.s.df);
+        k_sofa.col(j) = Vec3Object::flat(sofa_cloth.state.df);
     }
     // the two differ only by −s_k δ_k/L_k · U Uᵀ per pair (symmetric, non-zero when stretched)
     const Eigen::MatrixXd difference = e.k_dforce - k_sofa;

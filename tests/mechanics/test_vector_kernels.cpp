@@ -165,7 +165,9 @@ TEST(VectorKernels, SpringForceEnergyAndStiffnessAreBitwiseTheScalarLoopOnEveryP
                     ASSERT_EQ(0, std::memcmp(&a, &b, sizeof(double))) << what << ": stiffness entry " << i << ": " << a << " against " << b;
                     short_springs += (i % 36 == 0 && a == 0.0) ? 1 : 0;
                 }
-                if (count >= 4) EXPECT_GT(scalar_energy, 0.0) << what;  // the first three springs are short
+                if (count >= 4) {
+                    EXPECT_GT(scalar_energy, 0.0) << what;  // the first three springs are short
+                }
                 ++compared;
             }
     EXPECT_EQ(compared, 2 * 2 * 8);

@@ -11,6 +11,7 @@
 #include "penalty/mechanics/triangular_tensor_mass.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/node.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -42,9 +43,7 @@ std::string cloth_scene(const std::string& force_fields, bool quads = true) {
     </Node>)";
 }
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), {});
-}
+using penalty::test::build;
 
 /// The force fields of the cloth node.
 const std::vector<std::unique_ptr<BaseForceField>>& cloth_force_fields(scene::Scene& s) {

@@ -6,6 +6,7 @@
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/component_defaults.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -22,19 +23,7 @@ using namespace penalty;
 using namespace penalty::scene;
 using ::testing::HasSubstr;
 
-const ComponentSpec& spec(std::string_view type) {
-    const ComponentSpec* s = find_component(type);
-    if (s == nullptr) throw std::runtime_error("no spec for " + std::string(type));
-    return *s;
-}
-
-/// A spec's default as a number (the test fails when it is not one).
-double default_number(std::string_view type, std::string_view attribute) {
-    const AttributeSpec* a = find_attribute(spec(type), attribute);
-    EXPECT_NE(a, nullptr) << type << "." << attribute;
-    if (a == nullptr) return std::nan("");
-    return std::stod(std::string(a->default_value));
-}
+using penalty::test::default_number;
 
 bool is_scene_dependent(std::string_view default_value) { return !default_value.empty() && default_value.front() == '('; }
 

@@ -6,6 +6,7 @@
 #include "penalty/scene/scene.hpp"
 
 #include "penalty_test/grid_meshes.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -40,9 +41,7 @@ std::string beam_scene(const std::string& force_field) {
     </Node>)";
 }
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), {});
-}
+using penalty::test::build;
 
 std::vector<Vec3> positions_after(scene::Scene& s, int steps) {
     for (int i = 0; i < steps; ++i) s.step();

@@ -5,6 +5,8 @@
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/component_defaults.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -17,9 +19,7 @@ namespace {
 using namespace penalty;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), {});
-}
+using penalty::test::build;
 
 /// One node of particles at `positions` (vertexMass 0.5 kg each) under `gravity`, an implicit
 /// solver without Rayleigh damping (unless given), and the given components.
@@ -37,13 +37,7 @@ std::string particles_scene(const std::string& positions, const std::string& com
 
 const Vec3Object& dofs(const scene::Scene& s) { return dynamic_cast<const Vec3Object&>(*s.states()[0].state); }
 
-double default_number(std::string_view type, std::string_view attribute) {
-    const scene::ComponentSpec* spec = scene::find_component(type);
-    EXPECT_NE(spec, nullptr) << type;
-    const scene::AttributeSpec* a = spec ? scene::find_attribute(*spec, attribute) : nullptr;
-    EXPECT_NE(a, nullptr) << type << "." << attribute;
-    return a ? std::stod(std::string(a->default_value)) : std::nan("");
-}
+using penalty::test::default_number;
 
 TEST(ExternalLoadComponents, RegistryDefaultsAgreeWithTheLibrary) {
     const PlaneForceFieldParameters plane;

@@ -3,6 +3,7 @@
 // a scene attribute and from the build options (the command line).
 #include "penalty/io/error.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -14,9 +15,7 @@ namespace {
 using namespace penalty;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml, const scene::BuildOptions& options = {}) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), options);
-}
+using penalty::test::build;
 
 const char* const kTwoSpheres = R"(<Node name="root">
       <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/><CollisionResponse/>

@@ -4,6 +4,7 @@
 #include "penalty/mechanics/hexahedral_fem.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -19,19 +20,8 @@ namespace {
 using namespace penalty;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"));
-}
-
-std::string error_of(const std::string& xml) {
-    try {
-        (void)build(xml);
-    } catch (const io::SceneError& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no SceneError for:\n" << xml;
-    return {};
-}
+using penalty::test::build;
+using penalty::test::error_of;
 
 const Vec3Object& vec3_state(const scene::Scene& s, std::size_t i) {
     return dynamic_cast<const Vec3Object&>(*s.states().at(i).state);

@@ -4,6 +4,7 @@
 #include "penalty/mechanics/regions.hpp"
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -15,19 +16,8 @@ namespace {
 using namespace penalty;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"));
-}
-
-std::string error_of(const std::string& xml) {
-    try {
-        (void)build(xml);
-    } catch (const io::SceneError& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no SceneError for:\n" << xml;
-    return {};
-}
+using penalty::test::build;
+using penalty::test::error_of;
 
 TEST(AlignedBox, PointsOnTheFacesAreInsideAndCornersAreOrdered) {
     const AlignedBox box = AlignedBox::from_corners(Vec3(1, 1, 1), Vec3(0, 0, 0));

@@ -7,6 +7,7 @@
 #include "penalty/io/error.hpp"
 #include "penalty/mechanics/state.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -18,9 +19,7 @@ namespace {
 using namespace penalty;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), {});
-}
+using penalty::test::build;
 
 // A 3×3-point cloth (8 triangles) above a fixed floor of two triangles (no cloth point lies over
 // the floor's diagonal: MinProximity's Triangle-Point test leaves edges to Line models); `cloth_extra` goes in the
@@ -50,7 +49,7 @@ std::string cloth_scene(const std::string& cloth_extra, const std::string& surfa
 
 const std::string kTriangles = R"(triangles="0 1 4  0 4 3  1 2 5  1 5 4  3 4 7  3 7 6  4 5 8  4 8 7")";
 
-std::vector<Vec3> run(scene::Scene& s, int steps) {
+std::vector<Vec3> cloth_after(scene::Scene& s, int steps) {
     for (int i = 0; i < steps; ++i) s.step();
     for (const auto& r : s.states())
         if (r.node_path == "/cloth") return dynamic_cast<const Vec3Object&>(*r.state).position;
@@ -69,8 +68,8 @@ TEST(NodeContextLookup, CollisionModelsInAChildNodeActOnTheParentsState) {
     // The models of the child node read the cloth's state: the node they record is the cloth's.
     EXPECT_EQ(a->collision_models()[1].node->name(), "cloth");
     EXPECT_EQ(a->collision_models()[2].node->name(), "cloth");
-    const std::vector<Vec3> xa = run(*a, 60);
-    const std::vector<Vec3> xb = run(*b, 60);
+    const std::vector<Vec3> xa = cloth_after(*a, 60);
+    const std::vector<Vec3> xb = cloth_after(*b, 60);
     ASSERT_EQ(xa.size(), 9u);
     // It fell (0.3 m in free fall takes 0.25 s) and rests on the floor, about contactDistance
     // above it: contacts were made.
@@ -89,8 +88,8 @@ TEST(NodeContextLookup, TopologyComesFromTheNearestAncestor) {
         cloth_scene("    <MeshTopology " + kTriangles + "/>\n    <TriangularFEMForceField youngModulus=\"300\"/>\n", "");
     auto a = build(in_child);
     auto b = build(in_parent);
-    const std::vector<Vec3> xa = run(*a, 10);
-    const std::vector<Vec3> xb = run(*b, 10);
+    const std::vector<Vec3> xa = cloth_after(*a, 10);
+    const std::vector<Vec3> xb = cloth_after(*b, 10);
     for (std::size_t i = 0; i < xa.size(); ++i) EXPECT_EQ(xa[i], xb[i]) << "point " << i;
 }
 

@@ -3,6 +3,7 @@
 #include "penalty/io/error.hpp"
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -14,19 +15,8 @@ namespace {
 using namespace penalty;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"));
-}
-
-std::string error_of(const std::string& xml) {
-    try {
-        (void)build(xml);
-    } catch (const io::SceneError& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no SceneError for:\n" << xml;
-    return {};
-}
+using penalty::test::build;
+using penalty::test::error_of;
 
 const Vec3Object& state_of(const scene::Scene& s, std::size_t i = 0) {
     return dynamic_cast<const Vec3Object&>(*s.states()[i].state);

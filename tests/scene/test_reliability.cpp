@@ -11,6 +11,7 @@
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -27,9 +28,7 @@ namespace {
 using namespace penalty;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"));
-}
+using penalty::test::build;
 
 std::string build_error(const std::string& xml) {
     try {

@@ -4,6 +4,7 @@
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -18,20 +19,8 @@ using namespace penalty;
 using penalty::scene::build_scene;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml, const scene::BuildOptions& options = {}) {
-    return build_scene(io::parse_scene_string(xml, "test.scn"), options);
-}
-
-/// The message of the SceneError the scene raises (fails the test when none is raised).
-std::string error_of(const std::string& xml) {
-    try {
-        (void)build(xml);
-    } catch (const io::SceneError& e) {
-        return e.what();
-    }
-    ADD_FAILURE() << "no SceneError for:\n" << xml;
-    return {};
-}
+using penalty::test::build;
+using penalty::test::error_of;
 
 std::filesystem::path temp_dir(const std::string& name) {
     const auto d = std::filesystem::temp_directory_path() /

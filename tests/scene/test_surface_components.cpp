@@ -3,6 +3,7 @@
 #include "penalty/io/error.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -31,9 +32,7 @@ std::string cloth_scene(const std::string& force_fields) {
     </Node>)";
 }
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), {});
-}
+using penalty::test::build;
 
 /// Lowest y of the cloth after `steps` steps (all positions checked finite).
 double sag_after(scene::Scene& s, int steps) {

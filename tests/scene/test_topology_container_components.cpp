@@ -5,6 +5,7 @@
 #include "penalty/mechanics/state.hpp"
 #include "penalty/mechanics/topological_mapping.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -17,9 +18,7 @@ using namespace penalty;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
-std::unique_ptr<scene::Scene> build(const std::string& xml) {
-    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), {});
-}
+using penalty::test::build;
 
 /// The topology of the only state of a one-body scene.
 const MeshTopology& topology_of(const scene::Scene& s) {

@@ -137,7 +137,9 @@ void run(IntersectionParams ip, double reduction, bool ties_expected) {
     EXPECT_GT(double(all_outputs), reduction * double(fewer_outputs)) << fewer_outputs << " of " << all_outputs;
     EXPECT_GT(contacts, 100u);
     // the scene has ids whose least value several outputs share (exact ties)
-    if (ties_expected) EXPECT_GE(ties, 5u);
+    if (ties_expected) {
+        EXPECT_GE(ties, 5u);
+    }
 }
 
 TEST(ContactOutputsOnly, NewProximitySameContactsFromFewerOutputs) { run(IntersectionParams::new_proximity(), 5.0, true); }

@@ -25,8 +25,8 @@ namespace {
 using namespace test::stiff_drop;
 
 /// Static two-triangle floor at y = 0 (normal +y), ±10 m, contact stiffness k (N/m, physical law).
-struct Floor : test::StaticFloor {
-    Floor(Node& parent, double k) : StaticFloor(parent, test::floor_params(k)) {}
+struct FloorOfStiffness : test::StaticFloor {
+    FloorOfStiffness(Node& parent, double k) : StaticFloor(parent, test::floor_params(k)) {}
 };
 
 // ---- stiff drop on a plane ---------------------------------------------------------------------
@@ -227,7 +227,7 @@ TEST(NewtonContact, ContactsAppearAndDisappearBetweenIterates) {
     Simulation sim;
     sim.root().set_gravity(Vec3(0, -kG, 0));
     sim.root().set_dt(kH);
-    Floor floor(sim.root(), 2.0 * kKs);
+    FloorOfStiffness floor(sim.root(), 2.0 * kKs);
     Node& bodies = sim.root().add_child("bodies");
     auto& solver = bodies.set_ode_solver<EulerImplicitSolver>();
     tight_cg(solver);
@@ -343,7 +343,7 @@ TEST(NewtonContact, FrictionHistoryAndDissipationCountedOncePerStep) {
     Simulation sim;
     sim.root().set_gravity(Vec3(0, -kG, 0));
     sim.root().set_dt(kH);
-    Floor floor(sim.root(), 2.0 * kKs);
+    FloorOfStiffness floor(sim.root(), 2.0 * kKs);
     floor.model->params().contact_friction = 0.2;
     Node& body = sim.root().add_child("body");
     auto& solver = body.set_ode_solver<EulerImplicitSolver>();

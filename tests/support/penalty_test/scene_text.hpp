@@ -1,0 +1,30 @@
+#pragma once
+// Scenes written in a test as .scn text ("test.scn"): built, or the SceneError they raise.
+#include "penalty/io/error.hpp"
+#include "penalty/io/scene_file.hpp"
+#include "penalty/scene/scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+namespace penalty::test {
+
+/// The scene of `xml`, built with `options` (data files resolve against the working directory).
+inline std::unique_ptr<scene::Scene> build(const std::string& xml, const scene::BuildOptions& options = {}) {
+    return scene::build_scene(io::parse_scene_string(xml, "test.scn"), options);
+}
+
+/// The message of the SceneError that building `xml` raises (fails the test when none is raised).
+inline std::string error_of(const std::string& xml) {
+    try {
+        (void)build(xml);
+    } catch (const io::SceneError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no SceneError for:\n" << xml;
+    return {};
+}
+
+}  // namespace penalty::test
