@@ -12,13 +12,27 @@ namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-void check_element(const CollisionModel& m, const char* function, Index element, const Vec3& P) {
+/// The error of a contact point that check_element refuses (out of line: the check, called for
+/// every contact, stays a compare and a branch).
+[[noreturn, gnu::cold, gnu::noinline]] void throw_bad_element(const CollisionModel& m, const char* function, Index element,
+                                                                const Vec3& P) {
     if (element < 0 || static_cast<std::size_t>(element) >= m.size())
         throw_invalid_argument(function, ": model '", m.name(), "' (", model_type_name(m.type()),
                                "): element ", element, " out of range [0, ", m.size(), ")");
-    if (!P.allFinite())
-        throw_invalid_argument(function, ": model '", m.name(), "', element ", element,
-                               ": non-finite contact point P (", P.transpose(), ")");
+    throw_invalid_argument(function, ": model '", m.name(), "', element ", element,
+                           ": non-finite contact point P (", P.transpose(), ")");
+}
+
+/// `element` must be one of the model's and P finite.
+inline void check_element(const CollisionModel& m, const char* function, Index element, const Vec3& P) {
+    if (element < 0 || static_cast<std::size_t>(element) >= m.size() || !P.allFinite()) [[unlikely]]
+        throw_bad_element(m, function, element, P);
+}
+
+/// `element` must be one of the model's (IdentityContactMapper: P is not used).
+inline void check_element(const CollisionModel& m, const char* function, Index element) {
+    if (element < 0 || static_cast<std::size_t>(element) >= m.size()) [[unlikely]]
+        throw_bad_element(m, function, element, Vec3::Zero());
 }
 
 /// A flat parent vector as the per-DOF values it holds (Vec3: 3 scalars, RigidDeriv: 6; the
@@ -56,8 +70,8 @@ IdentityContactMapper::IdentityContactMapper(const CollisionModel& model) : mode
     }
 }
 
-Index IdentityContactMapper::add_point(const Vec3& P, Index element, double& r) {
-    check_element(*model_, "IdentityContactMapper::add_point", element, P.allFinite() ? P : Vec3::Zero());
+Index IdentityContactMapper::add_point(const Vec3& /*P: the element's own point*/, Index element, double& r) {
+    check_element(*model_, "IdentityContactMapper::add_point", element);
     if (sphere_) r = sphere_->radius(element);
     return element;
 }

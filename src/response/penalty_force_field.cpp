@@ -21,10 +21,25 @@ Vec3 rotate_onto_tangent_plane(const Vec3& shear, const Vec3& n) {
     return projected * (shear.norm() / projected_norm);
 }
 
-void check_non_negative(const char* what, double value, std::size_t contact) {
-    if (!std::isfinite(value) || value < 0.0)
-        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", contact, ": ", what,
-                               " = ", value, " must be finite and >= 0");
+bool finite_non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
+
+/// add_contact's error: the first of its checks that the contact fails (out of line: the checks,
+/// made for every contact, stay compares and one branch).
+[[noreturn, gnu::cold, gnu::noinline]] void throw_bad_contact(std::size_t id, Index m1, Index m2, const Vec3& normal,
+                                                                double dist, double ks, double mu_s, double mu_v) {
+    if (m1 < 0 || m2 < 0)
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": DOF index m1 = ", m1,
+                               ", m2 = ", m2, " must be >= 0");
+    if (!normal.allFinite() || std::abs(normal.norm() - 1.0) > 1e-6)
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": normal (", normal.x(), ", ",
+                               normal.y(), ", ", normal.z(), ") must be a finite unit vector");
+    if (!std::isfinite(dist))
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": dist = ", dist, " must be finite");
+    const char* what = !finite_non_negative(ks) ? "stiffness ks" : !finite_non_negative(mu_s) ? "static friction mu_s"
+                                                                                             : "dynamic friction mu_v";
+    const double value = !finite_non_negative(ks) ? ks : !finite_non_negative(mu_s) ? mu_s : mu_v;
+    throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": ", what, " = ", value,
+                           " must be finite and >= 0");
 }
 
 }  // namespace
@@ -59,20 +74,13 @@ void PenaltyForceField::clear(std::size_t reserve) {
 void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index index2,
                                     const Vec3& normal, double dist, double ks, double mu_s,
                                     double mu_v, Index old_index) {
-    const std::size_t id = contacts_.size();
-    if (m1 < 0 || m2 < 0)
-        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": DOF index m1 = ",
-                               m1, ", m2 = ", m2, " must be >= 0");
-    if (!normal.allFinite() || std::abs(normal.norm() - 1.0) > 1e-6)
-        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": normal (",
-                               normal.x(), ", ", normal.y(), ", ", normal.z(),
-                               ") must be a finite unit vector");
-    if (!std::isfinite(dist))
-        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": dist = ", dist,
-                               " must be finite");
-    check_non_negative("stiffness ks", ks, id);
-    check_non_negative("static friction mu_s", mu_s, id);
-    check_non_negative("dynamic friction mu_v", mu_v, id);
+    // DOF indices >= 0, a finite unit normal (|‖n‖ − 1| <= 1e-6), a finite dist, finite ks, mu_s,
+    // mu_v >= 0 (NaN fails every comparison below)
+    const bool valid = m1 >= 0 && m2 >= 0 && normal.allFinite() && std::abs(normal.norm() - 1.0) <= 1e-6 &&
+                       std::isfinite(dist) && finite_non_negative(ks) && finite_non_negative(mu_s) &&
+                       finite_non_negative(mu_v);
+    if (!valid) [[unlikely]]
+        throw_bad_contact(contacts_.size(), m1, m2, normal, dist, ks, mu_s, mu_v);
 
     PenaltyContact& contact = contacts_.emplace_back();
     contact.m1 = m1;
