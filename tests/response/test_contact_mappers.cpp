@@ -7,7 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace penalty {
@@ -205,6 +208,52 @@ TEST(ContactMapper, JacobianMatchesFiniteDifferencesAndAdjoint) {
     }
     EXPECT_EQ(checked, 40 * 7);
     EXPECT_EQ(rigid_checked, 40 * 2);
+}
+
+// A contact point must name an element of its model, and (except for Point and Sphere models,
+// whose contact point is the element itself) be finite: the error names the mapper, the model,
+// the element and, for a non-finite point, the point; a failed call adds no row.
+TEST(ContactMapper, BadElementOrNonFinitePointNamesTheModelAndTheElement) {
+    std::mt19937 g(20261127);
+    Scene s(g);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    int identity = 0, barycentric = 0, rigid = 0;
+    for (CollisionModel* m : s.models()) {
+        auto mapper = make_contact_mapper(*m);
+        mapper->resize(2);
+        const std::string name = "'" + m->name() + "'";
+        const auto message_of = [&](const Vec3& P, Index e) -> std::string {
+            try {
+                double r = 0.0;
+                (void)mapper->add_point(P, e, r);
+            } catch (const std::invalid_argument& error) {
+                return error.what();
+            }
+            return "no exception";
+        };
+        const Index size = Index(m->size());
+        for (const Index e : {Index(-1), size, size + 7}) {
+            const std::string message = message_of(point_near(s, *m, 0, g), e);
+            EXPECT_NE(message.find(name), std::string::npos) << message;
+            EXPECT_NE(message.find("element " + std::to_string(e) + " out of range [0, " + std::to_string(size) + ")"),
+                      std::string::npos)
+                << message;
+        }
+        const std::string nan_message = message_of(Vec3(0.5, nan, 0.0), 0);
+        const bool point_is_the_element = m == s.points.get() || m == s.spheres.get();
+        if (point_is_the_element) {
+            EXPECT_EQ(nan_message, "no exception") << m->name();  // P is not read
+            ++identity;
+        } else {
+            EXPECT_NE(nan_message.find(name + ", element 0: non-finite contact point P (0.5"), std::string::npos)
+                << nan_message;
+            EXPECT_EQ(mapper->size(), 0u) << m->name();  // nothing added by the failed calls
+            ++(s.is_rigid(m) ? rigid : barycentric);
+        }
+    }
+    EXPECT_EQ(identity, 2);
+    EXPECT_EQ(barycentric, 3);
+    EXPECT_EQ(rigid, 2);
 }
 
 TEST(ContactMapper, TriangleProjectionAndQuadBilinear) {
