@@ -29,6 +29,7 @@ extern "C" void on_stop_signal(int /*signal*/) { g_stop.store(true); }
 constexpr std::size_t kMaxHeaderBytes = 16 * 1024;
 constexpr int kMaxConnections = 32;
 constexpr int kIoTimeoutSeconds = 10;
+constexpr std::size_t kMaxDrainBytes = 1024 * 1024;  ///< read and dropped after an early answer
 
 std::string_view content_type(const std::filesystem::path& file) {
     const std::string ext = file.extension().string();
@@ -71,6 +72,25 @@ void send_status(int socket, int status, std::string_view reason) {
     if (send_all(socket, head.data(), head.size())) send_all(socket, body.data(), body.size());
 }
 
+/// Ends a connection whose request was not read to its end: stops sending, then reads and drops
+/// what the client still sends (up to kMaxDrainBytes, for at most a second) before closing. Closing
+/// with unread input makes the kernel reset the connection, and the reset can discard the answer
+/// before the client reads it (the "lingering close" of HTTP servers).
+void close_after_draining(int socket) {
+    ::shutdown(socket, SHUT_WR);
+    timeval timeout{1, 0};
+    ::setsockopt(socket, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    char buffer[4096];
+    std::size_t drained = 0;
+    while (drained < kMaxDrainBytes) {
+        const ssize_t n = ::recv(socket, buffer, sizeof buffer, 0);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;  // the client closed, or a second passed
+        drained += std::size_t(n);
+    }
+    ::close(socket);
+}
+
 /// Reads one request, answers it, closes the socket. Never throws.
 void handle_connection(int socket, const std::filesystem::path& directory) noexcept {
     try {
@@ -82,7 +102,7 @@ void handle_connection(int socket, const std::filesystem::path& directory) noexc
         while (request.find("\r\n\r\n") == std::string::npos && request.find("\n\n") == std::string::npos) {
             if (request.size() > kMaxHeaderBytes) {
                 send_status(socket, 431, "Request Header Fields Too Large");
-                ::close(socket);
+                close_after_draining(socket);
                 return;
             }
             const ssize_t n = ::recv(socket, buffer, sizeof buffer, 0);

@@ -10,6 +10,7 @@ import os
 import re
 import struct
 import shutil
+import socket
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -191,6 +192,33 @@ run("view", view, "--no-serve", expect=0)
 p = run("view", work, "--no-serve", expect=1)
 check("has no run.json: not a viewer directory" in p.stderr, "penalty view names a directory without run.json")
 run("run", scene, "--view", view, "--view-every", "0", expect=2)
+
+
+def oversized_request_answers(port):
+    """Sends a request whose header is over the server's limit, all of it, then reads the answer:
+    the server must answer 431 and read what is left before it closes (closing with unread input
+    resets the connection, and the reset can discard the answer before it is read)."""
+    with socket.create_connection(("127.0.0.1", port), timeout=10) as s:
+        try:
+            s.sendall(b"GET / HTTP/1.1\r\nX: " + b"a" * 40000 + b"\r\n\r\n")
+            s.shutdown(socket.SHUT_WR)
+            answer = b""
+            while chunk := s.recv(4096):
+                answer += chunk
+        except OSError as e:
+            return f"error {e}"
+    return answer.split(b"\r\n")[0].decode(errors="replace")
+
+
+server = subprocess.Popen([penalty, "view", view], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+try:
+    address = re.search(r"http://127\.0\.0\.1:(\d+)/", server.stdout.readline())
+    check(address is not None, "penalty view prints the address it serves")
+    answers = [oversized_request_answers(int(address.group(1))) for _ in range(20)]
+    check(all(" 431 " in a for a in answers), f"penalty view answers 431 to 20 oversized headers sent whole: {set(answers)}")
+finally:
+    server.terminate()
+    server.wait(timeout=30)
 
 # SOFA HEAD's orders: on by default, --no-sofa-head-orders turns them off (the visitors' order);
 # one contact pair here, so both orders give the same trajectory
