@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <fstream>
@@ -77,15 +78,20 @@ void send_status(int socket, int status, std::string_view reason) {
 /// with unread input makes the kernel reset the connection, and the reset can discard the answer
 /// before the client reads it (the "lingering close" of HTTP servers).
 void close_after_draining(int socket) {
+    using Clock = std::chrono::steady_clock;
     ::shutdown(socket, SHUT_WR);
-    timeval timeout{1, 0};
-    ::setsockopt(socket, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+    const Clock::time_point deadline = Clock::now() + std::chrono::seconds(1);
     char buffer[4096];
     std::size_t drained = 0;
     while (drained < kMaxDrainBytes) {
+        // each read waits at most until the deadline (a client trickling bytes cannot hold on)
+        const auto left = std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now()).count();
+        if (left <= 0) break;
+        timeval timeout{static_cast<time_t>(left / 1000000), static_cast<suseconds_t>(left % 1000000)};
+        ::setsockopt(socket, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
         const ssize_t n = ::recv(socket, buffer, sizeof buffer, 0);
         if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;  // the client closed, or a second passed
+        if (n <= 0) break;  // the client closed, or the deadline passed
         drained += std::size_t(n);
     }
     ::close(socket);
