@@ -1,4 +1,5 @@
 #include "penalty/mechanics/diagonal_mass.hpp"
+
 #include "penalty_test/point_state.hpp"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // PlaneForceField, ConstantForceField, ConicalForceField (SOFA's MechanicalLoad): closed forms of
 // their forces, SOFA's quirks (unnormalised plane normal, depth-scaled damping, the cone's
 // normal-only stiffness), and finite-difference checks of f = −∂E/∂x and df = K·dx.
-
 #include "penalty/mechanics/external_loads.hpp"
+
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/point_state.hpp"
 
