@@ -239,6 +239,7 @@ struct NarrowPhaseScratch::Buffers {
     std::vector<std::uint32_t> nearest;
     Keys nearest_keys;
     DetectionOutputList nearest_outputs;
+    Keys filtered;  // evaluate_candidates: the candidates its kernel's filter keeps
 };
 
 NarrowPhaseScratch::NarrowPhaseScratch() : buffers_(std::make_unique<Buffers>()) {}
@@ -376,17 +377,23 @@ LongElements long_elements(const IntersectionParams& params, const CollisionMode
     return {side_a ? &m1 : &m2, side_a, R, 0.0};
 }
 
-// Intersects the candidates `keys` (element 1 << 32 | element 2) of m1 × m2 in their order:
-// the kernel's writes to the models first, over all candidates in order, then its reads, in
-// parallel chunks concatenated in chunk order (the outputs of the sequential loop).
+// Intersects the candidates `all_keys` (element 1 << 32 | element 2) of m1 × m2 in their
+// order: the kernel's filter first, if it has one (KernelParts::filter: drops candidates that
+// give no output), then its writes to the models, over all candidates in order, then its reads,
+// in parallel chunks concatenated in chunk order (the outputs of the sequential loop).
 // separation_tests: the kernels run their early outs (separation.hpp) on every candidate.
-void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& keys,
-                         const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out,
-                         bool separation_tests) {
+void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
+                         const Keys& all_keys, const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b,
+                         DetectionOutputList& out, bool separation_tests) {
     const bool node = same_node(m1, m2);
     // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
     // models' sizes (check_trees), so every element index is in range
     const detail::KernelParts kernel = detail::pair_kernel_parts(params, m1, m2);
+    if (kernel.filter != nullptr && !all_keys.empty()) {
+        b.filtered.clear();
+        kernel.filter(params, m1, m2, all_keys, b.filtered);
+    }
+    const Keys& keys = kernel.filter != nullptr && !all_keys.empty() ? b.filtered : all_keys;
     // the planes its separation tests read, for the current positions, before the parallel part
     if (!keys.empty() && detail::reads_triangle_planes(kernel)) {
         static_cast<TriangleModel&>(m1).update_planes();

@@ -370,6 +370,7 @@ detail::KernelParts detail::pair_kernel_parts(const IntersectionParams& params, 
     const KernelFn fn = pair_kernel(params, m1, m2);
     if (fn == &np_triangle_triangle && np_triangle_triangle_writes_normals(params, m1, m2))
         return {&np_triangle_triangle_normals, &np_triangle_triangle_geometry};
+    if (fn == &np_triangle_point || fn == &np_triangle_sphere) return {nullptr, fn, &filter_np_triangle_feature};
     return {nullptr, fn};
 }
 

@@ -4,10 +4,13 @@
 
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/models.hpp"
+#include "penalty/mechanics/kernel_path.hpp"
 
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <vector>
 
 namespace penalty::detail {
 
@@ -40,6 +43,14 @@ using KernelFn = int (*)(PairCtx&);
 struct KernelParts {
     void (*writes)(PairCtx&) = nullptr;
     KernelFn reads = nullptr;
+    /// Optional: appends to `kept`, in order, the candidates of `keys` (element 1 << 32 |
+    /// element 2) that may give `reads` an output, decided by the kernel's own first tests with
+    /// the same operations (so every candidate dropped gives no output, and the outputs of the
+    /// kept ones are those of all): cheaper a candidate than the kernel, for the kernels whose
+    /// candidates mostly fail those tests: NewProximity Triangle–Point and Triangle–Sphere
+    /// (filter_np_triangle_feature).
+    void (*filter)(const IntersectionParams&, const CollisionModel& m1, const CollisionModel& m2,
+                   std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept) = nullptr;
 };
 [[nodiscard]] KernelParts pair_kernel_parts(const IntersectionParams& params, const CollisionModel& m1,
                                             const CollisionModel& m2);
@@ -207,6 +218,90 @@ inline constexpr NewProximityConstants kNewProximity{
                         .edge_ac_flag = TriangleModel::kE12,
                         .edge_bc_flag = TriangleModel::kE31},
 };
+
+/// Gram system of point q against triangle (p1, p2, p3): α, β with q ≈ p1 + α AB + β AC.
+struct Gram {
+    Vec3 ab, ac;
+    double g00, g01, g11, b0, b1, det, alpha, beta;
+    bool degenerate;
+};
+inline Gram gram(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q) {
+    Gram g;
+    g.ab = p2 - p1;
+    g.ac = p3 - p1;
+    const Vec3 aq = q - p1;
+    g.g00 = g.ab.dot(g.ab);
+    g.g11 = g.ac.dot(g.ac);
+    g.g01 = g.ab.dot(g.ac);
+    g.b0 = aq.dot(g.ab);
+    g.b1 = aq.dot(g.ac);
+    g.det = g.g00 * g.g11 - g.g01 * g.g01;
+    // zero-area triangle: SOFA divides by det = 0 (NaN/inf); we report no contact
+    g.degenerate = !(g.det > 0.0) || !(g.g00 > 0.0) || !(g.g11 > 0.0) ||
+                   !(g.g00 + g.g11 - 2.0 * g.g01 > 0.0);
+    g.alpha = g.degenerate ? 0.0 : (g.b0 * g.g11 - g.b1 * g.g01) / g.det;
+    g.beta = g.degenerate ? 0.0 : (g.b1 * g.g00 - g.b0 * g.g01) / g.det;
+    return g;
+}
+
+/// NewProximity's closest feature of the triangle to the projected point (see
+/// TriangleRegionConstants): its α, β, or false if the triangle does not own it (`flags`).
+inline bool closest_feature(const Gram& g, std::uint32_t flags, const TriangleRegionConstants& k, double& alpha,
+                     double& beta) {
+    using F = TriangleModel::Flags;
+    alpha = g.alpha;
+    beta = g.beta;
+    if (!(alpha < k.inside_lo || beta < k.inside_lo || alpha + beta > k.inside_hi)) return true;
+    const double pAB = g.b0 / g.g00;
+    const double pAC = g.b1 / g.g11;
+    if (pAB < k.inside_lo && pAC < k.vertex_a_ac) {
+        if (!(flags & F::kP1)) return false;
+        alpha = 0.0;
+        beta = 0.0;
+    } else if (pAB < k.inside_hi && pAB >= k.edge_lo && beta < k.inside_lo) {
+        if (!(flags & F::kE12)) return false;
+        alpha = pAB;
+        beta = 0.0;
+    } else if (pAC < k.inside_hi && pAC >= k.edge_lo && alpha < k.inside_lo) {
+        if (!(flags & k.edge_ac_flag)) return false;
+        alpha = 0.0;
+        beta = pAC;
+    } else {
+        const double pBC = (g.b1 - g.b0 + g.g00 - g.g01) / (g.g00 + g.g11 - 2.0 * g.g01);
+        if (pBC < k.inside_lo) {
+            if (!(flags & F::kP2)) return false;
+            alpha = 1.0;
+            beta = 0.0;
+        } else if (pBC > k.inside_hi) {
+            if (!(flags & F::kP3)) return false;
+            alpha = 0.0;
+            beta = 1.0;
+        } else {
+            if (!(flags & k.edge_bc_flag)) return false;
+            alpha = 1.0 - pBC;
+            beta = pBC;
+        }
+    }
+    return true;
+}
+
+/// NewProximity Triangle–Sphere's region constants under `params`' quirks (§14.2: SOFA's edge
+/// range and its checks of FLAG_E12 on edge AC and FLAG_E31 on BC, each fixable).
+inline TriangleRegionConstants triangle_sphere_region(const IntersectionParams& params) {
+    TriangleRegionConstants region = kNewProximity.triangle_sphere;
+    if (params.quirks.fix_newproximity_triangle_sphere_edge_range)
+        region.vertex_a_ac = region.edge_lo = region.inside_lo;
+    if (params.quirks.fix_newproximity_triangle_sphere_edge_flags) {
+        region.edge_ac_flag = kNewProximity.triangle_point.edge_ac_flag;
+        region.edge_bc_flag = kNewProximity.triangle_point.edge_bc_flag;
+    }
+    return region;
+}
+
+/// KernelParts::filter of np_triangle_point and np_triangle_sphere: keep_owned_feature_candidates
+/// (penalty/collision/triangle_feature_filter.hpp) on best_kernel_path().
+void filter_np_triangle_feature(const IntersectionParams& params, const CollisionModel& m1, const CollisionModel& m2,
+                                std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept);
 
 /// MinProximity (SOFA's MinProximityIntersection::doIntersection* routines).
 struct MinProximityConstants {

@@ -57,72 +57,6 @@ int np_ll(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3
     return push(c, id, p, q, n, len - cfull);
 }
 
-/// Gram system of point q against triangle (p1, p2, p3): α, β with q ≈ p1 + α AB + β AC.
-struct Gram {
-    Vec3 ab, ac;
-    double g00, g01, g11, b0, b1, det, alpha, beta;
-    bool degenerate;
-};
-Gram gram(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q) {
-    Gram g;
-    g.ab = p2 - p1;
-    g.ac = p3 - p1;
-    const Vec3 aq = q - p1;
-    g.g00 = g.ab.dot(g.ab);
-    g.g11 = g.ac.dot(g.ac);
-    g.g01 = g.ab.dot(g.ac);
-    g.b0 = aq.dot(g.ab);
-    g.b1 = aq.dot(g.ac);
-    g.det = g.g00 * g.g11 - g.g01 * g.g01;
-    // zero-area triangle: SOFA divides by det = 0 (NaN/inf); we report no contact
-    g.degenerate = !(g.det > 0.0) || !(g.g00 > 0.0) || !(g.g11 > 0.0) ||
-                   !(g.g00 + g.g11 - 2.0 * g.g01 > 0.0);
-    g.alpha = g.degenerate ? 0.0 : (g.b0 * g.g11 - g.b1 * g.g01) / g.det;
-    g.beta = g.degenerate ? 0.0 : (g.b1 * g.g00 - g.b0 * g.g01) / g.det;
-    return g;
-}
-
-/// NewProximity's closest feature of the triangle to the projected point (see
-/// TriangleRegionConstants): its α, β, or false if the triangle does not own it (`flags`).
-bool closest_feature(const Gram& g, std::uint32_t flags, const TriangleRegionConstants& k, double& alpha,
-                     double& beta) {
-    using F = TriangleModel::Flags;
-    alpha = g.alpha;
-    beta = g.beta;
-    if (!(alpha < k.inside_lo || beta < k.inside_lo || alpha + beta > k.inside_hi)) return true;
-    const double pAB = g.b0 / g.g00;
-    const double pAC = g.b1 / g.g11;
-    if (pAB < k.inside_lo && pAC < k.vertex_a_ac) {
-        if (!(flags & F::kP1)) return false;
-        alpha = 0.0;
-        beta = 0.0;
-    } else if (pAB < k.inside_hi && pAB >= k.edge_lo && beta < k.inside_lo) {
-        if (!(flags & F::kE12)) return false;
-        alpha = pAB;
-        beta = 0.0;
-    } else if (pAC < k.inside_hi && pAC >= k.edge_lo && alpha < k.inside_lo) {
-        if (!(flags & k.edge_ac_flag)) return false;
-        alpha = 0.0;
-        beta = pAC;
-    } else {
-        const double pBC = (g.b1 - g.b0 + g.g00 - g.g01) / (g.g00 + g.g11 - 2.0 * g.g01);
-        if (pBC < k.inside_lo) {
-            if (!(flags & F::kP2)) return false;
-            alpha = 1.0;
-            beta = 0.0;
-        } else if (pBC > k.inside_hi) {
-            if (!(flags & F::kP3)) return false;
-            alpha = 0.0;
-            beta = 1.0;
-        } else {
-            if (!(flags & k.edge_bc_flag)) return false;
-            alpha = 1.0 - pBC;
-            beta = pBC;
-        }
-    }
-    return true;
-}
-
 // NP-TP: triangle (p1, p2, p3) vs point q, flag checks on vertex/edge regions; swap: the point is
 // element 1.
 int np_tp(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& p3, std::uint32_t flags,
@@ -230,13 +164,7 @@ int np_triangle_point(PairCtx& c) {
 int np_triangle_sphere(PairCtx& c) {
     const auto& t = static_cast<const TriangleModel&>(c.m1);
     const SphereElem s = sphere_elem(c.m2, c.e2);
-    // SOFA's thresholds of this routine; §14.2: it checks FLAG_E12 on edge AC and FLAG_E31 on BC
-    TriangleRegionConstants region = kNewProximity.triangle_sphere;
-    if (c.p.quirks.fix_newproximity_triangle_sphere_edge_range) region.vertex_a_ac = region.edge_lo = region.inside_lo;
-    if (c.p.quirks.fix_newproximity_triangle_sphere_edge_flags) {
-        region.edge_ac_flag = kNewProximity.triangle_point.edge_ac_flag;
-        region.edge_bc_flag = kNewProximity.triangle_point.edge_bc_flag;
-    }
+    const TriangleRegionConstants region = triangle_sphere_region(c.p);
     const double sk = skins(c);
     const double R = c.p.alarm_distance + sk + s.r;
     const Vec3 &p1 = t.p(c.e1, 0), &p2 = t.p(c.e1, 1), &p3 = t.p(c.e1, 2);
