@@ -594,6 +594,7 @@ void CollisionPipeline::PairCounts::add_to(CandidateCacheStats& stats, std::size
     stats.in_sofa_order += cache.in_sofa_order;
     stats.sofa_order_sorts += cache.sofa_order_sorts;
     stats.branch_free_tests += cache.branch_free_tests;
+    stats.sure_keys_skipped += cache.sure_keys_skipped;
     candidates_evaluated += candidates;
 }
 
@@ -814,6 +815,7 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
         }
         kept.in_sofa_order = false;
         kept.outputs_sorted = 0;
+        kept.sure_current = false;
         if (opt_.sofa_output_order && !writes_models) {
             // sort_keys_in_sofa_order's buffers, grown here (a collection allocates anyway) and not
             // at the later step that sorts the keys
@@ -836,6 +838,7 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
     if (opt_.sofa_output_order && !writes_models && !kept.in_sofa_order && kept.outputs_sorted >= kept.keys.size()) {
         if (kept.keys.size() >= 2) sort_keys_in_sofa_order(i1, i2, kept.keys, scratch.sofa_order);
         kept.in_sofa_order = true;
+        kept.sure_current = false;
         ++counts.cache.sofa_order_sorts;
     }
     Keys& now = buf.keys;
@@ -858,7 +861,30 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
     // blocks are appended. The same keys in the same order either way.
     // Either way the keys kept are gathered in blocks of 64 and appended a block at a time (a
     // push_back per key was a call when the compiler did not inline it).
+    // When nearly all overlapped, most keys are usually sure to overlap until the generations
+    // end (PairCandidates::sure): every box bound stays within its model's slack s of the bound
+    // at its generation's start, so it moves by at most 2·s between two detections of one
+    // generation, and a pair whose boxes overlap now with m − 2·(s1 + s2) − tol overlaps with m
+    // at every detection left in both generations. tol covers the rounding of the sums max + m
+    // and of the bounds' changes (a few ulps of the magnitudes; 1e-12 of them here; a NaN
+    // bound makes no key sure). The flags are made in the first such test after a collection
+    // or a reordering, and the sure keys' box tests are skipped from then on.
     const std::size_t share_eighths = n_kept == 0 ? 0 : 8 * kept.overlapped_last / n_kept;
+    const bool mostly_overlapping = share_eighths >= 7;
+    double sure_margin = 0.0;
+    if (mostly_overlapping && !kept.sure_current) {
+        const double reach = 2.0 * (a.slack + b.slack);
+        const auto magnitude = [](const Aabb& box) {
+            return std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
+        };
+        const double scale = 1.0 + std::abs(margin) + reach + std::max(magnitude(t1.root_box()), magnitude(t2.root_box()));
+        sure_margin = margin - reach - 1e-12 * scale;
+        kept.sure.resize(n_kept);
+    }
+    std::uint8_t* sure = kept.sure.data();
+    // 0: no flags; 1: the flags are current; 2: made in this test
+    const int flags = !mostly_overlapping ? 0 : kept.sure_current ? 1 : 2;
+    std::size_t skipped = 0;
     const auto test_keys = [&](auto branch_free) {
         constexpr std::size_t kBlock = 64;
         std::uint64_t block[kBlock];
@@ -871,6 +897,14 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
                 if constexpr (decltype(branch_free)::value) {
                     block[count] = k;
                     count += boxes1[k >> 32].overlaps_branch_free(boxes2[k & 0xffffffffu], margin) ? 1 : 0;
+                } else if (flags == 1) {
+                    skipped += sure[j];
+                    if (sure[j] != 0 || boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) block[count++] = k;
+                } else if (flags == 2) {
+                    const Aabb& box1 = boxes1[k >> 32];
+                    const Aabb& box2 = boxes2[k & 0xffffffffu];
+                    sure[j] = box1.overlaps_branch_free(box2, sure_margin) ? 1 : 0;
+                    if (sure[j] != 0 || box1.overlaps(box2, margin)) block[count++] = k;
                 } else if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) {
                     block[count++] = k;
                 }
@@ -878,8 +912,10 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
             now.insert(now.end(), block, block + count);
         }
     };
-    if (share_eighths == 0 || share_eighths >= 7) {
+    if (share_eighths == 0 || mostly_overlapping) {
         test_keys(std::false_type{});
+        if (flags == 2) kept.sure_current = true;
+        counts.cache.sure_keys_skipped += skipped;
     } else {
         ++counts.cache.branch_free_tests;
         test_keys(std::true_type{});

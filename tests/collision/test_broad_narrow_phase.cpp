@@ -555,6 +555,53 @@ TEST(NarrowPhase, CandidateCacheGivesTheTraversalsOutputsOverManyStepsAndIsReuse
     }
 }
 
+// The kept keys sure to overlap (PairCandidates::sure) are made at some detection of a
+// generation, and a box may move by its slack s away from the generation's reference in one
+// direction before and in the other after: 2·s between the two. A sphere (slack 2r/8) swings
+// by ±0.99 s along x past a row of static points, and the flags are made with the sphere near
+// the points; points just inside the margin then, and outside it at the next swing, must be
+// box-tested again (a margin that allows only one s keeps one of them too many).
+TEST(NarrowPhase, KeysSureToOverlapStayWithinTheBoxTestAcrossASwingOfTwiceTheSlack) {
+    const double r = 0.1;
+    const double slack = 0.125 * 2.0 * r;  // the sphere model's first slack: an eighth of its extent
+    IntersectionParams params = IntersectionParams::new_proximity();
+    params.alarm_distance = 0.2;
+    params.contact_distance = 0.05;
+    const double reach = r + params.alarm_distance;  // the boxes overlap on x iff p <= c + reach
+    std::vector<Vec3> row;
+    for (int k = 0; k < 60; ++k) row.emplace_back(-0.2 + 0.45 * k / 59.0, 0.0, 0.0);
+    for (const double d : {-0.001, -0.004, -0.03, 0.01, 0.04}) row.emplace_back(reach + d, 0.0, 0.0);
+    Vec3State points_state = test::make_state(row);
+    Vec3State ball_state = test::make_state({Vec3::Zero()});
+    CollisionModelParams fixed = mp("row");
+    fixed.moving = false;
+    fixed.simulated = false;
+    PointModel points(points_state, nullptr, fixed);
+    SphereModel ball(ball_state, r, {}, mp("ball"));
+    const std::vector<CollisionModel*> models = {&ball, &points};
+    CachedAndPlain pipelines(params, models);
+    std::size_t total = 0;
+    for (int step = 0; step < 12; ++step) {
+        SCOPED_TRACE(step);
+        // 0, then -0.99 s and +0.99 s in turn: always within s of the first position. (The
+        // flags are made at step 1 and again at step 2, after the kept keys are put in SOFA's
+        // order, with the sphere near the points.)
+        ball_state.position[0].x() = step == 0 ? 0.0 : (step % 2 == 1 ? -0.99 : 0.99) * slack;
+        const SceneDetection& got = pipelines.cached.detect();
+        const SceneDetection& ref = pipelines.plain.detect();
+        expect_identical(got, ref);
+        ASSERT_EQ(pipelines.cached.candidates_evaluated(), pipelines.plain.candidates_evaluated());
+        total += count_outputs(got);
+    }
+    const auto& stats = pipelines.cached.candidate_cache_stats();
+    EXPECT_EQ(stats.collected, 1u);  // one generation throughout
+    EXPECT_EQ(stats.reused, 11u);
+    // the points deep inside (x <= c + reach - 2 s at the flags' detection: 61) skip their box
+    // test at every detection after the flags' last one (steps 3 to 11)
+    EXPECT_EQ(stats.sure_keys_skipped, 61u * 9u);
+    EXPECT_GT(total, 12u * 60u);
+}
+
 TEST(NarrowPhase, CandidateCacheInSofaOrderGivesTheSortedOutputsOfAnUnchangedScene) {
     // a scene that does not move: one collection, then kept candidates sorted into SOFA's order
     // as soon as the outputs sorted at the steps outnumber them; every step's outputs stay the

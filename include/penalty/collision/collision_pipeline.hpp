@@ -215,6 +215,9 @@ public:
         /// pair detections from kept keys (reused or just collected) whose keys were box-tested
         /// without a branch per key (between 1/8 and 7/8 of them overlapped at the last one)
         std::size_t branch_free_tests = 0;
+        /// kept keys whose box test was skipped: sure to overlap until their models'
+        /// generations end (PairCandidates::sure)
+        std::size_t sure_keys_skipped = 0;
     };
     [[nodiscard]] const CandidateCacheStats& candidate_cache_stats() const { return cache_stats_; }
     /// Element pairs handed to the kernels by the bvh detection since construction (the
@@ -299,6 +302,11 @@ private:
         /// kept keys whose boxes overlapped at the last detection (of all keys): the box test's
         /// loop branches per key only when this share is near 0 or 1, where a branch is predicted
         std::size_t overlapped_last = 0;
+        /// sure[j] != 0: keys[j]'s boxes overlap with the pair's margin until either model's
+        /// generation ends, so its box test is skipped (detect_pair_unordered). Current while
+        /// sure_current: made at the first detection after a collection or a reordering.
+        std::vector<std::uint8_t> sure;
+        bool sure_current = false;
     };
     std::vector<ModelMotion> motion_;
     std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)
