@@ -686,16 +686,26 @@ void CollisionPipeline::track_motion(std::size_t i) {
     }
     // A new generation. Slack of a moving model: an eighth of the mean element extent (at
     // least 1e-3 of the model's extent) to start with; doubled when a generation lasts a single
-    // refit, up to a quarter of the extent, beyond which the model is traversed at every step
-    // for 16 refits (a wider slack would only collect more candidates than it saves); halved
-    // when generations last long. A static model's boxes change only with a new build: slack 0.
+    // refit, up to a quarter of the extent (for a Point model, of the points' spacing), beyond
+    // which the model is traversed at every step for 16 refits (a wider slack would only
+    // collect more candidates than it saves); halved when generations last long. A static
+    // model's boxes change only with a new build: slack 0.
     double extent = 0.0;
+    double largest_extent = 0.0;  // the slack's bound: a quarter of it
     for (const Aabb& a : boxes) extent += (a.max - a.min).maxCoeff();
     extent = boxes.empty() ? 0.0 : extent / double(boxes.size());
     if (!trees_[i].empty()) {
         const Aabb& root = trees_[i].root_box();
-        extent = std::max(extent, 1e-3 * (root.max - root.min).maxCoeff());
+        const double root_extent = (root.max - root.min).maxCoeff();
+        extent = std::max(extent, 1e-3 * root_extent);
+        // A Point model's elements have no extent (their boxes are the contact distance): its
+        // slack may grow up to a quarter of the points' spacing on a surface, root extent / √n.
+        // (With 1e-3 of the root extent, the points of AdvancedSolversMultipleGroupsSolver's
+        // falling cubes were traversed at nearly every step.)
+        if (models_[i]->type() == ModelType::Point)
+            largest_extent = std::max(extent, root_extent / std::sqrt(double(boxes.size())));
     }
+    largest_extent = std::max(largest_extent, extent);
     if (!std::isfinite(extent)) extent = 0.0;
     const bool fresh = mm.generation == 0 || mm.reference.size() != boxes.size();
     if (!moving) {
@@ -703,7 +713,7 @@ void CollisionPipeline::track_motion(std::size_t i) {
     } else if (fresh) {
         mm.slack = 0.125 * extent;
     } else if (mm.steps <= 1) {
-        if (2.0 * mm.slack > 0.25 * extent) {
+        if (2.0 * mm.slack > 0.25 * largest_extent) {
             mm.generation = 0;  // pairs with this model traverse the trees
             mm.uncached_refits = 16;
             mm.reference.clear();
@@ -884,7 +894,7 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
     std::uint8_t* sure = kept.sure.data();
     // 0: no flags; 1: the flags are current; 2: made in this test
     const int flags = !mostly_overlapping ? 0 : kept.sure_current ? 1 : 2;
-    std::size_t skipped = 0;
+    std::size_t sure_count = 0;
     const auto test_keys = [&](auto branch_free) {
         constexpr std::size_t kBlock = 64;
         std::uint64_t block[kBlock];
@@ -898,12 +908,12 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
                     block[count] = k;
                     count += boxes1[k >> 32].overlaps_branch_free(boxes2[k & 0xffffffffu], margin) ? 1 : 0;
                 } else if (flags == 1) {
-                    skipped += sure[j];
                     if (sure[j] != 0 || boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) block[count++] = k;
                 } else if (flags == 2) {
                     const Aabb& box1 = boxes1[k >> 32];
                     const Aabb& box2 = boxes2[k & 0xffffffffu];
                     sure[j] = box1.overlaps_branch_free(box2, sure_margin) ? 1 : 0;
+                    sure_count += sure[j];
                     if (sure[j] != 0 || box1.overlaps(box2, margin)) block[count++] = k;
                 } else if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) {
                     block[count++] = k;
@@ -914,8 +924,11 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
     };
     if (share_eighths == 0 || mostly_overlapping) {
         test_keys(std::false_type{});
-        if (flags == 2) kept.sure_current = true;
-        counts.cache.sure_keys_skipped += skipped;
+        if (flags == 1) counts.cache.sure_keys_skipped += kept.sure_count;
+        if (flags == 2) {
+            kept.sure_current = true;
+            kept.sure_count = sure_count;
+        }
     } else {
         ++counts.cache.branch_free_tests;
         test_keys(std::true_type{});

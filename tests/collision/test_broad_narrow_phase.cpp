@@ -602,6 +602,41 @@ TEST(NarrowPhase, KeysSureToOverlapStayWithinTheBoxTestAcrossASwingOfTwiceTheSla
     EXPECT_GT(total, 12u * 60u);
 }
 
+// A Point model's elements have no extent: its slack starts at 1/8 of 10⁻³ of its extent and
+// may grow up to a quarter of the points' spacing (root extent / √n), so a cube's corners
+// drifting 4 mm a step over a static floor soon keep their candidates for two steps or more
+// (bounded by a quarter of 10⁻³ of the extent, the slack gave up at once and the pair was
+// traversed at every step), and give the traversal's outputs.
+TEST(NarrowPhase, MovingPointsKeepTheirCandidatesForSeveralSteps) {
+    IntersectionParams params = IntersectionParams::min_proximity();
+    params.alarm_distance = 0.5;
+    params.contact_distance = 0.1;
+    auto floor = test::triangle_mesh({Vec3(-5, -5, 0), Vec3(5, -5, 0), Vec3(5, 5, 0), Vec3(-5, 5, 0)},
+                                     {{0, 1, 2}, {0, 2, 3}});
+    CollisionModelParams fixed = mp("floor");
+    fixed.moving = false;
+    fixed.simulated = false;
+    TriangleModel tris(floor->state, floor->topo, fixed);
+    std::vector<Vec3> corners;
+    for (int k = 0; k < 8; ++k) corners.emplace_back(0.3 + (k & 1), 0.1 + ((k >> 1) & 1), 0.3 + ((k >> 2) & 1));
+    Vec3State cube = test::make_state(corners);
+    PointModel points(cube, nullptr, mp("corners"));
+    const std::vector<CollisionModel*> models = {&tris, &points};
+    CachedAndPlain pipelines(params, models);
+    std::size_t total = 0;
+    for (int step = 0; step < 60; ++step) {
+        SCOPED_TRACE(step);
+        const SceneDetection& got = pipelines.cached.detect();
+        expect_identical(got, pipelines.plain.detect());
+        total += count_outputs(got);
+        for (Vec3& p : cube.position) p += Vec3(0.001, 0.0, -0.004);
+    }
+    EXPECT_GE(total, 60u * 4u);  // the four lower corners are within the alarm distance throughout
+    const auto& stats = pipelines.cached.candidate_cache_stats();
+    EXPECT_EQ(stats.reused + stats.collected, 60u);  // never traversed without the cache
+    EXPECT_GT(stats.reused, stats.collected) << stats.collected << " collected, " << stats.reused << " reused";
+}
+
 TEST(NarrowPhase, CandidateCacheInSofaOrderGivesTheSortedOutputsOfAnUnchangedScene) {
     // a scene that does not move: one collection, then kept candidates sorted into SOFA's order
     // as soon as the outputs sorted at the steps outnumber them; every step's outputs stay the

@@ -306,6 +306,7 @@ private:
         /// generation ends, so its box test is skipped (detect_pair_unordered). Current while
         /// sure_current: made at the first detection after a collection or a reordering.
         std::vector<std::uint8_t> sure;
+        std::size_t sure_count = 0;  ///< the keys sure to overlap
         bool sure_current = false;
     };
     std::vector<ModelMotion> motion_;
