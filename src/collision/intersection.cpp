@@ -370,7 +370,10 @@ detail::KernelParts detail::pair_kernel_parts(const IntersectionParams& params, 
     const KernelFn fn = pair_kernel(params, m1, m2);
     if (fn == &np_triangle_triangle && np_triangle_triangle_writes_normals(params, m1, m2))
         return {&np_triangle_triangle_normals, &np_triangle_triangle_geometry};
-    if (fn == &np_triangle_point || fn == &np_triangle_sphere) return {nullptr, fn, &filter_np_triangle_feature};
+    if (fn == &np_triangle_point || fn == &np_triangle_sphere || fn == &min_triangle_point ||
+        fn == &min_triangle_sphere)
+        return {nullptr, fn, &filter_triangle_candidates};
+    if (fn == &np_line_line || fn == &min_line_line) return {nullptr, fn, &filter_line_line_candidates};
     return {nullptr, fn};
 }
 

@@ -47,8 +47,8 @@ struct KernelParts {
     /// element 2) that may give `reads` an output, decided by the kernel's own first tests with
     /// the same operations (so every candidate dropped gives no output, and the outputs of the
     /// kept ones are those of all): cheaper a candidate than the kernel, for the kernels whose
-    /// candidates mostly fail those tests: NewProximity Triangle–Point and Triangle–Sphere
-    /// (filter_np_triangle_feature).
+    /// candidates mostly fail those tests: NewProximity's and MinProximity's Triangle–Point,
+    /// Triangle–Sphere and Line–Line (filter_triangle_candidates, filter_line_line_candidates).
     void (*filter)(const IntersectionParams&, const CollisionModel& m1, const CollisionModel& m2,
                    std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept) = nullptr;
 };
@@ -246,12 +246,18 @@ inline Gram gram(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q) 
 
 /// NewProximity's closest feature of the triangle to the projected point (see
 /// TriangleRegionConstants): its α, β, or false if the triangle does not own it (`flags`).
+/// Whether the projection's α, β are inside the triangle: α, β ≥ lo and α + β ≤ hi (false on
+/// NaN). NewProximity's face region and MinProximity's strict interior.
+inline bool inside_triangle(double alpha, double beta, double lo, double hi) {
+    return !(alpha < lo || beta < lo || alpha + beta > hi);
+}
+
 inline bool closest_feature(const Gram& g, std::uint32_t flags, const TriangleRegionConstants& k, double& alpha,
                      double& beta) {
     using F = TriangleModel::Flags;
     alpha = g.alpha;
     beta = g.beta;
-    if (!(alpha < k.inside_lo || beta < k.inside_lo || alpha + beta > k.inside_hi)) return true;
+    if (inside_triangle(alpha, beta, k.inside_lo, k.inside_hi)) return true;
     const double pAB = g.b0 / g.g00;
     const double pAC = g.b1 / g.g11;
     if (pAB < k.inside_lo && pAC < k.vertex_a_ac) {
@@ -298,10 +304,13 @@ inline TriangleRegionConstants triangle_sphere_region(const IntersectionParams& 
     return region;
 }
 
-/// KernelParts::filter of np_triangle_point and np_triangle_sphere: keep_owned_feature_candidates
-/// (penalty/collision/triangle_feature_filter.hpp) on best_kernel_path().
-void filter_np_triangle_feature(const IntersectionParams& params, const CollisionModel& m1, const CollisionModel& m2,
+/// KernelParts::filter of the NewProximity and MinProximity Triangle–Point and Triangle–Sphere
+/// kernels and of their Line–Line kernels: keep_triangle_candidates and
+/// keep_line_line_candidates (penalty/collision/candidate_filters.hpp) on best_kernel_path().
+void filter_triangle_candidates(const IntersectionParams& params, const CollisionModel& m1, const CollisionModel& m2,
                                 std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept);
+void filter_line_line_candidates(const IntersectionParams& params, const CollisionModel& m1, const CollisionModel& m2,
+                                 std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept);
 
 /// MinProximity (SOFA's MinProximityIntersection::doIntersection* routines).
 struct MinProximityConstants {

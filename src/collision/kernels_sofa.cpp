@@ -76,7 +76,7 @@ bool min_triangle_projection(const PairCtx& c, const Vec3& P, Vec3& Q) {
     const auto& t = static_cast<const TriangleModel&>(c.m1);
     const Gram g = gram(t.p(c.e1, 0), t.p(c.e1, 1), t.p(c.e1, 2), P);
     const double lo = kMinProximity.interior_lo;
-    if (g.degenerate || g.alpha < lo || g.beta < lo || g.alpha + g.beta > kMinProximity.interior_hi) return false;
+    if (g.degenerate || !inside_triangle(g.alpha, g.beta, lo, kMinProximity.interior_hi)) return false;
     Q = t.p(c.e1, 0) + g.alpha * g.ab + g.beta * g.ac;
     return true;
 }

@@ -1,9 +1,9 @@
 // NewProximity Triangle–Point and Triangle–Sphere's candidate filter
-// (penalty/collision/triangle_feature_filter.hpp): it keeps exactly the candidates to which the
+// (penalty/collision/candidate_filters.hpp): it keeps exactly the candidates to which the
 // kernel, at an alarm distance that every pair is within, gives an output, on both paths, and
 // the AVX path keeps the scalar path's candidates.
 #include "fixtures.hpp"
-#include "penalty/collision/triangle_feature_filter.hpp"
+#include "penalty/collision/candidate_filters.hpp"
 
 #include <gtest/gtest.h>
 
@@ -72,7 +72,7 @@ std::vector<Vec3> feature_filter_points(std::mt19937& g, const Mesh& mesh, int n
 }
 
 // The candidates e1 << 32 | e2 to which the kernel gives an output (all pairs, in order).
-std::vector<std::uint64_t> feature_filter_kernel_keeps(const IntersectionParams& params, TriangleModel& t,
+std::vector<std::uint64_t> feature_filter_kernel_keeps(const IntersectionParams& params, CollisionModel& t,
                                                        CollisionModel& m2, std::size_t& total) {
     std::vector<std::uint64_t> keys;
     DetectionOutputList out;
@@ -94,7 +94,19 @@ std::vector<std::uint64_t> feature_filter_all_keys(std::size_t n1, std::size_t n
     return keys;
 }
 
-void expect_filter_keeps_the_kernels_candidates(const IntersectionParams& params, TriangleModel& t,
+// The filter of the pair (m1, m2) under params: keep_triangle_candidates or
+// keep_line_line_candidates.
+void feature_filter_run(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
+                        std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept, KernelPath path) {
+    if (m1.type() == ModelType::Line) {
+        detail::keep_line_line_candidates(params, static_cast<LineModel&>(m1), static_cast<LineModel&>(m2), keys, kept,
+                                          path);
+    } else {
+        detail::keep_triangle_candidates(params, static_cast<TriangleModel&>(m1), m2, keys, kept, path);
+    }
+}
+
+void expect_filter_keeps_the_kernels_candidates(const IntersectionParams& params, CollisionModel& t,
                                                 CollisionModel& m2) {
     std::size_t total = 0;
     const std::vector<std::uint64_t> expected = feature_filter_kernel_keeps(params, t, m2, total);
@@ -104,31 +116,34 @@ void expect_filter_keeps_the_kernels_candidates(const IntersectionParams& params
     for (const KernelPath path : paths) {
         SCOPED_TRACE(to_string(path));
         std::vector<std::uint64_t> kept = {7};  // appended to, not replaced
-        detail::keep_owned_feature_candidates(params, t, m2, keys, kept, path);
+        feature_filter_run(params, t, m2, keys, kept, path);
         ASSERT_EQ(kept.front(), 7u);
         kept.erase(kept.begin());
         EXPECT_EQ(kept, expected);
         // odd counts: the AVX path's last candidates go through the scalar path
         std::vector<std::uint64_t> tail;
-        detail::keep_owned_feature_candidates(params, t, m2, std::span(keys).first(keys.size() - 3), tail, path);
+        feature_filter_run(params, t, m2, std::span(keys).first(keys.size() - 3), tail, path);
         std::vector<std::uint64_t> expected_tail;
         for (const std::uint64_t k : expected)
             if (k < keys[keys.size() - 3]) expected_tail.push_back(k);
         EXPECT_EQ(tail, expected_tail);
     }
-    // hit rate: the filter both keeps and drops a real share of the candidates
-    EXPECT_GT(expected.size(), total / 20);
+    // hit rate: the filter both keeps and drops a real share of the candidates (MinProximity's
+    // triangles keep only the points that project into their interior: about one triangle a
+    // point here)
+    EXPECT_GT(expected.size(), params.method == IntersectionMethod::MinProximity ? total / 200 : total / 20);
     EXPECT_LT(expected.size(), total - total / 5);
 }
 
-IntersectionParams feature_filter_params() {
-    IntersectionParams p = IntersectionParams::new_proximity();
+IntersectionParams feature_filter_params(IntersectionMethod method = IntersectionMethod::NewProximity) {
+    IntersectionParams p =
+        method == IntersectionMethod::NewProximity ? IntersectionParams::new_proximity() : IntersectionParams::min_proximity();
     p.alarm_distance = 1e6;  // every pair within range: an output iff the feature tests pass
     p.contact_distance = 0.1;
     return p;
 }
 
-TEST(TriangleFeatureFilter, KeepsExactlyTheTriangleToPointCandidatesTheKernelGivesAnOutput) {
+TEST(CandidateFilters, KeepsExactlyTheTriangleToPointCandidatesTheKernelGivesAnOutput) {
     std::mt19937 g(20261127);
     const int n = 7;
     auto mesh = feature_filter_surface(g, n);
@@ -138,9 +153,11 @@ TEST(TriangleFeatureFilter, KeepsExactlyTheTriangleToPointCandidatesTheKernelGiv
     t.update();
     points.update();
     expect_filter_keeps_the_kernels_candidates(feature_filter_params(), t, points);
+    SCOPED_TRACE("MinProximity: the strict interior only");
+    expect_filter_keeps_the_kernels_candidates(feature_filter_params(IntersectionMethod::MinProximity), t, points);
 }
 
-TEST(TriangleFeatureFilter, KeepsExactlyTheTriangleToSphereCandidatesUnderEachQuirkSetting) {
+TEST(CandidateFilters, KeepsExactlyTheTriangleToSphereCandidatesUnderEachQuirkSetting) {
     std::mt19937 g(1127);
     const int n = 6;
     auto mesh = feature_filter_surface(g, n);
@@ -164,13 +181,16 @@ TEST(TriangleFeatureFilter, KeepsExactlyTheTriangleToSphereCandidatesUnderEachQu
             expect_filter_keeps_the_kernels_candidates(params, t, balls);
             expect_filter_keeps_the_kernels_candidates(params, t, rigid_balls);
         }
+    SCOPED_TRACE("MinProximity");
+    expect_filter_keeps_the_kernels_candidates(feature_filter_params(IntersectionMethod::MinProximity), t, balls);
+    expect_filter_keeps_the_kernels_candidates(feature_filter_params(IntersectionMethod::MinProximity), t, rigid_balls);
 }
 
 // Right triangles with unit legs along the axes at the origin, where α and β are q's own
 // coordinates, exactly: points on both kernels' thresholds (ε, 10⁻⁶, 1 − 10⁻⁶, 1 − ε, …) and
 // their neighbouring doubles test each comparison's strictness. T0 owns its vertices, T1
 // (the same vertices again) none of them, T2 shares O, Y and the edge OY with T0.
-TEST(TriangleFeatureFilter, ExactThresholdsOnRightTrianglesDecideAsTheKernel) {
+TEST(CandidateFilters, ExactThresholdsOnRightTrianglesDecideAsTheKernel) {
     const double eps = std::numeric_limits<double>::epsilon();
     std::vector<double> marks = {-1e-6, -1e-7, -eps, 0.0, eps, 2 * eps, 1e-7, 1e-6, 0.5 - eps, 0.5, 0.999999,
                                  1.0 - eps, 1.0, 1.0 + eps, 2.0};
@@ -199,9 +219,65 @@ TEST(TriangleFeatureFilter, ExactThresholdsOnRightTrianglesDecideAsTheKernel) {
         params.quirks.fix_newproximity_triangle_sphere_edge_range = fix_range;
         expect_filter_keeps_the_kernels_candidates(params, t, balls);
     }
+    const IntersectionParams min = feature_filter_params(IntersectionMethod::MinProximity);
+    expect_filter_keeps_the_kernels_candidates(min, t, points);
+    expect_filter_keeps_the_kernels_candidates(min, t, balls);
 }
 
-TEST(TriangleFeatureFilter, DegenerateTrianglesKeepNothingAndOtherModelKindsAreRefused) {
+// Line–Line: a unit segment along x against segments along y at height h, whose closest points
+// are α = a and β = b exactly (q1 = (a, −2b, h), q2 = (a, 2 − 2b, h): every product and quotient
+// of the 2 × 2 system is exact), for a, b on both methods' thresholds (10⁻⁶, 0.999999, 10⁻¹⁵,
+// 1 − 10⁻¹⁵) and the doubles beside them; parallel segments (always kept, α = β = ½), one at
+// NewProximity's parallel bound exactly; and random segments against random segments.
+TEST(CandidateFilters, LineLineKeepsExactlyTheKernelsCandidatesAtItsThresholds) {
+    std::vector<double> marks = {-0.5, -1e-6, 0.0, 0.25, 0.5, 1.0, 1.5};
+    for (const double m : {1e-15, 1e-6, 0.999999, 1.0 - 1e-15}) {
+        marks.push_back(m);
+        marks.push_back(std::nextafter(m, 0.0));
+        marks.push_back(std::nextafter(m, 2.0));
+    }
+    std::vector<Vec3> ends = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 0)};  // and reversed
+    std::vector<Vec3> others;
+    for (const double a : marks)
+        for (const double b : marks) {
+            others.emplace_back(a, -2.0 * b, 0.25);
+            others.emplace_back(a, 2.0 - 2.0 * b, 0.25);
+        }
+    others.emplace_back(-1.0, 0.5, 0.5);  // parallel to x
+    others.emplace_back(3.0, 0.5, 0.5);
+    others.emplace_back(0.2, 0.0, 1.0);   // zero length
+    others.emplace_back(0.2, 0.0, 1.0);
+    others.emplace_back(0.5, 0.0, 0.25);  // det = 1 · (10⁻⁶)² = 10⁻¹², NewProximity's `parallel`, exactly
+    others.emplace_back(0.5, 1e-6, 0.25);
+    std::mt19937 g(17);
+    for (int k = 0; k < 80; ++k) {
+        const Vec3 c = rand_vec(g, 1.0);
+        ends.push_back(c);
+        ends.push_back(c + rand_vec(g, 0.6));
+        others.push_back(c + rand_vec(g, 0.3));
+        others.push_back(others.back() + rand_vec(g, 0.6));
+    }
+    const auto segments = [](std::size_t n) {
+        MeshTopology topo;
+        topo.set_num_points(n);
+        std::vector<Edge> edges;
+        for (std::size_t i = 0; i + 1 < n; i += 2) edges.push_back({int(i), int(i + 1)});
+        topo.set_edges(std::move(edges));
+        return topo;
+    };
+    Vec3State state1 = make_state(ends), state2 = make_state(others);
+    const MeshTopology topo1 = segments(ends.size()), topo2 = segments(others.size());
+    LineModel l1(state1, topo1, named("along-x"));
+    LineModel l2(state2, topo2, named("others"));
+    l1.update();
+    l2.update();
+    for (const auto method : {IntersectionMethod::NewProximity, IntersectionMethod::MinProximity}) {
+        SCOPED_TRACE(intersection_method_name(method));
+        expect_filter_keeps_the_kernels_candidates(feature_filter_params(method), l1, l2);
+    }
+}
+
+TEST(CandidateFilters, DegenerateTrianglesKeepNothingAndOtherModelKindsAndMethodsAreRefused) {
     std::mt19937 g(3);
     auto mesh = feature_filter_surface(g, 3);
     Vec3State cloud = make_state(feature_filter_points(g, *mesh, 3));
@@ -215,16 +291,23 @@ TEST(TriangleFeatureFilter, DegenerateTrianglesKeepNothingAndOtherModelKindsAreR
     for (const KernelPath path : {KernelPath::scalar, KernelPath::avx}) {
         if (!kernel_path_supported(path)) continue;
         std::vector<std::uint64_t> kept;
-        detail::keep_owned_feature_candidates(feature_filter_params(), t, points, keys, kept, path);
+        detail::keep_triangle_candidates(feature_filter_params(), t, points, keys, kept, path);
         EXPECT_TRUE(kept.empty()) << to_string(path) << ": " << kept.size() << " of " << keys.size();
     }
     LineModel lines(mesh->state, mesh->topo, named("edges"));
     std::vector<std::uint64_t> kept;
     try {
-        detail::keep_owned_feature_candidates(feature_filter_params(), t, lines, keys, kept, KernelPath::scalar);
+        detail::keep_triangle_candidates(feature_filter_params(), t, lines, keys, kept, KernelPath::scalar);
         ADD_FAILURE() << "a Line model was accepted";
     } catch (const std::invalid_argument& e) {
         EXPECT_NE(std::string(e.what()).find("'edges' is a Line model"), std::string::npos) << e.what();
+    }
+    try {
+        detail::keep_triangle_candidates(IntersectionParams::local_min_distance(), t, points, keys, kept,
+                                         KernelPath::scalar);
+        ADD_FAILURE() << "LocalMinDistance was accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("no filter for LocalMinDistance"), std::string::npos) << e.what();
     }
 }
 
