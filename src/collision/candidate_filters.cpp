@@ -85,6 +85,7 @@ void keep_line_line_scalar(const LineModel& l1, const LineModel& l2, const LineL
 
 /// The kept candidates, gathered in blocks of 64 and appended a block at a time.
 struct KeptBlocks {
+    explicit KeptBlocks(Keys& to) : kept(to) {}
     static constexpr std::size_t kBlock = 64;
     std::uint64_t block[kBlock];
     std::size_t count = 0;
@@ -118,7 +119,7 @@ template <bool kFeatures, class PointOf>
     const Triangle* triangles = &t.triangle(0);
     const Vec3* x = t.state().position.data();
     const std::size_t n4 = keys.size() / 4 * 4;
-    KeptBlocks out{.kept = kept};
+    KeptBlocks out(kept);
     for (std::size_t i = 0; i < n4; i += 4) {
         Index e1[4];
         const double* q[4];
@@ -202,7 +203,7 @@ template <bool kFeatures, class PointOf>
     const __m256d parallel = _mm256_set1_pd(k.parallel), minus_parallel = _mm256_set1_pd(-k.parallel);
     const __m256d sign = _mm256_set1_pd(-0.0);  // x ^ sign = −x, exactly (zeros' signs too)
     const std::size_t n4 = keys.size() / 4 * 4;
-    KeptBlocks out{.kept = kept};
+    KeptBlocks out(kept);
     for (std::size_t i = 0; i < n4; i += 4) {
         const double* v[4][4];  // p1, p2, q1, q2 of each lane
         for (int j = 0; j < 4; ++j) {
