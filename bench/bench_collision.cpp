@@ -3,7 +3,9 @@
 // (NewProximity and MinProximity), plus the exact geometric kernels for reference.
 // Random configurations in a unit box so that roughly half the tests report a contact.
 // Each test goes through intersect_elements, the call CollisionPipeline's narrow phase makes for
-// every candidate element pair in `penalty run` (whole-scene detection: bench_detection.cpp).
+// every candidate element pair in `penalty run` (whole-scene detection: bench_detection.cpp);
+// BM_CandidateFilter times the candidate filters that run before some kernels.
+#include "penalty/collision/candidate_filters.hpp"
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/models.hpp"
 #include "penalty/geometry/point_triangle.hpp"
@@ -11,7 +13,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <initializer_list>
 #include <random>
+#include <vector>
 
 namespace penalty {
 namespace {
@@ -110,6 +114,41 @@ BENCHMARK(BM_PointTriangle)->Arg(0)->Arg(1);
 BENCHMARK(BM_SphereTriangle)->Arg(0)->Arg(1);
 BENCHMARK(BM_LineLine)->Arg(0)->Arg(1);
 BENCHMARK(BM_SphereSphere)->Arg(0)->Arg(1);
+
+// The candidate filters (penalty/collision/candidate_filters.hpp) over the same element pairs
+// (1024 × 256 candidates a pass, in the order of run_pairs): items = candidates filtered a
+// second; kept_share = the share the kernel then evaluates. Args: pair (0 point–triangle,
+// 1 sphere–triangle, 2 line–line), method (0 NewProximity, 1 MinProximity), path (0 scalar,
+// 1 AVX, skipped without AVX). Compare with BM_PointTriangle etc.: the kernel a candidate.
+void BM_CandidateFilter(benchmark::State& state) {
+    const Scene& s = scene();
+    const int pair = int(state.range(0));
+    const IntersectionParams p = method(int(state.range(1)));
+    const KernelPath path = state.range(2) == 0 ? KernelPath::scalar : KernelPath::avx;
+    if (!kernel_path_supported(path)) {
+        state.SkipWithError("no AVX on this CPU");
+        return;
+    }
+    TriangleModel tri(s.tri_state, s.tri_topo);
+    PointModel pts(s.points);
+    SphereModel sph(s.spheres, 0.05);
+    LineModel a(s.line_state, s.line_topo), b(s.line_state, s.line_topo);
+    for (CollisionModel* m : std::initializer_list<CollisionModel*>{&tri, &pts, &sph, &a, &b}) m->update();
+    std::vector<std::uint64_t> keys;
+    for (std::size_t i = 0; i < 256; ++i)
+        for (std::size_t j = 0; j < kN; ++j) keys.push_back(std::uint64_t(i) << 32 | j);
+    std::vector<std::uint64_t> kept;
+    kept.reserve(keys.size());
+    for (auto _ : state) {
+        kept.clear();
+        if (pair == 2) detail::keep_line_line_candidates(p, a, b, keys, kept, path);
+        else detail::keep_triangle_candidates(p, tri, pair == 0 ? static_cast<CollisionModel&>(pts) : sph, keys, kept, path);
+        benchmark::DoNotOptimize(kept.data());
+    }
+    state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(keys.size()));
+    state.counters["kept_share"] = double(kept.size()) / double(keys.size());
+}
+BENCHMARK(BM_CandidateFilter)->ArgsProduct({{0, 1, 2}, {0, 1}, {0, 1}});
 
 // exact geometric kernels (no SOFA thresholds, no output)
 void BM_GeometryPointTriangle(benchmark::State& state) {

@@ -370,9 +370,13 @@ detail::KernelParts detail::pair_kernel_parts(const IntersectionParams& params, 
     const KernelFn fn = pair_kernel(params, m1, m2);
     if (fn == &np_triangle_triangle && np_triangle_triangle_writes_normals(params, m1, m2))
         return {&np_triangle_triangle_normals, &np_triangle_triangle_geometry};
-    if (fn == &np_triangle_point || fn == &np_triangle_sphere || fn == &min_triangle_point ||
-        fn == &min_triangle_sphere)
+    // (NewProximity's triangle filter drops only triangles' unowned features and degenerate
+    // triangles: nothing but the degenerate ones in a soup whose triangles own every feature)
+    if (fn == &np_triangle_point || fn == &np_triangle_sphere) {
+        if (static_cast<const TriangleModel&>(m1).owns_every_feature()) return {nullptr, fn};
         return {nullptr, fn, &filter_triangle_candidates};
+    }
+    if (fn == &min_triangle_point || fn == &min_triangle_sphere) return {nullptr, fn, &filter_triangle_candidates};
     if (fn == &np_line_line || fn == &min_line_line) return {nullptr, fn, &filter_line_line_candidates};
     return {nullptr, fn};
 }

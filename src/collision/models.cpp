@@ -146,6 +146,8 @@ TriangleModel::TriangleModel(const Vec3State& state, const MeshTopology& topolog
             flags_[t] = f;
         }
     }
+    owns_every_feature_ = std::all_of(flags_.begin(), flags_.end(),
+                                      [](std::uint32_t f) { return (f & (kPoints | kEdges)) == (kPoints | kEdges); });
     normals_.assign(triangles_.size(), Vec3::Zero());
     plane_normals_.assign(triangles_.size(), Vec3::Zero());
 }

@@ -277,6 +277,31 @@ TEST(CandidateFilters, LineLineKeepsExactlyTheKernelsCandidatesAtItsThresholds) 
     }
 }
 
+// NewProximity's triangle filter drops unowned features (and degenerate triangles): the
+// kernels skip it for a soup of separate triangles, each owning every vertex and edge.
+TEST(CandidateFilters, ASoupOfSeparateTrianglesOwnsEveryFeatureAndASurfaceDoesNot) {
+    std::mt19937 g(5);
+    auto surface = feature_filter_surface(g, 4);
+    TriangleModel shared(surface->state, surface->topo, named("surface"));
+    EXPECT_FALSE(shared.owns_every_feature());
+    std::vector<Vec3> pts;
+    std::vector<Triangle> tris;
+    for (int k = 0; k < 5; ++k) {
+        for (int c = 0; c < 3; ++c) pts.push_back(rand_vec(g, 1.0));
+        tris.push_back({3 * k, 3 * k + 1, 3 * k + 2});
+    }
+    auto soup = triangle_mesh(pts, tris);
+    TriangleModel separate(soup->state, soup->topo, named("soup"));
+    EXPECT_TRUE(separate.owns_every_feature());
+    // and then the filter keeps every candidate of a non-degenerate soup
+    Vec3State cloud = make_state({Vec3(0, 0, 2), Vec3(3, 0, 0), Vec3(-1, 2, 0.5)});
+    PointModel points(cloud, nullptr, named("points"));
+    std::vector<std::uint64_t> kept;
+    detail::keep_triangle_candidates(feature_filter_params(), separate, points, feature_filter_all_keys(5, 3), kept,
+                                     KernelPath::scalar);
+    EXPECT_EQ(kept.size(), 15u);
+}
+
 TEST(CandidateFilters, DegenerateTrianglesKeepNothingAndOtherModelKindsAndMethodsAreRefused) {
     std::mt19937 g(3);
     auto mesh = feature_filter_surface(g, 3);

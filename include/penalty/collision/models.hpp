@@ -117,6 +117,9 @@ public:
         return state_->position[std::size_t(triangles_[std::size_t(i)][std::size_t(k)])];
     }
     [[nodiscard]] std::uint32_t flags(Index i) const { return flags_[std::size_t(i)]; }
+    /// Whether every triangle owns its three vertices and three edges (a soup of separate
+    /// triangles; flags as above, fixed at construction).
+    [[nodiscard]] bool owns_every_feature() const { return owns_every_feature_; }
     /// Stored unit normal (computed by update(); may be overwritten by SOFA's Triangle–Triangle
     /// quirk §14.4, see set_normal).
     [[nodiscard]] const Vec3& normal(Index i) const { return normals_[std::size_t(i)]; }
@@ -152,6 +155,7 @@ private:
     const MeshTopology* topology_;
     std::vector<Triangle> triangles_;
     std::vector<std::uint32_t> flags_;
+    bool owns_every_feature_ = false;
     std::vector<Vec3> normals_;
     std::vector<Vec3> plane_normals_;
     bool planes_current_ = false;
