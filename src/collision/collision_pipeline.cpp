@@ -705,8 +705,8 @@ void CollisionPipeline::track_motion(std::size_t i) {
         if (models_[i]->type() == ModelType::Point)
             largest_extent = std::max(extent, root_extent / std::sqrt(double(boxes.size())));
     }
-    largest_extent = std::max(largest_extent, extent);
     if (!std::isfinite(extent)) extent = 0.0;
+    largest_extent = std::isfinite(largest_extent) ? std::max(largest_extent, extent) : extent;
     const bool fresh = mm.generation == 0 || mm.reference.size() != boxes.size();
     if (!moving) {
         mm.slack = 0.0;
