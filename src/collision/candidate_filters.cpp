@@ -34,7 +34,7 @@ TriangleRule triangle_rule(const IntersectionParams& params, const CollisionMode
     if (params.method == IntersectionMethod::NewProximity)
         return {kind == ModelType::Point ? kNewProximity.triangle_point : triangle_sphere_region(params), true};
     if (params.method == IntersectionMethod::MinProximity) {
-        TriangleRegionConstants k = kNewProximity.triangle_point;
+        TriangleRegionConstants k{};  // only the interior bounds: no vertex or edge gives an output
         k.inside_lo = kMinProximity.interior_lo;
         k.inside_hi = kMinProximity.interior_hi;
         return {k, false};

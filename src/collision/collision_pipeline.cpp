@@ -389,11 +389,13 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
     // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
     // models' sizes (check_trees), so every element index is in range
     const detail::KernelParts kernel = detail::pair_kernel_parts(params, m1, m2);
+    const Keys* candidates = &all_keys;
     if (kernel.filter != nullptr && !all_keys.empty()) {
         b.filtered.clear();
         kernel.filter(params, m1, m2, all_keys, b.filtered);
+        candidates = &b.filtered;
     }
-    const Keys& keys = kernel.filter != nullptr && !all_keys.empty() ? b.filtered : all_keys;
+    const Keys& keys = *candidates;
     // the planes its separation tests read, for the current positions, before the parallel part
     if (!keys.empty() && detail::reads_triangle_planes(kernel)) {
         static_cast<TriangleModel&>(m1).update_planes();
