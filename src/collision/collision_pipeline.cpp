@@ -692,13 +692,19 @@ void CollisionPipeline::track_motion(std::size_t i) {
     // which the model is traversed at every step for 16 refits (a wider slack would only
     // collect more candidates than it saves); halved when generations last long. A static
     // model's boxes change only with a new build: slack 0.
+    // When nearly all the keys its pairs kept in the generation overlapped at their detections
+    // (at least 7/8), the slack added few candidates and a wider one costs little while a
+    // collection costs much (CompositeCollisionPipeline's falling sphere, whose alarm box covers
+    // most of a torus: a collection every 2-3 steps): the slack then also doubles while
+    // generations last up to kCheapSlackRefits refits, up to the model's own extent.
     double extent = 0.0;
     double largest_extent = 0.0;  // the slack's bound: a quarter of it
+    double root_extent = 0.0;
     for (const Aabb& a : boxes) extent += (a.max - a.min).maxCoeff();
     extent = boxes.empty() ? 0.0 : extent / double(boxes.size());
     if (!trees_[i].empty()) {
         const Aabb& root = trees_[i].root_box();
-        const double root_extent = (root.max - root.min).maxCoeff();
+        root_extent = (root.max - root.min).maxCoeff();
         extent = std::max(extent, 1e-3 * root_extent);
         // A Point model's elements have no extent (their boxes are the contact distance): its
         // slack may grow up to a quarter of the points' spacing on a surface, root extent / √n.
@@ -709,19 +715,25 @@ void CollisionPipeline::track_motion(std::size_t i) {
     }
     if (!std::isfinite(extent)) extent = 0.0;
     largest_extent = std::isfinite(largest_extent) ? std::max(largest_extent, extent) : extent;
+    const bool cheap_slack = mm.kept_keys > 0 && 8 * mm.overlapping_keys >= 7 * mm.kept_keys;
+    double slack_bound = 0.25 * largest_extent;
+    if (cheap_slack) slack_bound = std::max(slack_bound, 0.5 * params_.alarm_distance);
+    mm.kept_keys = mm.overlapping_keys = 0;
     const bool fresh = mm.generation == 0 || mm.reference.size() != boxes.size();
     if (!moving) {
         mm.slack = 0.0;
     } else if (fresh) {
         mm.slack = 0.125 * extent;
     } else if (mm.steps <= 1) {
-        if (2.0 * mm.slack > 0.25 * largest_extent) {
+        if (2.0 * mm.slack > slack_bound) {
             mm.generation = 0;  // pairs with this model traverse the trees
             mm.uncached_refits = 16;
             mm.reference.clear();
             return;
         }
         mm.slack *= 2.0;
+    } else if (cheap_slack && mm.steps <= kCheapSlackRefits) {
+        if (2.0 * mm.slack <= slack_bound) mm.slack *= 2.0;
     } else if (mm.steps > 16) {
         mm.slack = std::max(0.5 * mm.slack, extent / 64.0);
     }
@@ -972,6 +984,7 @@ const SceneDetection& CollisionPipeline::detect() {
     if (last_concurrent_) detect_pairs_concurrently();
     else detect_pairs_in_order();
     if (detection_ == ContactDetection::bvh) {
+        count_kept_keys();
         // the pairs without narrow phase evaluated nothing (every one after a new broad phase,
         // else those that just left near_)
         if (rebuilt) {
@@ -1141,17 +1154,35 @@ void CollisionPipeline::detect_pairs_in_order() {
     // cache up (SOFA's BruteForceBroadPhase does not hand such a pair to the narrow phase at
     // all): it runs the pairs of near_. Exhaustive detection runs every pair.
     PairCounts counts;
-    const auto run = [&](std::size_t k) {
+    const auto run = [&](std::size_t k, PairCandidates* kept) {
         const std::size_t before = counts.candidates;
-        detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], result_[k].outputs, scratch_, counts, nullptr);
+        detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], result_[k].outputs, scratch_, counts, kept);
         record_pair_work(k, counts.candidates - before);
     };
     if (detection_ == ContactDetection::bvh) {
-        for (const std::size_t k : near_) run(k);
+        pair_kept_.resize(pairs_.size());
+        for (const std::size_t k : near_) {
+            pair_kept_[k] = pair_candidates_entry(pair_indices_[k][0], pair_indices_[k][1]);
+            run(k, pair_kept_[k]);
+        }
     } else {
-        for (std::size_t k = 0; k < pairs_.size(); ++k) run(k);
+        for (std::size_t k = 0; k < pairs_.size(); ++k) run(k, nullptr);
     }
     counts.add_to(cache_stats_, candidates_evaluated_);
+}
+
+void CollisionPipeline::count_kept_keys() {
+    for (const std::size_t k : near_) {
+        const PairCandidates* kept = pair_kept_[k];
+        if (kept == nullptr) continue;
+        ModelMotion& a = motion_[pair_indices_[k][0]];
+        ModelMotion& b = motion_[pair_indices_[k][1]];
+        if (kept->generation1 != a.generation || kept->generation2 != b.generation) continue;
+        for (ModelMotion* m : {&a, &b}) {
+            m->kept_keys += kept->keys.size();
+            m->overlapping_keys += kept->overlapped_last;
+        }
+    }
 }
 
 void CollisionPipeline::detect_pairs_concurrently() {

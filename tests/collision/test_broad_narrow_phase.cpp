@@ -637,6 +637,44 @@ TEST(NarrowPhase, MovingPointsKeepTheirCandidatesForSeveralSteps) {
     EXPECT_GT(stats.reused, stats.collected) << stats.collected << " collected, " << stats.reused << " reused";
 }
 
+// One sphere falling under gravity past a static grid of points, its alarm box covering most of
+// the grid (CompositeCollisionPipeline's sphere and torus): nearly every kept key overlaps, so
+// the slack, bounded by a quarter of the sphere's extent before, also doubles while generations
+// last up to kCheapSlackRefits refits, up to half the alarm distance, and the pair is collected
+// far less often; the outputs stay the traversal's.
+TEST(NarrowPhase, ASlackThatAddsFewCandidatesGrowsPastAQuarterOfTheExtent) {
+    IntersectionParams params = IntersectionParams::new_proximity();
+    params.alarm_distance = 5.0;
+    params.contact_distance = 1.0;
+    std::vector<Vec3> grid;
+    for (int i = 0; i < 13; ++i)
+        for (int j = 0; j < 13; ++j) grid.emplace_back(-3.0 + 0.5 * i, 0.0, -3.0 + 0.5 * j);
+    Vec3State plane = test::make_state(grid);
+    CollisionModelParams fixed = mp("grid");
+    fixed.moving = false;
+    fixed.simulated = false;
+    PointModel points(plane, nullptr, fixed);
+    Vec3State ball = test::make_state({Vec3(0.3, 10.0, 0.2)});
+    SphereModel sphere(ball, 1.0, {}, mp("ball"));
+    const std::vector<CollisionModel*> models = {&sphere, &points};
+    CachedAndPlain pipelines(params, models);
+    double speed = 0.0;
+    std::size_t total = 0;
+    for (int step = 0; step < 300; ++step) {
+        SCOPED_TRACE(step);
+        const SceneDetection& got = pipelines.cached.detect();
+        expect_identical(got, pipelines.plain.detect());
+        total += count_outputs(got);
+        speed += 9.81 * 0.01;  // m/s after each 10 ms step
+        ball.position[0].y() -= speed * 0.01;
+    }
+    EXPECT_EQ(total, 13471u);  // the ball passes through the grid's alarm zone in 91 steps
+    const auto& stats = pipelines.cached.candidate_cache_stats();
+    // 28 collected and 63 reused with the slack bounded by a quarter of the sphere's extent
+    EXPECT_EQ(stats.collected, 11u) << stats.reused << " reused";
+    EXPECT_EQ(stats.reused, 80u);
+}
+
 TEST(NarrowPhase, CandidateCacheInSofaOrderGivesTheSortedOutputsOfAnUnchangedScene) {
     // a scene that does not move: one collection, then kept candidates sorted into SOFA's order
     // as soon as the outputs sorted at the steps outnumber them; every step's outputs stay the

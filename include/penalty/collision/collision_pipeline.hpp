@@ -261,6 +261,9 @@ private:
     [[nodiscard]] bool pairs_run_concurrently() const;
     /// detect()'s narrow phases, pair by pair on the calling thread or in parallel.
     void detect_pairs_in_order();
+    /// ModelMotion::kept_keys and overlapping_keys of both models of each pair detected from
+    /// kept candidates (pair_kept_).
+    void count_kept_keys();
     void detect_pairs_concurrently();
     /// SOFA's tree of every active model not built yet (or whose size changed), from the
     /// current positions.
@@ -273,6 +276,9 @@ private:
     /// Candidate cache: after model i's tree was refitted, starts a new reference (a new
     /// generation) if some element box moved past the model's slack since the last one.
     void track_motion(std::size_t i);
+    /// A generation of at most this many refits doubles the slack of a model whose kept keys
+    /// nearly all overlapped (track_motion).
+    static constexpr std::size_t kCheapSlackRefits = 6;
 
     /// A model's element boxes when its current generation began, and how far (m, on every box
     /// bound) they may move before the candidates collected since then are out of date.
@@ -283,6 +289,10 @@ private:
         std::size_t steps = 0;          ///< refits since the generation began
         std::size_t uncached_refits = 0;  ///< > 0: too fast for the cache for that many more refits
         double longest_side = 0.0;  ///< largest side of a Triangle or Line element box at the tree's last build (separation.hpp)
+        /// Over the detections of this generation, of the pairs with this model that kept
+        /// candidates: the keys kept and those whose boxes overlapped (track_motion's slack)
+        std::size_t kept_keys = 0;
+        std::size_t overlapping_keys = 0;
     };
     /// A model pair's kept candidates: element pairs whose boxes overlapped with margin
     /// m + 2·(slack 1 + slack 2) when collected (a superset of the pairs overlapping with m while
@@ -324,7 +334,7 @@ private:
     std::vector<SofaCubeTree> sofa_trees_;  // per model: SOFA's tree, built at its first detection
     PairScratch scratch_;                     // detect_pair's, and detect()'s when the pairs run in order
     std::vector<PairScratch> chunk_scratch_;  // detect()'s in parallel: one per chunk of pairs (kChunksPerThread)
-    std::vector<PairCandidates*> pair_kept_;  // scratch: per pair of pairs_, its pair_candidates_ entry or nullptr
+    std::vector<PairCandidates*> pair_kept_;  // scratch: per pair of pairs_ (set for those of near_), its pair_candidates_ entry or nullptr
     /// Per pair of the last detection: its models and the candidates it evaluated (whether the
     /// next detection's pairs are worth running in parallel, pairs_run_concurrently).
     struct PairWork {
