@@ -25,6 +25,9 @@ struct PairCtx {
     /// Run the early outs of penalty/collision/separation.hpp (the same outputs, sooner): set by
     /// the narrow phase for model pairs with elements long against R (worth_separating).
     bool separation_tests = false;
+    /// The pair's constants, computed once for all its candidates (skins, id_big)
+    double skin = m1.params().contact_distance + m2.params().contact_distance;
+    bool id_of_e1 = m1.size() > m2.size();
 };
 
 using KernelFn = int (*)(PairCtx&);
@@ -114,14 +117,11 @@ void with_element_points(const CollisionModel& m, F&& f) {
         f([&p = static_cast<const PointModel&>(m)](Index e) -> const Vec3& { return p.point(e); });
 }
 
-inline double skins(const PairCtx& c) {
-    return c.m1.params().contact_distance + c.m2.params().contact_distance;
-}
+/// The two models' contact distances, summed (PairCtx::skin).
+inline double skins(const PairCtx& c) { return c.skin; }
 
 /// SOFA's "id_big": index of the element of the model with more elements (ties → e2).
-inline std::int64_t id_big(const PairCtx& c) {
-    return c.m1.size() > c.m2.size() ? std::int64_t(c.e1) : std::int64_t(c.e2);
-}
+inline std::int64_t id_big(const PairCtx& c) { return c.id_of_e1 ? std::int64_t(c.e1) : std::int64_t(c.e2); }
 
 /// Whether SOFA's routine has the 1e-15 zero-distance guard (→ (1,0,0)).
 enum class Guard : std::uint8_t { None, Sofa };
