@@ -89,12 +89,12 @@ TEST(ContactTracker, KeepsExactlyTheFirstMinimumPerIdOnRandomLists) {
     EXPECT_GT(duplicates, 500u);  // the lists really contained duplicates and ties
 }
 
-// Lists long enough for the counting sort (ContactTracker::kMinOutputsForCountingSort), with ids
-// in a narrow range (counted), a wide one and at the ends of int64 (compared below
+// Lists long enough for the id slots (ContactTracker::kMinOutputsForIdSlots), with ids
+// in a narrow range (a slot per id, no sort), a wide one and at the ends of int64 (compared below
 // kMinOutputsForRadixSort outputs, radix-sorted from there: up to 64 bits of id − low), carried
 // over steps: the kept outputs and their previous positions are those of a std::map reference
 // (SOFA's contactIndex), whichever sort ran.
-TEST(ContactTracker, CountingRadixAndComparisonSortsKeepTheSameOutputsAndPositions) {
+TEST(ContactTracker, IdSlotsRadixAndComparisonSortsKeepTheSameOutputsAndPositions) {
     std::mt19937 rng(11);
     ContactTracker tracker;
     std::map<std::int64_t, Index> reference;  // id -> 1-based position in the last list
@@ -105,7 +105,7 @@ TEST(ContactTracker, CountingRadixAndComparisonSortsKeepTheSameOutputsAndPositio
         std::vector<DetectionOutput> outputs;
         for (int i = 0; i < n; ++i) {
             std::int64_t id = 0;
-            if (regime == 0) id = 1000 + std::int64_t(rng() % unsigned(2 * n));  // narrow: counted
+            if (regime == 0) id = 1000 + std::int64_t(rng() % unsigned(2 * n));  // narrow: id slots
             else if (regime == 1) id = -std::int64_t(rng() % unsigned(50 * n));  // wide: compared
             else id = (rng() % 2 == 0 ? std::numeric_limits<std::int64_t>::max() - std::int64_t(rng() % 40)
                                        : std::numeric_limits<std::int64_t>::min() + std::int64_t(rng() % 40));
@@ -115,7 +115,7 @@ TEST(ContactTracker, CountingRadixAndComparisonSortsKeepTheSameOutputsAndPositio
         std::int64_t low = outputs[0].id, high = low;
         for (const auto& o : outputs) low = std::min(low, o.id), high = std::max(high, o.id);
         const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
-        if (span < ContactTracker::kCountingSortRangePerOutput * std::uint64_t(n)) ++counted;
+        if (span < ContactTracker::kIdSlotsPerOutput * std::uint64_t(n)) ++counted;
         else (std::size_t(n) < ContactTracker::kMinOutputsForRadixSort ? compared : radix_sorted) += 1;
         const auto kept = tracker.update(outputs);
         // reference: per id the first output with the least value, in output order
@@ -145,6 +145,48 @@ TEST(ContactTracker, CountingRadixAndComparisonSortsKeepTheSameOutputsAndPositio
     EXPECT_GT(compared, 40u);
     EXPECT_GT(radix_sorted, 40u);
     EXPECT_GT(carried, 8000u);  // 10 473 with this seed;  // ids met again in the next step carried their positions
+}
+
+// The id slots (ids in a narrow range) against the sorts (the same lists with their ids spread
+// a thousandfold, which keeps their order and groups): the same kept outputs and previous
+// positions at every step, with duplicates, ties and NaN values (a NaN winner is replaced by a
+// later output, and a later NaN replaces its winner: SOFA's comparison), and for ids at the top
+// of int64, whose slots are found without overflow.
+TEST(ContactTracker, IdSlotsKeepWhatTheSortsKeepWithTiesAndNaNs) {
+    std::mt19937 rng(23);
+    ContactTracker slots, sorted, top;
+    std::size_t nans = 0, duplicates = 0, carried = 0;
+    for (int step = 0; step < 120; ++step) {
+        const int n = 32 + int(rng() % 300);
+        std::vector<DetectionOutput> narrow, wide, high;
+        for (int i = 0; i < n; ++i) {
+            const std::int64_t id = std::int64_t(rng() % unsigned(3 * n / 2));  // span < 8 n: slots
+            const bool nan = rng() % 50 == 0;
+            const double value = nan ? std::numeric_limits<double>::quiet_NaN() : 0.25 * double(int(rng() % 4));
+            nans += nan ? 1 : 0;
+            narrow.push_back(output(id, value));
+            wide.push_back(output(1000 * id, value));
+            high.push_back(output(std::numeric_limits<std::int64_t>::max() - 600 + id, value));  // ids < 498
+        }
+        const auto a = slots.update(narrow);
+        const auto b = sorted.update(wide);
+        const auto c = top.update(high);
+        ASSERT_EQ(a.size(), b.size()) << "step " << step;
+        ASSERT_EQ(a.size(), c.size()) << "step " << step;
+        for (std::size_t k = 0; k < a.size(); ++k) {
+            ASSERT_EQ(a[k].output, b[k].output) << "step " << step << ", contact " << k;
+            ASSERT_EQ(a[k].old_index, b[k].old_index) << "step " << step << ", contact " << k;
+            ASSERT_EQ(a[k].output, c[k].output) << "step " << step << ", contact " << k;
+            ASSERT_EQ(a[k].old_index, c[k].old_index) << "step " << step << ", contact " << k;
+            EXPECT_EQ(slots.position_of(narrow[a[k].output].id), Index(k + 1));
+            carried += a[k].old_index > 0 ? 1 : 0;
+        }
+        EXPECT_EQ(slots.tracked_ids(), sorted.tracked_ids());
+        duplicates += narrow.size() - a.size();
+    }
+    EXPECT_GT(nans, 200u);
+    EXPECT_GT(duplicates, 5000u);
+    EXPECT_GT(carried, 5000u);
 }
 
 }  // namespace

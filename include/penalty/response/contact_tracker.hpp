@@ -43,14 +43,19 @@ public:
         std::int64_t position;
     };
 
-    /// A counting sort of the outputs by id from this many outputs, when their ids span fewer
-    /// than kCountingSortRangePerOutput ids an output; otherwise the stable radix sort by id from
-    /// kMinOutputsForRadixSort outputs, a comparison sort below.
-    static constexpr std::size_t kMinOutputsForCountingSort = 32;
-    static constexpr std::uint64_t kCountingSortRangePerOutput = 8;
+    /// From this many outputs whose ids span fewer than kIdSlotsPerOutput ids an
+    /// output, a slot per id of the range instead of a sort (update_dense); otherwise the
+    /// outputs are sorted by id: the stable radix sort from kMinOutputsForRadixSort outputs, a
+    /// comparison sort below.
+    static constexpr std::size_t kMinOutputsForIdSlots = 32;
+    static constexpr std::uint64_t kIdSlotsPerOutput = 8;
     static constexpr std::size_t kMinOutputsForRadixSort = 256;
 
 private:
+    /// update() for ids in [low, low + span], span < kIdSlotsPerOutput · outputs:
+    /// the same result, from a slot per id (no sort).
+    std::span<const KeptOutput> update_dense(std::span<const DetectionOutput> outputs, std::int64_t low,
+                                             std::uint64_t span);
     /// by_id_ = (id, output index) of every output, sorted.
     void sort_by_id(std::span<const DetectionOutput> outputs);
 
@@ -60,12 +65,13 @@ private:
     // scratch, reused across steps
     std::vector<IdPosition> next_;            // the map being built (swapped with previous_)
     std::vector<std::pair<std::int64_t, std::size_t>> by_id_;  // (id, output index), sorted: compact, so the sort stays in cache
-    std::vector<std::size_t> id_counts_;      // the counting sort's slots, one per id of the range
     std::vector<std::pair<std::int64_t, std::size_t>> by_id_swap_;  // the radix sort's other buffer
     std::vector<std::size_t> radix_counts_;   // the radix sort's digit counts
     std::vector<std::int64_t> old_;           // per output: previous position, 0 new, −1 dropped
     std::vector<std::int64_t> new_position_;  // per output: 1-based position in this step's list
     std::vector<KeptOutput> kept_;            // the result of the last update()
+    std::vector<std::size_t> winner_of_id_;   // update_dense: per id of the range, 1 + its winner's output index (0: none)
+    std::vector<std::int64_t> position_of_id_;  // update_dense: per id, its previous position, then its new one
 };
 
 }  // namespace penalty
