@@ -85,6 +85,24 @@ struct Traversal {
         const std::uint32_t* ob = b.order().data();
         const Aabb* ba = a.ordered_boxes().data();
         const Aabb* bb = b.ordered_boxes().data();
+        // One element on a side (a sphere against a mesh): its box against the other node's
+        // element boxes, in slot order. The same pairs in the same order as the columns below:
+        // an element's box lies in its node's box, so a box overlapping the element's overlaps
+        // the node's (the tests are monotone in the bounds), and the columns' pre-test adds nothing.
+        if (na.count == 1) {
+            const Aabb& boxa = ba[na.first];
+            if (!boxa.overlaps(nb.box, margin)) return;
+            for (std::uint32_t t = nb.first; t < nb.first + nb.count; ++t)
+                if (boxa.overlaps(bb[t], margin)) emit(out, oa[na.first], ob[t]);
+            return;
+        }
+        if (nb.count == 1) {
+            const Aabb& boxb = bb[nb.first];
+            if (!boxb.overlaps(na.box, margin)) return;
+            for (std::uint32_t s = na.first; s < na.first + na.count; ++s)
+                if (ba[s].overlaps(boxb, margin)) emit(out, oa[s], ob[nb.first]);
+            return;
+        }
         if (nb.count > detail::BoxColumns::kCapacity) {
             for (std::uint32_t s = na.first; s < na.first + na.count; ++s) {
                 const Aabb& boxa = ba[s];
@@ -473,17 +491,37 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
     b.reach.resize(n);
     b.nearest.assign(n2, kNone);
     b.bound.assign(n2, kInf);  // first the least reach of each element 2, then its bound
+    // the squared distance from q to the box
+    const auto reach_of = [](const Aabb& box, const Vec3& q) {
+        return (box.min - q).cwiseMax(q - box.max).cwiseMax(0.0).squaredNorm();
+    };
     detail::with_element_points(m2, [&](auto&& point_of) {
-        for (std::size_t k = 0; k < n; ++k) {
-            const std::uint64_t key = keys[k];
-            const std::size_t e2 = key & 0xffffffffu;
-            const Aabb& box = boxes1[key >> 32];
-            const Vec3& q = point_of(Index(e2));
-            const double d2 = (box.min - q).cwiseMax(q - box.max).cwiseMax(0.0).squaredNorm();
-            b.reach[k] = d2;
-            if (d2 < b.bound[e2]) {
-                b.bound[e2] = d2;
-                b.nearest[e2] = std::uint32_t(k);
+        if (n2 == 1) {
+            // one element 2 (a sphere): its least reach kept in a register, not read back from
+            // memory at every key
+            const Vec3& q = point_of(0);
+            double least = kInf;
+            std::uint32_t at = kNone;
+            for (std::size_t k = 0; k < n; ++k) {
+                const double d2 = reach_of(boxes1[keys[k] >> 32], q);
+                b.reach[k] = d2;
+                if (d2 < least) {
+                    least = d2;
+                    at = std::uint32_t(k);
+                }
+            }
+            b.bound[0] = least;
+            b.nearest[0] = at;
+        } else {
+            for (std::size_t k = 0; k < n; ++k) {
+                const std::uint64_t key = keys[k];
+                const std::size_t e2 = key & 0xffffffffu;
+                const double d2 = reach_of(boxes1[key >> 32], point_of(Index(e2)));
+                b.reach[k] = d2;
+                if (d2 < b.bound[e2]) {
+                    b.bound[e2] = d2;
+                    b.nearest[e2] = std::uint32_t(k);
+                }
             }
         }
         // (as the per-element arrays: the capacity of every element 2, not of this step's ones)
