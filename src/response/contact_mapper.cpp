@@ -29,12 +29,6 @@ inline void check_element(const CollisionModel& m, const char* function, Index e
         throw_bad_element(m, function, element, P);
 }
 
-/// `element` must be one of the model's (IdentityContactMapper: P is not used).
-inline void check_element(const CollisionModel& m, const char* function, Index element) {
-    if (element < 0 || static_cast<std::size_t>(element) >= m.size()) [[unlikely]]
-        throw_bad_element(m, function, element, Vec3::Zero());
-}
-
 /// A flat parent vector as the per-DOF values it holds (Vec3: 3 scalars, RigidDeriv: 6; the
 /// layout of flat_span).
 template <class Deriv>
@@ -71,7 +65,10 @@ IdentityContactMapper::IdentityContactMapper(const CollisionModel& model) : mode
 }
 
 Index IdentityContactMapper::add_point(const Vec3& /*P: the element's own point*/, Index element, double& r) {
-    check_element(*model_, "IdentityContactMapper::add_point", element);
+    // check_element's test, with the model's size read from its state (a Point or Sphere model
+    // has one element per point of its state): no virtual call per contact
+    if (element < 0 || static_cast<std::size_t>(element) >= state_->size()) [[unlikely]]
+        throw_bad_element(*model_, "IdentityContactMapper::add_point", element, Vec3::Zero());
     if (sphere_) r = sphere_->radius(element);
     return element;
 }
