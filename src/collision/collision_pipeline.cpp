@@ -439,6 +439,11 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
     };
     if (kernel.writes != nullptr) for_each_candidate(0, keys.size(), out, kernel.writes);
     auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
+        if (kernel.reads_all != nullptr && !node) {
+            detail::PairCtx ctx{params, m1, m2, 0, 0, to, separation_tests};
+            kernel.reads_all(ctx, std::span<const std::uint64_t>(keys).subspan(begin, end - begin));
+            return;
+        }
         for_each_candidate(begin, end, to, kernel.reads);
     };
     // one thread (the arena's, e.g. a benchmark's or a user's task_arena of 1): the chunks would

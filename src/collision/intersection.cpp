@@ -378,6 +378,7 @@ detail::KernelParts detail::pair_kernel_parts(const IntersectionParams& params, 
     }
     if (fn == &min_triangle_point || fn == &min_triangle_sphere) return {nullptr, fn, &filter_triangle_candidates};
     if (fn == &np_line_line || fn == &min_line_line) return {nullptr, fn, &filter_line_line_candidates};
+    if (fn == &np_sphere_point) return {nullptr, fn, nullptr, &np_sphere_point_all};
     return {nullptr, fn};
 }
 

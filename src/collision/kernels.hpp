@@ -54,6 +54,11 @@ struct KernelParts {
     /// Triangle–Sphere and Line–Line (filter_triangle_candidates, filter_line_line_candidates).
     void (*filter)(const IntersectionParams&, const CollisionModel& m1, const CollisionModel& m2,
                    std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept) = nullptr;
+    /// Optional: `reads` over every candidate of `keys` (element 1 << 32 | element 2), in order,
+    /// the same operations with the pair's constants and its models' types taken once (for
+    /// cheap kernels whose call per candidate costs a good part of their work: NewProximity
+    /// Sphere–Point). Not for a pair within one node (elements_may_collide is not asked).
+    void (*reads_all)(PairCtx&, std::span<const std::uint64_t> keys) = nullptr;
 };
 [[nodiscard]] KernelParts pair_kernel_parts(const IntersectionParams& params, const CollisionModel& m1,
                                             const CollisionModel& m2);
@@ -374,6 +379,7 @@ void exhaustive_element_pairs(const IntersectionParams& params, CollisionModel& 
 // NewProximity
 int np_sphere_sphere(PairCtx&);     // Sphere/RigidSphere pairs (centres)
 int np_sphere_point(PairCtx&);      // Sphere–Point, RigidSphere–Point
+void np_sphere_point_all(PairCtx&, std::span<const std::uint64_t> keys);  // KernelParts::reads_all
 int np_point_point(PairCtx&);
 int np_line_point(PairCtx&);
 int np_line_line(PairCtx&);

@@ -110,6 +110,24 @@ int np_sphere_point(PairCtx& c) {
                  kNewProximity.point_point_guard);
 }
 
+void np_sphere_point_all(PairCtx& c, std::span<const std::uint64_t> keys) {
+    // np_sphere_point's sums: (alarm + skins) + r and (contact + skins) + r, the first terms once
+    const auto& points = static_cast<const PointModel&>(c.m2);
+    const double alarm = c.p.alarm_distance + skins(c);
+    const double contact = c.p.contact_distance + skins(c);
+    const auto run = [&](const auto& spheres) {
+        for (const std::uint64_t key : keys) {
+            c.e1 = Index(key >> 32);
+            c.e2 = Index(key & 0xffffffffu);
+            const double r = spheres.radius(c.e1);
+            np_pp(c, spheres.center(c.e1), points.point(c.e2), alarm + r, contact + r, id_big(c),
+                  kNewProximity.point_point_guard);
+        }
+    };
+    if (c.m1.type() == ModelType::RigidSphere) run(static_cast<const RigidSphereModel&>(c.m1));
+    else run(static_cast<const SphereModel&>(c.m1));
+}
+
 // Point–point and line–line are one routine in both methods, with the method's constants.
 namespace {
 int point_point(PairCtx& c, Guard g) {
