@@ -249,14 +249,14 @@ inline Gram gram(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q) 
     return g;
 }
 
-/// NewProximity's closest feature of the triangle to the projected point (see
-/// TriangleRegionConstants): its α, β, or false if the triangle does not own it (`flags`).
 /// Whether the projection's α, β are inside the triangle: α, β ≥ lo and α + β ≤ hi (false on
 /// NaN). NewProximity's face region and MinProximity's strict interior.
 inline bool inside_triangle(double alpha, double beta, double lo, double hi) {
     return !(alpha < lo || beta < lo || alpha + beta > hi);
 }
 
+/// NewProximity's closest feature of the triangle to the projected point (see
+/// TriangleRegionConstants): its α, β, or false if the triangle does not own it (`flags`).
 inline bool closest_feature(const Gram& g, std::uint32_t flags, const TriangleRegionConstants& k, double& alpha,
                      double& beta) {
     using F = TriangleModel::Flags;
