@@ -249,8 +249,9 @@ inline Gram gram(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q) 
     return g;
 }
 
-/// Whether the projection's α, β are inside the triangle: α, β ≥ lo and α + β ≤ hi (false on
-/// NaN). NewProximity's face region and MinProximity's strict interior.
+/// Whether the projection's α, β are inside the triangle: not (α < lo or β < lo or α + β > hi),
+/// so true on NaN (the callers drop degenerate triangles, whose α, β may be NaN, before).
+/// NewProximity's face region and MinProximity's strict interior.
 inline bool inside_triangle(double alpha, double beta, double lo, double hi) {
     return !(alpha < lo || beta < lo || alpha + beta > hi);
 }
