@@ -12,21 +12,19 @@ bool id_less(const ContactTracker::IdPosition& a, std::int64_t id) { return a.id
 
 std::span<const KeptOutput> ContactTracker::update(std::span<const DetectionOutput> outputs) {
     const std::size_t n = outputs.size();
-    if (n >= kMinOutputsForIdSlots) {
-        std::int64_t low = outputs[0].id, high = low;
-        for (const DetectionOutput& o : outputs) {
-            low = std::min(low, o.id);
-            high = std::max(high, o.id);
-        }
-        // (high − low without overflow, whatever the int64 ids)
-        const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
-        if (span < kIdSlotsPerOutput * n) return update_dense(outputs, low, span);
+    std::int64_t low = n > 0 ? outputs[0].id : 0, high = low;
+    for (const DetectionOutput& o : outputs) {
+        low = std::min(low, o.id);
+        high = std::max(high, o.id);
     }
+    // (high − low without overflow, whatever the int64 ids)
+    const auto span = static_cast<std::uint64_t>(high) - static_cast<std::uint64_t>(low);
+    if (n >= kMinOutputsForIdSlots && span < kIdSlotsPerOutput * n) return update_dense(outputs, low, span);
     // Outputs grouped by id (sorted by (id, output index), so each group is in output order).
     // Per group the winner is the first output with the minimal value: a later output replaces
     // the current winner only if the winner's value is not <= its value (strict `<`, and a NaN
     // winner is replaced, as SOFA's comparison). The winner inherits the id's previous position.
-    sort_by_id(outputs);
+    sort_by_id(outputs, low);
     // old_[i]: ≥ 0 kept (0 = new, > 0 = previous 1-based position), −1 not kept
     // The groups come in increasing id order and previous_ is sorted by id: one merge finds each
     // id's previous position.
@@ -97,19 +95,17 @@ std::span<const KeptOutput> ContactTracker::update_dense(std::span<const Detecti
     return kept_;
 }
 
-void ContactTracker::sort_by_id(std::span<const DetectionOutput> outputs) {
+void ContactTracker::sort_by_id(std::span<const DetectionOutput> outputs, std::int64_t low) {
     // by id, then output index (all pairs distinct); outputs often come in id order already.
     // (update() takes ids in a narrow range, from kMinOutputsForIdSlots outputs, without a
     // sort: update_dense.)
     const std::size_t n = outputs.size();
     by_id_.resize(n);
     bool sorted = true;
-    std::int64_t low = n > 0 ? outputs[0].id : 0;
     for (std::size_t i = 0; i < n; ++i) {
         const std::int64_t id = outputs[i].id;
         by_id_[i] = {id, i};
         sorted = sorted && (i == 0 || outputs[i - 1].id <= id);
-        low = std::min(low, id);
     }
     if (sorted) return;
     // For few outputs the comparison sort; otherwise the radix sort by id − low (stable, and

@@ -56,8 +56,8 @@ private:
     /// the same result, from a slot per id (no sort).
     std::span<const KeptOutput> update_dense(std::span<const DetectionOutput> outputs, std::int64_t low,
                                              std::uint64_t span);
-    /// by_id_ = (id, output index) of every output, sorted.
-    void sort_by_id(std::span<const DetectionOutput> outputs);
+    /// by_id_ = (id, output index) of every output, sorted; `low` is their least id.
+    void sort_by_id(std::span<const DetectionOutput> outputs, std::int64_t low);
 
     // SOFA's contactIndex map as a vector sorted by id: no allocation once its capacity is
     // reached, whichever ids come and go
