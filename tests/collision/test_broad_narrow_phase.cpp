@@ -39,6 +39,14 @@ CollisionModelParams mp(const char* name, int node = -1, bool self = false, std:
     return p;
 }
 
+// A static obstacle's parameters: not moving, not simulated (its candidate-cache slack is 0).
+CollisionModelParams static_mp(const char* name) {
+    CollisionModelParams p = mp(name);
+    p.moving = false;
+    p.simulated = false;
+    return p;
+}
+
 IntersectionParams method_params(IntersectionMethod m) {
     IntersectionParams p;
     switch (m) {
@@ -573,10 +581,7 @@ TEST(NarrowPhase, KeysSureToOverlapStayWithinTheBoxTestAcrossASwingOfTwiceTheSla
     for (const double d : {-0.001, -0.004, -0.03, 0.01, 0.04}) row.emplace_back(reach + d, 0.0, 0.0);
     Vec3State points_state = test::make_state(row);
     Vec3State ball_state = test::make_state({Vec3::Zero()});
-    CollisionModelParams fixed = mp("row");
-    fixed.moving = false;
-    fixed.simulated = false;
-    PointModel points(points_state, nullptr, fixed);
+    PointModel points(points_state, nullptr, static_mp("row"));
     SphereModel ball(ball_state, r, {}, mp("ball"));
     const std::vector<CollisionModel*> models = {&ball, &points};
     CachedAndPlain pipelines(params, models);
@@ -613,10 +618,7 @@ TEST(NarrowPhase, MovingPointsKeepTheirCandidatesForSeveralSteps) {
     params.contact_distance = 0.1;
     auto floor = test::triangle_mesh({Vec3(-5, -5, 0), Vec3(5, -5, 0), Vec3(5, 5, 0), Vec3(-5, 5, 0)},
                                      {{0, 1, 2}, {0, 2, 3}});
-    CollisionModelParams fixed = mp("floor");
-    fixed.moving = false;
-    fixed.simulated = false;
-    TriangleModel tris(floor->state, floor->topo, fixed);
+    TriangleModel tris(floor->state, floor->topo, static_mp("floor"));
     std::vector<Vec3> corners;
     for (int k = 0; k < 8; ++k) corners.emplace_back(0.3 + (k & 1), 0.1 + ((k >> 1) & 1), 0.3 + ((k >> 2) & 1));
     Vec3State cube = test::make_state(corners);
@@ -650,10 +652,7 @@ TEST(NarrowPhase, ASlackThatAddsFewCandidatesGrowsPastAQuarterOfTheExtent) {
     for (int i = 0; i < 13; ++i)
         for (int j = 0; j < 13; ++j) grid.emplace_back(-3.0 + 0.5 * i, 0.0, -3.0 + 0.5 * j);
     Vec3State plane = test::make_state(grid);
-    CollisionModelParams fixed = mp("grid");
-    fixed.moving = false;
-    fixed.simulated = false;
-    PointModel points(plane, nullptr, fixed);
+    PointModel points(plane, nullptr, static_mp("grid"));
     Vec3State ball = test::make_state({Vec3(0.3, 10.0, 0.2)});
     SphereModel sphere(ball, 1.0, {}, mp("ball"));
     const std::vector<CollisionModel*> models = {&sphere, &points};
