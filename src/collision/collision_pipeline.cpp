@@ -395,14 +395,32 @@ LongElements long_elements(const IntersectionParams& params, const CollisionMode
     return {side_a ? &m1 : &m2, side_a, R, 0.0};
 }
 
+// The kernel's writes (KernelParts::writes, not null) over the candidates `keys` of m1 × m2 in
+// their order; within one node, the element pairs that may not collide are skipped, as
+// evaluate_candidates skips them.
+void run_kernel_writes(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
+                       const detail::KernelParts& kernel, std::span<const std::uint64_t> keys) {
+    const bool node = same_node(m1, m2);
+    DetectionOutputList none;  // the writes make no output
+    detail::PairCtx ctx{params, m1, m2, 0, 0, none};
+    for (const std::uint64_t key : keys) {
+        ctx.e1 = Index(key >> 32);
+        ctx.e2 = Index(key & 0xffffffffu);
+        if (node && !elements_may_collide(m1, ctx.e1, m2, ctx.e2)) continue;
+        kernel.writes(ctx);
+    }
+}
+
 // Intersects the candidates `all_keys` (element 1 << 32 | element 2) of m1 × m2 in their
 // order: the kernel's filter first, if it has one (KernelParts::filter: drops candidates that
 // give no output), then its writes to the models, over all candidates in order, then its reads,
 // in parallel chunks concatenated in chunk order (the outputs of the sequential loop).
 // separation_tests: the kernels run their early outs (separation.hpp) on every candidate.
+// deferred_writes: if not null, the kernel's writes are not run but their candidates appended
+// to it, in the order they would have run in (run_kernel_writes runs them later).
 void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
                          const Keys& all_keys, const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b,
-                         DetectionOutputList& out, bool separation_tests) {
+                         DetectionOutputList& out, bool separation_tests, Keys* deferred_writes) {
     const bool node = same_node(m1, m2);
     // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
     // models' sizes (check_trees), so every element index is in range
@@ -437,7 +455,10 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
             fn(ctx);
         }
     };
-    if (kernel.writes != nullptr) for_each_candidate(0, keys.size(), out, kernel.writes);
+    if (kernel.writes != nullptr) {
+        if (deferred_writes != nullptr) deferred_writes->insert(deferred_writes->end(), keys.begin(), keys.end());
+        else run_kernel_writes(params, m1, m2, kernel, keys);
+    }
     auto run = [&](std::size_t begin, std::size_t end, DetectionOutputList& to) {
         if (kernel.reads_all != nullptr && !node) {
             detail::PairCtx ctx{params, m1, m2, 0, 0, to, separation_tests};
@@ -488,7 +509,8 @@ bool worth_keeping_nearest(std::size_t candidates, const CollisionModel& m2) {
 }
 
 void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m1, const Aabb* boxes1,
-                             CollisionModel& m2, Keys& keys, NarrowPhaseScratch::Buffers& b, bool separation_tests) {
+                             CollisionModel& m2, Keys& keys, NarrowPhaseScratch::Buffers& b, bool separation_tests,
+                             Keys* deferred_writes) {
     const std::size_t n = keys.size();
     const std::size_t n2 = m2.size();
     constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
@@ -540,7 +562,7 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
         b.nearest_outputs.clear();
         NarrowPhaseOptions serial;
         serial.parallel = false;
-        evaluate_candidates(params, m1, m2, b.nearest_keys, serial, b, b.nearest_outputs, separation_tests);
+        evaluate_candidates(params, m1, m2, b.nearest_keys, serial, b, b.nearest_outputs, separation_tests, deferred_writes);
         for (const DetectionOutput& o : b.nearest_outputs) {
             const Vec3& q = point_of(o.elem2);
             const double length = (q - o.point[0]).norm();
@@ -605,7 +627,8 @@ double largest_bound_change(std::span<const Aabb> now, std::span<const Aabb> bef
 // contact_outputs_only: keep_nearest_candidates for a kernel of outputs_nearest_to_element2.
 void narrow_phase_on_trees(const IntersectionParams& params, CollisionModel& m1, const Bvh& t1, CollisionModel& m2,
                            const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
-                           DetectionOutputList& out, double side1, double side2, bool contact_outputs_only = false) {
+                           DetectionOutputList& out, double side1, double side2, bool contact_outputs_only = false,
+                           Keys* deferred_writes = nullptr) {
     const bool same_model = &m1 == &m2;
     check_trees(m1, t1, m2, t2);
     NarrowPhaseScratch::Buffers& b = scratch.buffers();
@@ -618,10 +641,10 @@ void narrow_phase_on_trees(const IntersectionParams& params, CollisionModel& m1,
     const std::size_t candidates = b.keys.size();
     const bool nearest = contact_outputs_only && worth_keeping_nearest(candidates, m2) &&
                          detail::outputs_nearest_to_element2(params, detail::pair_kernel_parts(params, m1, m2));
-    if (nearest) keep_nearest_candidates(params, m1, t1.element_boxes().data(), m2, b.keys, b, separation_tests);
+    if (nearest) keep_nearest_candidates(params, m1, t1.element_boxes().data(), m2, b.keys, b, separation_tests, deferred_writes);
     const std::size_t from = out.size();
     if (nearest) out.reserve(from + candidates);
-    evaluate_candidates(params, m1, m2, b.keys, opt, b, out, separation_tests);
+    evaluate_candidates(params, m1, m2, b.keys, opt, b, out, separation_tests, deferred_writes);
     if (nearest) keep_least_outputs(out, from, m2.size(), b);
 }
 }  // namespace
@@ -793,9 +816,10 @@ void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, Dete
 }
 
 void CollisionPipeline::detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out,
-                                         PairScratch& scratch, PairCounts& counts, PairCandidates* kept) {
+                                         PairScratch& scratch, PairCounts& counts, PairCandidates* kept,
+                                         std::vector<std::uint64_t>* deferred_writes) {
     out.clear();
-    const bool in_sofa_order = detect_pair_unordered(i1, i2, out, scratch, counts, kept);
+    const bool in_sofa_order = detect_pair_unordered(i1, i2, out, scratch, counts, kept, deferred_writes);
     if (!opt_.sofa_output_order || in_sofa_order || out.size() < 2) return;
     ensure_sofa_trees(i1, i2);
     sort_in_sofa_order(sofa_trees_[i1], sofa_trees_[i2], out, scratch.sofa_order);
@@ -832,11 +856,13 @@ CollisionPipeline::PairCandidates* CollisionPipeline::pair_candidates_entry(std:
 }
 
 bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
-                                              PairScratch& scratch, PairCounts& counts, PairCandidates* kept_entry) {
+                                              PairScratch& scratch, PairCounts& counts, PairCandidates* kept_entry,
+                                              Keys* deferred_writes) {
     // the models were validated and update()d by refit()
     CollisionModel& m1 = *models_[i1];
     CollisionModel& m2 = *models_[i2];
     if (detection_ == ContactDetection::exhaustive) {
+        PENALTY_DEMAND(deferred_writes == nullptr);  // pairs run in parallel only with bvh
         detail::exhaustive_element_pairs(params_, m1, m2, out, boxes_);
         return false;
     }
@@ -854,7 +880,7 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
     if (!opt_.candidate_cache || a.generation == 0 || b.generation == 0) {
         if (&m1 != &m2 && !t1.root_box().overlaps(t2.root_box(), margin)) return false;
         narrow_phase_on_trees(params_, m1, t1, m2, t2, narrow, scratch.narrow, out, a.longest_side, b.longest_side,
-                              opt_.contact_outputs_only);
+                              opt_.contact_outputs_only, deferred_writes);
         counts.candidates += scratch.narrow.buffers().keys.size();
         return false;
     }
@@ -993,10 +1019,10 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
     }
     kept.overlapped_last = now.size();
     const bool nearest = kept.nearest_outputs && worth_keeping_nearest(now.size(), m2);
-    if (nearest) keep_nearest_candidates(params_, m1, boxes1, m2, now, buf, separation_tests);
+    if (nearest) keep_nearest_candidates(params_, m1, boxes1, m2, now, buf, separation_tests, deferred_writes);
     const std::size_t from = out.size();
     if (nearest) out.reserve(from + kept.keys.size());
-    evaluate_candidates(params_, m1, m2, now, narrow, buf, out, separation_tests);
+    evaluate_candidates(params_, m1, m2, now, narrow, buf, out, separation_tests, deferred_writes);
     if (nearest) keep_least_outputs(out, from, m2.size(), buf);
     counts.candidates += now.size();
     if (kept.in_sofa_order) ++counts.cache.in_sofa_order;
@@ -1168,8 +1194,9 @@ bool CollisionPipeline::pairs_run_concurrently() const {
     if (detection_ != ContactDetection::bvh || opt_.pair_concurrency == PairConcurrency::never ||
         !opt_.narrow.parallel || tbb::this_task_arena::max_concurrency() < 2)
         return false;
-    // a kernel's writes are read by the later pairs of its models (§14.4): pairs in order
-    if (any_pair_writes_models_) return false;
+    // a kernel's writes are read by the later pairs of its models (§14.4): pairs in order,
+    // unless only writes read them (then the writes of all pairs run after the pairs, in order)
+    if (any_pair_writes_models_ && !detail::model_writes_read_only_by_writes(params_)) return false;
     const bool always = opt_.pair_concurrency == PairConcurrency::always;
     std::size_t worth_a_task = 0, candidates = 0;
     for (const std::size_t k : near_) {
@@ -1254,6 +1281,11 @@ void CollisionPipeline::detect_pairs_concurrently() {
     const std::size_t chunks =
         std::min(n, kChunksPerThread * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
     if (chunk_scratch_.size() < chunks) chunk_scratch_.resize(chunks);
+    // Kernels that write the models (NewProximity Triangle–Triangle's normal overwrite), read by
+    // writes alone (pairs_run_concurrently): each pair keeps its writes' candidates, run below
+    // in pair order, as detect_pairs_in_order would have run them.
+    const bool defer_writes = any_pair_writes_models_;
+    if (defer_writes && deferred_writes_.size() < pairs_.size()) deferred_writes_.resize(pairs_.size());
     std::mutex merge;
     PairCounts total;
     FirstErrorInOrder failure;
@@ -1267,8 +1299,10 @@ void CollisionPipeline::detect_pairs_concurrently() {
                     ModelPairDetection& d = result_[k];
                     try {
                         const std::size_t before = counts.candidates;
+                        Keys* deferred = defer_writes ? &deferred_writes_[k] : nullptr;
+                        if (deferred != nullptr) deferred->clear();
                         detect_pair_with(pair_indices_[k][0], pair_indices_[k][1], d.outputs, chunk_scratch_[c],
-                                         counts, pair_kept_[k]);
+                                         counts, pair_kept_[k], deferred);
                         record_pair_work(k, counts.candidates - before);
                     } catch (...) {
                         failure.record(k);
@@ -1281,6 +1315,16 @@ void CollisionPipeline::detect_pairs_concurrently() {
         },
         tbb::simple_partitioner());
     total.add_to(cache_stats_, candidates_evaluated_);
+    if (defer_writes) {
+        // the writes of the pairs before the first that failed (all of them if none did)
+        for (const std::size_t k : near_) {
+            if (k >= failure.first_index()) break;
+            CollisionModel& m1 = *pairs_[k].model1;
+            CollisionModel& m2 = *pairs_[k].model2;
+            const detail::KernelParts kernel = detail::pair_kernel_parts(params_, m1, m2);
+            if (kernel.writes != nullptr) run_kernel_writes(params_, m1, m2, kernel, deferred_writes_[k]);
+        }
+    }
     failure.rethrow_if_any();
 }
 

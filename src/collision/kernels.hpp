@@ -44,6 +44,7 @@ using KernelFn = int (*)(PairCtx&);
 /// the reads in parallel. `writes` is nullptr for every kernel but NewProximity Triangle–Triangle
 /// with SOFA's normal overwrite (§14.4, see np_triangle_triangle_writes_normals).
 struct KernelParts {
+    /// Reads only the models and the element pair: never the output list or separation_tests.
     void (*writes)(PairCtx&) = nullptr;
     KernelFn reads = nullptr;
     /// Optional: appends to `kept`, in order, the candidates of `keys` (element 1 << 32 |
@@ -71,6 +72,16 @@ struct KernelParts {
 /// unless the quirk is fixed or both models are two-sided).
 [[nodiscard]] bool np_triangle_triangle_writes_normals(const IntersectionParams& params, const CollisionModel& m1,
                                                        const CollisionModel& m2);
+
+/// Whether, in a detection with these parameters, what the kernels' writes (KernelParts::writes)
+/// write is read by writes alone: no kernel's reads, no filter and no traversal reads it. Then
+/// the writes of all the detection's pairs may run after the pairs' reads, in pair order and
+/// over each pair's candidates in their order, for the same outputs and the same models at the
+/// end. NewProximity: the only writes are Triangle–Triangle's normal overwrite, and no
+/// NewProximity kernel reads the stored normals (outputs from positions, separation tests from
+/// TriangleModel::update_planes); the stored normals are read by Discrete Triangle–Line and by
+/// MinProximity with surface normals, which never share a detection with NewProximity kernels.
+[[nodiscard]] bool model_writes_read_only_by_writes(const IntersectionParams& params);
 
 /// Whether every output of the kernel joins, for either element that is a Triangle or a Line, a
 /// point of its plane or line to a point within the other element's box, and needs their

@@ -239,6 +239,8 @@ bool np_triangle_triangle_writes_normals(const IntersectionParams& p, const Coll
            !(m1.params().both_side && m2.params().both_side);
 }
 
+bool model_writes_read_only_by_writes(const IntersectionParams& p) { return p.method == IntersectionMethod::NewProximity; }
+
 namespace {
 // Two triangles of one model that share a vertex are neighbours: SOFA tests neither.
 bool neighbours_in_one_model(const TriangleModel& t1, Index e1, const TriangleModel& t2, Index e2) {

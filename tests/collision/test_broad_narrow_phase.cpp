@@ -427,7 +427,13 @@ TEST(NarrowPhase, NormalOverwriteLastsThroughTheLaterPairsOfOneDetection) {
     // one-triangle models: B 0.1 above A, C 0.1 below A, B and C beyond each other's reach.
     // Pair (B, A), B one-sided: n_A := −n_B. Pair (C, A), C two-sided, A one-sided: n_C := −n_A,
     // which is n_B = +z; had A's normal been computed again between the pairs, n_C = −(+z).
+    // With the pairs run in parallel on two threads (bvh), their writes run after them, in pair
+    // order: the same normals.
+    const tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
+    tbb::task_arena arena(2);
+    for (const bool concurrent : {false, true})
     for (const ContactDetection detection : {ContactDetection::bvh, ContactDetection::exhaustive}) {
+        if (concurrent && detection == ContactDetection::exhaustive) continue;
         auto a = test::triangle_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});         // n = +z
         auto b = test::triangle_mesh({{0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1}}, {{0, 1, 2}});   // n = +z
         auto c = test::triangle_mesh({{0, 0, -0.1}, {0, 1, -0.1}, {1, 0, -0.1}}, {{0, 1, 2}});  // n = −z
@@ -437,10 +443,15 @@ TEST(NarrowPhase, NormalOverwriteLastsThroughTheLaterPairsOfOneDetection) {
         IntersectionParams params = IntersectionParams::new_proximity();
         params.alarm_distance = 0.15;
         params.contact_distance = 0.05;
-        CollisionPipeline pipe(params, {}, detection);
+        CollisionPipelineOptions options;
+        options.pair_concurrency = concurrent ? PairConcurrency::always : PairConcurrency::never;
+        CollisionPipeline pipe(params, options, detection);
         pipe.set_models({&ta, &tb, &tc});
         for (int step = 0; step < 2; ++step) {  // the next detection computes them again first
-            const SceneDetection& got = pipe.detect();
+            const SceneDetection* detected = nullptr;
+            arena.execute([&] { detected = &pipe.detect(); });
+            const SceneDetection& got = *detected;
+            EXPECT_EQ(pipe.last_detection_concurrent(), concurrent);
             ASSERT_NE(find_pair(got, &tb, &ta), nullptr);
             ASSERT_NE(find_pair(got, &tc, &ta), nullptr);
             const ModelPairDetection* cb = find_pair(got, &tc, &tb);
@@ -964,11 +975,14 @@ TEST(NarrowPhase, BitIdenticalWith1And2And4Threads) {
 
 // Model pairs detected in parallel (CollisionPipeline::detect, more than one thread): over
 // moving meshes, with the candidate cache's collections and reuses, the outputs, the cache's
-// statistics and the candidates evaluated are those of one thread, pair by pair, bit for bit.
-// The pairs run in parallel unless a pair's kernel writes the models (NewProximity Triangle–
-// Triangle's normal overwrite, read by the later pairs of those models).
+// statistics and the candidates evaluated are those of one thread, pair by pair, bit for bit,
+// and so are the triangles' stored normals after each detection. With NewProximity Triangle–
+// Triangle's normal overwrite (read by the later pairs of those models), the pairs' writes run
+// after them, in pair order.
 struct ThreadedDetections {
     std::vector<SceneDetection> steps;
+    std::vector<std::vector<Vec3>> normals;  // after each detection: torus 1's, then torus 2's
+    std::size_t overwritten = 0;             // of those, the ones update() computes otherwise
     CollisionPipeline::CandidateCacheStats stats;
     std::size_t candidates = 0;
     int concurrent_steps = 0;
@@ -999,6 +1013,14 @@ ThreadedDetections detect_moving_meshes(int threads, const IntersectionParams& p
                 p.model2 = place(p.model2);
             }
             r.concurrent_steps += pipe.last_detection_concurrent() ? 1 : 0;
+            std::vector<Vec3>& normals = r.normals.emplace_back();
+            for (TriangleModel* t : {sc.tri1.get(), sc.tri2.get()}) {
+                for (Index e = 0; e < Index(t->size()); ++e) normals.push_back(t->normal(e));
+                t->update();  // the detection computes them again first (moving models)
+            }
+            for (std::size_t i = 0; i < sc.tri1->size(); ++i) r.overwritten += normals[i] != sc.tri1->normal(Index(i));
+            for (std::size_t i = 0; i < sc.tri2->size(); ++i)
+                r.overwritten += normals[sc.tri1->size() + i] != sc.tri2->normal(Index(i));
             sc.jiggle(g, step % 11 == 10 ? 0.04 : 0.001);
             for (auto& p : sc.t2->state.position) p += Vec3(0.002, 0.0, 0.0);
         }
@@ -1025,7 +1047,8 @@ TEST(NarrowPhase, PairsDetectedInParallelGiveTheBitsOfOneThreadOverSteps) {
         // shared by the pairs of a model: made before the pairs run
         {"NewProximity, two-sided triangles", method_params(IntersectionMethod::NewProximity), true, true},
         {"NewProximity, overwrite fixed", np_fixed, false, true},
-        {"NewProximity, with SOFA's normal overwrite", method_params(IntersectionMethod::NewProximity), false, false},
+        // the overwrite by two pairs of torus 1 (with itself, and with torus 2), deferred
+        {"NewProximity, with SOFA's normal overwrite", method_params(IntersectionMethod::NewProximity), false, true},
     };
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);
@@ -1052,6 +1075,17 @@ TEST(NarrowPhase, PairsDetectedInParallelGiveTheBitsOfOneThreadOverSteps) {
         EXPECT_EQ(two.stats.in_sofa_order, one.stats.in_sofa_order);
         EXPECT_EQ(two.stats.sofa_order_sorts, one.stats.sofa_order_sorts);
         EXPECT_EQ(two.candidates, one.candidates);
+        ASSERT_EQ(two.normals.size(), one.normals.size());
+        for (std::size_t s = 0; s < one.normals.size(); ++s) {
+            ASSERT_EQ(two.normals[s].size(), one.normals[s].size());
+            for (std::size_t i = 0; i < one.normals[s].size(); ++i)
+                ASSERT_TRUE(same_bits(two.normals[s][i], one.normals[s][i])) << "step " << s << ", triangle " << i;
+        }
+        EXPECT_EQ(two.overwritten, one.overwritten);
+        const bool overwrites = c.params.method == IntersectionMethod::NewProximity && !c.both_sides &&
+                                !c.params.quirks.fix_newproximity_triangle_triangle_normal_overwrite;
+        if (overwrites) EXPECT_GT(one.overwritten, 24u * 50u) << one.overwritten;
+        else EXPECT_EQ(one.overwritten, 0u);
     }
 }
 

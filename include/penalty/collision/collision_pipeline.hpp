@@ -101,8 +101,8 @@ enum class ContactDetection : std::uint8_t {
     bvh,         ///< per-model Bvh + root pruning + bvh_narrow_phase (parallel, TBB)
 };
 
-/// Whether CollisionPipeline::detect runs its model pairs in parallel (never when a pair's
-/// kernel writes the models; the outputs are the same bits in every case).
+/// Whether CollisionPipeline::detect runs its model pairs in parallel (the outputs and the
+/// models' stored data are the same bits in every case).
 enum class PairConcurrency : std::uint8_t {
     automatic,  ///< when worth it (CollisionPipeline::detect)
     always,     ///< whenever two pairs have their root boxes within the margin
@@ -161,9 +161,10 @@ public:
     /// it: root boxes apart or a model empty); the reference is valid until the next detect().
     /// bvh, with NarrowPhaseOptions::parallel and more than one thread in the calling arena:
     /// the pairs are detected in parallel, in contiguous chunks of pairs, each chunk on one
-    /// thread with its own buffers (their capacity kept from step to step), when no pair's
-    /// kernel writes the models (NewProximity Triangle–Triangle's normal overwrite is read by
-    /// the later pairs of the same models, so such a detection keeps the pairs in order) and
+    /// thread with its own buffers (their capacity kept from step to step), when a pair's
+    /// kernel that writes the models has its writes read by writes alone
+    /// (detail::model_writes_read_only_by_writes: NewProximity Triangle–Triangle's normal
+    /// overwrite; then the pairs' writes run after the pairs, in pair order, on this thread) and
     /// - PairConcurrency::always: two pairs have their root boxes within the margin;
     /// - automatic: at the last detection two of these pairs evaluated at least
     ///   kMinCandidatesPerConcurrentPair candidates each, and all pairs together at least
@@ -245,13 +246,15 @@ private:
     };
     /// detect_pair with the given buffers. `kept`: the pair's entry of pair_candidates_, made
     /// beforehand (the map is not changed while pairs run in parallel), or nullptr to look it up.
-    /// The models are models_[i1] and models_[i2].
+    /// The models are models_[i1] and models_[i2]. `deferred_writes`: if not null, the kernel's
+    /// writes to the models are not run but their candidates appended to it, in their order.
     void detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out, PairScratch& scratch,
-                          PairCounts& counts, PairCandidates* kept);
+                          PairCounts& counts, PairCandidates* kept, std::vector<std::uint64_t>* deferred_writes = nullptr);
     /// detect_pair without sorting into SOFA's output order. Returns true when `out` is in that
     /// order already (the candidate cache's kept pairs are kept in it, PairCandidates).
     [[nodiscard]] bool detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
-                                             PairScratch& scratch, PairCounts& counts, PairCandidates* kept);
+                                             PairScratch& scratch, PairCounts& counts, PairCandidates* kept,
+                                             std::vector<std::uint64_t>* deferred_writes);
     /// The pair's entry of pair_candidates_ when the candidate cache applies to it (both
     /// models have a generation), made if new; nullptr otherwise.
     [[nodiscard]] PairCandidates* pair_candidates_entry(std::size_t i1, std::size_t i2);
@@ -366,7 +369,8 @@ private:
         [[nodiscard]] bool describes(const CollisionModel& m) const;
     };
     std::vector<ModelKey> broad_phase_key_;
-    bool any_pair_writes_models_ = false;  // some pair's kernel writes the models (pairs in order)
+    bool any_pair_writes_models_ = false;  // some pair's kernel writes the models (pairs in order, or their writes deferred)
+    std::vector<std::vector<std::uint64_t>> deferred_writes_;  // per pair: its writes' candidates (detect_pairs_concurrently)
     std::unordered_map<std::uint64_t, std::size_t> pair_of_models_;  // (lower place << 32 | higher) → pair
     std::vector<std::size_t> near_;        // bvh: this detection's pairs with narrow_phase, ascending
     std::vector<std::size_t> near_last_;   // the last detection's

@@ -22,6 +22,8 @@ public:
             error_ = std::current_exception();
         }
     }
+    /// The least index recorded (the largest std::size_t if none).
+    [[nodiscard]] std::size_t first_index() const { return index_; }
     /// Rethrows the recorded exception of least index, if any.
     void rethrow_if_any() const {
         if (error_) std::rethrow_exception(error_);
