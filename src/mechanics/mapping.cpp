@@ -5,7 +5,9 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 namespace penalty {
@@ -375,9 +377,15 @@ void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const
     negative_zero_inputs_.clear();
     negative_zero_sums_.clear();
     for (const std::uint32_t j : used_inputs_) {
+        // −0 is the one double with the bits 0x8000000000000000 (v == 0 with the sign bit set):
+        // one branch per input instead of two per component, whose outcome (is it 0?) the
+        // predictor often missed
         const Vec3& v = in[j];
-        const bool negative_zero = (v[0] == 0.0 && std::signbit(v[0])) || (v[1] == 0.0 && std::signbit(v[1])) ||
-                                   (v[2] == 0.0 && std::signbit(v[2]));
+        constexpr std::uint64_t kNegativeZero = std::uint64_t{1} << 63;
+        const std::uint64_t x = std::bit_cast<std::uint64_t>(v[0]) ^ kNegativeZero;
+        const std::uint64_t y = std::bit_cast<std::uint64_t>(v[1]) ^ kNegativeZero;
+        const std::uint64_t z = std::bit_cast<std::uint64_t>(v[2]) ^ kNegativeZero;
+        const bool negative_zero = std::min(std::min(x, y), z) == 0;
         if (!negative_zero) continue;
         negative_zero_inputs_.push_back(j);
         negative_zero_sums_.push_back(gathered_jt(in, out, j, counted));

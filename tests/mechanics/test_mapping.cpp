@@ -224,9 +224,13 @@ TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
     rows[3] = BarycentricRow{};
     rows[3].push(11, -0.5);  // input 11: only negative weights (−0 terms)
     rows[3].push(11, -0.25);
+    rows[7] = BarycentricRow{};
+    rows[7].push(9, 0.5);  // input 9: row 7 alone (unforced), a positive weight (+0 terms in z)
     for (BarycentricRow& r : rows)
-        for (auto& e : r.entries)
+        for (auto& e : r.entries) {
             if (e.index == 11 && &r != &rows[3]) e.index = 10;
+            if (e.index == 9 && &r != &rows[7]) e.index = 8;
+        }
     BarycentricMapping map(in, out);
     map.set_rows(rows);
     map.init();
@@ -239,6 +243,7 @@ TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
         in.df[0] = Vec3(-0.0, 0.0, -0.0);  // starts at −0: the skipped +0 terms decide its sign
         in.df[11] = Vec3(-0.0, -0.0, 0.0);  // only −0 terms from row 3 (unforced): stays −0
         in.df[4] = Vec3(0.0, -0.0, 1.0);
+        in.df[9] = Vec3(1.0, 0.5, -0.0);  // −0 in its last component only
         if (trial == 3) in.df[11] = Vec3(-0.0, 2.0, -0.0);
         std::vector<Vec3> expected(in.df.begin(), in.df.end());
         for (std::size_t i = 0; i < rows.size(); ++i) rows[i].spread(expected, out.df[i]);
@@ -249,6 +254,7 @@ TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
                                                                     << ": " << in.df[j][c] << " vs " << expected[j][c];
         if (trial == 0) {
             EXPECT_TRUE(std::signbit(in.df[11][0]));  // the −0 case was exercised
+            EXPECT_FALSE(std::signbit(in.df[9][2]));  // row 7's +0 term turned input 9's −0 into +0
         }
     }
 }
