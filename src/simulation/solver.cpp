@@ -48,16 +48,66 @@ double sequential_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
     for (Eigen::Index i = 0; i < a.size(); ++i) sum += a[i] * b[i];
     return sum;
 }
+
+/// One state's part of SubtreeSystem::dot over the scalars [begin, end) of DOFs `width` wide:
+/// d = Σ_c a_c·b_c left to right per DOF, sum = 0, sum += d per DOF in order.
+double state_dot(const double* a, const double* b, Eigen::Index begin, Eigen::Index end, Eigen::Index width) {
+    double sum = 0.0;
+    if (width == 3) {  // Vec3 states, the common case: the same sums with a fixed inner count
+        for (Eigen::Index i = begin; i < end; i += 3) sum += (a[i] * b[i] + a[i + 1] * b[i + 1]) + a[i + 2] * b[i + 2];
+        return sum;
+    }
+    for (Eigen::Index i = begin; i < end; i += width) {
+        double dof = a[i] * b[i];
+        for (Eigen::Index c = 1; c < width; ++c) dof += a[i + c] * b[i + c];
+        sum += dof;
+    }
+    return sum;
+}
+
+/// CgSystem over an operator and a dot product: the steps one after the other.
+class FunctionCgSystem final : public CgSystem {
+public:
+    FunctionCgSystem(const CGLinearSolver::Operator& a, const CGLinearSolver::Dot& dot) : a_(a), dot_(dot) {}
+    void apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) override { a_(p, q); }
+    [[nodiscard]] double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const override {
+        return dot_ ? dot_(a, b) : sequential_dot(a, b);
+    }
+
+private:
+    const CGLinearSolver::Operator& a_;
+    const CGLinearSolver::Dot& dot_;
+};
+
 }  // namespace
 
+double CgSystem::direction_and_product(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
+                                       Eigen::VectorXd& q) {
+    if (first) p = r;
+    else p = r + beta * p;
+    apply(p, q);
+    return dot(p, q);
+}
+
+double CgSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                                     Eigen::VectorXd& r) {
+    x += alpha * p;
+    r -= alpha * q;
+    return dot(r, r);
+}
+
 CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x, const Dot& dot_product) {
+    FunctionCgSystem system(a, dot_product);
+    return solve(system, b, x);
+}
+
+CgStats CGLinearSolver::solve(CgSystem& system, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     check();
-    const Dot& dot = dot_product ? dot_product : Dot(sequential_dot);
     CgStats stats;
     const bool first_solve = solve_count_ == 0;
     ++solve_count_;
     x.setZero(b.size());
-    const double norm_b = std::sqrt(dot(b, b));  // SOFA: MultiVec::norm() = sqrt(v_dot(b, b))
+    const double norm_b = std::sqrt(system.dot(b, b));  // SOFA: MultiVec::norm() = sqrt(v_dot(b, b))
     if (!std::isfinite(norm_b))
         throw NonFiniteSolveError("CGLinearSolver: the right-hand side is not finite (|b| overflows)", nullptr, nullptr, nullptr);
     if (norm_b == 0.0) {
@@ -70,24 +120,21 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
     r = b;
     p.resize(b.size());
     q.resize(b.size());
+    // ρ = r·r of the iteration to come: computed here for the first, by the update of r after
+    // (update_and_residual, which also computes it once after the last iteration, unused).
+    double rho = system.dot(r, r);
     double rho_prev = 0.0;
     stats.end_condition = CgEndCondition::iterations;
     for (int k = 1; k <= iterations; ++k) {
         stats.iterations = k;
-        const double rho = dot(r, r);
         const double err = std::sqrt(rho) / norm_b;
         stats.error = err;
         if (err <= tolerance && !(k == 1 && first_solve)) {
             stats.end_condition = CgEndCondition::tolerance;
             break;
         }
-        if (k == 1) {
-            p = r;
-        } else {
-            p = r + (rho / rho_prev) * p;
-        }
-        a(p, q);
-        const double den = dot(p, q);
+        // p = r (k = 1) or r + (ρ/ρ_prev)·p; q = A·p; den = p·q
+        const double den = system.direction_and_product(r, k == 1 ? 0.0 : rho / rho_prev, k == 1, p, q);
         if (den == 0.0) {
             stats.end_condition = CgEndCondition::den_zero;
             break;
@@ -97,9 +144,8 @@ CgStats CGLinearSolver::solve(const Operator& a, const Eigen::VectorXd& b, Eigen
             break;
         }
         const double alpha = rho / den;
-        x += alpha * p;
-        r -= alpha * q;
         rho_prev = rho;
+        rho = system.update_and_residual(alpha, p, q, x, r);  // x += α·p, r −= α·q
     }
     if (!x.allFinite())
         throw NonFiniteSolveError("CGLinearSolver: the solution is not finite (singular or indefinite system, or an overflow)",
@@ -503,22 +549,9 @@ Index SubtreeSystem::offset(const BaseState* s) const {
 double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
     double total = 0.0;
     for (std::size_t s = 0; s < independent_.size(); ++s) {
-        const Eigen::Index width = independent_[s]->deriv_size();
         const Eigen::Index begin = offsets_[s];
         const Eigen::Index end = begin + static_cast<Eigen::Index>(independent_[s]->scalar_size());
-        double state_sum = 0.0;
-        const double* pa = a.data();
-        const double* pb = b.data();
-        if (width == 3) {  // Vec3 states, the common case: the same sums with a fixed inner count
-            for (Eigen::Index i = begin; i < end; i += 3) state_sum += (pa[i] * pb[i] + pa[i + 1] * pb[i + 1]) + pa[i + 2] * pb[i + 2];
-        } else {
-            for (Eigen::Index i = begin; i < end; i += width) {
-                double dof = pa[i] * pb[i];
-                for (Eigen::Index c = 1; c < width; ++c) dof += pa[i + c] * pb[i + c];
-                state_sum += dof;
-            }
-        }
-        total += state_sum;
+        total += state_dot(a.data(), b.data(), begin, end, static_cast<Eigen::Index>(independent_[s]->deriv_size()));
     }
     return total;
 }
@@ -669,6 +702,97 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
         if (accumulate) independent_[i]->df_flat() = out.segment(offsets_[i], n);
         else independent_[i]->df_flat().setZero();
     }
+    apply_mbk_to_states(m, b, k);
+    out.resize(size_);
+    for (std::size_t i = 0; i < independent_.size(); ++i)
+        out.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->df_flat();
+    if (do_project) project(out);
+}
+
+
+double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
+                                        Eigen::VectorXd& q, double m, double b, double k) const {
+    PENALTY_DEMAND(r.size() == size_ && p.size() == size_);
+    // p = r or r + β·p (Eigen's p = r + β·p: each r_j + (β·p_j)), into p and the state's dx
+    for (std::size_t i = 0; i < independent_.size(); ++i) {
+        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const double* rs = r.data() + offsets_[i];
+        double* ps = p.data() + offsets_[i];
+        double* dx = independent_[i]->dx_flat().data();
+        if (first) {
+            for (Eigen::Index j = 0; j < n; ++j) dx[j] = ps[j] = rs[j];
+        } else {
+            for (Eigen::Index j = 0; j < n; ++j) dx[j] = ps[j] = rs[j] + beta * ps[j];
+        }
+        independent_[i]->df_flat().setZero();
+    }
+    apply_mbk_to_states(m, b, k);
+    q.resize(size_);
+    if (!constraints_.empty()) {  // q is projected before p·q
+        for (std::size_t i = 0; i < independent_.size(); ++i)
+            q.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->df_flat();
+        project(q);
+        return dot(p, q);
+    }
+    double total = 0.0;  // dot(p, q), each state's sum as its part of q is copied
+    for (std::size_t i = 0; i < independent_.size(); ++i) {
+        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const Eigen::Index begin = offsets_[i];
+        q.segment(begin, n) = independent_[i]->df_flat();
+        total += state_dot(p.data(), q.data(), begin, begin + n, static_cast<Eigen::Index>(independent_[i]->deriv_size()));
+    }
+    return total;
+}
+
+double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                          Eigen::VectorXd& x, Eigen::VectorXd& r) const {
+    PENALTY_DEMAND(p.size() == size_ && q.size() == size_ && x.size() == size_ && r.size() == size_);
+    const double* ps = p.data();
+    const double* qs = q.data();
+    double* xs = x.data();
+    double* rs = r.data();
+    double total = 0.0;  // dot(r, r), each state's sum over its DOFs as they are updated
+    for (std::size_t i = 0; i < independent_.size(); ++i) {
+        const Eigen::Index begin = offsets_[i];
+        const Eigen::Index end = begin + static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const auto width = static_cast<Eigen::Index>(independent_[i]->deriv_size());
+        // x += α·p, r −= α·q (Eigen's: x_j + (α·p_j), r_j − (α·q_j)), then the DOF's r·r
+        if (width == 3) {
+            double sum = 0.0;
+            for (Eigen::Index j = begin; j < end; j += 3) {
+                for (Eigen::Index c = j; c < j + 3; ++c) {
+                    xs[c] += alpha * ps[c];
+                    rs[c] -= alpha * qs[c];
+                }
+                sum += (rs[j] * rs[j] + rs[j + 1] * rs[j + 1]) + rs[j + 2] * rs[j + 2];
+            }
+            total += sum;
+            continue;
+        }
+        for (Eigen::Index j = begin; j < end; ++j) {
+            xs[j] += alpha * ps[j];
+            rs[j] -= alpha * qs[j];
+        }
+        total += state_dot(rs, rs, begin, end, width);
+    }
+    return total;
+}
+
+void MbkCgSystem::apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) { system_.apply_mbk(p, q, m_, b_, k_, true); }
+
+double MbkCgSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const { return system_.dot(a, b); }
+
+double MbkCgSystem::direction_and_product(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
+                                          Eigen::VectorXd& q) {
+    return system_.direction_and_mbk(r, beta, first, p, q, m_, b_, k_);
+}
+
+double MbkCgSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                        Eigen::VectorXd& x, Eigen::VectorXd& r) {
+    return system_.update_and_residual(alpha, p, q, x, r);
+}
+
+void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
     if (!external_work_zeroed_) {
         for (BaseState* s : external_) {
             s->dx_flat().setZero();
@@ -737,10 +861,6 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
             else s.mapping->apply_jt_df();
         }
     }
-    out.resize(size_);
-    for (std::size_t i = 0; i < independent_.size(); ++i)
-        out.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->df_flat();
-    if (do_project) project(out);
 }
 
 void SubtreeSystem::project(Eigen::VectorXd& v) const {
@@ -875,16 +995,11 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
         b_ *= h;
     }
     sys.project(b_);
-    // A = mf·M + bf·B + kf·K; the operator captures one pointer (std::function keeps it
-    // without allocating).
-    struct Mbk {
-        const SubtreeSystem* sys;
-        double m, b, k;
-    } const mbk{&sys, first_order ? 1.0 : 1.0 + tr * h * rm, first_order ? 0.0 : -tr * h,
-                first_order ? -h * tr : -tr * h * (tr * h + rs)};
+    // A = mf·M + bf·B + kf·K
+    MbkCgSystem system(sys, first_order ? 1.0 : 1.0 + tr * h * rm, first_order ? 0.0 : -tr * h,
+                       first_order ? -h * tr : -tr * h * (tr * h + rs));
     try {
-        record_cg(cg.solve([&mbk](const Eigen::VectorXd& p, Eigen::VectorXd& q) { mbk.sys->apply_mbk(p, q, mbk.m, mbk.b, mbk.k, true); },
-                           b_, x_, [&sys](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
+        record_cg(cg.solve(system, b_, x_));
     } catch (const NonFiniteSolveError& e) {
         // Finite forces, yet the solve overflowed (|b|², p·q): name the largest force.
         if (e.force_field() == nullptr && e.mass() == nullptr) sys.throw_naming_largest_force(e.what());
@@ -943,8 +1058,8 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
             break;
         }
         Eigen::VectorXd delta;
-        record_cg(cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, 1.0, -h, -h * h, true); },
-                           rhs, delta, [&](const Eigen::VectorXd& u, const Eigen::VectorXd& w) { return sys.dot(u, w); }));
+        MbkCgSystem system(sys, 1.0, -h, -h * h);
+        record_cg(cg.solve(system, rhs, delta));
         dv += delta;
     }
     const Eigen::VectorXd v = v0 + dv;

@@ -22,6 +22,29 @@
 namespace penalty {
 namespace {
 
+/// Makes `block` a hexahedral FEM block on `grid`: 2 kg, E = 1000, ν = 0.3, method large, at
+/// the grid's points; returns its state.
+Vec3Object& make_fem_block(Node& block, const RegularGridTopology& grid) {
+    auto& bx = block.add_state<Vec3Types>("block");
+    bx.position = grid.points();
+    block.set_mass<UniformMass<Vec3Types>>(bx).set_total_mass(2.0);
+    block.add_force_field<HexahedronFEMForceField>(bx, grid.mesh(), 1000.0, 0.3, FemMethod::Large);
+    return bx;
+}
+
+/// A rigid body of 1.5 kg in a child "rigid" of `root`, with two rigid-mapped points; returns
+/// the points' state.
+Vec3Object& add_rigid_with_points(Node& root) {
+    Node& rigid = root.add_child("rigid");
+    auto& rx = rigid.add_state<Rigid3Types>("rigid");
+    rx.position = {{Vec3(3, 0.5, 0.5), Quat(Eigen::AngleAxisd(0.4, Vec3(0, 1, 1).normalized()))}};
+    rigid.set_mass<UniformMass<Rigid3Types>>(rx).set_vertex_mass(1.5);
+    Node& rpts = rigid.add_child("points");
+    auto& rp = rpts.add_state<Vec3Types>("rigid_points");
+    rpts.set_mapping<RigidMapping>(rx, rp).set_points({Vec3(-0.5, 0.1, 0), Vec3(0.2, -0.3, 0.4)});
+    return rp;
+}
+
 TEST(SubtreeSystem, MatrixFreeOperatorEqualsAssembledThroughMappings) {
     Simulation sim;
     Node& root = sim.root();
@@ -29,10 +52,7 @@ TEST(SubtreeSystem, MatrixFreeOperatorEqualsAssembledThroughMappings) {
     // Deformable hexahedral block.
     RegularGridTopology grid({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1));
     Node& block = root.add_child("block");
-    auto& bx = block.add_state<Vec3Types>("block");
-    bx.position = grid.points();
-    block.set_mass<UniformMass<Vec3Types>>(bx).set_total_mass(2.0);
-    block.add_force_field<HexahedronFEMForceField>(bx, grid.mesh(), 1000.0, 0.3, FemMethod::Large);
+    auto& bx = make_fem_block(block, grid);
     // Points mapped into the block, then a point mapped on those (chain of two mappings).
     Node& surf = block.add_child("surface");
     auto& sx = surf.add_state<Vec3Types>("surface");
@@ -43,13 +63,7 @@ TEST(SubtreeSystem, MatrixFreeOperatorEqualsAssembledThroughMappings) {
     auto& cx = contact.add_state<Vec3Types>("contact");
     contact.set_mapping<BarycentricMapping>(sx, cx).set_weights({{{0, 0.2}, {1, 0.3}, {2, 0.5}}});
     // Rigid body with rigid-mapped points.
-    Node& rigid = root.add_child("rigid");
-    auto& rx = rigid.add_state<Rigid3Types>("rigid");
-    rx.position = {{Vec3(3, 0.5, 0.5), Quat(Eigen::AngleAxisd(0.4, Vec3(0, 1, 1).normalized()))}};
-    rigid.set_mass<UniformMass<Rigid3Types>>(rx).set_vertex_mass(1.5);
-    Node& rpts = rigid.add_child("points");
-    auto& rp = rpts.add_state<Vec3Types>("rigid_points");
-    rpts.set_mapping<RigidMapping>(rx, rp).set_points({Vec3(-0.5, 0.1, 0), Vec3(0.2, -0.3, 0.4)});
+    auto& rp = add_rigid_with_points(root);
     // Interaction springs: contact point <-> rigid point 0; rigid point 1 <-> block DOF 5.
     auto& s1 = root.add_force_field<SpringForceField>(cx, rp);
     s1.add_spring({0, 0, 300.0, 0.0, 0.4});
@@ -82,6 +96,108 @@ TEST(SubtreeSystem, MatrixFreeOperatorEqualsAssembledThroughMappings) {
     EXPECT_TRUE(dense.isApprox(dense.transpose(), 1e-10));
 }
 
+/// Bits of a vector, for exact comparisons (zeros' signs included).
+std::vector<std::uint64_t> bits_of(const Eigen::VectorXd& v) {
+    std::vector<std::uint64_t> out(static_cast<std::size_t>(v.size()));
+    for (Eigen::Index i = 0; i < v.size(); ++i) out[static_cast<std::size_t>(i)] = std::bit_cast<std::uint64_t>(v[i]);
+    return out;
+}
+
+TEST(SubtreeSystem, CgsFusedPassesGiveTheBitsOfTheProductAndDotApart) {
+    // Vec3 states (3-wide DOFs) and a rigid one (6-wide), mappings and interaction springs; with
+    // and without a constraint projecting the product. The fused passes against apply_mbk, dot
+    // and Eigen's vector expressions, then whole CG solves against the unfused CG, bit for bit.
+    for (const bool constrained : {false, true}) {
+        SCOPED_TRACE(constrained ? "with a fixed DOF" : "without constraints");
+        Simulation sim;
+        Node& root = sim.root();
+        root.set_ode_solver<EulerImplicitSolver>();
+        const RegularGridTopology grid({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1));
+        Node& block = root.add_child("block");
+        auto& bx = make_fem_block(block, grid);
+        if (constrained) block.add_constraint<FixedProjectiveConstraint>(bx).set_indices({1, 4});
+        Node& surf = block.add_child("surface");
+        auto& sx = surf.add_state<Vec3Types>("surface");
+        const std::vector<Vec3> points = {Vec3(1.9, 0.9, 0.9), Vec3(0.5, 0.2, 0.7)};
+        map_on_regular_grid(surf.set_mapping<BarycentricMapping>(bx, sx), grid, points);
+        auto& rp = add_rigid_with_points(root);
+        root.add_force_field<SpringForceField>(sx, rp).add_spring({0, 0, 300.0, 0.0, 0.4});
+        root.add_force_field<SpringForceField>(rp, bx).add_spring({1, 5, 200.0, 0.0, 0.3});
+        sim.init();
+        std::mt19937 rng(17);
+        std::uniform_real_distribution<double> u(-0.05, 0.05);
+        for (auto& p : bx.position) p += Vec3(u(rng), u(rng), u(rng));
+        SubtreeSystem sys(root);
+        ASSERT_EQ(sys.size(), 3 * 12 + 6);
+        sys.propagate_positions_and_velocities();
+        Eigen::VectorXd f;
+        sys.compute_force(f);
+        const double m = 1.07, b = -0.01, k = -0.013;
+        const auto random = [&] { return Eigen::VectorXd::NullaryExpr(sys.size(), [&] { return u(rng); }).eval(); };
+
+        // direction_and_mbk: p = r or r + β·p, q = A·p projected, p·q
+        for (const bool first : {true, false}) {
+            const Eigen::VectorXd r = random();
+            const Eigen::VectorXd p0 = random();
+            const double beta = 0.37;
+            Eigen::VectorXd p_apart = first ? r : (r + beta * p0).eval();
+            Eigen::VectorXd q_apart;
+            sys.apply_mbk(p_apart, q_apart, m, b, k, true);
+            const double den_apart = sys.dot(p_apart, q_apart);
+            Eigen::VectorXd p_fused = p0;
+            Eigen::VectorXd q_fused;
+            const double den_fused = sys.direction_and_mbk(r, beta, first, p_fused, q_fused, m, b, k);
+            EXPECT_EQ(bits_of(p_fused), bits_of(p_apart));
+            EXPECT_EQ(bits_of(q_fused), bits_of(q_apart));
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(den_fused), std::bit_cast<std::uint64_t>(den_apart));
+            EXPECT_GT(q_apart.norm(), 1e-3);
+            // the constraint's rows are zero in q
+            if (constrained) {
+                EXPECT_EQ(q_fused.segment<3>(3).norm() + q_fused.segment<3>(12).norm(), 0.0);
+            }
+        }
+        // update_and_residual: x += α·p, r −= α·q, r·r
+        {
+            const Eigen::VectorXd p = random();
+            const Eigen::VectorXd q = random();
+            Eigen::VectorXd x_apart = random();
+            Eigen::VectorXd r_apart = random();
+            Eigen::VectorXd x_fused = x_apart;
+            Eigen::VectorXd r_fused = r_apart;
+            const double alpha = -1.93;
+            x_apart += alpha * p;
+            r_apart -= alpha * q;
+            const double rr_apart = sys.dot(r_apart, r_apart);
+            const double rr_fused = sys.update_and_residual(alpha, p, q, x_fused, r_fused);
+            EXPECT_EQ(bits_of(x_fused), bits_of(x_apart));
+            EXPECT_EQ(bits_of(r_fused), bits_of(r_apart));
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(rr_fused), std::bit_cast<std::uint64_t>(rr_apart));
+        }
+        // whole solves: the fused passes against the product and the dot apart
+        const Eigen::VectorXd rhs = random();
+        for (const int iterations : {1, 2, 7, 40}) {
+            CGLinearSolver apart_cg;
+            CGLinearSolver fused_cg;
+            for (CGLinearSolver* cg : {&apart_cg, &fused_cg}) {
+                cg->iterations = iterations;
+                cg->tolerance = 1e-12;
+                cg->threshold = 1e-30;
+            }
+            Eigen::VectorXd x_apart;
+            Eigen::VectorXd x_fused;
+            const CgStats apart = apart_cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, m, b, k, true); },
+                                                 rhs, x_apart, [&](const Eigen::VectorXd& a, const Eigen::VectorXd& c) { return sys.dot(a, c); });
+            MbkCgSystem fused_system(sys, m, b, k);
+            const CgStats fused = fused_cg.solve(fused_system, rhs, x_fused);
+            EXPECT_EQ(fused.iterations, apart.iterations);
+            EXPECT_EQ(fused.end_condition, apart.end_condition);
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(fused.error), std::bit_cast<std::uint64_t>(apart.error));
+            EXPECT_EQ(bits_of(x_fused), bits_of(x_apart));
+            EXPECT_GT(x_fused.norm(), 1e-3);
+        }
+    }
+}
+
 /// A force field that adds nothing and cannot tell which DOFs it reads (BaseForceField's
 /// default): on a mapped state it makes the solver map every row of that state's dx.
 class OpaqueNoOpField final : public ForceField<Vec3Types> {
@@ -103,10 +219,7 @@ struct SurfaceScene {
         root.set_ode_solver<EulerImplicitSolver>();
         const RegularGridTopology grid({4, 3, 3}, Vec3(0, 0, 0), Vec3(3, 2, 2));
         Node& block = root.add_child("block");
-        auto& bx = block.add_state<Vec3Types>("block");
-        bx.position = grid.points();
-        block.set_mass<UniformMass<Vec3Types>>(bx).set_total_mass(2.0);
-        block.add_force_field<HexahedronFEMForceField>(bx, grid.mesh(), 1000.0, 0.3, FemMethod::Large);
+        auto& bx = make_fem_block(block, grid);
         Node& surf = block.add_child("surface");
         auto& sx = surf.add_state<Vec3Types>("surface");
         std::mt19937 rng(11);

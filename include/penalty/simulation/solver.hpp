@@ -67,6 +67,25 @@ struct CgStats {
     double error = 0.0;                                ///< last |r|/|b| evaluated
 };
 
+/// A linear system A·x = b for CGLinearSolver: its product, its dot product, and the two vector
+/// steps of a CG iteration, which a system may run as one pass over its vectors each. An
+/// override must give the defaults' bits: the same IEEE operations on the same operands, each
+/// sum in the same order.
+class CgSystem {
+public:
+    virtual ~CgSystem() = default;
+    /// q = A·p.
+    virtual void apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) = 0;
+    /// aᵀb in the system's order of summation.
+    [[nodiscard]] virtual double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const = 0;
+    /// The new direction and its product: p = r (first) or p = r + β·p, then q = A·p; returns pᵀq.
+    virtual double direction_and_product(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
+                                         Eigen::VectorXd& q);
+    /// The update: x += α·p, r −= α·q; returns rᵀr.
+    virtual double update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                       Eigen::VectorXd& x, Eigen::VectorXd& r);
+};
+
 /// SOFA's CGLinearSolver (GraphScattered, matrix-free), exact stopping rules: x₀ = 0, r = b; for
 /// k = 1..iterations: ρ = r·r, err = √ρ/|b|; stop if err <= tolerance; p = r (k = 1) or
 /// r + (ρ/ρ_prev) p; q = A p; den = p·q; stop if den == 0; stop if |den| <= threshold; x += α p,
@@ -86,6 +105,9 @@ public:
     void check() const;
     /// `dot` empty: the plain sequential sum Σ aᵢbᵢ.
     CgStats solve(const Operator& a, const Eigen::VectorXd& b, Eigen::VectorXd& x, const Dot& dot = {});
+    /// The same iterations on `system`, through its fused steps (the same bits as its product and
+    /// dot applied one after the other).
+    CgStats solve(CgSystem& system, const Eigen::VectorXd& b, Eigen::VectorXd& x);
     [[nodiscard]] int solve_count() const { return solve_count_; }
 
 private:
@@ -157,6 +179,15 @@ public:
     /// have size()); the projection, if asked, applies to the sum.
     void apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k, bool project,
                    bool accumulate = false) const;
+    /// A CG iteration's direction and product in one pass over the vectors where apply_mbk and
+    /// dot take three: p = r (first) or r + β·p, written into the states' dx as it is formed;
+    /// q = (m·M + b·B + k·K)·p projected; returns dot(p, q), summed while q is copied out of the
+    /// states when no constraint projects it. The bits of those calls one after the other.
+    double direction_and_mbk(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p, Eigen::VectorXd& q,
+                             double m, double b, double k) const;
+    /// x += α·p, r −= α·q and returns dot(r, r), in one pass: the bits of the three apart.
+    double update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                               Eigen::VectorXd& r) const;
     /// While one lives, the readers of the mapped states (the contacts' force fields and
     /// mappings, DxReaders) do not change: the rows of a mapped state that apply_mbk maps are
     /// found by the first product and kept for the next ones (a solve's right-hand side and CG
@@ -187,6 +218,9 @@ private:
     /// Independent, mapped and external states, in that order (the diagnostics' walk).
     [[nodiscard]] std::vector<BaseState*> all_states() const;
     void reset_forces() const;
+    /// apply_mbk's products, once the independent states hold dx and their df is set: external
+    /// work vectors, mappings (J·dx), masses, force fields and Jᵀ, into the independent states' df.
+    void apply_mbk_to_states(double m, double b, double k) const;
     void collect(Node& node, bool is_root);
     std::vector<BaseState*> independent_;
     std::vector<Index> offsets_;
@@ -327,6 +361,23 @@ private:
     std::vector<BaseForceField*> force_fields_;
     std::vector<BaseProjectiveConstraint*> constraints_;
     Eigen::Index size_ = 0;
+};
+
+/// The CG's system of a subtree, A = m·M + b·B + k·K projected (SubtreeSystem::apply_mbk), with
+/// the system's fused passes (direction_and_mbk, update_and_residual). The system outlives it.
+class MbkCgSystem final : public CgSystem {
+public:
+    MbkCgSystem(const SubtreeSystem& system, double m, double b, double k) : system_(system), m_(m), b_(b), k_(k) {}
+    void apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) override;
+    [[nodiscard]] double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const override;
+    double direction_and_product(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
+                                 Eigen::VectorXd& q) override;
+    double update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                               Eigen::VectorXd& r) override;
+
+private:
+    const SubtreeSystem& system_;
+    double m_, b_, k_;
 };
 
 /// The SubtreeSystem of one solver node, built at the first use and built again only when the
