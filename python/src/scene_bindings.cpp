@@ -424,6 +424,8 @@ void bind_scene(py::module_& m) {
             o.export_mapped = export_mapped;
             o.export_every = export_every;
             o.stats_file = stats;
+            // controllers and a callback may move any state between the steps
+            o.states_change_between_steps = !s.before_step.empty() || !s.after_step.empty() || !callback.is_none();
             const bool bar = progress.value_or(isatty(STDERR_FILENO) != 0);
             // Controllers: the first step's "begin" before the run, then after step k its "end"
             // and step k+1's "begin" (so a "begin" runs before the outputs of its step).

@@ -48,9 +48,16 @@ double largest_change(const double* x, const double* y, std::size_t n) {
     return (Array(x, Eigen::Index(n)) - Array(y, Eigen::Index(n))).abs().maxCoeff();
 }
 
-/// Throws when a state holds a NaN or an infinite position (the run diverged).
-void check_finite_states(const Scene& scene, std::int64_t step, double time) {
+/// Whether a step may move the state: it is in an ODE solver's subtree or a mapping's output.
+/// The others (static obstacles) keep their positions and velocities unless code run between
+/// the steps changes them (RunOptions::states_change_between_steps).
+bool moved_by_steps(const output::StateRecord& r) { return r.mapped || r.in_solver_subtree; }
+
+/// Throws when a state holds a NaN or an infinite position (the run diverged). `static_states`:
+/// false skips the states no step moves (moved_by_steps).
+void check_finite_states(const Scene& scene, std::int64_t step, double time, bool static_states = true) {
     for (const output::StateRecord& r : scene.states()) {
+        if (!static_states && !moved_by_steps(r)) continue;
         std::optional<std::size_t> bad;
         if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
             if (all_finite(v->position) && all_finite(v->velocity)) continue;  // the common case, in one pass
@@ -157,7 +164,7 @@ DivergenceBound::DivergenceBound(const Scene& scene, double factor) : factor_(fa
     energy_scale_ = scene.kinetic_energy() + scene.gravity_energy_scale(size_);
 }
 
-void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) {
+void DivergenceBound::check(const Scene& scene, std::int64_t step, double time, bool static_states) {
     if (factor_ == 0.0) return;
     const double limit = factor_ * size_;
     if (!stored_energy_known_) {
@@ -183,17 +190,20 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) 
     // recorded. Otherwise, or if a state changed size, the exact test below finds the first DOF
     // to move more than the limit. The states keep their sizes during a run; a DOF beyond those
     // recorded is only recorded (compared from the next step on).
+    // A state skipped (!static_states and not moved_by_steps) keeps its recorded positions,
+    // which are its current ones: neither read nor recorded again.
     std::size_t k = 0;
     double largest = 0.0;
     bool sizes_kept = true;
     for (const output::StateRecord& r : scene.states()) {
+        const bool skip = !static_states && !moved_by_steps(r);
         if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
             const std::size_t n = v->position.size();
             if (k + n > previous_.size()) {
                 sizes_kept = false;
                 break;
             }
-            if (n > 0) largest = std::max(largest, largest_change(v->position.data()->data(), previous_[k].data(), 3 * n));
+            if (n > 0 && !skip) largest = std::max(largest, largest_change(v->position.data()->data(), previous_[k].data(), 3 * n));
             k += n;
         } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
             const std::size_t n = g->position.size();
@@ -201,7 +211,7 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) 
                 sizes_kept = false;
                 break;
             }
-            for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t i = 0; i < n && !skip; ++i)
                 largest = std::max(largest, (g->position[i].center - previous_[k + i]).cwiseAbs().maxCoeff());
             k += n;
         }
@@ -209,11 +219,17 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time) 
     if (sizes_kept && 3.0 * largest * largest < 0.99 * limit * limit) {
         k = 0;
         for (const output::StateRecord& r : scene.states()) {
+            const bool skip = !static_states && !moved_by_steps(r);
             if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
                 const Eigen::Index n = Eigen::Index(3 * v->position.size());
-                if (n > 0) Eigen::Map<Eigen::ArrayXd>(previous_[k].data(), n) = Eigen::Map<const Eigen::ArrayXd>(v->position.data()->data(), n);
+                if (n > 0 && !skip)
+                    Eigen::Map<Eigen::ArrayXd>(previous_[k].data(), n) = Eigen::Map<const Eigen::ArrayXd>(v->position.data()->data(), n);
                 k += v->position.size();
             } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
+                if (skip) {
+                    k += g->position.size();
+                    continue;
+                }
                 for (const RigidFrame& f : g->position) previous_[k++] = f.center;
             }
         }
@@ -290,7 +306,9 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             check_finite_states(scene, k, t);
             throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
         }
-        check_finite_states(scene, k, sim.time());
+        // the states no step moves: after the first step only, unless code between the steps may move them
+        const bool static_states = options.states_change_between_steps || k == 0;
+        check_finite_states(scene, k, sim.time(), static_states);
         if (options.debug_step && *options.debug_step == k) {
             const auto debug_start = Clock::now();
             std::ofstream debug(options.debug_file, std::ios::binary | std::ios::trunc);
@@ -298,7 +316,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             if (!debug) throw std::runtime_error("cannot write the debug export '" + options.debug_file.string() + "'");
             output_seconds += seconds_since(debug_start);
         }
-        bound.check(scene, k, sim.time());
+        bound.check(scene, k, sim.time(), static_states);
 
         const StepTimings& timing = scene.last_timings();
         summary.detection_seconds += timing.detection_seconds;

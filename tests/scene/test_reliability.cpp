@@ -186,6 +186,48 @@ TEST(Divergence, AStateThatIsNotFiniteIsNamedWithItsDof) {
     }
 }
 
+TEST(Divergence, StaticStatesAreCheckedAfterTheFirstStepOnlyUnlessCodeBetweenStepsMayMoveThem) {
+    // kFreeFall's marker is static (no solver above it, not mapped): no step moves it, so the
+    // run checks it after step 0 only, unless RunOptions::states_change_between_steps says that
+    // the code run between the steps (here the progress callback, after step 2) may.
+    for (const bool may_change : {false, true}) {
+        for (const bool jump : {false, true}) {
+            SCOPED_TRACE(std::string(may_change ? "may change" : "fixed") + (jump ? ", jump" : ", NaN"));
+            auto s = build(kFreeFall);
+            auto* marker = dynamic_cast<Vec3Object*>(s->states()[1].state);
+            ASSERT_NE(marker, nullptr);
+            ASSERT_FALSE(s->states()[1].mapped || s->states()[1].in_solver_subtree);
+            ASSERT_TRUE(s->states()[0].in_solver_subtree);
+            scene::RunOptions run;
+            run.steps = 6;
+            run.divergence_factor = 1.0;  // 10 m
+            run.states_change_between_steps = may_change;
+            std::int64_t steps_done = 0;
+            const auto move_marker = [&](std::int64_t done, std::int64_t, const scene::RunSummary&) {
+                steps_done = done;
+                if (done != 3) return;
+                if (jump) marker->position[0].x() += 50.0;
+                else marker->velocity[0].z() = std::numeric_limits<double>::quiet_NaN();
+            };
+            std::string message = "no error";
+            try {
+                (void)scene::run_scene(*s, run, move_marker);
+            } catch (const output::NonFiniteValueError& e) {
+                message = e.what();
+            }
+            if (!may_change) {
+                EXPECT_EQ(message, "no error");
+                EXPECT_EQ(steps_done, 6);
+                continue;
+            }
+            EXPECT_EQ(steps_done, 3);
+            EXPECT_THAT(message, HasSubstr("simulation diverged at step 3 (t = 0.4"));
+            EXPECT_THAT(message, HasSubstr(jump ? "state '/Marker/m' DOF 0 moved 50 m in one step"
+                                                : "state '/Marker/m' DOF 0 is not finite"));
+        }
+    }
+}
+
 TEST(Divergence, TheCheckCanBeTurnedOffAndTheFallIsExact) {
     auto s = build(kFreeFall);
     scene::RunOptions run;

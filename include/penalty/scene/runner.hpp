@@ -6,9 +6,9 @@
 /// Order within step k (k = 0 … steps−1), as SOFA's DefaultAnimationLoop with WriteState:
 ///   1. outputs of the state at time t_k = k·dt (state files when k is kept, VTK pieces);
 ///   2. the step (collision with the positions at t_k, then the solvers);
-///   3. divergence check of every state (a NaN/inf position, or a DOF that jumped beyond
-///      DivergenceBound, stops the run with an error naming the state, the DOF and the step),
-///      statistics row.
+///   3. divergence check of every state that can move (a NaN/inf position, or a DOF that jumped
+///      beyond DivergenceBound, stops the run with an error naming the state, the DOF and the
+///      step; RunOptions::states_change_between_steps), statistics row.
 /// A non-finite value inside the solve (NonFiniteSolveError) is a divergence naming the step, the
 /// state and the force field or mass; at the first step, from a known component, it is invalid
 /// input naming that component (a parameter too large).
@@ -43,6 +43,12 @@ struct RunOptions {
     /// `--debug-step K --debug-file FILE`: after step K, write what it did (write_step_debug).
     std::optional<std::int64_t> debug_step;
     std::filesystem::path debug_file = "penalty-debug-step.txt";
+    /// Whether the progress callback may change the states between steps (SofaPython3
+    /// controllers). Then every state is checked after every step (step 3 above). Otherwise a
+    /// state that no step moves, one outside every ODE solver's subtree and not the output of a
+    /// mapping (a static obstacle: StateRecord::mapped and in_solver_subtree both false), is
+    /// checked after the first step only: a static floor of 10⁵ points costs nothing per step.
+    bool states_change_between_steps = false;
 };
 
 /// The divergence criterion of run_scene, besides non-finite values. L is the diagonal of the
@@ -64,8 +70,9 @@ public:
     DivergenceBound(const Scene& scene, double factor);
     /// Compares with the positions of the previous call (or of construction), then records the
     /// current ones. Throws output::NonFiniteValueError naming the step, the state, the DOF and
-    /// the distance moved.
-    void check(const Scene& scene, std::int64_t step, double time);
+    /// the distance moved. `static_states`: false skips the states no step moves (outside every
+    /// solver's subtree and not mapped; see RunOptions::states_change_between_steps).
+    void check(const Scene& scene, std::int64_t step, double time, bool static_states = true);
     [[nodiscard]] double scene_size() const { return size_; }
 
 private:
