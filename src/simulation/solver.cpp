@@ -1148,6 +1148,18 @@ const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
     if (plan_version_ != root_.structure_version()) {
         plan_.clear();
         plan_node(root_);
+        applied_states_.clear();
+        std::unordered_set<const BaseState*> applied;
+        const auto add = [&](BaseState* s) {
+            if (s != nullptr && applied.insert(s).second) applied_states_.push_back(s);
+        };
+        for (const SolveAction& a : plan_) {
+            if (a.solver_node != nullptr) for_each_node(*a.solver_node, [&](Node& n) { add(n.state()); });
+            for (BaseState* s : a.states) add(s);
+        }
+        for_each_node(root_, [&](Node& n) {
+            if (n.mapping()) add(n.state());
+        });
         for (std::size_t i = 0; i < plan_.size(); i = plan_[i].run_end) {
             if (plan_[i].solver_node != nullptr) {
                 find_run(i);
@@ -1266,9 +1278,7 @@ void Simulation::step() {
             n.mapping()->apply_velocity();
         }
     });
-    for_each_node(root_, [](Node& n) {
-        if (n.state()) n.state()->external_force_flat().setZero();
-    });
+    for (BaseState* s : applied_states_) s->external_force_flat().setZero();
     time_ += dt;
 }
 

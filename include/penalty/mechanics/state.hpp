@@ -39,7 +39,10 @@ struct MechanicalState {
     std::vector<Deriv> velocity;       ///< v
     std::vector<Coord> rest_position;  ///< x0 (springs, FEM)
     std::vector<Deriv> force;          ///< f, accumulated by force fields
-    std::vector<Deriv> external_force; ///< explicit forces applied for one step (cleared after)
+    /// Explicit forces applied for one step, cleared after it (Simulation::step) in the states a
+    /// step applies them to: in a solver's subtree, mapped, or read by an explicit force field.
+    /// A static state's (none of these) are never applied, and are left as they are.
+    std::vector<Deriv> external_force;
 
     [[nodiscard]] std::size_t size() const { return position.size(); }
 

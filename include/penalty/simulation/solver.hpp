@@ -571,6 +571,11 @@ private:
     int threads_ = 0;
     std::unique_ptr<ThreadArena> arena_;  ///< made at the first concurrent solve
     std::vector<SolveAction> plan_;
+    /// The states whose external force a step applies, cleared after each step (found with the
+    /// plan): those of a solver's subtree, the outputs of mappings and the states of explicit
+    /// force fields. The others (static obstacles) are never applied nor cleared: a floor of
+    /// 10⁵ points costs no pass over its memory per step.
+    std::vector<BaseState*> applied_states_;
     std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;
     bool initialized_ = false;
