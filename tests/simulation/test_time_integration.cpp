@@ -295,6 +295,40 @@ TEST(SolverSubtrees, SimulatedPairWithRootSpringIsExplicit) {
     EXPECT_NEAR(s[1]->velocity[0].x(), -5.0, 1e-12);
 }
 
+TEST(SolverSubtrees, ExternalForcesAreClearedAfterAStepExceptAStaticStates) {
+    // A body under a solver, an anchor with no solver tied to it by an explicit spring (root, no
+    // solver), and a static marker nothing reads. An external force on the body acts for one step
+    // (Δv = h f / m) and is cleared; the anchor's, written by the explicit spring at each step, is
+    // cleared too; the marker's is never applied and stays as it was set.
+    Simulation sim;
+    sim.root().set_gravity(Vec3::Zero());
+    Node& body = sim.root().add_child("body");
+    body.set_ode_solver<EulerImplicitSolver>().cg.threshold = 0;
+    auto& x = body.add_state<Vec3Types>();
+    x.position = {Vec3(0, 0, 0)};
+    body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(2.0);
+    auto& anchor = sim.root().add_child("anchor").add_state<Vec3Types>();
+    anchor.position = {Vec3(0, 3, 0)};
+    auto& marker = sim.root().add_child("marker").add_state<Vec3Types>();
+    marker.position = {Vec3(5, 0, 0)};
+    sim.root().add_force_field<SpringForceField>(anchor, x).add_spring({0, 0, 10.0, 0.0, 1.0});
+    sim.init();
+    x.external_force[0] = Vec3(4, 0, 0);
+    marker.external_force[0] = Vec3(0, 0, 7);
+    sim.step();  // h = 0.01 (the root's default dt)
+    const double h = sim.root().dt();
+    // x: Δv_x = h·4/2, and the spring (stretched by 2 m, explicit) pulls it up: Δv_y = h·(10·2)/2
+    EXPECT_NEAR(x.velocity[0].x(), h * 2.0, 1e-12);
+    EXPECT_NEAR(x.velocity[0].y(), h * 10.0, 1e-12);
+    EXPECT_EQ(x.external_force[0], Vec3::Zero());
+    EXPECT_EQ(anchor.external_force[0], Vec3::Zero());
+    EXPECT_EQ(marker.external_force[0], Vec3(0, 0, 7));
+    EXPECT_EQ(marker.position[0], Vec3(5, 0, 0));
+    sim.step();
+    EXPECT_EQ(anchor.external_force[0], Vec3::Zero());
+    EXPECT_EQ(marker.external_force[0], Vec3(0, 0, 7));
+}
+
 TEST(SolverSubtrees, CommonSolverMakesTheSpringImplicit) {
     Simulation sim;
     sim.root().set_gravity(Vec3::Zero());
