@@ -323,11 +323,8 @@ void BarycentricMapping::apply_j_rows(std::span<Vec3> out, std::span<const Vec3>
 
 void BarycentricMapping::apply_dx_rows(std::span<const std::uint32_t> rows) { apply_j_rows(out_->dx, in_->dx, rows); }
 
-bool BarycentricMapping::mark_inputs_read(std::span<std::uint8_t> read) const {
-    for (const std::uint32_t j : used_inputs_) {
-        PENALTY_DEMAND(j < read.size());
-        read[j] = 1;
-    }
+bool BarycentricMapping::list_inputs_read(std::vector<std::uint32_t>& rows) const {
+    rows.insert(rows.end(), used_inputs_.begin(), used_inputs_.end());
     return true;
 }
 

@@ -59,12 +59,12 @@ void ContactPointMapping<In>::apply_jt(std::span<InDeriv> in, std::span<const Ve
 }
 
 template <class In>
-bool ContactPointMapping<In>::mark_inputs_read(std::span<std::uint8_t> read) const {
+bool ContactPointMapping<In>::list_inputs_read(std::vector<std::uint32_t>& rows) const {
     if (mapper_->kind() != ContactMapperKind::barycentric) return false;
     for (const ContactBarycentricRow& row : static_cast<const BarycentricContactMapper&>(*mapper_).rows())
         for (const ContactBarycentricRow::Entry& e : row) {
-            PENALTY_DEMAND(static_cast<std::size_t>(e.index) < read.size());
-            read[static_cast<std::size_t>(e.index)] = 1;
+            PENALTY_DEMAND(e.index >= 0);
+            rows.push_back(static_cast<std::uint32_t>(e.index));
         }
     return true;
 }

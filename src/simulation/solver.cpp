@@ -175,6 +175,11 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         mappings_from[m->from()].push_back(m);
         if (known.insert(m->from()).second) external_.push_back(m->from());
     }
+    for (const BaseState* s : external_) {
+        ExternalReaders& r = external_readers_.emplace_back();
+        if (const auto it = force_fields_on.find(s); it != force_fields_on.end()) r.force_fields = it->second;
+        if (const auto it = mappings_from.find(s); it != mappings_from.end()) r.mappings = it->second;
+    }
     for (std::size_t i = 0; i < mappings_.size(); ++i) {
         BaseMapping* m = mappings_[i];
         PENALTY_DEMAND(m->to() == mapped_[i]);
@@ -366,17 +371,66 @@ void SubtreeSystem::spread_fused_mapping(const FusedMapping& m) const {
     for (std::size_t i = 0; i < m.count; ++i) rows[i].spread(out, df[i]);
 }
 
+bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<const BaseForceField*>& force_fields,
+                                   const std::vector<const BaseMapping*>& mappings) const {
+    listed_rows_.clear();
+    for (const BaseForceField* ff : force_fields)
+        if (!ff->list_dx_read(state, listed_rows_)) return false;
+    for (const BaseMapping* m : mappings)
+        if (!m->list_inputs_read(listed_rows_)) return false;
+    const std::size_t dofs = state.num_dofs();
+    for (const std::uint32_t row : listed_rows_) PENALTY_DEMAND(row < dofs);
+    return true;
+}
+
+namespace {
+/// Zeroes the DOFs `rows` of a flat vector of DOFs `width` scalars wide.
+void zero_rows(FlatVector v, Eigen::Index width, const std::vector<std::uint32_t>& rows) {
+    if (width == 3) {  // three stores a row (a segment of run-time size is a call to memset per row)
+        for (const std::uint32_t row : rows) v.segment<3>(3 * static_cast<Eigen::Index>(row)).setZero();
+        return;
+    }
+    for (const std::uint32_t row : rows) v.segment(width * static_cast<Eigen::Index>(row), width).setZero();
+}
+}  // namespace
+
+void SubtreeSystem::clear_external_scratch(bool forces) const {
+    for (std::size_t i = 0; i < external_.size(); ++i) {
+        BaseState& s = *external_[i];
+        const bool listed = s.is_static() && list_rows_read(s, external_readers_[i].force_fields, external_readers_[i].mappings);
+        BaseState::ScratchRows& record = forces ? s.static_force_rows : s.static_work_rows;
+        const auto width = static_cast<Eigen::Index>(s.deriv_size());
+        const auto clear = [&](FlatVector v) {
+            if (listed && record.holds_for(s.num_dofs())) {
+                // every other row is 0 (only solves write a static state's scratch), and so are
+                // then the rows listed now, which the solve may write
+                zero_rows(v, width, record.rows);
+            } else {
+                v.setZero();
+            }
+        };
+        if (forces) {
+            clear(s.force_flat());
+        } else {
+            clear(s.dx_flat());
+            clear(s.df_flat());
+        }
+        if (!s.is_static()) continue;
+        record.known = listed;
+        record.dofs = s.num_dofs();
+        if (listed) record.rows.swap(listed_rows_);
+    }
+}
+
 void SubtreeSystem::find_read_rows(const DxReaders& r) const {
     r.restricted = false;
     r.found = readers_fixed_;
     if (!r.selective) return;
     const BaseState& state = *r.mapping->to();
     const std::size_t dofs = state.num_dofs();
+    if (!list_rows_read(state, r.force_fields, r.mappings)) return;
     dx_read_.assign(dofs, 0);
-    for (const BaseForceField* ff : r.force_fields)
-        if (!ff->mark_dx_read(state, dx_read_)) return;
-    for (const BaseMapping* child : r.mappings)
-        if (!child->mark_inputs_read(dx_read_)) return;
+    for (const std::uint32_t row : listed_rows_) dx_read_[row] = 1;
     r.rows.clear();
     for (std::size_t i = 0; i < dofs; ++i)
         if (dx_read_[i] != 0) r.rows.push_back(static_cast<std::uint32_t>(i));
@@ -582,7 +636,7 @@ void SubtreeSystem::propagate_positions_and_velocities() const {
 void SubtreeSystem::reset_forces() const {
     for (BaseState* s : independent_) s->force_flat() = s->external_force_flat();
     for (BaseState* s : mapped_) s->force_flat() = s->external_force_flat();
-    for (BaseState* s : external_) s->force_flat().setZero();
+    clear_external_scratch(/*forces=*/true);
 }
 
 std::vector<BaseState*> SubtreeSystem::all_states() const {
@@ -794,10 +848,7 @@ double MbkCgSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, 
 
 void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
     if (!external_work_zeroed_) {
-        for (BaseState* s : external_) {
-            s->dx_flat().setZero();
-            s->df_flat().setZero();
-        }
+        clear_external_scratch(/*forces=*/false);
         external_work_zeroed_ = true;
     }
     // The fused contact block (see the header): only while the contacts cannot change.
@@ -820,14 +871,7 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
             continue;
         }
         // only the rows read (and written) by the readers; Jᵀ takes no other (apply_jt_df_rows)
-        FlatVector df = mapped_[i]->df_flat();
-        const auto deriv = static_cast<Eigen::Index>(mapped_[i]->deriv_size());
-        if (deriv == 3) {
-            // three stores a row (a segment of run-time size is a call to memset per row)
-            for (const std::uint32_t row : r.rows) df.segment<3>(3 * static_cast<Eigen::Index>(row)).setZero();
-        } else {
-            for (const std::uint32_t row : r.rows) df.segment(deriv * static_cast<Eigen::Index>(row), deriv).setZero();
-        }
+        zero_rows(mapped_[i]->df_flat(), static_cast<Eigen::Index>(mapped_[i]->deriv_size()), r.rows);
     }
     // the right-hand side's addMBKv and the CG's product in SOFA HEAD's MappingGraph order, or
     // in its visitors' (mapping_graph_order_: see the constructor)
@@ -1159,6 +1203,9 @@ const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
         }
         for_each_node(root_, [&](Node& n) {
             if (n.mapping()) add(n.state());
+        });
+        for_each_node(root_, [&](Node& n) {
+            if (n.state() != nullptr) n.state()->set_static(!applied.contains(n.state()));
         });
         for (std::size_t i = 0; i < plan_.size(); i = plan_[i].run_end) {
             if (plan_[i].solver_node != nullptr) {

@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -274,6 +275,95 @@ TEST(SubtreeSystem, MapsDxOnlyInTheRowsReadWithTheSameBits) {
         for (const std::size_t read : {2, 3, 7, 20, 33, 40, 50}) EXPECT_TRUE(selective.surface->dx[read].allFinite()) << read;
         EXPECT_TRUE(std::isnan(selective.surface->dx[0][0]));
     }
+}
+
+/// A FEM block under a solver held by penalty contacts against a static obstacle of 400 points
+/// outside the solver's subtree: the obstacle is an external state of the block's system, its
+/// force, dx and df scratch.
+struct ObstacleScene {
+    Simulation sim;
+    PenaltyForceField field;
+    Node* body = nullptr;
+    Vec3Object* block = nullptr;
+    Vec3Object* obstacle = nullptr;
+    explicit ObstacleScene(bool obstacle_static) {
+        Node& root = sim.root();
+        body = &root.add_child("body");
+        body->set_ode_solver<EulerImplicitSolver>();
+        const RegularGridTopology grid({3, 3, 3}, Vec3(0, 0, 0), Vec3(1, 1, 1));
+        block = &make_fem_block(*body, grid);
+        obstacle = &root.add_child("floor").add_state<Vec3Types>("obstacle");
+        for (int i = 0; i < 400; ++i) obstacle->position.push_back(Vec3(0.05 * (i % 20), -0.02, 0.05 * (i / 20)));
+        body->add_force_field<PenaltyInteraction>(*block, *obstacle, field);
+        sim.init();
+        obstacle->set_static(obstacle_static);
+    }
+    /// Step k's contacts: block vertices 0, 1, 2 (its bottom) on obstacle rows that change with k.
+    void set_contacts(int k) {
+        field.clear();
+        for (const auto& [vertex, row] : std::array<std::pair<Index, Index>, 3>{{{0, (7 * k) % 400}, {1, (7 * k + 150) % 400}, {2, 399 - 3 * k}}})
+            field.add_contact(vertex, row, 0, 0, Vec3(0, 1, 0), 0.05, 500.0);
+    }
+};
+
+TEST(SubtreeSystem, AStaticObstaclesScratchIsClearedOnlyWhereSolvesWroteIt) {
+    // The same solves against a static obstacle (its scratch cleared in the rows its contacts
+    // use now and used before) and against the same obstacle not marked static (its scratch
+    // cleared whole): the same obstacle vectors and system vectors, bit for bit, while the
+    // contacts move over the obstacle's rows; rows no solve uses are never written.
+    ObstacleScene fast(true), whole(false);
+    SubtreeSystem sys_fast(*fast.body), sys_whole(*whole.body);
+    const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+    const auto same_vectors = [&](const std::vector<Vec3>& a, const std::vector<Vec3>& b, const char* what, int k) {
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t i = 0; i < a.size(); ++i)
+            for (int c = 0; c < 3; ++c) ASSERT_EQ(bits(a[i][c]), bits(b[i][c])) << what << " row " << i << " step " << k;
+    };
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const auto solve = [&](int k) {
+        for (ObstacleScene* scene : {&fast, &whole}) scene->set_contacts(k);
+        Eigen::VectorXd f_fast, f_whole;
+        sys_fast.compute_force(f_fast);
+        sys_whole.compute_force(f_whole);
+        for (Eigen::Index i = 0; i < f_fast.size(); ++i) ASSERT_EQ(bits(f_fast[i]), bits(f_whole[i])) << "f " << i;
+        const SubtreeSystem::FixedReaders readers_fast(sys_fast), readers_whole(sys_whole);
+        for (int product = 0; product < 2; ++product) {
+            const Eigen::VectorXd p = Eigen::VectorXd::NullaryExpr(sys_fast.size(), [&] { return u(rng); });
+            Eigen::VectorXd q_fast, q_whole;
+            sys_fast.apply_mbk(p, q_fast, 1.0, -0.01, -0.3, true);
+            sys_whole.apply_mbk(p, q_whole, 1.0, -0.01, -0.3, true);
+            for (Eigen::Index i = 0; i < q_fast.size(); ++i) ASSERT_EQ(bits(q_fast[i]), bits(q_whole[i])) << "q " << i;
+        }
+    };
+    for (int k = 0; k < 6; ++k) {
+        solve(k);
+        same_vectors(fast.obstacle->force, whole.obstacle->force, "force", k);
+        same_vectors(fast.obstacle->dx, whole.obstacle->dx, "dx", k);
+        same_vectors(fast.obstacle->df, whole.obstacle->df, "df", k);
+        // the contacts act: force and df on exactly the three rows of step k (none of step k − 1's)
+        std::size_t forced = 0, with_df = 0;
+        for (std::size_t i = 0; i < 400; ++i) {
+            forced += fast.obstacle->force[i] != Vec3::Zero();
+            with_df += fast.obstacle->df[i] != Vec3::Zero();
+        }
+        EXPECT_EQ(forced, 3u) << k;
+        EXPECT_EQ(with_df, 3u) << k;
+        EXPECT_NE(fast.obstacle->force[std::size_t(399 - 3 * k)], Vec3::Zero()) << k;
+    }
+    // A row no solve used (200) is left as it is: no pass over the whole obstacle.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    fast.obstacle->force[200] = fast.obstacle->dx[200] = fast.obstacle->df[200] = Vec3(nan, nan, nan);
+    solve(6);
+    EXPECT_TRUE(std::isnan(fast.obstacle->force[200].x()) && std::isnan(fast.obstacle->dx[200].y()) &&
+                std::isnan(fast.obstacle->df[200].z()));
+    // Marked again, the records are forgotten: the next solve clears the whole vectors.
+    fast.obstacle->set_static(false);
+    fast.obstacle->set_static(true);
+    solve(7);
+    same_vectors(fast.obstacle->force, whole.obstacle->force, "force", 7);
+    same_vectors(fast.obstacle->dx, whole.obstacle->dx, "dx", 7);
+    same_vectors(fast.obstacle->df, whole.obstacle->df, "df", 7);
 }
 
 ConstantForceFieldParameters forces_at_point_0(const Vec3& f) {

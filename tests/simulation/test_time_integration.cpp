@@ -324,6 +324,10 @@ TEST(SolverSubtrees, ExternalForcesAreClearedAfterAStepExceptAStaticStates) {
     EXPECT_EQ(anchor.external_force[0], Vec3::Zero());
     EXPECT_EQ(marker.external_force[0], Vec3(0, 0, 7));
     EXPECT_EQ(marker.position[0], Vec3(5, 0, 0));
+    // the plan marks the static states (their scratch is cleared only where solves wrote it)
+    EXPECT_FALSE(x.is_static());
+    EXPECT_FALSE(anchor.is_static());
+    EXPECT_TRUE(marker.is_static());
     sim.step();
     EXPECT_EQ(anchor.external_force[0], Vec3::Zero());
     EXPECT_EQ(marker.external_force[0], Vec3(0, 0, 7));

@@ -39,10 +39,12 @@ public:
     [[nodiscard]] virtual std::vector<BaseState*> states() const = 0;
     /// True when the field acts between two distinct states.
     [[nodiscard]] bool is_interaction() const { return states().size() > 1; }
-    /// Sets read[i] = 1 for every DOF i of `state` (one of states()) whose dx accumulate_dforce
-    /// may read (`read` has one flag per DOF of `state`) and returns true; false (the default):
-    /// the field cannot tell, it may read any. Lets a solver map dx only where it is read.
-    [[nodiscard]] virtual bool mark_dx_read(const BaseState& /*state*/, std::span<std::uint8_t> /*read*/) const {
+    /// Appends to `rows` every DOF of `state` (one of states()) whose dx accumulate_dforce may
+    /// read, in any order and possibly repeated, and returns true; false (the default): the field
+    /// cannot tell, it may read any. The field writes force (accumulate_force) and df
+    /// (accumulate_dforce) of `state` in those DOFs only. Lets a solver map dx only where it is
+    /// read, and clear an outside state's scratch only where it is written.
+    [[nodiscard]] virtual bool list_dx_read(const BaseState& /*state*/, std::vector<std::uint32_t>& /*rows*/) const {
         return false;
     }
 };

@@ -33,10 +33,10 @@ public:
     virtual void apply_jt_df() = 0;        ///< from.df += Jᵀ to.df
     /// J as triplets (rows: output scalars + row_offset, columns: input scalars + col_offset).
     virtual void add_jacobian_triplets(TripletList& triplets, Index row_offset, Index col_offset) const = 0;
-    /// Sets read[i] = 1 for every input DOF i that apply_dx reads and apply_jt_df writes (`read`
-    /// has one flag per DOF of from()) and returns true; false (the default): the mapping cannot
-    /// tell, it may read and write any.
-    [[nodiscard]] virtual bool mark_inputs_read(std::span<std::uint8_t> /*read*/) const { return false; }
+    /// Appends to `rows` every input DOF (of from()) that apply_dx reads, in any order and
+    /// possibly repeated, and returns true; false (the default): the mapping cannot tell, it may
+    /// read any. apply_jt_force and apply_jt_df write from()'s force and df in those DOFs only.
+    [[nodiscard]] virtual bool list_inputs_read(std::vector<std::uint32_t>& /*rows*/) const { return false; }
     /// True when the mapping implements apply_dx_rows and apply_jt_df_rows (default false).
     [[nodiscard]] virtual bool maps_selected_rows() const { return false; }
     /// to.dx = J from.dx for the output DOFs `rows` only (ascending, each < to's size), with the
@@ -250,7 +250,7 @@ public:
     void apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const override;
     void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override;
     [[nodiscard]] std::size_t output_size() const override { return rows_.size(); }
-    [[nodiscard]] bool mark_inputs_read(std::span<std::uint8_t> read) const override;
+    [[nodiscard]] bool list_inputs_read(std::vector<std::uint32_t>& rows) const override;
     [[nodiscard]] bool maps_selected_rows() const override { return true; }
     void apply_dx_rows(std::span<const std::uint32_t> rows) override;
     void apply_jt_df_rows(std::span<const std::uint32_t> rows) override;

@@ -9,6 +9,7 @@
 #include "penalty/core/types.hpp"
 #include "penalty/mechanics/state.hpp"
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -44,6 +45,33 @@ public:
 
     /// Sizes every vector to the number of positions (velocity, force ... zero-filled).
     virtual void init() = 0;
+
+    /// A static state: outside every ODE solver's subtree, not a mapping's output, and read by no
+    /// explicit force field (Simulation::solve_plan marks them; false until then). Only the solves
+    /// that read it as an outside state write its force, dx and df, as scratch (SubtreeSystem):
+    /// each then clears only the rows it and the solves before it may have written, recorded
+    /// here, instead of passing over the whole vectors (a large static obstacle).
+    [[nodiscard]] bool is_static() const { return static_; }
+    /// Changing the mark forgets the records (the next solve clears the whole vectors).
+    void set_static(bool is_static) {
+        if (is_static == static_) return;
+        static_ = is_static;
+        static_force_rows = {};
+        static_work_rows = {};
+    }
+    /// The rows of a static state's vectors that may be non-zero: outside them, every value is 0.
+    struct ScratchRows {
+        bool known = false;               ///< false: any row may be non-zero
+        std::size_t dofs = 0;             ///< num_dofs() when `rows` was recorded
+        std::vector<std::uint32_t> rows;  ///< DOFs, any order, possibly repeated
+        /// The record holds for a state of `n` DOFs.
+        [[nodiscard]] bool holds_for(std::size_t n) const { return known && dofs == n; }
+    };
+    ScratchRows static_force_rows;  ///< of force
+    ScratchRows static_work_rows;   ///< of dx and df
+
+private:
+    bool static_ = false;
 };
 
 /// Applies SOFA's MechanicalObject init transform to a point: scale3d, then the rotation given as

@@ -102,7 +102,7 @@ public:
     }
     [[nodiscard]] std::size_t output_size() const override { return mapper_->size(); }
     /// Barycentric mapper: the vertices of its rows; other mappers: false (any input).
-    [[nodiscard]] bool mark_inputs_read(std::span<std::uint8_t> read) const override;
+    [[nodiscard]] bool list_inputs_read(std::vector<std::uint32_t>& rows) const override;
     /// A barycentric mapper's rows when the input is Vec3 (apply_j and apply_jt are the mapper's
     /// combine and spread of each row); nullptr otherwise.
     [[nodiscard]] const std::vector<ContactBarycentricRow>* contact_barycentric_rows() const override;

@@ -36,19 +36,20 @@ public:
         if (s1_ == s2_) return {s1_};
         return {s1_, s2_};
     }
-    /// The contacts' DOFs on `state` (m1 on state 1, m2 on state 2; add_dforce reads no other).
-    [[nodiscard]] bool mark_dx_read(const BaseState& state, std::span<std::uint8_t> read) const override {
+    /// The contacts' DOFs on `state` (m1 on state 1, m2 on state 2; add_force and add_dforce
+    /// touch no other).
+    [[nodiscard]] bool list_dx_read(const BaseState& state, std::vector<std::uint32_t>& rows) const override {
         for (const PenaltyContact& c : field_->contacts()) {
-            if (&state == s1_) mark(read, c.m1);
-            if (&state == s2_) mark(read, c.m2);
+            if (&state == s1_) list(rows, c.m1);
+            if (&state == s2_) list(rows, c.m2);
         }
         return true;
     }
 
 private:
-    static void mark(std::span<std::uint8_t> read, Index dof) {
-        PENALTY_DEMAND(dof >= 0 && static_cast<std::size_t>(dof) < read.size());
-        read[static_cast<std::size_t>(dof)] = 1;
+    static void list(std::vector<std::uint32_t>& rows, Index dof) {
+        PENALTY_DEMAND(dof >= 0);
+        rows.push_back(static_cast<std::uint32_t>(dof));
     }
     PenaltyForceField* field_;
 };

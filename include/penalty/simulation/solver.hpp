@@ -229,6 +229,22 @@ private:
     std::vector<BaseState*> external_;  ///< states used by the subtree's fields but outside it
     /// external_'s dx (and df) zeroed since the last compute_force (see apply_mbk)
     mutable bool external_work_zeroed_ = false;
+    /// Per external_ entry: the subtree's force fields acting on it and mappings reading it.
+    struct ExternalReaders {
+        std::vector<const BaseForceField*> force_fields;
+        std::vector<const BaseMapping*> mappings;
+    };
+    std::vector<ExternalReaders> external_readers_;
+    /// Zeroes each external state's scratch, its force (`forces`) or its dx and df: the whole
+    /// vectors, or, for a static state (BaseState::is_static) whose readers all list their rows,
+    /// only the rows its record names (the solves before may have written those) and the rows
+    /// read now, which become the record. The same values as whole vectors zeroed.
+    void clear_external_scratch(bool forces) const;
+    /// Lists into listed_rows_ the DOFs of `state` that the force fields and mappings read
+    /// (BaseForceField::list_dx_read, BaseMapping::list_inputs_read); false when one cannot tell.
+    bool list_rows_read(const BaseState& state, const std::vector<const BaseForceField*>& force_fields,
+                        const std::vector<const BaseMapping*>& mappings) const;
+    mutable std::vector<std::uint32_t> listed_rows_;  ///< scratch of list_rows_read
     std::vector<BaseMapping*> mappings_;  ///< pre-order: parents before children (J·dx)
     // ---- the fused contact block ----------------------------------------------------------
     // A pile of bodies has thousands of contact pairs, each with two contact-point states, two
