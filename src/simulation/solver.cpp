@@ -397,7 +397,8 @@ void zero_rows(FlatVector v, Eigen::Index width, const std::vector<std::uint32_t
 void SubtreeSystem::clear_external_scratch(bool forces) const {
     for (std::size_t i = 0; i < external_.size(); ++i) {
         BaseState& s = *external_[i];
-        const bool listed = s.is_static() && list_rows_read(s, external_readers_[i].force_fields, external_readers_[i].mappings);
+        const bool listed = s.is_static() && s.num_dofs() >= kMinDofsForScratchRows &&
+                            list_rows_read(s, external_readers_[i].force_fields, external_readers_[i].mappings);
         BaseState::ScratchRows& record = forces ? s.static_force_rows : s.static_work_rows;
         const auto width = static_cast<Eigen::Index>(s.deriv_size());
         const auto clear = [&](FlatVector v) {

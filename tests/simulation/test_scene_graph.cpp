@@ -277,23 +277,24 @@ TEST(SubtreeSystem, MapsDxOnlyInTheRowsReadWithTheSameBits) {
     }
 }
 
-/// A FEM block under a solver held by penalty contacts against a static obstacle of 400 points
-/// outside the solver's subtree: the obstacle is an external state of the block's system, its
-/// force, dx and df scratch.
+/// A FEM block under a solver held by penalty contacts against a static obstacle of `points`
+/// points outside the solver's subtree: the obstacle is an external state of the block's system,
+/// its force, dx and df scratch.
 struct ObstacleScene {
     Simulation sim;
     PenaltyForceField field;
     Node* body = nullptr;
     Vec3Object* block = nullptr;
     Vec3Object* obstacle = nullptr;
-    explicit ObstacleScene(bool obstacle_static) {
+    int points = 0;
+    explicit ObstacleScene(bool obstacle_static, int obstacle_points = 2500) : points(obstacle_points) {
         Node& root = sim.root();
         body = &root.add_child("body");
         body->set_ode_solver<EulerImplicitSolver>();
         const RegularGridTopology grid({3, 3, 3}, Vec3(0, 0, 0), Vec3(1, 1, 1));
         block = &make_fem_block(*body, grid);
         obstacle = &root.add_child("floor").add_state<Vec3Types>("obstacle");
-        for (int i = 0; i < 400; ++i) obstacle->position.push_back(Vec3(0.05 * (i % 20), -0.02, 0.05 * (i / 20)));
+        for (int i = 0; i < points; ++i) obstacle->position.push_back(Vec3(0.02 * (i % 50), -0.02, 0.02 * (i / 50)));
         body->add_force_field<PenaltyInteraction>(*block, *obstacle, field);
         sim.init();
         obstacle->set_static(obstacle_static);
@@ -301,7 +302,8 @@ struct ObstacleScene {
     /// Step k's contacts: block vertices 0, 1, 2 (its bottom) on obstacle rows that change with k.
     void set_contacts(int k) {
         field.clear();
-        for (const auto& [vertex, row] : std::array<std::pair<Index, Index>, 3>{{{0, (7 * k) % 400}, {1, (7 * k + 150) % 400}, {2, 399 - 3 * k}}})
+        for (const auto& [vertex, row] :
+             std::array<std::pair<Index, Index>, 3>{{{0, (7 * k) % points}, {1, (7 * k + 150) % points}, {2, points - 1 - 3 * k}}})
             field.add_contact(vertex, row, 0, 0, Vec3(0, 1, 0), 0.05, 500.0);
     }
 };
@@ -312,6 +314,7 @@ TEST(SubtreeSystem, AStaticObstaclesScratchIsClearedOnlyWhereSolvesWroteIt) {
     // cleared whole): the same obstacle vectors and system vectors, bit for bit, while the
     // contacts move over the obstacle's rows; rows no solve uses are never written.
     ObstacleScene fast(true), whole(false);
+    ASSERT_GE(fast.obstacle->num_dofs(), SubtreeSystem::kMinDofsForScratchRows);
     SubtreeSystem sys_fast(*fast.body), sys_whole(*whole.body);
     const auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
     const auto same_vectors = [&](const std::vector<Vec3>& a, const std::vector<Vec3>& b, const char* what, int k) {
@@ -343,13 +346,13 @@ TEST(SubtreeSystem, AStaticObstaclesScratchIsClearedOnlyWhereSolvesWroteIt) {
         same_vectors(fast.obstacle->df, whole.obstacle->df, "df", k);
         // the contacts act: force and df on exactly the three rows of step k (none of step k − 1's)
         std::size_t forced = 0, with_df = 0;
-        for (std::size_t i = 0; i < 400; ++i) {
+        for (std::size_t i = 0; i < fast.obstacle->num_dofs(); ++i) {
             forced += fast.obstacle->force[i] != Vec3::Zero();
             with_df += fast.obstacle->df[i] != Vec3::Zero();
         }
         EXPECT_EQ(forced, 3u) << k;
         EXPECT_EQ(with_df, 3u) << k;
-        EXPECT_NE(fast.obstacle->force[std::size_t(399 - 3 * k)], Vec3::Zero()) << k;
+        EXPECT_NE(fast.obstacle->force[std::size_t(fast.points - 1 - 3 * k)], Vec3::Zero()) << k;
     }
     // A row no solve used (200) is left as it is: no pass over the whole obstacle.
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -364,6 +367,26 @@ TEST(SubtreeSystem, AStaticObstaclesScratchIsClearedOnlyWhereSolvesWroteIt) {
     same_vectors(fast.obstacle->force, whole.obstacle->force, "force", 7);
     same_vectors(fast.obstacle->dx, whole.obstacle->dx, "dx", 7);
     same_vectors(fast.obstacle->df, whole.obstacle->df, "df", 7);
+}
+
+TEST(SubtreeSystem, ASmallStaticObstaclesScratchIsClearedWhole) {
+    // Below kMinDofsForScratchRows DOFs the pass is cheaper than listing the contacts' rows.
+    ObstacleScene small(true, 400);
+    ASSERT_LT(small.obstacle->num_dofs(), SubtreeSystem::kMinDofsForScratchRows);
+    SubtreeSystem sys(*small.body);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (int k = 0; k < 2; ++k) {
+        small.set_contacts(k);
+        small.obstacle->force[200] = small.obstacle->dx[200] = small.obstacle->df[200] = Vec3(nan, nan, nan);
+        Eigen::VectorXd f, q;
+        sys.compute_force(f);
+        const SubtreeSystem::FixedReaders readers(sys);
+        sys.apply_mbk(Eigen::VectorXd::Ones(sys.size()), q, 1.0, 0.0, -0.3, true);
+        EXPECT_EQ(small.obstacle->force[200], Vec3::Zero()) << k;
+        EXPECT_EQ(small.obstacle->dx[200], Vec3::Zero()) << k;
+        EXPECT_EQ(small.obstacle->df[200], Vec3::Zero()) << k;
+        EXPECT_NE(small.obstacle->force[std::size_t(small.points - 1 - 3 * k)], Vec3::Zero()) << k;
+    }
 }
 
 ConstantForceFieldParameters forces_at_point_0(const Vec3& f) {
