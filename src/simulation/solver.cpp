@@ -402,7 +402,7 @@ void SubtreeSystem::clear_external_scratch(bool forces) const {
         BaseState::ScratchRows& record = forces ? s.static_force_rows : s.static_work_rows;
         const auto width = static_cast<Eigen::Index>(s.deriv_size());
         const auto clear = [&](FlatVector v) {
-            if (listed && record.holds_for(s.num_dofs())) {
+            if (listed && record.holds_for(s.num_dofs()) && v.size() == static_cast<Eigen::Index>(s.scalar_size())) {
                 // every other row is 0 (only solves write a static state's scratch), and so are
                 // then the rows listed now, which the solve may write
                 zero_rows(v, width, record.rows);
