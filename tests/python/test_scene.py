@@ -196,23 +196,10 @@ def test_divergence_raises_with_the_cli_message():
     assert code == 3 and message == str(error.value)
 
 
-FREE_FALL_BESIDE_A_MARKER = """<Node name="root" dt="0.1" gravity="0 -10 0">
-  <Node name="Particle">
-    <EulerImplicitSolver/>
-    <CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-20"/>
-    <MechanicalObject name="p" position="0 0 0"/>
-    <UniformMass totalMass="1"/>
-  </Node>
-  <Node name="Marker"><MechanicalObject name="m" position="10 0 0"/></Node>
-</Node>"""
-
-
-def test_a_callback_that_breaks_a_static_state_is_caught(tmp_path):
+def test_a_callback_that_breaks_a_static_state_is_caught():
     # No step moves the static marker, so `penalty run` checks it after the first step only; a
     # callback may change any state between the steps, so with one the run checks it every step.
-    path = tmp_path / "marker.scn"
-    path.write_text(FREE_FALL_BESIDE_A_MARKER)
-    scene = penalty.load_scene(path)
+    scene = penalty.load_scene(REPO / "tests" / "scene" / "data" / "free_fall_beside_a_marker.scn")
     velocities = scene.states["/Marker/m"].velocities
 
     def break_marker(done, total):

@@ -99,18 +99,16 @@ TEST(Threads, AContactPipelineRefusesMoreThanItsMaximum) {
 
 // ---- divergence ---------------------------------------------------------------------------------
 
-// A particle in free fall beside a static point 10 m away: the scene's box has diagonal 10 m and
-// centre (5, 0, 0). Implicit Euler is exact on uniform acceleration: y_n = −g·h²·n(n+1)/2 after
-// n steps (g = 10 m/s², h = 0.1 s: y_n = −0.05·n(n+1) m).
-const std::string kFreeFall = R"(<Node name="root" dt="0.1" gravity="0 -10 0">
-  <Node name="Particle">
-    <EulerImplicitSolver/>
-    <CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-20"/>
-    <MechanicalObject name="p" position="0 0 0"/>
-    <UniformMass totalMass="1"/>
-  </Node>
-  <Node name="Marker"><MechanicalObject name="m" position="10 0 0"/></Node>
-</Node>)";
+// tests/scene/data/free_fall_beside_a_marker.scn (the Python tests read it too): a particle in
+// free fall beside a static point 10 m away: the scene's box has diagonal 10 m and centre
+// (5, 0, 0). Implicit Euler is exact on uniform acceleration: y_n = −g·h²·n(n+1)/2 after n steps
+// (g = 10 m/s², h = 0.1 s: y_n = −0.05·n(n+1) m).
+const std::string kFreeFall = [] {
+    std::ifstream in(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "scene" / "data" / "free_fall_beside_a_marker.scn");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}();
 
 // The error of 100 steps of a scene whose box has a 10 m diagonal, with divergence factor 0.5.
 std::string error_at_half_the_scene_size(const std::string& xml) {
