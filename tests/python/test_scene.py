@@ -196,6 +196,57 @@ def test_divergence_raises_with_the_cli_message():
     assert code == 3 and message == str(error.value)
 
 
+STATIC_FLOOR = """<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <DefaultAnimationLoop/>
+  <CollisionPipeline/>
+  <BruteForceBroadPhase/>
+  <BVHNarrowPhase/>
+  <NewProximityIntersection alarmDistance="0.1" contactDistance="0.02"/>
+  <CollisionResponse response="PenalityContactForceField"/>
+  <Node name="Cube">
+    <EulerImplicitSolver rayleighStiffness="0.01"/>
+    <CGLinearSolver iterations="50" tolerance="1e-9" threshold="1e-9"/>
+    <RegularGridTopology nx="3" ny="3" nz="3" xmin="1" xmax="2" ymin="0.1" ymax="1.1" zmin="1" zmax="2"/>
+    <MechanicalObject name="dofs" velocity="2 0 1"/>
+    <UniformMass totalMass="1"/>
+    <TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>
+    <SphereCollisionModel radius="0.1" contactStiffness="200"/>
+  </Node>
+  <Node name="Floor">
+    <RegularGridTopology nx="50" ny="1" nz="50" xmin="0" xmax="9.8" ymin="0" ymax="0" zmin="0" zmax="9.8"/>
+    <MechanicalObject name="points"/>
+    <PointCollisionModel simulated="0" moving="0" contactStiffness="200"/>
+  </Node>
+</Node>"""
+
+
+def test_a_static_floors_forces_are_the_reactions_of_its_current_contacts(tmp_path):
+    # The floor (2 500 points, in no solver's subtree) is the cube solver's scratch: a solve
+    # clears only the rows that solves wrote (docs/python.md). After each step its forces must be
+    # the reactions of that step's contacts (f2 += normal_force·n on the Point side) in those
+    # rows and 0 in every other, while the cube slides onto new rows.
+    path = tmp_path / "floor.scn"
+    path.write_text(STATIC_FLOOR)
+    scene = penalty.load_scene(path)
+    floor = scene.states["/Floor/points"]
+    assert floor.size == 2500 and not floor.in_solver_subtree and not floor.mapped
+    previous_rows, rows_left, steps_forced = set(), 0, 0
+    for _ in range(60):
+        scene.step()
+        contacts = scene.contacts()
+        assert contacts["pairs"] == ["SphereCollisionModel-PointCollisionModel"]
+        expected = np.zeros((floor.size, 3))
+        for row, force, normal in zip(contacts["dof2"], contacts["normal_force"], contacts["normal"]):
+            expected[row] += force * normal
+        np.testing.assert_allclose(floor.forces, expected, rtol=1e-12, atol=0)
+        rows = set(np.nonzero(np.any(expected != 0, axis=1))[0])
+        steps_forced += bool(rows)
+        rows_left += len(previous_rows - rows)
+        previous_rows = rows
+    assert steps_forced >= 40  # the cube bounces, then slides on the floor
+    assert rows_left >= 20  # rows forced at one step and no longer at the next: cleared
+
+
 def test_a_callback_that_breaks_a_static_state_is_caught():
     # No step moves the static marker, so `penalty run` checks it after the first step only; a
     # callback may change any state between the steps, so with one the run checks it every step.
