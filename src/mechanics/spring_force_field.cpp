@@ -32,8 +32,8 @@ void SpringForceField::set_kernel_path(KernelPath path) {
     kernel_path_ = path;
 }
 
-std::vector<BaseState*> SpringForceField::states() const {
-    if (s1_ == s2_) return {s1_};
+ForceFieldStates SpringForceField::states() const {
+    if (s1_ == s2_) return ForceFieldStates(s1_);
     return {s1_, s2_};
 }
 

@@ -8,7 +8,6 @@
 #include <chrono>
 #include <string>
 #include <type_traits>
-#include <unordered_map>
 
 namespace penalty {
 
@@ -244,16 +243,15 @@ void ContactPipeline::order_graph_entries() {
         ++k;
     }
     if (!in_order) {
-        // each pair's entry by a hash lookup (a search per pair is quadratic in the live pairs;
-        // the graph changed, so this step allocates anyway)
-        std::unordered_map<const BarycentricPenaltyContact*, std::size_t> entry_of;
-        entry_of.reserve(entries_.size());
-        for (std::size_t i = 0; i < entries_.size(); ++i) entry_of.emplace(entries_[i].contact, i);
+        // each pair's entry by a hash lookup (a search per pair is quadratic in the live pairs)
+        entry_of_scratch_.clear();
+        for (std::size_t i = 0; i < entries_.size(); ++i) entry_of_scratch_.emplace(entries_[i].contact, i);
         entries_scratch_.clear();
         step_start_scratch_.clear();
         for (const ContactPairEntry& p : response_.pairs()) {
             if (!p.contact) continue;
-            const std::size_t i = entry_of.at(p.contact.get());
+            const std::size_t i = entry_of_scratch_.find(p.contact.get());
+            PENALTY_DEMAND(i != PointerIndex<BarycentricPenaltyContact>::npos);
             entries_scratch_.push_back(entries_[i]);
             step_start_scratch_.push_back(std::move(step_start_[i]));
         }

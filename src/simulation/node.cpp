@@ -1,10 +1,10 @@
 #include "penalty/simulation/node.hpp"
 
+#include "penalty/core/pointer_index.hpp"
 #include "penalty/simulation/solver.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 namespace penalty {
 
@@ -93,27 +93,35 @@ void Node::move_force_fields_to_end(std::span<BaseForceField* const> moved) {
                                  [](const BaseForceField* a, const auto& b) { return a == b.get(); }))
         return;
     // Places by a hash lookup, not searches (quadratic in the fields: a pile's root node holds
-    // thousands of contact fields, moved whenever contact pairs come or go).
-    std::unordered_map<const BaseForceField*, std::size_t> place;
-    place.reserve(total);
-    for (std::size_t k = 0; k < total; ++k) place.emplace(force_fields_[k].get(), k);
-    std::vector<std::size_t> moved_places(n);
-    std::vector<bool> is_moved(total, false);
+    // thousands of contact fields, moved whenever contact pairs come or go); the tables are kept
+    // by the thread from one call to the next, so a steady pile allocates nothing here.
+    struct Scratch {
+        PointerIndex<BaseForceField> place;
+        std::vector<std::size_t> moved_places;
+        std::vector<std::uint8_t> is_moved;
+        std::vector<std::unique_ptr<BaseForceField>> reordered;
+    };
+    thread_local Scratch scratch;
+    Scratch& t = scratch;
+    t.place.clear();
+    for (std::size_t k = 0; k < total; ++k) t.place.emplace(force_fields_[k].get(), k);
+    t.moved_places.resize(n);
+    t.is_moved.assign(total, 0);
     for (std::size_t i = 0; i < n; ++i) {
-        const auto it = place.find(moved[i]);
-        const bool here = it != place.end();
-        if (!here || is_moved[it->second])
+        const std::size_t at = t.place.find(moved[i]);
+        const bool here = at != PointerIndex<BaseForceField>::npos;
+        if (!here || t.is_moved[at] != 0)
             throw_invalid_argument("Node '", name_, "': move_force_fields_to_end: entry ", i,
                                    here ? " is listed twice" : " is not a force field of this node");
-        is_moved[it->second] = true;
-        moved_places[i] = it->second;
+        t.is_moved[at] = 1;
+        t.moved_places[i] = at;
     }
-    std::vector<std::unique_ptr<BaseForceField>> reordered;
-    reordered.reserve(total);
+    t.reordered.clear();
     for (std::size_t k = 0; k < total; ++k)
-        if (!is_moved[k]) reordered.push_back(std::move(force_fields_[k]));
-    for (const std::size_t k : moved_places) reordered.push_back(std::move(force_fields_[k]));
-    force_fields_ = std::move(reordered);
+        if (t.is_moved[k] == 0) t.reordered.push_back(std::move(force_fields_[k]));
+    for (const std::size_t k : t.moved_places) t.reordered.push_back(std::move(force_fields_[k]));
+    force_fields_.swap(t.reordered);  // the old vector, all moved from, is kept as scratch
+    t.reordered.clear();
     structure_changed();
 }
 

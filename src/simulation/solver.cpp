@@ -1,6 +1,7 @@
 #include "penalty/simulation/solver.hpp"
 
 #include "penalty/core/first_error.hpp"
+#include "penalty/core/pointer_index.hpp"
 
 #include <cstdio>
 #include <ostream>
@@ -12,11 +13,9 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <deque>
 #include <limits>
-#include <map>
-#include <unordered_set>
 
 namespace penalty {
 
@@ -153,32 +152,74 @@ CgStats CGLinearSolver::solve(CgSystem& system, const Eigen::VectorXd& b, Eigen:
     return stats;
 }
 
+namespace {
+/// The constructor's tables and per-state lists (SubtreeSystem::SubtreeSystem), kept by each
+/// thread from one build to the next: refilled at each build, never freed.
+struct Lists {
+    PointerIndex<BaseState> known;
+    PointerIndex<BaseState> fields_on_index;  // state → its list in fields_on
+    std::vector<std::vector<const BaseForceField*>> fields_on;
+    std::size_t fields_on_used = 0;
+    PointerIndex<BaseState> mappings_from_index;  // state → its list in mappings_from
+    std::vector<std::vector<const BaseMapping*>> mappings_from;
+    std::size_t mappings_from_used = 0;
+    PointerIndex<BaseMapping> mapping_index;
+    /// The list of `s` in (index, lists, used), a new empty one if it has none.
+    template <class T>
+    static std::vector<T>& list_of(const BaseState* s, PointerIndex<BaseState>& index, std::vector<std::vector<T>>& lists,
+                                   std::size_t& used) {
+        const auto [at, added] = index.emplace(s, used);
+        if (added) {
+            if (lists.size() == used) lists.emplace_back();
+            lists[used++].clear();
+        }
+        return lists[at];
+    }
+};
+}  // namespace
+
 // ---- SubtreeSystem ----------------------------------------------------------------------------
 SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_contact_products)
     : fuse_contact_products_(fuse_contact_products), mapping_graph_order_(mapping_graph_order) {
     collect(root, true);
     if (mapping_graph_order_) order_as_mapping_graph(root);
-    // External states: used by a force field or a mapping but not part of the subtree. Sets and
-    // per-state lists, not searches of the lists: a pile of bodies has thousands of contact
-    // states, and the system is built again whenever contacts come or go.
-    std::unordered_set<const BaseState*> known(mapped_.begin(), mapped_.end());
-    for (const auto& entry : offset_of_) known.insert(entry.first);
-    std::unordered_map<const BaseState*, std::vector<const BaseForceField*>> force_fields_on;
+    // External states: used by a force field or a mapping but not part of the subtree. Tables
+    // and per-state lists kept by the thread from one build to the next, not searches of the
+    // lists: a pile of bodies has thousands of contact states, and the system is built again
+    // whenever contacts come or go.
+    thread_local Lists lists;
+    Lists& t = lists;
+    t.known.clear();
+    t.fields_on_index.clear();
+    t.fields_on_used = 0;
+    t.mappings_from_index.clear();
+    t.mappings_from_used = 0;
+    t.mapping_index.clear();
+    for (const BaseState* s : mapped_) t.known.emplace(s, 0);
+    for (const BaseState* s : independent_) t.known.emplace(s, 0);
     for (const auto* ff : force_fields_)
         for (BaseState* s : ff->states()) {
-            std::vector<const BaseForceField*>& on = force_fields_on[s];
+            std::vector<const BaseForceField*>& on = Lists::list_of(s, t.fields_on_index, t.fields_on, t.fields_on_used);
             if (on.empty() || on.back() != ff) on.push_back(ff);  // a field listing a state twice counts once
-            if (known.insert(s).second) external_.push_back(s);
+            if (t.known.emplace(s, 0).second) external_.push_back(s);
         }
-    std::unordered_map<const BaseState*, std::vector<const BaseMapping*>> mappings_from;
     for (const auto* m : mappings_) {
-        mappings_from[m->from()].push_back(m);
-        if (known.insert(m->from()).second) external_.push_back(m->from());
+        Lists::list_of(m->from(), t.mappings_from_index, t.mappings_from, t.mappings_from_used).push_back(m);
+        if (t.known.emplace(m->from(), 0).second) external_.push_back(m->from());
     }
+    constexpr std::size_t none = PointerIndex<BaseState>::npos;
+    const auto fields_on = [&t](const BaseState* s) -> const std::vector<const BaseForceField*>* {
+        const std::size_t at = t.fields_on_index.find(s);
+        return at == none ? nullptr : &t.fields_on[at];
+    };
+    const auto mappings_from = [&t](const BaseState* s) -> const std::vector<const BaseMapping*>* {
+        const std::size_t at = t.mappings_from_index.find(s);
+        return at == none ? nullptr : &t.mappings_from[at];
+    };
     for (const BaseState* s : external_) {
         ExternalReaders& r = external_readers_.emplace_back();
-        if (const auto it = force_fields_on.find(s); it != force_fields_on.end()) r.force_fields = it->second;
-        if (const auto it = mappings_from.find(s); it != mappings_from.end()) r.mappings = it->second;
+        if (const auto* on = fields_on(s)) r.force_fields = *on;
+        if (const auto* from = mappings_from(s)) r.mappings = *from;
     }
     for (std::size_t i = 0; i < mappings_.size(); ++i) {
         BaseMapping* m = mappings_[i];
@@ -188,8 +229,8 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         r.selective = m->maps_selected_rows();
         // the force fields acting on the mapped state and the mappings reading it, in the
         // subtree's order
-        if (const auto it = force_fields_on.find(m->to()); it != force_fields_on.end()) r.force_fields = it->second;
-        if (const auto it = mappings_from.find(m->to()); it != mappings_from.end()) r.mappings = it->second;
+        if (const auto* on = fields_on(m->to())) r.force_fields = *on;
+        if (const auto* from = mappings_from(m->to())) r.mappings = *from;
         if (r.selective) {
             // map_dx's scratch at its largest: no allocation in a product
             dx_read_.reserve(std::max(dx_read_.capacity(), m->to()->num_dofs()));
@@ -197,11 +238,13 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         }
         dx_readers_.push_back(std::move(r));
     }
-    std::unordered_map<const BaseMapping*, std::size_t> mapping_index;
-    for (std::size_t i = 0; i < mappings_.size(); ++i) mapping_index.emplace(mappings_[i], i);
+    for (std::size_t i = 0; i < mappings_.size(); ++i) t.mapping_index.emplace(mappings_[i], i);
     for (std::vector<ForceStep>* steps : {&force_steps_, &graph_force_steps_})
         for (ForceStep& s : *steps)
-            if (s.mapping != nullptr) s.mapping_index = mapping_index.at(s.mapping);
+            if (s.mapping != nullptr) {
+                s.mapping_index = t.mapping_index.find(s.mapping);
+                PENALTY_DEMAND(s.mapping_index != PointerIndex<BaseMapping>::npos);
+            }
     find_fused_contacts(fuse_contact_products);
 }
 
@@ -217,8 +260,22 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
         Vec3Object* from;
         Vec3Object* to;
     };
-    std::unordered_map<const BaseState*, Candidate> candidate_on;  // output state → mapping
-    std::unordered_map<Vec3Object*, std::size_t> unread_group_of;     // parent → unread_by_parent_
+    // tables kept by the thread from one build to the next (see the constructor)
+    struct Tables {
+        std::vector<Candidate> candidates;
+        PointerIndex<BaseState> candidate_on;          // output state → its entry of candidates
+        PointerIndex<Vec3Object> unread_group_of;      // parent → unread_by_parent_
+        PointerIndex<BaseState> external;
+        PointerIndex<BaseForceField> fused_field_of;  // field → fused_fields_
+    };
+    thread_local Tables tables;
+    Tables& t = tables;
+    t.candidates.clear();
+    t.candidate_on.clear();
+    t.unread_group_of.clear();
+    t.external.clear();
+    t.fused_field_of.clear();
+    constexpr std::size_t none = PointerIndex<BaseState>::npos;
     for (std::size_t i = 0; i < mappings_.size(); ++i) {
         const DxReaders& r = dx_readers_[i];
         if (mappings_[i]->contact_barycentric_rows() == nullptr || !r.mappings.empty() || r.force_fields.size() > 1) continue;
@@ -226,18 +283,17 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
         auto* to = dynamic_cast<Vec3Object*>(mappings_[i]->to());
         if (from == nullptr || to == nullptr) continue;
         if (r.force_fields.size() == 1) {
-            candidate_on.emplace(to, Candidate{i, from, to});
+            if (t.candidate_on.emplace(to, t.candidates.size()).second) t.candidates.push_back(Candidate{i, from, to});
             continue;
         }
         // read by nobody in the subtree
-        const auto [group, added] = unread_group_of.emplace(from, unread_by_parent_.size());
+        const auto [group, added] = t.unread_group_of.emplace(from, unread_by_parent_.size());
         if (added) unread_by_parent_.emplace_back(from, std::vector<std::size_t>{});
-        unread_by_parent_[group->second].second.push_back(fused_mappings_.size());
+        unread_by_parent_[group].second.push_back(fused_mappings_.size());
         fused_mapping_of_[i] = static_cast<std::ptrdiff_t>(fused_mappings_.size());
         fused_mappings_.push_back({.mapping_index = i, .from = from, .to = to, .rows = mappings_[i]->contact_barycentric_rows(), .live = false});
     }
-    const std::unordered_set<const BaseState*> external(external_.begin(), external_.end());
-    std::unordered_map<const BaseForceField*, std::ptrdiff_t> fused_field_of;
+    for (const BaseState* s : external_) t.external.emplace(s, 0);
     for (BaseForceField* ff : force_fields_) {
         auto* field = dynamic_cast<Vec3InteractionForceField*>(ff);
         if (field == nullptr || &field->state1() == &field->state2()) continue;
@@ -245,10 +301,10 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
         bool fusable = true;
         for (std::size_t side = 0; side < 2; ++side) {
             const Vec3Object* state = side == 0 ? &field->state1() : &field->state2();
-            if (const auto it = candidate_on.find(state);
-                it != candidate_on.end() && dx_readers_[it->second.mapping_index].force_fields.front() == ff)
-                mapping_of_side[side] = &it->second;
-            else if (!external.contains(state))
+            if (const std::size_t at = t.candidate_on.find(state);
+                at != none && dx_readers_[t.candidates[at].mapping_index].force_fields.front() == ff)
+                mapping_of_side[side] = &t.candidates[at];
+            else if (!t.external.contains(state))
                 fusable = false;  // a state others read or write: the field keeps its place
         }
         if (!fusable || (mapping_of_side[0] == nullptr && mapping_of_side[1] == nullptr)) continue;
@@ -267,7 +323,7 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
                                        .to = c->to,
                                        .rows = mappings_[c->mapping_index]->contact_barycentric_rows()});
         }
-        fused_field_of.emplace(ff, static_cast<std::ptrdiff_t>(fused_fields_.size()));
+        t.fused_field_of.emplace(ff, fused_fields_.size());
         fused_fields_.push_back(entry);
     }
     if (fused_mappings_.empty()) return;
@@ -275,7 +331,7 @@ void SubtreeSystem::find_fused_contacts(bool fuse) {
         for (ForceStep& s : *steps) {
             if (s.mapping != nullptr) s.fused = fused_mapping_of_[s.mapping_index];
             else if (s.force_field != nullptr)
-                if (const auto it = fused_field_of.find(s.force_field); it != fused_field_of.end()) s.fused = it->second;
+                if (const std::size_t at = t.fused_field_of.find(s.force_field); at != none) s.fused = static_cast<std::ptrdiff_t>(at);
         }
     for (std::size_t i = 0; i < mappings_.size(); ++i)
         if (fused_mapping_of_[i] < 0) unfused_mappings_.push_back(i);
@@ -488,84 +544,162 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
     if (node.state() && node.mapping()) force_steps_.push_back({.mapping = node.mapping()});
 }
 
+namespace {
+/// The scratch of SubtreeSystem::order_as_mapping_graph, kept by each thread from one build to
+/// the next: a pile of bodies builds its solver's system again at nearly every step, as contacts
+/// come and go, and its graph has thousands of nodes. Refilled at each build, never freed.
+struct MappingGraphScratch {
+    std::vector<BaseState*> states;          // the graph's state nodes, in visiting order
+    PointerIndex<BaseState> state_node;      // state → its first node
+    PointerIndex<BaseState> first_group_of;  // state → the first group acting on it
+    /// The groups: the distinct lists of states a force field or mass acts on (at most two
+    /// states, ForceFieldStates), in order of first appearance, found by an open-addressing
+    /// table of their lists.
+    struct Group {
+        std::array<const BaseState*, 2> states{};
+        std::size_t count = 0;
+        bool operator==(const Group&) const = default;
+    };
+    std::vector<Group> groups;
+    std::vector<std::size_t> group_slots;  // size a power of two: a group's index + 1, 0 empty
+    std::vector<std::size_t> step_group;   // per non-mapping force step, in force_steps_ order
+    std::vector<std::array<std::size_t, 2>> edges;  // (from, to), in the order they were added
+    std::vector<std::size_t> parents;               // per node: parents not yet reached
+    std::vector<std::size_t> first_child;           // per node + 1: its children in `children`
+    std::vector<std::size_t> children;
+    std::vector<std::size_t> ready;  // the breadth-first queue
+    std::vector<std::size_t> first_member;  // per group + 1: its steps in `members`
+    std::vector<std::size_t> members;
+
+    /// The index of `g`, added at the end when new.
+    std::size_t group_index(const Group& g) {
+        if (2 * (groups.size() + 1) > group_slots.size()) {
+            group_slots.assign(std::max<std::size_t>(32, 2 * group_slots.size()), 0);
+            for (std::size_t i = 0; i < groups.size(); ++i) group_slots[probe(groups[i])] = i + 1;
+        }
+        std::size_t& slot = group_slots[probe(g)];
+        if (slot == 0) {
+            groups.push_back(g);
+            slot = groups.size();
+        }
+        return slot - 1;
+    }
+    void clear() {
+        states.clear();
+        state_node.clear();
+        first_group_of.clear();
+        groups.clear();
+        std::fill(group_slots.begin(), group_slots.end(), 0);
+        step_group.clear();
+        edges.clear();
+    }
+
+private:
+    [[nodiscard]] std::size_t probe(const Group& g) const {
+        const auto bits = [](const BaseState* p) { return std::uint64_t(reinterpret_cast<std::uintptr_t>(p) >> 3); };
+        const std::uint64_t h = (bits(g.states[0]) * 0x9E3779B97F4A7C15ULL) ^ (bits(g.states[1]) + g.count) * 0xC2B2AE3D27D4EB4FULL;
+        const std::size_t mask = group_slots.size() - 1;
+        std::size_t i = std::size_t(h ^ (h >> 29)) & mask;
+        while (group_slots[i] != 0 && !(groups[group_slots[i] - 1] == g)) i = (i + 1) & mask;
+        return i;
+    }
+};
+
+/// Sorts `pairs` (key, value) into CSR form by key, each key's values in their order in `pairs`
+/// (a counting sort): key k's values are values[first[k] .. first[k + 1]).
+template <class Pairs>
+void bucket_by_key(const Pairs& pairs, std::size_t keys, std::vector<std::size_t>& first, std::vector<std::size_t>& values) {
+    first.assign(keys + 1, 0);
+    for (const auto& p : pairs) ++first[p[0] + 1];
+    for (std::size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
+    values.resize(pairs.size());
+    for (const auto& p : pairs) values[first[p[0]]++] = p[1];
+    for (std::size_t k = keys; k > 0; --k) first[k] = first[k - 1];  // first[k] was advanced to first[k + 1]
+    first[0] = 0;
+}
+}  // namespace
+
 void SubtreeSystem::order_as_mapping_graph(Node& root) {
     // SOFA's MappingGraph::build on the solver's node: nodes for the states (visiting order),
     // one group per distinct list of states a force field or mass acts on (edges state → group),
     // the mappings (edges from the first group holding the input state, else from the state; then
     // mapping → output state). The force fields' leaf nodes always hang under their group and
-    // cannot change the order in which mappings are reached, so they are left out.
-    std::vector<BaseState*> states;
-    const auto visit_states = [&states](auto& self, Node& n) -> void {
-        if (BaseState* s = n.state()) states.push_back(s);
+    // cannot change the order in which mappings are reached, so they are left out. Node numbers:
+    // the states, then the groups, then the mappings. Lookups by open-addressing tables, not
+    // searches of the lists (a pile of bodies has thousands of contact states, fields and
+    // mappings); the first of equal entries wins, as searches of the lists would find.
+    thread_local MappingGraphScratch scratch;
+    MappingGraphScratch& g = scratch;
+    g.clear();
+    const auto visit_states = [&g](auto& self, Node& n) -> void {
+        if (BaseState* s = n.state()) g.states.push_back(s);
         for (const auto& c : n.children()) self(self, *c);
     };
     visit_states(visit_states, root);
-    std::vector<std::vector<BaseState*>> group_states;
-    std::vector<std::vector<ForceStep>> group_members;
-    std::vector<std::vector<std::size_t>> children(states.size());
-    std::vector<int> parents(states.size(), 0);
-    // Lookups by hash and ordered map, not searches of the lists: a pile of bodies has thousands
-    // of contact states, fields and mappings, and the system is built again whenever contacts
-    // come or go. The first of equal entries wins, as the searches found.
-    std::unordered_map<const BaseState*, std::size_t> state_index;
-    for (std::size_t i = 0; i < states.size(); ++i) state_index.emplace(states[i], i);
-    const auto state_node = [&](const BaseState* s) {
-        const auto it = state_index.find(s);
-        return it == state_index.end() ? states.size() : it->second;
-    };
-    std::map<std::vector<BaseState*>, std::size_t> group_of;     // states acted on → group
-    std::unordered_map<const BaseState*, std::size_t> first_group_holding;
-    const auto add_edge = [&children, &parents](std::size_t from, std::size_t to) {
-        children[from].push_back(to);
-        ++parents[to];
-    };
-    const std::size_t first_group = states.size();
+    const std::size_t state_count = g.states.size();
+    for (std::size_t i = 0; i < state_count; ++i) g.state_node.emplace(g.states[i], i);
+    std::vector<std::array<std::size_t, 2>>& edges = g.edges;
     for (const ForceStep& step : force_steps_) {
         if (step.mapping != nullptr) continue;
-        std::vector<BaseState*> acted_on =
-            step.mass != nullptr ? std::vector<BaseState*>{step.mass->state()} : step.force_field->states();
-        auto [it, added] = group_of.emplace(acted_on, group_states.size());
-        if (added) {
-            const std::size_t group = children.size();
-            children.emplace_back();
-            parents.push_back(0);
-            for (const BaseState* s : acted_on) {
-                if (state_node(s) < states.size()) add_edge(state_node(s), group);
-                first_group_holding.emplace(s, group_states.size());
-            }
-            group_states.push_back(std::move(acted_on));
-            group_members.emplace_back();
+        MappingGraphScratch::Group key;
+        if (step.mass != nullptr) {
+            key.states[0] = step.mass->state();
+            key.count = 1;
+        } else {
+            const ForceFieldStates acted_on = step.force_field->states();
+            for (std::size_t i = 0; i < acted_on.size(); ++i) key.states[i] = acted_on[i];
+            key.count = acted_on.size();
         }
-        group_members[it->second].push_back(step);
+        const std::size_t known = g.groups.size();
+        const std::size_t group = g.group_index(key);
+        if (group == known) {  // a new group: its node is state_count + group
+            for (std::size_t i = 0; i < key.count; ++i) {
+                const BaseState* s = key.states[i];
+                if (const std::size_t node = g.state_node.find(s); node != PointerIndex<BaseState>::npos)
+                    edges.push_back({node, state_count + group});
+                g.first_group_of.emplace(s, group);
+            }
+        }
+        g.step_group.push_back(group);
     }
-    const std::size_t first_mapping = children.size();
-    for (BaseMapping* m : mappings_) {
-        const std::size_t node = children.size();
-        children.emplace_back();
-        parents.push_back(0);
-        if (const auto holder = first_group_holding.find(m->from()); holder != first_group_holding.end())
-            add_edge(first_group + holder->second, node);
-        else if (state_node(m->from()) < states.size())
-            add_edge(state_node(m->from()), node);
-        if (state_node(m->to()) < states.size()) add_edge(node, state_node(m->to()));
+    const std::size_t first_mapping = state_count + g.groups.size();
+    for (std::size_t i = 0; i < mappings_.size(); ++i) {
+        const BaseMapping* m = mappings_[i];
+        const std::size_t node = first_mapping + i;
+        if (const std::size_t holder = g.first_group_of.find(m->from()); holder != PointerIndex<BaseState>::npos)
+            edges.push_back({state_count + holder, node});
+        else if (const std::size_t from = g.state_node.find(m->from()); from != PointerIndex<BaseState>::npos)
+            edges.push_back({from, node});
+        if (const std::size_t to = g.state_node.find(m->to()); to != PointerIndex<BaseState>::npos) edges.push_back({node, to});
     }
     // MappingGraphAlgorithms::traverseBottomUp: the breadth-first order from the parentless nodes
-    // (in the order states, groups, mappings), reversed.
+    // (in node order), each node's children in the order of their edges; reversed.
+    const std::size_t node_count = first_mapping + mappings_.size();
+    bucket_by_key(edges, node_count, g.first_child, g.children);
+    g.parents.assign(node_count, 0);
+    for (const auto& e : edges) ++g.parents[e[1]];
+    g.ready.clear();
+    for (std::size_t n = 0; n < node_count; ++n)
+        if (g.parents[n] == 0) g.ready.push_back(n);
     std::vector<BaseMapping*> reached;
-    std::deque<std::size_t> ready;
-    for (std::size_t n = 0; n < children.size(); ++n)
-        if (parents[n] == 0) ready.push_back(n);
-    while (!ready.empty()) {
-        const std::size_t n = ready.front();
-        ready.pop_front();
+    for (std::size_t head = 0; head < g.ready.size(); ++head) {
+        const std::size_t n = g.ready[head];
         if (n >= first_mapping) reached.push_back(mappings_[n - first_mapping]);
-        for (const std::size_t c : children[n])
-            if (--parents[c] == 0) ready.push_back(c);
+        for (std::size_t c = g.first_child[n]; c < g.first_child[n + 1]; ++c)
+            if (--g.parents[g.children[c]] == 0) g.ready.push_back(g.children[c]);
     }
+    // the groups' members (steps in force_steps_ order), group after group, then the mappings
+    // in the reverse of the order reached
+    std::vector<std::array<std::size_t, 2>>& group_steps = edges;  // (group, step): edges are done
+    group_steps.clear();
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < force_steps_.size(); ++i)
+        if (force_steps_[i].mapping == nullptr) group_steps.push_back({g.step_group[k++], i});
+    bucket_by_key(group_steps, g.groups.size(), g.first_member, g.members);
     graph_force_steps_.clear();
-    for (const auto& members : group_members) graph_force_steps_.insert(graph_force_steps_.end(), members.begin(), members.end());
-    std::reverse(reached.begin(), reached.end());
-    for (BaseMapping* m : reached) graph_force_steps_.push_back({.mapping = m});
+    graph_force_steps_.reserve(g.members.size() + reached.size());
+    for (const std::size_t i : g.members) graph_force_steps_.push_back(force_steps_[i]);
+    for (auto it = reached.rbegin(); it != reached.rend(); ++it) graph_force_steps_.push_back({.mapping = *it});
 }
 
 bool SubtreeSystem::offsets_valid() const {
@@ -1194,9 +1328,9 @@ const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
         plan_.clear();
         plan_node(root_);
         applied_states_.clear();
-        std::unordered_set<const BaseState*> applied;
+        applied_index_.clear();
         const auto add = [&](BaseState* s) {
-            if (s != nullptr && applied.insert(s).second) applied_states_.push_back(s);
+            if (s != nullptr && applied_index_.emplace(s, applied_states_.size()).second) applied_states_.push_back(s);
         };
         for (const SolveAction& a : plan_) {
             if (a.solver_node != nullptr) for_each_node(*a.solver_node, [&](Node& n) { add(n.state()); });
@@ -1206,7 +1340,7 @@ const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
             if (n.mapping()) add(n.state());
         });
         for_each_node(root_, [&](Node& n) {
-            if (n.state() != nullptr) n.state()->set_static(!applied.contains(n.state()));
+            if (n.state() != nullptr) n.state()->set_static(!applied_index_.contains(n.state()));
         });
         for (std::size_t i = 0; i < plan_.size(); i = plan_[i].run_end) {
             if (plan_[i].solver_node != nullptr) {

@@ -12,6 +12,7 @@
 #include "penalty/core/types.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -21,6 +22,23 @@ namespace penalty {
 
 /// Scalar offset of a state in the assembled system; a value >= system size means "not in it".
 using StateOffsets = std::function<Index(const BaseState*)>;
+
+/// The states a force field acts on: one, or two for an interaction (none: default-constructed). A value, without
+/// allocation: the solvers list them each time a system is built.
+class ForceFieldStates {
+public:
+    ForceFieldStates() = default;  ///< none
+    explicit ForceFieldStates(BaseState* only) : states_{only, nullptr}, count_(1) {}
+    ForceFieldStates(BaseState* first, BaseState* second) : states_{first, second}, count_(2) {}
+    [[nodiscard]] std::size_t size() const { return count_; }
+    [[nodiscard]] BaseState* operator[](std::size_t i) const { return states_[i]; }
+    [[nodiscard]] BaseState* const* begin() const { return states_.data(); }
+    [[nodiscard]] BaseState* const* end() const { return states_.data() + count_; }
+
+private:
+    std::array<BaseState*, 2> states_{};
+    std::size_t count_ = 0;
+};
 
 class BaseForceField {
 public:
@@ -36,7 +54,7 @@ public:
     /// Potential energy (J) at the positions of the last add_force (0 when not defined).
     [[nodiscard]] virtual double potential_energy() const { return 0.0; }
     /// States this force field reads and writes (one, or two for an interaction).
-    [[nodiscard]] virtual std::vector<BaseState*> states() const = 0;
+    [[nodiscard]] virtual ForceFieldStates states() const = 0;
     /// True when the field acts between two distinct states.
     [[nodiscard]] bool is_interaction() const { return states().size() > 1; }
     /// Appends to `rows` every DOF of `state` (one of states()) whose dx accumulate_dforce may
@@ -73,7 +91,7 @@ public:
     void add_stiffness(TripletList& triplets, const StateOffsets& offsets, double factor) const override {
         add_stiffness_triplets(triplets, offsets(state_), factor);
     }
-    [[nodiscard]] std::vector<BaseState*> states() const override { return {state_}; }
+    [[nodiscard]] ForceFieldStates states() const override { return ForceFieldStates(state_); }
     [[nodiscard]] MechanicalObject<DataTypes>& state() const { return *state_; }
 
 protected:
@@ -102,7 +120,7 @@ public:
     void add_stiffness(TripletList& triplets, const StateOffsets& offsets, double factor) const override {
         add_stiffness_triplets(triplets, offsets(s1_), offsets(s2_), factor);
     }
-    [[nodiscard]] std::vector<BaseState*> states() const override { return {s1_, s2_}; }
+    [[nodiscard]] ForceFieldStates states() const override { return {s1_, s2_}; }
     [[nodiscard]] Vec3Object& state1() const { return *s1_; }
     [[nodiscard]] Vec3Object& state2() const { return *s2_; }
 

@@ -66,7 +66,7 @@ public:
     void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2,
                                 double factor) const override;
     [[nodiscard]] double potential_energy() const override { return energy_; }
-    [[nodiscard]] std::vector<BaseState*> states() const override;
+    [[nodiscard]] ForceFieldStates states() const override;
 
 private:
     /// m of one spring (see class comment) by columns, each padded to 4 lanes with 0: column c

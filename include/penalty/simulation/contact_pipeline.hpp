@@ -62,6 +62,7 @@
 
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/intersection.hpp"
+#include "penalty/core/pointer_index.hpp"
 #include "penalty/response/collision_response.hpp"
 #include "penalty/simulation/penalty_interaction.hpp"
 #include "penalty/simulation/solver.hpp"
@@ -302,6 +303,7 @@ private:
     std::size_t created_count_ = 0;
     // order_graph_entries' scratch, reused from step to step
     std::vector<ContactGraphEntry> entries_scratch_;
+    PointerIndex<BarycentricPenaltyContact> entry_of_scratch_;  ///< order_graph_entries: contact → its entry
     std::vector<StepStart> step_start_scratch_;
     std::vector<std::pair<Node*, std::size_t>> host_entries_scratch_;  ///< (host, entry index), sorted
     std::vector<BaseForceField*> fields_scratch_;

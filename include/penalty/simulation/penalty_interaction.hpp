@@ -32,8 +32,8 @@ public:
         field_->add_stiffness_triplets(triplets, offset1, offset2, factor);
     }
     [[nodiscard]] double potential_energy() const override { return field_->potential_energy(); }
-    [[nodiscard]] std::vector<BaseState*> states() const override {
-        if (s1_ == s2_) return {s1_};
+    [[nodiscard]] ForceFieldStates states() const override {
+        if (s1_ == s2_) return ForceFieldStates(s1_);
         return {s1_, s2_};
     }
     /// The contacts' DOFs on `state` (m1 on state 1, m2 on state 2; add_force and add_dforce

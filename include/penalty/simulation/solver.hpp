@@ -4,6 +4,7 @@
 /// CGLinearSolver, EulerExplicitSolver (symplectic), and the mechanical system of one solver
 /// subtree (SubtreeSystem) they work on.
 
+#include "penalty/core/pointer_index.hpp"
 #include "penalty/simulation/node.hpp"
 
 #include <Eigen/Core>
@@ -570,7 +571,7 @@ private:
     struct SolveAction {
         Node* solver_node = nullptr;
         BaseForceField* explicit_field = nullptr;
-        std::vector<BaseState*> states;  ///< of explicit_field
+        ForceFieldStates states;  ///< of explicit_field
         /// The action after this one's run: a run is the solver actions from this one whose
         /// touched states do not meet (one action when this one cannot run with others), found
         /// with the plan; set on the first action of each run.
@@ -598,6 +599,7 @@ private:
     /// force fields. The others (static obstacles) are never applied nor cleared: a floor of
     /// 10⁵ points costs no pass over its memory per step.
     std::vector<BaseState*> applied_states_;
+    PointerIndex<BaseState> applied_index_;  ///< solve_plan's scratch: the states of applied_states_
     std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;
     bool initialized_ = false;
