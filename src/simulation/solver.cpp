@@ -155,7 +155,7 @@ CgStats CGLinearSolver::solve(CgSystem& system, const Eigen::VectorXd& b, Eigen:
 namespace {
 /// The constructor's tables and per-state lists (SubtreeSystem::SubtreeSystem), kept by each
 /// thread from one build to the next: refilled at each build, never freed.
-struct Lists {
+struct SystemBuildLists {
     PointerIndex<BaseState> known;
     PointerIndex<BaseState> fields_on_index;  // state → its list in fields_on
     std::vector<std::vector<const BaseForceField*>> fields_on;
@@ -187,8 +187,8 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
     // and per-state lists kept by the thread from one build to the next, not searches of the
     // lists: a pile of bodies has thousands of contact states, and the system is built again
     // whenever contacts come or go.
-    thread_local Lists lists;
-    Lists& t = lists;
+    thread_local SystemBuildLists lists;
+    SystemBuildLists& t = lists;
     t.known.clear();
     t.fields_on_index.clear();
     t.fields_on_used = 0;
@@ -199,12 +199,12 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
     for (const BaseState* s : independent_) t.known.emplace(s, 0);
     for (const auto* ff : force_fields_)
         for (BaseState* s : ff->states()) {
-            std::vector<const BaseForceField*>& on = Lists::list_of(s, t.fields_on_index, t.fields_on, t.fields_on_used);
+            std::vector<const BaseForceField*>& on = SystemBuildLists::list_of(s, t.fields_on_index, t.fields_on, t.fields_on_used);
             if (on.empty() || on.back() != ff) on.push_back(ff);  // a field listing a state twice counts once
             if (t.known.emplace(s, 0).second) external_.push_back(s);
         }
     for (const auto* m : mappings_) {
-        Lists::list_of(m->from(), t.mappings_from_index, t.mappings_from, t.mappings_from_used).push_back(m);
+        SystemBuildLists::list_of(m->from(), t.mappings_from_index, t.mappings_from, t.mappings_from_used).push_back(m);
         if (t.known.emplace(m->from(), 0).second) external_.push_back(m->from());
     }
     constexpr std::size_t none = PointerIndex<BaseState>::npos;
