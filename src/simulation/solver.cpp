@@ -568,6 +568,8 @@ struct MappingGraphScratch {
     std::vector<std::size_t> first_child;           // per node + 1: its children in `children`
     std::vector<std::size_t> children;
     std::vector<std::size_t> ready;  // the breadth-first queue
+    std::vector<BaseMapping*> reached;  // the mappings in breadth-first order
+    std::vector<std::array<std::size_t, 2>> group_steps;  // (group, step) per non-mapping step
     std::vector<std::size_t> first_member;  // per group + 1: its steps in `members`
     std::vector<std::size_t> members;
 
@@ -596,8 +598,9 @@ struct MappingGraphScratch {
 
 private:
     [[nodiscard]] std::size_t probe(const Group& g) const {
-        const auto bits = [](const BaseState* p) { return std::uint64_t(reinterpret_cast<std::uintptr_t>(p) >> 3); };
-        const std::uint64_t h = (bits(g.states[0]) * 0x9E3779B97F4A7C15ULL) ^ (bits(g.states[1]) + g.count) * 0xC2B2AE3D27D4EB4FULL;
+        // the two addresses' hashes combined (rotated apart), and the count (a list {a} ≠ {a, null})
+        const std::uint64_t second = address_hash(g.states[1]) + g.count;
+        const std::uint64_t h = address_hash(g.states[0]) ^ ((second << 31) | (second >> 33));
         const std::size_t mask = group_slots.size() - 1;
         std::size_t i = std::size_t(h ^ (h >> 29)) & mask;
         while (group_slots[i] != 0 && !(groups[group_slots[i] - 1] == g)) i = (i + 1) & mask;
@@ -681,25 +684,24 @@ void SubtreeSystem::order_as_mapping_graph(Node& root) {
     g.ready.clear();
     for (std::size_t n = 0; n < node_count; ++n)
         if (g.parents[n] == 0) g.ready.push_back(n);
-    std::vector<BaseMapping*> reached;
+    g.reached.clear();
     for (std::size_t head = 0; head < g.ready.size(); ++head) {
         const std::size_t n = g.ready[head];
-        if (n >= first_mapping) reached.push_back(mappings_[n - first_mapping]);
+        if (n >= first_mapping) g.reached.push_back(mappings_[n - first_mapping]);
         for (std::size_t c = g.first_child[n]; c < g.first_child[n + 1]; ++c)
             if (--g.parents[g.children[c]] == 0) g.ready.push_back(g.children[c]);
     }
     // the groups' members (steps in force_steps_ order), group after group, then the mappings
     // in the reverse of the order reached
-    std::vector<std::array<std::size_t, 2>>& group_steps = edges;  // (group, step): edges are done
-    group_steps.clear();
+    g.group_steps.clear();
     std::size_t k = 0;
     for (std::size_t i = 0; i < force_steps_.size(); ++i)
-        if (force_steps_[i].mapping == nullptr) group_steps.push_back({g.step_group[k++], i});
-    bucket_by_key(group_steps, g.groups.size(), g.first_member, g.members);
+        if (force_steps_[i].mapping == nullptr) g.group_steps.push_back({g.step_group[k++], i});
+    bucket_by_key(g.group_steps, g.groups.size(), g.first_member, g.members);
     graph_force_steps_.clear();
-    graph_force_steps_.reserve(g.members.size() + reached.size());
+    graph_force_steps_.reserve(g.members.size() + g.reached.size());
     for (const std::size_t i : g.members) graph_force_steps_.push_back(force_steps_[i]);
-    for (auto it = reached.rbegin(); it != reached.rend(); ++it) graph_force_steps_.push_back({.mapping = *it});
+    for (auto it = g.reached.rbegin(); it != g.reached.rend(); ++it) graph_force_steps_.push_back({.mapping = *it});
 }
 
 bool SubtreeSystem::offsets_valid() const {

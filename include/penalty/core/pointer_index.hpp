@@ -13,6 +13,13 @@
 
 namespace penalty {
 
+/// The hash of an address for open-addressing tables (PointerIndex, StablePairMap's ids, the
+/// mapping graph's groups): the address without its low 3 bits (alignment), times 2⁶⁴/φ
+/// (Fibonacci hashing). A table masks the product's low bits to its size.
+[[nodiscard]] inline std::uint64_t address_hash(const void* p) {
+    return std::uint64_t(reinterpret_cast<std::uintptr_t>(p) >> 3) * 0x9E3779B97F4A7C15ULL;
+}
+
 template <class T>
 class PointerIndex {
 public:
@@ -57,10 +64,7 @@ private:
         const T* pointer = nullptr;
         std::size_t index = 0;
     };
-    [[nodiscard]] std::size_t home(const T* p) const {
-        // the address's low bits are its alignment: dropped before the multiplication
-        return std::size_t((reinterpret_cast<std::uintptr_t>(p) >> 3) * 0x9E3779B97F4A7C15ULL) & (slots_.size() - 1);
-    }
+    [[nodiscard]] std::size_t home(const T* p) const { return std::size_t(address_hash(p)) & (slots_.size() - 1); }
     /// p's slot, or the empty slot where it would go (the table is never full).
     [[nodiscard]] std::size_t probe(const T* p) const {
         std::size_t i = home(p);

@@ -23,8 +23,9 @@ namespace penalty {
 /// Scalar offset of a state in the assembled system; a value >= system size means "not in it".
 using StateOffsets = std::function<Index(const BaseState*)>;
 
-/// The states a force field acts on: one, or two for an interaction (none: default-constructed). A value, without
-/// allocation: the solvers list them each time a system is built.
+/// The states a force field acts on: one, or two for an interaction (none when
+/// default-constructed). A value, without allocation: the solvers list them each time a system
+/// is built.
 class ForceFieldStates {
 public:
     ForceFieldStates() = default;  ///< none

@@ -22,6 +22,8 @@
 /// -O2, C++17 and C++20, probed) evaluates the four ids right to left: a.second, a.first,
 /// b.second, b.first. The comparator below calls them in that order explicitly.
 
+#include "penalty/core/pointer_index.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <iterator>
@@ -51,10 +53,7 @@ private:
         };
         std::vector<Slot> slots = std::vector<Slot>(64);  // size a power of two
         unsigned next = 0;
-        [[nodiscard]] std::size_t home(const T* p) const {
-            // Fibonacci hashing of the address (its low bits are alignment)
-            return std::size_t((reinterpret_cast<std::uintptr_t>(p) >> 3) * 0x9E3779B97F4A7C15ULL) & (slots.size() - 1);
-        }
+        [[nodiscard]] std::size_t home(const T* p) const { return std::size_t(address_hash(p)) & (slots.size() - 1); }
         /// The index of p's slot, or of the empty slot where it would go.
         [[nodiscard]] std::size_t find(const T* p) const {
             std::size_t i = home(p);
