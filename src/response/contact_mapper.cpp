@@ -159,9 +159,10 @@ std::array<double, 2> quad_contact_coordinates(const Vec3& q0, const Vec3& q1, c
 }
 
 BarycentricContactMapper::BarycentricContactMapper(const CollisionModel& model) : model_(&model) {
-    if (const auto* l = dynamic_cast<const LineModel*>(&model)) state_ = &l->state();
-    else if (const auto* t = dynamic_cast<const TriangleModel*>(&model)) state_ = &t->state();
-    else if (const auto* h = dynamic_cast<const TetrahedronModel*>(&model)) state_ = &h->state();
+    // compute_row goes by model.type(): each type is its class (no class derives from these)
+    if (model.type() == ModelType::Line) state_ = &dynamic_cast<const LineModel&>(model).state();
+    else if (model.type() == ModelType::Triangle) state_ = &dynamic_cast<const TriangleModel&>(model).state();
+    else if (model.type() == ModelType::Tetrahedron) state_ = &dynamic_cast<const TetrahedronModel&>(model).state();
     else
         throw_invalid_argument("BarycentricContactMapper: model '", model.name(), "' (",
                                model_type_name(model.type()),
@@ -178,12 +179,16 @@ void BarycentricContactMapper::resize(std::size_t n) {
 ContactBarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index e) const {
     ContactBarycentricRow row;
     const auto& x = state_->position;
-    if (const auto* l = dynamic_cast<const LineModel*>(model_)) {
+    // the model's kind, checked by the constructor (its type, not a dynamic_cast a point: a
+    // pile of bodies maps hundreds of thousands of contact points a step)
+    if (model_->type() == ModelType::Line) {
+        const auto* l = static_cast<const LineModel*>(model_);
         const Edge& ed = l->edge(e);
         const auto w = line_contact_weights(x[std::size_t(ed[0])], x[std::size_t(ed[1])], P);
         row.push(ed[0], w[0]);
         row.push(ed[1], w[1]);
-    } else if (const auto* t = dynamic_cast<const TriangleModel*>(model_)) {
+    } else if (model_->type() == ModelType::Triangle) {
+        const auto* t = static_cast<const TriangleModel*>(model_);
         const std::size_t nt = t->num_topology_triangles();
         if (std::size_t(e) < nt) {
             const Triangle& tr = t->triangle(e);
