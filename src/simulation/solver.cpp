@@ -64,6 +64,18 @@ double state_dot(const double* a, const double* b, Eigen::Index begin, Eigen::In
     return sum;
 }
 
+/// p_j = r_j (first) or r_j + β·p_j, into p and dx, for j < n: three vectors apart (segments
+/// of distinct vectors), so the compiler may run the lanes together; each value gets the same
+/// operations as in the loop over j alone.
+void direction(bool first, double beta, const double* __restrict r, double* __restrict p, double* __restrict dx,
+               Eigen::Index n) {
+    if (first) {
+        for (Eigen::Index j = 0; j < n; ++j) dx[j] = p[j] = r[j];
+        return;
+    }
+    for (Eigen::Index j = 0; j < n; ++j) dx[j] = p[j] = r[j] + beta * p[j];
+}
+
 /// CgSystem over an operator and a dot product: the steps one after the other.
 class FunctionCgSystem final : public CgSystem {
 public:
@@ -903,18 +915,13 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
 
 double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
                                         Eigen::VectorXd& q, double m, double b, double k) const {
-    PENALTY_DEMAND(r.size() == size_ && p.size() == size_);
+    PENALTY_DEMAND(r.size() == size_ && p.size() == size_ && &r != &p);
     // p = r or r + β·p (Eigen's p = r + β·p: each r_j + (β·p_j)), into p and the state's dx
     for (std::size_t i = 0; i < independent_.size(); ++i) {
         const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
         const double* rs = r.data() + offsets_[i];
         double* ps = p.data() + offsets_[i];
-        double* dx = independent_[i]->dx_flat().data();
-        if (first) {
-            for (Eigen::Index j = 0; j < n; ++j) dx[j] = ps[j] = rs[j];
-        } else {
-            for (Eigen::Index j = 0; j < n; ++j) dx[j] = ps[j] = rs[j] + beta * ps[j];
-        }
+        direction(first, beta, rs, ps, independent_[i]->dx_flat().data(), n);
         independent_[i]->df_flat().setZero();
     }
     apply_mbk_to_states(m, b, k);

@@ -188,7 +188,8 @@ public:
     /// A CG iteration's direction and product in one pass over the vectors where apply_mbk and
     /// dot take three: p = r (first) or r + β·p, written into the states' dx as it is formed;
     /// q = (m·M + b·B + k·K)·p projected; returns dot(p, q), summed while q is copied out of the
-    /// states when no constraint projects it. The bits of those calls one after the other.
+    /// states when no constraint projects it. The bits of those calls one after the other. r
+    /// and p are vectors apart.
     double direction_and_mbk(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p, Eigen::VectorXd& q,
                              double m, double b, double k) const;
     /// x += α·p, r −= α·q and returns dot(r, r), in one pass: the bits of the three apart.
