@@ -13,7 +13,7 @@
 
 namespace penalty {
 
-/// The hash of an address for open-addressing tables (PointerIndex, StablePairMap's ids, the
+/// The hash of an address for open-addressing tables (PointerIndex, the
 /// mapping graph's groups): the address without its low 3 bits (alignment), times 2⁶⁴/φ
 /// (Fibonacci hashing). A table masks the product's low bits to its size.
 [[nodiscard]] inline std::uint64_t address_hash(const void* p) {

@@ -41,48 +41,13 @@ public:
     using Key = std::pair<const T*, const T*>;
 
 private:
-    /// helper::ptr_stable_id: the id of a pointer, given at its first request. An open-addressing
-    /// hash table (linear probing, at most half full) where SOFA uses a std::map: the ids depend
-    /// only on the order of the requests, not on the lookup structure, and a comparison makes
-    /// four requests (a pile of bodies makes hundreds of thousands a step; a node-based hash
-    /// table's lookup was most of a comparison's cost).
+    /// helper::ptr_stable_id: the id of a pointer, given at its first request, 0, 1, 2 … (a null
+    /// pointer too). A PointerIndex where SOFA uses a std::map: the ids depend only on the order
+    /// of the requests, not on the lookup structure. The stored keys keep the ids they asked
+    /// for (StoredKey), so few comparisons ask.
     struct Ids {
-        struct Slot {
-            const T* pointer = nullptr;
-            unsigned id = 0;
-        };
-        std::vector<Slot> slots = std::vector<Slot>(64);  // size a power of two
-        unsigned next = 0;
-        [[nodiscard]] std::size_t home(const T* p) const { return std::size_t(address_hash(p)) & (slots.size() - 1); }
-        /// The index of p's slot, or of the empty slot where it would go.
-        [[nodiscard]] std::size_t find(const T* p) const {
-            std::size_t i = home(p);
-            while (slots[i].pointer != nullptr && slots[i].pointer != p) i = (i + 1) & (slots.size() - 1);
-            return i;
-        }
-        std::optional<unsigned> null_id;  // a null pointer's id (the slots use null for empty)
-        /// The id of p: found at its home slot (the common case, inlined), else by the probe.
-        unsigned id(const T* p) {
-            const Slot& s = slots[home(p)];
-            if (s.pointer == p && p != nullptr) return s.id;
-            return id_slow(p);
-        }
-        [[gnu::noinline]] unsigned id_slow(const T* p) {
-            if (p == nullptr) {
-                if (!null_id) null_id = next++;
-                return *null_id;
-            }
-            const std::size_t at = find(p);
-            if (slots[at].pointer == p) return slots[at].id;
-            if (2 * (std::size_t(next) + 1) > slots.size()) {  // keep it at most half full
-                std::vector<Slot> old(2 * slots.size());
-                old.swap(slots);
-                for (const Slot& s : old)
-                    if (s.pointer != nullptr) slots[find(s.pointer)] = s;
-            }
-            slots[find(p)] = Slot{p, next};
-            return next++;
-        }
+        PointerIndex<T> index;
+        unsigned id(const T* p) { return static_cast<unsigned>(index.emplace(p, index.size()).first); }
     };
     /// A key as the map stores it: the two pointers and their ids once a comparison has asked
     /// for them. A pointer's id never changes once given, and asking again gives nothing new,
@@ -172,10 +137,9 @@ public:
 
     /// The stable id of `p`, if a comparison has met it (does not give one).
     [[nodiscard]] std::optional<unsigned> stable_id(const T* p) const {
-        if (p == nullptr) return ids_->null_id;
-        const auto& slot = ids_->slots[ids_->find(p)];
-        if (slot.pointer != p) return std::nullopt;
-        return slot.id;
+        const std::size_t at = ids_->index.find(p);
+        if (at == PointerIndex<T>::npos) return std::nullopt;
+        return static_cast<unsigned>(at);
     }
 
 private:
