@@ -148,6 +148,32 @@ TEST(StablePairMap, SameOrderAndIdsAsSofasCallsOnAStdMap) { same_order_and_ids_a
 
 TEST(StablePairMap, SameOrderAndIdsAsSofasCallsWithThousandsOfPointers) { same_order_and_ids_as_sofas_calls(3000, 20000); }
 
+// A null pointer gets its id at its first comparison like any other (SOFA's ptr_stable_id keys
+// its std::map by the pointer, null included): the same ids and order as SOFA's calls.
+TEST(StablePairMap, ANullPointerGetsItsIdInTurn) {
+    Obj a{0}, b{1};
+    SofaIds ids;
+    std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref(SofaLess{&ids});
+    Map m;
+    const std::vector<std::pair<const Obj*, const Obj*>> keys = {{&a, &b}, {nullptr, &a}, {&b, nullptr}, {nullptr, nullptr}, {&a, nullptr}};
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+        ref.insert(decltype(ref)::value_type(keys[i], int(i)));
+        m.insert(keys[i], int(i));
+    }
+    std::vector<int> ref_order, order;
+    for (const auto& [key, value] : ref) ref_order.push_back(value);
+    for (const auto& [key, value] : m) order.push_back(value);
+    EXPECT_EQ(order, ref_order);
+    for (const Obj* o : std::vector<const Obj*>{&a, &b, nullptr}) {
+        ASSERT_TRUE(ids.of.contains(o));
+        EXPECT_EQ(m.stable_id(o), ids.of.at(o));
+    }
+    // the second key (null, A) against the first (A, B) asks, in order, A (0), null (1), B (2)
+    EXPECT_EQ(m.stable_id(&a), 0u);
+    EXPECT_EQ(m.stable_id(nullptr), 1u);
+    EXPECT_EQ(m.stable_id(&b), 2u);
+}
+
 // CollisionResponse: a floor (Triangle) A under two spheres C and B, met by the broad phase as
 // (A, C) then (A, B) (SOFA's models in the order C, B, A: each new model is paired with the earlier
 // ones). The outputs map orders them (A, C), (A, B) (comp((A, C), (A, B)): C 0, A 1, B 2), so the
