@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace {
@@ -71,6 +72,13 @@ void BM_TetraFemLargeDForce(benchmark::State& state) {
     auto& x = body.add_state<Vec3Types>();
     x.position = grid.points();
     auto& fem = body.add_force_field<TetrahedronFEMForceField>(x, grid, 25.0, 0.3, FemMethod::Large);
+    const auto path = static_cast<KernelPath>(state.range(1));
+    if (!kernel_path_supported(path)) {
+        state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
+        for (auto _ : state) {}
+        return;
+    }
+    fem.set_kernel_path(path);
     sim.init();
     // a deformed state, so that the rotations are not the identity
     for (std::size_t i = 0; i < x.position.size(); ++i) x.position[i] += 0.1 * Vec3(std::sin(double(i)), std::cos(double(i)), 0.5);
@@ -120,5 +128,6 @@ void BM_SpringGridStep(benchmark::State& state) { run(state, Model::SpringGrid);
 // n³ points, 3n³ DOFs: n = 15 -> 10125 DOFs.
 BENCHMARK(BM_TetraFemBlockStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SpringGridStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_TetraFemLargeDForce)->Arg(5);
+// second argument: the KernelPath (0 scalar, 1 avx, 2 avx512), side by side in one run
+BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);

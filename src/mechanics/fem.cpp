@@ -12,6 +12,7 @@
 #include <cstring>
 #include <limits>
 #include <optional>
+#include <tuple>
 
 namespace penalty {
 
@@ -374,22 +375,41 @@ template <class T, class StrainDisplacementEntries, class MaterialEntries>
 #ifdef PENALTY_HAS_AVX_LANES
 /// Four doubles, one element's value per lane; every operator is lane-wise IEEE arithmetic.
 typedef double Lanes4 __attribute__((vector_size(32), __may_alias__));
+/// Eight doubles, the same (KernelPath::avx512's product only).
+typedef double Lanes8 __attribute__((vector_size(64), __may_alias__));
 
-/// J(r, c) of the block's four elements (kCofactorOfEntry; never asked where J is 0).
+/// The vector of W lanes, Lanes4 or Lanes8 (a member typedef keeps their may_alias, which a
+/// template argument would drop).
+template <std::size_t W>
+struct LaneVector;
+template <>
+struct LaneVector<4> {
+    using type = Lanes4;
+};
+template <>
+struct LaneVector<8> {
+    using type = Lanes8;
+};
+
+/// J(r, c) of a block's W elements (kCofactorOfEntry; never asked where J is 0).
+template <std::size_t W>
 struct LaneStrainDisplacement {
-    const std::array<std::array<std::array<double, 4>, 3>, 4>* cofactor;
-    [[gnu::always_inline]] const Lanes4& operator()(int r, int c) const {
+    using T = typename LaneVector<W>::type;
+    const std::array<std::array<std::array<double, W>, 3>, 4>* cofactor;
+    [[gnu::always_inline]] const T& operator()(int r, int c) const {
         const auto& entry = (*cofactor)[static_cast<std::size_t>(r / 3)][static_cast<std::size_t>(kCofactorOfEntry[static_cast<std::size_t>(r % 3)][static_cast<std::size_t>(c)])];
-        return *reinterpret_cast<const Lanes4*>(entry.data());
+        return *reinterpret_cast<const T*>(entry.data());
     }
 };
-/// D/(36V)(i, k) of the block's four elements: the normal block (i, k < 3) and the shear diagonal.
+/// D/(36V)(i, k) of a block's W elements: the normal block (i, k < 3) and the shear diagonal.
+template <std::size_t W>
 struct LaneMaterial {
-    const std::array<std::array<double, 4>, 9>* normal;
-    const std::array<std::array<double, 4>, 3>* shear;
-    [[gnu::always_inline]] const Lanes4& operator()(int i, int k) const {
+    using T = typename LaneVector<W>::type;
+    const std::array<std::array<double, W>, 9>* normal;
+    const std::array<std::array<double, W>, 3>* shear;
+    [[gnu::always_inline]] const T& operator()(int i, int k) const {
         const auto& entry = i < 3 ? (*normal)[static_cast<std::size_t>(3 * i + k)] : (*shear)[static_cast<std::size_t>(i - 3)];
-        return *reinterpret_cast<const Lanes4*>(entry.data());
+        return *reinterpret_cast<const T*>(entry.data());
     }
 };
 
@@ -441,7 +461,7 @@ struct LaneMaterial {
     delta[6] = rest[1] - (deformed[2][0] - deformed[0][0]);
     delta[7] = rest[2] - (deformed[2][1] - deformed[0][1]);
     for (std::size_t c = 0; c < 3; ++c) delta[9 + c] = rest[3 + c] - (deformed[3][c] - deformed[0][c]);
-    element_force_of<Lanes4>(LaneStrainDisplacement{&block.cofactor}, LaneMaterial{&block.material, &block.shear}, delta, nullptr,
+    element_force_of<Lanes4>(LaneStrainDisplacement<4>{&block.cofactor}, LaneMaterial<4>{&block.material, &block.shear}, delta, nullptr,
                              force);
 }
 
@@ -464,7 +484,7 @@ struct LaneMaterial {
             for (std::size_t i = 0; i < 3; ++i) local[3 * v + i] = r[3 * i] * d[0] + r[3 * i + 1] * d[1] + r[3 * i + 2] * d[2];
         }
         Lanes4 force[12];
-        element_force_of(LaneStrainDisplacement{&block.cofactor}, LaneMaterial{&block.material, &block.shear}, local, &k, force);
+        element_force_of(LaneStrainDisplacement<4>{&block.cofactor}, LaneMaterial<4>{&block.material, &block.shear}, local, &k, force);
         // Rᵀ·F_k (sofa_vec::transpose_times: row i = R(0,i)F₀ + R(1,i)F₁ + R(2,i)F₂), by [vertex][component]
         Lanes4 back[4][3];
         for (std::size_t v = 0; v < 4; ++v)
@@ -477,7 +497,74 @@ struct LaneMaterial {
             }
     }
 }
+
+/// large_dforce_avx for eight elements at once (KernelPath::avx512): the same operations per
+/// lane and the same order of the df updates. (Its own function, not one template with the
+/// four-lane one: GCC unrolled and spilled the template's four-lane instance differently, 8 %
+/// slower.)
+[[gnu::target("avx512f")]] void large_dforce_avx512(const detail::TetrahedronLargeBlock8* blocks, std::size_t element_count, Vec3* df,
+                                                    const Vec3* dx, double k_factor) {
+    const Lanes8 k = {k_factor, k_factor, k_factor, k_factor, k_factor, k_factor, k_factor, k_factor};
+    for (std::size_t first = 0; first < element_count; first += 8) {
+        const detail::TetrahedronLargeBlock8& block = blocks[first / 8];
+        const auto* r = reinterpret_cast<const Lanes8*>(block.rotation.data());
+        Lanes8 local[12];
+        for (std::size_t v = 0; v < 4; ++v) {
+            const auto& dof = block.vertex[v];
+            Lanes8 d[3];
+            for (std::size_t c = 0; c < 3; ++c)
+                d[c] = Lanes8{dx[dof[0]][c], dx[dof[1]][c], dx[dof[2]][c], dx[dof[3]][c], dx[dof[4]][c], dx[dof[5]][c], dx[dof[6]][c], dx[dof[7]][c]};
+            for (std::size_t i = 0; i < 3; ++i) local[3 * v + i] = r[3 * i] * d[0] + r[3 * i + 1] * d[1] + r[3 * i + 2] * d[2];
+        }
+        Lanes8 force[12];
+        element_force_of(LaneStrainDisplacement<8>{&block.cofactor}, LaneMaterial<8>{&block.material, &block.shear}, local, &k, force);
+        Lanes8 back[4][3];
+        for (std::size_t v = 0; v < 4; ++v)
+            for (std::size_t i = 0; i < 3; ++i) back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
+        const std::size_t lanes = std::min<std::size_t>(8, element_count - first);
+        for (std::size_t e = 0; e < lanes; ++e)
+            for (std::size_t v = 0; v < 4; ++v) {
+                Vec3& target = df[block.vertex[v][e]];
+                for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] -= back[v][c][e];
+            }
+    }
+}
 #endif
+
+/// R of element e into its eight-lane block (the avx512 path's copy of the rotations).
+void set_eight_lane_rotation(std::vector<detail::TetrahedronLargeBlock8>& blocks, std::size_t e, const Mat3& r) {
+    auto& rotation = blocks[e / 8].rotation;
+    for (Index i = 0; i < 3; ++i)
+        for (Index k = 0; k < 3; ++k) rotation[static_cast<std::size_t>(3 * i + k)][e % 8] = r(i, k);
+}
+
+/// Method large's element data W elements a block (lane e of block b: element W·b + e); data(e)
+/// gives element e's (J, D/(36V), R, vertices).
+template <std::size_t W, class ElementData>
+void fill_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t element_count, const ElementData& data) {
+    blocks.assign((element_count + W - 1) / W, detail::TetrahedronLargeLanes<W>{});
+    for (std::size_t e = 0; e < element_count; ++e) {
+        auto& block = blocks[e / W];
+        const std::size_t lane = e % W;
+        const auto& [j, m, rotation, element] = data(e);
+        for (std::size_t k = 0; k < 4; ++k) {
+            // strain_displacement: J(3k, xx) = g_yz, J(3k, xy) = g_xz, J(3k, zx) = g_xy
+            const auto row = static_cast<Index>(3 * k);
+            block.cofactor[k][0][lane] = j(row, 0);
+            block.cofactor[k][1][lane] = j(row, 3);
+            block.cofactor[k][2][lane] = j(row, 5);
+            const auto dof = static_cast<std::size_t>(element[k]);
+            block.vertex[k][lane] = dof;
+            if (lane == 0)  // the missing elements of a last block read lane 0's vertices
+                for (std::size_t other = 1; other < W; ++other) block.vertex[k][other] = dof;
+        }
+        for (Index i = 0; i < 3; ++i) {
+            for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
+            block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
+            for (Index k = 0; k < 3; ++k) block.rotation[static_cast<std::size_t>(3 * i + k)][lane] = rotation(i, k);
+        }
+    }
+}
 }  // namespace
 
 void TetrahedronFEMForceField::init_large() {
@@ -498,36 +585,27 @@ void TetrahedronFEMForceField::init_large() {
         rotation_[e] = r0;
         large_[e].strain_displacement = strain_displacement(local);
     }
-    // the same data four elements a block (lane e of block b: element 4b + e)
-    large_blocks_.assign((elements_.size() + 3) / 4, detail::TetrahedronLargeBlock{});
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
-        auto& block = large_blocks_[e / 4];
-        const std::size_t lane = e % 4;
-        const auto& j = large_[e].strain_displacement;
-        const auto& m = large_[e].material;
-        for (std::size_t k = 0; k < 4; ++k) {
-            // strain_displacement: J(3k, xx) = g_yz, J(3k, xy) = g_xz, J(3k, zx) = g_xy
-            const auto row = static_cast<Index>(3 * k);
-            block.cofactor[k][0][lane] = j(row, 0);
-            block.cofactor[k][1][lane] = j(row, 3);
-            block.cofactor[k][2][lane] = j(row, 5);
-            const auto dof = static_cast<std::size_t>(elements_[e][k]);
-            block.vertex[k][lane] = dof;
-            if (lane == 0)  // the missing elements of a last block read lane 0's vertices
-                for (std::size_t other = 1; other < 4; ++other) block.vertex[k][other] = dof;
-        }
-        for (Index i = 0; i < 3; ++i) {
-            for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
-            block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
-            for (Index k = 0; k < 3; ++k) block.rotation[static_cast<std::size_t>(3 * i + k)][lane] = rotation_[e](i, k);
-        }
+    fill_lane_blocks(large_blocks_, elements_.size(), [this](std::size_t e) {
+        return std::tie(large_[e].strain_displacement, large_[e].material, rotation_[e], elements_[e]);
+    });
+    fill_eight_lane_blocks();
+}
+
+void TetrahedronFEMForceField::fill_eight_lane_blocks() {
+    if (kernel_path_ != KernelPath::avx512 || method_ != FemMethod::Large || large_.size() != elements_.size()) {
+        large_blocks8_ = {};
+        return;
     }
+    fill_lane_blocks(large_blocks8_, elements_.size(), [this](std::size_t e) {
+        return std::tie(large_[e].strain_displacement, large_[e].material, rotation_[e], elements_[e]);
+    });
 }
 
 void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
     if (!kernel_path_supported(path))
         throw_invalid_argument("TetrahedronFEMForceField: kernel path ", to_string(path), " is not supported by this CPU");
     kernel_path_ = path;
+    fill_eight_lane_blocks();  // after init: the eight-lane blocks, with the current R, or none
 }
 
 void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
@@ -538,7 +616,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     PENALTY_DEMAND(large_.size() == elements_.size());
     energy_ = 0.0;
 #ifdef PENALTY_HAS_AVX_LANES
-    if (kernel_path_ == KernelPath::avx) {
+    if (kernel_path_ != KernelPath::scalar) {  // avx, and avx512 (whose eight lanes are add_dforce's only)
         // frames, δ and F four elements at a time (large_force_avx); the energy and f += Rᵀ·F
         // element by element in order, as below
         for (std::size_t first = 0; first < elements_.size(); first += 4) {
@@ -562,6 +640,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
                     block.rotation[i][lane] = r[i][lane];
                 }
                 rotation_[e] = rotation;
+                if (!large_blocks8_.empty()) set_eight_lane_rotation(large_blocks8_, e, rotation);
                 Displacement element_delta, element_force_;
                 for (std::size_t i = 0; i < 12; ++i) {
                     element_delta[static_cast<Index>(i)] = delta[i][lane];
@@ -585,6 +664,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         auto& block_rotation = large_blocks_[e / 4].rotation;
         for (Index i = 0; i < 3; ++i)
             for (Index k = 0; k < 3; ++k) block_rotation[static_cast<std::size_t>(3 * i + k)][e % 4] = r(i, k);
+        if (!large_blocks8_.empty()) set_eight_lane_rotation(large_blocks8_, e, r);
         std::array<Vec3, 4> deformed;
         for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
         // δ = rest − current local coordinates; only the entries J couples are formed (vertex 0
@@ -610,6 +690,11 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
     }
     // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
 #ifdef PENALTY_HAS_AVX_LANES
+    if (kernel_path_ == KernelPath::avx512) {
+        PENALTY_DEMAND(large_blocks8_.size() == (elements_.size() + 7) / 8);
+        large_dforce_avx512(large_blocks8_.data(), elements_.size(), df.data(), dx.data(), k_factor);
+        return;
+    }
     if (kernel_path_ == KernelPath::avx) {
         PENALTY_DEMAND(large_blocks_.size() == (elements_.size() + 3) / 4);
         large_dforce_avx(large_blocks_.data(), elements_.size(), df.data(), dx.data(), k_factor);

@@ -14,6 +14,13 @@ bool kernel_path_supported(KernelPath path) {
 #else
         return false;
 #endif
+    case KernelPath::avx512:
+#ifdef PENALTY_HAS_AVX_LANES
+        // AVX-512F's ZMM state is checked by libgcc as well
+        return __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx512f");
+#else
+        return false;
+#endif
     }
     return false;
 }
@@ -23,6 +30,23 @@ KernelPath best_kernel_path() {
     return best;
 }
 
-const char* to_string(KernelPath path) { return path == KernelPath::avx ? "avx" : "scalar"; }
+KernelPath best_fem_kernel_path() {
+#ifdef PENALTY_HAS_AVX_LANES
+    static const KernelPath best =
+        kernel_path_supported(KernelPath::avx512) && __builtin_cpu_is("intel") ? KernelPath::avx512 : best_kernel_path();
+    return best;
+#else
+    return best_kernel_path();
+#endif
+}
+
+const char* to_string(KernelPath path) {
+    switch (path) {
+    case KernelPath::scalar: return "scalar";
+    case KernelPath::avx: return "avx";
+    case KernelPath::avx512: return "avx512";
+    }
+    return "unknown";
+}
 
 }  // namespace penalty

@@ -180,8 +180,12 @@ TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoo
     std::mt19937 rng(23);
     std::uniform_real_distribution<double> u(-1, 1);
     int compared = 0, changed = 0, changed_forces = 0;
+    // avx512 (eight lanes, add_dforce only) where this CPU has AVX-512F; its blocks are filled at
+    // init, or by set_kernel_path after init (count % 2 == 1), from the rotations of that moment
+    const bool wide_available = kernel_path_supported(KernelPath::avx512);
+    int compared_wide = 0;
     for (const std::size_t count : {std::size_t{1}, std::size_t{2}, std::size_t{3}, std::size_t{4}, std::size_t{5},
-                                    std::size_t{6}, std::size_t{9}, std::size_t{57}}) {
+                                    std::size_t{6}, std::size_t{8}, std::size_t{9}, std::size_t{17}, std::size_t{57}}) {
         // a cloud of points, each element on four distinct points with a clear rest volume
         Vec3Object s;
         const std::size_t points = 12;
@@ -200,10 +204,13 @@ TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoo
         topo.set_tetrahedra(tetrahedra);
         TetrahedronFEMForceField scalar(s, topo, 1e4, 0.3, FemMethod::Large);
         TetrahedronFEMForceField vector(s, topo, 1e4, 0.3, FemMethod::Large);
+        TetrahedronFEMForceField wide(s, topo, 1e4, 0.3, FemMethod::Large);
         scalar.set_kernel_path(KernelPath::scalar);
         vector.set_kernel_path(KernelPath::avx);
+        wide.set_kernel_path(count % 2 == 1 ? KernelPath::avx : (wide_available ? KernelPath::avx512 : KernelPath::avx));
         scalar.init();
         vector.init();
+        wide.init();
         for (int configuration = 0; configuration < 3; ++configuration) {
             // deformed and turned; the third time collapsed (coincident vertices: degenerate frames)
             for (std::size_t i = 0; i < points; ++i) s.position[i] = s.rest_position[i] + 0.3 * Vec3(u(rng), u(rng), u(rng));
@@ -221,6 +228,10 @@ TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoo
             vector.accumulate_force();
             expect_same_bits(expected_force, {s.force.begin(), s.force.end()}, "add_force, tetrahedra " + std::to_string(count));
             EXPECT_EQ(scalar.potential_energy(), vector.potential_energy());
+            std::copy(force_before.begin(), force_before.end(), s.force.begin());
+            wide.accumulate_force();
+            expect_same_bits(expected_force, {s.force.begin(), s.force.end()}, "add_force (wide), tetrahedra " + std::to_string(count));
+            if (configuration == 0 && count % 2 == 1 && wide_available) wide.set_kernel_path(KernelPath::avx512);
             changed_forces += changed_dofs(force_before, expected_force);
             for (const double k : {-0.0123, 1.0}) {
                 fill_products(s, rng);
@@ -231,11 +242,17 @@ TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoo
                 std::copy(df.begin(), df.end(), s.df.begin());
                 vector.accumulate_dforce(k, 0.0);
                 expect_same_bits(expected, {s.df.begin(), s.df.end()}, "tetrahedra " + std::to_string(count));
+                std::copy(df.begin(), df.end(), s.df.begin());
+                wide.accumulate_dforce(k, 0.0);
+                expect_same_bits(expected, {s.df.begin(), s.df.end()},
+                                 std::string(to_string(wide.kernel_path())) + ", tetrahedra " + std::to_string(count));
+                compared_wide += wide.kernel_path() == KernelPath::avx512 ? 1 : 0;
                 ++compared;
             }
         }
     }
-    EXPECT_EQ(compared, 8 * 3 * 2);
+    EXPECT_EQ(compared, 10 * 3 * 2);
+    EXPECT_EQ(compared_wide, wide_available ? 10 * 3 * 2 : 0);
     EXPECT_GT(changed, 200);
     EXPECT_GT(changed_forces, 100);
 }
@@ -244,6 +261,14 @@ TEST(VectorKernels, PathsAreReportedAndUnsupportedOnesRefused) {
     EXPECT_TRUE(kernel_path_supported(KernelPath::scalar));
     EXPECT_EQ(best_kernel_path(), avx_available() ? KernelPath::avx : KernelPath::scalar);
     EXPECT_STREQ(to_string(KernelPath::avx), "avx");
+    EXPECT_STREQ(to_string(KernelPath::avx512), "avx512");
+    // the FEM's default: eight lanes on Intel CPUs with AVX-512F only
+#if defined(__x86_64__) && defined(__GNUC__)
+    const bool intel_wide = kernel_path_supported(KernelPath::avx512) && __builtin_cpu_is("intel");
+#else
+    const bool intel_wide = false;
+#endif
+    EXPECT_EQ(best_fem_kernel_path(), intel_wide ? KernelPath::avx512 : best_kernel_path());
     Vec3Object s;
     s.position = {Vec3::Zero(), Vec3::UnitX()};
     s.init();
@@ -253,6 +278,18 @@ TEST(VectorKernels, PathsAreReportedAndUnsupportedOnesRefused) {
     EXPECT_EQ(springs.kernel_path(), KernelPath::scalar);
     if (!avx_available()) {
         EXPECT_THROW(springs.set_kernel_path(KernelPath::avx), std::invalid_argument);
+    }
+    EXPECT_THROW(springs.set_kernel_path(KernelPath::avx512), std::invalid_argument);  // the FEM's only
+    EXPECT_EQ(springs.kernel_path(), KernelPath::scalar);
+    Vec3Object body;
+    body.position = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
+    body.init();
+    MeshTopology topo;
+    topo.set_tetrahedra({Tetrahedron{0, 1, 2, 3}});
+    TetrahedronFEMForceField fem(body, topo, 1e4, 0.3, FemMethod::Large);
+    EXPECT_EQ(fem.kernel_path(), best_fem_kernel_path());
+    if (!kernel_path_supported(KernelPath::avx512)) {
+        EXPECT_THROW(fem.set_kernel_path(KernelPath::avx512), std::invalid_argument);
     }
 }
 

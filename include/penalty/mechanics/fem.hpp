@@ -101,17 +101,22 @@ protected:
 class RegularGridTopology;
 
 namespace detail {
-/// TetrahedronFEMForceField's method-large data of four elements side by side, for the vector
-/// product (add_dforce): lane e of every entry belongs to element 4·block + e. The last block's
-/// missing elements have zero data and lane 0's vertices (computed, never added into df).
-struct alignas(32) TetrahedronLargeBlock {
-    using Lanes = std::array<double, 4>;
+/// TetrahedronFEMForceField's method-large data of W elements side by side, for the vector
+/// products: lane e of every entry belongs to element W·block + e. The last block's missing
+/// elements have zero data and lane 0's vertices (computed, never added into df). Four lanes for
+/// the avx path; eight for the avx512 path's product, kept beside the four-lane blocks.
+template <std::size_t W>
+struct alignas(8 * W) TetrahedronLargeLanes {
+    static constexpr std::size_t kLanes = W;
+    using Lanes = std::array<double, W>;
     std::array<Lanes, 9> rotation{};                      ///< R(i, j) at 3i + j, from the last add_force
     std::array<std::array<Lanes, 3>, 4> cofactor{};       ///< J's entries g_yz, g_xz, g_xy of each vertex
     std::array<Lanes, 9> material{};                      ///< D/(36V)(i, k), i, k < 3, at 3i + k
     std::array<Lanes, 3> shear{};                         ///< D/(36V)(i, i), i = 3 … 5
-    std::array<std::array<std::size_t, 4>, 4> vertex{};  ///< DOF of vertex k of each lane
+    std::array<std::array<std::size_t, W>, 4> vertex{};  ///< DOF of vertex k of each lane
 };
+using TetrahedronLargeBlock = TetrahedronLargeLanes<4>;
+using TetrahedronLargeBlock8 = TetrahedronLargeLanes<8>;
 }  // namespace detail
 
 /// SOFA's TetrahedronFEMForceField (methods small, large, polar and svd). Polar
@@ -140,8 +145,9 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
-    /// Instructions of add_dforce for method large (default best_kernel_path(); every path gives
-    /// the same bits). Throws std::invalid_argument if this machine cannot run `path`.
+    /// Instructions of method large's loops (default best_fem_kernel_path(); every path gives
+    /// the same bits; avx512 runs add_dforce in eight lanes and add_force in avx's four).
+    /// Throws std::invalid_argument if this machine cannot run `path`.
     void set_kernel_path(KernelPath path);
     [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
@@ -169,7 +175,11 @@ private:
     std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
     std::vector<LargeElement> large_;       ///< large: J and D/(36V) per element
     std::vector<detail::TetrahedronLargeBlock> large_blocks_;  ///< large: the same data and R, four elements a block
-    KernelPath kernel_path_ = best_kernel_path();
+    /// large, avx512 path only: the same data and R, eight elements a block (else empty)
+    std::vector<detail::TetrahedronLargeBlock8> large_blocks8_;
+    /// large_blocks8_ filled from large_, rotation_ and the elements (avx512), or emptied.
+    void fill_eight_lane_blocks();
+    KernelPath kernel_path_ = best_fem_kernel_path();
 };
 
 /// SOFA's HexahedronFEMForceField (methods small and large), SOFA vertex order (see topology).

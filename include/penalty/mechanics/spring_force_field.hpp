@@ -55,7 +55,8 @@ public:
     /// SOFA's operation order to reproduce (default: SpringForceField's).
     void set_arithmetic(SpringArithmetic arithmetic) { arithmetic_ = arithmetic; }
     /// Instructions of add_dforce (default best_kernel_path(); every path gives the same bits).
-    /// Throws std::invalid_argument if this machine cannot run `path`.
+    /// Throws std::invalid_argument if this machine cannot run `path`, or for avx512 (no such
+    /// path for springs).
     void set_kernel_path(KernelPath path);
     [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
