@@ -534,7 +534,9 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
             offsets_.push_back(size_);
             offset_of_[s] = size_;
             independent_.push_back(s);
-            size_ += static_cast<Eigen::Index>(s->scalar_size());
+            sizes_.push_back(static_cast<Eigen::Index>(s->scalar_size()));
+            widths_.push_back(static_cast<Eigen::Index>(s->deriv_size()));
+            size_ += sizes_.back();
         }
     } else if (node.mapping()) {
         throw_invalid_argument("Node '", node.name(), "': a mapping needs the node's state as output");
@@ -753,8 +755,8 @@ double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) co
     double total = 0.0;
     for (std::size_t s = 0; s < independent_.size(); ++s) {
         const Eigen::Index begin = offsets_[s];
-        const Eigen::Index end = begin + static_cast<Eigen::Index>(independent_[s]->scalar_size());
-        total += state_dot(a.data(), b.data(), begin, end, static_cast<Eigen::Index>(independent_[s]->deriv_size()));
+        const Eigen::Index end = begin + sizes_[s];
+        total += state_dot(a.data(), b.data(), begin, end, widths_[s]);
     }
     return total;
 }
@@ -762,17 +764,17 @@ double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) co
 void SubtreeSystem::gather_velocity(Eigen::VectorXd& v) const {
     v.resize(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i)
-        v.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->velocity_flat();
+        v.segment(offsets_[i], sizes_[i]) = independent_[i]->velocity_flat();
 }
 
 void SubtreeSystem::scatter_velocity(const Eigen::VectorXd& v) const {
     for (std::size_t i = 0; i < independent_.size(); ++i)
-        independent_[i]->velocity_flat() = v.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size()));
+        independent_[i]->velocity_flat() = v.segment(offsets_[i], sizes_[i]);
 }
 
 void SubtreeSystem::add_to_positions(double h, const Eigen::VectorXd& v) const {
     for (std::size_t i = 0; i < independent_.size(); ++i)
-        independent_[i]->add_to_position(h, v.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())));
+        independent_[i]->add_to_position(h, v.segment(offsets_[i], sizes_[i]));
 }
 
 void SubtreeSystem::propagate_positions_and_velocities() const {
@@ -890,7 +892,7 @@ void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
     }
     f.resize(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i)
-        f.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->force_flat();
+        f.segment(offsets_[i], sizes_[i]) = independent_[i]->force_flat();
     if (!f.allFinite()) throw_non_finite_force();
 }
 
@@ -898,7 +900,7 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
                               bool do_project, bool accumulate) const {
     if (accumulate) PENALTY_DEMAND(out.size() == size_);
     for (std::size_t i = 0; i < independent_.size(); ++i) {
-        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const auto n = sizes_[i];
         independent_[i]->dx_flat() = dx.segment(offsets_[i], n);
         // accumulate: each contribution is added to out's value in turn, as SOFA's addMBKv
         // adds into b = f (((f + c1) + c2) ..., not f + (c1 + c2 ...)).
@@ -908,7 +910,7 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
     apply_mbk_to_states(m, b, k);
     out.resize(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i)
-        out.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->df_flat();
+        out.segment(offsets_[i], sizes_[i]) = independent_[i]->df_flat();
     if (do_project) project(out);
 }
 
@@ -918,7 +920,7 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
     PENALTY_DEMAND(r.size() == size_ && p.size() == size_ && &r != &p);
     // p = r or r + β·p (Eigen's p = r + β·p: each r_j + (β·p_j)), into p and the state's dx
     for (std::size_t i = 0; i < independent_.size(); ++i) {
-        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const auto n = sizes_[i];
         const double* rs = r.data() + offsets_[i];
         double* ps = p.data() + offsets_[i];
         direction(first, beta, rs, ps, independent_[i]->dx_flat().data(), n);
@@ -928,16 +930,16 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
     q.resize(size_);
     if (!constraints_.empty()) {  // q is projected before p·q
         for (std::size_t i = 0; i < independent_.size(); ++i)
-            q.segment(offsets_[i], static_cast<Eigen::Index>(independent_[i]->scalar_size())) = independent_[i]->df_flat();
+            q.segment(offsets_[i], sizes_[i]) = independent_[i]->df_flat();
         project(q);
         return dot(p, q);
     }
     double total = 0.0;  // dot(p, q), each state's sum as its part of q is copied
     for (std::size_t i = 0; i < independent_.size(); ++i) {
-        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const auto n = sizes_[i];
         const Eigen::Index begin = offsets_[i];
         q.segment(begin, n) = independent_[i]->df_flat();
-        total += state_dot(p.data(), q.data(), begin, begin + n, static_cast<Eigen::Index>(independent_[i]->deriv_size()));
+        total += state_dot(p.data(), q.data(), begin, begin + n, widths_[i]);
     }
     return total;
 }
@@ -952,8 +954,8 @@ double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p
     double total = 0.0;  // dot(r, r), each state's sum over its DOFs as they are updated
     for (std::size_t i = 0; i < independent_.size(); ++i) {
         const Eigen::Index begin = offsets_[i];
-        const Eigen::Index end = begin + static_cast<Eigen::Index>(independent_[i]->scalar_size());
-        const auto width = static_cast<Eigen::Index>(independent_[i]->deriv_size());
+        const Eigen::Index end = begin + sizes_[i];
+        const auto width = widths_[i];
         // x += α·p, r −= α·q (Eigen's: x_j + (α·p_j), r_j − (α·q_j)), then the DOF's r·r
         if (width == 3) {
             double sum = 0.0;
@@ -1062,7 +1064,7 @@ void SubtreeSystem::project(Eigen::VectorXd& v) const {
 void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
     out.setZero(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i) {
-        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const auto n = sizes_[i];
         const auto it = std::find_if(masses_.begin(), masses_.end(), [&](const auto& e) { return e.first->state() == independent_[i]; });
         if (it == masses_.end()) throw_invalid_argument("EulerExplicitSolver: state '", independent_[i]->state_name(), "' has no mass");
         it->first->apply_inverse(in.segment(offsets_[i], n), out.segment(offsets_[i], n));
@@ -1080,7 +1082,7 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
     using ColMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, Eigen::Index>;
     std::unordered_map<const BaseState*, ColMatrix> p_rows;  // (state scalars) x size_
     for (std::size_t i = 0; i < independent_.size(); ++i) {
-        const auto n = static_cast<Eigen::Index>(independent_[i]->scalar_size());
+        const auto n = sizes_[i];
         ColMatrix id(n, size_);
         TripletList t;
         for (Eigen::Index j = 0; j < n; ++j) t.emplace_back(j, offsets_[i] + j, 1.0);

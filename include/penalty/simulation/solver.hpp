@@ -231,6 +231,11 @@ private:
     void collect(Node& node, bool is_root);
     std::vector<BaseState*> independent_;
     std::vector<Index> offsets_;
+    /// Per independent state: its scalar_size() and deriv_size() when the system was built (the
+    /// CG's passes read them for every state and iteration; offsets_valid() rebuilds the system
+    /// when a size changes).
+    std::vector<Index> sizes_;
+    std::vector<Index> widths_;
     std::unordered_map<const BaseState*, Index> offset_of_;
     std::vector<BaseState*> mapped_;
     std::vector<BaseState*> external_;  ///< states used by the subtree's fields but outside it
