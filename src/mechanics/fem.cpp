@@ -500,7 +500,7 @@ struct LaneMaterial {
 
 /// large_dforce_avx for eight elements at once (KernelPath::avx512): the same operations per
 /// lane and the same order of the df updates. (Its own function, not one template with the
-/// four-lane one: GCC unrolled and spilled the template's four-lane instance differently, 8 %
+/// four-lane one: GCC unrolled and spilled the template's four-lane instance differently, 7–10 %
 /// slower.)
 [[gnu::target("avx512f")]] void large_dforce_avx512(const detail::TetrahedronLargeBlock8* blocks, std::size_t element_count, Vec3* df,
                                                     const Vec3* dx, double k_factor) {
@@ -585,9 +585,7 @@ void TetrahedronFEMForceField::init_large() {
         rotation_[e] = r0;
         large_[e].strain_displacement = strain_displacement(local);
     }
-    fill_lane_blocks(large_blocks_, elements_.size(), [this](std::size_t e) {
-        return std::tie(large_[e].strain_displacement, large_[e].material, rotation_[e], elements_[e]);
-    });
+    fill_lane_blocks(large_blocks_, elements_.size(), [this](std::size_t e) { return large_element_lanes(e); });
     fill_eight_lane_blocks();
 }
 
@@ -596,9 +594,12 @@ void TetrahedronFEMForceField::fill_eight_lane_blocks() {
         large_blocks8_ = {};
         return;
     }
-    fill_lane_blocks(large_blocks8_, elements_.size(), [this](std::size_t e) {
-        return std::tie(large_[e].strain_displacement, large_[e].material, rotation_[e], elements_[e]);
-    });
+    fill_lane_blocks(large_blocks8_, elements_.size(), [this](std::size_t e) { return large_element_lanes(e); });
+}
+
+std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&, const TetrahedronFEMForceField::Element&>
+TetrahedronFEMForceField::large_element_lanes(std::size_t e) const {
+    return std::tie(large_[e].strain_displacement, large_[e].material, rotation_[e], elements_[e]);
 }
 
 void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
@@ -616,7 +617,9 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     PENALTY_DEMAND(large_.size() == elements_.size());
     energy_ = 0.0;
 #ifdef PENALTY_HAS_AVX_LANES
-    if (kernel_path_ != KernelPath::scalar) {  // avx, and avx512 (whose eight lanes are add_dforce's only)
+    // avx, and avx512 (whose eight lanes are add_dforce's only): the scalar loop below never
+    // runs with eight-lane blocks, as set_kernel_path(scalar) empties them
+    if (kernel_path_ != KernelPath::scalar) {
         // frames, δ and F four elements at a time (large_force_avx); the energy and f += Rᵀ·F
         // element by element in order, as below
         for (std::size_t first = 0; first < elements_.size(); first += 4) {
@@ -664,7 +667,6 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         auto& block_rotation = large_blocks_[e / 4].rotation;
         for (Index i = 0; i < 3; ++i)
             for (Index k = 0; k < 3; ++k) block_rotation[static_cast<std::size_t>(3 * i + k)][e % 4] = r(i, k);
-        if (!large_blocks8_.empty()) set_eight_lane_rotation(large_blocks8_, e, r);
         std::array<Vec3, 4> deformed;
         for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
         // δ = rest − current local coordinates; only the entries J couples are formed (vertex 0

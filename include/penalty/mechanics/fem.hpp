@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 
+#include <tuple>
+
 namespace penalty {
 
 /// Small: linear, world frame. Large: corotational, rotation from the element's edges. Polar
@@ -179,6 +181,9 @@ private:
     std::vector<detail::TetrahedronLargeBlock8> large_blocks8_;
     /// large_blocks8_ filled from large_, rotation_ and the elements (avx512), or emptied.
     void fill_eight_lane_blocks();
+    /// Element e's data as the lane blocks take it: J, D/(36V), R and its vertices.
+    [[nodiscard]] std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&, const Element&>
+    large_element_lanes(std::size_t e) const;
     KernelPath kernel_path_ = best_fem_kernel_path();
 };
 
