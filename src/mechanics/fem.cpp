@@ -329,6 +329,15 @@ template <int C, class T, class Entries>
     for (int n = 1; n < kColumnRowCount[C]; ++n) sum += j(rows[static_cast<std::size_t>(n)], C) * delta[rows[static_cast<std::size_t>(n)]];
 }
 
+/// An element's stored energy ½ δᵀF (method large), over the entries of δ that can be non-zero
+/// (3, 6, 7, 9, 10, 11: the others are 0 by construction), summed left to right; one element
+/// (Displacement, into a double) or one per vector lane (arrays of lanes, into lanes).
+template <class Entries, class Energy>
+[[gnu::always_inline]] inline void large_element_energy(const Entries& delta, const Entries& force, Energy& energy) {
+    energy = 0.5 * (delta[3] * force[3] + delta[6] * force[6] + delta[7] * force[7] + delta[9] * force[9] + delta[10] * force[10] +
+                     delta[11] * force[11]);
+}
+
 /// F = J·(factor·(M·(Jᵀ·δ))) with SOFA's sums (TetrahedronFEMForceField::computeForce): each
 /// entry of Jᵀδ sums J's non-zero terms of its column vertex by vertex, left to right; M·(Jᵀδ)
 /// uses M's normal 3×3 block and shear diagonal only; the scaling by `factor` (addDForce's
@@ -428,10 +437,14 @@ struct LaneMaterial {
 
 /// TetrahedronFEMForceField::add_force's per-element part (method large) for the four elements
 /// of a block, one per lane, each lane the scalar operations in their order: the frame R
-/// (large_frame), δ from the rotated vertices and the rest coordinates `rest` (rest[1].x,
-/// rest[2].x, rest[2].y, rest[3].x, rest[3].y, rest[3].z), and F = element_force_of(δ).
-[[gnu::target("avx")]] void large_force_avx(const detail::TetrahedronLargeBlock& block, const Vec3* x, const Lanes4 (&rest)[6],
-                                            Lanes4 (&r)[9], Lanes4 (&delta)[12], Lanes4 (&force)[12]) {
+/// (large_frame), stored into the block and into `rotation8` (the four lanes of an eight-lane
+/// block's R where the avx512 product runs, else null), δ from the rotated vertices and the rest
+/// coordinates `rest` (rest[1].x, rest[2].x, rest[2].y, rest[3].x, rest[3].y, rest[3].z),
+/// F = element_force_of(δ), Rᵀ·F by [vertex][component] (sofa_vec::transpose_times) and the
+/// element energies (large_element_energy).
+[[gnu::target("avx")]] void large_force_avx(detail::TetrahedronLargeBlock& block, double* rotation8, std::size_t rotation8_stride,
+                                            const Vec3* x, const Lanes4 (&rest)[6], Lanes4 (&r)[9], Lanes4 (&delta)[12],
+                                            Lanes4 (&force)[12], Lanes4 (&back)[4][3], Lanes4& energy) {
     Lanes4 p[4][3];
     for (std::size_t v = 0; v < 4; ++v)
         for (std::size_t c = 0; c < 3; ++c) {
@@ -451,6 +464,10 @@ struct LaneMaterial {
         r[3 + c] = y_axis[c];
         r[6 + c] = z_axis[c];
     }
+    for (std::size_t i = 0; i < 9; ++i) {
+        _mm256_store_pd(block.rotation[i].data(), r[i]);
+        if (rotation8) _mm256_store_pd(rotation8 + i * rotation8_stride, r[i]);
+    }
     // each vertex rotated (sofa_vec::times), then δ = rest − (R·p_k − R·p_0) in the entries J couples
     Lanes4 deformed[4][3];
     for (std::size_t v = 0; v < 4; ++v)
@@ -463,6 +480,10 @@ struct LaneMaterial {
     for (std::size_t c = 0; c < 3; ++c) delta[9 + c] = rest[3 + c] - (deformed[3][c] - deformed[0][c]);
     element_force_of<Lanes4>(LaneStrainDisplacement<4>{&block.cofactor}, LaneMaterial<4>{&block.material, &block.shear}, delta, nullptr,
                              force);
+    // Rᵀ·F_k: row i = R(0,i)F₀ + R(1,i)F₁ + R(2,i)F₂
+    for (std::size_t v = 0; v < 4; ++v)
+        for (std::size_t i = 0; i < 3; ++i) back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
+    large_element_energy(delta, force, energy);
 }
 
 /// TetrahedronFEMForceField::add_dforce (method large) for four elements at once, one per lane:
@@ -530,13 +551,6 @@ struct LaneMaterial {
     }
 }
 #endif
-
-/// R of element e into its eight-lane block (the avx512 path's copy of the rotations).
-void set_eight_lane_rotation(std::vector<detail::TetrahedronLargeBlock8>& blocks, std::size_t e, const Mat3& r) {
-    auto& rotation = blocks[e / 8].rotation;
-    for (Index i = 0; i < 3; ++i)
-        for (Index k = 0; k < 3; ++k) rotation[static_cast<std::size_t>(3 * i + k)][e % 8] = r(i, k);
-}
 
 /// Method large's element data W elements a block (lane e of block b: element W·b + e); data(e)
 /// gives element e's (J, D/(36V), R, vertices).
@@ -632,27 +646,20 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
                 rest[2][lane] = local[2][1];
                 for (std::size_t c = 0; c < 3; ++c) rest[3 + c][lane] = local[3][c];
             }
-            Lanes4 r[9], delta[12], force[12];
-            auto& block = large_blocks_[first / 4];
-            large_force_avx(block, x.data(), rest, r, delta, force);
+            Lanes4 r[9], delta[12], force[12], back[4][3], energy;
+            // R into both blocks (the eight-lane block's half of this block's elements, lanes
+            // past the last element included: their products are never added)
+            double* rotation8 = large_blocks8_.empty() ? nullptr : large_blocks8_[first / 8].rotation[0].data() + first % 8;
+            large_force_avx(large_blocks_[first / 4], rotation8, 8, x.data(), rest, r, delta, force, back, energy);
             for (std::size_t lane = 0; lane < lanes; ++lane) {
                 const std::size_t e = first + lane;
-                Mat3 rotation;
-                for (std::size_t i = 0; i < 9; ++i) {
-                    rotation(static_cast<Index>(i / 3), static_cast<Index>(i % 3)) = r[i][lane];
-                    block.rotation[i][lane] = r[i][lane];
+                Mat3& rotation = rotation_[e];
+                for (std::size_t i = 0; i < 9; ++i) rotation(static_cast<Index>(i / 3), static_cast<Index>(i % 3)) = r[i][lane];
+                energy_ += energy[lane];
+                for (std::size_t k = 0; k < 4; ++k) {
+                    Vec3& target = f[static_cast<std::size_t>(elements_[e][k])];
+                    for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] += back[k][c][lane];
                 }
-                rotation_[e] = rotation;
-                if (!large_blocks8_.empty()) set_eight_lane_rotation(large_blocks8_, e, rotation);
-                Displacement element_delta, element_force_;
-                for (std::size_t i = 0; i < 12; ++i) {
-                    element_delta[static_cast<Index>(i)] = delta[i][lane];
-                    element_force_[static_cast<Index>(i)] = force[i][lane];
-                }
-                energy_ += 0.5 * element_delta.dot(element_force_);
-                for (std::size_t k = 0; k < 4; ++k)
-                    f[static_cast<std::size_t>(elements_[e][k])] +=
-                        sofa_vec::transpose_times(rotation, element_force_.segment<3>(3 * static_cast<Index>(k)));
             }
         }
         return;
@@ -678,7 +685,9 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
         for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
         const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, delta, std::nullopt);
-        energy_ += 0.5 * delta.dot(force);
+        double energy = 0.0;
+        large_element_energy(delta, force, energy);
+        energy_ += energy;
         for (std::size_t k = 0; k < 4; ++k)
             f[vertex(k)] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     }

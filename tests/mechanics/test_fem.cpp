@@ -218,6 +218,10 @@ TEST(TetrahedronFEM, LargeMethodIsTheRotatedElementStiffnessTimesTheLocalDisplac
         const Vec3 expected = -(r.transpose() * local.segment<3>(3 * k));
         EXPECT_LT((s.force[static_cast<std::size_t>(k)] - expected).norm(), 1e-12 * largest) << k;
     }
+    // the stored energy ½ uᵀ K^e u of the same local displacement (every entry of it counts)
+    const double energy = 0.5 * displacement.dot(local);
+    EXPECT_GT(energy, 0.1);
+    EXPECT_NEAR(ff.potential_energy(), energy, 1e-12 * energy);
 }
 
 TEST(TetrahedronFEM, StablePolarRotationOfDegenerateMatrices) {
