@@ -25,6 +25,14 @@ void SpringForceField::init() {
         }
     }
     dfdx_.assign(springs_.size(), StiffnessColumns{});
+    refresh_end_offsets();
+}
+
+void SpringForceField::refresh_end_offsets() {
+    end_offsets_.resize(springs_.size());
+    for (std::size_t i = 0; i < springs_.size(); ++i)
+        end_offsets_[i] = {static_cast<std::ptrdiff_t>(springs_[i].a) * std::ptrdiff_t(sizeof(Vec3)),
+                           static_cast<std::ptrdiff_t>(springs_[i].b) * std::ptrdiff_t(sizeof(Vec3))};
 }
 
 void SpringForceField::set_kernel_path(KernelPath path) {
@@ -177,6 +185,7 @@ template <SpringArithmetic Arithmetic, class Stiffness>
 void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
                                  ConstVec3Span v2) {
     dfdx_.resize(springs_.size());
+    refresh_end_offsets();
     energy_ = 0.0;
     std::size_t done = 0;
 #ifdef PENALTY_HAS_AVX_LANES
@@ -222,20 +231,27 @@ void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t cou
 }
 
 #ifdef PENALTY_HAS_AVX_LANES
+/// The three doubles of the Vec3 at byte offset `offset` of an array.
+inline const double* at(const Vec3* base, std::ptrdiff_t offset) {
+    return reinterpret_cast<const double*>(reinterpret_cast<const char*>(base) + offset);
+}
+inline double* at(Vec3* base, std::ptrdiff_t offset) { return reinterpret_cast<double*>(reinterpret_cast<char*>(base) + offset); }
+
 /// The same product with the three rows of m·dx in the lanes 0–2 of 256-bit registers (lane 3
 /// computes 0·dx and is dropped): lane r does row r's operations of spring_dforce, in its order,
 /// each an IEEE operation of the same operands, so every bit is the scalar loop's. The
 /// differences dx_b − dx_a are formed in every lane (broadcast operands); df is updated spring by
-/// spring in spring order (x and y in one 128-bit add, z alone).
+/// spring in spring order (x and y in one 128-bit add, z alone). `ends`: the springs' ends as
+/// byte offsets (SpringForceField::end_offsets_).
 template <SpringArithmetic Arithmetic, class Stiffness>
-[[gnu::target("avx")]] void spring_dforce_avx(const Spring* springs, const Stiffness* dfdx, std::size_t count, Vec3* df1,
-                                              Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor) {
+[[gnu::target("avx")]] void spring_dforce_avx(const std::array<std::ptrdiff_t, 2>* ends, const Stiffness* dfdx, std::size_t count,
+                                              Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor) {
     const __m256d k = _mm256_set1_pd(k_factor);
     for (std::size_t i = 0; i < count; ++i) {
-        const auto a = static_cast<std::size_t>(springs[i].a);  // read once: the stores into df may alias
-        const auto b = static_cast<std::size_t>(springs[i].b);
-        const double* dxa = dx1[a].data();
-        const double* dxb = dx2[b].data();
+        const std::ptrdiff_t a = ends[i][0];  // read once: the stores into df may alias
+        const std::ptrdiff_t b = ends[i][1];
+        const double* dxa = at(dx1, a);
+        const double* dxb = at(dx2, b);
         const __m256d u0 = _mm256_sub_pd(_mm256_broadcast_sd(dxb), _mm256_broadcast_sd(dxa));
         const __m256d u1 = _mm256_sub_pd(_mm256_broadcast_sd(dxb + 1), _mm256_broadcast_sd(dxa + 1));
         const __m256d u2 = _mm256_sub_pd(_mm256_broadcast_sd(dxb + 2), _mm256_broadcast_sd(dxa + 2));
@@ -252,10 +268,10 @@ template <SpringArithmetic Arithmetic, class Stiffness>
         }
         const __m128d d_xy = _mm256_castpd256_pd128(d);
         const __m128d d_z = _mm256_extractf128_pd(d, 1);
-        double* fa = df1[a].data();
+        double* fa = at(df1, a);
         _mm_storeu_pd(fa, _mm_add_pd(_mm_loadu_pd(fa), d_xy));
         _mm_store_sd(fa + 2, _mm_add_sd(_mm_load_sd(fa + 2), d_z));
-        double* fb = df2[b].data();
+        double* fb = at(df2, b);
         _mm_storeu_pd(fb, _mm_sub_pd(_mm_loadu_pd(fb), d_xy));
         _mm_store_sd(fb + 2, _mm_sub_sd(_mm_load_sd(fb + 2), d_z));
     }
@@ -263,28 +279,30 @@ template <SpringArithmetic Arithmetic, class Stiffness>
 #endif
 
 template <SpringArithmetic Arithmetic, class Stiffness>
-void spring_dforce_on(KernelPath path, const Spring* springs, const Stiffness* dfdx, std::size_t count, Vec3* df1,
-                      Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor) {
+void spring_dforce_on(KernelPath path, const Spring* springs, const std::array<std::ptrdiff_t, 2>* ends, const Stiffness* dfdx,
+                      std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor) {
 #ifdef PENALTY_HAS_AVX_LANES
     if (path == KernelPath::avx) {
-        spring_dforce_avx<Arithmetic>(springs, dfdx, count, df1, df2, dx1, dx2, k_factor);
+        spring_dforce_avx<Arithmetic>(ends, dfdx, count, df1, df2, dx1, dx2, k_factor);
         return;
     }
 #endif
     (void)path;
+    (void)ends;
     spring_dforce<Arithmetic>(springs, dfdx, count, df1, df2, dx1, dx2, k_factor);
 }
 }  // namespace
 
 void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
                                   double /*b_factor*/) const {
-    PENALTY_DEMAND(dfdx_.size() == springs_.size());
+    PENALTY_DEMAND(dfdx_.size() == springs_.size() && end_offsets_.size() == springs_.size());
     if (arithmetic_ == SpringArithmetic::quadular_bending_springs)
-        spring_dforce_on<SpringArithmetic::quadular_bending_springs>(kernel_path_, springs_.data(), dfdx_.data(), springs_.size(),
-                                                                     df1.data(), df2.data(), dx1.data(), dx2.data(), k_factor);
+        spring_dforce_on<SpringArithmetic::quadular_bending_springs>(kernel_path_, springs_.data(), end_offsets_.data(), dfdx_.data(),
+                                                                     springs_.size(), df1.data(), df2.data(), dx1.data(), dx2.data(),
+                                                                     k_factor);
     else
-        spring_dforce_on<SpringArithmetic::spring_force_field>(kernel_path_, springs_.data(), dfdx_.data(), springs_.size(),
-                                                               df1.data(), df2.data(), dx1.data(), dx2.data(), k_factor);
+        spring_dforce_on<SpringArithmetic::spring_force_field>(kernel_path_, springs_.data(), end_offsets_.data(), dfdx_.data(),
+                                                               springs_.size(), df1.data(), df2.data(), dx1.data(), dx2.data(), k_factor);
 }
 
 void SpringForceField::add_stiffness_triplets(TripletList& t, Index o1, Index o2, double factor) const {
