@@ -1,6 +1,7 @@
 #include "penalty/mechanics/spring_force_field.hpp"
 
 #include <cmath>
+#include <limits>
 #include <set>
 #include <utility>
 
@@ -14,7 +15,13 @@ void SpringForceField::add_spring(const Spring& s) {
     if (!std::isfinite(s.rest_length) || s.rest_length < 0)
         throw_invalid_argument("SpringForceField: rest length must be finite and >= 0, got ", s.rest_length);
     if (s.a < 0 || s.b < 0) throw_invalid_argument("SpringForceField: negative spring index (", s.a, ", ", s.b, ")");
+    // no state has that many DOFs (init checks the real sizes); keeps a·sizeof(Vec3) in range
+    constexpr auto kLargestIndex = std::numeric_limits<std::ptrdiff_t>::max() / std::ptrdiff_t(sizeof(Vec3));
+    if (s.a > kLargestIndex || s.b > kLargestIndex)
+        throw_invalid_argument("SpringForceField: spring index (", s.a, ", ", s.b, ") larger than any state");
     springs_.push_back(s);
+    end_offsets_.push_back({static_cast<std::ptrdiff_t>(s.a) * std::ptrdiff_t(sizeof(Vec3)),
+                            static_cast<std::ptrdiff_t>(s.b) * std::ptrdiff_t(sizeof(Vec3))});
 }
 
 void SpringForceField::init() {
@@ -25,14 +32,6 @@ void SpringForceField::init() {
         }
     }
     dfdx_.assign(springs_.size(), StiffnessColumns{});
-    refresh_end_offsets();
-}
-
-void SpringForceField::refresh_end_offsets() {
-    end_offsets_.resize(springs_.size());
-    for (std::size_t i = 0; i < springs_.size(); ++i)
-        end_offsets_[i] = {static_cast<std::ptrdiff_t>(springs_[i].a) * std::ptrdiff_t(sizeof(Vec3)),
-                           static_cast<std::ptrdiff_t>(springs_[i].b) * std::ptrdiff_t(sizeof(Vec3))};
 }
 
 void SpringForceField::set_kernel_path(KernelPath path) {
@@ -185,7 +184,6 @@ template <SpringArithmetic Arithmetic, class Stiffness>
 void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
                                  ConstVec3Span v2) {
     dfdx_.resize(springs_.size());
-    refresh_end_offsets();
     energy_ = 0.0;
     std::size_t done = 0;
 #ifdef PENALTY_HAS_AVX_LANES

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 namespace penalty {
@@ -25,6 +26,9 @@ TEST(SpringForceField, ForceMatchesFormulaAndSign) {
     EXPECT_NEAR(ff.potential_energy(), 0.5 * 10 * 0.25, 1e-14);
     EXPECT_THROW(ff.add_spring({0, 1, -1.0, 0, 1}), std::invalid_argument);
     EXPECT_THROW(ff.add_spring({0, 1, 1.0, NAN, 1}), std::invalid_argument);
+    // an index no state can have (its byte offset would overflow) is refused at once
+    EXPECT_THROW(ff.add_spring({0, std::numeric_limits<Index>::max(), 1.0, 0, 1}), std::invalid_argument);
+    EXPECT_EQ(ff.springs().size(), 1u);
     ff.add_spring({0, 5, 1.0, 0, 1});
     EXPECT_THROW(ff.init(), std::invalid_argument);
 }

@@ -82,10 +82,9 @@ private:
     std::vector<Spring> springs_;
     std::vector<StiffnessColumns> dfdx_;  ///< m per spring, from the last add_force
     /// Each spring's ends as byte offsets into the Vec3 arrays (a·sizeof(Vec3), b·sizeof(Vec3)),
-    /// from init and the last add_force: the vector product's addresses without a
-    /// multiplication, and 16 bytes a spring to stream instead of the Spring's 40.
+    /// made by add_spring: the vector product's addresses without a multiplication, and 16
+    /// bytes a spring to stream instead of the Spring's 40.
     std::vector<std::array<std::ptrdiff_t, 2>> end_offsets_;
-    void refresh_end_offsets();
     double energy_ = 0.0;
     double null_length_ = 1e-9;
     SpringArithmetic arithmetic_ = SpringArithmetic::spring_force_field;
