@@ -103,19 +103,20 @@ struct Simplex {
 // and sets the barycentric weights. Returns true if the origin is inside a full tetrahedron.
 bool reduce(Simplex& s, Vec3& v) {
     const Vec3 origin = Vec3::Zero();
+    // s becomes its vertices idx (in that order) with weights lam, the weights past them 0
     auto keep = [&s](std::initializer_list<int> idx, std::initializer_list<double> lam) {
-        Simplex t;
+        const Simplex old = s;
         int k = 0;
         auto li = lam.begin();
+        s.lambda = {};
         for (int i : idx) {
-            t.w[k] = s.w[i];
-            t.a[k] = s.a[i];
-            t.b[k] = s.b[i];
-            t.lambda[k] = *li++;
+            s.w[k] = old.w[i];
+            s.a[k] = old.a[i];
+            s.b[k] = old.b[i];
+            s.lambda[k] = *li++;
             ++k;
         }
-        t.n = k;
-        s = t;
+        s.n = k;
     };
     if (s.n == 1) {
         s.lambda[0] = 1.0;
@@ -163,14 +164,7 @@ bool reduce(Simplex& s, Vec3& v) {
                 bk = k;
             }
         }
-        Simplex t;
-        for (int i = 0; i < 3; ++i) {
-            t.w[i] = s.w[kFace[bk][i]];
-            t.a[i] = s.a[kFace[bk][i]];
-            t.b[i] = s.b[kFace[bk][i]];
-        }
-        t.n = 3;
-        s = t;
+        keep({kFace[bk][0], kFace[bk][1], kFace[bk][2]}, {0.0, 0.0, 0.0});  // the face, weighed by reduce
         return reduce(s, v);
     }
     v.setZero();
