@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <iterator>
+#include <sstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -222,7 +222,9 @@ namespace {
 TEST(ComponentRegistry, FuzzDictionaryCoversTheRegistry) {
     std::ifstream in(std::string(PENALTY_SOURCE_DIR) + "/fuzz/scene.dict");
     ASSERT_TRUE(in) << "fuzz/scene.dict (scripts/update-fuzz-dictionary.py adds what it lacks)";
-    const std::string dict((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ostringstream text;
+    text << in.rdbuf();
+    const std::string dict = text.str();
     std::size_t entries = 0;
     for (const ComponentSpec& s : component_registry()) {
         EXPECT_NE(dict.find("\"<" + std::string(s.type) + " \""), std::string::npos) << "tag " << s.type;

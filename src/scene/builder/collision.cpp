@@ -98,7 +98,10 @@ std::string describe_model(SceneBuilder& b, const CollisionModel& m, const std::
     if (!p.active) out += ", inactive";
     if (!p.group.empty()) {
         out += ", group";
-        for (int g : p.group) out += " " + std::to_string(g);
+        for (int g : p.group) {
+            out += ' ';
+            out += std::to_string(g);
+        }
     }
     if (!p.contact_response.empty()) out += ", contactResponse " + p.contact_response;
     std::string in;
