@@ -126,4 +126,32 @@ TEST(SceneRobustness, HugeSizesAreRefusedBeforeAllocating) {
               "huge.scn:3: CGLinearSolver: attribute 'iterations': must be between 1 and 1000000");
 }
 
+TEST(SceneRobustness, SpringIndicesBeyondAPointIndexAreRefusedAsTheAttribute) {
+    // SpringForceField's `spring` list is read as numbers: an index past PointId's range (which
+    // no integer type of the springs could hold, 2⁶³ here) is the attribute's error, like
+    // indices1/indices2's, not a conversion out of range
+    const auto error_of = [](const std::string& spring) -> std::string {
+        try {
+            (void)scene::build_scene(io::parse_scene_string(R"(<Node name="root">
+  <EulerImplicitSolver/><CGLinearSolver/>
+  <MechanicalObject position="0 0 0  1 0 0"/>
+  <UniformMass totalMass="1"/>
+  <SpringForceField spring=")" + spring + R"("/>
+</Node>)",
+                                                            "springs.scn"));
+        } catch (const io::SceneError& e) {
+            return e.what();
+        }
+        return "no error";
+    };
+    const std::string refused = "springs.scn:5: SpringForceField: attribute 'spring': indices must be integers from 0 to 2147483647";
+    EXPECT_EQ(error_of("0 9223372036854775808 100 1 1"), refused);
+    EXPECT_EQ(error_of("2147483648 1 100 1 1"), refused);
+    EXPECT_EQ(error_of("0 -1 100 1 1"), refused);
+    EXPECT_EQ(error_of("0 1.5 100 1 1"), refused);
+    EXPECT_EQ(error_of("0 1 100 1 1"), "no error");
+    // in PointId's range but past the state: the force field's own check at init
+    EXPECT_NE(error_of("0 2147483647 100 1 1").find("out of range for states of 2 and 2 DOFs"), std::string::npos);
+}
+
 }  // namespace

@@ -14,6 +14,7 @@
 #include "scene/builder/scene_builder.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace penalty::scene::builder {
@@ -195,8 +196,10 @@ std::vector<Spring> explicit_springs(const Attributes& a) {
         const std::vector<double> v = a.numbers("spring");
         if (v.size() % 5 != 0) a.fail("spring", "needs 5 numbers per spring (m1 m2 ks kd L)");
         for (std::size_t i = 0; i < v.size(); i += 5) {
+            // as indices1/indices2 (io::get_indices): integers from 0 to PointId's largest
             for (std::size_t j = 0; j < 2; ++j)
-                if (!(v[i + j] >= 0) || v[i + j] != std::floor(v[i + j])) a.fail("spring", "indices must be integers >= 0");
+                if (!(v[i + j] >= 0) || v[i + j] != std::floor(v[i + j]) || v[i + j] > double(std::numeric_limits<PointId>::max()))
+                    a.fail("spring", "indices must be integers from 0 to " + std::to_string(std::numeric_limits<PointId>::max()));
             springs.push_back({.a = static_cast<Index>(v[i]), .b = static_cast<Index>(v[i + 1]), .ks = v[i + 2],
                                .kd = v[i + 3], .rest_length = v[i + 4]});
         }
