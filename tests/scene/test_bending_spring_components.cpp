@@ -117,6 +117,16 @@ TEST(BendingSpringComponents, TriangleAndQuadBendingSpringsReadTheFirstStiffness
     EXPECT_LT(sag_after(*q, 20), -1e-3);
     EXPECT_LT(sag_after(*t, 20), -1e-3);
     EXPECT_THROW(build(cloth_scene(R"(<QuadBendingSprings localRange="1"/>)")), io::SceneError);
+    // ends that are not ints are the attribute's error, never a conversion out of range
+    for (const char* range : {"0 1e19", "-1e10 2", "0.5 2", "2147483648 3"}) {
+        try {
+            (void)build(cloth_scene("<QuadBendingSprings localRange=\"" + std::string(range) + "\"/>"));
+            ADD_FAILURE() << range << " was accepted";
+        } catch (const io::SceneError& e) {
+            EXPECT_THAT(e.what(), HasSubstr("QuadBendingSprings: attribute 'localRange': expected integers from -2147483648 to 2147483647"))
+                << range;
+        }
+    }
     EXPECT_THROW(build(cloth_scene(R"(<TriangleBendingSprings stiffness="-5"/>)")), io::SceneError);
 }
 

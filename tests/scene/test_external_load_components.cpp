@@ -133,6 +133,17 @@ TEST(ExternalLoadComponents, SofaFallbacksAndErrors) {
     const std::vector<std::string> w = s->warnings();
     EXPECT_TRUE(std::any_of(w.begin(), w.end(), [](const std::string& x) { return x.find("SOFA uses 500") != std::string::npos; }));
     EXPECT_TRUE(std::any_of(w.begin(), w.end(), [](const std::string& x) { return x.find("localRange") != std::string::npos; }));
+    // ends that are not ints are the attribute's error, never a conversion out of range
+    for (const char* range : {"0 1e19", "-1e10 2", "0.5 2"}) {
+        try {
+            (void)build(particles_scene("0 0 0", "<PlaneForceField localRange=\"" + std::string(range) + "\"/>"));
+            ADD_FAILURE() << range << " was accepted";
+        } catch (const io::SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find("PlaneForceField: attribute 'localRange': expected integers from -2147483648 to 2147483647"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
     // no force given, a count mismatch, an index out of range, a Rigid3d template
     EXPECT_THROW(build(particles_scene("0 0 0", "<ConstantForceField indices='0'/>")), io::SceneError);
     EXPECT_THROW(build(particles_scene("0 0 0  1 1 1", "<ConstantForceField indices='0 1' forces='1 0 0  0 1 0  0 0 1'/>")),

@@ -2,6 +2,8 @@
 // naming helpers they share.
 #include "scene/builder/scene_builder.hpp"
 
+#include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -102,6 +104,17 @@ std::optional<std::string> Attributes::optional_text(std::string_view name) cons
     return io::get_string(component_, declared(name).name);
 }
 std::vector<double> Attributes::numbers(std::string_view name) const { return io::get_doubles(component_, declared(name).name); }
+std::vector<int> Attributes::as_ints(std::string_view name, const std::vector<double>& values) const {
+    std::vector<int> out;
+    out.reserve(values.size());
+    for (const double v : values) {
+        if (!(v >= double(std::numeric_limits<int>::min()) && v <= double(std::numeric_limits<int>::max())) || v != std::floor(v))
+            fail(name, "expected integers from " + std::to_string(std::numeric_limits<int>::min()) + " to " +
+                           std::to_string(std::numeric_limits<int>::max()) + ", found " + num(v));
+        out.push_back(static_cast<int>(v));
+    }
+    return out;
+}
 std::vector<PointId> Attributes::indices(std::string_view name) const { return io::get_indices(component_, declared(name).name); }
 std::vector<Vec3> Attributes::points(std::string_view name) const { return io::get_vec3_list(component_, declared(name).name); }
 std::vector<RigidFrame> Attributes::frames(std::string_view name) const {

@@ -132,7 +132,8 @@ void build_quad_bending_springs(SceneBuilder& b, const SceneComponent& c, NodeBu
         const double kd = first_of(a, "damping");
         const std::vector<double> range_values = numbers_or_default(a, "localRange");
         if (range_values.size() != 2) a.fail("localRange", "needs two integers");
-        const LocalRange range{static_cast<int>(range_values[0]), static_cast<int>(range_values[1])};
+        const std::vector<int> ends = a.as_ints("localRange", range_values);
+        const LocalRange range{ends[0], ends[1]};
         const MeshTopology& topology = b.topology_of(a, info);
         // springs from the positions at init (QuadBendingSprings::addSpring)
         SpringForceField& ff = add_topology_springs(b, c, info, s, [&topology, ks, kd, range](const Vec3Object& state) {

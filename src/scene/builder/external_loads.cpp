@@ -59,7 +59,8 @@ void build_plane_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild
         if (a.has("localRange")) {
             const std::vector<double> range = a.numbers("localRange");
             if (range.size() != 2) a.fail("localRange", "expected 2 indices");
-            const std::array<int, 2> r = {static_cast<int>(range[0]), static_cast<int>(range[1])};
+            const std::vector<int> ends = a.as_ints("localRange", range);
+            const std::array<int, 2> r = {ends[0], ends[1]};
             // PlaneForceField::init: a set range must be two non-negative indices in order, else none
             if (r[0] < 0 || r[1] < 0 || r[0] > r[1])
                 b.warn(c.describe() + ": localRange is not two indices in order; SOFA ignores it");

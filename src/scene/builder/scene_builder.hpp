@@ -67,6 +67,9 @@ public:
     [[nodiscard]] std::string text(std::string_view name) const;
     [[nodiscard]] std::optional<std::string> optional_text(std::string_view name) const;
     [[nodiscard]] std::vector<double> numbers(std::string_view name) const;
+    /// `values` (read from attribute `name`) as ints: each an integer in int's range, else the
+    /// attribute's error (no conversion out of range).
+    [[nodiscard]] std::vector<int> as_ints(std::string_view name, const std::vector<double>& values) const;
     [[nodiscard]] std::vector<PointId> indices(std::string_view name) const;
     [[nodiscard]] std::vector<Vec3> points(std::string_view name) const;
     [[nodiscard]] std::vector<RigidFrame> frames(std::string_view name) const;
