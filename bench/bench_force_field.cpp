@@ -16,6 +16,7 @@ namespace penalty {
 namespace {
 
 struct BenchScene {
+    explicit BenchScene(const PenaltyParameters& parameters) : ff(parameters) {}
     Vec3List x1, x2, v1, v2, f1, f2, dx1, dx2;
     PenaltyForceField ff;
 };
@@ -23,7 +24,7 @@ struct BenchScene {
 BenchScene make_scene(std::size_t contacts, bool shuffled, PenaltyParameters parameters = {}) {
     std::mt19937 rng(12345);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    BenchScene s{.ff = PenaltyForceField(parameters)};
+    BenchScene s(parameters);
     const std::size_t n = contacts;  // one contact per DOF pair
     auto random_list = [&] {
         Vec3List list(n);
