@@ -87,7 +87,7 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
     // 1. The cell of each surface vertex is BOUNDARY; a vertex outside the grid is moved half a
     //    cell inside (SOFA: within FLT_EPSILON of a face) and only looked up.
     const Vec3 half_cell = grid.spacing() / 2;
-    const double eps = std::numeric_limits<float>::epsilon();
+    const double eps = static_cast<double>(std::numeric_limits<float>::epsilon());  // SOFA: FLT_EPSILON
     std::vector<std::array<int, 3>> vertex_cell(positions.size());
     for (std::size_t i = 0; i < positions.size(); ++i) {
         auto found = regular_cell(grid, positions[i]);
