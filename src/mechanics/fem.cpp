@@ -442,9 +442,9 @@ struct LaneMaterial {
 /// coordinates `rest` (rest[1].x, rest[2].x, rest[2].y, rest[3].x, rest[3].y, rest[3].z),
 /// F = element_force_of(δ), Rᵀ·F by [vertex][component] (sofa_vec::transpose_times) and the
 /// element energies (large_element_energy).
-[[gnu::target("avx")]] void large_force_avx(detail::TetrahedronLargeBlock& block, double* rotation8, std::size_t rotation8_stride,
-                                            const Vec3* x, const Lanes4 (&rest)[6], Lanes4 (&r)[9], Lanes4 (&delta)[12],
-                                            Lanes4 (&force)[12], Lanes4 (&back)[4][3], Lanes4& energy) {
+[[gnu::target("avx")]] void large_force_avx(detail::TetrahedronLargeBlock& block, double* rotation8, const Vec3* x,
+                                            const Lanes4 (&rest)[6], Lanes4 (&r)[9], Lanes4 (&delta)[12], Lanes4 (&force)[12],
+                                            Lanes4 (&back)[4][3], Lanes4& energy) {
     Lanes4 p[4][3];
     for (std::size_t v = 0; v < 4; ++v)
         for (std::size_t c = 0; c < 3; ++c) {
@@ -466,7 +466,7 @@ struct LaneMaterial {
     }
     for (std::size_t i = 0; i < 9; ++i) {
         _mm256_store_pd(block.rotation[i].data(), r[i]);
-        if (rotation8) _mm256_store_pd(rotation8 + i * rotation8_stride, r[i]);
+        if (rotation8) _mm256_store_pd(rotation8 + i * detail::TetrahedronLargeBlock8::kLanes, r[i]);
     }
     // each vertex rotated (sofa_vec::times), then δ = rest − (R·p_k − R·p_0) in the entries J couples
     Lanes4 deformed[4][3];
@@ -650,7 +650,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
             // R into both blocks (the eight-lane block's half of this block's elements, lanes
             // past the last element included: their products are never added)
             double* rotation8 = large_blocks8_.empty() ? nullptr : large_blocks8_[first / 8].rotation[0].data() + first % 8;
-            large_force_avx(large_blocks_[first / 4], rotation8, 8, x.data(), rest, r, delta, force, back, energy);
+            large_force_avx(large_blocks_[first / 4], rotation8, x.data(), rest, r, delta, force, back, energy);
             for (std::size_t lane = 0; lane < lanes; ++lane) {
                 const std::size_t e = first + lane;
                 Mat3& rotation = rotation_[e];
