@@ -200,7 +200,7 @@ TEST(ViewerWriter, LinksInTheDirectoryAreReplacedNeverWrittenThrough) {
     for (const std::string& name : names)
         EXPECT_TRUE(test::read_text(dir.path() / ("victim-" + name)) == "precious")
             << "the file the link DIR/" << name << " points to was written through";
-    for (const std::string& name : {"index.html", "viewer.js", "topology.u32", "positions.f32", "contacts.f32", "run.json"}) {
+    for (const char* name : {"index.html", "viewer.js", "topology.u32", "positions.f32", "contacts.f32", "run.json"}) {
         EXPECT_FALSE(std::filesystem::is_symlink(view / name)) << name;
         EXPECT_TRUE(std::filesystem::is_regular_file(view / name)) << name;
     }
