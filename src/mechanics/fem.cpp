@@ -1,5 +1,5 @@
 #include "penalty/mechanics/fem.hpp"
-#include "penalty/core/avx_lanes.hpp"
+#include "kernels/lanes.hpp"
 
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "sofa_vector_ops.hpp"

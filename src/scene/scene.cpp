@@ -26,6 +26,10 @@ void Scene::step() {
     const auto t0 = std::chrono::steady_clock::now();
     simulation_->step();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const ScenePipeline& p : pipelines_) {
+        timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
+        timings_.response_seconds += p.pipeline->last_timings().response_seconds;
+    }
     timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
     solver_stats_ = StepSolverStats{};
     for (const EulerImplicitSolver* s : implicit_solvers_) {

@@ -43,7 +43,6 @@ public:
         }
         describe_pieces();
         attach_newton();
-        if (!b_.pipelines().empty()) b_.install_collision_hook();
     }
 
 private:
@@ -128,7 +127,8 @@ private:
         ContactPipelineOptions options;
         options.detection = b_.options().exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = b_.options().threads;
-        options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
+        // registered as the simulation's contact stage: Simulation::step runs the pipelines in
+        // the order they are made here, scene order (SOFA's composite pipeline)
         options.sofa_stable_id_order = b_.options().sofa_head_orders;
         // SOFA's bounding-tree depth (CollisionPipeline / SubCollisionPipeline `depth`): the
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6

@@ -81,17 +81,6 @@ void SceneBuilder::add_init(int phase, const SceneComponent& c, std::function<vo
     init_steps_.push_back({phase, std::move(init), &c});
 }
 
-void SceneBuilder::install_collision_hook() {
-    Scene* scene = &scene_;
-    simulation().collision_hook = [scene](Simulation&) {
-        for (ScenePipeline& p : scene->pipelines_) {
-            p.pipeline->update();
-            scene->timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
-            scene->timings_.response_seconds += p.pipeline->last_timings().response_seconds;
-        }
-    };
-}
-
 void SceneBuilder::record_implicit_solver(EulerImplicitSolver& s, const Node& n) {
     scene_.implicit_solvers_.push_back(&s);
     scene_.implicit_solver_paths_.push_back(node_path(n));

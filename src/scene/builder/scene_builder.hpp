@@ -183,9 +183,6 @@ public:
     void add_collision_model(SceneCollisionModel model) { scene_.models_.push_back(std::move(model)); }
     [[nodiscard]] std::vector<SceneCollisionModel>& collision_models() { return scene_.models_; }
     [[nodiscard]] std::vector<ScenePipeline>& pipelines() { return scene_.pipelines_; }
-    /// Runs every pipeline at the start of each step (SOFA's composite) and adds its timings to
-    /// the scene's.
-    void install_collision_hook();
     void add_pipeline_component(const io::SceneComponent& c) { pipeline_components_.push_back(&c); }
     void add_intersection(const io::SceneComponent& c, const IntersectionParams& p) { intersections_[&c] = p; }
     [[nodiscard]] const IntersectionParams& intersection_params(const io::SceneComponent& c) const {

@@ -1,6 +1,6 @@
-#include "penalty/collision/triangle_normals.hpp"
+#include "kernels/collision/triangle_normals.hpp"
 
-#include "penalty/core/avx_lanes.hpp"
+#include "kernels/lanes.hpp"
 #include "penalty/core/error.hpp"
 
 namespace penalty::detail {

@@ -3,7 +3,7 @@
 // kernel, at an alarm distance that every pair is within, gives an output, on both paths, and
 // the AVX path keeps the scalar path's candidates.
 #include "fixtures.hpp"
-#include "penalty/collision/candidate_filters.hpp"
+#include "kernels/collision/candidate_filters.hpp"
 
 #include <gtest/gtest.h>
 

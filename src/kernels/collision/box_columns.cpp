@@ -1,6 +1,6 @@
-#include "penalty/collision/box_columns.hpp"
+#include "kernels/collision/box_columns.hpp"
 
-#include "penalty/core/avx_lanes.hpp"
+#include "kernels/lanes.hpp"
 
 namespace penalty::detail {
 

@@ -5,10 +5,10 @@
 // (CompositeCollisionPipeline_none, spheres against tori: 80 % of the Triangle–Sphere
 // candidates, whose centre projects onto a vertex or an edge that another triangle owns), and
 // the filter costs a fraction of the kernel a candidate.
-#include "penalty/collision/candidate_filters.hpp"
+#include "kernels/collision/candidate_filters.hpp"
 
-#include "kernels.hpp"
-#include "penalty/core/avx_lanes.hpp"
+#include "collision/kernels.hpp"
+#include "kernels/lanes.hpp"
 #include "penalty/core/error.hpp"
 
 namespace penalty::detail {

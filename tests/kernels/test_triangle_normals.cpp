@@ -3,7 +3,7 @@
 // non-finite triangles; and TriangleModel::update() computing them once per call.
 #include "fixtures.hpp"
 #include "penalty/collision/models.hpp"
-#include "penalty/collision/triangle_normals.hpp"
+#include "kernels/collision/triangle_normals.hpp"
 #include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,8 @@
 // on both sides of the columns' capacity.
 #include "detection_scenes.hpp"
 #include "fixtures.hpp"
-#include "penalty/collision/box_columns.hpp"
+#include "kernels/box_overlap.hpp"
+#include "kernels/collision/box_columns.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
 
 #include <gtest/gtest.h>
@@ -72,8 +73,8 @@ TEST(BoxColumns, VectorMaskEqualsScalarMaskAndOverlapsForEveryColumnCount) {
     EXPECT_LT(rate, 0.85);
 }
 
-// Aabb::overlaps_branch_free (the kept candidates' test, two comparisons an instruction with
-// SSE2) gives overlaps()'s answer on every pair: touching bounds, −0, NaN and infinite bounds,
+// boxes_overlap_branch_free (the kept candidates' test, two comparisons an instruction with
+// SSE2) and its scalar reference give overlaps()'s answer on every pair: touching bounds, −0, NaN and infinite bounds,
 // margins whose sums round, both argument orders.
 TEST(BoxColumns, BranchFreeOverlapTestEqualsOverlaps) {
     std::mt19937 g(20261125);
@@ -83,8 +84,10 @@ TEST(BoxColumns, BranchFreeOverlapTestEqualsOverlaps) {
         const Aabb a = random_box(g), b = random_box(g);
         const double m = margins[k % 5];
         const bool expected = a.overlaps(b, m);
-        ASSERT_EQ(a.overlaps_branch_free(b, m), expected) << "pair " << k;
-        ASSERT_EQ(b.overlaps_branch_free(a, m), b.overlaps(a, m)) << "pair " << k;
+        ASSERT_EQ(detail::boxes_overlap_branch_free(a, b, m), expected) << "pair " << k;
+        ASSERT_EQ(detail::boxes_overlap_branch_free(b, a, m), b.overlaps(a, m)) << "pair " << k;
+        ASSERT_EQ(detail::boxes_overlap_branch_free_scalar(a, b, m), expected) << "pair " << k;
+        ASSERT_EQ(detail::boxes_overlap_branch_free_scalar(b, a, m), b.overlaps(a, m)) << "pair " << k;
         ++tests;
         hits += expected ? 1 : 0;
         for (int i = 0; i < 3; ++i) {

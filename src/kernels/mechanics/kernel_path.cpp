@@ -1,6 +1,6 @@
 #include "penalty/mechanics/kernel_path.hpp"
 
-#include "penalty/core/avx_lanes.hpp"
+#include "kernels/lanes.hpp"
 
 namespace penalty {
 

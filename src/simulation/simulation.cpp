@@ -1,0 +1,49 @@
+#include "penalty/simulation/simulation.hpp"
+
+#include "penalty/core/error.hpp"
+#include "penalty/simulation/ode_solver.hpp"
+
+#include "simulation_internal.hpp"
+
+#include <algorithm>
+
+namespace penalty {
+
+Simulation::Simulation() : root_("root") {}
+Simulation::~Simulation() = default;
+
+void Simulation::set_threads(int threads) {
+    if (threads < 0 || threads > kMaxThreads)
+        throw_invalid_argument("Simulation: threads must be between 0 and ", kMaxThreads, ", got ", threads);
+    if (threads != threads_) arena_.reset();
+    threads_ = threads;
+}
+
+void Simulation::init() {
+    detail::for_each_node(root_, [](Node& n) {
+        if (n.mapping()) {
+            n.mapping()->init();
+        } else if (n.state()) {
+            n.state()->init();
+        }
+    });
+    detail::for_each_node(root_, [](Node& n) {
+        if (n.mass()) n.mass()->init();
+        for (const auto& ff : n.force_fields()) ff->init();
+        for (const auto& c : n.constraints()) c->init();
+        if (n.ode_solver()) n.ode_solver()->init(n);
+    });
+    initialized_ = true;
+}
+
+void Simulation::add_contact_stage(ContactStage& stage) {
+    if (std::find(contact_stages_.begin(), contact_stages_.end(), &stage) != contact_stages_.end())
+        throw_invalid_argument("Simulation: the contact stage is already registered");
+    contact_stages_.push_back(&stage);
+}
+
+void Simulation::remove_contact_stage(const ContactStage& stage) {
+    std::erase(contact_stages_, &stage);
+}
+
+}  // namespace penalty
