@@ -403,18 +403,9 @@ std::optional<std::string> unknown_option(CLI::App& sub, int argc, char** argv) 
     return std::nullopt;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    // `penalty sweep ...`: parameter sweeps on Dask run in the Python module (docs/sweeps.md).
-    if (is_python_scene_command(argc, argv) || (argc >= 2 && std::strcmp(argv[1], "sweep") == 0))
-        return run_python_scene(argc, argv);
-    CLI::App app{"penalty: fast, validated penalty-based contact for deformable and rigid bodies"};
-    app.require_subcommand(1);
-    app.set_version_flag("--version", std::string("penalty ") + PENALTY_VERSION);
-
-    RunArguments args;
-    auto* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
+/// The `run` subcommand and its options, bound to `args`.
+CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
+    CLI::App* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
     run->add_option("scene", args.scene, "SOFA .scn file (or SofaPython3 .py script, run by the Python module)")->check(CLI::ExistingFile);
     run->add_option("--steps", args.steps, "Number of time steps (default 100; 400 for the built-in scene)")
         ->check(integer_in(0, kMaxSteps));
@@ -465,6 +456,21 @@ int main(int argc, char** argv) {
     run->add_flag("--no-serve", args.no_serve, "With --view: only write the files")->needs(view_option);
     run->add_option("--port", args.port, "With --view: the port to serve on (default: a free one)")
         ->check(CLI::Range(0, 65535))->needs(view_option);
+    return run;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // `penalty sweep ...`: parameter sweeps on Dask run in the Python module (docs/sweeps.md).
+    if (is_python_scene_command(argc, argv) || (argc >= 2 && std::strcmp(argv[1], "sweep") == 0))
+        return run_python_scene(argc, argv);
+    CLI::App app{"penalty: fast, validated penalty-based contact for deformable and rigid bodies"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("penalty ") + PENALTY_VERSION);
+
+    RunArguments args;
+    CLI::App* run = add_run_command(app, args);
 
     std::string view_dir;
     int view_port = 0;

@@ -25,6 +25,7 @@ import multiprocessing
 import os
 import sys
 import time
+import uuid
 from pathlib import Path
 
 #: Metric columns of every row, in order (docs/sweeps.md describes them).
@@ -465,44 +466,8 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
             todo.append(spec)
 
     report = _progress_reporter(progress, len(specs))
-    done_count = len(specs) - len(todo)
     if todo:
-        from distributed import Client, as_completed
-        own_cluster = None
-        own_client = None
-        if client is None:
-            _refuse_unguarded_main()
-            own_cluster = _cluster_without_interrupts(workers)
-        try:
-            if own_cluster is not None:
-                own_client = client = Client(own_cluster)
-                client.register_worker_plugin(IgnoreInterrupts())
-            elif isinstance(client, str):
-                own_client = client = Client(client)
-            futures = {}
-            for spec in todo:
-                f = client.submit(run_task, spec, key=f"penalty-sweep-{spec['task']}", pure=False, retries=retries)
-                futures[f] = spec
-            for f in as_completed(list(futures)):
-                spec = futures[f]
-                try:
-                    row = f.result()
-                except Exception as e:  # noqa: BLE001 - e.g. KilledWorker after the retries: still a row
-                    row = {"task": spec["task"], **spec["overrides"], **{m: None for m in METRICS},
-                           "status": "lost", "message": f"{type(e).__name__}: {e}", "steps_done": 0}
-                row["index"] = spec["index"]
-                row["resumed"] = False
-                rows[spec["index"]] = row
-                done_count += 1
-                report(done_count, row)
-        finally:
-            if own_client is not None:
-                own_client.close()
-            if own_cluster is not None:
-                own_cluster.close()
-            if out_dir is not None:  # a worker that died during this sweep left its partial files
-                for spec in todo:
-                    remove_partial_files(out_dir, spec["task"])
+        _run_on_dask(todo, rows, client, workers, retries, report, out_dir)
     report(None, None)
 
     df = pd.DataFrame(rows)
@@ -514,6 +479,51 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
         # %.17g: every float written exactly (read it back with float_precision="round_trip").
         df.to_csv(out_dir / "results.csv", index=False, float_format="%.17g")
     return df
+
+
+def _run_on_dask(todo, rows, client, workers, retries, report, out_dir):
+    """Runs the specs of `todo` as Dask tasks and puts each row into rows[spec["index"]] as it
+    completes (a task Dask gave up on is a "lost" row); `client` None starts (and closes) a
+    LocalCluster of `workers` processes, a string connects to that scheduler."""
+    from distributed import Client, as_completed
+    own_cluster = None
+    own_client = None
+    if client is None:
+        _refuse_unguarded_main()
+        own_cluster = _cluster_without_interrupts(workers)
+    done_count = sum(r is not None for r in rows)
+    try:
+        if own_cluster is not None:
+            own_client = client = Client(own_cluster)
+            client.register_worker_plugin(IgnoreInterrupts())
+        elif isinstance(client, str):
+            own_client = client = Client(client)
+        futures = {}
+        submission = uuid.uuid4().hex[:8]  # a key of its own: never an earlier sweep's result kept in memory
+        for spec in todo:
+            f = client.submit(run_task, spec, key=f"penalty-sweep-{spec['task']}-{submission}", pure=False,
+                              retries=retries)
+            futures[f] = spec
+        for f in as_completed(list(futures)):
+            spec = futures[f]
+            try:
+                row = f.result()
+            except Exception as e:  # noqa: BLE001 - e.g. KilledWorker after the retries: still a row
+                row = {"task": spec["task"], **spec["overrides"], **{m: None for m in METRICS},
+                       "status": "lost", "message": f"{type(e).__name__}: {e}", "steps_done": 0}
+            row["index"] = spec["index"]
+            row["resumed"] = False
+            rows[spec["index"]] = row
+            done_count += 1
+            report(done_count, row)
+    finally:
+        if own_client is not None:
+            own_client.close()
+        if own_cluster is not None:
+            own_cluster.close()
+        if out_dir is not None:  # a worker that died during this sweep left its partial files
+            for spec in todo:
+                remove_partial_files(out_dir, spec["task"])
 
 
 def _progress_reporter(progress, total):
