@@ -6,8 +6,10 @@ C++ command line: 0 success, 1 invalid scene or input, 2 command-line error, 3 d
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
+import shlex
 import sys
 import traceback
 
@@ -16,6 +18,7 @@ import penalty
 
 def _parser():
     p = argparse.ArgumentParser(prog="penalty", description="penalty: run SOFA scenes (.scn or SofaPython3 .py)")
+    p.add_argument("--version", action="version", version=f"penalty {penalty.__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="Run a scene headless")
     run.add_argument("scene")
@@ -31,6 +34,8 @@ def _parser():
     run.add_argument("--export-mapped", action="store_true")
     run.add_argument("--export-every", type=int, default=1)
     run.add_argument("--stats", default=None)
+    run.add_argument("--summary-json", default=None, metavar="FILE",
+                     help="Write the run's summary to FILE as JSON (what Scene.run returns, without history)")
     run.add_argument("--exhaustive", action="store_true")
     run.add_argument("--quiet", action="store_true")
     run.add_argument("--divergence-factor", type=float, default=100.0,
@@ -54,13 +59,18 @@ def _parser():
     sw.add_argument("--data-dir", action="append", default=[])
     sw.add_argument("--dt", type=float, default=None)
     sw.add_argument("--divergence-factor", type=float, default=100.0)
-    sw.add_argument("--retries", type=int, default=2, help="Dask retries of a task whose worker died (default 2)")
+    sw.add_argument("--retries", type=int, default=2, help=_retries_help())
     sw.add_argument("--no-resume", action="store_true", help="Run every task, even those with rows in --out")
     sw.add_argument("--quiet", action="store_true")
     info = sub.add_parser("info", help="Build a scene and describe it")
     info.add_argument("scene")
     info.add_argument("--data-dir", action="append", default=[])
     return p
+
+
+def _retries_help() -> str:
+    from .sweeps import RETRIES_HELP
+    return RETRIES_HELP.replace("%", "%%")
 
 
 def main(argv=None) -> int:
@@ -71,12 +81,12 @@ def main(argv=None) -> int:
         return 0 if e.code == 0 else 2
     if args.command == "run":
         # The same limits as the C++ command line (docs/reliability.md).
-        max_threads = max(64, 4 * (os.cpu_count() or 1))
+        max_threads = penalty._core.max_threads  # penalty::kMaxThreads, as the C++ command line
         problems = []
         if not 0 <= args.steps <= 1_000_000_000:
             problems.append(f"--steps: {args.steps} is out of range (0 to 1000000000)")
-        if args.dt is not None and not (math.isfinite(args.dt) and 0 < args.dt <= 86400):
-            problems.append(f"--dt: '{args.dt}' is out of range (0, 86400]")
+        if args.dt is not None and not (math.isfinite(args.dt) and penalty.MIN_DT <= args.dt <= penalty.MAX_DT):
+            problems.append(f"--dt: '{args.dt}' is out of range [1e-100, 86400]")
         if not 0 <= args.threads <= max_threads:
             problems.append(f"--threads: {args.threads} is out of range (1 to {max_threads})")
         for name, value in (("--vtk-every", args.vtk_every), ("--export-every", args.export_every)):
@@ -94,7 +104,7 @@ def main(argv=None) -> int:
                 print(f"penalty: error: {p}", file=sys.stderr)
             return 2
     if args.command == "sweep":
-        return _sweep_command(args)
+        return _sweep_command(args, argv)
     if args.command == "script":
         import runpy
         penalty._install_sofa_path()
@@ -125,6 +135,14 @@ def main(argv=None) -> int:
             print(f"vtk: series in {args.vtk} (open the .pvd files in ParaView)")
         if args.stats:
             print(f"stats: {args.stats}")
+        if args.summary_json:
+            try:
+                with open(args.summary_json, "w") as f:
+                    json.dump({k: v for k, v in summary.items() if k != "history"}, f, indent=2)
+            except OSError as e:
+                print(f"penalty: error: cannot write '{args.summary_json}': {e.strerror or e}", file=sys.stderr)
+                return 5
+            print(f"summary: {args.summary_json}")
         return 0
     except BrokenPipeError:  # output piped into e.g. `head`: stop quietly, as the C++ command line
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
@@ -132,6 +150,9 @@ def main(argv=None) -> int:
     except penalty.SceneError as e:
         print(f"penalty: error: {e}", file=sys.stderr)
         return 1
+    except OSError as e:  # an output that cannot be written (the C++ writers raise RuntimeError)
+        print(f"penalty: error: {e}", file=sys.stderr)
+        return 5
     except penalty.DivergedError as e:
         print(f"penalty: error: {e}", file=sys.stderr)
         return 3
@@ -145,7 +166,7 @@ def main(argv=None) -> int:
         return 5
 
 
-def _sweep_command(args) -> int:
+def _sweep_command(args, argv=None) -> int:
     """`penalty sweep`: exit 0 when every task ran (even when some rows failed: they are results),
     1 for an invalid scene path or grid, 2 for a command-line error, 5 when the sweep itself
     failed (e.g. no scheduler at the address)."""
@@ -182,6 +203,9 @@ def _sweep_command(args) -> int:
         return 2
     sets = sweeps.expand_grid(grid) if grid else [{}]
     sets = [{**fixed, **s} for s in sets]
+    if not 0 <= args.retries <= 100:
+        print(f"penalty: error: --retries: {args.retries} is out of range (0 to 100)", file=sys.stderr)
+        return 2
     print(f"penalty sweep: {args.scene}, {len(sets)} task(s) of {args.steps} steps, "
           + (f"scheduler {args.scheduler}" if args.scheduler else f"LocalCluster of {args.workers or os.cpu_count()} workers")
           + f", results in {args.out}", flush=True)
@@ -190,6 +214,16 @@ def _sweep_command(args) -> int:
                           workers=args.workers, data_dirs=args.data_dir, dt=args.dt,
                           divergence_factor=args.divergence_factor, retries=args.retries,
                           resume=not args.no_resume, progress=False if args.quiet else None)
+    except KeyboardInterrupt:
+        # Ctrl-C: the rows of the tasks that completed are in OUT/rows; the same command resumes.
+        done = len(list(os.scandir(os.path.join(args.out, "rows")))) if os.path.isdir(os.path.join(args.out, "rows")) else 0
+        command = shlex.join(["penalty", *(sys.argv[1:] if argv is None else argv)])
+        print(f"\npenalty sweep: interrupted; {done} completed row(s) kept in {os.path.join(args.out, 'rows')}.\n"
+              f"Resume (completed tasks are not run again) with:\n  {command}", file=sys.stderr)
+        return 130
+    except sweeps.OutputFolderError as e:
+        print(f"penalty: error: {e.strerror}", file=sys.stderr)
+        return 5
     except (ValueError, FileNotFoundError) as e:
         print(f"penalty: error: {e}", file=sys.stderr)
         return 1

@@ -5,6 +5,7 @@
 
 #include "penalty/io/overrides.hpp"
 #include "penalty/io/scene_file.hpp"
+#include "penalty/output/format.hpp"
 #include "penalty/output/stats_csv.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
@@ -14,6 +15,8 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <unistd.h>
@@ -75,11 +78,25 @@ py::array_t<double> rigid_copy(const std::vector<RigidFrame>& frames) {
     return out;
 }
 
+/// A ValueError naming `what` and the row when an array to write into a state is not finite.
+void check_finite(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, const char* what) {
+    const py::ssize_t columns = a.ndim() == 2 ? a.shape(1) : 1;
+    for (py::ssize_t i = 0; i < a.size(); ++i)
+        if (!std::isfinite(a.data()[i]))
+            throw py::value_error(std::string(what) + ": row " + std::to_string(i / std::max<py::ssize_t>(1, columns)) +
+                                  " holds " + output::format_number(a.data()[i]) + " (every value must be finite)");
+}
+
 void rigid_assign(std::vector<RigidFrame>& frames, const py::handle& value, const char* what) {
-    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
-    if (!a || a.ndim() != 2 || a.shape(0) != py::ssize_t(frames.size()) || a.shape(1) != 7)
+    (void)numeric_kind(value, what);
+    const auto a = numbers_array<double>(value, what);
+    if (a.ndim() != 2 || a.shape(0) != py::ssize_t(frames.size()) || a.shape(1) != 7)
         throw py::value_error(std::string(what) + ": expected shape (" + std::to_string(frames.size()) + ", 7)");
+    check_finite(a, what);
     auto r = a.unchecked<2>();
+    for (py::ssize_t i = 0; i < r.shape(0); ++i)
+        if (!(r(i, 3) * r(i, 3) + r(i, 4) * r(i, 4) + r(i, 5) * r(i, 5) + r(i, 6) * r(i, 6) > 0.0))
+            throw py::value_error(std::string(what) + ": frame " + std::to_string(i) + " has a zero quaternion");
     for (std::size_t i = 0; i < frames.size(); ++i) {
         frames[i].center = Vec3(r(py::ssize_t(i), 0), r(py::ssize_t(i), 1), r(py::ssize_t(i), 2));
         frames[i].orientation = Quat(r(py::ssize_t(i), 6), r(py::ssize_t(i), 3), r(py::ssize_t(i), 4), r(py::ssize_t(i), 5));
@@ -89,11 +106,12 @@ void rigid_assign(std::vector<RigidFrame>& frames, const py::handle& value, cons
 
 template <class T>
 void vec_assign(py::array_t<double> target, const py::handle& value, const char* what) {
-    auto src = py::array_t<double, py::array::forcecast>::ensure(value);
-    if (!src) throw py::type_error(std::string(what) + ": expected an array of numbers");
+    (void)numeric_kind(value, what);
+    const auto src = numbers_array<double>(value, what);
     if (src.ndim() != target.ndim() || src.shape(0) != target.shape(0) || src.shape(1) != target.shape(1))
         throw py::value_error(std::string(what) + ": expected shape (" + std::to_string(target.shape(0)) + ", " +
                               std::to_string(target.shape(1)) + ")");
+    check_finite(src, what);
     auto t = target.mutable_unchecked<2>();
     auto s = src.unchecked<2>();
     for (py::ssize_t i = 0; i < t.shape(0); ++i)
@@ -315,25 +333,9 @@ void print_progress(std::int64_t done, std::int64_t total, double time) {
     std::fflush(stderr);
 }
 
+/// The summary as `penalty run --summary-json` writes it (scene::summary_json: one definition).
 py::dict summary_dict(const scene::RunSummary& s) {
-    py::dict d;
-    d["steps"] = s.steps;
-    d["dt"] = s.dt;
-    d["simulated_time"] = s.simulated_time;
-    d["wall_seconds"] = s.wall_seconds;
-    d["detection_seconds"] = s.detection_seconds;
-    d["response_seconds"] = s.response_seconds;
-    d["solve_seconds"] = s.solve_seconds;
-    d["output_seconds"] = s.output_seconds;
-    d["mean_contacts"] = s.mean_contacts;
-    d["max_contacts"] = s.max_contacts;
-    d["max_penetration"] = s.max_penetration;
-    d["kinetic_energy"] = s.kinetic_energy;
-    d["contact_energy"] = s.contact_energy;
-    d["dissipated_energy"] = s.dissipated_energy;
-    d["state_files"] = s.state_files;
-    d["text"] = scene::format_summary(s);
-    return d;
+    return py::module_::import("json").attr("loads")(scene::summary_json(s));
 }
 
 }  // namespace
@@ -392,6 +394,18 @@ void bind_scene(py::module_& m) {
         })
         .def("contacts", [](const PyScene& s) { return contacts_dict(*s.scene); },
              "The live contacts after the last step, one row per contact (dict of arrays)")
+        .def("_contact_summary", [](const PyScene& s) {
+            // the per-step numbers of `penalty run --stats` (output::summarize_contacts)
+            const output::ContactSummary c = output::summarize_contacts(s.scene->contacts());
+            py::dict d;
+            d["contacts"] = c.contacts;
+            d["active_contacts"] = c.active_contacts;
+            d["max_penetration"] = c.max_penetration;
+            d["contact_energy"] = c.contact_energy;
+            d["dissipated_energy"] = c.dissipated_energy;
+            return d;
+        }, "After a step: contacts, active_contacts, max_penetration (m, at the positions after the step, "
+           "0 without a penetrating contact), contact_energy, dissipated_energy (J): --stats' columns")
         .def("energies", [](const PyScene& s) { return energies_dict(*s.scene); },
              "kinetic, contact (stored), dissipated_damping, dissipated_friction, dissipated (J)")
         .def("info", [](const PyScene& s) { return info_dict(*s.scene); }, "What `penalty info` prints, as data")

@@ -59,6 +59,7 @@ MeshData load_obj(const std::filesystem::path& path, bool triangulate, bool hand
 }
 
 MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate, bool handle_seams) {
+    text = detail::skip_byte_order_mark(text);
     MeshData mesh;
     std::vector<ObjRecord> records;
     std::int64_t texture_coordinates = 0, normals = 0;  // vt and vn lines so far

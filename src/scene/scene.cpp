@@ -120,11 +120,19 @@ double Scene::potential_energy() const {
 
 double Scene::stored_energy() const { return force_field_energy(simulation_->root()); }
 
-double Scene::gravity_energy_scale(double length) const {
+double Scene::gravity_energy_scale(const Vec3& lo, const Vec3& hi) const {
+    const Vec3 extent = (hi - lo).cwiseAbs();
     double e = 0.0;
     for (std::size_t i = 0; i < masses_.size(); ++i) {
-        const double m = masses_[i]->total_mass();
-        e += m * mass_nodes_[i]->gravity().norm() * length;
+        const auto record = std::find_if(states_.begin(), states_.end(), [&](const output::StateRecord& r) {
+            return r.state == masses_[i]->state();
+        });
+        if (record == states_.end() || !record->in_solver_subtree) continue;
+        const Vec3& g = mass_nodes_[i]->gravity();
+        const double g_norm = g.norm();
+        if (!(g_norm > 0.0)) continue;
+        const double along = (g.cwiseAbs() / g_norm).dot(extent);
+        e += masses_[i]->total_mass() * g_norm * (along > 0.0 ? along : extent.norm());
     }
     return e;
 }

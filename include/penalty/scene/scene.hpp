@@ -29,9 +29,16 @@
 namespace penalty::scene {
 
 /// Options of build_scene (the command line's `penalty run` flags).
+/// The range of a time step given outside the scene (`--dt`, `load_scene(dt=)`, BuildOptions::dt):
+/// [1e-100 s, a day]. The lower end is the scene files' smallest nonzero magnitude (io); a day
+/// is beyond any step a contact simulation takes (larger is a typo).
+inline constexpr double kMinTimeStep = 1e-100;
+inline constexpr double kMaxTimeStep = 86400.0;
+
 struct BuildOptions {
     std::vector<std::filesystem::path> data_dirs;  ///< `--data-dir`, searched after the scene's folder
-    std::optional<double> dt;                      ///< overrides the root node's dt (s)
+    /// Overrides the root node's dt (s); std::invalid_argument outside [kMinTimeStep, kMaxTimeStep].
+    std::optional<double> dt;
     int threads = 0;  ///< threads of the narrow phase and of independent solvers (0: TBB's default)
     /// Detection algorithm: BVH narrow phase (default) or SOFA's exhaustive pair loop; both give
     /// the same outputs in the same order.
@@ -132,8 +139,11 @@ public:
     [[nodiscard]] double potential_energy() const;
     /// The force fields' part of potential_energy() (J).
     [[nodiscard]] double stored_energy() const;
-    /// Σ m·|g|·length over the masses (J): the energy of dropping every body by `length`.
-    [[nodiscard]] double gravity_energy_scale(double length) const;
+    /// Σ m·|g|·h (J) over the masses of the states a step moves (in an ODE solver's subtree):
+    /// the energy of dropping every moving body through the box [lo, hi] along its gravity, with
+    /// h = Σ_j |ĝ_j|·(hi_j − lo_j) the box's extent along ĝ (or its diagonal when that extent is
+    /// 0). A static obstacle's mass (a floor outside every solver) cannot fall and is not counted.
+    [[nodiscard]] double gravity_energy_scale(const Vec3& lo, const Vec3& hi) const;
     /// Notes for the user: ignored visual components (one line), attributes penalty does not
     /// read, pairs the intersection method does not detect, response warnings.
     [[nodiscard]] std::vector<std::string> warnings() const;

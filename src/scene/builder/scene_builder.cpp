@@ -5,6 +5,7 @@
 
 #include "penalty/io/data_path.hpp"
 #include "penalty/io/overrides.hpp"
+#include "penalty/output/format.hpp"
 
 #include <algorithm>
 #include <array>
@@ -33,7 +34,9 @@ void SceneBuilder::build() {
     sim.set_threads(options_.threads);  // validated by the command line / the Python module
     build_node(*file_.root, sim.root());
     if (options_.dt) {
-        if (!(*options_.dt > 0) || !std::isfinite(*options_.dt)) throw io::SceneError("--dt must be a positive number of seconds");
+        if (!(*options_.dt >= kMinTimeStep && *options_.dt <= kMaxTimeStep))
+            throw std::invalid_argument("dt: the time step given to the scene (" + output::format_number(*options_.dt) +
+                                        ") is out of range [1e-100, 86400] s");
         sim.root().set_dt(*options_.dt);
     }
     for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
