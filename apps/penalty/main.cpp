@@ -12,6 +12,7 @@
 #include "penalty/collision/intersection.hpp"
 #include "penalty/io/overrides.hpp"
 #include "penalty/io/error.hpp"
+#include "penalty/output/output_file.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/viewer_writer.hpp"
@@ -127,10 +128,7 @@ struct UsageError : std::runtime_error {
 
 /// Writes `text` into `path` (`--summary-json FILE`); std::runtime_error naming it when it cannot.
 void write_text_file(const std::filesystem::path& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write '" + path.string() + "'");
+    penalty::output::write_output_file(path, text);
 }
 
 std::string quirk_names() {
@@ -283,7 +281,12 @@ int run_command(const RunArguments& a) {
 
 /// `penalty view DIR`: refreshes the page files of a viewer directory and serves it.
 int view_command(const std::string& directory, int port, bool no_serve) {
-    if (!std::filesystem::is_regular_file(std::filesystem::path(directory) / "run.json"))
+    // the server serves only regular files that are not links (view_server.cpp): a run.json that
+    // is a link would pass a check that follows it and then be refused, so it is refused here
+    const std::filesystem::file_status run_json = std::filesystem::symlink_status(std::filesystem::path(directory) / "run.json");
+    if (std::filesystem::is_symlink(run_json))
+        throw std::invalid_argument("'" + directory + "/run.json' is a symbolic link: penalty view serves no link");
+    if (!std::filesystem::is_regular_file(run_json))
         throw std::invalid_argument("'" + directory + "' has no run.json: not a viewer directory (write one with "
                                     "`penalty run SCENE --view " + directory + "`)");
     penalty::output::write_viewer_page(directory);

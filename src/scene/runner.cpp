@@ -1,5 +1,7 @@
 #include "penalty/scene/runner.hpp"
 
+#include "penalty/output/output_file.hpp"
+
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/stats_csv.hpp"
@@ -332,9 +334,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         check_finite_states(scene, k, sim.time(), static_states);
         if (options.debug_step && *options.debug_step == k) {
             const auto debug_start = Clock::now();
-            std::ofstream debug(options.debug_file, std::ios::binary | std::ios::trunc);
-            debug << step_debug_text(scene, k, t);
-            if (!debug) throw std::runtime_error("cannot write the debug export '" + options.debug_file.string() + "'");
+            output::write_output_file(options.debug_file, step_debug_text(scene, k, t));
             output_seconds += seconds_since(debug_start);
         }
         bound.check(scene, k, sim.time(), static_states);

@@ -44,7 +44,7 @@ run("run", "--steps", "5", "--quiet", "--view", view, "--no-serve")
 
 # ---- 1. the writer never writes through a link
 victims = {}
-for name in ("index.html", "viewer.js", "topology.u32", "positions.f32", "contacts.f32", "run.json", "run.json.tmp"):
+def link_to_victim(name):
     victim = os.path.join(work, f"victim-{name}.txt")
     with open(victim, "w") as f:
         f.write(f"precious {name}\n")
@@ -53,7 +53,19 @@ for name in ("index.html", "viewer.js", "topology.u32", "positions.f32", "contac
     if os.path.lexists(path):
         os.remove(path)
     os.symlink(os.path.relpath(victim, view), path)
+
+
+# a run.json that is a link is refused by `penalty view` (the server would refuse to serve it)
+link_to_victim("run.json")
+p = run("view", view, "--no-serve", expect=1)
+check("run.json' is a symbolic link" in p.stderr, "penalty view names a run.json that is a link")
+check(open(victims["run.json"]).read() == "precious run.json\n", "penalty view left run.json's target untouched")
+os.remove(os.path.join(view, "run.json"))
+run("run", "--steps", "5", "--quiet", "--view", view, "--no-serve")
+for name in ("index.html", "viewer.js", "topology.u32", "positions.f32", "contacts.f32", "run.json.tmp"):
+    link_to_victim(name)
 run("view", view, "--no-serve")  # rewrites the page files
+link_to_victim("run.json")
 for name in ("index.html", "viewer.js"):
     path = os.path.join(view, name)
     check(not os.path.islink(path) and os.path.isfile(path) and os.path.getsize(path) > 1000,
