@@ -2,6 +2,7 @@
 
 #include "penalty/core/first_error.hpp"
 #include "penalty/core/pointer_index.hpp"
+#include "penalty/simulation/direct_linear_solver.hpp"
 
 #include <cstdio>
 #include <ostream>
@@ -744,6 +745,7 @@ void SubtreeSystem::append_states(std::vector<const BaseState*>& out) const {
     out.insert(out.end(), independent_.begin(), independent_.end());
     out.insert(out.end(), mapped_.begin(), mapped_.end());
     out.insert(out.end(), external_.begin(), external_.end());
+    for (const BaseForceField* ff : force_fields_) ff->list_read_states(out);
 }
 
 Index SubtreeSystem::offset(const BaseState* s) const {
@@ -1189,7 +1191,8 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     MbkCgSystem system(sys, first_order ? 1.0 : 1.0 + tr * h * rm, first_order ? 0.0 : -tr * h,
                        first_order ? -h * tr : -tr * h * (tr * h + rs));
     try {
-        record_cg(cg.solve(system, b_, x_));
+        if (direct_solver) direct_solver->solve(sys, system.m(), system.b(), system.k(), b_, x_);
+        else record_cg(cg.solve(system, b_, x_));
     } catch (const NonFiniteSolveError& e) {
         // Finite forces, yet the solve overflowed (|b|², p·q): name the largest force.
         if (e.force_field() == nullptr && e.mass() == nullptr) sys.throw_naming_largest_force(e.what());
@@ -1249,7 +1252,8 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
         }
         Eigen::VectorXd delta;
         MbkCgSystem system(sys, 1.0, -h, -h * h);
-        record_cg(cg.solve(system, rhs, delta));
+        if (direct_solver) direct_solver->solve(sys, 1.0, -h, -h * h, rhs, delta);
+        else record_cg(cg.solve(system, rhs, delta));
         dv += delta;
     }
     const Eigen::VectorXd v = v0 + dv;
@@ -1449,10 +1453,40 @@ void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::s
     failure.rethrow_if_any();
 }
 
+void Simulation::set_multi_step(int collision_steps, int integration_steps, bool sofa_time) {
+    constexpr int kMaxSubsteps = 1000000;
+    if (collision_steps < 1 || collision_steps > kMaxSubsteps || integration_steps < 1 || integration_steps > kMaxSubsteps)
+        throw_invalid_argument("Simulation: collision and integration steps must be between 1 and ", kMaxSubsteps,
+                               ", got ", collision_steps, " and ", integration_steps);
+    collision_steps_ = collision_steps;
+    integration_steps_ = integration_steps;
+    sofa_multi_step_time_ = sofa_time;
+}
+
 void Simulation::step() {
     if (!initialized_) init();
     const double dt = root_.dt();
-    if (collision_hook) collision_hook(*this);
+    if (collision_steps_ == 1 && integration_steps_ == 1) {
+        if (collision_hook) collision_hook(*this);
+        integrate(dt);
+        time_ += dt;
+        return;
+    }
+    // MultiStepAnimationLoop::step: stepDt = dt / (ncollis·ninteg); the time after the
+    // integration i of each collision step is start + (i + 1)·stepDt.
+    const double start = time_;
+    const double step_dt = dt / (collision_steps_ * integration_steps_);
+    for (int c = 0; c < collision_steps_; ++c) {
+        if (collision_hook) collision_hook(*this);
+        for (int i = 0; i < integration_steps_; ++i) {
+            integrate(step_dt);
+            time_ = start + (i + 1) * step_dt;
+        }
+    }
+    if (!sofa_multi_step_time_) time_ = start + dt;
+}
+
+void Simulation::integrate(double dt) {
     const std::vector<SolveAction>& plan = solve_plan();
     const bool concurrent = threads_ != 1 &&
                             tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
@@ -1472,7 +1506,6 @@ void Simulation::step() {
         }
     });
     for (BaseState* s : applied_states_) s->external_force_flat().setZero();
-    time_ += dt;
 }
 
 }  // namespace penalty

@@ -26,6 +26,8 @@
 
 namespace penalty {
 
+class DirectLinearSolver;  // direct_linear_solver.hpp
+
 /// A non-finite value in a solve (forces, right-hand side or CG solution): the run diverged, or a
 /// parameter makes a product overflow. Names what produced it where the solver can tell: the
 /// first force field whose contribution is not finite (nullptr: unknown, or the gravity force of
@@ -151,11 +153,17 @@ public:
     [[nodiscard]] const std::vector<BaseState*>& independent_states() const { return independent_; }
     [[nodiscard]] const std::vector<BaseMapping*>& mappings() const { return mappings_; }
     [[nodiscard]] const std::vector<BaseForceField*>& force_fields() const { return force_fields_; }
+    /// The masses (each with its node's gravity) and projective constraints, in visiting order, and
+    /// the mapped states (mapped_states()[i] is mappings()[i]->to()): what an assembly reads.
+    [[nodiscard]] const std::vector<std::pair<BaseMass*, Vec3>>& masses() const { return masses_; }
+    [[nodiscard]] const std::vector<BaseProjectiveConstraint*>& constraints() const { return constraints_; }
+    [[nodiscard]] const std::vector<BaseState*>& mapped_states() const { return mapped_; }
     /// Scalar offset of a state in the system, or size() for a state outside it.
     [[nodiscard]] Index offset(const BaseState* s) const;
     /// Appends the independent, mapped and external states to `out` (external: used by a force
     /// field or a mapping of the subtree but not part of it; the solve reads them, and writes
-    /// their force and dx scratch).
+    /// their force and dx scratch), then those its force fields only read
+    /// (BaseForceField::list_read_states).
     void append_states(std::vector<const BaseState*>& out) const;
 
     /// aᵀb summed as SOFA's VectorOperations::v_dot (MechanicalVDotVisitor over the independent
@@ -397,6 +405,10 @@ private:
 class MbkCgSystem final : public CgSystem {
 public:
     MbkCgSystem(const SubtreeSystem& system, double m, double b, double k) : system_(system), m_(m), b_(b), k_(k) {}
+    /// The factors of A = m·M + b·B + k·K.
+    [[nodiscard]] double m() const { return m_; }
+    [[nodiscard]] double b() const { return b_; }
+    [[nodiscard]] double k() const { return k_; }
     void apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) override;
     [[nodiscard]] double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const override;
     double direction_and_product(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
@@ -480,6 +492,8 @@ public:
     bool first_order = false;
     bool trapezoidal_scheme = false;
     CGLinearSolver cg;
+    /// A direct linear solver (SparseLDLSolver, ...) used instead of `cg` when set.
+    std::shared_ptr<DirectLinearSolver> direct_solver;
     NewtonOptions newton;
 
     void init(Node& node) override;
@@ -570,6 +584,15 @@ public:
     [[nodiscard]] std::vector<std::vector<const Node*>> concurrent_solver_runs();
     /// Called at the start of each step (collision detection + response).
     std::function<void(Simulation&)> collision_hook;
+    /// SOFA's MultiStepAnimationLoop (MultiStepAnimationLoop::step): a step runs collision_steps
+    /// times the collision hook, each followed by integration_steps integrations of
+    /// dt / (collision_steps·integration_steps); (1, 1), the default, is DefaultAnimationLoop.
+    /// SOFA sets the time of each integration from the step's start, so a step advances it by
+    /// dt / collision_steps only (sofa_time, the default); false: by dt. std::invalid_argument
+    /// for counts outside [1, 10⁶].
+    void set_multi_step(int collision_steps, int integration_steps, bool sofa_time = true);
+    [[nodiscard]] int collision_steps() const { return collision_steps_; }
+    [[nodiscard]] int integration_steps() const { return integration_steps_; }
 
 private:
     /// One entry of a step's solve phase, in depth-first order: a solver node (integrates its
@@ -590,6 +613,9 @@ private:
     /// (which is also all that changes the states a solver touches).
     const std::vector<SolveAction>& solve_plan();
     void plan_node(Node& node);
+    /// One integration of dt (no collision, no time change): explicit fields and solvers, then
+    /// the velocities projected and the mappings applied, and the external forces cleared.
+    void integrate(double dt);
     void run_action(const SolveAction& action, double dt);
     /// Sets plan_[begin].run_end and run_worth_tasks.
     void find_run(std::size_t begin);
@@ -609,6 +635,9 @@ private:
     std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;
     bool initialized_ = false;
+    int collision_steps_ = 1;
+    int integration_steps_ = 1;
+    bool sofa_multi_step_time_ = true;
 };
 
 }  // namespace penalty
