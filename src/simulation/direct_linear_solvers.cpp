@@ -90,7 +90,7 @@ DirectLinearSolver::~DirectLinearSolver() = default;
 
 void DirectLinearSolver::solve(const SubtreeSystem& system, double m, double b, double k, const Eigen::VectorXd& rhs,
                                Eigen::VectorXd& x) {
-    matrix_ = assemble_mbk_matrix(system, m, b, k, assembly);
+    assemble_mbk_matrix(system, m, b, k, assembly, workspace_, matrix_);
     if (assembly.apply_projective_constraints) apply_projective_constraints(system, matrix_);
     matrix_.makeCompressed();
     if (!factorization_ || factorization_->method != method || factorization_->ordering != ordering)

@@ -66,10 +66,62 @@ ExtendedSpace extended_space(const SubtreeSystem& system) {
     return space;
 }
 
+/// out = the sum of the triplets (setFromTriplets). Kept from the previous call when possible: the
+/// same (row, column) sequence adds each value at its recorded slot; else, when out's pattern has
+/// a place for each triplet, they are found by binary search; else the matrix is built anew. The
+/// values are summed from 0 in triplet order either way (setFromTriplets' order: the same bits),
+/// and places of the pattern no triplet names stay 0.
+void fill_from_triplets(const TripletList& x, Index size, ColumnSparseMatrix& out, AssemblyWorkspace& w) {
+    const bool same_sequence =
+        w.positions.size() == x.size() && out.rows() == size && out.isCompressed() && out.nonZeros() == w.slots_nonzeros &&
+        std::equal(x.begin(), x.end(), w.positions.begin(),
+                   [](const Triplet& t, const std::pair<Index, Index>& p) { return t.row() == p.first && t.col() == p.second; });
+    if (same_sequence) {
+        double* values = out.valuePtr();
+        std::fill(values, values + out.nonZeros(), 0.0);
+        for (std::size_t i = 0; i < x.size(); ++i) values[w.slots[i]] += x[i].value();
+        return;
+    }
+    const auto find_slots = [&]() {
+        const int* outer = out.outerIndexPtr();
+        const int* inner = out.innerIndexPtr();
+        w.slots.resize(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            const int* begin = inner + outer[x[i].col()];
+            const int* end = inner + outer[x[i].col() + 1];
+            const int* at = std::lower_bound(begin, end, static_cast<int>(x[i].row()));
+            if (at == end || *at != x[i].row()) return false;
+            w.slots[i] = static_cast<int>(at - inner);
+        }
+        return true;
+    };
+    const bool reuse = out.rows() == size && out.cols() == size && out.isCompressed() && out.nonZeros() > 0 && find_slots();
+    if (!reuse) {
+        out.resize(static_cast<int>(size), static_cast<int>(size));
+        out.setFromTriplets(x.begin(), x.end());
+        out.makeCompressed();
+        if (!find_slots()) throw std::logic_error("fill_from_triplets: a triplet has no place in its own pattern");
+    }
+    w.positions.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) w.positions[i] = {x[i].row(), x[i].col()};
+    w.slots_nonzeros = out.nonZeros();
+    double* values = out.valuePtr();
+    std::fill(values, values + out.nonZeros(), 0.0);
+    for (std::size_t i = 0; i < x.size(); ++i) values[w.slots[i]] += x[i].value();
+}
+
 }  // namespace
 
 ColumnSparseMatrix assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k,
                                        const MatrixAssemblyOptions& options) {
+    AssemblyWorkspace workspace;
+    ColumnSparseMatrix out;
+    assemble_mbk_matrix(system, m, b, k, options, workspace, out);
+    return out;
+}
+
+void assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k, const MatrixAssemblyOptions& options,
+                         AssemblyWorkspace& workspace, ColumnSparseMatrix& out) {
     const auto n = static_cast<Index>(system.size());
     const bool mapped = options.apply_mapped_components && !system.mapped_states().empty();
     ExtendedSpace space;
@@ -83,7 +135,8 @@ ColumnSparseMatrix assemble_mbk_matrix(const SubtreeSystem& system, double m, do
         const auto it = space.offset.find(s);
         return it == space.offset.end() ? space.total : it->second;
     };
-    TripletList x;
+    TripletList& x = workspace.triplets;
+    x.clear();
     for (const BaseForceField* ff : system.force_fields()) {
         if (options.assemble_stiffness && k != 0.0) ff->add_stiffness(x, offsets, k);
         if (options.assemble_damping && b != 0.0) ff->add_damping(x, offsets, b);
@@ -94,17 +147,17 @@ ColumnSparseMatrix assemble_mbk_matrix(const SubtreeSystem& system, double m, do
             if (o < space.total) entry.first->add_mass_triplets(x, o, m);
         }
     // a triplet on a state outside the subtree (offset past the end) is dropped (dx 0 there)
-    std::vector<IndexTriplet> kept;
-    kept.reserve(x.size());
-    for (const Triplet& t : x)
-        if (t.row() < space.total && t.col() < space.total)
-            kept.emplace_back(static_cast<int>(t.row()), static_cast<int>(t.col()), t.value());
-    ColumnSparseMatrix extended(static_cast<int>(space.total), static_cast<int>(space.total));
-    extended.setFromTriplets(kept.begin(), kept.end());
-    if (!mapped) return extended;
+    const Index total = space.total;
+    x.erase(std::remove_if(x.begin(), x.end(), [total](const Triplet& t) { return t.row() >= total || t.col() >= total; }),
+            x.end());
+    if (!mapped) {
+        fill_from_triplets(x, total, out, workspace);
+        return;
+    }
+    fill_from_triplets(x, total, workspace.extended, workspace);
     const ColumnSparseMatrix p(space.p);
     const ColumnSparseMatrix pt(space.p.transpose());
-    return ColumnSparseMatrix(pt * extended * p);
+    out = ColumnSparseMatrix(pt * workspace.extended * p);
 }
 
 void apply_projective_constraints(const SubtreeSystem& system, ColumnSparseMatrix& a) {
@@ -184,7 +237,6 @@ void apply_projective_constraints(const SubtreeSystem& system, ColumnSparseMatri
         extra.setFromTriplets(ones.begin(), ones.end());
         a += extra;
     }
-    a.prune(0.0);
 }
 
 }  // namespace penalty

@@ -198,11 +198,17 @@ TEST(GlobalMatrixAssembly, TheSymbolicAnalysisIsKeptWhileThePatternIsTheSame) {
     direct.solve(sys, 1.0, -0.02, -4e-4, f, x);
     EXPECT_EQ(direct.factorizations(), 2);
     EXPECT_EQ(direct.symbolic_analyses(), 1);
-    scene.contact_field.clear(0);  // the contact's blocks leave the pattern
+    scene.contact_field.clear(0);  // the contact's blocks stay in the pattern, as zeros
+    sys.compute_force(f);
+    sys.project(f);
+    direct.solve(sys, 1.0, -0.02, -4e-4, f, x);
+    EXPECT_EQ(direct.symbolic_analyses(), 1);
+    scene.contact_field.add_contact(1, 1, 1, 1, Vec3(1, 0, 0), 4.0, 800.0);  // active, its blocks at new places
     sys.compute_force(f);
     sys.project(f);
     direct.solve(sys, 1.0, -0.02, -4e-4, f, x);
     EXPECT_EQ(direct.symbolic_analyses(), 2);
+    EXPECT_EQ(direct.factorizations(), 4);
 }
 
 TEST(GlobalMatrixAssembly, ASingularMatrixIsANamedError) {

@@ -54,6 +54,7 @@ public:
 private:
     struct Factorization;
     std::unique_ptr<Factorization> factorization_;
+    AssemblyWorkspace workspace_;
     ColumnSparseMatrix matrix_;
     int factorizations_ = 0;
     int analyses_ = 0;

@@ -23,6 +23,20 @@ struct MatrixAssemblyOptions {
     bool apply_projective_constraints = true;   ///< applyProjectiveConstraints
 };
 
+/// Buffers an assembly reuses from one call to the next (a solver assembles at every step: the
+/// triplets of a few thousand elements are megabytes, allocated and returned to the system each
+/// time without it).
+struct AssemblyWorkspace {
+    TripletList triplets;
+    ColumnSparseMatrix extended;  ///< the mapped states' space, before Jᵀ·X·J
+    /// The last triplets' (row, column) sequence and the value slot of each in the matrix's
+    /// pattern: while the fields emit the same sequence (SOFA's ConstantSparsityPatternSystem
+    /// idea), a value goes straight to its slot.
+    std::vector<std::pair<Index, Index>> positions;
+    std::vector<int> slots;
+    Eigen::Index slots_nonzeros = -1;  ///< the pattern's size the slots point into
+};
+
 /// m·M + b·B + k·K of `system` (its independent DOFs, SubtreeSystem's offsets), the contributions
 /// of the mapped states as Jᵀ X J with J the chained Jacobians of the mappings (a state mapped
 /// from outside the subtree contributes nothing: its dx is 0). States outside the subtree (a
@@ -30,6 +44,9 @@ struct MatrixAssemblyOptions {
 /// applied. Equals, column by column, SubtreeSystem::apply_mbk(e_j, ·, m, b, k, false).
 [[nodiscard]] ColumnSparseMatrix assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k,
                                                      const MatrixAssemblyOptions& options = {});
+/// The same into `out`, with `workspace`'s buffers.
+void assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k, const MatrixAssemblyOptions& options,
+                         AssemblyWorkspace& workspace, ColumnSparseMatrix& out);
 
 /// Applies the subtree's projective constraints to an assembled matrix: a constraint that lists
 /// discarded rows (BaseProjectiveConstraint::list_discarded_rows: SOFA's ZeroDirichletCondition)
