@@ -262,3 +262,20 @@ def test_a_script_with_a_direct_solver_and_a_mesh_matrix_mass_gives_the_scn_scen
     roles = {c["type"]: c["role"] for c in info["components"]}
     assert "LDLT" in roles["SparseLDLSolver"]
     assert "consistent mass matrix of the hexahedra" in roles["MeshMatrixMass"]
+
+
+def test_a_script_reads_a_mass_matrix_and_a_stiffness_matrix():
+    # SofaPython3's Mass.assembleMMatrix() and ForceField.assembleKMatrix() (access_mass_matrix.py,
+    # access_stiffness_matrix.py): scipy matrices over the component's state
+    scene = penalty.load_scene(SCRIPTS / "beam_direct_solver.py")
+    beam = scene.root.Beam
+    m = beam.mass.assembleMMatrix()
+    k = beam.FEM.assembleKMatrix()
+    assert m.shape == (480, 480) and k.shape == (480, 480)
+    assert abs(m.sum() / 3 - 320.0) < 1e-9  # the beam's mass, on each of the three components
+    assert abs(m - m.T).max() < 1e-12 and m[0, 3] > 0  # consistent: the edges' blocks
+    assert abs(k - k.T).max() < 1e-9 * abs(k).max()
+    translation = np.tile([1.0, 0.0, 0.0], 160)
+    assert np.abs(k @ translation).max() < 1e-9 * abs(k).max()  # a rigid translation stores no energy
+    with pytest.raises(ValueError, match="not a mass"):
+        beam.FEM.assembleMMatrix()
