@@ -263,9 +263,23 @@ class Object(Base):
             return None
         return scene.states[self.getPathName() if self.getPathName().startswith("/") else "/" + self.getPathName()]
 
+    def _component_matrix(self, kind: str):
+        """SofaPython3's ForceField.assembleKMatrix() (kind "K") / Mass.assembleMMatrix() ("M"):
+        a scipy CSR matrix over the component's state, from the built scene."""
+        from scipy import sparse
+        root = self._root()
+        scene = getattr(root, "_penalty_scene", None) if root is not None else None
+        if scene is None:
+            raise RuntimeError(f"{self._describe()}: assemble{kind}Matrix() needs the scene initialised")
+        index = [o for o in self._node._objects if o._tree() is not None].index(self)
+        rows, cols, values, size = scene._scene._component_matrix(self._node.getPathName(), index, kind)
+        return sparse.csr_matrix((values, (rows, cols)), shape=(size, size))
+
     def __getattr__(self, name):
         if name.startswith("__"):
             raise AttributeError(name)
+        if name in ("assembleKMatrix", "assembleMMatrix"):
+            return lambda: self._component_matrix(name[8])
         if name in self._values or (self._type == "MechanicalObject" and name in _STATE_DATA):
             return Data(self, name)
         if self._type.endswith("Loader"):  # a loader's outputs (position, triangles, listRadius...), for links

@@ -227,6 +227,45 @@ py::dict energies_dict(const Scene& scene) {
     return d;
 }
 
+/// The matrix of one component of the file (SofaPython3's ForceField.assembleKMatrix, K with
+/// kFactor 1; Mass.assembleMMatrix, M), as (rows, columns, values, size) of its state's scalars:
+/// component `index` of the file's node `node_path` (controllers not counted).
+py::tuple component_matrix(const Scene& scene, const std::string& node_path, std::size_t index, const std::string& kind) {
+    const io::SceneNode* found = nullptr;
+    std::function<void(const io::SceneNode&)> visit = [&](const io::SceneNode& sn) {
+        if (found == nullptr && sn.path() == node_path) found = &sn;
+        for (const auto& child : sn.children) visit(*child);
+    };
+    visit(*scene.file().root);
+    if (found == nullptr || index >= found->components.size()) throw py::value_error("no such component in the built scene");
+    const io::SceneComponent* component = found->components[index].get();
+    const Node* node = scene.node_of(*found);
+    TripletList triplets;
+    std::size_t size = 0;
+    if (node != nullptr && kind == "M" && node->mass() != nullptr && scene.component_of(node->mass()) == component) {
+        node->mass()->add_mass_triplets(triplets, 0, 1.0);
+        size = node->mass()->state()->scalar_size();
+    } else if (node != nullptr && kind == "K") {
+        for (const auto& ff : node->force_fields()) {
+            if (scene.component_of(ff.get()) != component) continue;
+            const ForceFieldStates states = ff->states();
+            if (states.size() != 1) throw py::value_error(component->describe() + ": assembleKMatrix of an interaction force field");
+            ff->add_stiffness(triplets, [](const BaseState*) { return Index{0}; }, 1.0);
+            size = states[0]->scalar_size();
+        }
+    }
+    if (size == 0)
+        throw py::value_error(component->describe() + (kind == "M" ? " is not a mass penalty built" : " is not a force field penalty built"));
+    std::vector<Index> rows, cols;
+    std::vector<double> values;
+    for (const Triplet& t : triplets) {
+        rows.push_back(t.row());
+        cols.push_back(t.col());
+        values.push_back(t.value());
+    }
+    return py::make_tuple(rows, cols, values, size);
+}
+
 py::dict info_dict(const Scene& scene) {
     py::list nodes, components, pipelines;
     std::function<void(const io::SceneNode&)> visit = [&](const io::SceneNode& sn) {
@@ -409,6 +448,9 @@ void bind_scene(py::module_& m) {
         .def("energies", [](const PyScene& s) { return energies_dict(*s.scene); },
              "kinetic, contact (stored), dissipated_damping, dissipated_friction, dissipated (J)")
         .def("info", [](const PyScene& s) { return info_dict(*s.scene); }, "What `penalty info` prints, as data")
+        .def("_component_matrix", [](const PyScene& s, const std::string& node_path, std::size_t index,
+                                     const std::string& kind) { return component_matrix(*s.scene, node_path, index, kind); },
+             py::arg("node_path"), py::arg("index"), py::arg("kind"))
         .def("warnings", [](const PyScene& s) { return s.scene->warnings(); })
         .def_property_readonly("last_timings", [](const PyScene& s) {
             const auto& t = s.scene->last_timings();

@@ -148,6 +148,17 @@ void FixedProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) 
     for (const Index i : indices_) v.segment(d * i, d).setZero();
 }
 
+bool FixedProjectiveConstraint::list_discarded_rows(std::vector<Index>& rows) const {
+    const Index d = state_->deriv_size();
+    if (fix_all_) {
+        for (Index r = 0; r < Index(state_->scalar_size()); ++r) rows.push_back(r);
+        return true;
+    }
+    for (const Index i : indices_)
+        for (Index c = 0; c < d; ++c) rows.push_back(d * i + c);
+    return true;
+}
+
 void FixedProjectiveConstraint::project_velocity() {
     FlatVector v = state_->velocity_flat();
     project_response(v);

@@ -1,6 +1,7 @@
 #include "penalty/mechanics/mechanical_object.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace penalty {
@@ -59,15 +60,31 @@ Vec3 sofa_transform_point(const InitialTransform& tr, const Quat& q, const Vec3&
 Quat InitialTransform::rotation() const { return sofa_quaternion_from_euler_degrees(rotation_deg); }
 
 RigidFrame rigid_add(const RigidFrame& x, const RigidDeriv& v, double h) {
+    // vOp(r, x, v, h): the Deriv v·h first, then Coord += Deriv (RigidCoord::operator+=).
+    const Vec3 linear(v.linear[0] * h, v.linear[1] * h, v.linear[2] * h);
     RigidFrame out;
-    out.center = x.center + h * v.linear;
-    const Vec3 w = h * v.angular;
-    const Quat omega(0.0, w.x(), w.y(), w.z());
-    const Quat dq = omega * x.orientation;
-    Quat q(x.orientation.w() + 0.5 * dq.w(), x.orientation.x() + 0.5 * dq.x(),
-           x.orientation.y() + 0.5 * dq.y(), x.orientation.z() + 0.5 * dq.z());
-    q.normalize();
-    out.orientation = q;
+    out.center = Vec3(x.center[0] + linear[0], x.center[1] + linear[1], x.center[2] + linear[2]);
+    const Vec3 omega(v.angular[0] * h / 2, v.angular[1] * h / 2, v.angular[2] * h / 2);
+    const double theta = std::sqrt(omega[0] * omega[0] + omega[1] * omega[1] + omega[2] * omega[2]);
+    Quat exp;
+    if (theta < std::numeric_limits<double>::epsilon()) {
+        // SOFA's fallback, the gnomonic projection: (ω/2, 1) normalised (Quat::normalize)
+        exp = Quat(1.0, omega[0], omega[1], omega[2]);
+        const double mag = omega[0] * omega[0] + omega[1] * omega[1] + omega[2] * omega[2] + 1.0;
+        if (std::abs(mag - 1.0) > 1.0e-10) {
+            const double s = 1.0 / std::sqrt(mag);
+            exp = Quat(s, omega[0] * s, omega[1] * s, omega[2] * s);
+        }
+    } else {
+        const double sinc = std::sin(theta) / theta;
+        exp = Quat(std::cos(theta), sinc * omega[0], sinc * omega[1], sinc * omega[2]);
+    }
+    // Quat::operator* (SOFA's order of operations)
+    const Quat& q = x.orientation;
+    out.orientation = Quat(exp.w() * q.w() - (exp.x() * q.x() + exp.y() * q.y() + exp.z() * q.z()),
+                           exp.w() * q.x() + exp.x() * q.w() + exp.y() * q.z() - exp.z() * q.y(),
+                           exp.w() * q.y() + exp.y() * q.w() + exp.z() * q.x() - exp.x() * q.z(),
+                           exp.w() * q.z() + exp.z() * q.w() + exp.x() * q.y() - exp.y() * q.x());
     return out;
 }
 

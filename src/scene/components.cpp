@@ -136,6 +136,8 @@ const std::vector<ComponentSpec>& registry() {
               builder::hexahedra_and_subset_components(),
               builder::bending_spring_components(),
               builder::corotational_fem_components(),
+              builder::direct_solver_components(), builder::integrator_components(),
+              builder::matrix_mass_and_rest_spring_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());
@@ -175,6 +177,7 @@ std::string_view family_name(ComponentFamily f) {
         case F::engine: return "engines";
         case F::ode_solver: return "ODE solvers";
         case F::linear_solver: return "linear solvers";
+        case F::solver_part: return "parts of solvers (linear systems, orderings, Newton-Raphson)";
         case F::collision_model: return "collision models";
         case F::animation_loop: return "animation loops";
         case F::collision_pipeline: return "collision pipelines";

@@ -36,6 +36,16 @@ void Simulation::init() {
     initialized_ = true;
 }
 
+void Simulation::set_multi_step(int collision_steps, int integration_steps, bool sofa_time) {
+    constexpr int kMaxSubsteps = 1000000;
+    if (collision_steps < 1 || collision_steps > kMaxSubsteps || integration_steps < 1 || integration_steps > kMaxSubsteps)
+        throw_invalid_argument("Simulation: collision and integration steps must be between 1 and ", kMaxSubsteps,
+                               ", got ", collision_steps, " and ", integration_steps);
+    collision_steps_ = collision_steps;
+    integration_steps_ = integration_steps;
+    sofa_multi_step_time_ = sofa_time;
+}
+
 void Simulation::add_contact_stage(ContactStage& stage) {
     if (std::find(contact_stages_.begin(), contact_stages_.end(), &stage) != contact_stages_.end())
         throw_invalid_argument("Simulation: the contact stage is already registered");

@@ -14,11 +14,32 @@ using detail::for_each_node;
 void Simulation::step() {
     if (!initialized_) init();
     const double dt = root_.dt();
-    detect_contacts();
-    respond_to_contacts();
+    if (collision_steps_ == 1 && integration_steps_ == 1) {
+        detect_contacts();
+        respond_to_contacts();
+        integrate(dt);
+        time_ += dt;
+        return;
+    }
+    // MultiStepAnimationLoop::step: stepDt = dt / (ncollis·ninteg); the time after the
+    // integration i of each collision step is start + (i + 1)·stepDt.
+    const double start = time_;
+    const double step_dt = dt / (collision_steps_ * integration_steps_);
+    for (int c = 0; c < collision_steps_; ++c) {
+        detect_contacts();
+        respond_to_contacts();
+        for (int i = 0; i < integration_steps_; ++i) {
+            integrate(step_dt);
+            time_ = start + (i + 1) * step_dt;
+        }
+    }
+    if (!sofa_multi_step_time_) time_ = start + dt;
+}
+
+void Simulation::integrate(double dt) {
     solve(dt);
     map_back();
-    end_step(dt);
+    clear_applied_external_forces();
 }
 
 void Simulation::detect_contacts() {
@@ -57,9 +78,8 @@ void Simulation::map_back() {
     });
 }
 
-void Simulation::end_step(double dt) {
+void Simulation::clear_applied_external_forces() {
     for (BaseState* s : applied_states_) s->external_force_flat().setZero();
-    time_ += dt;
 }
 
 }  // namespace penalty

@@ -37,6 +37,9 @@ Eigen::Index SubtreeSystem::size() const { return layout_->size; }
 const std::vector<BaseState*>& SubtreeSystem::independent_states() const { return layout_->independent; }
 const std::vector<BaseMapping*>& SubtreeSystem::mappings() const { return layout_->mappings; }
 const std::vector<BaseForceField*>& SubtreeSystem::force_fields() const { return layout_->force_fields; }
+const std::vector<std::pair<BaseMass*, Vec3>>& SubtreeSystem::masses() const { return layout_->masses; }
+const std::vector<BaseProjectiveConstraint*>& SubtreeSystem::constraints() const { return layout_->constraints; }
+const std::vector<BaseState*>& SubtreeSystem::mapped_states() const { return layout_->mapped; }
 
 SubtreeSystem::FusedContactCounts SubtreeSystem::fused_contact_counts() const {
     const auto counts = fused_->counts();
@@ -69,6 +72,7 @@ void SubtreeSystem::append_states(std::vector<const BaseState*>& out) const {
     out.insert(out.end(), layout_->independent.begin(), layout_->independent.end());
     out.insert(out.end(), layout_->mapped.begin(), layout_->mapped.end());
     out.insert(out.end(), layout_->external.begin(), layout_->external.end());
+    for (const BaseForceField* ff : layout_->force_fields) ff->list_read_states(out);
 }
 
 Index SubtreeSystem::offset(const BaseState* s) const {

@@ -245,3 +245,37 @@ def test_cli_outputs_of_a_script_equal_those_of_its_scn(shared_sofa, tmp_path):
     assert outputs["scn"].keys() == outputs["py"].keys()
     for name, content in outputs["scn"].items():
         assert outputs["py"][name] == content, f"{name} differs"
+
+
+def test_a_script_with_a_direct_solver_and_a_mesh_matrix_mass_gives_the_scn_scenes_numbers():
+    # MessageHandler.py's scene as a script, and the same beam in a .scn file (its first node; the
+    # .scn's MatrixLinearSystem and natural ordering change the rounding only): 20 steps
+    script = penalty.load_scene(SCRIPTS / "beam_direct_solver.py")
+    scn = penalty.load_scene(REPO / "tests" / "scene" / "data" / "solvers" / "hexa_beam_matrix_mass_ldl.scn")
+    script.step(20)
+    scn.step(20)
+    a = script.states["/Beam/DoFs"].positions
+    b = scn.states["/Beam/DoFs"].positions
+    assert np.abs(a - b).max() < 1e-9
+    assert a[:, 1].min() < -0.5  # the free end went down: the beam bends under its weight
+    info = script.info()
+    roles = {c["type"]: c["role"] for c in info["components"]}
+    assert "LDLT" in roles["SparseLDLSolver"]
+    assert "consistent mass matrix of the hexahedra" in roles["MeshMatrixMass"]
+
+
+def test_a_script_reads_a_mass_matrix_and_a_stiffness_matrix():
+    # SofaPython3's Mass.assembleMMatrix() and ForceField.assembleKMatrix() (access_mass_matrix.py,
+    # access_stiffness_matrix.py): scipy matrices over the component's state
+    scene = penalty.load_scene(SCRIPTS / "beam_direct_solver.py")
+    beam = scene.root.Beam
+    m = beam.mass.assembleMMatrix()
+    k = beam.FEM.assembleKMatrix()
+    assert m.shape == (480, 480) and k.shape == (480, 480)
+    assert abs(m.sum() / 3 - 320.0) < 1e-9  # the beam's mass, on each of the three components
+    assert abs(m - m.T).max() < 1e-12 and m[0, 3] > 0  # consistent: the edges' blocks
+    assert abs(k - k.T).max() < 1e-9 * abs(k).max()
+    translation = np.tile([1.0, 0.0, 0.0], 160)
+    assert np.abs(k @ translation).max() < 1e-9 * abs(k).max()  # a rigid translation stores no energy
+    with pytest.raises(ValueError, match="not a mass"):
+        beam.FEM.assembleMMatrix()

@@ -136,7 +136,9 @@ private:
 using Vec3Object = MechanicalObject<Vec3Types>;
 using Rigid3Object = MechanicalObject<Rigid3Types>;
 
-/// SOFA's Rigid3 Coord + h·Deriv: centre += h·v; q <- normalize(q + ½ (h ω, 0) ⊗ q).
+/// SOFA's Rigid3 Coord + Deriv·h (RigidCoord::operator+=, R³ × SO(3) exponential integration):
+/// centre += v·h; with ω = (ω·h)/2 and θ = |ω|: q ← (sin θ/θ·ω, cos θ) ⊗ q, or for θ < ε the
+/// gnomonic (ω, 1)/|(ω, 1)| ⊗ q (unit quaternions stay unit: no normalisation of the result).
 RigidFrame rigid_add(const RigidFrame& x, const RigidDeriv& v, double h);
 
 /// Views a flat vector as Derivs (the length must be a multiple of kDerivSize).

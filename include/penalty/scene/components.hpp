@@ -44,6 +44,7 @@ enum class ComponentFamily {
     constraint,           ///< projective constraints, any number, file order
     ode_solver,           ///< one per node
     linear_solver,        ///< one per node; read by the node's ODE solver
+    solver_part,          ///< read by a solver: linear systems, ordering methods, Newton-Raphson solvers
     collision_model,      ///< any number, file order (SOFA's broad-phase order, depth first)
     animation_loop,       ///< one per node
     collision_pipeline,   ///< CollisionPipeline

@@ -48,7 +48,8 @@ public:
     /// positions of the end of the previous step) → respond_to_contacts (their contact force
     /// fields and contact-point states) → solve (explicit interaction force fields of nodes
     /// without solver, then the solver subtrees) → map_back (project velocities, propagate to
-    /// mapped states) → end_step (clear the applied external forces, time += dt).
+    /// mapped states) → the applied external forces cleared, time += dt. With
+    /// set_multi_step, SOFA's MultiStepAnimationLoop: the contact stages and integrations repeated.
     void step();
     [[nodiscard]] double time() const { return time_; }
     /// Threads of the solve phase (0: TBB's default, the default; 1: every action in plan order
@@ -69,6 +70,15 @@ public:
     /// Unregisters `stage` (nothing if it is not registered).
     void remove_contact_stage(const ContactStage& stage);
     [[nodiscard]] const std::vector<ContactStage*>& contact_stages() const { return contact_stages_; }
+    /// SOFA's MultiStepAnimationLoop (MultiStepAnimationLoop::step): a step runs collision_steps
+    /// times the contact stages, each followed by integration_steps integrations of
+    /// dt / (collision_steps·integration_steps); (1, 1), the default, is DefaultAnimationLoop.
+    /// SOFA sets the time of each integration from the step's start, so a step advances it by
+    /// dt / collision_steps only (sofa_time, the default); false: by dt. std::invalid_argument
+    /// for counts outside [1, 10⁶].
+    void set_multi_step(int collision_steps, int integration_steps, bool sofa_time = true);
+    [[nodiscard]] int collision_steps() const { return collision_steps_; }
+    [[nodiscard]] int integration_steps() const { return integration_steps_; }
 
 private:
     // ---- the stages of step() (simulation_step.cpp) -----------------------------------------
@@ -76,7 +86,10 @@ private:
     void respond_to_contacts();
     void solve(double dt);
     void map_back();
-    void end_step(double dt);
+    void clear_applied_external_forces();
+    /// One integration of dt (no contact stage, no time change): solve, map_back, the applied
+    /// external forces cleared.
+    void integrate(double dt);
     std::vector<ContactStage*> contact_stages_;
     /// One entry of a step's solve phase, in depth-first order: a solver node (integrates its
     /// subtree) or an explicit force field with its states.
@@ -115,6 +128,9 @@ private:
     std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;
     bool initialized_ = false;
+    int collision_steps_ = 1;
+    int integration_steps_ = 1;
+    bool sofa_multi_step_time_ = true;
 };
 
 }  // namespace penalty

@@ -250,7 +250,7 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
     build_family({F::mass, F::force_field, F::constraint, F::engine});
     build_family({F::ode_solver});
     build_family({F::collision_model});
-    build_family({F::animation_loop, F::linear_solver, F::collision_pipeline, F::composite_pipeline, F::sub_pipeline,
+    build_family({F::animation_loop, F::linear_solver, F::solver_part, F::collision_pipeline, F::composite_pipeline, F::sub_pipeline,
                   F::broad_phase, F::narrow_phase, F::intersection, F::contact_manager});
 
     if (info.state_component) record_state(sn, info);
