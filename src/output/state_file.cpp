@@ -1,6 +1,8 @@
 #include "penalty/output/state_file.hpp"
 
 #include "output/file_io.hpp"
+
+#include <fstream>
 #include "penalty/core/error.hpp"
 #include "penalty/output/format.hpp"
 
