@@ -216,8 +216,11 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
             if (t.known.emplace(s, 0).second) external_.push_back(s);
         }
     for (const auto* m : mappings_) {
-        SystemBuildLists::list_of(m->from(), t.mappings_from_index, t.mappings_from, t.mappings_from_used).push_back(m);
-        if (t.known.emplace(m->from(), 0).second) external_.push_back(m->from());
+        for (BaseState* from : {m->from(), m->second_from()}) {  // (a second input: Multi2Mapping)
+            if (from == nullptr) continue;
+            SystemBuildLists::list_of(from, t.mappings_from_index, t.mappings_from, t.mappings_from_used).push_back(m);
+            if (t.known.emplace(from, 0).second) external_.push_back(from);
+        }
     }
     constexpr std::size_t none = PointerIndex<BaseState>::npos;
     const auto fields_on = [&t](const BaseState* s) -> const std::vector<const BaseForceField*>* {
@@ -238,7 +241,9 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         PENALTY_DEMAND(m->to() == mapped_[i]);
         DxReaders r;
         r.mapping = m;
-        r.selective = m->maps_selected_rows();
+        // (a mass on the mapped state reads every row's dx)
+        r.selective = m->maps_selected_rows() &&
+                      std::none_of(masses_.begin(), masses_.end(), [&](const auto& e) { return e.first->state() == m->to(); });
         // the force fields acting on the mapped state and the mappings reading it, in the
         // subtree's order
         if (const auto* on = fields_on(m->to())) r.force_fields = *on;
@@ -444,8 +449,8 @@ bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<con
     listed_rows_.clear();
     for (const BaseForceField* ff : force_fields)
         if (!ff->list_dx_read(state, listed_rows_)) return false;
-    for (const BaseMapping* m : mappings)
-        if (!m->list_inputs_read(listed_rows_)) return false;
+    for (const BaseMapping* m : mappings)  // (rows of from() only: a second input's are unknown)
+        if (m->from() != &state || !m->list_inputs_read(listed_rows_)) return false;
     const std::size_t dofs = state.num_dofs();
     for (const std::uint32_t row : listed_rows_) PENALTY_DEMAND(row < dofs);
     return true;
@@ -542,7 +547,8 @@ void SubtreeSystem::collect(Node& node, bool /*is_root*/) {
         throw_invalid_argument("Node '", node.name(), "': a mapping needs the node's state as output");
     }
     if (BaseMass* m = node.mass()) {
-        if (node.mapping()) throw_invalid_argument("Node '", node.name(), "': a mass on a mapped state is not supported");
+        // a mass on a mapped state acts through the mapping, as SOFA's: its gravity force and
+        // M·dx go up by Jᵀ (the node's mapping step below), i.e. Jᵀ·M·J in the system
         masses_.emplace_back(m, node.gravity());
         force_steps_.push_back({.mass = m, .gravity = node.gravity()});
     }
@@ -683,10 +689,13 @@ void SubtreeSystem::order_as_mapping_graph(Node& root) {
     for (std::size_t i = 0; i < mappings_.size(); ++i) {
         const BaseMapping* m = mappings_[i];
         const std::size_t node = first_mapping + i;
-        if (const std::size_t holder = g.first_group_of.find(m->from()); holder != PointerIndex<BaseState>::npos)
-            edges.push_back({state_count + holder, node});
-        else if (const std::size_t from = g.state_node.find(m->from()); from != PointerIndex<BaseState>::npos)
-            edges.push_back({from, node});
+        for (const BaseState* input : {static_cast<const BaseState*>(m->from()), static_cast<const BaseState*>(m->second_from())}) {
+            if (input == nullptr) continue;
+            if (const std::size_t holder = g.first_group_of.find(input); holder != PointerIndex<BaseState>::npos)
+                edges.push_back({state_count + holder, node});
+            else if (const std::size_t from = g.state_node.find(input); from != PointerIndex<BaseState>::npos)
+                edges.push_back({from, node});
+        }
         if (const std::size_t to = g.state_node.find(m->to()); to != PointerIndex<BaseState>::npos) edges.push_back({node, to});
     }
     // MappingGraphAlgorithms::traverseBottomUp: the breadth-first order from the parentless nodes
@@ -1049,6 +1058,8 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
             const DxReaders& r = dx_readers_[s.mapping_index];
             if (r.restricted) s.mapping->apply_jt_df_rows(r.rows);
             else s.mapping->apply_jt_df();
+            // SOFA's addMBKdx: the mapping's geometric stiffness after its Jᵀ (applyDJT)
+            if (k != 0.0 && s.mapping->has_geometric_stiffness()) s.mapping->apply_djt(k);
         }
     }
 }
@@ -1062,6 +1073,10 @@ void SubtreeSystem::project(Eigen::VectorXd& v) const {
 }
 
 void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
+    for (const auto& [mass, g] : masses_)
+        if (offset_of_.find(mass->state()) == offset_of_.end())
+            throw_invalid_argument("EulerExplicitSolver: state '", mass->state()->state_name(),
+                                   "' is mapped: a mass on a mapped state needs an implicit solver");
     out.setZero(size_);
     for (std::size_t i = 0; i < independent_.size(); ++i) {
         const auto n = sizes_[i];
@@ -1098,6 +1113,13 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
         j.setFromTriplets(t.begin(), t.end());
         const auto it = p_rows.find(map->from());
         ColMatrix rows = it == p_rows.end() ? ColMatrix(nout, size_) : ColMatrix(j * it->second);
+        if (BaseState* second = map->second_from()) {  // J₂·P₂ of a second input
+            ColMatrix j2(nout, static_cast<Eigen::Index>(second->scalar_size()));
+            TripletList t2;
+            map->add_second_input_jacobian_triplets(t2, 0, 0);
+            j2.setFromTriplets(t2.begin(), t2.end());
+            if (const auto it2 = p_rows.find(second); it2 != p_rows.end()) rows = ColMatrix(rows + j2 * it2->second);
+        }
         p_rows[map->to()] = std::move(rows);
     }
     ColMatrix p(total, size_);
@@ -1116,11 +1138,16 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
         return it == ext_offset.end() ? total : it->second;
     };
     for (BaseForceField* ff : force_fields_) ff->add_stiffness(kt, offs, k);
+    for (const auto& entry : masses_)  // masses on mapped states: Pᵀ·(m·M)·P with the stiffness
+        if (offset_of_.find(entry.first->state()) == offset_of_.end())
+            entry.first->add_mass_triplets(kt, offs(entry.first->state()), m);
     kt.erase(std::remove_if(kt.begin(), kt.end(), [&](const Triplet& t) { return t.row() >= total || t.col() >= total; }), kt.end());
     ColMatrix kext(total, total);
     kext.setFromTriplets(kt.begin(), kt.end());
     TripletList mt;
-    for (const auto& entry : masses_) entry.first->add_mass_triplets(mt, offset(entry.first->state()), m);
+    for (const auto& entry : masses_)
+        if (offset_of_.find(entry.first->state()) != offset_of_.end())
+            entry.first->add_mass_triplets(mt, offset(entry.first->state()), m);
     ColMatrix mm(size_, size_);
     mm.setFromTriplets(mt.begin(), mt.end());
     ColMatrix a = ColMatrix(ColMatrix(p.transpose()) * kext * p) + mm;

@@ -30,6 +30,9 @@ std::span<const ComponentSpec> external_load_components();         // external_l
 std::span<const ComponentSpec> hexahedra_and_subset_components();  // hexahedra_and_subsets.cpp
 std::span<const ComponentSpec> bending_spring_components();        // bending_springs.cpp
 std::span<const ComponentSpec> corotational_fem_components();      // corotational_fem.cpp
+std::span<const ComponentSpec> transform_engine_components();      // transform_engines.cpp
+std::span<const ComponentSpec> selection_engine_components();      // selection_engines.cpp
+std::span<const ComponentSpec> frame_mapping_components();         // frame_mappings.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).
