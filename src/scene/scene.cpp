@@ -169,9 +169,11 @@ void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overri
 
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
     if (!options.overrides.empty()) apply_overrides(file, options.overrides);
+    std::vector<std::string> notes = detach_unresolved_data_links(file);
     auto scene = std::make_unique<Scene>();
     scene->file_ = std::move(file);
     SceneBuilder(scene->file_, options, *scene).build();
+    scene->build_warnings_.insert(scene->build_warnings_.end(), notes.begin(), notes.end());
     scene->refresh_contacts();
     return scene;
 }

@@ -86,8 +86,8 @@ bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<con
     listed.clear();
     for (const BaseForceField* ff : force_fields)
         if (!ff->list_dx_read(state, listed)) return false;
-    for (const BaseMapping* m : mappings)
-        if (!m->list_inputs_read(listed)) return false;
+    for (const BaseMapping* m : mappings)  // (rows of from() only: a second input's are unknown)
+        if (m->from() != &state || !m->list_inputs_read(listed)) return false;
     const std::size_t dofs = state.num_dofs();
     for (const std::uint32_t row : listed) PENALTY_DEMAND(row < dofs);
     return true;

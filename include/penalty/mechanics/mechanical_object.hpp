@@ -88,7 +88,7 @@ struct InitialTransform {
     [[nodiscard]] Quat rotation() const;
 };
 
-/// MechanicalObject<Vec3d | Rigid3d>. Fill `position` (and optionally `velocity`,
+/// MechanicalObject<Vec3d | Rigid3d | Vec1d>. Fill `position` (and optionally `velocity`,
 /// `rest_position`, `transform`) then call init(), which follows SOFA: rest positions given
 /// without positions become the positions; missing velocities repeat the last given one (zero if
 /// none); `transform` (scale3d, rotation, translation) is applied to the positions only; rest
@@ -135,6 +135,7 @@ private:
 
 using Vec3Object = MechanicalObject<Vec3Types>;
 using Rigid3Object = MechanicalObject<Rigid3Types>;
+using Vec1Object = MechanicalObject<Vec1Types>;
 
 /// SOFA's Rigid3 Coord + Deriv·h (RigidCoord::operator+=, R³ × SO(3) exponential integration):
 /// centre += v·h; with ω = (ω·h)/2 and θ = |ω|: q ← (sin θ/θ·ω, cos θ) ⊗ q, or for θ < ε the
@@ -153,5 +154,7 @@ template <> void MechanicalObject<Vec3Types>::add_to_position(double, const Eige
 template <> void MechanicalObject<Rigid3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
 template <> void MechanicalObject<Vec3Types>::init();
 template <> void MechanicalObject<Rigid3Types>::init();
+template <> void MechanicalObject<Vec1Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
+template <> void MechanicalObject<Vec1Types>::init();
 
 }  // namespace penalty

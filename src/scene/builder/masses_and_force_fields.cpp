@@ -88,8 +88,10 @@ constexpr AttributeSpec kSpringKinds[] = {
     {"trianglesDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
     {"quadsStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "quads' edges and diagonals"},
     {"quadsDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
-    {"tetrasStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "tetrahedra's edges"},
-    {"tetrasDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"tetrahedraStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "tetrahedra's edges"},
+    {"tetrahedraDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"tetrasStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "alias of tetrahedraStiffness"},
+    {"tetrasDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, "alias of tetrahedraDamping"},
     {"cubesStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "hexahedra's edges and diagonals"},
     {"cubesDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
 };
@@ -105,17 +107,31 @@ constexpr AttributeSpec kGridSprings[] = {
     {"damping", K::real, "5", "N s/m", ValueCheck::nonnegative, "every kind's damping"},
 };
 
-MeshSpringParameters spring_parameters(const Attributes& a) {
-    MeshSpringParameters p = MeshSpringParameters::uniform(a.real("stiffness"), a.real("damping"));
-    auto pick = [&](const char* k, const char* d, double& ks, double& kd) {
-        ks = a.real_or(k, ks);
-        kd = a.real_or(d, kd);
+/// The value a Data with several names gets: SOFA's Base::parse sets the Data once per written
+/// name, in the order of the names (BaseObjectDescription's attributes are a std::map), so the
+/// last written name in alphabetical order wins; `fallback` when none is written.
+double last_written(const Attributes& a, std::initializer_list<std::string_view> names, double fallback) {
+    std::string_view winner;
+    for (const std::string_view name : names)
+        if (!name.empty() && a.has(name) && name > winner) winner = name;
+    return winner.empty() ? fallback : a.real_or(winner, fallback);
+}
+
+MeshSpringParameters spring_parameters(const Attributes& a, double default_stiffness, double default_damping) {
+    MeshSpringParameters p;
+    const auto kind = [&](std::string_view stiffness, std::string_view damping, std::string_view alias_stiffness,
+                          std::string_view alias_damping, double& ks, double& kd) {
+        const std::initializer_list<std::string_view> k_names = {stiffness, alias_stiffness, "stiffness"};
+        const std::initializer_list<std::string_view> d_names = {damping, alias_damping, "damping"};
+        ks = last_written(a, k_names, default_stiffness);
+        kd = last_written(a, d_names, default_damping);
     };
-    pick("linesStiffness", "linesDamping", p.lines_stiffness, p.lines_damping);
-    pick("trianglesStiffness", "trianglesDamping", p.triangles_stiffness, p.triangles_damping);
-    pick("quadsStiffness", "quadsDamping", p.quads_stiffness, p.quads_damping);
-    pick("tetrasStiffness", "tetrasDamping", p.tetras_stiffness, p.tetras_damping);
-    pick("cubesStiffness", "cubesDamping", p.cubes_stiffness, p.cubes_damping);
+    kind("linesStiffness", "linesDamping", "", "", p.lines_stiffness, p.lines_damping);
+    kind("trianglesStiffness", "trianglesDamping", "", "", p.triangles_stiffness, p.triangles_damping);
+    kind("quadsStiffness", "quadsDamping", "", "", p.quads_stiffness, p.quads_damping);
+    kind("tetrahedraStiffness", "tetrahedraDamping", "tetrasStiffness", "tetrasDamping", p.tetras_stiffness,
+         p.tetras_damping);
+    kind("cubesStiffness", "cubesDamping", "", "", p.cubes_stiffness, p.cubes_damping);
     return p;
 }
 
@@ -130,12 +146,27 @@ void add_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, Vec3
     });
 }
 
+/// True when `t` is a SparseGridTopology's mesh: SOFA's SparseGridTopology never fills its edges,
+/// triangles or quads (its init calls neither MeshTopology::init nor updateEdges/updateQuads), so
+/// the springs SOFA reads from its lines, triangles and quads are none.
+bool is_sparse_grid_mesh(SceneBuilder& b, const MeshTopology* t) {
+    for (const auto& [node, info] : b.node_builds())
+        if (info.sparse_grid && info.topology == t) return true;
+    return false;
+}
+
 void build_mesh_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const MeshSpringParameters p = spring_parameters(a);
-        add_springs(b, c, info, s, mesh_springs(b.topology_of(a, info), s.rest_position, p));
+        MeshSpringParameters p = spring_parameters(a, 0.0, 0.0);
+        const MeshTopology& topology = b.topology_of(a, info);
+        if (is_sparse_grid_mesh(b, &topology)) {
+            p.lines_stiffness = p.lines_damping = 0.0;
+            p.triangles_stiffness = p.triangles_damping = 0.0;
+            p.quads_stiffness = p.quads_damping = 0.0;
+        }
+        add_springs(b, c, info, s, mesh_springs(topology, s.rest_position, p));
     });
     b.note_unread_attributes(c);
 }
@@ -144,7 +175,7 @@ void build_grid_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const MeshSpringParameters p = spring_parameters(a);
+        const MeshSpringParameters p = spring_parameters(a, 100.0, 5.0);
         if (!info.grid) io::throw_element_error(c, "needs a RegularGridTopology in its node");
         add_springs(b, c, info, s, regular_grid_springs(*info.grid, p));  // SOFA's order and rest lengths
     });
@@ -162,6 +193,12 @@ constexpr AttributeSpec kTetrahedronFem[] = {
     // penalty always recomputes the corotational stiffness each step (method large).
     {"computeGlobalMatrix", K::boolean, "0", "", ValueCheck::none, "storage only: no effect"},
     {"updateStiffnessMatrix", K::boolean, "0", "", ValueCheck::none, "storage only: no effect"},
+    {"plasticMaxThreshold", K::real, "0", "", ValueCheck::nonnegative,
+     "largest norm of the plastic strain; 0: no plasticity (method large only)"},
+    {"plasticYieldThreshold", K::real, "0.0001", "", ValueCheck::nonnegative,
+     "elastic strain norm above which it creeps (SOFA's default: the float 0.0001f)"},
+    {"plasticCreep", K::real, "0.9", "", ValueCheck::nonnegative,
+     "fraction of the elastic strain made plastic per evaluation (SOFA's default: the float 0.9f)"},
 };
 constexpr AttributeSpec kHexahedronFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
@@ -206,6 +243,14 @@ void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
         TetrahedronFEMForceField* ff = nullptr;
         if (info.grid) ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, law.young, law.poisson, law.method);
         else ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson, law.method);
+        // SOFA's Data defaults are float literals (0.0001f, 0.9f): their float values, unless written
+        TetrahedronFEMForceField::Plasticity plasticity;
+        plasticity.max_threshold = a.real("plasticMaxThreshold");
+        plasticity.yield_threshold = a.real_or("plasticYieldThreshold", plasticity.yield_threshold);
+        plasticity.creep = a.real_or("plasticCreep", plasticity.creep);
+        if (plasticity.max_threshold > 0 && law.method != FemMethod::Large)
+            a.fail("plasticMaxThreshold", "plasticity is supported with method large only");
+        ff->set_plasticity(plasticity);
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, text = law_text(law)] { return counted(ff->tetrahedra().size(), "tetrahedron", "tetrahedra") + text; });

@@ -39,6 +39,11 @@ void SceneBuilder::build() {
                                         ") is out of range [1e-100, 86400] s");
         sim.root().set_dt(*options_.dt);
     }
+    for (std::size_t i = 0; i < deferred_builds_.size(); ++i) {  // (a deferred build may defer another)
+        const std::function<void()> build = deferred_builds_[i].init;
+        guarded(*deferred_builds_[i].component, build);
+    }
+    build_unread_data_engines();
     for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
     // Initialise every component once here, in Simulation::init's order (states and mappings
     // top-down, then masses, force fields, constraints, solvers), so that an error names its
@@ -133,16 +138,48 @@ std::vector<Vec3> SceneBuilder::linked_positions(const Attributes& a, std::strin
         a.fail(attr, "links to " + src.describe() + ", which is not a built Vec3d state");
     }
     if (spec != nullptr && spec->family == ComponentFamily::topology) {
-        for (const auto& [node, info] : nodes_)
-            if (info.topology_component == &src && !info.grid) return info.topology_positions;
+        if (const BuiltTopology* built = built_topology(src); built != nullptr && !built->grid) return built->positions;
     }
     a.fail(attr, "cannot read positions from " + src.describe());
+}
+
+void SceneBuilder::build_unread_data_engines() {
+    // SOFA computes an engine only when something reads an output: one no simulation component
+    // reads cannot change the numbers, so a failure here is a note, not an error (its inputs may
+    // be a visual model's or a mapped state's, which penalty builds later or not at all).
+    io::for_each_component(*file_.root, [&](const SceneComponent& c) {
+        const ComponentSpec* spec = find_component(c.type);
+        if (spec == nullptr || spec->family != ComponentFamily::data_engine || built_data_engines_.count(&c) != 0) return;
+        try {
+            build_data_engine(c);
+        } catch (const std::exception& e) {
+            warn(std::string(e.what()) + " (no simulation component reads this engine: ignored)");
+        }
+    });
+}
+
+void SceneBuilder::build_data_engine(const SceneComponent& c) {
+    const ComponentSpec* spec = find_component(c.type);
+    if (spec == nullptr || spec->family != ComponentFamily::data_engine || ignored_.count(&c) != 0) return;
+    if (!built_data_engines_.insert(&c).second) return;  // built, or being built (a loop of links)
+    const auto node = nodes_.find(c.node);
+    if (node == nodes_.end())
+        io::throw_element_error(c, "is read through a link before its node is built (penalty builds nodes "
+                                   "depth first: put it in the reading node or an ancestor)");
+    spec->build(*this, c, node->second);
+}
+
+const io::MeshData* SceneBuilder::engine_mesh(const SceneComponent& engine, const std::string& data) {
+    build_data_engine(engine);
+    const auto it = engine_meshes_.find({&engine, data});
+    return it == engine_meshes_.end() ? nullptr : &it->second;
 }
 
 std::vector<PointId> SceneBuilder::indices(const Attributes& a, std::string_view attr) {
     if (!a.is_link(attr)) return a.indices(attr);
     const io::LinkTarget t = a.link(attr);
     if (t.component == nullptr || t.data.empty()) a.fail(attr, "link must name an engine's data (@engine.indices)");
+    build_data_engine(*t.component);
     const auto it = engine_indices_.find({t.component, t.data});
     if (it == engine_indices_.end())
         a.fail(attr, "cannot read indices from data '" + t.data + "' of " + t.component->describe() +
@@ -243,10 +280,12 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
         info.sparse_grid.reset();
         info.topology_component = nullptr;
         spec.build(*this, *c, info);
+        built_topologies_[c] = {info.topology, info.topology_positions, info.grid};
     }
     build_family({F::topology_helper});
     build_family({F::state});
     build_family({F::mapping});
+    // (data engines: built when a link reads them, or after every node when none does)
     build_family({F::mass, F::force_field, F::constraint, F::engine});
     build_family({F::ode_solver});
     build_family({F::collision_model});
@@ -258,6 +297,8 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
 }
 
 void SceneBuilder::record_state(const SceneNode& sn, const NodeBuild& info) {
+    // the outputs write Vec3d and Rigid3d states; a Vec1d one (a distance mapping's) is not recorded
+    if (dynamic_cast<const Vec1Object*>(info.node->state()) != nullptr) return;
     output::StateRecord r;
     r.name = std::string(info.node->state()->state_name());
     r.node_path = sn.path();

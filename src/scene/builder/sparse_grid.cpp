@@ -19,29 +19,71 @@ constexpr AttributeSpec kSparseGrid[] = {
     {"max", K::vector3, "0 0 0", "m", ValueCheck::none, "upper corner"},
     {"fileTopology", K::text, "", "", ValueCheck::none, "closed surface mesh (.obj) to voxelise"},
     {"filename", K::text, "", "", ValueCheck::none, "alias of fileTopology"},
+    {"position", K::points, "", "m", ValueCheck::none,
+     "without a file: the surface's points (inline or a link), with `triangles` and `quads` as its facets"},
+    {"triangles", K::elements, "", "", ValueCheck::none, "facets of the surface given by `position`"},
+    {"quads", K::elements, "", "", ValueCheck::none, "facets of the surface given by `position` (fans)"},
     {"onlyInsideCells", K::boolean, "0", "", ValueCheck::none, "keep only the cells inside the surface"},
     {"fillWeighted", K::boolean, "1", "", ValueCheck::none,
      "boundary cells have half the stiffness in a HexahedronFEMForceField"},
 };
 
+/// SparseGridRamificationTopology's own Data: with finestConnectivity 0 and no virtual finer level
+/// it builds exactly SparseGridTopology's grid (SparseGridRamificationTopology::buildAsFinest adds
+/// nothing then); the ramified grids are refused.
+constexpr AttributeSpec kSparseGridRamification[] = {
+    {"finestConnectivity", K::boolean, "1", "", ValueCheck::none,
+     "split cells by the surface's connected parts (only 0: ramified grids are not supported)"},
+    {"nbVirtualFinerLevels", K::integer, "0", "", ValueCheck::none, "virtual finer levels (only 0)"},
+};
+
+/// The surface to voxelise: `fileTopology` (an .obj), else `position` with `triangles` and `quads`
+/// (SparseGridTopology::buildAsFinest: the given points and facets, quads as fans).
+io::MeshData sparse_grid_surface(SceneBuilder& b, const Attributes& a) {
+    const SceneComponent& c = a.component();
+    std::optional<std::string> file = a.optional_text("fileTopology");
+    if (!file) file = a.optional_text("filename");
+    if (!file) {
+        if (!a.has("position"))
+            io::throw_element_error(c, "needs fileTopology (a closed surface mesh) or position (the surface's points)");
+        io::MeshData surface;
+        surface.positions = a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
+        if (a.has("triangles")) surface.triangles = a.elements<3>("triangles");
+        if (a.has("quads"))
+            for (const auto& q : a.elements<4>("quads")) {
+                surface.triangles.push_back({q[0], q[1], q[2]});
+                surface.triangles.push_back({q[0], q[2], q[3]});
+            }
+        for (const Triangle& t : surface.triangles)
+            for (const PointId i : t)
+                if (i < 0 || std::size_t(i) >= surface.positions.size())
+                    a.fail(a.has("quads") ? "quads" : "triangles",
+                           "uses point " + std::to_string(i) + " of " + std::to_string(surface.positions.size()));
+        return surface;
+    }
+    const char* attr = a.has("fileTopology") ? "fileTopology" : "filename";
+    try {
+        const std::filesystem::path path = io::resolve_data_file(*file, b.scene_dir(), b.options().data_dirs);
+        if (path.extension() != ".obj") a.fail(attr, "only .obj surfaces are supported, got '" + *file + "'");
+        return io::load_obj(path, /*triangulate=*/true);  // polygons as fans (v0, v[j-1], v[j]), as SOFA
+    } catch (const io::SceneError&) {
+        throw;
+    } catch (const io::LoadError& e) {
+        io::throw_attribute_error(c, attr, e.what());
+    }
+}
+
 void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     info.topology_component = &c;
     b.guarded(c, [&] {
-        std::optional<std::string> file = a.optional_text("fileTopology");
-        if (!file) file = a.optional_text("filename");
-        if (!file) io::throw_element_error(c, "needs fileTopology (a closed surface mesh); grids from given points are not supported");
-        const char* attr = a.has("fileTopology") ? "fileTopology" : "filename";
-        io::MeshData surface;
-        try {
-            const std::filesystem::path path = io::resolve_data_file(*file, b.scene_dir(), b.options().data_dirs);
-            if (path.extension() != ".obj") a.fail(attr, "only .obj surfaces are supported, got '" + *file + "'");
-            surface = io::load_obj(path, /*triangulate=*/true);  // polygons as fans (v0, v[j-1], v[j]), as SOFA
-        } catch (const io::SceneError&) {
-            throw;
-        } catch (const io::LoadError& e) {
-            io::throw_attribute_error(c, attr, e.what());
+        if (c.type == "SparseGridRamificationTopology") {
+            if (a.boolean("finestConnectivity"))
+                a.fail("finestConnectivity", "1 (SOFA's default) ramifies the grid, which penalty does not support: give 0");
+            if (a.integer("nbVirtualFinerLevels") != 0)
+                a.fail("nbVirtualFinerLevels", "virtual finer levels are not supported (only 0)");
         }
+        const io::MeshData surface = sparse_grid_surface(b, a);
         std::array<int, 3> n{2, 2, 2};
         if (a.has("n")) {
             const std::vector<double> v = a.numbers("n");
@@ -77,6 +119,12 @@ constexpr ComponentSpec kComponents[] = {
      .family = F::topology,
      .summary = "sparse grid: the cells of a regular grid that meet or lie inside a closed surface",
      .attributes = kSparseGrid,
+     .build = build_sparse_grid},
+    {.type = "SparseGridRamificationTopology",
+     .family = F::topology,
+     .summary = "SparseGridTopology with cells split by the surface's connected parts (unsplit grids only)",
+     .attributes = kSparseGridRamification,
+     .shared_attributes = kSparseGrid,
      .build = build_sparse_grid},
 };
 
