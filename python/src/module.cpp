@@ -39,6 +39,7 @@ PYBIND11_MODULE(_core, m) {
         }
     });
     penalty::python::bind_scene(m);
+    penalty::python::bind_live(m);
     penalty::python::bind_force_field(m);
     penalty::python::bind_collision(m);
 }

@@ -135,7 +135,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::external_load_components(),
               builder::hexahedra_and_subset_components(),
               builder::bending_spring_components(),
-              builder::corotational_fem_components(),
+              builder::corotational_fem_components(), builder::python_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

@@ -6,13 +6,14 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
+#include "scene/live_edits.hpp"
 
 #include <algorithm>
 #include <chrono>
 
 namespace penalty::scene {
 
-Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
+Scene::Scene() : simulation_(std::make_unique<Simulation>()), live_(std::make_unique<LiveEdits>()) {}
 Scene::~Scene() {
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
@@ -22,6 +23,7 @@ Scene::~Scene() {
 double Scene::dt() const { return const_cast<Simulation&>(*simulation_).root().dt(); }
 
 void Scene::step() {
+    apply_pending_writes();  // writes of Data after init that SOFA takes at this step (live_writes.cpp)
     timings_ = StepTimings{};
     const auto t0 = std::chrono::steady_clock::now();
     simulation_->step();
@@ -37,6 +39,7 @@ void Scene::step() {
         }
     }
     refresh_contacts();
+    release_held_gravity();  // a root gravity written after init reaches the other nodes now
 }
 
 std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
@@ -159,7 +162,10 @@ std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& optio
     if (!options.overrides.empty()) apply_overrides(file, options.overrides);
     auto scene = std::make_unique<Scene>();
     scene->file_ = std::move(file);
+    scene->options_ = options;
+    scene->options_.overrides.clear();  // applied to file_ already
     SceneBuilder(scene->file_, options, *scene).build();
+    scene->install_collision_hook();
     scene->refresh_contacts();
     return scene;
 }

@@ -57,6 +57,10 @@ void SceneBuilder::build() {
     warn_degenerate_triangles();
     for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
     for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
+    // What the engines computed and the loaders read, for the scene's live Data (live_data.hpp).
+    scene_.engine_indices_ = std::move(engine_indices_);
+    scene_.engine_meshes_ = std::move(engine_meshes_);
+    scene_.loader_meshes_ = std::move(meshes_);
 }
 
 void SceneBuilder::rethrow_naming(const io::SceneElement& c, const std::exception& e) {
@@ -81,16 +85,7 @@ void SceneBuilder::add_init(int phase, const SceneComponent& c, std::function<vo
     init_steps_.push_back({phase, std::move(init), &c});
 }
 
-void SceneBuilder::install_collision_hook() {
-    Scene* scene = &scene_;
-    simulation().collision_hook = [scene](Simulation&) {
-        for (ScenePipeline& p : scene->pipelines_) {
-            p.pipeline->update();
-            scene->timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
-            scene->timings_.response_seconds += p.pipeline->last_timings().response_seconds;
-        }
-    };
-}
+void SceneBuilder::install_collision_hook() { scene_.install_collision_hook(); }
 
 void SceneBuilder::record_implicit_solver(EulerImplicitSolver& s, const Node& n) {
     scene_.implicit_solvers_.push_back(&s);

@@ -1,0 +1,39 @@
+#pragma once
+// What a scene keeps of the writes of its Data after init (Scene::LiveEdits; live_writes.cpp).
+#include "penalty/scene/scene.hpp"
+
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace penalty::scene {
+
+struct Scene::LiveEdits {
+    /// A write already in the scene's text, taken by the next rebuild; `old` undoes it.
+    struct Applied {
+        DataOwner owner;
+        std::string name;
+        std::optional<std::string> old;
+    };
+    std::vector<Applied> applied;
+    /// Writes waiting for their component's reinit(), by (owner path, node?) then Data name.
+    std::map<std::pair<std::string, bool>, std::map<std::string, std::string, std::less<>>> at_reinit;
+    /// Components or nodes added or removed since the last build.
+    bool structure_changed = false;
+    /// A rebuild is due before the next step.
+    bool rebuild = false;
+    std::uint64_t generation = 0;
+    /// Components and nodes added after init, for undoing them when the rebuild fails.
+    std::vector<std::pair<const io::SceneNode*, const io::SceneElement*>> added;
+    /// SOFA's delay of a root gravity written after init (Scene::set_gravity_write_delay): the
+    /// root's child nodes keep their gravity, by path, until the end of the next step.
+    std::map<std::string, Vec3> delayed_gravity;
+    bool gravity_write_delay = true;
+    /// Components and nodes removed after init: left out of the next build.
+    std::set<const io::SceneElement*> removed;
+};
+
+}  // namespace penalty::scene
