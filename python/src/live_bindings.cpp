@@ -213,6 +213,76 @@ py::object stiffness_matrix(Scene& s, const std::string& path) {
     throw py::value_error(c->describe() + ": not a force field of the built scene");
 }
 
+/// The force field built from the component at `path`, with its one Vec3d state.
+std::pair<BaseForceField*, Vec3Object*> vec3_force_field(Scene& s, const std::string& path) {
+    const auto* c = static_cast<const io::SceneComponent*>(s.find_element({path, false}));
+    if (c == nullptr) throw py::key_error("no component '" + path + "'");
+    const Node* node = s.node_of(*c->node);
+    if (node != nullptr)
+        for (const auto& ff : node->force_fields()) {
+            if (s.component_of(ff.get()) != c) continue;
+            auto* state = ff->states().size() == 1 ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
+            if (state == nullptr) throw py::value_error(c->describe() + ": the probe takes force fields on one Vec3d state");
+            return {ff.get(), state};
+        }
+    throw py::value_error(c->describe() + ": not a force field of the built scene");
+}
+
+/// Copies an (n, 3) array into points (shape checked).
+void assign_points(std::vector<Vec3>& to, const py::handle& from, const char* what) {
+    auto a = as_points(from, what);
+    if (std::size_t(a.shape(0)) != to.size())
+        throw py::value_error(std::string(what) + ": expected " + std::to_string(to.size()) + " points");
+    for (std::size_t i = 0; i < to.size(); ++i) to[i] = Vec3(a.at(py::ssize_t(i), 0), a.at(py::ssize_t(i), 1), a.at(py::ssize_t(i), 2));
+}
+
+py::array_t<double> points_copy(const std::vector<Vec3>& p) {
+    py::array_t<double> out({py::ssize_t(p.size()), py::ssize_t(3)});
+    auto w = out.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < p.size(); ++i)
+        for (int k = 0; k < 3; ++k) w(py::ssize_t(i), k) = p[i][k];
+    return out;
+}
+
+/// f(x, v) of one force field alone (the state's vectors are restored after): the probe the
+/// finite-difference checks of tests/python use for C++ and Python force fields alike.
+py::array_t<double> probe_force(Scene& s, const std::string& path, const py::handle& x, const py::handle& v) {
+    auto [ff, state] = vec3_force_field(s, path);
+    const std::vector<Vec3> position = state->position, velocity = state->velocity, force = state->force;
+    assign_points(state->position, x, "x");
+    assign_points(state->velocity, v, "v");
+    std::fill(state->force.begin(), state->force.end(), Vec3::Zero());
+    py::array_t<double> out;
+    try {
+        ff->accumulate_force();
+        out = points_copy(state->force);
+    } catch (...) {
+        state->position = position, state->velocity = velocity, state->force = force;
+        throw;
+    }
+    state->position = position, state->velocity = velocity, state->force = force;
+    return out;
+}
+
+/// k·K·dx + b·B·dx of one force field, linearised at its last probe_force (or step).
+py::array_t<double> probe_dforce(Scene& s, const std::string& path, const py::handle& dx, double k, double b) {
+    auto [ff, state] = vec3_force_field(s, path);
+    const std::vector<Vec3> saved_dx = state->dx, saved_df = state->df;
+    state->dx.resize(state->num_dofs());
+    state->df.assign(state->num_dofs(), Vec3::Zero());
+    assign_points(state->dx, dx, "dx");
+    py::array_t<double> out;
+    try {
+        ff->accumulate_dforce(k, b);
+        out = points_copy(state->df);
+    } catch (...) {
+        state->dx = saved_dx, state->df = saved_df;
+        throw;
+    }
+    state->dx = saved_dx, state->df = saved_df;
+    return out;
+}
+
 /// M of the mass built from the component at `path` (SofaPython3's Mass.assembleMMatrix).
 py::object mass_matrix(Scene& s, const std::string& path) {
     const auto* c = static_cast<const io::SceneComponent*>(s.find_element({path, false}));
@@ -283,12 +353,22 @@ void bind_live(py::module_& m) {
             root.set_dt(kept);
         })
         .def("_reset", [](PyScene& s) { s.scene->reset(); })
+        .def("_set_threads", [](PyScene& s, int threads) {
+            // Python components run on the calling thread, which holds the GIL
+            if (s.scene->build_options().threads != 1) s.scene->simulation().set_threads(threads);
+        })
         .def("_set_gravity_write_delay", [](PyScene& s, bool delay) { s.scene->set_gravity_write_delay(delay); })
         .def("_run_hooks", [](PyScene& s, bool before) { s.call_hooks(before ? s.before_step : s.after_step); })
         .def("_energy_pair", [](PyScene& s) {
             return py::make_tuple(s.scene->kinetic_energy(), s.scene->potential_energy());
         })
         .def("_stiffness_matrix", [](PyScene& s, const std::string& path) { return stiffness_matrix(*s.scene, path); })
+        .def("_probe_force", [](PyScene& s, const std::string& path, const py::handle& x, const py::handle& v) {
+            return probe_force(*s.scene, path, x, v);
+        })
+        .def("_probe_dforce", [](PyScene& s, const std::string& path, const py::handle& dx, double k, double b) {
+            return probe_dforce(*s.scene, path, dx, k, b);
+        })
         .def("_mass_matrix", [](PyScene& s, const std::string& path) { return mass_matrix(*s.scene, path); });
 
     m.def("_build_live_tree", [](const py::dict& root, const std::filesystem::path& path,
@@ -332,6 +412,15 @@ void bind_live(py::module_& m) {
         const scene::ComponentSpec* c = scene::find_component(type);
         return c != nullptr && !c->sofa_class.empty() ? std::string(c->sofa_class) : type;
     }, "SOFA's class of a type (an older name gives its current class)");
+    m.def("_registry_attribute_defaults", [](const std::string& type) {
+        py::list out;
+        if (const scene::ComponentSpec* c = scene::find_component(type)) {
+            for (const scene::AttributeSpec& a : c->attributes) out.append(py::make_tuple(std::string(a.name), std::string(a.default_value)));
+            for (const scene::AttributeSpec& a : c->shared_attributes)
+                out.append(py::make_tuple(std::string(a.name), std::string(a.default_value)));
+        }
+        return out;
+    }, "(attribute, default as the registry writes it) of a component type");
     m.def("_component_types", [] {
         py::list out;
         for (const scene::ComponentSpec& c : scene::component_registry()) out.append(std::string(c.type));

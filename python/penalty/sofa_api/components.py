@@ -176,9 +176,10 @@ class _Mapping(_PythonComponent):
 
     def _tree(self):
         attributes = [("pythonObject", str(self._id), self._line)]
+        from .tree import _tree_text
         for end in ("input", "output"):
             if end in self._values:
-                attributes.append((end, self._link_text(end), self._line))
+                attributes.append((end, _tree_text(self._values[end], f"{self._describe()}: {end}", self._root()), self._line))
         return {"type": self._cpp_type, "name": self._name, "template": self._in_template + ",Vec3d", "file": self._file,
                 "line": self._line, "attributes": attributes}
 
@@ -270,7 +271,8 @@ class ArrayData:
     def __repr__(self):
         return repr(self._array.tolist())
 
-    __str__ = __repr__
+    def __str__(self):
+        return f"Sofa.Core.DataContainer <name='{self._name}', address={hex(id(self))}>"
 
 
 class _ArrayContext:

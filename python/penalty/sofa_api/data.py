@@ -163,9 +163,9 @@ class Data:
     def setParent(self, parent):
         self.value = parent if isinstance(parent, str) else (parent.getLinkPath() if hasattr(parent, "getLinkPath") else parent)
 
-    # --- Python protocols ----------------------------------------------------------------------
+    # --- Python protocols (SofaPython3's: str names the Data, repr gives its value) --------------
     def __str__(self):
-        return str(self.value)
+        return f"Sofa.Core.Data <'{self._name}', {hex(id(self))}>"
 
     def __repr__(self):
         return repr(self.value)
@@ -197,12 +197,12 @@ class Data:
 
 
 class DataString(Data):
-    """A text Data (SofaPython3's DataString): compares and prints as its text."""
+    """A text Data (SofaPython3's DataString): compares as its text."""
 
     __slots__ = ()
 
     def __str__(self):
-        return str(self.value)
+        return f"Sofa.Core.DataString<name='{self._name}', value='{self.value}', address='{hex(id(self))}'>"
 
     def __repr__(self):
         return repr(self.value)
@@ -279,8 +279,11 @@ class DataContainer(Data):
         return self
 
     def __str__(self):
+        return f"Sofa.Core.DataContainer <name='{self._name}', address={hex(id(self))}>"
+
+    def __repr__(self):
         v = self.value
-        return str(v.tolist()) if isinstance(v, np.ndarray) else str(v)
+        return repr(v.tolist()) if isinstance(v, np.ndarray) else repr(v)
 
 
 class Link:

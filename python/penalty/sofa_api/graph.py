@@ -97,7 +97,7 @@ class Base:
         field = self._data_field(name)
         live = self._live()
         if live is not None and name not in self._pydata:
-            return live._data(self.getPathName(), self._is_node, name, False)
+            return live._data(self._scene_path(), self._is_node, name, False)
         if name in self._values:
             raw = self._values[name]
             target = _linked(self, raw)
@@ -114,7 +114,7 @@ class Base:
         live = self._live()
         self._counters[name] = self._counters.get(name, 0) + 1
         if live is not None and name not in self._pydata:
-            path = self.getPathName()
+            path = self._scene_path()
             if field["live"] == "state" and not isinstance(value, str) and not self._is_node:
                 live._set_state(path, name, np.asarray(value, dtype=np.float64))
             else:
@@ -132,7 +132,7 @@ class Base:
         """(array, True when it views the Data's memory)."""
         live = self._live()
         if live is not None and name not in self._pydata and self._data_field(name)["live"] == "state":
-            arr = live._data(self.getPathName(), False, name, writeable)
+            arr = live._data(self._scene_path(), False, name, writeable)
             return arr, arr.base is not None and arr.flags.writeable == writeable
         value = self._data_get(name)
         arr = np.array(value, copy=True)
@@ -143,7 +143,7 @@ class Base:
     def _data_text(self, name: str) -> str:
         live = self._live()
         if live is not None and name not in self._pydata:
-            return live._data_text(self.getPathName(), self._is_node, name)
+            return live._data_text(self._scene_path(), self._is_node, name)
         v = self._data_get(name)
         if isinstance(v, np.ndarray):
             return " ".join(_sofa_number(x) for x in v.ravel().tolist())
@@ -294,7 +294,7 @@ class _NameData(Data):
     def value(self, new):
         owner = self._owner
         if owner._live() is not None:
-            owner._live()._set_data(owner.getPathName(), owner._is_node, "name", str(new))  # refused, with the reason
+            owner._live()._set_data(owner._scene_path(), owner._is_node, "name", str(new))  # refused, with the reason
         object.__setattr__(owner, "_name", str(new))
 
     def getValueString(self):
@@ -304,7 +304,7 @@ class _NameData(Data):
         return "string"
 
     def __str__(self):
-        return self._owner._name
+        return f"Sofa.Core.DataString<name='name', value='{self._owner._name}', address='{hex(id(self))}'>"
 
     def __repr__(self):
         return repr(self._owner._name)

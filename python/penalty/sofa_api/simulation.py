@@ -35,6 +35,7 @@ def _listener_count(root: Node) -> int:
 
 def _graph_changed(node: Node):
     object.__setattr__(node._root(), "_listener_count", None)
+    object.__setattr__(node._root(), "_moved_prefixes", None)
 
 
 def send_event(root: Node, event_type: str, **fields):
@@ -55,7 +56,7 @@ def send_event(root: Node, event_type: str, **fields):
                 return  # SOFA prunes the rest of the node and its subtree
         if event["isHandled"]:
             return
-        for child in list(node._children):
+        for child in node._scene_children():
             visit(child)
 
     visit(root)
@@ -72,7 +73,7 @@ def _python_components(root: Node):
 
     def visit(node):
         out.extend(o for o in node._objects if getattr(o, "_python", False))
-        for c in node._children:
+        for c in node._scene_children():
             visit(c)
 
     visit(root)
@@ -101,9 +102,13 @@ def init(root: Node, *, build_options=None):
     options = build_options or getattr(root, "_penalty_build_options", None) or ([], None, 0, False, [])
     options = tuple(options) + ([],) * (5 - len(options))
     send_event(root, "SimulationInitStartEvent")
+    object.__setattr__(root, "_moved_prefixes", None)
     path = root._file if root._file != "<unknown>" else ""
     core = _core._build_live_tree(root._tree(), path, *options[:5], dispatch, resolve)
     scene = Scene(core, root)
+    _live_scenes.add(scene)
+    if _threads is not None:
+        core._set_threads(_threads)
     object.__setattr__(root, "_penalty_scene", scene)
     object.__setattr__(root, "_penalty_build_options", options)
     _mark_built(root, True)
@@ -226,6 +231,22 @@ def _node_from_tree(tree: dict) -> Node:
     return node
 
 
+_threads = None
+
+
+def set_threads(threads: int):
+    """Sofa.Core.TaskScheduler.init(n): the threads of the scenes built from now on, and of the
+    live ones (0: TBB's default)."""
+    global _threads
+    _threads = int(threads)
+    for scene in list(_live_scenes):
+        scene._scene._set_threads(_threads)
+
+
+#: Scenes built by init, weakly (TaskScheduler.init reaches them).
+_live_scenes = weakref.WeakSet()
+
+
 def print_tree(node: Node, indent: str = ""):  # Sofa.Simulation.print
     print(f"{indent}{node._name}")
     for o in node._objects:
@@ -249,7 +270,7 @@ def on_object_added(node: Node, obj):
         return
     tree = obj._tree()
     if tree is not None:
-        live._add_component(node.getPathName(), tree)
+        live._add_component(node._scene_path(), tree)
 
 
 def on_child_added(parent: Node, child: Node):
@@ -257,7 +278,7 @@ def on_child_added(parent: Node, child: Node):
     live = _live_scene(parent)
     if live is None:
         return
-    live._add_node(parent.getPathName(), child._name)
+    live._add_node(parent._scene_path(), child._name)
     for o in child._objects:
         on_object_added(child, o)
     for c in list(child._children):
@@ -270,9 +291,9 @@ def on_removed(node: Node, item):
     if live is None:
         return
     if isinstance(item, Node):
-        live._remove(item.getPathName(), True)
+        live._remove(item._scene_path(), True)
     elif item._tree() is not None:
-        live._remove(item.getPathName(), False)
+        live._remove(item._scene_path(), False)
 
 
 def init_node(node: Node):
@@ -281,7 +302,7 @@ def init_node(node: Node):
     live = _live_scene(node)
     if live is None:
         return
-    live._reinit(node.getPathName(), True)
+    live._reinit(node._scene_path(), True)
     for c in _python_components(node):
         if not getattr(c, "_initialised", False):
             c.init()

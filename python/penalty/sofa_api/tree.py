@@ -65,6 +65,14 @@ class Object(Base):
         base = self._node.getPathName()
         return (base if base != "/" else "") + "/" + self._name
 
+    def _scene_path(self):
+        """The object's path in the built scene (getPathName's but through the last parent of a
+        node that has several: the scene holds such a node under its last parent)."""
+        if self._node is None:
+            return self._name
+        base = self._node._scene_path()
+        return (base if base != "/" else "") + "/" + self._name
+
     def getAsACreateObjectParameter(self):
         return self.getLinkPath()
 
@@ -95,7 +103,7 @@ class Object(Base):
         """SOFA's reinit(): the writes of this component's Data that wait for it take effect."""
         live = self._live()
         if live is not None and not getattr(self, "_python", False):
-            live._reinit(self.getPathName(), False)
+            live._reinit(self._scene_path(), False)
 
     def bwdInit(self):
         return None
@@ -135,12 +143,12 @@ class Object(Base):
         """K = ∂f/∂x of this force field as a scipy.sparse.csr_matrix (kFactor 1), the matrix the
         implicit solve uses: the state's size squared."""
         live = self._require_live("assembleKMatrix")
-        return live._stiffness_matrix(self.getPathName())
+        return live._stiffness_matrix(self._scene_path())
 
     def assembleMMatrix(self):
         """M of this mass as a scipy.sparse.csr_matrix, the matrix the implicit solve uses."""
         live = self._require_live("assembleMMatrix")
-        return live._mass_matrix(self.getPathName())
+        return live._mass_matrix(self._scene_path())
 
     def _require_live(self, call):
         live = self._live()
@@ -157,6 +165,9 @@ class Object(Base):
             return self._make_data(name)
         if name in ("linkpath",):
             return LinkPath(self)
+        if not getattr(self, "_python", False) and not self._fields():
+            raise AttributeError(f"{self._describe()}: data '{name}': {self._type} is not a component penalty knows "
+                                 "(its Data are unknown; the scene will not build)")
         raise self._attribute_error(name)
 
     def __repr__(self):
@@ -167,22 +178,54 @@ class Object(Base):
         attributes = []
         where = f"{self._file}:{self._line}: {self._describe()}"
         for key, value in self._values.items():
-            text = _tree_text(value, f"{where}: attribute '{key}'")
+            text = _tree_text(value, f"{where}: attribute '{key}'", self._root())
             attributes.append((key, text, self._line))
         return {"type": self._type, "name": self._name, "template": self._template or "", "file": self._file,
                 "line": self._line, "attributes": attributes}
 
 
-def _tree_text(value, what):
-    """A value for the C++ builder: a Data of a Python object gives its value, others their text."""
+def _tree_text(value, what, root=None):
+    """A value for the C++ builder: a Data of a Python object gives its value; an object, node,
+    Data or LinkPath its link in the built scene; an absolute link written as text goes through
+    the built scene's paths (a node with several parents sits under its last one)."""
     from .data import Data
     if isinstance(value, Data) and getattr(value._owner, "_python", False):
         value = value.value
     if isinstance(value, LinkPath) and value.isPointingToData() and getattr(value.target()._owner, "_python", False):
         value = value.target().value
     if isinstance(value, LinkPath):
-        return value.getLinkPath()
-    return to_sofa_text(value, what)
+        value = value.target()
+    if isinstance(value, Data):
+        return "@" + value._owner._scene_path() + "." + value._name
+    if isinstance(value, (Object, Node)) and not isinstance(value, type):
+        return "@" + value._scene_path()
+    text = to_sofa_text(value, what)
+    if root is not None and text.startswith("@/"):
+        text = _scene_link(root, text)
+    return text
+
+
+def _scene_link(root, link: str) -> str:
+    """An absolute link's SOFA path made the built scene's (the prefix of a node with several
+    parents moves under its last parent)."""
+    moved = getattr(root, "_moved_prefixes", None)
+    if moved is None:
+        moved = []
+        todo = [root]
+        while todo:
+            n = todo.pop()
+            for c in n._children:
+                if c._scene_parent() is n:
+                    todo.append(c)
+                    if len(c._parents) > 1:
+                        moved.append((c.getPathName(), c._scene_path()))
+        moved.sort(key=lambda m: -len(m[0]))
+        object.__setattr__(root, "_moved_prefixes", moved)
+    path = link[1:]
+    for sofa_path, scene_path in moved:
+        if path == sofa_path or path.startswith(sofa_path + "/") or path.startswith(sofa_path + "."):
+            return "@" + scene_path + path[len(sofa_path):]
+    return link
 
 
 class Node(Base):
@@ -193,7 +236,8 @@ class Node(Base):
     def __init__(self, name: str = "root"):
         super().__init__()
         object.__setattr__(self, "_name", str(name))
-        object.__setattr__(self, "_parent", None)
+        object.__setattr__(self, "_parent", None)   # the first parent (SOFA's paths go through it)
+        object.__setattr__(self, "_parents", [])     # every parent, in the order they added this node
         object.__setattr__(self, "_children", [])
         object.__setattr__(self, "_objects", [])
         file, line = caller_location()
@@ -236,13 +280,28 @@ class Node(Base):
 
     @property
     def parents(self):
-        return NodeIterator([self._parent] if self._parent is not None else [])
+        return NodeIterator(self._parents)
 
     def getPathName(self):
         if self._parent is None:
             return "/"
         up = self._parent.getPathName()
         return (up if up != "/" else "") + "/" + self._name
+
+    def _scene_parent(self):
+        """A node with several parents (SOFA's graph is a DAG) is built once, under its last parent:
+        SOFA visits it after all its parents, in the last one's solver."""
+        return self._parents[-1] if self._parents else None
+
+    def _scene_path(self):
+        parent = self._scene_parent()
+        if parent is None:
+            return "/"
+        up = parent._scene_path()
+        return (up if up != "/" else "") + "/" + self._name
+
+    def _scene_children(self):
+        return [c for c in self._children if c._scene_parent() is self]
 
     def getRootPath(self):
         return self.getPathName()
@@ -269,8 +328,8 @@ class Node(Base):
         from .simulation import on_child_added
         if isinstance(child, Node):
             node = child
-            if node._parent is not None:
-                raise ValueError(f"Node '{node._name}' has a parent already (use moveChild)")
+            if node is self or any(node is p for p in self._ancestors()):
+                raise ValueError(f"Node.addChild: Node '{node._name}' cannot be a child of itself")
         elif isinstance(child, str):
             node = Node(child)
             file, line = caller_location()
@@ -278,7 +337,11 @@ class Node(Base):
             object.__setattr__(node, "_line", line)
         else:
             raise TypeError(f"Node.addChild: expected a name or a Node, found {type(child).__name__}")
-        object.__setattr__(node, "_parent", self)
+        if node._parent is None:
+            object.__setattr__(node, "_parent", self)
+        elif node._live() is not None:
+            raise ValueError(f"Node.addChild: a second parent for Node '{node._name}' after init is not supported")
+        node._parents.append(self)
         for k, v in attributes.items():
             node._data_set(k, v) if node._has_data(k) else node._values.__setitem__(k, v)
         self._children.append(node)
@@ -300,6 +363,7 @@ class Node(Base):
             if args:
                 raise TypeError(f"Node.addObject('{type_or_object}', ...): data must be keyword arguments")
             file, line = caller_location()
+            _refuse_constraint_based(type_or_object, file, line)
             name = attributes.pop("name", None)
             template = attributes.pop("template", "")
             template = to_sofa_text(template, f"{file}:{line}: {type_or_object}: attribute 'template'")
@@ -332,14 +396,25 @@ class Node(Base):
             self._objects.remove(obj)
             object.__setattr__(obj, "_node", None)
 
+    def _ancestors(self):
+        out, todo = [], list(self._parents)
+        while todo:
+            n = todo.pop()
+            if any(n is o for o in out):
+                continue
+            out.append(n)
+            todo.extend(n._parents)
+        return out
+
     def removeChild(self, child):
         from .simulation import on_removed
         if isinstance(child, str):
             child = self.getChild(child)
-        if child is not None and child in self._children:
+        if child is not None and any(child is c for c in self._children):
             on_removed(self, child)
             self._children.remove(child)
-            object.__setattr__(child, "_parent", None)
+            child._parents.remove(self)
+            object.__setattr__(child, "_parent", child._parents[0] if child._parents else None)
 
     def moveChild(self, child, new_parent):
         self.removeChild(child)
@@ -485,11 +560,28 @@ class Node(Base):
     def _tree(self):
         attributes = []
         for key, value in self._values.items():
-            attributes.append((key, _tree_text(value, f"{self._file}:{self._line}: Node '{self._name}': attribute '{key}'"),
+            attributes.append((key, _tree_text(value, f"{self._file}:{self._line}: Node '{self._name}': attribute '{key}'",
+                                               self._root()),
                                self._line))
         objects = [t for t in (o._tree() for o in self._objects) if t is not None]
         return {"name": self._name, "file": self._file, "line": self._line, "attributes": attributes,
-                "objects": objects, "children": [c._tree() for c in self._children]}
+                "objects": objects, "children": [c._tree() for c in self._scene_children()]}
+
+
+#: SOFA's constraint-based (Lagrange multiplier) contact and its solvers: not in penalty.
+CONSTRAINT_BASED = {"FreeMotionAnimationLoop", "ConstraintAnimationLoop", "GenericConstraintSolver",
+                    "BlockGaussSeidelConstraintSolver", "LCPConstraintSolver", "ProjectedGaussSeidelConstraintSolver",
+                    "UnbuiltGaussSeidelConstraintSolver", "ImprovedJacobiConstraintSolver",
+                    "UncoupledConstraintCorrection", "LinearSolverConstraintCorrection",
+                    "PrecomputedConstraintCorrection", "GenericConstraintCorrection"}
+
+
+def _refuse_constraint_based(type_name: str, file: str, line: int):
+    """One clear line, at the addObject call, for SOFA's constraint-based contact."""
+    if type_name in CONSTRAINT_BASED:
+        raise _core.SceneError(f"{file}:{line}: {type_name}: SOFA's constraint-based contact (Lagrange multipliers) is "
+                               "not part of penalty, which reproduces SOFA's penalty contact (DefaultAnimationLoop, "
+                               "CollisionResponse response=\"PenalityContactForceField\")")
 
 
 def _default_name(type_name: str) -> str:

@@ -22,8 +22,36 @@ TOP_LEVEL = ("SofaImGui", "SofaQt", "SofaGLFW", "SofaExporter", "SofaTypes", "So
              "SofaMatrix", "SofaCUDA", "SoftRobots", "STLIB", "splib", "stlib3")
 
 
+def _error(module: str, what: str) -> ImportError:
+    reason = REASONS.get(module, "not part of penalty's SofaPython3, see docs/python.md")
+    return ImportError(f"{what}: {module} is not available in penalty ({reason})", name=module)
+
+
+class UnavailableName:
+    """A name of an unavailable module (`from Sofa.Types import RGBAColor`): importing it
+    succeeds; calling it or reading its attributes raises ImportError naming the module."""
+
+    __slots__ = ("_module", "_name")
+
+    def __init__(self, module: str, name: str):
+        object.__setattr__(self, "_module", module)
+        object.__setattr__(self, "_name", name)
+
+    def __call__(self, *args, **kwargs):
+        raise _error(self._module, f"{self._module}.{self._name}(...)")
+
+    def __getattr__(self, attribute):
+        if attribute.startswith("__"):
+            raise AttributeError(attribute)
+        raise _error(self._module, f"{self._module}.{self._name}.{attribute}")
+
+    def __repr__(self):
+        return f"<unavailable {self._module}.{self._name}>"
+
+
 class UnavailableModule(types.ModuleType):
-    """A module penalty does not provide: any use raises ImportError naming it."""
+    """A module penalty does not provide: importing it (or a name from it) succeeds, using it
+    raises ImportError naming it."""
 
     def __init__(self, name: str):
         super().__init__(name)
@@ -32,9 +60,7 @@ class UnavailableModule(types.ModuleType):
     def __getattr__(self, attribute):
         if attribute.startswith("__"):
             raise AttributeError(attribute)
-        raise ImportError(f"{self.__name__}.{attribute}: {self.__name__} is not available in penalty "
-                          f"({REASONS.get(self.__name__, 'not part of penalty SofaPython3 API, see docs/python.md')})",
-                          name=self.__name__)
+        return UnavailableName(self.__name__, attribute)
 
 
 class _Finder(importlib.abc.MetaPathFinder, importlib.abc.Loader):

@@ -33,7 +33,7 @@ void build_python_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuil
     const Attributes a(c);
     BaseState& s = b.state(c, info);
     b.guarded(c, [&] {
-        std::unique_ptr<BaseForceField> ff = external(b, c).force_field(a.integer("pythonObject"), s);
+        std::unique_ptr<BaseForceField> ff = external(b, c).force_field(a.integer_or("pythonObject", -1), s);
         BaseForceField& added = info.node->add_force_field_ptr(std::move(ff));
         b.record_origin(&added, c);
         b.add_init(1, c, [f = &added] { f->init(); });
@@ -83,7 +83,7 @@ void build_python_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     BaseState& out = mapping_end(b, a, "output", info.scene_node);
     if (&out != info.node->state()) a.fail("output", "must be the MechanicalObject of the mapping's own node");
     b.guarded(c, [&] {
-        BaseMapping& m = info.node->set_mapping<HeldMapping>(external(b, c).mapping(a.integer("pythonObject"), in, out));
+        BaseMapping& m = info.node->set_mapping<HeldMapping>(external(b, c).mapping(a.integer_or("pythonObject", -1), in, out));
         b.add_init(0, c, [p = &m] { p->init(); });
     });
     b.role(c, [o = &out] { return "mapping in Python onto this node's " + counted(o->num_dofs(), "point", "points"); });

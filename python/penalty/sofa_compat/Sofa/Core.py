@@ -12,6 +12,32 @@ DataLink = Data
 DataVectorString = Data
 
 
+class TaskScheduler:
+    """Sofa.Core.TaskScheduler: the threads of penalty's scenes (0: TBB's default)."""
+
+    _threads = 0
+
+    @staticmethod
+    def GetHardwareThreadsCount():  # noqa: N802 - SofaPython3's names
+        import os
+        return os.cpu_count() or 1
+
+    @staticmethod
+    def init(threads=0):
+        TaskScheduler._threads = int(threads)
+        from penalty.sofa_api.simulation import set_threads
+        set_threads(TaskScheduler._threads)
+        return True
+
+    @staticmethod
+    def getThreadCount():  # noqa: N802
+        return TaskScheduler._threads or TaskScheduler.GetHardwareThreadsCount()
+
+    @staticmethod
+    def stop():
+        return None
+
+
 def __getattr__(name):
     if name.startswith("__"):
         raise AttributeError(name)

@@ -17,6 +17,15 @@ def initTextures(root):  # noqa: N802
     return None
 
 
+class SceneCheckMainRegistry:
+    """SOFA's registry of scene checks: penalty runs its own checks when it builds a scene (unknown
+    components, broken links, attributes it does not read), not SOFA's."""
+
+    @staticmethod
+    def getRegisteredSceneChecks():  # noqa: N802
+        return []
+
+
 def __getattr__(name):
     if name.startswith("__"):
         raise AttributeError(name)
