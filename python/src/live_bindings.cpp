@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <cstring>
 
 namespace penalty::python {
@@ -72,9 +73,19 @@ py::object to_python(const DataValue& v, py::handle owner, bool writeable) {
     if (form == "list") return py::cast(v.items);
     if (form.substr(0, 8) != "ndarray:") return py::str(v.text);
     const py::dtype dtype = dtype_of(form);
-    py::array_t<double> flat(py::ssize_t(v.numbers.size()));
-    std::copy(v.numbers.begin(), v.numbers.end(), flat.mutable_data());
-    py::array out = flat.attr("astype")(dtype);
+    py::array out;
+    if (form.find("int32") != std::string_view::npos) {
+        // SOFA's unsigned values in SofaPython3's int32 (4294967295 reads -1), wrapped as C++ does
+        py::array_t<std::int32_t> ints(py::ssize_t(v.numbers.size()));
+        std::transform(v.numbers.begin(), v.numbers.end(), ints.mutable_data(), [](double x) {
+            return static_cast<std::int32_t>(static_cast<std::uint32_t>(static_cast<std::int64_t>(x)));
+        });
+        out = ints;
+    } else {
+        py::array_t<double> flat(py::ssize_t(v.numbers.size()));
+        std::copy(v.numbers.begin(), v.numbers.end(), flat.mutable_data());
+        out = flat.attr("astype")(dtype);
+    }
     if (v.columns > 0) out = out.attr("reshape")(py::make_tuple(py::ssize_t(v.numbers.size() / v.columns), py::ssize_t(v.columns)));
     return out;
 }
@@ -297,10 +308,8 @@ py::object mass_matrix(Scene& s, const std::string& path) {
     return triplets_to_csr(t, size);
 }
 
-}  // namespace
-
-void bind_live(py::module_& m) {
-    auto cls = py::reinterpret_borrow<py::class_<PyScene>>(m.attr("Scene"));
+/// The live Data, structure changes, events, steps with a dt, matrices and probes of a scene.
+void add_live_methods(py::class_<PyScene>& cls) {
     cls.def("_data_fields", [](PyScene& s, const std::string& path, bool node) {
            py::list out;
            for (const scene::DataField& f : s.scene->data_fields({path, node})) out.append(field_dict(f));
@@ -370,7 +379,10 @@ void bind_live(py::module_& m) {
             return probe_dforce(*s.scene, path, dx, k, b);
         })
         .def("_mass_matrix", [](PyScene& s, const std::string& path) { return mass_matrix(*s.scene, path); });
+}
 
+/// The build of a script's tree, SOFA's catalog and the registry's declarations.
+void add_module_functions(py::module_& m) {
     m.def("_build_live_tree", [](const py::dict& root, const std::filesystem::path& path,
                                  const std::vector<std::filesystem::path>& data_dirs, std::optional<double> dt, int threads,
                                  bool exhaustive, std::vector<std::string> overrides, py::object dispatch, py::object resolve) {
@@ -426,6 +438,14 @@ void bind_live(py::module_& m) {
         for (const scene::ComponentSpec& c : scene::component_registry()) out.append(std::string(c.type));
         return out;
     });
+}
+
+}  // namespace
+
+void bind_live(py::module_& m) {
+    auto cls = py::reinterpret_borrow<py::class_<PyScene>>(m.attr("Scene"));
+    add_live_methods(cls);
+    add_module_functions(m);
 }
 
 }  // namespace penalty::python

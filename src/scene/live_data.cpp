@@ -9,6 +9,9 @@
 #include "scene/live_policy.hpp"
 
 #include <algorithm>
+#include <map>
+#include <mutex>
+#include <tuple>
 #include <cmath>
 #include <cstdlib>
 #include <optional>
@@ -136,6 +139,8 @@ const io::SceneNode* find_node_at(const io::SceneNode& root, std::string_view pa
 
 }  // namespace
 
+std::vector<DataField> make_data_fields(std::string_view type, bool node, bool rigid);
+
 DataValue make_data_value(const DataField& f, std::string_view text) {
     DataValue v;
     v.python_form = f.python_form;
@@ -199,7 +204,17 @@ const io::MeshData* Scene::engine_mesh(const io::SceneComponent& engine, const s
     return it == engine_meshes_.end() ? nullptr : &it->second;
 }
 
-std::vector<DataField> data_fields_of_type(std::string_view type, bool node, bool rigid) {
+const std::vector<DataField>& data_fields_of_type(std::string_view type, bool node, bool rigid) {
+    // Built once per (type, template): the registry and the catalog do not change.
+    static std::mutex mutex;
+    static std::map<std::tuple<std::string, bool, bool>, std::vector<DataField>> cache;
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto [it, inserted] = cache.try_emplace({std::string(type), node, rigid});
+    if (inserted) it->second = make_data_fields(type, node, rigid);
+    return it->second;
+}
+
+std::vector<DataField> make_data_fields(std::string_view type, bool node, bool rigid) {
     const ComponentSpec* spec = node ? nullptr : find_component(type);
     const std::vector<CatalogEntry>& sofa = sofa_data_catalog(node ? "Node" : catalog_type(type), rigid);
     std::vector<DataField> out;
@@ -247,7 +262,9 @@ std::vector<DataField> data_fields_of_type(std::string_view type, bool node, boo
 
 std::size_t data_field_columns(const DataField& f) { return columns_of(f); }
 
-std::vector<DataField> Scene::data_fields(const DataOwner& owner) const {
+std::vector<DataField> Scene::data_fields(const DataOwner& owner) const { return fields_of(owner); }
+
+const std::vector<DataField>& Scene::fields_of(const DataOwner& owner) const {
     const io::SceneElement* e = find_element(owner);
     if (e == nullptr) throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
     if (owner.node) return data_fields_of_type("Node", true, false);
@@ -256,7 +273,7 @@ std::vector<DataField> Scene::data_fields(const DataOwner& owner) const {
 }
 
 DataValue Scene::data(const DataOwner& owner, std::string_view name) {
-    const std::vector<DataField> fields = data_fields(owner);
+    const std::vector<DataField>& fields = fields_of(owner);
     const auto it = std::find_if(fields.begin(), fields.end(), [&](const DataField& f) { return f.name == name; });
     const io::SceneElement* e = find_element(owner);
     if (it == fields.end()) throw std::invalid_argument(e->describe() + " has no data '" + std::string(name) + "'");

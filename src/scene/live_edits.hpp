@@ -3,6 +3,7 @@
 #include "penalty/scene/scene.hpp"
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -32,6 +33,10 @@ struct Scene::LiveEdits {
     /// root's child nodes keep their gravity, by path, until the end of the next step.
     std::map<std::string, Vec3> delayed_gravity;
     bool gravity_write_delay = true;
+    /// Scenes replaced by a rebuild that changed the list of states (nodes added or removed): kept
+    /// until this scene goes, so that what pointed to their state records during a run (the
+    /// writers of Scene's run) stays valid.
+    std::vector<std::unique_ptr<Scene>> retired;
     /// Components and nodes removed after init: left out of the next build.
     std::set<const io::SceneElement*> removed;
 };

@@ -187,7 +187,7 @@ void check_write(const io::SceneElement& element, bool node, const DataField& f,
 void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_view text) {
     auto* e = const_cast<io::SceneElement*>(find_element(owner));
     if (e == nullptr) throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
-    const std::vector<DataField> fields = data_fields(owner);
+    const std::vector<DataField>& fields = fields_of(owner);
     const auto it = std::find_if(fields.begin(), fields.end(), [&](const DataField& f) { return f.name == name; });
     if (it == fields.end()) throw std::invalid_argument(e->describe() + " has no data '" + std::string(name) + "'");
     const DataField& f = *it;
@@ -448,6 +448,7 @@ void Scene::rebuild(bool reset) {
     live_->removed.clear();
     live_->structure_changed = false;
     ++live_->generation;
+    if (!same_list) live_->retired.push_back(std::move(fresh));
 }
 
 void Scene::carry_states(Scene& fresh, bool reset) const {

@@ -147,9 +147,9 @@ def test_registry_defaults_equal_sofa_defaults():
                 registry = _registry_default(t, name)
                 if not registry or registry.startswith("("):
                     continue
-                form = sofa[name][2]
-                ours = parse_value(registry, form, field.get("columns", 0))
-                theirs = parse_value(sofa[name][3], form, field.get("columns", 0))
+                form = sofa[name][2].replace(":2", ":1")  # compared as flat lists of numbers
+                ours = parse_value(registry, form)
+                theirs = parse_value(sofa[name][3], form)
                 checked += 1
                 if isinstance(ours, (str, list)):
                     equal = ours == theirs

@@ -90,7 +90,7 @@ struct DataValue {
 
 /// The Data of a component type (or of a node when `node`), for its Vec3d or Rigid3d template:
 /// SOFA's (its catalog) then those only penalty declares (the registry), each with its LiveWrite.
-[[nodiscard]] std::vector<DataField> data_fields_of_type(std::string_view type, bool node, bool rigid);
+[[nodiscard]] const std::vector<DataField>& data_fields_of_type(std::string_view type, bool node, bool rigid);
 
 /// Values per row of a 2-D Data (0: scalar or 1-D).
 [[nodiscard]] std::size_t data_field_columns(const DataField& field);

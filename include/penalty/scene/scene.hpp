@@ -244,6 +244,8 @@ private:
     std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<PointId>> engine_indices_;
     std::map<std::pair<const io::SceneComponent*, std::string>, io::MeshData> engine_meshes_;
     std::map<const io::SceneComponent*, io::MeshData> loader_meshes_;
+    /// The Data of the component or node at `owner` (data_fields_of_type's, cached).
+    [[nodiscard]] const std::vector<DataField>& fields_of(const DataOwner& owner) const;
     /// The value of a Data the built scene holds (states, engine and loader outputs, masses), or
     /// nullopt (the scene's text or the default then).
     [[nodiscard]] std::optional<DataValue> live_value(const io::SceneComponent& c, const DataField& f) const;

@@ -33,6 +33,7 @@ class _PythonComponent(Object):
     `name=` keyword (a positional name for force fields and mappings), Data kept in Python."""
 
     _python = True
+    _listens_by_default = True    # SOFA's f_listening of SofaPython3's components (not data engines)
     _sofa_class = "Controller"   # SofaPython3's class, for its Data (SOFA's catalog)
     _cpp_type = ""                # penalty's component type in the C++ scene ("" when none)
     _positional_name = False
@@ -92,6 +93,7 @@ class DataEngine(_PythonComponent):
 
     _sofa_class = "DataEngine"
     _python_kind = "engine"
+    _listens_by_default = False
 
     def __init__(self, *args, **kwargs):
         object.__setattr__(self, "_inputs", [])

@@ -18,10 +18,16 @@ _AFTER_STEP = ("IntegrateEndEvent", "AnimateEndEvent", "UpdateMappingEndEvent")
 
 
 def _listening(obj) -> bool:
-    try:
-        return bool(obj._data_get("listening"))
-    except AttributeError:
-        return False
+    """The component's `listening` Data (SofaPython3's components listen by default but data
+    engines)."""
+    value = obj._values.get("listening")
+    if value is None:
+        return obj._listens_by_default
+    return bool(obj._data_get("listening"))
+
+
+#: (class, method name) → the class's function or None: a handler lookup per event and component.
+_class_handlers: dict = {}
 
 
 def _listener_count(root: Node) -> int:
@@ -38,19 +44,38 @@ def _graph_changed(node: Node):
     object.__setattr__(node._root(), "_moved_prefixes", None)
 
 
+def _class_handler(cls, method: str):
+    """The class's function for an event (its on<Event>, else its onEvent), or None; cached."""
+    key = (cls, method)
+    function = _class_handlers.get(key, _class_handlers)
+    if function is _class_handlers:
+        function = getattr(cls, method, None)
+        if not callable(function):
+            function = getattr(cls, "onEvent", None)
+        function = function if callable(function) else None
+        _class_handlers[key] = function
+    return function
+
+
 def send_event(root: Node, event_type: str, **fields):
     """Propagates one event to the Python components below `root`, in SOFA's order."""
     event = {"type": event_type, "isHandled": False, **fields}
     if _listener_count(root._root()) == 0:
         return event
+    method = "on" + event_type
 
     def visit(node):
-        for obj in list(node._objects):
-            if getattr(obj, "_python", False) and _listening(obj):
-                handler = getattr(obj, "on" + event_type, None)
-                if not callable(handler):
-                    handler = getattr(obj, "onEvent", None)
-                if callable(handler) and handler(dict(event)):
+        for obj in node._objects:
+            if obj._python and (obj._listens_by_default if "listening" not in obj._values else _listening(obj)):
+                own = obj.__dict__
+                handler = own.get(method) if own else None
+                if handler is None:
+                    function = _class_handler(type(obj), method)
+                    if own and "onEvent" in own and getattr(type(obj), method, None) is None:
+                        handler = own["onEvent"]  # the instance's onEvent, for an event its class lacks
+                    elif function is not None:
+                        handler = function.__get__(obj)
+                if handler is not None and handler(dict(event)):
                     event["isHandled"] = True
             if event["isHandled"]:
                 return  # SOFA prunes the rest of the node and its subtree
@@ -63,9 +88,9 @@ def send_event(root: Node, event_type: str, **fields):
     return event
 
 
-def send_script_event(node: Node, target, event_name: str):
-    """node.sendEvent(sender, name): a ScriptEvent from `node` down."""
-    send_event(node, "ScriptEvent", sender=target, event_name=str(event_name))
+def send_script_event(node: Node, user_data, event_name: str):
+    """node.sendEvent(userData, name): SofaPython3's PythonScriptEvent, from `node` down."""
+    send_event(node, "PythonScriptEvent", sender=node, event_name=str(event_name), userData=user_data)
 
 
 def _python_components(root: Node):
@@ -191,6 +216,7 @@ def unload(root: Node):
     object.__setattr__(root, "_penalty_scene", None)
     for c in list(root._children):
         object.__setattr__(c, "_parent", None)
+        c._parents.clear()
     root._children.clear()
     for o in list(root._objects):
         object.__setattr__(o, "_node", None)
@@ -227,6 +253,7 @@ def _node_from_tree(tree: dict) -> Node:
     for c in tree["children"]:
         child = _node_from_tree(c)
         object.__setattr__(child, "_parent", node)
+        child._parents.append(node)
         node._children.append(child)
     return node
 

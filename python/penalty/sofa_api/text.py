@@ -69,7 +69,10 @@ def parse_value(text: str, form: str, columns: int = 0):
     if form == "int":
         return int(values[0]) if values else 0
     _, dtype, ndim = form.split(":")
-    array = np.array(values, dtype=np.float64).astype(dtype)
+    if dtype == "int32":  # SOFA's unsigned values as SofaPython3's int32 (4294967295 reads -1)
+        array = np.array([int(v) & 0xFFFFFFFF for v in values], dtype=np.uint32).astype(np.int32)
+    else:
+        array = np.array(values, dtype=np.float64).astype(dtype)
     if ndim == "2":
         width = columns or max(1, len(values))
         array = array[: len(array) - len(array) % width].reshape(-1, width)

@@ -16,6 +16,8 @@ def _scene_of(base):
 class Object(Base):
     """An object added with node.addObject(type, name=..., **data) (Sofa.Core.Object)."""
 
+    _python = False  # a component written in Python (components.py)
+
     def __init__(self, type_name: str, name: str | None, attributes: dict, file: str, line: int, template: str = ""):
         super().__init__()
         object.__setattr__(self, "_type", type_name)
@@ -512,9 +514,10 @@ class Node(Base):
         from .simulation import init_node
         init_node(self)
 
-    def sendEvent(self, target, event_name):
+    def sendEvent(self, user_data, event_name):
+        """SofaPython3's PythonScriptEvent (sender: this node) to the components below it."""
         from .simulation import send_script_event
-        send_script_event(self, target, event_name)
+        send_script_event(self, user_data, event_name)
 
     def computeEnergy(self):
         """(kinetic, potential) energy of the scene (J): SOFA's Node.computeEnergy."""
