@@ -26,6 +26,9 @@ struct Scene::LiveEdits {
     bool structure_changed = false;
     /// A rebuild is due before the next step.
     bool rebuild = false;
+    /// Inside Scene::step (SOFA's events of the collision phase run there): a rebuild waits for
+    /// the next step, the simulation being stepped cannot be replaced.
+    bool stepping = false;
     std::uint64_t generation = 0;
     /// Components and nodes added after init, for undoing them when the rebuild fails.
     std::vector<std::pair<const io::SceneNode*, const io::SceneElement*>> added;

@@ -370,11 +370,12 @@ void Scene::remove(const DataOwner& owner) {
 }
 
 void Scene::apply_pending_writes() {
-    if (!live_->rebuild) return;
+    if (!live_->rebuild || live_->stepping) return;
     rebuild(/*reset=*/false);
 }
 
 void Scene::reset() {
+    if (live_->stepping) throw std::logic_error("Scene::reset: not during a step (a handler of the collision phase)");
     rebuild(/*reset=*/true);
 }
 

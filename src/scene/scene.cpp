@@ -26,7 +26,14 @@ void Scene::step() {
     apply_pending_writes();  // writes of Data after init that SOFA takes at this step (live_writes.cpp)
     timings_ = StepTimings{};
     const auto t0 = std::chrono::steady_clock::now();
-    simulation_->step();
+    live_->stepping = true;  // the event listener may write Data: they wait for the next step
+    try {
+        simulation_->step();
+    } catch (...) {
+        live_->stepping = false;
+        throw;
+    }
+    live_->stepping = false;
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
     solver_stats_ = StepSolverStats{};

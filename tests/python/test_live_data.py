@@ -348,3 +348,26 @@ def test_objects_added_after_init_are_built_before_the_next_step():
     sofa_api.animate(root, root.dt.value)
     assert root.Ball.dofs.position.value[0, 1] < 5.0  # it falls
     assert "/Ball/dofs" in root._penalty_scene.states.keys()
+
+
+def test_a_write_and_reinit_during_the_collision_phase_wait_for_the_next_step():
+    """SOFA's collision-phase events run inside the C++ step: a reinit() there cannot replace the
+    simulation being stepped; the write takes effect at the next step."""
+    class Stiffen(sofa_api.Controller):
+        def __init__(self, *a, **k):
+            sofa_api.Controller.__init__(self, *a, **k)
+            self.fem = k["fem"]
+
+        def onCollisionEndEvent(self, event):
+            if self.getContext().getTime() == 0.0:
+                self.fem.youngModulus.value = [400.0]
+                self.fem.reinit()
+
+    root = beam()
+    root.addObject(Stiffen(name="stiffen", fem=root.B.ff))
+    root.init()
+    reference = beam()
+    sofa_api.animate(reference)  # the first step with the old value (the write waits)
+    reference.B.ff.youngModulus.value = [400.0]
+    reference.B.ff.reinit()
+    assert same(run(root, 4), run(reference, 3))
