@@ -364,12 +364,54 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
         if (name.find("exa") != std::string::npos) return flatten(mesh->hexahedra, 8);
         if (name == "listRadius") return numbers_value(mesh->radii, 0);
     }
+    if (auto topology = topology_value(c, f)) return topology;
     if (c.type == "UniformMass" && node != nullptr && node->mass() != nullptr && (name == "vertexMass" || name == "totalMass")) {
         const BaseMass& m = *node->mass();
         const double n = m.state() != nullptr ? double(m.state()->num_dofs()) : 0.0;
         const double total = m.total_mass();
         const double vertex = n > 0 ? total / n : 0.0;
         if (f.python_form == "float") return numbers_value({name == "vertexMass" ? vertex : total}, 0);
+    }
+    return std::nullopt;
+}
+
+std::optional<DataValue> Scene::topology_value(const io::SceneComponent& c, const DataField& f) const {
+    const ComponentSpec* spec = find_component(c.type);
+    if (spec == nullptr || spec->family != ComponentFamily::topology) return std::nullopt;
+    const std::string node_path = c.node->path();
+    const output::StateRecord* record = nullptr;
+    for (const output::StateRecord& r : states_)
+        if (r.node_path == node_path) record = &r;
+    if (record == nullptr) return std::nullopt;
+    // the node's topology is its last one (SOFA's node keeps the last)
+    const io::SceneComponent* last = nullptr;
+    for (const auto& other : c.node->components) {
+        const ComponentSpec* o = find_component(other->type);
+        if (o != nullptr && o->family == ComponentFamily::topology) last = other.get();
+    }
+    const std::string& name = f.name;
+    std::vector<double> numbers;
+    const auto flatten = [&](const auto& list, std::size_t width) {
+        for (const auto& row : list)
+            for (std::size_t k = 0; k < width; ++k) numbers.push_back(double(row[k]));
+        return numeric_value(f, std::move(numbers), width);
+    };
+    if (last == &c && record->topology != nullptr && !c.has(name)) {
+        const MeshTopology& t = *record->topology;
+        if (name == "edges") return flatten(t.edges(), 2);
+        if (name == "triangles") return flatten(t.triangles(), 3);
+        if (name == "quads") return flatten(t.quads(), 4);
+        if (name == "tetrahedra" || name == "tetras") return flatten(t.tetrahedra(), 4);
+        if (name == "hexahedra" || name == "hexas") return flatten(t.hexahedra(), 8);
+    }
+    if (name == "position" && !c.has("position")) {
+        if (c.has("src")) {
+            const io::LinkTarget t = io::resolve_link(c, "src");
+            if (t.component != nullptr)
+                if (const io::MeshData* mesh = loader_mesh(*t.component)) return flatten(mesh->positions, 3);
+        }
+        if (const auto* v = dynamic_cast<const Vec3Object*>(record->state); v != nullptr && last == &c)
+            return flatten(v->rest_position, 3);  // a grid's points: its state's rest positions
     }
     return std::nullopt;
 }

@@ -371,3 +371,23 @@ def test_a_write_and_reinit_during_the_collision_phase_wait_for_the_next_step():
     reference.B.ff.youngModulus.value = [400.0]
     reference.B.ff.reinit()
     assert same(run(root, 4), run(reference, 3))
+
+
+def test_topology_data_read_what_was_built(tmp_path):
+    """A topology's points and elements as built (from a loader, or a grid's), as SOFA HEAD gives
+    them through SofaPython3 for the same scene."""
+    root = beam()
+    assert root.B.grid.hexahedra.value.shape == (12, 8)
+    assert root.B.grid.position.value.shape == (36, 3)
+    mesh = tmp_path / "tri.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    r = sofa_api.Node("root")
+    s = r.addChild("S")
+    s.addObject("MeshOBJLoader", name="loader", filename=str(mesh))
+    s.addObject("MeshTopology", name="topo", src="@loader")
+    s.addObject("MechanicalObject", name="mo", src="@loader")
+    sofa_api.init(r)
+    assert r.S.topo.triangles.value.tolist() == [[0, 1, 2]]
+    assert r.S.topo.edges.value.tolist() == [[1, 2], [2, 0], [0, 1]]
+    assert r.S.topo.position.value.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+    assert r.S.loader.position.value.shape == (3, 3)

@@ -249,6 +249,8 @@ private:
     /// The value of a Data the built scene holds (states, engine and loader outputs, masses), or
     /// nullopt (the scene's text or the default then).
     [[nodiscard]] std::optional<DataValue> live_value(const io::SceneComponent& c, const DataField& f) const;
+    /// The points and elements of a topology component as built (its node's topology), or nullopt.
+    [[nodiscard]] std::optional<DataValue> topology_value(const io::SceneComponent& c, const DataField& f) const;
     /// A state vector as numbers (3 or 7 per DOF for positions, 3 or 6 for derivatives).
     [[nodiscard]] static std::vector<double> state_vector_numbers(const BaseState& s, StateVector which);
     /// Gives the states of `fresh` (built again from this scene's text) this scene's values and
