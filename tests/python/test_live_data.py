@@ -108,7 +108,9 @@ def _read_everything(root):
                     continue
                 value = obj._make_data(name).value
                 written = name in obj._values
-                live = field["live"] == "state" or field["live"] == "read-only" or name in (
+                built_topology = "Topology" in obj._type and name in (
+                    "edges", "triangles", "quads", "tetrahedra", "hexahedra", "tetras", "hexas")
+                live = built_topology or field["live"] == "state" or field["live"] == "read-only" or name in (
                     "name", "size", "vertexMass", "totalMass", "indices", "position", "listRadius")
                 if written or live or field["default"] == "" or field["python_form"] == "none":
                     continue
