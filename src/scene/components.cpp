@@ -245,6 +245,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::transform_engine_components(),
               builder::selection_engine_components(),
               builder::frame_mapping_components(),
+              builder::corotational_fem_components(), builder::python_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

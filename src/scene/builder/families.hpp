@@ -53,6 +53,7 @@ void read_conjugate_gradient(SceneBuilder& b, const io::SceneComponent& linear, 
 std::span<const ComponentSpec> transform_engine_components();      // transform_engines.cpp
 std::span<const ComponentSpec> selection_engine_components();      // selection_engines.cpp
 std::span<const ComponentSpec> frame_mapping_components();         // frame_mappings.cpp
+std::span<const ComponentSpec> python_components();               // python_components.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).

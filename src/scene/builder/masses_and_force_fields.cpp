@@ -18,7 +18,7 @@ using F = ComponentFamily;
 
 // ---- Gravity --------------------------------------------------------------------------------
 constexpr AttributeSpec kGravity[] = {
-    {"gravity", K::vector3, "0 -9.81 0", "m/s^2", ValueCheck::none, "of its node and below"},
+    {"gravity", K::vector3, "0 0 0", "m/s^2", ValueCheck::none, "of its node and below (SOFA's Gravity: 0 0 0 when not given)"},
 };
 
 void build_gravity(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {

@@ -65,6 +65,10 @@ void SceneBuilder::build() {
     warn_degenerate_triangles();
     for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
     for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
+    // What the engines computed and the loaders read, for the scene's live Data (live_data.hpp).
+    scene_.engine_indices_ = std::move(engine_indices_);
+    scene_.engine_meshes_ = std::move(engine_meshes_);
+    scene_.loader_meshes_ = std::move(meshes_);
 }
 
 void SceneBuilder::rethrow_naming(const io::SceneElement& c, const std::exception& e) {
