@@ -56,7 +56,7 @@ p = run("--version", expect=0)
 check(p.stdout.strip() == f"penalty {version}", f"--version prints 'penalty {version}'", p.stdout)
 
 # The thread limit: one number, penalty::kMaxThreads, in --help, in docs/reliability.md and enforced.
-with open(os.path.join(source, "include", "penalty", "simulation", "solver.hpp")) as f:
+with open(os.path.join(source, "include", "penalty", "simulation", "simulation.hpp")) as f:
     max_threads = int(re.search(r"inline constexpr int kMaxThreads = (\d+);", f.read()).group(1))
 p = run("run", "--help", expect=0)
 check(re.search(rf"--threads \S*INT in \[1, {max_threads}\]", p.stdout) is not None, f"run --help: --threads 1 to {max_threads}",
