@@ -1306,6 +1306,24 @@ void for_each_node(Node& n, const F& f) {
 }
 }  // namespace
 
+/// SOFA's Simulation::init ends with MechanicalProjectPositionAndVelocityVisitor (time 0) and
+/// the propagation of positions and velocities: each constraint's project_position then
+/// project_velocity, and the mappings under a node with a constraint that moves positions
+/// applied again (the others' outputs are already what they map).
+void Simulation::project_initial_state(Node& node, bool moved_above) {
+    bool moved = moved_above;
+    for (const auto& c : node.constraints()) {
+        c->project_position();
+        c->project_velocity();
+        moved = moved || c->projects_positions();
+    }
+    if (moved && node.mapping()) {
+        node.mapping()->apply_position();
+        node.mapping()->apply_velocity();
+    }
+    for (const auto& child : node.children()) project_initial_state(*child, moved);
+}
+
 void Simulation::init() {
     for_each_node(root_, [](Node& n) {
         if (n.mapping()) {
@@ -1320,6 +1338,7 @@ void Simulation::init() {
         for (const auto& c : n.constraints()) c->init();
         if (n.ode_solver()) n.ode_solver()->init(n);
     });
+    project_initial_state(root_, false);
     initialized_ = true;
 }
 
@@ -1465,7 +1484,10 @@ void Simulation::step() {
         }
     }
     for_each_node(root_, [](Node& n) {
-        for (const auto& c : n.constraints()) c->project_velocity();
+        for (const auto& c : n.constraints()) {  // SOFA's MechanicalProjectPositionAndVelocityVisitor
+            c->project_position();
+            c->project_velocity();
+        }
         if (n.mapping()) {
             n.mapping()->apply_position();
             n.mapping()->apply_velocity();

@@ -26,6 +26,7 @@ public:
     void init() override;
     void project_response(Eigen::Ref<Eigen::VectorXd> v) const override;
     void project_velocity() override {}
+    void append_discarded_rows(std::vector<Index>& rows) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
 
 private:

@@ -152,7 +152,14 @@ public:
     [[nodiscard]] virtual BaseState* state() const = 0;
 };
 
-/// Projective constraint on one state (SOFA's ProjectiveConstraintSet).
+/// The simulation time a component reads (s): SOFA's getContext()->getTime(), the time at the
+/// start of the step during the whole step (the projections after the solve included), 0 at init.
+using ContextClock = std::function<double()>;
+
+/// Projective constraint on one state (SOFA's ProjectiveConstraintSet). Simulation::init and the
+/// end of each step call, per constraint, project_position() then project_velocity() (SOFA's
+/// MechanicalProjectPositionAndVelocityVisitor); the solvers project their vectors with
+/// project_response.
 class BaseProjectiveConstraint {
 public:
     virtual ~BaseProjectiveConstraint() = default;
@@ -161,6 +168,16 @@ public:
     virtual void project_response(Eigen::Ref<Eigen::VectorXd> v) const = 0;
     /// Projects the state's velocity (SOFA: fixed DOFs get v = 0).
     virtual void project_velocity() = 0;
+    /// Projects the state's positions (SOFA's projectPosition: a point put back on its line, a
+    /// prescribed motion); the default leaves them.
+    virtual void project_position() {}
+    /// True when project_position may move positions.
+    [[nodiscard]] virtual bool projects_positions() const { return false; }
+    /// SOFA's applyConstraint(ZeroDirichletCondition*), for an assembled system: appends the
+    /// scalar rows of the state's layout whose row and column the system clears, with 1 on the
+    /// diagonal (MatrixLinearSystem::Dirichlet::discardRowCol). A constraint whose projection is
+    /// not such a selection of rows (a line, a plane) appends none, as in SOFA.
+    virtual void append_discarded_rows(std::vector<Index>& /*rows*/) const {}
     [[nodiscard]] virtual BaseState* state() const = 0;
 };
 
