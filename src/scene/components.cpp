@@ -139,6 +139,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::projective_constraint_components(),
               builder::rigid_force_field_components(),
               builder::shell_force_field_components(),
+              builder::nonuniform_hexahedra_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());
