@@ -33,7 +33,7 @@ Vec3 block_times(const Mat3& p, const Vec3& u) { return sofa_vec::times(p, u); }
 // DirectionProjectiveConstraint::reinit): the block of each constrained point on the diagonal of
 // a jacobian filled from the sorted indices, identity elsewhere.
 void BlockProjectionConstraint::init() {
-    check_constraint_indices("projective constraint", indices_, state_->num_dofs());
+    check_constraint_indices(component_, indices_, state_->num_dofs());
     make_block();
     std::vector<Index> sorted = indices_;
     std::sort(sorted.begin(), sorted.end());

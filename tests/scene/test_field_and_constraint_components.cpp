@@ -186,7 +186,7 @@ TEST(FieldAndConstraintComponents, BadAttributesNameFileLineComponentAndAttribut
         const std::string message = error_of(particles("0 0 0  1 0 0", components));
         EXPECT_THAT(message, HasSubstr("test.scn:")) << message;
         const std::string type = components.substr(1, components.find(' ') - 1);
-        EXPECT_THAT(message, HasSubstr(type + " '")) << message;
+        EXPECT_THAT(message, HasSubstr("test.scn:6: " + type + ": ")) << message;
         EXPECT_THAT(message, HasSubstr(what)) << message;
     };
     expect_error(R"(<PartialFixedProjectiveConstraint indices="0" fixedDirections="1 0"/>)",

@@ -24,7 +24,8 @@ namespace penalty {
 /// once. Vec3d states only (SOFA's Vec2/Vec1 variants have no penalty state).
 class BlockProjectionConstraint : public BaseProjectiveConstraint {
 public:
-    BlockProjectionConstraint(Vec3Object& state, std::vector<Index> indices) : state_(&state), indices_(std::move(indices)) {}
+    BlockProjectionConstraint(Vec3Object& state, std::vector<Index> indices, const char* component)
+        : state_(&state), indices_(std::move(indices)), component_(component) {}
     [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
     /// The 3×3 block applied to a constrained point (after init).
     [[nodiscard]] const Mat3& block() const { return block_; }
@@ -43,6 +44,7 @@ protected:
     virtual void make_block() = 0;
     Vec3Object* state_;
     std::vector<Index> indices_;
+    const char* component_;  ///< SOFA's class name, for errors
     Vec3 n_ = Vec3::Zero();
     Mat3 block_ = Mat3::Identity();
     std::vector<Index> projected_;
@@ -53,7 +55,7 @@ protected:
 class LineProjectiveConstraint final : public BlockProjectionConstraint {
 public:
     LineProjectiveConstraint(Vec3Object& state, std::vector<Index> indices, const Vec3& origin, const Vec3& direction)
-        : BlockProjectionConstraint(state, std::move(indices)), origin_(origin), direction_(direction) {}
+        : BlockProjectionConstraint(state, std::move(indices), "LineProjectiveConstraint"), origin_(origin), direction_(direction) {}
     void project_position() override;
 
 private:
@@ -67,7 +69,7 @@ private:
 class PlaneProjectiveConstraint final : public BlockProjectionConstraint {
 public:
     PlaneProjectiveConstraint(Vec3Object& state, std::vector<Index> indices, const Vec3& origin, const Vec3& normal)
-        : BlockProjectionConstraint(state, std::move(indices)), origin_(origin), normal_(normal) {}
+        : BlockProjectionConstraint(state, std::move(indices), "PlaneProjectiveConstraint"), origin_(origin), normal_(normal) {}
     void project_position() override;
 
 private:
@@ -81,7 +83,7 @@ private:
 class DirectionProjectiveConstraint final : public BlockProjectionConstraint {
 public:
     DirectionProjectiveConstraint(Vec3Object& state, std::vector<Index> indices, const Vec3& direction)
-        : BlockProjectionConstraint(state, std::move(indices)), direction_(direction) {}
+        : BlockProjectionConstraint(state, std::move(indices), "DirectionProjectiveConstraint"), direction_(direction) {}
     void project_position() override;
     [[nodiscard]] const std::vector<Vec3>& origins() const { return origins_; }
 
