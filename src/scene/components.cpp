@@ -24,7 +24,8 @@ constexpr AttributeSpec kMeshLoaderAttributes[] = {
     {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied after rotation and scale"},
     {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
     {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
-    {"scale", K::real, "1", "", ValueCheck::none, "uniform scale"},
+    {"scale", K::text, "1", "", ValueCheck::none,
+     "uniform scale, read as a float (MeshLoader::parse, strtof); not one number: 1, as SOFA, with a note"},
     {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
     {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
     {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},
@@ -140,6 +141,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::rigid_force_field_components(),
               builder::shell_force_field_components(),
               builder::nonuniform_hexahedra_components(),
+              builder::tait_pressure_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

@@ -181,6 +181,42 @@ TEST(FieldAndConstraintComponents, BoxRoiPositionLinkThatFindsNothingSelectsNoth
     EXPECT_TRUE(warned);
 }
 
+TEST(FieldAndConstraintComponents, TaitPressureInflatesItsBoxWhileTheInjectionRamps) {
+    // the project's SOFA comparison scene: 0.6 m³ injected at 12 m³/s (dt 0.01: 5 steps) into a
+    // 2 m³ box; the quad box under a constant 20 Pa swells against its springs
+    auto s = scene::load_scene(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data/tait_pressure.scn");
+    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("fluid in 12 surface triangles, rest volume 2 m^3"));
+    // the balloon, pinned at one corner, swings down while it swells: its diagonal lengthens
+    const auto diagonal = [&] { return (vec3_dofs(*s, 0).position[6] - vec3_dofs(*s, 0).position[0]).norm(); };
+    const double diagonal0 = diagonal(), box0 = vec3_dofs(*s, 1).position[7].y();
+    for (int i = 0; i < 30; ++i) s->step();
+    EXPECT_GT(diagonal(), diagonal0 + 0.01) << "the balloon swells";
+    EXPECT_GT(vec3_dofs(*s, 1).position[7].y(), box0 + 0.005) << "the box swells";
+}
+
+TEST(FieldAndConstraintComponents, MeshLoaderScaleThatIsNotOneNumberIsOneAsInSofa) {
+    // SOFA's MeshLoader::parse reads `scale` with getAttributeAsFloat: "0.25 0.25 0.25" is not
+    // read whole, so the scale stays 1 (TaitSurfacePressureForceField.scn relies on it)
+    const auto box_top = [](const std::string& scale) {
+        scene::BuildOptions options;
+        options.data_dirs.push_back(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data");
+        auto s = build(R"(<Node name="root"><Node name="N"><EulerImplicitSolver/><CGLinearSolver/>
+            <MeshOBJLoader name="loader" filename="box_3x1x1.obj" )" + scale + R"(/>
+            <MeshTopology src="@loader"/><MechanicalObject src="@loader"/><UniformMass vertexMass="1"/></Node></Node>)",
+                       options);
+        return std::pair{vec3_dofs(*s).position[6], s->warnings()};
+    };
+    const auto [whole, no_notes] = box_top(R"(scale="0.5")");
+    EXPECT_EQ(whole, Vec3(1.5, 0.5, 0.5));
+    const auto [three, notes] = box_top(R"(scale="0.25 0.25 0.25")");
+    EXPECT_EQ(three, Vec3(3, 1, 1));
+    bool noted = false;
+    for (const std::string& w : notes) noted = noted || w.find("is not one number: scale 1") != std::string::npos;
+    EXPECT_TRUE(noted);
+    // strtof: rounded to float, as SOFA
+    EXPECT_EQ(box_top(R"(scale="0.1")").first.x(), 3 * double(0.1f));
+}
+
 TEST(FieldAndConstraintComponents, BadAttributesNameFileLineComponentAndAttribute) {
     const auto expect_error = [](const std::string& components, const std::string& what) {
         const std::string message = error_of(particles("0 0 0  1 0 0", components));
@@ -204,6 +240,11 @@ TEST(FieldAndConstraintComponents, BadAttributesNameFileLineComponentAndAttribut
     expect_error(R"(<AttachProjectiveConstraint indices1="0" indices2="1" clamp="1"/>)",
                  "attribute 'clamp': only false is supported");
     expect_error(R"(<TriangularFEMForceFieldOptim poissonRatio="0.5"/>)", "attribute 'poissonRatio': must be in [0, 0.5)");
+    expect_error(R"(<TaitSurfacePressureForceField B="-1"/>)", "attribute 'B'");
+    expect_error(R"(<TaitSurfacePressureForceField maxInjectionRate="-2"/>)", "attribute 'maxInjectionRate'");
+    expect_error(R"(<TaitSurfacePressureForceField p0="1"/>)", "needs a topology");
+    expect_error(R"(<TaitSurfacePressureForceField p0="1"/><MeshTopology edges="0 1"/>)",
+                 "its topology has no triangles or quads");
     const std::string rigid = R"(<Node name="root"><Node name="R"><EulerImplicitSolver/><CGLinearSolver/>
         <MechanicalObject template="Rigid3" position="0 0 0 0 0 0 1  1 0 0 0 0 0 1"/><UniformMass vertexMass="1"/>
         <MeshTopology edges="0 1"/>)";
