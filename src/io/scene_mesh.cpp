@@ -25,12 +25,12 @@ double mesh_loader_scale(const SceneComponent& c, bool* read_whole) {
     if (!text) return 1.0;
     const char* begin = text->c_str();
     char* end = nullptr;
-    const float value = std::strtof(begin, &end);
+    const double value = std::strtod(begin, &end);  // SOFA: strtof (docs/sofa-compatibility.md, known difference 11)
     if (end != begin + text->size()) {
         if (read_whole != nullptr) *read_whole = false;
         return 1.0;
     }
-    return double(value);
+    return value;
 }
 
 MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& scene_dir,

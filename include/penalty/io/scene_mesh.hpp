@@ -29,9 +29,10 @@ namespace penalty::io {
 /// @throws SceneError naming the component and attribute (a LoadError from the file is wrapped:
 ///         `file:line: MeshOBJLoader 'loader': attribute 'filename': <file error>`).
 /// The scalar `scale` of a mesh loader as SOFA's MeshLoader::parse reads it
-/// (BaseObjectDescription::getAttributeAsFloat): strtof, so rounded to float; a text that strtof
-/// does not read whole ("0.25 0.25 0.25") gives the default 1 (SOFA logs an error and goes on).
-/// `read_whole`, when given, tells whether the text was one number. Absent: 1.
+/// (BaseObjectDescription::getAttributeAsFloat): a text that is not read whole ("0.25 0.25 0.25")
+/// gives the default 1 (SOFA logs an error and goes on). Read in double where SOFA reads a float
+/// (docs/sofa-compatibility.md, known difference 11). `read_whole`, when given, tells whether the
+/// text was one number. Absent: 1.
 [[nodiscard]] double mesh_loader_scale(const SceneComponent& component, bool* read_whole = nullptr);
 
 [[nodiscard]] MeshData load_scene_mesh(const SceneComponent& component, const std::filesystem::path& scene_dir,
