@@ -112,6 +112,8 @@ private:
     /// (which is also all that changes the states a solver touches).
     const std::vector<SolveAction>& solve_plan();
     void plan_node(Node& node);
+    /// Simulation::init's projection of positions and velocities (simulation.cpp).
+    static void project_initial_state(Node& node, bool moved_above);
     void run_action(const SolveAction& action, double dt);
     /// Sets plan_[begin].run_end and run_worth_tasks.
     void find_run(std::size_t begin);
