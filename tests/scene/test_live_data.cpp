@@ -36,7 +36,7 @@ std::string live_beam(const std::string& young = "100", const std::string& indic
 </Node>)";
 }
 
-std::vector<Vec3> positions_after(scene::Scene& s, int steps) {
+std::vector<Vec3> live_positions_after(scene::Scene& s, int steps) {
     for (int k = 0; k < steps; ++k) s.step();
     return dynamic_cast<const Vec3Object&>(*s.states().front().state).position;
 }
@@ -65,9 +65,9 @@ TEST(LiveData, WritesAtTheNextStepAsAFreshScene) {
     auto fresh = test::build(live_beam("100", "0 1 2 3 4 5 6 7 8 9 10"));
     auto written = test::build(live_beam());
     written->set_data({"/B/fix", false}, "indices", "0 1 2 3 4 5 6 7 8 9 10");
-    EXPECT_EQ(positions_after(*written, 5), positions_after(*fresh, 5));
+    EXPECT_EQ(live_positions_after(*written, 5), live_positions_after(*fresh, 5));
     auto unchanged = test::build(live_beam());
-    EXPECT_NE(positions_after(*unchanged, 5), positions_after(*fresh, 5));
+    EXPECT_NE(live_positions_after(*unchanged, 5), live_positions_after(*fresh, 5));
 }
 
 TEST(LiveData, YoungsModulusWaitsForReinitAsSofa) {
@@ -76,16 +76,16 @@ TEST(LiveData, YoungsModulusWaitsForReinitAsSofa) {
     auto written = test::build(live_beam());
     written->set_data(kFem, "youngModulus", "400");
     EXPECT_EQ(written->data(kFem, "youngModulus").numbers, std::vector<double>{400.0});  // the Data holds it
-    EXPECT_EQ(positions_after(*written, 3), positions_after(*unchanged, 3));
+    EXPECT_EQ(live_positions_after(*written, 3), live_positions_after(*unchanged, 3));
     auto reinit = test::build(live_beam());
     reinit->set_data(kFem, "youngModulus", "400");
     reinit->reinit(kFem);
-    EXPECT_EQ(positions_after(*reinit, 5), positions_after(*fresh, 5));
+    EXPECT_EQ(live_positions_after(*reinit, 5), live_positions_after(*fresh, 5));
 }
 
 TEST(LiveData, TheRebuildKeepsStatesTheirMemoryAndTheTime) {
     auto s = test::build(live_beam());
-    positions_after(*s, 2);
+    live_positions_after(*s, 2);
     const auto& record = s->states().front();
     const Vec3* memory = dynamic_cast<const Vec3Object&>(*record.state).position.data();
     const Vec3 before = dynamic_cast<const Vec3Object&>(*record.state).position[30];
