@@ -23,6 +23,9 @@ struct SubtreeScratch {
     std::vector<std::uint32_t> listed_rows;  ///< list_rows_read's scratch
     bool external_work_zeroed = false;       ///< the external states' dx and df zeroed since the last compute_force
     bool readers_fixed = false;              ///< a FixedReaders lives
+    /// Every mapped state's read rows found under the current FixedReaders (its first product
+    /// ran): the products after it may run in chains on several threads.
+    bool rows_known = false;
 };
 
 }  // namespace penalty::detail

@@ -152,11 +152,13 @@ SubtreeSystem::FixedReaders::FixedReaders(const SubtreeSystem& system) : system_
     PENALTY_DEMAND(!system_.scratch_->readers_fixed);
     for (detail::DxRows& r : system_.scratch_->dx_rows) r.found = false;
     system_.scratch_->readers_fixed = true;
+    system_.scratch_->rows_known = false;
     system_.fused_->invalidate();
 }
 
 SubtreeSystem::FixedReaders::~FixedReaders() {
     system_.scratch_->readers_fixed = false;
+    system_.scratch_->rows_known = false;
     for (detail::DxRows& r : system_.scratch_->dx_rows) r.found = false;
 }
 
