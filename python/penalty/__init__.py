@@ -89,11 +89,63 @@ class Scene:
     def __init__(self, core_scene, root=None):
         self._scene = core_scene
         self.root = root  #: the Sofa.Core.Node root of a SofaPython3 script (None for .scn)
-        self.states = States(core_scene._state_list())
+        self._states = States(core_scene._state_list())
+        self._states_generation = core_scene._generation
+        self._dt_of_step = None  # Sofa.Simulation.animate(root, dt) with another dt
+        self._last_dt = core_scene.dt
+
+    @property
+    def states(self) -> States:
+        """Every MechanicalObject (see States); the list follows nodes added or removed after
+        init."""
+        if self._scene._generation != self._states_generation:
+            self._states = States(self._scene._state_list())
+            self._states_generation = self._scene._generation
+        return self._states
 
     def step(self, n: int = 1):
         """Runs n steps (collision detection at the start of each, then the solvers)."""
-        self._scene.step(_check.integer("Scene.step", "n", n, 0, 1_000_000_000))
+        n = _check.integer("Scene.step", "n", n, 0, 1_000_000_000)
+        self._last_dt = self._scene.dt
+        self._scene.step(n)
+
+    def _next_dt(self) -> float:
+        return self._dt_of_step if self._dt_of_step is not None else self._scene.dt
+
+    def _step_once(self, dt=None):
+        """One step, with `dt` instead of the root's (Sofa.Simulation.animate(root, dt))."""
+        if dt is None or dt == self._scene.dt:
+            self._last_dt = self._scene.dt
+            self._scene.step(1)
+            return
+        self._dt_of_step = self._last_dt = float(dt)
+        try:
+            self._scene._run_hooks(True)
+            self._scene._step_with_dt(float(dt))
+            self._scene._run_hooks(False)
+        finally:
+            self._dt_of_step = None
+
+    def data(self, path: str, name: str, node: bool = False):
+        """The current value of Data `name` of the component (or node) at SOFA path `path`, with
+        SOFA's type (docs/python.md, "The object model")."""
+        return self._scene._data(path, node, name)
+
+    def set_data(self, path: str, name: str, value, node: bool = False):
+        """Writes Data `name` of the component (or node) at `path`, with the effect SOFA gives the
+        write after init (at once for a state, at the next step or at reinit() for the others;
+        refused with the reason when SOFA ignores it)."""
+        from .sofa_api.text import to_sofa_text
+        self._scene._set_data(path, node, name, to_sofa_text(value, f"{path}.{name}"))
+
+    def data_fields(self, path: str, node: bool = False) -> list:
+        """Every Data of the component (or node) at `path`: name, SOFA type, default, how a write
+        after init takes effect."""
+        return self._scene._data_fields(path, node)
+
+    def reinit(self, path: str, node: bool = False):
+        """SOFA's reinit() of the component at `path` (init() of every component below a node)."""
+        self._scene._reinit(path, node)
 
     @property
     def time(self) -> float:
@@ -239,18 +291,19 @@ def _load_options(data_dirs, dt, threads, exhaustive, overrides=None, function="
 
 
 def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False,
-               overrides=None) -> Scene:
+               overrides=None, argv=()) -> Scene:
     """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
     is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's
     folder; dt overrides the root node's time step. overrides sets attributes of the parsed scene
     before it is built, as `penalty run --set` (docs/sweeps.md): {"/Floor/tri.contactStiffness": 200,
     "/.dt": 0.005} or ["/Floor/tri.contactStiffness=200"]; a path or attribute the scene does not
-    have raises SceneError naming it, a malformed key ValueError."""
+    have raises SceneError naming it, a malformed key ValueError. A script runs as runSofa runs it
+    (from its folder, sys.argv = [its name, *argv]; docs/python.md)."""
     path = Path(_check.path("load_scene", "path", path, optional=False))
     options = _load_options(data_dirs, dt, threads, exhaustive, overrides)
     if path.suffix == ".py":
         from . import sofa_api
-        root = sofa_api.run_scene_script(path, options)
+        root = sofa_api.run_scene_script(path, options, argv)
         return root._penalty_scene
     return Scene(_core._load_scene(os.fspath(path), *options))
 

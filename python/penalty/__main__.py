@@ -6,12 +6,10 @@ C++ command line: 0 success, 1 invalid scene or input, 2 command-line error, 3 d
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import shlex
 import sys
-import traceback
 
 import penalty
 
@@ -24,7 +22,10 @@ def _parser():
     run.add_argument("scene")
     run.add_argument("--steps", type=int, default=100, help="Number of time steps (default 100)")
     run.add_argument("--dt", type=float, default=None, help="Time step (s), overrides the scene's")
-    run.add_argument("--threads", type=int, default=0)
+    run.add_argument("--threads", type=int, default=None,
+                     help="Threads for the detection, the contacts' response and independent solvers (default: all cores)")
+    run.add_argument("--argv", action="append", default=[], metavar="ARG",
+                     help="An argument of a SofaPython3 script: its sys.argv[1:] (repeatable; runSofa's --argv)")
     run.add_argument("--data-dir", action="append", default=[], help="Folder searched for mesh and included files (repeatable)")
     run.add_argument("--set", action="append", default=[], dest="overrides", metavar="PATH.attribute=value",
                      help="Override an attribute before the scene is built (repeatable; docs/sweeps.md)")
@@ -87,7 +88,7 @@ def main(argv=None) -> int:
             problems.append(f"--steps: {args.steps} is out of range (0 to 1000000000)")
         if args.dt is not None and not (math.isfinite(args.dt) and penalty.MIN_DT <= args.dt <= penalty.MAX_DT):
             problems.append(f"--dt: '{args.dt}' is out of range [1e-100, 86400]")
-        if not 0 <= args.threads <= max_threads:
+        if args.threads is not None and not 1 <= args.threads <= max_threads:
             problems.append(f"--threads: {args.threads} is out of range (1 to {max_threads})")
         for name, value in (("--vtk-every", args.vtk_every), ("--export-every", args.export_every)):
             if not 1 <= value <= 1_000_000_000:
@@ -102,6 +103,7 @@ def main(argv=None) -> int:
         if problems:
             for p in problems:
                 print(f"penalty: error: {p}", file=sys.stderr)
+            print("Run 'penalty --help' or 'penalty run --help' for the options.", file=sys.stderr)
             return 2
     if args.command == "sweep":
         return _sweep_command(args, argv)
@@ -112,58 +114,8 @@ def main(argv=None) -> int:
         sys.path.insert(0, os.path.dirname(os.path.abspath(args.scene)))
         runpy.run_path(args.scene, run_name="__main__")
         return 0
-    try:
-        if args.command == "info":
-            scene = penalty.load_scene(args.scene, data_dirs=args.data_dir)
-            print(scene.info()["text"], end="")
-            return 0
-        scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads,
-                                   exhaustive=args.exhaustive, overrides=args.overrides)
-        print(f"penalty run: {args.scene}")
-        info = scene.info()
-        print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"
-              f" collision models, {len(info['pipelines'])} collision pipeline(s)")
-        for w in scene.warnings():
-            print(f"note: {w}")
-        summary = scene.run(args.steps, vtk=args.vtk, vtk_every=args.vtk_every, export_states=args.export_states, divergence_factor=args.divergence_factor,
-                            export_mapped=args.export_mapped, export_every=args.export_every, stats=args.stats,
-                            progress=False if args.quiet else None)
-        print(summary["text"], end="")
-        if args.export_states:
-            print(f"states: {len(summary['state_files'])} files in {args.export_states}")
-        if args.vtk:
-            print(f"vtk: series in {args.vtk} (open the .pvd files in ParaView)")
-        if args.stats:
-            print(f"stats: {args.stats}")
-        if args.summary_json:
-            try:
-                with open(args.summary_json, "w") as f:
-                    json.dump({k: v for k, v in summary.items() if k != "history"}, f, indent=2)
-            except OSError as e:
-                print(f"penalty: error: cannot write '{args.summary_json}': {e.strerror or e}", file=sys.stderr)
-                return 5
-            print(f"summary: {args.summary_json}")
-        return 0
-    except BrokenPipeError:  # output piped into e.g. `head`: stop quietly, as the C++ command line
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
-    except penalty.SceneError as e:
-        print(f"penalty: error: {e}", file=sys.stderr)
-        return 1
-    except OSError as e:  # an output that cannot be written (the C++ writers raise RuntimeError)
-        print(f"penalty: error: {e}", file=sys.stderr)
-        return 5
-    except penalty.DivergedError as e:
-        print(f"penalty: error: {e}", file=sys.stderr)
-        return 3
-    except (ValueError, TypeError, NotImplementedError, AttributeError) as e:
-        print(f"penalty: error: {type(e).__name__}: {e}" if not isinstance(e, ValueError) else f"penalty: error: {e}",
-              file=sys.stderr)
-        return 1
-    except Exception as e:  # noqa: BLE001 - the command line's "other errors" (e.g. raised by a script)
-        traceback.print_exc()
-        print(f"penalty: error: {type(e).__name__}: {e}", file=sys.stderr)
-        return 5
+    from .sofa_api.cli import run_or_info
+    return run_or_info(args)
 
 
 def _sweep_command(args, argv=None) -> int:

@@ -12,6 +12,7 @@ namespace py = pybind11;
 void bind_scene(py::module_& m);
 void bind_force_field(py::module_& m);
 void bind_collision(py::module_& m);
+void bind_live(py::module_& m);  // live_bindings.cpp: after bind_scene (adds to its Scene class)
 
 /// A (rows, cols) float64 array viewing `data` (no copy); `owner` keeps the memory alive.
 /// Strides in bytes: row_stride between rows, 8 between columns.

@@ -87,6 +87,7 @@ PYBIND11_MODULE(_core, m) {
     m.attr("min_dt") = penalty::scene::kMinTimeStep;        // --dt, load_scene(dt=) (s)
     m.attr("max_dt") = penalty::scene::kMaxTimeStep;
     penalty::python::bind_scene(m);
+    penalty::python::bind_live(m);
     penalty::python::bind_force_field(m);
     penalty::python::bind_collision(m);
 }

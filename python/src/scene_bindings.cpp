@@ -1,7 +1,7 @@
 // Scenes from Python: build (from a .scn file or from the node tree a SofaPython3 script made),
 // step, states as numpy views of the C++ vectors, contacts and energies as arrays, run with the
 // CLI's writers.
-#include "bindings.hpp"
+#include "py_scene.hpp"
 
 #include "penalty/io/overrides.hpp"
 #include "penalty/io/scene_file.hpp"
@@ -26,31 +26,6 @@ namespace penalty::python {
 namespace {
 
 using scene::Scene;
-
-/// A built scene plus the Python callables run around every step (SofaPython3 controllers).
-struct PyScene {
-    std::unique_ptr<Scene> scene;
-    std::vector<py::object> before_step;  ///< called with no argument before each step
-    std::vector<py::object> after_step;   ///< called after each step
-
-    void call_hooks(const std::vector<py::object>& hooks) {
-        for (const py::object& hook : hooks) hook();
-    }
-    void step(std::int64_t n) {
-        if (n < 0) throw py::value_error("step: n must be >= 0");
-        for (std::int64_t k = 0; k < n; ++k) {
-            call_hooks(before_step);
-            scene->step();
-            call_hooks(after_step);
-        }
-    }
-};
-
-/// One MechanicalObject of a scene; `scene` keeps the owning Python scene alive.
-struct PyState {
-    py::object scene;
-    const output::StateRecord* record = nullptr;
-};
 
 Vec3Object* vec3_of(const PyState& s) { return dynamic_cast<Vec3Object*>(s.record->state); }
 Rigid3Object* rigid_of(const PyState& s) { return dynamic_cast<Rigid3Object*>(s.record->state); }
@@ -428,7 +403,7 @@ void bind_scene(py::module_& m) {
         .def("_state_list", [](py::object self) {
             py::list out;
             const PyScene& s = self.cast<const PyScene&>();
-            for (const auto& r : s.scene->states()) out.append(PyState{self, &r});
+            for (const auto& r : s.scene->states()) out.append(PyState{self, StateRecordRef(self, &r)});
             return out;
         })
         .def("contacts", [](const PyScene& s) { return contacts_dict(*s.scene); },

@@ -6,6 +6,7 @@
 #include <set>
 #include <utility>
 
+#include <cstdlib>
 
 namespace penalty::io {
 
@@ -72,6 +73,20 @@ MeshData grid_mesh_creator(const SceneComponent& c) {
 
 }  // namespace
 
+double mesh_loader_scale(const SceneComponent& c, bool* read_whole) {
+    if (read_whole != nullptr) *read_whole = true;
+    const auto text = get_string(c, "scale");
+    if (!text) return 1.0;
+    const char* begin = text->c_str();
+    char* end = nullptr;
+    const double value = std::strtod(begin, &end);  // SOFA: strtof (docs/sofa-compatibility.md, known difference 11)
+    if (end != begin + text->size()) {
+        if (read_whole != nullptr) *read_whole = false;
+        return 1.0;
+    }
+    return value;
+}
+
 MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& scene_dir,
                          const std::vector<std::filesystem::path>& data_dirs) {
     const bool is_mesh_loader = c.type == "MeshOBJLoader" || c.type == "MeshGmshLoader" || c.type == "MeshVTKLoader" ||
@@ -111,7 +126,7 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
     const Vec3 rotation = get_vec3_or(c, "rotation", Vec3::Zero());
     Vec3 scale3d = Vec3::Ones();
     if (is_mesh_loader) {
-        scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * get_double_or(c, "scale", 1.0);
+        scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * mesh_loader_scale(c);
     } else if (is_sphere_loader) {
         if (c.has("scale") && c.has("scale3d")) throw_attribute_error(c, "scale3d", "'scale' and its alias 'scale3d' are both set");
         scale3d = get_vec3_or(c, c.has("scale3d") ? "scale3d" : "scale", Vec3::Ones());

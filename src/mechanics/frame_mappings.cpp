@@ -128,7 +128,7 @@ void SkinningMapping::apply_j(std::span<Vec3> out, std::span<const RigidDeriv> i
         const Influences& inf = influences_[i];
         for (std::size_t j = 0; j < local_[i].size() && inf.weights[j] > 0.; ++j) {
             const RigidDeriv& d = in[std::size_t(inf.frames[j])];
-            v = plus(v, plus(times(d.linear, inf.weights[j]), sofa_quat::cross(d.angular, rotated_[i][j])));
+            v = plus(v, plus(times(d.linear, inf.weights[j]), sofa_vec::cross(d.angular, rotated_[i][j])));
         }
         out[i] = v;
     }
@@ -140,7 +140,7 @@ void SkinningMapping::apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> o
         for (std::size_t j = 0; j < local_[i].size() && inf.weights[j] > 0.; ++j) {
             RigidDeriv& d = in[std::size_t(inf.frames[j])];
             d.linear = plus(d.linear, times(out[i], inf.weights[j]));
-            d.angular = plus(d.angular, sofa_quat::cross(rotated_[i][j], out[i]));
+            d.angular = plus(d.angular, sofa_vec::cross(rotated_[i][j], out[i]));
         }
     }
 }
@@ -216,7 +216,7 @@ void DeformableOnRigidFrameMapping::apply_j_both(std::span<Vec3> out, std::span<
     const Vec3& v = frames[root].linear;
     const Vec3& omega = frames[root].angular;
     for (std::size_t i = 0; i < in.size(); ++i)
-        out[i] = plus(plus(sofa_quat::cross(omega, rotated_[i]), sofa_quat::rotate(root_.orientation, in[i])), v);
+        out[i] = plus(plus(sofa_vec::cross(omega, rotated_[i]), sofa_quat::rotate(root_.orientation, in[i])), v);
 }
 
 void DeformableOnRigidFrameMapping::apply_jt_both(std::span<Vec3> in, std::span<RigidDeriv> frames,
@@ -224,7 +224,7 @@ void DeformableOnRigidFrameMapping::apply_jt_both(std::span<Vec3> in, std::span<
     Vec3 force = Vec3::Zero(), torque = Vec3::Zero();
     for (std::size_t i = 0; i < out.size(); ++i) {
         force = plus(force, out[i]);
-        torque = plus(torque, sofa_quat::cross(rotated_[i], out[i]));
+        torque = plus(torque, sofa_vec::cross(rotated_[i], out[i]));
     }
     RigidDeriv& root = frames[index_from_end_ ? frames.size() - 1 - std::size_t(index_) : std::size_t(index_)];
     root.linear = plus(root.linear, force);

@@ -12,7 +12,7 @@ namespace {
 
 /// SOFA's Quat<double>::createQuaterFromEuler(Vec3(rx, ry, rz) * M_PI / 180.0): angles (deg·π)/180.
 Quat sofa_quaternion_from_euler_degrees(const Vec3& degrees) {
-    return sofa_quat::from_euler_radians(Vec3(degrees.x() * std::numbers::pi / 180.0, degrees.y() * std::numbers::pi / 180.0,
+    return sofa_quat::from_euler_zyx(Vec3(degrees.x() * std::numbers::pi / 180.0, degrees.y() * std::numbers::pi / 180.0,
                                               degrees.z() * std::numbers::pi / 180.0));
 }
 

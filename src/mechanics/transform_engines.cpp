@@ -42,7 +42,7 @@ TransformSteps transform_steps(const TransformEngineParameters& p) {
     if (p.rotation_deg != Vec3::Zero()) {
         // createQuaterFromEuler(r * (R_PI / 180.0)): each angle times the one factor π/180
         constexpr double kDegree = std::numbers::pi / 180.0;
-        const Quat q = sofa_quat::from_euler_radians(
+        const Quat q = sofa_quat::from_euler_zyx(
             Vec3(p.rotation_deg[0] * kDegree, p.rotation_deg[1] * kDegree, p.rotation_deg[2] * kDegree));
         steps.add({TransformStep::Kind::rotation, Vec3::Zero(), inv ? sofa_quat::inverse(q) : q});
     }
@@ -90,7 +90,7 @@ std::vector<Vec3> transform_position(std::span<const Vec3> points, const Transfo
     }
     constexpr double kPi = std::numbers::pi;
     // createQuaterFromEuler(rotation * M_PI / 180.0): (angle·π)/180
-    const Quat q = sofa_quat::from_euler_radians(
+    const Quat q = sofa_quat::from_euler_zyx(
         Vec3(p.rotation_deg[0] * kPi / 180.0, p.rotation_deg[1] * kPi / 180.0, p.rotation_deg[2] * kPi / 180.0));
     for (std::size_t i = 0; i < points.size(); ++i) {
         const Vec3& x = points[i];

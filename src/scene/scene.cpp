@@ -6,14 +6,16 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
+#include "scene/live_edits.hpp"
 
 #include <algorithm>
 #include <chrono>
 
 namespace penalty::scene {
 
-Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
+Scene::Scene() : simulation_(std::make_unique<Simulation>()), live_(std::make_unique<LiveEdits>()) {}
 Scene::~Scene() {
+    if (contact_phase_) simulation_->remove_contact_stage(*contact_phase_);
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
     pipelines_.clear();  // they remove what they added to the graph
@@ -22,14 +24,18 @@ Scene::~Scene() {
 double Scene::dt() const { return const_cast<Simulation&>(*simulation_).root().dt(); }
 
 void Scene::step() {
+    apply_pending_writes();  // writes of Data after init that SOFA takes at this step (live_writes.cpp)
     timings_ = StepTimings{};
     const auto t0 = std::chrono::steady_clock::now();
-    simulation_->step();
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (const ScenePipeline& p : pipelines_) {
-        timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
-        timings_.response_seconds += p.pipeline->last_timings().response_seconds;
+    live_->stepping = true;  // the event listener may write Data: they wait for the next step
+    try {
+        simulation_->step();
+    } catch (...) {
+        live_->stepping = false;
+        throw;
     }
+    live_->stepping = false;
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
     solver_stats_ = StepSolverStats{};
     for (const EulerImplicitSolver* s : implicit_solvers_) {
@@ -41,6 +47,7 @@ void Scene::step() {
         }
     }
     refresh_contacts();
+    release_held_gravity();  // a root gravity written after init reaches the other nodes now
 }
 
 std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
@@ -172,8 +179,11 @@ std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& optio
     std::vector<std::string> notes = detach_unresolved_data_links(file);
     auto scene = std::make_unique<Scene>();
     scene->file_ = std::move(file);
+    scene->options_ = options;
+    scene->options_.overrides.clear();  // applied to file_ already
     SceneBuilder(scene->file_, options, *scene).build();
     scene->build_warnings_.insert(scene->build_warnings_.end(), notes.begin(), notes.end());
+    scene->install_contact_stage();
     scene->refresh_contacts();
     return scene;
 }

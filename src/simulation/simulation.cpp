@@ -19,6 +19,24 @@ void Simulation::set_threads(int threads) {
     threads_ = threads;
 }
 
+/// SOFA's Simulation::init ends with MechanicalProjectPositionAndVelocityVisitor (time 0) and
+/// the propagation of positions and velocities: each constraint's project_position then
+/// project_velocity, and the mappings under a node with a constraint that moves positions
+/// applied again (the others' outputs are already what they map).
+void Simulation::project_initial_state(Node& node, bool moved_above) {
+    bool moved = moved_above;
+    for (const auto& c : node.constraints()) {
+        c->project_position();
+        c->project_velocity();
+        moved = moved || c->projects_positions();
+    }
+    if (moved && node.mapping()) {
+        node.mapping()->apply_position();
+        node.mapping()->apply_velocity();
+    }
+    for (const auto& child : node.children()) project_initial_state(*child, moved);
+}
+
 void Simulation::init() {
     detail::for_each_node(root_, [](Node& n) {
         if (n.mapping()) {
@@ -33,6 +51,7 @@ void Simulation::init() {
         for (const auto& c : n.constraints()) c->init();
         if (n.ode_solver()) n.ode_solver()->init(n);
     });
+    project_initial_state(root_, false);
     initialized_ = true;
 }
 

@@ -81,7 +81,10 @@ void Simulation::solve_in_arena(double dt) {
 
 void Simulation::map_back() {
     for_each_node(root_, [](Node& n) {
-        for (const auto& c : n.constraints()) c->project_velocity();
+        for (const auto& c : n.constraints()) {  // SOFA's MechanicalProjectPositionAndVelocityVisitor
+            c->project_position();
+            c->project_velocity();
+        }
         if (n.mapping()) {
             n.mapping()->apply_position();
             n.mapping()->apply_velocity();

@@ -160,7 +160,14 @@ public:
     [[nodiscard]] virtual BaseState* state() const = 0;
 };
 
-/// Projective constraint on one state (SOFA's ProjectiveConstraintSet).
+/// The simulation time a component reads (s): SOFA's getContext()->getTime(), the time at the
+/// start of the step during the whole step (the projections after the solve included), 0 at init.
+using ContextClock = std::function<double()>;
+
+/// Projective constraint on one state (SOFA's ProjectiveConstraintSet). Simulation::init and the
+/// end of each step call, per constraint, project_position() then project_velocity() (SOFA's
+/// MechanicalProjectPositionAndVelocityVisitor); the solvers project their vectors with
+/// project_response.
 class BaseProjectiveConstraint {
 public:
     virtual ~BaseProjectiveConstraint() = default;
@@ -169,6 +176,11 @@ public:
     virtual void project_response(Eigen::Ref<Eigen::VectorXd> v) const = 0;
     /// Projects the state's velocity (SOFA: fixed DOFs get v = 0).
     virtual void project_velocity() = 0;
+    /// Projects the state's positions (SOFA's projectPosition: a point put back on its line, a
+    /// prescribed motion); the default leaves them.
+    virtual void project_position() {}
+    /// True when project_position may move positions.
+    [[nodiscard]] virtual bool projects_positions() const { return false; }
     /// The rows (of the state's flat layout, any order) whose row and column an assembled matrix
     /// clears with 1 on the diagonal (SOFA's applyConstraint(ZeroDirichletCondition*),
     /// MatrixLinearSystem::applyProjectiveConstraints): appends them and returns true. false (the

@@ -39,8 +39,8 @@ public:
     virtual FlatVector dx_flat() = 0;  ///< solver work vector: a displacement / velocity increment
     virtual FlatVector df_flat() = 0;  ///< solver work vector: a force increment
 
-    /// x <- x + h·v for the flat velocity-like vector v (Rigid3: first-order quaternion update
-    /// q <- normalize(q + ½·h·(ω ⊗ q)), SOFA's Coord + Deriv).
+    /// x <- x + h·v for the flat velocity-like vector v (Rigid3: SOFA HEAD's Coord + Deriv,
+    /// the exponential q ← exp(h·ω/2) ⊗ q, rigid_add).
     virtual void add_to_position(double h, const Eigen::Ref<const Eigen::VectorXd>& v) = 0;
 
     /// Sizes every vector to the number of positions (velocity, force ... zero-filled).

@@ -52,6 +52,9 @@ public:
     /// set_multi_step, SOFA's MultiStepAnimationLoop: the contact stages and integrations repeated.
     void step();
     [[nodiscard]] double time() const { return time_; }
+    /// Sets the simulated time (s): a scene built again after init continues at the time it had
+    /// (Scene::apply_pending_writes), SofaPython3's `root.time.value = t`.
+    void set_time(double t) { time_ = t; }
     /// Threads of the solve phase (0: TBB's default, the default; 1: every action in plan order
     /// on the calling thread): solvers next to each other in the plan whose states do not meet
     /// (OdeSolver::list_touched_states) run concurrently, one task per solver, when two of them
@@ -110,6 +113,8 @@ private:
     /// (which is also all that changes the states a solver touches).
     const std::vector<SolveAction>& solve_plan();
     void plan_node(Node& node);
+    /// Simulation::init's projection of positions and velocities (simulation.cpp).
+    static void project_initial_state(Node& node, bool moved_above);
     void run_action(const SolveAction& action, double dt);
     /// Sets plan_[begin].run_end and run_worth_tasks.
     void find_run(std::size_t begin);

@@ -53,6 +53,12 @@ void read_conjugate_gradient(SceneBuilder& b, const io::SceneComponent& linear, 
 std::span<const ComponentSpec> transform_engine_components();      // transform_engines.cpp
 std::span<const ComponentSpec> selection_engine_components();      // selection_engines.cpp
 std::span<const ComponentSpec> frame_mapping_components();         // frame_mappings.cpp
+std::span<const ComponentSpec> python_components();               // python_components.cpp
+std::span<const ComponentSpec> projective_constraint_components(); // projective_constraints.cpp
+std::span<const ComponentSpec> rigid_force_field_components();     // rigid_force_fields.cpp
+std::span<const ComponentSpec> shell_force_field_components();     // shell_force_fields.cpp
+std::span<const ComponentSpec> nonuniform_hexahedra_components();  // nonuniform_hexahedra.cpp
+std::span<const ComponentSpec> tait_pressure_components();          // tait_pressure.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).

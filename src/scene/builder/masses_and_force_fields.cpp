@@ -8,6 +8,11 @@
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
+#include <cmath>
+#include <cstdlib>
+#include <optional>
+#include <sstream>
+
 namespace penalty::scene::builder {
 
 namespace {
@@ -18,7 +23,7 @@ using F = ComponentFamily;
 
 // ---- Gravity --------------------------------------------------------------------------------
 constexpr AttributeSpec kGravity[] = {
-    {"gravity", K::vector3, "0 -9.81 0", "m/s^2", ValueCheck::none, "of its node and below"},
+    {"gravity", K::vector3, "0 0 0", "m/s^2", ValueCheck::none, "of its node and below (SOFA's Gravity: 0 0 0 when not given)"},
 };
 
 void build_gravity(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -30,12 +35,51 @@ void build_gravity(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
 
 // ---- UniformMass ----------------------------------------------------------------------------
 constexpr AttributeSpec kUniformMass[] = {
-    {"vertexMass", K::real, "", "kg", ValueCheck::positive, "mass of each DOF (or totalMass)"},
+    {"vertexMass", K::text, "", "kg", ValueCheck::none,
+     "mass of each DOF (or totalMass), > 0; Rigid3d: `m` or SOFA's Rigid3Mass `m volume [3x3 inertia per unit mass]`"},
     {"totalMass", K::real, "", "kg", ValueCheck::positive, "shared equally by the DOFs; wins over vertexMass"},
     {"inertiaMatrix", K::numbers, "(identity)", "kg m^2", ValueCheck::none, "Rigid3d: 9 numbers, per unit mass"},
     {"filename", K::text, "", "", ValueCheck::none,
      "Rigid3d: .rigid file whose vertexMass and inrt (inertia per unit mass) replace the attributes"},
 };
+
+double positive_vertex_mass(const Attributes& a) {
+    const double m = a.real_or("vertexMass", 1.0);
+    if (!(m > 0)) a.fail("vertexMass", "must be > 0, found '" + a.text("vertexMass") + "'");
+    return m;
+}
+
+/// A Rigid3d vertexMass written as SOFA's Rigid3Mass (RigidMass<3>::operator>>): the mass, the
+/// volume (not used by the dynamics), then the inertia per unit mass as a 3×3 matrix
+/// ("[a b c,d e f,g h i]"); nullopt for a single number (read as the mass).
+struct RigidVertexMass {
+    double mass = 1;
+    std::optional<Mat3> inertia;
+};
+std::optional<RigidVertexMass> rigid_vertex_mass(const Attributes& a) {
+    if (!a.has("vertexMass")) return std::nullopt;
+    std::string text = a.text("vertexMass");
+    for (char& ch : text)
+        if (ch == '[' || ch == ']' || ch == ',') ch = ' ';
+    std::istringstream in(text);
+    std::vector<double> v;
+    for (std::string word; in >> word;) {
+        char* end = nullptr;
+        const double x = std::strtod(word.c_str(), &end);
+        if (end == word.c_str() || *end != '\0' || !std::isfinite(x))
+            a.fail("vertexMass", "expected numbers (mass volume [inertia]), found '" + word + "'");
+        v.push_back(x);
+    }
+    if (v.size() == 1) return std::nullopt;
+    if (v.size() != 2 && v.size() != 11)
+        a.fail("vertexMass", "expected a mass, or mass volume and a 3x3 inertia matrix (11 numbers), found " +
+                                 std::to_string(v.size()) + " numbers");
+    if (!(v[0] > 0)) a.fail("vertexMass", "the mass must be > 0, found " + num(v[0]));
+    RigidVertexMass m;
+    m.mass = v[0];
+    if (v.size() == 11) m.inertia = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v.data() + 2);
+    return m;
+}
 
 void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
@@ -43,7 +87,7 @@ void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
     b.guarded(c, [&] {
         auto set = [&](auto& mass) {
             if (a.has("totalMass")) mass.set_total_mass(a.real_or("totalMass", 1.0));
-            else if (a.has("vertexMass")) mass.set_vertex_mass(a.real_or("vertexMass", 1.0));
+            else if (a.has("vertexMass")) mass.set_vertex_mass(positive_vertex_mass(a));
             else io::throw_element_error(c, "needs vertexMass or totalMass (SOFA refuses a UniformMass without them)");
         };
         if (auto* v = dynamic_cast<Vec3Object*>(&s)) {
@@ -56,8 +100,11 @@ void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             io::RigidMassFile file;
             if (a.has("filename"))
                 file = io::load_rigid_mass_file(io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
+            const std::optional<RigidVertexMass> rigid_mass = rigid_vertex_mass(a);
             if (file.vertex_mass) mass.set_vertex_mass(*file.vertex_mass);
+            else if (rigid_mass && !a.has("totalMass")) mass.set_vertex_mass(rigid_mass->mass);
             else set(mass);
+            if (rigid_mass && rigid_mass->inertia) mass.set_inertia(*rigid_mass->inertia);
             if (a.has("inertiaMatrix")) {
                 const std::vector<double> j = a.numbers("inertiaMatrix");
                 if (j.size() != 9) a.fail("inertiaMatrix", "expected 9 numbers");

@@ -65,6 +65,10 @@ void SceneBuilder::build() {
     warn_degenerate_triangles();
     for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
     for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
+    // What the engines computed and the loaders read, for the scene's live Data (live_data.hpp).
+    scene_.engine_indices_ = std::move(engine_indices_);
+    scene_.engine_meshes_ = std::move(engine_meshes_);
+    scene_.loader_meshes_ = std::move(meshes_);
 }
 
 void SceneBuilder::rethrow_naming(const io::SceneElement& c, const std::exception& e) {
@@ -102,6 +106,11 @@ const io::MeshData& SceneBuilder::mesh_of(const SceneComponent& loader) {
         if (const auto name = io::get_string(loader, "filename"))
             file = io::resolve_data_file(*name, scene_dir_, options_.data_dirs).string() + ": ";
         role(loader, [file, counts = mesh_counts(it->second)] { return "reads " + file + counts; });
+        bool scale_read_whole = true;
+        static_cast<void>(io::mesh_loader_scale(loader, &scale_read_whole));
+        if (!scale_read_whole)
+            warn(loader.file + ":" + std::to_string(loader.find("scale")->line) + ": " + loader.describe() + ": scale '" +
+                 *io::get_string(loader, "scale") + "' is not one number: scale 1 (SOFA's MeshLoader::parse reads it so)");
     }
     return it->second;
 }

@@ -26,6 +26,8 @@ constexpr AttributeSpec kSparseGrid[] = {
     {"onlyInsideCells", K::boolean, "0", "", ValueCheck::none, "keep only the cells inside the surface"},
     {"fillWeighted", K::boolean, "1", "", ValueCheck::none,
      "boundary cells have half the stiffness in a HexahedronFEMForceField"},
+    {"nbVirtualFinerLevels", K::integer, "0", "", ValueCheck::nonnegative,
+     "build the grid from a voxelisation 2^levels times finer (SparseGridTopology::buildVirtualFinerLevels)"},
 };
 
 /// SparseGridRamificationTopology's own Data: with finestConnectivity 0 and no virtual finer level
@@ -98,8 +100,31 @@ void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
                                            std::to_string(b.options().max_dofs) + ")");
         Vec3 lo = a.vector3("min"), hi = a.vector3("max");
         if (lo.isZero(0) && hi.isZero(0)) std::tie(lo, hi) = SparseGridTopology::default_box(surface.positions);
-        info.sparse_grid.emplace(
-            SparseGridTopology::from_surface(n, lo, hi, surface.positions, surface.triangles, a.boolean("onlyInsideCells")));
+        const std::int64_t levels = a.integer("nbVirtualFinerLevels");
+        if (levels == 0) {
+            info.sparse_grid.emplace(
+                SparseGridTopology::from_surface(n, lo, hi, surface.positions, surface.triangles, a.boolean("onlyInsideCells")));
+        } else {
+            // SparseGridTopology::buildVirtualFinerLevels: the finest level voxelises the surface with
+            // (n − 1)·2^levels + 1 points per axis (n raised to 2 first), each coarser one is built
+            // from the finer one (buildFromFiner), this grid last
+            if (levels > 6) a.fail("nbVirtualFinerLevels", "at most 6 levels (each multiplies the cells by 8)");
+            std::array<int, 3> fine = n;
+            std::uint64_t fine_points = 1;
+            for (int& v : fine) {
+                v = (std::max(v, 2) - 1) * (1 << levels) + 1;
+                fine_points *= std::uint64_t(v);
+            }
+            if (fine_points > b.options().max_dofs)
+                a.fail("nbVirtualFinerLevels", "the finest level has " + std::to_string(fine_points) + " grid points (more than " +
+                                                   std::to_string(b.options().max_dofs) + ")");
+            auto level = std::make_shared<const SparseGridTopology>(
+                SparseGridTopology::from_surface(fine, lo, hi, surface.positions, surface.triangles, false));
+            const bool fill = a.boolean("fillWeighted");
+            for (std::int64_t l = 1; l < levels; ++l)
+                level = std::make_shared<const SparseGridTopology>(SparseGridTopology::from_finer(level, fill));
+            info.sparse_grid.emplace(SparseGridTopology::from_finer(level, fill));
+        }
         info.topology_positions = info.sparse_grid->points();
         info.topology = b.add_topology(std::make_unique<MeshTopology>(info.sparse_grid->mesh()));
     });
@@ -107,7 +132,9 @@ void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
         const auto& n = g->grid().n();
         std::size_t boundary = 0;
         for (const SparseCellType type : g->cell_types()) boundary += type == SparseCellType::boundary ? 1 : 0;
-        return "sparse grid " + std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]) + " from " +
+        return "sparse grid " + std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]) +
+               (g->finer_levels() > 0 ? " (from " + std::to_string(g->finer_levels()) + " virtual finer levels)" : std::string()) +
+               " from " +
                vec(g->grid().min()) + " to " + vec(g->grid().max()) + ", " + std::to_string(boundary) + " boundary cells: " +
                element_counts(g->points().size(), *t);
     });
@@ -131,11 +158,11 @@ constexpr ComponentSpec kComponents[] = {
 }  // namespace
 
 void sparse_grid_stiffness_factors(HexahedronFEMForceField& ff, const NodeBuild& info) {
-    if (!Attributes(*info.topology_component).boolean("fillWeighted")) return;
-    std::vector<double> factors;
-    for (const SparseCellType type : info.sparse_grid->cell_types())
-        factors.push_back(type == SparseCellType::boundary ? 0.5 : 1.0);  // SparseGridTopology::buildAsFinest
-    ff.set_stiffness_factors(std::move(factors));
+    // SparseGridTopology::getStiffnessCoef: 0.5 on boundary cells when fillWeighted
+    // (buildAsFinest), averaged from the finer cells on a grid with virtual finer levels
+    const bool fill = Attributes(*info.topology_component).boolean("fillWeighted");
+    if (!fill && info.sparse_grid->finer() == nullptr) return;
+    ff.set_stiffness_factors(info.sparse_grid->coefficients(fill));
 }
 
 std::span<const ComponentSpec> sparse_grid_components() { return kComponents; }

@@ -231,6 +231,12 @@ void fill_rigid_state(SceneBuilder& b, const Attributes& a, const NodeBuild& inf
         for (std::size_t i = 0; i < v.size(); i += 6)
             s.velocity.push_back(RigidDeriv{Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])});
     }
+    // MechanicalObject<Rigid3>::init: a state without positions takes its topology's points as the
+    // frames' centres (orientation identity), as the Vec3d one does
+    if (s.position.empty() && s.rest_position.empty() && !a.has("size") && !info.topology_positions.empty()) {
+        for (const Vec3& p : info.topology_positions) s.position.push_back(RigidFrame{p, Quat::Identity()});
+        if (s.velocity.size() == 1) s.velocity.assign(s.position.size(), s.velocity.front());
+    }
     if (s.position.empty() && s.rest_position.empty() && !info.mapped) s.position.assign(dof_count(b, a), RigidFrame{});
 }
 
