@@ -222,9 +222,9 @@ void FusedContactBlock::apply_fields(std::size_t begin, std::size_t end, double 
             Vec3* out_dx = dx_.data() + m.first;
             Vec3* out_df = df_.data() + m.first;
             // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df
-            for (std::size_t i = 0; i < m.count; ++i) {
-                out_dx[i] = rows[i].combine(in);
-                out_df[i].setZero();
+            for (std::size_t row = 0; row < m.count; ++row) {
+                out_dx[row] = rows[row].combine(in);
+                out_df[row].setZero();
             }
             dx[side] = ConstVec3Span(out_dx, m.count);
             df[side] = Vec3Span(out_df, m.count);

@@ -194,6 +194,7 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
     const detail::StepChains& chains = fused ? fused_->chains() : layout_->chains;
     const bool concurrent = scratch_->readers_fixed && scratch_->rows_known && chains_worth_tasks(chains, steps.size());
     if (concurrent) {
+        ++scratch_->concurrent_products;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()), [&](const tbb::blocked_range<std::size_t>& r) {
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
                 for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i) map_dx(chains.mappings_of[i]);

@@ -26,6 +26,7 @@ struct SubtreeScratch {
     /// Every mapped state's read rows found under the current FixedReaders (its first product
     /// ran): the products after it may run in chains on several threads.
     bool rows_known = false;
+    std::size_t concurrent_products = 0;     ///< products whose chains ran on TBB's threads
 };
 
 }  // namespace penalty::detail

@@ -63,6 +63,10 @@ public:
         std::size_t unread_mappings = 0;
     };
     [[nodiscard]] FusedContactCounts fused_contact_counts() const;
+    /// How many products so far ran their force steps in chains on TBB's threads
+    /// (src/simulation/step_chains.hpp), and how many chains a product under a FixedReaders has.
+    [[nodiscard]] std::size_t concurrent_products() const;
+    [[nodiscard]] std::size_t product_chains() const;
 
     [[nodiscard]] Eigen::Index size() const;
     /// True while every independent state has the size it had when the system was built (the
