@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from . import _core
+from . import topology as _topology
 
 _THIS_DIR = str(Path(__file__).resolve().parent)
 
@@ -270,6 +271,9 @@ class Object(Base):
             return Data(self, name)
         if self._type.endswith("Loader"):  # a loader's outputs (position, triangles, listRadius...), for links
             return Data(self, name)
+        method = _topology.modifier_method(self, name)  # a topology modifier's removeTetrahedra ... (topology.py)
+        if method is not None:
+            return method
         raise AttributeError(f"{self._describe()} has no data or method '{name}' in penalty's SofaPython3 subset")
 
     def __setattr__(self, name, value):

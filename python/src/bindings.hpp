@@ -10,6 +10,15 @@ namespace py = pybind11;
 void bind_scene(py::module_& m);
 void bind_force_field(py::module_& m);
 void bind_collision(py::module_& m);
+/// Adds the topological-change methods to the Scene class (topology_bindings.cpp).
+void bind_scene_topology(py::handle scene_class);
+}  // namespace penalty::python
+namespace penalty::scene {
+class Scene;
+}
+namespace penalty::python {
+/// The C++ scene of a penalty._core.Scene (scene_bindings.cpp).
+scene::Scene& scene_of(const py::handle& py_scene);
 
 /// A (rows, cols) float64 array viewing `data` (no copy); `owner` keeps the memory alive.
 /// Strides in bytes: row_stride between rows, 8 between columns.

@@ -136,6 +136,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::hexahedra_and_subset_components(),
               builder::bending_spring_components(),
               builder::corotational_fem_components(),
+              builder::topology_change_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

@@ -6,6 +6,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
+#include "scene/topology/topology_runtime.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +15,7 @@ namespace penalty::scene {
 
 Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
 Scene::~Scene() {
+    topology_runtime_.reset();  // its handlers refer to the components below
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
     pipelines_.clear();  // they remove what they added to the graph
@@ -24,7 +26,9 @@ double Scene::dt() const { return const_cast<Simulation&>(*simulation_).root().d
 void Scene::step() {
     timings_ = StepTimings{};
     const auto t0 = std::chrono::steady_clock::now();
+    if (topology_runtime_) topology_runtime_->begin_step(simulation_->time());  // AnimateBeginEvent
     simulation_->step();
+    if (topology_runtime_) topology_runtime_->end_step(simulation_->time());  // AnimateEndEvent
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
     solver_stats_ = StepSolverStats{};

@@ -72,6 +72,8 @@ public:
 
     /// Precomputes rest frames and element stiffness from the state's rest positions.
     void init() override;
+    /// Replaces the elements (a topology follower, then init()).
+    void set_elements(std::vector<Element> elements) { elements_ = std::move(elements); }
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;

@@ -30,6 +30,7 @@ std::span<const ComponentSpec> external_load_components();         // external_l
 std::span<const ComponentSpec> hexahedra_and_subset_components();  // hexahedra_and_subsets.cpp
 std::span<const ComponentSpec> bending_spring_components();        // bending_springs.cpp
 std::span<const ComponentSpec> corotational_fem_components();      // corotational_fem.cpp
+std::span<const ComponentSpec> topology_change_components();       // topology_changes.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).
