@@ -26,6 +26,7 @@
 #include <array>
 #include <cstdint>
 #include <initializer_list>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -39,6 +40,15 @@ struct TopologyModifierOptions {
     bool remove_isolated = true;
     /// PointSetTopologyModifier `propagateToDOF`: the states follow point removals.
     bool propagate_to_dof = true;
+};
+
+/// The operations in progress over containers that change one another (a topological mapping's
+/// input and output share one): the handlers' topology_change_done() is called once the outermost
+/// operation is complete (the states then follow every point change, the output every input
+/// change), each handler once, in the order they first received events.
+struct TopologyChangeScope {
+    int depth = 0;
+    std::vector<TopologyHandler*> pending;
 };
 
 class TopologyContainer {
@@ -90,6 +100,8 @@ public:
     void add_listener(TopologyHandler& listener);
     /// Registers a state that follows the points (SOFA's StateChangeVisitor).
     void add_state_follower(StateFollower& follower);
+    /// Shares `scope` with other containers (TopologyChangeScope); each has its own by default.
+    void set_scope(std::shared_ptr<TopologyChangeScope> scope) { scope_ = std::move(scope); }
     /// Unregisters `object` from every list (no-op when absent).
     void remove(const TopologyHandler& object);
     void remove(const StateFollower& object);
@@ -157,7 +169,9 @@ private:
     void add_warning(ElementType type, const std::vector<Element>& elements, ElementId first,
                      const std::vector<std::vector<ElementId>>& ancestors, const std::vector<std::vector<double>>& coefficients);
     void changed();  ///< bumps the mesh's revision and refreshes the touched vertices' neighbours
-    void done();     ///< the end of a public operation: changed(), then topology_change_done()
+    void begin();    ///< the start of a public operation (the scope's depth)
+    void done();     ///< its end: changed(); the outermost one calls the pending topology_change_done()
+    void pending(TopologyHandler* h);
 
     // removal processes (topology_removal.cpp), SOFA's remove...Process
     void remove_tetrahedra_process(const std::vector<ElementId>& indices, bool remove_isolated_items);
@@ -205,6 +219,7 @@ private:
     std::vector<TopologyChange> state_changes_;  ///< SOFA's m_stateChangeList
     std::array<bool, kElementTypeCount> dirty_{};
     std::vector<PointId> touched_vertices_;  ///< whose verticesAroundVertex may have changed
+    std::shared_ptr<TopologyChangeScope> scope_ = std::make_shared<TopologyChangeScope>();
 };
 
 }  // namespace penalty

@@ -207,6 +207,7 @@ void TopologyContainer::add_points(std::size_t count, const std::vector<std::vec
             throw_invalid_argument("TopologyContainer '", name_, "': new point ", k, " has ", ancestors[k].size(),
                                    " ancestors and ", coefficients.empty() ? 0 : coefficients[k].size(), " coefficients");
     }
+    begin();
     add_points_process(count);
     add_points_warning(count, ancestors, coefficients, add_dof);
     propagate();
@@ -217,6 +218,7 @@ void TopologyContainer::add_points(std::size_t count, const std::vector<std::vec
 void TopologyContainer::add_edges(const std::vector<Edge>& edges, const std::vector<std::vector<ElementId>>& ancestors,
                                   const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::edge, edges);
+    begin();
     const auto first = ElementId(mesh_->edges().size());
     for (const Edge& e : edges) add_edge_process(e);
     add_warning(ElementType::edge, edges, first, ancestors, coefficients);
@@ -229,6 +231,7 @@ void TopologyContainer::add_edges(const std::vector<Edge>& edges, const std::vec
 void TopologyContainer::add_triangles(const std::vector<Triangle>& triangles, const std::vector<std::vector<ElementId>>& ancestors,
                                       const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::triangle, triangles);
+    begin();
     const auto first = ElementId(mesh_->triangles().size());
     for (const Triangle& t : triangles) add_triangle_process(t);
     add_warning(ElementType::triangle, triangles, first, ancestors, coefficients);
@@ -239,6 +242,7 @@ void TopologyContainer::add_triangles(const std::vector<Triangle>& triangles, co
 void TopologyContainer::add_quads(const std::vector<Quad>& quads, const std::vector<std::vector<ElementId>>& ancestors,
                                   const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::quad, quads);
+    begin();
     const auto first = ElementId(mesh_->quads().size());
     for (const Quad& q : quads) add_quad_process(q);
     add_warning(ElementType::quad, quads, first, ancestors, coefficients);
@@ -249,6 +253,7 @@ void TopologyContainer::add_quads(const std::vector<Quad>& quads, const std::vec
 void TopologyContainer::add_tetrahedra(const std::vector<Tetrahedron>& tetrahedra, const std::vector<std::vector<ElementId>>& ancestors,
                                        const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::tetrahedron, tetrahedra);
+    begin();
     const auto first = ElementId(mesh_->tetrahedra().size());
     for (const Tetrahedron& t : tetrahedra) add_tetrahedron_process(t);
     add_warning(ElementType::tetrahedron, tetrahedra, first, ancestors, coefficients);
@@ -259,6 +264,7 @@ void TopologyContainer::add_tetrahedra(const std::vector<Tetrahedron>& tetrahedr
 void TopologyContainer::add_hexahedra(const std::vector<Hexahedron>& hexahedra, const std::vector<std::vector<ElementId>>& ancestors,
                                       const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::hexahedron, hexahedra);
+    begin();
     const auto first = ElementId(mesh_->hexahedra().size());
     for (const Hexahedron& h : hexahedra) add_hexahedron_process(h);
     add_warning(ElementType::hexahedron, hexahedra, first, ancestors, coefficients);

@@ -228,10 +228,14 @@ void TopologyContainer::propagate() {
             if (!(handlers_[k].types & bit(phase)) || !handlers_[k].dirty) continue;
             handlers_[k].dirty = false;
             handlers_[k].handler->handle_topology_changes(changes);
+            pending(handlers_[k].handler);
         }
         dirty_[std::size_t(phase)] = false;
     }
-    for (std::size_t k = 0; k < listeners_.size(); ++k) listeners_[k]->handle_topology_changes(changes);
+    for (std::size_t k = 0; k < listeners_.size(); ++k) {
+        listeners_[k]->handle_topology_changes(changes);
+        pending(listeners_[k]);
+    }
     changed();
 }
 
@@ -255,10 +259,19 @@ void TopologyContainer::changed() {
     touched_vertices_.clear();
 }
 
+void TopologyContainer::begin() { ++scope_->depth; }
+
+void TopologyContainer::pending(TopologyHandler* h) {
+    auto& p = scope_->pending;
+    if (std::find(p.begin(), p.end(), h) == p.end()) p.push_back(h);
+}
+
 void TopologyContainer::done() {
     changed();
-    for (std::size_t k = 0; k < handlers_.size(); ++k) handlers_[k].handler->topology_change_done();
-    for (std::size_t k = 0; k < listeners_.size(); ++k) listeners_[k]->topology_change_done();
+    if (--scope_->depth > 0) return;
+    const std::shared_ptr<TopologyChangeScope> scope = scope_;  // a handler may not outlive it here
+    for (std::size_t k = 0; k < scope->pending.size(); ++k) scope->pending[k]->topology_change_done();
+    scope->pending.clear();
 }
 
 // ...SetTopologyModifier::remove...Warning: the type dirty, the indices sorted in decreasing
@@ -325,6 +338,7 @@ template void TopologyContainer::add_warning(ElementType, const std::vector<Hexa
                                              const std::vector<std::vector<ElementId>>&, const std::vector<std::vector<double>>&);
 
 void TopologyContainer::notify_ending_event() {
+    begin();
     add_change(TopologyChange{});
     propagate();
     done();
@@ -364,6 +378,7 @@ void TopologyContainer::remove_items(std::vector<ElementId> indices) {
 // PointSetTopologyModifier::removePoints: warning, propagation, process.
 void TopologyContainer::remove_points(std::vector<ElementId> indices, bool remove_dof) {
     check_removal(ElementType::point, indices);
+    begin();
     remove_points_warning(indices, remove_dof);
     propagate();
     remove_points_process(indices, remove_dof);
@@ -372,6 +387,7 @@ void TopologyContainer::remove_points(std::vector<ElementId> indices, bool remov
 
 void TopologyContainer::remove_edges(std::vector<ElementId> indices, bool remove_isolated_points) {
     check_removal(ElementType::edge, indices);
+    begin();
     remove_warning(ElementType::edge, indices);
     propagate();
     remove_edges_process(indices, remove_isolated_points);
@@ -380,6 +396,7 @@ void TopologyContainer::remove_edges(std::vector<ElementId> indices, bool remove
 
 void TopologyContainer::remove_triangles(std::vector<ElementId> indices, bool remove_isolated_edges, bool remove_isolated_points) {
     check_removal(ElementType::triangle, indices);
+    begin();
     remove_warning(ElementType::triangle, indices);
     propagate();
     remove_triangles_process(indices, remove_isolated_edges, remove_isolated_points);
@@ -388,6 +405,7 @@ void TopologyContainer::remove_triangles(std::vector<ElementId> indices, bool re
 
 void TopologyContainer::remove_quads(std::vector<ElementId> indices, bool remove_isolated_edges, bool remove_isolated_points) {
     check_removal(ElementType::quad, indices);
+    begin();
     remove_warning(ElementType::quad, indices);
     propagate();
     remove_quads_process(indices, remove_isolated_edges, remove_isolated_points);
@@ -396,6 +414,7 @@ void TopologyContainer::remove_quads(std::vector<ElementId> indices, bool remove
 
 void TopologyContainer::remove_tetrahedra(std::vector<ElementId> indices, bool remove_isolated_items) {
     check_removal(ElementType::tetrahedron, indices);
+    begin();
     remove_warning(ElementType::tetrahedron, indices);
     propagate();
     remove_tetrahedra_process(indices, remove_isolated_items);
@@ -404,6 +423,7 @@ void TopologyContainer::remove_tetrahedra(std::vector<ElementId> indices, bool r
 
 void TopologyContainer::remove_hexahedra(std::vector<ElementId> indices) {
     check_removal(ElementType::hexahedron, indices);
+    begin();
     remove_warning(ElementType::hexahedron, indices);
     propagate();
     remove_hexahedra_process(indices, true);

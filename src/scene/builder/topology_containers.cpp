@@ -79,9 +79,12 @@ void build_container(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) 
 /// Modifiers and geometry algorithms: nothing to build here (a modifier makes its container
 /// changeable: src/scene/topology/wiring.cpp).
 void build_topology_helper(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
-    const Attributes a(c);
-    if (a.has("propagateToDOF")) (void)a.boolean("propagateToDOF");
-    if (a.has("removeIsolated")) (void)a.boolean("removeIsolated");
+    const ComponentSpec* spec = find_component(c.type);
+    if (spec != nullptr) {  // a modifier's options (read by src/scene/topology/wiring.cpp): checked here
+        const Attributes a(c);
+        for (const AttributeSpec& attribute : spec->attributes)
+            if (a.has(attribute.name)) (void)a.boolean(attribute.name);
+    }
     b.role(c, [] { return std::string("accepted: acts only on topological changes"); });
     b.note_unread_attributes(c);
 }

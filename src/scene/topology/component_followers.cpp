@@ -182,12 +182,42 @@ void wire_components(TopologyWiring& w) {
             }
             // a follower of its topology whose state follows another topology's points
             for (DynamicTopology* t : by_state)
-                if (t != by_topology && std::find(by_topology->outputs.begin(), by_topology->outputs.end(), t) == by_topology->outputs.end())
+                if (t != by_topology && std::find(t->outputs.begin(), t->outputs.end(), by_topology) == t->outputs.end())
                     t->blockers.push_back(where(c) + " (its topology is " + by_topology->path + ")");
         }
         for (const auto& child : sn.children) self(self, *child);
     };
     visit(visit, *w.builder.scene().file().root);
+
+    // an object built without a component of the file (none today) cannot be given a rule
+    const Scene& scene = w.builder.scene();
+    const auto orphans = [&](const auto& self, Node& n) -> void {
+        const auto check = [&](const void* object, std::span<BaseState* const> states) {
+            if (scene.component_of(object) != nullptr) return;
+            for (BaseState* s : states) {
+                const auto f = w.followed_states.find(s);
+                if (f != w.followed_states.end()) f->second->blockers.push_back("a component of node '" + n.name() + "'");
+            }
+        };
+        if (BaseMass* m = n.mass()) {
+            BaseState* s = m->state();
+            check(m, std::span<BaseState* const>(&s, 1));
+        }
+        for (const auto& f : n.force_fields()) {
+            const ForceFieldStates st = f->states();
+            check(f.get(), std::span<BaseState* const>(st.begin(), st.end()));
+        }
+        for (const auto& k : n.constraints()) {
+            BaseState* s = k->state();
+            check(k.get(), std::span<BaseState* const>(&s, 1));
+        }
+        if (BaseMapping* m = n.mapping()) {
+            BaseState* s = m->from();
+            check(m, std::span<BaseState* const>(&s, 1));
+        }
+        for (const auto& child : n.children()) self(self, *child);
+    };
+    orphans(orphans, w.builder.simulation().root());
 }
 
 void wire_collision_models(TopologyWiring& w) {

@@ -63,12 +63,20 @@ void depth_first(const SceneNode& n, F&& f) {
 
 }  // namespace
 
+// SOFA's l_topology: the `topology` link, else the node's topology or the nearest ancestor's
+// (Node::getMeshTopologyLink).
 const MeshTopology* TopologyWiring::topology_used(const io::SceneComponent& c) const {
-    try {
-        return &builder.topology_of(Attributes(c), builder.node_build(*c.node));
-    } catch (const std::exception&) {
+    if (const auto text = io::get_string(c, "topology"); text && io::is_link(*text)) {
+        const io::LinkTarget t = io::resolve_link(c, "topology");
+        for (const auto& [sn, nb] : builder.node_builds())
+            if (t.component != nullptr && nb.topology_component == t.component) return nb.topology;
         return nullptr;
     }
+    for (const io::SceneNode* sn = c.node; sn != nullptr; sn = sn->parent) {
+        const NodeBuild& nb = builder.node_build(*sn);
+        if (nb.topology != nullptr) return nb.topology;
+    }
+    return nullptr;
 }
 
 TopologyHandler& TopologyWiring::keep(std::unique_ptr<TopologyHandler> h) {
@@ -97,7 +105,7 @@ void SceneBuilder::wire_topological_changes() {
         options.propagate_to_dof = io::get_bool(*modifier, "propagateToDOF").value_or(true);
         auto t = std::make_unique<DynamicTopology>();
         t->component = nb.topology_component;
-        t->path = (sn.parent == nullptr ? std::string() : sn.path()) + "/" + sofa_default_name(*nb.topology_component);
+        t->path = (sn.parent == nullptr ? std::string() : sn.path()) + "/" + (nb.topology_component->name.empty() ? sofa_default_name(*nb.topology_component) : nb.topology_component->name);
         t->node = nb.node;
         guarded(*nb.topology_component, [&] {
             t->container = std::make_unique<TopologyContainer>(*mesh, *level, t->path, options);
@@ -106,6 +114,10 @@ void SceneBuilder::wire_topological_changes() {
             t->blockers.push_back(where(*modifier) + " (a modifier of another class than its container)");
         rt.topologies.push_back(std::move(t));
     });
+
+    // one scope: a change and every change it makes through topological mappings end together
+    const auto scope = std::make_shared<TopologyChangeScope>();
+    for (auto& t : rt.topologies) t->container->set_scope(scope);
 
     // ---- the states that follow each topology's points (SOFA's StateChangeVisitor) ----------
     TopologyWiring w{*this, rt, {}};
@@ -130,9 +142,9 @@ void SceneBuilder::wire_topological_changes() {
         visit(visit, *t->component->node, true);
     }
 
+    wire_topological_mappings(w);
     wire_components(w);
     wire_collision_models(w);
-    wire_topological_mappings(w);
     add_topology_change_sources(w);
 
     if (!rt.topologies.empty()) scene_.topology_runtime_ = std::move(runtime);
