@@ -8,6 +8,7 @@
 
 #include "penalty/mechanics/topology_container.hpp"
 
+#include <array>
 #include <map>
 #include <vector>
 
@@ -45,6 +46,39 @@ private:
     void tetrahedra_added(const TopologyChange& c);
     void tetrahedra_removed(const TopologyChange& c);
     bool flip_normals_, no_new_triangles_;
+};
+
+/// Hexa2QuadTopologicalMapping: the output holds the input's quads on one hexahedron.
+class Hexa2QuadMappingFollower final : public TopologicalMappingFollower {
+public:
+    Hexa2QuadMappingFollower(TopologyContainer& input, TopologyContainer& output, bool flip_normals);
+    void handle_topology_changes(std::span<const TopologyChange> changes) override;
+
+private:
+    void hexahedra_removed(const TopologyChange& c);
+    bool flip_normals_;
+};
+
+/// Quad2TriangleTopologicalMapping: two output triangles per input quad (SOFA's In2OutMap).
+class Quad2TriangleMappingFollower final : public TopologicalMappingFollower {
+public:
+    Quad2TriangleMappingFollower(TopologyContainer& input, TopologyContainer& output);
+    void handle_topology_changes(std::span<const TopologyChange> changes) override;
+
+private:
+    void quads_removed(const TopologyChange& c);
+    std::map<ElementId, std::array<ElementId, 2>> in2out_;
+};
+
+/// Triangle2EdgeTopologicalMapping: the output holds the input's edges on one triangle.
+class Triangle2EdgeMappingFollower final : public TopologicalMappingFollower {
+public:
+    Triangle2EdgeMappingFollower(TopologyContainer& input, TopologyContainer& output);
+    void handle_topology_changes(std::span<const TopologyChange> changes) override;
+
+private:
+    void triangles_removed(const TopologyChange& c);
+    void triangles_added(const TopologyChange& c);
 };
 
 }  // namespace penalty

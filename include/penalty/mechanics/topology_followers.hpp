@@ -62,6 +62,9 @@ public:
     void handle_topology_changes(std::span<const TopologyChange> changes) override {
         object_->handle_topology_changes(*container_, changes);
     }
+    void topology_change_done() override {
+        if constexpr (requires(T& t) { t.topology_change_done(); }) object_->topology_change_done();
+    }
 
 private:
     T* object_;
@@ -96,6 +99,38 @@ private:
     void points_removed(std::span<const ElementId> removed);
     /// ei.m1, m2, rest length from the edge's other triangle t1 and triangle t2.
     void make_spring(EdgeInformation& ei, ElementId edge, ElementId t1, ElementId t2) const;
+
+    SpringForceField* springs_;
+    const TopologyContainer* container_;
+    const Vec3Object* state_;
+    double ks_, kd_;
+    std::vector<EdgeInformation> edges_;
+    bool dirty_ = false;
+};
+
+/// SOFA's QuadularBendingSprings (edgeInfo on the edge, point and quad events): two springs per
+/// edge between two quads, across the edge (applyQuadCreation, applyQuadDestruction,
+/// applyPointDestruction), rewritten into `springs` when an operation is done.
+class QuadularBendingSpringsFollower final : public TopologyHandler {
+public:
+    QuadularBendingSpringsFollower(SpringForceField& springs, const TopologyContainer& container, const Vec3Object& state,
+                                   double ks, double kd);
+    void handle_topology_changes(std::span<const TopologyChange> changes) override;
+    void topology_change_done() override;
+    [[nodiscard]] std::vector<Spring> springs() const;
+
+private:
+    struct EdgeInformation {
+        std::array<std::array<PointId, 2>, 2> springs{};
+        std::array<double, 2> rest_length{};
+        double ks = 0, kd = 0;
+        bool activated = false, initialized = false;
+    };
+    void quads_added(std::span<const ElementId> added);
+    void quads_removed(std::span<const ElementId> removed);
+    void points_removed(std::span<const ElementId> removed);
+    /// The two springs of `edge` between quads q1 (the other) and q2.
+    void make_springs(EdgeInformation& ei, ElementId edge, ElementId q1, ElementId q2) const;
 
     SpringForceField* springs_;
     const TopologyContainer* container_;

@@ -180,3 +180,134 @@ void TriangularBendingSpringsFollower::topology_change_done() {
 }
 
 }  // namespace penalty
+
+namespace penalty {
+
+// ---- QuadularBendingSpringsFollower -------------------------------------------------------------
+
+QuadularBendingSpringsFollower::QuadularBendingSpringsFollower(SpringForceField& springs, const TopologyContainer& container,
+                                                               const Vec3Object& state, double ks, double kd)
+    : springs_(&springs), container_(&container), state_(&state), ks_(ks), kd_(kd) {
+    edges_.assign(container.count(ElementType::edge), EdgeInformation{});
+    std::vector<ElementId> all(container.count(ElementType::quad));
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = ElementId(i);
+    quads_added(all);
+}
+
+// springs (t1[i1], t2[i2+3]) and (t1[i1+3], t2[i2]) across the edge, i the edge's place in each quad
+void QuadularBendingSpringsFollower::make_springs(EdgeInformation& ei, ElementId edge, ElementId q1, ElementId q2) const {
+    const MeshTopology& m = container_->mesh();
+    const auto index_in = [&](ElementId q) {
+        const auto& qe = m.edges_in_quad()[std::size_t(q)];
+        return std::size_t(std::find(qe.begin(), qe.end(), edge) - qe.begin());
+    };
+    const Quad& t1 = m.quads()[std::size_t(q1)];
+    const Quad& t2 = m.quads()[std::size_t(q2)];
+    const std::size_t i1 = index_in(q1), i2 = index_in(q2);
+    ei.springs[0] = {t1[i1], t2[(i2 + 3) % 4]};
+    ei.springs[1] = {t1[(i1 + 3) % 4], t2[i2]};
+    ei.ks = ks_;
+    ei.kd = kd_;
+    const auto& x0 = state_->rest_position;
+    for (std::size_t s = 0; s < 2; ++s)
+        ei.rest_length[s] = (x0[std::size_t(ei.springs[s][0])] - x0[std::size_t(ei.springs[s][1])]).norm();
+    ei.activated = true;
+}
+
+// applyQuadCreation: an edge met for the first time gets its springs if two quads share it.
+void QuadularBendingSpringsFollower::quads_added(std::span<const ElementId> added) {
+    const MeshTopology& m = container_->mesh();
+    for (const ElementId q : added) {
+        for (const std::int32_t e : m.edges_in_quad()[std::size_t(q)]) {
+            EdgeInformation& ei = edges_[std::size_t(e)];
+            if (ei.initialized) continue;
+            const auto& shell = m.quads_around_edge()[std::size_t(e)];
+            if (shell.size() == 2) make_springs(ei, e, shell[0] == q ? shell[1] : shell[0], q);
+            else ei.activated = false;
+            ei.initialized = true;
+        }
+    }
+}
+
+// applyQuadDestruction (before the quads go).
+void QuadularBendingSpringsFollower::quads_removed(std::span<const ElementId> removed) {
+    const MeshTopology& m = container_->mesh();
+    for (const ElementId r : removed) {
+        for (const std::int32_t e : m.edges_in_quad()[std::size_t(r)]) {
+            EdgeInformation& ei = edges_[std::size_t(e)];
+            const auto& shell = m.quads_around_edge()[std::size_t(e)];
+            if (ei.initialized && shell.size() == 3) {
+                const std::size_t at = shell[0] == r ? 0 : shell[1] == r ? 1 : 2;
+                make_springs(ei, e, shell[(at + 1) % 3], shell[(at + 2) % 3]);
+            } else {
+                ei.activated = ei.initialized = false;
+            }
+        }
+    }
+}
+
+// applyPointDestruction: the springs of the two edges of each quad around the point that will take
+// a removed one's index, away from it, name the new index.
+void QuadularBendingSpringsFollower::points_removed(std::span<const ElementId> removed) {
+    const MeshTopology& m = container_->mesh();
+    auto last = ElementId(container_->num_points()) - 1;
+    std::vector<ElementId> last_index(removed.size());
+    for (std::size_t k = 0; k < removed.size(); ++k) last_index[k] = last - ElementId(k);
+    for (std::size_t i = 0; i < removed.size(); ++i) {
+        std::size_t next = i;
+        bool reached = false;
+        while (!reached && next + 1 < last_index.size()) {
+            ++next;
+            reached = last_index[next] == removed[i];
+        }
+        if (reached) last_index[next] = last_index[i];
+        for (const std::int32_t q : m.quads_around_vertex()[std::size_t(last_index[i])]) {
+            const Quad& quad = m.quads()[std::size_t(q)];
+            const auto v = std::size_t(std::find(quad.begin(), quad.end(), last_index[i]) - quad.begin());
+            for (std::size_t j = v; j % 4 != (v + 2) % 4; ++j)
+                for (auto& spring : edges_[std::size_t(m.edges_in_quad()[std::size_t(q)][j % 4])].springs)
+                    for (auto& end : spring)
+                        if (end == last) end = removed[i];
+        }
+        --last;
+    }
+}
+
+void QuadularBendingSpringsFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
+    for (const TopologyChange& c : changes) {
+        if (c.kind == TopologyChangeKind::ending) continue;
+        dirty_ = true;
+        if (c.is(TopologyChangeKind::added, ElementType::quad)) quads_added(c.indices);
+        else if (c.is(TopologyChangeKind::removed, ElementType::quad)) quads_removed(c.indices);
+        else if (c.is(TopologyChangeKind::removed, ElementType::point)) points_removed(c.indices);
+        else if (c.is(TopologyChangeKind::renumbered, ElementType::point)) {
+            for (EdgeInformation& ei : edges_)
+                if (ei.activated)
+                    for (auto& spring : ei.springs)
+                        for (auto& end : spring) end = c.indices[std::size_t(end)];
+        } else if (c.is(TopologyChangeKind::added, ElementType::edge)) {
+            edges_.resize(edges_.size() + c.indices.size(), EdgeInformation{});
+        } else if (c.is(TopologyChangeKind::removed, ElementType::edge)) {
+            topology_data_remove(edges_, c.indices);
+        }
+    }
+}
+
+std::vector<Spring> QuadularBendingSpringsFollower::springs() const {
+    std::vector<Spring> out;
+    for (const EdgeInformation& ei : edges_)
+        if (ei.activated)
+            for (std::size_t s = 0; s < 2; ++s)
+                out.push_back({.a = ei.springs[s][0], .b = ei.springs[s][1], .ks = ei.ks, .kd = ei.kd, .rest_length = ei.rest_length[s]});
+    return out;
+}
+
+void QuadularBendingSpringsFollower::topology_change_done() {
+    if (!dirty_) return;
+    dirty_ = false;
+    springs_->clear_springs();
+    for (const Spring& s : springs()) springs_->add_spring(s);
+    springs_->init();
+}
+
+}  // namespace penalty

@@ -9,6 +9,7 @@
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
 #include "penalty/mechanics/hexahedral_fem.hpp"
 #include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/pressure_loads.hpp"
 #include "penalty/mechanics/topology_followers.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
 #include "scene/topology/topology_changes.hpp"
@@ -139,6 +140,27 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         container.add_handler(w.keep(std::make_unique<TriangularBendingSpringsFollower>(*ff, container, *state,
                                                                                        a.real("stiffness"), a.real("damping"))),
                               {ElementType::edge, ElementType::point, ElementType::triangle});
+        return true;
+    }
+    if (type == "QuadularBendingSprings") {
+        auto* ff = dynamic_cast<SpringForceField*>(f);
+        auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
+        if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
+        const Attributes a(c);
+        container.add_handler(w.keep(std::make_unique<QuadularBendingSpringsFollower>(*ff, container, *state,
+                                                                                     a.real("stiffness"), a.real("damping"))),
+                              {ElementType::edge, ElementType::point, ElementType::quad});
+        return true;
+    }
+    if (type == "SpringForceField") {  // no topology rule in SOFA: follows only while it has no spring
+        auto* ff = dynamic_cast<SpringForceField*>(f);
+        return ff != nullptr && ff->springs().empty();
+    }
+    if (type == "EdgePressureForceField") {
+        auto* ff = dynamic_cast<EdgePressureForceField*>(f);
+        if (ff == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<EdgePressureForceField>>(*ff, container)),
+                              {ElementType::edge});
         return true;
     }
     return false;
