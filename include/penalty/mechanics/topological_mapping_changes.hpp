@@ -22,6 +22,9 @@ public:
     [[nodiscard]] TopologyContainer& output() const { return *output_; }
     /// The input element of each output element (SOFA's Loc2GlobVec).
     [[nodiscard]] const std::vector<ElementId>& output_to_input() const { return loc2glob_; }
+    /// SOFA's getFromIndex(getGlobIndex(output element)): the input cell an output element comes
+    /// from (a face's only cell, else 0, as SOFA); -1 when the mapping has no such rule.
+    [[nodiscard]] virtual ElementId input_cell_of(ElementId /*output_element*/) const { return -1; }
 
 protected:
     /// ENDING_EVENT, POINTSADDED, POINTSREMOVED: what every mapping forwards to its output.
@@ -40,6 +43,7 @@ public:
     Tetra2TriangleMappingFollower(TopologyContainer& input, TopologyContainer& output, bool flip_normals,
                                   bool no_new_triangles, bool no_initial_triangles);
     void handle_topology_changes(std::span<const TopologyChange> changes) override;
+    [[nodiscard]] ElementId input_cell_of(ElementId output_element) const override;
 
 private:
     void triangles_removed(const TopologyChange& c);
@@ -53,6 +57,7 @@ class Hexa2QuadMappingFollower final : public TopologicalMappingFollower {
 public:
     Hexa2QuadMappingFollower(TopologyContainer& input, TopologyContainer& output, bool flip_normals);
     void handle_topology_changes(std::span<const TopologyChange> changes) override;
+    [[nodiscard]] ElementId input_cell_of(ElementId output_element) const override;
 
 private:
     void hexahedra_removed(const TopologyChange& c);

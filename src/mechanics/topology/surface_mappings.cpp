@@ -69,6 +69,12 @@ void Hexa2QuadMappingFollower::handle_topology_changes(std::span<const TopologyC
     }
 }
 
+ElementId Hexa2QuadMappingFollower::input_cell_of(ElementId q) const {
+    if (q < 0 || std::size_t(q) >= loc2glob_.size()) return -1;
+    const auto& around = input_->hexahedra_around_quad()[std::size_t(loc2glob_[std::size_t(q)])];
+    return around.size() == 1 ? around[0] : 0;
+}
+
 // HEXAHEDRAREMOVED (before they go): a face shared with a hexahedron that stays becomes visible,
 // as a face of that hexahedron.
 void Hexa2QuadMappingFollower::hexahedra_removed(const TopologyChange& c) {

@@ -53,6 +53,13 @@ void Tetra2TriangleMappingFollower::handle_topology_changes(std::span<const Topo
     }
 }
 
+// getFromIndex(getGlobIndex(t)): the tetrahedron of the input triangle, when it has one only.
+ElementId Tetra2TriangleMappingFollower::input_cell_of(ElementId t) const {
+    if (t < 0 || std::size_t(t) >= loc2glob_.size()) return -1;
+    const auto& around = input_->tetrahedra_around_triangle()[std::size_t(loc2glob_[std::size_t(t)])];
+    return around.size() == 1 ? around[0] : 0;
+}
+
 // TRIANGLESREMOVED: the output triangles of the removed input triangles go; the maps follow both
 // swap-and-pops (the input's, then the output's).
 void Tetra2TriangleMappingFollower::triangles_removed(const TopologyChange& c) {

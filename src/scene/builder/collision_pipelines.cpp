@@ -11,6 +11,15 @@ namespace penalty::scene {
 
 namespace {
 
+bool scene_has_type(const io::SceneNode& n, std::string_view type) {
+    for (const auto& c : n.components)
+        if (c->type == type) return true;
+    for (const auto& child : n.children)
+        if (scene_has_type(*child, type)) return true;
+    return false;
+}
+
+
 using io::SceneComponent;
 using io::SceneNode;
 using F = ComponentFamily;
@@ -129,6 +138,8 @@ private:
         options.detection = b_.options().exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = b_.options().threads;
         options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
+        // a CarvingManager reads every detection output (SOFA's narrow-phase map)
+        options.all_detection_outputs = scene_has_type(*b_.scene().file().root, "CarvingManager");
         options.sofa_stable_id_order = b_.options().sofa_head_orders;
         // SOFA's bounding-tree depth (CollisionPipeline / SubCollisionPipeline `depth`): the
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6

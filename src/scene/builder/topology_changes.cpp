@@ -43,6 +43,30 @@ constexpr AttributeSpec kTrasher[] = {
     {"listening", K::boolean, "1", "", ValueCheck::none, "no effect: always listening"},
 };
 
+constexpr AttributeSpec kCarving[] = {
+    {"toolModel", K::link, "", "", ValueCheck::none, "the tool's collision model (default: the one tagged CarvingTool)"},
+    {"surfaceModelPath", K::text, "", "", ValueCheck::none,
+     "the carved collision model's path (default: every model tagged CarvingSurface)"},
+    {"carvingDistance", K::real, "0", "m", ValueCheck::none,
+     "an element whose detection output value (distance minus contact distance) is below it is removed"},
+    {"active", K::boolean, "0", "", ValueCheck::none, "carve at the end of each step (no key events headless)"},
+    {"narrowPhaseDetection", K::link, "", "", ValueCheck::none, "no effect: every collision pipeline's detection is read"},
+    {"key", K::text, "1", "", ValueCheck::none, "keyboard only (no effect)"},
+    {"keySwitch", K::text, "4", "", ValueCheck::none, "keyboard only (no effect)"},
+};
+
+void build_carving(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
+    const Attributes a(c);
+    b.guarded(c, [&] { (void)a.real("carvingDistance"), (void)a.boolean("active"); });
+    b.role(c, [&c] {
+        return io::get_bool_or(c, "active", false)
+                   ? std::string("removes, at each step's end, the elements of the carved models its tool comes closer to "
+                                 "than carvingDistance")
+                   : std::string("inactive (active=\"0\"; no key events headless)");
+    });
+    b.note_unread_attributes(c);
+}
+
 void build_processor(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     const Attributes a(c);
     b.guarded(c, [&] {
@@ -70,6 +94,9 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "TopologicalChangeProcessor", .family = F::engine,
      .summary = "removes and adds elements of its topology at given times (SOFA's file format)", .attributes = kProcessor,
      .build = build_processor},
+    {.type = "CarvingManager", .family = F::engine,
+     .summary = "removes the elements of the models tagged CarvingSurface that its tool touches", .attributes = kCarving,
+     .build = build_carving},
     {.type = "TopologyBoundingTrasher", .family = F::engine,
      .summary = "removes the elements whose barycentre leaves a box", .attributes = kTrasher, .build = build_trasher},
 };

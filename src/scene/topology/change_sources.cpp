@@ -128,7 +128,12 @@ void add_processor(TopologyWiring& w, const SceneComponent& c) {
     } else {
         if (!a.has("filename")) a.fail("filename", "names the file of topological changes (or set useDataInputs)");
         const std::string name = a.text("filename");
-        const auto path = io::resolve_data_file(name, w.builder.scene_dir(), w.builder.options().data_dirs);
+        std::filesystem::path path;
+        try {
+            path = io::resolve_data_file(name, w.builder.scene_dir(), w.builder.options().data_dirs);
+        } catch (const std::exception& e) {
+            a.fail("filename", std::string("cannot open ") + name + " (" + e.what() + ")");
+        }
         std::ifstream in(path, std::ios::binary);
         if (!in) a.fail("filename", "cannot open " + path.string());
         std::ostringstream text;

@@ -24,23 +24,23 @@ void wire_topological_mappings(TopologyWiring& w) {
             DynamicTopology* in = dynamic_of(c, "input");
             DynamicTopology* out = dynamic_of(c, "output");
             if (in == nullptr || out == nullptr) continue;
+            std::unique_ptr<TopologicalMappingFollower> follower;
             if (c.type == "Tetra2TriangleTopologicalMapping") {
-                auto follower = std::make_unique<Tetra2TriangleMappingFollower>(
+                follower = std::make_unique<Tetra2TriangleMappingFollower>(
                     *in->container, *out->container, io::get_bool_or(c, "flipNormals", false),
                     io::get_bool_or(c, "noNewTriangles", false), io::get_bool_or(c, "noInitialTriangles", false));
-                in->container->add_listener(w.keep(std::move(follower)));
-                in->outputs.push_back(out);
             } else if (c.type == "Hexa2QuadTopologicalMapping") {
-                in->container->add_listener(w.keep(std::make_unique<Hexa2QuadMappingFollower>(
-                    *in->container, *out->container, io::get_bool_or(c, "flipNormals", false))));
-                in->outputs.push_back(out);
+                follower = std::make_unique<Hexa2QuadMappingFollower>(*in->container, *out->container,
+                                                                      io::get_bool_or(c, "flipNormals", false));
             } else if (c.type == "Quad2TriangleTopologicalMapping") {
-                in->container->add_listener(
-                    w.keep(std::make_unique<Quad2TriangleMappingFollower>(*in->container, *out->container)));
-                in->outputs.push_back(out);
+                follower = std::make_unique<Quad2TriangleMappingFollower>(*in->container, *out->container);
             } else if (c.type == "Triangle2EdgeTopologicalMapping") {
-                in->container->add_listener(
-                    w.keep(std::make_unique<Triangle2EdgeMappingFollower>(*in->container, *out->container)));
+                follower = std::make_unique<Triangle2EdgeMappingFollower>(*in->container, *out->container);
+            }
+            if (follower) {
+                out->fed_by = follower.get();
+                out->input = in;
+                in->container->add_listener(w.keep(std::move(follower)));
                 in->outputs.push_back(out);
             } else {
                 in->blockers.push_back(c.describe() + " (" + c.file + ":" + std::to_string(c.line) +

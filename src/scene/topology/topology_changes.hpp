@@ -28,5 +28,7 @@ void wire_topological_mappings(TopologyWiring& w);
 /// TopologicalChangeProcessor, TopologyBoundingTrasher, CarvingManager
 /// (topological_change_processor.cpp, ...).
 void add_topology_change_sources(TopologyWiring& w);
+/// CarvingManager (carving_manager.cpp).
+void add_carving_managers(TopologyWiring& w);
 
 }  // namespace penalty::scene

@@ -15,6 +15,7 @@
 
 namespace penalty {
 class Node;
+class TopologicalMappingFollower;
 }
 
 namespace penalty::scene {
@@ -32,6 +33,9 @@ struct DynamicTopology {
     std::vector<std::string> blockers;
     /// Dynamic topologies this one's changes reach (topological mappings' outputs).
     std::vector<DynamicTopology*> outputs;
+    /// The topological mapping whose output this is (and its input), or none.
+    const class TopologicalMappingFollower* fed_by = nullptr;
+    DynamicTopology* input = nullptr;
 };
 
 /// Something SOFA runs at AnimateBeginEvent that may change topologies.

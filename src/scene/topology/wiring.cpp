@@ -146,6 +146,7 @@ void SceneBuilder::wire_topological_changes() {
     wire_components(w);
     wire_collision_models(w);
     add_topology_change_sources(w);
+    add_carving_managers(w);
 
     if (!rt.topologies.empty()) scene_.topology_runtime_ = std::move(runtime);
 }
