@@ -25,8 +25,16 @@ async function loadRun() {
   const frames = run.frames.count;
   if (frames === 0) throw new Error('the run has no frame (it stopped before writing one)');
   const positionArray = new Float32Array(positions);
-  if (positionArray.length < frames * run.frame_floats)
-    throw new Error(`positions.f32 holds ${positionArray.length} floats, ${frames} frames need ${frames * run.frame_floats}`);
+  // Version 2 (topological changes): the states' sizes and the shapes' elements change from one
+  // layout to the next; a version 1 run has one layout and frames of frame_floats floats each.
+  if (!run.layouts) {
+    run.layouts = [{ frame_floats: run.frame_floats, states: run.states, shapes: run.shapes }];
+    run.frames.layout = new Array(frames).fill(0);
+    run.frames.position_offset = Array.from({ length: frames }, (_, f) => f * run.frame_floats);
+  }
+  const needed = run.frames.position_offset[frames - 1] + run.layouts[run.frames.layout[frames - 1]].frame_floats;
+  if (positionArray.length < needed)
+    throw new Error(`positions.f32 holds ${positionArray.length} floats, ${frames} frames need ${needed}`);
   // Contacts of frame f: floats [offset[f], offset[f + 1]) of contacts.f32, 10 per contact.
   const contactOffset = new Array(frames + 1);
   contactOffset[0] = 0;
@@ -118,6 +126,11 @@ class ShapeView {
     }
     this.object.name = shape.name;
     this.object.frustumCulled = false;  // moving geometry: bounding volumes would go stale
+  }
+
+  dispose() {
+    this.object.geometry.dispose();
+    if (this.edges) this.edges.geometry.dispose();
   }
 
   /// Copies the shape's state at frame f (positions: the run's Float32Array) into the GPU buffers.
@@ -344,14 +357,14 @@ class Viewer {
 
     // Bodies: one colour per node holding collision models.
     this.nodeColor = new Map();
-    this.shapes = run.shapes.map((shape) => {
-      const state = run.states[shape.state];
-      if (!this.nodeColor.has(state.node_path))
-        this.nodeColor.set(state.node_path, PALETTE[this.nodeColor.size % PALETTE.length]);
-      const v = new ShapeView(shape, state, run, data.topology, this.nodeColor.get(state.node_path));
-      this.scene.add(v.object);
-      return v;
-    });
+    for (const state of run.states)
+      if (!this.nodeColor.has(state.node_path)) this.nodeColor.set(state.node_path, PALETTE[this.nodeColor.size % PALETTE.length]);
+    this.shapes = [];
+    this.layoutIndex = -1;
+    this.wireframe = false;
+    this.hiddenNodes = new Set();
+    this.hiddenShapes = new Set();
+    this.applyLayout(0);
     this.bounds = this.computeBounds(false);
     this.focus = this.computeBounds(true);
     const diagonal = this.bounds.getSize(new THREE.Vector3()).length() || 1;
@@ -377,13 +390,33 @@ class Viewer {
     document.body.dataset.ready = 'true';
   }
 
+  /// The shapes of layout l (a topological change between frames: other elements, other sizes).
+  applyLayout(l) {
+    if (l === this.layoutIndex) return;
+    const { run, topology } = this.data;
+    const layout = run.layouts[l];
+    for (const v of this.shapes) { this.scene.remove(v.object); v.dispose(); }
+    this.shapes = layout.shapes.map((shape) => {
+      const state = layout.states[shape.state];
+      const v = new ShapeView(shape, state, run, topology, this.nodeColor.get(state.node_path));
+      if (this.wireframe) v.setWireframe(true);
+      this.scene.add(v.object);
+      return v;
+    });
+    this.layoutIndex = l;
+    this.applyVisibility();
+  }
+
   /// Box of every shape at the first frame; with `movingOnly`, of the shapes whose state moves
   /// during the run (the camera frames them: a large static floor would make them small), or of
   /// everything when nothing moves.
   computeBounds(movingOnly) {
     const box = new THREE.Box3();
     const { run, positions } = this.data;
-    const last = (run.frames.count - 1) * run.frame_floats;
+    // the last frame with the first frame's layout (the states keep their sizes until then)
+    let lastFrame = run.frames.count - 1;
+    while (run.frames.layout[lastFrame] !== run.frames.layout[0]) lastFrame--;
+    const last = run.frames.position_offset[lastFrame];
     const moves = (state) => {
       const n = state.dofs * (state.type === 'Rigid3d' ? 7 : 3);
       for (let i = state.offset; i < state.offset + n; i++) if (positions[i] !== positions[last + i]) return true;
@@ -435,7 +468,8 @@ class Viewer {
     f = Math.min(Math.max(Math.round(f), 0), this.frames - 1);
     this.frame = f;
     const { run, positions, contacts, contactOffset } = this.data;
-    const frameOffset = f * run.frame_floats;
+    this.applyLayout(run.frames.layout[f]);
+    const frameOffset = run.frames.position_offset[f];
     for (const s of this.shapes) s.update(positions, frameOffset);
     this.contacts.update(contacts, contactOffset[f], contactOffset[f + 1]);
     $('frame-label').textContent = `${f} / ${this.frames - 1}`;
@@ -464,8 +498,6 @@ class Viewer {
       return node;
     };
     run.states.forEach((state, k) => nodeAt(state.node_path).states.push({ state, k }));
-    this.hiddenNodes = new Set();
-    this.hiddenShapes = new Set();
     const render = (node) => {
       const li = document.createElement('li');
       const color = this.nodeColor.get(node.path);
@@ -544,7 +576,11 @@ class Viewer {
     $('colorbar').hidden = false;
     $('show-contacts').addEventListener('change', (e) => { this.contacts.group.visible = e.target.checked; this.requestRender(); });
     $('show-normals').addEventListener('change', (e) => { this.contacts.normals.visible = e.target.checked; this.requestRender(); });
-    $('show-wireframe').addEventListener('change', (e) => { for (const s of this.shapes) s.setWireframe(e.target.checked); this.requestRender(); });
+    $('show-wireframe').addEventListener('change', (e) => {
+      this.wireframe = e.target.checked;
+      for (const s of this.shapes) s.setWireframe(this.wireframe);
+      this.requestRender();
+    });
     $('reset-camera').addEventListener('click', () => this.resetCamera());
   }
 

@@ -218,7 +218,9 @@ std::string tchg_ball_over_sheet(const test::TriangleSheet& sheet, double radius
 
 double tchg_ball_height(scene::Scene& s) {
     for (const auto& r : s.states())
-        if (r.state->state_name() == "ballDofs") return dynamic_cast<Vec3Object*>(r.state)->position[0].y();
+        if (r.state->state_name() == "ballDofs")
+            if (const auto* ball = dynamic_cast<const Vec3Object*>(r.state); ball != nullptr && !ball->position.empty())
+                return ball->position.front().y();
     ADD_FAILURE() << "no ball";
     return 0;
 }

@@ -153,6 +153,9 @@ public:
     /// The topologies that can change: each `*SetTopologyContainer` with a `*SetTopologyModifier`
     /// in its node (or above), as "node path/container name" ("/TT/Tetra_topo"), depth first.
     [[nodiscard]] std::vector<std::string> dynamic_topologies() const;
+    /// A number that changes whenever an element of a dynamic topology is removed or added (the
+    /// viewer starts a new layout then).
+    [[nodiscard]] std::uint64_t topology_revision() const;
     /// The container `topology` names: a path of dynamic_topologies(), a container's name, or its
     /// node's path (unique ones). Throws std::invalid_argument naming the topologies otherwise.
     [[nodiscard]] const TopologyContainer& topology_container(std::string_view topology) const;

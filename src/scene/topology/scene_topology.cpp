@@ -38,6 +38,8 @@ std::vector<std::string> Scene::dynamic_topologies() const {
     return out;
 }
 
+std::uint64_t Scene::topology_revision() const { return topology_runtime_ ? topology_runtime_->revisions() : 0; }
+
 const TopologyContainer& Scene::topology_container(std::string_view topology) const {
     return *named(topology_runtime_.get(), topology).container;
 }

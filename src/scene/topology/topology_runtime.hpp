@@ -76,7 +76,7 @@ public:
     std::vector<std::unique_ptr<TopologyChangeSource>> sources;
     Node* root = nullptr;
 
-private:
+    /// Sum of the dynamic meshes' revisions: changes whenever an element changes.
     std::uint64_t revisions() const;
 };
 
