@@ -356,7 +356,7 @@ void TopologyContainer::check_removal(ElementType type, std::span<const ElementI
         const ElementId i = indices[k];
         if (i < 0 || std::size_t(i) >= n)
             throw_invalid_argument("TopologyContainer '", name_, "': cannot remove ", element_type_name(type), " ", i,
-                                   " (entry ", k, "): the container has ", n, " ", element_type_name(type));
+                                   " (entry ", k, "): out of range, the container has ", n, " ", element_type_name(type));
         if (seen[std::size_t(i)])
             throw_invalid_argument("TopologyContainer '", name_, "': ", element_type_name(type), " ", i,
                                    " is listed twice (entry ", k, ") in one removal");

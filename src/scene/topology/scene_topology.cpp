@@ -65,6 +65,7 @@ void Scene::add_elements(std::string_view topology, ElementType type, const std:
     DynamicTopology& t = named(topology_runtime_.get(), topology);
     TopologyContainer& c = *t.container;
     topology_runtime_->check_can_change(t);
+    TopologyRuntime::check_added(t, type, vertices);
     switch (type) {
         case ElementType::point:
             if (!vertices.empty()) throw_invalid_argument("add_elements: points take a count, not vertex indices");

@@ -193,6 +193,7 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
     }
     std::array<std::size_t, kElementTypeCount> counts{};
     for (int t = 0; t < kElementTypeCount; ++t) counts[std::size_t(t)] = c.keeps(ElementType(t)) ? c.count(ElementType(t)) : 0;
+    bool removed = false;
     for (const Command& cmd : commands) {
         const ElementType type = cmd.add ? *cmd.add : c.level();
         if (!c.keeps(type))
@@ -204,6 +205,21 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
                                            " " + std::to_string(k / std::size_t(vertices_per_element(type))) +
                                            " does not exist (the topology '" + target_->path + "' has " +
                                            std::to_string(counts[0]) + " points)");
+            const std::size_t per = std::size_t(vertices_per_element(type));
+            for (std::size_t e = 0; e + per <= cmd.values.size(); e += per)
+                for (std::size_t a = 0; a < per; ++a)
+                    for (std::size_t b = a + 1; b < per; ++b)
+                        if (cmd.values[e + a] == cmd.values[e + b])
+                            fail(cmd.line + 1, "new " + std::string(element_type_name(type)) + " " + std::to_string(e / per) +
+                                                   " uses vertex " + std::to_string(cmd.values[e + a]) + " twice");
+            // degenerate new elements (refused by the FEM force fields), checked here while no
+            // removal of this step has renumbered the points
+            if (!removed)
+                try {
+                    TopologyRuntime::check_added(*target_, type, cmd.values);
+                } catch (const std::invalid_argument& e) {
+                    fail(cmd.line + 1, e.what());
+                }
             counts[std::size_t(type)] += cmd.values.size() / std::size_t(vertices_per_element(type));
         } else {
             try {
@@ -219,6 +235,7 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
                 fail(cmd.line + 1, e.what());
             }
             counts[std::size_t(type)] -= cmd.values.size();
+            removed = true;
         }
     }
     for (const Command& cmd : commands) {

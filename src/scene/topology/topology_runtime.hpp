@@ -6,6 +6,7 @@
 // them at the start of each step (TopologicalChangeProcessor, TopologyBoundingTrasher,
 // CarvingManager: SOFA's AnimateBeginEvent listeners, in scene order).
 #include "penalty/io/scene_file.hpp"
+#include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/mechanics/topology_container.hpp"
 
 #include <memory>
@@ -36,6 +37,8 @@ struct DynamicTopology {
     /// The topological mapping whose output this is (and its input), or none.
     const class TopologicalMappingFollower* fed_by = nullptr;
     DynamicTopology* input = nullptr;
+    /// The Vec3 state of the container's node (its points' rest positions), or none.
+    const Vec3Object* geometry = nullptr;
 };
 
 /// Something SOFA runs at AnimateBeginEvent that may change topologies.
@@ -69,6 +72,11 @@ public:
     /// Throws std::invalid_argument naming the first component that cannot follow a change of
     /// `t` (or of a topology it changes through a topological mapping).
     void check_can_change(const DynamicTopology& t) const;
+    /// Throws std::invalid_argument naming the first new element (`flat`: vertices of `type`,
+    /// element after element) that is degenerate at rest (a tetrahedron of no volume, a triangle
+    /// of no area, as the FEM force fields refuse them), before anything changes. Elements on a
+    /// vertex the state does not have yet are not checked.
+    static void check_added(const DynamicTopology& t, ElementType type, std::span<const PointId> flat);
 
     std::vector<std::unique_ptr<DynamicTopology>> topologies;
     std::vector<std::unique_ptr<TopologyHandler>> handlers;

@@ -129,8 +129,12 @@ void SceneBuilder::wire_topological_changes() {
             if (nb.node != nullptr && nb.node->state() != nullptr) {
                 BaseState* s = nb.node->state();
                 std::unique_ptr<StateFollower> follower;
-                if (auto* v = dynamic_cast<Vec3Object*>(s)) follower = std::make_unique<StateTopologyFollower<Vec3Types>>(*v);
-                else if (auto* r = dynamic_cast<Rigid3Object*>(s)) follower = std::make_unique<StateTopologyFollower<Rigid3Types>>(*r);
+                if (auto* v = dynamic_cast<Vec3Object*>(s)) {
+                    follower = std::make_unique<StateTopologyFollower<Vec3Types>>(*v);
+                    if (root && t->geometry == nullptr) t->geometry = v;
+                }
+                else if (auto* r = dynamic_cast<Rigid3Object*>(s))
+                    follower = std::make_unique<StateTopologyFollower<Rigid3Types>>(*r);
                 if (follower) {
                     t->container->add_state_follower(*follower);
                     rt.followers.push_back(std::move(follower));
