@@ -76,8 +76,23 @@ TEST(TopologicalChanges, FollowersEqualTheSameComponentsBuiltOnTheReducedMesh) {
     changed->remove_elements("volume", ElementType::tetrahedron, {0, 7, 33});
     changed->remove_elements("/body/volume", ElementType::tetrahedron, {127, 128, 129, 130, 131, 60});
     changed->remove_elements("/body", ElementType::tetrahedron, {2, 3, 4});
+    // three tetrahedra removed and added again (new elements, on the points they had: found by
+    // position, the removal may renumber them), then a removal that moves one of the new ones
     const TopologyContainer& c = changed->topology_container("volume");
-    ASSERT_EQ(c.mesh().tetrahedra().size(), 135u - 12u);
+    const Vec3Object& rest = tchg_state(*changed);
+    std::vector<Vec3> corners;
+    for (const std::size_t k : {5, 40, 77})
+        for (const PointId v : c.mesh().tetrahedra()[k]) corners.push_back(rest.rest_position[std::size_t(v)]);
+    changed->remove_elements("volume", ElementType::tetrahedron, {5, 40, 77});
+    std::vector<PointId> again;
+    for (const Vec3& p : corners) {
+        const auto it = std::find(rest.rest_position.begin(), rest.rest_position.end(), p);
+        ASSERT_NE(it, rest.rest_position.end());
+        again.push_back(PointId(it - rest.rest_position.begin()));
+    }
+    changed->add_elements("volume", ElementType::tetrahedron, again);
+    changed->remove_elements("volume", ElementType::tetrahedron, {10, 11});
+    ASSERT_EQ(c.mesh().tetrahedra().size(), 135u - 12u - 2u);
     Vec3Object& x = tchg_state(*changed);
     ASSERT_EQ(x.num_dofs(), c.mesh().num_points());
     ASSERT_LT(x.num_dofs(), cube.points.size());  // some points went with their last tetrahedron
@@ -107,6 +122,19 @@ TEST(TopologicalChanges, FollowersEqualTheSameComponentsBuiltOnTheReducedMesh) {
     f2->accumulate_force();
     EXPECT_EQ(x.force, y.force);
     EXPECT_EQ(tchg_stiffness(*f1, x.num_dofs()), tchg_stiffness(*f2, y.num_dofs()));
+    // df = K·dx through the element lane blocks of each kernel path this machine runs
+    for (const KernelPath path : {KernelPath::scalar, KernelPath::avx, KernelPath::avx512}) {
+        if (!kernel_path_supported(path)) continue;
+        f1->set_kernel_path(path);
+        f2->set_kernel_path(path);
+        f1->accumulate_force();
+        f2->accumulate_force();
+        Vec3List dx(x.num_dofs()), df1(x.num_dofs(), Vec3::Zero()), df2(x.num_dofs(), Vec3::Zero());
+        for (Vec3& d : dx) d = Vec3(u(rng), u(rng), u(rng));
+        f1->add_dforce(df1, dx, 0.7, 0.0);
+        f2->add_dforce(df2, dx, 0.7, 0.0);
+        EXPECT_EQ(df1, df2) << to_string(path);
+    }
     // K = −Rᵀ K^e R ignores the rotation's derivative: exact at rest and after a rigid motion
     const Mat3 r = Eigen::AngleAxisd(0.7, Vec3(1, 2, -1).normalized()).toRotationMatrix();
     for (std::size_t i = 0; i < x.num_dofs(); ++i) x.position[i] = r * x.rest_position[i] + Vec3(0.1, 0.2, 0.3);
@@ -263,6 +291,92 @@ TEST(TopologicalChanges, ContactsOnRemovedTrianglesEnd) {
     EXPECT_TRUE(s->contacts().empty());
     for (int k = 0; k < 20; ++k) s->step();
     EXPECT_LT(tchg_ball_height(*s), resting - 0.01);  // no force holds it any more
+}
+
+/// The scene's triangle collision models equal models built fresh on their changed topologies:
+/// the same triangles in the same slots, the same flags (who owns each vertex and edge, the
+/// border edges), the same counts.
+void tchg_expect_triangle_models_fresh(const scene::Scene& s, const std::string& when) {
+    std::size_t seen = 0;
+    for (const scene::SceneCollisionModel& sm : s.collision_models()) {
+        const auto* tm = dynamic_cast<const TriangleModel*>(sm.model.get());
+        if (tm == nullptr) continue;
+        ++seen;
+        const TriangleModel fresh(tm->state(), tm->topology(), tm->params());
+        ASSERT_EQ(tm->size(), fresh.size()) << when;
+        EXPECT_EQ(tm->num_topology_triangles(), fresh.num_topology_triangles()) << when;
+        EXPECT_EQ(tm->owns_every_feature(), fresh.owns_every_feature()) << when;
+        for (std::size_t i = 0; i < fresh.size(); ++i) {
+            ASSERT_EQ(tm->triangle(Index(i)), fresh.triangle(Index(i))) << when << ", triangle " << i;
+            ASSERT_EQ(tm->flags(Index(i)), fresh.flags(Index(i))) << when << ", triangle " << i;
+        }
+    }
+    EXPECT_GT(seen, 0u) << when;
+}
+
+TEST(TopologicalChanges, TriangleCollisionModelsFollowAsIfBuiltAfresh) {
+    std::mt19937 rng(51);
+    // a body's border through Tetra2Triangle: removals of tetrahedra uncover inner triangles,
+    // remove border ones and renumber points
+    const test::TetraCube cube = test::tetra_cube(4, 0.4);
+    auto body = build(tchg_body(cube.points, cube.tetrahedra, R"(<DiagonalMass massDensity="1000"/>
+  <Node name="border">
+    <TriangleSetTopologyContainer name="surface"/>
+    <TriangleSetTopologyModifier/>
+    <Tetra2TriangleTopologicalMapping input="@../volume" output="@surface"/>
+    <TriangleCollisionModel/>
+  </Node>)"));
+    tchg_expect_triangle_models_fresh(*body, "built");
+    for (int round = 0; round < 12; ++round) {
+        const std::size_t n = body->topology_container("volume").mesh().tetrahedra().size();
+        std::set<ElementId> picked;
+        while (picked.size() < std::min<std::size_t>(n, 1 + round % 4))
+            picked.insert(ElementId(std::uniform_int_distribution<std::size_t>(0, n - 1)(rng)));
+        body->remove_elements("volume", ElementType::tetrahedron, {picked.begin(), picked.end()});
+        tchg_expect_triangle_models_fresh(*body, "body, round " + std::to_string(round));
+    }
+    // a sheet: triangles removed, and removed ones added again on their points (found by position:
+    // a removal may renumber them, or remove them with their last triangle)
+    const test::TriangleSheet sheet = test::triangle_sheet(5, 0.1);
+    auto s = build(tchg_ball_over_sheet(sheet, 0.05, Vec3(0.21, 0.3, 0.27)));
+    const Vec3Object& sheet_dofs = tchg_state(*s, 0);
+    ASSERT_EQ(sheet_dofs.num_dofs(), sheet.points.size());
+    std::vector<std::array<Vec3, 3>> removed;
+    std::size_t added = 0;
+    for (int round = 0; round < 12; ++round) {
+        const MeshTopology& mesh = s->topology_container("surface").mesh();
+        const std::size_t n = mesh.triangles().size();
+        if (round % 3 == 2) {
+            std::vector<PointId> again;
+            for (const auto& corners : removed) {
+                std::vector<PointId> t;
+                for (const Vec3& p : corners) {
+                    const auto& x0 = sheet_dofs.rest_position;
+                    const auto it = std::find(x0.begin(), x0.end(), p);
+                    if (it != x0.end()) t.push_back(PointId(it - x0.begin()));
+                }
+                if (t.size() == 3) again.insert(again.end(), t.begin(), t.end());
+            }
+            removed.clear();
+            if (again.empty()) continue;
+            added += again.size() / 3;
+            s->add_elements("surface", ElementType::triangle, again);
+        } else {
+            std::set<ElementId> picked;
+            while (picked.size() < std::min<std::size_t>(n, 3))
+                picked.insert(ElementId(std::uniform_int_distribution<std::size_t>(0, n - 1)(rng)));
+            for (const ElementId t : picked) {
+                std::array<Vec3, 3> corners;
+                for (std::size_t j = 0; j < 3; ++j)
+                    corners[j] = sheet_dofs.rest_position[std::size_t(mesh.triangles()[std::size_t(t)][j])];
+                removed.push_back(corners);
+            }
+            s->remove_elements("surface", ElementType::triangle, {picked.begin(), picked.end()});
+        }
+        tchg_expect_triangle_models_fresh(*s, "sheet, round " + std::to_string(round));
+        s->step();
+    }
+    EXPECT_GT(added, 3u);  // the additions ran
 }
 
 }  // namespace

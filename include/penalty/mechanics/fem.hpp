@@ -15,9 +15,12 @@
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <Eigen/Core>
 
+#include <limits>
+#include <span>
 #include <tuple>
 
 namespace penalty {
@@ -81,6 +84,8 @@ public:
     [[nodiscard]] const std::vector<ElementMatrix>& element_stiffness() const { return ke_; }
 
 protected:
+    /// init() for elements [first, size): the others keep their data (topological changes).
+    void init_from(std::size_t first);
     /// Element stiffness K^e (SPD, 3N×3N) from local rest coordinates.
     [[nodiscard]] virtual ElementMatrix compute_stiffness(const std::array<Vec3, N>& rest_local,
                                                           const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const = 0;
@@ -103,6 +108,7 @@ protected:
 };
 
 class RegularGridTopology;
+class TopologyContainer;
 
 namespace detail {
 /// TetrahedronFEMForceField's method-large data of W elements side by side, for the vector
@@ -155,6 +161,14 @@ public:
     void set_kernel_path(KernelPath path);
     [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
+    /// Topological changes of its container (docs/topological-changes.md; defined in
+    /// src/mechanics/topology/fem_changes.cpp): the per-element data follow the removals
+    /// (swap-and-pop), additions and point renumbering, equal to what init() computes on the
+    /// changed mesh (SOFA's reinit()), in time proportional to the change.
+    void handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// After the whole change: the new elements' data, the renumbered vertices, the lane blocks.
+    void topology_change_done();
+
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
                                                   std::size_t e) const override;
@@ -173,7 +187,20 @@ private:
         /// D/(36V): SOFA's material matrix divided by 36 times the rest volume, Pa/m³.
         Eigen::Matrix<double, 6, 6> material;
     };
-    void init_large();
+    void init_large(std::size_t first = 0);
+    /// init() for elements [first, size) (the lane blocks: refresh_lanes).
+    void init_elements(std::size_t first);
+    /// The lane blocks of the `changed` elements refilled, resized to the element count.
+    void refresh_lanes(std::span<const std::size_t> changed);
+    /// What a topological change leaves to topology_change_done().
+    struct PendingTopologyChange {
+        const TopologyContainer* container = nullptr;
+        std::vector<std::size_t> moved;       ///< elements given another's data (swap-and-pop)
+        std::vector<PointId> renumbered;      ///< points that took the last point's index
+        std::size_t first_new = std::numeric_limits<std::size_t>::max();
+        bool rebuild = false;                 ///< a renumbering: init() again
+    };
+    PendingTopologyChange pending_;
 
     std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
     std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element

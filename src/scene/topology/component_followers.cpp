@@ -113,7 +113,9 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
     if (type == "TetrahedronFEMForceField") {
         auto* ff = dynamic_cast<TetrahedronFEMForceField*>(f);
         if (ff == nullptr || (mesh.tetrahedra().empty() && !mesh.hexahedra().empty())) return false;
-        rebuild([ff, &mesh] { ff->set_elements(mesh.tetrahedra()), ff->init(); }, {ElementType::tetrahedron, ElementType::point});
+        // incremental (fem_changes.cpp): the data of the elements a change touches
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TetrahedronFEMForceField>>(*ff, container)),
+                              {ElementType::tetrahedron, ElementType::point});
         return true;
     }
     if (type == "HexahedralFEMForceField" || type == "HexahedronFEMForceField") {
@@ -242,6 +244,77 @@ void wire_components(TopologyWiring& w) {
     orphans(orphans, w.builder.simulation().root());
 }
 
+namespace {
+
+/// A TriangleCollisionModel on a triangle topology without quads, following it in time
+/// proportional to the change: the slots a removal fills (swap-and-pop), the new triangles, and
+/// every triangle around a vertex of a removed, moved or new triangle or of a renumbered point
+/// (their flags, or vertices, may change) are refreshed once the operation is done
+/// (TriangleModel::refresh_triangles). A points renumbering rebuilds the model.
+class TriangleModelFollower final : public TopologyHandler {
+public:
+    TriangleModelFollower(TriangleModel& model, std::function<void()> remake)
+        : model_(&model), remake_(std::move(remake)) {}
+
+    void handle_topology_changes(std::span<const TopologyChange> changes) override {
+        const MeshTopology& mesh = model_->topology();
+        for (const TopologyChange& c : changes) {
+            if (c.is(TopologyChangeKind::removed, ElementType::triangle)) {
+                // sent before the removal: the indices are valid, their vertices are the mesh's
+                for (const ElementId id : c.indices) {
+                    slots_.push_back(std::size_t(id));
+                    const Triangle& t = mesh.triangles()[std::size_t(id)];
+                    vertices_.insert(vertices_.end(), t.begin(), t.end());
+                }
+            } else if (c.is(TopologyChangeKind::added, ElementType::triangle)) {
+                for (const ElementId id : c.indices) slots_.push_back(std::size_t(id));
+                vertices_.insert(vertices_.end(), c.vertices.begin(), c.vertices.end());
+            } else if (c.is(TopologyChangeKind::removed, ElementType::point)) {
+                vertices_.insert(vertices_.end(), c.indices.begin(), c.indices.end());  // they take the last points
+            } else if (c.kind == TopologyChangeKind::renumbered) {
+                rebuild_ = true;
+            }
+        }
+        dirty_ = true;
+    }
+
+    void topology_change_done() override {
+        if (!dirty_) return;
+        dirty_ = false;
+        const MeshTopology& mesh = model_->topology();
+        if (rebuild_ || !mesh.quads().empty()) {
+            remake_();
+        } else {
+            const auto& triangles = mesh.triangles();
+            std::vector<std::size_t> touched = std::move(slots_);
+            for (const std::size_t slot : std::vector<std::size_t>(touched))  // a moved triangle's vertices
+                if (slot < triangles.size()) vertices_.insert(vertices_.end(), triangles[slot].begin(), triangles[slot].end());
+            std::sort(vertices_.begin(), vertices_.end());
+            vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
+            const auto& around = mesh.triangles_around_vertex();
+            for (const PointId v : vertices_)
+                if (std::size_t(v) < around.size())
+                    for (const auto t : around[std::size_t(v)]) touched.push_back(std::size_t(t));
+            std::sort(touched.begin(), touched.end());
+            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+            model_->refresh_triangles(touched);
+        }
+        slots_.clear();
+        vertices_.clear();
+        rebuild_ = false;
+    }
+
+private:
+    TriangleModel* model_;
+    std::function<void()> remake_;
+    std::vector<std::size_t> slots_;
+    std::vector<PointId> vertices_;
+    bool rebuild_ = false;
+    bool dirty_ = false;
+};
+
+}  // namespace
+
 void wire_collision_models(TopologyWiring& w) {
     for (SceneCollisionModel& sm : w.builder.collision_models()) {
         if (sm.component == nullptr) continue;
@@ -266,6 +339,10 @@ void wire_collision_models(TopologyWiring& w) {
         };
         const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
                                                      ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
+        if (auto* tm = dynamic_cast<TriangleModel*>(model); tm != nullptr && mesh->quads().empty()) {
+            t->container->add_handler(w.keep(std::make_unique<TriangleModelFollower>(*tm, remake)), all);
+            continue;
+        }
         t->container->add_handler(w.keep(std::make_unique<RebuildFollower>(remake, all)), all);
     }
 }
