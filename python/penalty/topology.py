@@ -51,7 +51,7 @@ def _scene_and_topology(obj):
     if scene is None:
         raise RuntimeError(f"{obj._describe()}: call Sofa.Simulation.init(root) before changing the topology")
     node = obj.getContext()
-    path = node.getPathName() if node is not None else "/"
+    path = node._scene_path() if node is not None else "/"  # the built scene's path of the node
     return scene, path or "/"
 
 

@@ -3,6 +3,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 namespace penalty::python {
 
 namespace py = pybind11;
@@ -12,13 +14,7 @@ void bind_force_field(py::module_& m);
 void bind_collision(py::module_& m);
 /// Adds the topological-change methods to the Scene class (topology_bindings.cpp).
 void bind_scene_topology(py::handle scene_class);
-}  // namespace penalty::python
-namespace penalty::scene {
-class Scene;
-}
-namespace penalty::python {
-/// The C++ scene of a penalty._core.Scene (scene_bindings.cpp).
-scene::Scene& scene_of(const py::handle& py_scene);
+void bind_live(py::module_& m);  // live_bindings.cpp: after bind_scene (adds to its Scene class)
 
 /// A (rows, cols) float64 array viewing `data` (no copy); `owner` keeps the memory alive.
 /// Strides in bytes: row_stride between rows, 8 between columns.
@@ -28,7 +24,29 @@ inline py::array_t<double> view(double* data, py::ssize_t rows, py::ssize_t cols
     return py::array_t<double>({rows, cols}, {row_stride, py::ssize_t(sizeof(double))}, data, owner);
 }
 
-/// Reads an (n, 3) float64 array (any layout, converted if needed) as a contiguous copy.
+/// Reads an (n, 3) float64 array (any layout, converted if needed) as a contiguous copy; a
+/// non-numeric dtype is a TypeError, a wrong shape or a non-finite value a ValueError, each
+/// naming `what` (the argument).
 py::array_t<double, py::array::c_style | py::array::forcecast> as_points(const py::handle& a, const char* what);
+
+/// `a` as a C-contiguous array of T (converted when needed); TypeError naming `what` when numpy
+/// cannot convert it.
+template <class T>
+py::array_t<T, py::array::c_style | py::array::forcecast> numbers_array(const py::handle& a, const char* what) {
+    auto array = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(a);
+    if (!array || array.ptr() == nullptr) {
+        PyErr_Clear();
+        throw py::type_error(std::string(what) + ": expected a number or an array of numbers");
+    }
+    return array;
+}
+
+/// The dtype kind of a number or array of numbers ('i', 'u' or 'f'); TypeError naming `what` for
+/// booleans, strings, objects and anything numpy cannot read as an array.
+char numeric_kind(const py::handle& a, const char* what);
+
+/// Indices as int64: integer arrays as they are, float arrays only when every value is a whole
+/// number (0.7 is a ValueError, never truncated to 0), booleans a TypeError.
+py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> as_indices(const py::handle& a, const char* what);
 
 }  // namespace penalty::python

@@ -1,6 +1,7 @@
 // Topological changes from Python (docs/topological-changes.md): the scene's dynamic topologies,
 // their element lists as arrays (copies), and removals / additions between steps.
 #include "bindings.hpp"
+#include "py_scene.hpp"
 
 #include "penalty/scene/scene.hpp"
 
@@ -9,6 +10,8 @@
 namespace penalty::python {
 
 namespace {
+
+scene::Scene& scene_of(const py::handle& py_scene) { return *py_scene.cast<PyScene&>().scene; }
 
 ElementType element_type(const std::string& kind) {
     static const std::pair<const char*, ElementType> kNames[] = {

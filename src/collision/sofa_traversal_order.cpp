@@ -3,7 +3,7 @@
 #include "penalty/core/radix_sort.hpp"
 
 #include "penalty/core/error.hpp"
-#include "prefetch.hpp"
+#include "kernels/prefetch.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -240,8 +240,8 @@ void sofa_order_permutation(const SofaCubeTree& t1, const SofaCubeTree& t2, std:
             for (std::size_t i = 0; i < n; ++i) {
                 if (prefetch && i + kAhead < n) {
                     const auto [a, b] = elements(i + kAhead);
-                    t1.prefetch_place(a);
-                    t2.prefetch_place(b);
+                    detail::prefetch::first_word(t1.place_address(a));
+                    detail::prefetch::first_word(t2.place_address(b));
                 }
                 const auto [a, b] = elements(i);
                 keyed.push_back({packed_key(levels, t1.path(a), t2.path(b)), std::uint32_t(i)});
@@ -294,6 +294,34 @@ void sort_keys_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, std
     scratch.sorted_keys.clear();
     for (const std::uint32_t i : scratch.permutation) scratch.sorted_keys.push_back(keys[i]);
     std::copy(scratch.sorted_keys.begin(), scratch.sorted_keys.end(), keys.begin());
+}
+
+void SofaOrderTrees::ensure(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2) {
+    for (const std::size_t i : {i1, i2}) {
+        // SOFA builds a model's tree at its first detection and then only refits it
+        // (CubeCollisionModel::computeBoundingTree); rebuilt here only if the model's size changed
+        if (trees_[i].empty() || trees_[i].size() != models[i]->size()) trees_[i].build(*models[i], depth_);
+    }
+}
+
+void SofaOrderTrees::build_all(const std::vector<CollisionModel*>& models) {
+    for (std::size_t i = 0; i < models.size(); ++i) {
+        CollisionModel& m = *models[i];
+        if (!m.params().active || m.size() == 0) continue;
+        if (trees_[i].empty() || trees_[i].size() != m.size()) trees_[i].build(m, depth_);
+    }
+}
+
+void SofaOrderTrees::sort_outputs(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2,
+                                  DetectionOutputList& outputs, SofaOrderScratch& scratch) {
+    ensure(models, i1, i2);
+    sort_in_sofa_order(trees_[i1], trees_[i2], outputs, scratch);
+}
+
+void SofaOrderTrees::sort_keys(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2,
+                               std::span<std::uint64_t> keys, SofaOrderScratch& scratch) {
+    ensure(models, i1, i2);
+    sort_keys_in_sofa_order(trees_[i1], trees_[i2], keys, scratch);
 }
 
 }  // namespace penalty

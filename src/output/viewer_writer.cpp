@@ -1,6 +1,6 @@
 #include "penalty/output/viewer_writer.hpp"
 
-#include "output/file_io.hpp"
+#include "output/output_folder.hpp"
 #include "penalty/core/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/stats_csv.hpp"
@@ -61,26 +61,19 @@ void append_json_array(std::string& out, const std::vector<T>& items, F&& each) 
     out += ']';
 }
 
-std::ofstream open_binary(const std::filesystem::path& file) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open " + detail::quoted(file) + " for writing");
-    return out;
-}
-
-void write_floats(std::ofstream& out, const std::vector<float>& data, const std::filesystem::path& file) {
-    out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size() * sizeof(float)));
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + detail::quoted(file));
+void write_floats(detail::CreatedFile& out, const std::vector<float>& data) {
+    out.write(data.data(), data.size() * sizeof(float));
 }
 
 bool finite(const Vec3& v) { return v.allFinite(); }
 
+void write_page(const detail::OutputFolder& folder) {
+    for (const ViewerAsset& asset : viewer_assets()) folder.replace_file(asset.name, asset.content);
+}
+
 }  // namespace
 
-void write_viewer_page(const std::filesystem::path& directory) {
-    detail::create_directory(directory);
-    for (const ViewerAsset& asset : viewer_assets()) detail::write_file(directory / asset.name, asset.content);
-}
+void write_viewer_page(const std::filesystem::path& directory) { write_page(detail::OutputFolder(directory)); }
 
 ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const StateRecord*> states,
                            std::vector<ViewerShape> shapes, std::string title)
@@ -94,14 +87,14 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
     }
     std::string indices;
     Layout layout = make_layout(std::move(shapes), std::move(dofs), 0, indices);  // checked before anything is written
-    write_viewer_page(directory_);
-    detail::write_file(directory_ / "topology.u32", "");
-    append_layout(std::move(layout), indices);
-    positions_ = open_binary(directory_ / "positions.f32");
-    contacts_ = open_binary(directory_ / "contacts.f32");
+    folder_ = std::make_unique<detail::OutputFolder>(directory_);
     // A stale manifest of an earlier run in DIR would describe other files.
-    std::error_code ec;
-    std::filesystem::remove(directory_ / "run.json", ec);
+    folder_->remove("run.json");
+    write_page(*folder_);
+    topology_ = std::make_unique<detail::CreatedFile>(folder_->create_file("topology.u32"));
+    append_layout(std::move(layout), indices);
+    positions_ = std::make_unique<detail::CreatedFile>(folder_->create_file("positions.f32"));
+    contacts_ = std::make_unique<detail::CreatedFile>(folder_->create_file("contacts.f32"));
 }
 
 void ViewerWriter::follow_topology(std::function<std::uint64_t()> revision, std::function<std::vector<ViewerShape>()> shapes) {
@@ -153,9 +146,7 @@ ViewerWriter::Layout ViewerWriter::make_layout(std::vector<ViewerShape> shapes, 
 }
 
 void ViewerWriter::append_layout(Layout layout, const std::string& topology) {
-    std::ofstream out(directory_ / "topology.u32", std::ios::binary | std::ios::app);
-    out.write(topology.data(), std::streamsize(topology.size()));
-    if (!out.flush()) throw std::runtime_error("cannot write " + detail::quoted(directory_ / "topology.u32"));
+    topology_->write(topology.data(), topology.size());
     topology_size_ += topology.size() / sizeof(std::uint32_t);
     layouts_.push_back(std::move(layout));
 }
@@ -241,8 +232,8 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
         throw NonFiniteValueError("viewer: contact energy not finite at t = " + format_number(time) +
                                   " s: the simulation diverged");
 
-    write_floats(positions_, buffer_, directory_ / "positions.f32");
-    write_floats(contacts_, segments, directory_ / "contacts.f32");
+    write_floats(*positions_, buffer_);
+    write_floats(*contacts_, segments);
     max_normal_force_ = max_force;
     stats.layout = layouts_.size() - 1;
     stats.position_offset = positions_size_;
@@ -362,11 +353,7 @@ void ViewerWriter::finish() {
     }
     j += "}}\n";
     // Written beside, then renamed: a server reading run.json never sees half a file.
-    const std::filesystem::path temporary = directory_ / "run.json.tmp";
-    detail::write_file(temporary, j);
-    std::error_code ec;
-    std::filesystem::rename(temporary, directory_ / "run.json", ec);
-    if (ec) throw std::runtime_error("cannot write " + detail::quoted(directory_ / "run.json") + ": " + ec.message());
+    folder_->replace_file("run.json", j);
     finished_ = true;
 }
 

@@ -6,6 +6,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
+#include "scene/live_edits.hpp"
 #include "scene/topology/topology_runtime.hpp"
 
 #include <algorithm>
@@ -13,9 +14,10 @@
 
 namespace penalty::scene {
 
-Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
+Scene::Scene() : simulation_(std::make_unique<Simulation>()), live_(std::make_unique<LiveEdits>()) {}
 Scene::~Scene() {
     topology_runtime_.reset();  // its handlers refer to the components below
+    if (contact_phase_) simulation_->remove_contact_stage(*contact_phase_);
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
     pipelines_.clear();  // they remove what they added to the graph
@@ -24,11 +26,19 @@ Scene::~Scene() {
 double Scene::dt() const { return const_cast<Simulation&>(*simulation_).root().dt(); }
 
 void Scene::step() {
+    apply_pending_writes();  // writes of Data after init that SOFA takes at this step (live_writes.cpp)
     timings_ = StepTimings{};
     const auto t0 = std::chrono::steady_clock::now();
-    if (topology_runtime_) topology_runtime_->begin_step(simulation_->time());  // AnimateBeginEvent
-    simulation_->step();
-    if (topology_runtime_) topology_runtime_->end_step(simulation_->time());  // AnimateEndEvent
+    live_->stepping = true;  // the event listener may write Data: they wait for the next step
+    try {
+        if (topology_runtime_) topology_runtime_->begin_step(simulation_->time());  // AnimateBeginEvent
+        simulation_->step();
+        if (topology_runtime_) topology_runtime_->end_step(simulation_->time());  // AnimateEndEvent
+    } catch (...) {
+        live_->stepping = false;
+        throw;
+    }
+    live_->stepping = false;
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
     solver_stats_ = StepSolverStats{};
@@ -41,6 +51,7 @@ void Scene::step() {
         }
     }
     refresh_contacts();
+    release_held_gravity();  // a root gravity written after init reaches the other nodes now
 }
 
 std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
@@ -120,11 +131,19 @@ double Scene::potential_energy() const {
 
 double Scene::stored_energy() const { return force_field_energy(simulation_->root()); }
 
-double Scene::gravity_energy_scale(double length) const {
+double Scene::gravity_energy_scale(const Vec3& lo, const Vec3& hi) const {
+    const Vec3 extent = (hi - lo).cwiseAbs();
     double e = 0.0;
     for (std::size_t i = 0; i < masses_.size(); ++i) {
-        const double m = masses_[i]->total_mass();
-        e += m * mass_nodes_[i]->gravity().norm() * length;
+        const auto record = std::find_if(states_.begin(), states_.end(), [&](const output::StateRecord& r) {
+            return r.state == masses_[i]->state();
+        });
+        if (record == states_.end() || !record->in_solver_subtree) continue;
+        const Vec3& g = mass_nodes_[i]->gravity();
+        const double g_norm = g.norm();
+        if (!(g_norm > 0.0)) continue;
+        const double along = (g.cwiseAbs() / g_norm).dot(extent);
+        e += masses_[i]->total_mass() * g_norm * (along > 0.0 ? along : extent.norm());
     }
     return e;
 }
@@ -161,9 +180,14 @@ void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overri
 
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
     if (!options.overrides.empty()) apply_overrides(file, options.overrides);
+    std::vector<std::string> notes = detach_unresolved_data_links(file);
     auto scene = std::make_unique<Scene>();
     scene->file_ = std::move(file);
+    scene->options_ = options;
+    scene->options_.overrides.clear();  // applied to file_ already
     SceneBuilder(scene->file_, options, *scene).build();
+    scene->build_warnings_.insert(scene->build_warnings_.end(), notes.begin(), notes.end());
+    scene->install_contact_stage();
     scene->refresh_contacts();
     return scene;
 }

@@ -129,17 +129,15 @@ ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParam
     // options.bvh.leaf_size = 0 and bad intersection parameters: thrown by collision_
     if (options_.threads > 0)
         arena_ = std::make_unique<ThreadArena>(options_.threads);  // once: TBB makes its threads lazily
-    if (options_.attach_hook && simulation.collision_hook)
-        throw_invalid_argument("ContactPipeline: the simulation already has a collision_hook");
     response_.on_create = [this](BarycentricPenaltyContact& c) { on_create(c); };
     response_.on_destroy = [this](BarycentricPenaltyContact& c) { on_destroy(c); };
     response_.model_rank = [this](const CollisionModel& m) { return model_entry(m).scene_rank; };
     response_.sofa_stable_id_order = options_.sofa_stable_id_order;
-    if (options_.attach_hook) simulation.collision_hook = [this](Simulation&) { update(); };
+    if (options_.register_stage) simulation.add_contact_stage(*this);
 }
 
 ContactPipeline::~ContactPipeline() {
-    if (options_.attach_hook) simulation_->collision_hook = nullptr;
+    simulation_->remove_contact_stage(*this);
     for (EulerImplicitSolver* s : attached_solvers_) s->newton.update_geometry = nullptr;
     response_.clear();  // on_destroy removes every graph entry
     response_.on_create = nullptr;
@@ -193,11 +191,19 @@ void ContactPipeline::record_skipped_pairs() {
 }
 
 void ContactPipeline::update() {
-    using Clock = std::chrono::steady_clock;
-    const auto t0 = Clock::now();
+    detect();
+    respond();
+}
+
+void ContactPipeline::detect() {
+    const auto t0 = std::chrono::steady_clock::now();
     run_detection([&] { (void)collision_.detect(); });
     record_skipped_pairs();
-    const auto t1 = Clock::now();
+    timings_.detection_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void ContactPipeline::respond() {
+    const auto t1 = std::chrono::steady_clock::now();
     // Newton iterates rebuild from the state before this update (see the header).
     if (keep_step_start_) {
         for (std::size_t i = 0; i < entries_.size(); ++i) {
@@ -228,9 +234,7 @@ void ContactPipeline::update() {
     for (auto& e : entries_)
         for (BaseMapping* m : e.mappings)
             if (m) m->init();
-    const auto t2 = Clock::now();
-    timings_.detection_seconds = std::chrono::duration<double>(t1 - t0).count();
-    timings_.response_seconds = std::chrono::duration<double>(t2 - t1).count();
+    timings_.response_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 
 void ContactPipeline::order_graph_entries() {

@@ -1,18 +1,21 @@
 // ContactPipelineOptions: BVH detection equals the exhaustive loop inside the pipeline (detections,
 // contacts and trajectories bit for bit over a moving mesh + sphere scene, 1 and 2 threads, with
-// and without Newton geometry updates), attach_hook = false (several pipelines from one hook),
+// and without Newton geometry updates), several pipelines (registered contact stages, or run by the caller),
 // phase timings, bad options.
 
 #include "penalty/collision/models.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/function_stage.hpp"
 #include "penalty_test/grid_meshes.hpp"
 #include "penalty_test/static_floor.hpp"
 #include "penalty_test/same_bits.hpp"
 #include "penalty_test/same_contacts.hpp"
 
 #include <gtest/gtest.h>
+
+#include <optional>
 
 #include <cmath>
 #include <memory>
@@ -201,7 +204,7 @@ TEST(ContactPipelineOptions, BvhDetectionEqualsExhaustiveOverAMovingMeshScene) {
 TEST(ContactPipelineOptions, BvhDetectionEqualsExhaustiveOneThread) { run_bvh_vs_exhaustive(false, 1); }
 TEST(ContactPipelineOptions, BvhDetectionEqualsExhaustiveWithNewtonGeometryUpdates) { run_bvh_vs_exhaustive(true, 0); }
 
-// ---- attach_hook = false: several pipelines from one hook ---------------------------------------
+// ---- several pipelines: registered stages, or run by the caller ---------------------------------
 struct TwoSpheres {
     Simulation sim;
     test::StaticFloor floor{sim.root(), test::floor_params(10.0)};
@@ -228,8 +231,8 @@ struct TwoSpheres {
     }
 };
 
-TEST(ContactPipelineOptions, PipelinesWithoutHookRunFromOneCallerHook) {
-    // Reference: one pipeline over the three models (hook attached).
+TEST(ContactPipelineOptions, SeveralPipelinesGiveTheTrajectoryOfOne) {
+    // Reference: one pipeline over the three models (registered as the contact stage).
     TwoSpheres ref;
     std::vector<Vec3> ref_positions;
     {
@@ -241,38 +244,40 @@ TEST(ContactPipelineOptions, PipelinesWithoutHookRunFromOneCallerHook) {
         EXPECT_EQ(p.graph_entries().size(), 2u);
         ref_positions = {ref.states[0]->position[0], ref.states[1]->position[0]};
     }
-    EXPECT_FALSE(static_cast<bool>(ref.sim.collision_hook));  // reset by the destructor
+    EXPECT_TRUE(ref.sim.contact_stages().empty());  // unregistered by the destructor
 
-    // Two sub-pipelines (floor–s0 and floor–s1), hooks not attached, run by the caller's hook.
-    TwoSpheres two;
-    bool caller_hook_ran = false;
-    two.sim.collision_hook = [&](Simulation&) { caller_hook_ran = true; };
-    ContactPipelineOptions no_hook;
-    no_hook.attach_hook = false;
-    {
-        ContactPipeline p0(two.sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, no_hook);
-        ContactPipeline p1(two.sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, no_hook);
+    // Two sub-pipelines (floor–s0 and floor–s1): registered stages (the step detects with both,
+    // then responds with both), or run by the caller's own stage (update() of one, then of the
+    // other).
+    for (const bool registered : {true, false}) {
+        TwoSpheres two;
+        ContactPipelineOptions options;
+        options.register_stage = registered;
+        ContactPipeline p0(two.sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, options);
+        ContactPipeline p1(two.sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, options);
         p0.add_model(*two.floor.model, *two.floor.node);
         p0.add_model(*two.spheres[0], *two.nodes[0]);
         p1.add_model(*two.floor.model, *two.floor.node);
         p1.add_model(*two.spheres[1], *two.nodes[1]);
-        EXPECT_FALSE(p0.options().attach_hook);
-        two.sim.collision_hook = [&](Simulation&) {
-            caller_hook_ran = true;
-            p0.update();
-            p1.update();
-        };
+        EXPECT_EQ(p0.options().register_stage, registered);
+        EXPECT_EQ(two.sim.contact_stages().size(), registered ? 2u : 0u);
+        int caller_updates = 0;
+        std::optional<test::FunctionStage> caller;
+        if (!registered)
+            caller.emplace(two.sim, [&] {
+                ++caller_updates;
+                p0.update();
+                p1.update();
+            });
         for (int k = 0; k < 60; ++k) two.sim.step();
-        EXPECT_TRUE(caller_hook_ran);
+        EXPECT_EQ(caller_updates, registered ? 0 : 60);
         ASSERT_EQ(p0.graph_entries().size(), 1u);
         ASSERT_EQ(p1.graph_entries().size(), 1u);
         EXPECT_EQ(&p1.graph_entries()[0].contact->model2(), two.spheres[1].get());
         // Same springs, same nodes, same order of force fields: the same trajectories, bit for bit.
-        EXPECT_TRUE(same_bits(two.states[0]->position[0], ref_positions[0]));
-        EXPECT_TRUE(same_bits(two.states[1]->position[0], ref_positions[1]));
+        EXPECT_TRUE(same_bits(two.states[0]->position[0], ref_positions[0])) << "registered " << registered;
+        EXPECT_TRUE(same_bits(two.states[1]->position[0], ref_positions[1])) << "registered " << registered;
     }
-    // The sub-pipelines' destructors leave the caller's hook alone.
-    EXPECT_TRUE(static_cast<bool>(two.sim.collision_hook));
 }
 
 // ---- timings -------------------------------------------------------------------------------------
@@ -310,13 +315,11 @@ TEST(ContactPipelineOptions, BadOptionsThrow) {
     opt.bvh.leaf_size = 0;
     EXPECT_THROW(ContactPipeline(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, opt),
                  std::invalid_argument);
-    EXPECT_FALSE(static_cast<bool>(sim.collision_hook));
-    // attach_hook = false: a simulation that already has a hook is accepted.
-    sim.collision_hook = [](Simulation&) {};
-    ContactPipelineOptions no_hook;
-    no_hook.attach_hook = false;
-    EXPECT_NO_THROW(ContactPipeline(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, no_hook));
-    EXPECT_THROW(ContactPipeline p(sim), std::invalid_argument);
+    EXPECT_TRUE(sim.contact_stages().empty());  // a pipeline that failed to build registered nothing
+    // A stage is registered once.
+    ContactPipeline p(sim);
+    EXPECT_EQ(sim.contact_stages().size(), 1u);
+    EXPECT_THROW(sim.add_contact_stage(p), std::invalid_argument);
 }
 
 }  // namespace

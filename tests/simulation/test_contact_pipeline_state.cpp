@@ -58,7 +58,7 @@ TEST(ContactPipelineState, ModelsWithoutNodeIdGetTheirNodesIdentity) {
     EXPECT_FALSE(same_node(pts, far));
     // a second pipeline of the same simulation gives the same identity
     ContactPipelineOptions no_hook;
-    no_hook.attach_hook = false;  // the first pipeline holds the simulation's hook
+    no_hook.register_stage = false;  // run by nobody: only its models' identity is checked
     ContactPipeline second(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr, no_hook);
     PointModel again(s1, nullptr, CollisionModelParams{});
     second.add_model(again, body);

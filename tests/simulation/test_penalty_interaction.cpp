@@ -3,6 +3,7 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/simulation/penalty_interaction.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/function_stage.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,12 +25,12 @@ TEST(PenaltyInteraction, WorkedExampleEImplicitWithPenaltyForceField) {
     // Static vs simulated: the contact sits in the simulated object's subtree (implicit).
     PenaltyForceField field;
     auto& contact = body.add_force_field<PenaltyInteraction>(floor, sphere, field);
-    sim.collision_hook = [&](Simulation&) {
+    const test::FunctionStage detection(sim, [&] {
         // Detection at the start of the step: the projection onto the floor follows the sphere.
         floor.position[0] = Vec3(sphere.position[0].x(), 0.0, sphere.position[0].z());
         contact.field().clear(1);
         contact.field().add_contact(0, 0, 0, 0, Vec3(0, 1, 0), 1.0, 100.0);
-    };
+    });
     sim.init();
     const double v[5] = {0.0018811881188119, 0.0037251249877462, 0.0055139226303769, 0.0072304161118887,
                          0.0088583263300995};

@@ -13,6 +13,7 @@
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/function_stage.hpp"
 #include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
@@ -180,16 +181,16 @@ struct ContactScene {
 
     long count_steps_without_hook(CollisionModel& model, Node& body, EulerImplicitSolver& solver) {
         ContactPipelineOptions options;
-        options.attach_hook = false;  // the hook below runs update() outside the count
+        options.register_stage = false;  // the stage below runs update() outside the count
         pipeline = std::make_unique<ContactPipeline>(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr,
                                                      options);
         pipeline->add_model(*floor.model, *floor.node);
         pipeline->add_model(model, body);
-        sim.collision_hook = [this](Simulation&) {
+        const test::FunctionStage uncounted(sim, [this] {
             const bool was = counting.exchange(false);
             pipeline->update();
             counting = was;
-        };
+        });
         sim.init();
         for (int s = 0; s < 50; ++s) sim.step();
         const int builds = solver.system_cache().builds();

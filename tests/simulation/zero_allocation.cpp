@@ -18,6 +18,7 @@
 #include "penalty/collision/models.hpp"
 #include "penalty/collision/sofa_traversal_order.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/function_stage.hpp"
 
 #include <gtest/gtest.h>
 
@@ -103,14 +104,16 @@ Counts run_scene(const std::string& file, bool bvh) {
     options.exhaustive_detection = !bvh;
     auto scene = scene::load_scene(std::string(PENALTY_SOURCE_DIR) + "/scenes/" + file, options);
     Simulation& sim = scene->simulation();
-    // the contact path: the scene's collision hook, counted on its own
+    // the contact path: the scene's contact stages, counted on their own
     long in_hook = 0;
-    auto hook = sim.collision_hook;
-    sim.collision_hook = [&in_hook, hook](Simulation& s) {
+    const std::vector<ContactStage*> stages = sim.contact_stages();
+    for (ContactStage* s : stages) sim.remove_contact_stage(*s);
+    const test::FunctionStage counted(sim, [&in_hook, &stages] {
         const long before = allocations.load();
-        hook(s);
+        for (ContactStage* s : stages) s->detect();
+        for (ContactStage* s : stages) s->respond();
         in_hook += allocations.load() - before;
-    };
+    });
     for (int step = 0; step < 50; ++step) scene->step();
     Counts c;
     c.whole_step = count_allocations([&] {

@@ -23,10 +23,16 @@
 #include <memory>
 #include <span>
 #include <utility>
-#include <unordered_map>
 #include <vector>
 
 namespace penalty {
+
+namespace detail {
+class BroadPhase;
+class CandidateCache;
+struct PairCandidates;
+struct PairCounts;
+}  // namespace detail
 
 /// All outputs of one detection: one entry per pair kept by the broad phase, in its order.
 using SceneDetection = std::vector<ModelPairDetection>;
@@ -186,7 +192,7 @@ public:
     [[nodiscard]] const SceneDetection& detections() const { return result_; }
     /// Pairs of the last detect() that passed the model-pair filter but have no active
     /// intersector (the method ignores or does not support them): not detected.
-    [[nodiscard]] const std::vector<ModelPair>& unsupported_pairs() const { return unsupported_; }
+    [[nodiscard]] const std::vector<ModelPair>& unsupported_pairs() const;
 
     /// For every active model, once per detection (SOFA's computeBoundingTree): validate()
     /// (std::invalid_argument naming the model and the element for NaN/inf positions), update()
@@ -225,108 +231,45 @@ public:
     /// candidates left by the box tests and the traversal's plane tests; 0 for exhaustive).
     [[nodiscard]] std::size_t candidates_evaluated() const { return candidates_evaluated_; }
 
+    ~CollisionPipeline();
+    CollisionPipeline(CollisionPipeline&&) noexcept;
+    CollisionPipeline& operator=(CollisionPipeline&&) noexcept;
+
 private:
     [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
     void index_models();  // index_of_ from models_
     /// ModelPairDetection::narrow_phase of models_[i1], models_[i2]: neither empty, root boxes
     /// within box_margin.
     [[nodiscard]] bool roots_within_margin(std::size_t i1, std::size_t i2) const;
-    struct PairCandidates;
     /// The buffers of pair detections that run one after the other (detect() in parallel gives
     /// each chunk of pairs its own).
     struct PairScratch {
         NarrowPhaseScratch narrow;
         SofaOrderScratch sofa_order;
     };
-    /// The statistics of some pair detections, added to the pipeline's after them.
-    struct PairCounts {
-        CandidateCacheStats cache;
-        std::size_t candidates = 0;
-        void add_to(CandidateCacheStats& stats, std::size_t& candidates_evaluated) const;
-    };
-    /// detect_pair with the given buffers. `kept`: the pair's entry of pair_candidates_, made
-    /// beforehand (the map is not changed while pairs run in parallel), or nullptr to look it up.
-    /// The models are models_[i1] and models_[i2]. `deferred_writes`: if not null, the kernel's
-    /// writes to the models are not run but their candidates appended to it, in their order.
+    /// detect_pair with the given buffers. `kept`: the pair's entry of the candidate cache, made
+    /// beforehand (the cache is not changed while pairs run in parallel), or nullptr: traverse
+    /// the trees. The models are models_[i1] and models_[i2]. `deferred_writes`: if not null,
+    /// the kernel's writes to the models are not run but their candidates appended to it, in
+    /// their order.
     void detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out, PairScratch& scratch,
-                          PairCounts& counts, PairCandidates* kept, std::vector<std::uint64_t>* deferred_writes = nullptr);
+                          detail::PairCounts& counts, detail::PairCandidates* kept,
+                          std::vector<std::uint64_t>* deferred_writes = nullptr);
     /// detect_pair without sorting into SOFA's output order. Returns true when `out` is in that
     /// order already (the candidate cache's kept pairs are kept in it, PairCandidates).
     [[nodiscard]] bool detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
-                                             PairScratch& scratch, PairCounts& counts, PairCandidates* kept,
-                                             std::vector<std::uint64_t>* deferred_writes);
-    /// The pair's entry of pair_candidates_ when the candidate cache applies to it (both
-    /// models have a generation), made if new; nullptr otherwise.
-    [[nodiscard]] PairCandidates* pair_candidates_entry(std::size_t i1, std::size_t i2);
-    /// pair_work_[k] = this detection's pair k and the candidates it evaluated.
+                                             PairScratch& scratch, detail::PairCounts& counts,
+                                             detail::PairCandidates* kept, std::vector<std::uint64_t>* deferred_writes);
+    /// The pair's entry of the candidate cache when it applies to the pair (bvh, the cache on,
+    /// both models tracked), made if new; nullptr otherwise.
+    [[nodiscard]] detail::PairCandidates* pair_candidates_entry(std::size_t i1, std::size_t i2);
     void record_pair_work(std::size_t k, std::size_t candidates);
-    /// Whether detect() may run this step's pairs in parallel (see detect()).
+    /// Whether detect() runs this detection's pairs in parallel (see detect()).
     [[nodiscard]] bool pairs_run_concurrently() const;
-    /// detect()'s narrow phases, pair by pair on the calling thread or in parallel.
     void detect_pairs_in_order();
-    /// ModelMotion::kept_keys and overlapping_keys of both models of each pair detected from
-    /// kept candidates (pair_kept_).
-    void count_kept_keys();
     void detect_pairs_concurrently();
-    /// SOFA's tree of every active model not built yet (or whose size changed), from the
-    /// current positions.
-    void build_sofa_trees();
-    /// SOFA's trees of models i1 and i2, built if not yet (or if a model's size changed).
-    void ensure_sofa_trees(std::size_t i1, std::size_t i2);
-    /// Candidate keys (element 1 << 32 | element 2) of models i1 × i2 into SOFA's visiting order.
-    void sort_keys_in_sofa_order(std::size_t i1, std::size_t i2, std::vector<std::uint64_t>& keys,
-                                 SofaOrderScratch& scratch);
-    /// Candidate cache: after model i's tree was refitted, starts a new reference (a new
-    /// generation) if some element box moved past the model's slack since the last one.
-    void track_motion(std::size_t i);
-    /// A generation of at most this many refits doubles the slack of a model whose kept keys
-    /// nearly all overlapped (track_motion).
-    static constexpr std::size_t kCheapSlackRefits = 6;
-
-    /// A model's element boxes when its current generation began, and how far (m, on every box
-    /// bound) they may move before the candidates collected since then are out of date.
-    struct ModelMotion {
-        std::vector<Aabb> reference;
-        double slack = 0.0;
-        std::uint64_t generation = 0;   ///< 0: none (its pairs traverse the trees)
-        std::size_t steps = 0;          ///< refits since the generation began
-        std::size_t uncached_refits = 0;  ///< > 0: too fast for the cache for that many more refits
-        double longest_side = 0.0;  ///< largest side of a Triangle or Line element box at the tree's last build (separation.hpp)
-        /// Over the detections of this generation, of the pairs with this model that kept
-        /// candidates: the keys kept and those whose boxes overlapped (track_motion's slack)
-        std::size_t kept_keys = 0;
-        std::size_t overlapping_keys = 0;
-    };
-    /// A model pair's kept candidates: element pairs whose boxes overlapped with margin
-    /// m + 2·(slack 1 + slack 2) when collected (a superset of the pairs overlapping with m while
-    /// both generations last).
-    /// With SOFA's output order, and a kernel that does not write the models, the keys may be
-    /// sorted into that order (in_sofa_order): the outputs evaluated from them then come out in
-    /// it, and the per-step sort of the outputs is skipped. They are sorted once the outputs
-    /// sorted since the generation began outnumber them (a rent-or-buy rule: at most about
-    /// twice the sorting of the cheaper choice, whether the generation is long or short).
-    struct PairCandidates {
-        std::uint64_t generation1 = 0, generation2 = 0;
-        std::vector<std::uint64_t> keys;
-        bool in_sofa_order = false;
-        std::size_t outputs_sorted = 0;  ///< outputs sorted by detect_pair in this generation
-        /// contact_outputs_only applies to the pair's kernel (set at each collection)
-        bool nearest_outputs = false;
-        /// kept keys whose boxes overlapped at the last detection (of all keys): the box test's
-        /// loop branches per key only when this share is near 0 or 1, where a branch is predicted
-        std::size_t overlapped_last = 0;
-        /// sure[j] != 0: keys[j]'s boxes overlap with the pair's margin until either model's
-        /// generation ends, so its box test is skipped (detect_pair_unordered). Current while
-        /// sure_current: made at the first detection after a collection or a reordering.
-        std::vector<std::uint8_t> sure;
-        std::size_t sure_count = 0;  ///< the keys sure to overlap
-        bool sure_current = false;
-    };
-    std::vector<ModelMotion> motion_;
-    std::uint64_t generations_ = 0;  // generations begun, all models together (each one unique)
-    std::unordered_map<std::uint64_t, PairCandidates> pair_candidates_;  // key: (index 1 << 32) | index 2
-    CandidateCacheStats cache_stats_;
-    std::size_t candidates_evaluated_ = 0;
+    /// The exhaustive detection's root boxes (those the trees would give) and pair flags.
+    void find_exhaustive_root_boxes();
 
     IntersectionParams params_;
     CollisionPipelineOptions opt_;
@@ -334,12 +277,15 @@ private:
     std::vector<CollisionModel*> models_;
     std::vector<Bvh> trees_;
     std::vector<std::pair<const CollisionModel*, std::size_t>> index_of_;  // sorted by address
-    std::vector<SofaCubeTree> sofa_trees_;  // per model: SOFA's tree, built at its first detection
+    std::unique_ptr<detail::BroadPhase> broad_;        ///< the pairs, kept while the models' keys hold
+    std::unique_ptr<detail::CandidateCache> cache_;    ///< bvh: each pair's candidates kept (candidate_cache.hpp)
+    SofaOrderTrees sofa_trees_;                        ///< per model: SOFA's tree, built at its first detection
+    CandidateCacheStats cache_stats_;
+    std::size_t candidates_evaluated_ = 0;
     PairScratch scratch_;                     // detect_pair's, and detect()'s when the pairs run in order
     std::vector<PairScratch> chunk_scratch_;  // detect()'s in parallel: one per chunk of pairs (kChunksPerThread)
-    std::vector<PairCandidates*> pair_kept_;  // scratch: per pair of pairs_ (set for those of near_), its pair_candidates_ entry or nullptr
-    /// Per pair of the last detection: its models and the candidates it evaluated (whether the
-    /// next detection's pairs are worth running in parallel, pairs_run_concurrently).
+    std::vector<detail::PairCandidates*> pair_kept_;  // scratch: per pair of near(), its cache entry or nullptr
+    /// What each pair evaluated at the last detection (pairs_run_concurrently's automatic rule).
     struct PairWork {
         const CollisionModel* model1 = nullptr;
         const CollisionModel* model2 = nullptr;
@@ -348,51 +294,10 @@ private:
     std::vector<PairWork> pair_work_;
     std::size_t moving_elements_ = 0;  // elements of the moving models the last refit() refitted
     bool last_concurrent_ = false;
-    std::vector<ModelPair> pairs_;        // the broad phase's pairs (kept while broad_phase_key_ holds)
-    std::vector<std::array<std::size_t, 2>> pair_indices_;  // their models' places in models_
-    std::vector<ModelPair> unsupported_;
-
-    // ---- the broad phase kept from step to step -------------------------------------------
-    // broad_phase()'s pairs depend only on the models and the parameters its filters read
-    // (keep_model_pair, the intersectors, kernel_writes_models): they are made again only when
-    // one of those changed (update_broad_phase). Of those pairs, the BVH detection finds the ones
-    // whose root boxes are within the margin (narrow_phase) by a sweep over the models' root
-    // boxes instead of testing every pair: a pile of n bodies has n²/2 pairs and about 6n near
-    // ones (find_near_pairs). The pairs, their order, their flags and outputs are those of the
-    // test of every pair.
-    struct ModelKey {
-        const CollisionModel* model = nullptr;
-        ModelType type = ModelType::Point;
-        bool active = false, simulated = false, self_collision = false, both_side = false;
-        int node = -1;
-        std::vector<int> group;
-        [[nodiscard]] bool describes(const CollisionModel& m) const;
-    };
-    std::vector<ModelKey> broad_phase_key_;
-    bool any_pair_writes_models_ = false;  // some pair's kernel writes the models (pairs in order, or their writes deferred)
     std::vector<std::vector<std::uint64_t>> deferred_writes_;  // per pair: its writes' candidates (detect_pairs_concurrently)
-    std::unordered_map<std::uint64_t, std::size_t> pair_of_models_;  // (lower place << 32 | higher) → pair
-    std::vector<std::size_t> near_;        // bvh: this detection's pairs with narrow_phase, ascending
-    std::vector<std::size_t> near_last_;   // the last detection's
-    std::vector<std::uint8_t> is_near_;    // per pair: in near_
-    std::vector<std::size_t> sweep_;       // scratch: models in the sweep, by lower bound
-    std::vector<std::size_t> sweep_active_;
-    std::vector<Aabb> sweep_boxes_;
-    std::vector<std::size_t> sweep_swap_;    // near_'s radix sort: its other buffer and counts
-    std::vector<std::size_t> sweep_counts_;
-    /// Makes the broad phase again if a model or a parameter it reads changed since the last
-    /// one: pairs_, pair_indices_, unsupported_, result_'s models and support, and (bvh) the
-    /// pairs' places; returns true if it did (every pair then without outputs, not near).
-    bool update_broad_phase();
-    /// bvh: near_ = the pairs whose root boxes are within the margin (roots_within_margin),
-    /// ascending, and their narrow_phase set; the pairs of near_last_ not in it lose their
-    /// outputs and their flag.
-    void find_near_pairs();
-    /// The flags and outputs of near_ and near_last_ (find_near_pairs' end).
-    void mark_near_pairs();
-    SceneDetection result_;               // entries and their output lists keep their capacity
-    std::vector<Aabb> boxes_;             // exhaustive: element boxes of model 2
-    std::vector<Aabb> root_boxes_;        // exhaustive: each model's root box (union of its element boxes)
+    SceneDetection result_;         // entries and their output lists keep their capacity
+    std::vector<Aabb> boxes_;       // exhaustive: element boxes of model 2
+    std::vector<Aabb> root_boxes_;  // exhaustive: each model's root box (union of its element boxes)
 };
 
 }  // namespace penalty

@@ -60,8 +60,9 @@ public:
         return {{cell_steps_.data() + cell_offsets_[p.cell], cell_steps_.data() + cell_offsets_[p.cell + 1]},
                 {p.index, cell_sizes_[p.cell]}};
     }
-    /// Prefetch hint for a caller that reads the paths of many elements in no memory order.
-    void prefetch_place(Index e) const { __builtin_prefetch(places_.data() + e); }
+    /// Where element e's place is stored: a caller that reads the paths of many elements in no
+    /// memory order fetches it ahead (src/kernels/prefetch.hpp).
+    [[nodiscard]] const void* place_address(Index e) const { return places_.data() + e; }
     /// The longest path (levels below the root).
     [[nodiscard]] std::size_t levels() const { return level_max_size_.size(); }
     /// The largest child range at level t (1 beyond the tree's levels: an element whose path
@@ -124,5 +125,30 @@ void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, Detectio
 /// visiting order, as sort_in_sofa_order sorts outputs.
 void sort_keys_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, std::span<std::uint64_t> keys,
                              SofaOrderScratch& scratch);
+
+/// SOFA's bounding trees of a pipeline's models (CubeCollisionModel::computeBoundingTree): each
+/// built at the model's first detection and only refitted after, so built again here only when
+/// the model's size changed. They order each pair's outputs as SOFA's BVHNarrowPhase visits them.
+class SofaOrderTrees {
+public:
+    /// `depth`: the pipeline's `depth`.
+    explicit SofaOrderTrees(int depth = 6) : depth_(depth) {}
+    /// Forgets the trees; `models` entries.
+    void reset(std::size_t models) { trees_.assign(models, SofaCubeTree{}); }
+    void add_model() { trees_.emplace_back(); }
+    /// Builds the trees of the active, non-empty models that have none or an outdated one.
+    void build_all(const std::vector<CollisionModel*>& models);
+    /// Sorts the outputs of pair (models[i1], models[i2]) into SOFA's order.
+    void sort_outputs(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2, DetectionOutputList& outputs,
+                      SofaOrderScratch& scratch);
+    /// Sorts the pair's candidate keys into SOFA's order.
+    void sort_keys(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2, std::span<std::uint64_t> keys,
+                   SofaOrderScratch& scratch);
+
+private:
+    void ensure(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2);
+    int depth_;
+    std::vector<SofaCubeTree> trees_;
+};
 
 }  // namespace penalty

@@ -14,7 +14,8 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
+#include <memory>
+#include <ostream>
 #include <span>
 
 namespace penalty::output {
@@ -52,7 +53,7 @@ public:
 
 private:
     std::filesystem::path file_;
-    std::ofstream stream_;
+    std::unique_ptr<std::ostream> stream_;
 };
 
 /// The row write() appends (without newline), after the same finiteness check.

@@ -3,10 +3,10 @@
 /// ContactPipeline: puts penalty contacts into a Simulation (spec §2, §2.1). It is SOFA's
 /// CollisionPipeline + CollisionResponse + the scene-graph part of BarycentricPenalityContact:
 ///
-/// update() — once per step; by default run by Simulation::collision_hook, i.e. with the
-/// positions of the end of the previous step, as SOFA's DefaultAnimationLoop
-/// (options.attach_hook = false leaves the hook alone: the caller runs update(), e.g. several
-/// pipelines from one hook as SOFA's CompositeCollisionPipeline) — does:
+/// update() = detect() then respond() — once per step; by default run by Simulation::step as one
+/// of its contact stages (Simulation::add_contact_stage), i.e. with the positions of the end of
+/// the previous step, as SOFA's DefaultAnimationLoop (options.register_stage = false: the caller
+/// runs update() itself) — does:
 ///   1. detection by its CollisionPipeline (collision_pipeline.hpp, the one detection driver):
 ///      every model pair of broad_phase() (i ≤ j in registration order; SOFA's filter
 ///      keep_model_pair; pairs the method does not support are skipped and listed in
@@ -57,8 +57,7 @@
 /// ξ_{n+1} = rotate(ξ_n) + h·P·v_{n+1}, the backward-Euler update of the tangential spring.
 ///
 /// Lifetime: the Simulation, the nodes and the models must outlive the pipeline; the pipeline's
-/// destructor removes what it added to the graph, resets Simulation::collision_hook if it set
-/// it, and clears the update_geometry of the solvers it was attached to.
+/// destructor removes what it added to the graph, unregisters its contact stage, and clears the update_geometry of the solvers it was attached to.
 
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/intersection.hpp"
@@ -142,10 +141,11 @@ struct ContactPipelineOptions {
     /// response (contacts fed in parallel, CollisionResponse::set_detections); 0 = TBB's
     /// default; at most kMaxDetectionThreads. Output does not depend on it.
     int threads = 0;
-    /// true: the constructor sets Simulation::collision_hook to run update() each step (throws
-    /// if a hook is already set). false: the hook is left alone; the caller runs update() once
-    /// per step (e.g. several pipelines from one hook, SOFA's CompositeCollisionPipeline).
-    bool attach_hook = true;
+    /// true: the constructor registers the pipeline as one of the simulation's contact stages
+    /// (Simulation::step runs its detect() and respond(); several pipelines run in the order of
+    /// their construction, SOFA's CompositeCollisionPipeline). false: the caller runs update()
+    /// once per step.
+    bool register_stage = true;
     /// SOFA HEAD's contact order (CollisionResponse::sofa_stable_id_order); off: scene rank.
     bool sofa_stable_id_order = false;
     /// bvh: true: detections() lists every output of the intersection method. false: only those
@@ -160,10 +160,10 @@ struct ContactPipelineTimings {
     double response_seconds = 0.0;   ///< CollisionResponse::set_detections + graph update
 };
 
-class ContactPipeline {
+class ContactPipeline final : public ContactStage {
 public:
-    /// Attaches to `simulation` (sets its collision_hook unless options.attach_hook is false;
-    /// throws std::invalid_argument if a hook is already set). `node`: where a contact between
+    /// Attaches to `simulation` (registers as its contact stage unless options.register_stage is
+    /// false). `node`: where a contact between
     /// two simulated models goes (default: the root). `response` supplies the response name and
     /// parameters; its on_create / on_destroy hooks are taken over by the pipeline. Throws
     /// std::invalid_argument for options.threads outside [0, kMaxDetectionThreads],
@@ -172,7 +172,7 @@ public:
                              const IntersectionParams& intersection = IntersectionParams::new_proximity(),
                              CollisionResponse response = CollisionResponse(), Node* node = nullptr,
                              const ContactPipelineOptions& options = {});
-    ~ContactPipeline();
+    ~ContactPipeline() override;
     ContactPipeline(const ContactPipeline&) = delete;
     ContactPipeline& operator=(const ContactPipeline&) = delete;
 
@@ -190,9 +190,13 @@ public:
     void add_model(CollisionModel& model, Node& node, std::size_t scene_rank = kRegistrationOrder);
     static constexpr std::size_t kRegistrationOrder = std::size_t(-1);
 
-    /// One collision step (detection, response, graph update); run by the collision hook, or
-    /// by the caller once per step when options().attach_hook is false.
+    /// One collision step: detect() then respond(); run by Simulation::step through the contact
+    /// stage, or by the caller once per step when options().register_stage is false.
     void update();
+    /// Detection (broad and narrow phase) at the current positions.
+    void detect() override;
+    /// Response to the last detect(): contacts created, fed and destroyed, graph updated.
+    void respond() override;
 
     /// Newton iterate (beyond SOFA): re-detects the live pairs whose force field is stored in
     /// `subtree` (the node or a descendant) at the current positions and rebuilds their

@@ -66,6 +66,9 @@ void TetrahedronFEMForceField::topology_change_done() {
     const MeshTopology& mesh = pending_.container->mesh();
     PendingTopologyChange pending = std::move(pending_);
     pending_ = {};
+    // SOFA's reinit: _plasticStrains.resize(element count): the strains stay with the slots (not
+    // the elements a swap-and-pop moves), new slots start at zero
+    if (!plastic_strain_.empty()) plastic_strain_.resize(mesh.tetrahedra().size(), std::array<double, 6>{});
     if (pending.rebuild) {
         set_elements(mesh.tetrahedra());
         init();

@@ -52,7 +52,6 @@ public:
         }
         describe_pieces();
         attach_newton();
-        if (!b_.pipelines().empty()) b_.install_collision_hook();
     }
 
 private:
@@ -137,7 +136,9 @@ private:
         ContactPipelineOptions options;
         options.detection = b_.options().exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = b_.options().threads;
-        options.attach_hook = false;  // the scene's hook runs every pipeline (SOFA's composite)
+        // run by the scene's contact stage (Scene::ContactPhase), in the order they are made
+        // here, scene order (SOFA's composite pipeline), between SOFA's collision events
+        options.register_stage = false;
         // a CarvingManager reads every detection output (SOFA's narrow-phase map)
         options.all_detection_outputs = scene_has_type(*b_.scene().file().root, "CarvingManager");
         options.sofa_stable_id_order = b_.options().sofa_head_orders;

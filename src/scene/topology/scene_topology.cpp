@@ -3,11 +3,20 @@
 #include "penalty/scene/scene.hpp"
 
 #include "penalty/core/error.hpp"
+#include "scene/live_edits.hpp"
 #include "scene/topology/topology_runtime.hpp"
 
 namespace penalty::scene {
 
 namespace {
+
+/// Changes happen between steps (SOFA's modifiers run from an AnimateBegin/End handler): not from
+/// a handler of the collision phase inside Scene::step.
+void check_between_steps(bool stepping, std::string_view what) {
+    if (stepping)
+        throw_invalid_argument(what, ": topological changes happen between steps (onAnimateBeginEvent, onAnimateEndEvent), "
+                               "not during the collision phase of a step");
+}
 
 DynamicTopology& named(const TopologyRuntime* rt, std::string_view topology) {
     DynamicTopology* t = rt != nullptr ? rt->find(topology) : nullptr;
@@ -45,6 +54,7 @@ const TopologyContainer& Scene::topology_container(std::string_view topology) co
 }
 
 void Scene::remove_elements(std::string_view topology, ElementType type, std::vector<ElementId> indices) {
+    check_between_steps(live_->stepping, "remove_elements");
     DynamicTopology& t = named(topology_runtime_.get(), topology);
     TopologyContainer& c = *t.container;
     c.check_removal(type, indices);
@@ -62,6 +72,7 @@ void Scene::remove_elements(std::string_view topology, ElementType type, std::ve
 
 void Scene::add_elements(std::string_view topology, ElementType type, const std::vector<PointId>& vertices,
                          std::size_t count, const std::vector<std::vector<ElementId>>& ancestors) {
+    check_between_steps(live_->stepping, "add_elements");
     DynamicTopology& t = named(topology_runtime_.get(), topology);
     TopologyContainer& c = *t.container;
     topology_runtime_->check_can_change(t);

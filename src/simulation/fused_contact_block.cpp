@@ -1,0 +1,220 @@
+// FusedContactBlock: the contact fields and barycentric contact mappings a subtree's products
+// apply on flat arrays (fused_contact_block.hpp).
+#include "fused_contact_block.hpp"
+
+#include "penalty/core/error.hpp"
+#include "penalty/core/pointer_index.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace penalty::detail {
+
+namespace {
+/// A barycentric contact mapping between Vec3 states whose output one force field reads.
+struct Candidate {
+    std::size_t mapping_index;
+    Vec3Object* from;
+    Vec3Object* to;
+};
+/// find()'s tables, kept by the thread from one build to the next (a pile's system is built
+/// again whenever contacts come or go).
+struct FindTables {
+    std::vector<Candidate> candidates;
+    PointerIndex<BaseState> candidate_on;      // output state → its entry of candidates
+    PointerIndex<Vec3Object> unread_group_of;  // parent → unread_by_parent_
+    PointerIndex<BaseState> external;
+    PointerIndex<BaseForceField> fused_field_of;  // field → fields_
+    std::vector<std::ptrdiff_t> fused_mapping_of;  // per layout mapping: index in mappings_ or -1
+    void clear(std::size_t mappings) {
+        candidates.clear();
+        candidate_on.clear();
+        unread_group_of.clear();
+        external.clear();
+        fused_field_of.clear();
+        fused_mapping_of.assign(mappings, -1);
+    }
+};
+constexpr std::size_t kNone = PointerIndex<BaseState>::npos;
+}  // namespace
+
+void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
+    thread_local FindTables tables;
+    FindTables& t = tables;
+    t.clear(l.mappings.size());
+    if (!fuse) {
+        unfused_mappings_ = l.all_mappings;
+        return;
+    }
+    // Candidates: barycentric contact mappings between Vec3 states whose output is read by one
+    // force field and no mapping; those read by nobody are fused at once (unread).
+    for (std::size_t i = 0; i < l.mappings.size(); ++i) {
+        const DxReaders& r = l.dx_readers[i];
+        if (l.mappings[i]->contact_barycentric_rows() == nullptr || !r.mappings.empty() || r.force_fields.size() > 1) continue;
+        auto* from = dynamic_cast<Vec3Object*>(l.mappings[i]->from());
+        auto* to = dynamic_cast<Vec3Object*>(l.mappings[i]->to());
+        if (from == nullptr || to == nullptr) continue;
+        if (r.force_fields.size() == 1) {
+            if (t.candidate_on.emplace(to, t.candidates.size()).second) t.candidates.push_back(Candidate{i, from, to});
+            continue;
+        }
+        const auto [group, added] = t.unread_group_of.emplace(from, unread_by_parent_.size());
+        if (added) unread_by_parent_.emplace_back(from, std::vector<std::size_t>{});
+        unread_by_parent_[group].second.push_back(mappings_.size());
+        t.fused_mapping_of[i] = static_cast<std::ptrdiff_t>(mappings_.size());
+        mappings_.push_back({.mapping_index = i, .from = from, .to = to, .rows = l.mappings[i]->contact_barycentric_rows(), .live = false});
+    }
+    // Fields: two-state Vec3 interaction fields each of whose sides is a candidate read by this
+    // field alone or an external state (dx 0, df scratch), one side at least a candidate.
+    for (const BaseState* s : l.external) t.external.emplace(s, 0);
+    for (BaseForceField* ff : l.force_fields) {
+        auto* field = dynamic_cast<Vec3InteractionForceField*>(ff);
+        if (field == nullptr || &field->state1() == &field->state2()) continue;
+        std::array<const Candidate*, 2> mapping_of_side{nullptr, nullptr};
+        bool fusable = true;
+        for (std::size_t side = 0; side < 2; ++side) {
+            const Vec3Object* state = side == 0 ? &field->state1() : &field->state2();
+            if (const std::size_t at = t.candidate_on.find(state);
+                at != kNone && l.dx_readers[t.candidates[at].mapping_index].force_fields.front() == ff)
+                mapping_of_side[side] = &t.candidates[at];
+            else if (!t.external.contains(state))
+                fusable = false;  // a state others read or write: the field keeps its place
+        }
+        if (!fusable || (mapping_of_side[0] == nullptr && mapping_of_side[1] == nullptr)) continue;
+        FusedField entry;
+        entry.field = field;
+        for (std::size_t side = 0; side < 2; ++side) {
+            const Candidate* c = mapping_of_side[side];
+            if (c == nullptr) {
+                entry.sides[side].state = side == 0 ? &field->state1() : &field->state2();
+                continue;
+            }
+            t.fused_mapping_of[c->mapping_index] = static_cast<std::ptrdiff_t>(mappings_.size());
+            entry.sides[side].mapping = static_cast<std::ptrdiff_t>(mappings_.size());
+            mappings_.push_back(
+                {.mapping_index = c->mapping_index, .from = c->from, .to = c->to, .rows = l.mappings[c->mapping_index]->contact_barycentric_rows()});
+        }
+        t.fused_field_of.emplace(ff, fields_.size());
+        fields_.push_back(entry);
+    }
+    mark_steps(l, t.fused_mapping_of, t.fused_field_of);
+}
+
+void FusedContactBlock::mark_steps(SubtreeLayout& l, const std::vector<std::ptrdiff_t>& fused_mapping_of,
+                                   const PointerIndex<BaseForceField>& fused_field_of) {
+    for (std::size_t i = 0; i < l.mappings.size(); ++i)
+        if (fused_mapping_of[i] < 0) unfused_mappings_.push_back(i);
+    if (mappings_.empty()) return;
+    for (ForceStep& s : l.steps) {
+        if (s.mapping != nullptr) {
+            s.fused = fused_mapping_of[s.mapping_index];
+        } else if (s.force_field != nullptr) {
+            if (const std::size_t at = fused_field_of.find(s.force_field); at != kNone) s.fused = static_cast<std::ptrdiff_t>(at);
+        }
+        const bool dropped = s.fused >= 0 && (s.force_field != nullptr || !mappings_[std::size_t(s.fused)].live);
+        if (!dropped) steps_.push_back(s);
+    }
+    std::size_t points = 0, parent_dofs = 0;
+    for (const FusedMapping& m : mappings_) {
+        if (m.live) points += m.to->num_dofs();
+        parent_dofs = std::max(parent_dofs, m.from->num_dofs());
+    }
+    rows_.reserve(points);  // today's sizes: no allocation in this step's products
+    dx_.reserve(points);
+    df_.reserve(points);
+    zero_add_kind_.reserve(parent_dofs);
+    zero_adds_.reserve(parent_dofs * unread_by_parent_.size());
+}
+
+std::array<std::size_t, 3> FusedContactBlock::counts() const {
+    std::array<std::size_t, 3> counts{fields_.size(), 0, 0};
+    for (const FusedMapping& m : mappings_) ++counts[m.live ? 1 : 2];
+    return counts;
+}
+
+void FusedContactBlock::prepare() {
+    std::size_t total = 0;
+    for (FusedMapping& m : mappings_) {
+        PENALTY_DEMAND(m.rows->size() == m.to->num_dofs());
+        if (!m.live) continue;
+        m.first = total;
+        m.count = m.rows->size();
+        total += m.count;
+    }
+    rows_.resize(total);
+    dx_.resize(total);
+    df_.resize(total);
+    for (const FusedMapping& m : mappings_)
+        if (m.live) std::copy(m.rows->begin(), m.rows->end(), rows_.begin() + static_cast<std::ptrdiff_t>(m.first));
+    // The unread mappings' Jᵀ: w·(+0) into each row entry; +0 when w is finite and not
+    // negative-signed, −0 (adds nothing) when negative-signed, NaN when not finite.
+    zero_adds_.clear();
+    for (const auto& [parent, unread] : unread_by_parent_) {
+        zero_add_kind_.assign(parent->num_dofs(), 0);
+        for (const std::size_t index : unread)
+            for (const ContactBarycentricRow& row : *mappings_[index].rows)
+                for (const ContactBarycentricRow::Entry& e : row) {
+                    std::uint8_t& kind = zero_add_kind_[static_cast<std::size_t>(e.index)];
+                    if (!std::isfinite(e.weight)) kind = 2;
+                    else if (!std::signbit(e.weight)) kind = std::max<std::uint8_t>(kind, 1);
+                }
+        for (std::size_t dof = 0; dof < zero_add_kind_.size(); ++dof)
+            if (zero_add_kind_[dof] != 0)
+                zero_adds_.push_back({&parent->df[dof], zero_add_kind_[dof] == 2 ? std::numeric_limits<double>::quiet_NaN() : 0.0});
+    }
+    ready_ = true;
+}
+
+void FusedContactBlock::begin_product(double k, double b) {
+    if (!ready_) prepare();
+    // the fused fields read only their contact points' dx and write only their df (and external
+    // scratch), which no other step reads or writes: run before the steps, same bits; the
+    // unread mappings' Jᵀ is the additions of zeros, which give the same bits in any place
+    for (const ZeroAdd& z : zero_adds_) {
+        double* t = z.target->data();
+        t[0] += z.value;
+        t[1] += z.value;
+        t[2] += z.value;
+    }
+    apply_fields(k, b);
+}
+
+void FusedContactBlock::apply_fields(double k, double b) {
+    for (const FusedField& f : fields_) {
+        std::array<Vec3Span, 2> df;
+        std::array<ConstVec3Span, 2> dx;
+        for (std::size_t side = 0; side < 2; ++side) {
+            const FusedSide& s = f.sides[side];
+            if (s.mapping < 0) {  // external: dx 0, df scratch
+                dx[side] = s.state->dx;
+                df[side] = s.state->df;
+                continue;
+            }
+            const FusedMapping& m = mappings_[static_cast<std::size_t>(s.mapping)];
+            const std::span<const Vec3> in(m.from->dx);
+            const ContactBarycentricRow* rows = rows_.data() + m.first;
+            Vec3* out_dx = dx_.data() + m.first;
+            Vec3* out_df = df_.data() + m.first;
+            // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df
+            for (std::size_t i = 0; i < m.count; ++i) {
+                out_dx[i] = rows[i].combine(in);
+                out_df[i].setZero();
+            }
+            dx[side] = ConstVec3Span(out_dx, m.count);
+            df[side] = Vec3Span(out_df, m.count);
+        }
+        f.field->add_dforce(df[0], df[1], dx[0], dx[1], k, b);
+    }
+}
+
+void FusedContactBlock::spread(std::size_t index) const {
+    // ContactPointMapping::apply_jt_df (the mapper's apply_jt): from.df += Jᵀ·df, rows in order
+    const FusedMapping& m = mappings_[index];
+    const std::span<Vec3> out(m.from->df);
+    const ContactBarycentricRow* rows = rows_.data() + m.first;
+    const Vec3* df = df_.data() + m.first;
+    for (std::size_t i = 0; i < m.count; ++i) rows[i].spread(out, df[i]);
+}
+
+}  // namespace penalty::detail

@@ -1,0 +1,105 @@
+#pragma once
+/// @file
+/// The fused contact block of a subtree's products (private to the simulation stage).
+///
+/// A pile of bodies has thousands of contact pairs, each with two contact-point states, two
+/// ContactPointMappings and a PenaltyInteraction, every one its own small heap object and
+/// arrays: a product through them is one virtual call and a cache miss per object. The contact
+/// fields whose states are each either the output of a barycentric contact mapping
+/// (BaseMapping::contact_barycentric_rows) read by that field alone, or an external state (dx 0,
+/// df scratch), are applied by the block under a FixedReaders: the mappings' rows are copied once
+/// a solve into one array, their contact points' dx and df live in two flat arrays, each field's
+/// add_dforce runs on those arrays right after the mappings' J (it reads and writes nothing else:
+/// nothing else reads those contact points), and each mapping's Jᵀ runs at its own force step,
+/// with the rows' combine and spread. Same operations on the same values in the same order: the
+/// same bits.
+/// A barycentric contact mapping whose contact points nobody in the subtree reads (a contact
+/// between two bodies of this solver whose field lies above the solver's node: explicit, SOFA's
+/// §2.1) is fused too: its dx is read by nobody, its df stays +0, and its Jᵀ adds only w·(+0) to
+/// its parent's df rows. Adding a zero changes a sum only when the sum is −0 (it becomes +0 when
+/// the zero is +0) or the zero is NaN (w not finite), whatever the place of that addition among
+/// the others, so one addition of +0 (or NaN) per parent row it touches, before the other steps,
+/// gives the same bits.
+
+#include "subtree_layout.hpp"
+
+#include "penalty/core/pointer_index.hpp"
+#include "penalty/mechanics/mapping.hpp"
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace penalty::detail {
+
+class FusedContactBlock {
+public:
+    /// Finds the fields and mappings of `layout` to fuse (none when !fuse) and marks the layout's
+    /// steps that are fused (ForceStep::fused).
+    void find(SubtreeLayout& layout, bool fuse);
+    [[nodiscard]] bool empty() const { return mappings_.empty(); }
+    /// Fused fields, read fused mappings, unread fused mappings.
+    [[nodiscard]] std::array<std::size_t, 3> counts() const;
+    /// The rows must be copied again before the next fused product (a new FixedReaders).
+    void invalidate() { ready_ = false; }
+    /// A fused product's start: the rows copied (once under a FixedReaders), the unread mappings'
+    /// zeros added to their parents' df, J and each fused field's add_dforce(k, b).
+    void begin_product(double k, double b);
+    /// from.df += Jᵀ·df of fused mapping `index` (ForceStep::fused), row by row.
+    void spread(std::size_t index) const;
+    /// The layout's steps without the fused fields and the unread fused mappings (the read fused
+    /// mappings' Jᵀ stay, at their places): what a fused product visits.
+    [[nodiscard]] const std::vector<ForceStep>& steps() const { return steps_; }
+    /// The layout's mappings the block does not apply (a fused product's J passes).
+    [[nodiscard]] const std::vector<std::size_t>& unfused_mappings() const { return unfused_mappings_; }
+
+private:
+    struct FusedMapping {
+        std::size_t mapping_index = 0;  ///< in SubtreeLayout::mappings
+        Vec3Object* from = nullptr;
+        Vec3Object* to = nullptr;
+        const std::vector<ContactBarycentricRow>* rows = nullptr;
+        bool live = true;  ///< read by a fused field (false: read by nobody)
+        /// Range of the mapping's contact points in rows_, dx_, df_ (this solve)
+        std::size_t first = 0;
+        std::size_t count = 0;
+    };
+    struct FusedSide {
+        std::ptrdiff_t mapping = -1;  ///< index in mappings_, or -1: external state
+        Vec3Object* state = nullptr;  ///< the external state (mapping == -1)
+    };
+    struct FusedField {
+        Vec3InteractionForceField* field = nullptr;
+        std::array<FusedSide, 2> sides{};
+    };
+    struct ZeroAdd {
+        Vec3* target = nullptr;
+        double value = 0.0;
+    };
+    /// Copies the rows of the fused mappings (current under the FixedReaders), sizes the flat
+    /// arrays and lists the unread mappings' zero additions.
+    void prepare();
+    /// J of the fused mappings, zeroed df, and each fused field's add_dforce(k, b).
+    void apply_fields(double k, double b);
+    void mark_steps(SubtreeLayout& layout, const std::vector<std::ptrdiff_t>& fused_mapping_of,
+                    const PointerIndex<BaseForceField>& fused_field_of);
+
+    std::vector<FusedMapping> mappings_;
+    std::vector<FusedField> fields_;
+    std::vector<ForceStep> steps_;
+    std::vector<std::size_t> unfused_mappings_;
+    /// The parents of the fused mappings nobody reads, each with those mappings (mappings_
+    /// indices), and the additions their Jᵀ amounts to in this solve: value (+0 or NaN) added to
+    /// the three components of *target.
+    std::vector<std::pair<Vec3Object*, std::vector<std::size_t>>> unread_by_parent_;
+    std::vector<ZeroAdd> zero_adds_;
+    std::vector<std::uint8_t> zero_add_kind_;  ///< scratch: per parent DOF 0 none, 1 +0, 2 NaN
+    std::vector<ContactBarycentricRow> rows_;
+    std::vector<Vec3> dx_;
+    std::vector<Vec3> df_;
+    bool ready_ = false;  ///< rows_ copied under the current FixedReaders
+};
+
+}  // namespace penalty::detail

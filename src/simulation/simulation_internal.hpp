@@ -1,0 +1,26 @@
+#pragma once
+/// @file
+/// What the Simulation's files share (private to the simulation stage).
+
+#include "penalty/simulation/simulation.hpp"
+
+#include <tbb/task_arena.h>
+
+namespace penalty {
+
+/// The TBB arena of a Simulation's concurrent solves, made at the first one.
+struct Simulation::ThreadArena {
+    explicit ThreadArena(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
+    tbb::task_arena arena;
+};
+
+namespace detail {
+/// f(n) for `n` and every node below it, depth first, children in order.
+template <class F>
+void for_each_node(Node& n, const F& f) {
+    f(n);
+    for (const auto& c : n.children()) for_each_node(*c, f);
+}
+}  // namespace detail
+
+}  // namespace penalty

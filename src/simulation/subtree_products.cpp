@@ -1,0 +1,260 @@
+// SubtreeSystem's products and vector passes: forces, (m·M + b·B + k·K)·dx, the CG's fused
+// passes, dot products, projections.
+#include "penalty/simulation/subtree_system.hpp"
+
+#include "penalty/core/error.hpp"
+#include "flat_vector_ops.hpp"
+#include "fused_contact_block.hpp"
+#include "kernels/prefetch.hpp"
+#include "subtree_layout.hpp"
+#include "subtree_scratch.hpp"
+
+#include <algorithm>
+
+namespace penalty {
+
+using detail::direction;
+using detail::state_dot;
+
+namespace {
+/// The one component a force step calls.
+const void* step_object(const detail::ForceStep& s) {
+    return s.mass != nullptr ? static_cast<const void*>(s.mass)
+                             : s.force_field != nullptr ? static_cast<const void*>(s.force_field) : static_cast<const void*>(s.mapping);
+}
+}  // namespace
+
+double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+    double total = 0.0;
+    for (std::size_t s = 0; s < layout_->independent.size(); ++s) {
+        const Eigen::Index begin = layout_->offsets[s];
+        const Eigen::Index end = begin + layout_->sizes[s];
+        total += state_dot(a.data(), b.data(), begin, end, layout_->widths[s]);
+    }
+    return total;
+}
+
+void SubtreeSystem::gather_velocity(Eigen::VectorXd& v) const {
+    v.resize(layout_->size);
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+        v.segment(layout_->offsets[i], layout_->sizes[i]) = layout_->independent[i]->velocity_flat();
+}
+
+void SubtreeSystem::scatter_velocity(const Eigen::VectorXd& v) const {
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+        layout_->independent[i]->velocity_flat() = v.segment(layout_->offsets[i], layout_->sizes[i]);
+}
+
+void SubtreeSystem::add_to_positions(double h, const Eigen::VectorXd& v) const {
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+        layout_->independent[i]->add_to_position(h, v.segment(layout_->offsets[i], layout_->sizes[i]));
+}
+
+void SubtreeSystem::propagate_positions_and_velocities() const {
+    for (BaseMapping* m : layout_->mappings) {
+        m->apply_position();
+        m->apply_velocity();
+    }
+}
+
+void SubtreeSystem::reset_forces() const {
+    for (BaseState* s : layout_->independent) s->force_flat() = s->external_force_flat();
+    for (BaseState* s : layout_->mapped) s->force_flat() = s->external_force_flat();
+    clear_external_scratch(/*forces=*/true);
+}
+
+void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
+    scratch_->external_work_zeroed = false;  // a new solve: another solver may have used the external states
+    reset_forces();
+    // computeForce: SOFA HEAD's MappingGraph order (mapping_graph_order) or its visitors' order
+    for (const detail::ForceStep& s : layout_->steps) {
+        if (s.mass != nullptr) s.mass->add_gravity_force(s.gravity);
+        else if (s.force_field != nullptr) s.force_field->accumulate_force();
+        else s.mapping->apply_jt_force();
+    }
+    f.resize(layout_->size);
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+        f.segment(layout_->offsets[i], layout_->sizes[i]) = layout_->independent[i]->force_flat();
+    if (!f.allFinite()) throw_non_finite_force();
+}
+
+void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, double m, double b, double k,
+                              bool do_project, bool accumulate) const {
+    if (accumulate) PENALTY_DEMAND(out.size() == layout_->size);
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+        const auto n = layout_->sizes[i];
+        layout_->independent[i]->dx_flat() = dx.segment(layout_->offsets[i], n);
+        // accumulate: each contribution is added to out's value in turn, as SOFA's addMBKv
+        // adds into b = f (((f + c1) + c2) ..., not f + (c1 + c2 ...)).
+        if (accumulate) layout_->independent[i]->df_flat() = out.segment(layout_->offsets[i], n);
+        else layout_->independent[i]->df_flat().setZero();
+    }
+    apply_mbk_to_states(m, b, k);
+    out.resize(layout_->size);
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+        out.segment(layout_->offsets[i], layout_->sizes[i]) = layout_->independent[i]->df_flat();
+    if (do_project) project(out);
+}
+
+
+double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
+                                        Eigen::VectorXd& q, double m, double b, double k) const {
+    PENALTY_DEMAND(r.size() == layout_->size && p.size() == layout_->size && &r != &p);
+    // p = r or r + β·p (Eigen's p = r + β·p: each r_j + (β·p_j)), into p and the state's dx
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+        const auto n = layout_->sizes[i];
+        const double* rs = r.data() + layout_->offsets[i];
+        double* ps = p.data() + layout_->offsets[i];
+        direction(first, beta, rs, ps, layout_->independent[i]->dx_flat().data(), n);
+        layout_->independent[i]->df_flat().setZero();
+    }
+    apply_mbk_to_states(m, b, k);
+    q.resize(layout_->size);
+    if (!layout_->constraints.empty()) {  // q is projected before p·q
+        for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+            q.segment(layout_->offsets[i], layout_->sizes[i]) = layout_->independent[i]->df_flat();
+        project(q);
+        return dot(p, q);
+    }
+    double total = 0.0;  // dot(p, q), each state's sum as its part of q is copied
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+        const auto n = layout_->sizes[i];
+        const Eigen::Index begin = layout_->offsets[i];
+        q.segment(begin, n) = layout_->independent[i]->df_flat();
+        total += state_dot(p.data(), q.data(), begin, begin + n, layout_->widths[i]);
+    }
+    return total;
+}
+
+double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                          Eigen::VectorXd& x, Eigen::VectorXd& r) const {
+    PENALTY_DEMAND(p.size() == layout_->size && q.size() == layout_->size && x.size() == layout_->size && r.size() == layout_->size);
+    const double* ps = p.data();
+    const double* qs = q.data();
+    double* xs = x.data();
+    double* rs = r.data();
+    double total = 0.0;  // dot(r, r), each state's sum over its DOFs as they are updated
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+        const Eigen::Index begin = layout_->offsets[i];
+        const Eigen::Index end = begin + layout_->sizes[i];
+        const auto width = layout_->widths[i];
+        // x += α·p, r −= α·q (Eigen's: x_j + (α·p_j), r_j − (α·q_j)), then the DOF's r·r
+        if (width == 3) {
+            double sum = 0.0;
+            for (Eigen::Index j = begin; j < end; j += 3) {
+                for (Eigen::Index c = j; c < j + 3; ++c) {
+                    xs[c] += alpha * ps[c];
+                    rs[c] -= alpha * qs[c];
+                }
+                sum += (rs[j] * rs[j] + rs[j + 1] * rs[j + 1]) + rs[j + 2] * rs[j + 2];
+            }
+            total += sum;
+            continue;
+        }
+        for (Eigen::Index j = begin; j < end; ++j) {
+            xs[j] += alpha * ps[j];
+            rs[j] -= alpha * qs[j];
+        }
+        total += state_dot(rs, rs, begin, end, width);
+    }
+    return total;
+}
+
+void MbkCgSystem::apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) { system_.apply_mbk(p, q, m_, b_, k_, true); }
+
+double MbkCgSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const { return system_.dot(a, b); }
+
+double MbkCgSystem::direction_and_product(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
+                                          Eigen::VectorXd& q) {
+    return system_.direction_and_mbk(r, beta, first, p, q, m_, b_, k_);
+}
+
+double MbkCgSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                        Eigen::VectorXd& x, Eigen::VectorXd& r) {
+    return system_.update_and_residual(alpha, p, q, x, r);
+}
+
+void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
+    namespace prefetch = detail::prefetch;
+    if (!scratch_->external_work_zeroed) {
+        clear_external_scratch(/*forces=*/false);
+        scratch_->external_work_zeroed = true;
+    }
+    // The fused contact block: only while the contacts cannot change.
+    const bool fused = scratch_->readers_fixed && !fused_->empty();
+    // The loops below call thousands of small objects (a contact pair's states and mappings) a
+    // product, each a cache miss on its first word: fetched kObjectsAhead iterations earlier.
+    // (fused: only the mappings the fused block does not apply, in the same order)
+    const std::vector<std::size_t>& maps = fused ? fused_->unfused_mappings() : layout_->all_mappings;
+    const std::size_t ahead = prefetch::kObjectsAhead;
+    for (std::size_t j = 0; j < maps.size(); ++j) {
+        if (j + ahead < maps.size()) prefetch::first_word(layout_->dx_readers[maps[j + ahead]].mapping);
+        map_dx(maps[j]);
+    }
+    for (std::size_t j = 0; j < maps.size(); ++j) {
+        if (j + ahead < maps.size()) prefetch::first_word(layout_->mapped[maps[j + ahead]]);
+        const std::size_t i = maps[j];
+        const detail::DxRows& r = scratch_->dx_rows[i];
+        if (!r.restricted) {
+            layout_->mapped[i]->df_flat().setZero();
+            continue;
+        }
+        // only the rows read (and written) by the readers; Jᵀ takes no other (apply_jt_df_rows)
+        detail::zero_rows(layout_->mapped[i]->df_flat(), static_cast<Eigen::Index>(layout_->mapped[i]->deriv_size()), r.rows);
+    }
+    // the right-hand side's addMBKv and the CG's product in the system's order
+    const std::vector<detail::ForceStep>& steps = fused ? fused_->steps() : layout_->steps;
+    if (fused) fused_->begin_product(k, b);
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+        const detail::ForceStep& s = steps[i];
+        if (fused && s.fused >= 0) {  // a read fused mapping (the block's steps hold no other fused step)
+            fused_->spread(static_cast<std::size_t>(s.fused));
+            continue;
+        }
+        if (i + ahead < steps.size()) prefetch::first_word(step_object(steps[i + ahead]));
+        if (s.mass != nullptr) {
+            if (m != 0.0) s.mass->add_mdx(m);
+        } else if (s.force_field != nullptr) {
+            s.force_field->accumulate_dforce(k, b);
+        } else {
+            const detail::DxRows& r = scratch_->dx_rows[s.mapping_index];
+            if (r.restricted) s.mapping->apply_jt_df_rows(r.rows);
+            else s.mapping->apply_jt_df();
+            // SOFA's addMBKdx: the mapping's geometric stiffness after its Jᵀ (applyDJT)
+            if (k != 0.0 && s.mapping->has_geometric_stiffness()) s.mapping->apply_djt(k);
+        }
+    }
+}
+
+void SubtreeSystem::project(Eigen::VectorXd& v) const {
+    for (BaseProjectiveConstraint* c : layout_->constraints) {
+        const auto it = layout_->offset_of.find(c->state());
+        if (it == layout_->offset_of.end()) continue;  // constraints on mapped states are not supported
+        c->project_response(v.segment(it->second, static_cast<Eigen::Index>(c->state()->scalar_size())));
+    }
+}
+
+void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
+    for (const auto& [mass, g] : layout_->masses)
+        if (layout_->offset_of.find(mass->state()) == layout_->offset_of.end())
+            throw_invalid_argument("EulerExplicitSolver: state '", mass->state()->state_name(),
+                                   "' is mapped: a mass on a mapped state needs an implicit solver");
+    out.setZero(layout_->size);
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+        const auto n = layout_->sizes[i];
+        const auto it = std::find_if(layout_->masses.begin(), layout_->masses.end(), [&](const auto& e) { return e.first->state() == layout_->independent[i]; });
+        if (it == layout_->masses.end()) throw_invalid_argument("EulerExplicitSolver: state '", layout_->independent[i]->state_name(), "' has no mass");
+        it->first->apply_inverse(in.segment(layout_->offsets[i], n), out.segment(layout_->offsets[i], n));
+    }
+}
+
+
+double SubtreeSystem::total_energy() const {
+    double e = 0.0;
+    for (const BaseForceField* ff : layout_->force_fields) e += ff->potential_energy();
+    for (const auto& [mass, g] : layout_->masses) e += mass->kinetic_energy() + mass->gravity_potential_energy(g);
+    return e;
+}
+
+
+}  // namespace penalty

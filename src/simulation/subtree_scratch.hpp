@@ -1,0 +1,28 @@
+#pragma once
+/// @file
+/// The numbers a subtree's products keep from one call to the next (private to the simulation
+/// stage): which rows each mapped state's readers read, the scratch of the row lists, and whether
+/// the external states' work vectors are clear.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace penalty::detail {
+
+/// The rows of one mapped state a product maps (SubtreeLayout::dx_readers, same index).
+struct DxRows {
+    bool restricted = false;          ///< restricted to `rows` (ascending), or every row
+    std::vector<std::uint32_t> rows;
+    bool found = false;               ///< `restricted` and `rows` found under the current FixedReaders
+};
+
+struct SubtreeScratch {
+    std::vector<DxRows> dx_rows;
+    std::vector<std::uint8_t> dx_read;       ///< find_read_rows' scratch: one flag per DOF
+    std::vector<std::uint32_t> listed_rows;  ///< list_rows_read's scratch
+    bool external_work_zeroed = false;       ///< the external states' dx and df zeroed since the last compute_force
+    bool readers_fixed = false;              ///< a FixedReaders lives
+};
+
+}  // namespace penalty::detail
