@@ -428,7 +428,11 @@ std::vector<std::string> detach_unresolved_data_links(io::SceneFile& scene) {
         if (spec == nullptr || category_of(spec->family) != ComponentCategory::physics) continue;
         for (auto a = c->attributes.begin(); a != c->attributes.end();) {
             const std::string_view value = trimmed(a->value);
-            if (!io::is_link(a->value) || value.find_first_of(" \t\r\n") != std::string_view::npos || !is_data_link(value)) {
+            // a region's points keep their link: SOFA's Data is then set and empty, so the region
+            // does not fall back to its state's points (BoxROI::init tests d_X0.isSet(); roi_points)
+            const bool region_points = spec->family == F::engine && (a->name == "position" || a->name == "rest_position");
+            if (!io::is_link(a->value) || value.find_first_of(" \t\r\n") != std::string_view::npos || !is_data_link(value) ||
+                region_points) {
                 ++a;
                 continue;
             }
