@@ -546,6 +546,15 @@ TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {
   </Node>)");
     EXPECT_THAT(test::error_of(scene), HasSubstr("BarycentricMapping 'attach' (test.scn:"));
     EXPECT_THAT(test::error_of(scene), HasSubstr("does not follow topological changes"));
+    // components without a rule yet: a mass over the elements, a projective constraint on points
+    for (const auto& [component, named] :
+         {std::pair<std::string, std::string>{R"(<MeshMatrixMass name="m" massDensity="1000"/>)", "MeshMatrixMass 'm' (test.scn:"},
+          {R"(<UniformMass totalMass="1"/><LineProjectiveConstraint name="line" indices="0" direction="1 0 0"/>)",
+           "LineProjectiveConstraint 'line' (test.scn:"}}) {
+        const std::string text = tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/><CGLinearSolver/>
+  )" + component + R"(<TopologicalChangeProcessor filename=")" + file + R"("/>)");
+        EXPECT_THAT(test::error_of(text), HasSubstr(named));
+    }
 
     auto s = build(tchg_body(cube.points, cube.tetrahedra, "<UniformMass totalMass=\"1\"/>"));
     EXPECT_THROW(s->remove_elements("nothing", ElementType::tetrahedron, {0}), std::invalid_argument);
@@ -559,6 +568,35 @@ TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {
   <Node name="body"><TetrahedronSetTopologyContainer position="0 0 0 1 0 0 0 1 0 0 0 1" tetrahedra="0 1 2 3"/>
     <TetrahedronSetTopologyModifier/><MechanicalObject/><TetrahedronCollisionModel tags="CarvingSurface"/></Node></Node>)"),
                 HasSubstr("CarvingManager: attribute 'toolModel': no tool"));
+}
+
+TEST(TopologicalChanges, ARebuildFromTheTextFollowsBeforeAChangeAndIsRefusedAfter) {
+    const test::TetraCube cube = test::tetra_cube(2, 0.2);
+    auto s = build(tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/>
+  <CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
+  <DiagonalMass massDensity="1000"/>
+  <TetrahedronFEMForceField youngModulus="5000" poissonRatio="0.3"/>)"));
+    s->step();
+    // no change yet: reset builds the scene again, and the new scene's components follow changes
+    s->reset();
+    const double before = tchg_find<DiagonalMass>(s->simulation().root())->total_mass();
+    s->remove_elements("volume", ElementType::tetrahedron, {0});  // a corner tetrahedron: its corner point goes
+    const TopologyContainer& c = s->topology_container("volume");
+    EXPECT_EQ(tchg_state(*s).num_dofs(), c.mesh().num_points());
+    EXPECT_EQ(c.mesh().num_points(), cube.points.size() - 1);
+    const double after = tchg_find<DiagonalMass>(s->simulation().root())->total_mass();
+    EXPECT_NEAR(after, before - 1000.0 * 0.1 * 0.1 * 0.1 / 6.0, 1e-9);  // a corner tetrahedron: a sixth of a cell
+    s->step();
+    // once changed: the text would undo the cut, so a rebuild is refused and the scene stands
+    try {
+        s->reset();
+        ADD_FAILURE() << "reset after a topological change was accepted";
+    } catch (const io::SceneError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("undo the topological changes"));
+    }
+    EXPECT_EQ(tchg_state(*s).num_dofs(), cube.points.size() - 1);
+    s->step();
+    EXPECT_TRUE(std::isfinite(tchg_state(*s).position[0].x()));
 }
 
 }  // namespace
