@@ -570,6 +570,64 @@ TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {
                 HasSubstr("CarvingManager: attribute 'toolModel': no tool"));
 }
 
+/// Volume of tetrahedron t at rest (m³).
+double tchg_volume(const Vec3Object& x, const Tetrahedron& t) {
+    const auto p = [&](std::size_t k) { return x.rest_position[std::size_t(t[k])]; };
+    return std::abs((p(1) - p(0)).dot((p(2) - p(0)).cross(p(3) - p(0)))) / 6.0;
+}
+
+TEST(TopologicalChanges, ThousandsOfRemovalsAndAdditionsKeepEveryFollowerConsistent) {
+    // 2 560 tetrahedra removed one to three at a time, with re-additions and steps between
+    // (the run the asan preset checks); after each operation the state has the
+    // topology's points and the lumped mass is ρ times the remaining volume
+    const test::TetraCube cube = test::tetra_cube(8, 0.4);
+    auto s = build(tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/>
+  <CGLinearSolver iterations="10" tolerance="1e-12" threshold="1e-12"/>
+  <DiagonalMass massDensity="1000"/>
+  <TetrahedronFEMForceField youngModulus="5000" poissonRatio="0.3" method="large"/>
+  <FixedProjectiveConstraint indices="0 1 2 3 4 5 6 7 8"/>
+  <Node name="border">
+    <TriangleSetTopologyContainer name="surface"/>
+    <TriangleSetTopologyModifier/>
+    <Tetra2TriangleTopologicalMapping input="@../volume" output="@surface"/>
+    <TriangleCollisionModel/>
+  </Node>)"));
+    const TopologyContainer& c = s->topology_container("volume");
+    Vec3Object& x = tchg_state(*s);
+    std::mt19937 rng(5151);
+    std::size_t removals = 0, additions = 0;
+    for (int round = 0; !c.mesh().tetrahedra().empty(); ++round) {
+        const std::size_t n = c.mesh().tetrahedra().size();
+        if (round % 7 == 6) {
+            // a tetrahedron again on the vertices of one that exists (a duplicate element: allowed)
+            const Tetrahedron t = c.mesh().tetrahedra()[std::uniform_int_distribution<std::size_t>(0, n - 1)(rng)];
+            s->add_elements("volume", ElementType::tetrahedron, {t.begin(), t.end()});
+            ++additions;
+        } else {
+            std::set<ElementId> picked;
+            while (picked.size() < std::min<std::size_t>(n, 1 + std::size_t(round % 3)))
+                picked.insert(ElementId(std::uniform_int_distribution<std::size_t>(0, n - 1)(rng)));
+            s->remove_elements("volume", ElementType::tetrahedron, {picked.begin(), picked.end()});
+            removals += picked.size();
+        }
+        ASSERT_EQ(x.num_dofs(), c.mesh().num_points()) << "round " << round;
+        if (round % 97 == 0) {
+            double volume = 0;
+            for (const Tetrahedron& t : c.mesh().tetrahedra()) volume += tchg_volume(x, t);
+            EXPECT_NEAR(tchg_find<DiagonalMass>(s->simulation().root())->total_mass(), 1000.0 * volume, 1e-9) << "round " << round;
+            tchg_expect_triangle_models_fresh(*s, "round " + std::to_string(round));
+        }
+        if (round % 50 == 0) {
+            s->step();
+            for (const Vec3& p : x.position) ASSERT_TRUE(p.allFinite()) << "round " << round;
+        }
+    }
+    EXPECT_GT(removals, 2560u);
+    EXPECT_GT(additions, 100u);
+    EXPECT_EQ(x.num_dofs(), 0u);  // every point went with its last tetrahedron
+    s->step();
+}
+
 TEST(TopologicalChanges, ARebuildFromTheTextFollowsBeforeAChangeAndIsRefusedAfter) {
     const test::TetraCube cube = test::tetra_cube(2, 0.2);
     auto s = build(tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/>
