@@ -27,8 +27,16 @@ async function loadRun() {
   const frames = run.frames.count;
   if (frames === 0) throw new Error('the run has no frame (it stopped before writing one)');
   const positionArray = new Float32Array(positions);
-  if (positionArray.length < frames * run.frame_floats)
-    throw new Error(`positions.f32 holds ${positionArray.length} floats, ${frames} frames need ${frames * run.frame_floats}`);
+  // Version 2 (topological changes): the states' sizes and the shapes' elements change from one
+  // layout to the next; a version 1 run has one layout and frames of frame_floats floats each.
+  if (!run.layouts) {
+    run.layouts = [{ frame_floats: run.frame_floats, states: run.states, shapes: run.shapes }];
+    run.frames.layout = new Array(frames).fill(0);
+    run.frames.position_offset = Array.from({ length: frames }, (_, f) => f * run.frame_floats);
+  }
+  const needed = run.frames.position_offset[frames - 1] + run.layouts[run.frames.layout[frames - 1]].frame_floats;
+  if (positionArray.length < needed)
+    throw new Error(`positions.f32 holds ${positionArray.length} floats, ${frames} frames need ${needed}`);
   // Contacts of frame f: floats [offset[f], offset[f + 1]) of contacts.f32, 10 per contact.
   const contactOffset = new Array(frames + 1);
   contactOffset[0] = 0;
@@ -186,6 +194,11 @@ class ShapeView {
       this.edges.geometry.dispose();
       this.edges.geometry = new THREE.WireframeGeometry(this.geometry);
     }
+  }
+
+  dispose() {
+    this.object.geometry.dispose();
+    if (this.edges) this.edges.geometry.dispose();
   }
 }
 
@@ -378,14 +391,14 @@ class Viewer {
     this.palette = PALETTE;
     this.contactColor = (u) => forceColor(u, [0, 0, 0]);  // for the browser tests: the map, 0…1 → rgb 0…1
     this.nodeColor = new Map();
-    this.shapes = run.shapes.map((shape) => {
-      const state = run.states[shape.state];
-      if (!this.nodeColor.has(state.node_path))
-        this.nodeColor.set(state.node_path, PALETTE[this.nodeColor.size % PALETTE.length]);
-      const v = new ShapeView(shape, state, run, data.topology, this.nodeColor.get(state.node_path));
-      this.scene.add(v.object);
-      return v;
-    });
+    for (const state of run.states)
+      if (!this.nodeColor.has(state.node_path)) this.nodeColor.set(state.node_path, PALETTE[this.nodeColor.size % PALETTE.length]);
+    this.shapes = [];
+    this.layoutIndex = -1;
+    this.wireframe = false;
+    this.hiddenNodes = new Set();
+    this.hiddenShapes = new Set();
+    this.applyLayout(0);
     this.bounds = this.computeRunBounds();
     const diagonal = this.bounds.getSize(new THREE.Vector3()).length() || 1;
     let maxContacts = 0;
@@ -408,6 +421,23 @@ class Viewer {
     document.body.dataset.ready = 'true';
   }
 
+  /// The shapes of layout l (a topological change between frames: other elements, other sizes).
+  applyLayout(l) {
+    if (l === this.layoutIndex) return;
+    const { run, topology } = this.data;
+    const layout = run.layouts[l];
+    for (const v of this.shapes) { this.scene.remove(v.object); v.dispose(); }
+    this.shapes = layout.shapes.map((shape) => {
+      const state = layout.states[shape.state];
+      const v = new ShapeView(shape, state, run, topology, this.nodeColor.get(state.node_path));
+      if (this.wireframe) v.setWireframe(true);
+      this.scene.add(v.object);
+      return v;
+    });
+    this.layoutIndex = l;
+    this.applyVisibility();
+  }
+
   /// Box of every shape at every frame of the run: what Reset camera frames.
   computeRunBounds() { return this.computeBounds(0, this.data.run.frames.count - 1); }
 
@@ -416,21 +446,29 @@ class Viewer {
   computeBounds(first, last) {
     const { run, positions } = this.data;
     const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-    for (const shape of run.shapes) {
-      const state = run.states[shape.state];
-      const stride = state.type === 'Rigid3d' ? 7 : 3;
-      const indices = this.data.topology.subarray(shape.index_offset, shape.index_offset + shape.index_count);
-      const perElement = shape.kind === 'spheres' || shape.kind === 'cylinders';
-      // Each drawn DOF once (a triangle mesh repeats its vertices), with its reach.
-      const reachOf = new Map();
-      indices.forEach((dof, e) => {
-        const r = !perElement ? 0 : shape.kind === 'spheres' ? shape.radius[e] : Math.hypot(shape.radius[e], shape.height[e] / 2);
-        reachOf.set(dof, Math.max(reachOf.get(dof) ?? 0, r));
+    // Per layout, per shape: each drawn DOF once (a triangle mesh repeats its vertices), with its reach.
+    const drawn = new Map();
+    const drawnOf = (l) => {
+      if (drawn.has(l)) return drawn.get(l);
+      const layout = run.layouts[l];
+      const list = layout.shapes.map((shape) => {
+        const state = layout.states[shape.state];
+        const indices = this.data.topology.subarray(shape.index_offset, shape.index_offset + shape.index_count);
+        const perElement = shape.kind === 'spheres' || shape.kind === 'cylinders';
+        const reachOf = new Map();
+        indices.forEach((dof, e) => {
+          const r = !perElement ? 0 : shape.kind === 'spheres' ? shape.radius[e] : Math.hypot(shape.radius[e], shape.height[e] / 2);
+          reachOf.set(dof, Math.max(reachOf.get(dof) ?? 0, r));
+        });
+        const dofs = [...reachOf.keys()];
+        return { state, stride: state.type === 'Rigid3d' ? 7 : 3, dofs, reach: dofs.map((d) => reachOf.get(d)) };
       });
-      const dofs = [...reachOf.keys()];
-      const reach = dofs.map((d) => reachOf.get(d));
-      for (let f = first; f <= last; f++) {
-        const base = f * run.frame_floats + state.offset;
+      drawn.set(l, list);
+      return list;
+    };
+    for (let f = first; f <= last; f++) {
+      for (const { state, stride, dofs, reach } of drawnOf(run.frames.layout[f])) {
+        const base = run.frames.position_offset[f] + state.offset;
         for (let k = 0; k < dofs.length; k++) {
           const i = base + dofs[k] * stride;
           for (let c = 0; c < 3; c++) {
@@ -501,7 +539,8 @@ class Viewer {
     f = Math.min(Math.max(Math.round(f), 0), this.frames - 1);
     this.frame = f;
     const { run, positions, contacts, contactOffset } = this.data;
-    const frameOffset = f * run.frame_floats;
+    this.applyLayout(run.frames.layout[f]);
+    const frameOffset = run.frames.position_offset[f];
     for (const s of this.shapes) s.update(positions, frameOffset);
     this.contacts.update(contacts, contactOffset[f], contactOffset[f + 1]);
     $('frame-label').textContent = `${f} / ${this.frames - 1}`;
@@ -531,8 +570,6 @@ class Viewer {
       return node;
     };
     run.states.forEach((state, k) => nodeAt(state.node_path).states.push({ state, k }));
-    this.hiddenNodes = new Set();
-    this.hiddenShapes = new Set();
     const render = (node) => {
       const li = document.createElement('li');
       const color = this.nodeColor.get(node.path);
@@ -611,7 +648,11 @@ class Viewer {
     $('colorbar').hidden = false;
     $('show-contacts').addEventListener('change', (e) => { this.contacts.group.visible = e.target.checked; this.requestRender(); });
     $('show-normals').addEventListener('change', (e) => { this.contacts.normals.visible = e.target.checked; this.requestRender(); });
-    $('show-wireframe').addEventListener('change', (e) => { for (const s of this.shapes) s.setWireframe(e.target.checked); this.requestRender(); });
+    $('show-wireframe').addEventListener('change', (e) => {
+      this.wireframe = e.target.checked;
+      for (const s of this.shapes) s.setWireframe(this.wireframe);
+      this.requestRender();
+    });
     $('reset-camera').addEventListener('click', () => this.resetCamera());
     $('fit-frame').addEventListener('click', () => this.fitFrame());
   }

@@ -82,7 +82,10 @@ class States:
         return "States(" + ", ".join(self.keys()) + ")"
 
 
-class Scene:
+from .topology import TopologyMethods  # noqa: E402
+
+
+class Scene(TopologyMethods):
     """A built scene. `states` views the C++ memory; step() runs the solvers (and the SofaPython3
     controllers of a script)."""
 

@@ -12,6 +12,8 @@ namespace py = pybind11;
 void bind_scene(py::module_& m);
 void bind_force_field(py::module_& m);
 void bind_collision(py::module_& m);
+/// Adds the topological-change methods to the Scene class (topology_bindings.cpp).
+void bind_scene_topology(py::handle scene_class);
 void bind_live(py::module_& m);  // live_bindings.cpp: after bind_scene (adds to its Scene class)
 
 /// A (rows, cols) float64 array viewing `data` (no copy); `owner` keeps the memory alive.

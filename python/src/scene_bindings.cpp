@@ -395,7 +395,8 @@ void bind_scene(py::module_& m) {
                    std::to_string(s.record->state->num_dofs()) + " DOFs>";
         });
 
-    py::class_<PyScene>(m, "Scene", "A built scene (from a .scn file or a SofaPython3 script)")
+    auto scene_class = py::class_<PyScene>(m, "Scene", "A built scene (from a .scn file or a SofaPython3 script)");
+    scene_class
         .def("step", &PyScene::step, py::arg("n") = 1, "Runs n steps (controllers' hooks around each)")
         .def_property_readonly("time", [](const PyScene& s) { return s.scene->simulation().time(); }, "s")
         .def_property_readonly("dt", [](const PyScene& s) { return s.scene->dt(); }, "s")
@@ -472,6 +473,7 @@ void bind_scene(py::module_& m) {
             });
             return summary_dict(summary);
         });
+    bind_scene_topology(scene_class);
 
     m.def("_load_scene", [](const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs,
                             std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides) {

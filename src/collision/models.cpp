@@ -126,30 +126,32 @@ TriangleModel::TriangleModel(const Vec3State& state, const MeshTopology& topolog
         triangles_.push_back(Triangle{q[3], q[0], q[2]});
     }
     flags_.assign(triangles_.size(), 0u);
-    if (!tris.empty()) {
-        const auto& tav = topology.triangles_around_vertex();
-        const auto& tae = topology.triangles_around_edge();
-        const auto& eit = topology.edges_in_triangle();
-        for (std::size_t t = 0; t < tris.size(); ++t) {
-            std::uint32_t f = 0;
-            for (std::size_t j = 0; j < 3; ++j) {
-                const auto v = std::size_t(tris[t][j]);
-                if (v < tav.size() && !tav[v].empty() && std::size_t(tav[v].front()) == t) f |= (kP1 << j);
-                if (t < eit.size()) {
-                    const auto e = std::size_t(eit[t][j]);  // edge opposite vertex j
-                    if (e < tae.size() && !tae[e].empty()) {
-                        if (std::size_t(tae[e].front()) == t) f |= (kE23 << j);
-                        if (tae[e].size() == 1) f |= (kBE23 << j);
-                    }
-                }
-            }
-            flags_[t] = f;
-        }
-    }
-    owns_every_feature_ = std::all_of(flags_.begin(), flags_.end(),
-                                      [](std::uint32_t f) { return (f & (kPoints | kEdges)) == (kPoints | kEdges); });
+    for (std::size_t t = 0; t < tris.size(); ++t) flags_[t] = topology_flags(t);
+    partial_feature_count_ = std::size_t(std::count_if(
+        flags_.begin(), flags_.end(), [](std::uint32_t f) { return (f & (kPoints | kEdges)) != (kPoints | kEdges); }));
+    owns_every_feature_ = partial_feature_count_ == 0;
     normals_.assign(triangles_.size(), Vec3::Zero());
     plane_normals_.assign(triangles_.size(), Vec3::Zero());
+}
+
+std::uint32_t TriangleModel::topology_flags(std::size_t t) const {
+    const auto& tris = topology_->triangles();
+    const auto& tav = topology_->triangles_around_vertex();
+    const auto& tae = topology_->triangles_around_edge();
+    const auto& eit = topology_->edges_in_triangle();
+    std::uint32_t f = 0;
+    for (std::size_t j = 0; j < 3; ++j) {
+        const auto v = std::size_t(tris[t][j]);
+        if (v < tav.size() && !tav[v].empty() && std::size_t(tav[v].front()) == t) f |= (kP1 << j);
+        if (t < eit.size()) {
+            const auto e = std::size_t(eit[t][j]);  // edge opposite vertex j
+            if (e < tae.size() && !tae[e].empty()) {
+                if (std::size_t(tae[e].front()) == t) f |= (kE23 << j);
+                if (tae[e].size() == 1) f |= (kBE23 << j);
+            }
+        }
+    }
+    return f;
 }
 
 void TriangleModel::do_update() {

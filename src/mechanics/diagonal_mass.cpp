@@ -79,6 +79,21 @@ double lump_vertex_masses(const MeshTopology& t, LumpedElementKind kind, std::sp
     return 0.0;
 }
 
+double lumped_element_measure(LumpedElementKind kind, std::span<const Vec3> p) {
+    switch (kind) {
+        case LumpedElementKind::edge: return (p[1] - p[0]).norm();
+        case LumpedElementKind::triangle: return triangle_area(p[0], p[1], p[2]);
+        case LumpedElementKind::quad: return triangle_area(p[0], p[1], p[2]) + triangle_area(p[0], p[2], p[3]);
+        case LumpedElementKind::tetrahedron: return tetrahedron_volume(p[0], p[1], p[2], p[3]);
+        case LumpedElementKind::hexahedron: {
+            std::array<Vec3, 8> n;
+            std::copy(p.begin(), p.begin() + 8, n.begin());
+            return hexahedron_volume(n);
+        }
+    }
+    return 0.0;
+}
+
 void DiagonalMass::set_mass_density(double density) {
     check_nonnegative(density, "massDensity");
     given_density_ = density;

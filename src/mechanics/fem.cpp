@@ -56,12 +56,17 @@ LinearElementForceField<N>::LinearElementForceField(Vec3Object& state, std::vect
 
 template <int N>
 void LinearElementForceField<N>::init() {
+    init_from(0);
+}
+
+template <int N>
+void LinearElementForceField<N>::init_from(std::size_t first) {
     const auto& x0 = state_->rest_position;
     const Eigen::Matrix<double, 6, 6> d = isotropic_elasticity(young_, poisson_);
     ke_.resize(elements_.size());
     rest_local_.resize(elements_.size());
-    rotation_.assign(elements_.size(), Mat3::Identity());
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
+    rotation_.resize(elements_.size(), Mat3::Identity());
+    for (std::size_t e = first; e < elements_.size(); ++e) {
         std::array<Vec3, N> p;
         for (int k = 0; k < N; ++k) {
             const PointId v = elements_[e][static_cast<std::size_t>(k)];
@@ -221,14 +226,18 @@ Mat3 edge_rows(const std::array<Vec3, 4>& p) {
 }  // namespace
 
 void TetrahedronFEMForceField::init() {
-    LinearElementForceField<4>::init();
-    if (method_ == FemMethod::Large) init_large();
+    init_elements(0);
+}
+
+void TetrahedronFEMForceField::init_elements(std::size_t first) {
+    LinearElementForceField<4>::init_from(first);
+    if (method_ == FemMethod::Large) init_large(first);
     if (method_ != FemMethod::Svd) return;
     // TetrahedronFEMForceField::initSVD: A₀⁻¹ and R₀ = polar(A₀) of the rest edges
     const auto& x0 = state_->rest_position;
     rest_edges_inverse_.resize(elements_.size());
     rest_rotation_.resize(elements_.size());
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
+    for (std::size_t e = first; e < elements_.size(); ++e) {
         std::array<Vec3, 4> p;
         for (std::size_t k = 0; k < 4; ++k) p[k] = x0[static_cast<std::size_t>(elements_[e][k])];
         const Mat3 a0 = edge_rows(p);
@@ -552,40 +561,45 @@ struct LaneMaterial {
 }
 #endif
 
+/// Lane e % W of block e / W from data(e); `pad`: a lane 0 also gives its vertices to the block's
+/// other lanes (the missing elements of a last block read them).
+template <std::size_t W, class ElementData>
+void fill_lane(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t e, const ElementData& data, bool pad) {
+    auto& block = blocks[e / W];
+    const std::size_t lane = e % W;
+    const auto& [j, m, rotation, element] = data(e);
+    for (std::size_t k = 0; k < 4; ++k) {
+        // strain_displacement: J(3k, xx) = g_yz, J(3k, xy) = g_xz, J(3k, zx) = g_xy
+        const auto row = static_cast<Index>(3 * k);
+        block.cofactor[k][0][lane] = j(row, 0);
+        block.cofactor[k][1][lane] = j(row, 3);
+        block.cofactor[k][2][lane] = j(row, 5);
+        const auto dof = static_cast<std::size_t>(element[k]);
+        block.vertex[k][lane] = dof;
+        if (pad && lane == 0)  // the missing elements of a last block read lane 0's vertices
+            for (std::size_t other = 1; other < W; ++other) block.vertex[k][other] = dof;
+    }
+    for (Index i = 0; i < 3; ++i) {
+        for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
+        block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
+        for (Index k = 0; k < 3; ++k) block.rotation[static_cast<std::size_t>(3 * i + k)][lane] = rotation(i, k);
+    }
+}
+
 /// Method large's element data W elements a block (lane e of block b: element W·b + e); data(e)
 /// gives element e's (J, D/(36V), R, vertices).
 template <std::size_t W, class ElementData>
 void fill_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t element_count, const ElementData& data) {
     blocks.assign((element_count + W - 1) / W, detail::TetrahedronLargeLanes<W>{});
-    for (std::size_t e = 0; e < element_count; ++e) {
-        auto& block = blocks[e / W];
-        const std::size_t lane = e % W;
-        const auto& [j, m, rotation, element] = data(e);
-        for (std::size_t k = 0; k < 4; ++k) {
-            // strain_displacement: J(3k, xx) = g_yz, J(3k, xy) = g_xz, J(3k, zx) = g_xy
-            const auto row = static_cast<Index>(3 * k);
-            block.cofactor[k][0][lane] = j(row, 0);
-            block.cofactor[k][1][lane] = j(row, 3);
-            block.cofactor[k][2][lane] = j(row, 5);
-            const auto dof = static_cast<std::size_t>(element[k]);
-            block.vertex[k][lane] = dof;
-            if (lane == 0)  // the missing elements of a last block read lane 0's vertices
-                for (std::size_t other = 1; other < W; ++other) block.vertex[k][other] = dof;
-        }
-        for (Index i = 0; i < 3; ++i) {
-            for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
-            block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
-            for (Index k = 0; k < 3; ++k) block.rotation[static_cast<std::size_t>(3 * i + k)][lane] = rotation(i, k);
-        }
-    }
+    for (std::size_t e = 0; e < element_count; ++e) fill_lane(blocks, e, data, true);
 }
 }  // namespace
 
-void TetrahedronFEMForceField::init_large() {
+void TetrahedronFEMForceField::init_large(std::size_t first) {
     // TetrahedronFEMForceField::reinit (LARGE): computeMaterialStiffness then initLarge per element
     const auto& x0 = state_->rest_position;
     large_.resize(elements_.size());
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
+    for (std::size_t e = first; e < elements_.size(); ++e) {
         std::array<Vec3, 4> x;
         for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
         large_[e].material = material_over_volume(young_, poisson_, x);
@@ -599,8 +613,41 @@ void TetrahedronFEMForceField::init_large() {
         rotation_[e] = r0;
         large_[e].strain_displacement = strain_displacement(local);
     }
+    if (first != 0) return;  // refresh_lanes, by the caller
     fill_lane_blocks(large_blocks_, elements_.size(), [this](std::size_t e) { return large_element_lanes(e); });
     fill_eight_lane_blocks();
+}
+
+namespace {
+/// The lanes of `changed` elements refilled, blocks added or dropped for `count` elements, and
+/// the last block's missing elements as fill_lane_blocks leaves them (zero data, lane 0's vertices).
+template <std::size_t W, class ElementData>
+void refresh_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t count,
+                         std::span<const std::size_t> changed, const ElementData& data) {
+    blocks.resize((count + W - 1) / W);
+    for (const std::size_t e : changed)
+        if (e < count) fill_lane(blocks, e, data, false);
+    if (blocks.empty()) return;
+    auto& last = blocks.back();
+    const std::size_t used = count - W * (blocks.size() - 1);
+    fill_lane(blocks, W * (blocks.size() - 1), data, true);  // lane 0, and its vertices in the missing lanes
+    for (std::size_t lane = 1; lane < used; ++lane)
+        for (std::size_t k = 0; k < 4; ++k) last.vertex[k][lane] = static_cast<std::size_t>(std::get<3>(data(W * (blocks.size() - 1) + lane))[k]);
+    for (std::size_t lane = used; lane < W; ++lane) {
+        for (auto& c : last.cofactor)
+            for (auto& l : c) l[lane] = 0.0;
+        for (auto& l : last.material) l[lane] = 0.0;
+        for (auto& l : last.shear) l[lane] = 0.0;
+        for (auto& l : last.rotation) l[lane] = 0.0;
+    }
+}
+}  // namespace
+
+void TetrahedronFEMForceField::refresh_lanes(std::span<const std::size_t> changed) {
+    if (method_ != FemMethod::Large) return;
+    const auto data = [this](std::size_t e) { return large_element_lanes(e); };
+    refresh_lane_blocks(large_blocks_, elements_.size(), changed, data);
+    if (kernel_path_ == KernelPath::avx512) refresh_lane_blocks(large_blocks8_, elements_.size(), changed, data);
 }
 
 void TetrahedronFEMForceField::fill_eight_lane_blocks() {

@@ -3,6 +3,8 @@
 
 #include "penalty/mechanics/topology.hpp"
 
+#include "mechanics/topology/mesh_cache.hpp"
+
 #include "penalty/core/error.hpp"
 
 #include <algorithm>
@@ -11,23 +13,7 @@
 
 namespace penalty {
 
-struct MeshTopology::Cache {
-    std::once_flag once;
-    std::size_t num_points = 0;
-    std::vector<Edge> edges;
-    std::vector<Triangle> triangles;
-    std::vector<Quad> quads;
-    std::vector<std::vector<std::int32_t>> edges_around_vertex;
-    std::vector<std::vector<std::int32_t>> triangles_around_vertex;
-    std::vector<std::vector<std::int32_t>> triangles_around_edge;
-    std::vector<std::vector<std::int32_t>> quads_around_vertex;
-    std::vector<std::vector<std::int32_t>> quads_around_edge;
-    std::vector<std::vector<std::int32_t>> tetrahedra_around_vertex;
-    std::vector<std::vector<std::int32_t>> hexahedra_around_vertex;
-    std::vector<std::array<std::int32_t, 3>> edges_in_triangle;
-    std::vector<std::array<std::int32_t, 4>> edges_in_quad;
-    std::vector<std::vector<PointId>> vertices_around_vertex;
-};
+
 
 std::shared_ptr<MeshTopology::Cache> MeshTopology::new_cache() { return std::make_shared<Cache>(); }
 
@@ -298,14 +284,36 @@ const MeshTopology::Cache& MeshTopology::cache() const {
         }
 
         c.vertices_around_vertex.resize(n);
-        for (std::size_t v = 0; v < n; ++v) {
-            for (const std::int32_t e : c.edges_around_vertex[v]) {
-                const Edge& edge = c.edges[static_cast<std::size_t>(e)];
-                c.vertices_around_vertex[v].push_back(edge[0] == static_cast<PointId>(v) ? edge[1] : edge[0]);
-            }
-        }
+        for (std::size_t v = 0; v < n; ++v) refresh_vertices_around(c, v);
     });
     return c;
+}
+
+MeshTopology::Cache& MeshTopology::editable_cache() {
+    (void)cache();
+    if (cache_.use_count() > 1) {  // a copy of this mesh shares the lists: edit a copy of them
+        auto own = new_cache();
+        Cache& from = *cache_;
+        Cache& to = *own;
+        std::call_once(to.once, [&] {
+            to.num_points = from.num_points;
+            to.edges = from.edges;
+            to.triangles = from.triangles;
+            to.quads = from.quads;
+            to.edges_around_vertex = from.edges_around_vertex;
+            to.triangles_around_vertex = from.triangles_around_vertex;
+            to.triangles_around_edge = from.triangles_around_edge;
+            to.quads_around_vertex = from.quads_around_vertex;
+            to.quads_around_edge = from.quads_around_edge;
+            to.tetrahedra_around_vertex = from.tetrahedra_around_vertex;
+            to.hexahedra_around_vertex = from.hexahedra_around_vertex;
+            to.edges_in_triangle = from.edges_in_triangle;
+            to.edges_in_quad = from.edges_in_quad;
+            to.vertices_around_vertex = from.vertices_around_vertex;
+        });
+        cache_ = std::move(own);
+    }
+    return *cache_;
 }
 
 std::size_t MeshTopology::num_points() const { return cache().num_points; }

@@ -77,7 +77,7 @@ void write_viewer_page(const std::filesystem::path& directory) { write_page(deta
 
 ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const StateRecord*> states,
                            std::vector<ViewerShape> shapes, std::string title)
-    : directory_(std::move(directory)), states_(std::move(states)), shapes_(std::move(shapes)), title_(std::move(title)) {
+    : directory_(std::move(directory)), states_(std::move(states)), title_(std::move(title)) {
     std::vector<std::size_t> dofs;
     for (std::size_t k = 0; k < states_.size(); ++k) {
         const StateRecord* r = states_[k];
@@ -85,18 +85,44 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
         frame_floats_ += r->state->num_dofs() * std::size_t(values_per_dof(*r->state));  // throws if unsupported
         dofs.push_back(r->state->num_dofs());
     }
-    std::size_t offset = 0;
-    for (std::size_t s = 0; s < shapes_.size(); ++s) {
-        const ViewerShape& shape = shapes_[s];
+    std::string indices;
+    Layout layout = make_layout(std::move(shapes), std::move(dofs), 0, indices);  // checked before anything is written
+    folder_ = std::make_unique<detail::OutputFolder>(directory_);
+    // A stale manifest of an earlier run in DIR would describe other files.
+    folder_->remove("run.json");
+    write_page(*folder_);
+    topology_ = std::make_unique<detail::CreatedFile>(folder_->create_file("topology.u32"));
+    append_layout(std::move(layout), indices);
+    positions_ = std::make_unique<detail::CreatedFile>(folder_->create_file("positions.f32"));
+    contacts_ = std::make_unique<detail::CreatedFile>(folder_->create_file("contacts.f32"));
+}
+
+void ViewerWriter::follow_topology(std::function<std::uint64_t()> revision, std::function<std::vector<ViewerShape>()> shapes) {
+    revision_ = std::move(revision);
+    reshape_ = std::move(shapes);
+    if (revision_) layouts_.back().revision = revision_();
+}
+
+ViewerWriter::Layout ViewerWriter::make_layout(std::vector<ViewerShape> shapes, std::vector<std::size_t> dofs,
+                                               std::uint64_t revision, std::string& topology) const {
+    Layout layout;
+    for (std::size_t k = 0; k < states_.size(); ++k) {
+        layout.state_offsets.push_back(layout.floats);
+        layout.floats += dofs[k] * std::size_t(values_per_dof(*states_[k]->state));
+    }
+    layout.dofs = std::move(dofs);
+    layout.revision = revision;
+    for (std::size_t s = 0; s < shapes.size(); ++s) {
+        const ViewerShape& shape = shapes[s];
         const std::string what = "ViewerWriter: shape '" + shape.name + "'";
         if (shape.state >= states_.size())
             throw std::invalid_argument(what + ": state index " + std::to_string(shape.state) + " out of range (" +
                                         std::to_string(states_.size()) + " states)");
         for (const std::uint32_t i : shape.indices)
-            if (i >= dofs[shape.state])
+            if (i >= layout.dofs[shape.state])
                 throw std::invalid_argument(what + ": DOF index " + std::to_string(i) + " out of range (state '" +
                                             state_label(*states_[shape.state]) + "' has " +
-                                            std::to_string(dofs[shape.state]) + " DOFs)");
+                                            std::to_string(layout.dofs[shape.state]) + " DOFs)");
         const std::size_t per = shape.kind == ViewerShapeKind::triangles ? 3 : shape.kind == ViewerShapeKind::lines ? 2 : 1;
         if (shape.indices.size() % per != 0)
             throw std::invalid_argument(what + ": " + std::to_string(shape.indices.size()) + " indices, not a multiple of " +
@@ -110,20 +136,19 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
                                         std::to_string(elements) + " elements");
         if (rigid_only && (shape.height.size() != elements || shape.axis.size() != elements))
             throw std::invalid_argument(what + ": cylinders need one height and one axis per element");
-        topology_offsets_.push_back(offset);
-        offset += shape.indices.size();
-    }
-
-    folder_ = std::make_unique<detail::OutputFolder>(directory_);
-    // A stale manifest of an earlier run in DIR would describe other files.
-    folder_->remove("run.json");
-    write_page(*folder_);
-    std::string topology;
-    for (const ViewerShape& shape : shapes_)
+        layout.index_offsets.push_back(topology_size_ + topology.size() / sizeof(std::uint32_t));
+        layout.index_counts.push_back(shape.indices.size());
         topology.append(reinterpret_cast<const char*>(shape.indices.data()), shape.indices.size() * sizeof(std::uint32_t));
-    folder_->replace_file("topology.u32", topology);
-    positions_ = std::make_unique<detail::CreatedFile>(folder_->create_file("positions.f32"));
-    contacts_ = std::make_unique<detail::CreatedFile>(folder_->create_file("contacts.f32"));
+    }
+    for (ViewerShape& shape : shapes) shape.indices = {};  // kept in `topology`
+    layout.shapes = std::move(shapes);
+    return layout;
+}
+
+void ViewerWriter::append_layout(Layout layout, const std::string& topology) {
+    topology_->write(topology.data(), topology.size());
+    topology_size_ += topology.size() / sizeof(std::uint32_t);
+    layouts_.push_back(std::move(layout));
 }
 
 ViewerWriter::~ViewerWriter() {
@@ -159,10 +184,19 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
             }
         }
     }
-    if (buffer_.size() != frame_floats_)
-        throw std::invalid_argument("viewer: the states changed size during the run (" + std::to_string(buffer_.size()) +
-                                    " position values, " + std::to_string(frame_floats_) + " at the start)");
     if (!std::isfinite(time)) throw NonFiniteValueError("viewer: the time is not finite: the simulation diverged");
+    // a new layout when the elements or the states' sizes changed (topological changes)
+    std::vector<std::size_t> dofs;
+    for (const StateRecord* r : states_) dofs.push_back(r->state->num_dofs());
+    const std::uint64_t revision = revision_ ? revision_() : 0;
+    if (dofs != layouts_.back().dofs || revision != layouts_.back().revision) {
+        if (!reshape_)
+            throw std::invalid_argument("viewer: the states changed size during the run (" + std::to_string(buffer_.size()) +
+                                        " position values, " + std::to_string(frame_floats_) + " at the start)");
+        std::string indices;
+        Layout layout = make_layout(reshape_(), std::move(dofs), revision, indices);
+        append_layout(std::move(layout), indices);
+    }
 
     std::vector<float> segments;
     double max_force = max_normal_force_;
@@ -201,74 +235,97 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
     write_floats(*positions_, buffer_);
     write_floats(*contacts_, segments);
     max_normal_force_ = max_force;
+    stats.layout = layouts_.size() - 1;
+    stats.position_offset = positions_size_;
+    positions_size_ += buffer_.size();
     frames_.push_back(stats);
 }
 
 void ViewerWriter::finish() {
     std::string j;
     j.reserve(4096 + frames_.size() * 100);
-    j += "{\"format\":\"penalty-viewer\",\"version\":1,\"title\":";
+    const bool layouts = layouts_.size() > 1;
+    j += "{\"format\":\"penalty-viewer\",\"version\":";
+    j += layouts ? "2" : "1";
+    j += ",\"title\":";
     append_json_string(j, title_);
     j += ",\"frame_floats\":" + std::to_string(frame_floats_);
     j += ",\"contact_floats\":" + std::to_string(kContactFloats);
     j += ",\"max_normal_force\":";
     append_number(j, max_normal_force_);
     j += ",\"units\":{\"length\":\"m\",\"time\":\"s\",\"force\":\"N\",\"energy\":\"J\"}";
+    // states and shapes of layout `l` (the top-level lists are layout 0's: version 1 readers)
+    auto append_states = [&](const Layout& layout) {
+        std::size_t k = 0;
+        append_json_array(j, states_, [&](const StateRecord* r) {
+            j += "{\"name\":";
+            append_json_string(j, r->name);
+            j += ",\"node_path\":";
+            append_json_string(j, r->node_path);
+            j += ",\"type\":";
+            j += values_per_dof(*r->state) == 7 ? "\"Rigid3d\"" : "\"Vec3d\"";
+            j += ",\"dofs\":" + std::to_string(layout.dofs[k]);
+            j += ",\"offset\":" + std::to_string(layout.state_offsets[k]);
+            j += ",\"mapped\":";
+            j += r->mapped ? "true" : "false";
+            j += '}';
+            ++k;
+        });
+    };
+    auto append_shapes = [&](const Layout& layout) {
+        std::size_t s = 0;
+        append_json_array(j, layout.shapes, [&](const ViewerShape& shape) {
+            j += "{\"name\":";
+            append_json_string(j, shape.name);
+            j += ",\"type\":";
+            append_json_string(j, shape.type);
+            j += ",\"kind\":\"";
+            j += viewer_shape_kind_name(shape.kind);
+            j += "\",\"state\":" + std::to_string(shape.state);
+            j += ",\"index_offset\":" + std::to_string(layout.index_offsets[s]);
+            j += ",\"index_count\":" + std::to_string(layout.index_counts[s]);
+            auto numbers = [&](const std::vector<double>& v) {
+                append_json_array(j, v, [&](double x) { append_number(j, x); });
+            };
+            if (!shape.radius.empty()) {
+                j += ",\"radius\":";
+                numbers(shape.radius);
+            }
+            if (!shape.height.empty()) {
+                j += ",\"height\":";
+                numbers(shape.height);
+            }
+            if (!shape.axis.empty()) {
+                j += ",\"axis\":";
+                append_json_array(j, shape.axis, [&](const Vec3& a) {
+                    j += '[';
+                    append_number(j, a.x());
+                    j += ',';
+                    append_number(j, a.y());
+                    j += ',';
+                    append_number(j, a.z());
+                    j += ']';
+                });
+            }
+            j += '}';
+            ++s;
+        });
+    };
     j += ",\"states\":";
-    std::size_t float_offset = 0;
-    append_json_array(j, states_, [&](const StateRecord* r) {
-        const int per = values_per_dof(*r->state);
-        j += "{\"name\":";
-        append_json_string(j, r->name);
-        j += ",\"node_path\":";
-        append_json_string(j, r->node_path);
-        j += ",\"type\":";
-        j += per == 7 ? "\"Rigid3d\"" : "\"Vec3d\"";
-        j += ",\"dofs\":" + std::to_string(r->state->num_dofs());
-        j += ",\"offset\":" + std::to_string(float_offset);
-        j += ",\"mapped\":";
-        j += r->mapped ? "true" : "false";
-        j += '}';
-        float_offset += r->state->num_dofs() * std::size_t(per);
-    });
+    append_states(layouts_.front());
     j += ",\"shapes\":";
-    std::size_t s = 0;
-    append_json_array(j, shapes_, [&](const ViewerShape& shape) {
-        j += "{\"name\":";
-        append_json_string(j, shape.name);
-        j += ",\"type\":";
-        append_json_string(j, shape.type);
-        j += ",\"kind\":\"";
-        j += viewer_shape_kind_name(shape.kind);
-        j += "\",\"state\":" + std::to_string(shape.state);
-        j += ",\"index_offset\":" + std::to_string(topology_offsets_[s]);
-        j += ",\"index_count\":" + std::to_string(shape.indices.size());
-        auto numbers = [&](const std::vector<double>& v) {
-            append_json_array(j, v, [&](double x) { append_number(j, x); });
-        };
-        if (!shape.radius.empty()) {
-            j += ",\"radius\":";
-            numbers(shape.radius);
-        }
-        if (!shape.height.empty()) {
-            j += ",\"height\":";
-            numbers(shape.height);
-        }
-        if (!shape.axis.empty()) {
-            j += ",\"axis\":";
-            append_json_array(j, shape.axis, [&](const Vec3& a) {
-                j += '[';
-                append_number(j, a.x());
-                j += ',';
-                append_number(j, a.y());
-                j += ',';
-                append_number(j, a.z());
-                j += ']';
-            });
-        }
-        j += '}';
-        ++s;
-    });
+    append_shapes(layouts_.front());
+    if (layouts) {
+        j += ",\"layouts\":";
+        append_json_array(j, layouts_, [&](const Layout& layout) {
+            j += "{\"frame_floats\":" + std::to_string(layout.floats);
+            j += ",\"states\":";
+            append_states(layout);
+            j += ",\"shapes\":";
+            append_shapes(layout);
+            j += '}';
+        });
+    }
     j += ",\"frames\":{\"count\":" + std::to_string(frames_.size());
     auto column = [&](const char* name, auto member) {
         j += ",\"";
@@ -290,6 +347,10 @@ void ViewerWriter::finish() {
     column("contact_energy", &FrameStats::contact_energy);
     column("kinetic_energy", &FrameStats::kinetic_energy);
     column("dissipated_energy", &FrameStats::dissipated_energy);
+    if (layouts) {
+        column("layout", &FrameStats::layout);
+        column("position_offset", &FrameStats::position_offset);
+    }
     j += "}}\n";
     // Written beside, then renamed: a server reading run.json never sees half a file.
     folder_->replace_file("run.json", j);

@@ -241,6 +241,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::hexahedra_and_subset_components(),
               builder::bending_spring_components(),
               builder::corotational_fem_components(),
+              builder::topology_change_components(),
               builder::direct_solver_components(), builder::integrator_components(),
               builder::matrix_mass_and_rest_spring_components(),
               builder::transform_engine_components(),

@@ -404,6 +404,12 @@ void Scene::rebuild(bool reset) {
     };
     std::unique_ptr<Scene> fresh;
     try {
+        // the scene's text holds the topologies as built: a rebuild would undo the changes
+        // (docs/topological-changes.md, "Limits")
+        if (topology_revision() != 0)
+            throw io::SceneError(std::string(reset ? "reset" : "a write of a Data that takes effect at reinit, or an added or removed component,") +
+                                 " builds the scene again from its text, which would undo the topological changes made since init "
+                                 "(elements removed or added): refused once a topology changed");
         io::SceneFile copy;
         copy.path = file_.path;
         copy.root = clone_node(*file_.root, nullptr, live_->removed);
@@ -432,6 +438,7 @@ void Scene::rebuild(bool reset) {
     std::swap(engine_indices_, fresh->engine_indices_);
     std::swap(engine_meshes_, fresh->engine_meshes_);
     std::swap(loader_meshes_, fresh->loader_meshes_);
+    std::swap(topology_runtime_, fresh->topology_runtime_);  // its handlers refer to the fresh components
     // States: the records keep their addresses when the list has the same states (the usual
     // case: a Data written), so that what points to them stays valid.
     const bool same_list = states_.size() == fresh->states_.size() &&

@@ -7,6 +7,7 @@
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
 #include "scene/live_edits.hpp"
+#include "scene/topology/topology_runtime.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -15,6 +16,7 @@ namespace penalty::scene {
 
 Scene::Scene() : simulation_(std::make_unique<Simulation>()), live_(std::make_unique<LiveEdits>()) {}
 Scene::~Scene() {
+    topology_runtime_.reset();  // its handlers refer to the components below
     if (contact_phase_) simulation_->remove_contact_stage(*contact_phase_);
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
@@ -29,7 +31,9 @@ void Scene::step() {
     const auto t0 = std::chrono::steady_clock::now();
     live_->stepping = true;  // the event listener may write Data: they wait for the next step
     try {
+        if (topology_runtime_) topology_runtime_->begin_step(simulation_->time());  // AnimateBeginEvent
         simulation_->step();
+        if (topology_runtime_) topology_runtime_->end_step(simulation_->time());  // AnimateEndEvent
     } catch (...) {
         live_->stepping = false;
         throw;

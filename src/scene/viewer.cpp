@@ -120,8 +120,18 @@ ViewerBodies viewer_bodies(const Scene& scene) {
 std::unique_ptr<output::ViewerWriter> open_viewer(const Scene& scene, const std::filesystem::path& directory,
                                                   std::string title) {
     ViewerBodies bodies = viewer_bodies(scene);
-    return std::make_unique<output::ViewerWriter>(directory, std::move(bodies.states), std::move(bodies.shapes),
-                                                  std::move(title));
+    auto writer = std::make_unique<output::ViewerWriter>(directory, bodies.states, std::move(bodies.shapes), std::move(title));
+    if (!scene.dynamic_topologies().empty()) {
+        // Topological changes: the shapes of the frames after a change (same states, in the same order).
+        writer->follow_topology([&scene] { return scene.topology_revision(); },
+                                [&scene, states = std::move(bodies.states)] {
+                                    ViewerBodies now = viewer_bodies(scene);
+                                    if (now.states != states)
+                                        throw std::invalid_argument("viewer: a topological change changed the drawn states");
+                                    return std::move(now.shapes);
+                                });
+    }
+    return writer;
 }
 
 }  // namespace penalty::scene

@@ -165,6 +165,47 @@ TEST(ViewerWriter, BadShapesAreRejectedNamingTheShape) {
                  "cylinders need a Rigid3 state");
 }
 
+TEST(ViewerWriter, TopologicalChangesStartNewLayouts) {
+    // A triangle and its point removed between frames 1 and 2 (swap-and-pop: point 3 becomes 2):
+    // frame 2 starts layout 1 with 3 DOFs and one triangle; run.json goes to version 2.
+    TempDir dir;
+    TwoBodies bodies;
+    std::uint64_t revision = 7;
+    std::vector<ViewerShape> now = bodies.shapes();
+    ViewerWriter writer(dir.path(), {&bodies.surface_record, &bodies.ball_record}, bodies.shapes(), "cut");
+    writer.follow_topology([&] { return revision; }, [&] { return now; });
+    writer.write_frame(0.0, {}, 0.0);
+    writer.write_frame(0.01, {}, 0.0);  // same revision and sizes: same layout
+    bodies.surface.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 0, 1)};
+    now[0].indices = {0, 2, 1};
+    ++revision;
+    writer.write_frame(0.02, {}, 0.0);
+    ++revision;  // elements changed, sizes not: a new layout too
+    now[0].indices = {0, 1, 2};
+    writer.write_frame(0.03, {}, 0.0);
+    writer.finish();
+    EXPECT_EQ(writer.layout_count(), 3u);
+    EXPECT_EQ(writer.frame_floats(), 19u);  // of the first layout
+    EXPECT_EQ(read_binary<float>(dir.path() / "positions.f32").size(), 2 * 19u + 2 * 16u);
+    EXPECT_THAT(read_binary<std::uint32_t>(dir.path() / "topology.u32"), ElementsAre(0, 2, 1, 0, 3, 2, 0, 0, 2, 1, 0, 0, 1, 2, 0));
+    const std::string manifest = test::read_text(dir.path() / "run.json");
+    EXPECT_THAT(manifest, HasSubstr("\"version\":2,"));
+    EXPECT_THAT(manifest, HasSubstr("\"layouts\":[{\"frame_floats\":19,"));
+    EXPECT_THAT(manifest, HasSubstr("{\"frame_floats\":16,\"states\":[{\"name\":\"surface\",\"node_path\":\"/Floor\",\"type\":\"Vec3d\","
+                                    "\"dofs\":3,\"offset\":0,\"mapped\":false},{\"name\":\"ball\",\"node_path\":\"/Ball\","
+                                    "\"type\":\"Rigid3d\",\"dofs\":1,\"offset\":9,"));
+    EXPECT_THAT(manifest, HasSubstr("\"kind\":\"triangles\",\"state\":0,\"index_offset\":7,\"index_count\":3}"));
+    EXPECT_THAT(manifest, HasSubstr("\"layout\":[0,0,1,2],\"position_offset\":[0,19,38,54]}"));
+
+    // without follow_topology a state that changes size is an error
+    TempDir other;
+    TwoBodies fixed;
+    ViewerWriter plain(other.path(), {&fixed.surface_record}, {fixed.shapes()[0]}, "plain");
+    plain.write_frame(0.0, {}, 0.0);
+    fixed.surface.position.pop_back();
+    EXPECT_THROW(plain.write_frame(0.01, {}, 0.0), std::invalid_argument);
+}
+
 TEST(ViewerWriter, UnwritableDirectoryThrowsNamingIt) {
     TempDir dir;
     test::write_text(dir.path() / "blocker", "x");

@@ -133,14 +133,14 @@ TEST(TopologyContainers, ModifiersAndAlgorithmsAreAccepted) {
     EXPECT_EQ(topology_of(*s).triangles().size(), 1u);
 }
 
-TEST(TopologyContainers, TopologicalChangeProcessorIsRefusedNamingItsLine) {
+TEST(TopologyContainers, TopologicalChangeProcessorWithoutADynamicTopologyIsRefusedNamingItsLine) {
     try {
         (void)build(one_body(R"(<TopologicalChangeProcessor filename="changes.txt"/>)"));
         ADD_FAILURE() << "no SceneError";
     } catch (const io::SceneError& e) {
         EXPECT_THAT(e.what(), HasSubstr("test.scn:3"));
         EXPECT_THAT(e.what(), HasSubstr("TopologicalChangeProcessor"));
-        EXPECT_THAT(e.what(), HasSubstr("topological changes are not supported yet"));
+        EXPECT_THAT(e.what(), HasSubstr("needs a topology that can change"));
     }
 }
 

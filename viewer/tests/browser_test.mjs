@@ -1,6 +1,6 @@
 // Browser tests of `penalty view` (docs/viewer.md): runs the built-in scene with --view, serves it
 // with `penalty view DIR --port 0`, drives Debian's Chromium headless with playwright-core and
-// checks what a user sees. Prints one line per check and "N passed, M failed"; exit code 1 on
+// checks what a user sees; then a sheet cut by a topological change. Prints one line per check and "N passed, M failed"; exit code 1 on
 // any failure.
 //
 //   node tests/browser_test.mjs            (from viewer/, after `npm ci`)
@@ -80,6 +80,40 @@ function rawRequest(bytes) {
     socket.on('close', () => resolveStatus(answer.split('\r\n')[0]));
     socket.on('error', (e) => resolveStatus(`error ${e.message}`));
   });
+}
+
+/// A 6 × 6 sheet of triangles (72) whose 8 middle triangles a TopologicalChangeProcessor removes
+/// at t = 0.02 s; returns the --view directory of a 5-step run.
+function cutRun() {
+  const dir = join(work, 'cut');
+  mkdirSync(dir, { recursive: true });
+  const n = 6;
+  const points = [];
+  const triangles = [];
+  for (let z = 0; z <= n; z++) for (let x = 0; x <= n; x++) points.push(`${x * 0.1} 0 ${z * 0.1}`);
+  const id = (x, z) => x + (n + 1) * z;
+  for (let z = 0; z < n; z++) {
+    for (let x = 0; x < n; x++) {
+      triangles.push(`${id(x, z)} ${id(x, z + 1)} ${id(x + 1, z)}`, `${id(x + 1, z)} ${id(x, z + 1)} ${id(x + 1, z + 1)}`);
+    }
+  }
+  const middle = [];
+  for (const z of [2, 3]) for (const x of [2, 3]) middle.push(2 * (x + n * z), 2 * (x + n * z) + 1);
+  writeFileSync(join(dir, 'cut.txt'), `T= 0.02\n  REMOVE= ${middle.length}\n${middle.join(' ')}\n`);
+  writeFileSync(join(dir, 'sheet.scn'), `<Node name="root" dt="0.01" gravity="0 0 0">
+  <Node name="Sheet">
+    <MechanicalObject name="dofs" position="${points.join('  ')}"/>
+    <TriangleSetTopologyContainer name="topo" triangles="${triangles.join('  ')}"/>
+    <TriangleSetTopologyModifier/>
+    <TriangleCollisionModel name="sheet_triangles"/>
+    <TopologicalChangeProcessor filename="cut.txt"/>
+  </Node>
+</Node>
+`);
+  const result = spawnSync(bin, ['run', join(dir, 'sheet.scn'), '--steps', '5', '--view', join(dir, 'view'), '--no-serve', '--quiet'],
+                           { encoding: 'utf8' });
+  check('penalty run --view of a scene with a topological change exits 0', result.status === 0, result.stderr.trim());
+  return join(dir, 'view');
 }
 
 let browser;
@@ -268,6 +302,46 @@ try {
         `document ${layout.scrollHeight} px, window ${layout.window.height} px`);
   await page.screenshot({ path: join(out, 'page-1400x900.png') });
   await page.setViewportSize({ width: 1280, height: 800 });
+
+  // ---- topological changes (docs/topological-changes.md): a sheet of 72 triangles loses its 8
+  // middle ones (and their middle point) at t = 0.02 s; the frames after show the hole.
+  {
+    const cutView = cutRun();
+    const cutServer = spawn(bin, ['view', cutView, '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
+    const cutUrl = await new Promise((resolveUrl, reject) => {
+      let text = '';
+      cutServer.stdout.on('data', (chunk) => {
+        text += chunk;
+        const m = text.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
+        if (m) resolveUrl(m[0]);
+      });
+      cutServer.on('exit', (code) => reject(new Error(`penalty view exited with ${code}: ${text}`)));
+    });
+    try {
+      const cut = await browser.newPage();
+      cut.on('pageerror', (e) => errors.push(e.message));
+      cut.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+      await cut.goto(cutUrl);
+      await cut.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+      const shown = () => cut.evaluate(() => ({ triangles: window.penaltyViewer.shapes[0].indices.length / 3,
+                                                 dofs: window.penaltyViewer.shapes[0].state.dofs }));
+      const before = await shown();
+      await cut.evaluate(() => window.penaltyViewer.setFrame(window.penaltyViewer.frames - 1));
+      await cut.waitForTimeout(100);
+      const after = await shown();
+      await cut.locator('#view').screenshot({ path: join(out, 'cut-last-frame.png') });
+      check('a cut is visible: the last frame draws the sheet without its 8 middle triangles and middle point',
+            before.triangles === 72 && before.dofs === 49 && after.triangles === 64 && after.dofs === 48,
+            `${before.triangles} triangles on ${before.dofs} points → ${after.triangles} on ${after.dofs}`);
+      await cut.evaluate(() => window.penaltyViewer.setFrame(0));
+      const back = await shown();
+      check('going back to frame 0 draws the whole sheet again', back.triangles === 72 && back.dofs === 49,
+            `${back.triangles} triangles`);
+      await cut.close();
+    } finally {
+      cutServer.kill('SIGTERM');
+    }
+  }
 
   // ---- nothing outside 127.0.0.1, no error
   const outside = requests.filter((r) => !r.startsWith(`http://127.0.0.1:${port}/`) && !r.startsWith('data:'));

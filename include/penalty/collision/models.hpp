@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 namespace penalty {
@@ -145,11 +146,21 @@ public:
 
     bool compute_normals = true;  ///< SOFA `computeNormals`
 
+    /// Topological changes (docs/topological-changes.md; defined in
+    /// src/collision/triangle_model_changes.cpp): the model takes its topology's triangles again,
+    /// refreshing only the `touched` ones (the slots whose triangle or flags may have changed),
+    /// which gives the model a construction on the changed topology would, in time proportional
+    /// to `touched`. The topology must have no quads.
+    void refresh_triangles(std::span<const std::size_t> touched);
+
 protected:
     void do_update() override;
     [[nodiscard]] bool elements_unchanged_and_finite() const override;
 
 private:
+    /// The feature flags of topology triangle t (who owns its vertices and edges, its border edges).
+    [[nodiscard]] std::uint32_t topology_flags(std::size_t t) const;
+    std::size_t partial_feature_count_ = 0;  ///< triangles that do not own all their vertices and edges
     mutable std::size_t validated_state_size_ = kNotValidated;  ///< state size at the last validate()
     const Vec3State* state_;
     const MeshTopology* topology_;

@@ -6,6 +6,7 @@
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <optional>
 #include <span>
@@ -29,6 +30,10 @@ enum class LumpedElementKind { hexahedron, tetrahedron, quad, triangle, edge };
 /// geometry::Hexahedron::volume split).
 double lump_vertex_masses(const MeshTopology& topology, LumpedElementKind kind, std::span<const Vec3> positions,
                           double density, std::size_t num_points, std::vector<double>& masses);
+
+/// The measure of one element of `kind` (its N vertices' positions): what lump_vertex_masses
+/// shares, ρ·measure/N to each vertex.
+[[nodiscard]] double lumped_element_measure(LumpedElementKind kind, std::span<const Vec3> vertices);
 
 /// DiagonalMass<Vec3d>: M = diag(m_i I₃). The masses come, in SOFA's order of priority
 /// (DiagonalMass::massInitialization), from
@@ -65,6 +70,12 @@ public:
     [[nodiscard]] double gravity_potential_energy(const Vec3& gravity) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
     [[nodiscard]] double total_mass() const override { return total_; }
+
+    /// SOFA's DiagonalMass topology callbacks (src/mechanics/topology/diagonal_mass_changes.cpp):
+    /// a new point gets 0, a removed point's mass leaves the total (then swap-and-pop); an added
+    /// or removed element of the lumped kind adds or subtracts ρ·measure/N at each vertex (from
+    /// the rest positions), element by element: the masses follow by sums, not by a new lumping.
+    void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
 
 private:
     Vec3Object* state_;

@@ -15,9 +15,12 @@
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <Eigen/Core>
 
+#include <limits>
+#include <span>
 #include <tuple>
 
 namespace penalty {
@@ -72,6 +75,8 @@ public:
 
     /// Precomputes rest frames and element stiffness from the state's rest positions.
     void init() override;
+    /// Replaces the elements (a topology follower, then init()).
+    void set_elements(std::vector<Element> elements) { elements_ = std::move(elements); }
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
@@ -79,6 +84,8 @@ public:
     [[nodiscard]] const std::vector<ElementMatrix>& element_stiffness() const { return ke_; }
 
 protected:
+    /// init() for elements [first, size): the others keep their data (topological changes).
+    void init_from(std::size_t first);
     /// Element stiffness K^e (SPD, 3N×3N) from local rest coordinates.
     [[nodiscard]] virtual ElementMatrix compute_stiffness(const std::array<Vec3, N>& rest_local,
                                                           const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const = 0;
@@ -101,6 +108,7 @@ protected:
 };
 
 class RegularGridTopology;
+class TopologyContainer;
 
 namespace detail {
 /// TetrahedronFEMForceField's method-large data of W elements side by side, for the vector
@@ -153,6 +161,14 @@ public:
     void set_kernel_path(KernelPath path);
     [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
+    /// Topological changes of its container (docs/topological-changes.md; defined in
+    /// src/mechanics/topology/fem_changes.cpp): the per-element data follow the removals
+    /// (swap-and-pop), additions and point renumbering, equal to what init() computes on the
+    /// changed mesh (SOFA's reinit()), in time proportional to the change.
+    void handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// After the whole change: the new elements' data, the renumbered vertices, the lane blocks.
+    void topology_change_done();
+
     /// SOFA's plasticity (TetrahedronFEMForceField::computeForce, plasticMaxThreshold > 0): per
     /// element a plastic strain εp (Voigt), updated at each force evaluation from the total strain
     /// ε = Jᵀδ: with εe = ε − εp, εp += creep·εe when |εe|² > yield², then εp scaled back to |εp| =
@@ -188,7 +204,20 @@ private:
         /// D/(36V): SOFA's material matrix divided by 36 times the rest volume, Pa/m³.
         Eigen::Matrix<double, 6, 6> material;
     };
-    void init_large();
+    void init_large(std::size_t first = 0);
+    /// init() for elements [first, size) (the lane blocks: refresh_lanes).
+    void init_elements(std::size_t first);
+    /// The lane blocks of the `changed` elements refilled, resized to the element count.
+    void refresh_lanes(std::span<const std::size_t> changed);
+    /// What a topological change leaves to topology_change_done().
+    struct PendingTopologyChange {
+        const TopologyContainer* container = nullptr;
+        std::vector<std::size_t> moved;       ///< elements given another's data (swap-and-pop)
+        std::vector<PointId> renumbered;      ///< points that took the last point's index
+        std::size_t first_new = std::numeric_limits<std::size_t>::max();
+        bool rebuild = false;                 ///< a renumbering: init() again
+    };
+    PendingTopologyChange pending_;
 
     std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
     std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element

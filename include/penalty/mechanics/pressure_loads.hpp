@@ -19,6 +19,7 @@
 
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <optional>
 #include <vector>
@@ -79,6 +80,14 @@ public:
 
     [[nodiscard]] const std::vector<Index>& edges() const { return edges_; }
     [[nodiscard]] const Vec3& pressure() const { return pressure_; }
+    /// SOFA's EdgeSubsetData edgePressureMap (src/mechanics/topology/pressure_changes.cpp): a
+    /// removed edge leaves the list; entries naming the last edge take its index, the last edge
+    /// being the count at construction minus the edges removed in this event (SOFA does not carry
+    /// the count over from one removal to the next); the forces follow (P·L₀ of each edge, as
+    /// addForce's initEdgeInformation computes them at every step).
+    void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// Once the change is complete: the forces of the edges now listed.
+    void topology_change_done();
     /// Σ L₀ of the selected edges (m), after init().
     [[nodiscard]] double total_rest_length() const;
 
@@ -89,6 +98,8 @@ private:
     std::vector<double> rest_lengths_;
     std::vector<Vec3> forces_;  ///< P·L₀ per edge
     double energy_ = 0.0;
+    Index subset_last_ = -2;  ///< the EdgeSubsetData's last element index (-2: not set yet)
+    bool pending_init_ = false;
 };
 
 /// SOFA's EdgePressureForceField::selectEdgesAlongPlane: the edges (indices, increasing) whose two

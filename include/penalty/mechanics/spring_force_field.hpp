@@ -46,6 +46,12 @@ public:
 
     /// Adds a spring; throws std::invalid_argument on negative/non-finite parameters.
     void add_spring(const Spring& s);
+    /// Removes every spring (a topology follower rewrites the list, then calls init()).
+    void clear_springs() {
+        springs_.clear();
+        end_offsets_.clear();
+        dfdx_.clear();
+    }
     /// Checks the indices against the state sizes.
     void init() override;
     [[nodiscard]] const std::vector<Spring>& springs() const { return springs_; }

@@ -29,6 +29,8 @@ using Quad = std::array<PointId, 4>;
 using Tetrahedron = std::array<PointId, 4>;
 using Hexahedron = std::array<PointId, 8>;
 
+class TopologyContainer;
+
 class MeshTopology {
 public:
     MeshTopology() = default;
@@ -78,6 +80,10 @@ public:
     /// whatever its orientation; -1 when there is none.
     [[nodiscard]] std::int32_t edge_index(PointId a, PointId b) const;
 
+    /// Number of topological changes made to this mesh (TopologyContainer); 0 for a static mesh.
+    /// Readers that keep something derived from the elements compare it with the one they saw.
+    [[nodiscard]] std::uint64_t revision() const { return revision_; }
+
     /// True when the mesh has tetrahedra or hexahedra (SOFA's hasVolume).
     [[nodiscard]] bool has_volume() const { return !tetrahedra_.empty() || !hexahedra_.empty(); }
 
@@ -94,7 +100,12 @@ public:
     static constexpr std::array<std::array<int, 4>, 6> kHexaFaces{
         {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
 
+    struct Cache;  ///< the lists and adjacency (src/mechanics/topology/mesh_cache.hpp)
+
 private:
+    friend class TopologyContainer;  // edits the lists in place on a topological change
+    /// The built cache, owned by this mesh alone (a copy's shared one is copied first).
+    Cache& editable_cache();
     void invalidate();
     // implementation-defined caches (see src/mechanics/topology.cpp)
     std::size_t num_points_ = 0;
@@ -103,7 +114,7 @@ private:
     std::vector<Quad> given_quads_;
     std::vector<Tetrahedron> tetrahedra_;
     std::vector<Hexahedron> hexahedra_;
-    struct Cache;
+    std::uint64_t revision_ = 0;
     const Cache& cache() const;  ///< builds every derived list once (thread-safe)
     static std::shared_ptr<Cache> new_cache();
     mutable std::shared_ptr<Cache> cache_ = new_cache();

@@ -67,6 +67,8 @@ public:
     [[nodiscard]] double potential_energy() const override { return energy_; }
 
     [[nodiscard]] const std::vector<Triangle>& triangles() const { return triangles_; }
+    /// Replaces the triangles (a topology follower, then init()).
+    void set_triangles(std::vector<Triangle> triangles) { triangles_ = std::move(triangles); }
     /// Rest area A₀ of each triangle (m²).
     [[nodiscard]] const std::vector<double>& rest_areas() const { return area_; }
     [[nodiscard]] FemMethod method() const { return parameters_.method; }

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -82,20 +83,48 @@ public:
     /// null in run.json.
     void write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy);
 
+    /// Topological changes (docs/topological-changes.md): `revision` tells when the elements may
+    /// have changed (a number that changes with them), `shapes` gives the shapes then. A frame
+    /// whose revision or state sizes differ from the previous frame's starts a new layout: its
+    /// shapes' indices are appended to topology.u32 and run.json lists the layouts and, per frame,
+    /// its layout and the offset of its positions (format version 2; a run with one layout keeps
+    /// version 1's files).
+    void follow_topology(std::function<std::uint64_t()> revision, std::function<std::vector<ViewerShape>()> shapes);
+
     /// Writes run.json (may be called again after more frames).
     void finish();
 
     [[nodiscard]] std::size_t frame_count() const { return frames_.size(); }
     [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
-    /// Floats per frame in positions.f32 (Σ 3·n Vec3, 7·n Rigid3).
+    /// Floats per frame in positions.f32 (Σ 3·n Vec3, 7·n Rigid3), of the first layout.
     [[nodiscard]] std::size_t frame_floats() const { return frame_floats_; }
+    /// Layouts written so far (1 unless the elements or the state sizes changed).
+    [[nodiscard]] std::size_t layout_count() const { return layouts_.size(); }
 
     /// Floats per contact in contacts.f32.
     static constexpr std::size_t kContactFloats = 10;
 
 private:
+    /// The states' sizes and the shapes' elements of a run of frames.
+    struct Layout {
+        std::vector<std::size_t> dofs;           ///< per state
+        std::vector<std::size_t> state_offsets;  ///< first float of each state in a frame
+        std::size_t floats = 0;                  ///< floats per frame
+        std::vector<ViewerShape> shapes;         ///< indices dropped once written
+        std::vector<std::size_t> index_offsets;  ///< first index of each shape in topology.u32
+        std::vector<std::size_t> index_counts;
+        std::uint64_t revision = 0;
+    };
+    /// Checks `shapes` against the state sizes `dofs` (throws std::invalid_argument) and returns
+    /// the layout; its indices are appended to `topology` (uint32 bytes).
+    [[nodiscard]] Layout make_layout(std::vector<ViewerShape> shapes, std::vector<std::size_t> dofs, std::uint64_t revision,
+                                     std::string& topology) const;
+    /// Appends `topology` to topology.u32 and the layout to the list.
+    void append_layout(Layout layout, const std::string& topology);
     struct FrameStats {
         double time = 0.0;
+        std::size_t layout = 0;
+        std::size_t position_offset = 0;  ///< floats before this frame in positions.f32
         std::size_t contacts = 0;
         std::size_t active_contacts = 0;
         double max_penetration = 0.0;
@@ -105,13 +134,17 @@ private:
     };
     std::filesystem::path directory_;
     std::vector<const StateRecord*> states_;
-    std::vector<ViewerShape> shapes_;
     std::string title_;
     std::size_t frame_floats_ = 0;
-    std::vector<std::size_t> topology_offsets_;  ///< first index of each shape in topology.u32
+    std::vector<Layout> layouts_;
+    std::size_t topology_size_ = 0;    ///< indices in topology.u32
+    std::size_t positions_size_ = 0;   ///< floats in positions.f32
+    std::function<std::uint64_t()> revision_;
+    std::function<std::vector<ViewerShape>()> reshape_;
     std::vector<FrameStats> frames_;
     double max_normal_force_ = 0.0;
     std::unique_ptr<detail::OutputFolder> folder_;
+    std::unique_ptr<detail::CreatedFile> topology_;
     std::unique_ptr<detail::CreatedFile> positions_;
     std::unique_ptr<detail::CreatedFile> contacts_;
     std::vector<float> buffer_;

@@ -13,6 +13,7 @@
 
 #include "penalty/collision/collision_model.hpp"
 #include "penalty/io/scene_file.hpp"
+#include "penalty/mechanics/topology_container.hpp"
 #include "penalty/io/scene_mesh.hpp"
 #include "penalty/scene/live_data.hpp"
 #include "penalty/output/state_record.hpp"
@@ -100,6 +101,7 @@ struct StepSolverStats {
 };
 
 class Scene;
+class TopologyRuntime;
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options);
 
 class Scene {
@@ -162,6 +164,28 @@ public:
     [[nodiscard]] const io::SceneComponent* component_of(const void* built) const;
     /// The simulation node built for a node of the file (nullptr for a node of another file).
     [[nodiscard]] const Node* node_of(const io::SceneNode& node) const;
+
+    // ---- topological changes (docs/topological-changes.md; src/scene/topology/scene_topology.cpp)
+    /// The topologies that can change: each `*SetTopologyContainer` with a `*SetTopologyModifier`
+    /// in its node (or above), as "node path/container name" ("/TT/Tetra_topo"), depth first.
+    [[nodiscard]] std::vector<std::string> dynamic_topologies() const;
+    /// A number that changes whenever an element of a dynamic topology is removed or added (the
+    /// viewer starts a new layout then).
+    [[nodiscard]] std::uint64_t topology_revision() const;
+    /// The container `topology` names: a path of dynamic_topologies(), a container's name, or its
+    /// node's path (unique ones). Throws std::invalid_argument naming the topologies otherwise.
+    [[nodiscard]] const TopologyContainer& topology_container(std::string_view topology) const;
+    /// Removes elements of `type` (SOFA's modifier remove...(): the elements, then the faces,
+    /// edges and points no element uses any more; the states, masses, force fields, constraints,
+    /// topological mappings and collision models follow). Between steps. Throws
+    /// std::invalid_argument, changing nothing, for an index out of range or repeated, a type the
+    /// topology does not hold, or a component that cannot follow (named).
+    void remove_elements(std::string_view topology, ElementType type, std::vector<ElementId> indices);
+    /// Appends elements of `type`: `vertices` holds vertices_per_element(type) indices per element
+    /// (for points: `vertices` is empty and `count` points are added, each at the origin unless
+    /// `ancestors` give its value as their mean). The missing faces and edges are created.
+    void add_elements(std::string_view topology, ElementType type, const std::vector<PointId>& vertices,
+                      std::size_t count = 0, const std::vector<std::vector<ElementId>>& ancestors = {});
 
     // ---- live Data: SofaPython3's object model (live_data.hpp; src/scene/live_data.cpp,
     // live_writes.cpp) ----------------------------------------------------------------------------
@@ -291,6 +315,8 @@ private:
     /// Writes `text` into attribute `name` of `element` (adds it when absent); returns the old
     /// text (nullopt: absent).
     static std::optional<std::string> write_attribute(io::SceneElement& element, std::string_view name, std::string_view text);
+    /// The topologies that change and what follows them (last: destroyed first).
+    std::unique_ptr<TopologyRuntime> topology_runtime_;
 };
 
 /// Builds a scene. Every error is an io::SceneError naming the file, the line, the component

@@ -140,6 +140,10 @@ public:
     /// a gravity is set. Solvers cache what they build from the graph (SubtreeSystem) and build
     /// it again when this changes; contact pipelines change the graph only through these calls.
     [[nodiscard]] std::uint64_t structure_version() const;
+    /// Bumps structure_version() without adding or removing anything: a topological change
+    /// resized some components' data (docs/topological-changes.md), so what the solvers built
+    /// from the graph must be built again.
+    void mark_structure_changed() { structure_changed(); }
 
     ~Node();
 

@@ -3,6 +3,7 @@ scene by Sofa.Simulation.init and live afterwards (graph.py has what they share)
 from __future__ import annotations
 
 from .. import _core
+from .. import topology as _topology
 from .data import LinkPath
 from .graph import Base, NodeIterator, type_fields
 from .text import caller_location, to_sofa_text
@@ -167,6 +168,9 @@ class Object(Base):
             return self._make_data(name)
         if name in ("linkpath",):
             return LinkPath(self)
+        method = _topology.modifier_method(self, name)  # a topology modifier's removeTetrahedra ... (topology.py)
+        if method is not None:
+            return method
         if not getattr(self, "_python", False) and not self._fields():
             raise AttributeError(f"{self._describe()}: data '{name}': {self._type} is not a component penalty knows "
                                  "(its Data are unknown; the scene will not build)")

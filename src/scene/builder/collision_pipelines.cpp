@@ -11,6 +11,15 @@ namespace penalty::scene {
 
 namespace {
 
+bool scene_has_type(const io::SceneNode& n, std::string_view type) {
+    for (const auto& c : n.components)
+        if (c->type == type) return true;
+    for (const auto& child : n.children)
+        if (scene_has_type(*child, type)) return true;
+    return false;
+}
+
+
 using io::SceneComponent;
 using io::SceneNode;
 using F = ComponentFamily;
@@ -130,6 +139,8 @@ private:
         // run by the scene's contact stage (Scene::ContactPhase), in the order they are made
         // here, scene order (SOFA's composite pipeline), between SOFA's collision events
         options.register_stage = false;
+        // a CarvingManager reads every detection output (SOFA's narrow-phase map)
+        options.all_detection_outputs = scene_has_type(*b_.scene().file().root, "CarvingManager");
         options.sofa_stable_id_order = b_.options().sofa_head_orders;
         // SOFA's bounding-tree depth (CollisionPipeline / SubCollisionPipeline `depth`): the
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6

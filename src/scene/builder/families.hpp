@@ -36,6 +36,7 @@ std::span<const ComponentSpec> external_load_components();         // external_l
 std::span<const ComponentSpec> hexahedra_and_subset_components();  // hexahedra_and_subsets.cpp
 std::span<const ComponentSpec> bending_spring_components();        // bending_springs.cpp
 std::span<const ComponentSpec> corotational_fem_components();      // corotational_fem.cpp
+std::span<const ComponentSpec> topology_change_components();       // topology_changes.cpp
 std::span<const ComponentSpec> direct_solver_components();         // direct_solvers.cpp
 std::span<const ComponentSpec> integrator_components();            // integrators.cpp
 std::span<const ComponentSpec> matrix_mass_and_rest_spring_components();  // matrix_mass_and_rest_springs.cpp

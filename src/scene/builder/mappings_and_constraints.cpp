@@ -80,6 +80,7 @@ MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& 
 /// Registers the mapping's init (phase 0, top-down) and its `penalty info` line.
 void finish_mapping(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const MappingEnds& ends, std::string how) {
     BaseMapping* mapping = info.node->mapping();
+    b.record_origin(mapping, c);
     b.add_init(0, c, [mapping] { mapping->init(); });
     const std::string from = ends.in_info != nullptr ? node_path(*ends.in_info->scene_node) : "?";
     b.role(c, [out = ends.out_state, from, how] {
@@ -238,6 +239,7 @@ void build_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     BaseState& s = b.state(c, info);
     b.guarded(c, [&] {
         auto& f = info.node->add_constraint<FixedProjectiveConstraint>(s);
+        b.record_origin(&f, c);
         std::vector<Index> idx;
         for (PointId i : b.indices(a, "indices")) idx.push_back(i);
         for (Index i : idx)

@@ -165,6 +165,7 @@ void build_fixed_plane(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
             for (Index i : points_between_planes(points, direction, dmin, dmax)) indices.push_back(i);
         }
         auto& f = info.node->add_constraint<FixedPlaneProjectiveConstraint>(s, direction);
+        b.record_origin(&f, c);
         f.set_indices(std::move(indices));
         b.add_init(1, c, [p = &f] { p->init(); });
         b.role(c, [p = &f, st = &s] {

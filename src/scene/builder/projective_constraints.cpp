@@ -42,6 +42,7 @@ std::vector<Index> index_list(SceneBuilder& b, const Attributes& a, std::string_
 }
 
 void finish(SceneBuilder& b, const SceneComponent& c, BaseProjectiveConstraint& constraint, std::string what) {
+    b.record_origin(&constraint, c);  // a topological change names it (docs/topological-changes.md)
     b.add_init(1, c, [p = &constraint] { p->init(); });
     b.role(c, [what = std::move(what)] { return what; });
     b.note_unread_attributes(c);

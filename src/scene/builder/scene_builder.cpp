@@ -63,6 +63,7 @@ void SceneBuilder::build() {
     for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
     record_sphere_radii();
     warn_degenerate_triangles();
+    wire_topological_changes();
     for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
     for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
     // What the engines computed and the loaders read, for the scene's live Data (live_data.hpp).

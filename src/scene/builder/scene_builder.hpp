@@ -101,6 +101,9 @@ class SceneBuilder {
 public:
     SceneBuilder(const io::SceneFile& file, const BuildOptions& options, Scene& scene);
     void build();
+    /// Makes the scene's topologies that have a modifier changeable, and everything that uses them
+    /// follow their changes (src/scene/topology/wiring.cpp).
+    void wire_topological_changes();
 
     // ---- services for the family build functions ----------------------------------------------
     [[nodiscard]] const BuildOptions& options() const { return options_; }

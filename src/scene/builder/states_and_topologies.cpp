@@ -157,7 +157,7 @@ constexpr AttributeSpec kMechanicalObject[] = {
      "Vec3d: x y z per point, or a link; Rigid3d: x y z qx qy qz qw per frame"},
     {"velocity", K::points, "0", "m/s", ValueCheck::none, "Rigid3d: v and omega, 6 numbers per frame"},
     {"rest_position", K::points, "(position)", "m", ValueCheck::none, ""},
-    {"src", K::link, "", "", ValueCheck::none, "mesh loader whose points it takes"},
+    {"src", K::link, "", "", ValueCheck::none, "mesh loader, or a topology built before, whose points it takes"},
     {"size", K::integer, "1", "", ValueCheck::none, "DOF count when no positions are given"},
     {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied to the initial positions, after rotation"},
     {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
@@ -240,11 +240,21 @@ void fill_rigid_state(SceneBuilder& b, const Attributes& a, const NodeBuild& inf
     if (s.position.empty() && s.rest_position.empty() && !info.mapped) s.position.assign(dof_count(b, a), RigidFrame{});
 }
 
+/// The points `src` links: a loader's, or (SOFA's `src` copying the `position` Data) those of a
+/// topology built before (a RegularGridTopology's grid points, a container's given points).
+std::vector<Vec3> linked_source_points(SceneBuilder& b, const Attributes& a) {
+    const io::LinkTarget t = a.link("src");
+    if (t.component != nullptr && component_category(t.component->type) != ComponentCategory::loader)
+        for (const auto& [node, built] : b.node_builds())
+            if (built.topology_component == t.component && built.topology != nullptr) return built.topology_positions;
+    return b.linked_mesh(a, "src").positions;
+}
+
 void fill_vec3_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info, Vec3Object& s) {
     if (a.has("position")) {
         s.position = a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
     } else if (a.has("src")) {
-        s.position = b.linked_mesh(a, "src").positions;
+        s.position = linked_source_points(b, a);
     } else if (!info.topology_positions.empty()) {
         s.position = info.topology_positions;  // SOFA: a state without positions takes its topology's
     } else if (a.has("size")) {

@@ -76,14 +76,17 @@ void build_container(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) 
     build_element_topology(b, c, info, lists);
 }
 
-/// Modifiers and geometry algorithms: nothing to build in a static scene.
+/// Modifiers and geometry algorithms: nothing to build here (a modifier makes its container
+/// changeable: src/scene/topology/wiring.cpp).
 void build_topology_helper(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
-    b.role(c, [] { return std::string("accepted: acts only on topological changes (none in a static scene)"); });
+    const ComponentSpec* spec = find_component(c.type);
+    if (spec != nullptr) {  // a modifier's options (read by src/scene/topology/wiring.cpp): checked here
+        const Attributes a(c);
+        for (const AttributeSpec& attribute : spec->attributes)
+            if (a.has(attribute.name)) (void)a.boolean(attribute.name);
+    }
+    b.role(c, [] { return std::string("accepted: acts only on topological changes"); });
     b.note_unread_attributes(c);
-}
-
-void refuse_topological_changes(SceneBuilder&, const SceneComponent& c, NodeBuild&) {
-    io::throw_element_error(c, "topological changes are not supported yet (penalty runs static topologies)");
 }
 
 
@@ -228,7 +231,15 @@ void build_hexa2tetra(SceneBuilder& b, const SceneComponent& c, NodeBuild& node)
     b.note_unread_attributes(c);
 }
 
-constexpr std::string_view kModifier = "topology modifier: acts only on topological changes (accepted, builds nothing)";
+constexpr AttributeSpec kPointModifier[] = {
+    {"propagateToDOF", K::boolean, "1", "", ValueCheck::none, "the states follow point removals"},
+};
+constexpr AttributeSpec kVolumeModifier[] = {
+    {"propagateToDOF", K::boolean, "1", "", ValueCheck::none, "the states follow point removals"},
+    {"removeIsolated", K::boolean, "1", "", ValueCheck::none, "points left without an element are removed"},
+};
+
+constexpr std::string_view kModifier = "topology modifier: makes its node's container changeable (topological changes)";
 constexpr std::string_view kAlgorithms =
     "geometry algorithms of a topology: used by topological changes and drawing (accepted, builds nothing)";
 
@@ -248,14 +259,18 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "HexahedronSetTopologyContainer", .family = F::topology,
      .summary = "hexahedra, derived quads and edges (static use)", .attributes = kHexahedronSet,
      .build = build_container<kHexahedronLists>},
-    {.type = "PointSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .build = build_topology_helper},
-    {.type = "EdgeSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .build = build_topology_helper},
-    {.type = "TriangleSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .build = build_topology_helper},
-    {.type = "QuadSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .build = build_topology_helper},
+    {.type = "PointSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+     .build = build_topology_helper},
+    {.type = "EdgeSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+     .build = build_topology_helper},
+    {.type = "TriangleSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+     .build = build_topology_helper},
+    {.type = "QuadSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+     .build = build_topology_helper},
     {.type = "TetrahedronSetTopologyModifier", .family = F::topology_helper, .summary = kModifier,
-     .build = build_topology_helper},
+     .attributes = kVolumeModifier, .build = build_topology_helper},
     {.type = "HexahedronSetTopologyModifier", .family = F::topology_helper, .summary = kModifier,
-     .build = build_topology_helper},
+     .attributes = kVolumeModifier, .build = build_topology_helper},
     {.type = "PointSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
      .build = build_topology_helper},
     {.type = "EdgeSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
@@ -283,8 +298,6 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "Hexa2TetraTopologicalMapping", .family = F::topology_helper,
      .summary = "output topology := six tetrahedra per hexahedron of the input (static)",
      .attributes = kHexa2Tetra, .shared_attributes = kTopologicalMappingLinks, .build = build_hexa2tetra},
-    {.type = "TopologicalChangeProcessor", .family = F::topology_helper,
-     .summary = "replays topological changes: refused (not supported yet)", .build = refuse_topological_changes},
 };
 
 }  // namespace

@@ -1,0 +1,350 @@
+// The components that follow a dynamic topology, each with SOFA's rule for its class
+// (docs/topological-changes.md, "What follows"), registered in SOFA's init order: depth first,
+// file order. Anything else that uses a dynamic topology, or a state whose points it changes,
+// blocks it (TopologyRuntime::check_can_change names it).
+#include "penalty/collision/models.hpp"
+#include "penalty/mechanics/corotational_fem.hpp"
+#include "penalty/mechanics/diagonal_mass.hpp"
+#include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/fixed_plane_constraint.hpp"
+#include "penalty/mechanics/hexahedral_fem.hpp"
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/pressure_loads.hpp"
+#include "penalty/mechanics/topology_followers.hpp"
+#include "penalty/mechanics/triangular_fem.hpp"
+#include "scene/topology/topology_changes.hpp"
+
+#include <set>
+
+namespace penalty::scene {
+
+using io::SceneComponent;
+using io::SceneNode;
+
+namespace {
+
+/// What the builder made of a component: its objects in the graph.
+struct Built {
+    std::vector<BaseMass*> masses;
+    std::vector<BaseForceField*> force_fields;
+    std::vector<BaseProjectiveConstraint*> constraints;
+    std::vector<BaseMapping*> mappings;
+    [[nodiscard]] std::vector<BaseState*> states() const {
+        std::vector<BaseState*> out;
+        for (const auto* m : masses) out.push_back(m->state());
+        for (const auto* f : force_fields)
+            for (BaseState* s : f->states()) out.push_back(s);
+        for (const auto* c : constraints) out.push_back(c->state());
+        for (const auto* m : mappings) out.push_back(m->from());
+        return out;
+    }
+};
+
+std::unordered_map<const SceneComponent*, Built> built_objects(const Scene& scene, Node& root) {
+    std::unordered_map<const SceneComponent*, Built> out;
+    const auto visit = [&](const auto& self, Node& n) -> void {
+        if (n.mass() != nullptr)
+            if (const auto* c = scene.component_of(n.mass())) out[c].masses.push_back(n.mass());
+        for (const auto& f : n.force_fields())
+            if (const auto* c = scene.component_of(f.get())) out[c].force_fields.push_back(f.get());
+        for (const auto& k : n.constraints())
+            if (const auto* c = scene.component_of(k.get())) out[c].constraints.push_back(k.get());
+        if (n.mapping() != nullptr)
+            if (const auto* c = scene.component_of(n.mapping())) out[c].mappings.push_back(n.mapping());
+        for (const auto& child : n.children()) self(self, *child);
+    };
+    visit(visit, root);
+    return out;
+}
+
+std::string where(const SceneComponent& c) { return c.describe() + " (" + c.file + ":" + std::to_string(c.line) + ")"; }
+
+ElementType lumped_type(LumpedElementKind kind) {
+    switch (kind) {
+        case LumpedElementKind::edge: return ElementType::edge;
+        case LumpedElementKind::triangle: return ElementType::triangle;
+        case LumpedElementKind::quad: return ElementType::quad;
+        case LumpedElementKind::tetrahedron: return ElementType::tetrahedron;
+        case LumpedElementKind::hexahedron: return ElementType::hexahedron;
+    }
+    return ElementType::edge;
+}
+
+/// One component's follower on `t` (its topology), or false when its class has no rule here.
+bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
+    TopologyContainer& container = *t.container;
+    const MeshTopology& mesh = container.mesh();
+    const std::string& type = c.type;
+    const auto rebuild = [&](std::function<void()> f, std::initializer_list<ElementType> types) {
+        container.add_handler(w.keep(std::make_unique<RebuildFollower>(std::move(f), types)), types);
+    };
+    if (type == "DiagonalMass" && b.masses.size() == 1) {
+        auto* m = dynamic_cast<DiagonalMass*>(b.masses[0]);
+        if (m == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<DiagonalMass>>(*m, container)),
+                              {ElementType::point, lumped_type(m->element_kind())});
+        return true;
+    }
+    if (type == "UniformMass") return !io::get_bool_or(c, "preserveTotalMass", false);
+    if ((type == "FixedProjectiveConstraint" || type == "FixedConstraint") && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<FixedProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    if ((type == "FixedPlaneProjectiveConstraint" || type == "FixedPlaneConstraint") && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<FixedPlaneProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    if (b.force_fields.size() != 1) return false;
+    BaseForceField* f = b.force_fields[0];
+    if (type == "TetrahedralCorotationalFEMForceField") {
+        auto* ff = dynamic_cast<TetrahedralCorotationalFEMForceField*>(f);
+        if (ff == nullptr || !ff->options().local_stiffness_factors.empty()) return false;
+        rebuild([ff, &mesh] { ff->set_elements(mesh.tetrahedra()), ff->init(); }, {ElementType::tetrahedron, ElementType::point});
+        return true;
+    }
+    if (type == "TetrahedronFEMForceField") {
+        auto* ff = dynamic_cast<TetrahedronFEMForceField*>(f);
+        if (ff == nullptr || (mesh.tetrahedra().empty() && !mesh.hexahedra().empty())) return false;
+        // incremental (fem_changes.cpp): the data of the elements a change touches
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TetrahedronFEMForceField>>(*ff, container)),
+                              {ElementType::tetrahedron, ElementType::point});
+        return true;
+    }
+    if (type == "HexahedralFEMForceField" || type == "HexahedronFEMForceField") {
+        if (auto* ff = dynamic_cast<HexahedralFEMForceField*>(f)) {
+            rebuild([ff, &mesh] { ff->set_elements(mesh.hexahedra()), ff->init(); }, {ElementType::hexahedron, ElementType::point});
+            return true;
+        }
+        auto* ff = dynamic_cast<HexahedronFEMForceField*>(f);
+        if (ff == nullptr || !ff->stiffness_factors().empty()) return false;
+        rebuild([ff, &mesh] { ff->set_elements(mesh.hexahedra()), ff->init(); }, {ElementType::hexahedron, ElementType::point});
+        return true;
+    }
+    if (type == "TriangularFEMForceField" || type == "TriangleFEMForceField") {
+        auto* ff = dynamic_cast<TriangularFEMForceField*>(f);
+        if (ff == nullptr || !mesh.quads().empty()) return false;
+        rebuild([ff, &mesh] { ff->set_triangles(mesh.triangles()), ff->init(); }, {ElementType::triangle, ElementType::point});
+        return true;
+    }
+    if (type == "TriangularBendingSprings") {
+        auto* ff = dynamic_cast<SpringForceField*>(f);
+        auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
+        if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
+        const Attributes a(c);
+        container.add_handler(w.keep(std::make_unique<TriangularBendingSpringsFollower>(*ff, container, *state,
+                                                                                       a.real("stiffness"), a.real("damping"))),
+                              {ElementType::edge, ElementType::point, ElementType::triangle});
+        return true;
+    }
+    if (type == "QuadularBendingSprings") {
+        auto* ff = dynamic_cast<SpringForceField*>(f);
+        auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
+        if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
+        const Attributes a(c);
+        container.add_handler(w.keep(std::make_unique<QuadularBendingSpringsFollower>(*ff, container, *state,
+                                                                                     a.real("stiffness"), a.real("damping"))),
+                              {ElementType::edge, ElementType::point, ElementType::quad});
+        return true;
+    }
+    if (type == "SpringForceField") {  // no topology rule in SOFA: follows only while it has no spring
+        auto* ff = dynamic_cast<SpringForceField*>(f);
+        return ff != nullptr && ff->springs().empty();
+    }
+    if (type == "EdgePressureForceField") {
+        auto* ff = dynamic_cast<EdgePressureForceField*>(f);
+        if (ff == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<EdgePressureForceField>>(*ff, container)),
+                              {ElementType::edge});
+        return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+void wire_components(TopologyWiring& w) {
+    const auto built = built_objects(w.builder.scene(), w.builder.simulation().root());
+    const auto visit = [&](const auto& self, const SceneNode& sn) -> void {
+        for (const auto& cp : sn.components) {
+            const SceneComponent& c = *cp;
+            const auto it = built.find(&c);
+            if (it == built.end()) continue;
+            const Built& b = it->second;
+            DynamicTopology* by_topology = w.runtime.find(w.topology_used(c));
+            std::set<DynamicTopology*> by_state;
+            for (const BaseState* s : b.states()) {
+                const auto f = w.followed_states.find(s);
+                if (f != w.followed_states.end()) by_state.insert(f->second);
+            }
+            if (!b.mappings.empty()) {
+                // the mapping's output follows the same points (IdentityMapping into a state of the same topology)
+                const BaseMapping* m = b.mappings[0];
+                const auto out = w.followed_states.find(m->to());
+                const bool same = c.type == "IdentityMapping" && out != w.followed_states.end() &&
+                                  by_state.size() == 1 && *by_state.begin() == out->second;
+                if (!same) {
+                    for (DynamicTopology* t : by_state) t->blockers.push_back(where(c));
+                    if (by_topology != nullptr && by_state.count(by_topology) == 0) by_topology->blockers.push_back(where(c));
+                }
+                continue;
+            }
+            if (by_topology == nullptr && by_state.empty()) continue;
+            const bool follows = by_topology != nullptr && follow(w, c, b, *by_topology);
+            if (!follows) {
+                if (by_topology != nullptr) by_topology->blockers.push_back(where(c));
+                for (DynamicTopology* t : by_state)
+                    if (t != by_topology) t->blockers.push_back(where(c));
+                continue;
+            }
+            // a follower of its topology whose state follows another topology's points
+            for (DynamicTopology* t : by_state)
+                if (t != by_topology && std::find(t->outputs.begin(), t->outputs.end(), by_topology) == t->outputs.end())
+                    t->blockers.push_back(where(c) + " (its topology is " + by_topology->path + ")");
+        }
+        for (const auto& child : sn.children) self(self, *child);
+    };
+    visit(visit, *w.builder.scene().file().root);
+
+    // an object built without a component of the file (none today) cannot be given a rule
+    const Scene& scene = w.builder.scene();
+    const auto orphans = [&](const auto& self, Node& n) -> void {
+        const auto check = [&](const void* object, std::span<BaseState* const> states) {
+            if (scene.component_of(object) != nullptr) return;
+            for (BaseState* s : states) {
+                const auto f = w.followed_states.find(s);
+                if (f != w.followed_states.end()) f->second->blockers.push_back("a component of node '" + n.name() + "'");
+            }
+        };
+        if (BaseMass* m = n.mass()) {
+            BaseState* s = m->state();
+            check(m, std::span<BaseState* const>(&s, 1));
+        }
+        for (const auto& f : n.force_fields()) {
+            const ForceFieldStates st = f->states();
+            check(f.get(), std::span<BaseState* const>(st.begin(), st.end()));
+        }
+        for (const auto& k : n.constraints()) {
+            BaseState* s = k->state();
+            check(k.get(), std::span<BaseState* const>(&s, 1));
+        }
+        if (BaseMapping* m = n.mapping()) {
+            BaseState* s = m->from();
+            check(m, std::span<BaseState* const>(&s, 1));
+        }
+        for (const auto& child : n.children()) self(self, *child);
+    };
+    orphans(orphans, w.builder.simulation().root());
+}
+
+namespace {
+
+/// A TriangleCollisionModel on a triangle topology without quads, following it in time
+/// proportional to the change: the slots a removal fills (swap-and-pop), the new triangles, and
+/// every triangle around a vertex of a removed, moved or new triangle or of a renumbered point
+/// (their flags, or vertices, may change) are refreshed once the operation is done
+/// (TriangleModel::refresh_triangles). A points renumbering rebuilds the model.
+class TriangleModelFollower final : public TopologyHandler {
+public:
+    TriangleModelFollower(TriangleModel& model, std::function<void()> remake)
+        : model_(&model), remake_(std::move(remake)) {}
+
+    void handle_topology_changes(std::span<const TopologyChange> changes) override {
+        const MeshTopology& mesh = model_->topology();
+        for (const TopologyChange& c : changes) {
+            if (c.is(TopologyChangeKind::removed, ElementType::triangle)) {
+                // sent before the removal: the indices are valid, their vertices are the mesh's
+                for (const ElementId id : c.indices) {
+                    slots_.push_back(std::size_t(id));
+                    const Triangle& t = mesh.triangles()[std::size_t(id)];
+                    vertices_.insert(vertices_.end(), t.begin(), t.end());
+                }
+            } else if (c.is(TopologyChangeKind::added, ElementType::triangle)) {
+                for (const ElementId id : c.indices) slots_.push_back(std::size_t(id));
+                vertices_.insert(vertices_.end(), c.vertices.begin(), c.vertices.end());
+            } else if (c.is(TopologyChangeKind::removed, ElementType::point)) {
+                vertices_.insert(vertices_.end(), c.indices.begin(), c.indices.end());  // they take the last points
+            } else if (c.kind == TopologyChangeKind::renumbered) {
+                rebuild_ = true;
+            }
+        }
+        dirty_ = true;
+    }
+
+    void topology_change_done() override {
+        if (!dirty_) return;
+        dirty_ = false;
+        const MeshTopology& mesh = model_->topology();
+        if (rebuild_ || !mesh.quads().empty()) {
+            remake_();
+        } else {
+            const auto& triangles = mesh.triangles();
+            std::vector<std::size_t> touched = std::move(slots_);
+            for (const std::size_t slot : std::vector<std::size_t>(touched))  // a moved triangle's vertices
+                if (slot < triangles.size()) vertices_.insert(vertices_.end(), triangles[slot].begin(), triangles[slot].end());
+            std::sort(vertices_.begin(), vertices_.end());
+            vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
+            const auto& around = mesh.triangles_around_vertex();
+            for (const PointId v : vertices_)
+                if (std::size_t(v) < around.size())
+                    for (const auto t : around[std::size_t(v)]) touched.push_back(std::size_t(t));
+            std::sort(touched.begin(), touched.end());
+            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+            model_->refresh_triangles(touched);
+        }
+        slots_.clear();
+        vertices_.clear();
+        rebuild_ = false;
+    }
+
+private:
+    TriangleModel* model_;
+    std::function<void()> remake_;
+    std::vector<std::size_t> slots_;
+    std::vector<PointId> vertices_;
+    bool rebuild_ = false;
+    bool dirty_ = false;
+};
+
+}  // namespace
+
+void wire_collision_models(TopologyWiring& w) {
+    for (SceneCollisionModel& sm : w.builder.collision_models()) {
+        if (sm.component == nullptr) continue;
+        CollisionModel* model = sm.model.get();
+        const MeshTopology* mesh = nullptr;
+        if (auto* tm = dynamic_cast<TriangleModel*>(model)) mesh = &tm->topology();
+        else if (auto* lm = dynamic_cast<LineModel*>(model)) mesh = &lm->topology();
+        else if (dynamic_cast<TetrahedronModel*>(model) != nullptr) mesh = w.topology_used(*sm.component);
+        DynamicTopology* t = w.runtime.find(mesh);
+        if (t == nullptr) continue;
+        // SOFA's updateFromTopology: the model takes the topology's elements again
+        auto remake = [model, mesh] {
+            if (auto* tm = dynamic_cast<TriangleModel*>(model)) {
+                TriangleModel fresh(tm->state(), *mesh, tm->params());
+                fresh.compute_normals = tm->compute_normals;
+                *tm = std::move(fresh);
+            } else if (auto* lm = dynamic_cast<LineModel*>(model)) {
+                *lm = LineModel(lm->state(), *mesh, lm->params());
+            } else if (auto* te = dynamic_cast<TetrahedronModel*>(model)) {
+                *te = TetrahedronModel(te->state(), *mesh, te->params());
+            }
+        };
+        const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
+                                                     ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
+        if (auto* tm = dynamic_cast<TriangleModel*>(model); tm != nullptr && mesh->quads().empty()) {
+            t->container->add_handler(w.keep(std::make_unique<TriangleModelFollower>(*tm, remake)), all);
+            continue;
+        }
+        t->container->add_handler(w.keep(std::make_unique<RebuildFollower>(remake, all)), all);
+    }
+}
+
+}  // namespace penalty::scene

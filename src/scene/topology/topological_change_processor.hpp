@@ -1,0 +1,83 @@
+#pragma once
+// TopologicalChangeProcessor and TopologyBoundingTrasher as change sources (see
+// topological_change_processor.cpp).
+#include "scene/topology/topology_runtime.hpp"
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace penalty::scene {
+
+/// A TopologicalChangeProcessor file: its lines and SOFA's reading state (readNext).
+class TopologyChangeFile {
+public:
+    /// `name`: the file as errors name it. Throws std::invalid_argument naming name:line for a
+    /// malformed command.
+    TopologyChangeFile(std::string text, std::string name);
+
+    struct Command {
+        std::size_t line = 0;                 ///< the command's line (0-based); its values are on the next
+        std::optional<ElementType> add;       ///< ADD= of this type; none: REMOVE=
+        std::vector<ElementId> values;        ///< indices (REMOVE=) or vertices (ADD=), missing ones 0
+    };
+    /// readNext: the lines to apply at `time` (SOFA's validLines), advancing the reading state.
+    std::vector<std::size_t> read_next(double time, bool loop);
+    /// The commands of those lines.
+    [[nodiscard]] std::vector<Command> commands(const std::vector<std::size_t>& lines) const;
+    /// "file:line" (1-based) of line `line` (0-based).
+    [[nodiscard]] std::string at(std::size_t line) const;
+    /// Remarks for `penalty info` (counts SOFA completes with zeros).
+    [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
+
+private:
+    void check();
+    std::string read_line();
+    std::string name_;
+    std::vector<std::string> lines_;
+    std::vector<std::string> notes_;
+    std::size_t pos_ = 0;
+    bool eof_ = false;
+    double next_time_ = 0, loop_time_ = 0;
+    std::string cmd_;  ///< SOFA's `cmd`, kept from line to line
+};
+
+class TopologicalChangeProcessorSource final : public TopologyChangeSource {
+public:
+    TopologicalChangeProcessorSource(const io::SceneComponent& component, DynamicTopology& target,
+                                     const TopologyRuntime& runtime);
+    void begin_step(double time) override;
+
+    // file mode
+    std::optional<TopologyChangeFile> file_;
+    double shift_ = 0;
+    bool loop_ = false;
+    // useDataInputs mode
+    bool data_inputs_ = false;
+    double time_to_remove_ = 0, interval_ = 0;
+    struct RemovalList {
+        ElementType type;
+        std::size_t line = 0;                          ///< the attribute's line (errors)
+        std::vector<ElementId> values;                 ///< given inline
+        std::function<std::vector<ElementId>()> source; ///< or computed when used (a linked ROI)
+    };
+    std::vector<RemovalList> lists_;  ///< hexahedra, tetrahedra, quads, triangles, edges, points
+
+private:
+    using Command = TopologyChangeFile::Command;
+    void remove_data_inputs(double time);
+    [[noreturn]] void fail(std::size_t line, const std::string& what) const;
+    template <std::size_t N>
+    static std::vector<std::array<PointId, N>> elements(const std::vector<ElementId>& flat) {
+        std::vector<std::array<PointId, N>> out(flat.size() / N);
+        for (std::size_t i = 0; i < out.size() * N; ++i) out[i / N][i % N] = flat[i];
+        return out;
+    }
+    const io::SceneComponent* component_;
+    DynamicTopology* target_;
+    const TopologyRuntime* runtime_;
+};
+
+}  // namespace penalty::scene
