@@ -14,6 +14,10 @@ using detail::for_each_node;
 void Simulation::step() {
     if (!initialized_) init();
     const double dt = root_.dt();
+    if (step_driver_ != nullptr) {
+        step_driver_->run_step(*this, dt);
+        return;
+    }
     detect_contacts();
     respond_to_contacts();
     solve(dt);

@@ -33,6 +33,18 @@ public:
     virtual void respond() = 0;
 };
 
+class Simulation;
+
+/// Beyond SOFA, opt-in: runs the stages of a step in place of step()'s fixed sequence (the
+/// tunnelling guard, tunnelling_guard.hpp: it may redo the solve in substeps). It calls the
+/// simulation's public stages; without a driver step() runs each stage once.
+class StepDriver {
+public:
+    virtual ~StepDriver() = default;
+    /// One step of `dt` (the root node's dt): the stages of Simulation::step, ending with end_step.
+    virtual void run_step(Simulation& simulation, double dt) = 0;
+};
+
 /// DefaultAnimationLoop (spec §2): owns the root node and runs the step, stage by stage
 /// (src/simulation/simulation_step.cpp).
 class Simulation {
@@ -69,15 +81,21 @@ public:
     /// Unregisters `stage` (nothing if it is not registered).
     void remove_contact_stage(const ContactStage& stage);
     [[nodiscard]] const std::vector<ContactStage*>& contact_stages() const { return contact_stages_; }
+    /// Sets the step's driver (nullptr: none, SOFA's step). Not owned; it unsets itself before
+    /// it dies.
+    void set_step_driver(StepDriver* driver) { step_driver_ = driver; }
+    [[nodiscard]] StepDriver* step_driver() const { return step_driver_; }
 
-private:
-    // ---- the stages of step() (simulation_step.cpp) -----------------------------------------
+    // ---- the stages of step() (simulation_step.cpp), public for a StepDriver -------------------
     void detect_contacts();
     void respond_to_contacts();
     void solve(double dt);
     void map_back();
     void end_step(double dt);
+
+private:
     std::vector<ContactStage*> contact_stages_;
+    StepDriver* step_driver_ = nullptr;
     /// One entry of a step's solve phase, in depth-first order: a solver node (integrates its
     /// subtree) or an explicit force field with its states.
     struct SolveAction {
