@@ -33,6 +33,8 @@ def _parser():
     run.add_argument("--stats", default=None)
     run.add_argument("--exhaustive", action="store_true")
     run.add_argument("--quiet", action="store_true")
+    run.add_argument("--no-tunnelling", default=None, choices=["off", "warn", "substep", "stiffen"],
+                     help="Tunnelling guard (docs/no-tunnelling.md); default: the scene's noTunnelling")
     run.add_argument("--divergence-factor", type=float, default=100.0,
                      help="Diverged when a step moves a DOF by more than F times the scene size (default 100; 0: off)")
     script = sub.add_parser("script", help="Run a SofaPython3 script as __main__ (its own main block), with "
@@ -60,6 +62,8 @@ def _parser():
     info = sub.add_parser("info", help="Build a scene and describe it")
     info.add_argument("scene")
     info.add_argument("--data-dir", action="append", default=[])
+    info.add_argument("--contact-advice", action="store_true", help="docs/no-tunnelling.md, \"Advice\"")
+    info.add_argument("--impact-speed", type=float, default=None)
     return p
 
 
@@ -105,10 +109,14 @@ def main(argv=None) -> int:
     try:
         if args.command == "info":
             scene = penalty.load_scene(args.scene, data_dirs=args.data_dir)
+            if args.contact_advice:
+                print(scene._scene._contact_advice_text(args.impact_speed), end="")
+                return 0
             print(scene.info()["text"], end="")
             return 0
         scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads,
-                                   exhaustive=args.exhaustive, overrides=args.overrides)
+                                   exhaustive=args.exhaustive, overrides=args.overrides,
+                                   no_tunnelling=args.no_tunnelling)
         print(f"penalty run: {args.scene}")
         info = scene.info()
         print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"

@@ -1,7 +1,12 @@
 #pragma once
 // Shared declarations of the pybind11 module penalty._core (one binding file per area).
+#include "penalty/scene/runner.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+
+#include <optional>
+#include <string>
 
 namespace penalty::python {
 
@@ -10,6 +15,18 @@ namespace py = pybind11;
 void bind_scene(py::module_& m);
 void bind_force_field(py::module_& m);
 void bind_collision(py::module_& m);
+
+// ---- the tunnelling guard (tunnelling_bindings.cpp) ----------------------------------------------
+/// The scene's guard mode name ("off" without a guard).
+std::string tunnelling_mode(const scene::Scene& s);
+/// Sets it (ValueError for an unknown name), keeping the other options.
+void set_tunnelling_mode(scene::Scene& s, const std::string& mode);
+/// The last step's report as a dict, None without a guard.
+py::object tunnelling_report(const scene::Scene& s);
+/// A run's guard totals as a dict, None without a guard.
+py::object tunnelling_summary(const scene::RunSummary& s);
+/// `penalty info --contact-advice` as a list of dicts, one per model pair.
+py::list contact_advice_list(const scene::Scene& s, std::optional<double> impact_speed);
 
 /// A (rows, cols) float64 array viewing `data` (no copy); `owner` keeps the memory alive.
 /// Strides in bytes: row_stride between rows, 8 between columns.

@@ -6,6 +6,7 @@
 #include "penalty/io/overrides.hpp"
 #include "penalty/io/scene_file.hpp"
 #include "penalty/output/stats_csv.hpp"
+#include "penalty/scene/contact_advice.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
 
@@ -332,6 +333,7 @@ py::dict summary_dict(const scene::RunSummary& s) {
     d["contact_energy"] = s.contact_energy;
     d["dissipated_energy"] = s.dissipated_energy;
     d["state_files"] = s.state_files;
+    d["tunnelling"] = tunnelling_summary(s);
     d["text"] = scene::format_summary(s);
     return d;
 }
@@ -396,6 +398,15 @@ void bind_scene(py::module_& m) {
              "kinetic, contact (stored), dissipated_damping, dissipated_friction, dissipated (J)")
         .def("info", [](const PyScene& s) { return info_dict(*s.scene); }, "What `penalty info` prints, as data")
         .def("warnings", [](const PyScene& s) { return s.scene->warnings(); })
+        .def_property("no_tunnelling", [](const PyScene& s) { return tunnelling_mode(*s.scene); },
+                      [](PyScene& s, const std::string& mode) { set_tunnelling_mode(*s.scene, mode); },
+                      "tunnelling guard: off, warn, substep or stiffen (docs/no-tunnelling.md)")
+        .def("tunnelling", [](const PyScene& s) { return tunnelling_report(*s.scene); },
+             "The guard's report of the last step (dict), None without a guard")
+        .def("contact_advice", [](const PyScene& s, std::optional<double> v) { return contact_advice_list(*s.scene, v); },
+             py::arg("impact_speed") = py::none(), "`penalty info --contact-advice` per model pair (list of dicts)")
+        .def("_contact_advice_text", [](const PyScene& s, std::optional<double> v) { return scene::contact_advice(*s.scene, v); },
+             py::arg("impact_speed") = py::none())
         .def_property_readonly("last_timings", [](const PyScene& s) {
             const auto& t = s.scene->last_timings();
             py::dict d;

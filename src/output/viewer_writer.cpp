@@ -141,7 +141,8 @@ ViewerWriter::~ViewerWriter() {
     }
 }
 
-void ViewerWriter::write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy) {
+void ViewerWriter::write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy,
+                               std::span<const Vec3> crossings) {
     // Positions: check every value first, so that nothing of a diverged frame is written.
     buffer_.clear();
     buffer_.reserve(frame_floats_);
@@ -205,8 +206,17 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
         throw NonFiniteValueError("viewer: contact energy not finite at t = " + format_number(time) +
                                   " s: the simulation diverged");
 
+    std::vector<float> markers;
+    for (const Vec3& x : crossings)
+        if (x.allFinite()) markers.insert(markers.end(), {float(x.x()), float(x.y()), float(x.z())});
+    stats.crossings = markers.size() / 3;
+
     write_floats(positions_, buffer_, directory_ / "positions.f32");
     write_floats(contacts_, segments, directory_ / "contacts.f32");
+    if (!markers.empty()) {
+        if (!crossings_.is_open()) crossings_ = open_binary(directory_ / "crossings.f32");
+        write_floats(crossings_, markers, directory_ / "crossings.f32");
+    }
     max_normal_force_ = max_force;
     frames_.push_back(stats);
 }
@@ -297,6 +307,7 @@ void ViewerWriter::finish() {
     column("contact_energy", &FrameStats::contact_energy);
     column("kinetic_energy", &FrameStats::kinetic_energy);
     column("dissipated_energy", &FrameStats::dissipated_energy);
+    if (crossings_.is_open()) column("crossings", &FrameStats::crossings);
     j += "}}\n";
     // Written beside, then renamed: a server reading run.json never sees half a file.
     const std::filesystem::path temporary = directory_ / "run.json.tmp";

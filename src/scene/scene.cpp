@@ -16,6 +16,7 @@ Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
 Scene::~Scene() {
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
+    guard_.reset();      // it holds the pipelines
     pipelines_.clear();  // they remove what they added to the graph
 }
 
@@ -26,11 +27,18 @@ void Scene::step() {
     const auto t0 = std::chrono::steady_clock::now();
     simulation_->step();
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (const ScenePipeline& p : pipelines_) {
-        timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
-        timings_.response_seconds += p.pipeline->last_timings().response_seconds;
+    if (const TunnellingReport* r = tunnelling_report()) {  // several detections when the step was split
+        timings_.detection_seconds = r->detection_seconds;
+        timings_.response_seconds = r->response_seconds;
+        timings_.guard_seconds = r->guard_seconds;
+    } else {
+        for (const ScenePipeline& p : pipelines_) {
+            timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
+            timings_.response_seconds += p.pipeline->last_timings().response_seconds;
+        }
     }
-    timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
+    timings_.solve_seconds =
+        std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds - timings_.guard_seconds);
     solver_stats_ = StepSolverStats{};
     for (const EulerImplicitSolver* s : implicit_solvers_) {
         solver_stats_.cg_iterations += s->last_step_cg_iterations();
@@ -42,6 +50,25 @@ void Scene::step() {
     }
     refresh_contacts();
 }
+
+void Scene::set_tunnelling(const TunnellingOptions& options) {
+    options.validate();
+    if (options.mode == TunnellingMode::off) {
+        guard_.reset();
+        return;
+    }
+    if (guard_) {
+        guard_->set_options(options);
+        return;
+    }
+    std::vector<ContactPipeline*> pipelines;
+    for (const ScenePipeline& p : pipelines_) pipelines.push_back(p.pipeline.get());
+    guard_ = std::make_unique<TunnellingGuard>(*simulation_, std::move(pipelines), options);
+}
+
+TunnellingOptions Scene::tunnelling_options() const { return guard_ ? guard_->options() : TunnellingOptions{}; }
+
+const TunnellingReport* Scene::tunnelling_report() const { return guard_ ? &guard_->last_report() : nullptr; }
 
 std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
     std::vector<std::pair<std::string, const EulerImplicitSolver*>> out;

@@ -11,6 +11,8 @@
 ///   contacts.f32    per frame, per contact 10 floats: point1 (3, m), point2 (3, m),
 ///                   normal (3, unit, side 1 → 2), normal force f·n (1, N, > 0 pushes apart)
 ///   topology.u32    the shapes' element indices (uint32), once
+///   crossings.f32   with the tunnelling guard, per frame, per crossing 3 floats: where the
+///                   features met (m); made at the first frame with one (docs/no-tunnelling.md)
 ///   run.json        the manifest: states, shapes, per-frame time, contact count and energies
 /// run.json is written by finish() (and by the destructor when finish() was not called, e.g.
 /// when the run stopped on divergence), so the frames written so far stay viewable.
@@ -72,7 +74,11 @@ public:
     /// or contact and the time, and nothing of the frame is written. A non-finite kinetic energy
     /// (finite but huge velocities, the step before the runner reports divergence) is written as
     /// null in run.json.
-    void write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy);
+    /// `crossings`: the tunnelling guard's crossings of the step that ended at `time` (where the
+    /// features met), drawn as markers; run.json's frames gain a `crossings` count column once
+    /// a frame has one.
+    void write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy,
+                     std::span<const Vec3> crossings = {});
 
     /// Writes run.json (may be called again after more frames).
     void finish();
@@ -94,6 +100,7 @@ private:
         double contact_energy = 0.0;
         double kinetic_energy = 0.0;
         double dissipated_energy = 0.0;
+        std::size_t crossings = 0;
     };
     std::filesystem::path directory_;
     std::vector<const StateRecord*> states_;
@@ -105,6 +112,7 @@ private:
     double max_normal_force_ = 0.0;
     std::ofstream positions_;
     std::ofstream contacts_;
+    std::ofstream crossings_;  ///< opened at the first frame with a crossing
     std::vector<float> buffer_;
     bool finished_ = false;
 };

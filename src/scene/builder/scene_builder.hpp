@@ -236,6 +236,9 @@ private:
 
 /// The collision pipelines, once every node is built (src/scene/builder/collision.cpp).
 void build_collision_pipelines(SceneBuilder& builder);
+/// The tunnelling guard the pipelines' noTunnelling attributes (or BuildOptions::no_tunnelling)
+/// ask for, once the pipelines are built (src/scene/builder/tunnelling_guard.cpp).
+void build_tunnelling_guard(SceneBuilder& builder);
 
 // ---- helpers shared by the family files --------------------------------------------------------
 /// SOFA's default name of an unnamed component (see scene_builder.cpp).
