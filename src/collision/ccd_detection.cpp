@@ -169,6 +169,117 @@ void test_candidate(const ContinuousDetection::Task& task, const ContinuousDetec
 
 }  // namespace detail
 
+namespace {
+
+/// Calls f(s) for every slot s of `tree`'s order whose box overlaps `box`.
+template <class F>
+void query_tree(const Bvh& tree, const Aabb& box, const F& f) {
+    const std::vector<BvhNode>& nodes = tree.nodes();
+    const std::vector<Aabb>& ordered = tree.ordered_boxes();
+    std::uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const BvhNode& n = nodes[stack[--top]];
+        if (!n.box.overlaps(box)) continue;
+        if (n.leaf()) {
+            for (std::uint32_t s = n.first; s < n.first + n.count; ++s)
+                if (ordered[s].overlaps(box)) f(s);
+            continue;
+        }
+        const std::uint32_t left = std::uint32_t(&n - nodes.data()) + 1;
+        if (top + 2 > 64) {  // deeper than any tree of < 2^32 elements: cannot happen, but stay safe
+            for (std::uint32_t s = n.first; s < n.first + n.count; ++s)
+                if (ordered[s].overlaps(box)) f(s);
+            continue;
+        }
+        stack[top++] = n.right;
+        stack[top++] = left;
+    }
+}
+
+}  // namespace
+
+void ContinuousDetection::candidates(const Task& task, bool parallel, std::vector<std::uint64_t>& keys) const {
+    // keys (e1 << 32 | e2) of the features whose swept boxes overlap: the trees' dual traversal
+    // when both kinds have one, else every box of the list against the other's tree (or list)
+    const Surface& s1 = *surfaces_[task.first];
+    const Surface& s2 = *surfaces_[task.second];
+    const auto k1 = std::size_t(task.kind1), k2 = std::size_t(task.kind2);
+    const bool same = task.first == task.second && task.kind1 == task.kind2;
+    keys.clear();
+    if (s1.has_tree(task.kind1) && s2.has_tree(task.kind2)) {
+        keys = bvh_candidates(s1.trees[k1], s2.trees[k2], same, 0.0, parallel);
+        return;
+    }
+    const std::vector<Aabb>& b1 = s1.boxes[k1].boxes;
+    const std::vector<Aabb>& b2 = s2.boxes[k2].boxes;
+    const auto key = [](std::size_t e1, std::size_t e2) { return (std::uint64_t(e1) << 32) | std::uint64_t(e2); };
+    if (same) {  // one small list against itself: e1 > e2
+        for (std::size_t i = 0; i < b1.size(); ++i)
+            for (std::size_t j = 0; j < i; ++j)
+                if (b1[i].overlaps(b2[j])) keys.push_back(key(i, j));
+        return;
+    }
+    if (!s1.has_tree(task.kind1) && !s2.has_tree(task.kind2)) {
+        // two small lists: every pair of boxes, the first's pruned by the second's union
+        for (std::size_t i = 0; i < b1.size(); ++i) {
+            if (!b1[i].overlaps(s2.kind_box[k2])) continue;
+            for (std::size_t j = 0; j < b2.size(); ++j)
+                if (b1[i].overlaps(b2[j])) keys.push_back(key(i, j));
+        }
+        return;  // already ascending
+    }
+    if (s1.has_tree(task.kind1)) {  // the first has a tree, the second is a list
+        const Bvh& tree = s1.trees[k1];
+        for (std::size_t j = 0; j < b2.size(); ++j)
+            query_tree(tree, b2[j], [&](std::uint32_t slot) { keys.push_back(key(tree.order()[slot], j)); });
+    } else {  // the second has a tree, the first is a list
+        const Bvh& tree = s2.trees[k2];
+        for (std::size_t i = 0; i < b1.size(); ++i)
+            query_tree(tree, b1[i], [&](std::uint32_t slot) { keys.push_back(key(i, tree.order()[slot])); });
+    }
+    std::sort(keys.begin(), keys.end());
+}
+
+void ContinuousDetection::find_tasks() {
+    // surfaces whose swept boxes overlap: a sweep along x over their boxes, then the pairs' tests
+    tasks_.clear();
+    near_.clear();
+    sweep_.resize(surfaces_.size());
+    for (std::size_t i = 0; i < surfaces_.size(); ++i) sweep_[i] = i;
+    sweep_.erase(std::remove_if(sweep_.begin(), sweep_.end(), [&](std::size_t i) { return surfaces_[i]->swept_box.empty(); }),
+                 sweep_.end());
+    std::sort(sweep_.begin(), sweep_.end(), [&](std::size_t a, std::size_t b) {
+        const double xa = surfaces_[a]->swept_box.min.x(), xb = surfaces_[b]->swept_box.min.x();
+        return xa < xb || (xa == xb && a < b);
+    });
+    for (std::size_t u = 0; u < sweep_.size(); ++u) {
+        const std::size_t a = sweep_[u];
+        const Aabb& ba = surfaces_[a]->swept_box;
+        near_.push_back((std::uint64_t(a) << 32) | a);  // itself (self-collision, if kept)
+        for (std::size_t w = u + 1; w < sweep_.size() && surfaces_[sweep_[w]]->swept_box.min.x() <= ba.max.x(); ++w) {
+            const std::size_t b = sweep_[w];
+            if (!ba.overlaps(surfaces_[b]->swept_box)) continue;
+            near_.push_back((std::uint64_t(std::min(a, b)) << 32) | std::max(a, b));
+        }
+    }
+    std::sort(near_.begin(), near_.end());
+    for (std::uint64_t key : near_) {
+        const auto it = std::lower_bound(pair_tests_.begin(), pair_tests_.end(), std::pair<std::uint64_t, std::uint32_t>{key, 0u});
+        if (it == pair_tests_.end() || it->first != key) continue;
+        const std::size_t a = std::size_t(key >> 32), b = std::size_t(key & 0xffffffffu);
+        ++stats_.surface_pairs;
+        tasks_of(a, b, it->second, [&](std::size_t first, std::size_t second, int k1, int k2, CrossingKind kind) {
+            const Surface& s1 = *surfaces_[first];
+            const Surface& s2 = *surfaces_[second];
+            if (s1.feature_count(k1) == 0 || s2.feature_count(k2) == 0) return;
+            if (!s1.kind_box[std::size_t(k1)].overlaps(s2.kind_box[std::size_t(k2)])) return;
+            tasks_.push_back(Task{first, second, k1, k2, kind});
+        });
+    }
+}
+
 const std::vector<Crossing>& ContinuousDetection::detect(const CcdOptions& options) {
     if (!started_) throw std::logic_error("ContinuousDetection::detect: no start recorded (record_start)");
     for (const auto& s : surfaces_)
@@ -179,20 +290,9 @@ const std::vector<Crossing>& ContinuousDetection::detect(const CcdOptions& optio
     stats_.surfaces = surfaces_.size();
     tbb::parallel_for(std::size_t(0), surfaces_.size(), [&](std::size_t i) { surfaces_[i]->update_trees(); });
 
-    // surface pairs whose swept boxes overlap: the listed pairs, tested in their (sorted) order
-    tasks_.clear();
-    for (const auto& [key, bits] : pair_tests_) {
-        const std::size_t a = std::size_t(key >> 32), b = std::size_t(key & 0xffffffffu);
-        const Surface& sa = *surfaces_[a];
-        const Surface& sb = *surfaces_[b];
-        if (sa.swept_box.empty() || sb.swept_box.empty() || !sa.swept_box.overlaps(sb.swept_box)) continue;
-        ++stats_.surface_pairs;
-        tasks_of(a, b, bits, [&](std::size_t first, std::size_t second, int k1, int k2, CrossingKind kind) {
-            if (surfaces_[first]->feature_count(k1) == 0 || surfaces_[second]->feature_count(k2) == 0) return;
-            tasks_.push_back(Task{first, second, k1, k2, kind});
-        });
-    }
+    find_tasks();
     task_crossings_.resize(std::max(task_crossings_.size(), tasks_.size()));
+    task_keys_.resize(std::max(task_keys_.size(), tasks_.size()));
     task_candidates_.assign(tasks_.size(), 0);
     std::vector<std::size_t> capped(tasks_.size(), 0);
     const bool inner_parallel = tasks_.size() < 4;
@@ -202,9 +302,8 @@ const std::vector<Crossing>& ContinuousDetection::detect(const CcdOptions& optio
         const Surface& s2 = *surfaces_[task.second];
         std::vector<Crossing>& out = task_crossings_[k];
         out.clear();
-        const bool same_tree = task.first == task.second && task.kind1 == task.kind2;
-        const std::vector<std::uint64_t> keys = bvh_candidates(s1.trees[std::size_t(task.kind1)], s2.trees[std::size_t(task.kind2)],
-                                                               same_tree, 0.0, inner_parallel);
+        std::vector<std::uint64_t>& keys = task_keys_[k];
+        candidates(task, inner_parallel, keys);
         task_candidates_[k] = keys.size();
         for (std::uint64_t key : keys)
             test_candidate(task, s1, s2, std::uint32_t(key >> 32), std::uint32_t(key), options, out, capped[k]);

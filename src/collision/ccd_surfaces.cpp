@@ -117,13 +117,19 @@ void ContinuousDetection::Surface::update_trees() {
     for (std::size_t i = 0; i < sphere_dof.size(); ++i) boxes[kSphereFeature].boxes[i] = box_of({sphere_dof[i]}, sphere_radius[i]);
     swept_box = Aabb{};
     for (int k = 0; k < kFeatureKinds; ++k) {
-        if (boxes[std::size_t(k)].boxes.empty()) continue;
-        // a feature of a surface is never a tree's whole cost: small leaves
-        if (!trees_built) trees[std::size_t(k)].build(boxes[std::size_t(k)], 4);
-        else trees[std::size_t(k)].refit(boxes[std::size_t(k)], 2.0, 4);
-        swept_box.extend(trees[std::size_t(k)].root_box());
+        const auto kk = std::size_t(k);
+        kind_box[kk] = Aabb{};
+        if (boxes[kk].boxes.empty()) continue;
+        if (has_tree(k)) {
+            if (!tree_built[kk]) trees[kk].build(boxes[kk], 4);
+            else trees[kk].refit(boxes[kk], 2.0, 4);
+            tree_built[kk] = true;
+            kind_box[kk] = trees[kk].root_box();
+        } else {
+            for (const Aabb& b : boxes[kk].boxes) kind_box[kk].extend(b);
+        }
+        swept_box.extend(kind_box[kk]);
     }
-    trees_built = true;
 }
 
 ContinuousDetection::ContinuousDetection() = default;

@@ -67,11 +67,17 @@ struct ContinuousDetection::Surface {
     bool start_live = true;
     std::size_t recorded_size = 0;  ///< the state's size at record_start
 
-    // swept-box trees per feature kind, and the union of their roots
+    // swept boxes per feature kind, a tree over those of more than kTreeMin features, the
+    // union of a kind's boxes and of all
     std::array<detail::SweptBoxes, detail::kFeatureKinds> boxes;
     std::array<Bvh, detail::kFeatureKinds> trees;
+    std::array<Aabb, detail::kFeatureKinds> kind_box;
     Aabb swept_box;
-    bool trees_built = false;
+    std::array<bool, detail::kFeatureKinds> tree_built{};
+    /// Features of one kind below which a plain list of boxes is tested (a tree's building and
+    /// traversal cost more than the few box tests of a small body).
+    static constexpr std::size_t kTreeMin = 32;
+    [[nodiscard]] bool has_tree(int kind) const { return feature_count(kind) > kTreeMin; }
 
     [[nodiscard]] std::size_t state_size() const { return vec3 ? vec3->size() : rigid->size(); }
     [[nodiscard]] Vec3 now(Index dof) const {

@@ -19,14 +19,16 @@ namespace {
 using test::named;
 
 /// A 4 × 4-cell sheet in the plane z = 0, [0, 4]², two triangles a cell.
-std::unique_ptr<test::Mesh> ccd_sheet(double z = 0.0) {
+/// A flat square sheet [0, 4]² at height z of n × n cells, two triangles each.
+std::unique_ptr<test::Mesh> ccd_sheet(double z = 0.0, int n = 4) {
     std::vector<Vec3> p;
-    for (int j = 0; j <= 4; ++j)
-        for (int i = 0; i <= 4; ++i) p.emplace_back(i, j, z);
+    const double h = 4.0 / n;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) p.emplace_back(h * i, h * j, z);
     std::vector<Triangle> t;
-    for (int j = 0; j < 4; ++j)
-        for (int i = 0; i < 4; ++i) {
-            const PointId a = PointId(i + 5 * j), b = a + 1, c = a + 5, d = a + 6;
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const PointId a = PointId(i + (n + 1) * j), b = a + 1, c = a + PointId(n + 1), d = c + 1;
             t.push_back({a, b, d});
             t.push_back({a, d, c});
         }
@@ -164,40 +166,57 @@ TEST(CcdDetection, SelfCollisionSkipsNeighboursAndNeedsTheSwitch) {
     }
 }
 
-TEST(CcdDetection, TheTreesFindWhatTheLoopOverEveryFeaturePairFinds) {
-    // 200 points moving at random through a jittered sheet that moves too: the crossings equal
-    // those of point_triangle_ccd over every (point, triangle)
+/// Points moving at random through a jittered sheet that moves too: the crossings found and the
+/// crossings of point_triangle_ccd over every (point, triangle), and the candidates tested.
+struct CloudThroughSheet {
+    std::set<std::pair<Index, Index>> found, expected;
+    std::size_t candidates = 0, all_pairs = 0;
+};
+
+CloudThroughSheet cloud_through_sheet(int cells, int points) {
     std::mt19937 g(7);
-    auto sheet = ccd_sheet();
+    auto sheet = ccd_sheet(0.0, cells);
     for (Vec3& x : sheet->state.position) x.z() += 0.2 * test::rand_vec(g, 1.0).z();
     TriangleModel tri(sheet->state, sheet->topo, named("sheet"));
     std::uniform_real_distribution<double> u(0.0, 4.0);
     std::vector<Vec3> start;
-    for (int i = 0; i < 200; ++i) start.emplace_back(u(g), u(g), 0.5 * test::rand_vec(g, 1.0).z());
+    for (int i = 0; i < points; ++i) start.emplace_back(u(g), u(g), 0.5 * test::rand_vec(g, 1.0).z());
     Vec3State cloud = test::make_state(start);
-    PointModel points(cloud, nullptr, named("cloud"));
-    const ModelPair pair{&tri, &points};
+    PointModel cloud_model(cloud, nullptr, named("cloud"));
+    const ModelPair pair{&tri, &cloud_model};
     ContinuousDetection ccd;
     ccd.set_pairs({&pair, 1});
     const std::vector<Vec3> sheet_start = sheet->state.position;
     ccd.record_start();
     for (Vec3& x : cloud.position) x += test::rand_vec(g, 0.6);
     for (Vec3& x : sheet->state.position) x += test::rand_vec(g, 0.05);
-    std::set<std::pair<Index, Index>> found;
-    for (const Crossing& c : ccd.detect()) found.insert({c.dofs1[0], c.element2});
-    std::set<std::pair<Index, Index>> expected;
+    CloudThroughSheet r;
+    for (const Crossing& c : ccd.detect()) r.found.insert({c.dofs1[0], c.element2});
     for (std::size_t i = 0; i < start.size(); ++i)
         for (std::size_t t = 0; t < tri.size(); ++t) {
             const Triangle& k = tri.triangle(Index(t));
             const auto s0 = [&](int j) { return sheet_start[std::size_t(k[std::size_t(j)])]; };
             const auto s1 = [&](int j) { return sheet->state.position[std::size_t(k[std::size_t(j)])]; };
             if (point_triangle_ccd(start[i], s0(0), s0(1), s0(2), cloud.position[i], s1(0), s1(1), s1(2)).hit)
-                expected.insert({Index(i), Index(t)});
+                r.expected.insert({Index(i), Index(t)});
         }
-    EXPECT_EQ(found, expected);
-    EXPECT_GT(expected.size(), 20u);  // the motion is a test: many points cross
-    EXPECT_GT(ccd.stats().candidates, expected.size());
-    EXPECT_LT(ccd.stats().candidates, start.size() * tri.size() / 4);  // and the trees prune
+    r.candidates = ccd.stats().candidates;
+    r.all_pairs = start.size() * tri.size();
+    return r;
+}
+
+TEST(CcdDetection, TheTreesFindWhatTheLoopOverEveryFeaturePairFinds) {
+    // a surface's kind of more than 32 features has a tree, fewer a list of boxes: the four
+    // combinations (sheet of 32 or 128 triangles, 12 or 200 points) find the exhaustive loop's pairs
+    for (const int cells : {4, 8})
+        for (const int points : {12, 200}) {
+            SCOPED_TRACE("cells " + std::to_string(cells) + ", points " + std::to_string(points));
+            const CloudThroughSheet r = cloud_through_sheet(cells, points);
+            EXPECT_EQ(r.found, r.expected);
+            EXPECT_GT(r.expected.size(), std::size_t(points) / 10);  // the motion is a test: many points cross
+            EXPECT_GE(r.candidates, r.expected.size());
+            EXPECT_LT(r.candidates, r.all_pairs / 4);  // and the boxes prune
+        }
 }
 
 TEST(CcdDetection, DetectNeedsAStart) {

@@ -126,6 +126,11 @@ public:
 
 private:
     void build_surfaces();
+    /// The (surface pair, kind) tasks of this detection: surfaces paired by a sweep over their
+    /// swept boxes, the tests of each listed pair whose kinds' boxes overlap.
+    void find_tasks();
+    /// A task's candidate feature pairs (e1 << 32 | e2), ascending.
+    void candidates(const Task& task, bool parallel, std::vector<std::uint64_t>& keys) const;
     std::vector<ModelPair> pairs_;
     std::vector<char> pair_edge_edge_;  ///< per pair: edge–edge tested
     std::vector<std::unique_ptr<Surface>> surfaces_;
@@ -135,6 +140,9 @@ private:
     std::vector<Task> tasks_;
     std::vector<std::vector<Crossing>> task_crossings_;  ///< per task of the last detect()
     std::vector<std::size_t> task_candidates_;
+    std::vector<std::vector<std::uint64_t>> task_keys_;  ///< per task: its candidates (capacity kept)
+    std::vector<std::size_t> sweep_;                     ///< find_tasks' scratch
+    std::vector<std::uint64_t> near_;
     std::vector<Crossing> crossings_;
     ContinuousDetectionStats stats_;
     bool started_ = false;
