@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 namespace penalty {
 
@@ -34,7 +35,13 @@ struct TunnellingGuard::Snapshot {
     std::vector<StateCopy> states;
     std::size_t state_count = 0;
     std::vector<PenaltyForceField*> fields;
+    /// A field with damping or friction, or of a pipeline whose Newton iterates rebuild contacts:
+    /// a whole copy (its contacts' history, its dissipated energy or its contact list change during
+    /// a solve). Otherwise a solve changes only pen and the normal force,
+    /// which the next add_force computes again, and the guard only ks and dist: those are kept.
+    std::vector<char> whole;
     std::vector<PenaltyForceField> field_copies;
+    std::vector<std::vector<std::pair<double, double>>> laws;  ///< per field: (ks, dist) per contact
     std::uint64_t structure_version = 0;
 };
 
@@ -325,13 +332,28 @@ void TunnellingGuard::take_snapshot(Snapshot& s) {
         }
     });
     s.fields.clear();
+    s.whole.clear();
     std::size_t k = 0;
     for (ContactPipeline* p : pipelines_)
         for (const ContactGraphEntry& e : p->graph_entries()) {
             if (e.force_field == nullptr) continue;
+            const PenaltyForceField& f = e.force_field->field();
+            const PenaltyParameters& q = f.parameters();
+            const bool whole = q.damping != 0.0 || q.friction != FrictionModel::ignored || q.tangential_damping != 0.0 ||
+                               p->keeps_step_start();  // Newton iterates rebuild the contact list
             s.fields.push_back(&e.force_field->field());
+            s.whole.push_back(whole ? 1 : 0);
             if (s.field_copies.size() <= k) s.field_copies.emplace_back();
-            s.field_copies[k++] = e.force_field->field();
+            if (s.laws.size() <= k) s.laws.emplace_back();
+            if (whole) {
+                s.field_copies[k] = f;
+            } else {
+                auto& laws = s.laws[k];
+                laws.resize(f.size());
+                const std::span<const PenaltyContact> c = f.contacts();
+                for (std::size_t i = 0; i < c.size(); ++i) laws[i] = {c[i].ks, c[i].dist};
+            }
+            ++k;
         }
     s.structure_version = simulation_->root().structure_version();
 }
@@ -350,7 +372,19 @@ void TunnellingGuard::restore_snapshot(const Snapshot& s) {
             std::copy(c.fr.begin(), c.fr.end(), r->external_force.begin());
         }
     }
-    for (std::size_t k = 0; k < s.fields.size(); ++k) *s.fields[k] = s.field_copies[k];
+    for (std::size_t k = 0; k < s.fields.size(); ++k) {
+        if (s.whole[k]) {
+            *s.fields[k] = s.field_copies[k];
+            continue;
+        }
+        PenaltyForceField& f = *s.fields[k];
+        const std::span<const PenaltyContact> c = f.contacts();
+        if (c.size() != s.laws[k].size())
+            throw std::logic_error("TunnellingGuard: a contact field changed its contact list within a solve");
+        for (std::size_t i = 0; i < c.size(); ++i)
+            if (c[i].ks != s.laws[k][i].first || c[i].dist != s.laws[k][i].second)
+                f.set_normal_law(i, s.laws[k][i].first, s.laws[k][i].second);
+    }
 }
 
 void TunnellingGuard::restore_applied_forces(const Snapshot& start) {
