@@ -5,7 +5,7 @@
 // Each test goes through intersect_elements, the call CollisionPipeline's narrow phase makes for
 // every candidate element pair in `penalty run` (whole-scene detection: bench_detection.cpp);
 // BM_CandidateFilter times the candidate filters that run before some kernels.
-#include "penalty/collision/candidate_filters.hpp"
+#include "kernels/collision/candidate_filters.hpp"
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/models.hpp"
 #include "penalty/geometry/point_triangle.hpp"

@@ -1,10 +1,13 @@
 # penalty_add_layer(<name> FOLDER <folder> DEPENDS <targets...>)
-# One library per pipeline stage, from include/penalty/<folder>/*.hpp and src/<folder>/*.cpp.
+# One library per pipeline stage, from include/penalty/<folder>/*.hpp and src/<folder>/*.cpp, with
+# the stage's vector kernels of src/kernels/<folder>/*.cpp (the one place of the intrinsics, lane
+# layouts and prefetches: src/kernels/).
 # A layer without .cpp files is an INTERFACE (header-only) target. Sources are globbed with
 # CONFIGURE_DEPENDS so that adding a file needs no CMake edit.
 function(penalty_add_layer name)
   cmake_parse_arguments(L "" "FOLDER" "DEPENDS" ${ARGN})
-  file(GLOB_RECURSE _srcs CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/src/${L_FOLDER}/*.cpp")
+  file(GLOB_RECURSE _srcs CONFIGURE_DEPENDS "${PROJECT_SOURCE_DIR}/src/${L_FOLDER}/*.cpp"
+       "${PROJECT_SOURCE_DIR}/src/kernels/${L_FOLDER}/*.cpp")
   set(_target penalty_${name})
   if(_srcs)
     add_library(${_target} STATIC ${_srcs})

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (preset `fuzz`: clang++, ASan + UBSan) and runs each one, one a core.
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET ...]     (default: 40 s each, every target)
-# Targets: scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk.
+# Targets: scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk http_request.
 # Corpora grow in build/fuzz-corpus/<target> (kept between runs, so a long run by hand resumes
 # where the last one stopped); seeds come from scenes/, tests/ and fuzz/seeds/. A crash, leak,
 # sanitizer report or time-out leaves its input in build/fuzz-artifacts/<target>/ and makes this
@@ -12,11 +12,11 @@ cd "$(dirname "$0")/.."
 seconds="${1:-40}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk)
+[ ${#targets[@]} -gt 0 ] || targets=(scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk http_request)
 
 command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (scripts/install-deps.sh installs it)"; exit 1; }
 cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz
+cmake --build --preset fuzz --target "${targets[@]/#/penalty_fuzz_}"  # only the targets asked for
 
 root="$PWD"
 seeds_of() {
@@ -26,6 +26,7 @@ seeds_of() {
     mesh_gmsh) ls "$root"/scenes/mesh/*.msh "$root"/tests/io/data/mesh/*.msh "$root"/fuzz/seeds/gmsh/* ;;
     mesh_sph) ls "$root"/scenes/mesh/*.sph "$root"/tests/io/data/mesh/*.sph "$root"/fuzz/seeds/sph/* ;;
     mesh_vtk) ls "$root"/tests/io/data/mesh/*.vtk "$root"/fuzz/seeds/vtk/* ;;
+    http_request) ls "$root"/fuzz/seeds/http/* ;;
   esac
 }
 
@@ -41,7 +42,10 @@ run_target() {
   echo "=== fuzz $t: ${seconds} s, seed 1, corpus $(ls "$corpus" | wc -l) inputs + $(ls "$seed_dir" | wc -l) seeds" \
     > "$root/build/fuzz-$t.head"
   local dict=()
-  case "$t" in scene_*) dict=(-dict="$root/fuzz/scene.dict") ;; esac
+  case "$t" in
+    scene_*) dict=(-dict="$root/fuzz/scene.dict") ;;
+    http_request) dict=(-dict="$root/fuzz/http.dict") ;;
+  esac
   # Scene inputs resolve mesh names against scenes/ (the seeds' own meshes).
   local rc=0
   ( cd "$root/scenes" && "$root/build/fuzz/fuzz/penalty_fuzz_$t" -seed=1 -max_total_time="$seconds" \

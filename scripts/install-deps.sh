@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages that building and testing `penalty` needs (clang and its
 # runtime libraries build the libFuzzer targets, scripts/fuzz.sh; libbullet-dev the optional Bullet
-# comparison of penalty_bench_detection).
+# comparison of penalty_bench_detection; pip, setuptools, wheel and build for `pip install .` and
+# `python3 -m build --no-isolation`, offline: pyproject.toml).
 # Idempotent: packages already present are left alone. Runs as root or through sudo.
 set -euo pipefail
 
@@ -12,6 +13,7 @@ packages=(
   libbullet-dev
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
   python3-distributed python3-h5py python3-pandas
+  python3-pip python3-setuptools python3-wheel python3-build python3-venv
   clang libclang-rt-14-dev
 )
 

@@ -16,8 +16,13 @@ For each `*.scn` below the folder (default ../shared/sofa/examples, relative to 
 Data files are looked for in the scene's folder, then <folder>/.. (which holds mesh/) and <folder>
 (which holds Objects/, SOFA's included files: SOFA's data path holds both share/ and examples/).
 
+The table ends with the components SOFA's Python example scripts create (`addObject('Type', ...)` in
+the *.py files below each --py-examples folder; default ../sp3-src/examples and ../sofa-src/examples,
+relative to the repository root, where they exist) and what penalty's registry (`penalty info
+--components`) does with each: built, accepted and ignored, refused, or unknown.
+
 usage: scripts/sofa-examples.py [FOLDER] [--penalty EXE] [--out FILE.md] [--timeout S] [--jobs J]
-                                [--check] [--expected FILE] [--write-expected]
+                                [--check] [--expected FILE] [--write-expected] [--py-examples DIR]...
   --check            exit 1 naming every scene of the expected list (tests/sofa_examples_expected.txt)
                      that no longer runs; the table is written only with --out
   --write-expected   rewrite the expected list with the scenes that run now
@@ -193,6 +198,78 @@ def cell(text):
     return str(text).replace('|', '\\|').replace('\n', ' ')
 
 
+def registry(args):
+    """{type: (section, summary)} from `penalty info --components` (the component registry)."""
+    code, out, _, _ = run([args.penalty, 'info', '--components'], args.timeout)
+    types, section = {}, ''
+    for line in (out or '').splitlines() if code == 0 else []:
+        m = re.fullmatch(r'(\S.*):', line)
+        if m:
+            section = m.group(1)
+            continue
+        m = re.fullmatch(r'  ([A-Za-z_][A-Za-z0-9_]*): (.*)', line)
+        if m:
+            types[m.group(1)] = (section, m.group(2))
+    return types
+
+
+def python_example_components(folders):
+    """{type: set of scripts} for every `addObject('Type'` / `createObject('Type'` in the *.py files."""
+    uses = collections.defaultdict(set)
+    pattern = re.compile(r"""(?:addObject|createObject)\(\s*['"]([A-Za-z_][A-Za-z0-9_]*)['"]""")
+    for folder in folders:
+        for d, _, files in os.walk(folder):
+            for f in sorted(files):
+                if not f.endswith('.py'):
+                    continue
+                path = os.path.join(d, f)
+                try:
+                    with open(path, errors='replace') as fh:
+                        text = fh.read()
+                except OSError:
+                    continue
+                name = os.path.relpath(path, os.path.dirname(os.path.normpath(folder)))
+                for t in pattern.findall(text):
+                    uses[t].add(name)
+    return uses
+
+
+def python_section(args):
+    """The section on SOFA's Python example scripts: their component types and penalty's registry."""
+    folders = [os.path.normpath(f) for f in args.py_examples if os.path.isdir(f)]
+    uses = python_example_components(folders)
+    if not uses:
+        return []
+    known = registry(args)
+
+    def status(t):
+        if t not in known:
+            return 'no'
+        section, summary = known[t]
+        if 'ignored' in section:
+            return 'ignored (' + section.replace(' (ignored)', '') + ')'
+        if 'refused' in summary:
+            return 'refused (' + summary + ')'
+        return 'yes (' + section + ')'
+    scripts = collections.defaultdict(set)
+    for t, files in uses.items():
+        for f in files:
+            scripts[f].add(t)
+    usable = sum(1 for ts in scripts.values() if all(status(t) != 'no' and not status(t).startswith('refused') for t in ts))
+    n_known = sum(1 for t in uses if status(t) != 'no')
+    lines = ['', "## Components of SOFA's Python example scripts", '',
+             "The component types created by `addObject('Type', ...)` in the example scripts of " +
+             ', '.join(f'`{os.path.relpath(f, REPO)}`' for f in folders) + f' ({len(scripts)} scripts, {len(uses)} types), and what',
+             "penalty's component registry (`penalty info --components`) does with each: *yes* (built; the registry",
+             'section in parentheses), *ignored* (accepted, changes no number), *refused*, or *no* (unknown).',
+             f'penalty knows {n_known} of the {len(uses)} types; {usable} of the {len(scripts)} scripts create no',
+             'unknown or refused type (a script also needs SofaPython3 itself, which penalty does not run).', '',
+             '| component | scripts using it | penalty |', '| --- | ---: | --- |']
+    for t in sorted(uses, key=lambda t: (-len(uses[t]), t)):
+        lines.append(f'| `{cell(t)}` | {len(uses[t])} | {cell(status(t))} |')
+    return lines
+
+
 def write_table(args, rows, unknown, out):
     total = len(rows)
     builds = sum(r['builds'] for r in rows)
@@ -261,6 +338,7 @@ def write_table(args, rows, unknown, out):
                 blocker += ': ' + cell(r['reason'][:160])
         lines.append(f'| {cell(r["scene"])} | {"yes" if r["builds"] else "no"} | {"yes" if r["runs"] else "no"} | '
                      f'{sps} | {con} | {cell(r["sofa"])} | {blocker} |')
+    lines += python_section(args)
     os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
     with open(out, 'w') as f:
         f.write('\n'.join(lines) + '\n')
@@ -279,7 +357,13 @@ def main():
     p.add_argument('--expected', default=os.path.join(REPO, 'tests', 'sofa_examples_expected.txt'))
     p.add_argument('--check', action='store_true', help='fail when a scene of the expected list does not run')
     p.add_argument('--write-expected', action='store_true', help='rewrite the expected list with the scenes that run')
+    p.add_argument('--py-examples', action='append', default=None,
+                   help="folders of SOFA's Python example scripts (default ../sp3-src/examples and "
+                        "../sofa-src/examples where they exist)")
     args = p.parse_args()
+    if args.py_examples is None:
+        args.py_examples = [os.path.join(REPO, '..', 'sp3-src', 'examples'),
+                            os.path.join(REPO, '..', 'sofa-src', 'examples')]
     args.folder = os.path.normpath(args.folder)
     if not os.path.isdir(args.folder):
         print(f'sofa-examples: no folder {args.folder}', file=sys.stderr)

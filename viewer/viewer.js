@@ -5,7 +5,9 @@ import { OrbitControls } from './OrbitControls.js';
 
 const $ = (id) => document.getElementById(id);
 const BACKGROUND = 0x1e2228;
-const PALETTE = [0x4fa3ff, 0xf2a541, 0x6cc551, 0xe0607e, 0xb38cf0, 0x3fc1c9, 0xd9d262, 0xf07f4f, 0x9aa5b8, 0x8fd694];
+// Body colours: muted (CIELAB chroma about 28, lightness 60–72), ten hues around the circle, so
+// that the vivid contact colours below stand out on every one of them (docs/viewer.md, "Colours").
+const PALETTE = [0x5d9dc4, 0xd2a180, 0x84aa7f, 0xc58397, 0x9f95c6, 0x5eb4ae, 0xbfb07d, 0xcc8a83, 0xb082aa, 0x77b89d];
 
 // ---------------------------------------------------------------------------------------------
 // Data
@@ -43,10 +45,12 @@ async function loadRun() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Colour map of the normal force: 0 → blue, ½ → green-yellow, 1 → red (a short "turbo"-like ramp,
-// bright at both ends so that weak contacts stay visible on the dark background).
+// Colour map of the normal force: 0 → green, ⅓ → yellow, ⅔ → orange, 1 → magenta. Every colour of
+// it is saturated and bright (CIELAB chroma ≥ 77): at least ΔE 49 from every body colour of the
+// palette under any lighting (0.35× to 1.4× brightness) and from the background; the browser test
+// checks both, and the pixels of drawn contacts against the bodies under them.
 
-const RAMP = [[0.27, 0.51, 0.99], [0.1, 0.9, 0.69], [0.64, 0.99, 0.24], [0.98, 0.73, 0.21], [0.92, 0.2, 0.08]];
+const RAMP = [[0.1, 1.0, 0.3], [1.0, 1.0, 0.0], [1.0, 0.45, 0.0], [1.0, 0.0, 0.8]];
 function forceColor(u, out) {
   const x = Math.min(Math.max(u, 0), 1) * (RAMP.length - 1);
   const i = Math.min(Math.floor(x), RAMP.length - 2);
@@ -55,19 +59,42 @@ function forceColor(u, out) {
   return out;
 }
 
+/// forceColor in linear light, for vertex colours: three.js renders in linear light and converts to
+/// sRGB on output (as it does for every material colour), so the drawn contact has the sRGB colour
+/// of the map and of the colour bar. A table of 256 entries.
+const FORCE_COLOR_LINEAR = (() => {
+  const table = new Float32Array(256 * 3);
+  const rgb = [0, 0, 0];
+  const toLinear = (c) => (c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4);
+  for (let j = 0; j < 256; j++) {
+    forceColor(j / 255, rgb);
+    for (let k = 0; k < 3; k++) table[3 * j + k] = toLinear(rgb[k]);
+  }
+  return table;
+})();
+
 /// A white disc on transparent black: points are drawn as round dots (alphaTest cuts the corners).
-let discTexture = null;
-function disc() {
-  if (discTexture) return discTexture;
+/// With `ring`, the disc has a dark rim (the vertex colour tints the white centre only), which
+/// separates a contact dot from a light surface as its colour does from a dark one.
+const discTextures = new Map();
+function disc(ring = false) {
+  if (discTextures.has(ring)) return discTextures.get(ring);
   const c = document.createElement('canvas');
   c.width = c.height = 64;
   const g = c.getContext('2d');
-  g.fillStyle = '#fff';
+  g.fillStyle = ring ? '#101010' : '#fff';
   g.beginPath();
   g.arc(32, 32, 30, 0, 2 * Math.PI);
   g.fill();
-  discTexture = new THREE.CanvasTexture(c);
-  return discTexture;
+  if (ring) {
+    g.fillStyle = '#fff';
+    g.beginPath();
+    g.arc(32, 32, 19, 0, 2 * Math.PI);
+    g.fill();
+  }
+  const texture = new THREE.CanvasTexture(c);
+  discTextures.set(ring, texture);
+  return texture;
 }
 
 function formatNumber(x) {
@@ -189,8 +216,8 @@ class ContactView {
     this.segments = new THREE.LineSegments(make(2 * this.capacity),
                                            new THREE.LineBasicMaterial({ vertexColors: true, depthTest: false }));
     this.ends = new THREE.Points(this.segments.geometry,
-                                 new THREE.PointsMaterial({ vertexColors: true, size: 5, sizeAttenuation: false,
-                                                            depthTest: false, map: disc(), alphaTest: 0.5 }));
+                                 new THREE.PointsMaterial({ vertexColors: true, size: 8, sizeAttenuation: false,
+                                                            depthTest: false, map: disc(true), alphaTest: 0.5 }));
     this.normals = new THREE.LineSegments(make(2 * this.capacity),
                                           new THREE.LineBasicMaterial({ color: 0xffffff, depthTest: false }));
     this.normals.visible = false;
@@ -205,12 +232,11 @@ class ContactView {
     const pos = this.segments.geometry.attributes.position.array;
     const col = this.segments.geometry.attributes.color.array;
     const npos = this.normals.geometry.attributes.position.array;
-    const rgb = [0, 0, 0];
     for (let c = 0; c < count; c++) {
       const i = begin + 10 * c;
       for (let k = 0; k < 6; k++) pos[6 * c + k] = contacts[i + k];
-      forceColor(Math.abs(contacts[i + 9]) / this.maxForce, rgb);
-      for (let k = 0; k < 6; k++) col[6 * c + k] = rgb[k % 3];
+      const entry = 3 * Math.round(255 * Math.min(Math.abs(contacts[i + 9]) / this.maxForce, 1));
+      for (let k = 0; k < 6; k++) col[6 * c + k] = FORCE_COLOR_LINEAR[entry + (k % 3)];
       for (let k = 0; k < 3; k++) {
         npos[6 * c + k] = contacts[i + k];
         npos[6 * c + 3 + k] = contacts[i + k] + this.normalLength * contacts[i + 6 + k];
@@ -244,7 +270,6 @@ class Plot {
     this.canvas.width = w;
     this.canvas.height = h;
     this.ratio = ratio;
-    this.area = { left: 48 * ratio, right: w - 8 * ratio, top: 20 * ratio, bottom: h - 18 * ratio };
     let lo = Infinity, hi = -Infinity;
     for (const s of this.series) for (const v of s.values) if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
     if (!Number.isFinite(lo)) { lo = 0; hi = 1; }
@@ -260,8 +285,12 @@ class Plot {
     off.width = w;
     off.height = h;
     const g = off.getContext('2d');
-    const a = this.area;
     g.font = `${11 * ratio}px system-ui, sans-serif`;
+    // the value axis' labels fit left of the plot area, however long
+    const labels = Math.max(g.measureText(formatNumber(hi)).width, g.measureText(formatNumber(lo)).width);
+    this.area = { left: Math.max(48 * ratio, labels + 8 * ratio), right: w - 8 * ratio, top: 20 * ratio,
+                  bottom: h - 18 * ratio };
+    const a = this.area;
     g.fillStyle = '#8b94a3';
     g.strokeStyle = '#3a414c';
     g.lineWidth = ratio;
@@ -348,8 +377,13 @@ class Viewer {
     this.scene.add(this.camera);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener('change', () => this.requestRender());
+    // Until the user moves the camera, a resize frames the run again for the new aspect ratio.
+    this.cameraMoved = false;
+    this.controls.addEventListener('start', () => { this.cameraMoved = true; });
 
     // Bodies: one colour per node holding collision models.
+    this.palette = PALETTE;
+    this.contactColor = (u) => forceColor(u, [0, 0, 0]);  // for the browser tests: the map, 0…1 → rgb 0…1
     this.nodeColor = new Map();
     this.shapes = run.shapes.map((shape) => {
       const state = run.states[shape.state];
@@ -359,8 +393,7 @@ class Viewer {
       this.scene.add(v.object);
       return v;
     });
-    this.bounds = this.computeBounds(false);
-    this.focus = this.computeBounds(true);
+    this.bounds = this.computeRunBounds();
     const diagonal = this.bounds.getSize(new THREE.Vector3()).length() || 1;
     let maxContacts = 0;
     for (const c of run.frames.contacts) maxContacts = Math.max(maxContacts, c);
@@ -368,16 +401,13 @@ class Viewer {
     this.contacts = new ContactView(maxContacts, this.forceScale, 0.05 * diagonal);
     this.scene.add(this.contacts.group);
     // crossings of the tunnelling guard: red markers where features passed through each other
-    const crossingCount = Math.max(1, ...(run.frames.crossings || [0]));
+    const crossingCount = (run.frames.crossings || []).reduce((a, b) => Math.max(a, b), 1);
     this.crossings = new THREE.Points(new THREE.BufferGeometry().setAttribute(
       'position', new THREE.BufferAttribute(new Float32Array(3 * crossingCount), 3).setUsage(THREE.DynamicDrawUsage)),
       new THREE.PointsMaterial({ color: 0xff2020, size: 12, sizeAttenuation: false, depthTest: false, map: disc(), alphaTest: 0.5 }));
     this.crossings.frustumCulled = false;
     this.crossings.renderOrder = 11;
     this.scene.add(this.crossings);
-    this.camera.near = diagonal * 1e-3;
-    this.camera.far = diagonal * 100;
-    this.resetCamera();
 
     this.buildTree();
     this.buildColorbar();
@@ -386,52 +416,87 @@ class Viewer {
     $('title').textContent = `penalty · ${run.title}`;
     document.title = `penalty viewer · ${run.title}`;
     new ResizeObserver(() => this.resize()).observe(view);
-    this.resize();
-    this.setFrame(0);
+    this.resize();  // sizes the canvas, then frames the run (resetCamera)
+    this.setFrame(frameFromUrl(this.frames));
+    this.shareFrame = true;  // from now on the address names the frame shown (?frame=N), for sharing
     $('status').textContent = '';
     document.body.dataset.ready = 'true';
   }
 
-  /// Box of every shape at the first frame; with `movingOnly`, of the shapes whose state moves
-  /// during the run (the camera frames them: a large static floor would make them small), or of
-  /// everything when nothing moves.
-  computeBounds(movingOnly) {
-    const box = new THREE.Box3();
+  /// Box of every shape at every frame of the run: what Reset camera frames.
+  computeRunBounds() { return this.computeBounds(0, this.data.run.frames.count - 1); }
+
+  /// Box of every shape at frames first…last. Spheres reach their radius beyond the centre,
+  /// cylinders √(r² + (h/2)²); other shapes are their DOFs.
+  computeBounds(first, last) {
     const { run, positions } = this.data;
-    const last = (run.frames.count - 1) * run.frame_floats;
-    const moves = (state) => {
-      const n = state.dofs * (state.type === 'Rigid3d' ? 7 : 3);
-      for (let i = state.offset; i < state.offset + n; i++) if (positions[i] !== positions[last + i]) return true;
-      return false;
-    };
-    const p = new THREE.Vector3();
+    const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
     for (const shape of run.shapes) {
       const state = run.states[shape.state];
-      if (movingOnly && !moves(state)) continue;
       const stride = state.type === 'Rigid3d' ? 7 : 3;
-      // spheres and cylinders reach beyond their centres
-      const reach = [...(shape.radius || []), ...(shape.height || []).map((h) => h / 2)].reduce((a, b) => Math.max(a, b), 0);
-      for (let d = 0; d < state.dofs; d++) {
-        const i = state.offset + d * stride;
-        p.set(positions[i], positions[i + 1], positions[i + 2]);
-        box.expandByPoint(p.clone().addScalar(reach));
-        box.expandByPoint(p.clone().subScalar(reach));
+      const indices = this.data.topology.subarray(shape.index_offset, shape.index_offset + shape.index_count);
+      const perElement = shape.kind === 'spheres' || shape.kind === 'cylinders';
+      // Each drawn DOF once (a triangle mesh repeats its vertices), with its reach.
+      const reachOf = new Map();
+      indices.forEach((dof, e) => {
+        const r = !perElement ? 0 : shape.kind === 'spheres' ? shape.radius[e] : Math.hypot(shape.radius[e], shape.height[e] / 2);
+        reachOf.set(dof, Math.max(reachOf.get(dof) ?? 0, r));
+      });
+      const dofs = [...reachOf.keys()];
+      const reach = dofs.map((d) => reachOf.get(d));
+      for (let f = first; f <= last; f++) {
+        const base = f * run.frame_floats + state.offset;
+        for (let k = 0; k < dofs.length; k++) {
+          const i = base + dofs[k] * stride;
+          for (let c = 0; c < 3; c++) {
+            lo[c] = Math.min(lo[c], positions[i + c] - reach[k]);
+            hi[c] = Math.max(hi[c], positions[i + c] + reach[k]);
+          }
+        }
       }
     }
-    if (box.isEmpty()) return movingOnly ? this.computeBounds(false) : box.set(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
-    return box;
+    if (!(lo[0] <= hi[0])) return new THREE.Box3(new THREE.Vector3(-1, -1, -1), new THREE.Vector3(1, 1, 1));
+    return new THREE.Box3(new THREE.Vector3(...lo), new THREE.Vector3(...hi));
   }
 
-  resetCamera() {
-    const center = this.focus.getCenter(new THREE.Vector3());
-    const size = this.focus.getSize(new THREE.Vector3()).length() || 1;
-    this.camera.position.copy(center).add(new THREE.Vector3(0.55, 0.4, 1).normalize().multiplyScalar(2.2 * size));
+  /// Frames the run: the camera looks at the centre c of the run's box along a fixed direction
+  /// (unit b from c to the camera, with the camera's right and up axes X and Y), from the nearest
+  /// distance d at which every corner p of the box (relative to c) projects inside both fields of
+  /// view with a 5 % margin: at depth d − p·b, |p·X| ≤ (d − p·b)·tan(half-width angle) / 1.05, and
+  /// the same with Y and the half-height angle. So d = max over corners of
+  /// p·b + 1.05·max(|p·X| / tan h_w, |p·Y| / tan h_h).
+  resetCamera(bounds = this.bounds) {
+    const center = bounds.getCenter(new THREE.Vector3());
+    const size = bounds.getSize(new THREE.Vector3());
+    const radius = (size.length() / 2) || 1;
+    const back = new THREE.Vector3(0.55, 0.4, 1).normalize();
+    const right = new THREE.Vector3(0, 1, 0).cross(back).normalize();
+    const up = new THREE.Vector3().crossVectors(back, right);
+    const tanHeight = Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    const tanWidth = tanHeight * this.camera.aspect;
+    let distance = 0;
+    for (let corner = 0; corner < 8; corner++) {
+      const p = new THREE.Vector3((corner & 1 ? 0.5 : -0.5) * size.x, (corner & 2 ? 0.5 : -0.5) * size.y,
+                                  (corner & 4 ? 0.5 : -0.5) * size.z);
+      const spread = Math.max(Math.abs(p.dot(right)) / tanWidth, Math.abs(p.dot(up)) / tanHeight);
+      distance = Math.max(distance, p.dot(back) + 1.05 * spread);
+    }
+    distance = Math.max(distance, 2 * radius * 1e-2, 1e-6);  // a box of no size: still a distance
+    this.camera.position.copy(center).addScaledVector(back, distance);
     this.camera.up.set(0, 1, 0);
+    this.camera.near = radius * 1e-3;  // the user may zoom in to a contact
+    this.camera.far = (distance + radius) * 10;
+    this.camera.updateProjectionMatrix();
     this.controls.target.copy(center);
     this.camera.lookAt(center);
     this.controls.update();
+    this.cameraMoved = bounds !== this.bounds;  // a resize re-frames the run, not a frame
     this.requestRender();
   }
+
+  /// Frames the bodies as they are at the frame shown (a body that flies far away during the run
+  /// makes the whole run's box large).
+  fitFrame() { this.resetCamera(this.computeBounds(this.frame, this.frame)); }
 
   resize() {
     const view = $('view');
@@ -441,6 +506,7 @@ class Viewer {
     this.renderer.domElement.style.height = `${h}px`;
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
+    if (!this.cameraMoved) this.resetCamera();
     for (const p of this.plots) p.background = null;
     this.drawPlots();
     this.requestRender();
@@ -465,6 +531,7 @@ class Viewer {
     const slider = $('slider');
     if (Number(slider.value) !== f) slider.value = String(f);
     document.body.dataset.frame = String(f);
+    if (this.shareFrame && !this.playing) writeFrameToUrl(f);
     this.drawPlots();
     this.requestRender();
   }
@@ -566,6 +633,7 @@ class Viewer {
     $('show-normals').addEventListener('change', (e) => { this.contacts.normals.visible = e.target.checked; this.requestRender(); });
     $('show-wireframe').addEventListener('change', (e) => { for (const s of this.shapes) s.setWireframe(e.target.checked); this.requestRender(); });
     $('reset-camera').addEventListener('click', () => this.resetCamera());
+    $('fit-frame').addEventListener('click', () => this.fitFrame());
   }
 
   buildTimeline() {
@@ -598,6 +666,7 @@ class Viewer {
     this.playing = false;
     $('play').textContent = '▶ play';
     document.body.dataset.playing = 'false';
+    writeFrameToUrl(this.frame);
   }
 
   /// Playback follows simulated time: after w seconds of wall time at speed s, the frame shown is
@@ -666,6 +735,23 @@ function forceScale(contacts, stride, largest) {
   values.sort((a, b) => a - b);
   const p99 = values[Math.min(values.length - 1, Math.floor(0.99 * values.length))];
   return p99 > 0 ? Math.min(p99, largest) : (largest > 0 ? largest : 1);
+}
+
+/// The frame the address asks for: `?frame=N` (clamped to the run's frames) or `?frame=last`;
+/// frame 0 without the parameter or with another value.
+function frameFromUrl(frames) {
+  const value = new URLSearchParams(window.location.search).get('frame');
+  if (value === 'last') return frames - 1;
+  if (value === null || !/^\d+$/.test(value)) return 0;
+  return Math.min(Number(value), frames - 1);
+}
+
+/// Puts `?frame=N` in the address without a new history entry: the address shares the frame.
+function writeFrameToUrl(frame) {
+  const url = new URL(window.location.href);
+  if (url.searchParams.get('frame') === String(frame)) return;
+  url.searchParams.set('frame', String(frame));
+  window.history.replaceState(null, '', url);
 }
 
 function escapeHtml(text) {

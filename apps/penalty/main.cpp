@@ -12,6 +12,7 @@
 #include "penalty/collision/intersection.hpp"
 #include "penalty/io/overrides.hpp"
 #include "penalty/io/error.hpp"
+#include "penalty/output/output_file.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/viewer_writer.hpp"
@@ -34,9 +35,9 @@
 #include <cstring>
 #include <filesystem>
 #include <string_view>
-#include <thread>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -50,11 +51,8 @@ enum ExitCode : int { kOk = 0, kBadInput = 1, kUsage = 2, kDiverged = 3, kRefere
 // ---- argument limits (docs/reliability.md) -------------------------------------------------------
 /// Most steps one run may ask for: 10⁹ (a 1 µs step would take 17 minutes; beyond that a typo).
 constexpr std::int64_t kMaxSteps = 1'000'000'000;
-/// Most threads: 4 × the hardware threads, and at least 64 (TBB refuses an arena above 65,536
-/// and allocates per thread; more threads than cores never helps).
-int max_threads() { return std::max(64, 4 * int(std::max(1u, std::thread::hardware_concurrency()))); }
-/// Largest time step accepted on the command line (s): a day.
-constexpr double kMaxDt = 86400.0;
+// Threads: 1 … penalty::kMaxThreads (simulation/solver.hpp); time step: scene::kMinTimeStep …
+// scene::kMaxTimeStep (scene/scene.hpp). Each limit is stated once, there.
 
 /// A validator for a whole number in [lo, hi]: the text must be an integer (no sign games, no
 /// exponent), and a value out of range is named with the range, never a 309-digit bound.
@@ -117,6 +115,7 @@ struct RunArguments {
     bool exhaustive = false;
     bool sofa_head_orders = true;
     bool quiet = false;
+    std::string summary_json;        // --summary-json FILE
     std::string view;                // --view DIR: the browser viewer (docs/viewer.md)
     std::int64_t view_every = 1;
     bool no_serve = false;
@@ -128,6 +127,11 @@ struct RunArguments {
 struct UsageError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+
+/// Writes `text` into `path` (`--summary-json FILE`); std::runtime_error naming it when it cannot.
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+    penalty::output::write_output_file(path, text);
+}
 
 std::string quirk_names() {
     std::string out = "known: all";
@@ -250,6 +254,10 @@ int run_command(const RunArguments& a) {
     if (!a.stats.empty()) std::cout << "stats: " << a.stats << "\n";
     if (!a.view.empty()) std::cout << "view: browser viewer in " << a.view << " (penalty view " << a.view << ")\n";
     if (a.debug_step >= 0) std::cout << "debug: step " << a.debug_step << " in " << a.debug_file << "\n";
+    if (!a.summary_json.empty()) {
+        write_text_file(a.summary_json, sc::summary_json(summary));
+        std::cout << "summary: " << a.summary_json << "\n";
+    }
 
     if (!a.reference.empty()) {
         if (builtin) throw std::invalid_argument("--reference needs a scene file");
@@ -276,7 +284,12 @@ int run_command(const RunArguments& a) {
 
 /// `penalty view DIR`: refreshes the page files of a viewer directory and serves it.
 int view_command(const std::string& directory, int port, bool no_serve) {
-    if (!std::filesystem::is_regular_file(std::filesystem::path(directory) / "run.json"))
+    // the server serves only regular files that are not links (view_server.cpp): a run.json that
+    // is a link would pass a check that follows it and then be refused, so it is refused here
+    const std::filesystem::file_status run_json = std::filesystem::symlink_status(std::filesystem::path(directory) / "run.json");
+    if (std::filesystem::is_symlink(run_json))
+        throw std::invalid_argument("'" + directory + "/run.json' is a symbolic link: penalty view serves no link");
+    if (!std::filesystem::is_regular_file(run_json))
         throw std::invalid_argument("'" + directory + "' has no run.json: not a viewer directory (write one with "
                                     "`penalty run SCENE --view " + directory + "`)");
     penalty::output::write_viewer_page(directory);
@@ -321,11 +334,14 @@ int run_python_scene(int argc, char** argv) {
     }
     if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += (path.empty() ? "" : ":") + std::string(old);
     setenv("PYTHONPATH", path.c_str(), 1);
-    std::vector<char*> args{const_cast<char*>(PENALTY_PYTHON_EXECUTABLE), const_cast<char*>("-m"), const_cast<char*>("penalty")};
+    // A pip-installed `penalty` (python/penalty/_cli.py) names its own interpreter.
+    const char* python = std::getenv("PENALTY_PYTHON");
+    if (python == nullptr || *python == '\0') python = PENALTY_PYTHON_EXECUTABLE;
+    std::vector<char*> args{const_cast<char*>(python), const_cast<char*>("-m"), const_cast<char*>("penalty")};
     for (int i = 1; i < argc; ++i) args.push_back(argv[i]);
     args.push_back(nullptr);
-    execv(PENALTY_PYTHON_EXECUTABLE, args.data());
-    std::cerr << "penalty: error: cannot start " << PENALTY_PYTHON_EXECUTABLE << " for the Python scene: " << std::strerror(errno) << "\n";
+    execv(python, args.data());
+    std::cerr << "penalty: error: cannot start " << python << " for the Python scene: " << std::strerror(errno) << "\n";
     return kOther;
 #else
     (void)argc;
@@ -353,23 +369,60 @@ bool is_python_scene_command(int argc, char** argv) {
     return false;
 }
 
-}  // namespace
+/// Levenshtein distance between two option names (for "did you mean").
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        std::size_t diagonal = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t above = row[j];
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            diagonal = above;
+        }
+    }
+    return row[b.size()];
+}
 
-int main(int argc, char** argv) {
-    // `penalty sweep ...`: parameter sweeps on Dask run in the Python module (docs/sweeps.md).
-    if (is_python_scene_command(argc, argv) || (argc >= 2 && std::strcmp(argv[1], "sweep") == 0))
-        return run_python_scene(argc, argv);
-    CLI::App app{"penalty: fast, validated penalty-based contact for deformable and rigid bodies"};
-    app.require_subcommand(1);
+/// The first argument of subcommand `sub` (argv[2...]) that looks like an option and is none of
+/// its options, as an error naming it and the nearest option. CLI11 alone would take the next
+/// argument for the scene file (`penalty run --stpes 10`: "scene: File does not exist: 10").
+/// Numbers (`--steps -3`) and everything after `--` are values, never options.
+std::optional<std::string> unknown_option(CLI::App& sub, int argc, char** argv) {
+    for (int i = 2; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        if (arg == "--") return std::nullopt;
+        if (arg.size() < 2 || arg[0] != '-') continue;
+        char* end = nullptr;
+        (void)std::strtod(argv[i], &end);
+        if (end != nullptr && *end == '\0') continue;  // a negative number: a value
+        const std::string name(arg.substr(0, arg.find('=')));
+        if (sub.get_option_no_throw(name) != nullptr) continue;
+        std::string nearest;
+        std::size_t best = 3;  // suggest within two edits
+        for (const CLI::Option* option : sub.get_options())
+            for (const std::string& known : option->get_lnames())
+                if (const std::size_t d = edit_distance(name, "--" + known); d < best) {
+                    best = d;
+                    nearest = "--" + known;
+                }
+        return "penalty " + sub.get_name() + ": unknown option '" + name + "'" +
+               (nearest.empty() ? std::string() : " (did you mean '" + nearest + "'?)");
+    }
+    return std::nullopt;
+}
 
-    RunArguments args;
-    auto* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
+/// The `run` subcommand and its options, bound to `args`.
+CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
+    CLI::App* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
     run->add_option("scene", args.scene, "SOFA .scn file (or SofaPython3 .py script, run by the Python module)")->check(CLI::ExistingFile);
     run->add_option("--steps", args.steps, "Number of time steps (default 100; 400 for the built-in scene)")
         ->check(integer_in(0, kMaxSteps));
-    run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")->check(number_in(0.0, kMaxDt, true));
+    run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")
+        ->check(number_in(penalty::scene::kMinTimeStep, penalty::scene::kMaxTimeStep, false));
     run->add_option("--threads", args.threads, "Threads for the detection, the contacts' response and independent solvers (default: all cores)")
-        ->check(integer_in(1, max_threads()));
+        ->check(integer_in(1, penalty::kMaxThreads));
     run->add_option("--set", args.overrides,
                     "Override an attribute before the scene is built: PATH.attribute=value, e.g. "
                     "/Floor/FloorTri1.contactStiffness=200 or /.dt=0.005 (repeatable; docs/sweeps.md)");
@@ -383,6 +436,8 @@ int main(int argc, char** argv) {
                     "Diverged when a step moves a DOF by more than F times the initial scene size (default 100; 0: off)")
         ->check(number_in(0.0, 1e100, false));
     run->add_option("--stats", args.stats, "Write per-step statistics to FILE.csv");
+    run->add_option("--summary-json", args.summary_json,
+                    "Write the run's summary to FILE as JSON (the numbers printed at the end; Python's Scene.run returns the same)");
     run->add_option("--reference", args.reference,
                     "Compare the exported states with SOFA's reference files in DIR (needs --export-states)");
     run->add_option("--compare-trajectory", args.compare_trajectory,
@@ -415,6 +470,21 @@ int main(int argc, char** argv) {
     run->add_flag("--no-serve", args.no_serve, "With --view: only write the files")->needs(view_option);
     run->add_option("--port", args.port, "With --view: the port to serve on (default: a free one)")
         ->check(CLI::Range(0, 65535))->needs(view_option);
+    return run;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    // `penalty sweep ...`: parameter sweeps on Dask run in the Python module (docs/sweeps.md).
+    if (is_python_scene_command(argc, argv) || (argc >= 2 && std::strcmp(argv[1], "sweep") == 0))
+        return run_python_scene(argc, argv);
+    CLI::App app{"penalty: fast, validated penalty-based contact for deformable and rigid bodies"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("penalty ") + PENALTY_VERSION);
+
+    RunArguments args;
+    CLI::App* run = add_run_command(app, args);
 
     std::string view_dir;
     int view_port = 0;
@@ -456,9 +526,18 @@ int main(int argc, char** argv) {
     demo->add_option("--friction", options.friction, "Friction coefficient mu (static = dynamic) of the drop")
         ->check(number_in(0.0, 100.0, false));
 
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+        if (argc >= 2 && sub->get_name() == argv[1] && sub->get_name() != "sweep")
+            if (const std::optional<std::string> problem = unknown_option(*sub, argc, argv)) {
+                std::cerr << "penalty: error: " << *problem << "\n"
+                          << "Run 'penalty " << sub->get_name() << " --help' for the options.\n";
+                return kUsage;
+            }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         // One line with the tool's prefix (CLI11's own printer has none), then where to look.

@@ -2,6 +2,8 @@
 ball dropped on a floor), read from scene.contacts() after every step.
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/python/contact_force.py [OUT_DIR]
+
+The picture goes into OUT_DIR, by default out/ in the current folder.
 """
 import numpy as np
 

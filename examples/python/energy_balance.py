@@ -3,6 +3,8 @@ from 0.1 m on a plane, contact damping c = 20 N·s/m. Kinetic + gravitational + 
 contact + dissipated by the contact stays at its initial value up to the integrator's error.
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/python/energy_balance.py [OUT_DIR]
+
+The picture goes into OUT_DIR, by default out/ in the current folder.
 """
 import numpy as np
 

@@ -5,6 +5,8 @@ A linear spring-dashpot contact (ks, c) has damping ratio zeta = c / (2 sqrt(ks 
 e = exp(-pi zeta / sqrt(1 - zeta^2)); the scan compares the simulated e = v_out / v0 with it.
 
     PYTHONPATH=build/release/python /usr/bin/python3 examples/python/restitution_scan.py [OUT_DIR]
+
+The picture goes into OUT_DIR, by default out/ in the current folder.
 """
 import numpy as np
 

@@ -15,12 +15,19 @@ import os
 import sys
 from pathlib import Path
 
+from . import _arguments as _check
 from . import _core
 from ._core import DivergedError, PenaltyForceField, SceneError, State
 
+#: The version of penalty (the CMake project's; `penalty --version` prints the same).
+__version__ = _core.__version__
+
+#: The time step range of load_scene(dt=) and builtin_scene(dt=) (s), as `penalty run --dt`.
+MIN_DT, MAX_DT = _core.min_dt, _core.max_dt
+
 __all__ = [
     "load_scene", "builtin_scene", "Scene", "States", "State", "PenaltyForceField",
-    "SceneError", "DivergedError", "sofa_path", "sweep", "format_overrides",
+    "SceneError", "DivergedError", "sofa_path", "sweep", "format_overrides", "__version__",
 ]
 
 #: Folder to put first on sys.path so that `import Sofa`, `import SofaRuntime` resolve to
@@ -49,15 +56,17 @@ class States:
         try:
             self[key]
             return True
-        except KeyError:
+        except (KeyError, IndexError, TypeError):
             return False
 
     def keys(self):
         return [s.path for s in self._list]
 
     def __getitem__(self, key):
-        if isinstance(key, int):
+        if isinstance(key, int) and not isinstance(key, bool):
             return self._list[key]
+        if not isinstance(key, str):
+            raise TypeError(f"states: a key is a path, a name or an index, not {type(key).__name__}")
         if key in self._by_path:
             return self._by_path[key]
         if not key.startswith("/") and "/" + key in self._by_path:
@@ -80,11 +89,63 @@ class Scene:
     def __init__(self, core_scene, root=None):
         self._scene = core_scene
         self.root = root  #: the Sofa.Core.Node root of a SofaPython3 script (None for .scn)
-        self.states = States(core_scene._state_list())
+        self._states = States(core_scene._state_list())
+        self._states_generation = core_scene._generation
+        self._dt_of_step = None  # Sofa.Simulation.animate(root, dt) with another dt
+        self._last_dt = core_scene.dt
+
+    @property
+    def states(self) -> States:
+        """Every MechanicalObject (see States); the list follows nodes added or removed after
+        init."""
+        if self._scene._generation != self._states_generation:
+            self._states = States(self._scene._state_list())
+            self._states_generation = self._scene._generation
+        return self._states
 
     def step(self, n: int = 1):
         """Runs n steps (collision detection at the start of each, then the solvers)."""
+        n = _check.integer("Scene.step", "n", n, 0, 1_000_000_000)
+        self._last_dt = self._scene.dt
         self._scene.step(n)
+
+    def _next_dt(self) -> float:
+        return self._dt_of_step if self._dt_of_step is not None else self._scene.dt
+
+    def _step_once(self, dt=None):
+        """One step, with `dt` instead of the root's (Sofa.Simulation.animate(root, dt))."""
+        if dt is None or dt == self._scene.dt:
+            self._last_dt = self._scene.dt
+            self._scene.step(1)
+            return
+        self._dt_of_step = self._last_dt = float(dt)
+        try:
+            self._scene._run_hooks(True)
+            self._scene._step_with_dt(float(dt))
+            self._scene._run_hooks(False)
+        finally:
+            self._dt_of_step = None
+
+    def data(self, path: str, name: str, node: bool = False):
+        """The current value of Data `name` of the component (or node) at SOFA path `path`, with
+        SOFA's type (docs/python.md, "The object model")."""
+        return self._scene._data(path, node, name)
+
+    def set_data(self, path: str, name: str, value, node: bool = False):
+        """Writes Data `name` of the component (or node) at `path`, with the effect SOFA gives the
+        write after init (at once for a state, at the next step or at reinit() for the others;
+        refused with the reason when SOFA ignores it)."""
+        from .sofa_api.text import to_sofa_text
+        self._scene._set_data(path, node, name, to_sofa_text(value, f"{path}.{name}"))
+
+    def data_fields(self, path: str, node: bool = False) -> list:
+        """Every Data of the component (or node) at `path`: name, SOFA type, default, how a write
+        after init takes effect."""
+        return self._scene._data_fields(path, node)
+
+    def reinit(self, path: str, node: bool = False):
+        """SOFA's reinit() of the component at `path` (init() of every component below a node)."""
+        self._scene._reinit(path, node)
 
     @property
     def time(self) -> float:
@@ -158,7 +219,22 @@ class Scene:
         with `penalty view DIR` (docs/viewer.md). no_tunnelling sets the tunnelling guard's mode
         first (Scene.no_tunnelling); the summary's "tunnelling" holds its totals (None without a
         guard)."""
-        as_path = lambda p: None if p is None else os.fspath(p)  # noqa: E731
+        function = "Scene.run"
+        steps = _check.integer(function, "steps", steps, 0, 1_000_000_000)
+        vtk_every = _check.integer(function, "vtk_every", vtk_every, 1, 1_000_000_000)
+        export_every = _check.integer(function, "export_every", export_every, 1, 1_000_000_000)
+        view_every = _check.integer(function, "view_every", view_every, 1, 1_000_000_000)
+        divergence_factor = _check.real(function, "divergence_factor", divergence_factor, 0.0, 1e100)
+        export_mapped = _check.boolean(function, "export_mapped", export_mapped)
+        record = _check.boolean(function, "record", record)
+        if progress is not None:
+            progress = _check.boolean(function, "progress", progress)
+        if callback is not None and not callable(callback):
+            raise TypeError(f"{function}: callback must be callable, not {type(callback).__name__}")
+        vtk, export_states, stats, view = (_check.path(function, name, value) for name, value in
+                                           (("vtk", vtk), ("export_states", export_states), ("stats", stats),
+                                            ("view", view)))
+        as_path = lambda p: p  # noqa: E731 - already str or None
         if no_tunnelling is not None:
             self.no_tunnelling = no_tunnelling
         history = None
@@ -214,32 +290,48 @@ def format_overrides(overrides) -> list:
     if overrides is None:
         return []
     if isinstance(overrides, dict):
+        for key in overrides:
+            if not isinstance(key, str):
+                raise TypeError(f"overrides: a key must be a 'PATH.attribute' string, not {key!r}")
         return [f"{key}={_format_value(value)}" for key, value in overrides.items()]
     if isinstance(overrides, str):
         return [overrides]
-    return [str(o) for o in overrides]
+    try:
+        items = list(overrides)
+    except TypeError:
+        raise TypeError("overrides: expected a dict {'PATH.attribute': value} or a list of "
+                        f"'PATH.attribute=value' strings, not {type(overrides).__name__}") from None
+    for item in items:
+        if not isinstance(item, str):
+            raise TypeError(f"overrides: expected 'PATH.attribute=value' strings, found {item!r}")
+    return items
 
 
-def _load_options(data_dirs, dt, threads, exhaustive, overrides=None):
-    return ([os.fspath(d) for d in (data_dirs or [])], dt, int(threads), bool(exhaustive),
-            format_overrides(overrides))
+def _load_options(data_dirs, dt, threads, exhaustive, overrides=None, function="load_scene"):
+    """The checked arguments of load_scene, in the compiled functions' order."""
+    if dt is not None:
+        dt = _check.real(function, "dt", dt, MIN_DT, MAX_DT, "s")
+    return (_check.paths(function, "data_dirs", data_dirs), dt,
+            _check.integer(function, "threads", threads, 0, _core.max_threads),
+            _check.boolean(function, "exhaustive", exhaustive), format_overrides(overrides))
 
 
 def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False,
-               overrides=None, no_tunnelling=None) -> Scene:
+               overrides=None, argv=(), no_tunnelling=None) -> Scene:
     """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
     is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's
     folder; dt overrides the root node's time step. overrides sets attributes of the parsed scene
     before it is built, as `penalty run --set` (docs/sweeps.md): {"/Floor/tri.contactStiffness": 200,
     "/.dt": 0.005} or ["/Floor/tri.contactStiffness=200"]; a path or attribute the scene does not
-    have raises SceneError naming it, a malformed key ValueError. no_tunnelling ("off", "warn",
+    have raises SceneError naming it, a malformed key ValueError. A script runs as runSofa runs it
+    (from its folder, sys.argv = [its name, *argv]; docs/python.md). no_tunnelling ("off", "warn",
     "substep", "stiffen") sets the tunnelling guard over the pipelines' noTunnelling attributes
     (docs/no-tunnelling.md)."""
-    path = Path(path)
+    path = Path(_check.path("load_scene", "path", path, optional=False))
     options = _load_options(data_dirs, dt, threads, exhaustive, overrides)
     if path.suffix == ".py":
         from . import sofa_api
-        root = sofa_api.run_scene_script(path, options)
+        root = sofa_api.run_scene_script(path, options, argv)
         scene = root._penalty_scene
     else:
         scene = Scene(_core._load_scene(os.fspath(path), *options))
@@ -250,6 +342,8 @@ def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: boo
 
 def builtin_scene(*, dt=None) -> Scene:
     """The built-in scene of `penalty run` (a soft FEM cube and a rigid ball dropped on a floor)."""
+    if dt is not None:
+        dt = _check.real("builtin_scene", "dt", dt, MIN_DT, MAX_DT, "s")
     return Scene(_core._builtin_scene(dt))
 
 

@@ -8,20 +8,24 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import shlex
 import sys
-import traceback
 
 import penalty
 
 
 def _parser():
     p = argparse.ArgumentParser(prog="penalty", description="penalty: run SOFA scenes (.scn or SofaPython3 .py)")
+    p.add_argument("--version", action="version", version=f"penalty {penalty.__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="Run a scene headless")
     run.add_argument("scene")
     run.add_argument("--steps", type=int, default=100, help="Number of time steps (default 100)")
     run.add_argument("--dt", type=float, default=None, help="Time step (s), overrides the scene's")
-    run.add_argument("--threads", type=int, default=0)
+    run.add_argument("--threads", type=int, default=None,
+                     help="Threads for the detection, the contacts' response and independent solvers (default: all cores)")
+    run.add_argument("--argv", action="append", default=[], metavar="ARG",
+                     help="An argument of a SofaPython3 script: its sys.argv[1:] (repeatable; runSofa's --argv)")
     run.add_argument("--data-dir", action="append", default=[], help="Folder searched for mesh and included files (repeatable)")
     run.add_argument("--set", action="append", default=[], dest="overrides", metavar="PATH.attribute=value",
                      help="Override an attribute before the scene is built (repeatable; docs/sweeps.md)")
@@ -31,6 +35,8 @@ def _parser():
     run.add_argument("--export-mapped", action="store_true")
     run.add_argument("--export-every", type=int, default=1)
     run.add_argument("--stats", default=None)
+    run.add_argument("--summary-json", default=None, metavar="FILE",
+                     help="Write the run's summary to FILE as JSON (what Scene.run returns, without history)")
     run.add_argument("--exhaustive", action="store_true")
     run.add_argument("--quiet", action="store_true")
     run.add_argument("--no-tunnelling", default=None, choices=["off", "warn", "substep", "stiffen"],
@@ -56,7 +62,7 @@ def _parser():
     sw.add_argument("--data-dir", action="append", default=[])
     sw.add_argument("--dt", type=float, default=None)
     sw.add_argument("--divergence-factor", type=float, default=100.0)
-    sw.add_argument("--retries", type=int, default=2, help="Dask retries of a task whose worker died (default 2)")
+    sw.add_argument("--retries", type=int, default=2, help=_retries_help())
     sw.add_argument("--no-resume", action="store_true", help="Run every task, even those with rows in --out")
     sw.add_argument("--quiet", action="store_true")
     info = sub.add_parser("info", help="Build a scene and describe it")
@@ -67,6 +73,11 @@ def _parser():
     return p
 
 
+def _retries_help() -> str:
+    from .sweeps import RETRIES_HELP
+    return RETRIES_HELP.replace("%", "%%")
+
+
 def main(argv=None) -> int:
     parser = _parser()
     try:
@@ -75,13 +86,13 @@ def main(argv=None) -> int:
         return 0 if e.code == 0 else 2
     if args.command == "run":
         # The same limits as the C++ command line (docs/reliability.md).
-        max_threads = max(64, 4 * (os.cpu_count() or 1))
+        max_threads = penalty._core.max_threads  # penalty::kMaxThreads, as the C++ command line
         problems = []
         if not 0 <= args.steps <= 1_000_000_000:
             problems.append(f"--steps: {args.steps} is out of range (0 to 1000000000)")
-        if args.dt is not None and not (math.isfinite(args.dt) and 0 < args.dt <= 86400):
-            problems.append(f"--dt: '{args.dt}' is out of range (0, 86400]")
-        if not 0 <= args.threads <= max_threads:
+        if args.dt is not None and not (math.isfinite(args.dt) and penalty.MIN_DT <= args.dt <= penalty.MAX_DT):
+            problems.append(f"--dt: '{args.dt}' is out of range [1e-100, 86400]")
+        if args.threads is not None and not 1 <= args.threads <= max_threads:
             problems.append(f"--threads: {args.threads} is out of range (1 to {max_threads})")
         for name, value in (("--vtk-every", args.vtk_every), ("--export-every", args.export_every)):
             if not 1 <= value <= 1_000_000_000:
@@ -96,9 +107,10 @@ def main(argv=None) -> int:
         if problems:
             for p in problems:
                 print(f"penalty: error: {p}", file=sys.stderr)
+            print("Run 'penalty --help' or 'penalty run --help' for the options.", file=sys.stderr)
             return 2
     if args.command == "sweep":
-        return _sweep_command(args)
+        return _sweep_command(args, argv)
     if args.command == "script":
         import runpy
         penalty._install_sofa_path()
@@ -106,54 +118,11 @@ def main(argv=None) -> int:
         sys.path.insert(0, os.path.dirname(os.path.abspath(args.scene)))
         runpy.run_path(args.scene, run_name="__main__")
         return 0
-    try:
-        if args.command == "info":
-            scene = penalty.load_scene(args.scene, data_dirs=args.data_dir)
-            if args.contact_advice:
-                print(scene._scene._contact_advice_text(args.impact_speed), end="")
-                return 0
-            print(scene.info()["text"], end="")
-            return 0
-        scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads,
-                                   exhaustive=args.exhaustive, overrides=args.overrides,
-                                   no_tunnelling=args.no_tunnelling)
-        print(f"penalty run: {args.scene}")
-        info = scene.info()
-        print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"
-              f" collision models, {len(info['pipelines'])} collision pipeline(s)")
-        for w in scene.warnings():
-            print(f"note: {w}")
-        summary = scene.run(args.steps, vtk=args.vtk, vtk_every=args.vtk_every, export_states=args.export_states, divergence_factor=args.divergence_factor,
-                            export_mapped=args.export_mapped, export_every=args.export_every, stats=args.stats,
-                            progress=False if args.quiet else None)
-        print(summary["text"], end="")
-        if args.export_states:
-            print(f"states: {len(summary['state_files'])} files in {args.export_states}")
-        if args.vtk:
-            print(f"vtk: series in {args.vtk} (open the .pvd files in ParaView)")
-        if args.stats:
-            print(f"stats: {args.stats}")
-        return 0
-    except BrokenPipeError:  # output piped into e.g. `head`: stop quietly, as the C++ command line
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
-    except penalty.SceneError as e:
-        print(f"penalty: error: {e}", file=sys.stderr)
-        return 1
-    except penalty.DivergedError as e:
-        print(f"penalty: error: {e}", file=sys.stderr)
-        return 3
-    except (ValueError, TypeError, NotImplementedError, AttributeError) as e:
-        print(f"penalty: error: {type(e).__name__}: {e}" if not isinstance(e, ValueError) else f"penalty: error: {e}",
-              file=sys.stderr)
-        return 1
-    except Exception as e:  # noqa: BLE001 - the command line's "other errors" (e.g. raised by a script)
-        traceback.print_exc()
-        print(f"penalty: error: {type(e).__name__}: {e}", file=sys.stderr)
-        return 5
+    from .sofa_api.cli import run_or_info
+    return run_or_info(args)
 
 
-def _sweep_command(args) -> int:
+def _sweep_command(args, argv=None) -> int:
     """`penalty sweep`: exit 0 when every task ran (even when some rows failed: they are results),
     1 for an invalid scene path or grid, 2 for a command-line error, 5 when the sweep itself
     failed (e.g. no scheduler at the address)."""
@@ -190,6 +159,9 @@ def _sweep_command(args) -> int:
         return 2
     sets = sweeps.expand_grid(grid) if grid else [{}]
     sets = [{**fixed, **s} for s in sets]
+    if not 0 <= args.retries <= 100:
+        print(f"penalty: error: --retries: {args.retries} is out of range (0 to 100)", file=sys.stderr)
+        return 2
     print(f"penalty sweep: {args.scene}, {len(sets)} task(s) of {args.steps} steps, "
           + (f"scheduler {args.scheduler}" if args.scheduler else f"LocalCluster of {args.workers or os.cpu_count()} workers")
           + f", results in {args.out}", flush=True)
@@ -198,6 +170,16 @@ def _sweep_command(args) -> int:
                           workers=args.workers, data_dirs=args.data_dir, dt=args.dt,
                           divergence_factor=args.divergence_factor, retries=args.retries,
                           resume=not args.no_resume, progress=False if args.quiet else None)
+    except KeyboardInterrupt:
+        # Ctrl-C: the rows of the tasks that completed are in OUT/rows; the same command resumes.
+        done = len(list(os.scandir(os.path.join(args.out, "rows")))) if os.path.isdir(os.path.join(args.out, "rows")) else 0
+        command = shlex.join(["penalty", *(sys.argv[1:] if argv is None else argv)])
+        print(f"\npenalty sweep: interrupted; {done} completed row(s) kept in {os.path.join(args.out, 'rows')}.\n"
+              f"Resume (completed tasks are not run again) with:\n  {command}", file=sys.stderr)
+        return 130
+    except sweeps.OutputFolderError as e:
+        print(f"penalty: error: {e.strerror}", file=sys.stderr)
+        return 5
     except (ValueError, FileNotFoundError) as e:
         print(f"penalty: error: {e}", file=sys.stderr)
         return 1

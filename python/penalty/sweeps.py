@@ -17,12 +17,15 @@ status and message; a worker process that dies is replaced and its task re-run b
 """
 from __future__ import annotations
 
+import ast
 import hashlib
 import itertools
 import json
+import multiprocessing
 import os
 import sys
 import time
+import uuid
 from pathlib import Path
 
 #: Metric columns of every row, in order (docs/sweeps.md describes them).
@@ -30,6 +33,17 @@ METRICS = ("status", "message", "steps_done", "time", "contacts_mean", "contacts
            "max_penetration", "kinetic", "contact", "dissipated_damping", "dissipated_friction", "dissipated",
            "dissipated_total", "steps_per_s", "wall_s", "digest")
 ROW_VERSION = 1
+
+#: `--retries` of `penalty sweep` and `retries=` of sweep(): the one description of both (docs/sweeps.md
+#: quotes it; a test holds them together).
+RETRIES_HELP = ("Dask reruns of a task that raised (default 2; a task's failures are rows, so this "
+                "matters only for errors outside the task, e.g. in a metric's pickling). A task whose "
+                "worker process died is rerun by Dask on another worker up to its allowed-failures (3) "
+                "times, whatever --retries says; after that its row says 'lost'.")
+
+
+class OutputFolderError(OSError):
+    """OUT (or a folder in it) cannot be created or written: `penalty sweep` exits 5."""
 
 
 def expand_grid(grid) -> list:
@@ -94,8 +108,28 @@ def state_digest(scene) -> str:
     return h.hexdigest()
 
 
+def _temporary_name(path: Path) -> Path:
+    """Where a file is written before it is renamed to `path` (complete): `.NAME.tmp-PID`."""
+    return path.with_name(f".{path.name}.tmp-{os.getpid()}")
+
+
+def remove_partial_files(out: Path, task: str) -> int:
+    """Deletes the temporary files a worker that died mid-write left for `task` in OUT (its row
+    and its trajectory, `.NAME.tmp-PID`); returns how many. The task is rerun or already complete,
+    so they are never a result."""
+    removed = 0
+    for folder, name in (("rows", f"{task}.json"), ("trajectories", f"{task}.h5")):
+        for partial in (out / folder).glob(f".{name}.tmp-*"):
+            try:
+                partial.unlink()
+                removed += 1
+            except FileNotFoundError:
+                pass
+    return removed
+
+
 def _atomic_write_text(path: Path, text: str):
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    tmp = _temporary_name(path)
     tmp.write_text(text)
     os.replace(tmp, path)
 
@@ -139,10 +173,10 @@ def run_task(spec: dict) -> dict:
             snapshot(0)
 
         def callback(done, total):
-            c = scene.contacts()
-            n = len(c["age"])
-            contacts[done - 1] = n
-            penetration[done - 1] = float(np.max(c["penetration"])) if n else 0.0
+            # the command line's per-step numbers (--stats, output::summarize_contacts): one definition
+            step = scene._scene._contact_summary()
+            contacts[done - 1] = step["contacts"]
+            penetration[done - 1] = step["max_penetration"]
             row["steps_done"] = done
             d = scene.energies()["dissipated"]
             if d > dissipated[0]:
@@ -203,7 +237,7 @@ def _write_h5(path: Path, spec, row, scene, contacts, penetration, frames, conta
     import h5py
     import numpy as np
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    tmp = _temporary_name(path)
     with h5py.File(tmp, "w") as f:
         f.attrs["scene"] = spec["scene"]
         f.attrs["overrides"] = json.dumps(spec["overrides"], default=_json_default)
@@ -253,6 +287,96 @@ def _ensure_worker_path():
         os.environ["PYTHONPATH"] = os.pathsep.join([here, *parts])
 
 
+def _is_main_test(test) -> bool:
+    """`__name__ == "__main__"` (either order)."""
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 1 and isinstance(test.ops[0], ast.Eq)):
+        return False
+    sides = [test.left, test.comparators[0]]
+    return (any(isinstance(x, ast.Name) and x.id == "__name__" for x in sides)
+            and any(isinstance(x, ast.Constant) and x.value == "__main__" for x in sides))
+
+
+def unguarded_main_call():
+    """(file, line) of the statement of the `__main__` script that is calling sweep() at its top
+    level outside `if __name__ == "__main__":`, or None. Dask's LocalCluster starts each worker in
+    a new process that imports `__main__` again (multiprocessing's "spawn"): such a call would
+    start a cluster from every worker, whose workers would do the same, for ever."""
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    if main is None or not path:
+        return None  # python3 -c, an interactive session, a notebook: nothing is imported again
+    frame = sys._getframe(1)
+    while frame is not None and not (frame.f_code.co_name == "<module>" and frame.f_globals is vars(main)):
+        frame = frame.f_back
+    if frame is None:
+        return None
+    line = frame.f_lineno
+    try:
+        tree = ast.parse(Path(path).read_text(), filename=path)
+    except (OSError, SyntaxError, ValueError):
+        return None
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and _is_main_test(node.test) and node.body:
+            if node.body[0].lineno <= line <= (node.body[-1].end_lineno or node.body[-1].lineno):
+                return None
+    return path, line
+
+
+def _refuse_unguarded_main():
+    """Raises RuntimeError (before any process is started) when a LocalCluster would make every
+    worker run the caller's script again (unguarded_main_call), or when this is such a worker."""
+    where = unguarded_main_call()
+    spawned = multiprocessing.parent_process() is not None and getattr(sys.modules.get("__main__"), "__name__", "") != "__main__"
+    if where is None and not spawned:
+        return
+    at = f"{where[0]}:{where[1]}: " if where else ""
+    raise RuntimeError(
+        f"{at}penalty.sweep is called at the top level of the script, outside `if __name__ == \"__main__\":`. "
+        "Its LocalCluster starts each worker as a new Python process that imports the script again, "
+        "which would start a sweep in every worker, for ever. Put the call under `if __name__ == \"__main__\":` "
+        "(docs/sweeps.md), or pass client= a running cluster's address.")
+
+
+class IgnoreInterrupts:
+    """A Dask worker plugin: the worker process ignores SIGINT (set when the worker joins, also
+    for a worker its nanny restarts)."""
+
+    name = "penalty-ignore-interrupts"
+
+    def setup(self, worker):
+        import signal
+        import threading
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def teardown(self, worker):
+        pass
+
+    def transition(self, key, start, finish, **kwargs):
+        pass
+
+    def release_key(self, key, state, cause, reason, report):
+        pass
+
+
+def _cluster_without_interrupts(workers):
+    """A LocalCluster whose worker processes ignore SIGINT. Ctrl-C in a terminal signals every
+    process of the foreground group: the workers would print KeyboardInterrupt tracebacks of their
+    own (or die while importing). The processes started with the cluster inherit SIGINT ignored
+    (it is ignored in this process while they start, from the main thread; a Python that starts
+    with SIGINT ignored keeps it so); the caller registers IgnoreInterrupts for the workers a
+    nanny starts later. A Ctrl-C during the cluster's start (a second or two) is ignored."""
+    import signal
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        return local_cluster(workers)
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        return local_cluster(workers)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def local_cluster(workers=None, **kwargs):
     """A LocalCluster of `workers` single-threaded processes bound to 127.0.0.1, no dashboard (the
     scheduler's and workers' small HTTP servers, /health and /metrics, take free ports on 127.0.0.1)."""
@@ -280,8 +404,8 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
     steps to OUT/trajectories/<task>.h5 (needs out). client: a distributed.Client, a scheduler
     address ("tcp://host:8786"), or None for a LocalCluster of `workers` processes (default: the
     cores) on 127.0.0.1. threads: threads per task (detection, response and independent solvers) (1: one task per core).
-    retries: Dask retries of a task whose worker raised or died. resume: reuse the complete rows
-    found in OUT. progress: callable(done, total, row), True for a line per task on stderr, None
+    retries: Dask reruns of a task that raised (RETRIES_HELP). resume: reuse the complete rows
+    found in OUT (the partial files of dead workers are deleted). progress: callable(done, total, row), True for a line per task on stderr, None
     for a bar when stderr is a terminal."""
     import pandas as pd
 
@@ -305,7 +429,16 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
     scene_sha = _file_digest(scene_path)
     out_dir = Path(out).resolve() if out is not None else None
     if out_dir is not None:
-        (out_dir / "rows").mkdir(parents=True, exist_ok=True)
+        try:
+            (out_dir / "rows").mkdir(parents=True, exist_ok=True)
+            if save:
+                (out_dir / "trajectories").mkdir(exist_ok=True)
+            probe = _temporary_name(out_dir / "rows" / "write-test")
+            probe.write_text("")
+            probe.unlink()
+        except OSError as e:
+            raise OutputFolderError(e.errno, f"sweep: cannot write the output folder '{out}': "
+                                             f"{e.strerror or e}") from None
     specs = []
     for i, s in enumerate(sets):
         spec = {"scene": str(scene_path), "scene_sha256": scene_sha, "overrides": s, "steps": steps,
@@ -316,6 +449,10 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
         specs.append(spec)
     if len({s["task"] for s in specs}) != len(specs):
         raise ValueError("sweep: the grid has the same override set twice")
+
+    if out_dir is not None:
+        for spec in specs:  # what a worker killed mid-write left (a resumed or rerun sweep)
+            remove_partial_files(out_dir, spec["task"])
 
     rows = [None] * len(specs)
     todo = []
@@ -329,38 +466,8 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
             todo.append(spec)
 
     report = _progress_reporter(progress, len(specs))
-    done_count = len(specs) - len(todo)
     if todo:
-        from distributed import Client, as_completed
-        own_cluster = None
-        own_client = None
-        if client is None:
-            own_cluster = local_cluster(workers)
-            own_client = client = Client(own_cluster)
-        elif isinstance(client, str):
-            own_client = client = Client(client)
-        try:
-            futures = {}
-            for spec in todo:
-                f = client.submit(run_task, spec, key=f"penalty-sweep-{spec['task']}", pure=False, retries=retries)
-                futures[f] = spec
-            for f in as_completed(list(futures)):
-                spec = futures[f]
-                try:
-                    row = f.result()
-                except Exception as e:  # noqa: BLE001 - e.g. KilledWorker after the retries: still a row
-                    row = {"task": spec["task"], **spec["overrides"], **{m: None for m in METRICS},
-                           "status": "lost", "message": f"{type(e).__name__}: {e}", "steps_done": 0}
-                row["index"] = spec["index"]
-                row["resumed"] = False
-                rows[spec["index"]] = row
-                done_count += 1
-                report(done_count, row)
-        finally:
-            if own_client is not None:
-                own_client.close()
-            if own_cluster is not None:
-                own_cluster.close()
+        _run_on_dask(todo, rows, client, workers, retries, report, out_dir)
     report(None, None)
 
     df = pd.DataFrame(rows)
@@ -372,6 +479,51 @@ def sweep(scene, grid, steps: int, *, out=None, metrics=None, save=None, save_co
         # %.17g: every float written exactly (read it back with float_precision="round_trip").
         df.to_csv(out_dir / "results.csv", index=False, float_format="%.17g")
     return df
+
+
+def _run_on_dask(todo, rows, client, workers, retries, report, out_dir):
+    """Runs the specs of `todo` as Dask tasks and puts each row into rows[spec["index"]] as it
+    completes (a task Dask gave up on is a "lost" row); `client` None starts (and closes) a
+    LocalCluster of `workers` processes, a string connects to that scheduler."""
+    from distributed import Client, as_completed
+    own_cluster = None
+    own_client = None
+    if client is None:
+        _refuse_unguarded_main()
+        own_cluster = _cluster_without_interrupts(workers)
+    done_count = sum(r is not None for r in rows)
+    try:
+        if own_cluster is not None:
+            own_client = client = Client(own_cluster)
+            client.register_worker_plugin(IgnoreInterrupts())
+        elif isinstance(client, str):
+            own_client = client = Client(client)
+        futures = {}
+        submission = uuid.uuid4().hex[:8]  # a key of its own: never an earlier sweep's result kept in memory
+        for spec in todo:
+            f = client.submit(run_task, spec, key=f"penalty-sweep-{spec['task']}-{submission}", pure=False,
+                              retries=retries)
+            futures[f] = spec
+        for f in as_completed(list(futures)):
+            spec = futures[f]
+            try:
+                row = f.result()
+            except Exception as e:  # noqa: BLE001 - e.g. KilledWorker after the retries: still a row
+                row = {"task": spec["task"], **spec["overrides"], **{m: None for m in METRICS},
+                       "status": "lost", "message": f"{type(e).__name__}: {e}", "steps_done": 0}
+            row["index"] = spec["index"]
+            row["resumed"] = False
+            rows[spec["index"]] = row
+            done_count += 1
+            report(done_count, row)
+    finally:
+        if own_client is not None:
+            own_client.close()
+        if own_cluster is not None:
+            own_cluster.close()
+        if out_dir is not None:  # a worker that died during this sweep left its partial files
+            for spec in todo:
+                remove_partial_files(out_dir, spec["task"])
 
 
 def _progress_reporter(progress, total):

@@ -15,6 +15,7 @@ namespace py = pybind11;
 void bind_scene(py::module_& m);
 void bind_force_field(py::module_& m);
 void bind_collision(py::module_& m);
+void bind_live(py::module_& m);  // live_bindings.cpp: after bind_scene (adds to its Scene class)
 
 // ---- the tunnelling guard (tunnelling_bindings.cpp) ----------------------------------------------
 /// The scene's guard mode name ("off" without a guard).
@@ -23,8 +24,6 @@ std::string tunnelling_mode(const scene::Scene& s);
 void set_tunnelling_mode(scene::Scene& s, const std::string& mode);
 /// The last step's report as a dict, None without a guard.
 py::object tunnelling_report(const scene::Scene& s);
-/// A run's guard totals as a dict, None without a guard.
-py::object tunnelling_summary(const scene::RunSummary& s);
 /// `penalty info --contact-advice` as a list of dicts, one per model pair.
 py::list contact_advice_list(const scene::Scene& s, std::optional<double> impact_speed);
 
@@ -36,7 +35,29 @@ inline py::array_t<double> view(double* data, py::ssize_t rows, py::ssize_t cols
     return py::array_t<double>({rows, cols}, {row_stride, py::ssize_t(sizeof(double))}, data, owner);
 }
 
-/// Reads an (n, 3) float64 array (any layout, converted if needed) as a contiguous copy.
+/// Reads an (n, 3) float64 array (any layout, converted if needed) as a contiguous copy; a
+/// non-numeric dtype is a TypeError, a wrong shape or a non-finite value a ValueError, each
+/// naming `what` (the argument).
 py::array_t<double, py::array::c_style | py::array::forcecast> as_points(const py::handle& a, const char* what);
+
+/// `a` as a C-contiguous array of T (converted when needed); TypeError naming `what` when numpy
+/// cannot convert it.
+template <class T>
+py::array_t<T, py::array::c_style | py::array::forcecast> numbers_array(const py::handle& a, const char* what) {
+    auto array = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(a);
+    if (!array || array.ptr() == nullptr) {
+        PyErr_Clear();
+        throw py::type_error(std::string(what) + ": expected a number or an array of numbers");
+    }
+    return array;
+}
+
+/// The dtype kind of a number or array of numbers ('i', 'u' or 'f'); TypeError naming `what` for
+/// booleans, strings, objects and anything numpy cannot read as an array.
+char numeric_kind(const py::handle& a, const char* what);
+
+/// Indices as int64: integer arrays as they are, float arrays only when every value is a whole
+/// number (0.7 is a ValueError, never truncated to 0), booleans a TypeError.
+py::array_t<std::int64_t, py::array::c_style | py::array::forcecast> as_indices(const py::handle& a, const char* what);
 
 }  // namespace penalty::python

@@ -6,11 +6,14 @@
 #include "penalty/collision/models.hpp"
 #include "penalty/mechanics/state.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/output/format.hpp"
 
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 namespace penalty::python {
 
@@ -50,8 +53,8 @@ void fill_points(PyModel& m, const py::handle& points) {
 
 template <std::size_t N>
 std::vector<std::array<PointId, N>> elements(const py::handle& v, const char* what, std::size_t points) {
-    auto a = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(v);
-    if (!a || a.size() % py::ssize_t(N) != 0 || (a.ndim() == 2 && a.shape(1) != py::ssize_t(N)))
+    const auto a = as_indices(v, what);
+    if (a.size() % py::ssize_t(N) != 0 || a.ndim() > 2 || (a.ndim() == 2 && a.shape(1) != py::ssize_t(N)))
         throw py::value_error(std::string(what) + ": expected shape (n, " + std::to_string(N) + ")");
     std::vector<std::array<PointId, N>> out(std::size_t(a.size()) / N);
     for (std::size_t i = 0; i < out.size() * N; ++i) {
@@ -62,6 +65,39 @@ std::vector<std::array<PointId, N>> elements(const py::handle& v, const char* wh
         out[i / N][i % N] = PointId(id);
     }
     return out;
+}
+
+/// A keyword's value as T; TypeError naming the keyword (pybind11's cast_error names nothing).
+template <class T>
+T keyword(const py::handle& value, const std::string& name) {
+    if constexpr (std::is_same_v<T, double>) {
+        if (!py::isinstance<py::float_>(value) && !py::isinstance<py::int_>(value))
+            throw py::type_error("detect: " + name + " must be a number");
+        if (py::isinstance<py::bool_>(value)) throw py::type_error("detect: " + name + " must be a number, not a bool");
+    } else {
+        if (!py::isinstance<py::bool_>(value)) throw py::type_error("detect: " + name + " must be True or False");
+    }
+    return value.cast<T>();
+}
+
+/// A radius argument: one number (every sphere) or one per sphere, finite and > 0.
+void read_radius(const py::handle& radius, std::size_t spheres, double& uniform, std::vector<double>& list) {
+    (void)numeric_kind(radius, "radius");
+    const auto r = numbers_array<double>(radius, "radius");
+    if (r.ndim() > 1 || (r.ndim() == 1 && std::size_t(r.size()) != spheres))
+        throw py::value_error("radius: expected one number or " + std::to_string(spheres) + " radii");
+    for (py::ssize_t i = 0; i < r.size(); ++i)
+        if (!(std::isfinite(r.data()[i]) && r.data()[i] > 0.0))
+            throw py::value_error("radius: " + output::format_number(r.data()[i]) + " must be a finite number > 0");
+    if (r.ndim() == 0) uniform = *r.data();
+    else list.assign(r.data(), r.data() + r.size());
+}
+
+/// The model's own checks (finite positions, indices in range, parameters), at construction
+/// rather than at the first detect().
+std::unique_ptr<PyModel> validated(std::unique_ptr<PyModel> p) {
+    p->model->validate();
+    return p;
 }
 
 IntersectionParams intersection_params(const std::string& method, const py::kwargs& options) {
@@ -75,17 +111,17 @@ IntersectionParams intersection_params(const std::string& method, const py::kwar
                               method + "'");
     for (const auto& [key, value] : options) {
         const auto k = key.cast<std::string>();
-        if (k == "alarm_distance") p.alarm_distance = value.cast<double>();
-        else if (k == "contact_distance") p.contact_distance = value.cast<double>();
-        else if (k == "use_line_line") p.use_line_line = value.cast<bool>();
-        else if (k == "use_sphere_triangle") p.use_sphere_triangle = value.cast<bool>();
-        else if (k == "use_point_point") p.use_point_point = value.cast<bool>();
-        else if (k == "use_line_point") p.use_line_point = value.cast<bool>();
-        else if (k == "use_surface_normals") p.use_surface_normals = value.cast<bool>();
-        else if (k == "filter_intersection") p.filter_intersection = value.cast<bool>();
-        else if (k == "angle_cone") p.angle_cone = value.cast<double>();
-        else if (k == "cone_factor") p.cone_factor = value.cast<double>();
-        else if (k == "enable_beyond_sofa_pairs") p.enable_beyond_sofa_pairs = value.cast<bool>();
+        if (k == "alarm_distance") p.alarm_distance = keyword<double>(value, k);
+        else if (k == "contact_distance") p.contact_distance = keyword<double>(value, k);
+        else if (k == "use_line_line") p.use_line_line = keyword<bool>(value, k);
+        else if (k == "use_sphere_triangle") p.use_sphere_triangle = keyword<bool>(value, k);
+        else if (k == "use_point_point") p.use_point_point = keyword<bool>(value, k);
+        else if (k == "use_line_point") p.use_line_point = keyword<bool>(value, k);
+        else if (k == "use_surface_normals") p.use_surface_normals = keyword<bool>(value, k);
+        else if (k == "filter_intersection") p.filter_intersection = keyword<bool>(value, k);
+        else if (k == "angle_cone") p.angle_cone = keyword<double>(value, k);
+        else if (k == "cone_factor") p.cone_factor = keyword<double>(value, k);
+        else if (k == "enable_beyond_sofa_pairs") p.enable_beyond_sofa_pairs = keyword<bool>(value, k);
         else throw py::type_error("detect: unknown intersection parameter '" + k + "'");
     }
     p.validate();
@@ -164,7 +200,7 @@ void bind_collision(py::module_& parent) {
         fill_points(*p, points);
         p->model = std::make_unique<PointModel>(*p->state, p->topology.get(),
             model_params(name.empty() ? "points" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return p;
+        return validated(std::move(p));
     }, py::arg("points"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
@@ -175,7 +211,7 @@ void bind_collision(py::module_& parent) {
         p->topology->set_edges(elements<2>(edges, "edges", p->state->position.size()));
         p->model = std::make_unique<LineModel>(*p->state, *p->topology,
             model_params(name.empty() ? "lines" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return p;
+        return validated(std::move(p));
     }, py::arg("points"), py::arg("edges"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
@@ -187,7 +223,7 @@ void bind_collision(py::module_& parent) {
         p->topology->set_triangles(elements<3>(triangles, "triangles", p->state->position.size()));
         p->model = std::make_unique<TriangleModel>(*p->state, *p->topology,
             model_params(name.empty() ? "triangles" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return p;
+        return validated(std::move(p));
     }, py::arg("points"), py::arg("triangles"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
@@ -196,24 +232,26 @@ void bind_collision(py::module_& parent) {
                             bool self_collision, const std::vector<int>& group) {
         auto p = std::make_unique<PyModel>();
         fill_points(*p, centers);
-        auto r = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(radius);
-        if (!r) throw py::type_error("radius: expected a number or an array of numbers");
         std::vector<double> list;
         double uniform = 1.0;
-        if (r.ndim() == 0) uniform = *r.data();
-        else list.assign(r.data(), r.data() + r.size());
+        read_radius(radius, p->state->position.size(), uniform, list);
         p->model = std::make_unique<SphereModel>(*p->state, uniform, std::move(list),
             model_params(name.empty() ? "spheres" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return p;
+        return validated(std::move(p));
     }, py::arg("centers"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
     m.def("RigidSphereModel", [](const py::handle& frames, const py::handle& radius, const std::string& name,
                                  double contact_distance, double contact_stiffness, bool simulated, bool moving,
                                  bool self_collision, const std::vector<int>& group) {
-        auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(frames);
-        if (!a || a.ndim() != 2 || (a.shape(1) != 3 && a.shape(1) != 7))
+        (void)numeric_kind(frames, "frames");
+        const auto a = numbers_array<double>(frames, "frames");
+        if (a.ndim() != 2 || (a.shape(1) != 3 && a.shape(1) != 7))
             throw py::value_error("frames: expected shape (n, 7) x y z qx qy qz qw, or (n, 3) centres");
+        for (py::ssize_t i = 0; i < a.size(); ++i)
+            if (!std::isfinite(a.data()[i]))
+                throw py::value_error("frames: frame " + std::to_string(i / a.shape(1)) + " holds " +
+                                      output::format_number(a.data()[i]) + " (every value must be finite)");
         auto p = std::make_unique<PyModel>();
         p->frames = std::make_unique<Rigid3State>();
         for (py::ssize_t i = 0; i < a.shape(0); ++i) {
@@ -228,15 +266,12 @@ void bind_collision(py::module_& parent) {
         }
         p->frames->velocity.assign(p->frames->position.size(), RigidDeriv{});
         p->frames->rest_position = p->frames->position;
-        auto r = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(radius);
-        if (!r) throw py::type_error("radius: expected a number or an array of numbers");
         std::vector<double> list;
         double uniform = 1.0;
-        if (r.ndim() == 0) uniform = *r.data();
-        else list.assign(r.data(), r.data() + r.size());
+        read_radius(radius, p->frames->position.size(), uniform, list);
         p->model = std::make_unique<RigidSphereModel>(*p->frames, uniform, std::move(list),
             model_params(name.empty() ? "rigid_spheres" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return p;
+        return validated(std::move(p));
     }, py::arg("frames"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{},

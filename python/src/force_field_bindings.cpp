@@ -5,6 +5,7 @@
 
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <string>
 
 namespace penalty::python {
@@ -24,10 +25,10 @@ Points zeros_like(const Points& a) {
     return out;
 }
 
-/// Scalar or length-n array, broadcast to n values.
+/// Scalar or length-n array, broadcast to n values (finiteness and ranges: add_contact's checks).
 std::vector<double> broadcast(const py::handle& v, std::size_t n, const char* what) {
-    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(v);
-    if (!a) throw py::type_error(std::string(what) + ": expected a number or an array of numbers");
+    (void)numeric_kind(v, what);
+    const auto a = numbers_array<double>(v, what);
     if (a.ndim() == 0 || a.size() == 1) return std::vector<double>(n, *a.data());
     if (a.ndim() != 1 || std::size_t(a.shape(0)) != n)
         throw py::value_error(std::string(what) + ": expected a number or " + std::to_string(n) + " values");
@@ -35,12 +36,25 @@ std::vector<double> broadcast(const py::handle& v, std::size_t n, const char* wh
 }
 
 std::vector<Index> broadcast_index(const py::handle& v, std::size_t n, const char* what) {
-    auto a = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(v);
-    if (!a) throw py::type_error(std::string(what) + ": expected an integer or an array of integers");
+    const auto a = as_indices(v, what);
     if (a.ndim() == 0 || (a.size() == 1 && n != 0)) return std::vector<Index>(n, *a.data());
     if (a.ndim() != 1 || std::size_t(a.shape(0)) != n)
         throw py::value_error(std::string(what) + ": expected an integer or " + std::to_string(n) + " values");
     return {a.data(), a.data() + n};
+}
+
+/// Most DOFs of a state the matrices are built for (10⁸: 2.4 GB of row pointers already).
+constexpr Index kMaxMatrixDofs = 100'000'000;
+
+/// n1 and n2 of stiffness_matrix / damping_matrix: whole numbers in [0, kMaxMatrixDofs].
+void check_matrix_size(const char* function, const char* what, Index n) {
+    if (n < 0 || n > kMaxMatrixDofs)
+        throw py::value_error(std::string(function) + ": " + what + " = " + std::to_string(n) +
+                              " is out of range (0 to 100000000 DOFs)");
+}
+
+void check_factor(const char* what, double value) {
+    if (!std::isfinite(value)) throw py::value_error(std::string("add_dforce: ") + what + " must be finite");
 }
 
 py::object to_csr(const SparseMatrix& k) {
@@ -62,6 +76,8 @@ PenaltyParameters parameters_from(double damping, const py::object& friction, do
     p.damping = damping;
     if (py::isinstance<py::bool_>(friction)) {
         p.friction = friction.cast<bool>() ? FrictionModel::coulomb : FrictionModel::ignored;
+    } else if (!py::isinstance<py::str>(friction)) {
+        throw py::type_error("friction: expected True/False, 'coulomb' or 'ignored'");
     } else {
         const auto name = friction.cast<std::string>();
         if (name == "coulomb") p.friction = FrictionModel::coulomb;
@@ -142,6 +158,8 @@ void bind_force_field(py::module_& m) {
         .def("add_dforce",
              [](const PenaltyForceField& f, const py::handle& dx1, const py::handle& dx2, double k_factor,
                 double b_factor) -> py::object {
+                 check_factor("k_factor", k_factor);
+                 check_factor("b_factor", b_factor);
                  const Points d1 = as_points(dx1, "dx1");
                  Points df1 = zeros_like(d1);
                  if (dx2.is_none()) {
@@ -157,6 +175,8 @@ void bind_force_field(py::module_& m) {
              py::arg("b_factor") = 0.0, "df = k_factor*K*dx + b_factor*B*dx with the active set of the last add_force")
         .def("stiffness_matrix",
              [](const PenaltyForceField& f, Index n1, std::optional<Index> n2) {
+                 check_matrix_size("stiffness_matrix", "n1", n1);
+                 if (n2) check_matrix_size("stiffness_matrix", "n2", *n2);
                  return to_csr(f.stiffness_matrix(n1, n2.value_or(0), !n2.has_value()));
              },
              py::arg("n1"), py::arg("n2") = py::none(),
@@ -164,6 +184,8 @@ void bind_force_field(py::module_& m) {
              "for one state (n2=None)")
         .def("damping_matrix",
              [](const PenaltyForceField& f, Index n1, std::optional<Index> n2) {
+                 check_matrix_size("damping_matrix", "n1", n1);
+                 if (n2) check_matrix_size("damping_matrix", "n2", *n2);
                  return to_csr(f.damping_matrix(n1, n2.value_or(0), !n2.has_value()));
              },
              py::arg("n1"), py::arg("n2") = py::none(), "B = df/dv, same layout as stiffness_matrix")

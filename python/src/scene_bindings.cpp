@@ -1,10 +1,11 @@
 // Scenes from Python: build (from a .scn file or from the node tree a SofaPython3 script made),
 // step, states as numpy views of the C++ vectors, contacts and energies as arrays, run with the
 // CLI's writers.
-#include "bindings.hpp"
+#include "py_scene.hpp"
 
 #include "penalty/io/overrides.hpp"
 #include "penalty/io/scene_file.hpp"
+#include "penalty/output/format.hpp"
 #include "penalty/output/stats_csv.hpp"
 #include "penalty/scene/contact_advice.hpp"
 #include "penalty/scene/runner.hpp"
@@ -15,6 +16,8 @@
 
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
 #include <unistd.h>
@@ -24,31 +27,6 @@ namespace penalty::python {
 namespace {
 
 using scene::Scene;
-
-/// A built scene plus the Python callables run around every step (SofaPython3 controllers).
-struct PyScene {
-    std::unique_ptr<Scene> scene;
-    std::vector<py::object> before_step;  ///< called with no argument before each step
-    std::vector<py::object> after_step;   ///< called after each step
-
-    void call_hooks(const std::vector<py::object>& hooks) {
-        for (const py::object& hook : hooks) hook();
-    }
-    void step(std::int64_t n) {
-        if (n < 0) throw py::value_error("step: n must be >= 0");
-        for (std::int64_t k = 0; k < n; ++k) {
-            call_hooks(before_step);
-            scene->step();
-            call_hooks(after_step);
-        }
-    }
-};
-
-/// One MechanicalObject of a scene; `scene` keeps the owning Python scene alive.
-struct PyState {
-    py::object scene;
-    const output::StateRecord* record = nullptr;
-};
 
 Vec3Object* vec3_of(const PyState& s) { return dynamic_cast<Vec3Object*>(s.record->state); }
 Rigid3Object* rigid_of(const PyState& s) { return dynamic_cast<Rigid3Object*>(s.record->state); }
@@ -76,11 +54,25 @@ py::array_t<double> rigid_copy(const std::vector<RigidFrame>& frames) {
     return out;
 }
 
+/// A ValueError naming `what` and the row when an array to write into a state is not finite.
+void check_finite(const py::array_t<double, py::array::c_style | py::array::forcecast>& a, const char* what) {
+    const py::ssize_t columns = a.ndim() == 2 ? a.shape(1) : 1;
+    for (py::ssize_t i = 0; i < a.size(); ++i)
+        if (!std::isfinite(a.data()[i]))
+            throw py::value_error(std::string(what) + ": row " + std::to_string(i / std::max<py::ssize_t>(1, columns)) +
+                                  " holds " + output::format_number(a.data()[i]) + " (every value must be finite)");
+}
+
 void rigid_assign(std::vector<RigidFrame>& frames, const py::handle& value, const char* what) {
-    auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
-    if (!a || a.ndim() != 2 || a.shape(0) != py::ssize_t(frames.size()) || a.shape(1) != 7)
+    (void)numeric_kind(value, what);
+    const auto a = numbers_array<double>(value, what);
+    if (a.ndim() != 2 || a.shape(0) != py::ssize_t(frames.size()) || a.shape(1) != 7)
         throw py::value_error(std::string(what) + ": expected shape (" + std::to_string(frames.size()) + ", 7)");
+    check_finite(a, what);
     auto r = a.unchecked<2>();
+    for (py::ssize_t i = 0; i < r.shape(0); ++i)
+        if (!(r(i, 3) * r(i, 3) + r(i, 4) * r(i, 4) + r(i, 5) * r(i, 5) + r(i, 6) * r(i, 6) > 0.0))
+            throw py::value_error(std::string(what) + ": frame " + std::to_string(i) + " has a zero quaternion");
     for (std::size_t i = 0; i < frames.size(); ++i) {
         frames[i].center = Vec3(r(py::ssize_t(i), 0), r(py::ssize_t(i), 1), r(py::ssize_t(i), 2));
         frames[i].orientation = Quat(r(py::ssize_t(i), 6), r(py::ssize_t(i), 3), r(py::ssize_t(i), 4), r(py::ssize_t(i), 5));
@@ -90,11 +82,12 @@ void rigid_assign(std::vector<RigidFrame>& frames, const py::handle& value, cons
 
 template <class T>
 void vec_assign(py::array_t<double> target, const py::handle& value, const char* what) {
-    auto src = py::array_t<double, py::array::forcecast>::ensure(value);
-    if (!src) throw py::type_error(std::string(what) + ": expected an array of numbers");
+    (void)numeric_kind(value, what);
+    const auto src = numbers_array<double>(value, what);
     if (src.ndim() != target.ndim() || src.shape(0) != target.shape(0) || src.shape(1) != target.shape(1))
         throw py::value_error(std::string(what) + ": expected shape (" + std::to_string(target.shape(0)) + ", " +
                               std::to_string(target.shape(1)) + ")");
+    check_finite(src, what);
     auto t = target.mutable_unchecked<2>();
     auto s = src.unchecked<2>();
     for (py::ssize_t i = 0; i < t.shape(0); ++i)
@@ -210,6 +203,45 @@ py::dict energies_dict(const Scene& scene) {
     return d;
 }
 
+/// The matrix of one component of the file (SofaPython3's ForceField.assembleKMatrix, K with
+/// kFactor 1; Mass.assembleMMatrix, M), as (rows, columns, values, size) of its state's scalars:
+/// component `index` of the file's node `node_path` (controllers not counted).
+py::tuple component_matrix(const Scene& scene, const std::string& node_path, std::size_t index, const std::string& kind) {
+    const io::SceneNode* found = nullptr;
+    std::function<void(const io::SceneNode&)> visit = [&](const io::SceneNode& sn) {
+        if (found == nullptr && sn.path() == node_path) found = &sn;
+        for (const auto& child : sn.children) visit(*child);
+    };
+    visit(*scene.file().root);
+    if (found == nullptr || index >= found->components.size()) throw py::value_error("no such component in the built scene");
+    const io::SceneComponent* component = found->components[index].get();
+    const Node* node = scene.node_of(*found);
+    TripletList triplets;
+    std::size_t size = 0;
+    if (node != nullptr && kind == "M" && node->mass() != nullptr && scene.component_of(node->mass()) == component) {
+        node->mass()->add_mass_triplets(triplets, 0, 1.0);
+        size = node->mass()->state()->scalar_size();
+    } else if (node != nullptr && kind == "K") {
+        for (const auto& ff : node->force_fields()) {
+            if (scene.component_of(ff.get()) != component) continue;
+            const ForceFieldStates states = ff->states();
+            if (states.size() != 1) throw py::value_error(component->describe() + ": assembleKMatrix of an interaction force field");
+            ff->add_stiffness(triplets, [](const BaseState*) { return Index{0}; }, 1.0);
+            size = states[0]->scalar_size();
+        }
+    }
+    if (size == 0)
+        throw py::value_error(component->describe() + (kind == "M" ? " is not a mass penalty built" : " is not a force field penalty built"));
+    std::vector<Index> rows, cols;
+    std::vector<double> values;
+    for (const Triplet& t : triplets) {
+        rows.push_back(t.row());
+        cols.push_back(t.col());
+        values.push_back(t.value());
+    }
+    return py::make_tuple(rows, cols, values, size);
+}
+
 py::dict info_dict(const Scene& scene) {
     py::list nodes, components, pipelines;
     std::function<void(const io::SceneNode&)> visit = [&](const io::SceneNode& sn) {
@@ -316,26 +348,9 @@ void print_progress(std::int64_t done, std::int64_t total, double time) {
     std::fflush(stderr);
 }
 
+/// The summary as `penalty run --summary-json` writes it (scene::summary_json: one definition).
 py::dict summary_dict(const scene::RunSummary& s) {
-    py::dict d;
-    d["steps"] = s.steps;
-    d["dt"] = s.dt;
-    d["simulated_time"] = s.simulated_time;
-    d["wall_seconds"] = s.wall_seconds;
-    d["detection_seconds"] = s.detection_seconds;
-    d["response_seconds"] = s.response_seconds;
-    d["solve_seconds"] = s.solve_seconds;
-    d["output_seconds"] = s.output_seconds;
-    d["mean_contacts"] = s.mean_contacts;
-    d["max_contacts"] = s.max_contacts;
-    d["max_penetration"] = s.max_penetration;
-    d["kinetic_energy"] = s.kinetic_energy;
-    d["contact_energy"] = s.contact_energy;
-    d["dissipated_energy"] = s.dissipated_energy;
-    d["state_files"] = s.state_files;
-    d["tunnelling"] = tunnelling_summary(s);
-    d["text"] = scene::format_summary(s);
-    return d;
+    return py::module_::import("json").attr("loads")(scene::summary_json(s));
 }
 
 }  // namespace
@@ -389,14 +404,29 @@ void bind_scene(py::module_& m) {
         .def("_state_list", [](py::object self) {
             py::list out;
             const PyScene& s = self.cast<const PyScene&>();
-            for (const auto& r : s.scene->states()) out.append(PyState{self, &r});
+            for (const auto& r : s.scene->states()) out.append(PyState{self, StateRecordRef(self, &r)});
             return out;
         })
         .def("contacts", [](const PyScene& s) { return contacts_dict(*s.scene); },
              "The live contacts after the last step, one row per contact (dict of arrays)")
+        .def("_contact_summary", [](const PyScene& s) {
+            // the per-step numbers of `penalty run --stats` (output::summarize_contacts)
+            const output::ContactSummary c = output::summarize_contacts(s.scene->contacts());
+            py::dict d;
+            d["contacts"] = c.contacts;
+            d["active_contacts"] = c.active_contacts;
+            d["max_penetration"] = c.max_penetration;
+            d["contact_energy"] = c.contact_energy;
+            d["dissipated_energy"] = c.dissipated_energy;
+            return d;
+        }, "After a step: contacts, active_contacts, max_penetration (m, at the positions after the step, "
+           "0 without a penetrating contact), contact_energy, dissipated_energy (J): --stats' columns")
         .def("energies", [](const PyScene& s) { return energies_dict(*s.scene); },
              "kinetic, contact (stored), dissipated_damping, dissipated_friction, dissipated (J)")
         .def("info", [](const PyScene& s) { return info_dict(*s.scene); }, "What `penalty info` prints, as data")
+        .def("_component_matrix", [](const PyScene& s, const std::string& node_path, std::size_t index,
+                                     const std::string& kind) { return component_matrix(*s.scene, node_path, index, kind); },
+             py::arg("node_path"), py::arg("index"), py::arg("kind"))
         .def("warnings", [](const PyScene& s) { return s.scene->warnings(); })
         .def_property("no_tunnelling", [](const PyScene& s) { return tunnelling_mode(*s.scene); },
                       [](PyScene& s, const std::string& mode) { set_tunnelling_mode(*s.scene, mode); },

@@ -62,26 +62,6 @@ py::object tunnelling_report(const scene::Scene& s) {
     return d;
 }
 
-py::object tunnelling_summary(const scene::RunSummary& s) {
-    const scene::RunSummary::Tunnelling& t = s.tunnelling;
-    if (t.mode.empty()) return py::none();
-    py::dict d;
-    d["mode"] = t.mode;
-    d["crossings"] = t.crossings;
-    d["crossing_steps"] = t.crossing_steps;
-    d["prevented"] = t.prevented;
-    d["undone_solves"] = t.undone_solves;
-    d["extra_solves"] = t.extra_solves;
-    d["deepest_halving"] = t.deepest_halving;
-    d["max_depth"] = t.max_depth;
-    d["first_crossing"] = t.first_crossing;
-    d["stiffened_contacts"] = t.stiffened_contacts;
-    d["max_stiffening"] = t.max_stiffening;
-    d["stiffening_energy"] = t.stiffening_energy;
-    d["guard_seconds"] = t.guard_seconds;
-    return d;
-}
-
 py::list contact_advice_list(const scene::Scene& s, std::optional<double> impact_speed) {
     py::list out;
     for (const scene::PairAdvice& a : scene::contact_advice_pairs(s, impact_speed)) {

@@ -2,7 +2,7 @@
 // boxes pass the §3.8 test, sorted (collect_candidates, bvh_candidates).
 #include "narrow_phase.hpp"
 
-#include "penalty/collision/box_columns.hpp"
+#include "kernels/collision/box_columns.hpp"
 #include "penalty/collision/models.hpp"
 #include "penalty/collision/separation.hpp"
 #include "penalty/core/radix_sort.hpp"

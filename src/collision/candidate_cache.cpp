@@ -3,6 +3,7 @@
 
 #include "penalty/collision/separation.hpp"
 #include "kernels.hpp"
+#include "kernels/box_overlap.hpp"
 #include "kernels/prefetch.hpp"
 
 #include <algorithm>
@@ -223,13 +224,13 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
                 const std::uint64_t k = keys[j];
                 if constexpr (decltype(branch_free)::value) {
                     block[count] = k;
-                    count += boxes1[k >> 32].overlaps_branch_free(boxes2[k & 0xffffffffu], margin) ? 1 : 0;
+                    count += boxes_overlap_branch_free(boxes1[k >> 32], boxes2[k & 0xffffffffu], margin) ? 1 : 0;
                 } else if (flags == 1) {
                     if (sure[j] != 0 || boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) block[count++] = k;
                 } else if (flags == 2) {
                     const Aabb& box1 = boxes1[k >> 32];
                     const Aabb& box2 = boxes2[k & 0xffffffffu];
-                    sure[j] = box1.overlaps_branch_free(box2, sure_margin) ? 1 : 0;
+                    sure[j] = boxes_overlap_branch_free(box1, box2, sure_margin) ? 1 : 0;
                     sure_count += sure[j];
                     if (sure[j] != 0 || box1.overlaps(box2, margin)) block[count++] = k;
                 } else if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) {

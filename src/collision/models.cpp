@@ -1,7 +1,7 @@
 #include "penalty/collision/models.hpp"
 
 #include "penalty/collision/separation.hpp"
-#include "penalty/collision/triangle_normals.hpp"
+#include "kernels/collision/triangle_normals.hpp"
 #include "penalty/core/error.hpp"
 
 #include <algorithm>

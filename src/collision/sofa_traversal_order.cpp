@@ -240,8 +240,8 @@ void sofa_order_permutation(const SofaCubeTree& t1, const SofaCubeTree& t2, std:
             for (std::size_t i = 0; i < n; ++i) {
                 if (prefetch && i + kAhead < n) {
                     const auto [a, b] = elements(i + kAhead);
-                    t1.prefetch_place(a);
-                    t2.prefetch_place(b);
+                    detail::prefetch::first_word(t1.place_address(a));
+                    detail::prefetch::first_word(t2.place_address(b));
                 }
                 const auto [a, b] = elements(i);
                 keyed.push_back({packed_key(levels, t1.path(a), t2.path(b)), std::uint32_t(i)});

@@ -1,6 +1,7 @@
 #include "penalty/io/mesh.hpp"
 
 #include "io/text.hpp"
+#include "io/vtk_cells.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -59,6 +60,7 @@ MeshData load_obj(const std::filesystem::path& path, bool triangulate, bool hand
 }
 
 MeshData parse_obj(std::string_view text, const std::filesystem::path& path, bool triangulate, bool handle_seams) {
+    text = detail::skip_byte_order_mark(text);
     MeshData mesh;
     std::vector<ObjRecord> records;
     std::int64_t texture_coordinates = 0, normals = 0;  // vt and vn lines so far
@@ -497,6 +499,41 @@ void add_polygon(MeshData& mesh, const std::vector<PointId>& p) {
 
 }  // namespace
 
+void add_vtk_cell(MeshData& mesh, std::int64_t type, const std::vector<PointId>& p, const std::filesystem::path& path,
+                  int cell_line, int type_line) {
+    const auto need = [&](std::size_t count) {
+        if (p.size() != count) {
+            fail(path, cell_line,
+                 "cell of type " + std::to_string(type) + " needs " + std::to_string(count) + " points, found " +
+                     std::to_string(p.size()));
+        }
+    };
+    switch (type) {
+        case 1: break;  // vertex
+        case 3: need(2); mesh.edges.push_back(Edge{p[0], p[1]}); break;
+        case 4:
+            for (std::size_t j = 1; j < p.size(); ++j) mesh.edges.push_back(Edge{p[j - 1], p[j]});
+            break;
+        case 5: need(3); mesh.triangles.push_back(Triangle{p[0], p[1], p[2]}); break;
+        case 7:
+            if (p.size() < 3) fail(path, cell_line, "polygon with fewer than 3 points");
+            add_polygon(mesh, p);
+            break;
+        case 8: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[3], p[2]}); break;
+        case 9: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[2], p[3]}); break;
+        case 10: need(4); mesh.tetrahedra.push_back(Tetrahedron{p[0], p[1], p[2], p[3]}); break;
+        case 11:
+            need(8);
+            mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[3], p[2], p[4], p[5], p[7], p[6]});
+            break;
+        case 12:
+            need(8);
+            mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]});
+            break;
+        default: fail(path, type_line, "VTK cell type " + std::to_string(type) + " is not supported");
+    }
+}
+
 MeshData load_vtk_legacy(const std::filesystem::path& path) { return parse_vtk_legacy(detail::read_file(path), path); }
 
 MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& path) {
@@ -578,39 +615,7 @@ MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& pa
             }
             for (std::size_t c = 0; c < cells.size(); ++c) {
                 const std::int64_t type = tok.expect_int("cell type");
-                const auto& p = cells[c];
-                const auto need = [&](std::size_t count) {
-                    if (p.size() != count) {
-                        fail(path, cell_lines[c],
-                             "cell of type " + std::to_string(type) + " needs " + std::to_string(count) +
-                                 " points, found " + std::to_string(p.size()));
-                    }
-                };
-                switch (type) {
-                    case 1: break;  // vertex
-                    case 3: need(2); mesh.edges.push_back(Edge{p[0], p[1]}); break;
-                    case 4:
-                        for (std::size_t j = 1; j < p.size(); ++j) mesh.edges.push_back(Edge{p[j - 1], p[j]});
-                        break;
-                    case 5: need(3); mesh.triangles.push_back(Triangle{p[0], p[1], p[2]}); break;
-                    case 7:
-                        if (p.size() < 3) fail(path, cell_lines[c], "polygon with fewer than 3 points");
-                        add_polygon(mesh, p);
-                        break;
-                    case 8: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[3], p[2]}); break;
-                    case 9: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[2], p[3]}); break;
-                    case 10: need(4); mesh.tetrahedra.push_back(Tetrahedron{p[0], p[1], p[2], p[3]}); break;
-                    case 11:
-                        need(8);
-                        mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[3], p[2], p[4], p[5], p[7], p[6]});
-                        break;
-                    case 12:
-                        need(8);
-                        mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]});
-                        break;
-                    default:
-                        fail(path, tok.line(), "VTK cell type " + std::to_string(type) + " is not supported");
-                }
+                add_vtk_cell(mesh, type, cells[c], path, cell_lines[c], tok.line());
             }
             have_types = true;
         } else if (name == "POINT_DATA" || name == "CELL_DATA" || name == "FIELD" || name == "METADATA") {
@@ -631,10 +636,10 @@ MeshData load_mesh_file(const std::filesystem::path& path) {
     if (ext == ".obj") return load_obj(path);
     if (ext == ".msh") return load_gmsh(path);
     if (ext == ".sph") return load_sph(path);
-    if (ext == ".vtk") return load_vtk_legacy(path);
+    if (ext == ".vtk" || ext == ".vtu") return load_vtk(path);
     if (ext == ".off") return load_off(path);
     if (ext == ".trian") return load_trian(path);
-    fail(path, 0, "unknown mesh file extension '" + ext + "' (expected .obj, .msh, .sph, .vtk, .off or .trian)");
+    fail(path, 0, "unknown mesh file extension '" + ext + "' (expected .obj, .msh, .sph, .vtk, .vtu, .off or .trian)");
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -12,6 +12,7 @@ RigidMassFile load_rigid_mass_file(const std::filesystem::path& path) {
 }
 
 RigidMassFile parse_rigid_mass_file(std::string_view text, const std::filesystem::path& path) {
+    text = detail::skip_byte_order_mark(text);
     RigidMassFile out;
     // tokens with their line, after the first line (UniformMass::loadFromFileRigidImpl skips it)
     std::vector<std::pair<std::string_view, int>> tokens;

@@ -2,6 +2,11 @@
 
 #include "penalty/io/data_path.hpp"
 
+#include <cmath>
+#include <set>
+#include <utility>
+
+#include <cstdlib>
 
 namespace penalty::io {
 
@@ -16,13 +21,83 @@ void refuse_if_set(const SceneComponent& c, std::string_view attr, bool value_th
     }
 }
 
+/// GridMeshCreator::doLoad: resolution (nx, ny) points x/(nx−1), y/(ny−1), row by row; the
+/// elements of `pattern` in SOFA's order; the edges of the elements once each, in the order of
+/// SOFA's std::set<Edge> (lexicographic), each as first inserted (a, b) unless (b, a) was.
+MeshData grid_mesh_creator(const SceneComponent& c) {
+    std::vector<double> res{2.0, 2.0};
+    if (c.has("resolution")) res = get_doubles(c, "resolution");
+    if (res.size() != 2) throw_attribute_error(c, "resolution", "must be 2 integers (points along x and y)");
+    for (const double r : res)
+        if (!(r >= 2.0) || r > 1e6 || r != std::floor(r))
+            throw_attribute_error(c, "resolution", "each count must be an integer >= 2 (SOFA divides by count - 1)");
+    if (res[0] * res[1] > 1e7) throw_attribute_error(c, "resolution", "more than 10^7 points");
+    const std::int64_t pattern = get_int_or(c, "trianglePattern", 2);
+    if (pattern < 0 || pattern > 3) throw_attribute_error(c, "trianglePattern", "must be 0, 1, 2 or 3");
+    const auto nx = static_cast<std::size_t>(res[0]), ny = static_cast<std::size_t>(res[1]);
+    MeshData mesh;
+    for (std::size_t y = 0; y < ny; ++y)
+        for (std::size_t x = 0; x < nx; ++x)
+            mesh.positions.emplace_back(double(x) / double(nx - 1), double(y) / double(ny - 1), 0.0);
+    const auto vert = [nx](std::size_t x, std::size_t y) { return static_cast<PointId>(x + y * nx); };
+    std::set<std::pair<PointId, PointId>> edges;
+    const auto edge = [&edges](PointId a, PointId b) {
+        if (!edges.contains({b, a})) edges.insert({a, b});
+    };
+    const auto triangle = [&](PointId a, PointId b, PointId d) {
+        mesh.triangles.push_back({a, b, d});
+        edge(a, b);
+        edge(b, d);
+        edge(d, a);
+    };
+    for (std::size_t y = 0; y + 1 < ny; ++y)
+        for (std::size_t x = 0; x + 1 < nx; ++x) {
+            const PointId p00 = vert(x, y), p10 = vert(x + 1, y), p11 = vert(x + 1, y + 1), p01 = vert(x, y + 1);
+            if (pattern == 0) {
+                mesh.quads.push_back({p00, p10, p11, p01});
+                edge(p00, p10);
+                edge(p10, p11);
+                edge(p11, p01);
+                edge(p01, p00);
+            } else if (pattern == 2 || (pattern == 1 && (x + y) % 2 == 0)) {
+                triangle(p00, p10, p11);
+                triangle(p00, p11, p01);
+            } else {
+                triangle(p00, p10, p01);
+                triangle(p10, p11, p01);
+            }
+        }
+    for (const auto& [a, b] : edges) mesh.edges.push_back({a, b});
+    return mesh;
+}
+
 }  // namespace
+
+double mesh_loader_scale(const SceneComponent& c, bool* read_whole) {
+    if (read_whole != nullptr) *read_whole = true;
+    const auto text = get_string(c, "scale");
+    if (!text) return 1.0;
+    const char* begin = text->c_str();
+    char* end = nullptr;
+    const double value = std::strtod(begin, &end);  // SOFA: strtof (docs/sofa-compatibility.md, known difference 11)
+    if (end != begin + text->size()) {
+        if (read_whole != nullptr) *read_whole = false;
+        return 1.0;
+    }
+    return value;
+}
 
 MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& scene_dir,
                          const std::vector<std::filesystem::path>& data_dirs) {
     const bool is_mesh_loader = c.type == "MeshOBJLoader" || c.type == "MeshGmshLoader" || c.type == "MeshVTKLoader" ||
                                 c.type == "MeshOffLoader" || c.type == "MeshTrianLoader";
     const bool is_sphere_loader = c.type == "SphereLoader";
+    if (c.type == "GridMeshCreator") {
+        const Vec3 scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * get_double_or(c, "scale", 1.0);
+        MeshData mesh = grid_mesh_creator(c);
+        apply_transform(mesh, get_vec3_or(c, "translation", Vec3::Zero()), get_vec3_or(c, "rotation", Vec3::Zero()), scale3d);
+        return mesh;
+    }
     const bool is_topology_file = c.type == "MeshTopology" || c.type == "MechanicalObject" ||
                                   c.type.ends_with("SetTopologyContainer");  // BaseMeshTopology::load
     if (!is_mesh_loader && !is_sphere_loader && !is_topology_file) {
@@ -51,7 +126,7 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
     const Vec3 rotation = get_vec3_or(c, "rotation", Vec3::Zero());
     Vec3 scale3d = Vec3::Ones();
     if (is_mesh_loader) {
-        scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * get_double_or(c, "scale", 1.0);
+        scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * mesh_loader_scale(c);
     } else if (is_sphere_loader) {
         if (c.has("scale") && c.has("scale3d")) throw_attribute_error(c, "scale3d", "'scale' and its alias 'scale3d' are both set");
         scale3d = get_vec3_or(c, c.has("scale3d") ? "scale3d" : "scale", Vec3::Ones());
@@ -68,7 +143,7 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
         } else if (c.type == "MeshGmshLoader") {
             mesh = load_gmsh(file);
         } else if (c.type == "MeshVTKLoader") {
-            mesh = load_vtk_legacy(file);
+            mesh = load_vtk(file);
         } else if (c.type == "MeshOffLoader") {
             mesh = load_off(file);
         } else if (c.type == "MeshTrianLoader") {

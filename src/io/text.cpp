@@ -65,8 +65,13 @@ std::optional<double> parse_double(std::string_view token) {
 }
 
 std::optional<std::string> magnitude_problem(double value) {
-    if (std::abs(value) <= kMaxMagnitude) return std::nullopt;
-    return std::string("magnitude above 1e100 (penalty's limit for any number in a scene or mesh file)");
+    const double magnitude = std::abs(value);
+    if (magnitude > kMaxMagnitude)
+        return std::string("magnitude above 1e100 (penalty's limit for any number in a scene or mesh file)");
+    if (magnitude > 0.0 && magnitude < kMinMagnitude)
+        return std::string("magnitude below 1e-100 (penalty's limit for a nonzero number in a scene or mesh "
+                           "file; write 0 for zero)");
+    return std::nullopt;
 }
 
 std::optional<std::int64_t> parse_int(std::string_view token) {
@@ -103,8 +108,12 @@ void fail(const std::filesystem::path& path, int line, const std::string& what) 
     throw LoadError(path.string() + ": " + what);
 }
 
+std::string_view skip_byte_order_mark(std::string_view text) {
+    return text.starts_with("\xEF\xBB\xBF") ? text.substr(3) : text;
+}
+
 Tokenizer::Tokenizer(std::string_view text, std::filesystem::path path)
-    : text_(text), path_(std::move(path)) {}
+    : text_(skip_byte_order_mark(text)), path_(std::move(path)) {}
 
 void Tokenizer::skip_blanks() {
     while (pos_ < text_.size() && is_blank(text_[pos_])) {

@@ -27,6 +27,11 @@ std::optional<std::string> unreadable_reason(const std::filesystem::path& path);
 /// `path: cannot open file` when it cannot be read.
 std::string read_file(const std::filesystem::path& path);
 
+/// `text` without a leading UTF-8 byte-order mark (EF BB BF), which editors on Windows write at
+/// the start of text files; every parser of a text file starts with it, so the first line's
+/// first token is read as written.
+[[nodiscard]] std::string_view skip_byte_order_mark(std::string_view text);
+
 /// Parses a finite double from the whole token (leading '+' allowed); nullopt otherwise.
 std::optional<double> parse_double(std::string_view token);
 
@@ -34,9 +39,14 @@ std::optional<double> parse_double(std::string_view token);
 /// unit system comes near it, and products of two or three such numbers (m·g, ks·dt², …) stay
 /// finite, so a value that would overflow the solve is refused where it is written.
 inline constexpr double kMaxMagnitude = 1e100;
+/// Smallest magnitude of a nonzero number in a scene or mesh file: 1e-100, the other end. A
+/// quotient or product of two or three such numbers (ks = k1·k2/d, m·g, ks·dt²) stays a normal
+/// double, neither overflowing (1/1e-308 = inf) nor vanishing below the solver's thresholds
+/// (a mass of 1e-300 kg, a dt of 1e-300 s). SOFA's files use nothing below 1e-20.
+inline constexpr double kMinMagnitude = 1e-100;
 
-/// "magnitude above 1e100 (penalty's limit for any number in a scene or mesh file)" when
-/// |value| > kMaxMagnitude, nullopt otherwise.
+/// "magnitude above 1e100 (...)" when |value| > kMaxMagnitude, "magnitude below 1e-100 (...)"
+/// when 0 < |value| < kMinMagnitude, nullopt otherwise.
 std::optional<std::string> magnitude_problem(double value);
 /// Parses a 64-bit signed integer from the whole token (leading '+' allowed); nullopt otherwise.
 std::optional<std::int64_t> parse_int(std::string_view token);

@@ -1,4 +1,5 @@
 #include "penalty/mechanics/diagonal_mass.hpp"
+#include "penalty/mechanics/element_measures.hpp"
 
 #include <cmath>
 #include <numeric>
@@ -10,21 +11,6 @@ namespace {
 void check_nonnegative(double value, const char* parameter) {
     if (!std::isfinite(value) || value < 0.0)
         throw_invalid_argument("DiagonalMass: ", parameter, " must be finite and >= 0, got ", value);
-}
-
-// sofa::geometry::Triangle::area (3D): ½ |(b − a) × (c − a)|.
-double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) { return 0.5 * (b - a).cross(c - a).norm(); }
-
-// sofa::geometry::Tetrahedron::volume: |((b − a) × (c − a))·(d − a)| / 6.
-double tetrahedron_volume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-    return std::abs((b - a).cross(c - a).dot(d - a) / 6.0);
-}
-
-// sofa::geometry::Hexahedron::volume: the sum of six tetrahedra, in SOFA's split and order.
-double hexahedron_volume(const std::array<Vec3, 8>& n) {
-    return tetrahedron_volume(n[0], n[5], n[1], n[6]) + tetrahedron_volume(n[0], n[1], n[3], n[6]) +
-           tetrahedron_volume(n[1], n[3], n[6], n[2]) + tetrahedron_volume(n[6], n[3], n[0], n[7]) +
-           tetrahedron_volume(n[6], n[7], n[0], n[5]) + tetrahedron_volume(n[7], n[5], n[4], n[0]);
 }
 
 /// Adds density·measure / N to each of the N vertices of every element; returns the sum of the
@@ -83,7 +69,7 @@ double lump_vertex_masses(const MeshTopology& t, LumpedElementKind kind, std::sp
             return lump(t.triangles(), x, density, masses, [](const auto& p) { return triangle_area(p[0], p[1], p[2]); });
         case LumpedElementKind::quad:
             return lump(t.quads(), x, density, masses,
-                        [](const auto& p) { return triangle_area(p[0], p[1], p[2]) + triangle_area(p[0], p[2], p[3]); });
+                        [](const auto& p) { return quad_area(p[0], p[1], p[2], p[3]); });
         case LumpedElementKind::tetrahedron:
             return lump(t.tetrahedra(), x, density, masses,
                         [](const auto& p) { return tetrahedron_volume(p[0], p[1], p[2], p[3]); });

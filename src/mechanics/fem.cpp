@@ -1,5 +1,5 @@
 #include "penalty/mechanics/fem.hpp"
-#include "penalty/core/avx_lanes.hpp"
+#include "kernels/lanes.hpp"
 
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "sofa_vector_ops.hpp"
@@ -629,6 +629,10 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         return;
     }
     PENALTY_DEMAND(large_.size() == elements_.size());
+    if (plasticity_.max_threshold > 0) {  // (tetrahedron_plasticity.cpp)
+        add_force_plastic(f, x);
+        return;
+    }
     energy_ = 0.0;
 #ifdef PENALTY_HAS_AVX_LANES
     // avx, and avx512 (whose eight lanes are add_dforce's only): the scalar loop below never

@@ -18,6 +18,14 @@ void FixedPlaneProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd
     }
 }
 
+bool FixedPlaneProjectiveConstraint::list_discarded_rows(std::vector<Index>& rows) const {
+    const Index stride = state_->deriv_size();
+    for (Index i : indices_)
+        for (Index c = 0; c < 3; ++c)
+            if (direction_[c] != 0.0) rows.push_back(stride * i + c);
+    return true;
+}
+
 std::vector<Index> points_between_planes(std::span<const Vec3> points, const Vec3& direction, double dmin, double dmax) {
     std::vector<Index> inside;
     for (std::size_t i = 0; i < points.size(); ++i) {

@@ -1,5 +1,7 @@
 #include "penalty/mechanics/mass.hpp"
 
+#include "sofa_vector_ops.hpp"
+
 #include <Eigen/Dense>
 
 #include <cmath>
@@ -65,10 +67,18 @@ void UniformMass<Vec3Types>::add_mdx(double factor) {
 }
 template <>
 void UniformMass<Rigid3Types>::add_mdx(double factor) {
-    const Mat3 j = inertia_ * mass_;
+    // UniformMass::addMDx with SOFA's RigidMass: m *= factor (when factor != 1) scales the mass
+    // and the inertia-mass matrix J·m, then df += (dx_lin·m, (J·m)·dx_ang), each row summed left
+    // to right (RigidMass's operator*(Deriv, RigidMass))
+    double m = mass_;
+    Mat3 j = inertia_ * mass_;  // RigidMass::recalc: inertiaMassMatrix = inertiaMatrix * mass
+    if (factor != 1.0) {
+        m *= factor;
+        j *= factor;
+    }
     for (std::size_t i = 0; i < state_->df.size(); ++i) {
-        state_->df[i].linear += state_->dx[i].linear * (mass_ * factor);
-        state_->df[i].angular += (j * state_->dx[i].angular) * factor;
+        state_->df[i].linear += state_->dx[i].linear * m;
+        state_->df[i].angular += sofa_vec::times(j, state_->dx[i].angular);
     }
 }
 
@@ -146,6 +156,17 @@ void FixedProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) 
     }
     const Index d = state_->deriv_size();
     for (const Index i : indices_) v.segment(d * i, d).setZero();
+}
+
+bool FixedProjectiveConstraint::list_discarded_rows(std::vector<Index>& rows) const {
+    const Index d = state_->deriv_size();
+    if (fix_all_) {
+        for (Index r = 0; r < Index(state_->scalar_size()); ++r) rows.push_back(r);
+        return true;
+    }
+    for (const Index i : indices_)
+        for (Index c = 0; c < d; ++c) rows.push_back(d * i + c);
+    return true;
 }
 
 void FixedProjectiveConstraint::project_velocity() {

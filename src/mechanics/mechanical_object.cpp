@@ -1,56 +1,26 @@
 #include "penalty/mechanics/mechanical_object.hpp"
 
+#include "sofa_quaternion.hpp"
+
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace penalty {
 
 namespace {
 
-/// SOFA's Quat<double>::createQuaterFromEuler(Vec3(rx, ry, rz) * M_PI / 180.0) with its default
-/// order (EulerOrder::ZYX), operation by operation: angles a = (deg·π)/180, half angles a/2,
-/// products left to right. Returned as Eigen's (w, x, y, z).
+/// SOFA's Quat<double>::createQuaterFromEuler(Vec3(rx, ry, rz) * M_PI / 180.0): angles (deg·π)/180.
 Quat sofa_quaternion_from_euler_degrees(const Vec3& degrees) {
-    const double a0 = degrees.x() * std::numbers::pi / 180.0;
-    const double a1 = degrees.y() * std::numbers::pi / 180.0;
-    const double a2 = degrees.z() * std::numbers::pi / 180.0;
-    const double c1 = std::cos(a0 / 2), c2 = std::cos(a1 / 2), c3 = std::cos(a2 / 2);
-    const double s1 = std::sin(a0 / 2), s2 = std::sin(a1 / 2), s3 = std::sin(a2 / 2);
-    const double x = s1 * c2 * c3 - c1 * s2 * s3;
-    const double y = c1 * s2 * c3 + s1 * c2 * s3;
-    const double z = c1 * c2 * s3 - s1 * s2 * c3;
-    const double w = c1 * c2 * c3 + s1 * s2 * s3;
-    return Quat(w, x, y, z);
-}
-
-/// SOFA's Vec3::cross, component by component.
-Vec3 sofa_cross(const Vec3& a, const Vec3& b) {
-    return Vec3(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
-}
-
-/// SOFA's Quat::rotate(v): t = 2 (q × v), v' = v + w t + q × t (q = vector part).
-Vec3 sofa_rotate(const Quat& q, const Vec3& v) {
-    const Vec3 qv(q.x(), q.y(), q.z());
-    const Vec3 t = sofa_cross(qv, v) * 2.0;
-    const Vec3 wt(q.w() * t[0], q.w() * t[1], q.w() * t[2]);
-    const Vec3 c = sofa_cross(qv, t);
-    return Vec3(v[0] + wt[0] + c[0], v[1] + wt[1] + c[1], v[2] + wt[2] + c[2]);
-}
-
-/// SOFA's Quat::operator*(q1) (this = a, q1 = b), component by component.
-Quat sofa_quaternion_product(const Quat& a, const Quat& b) {
-    const double w = a.w() * b.w() - (a.x() * b.x() + a.y() * b.y() + a.z() * b.z());
-    const double x = a.w() * b.x() + a.x() * b.w() + a.y() * b.z() - a.z() * b.y();
-    const double y = a.w() * b.y() + a.y() * b.w() + a.z() * b.x() - a.x() * b.z();
-    const double z = a.w() * b.z() + a.z() * b.w() + a.x() * b.y() - a.y() * b.x();
-    return Quat(w, x, y, z);
+    return sofa_quat::from_euler_zyx(Vec3(degrees.x() * std::numbers::pi / 180.0, degrees.y() * std::numbers::pi / 180.0,
+                                              degrees.z() * std::numbers::pi / 180.0));
 }
 
 /// SOFA's MechanicalObject::reinit on one point: applyScale (x·s per component), applyRotation
 /// (Quat::rotate), applyTranslation (x += t), each rounded in turn.
 Vec3 sofa_transform_point(const InitialTransform& tr, const Quat& q, const Vec3& p) {
     const Vec3 scaled(p[0] * tr.scale3d[0], p[1] * tr.scale3d[1], p[2] * tr.scale3d[2]);
-    const Vec3 rotated = sofa_rotate(q, scaled);
+    const Vec3 rotated = sofa_quat::rotate(q, scaled);
     return Vec3(rotated[0] + tr.translation[0], rotated[1] + tr.translation[1], rotated[2] + tr.translation[2]);
 }
 
@@ -59,15 +29,22 @@ Vec3 sofa_transform_point(const InitialTransform& tr, const Quat& q, const Vec3&
 Quat InitialTransform::rotation() const { return sofa_quaternion_from_euler_degrees(rotation_deg); }
 
 RigidFrame rigid_add(const RigidFrame& x, const RigidDeriv& v, double h) {
+    // SOFA HEAD's RigidCoord<3>::operator+=(Deriv) on Deriv·h (RigidDeriv::operator*(real)):
+    // the centre moves by v·h; the orientation is premultiplied by exp(½·ω·h), the unit
+    // quaternion (sin θ/θ · ω', cos θ) with ω' = (ω·h)/2 and θ = |ω'| (R³ × SO(3) exponential
+    // integration), or, when θ < machine epsilon, by (ω', 1) normalised as Quat::normalize does.
     RigidFrame out;
-    out.center = x.center + h * v.linear;
-    const Vec3 w = h * v.angular;
-    const Quat omega(0.0, w.x(), w.y(), w.z());
-    const Quat dq = omega * x.orientation;
-    Quat q(x.orientation.w() + 0.5 * dq.w(), x.orientation.x() + 0.5 * dq.x(),
-           x.orientation.y() + 0.5 * dq.y(), x.orientation.z() + 0.5 * dq.z());
-    q.normalize();
-    out.orientation = q;
+    out.center = Vec3(x.center[0] + v.linear[0] * h, x.center[1] + v.linear[1] * h, x.center[2] + v.linear[2] * h);
+    const Vec3 half(v.angular[0] * h / 2, v.angular[1] * h / 2, v.angular[2] * h / 2);
+    const double theta = std::sqrt(half[0] * half[0] + half[1] * half[1] + half[2] * half[2]);
+    Quat step;
+    if (theta < std::numeric_limits<double>::epsilon()) {
+        step = sofa_quat::normalized(Quat(1.0, half[0], half[1], half[2]));
+    } else {
+        const double sinc = std::sin(theta) / theta;
+        step = Quat(std::cos(theta), sinc * half[0], sinc * half[1], sinc * half[2]);
+    }
+    out.orientation = sofa_quat::product(step, x.orientation);
     return out;
 }
 
@@ -145,7 +122,7 @@ void MechanicalObject<Rigid3Types>::init() {
         // MechanicalObject<Rigid3Types>::applyRotation: centre rotated, orientation q * o.
         auto apply = [&](RigidFrame& p) {
             p.center = sofa_transform_point(transform, q, p.center);
-            p.orientation = sofa_quaternion_product(q, p.orientation);
+            p.orientation = sofa_quat::product(q, p.orientation);
         };
         for (auto& p : position) apply(p);
     }
@@ -158,5 +135,25 @@ void MechanicalObject<Rigid3Types>::init() {
     initialized_ = true;
 }
 
+template <>
+void MechanicalObject<Vec1Types>::add_to_position(double h, const Eigen::Ref<const Eigen::VectorXd>& v) {
+    PENALTY_DEMAND(static_cast<std::size_t>(v.size()) == scalar_size());
+    for (std::size_t i = 0; i < position.size(); ++i) position[i] += h * v[static_cast<Eigen::Index>(i)];
+}
+
+template <>
+void MechanicalObject<Vec1Types>::init() {
+    complete_sizes(*this);
+    const std::size_t n = position.size();
+    for (std::size_t i = 0; i < n; ++i)
+        if (!std::isfinite(position[i])) throw_invalid_argument("MechanicalObject '", name, "': position[", i, "] is not finite");
+    if (rest_position.size() != n) rest_position = position;
+    velocity.resize(n);
+    force.assign(n, 0.0);
+    external_force.assign(n, 0.0);
+    dx.assign(n, 0.0);
+    df.assign(n, 0.0);
+    initialized_ = true;
+}
 
 }  // namespace penalty

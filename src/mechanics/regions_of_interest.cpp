@@ -53,14 +53,15 @@ void select_elements(std::span<const Vec3> points, const std::vector<Element>& e
         if (std::any_of(e.begin(), e.end(), [&](PointId id) { return id < 0 || std::size_t(id) >= points.size(); }))
             continue;
         bool in = false;
-        if (test == ElementTest::all_points) {
+        if (test != ElementTest::center) {
             in = true;
             for (PointId id : e)
                 if (!inside(points[static_cast<std::size_t>(id)])) {
                     in = false;
                     break;
                 }
-        } else {
+        }
+        if (test == ElementTest::center || (test == ElementTest::all_points_or_center && !in)) {
             // BaseROI's getCenter: Σ points / n
             Vec3 center = Vec3::Zero();
             for (PointId id : e) center += points[static_cast<std::size_t>(id)];

@@ -5,20 +5,27 @@
 
 namespace penalty {
 
-RegularGridTopology::RegularGridTopology(std::array<int, 3> n, const Vec3& min, const Vec3& max)
-    : n_(n), min_(min), max_(max), dx_(Vec3::Zero()) {
+RegularGridTopology::RegularGridTopology(std::array<int, 3> n, const Vec3& min, const Vec3& max, std::optional<Vec3> p0)
+    : n_(n), min_(min), max_(max), origin_(min), dx_(Vec3::Zero()) {
     if (!min.allFinite() || !max.allFinite()) throw_invalid_argument("RegularGridTopology: min/max must be finite");
+    if (p0 && !p0->allFinite()) throw_invalid_argument("RegularGridTopology: p0 must be finite");
     for (int a = 0; a < 3; ++a) {
-        if (n[static_cast<std::size_t>(a)] < 1) throw_invalid_argument("RegularGridTopology: n[", a, "] must be >= 1, got ", n[static_cast<std::size_t>(a)]);
-        if (n[static_cast<std::size_t>(a)] > 1) {
-            if (!(max[a] > min[a])) throw_invalid_argument("RegularGridTopology: max[", a, "] must be > min[", a, "]");
-            dx_[a] = (max[a] - min[a]) / (n[static_cast<std::size_t>(a)] - 1);
+        const int count = n[static_cast<std::size_t>(a)];
+        if (count < 1) throw_invalid_argument("RegularGridTopology: n[", a, "] must be >= 1, got ", count);
+        // RegularGridTopology::setPos: (max − min) / (n − 1), or max − min for one point, whose
+        // p0 is then the middle on x and y (min on z)
+        if (count > 1) {
+            dx_[a] = (max[a] - min[a]) / (count - 1);
+        } else {
+            dx_[a] = max[a] - min[a];
+            if (a < 2) origin_[a] = (max[a] + min[a]) / 2;
         }
     }
+    if (p0) origin_ = *p0;
 }
 
 Vec3 RegularGridTopology::point(int i, int j, int k) const {
-    return min_ + Vec3(i * dx_.x(), j * dx_.y(), k * dx_.z());
+    return origin_ + Vec3(i * dx_.x(), j * dx_.y(), k * dx_.z());
 }
 
 std::vector<Vec3> RegularGridTopology::points() const {
@@ -30,7 +37,7 @@ std::vector<Vec3> RegularGridTopology::points() const {
     return p;
 }
 
-MeshTopology RegularGridTopology::mesh(bool with_triangles) const {
+MeshTopology RegularGridTopology::mesh(bool with_triangles, bool with_hexahedra) const {
     MeshTopology topo;
     topo.set_num_points(num_points());
     const int nx = n_[0], ny = n_[1], nz = n_[2];
@@ -76,7 +83,7 @@ MeshTopology RegularGridTopology::mesh(bool with_triangles) const {
         topo.set_edges(std::move(edges));
     }
     topo.set_quads(std::move(quads));
-    topo.set_hexahedra(std::move(hexas));
+    if (with_hexahedra) topo.set_hexahedra(std::move(hexas));
     return topo;
 }
 
@@ -121,10 +128,12 @@ std::pair<std::array<int, 3>, Vec3> RegularGridTopology::locate(const Vec3& p) c
     for (int a = 0; a < 3; ++a) {
         const auto ua = static_cast<std::size_t>(a);
         if (n_[ua] < 2) throw_invalid_argument("RegularGridTopology: locate needs a 3-D grid");
+        if (dx_[a] == 0.0)
+            throw_invalid_argument("RegularGridTopology: locate needs cells of non-zero size (max[", a, "] = min[", a, "])");
         // SOFA's RegularGridTopology::findCube: x = ((pos − p0)·dx)·inv_dx2, inv_dx2 = 1/(dx·dx),
         // with dx the cell vector (one non-zero component, so the dot product is one product).
         const double inverse_squared = 1 / (dx_[a] * dx_[a]);
-        const double t = ((p[a] - min_[a]) * dx_[a]) * inverse_squared;
+        const double t = ((p[a] - origin_[a]) * dx_[a]) * inverse_squared;
         // SOFA's findCube / findNearestCube: the cell index is clamped, the fraction is not
         const int c = static_cast<int>(std::clamp(std::floor(t), 0.0, static_cast<double>(n_[ua] - 2)));
         cell[ua] = c;

@@ -20,7 +20,7 @@ std::optional<std::pair<std::array<int, 3>, Vec3>> regular_cell(const RegularGri
     const Vec3 dx = grid.spacing();
     for (int a = 0; a < 3; ++a) {
         const double inverse_squared = 1 / (dx[a] * dx[a]);
-        const double t = ((p[a] - grid.min()[a]) * dx[a]) * inverse_squared;
+        const double t = ((p[a] - grid.origin()[a]) * dx[a]) * inverse_squared;
         const double c = std::floor(t);
         if (!(c >= 0 && c <= grid.n()[std::size_t(a)] - 2)) return std::nullopt;
         cell[std::size_t(a)] = int(c);

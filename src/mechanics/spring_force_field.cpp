@@ -5,7 +5,7 @@
 #include <set>
 #include <utility>
 
-#include "penalty/core/avx_lanes.hpp"
+#include "kernels/lanes.hpp"
 
 namespace penalty {
 

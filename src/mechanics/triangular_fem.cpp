@@ -1,5 +1,8 @@
 #include "penalty/mechanics/triangular_fem.hpp"
 
+#include "sofa_vector_ops.hpp"
+#include "triangle_fem_sofa_order.hpp"
+
 #include <cmath>
 #include <limits>
 
@@ -108,7 +111,18 @@ void TriangularFEMForceField::init() {
         const Vec3& b = x0[static_cast<std::size_t>(triangles_[e][1])];
         const Vec3& c = x0[static_cast<std::size_t>(triangles_[e][2])];
         bool ok = false;
-        if (parameters_.method == FemMethod::Large) {
+        if (!triangular) {
+            // TriangleFEMForceField::initLarge / initSmall, SOFA's operations (the rest local
+            // coordinates R·b − R·a, R·c − R·a)
+            if (parameters_.method == FemMethod::Large) {
+                const Mat3 r0 = triangle_fem_sofa::rotation(a, b, c);
+                rest_local_[e] = triangle_fem_sofa::rest_local_large(r0, a, b, c);
+                rotation_[e] = r0.transpose();
+            } else {
+                rest_local_[e] = {Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2]), Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2])};
+            }
+            ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
+        } else if (parameters_.method == FemMethod::Large) {
             // initLarge: rest coordinates in the rest frame, area = ½ r_bx·r_cy
             const Mat3 r0 = triangle_frame(a, b, c);
             rest_local_[e] = {r0 * (b - a), r0 * (c - a)};
@@ -132,7 +146,7 @@ void TriangularFEMForceField::init() {
             material_[e] = d * ((young / (1.0 - p * p)) * area_[e]);
         } else {
             // TriangleFEMForceField::computeMaterialStiffnesses: times thickness·½|(b−a)×(c−a)|
-            area_[e] = (b - a).cross(c - a).norm() * 0.5;
+            area_[e] = triangle_fem_sofa::area(a, b, c);
             const double volume = parameters_.thickness * area_[e];
             if (parameters_.plane_strain) {
                 d << 1 - p, p, 0, p, 1 - p, 0, 0, 0, 0.5 - p;
@@ -145,7 +159,42 @@ void TriangularFEMForceField::init() {
     }
 }
 
+bool TriangularFEMForceField::element_force_sofa_order(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x,
+                                                       double& energy) {
+    const auto [ia, ib, ic] = triangles_[e];
+    const Vec3& pa = x[static_cast<std::size_t>(ia)];
+    const Vec3& pb = x[static_cast<std::size_t>(ib)];
+    const Vec3& pc = x[static_cast<std::size_t>(ic)];
+    const bool large = parameters_.method == FemMethod::Large;
+    const Vec3 ab(pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]);
+    const Vec3 ac(pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]);
+    Mat3 r = Mat3::Identity();  // R_0_2 (rows = local axes)
+    Vec3 db = ab, dc = ac;
+    if (large) {
+        r = triangle_fem_sofa::rotation(pa, pb, pc);
+        db = sofa_vec::times(r, ab);
+        dc = sofa_vec::times(r, ac);
+    }
+    StrainDisplacement j;
+    Vec3 strain, stress;
+    triangle_fem_sofa::Displacement nodal;
+    if (!triangle_fem_sofa::element_forces(large, rest_local_[e], db, dc, material_[e], j, strain, stress, nodal))
+        return false;
+    const Mat3 to_world = r.transpose();  // R_2_0
+    for (std::size_t k = 0; k < 3; ++k) {
+        const auto i = static_cast<Eigen::Index>(2 * k);
+        const Vec3 local(nodal[i], nodal[i + 1], 0.0);
+        Vec3& target = f[static_cast<std::size_t>(triangles_[e][k])];
+        target += large ? sofa_vec::times(to_world, local) : local;
+    }
+    j_[e] = j;
+    if (large) rotation_[e] = to_world;
+    energy += 0.5 * strain.dot(stress);
+    return true;
+}
+
 bool TriangularFEMForceField::element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy) {
+    if (parameters_.flavor == TriangleFemFlavor::TriangleFEM) return element_force_sofa_order(e, f, x, energy);
     const auto [ia, ib, ic] = triangles_[e];
     const Vec3& pa = x[static_cast<std::size_t>(ia)];
     const Vec3& pb = x[static_cast<std::size_t>(ib)];
@@ -195,7 +244,36 @@ Eigen::Matrix<double, 6, 6> TriangularFEMForceField::local_stiffness(std::size_t
     return -(j_[e] * material_[e] * j_[e].transpose());
 }
 
+void TriangularFEMForceField::add_dforce_sofa_order(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const {
+    // TriangleFEMForceField::applyStiffnessLarge / applyStiffnessSmall (h = 1): dx in the element
+    // frame (large), local x, y only; df += (R_2_0·(−F_x, −F_y, 0))·k
+    const bool large = parameters_.method == FemMethod::Large;
+    for (std::size_t e = 0; e < triangles_.size(); ++e) {
+        const Mat3& to_world = rotation_[e];
+        const Mat3 to_local = to_world.transpose();
+        triangle_fem_sofa::Displacement local_dx;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Vec3& d = dx[static_cast<std::size_t>(triangles_[e][k])];
+            const Vec3 l = large ? sofa_vec::times(to_local, d) : d;
+            local_dx[static_cast<Eigen::Index>(2 * k)] = l[0];
+            local_dx[static_cast<Eigen::Index>(2 * k + 1)] = l[1];
+        }
+        const triangle_fem_sofa::Displacement nodal =
+            triangle_fem_sofa::stiffness_forces(large, j_[e], material_[e], local_dx);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const auto i = static_cast<Eigen::Index>(2 * k);
+            const Vec3 local(-nodal[i], -nodal[i + 1], 0.0);
+            const Vec3 world = large ? sofa_vec::times(to_world, local) : local;
+            df[static_cast<std::size_t>(triangles_[e][k])] += sofa_vec::scaled(world, k_factor);
+        }
+    }
+}
+
 void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
+    if (parameters_.flavor == TriangleFemFlavor::TriangleFEM) {
+        add_dforce_sofa_order(df, dx, k_factor);
+        return;
+    }
     // applyStiffnessLarge / applyStiffnessSmall: dx in the element frame, local x, y only
     for (std::size_t e = 0; e < triangles_.size(); ++e) {
         const Mat3& to_world = rotation_[e];

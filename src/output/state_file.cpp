@@ -1,6 +1,8 @@
 #include "penalty/output/state_file.hpp"
 
 #include "output/file_io.hpp"
+
+#include <fstream>
 #include "penalty/core/error.hpp"
 #include "penalty/output/format.hpp"
 
@@ -97,9 +99,7 @@ StateExporter::StateExporter(std::filesystem::path directory, std::vector<const 
     detail::create_directory(directory);
     for (std::size_t k = 0; k < states_.size(); ++k) {
         files_.push_back(directory / (std::to_string(k) + "_" + sanitize_file_name(states_[k]->name) + "_mstate.txt"));
-        auto stream = std::make_unique<std::ofstream>(files_.back(), std::ios::binary | std::ios::trunc);
-        if (!*stream) throw std::runtime_error("cannot open " + detail::quoted(files_.back()) + " for writing");
-        streams_.push_back(std::move(stream));
+        streams_.push_back(detail::open_output_file(files_.back()));
     }
 }
 
@@ -114,7 +114,7 @@ void StateExporter::write(double time) {
     append_number(header, time);
     header += "\n  X= ";
     for (std::size_t k = 0; k < states_.size(); ++k) {
-        std::ofstream& out = *streams_[k];
+        std::ostream& out = *streams_[k];
         out << header << format_positions(*states_[k]->state) << '\n';
         out.flush();
         if (!out) throw std::runtime_error("cannot write " + detail::quoted(files_[k]));

@@ -83,18 +83,17 @@ std::string format_stats_row(const StepStats& stats, bool tunnelling_columns) {
 StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& file, bool tunnelling_columns)
     : file_(file), tunnelling_columns_(tunnelling_columns) {
     if (file_.has_parent_path()) detail::create_directory(file_.parent_path());
-    stream_.open(file_, std::ios::binary | std::ios::trunc);
-    if (!stream_) throw std::runtime_error("cannot open " + detail::quoted(file_) + " for writing");
-    stream_ << stats_csv_header(tunnelling_columns_) << '\n';
-    stream_.flush();
-    if (!stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));
+    stream_ = detail::open_output_file(file_);
+    *stream_ << stats_csv_header(tunnelling_columns_) << '\n';
+    stream_->flush();
+    if (!*stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));
 }
 
 void StatsCsvWriter::write(const StepStats& stats) {
     const std::string row = format_stats_row(stats, tunnelling_columns_);
-    stream_ << row << '\n';
-    stream_.flush();
-    if (!stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));
+    *stream_ << row << '\n';
+    stream_->flush();
+    if (!*stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));
 }
 
 ContactSummary summarize_contacts(std::span<const ContactRecord> contacts) {

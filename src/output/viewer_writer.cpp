@@ -1,6 +1,6 @@
 #include "penalty/output/viewer_writer.hpp"
 
-#include "output/file_io.hpp"
+#include "output/output_folder.hpp"
 #include "penalty/core/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/stats_csv.hpp"
@@ -61,26 +61,19 @@ void append_json_array(std::string& out, const std::vector<T>& items, F&& each) 
     out += ']';
 }
 
-std::ofstream open_binary(const std::filesystem::path& file) {
-    std::ofstream out(file, std::ios::binary | std::ios::trunc);
-    if (!out) throw std::runtime_error("cannot open " + detail::quoted(file) + " for writing");
-    return out;
-}
-
-void write_floats(std::ofstream& out, const std::vector<float>& data, const std::filesystem::path& file) {
-    out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size() * sizeof(float)));
-    out.flush();
-    if (!out) throw std::runtime_error("cannot write " + detail::quoted(file));
+void write_floats(detail::CreatedFile& out, const std::vector<float>& data) {
+    out.write(data.data(), data.size() * sizeof(float));
 }
 
 bool finite(const Vec3& v) { return v.allFinite(); }
 
+void write_page(const detail::OutputFolder& folder) {
+    for (const ViewerAsset& asset : viewer_assets()) folder.replace_file(asset.name, asset.content);
+}
+
 }  // namespace
 
-void write_viewer_page(const std::filesystem::path& directory) {
-    detail::create_directory(directory);
-    for (const ViewerAsset& asset : viewer_assets()) detail::write_file(directory / asset.name, asset.content);
-}
+void write_viewer_page(const std::filesystem::path& directory) { write_page(detail::OutputFolder(directory)); }
 
 ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const StateRecord*> states,
                            std::vector<ViewerShape> shapes, std::string title)
@@ -121,16 +114,17 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
         offset += shape.indices.size();
     }
 
-    write_viewer_page(directory_);
+    folder_ = std::make_unique<detail::OutputFolder>(directory_);
+    // A stale manifest of an earlier run in DIR would describe other files.
+    folder_->remove("run.json");
+    folder_->remove("crossings.f32");  // written only when this run has a crossing
+    write_page(*folder_);
     std::string topology;
     for (const ViewerShape& shape : shapes_)
         topology.append(reinterpret_cast<const char*>(shape.indices.data()), shape.indices.size() * sizeof(std::uint32_t));
-    detail::write_file(directory_ / "topology.u32", topology);
-    positions_ = open_binary(directory_ / "positions.f32");
-    contacts_ = open_binary(directory_ / "contacts.f32");
-    // A stale manifest of an earlier run in DIR would describe other files.
-    std::error_code ec;
-    std::filesystem::remove(directory_ / "run.json", ec);
+    folder_->replace_file("topology.u32", topology);
+    positions_ = std::make_unique<detail::CreatedFile>(folder_->create_file("positions.f32"));
+    contacts_ = std::make_unique<detail::CreatedFile>(folder_->create_file("contacts.f32"));
 }
 
 ViewerWriter::~ViewerWriter() {
@@ -211,11 +205,11 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
         if (x.allFinite()) markers.insert(markers.end(), {float(x.x()), float(x.y()), float(x.z())});
     stats.crossings = markers.size() / 3;
 
-    write_floats(positions_, buffer_, directory_ / "positions.f32");
-    write_floats(contacts_, segments, directory_ / "contacts.f32");
+    write_floats(*positions_, buffer_);
+    write_floats(*contacts_, segments);
     if (!markers.empty()) {
-        if (!crossings_.is_open()) crossings_ = open_binary(directory_ / "crossings.f32");
-        write_floats(crossings_, markers, directory_ / "crossings.f32");
+        if (!crossings_) crossings_ = std::make_unique<detail::CreatedFile>(folder_->create_file("crossings.f32"));
+        write_floats(*crossings_, markers);
     }
     max_normal_force_ = max_force;
     frames_.push_back(stats);
@@ -307,14 +301,10 @@ void ViewerWriter::finish() {
     column("contact_energy", &FrameStats::contact_energy);
     column("kinetic_energy", &FrameStats::kinetic_energy);
     column("dissipated_energy", &FrameStats::dissipated_energy);
-    if (crossings_.is_open()) column("crossings", &FrameStats::crossings);
+    if (crossings_) column("crossings", &FrameStats::crossings);
     j += "}}\n";
     // Written beside, then renamed: a server reading run.json never sees half a file.
-    const std::filesystem::path temporary = directory_ / "run.json.tmp";
-    detail::write_file(temporary, j);
-    std::error_code ec;
-    std::filesystem::rename(temporary, directory_ / "run.json", ec);
-    if (ec) throw std::runtime_error("cannot write " + detail::quoted(directory_ / "run.json") + ": " + ec.message());
+    folder_->replace_file("run.json", j);
     finished_ = true;
 }
 

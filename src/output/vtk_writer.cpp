@@ -361,8 +361,7 @@ VtkCells vtk_cells(const MeshTopology* topology, std::size_t num_points) {
 /// line overwrites it, so appending a step costs one line whatever the number of steps.
 class VtkSeriesWriter::Collection {
 public:
-    explicit Collection(std::filesystem::path file) : file_(std::move(file)), out_(file_, std::ios::binary | std::ios::trunc) {
-        if (!out_) throw std::runtime_error("cannot open " + detail::quoted(file_) + " for writing");
+    explicit Collection(std::filesystem::path file) : file_(std::move(file)), stream_(detail::open_output_file(file_)), out_(*stream_) {
         out_ << kCollectionHeader;
         footer_position_ = out_.tellp();
         write_footer();
@@ -381,7 +380,8 @@ private:
         if (!out_) throw std::runtime_error("cannot write " + detail::quoted(file_));
     }
     std::filesystem::path file_;
-    std::ofstream out_;
+    std::unique_ptr<std::ostream> stream_;
+    std::ostream& out_;
     std::streampos footer_position_;
 };
 

@@ -370,13 +370,22 @@ void PenaltyForceField::add_damping_triplets(TripletList& triplets, Index offset
     }
 }
 
+void PenaltyForceField::check_matrix_sizes(const char* function, Index n1, Index n2, bool same_state) const {
+    if (n1 < 0) throw_invalid_argument("PenaltyForceField::", function, "(): n1 = ", n1, " must be >= 0");
+    if (!same_state && n2 < 0) throw_invalid_argument("PenaltyForceField::", function, "(): n2 = ", n2, " must be >= 0");
+    // a contact outside its state would write outside the matrix
+    check_indices(function, std::size_t(n1), std::size_t(same_state ? n1 : n2));
+}
+
 SparseMatrix PenaltyForceField::stiffness_matrix(Index n1, Index n2, bool same_state) const {
+    check_matrix_sizes("stiffness_matrix", n1, n2, same_state);
     TripletList triplets;
     add_stiffness_triplets(triplets, 0, same_state ? 0 : 3 * n1);
     return to_matrix(triplets, n1, n2, same_state);
 }
 
 SparseMatrix PenaltyForceField::damping_matrix(Index n1, Index n2, bool same_state) const {
+    check_matrix_sizes("damping_matrix", n1, n2, same_state);
     TripletList triplets;
     add_damping_triplets(triplets, 0, same_state ? 0 : 3 * n1);
     return to_matrix(triplets, n1, n2, same_state);

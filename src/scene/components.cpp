@@ -24,7 +24,8 @@ constexpr AttributeSpec kMeshLoaderAttributes[] = {
     {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied after rotation and scale"},
     {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
     {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
-    {"scale", K::real, "1", "", ValueCheck::none, "uniform scale"},
+    {"scale", K::text, "1", "", ValueCheck::none,
+     "uniform scale; not one number: 1, as SOFA's MeshLoader::parse, with a note"},
     {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
     {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
     {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},
@@ -52,7 +53,20 @@ constexpr AttributeSpec kSphereLoaderAttributes[] = {
     {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "alias of scale"},
 };
 
+/// GridMeshCreator (SOFA's MeshLoader without a file: GridMeshCreator::doLoad).
+constexpr AttributeSpec kGridMeshCreatorAttributes[] = {
+    {"resolution", K::numbers, "2 2", "", ValueCheck::none, "points along x and y (each >= 2)"},
+    {"trianglePattern", K::integer, "2", "", ValueCheck::none,
+     "0: quads, 1: alternate triangles, 2: upward triangles, 3: downward triangles"},
+    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied after rotation and scale"},
+    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
+    {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
+    {"scale", K::real, "1", "", ValueCheck::none, "uniform scale"},
+};
+
 constexpr ComponentSpec kLoaders[] = {
+    {.type = "GridMeshCreator", .family = F::loader, .summary = "unit square grid of points, quads or triangles",
+     .attributes = kGridMeshCreatorAttributes},
     {.type = "MeshOBJLoader", .family = F::loader, .summary = "Wavefront OBJ mesh", .attributes = kObjVtkLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
     {.type = "MeshGmshLoader", .family = F::loader, .summary = "Gmsh v1/v2/v4 ASCII mesh", .attributes = kGmshLoaderAttributes,
@@ -66,6 +80,8 @@ constexpr ComponentSpec kLoaders[] = {
      .shared_attributes = kMeshLoaderAttributes},
 };
 
+constexpr std::string_view kInertWithoutConstraintSolver =
+    "constraint correction: acts only under a constraint solver (FreeMotionAnimationLoop), inert here";
 constexpr ComponentSpec kVisual[] = {
     {.type = "RequiredPlugin", .summary = "plugin loading"},
     {.type = "VisualStyle", .summary = "display flags"},
@@ -89,6 +105,95 @@ constexpr ComponentSpec kVisual[] = {
     {.type = "RecordedCamera", .summary = "camera path"},
     {.type = "MeshExporter", .summary = "writes mesh files (output only; penalty exports with --export-vtk)"},
     {.type = "VisualModelOBJExporter", .summary = "writes the visual models as OBJ (output only)"},
+    {.type = "CompositingVisualLoop", .summary = "visual loop of render passes"},
+    {.type = "DataDisplay", .summary = "colours a visual model by data values"},
+    {.type = "MergeVisualModels", .summary = "merges visual models for drawing"},
+    {.type = "OglColorMap", .summary = "colour map for drawing"},
+    {.type = "OglOITShader", .summary = "order-independent transparency shader"},
+    {.type = "OglRenderingSRGB", .summary = "sRGB rendering switch"},
+    {.type = "OglShader", .summary = "GLSL shader"},
+    {.type = "OglShaderDefineMacro", .summary = "GLSL shader macro"},
+    {.type = "OglShaderVisualModel", .summary = "visual model drawn by a shader"},
+    {.type = "OglShadowShader", .summary = "shadow shader"},
+    {.type = "OglTexture", .summary = "texture"},
+    {.type = "OglTexture2D", .summary = "texture"},
+    {.type = "OglTexturePointer", .summary = "texture reference"},
+    {.type = "OglViewport", .summary = "viewport"},
+    {.type = "OrderIndependentTransparencyManager", .summary = "transparency rendering"},
+    {.type = "PointSplatModel", .summary = "point splats drawn from a state"},
+    {.type = "PostProcessManager", .summary = "post-processing of the rendering"},
+    {.type = "SlicedVolumetricModel", .summary = "volume rendering"},
+    {.type = "TextureInterpolation", .summary = "texture coordinates from data values, for drawing"},
+    {.type = "VisualManagerPass", .summary = "render pass"},
+    {.type = "VisualManagerSecondaryPass", .summary = "render pass"},
+    {.type = "CylinderVisualModel", .summary = "cylinders drawn along edges"},
+    {.type = "TrailRenderer", .summary = "drawn trail of a point"},
+    {.type = "Visual3DText", .summary = "drawn text"},
+    {.type = "VisualBoundingBox", .summary = "drawn bounding box"},
+    {.type = "VisualMesh", .summary = "drawn mesh"},
+    {.type = "VisualPointCloud", .summary = "drawn points"},
+    {.type = "VisualTransform", .summary = "transform of the drawing"},
+    {.type = "VisualVectorField", .summary = "drawn vectors"},
+    {.type = "AddFrameButtonSetting", .summary = "GUI mouse setting"},
+    {.type = "AddRecordedCameraButtonSetting", .summary = "GUI mouse setting"},
+    {.type = "AttachBodyButtonSetting", .summary = "GUI mouse setting"},
+    {.type = "ConstraintAttachButtonSetting", .summary = "GUI mouse setting"},
+    {.type = "FixPickedParticleButtonSetting", .summary = "GUI mouse setting"},
+    {.type = "SofaDefaultPathSetting", .summary = "GUI setting"},
+    {.type = "StatsSetting", .summary = "GUI setting"},
+    {.type = "ViewerSetting", .summary = "GUI setting"},
+    {.type = "MouseInteractor", .summary = "GUI mouse interaction"},
+    {.type = "MechanicalStateController",
+     .summary = "moves a state from mouse or haptic-device events (MechanicalStateController::applyController), "
+                "none in a headless run: inert"},
+    {.type = "PauseAnimationOnEvent", .summary = "pauses the GUI's animation on an event"},
+    {.type = "MessageHandlerComponent", .summary = "message routing (logging)"},
+    {.type = "VTKExporter", .summary = "writes VTK files (output only; penalty exports with --vtk)"},
+    {.type = "STLExporter", .summary = "writes STL files (output only)"},
+    {.type = "OglIntVariable", .summary = "GLSL shader variable"},
+    {.type = "OglInt2Variable", .summary = "GLSL shader variable"},
+    {.type = "OglInt3Variable", .summary = "GLSL shader variable"},
+    {.type = "OglInt4Variable", .summary = "GLSL shader variable"},
+    {.type = "OglFloatVariable", .summary = "GLSL shader variable"},
+    {.type = "OglFloat2Variable", .summary = "GLSL shader variable"},
+    {.type = "OglFloat3Variable", .summary = "GLSL shader variable"},
+    {.type = "OglFloat4Variable", .summary = "GLSL shader variable"},
+    {.type = "OglIntVectorVariable", .summary = "GLSL shader variable"},
+    {.type = "OglIntVector2Variable", .summary = "GLSL shader variable"},
+    {.type = "OglIntVector3Variable", .summary = "GLSL shader variable"},
+    {.type = "OglIntVector4Variable", .summary = "GLSL shader variable"},
+    {.type = "OglFloatVectorVariable", .summary = "GLSL shader variable"},
+    {.type = "OglFloatVector2Variable", .summary = "GLSL shader variable"},
+    {.type = "OglFloatVector3Variable", .summary = "GLSL shader variable"},
+    {.type = "OglFloatVector4Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix2Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix3Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix4Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix2x3Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix3x2Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix2x4Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix4x2Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix3x4Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix4x3Variable", .summary = "GLSL shader variable"},
+    {.type = "OglMatrix4VectorVariable", .summary = "GLSL shader variable"},
+    {.type = "OglFloatAttribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglFloat2Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglFloat3Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglFloat4Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglIntAttribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglInt2Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglInt3Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglInt4Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglUIntAttribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglUInt2Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglUInt3Attribute", .summary = "GLSL vertex attribute"},
+    {.type = "OglUInt4Attribute", .summary = "GLSL vertex attribute"},
+    // constraint corrections act only under a constraint solver (FreeMotionAnimationLoop with a
+    // constraint solver), which a penalty-contact scene does not run: inert in it
+    {.type = "UncoupledConstraintCorrection", .summary = kInertWithoutConstraintSolver},
+    {.type = "LinearSolverConstraintCorrection", .summary = kInertWithoutConstraintSolver},
+    {.type = "GenericConstraintCorrection", .summary = kInertWithoutConstraintSolver},
+    {.type = "PrecomputedConstraintCorrection", .summary = kInertWithoutConstraintSolver},
 };
 
 // Old SOFA names that SOFA today neither knows nor lists as renamed (no class, no entry in its
@@ -136,6 +241,17 @@ const std::vector<ComponentSpec>& registry() {
               builder::hexahedra_and_subset_components(),
               builder::bending_spring_components(),
               builder::corotational_fem_components(),
+              builder::direct_solver_components(), builder::integrator_components(),
+              builder::matrix_mass_and_rest_spring_components(),
+              builder::transform_engine_components(),
+              builder::selection_engine_components(),
+              builder::frame_mapping_components(),
+              builder::corotational_fem_components(), builder::python_components(),
+              builder::projective_constraint_components(),
+              builder::rigid_force_field_components(),
+              builder::shell_force_field_components(),
+              builder::nonuniform_hexahedra_components(),
+              builder::tait_pressure_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());
@@ -173,8 +289,10 @@ std::string_view family_name(ComponentFamily f) {
         case F::force_field: return "force fields";
         case F::constraint: return "constraints";
         case F::engine: return "engines";
+        case F::data_engine: return "data engines (run when an output is first read)";
         case F::ode_solver: return "ODE solvers";
         case F::linear_solver: return "linear solvers";
+        case F::solver_part: return "parts of solvers (linear systems, orderings, Newton-Raphson)";
         case F::collision_model: return "collision models";
         case F::animation_loop: return "animation loops";
         case F::collision_pipeline: return "collision pipelines";
@@ -285,6 +403,47 @@ std::string describe_components(std::string_view type) {
 
 // ---- the scene check ------------------------------------------------------------------------
 
+std::vector<std::string> detach_unresolved_data_links(io::SceneFile& scene) {
+    std::vector<std::string> notes;
+    if (!scene.root) return notes;
+    // a link to a Data (`@name.data`, the last path segment holding a '.' that is not `.` or `..`)
+    const auto is_data_link = [](std::string_view text) {
+        const std::string_view last = text.substr(text.rfind('/') == std::string_view::npos ? 1 : text.rfind('/') + 1);
+        return last != "." && last != ".." && last.find('.') != std::string_view::npos;
+    };
+    std::vector<io::SceneComponent*> all;
+    const auto collect = [&all](auto& self, io::SceneNode& node) -> void {
+        for (auto& c : node.components) all.push_back(c.get());
+        for (auto& child : node.children) self(self, *child);
+    };
+    collect(collect, *scene.root);
+    const auto trimmed = [](std::string_view t) {
+        const auto first = t.find_first_not_of(" \t\r\n");
+        if (first == std::string_view::npos) return std::string_view();
+        return t.substr(first, t.find_last_not_of(" \t\r\n") - first + 1);
+    };
+    for (io::SceneComponent* c : all) {
+        const ComponentSpec* spec = find_component(c->type);
+        if (spec == nullptr || category_of(spec->family) != ComponentCategory::physics) continue;
+        for (auto a = c->attributes.begin(); a != c->attributes.end();) {
+            const std::string_view value = trimmed(a->value);
+            if (!io::is_link(a->value) || value.find_first_of(" \t\r\n") != std::string_view::npos || !is_data_link(value)) {
+                ++a;
+                continue;
+            }
+            try {
+                (void)io::resolve_link(*c, a->name);
+                ++a;
+            } catch (const io::SceneError& e) {
+                notes.push_back(std::string(e.what()) + "; SOFA leaves that Data unset (BaseData::setParent finds no "
+                                "parent), and so does penalty: the attribute is ignored");
+                a = c->attributes.erase(a);
+            }
+        }
+    }
+    return notes;
+}
+
 SceneCheck validate(const io::SceneFile& scene) {
     SceneCheck check;
     if (!scene.root) return check;
@@ -326,11 +485,27 @@ SceneCheck validate(const io::SceneFile& scene) {
                 ++ignored_counts[c->type + " (visual output)"];
                 continue;
             }
+            // `output="@."` naming a node without a MechanicalObject: SOFA's link finds no state
+            // there, Mapping::canCreate fails and the mapping is not created
+            const auto is_state = [](const auto& x) { return x->type == "MechanicalObject"; };
+            if (out.node != nullptr && std::none_of(out.node->components.begin(), out.node->components.end(), is_state)) {
+                check.ignored.push_back(c);
+                ++ignored_counts[c->type + " (output node without a state: SOFA does not create it)"];
+                continue;
+            }
         }
         check.physics.push_back(c);
         for (const io::SceneAttribute& a : c->attributes) {
             if (!io::is_link(a.value)) continue;
-            for (const io::LinkTarget& t : io::resolve_links(*c, a.name)) {
+            // a region's points whose link finds nothing: SOFA's empty Data (roi_points warns)
+            const bool may_break = spec.family == F::engine && (a.name == "position" || a.name == "rest_position");
+            std::vector<io::LinkTarget> targets;
+            try {
+                targets = io::resolve_links(*c, a.name);
+            } catch (const io::SceneError&) {
+                if (!may_break) throw;
+            }
+            for (const io::LinkTarget& t : targets) {
                 if (t.component != nullptr && component_category(t.component->type) == ComponentCategory::loader) {
                     used_loaders.insert(t.component);
                 }

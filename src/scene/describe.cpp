@@ -47,24 +47,38 @@ void describe_node(const Scene& scene, const io::SceneNode& sn, int depth, const
             << num(g.z()) << ") m/s^2";
     }
     out << "\n";
-    for (const auto& c : sn.components) {
+    const auto print = [&](const std::string& label, const std::string& what) {
+        const std::size_t width = 46, used = indent.size() + 2 + label.size();
+        out << indent << "  " << label << std::string(used + 1 < width ? width - used : 1, ' ') << what << "\n";
+    };
+    for (std::size_t i = 0; i < sn.components.size(); ++i) {
+        const io::SceneComponent& c = *sn.components[i];
         std::string what;
-        if (ignored.count(c.get())) {
-            what = ignored_reason(*c);
+        if (ignored.count(&c)) {
+            what = ignored_reason(c);
+            // A run of ignored components of one type (a scene's 15 RequiredPlugins) is one line.
+            std::size_t run = 1;
+            while (i + run < sn.components.size() && sn.components[i + run]->type == c.type &&
+                   ignored.count(sn.components[i + run].get()) && ignored_reason(*sn.components[i + run]) == what)
+                ++run;
+            if (run > 1) {
+                print(c.type + " \u00d7" + std::to_string(run), what);
+                i += run - 1;
+                continue;
+            }
         } else {
-            what = scene.role(*c);
+            what = scene.role(c);
             if (what.empty()) what = "built";
-            const std::vector<std::string> unread = unread_attributes(*c);
+            const std::vector<std::string> unread = unread_attributes(c);
             if (!unread.empty()) {
                 what += "; not read:";
                 for (const auto& a : unread) what += " " + a;
             }
         }
-        std::string label = c->type;
-        if (!c->template_name.empty()) label += "<" + c->template_name + ">";
-        if (!c->name.empty()) label += " '" + c->name + "'";
-        const std::size_t width = 46, used = indent.size() + 2 + label.size();
-        out << indent << "  " << label << std::string(used + 1 < width ? width - used : 1, ' ') << what << "\n";
+        std::string label = c.type;
+        if (!c.template_name.empty()) label += "<" + c.template_name + ">";
+        if (!c.name.empty()) label += " '" + c.name + "'";
+        print(label, what);
     }
     for (const auto& child : sn.children) describe_node(scene, *child, depth + 1, ignored, out);
 }

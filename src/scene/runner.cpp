@@ -1,5 +1,7 @@
 #include "penalty/scene/runner.hpp"
 
+#include "penalty/output/output_file.hpp"
+
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/stats_csv.hpp"
@@ -161,29 +163,50 @@ DivergenceBound::DivergenceBound(const Scene& scene, double factor) : factor_(fa
     // The force fields report their stored energy as of their last force evaluation, which is
     // the first step's, at these positions: the stored part is added at the first check.
     initial_energy_ = scene.kinetic_energy() + scene.potential_energy() - scene.stored_energy();
-    energy_scale_ = scene.kinetic_energy() + scene.gravity_energy_scale(size_);
+    energy_scale_ = scene.kinetic_energy() + scene.gravity_energy_scale(box.min(), box.max());
+}
+
+void DivergenceBound::check_energy(const Scene& scene, std::int64_t step, double time) {
+    const double kinetic = scene.kinetic_energy();
+    const double stored = scene.stored_energy();
+    const double energy = kinetic + scene.potential_energy();  // potential_energy() holds `stored`
+    if (!stored_energy_known_) {
+        initial_energy_ += stored;  // evaluated at the initial positions
+        energy_scale_ += std::abs(stored);
+        stored_energy_known_ = true;
+        previous_energy_ = energy;
+        previous_content_ = kinetic + std::abs(stored);
+        return;
+    }
+    const double step_growth = energy - previous_energy_;
+    const double step_scale = energy_scale_ + previous_content_;
+    previous_energy_ = energy;
+    previous_content_ = kinetic + std::abs(stored);
+    if (!(energy_scale_ > 0.0)) return;
+    const double created = energy - initial_energy_;
+    std::string what;
+    if (created > 10.0 * factor_ * energy_scale_) {
+        what = "the energy grew by " + output::format_number(created) + " J since the start, more than " +
+               output::format_number(10.0 * factor_) + " times the scene's energy scale (" +
+               output::format_number(energy_scale_) +
+               " J: kinetic + stored energy at the start, plus every moving mass dropped through the scene's height)";
+    } else if (step_growth > factor_ * step_scale) {
+        what = "the energy grew by " + output::format_number(step_growth) + " J in one step, more than " +
+               output::format_number(factor_) + " times the scene's energy scale plus the kinetic and stored energy "
+               "before the step (" + output::format_number(step_scale) + " J)";
+    } else {
+        return;
+    }
+    throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
+                                      output::format_number(time) + " s): " + what +
+                                      "; try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 "
+                                      "to turn this check off");
 }
 
 void DivergenceBound::check(const Scene& scene, std::int64_t step, double time, bool static_states) {
     if (factor_ == 0.0) return;
     const double limit = factor_ * size_;
-    if (!stored_energy_known_) {
-        const double stored = scene.stored_energy();  // evaluated at the initial positions
-        initial_energy_ += stored;
-        energy_scale_ += std::abs(stored);
-        stored_energy_known_ = true;
-    } else if (energy_scale_ > 0.0) {
-        const double created = scene.kinetic_energy() + scene.potential_energy() - initial_energy_;
-        if (created > 10.0 * factor_ * energy_scale_) {
-            throw output::NonFiniteValueError(
-                "simulation diverged at step " + std::to_string(step) + " (t = " + output::format_number(time) +
-                " s): the energy grew by " + output::format_number(created) + " J, more than " +
-                output::format_number(10.0 * factor_) + " times the scene's energy scale (" +
-                output::format_number(energy_scale_) + " J: kinetic + stored energy at the start, plus every mass "
-                "dropped by the scene size); try a smaller --dt or a softer contact stiffness, or "
-                "--divergence-factor 0 to turn this check off");
-        }
-    }
+    check_energy(scene, step, time);
     // First a pass that only finds the largest change of a coordinate, M, over every DOF (the
     // three of a rigid frame's centre), against the recorded positions: a DOF moved at most
     // √3·M. Far below the limit (3 M² < 0.99 limit², the common case) the positions are only
@@ -392,9 +415,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         check_finite_states(scene, k, sim.time(), static_states);
         if (options.debug_step && *options.debug_step == k) {
             const auto debug_start = Clock::now();
-            std::ofstream debug(options.debug_file, std::ios::binary | std::ios::trunc);
-            debug << step_debug_text(scene, k, t);
-            if (!debug) throw std::runtime_error("cannot write the debug export '" + options.debug_file.string() + "'");
+            output::write_output_file(options.debug_file, step_debug_text(scene, k, t));
             output_seconds += seconds_since(debug_start);
         }
         bound.check(scene, k, sim.time(), static_states);

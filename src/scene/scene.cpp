@@ -6,14 +6,16 @@
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
+#include "scene/live_edits.hpp"
 
 #include <algorithm>
 #include <chrono>
 
 namespace penalty::scene {
 
-Scene::Scene() : simulation_(std::make_unique<Simulation>()) {}
+Scene::Scene() : simulation_(std::make_unique<Simulation>()), live_(std::make_unique<LiveEdits>()) {}
 Scene::~Scene() {
+    if (contact_phase_) simulation_->remove_contact_stage(*contact_phase_);
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
     guard_.reset();      // it holds the pipelines
@@ -23,20 +25,21 @@ Scene::~Scene() {
 double Scene::dt() const { return const_cast<Simulation&>(*simulation_).root().dt(); }
 
 void Scene::step() {
+    apply_pending_writes();  // writes of Data after init that SOFA takes at this step (live_writes.cpp)
     timings_ = StepTimings{};
     const auto t0 = std::chrono::steady_clock::now();
-    simulation_->step();
-    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (const TunnellingReport* r = tunnelling_report()) {  // several detections when the step was split
-        timings_.detection_seconds = r->detection_seconds;
-        timings_.response_seconds = r->response_seconds;
-        timings_.guard_seconds = r->guard_seconds;
-    } else {
-        for (const ScenePipeline& p : pipelines_) {
-            timings_.detection_seconds += p.pipeline->last_timings().detection_seconds;
-            timings_.response_seconds += p.pipeline->last_timings().response_seconds;
-        }
+    live_->stepping = true;  // the event listener may write Data: they wait for the next step
+    try {
+        simulation_->step();
+    } catch (...) {
+        live_->stepping = false;
+        throw;
     }
+    live_->stepping = false;
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    // the contact phase adds every detection and response of the step (several when the guard
+    // split it); the guard's own time (continuous detection, snapshots) is apart
+    if (const TunnellingReport* r = tunnelling_report()) timings_.guard_seconds = r->guard_seconds;
     timings_.solve_seconds =
         std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds - timings_.guard_seconds);
     solver_stats_ = StepSolverStats{};
@@ -49,6 +52,7 @@ void Scene::step() {
         }
     }
     refresh_contacts();
+    release_held_gravity();  // a root gravity written after init reaches the other nodes now
 }
 
 void Scene::set_tunnelling(const TunnellingOptions& options) {
@@ -57,6 +61,8 @@ void Scene::set_tunnelling(const TunnellingOptions& options) {
         guard_.reset();
         return;
     }
+    if (simulation_->collision_steps() != 1 || simulation_->integration_steps() != 1)
+        throw std::invalid_argument("the tunnelling guard checks single steps, not a MultiStepAnimationLoop's");
     if (guard_) {
         guard_->set_options(options);
         return;
@@ -147,11 +153,19 @@ double Scene::potential_energy() const {
 
 double Scene::stored_energy() const { return force_field_energy(simulation_->root()); }
 
-double Scene::gravity_energy_scale(double length) const {
+double Scene::gravity_energy_scale(const Vec3& lo, const Vec3& hi) const {
+    const Vec3 extent = (hi - lo).cwiseAbs();
     double e = 0.0;
     for (std::size_t i = 0; i < masses_.size(); ++i) {
-        const double m = masses_[i]->total_mass();
-        e += m * mass_nodes_[i]->gravity().norm() * length;
+        const auto record = std::find_if(states_.begin(), states_.end(), [&](const output::StateRecord& r) {
+            return r.state == masses_[i]->state();
+        });
+        if (record == states_.end() || !record->in_solver_subtree) continue;
+        const Vec3& g = mass_nodes_[i]->gravity();
+        const double g_norm = g.norm();
+        if (!(g_norm > 0.0)) continue;
+        const double along = (g.cwiseAbs() / g_norm).dot(extent);
+        e += masses_[i]->total_mass() * g_norm * (along > 0.0 ? along : extent.norm());
     }
     return e;
 }
@@ -188,9 +202,14 @@ void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overri
 
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
     if (!options.overrides.empty()) apply_overrides(file, options.overrides);
+    std::vector<std::string> notes = detach_unresolved_data_links(file);
     auto scene = std::make_unique<Scene>();
     scene->file_ = std::move(file);
+    scene->options_ = options;
+    scene->options_.overrides.clear();  // applied to file_ already
     SceneBuilder(scene->file_, options, *scene).build();
+    scene->build_warnings_.insert(scene->build_warnings_.end(), notes.begin(), notes.end());
+    scene->install_contact_stage();
     scene->refresh_contacts();
     return scene;
 }

@@ -134,10 +134,13 @@ void order_as_mapping_graph(Node& root, const std::vector<BaseMapping*>& mapping
     for (std::size_t i = 0; i < mappings.size(); ++i) {
         const BaseMapping* m = mappings[i];
         const std::size_t node = first_mapping + i;
-        if (const std::size_t holder = g.first_group_of.find(m->from()); holder != PointerIndex<BaseState>::npos)
-            edges.push_back({state_count + holder, node});
-        else if (const std::size_t from = g.state_node.find(m->from()); from != PointerIndex<BaseState>::npos)
-            edges.push_back({from, node});
+        for (const BaseState* input : {static_cast<const BaseState*>(m->from()), static_cast<const BaseState*>(m->second_from())}) {
+            if (input == nullptr) continue;
+            if (const std::size_t holder = g.first_group_of.find(input); holder != PointerIndex<BaseState>::npos)
+                edges.push_back({state_count + holder, node});
+            else if (const std::size_t from = g.state_node.find(input); from != PointerIndex<BaseState>::npos)
+                edges.push_back({from, node});
+        }
         if (const std::size_t to = g.state_node.find(m->to()); to != PointerIndex<BaseState>::npos) edges.push_back({node, to});
     }
     // MappingGraphAlgorithms::traverseBottomUp: the breadth-first order from the parentless nodes

@@ -1,6 +1,7 @@
 #include "penalty/simulation/ode_solver.hpp"
 
 #include "penalty/core/error.hpp"
+#include "penalty/simulation/direct_linear_solver.hpp"
 
 #include <cmath>
 
@@ -61,7 +62,8 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     MbkCgSystem system(sys, first_order ? 1.0 : 1.0 + tr * h * rm, first_order ? 0.0 : -tr * h,
                        first_order ? -h * tr : -tr * h * (tr * h + rs));
     try {
-        record_cg(cg.solve(system, b_, x_));
+        if (direct_solver) direct_solver->solve(sys, system.m(), system.b(), system.k(), b_, x_);
+        else record_cg(cg.solve(system, b_, x_));
     } catch (const NonFiniteSolveError& e) {
         // Finite forces, yet the solve overflowed (|b|², p·q): name the largest force.
         if (e.force_field() == nullptr && e.mass() == nullptr) sys.throw_naming_largest_force(e.what());
@@ -121,7 +123,8 @@ void EulerImplicitSolver::solve_newton(SubtreeSystem& sys, double dt) {
         }
         Eigen::VectorXd delta;
         MbkCgSystem system(sys, 1.0, -h, -h * h);
-        record_cg(cg.solve(system, rhs, delta));
+        if (direct_solver) direct_solver->solve(sys, 1.0, -h, -h * h, rhs, delta);
+        else record_cg(cg.solve(system, rhs, delta));
         dv += delta;
     }
     const Eigen::VectorXd v = v0 + dv;

@@ -7,6 +7,8 @@
 
 #include <tbb/global_control.h>
 
+#include <stdexcept>
+
 namespace penalty {
 
 using detail::for_each_node;
@@ -15,14 +17,38 @@ void Simulation::step() {
     if (!initialized_) init();
     const double dt = root_.dt();
     if (step_driver_ != nullptr) {
+        if (collision_steps_ != 1 || integration_steps_ != 1)
+            throw std::logic_error("Simulation::step: a step driver (the tunnelling guard) runs single steps, not a "
+                                   "MultiStepAnimationLoop's");
         step_driver_->run_step(*this, dt);
         return;
     }
-    detect_contacts();
-    respond_to_contacts();
+    if (collision_steps_ == 1 && integration_steps_ == 1) {
+        detect_contacts();
+        respond_to_contacts();
+        integrate(dt);
+        time_ += dt;
+        return;
+    }
+    // MultiStepAnimationLoop::step: stepDt = dt / (ncollis·ninteg); the time after the
+    // integration i of each collision step is start + (i + 1)·stepDt.
+    const double start = time_;
+    const double step_dt = dt / (collision_steps_ * integration_steps_);
+    for (int c = 0; c < collision_steps_; ++c) {
+        detect_contacts();
+        respond_to_contacts();
+        for (int i = 0; i < integration_steps_; ++i) {
+            integrate(step_dt);
+            time_ = start + (i + 1) * step_dt;
+        }
+    }
+    if (!sofa_multi_step_time_) time_ = start + dt;
+}
+
+void Simulation::integrate(double dt) {
     solve(dt);
     map_back();
-    end_step(dt);
+    clear_applied_external_forces();
 }
 
 void Simulation::detect_contacts() {
@@ -53,7 +79,10 @@ void Simulation::solve(double dt) {
 
 void Simulation::map_back() {
     for_each_node(root_, [](Node& n) {
-        for (const auto& c : n.constraints()) c->project_velocity();
+        for (const auto& c : n.constraints()) {  // SOFA's MechanicalProjectPositionAndVelocityVisitor
+            c->project_position();
+            c->project_velocity();
+        }
         if (n.mapping()) {
             n.mapping()->apply_position();
             n.mapping()->apply_velocity();
@@ -61,8 +90,12 @@ void Simulation::map_back() {
     });
 }
 
-void Simulation::end_step(double dt) {
+void Simulation::clear_applied_external_forces() {
     for (BaseState* s : applied_states_) s->external_force_flat().setZero();
+}
+
+void Simulation::end_step(double dt) {
+    clear_applied_external_forces();
     time_ += dt;
 }
 

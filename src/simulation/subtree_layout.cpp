@@ -71,7 +71,8 @@ void collect(Node& node, SubtreeLayout& l) {
         throw_invalid_argument("Node '", node.name(), "': a mapping needs the node's state as output");
     }
     if (BaseMass* m = node.mass()) {
-        if (node.mapping()) throw_invalid_argument("Node '", node.name(), "': a mass on a mapped state is not supported");
+        // a mass on a mapped state acts through the mapping, as SOFA's: its gravity force and
+        // M·dx go up by Jᵀ (the node's mapping step below), i.e. Jᵀ·M·J in the system
         l.masses.emplace_back(m, node.gravity());
         l.steps.push_back({.mass = m, .gravity = node.gravity()});
     }
@@ -99,8 +100,11 @@ void find_readers(SubtreeLayout& l, LayoutBuildLists& t) {
             if (t.known.emplace(s, 0).second) l.external.push_back(s);
         }
     for (const auto* m : l.mappings) {
-        LayoutBuildLists::list_of(m->from(), t.mappings_from_index, t.mappings_from, t.mappings_from_used).push_back(m);
-        if (t.known.emplace(m->from(), 0).second) l.external.push_back(m->from());
+        for (BaseState* from : {m->from(), m->second_from()}) {  // (a second input: Multi2Mapping)
+            if (from == nullptr) continue;
+            LayoutBuildLists::list_of(from, t.mappings_from_index, t.mappings_from, t.mappings_from_used).push_back(m);
+            if (t.known.emplace(from, 0).second) l.external.push_back(from);
+        }
     }
     for (const BaseState* s : l.external) {
         ExternalReaders& r = l.external_readers.emplace_back();
@@ -112,7 +116,9 @@ void find_readers(SubtreeLayout& l, LayoutBuildLists& t) {
         PENALTY_DEMAND(m->to() == l.mapped[i]);
         DxReaders& r = l.dx_readers.emplace_back();
         r.mapping = m;
-        r.selective = m->maps_selected_rows();
+        // (a mass on the mapped state reads every row's dx)
+        r.selective = m->maps_selected_rows() &&
+                      std::none_of(l.masses.begin(), l.masses.end(), [&](const auto& e) { return e.first->state() == m->to(); });
         // the force fields acting on the mapped state and the mappings reading it, in the
         // subtree's order
         if (const auto* on = t.fields_acting_on(m->to())) r.force_fields = *on;

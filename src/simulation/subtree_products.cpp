@@ -220,6 +220,8 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
             const detail::DxRows& r = scratch_->dx_rows[s.mapping_index];
             if (r.restricted) s.mapping->apply_jt_df_rows(r.rows);
             else s.mapping->apply_jt_df();
+            // SOFA's addMBKdx: the mapping's geometric stiffness after its Jᵀ (applyDJT)
+            if (k != 0.0 && s.mapping->has_geometric_stiffness()) s.mapping->apply_djt(k);
         }
     }
 }
@@ -233,6 +235,10 @@ void SubtreeSystem::project(Eigen::VectorXd& v) const {
 }
 
 void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
+    for (const auto& [mass, g] : layout_->masses)
+        if (layout_->offset_of.find(mass->state()) == layout_->offset_of.end())
+            throw_invalid_argument("EulerExplicitSolver: state '", mass->state()->state_name(),
+                                   "' is mapped: a mass on a mapped state needs an implicit solver");
     out.setZero(layout_->size);
     for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
         const auto n = layout_->sizes[i];

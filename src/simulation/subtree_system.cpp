@@ -37,6 +37,9 @@ Eigen::Index SubtreeSystem::size() const { return layout_->size; }
 const std::vector<BaseState*>& SubtreeSystem::independent_states() const { return layout_->independent; }
 const std::vector<BaseMapping*>& SubtreeSystem::mappings() const { return layout_->mappings; }
 const std::vector<BaseForceField*>& SubtreeSystem::force_fields() const { return layout_->force_fields; }
+const std::vector<std::pair<BaseMass*, Vec3>>& SubtreeSystem::masses() const { return layout_->masses; }
+const std::vector<BaseProjectiveConstraint*>& SubtreeSystem::constraints() const { return layout_->constraints; }
+const std::vector<BaseState*>& SubtreeSystem::mapped_states() const { return layout_->mapped; }
 
 SubtreeSystem::FusedContactCounts SubtreeSystem::fused_contact_counts() const {
     const auto counts = fused_->counts();
@@ -69,6 +72,7 @@ void SubtreeSystem::append_states(std::vector<const BaseState*>& out) const {
     out.insert(out.end(), layout_->independent.begin(), layout_->independent.end());
     out.insert(out.end(), layout_->mapped.begin(), layout_->mapped.end());
     out.insert(out.end(), layout_->external.begin(), layout_->external.end());
+    for (const BaseForceField* ff : layout_->force_fields) ff->list_read_states(out);
 }
 
 Index SubtreeSystem::offset(const BaseState* s) const {
@@ -82,8 +86,8 @@ bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<con
     listed.clear();
     for (const BaseForceField* ff : force_fields)
         if (!ff->list_dx_read(state, listed)) return false;
-    for (const BaseMapping* m : mappings)
-        if (!m->list_inputs_read(listed)) return false;
+    for (const BaseMapping* m : mappings)  // (rows of from() only: a second input's are unknown)
+        if (m->from() != &state || !m->list_inputs_read(listed)) return false;
     const std::size_t dofs = state.num_dofs();
     for (const std::uint32_t row : listed) PENALTY_DEMAND(row < dofs);
     return true;

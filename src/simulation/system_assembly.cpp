@@ -37,6 +37,13 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
         j.setFromTriplets(t.begin(), t.end());
         const auto it = p_rows.find(map->from());
         ColMatrix rows = it == p_rows.end() ? ColMatrix(nout, layout_->size) : ColMatrix(j * it->second);
+        if (BaseState* second = map->second_from()) {  // J₂·P₂ of a second input
+            ColMatrix j2(nout, static_cast<Eigen::Index>(second->scalar_size()));
+            TripletList t2;
+            map->add_second_input_jacobian_triplets(t2, 0, 0);
+            j2.setFromTriplets(t2.begin(), t2.end());
+            if (const auto it2 = p_rows.find(second); it2 != p_rows.end()) rows = ColMatrix(rows + j2 * it2->second);
+        }
         p_rows[map->to()] = std::move(rows);
     }
     ColMatrix p(total, layout_->size);
@@ -55,11 +62,16 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
         return it == ext_offset.end() ? total : it->second;
     };
     for (BaseForceField* ff : layout_->force_fields) ff->add_stiffness(kt, offs, k);
+    for (const auto& entry : layout_->masses)  // masses on mapped states: Pᵀ·(m·M)·P with the stiffness
+        if (layout_->offset_of.find(entry.first->state()) == layout_->offset_of.end())
+            entry.first->add_mass_triplets(kt, offs(entry.first->state()), m);
     kt.erase(std::remove_if(kt.begin(), kt.end(), [&](const Triplet& t) { return t.row() >= total || t.col() >= total; }), kt.end());
     ColMatrix kext(total, total);
     kext.setFromTriplets(kt.begin(), kt.end());
     TripletList mt;
-    for (const auto& entry : layout_->masses) entry.first->add_mass_triplets(mt, offset(entry.first->state()), m);
+    for (const auto& entry : layout_->masses)
+        if (layout_->offset_of.find(entry.first->state()) != layout_->offset_of.end())
+            entry.first->add_mass_triplets(mt, offset(entry.first->state()), m);
     ColMatrix mm(layout_->size, layout_->size);
     mm.setFromTriplets(mt.begin(), mt.end());
     ColMatrix a = ColMatrix(ColMatrix(p.transpose()) * kext * p) + mm;

@@ -151,7 +151,7 @@ case("huge inline position list", 1, [attr(12, "MechanicalObject 'dofs'", "posit
 
 # ---- numeric extremes, every physical attribute ---------------------------------------------------
 for value, what in [("nan", "expected a number"), ("inf", "expected a number"), ("-inf", "expected a number"),
-                    ("1e300", "magnitude above 1e100")]:
+                    ("1e300", "magnitude above 1e100"), ("1e-300", "magnitude below 1e-100")]:
     case(f"dt = {value}", 1, ["bad.scn:2: Node 'root': attribute 'dt'", what], scene=ball('dt="0.01"', f'dt="{value}"'))
     case(f"totalMass = {value}", 1, [attr(13, "UniformMass 'mass'", "totalMass"), what], scene=ball('totalMass="1"', f'totalMass="{value}"'))
     case(f"contactStiffness = {value}", 1, [attr(14, "SphereCollisionModel 'ball'", "contactStiffness"), what],
@@ -213,6 +213,36 @@ case("gmsh node count huge", 1, ["huge.msh:5", "node"], scene=edit(mesh_floor("h
 case("degenerate floor triangles warned", 0, ["note:", "floor_triangles", "1 of 2 triangles have zero area (first: triangle 1)"],
      scene=mesh_floor("flat.obj"), files={"flat.obj": "v -5 0 -5\nv 5 0 -5\nv 5 0 5\nv -5 0 -5\nf 1 3 2\nf 1 4 2\n"}, args=["--steps", "5"])
 
+# ---- tiny magnitudes: the other end of the 1e100 cap (a subnormal overflows a quotient) ----------
+case("contactDistance subnormal", 1, [attr(7, "MinProximityIntersection 'proximity'", "contactDistance"), "magnitude below 1e-100"],
+     scene=ball('contactDistance="0.05"', 'contactDistance="1e-308"'))
+case("alarmDistance 1e-300", 1, [attr(7, "MinProximityIntersection 'proximity'", "alarmDistance"), "magnitude below 1e-100"],
+     scene=ball('alarmDistance="0.2"', 'alarmDistance="1e-300"'))
+case("radius 1e-300", 1, [attr(14, "SphereCollisionModel 'ball'", "radius"), "magnitude below 1e-100"], scene=ball('radius="0.1"', 'radius="1e-300"'))
+case("spring stiffness 1e-300", 1, [attr(10, "MeshSpringForceField 'springs'", "stiffness"), "magnitude below 1e-100"],
+     scene=soft('stiffness="100"', 'stiffness="1e-300"'))
+case("youngModulus 4.9e-324", 1, [attr(9, "TetrahedronFEMForceField 'fem'", "youngModulus"), "magnitude below 1e-100"],
+     scene=soft('youngModulus="3000"', 'youngModulus="4.9e-324"'))
+case("mesh coordinate 1e-300", 1, ["tiny.obj:2", "magnitude below 1e-100"], scene=mesh_floor("tiny.obj"),
+     files={"tiny.obj": "v 0 0 0\nv 1e-300 0 0\nv 0 0 1\nf 1 2 3\n"})
+case("zero stays zero (not a tiny magnitude)", 0, ["steps: 3"], scene=ball('translation="0 0 0"', 'translation="0 -0 0.0e0"'),
+     args=["--steps", "3"])
+case("--dt 1e-300", 2, ["penalty: error:", "--dt", "out of range [1e-100, 86400]"], scene=BALL, args=["--dt", "1e-300"])
+
+# ---- byte-order marks and CRLF (Windows editors) ---------------------------------------------------
+case("OBJ with a byte-order mark and CRLF keeps its first vertex", 0, ["bom.obj: 4 points, 2 triangles"],
+     scene=mesh_floor("bom.obj"), files={"bom.obj": "\ufeff" + GOOD_OBJ.replace("\n", "\r\n")}, args=["info"])
+case("scene with a byte-order mark and CRLF", 0, ["steps: 3"], scene="\ufeff" + BALL.replace("\n", "\r\n"), args=["--steps", "3"])
+
+# ---- outputs that cannot be written: exit 5 naming the path ----------------------------------------
+for option, value in [("--export-states", "afile/states"), ("--stats", "afile/stats.csv"), ("--vtk", "afile/vtk"),
+                      ("--summary-json", "afile/summary.json"), ("--debug-file", "afile/debug.txt")]:
+    extra = ["--debug-step", "0"] if option == "--debug-file" else []
+    case(f"{option} under a regular file", 5, ["penalty: error:", "afile"], scene=BALL,
+         args=[option, value, *extra, "--steps", "2"], files={"afile": "x"})
+case("--view under a regular file", 5, ["penalty: error:", "afile"], scene=BALL,
+     args=["--view", "afile/view", "--no-serve", "--steps", "2"], files={"afile": "x"})
+
 # ---- command line ---------------------------------------------------------------------------------
 for value, fragment in [("-3", "out of range"), ("99999999999999999999", "out of range"), ("9223372036854775808", "out of range"),
                         ("18446744073709551617", "out of range"), ("1000000001", "out of range"), ("2e3", "not a whole number"),
@@ -253,6 +283,16 @@ case("explicit solver, stiff contact: ejected", 3,
      ["penalty: error: simulation diverged at step", "the energy grew by", "times the scene's energy scale"],
      scene=ball('<EulerImplicitSolver name="odesolver" rayleighStiffness="0.1" rayleighMass="0.1"/>', '<EulerExplicitSolver name="odesolver"/>')
      .replace('contactStiffness="100"', 'contactStiffness="1e6"').replace('dt="0.01"', 'dt="0.02"'), args=["--steps", "2000"])
+# A 0.1 kg ball on a 10 kg static floor (its mass cannot fall: it is not part of the energy scale),
+# ejected by an unstable explicit contact at 1340 m/s; before, the floor's mass made the scale 1.4 MJ
+# and the ball reached 13 km with exit 0.
+EJECTED = (ball('<EulerImplicitSolver name="odesolver" rayleighStiffness="0.1" rayleighMass="0.1"/>', '<EulerExplicitSolver name="odesolver"/>')
+           .replace('totalMass="1"', 'totalMass="0.1"').replace('contactStiffness="100"', 'contactStiffness="1e4"')
+           .replace('<MeshTopology name="topo"', '<UniformMass name="floor_mass" totalMass="10"/>\n        <MeshTopology name="topo"'))
+case("explicit, 0.1 kg ball on a heavy static floor: ejected", 3,
+     ["penalty: error: simulation diverged at step", "the energy grew by", "times the scene's energy scale"],
+     scene=EJECTED, args=["--steps", "1000"])
+case("the same with the check off", 0, ["steps: 1000"], scene=EJECTED, args=["--steps", "1000", "--divergence-factor", "0"])
 case("implicit, dt = 1000: tunnels away", 3, ["simulation diverged at step 0", "state '/Ball/dofs' DOF 0", "in one step, more than 100 times the initial scene size"],
      scene=BALL, args=["--dt", "1000", "--steps", "3"])
 case("the same with the check off", 0, ["steps: 3"], scene=BALL, args=["--dt", "1000", "--steps", "3", "--divergence-factor", "0"])
@@ -268,7 +308,7 @@ def run_case(index, c):
     d = os.path.join(work, f"case{index:03d}")
     os.makedirs(d)
     for name, text in c["files"].items():
-        with open(os.path.join(d, name), "w") as f:
+        with open(os.path.join(d, name), "w", encoding="utf-8") as f:
             f.write(text)
     if c["setup"]:
         c["setup"](d)

@@ -18,6 +18,7 @@ using test::data_dir;
 using test::message_of;
 using test::write_temp;
 using ::testing::ElementsAre;
+using ::testing::HasSubstr;
 
 std::filesystem::path mesh_file(const char* name) { return data_dir() / "mesh" / name; }
 
@@ -360,12 +361,50 @@ TEST(VtkLoader, Truncated) {
               p.string() + ":6: unexpected end of file (expected point coordinate)");
 }
 
+/// An XML VTK UnstructuredGrid (.vtu) with the given Points and Cells DataArrays.
+std::string vtu(const std::string& points, int n_points, const std::string& connectivity, const std::string& offsets,
+                const std::string& types, int n_cells, const std::string& format = "ascii") {
+    return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
+           "<Piece NumberOfPoints=\"" + std::to_string(n_points) + "\" NumberOfCells=\"" + std::to_string(n_cells) + "\">\n"
+           "<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"" + format + "\">" + points +
+           "</DataArray></Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">" +
+           connectivity + "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">" + offsets +
+           "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">" + types +
+           "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+TEST(VtuLoader, ReadsPointsAndCellsOfAnUnstructuredGrid) {
+    // a tetrahedron (10) and a triangle (5) on 4 points; points as doubles whatever their type
+    const auto p = write_temp("cells.vtu", vtu("0 0 0  1 0 0  0 1 0  0 0 0.1", 4, "0 1 2 3  0 1 2", "4 7", "10 5", 2));
+    const MeshData m = load_vtk(p);  // XML by the first line, as MeshVTKLoader::detectFileType
+    ASSERT_EQ(m.positions.size(), 4u);
+    EXPECT_EQ(m.positions[3], Vec3(0, 0, 0.1));
+    EXPECT_THAT(m.tetrahedra, ElementsAre(Tetrahedron{0, 1, 2, 3}));
+    EXPECT_THAT(m.triangles, ElementsAre(Triangle{0, 1, 2}));
+    EXPECT_EQ(load_mesh_file(p).tetrahedra.size(), 1u);
+}
+
+TEST(VtuLoader, ErrorsNameTheFileAndLine) {
+    const auto binary = write_temp("binary.vtu", vtu("AAAA", 1, "", "", "", 0, "binary"));
+    EXPECT_THAT(message_of<LoadError>([&] { (void)load_vtk(binary); }),
+                HasSubstr("binary.vtu:5: Points: only ASCII DataArrays are read"));
+    const auto out_of_range = write_temp("range.vtu", vtu("0 0 0  1 0 0  0 1 0", 3, "0 1 7", "3", "5", 1));
+    EXPECT_THAT(message_of<LoadError>([&] { (void)load_vtk(out_of_range); }),
+                HasSubstr("range.vtu:7: point index 7.000000 is not an integer in [0, 3)"));
+    const auto short_points = write_temp("short.vtu", vtu("0 0 0  1 0", 2, "", "", "", 0));
+    EXPECT_THAT(message_of<LoadError>([&] { (void)load_vtk(short_points); }),
+                HasSubstr("short.vtu:5: Points: expected 6 numbers, found 5"));
+    const auto not_grid = write_temp("poly.vtu", "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"></VTKFile>\n");
+    EXPECT_THAT(message_of<LoadError>([&] { (void)load_vtk(not_grid); }),
+                HasSubstr("poly.vtu:2: VTK XML dataset 'PolyData' is not supported (UnstructuredGrid)"));
+}
+
 TEST(MeshFile, DispatchesOnExtension) {
     EXPECT_EQ(load_mesh_file(mesh_file("spheres.sph")).radii.size(), 3u);
     EXPECT_EQ(load_mesh_file(mesh_file("grid.vtk")).hexahedra.size(), 1u);
     const auto p = write_temp("mesh.stl", "solid\n");
     EXPECT_EQ(message_of<LoadError>([&] { (void)load_mesh_file(p); }),
-              p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph, .vtk, .off or .trian)");
+              p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph, .vtk, .vtu, .off or .trian)");
 }
 
 // ---------------------------------------------------------------------------------------------

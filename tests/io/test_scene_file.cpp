@@ -20,6 +20,7 @@ using test::data_dir;
 using test::message_of;
 using test::write_temp;
 using ::testing::ElementsAre;
+using ::testing::HasSubstr;
 
 std::filesystem::path tiny_path() { return data_dir() / "scenes" / "tiny.scn"; }
 
@@ -358,6 +359,40 @@ TEST(SceneMeshes, LoadersApplyTheirOptions) {
     EXPECT_EQ(msh.triangles.size(), 7u);         // Gmsh: createSubelements by default
     EXPECT_EQ(msh.edges.size(), 9u);
     EXPECT_EQ(msh.tetrahedra.size(), 2u);
+}
+
+TEST(SceneMeshes, GridMeshCreatorBuildsSofasUnitGrid) {
+    // GridMeshCreator::doLoad: points x/(nx-1), y/(ny-1) row by row; pattern 0 quads, 1 alternate,
+    // 2 upward, 3 downward triangles; unique edges in std::set order
+    const SceneFile s = parse_scene_string(
+        "<Node>\n<GridMeshCreator resolution='3 2' trianglePattern='0'/>\n<GridMeshCreator resolution='3 2' "
+        "trianglePattern='1' translation='1 0 0'/>\n<GridMeshCreator/>\n<GridMeshCreator resolution='1 2'/>\n"
+        "<GridMeshCreator trianglePattern='4'/>\n</Node>",
+        "grid.scn");
+    const MeshData quads = load_scene_mesh(*s.root->components[0], ".", {});
+    ASSERT_EQ(quads.positions.size(), 6u);
+    EXPECT_EQ(quads.positions[4], Vec3(0.5, 1, 0));
+    EXPECT_EQ(quads.quads.size(), 2u);
+    EXPECT_TRUE(quads.triangles.empty());
+    EXPECT_EQ(quads.quads[1], (Quad{1, 2, 5, 4}));
+    EXPECT_EQ(quads.edges.size(), 7u);  // 2·(3−1) along x, 3 along y
+    EXPECT_EQ(quads.edges[0], (Edge{0, 1}));
+    EXPECT_EQ(quads.edges[1], (Edge{1, 2}));  // (0,3) is stored as (3,0): inserted d→a
+    const MeshData alternate = load_scene_mesh(*s.root->components[1], ".", {});
+    ASSERT_EQ(alternate.triangles.size(), 4u);
+    EXPECT_EQ(alternate.triangles[0], (Triangle{0, 1, 4}));  // (x+y) even: upward
+    EXPECT_EQ(alternate.triangles[2], (Triangle{1, 2, 4}));  // odd: downward
+    EXPECT_EQ(alternate.edges.size(), 9u);                   // 7 + two diagonals
+    EXPECT_EQ(alternate.positions[2], Vec3(2, 0, 0));
+    const MeshData unit = load_scene_mesh(*s.root->components[2], ".", {});
+    EXPECT_EQ(unit.positions.size(), 4u);  // resolution 2 2, pattern 2
+    EXPECT_EQ(unit.triangles.size(), 2u);
+    EXPECT_THAT(message_of<SceneError>([&] { (void)load_scene_mesh(*s.root->components[3], ".", {}); }),
+                HasSubstr("grid.scn:5: GridMeshCreator"));
+    EXPECT_THAT(message_of<SceneError>([&] { (void)load_scene_mesh(*s.root->components[3], ".", {}); }),
+                HasSubstr("attribute 'resolution': each count must be an integer >= 2"));
+    EXPECT_THAT(message_of<SceneError>([&] { (void)load_scene_mesh(*s.root->components[4], ".", {}); }),
+                HasSubstr("attribute 'trianglePattern': must be 0, 1, 2 or 3"));
 }
 
 TEST(SceneMeshes, ErrorsNameTheComponentAndAttribute) {

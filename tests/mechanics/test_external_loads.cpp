@@ -14,14 +14,8 @@
 namespace penalty {
 namespace {
 
+using test::force_of;
 using test::state_at;
-
-/// The field's force alone at the state's positions and velocities.
-std::vector<Vec3> force_of(BaseForceField& ff, Vec3Object& s) {
-    std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
-    ff.accumulate_force();
-    return s.force;
-}
 
 /// df = K·dx through add_dforce (k_factor `k`), for one displacement.
 std::vector<Vec3> dforce_of(BaseForceField& ff, Vec3Object& s, const std::vector<Vec3>& dx, double k = 1.0) {

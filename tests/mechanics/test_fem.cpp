@@ -8,8 +8,10 @@
 #include <Eigen/SparseCholesky>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 #include <set>
+#include <stdexcept>
 
 namespace penalty {
 namespace {
@@ -186,6 +188,71 @@ TEST(TetrahedronFEM, LargeMethodMatchesTheUniaxialStretchClosedForm) {
     const std::array<Vec3, 4> expected{Vec3(axial, lateral, lateral), Vec3(-axial, 0, 0), Vec3(0, -lateral, 0),
                                        Vec3(0, 0, -lateral)};
     for (std::size_t k = 0; k < 4; ++k) EXPECT_LT((f[k] - expected[k]).norm(), 1e-12 * axial) << k;
+}
+
+/// Forces of the unit corner tetrahedron stretched by ε along x, evaluated `evaluations` times
+/// with the plasticity p (TetrahedronFEMForceField::computeForce with plasticMaxThreshold > 0).
+std::vector<Vec3> plastic_stretch_forces(const TetrahedronFEMForceField::Plasticity& p, int evaluations, double eps,
+                                         std::array<double, 6>* plastic = nullptr) {
+    MeshTopology topo;
+    topo.set_tetrahedra({Tetrahedron{0, 1, 2, 3}});
+    Vec3Object s;
+    s.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    s.init();
+    TetrahedronFEMForceField ff(s, topo, 100, 0.3, FemMethod::Large);
+    ff.init();
+    ff.set_plasticity(p);
+    s.position[1] = Vec3(1 + eps, 0, 0);
+    for (int i = 0; i < evaluations; ++i) {
+        std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
+        ff.accumulate_force();
+    }
+    if (plastic != nullptr) *plastic = ff.plastic_strain(0);
+    return s.force;
+}
+
+TEST(TetrahedronFEM, PlasticityCreepsAndClampsThePlasticStrain) {
+    // Uniaxial strain ε = (1e-3, 0, ...): with creep c each evaluation moves εp by c·(ε − εp)
+    // while |ε − εp| > yield, so the force is (1 − c)ⁿ of the elastic one after n evaluations;
+    // |εp| is clamped to plasticMaxThreshold along its direction.
+    const double eps = 1e-3;
+    const auto elastic = one_tetrahedron_forces(FemMethod::Large, {Vec3(0, 0, 0), Vec3(1 + eps, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
+    const double scale = elastic[1].norm();
+    ASSERT_GT(scale, 1e-3);
+    const auto expect_ratio = [&](const std::vector<Vec3>& f, double ratio) {
+        for (std::size_t k = 0; k < 4; ++k) EXPECT_LT((f[k] - ratio * elastic[k]).norm(), 1e-12 * scale) << k << " " << ratio;
+    };
+    // below the yield threshold: the elastic force (εp stays 0)
+    std::array<double, 6> plastic{};
+    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-2, .creep = 0.5}, 3, eps, &plastic), 1.0);
+    for (const double v : plastic) EXPECT_EQ(v, 0.0);
+    // creep 0.5: ½ after one evaluation, ¼ after two, εp = ¾ ε
+    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-4, .creep = 0.5}, 1, eps), 0.5);
+    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-4, .creep = 0.5}, 2, eps, &plastic), 0.25);
+    // SOFA's D = r − R·x is minus the displacement: its strains, the plastic one included, are −ε
+    EXPECT_NEAR(plastic[0], -0.75 * eps, 1e-15);
+    // creep stops once |ε − εp| <= yield: 1e-3 → 5e-4 → 2.5e-4 (two evaluations), then no more
+    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 3e-4, .creep = 0.5}, 5, eps), 0.25);
+    // clamp: εp = ½ε has norm 5e-4 > 2e-4 → εp = 0.2 ε, force 0.8 of the elastic one
+    expect_ratio(plastic_stretch_forces({.max_threshold = 2e-4, .yield_threshold = 1e-4, .creep = 0.5}, 1, eps, &plastic), 0.8);
+    EXPECT_NEAR(plastic[0], -2e-4, 1e-18);
+}
+
+TEST(TetrahedronFEM, PlasticityIsRefusedOffMethodLargeAndForBadValues) {
+    MeshTopology topo;
+    topo.set_tetrahedra({Tetrahedron{0, 1, 2, 3}});
+    Vec3Object s;
+    s.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    s.init();
+    TetrahedronFEMForceField polar(s, topo, 100, 0.3, FemMethod::Polar);
+    EXPECT_THROW(polar.set_plasticity({.max_threshold = 1}), std::invalid_argument);
+    polar.set_plasticity({});  // max 0: off, accepted
+    TetrahedronFEMForceField large(s, topo, 100, 0.3, FemMethod::Large);
+    EXPECT_THROW(large.set_plasticity({.max_threshold = 1, .yield_threshold = -1}), std::invalid_argument);
+    EXPECT_THROW(large.set_plasticity({.max_threshold = 1, .creep = std::nan("")}), std::invalid_argument);
+    // SOFA's float defaults
+    EXPECT_EQ(TetrahedronFEMForceField::Plasticity{}.yield_threshold, double(0.0001f));
+    EXPECT_EQ(TetrahedronFEMForceField::Plasticity{}.creep, double(0.9f));
 }
 
 TEST(TetrahedronFEM, LargeMethodIsTheRotatedElementStiffnessTimesTheLocalDisplacement) {
@@ -401,7 +468,7 @@ TEST(RegularGridTopology, IndexingSpringsAndBarycentricMapping) {
     EXPECT_EQ(mt.triangles()[1], (Triangle{0, 4, 3}));
     EXPECT_EQ(mt.edges().size(), 20u + 11u);  // + one diagonal per quad
     EXPECT_THROW(RegularGridTopology({0, 2, 2}, Vec3::Zero(), Vec3::Ones()), std::invalid_argument);
-    EXPECT_THROW(RegularGridTopology({2, 2, 2}, Vec3::Ones(), Vec3::Zero()), std::invalid_argument);
+    EXPECT_THROW(RegularGridTopology({2, 2, 2}, Vec3::Zero(), Vec3(1, std::nan(""), 1)), std::invalid_argument);
 }
 
 }  // namespace

@@ -30,13 +30,13 @@ TEST(PolarRotation, IsTheOrthogonalFactorOfRotationTimesStretch) {
     EXPECT_TRUE(q.isApprox(mirror, 1e-12));
 }
 
-struct Block {
+struct PolarBlock {
     RegularGridTopology grid{{3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1.2)};
     MeshTopology topo = test::kuhn_tetrahedra(grid);
 };
 
 TEST(TetrahedronFEMPolar, RigidMotionIsStressFreeAndStiffnessMatchesFiniteDifferences) {
-    Block b;
+    PolarBlock b;
     Vec3Object s;
     s.position = b.grid.points();
     s.init();
@@ -52,7 +52,7 @@ TEST(TetrahedronFEMPolar, RigidMotionIsStressFreeAndStiffnessMatchesFiniteDiffer
 }
 
 TEST(TetrahedronFEMPolar, ForcesRotateWithTheBodyAndMatchLargeForSmallStrains) {
-    Block b;
+    PolarBlock b;
     Vec3Object polar_state, large_state;
     for (Vec3Object* st : {&polar_state, &large_state}) {
         st->position = b.grid.points();

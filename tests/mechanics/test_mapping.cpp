@@ -17,8 +17,8 @@ namespace {
 
 using test::same_bits;
 
-std::mt19937 rng(7);
-double uni() { return std::uniform_real_distribution<double>(-1, 1)(rng); }
+std::mt19937 mapping_rng(7);
+double uni() { return std::uniform_real_distribution<double>(-1, 1)(mapping_rng); }
 Vec3 rand_vec() { return Vec3(uni(), uni(), uni()); }
 
 /// Generic checks of a mapping whose input has `in_size` scalars per DOF:

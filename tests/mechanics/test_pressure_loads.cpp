@@ -2,6 +2,7 @@
 // closed forms on known areas and lengths, SOFA's corner shares, and the derivative checks.
 #include "penalty/mechanics/pressure_loads.hpp"
 
+#include "penalty_test/point_state.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -15,11 +16,7 @@ Vec3 total(const std::vector<Vec3>& f) {
     return s;
 }
 
-std::vector<Vec3> force_of(BaseForceField& ff, Vec3Object& s) {
-    std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
-    ff.accumulate_force();
-    return s.force;
-}
+using test::force_of;
 
 /// A constant force field: the FD Jacobian of f is zero, add_dforce and the triplets add nothing
 /// (K = 0, so check_force_field_derivatives' relative comparisons do not apply), and

@@ -17,7 +17,7 @@ struct Surface {
     std::vector<Triangle> triangles;
 };
 
-Surface unit_cube() {
+Surface unit_cube_surface() {
     Surface s;
     for (int k = 0; k < 8; ++k) s.positions.emplace_back(k & 1, (k >> 1) & 1, (k >> 2) & 1);
     const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
@@ -40,7 +40,7 @@ Surface octahedron() {
 
 TEST(SparseGridTopology, CubeSurfaceKeepsTheShellAsBoundaryThenTheInsideCells) {
     // cells of 0.4 from −1.1: the faces x = 0 and x = 1 lie inside cell layers 2 and 5
-    const Surface cube = unit_cube();
+    const Surface cube = unit_cube_surface();
     const auto g = SparseGridTopology::from_surface({9, 9, 9}, Vec3::Constant(-1.1), Vec3::Constant(2.1), cube.positions,
                                                     cube.triangles);
     const auto& types = g.grid_cell_types();
@@ -80,7 +80,7 @@ TEST(SparseGridTopology, CubeSurfaceKeepsTheShellAsBoundaryThenTheInsideCells) {
 }
 
 TEST(SparseGridTopology, DefaultBoxIsTheSurfaceBoxGrownByOnePercent) {
-    const Surface cube = unit_cube();
+    const Surface cube = unit_cube_surface();
     const auto [lo, hi] = SparseGridTopology::default_box(cube.positions);
     EXPECT_EQ(lo, Vec3::Constant(-0.01));
     EXPECT_EQ(hi, Vec3::Constant(1.01));
@@ -141,7 +141,7 @@ TEST(SparseGridTopology, OctahedronCellsMatchTheClosedFormClassification) {
 }
 
 TEST(SparseGridTopology, MappingIsTrilinearInTheKeptCellElseInTheNearestBoundaryCell) {
-    const Surface cube = unit_cube();
+    const Surface cube = unit_cube_surface();
     const auto g = SparseGridTopology::from_surface({9, 9, 9}, Vec3::Constant(-1.1), Vec3::Constant(2.1), cube.positions,
                                                     cube.triangles);
     Vec3Object in("grid"), out("points");

@@ -177,5 +177,38 @@ TEST(ViewerWriter, UnwritableDirectoryThrowsNamingIt) {
     }
 }
 
+// Issue 49: a link in DIR named like one of the writer's files (a page file, a data file, the
+// manifest or the old fixed name of its temporary) is replaced by the writer's own file; the
+// file the link pointed to, outside DIR, keeps its content. No temporary file is left behind.
+TEST(ViewerWriter, LinksInTheDirectoryAreReplacedNeverWrittenThrough) {
+    TempDir dir;
+    const std::filesystem::path view = dir.path() / "view";
+    std::filesystem::create_directories(view);
+    const std::vector<std::string> names{"index.html", "viewer.js", "topology.u32", "positions.f32", "contacts.f32",
+                                         "run.json", "run.json.tmp"};
+    for (const std::string& name : names) {
+        test::write_text(dir.path() / ("victim-" + name), "precious");
+        std::filesystem::create_symlink(std::filesystem::path("..") / ("victim-" + name), view / name);
+    }
+    TwoBodies bodies;
+    {
+        ViewerWriter writer(view, {&bodies.surface_record, &bodies.ball_record}, bodies.shapes(), "links");
+        writer.write_frame(0.0, {}, 0.0);
+        writer.finish();
+    }
+    write_viewer_page(view);  // `penalty view DIR` rewrites the page files
+    for (const std::string& name : names)
+        EXPECT_TRUE(test::read_text(dir.path() / ("victim-" + name)) == "precious")
+            << "the file the link DIR/" << name << " points to was written through";
+    for (const char* name : {"index.html", "viewer.js", "topology.u32", "positions.f32", "contacts.f32", "run.json"}) {
+        EXPECT_FALSE(std::filesystem::is_symlink(view / name)) << name;
+        EXPECT_TRUE(std::filesystem::is_regular_file(view / name)) << name;
+    }
+    EXPECT_EQ(std::filesystem::file_size(view / "positions.f32"), (4u * 3 + 7) * sizeof(float));
+    EXPECT_THAT(test::read_text(view / "run.json"), HasSubstr("\"title\":\"links\""));
+    for (const auto& entry : std::filesystem::directory_iterator(view))
+        EXPECT_NE(entry.path().filename().string().front(), '.') << "temporary file left: " << entry.path();
+}
+
 }  // namespace
 }  // namespace penalty::output

@@ -36,3 +36,16 @@ def test_energy_balance_closes(tmp_path):
 def test_contact_force_carries_the_weights(tmp_path):
     out = run_example("contact_force.py", tmp_path)
     assert abs(number(r"last 0.5 s (\S+) N", out) - 1.5 * 9.81) < 0.01 * 1.5 * 9.81
+
+
+def test_examples_write_into_the_current_folder_by_default(tmp_path):
+    """Without an argument the picture goes to ./out (the current folder), never into the source
+    tree."""
+    env = dict(os.environ, PYTHONPATH=str(Path(penalty.__file__).parents[1]))
+    before = {p.name for p in EXAMPLES.iterdir()}
+    r = subprocess.run([sys.executable, str(EXAMPLES / "restitution_scan.py")], capture_output=True, text=True,
+                       env=env, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "out" / "restitution_scan.png").stat().st_size > 10000
+    assert str(tmp_path / "out" / "restitution_scan.png") in r.stdout
+    assert {p.name for p in EXAMPLES.iterdir()} == before

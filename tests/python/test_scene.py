@@ -27,7 +27,7 @@ def test_step_time_dt(scene):
     assert scene.time == pytest.approx(0.05, abs=1e-15)
     scene.step()
     assert scene.time == pytest.approx(0.055, abs=1e-15)
-    with pytest.raises(ValueError, match="n must be >= 0"):
+    with pytest.raises(ValueError, match=r"Scene.step: n = -1 is out of range"):
         scene.step(-1)
 
 
@@ -122,7 +122,7 @@ def test_info_is_data(scene):
     mo = [c for c in info["components"] if c["type"] == "MechanicalObject" and c["name"] == "cube"][0]
     assert mo["built"] and "125 DOFs" in mo["role"]
     assert info["nodes"][0]["dt"] == 0.005
-    assert info["pipelines"][0]["intersection"] == "MinProximity"
+    assert info["pipelines"][0]["intersection"] == "NewProximity"
     assert "SoftCube" in info["text"]
 
 

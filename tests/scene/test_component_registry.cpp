@@ -43,7 +43,7 @@ TEST(ComponentRegistry, EachTypeOnceEachAttributeOncePhysicsIsBuilt) {
             EXPECT_EQ(s.build, nullptr) << s.type;
         }
     }
-    EXPECT_EQ(physics, 87u);  // the physics types of docs/sofa-compatibility.md and docs/components/
+    EXPECT_EQ(physics, 137u);  // the physics types of docs/sofa-compatibility.md and docs/components/
     EXPECT_EQ(component_category("TriangleCollisionModel"), ComponentCategory::physics);
     EXPECT_EQ(component_category("SphereLoader"), ComponentCategory::loader);
     EXPECT_EQ(component_category("OglModel"), ComponentCategory::ignored);
@@ -170,7 +170,8 @@ TEST(ComponentRegistry, ReadAttributesListsOwnThenShared) {
 TEST(ComponentRegistry, InfoListsAttributesWithKindUnitCheckAndDefault) {
     const std::string mass = describe_components("UniformMass");
     EXPECT_THAT(mass, HasSubstr("masses:\n  UniformMass: uniform mass\n"));
-    EXPECT_THAT(mass, HasSubstr("    vertexMass (number, kg, > 0): mass of each DOF (or totalMass)\n"));
+    EXPECT_THAT(mass, HasSubstr("    vertexMass (text, kg): mass of each DOF (or totalMass), > 0; Rigid3d: `m` or SOFA's "
+                                "Rigid3Mass `m volume [3x3 inertia per unit mass]`\n"));
     const std::string fem = describe_components("TetrahedronFEMForceField");
     EXPECT_THAT(fem, HasSubstr("    youngModulus (number, Pa, > 0) default 5000\n"));
     EXPECT_THAT(fem, HasSubstr("    poissonRatio (number) default 0.45: in (-1, 0.5)\n"));

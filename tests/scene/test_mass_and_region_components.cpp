@@ -78,8 +78,8 @@ TEST(MassAndRegionComponents, FixedConstraintReadsTheBoxIndices) {
 TEST(MassAndRegionComponents, UnsupportedDataAndLinksAreRefusedClearly) {
     EXPECT_THAT(error_of(grid_with(R"(<DiagonalMass massDensity="-1"/>)")), HasSubstr("massDensity"));
     std::string oriented = grid_with("");
-    oriented.replace(oriented.find("drawBoxes"), 9, "orientedBox=\"0 0 0 1 0 0 0 1 0 1\" drawBoxes");
-    EXPECT_THAT(error_of(oriented), HasSubstr("orientedBox"));
+    oriented.replace(oriented.find("drawBoxes"), 9, "orientedBox=\"0 0 0 1 0 0 0 1 0\" drawBoxes");
+    EXPECT_THAT(error_of(oriented), HasSubstr("attribute 'orientedBox': expected 10 numbers per box"));
     std::string not_recorded = grid_with("<UniformMass totalMass=\"1\"/>");
     not_recorded.replace(not_recorded.find("@box.indices"), 12, "@box.pointsInROI");
     EXPECT_THAT(error_of(not_recorded), HasSubstr("pointsInROI"));

@@ -163,7 +163,7 @@ TEST(PressureComponents, SurfacePressurePulseStartsAtSpeedTimesDt) {
 }
 
 // A 3×3×3 grid (spacing 1), gravity −y; points fixed by an ROI do not fall.
-const std::string kGrid = R"(<Node name="root" dt="0.01" gravity="0 -10 0">
+const std::string kPlaneRoiGrid = R"(<Node name="root" dt="0.01" gravity="0 -10 0">
   <Node name="Grid"><EulerImplicitSolver/><CGLinearSolver iterations="50" tolerance="1e-12" threshold="1e-12"/>
     <RegularGridTopology nx="3" ny="3" nz="3" xmin="0" xmax="2" ymin="0" ymax="2" zmin="0" zmax="2"/>
     <MechanicalObject name="grid"/>
@@ -174,7 +174,7 @@ const std::string kGrid = R"(<Node name="root" dt="0.01" gravity="0 -10 0">
 </Node>)";
 
 std::vector<int> fixed_points(const std::string& roi, const std::string& output = "indices") {
-    auto s = build(replaced(replaced(kGrid, "ROI", roi), "@roi.indices", "@roi." + output));
+    auto s = build(replaced(replaced(kPlaneRoiGrid, "ROI", roi), "@roi.indices", "@roi." + output));
     const std::vector<Vec3> before = state_of(*s).position;
     s->step();
     std::vector<int> fixed;
@@ -193,7 +193,7 @@ TEST(PressureComponents, PlaneRoiAndSphereRoiIndicesFixPoints) {
     // pointIndices is SphereROI's alias of indices
     EXPECT_EQ(fixed_points(R"(<SphereROI name="roi" centers="2 2 2" radii="0.5"/>)", "pointIndices"),
               (std::vector<int>{26}));
-    EXPECT_THAT(error_of(replaced(kGrid, "ROI", R"(<PlaneROI name="roi" plane="0 0 0 1 0 0"/>)")),
+    EXPECT_THAT(error_of(replaced(kPlaneRoiGrid, "ROI", R"(<PlaneROI name="roi" plane="0 0 0 1 0 0"/>)")),
                 HasSubstr("10 numbers per plane"));
 }
 

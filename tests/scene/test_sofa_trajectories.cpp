@@ -27,9 +27,9 @@ using namespace penalty;
 namespace fs = std::filesystem;
 
 #if defined(__SANITIZE_ADDRESS__)
-constexpr std::int64_t kSteps = 31;  // 10-30x slower under the sanitizers
+constexpr std::int64_t kTrajectorySteps = 31;  // 10-30x slower under the sanitizers
 #else
-constexpr std::int64_t kSteps = 301;  // states at T = 0 … 300·dt, as SOFA's files
+constexpr std::int64_t kTrajectorySteps = 301;  // states at T = 0 … 300·dt, as SOFA's files
 #endif
 
 struct TrajectoryCase {
@@ -65,7 +65,7 @@ TEST_P(SofaTrajectory, StepByStepAgainstSofaHead) {
     const fs::path out = fs::temp_directory_path() / ("penalty_trajectory_" + name + "_" + std::to_string(::getpid()));
     fs::remove_all(out);
     scene::RunOptions run;
-    run.steps = kSteps;
+    run.steps = kTrajectorySteps;
     run.states_directory = out;
     const scene::RunSummary summary = scene::run_scene(*s, run);
     const output::TrajectoryComparison c =
@@ -91,7 +91,7 @@ TEST_P(SofaTrajectory, StepByStepAgainstSofaHead) {
     for (std::size_t k = 0; k < c.states.size(); ++k) {
         const output::TrajectoryStateComparison& st = c.states[k];
         EXPECT_TRUE(st.problem.empty()) << st.problem;
-        EXPECT_EQ(st.steps_compared, std::size_t(kSteps)) << st.our_file;
+        EXPECT_EQ(st.steps_compared, std::size_t(kTrajectorySteps)) << st.our_file;
         if (st.first_over_threshold) first = std::min(first, int(st.first_over_threshold->step));
         // criterion = Σ_steps Σ_values |Δ| / n_dofs, so per step and value: / (steps · values per DOF)
         const double values = double(summary.values_per_dof[k]);

@@ -18,7 +18,7 @@ using ::testing::HasSubstr;
 
 /// A 3×3-vertex cloth [0, 2]² in the x-z plane, 8 triangles, fixed at two corners, with the
 /// given force fields (XML) in its node.
-std::string cloth_scene(const std::string& force_fields) {
+std::string surface_cloth_scene(const std::string& force_fields) {
     return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
       <Node name="Cloth"><EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
         <CGLinearSolver iterations="100" tolerance="1e-12" threshold="1e-12"/>
@@ -35,7 +35,7 @@ std::string cloth_scene(const std::string& force_fields) {
 using penalty::test::build;
 
 /// Lowest y of the cloth after `steps` steps (all positions checked finite).
-double sag_after(scene::Scene& s, int steps) {
+double surface_sag_after(scene::Scene& s, int steps) {
     for (int i = 0; i < steps; ++i) s.step();
     const auto& cloth = dynamic_cast<const Vec3Object&>(*s.states()[0].state);
     double lowest = 0;
@@ -48,38 +48,38 @@ double sag_after(scene::Scene& s, int steps) {
 }
 
 TEST(SurfaceComponents, TriangularFemAndBendingSpringsBuildDescribeAndRun) {
-    auto s = build(cloth_scene(R"(<TriangularFEMForceField name="fem" youngModulus="500" poissonRatio="0.3" method="large"/>
+    auto s = build(surface_cloth_scene(R"(<TriangularFEMForceField name="fem" youngModulus="500" poissonRatio="0.3" method="large"/>
         <TriangularBendingSprings name="bend" stiffness="300" damping="1"/>)"));
     const std::string text = scene::describe_scene(*s);
     EXPECT_THAT(text, HasSubstr("8 triangles, E = 500 Pa, nu = 0.3, co-rotational (large)"));
     // shared edges: the 8 edges at the centre vertex 4 (every other edge is on the border)
     EXPECT_THAT(text, HasSubstr("8 bending springs across the edges shared by two triangles"));
-    const double stiff = sag_after(*s, 100);
-    auto free_fall = build(cloth_scene(""));
-    const double loose = sag_after(*free_fall, 100);
+    const double stiff = surface_sag_after(*s, 100);
+    auto free_fall = build(surface_cloth_scene(""));
+    const double loose = surface_sag_after(*free_fall, 100);
     EXPECT_LT(loose, -0.4);          // nothing holds the free vertices: ½ g t² ≈ 4.9 m, damped
     EXPECT_GT(stiff, 0.5 * loose);   // the membrane and the springs hold the cloth up
     EXPECT_LT(stiff, -1e-3);         // it still sags under gravity
 }
 
 TEST(SurfaceComponents, SmallMethodDefaultsAndErrors) {
-    auto s = build(cloth_scene(R"(<TriangularFEMForceField method="small"/><TriangularBendingSprings/>)"));
+    auto s = build(surface_cloth_scene(R"(<TriangularFEMForceField method="small"/><TriangularBendingSprings/>)"));
     const std::string text = scene::describe_scene(*s);
     EXPECT_THAT(text, HasSubstr("8 triangles, E = 5000 Pa, nu = 0.45, linear (small)"));  // SOFA's defaults
-    (void)sag_after(*s, 10);
-    EXPECT_THROW(build(cloth_scene(R"(<TriangularFEMForceField method="polar"/>)")), io::SceneError);
-    EXPECT_THROW(build(cloth_scene(R"(<TriangularFEMForceField poissonRatio="0.5"/>)")), io::SceneError);
-    EXPECT_THROW(build(cloth_scene(R"(<TriangularBendingSprings stiffness="-1"/>)")), io::SceneError);
+    (void)surface_sag_after(*s, 10);
+    EXPECT_THROW(build(surface_cloth_scene(R"(<TriangularFEMForceField method="polar"/>)")), io::SceneError);
+    EXPECT_THROW(build(surface_cloth_scene(R"(<TriangularFEMForceField poissonRatio="0.5"/>)")), io::SceneError);
+    EXPECT_THROW(build(surface_cloth_scene(R"(<TriangularBendingSprings stiffness="-1"/>)")), io::SceneError);
 }
 
 TEST(SurfaceComponents, OlderTriangleFemReadsThicknessAndPlaneStrain) {
-    auto s = build(cloth_scene(R"(<TriangleFEMForceField youngModulus="500" poissonRatio="0.3" thickness="0.5" planeStrain="1"/>)"));
+    auto s = build(surface_cloth_scene(R"(<TriangleFEMForceField youngModulus="500" poissonRatio="0.3" thickness="0.5" planeStrain="1"/>)"));
     const std::string text = scene::describe_scene(*s);
     EXPECT_THAT(text, HasSubstr("8 triangles, E = 500 Pa, nu = 0.3, co-rotational (large), thickness 0.5 m, plane strain"));
-    const double sag = sag_after(*s, 50);
+    const double sag = surface_sag_after(*s, 50);
     EXPECT_LT(sag, -1e-3);
     EXPECT_GT(sag, -2.0);
-    EXPECT_THROW(build(cloth_scene(R"(<TriangleFEMForceField thickness="0"/>)")), io::SceneError);
+    EXPECT_THROW(build(surface_cloth_scene(R"(<TriangleFEMForceField thickness="0"/>)")), io::SceneError);
 }
 
 }  // namespace

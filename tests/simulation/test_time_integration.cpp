@@ -281,7 +281,7 @@ TEST(SolverSubtrees, SimulatedPairWithRootSpringIsExplicit) {
     sim.root().set_gravity(Vec3::Zero());
     Vec3Object* s[2];
     for (int i = 0; i < 2; ++i) {
-        Node& n = sim.root().add_child("b" + std::to_string(i));
+        Node& n = sim.root().add_child(std::string("b").append(std::to_string(i)));
         n.set_ode_solver<EulerImplicitSolver>().cg.threshold = 0;
         s[i] = &n.add_state<Vec3Types>();
         s[i]->position = {Vec3(1.5 * i, 0, 0)};
@@ -339,7 +339,7 @@ TEST(SolverSubtrees, CommonSolverMakesTheSpringImplicit) {
     sim.root().set_ode_solver<EulerImplicitSolver>().cg.threshold = 0;
     Vec3Object* s[2];
     for (int i = 0; i < 2; ++i) {
-        Node& n = sim.root().add_child("b" + std::to_string(i));
+        Node& n = sim.root().add_child(std::string("b").append(std::to_string(i)));
         s[i] = &n.add_state<Vec3Types>();
         s[i]->position = {Vec3(1.5 * i, 0, 0)};
         n.set_mass<UniformMass<Vec3Types>>(*s[i]).set_vertex_mass(1.0);

@@ -13,6 +13,7 @@ import { networkInterfaces, tmpdir } from 'node:os';
 import { dirname, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
+import { FRAMING_SCENE, cameraFraming, colourMapSeparation, contactContrast, deltaE, grabView, plotLayout } from './page_checks.mjs';
 
 const here = dirname(dirname(fileURLToPath(import.meta.url)));
 const bin = resolve(process.env.PENALTY_BIN || join(here, '..', 'build', 'release', 'bin', 'penalty'));
@@ -41,18 +42,32 @@ const header = csv[0];
 const last = Object.fromEntries(header.map((h, i) => [h, csv[csv.length - 1][i]]));
 check('the CSV has one row per step', csv.length - 1 === steps, `${csv.length - 1} rows`);
 
+// ---- 1b. a run the camera must frame whole (page_checks.mjs: FRAMING_SCENE)
+const framingSteps = 120;
+const framingScene = join(work, 'framing.scn');
+writeFileSync(framingScene, FRAMING_SCENE);
+const framingDir = join(work, 'framing-view');
+const framingRun = spawnSync(bin, ['run', framingScene, '--steps', String(framingSteps), '--view', framingDir, '--no-serve', '--quiet'],
+                             { encoding: 'utf8' });
+check('penalty run of the framing scene exits 0', framingRun.status === 0, framingRun.stderr.trim());
+
 // ---- 2. penalty view DIR --port 0: the address it prints
-const server = spawn(bin, ['view', viewDir, '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
-const url = await new Promise((resolveUrl, reject) => {
-  let text = '';
-  const timer = setTimeout(() => reject(new Error(`no address printed: ${text}`)), 10000);
-  server.stdout.on('data', (chunk) => {
-    text += chunk;
-    const m = text.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
-    if (m) { clearTimeout(timer); resolveUrl(m[0]); }
+/// Starts `penalty view DIR --port 0`; resolves to the server process and the address it prints.
+function serve(dir) {
+  const process = spawn(bin, ['view', dir, '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  return new Promise((resolveUrl, reject) => {
+    let text = '';
+    const timer = setTimeout(() => reject(new Error(`no address printed: ${text}`)), 10000);
+    process.stdout.on('data', (chunk) => {
+      text += chunk;
+      const m = text.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
+      if (m) { clearTimeout(timer); resolveUrl({ process, url: m[0] }); }
+    });
+    process.on('exit', (code) => reject(new Error(`penalty view exited with ${code}: ${text}`)));
   });
-  server.on('exit', (code) => reject(new Error(`penalty view exited with ${code}: ${text}`)));
-});
+}
+const { process: server, url } = await serve(viewDir);
+let framingServer = null;
 check('penalty view prints a loopback address', /^http:\/\/127\.0\.0\.1:\d+\/$/.test(url), url);
 const port = Number(new URL(url).port);
 
@@ -112,7 +127,8 @@ try {
   await page.waitForFunction(() => Number(document.body.dataset.rendered) > 0);
 
   /// Pixels of the 3D view: how many differ from the background, and how many have the hue of
-  /// `color` (0xRRGGBB; hue within 12°, saturation > 0.3): lighting changes brightness, not hue.
+  /// `color` (0xRRGGBB; hue within 12°, HSV saturation 0.12 to 0.5: the body palette is muted,
+  /// the contact colours are not): lighting changes brightness, not hue or saturation.
   const pixels = (color) => page.evaluate((target) => {
     const gl = document.querySelector('canvas.three');
     const c = document.createElement('canvas');
@@ -133,7 +149,7 @@ try {
       if (Math.abs(d[i] - 0x1e) + Math.abs(d[i + 1] - 0x22) + Math.abs(d[i + 2] - 0x28) > 12) nonBackground++;
       const [h, s] = hue(d[i], d[i + 1], d[i + 2]);
       const dh = Math.min(Math.abs(h - th), 360 - Math.abs(h - th));
-      if (s > 0.3 && dh < 12) matching++;
+      if (s > 0.12 && s < 0.5 && dh < 12) matching++;
     }
     return { total: d.length / 4, nonBackground, matching };
   }, color);
@@ -193,17 +209,126 @@ try {
   const again = await pixels(ballColor);
   check('showing /Ball again brings it back', again.matching > 0.9 * shown.matching, `${again.matching} pixels`);
 
+  // ---- contact colours stand out against every body colour, the floor and the background
+  const separation = await page.evaluate(colourMapSeparation, deltaE.toString());
+  check('every colour of the contact map is ΔE ≥ 40 from every body colour (lit 0.35×–1.4×) and the background',
+        separation.deltaE >= 40, `smallest ΔE ${separation.deltaE.toFixed(1)}: ${separation.what}`);
+  const renders = () => page.evaluate(() => Number(document.body.dataset.rendered));
+  const toggleAndRender = async (selector, on) => {
+    const before = await renders();
+    if (on) await page.locator(selector).check(); else await page.locator(selector).uncheck();
+    await page.waitForFunction((n) => Number(document.body.dataset.rendered) > n, before);
+  };
+  await page.evaluate(grabView, '__shown');
+  await toggleAndRender('#show-contacts', false);
+  await page.evaluate(grabView, '__hidden');
+  await toggleAndRender('#show-contacts', true);
+  const contrast = await page.evaluate(contactContrast, { shown: '__shown', hidden: '__hidden', threshold: 25,
+                                                          deltaESource: deltaE.toString() });
+  check('drawn contacts differ from the body under them by ΔE ≥ 25 (≥ 90 % of their pixels)',
+        contrast.pixels > 100 && contrast.share >= 0.9,
+        `${contrast.pixels} contact pixels over bodies, ${(100 * contrast.share).toFixed(1)} % with ΔE ≥ 25, 10th percentile ΔE ${contrast.p10.toFixed(1)}`);
+  await view.screenshot({ path: join(out, 'contacts.png') });
+
+  // ---- the address names the frame shown, and opens it
+  check('the address names the frame shown (?frame=N)', new URL(page.url()).searchParams.get('frame') === String(frames - 1),
+        page.url());
+  const openAt = async (query) => {
+    await page.goto(`${url}${query}`);
+    await page.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+    return (await page.locator('#frame-label').innerText()).trim();
+  };
+  const middle = 40;
+  check('?frame=40 opens frame 40', (await openAt(`?frame=${middle}`)) === `${middle} / ${frames - 1}`);
+  const atMiddle = await page.evaluate((f) => {
+    const v = window.penaltyViewer;
+    const shape = v.shapes.find((s) => s.shape.name === 'ball_sphere');
+    const m = new v.camera.matrix.constructor();
+    shape.object.getMatrixAt(0, m);
+    const state = shape.state;
+    const i = f * v.data.run.frame_floats + state.offset + v.data.topology[shape.shape.index_offset] * (state.type === 'Rigid3d' ? 7 : 3);
+    return { drawn: [m.elements[12], m.elements[13], m.elements[14]], stored: [...v.data.positions.subarray(i, i + 3)],
+             time: document.getElementById('time-label').textContent, expected: v.data.run.frames.time[f].toPrecision(6) };
+  }, middle);
+  check('... showing frame 40\'s positions and time', atMiddle.drawn.every((x, k) => x === atMiddle.stored[k]) &&
+        atMiddle.time === atMiddle.expected, JSON.stringify(atMiddle));
+  check('?frame=100000 opens the last frame', (await openAt('?frame=100000')) === `${frames - 1} / ${frames - 1}`);
+  check('?frame=last opens the last frame', (await openAt('?frame=last')) === `${frames - 1} / ${frames - 1}`);
+  check('?frame=abc opens frame 0', (await openAt('?frame=abc')) === `0 / ${frames - 1}`);
+
+  // ---- at 1400×900 the plots, their axes included, are above the fold
+  await page.setViewportSize({ width: 1400, height: 900 });
+  await page.waitForTimeout(300);
+  const layout = await page.evaluate(plotLayout);
+  check('at 1400×900 every plot is inside the window, drawn at its size',
+        layout.plots.length === 3 && layout.plots.every((p) => p.top >= 0 && p.bottom <= layout.window.height &&
+                                                               p.height >= 100 && Math.abs(p.drawnHeight - p.height) <= 1),
+        JSON.stringify(layout.plots.map((p) => [p.id, Math.round(p.top), Math.round(p.bottom), Math.round(p.drawnHeight)])));
+  check('at 1400×900 the page does not scroll', layout.scrollHeight <= layout.window.height,
+        `document ${layout.scrollHeight} px, window ${layout.window.height} px`);
+  await page.screenshot({ path: join(out, 'page-1400x900.png') });
+  await page.setViewportSize({ width: 1280, height: 800 });
+
   // ---- nothing outside 127.0.0.1, no error
   const outside = requests.filter((r) => !r.startsWith(`http://127.0.0.1:${port}/`) && !r.startsWith('data:'));
   check('no request outside 127.0.0.1', outside.length === 0 && requests.length > 0,
         outside.length ? outside.join(' ') : `${requests.length} requests, all to 127.0.0.1:${port}`);
   check('no page error', errors.length === 0, errors.join(' | '));
   writeFileSync(join(out, 'requests.txt'), requests.join('\n') + '\n');
+
+  // ---- the camera frames every body at every frame: a static obstacle aside, a sphere falling to y ≈ -7
+  const framing = await serve(framingDir);
+  framingServer = framing.process;
+  const camera = await browser.newPage();
+  camera.on('pageerror', (e) => errors.push(e.message));
+  await camera.goto(framing.url);
+  await camera.waitForSelector('body[data-ready="true"]', { timeout: 30000 });
+  const framed = async (when) => {
+    const f = await camera.evaluate(cameraFraming);
+    check(`${when}: every body's box at every frame is inside the view`,
+          f.worst <= 1 && f.depth <= 1 && f.frames === framingSteps + 1 && f.shapes === 4,
+          `largest |x|, |y| in NDC ${f.worst.toFixed(3)} (${f.where}), |z| ${f.depth.toFixed(4)}; ${f.frames} frames, ` +
+          `${f.shapes} shapes, lowest y ${f.lowest.toFixed(2)} m`);
+    return f;
+  };
+  const opened = await framed('opened');
+  check('the falling sphere reaches y < -7 m (the scene tests what it should)', opened.lowest < -7, `${opened.lowest}`);
+  await camera.evaluate(() => window.penaltyViewer.setFrame(window.penaltyViewer.frames - 1));
+  await camera.waitForTimeout(100);
+  await camera.locator('#view').screenshot({ path: join(out, 'framing-last-frame.png') });
+  // Fit frame at frame 0: the bodies as they start (1.5 m tall, the run's box 8.3 m) fill the view
+  await camera.evaluate(() => window.penaltyViewer.setFrame(0));
+  const firstFrame = { first: 0, last: 0 };
+  const beforeFit = await camera.evaluate(cameraFraming, firstFrame);
+  await camera.click('#fit-frame');
+  const fitted = await camera.evaluate(cameraFraming, firstFrame);
+  check('Fit frame frames the bodies of the frame shown, larger', fitted.worst <= 1 && fitted.height > 1.5 * beforeFit.height,
+        `at frame 0: largest |x|, |y| in NDC ${beforeFit.worst.toFixed(3)} → ${fitted.worst.toFixed(3)}, ` +
+        `height in NDC ${beforeFit.height.toFixed(3)} → ${fitted.height.toFixed(3)}`);
+  // orbit and zoom in, then Reset camera
+  const area = await camera.locator('#view canvas.three').boundingBox();
+  await camera.mouse.move(area.x + area.width / 2, area.y + area.height / 2);
+  await camera.mouse.down();
+  await camera.mouse.move(area.x + area.width / 2 + 200, area.y + area.height / 2 + 80, { steps: 8 });
+  await camera.mouse.up();
+  for (let k = 0; k < 6; k++) await camera.mouse.wheel(0, -400);
+  await camera.waitForTimeout(200);
+  const moved = await camera.evaluate(cameraFraming);
+  check('orbiting and zooming moves the camera (bodies leave the view)', moved.worst > 1,
+        `largest |x|, |y| in NDC ${moved.worst.toFixed(3)}`);
+  await camera.click('#reset-camera');
+  await framed('after Reset camera');
+  await camera.setViewportSize({ width: 700, height: 1000 });
+  await camera.waitForTimeout(300);
+  await framed('in a narrow window (700×1000)');
+  await camera.screenshot({ path: join(out, 'framing-narrow.png') });
+  check('no page error on the framing run', errors.length === 0, errors.join(' | '));
 } catch (error) {
   check('browser session', false, error.stack || String(error));
 } finally {
   if (browser) await browser.close();
   server.kill('SIGTERM');
+  if (framingServer) framingServer.kill('SIGTERM');
 }
 
 // ---- the vendored three.js is the version package-lock.json pins

@@ -12,10 +12,6 @@
 #include <string>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 namespace penalty {
 
 /// The kinds of collision model. The numeric order is the row/column order of the dispatch
@@ -60,23 +56,6 @@ struct Aabb {
         for (int i = 0; i < 3; ++i)
             if (min[i] > o.max[i] + margin || o.min[i] > max[i] + margin) return false;
         return true;
-    }
-    /// overlaps() with its six comparisons combined without a branch (for loops whose result
-    /// the branch predictor cannot guess); the same result, a NaN bound never separating. With
-    /// SSE2, two comparisons an instruction: (x, y) of min1 > max2 + m, of min2 > max1 + m, and
-    /// both z tests (the sums max + m as overlaps() rounds them; ordered compares: NaN is false).
-    [[nodiscard]] bool overlaps_branch_free(const Aabb& o, double margin = 0.0) const {
-#if defined(__SSE2__)
-        const __m128d m = _mm_set1_pd(margin);
-        const __m128d apart_xy = _mm_or_pd(_mm_cmpgt_pd(_mm_loadu_pd(min.data()), _mm_add_pd(_mm_loadu_pd(o.max.data()), m)),
-                                           _mm_cmpgt_pd(_mm_loadu_pd(o.min.data()), _mm_add_pd(_mm_loadu_pd(max.data()), m)));
-        const __m128d apart_z = _mm_cmpgt_pd(_mm_setr_pd(min[2], o.min[2]), _mm_add_pd(_mm_setr_pd(o.max[2], max[2]), m));
-        return _mm_movemask_pd(_mm_or_pd(apart_xy, apart_z)) == 0;
-#else
-        bool apart = false;
-        for (int i = 0; i < 3; ++i) apart |= (min[i] > o.max[i] + margin) | (o.min[i] > max[i] + margin);
-        return !apart;
-#endif
     }
 };
 

@@ -62,6 +62,10 @@ struct SofaQuirkFixes {
     /// `scale="0.7"` scales by 0.699999988079071. true: read them in double, as the long forms
     /// `translation`, `rotation`, `scale3d`. Read when a scene is built (BuildOptions).
     bool fix_mechanical_object_float_short_forms = false;
+    /// Found by the trajectory comparison (a fix of the scene loader, as the one above):
+    /// RegularGridTopology::parse reads `xmin` ... `zmax` (and `scale`) with getAttributeAsFloat.
+    /// true: read them in double, as `min` and `max`.
+    bool fix_regular_grid_float_bounds = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

@@ -60,8 +60,9 @@ public:
         return {{cell_steps_.data() + cell_offsets_[p.cell], cell_steps_.data() + cell_offsets_[p.cell + 1]},
                 {p.index, cell_sizes_[p.cell]}};
     }
-    /// Prefetch hint for a caller that reads the paths of many elements in no memory order.
-    void prefetch_place(Index e) const { __builtin_prefetch(places_.data() + e); }
+    /// Where element e's place is stored: a caller that reads the paths of many elements in no
+    /// memory order fetches it ahead (src/kernels/prefetch.hpp).
+    [[nodiscard]] const void* place_address(Index e) const { return places_.data() + e; }
     /// The longest path (levels below the root).
     [[nodiscard]] std::size_t levels() const { return level_max_size_.size(); }
     /// The largest child range at level t (1 beyond the tree's levels: an element whose path

@@ -84,7 +84,17 @@ struct MeshData {
 /// @throws LoadError `path:line: what`
 [[nodiscard]] MeshData load_vtk_legacy(const std::filesystem::path& path);
 
-/// Dispatches on the extension (case-insensitive): .obj, .msh, .sph, .vtk, .off, .trian.
+/// Reads an XML VTK file (`<VTKFile type="UnstructuredGrid">`, .vtu) as SOFA's MeshVTKLoader
+/// (XMLVTKReader): one Piece, its Points (read as doubles whatever their DataArray type), its
+/// Cells (connectivity, offsets, types; the cell types of load_vtk_legacy). ASCII DataArrays only.
+/// @throws LoadError `path:line: what`
+[[nodiscard]] MeshData load_vtk_xml(const std::filesystem::path& path);
+
+/// load_vtk_xml or load_vtk_legacy by the file's first line, as MeshVTKLoader::detectFileType:
+/// `<?xml` or `<VTKFile` → XML, `# vtk` → legacy.
+[[nodiscard]] MeshData load_vtk(const std::filesystem::path& path);
+
+/// Dispatches on the extension (case-insensitive): .obj, .msh, .sph, .vtk, .vtu, .off, .trian.
 /// @throws LoadError for another extension or a bad file
 [[nodiscard]] MeshData load_mesh_file(const std::filesystem::path& path);
 
@@ -96,6 +106,7 @@ struct MeshData {
 [[nodiscard]] MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_sph(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& path);
+[[nodiscard]] MeshData parse_vtk_xml(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_off(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_trian(std::string_view text, const std::filesystem::path& path);
 

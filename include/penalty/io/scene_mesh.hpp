@@ -28,6 +28,13 @@ namespace penalty::io {
 /// load_obj's handle_seams (MeshOBJLoader only).
 /// @throws SceneError naming the component and attribute (a LoadError from the file is wrapped:
 ///         `file:line: MeshOBJLoader 'loader': attribute 'filename': <file error>`).
+/// The scalar `scale` of a mesh loader as SOFA's MeshLoader::parse reads it
+/// (BaseObjectDescription::getAttributeAsFloat): a text that is not read whole ("0.25 0.25 0.25")
+/// gives the default 1 (SOFA logs an error and goes on). Read in double where SOFA reads a float
+/// (docs/sofa-compatibility.md, known difference 11). `read_whole`, when given, tells whether the
+/// text was one number. Absent: 1.
+[[nodiscard]] double mesh_loader_scale(const SceneComponent& component, bool* read_whole = nullptr);
+
 [[nodiscard]] MeshData load_scene_mesh(const SceneComponent& component, const std::filesystem::path& scene_dir,
                                        const std::vector<std::filesystem::path>& data_dirs);
 

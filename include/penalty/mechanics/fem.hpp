@@ -153,6 +153,23 @@ public:
     void set_kernel_path(KernelPath path);
     [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
+    /// SOFA's plasticity (TetrahedronFEMForceField::computeForce, plasticMaxThreshold > 0): per
+    /// element a plastic strain εp (Voigt), updated at each force evaluation from the total strain
+    /// ε = Jᵀδ: with εe = ε − εp, εp += creep·εe when |εe|² > yield², then εp scaled back to |εp| =
+    /// max when |εp|² > max²; the stress uses ε − εp. The stiffness products are elastic (SOFA's
+    /// addDForce ignores the plastic strain). Method large only; the force runs its scalar loop
+    /// (src/mechanics/tetrahedron_plasticity.cpp).
+    struct Plasticity {
+        double max_threshold = 0.0;                    ///< plasticMaxThreshold; 0: no plasticity
+        double yield_threshold = double(0.0001f);      ///< plasticYieldThreshold (SOFA's float default)
+        double creep = double(0.9f);                   ///< plasticCreep (SOFA's float default)
+    };
+    /// Before init(); throws std::invalid_argument for a method other than large, or bad values.
+    void set_plasticity(const Plasticity& plasticity);
+    [[nodiscard]] const Plasticity& plasticity() const { return plasticity_; }
+    /// The plastic strain of element e (Voigt xx, yy, zz, xy, yz, zx).
+    [[nodiscard]] const std::array<double, 6>& plastic_strain(std::size_t e) const { return plastic_strain_[e]; }
+
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
                                                   std::size_t e) const override;
@@ -185,6 +202,10 @@ private:
     [[nodiscard]] std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&, const Element&>
     large_element_lanes(std::size_t e) const;
     KernelPath kernel_path_ = best_fem_kernel_path();
+    /// add_force of method large with plasticity, SOFA's sums (tetrahedron_plasticity.cpp).
+    void add_force_plastic(std::span<Vec3> f, std::span<const Vec3> x);
+    Plasticity plasticity_;
+    std::vector<std::array<double, 6>> plastic_strain_;
 };
 
 /// SOFA's HexahedronFEMForceField (methods small and large), SOFA vertex order (see topology).

@@ -26,6 +26,10 @@ public:
     void init() override;
     void project_response(Eigen::Ref<Eigen::VectorXd> v) const override;
     void project_velocity() override {}
+    /// The components c of each listed DOF with direction[c] ≠ 0
+    /// (FixedPlaneProjectiveConstraint::applyConstraint: the matrix loses the whole component, so
+    /// a direction off the axes fixes more than the projection does).
+    [[nodiscard]] bool list_discarded_rows(std::vector<Index>& rows) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
 
 private:

@@ -52,8 +52,16 @@ public:
     virtual void accumulate_dforce(double k_factor, double b_factor) = 0;
     /// Appends factor·K as triplets (see file comment).
     virtual void add_stiffness(TripletList& triplets, const StateOffsets& offsets, double factor) const = 0;
+    /// Appends factor·B (B = ∂f/∂v) as triplets, the layout of add_stiffness. Default: nothing,
+    /// for the fields whose accumulate_dforce ignores b_factor (a field that reads it overrides
+    /// this, so that an assembled m·M + b·B + k·K equals the matrix-free product).
+    virtual void add_damping(TripletList& /*triplets*/, const StateOffsets& /*offsets*/, double /*factor*/) const {}
     /// Potential energy (J) at the positions of the last add_force (0 when not defined).
     [[nodiscard]] virtual double potential_energy() const { return 0.0; }
+    /// Appends the states whose positions the field reads besides states(), never writing them
+    /// (RestShapeSpringsForceField's external rest shape): a solver reading them touches them
+    /// (OdeSolver::list_touched_states), so it never runs beside their solver.
+    virtual void list_read_states(std::vector<const BaseState*>& /*out*/) const {}
     /// States this force field reads and writes (one, or two for an interaction).
     [[nodiscard]] virtual ForceFieldStates states() const = 0;
     /// True when the field acts between two distinct states.
@@ -152,7 +160,14 @@ public:
     [[nodiscard]] virtual BaseState* state() const = 0;
 };
 
-/// Projective constraint on one state (SOFA's ProjectiveConstraintSet).
+/// The simulation time a component reads (s): SOFA's getContext()->getTime(), the time at the
+/// start of the step during the whole step (the projections after the solve included), 0 at init.
+using ContextClock = std::function<double()>;
+
+/// Projective constraint on one state (SOFA's ProjectiveConstraintSet). Simulation::init and the
+/// end of each step call, per constraint, project_position() then project_velocity() (SOFA's
+/// MechanicalProjectPositionAndVelocityVisitor); the solvers project their vectors with
+/// project_response.
 class BaseProjectiveConstraint {
 public:
     virtual ~BaseProjectiveConstraint() = default;
@@ -161,6 +176,17 @@ public:
     virtual void project_response(Eigen::Ref<Eigen::VectorXd> v) const = 0;
     /// Projects the state's velocity (SOFA: fixed DOFs get v = 0).
     virtual void project_velocity() = 0;
+    /// Projects the state's positions (SOFA's projectPosition: a point put back on its line, a
+    /// prescribed motion); the default leaves them.
+    virtual void project_position() {}
+    /// True when project_position may move positions.
+    [[nodiscard]] virtual bool projects_positions() const { return false; }
+    /// The rows (of the state's flat layout, any order) whose row and column an assembled matrix
+    /// clears with 1 on the diagonal (SOFA's applyConstraint(ZeroDirichletCondition*),
+    /// MatrixLinearSystem::applyProjectiveConstraints): appends them and returns true. false (the
+    /// default): SOFA gives no such rows; an assembly then applies the constraint as the
+    /// projector P it is, A ← P·A·P + (I − P) (global_matrix_assembly.hpp).
+    [[nodiscard]] virtual bool list_discarded_rows(std::vector<Index>& /*rows*/) const { return false; }
     [[nodiscard]] virtual BaseState* state() const = 0;
 };
 

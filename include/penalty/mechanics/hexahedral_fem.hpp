@@ -26,10 +26,23 @@ public:
                             double poisson_ratio, FemMethod method = FemMethod::Large);
     [[nodiscard]] const std::vector<Element>& hexahedra() const { return elements_; }
 
+    /// Method large: the common corotational data, then SOFA's rest local positions R₀·x⁰_w
+    /// (HexahedralFEMForceField::initLarge).
+    void init() override;
+    /// Method large with SOFA's operations in SOFA's order (accumulateForceLarge: the frame from
+    /// the mean edges, D = R₀x⁰ − R·x, F = K·D summed in column order, f += Rᵀ·F), so that a scene
+    /// matches SOFA's trajectory bit for bit; polar: the common path.
+    void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    /// Method large as SOFA's addDForce: X = (R·dx)·k, F = K·X, df −= Rᵀ·F; polar: the common path.
+    void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
                                                   std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override;
+
+private:
+    std::vector<std::array<Vec3, 8>> rotated_rest_;  ///< R₀·x⁰_w per element (method large)
 };
 
 /// The mass of SOFA's HexahedralFEMForceFieldAndMass and HexahedronFEMForceFieldAndMass (density ρ,

@@ -53,6 +53,23 @@ public:
     /// i in order): those rows, so that a solver may apply J and Jᵀ itself with the same
     /// operations (SubtreeSystem's fused contact products). nullptr (the default) otherwise.
     [[nodiscard]] virtual const std::vector<BarycentricRowOf<4>>* contact_barycentric_rows() const { return nullptr; }
+
+    /// A second input (SOFA's Multi2Mapping: DeformableOnRigidFrameMapping's frames), or null.
+    /// apply_position/apply_velocity read its position/velocity, apply_dx its dx, and
+    /// apply_jt_force/apply_jt_df add into its force/df, besides from()'s.
+    [[nodiscard]] virtual BaseState* second_from() const { return nullptr; }
+    /// J's block of the second input as triplets (rows: output scalars + row_offset, columns:
+    /// second_from()'s scalars + col_offset); nothing without a second input.
+    virtual void add_second_input_jacobian_triplets(TripletList& /*triplets*/, Index /*row_offset*/,
+                                                    Index /*col_offset*/) const {}
+    /// True when apply_djt adds a geometric stiffness (a non-linear mapping's ∂Jᵀ/∂x·f).
+    [[nodiscard]] bool has_geometric_stiffness() const { return geometric_stiffness_; }
+    /// SOFA's applyDJT: from.df += k·(∂(Jᵀ·f)/∂x)·from.dx with f = to.force (the output's force of
+    /// the last force computation), k the stiffness factor of the product.
+    virtual void apply_djt(double /*k_factor*/) {}
+
+protected:
+    bool geometric_stiffness_ = false;  ///< set by mappings whose apply_djt adds something
 };
 
 template <class In, class Out>

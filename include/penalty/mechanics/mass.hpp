@@ -61,6 +61,8 @@ public:
     void init() override;
     void project_response(Eigen::Ref<Eigen::VectorXd> v) const override;
     void project_velocity() override;
+    /// Every component of the fixed DOFs (FixedProjectiveConstraint::applyConstraint).
+    [[nodiscard]] bool list_discarded_rows(std::vector<Index>& rows) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
 
 private:

@@ -39,8 +39,8 @@ public:
     virtual FlatVector dx_flat() = 0;  ///< solver work vector: a displacement / velocity increment
     virtual FlatVector df_flat() = 0;  ///< solver work vector: a force increment
 
-    /// x <- x + h·v for the flat velocity-like vector v (Rigid3: first-order quaternion update
-    /// q <- normalize(q + ½·h·(ω ⊗ q)), SOFA's Coord + Deriv).
+    /// x <- x + h·v for the flat velocity-like vector v (Rigid3: SOFA HEAD's Coord + Deriv,
+    /// the exponential q ← exp(h·ω/2) ⊗ q, rigid_add).
     virtual void add_to_position(double h, const Eigen::Ref<const Eigen::VectorXd>& v) = 0;
 
     /// Sizes every vector to the number of positions (velocity, force ... zero-filled).
@@ -88,7 +88,7 @@ struct InitialTransform {
     [[nodiscard]] Quat rotation() const;
 };
 
-/// MechanicalObject<Vec3d | Rigid3d>. Fill `position` (and optionally `velocity`,
+/// MechanicalObject<Vec3d | Rigid3d | Vec1d>. Fill `position` (and optionally `velocity`,
 /// `rest_position`, `transform`) then call init(), which follows SOFA: rest positions given
 /// without positions become the positions; missing velocities repeat the last given one (zero if
 /// none); `transform` (scale3d, rotation, translation) is applied to the positions only; rest
@@ -135,8 +135,11 @@ private:
 
 using Vec3Object = MechanicalObject<Vec3Types>;
 using Rigid3Object = MechanicalObject<Rigid3Types>;
+using Vec1Object = MechanicalObject<Vec1Types>;
 
-/// SOFA's Rigid3 Coord + h·Deriv: centre += h·v; q <- normalize(q + ½ (h ω, 0) ⊗ q).
+/// SOFA's Rigid3 Coord + Deriv·h (RigidCoord::operator+=, R³ × SO(3) exponential integration):
+/// centre += v·h; with ω = (ω·h)/2 and θ = |ω|: q ← (sin θ/θ·ω, cos θ) ⊗ q, or for θ < ε the
+/// gnomonic (ω, 1)/|(ω, 1)| ⊗ q (unit quaternions stay unit: no normalisation of the result).
 RigidFrame rigid_add(const RigidFrame& x, const RigidDeriv& v, double h);
 
 /// Views a flat vector as Derivs (the length must be a multiple of kDerivSize).
@@ -151,5 +154,7 @@ template <> void MechanicalObject<Vec3Types>::add_to_position(double, const Eige
 template <> void MechanicalObject<Rigid3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
 template <> void MechanicalObject<Vec3Types>::init();
 template <> void MechanicalObject<Rigid3Types>::init();
+template <> void MechanicalObject<Vec1Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
+template <> void MechanicalObject<Vec1Types>::init();
 
 }  // namespace penalty

@@ -60,8 +60,9 @@ struct RoiSelection {
 using PointInRegion = std::function<bool(const Vec3&)>;
 
 /// How an element is tested (BaseROI's `strict`): all of its points inside (strict, SOFA's
-/// default; PlaneROI always), or its centre (the mean of its points) inside.
-enum class ElementTest { all_points, center };
+/// default; PlaneROI always), or its centre (the mean of its points) inside; MeshROI's non-strict
+/// test (MeshROI::isEdgeInROI, ...): all of its points inside, or else its centre.
+enum class ElementTest { all_points, center, all_points_or_center };
 
 /// Optional extra filters on edges and triangles (SphereROI's edgeAngle / triAngle).
 struct ElementFilters {

@@ -1,8 +1,12 @@
 #pragma once
 /// @file
-/// SOFA's RegularGridTopology: an axis-aligned grid of n = (nx, ny, nz) points between min and
-/// max (spacing (max − min) / (n − 1) per axis with n > 1). Point (i, j, k) has index
-/// i + nx (j + ny k); cell (i, j, k) has index i + (nx−1)(j + (ny−1) k) and SOFA's hexahedron
+/// SOFA's RegularGridTopology: an axis-aligned grid of n = (nx, ny, nz) points, point (i, j, k) at
+/// p0 + i·dx + j·dy + k·dz (RegularGridTopology::getPointInGrid). As RegularGridTopology::setPos:
+/// the cell vector of an axis is (max − min) / (n − 1), or max − min when n = 1; p0, when not
+/// given, is min, except on an axis of one point: the middle (max + min) / 2 for x and y, min for
+/// z. max may be below min (the grid runs backwards) or equal to it (its points coincide), as in
+/// SOFA. Point (i, j, k) has index i + nx (j + ny k); cell (i, j, k) has index
+/// i + (nx−1)(j + (ny−1) k) and SOFA's hexahedron
 /// vertex order (i,j,k) (i+1,j,k) (i+1,j+1,k) (i,j+1,k) then the same at k+1.
 /// Elements as SOFA's GridTopology builds them (not derived by MeshTopology): hexahedra (x fastest),
 /// quads of every face (XY planes for each z, then XZ, then YZ, interior faces included), edges
@@ -16,36 +20,42 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 
 namespace penalty {
 
 class RegularGridTopology {
 public:
-    /// Throws std::invalid_argument if any n < 1, min/max not finite, or max < min on an axis
-    /// with more than one point.
-    RegularGridTopology(std::array<int, 3> n, const Vec3& min, const Vec3& max);
+    /// Throws std::invalid_argument if any n < 1 or min, max or p0 is not finite. `p0`: SOFA's
+    /// `p0` attribute (the first point), when the scene sets it.
+    RegularGridTopology(std::array<int, 3> n, const Vec3& min, const Vec3& max, std::optional<Vec3> p0 = {});
 
     [[nodiscard]] const std::array<int, 3>& n() const { return n_; }
     [[nodiscard]] const Vec3& min() const { return min_; }
     [[nodiscard]] const Vec3& max() const { return max_; }
+    /// p0: point (0, 0, 0).
+    [[nodiscard]] const Vec3& origin() const { return origin_; }
+    /// The cell vectors' non-zero components (dx_x, dy_y, dz_z); on an axis of one point, max − min.
     [[nodiscard]] Vec3 spacing() const { return dx_; }
     [[nodiscard]] std::size_t num_points() const { return static_cast<std::size_t>(n_[0]) * n_[1] * n_[2]; }
     [[nodiscard]] PointId point_index(int i, int j, int k) const { return i + n_[0] * (j + n_[1] * k); }
     [[nodiscard]] Vec3 point(int i, int j, int k) const;
     /// All points, index order.
     [[nodiscard]] std::vector<Vec3> points() const;
-    /// The grid as a MeshTopology with SOFA's GridTopology element lists (see the file comment).
-    [[nodiscard]] MeshTopology mesh(bool with_triangles = false) const;
+    /// The grid as a MeshTopology with SOFA's GridTopology element lists (see the file comment);
+    /// without hexahedra when !with_hexahedra (SOFA's computeHexaList = 0).
+    [[nodiscard]] MeshTopology mesh(bool with_triangles = false, bool with_hexahedra = true) const;
     /// Hexahedra per row (nx − 1) and per layer row (ny − 1), for tetrahedra_from_hexahedra.
     [[nodiscard]] int cells_x() const { return std::max(1, n_[0] - 1); }
     [[nodiscard]] int cells_y() const { return std::max(1, n_[1] - 1); }
     /// Cell containing p (clamped to the grid for outside points) and the local coordinates
-    /// (u, v, w) of p in it (in [0,1]³ inside the grid, extrapolated outside). 3-D grids only.
+    /// (u, v, w) of p in it (in [0,1]³ inside the grid, extrapolated outside). 3-D grids only,
+    /// with a non-zero cell vector on each axis (std::invalid_argument otherwise).
     [[nodiscard]] std::pair<std::array<int, 3>, Vec3> locate(const Vec3& p) const;
 
 private:
     std::array<int, 3> n_;
-    Vec3 min_, max_, dx_;
+    Vec3 min_, max_, origin_, dx_;
 };
 
 /// SOFA's TetrahedronFEMForceField split of hexahedra (when its topology has no tetrahedra): 6

@@ -19,6 +19,7 @@
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -50,6 +51,23 @@ public:
     /// The points, hexahedra, edges and quads as a MeshTopology.
     [[nodiscard]] MeshTopology mesh() const;
 
+    /// SOFA's SparseGridTopology::buildFromFiner (the coarser level of a grid with
+    /// nbVirtualFinerLevels, sparse_grid_hierarchy.cpp): n = finer n / 2 + 1 per axis, min the
+    /// finer's, max = min + (n − 1)·2·(finer spacing); a coarse cell is kept unless its 8 finer
+    /// cells (bit 0: +x, bit 1: +y, bit 2: +z) are all absent; INSIDE when all 8 are INSIDE, else
+    /// BOUNDARY; cells in the loop order x slowest, z fastest; points sorted by position.
+    static SparseGridTopology from_finer(std::shared_ptr<const SparseGridTopology> finer, bool fill_weighted);
+    /// The finer level this grid was built from (nullptr for a grid voxelised directly).
+    [[nodiscard]] const SparseGridTopology* finer() const { return finer_.get(); }
+    /// Per kept cell, its 8 cells of finer() (-1 where none); empty without finer().
+    [[nodiscard]] const std::vector<std::array<Index, 8>>& children() const { return children_; }
+    /// SOFA's getStiffnessCoef (= getMassCoef) of each kept cell: for a voxelised grid 0.5 for a
+    /// boundary cell when `fill_weighted`, else 1; for a coarser level the sum of its children's
+    /// over 8 (computed from the finest one's fillWeighted).
+    [[nodiscard]] std::vector<double> coefficients(bool fill_weighted) const;
+    /// Number of finer levels below this one.
+    [[nodiscard]] int finer_levels() const { return finer_ ? 1 + finer_->finer_levels() : 0; }
+
     /// SOFA's SparseGridTopology::findCube, then findNearestCube: the kept cell holding p and
     /// (fx, fy, fz) in it; a point in no kept cell takes the BOUNDARY cell whose centre is nearest
     /// (single-precision distance, first one on ties) with (p − corner0) / diagonal.
@@ -63,6 +81,9 @@ private:
     std::vector<Vec3> points_;
     std::vector<Hexahedron> hexahedra_;
     std::vector<SparseCellType> types_;
+    std::shared_ptr<const SparseGridTopology> finer_;     ///< from_finer's finer level
+    std::vector<std::array<Index, 8>> children_;          ///< from_finer's cells of finer_
+    std::vector<double> coefficients_;                    ///< from_finer's averaged coefficients
 };
 
 /// BarycentricMapping of points onto a sparse grid, as SOFA's BarycentricMapperSparseGridTopology

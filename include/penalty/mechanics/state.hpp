@@ -5,6 +5,7 @@
 ///   Vec3d:   Coord = Vec3 (m),        Deriv = Vec3 (m/s or N).
 ///   Rigid3d: Coord = RigidFrame,       Deriv = RigidDeriv (linear part, then angular part,
 ///            both in world frame; force part = force (N) and torque (N·m)).
+///   Vec1d:   Coord = Deriv = double (a distance, its rate, its force).
 
 #include "penalty/core/types.hpp"
 
@@ -18,6 +19,14 @@ struct Vec3Types {
     using Deriv = Vec3;
     static constexpr int kDerivSize = 3;  ///< scalar DOFs per Deriv
     static constexpr const char* kName = "Vec3d";
+};
+
+/// A scalar per DOF (SOFA's Vec1d): the output of distance mappings.
+struct Vec1Types {
+    using Coord = double;
+    using Deriv = double;
+    static constexpr int kDerivSize = 1;
+    static constexpr const char* kName = "Vec1d";
 };
 
 struct Rigid3Types {
@@ -57,5 +66,6 @@ struct MechanicalState {
 
 using Vec3State = MechanicalState<Vec3Types>;
 using Rigid3State = MechanicalState<Rigid3Types>;
+using Vec1State = MechanicalState<Vec1Types>;
 
 }  // namespace penalty

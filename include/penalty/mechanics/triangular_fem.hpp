@@ -75,6 +75,11 @@ public:
 private:
     /// One triangle's force: updates j_[e], rotation_[e]; returns ½ ε·σ (false: degenerate now).
     bool element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
+    /// element_force of the TriangleFEM flavor, with SOFA's operations in SOFA's order
+    /// (src/mechanics/triangle_fem_sofa_order.hpp: the same bits as SOFA).
+    bool element_force_sofa_order(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
+    /// add_dforce of the TriangleFEM flavor, with SOFA's operations in SOFA's order.
+    void add_dforce_sofa_order(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const;
     /// −[J Dₐ Jᵀ] (6×6, local x, y per vertex) of triangle e at the last add_force.
     [[nodiscard]] Eigen::Matrix<double, 6, 6> local_stiffness(std::size_t e) const;
 

@@ -13,7 +13,7 @@
 #include "penalty/output/state_record.hpp"
 
 #include <filesystem>
-#include <fstream>
+#include <ostream>
 #include <memory>
 #include <optional>
 #include <span>
@@ -46,7 +46,7 @@ private:
     std::vector<const StateRecord*> states_;
     std::vector<std::filesystem::path> files_;
     std::vector<int> values_per_dof_;
-    std::vector<std::unique_ptr<std::ofstream>> streams_;
+    std::vector<std::unique_ptr<std::ostream>> streams_;
 };
 
 /// The X line of one state as the state file writes it, without "  X= " and newline.

@@ -21,7 +21,8 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
+#include <memory>
+#include <ostream>
 #include <span>
 #include <string>
 
@@ -73,7 +74,7 @@ public:
 
 private:
     std::filesystem::path file_;
-    std::ofstream stream_;
+    std::unique_ptr<std::ostream> stream_;
     bool tunnelling_columns_ = false;
 };
 

@@ -22,13 +22,18 @@
 
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace penalty::output {
+
+namespace detail {
+class OutputFolder;
+class CreatedFile;
+}  // namespace detail
 
 /// How a collision model is drawn.
 enum class ViewerShapeKind : std::uint8_t {
@@ -56,7 +61,10 @@ struct ViewerShape {
 
 class ViewerWriter {
 public:
-    /// Creates DIR, writes the page files and topology.u32, truncates the frame files.
+    /// Creates DIR, writes the page files and topology.u32, starts new frame files. No file is
+    /// written through a symbolic link: each is created anew and renamed onto its name
+    /// (src/output/output_folder.hpp), so a link DIR/index.html -> elsewhere is replaced, and its
+    /// target left alone.
     /// Throws std::invalid_argument for a null or unsupported state, a shape whose state index or
     /// DOF index is out of range, or per-element lists of the wrong size; std::runtime_error
     /// naming the path on I/O failure.
@@ -110,9 +118,10 @@ private:
     std::vector<std::size_t> topology_offsets_;  ///< first index of each shape in topology.u32
     std::vector<FrameStats> frames_;
     double max_normal_force_ = 0.0;
-    std::ofstream positions_;
-    std::ofstream contacts_;
-    std::ofstream crossings_;  ///< opened at the first frame with a crossing
+    std::unique_ptr<detail::OutputFolder> folder_;
+    std::unique_ptr<detail::CreatedFile> positions_;
+    std::unique_ptr<detail::CreatedFile> contacts_;
+    std::unique_ptr<detail::CreatedFile> crossings_;  ///< created at the first frame with a crossing
     std::vector<float> buffer_;
     bool finished_ = false;
 };
@@ -126,7 +135,8 @@ struct ViewerAsset {
 [[nodiscard]] std::span<const ViewerAsset> viewer_assets();
 
 /// Writes the page files (viewer_assets()) into DIR, creating it; the data files are untouched
-/// (`penalty view DIR` refreshes the page of a run written by an older binary).
+/// (`penalty view DIR` refreshes the page of a run written by an older binary). Each file is
+/// written beside and renamed onto its name: never through a link, never seen half-written.
 void write_viewer_page(const std::filesystem::path& directory);
 
 }  // namespace penalty::output

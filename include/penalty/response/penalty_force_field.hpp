@@ -166,7 +166,8 @@ public:
                               double factor = 1.0) const;
 
     /// K as a sparse matrix. Two-state layout: (3·n1 + 3·n2)² with state 2 after state 1.
-    /// Same-state layout (same_state = true): (3·n1)², n2 ignored.
+    /// Same-state layout (same_state = true): (3·n1)², n2 ignored. std::invalid_argument for a
+    /// negative size or a contact whose DOF is outside its state.
     [[nodiscard]] SparseMatrix stiffness_matrix(Index n1, Index n2, bool same_state) const;
     [[nodiscard]] SparseMatrix damping_matrix(Index n1, Index n2, bool same_state) const;
 
@@ -202,6 +203,8 @@ private:
     /// Throws if a contact's DOF index is outside states of sizes n1, n2; the verified sizes are
     /// cached until the contact list changes, so the hot loops need no per-contact check.
     void check_indices(const char* function, std::size_t n1, std::size_t n2) const;
+    /// Throws std::invalid_argument for a negative size or a contact outside the states.
+    void check_matrix_sizes(const char* function, Index n1, Index n2, bool same_state) const;
     static constexpr std::size_t kUnchecked = static_cast<std::size_t>(-1);
 
     PenaltyParameters parameters_{};

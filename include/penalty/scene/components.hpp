@@ -44,6 +44,7 @@ enum class ComponentFamily {
     constraint,           ///< projective constraints, any number, file order
     ode_solver,           ///< one per node
     linear_solver,        ///< one per node; read by the node's ODE solver
+    solver_part,          ///< read by a solver: linear systems, ordering methods, Newton-Raphson solvers
     collision_model,      ///< any number, file order (SOFA's broad-phase order, depth first)
     animation_loop,       ///< one per node
     collision_pipeline,   ///< CollisionPipeline
@@ -56,6 +57,9 @@ enum class ComponentFamily {
     loader,               ///< mesh and sphere files
     visual,               ///< ignored
     engine,               ///< data engines (BoxROI): built in file order with masses, force fields, constraints
+    data_engine,          ///< engines whose inputs are links or values (TransformEngine, MergePoints): built
+                          ///< when a component first reads an output, as SOFA evaluates engines on demand,
+                          ///< else with the engines
 };
 
 /// The kind of value an attribute holds (as written in a scene file).
@@ -144,6 +148,13 @@ struct ComponentSpec {
 /// unit, check), by category and family; or one type's when `type` is not empty.
 /// @throws io::SceneError for an unknown `type`.
 [[nodiscard]] std::string describe_components(std::string_view type = {});
+
+/// SOFA's parse of a Data link (`triangleList="@roi.triangleIndices"`) that names no component:
+/// BaseData::setParent keeps the path, finds no parent, and the Data stays unset. penalty does the
+/// same: such an attribute of a physics component is removed from the parsed scene before it is
+/// built (as if not written), and a note per removal is returned. Object links (`@name` without a
+/// Data) are left for validate(), which refuses a broken one.
+[[nodiscard]] std::vector<std::string> detach_unresolved_data_links(io::SceneFile& scene);
 
 /// Result of validate().
 struct SceneCheck {

@@ -59,11 +59,15 @@ struct RunOptions {
 /// catches a body ejected by an unstable explicit step or dropped through the floor by a huge dt
 /// at the step it happens, and never a long, legitimate free fall (its step length grows as g·t·dt).
 /// Second rule, energy: with E = kinetic + potential energy (gravity, springs, FEM, contacts) and
-/// E_ref = kinetic₀ + |stored₀| + Σ m·|g|·L (the energy of dropping every body by the scene's size),
-/// a step after which E − E₀ > 10·F·E_ref is a divergence (from the second step on: the force
-/// fields report their stored energy once the first step has evaluated them): energy created from nothing, as by an
-/// unstable explicit contact that throws a ball out with 10⁷ times its energy while each step stays
-/// short. A scene with E_ref = 0 (at rest, no gravity, nothing stored) has no energy rule.
+/// E_ref = kinetic₀ + |stored₀| + Σ m·|g|·h (the energy of dropping every moving body through the
+/// scene's height h: Scene::gravity_energy_scale), a step after which E − E₀ > 10·F·E_ref, or
+/// after which E grew in that one step by more than F times E_ref plus the kinetic and stored
+/// energy the scene held before it, is a divergence (from the second step
+/// on: the force fields report their stored energy once the first step has evaluated them):
+/// energy created from nothing, as by an unstable explicit contact that throws a ball out with
+/// 10⁵ times its energy while each step stays short. A static obstacle's mass (it cannot fall)
+/// is not part of E_ref. A scene with E_ref = 0 (at rest, no gravity, nothing stored) has no
+/// energy rule.
 class DivergenceBound {
 public:
     /// Records L and the positions of the scene's states; factor 0 turns the check off.
@@ -82,8 +86,13 @@ private:
     double factor_;
     double size_ = 0.0;
     std::vector<Vec3> previous_;  ///< every DOF's position after the last checked step
+    /// The energy rules (docs/reliability.md): E − E₀ > 10·F·E_ref, or, in one step,
+    /// E − E_previous > F·(E_ref + kinetic_previous + |stored_previous|).
+    void check_energy(const Scene& scene, std::int64_t step, double time);
     double initial_energy_ = 0.0;  ///< E₀ (J)
     double energy_scale_ = 0.0;    ///< E_ref (J)
+    double previous_energy_ = 0.0;  ///< E after the last checked step (J)
+    double previous_content_ = 0.0;  ///< kinetic + |stored| energy after the last checked step (J)
     bool stored_energy_known_ = false;  ///< the force fields' energy at the start is read at the first check
 };
 
@@ -157,6 +166,11 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
 [[nodiscard]] std::string format_summary(const RunSummary& summary);
 /// Its tunnelling guard's lines (docs/no-tunnelling.md).
 [[nodiscard]] std::string format_tunnelling_summary(const RunSummary& summary);
+
+/// The summary as a JSON object (`penalty run --summary-json FILE`; Python's Scene.run returns it
+/// as a dict): every field of RunSummary under its name (state_files as strings, non-finite
+/// numbers as null; values_per_dof left out), and "text", format_summary's text.
+[[nodiscard]] std::string summary_json(const RunSummary& summary);
 
 /// SOFA's reference file names for the exported states of a scene: for state file
 /// `<k>_<name>_mstate.txt` of scene `S.scn`, `<reference_dir>/S.scn.reference_<k>_<name>_mstate.txt`.

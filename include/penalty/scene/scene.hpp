@@ -13,6 +13,8 @@
 
 #include "penalty/collision/collision_model.hpp"
 #include "penalty/io/scene_file.hpp"
+#include "penalty/io/scene_mesh.hpp"
+#include "penalty/scene/live_data.hpp"
 #include "penalty/output/state_record.hpp"
 #include "penalty/output/vtk_writer.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
@@ -20,6 +22,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -30,9 +33,16 @@
 namespace penalty::scene {
 
 /// Options of build_scene (the command line's `penalty run` flags).
+/// The range of a time step given outside the scene (`--dt`, `load_scene(dt=)`, BuildOptions::dt):
+/// [1e-100 s, a day]. The lower end is the scene files' smallest nonzero magnitude (io); a day
+/// is beyond any step a contact simulation takes (larger is a typo).
+inline constexpr double kMinTimeStep = 1e-100;
+inline constexpr double kMaxTimeStep = 86400.0;
+
 struct BuildOptions {
     std::vector<std::filesystem::path> data_dirs;  ///< `--data-dir`, searched after the scene's folder
-    std::optional<double> dt;                      ///< overrides the root node's dt (s)
+    /// Overrides the root node's dt (s); std::invalid_argument outside [kMinTimeStep, kMaxTimeStep].
+    std::optional<double> dt;
     int threads = 0;  ///< threads of the narrow phase and of independent solvers (0: TBB's default)
     /// Detection algorithm: BVH narrow phase (default) or SOFA's exhaustive pair loop; both give
     /// the same outputs in the same order.
@@ -57,6 +67,9 @@ struct BuildOptions {
     /// `--no-tunnelling MODE` (beyond SOFA, docs/no-tunnelling.md): the tunnelling guard's mode
     /// for the whole scene, over the pipelines' noTunnelling attributes; unset: theirs.
     std::optional<TunnellingMode> no_tunnelling;
+    /// Builds the components whose code is outside the library (SofaPython3's Python force fields
+    /// and mappings, live_data.hpp); null: a scene with such components is an error.
+    std::shared_ptr<ExternalComponents> external;
 };
 
 /// One collision model of the scene and where it comes from.
@@ -144,8 +157,11 @@ public:
     [[nodiscard]] double potential_energy() const;
     /// The force fields' part of potential_energy() (J).
     [[nodiscard]] double stored_energy() const;
-    /// Σ m·|g|·length over the masses (J): the energy of dropping every body by `length`.
-    [[nodiscard]] double gravity_energy_scale(double length) const;
+    /// Σ m·|g|·h (J) over the masses of the states a step moves (in an ODE solver's subtree):
+    /// the energy of dropping every moving body through the box [lo, hi] along its gravity, with
+    /// h = Σ_j |ĝ_j|·(hi_j − lo_j) the box's extent along ĝ (or its diagonal when that extent is
+    /// 0). A static obstacle's mass (a floor outside every solver) cannot fall and is not counted.
+    [[nodiscard]] double gravity_energy_scale(const Vec3& lo, const Vec3& hi) const;
     /// Notes for the user: ignored visual components (one line), attributes penalty does not
     /// read, pairs the intersection method does not detect, response warnings.
     [[nodiscard]] std::vector<std::string> warnings() const;
@@ -158,6 +174,66 @@ public:
     [[nodiscard]] const io::SceneComponent* component_of(const void* built) const;
     /// The simulation node built for a node of the file (nullptr for a node of another file).
     [[nodiscard]] const Node* node_of(const io::SceneNode& node) const;
+
+    // ---- live Data: SofaPython3's object model (live_data.hpp; src/scene/live_data.cpp,
+    // live_writes.cpp) ----------------------------------------------------------------------------
+    /// Every Data and link of the component or node at `owner`: SOFA's (its catalog) then those
+    /// only penalty declares (the registry). @throws std::invalid_argument when `owner` names none.
+    [[nodiscard]] std::vector<DataField> data_fields(const DataOwner& owner) const;
+    /// The current value of Data `name` of `owner`, with SOFA's type (see live_data.hpp).
+    /// @throws std::invalid_argument naming the owner and the Data when it has none such.
+    [[nodiscard]] DataValue data(const DataOwner& owner, std::string_view name);
+    /// Writes Data `name` of `owner` from SOFA's text form, with the effect SOFA gives the write
+    /// after init (LiveWrite): a state at once, the others at the next step or at reinit().
+    /// @throws io::SceneError for a value the attribute refuses (kind, check), naming the file,
+    ///         line, component and attribute; std::invalid_argument for a refused write, saying why.
+    void set_data(const DataOwner& owner, std::string_view name, std::string_view text);
+    /// Writes state vector `name` (position, velocity, force, rest_position, externalForce) of `s`
+    /// from numbers: 3 per Vec3d DOF, 7 per Rigid3d frame (quaternions normalised), 6 per Rigid3d
+    /// derivative. @throws std::invalid_argument naming `what` for another count (a state keeps
+    /// its size after init).
+    static void write_state(BaseState& s, std::string_view name, const std::vector<double>& values, const std::string& what);
+    /// SOFA's reinit() of a component (a node: init() of every component below it): the writes of
+    /// its Data that wait for it take effect (the scene is built again, states kept).
+    void reinit(const DataOwner& owner);
+    /// Adds a component (a node when `component` is null, named `node_name`) to the node at
+    /// `node_path` after init, as SOFA's addObject/addChild then init(): built before the next
+    /// step. Returns the path of what was added.
+    std::string add_to_node(std::string_view node_path, std::unique_ptr<io::SceneComponent> component,
+                            std::string_view node_name = {});
+    /// Removes the component or node at `owner` (built again before the next step).
+    void remove(const DataOwner& owner);
+    /// Builds the scene again from its text when writes or additions wait for it (step() calls
+    /// it first): the new scene takes every state's values and memory (views stay valid), the
+    /// time and the event listener of this one. @throws io::SceneError (the old scene stands and
+    /// the writes are undone) for a text the builder refuses, or a write that would change the
+    /// number of DOFs of a state.
+    void apply_pending_writes();
+    /// SOFA's reset: the scene built again from its text (written Data stay written) with every
+    /// state back to its values at init, time 0; the states keep their memory.
+    void reset();
+    /// SOFA's delay of a root gravity written after init (on by default): the root's masses take
+    /// it at the next step, the other nodes' one step later (SOFA copies the root's context down
+    /// at the end of a step). false: every node takes it at the next step.
+    void set_gravity_write_delay(bool delay);
+    /// Counts the rebuilds (pointers to built objects other than states are stale after one).
+    [[nodiscard]] std::uint64_t generation() const;
+    /// Called during step() with SOFA's events of the collision phase: "CollisionBeginEvent",
+    /// "CollisionEndEvent" (around detection and response), "IntegrateBeginEvent" (then the
+    /// solvers run). Set it before the first step (SofaPython3's controllers).
+    void set_event_listener(std::function<void(std::string_view)> listener);
+    /// The options the scene was built with.
+    [[nodiscard]] const BuildOptions& build_options() const { return options_; }
+    /// The SOFA path of a component of the file (node path + its name, SOFA's default name when
+    /// unnamed).
+    [[nodiscard]] static std::string component_path(const io::SceneComponent& c);
+    /// The component or node of the file at `owner`, or null.
+    [[nodiscard]] const io::SceneElement* find_element(const DataOwner& owner) const;
+    /// The mesh a loader read (null when no physics component used it).
+    [[nodiscard]] const io::MeshData* loader_mesh(const io::SceneComponent& loader) const;
+    /// The outputs an engine computed (BoxROI's `indices`, ...), or null.
+    [[nodiscard]] const std::vector<PointId>* engine_indices(const io::SceneComponent& engine, const std::string& data) const;
+    [[nodiscard]] const io::MeshData* engine_mesh(const io::SceneComponent& engine, const std::string& data) const;
 
 private:
     friend class SceneBuilder;
@@ -182,6 +258,52 @@ private:
     std::vector<std::string> implicit_solver_paths_;  ///< node path of each implicit solver
     std::vector<output::ContactRecord> contacts_;
     std::unique_ptr<TunnellingGuard> guard_;
+    // live Data (live_writes.cpp)
+    struct LiveEdits;
+    friend struct LiveEdits;
+    std::unique_ptr<LiveEdits> live_;
+    BuildOptions options_;
+    std::function<void(std::string_view)> event_listener_;
+    std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<PointId>> engine_indices_;
+    std::map<std::pair<const io::SceneComponent*, std::string>, io::MeshData> engine_meshes_;
+    std::map<const io::SceneComponent*, io::MeshData> loader_meshes_;
+    /// The Data of the component or node at `owner` (data_fields_of_type's, cached).
+    [[nodiscard]] const std::vector<DataField>& fields_of(const DataOwner& owner) const;
+    /// The value of a Data the built scene holds (states, engine and loader outputs, masses), or
+    /// nullopt (the scene's text or the default then).
+    [[nodiscard]] std::optional<DataValue> live_value(const io::SceneComponent& c, const DataField& f) const;
+    /// The points and elements of a topology component as built (its node's topology), or nullopt.
+    [[nodiscard]] std::optional<DataValue> topology_value(const io::SceneComponent& c, const DataField& f) const;
+    /// A state vector as numbers (3 or 7 per DOF for positions, 3 or 6 for derivatives).
+    [[nodiscard]] static std::vector<double> state_vector_numbers(const BaseState& s, StateVector which);
+    /// Gives the states of `fresh` (built again from this scene's text) this scene's values and
+    /// memory, matched by path. @throws io::SceneError when a state's size or template differs.
+    void carry_states(Scene& fresh, bool reset) const;
+    /// Builds the scene again from its text; `reset`: states back to their values at init.
+    void rebuild(bool reset);
+    /// The root's child nodes keep their gravity until the end of the next step, and then take the
+    /// root's (set_gravity_write_delay).
+    void hold_gravity_of_children();
+    void release_held_gravity();
+    /// The simulation's one contact stage: the scene's pipelines, in SOFA's pipeline order,
+    /// between SOFA's collision events (CollisionBegin before the detections; CollisionEnd and
+    /// IntegrateBegin after the responses), with their timings added to the step's.
+    class ContactPhase final : public ContactStage {
+    public:
+        explicit ContactPhase(Scene& scene) : scene_(scene) {}
+        void detect() override;
+        void respond() override;
+
+    private:
+        Scene& scene_;
+    };
+    std::unique_ptr<ContactPhase> contact_phase_;
+    /// Registers contact_phase_ as the only contact stage of the simulation (when the scene has
+    /// pipelines or an event listener).
+    void install_contact_stage();
+    /// Writes `text` into attribute `name` of `element` (adds it when absent); returns the old
+    /// text (nullopt: absent).
+    static std::optional<std::string> write_attribute(io::SceneElement& element, std::string_view name, std::string_view text);
 };
 
 /// Builds a scene. Every error is an io::SceneError naming the file, the line, the component

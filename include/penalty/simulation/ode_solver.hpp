@@ -9,10 +9,13 @@
 
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <vector>
 
 namespace penalty {
+
+class DirectLinearSolver;  // direct_linear_solver.hpp
 
 /// An ODE solver integrates the subtree of the node that owns it over one time step.
 class OdeSolver {
@@ -66,6 +69,8 @@ public:
     bool first_order = false;
     bool trapezoidal_scheme = false;
     CGLinearSolver cg;
+    /// A direct linear solver (SparseLDLSolver, ...) used instead of `cg` when set.
+    std::shared_ptr<DirectLinearSolver> direct_solver;
     NewtonOptions newton;
 
     void init(Node& node) override;

@@ -31,6 +31,9 @@ public:
     void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2, double factor) const override {
         field_->add_stiffness_triplets(triplets, offset1, offset2, factor);
     }
+    void add_damping(TripletList& triplets, const StateOffsets& offsets, double factor) const override {
+        field_->add_damping_triplets(triplets, offsets(s1_), offsets(s2_), factor);
+    }
     [[nodiscard]] double potential_energy() const override { return field_->potential_energy(); }
     [[nodiscard]] ForceFieldStates states() const override {
         if (s1_ == s2_) return ForceFieldStates(s1_);

@@ -60,9 +60,13 @@ public:
     /// positions of the end of the previous step) → respond_to_contacts (their contact force
     /// fields and contact-point states) → solve (explicit interaction force fields of nodes
     /// without solver, then the solver subtrees) → map_back (project velocities, propagate to
-    /// mapped states) → end_step (clear the applied external forces, time += dt).
+    /// mapped states) → the applied external forces cleared, time += dt. With
+    /// set_multi_step, SOFA's MultiStepAnimationLoop: the contact stages and integrations repeated.
     void step();
     [[nodiscard]] double time() const { return time_; }
+    /// Sets the simulated time (s): a scene built again after init continues at the time it had
+    /// (Scene::apply_pending_writes), SofaPython3's `root.time.value = t`.
+    void set_time(double t) { time_ = t; }
     /// Threads of the solve phase (0: TBB's default, the default; 1: every action in plan order
     /// on the calling thread): solvers next to each other in the plan whose states do not meet
     /// (OdeSolver::list_touched_states) run concurrently, one task per solver, when two of them
@@ -82,16 +86,31 @@ public:
     void remove_contact_stage(const ContactStage& stage);
     [[nodiscard]] const std::vector<ContactStage*>& contact_stages() const { return contact_stages_; }
     /// Sets the step's driver (nullptr: none, SOFA's step). Not owned; it unsets itself before
-    /// it dies.
+    /// it dies. A driver runs single steps: step() throws std::logic_error with one set on a
+    /// multi-step loop.
     void set_step_driver(StepDriver* driver) { step_driver_ = driver; }
     [[nodiscard]] StepDriver* step_driver() const { return step_driver_; }
+    /// SOFA's MultiStepAnimationLoop (MultiStepAnimationLoop::step): a step runs collision_steps
+    /// times the contact stages, each followed by integration_steps integrations of
+    /// dt / (collision_steps·integration_steps); (1, 1), the default, is DefaultAnimationLoop.
+    /// SOFA sets the time of each integration from the step's start, so a step advances it by
+    /// dt / collision_steps only (sofa_time, the default); false: by dt. std::invalid_argument
+    /// for counts outside [1, 10⁶].
+    void set_multi_step(int collision_steps, int integration_steps, bool sofa_time = true);
+    [[nodiscard]] int collision_steps() const { return collision_steps_; }
+    [[nodiscard]] int integration_steps() const { return integration_steps_; }
 
     // ---- the stages of step() (simulation_step.cpp), public for a StepDriver -------------------
     void detect_contacts();
     void respond_to_contacts();
     void solve(double dt);
     void map_back();
+    void clear_applied_external_forces();
+    /// The end of a single step: the applied external forces cleared, the time advanced by dt.
     void end_step(double dt);
+    /// One integration of dt (no contact stage, no time change): solve, map_back, the applied
+    /// external forces cleared.
+    void integrate(double dt);
 
 private:
     std::vector<ContactStage*> contact_stages_;
@@ -114,6 +133,8 @@ private:
     /// (which is also all that changes the states a solver touches).
     const std::vector<SolveAction>& solve_plan();
     void plan_node(Node& node);
+    /// Simulation::init's projection of positions and velocities (simulation.cpp).
+    static void project_initial_state(Node& node, bool moved_above);
     void run_action(const SolveAction& action, double dt);
     /// Sets plan_[begin].run_end and run_worth_tasks.
     void find_run(std::size_t begin);
@@ -133,6 +154,9 @@ private:
     std::optional<std::uint64_t> plan_version_;
     double time_ = 0.0;
     bool initialized_ = false;
+    int collision_steps_ = 1;
+    int integration_steps_ = 1;
+    bool sofa_multi_step_time_ = true;
 };
 
 }  // namespace penalty

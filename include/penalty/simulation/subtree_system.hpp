@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace penalty {
@@ -66,11 +67,17 @@ public:
     [[nodiscard]] const std::vector<BaseState*>& independent_states() const;
     [[nodiscard]] const std::vector<BaseMapping*>& mappings() const;
     [[nodiscard]] const std::vector<BaseForceField*>& force_fields() const;
+    /// The masses (each with its node's gravity) and projective constraints, in visiting order, and
+    /// the mapped states (mapped_states()[i] is mappings()[i]->to()): what an assembly reads.
+    [[nodiscard]] const std::vector<std::pair<BaseMass*, Vec3>>& masses() const;
+    [[nodiscard]] const std::vector<BaseProjectiveConstraint*>& constraints() const;
+    [[nodiscard]] const std::vector<BaseState*>& mapped_states() const;
     /// Scalar offset of a state in the system, or size() for a state outside it.
     [[nodiscard]] Index offset(const BaseState* s) const;
     /// Appends the independent, mapped and external states to `out` (external: used by a force
     /// field or a mapping of the subtree but not part of it; the solve reads them, and writes
-    /// their force and dx scratch).
+    /// their force and dx scratch), then those its force fields only read
+    /// (BaseForceField::list_read_states).
     void append_states(std::vector<const BaseState*>& out) const;
 
     /// aᵀb summed as SOFA's VectorOperations::v_dot (MechanicalVDotVisitor over the independent
@@ -173,6 +180,10 @@ private:
 class MbkCgSystem final : public CgSystem {
 public:
     MbkCgSystem(const SubtreeSystem& system, double m, double b, double k) : system_(system), m_(m), b_(b), k_(k) {}
+    /// The factors of A = m·M + b·B + k·K.
+    [[nodiscard]] double m() const { return m_; }
+    [[nodiscard]] double b() const { return b_; }
+    [[nodiscard]] double k() const { return k_; }
     void apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) override;
     [[nodiscard]] double dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const override;
     double direction_and_product(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,

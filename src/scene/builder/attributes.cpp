@@ -59,19 +59,64 @@ Vec3 parse_default_vector(const AttributeSpec& a) {
 }  // namespace
 
 bool Attributes::has(std::string_view name) const { return component_.has(declared(name).name); }
+
+std::optional<io::SceneComponent> Attributes::linked_value(std::string_view name) const {
+    const AttributeSpec& spec = declared(name);
+    const io::SceneAttribute* own = component_.find(spec.name);
+    if (own == nullptr || !io::is_link(own->value)) return std::nullopt;
+    // SOFA's Data link (`translation="@loader.translation"`): the value of the linked Data, as
+    // written on its component (following further links), else that component's default
+    const io::SceneComponent* from = &component_;
+    std::string attribute(spec.name);
+    for (int depth = 0; depth < 16; ++depth) {
+        const io::LinkTarget t = io::resolve_link(*from, attribute);
+        if (t.component == nullptr || t.data.empty())
+            fail(name, "a link to a value must name a component's Data (@component.data), found '" + own->value + "'");
+        const io::SceneAttribute* target = t.component->find(t.data);
+        if (target != nullptr && io::is_link(target->value)) {
+            from = t.component;
+            attribute = t.data;
+            continue;
+        }
+        std::string text;
+        if (target != nullptr) {
+            text = target->value;
+        } else {
+            const ComponentSpec* target_spec = find_component(t.component->type);
+            const AttributeSpec* data = target_spec != nullptr ? find_attribute(*target_spec, t.data) : nullptr;
+            if (data == nullptr || data->default_value.empty() || data->default_value.front() == '(')
+                fail(name, "links to Data '" + t.data + "' of " + t.component->describe() +
+                               ", which the scene does not give and penalty does not compute there");
+            text = std::string(data->default_value);
+        }
+        io::SceneComponent copy = component_;  // the same file, line and names in any error
+        for (io::SceneAttribute& a : copy.attributes)
+            if (a.name == spec.name) a.value = text;
+        return copy;
+    }
+    fail(name, "a chain of more than 16 links");
+}
+
+const io::SceneComponent& Attributes::value_source(std::string_view name, std::optional<io::SceneComponent>& storage) const {
+    storage = linked_value(name);
+    return storage ? *storage : component_;
+}
+
 double Attributes::real(std::string_view name) const {
     const AttributeSpec& a = declared(name);
     return real_or(name, parse_default_number(a));
 }
 double Attributes::real_or(std::string_view name, double fallback) const {
     const AttributeSpec& a = declared(name);
-    const double v = io::get_double_or(component_, a.name, fallback);
+    std::optional<io::SceneComponent> linked;
+    const double v = io::get_double_or(value_source(name, linked), a.name, fallback);
     check(a, v);
     return v;
 }
 std::optional<double> Attributes::optional_real(std::string_view name) const {
     const AttributeSpec& a = declared(name);
-    const std::optional<double> v = io::get_double(component_, a.name);
+    std::optional<io::SceneComponent> linked;
+    const std::optional<double> v = io::get_double(value_source(name, linked), a.name);
     if (v) check(a, *v);
     return v;
 }
@@ -79,22 +124,26 @@ std::int64_t Attributes::integer(std::string_view name) const {
     return integer_or(name, std::int64_t(parse_default_number(declared(name))));
 }
 std::int64_t Attributes::integer_or(std::string_view name, std::int64_t fallback) const {
-    return io::get_int_or(component_, declared(name).name, fallback);
+    std::optional<io::SceneComponent> linked;
+    return io::get_int_or(value_source(name, linked), declared(name).name, fallback);
 }
 bool Attributes::boolean(std::string_view name) const {
     return boolean_or(name, parse_default_number(declared(name)) != 0.0);
 }
 bool Attributes::boolean_or(std::string_view name, bool fallback) const {
-    return io::get_bool_or(component_, declared(name).name, fallback);
+    std::optional<io::SceneComponent> linked;
+    return io::get_bool_or(value_source(name, linked), declared(name).name, fallback);
 }
 Vec3 Attributes::vector3(std::string_view name) const {
     return vector3_or(name, parse_default_vector(declared(name)));
 }
 Vec3 Attributes::vector3_or(std::string_view name, const Vec3& fallback) const {
-    return io::get_vec3_or(component_, declared(name).name, fallback);
+    std::optional<io::SceneComponent> linked;
+    return io::get_vec3_or(value_source(name, linked), declared(name).name, fallback);
 }
 std::optional<Vec3> Attributes::optional_vector3(std::string_view name) const {
-    return io::get_vec3(component_, declared(name).name);
+    std::optional<io::SceneComponent> linked;
+    return io::get_vec3(value_source(name, linked), declared(name).name);
 }
 std::string Attributes::text(std::string_view name) const {
     const AttributeSpec& a = declared(name);
@@ -103,7 +152,10 @@ std::string Attributes::text(std::string_view name) const {
 std::optional<std::string> Attributes::optional_text(std::string_view name) const {
     return io::get_string(component_, declared(name).name);
 }
-std::vector<double> Attributes::numbers(std::string_view name) const { return io::get_doubles(component_, declared(name).name); }
+std::vector<double> Attributes::numbers(std::string_view name) const {
+    std::optional<io::SceneComponent> linked;
+    return io::get_doubles(value_source(name, linked), declared(name).name);
+}
 std::vector<int> Attributes::as_ints(std::string_view name, const std::vector<double>& values) const {
     std::vector<int> out;
     out.reserve(values.size());

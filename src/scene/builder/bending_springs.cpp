@@ -161,8 +161,8 @@ constexpr AttributeSpec kSpringForceField[] = {
     {"damping", K::numbers, "5", "N s/m", ValueCheck::none, "kd per spring (without spring; last value repeated)"},
     {"elongationOnly", K::text, "0", "", ValueCheck::none, "only false is supported"},
     {"enabled", K::text, "1", "", ValueCheck::none, "only true is supported"},
-    {"object1", K::link, "(the node's state)", "", ValueCheck::none, "only the node's own state is supported"},
-    {"object2", K::link, "(the node's state)", "", ValueCheck::none, "only the node's own state is supported"},
+    {"object1", K::link, "(the node's state)", "", ValueCheck::none, "state of each spring's first end"},
+    {"object2", K::link, "(the node's state)", "", ValueCheck::none, "state of each spring's second end"},
 };
 
 /// `list` resized to `n` entries by repeating its last value (SOFA's resize(n, back())).
@@ -221,24 +221,42 @@ std::vector<Spring> explicit_springs(const Attributes& a) {
 
 void build_spring_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    Vec3Object& s = b.vec3_state(c, info);
+    std::vector<Spring> springs;
     b.guarded(c, [&] {
-        for (const std::string_view end : {"object1", "object2"}) {
-            if (!a.has(end)) continue;
-            const io::LinkTarget t = a.link(end);
-            const bool own_state = (t.component != nullptr && t.component == info.state_component) ||
-                                   (t.component == nullptr && t.node == info.scene_node);
-            if (!own_state) a.fail(end, "springs between two states are not supported (only the node's own state)");
-        }
         require_all(a, "elongationOnly", false);
         require_all(a, "enabled", true);
-        const std::vector<Spring> springs = explicit_springs(a);
-        auto* ff = &info.node->add_force_field<SpringForceField>(s);
+        springs = explicit_springs(a);
+    });
+    // object1 / object2: the states the springs join (default: the node's state); a state of a node
+    // below this one is built later, so the field is then added once every node is built
+    const auto create = [&b, &c, &info, springs] {
+        const Attributes attributes(c);
+        const auto end_state = [&](std::string_view end) -> Vec3Object& {
+            if (!attributes.has(end)) return b.vec3_state(c, info);
+            BaseState* s = b.linked_state(attributes, end);
+            if (s == nullptr) attributes.fail(end, "links to a state that is not built");
+            auto* v = dynamic_cast<Vec3Object*>(s);
+            if (v == nullptr) attributes.fail(end, "links to a Rigid3d state (Vec3d only)");
+            return *v;
+        };
+        Vec3Object& s1 = end_state("object1");
+        Vec3Object& s2 = end_state("object2");
+        auto* ff = &info.node->add_force_field<SpringForceField>(s1, s2);
         for (const Spring& spring : springs) ff->add_spring(spring);
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
-        b.role(c, [ff] { return counted(ff->springs().size(), "spring", "springs") + " (explicit list)"; });
+        b.role(c, [ff, two = &s1 != &s2] {
+            return counted(ff->springs().size(), "spring", "springs") + " (explicit list" +
+                   (two ? std::string(", between two states)") : std::string(")"));
+        });
+    };
+    bool later = false;
+    b.guarded(c, [&] {
+        for (const std::string_view end : {"object1", "object2"})
+            if (a.has(end) && b.linked_state(a, end) == nullptr) later = true;
     });
+    if (later) b.after_nodes(c, create);
+    else b.guarded(c, create);
     b.note_unread_attributes(c);
 }
 

@@ -127,8 +127,9 @@ private:
         ContactPipelineOptions options;
         options.detection = b_.options().exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
         options.threads = b_.options().threads;
-        // registered as the simulation's contact stage: Simulation::step runs the pipelines in
-        // the order they are made here, scene order (SOFA's composite pipeline)
+        // run by the scene's contact stage (Scene::ContactPhase), in the order they are made
+        // here, scene order (SOFA's composite pipeline), between SOFA's collision events
+        options.register_stage = false;
         options.sofa_stable_id_order = b_.options().sofa_head_orders;
         // SOFA's bounding-tree depth (CollisionPipeline / SubCollisionPipeline `depth`): the
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6

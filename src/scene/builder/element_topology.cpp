@@ -15,18 +15,21 @@ namespace {
 io::MeshData linked_source(SceneBuilder& b, const Attributes& a) {
     const io::LinkTarget t = a.link("src");
     if (t.component != nullptr && component_category(t.component->type) != ComponentCategory::loader) {
-        for (const auto& [node, built] : b.node_builds()) {
-            if (built.topology_component != t.component || built.topology == nullptr) continue;
-            io::MeshData m;
-            m.positions = built.topology_positions;
-            m.edges = built.topology->edges();
-            m.triangles = built.topology->triangles();
-            m.quads = built.topology->quads();
-            m.tetrahedra = built.topology->tetrahedra();
-            m.hexahedra = built.topology->hexahedra();
-            return m;
-        }
-        a.fail("src", "must link to a mesh loader or a topology built before this one");
+        const SceneBuilder::BuiltTopology* built = b.built_topology(*t.component);
+        if (built == nullptr || built->topology == nullptr)
+            a.fail("src", "must link to a mesh loader or a topology built before this one");
+        io::MeshData m;
+        m.positions = built->positions;
+        // a grid's Data as SOFA's GridTopology::GridUpdate computes them when read: its triangles
+        // (two per quad) and the edges derived from them
+        const MeshTopology grid_mesh = built->grid ? built->grid->mesh(true) : MeshTopology();
+        const MeshTopology& topology = built->grid ? grid_mesh : *built->topology;
+        m.edges = topology.edges();
+        m.triangles = topology.triangles();
+        m.quads = topology.quads();
+        m.tetrahedra = topology.tetrahedra();
+        m.hexahedra = topology.hexahedra();
+        return m;
     }
     return b.linked_mesh(a, "src");
 }

@@ -27,8 +27,8 @@ std::vector<Element> linked_elements(SceneBuilder& b, const Attributes& a, std::
     if (t.component == nullptr) a.fail(attr, "link must name a loader or a topology");
     if (component_category(t.component->type) == ComponentCategory::loader) return b.mesh_of(*t.component).*loaded;
     if (const io::MeshData* engine = b.engine_mesh(*t.component, t.data)) return engine->*loaded;
-    for (const auto& [node, info] : b.node_builds())
-        if (info.topology_component == t.component && info.topology != nullptr) return (info.topology->*built)();
+    if (const SceneBuilder::BuiltTopology* topology = b.built_topology(*t.component); topology && topology->topology)
+        return (topology->topology->*built)();
     a.fail(attr, "cannot read elements from " + t.component->describe() + " (a loader or a topology built before it)");
 }
 

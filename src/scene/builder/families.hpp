@@ -4,10 +4,16 @@
 // src/scene/components.cpp assembles them into the registry.
 #include "penalty/scene/components.hpp"
 
+#include <memory>
 #include <span>
+#include <string>
+#include <string_view>
 
 namespace penalty {
+class CGLinearSolver;
+class DirectLinearSolver;
 class HexahedronFEMForceField;
+class Node;
 namespace scene {
 struct NodeBuild;
 }
@@ -30,6 +36,29 @@ std::span<const ComponentSpec> external_load_components();         // external_l
 std::span<const ComponentSpec> hexahedra_and_subset_components();  // hexahedra_and_subsets.cpp
 std::span<const ComponentSpec> bending_spring_components();        // bending_springs.cpp
 std::span<const ComponentSpec> corotational_fem_components();      // corotational_fem.cpp
+std::span<const ComponentSpec> direct_solver_components();         // direct_solvers.cpp
+std::span<const ComponentSpec> integrator_components();            // integrators.cpp
+std::span<const ComponentSpec> matrix_mass_and_rest_spring_components();  // matrix_mass_and_rest_springs.cpp
+
+/// "N DOFs in K states": the independent DOFs of a solver's subtree (mapped states not counted).
+[[nodiscard]] std::string subtree_dofs(const Node& n);
+
+/// The node's linear solver read by its ODE solver: CGLinearSolver's limits into `cg`
+/// (solvers.cpp), or a direct solver (direct_solvers.cpp: the solver with its linear system and
+/// ordering method).
+void read_conjugate_gradient(SceneBuilder& b, const io::SceneComponent& linear, CGLinearSolver& cg);
+[[nodiscard]] bool is_direct_linear_solver(std::string_view type);
+[[nodiscard]] std::shared_ptr<DirectLinearSolver> read_direct_linear_solver(SceneBuilder& b,
+                                                                           const io::SceneComponent& linear);
+std::span<const ComponentSpec> transform_engine_components();      // transform_engines.cpp
+std::span<const ComponentSpec> selection_engine_components();      // selection_engines.cpp
+std::span<const ComponentSpec> frame_mapping_components();         // frame_mappings.cpp
+std::span<const ComponentSpec> python_components();               // python_components.cpp
+std::span<const ComponentSpec> projective_constraint_components(); // projective_constraints.cpp
+std::span<const ComponentSpec> rigid_force_field_components();     // rigid_force_fields.cpp
+std::span<const ComponentSpec> shell_force_field_components();     // shell_force_fields.cpp
+std::span<const ComponentSpec> nonuniform_hexahedra_components();  // nonuniform_hexahedra.cpp
+std::span<const ComponentSpec> tait_pressure_components();          // tait_pressure.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).

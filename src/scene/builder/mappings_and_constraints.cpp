@@ -1,6 +1,7 @@
 // Mappings and constraints: IdentityMapping, BarycentricMapping, SubsetMapping, RigidMapping,
 // FixedProjectiveConstraint (and its older name FixedConstraint).
 #include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/rigid_frame_mapping.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -27,11 +28,13 @@ constexpr AttributeSpec kRigidMapping[] = {
     {"index", K::indices, "0", "", ValueCheck::none, "frame of every point (one index)"},
     {"rigidIndexPerPoint", K::indices, "", "", ValueCheck::none, "frame of each point"},
     {"globalToLocalCoords", K::boolean, "0", "", ValueCheck::none, "points given in world coordinates"},
+    {"initialPoints", K::numbers, "(the output's positions)", "m", ValueCheck::none, "SOFA's local points (3 numbers each) or frames (7, Rigid3d output)"},
 };
 
 struct MappingEnds {
     BaseState* in = nullptr;
-    Vec3Object* out = nullptr;
+    Vec3Object* out = nullptr;        ///< the output when it is a Vec3d state
+    BaseState* out_state = nullptr;   ///< the output (Vec3d, or Rigid3d where the mapping allows it)
     const NodeBuild* in_info = nullptr;  ///< the input's node (its topology)
 };
 
@@ -56,8 +59,9 @@ BaseState* mapping_end(SceneBuilder& b, const Attributes& a, std::string_view at
     return b.node_build(*target_node).node->state();
 }
 
-/// Resolves input and output; the output is the node's own Vec3d state.
-MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& info) {
+/// Resolves input and output; the output is the node's own Vec3d state (or Rigid3d state with
+/// `rigid_output_allowed`).
+MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& info, bool rigid_output_allowed = false) {
     const SceneComponent& c = a.component();
     if (info.state_component == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node (its output)");
     MappingEnds ends;
@@ -67,7 +71,9 @@ MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& 
     for (const auto& [n, i] : b.node_builds())
         if (i.node && i.node->state() == ends.in) ends.in_info = &i;
     ends.out = dynamic_cast<Vec3Object*>(out);
-    if (ends.out == nullptr) a.fail("output", "must be a Vec3d MechanicalObject");
+    ends.out_state = out;
+    if (ends.out == nullptr && !(rigid_output_allowed && dynamic_cast<Rigid3Object*>(out) != nullptr))
+        a.fail("output", rigid_output_allowed ? "must be a Vec3d or Rigid3d MechanicalObject" : "must be a Vec3d MechanicalObject");
     return ends;
 }
 
@@ -76,7 +82,7 @@ void finish_mapping(SceneBuilder& b, const SceneComponent& c, const NodeBuild& i
     BaseMapping* mapping = info.node->mapping();
     b.add_init(0, c, [mapping] { mapping->init(); });
     const std::string from = ends.in_info != nullptr ? node_path(*ends.in_info->scene_node) : "?";
-    b.role(c, [out = ends.out, from, how] {
+    b.role(c, [out = ends.out_state, from, how] {
         return "maps " + from + " onto this node's " + counted(out->num_dofs(), "point", "points") + " (" + how + ")";
     });
     b.note_unread_attributes(c);
@@ -93,9 +99,48 @@ void build_identity_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild&
     finish_mapping(b, c, info, ends, in3 ? "identity" : "identity: the frames' centres");
 }
 
+/// RigidMapping<Rigid3d, Rigid3d> (rigid_frame_mapping.hpp): the output frames' local frames are
+/// `initialPoints`, else the output's frames (in world coordinates with globalToLocalCoords: only
+/// their centres are brought into the input frame, as SOFA's getGlobalToLocalCoords).
+void build_rigid_frame_mapping(const Attributes& a, const MappingEnds& ends, NodeBuild& info) {
+    auto* inr = dynamic_cast<Rigid3Object*>(ends.in);
+    if (!inr) a.fail("input", "RigidMapping needs a Rigid3d input");
+    auto& out = dynamic_cast<Rigid3Object&>(*ends.out_state);
+    std::vector<RigidFrame> local = out.position;
+    if (a.has("initialPoints")) {
+        const std::vector<double> v = a.numbers("initialPoints");
+        if (v.size() % 7 != 0) a.fail("initialPoints", "expected 7 numbers (x y z qx qy qz qw) per frame, found " + std::to_string(v.size()));
+        local.resize(v.size() / 7);
+        for (std::size_t i = 0; i < local.size(); ++i)
+            local[i] = RigidFrame{Vec3(v[7 * i], v[7 * i + 1], v[7 * i + 2]), Quat(v[7 * i + 6], v[7 * i + 3], v[7 * i + 4], v[7 * i + 5])};
+    }
+    // RigidMapping::getRigidIndex: rigidIndexPerPoint when it has one entry per frame, else `index`.
+    std::vector<Index> frames;
+    if (a.has("rigidIndexPerPoint"))
+        for (PointId i : a.indices("rigidIndexPerPoint")) frames.push_back(i);
+    if (frames.size() != local.size()) {
+        const std::vector<PointId> index = a.has("index") ? a.indices("index") : std::vector<PointId>{0};
+        if (index.size() != 1) a.fail("index", "expected one frame index");
+        frames.assign(local.size(), Index(index.front()));
+    }
+    if (!a.has("initialPoints") && a.boolean("globalToLocalCoords"))
+        for (std::size_t i = 0; i < local.size(); ++i) {
+            const auto r = static_cast<std::size_t>(frames[i]);
+            if (r >= inr->position.size()) a.fail("rigidIndexPerPoint", "frame index out of range");
+            const RigidFrame& f = inr->position[r];
+            local[i] = RigidFrame{f.orientation.conjugate() * (out.position[i].center - f.center), Quat::Identity()};
+        }
+    info.node->set_mapping<RigidFrameMapping>(*inr, out).set_frames(std::move(local), std::move(frames));
+}
+
 void build_rigid_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    const MappingEnds ends = mapping_ends(b, a, info);
+    const MappingEnds ends = mapping_ends(b, a, info, true);
+    if (ends.out == nullptr) {
+        b.guarded(c, [&] { build_rigid_frame_mapping(a, ends, info); });
+        finish_mapping(b, c, info, ends, "rigid: frames fixed in the frames");
+        return;
+    }
     b.guarded(c, [&] {
         auto* inr = dynamic_cast<Rigid3Object*>(ends.in);
         if (!inr) a.fail("input", "RigidMapping needs a Rigid3d input");
@@ -106,6 +151,12 @@ void build_rigid_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
                 for (PointId i : a.indices(name)) frames.push_back(i);
         if (frames.size() == 1) frames.assign(ends.out->position.size(), frames.front());
         std::vector<Vec3> pts = a.has("points") ? a.points("points") : ends.out->position;
+        if (!a.has("points") && a.has("initialPoints")) {
+            const std::vector<double> v = a.numbers("initialPoints");
+            if (v.size() % 3 != 0) a.fail("initialPoints", "expected 3 numbers per point, found " + std::to_string(v.size()));
+            pts.clear();
+            for (std::size_t i = 0; i < v.size(); i += 3) pts.emplace_back(v[i], v[i + 1], v[i + 2]);
+        }
         if (a.boolean("globalToLocalCoords")) m.set_points_from_world(pts, frames);
         else m.set_points(pts, frames);
     });

@@ -8,6 +8,11 @@
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
+#include <cmath>
+#include <cstdlib>
+#include <optional>
+#include <sstream>
+
 namespace penalty::scene::builder {
 
 namespace {
@@ -18,7 +23,7 @@ using F = ComponentFamily;
 
 // ---- Gravity --------------------------------------------------------------------------------
 constexpr AttributeSpec kGravity[] = {
-    {"gravity", K::vector3, "0 -9.81 0", "m/s^2", ValueCheck::none, "of its node and below"},
+    {"gravity", K::vector3, "0 0 0", "m/s^2", ValueCheck::none, "of its node and below (SOFA's Gravity: 0 0 0 when not given)"},
 };
 
 void build_gravity(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -30,12 +35,51 @@ void build_gravity(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
 
 // ---- UniformMass ----------------------------------------------------------------------------
 constexpr AttributeSpec kUniformMass[] = {
-    {"vertexMass", K::real, "", "kg", ValueCheck::positive, "mass of each DOF (or totalMass)"},
+    {"vertexMass", K::text, "", "kg", ValueCheck::none,
+     "mass of each DOF (or totalMass), > 0; Rigid3d: `m` or SOFA's Rigid3Mass `m volume [3x3 inertia per unit mass]`"},
     {"totalMass", K::real, "", "kg", ValueCheck::positive, "shared equally by the DOFs; wins over vertexMass"},
     {"inertiaMatrix", K::numbers, "(identity)", "kg m^2", ValueCheck::none, "Rigid3d: 9 numbers, per unit mass"},
     {"filename", K::text, "", "", ValueCheck::none,
      "Rigid3d: .rigid file whose vertexMass and inrt (inertia per unit mass) replace the attributes"},
 };
+
+double positive_vertex_mass(const Attributes& a) {
+    const double m = a.real_or("vertexMass", 1.0);
+    if (!(m > 0)) a.fail("vertexMass", "must be > 0, found '" + a.text("vertexMass") + "'");
+    return m;
+}
+
+/// A Rigid3d vertexMass written as SOFA's Rigid3Mass (RigidMass<3>::operator>>): the mass, the
+/// volume (not used by the dynamics), then the inertia per unit mass as a 3×3 matrix
+/// ("[a b c,d e f,g h i]"); nullopt for a single number (read as the mass).
+struct RigidVertexMass {
+    double mass = 1;
+    std::optional<Mat3> inertia;
+};
+std::optional<RigidVertexMass> rigid_vertex_mass(const Attributes& a) {
+    if (!a.has("vertexMass")) return std::nullopt;
+    std::string text = a.text("vertexMass");
+    for (char& ch : text)
+        if (ch == '[' || ch == ']' || ch == ',') ch = ' ';
+    std::istringstream in(text);
+    std::vector<double> v;
+    for (std::string word; in >> word;) {
+        char* end = nullptr;
+        const double x = std::strtod(word.c_str(), &end);
+        if (end == word.c_str() || *end != '\0' || !std::isfinite(x))
+            a.fail("vertexMass", "expected numbers (mass volume [inertia]), found '" + word + "'");
+        v.push_back(x);
+    }
+    if (v.size() == 1) return std::nullopt;
+    if (v.size() != 2 && v.size() != 11)
+        a.fail("vertexMass", "expected a mass, or mass volume and a 3x3 inertia matrix (11 numbers), found " +
+                                 std::to_string(v.size()) + " numbers");
+    if (!(v[0] > 0)) a.fail("vertexMass", "the mass must be > 0, found " + num(v[0]));
+    RigidVertexMass m;
+    m.mass = v[0];
+    if (v.size() == 11) m.inertia = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v.data() + 2);
+    return m;
+}
 
 void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
@@ -43,7 +87,7 @@ void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
     b.guarded(c, [&] {
         auto set = [&](auto& mass) {
             if (a.has("totalMass")) mass.set_total_mass(a.real_or("totalMass", 1.0));
-            else if (a.has("vertexMass")) mass.set_vertex_mass(a.real_or("vertexMass", 1.0));
+            else if (a.has("vertexMass")) mass.set_vertex_mass(positive_vertex_mass(a));
             else io::throw_element_error(c, "needs vertexMass or totalMass (SOFA refuses a UniformMass without them)");
         };
         if (auto* v = dynamic_cast<Vec3Object*>(&s)) {
@@ -56,8 +100,11 @@ void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             io::RigidMassFile file;
             if (a.has("filename"))
                 file = io::load_rigid_mass_file(io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
+            const std::optional<RigidVertexMass> rigid_mass = rigid_vertex_mass(a);
             if (file.vertex_mass) mass.set_vertex_mass(*file.vertex_mass);
+            else if (rigid_mass && !a.has("totalMass")) mass.set_vertex_mass(rigid_mass->mass);
             else set(mass);
+            if (rigid_mass && rigid_mass->inertia) mass.set_inertia(*rigid_mass->inertia);
             if (a.has("inertiaMatrix")) {
                 const std::vector<double> j = a.numbers("inertiaMatrix");
                 if (j.size() != 9) a.fail("inertiaMatrix", "expected 9 numbers");
@@ -88,8 +135,10 @@ constexpr AttributeSpec kSpringKinds[] = {
     {"trianglesDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
     {"quadsStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "quads' edges and diagonals"},
     {"quadsDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
-    {"tetrasStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "tetrahedra's edges"},
-    {"tetrasDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"tetrahedraStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "tetrahedra's edges"},
+    {"tetrahedraDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
+    {"tetrasStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "alias of tetrahedraStiffness"},
+    {"tetrasDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, "alias of tetrahedraDamping"},
     {"cubesStiffness", K::real, "(stiffness)", "N/m", ValueCheck::nonnegative, "hexahedra's edges and diagonals"},
     {"cubesDamping", K::real, "(damping)", "N s/m", ValueCheck::nonnegative, ""},
 };
@@ -105,17 +154,31 @@ constexpr AttributeSpec kGridSprings[] = {
     {"damping", K::real, "5", "N s/m", ValueCheck::nonnegative, "every kind's damping"},
 };
 
-MeshSpringParameters spring_parameters(const Attributes& a) {
-    MeshSpringParameters p = MeshSpringParameters::uniform(a.real("stiffness"), a.real("damping"));
-    auto pick = [&](const char* k, const char* d, double& ks, double& kd) {
-        ks = a.real_or(k, ks);
-        kd = a.real_or(d, kd);
+/// The value a Data with several names gets: SOFA's Base::parse sets the Data once per written
+/// name, in the order of the names (BaseObjectDescription's attributes are a std::map), so the
+/// last written name in alphabetical order wins; `fallback` when none is written.
+double last_written(const Attributes& a, std::initializer_list<std::string_view> names, double fallback) {
+    std::string_view winner;
+    for (const std::string_view name : names)
+        if (!name.empty() && a.has(name) && name > winner) winner = name;
+    return winner.empty() ? fallback : a.real_or(winner, fallback);
+}
+
+MeshSpringParameters spring_parameters(const Attributes& a, double default_stiffness, double default_damping) {
+    MeshSpringParameters p;
+    const auto kind = [&](std::string_view stiffness, std::string_view damping, std::string_view alias_stiffness,
+                          std::string_view alias_damping, double& ks, double& kd) {
+        const std::initializer_list<std::string_view> k_names = {stiffness, alias_stiffness, "stiffness"};
+        const std::initializer_list<std::string_view> d_names = {damping, alias_damping, "damping"};
+        ks = last_written(a, k_names, default_stiffness);
+        kd = last_written(a, d_names, default_damping);
     };
-    pick("linesStiffness", "linesDamping", p.lines_stiffness, p.lines_damping);
-    pick("trianglesStiffness", "trianglesDamping", p.triangles_stiffness, p.triangles_damping);
-    pick("quadsStiffness", "quadsDamping", p.quads_stiffness, p.quads_damping);
-    pick("tetrasStiffness", "tetrasDamping", p.tetras_stiffness, p.tetras_damping);
-    pick("cubesStiffness", "cubesDamping", p.cubes_stiffness, p.cubes_damping);
+    kind("linesStiffness", "linesDamping", "", "", p.lines_stiffness, p.lines_damping);
+    kind("trianglesStiffness", "trianglesDamping", "", "", p.triangles_stiffness, p.triangles_damping);
+    kind("quadsStiffness", "quadsDamping", "", "", p.quads_stiffness, p.quads_damping);
+    kind("tetrahedraStiffness", "tetrahedraDamping", "tetrasStiffness", "tetrasDamping", p.tetras_stiffness,
+         p.tetras_damping);
+    kind("cubesStiffness", "cubesDamping", "", "", p.cubes_stiffness, p.cubes_damping);
     return p;
 }
 
@@ -130,12 +193,27 @@ void add_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, Vec3
     });
 }
 
+/// True when `t` is a SparseGridTopology's mesh: SOFA's SparseGridTopology never fills its edges,
+/// triangles or quads (its init calls neither MeshTopology::init nor updateEdges/updateQuads), so
+/// the springs SOFA reads from its lines, triangles and quads are none.
+bool is_sparse_grid_mesh(SceneBuilder& b, const MeshTopology* t) {
+    for (const auto& [node, info] : b.node_builds())
+        if (info.sparse_grid && info.topology == t) return true;
+    return false;
+}
+
 void build_mesh_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const MeshSpringParameters p = spring_parameters(a);
-        add_springs(b, c, info, s, mesh_springs(b.topology_of(a, info), s.rest_position, p));
+        MeshSpringParameters p = spring_parameters(a, 0.0, 0.0);
+        const MeshTopology& topology = b.topology_of(a, info);
+        if (is_sparse_grid_mesh(b, &topology)) {
+            p.lines_stiffness = p.lines_damping = 0.0;
+            p.triangles_stiffness = p.triangles_damping = 0.0;
+            p.quads_stiffness = p.quads_damping = 0.0;
+        }
+        add_springs(b, c, info, s, mesh_springs(topology, s.rest_position, p));
     });
     b.note_unread_attributes(c);
 }
@@ -144,7 +222,7 @@ void build_grid_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const MeshSpringParameters p = spring_parameters(a);
+        const MeshSpringParameters p = spring_parameters(a, 100.0, 5.0);
         if (!info.grid) io::throw_element_error(c, "needs a RegularGridTopology in its node");
         add_springs(b, c, info, s, regular_grid_springs(*info.grid, p));  // SOFA's order and rest lengths
     });
@@ -162,6 +240,12 @@ constexpr AttributeSpec kTetrahedronFem[] = {
     // penalty always recomputes the corotational stiffness each step (method large).
     {"computeGlobalMatrix", K::boolean, "0", "", ValueCheck::none, "storage only: no effect"},
     {"updateStiffnessMatrix", K::boolean, "0", "", ValueCheck::none, "storage only: no effect"},
+    {"plasticMaxThreshold", K::real, "0", "", ValueCheck::nonnegative,
+     "largest norm of the plastic strain; 0: no plasticity (method large only)"},
+    {"plasticYieldThreshold", K::real, "0.0001", "", ValueCheck::nonnegative,
+     "elastic strain norm above which it creeps (SOFA's default: the float 0.0001f)"},
+    {"plasticCreep", K::real, "0.9", "", ValueCheck::nonnegative,
+     "fraction of the elastic strain made plastic per evaluation (SOFA's default: the float 0.9f)"},
 };
 constexpr AttributeSpec kHexahedronFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
@@ -206,6 +290,14 @@ void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
         TetrahedronFEMForceField* ff = nullptr;
         if (info.grid) ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, law.young, law.poisson, law.method);
         else ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson, law.method);
+        // SOFA's Data defaults are float literals (0.0001f, 0.9f): their float values, unless written
+        TetrahedronFEMForceField::Plasticity plasticity;
+        plasticity.max_threshold = a.real("plasticMaxThreshold");
+        plasticity.yield_threshold = a.real_or("plasticYieldThreshold", plasticity.yield_threshold);
+        plasticity.creep = a.real_or("plasticCreep", plasticity.creep);
+        if (plasticity.max_threshold > 0 && law.method != FemMethod::Large)
+            a.fail("plasticMaxThreshold", "plasticity is supported with method large only");
+        ff->set_plasticity(plasticity);
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, text = law_text(law)] { return counted(ff->tetrahedra().size(), "tetrahedron", "tetrahedra") + text; });

@@ -2,6 +2,7 @@
 // DiagonalMass, BoxROI, FixedPlaneProjectiveConstraint.
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
+#include "penalty/mechanics/oriented_box.hpp"
 #include "penalty/mechanics/regions.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/regions_of_interest.hpp"
@@ -65,7 +66,7 @@ void build_diagonal_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
 // some box (`strict`, the default), else their centre (regions_of_interest.hpp).
 constexpr AttributeSpec kBoxRoi[] = {
     {"box", K::numbers, "0 0 0 1 1 1", "m", ValueCheck::none, "boxes: xmin ymin zmin xmax ymax zmax each"},
-    {"orientedBox", K::numbers, "", "m", ValueCheck::none, "refused by penalty"},
+    {"orientedBox", K::numbers, "", "m", ValueCheck::none, "boxes: p0 p1 p2 (corners) and depth, each (oriented_box.hpp)"},
     {"position", K::points, "(rest positions of the node's state)", "m", ValueCheck::none, "points tested"},
     {"rest_position", K::points, "", "m", ValueCheck::none, "alias of position"},
     {"edges", K::elements, "(the node's topology)", "", ValueCheck::none, "edges tested (inline or a link)"},
@@ -100,25 +101,38 @@ constexpr AttributeSpec kBoxRoi[] = {
 void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     std::vector<AlignedBox> boxes;
+    std::vector<OrientedBox> oriented;
     std::size_t num_points = 0;
     RoiElements elements;
     RoiSelection selection;
     b.guarded(c, [&] {
-        if (a.has("orientedBox")) a.fail("orientedBox", "oriented boxes are not supported by penalty");
-        const std::vector<double> v = a.has("box") ? a.numbers("box") : std::vector<double>{0, 0, 0, 1, 1, 1};
-        if (v.empty() || v.size() % 6 != 0) a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
+        // BoxROI::roiInit: the default box only when neither `box` nor `orientedBox` is given
+        const bool defaults = !a.has("box") && !a.has("orientedBox");
+        const std::vector<double> v = defaults ? std::vector<double>{0, 0, 0, 1, 1, 1} : a.numbers("box");
+        if (v.size() % 6 != 0 || (a.has("box") && v.empty()))
+            a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
         for (std::size_t i = 0; i < v.size(); i += 6)
             boxes.push_back(AlignedBox::from_corners(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])));
+        const std::vector<double> o = a.numbers("orientedBox");
+        if (o.size() % 10 != 0 || (a.has("orientedBox") && o.empty()))
+            a.fail("orientedBox", "expected 10 numbers per box (p0, p1, p2, depth), found " + std::to_string(o.size()));
+        for (std::size_t i = 0; i < o.size(); i += 10) {
+            const Vec3 p0(o[i], o[i + 1], o[i + 2]), p1(o[i + 3], o[i + 4], o[i + 5]), p2(o[i + 6], o[i + 7], o[i + 8]);
+            if ((p1 - p0).cross(p2 - p0).norm() == 0)
+                a.fail("orientedBox", "box " + std::to_string(i / 10) + ": p0, p1 and p2 are aligned (no plane)");
+            oriented.emplace_back(p0, p1, p2, o[i + 9]);
+        }
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::base_roi);
-        const auto inside = [&boxes](const Vec3& p) {
-            return std::any_of(boxes.begin(), boxes.end(), [&p](const AlignedBox& box) { return box.contains(p); });
+        const auto inside = [&boxes, &oriented](const Vec3& p) {
+            return std::any_of(boxes.begin(), boxes.end(), [&p](const AlignedBox& box) { return box.contains(p); }) ||
+                   std::any_of(oriented.begin(), oriented.end(), [&p](const OrientedBox& box) { return box.contains(p); });
         };
         selection = select_in_region(points, elements, inside,
                                      a.boolean("strict") ? ElementTest::all_points : ElementTest::center);
     });
-    b.role(c, [n = boxes.size(), num_points, selection, elements] {
+    b.role(c, [n = boxes.size() + oriented.size(), num_points, selection, elements] {
         return describe_roi_selection(selection, num_points, elements, counted(n, "box", "boxes"));
     });
     record_roi_selection(b, c, std::move(selection));

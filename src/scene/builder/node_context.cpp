@@ -18,7 +18,9 @@ const NodeBuild* SceneBuilder::state_owner(const NodeBuild& info) {
 Vec3Object& SceneBuilder::vec3_state(const SceneComponent& c, const NodeBuild& info) {
     BaseState& s = state(c, info);
     auto* v = dynamic_cast<Vec3Object*>(&s);
-    if (v == nullptr) io::throw_element_error(c, "needs a Vec3d MechanicalObject in its node (found Rigid3d)");
+    if (v == nullptr)
+        io::throw_element_error(c, std::string("needs a Vec3d MechanicalObject in its node (found ") +
+                                       (dynamic_cast<Vec1Object*>(&s) != nullptr ? "Vec1d" : "Rigid3d") + ")");
     return *v;
 }
 
@@ -26,6 +28,27 @@ BaseState& SceneBuilder::state(const SceneComponent& c, const NodeBuild& info) {
     const NodeBuild* owner = state_owner(info);
     if (owner == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node or an ancestor node");
     return *owner->node->state();
+}
+
+BaseState* SceneBuilder::linked_state(const Attributes& a, std::string_view attr) {
+    const io::LinkTarget t = a.link(attr);
+    const io::SceneNode* holder = t.node;
+    if (t.component != nullptr) {
+        const ComponentSpec* spec = find_component(t.component->type);
+        if (spec == nullptr || spec->family != ComponentFamily::state)
+            a.fail(attr, "must link to a MechanicalObject or to a node that holds one, found " + t.component->describe());
+        holder = t.component->node;
+    }
+    if (holder == nullptr) a.fail(attr, "must link to a MechanicalObject or to a node that holds one");
+    const auto it = nodes_.find(holder);
+    if (it == nodes_.end() || it->second.node == nullptr) return nullptr;  // not built yet
+    BaseState* s = it->second.node->state();
+    if (s == nullptr) a.fail(attr, "links to node '" + holder->path() + "', which has no MechanicalObject");
+    return s;
+}
+
+void SceneBuilder::after_nodes(const SceneComponent& c, std::function<void()> build) {
+    deferred_builds_.push_back({0, std::move(build), &c});
 }
 
 const MeshTopology& SceneBuilder::topology_of(const Attributes& a, const NodeBuild& info) {

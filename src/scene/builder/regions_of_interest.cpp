@@ -50,9 +50,18 @@ std::vector<Element> roi_list(SceneBuilder& b, const Attributes& a, std::string_
 }  // namespace
 
 std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBuild& info, RoiContext context) {
-    if (a.has("position")) return a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
-    if (a.has("rest_position"))
-        return a.is_link("rest_position") ? b.linked_positions(a, "rest_position") : a.points("rest_position");
+    for (const char* attr : {"position", "rest_position"}) {
+        if (!a.has(attr)) continue;
+        if (!a.is_link(attr)) return a.points(attr);
+        if (!roi_link_resolves(a.component(), attr)) {
+            // SOFA keeps a Data whose link finds no parent set and empty: the ROI selects nothing
+            b.warn(a.component().file + ":" + std::to_string(a.component().find(attr)->line) + ": " +
+                   a.component().describe() + ": attribute '" + attr + "': the link '" + a.component().find(attr)->value +
+                   "' finds nothing; as SOFA, the region tests no point and selects nothing");
+            return {};
+        }
+        return b.linked_positions(a, attr);
+    }
     if (context == RoiContext::base_roi) {
         if (const Vec3Object* s = vec3_state_of(info)) return s->rest_position;
         if (const SceneComponent* loader = first_loader(info)) return b.mesh_of(*loader).positions;
@@ -82,6 +91,15 @@ RoiElements roi_elements(SceneBuilder& b, const Attributes& a, const NodeBuild& 
         e.hexahedra = roi_list<Hexahedron>(b, a, "hexahedra", "computeHexahedra", fallback, &M::hexahedra, &T::hexahedra);
     }
     return e;
+}
+
+bool roi_link_resolves(const SceneComponent& c, std::string_view attr) {
+    try {
+        static_cast<void>(io::resolve_links(c, attr));
+        return true;
+    } catch (const io::SceneError&) {
+        return false;
+    }
 }
 
 void record_roi_selection(SceneBuilder& b, const SceneComponent& c, RoiSelection s,

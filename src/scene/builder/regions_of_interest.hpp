@@ -29,6 +29,9 @@ struct RoiListNames {
 /// context's default (see RoiContext).
 [[nodiscard]] std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBuild& info,
                                            RoiContext context);
+/// True when every link of `attr` resolves. A region's `position` whose link finds nothing is
+/// SOFA's empty Data (a warning, no point tested), not a scene error (validate() lets it pass).
+[[nodiscard]] bool roi_link_resolves(const io::SceneComponent& c, std::string_view attr);
 /// The ROI's element lists: each given (inline or a link to a loader's or a topology's list), else
 /// the context's topology's; empty when its `compute...` flag is 0. The spec declares each list
 /// of `names` and its flag.

@@ -5,6 +5,7 @@
 
 #include "penalty/io/data_path.hpp"
 #include "penalty/io/overrides.hpp"
+#include "penalty/output/format.hpp"
 
 #include <algorithm>
 #include <array>
@@ -33,9 +34,16 @@ void SceneBuilder::build() {
     sim.set_threads(options_.threads);  // validated by the command line / the Python module
     build_node(*file_.root, sim.root());
     if (options_.dt) {
-        if (!(*options_.dt > 0) || !std::isfinite(*options_.dt)) throw io::SceneError("--dt must be a positive number of seconds");
+        if (!(*options_.dt >= kMinTimeStep && *options_.dt <= kMaxTimeStep))
+            throw std::invalid_argument("dt: the time step given to the scene (" + output::format_number(*options_.dt) +
+                                        ") is out of range [1e-100, 86400] s");
         sim.root().set_dt(*options_.dt);
     }
+    for (std::size_t i = 0; i < deferred_builds_.size(); ++i) {  // (a deferred build may defer another)
+        const std::function<void()> build = deferred_builds_[i].init;
+        guarded(*deferred_builds_[i].component, build);
+    }
+    build_unread_data_engines();
     for (auto& m : scene_.models_) guarded(*m.component, [&] { m.model->validate(); });
     // Initialise every component once here, in Simulation::init's order (states and mappings
     // top-down, then masses, force fields, constraints, solvers), so that an error names its
@@ -58,6 +66,10 @@ void SceneBuilder::build() {
     warn_degenerate_triangles();
     for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
     for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
+    // What the engines computed and the loaders read, for the scene's live Data (live_data.hpp).
+    scene_.engine_indices_ = std::move(engine_indices_);
+    scene_.engine_meshes_ = std::move(engine_meshes_);
+    scene_.loader_meshes_ = std::move(meshes_);
 }
 
 void SceneBuilder::rethrow_naming(const io::SceneElement& c, const std::exception& e) {
@@ -95,6 +107,11 @@ const io::MeshData& SceneBuilder::mesh_of(const SceneComponent& loader) {
         if (const auto name = io::get_string(loader, "filename"))
             file = io::resolve_data_file(*name, scene_dir_, options_.data_dirs).string() + ": ";
         role(loader, [file, counts = mesh_counts(it->second)] { return "reads " + file + counts; });
+        bool scale_read_whole = true;
+        static_cast<void>(io::mesh_loader_scale(loader, &scale_read_whole));
+        if (!scale_read_whole)
+            warn(loader.file + ":" + std::to_string(loader.find("scale")->line) + ": " + loader.describe() + ": scale '" +
+                 *io::get_string(loader, "scale") + "' is not one number: scale 1 (SOFA's MeshLoader::parse reads it so)");
     }
     return it->second;
 }
@@ -131,16 +148,48 @@ std::vector<Vec3> SceneBuilder::linked_positions(const Attributes& a, std::strin
         a.fail(attr, "links to " + src.describe() + ", which is not a built Vec3d state");
     }
     if (spec != nullptr && spec->family == ComponentFamily::topology) {
-        for (const auto& [node, info] : nodes_)
-            if (info.topology_component == &src && !info.grid) return info.topology_positions;
+        if (const BuiltTopology* built = built_topology(src); built != nullptr && !built->grid) return built->positions;
     }
     a.fail(attr, "cannot read positions from " + src.describe());
+}
+
+void SceneBuilder::build_unread_data_engines() {
+    // SOFA computes an engine only when something reads an output: one no simulation component
+    // reads cannot change the numbers, so a failure here is a note, not an error (its inputs may
+    // be a visual model's or a mapped state's, which penalty builds later or not at all).
+    io::for_each_component(*file_.root, [&](const SceneComponent& c) {
+        const ComponentSpec* spec = find_component(c.type);
+        if (spec == nullptr || spec->family != ComponentFamily::data_engine || built_data_engines_.count(&c) != 0) return;
+        try {
+            build_data_engine(c);
+        } catch (const std::exception& e) {
+            warn(std::string(e.what()) + " (no simulation component reads this engine: ignored)");
+        }
+    });
+}
+
+void SceneBuilder::build_data_engine(const SceneComponent& c) {
+    const ComponentSpec* spec = find_component(c.type);
+    if (spec == nullptr || spec->family != ComponentFamily::data_engine || ignored_.count(&c) != 0) return;
+    if (!built_data_engines_.insert(&c).second) return;  // built, or being built (a loop of links)
+    const auto node = nodes_.find(c.node);
+    if (node == nodes_.end())
+        io::throw_element_error(c, "is read through a link before its node is built (penalty builds nodes "
+                                   "depth first: put it in the reading node or an ancestor)");
+    spec->build(*this, c, node->second);
+}
+
+const io::MeshData* SceneBuilder::engine_mesh(const SceneComponent& engine, const std::string& data) {
+    build_data_engine(engine);
+    const auto it = engine_meshes_.find({&engine, data});
+    return it == engine_meshes_.end() ? nullptr : &it->second;
 }
 
 std::vector<PointId> SceneBuilder::indices(const Attributes& a, std::string_view attr) {
     if (!a.is_link(attr)) return a.indices(attr);
     const io::LinkTarget t = a.link(attr);
     if (t.component == nullptr || t.data.empty()) a.fail(attr, "link must name an engine's data (@engine.indices)");
+    build_data_engine(*t.component);
     const auto it = engine_indices_.find({t.component, t.data});
     if (it == engine_indices_.end())
         a.fail(attr, "cannot read indices from data '" + t.data + "' of " + t.component->describe() +
@@ -241,14 +290,16 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
         info.sparse_grid.reset();
         info.topology_component = nullptr;
         spec.build(*this, *c, info);
+        built_topologies_[c] = {info.topology, info.topology_positions, info.grid};
     }
     build_family({F::topology_helper});
     build_family({F::state});
     build_family({F::mapping});
+    // (data engines: built when a link reads them, or after every node when none does)
     build_family({F::mass, F::force_field, F::constraint, F::engine});
     build_family({F::ode_solver});
     build_family({F::collision_model});
-    build_family({F::animation_loop, F::linear_solver, F::collision_pipeline, F::composite_pipeline, F::sub_pipeline,
+    build_family({F::animation_loop, F::linear_solver, F::solver_part, F::collision_pipeline, F::composite_pipeline, F::sub_pipeline,
                   F::broad_phase, F::narrow_phase, F::intersection, F::contact_manager});
 
     if (info.state_component) record_state(sn, info);
@@ -256,6 +307,8 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
 }
 
 void SceneBuilder::record_state(const SceneNode& sn, const NodeBuild& info) {
+    // the outputs write Vec3d and Rigid3d states; a Vec1d one (a distance mapping's) is not recorded
+    if (dynamic_cast<const Vec1Object*>(info.node->state()) != nullptr) return;
     output::StateRecord r;
     r.name = std::string(info.node->state()->state_name());
     r.node_path = sn.path();

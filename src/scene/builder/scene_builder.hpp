@@ -86,6 +86,12 @@ public:
 
 private:
     const AttributeSpec& declared(std::string_view name) const;
+    /// When attribute `name` is a link to another component's Data (`@loader.translation`): a
+    /// copy of this component whose attribute holds that Data's text (as written there, following
+    /// links, else its ComponentSpec default); nullopt when the attribute is not a link.
+    [[nodiscard]] std::optional<io::SceneComponent> linked_value(std::string_view name) const;
+    /// The component the typed readers parse: this one, or linked_value's copy kept in `storage`.
+    const io::SceneComponent& value_source(std::string_view name, std::optional<io::SceneComponent>& storage) const;
     void check(const AttributeSpec& spec, double value) const;
     const io::SceneComponent& component_;
     const ComponentSpec& spec_;
@@ -98,6 +104,7 @@ public:
 
     // ---- services for the family build functions ----------------------------------------------
     [[nodiscard]] const BuildOptions& options() const { return options_; }
+    [[nodiscard]] const io::SceneFile& file() const { return file_; }
     /// The scene file's folder (data files resolve against it, then the data dirs).
     [[nodiscard]] const std::filesystem::path& scene_dir() const { return scene_dir_; }
     [[nodiscard]] Scene& scene() { return scene_; }
@@ -142,11 +149,12 @@ public:
     void record_engine_mesh(const io::SceneComponent& engine, const std::string& data, io::MeshData mesh) {
         engine_meshes_[{&engine, data}] = std::move(mesh);
     }
-    /// The mesh data recorded by `record_engine_mesh`, or null.
-    [[nodiscard]] const io::MeshData* engine_mesh(const io::SceneComponent& engine, const std::string& data) const {
-        const auto it = engine_meshes_.find({&engine, data});
-        return it == engine_meshes_.end() ? nullptr : &it->second;
-    }
+    /// The mesh data recorded by `record_engine_mesh`, or null; a data engine (ComponentFamily::
+    /// data_engine) not built yet is built first.
+    [[nodiscard]] const io::MeshData* engine_mesh(const io::SceneComponent& engine, const std::string& data);
+    /// Builds a data engine once: when a link first reads one of its outputs (SOFA evaluates
+    /// engines on demand), else in its node's file order. Anything else: nothing.
+    void build_data_engine(const io::SceneComponent& c);
     /// Attribute `attr` as indices: inline, or a link `@engine.data` to a list recorded by an engine
     /// built before (in file order).
     std::vector<PointId> indices(const Attributes& a, std::string_view attr);
@@ -158,8 +166,32 @@ public:
     Vec3Object& vec3_state(const io::SceneComponent& c, const NodeBuild& node);
     /// The state of the node (or of its nearest ancestor with a state), or an error naming `c`.
     BaseState& state(const io::SceneComponent& c, const NodeBuild& node);
+    /// The state an attribute links to (`object1="@../dofs"`, `@node`: that node's state), or null
+    /// when its node is not built yet; an error naming the attribute when the link names no state.
+    BaseState* linked_state(const Attributes& a, std::string_view attr);
+    /// Runs `build` once every node is built (a component linking states of nodes below its own,
+    /// which SOFA resolves at init); an error names `c`.
+    void after_nodes(const io::SceneComponent& c, std::function<void()> build);
     /// The topology `topology="@..."` links to, else the node's.
     const MeshTopology& topology_of(const Attributes& a, const NodeBuild& node);
+    /// A topology component as built (kept when a later topology of its node replaces it as the
+    /// node's topology, for links such as `src="@grid"`).
+    struct BuiltTopology {
+        const MeshTopology* topology = nullptr;
+        std::vector<Vec3> positions;
+        std::optional<RegularGridTopology> grid;  ///< a RegularGridTopology's grid
+    };
+    /// The topology built from `c`, or null (not a topology, or not built yet).
+    [[nodiscard]] const BuiltTopology* built_topology(const io::SceneComponent& c) const {
+        const auto it = built_topologies_.find(&c);
+        return it == built_topologies_.end() ? nullptr : &it->second;
+    }
+    /// Records (again) what the topology component of `info` holds: after its build, and after a
+    /// topological mapping replaced its elements (SOFA's links read the Data as they are then).
+    void record_built_topology(const NodeBuild& info) {
+        if (info.topology_component != nullptr)
+            built_topologies_[info.topology_component] = {info.topology, info.topology_positions, info.grid};
+    }
     /// The build record of a node of the file (built already: ancestors of the current node).
     NodeBuild& node_build(const io::SceneNode& n) { return nodes_[&n]; }
     const std::map<const io::SceneNode*, NodeBuild>& node_builds() const { return nodes_; }
@@ -204,6 +236,8 @@ private:
     [[noreturn]] static void rethrow_naming(const io::SceneElement& element, const std::exception& e);
     void build_node(const io::SceneNode& sn, Node& node);
     void record_state(const io::SceneNode& sn, const NodeBuild& info);
+    /// The data engines no link has read, built after every node (a failure is a note).
+    void build_unread_data_engines();
     void record_sphere_radii();
     void warn_degenerate_triangles();
 
@@ -219,6 +253,8 @@ private:
     std::unordered_map<const io::SceneComponent*, Vec3Object*> vec3_states_;
     std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<PointId>> engine_indices_;
     std::map<std::pair<const io::SceneComponent*, std::string>, io::MeshData> engine_meshes_;
+    std::set<const io::SceneComponent*> built_data_engines_;
+    std::map<const io::SceneComponent*, BuiltTopology> built_topologies_;
     std::map<const io::SceneComponent*, IntersectionParams> intersections_;
     std::vector<const io::SceneComponent*> pipeline_components_;
     std::vector<std::string> attribute_warnings_;
@@ -231,6 +267,7 @@ private:
         const io::SceneComponent* component;
     };
     std::vector<InitStep> init_steps_;
+    std::vector<InitStep> deferred_builds_;  ///< after_nodes (phase unused)
     int node_count_ = 0;
 };
 

@@ -3,15 +3,12 @@
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
+#include "penalty/simulation/direct_linear_solver.hpp"
+
 namespace penalty::scene::builder {
 
-namespace {
-
 using io::SceneComponent;
-using K = AttributeKind;
-using F = ComponentFamily;
 
-/// "N independent DOFs in K states" of a solver's subtree (mapped states not counted).
 std::string subtree_dofs(const Node& n) {
     std::size_t dofs = 0, states = 0;
     std::function<void(const Node&)> visit = [&](const Node& x) {
@@ -24,6 +21,11 @@ std::string subtree_dofs(const Node& n) {
     visit(n);
     return counted(dofs, "DOF", "DOFs") + " in " + counted(states, "state", "states");
 }
+
+namespace {
+
+using K = AttributeKind;
+using F = ComponentFamily;
 
 // ---- EulerExplicitSolver ----------------------------------------------------------------------
 constexpr AttributeSpec kExplicit[] = {
@@ -50,21 +52,25 @@ constexpr AttributeSpec kConjugateGradient[] = {
     {"threshold", K::real, "1e-5", "", ValueCheck::nonnegative, "stop when |pᵀAp| <= threshold"},
 };
 
-/// The CG limits of `s` from the node's CGLinearSolver (read by the ODE solver of its node).
-void read_conjugate_gradient(SceneBuilder& b, const SceneComponent& linear, EulerImplicitSolver& s) {
+}  // namespace
+
+/// The CG limits from the node's CGLinearSolver (read by the ODE solver of its node).
+void read_conjugate_gradient(SceneBuilder& b, const SceneComponent& linear, CGLinearSolver& cg) {
     const Attributes a(linear);
     const std::uint64_t max_iterations = b.options().max_cg_iterations;
     const auto it = a.integer("iterations");
     if (it < 1 || std::uint64_t(it) > max_iterations)
         a.fail("iterations", "must be between 1 and " + std::to_string(max_iterations));
-    s.cg.iterations = int(it);
-    s.cg.tolerance = a.real("tolerance");
-    s.cg.threshold = a.real("threshold");
-    b.role(linear, [p = &s] {
-        return "conjugate gradient of the implicit Euler solver: at most " + std::to_string(p->cg.iterations) +
-               " iterations, tolerance " + num(p->cg.tolerance) + ", threshold " + num(p->cg.threshold);
+    cg.iterations = int(it);
+    cg.tolerance = a.real("tolerance");
+    cg.threshold = a.real("threshold");
+    b.role(linear, [p = &cg] {
+        return "conjugate gradient of the node's ODE solver: at most " + std::to_string(p->iterations) +
+               " iterations, tolerance " + num(p->tolerance) + ", threshold " + num(p->threshold);
     });
 }
+
+namespace {
 
 // ---- EulerImplicitSolver ----------------------------------------------------------------------
 constexpr AttributeSpec kImplicit[] = {
@@ -101,7 +107,8 @@ void build_implicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
         const SceneComponent* linear = nullptr;
         for (const SceneComponent* l : info.physics) {
             if (find_component(l->type)->family != F::linear_solver) continue;
-            read_conjugate_gradient(b, *l, s);
+            if (is_direct_linear_solver(l->type)) s.direct_solver = read_direct_linear_solver(b, *l);
+            else read_conjugate_gradient(b, *l, s.cg);
             linear = l;
             break;
         }
@@ -114,7 +121,8 @@ void build_implicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
             if (p->trapezoidal_scheme) out += ", trapezoidal";
             if (p->newton.enabled)
                 out += ", Newton (at most " + std::to_string(p->newton.max_iterations) + " iterations, contact geometry re-detected)";
-            if (linear == nullptr) out += "; no CGLinearSolver in its node: CG with SOFA's defaults";
+            if (linear == nullptr) out += "; no linear solver in its node: CG with SOFA's defaults";
+            else if (p->direct_solver) out += "; direct linear solver " + linear->type;
             return out;
         });
     });

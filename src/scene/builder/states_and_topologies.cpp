@@ -3,6 +3,8 @@
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 
@@ -36,24 +38,68 @@ void build_mesh_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
 // ---- RegularGridTopology --------------------------------------------------------------------
 constexpr AttributeSpec kRegularGrid[] = {
     {"n", K::indices, "2 2 2", "", ValueCheck::none, "points along x, y, z (1 to 100000 each)"},
-    {"nx", K::integer, "(n[0])", "", ValueCheck::none, "points along x"},
+    {"nx", K::integer, "(n[0])", "", ValueCheck::none, "points along x (read only when nx, ny and nz are all given)"},
     {"ny", K::integer, "(n[1])", "", ValueCheck::none, "points along y"},
     {"nz", K::integer, "(n[2])", "", ValueCheck::none, "points along z"},
-    {"min", K::vector3, "0 0 0", "m", ValueCheck::none, "lower corner"},
+    {"min", K::vector3, "0 0 0", "m", ValueCheck::none, "lower corner (max may be below it)"},
     {"max", K::vector3, "1 1 1", "m", ValueCheck::none, "upper corner"},
-    {"xmin", K::real, "(min[0])", "m", ValueCheck::none, ""},
+    {"p0", K::vector3, "(min; the middle of min and max on x or y when that axis has one point)", "m",
+     ValueCheck::none, "the first point (offsets the grid)"},
+    {"xmin", K::real, "(min[0])", "m", ValueCheck::none,
+     "read only when the six of xmin..zmax are all given, as floats (SOFA's parse)"},
     {"xmax", K::real, "(max[0])", "m", ValueCheck::none, ""},
     {"ymin", K::real, "(min[1])", "m", ValueCheck::none, ""},
     {"ymax", K::real, "(max[1])", "m", ValueCheck::none, ""},
     {"zmin", K::real, "(min[2])", "m", ValueCheck::none, ""},
     {"zmax", K::real, "(max[2])", "m", ValueCheck::none, ""},
+    {"scale", K::real, "1", "", ValueCheck::none, "multiplies xmin..zmax (not min and max), read as a float"},
+    {"computeTriangleList", K::boolean, "1", "", ValueCheck::none,
+     "two triangles per quad, and the edges taken from them (else the edges along the axes)"},
+    {"computeHexaList", K::boolean, "1", "", ValueCheck::none, "0: no hexahedra"},
+    {"computeQuadList", K::boolean, "1", "", ValueCheck::none, "only 1"},
+    {"computeEdgeList", K::boolean, "1", "", ValueCheck::none, "only 1"},
+    {"src", K::link, "", "", ValueCheck::none,
+     "a RegularGridTopology built before: its n, min, max and p0, unless given here (SOFA's src links the Data "
+     "of the same names)"},
 };
+
+/// RegularGridTopology::parse: xmin, ..., zmax replace min and max only when the six are given,
+/// each read with getAttributeAsFloat (strtof) and multiplied by `scale` (a float too); in
+/// double with the quirk fix regular_grid_float_bounds.
+std::optional<std::pair<Vec3, Vec3>> scalar_grid_bounds(const Attributes& a, const SofaQuirkFixes& quirks) {
+    constexpr std::array<std::string_view, 6> kNames{"xmin", "ymin", "zmin", "xmax", "ymax", "zmax"};
+    const auto given = std::count_if(kNames.begin(), kNames.end(), [&](std::string_view n) { return a.has(n); });
+    if (given < 6) return std::nullopt;
+    const bool in_double = quirks.fix_regular_grid_float_bounds;
+    const auto value = [&](std::string_view name, double fallback) {
+        const double v = a.real_or(name, fallback);  // a number, or the attribute's error
+        if (in_double) return v;
+        const float f = std::strtof(a.text(name).c_str(), nullptr);
+        if (!std::isfinite(f))
+            a.fail(name, "'" + a.text(name) + "' is beyond float range, and SOFA reads this attribute as a float "
+                         "(--fix-sofa-quirk regular_grid_float_bounds reads it in double)");
+        return double(f);
+    };
+    const double scale = value("scale", 1.0);
+    std::array<double, 6> v{};
+    for (std::size_t k = 0; k < 6; ++k) v[k] = value(kNames[k], 0.0) * scale;
+    return std::pair{Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5])};
+}
 
 void build_regular_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     info.topology_component = &c;
     b.guarded(c, [&] {
-        std::array<int, 3> n{2, 2, 2};
+        // BaseObject::parse, src: each Data this component does not set takes the linked one's value
+        const RegularGridTopology* source = nullptr;
+        if (a.has("src")) {
+            const io::LinkTarget t = a.link("src");
+            const SceneBuilder::BuiltTopology* built = t.component != nullptr ? b.built_topology(*t.component) : nullptr;
+            if (built == nullptr || !built->grid)
+                a.fail("src", "must link to a RegularGridTopology built before this one");
+            source = &*built->grid;
+        }
+        std::array<int, 3> n = source != nullptr ? source->n() : std::array<int, 3>{2, 2, 2};
         if (a.has("n")) {
             const std::vector<double> v = a.numbers("n");
             if (v.size() != 3) a.fail("n", "expected 3 integers");
@@ -61,22 +107,41 @@ void build_regular_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
                 if (!(x >= 1 && x <= 100000)) a.fail("n", "each count must be between 1 and 100000");
             n = {int(v[0]), int(v[1]), int(v[2])};
         }
-        for (int k = 0; k < 3; ++k) {
-            const std::string axis = std::string("n") + char('x' + k);
-            const std::int64_t count = a.integer_or(axis, n[std::size_t(k)]);
-            if (count < 1 || count > 100000) a.fail(axis, "must be between 1 and 100000");
-            n[std::size_t(k)] = int(count);  // checked before the narrowing cast
+        // GridTopology::parse: nx, ny, nz replace n only when the three are given
+        if (a.has("nx") && a.has("ny") && a.has("nz")) {
+            for (int k = 0; k < 3; ++k) {
+                const std::string axis = std::string("n") + char('x' + k);
+                const std::int64_t count = a.integer_or(axis, n[std::size_t(k)]);
+                if (count < 1 || count > 100000) a.fail(axis, "must be between 1 and 100000");
+                n[std::size_t(k)] = int(count);  // checked before the narrowing cast
+            }
+        } else if (a.has("nx") || a.has("ny") || a.has("nz")) {
+            b.warn(c.describe() + ": nx, ny, nz ignored (SOFA reads them only when the three are given)");
         }
         const auto points = std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
         if (points > b.options().max_dofs)
             io::throw_element_error(c, std::to_string(points) + " grid points (more than " +
                                            std::to_string(b.options().max_dofs) + ")");
-        Vec3 lo = a.vector3("min"), hi = a.vector3("max");
-        lo = Vec3(a.real_or("xmin", lo.x()), a.real_or("ymin", lo.y()), a.real_or("zmin", lo.z()));
-        hi = Vec3(a.real_or("xmax", hi.x()), a.real_or("ymax", hi.y()), a.real_or("zmax", hi.z()));
-        info.grid.emplace(n, lo, hi);
+        Vec3 lo = source != nullptr && !a.has("min") ? source->min() : a.vector3("min");
+        Vec3 hi = source != nullptr && !a.has("max") ? source->max() : a.vector3("max");
+        std::optional<Vec3> p0 = a.optional_vector3("p0");
+        const auto bounds = scalar_grid_bounds(a, b.options().sofa_quirk_fixes);
+        if (source != nullptr && !p0 && !bounds && !a.has("n") && !a.has("nx") && !a.has("min") && !a.has("max"))
+            p0 = source->origin();  // the same grid: its first point
+        if (bounds) {
+            lo = bounds->first;
+            hi = bounds->second;
+        } else if (a.has("xmin") || a.has("xmax") || a.has("ymin") || a.has("ymax") || a.has("zmin") || a.has("zmax")) {
+            b.warn(c.describe() +
+                   ": xmin..zmax ignored (SOFA reads them only when the six are given); min and max used");
+        }
+        info.grid.emplace(n, lo, hi, p0);
         info.topology_positions = info.grid->points();
-        auto t = std::make_unique<MeshTopology>(info.grid->mesh(false));
+        for (const char* flag : {"computeQuadList", "computeEdgeList"})
+            if (!a.boolean(flag)) a.fail(flag, "only 1 is supported");
+        // GridTopology::GridUpdate::doUpdate (run as soon as a list is read, SOFA's init reading the
+        // hexahedra): hexahedra, quads, two triangles per quad, then the edges of the triangles
+        auto t = std::make_unique<MeshTopology>(info.grid->mesh(a.boolean("computeTriangleList"), a.boolean("computeHexaList")));
         info.topology = b.add_topology(std::move(t));
     });
     b.role(c, [g = &*info.grid, t = info.topology] {
@@ -166,6 +231,12 @@ void fill_rigid_state(SceneBuilder& b, const Attributes& a, const NodeBuild& inf
         for (std::size_t i = 0; i < v.size(); i += 6)
             s.velocity.push_back(RigidDeriv{Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])});
     }
+    // MechanicalObject<Rigid3>::init: a state without positions takes its topology's points as the
+    // frames' centres (orientation identity), as the Vec3d one does
+    if (s.position.empty() && s.rest_position.empty() && !a.has("size") && !info.topology_positions.empty()) {
+        for (const Vec3& p : info.topology_positions) s.position.push_back(RigidFrame{p, Quat::Identity()});
+        if (s.velocity.size() == 1) s.velocity.assign(s.position.size(), s.velocity.front());
+    }
     if (s.position.empty() && s.rest_position.empty() && !info.mapped) s.position.assign(dof_count(b, a), RigidFrame{});
 }
 
@@ -195,9 +266,43 @@ void fill_vec3_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info
                                                    std::to_string(b.options().max_dofs) + ")");
 }
 
+/// A Vec1d state (a distance mapping's output): `position` numbers, else `size` zeros, else one
+/// (none when mapped: its mapping sizes it).
+void fill_vec1_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info, Vec1Object& s) {
+    if (a.has("position")) {
+        if (a.is_link("position")) a.fail("position", "a Vec1d state takes numbers, not a link");
+        s.position = a.numbers("position");
+    } else if (a.has("size")) {
+        s.position.assign(dof_count(b, a), 0.0);
+    } else if (!info.mapped) {
+        s.position.assign(1, 0.0);
+    }
+    if (a.has("velocity")) s.velocity = a.numbers("velocity");
+    if (a.has("rest_position")) {
+        if (a.is_link("rest_position")) a.fail("rest_position", "a Vec1d state takes numbers, not a link");
+        s.rest_position = a.numbers("rest_position");
+    }
+}
+
+bool is_vec1_template(std::string_view name) { return name == "Vec1" || name == "Vec1d" || name == "Vec1f"; }
+
 void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     info.state_component = &c;
+    if (is_vec1_template(c.template_name)) {
+        const std::string name = c.name.empty() ? sofa_default_name(c) : c.name;
+        b.guarded(c, [&] {
+            auto& s = info.node->add_state<Vec1Types>(name);
+            fill_vec1_state(b, a, info, s);
+            s.init();
+        });
+        b.role(c, [st = info.node->state(), mapped = info.mapped] {
+            return "Vec1d state, " + counted(st->num_dofs(), "DOF", "DOFs") + (mapped ? "; mapped" : "") +
+                   " (not exported)";
+        });
+        b.note_unread_attributes(c);
+        return;
+    }
     const bool rigid = is_rigid_template(c, c.template_name);
     const std::string name = c.name.empty() ? sofa_default_name(c) : c.name;
     Node& node = *info.node;
@@ -235,7 +340,7 @@ void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild
 constexpr ComponentSpec kComponents[] = {
     {.type = "MechanicalObject",
      .family = F::state,
-     .summary = "state (Vec3d or Rigid3d)",
+     .summary = "state (Vec3d, Rigid3d, or Vec1d for a distance mapping's output)",
      .attributes = kMechanicalObject,
      .build = build_mechanical_object},
     {.type = "MeshTopology",

@@ -149,6 +149,7 @@ void replace_output(SceneBuilder& b, const SceneComponent& c, NodeBuild& output,
     (void)t->edges();  // checks indices now
     output.topology_positions.clear();
     output.topology = b.add_topology(std::move(t));
+    b.record_built_topology(output);
     b.role(c, [&output] { return "fills " + output.topology_component->describe() + ": " +
                                  element_counts(output.topology->num_points(), *output.topology); });
 }

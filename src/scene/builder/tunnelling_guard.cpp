@@ -45,6 +45,11 @@ void build_tunnelling_guard(SceneBuilder& b) {
     }
     if (b.options().no_tunnelling) options.mode = *b.options().no_tunnelling;
     if (options.mode == TunnellingMode::off) return;
+    if (b.simulation().collision_steps() != 1 || b.simulation().integration_steps() != 1) {
+        const std::string why = "the tunnelling guard checks single steps, not a MultiStepAnimationLoop's";
+        if (from != nullptr && !b.options().no_tunnelling) Attributes(*from).fail("noTunnelling", why);
+        throw io::SceneError(b.file().path.string() + ": --no-tunnelling " + tunnelling_mode_name(options.mode) + ": " + why);
+    }
     b.scene().set_tunnelling(options);
     if (from != nullptr) {
         const std::string mode = tunnelling_mode_name(options.mode);

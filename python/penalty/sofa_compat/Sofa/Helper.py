@@ -1,20 +1,10 @@
-"""Sofa.Helper: the message functions (printed on stderr)."""
-import sys
-
-
-def _message(kind):
-    def emit(*args):
-        print(f"[{kind}] " + " ".join(str(a) for a in args), file=sys.stderr)
-    return emit
-
-
-msg_info = _message("INFO")
-msg_warning = _message("WARNING")
-msg_error = _message("ERROR")
-msg_deprecated = _message("DEPRECATED")
+"""Sofa.Helper: msg_info, msg_warning, msg_error, msg_deprecated, msg_fatal, MessageHandler
+(penalty's SofaPython3, penalty/sofa_api/helper.py)."""
+from penalty.sofa_api.helper import (MessageHandler, msg_deprecated, msg_error, msg_fatal, msg_info,  # noqa: F401
+                                     msg_warning)
 
 
 def __getattr__(name):
     if name.startswith("__"):
         raise AttributeError(name)
-    raise NotImplementedError(f"Sofa.Helper.{name} is not supported by penalty's SofaPython3 subset (see docs/python.md)")
+    raise AttributeError(f"Sofa.Helper.{name} is not available in penalty's SofaPython3 (see docs/python.md)")

@@ -1,9 +1,16 @@
-"""penalty's stand-in for SofaPython3's `Sofa` package (the subset scene scripts use).
+"""penalty's stand-in for SofaPython3's `Sofa` package (penalty/sofa_api, docs/python.md).
 
-Put penalty.sofa_path first on sys.path to use it (penalty.load_scene and `penalty run scene.py`
-do). Anything outside the subset raises NotImplementedError naming the call.
+penalty.load_scene, `penalty run scene.py` and `python3 -m penalty` put this folder first on
+sys.path; an installed penalty appends it to sys.path (a real SofaPython3, if installed, comes
+first). A module of SofaPython3 or of a SOFA plugin penalty lacks imports, and fails when used
+with an ImportError naming it.
 """
-from . import Core, Helper, Simulation  # noqa: F401
+from penalty.sofa_api import unavailable as _unavailable
+
+_unavailable.install()
+
+from . import Core, Gui, Helper, Simulation, constants  # noqa: E402,F401
+from penalty.sofa_api import import_sofa_python_scene  # noqa: E402,F401
 
 __penalty__ = True
 
@@ -11,4 +18,5 @@ __penalty__ = True
 def __getattr__(name):
     if name.startswith("__"):
         raise AttributeError(name)
-    raise NotImplementedError(f"Sofa.{name} is not supported by penalty's SofaPython3 subset (see docs/python.md)")
+    import importlib
+    return importlib.import_module(f"Sofa.{name}")  # an UnavailableModule (sofa_api/unavailable.py)

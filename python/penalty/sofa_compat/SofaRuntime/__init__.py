@@ -1,12 +1,11 @@
-"""SofaRuntime: plugin loading is accepted and does nothing (penalty has every component built in)."""
+"""SofaRuntime: importPlugin (every component is built in), Timer (penalty/sofa_api/runtime.py)."""
+from penalty.sofa_api import unavailable as _unavailable
+from penalty.sofa_api.runtime import Timer, importPlugin, unloadModules  # noqa: F401
 
-
-def importPlugin(name):
-    """Accepted for any SOFA plugin name: penalty's components need no plugin."""
-    return True
+_unavailable.install()
 
 
 def __getattr__(name):
     if name.startswith("__"):
         raise AttributeError(name)
-    raise NotImplementedError(f"SofaRuntime.{name} is not supported by penalty's SofaPython3 subset (see docs/python.md)")
+    raise AttributeError(f"SofaRuntime.{name} is not available in penalty's SofaPython3 (see docs/python.md)")

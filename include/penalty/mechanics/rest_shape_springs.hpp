@@ -1,0 +1,93 @@
+#pragma once
+/// @file
+/// SOFA's RestShapeSpringsForceField for Vec3d and Rigid3d: zero-length springs pulling points to
+/// their rest shape (the state's rest positions, or the current positions of an external state).
+
+#include "penalty/mechanics/force_field.hpp"
+
+#include <array>
+#include <vector>
+
+namespace penalty {
+
+/// RestShapeSpringsForceField<DataTypes> (SOFA's RestShapeSpringsForceField::addForce, addDForce,
+/// addKToMatrix, buildStiffnessMatrix). Spring i pulls point p = points[i] (all points when the
+/// list is empty) toward its anchor a: the rest position of p, or, with an external rest shape,
+/// the current position of external_points[i] (all points of the external state when empty) of
+/// that state. With k = stiffness[i] (stiffness[0] when the list is shorter; default 100 N/m) and
+/// the inactive directions zeroed in d = x_p − a:
+///   Vec3:   f_p −= k·d,  df_p −= kFactor·k·dx_p (filtered),  E = ½ k |d|²;
+///   Rigid3: linear part as Vec3 on the centres; angular: the rotation q_p·q_a⁻¹ (normalised,
+///           w ≥ 0) as axis u and angle θ (SOFA's quatToAxis), u filtered by the active rotation
+///           directions, torque −ka·θ·u, dtorque −kFactor·ka·dω (filtered), E += ½ ka θ²
+///           (ka = angularStiffness[i], default 100; K's angular block −ka·I is exact at θ = 0).
+/// The anchor does not move with dx: K = −k·I (filtered) on p's diagonal only.
+template <class DataTypes>
+class RestShapeSpringsForceField final : public ForceField<DataTypes> {
+public:
+    using Coord = typename DataTypes::Coord;
+    using Deriv = typename DataTypes::Deriv;
+    static constexpr int kDirections = DataTypes::kDerivSize;  ///< 3 (Vec3), 6 (Rigid3: x y z rx ry rz)
+
+    explicit RestShapeSpringsForceField(MechanicalObject<DataTypes>& state) : ForceField<DataTypes>(state) {}
+
+    /// Points of the state (empty: all).
+    void set_points(std::vector<Index> points) { points_ = std::move(points); }
+    /// N/m, each finite and >= 0; empty: {100}.
+    void set_stiffness(std::vector<double> stiffness);
+    /// Rigid3: N·m/rad, each finite and >= 0; padded with 100 (or cut) to the stiffness count.
+    void set_angular_stiffness(std::vector<double> stiffness);
+    /// Directions in which the springs act (translation, then rotation for Rigid3).
+    void set_active_directions(const std::array<bool, kDirections>& active) { active_ = active; }
+    /// Anchors at the current positions of `external` (points external_points, all when empty)
+    /// instead of the rest positions.
+    void set_external_rest_shape(const MechanicalObject<DataTypes>* external, std::vector<Index> external_points);
+    /// SOFA HEAD's buildStiffnessMatrix (the assembled matrix direct solvers use) takes the
+    /// stiffness of spring i from stiffness[p] (the point's index, not the spring's) and ignores
+    /// the inactive translation directions; addDForce and the older addKToMatrix do not. true
+    /// (SOFA, the default): add_stiffness_triplets reproduces that; false: the matrix of addDForce.
+    void set_sofa_assembly(bool sofa) { sofa_assembly_ = sofa; }
+
+    /// Resolves the point lists and checks them against the states (std::invalid_argument).
+    void init() override;
+
+    void add_force(std::span<Deriv> f, std::span<const Coord> x, std::span<const Deriv> v) override;
+    void add_dforce(std::span<Deriv> df, std::span<const Deriv> dx, double k_factor, double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
+    /// ½ Σ k |d|² (+ ½ Σ ka θ² for Rigid3) at the last add_force (SOFA returns 0).
+    [[nodiscard]] double potential_energy() const override { return energy_; }
+    [[nodiscard]] bool list_dx_read(const BaseState& state, std::vector<std::uint32_t>& rows) const override;
+    /// The external rest shape, when there is one (its positions are read).
+    void list_read_states(std::vector<const BaseState*>& out) const override {
+        if (external_ != nullptr) out.push_back(external_);
+    }
+    [[nodiscard]] const std::vector<Index>& points() const { return indices_; }
+    [[nodiscard]] const MechanicalObject<DataTypes>* external_rest_shape() const { return external_; }
+
+private:
+    [[nodiscard]] double stiffness_of(std::size_t spring) const {
+        return stiffness_[spring < stiffness_.size() ? spring : 0];
+    }
+    [[nodiscard]] double angular_stiffness_of(std::size_t spring) const {
+        return angular_stiffness_[spring < angular_stiffness_.size() ? spring : 0];
+    }
+    std::vector<Index> points_;
+    std::vector<Index> external_points_;
+    std::vector<Index> indices_;           ///< resolved points
+    std::vector<Index> anchor_indices_;    ///< resolved anchors (in the external state, or = indices_)
+    std::vector<double> stiffness_{100.0};
+    std::vector<double> angular_stiffness_;
+    std::array<bool, kDirections> active_ = [] {
+        std::array<bool, kDirections> a{};
+        a.fill(true);
+        return a;
+    }();
+    const MechanicalObject<DataTypes>* external_ = nullptr;
+    bool sofa_assembly_ = true;
+    double energy_ = 0.0;
+};
+
+extern template class RestShapeSpringsForceField<Vec3Types>;
+extern template class RestShapeSpringsForceField<Rigid3Types>;
+
+}  // namespace penalty

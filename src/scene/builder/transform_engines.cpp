@@ -1,0 +1,197 @@
+// Data engines that transform or merge points (SOFA's Sofa/Component/Engine/Transform and
+// Generate): TransformEngine, TransformPosition, MergePoints. Each reads its input points (inline or a link, `@[-1].position`), computes its
+// output once (the scenes are static: SOFA's engines recompute only when an input changes) and
+// records it as `output_position`, which a MechanicalObject, a topology or another engine reads
+// through a link. Formulas: include/penalty/mechanics/transform_engines.hpp and
+// docs/components/data_engines.md.
+#include "penalty/io/data_path.hpp"
+#include "penalty/mechanics/transform_engines.hpp"
+#include "scene/builder/families.hpp"
+#include "scene/builder/scene_builder.hpp"
+
+namespace penalty::scene::builder {
+
+namespace {
+
+using io::SceneComponent;
+using K = AttributeKind;
+using F = ComponentFamily;
+
+/// The points of `name` (inline, or a link to positions), or those of `alias` when only it is set.
+std::vector<Vec3> input_points(SceneBuilder& b, const Attributes& a, std::string_view name, std::string_view alias) {
+    const std::string_view used = !a.has(name) && !alias.empty() && a.has(alias) ? alias : name;
+    if (!a.has(used)) io::throw_element_error(a.component(), "needs its input points: give `" + std::string(name) + "`");
+    return a.is_link(used) ? b.linked_positions(a, used) : a.points(used);
+}
+
+void require_vec3(const SceneComponent& c) {
+    if (is_rigid_template(c, c.template_name))
+        io::throw_element_error(c, "template '" + c.template_name + "' is not supported (Vec3d points only)");
+}
+
+void record_points(SceneBuilder& b, const SceneComponent& c, std::initializer_list<const char*> names,
+                   const std::vector<Vec3>& points) {
+    for (const char* name : names) {
+        io::MeshData mesh;
+        mesh.positions = points;
+        b.record_engine_mesh(c, name, std::move(mesh));
+    }
+}
+
+// ---- TransformEngine ------------------------------------------------------------------------
+// Defaults: TransformEngine's constructor.
+constexpr AttributeSpec kTransformEngine[] = {
+    {"input_position", K::points, "", "m", ValueCheck::none, "points to transform (inline or a link)"},
+    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, "applied last"},
+    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, R = Rz·Ry·Rx, after the scale"},
+    {"quaternion", K::numbers, "0 0 0 1", "", ValueCheck::none, "qx qy qz qw, applied after `rotation`"},
+    {"scale", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis factors, applied first"},
+    {"inverse", K::boolean, "0", "", ValueCheck::none, "apply the inverse transformation"},
+};
+
+void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
+    const Attributes a(c);
+    require_vec3(c);
+    std::vector<Vec3> out;
+    b.guarded(c, [&] {
+        TransformEngineParameters p;
+        p.translation = a.vector3("translation");
+        p.rotation_deg = a.vector3("rotation");
+        p.scale = a.vector3("scale");
+        p.inverse = a.boolean("inverse");
+        if (a.has("quaternion")) {
+            const std::vector<double> q = a.numbers("quaternion");
+            if (q.size() != 4) a.fail("quaternion", "expected 4 numbers (qx qy qz qw)");
+            p.quaternion = Quat(q[3], q[0], q[1], q[2]);
+        }
+        if (p.inverse && (p.scale[0] == 0 || p.scale[1] == 0 || p.scale[2] == 0))
+            a.fail("scale", "a zero factor has no inverse");
+        out = transform_engine(input_points(b, a, "input_position", ""), p);
+    });
+    record_points(b, c, {"output_position"}, out);
+    b.role(c, [n = out.size()] { return "transforms " + counted(n, "point", "points") + " (output_position)"; });
+    b.note_unread_attributes(c);
+}
+
+// ---- TransformPosition ----------------------------------------------------------------------
+constexpr AttributeSpec kTransformPosition[] = {
+    {"input_position", K::points, "", "m", ValueCheck::none, "points to transform (inline or a link)"},
+    {"inputPosition", K::points, "", "m", ValueCheck::none, "alias of input_position"},
+    {"method", K::text, "projectOnPlane", "", ValueCheck::none,
+     "projectOnPlane, translation, rotation, scale, scaleTranslation, scaleRotationTranslation, affine, fromFile"},
+    {"origin", K::vector3, "0 0 0", "m", ValueCheck::none, "a point of the plane; the centre of `scale`"},
+    {"normal", K::vector3, "0 0 0", "", ValueCheck::none, "the plane's normal (normalised)"},
+    {"translation", K::vector3, "0 0 0", "m", ValueCheck::none, ""},
+    {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, R = Rz·Ry·Rx"},
+    {"scale", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis factors"},
+    {"matrix", K::numbers, "(identity)", "", ValueCheck::none, "4x4 affine matrix, row by row (method affine)"},
+    {"filename", K::text, "", "", ValueCheck::none, "the affine matrix (method fromFile): .tfm, .trm, .xfm, .txt"},
+    {"fixedIndices", K::indices, "", "", ValueCheck::none, "points that keep their input position"},
+    {"drawInput", K::boolean, "0", "", ValueCheck::none, "display only"},
+    {"drawOutput", K::boolean, "0", "", ValueCheck::none, "display only"},
+    {"pointSize", K::real, "1", "", ValueCheck::none, "display only"},
+};
+
+TransformPositionMethod position_method(const Attributes& a, SceneBuilder& b, Eigen::Matrix4d& matrix) {
+    using M = TransformPositionMethod;
+    const std::string method = a.text("method");
+    if (method == "projectOnPlane") return M::project_on_plane;
+    if (method == "translation") return M::translation;
+    if (method == "rotation") return M::rotation;
+    if (method == "scale") return M::scale;
+    if (method == "scaleTranslation") return M::scale_translation;
+    if (method == "scaleRotationTranslation") return M::scale_rotation_translation;
+    if (method == "affine") return M::affine;
+    if (method == "fromFile") {
+        if (!a.has("filename")) a.fail("filename", "method fromFile needs a file");
+        try {
+            matrix = read_affine_transform_file(io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
+        } catch (const std::exception& e) {  // not found (io::LoadError), or not a transformation
+            a.fail("filename", e.what());
+        }
+        return M::affine;
+    }
+    if (method == "random")
+        a.fail("method", "'random' is not supported (SOFA's RandomGenerator sequence is not reproduced)");
+    a.fail("method", "unknown method '" + method + "'");
+}
+
+void build_transform_position(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
+    const Attributes a(c);
+    require_vec3(c);
+    std::vector<Vec3> out;
+    b.guarded(c, [&] {
+        TransformPositionParameters p;
+        if (a.has("matrix")) {
+            const std::vector<double> m = a.numbers("matrix");
+            if (m.size() != 16) a.fail("matrix", "expected 16 numbers (a 4x4 matrix, row by row)");
+            for (int r = 0; r < 4; ++r)
+                for (int k = 0; k < 4; ++k) p.matrix(r, k) = m[std::size_t(4 * r + k)];
+        }
+        p.method = position_method(a, b, p.matrix);
+        p.origin = a.vector3("origin");
+        p.normal = a.vector3("normal");
+        if (p.method == TransformPositionMethod::project_on_plane && p.normal == Vec3::Zero())
+            a.fail("normal", "method projectOnPlane needs a non-zero normal");
+        p.translation = a.vector3("translation");
+        p.rotation_deg = a.vector3("rotation");
+        p.scale = a.vector3("scale");
+        if (a.has("fixedIndices")) p.fixed_indices = b.indices(a, "fixedIndices");
+        out = transform_position(input_points(b, a, "input_position", "inputPosition"), p);
+    });
+    record_points(b, c, {"output_position", "outputPosition"}, out);
+    b.role(c, [n = out.size(), method = a.text("method")] {
+        return "transforms " + counted(n, "point", "points") + " by method " + method + " (output_position)";
+    });
+    b.note_unread_attributes(c);
+}
+
+// ---- MergePoints ----------------------------------------------------------------------------
+constexpr AttributeSpec kMergePoints[] = {
+    {"position1", K::points, "", "m", ValueCheck::none, "the first points (inline or a link)"},
+    {"position2", K::points, "", "m", ValueCheck::none, "the second points"},
+    {"mappingX2", K::indices, "", "", ValueCheck::none, "indices in position1 where position2's points go"},
+    {"noUpdate", K::boolean, "0", "", ValueCheck::none, "penalty computes the output once in any case"},
+    {"indices1", K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"},
+    {"indices2", K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"},
+    {"points", K::points, "", "m", ValueCheck::none, "output (a written value is replaced)"},
+};
+
+void build_merge_points(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
+    const Attributes a(c);
+    require_vec3(c);
+    MergedPoints out;
+    b.guarded(c, [&] {
+        const auto points_of = [&](std::string_view name) {
+            if (!a.has(name)) return std::vector<Vec3>{};
+            return a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
+        };
+        const std::vector<Vec3> x1 = points_of("position1");
+        const std::vector<Vec3> x2 = points_of("position2");
+        std::vector<PointId> mapping;
+        if (a.has("mappingX2")) mapping = b.indices(a, "mappingX2");
+        out = merge_points(x1, x2, std::move(mapping));
+    });
+    record_points(b, c, {"points"}, out.points);
+    b.record_engine_indices(c, "indices1", out.indices1);
+    b.record_engine_indices(c, "indices2", out.indices2);
+    b.role(c, [n = out.points.size()] { return "merges into " + counted(n, "point", "points") + " (points)"; });
+    b.note_unread_attributes(c);
+}
+
+constexpr ComponentSpec kComponents[] = {
+    {.type = "MergePoints", .family = F::data_engine, .summary = "merges two point lists (appended, or injected)",
+     .attributes = kMergePoints, .build = build_merge_points},
+    {.type = "TransformEngine", .family = F::data_engine,
+     .summary = "scales, rotates and translates points (output_position)", .attributes = kTransformEngine,
+     .build = build_transform_engine},
+    {.type = "TransformPosition", .family = F::data_engine,
+     .summary = "transforms points by one method: plane projection, translation, rotation, scale, affine matrix",
+     .attributes = kTransformPosition, .build = build_transform_position},
+};
+
+}  // namespace
+
+std::span<const ComponentSpec> transform_engine_components() { return kComponents; }
+
+}  // namespace penalty::scene::builder

@@ -1,0 +1,47 @@
+#pragma once
+// What a scene keeps of the writes of its Data after init (Scene::LiveEdits; live_writes.cpp).
+#include "penalty/scene/scene.hpp"
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace penalty::scene {
+
+struct Scene::LiveEdits {
+    /// A write already in the scene's text, taken by the next rebuild; `old` undoes it.
+    struct Applied {
+        DataOwner owner;
+        std::string name;
+        std::optional<std::string> old;
+    };
+    std::vector<Applied> applied;
+    /// Writes waiting for their component's reinit(), by (owner path, node?) then Data name.
+    std::map<std::pair<std::string, bool>, std::map<std::string, std::string, std::less<>>> at_reinit;
+    /// Components or nodes added or removed since the last build.
+    bool structure_changed = false;
+    /// A rebuild is due before the next step.
+    bool rebuild = false;
+    /// Inside Scene::step (SOFA's events of the collision phase run there): a rebuild waits for
+    /// the next step, the simulation being stepped cannot be replaced.
+    bool stepping = false;
+    std::uint64_t generation = 0;
+    /// Components and nodes added after init, for undoing them when the rebuild fails.
+    std::vector<std::pair<const io::SceneNode*, const io::SceneElement*>> added;
+    /// SOFA's delay of a root gravity written after init (Scene::set_gravity_write_delay): the
+    /// root's child nodes keep their gravity, by path, until the end of the next step.
+    std::map<std::string, Vec3> delayed_gravity;
+    bool gravity_write_delay = true;
+    /// Scenes replaced by a rebuild that changed the list of states (nodes added or removed): kept
+    /// until this scene goes, so that what pointed to their state records during a run (the
+    /// writers of Scene's run) stays valid.
+    std::vector<std::unique_ptr<Scene>> retired;
+    /// Components and nodes removed after init: left out of the next build.
+    std::set<const io::SceneElement*> removed;
+};
+
+}  // namespace penalty::scene

@@ -1,0 +1,6 @@
+import sys
+
+
+def createScene(root):
+    root.addObject("DefaultAnimationLoop")
+    sys.exit(0)

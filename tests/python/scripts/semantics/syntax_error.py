@@ -1,0 +1,3 @@
+def createScene(root):
+    root.addObject("DefaultAnimationLoop")
+      root.addChild("A")
