@@ -57,7 +57,7 @@ setup(
     version=project_version(),
     packages=["penalty"],
     package_dir={"": "python"},
-    package_data={"penalty": ["sofa_compat/Sofa/*.py", "sofa_compat/SofaRuntime/*.py"]},
+    package_data={"penalty": ["py.typed", "_core.pyi", "sofa_compat/Sofa/*.py", "sofa_compat/SofaRuntime/*.py"]},
     ext_modules=[Extension("penalty._core", sources=[])],
     cmdclass={"build_ext": CMakeBuild},
     options={"build": {"build_base": "build/setuptools"}, "egg_info": {"egg_base": "build/setuptools"}},

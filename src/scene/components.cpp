@@ -246,7 +246,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::transform_engine_components(),
               builder::selection_engine_components(),
               builder::frame_mapping_components(),
-              builder::corotational_fem_components(), builder::python_components(),
+              builder::python_components(),
               builder::projective_constraint_components(),
               builder::rigid_force_field_components(),
               builder::shell_force_field_components(),
@@ -427,7 +427,11 @@ std::vector<std::string> detach_unresolved_data_links(io::SceneFile& scene) {
         if (spec == nullptr || category_of(spec->family) != ComponentCategory::physics) continue;
         for (auto a = c->attributes.begin(); a != c->attributes.end();) {
             const std::string_view value = trimmed(a->value);
-            if (!io::is_link(a->value) || value.find_first_of(" \t\r\n") != std::string_view::npos || !is_data_link(value)) {
+            // a region's points keep their link: SOFA's Data is then set and empty, so the region
+            // does not fall back to its state's points (BoxROI::init tests d_X0.isSet(); roi_points)
+            const bool region_points = spec->family == F::engine && (a->name == "position" || a->name == "rest_position");
+            if (!io::is_link(a->value) || value.find_first_of(" \t\r\n") != std::string_view::npos || !is_data_link(value) ||
+                region_points) {
                 ++a;
                 continue;
             }

@@ -30,13 +30,12 @@ constexpr AttributeSpec kSparseGrid[] = {
      "build the grid from a voxelisation 2^levels times finer (SparseGridTopology::buildVirtualFinerLevels)"},
 };
 
-/// SparseGridRamificationTopology's own Data: with finestConnectivity 0 and no virtual finer level
-/// it builds exactly SparseGridTopology's grid (SparseGridRamificationTopology::buildAsFinest adds
+/// SparseGridRamificationTopology's own Data (nbVirtualFinerLevels is SparseGridTopology's): with
+/// finestConnectivity 0 and no virtual finer level it builds exactly SparseGridTopology's grid (SparseGridRamificationTopology::buildAsFinest adds
 /// nothing then); the ramified grids are refused.
 constexpr AttributeSpec kSparseGridRamification[] = {
     {"finestConnectivity", K::boolean, "1", "", ValueCheck::none,
      "split cells by the surface's connected parts (only 0: ramified grids are not supported)"},
-    {"nbVirtualFinerLevels", K::integer, "0", "", ValueCheck::none, "virtual finer levels (only 0)"},
 };
 
 /// The surface to voxelise: `fileTopology` (an .obj), else `position` with `triangles` and `quads`
