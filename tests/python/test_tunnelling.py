@@ -105,3 +105,48 @@ def test_command_line(ball_scene, capsys):
     assert "tunnelling guard (warn): 1 crossings in 1 steps" in out
     assert main(["info", str(ball_scene()), "--contact-advice", "--impact-speed", "50"]) == 0
     assert "smallest contact stiffness" in capsys.readouterr().out
+
+
+def _sofa_ball(guard):
+    from penalty import sofa_api
+    root = sofa_api.Node("root")
+    root.gravity = [0, -9.81, 0]
+    root.dt = 0.005
+    root.addObject("DefaultAnimationLoop")
+    root.addObject("CollisionPipeline", name="pipeline", noTunnelling=guard)
+    root.addObject("BruteForceBroadPhase")
+    root.addObject("BVHNarrowPhase")
+    root.addObject("NewProximityIntersection", alarmDistance=0.05, contactDistance=0.02)
+    root.addObject("CollisionResponse", response="PenalityContactForceField")
+    sheet = root.addChild("Sheet")
+    sheet.addObject("MeshTopology", position=[[-0.5, 0, -0.5], [0.5, 0, -0.5], [0.5, 0, 0.5], [-0.5, 0, 0.5]],
+                    triangles=[[0, 2, 1], [0, 3, 2]])
+    sheet.addObject("MechanicalObject", name="sheet")
+    sheet.addObject("TriangleCollisionModel", name="sheet_triangles", simulated=False, moving=False, contactStiffness=20)
+    ball = root.addChild("Ball")
+    ball.addObject("EulerImplicitSolver", rayleighStiffness=0, rayleighMass=0)
+    ball.addObject("CGLinearSolver", iterations=200, tolerance=1e-12, threshold=1e-20)
+    ball.addObject("MechanicalObject", name="ball", position=[0.03, 0.6, 0.04], velocity=[0, -50, 0])
+    ball.addObject("UniformMass", name="mass", totalMass=1.0)
+    ball.addObject("SphereCollisionModel", name="ball_sphere", radius=0.1, contactStiffness=20)
+    sofa_api.init(root)
+    return root
+
+
+@pytest.mark.parametrize("guard", ["warn", "substep"])
+def test_the_guard_survives_a_live_write_that_rebuilds_the_scene(guard):
+    """A Data written after init rebuilds the scene at the next step (live_writes.cpp): the guard
+    comes with the new simulation and pipelines, with the mode set at run time."""
+    from penalty import sofa_api
+    root = _sofa_ball(guard)
+    scene = root._penalty_scene
+    sofa_api.animate(root, root.dt.value)
+    root.Ball.mass.totalMass.value = 1.5  # a write: the next step runs a rebuilt scene
+    crossings = 0
+    for _ in range(20):
+        sofa_api.animate(root, root.dt.value)
+        crossings += len(scene.tunnelling()["crossings"])
+    assert scene.no_tunnelling == guard
+    assert crossings == (1 if guard == "warn" else 0)
+    y = root.Ball.ball.position.value[0, 1]
+    assert (y < 0.0) if guard == "warn" else (y > 0.0)

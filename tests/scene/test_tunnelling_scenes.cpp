@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <string>
 
 namespace {
@@ -258,6 +259,32 @@ TEST(TunnellingScenes, BadAttributesNameThemselves) {
     EXPECT_THROW((void)build_guarded(tun::ball_on_sheet_xml(b)), io::SceneError);
     b.guard = "stiffen\" noTunnellingStiffenFraction=\"1.5";
     EXPECT_THROW((void)build_guarded(tun::ball_on_sheet_xml(b)), io::SceneError);
+}
+
+TEST(TunnellingScenes, AMultiStepLoopTakesNoGuard) {
+    // the guard redoes single steps: MultiStepAnimationLoop with a guard is refused, naming the
+    // attribute or the option; the loop alone builds and steps
+    tun::BallOnSheet b;
+    b.guard = "warn";
+    std::string xml = tun::ball_on_sheet_xml(b);
+    const std::string loop = "<DefaultAnimationLoop/>";
+    ASSERT_NE(xml.find(loop), std::string::npos);
+    xml.replace(xml.find(loop), loop.size(), "<MultiStepAnimationLoop collisionSteps=\"2\" integrationSteps=\"1\"/>");
+    for (const std::optional<TunnellingMode> mode : {std::optional<TunnellingMode>{}, std::optional(TunnellingMode::substep)}) {
+        try {
+            (void)build_guarded(xml, mode);
+            ADD_FAILURE() << "no error";
+        } catch (const io::SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(mode ? "--no-tunnelling substep" : "noTunnelling"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("MultiStepAnimationLoop"), std::string::npos) << e.what();
+        }
+    }
+    auto plain = build_guarded(xml, TunnellingMode::off);
+    plain->step();
+    EXPECT_EQ(plain->tunnelling_report(), nullptr);
+    TunnellingOptions warn;
+    warn.mode = TunnellingMode::warn;
+    EXPECT_THROW(plain->set_tunnelling(warn), std::invalid_argument);
 }
 
 // ---- the advice --------------------------------------------------------------------------------------
