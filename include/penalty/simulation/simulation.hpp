@@ -113,6 +113,7 @@ public:
     void integrate(double dt);
 
 private:
+    void solve_in_arena(double dt);  ///< solve()'s body, in the simulation's arena when it has one
     std::vector<ContactStage*> contact_stages_;
     StepDriver* step_driver_ = nullptr;
     /// One entry of a step's solve phase, in depth-first order: a solver node (integrates its
