@@ -41,8 +41,15 @@ async function loadRun() {
   const contactOffset = new Array(frames + 1);
   contactOffset[0] = 0;
   for (let f = 0; f < frames; f++) contactOffset[f + 1] = contactOffset[f] + run.frames.contacts[f] * run.contact_floats;
+  // Tunnelling-guard crossings (docs/no-tunnelling.md), when the run has some: 3 floats each.
+  let crossings = new Float32Array(0);
+  const crossingOffset = new Array(frames + 1).fill(0);
+  if (run.frames.crossings) {
+    crossings = new Float32Array(await fetchChecked('crossings.f32'));
+    for (let f = 0; f < frames; f++) crossingOffset[f + 1] = crossingOffset[f] + 3 * run.frames.crossings[f];
+  }
   return { run, topology: new Uint32Array(topology), positions: positionArray, contacts: new Float32Array(contacts),
-           contactOffset };
+           contactOffset, crossings, crossingOffset };
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -406,6 +413,14 @@ class Viewer {
     this.forceScale = forceScale(data.contacts, run.contact_floats, run.max_normal_force);
     this.contacts = new ContactView(maxContacts, this.forceScale, 0.05 * diagonal);
     this.scene.add(this.contacts.group);
+    // crossings of the tunnelling guard: red markers where features passed through each other
+    const crossingCount = (run.frames.crossings || []).reduce((a, b) => Math.max(a, b), 1);
+    this.crossings = new THREE.Points(new THREE.BufferGeometry().setAttribute(
+      'position', new THREE.BufferAttribute(new Float32Array(3 * crossingCount), 3).setUsage(THREE.DynamicDrawUsage)),
+      new THREE.PointsMaterial({ color: 0xff2020, size: 12, sizeAttenuation: false, depthTest: false, map: disc(), alphaTest: 0.5 }));
+    this.crossings.frustumCulled = false;
+    this.crossings.renderOrder = 11;
+    this.scene.add(this.crossings);
 
     this.buildTree();
     this.buildColorbar();
@@ -543,6 +558,11 @@ class Viewer {
     const frameOffset = run.frames.position_offset[f];
     for (const s of this.shapes) s.update(positions, frameOffset);
     this.contacts.update(contacts, contactOffset[f], contactOffset[f + 1]);
+    const { crossings, crossingOffset } = this.data;
+    const marks = this.crossings.geometry.attributes.position;
+    marks.array.set(crossings.subarray(crossingOffset[f], crossingOffset[f + 1]));
+    marks.needsUpdate = true;
+    this.crossings.geometry.setDrawRange(0, (crossingOffset[f + 1] - crossingOffset[f]) / 3);
     $('frame-label').textContent = `${f} / ${this.frames - 1}`;
     $('time-label').textContent = run.frames.time[f].toPrecision(6);
     $('contacts-label').textContent = String(run.frames.contacts[f]);

@@ -18,6 +18,7 @@
 #include "penalty/output/viewer_writer.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/components.hpp"
+#include "penalty/scene/contact_advice.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/solver.hpp"
 
@@ -119,6 +120,7 @@ struct RunArguments {
     std::int64_t view_every = 1;
     bool no_serve = false;
     int port = 0;                    // 0: a free port
+    std::string no_tunnelling;       // --no-tunnelling MODE (docs/no-tunnelling.md); "": the scene's
 };
 
 /// A command-line value that is well-formed but not accepted (exit code 2).
@@ -189,6 +191,7 @@ int run_command(const RunArguments& a) {
     build.threads = a.threads;
     build.exhaustive_detection = a.exhaustive;
     build.sofa_head_orders = a.sofa_head_orders;
+    if (!a.no_tunnelling.empty()) build.no_tunnelling = penalty::parse_tunnelling_mode(a.no_tunnelling);
     // A malformed --set is a usage error (exit 2); a path or attribute the scene lacks is an
     // invalid input (exit 1, from the builder).
     for (const std::string& o : a.overrides) {
@@ -299,13 +302,17 @@ int view_command(const std::string& directory, int port, bool no_serve) {
 }
 
 int info_command(const std::string& scene_path, const std::vector<std::string>& data_dirs,
-                 const std::vector<std::string>& quirk_fixes) {
+                 const std::vector<std::string>& quirk_fixes, bool contact_advice, double impact_speed) {
     penalty::scene::BuildOptions build;
     for (const auto& d : data_dirs) build.data_dirs.emplace_back(d);
     for (const std::string& name : quirk_fixes)
         if (!penalty::enable_sofa_quirk_fix(build.sofa_quirk_fixes, name))
             throw UsageError("--fix-sofa-quirk: unknown SOFA quirk '" + name + "' (" + quirk_names() + ")");
     const std::unique_ptr<penalty::scene::Scene> scene = penalty::scene::load_scene(scene_path, build);
+    if (contact_advice) {
+        std::cout << penalty::scene::contact_advice(*scene, impact_speed > 0 ? std::optional<double>(impact_speed) : std::nullopt);
+        return kOk;
+    }
     std::cout << penalty::scene::describe_scene(*scene);
     std::cout << "SOFA quirk fixes (--fix-sofa-quirk NAME, or fixSofaQuirks=\"NAME ...\" on an intersection method):\n";
     for (const penalty::SofaQuirkInfo& q : penalty::sofa_quirk_table())
@@ -353,7 +360,7 @@ bool is_python_scene_command(int argc, char** argv) {
     for (int i = 2; i < argc; ++i) {
         const std::string_view a = argv[i];
         if (a.starts_with("-")) {
-            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--sofa-head-orders" || a == "--no-sofa-head-orders" || a == "--quiet" || a.find('=') != a.npos;
+            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--sofa-head-orders" || a == "--no-sofa-head-orders" || a == "--quiet" || a == "--contact-advice" || a.find('=') != a.npos;
             if (!flag) ++i;  // its value
             continue;
         }
@@ -452,6 +459,10 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "Sum forces through SOFA HEAD's MappingGraph and order contacts by its stable-id maps "
                   "(default; --no-sofa-head-orders: the visitors' order and contacts in scene order)");
     run->add_flag("--quiet", args.quiet, "No progress bar");
+    run->add_option("--no-tunnelling", args.no_tunnelling,
+                    "Tunnelling guard (beyond SOFA, docs/no-tunnelling.md): off, warn (report the crossings), substep "
+                    "(redo a crossing step in halves) or stiffen (stiffen deep contacts); default: the scene's noTunnelling")
+        ->check(CLI::IsMember({"off", "warn", "substep", "stiffen"}));
     auto* view_option =
         run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
     run->add_option("--view-every", args.view_every, "Keep one viewer frame in M (and the last)")
@@ -496,6 +507,13 @@ int main(int argc, char** argv) {
     info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh and included files (repeatable)")->check(CLI::ExistingDirectory);
     std::vector<std::string> info_quirk_fixes;
     info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
+    bool info_contact_advice = false;
+    double info_impact_speed = 0.0;
+    info->add_flag("--contact-advice", info_contact_advice,
+                   "The largest time step and smallest contact stiffness at which the scene's bodies cannot tunnel "
+                   "(docs/no-tunnelling.md)");
+    info->add_option("--impact-speed", info_impact_speed, "With --contact-advice: the impact speed (m/s; default: estimated)")
+        ->check(number_in(0.0, 1e6, true));
 
     // Listed for --help only: `penalty sweep ...` is handed to the Python module before parsing.
     app.add_subcommand("sweep", "Parameter sweep on Dask: one run per override set (python3 -m penalty sweep --help; "
@@ -540,7 +558,7 @@ int main(int argc, char** argv) {
             return kOk;
         }
         if (*info && info_scene.empty()) throw UsageError("info: a scene file, or --components, or --component TYPE");
-        if (*info) return info_command(info_scene, info_data_dirs, info_quirk_fixes);
+        if (*info) return info_command(info_scene, info_data_dirs, info_quirk_fixes, info_contact_advice, info_impact_speed);
         if (*view) return view_command(view_dir, view_port, view_no_serve);
         return penalty::apps::run_demo(options, std::cout);
     } catch (const UsageError& e) {

@@ -182,12 +182,34 @@ class Scene(TopologyMethods):
         file, line, role), pipelines, warnings, and the text itself."""
         return self._scene.info()
 
+    @property
+    def no_tunnelling(self) -> str:
+        """The tunnelling guard's mode: "off" (SOFA's step), "warn" (report crossings), "substep"
+        or "stiffen" (prevent them); assign to change it (docs/no-tunnelling.md)."""
+        return self._scene.no_tunnelling
+
+    @no_tunnelling.setter
+    def no_tunnelling(self, mode: str):
+        self._scene.no_tunnelling = mode
+
+    def tunnelling(self):
+        """The guard's report of the last step: crossings (list of dicts: kind, model1, model2,
+        dofs1, dofs2, element1, element2, toi, depth, point, text), prevented, solves,
+        undone_solves, deepest_halving, stiffened_contacts, max_stiffening, stiffening_energy,
+        guard_seconds; None without a guard."""
+        return self._scene.tunnelling()
+
+    def contact_advice(self, impact_speed=None) -> list:
+        """`penalty info --contact-advice` per model pair (dicts: the largest dt and smallest ks
+        that keep its bodies from tunnelling; docs/no-tunnelling.md)."""
+        return self._scene.contact_advice(impact_speed)
+
     def warnings(self):
         return self._scene.warnings()
 
     def run(self, steps: int, *, vtk=None, vtk_every: int = 1, export_states=None, export_mapped: bool = False,
             export_every: int = 1, stats=None, progress=None, callback=None, record: bool = False,
-            divergence_factor: float = 100.0, view=None, view_every: int = 1) -> dict:
+            divergence_factor: float = 100.0, view=None, view_every: int = 1, no_tunnelling=None) -> dict:
         """Runs `steps` steps with the CLI's writers (`penalty run`'s --vtk, --export-states,
         --stats): VTK series into `vtk`, SOFA state files into `export_states`, per-step CSV into
         `stats`. A progress bar is drawn on stderr when it is a terminal (progress=None) or when
@@ -197,7 +219,9 @@ class Scene(TopologyMethods):
         dissipated_friction (J) and contacts (count), after each step. divergence_factor is the
         CLI's --divergence-factor (docs/reliability.md; 0 turns the check off). view writes the
         browser viewer into that folder (`penalty run --view`, one frame in view_every); serve it
-        with `penalty view DIR` (docs/viewer.md)."""
+        with `penalty view DIR` (docs/viewer.md). no_tunnelling sets the tunnelling guard's mode
+        first (Scene.no_tunnelling); the summary's "tunnelling" holds its totals (None without a
+        guard)."""
         function = "Scene.run"
         steps = _check.integer(function, "steps", steps, 0, 1_000_000_000)
         vtk_every = _check.integer(function, "vtk_every", vtk_every, 1, 1_000_000_000)
@@ -214,6 +238,8 @@ class Scene(TopologyMethods):
                                            (("vtk", vtk), ("export_states", export_states), ("stats", stats),
                                             ("view", view)))
         as_path = lambda p: p  # noqa: E731 - already str or None
+        if no_tunnelling is not None:
+            self.no_tunnelling = no_tunnelling
         history = None
         step_callback = callback
         if record:
@@ -294,21 +320,27 @@ def _load_options(data_dirs, dt, threads, exhaustive, overrides=None, function="
 
 
 def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False,
-               overrides=None, argv=()) -> Scene:
+               overrides=None, argv=(), no_tunnelling=None) -> Scene:
     """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
     is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's
     folder; dt overrides the root node's time step. overrides sets attributes of the parsed scene
     before it is built, as `penalty run --set` (docs/sweeps.md): {"/Floor/tri.contactStiffness": 200,
     "/.dt": 0.005} or ["/Floor/tri.contactStiffness=200"]; a path or attribute the scene does not
     have raises SceneError naming it, a malformed key ValueError. A script runs as runSofa runs it
-    (from its folder, sys.argv = [its name, *argv]; docs/python.md)."""
+    (from its folder, sys.argv = [its name, *argv]; docs/python.md). no_tunnelling ("off", "warn",
+    "substep", "stiffen") sets the tunnelling guard over the pipelines' noTunnelling attributes
+    (docs/no-tunnelling.md)."""
     path = Path(_check.path("load_scene", "path", path, optional=False))
     options = _load_options(data_dirs, dt, threads, exhaustive, overrides)
     if path.suffix == ".py":
         from . import sofa_api
         root = sofa_api.run_scene_script(path, options, argv)
-        return root._penalty_scene
-    return Scene(_core._load_scene(os.fspath(path), *options))
+        scene = root._penalty_scene
+    else:
+        scene = Scene(_core._load_scene(os.fspath(path), *options))
+    if no_tunnelling is not None:
+        scene.no_tunnelling = no_tunnelling
+    return scene
 
 
 def builtin_scene(*, dt=None) -> Scene:

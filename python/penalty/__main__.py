@@ -39,6 +39,8 @@ def _parser():
                      help="Write the run's summary to FILE as JSON (what Scene.run returns, without history)")
     run.add_argument("--exhaustive", action="store_true")
     run.add_argument("--quiet", action="store_true")
+    run.add_argument("--no-tunnelling", default=None, choices=["off", "warn", "substep", "stiffen"],
+                     help="Tunnelling guard (docs/no-tunnelling.md); default: the scene's noTunnelling")
     run.add_argument("--divergence-factor", type=float, default=100.0,
                      help="Diverged when a step moves a DOF by more than F times the scene size (default 100; 0: off)")
     script = sub.add_parser("script", help="Run a SofaPython3 script as __main__ (its own main block), with "
@@ -66,6 +68,8 @@ def _parser():
     info = sub.add_parser("info", help="Build a scene and describe it")
     info.add_argument("scene")
     info.add_argument("--data-dir", action="append", default=[])
+    info.add_argument("--contact-advice", action="store_true", help="docs/no-tunnelling.md, \"Advice\"")
+    info.add_argument("--impact-speed", type=float, default=None)
     return p
 
 

@@ -1,8 +1,11 @@
 #pragma once
 // Shared declarations of the pybind11 module penalty._core (one binding file per area).
+#include "penalty/scene/runner.hpp"
+
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <optional>
 #include <string>
 
 namespace penalty::python {
@@ -15,6 +18,16 @@ void bind_collision(py::module_& m);
 /// Adds the topological-change methods to the Scene class (topology_bindings.cpp).
 void bind_scene_topology(py::handle scene_class);
 void bind_live(py::module_& m);  // live_bindings.cpp: after bind_scene (adds to its Scene class)
+
+// ---- the tunnelling guard (tunnelling_bindings.cpp) ----------------------------------------------
+/// The scene's guard mode name ("off" without a guard).
+std::string tunnelling_mode(const scene::Scene& s);
+/// Sets it (ValueError for an unknown name), keeping the other options.
+void set_tunnelling_mode(scene::Scene& s, const std::string& mode);
+/// The last step's report as a dict, None without a guard.
+py::object tunnelling_report(const scene::Scene& s);
+/// `penalty info --contact-advice` as a list of dicts, one per model pair.
+py::list contact_advice_list(const scene::Scene& s, std::optional<double> impact_speed);
 
 /// A (rows, cols) float64 array viewing `data` (no copy); `owner` keeps the memory alive.
 /// Strides in bytes: row_stride between rows, 8 between columns.

@@ -7,6 +7,7 @@
 #include "penalty/io/scene_file.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/stats_csv.hpp"
+#include "penalty/scene/contact_advice.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
 
@@ -428,6 +429,15 @@ void bind_scene(py::module_& m) {
                                      const std::string& kind) { return component_matrix(*s.scene, node_path, index, kind); },
              py::arg("node_path"), py::arg("index"), py::arg("kind"))
         .def("warnings", [](const PyScene& s) { return s.scene->warnings(); })
+        .def_property("no_tunnelling", [](const PyScene& s) { return tunnelling_mode(*s.scene); },
+                      [](PyScene& s, const std::string& mode) { set_tunnelling_mode(*s.scene, mode); },
+                      "tunnelling guard: off, warn, substep or stiffen (docs/no-tunnelling.md)")
+        .def("tunnelling", [](const PyScene& s) { return tunnelling_report(*s.scene); },
+             "The guard's report of the last step (dict), None without a guard")
+        .def("contact_advice", [](const PyScene& s, std::optional<double> v) { return contact_advice_list(*s.scene, v); },
+             py::arg("impact_speed") = py::none(), "`penalty info --contact-advice` per model pair (list of dicts)")
+        .def("_contact_advice_text", [](const PyScene& s, std::optional<double> v) { return scene::contact_advice(*s.scene, v); },
+             py::arg("impact_speed") = py::none())
         .def_property_readonly("last_timings", [](const PyScene& s) {
             const auto& t = s.scene->last_timings();
             py::dict d;

@@ -15,7 +15,43 @@ const char* stats_csv_header() {
            "detection_seconds,response_seconds,solve_seconds,output_seconds,cg_iterations,newton_iterations";
 }
 
-std::string format_stats_row(const StepStats& stats) {
+std::string stats_csv_header(bool tunnelling_columns) {
+    std::string h = stats_csv_header();
+    if (tunnelling_columns)
+        h += ",crossings,crossings_prevented,first_crossing,max_crossing_depth,solves,stiffened_contacts,"
+             "stiffening_energy,guard_seconds";
+    return h;
+}
+
+namespace {
+
+/// A CSV field: quoted (quotes doubled) when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& text) {
+    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+    std::string out = "\"";
+    for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+void append_tunnelling(std::string& row, const StepStats& stats) {
+    const StepStats::Tunnelling& t = stats.tunnelling;
+    for (const auto& [column, value] : {std::pair<const char*, double>{"max_crossing_depth", t.max_depth},
+                                        {"stiffening_energy", t.stiffening_energy},
+                                        {"guard_seconds", t.guard_seconds}})
+        if (!std::isfinite(value))
+            throw NonFiniteValueError(std::string("stats: ") + column + " is " + format_number(value) + " at step " +
+                                      std::to_string(stats.step) + " (the simulation diverged)");
+    row += ',' + std::to_string(t.crossings) + ',' + std::to_string(t.prevented) + ',' + csv_field(t.first_crossing) + ',';
+    append_number(row, t.max_depth);
+    row += ',' + std::to_string(t.solves) + ',' + std::to_string(t.stiffened_contacts) + ',';
+    append_number(row, t.stiffening_energy);
+    row += ',';
+    append_number(row, t.guard_seconds);
+}
+
+}  // namespace
+
+std::string format_stats_row(const StepStats& stats, bool tunnelling_columns) {
     const std::pair<const char*, double> reals[] = {
         {"time", stats.time},
         {"max_penetration", stats.max_penetration},
@@ -40,19 +76,21 @@ std::string format_stats_row(const StepStats& stats) {
         append_number(row, reals[i].second);
     }
     row += ',' + std::to_string(stats.cg_iterations) + ',' + std::to_string(stats.newton_iterations);
+    if (tunnelling_columns) append_tunnelling(row, stats);
     return row;
 }
 
-StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& file) : file_(file) {
+StatsCsvWriter::StatsCsvWriter(const std::filesystem::path& file, bool tunnelling_columns)
+    : file_(file), tunnelling_columns_(tunnelling_columns) {
     if (file_.has_parent_path()) detail::create_directory(file_.parent_path());
     stream_ = detail::open_output_file(file_);
-    *stream_ << stats_csv_header() << '\n';
+    *stream_ << stats_csv_header(tunnelling_columns_) << '\n';
     stream_->flush();
     if (!*stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));
 }
 
 void StatsCsvWriter::write(const StepStats& stats) {
-    const std::string row = format_stats_row(stats);
+    const std::string row = format_stats_row(stats, tunnelling_columns_);
     *stream_ << row << '\n';
     stream_->flush();
     if (!*stream_) throw std::runtime_error("cannot write " + detail::quoted(file_));

@@ -90,6 +90,7 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
     folder_ = std::make_unique<detail::OutputFolder>(directory_);
     // A stale manifest of an earlier run in DIR would describe other files.
     folder_->remove("run.json");
+    folder_->remove("crossings.f32");  // written only when this run has a crossing
     write_page(*folder_);
     topology_ = std::make_unique<detail::CreatedFile>(folder_->create_file("topology.u32"));
     append_layout(std::move(layout), indices);
@@ -159,7 +160,8 @@ ViewerWriter::~ViewerWriter() {
     }
 }
 
-void ViewerWriter::write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy) {
+void ViewerWriter::write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy,
+                               std::span<const Vec3> crossings) {
     // Positions: check every value first, so that nothing of a diverged frame is written.
     buffer_.clear();
     buffer_.reserve(frame_floats_);
@@ -232,8 +234,17 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
         throw NonFiniteValueError("viewer: contact energy not finite at t = " + format_number(time) +
                                   " s: the simulation diverged");
 
+    std::vector<float> markers;
+    for (const Vec3& x : crossings)
+        if (x.allFinite()) markers.insert(markers.end(), {float(x.x()), float(x.y()), float(x.z())});
+    stats.crossings = markers.size() / 3;
+
     write_floats(*positions_, buffer_);
     write_floats(*contacts_, segments);
+    if (!markers.empty()) {
+        if (!crossings_) crossings_ = std::make_unique<detail::CreatedFile>(folder_->create_file("crossings.f32"));
+        write_floats(*crossings_, markers);
+    }
     max_normal_force_ = max_force;
     stats.layout = layouts_.size() - 1;
     stats.position_offset = positions_size_;
@@ -351,6 +362,7 @@ void ViewerWriter::finish() {
         column("layout", &FrameStats::layout);
         column("position_offset", &FrameStats::position_offset);
     }
+    if (crossings_) column("crossings", &FrameStats::crossings);
     j += "}}\n";
     // Written beside, then renamed: a server reading run.json never sees half a file.
     folder_->replace_file("run.json", j);

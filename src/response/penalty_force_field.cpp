@@ -110,6 +110,14 @@ void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index inde
     checked_size1_ = checked_size2_ = kUnchecked;
 }
 
+void PenaltyForceField::set_normal_law(std::size_t i, double ks, double dist) {
+    if (i >= contacts_.size() || !finite_non_negative(ks) || !std::isfinite(dist))
+        throw_invalid_argument("PenaltyForceField::set_normal_law: contact ", i, " of ", contacts_.size(), ", ks ", ks,
+                               ", dist ", dist, ": needs an existing contact, a finite ks >= 0 and a finite dist");
+    contacts_[i].ks = ks;
+    contacts_[i].dist = dist;
+}
+
 void PenaltyForceField::renew_contacts() {
     clear(contacts_.size());
     for (std::size_t i = 0; i < previous_.size(); ++i) {

@@ -420,12 +420,14 @@ void Scene::rebuild(bool reset) {
         throw;
     }
     if (!reset) fresh->simulation_->set_time(simulation_->time());
+    const TunnellingOptions tunnelling = tunnelling_options();  // set at run time, maybe
     // The fresh scene's internals come here; the old ones leave with `fresh`.
     std::swap(file_, fresh->file_);
     std::swap(simulation_, fresh->simulation_);
     std::swap(topologies_, fresh->topologies_);
     std::swap(models_, fresh->models_);
     std::swap(pipelines_, fresh->pipelines_);
+    std::swap(guard_, fresh->guard_);  // each guard with its simulation and pipelines
     std::swap(build_warnings_, fresh->build_warnings_);
     std::swap(masses_, fresh->masses_);
     std::swap(mass_nodes_, fresh->mass_nodes_);
@@ -452,6 +454,7 @@ void Scene::rebuild(bool reset) {
     }
     fresh->install_contact_stage();  // its simulation held this scene's stage
     install_contact_stage();
+    set_tunnelling(tunnelling);
     for (const auto& child : file_.root->children)  // gravity held until the end of the step
         if (const auto held = live_->delayed_gravity.find(child->path()); held != live_->delayed_gravity.end())
             if (Node* n = const_cast<Node*>(node_of(*child))) n->set_gravity(held->second);

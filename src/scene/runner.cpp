@@ -276,6 +276,85 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time, 
     previous_.resize(k);
 }
 
+namespace {
+
+/// The guard's step report into the run's totals.
+void add_tunnelling(RunSummary::Tunnelling& t, const TunnellingReport& r, std::int64_t step) {
+    t.crossings += std::int64_t(r.crossings.size());
+    t.crossing_steps += r.crossings.empty() ? 0 : 1;
+    t.prevented += std::int64_t(r.prevented);
+    t.undone_solves += r.undone_solves;
+    t.extra_solves += std::max(0, r.solves - 1);
+    t.deepest_halving = std::max(t.deepest_halving, r.deepest_halving);
+    t.max_depth = std::max(t.max_depth, r.max_depth);
+    if (t.first_crossing.empty() && !r.crossings.empty())
+        t.first_crossing = "step " + std::to_string(step) + ": " + r.crossings.front().describe();
+    t.stiffened_contacts += std::int64_t(r.stiffened_contacts);
+    t.max_stiffening = std::max(t.max_stiffening, r.max_stiffening);
+    t.stiffening_energy += r.stiffening_energy;
+    t.guard_seconds += r.guard_seconds;
+}
+
+/// Where the crossings of the last step met (the viewer's markers); none before the first step.
+std::vector<Vec3> crossing_points(const Scene& scene, bool stepped) {
+    std::vector<Vec3> out;
+    if (const TunnellingReport* r = scene.tunnelling_report(); r != nullptr && stepped)
+        for (const Crossing& c : r->crossings) out.push_back(c.point);
+    return out;
+}
+
+/// The first kept crossing as the stats column: "kind model1:feature1 model2:feature2 toi", a
+/// feature v<dof> (vertex), e<dof>-<dof> (edge), t<element> (triangle), s<element> (sphere).
+std::string first_crossing_column(const Crossing& c) {
+    std::string s = crossing_kind_name(c.kind);
+    const auto model = [&](const CollisionModel* m) {
+        s.push_back(' ');
+        s.append(m ? m->name() : std::string("?"));
+        s.push_back(':');
+    };
+    const bool edges = c.kind == CrossingKind::edge_edge;
+    model(c.model1);
+    if (c.element1 >= 0) {
+        s.push_back('s');
+        s.append(std::to_string(c.element1));
+    } else {
+        s.push_back(edges ? 'e' : 'v');
+        s.append(std::to_string(c.dofs1[0]));
+        if (edges) {
+            s.push_back('-');
+            s.append(std::to_string(c.dofs1[1]));
+        }
+    }
+    model(c.model2);
+    if (edges) {
+        s.push_back('e');
+        s.append(std::to_string(c.dofs2[0]));
+        s.push_back('-');
+        s.append(std::to_string(c.dofs2[1]));
+    } else {
+        s.push_back(c.kind == CrossingKind::sphere_sphere ? 's' : 't');
+        s.append(std::to_string(c.element2));
+    }
+    s.push_back(' ');
+    output::append_number(s, c.toi);
+    return s;
+}
+
+output::StepStats::Tunnelling tunnelling_columns(const TunnellingReport& r) {
+    output::StepStats::Tunnelling t;
+    t.crossings = r.crossings.size();
+    t.prevented = r.prevented;
+    if (!r.crossings.empty()) t.first_crossing = first_crossing_column(r.crossings.front());
+    t.max_depth = r.max_depth;
+    t.solves = r.solves;
+    t.stiffened_contacts = r.stiffened_contacts;
+    t.stiffening_energy = r.stiffening_energy;
+    t.guard_seconds = r.guard_seconds;
+    return t;
+}
+
+}  // namespace
+
 RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress) {
     if (options.steps < 0) throw std::invalid_argument("steps must be >= 0");
     if (options.export_every < 1) throw std::invalid_argument("--export-every must be >= 1");
@@ -297,7 +376,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         vtk.emplace(*options.vtk_directory, std::move(all));
     }
     std::optional<output::StatsCsvWriter> stats;
-    if (options.stats_file) stats.emplace(*options.stats_file);
+    if (options.stats_file) stats.emplace(*options.stats_file, scene.tunnelling_report() != nullptr);
+    if (scene.tunnelling_report() != nullptr) summary.tunnelling.mode = tunnelling_mode_name(scene.tunnelling_options().mode);
     std::unique_ptr<output::ViewerWriter> viewer;
     if (options.view_directory) viewer = open_viewer(scene, *options.view_directory, options.view_title);
 
@@ -313,7 +393,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         const auto out_start = Clock::now();
         if (exporter && (k % options.export_every == 0 || k == options.steps - 1)) exporter->write(t);
         if (vtk && k % options.vtk_every == 0) vtk->write_step(t, scene.contacts());
-        if (viewer && k % options.view_every == 0) viewer->write_frame(t, scene.contacts(), scene.kinetic_energy());
+        if (viewer && k % options.view_every == 0)
+            viewer->write_frame(t, scene.contacts(), scene.kinetic_energy(), crossing_points(scene, k > 0));
         double output_seconds = seconds_since(out_start);
 
         try {
@@ -350,6 +431,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         summary.max_newton_iterations = std::max(summary.max_newton_iterations, solver.newton_iterations);
         summary.cg_limit_steps += solver.cg_limit_reached ? 1 : 0;
         summary.newton_unconverged_steps += solver.newton_unconverged ? 1 : 0;
+        if (const TunnellingReport* r = scene.tunnelling_report()) add_tunnelling(summary.tunnelling, *r, k);
         const output::ContactSummary cs = output::summarize_contacts(scene.contacts());
         contact_sum += double(cs.contacts);
         summary.max_contacts = std::max(summary.max_contacts, cs.contacts);
@@ -373,6 +455,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             row.output_seconds = output_seconds;
             row.cg_iterations = solver.cg_iterations;
             row.newton_iterations = solver.newton_iterations;
+            if (const TunnellingReport* r = scene.tunnelling_report()) row.tunnelling = tunnelling_columns(*r);
             stats->write(row);
             output_seconds += seconds_since(stats_start);
         }
@@ -391,7 +474,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     }
     if (viewer) {
         const auto out_start = Clock::now();
-        viewer->write_frame(sim.time(), scene.contacts(), scene.kinetic_energy());  // the end (or t = 0 without steps)
+        viewer->write_frame(sim.time(), scene.contacts(), scene.kinetic_energy(),
+                            crossing_points(scene, options.steps > 0));  // the end (or t = 0 without steps)
         viewer->finish();
         summary.output_seconds += seconds_since(out_start);
     }
@@ -473,6 +557,28 @@ std::string format_summary(const RunSummary& s) {
     if (s.newton) {
         std::snprintf(buf, sizeof buf, "Newton iterations per step: mean %.2f, max %d; not converged in %lld steps\n",
                       s.mean_newton_iterations, s.max_newton_iterations, static_cast<long long>(s.newton_unconverged_steps));
+        out << buf;
+    }
+    if (!s.tunnelling.mode.empty()) out << format_tunnelling_summary(s);
+    return out.str();
+}
+
+std::string format_tunnelling_summary(const RunSummary& s) {
+    const RunSummary::Tunnelling& t = s.tunnelling;
+    char buf[512];
+    std::ostringstream out;
+    std::snprintf(buf, sizeof buf, "tunnelling guard (%s): %lld crossings in %lld steps, deepest %.3g m; %.3f ms per step\n",
+                  t.mode.c_str(), static_cast<long long>(t.crossings), static_cast<long long>(t.crossing_steps), t.max_depth,
+                  s.steps > 0 ? 1e3 * t.guard_seconds / double(s.steps) : 0.0);
+    out << buf;
+    if (!t.first_crossing.empty()) out << "  first crossing: " << t.first_crossing << "\n";
+    if (t.mode != "warn") {
+        std::snprintf(buf, sizeof buf,
+                      "  prevented %lld crossings: %lld solves undone, %lld extra solves (shortest dt/%lld); "
+                      "%lld contacts stiffened (up to x%.3g), stiffening energy %.6g J\n",
+                      static_cast<long long>(t.prevented), static_cast<long long>(t.undone_solves),
+                      static_cast<long long>(t.extra_solves), 1LL << t.deepest_halving,
+                      static_cast<long long>(t.stiffened_contacts), t.max_stiffening, t.stiffening_energy);
         out << buf;
     }
     return out.str();

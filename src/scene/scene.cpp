@@ -20,6 +20,7 @@ Scene::~Scene() {
     if (contact_phase_) simulation_->remove_contact_stage(*contact_phase_);
     // The Newton hooks call the pipelines (collision_pipelines.cpp): cleared first.
     for (EulerImplicitSolver* s : implicit_solvers_) s->newton.update_geometry = nullptr;
+    guard_.reset();      // it holds the pipelines
     pipelines_.clear();  // they remove what they added to the graph
 }
 
@@ -40,7 +41,11 @@ void Scene::step() {
     }
     live_->stepping = false;
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    timings_.solve_seconds = std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds);
+    // the contact phase adds every detection and response of the step (several when the guard
+    // split it); the guard's own time (continuous detection, snapshots) is apart
+    if (const TunnellingReport* r = tunnelling_report()) timings_.guard_seconds = r->guard_seconds;
+    timings_.solve_seconds =
+        std::max(0.0, total - timings_.detection_seconds - timings_.response_seconds - timings_.guard_seconds);
     solver_stats_ = StepSolverStats{};
     for (const EulerImplicitSolver* s : implicit_solvers_) {
         solver_stats_.cg_iterations += s->last_step_cg_iterations();
@@ -53,6 +58,27 @@ void Scene::step() {
     refresh_contacts();
     release_held_gravity();  // a root gravity written after init reaches the other nodes now
 }
+
+void Scene::set_tunnelling(const TunnellingOptions& options) {
+    options.validate();
+    if (options.mode == TunnellingMode::off) {
+        guard_.reset();
+        return;
+    }
+    if (simulation_->collision_steps() != 1 || simulation_->integration_steps() != 1)
+        throw std::invalid_argument("the tunnelling guard checks single steps, not a MultiStepAnimationLoop's");
+    if (guard_) {
+        guard_->set_options(options);
+        return;
+    }
+    std::vector<ContactPipeline*> pipelines;
+    for (const ScenePipeline& p : pipelines_) pipelines.push_back(p.pipeline.get());
+    guard_ = std::make_unique<TunnellingGuard>(*simulation_, std::move(pipelines), options);
+}
+
+TunnellingOptions Scene::tunnelling_options() const { return guard_ ? guard_->options() : TunnellingOptions{}; }
+
+const TunnellingReport* Scene::tunnelling_report() const { return guard_ ? &guard_->last_report() : nullptr; }
 
 std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
     std::vector<std::pair<std::string, const EulerImplicitSolver*>> out;

@@ -72,6 +72,27 @@ private:
     bool first_ = true;
 };
 
+std::string tunnelling_json(const RunSummary::Tunnelling& t) {
+    std::string out;
+    JsonObject o(out);
+    o.text("mode", t.mode);
+    o.integer("crossings", t.crossings);
+    o.integer("crossing_steps", t.crossing_steps);
+    o.integer("prevented", t.prevented);
+    o.integer("undone_solves", t.undone_solves);
+    o.integer("extra_solves", t.extra_solves);
+    o.integer("deepest_halving", t.deepest_halving);
+    o.number("max_depth", t.max_depth);
+    o.text("first_crossing", t.first_crossing);
+    o.integer("stiffened_contacts", t.stiffened_contacts);
+    o.number("max_stiffening", t.max_stiffening);
+    o.number("stiffening_energy", t.stiffening_energy);
+    o.number("guard_seconds", t.guard_seconds);
+    o.close();
+    out.pop_back();  // close()'s newline: the object sits inside the summary's
+    return out;
+}
+
 }  // namespace
 
 std::string summary_json(const RunSummary& s) {
@@ -102,6 +123,9 @@ std::string summary_json(const RunSummary& s) {
     std::vector<std::string> files;
     for (const auto& f : s.state_files) files.push_back(f.string());
     o.strings("state_files", files);
+    o.key("tunnelling");  // the guard's totals (docs/no-tunnelling.md), null without a guard
+    if (s.tunnelling.mode.empty()) out += "null";
+    else out += tunnelling_json(s.tunnelling);
     o.text("text", format_summary(s));
     o.close();
     return out;

@@ -7,6 +7,8 @@
 
 #include <tbb/global_control.h>
 
+#include <stdexcept>
+
 namespace penalty {
 
 using detail::for_each_node;
@@ -14,6 +16,13 @@ using detail::for_each_node;
 void Simulation::step() {
     if (!initialized_) init();
     const double dt = root_.dt();
+    if (step_driver_ != nullptr) {
+        if (collision_steps_ != 1 || integration_steps_ != 1)
+            throw std::logic_error("Simulation::step: a step driver (the tunnelling guard) runs single steps, not a "
+                                   "MultiStepAnimationLoop's");
+        step_driver_->run_step(*this, dt);
+        return;
+    }
     if (collision_steps_ == 1 && integration_steps_ == 1) {
         detect_contacts();
         respond_to_contacts();
@@ -94,6 +103,11 @@ void Simulation::map_back() {
 
 void Simulation::clear_applied_external_forces() {
     for (BaseState* s : applied_states_) s->external_force_flat().setZero();
+}
+
+void Simulation::end_step(double dt) {
+    clear_applied_external_forces();
+    time_ += dt;
 }
 
 }  // namespace penalty

@@ -89,10 +89,16 @@ expected_keys = {"steps", "dt", "simulated_time", "wall_seconds", "detection_sec
                  "solve_seconds", "output_seconds", "mean_contacts", "max_contacts", "max_penetration", "kinetic_energy",
                  "contact_energy", "dissipated_energy", "cg", "mean_cg_iterations", "max_cg_iterations", "cg_limit_steps",
                  "newton", "mean_newton_iterations", "max_newton_iterations", "newton_unconverged_steps", "state_files",
-                 "text"}
+                 "tunnelling", "text"}
 check(set(data) == expected_keys, "summary JSON has every field of the summary", sorted(data))
+check(data["tunnelling"] is None, "summary JSON: no tunnelling guard, tunnelling is null", data["tunnelling"])
 check(data["steps"] == 40 and data["text"] in p.stdout and f"maximum penetration {data['max_penetration']:.6g} m" in p.stdout
       and f"max {data['max_contacts']};" in p.stdout, "summary JSON holds the printed numbers", json.dumps(data, indent=1))
+p = run("run", scene, "--steps", "5", "--quiet", "--no-tunnelling", "warn", "--summary-json", summary, expect=0)
+with open(summary) as f:
+    guard = json.load(f)["tunnelling"]
+check(isinstance(guard, dict) and guard["mode"] == "warn" and guard["crossings"] == 0,
+      "summary JSON: the guard's totals under tunnelling", guard)
 p = run("run", scene, "--steps", "2", "--quiet", "--summary-json", os.path.join(scene, "x.json"), expect=5)
 check(("cannot write" in p.stderr or "cannot open" in p.stderr) and "x.json" in p.stderr,
       "an unwritable --summary-json is exit 5 naming the file", p.stderr)

@@ -8,6 +8,13 @@
 ///   dissipated_energy,detection_seconds,response_seconds,solve_seconds,output_seconds,
 ///   cg_iterations,newton_iterations
 /// (one line). Units: time s, max_penetration m, energies J, *_seconds wall-clock s.
+/// With the tunnelling guard (beyond SOFA, docs/no-tunnelling.md) eight columns follow:
+///   crossings,crossings_prevented,first_crossing,max_crossing_depth,solves,stiffened_contacts,
+///   stiffening_energy,guard_seconds
+/// crossings: those kept in the step's motion; crossings_prevented: found by solves the guard
+/// undid; first_crossing: the earliest kept one, `kind model1:feature1 model2:feature2 toi` (""
+/// when none; quoted when it holds a comma or a quote); max_crossing_depth m; solves: the solves
+/// kept (1: the user's dt); stiffening_energy J (the step's); guard_seconds wall-clock s.
 
 #include "penalty/output/state_record.hpp"
 #include "penalty/output/vtk_writer.hpp"
@@ -17,6 +24,7 @@
 #include <memory>
 #include <ostream>
 #include <span>
+#include <string>
 
 namespace penalty::output {
 
@@ -35,16 +43,29 @@ struct StepStats {
     double output_seconds = 0.0;
     int cg_iterations = 0;              ///< CG iterations of the step, every implicit solver
     int newton_iterations = 0;          ///< Newton iterates of the step (0 without Newton)
+    /// The tunnelling guard's columns (written only by a writer made with them).
+    struct Tunnelling {
+        std::size_t crossings = 0;
+        std::size_t prevented = 0;
+        std::string first_crossing;      ///< "" when none
+        double max_depth = 0.0;          ///< m
+        int solves = 1;
+        std::size_t stiffened_contacts = 0;
+        double stiffening_energy = 0.0;  ///< J
+        double guard_seconds = 0.0;
+    } tunnelling;
 };
 
-/// The CSV header line (without newline).
+/// The CSV header line (without newline); with the tunnelling guard's columns when asked.
 [[nodiscard]] const char* stats_csv_header();
+[[nodiscard]] std::string stats_csv_header(bool tunnelling_columns);
 
 class StatsCsvWriter {
 public:
-    /// Creates the parent directory and the file (truncated) and writes the header.
+    /// Creates the parent directory and the file (truncated) and writes the header (with the
+    /// tunnelling guard's columns when `tunnelling_columns`).
     /// Throws std::runtime_error naming the path on failure.
-    explicit StatsCsvWriter(const std::filesystem::path& file);
+    explicit StatsCsvWriter(const std::filesystem::path& file, bool tunnelling_columns = false);
     /// Appends one row and flushes. A non-finite value throws NonFiniteValueError naming the
     /// column and the step (nothing written); an I/O failure throws std::runtime_error.
     void write(const StepStats& stats);
@@ -54,10 +75,11 @@ public:
 private:
     std::filesystem::path file_;
     std::unique_ptr<std::ostream> stream_;
+    bool tunnelling_columns_ = false;
 };
 
 /// The row write() appends (without newline), after the same finiteness check.
-[[nodiscard]] std::string format_stats_row(const StepStats& stats);
+[[nodiscard]] std::string format_stats_row(const StepStats& stats, bool tunnelling_columns = false);
 
 struct ContactSummary {
     std::size_t contacts = 0;         ///< Σ field->size()

@@ -11,6 +11,8 @@
 ///   contacts.f32    per frame, per contact 10 floats: point1 (3, m), point2 (3, m),
 ///                   normal (3, unit, side 1 → 2), normal force f·n (1, N, > 0 pushes apart)
 ///   topology.u32    the shapes' element indices (uint32), once
+///   crossings.f32   with the tunnelling guard, per frame, per crossing 3 floats: where the
+///                   features met (m); made at the first frame with one (docs/no-tunnelling.md)
 ///   run.json        the manifest: states, shapes, per-frame time, contact count and energies
 /// run.json is written by finish() (and by the destructor when finish() was not called, e.g.
 /// when the run stopped on divergence), so the frames written so far stay viewable.
@@ -81,7 +83,11 @@ public:
     /// or contact and the time, and nothing of the frame is written. A non-finite kinetic energy
     /// (finite but huge velocities, the step before the runner reports divergence) is written as
     /// null in run.json.
-    void write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy);
+    /// `crossings`: the tunnelling guard's crossings of the step that ended at `time` (where the
+    /// features met), drawn as markers; run.json's frames gain a `crossings` count column once
+    /// a frame has one.
+    void write_frame(double time, std::span<const ContactRecord> contacts, double kinetic_energy,
+                     std::span<const Vec3> crossings = {});
 
     /// Topological changes (docs/topological-changes.md): `revision` tells when the elements may
     /// have changed (a number that changes with them), `shapes` gives the shapes then. A frame
@@ -131,6 +137,7 @@ private:
         double contact_energy = 0.0;
         double kinetic_energy = 0.0;
         double dissipated_energy = 0.0;
+        std::size_t crossings = 0;
     };
     std::filesystem::path directory_;
     std::vector<const StateRecord*> states_;
@@ -147,6 +154,7 @@ private:
     std::unique_ptr<detail::CreatedFile> topology_;
     std::unique_ptr<detail::CreatedFile> positions_;
     std::unique_ptr<detail::CreatedFile> contacts_;
+    std::unique_ptr<detail::CreatedFile> crossings_;  ///< created at the first frame with a crossing
     std::vector<float> buffer_;
     bool finished_ = false;
 };

@@ -137,6 +137,11 @@ public:
     void add_contact(Index m1, Index m2, Index index1, Index index2, const Vec3& normal, double dist,
                      double ks, double mu_s = 0.0, double mu_v = 0.0, Index old_index = 0);
 
+    /// Replaces the normal law of contact i, ks·(dist − u·n), by ks'·(dist' − u·n) for the rest
+    /// of the step (beyond SOFA: the tunnelling guard's stiffening, tunnelling_guard.hpp). Throws
+    /// std::invalid_argument for i out of range, a negative or non-finite ks or a non-finite dist.
+    void set_normal_law(std::size_t i, double ks, double dist);
+
     /// Keeps the current contacts for one more step, as if the same detection happened again:
     /// equivalent to clear() then add_contact(..., old_index = i + 1) for every contact i.
     void renew_contacts();

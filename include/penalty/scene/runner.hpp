@@ -120,6 +120,22 @@ struct RunSummary {
     double mean_newton_iterations = 0.0;     ///< per step
     int max_newton_iterations = 0;
     std::int64_t newton_unconverged_steps = 0;  ///< steps where Newton stopped on newtonIterations
+    /// The tunnelling guard (beyond SOFA, docs/no-tunnelling.md), when the scene has one.
+    struct Tunnelling {
+        std::string mode;                   ///< "" without a guard
+        std::int64_t crossings = 0;         ///< kept in the accepted motion, over the run
+        std::int64_t crossing_steps = 0;    ///< steps with a kept crossing
+        std::int64_t prevented = 0;         ///< found by undone solves
+        std::int64_t undone_solves = 0;
+        std::int64_t extra_solves = 0;      ///< Σ (solves − 1): the steps' substeps
+        int deepest_halving = 0;            ///< the shortest solve was dt / 2^this
+        double max_depth = 0.0;             ///< m, of the kept crossings
+        std::string first_crossing;         ///< "step k: Crossing::describe()" of the first kept one
+        std::int64_t stiffened_contacts = 0;
+        double max_stiffening = 1.0;
+        double stiffening_energy = 0.0;     ///< J, cumulative
+        double guard_seconds = 0.0;         ///< Σ over steps
+    } tunnelling;
     std::vector<std::filesystem::path> state_files;  ///< the files written by --export-states
     std::vector<int> values_per_dof;                 ///< per state file (3 Vec3, 7 Rigid3)
 };
@@ -148,6 +164,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
 
 /// The summary as printed at the end of `penalty run` (several lines).
 [[nodiscard]] std::string format_summary(const RunSummary& summary);
+/// Its tunnelling guard's lines (docs/no-tunnelling.md).
+[[nodiscard]] std::string format_tunnelling_summary(const RunSummary& summary);
 
 /// The summary as a JSON object (`penalty run --summary-json FILE`; Python's Scene.run returns it
 /// as a dict): every field of RunSummary under its name (state_files as strings, non-finite

@@ -19,6 +19,7 @@
 #include "penalty/output/state_record.hpp"
 #include "penalty/output/vtk_writer.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
+#include "penalty/simulation/tunnelling_guard.hpp"
 
 #include <cstdint>
 #include <filesystem>
@@ -64,6 +65,9 @@ struct BuildOptions {
     /// Attribute overrides `PATH.attribute=value` (`--set`, io/overrides.hpp), applied in order to
     /// the parsed tree before anything is built (see scene::apply_overrides).
     std::vector<std::string> overrides;
+    /// `--no-tunnelling MODE` (beyond SOFA, docs/no-tunnelling.md): the tunnelling guard's mode
+    /// for the whole scene, over the pipelines' noTunnelling attributes; unset: theirs.
+    std::optional<TunnellingMode> no_tunnelling;
     /// Builds the components whose code is outside the library (SofaPython3's Python force fields
     /// and mappings, live_data.hpp); null: a scene with such components is an error.
     std::shared_ptr<ExternalComponents> external;
@@ -90,6 +94,7 @@ struct StepTimings {
     double detection_seconds = 0.0;  ///< broad + narrow phase
     double response_seconds = 0.0;   ///< contact creation/update and scene-graph update
     double solve_seconds = 0.0;      ///< explicit forces, ODE solvers, propagation
+    double guard_seconds = 0.0;      ///< the tunnelling guard's continuous detection, snapshots, restores
 };
 
 /// What the implicit solvers did in the last step (summed over every EulerImplicitSolver).
@@ -137,6 +142,13 @@ public:
     /// changed (no per-step allocation while the pairs stay); the reference stays valid, and
     /// its contents are replaced at the next step.
     [[nodiscard]] const std::vector<output::ContactRecord>& contacts() const { return contacts_; }
+    /// The tunnelling guard (beyond SOFA, docs/no-tunnelling.md) over every pipeline of the
+    /// scene; mode off removes it (SOFA's step). std::invalid_argument for invalid options.
+    void set_tunnelling(const TunnellingOptions& options);
+    /// Its options (mode off without a guard).
+    [[nodiscard]] TunnellingOptions tunnelling_options() const;
+    /// What it saw in the last step; nullptr without a guard.
+    [[nodiscard]] const TunnellingReport* tunnelling_report() const;
     [[nodiscard]] const std::vector<SceneCollisionModel>& collision_models() const { return models_; }
     [[nodiscard]] const std::vector<ScenePipeline>& pipelines() const { return pipelines_; }
     /// Σ ½ vᵀ M v over the states that have a mass (J).
@@ -269,6 +281,7 @@ private:
     std::vector<EulerImplicitSolver*> implicit_solvers_;
     std::vector<std::string> implicit_solver_paths_;  ///< node path of each implicit solver
     std::vector<output::ContactRecord> contacts_;
+    std::unique_ptr<TunnellingGuard> guard_;
     // live Data (live_writes.cpp)
     struct LiveEdits;
     friend struct LiveEdits;

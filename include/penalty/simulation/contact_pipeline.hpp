@@ -217,6 +217,9 @@ public:
     /// What attach_newton() does to the pipeline, without touching a solver: from the next
     /// update() on, keep the pre-step contact state update_geometry() needs.
     void keep_step_start();
+    /// Whether keep_step_start() (or attach_newton) was called: Newton iterates may rebuild the
+    /// contact lists within a solve.
+    [[nodiscard]] bool keeps_step_start() const { return keep_step_start_; }
     /// update_geometry calls since the last update().
     [[nodiscard]] int geometry_updates_this_step() const { return geometry_updates_; }
 

@@ -33,6 +33,18 @@ public:
     virtual void respond() = 0;
 };
 
+class Simulation;
+
+/// Beyond SOFA, opt-in: runs the stages of a step in place of step()'s fixed sequence (the
+/// tunnelling guard, tunnelling_guard.hpp: it may redo the solve in substeps). It calls the
+/// simulation's public stages; without a driver step() runs each stage once.
+class StepDriver {
+public:
+    virtual ~StepDriver() = default;
+    /// One step of `dt` (the root node's dt): the stages of Simulation::step, ending with end_step.
+    virtual void run_step(Simulation& simulation, double dt) = 0;
+};
+
 /// DefaultAnimationLoop (spec §2): owns the root node and runs the step, stage by stage
 /// (src/simulation/simulation_step.cpp).
 class Simulation {
@@ -73,6 +85,11 @@ public:
     /// Unregisters `stage` (nothing if it is not registered).
     void remove_contact_stage(const ContactStage& stage);
     [[nodiscard]] const std::vector<ContactStage*>& contact_stages() const { return contact_stages_; }
+    /// Sets the step's driver (nullptr: none, SOFA's step). Not owned; it unsets itself before
+    /// it dies. A driver runs single steps: step() throws std::logic_error with one set on a
+    /// multi-step loop.
+    void set_step_driver(StepDriver* driver) { step_driver_ = driver; }
+    [[nodiscard]] StepDriver* step_driver() const { return step_driver_; }
     /// SOFA's MultiStepAnimationLoop (MultiStepAnimationLoop::step): a step runs collision_steps
     /// times the contact stages, each followed by integration_steps integrations of
     /// dt / (collision_steps·integration_steps); (1, 1), the default, is DefaultAnimationLoop.
@@ -83,18 +100,22 @@ public:
     [[nodiscard]] int collision_steps() const { return collision_steps_; }
     [[nodiscard]] int integration_steps() const { return integration_steps_; }
 
-private:
-    // ---- the stages of step() (simulation_step.cpp) -----------------------------------------
+    // ---- the stages of step() (simulation_step.cpp), public for a StepDriver -------------------
     void detect_contacts();
     void respond_to_contacts();
     void solve(double dt);
-    void solve_in_arena(double dt);
     void map_back();
     void clear_applied_external_forces();
+    /// The end of a single step: the applied external forces cleared, the time advanced by dt.
+    void end_step(double dt);
     /// One integration of dt (no contact stage, no time change): solve, map_back, the applied
     /// external forces cleared.
     void integrate(double dt);
+
+private:
+    void solve_in_arena(double dt);  ///< solve()'s body, in the simulation's arena when it has one
     std::vector<ContactStage*> contact_stages_;
+    StepDriver* step_driver_ = nullptr;
     /// One entry of a step's solve phase, in depth-first order: a solver node (integrates its
     /// subtree) or an explicit force field with its states.
     struct SolveAction {

@@ -36,10 +36,14 @@ def run_or_info(args) -> int:
     try:
         if args.command == "info":
             scene = penalty.load_scene(args.scene, data_dirs=args.data_dir)
+            if getattr(args, "contact_advice", False):
+                print(scene._scene._contact_advice_text(args.impact_speed), end="")
+                return 0
             print(scene.info()["text"], end="")
             return 0
         scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads or 0,
-                                   exhaustive=args.exhaustive, overrides=args.overrides, argv=args.argv)
+                                   exhaustive=args.exhaustive, overrides=args.overrides, argv=args.argv,
+                                   no_tunnelling=getattr(args, "no_tunnelling", None))
         print(f"penalty run: {args.scene}")
         info = scene.info()
         print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"

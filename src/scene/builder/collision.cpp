@@ -325,6 +325,18 @@ constexpr AttributeSpec kSubPipeline[] = {
     {"depth", K::integer, "6", "", ValueCheck::none, "depth of SOFA's bounding trees (the order of the contacts)"},
 };
 
+// Beyond SOFA: the tunnelling guard (docs/no-tunnelling.md), read by collision_pipelines.cpp.
+constexpr AttributeSpec kNoTunnelling[] = {
+    {"noTunnelling", K::text, "off", "", ValueCheck::none,
+     "beyond SOFA: tunnelling guard off, warn (report crossings), substep or stiffen (prevent them)"},
+    {"noTunnellingMaxHalvings", K::integer, "6", "", ValueCheck::positive,
+     "substep/stiffen: a step is split into at most 2^this solves (1 to 16)"},
+    {"noTunnellingStiffenFraction", K::real, "0.5", "", ValueCheck::positive,
+     "stiffen: contacts deeper than this fraction of their rest distance are stiffened (below 1)"},
+    {"noTunnellingMaxStiffening", K::real, "10000", "", ValueCheck::positive,
+     "largest factor the stiffening law gives a contact stiffness (>= 1)"},
+};
+
 void build_pipeline(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.add_pipeline_component(c);
     b.note_unread_attributes(c);
@@ -333,9 +345,10 @@ void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) { b.note_un
 
 constexpr ComponentSpec kComponents[] = {
     {.type = "CollisionPipeline", .family = F::collision_pipeline,
-     .summary = "collision pipeline (broad phase, narrow phase, response)", .attributes = kPipeline, .build = build_pipeline},
+     .summary = "collision pipeline (broad phase, narrow phase, response)", .attributes = kPipeline,
+     .shared_attributes = kNoTunnelling, .build = build_pipeline},
     {.type = "CompositeCollisionPipeline", .family = F::composite_pipeline, .summary = "runs several SubCollisionPipelines",
-     .attributes = kComposite, .build = build_pipeline},
+     .attributes = kComposite, .shared_attributes = kNoTunnelling, .build = build_pipeline},
     {.type = "SubCollisionPipeline", .family = F::sub_pipeline, .summary = "collision pipeline restricted to listed models",
      .attributes = kSubPipeline, .build = note_only},
     {.type = "BruteForceBroadPhase", .family = F::broad_phase, .summary = "broad phase over all model pairs",

@@ -52,6 +52,7 @@ void SceneBuilder::build() {
         for (const InitStep& step : init_steps_)
             if (step.phase == phase) guarded(*step.component, step.init);
     build_collision_pipelines(*this);
+    build_tunnelling_guard(*this);
     for (const auto& w : attribute_warnings_) warn(w);
     try {
         sim.init();

@@ -107,6 +107,7 @@ public:
 
     // ---- services for the family build functions ----------------------------------------------
     [[nodiscard]] const BuildOptions& options() const { return options_; }
+    [[nodiscard]] const io::SceneFile& file() const { return file_; }
     /// The scene file's folder (data files resolve against it, then the data dirs).
     [[nodiscard]] const std::filesystem::path& scene_dir() const { return scene_dir_; }
     [[nodiscard]] Scene& scene() { return scene_; }
@@ -275,6 +276,9 @@ private:
 
 /// The collision pipelines, once every node is built (src/scene/builder/collision.cpp).
 void build_collision_pipelines(SceneBuilder& builder);
+/// The tunnelling guard the pipelines' noTunnelling attributes (or BuildOptions::no_tunnelling)
+/// ask for, once the pipelines are built (src/scene/builder/tunnelling_guard.cpp).
+void build_tunnelling_guard(SceneBuilder& builder);
 
 // ---- helpers shared by the family files --------------------------------------------------------
 /// SOFA's default name of an unnamed component (see scene_builder.cpp).
