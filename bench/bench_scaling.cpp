@@ -1,5 +1,5 @@
-// Whole-scene scaling (issue 17): k×k×k deformable cubes dropped into a bowl, k = 1 … 8 — time per
-// step against contacts per step. The scene is generated (tests/support/penalty_test/
+// Whole-scene scaling (issues 17, 54): k×k×k deformable cubes dropped into a bowl, k = 1 … 8, 10,
+// 12 and 16 (4 096 cubes, 98 304 DOFs) — time per step against contacts per step. The scene is generated (tests/support/penalty_test/
 // cubes_in_bowl.hpp: one-cell FEM cubes of 0.1 m with a triangle surface, a static bowl (a
 // spherical cap), one implicit Euler + CG over every cube, NewProximity, SOFA's penalty response) and built
 // by the scene builder, so a step is the one `penalty run` takes. bench/plot_scaling.py reads the
@@ -9,7 +9,9 @@
 // Method. Per k: the scene is built and run kWarmupSteps steps untimed (1.5 s of simulated time:
 // the cubes have fallen, slid to the bottom and piled up; at k = 8 the kinetic energy is then
 // about 2 % of its peak of about 190 J), then timed_steps(k) steps are timed, one benchmark
-// iteration per step (manual time = wall time of Scene::step() alone). Threads (narrow phase, independent solvers): TBB's default (BuildOptions::threads = 0).
+// iteration per step (manual time = wall time of Scene::step() alone). Threads (narrow phase,
+// independent solvers): TBB's default, or $PENALTY_BENCH_THREADS (bench/scene_probe.hpp, which
+// also says how to count the timed steps' instructions with callgrind).
 //
 // Columns and counters (per step, over the timed steps):
 //   Time                       wall time of Scene::step() (ms)
@@ -22,6 +24,11 @@
 //   sunk                       cube nodes farther than R + C from the bowl's centre after the last
 //                              timed step: corners pushed through the bowl (0 for a sound pile)
 //   detect_ms, response_ms, solve_ms   mean of Scene::last_timings() (wall)
+//   heap_mb                    live heap after the timed steps (mallinfo2), MB
+//   bytes_per_dof              that heap / dofs
+//   bytes_per_contact          (heap after the timed steps − heap after the first step, when no
+//                              cube touches yet) / contacts
+//   peak_rss_mb                the process's peak RSS so far (run one k per process for its own)
 //
 // $PENALTY_SCALING_SCENES=DIR also writes the scenes as DIR/cubes_in_bowl_k<k>.scn (for
 // `penalty run`, e.g. with --stats to see the phases of every step).
@@ -29,15 +36,13 @@
 #include "penalty/output/stats_csv.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/cubes_in_bowl.hpp"
+#include "scene_probe.hpp"
 
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <exception>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 
@@ -47,7 +52,7 @@ namespace {
 namespace bowl = penalty::test::cubes_in_bowl;
 using Clock = std::chrono::steady_clock;
 
-constexpr int kMaxK = 8;
+constexpr int kSizes[] = {1, 2, 3, 4, 5, 6, 7, 8, 10, 12, 16};
 constexpr int kWarmupSteps = 300;  // 1.5 s at dt = 5 ms
 
 /// Timed steps for k: about 2000 cube-steps, at least 10 and at most 200.
@@ -59,27 +64,19 @@ bowl::Setup setup(int k) {
     return s;
 }
 
-void write_scene_if_asked(int k, const std::string& xml) {
-    const char* dir = std::getenv("PENALTY_SCALING_SCENES");
-    if (dir == nullptr || *dir == '\0') return;
-    std::filesystem::create_directories(dir);
-    std::ofstream(std::filesystem::path(dir) / ("cubes_in_bowl_k" + std::to_string(k) + ".scn")) << xml;
-}
-
-double scalar_dofs(const Scene& s) {
-    double n = 0;
-    for (const auto& r : s.states())
-        if (!r.mapped && r.in_solver_subtree && r.state != nullptr) n += double(r.state->scalar_size());
-    return n;
-}
-
 void BM_CubesInBowl(benchmark::State& state, int k) {
     std::unique_ptr<Scene> scene;
+    double heap_without_contacts = 0;
     try {
-        const std::string xml = bowl::scene_xml(setup(k));
-        write_scene_if_asked(k, xml);
-        scene = build_scene(io::parse_scene_string(xml, "cubes_in_bowl_k" + std::to_string(k)));
-        for (int i = 0; i < kWarmupSteps; ++i) scene->step();
+        const std::string name = "cubes_in_bowl_k" + std::to_string(k);
+        {
+            const std::string xml = bowl::scene_xml(setup(k));
+            bench::write_scene_if_asked(name, xml);
+            scene = build_scene(io::parse_scene_string(xml, name), bench::build_options());
+        }
+        scene->step();  // no cube touches the bowl yet: the heap of the scene and the solve's scratch
+        heap_without_contacts = bench::live_heap_bytes();
+        for (int i = 1; i < kWarmupSteps; ++i) scene->step();
     } catch (const std::exception& e) {
         state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
         for (auto _ : state) {}
@@ -87,10 +84,14 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
     }
     double contacts = 0, active = 0, cg = 0, kinetic = 0, detect = 0, response = 0, solve = 0;
     long steps = 0;
+    bench::start_instrumentation();
     try {
         for (auto _ : state) {
             const auto t0 = Clock::now();
-            scene->step();
+            {
+                const bench::StepProbe probe;
+                scene->step();
+            }
             state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
             const output::ContactSummary c = output::summarize_contacts(scene->contacts());
             contacts += double(c.contacts);
@@ -104,9 +105,11 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
             ++steps;
         }
     } catch (const std::exception& e) {
+        bench::stop_instrumentation();
         state.SkipWithError(("step failed: " + std::string(e.what())).c_str());
         return;
     }
+    bench::stop_instrumentation();
     const double n = double(std::max<long>(steps, 1));
     const bowl::Setup s = setup(k);
     const auto c = bowl::bowl_centre(s);
@@ -118,7 +121,8 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
     }
     state.counters["k"] = k;
     state.counters["cubes"] = k * k * k;
-    state.counters["dofs"] = scalar_dofs(*scene);
+    const double dofs = bench::scalar_dofs(*scene), heap = bench::live_heap_bytes();
+    state.counters["dofs"] = dofs;
     state.counters["contacts"] = contacts / n;
     state.counters["active"] = active / n;
     state.counters["cg_its"] = cg / n;
@@ -127,10 +131,14 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
     state.counters["detect_ms"] = 1e3 * detect / n;
     state.counters["response_ms"] = 1e3 * response / n;
     state.counters["solve_ms"] = 1e3 * solve / n;
+    state.counters["heap_mb"] = heap / 1e6;
+    state.counters["bytes_per_dof"] = heap / dofs;
+    state.counters["bytes_per_contact"] = contacts > 0 ? (heap - heap_without_contacts) / (contacts / n) : 0.0;
+    state.counters["peak_rss_mb"] = bench::peak_rss_bytes() / 1e6;
 }
 
 [[maybe_unused]] const bool registered = [] {
-    for (int k = 1; k <= kMaxK; ++k)
+    for (const int k : kSizes)
         benchmark::RegisterBenchmark(("BM_CubesInBowl/k:" + std::to_string(k)).c_str(), BM_CubesInBowl, k)
             ->Iterations(timed_steps(k))
             ->UseManualTime()

@@ -517,6 +517,11 @@ def _run_on_dask(todo, rows, client, workers, retries, report, out_dir):
             done_count += 1
             report(done_count, row)
     finally:
+        if own_cluster is not None and isinstance(sys.exc_info()[1], KeyboardInterrupt):
+            # Ctrl-C: the workers are being stopped on purpose; a nanny slow to stop its worker
+            # (a loaded machine) would log an ERROR with a traceback over the resume message
+            import logging
+            logging.getLogger("distributed").setLevel(logging.CRITICAL)
         if own_client is not None:
             own_client.close()
         if own_cluster is not None:

@@ -163,6 +163,9 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         it = it->second == nullptr || it->second->outputs.empty() ? outputs_map_.erase(it) : std::next(it);
     // CollisionResponse::createNewContacts, in the outputs map's order.
     feed_.clear();
+    // the pairs refused a contact are searched only when there are some (a search of every
+    // pair per new pair was quadratic in the live pairs)
+    const bool any_refused = std::any_of(pairs_.begin(), pairs_.end(), [](const ContactPairEntry& e) { return !e.contact; });
     for (const auto& [models, d] : outputs_map_) {
         const auto [it, inserted] = contact_map_.insert(models, nullptr);
         if (!inserted) {  // a live contact
@@ -172,7 +175,7 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         // (a copy of the key: a structured binding cannot be captured by a lambda before C++20's
         // P1091, which clang 14 lacks)
         const auto key = models;
-        const auto refused = std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
+        const auto refused = !any_refused ? pairs_.end() : std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
             return !e.contact && e.model1 == key.first && e.model2 == key.second;
         });
         const bool refused_before = refused != pairs_.end();
@@ -204,6 +207,7 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         if (on_destroy) on_destroy(*it->second);
         it = contact_map_.erase(it);
     }
+    if (on_destroy_done) on_destroy_done();  // the destroyed contacts are freed below (ordered_.clear())
     // CollisionResponse::createContacts: the contact vector in the contact map's order (the
     // order of the force fields in the graph), then the pairs without contact still detected.
     const std::size_t refused_count = ordered_.size();
@@ -253,13 +257,15 @@ void CollisionResponse::set_detections_by_rank(std::span<const ModelPairDetectio
         created_.push_back(std::move(e));
     }
     // pairs without outputs this step: destroyed (SOFA's cleanup), the others keep their order
+    if (on_destroy)
+        for (std::size_t i = 0; i < pairs_.size(); ++i)
+            if (!seen_[i] && pairs_[i].contact) on_destroy(*pairs_[i].contact);
+    if (on_destroy_done) on_destroy_done();  // before the compaction below frees them
     std::size_t live = 0;
     for (std::size_t i = 0; i < pairs_.size(); ++i) {
         if (seen_[i]) {
             if (live != i) pairs_[live] = std::move(pairs_[i]);
             ++live;
-        } else if (pairs_[i].contact && on_destroy) {
-            on_destroy(*pairs_[i].contact);
         }
     }
     pairs_.erase(pairs_.begin() + std::ptrdiff_t(live), pairs_.end());
@@ -313,6 +319,7 @@ void CollisionResponse::feed_contacts() {
 void CollisionResponse::clear() {
     for (auto& e : pairs_)
         if (e.contact && on_destroy) on_destroy(*e.contact);
+    if (on_destroy_done) on_destroy_done();
     pairs_.clear();
     contact_map_.clear();  // CollisionResponse::cleanup; the ids stay
 }

@@ -131,6 +131,7 @@ ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParam
         arena_ = std::make_unique<ThreadArena>(options_.threads);  // once: TBB makes its threads lazily
     response_.on_create = [this](BarycentricPenaltyContact& c) { on_create(c); };
     response_.on_destroy = [this](BarycentricPenaltyContact& c) { on_destroy(c); };
+    response_.on_destroy_done = [this] { remove_destroyed_entries(); };
     response_.model_rank = [this](const CollisionModel& m) { return model_entry(m).scene_rank; };
     response_.sofa_stable_id_order = options_.sofa_stable_id_order;
     if (options_.register_stage) simulation.add_contact_stage(*this);
@@ -142,6 +143,7 @@ ContactPipeline::~ContactPipeline() {
     response_.clear();  // on_destroy removes every graph entry
     response_.on_create = nullptr;
     response_.on_destroy = nullptr;
+    response_.on_destroy_done = nullptr;
 }
 
 void ContactPipeline::add_model(CollisionModel& model, Node& node, std::size_t scene_rank) {
@@ -161,20 +163,22 @@ void ContactPipeline::add_model(CollisionModel& model, Node& node, std::size_t s
                                    ") reads a Vec3 state that is not the state of node '", node.name(), "'");
     }
     if (model.params().node == -1) model.params().node = kAutoNodeIdBase + node.id();
+    model_index_.emplace(&model, models_.size());
     models_.push_back(e);
     collision_.add_model(model);
 }
 
 std::size_t ContactPipeline::model_index(const CollisionModel& m) const {
-    for (std::size_t i = 0; i < models_.size(); ++i)
-        if (models_[i].model == &m) return i;
-    throw_invalid_argument("ContactPipeline: model '", m.name(), "' is not registered");
+    // a hash lookup: a pair's creation looks its two models up (a search was quadratic in the
+    // models of a pile of bodies)
+    const std::size_t i = model_index_.find(&m);
+    if (i == PointerIndex<CollisionModel>::npos)
+        throw_invalid_argument("ContactPipeline: model '", m.name(), "' is not registered");
+    return i;
 }
 
 const ContactPipeline::ModelEntry& ContactPipeline::model_entry(const CollisionModel& m) const {
-    for (const auto& e : models_)
-        if (e.model == &m) return e;
-    throw_invalid_argument("ContactPipeline: model '", m.name(), "' is not registered");
+    return models_[model_index(m)];
 }
 
 void ContactPipeline::record_skipped_pairs() {
@@ -405,7 +409,7 @@ void ContactPipeline::attach_newton(EulerImplicitSolver& solver) {
 
 const ContactGraphEntry* ContactPipeline::find(const CollisionModel& m1, const CollisionModel& m2) const {
     for (const auto& e : entries_)
-        if (&e.contact->model1() == &m1 && &e.contact->model2() == &m2) return &e;
+        if (e.contact && &e.contact->model1() == &m1 && &e.contact->model2() == &m2) return &e;
     return nullptr;
 }
 
@@ -452,6 +456,7 @@ void ContactPipeline::on_create(BarycentricPenaltyContact& contact) {
     auto ff = std::make_unique<PenaltyInteraction>(*e.point_states[0], *e.point_states[1], contact.force_field());
     e.force_field = ff.get();
     e.host->add_force_field_ptr(std::move(ff));
+    if (entry_of_valid_) entry_of_.emplace(&contact, entries_.size());
     entries_.push_back(e);
     // A new pair's "before" state: no contact, no tracked id (its first set_detection_outputs
     // follows this hook).
@@ -460,18 +465,57 @@ void ContactPipeline::on_create(BarycentricPenaltyContact& contact) {
     step_start_.push_back(std::move(st));
 }
 
-void ContactPipeline::remove_entry(ContactGraphEntry& e) {
-    e.host->remove_force_field(e.force_field);
+void ContactPipeline::on_destroy(BarycentricPenaltyContact& contact) {
+    // The entry found by a hash lookup and marked; remove_destroyed_entries (on_destroy_done)
+    // takes the marked ones out of the graph and of entries_ in one pass each. (A search, two
+    // erases from the node's lists and one from entries_ per destroyed pair were quadratic in
+    // the live pairs: a pile of bodies loses hundreds a step.)
+    if (!entry_of_valid_) {
+        entry_of_.clear();
+        for (std::size_t i = 0; i < entries_.size(); ++i)
+            if (entries_[i].contact) entry_of_.emplace(entries_[i].contact, i);
+        entry_of_valid_ = true;
+    }
+    const std::size_t i = entry_of_.find(&contact);
+    if (i == PointerIndex<BarycentricPenaltyContact>::npos || entries_[i].contact != &contact) return;
+    ContactGraphEntry& e = entries_[i];
+    removed_fields_.emplace_back(e.host, e.force_field);
     for (Node* n : e.point_nodes)
-        if (n) n->parent()->remove_child(n);
+        if (n) removed_nodes_.emplace_back(n->parent(), n);
+    e.contact = nullptr;
+    ++destroyed_entries_;
 }
 
-void ContactPipeline::on_destroy(BarycentricPenaltyContact& contact) {
-    const auto it = std::find_if(entries_.begin(), entries_.end(), [&](const ContactGraphEntry& e) { return e.contact == &contact; });
-    if (it == entries_.end()) return;
-    remove_entry(*it);
-    step_start_.erase(step_start_.begin() + (it - entries_.begin()));
-    entries_.erase(it);
+void ContactPipeline::remove_destroyed_entries() {
+    entry_of_valid_ = false;  // entries_ moves below
+    if (destroyed_entries_ == 0) return;
+    // per node, its listed fields (children) in one pass; the others keep their order, as with
+    // one removal per pair
+    const auto remove_grouped = [](auto& removed, auto&& remove) {
+        std::sort(removed.begin(), removed.end());
+        std::vector<std::remove_cvref_t<decltype(removed.front().second)>> group;
+        for (std::size_t g = 0; g < removed.size();) {
+            Node* node = removed[g].first;
+            group.clear();
+            for (; g < removed.size() && removed[g].first == node; ++g) group.push_back(removed[g].second);
+            remove(*node, group);
+        }
+        removed.clear();
+    };
+    remove_grouped(removed_fields_, [](Node& n, const auto& group) { n.remove_force_fields(group); });
+    remove_grouped(removed_nodes_, [](Node& n, const auto& group) { n.remove_children(group); });
+    std::size_t live = 0;
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        if (!entries_[i].contact) continue;
+        if (live != i) {
+            entries_[live] = entries_[i];
+            step_start_[live] = std::move(step_start_[i]);
+        }
+        ++live;
+    }
+    entries_.resize(live);
+    step_start_.erase(step_start_.begin() + std::ptrdiff_t(live), step_start_.end());
+    destroyed_entries_ = 0;
 }
 
 }  // namespace penalty

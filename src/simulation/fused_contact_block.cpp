@@ -5,6 +5,10 @@
 #include "penalty/core/error.hpp"
 #include "penalty/core/pointer_index.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -47,6 +51,7 @@ void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
         unfused_mappings_ = l.all_mappings;
         return;
     }
+    PointerIndex<BaseState> external_slot;
     // Candidates: barycentric contact mappings between Vec3 states whose output is read by one
     // force field and no mapping; those read by nobody are fused at once (unread).
     for (std::size_t i = 0; i < l.mappings.size(); ++i) {
@@ -88,6 +93,7 @@ void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
             const Candidate* c = mapping_of_side[side];
             if (c == nullptr) {
                 entry.sides[side].state = side == 0 ? &field->state1() : &field->state2();
+                entry.sides[side].external_slot = external_slot.emplace(entry.sides[side].state, external_slot.size()).first;
                 continue;
             }
             t.fused_mapping_of[c->mapping_index] = static_cast<std::ptrdiff_t>(mappings_.size());
@@ -98,7 +104,9 @@ void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
         t.fused_field_of.emplace(ff, fields_.size());
         fields_.push_back(entry);
     }
+    external_slots_ = external_slot.size();
     mark_steps(l, t.fused_mapping_of, t.fused_field_of);
+    if (!mappings_.empty()) find_step_chains(l, steps_, unfused_mappings_, chains_);
 }
 
 void FusedContactBlock::mark_steps(SubtreeLayout& l, const std::vector<std::ptrdiff_t>& fused_mapping_of,
@@ -166,7 +174,7 @@ void FusedContactBlock::prepare() {
     ready_ = true;
 }
 
-void FusedContactBlock::begin_product(double k, double b) {
+void FusedContactBlock::begin_product(double k, double b, bool parallel) {
     if (!ready_) prepare();
     // the fused fields read only their contact points' dx and write only their df (and external
     // scratch), which no other step reads or writes: run before the steps, same bits; the
@@ -177,18 +185,35 @@ void FusedContactBlock::begin_product(double k, double b) {
         t[1] += z.value;
         t[2] += z.value;
     }
-    apply_fields(k, b);
+    if (!parallel) {
+        apply_fields(0, fields_.size(), k, b, nullptr);
+        return;
+    }
+    // each task's thread its own external df scratch (kept from product to product)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, fields_.size(), kFieldsPerTask),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          apply_fields(r.begin(), r.end(), k, b, &external_scratch_.local());
+                      });
 }
 
-void FusedContactBlock::apply_fields(double k, double b) {
-    for (const FusedField& f : fields_) {
+void FusedContactBlock::apply_fields(std::size_t begin, std::size_t end, double k, double b,
+                                     std::vector<std::vector<Vec3>>* external_df) {
+    if (external_df != nullptr && external_df->size() < external_slots_) external_df->resize(external_slots_);
+    for (std::size_t i = begin; i < end; ++i) {
+        const FusedField& f = fields_[i];
         std::array<Vec3Span, 2> df;
         std::array<ConstVec3Span, 2> dx;
         for (std::size_t side = 0; side < 2; ++side) {
             const FusedSide& s = f.sides[side];
             if (s.mapping < 0) {  // external: dx 0, df scratch
                 dx[side] = s.state->dx;
-                df[side] = s.state->df;
+                if (external_df == nullptr) {
+                    df[side] = s.state->df;
+                } else {
+                    std::vector<Vec3>& scratch = (*external_df)[s.external_slot];
+                    if (scratch.size() < s.state->df.size()) scratch.resize(s.state->df.size(), Vec3::Zero());
+                    df[side] = Vec3Span(scratch.data(), s.state->df.size());
+                }
                 continue;
             }
             const FusedMapping& m = mappings_[static_cast<std::size_t>(s.mapping)];
@@ -197,9 +222,9 @@ void FusedContactBlock::apply_fields(double k, double b) {
             Vec3* out_dx = dx_.data() + m.first;
             Vec3* out_df = df_.data() + m.first;
             // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df
-            for (std::size_t i = 0; i < m.count; ++i) {
-                out_dx[i] = rows[i].combine(in);
-                out_df[i].setZero();
+            for (std::size_t row = 0; row < m.count; ++row) {
+                out_dx[row] = rows[row].combine(in);
+                out_df[row].setZero();
             }
             dx[side] = ConstVec3Span(out_dx, m.count);
             df[side] = Vec3Span(out_df, m.count);

@@ -21,10 +21,13 @@
 /// the others, so one addition of +0 (or NaN) per parent row it touches, before the other steps,
 /// gives the same bits.
 
+#include "step_chains.hpp"
 #include "subtree_layout.hpp"
 
 #include "penalty/core/pointer_index.hpp"
 #include "penalty/mechanics/mapping.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
 
 #include <array>
 #include <cstddef>
@@ -45,8 +48,10 @@ public:
     /// The rows must be copied again before the next fused product (a new FixedReaders).
     void invalidate() { ready_ = false; }
     /// A fused product's start: the rows copied (once under a FixedReaders), the unread mappings'
-    /// zeros added to their parents' df, J and each fused field's add_dforce(k, b).
-    void begin_product(double k, double b);
+    /// zeros added to their parents' df, J and each fused field's add_dforce(k, b). `parallel`:
+    /// the fields as TBB tasks (each writes only its own contact points' df, and external df
+    /// scratch, which then goes to a buffer of the task's thread: nobody reads it); the same bits.
+    void begin_product(double k, double b, bool parallel);
     /// from.df += Jᵀ·df of fused mapping `index` (ForceStep::fused), row by row.
     void spread(std::size_t index) const;
     /// The layout's steps without the fused fields and the unread fused mappings (the read fused
@@ -54,6 +59,9 @@ public:
     [[nodiscard]] const std::vector<ForceStep>& steps() const { return steps_; }
     /// The layout's mappings the block does not apply (a fused product's J passes).
     [[nodiscard]] const std::vector<std::size_t>& unfused_mappings() const { return unfused_mappings_; }
+    /// steps() and unfused_mappings() in chains (step_chains.hpp), made by find().
+    [[nodiscard]] const StepChains& chains() const { return chains_; }
+    [[nodiscard]] std::size_t field_count() const { return fields_.size(); }
 
 private:
     struct FusedMapping {
@@ -69,6 +77,7 @@ private:
     struct FusedSide {
         std::ptrdiff_t mapping = -1;  ///< index in mappings_, or -1: external state
         Vec3Object* state = nullptr;  ///< the external state (mapping == -1)
+        std::size_t external_slot = 0;  ///< the external state's place among the block's (parallel scratch)
     };
     struct FusedField {
         Vec3InteractionForceField* field = nullptr;
@@ -81,8 +90,13 @@ private:
     /// Copies the rows of the fused mappings (current under the FixedReaders), sizes the flat
     /// arrays and lists the unread mappings' zero additions.
     void prepare();
-    /// J of the fused mappings, zeroed df, and each fused field's add_dforce(k, b).
-    void apply_fields(double k, double b);
+    /// J of the fused mappings, zeroed df, and fields [begin, end)'s add_dforce(k, b); an external
+    /// side's df goes to `external_df[slot]` when given (grown to the state's size), else to the
+    /// state's df.
+    void apply_fields(std::size_t begin, std::size_t end, double k, double b,
+                      std::vector<std::vector<Vec3>>* external_df);
+    /// Fields a task of the parallel begin_product applies (a field is a few contacts' work).
+    static constexpr std::size_t kFieldsPerTask = 16;
     void mark_steps(SubtreeLayout& layout, const std::vector<std::ptrdiff_t>& fused_mapping_of,
                     const PointerIndex<BaseForceField>& fused_field_of);
 
@@ -99,6 +113,10 @@ private:
     std::vector<ContactBarycentricRow> rows_;
     std::vector<Vec3> dx_;
     std::vector<Vec3> df_;
+    std::size_t external_slots_ = 0;
+    /// Per thread of the parallel begin_product: each external state's df scratch, by slot.
+    tbb::enumerable_thread_specific<std::vector<std::vector<Vec3>>> external_scratch_;
+    StepChains chains_;
     bool ready_ = false;  ///< rows_ copied under the current FixedReaders
 };
 

@@ -17,6 +17,25 @@ bool erase_owned(std::vector<std::unique_ptr<T>>& owners, const T* p) {
     owners.erase(it);
     return true;
 }
+
+/// Erases (and destroys) the elements of `owners` that own one of `removed`, keeping the
+/// others' order; returns how many were erased. Sorted pointers and a binary search each: one
+/// pass, where an erase per pointer moved the tail each time.
+template <class T>
+std::size_t erase_owned(std::vector<std::unique_ptr<T>>& owners, std::span<const T* const> removed) {
+    if (removed.empty()) return 0;
+    thread_local std::vector<std::uintptr_t> sorted;
+    sorted.clear();
+    for (const T* p : removed) sorted.push_back(reinterpret_cast<std::uintptr_t>(p));
+    std::sort(sorted.begin(), sorted.end());
+    const auto listed = [](const auto& owner) {
+        return std::binary_search(sorted.begin(), sorted.end(), reinterpret_cast<std::uintptr_t>(owner.get()));
+    };
+    const auto kept_end = std::remove_if(owners.begin(), owners.end(), listed);
+    const auto erased = static_cast<std::size_t>(owners.end() - kept_end);
+    owners.erase(kept_end, owners.end());
+    return erased;
+}
 }  // namespace
 
 Node::Node(std::string name, Node* parent) : name_(std::move(name)), parent_(parent) {
@@ -52,6 +71,12 @@ bool Node::remove_child(const Node* child) {
     return true;
 }
 
+std::size_t Node::remove_children(std::span<const Node* const> removed) {
+    const std::size_t erased = erase_owned(children_, removed);
+    if (erased > 0) structure_changed();
+    return erased;
+}
+
 void Node::set_gravity(const Vec3& g) {
     if (!g.allFinite()) throw_invalid_argument("Node '", name_, "': gravity is not finite");
     gravity_ = g;
@@ -84,6 +109,12 @@ bool Node::remove_force_field(const BaseForceField* ff) {
     if (!erase_owned(force_fields_, ff)) return false;
     structure_changed();
     return true;
+}
+
+std::size_t Node::remove_force_fields(std::span<const BaseForceField* const> removed) {
+    const std::size_t erased = erase_owned(force_fields_, removed);
+    if (erased > 0) structure_changed();
+    return erased;
 }
 
 void Node::move_force_fields_to_end(std::span<BaseForceField* const> moved) {

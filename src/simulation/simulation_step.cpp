@@ -55,6 +55,17 @@ void Simulation::respond_to_contacts() {
 }
 
 void Simulation::solve(double dt) {
+    // set_threads(n > 0): the solve's tasks (concurrent solvers, a product's chains) in an arena of
+    // n threads; 0: TBB's default arena
+    if (threads_ > 0) {
+        if (!arena_) arena_ = std::make_unique<ThreadArena>(threads_);
+        arena_->arena.execute([&] { solve_in_arena(dt); });
+        return;
+    }
+    solve_in_arena(dt);
+}
+
+void Simulation::solve_in_arena(double dt) {
     const std::vector<SolveAction>& plan = solve_plan();
     const bool concurrent = threads_ != 1 &&
                             tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&

@@ -1,6 +1,8 @@
 // build_subtree_layout: the states, components and force steps of a solver's subtree.
 #include "subtree_layout.hpp"
 
+#include "step_chains.hpp"
+
 #include "penalty/core/error.hpp"
 #include "penalty/core/pointer_index.hpp"
 
@@ -144,6 +146,7 @@ void build_subtree_layout(Node& root, bool mapping_graph_order, SubtreeLayout& l
             s.mapping_index = t.mapping_index.find(s.mapping);
             PENALTY_DEMAND(s.mapping_index != PointerIndex<BaseMapping>::npos);
         }
+    find_step_chains(l, l.steps, l.all_mappings, l.chains);
 }
 
 }  // namespace penalty::detail

@@ -49,6 +49,21 @@ struct ExternalReaders {
     std::vector<const BaseMapping*> mappings;
 };
 
+/// A product's force steps and mappings' J passes split into chains of disjoint written states
+/// (step_chains.hpp).
+struct StepChains {
+    /// Chain c's steps are steps_of[step_first[c] … step_first[c + 1]), indices into the step
+    /// list, ascending.
+    std::vector<std::size_t> step_first;
+    std::vector<std::uint32_t> steps_of;
+    /// Chain c's mappings (J passes) are mappings_of[mapping_first[c] … mapping_first[c + 1]),
+    /// indices into SubtreeLayout::mappings, in the pass list's order (parents first).
+    std::vector<std::size_t> mapping_first;
+    std::vector<std::uint32_t> mappings_of;
+    [[nodiscard]] std::size_t size() const { return step_first.empty() ? 0 : step_first.size() - 1; }
+    [[nodiscard]] std::size_t largest() const;  ///< steps of the longest chain
+};
+
 /// What a SubtreeSystem is made of.
 struct SubtreeLayout {
     // independent states, concatenated in depth-first order of their nodes
@@ -76,6 +91,8 @@ struct SubtreeLayout {
     /// fields; bottom-up, post-order, a mapped node's Jᵀ) or SOFA HEAD's MappingGraph's
     /// (mapping_graph_order).
     std::vector<ForceStep> steps;
+    /// steps and all_mappings in chains (find_step_chains).
+    StepChains chains;
 };
 
 /// Builds the layout of the subtree of `root`; std::invalid_argument for a mapping whose output

@@ -7,7 +7,12 @@
 #include "fused_contact_block.hpp"
 #include "kernels/prefetch.hpp"
 #include "subtree_layout.hpp"
+#include "step_chains.hpp"
 #include "subtree_scratch.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 
@@ -175,17 +180,38 @@ double MbkCgSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, 
 }
 
 void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
-    namespace prefetch = detail::prefetch;
     if (!scratch_->external_work_zeroed) {
         clear_external_scratch(/*forces=*/false);
         scratch_->external_work_zeroed = true;
     }
     // The fused contact block: only while the contacts cannot change.
     const bool fused = scratch_->readers_fixed && !fused_->empty();
+    // (fused: only the mappings and steps the fused block does not apply, in the same order)
+    const std::vector<std::size_t>& maps = fused ? fused_->unfused_mappings() : layout_->all_mappings;
+    const std::vector<detail::ForceStep>& steps = fused ? fused_->steps() : layout_->steps;
+    // In chains on TBB's threads once every mapped state's read rows are known (the first
+    // product under a FixedReaders finds them, on this thread): the same bits (step_chains.hpp).
+    const detail::StepChains& chains = fused ? fused_->chains() : layout_->chains;
+    const bool concurrent = scratch_->readers_fixed && scratch_->rows_known && chains_worth_tasks(chains, steps.size());
+    if (concurrent) {
+        ++scratch_->concurrent_products;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i) map_dx(chains.mappings_of[i]);
+                for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i) zero_mapped_df(chains.mappings_of[i]);
+            }
+        });
+        if (fused) fused_->begin_product(k, b, /*parallel=*/true);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t c = r.begin(); c != r.end(); ++c)
+                for (std::size_t i = chains.step_first[c]; i < chains.step_first[c + 1]; ++i)
+                    apply_step(steps[chains.steps_of[i]], m, b, k, fused);
+        });
+        return;
+    }
     // The loops below call thousands of small objects (a contact pair's states and mappings) a
     // product, each a cache miss on its first word: fetched kObjectsAhead iterations earlier.
-    // (fused: only the mappings the fused block does not apply, in the same order)
-    const std::vector<std::size_t>& maps = fused ? fused_->unfused_mappings() : layout_->all_mappings;
+    namespace prefetch = detail::prefetch;
     const std::size_t ahead = prefetch::kObjectsAhead;
     for (std::size_t j = 0; j < maps.size(); ++j) {
         if (j + ahead < maps.size()) prefetch::first_word(layout_->dx_readers[maps[j + ahead]].mapping);
@@ -193,37 +219,48 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
     }
     for (std::size_t j = 0; j < maps.size(); ++j) {
         if (j + ahead < maps.size()) prefetch::first_word(layout_->mapped[maps[j + ahead]]);
-        const std::size_t i = maps[j];
-        const detail::DxRows& r = scratch_->dx_rows[i];
-        if (!r.restricted) {
-            layout_->mapped[i]->df_flat().setZero();
-            continue;
-        }
-        // only the rows read (and written) by the readers; Jᵀ takes no other (apply_jt_df_rows)
-        detail::zero_rows(layout_->mapped[i]->df_flat(), static_cast<Eigen::Index>(layout_->mapped[i]->deriv_size()), r.rows);
+        zero_mapped_df(maps[j]);
     }
     // the right-hand side's addMBKv and the CG's product in the system's order
-    const std::vector<detail::ForceStep>& steps = fused ? fused_->steps() : layout_->steps;
-    if (fused) fused_->begin_product(k, b);
+    if (fused) fused_->begin_product(k, b, /*parallel=*/false);
     for (std::size_t i = 0; i < steps.size(); ++i) {
-        const detail::ForceStep& s = steps[i];
-        if (fused && s.fused >= 0) {  // a read fused mapping (the block's steps hold no other fused step)
-            fused_->spread(static_cast<std::size_t>(s.fused));
-            continue;
-        }
         if (i + ahead < steps.size()) prefetch::first_word(step_object(steps[i + ahead]));
-        if (s.mass != nullptr) {
-            if (m != 0.0) s.mass->add_mdx(m);
-        } else if (s.force_field != nullptr) {
-            s.force_field->accumulate_dforce(k, b);
-        } else {
-            const detail::DxRows& r = scratch_->dx_rows[s.mapping_index];
-            if (r.restricted) s.mapping->apply_jt_df_rows(r.rows);
-            else s.mapping->apply_jt_df();
-            // SOFA's addMBKdx: the mapping's geometric stiffness after its Jᵀ (applyDJT)
-            if (k != 0.0 && s.mapping->has_geometric_stiffness()) s.mapping->apply_djt(k);
-        }
+        apply_step(steps[i], m, b, k, fused);
     }
+    if (scratch_->readers_fixed) scratch_->rows_known = true;
+}
+
+void SubtreeSystem::zero_mapped_df(std::size_t index) const {
+    const detail::DxRows& r = scratch_->dx_rows[index];
+    BaseState& state = *layout_->mapped[index];
+    if (!r.restricted) {
+        state.df_flat().setZero();
+        return;
+    }
+    // only the rows read (and written) by the readers; Jᵀ takes no other (apply_jt_df_rows)
+    detail::zero_rows(state.df_flat(), static_cast<Eigen::Index>(state.deriv_size()), r.rows);
+}
+
+void SubtreeSystem::apply_step(const detail::ForceStep& s, double m, double b, double k, bool fused) const {
+    if (fused && s.fused >= 0) {  // a read fused mapping (the block's steps hold no other fused step)
+        fused_->spread(static_cast<std::size_t>(s.fused));
+    } else if (s.mass != nullptr) {
+        if (m != 0.0) s.mass->add_mdx(m);
+    } else if (s.force_field != nullptr) {
+        s.force_field->accumulate_dforce(k, b);
+    } else {
+        const detail::DxRows& r = scratch_->dx_rows[s.mapping_index];
+        if (r.restricted) s.mapping->apply_jt_df_rows(r.rows);
+        else s.mapping->apply_jt_df();
+        // SOFA's addMBKdx: the mapping's geometric stiffness after its Jᵀ (applyDJT)
+        if (k != 0.0 && s.mapping->has_geometric_stiffness()) s.mapping->apply_djt(k);
+    }
+}
+
+bool SubtreeSystem::chains_worth_tasks(const detail::StepChains& chains, std::size_t steps) const {
+    // a product of a few small bodies takes microseconds: tasks would cost more than they save
+    return chains.size() >= 2 && steps >= kMinStepsForConcurrentProducts && 2 * chains.largest() <= steps &&
+           tbb::this_task_arena::max_concurrency() > 1;
 }
 
 void SubtreeSystem::project(Eigen::VectorXd& v) const {

@@ -23,6 +23,10 @@ struct SubtreeScratch {
     std::vector<std::uint32_t> listed_rows;  ///< list_rows_read's scratch
     bool external_work_zeroed = false;       ///< the external states' dx and df zeroed since the last compute_force
     bool readers_fixed = false;              ///< a FixedReaders lives
+    /// Every mapped state's read rows found under the current FixedReaders (its first product
+    /// ran): the products after it may run in chains on several threads.
+    bool rows_known = false;
+    std::size_t concurrent_products = 0;     ///< products whose chains ran on TBB's threads
 };
 
 }  // namespace penalty::detail

@@ -46,6 +46,12 @@ SubtreeSystem::FusedContactCounts SubtreeSystem::fused_contact_counts() const {
     return {.force_fields = counts[0], .read_mappings = counts[1], .unread_mappings = counts[2]};
 }
 
+std::size_t SubtreeSystem::concurrent_products() const { return scratch_->concurrent_products; }
+
+std::size_t SubtreeSystem::product_chains() const {
+    return (fused_->empty() ? layout_->chains : fused_->chains()).size();
+}
+
 bool SubtreeSystem::offsets_valid() const {
     Eigen::Index end = 0;
     for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
@@ -152,11 +158,13 @@ SubtreeSystem::FixedReaders::FixedReaders(const SubtreeSystem& system) : system_
     PENALTY_DEMAND(!system_.scratch_->readers_fixed);
     for (detail::DxRows& r : system_.scratch_->dx_rows) r.found = false;
     system_.scratch_->readers_fixed = true;
+    system_.scratch_->rows_known = false;
     system_.fused_->invalidate();
 }
 
 SubtreeSystem::FixedReaders::~FixedReaders() {
     system_.scratch_->readers_fixed = false;
+    system_.scratch_->rows_known = false;
     for (detail::DxRows& r : system_.scratch_->dx_rows) r.found = false;
 }
 

@@ -135,9 +135,12 @@ public:
     std::function<std::size_t(const CollisionModel&)> model_rank;
 
     /// Hooks for the scene-graph glue: called after a pair's contact is created and before it
-    /// is destroyed.
+    /// is destroyed; on_destroy_done after each batch of on_destroy calls (of a set_detections
+    /// or a clear()), while the contacts they named are still alive, so that the glue can take
+    /// what refers to them out of the graph in one pass.
     std::function<void(BarycentricPenaltyContact&)> on_create;
     std::function<void(BarycentricPenaltyContact&)> on_destroy;
+    std::function<void()> on_destroy_done;
 
 private:
     std::string response_;

@@ -264,7 +264,9 @@ private:
     const ModelEntry& model_entry(const CollisionModel& m) const;
     void on_create(BarycentricPenaltyContact& contact);
     void on_destroy(BarycentricPenaltyContact& contact);
-    void remove_entry(ContactGraphEntry& e);
+    /// After a batch of on_destroy: the destroyed pairs' force fields and contact-point nodes
+    /// out of the graph, their entries out of entries_ (and step_start_), each in one pass.
+    void remove_destroyed_entries();
     /// Records the pairs of the last detection that the method does not detect (once each).
     void record_skipped_pairs();
     /// Runs `f` in the pipeline's thread arena (TBB's default one when options.threads = 0):
@@ -305,6 +307,13 @@ private:
     std::vector<ModelPair> skipped_keys_;       ///< the pairs of skipped_pairs_
     std::vector<ContactGraphEntry> entries_;
     std::size_t created_count_ = 0;
+    PointerIndex<CollisionModel> model_index_;  ///< model → its index in models_
+    // on_destroy's lookups and the removals it leaves to remove_destroyed_entries
+    PointerIndex<BarycentricPenaltyContact> entry_of_;  ///< contact → its entry, while entry_of_valid_
+    bool entry_of_valid_ = false;
+    std::size_t destroyed_entries_ = 0;                 ///< entries_ with contact == nullptr
+    std::vector<std::pair<Node*, const BaseForceField*>> removed_fields_;  ///< (host, field)
+    std::vector<std::pair<Node*, const Node*>> removed_nodes_;             ///< (parent, point node)
     // order_graph_entries' scratch, reused from step to step
     std::vector<ContactGraphEntry> entries_scratch_;
     PointerIndex<BarycentricPenaltyContact> entry_of_scratch_;  ///< order_graph_entries: contact → its entry

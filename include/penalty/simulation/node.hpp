@@ -45,6 +45,11 @@ public:
     /// Removes (and destroys, with its whole subtree) a direct child; returns false if `child`
     /// is not a child of this node. Pointers into the removed subtree dangle afterwards.
     bool remove_child(const Node* child);
+    /// Removes (and destroys) the listed direct children in one pass (a pile of bodies loses
+    /// hundreds of contact-point nodes a step: one remove_child each was quadratic); the others
+    /// keep their order. Returns how many were children of this node; a pointer listed twice
+    /// counts once.
+    std::size_t remove_children(std::span<const Node* const> removed);
 
     /// Context: gravity (m/s², default (0, −9.81, 0)) and time step (s, default 0.01), inherited.
     void set_gravity(const Vec3& g);
@@ -113,6 +118,9 @@ public:
     BaseForceField& add_force_field_ptr(std::unique_ptr<BaseForceField> ff);
     /// Removes (and destroys) a force field of this node; returns false if not found.
     bool remove_force_field(const BaseForceField* ff);
+    /// Removes (and destroys) the listed force fields of this node in one pass; the others keep
+    /// their order. Returns how many were force fields of this node.
+    std::size_t remove_force_fields(std::span<const BaseForceField* const> removed);
     /// Moves the listed force fields of this node (each once) to the end of its list, in the
     /// given order; the others keep their order. Nothing changes (and nothing is allocated) when
     /// the list already ends with them in that order. Throws std::invalid_argument if one is not

@@ -88,6 +88,7 @@ private:
     void detect_contacts();
     void respond_to_contacts();
     void solve(double dt);
+    void solve_in_arena(double dt);
     void map_back();
     void clear_applied_external_forces();
     /// One integration of dt (no contact stage, no time change): solve, map_back, the applied

@@ -23,6 +23,8 @@
 namespace penalty {
 
 namespace detail {
+struct ForceStep;
+struct StepChains;
 struct SubtreeLayout;
 struct SubtreeScratch;
 struct DxReaders;
@@ -48,6 +50,8 @@ public:
     /// A static outside state of fewer DOFs has its scratch cleared whole (clear_external_scratch):
     /// listing the rows of its contacts would cost more than the pass, 72 bytes a DOF.
     static constexpr std::size_t kMinDofsForScratchRows = 2048;
+    /// Fewest force steps a product needs to run its chains on TBB's threads (step_chains.hpp).
+    static constexpr std::size_t kMinStepsForConcurrentProducts = 256;
     [[nodiscard]] bool mapping_graph_order() const { return mapping_graph_order_; }
     [[nodiscard]] bool fuses_contact_products() const { return fuse_contact_products_; }
     /// What the fused contact block applies: contact force fields, the barycentric contact
@@ -59,6 +63,10 @@ public:
         std::size_t unread_mappings = 0;
     };
     [[nodiscard]] FusedContactCounts fused_contact_counts() const;
+    /// How many products so far ran their force steps in chains on TBB's threads
+    /// (src/simulation/step_chains.hpp), and how many chains a product under a FixedReaders has.
+    [[nodiscard]] std::size_t concurrent_products() const;
+    [[nodiscard]] std::size_t product_chains() const;
 
     [[nodiscard]] Eigen::Index size() const;
     /// True while every independent state has the size it had when the system was built (the
@@ -167,6 +175,15 @@ private:
     void find_read_rows(std::size_t index) const;
     /// to.dx = J from.dx for mapping `index`, only the rows its readers read when they can tell.
     void map_dx(std::size_t index) const;
+    /// Zeroes the df of mapping `index`'s output (the rows its readers read, when known).
+    void zero_mapped_df(std::size_t index) const;
+    /// One force step of a product: a mass's m·M·dx, a field's k·K·dx + b·B·dx, a mapping's Jᵀ,
+    /// or (fused) a fused mapping's spread.
+    void apply_step(const detail::ForceStep& step, double m, double b, double k, bool fused) const;
+    /// Whether a product's chains go to TBB's threads: two chains or more, at least
+    /// kMinStepsForConcurrentProducts steps, none with more than half of them, and more than one
+    /// thread in the calling arena.
+    [[nodiscard]] bool chains_worth_tasks(const detail::StepChains& chains, std::size_t steps) const;
 
     std::unique_ptr<detail::SubtreeLayout> layout_;     ///< built by the constructor, then only read
     std::unique_ptr<detail::SubtreeScratch> scratch_;   ///< the products' numbers from call to call

@@ -1,0 +1,145 @@
+// Large scenes (issue 54): a tetrahedral soft body of 10⁴ … 10⁶ DOFs dropped onto a static,
+// curved, liver-sized triangle surface and sliding over it (tests/support/penalty_test/
+// soft_body_on_organ.hpp), SOFA scene text built by the scene builder, so a step is the one
+// `penalty run` takes. The k×k×k cubes in a bowl, the other large scene (k = 16: 98 304 DOFs), is
+// bench_scaling.cpp.
+//
+// Sizes (body cells n × n/8 × n, organ subdivisions s):
+//   n = 16  (2 601 DOFs,    3 072 tetrahedra), s = 32 (12 288 triangles)
+//   n = 32  (16 335 DOFs,  24 576 tetrahedra), s = 48 (27 648 triangles)
+//   n = 64  (114 075 DOFs, 196 608 tetrahedra), s = 64 (49 152 triangles)
+//   n = 136 (1 010 394 DOFs, 1 886 592 tetrahedra), s = 96 (110 592 triangles)
+//
+// Method. Per size: the scene is built, one step is run (the body is still above the organ:
+// no contact), then warmup_steps(n) steps (the body has landed on the organ and slides), then
+// timed_steps(n) steps are timed one by one (manual time = wall time of Scene::step() alone).
+// Threads: TBB's default or $PENALTY_BENCH_THREADS; $PENALTY_SCALING_SCENES=DIR writes
+// DIR/soft_body_on_organ_n<n>.scn; callgrind: bench/scene_probe.hpp.
+//
+// Counters (per step, over the timed steps): dofs, tetrahedra, organ_triangles; contacts,
+// active (springs with pen > 0); cg_its; detect_ms, response_ms, solve_ms (Scene::last_timings);
+// ns_per_dof_cg_it = solve time / (DOFs × CG iterations); sunk (body nodes deeper inside the
+// organ's smooth surface than the contact distance at the end); heap_mb, bytes_per_dof,
+// bytes_per_contact, peak_rss_mb (as in bench_scaling.cpp); build_s (parse and build, wall).
+#include "penalty/mechanics/mechanical_object.hpp"
+#include "penalty/output/stats_csv.hpp"
+#include "penalty/scene/scene.hpp"
+#include "penalty_test/soft_body_on_organ.hpp"
+#include "scene_probe.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <exception>
+#include <memory>
+#include <string>
+
+namespace penalty::scene {
+namespace {
+
+namespace organ = penalty::test::soft_body_on_organ;
+using Clock = std::chrono::steady_clock;
+
+struct Size {
+    int cells;
+    int organ_subdivisions;
+    int warmup_steps;
+    int timed_steps;
+};
+constexpr Size kSizes[] = {{16, 32, 40, 60}, {32, 48, 40, 40}, {64, 64, 40, 10}, {136, 96, 20, 3}};
+
+organ::Setup setup(const Size& size) {
+    organ::Setup s;
+    s.cells = size.cells;
+    s.organ_subdivisions = size.organ_subdivisions;
+    return s;
+}
+
+void BM_SoftBodyOnOrgan(benchmark::State& state, Size size) {
+    const organ::Setup s = setup(size);
+    std::unique_ptr<Scene> scene;
+    double heap_without_contacts = 0, build_seconds = 0;
+    try {
+        const auto t0 = Clock::now();
+        const std::string name = "soft_body_on_organ_n" + std::to_string(size.cells);
+        {
+            const std::string xml = organ::scene_xml(s);
+            bench::write_scene_if_asked(name, xml);
+            scene = build_scene(io::parse_scene_string(xml, name), bench::build_options());
+        }
+        build_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        scene->step();  // in the air: the heap of the scene and the solve's scratch
+        heap_without_contacts = bench::live_heap_bytes();
+        for (int i = 0; i < size.warmup_steps; ++i) scene->step();
+    } catch (const std::exception& e) {
+        state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
+        for (auto _ : state) {}
+        return;
+    }
+    double contacts = 0, active = 0, cg = 0, detect = 0, response = 0, solve = 0;
+    long steps = 0;
+    bench::start_instrumentation();
+    try {
+        for (auto _ : state) {
+            const auto t0 = Clock::now();
+            {
+                const bench::StepProbe probe;
+                scene->step();
+            }
+            state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+            const output::ContactSummary c = output::summarize_contacts(scene->contacts());
+            contacts += double(c.contacts);
+            active += double(c.active_contacts);
+            cg += scene->last_solver_stats().cg_iterations;
+            const StepTimings& t = scene->last_timings();
+            detect += t.detection_seconds;
+            response += t.response_seconds;
+            solve += t.solve_seconds;
+            ++steps;
+        }
+    } catch (const std::exception& e) {
+        bench::stop_instrumentation();
+        state.SkipWithError(("step failed: " + std::string(e.what())).c_str());
+        return;
+    }
+    bench::stop_instrumentation();
+    const double n = double(std::max<long>(steps, 1));
+    int sunk = 0;
+    for (const auto& r : scene->states()) {
+        if (!r.in_solver_subtree) continue;  // the organ
+        for (const Vec3& x : dynamic_cast<const Vec3Object&>(*r.state).position)
+            if (organ::organ_depth(s, {x.x(), x.y(), x.z()}) > organ::contact_distance(s)) ++sunk;
+    }
+    const double dofs = bench::scalar_dofs(*scene), heap = bench::live_heap_bytes();
+    state.counters["cells"] = size.cells;
+    state.counters["dofs"] = dofs;
+    state.counters["tetrahedra"] = double(organ::body_tetrahedra(s));
+    state.counters["organ_triangles"] = double(organ::organ_triangles(s));
+    state.counters["contacts"] = contacts / n;
+    state.counters["active"] = active / n;
+    state.counters["cg_its"] = cg / n;
+    state.counters["detect_ms"] = 1e3 * detect / n;
+    state.counters["response_ms"] = 1e3 * response / n;
+    state.counters["solve_ms"] = 1e3 * solve / n;
+    state.counters["ns_per_dof_cg_it"] = cg > 0 ? 1e9 * solve / (dofs * cg) : 0.0;
+    state.counters["sunk"] = sunk;
+    state.counters["heap_mb"] = heap / 1e6;
+    state.counters["bytes_per_dof"] = heap / dofs;
+    state.counters["bytes_per_contact"] = contacts > 0 ? (heap - heap_without_contacts) / (contacts / n) : 0.0;
+    state.counters["peak_rss_mb"] = bench::peak_rss_bytes() / 1e6;
+    state.counters["build_s"] = build_seconds;
+}
+
+[[maybe_unused]] const bool registered = [] {
+    for (const Size& size : kSizes)
+        benchmark::RegisterBenchmark(("BM_SoftBodyOnOrgan/n:" + std::to_string(size.cells)).c_str(), BM_SoftBodyOnOrgan, size)
+            ->Iterations(size.timed_steps)
+            ->UseManualTime()
+            ->MeasureProcessCPUTime()
+            ->Unit(benchmark::kMillisecond);
+    return true;
+}();
+
+}  // namespace
+}  // namespace penalty::scene

@@ -1,0 +1,94 @@
+// SubtreeSystem's products in chains on TBB's threads (src/simulation/step_chains.hpp): a pile of
+// 125 FEM cubes in a bowl under one solver has about 300 force steps a product (more than
+// SubtreeSystem::kMinStepsForConcurrentProducts) in 125 chains of disjoint written states, so
+// under a FixedReaders the products after the first run concurrently. Every result must be the bits of the same product on one thread, and a whole run
+// the same state files at 1, 2 and 8 threads.
+#include "penalty/io/scene_file.hpp"
+#include "penalty/mechanics/mechanical_object.hpp"
+#include "penalty/scene/scene.hpp"
+#include "penalty/simulation/solver.hpp"
+#include "penalty_test/cubes_in_bowl.hpp"
+#include "penalty_test/same_bits.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace penalty;
+namespace bowl = penalty::test::cubes_in_bowl;
+
+std::unique_ptr<scene::Scene> pile(int threads) {
+    bowl::Setup s;
+    s.k = 5;
+    scene::BuildOptions options;
+    options.threads = threads;
+    return scene::build_scene(io::parse_scene_string(bowl::scene_xml(s), "cubes_in_bowl_k5.scn"), options);
+}
+
+Node& cubes_node(scene::Scene& s) {
+    for (const auto& child : s.simulation().root().children())
+        if (child->name() == "Cubes") return *child;
+    throw std::logic_error("no /Cubes node");
+}
+
+std::vector<double> flat_positions(const scene::Scene& s) {
+    std::vector<double> out;
+    for (const auto& r : s.states())
+        if (const auto* v = dynamic_cast<const Vec3Object*>(r.state))
+            for (const Vec3& p : v->position) out.insert(out.end(), {p.x(), p.y(), p.z()});
+    return out;
+}
+
+TEST(ConcurrentProducts, ProductsInChainsAreTheBitsOfOneThread) {
+    auto scene = pile(1);
+    for (int i = 0; i < 150; ++i) scene->step();  // the cubes have reached the bowl and touch each other
+    const SubtreeSystem system(cubes_node(*scene), true, true);
+    ASSERT_GE(system.product_chains(), 8u);
+    std::mt19937 rng(54);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    long compared = 0, differing = 0;
+    for (int trial = 0; trial < 4; ++trial) {
+        Eigen::VectorXd dx(system.size());
+        for (Eigen::Index i = 0; i < dx.size(); ++i) dx[i] = unit(rng);
+        const double m = 1.02, b = -0.01, k = -1.01e-4;  // an implicit-Euler operator
+        Eigen::VectorXd one, many;
+        const SubtreeSystem::FixedReaders fixed(system);
+        tbb::task_arena(1).execute([&] {
+            Eigen::VectorXd first;
+            system.apply_mbk(dx, first, m, b, k, true);  // finds the read rows
+            system.apply_mbk(dx, one, m, b, k, true);
+        });
+        const std::size_t before = system.concurrent_products();
+        tbb::task_arena(4).execute([&] { system.apply_mbk(dx, many, m, b, k, true); });
+        EXPECT_EQ(system.concurrent_products(), before + 1) << "the product did not run in chains";
+        ASSERT_EQ(one.size(), many.size());
+        for (Eigen::Index i = 0; i < one.size(); ++i) {
+            ++compared;
+            differing += test::same_bits(one[i], many[i]) ? 0 : 1;
+        }
+    }
+    EXPECT_EQ(differing, 0) << "of " << compared;
+}
+
+TEST(ConcurrentProducts, RunsAreTheSameBitsAtOneTwoAndEightThreads) {
+    std::vector<std::vector<double>> runs;
+    for (const int threads : {1, 2, 8}) {
+        auto scene = pile(threads);
+        for (int i = 0; i < 180; ++i) scene->step();
+        runs.push_back(flat_positions(*scene));
+    }
+    for (std::size_t r = 1; r < runs.size(); ++r) {
+        ASSERT_EQ(runs[r].size(), runs[0].size());
+        long differing = 0;
+        for (std::size_t i = 0; i < runs[0].size(); ++i) differing += test::same_bits(runs[0][i], runs[r][i]) ? 0 : 1;
+        EXPECT_EQ(differing, 0) << "run " << r;
+    }
+}
+
+}  // namespace
