@@ -8,6 +8,7 @@
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/projective_constraints.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
@@ -549,8 +550,8 @@ TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {
     // components without a rule yet: a mass over the elements, a projective constraint on points
     for (const auto& [component, named] :
          {std::pair<std::string, std::string>{R"(<MeshMatrixMass name="m" massDensity="1000"/>)", "MeshMatrixMass 'm' (test.scn:"},
-          {R"(<UniformMass totalMass="1"/><LineProjectiveConstraint name="line" indices="0" direction="1 0 0"/>)",
-           "LineProjectiveConstraint 'line' (test.scn:"}}) {
+          {R"(<UniformMass totalMass="1"/><DirectionProjectiveConstraint name="along" indices="0" direction="1 0 0"/>)",
+           "DirectionProjectiveConstraint 'along' (test.scn:"}}) {
         const std::string text = tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/><CGLinearSolver/>
   )" + component + R"(<TopologicalChangeProcessor filename=")" + file + R"("/>)");
         EXPECT_THAT(test::error_of(text), HasSubstr(named));
@@ -626,6 +627,44 @@ TEST(TopologicalChanges, ThousandsOfRemovalsAndAdditionsKeepEveryFollowerConsist
     EXPECT_GT(additions, 100u);
     EXPECT_EQ(x.num_dofs(), 0u);  // every point went with its last tetrahedron
     s->step();
+}
+
+TEST(TopologicalChanges, LinePlaneAndPointConstraintsKeepTheirPointsAndProjectAsIfBuiltOnThem) {
+    // the same index list on a fixed, a line, a plane and a point constraint: after removals that
+    // renumber points, each still names the same points (found by rest position), and the line's
+    // projection acts on exactly those
+    const test::TetraCube cube = test::tetra_cube(2, 0.2);
+    const std::string indices = R"(indices="0 1 2 9 13 26")";
+    auto s = build(tchg_body(cube.points, cube.tetrahedra, "<UniformMass totalMass=\"1\"/>\n  <FixedProjectiveConstraint " + indices +
+                                                                 "/>\n  <LineProjectiveConstraint direction=\"1 1 0\" " + indices +
+                                                                 "/>\n  <PlaneProjectiveConstraint normal=\"0 0 1\" " + indices +
+                                                                 "/>\n  <PointProjectiveConstraint point=\"0 0 0\" " + indices + "/>"));
+    s->remove_elements("volume", ElementType::tetrahedron, {0, 38});  // the only ones on corners 0 and 26
+    Node& root = s->simulation().root();
+    const auto* fixed = tchg_find<FixedProjectiveConstraint>(root);
+    const auto* line = tchg_find<LineProjectiveConstraint>(root);
+    const auto* plane = tchg_find<PlaneProjectiveConstraint>(root);
+    const auto* point = tchg_find<PointProjectiveConstraint>(root);
+    ASSERT_TRUE(fixed && line && plane && point);
+    const Vec3Object& x = tchg_state(*s);
+    std::set<std::array<double, 3>> kept;
+    for (const Index i : fixed->indices()) {
+        const Vec3& p = x.rest_position[std::size_t(i)];
+        kept.insert({p.x(), p.y(), p.z()});
+    }
+    EXPECT_EQ(kept.size(), 4u);  // 1, 2, 9, 13 at their rest positions
+    EXPECT_EQ(line->indices(), fixed->indices());
+    EXPECT_EQ(plane->indices(), fixed->indices());
+    EXPECT_EQ(point->indices(), fixed->indices());
+    std::vector<Index> sorted = fixed->indices();
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(line->projected_points(), sorted);
+    Eigen::VectorXd v = Eigen::VectorXd::Ones(Eigen::Index(3 * x.num_dofs()));
+    line->project_response(v);
+    for (std::size_t i = 0; i < x.num_dofs(); ++i) {
+        const bool on = std::binary_search(sorted.begin(), sorted.end(), Index(i));
+        EXPECT_DOUBLE_EQ(v(Eigen::Index(3 * i + 2)), on ? 0.0 : 1.0) << i;  // z leaves the line (1, 1, 0)
+    }
 }
 
 TEST(TopologicalChanges, ARebuildFromTheTextFollowsBeforeAChangeAndIsRefusedAfter) {

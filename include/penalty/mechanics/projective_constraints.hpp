@@ -27,6 +27,12 @@ public:
     BlockProjectionConstraint(Vec3Object& state, std::vector<Index> indices, const char* component)
         : state_(&state), indices_(std::move(indices)), component_(component) {}
     [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
+    /// New indices (a topological change: TopologySubsetIndices), and the block projection built
+    /// again for them, as SOFA's projectResponse rebuilds its jacobian when the state's size changed.
+    void set_indices(std::vector<Index> indices) {
+        indices_ = std::move(indices);
+        init();
+    }
     /// The 3×3 block applied to a constrained point (after init).
     [[nodiscard]] const Mat3& block() const { return block_; }
     /// The points the responses are projected at (sorted; see the file comment for duplicates).
@@ -106,6 +112,9 @@ public:
     [[nodiscard]] bool projects_positions() const override { return true; }
     [[nodiscard]] bool list_discarded_rows(std::vector<Index>& rows) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
+    [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
+    /// New indices (a topological change: TopologySubsetIndices).
+    void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
 
 private:
     Vec3Object* state_;

@@ -10,6 +10,7 @@
 #include "penalty/mechanics/hexahedral_fem.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/pressure_loads.hpp"
+#include "penalty/mechanics/projective_constraints.hpp"
 #include "penalty/mechanics/topology_followers.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
 #include "scene/topology/topology_changes.hpp"
@@ -96,6 +97,24 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
     }
     if ((type == "FixedPlaneProjectiveConstraint" || type == "FixedPlaneConstraint") && b.constraints.size() == 1) {
         auto* k = dynamic_cast<FixedPlaneProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    // LineProjectiveConstraint, PlaneProjectiveConstraint: TopologySubsetIndices, and the jacobian
+    // made again for the new indices (projectResponse's updateJacobian when the size changed)
+    if ((type == "LineProjectiveConstraint" || type == "PlaneProjectiveConstraint") && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<BlockProjectionConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    if (type == "PointProjectiveConstraint" && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<PointProjectiveConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
         container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
                                   container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
