@@ -5,11 +5,35 @@
 #include "penalty/mechanics/topology_data.hpp"
 
 #include <algorithm>
+#include <span>
+#include <vector>
 
 namespace penalty {
 
 namespace {
 std::uint8_t type_bit(ElementType t) { return static_cast<std::uint8_t>(1u << static_cast<unsigned>(t)); }
+
+/// SOFA's walk of applyPointDestruction (before the points go): for each removed point in order,
+/// the last point takes its index; visit(around, last, taken) runs with `last` that point's index
+/// now, `taken` the index it takes, and `around` the point whose neighbourhood in the mesh (not
+/// yet renumbered) still names it.
+template <class Visit>
+void walk_point_destruction(std::size_t num_points, std::span<const ElementId> removed, Visit&& visit) {
+    auto last = ElementId(num_points) - 1;
+    std::vector<ElementId> last_index(removed.size());
+    for (std::size_t k = 0; k < removed.size(); ++k) last_index[k] = last - ElementId(k);
+    for (std::size_t i = 0; i < removed.size(); ++i) {
+        std::size_t next = i;
+        bool reached = false;
+        while (!reached && next + 1 < last_index.size()) {
+            ++next;
+            reached = last_index[next] == removed[i];
+        }
+        if (reached) last_index[next] = last_index[i];
+        visit(last_index[i], last, removed[i]);
+        --last;
+    }
+}
 }  // namespace
 
 // ---- RebuildFollower ------------------------------------------------------------------------
@@ -121,26 +145,15 @@ void TriangularBendingSpringsFollower::triangles_removed(std::span<const Element
 // a removed one's index, the spring of the edge opposite it names the new index.
 void TriangularBendingSpringsFollower::points_removed(std::span<const ElementId> removed) {
     const MeshTopology& m = container_->mesh();
-    auto last = ElementId(container_->num_points()) - 1;
-    std::vector<ElementId> last_index(removed.size());
-    for (std::size_t k = 0; k < removed.size(); ++k) last_index[k] = last - ElementId(k);
-    for (std::size_t i = 0; i < removed.size(); ++i) {
-        std::size_t next = i;
-        bool reached = false;
-        while (!reached && next + 1 < last_index.size()) {
-            ++next;
-            reached = last_index[next] == removed[i];
-        }
-        if (reached) last_index[next] = last_index[i];
-        for (const std::int32_t t : m.triangles_around_vertex()[std::size_t(last_index[i])]) {
+    walk_point_destruction(container_->num_points(), removed, [&](ElementId around, ElementId last, ElementId taken) {
+        for (const std::int32_t t : m.triangles_around_vertex()[std::size_t(around)]) {
             const Triangle& tri = m.triangles()[std::size_t(t)];
-            const auto j = std::size_t(std::find(tri.begin(), tri.end(), last_index[i]) - tri.begin());
+            const auto j = std::size_t(std::find(tri.begin(), tri.end(), around) - tri.begin());
             EdgeInformation& ei = edges_[std::size_t(m.edges_in_triangle()[std::size_t(t)][j])];
-            if (ei.m1 == last) ei.m1 = removed[i];
-            else if (ei.m2 == last) ei.m2 = removed[i];
+            if (ei.m1 == last) ei.m1 = taken;
+            else if (ei.m2 == last) ei.m2 = taken;
         }
-        --last;
-    }
+    });
 }
 
 void TriangularBendingSpringsFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
@@ -178,10 +191,6 @@ void TriangularBendingSpringsFollower::topology_change_done() {
     for (const Spring& s : springs()) springs_->add_spring(s);
     springs_->init();
 }
-
-}  // namespace penalty
-
-namespace penalty {
 
 // ---- QuadularBendingSpringsFollower -------------------------------------------------------------
 
@@ -250,27 +259,16 @@ void QuadularBendingSpringsFollower::quads_removed(std::span<const ElementId> re
 // a removed one's index, away from it, name the new index.
 void QuadularBendingSpringsFollower::points_removed(std::span<const ElementId> removed) {
     const MeshTopology& m = container_->mesh();
-    auto last = ElementId(container_->num_points()) - 1;
-    std::vector<ElementId> last_index(removed.size());
-    for (std::size_t k = 0; k < removed.size(); ++k) last_index[k] = last - ElementId(k);
-    for (std::size_t i = 0; i < removed.size(); ++i) {
-        std::size_t next = i;
-        bool reached = false;
-        while (!reached && next + 1 < last_index.size()) {
-            ++next;
-            reached = last_index[next] == removed[i];
-        }
-        if (reached) last_index[next] = last_index[i];
-        for (const std::int32_t q : m.quads_around_vertex()[std::size_t(last_index[i])]) {
+    walk_point_destruction(container_->num_points(), removed, [&](ElementId around, ElementId last, ElementId taken) {
+        for (const std::int32_t q : m.quads_around_vertex()[std::size_t(around)]) {
             const Quad& quad = m.quads()[std::size_t(q)];
-            const auto v = std::size_t(std::find(quad.begin(), quad.end(), last_index[i]) - quad.begin());
+            const auto v = std::size_t(std::find(quad.begin(), quad.end(), around) - quad.begin());
             for (std::size_t j = v; j % 4 != (v + 2) % 4; ++j)
                 for (auto& spring : edges_[std::size_t(m.edges_in_quad()[std::size_t(q)][j % 4])].springs)
                     for (auto& end : spring)
-                        if (end == last) end = removed[i];
+                        if (end == last) end = taken;
         }
-        --last;
-    }
+    });
 }
 
 void QuadularBendingSpringsFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
