@@ -227,6 +227,14 @@ void ContinuousDetection::build_surfaces() {
             s.edges.push_back({a, b});
             s.edge_model.push_back(m);
         };
+        const auto add_spheres = [&](const auto& spheres, const CollisionModel* m) {  // Sphere, RigidSphere
+            for (std::size_t i = 0; i < spheres.size(); ++i) {
+                s.sphere_dof.push_back(Index(i));
+                s.sphere_radius.push_back(spheres.radius(Index(i)));
+                s.sphere_model.push_back(m);
+                s.sphere_element.push_back(Index(i));
+            }
+        };
         for (const CollisionModel* m : s.models) {
             switch (m->type()) {
                 case ModelType::Point: {
@@ -260,26 +268,8 @@ void ContinuousDetection::build_surfaces() {
                     }
                     break;
                 }
-                case ModelType::Sphere: {
-                    const auto& sm = static_cast<const SphereModel&>(*m);
-                    for (std::size_t i = 0; i < sm.size(); ++i) {
-                        s.sphere_dof.push_back(Index(i));
-                        s.sphere_radius.push_back(sm.radius(Index(i)));
-                        s.sphere_model.push_back(m);
-                        s.sphere_element.push_back(Index(i));
-                    }
-                    break;
-                }
-                case ModelType::RigidSphere: {
-                    const auto& sm = static_cast<const RigidSphereModel&>(*m);
-                    for (std::size_t i = 0; i < sm.size(); ++i) {
-                        s.sphere_dof.push_back(Index(i));
-                        s.sphere_radius.push_back(sm.radius(Index(i)));
-                        s.sphere_model.push_back(m);
-                        s.sphere_element.push_back(Index(i));
-                    }
-                    break;
-                }
+                case ModelType::Sphere: add_spheres(static_cast<const SphereModel&>(*m), m); break;
+                case ModelType::RigidSphere: add_spheres(static_cast<const RigidSphereModel&>(*m), m); break;
                 default: break;
             }
         }
