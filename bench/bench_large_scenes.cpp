@@ -17,7 +17,7 @@
 // DIR/soft_body_on_organ_n<n>.scn; callgrind: bench/scene_probe.hpp.
 //
 // Counters (per step, over the timed steps): dofs, tetrahedra, organ_triangles; contacts,
-// active (springs with pen > 0); cg_its; detect_ms, response_ms, solve_ms (Scene::last_timings);
+// active (springs with pen > 0); cg_its; kinetic_j; detect_ms, response_ms, solve_ms (Scene::last_timings);
 // ns_per_dof_cg_it = solve time / (DOFs × CG iterations); sunk (body nodes deeper inside the
 // organ's smooth surface than the contact distance at the end); heap_mb, bytes_per_dof,
 // bytes_per_contact, peak_rss_mb (as in bench_scaling.cpp); build_s (parse and build, wall).
@@ -77,57 +77,21 @@ void BM_SoftBodyOnOrgan(benchmark::State& state, Size size) {
         for (auto _ : state) {}
         return;
     }
-    double contacts = 0, active = 0, cg = 0, detect = 0, response = 0, solve = 0;
-    long steps = 0;
-    bench::start_instrumentation();
-    try {
-        for (auto _ : state) {
-            const auto t0 = Clock::now();
-            {
-                const bench::StepProbe probe;
-                scene->step();
-            }
-            state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
-            const output::ContactSummary c = output::summarize_contacts(scene->contacts());
-            contacts += double(c.contacts);
-            active += double(c.active_contacts);
-            cg += scene->last_solver_stats().cg_iterations;
-            const StepTimings& t = scene->last_timings();
-            detect += t.detection_seconds;
-            response += t.response_seconds;
-            solve += t.solve_seconds;
-            ++steps;
-        }
-    } catch (const std::exception& e) {
-        bench::stop_instrumentation();
-        state.SkipWithError(("step failed: " + std::string(e.what())).c_str());
-        return;
-    }
-    bench::stop_instrumentation();
-    const double n = double(std::max<long>(steps, 1));
+    bench::StepSums sums;
+    if (!bench::run_timed_steps(state, *scene, sums)) return;
     int sunk = 0;
     for (const auto& r : scene->states()) {
         if (!r.in_solver_subtree) continue;  // the organ
         for (const Vec3& x : dynamic_cast<const Vec3Object&>(*r.state).position)
             if (organ::organ_depth(s, {x.x(), x.y(), x.z()}) > organ::contact_distance(s)) ++sunk;
     }
-    const double dofs = bench::scalar_dofs(*scene), heap = bench::live_heap_bytes();
+    bench::report_step_sums(state, *scene, sums, heap_without_contacts);
+    const double dofs = state.counters["dofs"];
     state.counters["cells"] = size.cells;
-    state.counters["dofs"] = dofs;
     state.counters["tetrahedra"] = double(organ::body_tetrahedra(s));
     state.counters["organ_triangles"] = double(organ::organ_triangles(s));
-    state.counters["contacts"] = contacts / n;
-    state.counters["active"] = active / n;
-    state.counters["cg_its"] = cg / n;
-    state.counters["detect_ms"] = 1e3 * detect / n;
-    state.counters["response_ms"] = 1e3 * response / n;
-    state.counters["solve_ms"] = 1e3 * solve / n;
-    state.counters["ns_per_dof_cg_it"] = cg > 0 ? 1e9 * solve / (dofs * cg) : 0.0;
+    state.counters["ns_per_dof_cg_it"] = sums.cg > 0 ? 1e9 * sums.solve / (dofs * sums.cg) : 0.0;
     state.counters["sunk"] = sunk;
-    state.counters["heap_mb"] = heap / 1e6;
-    state.counters["bytes_per_dof"] = heap / dofs;
-    state.counters["bytes_per_contact"] = contacts > 0 ? (heap - heap_without_contacts) / (contacts / n) : 0.0;
-    state.counters["peak_rss_mb"] = bench::peak_rss_bytes() / 1e6;
     state.counters["build_s"] = build_seconds;
 }
 

@@ -50,7 +50,6 @@ namespace penalty::scene {
 namespace {
 
 namespace bowl = penalty::test::cubes_in_bowl;
-using Clock = std::chrono::steady_clock;
 
 constexpr int kSizes[] = {1, 2, 3, 4, 5, 6, 7, 8, 10, 12, 16};
 constexpr int kWarmupSteps = 300;  // 1.5 s at dt = 5 ms
@@ -82,35 +81,8 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
         for (auto _ : state) {}
         return;
     }
-    double contacts = 0, active = 0, cg = 0, kinetic = 0, detect = 0, response = 0, solve = 0;
-    long steps = 0;
-    bench::start_instrumentation();
-    try {
-        for (auto _ : state) {
-            const auto t0 = Clock::now();
-            {
-                const bench::StepProbe probe;
-                scene->step();
-            }
-            state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
-            const output::ContactSummary c = output::summarize_contacts(scene->contacts());
-            contacts += double(c.contacts);
-            active += double(c.active_contacts);
-            cg += scene->last_solver_stats().cg_iterations;
-            kinetic += scene->kinetic_energy();
-            const StepTimings& t = scene->last_timings();
-            detect += t.detection_seconds;
-            response += t.response_seconds;
-            solve += t.solve_seconds;
-            ++steps;
-        }
-    } catch (const std::exception& e) {
-        bench::stop_instrumentation();
-        state.SkipWithError(("step failed: " + std::string(e.what())).c_str());
-        return;
-    }
-    bench::stop_instrumentation();
-    const double n = double(std::max<long>(steps, 1));
+    bench::StepSums sums;
+    if (!bench::run_timed_steps(state, *scene, sums)) return;
     const bowl::Setup s = setup(k);
     const auto c = bowl::bowl_centre(s);
     int sunk = 0;
@@ -121,20 +93,8 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
     }
     state.counters["k"] = k;
     state.counters["cubes"] = k * k * k;
-    const double dofs = bench::scalar_dofs(*scene), heap = bench::live_heap_bytes();
-    state.counters["dofs"] = dofs;
-    state.counters["contacts"] = contacts / n;
-    state.counters["active"] = active / n;
-    state.counters["cg_its"] = cg / n;
-    state.counters["kinetic_j"] = kinetic / n;
+    bench::report_step_sums(state, *scene, sums, heap_without_contacts);
     state.counters["sunk"] = sunk;
-    state.counters["detect_ms"] = 1e3 * detect / n;
-    state.counters["response_ms"] = 1e3 * response / n;
-    state.counters["solve_ms"] = 1e3 * solve / n;
-    state.counters["heap_mb"] = heap / 1e6;
-    state.counters["bytes_per_dof"] = heap / dofs;
-    state.counters["bytes_per_contact"] = contacts > 0 ? (heap - heap_without_contacts) / (contacts / n) : 0.0;
-    state.counters["peak_rss_mb"] = bench::peak_rss_bytes() / 1e6;
 }
 
 [[maybe_unused]] const bool registered = [] {

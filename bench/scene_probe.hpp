@@ -12,12 +12,17 @@
 // the build and the warm-up uninstrumented (a few times slower than natively, not fifty), and
 // collects the timed Scene::step() calls only (StepProbe): Ir per step = total Ir / steps.
 #include "penalty/mechanics/mechanical_object.hpp"
+#include "penalty/output/stats_csv.hpp"
 #include "penalty/scene/scene.hpp"
 
+#include <benchmark/benchmark.h>
 #include <malloc.h>
 #include <sys/resource.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -95,6 +100,67 @@ inline void stop_instrumentation() {
 #if PENALTY_BENCH_CALLGRIND
     CALLGRIND_STOP_INSTRUMENTATION;
 #endif
+}
+
+/// Per-step sums over the timed steps of a whole-scene benchmark.
+struct StepSums {
+    double contacts = 0, active = 0, cg = 0, kinetic = 0, detect = 0, response = 0, solve = 0;
+    long steps = 0;
+    [[nodiscard]] double mean(double sum) const { return sum / double(std::max<long>(steps, 1)); }
+};
+
+/// The timed loop: each iteration one Scene::step() (manual time: its wall time alone, instrumented
+/// for callgrind by StepProbe), then its contacts, CG iterations, kinetic energy and phase timings
+/// added to `sums`. False (the benchmark skipped with the error) when a step throws.
+inline bool run_timed_steps(benchmark::State& state, scene::Scene& scene, StepSums& sums) {
+    using Clock = std::chrono::steady_clock;
+    start_instrumentation();
+    try {
+        for (auto _ : state) {
+            const auto t0 = Clock::now();
+            {
+                const StepProbe probe;
+                scene.step();
+            }
+            state.SetIterationTime(std::chrono::duration<double>(Clock::now() - t0).count());
+            const output::ContactSummary c = output::summarize_contacts(scene.contacts());
+            sums.contacts += double(c.contacts);
+            sums.active += double(c.active_contacts);
+            sums.cg += scene.last_solver_stats().cg_iterations;
+            sums.kinetic += scene.kinetic_energy();
+            const scene::StepTimings& t = scene.last_timings();
+            sums.detect += t.detection_seconds;
+            sums.response += t.response_seconds;
+            sums.solve += t.solve_seconds;
+            ++sums.steps;
+        }
+    } catch (const std::exception& e) {
+        stop_instrumentation();
+        state.SkipWithError(("step failed: " + std::string(e.what())).c_str());
+        return false;
+    }
+    stop_instrumentation();
+    return true;
+}
+
+/// The counters both whole-scene benchmarks report: DOFs, per-step means, memory.
+/// `heap_without_contacts`: the live heap after a first step without contact.
+inline void report_step_sums(benchmark::State& state, const scene::Scene& scene, const StepSums& sums,
+                             double heap_without_contacts) {
+    const double dofs = scalar_dofs(scene), heap = live_heap_bytes();
+    const double contacts = sums.mean(sums.contacts);
+    state.counters["dofs"] = dofs;
+    state.counters["contacts"] = contacts;
+    state.counters["active"] = sums.mean(sums.active);
+    state.counters["cg_its"] = sums.mean(sums.cg);
+    state.counters["kinetic_j"] = sums.mean(sums.kinetic);
+    state.counters["detect_ms"] = 1e3 * sums.mean(sums.detect);
+    state.counters["response_ms"] = 1e3 * sums.mean(sums.response);
+    state.counters["solve_ms"] = 1e3 * sums.mean(sums.solve);
+    state.counters["heap_mb"] = heap / 1e6;
+    state.counters["bytes_per_dof"] = heap / dofs;
+    state.counters["bytes_per_contact"] = contacts > 0 ? (heap - heap_without_contacts) / contacts : 0.0;
+    state.counters["peak_rss_mb"] = peak_rss_bytes() / 1e6;
 }
 
 }  // namespace penalty::bench
