@@ -301,7 +301,7 @@ def _wait_for_started_cluster(pid, workers, timeout=120):
 def test_ctrl_c_on_a_sweep_exits_cleanly_with_the_resume_command(tmp_path, delay):
     out = tmp_path / "out"
     cmd = [os.environ["PENALTY_CLI"], "sweep", str(SCENE), "--grid", f"{STIFFNESS}=10,11,12,13,14,15,16,17",
-           "--steps", "200000", "--out", str(out), "--workers", "2", "--quiet"]
+           "--steps", "20000000", "--out", str(out), "--workers", "2", "--quiet"]
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     try:
         assert p.stdout.readline().startswith("penalty sweep:")
