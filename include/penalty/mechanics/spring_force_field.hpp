@@ -32,6 +32,17 @@ enum class SpringArithmetic {
     quadular_bending_springs,
 };
 
+namespace detail {
+/// m of one spring (see SpringForceField) by columns, each padded to 4 lanes with 0: column c
+/// holds m(0, c), m(1, c), m(2, c), 0, so that one 256-bit lane r computes row r of m·dx.
+struct alignas(32) SpringStiffnessColumns {
+    std::array<std::array<double, 4>, 3> column{};
+    [[nodiscard]] double operator()(int row, int col) const {
+        return column[static_cast<std::size_t>(col)][static_cast<std::size_t>(row)];
+    }
+};
+}  // namespace detail
+
 /// SpringForceField (SOFA's SpringForceField = StiffSpringForceField), between two Vec3 states or
 /// inside one (pass the same state twice). For a spring (a, b): u = x_b − x_a, d = |u|, û = u/d,
 /// intensity F = ks (d − L) + kd (v_b − v_a)·û, force +F û on a and −F û on b; springs with
@@ -76,14 +87,7 @@ public:
     [[nodiscard]] ForceFieldStates states() const override;
 
 private:
-    /// m of one spring (see class comment) by columns, each padded to 4 lanes with 0: column c
-    /// holds m(0, c), m(1, c), m(2, c), 0, so that one 256-bit lane r computes row r of m·dx.
-    struct alignas(32) StiffnessColumns {
-        std::array<std::array<double, 4>, 3> column{};
-        [[nodiscard]] double operator()(int row, int col) const {
-            return column[static_cast<std::size_t>(col)][static_cast<std::size_t>(row)];
-        }
-    };
+    using StiffnessColumns = detail::SpringStiffnessColumns;
 
     std::vector<Spring> springs_;
     std::vector<StiffnessColumns> dfdx_;  ///< m per spring, from the last add_force
