@@ -56,6 +56,15 @@ std::vector<std::string_view> split_blanks(std::string_view text);
 
 /// Removes leading and trailing blanks.
 std::string_view trim(std::string_view text);
+/// The text in single quotes, as error messages show a token: 'text'.
+inline std::string quoted(std::string_view text) {
+    std::string out;  // built by appends: GCC 12 warns (-Wrestrict, a false positive) on "'" + string
+    out.reserve(text.size() + 2);
+    out += '\'';
+    out += text;
+    out += '\'';
+    return out;
+}
 
 /// `path:line: what` (or `path: what` when line <= 0), as a LoadError.
 [[noreturn]] void fail(const std::filesystem::path& path, int line, const std::string& what);
