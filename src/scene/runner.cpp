@@ -353,6 +353,46 @@ output::StepStats::Tunnelling tunnelling_columns(const TunnellingReport& r) {
     return t;
 }
 
+/// One step; an error names the step and its time, and the state that diverged first, if one did.
+void step_naming_failures(Scene& scene, std::int64_t k, double t) {
+    try {
+        scene.step();
+    } catch (const output::NonFiniteValueError&) {
+        throw;
+    } catch (const NonFiniteSolveError& e) {
+        check_finite_states(scene, k, t);
+        report_non_finite_solve(scene, k, t, e);
+    } catch (const std::exception& e) {
+        // Any other error of the step: name the state that diverged first, if one did
+        // (non-finite solves are NonFiniteSolveError, handled above).
+        check_finite_states(scene, k, t);
+        throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
+    }
+}
+
+/// Step k's row of the --stats file, after the step.
+output::StepStats stats_row(Scene& scene, std::int64_t k, const output::ContactSummary& cs, double output_seconds) {
+    const StepTimings& timing = scene.last_timings();
+    const StepSolverStats& solver = scene.last_solver_stats();
+    output::StepStats row;
+    row.step = k;
+    row.time = scene.simulation().time();
+    row.contacts = cs.contacts;
+    row.active_contacts = cs.active_contacts;
+    row.max_penetration = cs.max_penetration;
+    row.contact_energy = cs.contact_energy;
+    row.kinetic_energy = scene.kinetic_energy();
+    row.dissipated_energy = cs.dissipated_energy;
+    row.detection_seconds = timing.detection_seconds;
+    row.response_seconds = timing.response_seconds;
+    row.solve_seconds = timing.solve_seconds;
+    row.output_seconds = output_seconds;
+    row.cg_iterations = solver.cg_iterations;
+    row.newton_iterations = solver.newton_iterations;
+    if (const TunnellingReport* r = scene.tunnelling_report()) row.tunnelling = tunnelling_columns(*r);
+    return row;
+}
+
 }  // namespace
 
 RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCallback& progress) {
@@ -397,19 +437,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
             viewer->write_frame(t, scene.contacts(), scene.kinetic_energy(), crossing_points(scene, k > 0));
         double output_seconds = seconds_since(out_start);
 
-        try {
-            scene.step();
-        } catch (const output::NonFiniteValueError&) {
-            throw;
-        } catch (const NonFiniteSolveError& e) {
-            check_finite_states(scene, k, t);
-            report_non_finite_solve(scene, k, t, e);
-        } catch (const std::exception& e) {
-            // Any other error of the step: name the state that diverged first, if one did
-            // (non-finite solves are NonFiniteSolveError, handled above).
-            check_finite_states(scene, k, t);
-            throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
-        }
+        step_naming_failures(scene, k, t);
         // the states no step moves: after the first step only, unless code between the steps may move them
         const bool static_states = options.states_change_between_steps || k == 0;
         check_finite_states(scene, k, sim.time(), static_states);
@@ -440,23 +468,7 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
         summary.dissipated_energy = cs.dissipated_energy;
         if (stats) {
             const auto stats_start = Clock::now();
-            output::StepStats row;
-            row.step = k;
-            row.time = sim.time();
-            row.contacts = cs.contacts;
-            row.active_contacts = cs.active_contacts;
-            row.max_penetration = cs.max_penetration;
-            row.contact_energy = cs.contact_energy;
-            row.kinetic_energy = scene.kinetic_energy();
-            row.dissipated_energy = cs.dissipated_energy;
-            row.detection_seconds = timing.detection_seconds;
-            row.response_seconds = timing.response_seconds;
-            row.solve_seconds = timing.solve_seconds;
-            row.output_seconds = output_seconds;
-            row.cg_iterations = solver.cg_iterations;
-            row.newton_iterations = solver.newton_iterations;
-            if (const TunnellingReport* r = scene.tunnelling_report()) row.tunnelling = tunnelling_columns(*r);
-            stats->write(row);
+            stats->write(stats_row(scene, k, cs, output_seconds));
             output_seconds += seconds_since(stats_start);
         }
         summary.output_seconds += output_seconds;
