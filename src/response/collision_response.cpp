@@ -292,12 +292,14 @@ void CollisionResponse::feed_contacts() {
     // Each contact's tracking, contact points and springs read its pair's outputs, its models
     // and their states, and write only the contact (its tracker, mappers and force field): the
     // contacts are fed in parallel, in the calling task arena, when it has more than one
-    // thread and at least two contacts have kMinOutputsPerConcurrentFeed outputs (below that a
-    // task costs more than it saves). Same bits either way; a failing contact's exception is
-    // the first in feed order.
-    std::size_t worth_a_task = 0;
-    for (const auto& [c, d] : feed_) worth_a_task += d->outputs.size() >= kMinOutputsPerConcurrentFeed ? 1 : 0;
-    last_feed_concurrent_ = worth_a_task >= 2 && tbb::this_task_arena::max_concurrency() >= 2;
+    // thread and the step has at least 2·kMinOutputsPerConcurrentFeed outputs in two contacts
+    // or more (below that a task costs more than it saves; TBB's partitioner groups small
+    // contacts into one task). Same bits either way; a failing contact's exception is the first
+    // in feed order.
+    std::size_t outputs = 0;
+    for (const auto& [c, d] : feed_) outputs += d->outputs.size();
+    last_feed_concurrent_ = feed_.size() >= 2 && outputs >= 2 * kMinOutputsPerConcurrentFeed &&
+                            tbb::this_task_arena::max_concurrency() >= 2;
     if (!last_feed_concurrent_) {
         for (auto& [c, d] : feed_) c->set_detection_outputs(d->outputs);
         return;

@@ -87,13 +87,14 @@ public:
         const std::string& name, const CollisionModel& m1, const CollisionModel& m2,
         double intersection_contact_distance);
 
-    /// Contacts fed in parallel (set_detections) only when at least two have this many outputs.
+    /// Contacts fed in parallel (set_detections) only when the step's contacts (two or more) have
+    /// twice this many outputs together.
     static constexpr std::size_t kMinOutputsPerConcurrentFeed = 128;
 
     /// One step of SOFA's narrow-phase outputs and contact manager: every detection with outputs
     /// gets its pair's contact (created when new) and set_detection_outputs (in parallel in the
-    /// calling TBB arena when it has more than one thread and two contacts have at least
-    /// kMinOutputsPerConcurrentFeed outputs; the same results); pairs without
+    /// calling TBB arena when it has more than one thread and two contacts or more have
+    /// 2·kMinOutputsPerConcurrentFeed outputs together; the same results); pairs without
     /// outputs this step are destroyed (on_destroy runs first). The pairs' order is that of
     /// creation (on_create) and of pairs() (the force fields' order in the graph):
     /// - sofa_stable_id_order (SOFA HEAD's, off by default): SOFA's two maps (StablePairMap)
