@@ -3,6 +3,7 @@
 // remaining mesh, the springs are SOFA HEAD's (those on a removed point leave, the others stay
 // with their points), and the mapping maps every output point again onto the remaining
 // tetrahedra (SOFA's clear + init), which leaves the mapped positions where they were.
+#include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mesh_matrix_mass.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <numeric>
 #include <set>
 
 namespace penalty {
@@ -82,6 +84,28 @@ TEST(MassSpringMappingFollowers, MeshMatrixMassEqualsTheMassBuiltOnTheRemainingM
         EXPECT_NEAR(a->total_mass(), 1000 * (0.008 - removed), 1e-12);
         EXPECT_NEAR(a->total_mass(), b->total_mass(), 1e-12);
     }
+}
+
+TEST(MassSpringMappingFollowers, DiagonalMassTakesItsTotalAndDensityFromItsVertexMassesAtTheNextStep) {
+    // SOFA's DiagonalMass::doUpdateInternal: a point removal edits vertexMass after the callbacks,
+    // so the next step's UpdateInternalDataVisitor runs initFromVertexMass: totalMass = Σ m_i,
+    // ρ = totalMass / Σ(shares at ρ = 1); the masses stay
+    const test::TetraCube cube = test::tetra_cube(2, 0.3);
+    auto s = test::build(msm_body(cube.points, cube.tetrahedra, R"(<DiagonalMass massDensity="0.7"/>)"));
+    auto* mass = dynamic_cast<DiagonalMass*>(s->simulation().root().children()[0]->mass());
+    ASSERT_NE(mass, nullptr);
+    s->remove_elements("volume", ElementType::tetrahedron, kMsmRemoved);
+    const std::vector<double> masses = mass->vertex_masses();
+    s->step();
+    EXPECT_EQ(mass->vertex_masses(), masses);
+    const double total = std::accumulate(masses.begin(), masses.end(), 0.0);
+    EXPECT_EQ(mass->total_mass(), total);
+    std::vector<double> unit;
+    const Vec3Object& x = msm_state(*s);
+    const double sum = lump_vertex_masses(s->topology_container("volume").mesh(), LumpedElementKind::tetrahedron,
+                                          x.rest_position, 1.0, x.num_dofs(), unit);
+    EXPECT_EQ(mass->mass_density(), total / sum);
+    EXPECT_NEAR(mass->mass_density(), 0.7, 1e-14);
 }
 
 TEST(MassSpringMappingFollowers, MeshSpringsOnARemovedPointLeaveAndTheOthersKeepTheirPoints) {

@@ -89,6 +89,7 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         if (m == nullptr) return false;
         container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<DiagonalMass>>(*m, container)),
                               {ElementType::point, lumped_type(m->element_kind())});
+        w.runtime.internal_updates.push_back([m] { m->update_internal_data(); });
         return true;
     }
     if (type == "MeshMatrixMass" && b.masses.size() == 1) {
