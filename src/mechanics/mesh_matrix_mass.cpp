@@ -1,6 +1,8 @@
 #include "penalty/mechanics/mesh_matrix_mass.hpp"
 
 #include "penalty/mechanics/element_measures.hpp"
+#include "penalty/mechanics/topology_container.hpp"
+#include "penalty/mechanics/topology_data.hpp"
 
 #include <cmath>
 #include <limits>
@@ -279,6 +281,102 @@ double MeshMatrixMass::gravity_potential_energy(const Vec3& g) const {
     for (std::size_t i = 0; i < vertex_masses_.size(); ++i)
         e -= g.dot(state_->position[i]) * vertex_masses_[i] * lumping_coefficient_;
     return e;
+}
+
+// ---- topological changes ----------------------------------------------------------------------
+// MeshMatrixMass::initTopologyHandlers: vertexMass and edgeMass are TopologyData (creation: 0;
+// destruction: the value leaves totalMass, an edge's only when not lumped; swap-and-pop), and the
+// element events of the mass's own element type add or take each element's shares
+// (applyVertexMass<Element>Creation/Destruction, then applyEdgeMass<Element>Creation/Destruction:
+// ρ_e|e|/d_v at its vertices, ρ_e|e|/d_e at its edges, totalMass by the same amounts). The
+// densities are no topology data: a new element whose index is past their end gets its ancestors'
+// weighted density, or the first one (addMassDensity); a removal leaves them as they are, so a
+// later element takes the density at its index (SOFA's).
+void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes) {
+    const ElementShares shares = shares_of(kind_);
+    const ElementType type = [&] {
+        switch (kind_) {
+            case LumpedElementKind::triangle: return ElementType::triangle;
+            case LumpedElementKind::quad: return ElementType::quad;
+            case LumpedElementKind::tetrahedron: return ElementType::tetrahedron;
+            case LumpedElementKind::hexahedron: return ElementType::hexahedron;
+            case LumpedElementKind::edge: break;
+        }
+        return ElementType::edge;
+    }();
+    // the element's measure from the current (or rest) positions, and its edges' indices
+    const auto measure = [&](ElementId id) {
+        const auto v = container.vertices(type, id);
+        const std::span<const Vec3> x(on_rest_ ? state_->rest_position : state_->position);
+        std::array<Vec3, 8> p;
+        for (std::size_t k = 0; k < v.size(); ++k) p[k] = x[std::size_t(v[k])];
+        switch (kind_) {
+            case LumpedElementKind::triangle: return triangle_area(p[0], p[1], p[2]);
+            case LumpedElementKind::quad: return quad_area(p[0], p[1], p[2], p[3]);
+            case LumpedElementKind::tetrahedron: return tetrahedron_volume(p[0], p[1], p[2], p[3]);
+            case LumpedElementKind::hexahedron: return hexahedron_volume(p);
+            case LumpedElementKind::edge: break;
+        }
+        return 0.0;
+    };
+    const auto for_each_edge = [&](ElementId id, auto&& f) {
+        const auto v = container.vertices(type, id);
+        const auto visit = [&](const auto& local) {
+            for (const auto& [a, b] : local) f(container.edge_index(v[std::size_t(a)], v[std::size_t(b)]));
+        };
+        switch (kind_) {
+            case LumpedElementKind::triangle: visit(kTriangleEdges); break;
+            case LumpedElementKind::quad: visit(kQuadEdges); break;
+            case LumpedElementKind::tetrahedron: visit(MeshTopology::kTetraEdges); break;
+            case LumpedElementKind::hexahedron: visit(MeshTopology::kHexaEdges); break;
+            case LumpedElementKind::edge: break;
+        }
+    };
+    const double vertex_count = double(vertices_per_element(type));
+    const auto apply = [&](std::span<const ElementId> ids, double sign) {
+        for (const ElementId id : ids) {  // applyVertexMass<Element>Creation/Destruction
+            const double mass = (density_[std::size_t(id)] * measure(id)) / shares.vertex_divisor;
+            for (const PointId v : container.vertices(type, id)) vertex_masses_[std::size_t(v)] += sign * mass;
+            total_ += sign * (lumping_ ? vertex_count * mass * lumping_coefficient_ : vertex_count * mass);
+        }
+        if (lumping_) return;
+        for (const ElementId id : ids) {  // applyEdgeMass<Element>Creation/Destruction
+            const double mass = (density_[std::size_t(id)] * measure(id)) / shares.edge_divisor;
+            double edges = 0;
+            for_each_edge(id, [&](ElementId e) {
+                edge_masses_[std::size_t(e)] += sign * mass;
+                ++edges;
+            });
+            total_ += sign * (edges * mass * 2.0);
+        }
+    };
+    for (const TopologyChange& c : changes) {
+        if (c.element == ElementType::point) {
+            if (c.kind == TopologyChangeKind::added) vertex_masses_.resize(vertex_masses_.size() + c.indices.size(), 0.0);
+            else if (c.kind == TopologyChangeKind::removed)
+                topology_data_remove(vertex_masses_, c.indices, [&](ElementId, double& m) { total_ -= m; });
+            else if (c.kind == TopologyChangeKind::renumbered) topology_data_renumber(vertex_masses_, c.indices);
+        } else if (c.element == ElementType::edge && !lumping_) {
+            if (c.kind == TopologyChangeKind::added) edge_masses_.resize(edge_masses_.size() + c.indices.size(), 0.0);
+            else if (c.kind == TopologyChangeKind::removed)
+                topology_data_remove(edge_masses_, c.indices, [&](ElementId, double& m) { total_ -= m; });
+        }
+        if (c.element != type || kind_ == LumpedElementKind::edge) continue;
+        if (c.kind == TopologyChangeKind::added) {
+            if (density_.size() < container.count(type))  // addMassDensity
+                for (std::size_t k = 0; k < c.indices.size(); ++k) {
+                    const bool none = k >= c.ancestors.size() || c.ancestors[k].empty();
+                    double rho = none ? density_.front() : 0.0;
+                    if (!none)
+                        for (std::size_t j = 0; j < c.ancestors[k].size(); ++j)
+                            rho += density_[std::size_t(c.ancestors[k][j])] * c.coefficients[k][j];
+                    density_.push_back(rho);
+                }
+            apply(c.indices, +1.0);
+        } else if (c.kind == TopologyChangeKind::removed) {
+            apply(c.indices, -1.0);
+        }
+    }
 }
 
 }  // namespace penalty

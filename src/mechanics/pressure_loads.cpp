@@ -48,6 +48,7 @@ TrianglePressureForceField::TrianglePressureForceField(Vec3Object& state, const 
 void TrianglePressureForceField::init() {
     const auto& all = topology_->triangles();
     check_element_indices("TrianglePressureForceField", "triangle", triangles_, all);
+    subset_last_ = Index(all.size()) - 1;  // setDataSetArraySize at createTopologyHandler
     const std::vector<Vec3>& x0 = state_->rest_position;
     rest_areas_.clear();
     forces_.clear();

@@ -48,7 +48,8 @@ void BlockProjectionConstraint::init() {
 
 void BlockProjectionConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     const std::span<Vec3> u = as_derivs<Vec3Types>(v);
-    for (Index i : projected_) u[static_cast<std::size_t>(i)] = block_times(block_, u[static_cast<std::size_t>(i)]);
+    for (Index i : projected_)  // (a point past the end: a projection kept over a topological change)
+        if (static_cast<std::size_t>(i) < u.size()) u[static_cast<std::size_t>(i)] = block_times(block_, u[static_cast<std::size_t>(i)]);
 }
 
 void BlockProjectionConstraint::project_velocity() { project_response(Vec3Object::flat(state_->velocity)); }
@@ -93,6 +94,7 @@ void DirectionProjectiveConstraint::make_block() {
     else n_ = scaled_by_inverse_norm(n_);
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) block_(r, c) = n_[r] * n_[c];
+    if (following_topology_) return;  // m_origin is not a topology data: kept as at init
     origins_.clear();
     for (Index i : indices_) origins_.push_back(state_->position[static_cast<std::size_t>(i)]);
 }

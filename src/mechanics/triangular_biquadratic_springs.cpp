@@ -41,48 +41,57 @@ TriangularBiquadraticSpringsForceField::TriangularBiquadraticSpringsForceField(V
 void TriangularBiquadraticSpringsForceField::init() {
     const auto& edges = topology_->edges();
     const auto& tris = topology_->triangles();
-    const auto& edges_in_triangle = topology_->edges_in_triangle();
     const std::vector<Vec3>& x0 = state_->rest_position;
     for (const Triangle& t : tris)
         for (const PointId v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
                 throw_invalid_argument("TriangularBiquadraticSpringsForceField: point ", v, " out of range for a state of ",
                                        x0.size(), " points");
-    // applyEdgeCreation: rest squared lengths, stiffness 0
-    rest_square_length_.resize(edges.size());
-    for (std::size_t e = 0; e < edges.size(); ++e) {
-        const Vec3 d = x0[static_cast<std::size_t>(edges[e][1])] - x0[static_cast<std::size_t>(edges[e][0])];
-        rest_square_length_[e] = dot3(d, d);
-    }
+    // applyEdgeCreation of every edge, then applyTriangleCreation of every triangle in order
+    rest_square_length_.assign(edges.size(), 0.0);
     edge_stiffness_.assign(edges.size(), 0.0);
     square_length_.assign(edges.size(), 0.0);
     delta_.assign(edges.size(), 0.0);
+    for (std::size_t e = 0; e < edges.size(); ++e) create_edge(e);
     triangles_.assign(tris.size(), TriangleData{});
-    // applyTriangleCreation, triangles in order
-    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
-        TriangleData& td = triangles_[ti];
-        const Triangle& t = tris[ti];
-        const auto& te = edges_in_triangle[ti];
-        double square[3];
-        for (int j = 0; j < 3; ++j) square[j] = rest_square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
-        double area = 0;  // Heron: 16 A² = Σ ℓ_j² (ℓ_{j+1}² + ℓ_{j+2}² − ℓ_j²)
-        for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
-        area = std::sqrt(area) / 4;
-        if (!(area > 0))
-            throw_invalid_argument("TriangularBiquadraticSpringsForceField: triangle ", ti, " has a zero rest area");
-        td.rest_area = area;
-        const Vec3& p0 = x0[static_cast<std::size_t>(t[0])];
-        td.normal = divided(cross3(x0[static_cast<std::size_t>(t[1])] - p0, x0[static_cast<std::size_t>(t[2])] - p0), 2 * area);
-        td.last_valid_normal = td.normal;
-        double cotangent[3];
-        for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
-        for (int j = 0; j < 3; ++j) {
-            const int k = (j + 1) % 3;
-            const int l = (j + 2) % 3;
-            td.gamma[static_cast<std::size_t>(j)] = (2 * cotangent[k] * cotangent[l] * (lambda_ + mu_) - mu_) / (16 * area);
-            td.stiffness[static_cast<std::size_t>(j)] = (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (16 * area);
-            edge_stiffness_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])] += td.stiffness[static_cast<std::size_t>(j)];
-        }
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) create_triangle(ti);
+}
+
+// applyEdgeCreation: the rest squared length, stiffness 0.
+void TriangularBiquadraticSpringsForceField::create_edge(std::size_t e) {
+    const Edge& edge = topology_->edges()[e];
+    const std::vector<Vec3>& x0 = state_->rest_position;
+    const Vec3 d = x0[static_cast<std::size_t>(edge[1])] - x0[static_cast<std::size_t>(edge[0])];
+    rest_square_length_[e] = dot3(d, d);
+    edge_stiffness_[e] = 0.0;
+}
+
+// applyTriangleCreation: rest area (Heron, from the edges' rest squared lengths), normal, γ_j and
+// s_j; each s_j added to its edge's stiffness.
+void TriangularBiquadraticSpringsForceField::create_triangle(std::size_t ti) {
+    const std::vector<Vec3>& x0 = state_->rest_position;
+    TriangleData& td = triangles_[ti];
+    td = TriangleData{};
+    const Triangle& t = topology_->triangles()[ti];
+    const auto& te = topology_->edges_in_triangle()[ti];
+    double square[3];
+    for (int j = 0; j < 3; ++j) square[j] = rest_square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
+    double area = 0;  // Heron: 16 A² = Σ ℓ_j² (ℓ_{j+1}² + ℓ_{j+2}² − ℓ_j²)
+    for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
+    area = std::sqrt(area) / 4;
+    if (!(area > 0)) throw_invalid_argument("TriangularBiquadraticSpringsForceField: triangle ", ti, " has a zero rest area");
+    td.rest_area = area;
+    const Vec3& p0 = x0[static_cast<std::size_t>(t[0])];
+    td.normal = divided(cross3(x0[static_cast<std::size_t>(t[1])] - p0, x0[static_cast<std::size_t>(t[2])] - p0), 2 * area);
+    td.last_valid_normal = td.normal;
+    double cotangent[3];
+    for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
+    for (int j = 0; j < 3; ++j) {
+        const int k = (j + 1) % 3;
+        const int l = (j + 2) % 3;
+        td.gamma[static_cast<std::size_t>(j)] = (2 * cotangent[k] * cotangent[l] * (lambda_ + mu_) - mu_) / (16 * area);
+        td.stiffness[static_cast<std::size_t>(j)] = (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (16 * area);
+        edge_stiffness_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])] += td.stiffness[static_cast<std::size_t>(j)];
     }
 }
 

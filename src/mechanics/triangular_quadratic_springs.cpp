@@ -36,46 +36,54 @@ TriangularQuadraticSpringsForceField::TriangularQuadraticSpringsForceField(Vec3O
 void TriangularQuadraticSpringsForceField::init() {
     const auto& edges = topology_->edges();
     const auto& tris = topology_->triangles();
-    const auto& edges_in_triangle = topology_->edges_in_triangle();
     const std::vector<Vec3>& x0 = state_->rest_position;
     for (const Triangle& t : tris)
         for (const PointId v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
                 throw_invalid_argument("TriangularQuadraticSpringsForceField: point ", v, " out of range for a state of ",
                                        x0.size(), " points");
-    // applyEdgeCreation: rest lengths (Edge::length = √|x_1 − x_0|²), stiffness 0
-    rest_length_.resize(edges.size());
-    for (std::size_t e = 0; e < edges.size(); ++e) {
-        const Vec3 d = x0[static_cast<std::size_t>(edges[e][1])] - x0[static_cast<std::size_t>(edges[e][0])];
-        rest_length_[e] = std::sqrt(dot3(d, d));
-    }
+    // applyEdgeCreation of every edge, then applyTriangleCreation of every triangle in order
+    rest_length_.assign(edges.size(), 0.0);
     edge_stiffness_.assign(edges.size(), 0.0);
     length_.assign(edges.size(), 0.0);
     delta_.assign(edges.size(), 0.0);
+    for (std::size_t e = 0; e < edges.size(); ++e) create_edge(e);
     triangles_.assign(tris.size(), TriangleData{});
-    // applyTriangleCreation, triangles in order
-    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
-        TriangleData& td = triangles_[ti];
-        const auto& te = edges_in_triangle[ti];
-        double rest[3], square[3];
-        for (int j = 0; j < 3; ++j) {
-            rest[j] = rest_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
-            square[j] = rest[j] * rest[j];
-        }
-        double area = 0;  // Heron
-        for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
-        area = std::sqrt(area) / 4;
-        if (!(area > 0)) throw_invalid_argument("TriangularQuadraticSpringsForceField: triangle ", ti, " has a zero rest area");
-        double cotangent[3];
-        for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
-        for (int j = 0; j < 3; ++j) {
-            const int k = (j + 1) % 3;
-            const int l = (j + 2) % 3;
-            const auto sj = static_cast<std::size_t>(j);
-            td.gamma[sj] = rest[k] * rest[l] * (2 * cotangent[k] * cotangent[l] * (lambda_ + mu_) - mu_) / (8 * area);
-            td.stiffness[sj] = rest[j] * rest[j] * (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (8 * area);
-            edge_stiffness_[static_cast<std::size_t>(te[sj])] += td.stiffness[sj];
-        }
+    for (std::size_t ti = 0; ti < tris.size(); ++ti) create_triangle(ti);
+}
+
+// applyEdgeCreation: the rest length (Edge::length = √|x_1 − x_0|²), stiffness 0.
+void TriangularQuadraticSpringsForceField::create_edge(std::size_t e) {
+    const Edge& edge = topology_->edges()[e];
+    const std::vector<Vec3>& x0 = state_->rest_position;
+    const Vec3 d = x0[static_cast<std::size_t>(edge[1])] - x0[static_cast<std::size_t>(edge[0])];
+    rest_length_[e] = std::sqrt(dot3(d, d));
+    edge_stiffness_[e] = 0.0;
+}
+
+// applyTriangleCreation: rest area (Heron), γ_j and s_j; each s_j added to its edge's stiffness.
+void TriangularQuadraticSpringsForceField::create_triangle(std::size_t ti) {
+    TriangleData& td = triangles_[ti];
+    td = TriangleData{};
+    const auto& te = topology_->edges_in_triangle()[ti];
+    double rest[3], square[3];
+    for (int j = 0; j < 3; ++j) {
+        rest[j] = rest_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
+        square[j] = rest[j] * rest[j];
+    }
+    double area = 0;  // Heron
+    for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
+    area = std::sqrt(area) / 4;
+    if (!(area > 0)) throw_invalid_argument("TriangularQuadraticSpringsForceField: triangle ", ti, " has a zero rest area");
+    double cotangent[3];
+    for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
+    for (int j = 0; j < 3; ++j) {
+        const int k = (j + 1) % 3;
+        const int l = (j + 2) % 3;
+        const auto sj = static_cast<std::size_t>(j);
+        td.gamma[sj] = rest[k] * rest[l] * (2 * cotangent[k] * cotangent[l] * (lambda_ + mu_) - mu_) / (8 * area);
+        td.stiffness[sj] = rest[j] * rest[j] * (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (8 * area);
+        edge_stiffness_[static_cast<std::size_t>(te[sj])] += td.stiffness[sj];
     }
 }
 

@@ -535,23 +535,24 @@ TEST(TopologicalChanges, ProcessorFilesApplyAtTheirTimesAndBadOnesAreRefusedByLi
 }
 
 TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {
-    // a BarycentricMapping's points would lose their tetrahedron: no rule yet, the change is refused
+    // a SubsetMapping's points would lose their input points: no rule yet, the change is refused
     const test::TetraCube cube = test::tetra_cube(1, 1.0);
     const std::string file = tchg_change_file("one.txt", "T= 0.01\n  REMOVE= 1\n0\n");
     const std::string scene = tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/><CGLinearSolver/>
   <UniformMass totalMass="1"/>
   <TopologicalChangeProcessor filename=")" + file + R"("/>
   <Node name="skin">
-    <MechanicalObject name="skinDofs" position="0.2 0.2 0.2"/>
-    <BarycentricMapping name="attach"/>
+    <MechanicalObject name="skinDofs" position="0 0 0"/>
+    <SubsetMapping name="attach" indices="0"/>
   </Node>)");
-    EXPECT_THAT(test::error_of(scene), HasSubstr("BarycentricMapping 'attach' (test.scn:"));
+    EXPECT_THAT(test::error_of(scene), HasSubstr("SubsetMapping 'attach' (test.scn:"));
     EXPECT_THAT(test::error_of(scene), HasSubstr("does not follow topological changes"));
-    // components without a rule yet: a mass over the elements, a projective constraint on points
+    // components without a rule yet: a force field on the points, a projective constraint on points
     for (const auto& [component, named] :
-         {std::pair<std::string, std::string>{R"(<MeshMatrixMass name="m" massDensity="1000"/>)", "MeshMatrixMass 'm' (test.scn:"},
-          {R"(<UniformMass totalMass="1"/><DirectionProjectiveConstraint name="along" indices="0" direction="1 0 0"/>)",
-           "DirectionProjectiveConstraint 'along' (test.scn:"}}) {
+         {std::pair<std::string, std::string>{R"(<UniformMass totalMass="1"/><RestShapeSpringsForceField name="m" stiffness="10"/>)",
+                                              "RestShapeSpringsForceField 'm' (test.scn:"},
+          {R"(<UniformMass totalMass="1"/><ParabolicProjectiveConstraint name="arc" indices="0" P1="0 0 0" P2="1 1 0" P3="2 0 0" BeginTime="0" EndTime="1"/>)",
+           "ParabolicProjectiveConstraint 'arc' (test.scn:"}}) {
         const std::string text = tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/><CGLinearSolver/>
   )" + component + R"(<TopologicalChangeProcessor filename=")" + file + R"("/>)");
         EXPECT_THAT(test::error_of(text), HasSubstr(named));

@@ -76,8 +76,15 @@ public:
     /// or removed element of the lumped kind adds or subtracts ρ·measure/N at each vertex (from
     /// the rest positions), element by element: the masses follow by sums, not by a new lumping.
     void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// SOFA's DiagonalMass::doUpdateInternal at the step's UpdateInternalDataVisitor, after the
+    /// changes of AnimateBeginEvent: when a point event edited the vertex masses after the
+    /// callbacks (TopologyData's swap-and-pop, append, renumbering), initFromVertexMass takes
+    /// totalMass = Σ m_i and ρ = totalMass / Σ(shares at ρ = 1) again (the masses stay); a later
+    /// element change uses that ρ.
+    void update_internal_data();
 
 private:
+    bool vertex_masses_edited_ = false;  ///< d_vertexMass dirty for SOFA's data tracker
     Vec3Object* state_;
     const MeshTopology* topology_;
     std::optional<double> given_density_;

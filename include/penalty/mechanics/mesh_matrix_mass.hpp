@@ -6,6 +6,7 @@
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <optional>
 #include <vector>
@@ -78,8 +79,10 @@ public:
     [[nodiscard]] double kinetic_energy() const override;
     [[nodiscard]] double gravity_potential_energy(const Vec3& gravity) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
-    /// SOFA's totalMass after init.
+    /// SOFA's totalMass after init (and the topological changes since).
     [[nodiscard]] double total_mass() const override { return total_; }
+    /// SOFA's topology callbacks of vertexMass and edgeMass, event by event (the .cpp's last part).
+    void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
 
 private:
     /// MeshMatrixMass::computeMass with the current densities: masses from the elements; returns

@@ -46,6 +46,13 @@ public:
     [[nodiscard]] bool projects_positions() const override { return true; }
     [[nodiscard]] bool list_discarded_rows(std::vector<Index>& rows) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
+    [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
+    /// New indices (a topological change: SOFA's TopologySubsetIndices d_indices). x0 is kept
+    /// as it is, indexed by point (SOFA's x0 is not a topology data): a point renamed into a
+    /// removed point's index moves from that point's initial position.
+    void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
+    /// SOFA's x0: the positions taken at the first projection, indexed by point (empty before).
+    [[nodiscard]] const std::vector<Coord>& initial_positions() const { return x0_; }
 
 private:
     struct Segment {

@@ -51,9 +51,16 @@ public:
     [[nodiscard]] bool use_constant_force() const { return use_constant_force_; }
     /// Σ A₀ of the selected triangles (m²), after init().
     [[nodiscard]] double total_rest_area() const;
+    /// SOFA's TriangleSubsetData trianglePressureMap (src/mechanics/topology/pressure_changes.cpp):
+    /// a removed triangle's entry leaves the list (the others keep their order, area and force);
+    /// entries naming the topology's last triangle take the removed one's index, the last
+    /// triangle being the count at init (plus the triangles added since) minus the triangles
+    /// removed before it in this event; new triangles are not added.
+    void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
 
 private:
     const MeshTopology* topology_;
+    Index subset_last_ = -1;  ///< the TriangleSubsetData's last element index (init: count − 1)
     std::vector<Index> triangles_;
     Vec3 pressure_;
     bool use_constant_force_ = true;

@@ -31,7 +31,8 @@ public:
     /// again for them, as SOFA's projectResponse rebuilds its jacobian when the state's size changed.
     void set_indices(std::vector<Index> indices) {
         indices_ = std::move(indices);
-        init();
+        following_topology_ = true;
+        if (!keeps_projection_on_topology_change()) init();
     }
     /// The 3×3 block applied to a constrained point (after init).
     [[nodiscard]] const Mat3& block() const { return block_; }
@@ -48,6 +49,11 @@ public:
 protected:
     /// n from the written vector (each class's normalisation rule) and the block from n.
     virtual void make_block() = 0;
+    /// Set once the indices followed a topological change (set_indices).
+    bool following_topology_ = false;
+    /// True when a topological change leaves the block projection as init made it (SOFA's
+    /// DirectionProjectiveConstraint: its jacobian is made by reinit only).
+    [[nodiscard]] virtual bool keeps_projection_on_topology_change() const { return false; }
     Vec3Object* state_;
     std::vector<Index> indices_;
     const char* component_;  ///< SOFA's class name, for errors
@@ -86,6 +92,11 @@ private:
 /// DirectionProjectiveConstraint: each point moves only along `direction` (normalised; zero stays
 /// zero: the points are then fixed at their initial positions) through its position at init.
 /// P = n nᵀ; position x_k ← o_k + n ((x_k − o_k)·n), o_k the k-th index's position at init.
+/// After a topological change the origins stay in their slots (SOFA's m_origin is filled by
+/// reinit only, not a topology data): o_k is still the initial position of the point that was
+/// k-th at init, whichever point the k-th index now names. The responses and velocities keep the
+/// projection of init too (SOFA's jacobian, made by reinit only, applied to the changed state:
+/// its blocks at the points init constrained, those past the state's end ignored).
 class DirectionProjectiveConstraint final : public BlockProjectionConstraint {
 public:
     DirectionProjectiveConstraint(Vec3Object& state, std::vector<Index> indices, const Vec3& direction)
@@ -95,6 +106,7 @@ public:
 
 private:
     void make_block() override;
+    [[nodiscard]] bool keeps_projection_on_topology_change() const override { return true; }
     Vec3 direction_;
     std::vector<Vec3> origins_;
 };

@@ -54,6 +54,26 @@ private:
     Set set_;
 };
 
+/// SOFA HEAD's SpringForceField topology handling (SpringForceField::initializeTopologyHandler on
+/// each end's topology; SpringForceField, StiffSpringForceField, MeshSpringForceField):
+/// applyRemovedPoints (the springs on a removed point leave the list, which keeps its order; an end
+/// on the last point takes the removed index), for the first ends then the second ends;
+/// applyRemovedEdges only on an edge topology (the first spring from the edge's first vertex to its
+/// second is removed; for the second ends, the first from the second vertex to the first). The
+/// spring list of `springs` is rewritten when an operation is done. Springs inside one state.
+class SpringPointsFollower final : public TopologyHandler {
+public:
+    SpringPointsFollower(SpringForceField& springs, const TopologyContainer& container);
+    void handle_topology_changes(std::span<const TopologyChange> changes) override;
+    void topology_change_done() override;
+
+private:
+    SpringForceField* springs_;
+    const TopologyContainer* container_;
+    std::vector<Spring> list_;
+    bool dirty_ = false;
+};
+
 /// Forwards the events to `object.handle_topology_changes(container, changes)`.
 template <class T>
 class MemberTopologyHandler final : public TopologyHandler {

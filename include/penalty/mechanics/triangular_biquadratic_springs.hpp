@@ -18,6 +18,7 @@
 
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <array>
 #include <vector>
@@ -51,6 +52,11 @@ public:
     [[nodiscard]] double mu() const { return mu_; }
     /// k_e per edge (N/m³).
     [[nodiscard]] const std::vector<double>& edge_stiffness() const { return edge_stiffness_; }
+    /// ℓ_e² per edge (m²).
+    [[nodiscard]] const std::vector<double>& rest_square_lengths() const { return rest_square_length_; }
+    /// SOFA's TopologyData callbacks of edgeInfo and triangleInfo, event by event
+    /// (src/mechanics/topology/biquadratic_springs_changes.cpp).
+    void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
 
 private:
     struct TriangleData {
@@ -66,6 +72,8 @@ private:
         double j = 0.0;  ///< area / rest area
     };
     void update_stiffness();
+    void create_edge(std::size_t e);
+    void create_triangle(std::size_t ti);
 
     const MeshTopology* topology_;
     BiquadraticSpringParameters parameters_;

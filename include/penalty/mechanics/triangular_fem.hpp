@@ -79,6 +79,8 @@ private:
     bool element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
     /// element_force of the TriangleFEM flavor, with SOFA's operations in SOFA's order
     /// (src/mechanics/triangle_fem_sofa_order.hpp: the same bits as SOFA).
+    /// TriangleFEMForceField, and TriangularFEMForceField "large": SOFA's TriangleFEMUtils operations.
+    [[nodiscard]] bool uses_sofa_order() const;
     bool element_force_sofa_order(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
     /// add_dforce of the TriangleFEM flavor, with SOFA's operations in SOFA's order.
     void add_dforce_sofa_order(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const;

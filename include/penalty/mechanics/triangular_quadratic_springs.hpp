@@ -14,6 +14,7 @@
 
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <array>
 #include <vector>
@@ -50,6 +51,11 @@ public:
     [[nodiscard]] double mu() const { return mu_; }
     /// k_e per edge (N/m).
     [[nodiscard]] const std::vector<double>& edge_stiffness() const { return edge_stiffness_; }
+    /// ℓ_e per edge (m).
+    [[nodiscard]] const std::vector<double>& rest_lengths() const { return rest_length_; }
+    /// SOFA's TopologyData callbacks of edgeInfo and triangleInfo, event by event
+    /// (src/mechanics/topology/biquadratic_springs_changes.cpp).
+    void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
 
 private:
     struct TriangleData {
@@ -57,6 +63,8 @@ private:
         std::array<double, 3> stiffness{};
         std::array<Mat3, 3> dfdx{Mat3::Zero(), Mat3::Zero(), Mat3::Zero()};
     };
+    void create_edge(std::size_t e);
+    void create_triangle(std::size_t ti);
 
     const MeshTopology* topology_;
     QuadraticSpringParameters parameters_;

@@ -6,6 +6,9 @@
 #include "penalty/mechanics/topology_container.hpp"
 #include "penalty/mechanics/topology_data.hpp"
 
+#include <limits>
+#include <numeric>
+
 namespace penalty {
 
 namespace {
@@ -39,6 +42,7 @@ void DiagonalMass::handle_topology_changes(const TopologyContainer& container, s
     };
     for (const TopologyChange& c : changes) {
         if (c.element == ElementType::point) {
+            vertex_masses_edited_ = vertex_masses_edited_ || c.kind != TopologyChangeKind::ending;
             if (c.kind == TopologyChangeKind::added) {
                 masses_.resize(masses_.size() + c.indices.size(), 0.0);  // applyPointCreation: m = 0
             } else if (c.kind == TopologyChangeKind::removed) {
@@ -52,6 +56,17 @@ void DiagonalMass::handle_topology_changes(const TopologyContainer& container, s
             for (const ElementId id : c.indices) apply(id, -1.0);
         }
     }
+}
+
+void DiagonalMass::update_internal_data() {
+    if (!vertex_masses_edited_) return;
+    vertex_masses_edited_ = false;
+    // initFromVertexMass: the total as std::accumulate sums it, ρ from computeVertexMass(1)
+    total_ = std::accumulate(masses_.begin(), masses_.end(), 0.0);
+    std::vector<double> at_unit_density;
+    const double sum = lump_vertex_masses(*topology_, kind_, std::span<const Vec3>(state_->rest_position), 1.0,
+                                          state_->num_dofs(), at_unit_density);
+    density_ = sum < std::numeric_limits<double>::epsilon() ? 1.0 : total_ / sum;
 }
 
 }  // namespace penalty

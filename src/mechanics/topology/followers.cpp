@@ -71,6 +71,60 @@ void SubsetIndicesFollower::handle_topology_changes(std::span<const TopologyChan
     }
 }
 
+// ---- SpringPointsFollower -----------------------------------------------------------------------
+
+SpringPointsFollower::SpringPointsFollower(SpringForceField& springs, const TopologyContainer& container)
+    : springs_(&springs), container_(&container) {}
+
+void SpringPointsFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
+    if (!dirty_) list_ = springs_->springs();
+    const MeshTopology& mesh = container_->mesh();
+    for (const TopologyChange& c : changes) {
+        if (c.is(TopologyChangeKind::removed, ElementType::point)) {
+            // applyRemovedPoints, first the m1 ends (d_springsIndices[0]'s handler), then the m2 ends
+            for (const bool second : {false, true}) {
+                const auto end = [second](Spring& s) -> Index& { return second ? s.b : s.a; };
+                Index points = Index(container_->num_points());  // the count before the removal
+                for (const ElementId removed : c.indices) {
+                    --points;
+                    std::erase_if(list_, [&](Spring& s) { return end(s) == Index(removed); });
+                    if (Index(removed) == points) continue;
+                    for (Spring& s : list_)
+                        if (end(s) == points) end(s) = Index(removed);
+                }
+            }
+            dirty_ = true;
+        } else if (c.is(TopologyChangeKind::removed, ElementType::edge) && container_->level() == ElementType::edge) {
+            // applyRemovedEdges: the first spring along each removed edge, per end
+            for (const bool second : {false, true}) {
+                std::vector<std::size_t> doomed;
+                for (const ElementId e : c.indices) {
+                    const Edge& edge = mesh.edges()[std::size_t(e)];
+                    for (std::size_t k = 0; k < list_.size(); ++k) {
+                        const Index first = second ? list_[k].b : list_[k].a;
+                        const Index other = second ? list_[k].a : list_[k].b;
+                        if (first == Index(edge[0]) && other == Index(edge[1])) {
+                            doomed.push_back(k);
+                            break;
+                        }
+                    }
+                }
+                std::sort(doomed.begin(), doomed.end());
+                for (auto it = doomed.rbegin(); it != doomed.rend(); ++it) list_.erase(list_.begin() + std::ptrdiff_t(*it));
+            }
+            dirty_ = true;
+        }
+    }
+}
+
+void SpringPointsFollower::topology_change_done() {
+    if (!dirty_) return;
+    dirty_ = false;
+    springs_->clear_springs();
+    for (const Spring& s : list_) springs_->add_spring(s);
+    springs_->init();
+}
+
 // ---- TriangularBendingSpringsFollower -----------------------------------------------------------
 
 TriangularBendingSpringsFollower::TriangularBendingSpringsFollower(SpringForceField& springs,

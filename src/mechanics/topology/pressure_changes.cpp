@@ -1,5 +1,7 @@
-// EdgePressureForceField::handle_topology_changes: SOFA's EdgeSubsetData rules for its
-// edgePressureMap (TopologySubsetData::remove / add with supportNewTopologyElements false).
+// EdgePressureForceField::handle_topology_changes and TrianglePressureForceField::
+// handle_topology_changes: SOFA's EdgeSubsetData and TriangleSubsetData rules for their
+// edgePressureMap and trianglePressureMap (TopologySubsetData::remove: erase, keeping the order,
+// then the entries of the last element renamed; add with supportNewTopologyElements false).
 #include "penalty/mechanics/pressure_loads.hpp"
 
 #include "penalty/core/error.hpp"
@@ -40,6 +42,27 @@ void EdgePressureForceField::topology_change_done() {
     if (!pending_init_) return;
     pending_init_ = false;
     init();
+}
+
+void TrianglePressureForceField::handle_topology_changes(const TopologyContainer&, std::span<const TopologyChange> changes) {
+    for (const TopologyChange& c : changes) {
+        if (c.is(TopologyChangeKind::added, ElementType::triangle)) {
+            subset_last_ += Index(c.indices.size());  // new triangles are not added to the subset
+        } else if (c.is(TopologyChangeKind::removed, ElementType::triangle)) {
+            Index last = subset_last_;  // a copy: SOFA does not store it back
+            for (const ElementId removed : c.indices) {
+                if (triangles_.empty()) break;
+                for (std::size_t k = triangles_.size(); k-- > 0;) {
+                    if (triangles_[k] != removed) continue;
+                    triangles_.erase(triangles_.begin() + std::ptrdiff_t(k));
+                    rest_areas_.erase(rest_areas_.begin() + std::ptrdiff_t(k));
+                    forces_.erase(forces_.begin() + std::ptrdiff_t(k));
+                }
+                std::replace(triangles_.begin(), triangles_.end(), last, Index(removed));
+                --last;
+            }
+        }
+    }
 }
 
 }  // namespace penalty

@@ -8,11 +8,16 @@
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
 #include "penalty/mechanics/hexahedral_fem.hpp"
+#include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/mesh_matrix_mass.hpp"
+#include "penalty/mechanics/prescribed_motion_constraints.hpp"
 #include "penalty/mechanics/pressure_loads.hpp"
 #include "penalty/mechanics/projective_constraints.hpp"
 #include "penalty/mechanics/topology_followers.hpp"
+#include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
+#include "penalty/mechanics/triangular_quadratic_springs.hpp"
 #include "scene/topology/topology_changes.hpp"
 
 #include <set>
@@ -84,6 +89,14 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         if (m == nullptr) return false;
         container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<DiagonalMass>>(*m, container)),
                               {ElementType::point, lumped_type(m->element_kind())});
+        w.runtime.internal_updates.push_back([m] { m->update_internal_data(); });
+        return true;
+    }
+    if (type == "MeshMatrixMass" && b.masses.size() == 1) {
+        auto* m = dynamic_cast<MeshMatrixMass*>(b.masses[0]);
+        if (m == nullptr || m->element_kind() == LumpedElementKind::edge) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<MeshMatrixMass>>(*m, container)),
+                              {ElementType::point, ElementType::edge, lumped_type(m->element_kind())});
         return true;
     }
     if (type == "UniformMass") return !io::get_bool_or(c, "preserveTotalMass", false);
@@ -104,14 +117,32 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         return true;
     }
     // LineProjectiveConstraint, PlaneProjectiveConstraint: TopologySubsetIndices, and the jacobian
-    // made again for the new indices (projectResponse's updateJacobian when the size changed)
-    if ((type == "LineProjectiveConstraint" || type == "PlaneProjectiveConstraint") && b.constraints.size() == 1) {
+    // made again for the new indices (projectResponse's updateJacobian when the size changed).
+    // DirectionProjectiveConstraint: TopologySubsetIndices (init's createTopologyHandler); SOFA
+    // keeps the jacobian of the old size (undefined once the state shrank), penalty makes it again
+    // as Line does; the origins stay in their slots (m_origin is no topology data).
+    if ((type == "LineProjectiveConstraint" || type == "PlaneProjectiveConstraint" ||
+         type == "DirectionProjectiveConstraint") &&
+        b.constraints.size() == 1) {
         auto* k = dynamic_cast<BlockProjectionConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
         container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
                                   container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
                               {ElementType::point});
         return true;
+    }
+    // LinearMovementProjectiveConstraint: TopologySubsetIndices (init's createTopologyHandler);
+    // x0, indexed by point, is left as it is
+    if (type == "LinearMovementProjectiveConstraint" && b.constraints.size() == 1) {
+        const auto follow_subset = [&](auto* k) {
+            container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                      container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                                  {ElementType::point});
+            return true;
+        };
+        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Vec3Types>*>(b.constraints[0])) return follow_subset(k);
+        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
+        return false;
     }
     if (type == "PointProjectiveConstraint" && b.constraints.size() == 1) {
         auto* k = dynamic_cast<PointProjectiveConstraint*>(b.constraints[0]);
@@ -173,9 +204,35 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
                               {ElementType::edge, ElementType::point, ElementType::quad});
         return true;
     }
-    if (type == "SpringForceField") {  // no topology rule in SOFA: follows only while it has no spring
+    // SOFA HEAD's SpringForceField::initializeTopologyHandler (applyRemovedPoints, applyRemovedEdges)
+    if (type == "SpringForceField" || type == "MeshSpringForceField") {
         auto* ff = dynamic_cast<SpringForceField*>(f);
-        return ff != nullptr && ff->springs().empty();
+        if (ff == nullptr || ff->states().size() != 1) return false;
+        container.add_handler(w.keep(std::make_unique<SpringPointsFollower>(*ff, container)),
+                              {ElementType::point, ElementType::edge});
+        return true;
+    }
+    // edgeInfo and triangleInfo TopologyData with creation and destruction callbacks, event by event
+    if (type == "TriangularBiquadraticSpringsForceField") {
+        auto* ff = dynamic_cast<TriangularBiquadraticSpringsForceField*>(f);
+        if (ff == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TriangularBiquadraticSpringsForceField>>(*ff, container)),
+                              {ElementType::edge, ElementType::triangle});
+        return true;
+    }
+    if (type == "TriangularQuadraticSpringsForceField") {
+        auto* ff = dynamic_cast<TriangularQuadraticSpringsForceField*>(f);
+        if (ff == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TriangularQuadraticSpringsForceField>>(*ff, container)),
+                              {ElementType::edge, ElementType::triangle});
+        return true;
+    }
+    if (type == "TrianglePressureForceField") {
+        auto* ff = dynamic_cast<TrianglePressureForceField*>(f);
+        if (ff == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TrianglePressureForceField>>(*ff, container)),
+                              {ElementType::triangle});
+        return true;
     }
     if (type == "EdgePressureForceField") {
         auto* ff = dynamic_cast<EdgePressureForceField*>(f);
@@ -185,6 +242,30 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         return true;
     }
     return false;
+}
+
+/// A BarycentricMapping whose input state follows `t` (a tetrahedral or hexahedral container):
+/// SOFA's BarycentricMapping::handleTopologyChange → TopologyBarycentricMapper::
+/// processTopologicalChanges, clear() and init(out, in) with both states' current positions, i.e.
+/// every output point mapped again onto the remaining elements (the nearest one, extrapolated
+/// outside), once the operation is done and the input state has followed.
+bool follow_barycentric(TopologyWiring& w, const SceneComponent& c, BaseMapping* mapping, DynamicTopology& t) {
+    auto* m = dynamic_cast<BarycentricMapping*>(mapping);
+    if (c.type != "BarycentricMapping" || m == nullptr) return false;
+    auto* in = dynamic_cast<Vec3Object*>(m->from());
+    auto* out = dynamic_cast<Vec3Object*>(m->to());
+    const MeshTopology& mesh = t.container->mesh();
+    const bool volume = t.container->level() == ElementType::tetrahedron || t.container->level() == ElementType::hexahedron;
+    if (in == nullptr || out == nullptr || !volume) return false;
+    const bool tetrahedra = t.container->level() == ElementType::tetrahedron;
+    const auto remap = [m, in, out, &mesh, tetrahedra] {
+        if (tetrahedra) m->map_on_tetrahedra(mesh, in->position, out->position);
+        else m->map_on_hexahedra(mesh, in->position, out->position);
+    };
+    const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
+                                                 ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
+    t.container->add_handler(w.keep(std::make_unique<RebuildFollower>(remap, all)), all);
+    return true;
 }
 
 }  // namespace
@@ -209,6 +290,10 @@ void wire_components(TopologyWiring& w) {
                 const auto out = w.followed_states.find(m->to());
                 const bool same = c.type == "IdentityMapping" && out != w.followed_states.end() &&
                                   by_state.size() == 1 && *by_state.begin() == out->second;
+                if (!same && by_state.size() == 1 && out == w.followed_states.end() &&
+                    (by_topology == nullptr || by_topology == *by_state.begin()) &&
+                    follow_barycentric(w, c, b.mappings[0], **by_state.begin()))
+                    continue;
                 if (!same) {
                     for (DynamicTopology* t : by_state) t->blockers.push_back(where(c));
                     if (by_topology != nullptr && by_state.count(by_topology) == 0) by_topology->blockers.push_back(where(c));

@@ -24,10 +24,12 @@ std::uint64_t TopologyRuntime::revisions() const {
 }
 
 void TopologyRuntime::begin_step(double time) {
-    if (sources.empty()) return;
-    const std::uint64_t before = revisions();
-    for (auto& s : sources) s->begin_step(time);
-    if (revisions() != before) changed();
+    if (!sources.empty()) {
+        const std::uint64_t before = revisions();
+        for (auto& s : sources) s->begin_step(time);
+        if (revisions() != before) changed();
+    }
+    for (const auto& update : internal_updates) update();
 }
 
 void TopologyRuntime::end_step(double time) {

@@ -9,6 +9,7 @@
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/mechanics/topology_container.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -82,6 +83,9 @@ public:
     std::vector<std::unique_ptr<TopologyHandler>> handlers;
     std::vector<std::unique_ptr<StateFollower>> followers;
     std::vector<std::unique_ptr<TopologyChangeSource>> sources;
+    /// Components' doUpdateInternal (SOFA's UpdateInternalDataVisitor, in animate after the
+    /// AnimateBeginEvent): run by begin_step after the sources, before the step's solve.
+    std::vector<std::function<void()>> internal_updates;
     Node* root = nullptr;
 
     /// Sum of the dynamic meshes' revisions: changes whenever an element changes.

@@ -124,8 +124,15 @@ void SceneBuilder::wire_topological_changes() {
     for (auto& t : rt.topologies) {
         const auto visit = [&](const auto& self, const SceneNode& sn, bool root) -> void {
             const NodeBuild& nb = nodes_[&sn];
-            // a mapped child node with a topology of its own is not the same topology: pruned
-            if (!root && nb.mapped && nb.topology_component != nullptr) return;
+            // StateChangeVisitor::processNodeTopDown: a mapped child node is pruned unless its
+            // mapping keeps the same topology (BaseMapping::sameTopology: IdentityMapping,
+            // DeformableOnRigidFrameMapping), or (penalty's rule) when it has a topology of its own
+            if (!root && nb.mapped) {
+                const BaseMapping* m = nb.node != nullptr ? nb.node->mapping() : nullptr;
+                const SceneComponent* mc = m != nullptr ? scene_.component_of(m) : nullptr;
+                const bool same_topology = mc != nullptr && (mc->type == "IdentityMapping" || mc->type == "DeformableOnRigidFrameMapping");
+                if (!same_topology || nb.topology_component != nullptr) return;
+            }
             if (nb.node != nullptr && nb.node->state() != nullptr) {
                 BaseState* s = nb.node->state();
                 std::unique_ptr<StateFollower> follower;
