@@ -29,19 +29,6 @@ std::vector<Triangle> elements_of(const MeshTopology& topology, TriangleFemFlavo
     return topology.triangles();
 }
 
-/// Frame of triangle (a, b, c), rows = local axes: x̂ along b − a, ẑ along x̂ × (c − a),
-/// ŷ = ẑ × x̂ (TriangleFEMUtils::computeRotationLarge).
-Mat3 triangle_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 ex = (b - a).normalized();
-    const Vec3 ez = ex.cross(c - a).normalized();
-    const Vec3 ey = ez.cross(ex);
-    Mat3 r;
-    r.row(0) = ex;
-    r.row(1) = ey;
-    r.row(2) = ez;
-    return r;
-}
-
 /// J for a local triangle a = 0, b = (b_x, 0), c = (c_x, c_y), det = b_x·c_y
 /// (TriangleFEMUtils::computeStrainDisplacementLocal); false when |det| < machine epsilon.
 bool strain_displacement_local(TriangularFEMForceField::StrainDisplacement& j, const Vec3& b, const Vec3& c) {
@@ -123,11 +110,13 @@ void TriangularFEMForceField::init() {
             }
             ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
         } else if (parameters_.method == FemMethod::Large) {
-            // initLarge: rest coordinates in the rest frame, area = ½ r_bx·r_cy
-            const Mat3 r0 = triangle_frame(a, b, c);
-            rest_local_[e] = {r0 * (b - a), r0 * (c - a)};
+            // TriangularFEMForceField::initLarge, SOFA's operations: the rest edges rotated
+            // (R₀·(b − a), R₀·(c − a)), area = ½ r_bx·r_cy
+            const Mat3 r0 = triangle_fem_sofa::rotation(a, b, c);
+            rest_local_[e] = {sofa_vec::times(r0, Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2])),
+                              sofa_vec::times(r0, Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2]))};
             rotation_[e] = r0.transpose();
-            ok = strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
+            ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
             area_[e] = rest_local_[e][0].x() * rest_local_[e][1].y() * 0.5;
         } else {
             // initSmall: world edge vectors, area = ½ |(b − a) × (c − a)|
@@ -194,7 +183,10 @@ bool TriangularFEMForceField::element_force_sofa_order(std::size_t e, std::span<
 }
 
 bool TriangularFEMForceField::element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy) {
-    if (parameters_.flavor == TriangleFemFlavor::TriangleFEM) return element_force_sofa_order(e, f, x, energy);
+    // TriangularFEMForceField::accumulateForceLarge calls the TriangleFEMUtils steps of
+    // TriangleFEMForceField's (fullMethod = _anisotropicMaterial, false): the same SOFA-order path
+    if (parameters_.flavor == TriangleFemFlavor::TriangleFEM || parameters_.method == FemMethod::Large)
+        return element_force_sofa_order(e, f, x, energy);
     const auto [ia, ib, ic] = triangles_[e];
     const Vec3& pa = x[static_cast<std::size_t>(ia)];
     const Vec3& pb = x[static_cast<std::size_t>(ib)];
@@ -203,24 +195,11 @@ bool TriangularFEMForceField::element_force(std::size_t e, std::span<Vec3> f, st
     Eigen::Matrix<double, 6, 1> displacement;
     StrainDisplacement j;
     Mat3 to_world = Mat3::Identity();
-    if (parameters_.method == FemMethod::Large) {
-        // accumulateForceLarge / computeDisplacementLarge: the current local triangle
-        const Mat3 r = triangle_frame(pa, pb, pc);
-        const Vec3 db = r * (pb - pa);
-        const Vec3 dc = r * (pc - pa);
-        displacement << 0, 0, rb.x() - db.x(), 0, rc.x() - dc.x(), rc.y() - dc.y();
-        if (!strain_displacement_local(j, db, dc)) return false;
-        to_world = r.transpose();
-    } else {
-        // accumulateForceSmall / computeDisplacementSmall: world x, y of the edges
-        const Vec3 db = pb - pa;
-        const Vec3 dc = pc - pa;
-        displacement << 0, 0, rb.x() - db.x(), rb.y() - db.y(), rc.x() - dc.x(), rc.y() - dc.y();
-        // TriangleFEMForceField::accumulateForceSmall uses the local formula on world vectors
-        const bool ok = parameters_.flavor == TriangleFemFlavor::TriangularFEM ? strain_displacement_global(j, db, dc)
-                                                                           : strain_displacement_local(j, db, dc);
-        if (!ok) return false;
-    }
+    // TriangularFEMForceField::accumulateForceSmall / computeDisplacementSmall: world x, y of the edges
+    const Vec3 db = pb - pa;
+    const Vec3 dc = pc - pa;
+    displacement << 0, 0, rb.x() - db.x(), rb.y() - db.y(), rc.x() - dc.x(), rc.y() - dc.y();
+    if (!strain_displacement_global(j, db, dc)) return false;
     const Vec3 strain = j.transpose() * displacement;  // (εxx, εyy, γxy)
     const Vec3 stress = material_[e] * strain;          // area-weighted σ (N/m)
     const Eigen::Matrix<double, 6, 1> nodal = j * stress;
@@ -270,8 +249,8 @@ void TriangularFEMForceField::add_dforce_sofa_order(std::span<Vec3> df, std::spa
 }
 
 void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
-    if (parameters_.flavor == TriangleFemFlavor::TriangleFEM) {
-        add_dforce_sofa_order(df, dx, k_factor);
+    if (parameters_.flavor == TriangleFemFlavor::TriangleFEM || parameters_.method == FemMethod::Large) {
+        add_dforce_sofa_order(df, dx, k_factor);  // applyStiffnessLarge: TriangleFEMUtils' steps
         return;
     }
     // applyStiffnessLarge / applyStiffnessSmall: dx in the element frame, local x, y only
