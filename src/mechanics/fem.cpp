@@ -615,6 +615,8 @@ Mat3 hexahedron_edge_frame(const std::array<Vec3, 8>& p) {
     return frame_from_axes(horizontal, vertical);
 }
 
-Mat3 HexahedronFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const { return hexahedron_edge_frame(p); }
+Mat3 HexahedronFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const {
+    return method_ == FemMethod::Polar ? hexahedron_polar_frame(p) : hexahedron_edge_frame(p);
+}
 
 }  // namespace penalty

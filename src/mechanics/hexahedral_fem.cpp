@@ -175,14 +175,16 @@ void HexahedralFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec
     }
 }
 
-Mat3 HexahedralFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const {
-    if (method_ != FemMethod::Polar) return hexahedron_edge_frame(p);
-    // HexahedralFEMForceField::computeRotationPolar: rows = the mean edges along x, y and z
+Mat3 hexahedron_polar_frame(const std::array<Vec3, 8>& p) {
     Mat3 edges;
     edges.row(0) = ((p[1] - p[0] + p[2] - p[3] + p[5] - p[4] + p[6] - p[7]) * 0.25).transpose();
     edges.row(1) = ((p[3] - p[0] + p[2] - p[1] + p[7] - p[4] + p[6] - p[5]) * 0.25).transpose();
     edges.row(2) = ((p[4] - p[0] + p[5] - p[1] + p[7] - p[3] + p[6] - p[2]) * 0.25).transpose();
     return polar_rotation(edges);
+}
+
+Mat3 HexahedralFEMForceField::element_rotation(const std::array<Vec3, 8>& p) const {
+    return method_ == FemMethod::Polar ? hexahedron_polar_frame(p) : hexahedron_edge_frame(p);
 }
 
 // ---- HexahedronElementMass ----------------------------------------------------------------------

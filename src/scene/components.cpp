@@ -250,6 +250,8 @@ const std::vector<ComponentSpec>& registry() {
               builder::python_components(),
               builder::projective_constraint_components(),
               builder::rigid_force_field_components(),
+              builder::interaction_force_field_components(),
+              builder::hyperelasticity_components(),
               builder::shell_force_field_components(),
               builder::nonuniform_hexahedra_components(),
               builder::tait_pressure_components(),

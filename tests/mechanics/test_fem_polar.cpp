@@ -1,6 +1,7 @@
 // TetrahedronFEMForceField method polar (SOFA's initPolar / accumulateForcePolar): the polar
 // rotation, stress-free rigid motions, rotation invariance, the stiffness against finite
-// differences at a rotated rest state, and the HexahedronFEMForceField stiffness factors.
+// differences at a rotated rest state, and HexahedronFEMForceField's stiffness factors and method
+// polar (HexahedronFEMForceField::computeRotationPolar).
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
@@ -98,6 +99,80 @@ TEST(HexahedronFEM, StiffnessFactorsScaleEachElement) {
     weighted.init();
     EXPECT_TRUE(weighted.element_stiffness()[0].isApprox(0.5 * full.element_stiffness()[0], 1e-15));
     EXPECT_EQ(weighted.element_stiffness()[1], full.element_stiffness()[1]);
+}
+
+/// A unit cube's corners in SOFA's hexahedron order.
+std::array<Vec3, 8> unit_cube_corners() {
+    return {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),
+            Vec3(0, 0, 1), Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1)};
+}
+
+TEST(HexahedronFEMPolar, FrameOfARotatedShearedCubeIsTheTransposedRotation) {
+    // p = Q·S·x⁰ on the unit cube: the mean edges are the columns of Q·S, so the edge matrix (rows
+    // = edges) is S·Qᵀ = Qᵀ·(Q S Qᵀ), whose orthogonal polar factor is Qᵀ (rows = local axes).
+    const Mat3 q = Eigen::AngleAxisd(0.7, Vec3(0.3, -1, 0.4).normalized()).toRotationMatrix();
+    Mat3 stretch;
+    stretch << 1.4, 0.25, -0.1, 0.25, 0.8, 0.15, -0.1, 0.15, 1.1;  // symmetric positive definite, sheared
+    std::array<Vec3, 8> p = unit_cube_corners();
+    for (Vec3& v : p) v = q * stretch * v + Vec3(2, -1, 0.5);
+    EXPECT_TRUE(hexahedron_polar_frame(p).isApprox(q.transpose(), 1e-12));
+    // the large frame follows the x edges, so a shear tilts it away from Qᵀ
+    EXPECT_GT((hexahedron_edge_frame(p) - q.transpose()).norm(), 1e-2);
+}
+
+TEST(HexahedronFEMPolar, RigidMotionIsStressFreeAndStiffnessMatchesFiniteDifferences) {
+    RegularGridTopology g({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1.2));
+    Vec3Object s;
+    s.position = g.points();
+    s.init();
+    HexahedronFEMForceField ff(s, g.mesh(), 800.0, 0.3, FemMethod::Polar);
+    ff.init();
+    const Mat3 r = Eigen::AngleAxisd(0.9, Vec3(-1, 2, 0.5).normalized()).toRotationMatrix();
+    for (std::size_t i = 0; i < s.position.size(); ++i) s.position[i] = r * s.rest_position[i] + Vec3(1, 0.5, -2);
+    const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
+    const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, s, tol);
+    EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0);
+    EXPECT_LT(d.force.cwiseAbs().maxCoeff(), 1e-10);
+}
+
+TEST(HexahedronFEMPolar, ShearedElementRotatesByThePolarFactorNotTheEdgeFrame) {
+    // One cube sheared in x by y (x += γ·y) and rotated by Q: the polar method measures the strain
+    // in the frame Qᵀ·polar(shear), the large method in the frame of the x edges; both are
+    // corotational, so their forces differ at finite shear but rotate with the body.
+    RegularGridTopology g({2, 2, 2}, Vec3(0, 0, 0), Vec3(1, 1, 1));
+    Vec3Object polar_state, large_state;
+    for (Vec3Object* st : {&polar_state, &large_state}) {
+        st->position = g.points();
+        st->init();
+    }
+    HexahedronFEMForceField polar(polar_state, g.mesh(), 1000, 0.3, FemMethod::Polar);
+    HexahedronFEMForceField large(large_state, g.mesh(), 1000, 0.3, FemMethod::Large);
+    polar.init();
+    large.init();
+    const Mat3 q = Eigen::AngleAxisd(0.5, Vec3(0, 0, 1)).toRotationMatrix();
+    for (std::size_t i = 0; i < polar_state.position.size(); ++i) {
+        const Vec3 x0 = polar_state.rest_position[i];
+        const Vec3 sheared(x0.x() + 0.2 * x0.y(), x0.y(), x0.z());
+        polar_state.position[i] = q * sheared;
+        large_state.position[i] = q * sheared;
+    }
+    polar.accumulate_force();
+    large.accumulate_force();
+    double fmax = 0, diff = 0;
+    for (std::size_t i = 0; i < polar_state.force.size(); ++i) {
+        fmax = std::max(fmax, polar_state.force[i].norm());
+        diff = std::max(diff, (polar_state.force[i] - large_state.force[i]).norm());
+    }
+    EXPECT_GT(fmax, 1.0);
+    EXPECT_GT(diff, 1e-3 * fmax);  // the frames differ: not the large method under another name
+    std::array<Vec3, 8> p;
+    for (std::size_t k = 0; k < 8; ++k) p[k] = polar_state.position[static_cast<std::size_t>(g.mesh().hexahedra()[0][k])];
+    Mat3 edges;
+    edges.row(0) = ((p[1] - p[0] + p[2] - p[3] + p[5] - p[4] + p[6] - p[7]) * 0.25).transpose();
+    edges.row(1) = ((p[3] - p[0] + p[2] - p[1] + p[7] - p[4] + p[6] - p[5]) * 0.25).transpose();
+    edges.row(2) = ((p[4] - p[0] + p[5] - p[1] + p[7] - p[3] + p[6] - p[2]) * 0.25).transpose();
+    const Eigen::JacobiSVD<Mat3> svd(edges, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    EXPECT_TRUE(hexahedron_polar_frame(p).isApprox(svd.matrixU() * svd.matrixV().transpose(), 1e-10));
 }
 
 }  // namespace

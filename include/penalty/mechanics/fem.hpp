@@ -50,6 +50,11 @@ Mat3 stable_polar_rotation(const Mat3& f);
 /// (HexahedronFEMForceField::computeRotationLarge, HexahedralFEMForceField::initLarge).
 Mat3 hexahedron_edge_frame(const std::array<Vec3, 8>& p);
 
+/// A hexahedron's corotational frame for method polar: polar_rotation of the matrix whose rows are
+/// the means of the four edges along x (0→1), y (0→3) and z (0→4)
+/// (HexahedronFEMForceField::computeRotationPolar, HexahedralFEMForceField::computeRotationPolar).
+Mat3 hexahedron_polar_frame(const std::array<Vec3, 8>& p);
+
 /// Isotropic material stiffness in Voigt notation (εxx, εyy, εzz, γxy, γyz, γzx), Pa.
 Eigen::Matrix<double, 6, 6> isotropic_elasticity(double young_modulus, double poisson_ratio);
 
@@ -237,7 +242,9 @@ private:
     std::vector<std::array<double, 6>> plastic_strain_;
 };
 
-/// SOFA's HexahedronFEMForceField (methods small and large), SOFA vertex order (see topology).
+/// SOFA's HexahedronFEMForceField (methods small, large and polar), SOFA vertex order (see
+/// topology). Polar (initPolar / accumulateForcePolar): R = hexahedron_polar_frame of the element,
+/// rest frame from the rest positions, stiffness −Rᵀ K^e R, as large otherwise.
 class HexahedronFEMForceField final : public LinearElementForceField<8> {
 public:
     HexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,

@@ -57,6 +57,8 @@ std::span<const ComponentSpec> frame_mapping_components();         // frame_mapp
 std::span<const ComponentSpec> python_components();               // python_components.cpp
 std::span<const ComponentSpec> projective_constraint_components(); // projective_constraints.cpp
 std::span<const ComponentSpec> rigid_force_field_components();     // rigid_force_fields.cpp
+std::span<const ComponentSpec> interaction_force_field_components();  // interaction_force_fields.cpp
+std::span<const ComponentSpec> hyperelasticity_components();          // hyperelasticity.cpp
 std::span<const ComponentSpec> shell_force_field_components();     // shell_force_fields.cpp
 std::span<const ComponentSpec> nonuniform_hexahedra_components();  // nonuniform_hexahedra.cpp
 std::span<const ComponentSpec> tait_pressure_components();          // tait_pressure.cpp

@@ -250,7 +250,8 @@ constexpr AttributeSpec kTetrahedronFem[] = {
 constexpr AttributeSpec kHexahedronFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
     {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},
-    {"method", K::text, "large", "", ValueCheck::none, "large (corotational) or small (linear)"},
+    {"method", K::text, "large", "", ValueCheck::none,
+     "large (corotational), polar (corotational, polar rotation of the mean edges) or small (linear)"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
 };
 
@@ -260,15 +261,15 @@ struct FemLaw {
     FemMethod method;
 };
 
-FemLaw fem_law(const Attributes& a, bool polar_supported) {
+FemLaw fem_law(const Attributes& a, bool svd_supported) {
     FemLaw law{a.real("youngModulus"), a.real("poissonRatio"), FemMethod::Large};
     if (!(law.poisson > -1.0 && law.poisson < 0.5)) a.fail("poissonRatio", "must be in (-1, 0.5)");
     const std::string method = a.text("method");
     if (method == "small") law.method = FemMethod::Small;
-    else if (method == "polar" && polar_supported) law.method = FemMethod::Polar;
-    else if (method == "svd" && polar_supported) law.method = FemMethod::Svd;
+    else if (method == "polar") law.method = FemMethod::Polar;
+    else if (method == "svd" && svd_supported) law.method = FemMethod::Svd;
     else if (method != "large")
-        a.fail("method", "'" + method + "' is not supported (" + (polar_supported ? "small, large, polar or svd)" : "small or large)"));
+        a.fail("method", "'" + method + "' is not supported (" + (svd_supported ? "small, large, polar or svd)" : "small, large or polar)"));
     return law;
 }
 
@@ -284,7 +285,7 @@ void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const FemLaw law = fem_law(a, /*polar_supported=*/true);
+        const FemLaw law = fem_law(a, /*svd_supported=*/true);
         if ((law.method == FemMethod::Polar || law.method == FemMethod::Svd) && a.boolean("updateStiffnessMatrix"))
             a.fail("updateStiffnessMatrix", "with method polar or svd is not supported (SOFA recomputes the strain-displacement matrix each step)");
         TetrahedronFEMForceField* ff = nullptr;
@@ -309,7 +310,7 @@ void build_hexahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
-        const FemLaw law = fem_law(a, /*polar_supported=*/false);
+        const FemLaw law = fem_law(a, /*svd_supported=*/false);
         auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson,
                                                                         law.method);
         if (info.sparse_grid && !a.has("topology")) sparse_grid_stiffness_factors(*ff, info);

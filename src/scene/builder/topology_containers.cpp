@@ -119,7 +119,13 @@ NodeBuild* topology_node(SceneBuilder& b, const SceneComponent* target) {
 }
 
 NodeBuild& linked_topology_node(SceneBuilder& b, const Attributes& a, std::string_view attr) {
-    NodeBuild* n = topology_node(b, a.link(attr).component);
+    const io::LinkTarget target = a.link(attr);
+    const SceneComponent* topology = target.component;
+    // a link to a node (`input="@../"`): that node's topology, as SOFA's link to a
+    // BaseMeshTopology resolves a node path
+    if (topology == nullptr && target.node != nullptr && b.node_builds().count(target.node) != 0)
+        topology = b.node_build(*target.node).topology_component;
+    NodeBuild* n = topology_node(b, topology);
     if (n == nullptr) a.fail(attr, "must link to a topology built before this mapping (in its node or above)");
     return *n;
 }

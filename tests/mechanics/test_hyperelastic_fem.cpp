@@ -1,0 +1,155 @@
+// TetrahedronHyperelasticityFEMForceField and its five materials: S = 2∂W/∂C and dS[H] against
+// finite differences, f = −∂E/∂x and df = K·dx (and the assembled matrix) on a deformed block,
+// closed forms (stress-free rest, St Venant-Kirchhoff under a stretch, linear elasticity at rest).
+#include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/hyperelastic_fem.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
+
+#include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/grid_meshes.hpp"
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace penalty {
+namespace {
+
+std::vector<HyperelasticLaw> every_law() {
+    return {{HyperelasticMaterial::ArrudaBoyce, {3448.2759, 31034.483}},
+            {HyperelasticMaterial::StVenantKirchhoff, {3448.2759, 31034.483}},
+            {HyperelasticMaterial::NeoHookean, {3448.2759, 31034.483}},
+            {HyperelasticMaterial::MooneyRivlin, {5000, 7000, 10}},
+            {HyperelasticMaterial::Ogden, {1500, 500, 5000}}};
+}
+
+/// A deformation gradient away from the identity (fixed), with J > 0.
+Mat3 sample_deformation() {
+    Mat3 f;
+    f << 1.08, 0.05, -0.03, 0.02, 0.95, 0.04, -0.06, 0.01, 1.03;
+    return f;
+}
+
+TEST(HyperelasticMaterials, StressIsTwiceTheEnergyGradientAndItsDerivativeMatchesFiniteDifferences) {
+    const Mat3 f = sample_deformation();
+    const Mat3 c = f.transpose() * f;
+    const double j = f.determinant();
+    Mat3 h;
+    h << 0.3, -0.1, 0.2, -0.1, 0.5, 0.05, 0.2, 0.05, -0.4;  // symmetric
+    for (const HyperelasticLaw& law : every_law()) {
+        SCOPED_TRACE(std::string(material_name(law.material)));
+        const auto energy = [&](const Mat3& cc) { return law.energy_density(cc, std::sqrt(cc.determinant())); };
+        const Mat3 s = law.second_piola(c, j);
+        const double step = 1e-6;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) {
+                Mat3 e = Mat3::Zero();  // symmetric unit perturbation of C_ab and C_ba
+                e(a, b) += 0.5;
+                e(b, a) += 0.5;
+                const double dw = (energy(c + step * e) - energy(c - step * e)) / (2 * step);
+                EXPECT_NEAR(2 * dw, s(a, b), 1e-6 * (1 + s.cwiseAbs().maxCoeff())) << a << b;
+            }
+        const auto stress = [&](const Mat3& cc) { return law.second_piola(cc, std::sqrt(cc.determinant())); };
+        const Mat3 fd = (stress(c + step * h) - stress(c - step * h)) / (2 * step);
+        const Mat3 ds = law.stress_derivative(c, j, h);
+        EXPECT_LT((fd - ds).cwiseAbs().maxCoeff(), 1e-6 * (1 + ds.cwiseAbs().maxCoeff()));
+        EXPECT_GT(ds.cwiseAbs().maxCoeff(), 1.0);
+        // stress-free at rest
+        EXPECT_LT(law.second_piola(Mat3::Identity(), 1.0).cwiseAbs().maxCoeff(), 1e-9 * law.parameters[0]);
+    }
+}
+
+TEST(HyperelasticMaterials, StVenantKirchhoffUnderAStretchIsLameTimesGreenStrain) {
+    // F = diag(s, 1, 1): E = diag((s² − 1)/2, 0, 0), S = λ tr E·I + 2μE
+    const double mu = 300, lambda = 700, s = 1.2;
+    const HyperelasticLaw law{HyperelasticMaterial::StVenantKirchhoff, {mu, lambda}};
+    const Mat3 c = Vec3(s * s, 1, 1).asDiagonal();
+    const double exx = (s * s - 1) / 2;
+    const Mat3 expected = Vec3(lambda * exx + 2 * mu * exx, lambda * exx, lambda * exx).asDiagonal();
+    EXPECT_LT((law.second_piola(c, s) - expected).cwiseAbs().maxCoeff(), 1e-10);
+    EXPECT_NEAR(law.energy_density(c, s), lambda / 2 * exx * exx + mu * exx * exx, 1e-10);
+}
+
+struct HyperBlock {
+    RegularGridTopology grid{{3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1)};
+    MeshTopology topo = test::kuhn_tetrahedra(grid);
+    Vec3Object state;
+    HyperBlock() {
+        state.position = grid.points();
+        state.init();
+    }
+    void deform(std::uint32_t seed, double amplitude) {
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(-1, 1);
+        const Mat3 r = Eigen::AngleAxisd(0.4, Vec3(1, 1, 0).normalized()).toRotationMatrix();
+        for (std::size_t i = 0; i < state.position.size(); ++i)
+            state.position[i] = r * (state.rest_position[i] + amplitude * Vec3(u(rng), u(rng), u(rng)));
+    }
+};
+
+TEST(TetrahedronHyperelasticity, ForceIsMinusEnergyGradientAndStiffnessMatchesFiniteDifferences) {
+    for (const HyperelasticLaw& law : every_law()) {
+        SCOPED_TRACE(std::string(material_name(law.material)));
+        HyperBlock b;
+        TetrahedronHyperelasticityFEMForceField ff(b.state, b.topo.tetrahedra(), law);
+        ff.init();
+        b.deform(11, 0.08);
+        const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-6};
+        const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, b.state, tol);
+        EXPECT_GT(d.force.cwiseAbs().maxCoeff(), 1.0);
+        EXPECT_TRUE(d.k_dforce.isApprox(d.k_dforce.transpose(), 1e-9));  // a Hessian: symmetric
+    }
+}
+
+TEST(TetrahedronHyperelasticity, RigidMotionIsStressFree) {
+    for (const HyperelasticLaw& law : every_law()) {
+        HyperBlock b;
+        TetrahedronHyperelasticityFEMForceField ff(b.state, b.topo.tetrahedra(), law);
+        ff.init();
+        b.deform(3, 0.0);  // rotation only
+        ff.accumulate_force();
+        double fmax = 0;
+        for (const Vec3& f : b.state.force) fmax = std::max(fmax, f.norm());
+        EXPECT_LT(fmax, 1e-9 * law.parameters[0]) << material_name(law.material);
+        EXPECT_NEAR(ff.potential_energy(), 0.0, 1e-9 * law.parameters[0]);
+    }
+}
+
+TEST(TetrahedronHyperelasticity, StiffnessAtRestIsLinearElasticity) {
+    // NeoHookean and St Venant-Kirchhoff (μ, λ) linearise to Hooke's law with E = μ(3λ + 2μ)/(λ + μ),
+    // ν = λ/(2(λ + μ)): the stiffness at rest equals TetrahedronFEMForceField small's.
+    const double mu = 400, lambda = 900;
+    for (const HyperelasticMaterial m : {HyperelasticMaterial::NeoHookean, HyperelasticMaterial::StVenantKirchhoff}) {
+        HyperBlock b;
+        TetrahedronHyperelasticityFEMForceField ff(b.state, b.topo.tetrahedra(), {m, {mu, lambda}});
+        TetrahedronFEMForceField linear(b.state, b.topo, mu * (3 * lambda + 2 * mu) / (lambda + mu), lambda / (2 * (lambda + mu)),
+                                        FemMethod::Small);
+        ff.init();
+        linear.init();
+        ff.accumulate_force();
+        const auto n = static_cast<Index>(3 * b.state.num_dofs());
+        TripletList t1, t2;
+        ff.add_stiffness_triplets(t1, 0, 1.0);
+        linear.add_stiffness_triplets(t2, 0, 1.0);
+        SparseMatrix k1(n, n), k2(n, n);
+        k1.setFromTriplets(t1.begin(), t1.end());
+        k2.setFromTriplets(t2.begin(), t2.end());
+        const Eigen::MatrixXd a(k1), bb(k2);
+        EXPECT_LT((a - bb).cwiseAbs().maxCoeff(), 1e-9 * bb.cwiseAbs().maxCoeff()) << material_name(m);
+    }
+}
+
+TEST(TetrahedronHyperelasticity, BadParametersAreRejected) {
+    HyperBlock b;
+    EXPECT_THROW(TetrahedronHyperelasticityFEMForceField(b.state, b.topo.tetrahedra(), {HyperelasticMaterial::Ogden, {1, 2}}),
+                 std::invalid_argument);
+    EXPECT_THROW(TetrahedronHyperelasticityFEMForceField(b.state, b.topo.tetrahedra(), {HyperelasticMaterial::Ogden, {1, 0, 3}}),
+                 std::invalid_argument);
+    std::vector<Tetrahedron> flat{{0, 1, 2, 1}};
+    TetrahedronHyperelasticityFEMForceField degenerate(b.state, flat, {HyperelasticMaterial::NeoHookean, {1, 1}});
+    EXPECT_THROW(degenerate.init(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace penalty
