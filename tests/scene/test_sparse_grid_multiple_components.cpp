@@ -58,10 +58,10 @@ struct NestedCubesFolder {
     }
 };
 
-const std::string kGrid = R"(<SparseGridMultipleTopology min="0 0 0" max="6 6 6" fileTopologies="outer.obj inner.obj" )"
+const std::string kNestedCubesGrid = R"(<SparseGridMultipleTopology min="0 0 0" max="6 6 6" fileTopologies="outer.obj inner.obj" )"
                           R"(stiffnessCoefs="10 0.2" massCoefs="3 5" finestConnectivity="0" )";
 
-std::string build_error(const std::filesystem::path& scene) {
+std::string nested_cubes_build_error(const std::filesystem::path& scene) {
     try {
         (void)scene::build_scene(io::parse_scene_file(scene));
     } catch (const std::exception& e) {
@@ -76,7 +76,7 @@ TEST(SparseGridMultipleComponents, MassCoefficientsGiveTheClosedFormTotalMassOnE
     // boundary ((3 + 5)/2), 8 inside it (5): total density·(228 + 224 + 40) = 984; a coarser level
     // averages 8 children over a cell 8 times bigger, the same total
     for (const std::string levels : {R"(n="7 7 7"/>)", R"(n="4 4 4" nbVirtualFinerLevels="1"/>)"}) {
-        auto scene = scene::build_scene(io::parse_scene_file(folder.scene(kGrid + levels)));
+        auto scene = scene::build_scene(io::parse_scene_file(folder.scene(kNestedCubesGrid + levels)));
         const Node& cubes = *scene->simulation().root().children().at(0);
         auto* mass = dynamic_cast<HexahedronElementMass*>(cubes.mass());
         ASSERT_NE(mass, nullptr) << levels;
@@ -105,7 +105,7 @@ TEST(SparseGridMultipleComponents, RamifiedGridsBuildWithFinestConnectivity) {
     const NestedCubesFolder folder("ramified");
     // the outer cube's 12 triangles have their edges on the cube's edges and diagonals: most faces
     // between its BOUNDARY cells are crossed by none, so the finest cells come apart
-    auto plain = scene::build_scene(io::parse_scene_file(folder.scene(kGrid + R"(n="7 7 7"/>)")));
+    auto plain = scene::build_scene(io::parse_scene_file(folder.scene(kNestedCubesGrid + R"(n="7 7 7"/>)")));
     auto ramified = scene::build_scene(io::parse_scene_file(folder.scene(
         R"(<SparseGridRamificationTopology min="0 0 0" max="6 6 6" n="7 7 7" fileTopology="outer.obj"/>)")));
     const auto points_of = [](scene::Scene& s) { return s.simulation().root().children().at(0)->state()->num_dofs(); };
@@ -117,7 +117,7 @@ TEST(SparseGridMultipleComponents, RamifiedGridsBuildWithFinestConnectivity) {
 
 TEST(SparseGridMultipleComponents, BadAttributesNameFileLineComponentAndAttribute) {
     const NestedCubesFolder folder("errors");
-    const auto error_of = [&](const std::string& grid) { return build_error(folder.scene(grid)); };
+    const auto error_of = [&](const std::string& grid) { return nested_cubes_build_error(folder.scene(grid)); };
     const std::string no_files = error_of(R"(<SparseGridMultipleTopology n="4 4 4" fileTopologies=""/>)");
     EXPECT_THAT(no_files, ::testing::HasSubstr("scene.scn:5: SparseGridMultipleTopology"));
     EXPECT_THAT(no_files, ::testing::HasSubstr("SparseGridMultipleTopology"));
