@@ -96,6 +96,7 @@ TEST(SparseGridMultipleComponents, MassCoefficientsGiveTheClosedFormTotalMassOnE
             for (int k = 0; k < 3; ++k) EXPECT_NEAR(mapped->position[i][k], given[i][k], 1e-12) << i << levels;
         for (int i = 0; i < 3; ++i) scene->step();
         auto* grid = dynamic_cast<Vec3Object*>(cubes.state());
+        ASSERT_NE(grid, nullptr);
         for (const Vec3& p : grid->position) EXPECT_TRUE(p.allFinite());
         EXPECT_LT(grid->position[0].y(), 0.0);  // falling
     }
