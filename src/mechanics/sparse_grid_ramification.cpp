@@ -278,9 +278,11 @@ SparseGridTopology SparseGridTopology::from_finer_ramified(std::shared_ptr<const
                 if (fine_cell == kNone) continue;
                 for (const Index c1 : fine.of_cell[std::size_t(fine_cell)]) {
                     const Index coarse1 = r->parent_of_finer[std::size_t(c1)];
+                    if (coarse1 == kNone) continue;  // (never: every kept finer cell lies in a kept coarse cell)
                     for (int d = 0; d < kDirections; ++d)
                         for (const Index c2 : fine.connexions[std::size_t(c1)].neighbors[std::size_t(d)]) {
                             const Index coarse2 = r->parent_of_finer[std::size_t(c2)];
+                            if (coarse2 == kNone) continue;
                             if (r->connexions[std::size_t(coarse1)].cell == r->connexions[std::size_t(coarse2)].cell) continue;
                             neighbours[std::size_t(coarse1)][std::size_t(d)].insert(coarse2);
                             neighbours[std::size_t(coarse2)][std::size_t(d ^ 1)].insert(coarse1);

@@ -304,7 +304,11 @@ std::optional<std::pair<Index, Vec3>> SparseGridTopology::locate_ramified(const 
         }
     }
     Index connexion = finest.ramification_->of_cell[std::size_t(fine_cell)].front();
-    for (std::size_t l = levels.size() - 1; l-- > 0;) connexion = levels[l]->ramification_->parent_of_finer[std::size_t(connexion)];
+    for (std::size_t l = levels.size() - 1; l-- > 0;) {
+        if (!levels[l]->ramification_) return std::nullopt;
+        connexion = levels[l]->ramification_->parent_of_finer[std::size_t(connexion)];
+        if (connexion < 0) return std::nullopt;
+    }
     return std::pair{connexion, fraction};  // a connexion's id is its hexahedron's index
 }
 
