@@ -117,6 +117,79 @@ void number_ramified_points(const SparseGridRamification& r, std::span<const std
         for (PointId& corner : hexahedron) corner = number[std::size_t(corner)];
 }
 
+/// SparseGridRamificationTopology::buildFromFiner's connexions (steps 2 and 3 below) of the coarse
+/// cells whose finer cells are `cell_children`.
+std::shared_ptr<SparseGridRamification> group_connexions(const SparseGridRamification& fine,
+                                                         std::span<const std::array<Index, 8>> cell_children) {
+    // 2. The connexions of each cell: its finer connexions grouped by their neighbour graph
+    //    restricted to the cell (propagateConnexionNumberToNeighbors), groups in the order of their
+    //    first member, members in child order
+    auto r = std::make_shared<SparseGridRamification>();
+    r->of_cell.resize(cell_children.size());
+    r->parent_of_finer.assign(fine.connexions.size(), kNone);
+    std::vector<Index> group(fine.connexions.size(), kNone);
+    std::vector<Index> stack;
+    for (std::size_t cell = 0; cell < cell_children.size(); ++cell) {
+        std::vector<std::pair<int, Index>> members;  // (place, finer connexion)
+        for (int place = 0; place < 8; ++place) {
+            const Index child = cell_children[cell][std::size_t(place)];
+            if (child == kNone) continue;
+            for (const Index c : fine.of_cell[std::size_t(child)]) members.emplace_back(place, c);
+        }
+        std::set<Index> in_cell;
+        for (const auto& m : members) {
+            in_cell.insert(m.second);
+            group[std::size_t(m.second)] = kNone;
+        }
+        for (std::size_t m = 0; m < members.size(); ++m) {
+            if (group[std::size_t(members[m].second)] != kNone) continue;
+            stack.assign(1, members[m].second);
+            while (!stack.empty()) {
+                const Index c = stack.back();
+                stack.pop_back();
+                if (group[std::size_t(c)] != kNone) continue;
+                group[std::size_t(c)] = Index(m);
+                for (const auto& direction : fine.connexions[std::size_t(c)].neighbors)
+                    for (const Index neighbour : direction)
+                        if (in_cell.contains(neighbour) && group[std::size_t(neighbour)] == kNone) stack.push_back(neighbour);
+            }
+        }
+        std::map<Index, Index> connexion_of_group;
+        for (const auto& m : members) connexion_of_group.emplace(group[std::size_t(m.second)], kNone);
+        for (auto& [g, id] : connexion_of_group) {
+            id = Index(r->connexions.size());
+            r->connexions.emplace_back().cell = Index(cell);
+            r->of_cell[cell].push_back(id);
+        }
+        for (const auto& m : members) {
+            const Index id = connexion_of_group.at(group[std::size_t(m.second)]);
+            r->connexions[std::size_t(id)].children.push_back(m);
+            r->parent_of_finer[std::size_t(m.second)] = id;
+        }
+    }
+
+    // 3. Neighbours: two connexions are neighbours when finer connexions of theirs, in different
+    //    cells, are
+    std::vector<std::array<std::set<Index>, kDirections>> neighbours(r->connexions.size());
+    for (std::size_t c1 = 0; c1 < fine.connexions.size(); ++c1) {  // sets: the order of the visits does not matter
+        const Index coarse1 = r->parent_of_finer[c1];
+        if (coarse1 == kNone) continue;  // (never: every kept finer cell lies in a kept coarse cell)
+        for (int d = 0; d < kDirections; ++d)
+            for (const Index c2 : fine.connexions[c1].neighbors[std::size_t(d)]) {
+                const Index coarse2 = r->parent_of_finer[std::size_t(c2)];
+                if (coarse2 == kNone) continue;
+                if (r->connexions[std::size_t(coarse1)].cell == r->connexions[std::size_t(coarse2)].cell) continue;
+                neighbours[std::size_t(coarse1)][std::size_t(d)].insert(coarse2);
+                neighbours[std::size_t(coarse2)][std::size_t(d ^ 1)].insert(coarse1);
+            }
+    }
+    for (std::size_t c = 0; c < neighbours.size(); ++c)
+        for (int d = 0; d < kDirections; ++d)
+            r->connexions[c].neighbors[std::size_t(d)].assign(neighbours[c][std::size_t(d)].begin(), neighbours[c][std::size_t(d)].end());
+
+    return r;
+}
+
 }  // namespace
 
 SparseGridTopology SparseGridTopology::ramified_finest(SparseGridTopology voxels, const SparseGridFacets* surface, bool ramify_points) {
@@ -221,77 +294,7 @@ SparseGridTopology SparseGridTopology::from_finer_ramified(std::shared_ptr<const
                 cell_corners.push_back(corners);
             }
 
-    // 2. The connexions of each cell: its finer connexions grouped by their neighbour graph
-    //    restricted to the cell (propagateConnexionNumberToNeighbors), groups in the order of their
-    //    first member, members in child order
-    auto r = std::make_shared<SparseGridRamification>();
-    r->of_cell.resize(cell_children.size());
-    r->parent_of_finer.assign(fine.connexions.size(), kNone);
-    std::vector<Index> group(fine.connexions.size(), kNone);
-    std::vector<Index> stack;
-    for (std::size_t cell = 0; cell < cell_children.size(); ++cell) {
-        std::vector<std::pair<int, Index>> members;  // (place, finer connexion)
-        for (int place = 0; place < 8; ++place) {
-            const Index child = cell_children[cell][std::size_t(place)];
-            if (child == kNone) continue;
-            for (const Index c : fine.of_cell[std::size_t(child)]) members.emplace_back(place, c);
-        }
-        std::set<Index> in_cell;
-        for (const auto& m : members) {
-            in_cell.insert(m.second);
-            group[std::size_t(m.second)] = kNone;
-        }
-        for (std::size_t m = 0; m < members.size(); ++m) {
-            if (group[std::size_t(members[m].second)] != kNone) continue;
-            stack.assign(1, members[m].second);
-            while (!stack.empty()) {
-                const Index c = stack.back();
-                stack.pop_back();
-                if (group[std::size_t(c)] != kNone) continue;
-                group[std::size_t(c)] = Index(m);
-                for (const auto& direction : fine.connexions[std::size_t(c)].neighbors)
-                    for (const Index neighbour : direction)
-                        if (in_cell.contains(neighbour) && group[std::size_t(neighbour)] == kNone) stack.push_back(neighbour);
-            }
-        }
-        std::map<Index, Index> connexion_of_group;
-        for (const auto& m : members) connexion_of_group.emplace(group[std::size_t(m.second)], kNone);
-        for (auto& [g, id] : connexion_of_group) {
-            id = Index(r->connexions.size());
-            r->connexions.emplace_back().cell = Index(cell);
-            r->of_cell[cell].push_back(id);
-        }
-        for (const auto& m : members) {
-            const Index id = connexion_of_group.at(group[std::size_t(m.second)]);
-            r->connexions[std::size_t(id)].children.push_back(m);
-            r->parent_of_finer[std::size_t(m.second)] = id;
-        }
-    }
-
-    // 3. Neighbours: two connexions are neighbours when finer connexions of theirs, in different
-    //    cells, are
-    std::vector<std::array<std::set<Index>, kDirections>> neighbours(r->connexions.size());
-    for (int z = 0; z < fcz; ++z)
-        for (int y = 0; y < fcy; ++y)
-            for (int x = 0; x < fcx; ++x) {
-                const Index fine_cell = finer->kept_of_grid_cell_[std::size_t(x + fcx * (y + fcy * z))];
-                if (fine_cell == kNone) continue;
-                for (const Index c1 : fine.of_cell[std::size_t(fine_cell)]) {
-                    const Index coarse1 = r->parent_of_finer[std::size_t(c1)];
-                    if (coarse1 == kNone) continue;  // (never: every kept finer cell lies in a kept coarse cell)
-                    for (int d = 0; d < kDirections; ++d)
-                        for (const Index c2 : fine.connexions[std::size_t(c1)].neighbors[std::size_t(d)]) {
-                            const Index coarse2 = r->parent_of_finer[std::size_t(c2)];
-                            if (coarse2 == kNone) continue;
-                            if (r->connexions[std::size_t(coarse1)].cell == r->connexions[std::size_t(coarse2)].cell) continue;
-                            neighbours[std::size_t(coarse1)][std::size_t(d)].insert(coarse2);
-                            neighbours[std::size_t(coarse2)][std::size_t(d ^ 1)].insert(coarse1);
-                        }
-                }
-            }
-    for (std::size_t c = 0; c < neighbours.size(); ++c)
-        for (int d = 0; d < kDirections; ++d)
-            r->connexions[c].neighbors[std::size_t(d)].assign(neighbours[c][std::size_t(d)].begin(), neighbours[c][std::size_t(d)].end());
+    auto r = group_connexions(fine, cell_children);
 
     // 4. One hexahedron per connexion, its points numbered as SOFA's
     number_ramified_points(*r, cell_corners, coarse.hexahedra_, coarse.points_);
