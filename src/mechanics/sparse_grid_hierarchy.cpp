@@ -68,7 +68,21 @@ SparseGridTopology SparseGridTopology::from_finer(std::shared_ptr<const SparseGr
         for (std::size_t v = 0; v < 8; ++v) h[v] = point_of_key[key(c[0] + kCorner[v][0], c[1] + kCorner[v][1], c[2] + kCorner[v][2])];
         coarse.hexahedra_.push_back(h);
     }
-    // coefficients: the children's sum over 8 (absent children count 0)
+    // coefficients: the children's sum over 8 (absent children count 0); in single precision
+    // (SOFA's floats) when the finer level has its own (a SparseGridMultipleTopology's)
+    if (!finer->stiffness_coefficients_.empty()) {
+        std::vector<float> stiffness(coarse.hexahedra_.size(), 0.0f), mass(coarse.hexahedra_.size(), 0.0f);
+        for (std::size_t e = 0; e < coarse.hexahedra_.size(); ++e) {
+            for (const Index child : coarse.children_[e]) {
+                if (child < 0) continue;
+                stiffness[e] += finer->stiffness_coefficients_[std::size_t(child)];
+                mass[e] += finer->mass_coefficients_[std::size_t(child)];
+            }
+            stiffness[e] = float(double(stiffness[e]) / 8.0);
+            mass[e] = float(double(mass[e]) / 8.0);
+        }
+        coarse.set_coefficients(std::move(stiffness), std::move(mass));
+    }
     const std::vector<double> fine_coefficients = finer->coefficients(fill_weighted);
     coarse.coefficients_.assign(coarse.hexahedra_.size(), 0.0);
     for (std::size_t e = 0; e < coarse.hexahedra_.size(); ++e) {

@@ -1,4 +1,5 @@
 #include "penalty/mechanics/sparse_grid_topology.hpp"
+#include "penalty/mechanics/sparse_grid_ramification.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -77,11 +78,10 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
                                                     std::span<const Triangle> triangles, bool only_inside_cells) {
     if (positions.empty()) throw_invalid_argument("SparseGridTopology: the surface has no points");
     for (int& count : n) count = std::max(count, 2);  // SparseGridTopology::init
-    SparseGridTopology sparse{RegularGridTopology(n, min, max)};
-    const RegularGridTopology& grid = sparse.grid_;
+    const RegularGridTopology grid(n, min, max);
     const int cx = n[0] - 1, cy = n[1] - 1, cz = n[2] - 1;
     const auto cell_index = [&](int x, int y, int z) { return std::size_t(x + cx * (y + cy * z)); };
-    std::vector<SparseCellType>& types = sparse.grid_types_;
+    std::vector<SparseCellType> types;
     types.assign(std::size_t(cx) * std::size_t(cy) * std::size_t(cz), SparseCellType::inside);
 
     // 1. The cell of each surface vertex is BOUNDARY; a vertex outside the grid is moved half a
@@ -155,13 +155,26 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
             for (int x = 0; x < cx; ++x)
                 if (x == 0 || y == 0 || z == 0 || x == cx - 1 || y == cy - 1 || z == cz - 1) seed(x, y, z);
 
-    // 4. Kept cells (SparseGridTopology::buildFromRegularGridTypes): BOUNDARY then INSIDE.
+    return from_grid_types(n, min, max, std::move(types), only_inside_cells);
+}
+
+SparseGridTopology SparseGridTopology::from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max, std::vector<SparseCellType> types,
+                                                       bool only_inside_cells) {
+    for (int& count : n) count = std::max(count, 2);
+    SparseGridTopology sparse{RegularGridTopology(n, min, max)};
+    const RegularGridTopology& grid = sparse.grid_;
+    const int cx = n[0] - 1, cy = n[1] - 1;
+    if (types.size() != std::size_t(cx) * std::size_t(cy) * std::size_t(n[2] - 1))
+        throw_invalid_argument("SparseGridTopology: ", types.size(), " cell types for a grid of ", cx * cy * (n[2] - 1), " cells");
+    sparse.grid_types_ = std::move(types);
+    const std::vector<SparseCellType>& grid_types = sparse.grid_types_;
+    // Kept cells (SparseGridTopology::buildFromRegularGridTypes): BOUNDARY then INSIDE.
     std::vector<std::size_t> kept;
     if (!only_inside_cells)
-        for (std::size_t w = 0; w < types.size(); ++w)
-            if (types[w] == SparseCellType::boundary) kept.push_back(w);
-    for (std::size_t w = 0; w < types.size(); ++w)
-        if (types[w] == SparseCellType::inside) kept.push_back(w);
+        for (std::size_t w = 0; w < grid_types.size(); ++w)
+            if (grid_types[w] == SparseCellType::boundary) kept.push_back(w);
+    for (std::size_t w = 0; w < grid_types.size(); ++w)
+        if (grid_types[w] == SparseCellType::inside) kept.push_back(w);
 
     // Points: corners of kept cells, ordered by (i, j, k) with i slowest (= SOFA's position order).
     const auto corner_key = [&](int i, int j, int k) { return (std::size_t(i) * std::size_t(n[1]) + std::size_t(j)) * std::size_t(n[2]) + std::size_t(k); };
@@ -183,14 +196,14 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
                 id = next++;
                 sparse.points_.push_back(grid.point(i, j, k));
             }
-    sparse.kept_of_grid_cell_.assign(types.size(), kNotKept);
+    sparse.kept_of_grid_cell_.assign(grid_types.size(), kNotKept);
     for (const std::size_t w : kept) {
         sparse.kept_of_grid_cell_[w] = Index(sparse.hexahedra_.size());
         Hexahedron h{};
         const auto corners = corners_of(w);
         for (std::size_t k = 0; k < 8; ++k) h[k] = point_of_key[corner_key(corners[k][0], corners[k][1], corners[k][2])];
         sparse.hexahedra_.push_back(h);
-        sparse.types_.push_back(types[w]);
+        sparse.types_.push_back(grid_types[w]);
     }
     return sparse;
 }
@@ -226,28 +239,95 @@ MeshTopology SparseGridTopology::mesh() const {
     return t;
 }
 
-std::pair<Index, Vec3> SparseGridTopology::locate(const Vec3& p) const {
-    if (hexahedra_.empty()) throw_invalid_argument("SparseGridTopology: no cells to locate a point in");
-    if (const auto found = regular_cell(grid_, p)) {
-        const auto& [c, fraction] = *found;
-        const auto w = std::size_t(c[0] + (grid_.n()[0] - 1) * (c[1] + (grid_.n()[1] - 1) * c[2]));
-        if (kept_of_grid_cell_[w] != kNotKept) return {kept_of_grid_cell_[w], fraction};
-    }
-    // SparseGridTopology::findNearestCube: BOUNDARY cells only, distance to the centre in float.
+namespace {
+
+/// SparseGridTopology::findNearestCube's cell: the BOUNDARY hexahedron whose centre (corners 0
+/// and 6) is nearest, in single precision, the first one on ties.
+std::size_t nearest_boundary_hexahedron(std::span<const Hexahedron> hexahedra, std::span<const SparseCellType> types,
+                                        std::span<const Vec3> points, const Vec3& p) {
     std::size_t best = 0;
     float best_distance = 99999999.0f;
-    for (std::size_t w = 0; w < hexahedra_.size(); ++w) {
-        if (types_[w] != SparseCellType::boundary) continue;
-        const Vec3 centre = (points_[std::size_t(hexahedra_[w][0])] + points_[std::size_t(hexahedra_[w][6])]) * 0.5;
+    for (std::size_t w = 0; w < hexahedra.size(); ++w) {
+        if (types[w] != SparseCellType::boundary) continue;
+        const Vec3 centre = (points[std::size_t(hexahedra[w][0])] + points[std::size_t(hexahedra[w][6])]) * 0.5;
         const auto distance = float((p - centre).norm());
         if (distance < best_distance) {
             best_distance = distance;
             best = w;
         }
     }
+    return best;
+}
+
+}  // namespace
+
+std::pair<Index, Vec3> SparseGridTopology::locate(const Vec3& p) const {
+    if (hexahedra_.empty()) throw_invalid_argument("SparseGridTopology: no cells to locate a point in");
+    if (ramification_ && finer_)
+        if (auto found = locate_ramified(p)) return *found;
+    if (const auto found = regular_cell(grid_, p)) {
+        const auto& [c, fraction] = *found;
+        const auto w = std::size_t(c[0] + (grid_.n()[0] - 1) * (c[1] + (grid_.n()[1] - 1) * c[2]));
+        if (kept_of_grid_cell_[w] != kNotKept) return {kept_of_grid_cell_[w], fraction};
+    }
+    const std::size_t best = nearest_boundary_hexahedron(hexahedra_, types_, points_, p);
     const Vec3& corner0 = points_[std::size_t(hexahedra_[best][0])];
     const Vec3 diagonal = points_[std::size_t(hexahedra_[best][6])] - corner0;
     return {Index(best), (p - corner0).cwiseQuotient(diagonal)};
+}
+
+std::optional<std::pair<Index, Vec3>> SparseGridTopology::locate_ramified(const Vec3& p) const {
+    // SparseGridRamificationTopology::findCube / findNearestCube: the finest level's cell (its
+    // SparseGridTopology::findCube, else findNearestCube), its connexion's coarsest parent here; the
+    // fractions in this level's regular grid (RegularGridTopology::findCube, else findNearestCube:
+    // the cell clamped into the grid, the fractions not)
+    std::vector<const SparseGridTopology*> levels{this};
+    while (levels.back()->finer_) levels.push_back(levels.back()->finer_.get());
+    const SparseGridTopology& finest = *levels.back();
+    if (!finest.ramification_) return std::nullopt;
+    Index fine_cell = kNotKept;
+    if (const auto found = regular_cell(finest.grid_, p)) {
+        const auto& c = found->first;
+        fine_cell = finest.kept_of_grid_cell_[std::size_t(c[0] + (finest.grid_.n()[0] - 1) * (c[1] + (finest.grid_.n()[1] - 1) * c[2]))];
+    }
+    Vec3 fraction;
+    const auto inside = fine_cell != kNotKept ? regular_cell(grid_, p) : std::nullopt;
+    if (inside) {
+        fraction = inside->second;
+    } else {
+        if (fine_cell == kNotKept) fine_cell = Index(nearest_boundary_hexahedron(finest.hexahedra_, finest.types_, finest.points_, p));
+        const Vec3 dx = grid_.spacing();
+        for (int a = 0; a < 3; ++a) {
+            const double t = ((p[a] - grid_.origin()[a]) * dx[a]) * (1 / (dx[a] * dx[a]));
+            const double cell = std::clamp(std::floor(t), 0.0, double(grid_.n()[std::size_t(a)] - 2));
+            fraction[a] = t - cell;
+        }
+    }
+    Index connexion = finest.ramification_->of_cell[std::size_t(fine_cell)].front();
+    for (std::size_t l = levels.size() - 1; l-- > 0;) {
+        if (!levels[l]->ramification_) return std::nullopt;
+        connexion = levels[l]->ramification_->parent_of_finer[std::size_t(connexion)];
+        if (connexion < 0) return std::nullopt;
+    }
+    return std::pair{connexion, fraction};  // a connexion's id is its hexahedron's index
+}
+
+std::vector<double> SparseGridTopology::stiffness_coefficients(bool fill_weighted) const {
+    if (stiffness_coefficients_.empty()) return coefficients(fill_weighted);
+    return {stiffness_coefficients_.begin(), stiffness_coefficients_.end()};
+}
+
+std::vector<double> SparseGridTopology::mass_coefficients(bool fill_weighted) const {
+    if (mass_coefficients_.empty()) return coefficients(fill_weighted);
+    return {mass_coefficients_.begin(), mass_coefficients_.end()};
+}
+
+void SparseGridTopology::set_coefficients(std::vector<float> stiffness, std::vector<float> mass) {
+    if (stiffness.size() != hexahedra_.size() || mass.size() != hexahedra_.size())
+        throw_invalid_argument("SparseGridTopology: ", stiffness.size(), " stiffness and ", mass.size(), " mass coefficients for ",
+                               hexahedra_.size(), " hexahedra");
+    stiffness_coefficients_ = std::move(stiffness);
+    mass_coefficients_ = std::move(mass);
 }
 
 void map_on_sparse_grid(BarycentricMapping& mapping, const SparseGridTopology& grid, std::span<const Vec3> points) {

@@ -20,12 +20,22 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 namespace penalty {
 
 enum class SparseCellType : unsigned char { outside, inside, boundary };
+
+struct SparseGridRamification;  // sparse_grid_ramification.hpp
+
+/// A closed surface given as polygons (SOFA's helper::io::Mesh facets), for the ramification's
+/// face test (SparseGridRamificationTopology::sharingTriangle).
+struct SparseGridFacets {
+    std::vector<Vec3> positions;
+    std::vector<std::vector<PointId>> facets;
+};
 
 class SparseGridTopology {
 public:
@@ -34,6 +44,24 @@ public:
     /// a surface vertex SOFA cannot place in the grid.
     static SparseGridTopology from_surface(std::array<int, 3> n, Vec3 min, Vec3 max, std::span<const Vec3> positions,
                                            std::span<const Triangle> triangles, bool only_inside_cells = false);
+    /// SOFA's SparseGridTopology::buildFromRegularGridTypes: the cells of the regular grid (n, min,
+    /// max) typed `types` (regular-grid order, x fastest): BOUNDARY cells (unless
+    /// only_inside_cells) then INSIDE ones, points sorted by position.
+    static SparseGridTopology from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max, std::vector<SparseCellType> types,
+                                              bool only_inside_cells = false);
+    /// SOFA's SparseGridMultipleTopology::buildAsFinest (sparse_grid_multiple.cpp): each surface
+    /// voxelised on the grid (n, min, max), then the cells assembled surface by surface
+    /// (assembleRegularGrids): a cell INSIDE a surface (or BOUNDARY of it without fill_weighted)
+    /// becomes INSIDE with that surface's coefficients; a BOUNDARY cell (fill_weighted) becomes
+    /// BOUNDARY unless INSIDE already, its coefficients the surface's (erase_previous) or the mean
+    /// of the previous ones (0 at first) and the surface's, in single precision.
+    struct WeightedSurface {
+        std::span<const Vec3> positions;
+        std::span<const Triangle> triangles;
+        float stiffness = 1.0f, mass = 1.0f;
+    };
+    static SparseGridTopology from_surfaces(std::array<int, 3> n, Vec3 min, Vec3 max, std::span<const WeightedSurface> surfaces,
+                                            bool fill_weighted, bool erase_previous, bool only_inside_cells = false);
     /// SOFA's default box: the bounding box of `positions` grown by 1/100 of its size each side.
     static std::pair<Vec3, Vec3> default_box(std::span<const Vec3> positions);
 
@@ -65,6 +93,27 @@ public:
     /// boundary cell when `fill_weighted`, else 1; for a coarser level the sum of its children's
     /// over 8 (computed from the finest one's fillWeighted).
     [[nodiscard]] std::vector<double> coefficients(bool fill_weighted) const;
+    /// SOFA's getStiffnessCoef / getMassCoef of each hexahedron (floats in SOFA): the coefficients
+    /// a builder set (set_coefficients, the ramified levels), else coefficients(fill_weighted).
+    [[nodiscard]] std::vector<double> stiffness_coefficients(bool fill_weighted) const;
+    [[nodiscard]] std::vector<double> mass_coefficients(bool fill_weighted) const;
+    /// Sets SOFA's _stiffnessCoefs and _massCoefs (one per hexahedron).
+    void set_coefficients(std::vector<float> stiffness, std::vector<float> mass);
+
+    // ---- SparseGridRamificationTopology (sparse_grid_ramification.cpp) ----
+    /// SparseGridRamificationTopology::buildAsFinest after the voxelisation: the connexion graph
+    /// of the cells (findConnexionsAtFinestLevel: two face-neighbour cells are connected unless
+    /// `surface` is given, both are BOUNDARY and no facet edge crosses their common face), then
+    /// with `ramify_points` (finestConnectivity) the hexahedra's points numbered again, a point
+    /// shared only through connected faces (buildRamifiedFinestLevel).
+    static SparseGridTopology ramified_finest(SparseGridTopology voxels, const SparseGridFacets* surface, bool ramify_points);
+    /// SparseGridRamificationTopology::buildFromFiner: as from_finer, but each coarse cell gives
+    /// one hexahedron per connected group of its finer connexions, with its own points; the finer
+    /// coefficients are its set ones, else coefficients(fill_weighted).
+    static SparseGridTopology from_finer_ramified(std::shared_ptr<const SparseGridTopology> finer, bool fill_weighted);
+    /// The connexion graph of a ramification level (nullptr for a plain sparse grid).
+    [[nodiscard]] const SparseGridRamification* ramification() const { return ramification_.get(); }
+
     /// Number of finer levels below this one.
     [[nodiscard]] int finer_levels() const { return finer_ ? 1 + finer_->finer_levels() : 0; }
 
@@ -84,6 +133,9 @@ private:
     std::shared_ptr<const SparseGridTopology> finer_;     ///< from_finer's finer level
     std::vector<std::array<Index, 8>> children_;          ///< from_finer's cells of finer_
     std::vector<double> coefficients_;                    ///< from_finer's averaged coefficients
+    std::vector<float> stiffness_coefficients_, mass_coefficients_;  ///< set_coefficients (empty: none)
+    std::shared_ptr<const SparseGridRamification> ramification_;
+    [[nodiscard]] std::optional<std::pair<Index, Vec3>> locate_ramified(const Vec3& p) const;
 };
 
 /// BarycentricMapping of points onto a sparse grid, as SOFA's BarycentricMapperSparseGridTopology

@@ -66,5 +66,7 @@ std::span<const ComponentSpec> tait_pressure_components();          // tait_pres
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).
 void sparse_grid_stiffness_factors(HexahedronFEMForceField& ff, const NodeBuild& info);
+/// SOFA's SparseGridTopology::getMassCoef of each cell of the node's sparse grid (sparse_grid.cpp).
+std::vector<double> sparse_grid_mass_factors(const NodeBuild& info);
 
 }  // namespace penalty::scene::builder

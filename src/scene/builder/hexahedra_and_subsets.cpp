@@ -115,7 +115,7 @@ void build_fem_and_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             // on a sparse grid SOFA weights a cell's stiffness and mass alike (SparseGridTopology's
             // getStiffnessCoef and getMassCoef, both 0.5 for a boundary cell when fillWeighted)
             if (sparse) sparse_grid_stiffness_factors(*ff, info);
-            mass_factors = ff->stiffness_factors();
+            if (!ff->stiffness_factors().empty()) mass_factors = sparse_grid_mass_factors(info);
             b.record_origin(ff, c);
             b.add_init(1, c, [ff] { ff->init(); });
         }

@@ -32,6 +32,8 @@ void build_nonuniform(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
     Vec3Object& s = b.vec3_state(c, info);
     if (!info.sparse_grid) io::throw_element_error(c, "needs a SparseGridTopology in its node (its virtual finer levels)");
     const SparseGridTopology& grid = *info.sparse_grid;
+    if (grid.ramification() != nullptr)
+        io::throw_element_error(c, "a ramified sparse grid (SparseGridRamificationTopology, SparseGridMultipleTopology) is not supported here");
     const std::int64_t levels = a.integer("nbVirtualFinerLevels");
     if (levels < 1 || levels > grid.finer_levels())
         a.fail("nbVirtualFinerLevels", "must be between 1 and the SparseGridTopology's nbVirtualFinerLevels (" +
