@@ -253,6 +253,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::shell_force_field_components(),
               builder::nonuniform_hexahedra_components(),
               builder::tait_pressure_components(),
+              builder::multi_mapping_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());
