@@ -260,9 +260,11 @@ void fill_rigid_state(SceneBuilder& b, const Attributes& a, const NodeBuild& inf
 /// topology built before (a RegularGridTopology's grid points, a container's given points).
 std::vector<Vec3> linked_source_points(SceneBuilder& b, const Attributes& a) {
     const io::LinkTarget t = a.link("src");
+    // (a topology built before: also one that a later topology of its node replaced, as SOFA's
+    // Data link reads the linked container whatever the node's topology is)
     if (t.component != nullptr && component_category(t.component->type) != ComponentCategory::loader)
-        for (const auto& [node, built] : b.node_builds())
-            if (built.topology_component == t.component && built.topology != nullptr) return built.topology_positions;
+        if (const SceneBuilder::BuiltTopology* built = b.built_topology(*t.component); built != nullptr && built->topology != nullptr)
+            return built->positions;
     return b.linked_mesh(a, "src").positions;
 }
 
