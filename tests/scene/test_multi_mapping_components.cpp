@@ -18,7 +18,7 @@ using ::testing::HasSubstr;
 using penalty::test::build;
 using penalty::test::error_of;
 
-std::string replaced(std::string xml, const std::string& what, const std::string& by) {
+std::string multi_replaced(std::string xml, const std::string& what, const std::string& by) {
     xml.replace(xml.find(what), what.size(), by);
     return xml;
 }
@@ -41,7 +41,7 @@ const std::string kSubsetScene = R"(<Node name="root" dt="0.01" gravity="0 0 0">
 </Node>)";
 
 TEST(MultiMappingComponents, SubsetMultiMappingPicksPointsAndCarriesTheirForces) {
-    auto s = build(replaced(kSubsetScene, "<MAPPING/>",
+    auto s = build(multi_replaced(kSubsetScene, "<MAPPING/>",
                             R"(<SubsetMultiMapping input="@../../a @../b" output="@c" indexPairs="0 1  1 0  1 1"/>)"));
     const Node& a = multi_child(s->simulation().root(), 0);
     const Node& b = multi_child(a, 0);
@@ -59,7 +59,7 @@ TEST(MultiMappingComponents, SubsetMultiMappingPicksPointsAndCarriesTheirForces)
 }
 
 TEST(MultiMappingComponents, IdentityMultiMappingConcatenates) {
-    auto s = build(replaced(kSubsetScene, "<MAPPING/>", R"(<IdentityMultiMapping input="@../../a @../b" output="@c"/>)"));
+    auto s = build(multi_replaced(kSubsetScene, "<MAPPING/>", R"(<IdentityMultiMapping input="@../../a @../b" output="@c"/>)"));
     const auto& c = dynamic_cast<const Vec3Object&>(
         *multi_child(multi_child(multi_child(s->simulation().root(), 0), 0), 0).state());
     ASSERT_EQ(c.position.size(), 4u);
@@ -68,7 +68,7 @@ TEST(MultiMappingComponents, IdentityMultiMappingConcatenates) {
 }
 
 TEST(MultiMappingComponents, BadMultiMappingAttributesAreNamed) {
-    const auto with_mapping = [](const std::string& m) { return replaced(kSubsetScene, "<MAPPING/>", m); };
+    const auto with_mapping = [](const std::string& m) { return multi_replaced(kSubsetScene, "<MAPPING/>", m); };
     EXPECT_THAT(error_of(with_mapping(R"(<SubsetMultiMapping input="@../../a @../b" indexPairs="0 1 1"/>)")),
                 HasSubstr("test.scn:6: SubsetMultiMapping: attribute 'indexPairs': expected pairs (input, index), found 3 numbers"));
     EXPECT_THAT(error_of(with_mapping(R"(<SubsetMultiMapping input="@../../a @../b" indexPairs="2 0"/>)")),
@@ -92,7 +92,7 @@ const std::string kCenterOfMassScene = R"(<Node name="root" dt="0.01" gravity="0
 </Node>)";
 
 TEST(MultiMappingComponents, CenterOfMassOfRigidFramesWeighedByTheirDiagonalMass) {
-    auto s = build(replaced(kCenterOfMassScene, "MASS",
+    auto s = build(multi_replaced(kCenterOfMassScene, "MASS",
                             R"(<DiagonalMass template="Rigid3" vertexMass="1 1 [1 0 0,0 1 0,0 0 1]  2 1 [1 0 0,0 1 0,0 0 1]  3 1 [1 0 0,0 1 0,0 0 1]"/>)"));
     const Node& frames = multi_child(s->simulation().root(), 0);
     const auto& centre = dynamic_cast<const Vec3Object&>(*multi_child(frames, 0).state());
@@ -104,9 +104,9 @@ TEST(MultiMappingComponents, CenterOfMassOfRigidFramesWeighedByTheirDiagonalMass
     EXPECT_NEAR(centre.position[0].y(), (f.position[0].center.y() + 2 * f.position[1].center.y() + 3 * f.position[2].center.y()) / 6.0,
                 1e-14);
     EXPECT_LT(centre.position[0].y(), 3.0);
-    EXPECT_THAT(error_of(replaced(kCenterOfMassScene, "MASS", "")),
+    EXPECT_THAT(error_of(multi_replaced(kCenterOfMassScene, "MASS", "")),
                 HasSubstr("test.scn:5: CenterOfMassMapping: attribute 'input': the input's node has no mass"));
-    EXPECT_THAT(error_of(replaced(kCenterOfMassScene, "MASS", R"(<DiagonalMass template="Rigid3" vertexMass="1 1 [1 0 0]"/>)")),
+    EXPECT_THAT(error_of(multi_replaced(kCenterOfMassScene, "MASS", R"(<DiagonalMass template="Rigid3" vertexMass="1 1 [1 0 0]"/>)")),
                 HasSubstr("test.scn:4: DiagonalMass: attribute 'vertexMass': a Rigid3d DiagonalMass takes 11 numbers per frame"));
 }
 
@@ -126,7 +126,7 @@ TEST(MultiMappingComponents, MeshTopologyTakesTheInitialisedPointsOfAMechanicalO
     const auto& f = dynamic_cast<const Rigid3Object&>(*multi_child(s->simulation().root(), 0).state());
     EXPECT_EQ(f.position[0].center, Vec3(1, 0, 0));
     EXPECT_THAT(::testing::PrintToString(s->warnings()), HasSubstr("test.scn:3: MechanicalObject 'frames': dx '0 0 0 0 0 0' is not one number: 0 used"));
-    auto translated = build(replaced(xml, R"( dx="0 0 0 0 0 0")", ""));
+    auto translated = build(multi_replaced(xml, R"( dx="0 0 0 0 0 0")", ""));
     EXPECT_EQ(dynamic_cast<const Rigid3Object&>(*multi_child(translated->simulation().root(), 0).state()).position[1].center,
               Vec3(0, 1, 5));
 }
@@ -153,7 +153,7 @@ TEST(MultiMappingComponents, MappingsThatOnlyFeedDrawingAreAccepted) {
     EXPECT_EQ(multi_child(beam, 0).mapping(), nullptr);
     EXPECT_EQ(multi_child(beam, 1).mapping(), nullptr);
     // onto a MechanicalObject they are refused, naming the attribute
-    const std::string mechanical = replaced(replaced(xml, R"(<OglModel name="surface"/>)", R"(<MechanicalObject name="surface"/>)"),
+    const std::string mechanical = multi_replaced(multi_replaced(xml, R"(<OglModel name="surface"/>)", R"(<MechanicalObject name="surface"/>)"),
                                             R"(<TubularMapping nbPointsOnEachCircle="8" radius="1" input="@../frames" output="@surface"/>)", "");
     EXPECT_THAT(error_of(mechanical), HasSubstr("test.scn:10: Edge2QuadTopologicalMapping: attribute 'output': feeds node '/Beam/Tube', which has a MechanicalObject"));
 }
