@@ -158,4 +158,43 @@ TEST(MultiMappingComponents, MappingsThatOnlyFeedDrawingAreAccepted) {
     EXPECT_THAT(error_of(mechanical), HasSubstr("test.scn:10: Edge2QuadTopologicalMapping: attribute 'output': feeds node '/Beam/Tube', which has a MechanicalObject"));
 }
 
+TEST(MultiMappingComponents, SimpleTesselatedTetraCutsATetrahedronInEight) {
+    const std::string xml = R"(<Node name="root" dt="0.01" gravity="0 0 0">
+  <Node name="Coarse">
+    <TetrahedronSetTopologyContainer name="coarse" position="0 0 0  2 0 0  0 2 0  0 0 2" tetrahedra="0 1 2 3"/>
+    <MechanicalObject name="dofs"/>
+    <Node name="Fine"><EulerImplicitSolver/><CGLinearSolver iterations="20" tolerance="1e-12" threshold="1e-20"/>
+      <TetrahedronSetTopologyContainer name="fine"/>
+      <SimpleTesselatedTetraTopologicalMapping input="@../coarse" output="@fine"/>
+      <MechanicalObject name="fineDofs"/>
+      <UniformMass vertexMass="1"/>
+    </Node>
+  </Node>
+</Node>)";
+    auto s = build(xml);
+    const Node& fine = multi_child(multi_child(s->simulation().root(), 0), 0);
+    const auto& x = dynamic_cast<const Vec3Object&>(*fine.state());
+    ASSERT_EQ(x.position.size(), 10u);  // 4 corners + 6 edge middles
+    const MeshTopology* t = s->states()[1].topology;
+    ASSERT_NE(t, nullptr);
+    ASSERT_EQ(t->tetrahedra().size(), 8u);
+    // the eight volumes add up to the coarse one (8/6), each corner tetrahedron an eighth of it
+    double total = 0;
+    for (const Tetrahedron& e : t->tetrahedra()) {
+        const Vec3& p0 = x.position[std::size_t(e[0])];
+        const double v = (x.position[std::size_t(e[1])] - p0).cross(x.position[std::size_t(e[2])] - p0).dot(x.position[std::size_t(e[3])] - p0) / 6;
+        EXPECT_NEAR(std::abs(v), 8.0 / 6.0 / 8.0, 1e-15);
+        total += std::abs(v);
+    }
+    EXPECT_NEAR(total, 8.0 / 6.0, 1e-14);
+    // every middle point is the middle of two corners
+    int middles = 0;
+    for (std::size_t i = 4; i < 10; ++i)
+        for (std::size_t p = 0; p < 4; ++p)
+            for (std::size_t q = p + 1; q < 4; ++q) middles += x.position[i] == (x.position[p] + x.position[q]) / 2 ? 1 : 0;
+    EXPECT_EQ(middles, 6);
+    EXPECT_THAT(error_of(multi_replaced(xml, R"(input="@../coarse")", R"(input="@../dofs")")),
+                HasSubstr("test.scn:7: SimpleTesselatedTetraTopologicalMapping: attribute 'input': must link to a topology"));
+}
+
 }  // namespace
