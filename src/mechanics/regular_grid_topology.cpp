@@ -58,7 +58,9 @@ MeshTopology RegularGridTopology::mesh(bool with_triangles, bool with_hexahedra)
     for (int z = 0; z + 1 < nz; ++z)
         for (int y = 0; y + 1 < ny; ++y)
             for (int x = 0; x < nx; ++x) quads.push_back({p(x, y, z), p(x, y + 1, z), p(x, y + 1, z + 1), p(x, y, z + 1)});
-    if (with_triangles) {
+    // GridUpdate::updateEdges: edges from the triangles when there are some, else along the axes
+    // (a grid of one row or column has no quad, hence no triangle: its segments are its edges)
+    if (with_triangles && !quads.empty()) {
         // Triangles from quads; edges then derived from the triangles (oriented, first occurrence).
         std::vector<Triangle> tris;
         for (const Quad& q : quads) {

@@ -255,6 +255,8 @@ const std::vector<ComponentSpec>& registry() {
               builder::shell_force_field_components(),
               builder::nonuniform_hexahedra_components(),
               builder::tait_pressure_components(),
+              builder::multi_mapping_components(),
+              builder::drawing_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());
@@ -498,6 +500,22 @@ SceneCheck validate(const io::SceneFile& scene) {
             if (out.node != nullptr && std::none_of(out.node->components.begin(), out.node->components.end(), is_state)) {
                 check.ignored.push_back(c);
                 ++ignored_counts[c->type + " (output node without a state: SOFA does not create it)"];
+                continue;
+            }
+        }
+        // no `output`: SOFA's Mapping::create links the first State<Out> of the mapping's node
+        // ("@./"), which is a visual model (OglModel, a State<Vec3>) in a node without a
+        // MechanicalObject: the mapping only moves what is drawn
+        if (spec.family == F::mapping && !c->has("output") && c->node != nullptr) {
+            const auto& in_node = c->node->components;
+            const auto of_type = [&](std::initializer_list<std::string_view> types) {
+                return std::any_of(in_node.begin(), in_node.end(), [&](const auto& x) {
+                    return std::find(types.begin(), types.end(), x->type) != types.end();
+                });
+            };
+            if (!of_type({"MechanicalObject"}) && of_type({"OglModel", "VisualModel", "VisualModelImpl"})) {
+                check.ignored.push_back(c);
+                ++ignored_counts[c->type + " (visual output)"];
                 continue;
             }
         }

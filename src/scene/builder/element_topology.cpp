@@ -10,10 +10,18 @@ using io::SceneComponent;
 
 namespace {
 
-/// What `src` links: a loader's mesh, or a topology built before (SOFA's `src` link copies the
+/// What `src` links: a loader's mesh, a MechanicalObject's points, or a topology built before (SOFA's `src` link copies the
 /// container's same-named Data: its points and its element lists, derived ones included).
 io::MeshData linked_source(SceneBuilder& b, const Attributes& a) {
     const io::LinkTarget t = a.link("src");
+    if (const ComponentSpec* spec = t.component != nullptr ? find_component(t.component->type) : nullptr;
+        spec != nullptr && spec->family == ComponentFamily::state) {
+        // a MechanicalObject's `position` (SOFA's src copies it; the state is initialised before
+        // the topology reads it): its points only
+        io::MeshData m;
+        m.positions = state_initial_points(b, *t.component, b.node_build(*t.component->node));
+        return m;
+    }
     if (t.component != nullptr && component_category(t.component->type) != ComponentCategory::loader) {
         const SceneBuilder::BuiltTopology* built = b.built_topology(*t.component);
         if (built == nullptr || built->topology == nullptr)

@@ -16,6 +16,12 @@ struct ElementLists {
     bool nb_points = false;   ///< PointSetTopologyContainer's `nbPoints` (and `points`, alias of `position`)
 };
 
+/// The points of MechanicalObject `state` (of node `info`) after its init, as SOFA's Data
+/// `position` reads once the state is initialised (a topology whose `src` links a state):
+/// its positions with its translation, rotation and scale applied; Rigid3d: the frames' centres.
+/// Made from the component's attributes, without building the state (states_and_topologies.cpp).
+[[nodiscard]] std::vector<Vec3> state_initial_points(SceneBuilder& b, const io::SceneComponent& state, const NodeBuild& info);
+
 /// The list a data link names (`triangles="@loader.triangles"`, `tetrahedra="@../topo.tetrahedra"`,
 /// `triangles="@subset.trianglesInROI"`): a loader's list, an engine's output, or a built
 /// topology's (with its derived elements, as SOFA's Data).

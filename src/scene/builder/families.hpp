@@ -62,6 +62,8 @@ std::span<const ComponentSpec> hyperelasticity_components();          // hyperel
 std::span<const ComponentSpec> shell_force_field_components();     // shell_force_fields.cpp
 std::span<const ComponentSpec> nonuniform_hexahedra_components();  // nonuniform_hexahedra.cpp
 std::span<const ComponentSpec> tait_pressure_components();          // tait_pressure.cpp
+std::span<const ComponentSpec> multi_mapping_components();         // multi_mappings.cpp
+std::span<const ComponentSpec> drawing_components();               // drawing_components.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).

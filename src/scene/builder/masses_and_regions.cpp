@@ -4,11 +4,15 @@
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
 #include "penalty/mechanics/oriented_box.hpp"
 #include "penalty/mechanics/regions.hpp"
+#include "penalty/mechanics/rigid_diagonal_mass.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/regions_of_interest.hpp"
 #include "scene/builder/scene_builder.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
 
 namespace penalty::scene::builder {
 
@@ -24,7 +28,8 @@ using F = ComponentFamily;
 constexpr AttributeSpec kDiagonalMass[] = {
     {"massDensity", K::real, "1", "kg/m^3", ValueCheck::nonnegative, "per volume, area or length of the lumped elements"},
     {"totalMass", K::real, "1", "kg", ValueCheck::nonnegative, "shared in proportion to the lumped elements; wins"},
-    {"vertexMass", K::numbers, "", "kg", ValueCheck::none, "mass of each vertex (a short list is padded with its last value)"},
+    {"vertexMass", K::text, "", "kg", ValueCheck::none,
+     "mass of each vertex (a short list is padded with its last value); Rigid3d: mass volume [inertia] per frame"},
     {"computeMassOnRest", K::boolean, "1", "", ValueCheck::none, "penalty lumps on rest positions only"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "the elements to lump"},
     {"geometryState", K::link, "(the node's state)", "", ValueCheck::none, "penalty: the mass's own state only"},
@@ -32,13 +37,53 @@ constexpr AttributeSpec kDiagonalMass[] = {
     {"showAxisSizeFactor", K::real, "1", "", ValueCheck::none, "drawing only"},
 };
 
+/// DiagonalMass<Rigid3> (SOFA's initRigidImpl): `vertexMass` is a list of SOFA's RigidMass, each
+/// "mass volume [inertia 3x3]" (11 numbers; brackets and commas are separators), taken as given.
+void build_rigid_diagonal_mass(SceneBuilder& b, const Attributes& a, NodeBuild& info, Rigid3Object& s) {
+    const SceneComponent& c = a.component();
+    std::vector<RigidDiagonalMass::FrameMass> masses;
+    b.guarded(c, [&] {
+        std::string text = a.text("vertexMass");
+        for (char& ch : text)
+            if (ch == '[' || ch == ']' || ch == ',') ch = ' ';
+        std::vector<double> v;
+        std::istringstream in(text);
+        for (std::string word; in >> word;) {
+            char* end = nullptr;
+            const double x = std::strtod(word.c_str(), &end);
+            if (end == word.c_str() || *end != '\0' || !std::isfinite(x))
+                a.fail("vertexMass", "expected numbers (mass volume [inertia]) per frame, found '" + word + "'");
+            v.push_back(x);
+        }
+        if (v.size() % 11 != 0)
+            a.fail("vertexMass", "a Rigid3d DiagonalMass takes 11 numbers per frame (mass volume [3x3 inertia]), found " +
+                                     std::to_string(v.size()));
+        for (std::size_t i = 0; i < v.size(); i += 11)
+            masses.push_back({v[i], Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v.data() + i + 2)});
+        if (masses.size() > s.num_dofs() && s.num_dofs() > 0)
+            b.warn(c.describe() + ": " + std::to_string(masses.size()) + " masses for " + std::to_string(s.num_dofs()) +
+                   " frames: the extra ones are not used");
+        info.node->set_mass<RigidDiagonalMass>(s, std::move(masses));
+    });
+    auto* mass = static_cast<RigidDiagonalMass*>(info.node->mass());
+    b.record_mass(*mass, *info.node, c);
+    b.role(c, [mass] {
+        return std::to_string(mass->masses().size()) + " rigid masses as given, " + num(mass->total_mass()) + " kg in all";
+    });
+    b.note_unread_attributes(c);
+}
+
 void build_diagonal_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     BaseState& s = b.state(c, info);
+    if (auto* r = dynamic_cast<Rigid3Object*>(&s)) {
+        build_rigid_diagonal_mass(b, a, info, *r);
+        return;
+    }
     DiagonalMass* mass = nullptr;
     b.guarded(c, [&] {
         auto* v = dynamic_cast<Vec3Object*>(&s);
-        if (v == nullptr) io::throw_element_error(c, "penalty's DiagonalMass supports Vec3d states only");
+        if (v == nullptr) io::throw_element_error(c, "penalty's DiagonalMass supports Vec3d and Rigid3d states only");
         if (!a.boolean("computeMassOnRest")) a.fail("computeMassOnRest", "penalty lumps on the rest positions only");
         if (a.has("geometryState")) {
             const io::LinkTarget g = a.link("geometryState");

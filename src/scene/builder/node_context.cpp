@@ -31,7 +31,10 @@ BaseState& SceneBuilder::state(const SceneComponent& c, const NodeBuild& info) {
 }
 
 BaseState* SceneBuilder::linked_state(const Attributes& a, std::string_view attr) {
-    const io::LinkTarget t = a.link(attr);
+    return linked_state(a, attr, a.link(attr));
+}
+
+BaseState* SceneBuilder::linked_state(const Attributes& a, std::string_view attr, const io::LinkTarget& t) {
     const io::SceneNode* holder = t.node;
     if (t.component != nullptr) {
         const ComponentSpec* spec = find_component(t.component->type);

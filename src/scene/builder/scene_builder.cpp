@@ -105,7 +105,8 @@ const io::MeshData& SceneBuilder::mesh_of(const SceneComponent& loader) {
     if (it == meshes_.end()) {
         it = meshes_.emplace(&loader, io::load_scene_mesh(loader, scene_dir_, options_.data_dirs)).first;
         std::string file;
-        if (const auto name = io::get_string(loader, "filename"))
+        // (GridMeshCreator reads no file: SOFA's scenes give it filename="nofile")
+        if (const auto name = io::get_string(loader, "filename"); name && loader.type != "GridMeshCreator")
             file = io::resolve_data_file(*name, scene_dir_, options_.data_dirs).string() + ": ";
         role(loader, [file, counts = mesh_counts(it->second)] { return "reads " + file + counts; });
         bool scale_read_whole = true;

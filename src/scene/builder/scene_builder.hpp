@@ -172,6 +172,8 @@ public:
     /// The state an attribute links to (`object1="@../dofs"`, `@node`: that node's state), or null
     /// when its node is not built yet; an error naming the attribute when the link names no state.
     BaseState* linked_state(const Attributes& a, std::string_view attr);
+    /// The same for one target `t` of attribute `attr` (an attribute holding several links).
+    BaseState* linked_state(const Attributes& a, std::string_view attr, const io::LinkTarget& t);
     /// Runs `build` once every node is built (a component linking states of nodes below its own,
     /// which SOFA resolves at init); an error names `c`.
     void after_nodes(const io::SceneComponent& c, std::function<void()> build);

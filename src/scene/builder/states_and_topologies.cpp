@@ -185,12 +185,27 @@ std::size_t dof_count(const SceneBuilder& b, const Attributes& a) {
 /// A short form of MechanicalObject (`dx`, `rx`, `scale`, `sx` …) as SOFA's
 /// MechanicalObject::parse reads it: BaseObjectDescription::getAttributeAsFloat, strtof on the
 /// text, so rounded to float (0.7 → 0.699999988079071); in double with the SOFA quirk fix
-/// `mechanical_object_float_short_forms`. Missing: `fallback`.
-double short_form(const Attributes& a, std::string_view name, double fallback, bool in_double) {
+/// `mechanical_object_float_short_forms`. Missing: `fallback`. A text that is not one number
+/// (SOFA's scenes write the state vector `dx` with one number per DOF) is, as
+/// getAttributeAsFloat does, the default `fallback`, with a note through `notes` when given.
+double short_form(const Attributes& a, std::string_view name, double fallback, bool in_double, SceneBuilder* notes) {
     if (!a.has(name)) return fallback;
+    const std::string text = a.text(name);
+    char* end = nullptr;
+    static_cast<void>(std::strtod(text.c_str(), &end));
+    if (text.empty() || end != text.c_str() + text.size()) {
+        if (notes != nullptr) {
+            const io::SceneComponent& c = a.component();
+            const io::SceneAttribute* at = c.find(name);
+            notes->warn(c.file + ":" + std::to_string(at != nullptr ? at->line : c.line) + ": " + c.describe() + ": " +
+                        std::string(name) + " '" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) +
+                        "' is not one number: " + display::number(fallback) +
+                        " used (SOFA's MechanicalObject::parse reads it so, with an error message)");
+        }
+        return fallback;
+    }
     const double value = a.real_or(name, fallback);  // checked (a number) with the scene's error messages
     if (in_double) return value;
-    const std::string text = a.text(name);
     const float as_float = std::strtof(text.c_str(), nullptr);
     if (!std::isfinite(as_float))
         a.fail(std::string(name), "'" + text + "' is beyond float range, and SOFA reads this attribute as a float "
@@ -200,8 +215,9 @@ double short_form(const Attributes& a, std::string_view name, double fallback, b
 
 /// MechanicalObject::parse, after the long forms: `scale` sets scale3d = (s, s, s); any of
 /// `sx sy sz` sets scale3d = (sx, sy, sz) (missing: 1); any of `rx ry rz` sets rotation
-/// (missing: 0); any of `dx dy dz` sets translation (missing: 0).
-InitialTransform read_transform(const Attributes& a, const SofaQuirkFixes& quirks) {
+/// (missing: 0); any of `dx dy dz` sets translation (missing: 0). Notes on unreadable short
+/// forms go to `notes` when given.
+InitialTransform read_transform(const Attributes& a, const SofaQuirkFixes& quirks, SceneBuilder* notes = nullptr) {
     InitialTransform tr;
     tr.translation = a.vector3("translation");
     tr.rotation_deg = a.vector3("rotation");
@@ -212,10 +228,10 @@ InitialTransform read_transform(const Attributes& a, const SofaQuirkFixes& quirk
     };
     const auto three = [&](const char* prefix, double fallback) {
         Vec3 v;
-        for (int k = 0; k < 3; ++k) v[k] = short_form(a, std::string(prefix) + char('x' + k), fallback, in_double);
+        for (int k = 0; k < 3; ++k) v[k] = short_form(a, std::string(prefix) + char('x' + k), fallback, in_double, notes);
         return v;
     };
-    if (a.has("scale")) tr.scale3d = Vec3::Constant(short_form(a, "scale", 1.0, in_double));
+    if (a.has("scale")) tr.scale3d = Vec3::Constant(short_form(a, "scale", 1.0, in_double, notes));
     if (any_of("s")) tr.scale3d = three("s", 1.0);
     if (any_of("r")) tr.rotation_deg = three("r", 0.0);
     if (any_of("d")) tr.translation = three("d", 0.0);
@@ -244,9 +260,11 @@ void fill_rigid_state(SceneBuilder& b, const Attributes& a, const NodeBuild& inf
 /// topology built before (a RegularGridTopology's grid points, a container's given points).
 std::vector<Vec3> linked_source_points(SceneBuilder& b, const Attributes& a) {
     const io::LinkTarget t = a.link("src");
+    // (a topology built before: also one that a later topology of its node replaced, as SOFA's
+    // Data link reads the linked container whatever the node's topology is)
     if (t.component != nullptr && component_category(t.component->type) != ComponentCategory::loader)
-        for (const auto& [node, built] : b.node_builds())
-            if (built.topology_component == t.component && built.topology != nullptr) return built.topology_positions;
+        if (const SceneBuilder::BuiltTopology* built = b.built_topology(*t.component); built != nullptr && built->topology != nullptr)
+            return built->positions;
     return b.linked_mesh(a, "src").positions;
 }
 
@@ -275,6 +293,41 @@ void fill_vec3_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info
         io::throw_element_error(a.component(), std::to_string(s.position.size()) + " DOFs (more than " +
                                                    std::to_string(b.options().max_dofs) + ")");
 }
+
+}  // namespace
+
+std::vector<Vec3> state_initial_points(SceneBuilder& b, const SceneComponent& state, const NodeBuild& info) {
+    const Attributes a(state);
+    const InitialTransform tr = read_transform(a, b.options().sofa_quirk_fixes);
+    if (state.template_name.find("Vec1") != std::string::npos || state.template_name.find("Vec2") != std::string::npos)
+        io::throw_element_error(state, "a " + state.template_name + " state has no 3-D points to give");
+    // a state whose `src` links back to the topology asking would recurse
+    static thread_local int depth = 0;
+    if (depth > 0) io::throw_attribute_error(state, "src", "links form a cycle between a topology and this state");
+    ++depth;
+    struct Leave {
+        ~Leave() { --depth; }
+    } leave;
+    std::vector<Vec3> points;
+    b.guarded(state, [&] {
+        if (is_rigid_template(state, state.template_name)) {
+            Rigid3Object s;
+            fill_rigid_state(b, a, info, s);
+            s.transform = tr;
+            s.init();
+            for (const RigidFrame& f : s.position) points.push_back(f.center);
+        } else {
+            Vec3Object s;
+            fill_vec3_state(b, a, info, s);
+            s.transform = tr;
+            s.init();
+            points = std::move(s.position);
+        }
+    });
+    return points;
+}
+
+namespace {
 
 /// A Vec1d state (a distance mapping's output): `position` numbers, else `size` zeros, else one
 /// (none when mapped: its mapping sizes it).
@@ -317,7 +370,7 @@ void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild
     const std::string name = c.name.empty() ? sofa_default_name(c) : c.name;
     Node& node = *info.node;
     b.guarded(c, [&] {
-        const InitialTransform tr = read_transform(a, b.options().sofa_quirk_fixes);
+        const InitialTransform tr = read_transform(a, b.options().sofa_quirk_fixes, &b);
         if (rigid) {
             auto& s = node.add_state<Rigid3Types>(name);
             fill_rigid_state(b, a, info, s);

@@ -20,6 +20,7 @@
 #include "penalty/mechanics/topological_mapping.hpp"
 
 #include <algorithm>
+#include <map>
 
 namespace penalty::scene::builder {
 
@@ -208,6 +209,48 @@ void build_triangle2edge(SceneBuilder& b, const SceneComponent& c, NodeBuild& no
     b.note_unread_attributes(c);
 }
 
+/// SimpleTesselatedTetraTopologicalMapping::init: the output's points are the input's, then the
+/// middle of each input edge in edge order ((a + b)/2 per coordinate); each input tetrahedron
+/// (t, its edges e in SOFA's local order) gives eight: one per corner, four around the middle
+/// octahedron, in SOFA's order and orientation.
+void build_simple_tesselated_tetra(SceneBuilder& b, const SceneComponent& c, NodeBuild& node) {
+    const Attributes a(c);
+    b.guarded(c, [&] {
+        const NodeBuild& in = linked_topology_node(b, a, "input");
+        NodeBuild& out = output_topology_node(b, a, node);
+        const MeshTopology& from = *in.topology;
+        if (in.topology_positions.size() != from.num_points())
+            a.fail("input", "the input topology has no points of its own (penalty reads them from its container)");
+        std::vector<Vec3> points = in.topology_positions;
+        std::map<std::pair<PointId, PointId>, PointId> middle_of;  // sorted edge -> its middle point
+        for (const Edge& e : from.edges()) {
+            middle_of[std::minmax(e[0], e[1])] = PointId(points.size());
+            points.push_back((in.topology_positions[std::size_t(e[0])] + in.topology_positions[std::size_t(e[1])]) / 2);
+        }
+        std::vector<Tetrahedron> tetras;
+        tetras.reserve(8 * from.tetrahedra().size());
+        for (const Tetrahedron& t : from.tetrahedra()) {
+            std::array<PointId, 6> m{};
+            for (std::size_t j = 0; j < 6; ++j) {
+                const auto& le = MeshTopology::kTetraEdges[j];
+                m[j] = middle_of.at(std::minmax(t[std::size_t(le[0])], t[std::size_t(le[1])]));
+            }
+            tetras.push_back({t[0], m[0], m[1], m[2]});
+            tetras.push_back({t[1], m[0], m[4], m[3]});
+            tetras.push_back({t[2], m[1], m[3], m[5]});
+            tetras.push_back({t[3], m[2], m[5], m[4]});
+            tetras.push_back({m[1], m[0], m[3], m[5]});
+            tetras.push_back({m[1], m[0], m[5], m[2]});
+            tetras.push_back({m[4], m[0], m[5], m[3]});
+            tetras.push_back({m[4], m[0], m[2], m[5]});
+        }
+        replace_output(b, c, out, points.size(), [&](MeshTopology& t) { t.set_tetrahedra(std::move(tetras)); });
+        out.topology_positions = std::move(points);
+        b.record_built_topology(out);
+    });
+    b.note_unread_attributes(c);
+}
+
 void build_quad2triangle(SceneBuilder& b, const SceneComponent& c, NodeBuild& node) {
     const Attributes a(c);
     b.guarded(c, [&] {
@@ -301,6 +344,9 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "Quad2TriangleTopologicalMapping", .family = F::topology_helper,
      .summary = "output topology := two triangles per quad of the input (static)",
      .attributes = kQuad2Triangle, .shared_attributes = kTopologicalMappingLinks, .build = build_quad2triangle},
+    {.type = "SimpleTesselatedTetraTopologicalMapping", .family = F::topology_helper,
+     .summary = "output topology := each input tetrahedron cut in eight at its edges' middles (static)",
+     .shared_attributes = kTopologicalMappingLinks, .build = build_simple_tesselated_tetra},
     {.type = "Hexa2TetraTopologicalMapping", .family = F::topology_helper,
      .summary = "output topology := six tetrahedra per hexahedron of the input (static)",
      .attributes = kHexa2Tetra, .shared_attributes = kTopologicalMappingLinks, .build = build_hexa2tetra},
