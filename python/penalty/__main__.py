@@ -38,6 +38,9 @@ def _parser():
     run.add_argument("--summary-json", default=None, metavar="FILE",
                      help="Write the run's summary to FILE as JSON (what Scene.run returns, without history)")
     run.add_argument("--exhaustive", action="store_true")
+    run.add_argument("--fix-sofa-quirk", action="append", default=[], dest="fix_sofa_quirks", metavar="NAME",
+                     help="Fix a SOFA quirk penalty reproduces by default (repeatable, 'all'; "
+                          "docs/sofa-compatibility.md)")
     run.add_argument("--quiet", action="store_true")
     run.add_argument("--no-tunnelling", default=None, choices=["off", "warn", "substep", "stiffen"],
                      help="Tunnelling guard (docs/no-tunnelling.md); default: the scene's noTunnelling")
