@@ -102,6 +102,10 @@ def main(argv=None) -> int:
                 problems.append(f"{name}: {value} is out of range (1 to 1000000000)")
         if not (math.isfinite(args.divergence_factor) and args.divergence_factor >= 0):
             problems.append(f"--divergence-factor: '{args.divergence_factor}' is out of range [0, 1e100]")
+        known_quirks = penalty._core._sofa_quirk_names()
+        for name in getattr(args, "fix_sofa_quirks", []):
+            if name not in known_quirks:
+                problems.append(f"--fix-sofa-quirk: unknown SOFA quirk '{name}' ({', '.join(known_quirks)})")
         for o in args.overrides:
             try:
                 penalty._core._check_override(o)

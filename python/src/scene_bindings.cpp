@@ -497,6 +497,11 @@ void bind_scene(py::module_& m) {
         return s;
     }, py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
        py::arg("overrides") = std::vector<std::string>{}, py::arg("fix_sofa_quirks") = std::vector<std::string>{});
+    m.def("_sofa_quirk_names", [] {
+        std::vector<std::string> out{"all"};
+        for (const SofaQuirkInfo& q : sofa_quirk_table()) out.emplace_back(q.name);
+        return out;
+    }, "The names --fix-sofa-quirk takes (docs/sofa-compatibility.md)");
     m.def("_check_override", [](const std::string& text) {
         const io::Override o = io::parse_override(text);
         return py::make_tuple(o.path, o.attribute, o.value);

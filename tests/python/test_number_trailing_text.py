@@ -73,3 +73,27 @@ def test_a_script_gets_the_same_read(tmp_path):
     assert any("attribute 'tolerance' = '10-3' read as 10" in w for w in scene.warnings())
     with pytest.raises(penalty.SceneError, match="expected a number, found '10-3'"):
         penalty.load_scene(script, fix_sofa_quirks=["number_trailing_text"])
+
+
+def test_the_command_line_switch_reaches_a_script(tmp_path):
+    import os
+    import subprocess
+    import sys
+    script = tmp_path / "solver.py"
+    script.write_text(
+        "def createScene(root):\n"
+        "    root.addObject('DefaultAnimationLoop')\n"
+        "    root.addObject('EulerImplicitSolver')\n"
+        "    root.addObject('CGLinearSolver', iterations=25, tolerance='10-3', threshold=1e-9)\n"
+        "    root.addObject('MechanicalObject', position=[0, 0, 0])\n"
+        "    root.addObject('UniformMass', totalMass=1)\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+
+    def run(*extra):
+        return subprocess.run([sys.executable, "-m", "penalty", "run", str(script), "--steps", "1", "--quiet", *extra],
+                              capture_output=True, text=True, env=env, timeout=60)
+    assert run().returncode == 0
+    fixed = run("--fix-sofa-quirk", "number_trailing_text")
+    assert fixed.returncode == 1 and "expected a number, found '10-3'" in fixed.stderr
+    unknown = run("--fix-sofa-quirk", "nope")
+    assert unknown.returncode == 2 and "unknown SOFA quirk 'nope'" in unknown.stderr
