@@ -310,17 +310,19 @@ def format_overrides(overrides) -> list:
     return items
 
 
-def _load_options(data_dirs, dt, threads, exhaustive, overrides=None, function="load_scene"):
+def _load_options(data_dirs, dt, threads, exhaustive, overrides=None, function="load_scene", fix_sofa_quirks=()):
     """The checked arguments of load_scene, in the compiled functions' order."""
     if dt is not None:
         dt = _check.real(function, "dt", dt, MIN_DT, MAX_DT, "s")
+    if isinstance(fix_sofa_quirks, str) or not all(isinstance(q, str) for q in fix_sofa_quirks):
+        raise TypeError(f"{function}: fix_sofa_quirks: expected a list of quirk names")
     return (_check.paths(function, "data_dirs", data_dirs), dt,
             _check.integer(function, "threads", threads, 0, _core.max_threads),
-            _check.boolean(function, "exhaustive", exhaustive), format_overrides(overrides))
+            _check.boolean(function, "exhaustive", exhaustive), format_overrides(overrides), list(fix_sofa_quirks))
 
 
 def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False,
-               overrides=None, argv=(), no_tunnelling=None) -> Scene:
+               overrides=None, argv=(), no_tunnelling=None, fix_sofa_quirks=()) -> Scene:
     """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
     is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's
     folder; dt overrides the root node's time step. overrides sets attributes of the parsed scene
@@ -329,9 +331,10 @@ def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: boo
     have raises SceneError naming it, a malformed key ValueError. A script runs as runSofa runs it
     (from its folder, sys.argv = [its name, *argv]; docs/python.md). no_tunnelling ("off", "warn",
     "substep", "stiffen") sets the tunnelling guard over the pipelines' noTunnelling attributes
-    (docs/no-tunnelling.md)."""
+    (docs/no-tunnelling.md). fix_sofa_quirks names SOFA quirks to fix (`--fix-sofa-quirk`,
+    docs/sofa-compatibility.md): ["number_trailing_text"], ["all"]."""
     path = Path(_check.path("load_scene", "path", path, optional=False))
-    options = _load_options(data_dirs, dt, threads, exhaustive, overrides)
+    options = _load_options(data_dirs, dt, threads, exhaustive, overrides, fix_sofa_quirks=fix_sofa_quirks)
     if path.suffix == ".py":
         from . import sofa_api
         root = sofa_api.run_scene_script(path, options, argv)

@@ -38,6 +38,9 @@ def _parser():
     run.add_argument("--summary-json", default=None, metavar="FILE",
                      help="Write the run's summary to FILE as JSON (what Scene.run returns, without history)")
     run.add_argument("--exhaustive", action="store_true")
+    run.add_argument("--fix-sofa-quirk", action="append", default=[], dest="fix_sofa_quirks", metavar="NAME",
+                     help="Fix a SOFA quirk penalty reproduces by default (repeatable, 'all'; "
+                          "docs/sofa-compatibility.md)")
     run.add_argument("--quiet", action="store_true")
     run.add_argument("--no-tunnelling", default=None, choices=["off", "warn", "substep", "stiffen"],
                      help="Tunnelling guard (docs/no-tunnelling.md); default: the scene's noTunnelling")
@@ -99,6 +102,10 @@ def main(argv=None) -> int:
                 problems.append(f"{name}: {value} is out of range (1 to 1000000000)")
         if not (math.isfinite(args.divergence_factor) and args.divergence_factor >= 0):
             problems.append(f"--divergence-factor: '{args.divergence_factor}' is out of range [0, 1e100]")
+        known_quirks = penalty._core._sofa_quirk_names()
+        for name in getattr(args, "fix_sofa_quirks", []):
+            if name not in known_quirks:
+                problems.append(f"--fix-sofa-quirk: unknown SOFA quirk '{name}' ({', '.join(known_quirks)})")
         for o in args.overrides:
             try:
                 penalty._core._check_override(o)

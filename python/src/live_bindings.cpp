@@ -385,7 +385,8 @@ void add_live_methods(py::class_<PyScene>& cls) {
 void add_module_functions(py::module_& m) {
     m.def("_build_live_tree", [](const py::dict& root, const std::filesystem::path& path,
                                  const std::vector<std::filesystem::path>& data_dirs, std::optional<double> dt, int threads,
-                                 bool exhaustive, std::vector<std::string> overrides, py::object dispatch, py::object resolve) {
+                                 bool exhaustive, std::vector<std::string> overrides, py::object dispatch, py::object resolve,
+                                 const std::vector<std::string>& quirk_fixes) {
         io::SceneFile file;
         file.path = path;
         file.root = std::make_unique<io::SceneNode>();
@@ -396,6 +397,9 @@ void add_module_functions(py::module_& m) {
         o.dt = dt;
         o.threads = threads;
         o.exhaustive_detection = exhaustive;
+        for (const std::string& name : quirk_fixes)  // --fix-sofa-quirk NAME (docs/sofa-compatibility.md)
+            if (!enable_sofa_quirk_fix(o.sofa_quirk_fixes, name))
+                throw py::value_error("fix_sofa_quirks: unknown SOFA quirk '" + name + "' (penalty info lists them)");
         // Python components run on the calling thread, which holds the GIL: one thread.
         if (has_python_components(root)) o.threads = 1;
         o.external = std::make_shared<PythonComponents>(std::move(dispatch), std::move(resolve));
@@ -403,7 +407,7 @@ void add_module_functions(py::module_& m) {
         s.scene = scene::build_scene(std::move(file), o);
         return s;
     }, py::arg("root"), py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
-       py::arg("overrides"), py::arg("dispatch"), py::arg("resolve"),
+       py::arg("overrides"), py::arg("dispatch"), py::arg("resolve"), py::arg("fix_sofa_quirks") = std::vector<std::string>{},
        "Builds a scene from a SofaPython3 script's tree, with its Python force fields and mappings");
     m.def("_parse_scene_tree", [](const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs) {
         const io::SceneFile file = io::parse_scene_file(path, data_dirs);

@@ -88,6 +88,7 @@ PYBIND11_MODULE(_core, m) {
     m.attr("max_dt") = penalty::scene::kMaxTimeStep;
     penalty::python::bind_scene(m);
     penalty::python::bind_live(m);
+    penalty::python::bind_linear_system(m);
     penalty::python::bind_force_field(m);
     penalty::python::bind_collision(m);
 }

@@ -327,8 +327,12 @@ void read_tree_node(const py::dict& d, io::SceneNode& node, int depth) {
 }
 
 scene::BuildOptions build_options(const std::vector<std::filesystem::path>& data_dirs, std::optional<double> dt,
-                                  int threads, bool exhaustive, std::vector<std::string> overrides = {}) {
+                                  int threads, bool exhaustive, std::vector<std::string> overrides = {},
+                                  const std::vector<std::string>& quirk_fixes = {}) {
     scene::BuildOptions o;
+    for (const std::string& name : quirk_fixes)  // --fix-sofa-quirk NAME (docs/sofa-compatibility.md)
+        if (!enable_sofa_quirk_fix(o.sofa_quirk_fixes, name))
+            throw py::value_error("fix_sofa_quirks: unknown SOFA quirk '" + name + "' (penalty info lists them)");
     o.overrides = std::move(overrides);
     o.data_dirs = data_dirs;
     o.dt = dt;
@@ -486,12 +490,18 @@ void bind_scene(py::module_& m) {
     bind_scene_topology(scene_class);
 
     m.def("_load_scene", [](const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs,
-                            std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides) {
+                            std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides,
+                            const std::vector<std::string>& quirk_fixes) {
         PyScene s;
-        s.scene = scene::load_scene(path, build_options(data_dirs, dt, threads, exhaustive, std::move(overrides)));
+        s.scene = scene::load_scene(path, build_options(data_dirs, dt, threads, exhaustive, std::move(overrides), quirk_fixes));
         return s;
     }, py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
-       py::arg("overrides") = std::vector<std::string>{});
+       py::arg("overrides") = std::vector<std::string>{}, py::arg("fix_sofa_quirks") = std::vector<std::string>{});
+    m.def("_sofa_quirk_names", [] {
+        std::vector<std::string> out{"all"};
+        for (const SofaQuirkInfo& q : sofa_quirk_table()) out.emplace_back(q.name);
+        return out;
+    }, "The names --fix-sofa-quirk takes (docs/sofa-compatibility.md)");
     m.def("_check_override", [](const std::string& text) {
         const io::Override o = io::parse_override(text);
         return py::make_tuple(o.path, o.attribute, o.value);
@@ -504,16 +514,17 @@ void bind_scene(py::module_& m) {
     });
     m.def("_build_tree", [](const py::dict& root, const std::filesystem::path& path,
                             const std::vector<std::filesystem::path>& data_dirs, std::optional<double> dt, int threads,
-                            bool exhaustive, std::vector<std::string> overrides) {
+                            bool exhaustive, std::vector<std::string> overrides, const std::vector<std::string>& quirk_fixes) {
         io::SceneFile file;
         file.path = path;
         file.root = std::make_unique<io::SceneNode>();
         read_tree_node(root, *file.root, 0);
         PyScene s;
-        s.scene = scene::build_scene(std::move(file), build_options(data_dirs, dt, threads, exhaustive, std::move(overrides)));
+        s.scene = scene::build_scene(std::move(file),
+                                     build_options(data_dirs, dt, threads, exhaustive, std::move(overrides), quirk_fixes));
         return s;
     }, py::arg("root"), py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
-       py::arg("overrides") = std::vector<std::string>{}, "Builds a scene from the node tree of a SofaPython3 script (nested dicts), with the .scn builder");
+       py::arg("overrides") = std::vector<std::string>{}, py::arg("fix_sofa_quirks") = std::vector<std::string>{}, "Builds a scene from the node tree of a SofaPython3 script (nested dicts), with the .scn builder");
 }
 
 }  // namespace penalty::python

@@ -39,7 +39,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 7> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 8> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -57,6 +57,9 @@ constexpr std::array<SofaQuirkInfo, 7> kSofaQuirks{{
     {"regular_grid_float_bounds", &SofaQuirkFixes::fix_regular_grid_float_bounds,
      "RegularGridTopology: xmin..zmax and scale read in double, not rounded to float as SOFA's parse does "
      "(command line or BuildOptions only)"},
+    {"number_trailing_text", &SofaQuirkFixes::fix_number_trailing_text,
+     "a number attribute with text after its number (tolerance=\"10-3\") is an error, not read as its leading number "
+     "as SOFA's Data<T>::read does (command line or BuildOptions only)"},
 }};
 }  // namespace
 

@@ -206,7 +206,9 @@ void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overri
 
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
     if (!options.overrides.empty()) apply_overrides(file, options.overrides);
-    std::vector<std::string> notes = detach_unresolved_data_links(file);
+    std::vector<std::string> notes = read_number_prefixes(file, options.sofa_quirk_fixes);
+    const std::vector<std::string> detached = detach_unresolved_data_links(file);
+    notes.insert(notes.end(), detached.begin(), detached.end());
     auto scene = std::make_unique<Scene>();
     scene->file_ = std::move(file);
     scene->options_ = options;

@@ -39,6 +39,9 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     step_cg_solves_.clear();
     step_cg_limit_reached_ = false;
     if (newton.enabled) {
+        last_solve_ = {};
+        b_.resize(0);
+        x_.resize(0);
         solve_newton(sys, dt);
         return;
     }
@@ -61,6 +64,7 @@ void EulerImplicitSolver::solve(Node& node, double dt) {
     // A = mf·M + bf·B + kf·K
     MbkCgSystem system(sys, first_order ? 1.0 : 1.0 + tr * h * rm, first_order ? 0.0 : -tr * h,
                        first_order ? -h * tr : -tr * h * (tr * h + rs));
+    last_solve_ = {system.m(), system.b(), system.k()};
     try {
         if (direct_solver) direct_solver->solve(sys, system.m(), system.b(), system.k(), b_, x_);
         else record_cg(cg.solve(system, b_, x_));

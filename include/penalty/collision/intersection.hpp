@@ -66,6 +66,10 @@ struct SofaQuirkFixes {
     /// RegularGridTopology::parse reads `xmin` ... `zmax` (and `scale`) with getAttributeAsFloat.
     /// true: read them in double, as `min` and `max`.
     bool fix_regular_grid_float_bounds = false;
+    /// A scene-loader quirk (as the two above): SOFA's Data<T>::read extracts a number with
+    /// `istringstream >> value` and ignores what follows it, so `tolerance="10-3"` reads 10.
+    /// true: such a number attribute is an error, as any other unreadable number.
+    bool fix_number_trailing_text = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

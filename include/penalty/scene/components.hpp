@@ -19,6 +19,10 @@
 #include <string_view>
 #include <vector>
 
+namespace penalty {
+struct SofaQuirkFixes;  // penalty/collision/intersection.hpp
+}  // namespace penalty
+
 namespace penalty::scene {
 
 class SceneBuilder;  // src/scene/builder/scene_builder.hpp
@@ -155,6 +159,12 @@ struct ComponentSpec {
 /// built (as if not written), and a note per removal is returned. Object links (`@name` without a
 /// Data) are left for validate(), which refuses a broken one.
 [[nodiscard]] std::vector<std::string> detach_unresolved_data_links(io::SceneFile& scene);
+
+/// SOFA's Data<T>::read of a one-number attribute ignores the text after the number
+/// (`tolerance="10-3"` reads 10): each such value is replaced by its number and a note returned,
+/// unless `fixes.fix_number_trailing_text` (then the builder refuses it as unreadable).
+/// number_prefix_quirk.cpp.
+[[nodiscard]] std::vector<std::string> read_number_prefixes(io::SceneFile& scene, const SofaQuirkFixes& fixes);
 
 /// Result of validate().
 struct SceneCheck {

@@ -93,9 +93,19 @@ public:
     [[nodiscard]] bool last_newton_converged() const { return last_newton_converged_; }
     /// The cached system of the solver's subtree (builds() counts its rebuilds).
     [[nodiscard]] const SubtreeSystemCache& system_cache() const { return system_; }
+    /// The last linear solve A·x = b of solve() (SOFA's linear system: A = m·M + b·B + k·K
+    /// projected, its rhs and solution), for SofaPython3's linear system views; empty vectors and
+    /// factors 0 before the first step and after a Newton step (its iterates' systems are not kept).
+    struct LinearSolveRecord {
+        double m = 0.0, b = 0.0, k = 0.0;
+    };
+    [[nodiscard]] const LinearSolveRecord& last_linear_solve() const { return last_solve_; }
+    [[nodiscard]] const Eigen::VectorXd& last_rhs() const { return b_; }
+    [[nodiscard]] const Eigen::VectorXd& last_solution() const { return x_; }
 
 private:
     void solve_newton(SubtreeSystem& system, double dt);
+    LinearSolveRecord last_solve_;
     SubtreeSystemCache system_;
     Eigen::VectorXd f_, v_, b_, x_;  ///< force, velocity, right-hand side, CG solution (kept)
     CgStats last_cg_;

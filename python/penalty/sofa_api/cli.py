@@ -43,7 +43,8 @@ def run_or_info(args) -> int:
             return 0
         scene = penalty.load_scene(args.scene, data_dirs=args.data_dir, dt=args.dt, threads=args.threads or 0,
                                    exhaustive=args.exhaustive, overrides=args.overrides, argv=args.argv,
-                                   no_tunnelling=getattr(args, "no_tunnelling", None))
+                                   no_tunnelling=getattr(args, "no_tunnelling", None),
+                                   fix_sofa_quirks=getattr(args, "fix_sofa_quirks", ()))
         print(f"penalty run: {args.scene}")
         info = scene.info()
         print(f"{len(scene.states)} states, {sum(1 for c in info['components'] if c['type'].endswith('CollisionModel'))}"

@@ -129,7 +129,8 @@ def init(root: Node, *, build_options=None):
     send_event(root, "SimulationInitStartEvent")
     object.__setattr__(root, "_moved_prefixes", None)
     path = root._file if root._file != "<unknown>" else ""
-    core = _core._build_live_tree(root._tree(), path, *options[:5], dispatch, resolve)
+    core = _core._build_live_tree(root._tree(), path, *options[:5], dispatch, resolve,
+                                  list(options[5]) if len(options) > 5 else [])
     scene = Scene(core, root)
     _live_scenes.add(scene)
     if _threads is not None:

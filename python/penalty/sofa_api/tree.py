@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from .. import _core
 from .. import topology as _topology
+from . import linear_system as _linear_system
 from .data import LinkPath
 from .graph import Base, NodeIterator, type_fields
 from .text import caller_location, to_sofa_text
@@ -169,6 +170,9 @@ class Object(Base):
         if name in ("linkpath",):
             return LinkPath(self)
         method = _topology.modifier_method(self, name)  # a topology modifier's removeTetrahedra ... (topology.py)
+        if method is not None:
+            return method
+        method = _linear_system.linear_system_method(self, name)  # A(), b(), x() (linear_system.py)
         if method is not None:
             return method
         if not getattr(self, "_python", False) and not self._fields():

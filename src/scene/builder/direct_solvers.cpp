@@ -137,7 +137,8 @@ void note_part(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     if (!b.is_used(&c))
         b.role(c, [type = c.type] {
             return type == "MatrixLinearSystem" || type == "ConstantSparsityPatternSystem"
-                       ? std::string("not solved by a solver: SOFA assembles it for access from Python only; penalty does not")
+                       ? std::string("not solved by a solver: assembled for access from Python only (its A(), "
+                                     "with the solve's factors, when asked)")
                        : std::string("not read by a solver");
         });
 }

@@ -334,6 +334,12 @@ constexpr ComponentSpec kComponents[] = {
      .attributes = kTetrahedronFem, .build = build_tetrahedron_fem},
     {.type = "HexahedronFEMForceField", .family = F::force_field, .summary = "linear hexahedral FEM",
      .attributes = kHexahedronFem, .build = build_hexahedron_fem},
+    // SOFA's MultiThreading plugin: HexahedronFEMForceField with addForce and addDForce run over
+    // the elements in parallel (ParallelHexahedronFEMForceField::addForce, addDForce), the same
+    // element forces; penalty runs HexahedronFEMForceField.
+    {.type = "ParallelHexahedronFEMForceField", .family = F::force_field,
+     .summary = "HexahedronFEMForceField of SOFA's MultiThreading plugin (run as HexahedronFEMForceField)",
+     .attributes = kHexahedronFem, .build = build_hexahedron_fem},
 };
 
 }  // namespace
