@@ -39,7 +39,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 8> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 9> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -60,6 +60,9 @@ constexpr std::array<SofaQuirkInfo, 8> kSofaQuirks{{
     {"number_trailing_text", &SofaQuirkFixes::fix_number_trailing_text,
      "a number attribute with text after its number (tolerance=\"10-3\") is an error, not read as its leading number "
      "as SOFA's Data<T>::read does (command line or BuildOptions only)"},
+    {"topology_removal_out_of_range", &SofaQuirkFixes::fix_topology_removal_out_of_range,
+     "TopologicalChangeProcessor: an edge, triangle, quad, tetrahedron or hexahedron index past the topology's end is an "
+     "error, not dropped with a warning as SOFA's *SetTopologyModifier::remove* do (command line or BuildOptions only)"},
 }};
 }  // namespace
 

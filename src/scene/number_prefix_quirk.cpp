@@ -8,6 +8,7 @@
 
 #include "io/text.hpp"
 
+#include <algorithm>
 #include <cctype>
 
 namespace penalty::scene {
@@ -48,6 +49,18 @@ const AttributeSpec* declared(const ComponentSpec& spec, std::string_view name) 
     return nullptr;
 }
 
+/// Attributes SOFA reads in a component's parse() with BaseObjectDescription::getAttributeAsFloat,
+/// not Data<T>::read: a value with text after its number gives the default there (the builder
+/// reads them so: MechanicalObject::parse, RegularGridTopology::parse).
+bool read_in_parse(std::string_view type, std::string_view attribute) {
+    static constexpr std::string_view kMechanicalObject[] = {"dx", "dy", "dz", "rx", "ry", "rz", "scale", "sx", "sy", "sz"};
+    static constexpr std::string_view kRegularGrid[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "scale"};
+    const auto in = [&](const auto& names) { return std::find(std::begin(names), std::end(names), attribute) != std::end(names); };
+    if (type == "MechanicalObject") return in(kMechanicalObject);
+    if (type == "RegularGridTopology" || type == "RegularGrid") return in(kRegularGrid);
+    return false;
+}
+
 void read_prefixes(io::SceneNode& node, bool fix, std::vector<std::string>& notes) {
     for (auto& c : node.components) {
         const ComponentSpec* spec = find_component(c->type);
@@ -55,6 +68,7 @@ void read_prefixes(io::SceneNode& node, bool fix, std::vector<std::string>& note
         for (io::SceneAttribute& a : c->attributes) {
             const AttributeSpec* s = declared(*spec, a.name);
             if (s == nullptr || s->kind != AttributeKind::real || a.value.empty() || a.value.front() == '@') continue;
+            if (read_in_parse(c->type, a.name)) continue;
             std::string_view text = a.value;
             while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front())) != 0) text.remove_prefix(1);
             while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back())) != 0) text.remove_suffix(1);
@@ -62,7 +76,7 @@ void read_prefixes(io::SceneNode& node, bool fix, std::vector<std::string>& note
             const std::size_t n = number_prefix(text);
             if (n == 0 || fix) continue;  // not a number at all, or the fix: the builder's error
             const std::string read(text.substr(0, n));
-            std::string note = ":";
+            std::string note = c->file + ":";
             note += std::to_string(a.line);
             note += ": " + c->describe() + ": attribute '" + a.name + "' = '" + a.value + "' read as " + read;
             note += ", as SOFA's Data<T>::read does (it ignores the text after a number; --fix-sofa-quirk "
@@ -79,7 +93,6 @@ void read_prefixes(io::SceneNode& node, bool fix, std::vector<std::string>& note
 std::vector<std::string> read_number_prefixes(io::SceneFile& scene, const SofaQuirkFixes& fixes) {
     std::vector<std::string> notes;
     if (scene.root) read_prefixes(*scene.root, fixes.fix_number_trailing_text, notes);
-    for (std::string& n : notes) n = scene.path.string() + n;
     return notes;
 }
 

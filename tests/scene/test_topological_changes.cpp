@@ -511,9 +511,11 @@ TEST(TopologicalChanges, ProcessorFilesApplyAtTheirTimesAndBadOnesAreRefusedByLi
     EXPECT_THAT(test::error_of(tchg_processor_scene(R"(<TopologicalChangeProcessor filename=")" + keyword + R"("/>)")),
                 HasSubstr("keyword.txt:2: 'ADD= Prisms'"));
 
-    // an element that does not exist, or one listed twice, when the step comes: the error names the
-    // file and line, and nothing of the step is applied
+    // an element that does not exist (with the fix of SOFA's skipping, below), or one listed twice,
+    // when the step comes: the error names the file and line, and nothing of the step is applied
     // (or a new element on a repeated vertex, or degenerate: four corners of the cube's bottom face)
+    scene::BuildOptions refusing;
+    refusing.sofa_quirk_fixes.fix_topology_removal_out_of_range = true;
     const std::pair<std::string, std::string> late_cases[] = {
         {"T= 0.01\n  REMOVE= 2\n0 9\n", "late.txt:3: tetrahedra 9 does not exist"},
         {"T= 0.01\n  REMOVE= 2\n1 1\n", "late.txt:3: tetrahedra 1 is listed twice"},
@@ -521,7 +523,7 @@ TEST(TopologicalChanges, ProcessorFilesApplyAtTheirTimesAndBadOnesAreRefusedByLi
         {"T= 0.01\n  ADD= Tetrahedra 1\n0 1 2 3\n", "late.txt:3: the topology '/body/volume': new tetrahedron 0 (0 1 2 3) is degenerate"}};
     for (const auto& [text, expected] : late_cases) {
         const std::string late = tchg_change_file("late.txt", text);
-        auto t = build(tchg_processor_scene(R"(<TopologicalChangeProcessor name="cuts" filename=")" + late + R"("/>)"));
+        auto t = build(tchg_processor_scene(R"(<TopologicalChangeProcessor name="cuts" filename=")" + late + R"("/>)"), refusing);
         t->step();
         try {
             t->step();
@@ -532,6 +534,28 @@ TEST(TopologicalChanges, ProcessorFilesApplyAtTheirTimesAndBadOnesAreRefusedByLi
         }
         EXPECT_EQ(t->topology_container("volume").mesh().tetrahedra().size(), 5u);
     }
+}
+
+TEST(TopologicalChanges, ProcessorSkipsRemovalsPastTheEndAsSofa) {
+    // SOFA's TetrahedronSetTopologyModifier::removeTetrahedra skips an index past the end (a
+    // warning) and removes the others: tetrahedron 9 of 5 is dropped, tetrahedron 0 removed
+    const std::string late = tchg_change_file("past_end.txt", "T= 0.01\n  REMOVE= 3\n0 9 12\n");
+    auto s = build(tchg_processor_scene(R"(<TopologicalChangeProcessor name="cuts" filename=")" + late + R"("/>)"));
+    const MeshTopology& m = s->topology_container("volume").mesh();
+    // the same mesh as a file removing tetrahedron 0 alone
+    const std::string only = tchg_change_file("only_0.txt", "T= 0.01\n  REMOVE= 1\n0\n");
+    auto reference = build(tchg_processor_scene(R"(<TopologicalChangeProcessor filename=")" + only + R"("/>)"));
+    s->step();
+    reference->step();
+    testing::internal::CaptureStderr();
+    s->step();
+    const std::string warning = testing::internal::GetCapturedStderr();
+    reference->step();
+    ASSERT_EQ(m.tetrahedra().size(), 4u);
+    EXPECT_EQ(m.tetrahedra(), reference->topology_container("volume").mesh().tetrahedra());
+    EXPECT_EQ(m.num_points(), reference->topology_container("volume").mesh().num_points());
+    EXPECT_THAT(warning, HasSubstr("past_end.txt:3: 2 tetrahedra index(es) past the end of '/body/volume' (5) not removed (9, 12)"));
+    EXPECT_THAT(warning, HasSubstr("--fix-sofa-quirk topology_removal_out_of_range"));
 }
 
 TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {

@@ -70,6 +70,11 @@ struct SofaQuirkFixes {
     /// `istringstream >> value` and ignores what follows it, so `tolerance="10-3"` reads 10.
     /// true: such a number attribute is an error, as any other unreadable number.
     bool fix_number_trailing_text = false;
+    /// A topology-change quirk: SOFA's Edge/Triangle/Quad/Tetrahedron/HexahedronSetTopologyModifier::
+    /// remove* drop the indices past the container's end with a warning (and remove the rest), so
+    /// TopologicalChangeProcessor files listing elements that no longer exist run on. true: such an
+    /// index is an error naming the file and line, as any other bad change.
+    bool fix_topology_removal_out_of_range = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

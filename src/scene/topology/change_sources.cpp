@@ -108,6 +108,7 @@ void add_processor(TopologyWiring& w, const SceneComponent& c) {
     tcp->loop_ = a.boolean("loop");
     tcp->interval_ = a.real("interval");
     tcp->data_inputs_ = a.boolean("useDataInputs");
+    tcp->refuse_out_of_range_ = w.builder.options().sofa_quirk_fixes.fix_topology_removal_out_of_range;
     if (tcp->data_inputs_) {
         tcp->time_to_remove_ = a.real("timeToRemove");
         static constexpr std::pair<const char*, ElementType> kLists[] = {

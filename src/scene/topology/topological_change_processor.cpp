@@ -17,6 +17,7 @@
 #include <cfloat>
 #include <cmath>
 #include <fstream>
+#include <iostream>
 #include <limits>
 #include <sstream>
 
@@ -174,6 +175,25 @@ TopologicalChangeProcessorSource::TopologicalChangeProcessorSource(const io::Sce
                                                                    const TopologyRuntime& runtime)
     : component_(&component), target_(&target), runtime_(&runtime) {}
 
+void TopologicalChangeProcessorSource::drop_out_of_range(Command& cmd, ElementType type, std::size_t count) const {
+    // SOFA's *SetTopologyModifier::remove* (edges to hexahedra; not points): an index past the
+    // container's end is skipped with a warning, the others are removed
+    std::vector<ElementId> dropped;
+    std::erase_if(cmd.values, [&](ElementId i) {
+        const bool past_end = i >= 0 && std::size_t(i) >= count;
+        if (past_end) dropped.push_back(i);
+        return past_end;
+    });
+    if (dropped.empty()) return;
+    std::string list;
+    for (std::size_t k = 0; k < dropped.size() && k < 5; ++k) list += (k ? ", " : "") + std::to_string(dropped[k]);
+    if (dropped.size() > 5) list += ", ...";
+    std::cerr << "penalty: warning: " << component_->file << ":" << component_->line << ": " << component_->describe() << ": "
+              << file_->at(cmd.line + 1) << ": " << dropped.size() << " " << element_type_name(type) << " index(es) past the end of '"
+              << target_->path << "' (" << count << ") not removed (" << list
+              << "), as SOFA's modifier skips them (--fix-sofa-quirk topology_removal_out_of_range: an error)\n";
+}
+
 void TopologicalChangeProcessorSource::fail(std::size_t line, const std::string& what) const {
     io::throw_element_error(*component_, (file_ ? file_->at(line) + ": " : std::string()) + what);
 }
@@ -182,7 +202,7 @@ void TopologicalChangeProcessorSource::fail(std::size_t line, const std::string&
 void TopologicalChangeProcessorSource::begin_step(double time) {
     if (data_inputs_) return remove_data_inputs(time);
     const auto lines = file_->read_next(time + shift_, loop_);
-    const auto commands = file_->commands(lines);
+    auto commands = file_->commands(lines);
     if (commands.empty()) return;
     TopologyContainer& c = *target_->container;
     // every command checked first, against the counts the earlier ones leave
@@ -194,8 +214,10 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
     std::array<std::size_t, kElementTypeCount> counts{};
     for (int t = 0; t < kElementTypeCount; ++t) counts[std::size_t(t)] = c.keeps(ElementType(t)) ? c.count(ElementType(t)) : 0;
     bool removed = false;
-    for (const Command& cmd : commands) {
+    for (Command& cmd : commands) {
         const ElementType type = cmd.add ? *cmd.add : c.level();
+        if (!cmd.add && type != ElementType::point && !refuse_out_of_range_)
+            drop_out_of_range(cmd, type, counts[std::size_t(type)]);
         if (!c.keeps(type))
             fail(cmd.line, std::string("the topology '") + target_->path + "' has no " + element_type_name(type));
         if (cmd.add) {

@@ -64,11 +64,16 @@ public:
         std::function<std::vector<ElementId>()> source; ///< or computed when used (a linked ROI)
     };
     std::vector<RemovalList> lists_;  ///< hexahedra, tetrahedra, quads, triangles, edges, points
+    /// SofaQuirkFixes::fix_topology_removal_out_of_range: a removed element past the end is an
+    /// error; false (SOFA): it is dropped with a warning on stderr.
+    bool refuse_out_of_range_ = false;
 
 private:
     using Command = TopologyChangeFile::Command;
     void remove_data_inputs(double time);
     [[noreturn]] void fail(std::size_t line, const std::string& what) const;
+    /// Drops a removal's indices at or past `count` with a warning (SOFA's modifiers).
+    void drop_out_of_range(Command& cmd, ElementType type, std::size_t count) const;
     template <std::size_t N>
     static std::vector<std::array<PointId, N>> elements(const std::vector<ElementId>& flat) {
         std::vector<std::array<PointId, N>> out(flat.size() / N);
