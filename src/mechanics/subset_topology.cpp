@@ -35,6 +35,43 @@ void check_elements(const std::vector<std::array<PointId, N>>& elements, std::si
                 throw_invalid_argument("SubsetTopology: ", what, " ", e, " uses point ", v, " out of range (", num_points, " points)");
 }
 
+/// SubsetTopology with `tetrahedraInput`: the listed tetrahedra are inside; the point lists are
+/// rebuilt from the tetrahedra's vertices in order of first use (SOFA keeps `indices` from the
+/// region test and appends); `local_index`: the inside points' local numbers (localIndices).
+void split_listed_tetrahedra(const SubsetInput& in, bool local, std::vector<PointId>& local_index, SubsetOutput& out) {
+    const auto& x0 = in.positions;
+    const std::vector<PointId>& listed = *in.tetrahedra_input;
+    std::vector<bool> seen_in(x0.size(), false), seen_out(x0.size(), false);
+    std::vector<PointId> local_out(x0.size(), 0);
+    out.points_in.clear();
+    out.points_out.clear();
+    PointId count_in = 0, count_out = 0;
+    for (std::size_t e = 0; e < in.tetrahedra.size(); ++e) {
+        Tetrahedron t = in.tetrahedra[e];
+        const bool inside = std::find(listed.begin(), listed.end(), static_cast<PointId>(e)) != listed.end();
+        for (PointId& v : t) {
+            const auto k = static_cast<std::size_t>(v);
+            if (inside && !seen_in[k]) {
+                seen_in[k] = true;
+                out.indices.push_back(v);
+                out.points_in.push_back(x0[k]);
+                if (local) local_index[k] = count_in++;
+            } else if (!inside && !seen_out[k]) {
+                seen_out[k] = true;
+                out.points_out.push_back(x0[k]);
+                if (local) local_out[k] = count_out++;
+            }
+            if (local) v = inside ? local_index[k] : local_out[k];
+        }
+        if (inside) {
+            out.tetrahedron_indices.push_back(static_cast<PointId>(e));
+            out.tetrahedra_in.push_back(t);
+        } else {
+            out.tetrahedra_out.push_back(t);
+        }
+    }
+}
+
 }  // namespace
 
 SubsetOutput select_subset(const SubsetInput& in, const SubsetRegion& region_spec) {
@@ -127,38 +164,7 @@ SubsetOutput select_subset(const SubsetInput& in, const SubsetRegion& region_spe
     if (!in.tetrahedra_input) {
         split(in.tetrahedra, out.tetrahedron_indices, out.tetrahedra_in, out.tetrahedra_out);
     } else {
-        // the listed tetrahedra are inside; the point lists are rebuilt from the tetrahedra's
-        // vertices in order of first use (SOFA keeps `indices` from the region test and appends)
-        const std::vector<PointId>& listed = *in.tetrahedra_input;
-        std::vector<bool> seen_in(x0.size(), false), seen_out(x0.size(), false);
-        std::vector<PointId> local_out(x0.size(), 0);
-        out.points_in.clear();
-        out.points_out.clear();
-        PointId count_in = 0, count_out = 0;
-        for (std::size_t e = 0; e < in.tetrahedra.size(); ++e) {
-            Tetrahedron t = in.tetrahedra[e];
-            const bool inside = std::find(listed.begin(), listed.end(), static_cast<PointId>(e)) != listed.end();
-            for (PointId& v : t) {
-                const auto k = static_cast<std::size_t>(v);
-                if (inside && !seen_in[k]) {
-                    seen_in[k] = true;
-                    out.indices.push_back(v);
-                    out.points_in.push_back(x0[k]);
-                    if (local) local_index[k] = count_in++;
-                } else if (!inside && !seen_out[k]) {
-                    seen_out[k] = true;
-                    out.points_out.push_back(x0[k]);
-                    if (local) local_out[k] = count_out++;
-                }
-                if (local) v = inside ? local_index[k] : local_out[k];
-            }
-            if (inside) {
-                out.tetrahedron_indices.push_back(static_cast<PointId>(e));
-                out.tetrahedra_in.push_back(t);
-            } else {
-                out.tetrahedra_out.push_back(t);
-            }
-        }
+        split_listed_tetrahedra(in, local, local_index, out);
     }
     split(in.hexahedra, out.hexahedron_indices, out.hexahedra_in, out.hexahedra_out);
     return out;

@@ -76,82 +76,14 @@ ElementType lumped_type(LumpedElementKind kind) {
     return ElementType::edge;
 }
 
-/// One component's follower on `t` (its topology), or false when its class has no rule here.
-bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
+/// follow for a force field (its one force field), or false when its class has no rule here.
+bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
     TopologyContainer& container = *t.container;
     const MeshTopology& mesh = container.mesh();
     const std::string& type = c.type;
     const auto rebuild = [&](std::function<void()> f, std::initializer_list<ElementType> types) {
         container.add_handler(w.keep(std::make_unique<RebuildFollower>(std::move(f), types)), types);
     };
-    if (type == "DiagonalMass" && b.masses.size() == 1) {
-        auto* m = dynamic_cast<DiagonalMass*>(b.masses[0]);
-        if (m == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<DiagonalMass>>(*m, container)),
-                              {ElementType::point, lumped_type(m->element_kind())});
-        w.runtime.internal_updates.push_back([m] { m->update_internal_data(); });
-        return true;
-    }
-    if (type == "MeshMatrixMass" && b.masses.size() == 1) {
-        auto* m = dynamic_cast<MeshMatrixMass*>(b.masses[0]);
-        if (m == nullptr || m->element_kind() == LumpedElementKind::edge) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<MeshMatrixMass>>(*m, container)),
-                              {ElementType::point, ElementType::edge, lumped_type(m->element_kind())});
-        return true;
-    }
-    if (type == "UniformMass") return !io::get_bool_or(c, "preserveTotalMass", false);
-    if ((type == "FixedProjectiveConstraint" || type == "FixedConstraint") && b.constraints.size() == 1) {
-        auto* k = dynamic_cast<FixedProjectiveConstraint*>(b.constraints[0]);
-        if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
-        return true;
-    }
-    if ((type == "FixedPlaneProjectiveConstraint" || type == "FixedPlaneConstraint") && b.constraints.size() == 1) {
-        auto* k = dynamic_cast<FixedPlaneProjectiveConstraint*>(b.constraints[0]);
-        if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
-        return true;
-    }
-    // LineProjectiveConstraint, PlaneProjectiveConstraint: TopologySubsetIndices, and the jacobian
-    // made again for the new indices (projectResponse's updateJacobian when the size changed).
-    // DirectionProjectiveConstraint: TopologySubsetIndices (init's createTopologyHandler); SOFA
-    // keeps the jacobian of the old size (undefined once the state shrank), penalty makes it again
-    // as Line does; the origins stay in their slots (m_origin is no topology data).
-    if ((type == "LineProjectiveConstraint" || type == "PlaneProjectiveConstraint" ||
-         type == "DirectionProjectiveConstraint") &&
-        b.constraints.size() == 1) {
-        auto* k = dynamic_cast<BlockProjectionConstraint*>(b.constraints[0]);
-        if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
-        return true;
-    }
-    // LinearMovementProjectiveConstraint: TopologySubsetIndices (init's createTopologyHandler);
-    // x0, indexed by point, is left as it is
-    if (type == "LinearMovementProjectiveConstraint" && b.constraints.size() == 1) {
-        const auto follow_subset = [&](auto* k) {
-            container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                      container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                                  {ElementType::point});
-            return true;
-        };
-        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Vec3Types>*>(b.constraints[0])) return follow_subset(k);
-        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
-        return false;
-    }
-    if (type == "PointProjectiveConstraint" && b.constraints.size() == 1) {
-        auto* k = dynamic_cast<PointProjectiveConstraint*>(b.constraints[0]);
-        if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
-        return true;
-    }
     if (b.force_fields.size() != 1) return false;
     BaseForceField* f = b.force_fields[0];
     if (type == "TetrahedralCorotationalFEMForceField") {
@@ -242,6 +174,81 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         return true;
     }
     return false;
+}
+
+/// One component's follower on `t` (its topology), or false when its class has no rule here.
+bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
+    TopologyContainer& container = *t.container;
+    const std::string& type = c.type;
+    if (type == "DiagonalMass" && b.masses.size() == 1) {
+        auto* m = dynamic_cast<DiagonalMass*>(b.masses[0]);
+        if (m == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<DiagonalMass>>(*m, container)),
+                              {ElementType::point, lumped_type(m->element_kind())});
+        w.runtime.internal_updates.push_back([m] { m->update_internal_data(); });
+        return true;
+    }
+    if (type == "MeshMatrixMass" && b.masses.size() == 1) {
+        auto* m = dynamic_cast<MeshMatrixMass*>(b.masses[0]);
+        if (m == nullptr || m->element_kind() == LumpedElementKind::edge) return false;
+        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<MeshMatrixMass>>(*m, container)),
+                              {ElementType::point, ElementType::edge, lumped_type(m->element_kind())});
+        return true;
+    }
+    if (type == "UniformMass") return !io::get_bool_or(c, "preserveTotalMass", false);
+    if ((type == "FixedProjectiveConstraint" || type == "FixedConstraint") && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<FixedProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    if ((type == "FixedPlaneProjectiveConstraint" || type == "FixedPlaneConstraint") && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<FixedPlaneProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    // LineProjectiveConstraint, PlaneProjectiveConstraint: TopologySubsetIndices, and the jacobian
+    // made again for the new indices (projectResponse's updateJacobian when the size changed).
+    // DirectionProjectiveConstraint: TopologySubsetIndices (init's createTopologyHandler); SOFA
+    // keeps the jacobian of the old size (undefined once the state shrank), penalty makes it again
+    // as Line does; the origins stay in their slots (m_origin is no topology data).
+    if ((type == "LineProjectiveConstraint" || type == "PlaneProjectiveConstraint" ||
+         type == "DirectionProjectiveConstraint") &&
+        b.constraints.size() == 1) {
+        auto* k = dynamic_cast<BlockProjectionConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    // LinearMovementProjectiveConstraint: TopologySubsetIndices (init's createTopologyHandler);
+    // x0, indexed by point, is left as it is
+    if (type == "LinearMovementProjectiveConstraint" && b.constraints.size() == 1) {
+        const auto follow_subset = [&](auto* k) {
+            container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                      container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                                  {ElementType::point});
+            return true;
+        };
+        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Vec3Types>*>(b.constraints[0])) return follow_subset(k);
+        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
+        return false;
+    }
+    if (type == "PointProjectiveConstraint" && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<PointProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    return follow_force_field(w, c, b, t);
 }
 
 /// A BarycentricMapping whose input state follows `t` (a tetrahedral or hexahedral container):
