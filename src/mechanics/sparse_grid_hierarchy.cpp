@@ -4,6 +4,26 @@
 
 namespace penalty {
 
+SparseCellType SparseGridTopology::coarse_cell_of_children(int i, int j, int k, std::array<Index, 8>& children) const {
+    const int fcx = grid_.n()[0] - 1, fcy = grid_.n()[1] - 1, fcz = grid_.n()[2] - 1;
+    bool inside = true, outside = true;
+    for (int idx = 0; idx < 8; ++idx) {
+        const int fx = 2 * i + (idx & 1), fy = 2 * j + ((idx & 2) >> 1), fz = 2 * k + ((idx & 4) >> 2);
+        Index child = -1;
+        if (fx < fcx && fy < fcy && fz < fcz) child = kept_of_grid_cell_[std::size_t(fx + fcx * (fy + fcy * fz))];
+        children[std::size_t(idx)] = child;
+        if (child < 0) {
+            inside = false;
+        } else if (types_[std::size_t(child)] == SparseCellType::boundary) {
+            inside = outside = false;
+        } else if (types_[std::size_t(child)] == SparseCellType::inside) {
+            outside = false;
+        }
+    }
+    if (outside) return SparseCellType::outside;
+    return inside ? SparseCellType::inside : SparseCellType::boundary;
+}
+
 SparseGridTopology SparseGridTopology::from_finer(std::shared_ptr<const SparseGridTopology> finer, bool fill_weighted) {
     if (!finer) throw_invalid_argument("SparseGridTopology: no finer grid to build from");
     const RegularGridTopology& fine_grid = finer->grid();
@@ -14,7 +34,6 @@ SparseGridTopology SparseGridTopology::from_finer(std::shared_ptr<const SparseGr
     for (int a = 0; a < 3; ++a) max[a] = min[a] + (n[static_cast<std::size_t>(a)] - 1) * 2.0 * dx[a];
     SparseGridTopology coarse{RegularGridTopology(n, min, max)};
     const int cx = n[0] - 1, cy = n[1] - 1, cz = n[2] - 1;
-    const int fcx = fine_n[0] - 1, fcy = fine_n[1] - 1, fcz = fine_n[2] - 1;
     const std::size_t cells = std::size_t(cx) * std::size_t(cy) * std::size_t(cz);
     coarse.grid_types_.assign(cells, SparseCellType::outside);
     coarse.kept_of_grid_cell_.assign(cells, -1);
@@ -23,23 +42,8 @@ SparseGridTopology SparseGridTopology::from_finer(std::shared_ptr<const SparseGr
         for (int j = 0; j < cy; ++j)
             for (int k = 0; k < cz; ++k) {
                 std::array<Index, 8> children{};
-                bool inside = true, outside = true;
-                for (int idx = 0; idx < 8; ++idx) {
-                    const int fx = 2 * i + (idx & 1), fy = 2 * j + ((idx & 2) >> 1), fz = 2 * k + ((idx & 4) >> 2);
-                    Index child = -1;
-                    if (fx < fcx && fy < fcy && fz < fcz)
-                        child = finer->kept_of_grid_cell_[std::size_t(fx + fcx * (fy + fcy * fz))];
-                    children[std::size_t(idx)] = child;
-                    if (child < 0) {
-                        inside = false;
-                    } else if (finer->types_[std::size_t(child)] == SparseCellType::boundary) {
-                        inside = outside = false;
-                    } else if (finer->types_[std::size_t(child)] == SparseCellType::inside) {
-                        outside = false;
-                    }
-                }
-                if (outside) continue;
-                const SparseCellType type = inside ? SparseCellType::inside : SparseCellType::boundary;
+                const SparseCellType type = finer->coarse_cell_of_children(i, j, k, children);
+                if (type == SparseCellType::outside) continue;
                 const std::size_t w = std::size_t(i + cx * (j + cy * k));
                 coarse.grid_types_[w] = type;
                 coarse.kept_of_grid_cell_[w] = Index(kept.size());

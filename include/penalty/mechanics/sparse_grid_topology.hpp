@@ -136,6 +136,11 @@ private:
     std::vector<float> stiffness_coefficients_, mass_coefficients_;  ///< set_coefficients (empty: none)
     std::shared_ptr<const SparseGridRamification> ramification_;
     [[nodiscard]] std::optional<std::pair<Index, Vec3>> locate_ramified(const Vec3& p) const;
+    /// SparseGridTopology::buildFromFiner's test of coarse cell (i, j, k) over this (finer) grid:
+    /// its 8 finer cells into `children` (bit 0: +x, bit 1: +y, bit 2: +z; -1 where none) and its
+    /// type: OUTSIDE when all 8 are absent or OUTSIDE (the cell is not kept), INSIDE when all are
+    /// INSIDE, else BOUNDARY.
+    [[nodiscard]] SparseCellType coarse_cell_of_children(int i, int j, int k, std::array<Index, 8>& children) const;
 };
 
 /// BarycentricMapping of points onto a sparse grid, as SOFA's BarycentricMapperSparseGridTopology
