@@ -250,13 +250,7 @@ void build_spring_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuil
                    (two ? std::string(", between two states)") : std::string(")"));
         });
     };
-    bool later = false;
-    b.guarded(c, [&] {
-        for (const std::string_view end : {"object1", "object2"})
-            if (a.has(end) && b.linked_state(a, end) == nullptr) later = true;
-    });
-    if (later) b.after_nodes(c, create);
-    else b.guarded(c, create);
+    b.build_when_ends_exist(c, a, create);
     b.note_unread_attributes(c);
 }
 

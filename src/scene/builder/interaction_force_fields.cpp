@@ -75,13 +75,7 @@ void build_interaction_ellipsoid(SceneBuilder& b, const SceneComponent& c, NodeB
                    (q.object2_forces ? "" : ", the frame only read");
         });
     };
-    bool later = false;
-    b.guarded(c, [&] {
-        for (const std::string_view end : {"object1", "object2"})
-            if (a.has(end) && b.linked_state(a, end) == nullptr) later = true;
-    });
-    if (later) b.after_nodes(c, create);
-    else b.guarded(c, create);
+    b.build_when_ends_exist(c, a, create);
     b.note_unread_attributes(c);
 }
 

@@ -54,6 +54,16 @@ void SceneBuilder::after_nodes(const SceneComponent& c, std::function<void()> bu
     deferred_builds_.push_back({0, std::move(build), &c});
 }
 
+void SceneBuilder::build_when_ends_exist(const SceneComponent& c, const Attributes& a, const std::function<void()>& build) {
+    bool later = false;
+    guarded(c, [&] {
+        for (const std::string_view end : {"object1", "object2"})
+            if (a.has(end) && linked_state(a, end) == nullptr) later = true;
+    });
+    if (later) after_nodes(c, build);
+    else guarded(c, build);
+}
+
 const MeshTopology& SceneBuilder::topology_of(const Attributes& a, const NodeBuild& info) {
     if (a.has("topology")) {
         const io::LinkTarget t = a.link("topology");

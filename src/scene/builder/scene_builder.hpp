@@ -177,6 +177,9 @@ public:
     /// Runs `build` once every node is built (a component linking states of nodes below its own,
     /// which SOFA resolves at init); an error names `c`.
     void after_nodes(const io::SceneComponent& c, std::function<void()> build);
+    /// An interaction force field's build: now, or once every node is built when its `object1`
+    /// or `object2` links a state not built yet (SOFA resolves both at init); an error names `c`.
+    void build_when_ends_exist(const io::SceneComponent& c, const Attributes& a, const std::function<void()>& build);
     /// The topology `topology="@..."` links to, else the node's.
     const MeshTopology& topology_of(const Attributes& a, const NodeBuild& node);
     /// A topology component as built (kept when a later topology of its node replaces it as the
