@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -178,6 +179,80 @@ TEST(Mapping, BarycentricOnTetrahedraTakesSofasNearestCentreAndWeights) {
     EXPECT_EQ(map.weights()[1][1].weight, 0.1);
     EXPECT_EQ(map.weights()[1][2].weight, 0.2);
     EXPECT_EQ(map.weights()[1][3].weight, 0.3);
+}
+
+TEST(Mapping, BarycentricOnSetTetrahedraKeepsAnElementOfThePointsHashCell) {
+    // SOFA's BarycentricMapperTetrahedronSetTopology (BarycentricMapperTopologyContainer::init):
+    // cells of the mean edge length h = 0.688; p's cell (0, 0, 0) holds tetrahedron B alone (A's
+    // bounding box ends at x = −0.01), at |p − c_B|² = 0.1844 ≤ h/2, so B is kept although A's
+    // centre is nearer (|p − c_A|² = 0.0729), which the mesh mapper's exhaustive search takes.
+    // SOFA HEAD on this pair (a force on A's vertex 1, one step): the point mapped through a
+    // TetrahedronSetTopologyContainer stays at y = 0.5, through a MeshTopology it moves to 0.55661
+    // (the scene test MassSpringMappingFollowers.SetContainersMapOutsidePointsAsSofasHashGrid).
+    Vec3Object in, out;
+    in.position = {Vec3(-0.6, 0.3, 0.3), Vec3(-0.01, 0.3, 0.3), Vec3(-0.2, 0.9, 0.3), Vec3(-0.19, 0.5, 0.9),
+                   Vec3(0.15, 0.1, 0.3), Vec3(0.7, 0.1, 0.3),   Vec3(0.4, 0.1, 0.75), Vec3(0.35, 0.9, 0.45)};
+    in.init();
+    MeshTopology topo;
+    topo.set_tetrahedra({{0, 1, 2, 3}, {4, 5, 6, 7}});
+    const std::vector<Vec3> pts = {Vec3(0.02, 0.5, 0.45)};
+    BarycentricMapping hashed(in, out), exhaustive(in, out);
+    hashed.map_on_set_tetrahedra(topo, in.position, pts);
+    exhaustive.map_on_tetrahedra(topo, in.position, pts);
+    EXPECT_EQ(hashed.weights()[0][0].index, 4);
+    EXPECT_EQ(exhaustive.weights()[0][0].index, 0);
+    // moved away from B's cell by two cells along x: no element in its cell, the exhaustive search
+    const std::vector<Vec3> far = {Vec3(2.0, 0.5, 0.45)};
+    hashed.map_on_set_tetrahedra(topo, in.position, far);
+    exhaustive.map_on_tetrahedra(topo, in.position, far);
+    EXPECT_EQ(hashed.weights()[0][0].index, exhaustive.weights()[0][0].index);
+}
+
+TEST(Mapping, BarycentricOnSetTetrahedraEqualsTheMeshMapperInsideTheElements) {
+    // a point inside a tetrahedron is in its cell: the hash search finds the exhaustive one's
+    // element and weights (the same bits); 2000 points of a jittered 3×3×3 grid of 5-tetra cubes,
+    // 20 % of them outside the body, where the two may differ
+    std::mt19937 g(20261129);
+    std::uniform_real_distribution<double> jitter(-0.12, 0.12), box(-0.25, 3.25);
+    Vec3Object in, out;
+    const auto id = [](int i, int j, int k) { return PointId(i + 4 * (j + 4 * k)); };
+    for (int k = 0; k < 4; ++k)
+        for (int j = 0; j < 4; ++j)
+            for (int i = 0; i < 4; ++i) in.position.push_back(Vec3(i + jitter(g), j + jitter(g), k + jitter(g)));
+    in.init();
+    std::vector<Tetrahedron> tets;
+    for (int k = 0; k < 3; ++k)
+        for (int j = 0; j < 3; ++j)
+            for (int i = 0; i < 3; ++i) {
+                const PointId c[8] = {id(i, j, k),         id(i + 1, j, k),         id(i + 1, j + 1, k),     id(i, j + 1, k),
+                                      id(i, j, k + 1),     id(i + 1, j, k + 1),     id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+                for (const auto& t : {std::array<int, 4>{0, 1, 3, 4}, {1, 2, 3, 6}, {1, 4, 5, 6}, {3, 4, 6, 7}, {1, 3, 4, 6}})
+                    tets.push_back({c[t[0]], c[t[1]], c[t[2]], c[t[3]]});
+            }
+    MeshTopology topo;
+    topo.set_tetrahedra(tets);
+    std::vector<Vec3> pts(2000);
+    for (Vec3& p : pts) p = Vec3(box(g), box(g), box(g));
+    BarycentricMapping hashed(in, out), exhaustive(in, out);
+    hashed.map_on_set_tetrahedra(topo, in.position, pts);
+    exhaustive.map_on_tetrahedra(topo, in.position, pts);
+    int inside = 0, differ_outside = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+        bool same = true;
+        for (int k = 0; k < 4; ++k)
+            same = same && hashed.weights()[i][std::size_t(k)].index == exhaustive.weights()[i][std::size_t(k)].index &&
+                   test::same_bits(hashed.weights()[i][std::size_t(k)].weight, exhaustive.weights()[i][std::size_t(k)].weight);
+        double least = 0;  // inside when every weight of the exhaustive element is ≥ 0
+        for (int k = 0; k < 4; ++k) least = std::min(least, exhaustive.weights()[i][std::size_t(k)].weight);
+        if (least >= 0) {
+            ++inside;
+            EXPECT_TRUE(same) << "point " << i;
+        } else if (!same) {
+            ++differ_outside;
+        }
+    }
+    EXPECT_GT(inside, 1000);       // the cube holds (3.0/3.5)³ ≈ 63 % of the box
+    EXPECT_GT(differ_outside, 0);  // outside, the hash grid's choice is not always the nearest centre
 }
 
 TEST(Mapping, BarycentricProductsAreBitwiseTheRowOperations) {

@@ -252,6 +252,13 @@ public:
     /// when positive (outside), by |p − centre|²; the first tetrahedron of least distance wins;
     /// weights ((1 − b0) − b1) − b2, b0, b1, b2.
     void map_on_tetrahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
+    /// The same onto a dynamic container's tetrahedra (SOFA's BarycentricMapperTetrahedronSetTopology,
+    /// BarycentricMapperTopologyContainer::init): each point's element is searched first among those
+    /// whose bounding box touches its cell of a hash grid (cells of the mean edge length), then, if
+    /// that cell has none, among all; if the best found has |distance| > cell/2 (SOFA compares the
+    /// squared distance outside an element with a length), among those of the 27 cells around.
+    /// The same element as map_on_tetrahedra for a point inside one (barycentric_set_mapper.cpp).
+    void map_on_set_tetrahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
     /// Maps onto hexahedra with trilinear weights (inverse trilinear map by Newton; SOFA's
     /// parallelepiped approximation gives the same weights for parallelepipeds).
     void map_on_hexahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
