@@ -2,7 +2,8 @@
 // (docs/topological-changes.md, "What follows"): the mass equals the same mass built on the
 // remaining mesh, the springs are SOFA HEAD's (those on a removed point leave, the others stay
 // with their points), and the mapping maps every output point again onto the remaining
-// tetrahedra (SOFA's clear + init), which leaves the mapped positions where they were.
+// tetrahedra (SOFA's clear + init), which leaves the mapped positions where they were; a removal
+// that would leave it no tetrahedron is refused beforehand.
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mesh_matrix_mass.hpp"
@@ -11,8 +12,11 @@
 #include "penalty_test/scene_text.hpp"
 #include "penalty_test/tetra_cube.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <numeric>
 #include <set>
@@ -169,7 +173,7 @@ TEST(MassSpringMappingFollowers, BarycentricMappingMapsItsPointsAgainOntoTheRema
     s->remove_elements("volume", ElementType::tetrahedron, kMsmRemoved);
     // the rows are a fresh mapping of the current output positions onto the current tetrahedra
     BarycentricMapping fresh(const_cast<Vec3Object&>(*in), *out);
-    fresh.map_on_tetrahedra(s->topology_container("volume").mesh(), in->position, mapped);
+    fresh.map_on_set_tetrahedra(s->topology_container("volume").mesh(), in->position, mapped);
     ASSERT_EQ(mapping->weights().size(), fresh.weights().size());
     for (std::size_t i = 0; i < fresh.weights().size(); ++i) {
         ASSERT_EQ(mapping->weights()[i].count, fresh.weights()[i].count) << i;
@@ -184,6 +188,102 @@ TEST(MassSpringMappingFollowers, BarycentricMappingMapsItsPointsAgainOntoTheRema
     for (std::size_t i = 0; i < mapped.size(); ++i) EXPECT_NEAR((again[i] - mapped[i]).norm(), 0.0, 1e-14) << i;
     for (int k = 0; k < 5; ++k) s->step();
     for (const Vec3& p : out->position) EXPECT_TRUE(p.allFinite());
+}
+
+}  // namespace
+}  // namespace penalty
+
+namespace penalty {
+namespace {
+
+/// A 5-tetrahedron cube with a BarycentricMapping child and `changer` in the body's node.
+std::string msm_mapped_cube(const std::string& changer) {
+    const test::TetraCube cube = test::tetra_cube(1, 1.0);
+    return msm_body(cube.points, cube.tetrahedra, R"(<DiagonalMass massDensity="1"/>
+  )" + changer + R"(
+  <Node name="skin"><MechanicalObject position="0.5 0.5 0.5  0.2 0.3 0.1"/><BarycentricMapping name="attach"/></Node>)");
+}
+
+std::string msm_change_file(const std::string& name, const std::string& text) {
+    const auto path = std::filesystem::temp_directory_path() / ("penalty_msm_" + name);
+    std::ofstream(path) << text;
+    return path.string();
+}
+
+TEST(MassSpringMappingFollowers, RemovingTheLastTetrahedraUnderABarycentricMappingIsRefusedBeforehand) {
+    // SOFA's BarycentricMapperTopologyContainer::init over no element divides by zero (its hash
+    // grid's cell size) and maps every point onto element -1: penalty refuses the removal, names the
+    // mapping, and changes nothing, on every path a change comes by
+    const std::string why = "the removal leaves no tetrahedra, and BarycentricMapping 'attach'";
+    {  // the scene API (and Python's remove_elements, SofaPython3's removeTetrahedra through it)
+        auto s = test::build(msm_mapped_cube(""));
+        try {
+            s->remove_elements("volume", ElementType::tetrahedron, {4, 3, 2, 1, 0});
+            ADD_FAILURE() << "no error";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_THAT(e.what(), ::testing::HasSubstr(why));
+        }
+        EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 5u);
+        s->remove_elements("volume", ElementType::tetrahedron, {4, 3, 2, 0});  // one left: maps onto it
+        EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 1u);
+        s->step();
+        for (std::size_t k = 0; k < 2; ++k) {
+            const auto* state = dynamic_cast<const Vec3Object*>(s->states().at(k).state);
+            ASSERT_NE(state, nullptr);
+            for (const Vec3& p : state->position) EXPECT_TRUE(p.allFinite());
+        }
+    }
+    // a change file: the second removal of the step takes the last ones (file and line named)
+    const std::string file = msm_change_file("last.txt", "T= 0.01\n  REMOVE= 2\n4 3\n  REMOVE= 3\n0 1 2\n");
+    const std::string dataInputs = R"(<TopologicalChangeProcessor useDataInputs="1" timeToRemove="0.005" tetrahedraToRemove="0 1 2 3 4"/>)";
+    for (const std::string& changer : {R"(<TopologicalChangeProcessor filename=")" + file + R"("/>)", dataInputs}) {
+        auto s = test::build(msm_mapped_cube(changer));
+        s->step();
+        try {
+            s->step();
+            ADD_FAILURE() << "no error";
+        } catch (const io::SceneError& e) {
+            EXPECT_THAT(e.what(), ::testing::HasSubstr(why));
+            EXPECT_THAT(e.what(), ::testing::HasSubstr(changer == dataInputs ? "TopologicalChangeProcessor: " : "last.txt:5: "));
+        }
+        EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 5u);
+    }
+    // useDataInputs: the second list names a tetrahedron the first one's removal leaves out of
+    // range; nothing of the step is applied
+    auto s = test::build(msm_mapped_cube(
+        R"(<TopologicalChangeProcessor name="cuts" useDataInputs="1" timeToRemove="0.005" tetrahedraToRemove="0" trianglesToRemove="4"/>)"));
+    s->step();
+    try {
+        s->step();
+        ADD_FAILURE() << "no error";
+    } catch (const io::SceneError& e) {
+        EXPECT_THAT(e.what(), ::testing::HasSubstr("TopologicalChangeProcessor 'cuts': tetrahedra 4 does not exist (the topology '/body/volume' has 4)"));
+    }
+    EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 5u);
+}
+
+TEST(MassSpringMappingFollowers, SetContainersMapOutsidePointsAsSofasHashGrid) {
+    // two tetrahedra A (vertices 0-3) and B (4-7) and a point outside both, nearer A's centre but
+    // in B's hash cell (Mapping.BarycentricOnSetTetrahedraKeepsAnElementOfThePointsHashCell); a
+    // force on A's vertex 1. SOFA HEAD after one step (SofaPython3, the same scene): through a
+    // TetrahedronSetTopologyContainer the point follows B (it does not move), through a
+    // MeshTopology it follows A; both to the bit.
+    const std::map<std::string, Vec3> sofa{{"TetrahedronSetTopologyContainer", Vec3(0.019999999999999962, 0.5, 0.45)},
+                                           {"MeshTopology", Vec3(0.0199999999999999, 0.5566101694915254, 0.44999999999999996)}};
+    for (const auto& [container, expected] : sofa) {
+        auto s = test::build(R"(<Node name="root" gravity="0 0 0" dt="0.01"><Node name="body">
+  <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
+  <)" + container + R"( name="volume" tetrahedra="0 1 2 3 4 5 6 7" position="-0.6 0.3 0.3  -0.01 0.3 0.3  -0.2 0.9 0.3
+    -0.19 0.5 0.9  0.15 0.1 0.3  0.7 0.1 0.3  0.4 0.1 0.75  0.35 0.9 0.45"/>
+  <MechanicalObject/><UniformMass totalMass="1"/><ConstantForceField indices="1" forces="0 100 0"/>
+  <Node name="skin"><MechanicalObject position="0.02 0.5 0.45"/><BarycentricMapping/></Node>
+</Node></Node>)");
+        s->step();
+        const auto* skin = dynamic_cast<const Vec3Object*>(s->states().at(1).state);
+        ASSERT_TRUE(skin != nullptr && skin->position.size() == 1);
+        const Vec3& p = skin->position[0];
+        for (int k = 0; k < 3; ++k) EXPECT_EQ(p[k], expected[k]) << container << " coordinate " << k;
+    }
 }
 
 }  // namespace

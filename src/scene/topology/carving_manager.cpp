@@ -34,8 +34,9 @@ struct CarvedModel {
 
 class CarvingSource final : public TopologyChangeSource {
 public:
-    CarvingSource(Scene& scene, CollisionModel& tool, std::vector<CarvedModel> carved, double distance)
-        : scene_(&scene), tool_(&tool), carved_(std::move(carved)), distance_(distance) {}
+    CarvingSource(const io::SceneComponent& component, Scene& scene, CollisionModel& tool, std::vector<CarvedModel> carved,
+                  double distance)
+        : component_(&component), scene_(&scene), tool_(&tool), carved_(std::move(carved)), distance_(distance) {}
 
     void end_step(double) override {
         std::map<DynamicTopology*, std::set<ElementId>> items;
@@ -50,6 +51,15 @@ public:
                     if (o.value < distance_) add_item(*target, ElementId(tool_first ? o.elem2 : o.elem1), items);
             }
         }
+        // every topology checked before any changes (a step's carving applies whole or not at all)
+        for (auto& [topology, set] : items) {
+            const TopologyContainer& c = *topology->container;
+            try {
+                TopologyRuntime::check_keeps_elements(*topology, c.level(), c.count(c.level()) - set.size());
+            } catch (const std::invalid_argument& e) {
+                io::throw_element_error(*component_, e.what());
+            }
+        }
         for (auto& [topology, set] : items) {
             if (set.empty()) continue;
             TopologyContainer& c = *topology->container;
@@ -59,6 +69,7 @@ public:
     }
 
 private:
+    const io::SceneComponent* component_;
     /// removeItemsFromTriangleModel / PointModel / SphereModel: the element's item in the model's
     /// topology, then through each topological mapping whose output it is.
     void add_item(const CarvedModel& m, ElementId element, std::map<DynamicTopology*, std::set<ElementId>>& items) const {
@@ -141,7 +152,7 @@ void add_carving_managers(TopologyWiring& w) {
                     io::throw_element_error(c, e.what());
                 }
             }
-            w.runtime.sources.push_back(std::make_unique<CarvingSource>(w.builder.scene(), *tool, std::move(carved), a.real("carvingDistance")));
+            w.runtime.sources.push_back(std::make_unique<CarvingSource>(c, w.builder.scene(), *tool, std::move(carved), a.real("carvingDistance")));
         }
         for (const auto& child : sn.children) self(self, *child);
     };

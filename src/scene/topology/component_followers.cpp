@@ -266,12 +266,13 @@ bool follow_barycentric(TopologyWiring& w, const SceneComponent& c, BaseMapping*
     if (in == nullptr || out == nullptr || !volume) return false;
     const bool tetrahedra = t.container->level() == ElementType::tetrahedron;
     const auto remap = [m, in, out, &mesh, tetrahedra] {
-        if (tetrahedra) m->map_on_tetrahedra(mesh, in->position, out->position);
+        if (tetrahedra) m->map_on_set_tetrahedra(mesh, in->position, out->position);
         else m->map_on_hexahedra(mesh, in->position, out->position);
     };
     const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
                                                  ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
     t.container->add_handler(w.keep(std::make_unique<RebuildFollower>(remap, all)), all);
+    t.needs_elements.push_back(where(c));
     return true;
 }
 

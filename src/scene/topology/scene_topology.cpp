@@ -59,6 +59,7 @@ void Scene::remove_elements(std::string_view topology, ElementType type, std::ve
     TopologyContainer& c = *t.container;
     c.check_removal(type, indices);
     topology_runtime_->check_can_change(t);
+    TopologyRuntime::check_keeps_elements(t, type, c.count(type) - indices.size());
     switch (type) {
         case ElementType::point: c.remove_points(std::move(indices)); break;
         case ElementType::edge: c.remove_edges(std::move(indices)); break;

@@ -256,6 +256,11 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
             } catch (const std::invalid_argument& e) {
                 fail(cmd.line + 1, e.what());
             }
+            try {
+                TopologyRuntime::check_keeps_elements(*target_, type, counts[std::size_t(type)] - cmd.values.size());
+            } catch (const std::invalid_argument& e) {
+                fail(cmd.line + 1, e.what());
+            }
             counts[std::size_t(type)] -= cmd.values.size();
             removed = true;
         }
@@ -283,6 +288,10 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
 void TopologicalChangeProcessorSource::remove_data_inputs(double time) {
     if (time_to_remove_ >= time) return;
     TopologyContainer& c = *target_->container;
+    // every list checked first, against the count the earlier ones leave (each removes elements of
+    // the container's level: SOFA calls the modifier's virtual removeItems), then all applied
+    std::vector<std::vector<ElementId>> removals;
+    std::size_t count = c.count(c.level());
     for (auto& list : lists_) {
         std::vector<ElementId> items = list.source ? list.source() : list.values;
         if (items.empty()) continue;
@@ -290,11 +299,22 @@ void TopologicalChangeProcessorSource::remove_data_inputs(double time) {
             fail(list.line, std::string("no modifier of ") + element_type_name(list.type) + " in the topology '" + target_->path + "'");
         try {
             runtime_->check_can_change(*target_);
-            c.remove_items(std::move(items));
+            std::vector<char> seen(count, 0);
+            for (const ElementId i : items) {
+                if (i < 0 || std::size_t(i) >= count)
+                    throw_invalid_argument(element_type_name(c.level()), " ", i, " does not exist (the topology '",
+                                           target_->path, "' has ", count, ")");
+                if (seen[std::size_t(i)]) throw_invalid_argument(element_type_name(c.level()), " ", i, " is listed twice");
+                seen[std::size_t(i)] = 1;
+            }
+            count -= items.size();
+            TopologyRuntime::check_keeps_elements(*target_, c.level(), count);
         } catch (const std::invalid_argument& e) {
             fail(list.line, e.what());
         }
+        removals.push_back(std::move(items));
     }
+    for (auto& items : removals) c.remove_items(std::move(items));
     time_to_remove_ = interval_ != 0.0 ? time_to_remove_ + interval_ : double(std::uint32_t(-1));
 }
 

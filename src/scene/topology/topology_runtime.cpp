@@ -73,6 +73,13 @@ void TopologyRuntime::check_can_change(const DynamicTopology& t) const {
     for (const DynamicTopology* out : t.outputs) check_can_change(*out);
 }
 
+void TopologyRuntime::check_keeps_elements(const DynamicTopology& t, ElementType type, std::size_t remaining) {
+    const ElementType level = t.container->level();
+    if (t.needs_elements.empty() || type != level || remaining > 0) return;
+    throw_invalid_argument("topology '", t.path, "': the removal leaves no ", element_type_name(level), ", and ",
+                           t.needs_elements.front(), " maps its points onto them (refused; nothing changed)");
+}
+
 }  // namespace penalty::scene
 
 namespace penalty::scene {

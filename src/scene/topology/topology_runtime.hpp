@@ -33,6 +33,10 @@ struct DynamicTopology {
     /// Components that use this topology and cannot follow its changes ("Type 'name' (file:line)"):
     /// a change is refused, naming the first, before anything changes.
     std::vector<std::string> blockers;
+    /// Components that need at least one element of the container's level ("Type 'name'
+    /// (file:line)"): a BarycentricMapping maps its points onto them. A removal of the last ones is
+    /// refused, naming the first, before anything changes.
+    std::vector<std::string> needs_elements;
     /// Dynamic topologies this one's changes reach (topological mappings' outputs).
     std::vector<DynamicTopology*> outputs;
     /// The topological mapping whose output this is (and its input), or none.
@@ -73,6 +77,10 @@ public:
     /// Throws std::invalid_argument naming the first component that cannot follow a change of
     /// `t` (or of a topology it changes through a topological mapping).
     void check_can_change(const DynamicTopology& t) const;
+    /// Throws std::invalid_argument when a removal of elements of `type` from `t` would leave
+    /// `remaining` (0) elements of its level while a component needs one (DynamicTopology::
+    /// needs_elements): SOFA's BarycentricMapper init over no element divides by zero.
+    static void check_keeps_elements(const DynamicTopology& t, ElementType type, std::size_t remaining);
     /// Throws std::invalid_argument naming the first new element (`flat`: vertices of `type`,
     /// element after element) that is degenerate at rest (a tetrahedron of no volume, a triangle
     /// of no area, as the FEM force fields refuse them), before anything changes. Elements on a
