@@ -262,6 +262,38 @@ TEST(MassSpringMappingFollowers, RemovingTheLastTetrahedraUnderABarycentricMappi
     EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 5u);
 }
 
+TEST(MassSpringMappingFollowers, CarvingTheLastTetrahedronUnderABarycentricMappingIsRefused) {
+    // one tetrahedron with its border as the carving surface and a sphere tool touching its bottom
+    // face: the carving of the step would remove it, and the mapped skin would have no element
+    const std::string scene = R"(<Node name="root" gravity="0 0 0" dt="0.01">
+  <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/>
+  <MinProximityIntersection alarmDistance="0.1" contactDistance="0.01"/>
+  <CollisionResponse response="PenalityContactForceField"/>
+  <CarvingManager name="carver" active="1" carvingDistance="0"/>
+  <Node name="body">
+    <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
+    <TetrahedronSetTopologyContainer name="volume" position="0 0 0  1 0 0  0 1 0  0 0 1" tetrahedra="0 1 2 3"/>
+    <TetrahedronSetTopologyModifier/><MechanicalObject/><UniformMass totalMass="1"/>
+    <Node name="surface">
+      <TriangleSetTopologyContainer name="border"/><TriangleSetTopologyModifier/>
+      <Tetra2TriangleTopologicalMapping input="@../volume" output="@border"/>
+      <TriangleCollisionModel tags="CarvingSurface"/>
+    </Node>
+    <Node name="skin"><MechanicalObject position="0.2 0.2 0.2"/><BarycentricMapping name="attach"/></Node>
+  </Node>
+  <Node name="tool"><MechanicalObject position="0.25 0.25 -0.025"/><SphereCollisionModel radius="0.02" tags="CarvingTool"/></Node>
+</Node>)";
+    auto s = test::build(scene);
+    try {
+        s->step();
+        ADD_FAILURE() << "no error";
+    } catch (const io::SceneError& e) {
+        EXPECT_THAT(e.what(), ::testing::HasSubstr("CarvingManager 'carver': topology '/body/volume': the removal leaves no "
+                                                   "tetrahedra, and BarycentricMapping 'attach'"));
+    }
+    EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 1u);
+}
+
 TEST(MassSpringMappingFollowers, SetContainersMapOutsidePointsAsSofasHashGrid) {
     // two tetrahedra A (vertices 0-3) and B (4-7) and a point outside both, nearer A's centre but
     // in B's hash cell (Mapping.BarycentricOnSetTetrahedraKeepsAnElementOfThePointsHashCell); a
