@@ -121,6 +121,7 @@ struct RunArguments {
     bool no_serve = false;
     int port = 0;                    // 0: a free port
     std::string no_tunnelling;       // --no-tunnelling MODE (docs/no-tunnelling.md); "": the scene's
+    std::string reduction = "sofa";  // --reduction sofa|blocked (docs/performance.md, "Blocked reductions")
 };
 
 /// A command-line value that is well-formed but not accepted (exit code 2).
@@ -192,6 +193,7 @@ int run_command(const RunArguments& a) {
     build.exhaustive_detection = a.exhaustive;
     build.sofa_head_orders = a.sofa_head_orders;
     if (!a.no_tunnelling.empty()) build.no_tunnelling = penalty::parse_tunnelling_mode(a.no_tunnelling);
+    build.blocked_reductions = a.reduction == "blocked";
     // A malformed --set is a usage error (exit 2); a path or attribute the scene lacks is an
     // invalid input (exit 1, from the builder).
     for (const std::string& o : a.overrides) {
@@ -463,6 +465,10 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                     "Tunnelling guard (beyond SOFA, docs/no-tunnelling.md): off, warn (report the crossings), substep "
                     "(redo a crossing step in halves) or stiffen (stiffen deep contacts); default: the scene's noTunnelling")
         ->check(CLI::IsMember({"off", "warn", "substep", "stiffen"}));
+    run->add_option("--reduction", args.reduction,
+                    "The CG's dot products: sofa (SOFA's single chain, the default) or blocked (beyond SOFA: fixed blocks "
+                    "of 4096 DOFs summed on several threads, the same bits at any --threads; docs/performance.md)")
+        ->check(CLI::IsMember({"sofa", "blocked"}));
     auto* view_option =
         run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
     run->add_option("--view-every", args.view_every, "Keep one viewer frame in M (and the last)")

@@ -35,6 +35,7 @@ std::optional<std::size_t> EulerImplicitSolver::list_touched_states(Node& node, 
 
 void EulerImplicitSolver::solve(Node& node, double dt) {
     SubtreeSystem& sys = system_.get(node, sofa_mapping_graph_order, fuse_contact_products);
+    sys.set_blocked_reductions(blocked_reductions);
     step_cg_iterations_ = 0;
     step_cg_solves_.clear();
     step_cg_limit_reached_ = false;

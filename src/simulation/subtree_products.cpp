@@ -30,6 +30,7 @@ const void* step_object(const detail::ForceStep& s) {
 }  // namespace
 
 double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+    if (blocked_reductions_) return detail::blocked_dot(scratch_->reduction_blocks, a.data(), b.data(), scratch_->block_sums);
     double total = 0.0;
     for (std::size_t s = 0; s < layout_->independent.size(); ++s) {
         const Eigen::Index begin = layout_->offsets[s];
@@ -121,6 +122,11 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
         project(q);
         return dot(p, q);
     }
+    if (blocked_reductions_) {
+        for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+            q.segment(layout_->offsets[i], layout_->sizes[i]) = layout_->independent[i]->df_flat();
+        return dot(p, q);
+    }
     double total = 0.0;  // dot(p, q), each state's sum as its part of q is copied
     for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
         const auto n = layout_->sizes[i];
@@ -138,6 +144,8 @@ double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p
     const double* qs = q.data();
     double* xs = x.data();
     double* rs = r.data();
+    if (blocked_reductions_)
+        return detail::blocked_update_and_residual(scratch_->reduction_blocks, alpha, ps, qs, xs, rs, scratch_->block_sums);
     double total = 0.0;  // dot(r, r), each state's sum over its DOFs as they are updated
     for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
         const Eigen::Index begin = layout_->offsets[i];

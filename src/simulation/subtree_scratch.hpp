@@ -4,6 +4,8 @@
 /// stage): which rows each mapped state's readers read, the scratch of the row lists, and whether
 /// the external states' work vectors are clear.
 
+#include "blocked_reductions.hpp"
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -27,6 +29,9 @@ struct SubtreeScratch {
     /// ran): the products after it may run in chains on several threads.
     bool rows_known = false;
     std::size_t concurrent_products = 0;     ///< products whose chains ran on TBB's threads
+    /// The blocked reductions' blocks (made when they are turned on) and their sums.
+    ReductionBlocks reduction_blocks;
+    std::vector<double> block_sums;
 };
 
 }  // namespace penalty::detail

@@ -33,6 +33,11 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
 
 SubtreeSystem::~SubtreeSystem() = default;
 
+void SubtreeSystem::set_blocked_reductions(bool on) {
+    if (on && scratch_->reduction_blocks.segments.empty()) scratch_->reduction_blocks = detail::reduction_blocks(*layout_);
+    blocked_reductions_ = on;
+}
+
 Eigen::Index SubtreeSystem::size() const { return layout_->size; }
 const std::vector<BaseState*>& SubtreeSystem::independent_states() const { return layout_->independent; }
 const std::vector<BaseMapping*>& SubtreeSystem::mappings() const { return layout_->mappings; }

@@ -68,6 +68,10 @@ struct BuildOptions {
     /// `--no-tunnelling MODE` (beyond SOFA, docs/no-tunnelling.md): the tunnelling guard's mode
     /// for the whole scene, over the pipelines' noTunnelling attributes; unset: theirs.
     std::optional<TunnellingMode> no_tunnelling;
+    /// `--reduction blocked` (beyond SOFA, docs/performance.md "Blocked reductions"): every
+    /// EulerImplicitSolver's CG sums its dot products in fixed blocks on several threads (the same
+    /// bits at any thread count; SOFA's for a solver of at most 4 096 DOFs). Off: SOFA's chains.
+    bool blocked_reductions = false;
     /// Builds the components whose code is outside the library (SofaPython3's Python force fields
     /// and mappings, live_data.hpp); null: a scene with such components is an error.
     std::shared_ptr<ExternalComponents> external;

@@ -45,6 +45,9 @@ public:
     /// (SubtreeSystem's fused contact block). The same bits either way; off: every product
     /// through the objects (tests compare the two).
     bool fuse_contact_products = true;
+    /// Beyond SOFA (off: SOFA's chains): the CG's dot products in fixed blocks on TBB's threads,
+    /// the same bits at any thread count (SubtreeSystem::set_blocked_reductions).
+    bool blocked_reductions = false;
 };
 
 /// Beyond SOFA (opt-in): Newton iterations on the backward-Euler residual

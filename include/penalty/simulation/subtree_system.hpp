@@ -54,6 +54,11 @@ public:
     static constexpr std::size_t kMinStepsForConcurrentProducts = 256;
     [[nodiscard]] bool mapping_graph_order() const { return mapping_graph_order_; }
     [[nodiscard]] bool fuses_contact_products() const { return fuse_contact_products_; }
+    /// Beyond SOFA (off by default): dot, direction_and_mbk and update_and_residual sum their dot
+    /// products in fixed blocks of DOFs on TBB's threads (blocked_reductions.hpp): the same bits
+    /// at any thread count, SOFA's when every state fits in one block.
+    void set_blocked_reductions(bool on);
+    [[nodiscard]] bool blocked_reductions() const { return blocked_reductions_; }
     /// What the fused contact block applies: contact force fields, the barycentric contact
     /// mappings they read, and the barycentric contact mappings nobody reads (all 0: none
     /// qualifies, or fusion is off).
@@ -190,6 +195,7 @@ private:
     std::unique_ptr<detail::FusedContactBlock> fused_;  ///< the contact products on flat arrays
     bool mapping_graph_order_ = false;
     bool fuse_contact_products_ = true;
+    bool blocked_reductions_ = false;
 };
 
 /// The CG's system of a subtree, A = m·M + b·B + k·K projected (SubtreeSystem::apply_mbk), with

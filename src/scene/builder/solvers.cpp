@@ -91,6 +91,7 @@ void build_implicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     b.guarded(c, [&] {
         auto& s = node.set_ode_solver<EulerImplicitSolver>();
         s.sofa_mapping_graph_order = b.options().sofa_head_orders;
+        s.blocked_reductions = b.options().blocked_reductions;
         b.add_init(1, c, [p = &s, n = &node] { p->init(*n); });
         b.record_implicit_solver(s, node);
         s.rayleigh_stiffness = a.real("rayleighStiffness");
