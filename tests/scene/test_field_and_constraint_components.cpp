@@ -238,6 +238,9 @@ TEST(FieldAndConstraintComponents, BadAttributesNameFileLineComponentAndAttribut
     expect_error(R"(<AttachProjectiveConstraint indices1="0" indices2="1" clamp="1"/>)",
                  "attribute 'clamp': only false is supported");
     expect_error(R"(<TriangularFEMForceFieldOptim poissonRatio="0.5"/>)", "attribute 'poissonRatio': must be in [0, 0.5)");
+    expect_error(R"(<FastTetrahedralCorotationalForceField method="qrs"/>)", "attribute 'method': must be qr, large, polar");
+    expect_error(R"(<FastTetrahedralCorotationalForceField youngModulus="30 -1"/>)", "attribute 'youngModulus': must be > 0");
+    expect_error(R"(<Mesh2PointTopologicalMapping copyEdges="1"/>)", "attribute 'copyEdges': only false is supported");
     expect_error(R"(<TaitSurfacePressureForceField B="-1"/>)", "attribute 'B'");
     expect_error(R"(<TaitSurfacePressureForceField maxInjectionRate="-2"/>)", "attribute 'maxInjectionRate'");
     expect_error(R"(<TaitSurfacePressureForceField p0="1"/>)", "needs a topology");

@@ -1,7 +1,10 @@
 // TetrahedralCorotationalFEMForceField (SOFA's corotational tetrahedra of Nesme et al. 2005),
 // on the tetrahedra of the node's topology (SceneBuilder::topology_of).
 // docs/components/corotational_fem.md gives the formulas and their SOFA sources.
+// FastTetrahedralCorotationalForceField (the edge-stored variant):
+// docs/components/fast_tetrahedral_corotational.md.
 #include "penalty/mechanics/corotational_fem.hpp"
+#include "penalty/mechanics/fast_tetrahedral_corotational.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -77,10 +80,73 @@ void build_corotational_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild&
     b.note_unread_attributes(c);
 }
 
+// ---- FastTetrahedralCorotationalForceField ------------------------------------------------------
+// Defaults: BaseLinearElasticityFEMForceField (youngModulus 5000, poissonRatio 0.45),
+// FastTetrahedralCorotationalForceField's constructor (method qr, drawing 1).
+constexpr AttributeSpec kFastCorotational[] = {
+    {"youngModulus", K::numbers, "5000", "Pa", ValueCheck::none, "E > 0, one value or one per tetrahedron"},
+    {"poissonRatio", K::numbers, "0.45", "", ValueCheck::none, "nu in [0, 0.5), one value or one per tetrahedron"},
+    {"method", K::text, "qr", "", ValueCheck::none,
+     "qr or large (frame of edges 01, 02), polar (polar factor of the deformation gradient), polar2 (polar factor of "
+     "the edge matrix), none, linear or small (no rotation)"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "its tetrahedra and edges"},
+    {"drawing", K::boolean, "1", "", ValueCheck::none, "display only"},
+    {"drawColor1", K::text, "", "", ValueCheck::none, "display only"},
+    {"drawColor2", K::text, "", "", ValueCheck::none, "display only"},
+    {"drawColor3", K::text, "", "", ValueCheck::none, "display only"},
+    {"drawColor4", K::text, "", "", ValueCheck::none, "display only"},
+};
+
+/// youngModulus / poissonRatio: one value or one per element. SOFA replaces an out-of-range value by
+/// its default with a warning (BaseLinearElasticityFEMForceField::checkYoungModulus /
+/// checkPoissonRatio); penalty refuses it.
+std::vector<double> elasticity_list(const Attributes& a, std::string_view name, double fallback, bool poisson) {
+    if (!a.has(name)) return {fallback};
+    std::vector<double> v = a.numbers(name);
+    if (v.empty()) a.fail(name, "is empty");
+    for (double x : v) {
+        if (poisson && !(x >= 0 && x < 0.5)) a.fail(name, "must be in [0, 0.5), found " + num(x));
+        if (!poisson && !(x > 0)) a.fail(name, "must be > 0, found " + num(x));
+    }
+    return v;
+}
+
+void build_fast_corotational(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    Vec3Object& s = b.vec3_state(c, info);
+    FastTetrahedralCorotationalParameters p;
+    p.young_modulus = elasticity_list(a, "youngModulus", 5000, false);
+    p.poisson_ratio = elasticity_list(a, "poissonRatio", 0.45, true);
+    // FastTetrahedralCorotationalForceField::init's names of the methods
+    const std::string method = a.text("method");
+    if (method == "qr" || method == "large") p.rotation = FastTetrahedralRotation::qr;
+    else if (method == "polar") p.rotation = FastTetrahedralRotation::polar;
+    else if (method == "polar2") p.rotation = FastTetrahedralRotation::polar_modified;
+    else if (method == "none" || method == "linear" || method == "small") p.rotation = FastTetrahedralRotation::linear;
+    else a.fail("method", "must be qr, large, polar, polar2, none, linear or small, found '" + method + "'");
+    static_cast<void>(a.boolean("drawing"));
+    const MeshTopology& topology = b.topology_of(a, info);
+    b.guarded(c, [&] {
+        if (topology.tetrahedra().empty()) b.warn(c.describe() + ": no tetrahedra in its topology (SOFA logs an error): no force");
+        auto* ff = &info.node->add_force_field<FastTetrahedralCorotationalForceField>(s, topology, p);
+        b.record_origin(ff, c);
+        b.add_init(1, c, [ff] { ff->init(); });
+        b.role(c, [ff, p, method] {
+            return counted(ff->rest_tetrahedra().size(), "tetrahedron", "tetrahedra") + ", E = " +
+                   num(p.young_modulus.front()) + " Pa, nu = " + num(p.poisson_ratio.front()) + ", rotation " + method +
+                   ", stiffness stored per edge";
+        });
+    });
+    b.note_unread_attributes(c);
+}
+
 constexpr ComponentSpec kComponents[] = {
     {.type = "TetrahedralCorotationalFEMForceField", .family = F::force_field,
      .summary = "corotational tetrahedral FEM (small, large, polar)", .attributes = kCorotationalFem,
      .build = build_corotational_fem},
+    {.type = "FastTetrahedralCorotationalForceField", .family = F::force_field,
+     .summary = "corotational tetrahedral FEM with the stiffness stored per edge (qr, polar, polar2, linear)",
+     .attributes = kFastCorotational, .build = build_fast_corotational},
 };
 
 }  // namespace

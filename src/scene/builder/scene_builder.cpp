@@ -130,9 +130,11 @@ std::vector<Vec3> SceneBuilder::linked_positions(const Attributes& a, std::strin
     if (t.component == nullptr) a.fail(attr, "link must name a loader, a topology or a MechanicalObject");
     const SceneComponent& src = *t.component;
     if (const io::MeshData* engine = engine_mesh(src, t.data)) return engine->positions;
-    if (!t.data.empty() && t.data != "position" && t.data != "rest_position")
-        a.fail(attr, "cannot read positions from data '" + t.data + "'");
     const ComponentSpec* spec = find_component(src.type);
+    // a topology's `points` is its `position` (MeshTopology's alias)
+    const bool topology_points = t.data == "points" && spec != nullptr && spec->family == ComponentFamily::topology;
+    if (!t.data.empty() && t.data != "position" && t.data != "rest_position" && !topology_points)
+        a.fail(attr, "cannot read positions from data '" + t.data + "'");
     if (component_category(src.type) == ComponentCategory::loader) return mesh_of(src).positions;
     if (spec != nullptr && spec->family == ComponentFamily::state) {
         const auto it = vec3_states_.find(&src);

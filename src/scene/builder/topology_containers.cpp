@@ -251,6 +251,74 @@ void build_simple_tesselated_tetra(SceneBuilder& b, const SceneComponent& c, Nod
     b.note_unread_attributes(c);
 }
 
+// ---- Mesh2PointTopologicalMapping ---------------------------------------------------------------
+constexpr AttributeSpec kMesh2Point[] = {
+    {"pointBaryCoords", K::numbers, "", "m", ValueCheck::none, "per input point, points at p + (x y z)"},
+    {"edgeBaryCoords", K::numbers, "", "", ValueCheck::none, "per input edge, points at p0 (1-fx) + p1 fx (3 numbers each)"},
+    {"triangleBaryCoords", K::numbers, "", "", ValueCheck::none, "per input triangle, p0 (1-fx-fy) + p1 fx + p2 fy"},
+    {"quadBaryCoords", K::numbers, "", "", ValueCheck::none, "per input quad, bilinear in (fx, fy)"},
+    {"tetraBaryCoords", K::numbers, "", "", ValueCheck::none, "per input tetrahedron, p0 (1-fx-fy-fz) + p1 fx + p2 fy + p3 fz"},
+    {"hexaBaryCoords", K::numbers, "", "", ValueCheck::none, "not supported"},
+    {"copyEdges", K::boolean, "0", "", ValueCheck::none, "only false is supported"},
+    {"copyTriangles", K::boolean, "0", "", ValueCheck::none, "only false is supported"},
+    {"copyTetrahedra", K::boolean, "0", "", ValueCheck::none, "only false is supported"},
+};
+
+/// Mesh2PointTopologicalMapping::init (addInputPoint, addInputEdge, addInputTriangle, the quads'
+/// loop, addInputTetrahedron): the output holds only points, made from the input's points, edges,
+/// triangles, quads then tetrahedra, for each element one point per given coordinate triple, from
+/// the input container's own points (getPX), summed left to right as SOFA writes each formula.
+std::vector<Vec3> mesh_to_points(const Attributes& a, const MeshTopology& from, const std::vector<Vec3>& x) {
+    const auto triples = [&](std::string_view name) {
+        std::vector<Vec3> out;
+        if (!a.has(name)) return out;
+        const std::vector<double> v = a.numbers(name);
+        if (v.size() % 3 != 0) a.fail(name, "expected 3 numbers per point");
+        for (std::size_t i = 0; i + 2 < v.size(); i += 3) out.emplace_back(v[i], v[i + 1], v[i + 2]);
+        return out;
+    };
+    const auto at = [&](PointId i) { return x[std::size_t(i)]; };
+    std::vector<Vec3> out;
+    const std::vector<Vec3> point = triples("pointBaryCoords");
+    for (std::size_t i = 0; i < (point.empty() ? 0 : x.size()); ++i)
+        for (const Vec3& f : point) out.emplace_back(x[i][0] + f[0], x[i][1] + f[1], x[i][2] + f[2]);
+    const std::vector<Vec3> edge = triples("edgeBaryCoords");
+    for (const Edge& e : edge.empty() ? std::vector<Edge>{} : from.edges())
+        for (const Vec3& f : edge) out.push_back(at(e[0]) * (1 - f[0]) + at(e[1]) * f[0]);
+    const std::vector<Vec3> triangle = triples("triangleBaryCoords");
+    for (const Triangle& t : triangle.empty() ? std::vector<Triangle>{} : from.triangles())
+        for (const Vec3& f : triangle) out.push_back(at(t[0]) * (1 - f[0] - f[1]) + at(t[1]) * f[0] + at(t[2]) * f[1]);
+    const std::vector<Vec3> quad = triples("quadBaryCoords");
+    for (const Quad& q : quad.empty() ? std::vector<Quad>{} : from.quads())
+        for (const Vec3& f : quad)
+            out.push_back(at(q[0]) * ((1 - f[0]) * (1 - f[1])) + at(q[1]) * ((f[0]) * (1 - f[1])) +
+                          at(q[2]) * ((1 - f[0]) * (f[1])) + at(q[3]) * ((f[0]) * (f[1])));
+    const std::vector<Vec3> tetra = triples("tetraBaryCoords");
+    for (const Tetrahedron& t : tetra.empty() ? std::vector<Tetrahedron>{} : from.tetrahedra())
+        for (const Vec3& f : tetra)
+            out.push_back(at(t[0]) * (1 - f[0] - f[1] - f[2]) + at(t[1]) * f[0] + at(t[2]) * f[1] + at(t[3]) * f[2]);
+    return out;
+}
+
+void build_mesh2point(SceneBuilder& b, const SceneComponent& c, NodeBuild& node) {
+    const Attributes a(c);
+    b.guarded(c, [&] {
+        for (const char* flag : {"copyEdges", "copyTriangles", "copyTetrahedra"})
+            if (a.boolean(flag)) a.fail(flag, "only false is supported (the output holds points only)");
+        if (a.has("hexaBaryCoords") && !a.numbers("hexaBaryCoords").empty())
+            a.fail("hexaBaryCoords", "is not supported");
+        const NodeBuild& in = linked_topology_node(b, a, "input");
+        NodeBuild& out = output_topology_node(b, a, node);
+        if (in.topology_positions.size() != in.topology->num_points())
+            a.fail("input", "the input topology has no points of its own (penalty reads them from its container)");
+        std::vector<Vec3> points = mesh_to_points(a, *in.topology, in.topology_positions);
+        replace_output(b, c, out, points.size(), [](MeshTopology&) {});
+        out.topology_positions = std::move(points);
+        b.record_built_topology(out);
+    });
+    b.note_unread_attributes(c);
+}
+
 void build_quad2triangle(SceneBuilder& b, const SceneComponent& c, NodeBuild& node) {
     const Attributes a(c);
     b.guarded(c, [&] {
@@ -344,6 +412,9 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "Quad2TriangleTopologicalMapping", .family = F::topology_helper,
      .summary = "output topology := two triangles per quad of the input (static)",
      .attributes = kQuad2Triangle, .shared_attributes = kTopologicalMappingLinks, .build = build_quad2triangle},
+    {.type = "Mesh2PointTopologicalMapping", .family = F::topology_helper,
+     .summary = "fills its output with points made from the input's points, edges, triangles, quads, tetrahedra",
+     .attributes = kMesh2Point, .shared_attributes = kTopologicalMappingLinks, .build = build_mesh2point},
     {.type = "SimpleTesselatedTetraTopologicalMapping", .family = F::topology_helper,
      .summary = "output topology := each input tetrahedron cut in eight at its edges' middles (static)",
      .shared_attributes = kTopologicalMappingLinks, .build = build_simple_tesselated_tetra},

@@ -1,11 +1,13 @@
 // Data engines that transform or merge points (SOFA's Sofa/Component/Engine/Transform and
-// Generate): TransformEngine, TransformPosition, MergePoints. Each reads its input points (inline or a link, `@[-1].position`), computes its
+// Generate): TransformEngine, TransformPosition, MergePoints, MeshTetraStuffing. Each reads its input points (inline or a link, `@[-1].position`), computes its
 // output once (the scenes are static: SOFA's engines recompute only when an input changes) and
 // records it as `output_position`, which a MechanicalObject, a topology or another engine reads
 // through a link. Formulas: include/penalty/mechanics/transform_engines.hpp and
 // docs/components/data_engines.md.
 #include "penalty/io/data_path.hpp"
+#include "penalty/mechanics/mesh_tetra_stuffing.hpp"
 #include "penalty/mechanics/transform_engines.hpp"
+#include "scene/builder/element_topology.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -179,7 +181,67 @@ void build_merge_points(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.note_unread_attributes(c);
 }
 
+// ---- MeshTetraStuffing ----------------------------------------------------------------------
+// Defaults: MeshTetraStuffing's constructor (docs/components/mesh_tetra_stuffing.md).
+constexpr AttributeSpec kMeshTetraStuffing[] = {
+    {"inputPoints", K::points, "", "m", ValueCheck::none, "the closed surface's points (inline or a link)"},
+    {"inputTriangles", K::elements, "", "", ValueCheck::none, "its triangles (inline or a link)"},
+    {"inputQuads", K::elements, "", "", ValueCheck::none, "its quads, each as two triangles"},
+    {"vbbox", K::numbers, "(the surface's box grown by 1 %)", "m", ValueCheck::none, "xmin ymin zmin xmax ymax zmax"},
+    {"size", K::real, "-8", "m", ValueCheck::none, "cell size; negative: -(cells along the box's largest side)"},
+    {"alphaLong", K::real, "0.24999", "", ValueCheck::nonnegative, "snapping threshold on axis edges"},
+    {"alphaShort", K::real, "0.42978", "", ValueCheck::nonnegative, "snapping threshold on diagonal edges"},
+    {"snapPoints", K::boolean, "0", "", ValueCheck::none, "snap lattice points close to the surface onto it"},
+    {"splitTetrahedra", K::boolean, "0", "", ValueCheck::none, "cut the tetrahedra crossing the surface"},
+    {"splitTetras", K::boolean, "0", "", ValueCheck::none, "alias of splitTetrahedra"},
+    {"draw", K::boolean, "0", "", ValueCheck::none, "display only"},
+};
+
+void build_mesh_tetra_stuffing(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
+    const Attributes a(c);
+    StuffedVolume out;
+    b.guarded(c, [&] {
+        MeshTetraStuffingParameters p;
+        if (a.has("vbbox")) {
+            const std::vector<double> v = a.numbers("vbbox");
+            if (v.size() != 6) a.fail("vbbox", "expected 6 numbers (xmin ymin zmin xmax ymax zmax)");
+            p.box = std::array<Vec3, 2>{Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5])};
+        }
+        p.size = a.real("size");
+        if (p.size == 0 || !std::isfinite(p.size)) a.fail("size", "must be non-zero");
+        p.alpha_long = a.real("alphaLong");
+        p.alpha_short = a.real("alphaShort");
+        p.snap_points = a.boolean("snapPoints");
+        p.split_tetrahedra = a.has("splitTetrahedra") ? a.boolean("splitTetrahedra") : a.boolean("splitTetras");
+        static_cast<void>(a.boolean("draw"));
+        std::vector<Triangle> triangles;
+        std::vector<Quad> quads;
+        read_element_list(b, a, "inputTriangles", triangles, &io::MeshData::triangles, &MeshTopology::triangles);
+        read_element_list(b, a, "inputQuads", quads, &io::MeshData::quads, &MeshTopology::quads);
+        if (!a.has("inputPoints")) a.fail("inputPoints", "is needed (SOFA: empty input mesh)");
+        const std::vector<Vec3> points = a.is_link("inputPoints") ? b.linked_positions(a, "inputPoints") : a.points("inputPoints");
+        if (triangles.empty() && quads.empty()) a.fail("inputTriangles", "no triangles or quads (SOFA: empty input mesh)");
+        out = mesh_tetra_stuffing(points, triangles, quads, p, b.options().max_dofs);
+        if (out.invalid_splits > 0)
+            b.warn(c.describe() + ": " + counted(out.invalid_splits, "cut", "cuts") +
+                   " SOFA reports as invalid (Invalid tetra split / cut point not found), reproduced");
+    });
+    io::MeshData mesh;
+    mesh.positions = out.points;
+    b.record_engine_mesh(c, "outputPoints", mesh);
+    mesh.tetrahedra = out.tetrahedra;
+    for (const char* name : {"outputTetrahedra", "outputTetras"}) b.record_engine_mesh(c, name, mesh);
+    b.role(c, [n = out.points.size(), t = out.tetrahedra.size()] {
+        return "fills the surface with " + counted(t, "tetrahedron", "tetrahedra") + " on " + counted(n, "point", "points") +
+               " (outputPoints, outputTetrahedra)";
+    });
+    b.note_unread_attributes(c);
+}
+
 constexpr ComponentSpec kComponents[] = {
+    {.type = "MeshTetraStuffing", .family = F::data_engine,
+     .summary = "fills a closed triangle surface with tetrahedra (isosurface stuffing)", .attributes = kMeshTetraStuffing,
+     .build = build_mesh_tetra_stuffing},
     {.type = "MergePoints", .family = F::data_engine, .summary = "merges two point lists (appended, or injected)",
      .attributes = kMergePoints, .build = build_merge_points},
     {.type = "TransformEngine", .family = F::data_engine,

@@ -5,6 +5,7 @@
 #include "penalty/collision/models.hpp"
 #include "penalty/mechanics/corotational_fem.hpp"
 #include "penalty/mechanics/diagonal_mass.hpp"
+#include "penalty/mechanics/fast_tetrahedral_corotational.hpp"
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
 #include "penalty/mechanics/hexahedral_fem.hpp"
@@ -90,6 +91,14 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
         auto* ff = dynamic_cast<TetrahedralCorotationalFEMForceField*>(f);
         if (ff == nullptr || !ff->options().local_stiffness_factors.empty()) return false;
         rebuild([ff, &mesh] { ff->set_elements(mesh.tetrahedra()), ff->init(); }, {ElementType::tetrahedron, ElementType::point});
+        return true;
+    }
+    // FastTetrahedralCorotationalForceField: tetrahedronInfo's creation callback (rest information
+    // from the rest positions), edgeInfo and pointInfo resized with the topology: rebuilt
+    if (type == "FastTetrahedralCorotationalForceField") {
+        auto* ff = dynamic_cast<FastTetrahedralCorotationalForceField*>(f);
+        if (ff == nullptr) return false;
+        rebuild([ff] { ff->init(); }, {ElementType::tetrahedron, ElementType::edge, ElementType::point});
         return true;
     }
     if (type == "TetrahedronFEMForceField") {
