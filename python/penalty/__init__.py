@@ -332,7 +332,7 @@ def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: boo
     (from its folder, sys.argv = [its name, *argv]; docs/python.md). no_tunnelling ("off", "warn",
     "substep", "stiffen") sets the tunnelling guard over the pipelines' noTunnelling attributes
     (docs/no-tunnelling.md). fix_sofa_quirks names SOFA quirks to fix (`--fix-sofa-quirk`,
-    docs/sofa-compatibility.md): ["number_trailing_text"], ["all"]."""
+    docs/sofa-compatibility.md): ["number_trailing_text"], ["uniform_mass_lazy_write"], ["all"]."""
     path = Path(_check.path("load_scene", "path", path, optional=False))
     options = _load_options(data_dirs, dt, threads, exhaustive, overrides, fix_sofa_quirks=fix_sofa_quirks)
     if path.suffix == ".py":

@@ -39,7 +39,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 9> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 11> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -63,6 +63,14 @@ constexpr std::array<SofaQuirkInfo, 9> kSofaQuirks{{
     {"topology_removal_out_of_range", &SofaQuirkFixes::fix_topology_removal_out_of_range,
      "TopologicalChangeProcessor: an edge, triangle, quad, tetrahedron or hexahedron index past the topology's end is an "
      "error, not dropped with a warning as SOFA's *SetTopologyModifier::remove* do (command line or BuildOptions only)"},
+    {"uniform_mass_lazy_write", &SofaQuirkFixes::fix_uniform_mass_lazy_write,
+     "UniformMass: a totalMass or vertexMass written after init reaches the weight and the mass matrix at the same "
+     "step, as a fresh scene, not the weight first with the old value as SOFA's lazy update callback does (command "
+     "line or BuildOptions only)"},
+    {"mesh_spring_stiffness_write", &SofaQuirkFixes::fix_mesh_spring_stiffness_write,
+     "MeshSpringForceField: a stiffness or damping written after init gives each spring value / rest length as a "
+     "fresh scene, not the written value for every spring as SOFA's SpringForceField lists do (command line or "
+     "BuildOptions only)"},
 }};
 }  // namespace
 

@@ -35,29 +35,46 @@ PlaneForceField::PlaneForceField(Vec3Object& state, const PlaneForceFieldParamet
                                ", ", p.damping, ", ", p.max_force);
 }
 
-void PlaneForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
-    const auto& p = parameters_;
-    active_.clear();
-    energy_ = 0.0;
+namespace {
+
+/// PlaneForceField<DataTypes>::addForce's law on the points' positions (getCPos) and linear
+/// velocities (getDPos): calls add(i, force) for each point that gets a force, in order; returns
+/// the energy Σ ½ k d² of those points.
+template <class Position, class Velocity, class Add>
+double plane_forces(const PlaneForceFieldParameters& p, Index count, Position position, Velocity velocity, Add add) {
+    double energy = 0.0;
     // localRange (PlaneForceField::addForce): [first, last] clipped to the points
     auto begin = Index{0};
-    auto end = static_cast<Index>(x.size());
+    auto end = count;
     if (p.local_range[0] >= 0) begin = p.local_range[0];
     if (p.local_range[1] >= 0 && p.local_range[1] + 1 < end) end = p.local_range[1] + 1;
     const double limit_squared = p.max_force * p.max_force;
     for (Index i = begin; i < end; ++i) {
         const auto ui = static_cast<std::size_t>(i);
-        const double depth = x[ui].dot(p.normal) - p.offset;  // < 0 below the plane
+        const double depth = position(ui).dot(p.normal) - p.offset;  // < 0 below the plane
         if (!(p.bilateral || depth < 0.0)) continue;
         const double force_intensity = -p.stiffness * depth;
         const double damping_intensity = -p.damping * depth;
-        Vec3 force = p.normal * force_intensity - v[ui] * damping_intensity;
+        Vec3 force = p.normal * force_intensity - velocity(ui) * damping_intensity;
         const double amplitude_squared = force.squaredNorm();
         if (limit_squared > 0.0 && amplitude_squared > limit_squared) force *= std::sqrt(limit_squared / amplitude_squared);
-        f[ui] += force;
-        active_.push_back(i);
-        energy_ += 0.5 * p.stiffness * depth * depth;
+        add(i, force);
+        energy += 0.5 * p.stiffness * depth * depth;
     }
+    return energy;
+}
+
+}  // namespace
+
+void PlaneForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
+    active_.clear();
+    energy_ = plane_forces(
+        parameters_, static_cast<Index>(x.size()), [&](std::size_t i) -> const Vec3& { return x[i]; },
+        [&](std::size_t i) -> const Vec3& { return v[i]; },
+        [&](Index i, const Vec3& force) {
+            f[static_cast<std::size_t>(i)] += force;
+            active_.push_back(i);
+        });
 }
 
 void PlaneForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double /*b_factor*/) const {
@@ -73,6 +90,51 @@ void PlaneForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, d
 void PlaneForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
     const double fact = -parameters_.stiffness * factor;
     for (const Index p : active_) add_normal_block(triplets, offset, p, parameters_.normal, fact);
+}
+
+// ---- PlaneForceField<Rigid3> --------------------------------------------------------------------
+
+RigidPlaneForceField::RigidPlaneForceField(Rigid3Object& state, const PlaneForceFieldParameters& parameters)
+    : ForceField<Rigid3Types>(state), parameters_(parameters) {
+    const auto& p = parameters_;
+    if (!all_finite(p.normal) || !std::isfinite(p.offset))
+        throw_invalid_argument("PlaneForceField: normal and d must be finite");
+    if (!(p.stiffness >= 0.0) || !(p.damping >= 0.0) || !(p.max_force >= 0.0))
+        throw_invalid_argument("PlaneForceField: stiffness, damping and maxForce must be >= 0, found ", p.stiffness,
+                               ", ", p.damping, ", ", p.max_force);
+}
+
+void RigidPlaneForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x, std::span<const RigidDeriv> v) {
+    // getCPos: the frame's centre; getDPos: the linear velocity; setDPos: the linear force
+    active_.clear();
+    energy_ = plane_forces(
+        parameters_, static_cast<Index>(x.size()), [&](std::size_t i) -> const Vec3& { return x[i].center; },
+        [&](std::size_t i) -> const Vec3& { return v[i].linear; },
+        [&](Index i, const Vec3& force) {
+            f[static_cast<std::size_t>(i)].linear += force;
+            active_.push_back(i);
+        });
+}
+
+void RigidPlaneForceField::add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor,
+                                      double /*b_factor*/) const {
+    const double fact = -parameters_.stiffness * k_factor;
+    const Vec3& n = parameters_.normal;
+    for (const Index p : active_) {
+        const auto up = static_cast<std::size_t>(p);
+        df[up].linear += n * (fact * dx[up].linear.dot(n));
+    }
+}
+
+void RigidPlaneForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
+    // addKToMatrix: the 6×6 block n6·(−k·factor)·n6ᵀ with n6 = (n, 0): its linear 3×3 block only
+    // (the other coefficients are 0)
+    const double fact = -parameters_.stiffness * factor;
+    for (const Index p : active_) {
+        const Index row = offset + 6 * p;
+        for (Index l = 0; l < 3; ++l)
+            for (Index c = 0; c < 3; ++c) triplets.emplace_back(row + l, row + c, parameters_.normal[l] * fact * parameters_.normal[c]);
+    }
 }
 
 // ---- ConstantForceField -------------------------------------------------------------------------

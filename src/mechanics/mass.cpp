@@ -49,15 +49,18 @@ void UniformMass<DT>::init() {
 
 template <>
 void UniformMass<Vec3Types>::add_gravity_force(const Vec3& g) {
-    for (auto& f : state_->force) f += mass_ * g;
+    const double m = lagging_weight_mass_.value_or(mass_);
+    for (auto& f : state_->force) f += m * g;
 }
 template <>
 void UniformMass<Rigid3Types>::add_gravity_force(const Vec3& g) {
-    for (auto& f : state_->force) f.linear += mass_ * g;
+    const double m = lagging_weight_mass_.value_or(mass_);
+    for (auto& f : state_->force) f.linear += m * g;
 }
 
 template <>
 void UniformMass<Vec3Types>::add_mdx(double factor) {
+    lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
     // df += dx·(m·factor), the scale computed once (the same double for every DOF)
     const double scale = mass_ * factor;
     Vec3* df = state_->df.data();
@@ -67,6 +70,7 @@ void UniformMass<Vec3Types>::add_mdx(double factor) {
 }
 template <>
 void UniformMass<Rigid3Types>::add_mdx(double factor) {
+    lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
     // UniformMass::addMDx with SOFA's RigidMass: m *= factor (when factor != 1) scales the mass
     // and the inertia-mass matrix J·m, then df += (dx_lin·m, (J·m)·dx_ang), each row summed left
     // to right (RigidMass's operator*(Deriv, RigidMass))
@@ -85,11 +89,13 @@ void UniformMass<Rigid3Types>::add_mdx(double factor) {
 template <>
 void UniformMass<Vec3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in,
                                            Eigen::Ref<Eigen::VectorXd> out) const {
+    lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
     out = in / mass_;
 }
 template <>
 void UniformMass<Rigid3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in,
                                              Eigen::Ref<Eigen::VectorXd> out) const {
+    lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
     const Mat3 jinv = (inertia_ * mass_).inverse();
     for (Eigen::Index i = 0; i < in.size() / 6; ++i) {
         out.segment<3>(6 * i) = in.segment<3>(6 * i) / mass_;
@@ -99,10 +105,12 @@ void UniformMass<Rigid3Types>::apply_inverse(const Eigen::Ref<const Eigen::Vecto
 
 template <>
 void UniformMass<Vec3Types>::add_mass_triplets(TripletList& t, Index offset, double factor) const {
+    lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
     for (Index i = 0; i < static_cast<Index>(3 * state_->num_dofs()); ++i) t.emplace_back(offset + i, offset + i, factor * mass_);
 }
 template <>
 void UniformMass<Rigid3Types>::add_mass_triplets(TripletList& t, Index offset, double factor) const {
+    lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
     for (Index i = 0; i < static_cast<Index>(state_->num_dofs()); ++i) {
         const Index o = offset + 6 * i;
         for (Index a = 0; a < 3; ++a) t.emplace_back(o + a, o + a, factor * mass_);

@@ -175,6 +175,75 @@ std::vector<Index> edge_indices_of(const MeshTopology& topology, std::span<const
     return out;
 }
 
+// ---- QuadPressureForceField ------------------------------------------------------------------
+
+QuadPressureForceField::QuadPressureForceField(Vec3Object& state, const MeshTopology& topology, std::vector<Index> quads,
+                                               const Vec3& pressure)
+    : ForceField(state), topology_(&topology), quads_(std::move(quads)), pressure_(pressure) {
+    if (!pressure_.allFinite()) throw_invalid_argument("QuadPressureForceField: pressure must be finite");
+}
+
+// QuadPressureForceField::initQuadInformation: A₀ = geometry::Quad::area of the rest positions,
+// Triangle::area(a, b, c) + Triangle::area(a, c, d) (each ½|(q−a)×(r−a)|), force = pressure·A₀.
+void QuadPressureForceField::init() {
+    const auto& all = topology_->quads();
+    check_element_indices("QuadPressureForceField", "quad", quads_, all);
+    const std::vector<Vec3>& x0 = state_->rest_position;
+    rest_areas_.clear();
+    forces_.clear();
+    for (Index id : quads_) {
+        const Quad& q = all[static_cast<std::size_t>(id)];
+        check_points("QuadPressureForceField", q, x0.size());
+        const Vec3& a = x0[at(q[0])];
+        const double abc = 0.5 * (x0[at(q[1])] - a).cross(x0[at(q[2])] - a).norm();
+        const double acd = 0.5 * (x0[at(q[2])] - a).cross(x0[at(q[3])] - a).norm();
+        rest_areas_.push_back(abc + acd);
+        forces_.push_back(pressure_ * (abc + acd));
+    }
+}
+
+// QuadPressureForceField::addForce: force/4 on each corner.
+void QuadPressureForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+    const auto& all = topology_->quads();
+    energy_ = 0.0;
+    for (std::size_t k = 0; k < quads_.size(); ++k) {
+        const Quad& q = all[static_cast<std::size_t>(quads_[k])];
+        const Vec3 share = forces_[k] / 4;
+        for (PointId id : q) {
+            f[at(id)] += share;
+            energy_ -= share.dot(x[at(id)]);
+        }
+    }
+}
+
+void QuadPressureForceField::add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const {}
+
+void QuadPressureForceField::add_stiffness_triplets(TripletList&, Index, double) const {}
+
+double QuadPressureForceField::total_rest_area() const {
+    double area = 0.0;
+    for (double a : rest_areas_) area += a;
+    return area;
+}
+
+std::vector<Index> quads_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
+                                        double dmin, double dmax) {
+    // QuadPressureForceField::isPointInPlane: dmin < p·normal < dmax
+    std::vector<bool> in(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const double d = points[i].dot(normal);
+        in[i] = d > dmin && d < dmax;
+    }
+    std::vector<Index> out;
+    const auto& quads = topology.quads();
+    for (std::size_t k = 0; k < quads.size(); ++k) {
+        check_points("quads_between_planes", quads[k], points.size());
+        if (in[at(quads[k][0])] && in[at(quads[k][1])] && in[at(quads[k][2])] && in[at(quads[k][3])])
+            out.push_back(static_cast<Index>(k));
+    }
+    return out;
+}
+
 // ---- SurfacePressureForceField --------------------------------------------------------------
 
 SurfacePressureForceField::SurfacePressureForceField(Vec3Object& state, const MeshTopology& topology,

@@ -323,6 +323,7 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
     const auto numbers_value = [&](std::vector<double> numbers, std::size_t columns) {
         return numeric_value(f, std::move(numbers), columns);
     };
+    if (auto quirk = quirk_value(c, f)) return quirk;  // live_quirks.cpp
     const Node* node = node_of(*c.node);
     const std::string& name = f.name;
     if (c.type == "MechanicalObject" && node != nullptr && node->state() != nullptr) {

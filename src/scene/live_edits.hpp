@@ -42,6 +42,10 @@ struct Scene::LiveEdits {
     std::vector<std::unique_ptr<Scene>> retired;
     /// Components and nodes removed after init: left out of the next build.
     std::set<const io::SceneElement*> removed;
+    /// MeshSpringForceField's `stiffness` / `damping` written after init (SOFA's per-spring lists
+    /// of SpringForceField, live_quirks.cpp), by component path then Data name: every build of the
+    /// component applies them.
+    std::map<std::string, std::map<std::string, std::vector<double>>> spring_lists;
 };
 
 }  // namespace penalty::scene

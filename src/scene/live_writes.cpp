@@ -219,7 +219,9 @@ void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_
         case LiveWrite::next_step:
         case LiveWrite::reinit: break;
     }
+    if (write_spring_list_quirk(*e, owner, name, text, what)) return;  // a list: checked there
     check_write(*e, owner.node, f, text);
+    if (write_uniform_mass_quirk(*e, owner, name, text, what)) return;
     if (owner.node) {
         auto* sn = static_cast<io::SceneNode*>(e);
         if (sn->parent != nullptr)
@@ -415,6 +417,7 @@ void Scene::rebuild(bool reset) {
         copy.root = clone_node(*file_.root, nullptr, live_->removed);
         fresh = build_scene(std::move(copy), options_);
         carry_states(*fresh, reset);
+        carry_live_quirks(*fresh);  // live_quirks.cpp
     } catch (...) {
         undo();
         throw;

@@ -5,6 +5,7 @@
 
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/point_state.hpp"
+#include "penalty_test/rigid_derivatives.hpp"
 
 #include <gtest/gtest.h>
 
@@ -51,6 +52,49 @@ TEST(PlaneForceField, PointBelowThePlaneGetsStiffnessTimesDepthAlongTheNormal) {
     EXPECT_EQ(df[0], Vec3(0.0, -1000.0, 0.0));
     EXPECT_EQ(df[1], Vec3::Zero());
     EXPECT_EQ(df[2], Vec3(0.0, 500.0, 0.0));
+}
+
+TEST(PlaneForceField, RigidFramesGetTheForceOnTheirCentreAndNoTorque) {
+    // PlaneForceField<Rigid3>: the centres below the plane y = −1 (n = (0, 1, 0), d = −1), k = 1000,
+    // c = 7; frame 0 is 0.5 below and moves (1, −2, 0.5): f = n·500 − v·(7·0.5) on the linear part
+    const Quat q(Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()));
+    Rigid3Object s;
+    s.position = {RigidFrame{Vec3(0.3, -1.5, 2.0), q}, RigidFrame{Vec3(0.0, 0.2, 0.0), q}};
+    s.init();
+    s.velocity[0].linear = Vec3(1, -2, 0.5);
+    s.velocity[0].angular = Vec3(9, 9, 9);  // no effect
+    PlaneForceFieldParameters p;
+    p.offset = -1.0;
+    p.stiffness = 1000.0;
+    p.damping = 7.0;
+    RigidPlaneForceField ff(s, p);
+    ff.accumulate_force();
+    EXPECT_EQ(s.force[0].linear, Vec3(0.0, 500.0, 0.0) - Vec3(1, -2, 0.5) * 3.5);
+    EXPECT_EQ(s.force[0].angular, Vec3::Zero());
+    EXPECT_EQ(s.force[1].linear, Vec3::Zero());
+    EXPECT_EQ(ff.active_points(), (std::vector<Index>{0}));
+    // df = K·dx against central differences of f (no velocity: the damping term is not in K, as
+    // SOFA), and the assembled matrix against add_dforce
+    std::fill(s.velocity.begin(), s.velocity.end(), RigidDeriv{});
+    const Eigen::MatrixXd fd = test::rigid_force_jacobian(ff, s);
+    const Eigen::MatrixXd k = test::rigid_dforce_matrix(ff, s);
+    EXPECT_TRUE(test::near_relative(k, fd, 1e-6)) << "max diff " << (k - fd).cwiseAbs().maxCoeff();
+    EXPECT_EQ(k(1, 1), -1000.0);
+    EXPECT_TRUE(test::near_relative(test::assembled_stiffness(ff, 12), k, 1e-14));
+    // f = −∂E/∂x in the centres
+    const std::vector<RigidFrame> x0 = s.position;
+    const auto energy = [&](const Eigen::VectorXd& centres) {
+        Eigen::VectorXd d = Eigen::VectorXd::Zero(12);
+        d.segment<3>(0) = centres.segment<3>(0);
+        d.segment<3>(6) = centres.segment<3>(3);
+        test::rigid_force_at(ff, s, x0, d);
+        return ff.potential_energy();
+    };
+    const Eigen::VectorXd g = test::finite_gradient(Eigen::VectorXd::Zero(6), energy, 1e-6);
+    const Eigen::VectorXd f = test::rigid_force_at(ff, s, x0, Eigen::VectorXd::Zero(12));
+    Eigen::VectorXd f_centres(6);
+    f_centres << f.segment<3>(0), f.segment<3>(6);
+    EXPECT_TRUE(test::near_relative(Eigen::VectorXd(-g), f_centres, 1e-7));
 }
 
 TEST(PlaneForceField, NormalIsUsedAsGivenNotNormalised) {

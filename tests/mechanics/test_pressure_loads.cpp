@@ -1,4 +1,5 @@
-// Pressure loads (TrianglePressureForceField, EdgePressureForceField, SurfacePressureForceField):
+// Pressure loads (TrianglePressureForceField, QuadPressureForceField, EdgePressureForceField,
+// SurfacePressureForceField):
 // closed forms on known areas and lengths, SOFA's corner shares, and the derivative checks.
 #include "penalty/mechanics/pressure_loads.hpp"
 
@@ -6,6 +7,8 @@
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace penalty {
 namespace {
@@ -121,6 +124,43 @@ TEST(TrianglePressureForceField, BadTriangleIndexIsRefusedAtInit) {
     const MeshTopology topo = rectangle_topology();
     TrianglePressureForceField ff(s, topo, {2}, Vec3(1, 0, 0));
     EXPECT_THROW(ff.init(), std::invalid_argument);
+}
+
+// A non-planar quad (0, 1, 2, 3): triangles (0,1,2) of area ½|(2,0,0)×(2,3,0)| = 3 and (0,2,3) of
+// area ½|(2,3,0)×(0,3,4)| = ½|(12,−8,6)| = √61; a flat unit square (1, 4, 5, 2) next to it.
+Vec3Object quad_state() {
+    Vec3Object s;
+    s.position = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 3, 0), Vec3(0, 3, 4), Vec3(3, 0, 0), Vec3(3, 1, 0)};
+    s.init();
+    return s;
+}
+
+TEST(QuadPressureForceField, PressureTimesTheRestAreaOfItsTwoTrianglesSplitInQuarters) {
+    Vec3Object s = quad_state();
+    MeshTopology topo;
+    topo.set_quads({{0, 1, 2, 3}, {1, 4, 5, 2}});
+    QuadPressureForceField ff(s, topo, {0}, Vec3(0, -8, 4));
+    ff.init();
+    const double area = 3.0 + std::sqrt(61.0);  // geometry::Quad::area: (0,1,2) + (0,2,3)
+    EXPECT_DOUBLE_EQ(ff.total_rest_area(), area);
+    const std::vector<Vec3> f = force_of(ff, s);
+    for (int i = 0; i < 4; ++i) EXPECT_TRUE(f[i].isApprox(Vec3(0, -8, 4) * area / 4, 1e-15)) << i;
+    EXPECT_EQ(f[4], Vec3::Zero());
+    // the rest area, not the current one
+    s.position[3] = Vec3(0, 9, 9);
+    EXPECT_TRUE(total(force_of(ff, s)).isApprox(Vec3(0, -8, 4) * area, 1e-15));
+    EXPECT_GT(check_constant_force_field(ff, s), 1.0);
+}
+
+TEST(QuadPressureForceField, PlaneSelectionAndBadIndices) {
+    Vec3Object s = quad_state();
+    MeshTopology topo;
+    topo.set_quads({{0, 1, 2, 3}, {1, 4, 5, 2}});
+    // dmin < z < dmax strictly: point 3 (z = 4) leaves quad 0 out
+    EXPECT_EQ(quads_between_planes(topo, s.position, Vec3(0, 0, 1), -0.5, 0.5), (std::vector<Index>{1}));
+    EXPECT_EQ(quads_between_planes(topo, s.position, Vec3(0, 0, 1), 0.0, 5.0), (std::vector<Index>{}));
+    QuadPressureForceField bad(s, topo, {2}, Vec3(1, 0, 0));
+    EXPECT_THROW(bad.init(), std::invalid_argument);
 }
 
 TEST(EdgePressureForceField, PressureTimesRestLengthSplitInHalves) {

@@ -70,6 +70,28 @@ TEST(LiveData, WritesAtTheNextStepAsAFreshScene) {
     EXPECT_NE(live_positions_after(*unchanged, 5), live_positions_after(*fresh, 5));
 }
 
+TEST(LiveData, UniformMassWriteWeighsTheNextStepWithTheOldMassAsSofaUnlessFixed) {
+    // three free particles of 1 kg (totalMass 3), written to 3 kg each: SOFA's lazy update
+    // (SofaQuirkFixes::fix_uniform_mass_lazy_write) weighs the first step with 1 kg, the mass
+    // matrix has 3 kg: dv = h·g·1/3; fixed: dv = h·g
+    const std::string particles = R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <Node name="P"><EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>
+    <CGLinearSolver iterations="10" tolerance="1e-20" threshold="1e-20"/>
+    <MechanicalObject name="mo" position="0 0 0  1 0 0  2 0 0"/><UniformMass name="mass" totalMass="3"/></Node>
+</Node>)";
+    for (const bool fixed : {false, true}) {
+        scene::BuildOptions options;
+        options.sofa_quirk_fixes.fix_uniform_mass_lazy_write = fixed;
+        auto s = test::build(particles, options);
+        s->set_data({"/P/mass", false}, "totalMass", "9");
+        EXPECT_EQ(s->data({"/P/mass", false}, "vertexMass").numbers, std::vector<double>{fixed ? 3.0 : 1.0});
+        s->step();
+        const auto& v = dynamic_cast<const Vec3Object&>(*s->states().front().state).velocity;
+        EXPECT_NEAR(v[0].y(), 0.01 * -9.81 * (fixed ? 1.0 : 1.0 / 3.0), 1e-15) << fixed;
+        EXPECT_EQ(s->data({"/P/mass", false}, "vertexMass").numbers, std::vector<double>{3.0});
+    }
+}
+
 TEST(LiveData, YoungsModulusWaitsForReinitAsSofa) {
     auto fresh = test::build(live_beam("400"));
     auto unchanged = test::build(live_beam());

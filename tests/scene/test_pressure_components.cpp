@@ -1,4 +1,4 @@
-// TrianglePressureForceField, EdgePressureForceField, SurfacePressureForceField, PlaneROI and
+// TrianglePressureForceField, QuadPressureForceField, EdgePressureForceField, SurfacePressureForceField, PlaneROI and
 // SphereROI built from scenes made here, and the element outputs of BoxROI they read.
 #include "penalty/io/error.hpp"
 #include "penalty/scene/components.hpp"
@@ -124,6 +124,63 @@ TEST(PressureComponents, EdgePressureSelectsTheEdgesBetweenTwoPlanes) {
     EXPECT_NEAR(x.velocity[4].z(), 0.1 * 1.0 / 0.5, 1e-12);
     EXPECT_NEAR(x.velocity[5].z(), 0.1 * 0.5 / 0.5, 1e-12);
     EXPECT_EQ(x.velocity[0].z(), 0.0);
+}
+
+// The plate as two unit quads (0 1 4 3) and (1 2 5 4).
+std::string quad_plate(const std::string& load) {
+    return replaced(replaced(kPlate, R"(<TriangleSetTopologyContainer name="surface" triangles="0 1 4  0 4 3  1 2 5  1 5 4"/>)",
+                             R"(<QuadSetTopologyContainer name="surface" quads="0 1 4 3  1 2 5 4"/>)"),
+                    "LOAD", load);
+}
+
+TEST(PressureComponents, QuadPressureOnAListedQuadPushesItsCornersByAQuarterOfPressureTimesArea) {
+    auto s = build(quad_plate(R"(<QuadPressureForceField quadList="1" pressure="0 0 8"/>)"));
+    s->step();
+    const Vec3Object& x = state_of(*s);
+    // quad 1 (1 2 5 4): 8 N/m² · 1 m² = 8 N, 2 N per corner; Δv = h·f/m = 0.1·2/0.5
+    const std::vector<double> share = {0, 2, 2, 0, 2, 2};
+    for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(x.velocity[i].z(), 0.1 * share[i] / 0.5, 1e-12) << i;
+}
+
+TEST(PressureComponents, QuadPressureSelectsBetweenPlanesAndReadsTheFirstPointsOfLinkedQuads) {
+    // dmin < x < dmax: points 1, 2, 4, 5 (x in 1..2): quad 1
+    auto planes = build(quad_plate(R"(<QuadPressureForceField pressure="0 0 8" normal="1 0 0" dmin="0.5" dmax="2.5"/>)"));
+    planes->step();
+    EXPECT_NEAR(state_of(*planes).velocity[2].z(), 0.1 * 2 / 0.5, 1e-12);
+    EXPECT_EQ(state_of(*planes).velocity[0].z(), 0.0);
+    // quadList linked to BoxROI's quadsInROI (alias quadInROI): SOFA's BaseData::genericCopyValueFrom
+    // copies the FIRST POINT of each quad, then read as a quad index. Quads listed right then left:
+    // the left box selects quad 1 (0 1 4 3), whose first point 0 names quad 0, the right one.
+    const std::string swapped = R"(<QuadSetTopologyContainer name="surface" quads="1 2 5 4  0 1 4 3"/>)";
+    const auto left_box = [&](const std::string& data) {
+        return replaced(quad_plate(R"(<BoxROI name="left" box="-0.1 -0.1 -0.1 1.1 1.1 0.1"/>
+            <QuadPressureForceField quadList="@left.)" + data + R"(" pressure="0 0 8"/>)"),
+                        R"(<QuadSetTopologyContainer name="surface" quads="0 1 4 3  1 2 5 4"/>)", swapped);
+    };
+    for (const char* data : {"quadInROI", "quadsInROI"}) {
+        auto linked = build(left_box(data));
+        linked->step();
+        EXPECT_NEAR(state_of(*linked).velocity[2].z(), 0.1 * 2 / 0.5, 1e-12) << data;  // the right quad
+        EXPECT_EQ(state_of(*linked).velocity[3].z(), 0.0) << data;
+    }
+    auto indices = build(left_box("quadIndices"));  // the selected quad itself
+    indices->step();
+    EXPECT_NEAR(state_of(*indices).velocity[3].z(), 0.1 * 2 / 0.5, 1e-12);
+    EXPECT_EQ(state_of(*indices).velocity[2].z(), 0.0);
+}
+
+TEST(PressureComponents, AStateReadsTheParentGridsPointsThroughALink) {
+    // SofaPython3's advanced_timer.py: position="@../grid.position", the grid in the parent node
+    // (GridTopology::computePointList at its init: x fastest, then y, then z)
+    auto s = build(R"(<Node name="root" gravity="0 0 0">
+      <RegularGridTopology name="grid" min="0 0 0" max="2 1 1" n="3 2 2"/>
+      <Node name="meca"><MechanicalObject name="mo" position="@../grid.position"/></Node>
+    </Node>)");
+    const Vec3Object& x = state_of(*s);
+    ASSERT_EQ(x.position.size(), 12u);
+    EXPECT_EQ(x.position[1], Vec3(1, 0, 0));
+    EXPECT_EQ(x.position[3], Vec3(0, 1, 0));
+    EXPECT_EQ(x.position[11], Vec3(2, 1, 1));
 }
 
 // A closed tetrahedron surface, faces wound outward, 1 kg per point.

@@ -75,6 +75,20 @@ struct SofaQuirkFixes {
     /// TopologicalChangeProcessor files listing elements that no longer exist run on. true: such an
     /// index is an error naming the file and line, as any other bad change.
     bool fix_topology_removal_out_of_range = false;
+    /// A live-write quirk (docs/python.md): SOFA's UniformMass takes a totalMass or vertexMass
+    /// written after init in its update callback (UniformMass::updateFromTotalMass /
+    /// updateFromVertexMass), which runs at the first isComponentStateValid() of the next step:
+    /// after addForce (no such check: the weight uses vertexMass as it then is), before addMDx,
+    /// addMToMatrix, accFromF; the callback recomputes from the Data init used (totalMass when it
+    /// was set, so a vertexMass write lasts one weight; else vertexMass, so a totalMass write is
+    /// dropped). true: the write reaches weight and mass matrix together, as a fresh scene.
+    bool fix_uniform_mass_lazy_write = false;
+    /// A live-write quirk: MeshSpringForceField's `stiffness` / `damping` Data after init are
+    /// SpringForceField's per-spring lists (its own are scene aliases), whose update callback
+    /// (SpringForceField::updateSpringsFromTopologyIndices) gives spring i the written list's
+    /// value i (the last one past its end): every spring's ks (kd) becomes the written value, not
+    /// value / rest length as MeshSpringForceField::init makes. true: as a fresh scene.
+    bool fix_mesh_spring_stiffness_write = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

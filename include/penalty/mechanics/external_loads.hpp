@@ -56,6 +56,28 @@ private:
     double energy_ = 0.0;
 };
 
+/// PlaneForceField<Rigid3> (SOFA's PlaneForceField.cpp instantiates the same template for Rigid3):
+/// the law above on the frames' centres (DataTypes::getCPos) and linear velocities (getDPos), the
+/// force on the linear part (setDPos): no torque; K: −k n nᵀ on the linear block of the active
+/// frames (addDForce on the linear dx; addKToMatrix's 6×6 block n₆ n₆ᵀ with n₆ = (n, 0)).
+class RigidPlaneForceField final : public ForceField<Rigid3Types> {
+public:
+    RigidPlaneForceField(Rigid3Object& state, const PlaneForceFieldParameters& parameters);
+
+    void add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x, std::span<const RigidDeriv> v) override;
+    void add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor, double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
+    [[nodiscard]] double potential_energy() const override { return energy_; }
+
+    [[nodiscard]] const PlaneForceFieldParameters& parameters() const { return parameters_; }
+    [[nodiscard]] const std::vector<Index>& active_points() const { return active_; }
+
+private:
+    PlaneForceFieldParameters parameters_;
+    std::vector<Index> active_;
+    double energy_ = 0.0;
+};
+
 // ---- ConstantForceField -------------------------------------------------------------------------
 
 /// Parameters of ConstantForceField as written in a scene (SOFA's ConstantForceField Data).

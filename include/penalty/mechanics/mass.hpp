@@ -30,6 +30,12 @@ public:
     /// Resolves the vertex mass from the data (throws std::invalid_argument if unset).
     void init() override;
     [[nodiscard]] double vertex_mass() const { return mass_; }
+    /// SOFA's lazy update of a mass written after init (SofaQuirkFixes::fix_uniform_mass_lazy_write):
+    /// the weight (add_gravity_force) uses `m` (kg per DOF) until the mass is next used as a mass
+    /// (add_mdx, apply_inverse, add_mass_triplets: SOFA's isComponentStateValid() runs the update
+    /// callback there), then vertex_mass() again.
+    void set_lagging_weight_mass(double m) { lagging_weight_mass_ = m; }
+    [[nodiscard]] std::optional<double> lagging_weight_mass() const { return lagging_weight_mass_; }
 
     void add_gravity_force(const Vec3& gravity) override;
     void add_mdx(double factor) override;
@@ -46,6 +52,7 @@ private:
     std::optional<double> total_mass_;
     Mat3 inertia_ = Mat3::Identity();
     double mass_ = 0.0;
+    mutable std::optional<double> lagging_weight_mass_;  ///< see set_lagging_weight_mass
 };
 
 /// FixedProjectiveConstraint: the listed DOFs (or all with fix_all) have zero velocity and zero

@@ -9,6 +9,10 @@
 ///    (initTriangleInformation, addForce). Otherwise F = σ·((b−a)×(c−a))/6 on EACH corner, σ the
 ///    symmetric Cauchy stress, current positions. SOFA's addDForce adds nothing in both modes,
 ///    so K = 0 (a quirk in the second mode, where f depends on x).
+///  - QuadPressureForceField: a pressure vector P (N/m²) on a list of quads (a, b, c, d): per quad
+///    F = P·A₀ with A₀ = ½|(b⁰−a⁰)×(c⁰−a⁰)| + ½|(c⁰−a⁰)×(d⁰−a⁰)| the REST area (geometry::Quad::area:
+///    the triangles (a, b, c) and (a, c, d)), F/4 on each corner (initQuadInformation, addForce);
+///    K = 0 (addDForce adds nothing; the force does not depend on x).
 ///  - EdgePressureForceField: a pressure vector P (N/m) on a list of edges: per edge F = P·L₀
 ///    (rest length), F/2 on each end (initEdgeInformation, addForce); K = 0.
 ///  - SurfacePressureForceField: a scalar pressure p (Pa) along the normals of a closed surface:
@@ -69,6 +73,39 @@ private:
     std::vector<Vec3> forces_;  ///< P·A₀ per triangle
     double energy_ = 0.0;
 };
+
+// ---- QuadPressureForceField ----------------------------------------------------------------
+class QuadPressureForceField final : public ForceField<Vec3Types> {
+public:
+    /// `quads`: indices into topology.quads(). `pressure`: N/m² (a vector).
+    QuadPressureForceField(Vec3Object& state, const MeshTopology& topology, std::vector<Index> quads, const Vec3& pressure);
+    /// Rest areas and per-quad forces from the state's rest positions (SOFA's init).
+    void init() override;
+    void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    /// K = 0 (constant force).
+    void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
+    /// −Σ f_i·x_i (the potential of a constant force) at the last add_force.
+    [[nodiscard]] double potential_energy() const override { return energy_; }
+
+    [[nodiscard]] const std::vector<Index>& quads() const { return quads_; }
+    [[nodiscard]] const Vec3& pressure() const { return pressure_; }
+    /// Σ A₀ of the selected quads (m²), after init().
+    [[nodiscard]] double total_rest_area() const;
+
+private:
+    const MeshTopology* topology_;
+    std::vector<Index> quads_;
+    Vec3 pressure_;
+    std::vector<double> rest_areas_;
+    std::vector<Vec3> forces_;  ///< P·A₀ per quad
+    double energy_ = 0.0;
+};
+
+/// SOFA's QuadPressureForceField::selectQuadsAlongPlane: the quads (indices, increasing) whose four
+/// points p satisfy dmin < p·normal < dmax (strict; `normal` not normalised).
+[[nodiscard]] std::vector<Index> quads_between_planes(const MeshTopology& topology, std::span<const Vec3> points,
+                                                      const Vec3& normal, double dmin, double dmax);
 
 // ---- EdgePressureForceField ----------------------------------------------------------------
 class EdgePressureForceField final : public ForceField<Vec3Types> {

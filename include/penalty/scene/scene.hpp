@@ -300,6 +300,18 @@ private:
     /// The value of a Data the built scene holds (states, engine and loader outputs, masses), or
     /// nullopt (the scene's text or the default then).
     [[nodiscard]] std::optional<DataValue> live_value(const io::SceneComponent& c, const DataField& f) const;
+    // SOFA HEAD's quirks of writes after init (live_quirks.cpp; SofaQuirkFixes::fix_uniform_mass_lazy_write,
+    // fix_mesh_spring_stiffness_write): true when the write is taken so, false for the usual path.
+    bool write_uniform_mass_quirk(io::SceneElement& element, const DataOwner& owner, std::string_view name,
+                                  std::string_view text, const std::string& what);
+    bool write_spring_list_quirk(const io::SceneElement& element, const DataOwner& owner, std::string_view name,
+                                 std::string_view text, const std::string& what);
+    /// What the quirks keep goes on in a rebuilt scene: a lagging weight, written spring lists.
+    void carry_live_quirks(Scene& fresh) const;
+    /// A Data's value as a quirk holds it (a written spring list, a lagging vertexMass), or nullopt.
+    [[nodiscard]] std::optional<DataValue> quirk_value(const io::SceneComponent& c, const DataField& f) const;
+    /// The mass built from the component at SOFA path `component`, or null.
+    [[nodiscard]] BaseMass* built_mass_of(const std::string& component) const;
     /// The points and elements of a topology component as built (its node's topology), or nullopt.
     [[nodiscard]] std::optional<DataValue> topology_value(const io::SceneComponent& c, const DataField& f) const;
     /// A state vector as numbers (3 or 7 per DOF for positions, 3 or 6 for derivatives).

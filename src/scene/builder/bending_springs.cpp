@@ -7,6 +7,7 @@
 // TriangularQuadraticSpringsForceField.
 #include "penalty/mechanics/bending_spring_lists.hpp"
 #include "penalty/mechanics/bending_springs.hpp"
+#include "penalty/mechanics/rigid_spring_force_field.hpp"
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
 #include "penalty/mechanics/triangular_tensor_mass.hpp"
@@ -231,16 +232,27 @@ void build_spring_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuil
     // below this one is built later, so the field is then added once every node is built
     const auto create = [&b, &c, &info, springs] {
         const Attributes attributes(c);
-        const auto end_state = [&](std::string_view end) -> Vec3Object& {
-            if (!attributes.has(end)) return b.vec3_state(c, info);
+        const auto end_state = [&](std::string_view end) -> BaseState& {
+            if (!attributes.has(end)) return b.state(c, info);
             BaseState* s = b.linked_state(attributes, end);
             if (s == nullptr) attributes.fail(end, "links to a state that is not built");
-            auto* v = dynamic_cast<Vec3Object*>(s);
-            if (v == nullptr) attributes.fail(end, "links to a Rigid3d state (Vec3d only)");
-            return *v;
+            return *s;
         };
-        Vec3Object& s1 = end_state("object1");
-        Vec3Object& s2 = end_state("object2");
+        BaseState& e1 = end_state("object1");
+        BaseState& e2 = end_state("object2");
+        auto* r1 = dynamic_cast<Rigid3Object*>(&e1);
+        auto* r2 = dynamic_cast<Rigid3Object*>(&e2);
+        if ((r1 == nullptr) != (r2 == nullptr))
+            attributes.fail(r1 == nullptr ? "object2" : "object1", "links to a Rigid3d state and the other end to a Vec3d one");
+        if (r1 != nullptr) {  // SpringForceField<Rigid3>: springs between the frames' centres
+            auto* rf = &info.node->add_force_field<RigidSpringForceField>(*r1, *r2, springs);
+            b.record_origin(rf, c);
+            b.add_init(1, c, [rf] { rf->init(); });
+            b.role(c, [rf] { return counted(rf->springs().size(), "spring", "springs") + " between Rigid3d frame centres"; });
+            return;
+        }
+        Vec3Object& s1 = dynamic_cast<Vec3Object&>(e1);
+        Vec3Object& s2 = dynamic_cast<Vec3Object&>(e2);
         auto* ff = &info.node->add_force_field<SpringForceField>(s1, s2);
         for (const Spring& spring : springs) ff->add_spring(spring);
         b.record_origin(ff, c);

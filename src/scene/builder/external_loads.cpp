@@ -38,8 +38,12 @@ constexpr AttributeSpec kPlaneForceField[] = {
 
 void build_plane_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    require_vec3_template(c);
-    Vec3Object& s = b.vec3_state(c, info);
+    // PlaneForceField<Vec3d> or <Rigid3d> (PlaneForceField.cpp registers both): its state's type
+    auto* rigid = dynamic_cast<Rigid3Object*>(&b.state(c, info));
+    if (rigid != nullptr && !c.template_name.empty() && !is_rigid_template(c, c.template_name))
+        io::throw_element_error(c, "template '" + c.template_name + "' does not match its Rigid3d MechanicalObject");
+    if (rigid == nullptr) require_vec3_template(c);
+    Vec3Object* s = rigid == nullptr ? &b.vec3_state(c, info) : nullptr;
     b.guarded(c, [&] {
         const PlaneForceFieldParameters defaults;
         PlaneForceFieldParameters p;
@@ -70,8 +74,8 @@ void build_plane_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild
         static_cast<void>(a.boolean("showPlane"));  // display only: read, no effect
         static_cast<void>(a.real("showPlaneSize"));
         static_cast<void>(a.text("planeColor"));
-        auto* ff = &info.node->add_force_field<PlaneForceField>(s, p);
-        b.record_origin(ff, c);
+        if (rigid != nullptr) b.record_origin(&info.node->add_force_field<RigidPlaneForceField>(*rigid, p), c);
+        else b.record_origin(&info.node->add_force_field<PlaneForceField>(*s, p), c);
         b.role(c, [p] {
             std::string text = "plane x.n = " + num(p.offset) + " m, n = " + vec(p.normal) + ", stiffness " +
                                num(p.stiffness) + " N/m, damping " + num(p.damping) + " N s/m";
@@ -156,7 +160,7 @@ void build_conical_force_field(SceneBuilder& b, const SceneComponent& c, NodeBui
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "PlaneForceField", .family = F::force_field, .summary = "pushes points back above a plane (penalty)",
+    {.type = "PlaneForceField", .family = F::force_field, .summary = "pushes points (Vec3d) or frame centres (Rigid3d) back above a plane (penalty)",
      .attributes = kPlaneForceField, .build = build_plane_force_field},
     {.type = "ConstantForceField", .family = F::force_field, .summary = "constant forces on given points",
      .attributes = kConstantForceField, .build = build_constant_force_field},

@@ -117,6 +117,7 @@ constexpr AttributeSpec kBoxRoi[] = {
     {"edges", K::elements, "(the node's topology)", "", ValueCheck::none, "edges tested (inline or a link)"},
     {"triangles", K::elements, "(the node's topology)", "", ValueCheck::none, "triangles tested (inline or a link)"},
     {"quads", K::elements, "(the node's topology)", "", ValueCheck::none, "quads tested (inline or a link)"},
+    {"quad", K::elements, "", "", ValueCheck::none, "alias of quads"},
     {"tetrahedra", K::elements, "(the node's topology)", "", ValueCheck::none, "tetrahedra tested (inline or a link)"},
     {"hexahedra", K::elements, "(the node's topology)", "", ValueCheck::none, "hexahedra tested (inline or a link)"},
     {"computeEdges", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
@@ -169,7 +170,7 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         }
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
-        elements = roi_elements(b, a, info, RoiContext::base_roi);
+        elements = roi_elements(b, a, info, RoiContext::base_roi, {.quad_alias = true});
         const auto inside = [&boxes, &oriented](const Vec3& p) {
             return std::any_of(boxes.begin(), boxes.end(), [&p](const AlignedBox& box) { return box.contains(p); }) ||
                    std::any_of(oriented.begin(), oriented.end(), [&p](const OrientedBox& box) { return box.contains(p); });
@@ -180,6 +181,8 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     b.role(c, [n = boxes.size() + oriented.size(), num_points, selection, elements] {
         return describe_roi_selection(selection, num_points, elements, counted(n, "box", "boxes"));
     });
+    record_roi_elements_in(b, c, selection, elements);
+    if (const io::MeshData* quads = b.engine_mesh(c, "quadsInROI")) b.record_engine_mesh(c, "quadInROI", *quads);  // alias
     record_roi_selection(b, c, std::move(selection));
     b.note_unread_attributes(c);
 }

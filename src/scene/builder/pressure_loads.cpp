@@ -1,5 +1,5 @@
-// Pressure loads on the elements of a topology: TrianglePressureForceField, EdgePressureForceField,
-// SurfacePressureForceField (penalty/mechanics/pressure_loads.hpp; docs/components/pressure_loads.md).
+// Pressure loads on the elements of a topology: TrianglePressureForceField, QuadPressureForceField,
+// EdgePressureForceField, SurfacePressureForceField (penalty/mechanics/pressure_loads.hpp; docs/components/pressure_loads.md).
 // Each acts on the state of its node or, as SOFA's context, of the nearest ancestor with one
 // (SceneBuilder::vec3_state), and on the elements of `topology="@..."`, else of the nearest
 // topology (SceneBuilder::topology_of).
@@ -56,6 +56,45 @@ void build_triangle_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild
             if (!ff->use_constant_force())
                 return counted(ff->triangles().size(), "triangle", "triangles") + " loaded by a Cauchy stress";
             return "pressure " + vec(ff->pressure()) + " N/m^2 on " + counted(ff->triangles().size(), "triangle", "triangles") +
+                   " (rest area " + num(ff->total_rest_area()) + " m^2)";
+        });
+    });
+    b.note_unread_attributes(c);
+}
+
+// ---- QuadPressureForceField -----------------------------------------------------------------
+// SOFA's data (QuadPressureForceField constructor): pressure (a vector), quadList, normal,
+// dmin = dmax = 0, showForces. init selects the quads between the planes (when dmin != dmax),
+// then REPLACES the selection with quadList when it is not empty (selectQuadsAlongPlane,
+// selectQuadsFromString: quadList becomes the subset's element list).
+constexpr AttributeSpec kQuadPressure[] = {
+    {"pressure", K::vector3, "0 0 0", "N/m^2", ValueCheck::none, "force per unit area (a vector)"},
+    {"quadList", K::indices, "", "", ValueCheck::none, "the loaded quads of the topology (inline or a link)"},
+    {"normal", K::vector3, "0 0 0", "", ValueCheck::none, "plane selection: dmin < p.normal < dmax"},
+    {"dmin", K::real, "0", "m", ValueCheck::none, "plane selection (when dmin != dmax)"},
+    {"dmax", K::real, "0", "m", ValueCheck::none, "plane selection (when dmin != dmax)"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "its quads"},
+    {"showForces", K::boolean, "0", "", ValueCheck::none, "drawing only"},
+};
+
+void build_quad_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
+    const Attributes a(c);
+    Vec3Object& s = b.vec3_state(c, info);
+    b.guarded(c, [&] {
+        const MeshTopology& topology = b.topology_of(a, info);
+        std::vector<Index> quads;
+        const double dmin = a.real("dmin");
+        const double dmax = a.real("dmax");
+        if (dmin != dmax) quads = quads_between_planes(topology, s.rest_position, a.vector3("normal"), dmin, dmax);
+        if (a.has("quadList")) {
+            std::vector<Index> given = as_indices(b.indices(a, "quadList"));
+            if (!given.empty()) quads = std::move(given);
+        }
+        auto* ff = &info.node->add_force_field<QuadPressureForceField>(s, topology, std::move(quads), a.vector3("pressure"));
+        b.record_origin(ff, c);
+        b.add_init(1, c, [ff] { ff->init(); });
+        b.role(c, [ff] {
+            return "pressure " + vec(ff->pressure()) + " N/m^2 on " + counted(ff->quads().size(), "quad", "quads") +
                    " (rest area " + num(ff->total_rest_area()) + " m^2)";
         });
     });
@@ -176,6 +215,9 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "TrianglePressureForceField", .family = F::force_field,
      .summary = "a pressure vector times each listed triangle's rest area", .attributes = kTrianglePressure,
      .build = build_triangle_pressure},
+    {.type = "QuadPressureForceField", .family = F::force_field,
+     .summary = "a pressure vector times each selected quad's rest area", .attributes = kQuadPressure,
+     .build = build_quad_pressure},
     {.type = "EdgePressureForceField", .family = F::force_field,
      .summary = "a pressure vector times each selected edge's rest length", .attributes = kEdgePressure,
      .build = build_edge_pressure},

@@ -87,7 +87,9 @@ RoiElements roi_elements(SceneBuilder& b, const Attributes& a, const NodeBuild& 
     e.tetrahedra =
         roi_list<Tetrahedron>(b, a, "tetrahedra", "computeTetrahedra", fallback, &M::tetrahedra, &T::tetrahedra);
     if (names.quads_and_hexahedra) {
-        e.quads = roi_list<Quad>(b, a, "quads", "computeQuads", fallback, &M::quads, &T::quads);
+        // BoxROI's alias `quad` (BoxROI::BoxROI's addAlias)
+        const std::string_view quads = names.quad_alias && !a.has("quads") && a.has("quad") ? "quad" : "quads";
+        e.quads = roi_list<Quad>(b, a, quads, "computeQuads", fallback, &M::quads, &T::quads);
         e.hexahedra = roi_list<Hexahedron>(b, a, "hexahedra", "computeHexahedra", fallback, &M::hexahedra, &T::hexahedra);
     }
     return e;
@@ -111,6 +113,25 @@ void record_roi_selection(SceneBuilder& b, const SceneComponent& c, RoiSelection
     b.record_engine_indices(c, "quadIndices", std::move(s.quads));
     b.record_engine_indices(c, "tetrahedronIndices", std::move(s.tetrahedra));
     b.record_engine_indices(c, "hexahedronIndices", std::move(s.hexahedra));
+}
+
+void record_roi_elements_in(SceneBuilder& b, const SceneComponent& c, const RoiSelection& s, const RoiElements& e) {
+    const auto pick = [](const auto& all, const std::vector<PointId>& ids) {
+        std::remove_cvref_t<decltype(all)> out;
+        for (PointId i : ids) out.push_back(all[static_cast<std::size_t>(i)]);
+        return out;
+    };
+    io::MeshData edges, triangles, quads, tetrahedra, hexahedra;
+    edges.edges = pick(e.edges, s.edges);
+    triangles.triangles = pick(e.triangles, s.triangles);
+    quads.quads = pick(e.quads, s.quads);
+    tetrahedra.tetrahedra = pick(e.tetrahedra, s.tetrahedra);
+    hexahedra.hexahedra = pick(e.hexahedra, s.hexahedra);
+    b.record_engine_mesh(c, "edgesInROI", std::move(edges));
+    b.record_engine_mesh(c, "trianglesInROI", std::move(triangles));
+    b.record_engine_mesh(c, "quadsInROI", std::move(quads));
+    b.record_engine_mesh(c, "tetrahedraInROI", std::move(tetrahedra));
+    b.record_engine_mesh(c, "hexahedraInROI", std::move(hexahedra));
 }
 
 std::string describe_roi_selection(const RoiSelection& s, std::size_t num_points, const RoiElements& e,

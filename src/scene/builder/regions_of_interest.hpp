@@ -23,6 +23,7 @@ enum class RoiContext {
 /// tetrahedra.
 struct RoiListNames {
     bool quads_and_hexahedra = true;  ///< false for PlaneROI (edges, triangles, tetrahedra only)
+    bool quad_alias = false;          ///< BoxROI: `quad` is an alias of `quads` (BoxROI::BoxROI)
 };
 
 /// The ROI's points: `position` or its alias `rest_position` (inline or a link), else the
@@ -41,6 +42,10 @@ struct RoiListNames {
 /// `tetrahedronIndices`, `hexahedronIndices` of engine `c` (and `aliases` of `indices`).
 void record_roi_selection(SceneBuilder& b, const io::SceneComponent& c, RoiSelection selection,
                           std::initializer_list<const char*> aliases_of_indices = {});
+/// Records the elements of the selection as BaseROI's outputs edgesInROI, trianglesInROI,
+/// quadsInROI, tetrahedraInROI, hexahedraInROI (the selected elements of `elements`, in order).
+void record_roi_elements_in(SceneBuilder& b, const io::SceneComponent& c, const RoiSelection& selection,
+                            const RoiElements& elements);
 /// `penalty info`: "selects 3 of 40 points, 2 of 60 triangles (inside 1 box)".
 [[nodiscard]] std::string describe_roi_selection(const RoiSelection& s, std::size_t num_points,
                                                  const RoiElements& elements, const std::string& shapes);

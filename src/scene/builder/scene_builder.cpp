@@ -152,7 +152,11 @@ std::vector<Vec3> SceneBuilder::linked_positions(const Attributes& a, std::strin
         a.fail(attr, "links to " + src.describe() + ", which is not a built Vec3d state");
     }
     if (spec != nullptr && spec->family == ComponentFamily::topology) {
-        if (const BuiltTopology* built = built_topology(src); built != nullptr && !built->grid) return built->positions;
+        if (const BuiltTopology* built = built_topology(src); built != nullptr) {
+            // a grid's `position`: GridTopology::computePointList at its init (getPoint(i))
+            if (built->grid) return built->grid->points();
+            return built->positions;
+        }
     }
     a.fail(attr, "cannot read positions from " + src.describe());
 }
@@ -189,16 +193,35 @@ const io::MeshData* SceneBuilder::engine_mesh(const SceneComponent& engine, cons
     return it == engine_meshes_.end() ? nullptr : &it->second;
 }
 
+/// A list of elements read into a list of indices, as SOFA's BaseData::genericCopyValueFrom copies
+/// a parent of another type: per element, its first min(1, points per element) values, so each
+/// element gives its first point (`quadList="@roi.quadsInROI"` reads the quads' first points).
+std::vector<PointId> SceneBuilder::first_points_of_elements(const io::LinkTarget& t) {
+    const io::MeshData* mesh = engine_mesh(*t.component, t.data);
+    if (mesh == nullptr) return {};
+    std::vector<PointId> out;
+    const auto firsts = [&](const auto& list) {
+        for (const auto& e : list) out.push_back(e[0]);
+    };
+    firsts(mesh->edges);
+    firsts(mesh->triangles);
+    firsts(mesh->quads);
+    firsts(mesh->tetrahedra);
+    firsts(mesh->hexahedra);
+    return out;
+}
+
 std::vector<PointId> SceneBuilder::indices(const Attributes& a, std::string_view attr) {
     if (!a.is_link(attr)) return a.indices(attr);
     const io::LinkTarget t = a.link(attr);
     if (t.component == nullptr || t.data.empty()) a.fail(attr, "link must name an engine's data (@engine.indices)");
     build_data_engine(*t.component);
     const auto it = engine_indices_.find({t.component, t.data});
-    if (it == engine_indices_.end())
-        a.fail(attr, "cannot read indices from data '" + t.data + "' of " + t.component->describe() +
-                         " (penalty reads the indices of a BoxROI built before this component)");
-    return it->second;
+    if (it != engine_indices_.end()) return it->second;
+    if (const io::MeshData* m = engine_mesh(*t.component, t.data); m != nullptr && m->positions.empty())
+        return first_points_of_elements(t);  // an element output (edgesInROI, quadsInROI, ...)
+    a.fail(attr, "cannot read indices from data '" + t.data + "' of " + t.component->describe() +
+                     " (penalty reads the indices of a BoxROI built before this component)");
 }
 
 namespace {

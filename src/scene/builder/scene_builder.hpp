@@ -155,6 +155,9 @@ public:
     /// The mesh data recorded by `record_engine_mesh`, or null; a data engine (ComponentFamily::
     /// data_engine) not built yet is built first.
     [[nodiscard]] const io::MeshData* engine_mesh(const io::SceneComponent& engine, const std::string& data);
+    /// The first point of each element of an engine's element output (SOFA's conversion of a link
+    /// between Data of different types), empty when `t` names none.
+    [[nodiscard]] std::vector<PointId> first_points_of_elements(const io::LinkTarget& t);
     /// Builds a data engine once: when a link first reads one of its outputs (SOFA evaluates
     /// engines on demand), else in its node's file order. Anything else: nothing.
     void build_data_engine(const io::SceneComponent& c);
