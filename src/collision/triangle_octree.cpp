@@ -243,7 +243,8 @@ RayHit TriangleOctree::trace(const Vec3& origin, const Vec3& direction) const {
     const unsigned bits[3] = {4, 2, 1};
     for (int k = 0; k < 3; ++k) {
         if (d[k] == 0.0) {
-            ray.b |= bits[k];  // SOFA's EPSILON is 0: the direction keeps its zero
+            d[k] = 0.0;  // SOFA sets it to its EPSILON, +0 (a −0 would turn the cell parameters' infinities)
+            ray.b |= bits[k];
         } else if (d[k] < 0.0) {
             ray.origin[k] = -ray.origin[k];
             d[k] = -d[k];

@@ -70,6 +70,20 @@ TEST(TriangleOctree, WalkFindsTheNearestHitOfTheFirstCellWithOne) {
     EXPECT_GT(double(same) / rays_hitting, 0.99) << same << " of " << rays_hitting;
 }
 
+TEST(TriangleOctree, RaysAlongAnAxisWithNegativeZeroComponents) {
+    // SOFA's trace sets a zero direction component to +0 (its EPSILON): a −0 (the negation of a
+    // vertex normal (0, 0, −1)) must walk the same cells
+    const std::vector<Vec3> x = {Vec3(-1, -1, 1), Vec3(1, -1, 1), Vec3(0, 1, 1)};
+    const std::vector<Triangle> tris = {Triangle{0, 1, 2}};
+    TriangleOctree tree;
+    tree.build(x, tris);
+    for (const Vec3& d : {Vec3(-0.0, -0.0, 1.0), Vec3(0.0, -0.0, 1.0), Vec3(-0.0, 0.0, 1.0), Vec3(0.0, 0.0, 1.0)}) {
+        const RayHit hit = tree.trace(Vec3(-0.1, 0.05, 0.6), d);
+        EXPECT_EQ(hit.triangle, 0) << d.transpose();
+        EXPECT_DOUBLE_EQ(hit.t, 0.4);
+    }
+}
+
 /// The narrow phase's rules with the brute-force nearest hit in place of the octree walk.
 std::set<std::tuple<Index, Index, std::int64_t>> reference_outputs(const OctreeSurface& a, const OctreeSurface& b) {
     std::set<std::tuple<Index, Index, std::int64_t>> out;

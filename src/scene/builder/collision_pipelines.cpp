@@ -158,7 +158,15 @@ private:
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6
         const std::int64_t depth = b_.guarded(pipeline_component, [&] { return Attributes(pipeline_component).integer("depth"); });
         options.bvh.depth = depth < 0 || depth > 64 ? 6 : int(depth);
-        if (narrow.type == "RayTraceNarrowPhase") options.bvh.narrow_phase_override = ray_trace_of(models);
+        if (narrow.type == "RayTraceNarrowPhase") {
+            options.bvh.narrow_phase_override = ray_trace_of(models);
+        } else {
+            for (const SceneCollisionModel* m : models)
+                if (m->component->type == "TriangleOctreeCollisionModel")
+                    b_.warn(m->component->file + ":" + std::to_string(m->component->line) + ": " + m->component->describe() +
+                            ": under " + narrow.type + " penalty detects all its triangles, as a TriangleCollisionModel; "
+                            "SOFA's single-cube tree for it reaches triangle 0 only (use RayTraceNarrowPhase)");
+        }
         const double dt = b_.options().dt ? *b_.options().dt : sim.root().dt();
         sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(response, dt), &host, options);
         // the rank in scene order stands for the model's address in SOFA's contact map
