@@ -30,6 +30,12 @@ using scene::Scene;
 
 Vec3Object* vec3_of(const PyState& s) { return dynamic_cast<Vec3Object*>(s.record->state); }
 Rigid3Object* rigid_of(const PyState& s) { return dynamic_cast<Rigid3Object*>(s.record->state); }
+Vec1Object* vec1_of(const PyState& s) { return dynamic_cast<Vec1Object*>(s.record->state); }
+
+/// A Vec1d state's values as an (n, 1) view.
+py::array_t<double> vec1_view(std::vector<double>& v, py::handle owner) {
+    return view(v.data(), py::ssize_t(v.size()), 1, sizeof(double), owner);
+}
 
 template <class T>
 py::array_t<double> vec3_view(std::vector<T>& v, py::handle owner) {
@@ -116,7 +122,16 @@ py::object state_field(const py::object& self, Field field) {
             case Field::external_forces: return rigid_deriv_view(r->external_force, self);
         }
     }
-    throw py::type_error("state '" + output::state_label(*s.record) + "' is neither Vec3d nor Rigid3d");
+    if (Vec1Object* d = vec1_of(s)) {
+        switch (field) {
+            case Field::positions: return vec1_view(d->position, self);
+            case Field::velocities: return vec1_view(d->velocity, self);
+            case Field::forces: return vec1_view(d->force, self);
+            case Field::rest_positions: return vec1_view(d->rest_position, self);
+            case Field::external_forces: return vec1_view(d->external_force, self);
+        }
+    }
+    throw py::type_error("state '" + output::state_label(*s.record) + "' is neither Vec3d, Rigid3d nor Vec1d");
 }
 
 void set_state_field(const py::object& self, Field field, const py::handle& value, const char* what) {
@@ -364,16 +379,16 @@ void bind_scene(py::module_& m) {
         .def_property_readonly("name", [](const PyState& s) { return s.record->name; })
         .def_property_readonly("node_path", [](const PyState& s) { return s.record->node_path; })
         .def_property_readonly("path", [](const PyState& s) { return output::state_label(*s.record); })
-        .def_property_readonly("template", [](const PyState& s) { return rigid_of(s) ? "Rigid3d" : "Vec3d"; })
+        .def_property_readonly("template", [](const PyState& s) { return rigid_of(s) ? "Rigid3d" : vec1_of(s) ? "Vec1d" : "Vec3d"; })
         .def_property_readonly("size", [](const PyState& s) { return s.record->state->num_dofs(); })
         .def_property_readonly("mapped", [](const PyState& s) { return s.record->mapped; })
         .def_property_readonly("in_solver_subtree", [](const PyState& s) { return s.record->in_solver_subtree; })
         .def_property("positions", [](py::object self) { return state_field(self, Field::positions); },
                       [](py::object self, py::handle v) { set_state_field(self, Field::positions, v, "positions"); },
-                      "(n, 3) view for Vec3d; (n, 7) x y z qx qy qz qw copy for Rigid3d (assign to write)")
+                      "(n, 3) view for Vec3d; (n, 7) x y z qx qy qz qw copy for Rigid3d; (n, 1) view for Vec1d (assign to write)")
         .def_property("velocities", [](py::object self) { return state_field(self, Field::velocities); },
                       [](py::object self, py::handle v) { set_state_field(self, Field::velocities, v, "velocities"); },
-                      "(n, 3) view, (n, 6) linear then angular for Rigid3d")
+                      "(n, 3) view, (n, 6) linear then angular for Rigid3d, (n, 1) for Vec1d")
         .def_property("forces", [](py::object self) { return state_field(self, Field::forces); },
                       [](py::object self, py::handle v) { set_state_field(self, Field::forces, v, "forces"); },
                       "forces of the last step's last evaluation (view)")

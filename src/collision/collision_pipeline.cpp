@@ -170,6 +170,7 @@ const SceneDetection& CollisionPipeline::detect() {
         broad_->find_near(params_, models_, trees_, [this](std::size_t i1, std::size_t i2) { return roots_within_margin(i1, i2); },
                           result_);
     }
+    if (opt_.narrow_phase_override) return opt_.narrow_phase_override->detect(result_);
     last_concurrent_ = pairs_run_concurrently();
     pair_work_.resize(pairs);
     if (last_concurrent_) detect_pairs_concurrently();

@@ -24,7 +24,7 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-/// The scalars of the X line of one DOF: x y z, or x y z qx qy qz qw.
+/// The scalars of the X line of one DOF: x y z, x y z qx qy qz qw, or the one value of a Vec1d.
 template <class Visit>
 void for_each_position_value(const BaseState& state, Visit&& visit) {
     if (const auto* vec3 = dynamic_cast<const Vec3Object*>(&state)) {
@@ -40,8 +40,10 @@ void for_each_position_value(const BaseState& state, Visit&& visit) {
             visit(i, q.z());
             visit(i, q.w());
         }
+    } else if (const auto* vec1 = dynamic_cast<const Vec1Object*>(&state)) {
+        for (std::size_t i = 0; i < vec1->position.size(); ++i) visit(i, vec1->position[i]);
     } else {
-        throw_invalid_argument("state '", state.state_name(), "' is neither Vec3d nor Rigid3d");
+        throw_invalid_argument("state '", state.state_name(), "' is neither Vec3d, Rigid3d nor Vec1d");
     }
 }
 

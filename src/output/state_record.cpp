@@ -44,7 +44,13 @@ std::vector<StateRecord> collect_state_records(const Node& root) {
 int values_per_dof(const BaseState& state) {
     if (dynamic_cast<const Vec3Object*>(&state) != nullptr) return 3;
     if (dynamic_cast<const Rigid3Object*>(&state) != nullptr) return 7;
-    throw_invalid_argument("values_per_dof: state '", state.state_name(), "' is neither Vec3d nor Rigid3d");
+    if (dynamic_cast<const Vec1Object*>(&state) != nullptr) return 1;
+    throw_invalid_argument("values_per_dof: state '", state.state_name(), "' is neither Vec3d, Rigid3d nor Vec1d");
+}
+
+bool has_points_in_space(const StateRecord& record) {
+    return dynamic_cast<const Vec3Object*>(record.state) != nullptr ||
+           dynamic_cast<const Rigid3Object*>(record.state) != nullptr;
 }
 
 std::string state_label(const StateRecord& record) {

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <typeinfo>
 
 namespace penalty::scene {
 
@@ -60,48 +61,36 @@ std::vector<double> numbers_of(std::string_view text, const std::string& what) {
     return out;
 }
 
-/// Swaps the vectors of two states of the same type and size (the new scene takes the old one's
-/// values and memory). False when the types differ.
-bool swap_state_vectors(BaseState& a, BaseState& b) {
-    if (auto* va = dynamic_cast<Vec3Object*>(&a)) {
-        auto* vb = dynamic_cast<Vec3Object*>(&b);
-        if (vb == nullptr) return false;
-        va->position.swap(vb->position);
-        va->velocity.swap(vb->velocity);
-        va->force.swap(vb->force);
-        va->rest_position.swap(vb->rest_position);
-        va->external_force.swap(vb->external_force);
-        return true;
-    }
-    auto* ra = dynamic_cast<Rigid3Object*>(&a);
-    auto* rb = dynamic_cast<Rigid3Object*>(&b);
-    if (ra == nullptr || rb == nullptr) return false;
-    ra->position.swap(rb->position);
-    ra->velocity.swap(rb->velocity);
-    ra->force.swap(rb->force);
-    ra->rest_position.swap(rb->rest_position);
-    ra->external_force.swap(rb->external_force);
+/// Swaps (or copies) the vectors of two states when both are MechanicalObject<Types>.
+template <class Types>
+bool move_state_vectors(BaseState& a, BaseState& b, bool copy) {
+    auto* ta = dynamic_cast<MechanicalObject<Types>*>(&a);
+    auto* tb = dynamic_cast<MechanicalObject<Types>*>(&b);
+    if (ta == nullptr || tb == nullptr) return false;
+    const auto move = [copy](auto& x, auto& y) {
+        if (copy) y = x;
+        else x.swap(y);
+    };
+    move(ta->position, tb->position);
+    move(ta->velocity, tb->velocity);
+    move(ta->force, tb->force);
+    move(ta->rest_position, tb->rest_position);
+    move(ta->external_force, tb->external_force);
     return true;
 }
 
-/// b's vectors take a's values (same sizes: the buffers stay).
-void copy_state_values(const BaseState& a, BaseState& b) {
-    if (const auto* va = dynamic_cast<const Vec3Object*>(&a)) {
-        auto& vb = dynamic_cast<Vec3Object&>(b);
-        vb.position = va->position;
-        vb.velocity = va->velocity;
-        vb.force = va->force;
-        vb.rest_position = va->rest_position;
-        vb.external_force = va->external_force;
-        return;
-    }
-    const auto& ra = dynamic_cast<const Rigid3Object&>(a);
-    auto& rb = dynamic_cast<Rigid3Object&>(b);
-    rb.position = ra.position;
-    rb.velocity = ra.velocity;
-    rb.force = ra.force;
-    rb.rest_position = ra.rest_position;
-    rb.external_force = ra.external_force;
+/// Swaps the vectors of two states of the same type and size (the new scene takes the old one's
+/// values and memory). False when the types differ.
+bool swap_state_vectors(BaseState& a, BaseState& b) {
+    return move_state_vectors<Vec3Types>(a, b, false) || move_state_vectors<Rigid3Types>(a, b, false) ||
+           move_state_vectors<Vec1Types>(a, b, false);
+}
+
+/// b's vectors take a's values (same types and sizes: the buffers stay).
+void copy_state_values(BaseState& a, BaseState& b) {
+    const bool copied = move_state_vectors<Vec3Types>(a, b, true) || move_state_vectors<Rigid3Types>(a, b, true) ||
+                        move_state_vectors<Vec1Types>(a, b, true);
+    PENALTY_DEMAND(copied);
 }
 
 }  // namespace
@@ -478,7 +467,7 @@ void Scene::carry_states(Scene& fresh, bool reset) const {
             return o.node_path == n.node_path && o.name == n.name;
         });
         if (old == states_.end()) continue;  // added after init: its own values
-        if ((dynamic_cast<const Vec3Object*>(old->state) == nullptr) != (dynamic_cast<const Vec3Object*>(n.state) == nullptr))
+        if (typeid(*old->state) != typeid(*n.state))
             throw io::SceneError(output::state_label(n) + ": a write changes the template of the state (penalty keeps it after init)");
         if (old->state->num_dofs() != n.state->num_dofs())
             throw io::SceneError(output::state_label(n) + ": the write changes its number of DOFs from " +

@@ -70,6 +70,9 @@ void check_finite_states(const Scene& scene, std::int64_t step, double time, boo
                 if (!g->position[i].center.allFinite() || !g->position[i].orientation.coeffs().allFinite() ||
                     !g->velocity[i].linear.allFinite() || !g->velocity[i].angular.allFinite())
                     bad = i;
+        } else if (const auto* s = dynamic_cast<const Vec1Object*>(r.state)) {
+            for (std::size_t i = 0; i < s->position.size() && !bad; ++i)
+                if (!std::isfinite(s->position[i]) || (i < s->velocity.size() && !std::isfinite(s->velocity[i]))) bad = i;
         }
         if (bad) {
             throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
@@ -412,7 +415,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     std::optional<output::VtkSeriesWriter> vtk;
     if (options.vtk_directory) {
         std::vector<const output::StateRecord*> all;
-        for (const auto& r : scene.states()) all.push_back(&r);
+        for (const auto& r : scene.states())
+            if (output::has_points_in_space(r)) all.push_back(&r);
         vtk.emplace(*options.vtk_directory, std::move(all));
     }
     std::optional<output::StatsCsvWriter> stats;
@@ -536,6 +540,8 @@ std::string step_debug_text(const Scene& scene, std::int64_t step, double t_star
         } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
             for (std::size_t i = 0; i < g->force.size(); ++i)
                 out << "force " << label << " " << i << " " << vec3(g->force[i].linear) << " " << vec3(g->force[i].angular) << "\n";
+        } else if (const auto* d = dynamic_cast<const Vec1Object*>(r.state)) {
+            for (std::size_t i = 0; i < d->force.size(); ++i) out << "force " << label << " " << i << " " << number(d->force[i]) << "\n";
         }
     }
     return out.str();

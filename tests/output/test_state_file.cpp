@@ -83,6 +83,28 @@ TEST(StateExporter, ExactTextVec3AndRigid3) {
               "T= 1.99\n  X= 5 9.5 0 0.5 -0.5 0.5 0.5\n");
 }
 
+TEST(StateExporter, Vec1StateOneValuePerDofAsSofaWriteState) {
+    // SOFA's WriteState writes a Vec1 MechanicalObject's values, one per DOF (examples-states'
+    // TextureInterpolation: 0_ElecObj_mstate.txt)
+    TempDir dir;
+    Vec1Object potential("ElecObj");
+    potential.position = {0.0, 9.0, 100.0, -0.25};
+    potential.init();
+    const StateRecord record{"ElecObj", "/MecaNode/ElecNode", &potential, nullptr, false, true, nullptr, {}};
+    EXPECT_FALSE(has_points_in_space(record));
+    StateExporter exporter(dir.path(), {&record});
+    EXPECT_THAT(exporter.values_per_dof(), ElementsAre(1));
+    exporter.write(0.0);
+    potential.position[3] = 1e-300;
+    exporter.write(2.0000000000000013);
+    EXPECT_EQ(read_text(exporter.files()[0]), "T= 0\n  X= 0 9 100 -0.25\nT= 2.0000000000000013\n  X= 0 9 100 1e-300\n");
+    const auto samples = read_state_file(exporter.files()[0]);
+    ASSERT_EQ(samples.size(), 2u);
+    EXPECT_EQ(samples[1].x, (std::vector<double>{0.0, 9.0, 100.0, 1e-300}));
+    potential.position[1] = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_THROW(exporter.write(3.0), NonFiniteValueError);
+}
+
 TEST(StateExporter, EmptyStateWritesEmptyXLine) {
     TempDir dir;
     Vec3Object empty("empty");

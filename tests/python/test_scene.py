@@ -44,6 +44,29 @@ def test_states_by_path_and_name(scene):
         scene.states["nope"]
 
 
+VEC1_DISTANCES = """<Node name="root" dt="0.01" gravity="0 0 0">
+  <Node name="Body"><EulerImplicitSolver/><CGLinearSolver iterations="20" tolerance="1e-12" threshold="1e-20"/>
+    <MechanicalObject name="dofs" position="3 4 0  0 0 2"/><UniformMass vertexMass="1"/>
+    <Node name="distances"><MechanicalObject template="Vec1" name="d"/>
+      <DistanceFromTargetMapping input="@../dofs" output="@d" targetPositions="0 0 0  0 0 0" restLengths="1"/>
+    </Node>
+  </Node>
+</Node>
+"""
+
+
+def test_a_vec1_state_is_an_n_by_1_view(tmp_path):
+    path = tmp_path / "distances.scn"
+    path.write_text(VEC1_DISTANCES)
+    scene = penalty.load_scene(path)
+    assert scene.states.keys() == ["/Body/dofs", "/Body/distances/d"]
+    d = scene.states["d"]
+    assert d.template == "Vec1d" and d.mapped and d.size == 2
+    assert d.positions.shape == (2, 1) and d.velocities.shape == (2, 1)
+    np.testing.assert_array_equal(d.positions[:, 0], [4.0, 2.0])  # |(3,4,0)| - 1, |(0,0,2)| - 0
+    assert np.shares_memory(d.positions, d.positions)
+
+
 def test_positions_are_views_not_copies(scene):
     cube = scene.states["/SoftCube/cube"]
     x = cube.positions

@@ -41,7 +41,7 @@ std::string tcf_body(const std::string& components) {
   )" + components + "\n</Node></Node>\n";
 }
 
-Vec3Object& tcf_state(scene::Scene& s) { return *dynamic_cast<Vec3Object*>(s.states().at(0).state); }
+Vec3Object& tcf_state(scene::Scene& s) { return dynamic_cast<Vec3Object&>(*s.states().at(0).state); }
 
 TEST(TopologyConstraintFollowers, LinearMovementKeepsItsPointsAndSofasPointIndexedX0) {
     // points 1, 2, 9, 13 move from x0 by m(t) = (t, 0, 0); 0 and 26 (the corners of tetrahedra 0

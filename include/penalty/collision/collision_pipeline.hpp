@@ -115,6 +115,16 @@ enum class PairConcurrency : std::uint8_t {
     never,      ///< one pair after the other (each pair's narrow phase still parallel)
 };
 
+/// A narrow phase that replaces BVHNarrowPhase for every pair (SOFA's RayTraceNarrowPhase,
+/// ray_trace_narrow_phase.hpp): CollisionPipeline::detect hands it the broad phase's pairs
+/// (refitted models, outputs empty, narrow_phase set) and returns its detections.
+class NarrowPhaseOverride {
+public:
+    virtual ~NarrowPhaseOverride() = default;
+    virtual const std::vector<ModelPairDetection>& detect(const std::vector<ModelPairDetection>& broad_pairs) = 0;
+    [[nodiscard]] virtual const std::vector<ModelPairDetection>& detections() const = 0;
+};
+
 /// Options of CollisionPipeline.
 struct CollisionPipelineOptions {
     /// SOFA's CollisionPipeline `depth` (default 6, negative → 6): the depth of SOFA's bounding
@@ -141,6 +151,8 @@ struct CollisionPipelineOptions {
     /// bvh, more than one thread: the model pairs in parallel (see CollisionPipeline::detect).
     PairConcurrency pair_concurrency = PairConcurrency::automatic;
     NarrowPhaseOptions narrow;
+    /// When set, the narrow phase of every pair (NarrowPhaseOverride).
+    std::shared_ptr<NarrowPhaseOverride> narrow_phase_override;
 };
 
 /// SOFA's CollisionPipeline + BruteForceBroadPhase + BVHNarrowPhase over a list of models.
@@ -189,7 +201,9 @@ public:
     /// Whether the last detect() ran its model pairs in parallel.
     [[nodiscard]] bool last_detection_concurrent() const { return last_concurrent_; }
     /// The result of the last detect().
-    [[nodiscard]] const SceneDetection& detections() const { return result_; }
+    [[nodiscard]] const SceneDetection& detections() const {
+        return opt_.narrow_phase_override ? opt_.narrow_phase_override->detections() : result_;
+    }
     /// Pairs of the last detect() that passed the model-pair filter but have no active
     /// intersector (the method ignores or does not support them): not detected.
     [[nodiscard]] const std::vector<ModelPair>& unsupported_pairs() const;

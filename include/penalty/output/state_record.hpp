@@ -21,7 +21,7 @@ namespace penalty::output {
 struct StateRecord {
     std::string name;                        ///< MechanicalObject name ("dofs", "rigid", ...)
     std::string node_path;                   ///< SOFA path of its node: "/" root, "/A/B"
-    BaseState* state = nullptr;              ///< a Vec3Object or Rigid3Object (dynamic_cast to read)
+    BaseState* state = nullptr;              ///< a Vec3Object, Rigid3Object or Vec1Object (dynamic_cast to read)
     const MeshTopology* topology = nullptr;  ///< elements for VTK cells; nullptr: vertices only
     bool mapped = false;                     ///< its node has a mapping whose output is this state
     bool in_solver_subtree = false;          ///< its node is in the subtree of a node with an ODE solver
@@ -44,8 +44,14 @@ struct StateRecord {
 [[nodiscard]] std::vector<StateRecord> collect_state_records(const Node& root);
 
 /// Scalars per DOF in the state file: 3 for a Vec3 state (x y z), 7 for a Rigid3 state
-/// (x y z qx qy qz qw). Throws std::invalid_argument for any other state type.
+/// (x y z qx qy qz qw), 1 for a Vec1 state (SOFA's WriteState writes each Coord's values, for
+/// every template). Throws std::invalid_argument for any other state type.
 [[nodiscard]] int values_per_dof(const BaseState& state);
+
+/// Whether the state's DOFs are points in space (Vec3d, Rigid3d): what VTK, the viewer and the
+/// divergence bound show or watch. A Vec1d state (a distance, a temperature) is only in the
+/// regression state files.
+[[nodiscard]] bool has_points_in_space(const StateRecord& record);
 
 /// "<node_path>/<name>" ("/dofs" for a root state): how messages name a state.
 [[nodiscard]] std::string state_label(const StateRecord& record);

@@ -41,6 +41,11 @@ constexpr AttributeSpec kTriangleModel[] = {
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
     {"computeNormals", K::boolean, "1", "", ValueCheck::none, "0: normals stay those of the first step"},
 };
+constexpr AttributeSpec kTriangleOctreeModel[] = {
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
+    {"computeNormals", K::boolean, "1", "", ValueCheck::none, "0: normals stay those of the first step"},
+    {"drawOctree", K::boolean, "0", "", ValueCheck::none, "visual only (ignored)"},
+};
 constexpr AttributeSpec kSphereModel[] = {
     {"radius", K::real, "1", "m", ValueCheck::positive, "of every sphere"},
     {"listRadius", K::numbers, "", "m", ValueCheck::none, "one radius per sphere, or a SphereLoader link"},
@@ -354,6 +359,8 @@ constexpr ComponentSpec kComponents[] = {
     {.type = "BruteForceBroadPhase", .family = F::broad_phase, .summary = "broad phase over all model pairs",
      .build = note_only},
     {.type = "BVHNarrowPhase", .family = F::narrow_phase, .summary = "bounding-volume narrow phase", .build = note_only},
+    {.type = "RayTraceNarrowPhase", .family = F::narrow_phase,
+     .summary = "ray-cast narrow phase between TriangleOctreeCollisionModel surfaces", .build = note_only},
     {.type = "CollisionResponse", .family = F::contact_manager,
      .summary = "contact manager (response=PenalityContactForceField)", .attributes = kResponse, .build = note_only},
     {.type = "MinProximityIntersection", .family = F::intersection, .summary = "proximity intersection (MinProximity)",
@@ -370,6 +377,9 @@ constexpr ComponentSpec kComponents[] = {
      .attributes = kTopologyLink, .shared_attributes = kModelCommon, .build = build_line_model},
     {.type = "TriangleCollisionModel", .family = F::collision_model, .summary = "triangle collision model",
      .attributes = kTriangleModel, .shared_attributes = kModelCommon, .build = build_triangle_model},
+    {.type = "TriangleOctreeCollisionModel", .family = F::collision_model,
+     .summary = "triangle collision model with an octree (RayTraceNarrowPhase)", .attributes = kTriangleOctreeModel,
+     .shared_attributes = kModelCommon, .build = build_triangle_model},
     {.type = "SphereCollisionModel", .family = F::collision_model, .summary = "sphere collision model (Vec3d or Rigid3d)",
      .attributes = kSphereModel, .shared_attributes = kModelCommon, .build = build_sphere_model},
     {.type = "CylinderCollisionModel", .family = F::collision_model, .summary = "cylinder collision model (Rigid3d)",

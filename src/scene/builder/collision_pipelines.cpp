@@ -2,6 +2,7 @@
 // models below its node and the first intersection method, response, broad and narrow phase
 // below it (SOFA's context search); a CompositeCollisionPipeline runs its SubCollisionPipelines,
 // each with the models and parts it links. One ContactPipeline per SOFA pipeline.
+#include "penalty/collision/ray_trace_narrow_phase.hpp"
 #include "penalty/response/collision_response.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -81,7 +82,7 @@ private:
             if (is_below(m.component->node, p.node)) models.push_back(&m);
         b_.mark_used(broad);
         b_.mark_used(narrow);
-        add(p, p.name.empty() ? p.type : p.name, *inter, *resp, models, b_.node_of(*p.node));
+        add(p, p.name.empty() ? p.type : p.name, *inter, *resp, *narrow, models, b_.node_of(*p.node));
     }
 
     void build_composite(const SceneComponent& p) {
@@ -101,7 +102,8 @@ private:
             const SceneComponent* inter = linked("intersectionMethod", F::intersection);
             const SceneComponent* resp = linked("contactManager", F::contact_manager);
             b_.mark_used(linked("broadPhaseDetection", F::broad_phase));
-            b_.mark_used(linked("narrowPhaseDetection", F::narrow_phase));
+            const SceneComponent* narrow = linked("narrowPhaseDetection", F::narrow_phase);
+            b_.mark_used(narrow);
             std::vector<const SceneCollisionModel*> models;
             for (const io::LinkTarget& m : sa.links("collisionModels")) {
                 const auto& all = b_.collision_models();
@@ -109,7 +111,7 @@ private:
                 if (it == all.end()) sa.fail("collisionModels", "links to something that is not a collision model");
                 models.push_back(&*it);
             }
-            add(sub, sub.name.empty() ? sub.type : sub.name, *inter, *resp, models, b_.node_of(*sub.node));
+            add(sub, sub.name.empty() ? sub.type : sub.name, *inter, *resp, *narrow, models, b_.node_of(*sub.node));
             subs += (subs.empty() ? "" : ", ") + (sub.name.empty() ? sub.type : sub.name);
         }
         b_.role(p, [subs] { return "composite: runs the sub-pipelines " + subs + " each step"; });
@@ -126,8 +128,18 @@ private:
         });
     }
 
+    /// SOFA's RayTraceNarrowPhase: the TriangleOctreeCollisionModels among `models` are its surfaces.
+    static std::shared_ptr<RayTraceNarrowPhase> ray_trace_of(const std::vector<const SceneCollisionModel*>& models) {
+        auto narrow = std::make_shared<RayTraceNarrowPhase>();
+        for (const SceneCollisionModel* m : models)
+            if (m->component->type == "TriangleOctreeCollisionModel")
+                narrow->add_surface(dynamic_cast<TriangleModel&>(*m->model));
+        return narrow;
+    }
+
     void add(const SceneComponent& pipeline_component, const std::string& name, const SceneComponent& intersection,
-             const SceneComponent& response, const std::vector<const SceneCollisionModel*>& models, Node& host) {
+             const SceneComponent& response, const SceneComponent& narrow,
+             const std::vector<const SceneCollisionModel*>& models, Node& host) {
         Simulation& sim = b_.simulation();
         ScenePipeline sp;
         sp.name = name;
@@ -146,6 +158,15 @@ private:
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6
         const std::int64_t depth = b_.guarded(pipeline_component, [&] { return Attributes(pipeline_component).integer("depth"); });
         options.bvh.depth = depth < 0 || depth > 64 ? 6 : int(depth);
+        if (narrow.type == "RayTraceNarrowPhase") {
+            options.bvh.narrow_phase_override = ray_trace_of(models);
+        } else {
+            for (const SceneCollisionModel* m : models)
+                if (m->component->type == "TriangleOctreeCollisionModel")
+                    b_.warn(m->component->file + ":" + std::to_string(m->component->line) + ": " + m->component->describe() +
+                            ": under " + narrow.type + " penalty detects all its triangles, as a TriangleCollisionModel; "
+                            "SOFA's single-cube tree for it reaches triangle 0 only (use RayTraceNarrowPhase)");
+        }
         const double dt = b_.options().dt ? *b_.options().dt : sim.root().dt();
         sp.pipeline = std::make_unique<ContactPipeline>(sim, params, response_of(response, dt), &host, options);
         // the rank in scene order stands for the model's address in SOFA's contact map
@@ -209,6 +230,9 @@ private:
                     (params.empty() ? "" : ", parameters " + params);
             } else if (family == F::broad_phase) {
                 d = "model pairs kept by SOFA's rules (active, not both non-simulated, self-collision, groups)";
+            } else if (c->type == "RayTraceNarrowPhase") {
+                d = "rays from each TriangleOctreeCollisionModel vertex along minus its normal, against the other "
+                    "surface's octree (SOFA's RayTraceNarrowPhase); other models get no contact";
             } else if (family == F::narrow_phase) {
                 d = b_.options().exhaustive_detection ? "element pairs by SOFA's exhaustive loop (--exhaustive)"
                                                       : "element pairs from one BVH per model (the same outputs as SOFA's loop)";

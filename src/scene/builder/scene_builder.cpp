@@ -334,8 +334,6 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
 }
 
 void SceneBuilder::record_state(const SceneNode& sn, const NodeBuild& info) {
-    // the outputs write Vec3d and Rigid3d states; a Vec1d one (a distance mapping's) is not recorded
-    if (dynamic_cast<const Vec1Object*>(info.node->state()) != nullptr) return;
     output::StateRecord r;
     r.name = std::string(info.node->state()->state_name());
     r.node_path = sn.path();

@@ -360,8 +360,7 @@ void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild
             s.init();
         });
         b.role(c, [st = info.node->state(), mapped = info.mapped] {
-            return "Vec1d state, " + counted(st->num_dofs(), "DOF", "DOFs") + (mapped ? "; mapped" : "") +
-                   " (not exported)";
+            return "Vec1d state, " + counted(st->num_dofs(), "DOF", "DOFs") + (mapped ? "; mapped" : "");
         });
         b.note_unread_attributes(c);
         return;
