@@ -192,6 +192,17 @@ class Scene(TopologyMethods):
     def no_tunnelling(self, mode: str):
         self._scene.no_tunnelling = mode
 
+    @property
+    def reduction(self) -> str:
+        """The CG's dot products: "sofa" (SOFA's single chain, the default) or "blocked" (beyond
+        SOFA: fixed blocks of 4 096 DOFs on several threads, the same bits at any thread count;
+        docs/performance.md, "Blocked reductions"). Set: from the next step on."""
+        return self._scene.reduction
+
+    @reduction.setter
+    def reduction(self, mode: str):
+        self._scene.reduction = mode
+
     def tunnelling(self):
         """The guard's report of the last step: crossings (list of dicts: kind, model1, model2,
         dofs1, dofs2, element1, element2, toi, depth, point, text), prevented, solves,
@@ -322,7 +333,7 @@ def _load_options(data_dirs, dt, threads, exhaustive, overrides=None, function="
 
 
 def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False,
-               overrides=None, argv=(), no_tunnelling=None, fix_sofa_quirks=()) -> Scene:
+               overrides=None, argv=(), no_tunnelling=None, fix_sofa_quirks=(), reduction=None) -> Scene:
     """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
     is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's
     folder; dt overrides the root node's time step. overrides sets attributes of the parsed scene
@@ -332,7 +343,8 @@ def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: boo
     (from its folder, sys.argv = [its name, *argv]; docs/python.md). no_tunnelling ("off", "warn",
     "substep", "stiffen") sets the tunnelling guard over the pipelines' noTunnelling attributes
     (docs/no-tunnelling.md). fix_sofa_quirks names SOFA quirks to fix (`--fix-sofa-quirk`,
-    docs/sofa-compatibility.md): ["number_trailing_text"], ["uniform_mass_lazy_write"], ["all"]."""
+    docs/sofa-compatibility.md): ["number_trailing_text"], ["uniform_mass_lazy_write"], ["all"].
+    reduction ("sofa", "blocked") sets Scene.reduction (`--reduction`, docs/performance.md)."""
     path = Path(_check.path("load_scene", "path", path, optional=False))
     options = _load_options(data_dirs, dt, threads, exhaustive, overrides, fix_sofa_quirks=fix_sofa_quirks)
     if path.suffix == ".py":
@@ -343,6 +355,8 @@ def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: boo
         scene = Scene(_core._load_scene(os.fspath(path), *options))
     if no_tunnelling is not None:
         scene.no_tunnelling = no_tunnelling
+    if reduction is not None:
+        scene.reduction = reduction
     return scene
 
 

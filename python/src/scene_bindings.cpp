@@ -451,6 +451,14 @@ void bind_scene(py::module_& m) {
         .def_property("no_tunnelling", [](const PyScene& s) { return tunnelling_mode(*s.scene); },
                       [](PyScene& s, const std::string& mode) { set_tunnelling_mode(*s.scene, mode); },
                       "tunnelling guard: off, warn, substep or stiffen (docs/no-tunnelling.md)")
+        .def_property("reduction",
+                      [](const PyScene& s) { return std::string(s.scene->build_options().blocked_reductions ? "blocked" : "sofa"); },
+                      [](PyScene& s, const std::string& mode) {
+                          if (mode != "sofa" && mode != "blocked")
+                              throw py::value_error("reduction: '" + mode + "' is not one of sofa, blocked");
+                          s.scene->set_blocked_reductions(mode == "blocked");
+                      },
+                      "the CG's dot products: sofa (SOFA's chain) or blocked (docs/performance.md, Blocked reductions)")
         .def("tunnelling", [](const PyScene& s) { return tunnelling_report(*s.scene); },
              "The guard's report of the last step (dict), None without a guard")
         .def("contact_advice", [](const PyScene& s, std::optional<double> v) { return contact_advice_list(*s.scene, v); },

@@ -80,6 +80,11 @@ TunnellingOptions Scene::tunnelling_options() const { return guard_ ? guard_->op
 
 const TunnellingReport* Scene::tunnelling_report() const { return guard_ ? &guard_->last_report() : nullptr; }
 
+void Scene::set_blocked_reductions(bool on) {
+    options_.blocked_reductions = on;
+    for (EulerImplicitSolver* s : implicit_solvers_) s->blocked_reductions = on;
+}
+
 std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
     std::vector<std::pair<std::string, const EulerImplicitSolver*>> out;
     for (std::size_t i = 0; i < implicit_solvers_.size(); ++i) out.emplace_back(implicit_solver_paths_[i], implicit_solvers_[i]);

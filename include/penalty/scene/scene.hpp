@@ -134,6 +134,9 @@ public:
     [[nodiscard]] bool uses_newton() const;
     /// True if the scene has an implicit solver (CG statistics are meaningful).
     [[nodiscard]] bool uses_cg() const { return !implicit_solvers_.empty(); }
+    /// `--reduction blocked` after the build (BuildOptions::blocked_reductions): every implicit
+    /// solver's CG from the next step on, and the scene rebuilt from its text keeps it.
+    void set_blocked_reductions(bool on);
     /// The implicit solvers with the path of their node, in build order (depth first).
     [[nodiscard]] std::vector<std::pair<std::string, const EulerImplicitSolver*>> implicit_solvers() const;
 
