@@ -13,7 +13,7 @@
 namespace penalty {
 namespace {
 
-struct Surface {
+struct StuffingSurface {
     std::vector<Vec3> points;
     std::vector<Triangle> triangles;
     /// Enclosed volume: Σ p0·(p1 × p2)/6 over the outward triangles.
@@ -26,8 +26,8 @@ struct Surface {
 };
 
 /// The box [lo, hi] as 12 outward triangles.
-Surface closed_box(const Vec3& lo, const Vec3& hi) {
-    Surface s;
+StuffingSurface closed_box(const Vec3& lo, const Vec3& hi) {
+    StuffingSurface s;
     for (int k = 0; k < 8; ++k) s.points.emplace_back((k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]);
     const std::array<std::array<int, 4>, 6> faces{{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
     for (const auto& f : faces) {
@@ -38,9 +38,9 @@ Surface closed_box(const Vec3& lo, const Vec3& hi) {
 }
 
 /// An icosahedron subdivided `levels` times, its points on the sphere of radius r at `centre`.
-Surface icosphere(double r, int levels, const Vec3& centre) {
+StuffingSurface icosphere(double r, int levels, const Vec3& centre) {
     const double g = (1 + std::sqrt(5.0)) / 2;
-    Surface s;
+    StuffingSurface s;
     for (const Vec3& p : {Vec3(-1, g, 0), Vec3(1, g, 0), Vec3(-1, -g, 0), Vec3(1, -g, 0), Vec3(0, -1, g), Vec3(0, 1, g),
                           Vec3(0, -1, -g), Vec3(0, 1, -g), Vec3(g, 0, -1), Vec3(g, 0, 1), Vec3(-g, 0, -1), Vec3(-g, 0, 1)})
         s.points.push_back(p.normalized() * r);
@@ -94,7 +94,7 @@ double checked_volume(const StuffedVolume& v) {
 // SOFA's ray votes are not robust there, and neither are penalty's, which are SOFA's.
 TEST(MeshTetraStuffing, CutAndSnappedBoxFillsTheBoxFromInside) {
     const Vec3 lo(0.013, 0.021, 0.017), hi(1.007, 0.811, 0.613);
-    const Surface box = closed_box(lo, hi);
+    const StuffingSurface box = closed_box(lo, hi);
     MeshTetraStuffingParameters p;
     p.size = 0.1;
     p.snap_points = true;
@@ -116,7 +116,7 @@ TEST(MeshTetraStuffing, CutAndSnappedBoxFillsTheBoxFromInside) {
 TEST(MeshTetraStuffing, UncutLatticeCoversTheSurface) {
     // without cutting, every lattice tetrahedron with an inside vertex is kept whole: more volume,
     // points at most a lattice edge (one cell) outside
-    const Surface box = closed_box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5));
+    const StuffingSurface box = closed_box(Vec3(-0.5, -0.5, -0.5), Vec3(0.5, 0.5, 0.5));
     MeshTetraStuffingParameters p;
     p.box = std::array<Vec3, 2>{Vec3(-0.513, -0.527, -0.509), Vec3(0.531, 0.522, 0.517)};
     p.size = -10;  // ten cells along the longest side of vbbox (1.049 m)
@@ -130,7 +130,7 @@ TEST(MeshTetraStuffing, UncutLatticeCoversTheSurface) {
 
 TEST(MeshTetraStuffing, SphereVolumeWithinTwoPercent) {
     const Vec3 centre(0.0123, -0.0234, 0.0311);
-    const Surface sphere = icosphere(1.0, 2, centre);  // 320 triangles
+    const StuffingSurface sphere = icosphere(1.0, 2, centre);  // 320 triangles
     MeshTetraStuffingParameters p;
     p.size = 0.2;
     p.alpha_long = 0.3;
@@ -149,7 +149,7 @@ TEST(MeshTetraStuffing, SphereVolumeWithinTwoPercent) {
     EXPECT_GT(unsnapped.points.size(), v.points.size());
     p.snap_points = true;
     // quads give the same output as their two triangles
-    Surface box = closed_box(Vec3(0.013, 0.021, 0.017), Vec3(1.007, 0.811, 0.613));
+    StuffingSurface box = closed_box(Vec3(0.013, 0.021, 0.017), Vec3(1.007, 0.811, 0.613));
     std::vector<Quad> quads;
     for (std::size_t i = 0; i < box.triangles.size(); i += 2)
         quads.push_back({box.triangles[i][0], box.triangles[i][1], box.triangles[i][2], box.triangles[i + 1][2]});
@@ -161,7 +161,7 @@ TEST(MeshTetraStuffing, SphereVolumeWithinTwoPercent) {
 }
 
 TEST(MeshTetraStuffing, BadInputIsRefused) {
-    const Surface box = closed_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    const StuffingSurface box = closed_box(Vec3(0, 0, 0), Vec3(1, 1, 1));
     EXPECT_THROW((void)mesh_tetra_stuffing({}, box.triangles, {}, {}), std::invalid_argument);
     EXPECT_THROW((void)mesh_tetra_stuffing(box.points, {}, {}, {}), std::invalid_argument);
     std::vector<Triangle> bad = box.triangles;

@@ -7,6 +7,7 @@
 #include "penalty/mechanics/corotational_fem.hpp"
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/hyperelastic_fem.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/projective_constraints.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
@@ -213,6 +214,36 @@ TEST(TopologicalChanges, CorotationalAndTriangleFemFollowAsIfBuiltAfresh) {
     const Mat3 r = Eigen::AngleAxisd(-0.4, Vec3(0, 1, 1).normalized()).toRotationMatrix();
     for (std::size_t i = 0; i < x.num_dofs(); ++i) x.position[i] = r * x.rest_position[i];
     test::check_force_field_derivatives(*c1, x, {1e-6, 1e-12, std::nullopt});
+}
+
+TEST(TopologicalChanges, HyperelasticFemFollowsAsIfBuiltAfresh) {
+    // TetrahedronHyperelasticityFEMForceField (createTetrahedronRestInformation for each element
+    // left or added): after removals and an addition, the forces, stiffness and energy of the same
+    // force field built on the changed mesh
+    const test::TetraCube cube = test::tetra_cube(2, 1.0);
+    const std::string ff = R"(<TetrahedronHyperelasticityFEMForceField ParameterSet="3448 31034" materialName="NeoHookean"/>)";
+    auto changed = build(tchg_body(cube.points, cube.tetrahedra, ff));
+    changed->remove_elements("volume", ElementType::tetrahedron, {2, 7, 11, 25});
+    changed->add_elements("volume", ElementType::tetrahedron, std::vector<PointId>(cube.tetrahedra[7].begin(), cube.tetrahedra[7].end()), 1);
+    Vec3Object& x = tchg_state(*changed);
+    const MeshTopology& volume = changed->topology_container("volume").mesh();
+    ASSERT_EQ(volume.tetrahedra().size(), cube.tetrahedra.size() - 3);
+    auto fresh = build(tchg_body(x.rest_position, volume.tetrahedra(), ff));
+    Vec3Object& y = tchg_state(*fresh);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-0.03, 0.03);
+    for (std::size_t i = 0; i < x.num_dofs(); ++i) x.position[i] = y.position[i] = x.rest_position[i] + Vec3(u(rng), u(rng), u(rng));
+    auto* a = tchg_find<TetrahedronHyperelasticityFEMForceField>(changed->simulation().root());
+    auto* b = tchg_find<TetrahedronHyperelasticityFEMForceField>(fresh->simulation().root());
+    ASSERT_TRUE(a && b);
+    std::fill(x.force.begin(), x.force.end(), Vec3::Zero());
+    std::fill(y.force.begin(), y.force.end(), Vec3::Zero());
+    a->accumulate_force();
+    b->accumulate_force();
+    EXPECT_EQ(x.force, y.force);
+    EXPECT_EQ(a->potential_energy(), b->potential_energy());
+    EXPECT_EQ(tchg_stiffness(*a, x.num_dofs()), tchg_stiffness(*b, y.num_dofs()));
+    test::check_force_field_derivatives(*a, x, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-6});
 }
 
 /// A ball (a sphere of radius r, UniformMass, implicit solver) above a fixed sheet of triangles

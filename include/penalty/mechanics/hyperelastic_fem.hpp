@@ -28,6 +28,7 @@
 
 #include <array>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace penalty {
@@ -63,6 +64,8 @@ public:
     [[nodiscard]] double potential_energy() const override { return energy_; }
 
     [[nodiscard]] const std::vector<Tetrahedron>& tetrahedra() const { return tetrahedra_; }
+    /// The tetrahedra after a topological change (then init(): the rest data of every element).
+    void set_tetrahedra(std::vector<Tetrahedron> tetrahedra) { tetrahedra_ = std::move(tetrahedra); }
     [[nodiscard]] const HyperelasticLaw& law() const { return law_; }
 
 private:

@@ -9,6 +9,7 @@
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/fixed_plane_constraint.hpp"
 #include "penalty/mechanics/hexahedral_fem.hpp"
+#include "penalty/mechanics/hyperelastic_fem.hpp"
 #include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/mesh_matrix_mass.hpp"
@@ -95,6 +96,15 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     }
     // FastTetrahedralCorotationalForceField: tetrahedronInfo's creation callback (rest information
     // from the rest positions), edgeInfo and pointInfo resized with the topology: rebuilt
+    // TetrahedronHyperelasticityFEMForceField: tetrahedronInfo's creation callback
+    // (createTetrahedronRestInformation: shape vectors and rest volume from the rest positions),
+    // edgeInfo resized with the topology and refilled at each addForce: rebuilt
+    if (type == "TetrahedronHyperelasticityFEMForceField") {
+        auto* ff = dynamic_cast<TetrahedronHyperelasticityFEMForceField*>(f);
+        if (ff == nullptr) return false;
+        rebuild([ff, &mesh] { ff->set_tetrahedra(mesh.tetrahedra()), ff->init(); }, {ElementType::tetrahedron, ElementType::point});
+        return true;
+    }
     if (type == "FastTetrahedralCorotationalForceField") {
         auto* ff = dynamic_cast<FastTetrahedralCorotationalForceField*>(f);
         if (ff == nullptr) return false;
