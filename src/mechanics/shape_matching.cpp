@@ -196,6 +196,10 @@ Clusters clustering_engine(const std::vector<Vec3>& positions, const Neighbours*
 Mat3 sofa_polar_rotation(const Mat3& m) {
     Mat3 mk = m.transpose();
     double m_one = one_norm(mk), m_inf = inf_norm(mk), e_one = 0;
+    // SOFA iterates without a limit; the scaled Newton iteration converges quadratically (a few
+    // passes), so the cap only guards against a non-finite input that would never settle
+    constexpr int kMaxPasses = 100;
+    int passes = 0;
     do {
         Mat3 adj;  // rows: cross products of Mk's rows (Mk's adjugate, transposed)
         adj.row(0) = sofa_cross(mk.row(1), mk.row(2));
@@ -214,7 +218,7 @@ Mat3 sofa_polar_rotation(const Mat3& m) {
         e_one = one_norm(ek);
         m_one = one_norm(mk);
         m_inf = inf_norm(mk);
-    } while (e_one > m_one * 1e-8);
+    } while (e_one > m_one * 1e-8 && ++passes < kMaxPasses);
     return mk.transpose();
 }
 

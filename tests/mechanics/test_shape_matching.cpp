@@ -133,6 +133,11 @@ TEST(ShapeMatching, PolarFactorIsTheSvdRotation) {
         const Mat3 expected = svd.matrixU() * svd.matrixV().transpose();  // M = (UVᵀ)(VΣVᵀ)
         EXPECT_NEAR((sofa_polar_rotation(m) - expected).norm(), 0, 1e-7) << k;
     }
+    // a zero determinant stops SOFA's iteration at once: the (transposed back) input is returned
+    Mat3 flat = Mat3::Zero();
+    flat(0, 0) = 2;
+    flat(1, 1) = 3;
+    EXPECT_EQ(sofa_polar_rotation(flat), flat);
 }
 
 TEST(PositionBasedDynamics, OneProjectionGivesSofasPositionAndVelocity) {
