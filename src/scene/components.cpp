@@ -257,6 +257,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::tait_pressure_components(),
               builder::multi_mapping_components(),
               builder::drawing_components(),
+              builder::shape_matching_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

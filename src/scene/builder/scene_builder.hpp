@@ -147,6 +147,19 @@ public:
     void record_engine_indices(const io::SceneComponent& engine, const std::string& data, std::vector<PointId> indices) {
         engine_indices_[{&engine, data}] = std::move(indices);
     }
+    /// Records a list of index lists an engine computed (ClusteringEngine's `cluster`), read
+    /// through a link `@engine.data` (engine_index_lists).
+    void record_engine_index_lists(const io::SceneComponent& engine, const std::string& data,
+                                   std::vector<std::vector<PointId>> lists) {
+        engine_index_lists_[{&engine, data}] = std::move(lists);
+    }
+    /// The lists recorded by `record_engine_index_lists`, or null; the engine is built first.
+    [[nodiscard]] const std::vector<std::vector<PointId>>* engine_index_lists(const io::SceneComponent& engine,
+                                                                            const std::string& data) {
+        build_data_engine(engine);
+        const auto it = engine_index_lists_.find({&engine, data});
+        return it == engine_index_lists_.end() ? nullptr : &it->second;
+    }
     /// Records points and element lists an engine computed (SubsetTopology's `pointsInROI`,
     /// `trianglesInROI`, ...), read through links `@engine.data` to positions or element lists.
     void record_engine_mesh(const io::SceneComponent& engine, const std::string& data, io::MeshData mesh) {
@@ -264,6 +277,7 @@ private:
     std::unordered_map<const io::SceneComponent*, Vec3Object*> vec3_states_;
     std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<PointId>> engine_indices_;
     std::map<std::pair<const io::SceneComponent*, std::string>, io::MeshData> engine_meshes_;
+    std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<std::vector<PointId>>> engine_index_lists_;
     std::set<const io::SceneComponent*> built_data_engines_;
     std::map<const io::SceneComponent*, BuiltTopology> built_topologies_;
     std::map<const io::SceneComponent*, IntersectionParams> intersections_;
