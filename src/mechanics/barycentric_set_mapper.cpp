@@ -5,7 +5,7 @@
 // element (a point whose tetrahedron was removed) it may keep another, which this reproduces.
 #include "penalty/core/error.hpp"
 #include "penalty/mechanics/mapping.hpp"
-#include "sofa_vector_ops.hpp"
+#include "barycentric_tetrahedra.hpp"
 
 #include <array>
 #include <cmath>
@@ -66,9 +66,7 @@ TetrahedronHashGrid hash_tetrahedra(const MeshTopology& topo, std::span<const Ve
 void BarycentricMapping::map_on_set_tetrahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {
     const auto& tetras = topo.tetrahedra();
     if (tetras.empty()) throw_invalid_argument("BarycentricMapping: topology has no tetrahedron");
-    for (std::size_t t = 0; t < tetras.size(); ++t)
-        for (const PointId p : tetras[t])
-            if (std::size_t(p) >= x.size()) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " vertex out of range");
+    const detail::TetrahedronFrames frames(tetras, x);  // computeBasesAndCenters (checks every vertex)
     for (const Edge& e : topo.edges())
         if (std::size_t(e[0]) >= x.size() || std::size_t(e[1]) >= x.size())
             throw_invalid_argument("BarycentricMapping: an edge's vertex is out of range");
@@ -76,36 +74,16 @@ void BarycentricMapping::map_on_set_tetrahedra(const MeshTopology& topo, std::sp
     if (!std::isfinite(grid.per_length) || grid.cell_size <= 0)
         throw_invalid_argument("BarycentricMapping: the tetrahedra's mean edge length is ", grid.cell_size,
                                " (SOFA's hash grid needs a positive one)");
-    // computeBasesAndCenters: B = (edge matrix)⁻¹, c = (x0 + x1 + x2 + x3)·¼
-    std::vector<Mat3> bases(tetras.size());
-    std::vector<Vec3> centres(tetras.size());
-    for (std::size_t t = 0; t < tetras.size(); ++t) {
-        const Vec3& x0 = x[std::size_t(tetras[t][0])];
-        const Vec3& x1 = x[std::size_t(tetras[t][1])];
-        const Vec3& x2 = x[std::size_t(tetras[t][2])];
-        const Vec3& x3 = x[std::size_t(tetras[t][3])];
-        Mat3 edges;
-        edges.col(0) = x1 - x0;
-        edges.col(1) = x2 - x0;
-        edges.col(2) = x3 - x0;
-        if (std::abs(sofa_vec::determinant(edges)) < 1e-300) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " is degenerate");
-        bases[t] = sofa_vec::inverse(edges);
-        centres[t] = sofa_vec::scaled(((x0 + x1) + x2) + x3, 0.25);
-    }
-    // checkDistanceFromElement: b = B·(p − x0); d = max(−b0, −b1, −b2, b0+b1+b2−1), |p − c|²
-    // when positive; the first element of strictly least d wins
+    // checkDistanceFromElement (barycentric_tetrahedra.hpp): the first element of strictly least
+    // score wins
     struct Nearest {
         double distance = std::numeric_limits<double>::max();
         std::size_t element = std::numeric_limits<std::size_t>::max();
         Vec3 coefs = Vec3::Zero();
     };
     const auto check = [&](std::size_t t, const Vec3& p, Nearest& n) {
-        const Vec3 v = sofa_vec::times(bases[t], p - x[std::size_t(tetras[t][0])]);
-        double d = std::max(std::max(-v[0], -v[1]), std::max(-v[2], v[0] + v[1] + v[2] - 1));
-        if (d > 0) {
-            const Vec3 r = p - centres[t];
-            d = sofa_vec::dot3(r, r);
-        }
+        Vec3 v;
+        const double d = frames.score(t, x[std::size_t(tetras[t][0])], p, v);
         if (d < n.distance) n = {d, t, v};
     };
     const auto check_cell = [&](const Cell& c, const Vec3& p, Nearest& n) {
@@ -130,11 +108,7 @@ void BarycentricMapping::map_on_set_tetrahedra(const MeshTopology& topo, std::sp
         }
         if (n.element == std::numeric_limits<std::size_t>::max())
             throw_invalid_argument("BarycentricMapping: point ", i, " is not finite");
-        const auto& tet = tetras[n.element];
-        rows[i].push(tet[0], 1 - n.coefs[0] - n.coefs[1] - n.coefs[2]);  // ((1 − b0) − b1) − b2, as SOFA
-        rows[i].push(tet[1], n.coefs[0]);
-        rows[i].push(tet[2], n.coefs[1]);
-        rows[i].push(tet[3], n.coefs[2]);
+        detail::push_tetrahedron_weights(rows[i], tetras[n.element], n.coefs);
     }
     set_rows(std::move(rows));
 }

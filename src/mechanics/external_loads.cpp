@@ -25,14 +25,20 @@ void add_normal_block(TripletList& triplets, Index offset, Index p, const Vec3& 
 
 // ---- PlaneForceField ----------------------------------------------------------------------------
 
-PlaneForceField::PlaneForceField(Vec3Object& state, const PlaneForceFieldParameters& parameters)
-    : ForceField<Vec3Types>(state), parameters_(parameters) {
-    const auto& p = parameters_;
+namespace {
+/// The parameters both templates of PlaneForceField accept (std::invalid_argument otherwise).
+void check_plane_parameters(const PlaneForceFieldParameters& p) {
     if (!all_finite(p.normal) || !std::isfinite(p.offset))
         throw_invalid_argument("PlaneForceField: normal and d must be finite");
     if (!(p.stiffness >= 0.0) || !(p.damping >= 0.0) || !(p.max_force >= 0.0))
         throw_invalid_argument("PlaneForceField: stiffness, damping and maxForce must be >= 0, found ", p.stiffness,
                                ", ", p.damping, ", ", p.max_force);
+}
+}  // namespace
+
+PlaneForceField::PlaneForceField(Vec3Object& state, const PlaneForceFieldParameters& parameters)
+    : ForceField<Vec3Types>(state), parameters_(parameters) {
+    check_plane_parameters(parameters_);
 }
 
 namespace {
@@ -96,12 +102,7 @@ void PlaneForceField::add_stiffness_triplets(TripletList& triplets, Index offset
 
 RigidPlaneForceField::RigidPlaneForceField(Rigid3Object& state, const PlaneForceFieldParameters& parameters)
     : ForceField<Rigid3Types>(state), parameters_(parameters) {
-    const auto& p = parameters_;
-    if (!all_finite(p.normal) || !std::isfinite(p.offset))
-        throw_invalid_argument("PlaneForceField: normal and d must be finite");
-    if (!(p.stiffness >= 0.0) || !(p.damping >= 0.0) || !(p.max_force >= 0.0))
-        throw_invalid_argument("PlaneForceField: stiffness, damping and maxForce must be >= 0, found ", p.stiffness,
-                               ", ", p.damping, ", ", p.max_force);
+    check_plane_parameters(parameters_);
 }
 
 void RigidPlaneForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x, std::span<const RigidDeriv> v) {

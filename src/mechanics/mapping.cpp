@@ -1,5 +1,6 @@
 #include "penalty/mechanics/mapping.hpp"
 
+#include "barycentric_tetrahedra.hpp"
 #include "sofa_vector_ops.hpp"
 
 #include <Eigen/Dense>
@@ -189,35 +190,15 @@ void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<c
     // the weights, hence the mapped positions and the forces mapped back, are SOFA's to the bit
     const auto& tetras = topo.tetrahedra();
     if (tetras.empty()) throw_invalid_argument("BarycentricMapping: topology has no tetrahedron");
-    std::vector<Mat3> bases(tetras.size());
-    std::vector<Vec3> centres(tetras.size());
-    for (std::size_t t = 0; t < tetras.size(); ++t) {
-        for (const PointId p : tetras[t])
-            if (static_cast<std::size_t>(p) >= x.size()) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " vertex out of range");
-        const Vec3& x0 = x[static_cast<std::size_t>(tetras[t][0])];
-        const Vec3& x1 = x[static_cast<std::size_t>(tetras[t][1])];
-        const Vec3& x2 = x[static_cast<std::size_t>(tetras[t][2])];
-        const Vec3& x3 = x[static_cast<std::size_t>(tetras[t][3])];
-        Mat3 edges;  // columns x1 − x0, x2 − x0, x3 − x0 (SOFA: the transpose of the rows)
-        edges.col(0) = x1 - x0;
-        edges.col(1) = x2 - x0;
-        edges.col(2) = x3 - x0;
-        if (std::abs(sofa_vec::determinant(edges)) < 1e-300) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " is degenerate");
-        bases[t] = sofa_vec::inverse(edges);
-        centres[t] = sofa_vec::scaled(((x0 + x1) + x2) + x3, 0.25);
-    }
+    const detail::TetrahedronFrames frames(tetras, x);
     std::vector<BarycentricRow> rows(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         double best = 1e10;  // SOFA's starting distance
         Vec3 coefs = Vec3::Zero();
         std::size_t index = tetras.size();
         for (std::size_t t = 0; t < tetras.size(); ++t) {
-            const Vec3 v = sofa_vec::times(bases[t], points[i] - x[static_cast<std::size_t>(tetras[t][0])]);
-            double d = std::max(std::max(-v[0], -v[1]), std::max(-v[2], v[0] + v[1] + v[2] - 1));
-            if (d > 0) {
-                const Vec3 r = points[i] - centres[t];
-                d = sofa_vec::dot3(r, r);
-            }
+            Vec3 v;
+            const double d = frames.score(t, x[static_cast<std::size_t>(tetras[t][0])], points[i], v);
             if (d < best) {
                 best = d;
                 coefs = v;
@@ -225,11 +206,7 @@ void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<c
             }
         }
         if (index == tetras.size()) throw_invalid_argument("BarycentricMapping: point ", i, " is not finite, or 1e5 or farther from the centre of every tetrahedron (SOFA's search starts at a squared distance of 1e10)");
-        const auto& tet = tetras[index];
-        rows[i].push(tet[0], 1 - coefs[0] - coefs[1] - coefs[2]);  // ((1 − fx) − fy) − fz, as SOFA
-        rows[i].push(tet[1], coefs[0]);
-        rows[i].push(tet[2], coefs[1]);
-        rows[i].push(tet[3], coefs[2]);
+        detail::push_tetrahedron_weights(rows[i], tetras[index], coefs);
     }
     set_rows(std::move(rows));
 }

@@ -149,14 +149,21 @@ double EdgePressureForceField::total_rest_length() const {
     return l;
 }
 
-std::vector<Index> edges_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
-                                        double dmin, double dmax) {
-    // EdgePressureForceField::isPointInPlane: dmin < p·normal < dmax
+namespace {
+/// isPointInPlane of the pressure loads: dmin < p·normal < dmax, for each point.
+std::vector<bool> points_between_planes(std::span<const Vec3> points, const Vec3& normal, double dmin, double dmax) {
     std::vector<bool> in(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         const double d = points[i].dot(normal);
         in[i] = d > dmin && d < dmax;
     }
+    return in;
+}
+}  // namespace
+
+std::vector<Index> edges_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
+                                        double dmin, double dmax) {
+    const std::vector<bool> in = points_between_planes(points, normal, dmin, dmax);  // EdgePressureForceField::isPointInPlane
     std::vector<Index> out;
     const auto& edges = topology.edges();
     for (std::size_t k = 0; k < edges.size(); ++k) {
@@ -228,12 +235,7 @@ double QuadPressureForceField::total_rest_area() const {
 
 std::vector<Index> quads_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
                                         double dmin, double dmax) {
-    // QuadPressureForceField::isPointInPlane: dmin < p·normal < dmax
-    std::vector<bool> in(points.size());
-    for (std::size_t i = 0; i < points.size(); ++i) {
-        const double d = points[i].dot(normal);
-        in[i] = d > dmin && d < dmax;
-    }
+    const std::vector<bool> in = points_between_planes(points, normal, dmin, dmax);  // QuadPressureForceField::isPointInPlane
     std::vector<Index> out;
     const auto& quads = topology.quads();
     for (std::size_t k = 0; k < quads.size(); ++k) {
