@@ -204,6 +204,17 @@ std::string sofa_default_name(const SceneComponent& c) {
     return std::string(cls) + std::to_string(count);
 }
 
+std::vector<double> elasticity_values(const Attributes& a, std::string_view name, std::vector<double> fallback, bool poisson) {
+    if (!a.has(name)) return fallback;
+    std::vector<double> v = a.numbers(name);
+    if (v.empty()) a.fail(name, "is empty");
+    for (double x : v) {
+        if (poisson && !(x >= 0 && x < 0.5)) a.fail(name, "must be in [0, 0.5), found " + num(x));
+        if (!poisson && !(x > 0)) a.fail(name, "must be > 0, found " + num(x));
+    }
+    return v;
+}
+
 bool is_rigid_template(const SceneComponent& c, std::string_view name) {
     if (name.empty() || name == "Vec3d" || name == "Vec3" || name == "Vec3f") return false;
     if (name == "Rigid3d" || name == "Rigid3" || name == "Rigid" || name == "Rigid3f") return true;

@@ -97,26 +97,13 @@ constexpr AttributeSpec kFastCorotational[] = {
     {"drawColor4", K::text, "", "", ValueCheck::none, "display only"},
 };
 
-/// youngModulus / poissonRatio: one value or one per element. SOFA replaces an out-of-range value by
-/// its default with a warning (BaseLinearElasticityFEMForceField::checkYoungModulus /
-/// checkPoissonRatio); penalty refuses it.
-std::vector<double> elasticity_list(const Attributes& a, std::string_view name, double fallback, bool poisson) {
-    if (!a.has(name)) return {fallback};
-    std::vector<double> v = a.numbers(name);
-    if (v.empty()) a.fail(name, "is empty");
-    for (double x : v) {
-        if (poisson && !(x >= 0 && x < 0.5)) a.fail(name, "must be in [0, 0.5), found " + num(x));
-        if (!poisson && !(x > 0)) a.fail(name, "must be > 0, found " + num(x));
-    }
-    return v;
-}
 
 void build_fast_corotational(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     FastTetrahedralCorotationalParameters p;
-    p.young_modulus = elasticity_list(a, "youngModulus", 5000, false);
-    p.poisson_ratio = elasticity_list(a, "poissonRatio", 0.45, true);
+    p.young_modulus = elasticity_values(a, "youngModulus", {5000}, false);
+    p.poisson_ratio = elasticity_values(a, "poissonRatio", {0.45}, true);
     // FastTetrahedralCorotationalForceField::init's names of the methods
     const std::string method = a.text("method");
     if (method == "qr" || method == "large") p.rotation = FastTetrahedralRotation::qr;

@@ -307,6 +307,12 @@ void build_tunnelling_guard(SceneBuilder& builder);
 [[nodiscard]] std::string sofa_default_name(const io::SceneComponent& c);
 /// True for Rigid3d templates, false for Vec3d ones (and none); an error for others.
 [[nodiscard]] bool is_rigid_template(const io::SceneComponent& c, std::string_view name);
+/// `youngModulus` (poisson false: each > 0) or `poissonRatio` (each in [0, 0.5)): one value or one
+/// per element, `fallback` when absent. SOFA replaces an out-of-range value by its default with a
+/// warning (BaseLinearElasticityFEMForceField::checkYoungModulus / checkPoissonRatio); penalty
+/// refuses it, naming the attribute.
+[[nodiscard]] std::vector<double> elasticity_values(const Attributes& a, std::string_view name,
+                                                    std::vector<double> fallback, bool poisson);
 using display::counted;
 using display::element_counts;
 using display::mesh_counts;

@@ -14,20 +14,6 @@ using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
 
-/// An elasticity list (youngModulus, poissonRatio: one value or one per element), or `fallback`.
-/// SOFA replaces an out-of-range value by its default with a warning
-/// (BaseLinearElasticityFEMForceField::checkPoissonRatio/checkYoungModulus); penalty refuses it.
-std::vector<double> material_list(const Attributes& a, std::string_view name, std::vector<double> fallback, bool poisson) {
-    if (!a.has(name)) return fallback;
-    std::vector<double> v = a.numbers(name);
-    if (v.empty()) a.fail(name, "is empty");
-    for (double x : v) {
-        if (poisson && !(x >= 0 && x < 0.5)) a.fail(name, "must be in [0, 0.5), found " + num(x));
-        if (!poisson && !(x > 0)) a.fail(name, "must be > 0, found " + num(x));
-    }
-    return v;
-}
-
 // ---- TriangularFEMForceFieldOptim -------------------------------------------------------------
 constexpr AttributeSpec kTriangularFemOptim[] = {
     {"youngModulus", K::numbers, "5000", "Pa", ValueCheck::none, "E, one value or one per triangle"},
@@ -45,8 +31,8 @@ void build_triangular_fem_optim(SceneBuilder& b, const SceneComponent& c, NodeBu
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     TriangularFemOptimParameters p;
-    p.young_modulus = material_list(a, "youngModulus", p.young_modulus, false);
-    p.poisson_ratio = material_list(a, "poissonRatio", p.poisson_ratio, true);
+    p.young_modulus = elasticity_values(a, "youngModulus", p.young_modulus, false);
+    p.poisson_ratio = elasticity_values(a, "poissonRatio", p.poisson_ratio, true);
     if (a.has("restScale")) p.rest_scale = a.real("restScale");
     if (a.text("method") != "large")
         b.warn(c.file + ":" + std::to_string(c.find("method")->line) + ": " + c.describe() +
@@ -105,8 +91,8 @@ void build_quad_bending(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
     QuadBendingParameters p;
-    p.young_modulus = material_list(a, "youngModulus", p.young_modulus, false);
-    p.poisson_ratio = material_list(a, "poissonRatio", p.poisson_ratio, true);
+    p.young_modulus = elasticity_values(a, "youngModulus", p.young_modulus, false);
+    p.poisson_ratio = elasticity_values(a, "poissonRatio", p.poisson_ratio, true);
     p.thickness = a.real("thickness");
     if (a.text("method") != "small") a.fail("method", "only 'small' is implemented (as in SOFA)");
     const MeshTopology& topology = b.topology_of(a, info);
