@@ -7,17 +7,16 @@ target_compile_options(penalty_warnings INTERFACE
   # bit-identical results across builds: no fused multiply-add contraction
   -ffp-contract=off)
 
-# Fuzzing (clang only): every library object is instrumented for libFuzzer's coverage and
-# checked by ASan + UBSan; the fuzz targets (fuzz/) link libFuzzer's main.
-if(PENALTY_FUZZ)
-  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
-    message(FATAL_ERROR "PENALTY_FUZZ needs clang++ (libFuzzer): configure with the 'fuzz' preset")
-  endif()
-  set(_penalty_fuzz -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
-  add_compile_options(${_penalty_fuzz})
-  add_link_options(-fsanitize=address,undefined)
+# Sanitizers: ASan + UBSan on every object (PENALTY_SANITIZE, or PENALTY_FUZZ which implies it).
+# Fuzzing (clang only): the library's layers are also instrumented for libFuzzer's coverage
+# (cmake/PenaltyLayer.cmake) and the fuzz targets (fuzz/) link libFuzzer's main. The tests and
+# the command line of the same build link the instrumented layers without libFuzzer (the
+# sanitizer runtime provides the coverage callbacks): one sanitizer build, preset `asan`, serves
+# the test suite and the fuzzers.
+if(PENALTY_FUZZ AND NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+  message(FATAL_ERROR "PENALTY_FUZZ needs clang++ (libFuzzer): configure with the 'asan' preset")
 endif()
-if(PENALTY_SANITIZE)
+if(PENALTY_SANITIZE OR PENALTY_FUZZ)
   set(_penalty_san -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_compile_options(${_penalty_san})
   add_link_options(${_penalty_san})

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (preset `fuzz`: clang++, ASan + UBSan) and runs each one, one a core.
+# Builds the libFuzzer targets (preset `asan`: clang++, ASan + UBSan; the same build as the
+# sanitizer test suite) and runs each one, one a core.
 #   scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET ...]     (default: 40 s each, every target)
 # Targets: scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk http_request.
 # Corpora grow in build/fuzz-corpus/<target> (kept between runs, so a long run by hand resumes
@@ -15,8 +16,8 @@ targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(scene_info scene_step mesh_obj mesh_gmsh mesh_sph mesh_vtk http_request)
 
 command -v clang++ >/dev/null || { echo "fuzz: clang++ is missing (scripts/install-deps.sh installs it)"; exit 1; }
-cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz --target "${targets[@]/#/penalty_fuzz_}"  # only the targets asked for
+cmake --preset asan >/dev/null
+cmake --build --preset asan --target "${targets[@]/#/penalty_fuzz_}"  # only the targets asked for
 
 root="$PWD"
 seeds_of() {
@@ -48,7 +49,7 @@ run_target() {
   esac
   # Scene inputs resolve mesh names against scenes/ (the seeds' own meshes).
   local rc=0
-  ( cd "$root/scenes" && "$root/build/fuzz/fuzz/penalty_fuzz_$t" -seed=1 -max_total_time="$seconds" \
+  ( cd "$root/scenes" && "$root/build/asan/fuzz/penalty_fuzz_$t" -seed=1 -max_total_time="$seconds" \
       -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
       "${dict[@]}" -artifact_prefix="$artifacts" "$corpus" "$seed_dir" ) \
     > "$root/build/fuzz-$t.log" 2>&1 || rc=$?

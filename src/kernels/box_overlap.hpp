@@ -16,7 +16,10 @@ namespace penalty::detail {
 /// The scalar reference: each axis' two tests or-ed, no branch.
 [[nodiscard]] inline bool boxes_overlap_branch_free_scalar(const Aabb& a, const Aabb& b, double margin) {
     bool apart = false;
-    for (int i = 0; i < 3; ++i) apart |= (a.min[i] > b.max[i] + margin) | (b.min[i] > a.max[i] + margin);
+    for (int i = 0; i < 3; ++i) {
+        apart |= a.min[i] > b.max[i] + margin;
+        apart |= b.min[i] > a.max[i] + margin;
+    }
     return !apart;
 }
 

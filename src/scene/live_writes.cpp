@@ -467,7 +467,9 @@ void Scene::carry_states(Scene& fresh, bool reset) const {
             return o.node_path == n.node_path && o.name == n.name;
         });
         if (old == states_.end()) continue;  // added after init: its own values
-        if (typeid(*old->state) != typeid(*n.state))
+        const BaseState& old_state = *old->state;  // (typeid of a plain reference: nothing evaluated twice)
+        const BaseState& new_state = *n.state;
+        if (typeid(old_state) != typeid(new_state))
             throw io::SceneError(output::state_label(n) + ": a write changes the template of the state (penalty keeps it after init)");
         if (old->state->num_dofs() != n.state->num_dofs())
             throw io::SceneError(output::state_label(n) + ": the write changes its number of DOFs from " +

@@ -2,6 +2,7 @@
 // 10⁵ seeded random motions per feature pair against a fine sampling of the motion (no false
 // negative; the false-positive rate measured and bounded).
 #include "penalty/geometry/ccd.hpp"
+#include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,11 +17,7 @@ namespace {
 // The random-motion tests check a statistic (no false negative over 10⁵ motions) in the release
 // suite; under ASan + UBSan (90× slower here) they run a tenth of the motions, which checks the
 // same code for memory and undefined-behaviour errors. The bounds scale with the count.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr int kMotionDivisor = 10;
-#else
-constexpr int kMotionDivisor = 1;
-#endif
+constexpr int kMotionDivisor = test::kUnderSanitizer ? 10 : 1;
 
 // ---- closed-form motions -------------------------------------------------------------------------
 

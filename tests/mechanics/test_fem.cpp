@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -360,7 +361,7 @@ TEST(FEM, BadInputThrows) {
     topo.set_tetrahedra({{0, 1, 2, 3}});
     EXPECT_THROW(TetrahedronFEMForceField(s, topo, 100, 0.5), std::invalid_argument);
     EXPECT_THROW(TetrahedronFEMForceField(s, topo, -1, 0.3), std::invalid_argument);
-    EXPECT_THROW(TetrahedronFEMForceField(s, topo, NAN, 0.3), std::invalid_argument);
+    EXPECT_THROW(TetrahedronFEMForceField(s, topo, std::numeric_limits<double>::quiet_NaN(), 0.3), std::invalid_argument);
     TetrahedronFEMForceField flat(s, topo, 100, 0.3);
     EXPECT_THROW(flat.init(), std::invalid_argument);  // coplanar
     MeshTopology out;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace penalty {
 namespace {
@@ -27,7 +28,7 @@ TEST(RegularGridOrigin, P0OffsetsEveryPointAndOnePointAxesTakeTheMiddle) {
     const RegularGridTopology flat({3, 3, 2}, Vec3(0, 0, 0), Vec3(2, 2, 0));
     EXPECT_EQ(flat.point(1, 1, 0), flat.point(1, 1, 1));
     EXPECT_THROW((void)flat.locate(Vec3(1, 1, 0)), std::invalid_argument);  // no cell of non-zero size
-    EXPECT_THROW(RegularGridTopology({2, 2, 2}, Vec3::Zero(), Vec3::Ones(), Vec3(0, INFINITY, 0)), std::invalid_argument);
+    EXPECT_THROW(RegularGridTopology({2, 2, 2}, Vec3::Zero(), Vec3::Ones(), Vec3(0, std::numeric_limits<double>::infinity(), 0)), std::invalid_argument);
 }
 
 TEST(RigidStep, ExponentialIntegrationOfTheAngularVelocity) {

@@ -506,7 +506,7 @@ TEST(Mapping, BadInputThrows) {
     map.set_weights({{{7, 1.0}}});
     EXPECT_THROW(map.init(), std::invalid_argument);
     EXPECT_THROW(map.set_weights({{{-1, 1.0}}}), std::invalid_argument);
-    EXPECT_THROW(map.set_weights({{{0, NAN}}}), std::invalid_argument);
+    EXPECT_THROW(map.set_weights({{{0, std::numeric_limits<double>::quiet_NaN()}}}), std::invalid_argument);
     MeshTopology flat;
     flat.set_tetrahedra({{0, 1, 2, 3}});  // coplanar: degenerate
     EXPECT_THROW(map.map_on_tetrahedra(flat, in.position, std::vector<Vec3>{Vec3::Zero()}), std::invalid_argument);
@@ -515,7 +515,7 @@ TEST(Mapping, BadInputThrows) {
     const std::vector<Vec3> corners = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
     MeshTopology unit;
     unit.set_tetrahedra({{0, 1, 2, 3}});
-    EXPECT_THROW(map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(NAN, 0, 0)}), std::invalid_argument);
+    EXPECT_THROW(map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)}), std::invalid_argument);
     EXPECT_THROW(map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(2e5, 0, 0)}), std::invalid_argument);
     map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(9e4, 0, 0)});  // within reach: mapped
     EXPECT_EQ(map.weights()[0][1].index, 1);

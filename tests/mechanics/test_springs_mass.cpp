@@ -25,7 +25,7 @@ TEST(SpringForceField, ForceMatchesFormulaAndSign) {
     EXPECT_NEAR(s.force[1].x(), -8.0, 1e-14);
     EXPECT_NEAR(ff.potential_energy(), 0.5 * 10 * 0.25, 1e-14);
     EXPECT_THROW(ff.add_spring({0, 1, -1.0, 0, 1}), std::invalid_argument);
-    EXPECT_THROW(ff.add_spring({0, 1, 1.0, NAN, 1}), std::invalid_argument);
+    EXPECT_THROW(ff.add_spring({0, 1, 1.0, std::numeric_limits<double>::quiet_NaN(), 1}), std::invalid_argument);
     // an index no state can have (its byte offset would overflow) is refused at once
     EXPECT_THROW(ff.add_spring({0, std::numeric_limits<Index>::max(), 1.0, 0, 1}), std::invalid_argument);
     EXPECT_EQ(ff.springs().size(), 1u);
@@ -150,7 +150,7 @@ TEST(UniformMass, VertexAndTotalMassRules) {
     EXPECT_EQ(s.force[2], Vec3(0, -5, 0));
     EXPECT_NEAR(m.gravity_potential_energy(Vec3(0, -10, 0)), 0.5 * 10 * 1.0, 1e-15);
     EXPECT_THROW(m.set_total_mass(0.0), std::invalid_argument);
-    EXPECT_THROW(m.set_vertex_mass(NAN), std::invalid_argument);
+    EXPECT_THROW(m.set_vertex_mass(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
 
 TEST(UniformMass, Rigid3MassAndInertia) {
@@ -203,7 +203,7 @@ TEST(MechanicalObject, InitialTransformScaleRotateTranslate) {
     rest_only.init();
     EXPECT_EQ(rest_only.position[0], Vec3(4, 5, 6));
     Vec3Object bad;
-    bad.position = {Vec3(NAN, 0, 0)};
+    bad.position = {Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)};
     EXPECT_THROW(bad.init(), std::invalid_argument);
     Rigid3Object r;
     r.position.resize(1);

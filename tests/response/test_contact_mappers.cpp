@@ -311,7 +311,9 @@ TEST(BarycentricPenaltyContact, ParentForcesAreMinusEnergyGradientIncludingTorqu
             {s.triangles.get(), s.rigid_spheres.get()}, {s.cylinders.get(), s.triangles.get()},
             {s.tetras.get(), s.spheres.get()},          {s.lines.get(), s.points.get()},
             {s.rigid_spheres.get(), s.rigid_spheres.get()}, {s.cylinders.get(), s.spheres.get()}};
-        for (auto [m1, m2] : combos) {
+        for (const auto& combo : combos) {
+            CollisionModel* const m1 = combo.first;  // (named variables: lambdas below capture them)
+            CollisionModel* const m2 = combo.second;
             BarycentricPenaltyContact c(*m1, *m2, 0.5);
             DetectionOutputList out;
             std::uniform_int_distribution<Index> e1(0, Index(m1->size()) - 1), e2(0, Index(m2->size()) - 1);

@@ -3,6 +3,7 @@
 // never committed: the tests are skipped when the shared folder is absent.
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,11 +15,7 @@ namespace {
 
 using namespace penalty;
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr std::int64_t kSteps = 50;
-#else
-constexpr std::int64_t kSteps = 1000;
-#endif
+constexpr std::int64_t kSteps = test::kUnderSanitizer ? 50 : 1000;
 
 struct SharedScene {
     const char* file;

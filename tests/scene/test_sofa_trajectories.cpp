@@ -10,6 +10,7 @@
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -26,11 +27,8 @@ namespace {
 using namespace penalty;
 namespace fs = std::filesystem;
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr std::int64_t kTrajectorySteps = 31;  // 10-30x slower under the sanitizers
-#else
-constexpr std::int64_t kTrajectorySteps = 301;  // states at T = 0 … 300·dt, as SOFA's files
-#endif
+// States at T = 0 … 300·dt, as SOFA's files; the first 31 under the sanitizers (10-30× slower).
+constexpr std::int64_t kTrajectorySteps = test::kUnderSanitizer ? 31 : 301;
 
 struct TrajectoryCase {
     const char* scene;
