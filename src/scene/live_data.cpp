@@ -357,7 +357,10 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
                 for (std::size_t k = 0; k < width; ++k) numbers.push_back(double(row[k]));
             return numbers_value(std::move(numbers), width);
         };
-        if (name == "position" || name == "points" || name == "pointsInROI") return flatten(mesh->positions, 3);
+        // points: a loader's `position`, an engine's `output_position`, `outputPoints`, `pointsInROI`
+        const bool point_list = f.python_form == "ndarray:float64:2";
+        if (point_list && (name.find("osition") != std::string::npos || name.find("oints") != std::string::npos))
+            return flatten(mesh->positions, 3);
         if (name.find("dge") != std::string::npos) return flatten(mesh->edges, 2);
         if (name.find("riangle") != std::string::npos) return flatten(mesh->triangles, 3);
         if (name.find("uad") != std::string::npos) return flatten(mesh->quads, 4);

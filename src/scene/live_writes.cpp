@@ -475,11 +475,16 @@ void Scene::carry_states(Scene& fresh, bool reset) const {
                                  " (penalty keeps a state's size after init)");
         pairs.emplace_back(old->state, n.state);
     }
+    // the vectors linked to a Data the writes made dirty take the rebuilt values (live_links.cpp)
+    std::vector<std::pair<const BaseState*, StateVector>> linked;
+    if (!reset) linked = states_linked_to_writes(fresh);
     for (auto [old, n] : pairs) {
         (void)swap_state_vectors(*old, *n);
         // reset: the values of the new build in the memory of the old one (an assignment of
         // equal size keeps the buffer)
         if (reset) copy_state_values(*old, *n);
+        for (const auto& [state, which] : linked)
+            if (state == n) take_linked_vectors(*old, *n, which);
     }
 }
 
