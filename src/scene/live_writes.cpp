@@ -280,6 +280,18 @@ void Scene::write_state(BaseState& s, std::string_view name, const std::vector<d
         for (std::size_t i = 0; i < list.size(); ++i) list[i] = Vec3(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
         return;
     }
+    if (auto* w = dynamic_cast<Vec1Object*>(&s)) {
+        std::vector<double>& list = name == "position"        ? w->position
+                                    : name == "velocity"      ? w->velocity
+                                    : name == "force"         ? w->force
+                                    : name == "rest_position" ? w->rest_position
+                                                              : w->external_force;
+        if (values.size() != list.size())
+            throw std::invalid_argument(what + ": expected " + std::to_string(list.size()) + " values, found " +
+                                        std::to_string(values.size()) + " (penalty keeps a state's size after init)");
+        std::copy(values.begin(), values.end(), list.begin());
+        return;
+    }
     auto& r = dynamic_cast<Rigid3Object&>(s);
     if (name == "position" || name == "rest_position") {
         std::vector<RigidFrame>& list = name == "position" ? r.position : r.rest_position;
