@@ -176,6 +176,17 @@ void check_write(const io::SceneElement& element, bool node, const DataField& f,
     }
 }
 
+/// TetrahedronFEMForceField with updateStiffness: SOFA recomputes each element's material
+/// stiffness at every AnimateBeginEvent (TetrahedronFEMForceField::handleEvent →
+/// computeMaterialStiffness), so its Young's modulus, Poisson ratio and localStiffnessFactor act
+/// at the next step, not at reinit().
+bool recomputed_each_step(const io::SceneElement& e, std::string_view name) {
+    if (e.type != "TetrahedronFEMForceField") return false;
+    if (name != "youngModulus" && name != "poissonRatio" && name != "localStiffnessFactor") return false;
+    const io::SceneAttribute* update = e.find("updateStiffness");
+    return update != nullptr && (update->value == "1" || update->value == "true");
+}
+
 }  // namespace
 
 void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_view text) {
@@ -228,7 +239,7 @@ void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_
         write_attribute(*e, name, text);
         return;
     }
-    if (f.live == LiveWrite::reinit) {
+    if (f.live == LiveWrite::reinit && !recomputed_each_step(*e, name)) {
         live_->at_reinit[{owner.path, owner.node}][std::string(name)] = std::string(text);
         return;
     }
