@@ -52,6 +52,15 @@ py::object state_array(const DataValue& v, py::handle owner, bool writeable) {
             default: return view_of(x->external_force);
         }
     }
+    if (auto* x = dynamic_cast<Vec1Object*>(s)) {  // (n, 1), as SofaPython3's Vec1d
+        switch (v.state_vector) {
+            case StateVector::position: return view_of(x->position);
+            case StateVector::velocity: return view_of(x->velocity);
+            case StateVector::force: return view_of(x->force);
+            case StateVector::rest_position: return view_of(x->rest_position);
+            default: return view_of(x->external_force);
+        }
+    }
     auto* r = dynamic_cast<Rigid3Object*>(s);
     switch (v.state_vector) {
         case StateVector::velocity: return view_of(r->velocity);

@@ -42,6 +42,11 @@ py::array coord_array(std::span<const RigidFrame> x, bool /*writeable*/) {
     return a;
 }
 
+/// Vec1d values as a (n, 1) view, as SofaPython3 presents a Vec1d state.
+py::array coord_array(std::span<double> x, bool writeable) { return deriv_view(x.data(), x.size(), writeable); }
+py::array deriv_array(std::span<double> v, bool w) { return deriv_view(v.data(), v.size(), w); }
+py::array deriv_array(std::span<const double> v, bool) { return deriv_view(v.data(), v.size(), false); }
+
 py::array deriv_array(std::span<Vec3> v, bool w) { return deriv_view(v.data(), v.size(), w); }
 py::array deriv_array(std::span<const Vec3> v, bool) { return deriv_view(v.data(), v.size(), false); }
 py::array deriv_array(std::span<RigidDeriv> v, bool w) { return deriv_view(v.data(), v.size(), w); }
@@ -118,41 +123,46 @@ T zero_deriv() {
     else return T{};
 }
 
-template <class In>
-class PythonMapping final : public Mapping<In, Vec3Types> {
+template <class In, class Out = Vec3Types>
+class PythonMapping final : public Mapping<In, Out> {
 public:
     using InCoord = typename In::Coord;
     using InDeriv = typename In::Deriv;
-    PythonMapping(MechanicalObject<In>& from, Vec3Object& to, py::object dispatch, py::object target)
-        : Mapping<In, Vec3Types>(from, to), target_(std::move(dispatch), target) {}
+    using OutCoord = typename Out::Coord;
+    using OutDeriv = typename Out::Deriv;
+    PythonMapping(MechanicalObject<In>& from, MechanicalObject<Out>& to, py::object dispatch, py::object target)
+        : Mapping<In, Out>(from, to), target_(std::move(dispatch), target) {}
 
-    void apply(std::span<Vec3> out, std::span<const InCoord> in) override {
+    void apply(std::span<OutCoord> out, std::span<const InCoord> in) override {
         py::gil_scoped_acquire gil;
         target_.call("apply", coord_array(out, true), coord_array(in, false));
     }
-    void apply_j(std::span<Vec3> out, std::span<const InDeriv> in) const override {
+    void apply_j(std::span<OutDeriv> out, std::span<const InDeriv> in) const override {
         py::gil_scoped_acquire gil;
         target_.call("applyJ", deriv_array(out, true), deriv_array(in, false));
     }
-    void apply_jt(std::span<InDeriv> in, std::span<const Vec3> out) const override {
+    void apply_jt(std::span<InDeriv> in, std::span<const OutDeriv> out) const override {
         py::gil_scoped_acquire gil;
         target_.call("applyJT", deriv_array(in, true), deriv_array(out, false));
     }
     /// J column by column: applyJ of each unit input derivative (a Python mapping has no J).
     void add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const override {
         const std::size_t n_in = this->in_->num_dofs(), n_out = this->out_->num_dofs();
+        constexpr int kOut = Out::kDerivSize;
         std::vector<InDeriv> unit(n_in);
-        std::vector<Vec3> column(n_out);
+        std::vector<OutDeriv> column(n_out);
         for (std::size_t i = 0; i < n_in; ++i) {
             for (int k = 0; k < In::kDerivSize; ++k) {
                 std::fill(unit.begin(), unit.end(), zero_deriv<InDeriv>());
                 reinterpret_cast<double*>(&unit[i])[k] = 1.0;
-                std::fill(column.begin(), column.end(), Vec3::Zero());
+                std::fill(column.begin(), column.end(), zero_deriv<OutDeriv>());
                 apply_j(column, unit);
                 for (std::size_t r = 0; r < n_out; ++r)
-                    for (int a = 0; a < 3; ++a)
-                        if (column[r][a] != 0.0)
-                            t.emplace_back(row_offset + Index(3 * r) + a, col_offset + Index(In::kDerivSize * i) + k, column[r][a]);
+                    for (int a = 0; a < kOut; ++a) {
+                        const double value = reinterpret_cast<const double*>(&column[r])[a];
+                        if (value != 0.0)
+                            t.emplace_back(row_offset + Index(kOut * r) + a, col_offset + Index(In::kDerivSize * i) + k, value);
+                    }
             }
         }
     }
@@ -176,8 +186,14 @@ std::unique_ptr<BaseForceField> PythonComponents::force_field(std::int64_t id, B
 std::unique_ptr<BaseMapping> PythonComponents::mapping(std::int64_t id, BaseState& from, BaseState& to) {
     py::gil_scoped_acquire gil;
     py::object target = resolve_(id);
+    if (auto* scalar = dynamic_cast<Vec1Object*>(&to)) {  // Mapping_Vec3d_Vec1d
+        auto* v = dynamic_cast<Vec3Object*>(&from);
+        if (v == nullptr) throw std::invalid_argument("a Python mapping onto a Vec1d state needs a Vec3d input (Mapping_Vec3d_Vec1d)");
+        return std::make_unique<PythonMapping<Vec3Types, Vec1Types>>(*v, *scalar, dispatch_, target);
+    }
     auto* out = dynamic_cast<Vec3Object*>(&to);
-    if (out == nullptr) throw std::invalid_argument("a Python mapping's output must be a Vec3d state (Mapping_Vec3d_Vec3d, Mapping_Rigid3d_Vec3d)");
+    if (out == nullptr)
+        throw std::invalid_argument("a Python mapping's output must be a Vec3d or Vec1d state (Mapping_Vec3d_Vec3d, Mapping_Rigid3d_Vec3d, Mapping_Vec3d_Vec1d)");
     if (auto* v = dynamic_cast<Vec3Object*>(&from)) return std::make_unique<PythonMapping<Vec3Types>>(*v, *out, dispatch_, target);
     if (auto* r = dynamic_cast<Rigid3Object*>(&from))
         return std::make_unique<PythonMapping<Rigid3Types>>(*r, *out, dispatch_, target);

@@ -366,7 +366,10 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
     for (std::size_t e = first; e < elements_.size(); ++e) {
         std::array<Vec3, 4> x;
         for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
-        large_[e].material = material_over_volume(young_, poisson_, x);
+        const double factor = young_factors_.empty() ? 1.0 : young_factors_[e * young_factors_.size() / elements_.size()];
+        const double young = young_factors_.empty() ? young_ : factor * young_;
+        large_[e].material = material_over_volume(young, poisson_, x);
+        if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
         // rest local coordinates R₀x⁰_k − R₀x⁰_0 (each vertex rotated, then the differences)
         const Mat3 r0 = large_frame(x[0], x[1], x[2]);
         std::array<Vec3, 4> local;

@@ -258,6 +258,7 @@ const std::vector<ComponentSpec>& registry() {
               builder::multi_mapping_components(),
               builder::drawing_components(),
               builder::shape_matching_components(),
+              builder::diffusion_components(),
               std::span<const ComponentSpec>(kLoaders),
               std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());

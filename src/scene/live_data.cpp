@@ -335,8 +335,8 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
         for (const auto& [data_name, which] : vectors) {
             if (name != data_name) continue;
             DataValue v = numbers_value(state_vector_numbers(*s, which), 0);
-            v.columns = which == StateVector::position || which == StateVector::rest_position
-                            ? (dynamic_cast<Rigid3Object*>(s) ? 7 : 3)
+            v.columns = (which == StateVector::position || which == StateVector::rest_position) && dynamic_cast<Rigid3Object*>(s)
+                            ? 7
                             : std::size_t(s->deriv_size());
             v.state = s;
             v.state_vector = which;
@@ -357,7 +357,10 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
                 for (std::size_t k = 0; k < width; ++k) numbers.push_back(double(row[k]));
             return numbers_value(std::move(numbers), width);
         };
-        if (name == "position" || name == "points" || name == "pointsInROI") return flatten(mesh->positions, 3);
+        // points: a loader's `position`, an engine's `output_position`, `outputPoints`, `pointsInROI`
+        const bool point_list = f.python_form == "ndarray:float64:2";
+        if (point_list && (name.find("osition") != std::string::npos || name.find("oints") != std::string::npos))
+            return flatten(mesh->positions, 3);
         if (name.find("dge") != std::string::npos) return flatten(mesh->edges, 2);
         if (name.find("riangle") != std::string::npos) return flatten(mesh->triangles, 3);
         if (name.find("uad") != std::string::npos) return flatten(mesh->quads, 4);
@@ -426,6 +429,13 @@ std::vector<double> Scene::state_vector_numbers(const BaseState& s, StateVector 
                                         : which == StateVector::rest_position ? &v->rest_position
                                                                               : &v->external_force;
         for (const Vec3& p : *list) out.insert(out.end(), {p.x(), p.y(), p.z()});
+    } else if (const auto* w = dynamic_cast<const Vec1Object*>(&s)) {
+        const std::vector<double>& list = which == StateVector::position        ? w->position
+                                          : which == StateVector::velocity      ? w->velocity
+                                          : which == StateVector::force         ? w->force
+                                          : which == StateVector::rest_position ? w->rest_position
+                                                                                : w->external_force;
+        out = list;
     } else if (const auto* r = dynamic_cast<const Rigid3Object*>(&s)) {
         if (which == StateVector::position || which == StateVector::rest_position) {
             for (const RigidFrame& f : which == StateVector::position ? r->position : r->rest_position) {

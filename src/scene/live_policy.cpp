@@ -84,10 +84,10 @@ constexpr Rule kNextStep[] = {
 
 /// Data of the families whose components read them at every step: collision models (SOFA's
 /// contacts take the models' contactStiffness when they are made, each step), intersection
-/// methods and engines (BoxROI's inputs make its outputs dirty, read again by the components
-/// linked to them).
+/// methods and engines (BoxROI's, TransformEngine's inputs make their outputs dirty, read again by
+/// the components and states linked to them: live_links.cpp).
 constexpr std::array kNextStepFamilies = {ComponentFamily::collision_model, ComponentFamily::intersection,
-                                          ComponentFamily::engine};
+                                          ComponentFamily::engine, ComponentFamily::data_engine};
 
 /// Data SOFA reads at init only (its reinit() too keeps what init made): RegularGridSpringForceField
 /// keeps the springs its init() made from the grid (SOFA HEAD ignores a write of its stiffness, even

@@ -176,6 +176,17 @@ void check_write(const io::SceneElement& element, bool node, const DataField& f,
     }
 }
 
+/// TetrahedronFEMForceField with updateStiffness: SOFA recomputes each element's material
+/// stiffness at every AnimateBeginEvent (TetrahedronFEMForceField::handleEvent →
+/// computeMaterialStiffness), so its Young's modulus, Poisson ratio and localStiffnessFactor act
+/// at the next step, not at reinit().
+bool recomputed_each_step(const io::SceneElement& e, std::string_view name) {
+    if (e.type != "TetrahedronFEMForceField") return false;
+    if (name != "youngModulus" && name != "poissonRatio" && name != "localStiffnessFactor") return false;
+    const io::SceneAttribute* update = e.find("updateStiffness");
+    return update != nullptr && (update->value == "1" || update->value == "true");
+}
+
 }  // namespace
 
 void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_view text) {
@@ -228,7 +239,7 @@ void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_
         write_attribute(*e, name, text);
         return;
     }
-    if (f.live == LiveWrite::reinit) {
+    if (f.live == LiveWrite::reinit && !recomputed_each_step(*e, name)) {
         live_->at_reinit[{owner.path, owner.node}][std::string(name)] = std::string(text);
         return;
     }
@@ -278,6 +289,18 @@ void Scene::write_state(BaseState& s, std::string_view name, const std::vector<d
             throw std::invalid_argument(what + ": expected " + std::to_string(list.size()) + " points (3 numbers each), found " +
                                         std::to_string(values.size()) + " numbers (penalty keeps a state's size after init)");
         for (std::size_t i = 0; i < list.size(); ++i) list[i] = Vec3(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
+        return;
+    }
+    if (auto* w = dynamic_cast<Vec1Object*>(&s)) {
+        std::vector<double>& list = name == "position"        ? w->position
+                                    : name == "velocity"      ? w->velocity
+                                    : name == "force"         ? w->force
+                                    : name == "rest_position" ? w->rest_position
+                                                              : w->external_force;
+        if (values.size() != list.size())
+            throw std::invalid_argument(what + ": expected " + std::to_string(list.size()) + " values, found " +
+                                        std::to_string(values.size()) + " (penalty keeps a state's size after init)");
+        std::copy(values.begin(), values.end(), list.begin());
         return;
     }
     auto& r = dynamic_cast<Rigid3Object&>(s);
@@ -477,11 +500,16 @@ void Scene::carry_states(Scene& fresh, bool reset) const {
                                  " (penalty keeps a state's size after init)");
         pairs.emplace_back(old->state, n.state);
     }
+    // the vectors linked to a Data the writes made dirty take the rebuilt values (live_links.cpp)
+    std::vector<std::pair<const BaseState*, StateVector>> linked;
+    if (!reset) linked = states_linked_to_writes(fresh);
     for (auto [old, n] : pairs) {
         (void)swap_state_vectors(*old, *n);
         // reset: the values of the new build in the memory of the old one (an assignment of
         // equal size keeps the buffer)
         if (reset) copy_state_values(*old, *n);
+        for (const auto& [state, which] : linked)
+            if (state == n) take_linked_vectors(*old, *n, which);
     }
 }
 

@@ -99,7 +99,7 @@ def test_bad_attribute_names_the_script_line():
 
 
 def test_unsupported_api_names_what_is_missing():
-    with pytest.raises(AttributeError, match=r"Sofa\.Core\.Mapping_Vec3d_Vec1d is not available in penalty's SofaPython3"):
+    with pytest.raises(AttributeError, match=r"Sofa\.Core\.Mapping_Vec1d_Vec1d is not available in penalty's SofaPython3"):
         penalty.load_scene(SCRIPTS / "unsupported_api.py")
     root = sofa_api.Node("root")
     root.addObject("MechanicalObject", name="m", position=[0, 0, 0])

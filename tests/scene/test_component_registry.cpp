@@ -43,7 +43,7 @@ TEST(ComponentRegistry, EachTypeOnceEachAttributeOncePhysicsIsBuilt) {
             EXPECT_EQ(s.build, nullptr) << s.type;
         }
     }
-    EXPECT_EQ(physics, 158u);  // the physics types of docs/sofa-compatibility.md and docs/components/
+    EXPECT_EQ(physics, 159u);  // the physics types of docs/sofa-compatibility.md and docs/components/
     EXPECT_EQ(component_category("TriangleCollisionModel"), ComponentCategory::physics);
     EXPECT_EQ(component_category("SphereLoader"), ComponentCategory::loader);
     EXPECT_EQ(component_category("OglModel"), ComponentCategory::ignored);

@@ -190,6 +190,10 @@ public:
     [[nodiscard]] const Plasticity& plasticity() const { return plasticity_; }
     /// The plastic strain of element e (Voigt xx, yy, zz, xy, yz, zx).
     [[nodiscard]] const std::array<double, 6>& plastic_strain(std::size_t e) const { return plastic_strain_[e]; }
+    /// SOFA's `localStiffnessFactor` (before init(); method large): element e's Young's modulus
+    /// is factors[e·M/N]·E for M factors and N elements (TetrahedronFEMForceField::
+    /// computeMaterialStiffness); empty: E for all.
+    void set_young_factors(std::vector<double> factors) { young_factors_ = std::move(factors); }
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
@@ -239,6 +243,7 @@ private:
     /// add_force of method large with plasticity, SOFA's sums (tetrahedron_plasticity.cpp).
     void add_force_plastic(std::span<Vec3> f, std::span<const Vec3> x);
     Plasticity plasticity_;
+    std::vector<double> young_factors_;  ///< localStiffnessFactor (set_young_factors)
     std::vector<std::array<double, 6>> plastic_strain_;
 };
 

@@ -79,6 +79,7 @@ public:
     [[nodiscard]] double kinetic_energy() const override;
     [[nodiscard]] double gravity_potential_energy(const Vec3& gravity) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
+    [[nodiscard]] const MeshTopology& topology() const { return *topology_; }
     /// SOFA's totalMass after init (and the topological changes since).
     [[nodiscard]] double total_mass() const override { return total_; }
     /// SOFA's topology callbacks of vertexMass and edgeMass, event by event (the .cpp's last part).

@@ -322,6 +322,11 @@ private:
     /// Gives the states of `fresh` (built again from this scene's text) this scene's values and
     /// memory, matched by path. @throws io::SceneError when a state's size or template differs.
     void carry_states(Scene& fresh, bool reset) const;
+    /// The vectors of `fresh`'s states whose Data is linked to a Data the pending writes made
+    /// dirty (an engine's output whose input was written: SOFA's Data links, live_links.cpp).
+    [[nodiscard]] std::vector<std::pair<const BaseState*, StateVector>> states_linked_to_writes(const Scene& fresh) const;
+    /// `carried`'s vector `which` takes the values of `rebuilt` (same size: the memory stays).
+    static void take_linked_vectors(const BaseState& rebuilt, BaseState& carried, StateVector which);
     /// Builds the scene again from its text; `reset`: states back to their values at init.
     void rebuild(bool reset);
     /// The root's child nodes keep their gravity until the end of the next step, and then take the

@@ -5,7 +5,7 @@ Sofa.Simulation.init builds the C++ scene from it (the one scene builder of `.sc
 then on every node and component is live: its Data read and write the running simulation
 (docs/python.md, "The object model")."""
 from .components import (ArrayData, Controller, DataEngine, ForceFieldRigid3d, ForceFieldVec3d,  # noqa: F401
-                         Mapping_Rigid3d_Vec3d, Mapping_Vec3d_Vec3d, dispatch)
+                         Mapping_Rigid3d_Vec3d, Mapping_Vec3d_Vec1d, Mapping_Vec3d_Vec3d, dispatch)
 from .data import Data, DataContainer, DataString, Link, LinkPath  # noqa: F401
 from .graph import Base, NodeIterator  # noqa: F401
 from .script import ScriptError, ScriptExit, import_sofa_python_scene, run_scene_script  # noqa: F401

@@ -52,8 +52,10 @@ class _PythonComponent(Object):
             if self._has_data(key):
                 self._data_set(key, value)
 
+    _catalog_class = ""  # the catalog's class for the Data when it has no rows of _sofa_class
+
     def _fields(self):
-        return type_fields(self._sofa_class, False, False)
+        return type_fields(self._catalog_class or self._sofa_class, False, False)
 
     def _live(self):
         return None
@@ -182,11 +184,13 @@ class _Mapping(_PythonComponent):
         for end in ("input", "output"):
             if end in self._values:
                 attributes.append((end, _tree_text(self._values[end], f"{self._describe()}: {end}", self._root()), self._line))
-        return {"type": self._cpp_type, "name": self._name, "template": self._in_template + ",Vec3d", "file": self._file,
+        return {"type": self._cpp_type, "name": self._name, "template": self.getTemplateName(), "file": self._file,
                 "line": self._line, "attributes": attributes}
 
+    _out_template = "Vec3d"
+
     def getTemplateName(self):
-        return self._in_template + ",Vec3d"
+        return self._in_template + "," + self._out_template
 
     def apply(self, mparams, out, inp):
         raise NotImplementedError(f"{type(self).__name__}.apply is not implemented")
@@ -208,6 +212,15 @@ class Mapping_Vec3d_Vec3d(_Mapping):  # noqa: N801 - SofaPython3's name
 class Mapping_Rigid3d_Vec3d(_Mapping):  # noqa: N801
     _sofa_class = "Mapping_Rigid3d_Vec3d"
     _in_template = "Rigid3d"
+
+
+class Mapping_Vec3d_Vec1d(_Mapping):  # noqa: N801
+    """Sofa.Core.Mapping_Vec3d_Vec1d: onto a Vec1d state, the arrays of the output (n, 1)."""
+
+    _sofa_class = "Mapping_Vec3d_Vec1d"
+    _catalog_class = "Mapping_Vec3d_Vec3d"  # the same Data (SofaPython3's Mapping binding)
+    _in_template = "Vec3d"
+    _out_template = "Vec1d"
 
 
 class ArrayData:

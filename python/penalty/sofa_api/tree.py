@@ -15,6 +15,22 @@ def _scene_of(base):
     return getattr(root, "_penalty_scene", None) if root is not None else None
 
 
+
+_SCALAR_FIELDS = {}
+
+
+def _scalar_state_fields(fields: dict) -> dict:
+    """A Vec1d MechanicalObject's Data: its vectors hold one value per point, (n, 1) as
+    SofaPython3 presents them (the catalog's rows are the Vec3d state's)."""
+    key = id(fields)
+    out = _SCALAR_FIELDS.get(key)
+    if out is None:
+        out = {name: (dict(f, columns=1) if f.get("columns") == 3 and f["python_form"] == "ndarray:float64:2" else f)
+               for name, f in fields.items()}
+        _SCALAR_FIELDS[key] = out
+    return out
+
+
 class Object(Base):
     """An object added with node.addObject(type, name=..., **data) (Sofa.Core.Object)."""
 
@@ -39,7 +55,10 @@ class Object(Base):
         return t.startswith("Rigid")
 
     def _fields(self) -> dict:
-        return type_fields(self._type, False, self._rigid())
+        fields = type_fields(self._type, False, self._rigid())
+        if self._type == "MechanicalObject" and (self._template or "") in ("Vec1", "Vec1d", "Vec1f"):
+            return _scalar_state_fields(fields)
+        return fields
 
     def _live(self):
         scene = _scene_of(self)

@@ -65,6 +65,7 @@ std::span<const ComponentSpec> tait_pressure_components();          // tait_pres
 std::span<const ComponentSpec> multi_mapping_components();         // multi_mappings.cpp
 std::span<const ComponentSpec> drawing_components();               // drawing_components.cpp
 std::span<const ComponentSpec> shape_matching_components();         // shape_matching.cpp
+std::span<const ComponentSpec> diffusion_components();              // diffusion.cpp
 
 /// SOFA's SparseGridTopology::getStiffnessCoef on a HexahedronFEMForceField built on the node's
 /// sparse grid (0.5 for boundary cells when fillWeighted) (sparse_grid.cpp).

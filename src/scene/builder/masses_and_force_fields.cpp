@@ -246,6 +246,10 @@ constexpr AttributeSpec kTetrahedronFem[] = {
      "elastic strain norm above which it creeps (SOFA's default: the float 0.0001f)"},
     {"plasticCreep", K::real, "0.9", "", ValueCheck::nonnegative,
      "fraction of the elastic strain made plastic per evaluation (SOFA's default: the float 0.9f)"},
+    {"localStiffnessFactor", K::numbers, "", "", ValueCheck::none,
+     "factors of E: element i takes value i*M/N of the M values (method large)"},
+    {"updateStiffness", K::boolean, "0", "", ValueCheck::none,
+     "1: youngModulus, poissonRatio, localStiffnessFactor written after init act at the next step (else at reinit)"},
 };
 constexpr AttributeSpec kHexahedronFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
@@ -299,6 +303,14 @@ void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
         if (plasticity.max_threshold > 0 && law.method != FemMethod::Large)
             a.fail("plasticMaxThreshold", "plasticity is supported with method large only");
         ff->set_plasticity(plasticity);
+        if (a.has("localStiffnessFactor")) {
+            std::vector<double> factors = a.numbers("localStiffnessFactor");
+            if (law.method != FemMethod::Large) a.fail("localStiffnessFactor", "is supported with method large only");
+            for (double f : factors)  // any sign, as SOFA (thermoelasticity.py's 1/(1 + 50 T) with T < −0.02)
+                if (!std::isfinite(f)) a.fail("localStiffnessFactor", "each factor must be finite, found '" + num(f) + "'");
+            ff->set_young_factors(std::move(factors));
+        }
+        static_cast<void>(a.boolean("updateStiffness"));  // when writes take effect (live_writes.cpp)
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, text = law_text(law)] { return counted(ff->tetrahedra().size(), "tetrahedron", "tetrahedra") + text; });

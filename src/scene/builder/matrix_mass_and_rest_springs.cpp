@@ -2,6 +2,7 @@
 // RestShapeSpringsForceField.
 #include "penalty/mechanics/mesh_matrix_mass.hpp"
 #include "penalty/mechanics/rest_shape_springs.hpp"
+#include "penalty/mechanics/scalar_mesh_matrix_mass.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -27,7 +28,8 @@ constexpr AttributeSpec kMeshMatrixMass[] = {
     {"showGravityCenter", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"separateGravity", K::boolean, "0", "", ValueCheck::none, "1 is refused"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "the elements"},
-    {"geometryState", K::link, "(the node's state)", "", ValueCheck::none, "penalty: the mass's own state only"},
+    {"geometryState", K::link, "(the node's state)", "", ValueCheck::none,
+     "the mass's own state; a Vec1d mass: the Vec3d state whose positions measure the elements"},
     // beyond SOFA
     {"edgeElements", K::boolean, "0", "", ValueCheck::none,
      "beyond SOFA: the bar's masses on an edge-only topology (SOFA gives it none)"},
@@ -37,16 +39,29 @@ void build_mesh_matrix_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild&
     const Attributes a(c);
     BaseState& s = b.state(c, info);
     MeshMatrixMass* mass = nullptr;
+    BaseMass* built = nullptr;
     b.guarded(c, [&] {
         auto* v = dynamic_cast<Vec3Object*>(&s);
-        if (v == nullptr) io::throw_element_error(c, "penalty's MeshMatrixMass supports Vec3d states only (as SOFA's)");
+        auto* scalar = dynamic_cast<Vec1Object*>(&s);
+        if (v == nullptr && scalar == nullptr)
+            io::throw_element_error(c, "penalty's MeshMatrixMass supports Vec3d states, and Vec1d states with a Vec3d geometryState");
         if (a.boolean("separateGravity")) a.fail("separateGravity", "1 is not supported");
-        if (a.has("geometryState")) {
-            const io::LinkTarget g = a.link("geometryState");
-            if (g.component != info.state_component) a.fail("geometryState", "must be the mass's own state");
-        }
         const MeshTopology& topology = b.topology_of(a, info);
-        mass = &info.node->set_mass<MeshMatrixMass>(*v, topology);
+        if (scalar != nullptr) {  // MeshMatrixMass<Vec1d, Vec3d>: measured on geometryState
+            if (!a.has("geometryState")) a.fail("geometryState", "a Vec1d mass needs the Vec3d state of its geometry");
+            auto* geometry = dynamic_cast<Vec3Object*>(b.linked_state(a, "geometryState"));
+            if (geometry == nullptr) a.fail("geometryState", "must link a Vec3d MechanicalObject built before this node");
+            auto& m = info.node->set_mass<ScalarMeshMatrixMass>(*scalar, *geometry, topology);
+            mass = &m.masses();
+            built = &m;
+        } else {
+            if (a.has("geometryState")) {
+                const io::LinkTarget g = a.link("geometryState");
+                if (g.component != info.state_component) a.fail("geometryState", "must be the mass's own state");
+            }
+            mass = &info.node->set_mass<MeshMatrixMass>(*v, topology);
+            built = mass;
+        }
         const auto nonnegative = [&](std::string_view name) {
             std::vector<double> values = a.numbers(name);
             for (double x : values)
@@ -62,7 +77,7 @@ void build_mesh_matrix_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         mass->set_compute_mass_on_rest(a.boolean("computeMassOnRest"));
         mass->set_edge_elements(a.boolean("edgeElements"));
     });
-    b.record_mass(*mass, *info.node, c);
+    b.record_mass(*built, *info.node, c);
     b.role(c, [mass] {
         std::string out = std::string(mass->lumping() ? "lumped" : "consistent") + " mass matrix of the " +
                           lumped_element_name(mass->element_kind()) + ", " + num(mass->total_mass()) + " kg in all";
@@ -70,7 +85,7 @@ void build_mesh_matrix_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild&
             out += " (SOFA gives edges no mass: every mass is 0; edgeElements=\"1\" gives them the bar's)";
         return out;
     });
-    b.add_init(1, c, [mass] { mass->init(); });
+    b.add_init(1, c, [built] { built->init(); });
     b.note_unread_attributes(c);
 }
 

@@ -2,4 +2,4 @@ import Sofa.Core
 
 
 def createScene(rootNode):
-    rootNode.addObject(Sofa.Core.Mapping_Vec3d_Vec1d(name="loss"))
+    rootNode.addObject(Sofa.Core.Mapping_Vec1d_Vec1d(name="loss"))

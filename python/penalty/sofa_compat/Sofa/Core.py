@@ -2,7 +2,7 @@
 SofaPython3, penalty/sofa_api)."""
 from penalty.sofa_api import (Base, Controller, Data, DataContainer, DataEngine, DataString,  # noqa: F401
                               ForceFieldRigid3d, ForceFieldVec3d, Link, LinkPath, Mapping_Rigid3d_Vec3d,
-                              Mapping_Vec3d_Vec3d, Node, NodeIterator, Object)
+                              Mapping_Vec3d_Vec1d, Mapping_Vec3d_Vec3d, Node, NodeIterator, Object)
 
 BaseObject = Object
 BaseComponent = Object
