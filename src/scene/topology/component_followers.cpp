@@ -16,12 +16,16 @@
 #include "penalty/mechanics/prescribed_motion_constraints.hpp"
 #include "penalty/mechanics/pressure_loads.hpp"
 #include "penalty/mechanics/projective_constraints.hpp"
+#include "penalty/mechanics/rest_shape_springs.hpp"
 #include "penalty/mechanics/topology_followers.hpp"
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
 #include "scene/topology/topology_changes.hpp"
 
+#include <array>
+#include <iostream>
+#include <memory>
 #include <set>
 
 namespace penalty::scene {
@@ -77,6 +81,39 @@ ElementType lumped_type(LumpedElementKind kind) {
     }
     return ElementType::edge;
 }
+
+/// SOFA's RestShapeSpringsForceField on a changing topology: `points` is a TopologySubsetIndices
+/// (bwdInit's d_points.createTopologyHandler: a removed point leaves the list, the last point's
+/// entries take its index); `stiffness`, `external_points` and an external rest shape are no
+/// topology data. Once the operation is done (the states followed) the springs are resolved again
+/// as addForce's recomputeIndices does; when SOFA's checkOutOfBoundsIndices then fails (external
+/// points that no longer match) the springs go off, as in SOFA, with a warning naming the component.
+template <class DataTypes>
+class RestShapeSpringsFollower final : public TopologyHandler {
+public:
+    RestShapeSpringsFollower(RestShapeSpringsForceField<DataTypes>& ff, const TopologyContainer& container, std::string name)
+        : ff_(&ff),
+          points_(container, [f = &ff] { return f->point_list(); }, [f = &ff](std::vector<Index> i) { f->follow_points(std::move(i)); }),
+          name_(std::move(name)) {}
+    void handle_topology_changes(std::span<const TopologyChange> changes) override {
+        points_.handle_topology_changes(changes);
+        dirty_ = true;
+    }
+    void topology_change_done() override {
+        if (!dirty_) return;
+        dirty_ = false;
+        const bool was_active = ff_->active();
+        if (!ff_->resolve_after_change() && was_active)
+            std::cerr << "warning: " << name_ << ": after the topological change " << ff_->inactive_reason()
+                      << ": its springs are off, as SOFA's RestShapeSpringsForceField::checkOutOfBoundsIndices leaves them\n";
+    }
+
+private:
+    RestShapeSpringsForceField<DataTypes>* ff_;
+    SubsetIndicesFollower points_;
+    std::string name_;
+    bool dirty_ = false;
+};
 
 /// follow for a force field (its one force field), or false when its class has no rule here.
 bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
@@ -162,6 +199,19 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
         container.add_handler(w.keep(std::make_unique<SpringPointsFollower>(*ff, container)),
                               {ElementType::point, ElementType::edge});
         return true;
+    }
+    // RestShapeSpringsForceField: its points as a TopologySubsetIndices, resolved again as addForce
+    // does when recompute_indices (the default); without it SOFA keeps init's springs (the points
+    // past the state's end read outside it): no rule
+    if (type == "RestShapeSpringsForceField" && io::get_bool_or(c, "recompute_indices", true)) {
+        const auto follow_points = [&]<class D>(RestShapeSpringsForceField<D>* ff) {
+            container.add_handler(w.keep(std::make_unique<RestShapeSpringsFollower<D>>(*ff, container, where(c))),
+                                  {ElementType::point});
+            return true;
+        };
+        if (auto* ff = dynamic_cast<RestShapeSpringsForceField<Vec3Types>*>(f)) return follow_points(ff);
+        if (auto* ff = dynamic_cast<RestShapeSpringsForceField<Rigid3Types>*>(f)) return follow_points(ff);
+        return false;
     }
     // edgeInfo and triangleInfo TopologyData with creation and destruction callbacks, event by event
     if (type == "TriangularBiquadraticSpringsForceField") {
@@ -270,6 +320,47 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
     return follow_force_field(w, c, b, t);
 }
 
+/// A SpringForceField between two states (SpringForceField::init: initializeTopologyHandler of
+/// d_springsIndices[0] on the topology of object1's context, of [1] on object2's): each end that
+/// follows a dynamic topology's points follows its removals (SpringPointsFollower), the two ends
+/// editing one spring list. An end whose context topology changes but whose state does not follow
+/// it (a state mapped below it) has no rule: false.
+bool follow_spring_ends(TopologyWiring& w, const SceneComponent& c, const Built& b) {
+    if ((c.type != "SpringForceField" && c.type != "MeshSpringForceField") || b.force_fields.size() != 1) return false;
+    auto* ff = dynamic_cast<SpringForceField*>(b.force_fields[0]);
+    if (ff == nullptr || ff->states().size() != 2) return false;
+    std::array<DynamicTopology*, 2> ends{};
+    for (std::size_t k = 0; k < 2; ++k) {
+        const BaseState* state = ff->states()[k];
+        const auto f = w.followed_states.find(state);
+        ends[k] = f != w.followed_states.end() ? f->second : nullptr;
+        // the topology SOFA's handler listens to: the state's node's or the nearest ancestor's
+        for (const auto& [sn, nb] : w.builder.node_builds()) {
+            if (nb.node == nullptr || nb.node->state() != state) continue;
+            for (const io::SceneNode* n = sn; n != nullptr; n = n->parent) {
+                const NodeBuild& up = w.builder.node_build(*n);
+                if (up.topology == nullptr) continue;
+                if (DynamicTopology* t = w.runtime.find(up.topology); t != nullptr && t != ends[k]) return false;
+                break;
+            }
+        }
+    }
+    if (ends[0] == nullptr && ends[1] == nullptr) return false;
+    using Ends = SpringPointsFollower::Ends;
+    const auto edit = std::make_shared<SpringListEdit>(SpringListEdit{ff, {}, false});
+    const auto add = [&](DynamicTopology& t, Ends which) {
+        t.container->add_handler(w.keep(std::make_unique<SpringPointsFollower>(edit, *t.container, which)),
+                                 {ElementType::point, ElementType::edge});
+    };
+    if (ends[0] == ends[1]) {
+        add(*ends[0], Ends::both);
+    } else {
+        if (ends[0] != nullptr) add(*ends[0], Ends::first);
+        if (ends[1] != nullptr) add(*ends[1], Ends::second);
+    }
+    return true;
+}
+
 /// A BarycentricMapping whose input state follows `t` (a tetrahedral or hexahedral container):
 /// SOFA's BarycentricMapping::handleTopologyChange → TopologyBarycentricMapper::
 /// processTopologicalChanges, clear() and init(out, in) with both states' current positions, i.e.
@@ -328,6 +419,7 @@ void wire_components(TopologyWiring& w) {
                 continue;
             }
             if (by_topology == nullptr && by_state.empty()) continue;
+            if (follow_spring_ends(w, c, b)) continue;
             const bool follows = by_topology != nullptr && follow(w, c, b, *by_topology);
             if (!follows) {
                 if (by_topology != nullptr) by_topology->blockers.push_back(where(c));
