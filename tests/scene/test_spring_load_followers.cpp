@@ -5,6 +5,7 @@
 // end's topology (SOFA HEAD's applyRemovedPoints per end). After each change the follower equals
 // the same component built fresh on the reduced mesh with the followed lists (forces, add_dforce,
 // the assembled matrix, the next step), and its derivatives pass the finite-difference check.
+#include "penalty/mechanics/pressure_loads.hpp"
 #include "penalty/mechanics/rest_shape_springs.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/scene/scene.hpp"
@@ -50,7 +51,7 @@ std::string slf_list(const std::vector<Index>& v) {
 
 /// Forces, add_dforce and the assembled triplets of `a` and `b` (on states of the same size) at
 /// the same displaced positions: equal to the bit.
-void slf_expect_same_springs(BaseForceField& a, Vec3Object& xa, BaseForceField& b, Vec3Object& xb) {
+void slf_expect_same_forces(BaseForceField& a, Vec3Object& xa, BaseForceField& b, Vec3Object& xb) {
     ASSERT_EQ(xa.num_dofs(), xb.num_dofs());
     for (std::size_t i = 0; i < xa.num_dofs(); ++i) {
         const Vec3 d(0.01 * double(i % 3), -0.02 + 0.001 * double(i), 0.005 * double(i % 5));
@@ -108,7 +109,7 @@ TEST(SpringLoadFollowers, RestShapeSpringsKeepTheirPointsAndStiffnessBySlotAsIfB
         auto fresh = test::build(slf_body(x.rest_position, mesh.tetrahedra(), springs("points=\"" + slf_list(ff->point_list()) + "\"")));
         auto* ref = slf_find<RestShapeSpringsForceField<Vec3Types>>(fresh->simulation().root());
         ASSERT_NE(ref, nullptr);
-        slf_expect_same_springs(*ff, x, *ref, slf_state(*fresh));
+        slf_expect_same_forces(*ff, x, *ref, slf_state(*fresh));
         if (assembly == "1") {
             const test::DerivativeTolerances tol{1e-7, 1e-14, 1e-7};
             (void)test::check_force_field_derivatives(*ff, x, tol);
@@ -292,6 +293,120 @@ TEST(SpringLoadFollowers, SpringsBetweenTwoChangingBodiesFollowBothEnds) {
     ends.clear();
     for (const Spring& sp : ff->springs()) ends.push_back({sp.a, sp.b});
     EXPECT_EQ(ends, (std::vector<std::array<Index, 2>>{{0, 1}, {13, 24}, {0, 3}, {24, 2}}));
+}
+
+/// A 4×4 sheet of quads in the plane y = 0 (25 points, 10 cm cells) with `load` on it.
+std::string slf_quad_sheet(const std::vector<Vec3>& points, const std::vector<Quad>& quads, const std::string& load) {
+    return R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><Node name="sheet">
+  <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
+  <QuadSetTopologyContainer name="surface" position=")" +
+           test::points_text(points) + R"(" quads=")" + test::elements_text(quads) + R"("/>
+  <QuadSetTopologyModifier/>
+  <MechanicalObject name="dofs"/>
+  <UniformMass vertexMass="0.01"/>
+  <MeshSpringForceField stiffness="100" damping="0.1"/>
+  )" + load + "\n</Node></Node>\n";
+}
+
+struct SlfSheet {
+    std::vector<Vec3> points;
+    std::vector<Quad> quads;
+};
+
+SlfSheet slf_sheet() {
+    SlfSheet s;
+    for (int z = 0; z <= 4; ++z)
+        for (int x = 0; x <= 4; ++x) s.points.push_back(Vec3(0.1 * x, 0, 0.1 * z));
+    for (int z = 0; z < 4; ++z)
+        for (int x = 0; x < 4; ++x) {
+            const PointId a = PointId(x + 5 * z);
+            s.quads.push_back({a, a + 1, a + 6, a + 5});
+        }
+    return s;
+}
+
+std::string slf_quad_list(const std::vector<Index>& v) { return R"(quadList=")" + slf_list(v) + R"(")"; }
+
+TEST(SpringLoadFollowers, QuadPressureEntriesFollowTheirQuadsAsIfBuiltAfresh) {
+    // quads 15 and 0 hold corners 24 and 0 alone. QuadSubsetData::remove on "0 3 5 15 9 14": 15
+    // leaves; 0 leaves and 14 (the last then) becomes 0 -> "3 5 9 0"; then quads 8, 7, 2 go (none listed)
+    const SlfSheet sheet = slf_sheet();
+    const std::string pressure = R"(pressure="0 -2 0.5")";
+    auto s = test::build(slf_quad_sheet(sheet.points, sheet.quads, R"(<QuadPressureForceField quadList="0 3 5 15 9 14" )" + pressure + "/>"));
+    auto* ff = slf_find<QuadPressureForceField>(s->simulation().root());
+    ASSERT_NE(ff, nullptr);
+    s->remove_elements("surface", ElementType::quad, {15, 0});
+    EXPECT_EQ(ff->quads(), (std::vector<Index>{3, 5, 9, 0}));
+    for (const std::vector<ElementId>& removed : {std::vector<ElementId>{}, std::vector<ElementId>{2, 7, 8}}) {
+        if (!removed.empty()) s->remove_elements("surface", ElementType::quad, removed);
+        EXPECT_EQ(ff->quads(), (std::vector<Index>{3, 5, 9, 0}));
+        Vec3Object& x = slf_state(*s);
+        auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(),
+                                                "<QuadPressureForceField " + slf_quad_list(ff->quads()) + " " + pressure + "/>"));
+        auto* ref = slf_find<QuadPressureForceField>(fresh->simulation().root());
+        ASSERT_NE(ref, nullptr);
+        EXPECT_EQ(ff->total_rest_area(), ref->total_rest_area());
+        slf_expect_same_forces(*ff, x, *ref, slf_state(*fresh));
+    }
+}
+
+TEST(SpringLoadFollowers, QuadPressureKeepsSofasStaleLastIndexOrTheFixedRule) {
+    // SOFA's QuadSubsetData keeps its last index from init (15): after the first removal
+    // ("0 3 5 15 9 14 13 12" -> "3 5 9 0 13 12"), removing 8, 7, 2 renames 13 to 2 (quad 13 went
+    // to 8) and leaves 12 past the end (11 quads; SOFA HEAD crashes): dropped with a warning.
+    // --fix-sofa-quirk subset_data_last_index: the current last quads 13, 12, 11 -> 8, 7, 2
+    const SlfSheet sheet = slf_sheet();
+    const std::string load = R"(<QuadPressureForceField name="push" quadList="0 3 5 15 9 14 13 12" pressure="0 -2 0.5"/>)";
+    for (const bool fixed : {false, true}) {
+        SCOPED_TRACE(fixed ? "fixed" : "SOFA");
+        scene::BuildOptions options;
+        options.sofa_quirk_fixes.fix_subset_data_last_index = fixed;
+        auto s = test::build(slf_quad_sheet(sheet.points, sheet.quads, load), options);
+        auto* ff = slf_find<QuadPressureForceField>(s->simulation().root());
+        ASSERT_NE(ff, nullptr);
+        s->remove_elements("surface", ElementType::quad, {15, 0});
+        EXPECT_EQ(ff->quads(), (std::vector<Index>{3, 5, 9, 0, 13, 12}));
+        testing::internal::CaptureStderr();
+        s->remove_elements("surface", ElementType::quad, {2, 7, 8});
+        const std::string warning = testing::internal::GetCapturedStderr();
+        ASSERT_EQ(s->topology_container("surface").mesh().quads().size(), 11u);
+        if (!fixed) {
+            EXPECT_EQ(ff->quads(), (std::vector<Index>{3, 5, 9, 0, 2}));
+            EXPECT_THAT(warning, testing::HasSubstr("QuadPressureForceField 'push' (test.scn:"));
+            EXPECT_THAT(warning, testing::HasSubstr("1 pressure entries name elements past the topology's end"));
+            continue;
+        }
+        EXPECT_EQ(warning, "");
+        EXPECT_EQ(ff->quads(), (std::vector<Index>{3, 5, 9, 0, 8, 7}));
+        Vec3Object& x = slf_state(*s);
+        auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(),
+                                                R"(<QuadPressureForceField quadList="3 5 9 0 8 7" pressure="0 -2 0.5"/>)"));
+        slf_expect_same_forces(*ff, x, *slf_find<QuadPressureForceField>(fresh->simulation().root()), slf_state(*fresh));
+    }
+}
+
+TEST(SpringLoadFollowers, SurfacePressurePressesTheRemainingQuadsAsIfBuiltAfresh) {
+    // no topology data: addForce presses the topology's current quads; with explicit index lists
+    // (no topology data either) it blocks
+    const SlfSheet sheet = slf_sheet();
+    const std::string load = R"(<SurfacePressureForceField pressure="3" useTangentStiffness="1"/>)";
+    auto s = test::build(slf_quad_sheet(sheet.points, sheet.quads, load));
+    auto* ff = slf_find<SurfacePressureForceField>(s->simulation().root());
+    ASSERT_NE(ff, nullptr);
+    s->step();
+    s->remove_elements("surface", ElementType::quad, {15, 0, 6});
+    Vec3Object& x = slf_state(*s);
+    auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(), load));
+    slf_expect_same_forces(*ff, x, *slf_find<SurfacePressureForceField>(fresh->simulation().root()), slf_state(*fresh));
+
+    auto listed = test::build(slf_quad_sheet(sheet.points, sheet.quads,
+                                             R"(<SurfacePressureForceField name="listed" pressure="3" quadIndices="1 2"/>)"));
+    try {
+        listed->remove_elements("surface", ElementType::quad, {0});
+        ADD_FAILURE() << "no error";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_THAT(e.what(), testing::HasSubstr("SurfacePressureForceField 'listed' (test.scn:"));
+    }
 }
 
 }  // namespace

@@ -115,6 +115,39 @@ private:
     bool dirty_ = false;
 };
 
+/// A pressure load's subset data (TrianglePressureForceField's trianglePressureMap, ...): the
+/// events forwarded to its handle_topology_changes; once the operation is done, the entries that
+/// SOFA's stale last index left past the topology's end (SOFA HEAD reads past it and crashes)
+/// are dropped with a warning naming the component and the quirk switch that gives the rule of
+/// TopologySubsetIndices.
+template <class T>
+class PressureLoadFollower final : public TopologyHandler {
+public:
+    PressureLoadFollower(T& load, const TopologyContainer& container, std::string name)
+        : load_(&load), container_(&container), name_(std::move(name)) {}
+    void handle_topology_changes(std::span<const TopologyChange> changes) override {
+        load_->handle_topology_changes(*container_, changes);
+        dirty_ = true;
+    }
+    void topology_change_done() override {
+        if (!dirty_) return;
+        dirty_ = false;
+        if (const std::size_t dropped = load_->drop_entries_past_end(); dropped > 0)
+            std::cerr << "warning: " << name_ << ": " << dropped
+                      << " pressure entries name elements past the topology's end after the change (SOFA's "
+                         "TopologySubsetData::remove renames the entries of the last element at init, not the current "
+                         "one; SOFA HEAD then reads past the topology): dropped (--fix-sofa-quirk "
+                         "subset_data_last_index gives the current last element's rule)\n";
+        if constexpr (requires(T& t) { t.topology_change_done(); }) load_->topology_change_done();
+    }
+
+private:
+    T* load_;
+    const TopologyContainer* container_;
+    std::string name_;
+    bool dirty_ = false;
+};
+
 /// follow for a force field (its one force field), or false when its class has no rule here.
 bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
     TopologyContainer& container = *t.container;
@@ -231,14 +264,33 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     if (type == "TrianglePressureForceField") {
         auto* ff = dynamic_cast<TrianglePressureForceField*>(f);
         if (ff == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TrianglePressureForceField>>(*ff, container)),
+        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
+        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<TrianglePressureForceField>>(*ff, container, where(c))),
                               {ElementType::triangle});
+        return true;
+    }
+    if (type == "QuadPressureForceField") {
+        auto* ff = dynamic_cast<QuadPressureForceField*>(f);
+        if (ff == nullptr) return false;
+        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
+        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<QuadPressureForceField>>(*ff, container, where(c))),
+                              {ElementType::quad});
+        return true;
+    }
+    // SurfacePressureForceField: no topology data, addForce presses the topology's current
+    // triangles and quads; its triangleIndices / quadIndices lists are no topology data either
+    // (an index past the end reads outside the topology): no rule for them
+    if (type == "SurfacePressureForceField") {
+        auto* ff = dynamic_cast<SurfacePressureForceField*>(f);
+        if (ff == nullptr || !ff->parameters().triangle_indices.empty() || !ff->parameters().quad_indices.empty()) return false;
+        rebuild([ff] { ff->topology_changed(); }, {ElementType::triangle, ElementType::quad, ElementType::point});
         return true;
     }
     if (type == "EdgePressureForceField") {
         auto* ff = dynamic_cast<EdgePressureForceField*>(f);
         if (ff == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<EdgePressureForceField>>(*ff, container)),
+        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
+        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<EdgePressureForceField>>(*ff, container, where(c))),
                               {ElementType::edge});
         return true;
     }
