@@ -361,6 +361,27 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
         return false;
     }
+    // PartialFixedProjectiveConstraint: FixedProjectiveConstraint's TopologySubsetIndices (it
+    // inherits init); ParabolicProjectiveConstraint: its own (init's createTopologyHandler)
+    if (type == "PartialFixedProjectiveConstraint" && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<PartialFixedProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    if (type == "ParabolicProjectiveConstraint" && b.constraints.size() == 1) {
+        const auto follow_subset = [&](auto* k) {
+            container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                      container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                                  {ElementType::point});
+            return true;
+        };
+        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Vec3Types>*>(b.constraints[0])) return follow_subset(k);
+        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
+        return false;
+    }
     if (type == "PointProjectiveConstraint" && b.constraints.size() == 1) {
         auto* k = dynamic_cast<PointProjectiveConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
