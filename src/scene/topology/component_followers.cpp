@@ -450,7 +450,7 @@ bool follow_barycentric(TopologyWiring& w, const SceneComponent& c, BaseMapping*
     const bool tetrahedra = t.container->level() == ElementType::tetrahedron;
     const auto remap = [m, in, out, &mesh, tetrahedra] {
         if (tetrahedra) m->map_on_set_tetrahedra(mesh, in->position, out->position);
-        else m->map_on_hexahedra(mesh, in->position, out->position);
+        else m->map_on_set_hexahedra(mesh, in->position, out->position);
     };
     const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
                                                  ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
