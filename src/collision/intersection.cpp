@@ -39,7 +39,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 11> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 12> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -71,6 +71,9 @@ constexpr std::array<SofaQuirkInfo, 11> kSofaQuirks{{
      "MeshSpringForceField: a stiffness or damping written after init gives each spring value / rest length as a "
      "fresh scene, not the written value for every spring as SOFA's SpringForceField lists do (command line or "
      "BuildOptions only)"},
+    {"subset_data_last_index", &SofaQuirkFixes::fix_subset_data_last_index,
+     "Edge/Triangle/QuadPressureForceField: a removal renames the entries of the topology's current last element, not "
+     "those of SOFA's TopologySubsetData last index kept from init (command line or BuildOptions only)"},
 }};
 }  // namespace
 

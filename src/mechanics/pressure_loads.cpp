@@ -195,6 +195,7 @@ QuadPressureForceField::QuadPressureForceField(Vec3Object& state, const MeshTopo
 void QuadPressureForceField::init() {
     const auto& all = topology_->quads();
     check_element_indices("QuadPressureForceField", "quad", quads_, all);
+    subset_last_ = Index(all.size()) - 1;  // setDataSetArraySize at createTopologyHandler
     const std::vector<Vec3>& x0 = state_->rest_position;
     rest_areas_.clear();
     forces_.clear();

@@ -1,6 +1,7 @@
 #include "penalty/mechanics/rest_shape_springs.hpp"
 
 #include <cmath>
+#include <string>
 #include <limits>
 
 namespace penalty {
@@ -89,32 +90,54 @@ void RestShapeSpringsForceField<DataTypes>::set_external_rest_shape(const Mechan
     external_points_ = std::move(external_points);
 }
 
-// RestShapeSpringsForceField::bwdInit, recomputeIndices, checkOutOfBoundsIndices.
+// RestShapeSpringsForceField::recomputeIndices and checkOutOfBoundsIndices (in SOFA's order:
+// the points, then the anchors against the external state, or against the rest positions when
+// there is none, then the two counts).
+template <class DataTypes>
+bool RestShapeSpringsForceField<DataTypes>::resolve(std::string& why) {
+    const std::size_t n = this->state_->num_dofs();
+    resolved_dofs_ = n;
+    resolved_external_dofs_ = external_ != nullptr ? external_->num_dofs() : 0;
+    std::vector<Index> points = points_;
+    if (points.empty())
+        for (std::size_t i = 0; i < n; ++i) points.push_back(Index(i));
+    std::vector<Index> anchors = external_points_;
+    if (anchors.empty()) {
+        if (external_ == nullptr) anchors = points;
+        else
+            for (std::size_t i = 0; i < external_->num_dofs(); ++i) anchors.push_back(Index(i));
+    }
+    const std::size_t anchor_count = external_ != nullptr ? external_->num_dofs() : this->state_->rest_position.size();
+    for (Index i : points)
+        if (i < 0 || std::size_t(i) >= n) {
+            why = "point " + std::to_string(i) + " is out of range (" + std::to_string(n) + " points)";
+            return false;
+        }
+    for (Index i : anchors)
+        if (i < 0 || std::size_t(i) >= anchor_count) {
+            why = "external point " + std::to_string(i) + " is out of range (" + std::to_string(anchor_count) +
+                  (external_ != nullptr ? " points in the external rest shape)" : " rest positions)");
+            return false;
+        }
+    if (anchors.size() != points.size()) {
+        why = std::to_string(points.size()) + " points but " + std::to_string(anchors.size()) +
+              " external points (SOFA: 'Dimensions of the source and the targeted points are different')";
+        return false;
+    }
+    // without an external rest shape SOFA's addForce anchors spring i at point i's rest position
+    anchor_indices_ = external_ != nullptr ? std::move(anchors) : points;
+    indices_ = std::move(points);
+    return true;
+}
+
+// RestShapeSpringsForceField::bwdInit: the lists resolved and checked (an error here, where SOFA
+// prints one and leaves the force field off).
 template <class DataTypes>
 void RestShapeSpringsForceField<DataTypes>::init() {
-    const std::size_t n = this->state_->num_dofs();
-    indices_ = points_;
-    if (indices_.empty())
-        for (std::size_t i = 0; i < n; ++i) indices_.push_back(Index(i));
-    for (Index i : indices_)
-        if (i < 0 || std::size_t(i) >= n)
-            throw_invalid_argument("RestShapeSpringsForceField: point ", i, " is out of range (", n, " points)");
-    if (external_ != nullptr) {
-        anchor_indices_ = external_points_;
-        if (anchor_indices_.empty())
-            for (std::size_t i = 0; i < external_->num_dofs(); ++i) anchor_indices_.push_back(Index(i));
-        for (Index i : anchor_indices_)
-            if (i < 0 || std::size_t(i) >= external_->num_dofs())
-                throw_invalid_argument("RestShapeSpringsForceField: external point ", i, " is out of range (",
-                                       external_->num_dofs(), " points in the external rest shape)");
-        if (anchor_indices_.size() != indices_.size())
-            throw_invalid_argument("RestShapeSpringsForceField: ", indices_.size(), " points but ",
-                                   anchor_indices_.size(), " external points (SOFA: 'Dimensions of the source and "
-                                   "the targeted points are different')");
-    } else {
-        // Without an external rest shape SOFA ignores external_points: anchor i is point i.
-        anchor_indices_ = indices_;
-    }
+    std::string why;
+    if (!resolve(why)) throw_invalid_argument("RestShapeSpringsForceField: ", why);
+    points_changed_ = false;
+    active_springs_ = true;
     if constexpr (std::is_same_v<DataTypes, Rigid3Types>) {
         // bwdInit: angularStiffness padded with 100 or cut to the stiffness count.
         angular_stiffness_.resize(stiffness_.size(), 100.0);
@@ -122,8 +145,32 @@ void RestShapeSpringsForceField<DataTypes>::init() {
 }
 
 template <class DataTypes>
+void RestShapeSpringsForceField<DataTypes>::follow_points(std::vector<Index> points) {
+    points_ = std::move(points);
+    points_changed_ = true;
+}
+
+// addForce's recomputeIndices (recompute_indices, the default): the same lists give the same
+// springs, so only a change of the points or of a state's size resolves them again.
+template <class DataTypes>
+bool RestShapeSpringsForceField<DataTypes>::resolve_after_change() {
+    const std::size_t external = external_ != nullptr ? external_->num_dofs() : 0;
+    if (!points_changed_ && this->state_->num_dofs() == resolved_dofs_ && external == resolved_external_dofs_)
+        return active_springs_;
+    points_changed_ = false;
+    active_springs_ = resolve(inactive_reason_);
+    if (active_springs_) inactive_reason_.clear();
+    else {
+        indices_.clear();  // checkOutOfBoundsIndices failed: m_indices.clear()
+        anchor_indices_.clear();
+    }
+    return active_springs_;
+}
+
+template <class DataTypes>
 void RestShapeSpringsForceField<DataTypes>::add_force(std::span<Deriv> f, std::span<const Coord> x,
                                                       std::span<const Deriv> /*v*/) {
+    resolve_after_change();
     const std::vector<Coord>& anchors = external_ != nullptr ? external_->position : this->state_->rest_position;
     double energy = 0.0;
     for (std::size_t i = 0; i < indices_.size(); ++i) {

@@ -1,8 +1,8 @@
 // Projective constraints following a topological change with SOFA's rules
 // (docs/topological-changes.md, "What follows"): LinearMovementProjectiveConstraint and
-// DirectionProjectiveConstraint keep the same points (their indices are SOFA's
-// TopologySubsetIndices), and what SOFA keeps outside the topology data (LinearMovement's x0
-// indexed by point, Direction's origins by slot) stays as it was.
+// DirectionProjectiveConstraint, PartialFixed- and ParabolicProjectiveConstraint keep the same
+// points (their indices are SOFA's TopologySubsetIndices), and what SOFA keeps outside the
+// topology data (LinearMovement's x0 indexed by point, Direction's origins by slot) stays as it was.
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/prescribed_motion_constraints.hpp"
 #include "penalty/mechanics/projective_constraints.hpp"
@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <set>
+#include <sstream>
 
 namespace penalty {
 namespace {
@@ -114,6 +115,66 @@ TEST(TopologyConstraintFollowers, DirectionKeepsItsPointsAndSofasProjectionAndOr
         EXPECT_EQ(d.x(), 0.0) << k;  // on the line of slot k's origin along y
         EXPECT_EQ(d.z(), 0.0) << k;
     }
+}
+
+TEST(TopologyConstraintFollowers, PartialFixedAndParabolicKeepTheirPointsAsIfBuiltAfresh) {
+    // PartialFixed inherits FixedProjectiveConstraint's TopologySubsetIndices, Parabolic has its
+    // own: after removals that renumber points both name the fixed constraint's points, and
+    // project as the same constraints built on the reduced mesh with those indices
+    const test::TetraCube cube = test::tetra_cube(2, 0.2);
+    const auto constraints = [](const std::string& indices) {
+        return R"(<PartialFixedProjectiveConstraint indices=")" + indices + R"(" fixedDirections="1 0 1"/>
+  <ParabolicProjectiveConstraint indices=")" + indices + R"(" P1="0 0.2 0" P2="0.1 0.3 0" P3="0.2 0.2 0.1" BeginTime="0" EndTime="1"/>)";
+    };
+    auto s = test::build(tcf_body(constraints("0 1 2 9 13 26")));
+    s->remove_elements("volume", ElementType::tetrahedron, {0, 38});
+    Node& root = s->simulation().root();
+    auto* partial = tcf_find<PartialFixedProjectiveConstraint>(root);
+    auto* arc = tcf_find<ParabolicProjectiveConstraint<Vec3Types>>(root);
+    const auto* fixed = tcf_find<FixedProjectiveConstraint>(root);
+    ASSERT_TRUE(partial && arc && fixed);
+    EXPECT_EQ(fixed->indices(), (std::vector<Index>{1, 2, 9, 13}));
+    EXPECT_EQ(partial->indices(), fixed->indices());
+    EXPECT_EQ(arc->indices(), fixed->indices());
+
+    // the fresh scene: the reduced mesh, the followed indices (its own fixed constraint's too)
+    const Vec3Object& x = tcf_state(*s);
+    std::string indices;
+    for (const Index i : partial->indices()) indices += std::to_string(i) + " ";
+    const MeshTopology& mesh = s->topology_container("volume").mesh();
+    // UniformMass keeps its per-DOF mass (1/27 kg) when the DOF count changes
+    std::ostringstream mass_text;
+    mass_text.precision(17);
+    mass_text << 1.0 / 27.0;
+    const std::string vertex_mass = mass_text.str();
+    const std::string fresh_text = R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><Node name="body">
+  <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
+  <TetrahedronSetTopologyContainer name="volume" position=")" + test::points_text(x.rest_position) +
+                                   R"(" tetrahedra=")" + test::elements_text(mesh.tetrahedra()) + R"("/>
+  <TetrahedronSetTopologyModifier/>
+  <MechanicalObject name="dofs"/>
+  <UniformMass vertexMass=")" + vertex_mass + R"("/>
+  <FixedProjectiveConstraint indices=")" + indices + R"("/>
+  )" + constraints(indices) + "\n</Node></Node>\n";
+    auto fresh = test::build(fresh_text);
+    Node& fresh_root = fresh->simulation().root();
+    const auto n = Eigen::Index(3 * x.num_dofs());
+    Eigen::VectorXd a = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0), b = a;
+    partial->project_response(a);
+    tcf_find<PartialFixedProjectiveConstraint>(fresh_root)->project_response(b);
+    EXPECT_EQ(a, b);
+    EXPECT_NE(a, Eigen::VectorXd::LinSpaced(n, 1.0, 2.0));
+    a = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0), b = a;
+    arc->project_response(a);
+    tcf_find<ParabolicProjectiveConstraint<Vec3Types>>(fresh_root)->project_response(b);
+    EXPECT_EQ(a, b);
+    for (int k = 0; k < 2; ++k) {
+        s->step();
+        fresh->step();
+    }
+    EXPECT_EQ(x.position, tcf_state(*fresh).position);
+    EXPECT_EQ(x.velocity, tcf_state(*fresh).velocity);
+    for (const Index i : arc->indices()) EXPECT_EQ(x.position[std::size_t(i)], x.position[std::size_t(arc->indices()[0])]);
 }
 
 }  // namespace

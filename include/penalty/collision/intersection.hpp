@@ -89,6 +89,13 @@ struct SofaQuirkFixes {
     /// value i (the last one past its end): every spring's ks (kd) becomes the written value, not
     /// value / rest length as MeshSpringForceField::init makes. true: as a fresh scene.
     bool fix_mesh_spring_stiffness_write = false;
+    /// A topology-change quirk: SOFA's TopologySubsetData::remove (the pressure loads'
+    /// edge/triangle/quadPressureMap) renames the entries of its m_lastElementIndex, the
+    /// topology's last element at init plus the elements added since, never lowered by a
+    /// removal: from the second removal on it misnames entries, and an entry left past the end
+    /// crashes SOFA HEAD (penalty drops it with a warning). true: the entries of the topology's
+    /// current last element, as TopologySubsetIndices::getLastElementIndex.
+    bool fix_subset_data_last_index = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

@@ -259,6 +259,11 @@ public:
     /// squared distance outside an element with a length), among those of the 27 cells around.
     /// The same element as map_on_tetrahedra for a point inside one (barycentric_set_mapper.cpp).
     void map_on_set_tetrahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
+    /// The same onto a dynamic container's hexahedra (SOFA's BarycentricMapperHexahedronSetTopology,
+    /// the same init): b = (x1 − x0, x3 − x0, x4 − x0)⁻¹·(p − x0), the parallelepiped of three
+    /// edges (computeBase), score max(−b, b − 1) or |p − centre|² outside (computeDistance), and
+    /// trilinear weights of b (getBarycentricCoefficients).
+    void map_on_set_hexahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);
     /// Maps onto hexahedra with trilinear weights (inverse trilinear map by Newton; SOFA's
     /// parallelepiped approximation gives the same weights for parallelepipeds).
     void map_on_hexahedra(const MeshTopology& topology, std::span<const Vec3> x, std::span<const Vec3> points);

@@ -93,6 +93,9 @@ public:
     [[nodiscard]] BaseState* state() const override { return state_; }
     /// The point of the parabola at time t (m), t in [begin, end].
     [[nodiscard]] Vec3 point_at(double t) const;
+    /// SOFA's d_indices, a TopologySubsetIndices (init's createTopologyHandler).
+    [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
+    void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
 
 private:
     [[nodiscard]] bool active(double t) const { return t >= begin_ && t <= end_; }

@@ -61,10 +61,18 @@ public:
     /// triangle being the count at init (plus the triangles added since) minus the triangles
     /// removed before it in this event; new triangles are not added.
     void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// SofaQuirkFixes::fix_subset_data_last_index: a removal renames the entries of the topology's
+    /// current last element (as TopologySubsetIndices does), not those of SOFA's stale last index.
+    void set_current_last_index(bool current) { current_last_index_ = current; }
+    /// The entries naming an element past the topology's end, which SOFA's stale last index can
+    /// leave (SOFA HEAD then reads past the topology and crashes): dropped, with their data.
+    /// Returns how many.
+    std::size_t drop_entries_past_end();
 
 private:
     const MeshTopology* topology_;
     Index subset_last_ = -1;  ///< the TriangleSubsetData's last element index (init: count − 1)
+    bool current_last_index_ = false;
     std::vector<Index> triangles_;
     Vec3 pressure_;
     bool use_constant_force_ = true;
@@ -92,9 +100,21 @@ public:
     [[nodiscard]] const Vec3& pressure() const { return pressure_; }
     /// Σ A₀ of the selected quads (m²), after init().
     [[nodiscard]] double total_rest_area() const;
+    /// SOFA's QuadSubsetData quadPressureMap, as TrianglePressureForceField's trianglePressureMap
+    /// (src/mechanics/topology/pressure_changes.cpp).
+    void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// SofaQuirkFixes::fix_subset_data_last_index: a removal renames the entries of the topology's
+    /// current last element (as TopologySubsetIndices does), not those of SOFA's stale last index.
+    void set_current_last_index(bool current) { current_last_index_ = current; }
+    /// The entries naming an element past the topology's end, which SOFA's stale last index can
+    /// leave (SOFA HEAD then reads past the topology and crashes): dropped, with their data.
+    /// Returns how many.
+    std::size_t drop_entries_past_end();
 
 private:
     const MeshTopology* topology_;
+    Index subset_last_ = -1;  ///< the QuadSubsetData's last element index (init: count − 1)
+    bool current_last_index_ = false;
     std::vector<Index> quads_;
     Vec3 pressure_;
     std::vector<double> rest_areas_;
@@ -132,6 +152,13 @@ public:
     void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
     /// Once the change is complete: the forces of the edges now listed.
     void topology_change_done();
+    /// SofaQuirkFixes::fix_subset_data_last_index: a removal renames the entries of the topology's
+    /// current last element (as TopologySubsetIndices does), not those of SOFA's stale last index.
+    void set_current_last_index(bool current) { current_last_index_ = current; }
+    /// The entries naming an element past the topology's end, which SOFA's stale last index can
+    /// leave (SOFA HEAD then reads past the topology and crashes): dropped, with their data.
+    /// Returns how many.
+    std::size_t drop_entries_past_end();
     /// Σ L₀ of the selected edges (m), after init().
     [[nodiscard]] double total_rest_length() const;
 
@@ -143,6 +170,7 @@ private:
     std::vector<Vec3> forces_;  ///< P·L₀ per edge
     double energy_ = 0.0;
     Index subset_last_ = -2;  ///< the EdgeSubsetData's last element index (-2: not set yet)
+    bool current_last_index_ = false;
     bool pending_init_ = false;
 };
 
@@ -192,6 +220,13 @@ public:
     [[nodiscard]] double last_pressure() const { return last_pressure_; }
     /// (1/6)·Σ (a×b)·c over the triangles and the quads' two triangles (m³): SOFA's computeMeshVolume.
     [[nodiscard]] double mesh_volume(std::span<const Vec3> x) const;
+    /// After a topological change: SOFA's addForce reads the topology's current triangles and
+    /// quads (no topology data); the tangent stiffness of the last add_force, on elements that may
+    /// be gone, is dropped until the next add_force.
+    void topology_changed() {
+        pressed_triangles_.clear();
+        last_x_.clear();
+    }
 
 private:
     bool in_box(const Vec3& p) const;

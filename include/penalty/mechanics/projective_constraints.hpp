@@ -150,6 +150,9 @@ public:
     void project_velocity() override;
     [[nodiscard]] bool list_discarded_rows(std::vector<Index>& rows) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
+    /// FixedProjectiveConstraint's d_indices (a TopologySubsetIndices), which it inherits.
+    [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
+    void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
 
 private:
     BaseState* state_;

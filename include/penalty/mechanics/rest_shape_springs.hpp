@@ -6,6 +6,7 @@
 #include "penalty/mechanics/force_field.hpp"
 
 #include <array>
+#include <string>
 #include <vector>
 
 namespace penalty {
@@ -40,7 +41,8 @@ public:
     /// Directions in which the springs act (translation, then rotation for Rigid3).
     void set_active_directions(const std::array<bool, kDirections>& active) { active_ = active; }
     /// Anchors at the current positions of `external` (points external_points, all when empty)
-    /// instead of the rest positions.
+    /// instead of the rest positions. Without one (nullptr) the anchors stay the points' rest
+    /// positions and SOFA only checks external_points (as many as the points, each a rest position).
     void set_external_rest_shape(const MechanicalObject<DataTypes>* external, std::vector<Index> external_points);
     /// SOFA HEAD's buildStiffnessMatrix (the assembled matrix direct solvers use) takes the
     /// stiffness of spring i from stiffness[p] (the point's index, not the spring's) and ignores
@@ -50,6 +52,25 @@ public:
 
     /// Resolves the point lists and checks them against the states (std::invalid_argument).
     void init() override;
+
+    /// SOFA's d_points as given (empty: all points): the TopologySubsetIndices a topological change
+    /// edits (topology_followers.hpp, SubsetIndicesFollower).
+    [[nodiscard]] const std::vector<Index>& point_list() const { return points_; }
+    /// The `points` list after a topological change; the springs are resolved again at the next
+    /// resolve_after_change (or add_force).
+    void follow_points(std::vector<Index> points);
+    /// SOFA's recomputeIndices and checkOutOfBoundsIndices, which addForce runs at each step
+    /// (recompute_indices): the springs again from `points` (all points when empty, even once a
+    /// change emptied the list) and external_points (all points of the external state when empty,
+    /// else `points`). A point past its state's end, or as many external points as points no more,
+    /// and SOFA clears the springs (an error message, the force field off): the same here, and
+    /// false is returned. Does nothing and returns active() unless the points or a state's size
+    /// changed since the last resolution.
+    bool resolve_after_change();
+    /// false once resolve_after_change turned the springs off.
+    [[nodiscard]] bool active() const { return active_springs_; }
+    /// Why resolve_after_change turned the springs off (SOFA's message), or empty.
+    [[nodiscard]] const std::string& inactive_reason() const { return inactive_reason_; }
 
     void add_force(std::span<Deriv> f, std::span<const Coord> x, std::span<const Deriv> v) override;
     void add_dforce(std::span<Deriv> df, std::span<const Deriv> dx, double k_factor, double b_factor) const override;
@@ -71,8 +92,16 @@ private:
     [[nodiscard]] double angular_stiffness_of(std::size_t spring) const {
         return angular_stiffness_[spring < angular_stiffness_.size() ? spring : 0];
     }
+    /// SOFA's recomputeIndices + checkOutOfBoundsIndices; false (nothing resolved) when SOFA
+    /// deactivates the springs, with the reason in `why`.
+    bool resolve(std::string& why);
+
     std::vector<Index> points_;
     std::vector<Index> external_points_;
+    bool points_changed_ = false;
+    bool active_springs_ = true;
+    std::string inactive_reason_;
+    std::size_t resolved_dofs_ = 0, resolved_external_dofs_ = 0;  ///< the states' sizes at the last resolution
     std::vector<Index> indices_;           ///< resolved points
     std::vector<Index> anchor_indices_;    ///< resolved anchors (in the external state, or = indices_)
     std::vector<double> stiffness_{100.0};

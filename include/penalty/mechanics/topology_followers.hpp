@@ -21,6 +21,7 @@
 
 #include <functional>
 #include <initializer_list>
+#include <memory>
 #include <vector>
 
 namespace penalty {
@@ -54,24 +55,37 @@ private:
     Set set_;
 };
 
+/// The spring list of a SpringForceField that its followers (one per end's topology) edit
+/// together during an operation; written back to the force field once it is done.
+struct SpringListEdit {
+    SpringForceField* springs = nullptr;
+    std::vector<Spring> list;
+    bool dirty = false;
+};
+
 /// SOFA HEAD's SpringForceField topology handling (SpringForceField::initializeTopologyHandler on
-/// each end's topology; SpringForceField, StiffSpringForceField, MeshSpringForceField):
+/// each end's topology, the topology of mstate1's context for the first ends, of mstate2's for the
+/// second; SpringForceField, StiffSpringForceField, MeshSpringForceField):
 /// applyRemovedPoints (the springs on a removed point leave the list, which keeps its order; an end
 /// on the last point takes the removed index), for the first ends then the second ends;
 /// applyRemovedEdges only on an edge topology (the first spring from the edge's first vertex to its
 /// second is removed; for the second ends, the first from the second vertex to the first). The
-/// spring list of `springs` is rewritten when an operation is done. Springs inside one state.
+/// spring list is rewritten when an operation is done. `ends`: the ends on `container`'s points
+/// (both for springs inside one state); the followers of the two ends of springs between two
+/// states share one SpringListEdit.
 class SpringPointsFollower final : public TopologyHandler {
 public:
+    enum class Ends : std::uint8_t { first = 1, second = 2, both = 3 };
+    /// Springs inside one state: both ends on `container`.
     SpringPointsFollower(SpringForceField& springs, const TopologyContainer& container);
+    SpringPointsFollower(std::shared_ptr<SpringListEdit> edit, const TopologyContainer& container, Ends ends);
     void handle_topology_changes(std::span<const TopologyChange> changes) override;
     void topology_change_done() override;
 
 private:
-    SpringForceField* springs_;
+    std::shared_ptr<SpringListEdit> edit_;
     const TopologyContainer* container_;
-    std::vector<Spring> list_;
-    bool dirty_ = false;
+    Ends ends_;
 };
 
 /// Forwards the events to `object.handle_topology_changes(container, changes)`.

@@ -74,35 +74,42 @@ void SubsetIndicesFollower::handle_topology_changes(std::span<const TopologyChan
 // ---- SpringPointsFollower -----------------------------------------------------------------------
 
 SpringPointsFollower::SpringPointsFollower(SpringForceField& springs, const TopologyContainer& container)
-    : springs_(&springs), container_(&container) {}
+    : SpringPointsFollower(std::make_shared<SpringListEdit>(SpringListEdit{&springs, {}, false}), container, Ends::both) {}
+
+SpringPointsFollower::SpringPointsFollower(std::shared_ptr<SpringListEdit> edit, const TopologyContainer& container, Ends ends)
+    : edit_(std::move(edit)), container_(&container), ends_(ends) {}
 
 void SpringPointsFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
-    if (!dirty_) list_ = springs_->springs();
+    std::vector<Spring>& list = edit_->list;
+    if (!edit_->dirty) list = edit_->springs->springs();
     const MeshTopology& mesh = container_->mesh();
+    std::vector<bool> ends;  // false: the first ends (d_springsIndices[0]'s handler), true: the second
+    if ((std::uint8_t(ends_) & std::uint8_t(Ends::first)) != 0) ends.push_back(false);
+    if ((std::uint8_t(ends_) & std::uint8_t(Ends::second)) != 0) ends.push_back(true);
     for (const TopologyChange& c : changes) {
         if (c.is(TopologyChangeKind::removed, ElementType::point)) {
-            // applyRemovedPoints, first the m1 ends (d_springsIndices[0]'s handler), then the m2 ends
-            for (const bool second : {false, true}) {
+            // applyRemovedPoints
+            for (const bool second : ends) {
                 const auto end = [second](Spring& s) -> Index& { return second ? s.b : s.a; };
                 Index points = Index(container_->num_points());  // the count before the removal
                 for (const ElementId removed : c.indices) {
                     --points;
-                    std::erase_if(list_, [&](Spring& s) { return end(s) == Index(removed); });
+                    std::erase_if(list, [&](Spring& s) { return end(s) == Index(removed); });
                     if (Index(removed) == points) continue;
-                    for (Spring& s : list_)
+                    for (Spring& s : list)
                         if (end(s) == points) end(s) = Index(removed);
                 }
             }
-            dirty_ = true;
+            edit_->dirty = true;
         } else if (c.is(TopologyChangeKind::removed, ElementType::edge) && container_->level() == ElementType::edge) {
             // applyRemovedEdges: the first spring along each removed edge, per end
-            for (const bool second : {false, true}) {
+            for (const bool second : ends) {
                 std::vector<std::size_t> doomed;
                 for (const ElementId e : c.indices) {
                     const Edge& edge = mesh.edges()[std::size_t(e)];
-                    for (std::size_t k = 0; k < list_.size(); ++k) {
-                        const Index first = second ? list_[k].b : list_[k].a;
-                        const Index other = second ? list_[k].a : list_[k].b;
+                    for (std::size_t k = 0; k < list.size(); ++k) {
+                        const Index first = second ? list[k].b : list[k].a;
+                        const Index other = second ? list[k].a : list[k].b;
                         if (first == Index(edge[0]) && other == Index(edge[1])) {
                             doomed.push_back(k);
                             break;
@@ -110,19 +117,20 @@ void SpringPointsFollower::handle_topology_changes(std::span<const TopologyChang
                     }
                 }
                 std::sort(doomed.begin(), doomed.end());
-                for (auto it = doomed.rbegin(); it != doomed.rend(); ++it) list_.erase(list_.begin() + std::ptrdiff_t(*it));
+                for (auto it = doomed.rbegin(); it != doomed.rend(); ++it) list.erase(list.begin() + std::ptrdiff_t(*it));
             }
-            dirty_ = true;
+            edit_->dirty = true;
         }
     }
 }
 
 void SpringPointsFollower::topology_change_done() {
-    if (!dirty_) return;
-    dirty_ = false;
-    springs_->clear_springs();
-    for (const Spring& s : list_) springs_->add_spring(s);
-    springs_->init();
+    if (!edit_->dirty) return;
+    edit_->dirty = false;
+    SpringForceField& springs = *edit_->springs;
+    springs.clear_springs();
+    for (const Spring& s : edit_->list) springs.add_spring(s);
+    springs.init();
 }
 
 // ---- TriangularBendingSpringsFollower -----------------------------------------------------------

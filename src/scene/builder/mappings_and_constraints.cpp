@@ -221,6 +221,9 @@ void build_barycentric_mapping(SceneBuilder& b, const SceneComponent& c, NodeBui
                  in->topology_component->type.ends_with("SetTopologyContainer"))
             m.map_on_set_tetrahedra(*in->topology, in3->rest_position, points);  // SOFA's TetrahedronSetMapper
         else if (!in->topology->tetrahedra().empty()) m.map_on_tetrahedra(*in->topology, in3->rest_position, points);
+        else if (!in->topology->hexahedra().empty() && in->topology_component != nullptr &&
+                 in->topology_component->type == "HexahedronSetTopologyContainer")
+            m.map_on_set_hexahedra(*in->topology, in3->rest_position, points);  // SOFA's HexahedronSetMapper
         else if (!in->topology->hexahedra().empty()) m.map_on_hexahedra(*in->topology, in3->rest_position, points);
         else io::throw_element_error(c, "the input topology has no tetrahedra or hexahedra (penalty maps onto volumes only)");
     });

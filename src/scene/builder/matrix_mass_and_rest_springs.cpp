@@ -101,10 +101,11 @@ constexpr AttributeSpec kRestShapeSprings[] = {
     {"external_points", K::indices, "(all points of the external state)", "", ValueCheck::none,
      "anchor of each point, in the external state"},
     {"pivot_points", K::numbers, "", "m", ValueCheck::none, "SOFA HEAD never reads it: ignored"},
-    {"recompute_indices", K::boolean, "1", "", ValueCheck::none, "no effect (points do not change)"},
+    {"recompute_indices", K::boolean, "1", "", ValueCheck::none,
+     "the springs follow a topological change (0: the topology cannot change)"},
     {"drawSpring", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"springColor", K::numbers, "0 1 0 1", "", ValueCheck::none, "drawing only"},
-    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "topological changes only (none in penalty)"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "whose point removals `points` follows"},
     // beyond SOFA
     {"assembleAsAddDForce", K::boolean, "0", "", ValueCheck::none,
      "beyond SOFA: the assembled matrix of direct solvers is addDForce's (SOFA HEAD's buildStiffnessMatrix takes "
@@ -162,14 +163,16 @@ void configure_rest_springs(SceneBuilder& b, const SceneComponent& c, const Attr
     std::vector<Index> external_points;
     if (a.has("external_points")) external_points = to_index(b.indices(a, "external_points"));
     b.add_init(1, c, [&b, &c, external, external_points, p = &ff] {
+        MechanicalObject<DataTypes>* state = nullptr;
         if (external != nullptr) {
-            auto* state = dynamic_cast<MechanicalObject<DataTypes>*>(state_built_from(b, external));
+            state = dynamic_cast<MechanicalObject<DataTypes>*>(state_built_from(b, external));
             if (state == nullptr)
                 io::throw_attribute_error(c, "external_rest_shape",
                                           "links to " + external->describe() + ", not a " + DataTypes::kName +
                                               " state penalty built (a mapped or unbuilt state?)");
-            p->set_external_rest_shape(state, external_points);
         }
+        // without an external state SOFA still checks external_points against the rest positions
+        p->set_external_rest_shape(state, external_points);
         p->init();
     });
 }

@@ -16,12 +16,16 @@
 #include "penalty/mechanics/prescribed_motion_constraints.hpp"
 #include "penalty/mechanics/pressure_loads.hpp"
 #include "penalty/mechanics/projective_constraints.hpp"
+#include "penalty/mechanics/rest_shape_springs.hpp"
 #include "penalty/mechanics/topology_followers.hpp"
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
 #include "scene/topology/topology_changes.hpp"
 
+#include <array>
+#include <iostream>
+#include <memory>
 #include <set>
 
 namespace penalty::scene {
@@ -77,6 +81,72 @@ ElementType lumped_type(LumpedElementKind kind) {
     }
     return ElementType::edge;
 }
+
+/// SOFA's RestShapeSpringsForceField on a changing topology: `points` is a TopologySubsetIndices
+/// (bwdInit's d_points.createTopologyHandler: a removed point leaves the list, the last point's
+/// entries take its index); `stiffness`, `external_points` and an external rest shape are no
+/// topology data. Once the operation is done (the states followed) the springs are resolved again
+/// as addForce's recomputeIndices does; when SOFA's checkOutOfBoundsIndices then fails (external
+/// points that no longer match) the springs go off, as in SOFA, with a warning naming the component.
+template <class DataTypes>
+class RestShapeSpringsFollower final : public TopologyHandler {
+public:
+    RestShapeSpringsFollower(RestShapeSpringsForceField<DataTypes>& ff, const TopologyContainer& container, std::string name)
+        : ff_(&ff),
+          points_(container, [f = &ff] { return f->point_list(); }, [f = &ff](std::vector<Index> i) { f->follow_points(std::move(i)); }),
+          name_(std::move(name)) {}
+    void handle_topology_changes(std::span<const TopologyChange> changes) override {
+        points_.handle_topology_changes(changes);
+        dirty_ = true;
+    }
+    void topology_change_done() override {
+        if (!dirty_) return;
+        dirty_ = false;
+        const bool was_active = ff_->active();
+        if (!ff_->resolve_after_change() && was_active)
+            std::cerr << "warning: " << name_ << ": after the topological change " << ff_->inactive_reason()
+                      << ": its springs are off, as SOFA's RestShapeSpringsForceField::checkOutOfBoundsIndices leaves them\n";
+    }
+
+private:
+    RestShapeSpringsForceField<DataTypes>* ff_;
+    SubsetIndicesFollower points_;
+    std::string name_;
+    bool dirty_ = false;
+};
+
+/// A pressure load's subset data (TrianglePressureForceField's trianglePressureMap, ...): the
+/// events forwarded to its handle_topology_changes; once the operation is done, the entries that
+/// SOFA's stale last index left past the topology's end (SOFA HEAD reads past it and crashes)
+/// are dropped with a warning naming the component and the quirk switch that gives the rule of
+/// TopologySubsetIndices.
+template <class T>
+class PressureLoadFollower final : public TopologyHandler {
+public:
+    PressureLoadFollower(T& load, const TopologyContainer& container, std::string name)
+        : load_(&load), container_(&container), name_(std::move(name)) {}
+    void handle_topology_changes(std::span<const TopologyChange> changes) override {
+        load_->handle_topology_changes(*container_, changes);
+        dirty_ = true;
+    }
+    void topology_change_done() override {
+        if (!dirty_) return;
+        dirty_ = false;
+        if (const std::size_t dropped = load_->drop_entries_past_end(); dropped > 0)
+            std::cerr << "warning: " << name_ << ": " << dropped
+                      << " pressure entries name elements past the topology's end after the change (SOFA's "
+                         "TopologySubsetData::remove renames the entries of the last element at init, not the current "
+                         "one; SOFA HEAD then reads past the topology): dropped (--fix-sofa-quirk "
+                         "subset_data_last_index gives the current last element's rule)\n";
+        if constexpr (requires(T& t) { t.topology_change_done(); }) load_->topology_change_done();
+    }
+
+private:
+    T* load_;
+    const TopologyContainer* container_;
+    std::string name_;
+    bool dirty_ = false;
+};
 
 /// follow for a force field (its one force field), or false when its class has no rule here.
 bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
@@ -163,6 +233,19 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
                               {ElementType::point, ElementType::edge});
         return true;
     }
+    // RestShapeSpringsForceField: its points as a TopologySubsetIndices, resolved again as addForce
+    // does when recompute_indices (the default); without it SOFA keeps init's springs (the points
+    // past the state's end read outside it): no rule
+    if (type == "RestShapeSpringsForceField" && io::get_bool_or(c, "recompute_indices", true)) {
+        const auto follow_points = [&]<class D>(RestShapeSpringsForceField<D>* ff) {
+            container.add_handler(w.keep(std::make_unique<RestShapeSpringsFollower<D>>(*ff, container, where(c))),
+                                  {ElementType::point});
+            return true;
+        };
+        if (auto* ff = dynamic_cast<RestShapeSpringsForceField<Vec3Types>*>(f)) return follow_points(ff);
+        if (auto* ff = dynamic_cast<RestShapeSpringsForceField<Rigid3Types>*>(f)) return follow_points(ff);
+        return false;
+    }
     // edgeInfo and triangleInfo TopologyData with creation and destruction callbacks, event by event
     if (type == "TriangularBiquadraticSpringsForceField") {
         auto* ff = dynamic_cast<TriangularBiquadraticSpringsForceField*>(f);
@@ -181,14 +264,33 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     if (type == "TrianglePressureForceField") {
         auto* ff = dynamic_cast<TrianglePressureForceField*>(f);
         if (ff == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TrianglePressureForceField>>(*ff, container)),
+        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
+        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<TrianglePressureForceField>>(*ff, container, where(c))),
                               {ElementType::triangle});
+        return true;
+    }
+    if (type == "QuadPressureForceField") {
+        auto* ff = dynamic_cast<QuadPressureForceField*>(f);
+        if (ff == nullptr) return false;
+        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
+        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<QuadPressureForceField>>(*ff, container, where(c))),
+                              {ElementType::quad});
+        return true;
+    }
+    // SurfacePressureForceField: no topology data, addForce presses the topology's current
+    // triangles and quads; its triangleIndices / quadIndices lists are no topology data either
+    // (an index past the end reads outside the topology): no rule for them
+    if (type == "SurfacePressureForceField") {
+        auto* ff = dynamic_cast<SurfacePressureForceField*>(f);
+        if (ff == nullptr || !ff->parameters().triangle_indices.empty() || !ff->parameters().quad_indices.empty()) return false;
+        rebuild([ff] { ff->topology_changed(); }, {ElementType::triangle, ElementType::quad, ElementType::point});
         return true;
     }
     if (type == "EdgePressureForceField") {
         auto* ff = dynamic_cast<EdgePressureForceField*>(f);
         if (ff == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<EdgePressureForceField>>(*ff, container)),
+        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
+        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<EdgePressureForceField>>(*ff, container, where(c))),
                               {ElementType::edge});
         return true;
     }
@@ -259,6 +361,27 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
         return false;
     }
+    // PartialFixedProjectiveConstraint: FixedProjectiveConstraint's TopologySubsetIndices (it
+    // inherits init); ParabolicProjectiveConstraint: its own (init's createTopologyHandler)
+    if (type == "PartialFixedProjectiveConstraint" && b.constraints.size() == 1) {
+        auto* k = dynamic_cast<PartialFixedProjectiveConstraint*>(b.constraints[0]);
+        if (k == nullptr) return false;
+        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                              {ElementType::point});
+        return true;
+    }
+    if (type == "ParabolicProjectiveConstraint" && b.constraints.size() == 1) {
+        const auto follow_subset = [&](auto* k) {
+            container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
+                                      container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                                  {ElementType::point});
+            return true;
+        };
+        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Vec3Types>*>(b.constraints[0])) return follow_subset(k);
+        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
+        return false;
+    }
     if (type == "PointProjectiveConstraint" && b.constraints.size() == 1) {
         auto* k = dynamic_cast<PointProjectiveConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
@@ -268,6 +391,47 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         return true;
     }
     return follow_force_field(w, c, b, t);
+}
+
+/// A SpringForceField between two states (SpringForceField::init: initializeTopologyHandler of
+/// d_springsIndices[0] on the topology of object1's context, of [1] on object2's): each end that
+/// follows a dynamic topology's points follows its removals (SpringPointsFollower), the two ends
+/// editing one spring list. An end whose context topology changes but whose state does not follow
+/// it (a state mapped below it) has no rule: false.
+bool follow_spring_ends(TopologyWiring& w, const SceneComponent& c, const Built& b) {
+    if ((c.type != "SpringForceField" && c.type != "MeshSpringForceField") || b.force_fields.size() != 1) return false;
+    auto* ff = dynamic_cast<SpringForceField*>(b.force_fields[0]);
+    if (ff == nullptr || ff->states().size() != 2) return false;
+    std::array<DynamicTopology*, 2> ends{};
+    for (std::size_t k = 0; k < 2; ++k) {
+        const BaseState* state = ff->states()[k];
+        const auto f = w.followed_states.find(state);
+        ends[k] = f != w.followed_states.end() ? f->second : nullptr;
+        // the topology SOFA's handler listens to: the state's node's or the nearest ancestor's
+        for (const auto& [sn, nb] : w.builder.node_builds()) {
+            if (nb.node == nullptr || nb.node->state() != state) continue;
+            for (const io::SceneNode* n = sn; n != nullptr; n = n->parent) {
+                const NodeBuild& up = w.builder.node_build(*n);
+                if (up.topology == nullptr) continue;
+                if (DynamicTopology* t = w.runtime.find(up.topology); t != nullptr && t != ends[k]) return false;
+                break;
+            }
+        }
+    }
+    if (ends[0] == nullptr && ends[1] == nullptr) return false;
+    using Ends = SpringPointsFollower::Ends;
+    const auto edit = std::make_shared<SpringListEdit>(SpringListEdit{ff, {}, false});
+    const auto add = [&](DynamicTopology& t, Ends which) {
+        t.container->add_handler(w.keep(std::make_unique<SpringPointsFollower>(edit, *t.container, which)),
+                                 {ElementType::point, ElementType::edge});
+    };
+    if (ends[0] == ends[1]) {
+        add(*ends[0], Ends::both);
+    } else {
+        if (ends[0] != nullptr) add(*ends[0], Ends::first);
+        if (ends[1] != nullptr) add(*ends[1], Ends::second);
+    }
+    return true;
 }
 
 /// A BarycentricMapping whose input state follows `t` (a tetrahedral or hexahedral container):
@@ -286,7 +450,7 @@ bool follow_barycentric(TopologyWiring& w, const SceneComponent& c, BaseMapping*
     const bool tetrahedra = t.container->level() == ElementType::tetrahedron;
     const auto remap = [m, in, out, &mesh, tetrahedra] {
         if (tetrahedra) m->map_on_set_tetrahedra(mesh, in->position, out->position);
-        else m->map_on_hexahedra(mesh, in->position, out->position);
+        else m->map_on_set_hexahedra(mesh, in->position, out->position);
     };
     const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
                                                  ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
@@ -328,6 +492,7 @@ void wire_components(TopologyWiring& w) {
                 continue;
             }
             if (by_topology == nullptr && by_state.empty()) continue;
+            if (follow_spring_ends(w, c, b)) continue;
             const bool follows = by_topology != nullptr && follow(w, c, b, *by_topology);
             if (!follows) {
                 if (by_topology != nullptr) by_topology->blockers.push_back(where(c));
