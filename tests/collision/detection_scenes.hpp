@@ -1,6 +1,7 @@
 #pragma once
 // Seeded scene generators for the broad/narrow phase tests and the detection benchmark.
 #include "penalty/collision/models.hpp"
+#include "penalty_test/random_draws.hpp"
 
 #include <cmath>
 #include <memory>
@@ -29,7 +30,7 @@ inline std::unique_ptr<TorusMesh> make_torus(int nu, int nv, double R, double r,
         for (int j = 0; j < nv; ++j) {
             const double b = pi2 * j / nv;
             Vec3 p((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a), r * std::sin(b));
-            if (jitter > 0.0) p += Vec3(u(g), u(g), u(g));
+            if (jitter > 0.0) p += test::draw_vec3(u, g);
             pts.push_back(c + p);
         }
     }
@@ -53,7 +54,7 @@ inline Vec3State random_cloud(std::size_t n, double s, std::mt19937& g, const Ve
     std::uniform_real_distribution<double> u(-s, s);
     Vec3State st;
     st.resize(n);
-    for (auto& p : st.position) p = c + Vec3(u(g), u(g), u(g));
+    for (auto& p : st.position) p = c + test::draw_vec3(u, g);
     return st;
 }
 

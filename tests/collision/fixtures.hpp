@@ -2,6 +2,7 @@
 // Shared fixtures for the collision tests: small meshes and states.
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/models.hpp"
+#include "penalty_test/random_draws.hpp"
 
 #include <memory>
 #include <random>
@@ -54,7 +55,7 @@ inline std::unique_ptr<Mesh> octahedron(const Vec3& c = Vec3::Zero(), double s =
 
 inline Vec3 rand_vec(std::mt19937& g, double s) {
     std::uniform_real_distribution<double> u(-s, s);
-    return Vec3(u(g), u(g), u(g));
+    return draw_vec3(u, g);
 }
 
 inline Vec3 rand_unit(std::mt19937& g) {
@@ -65,7 +66,8 @@ inline Vec3 rand_unit(std::mt19937& g) {
 
 inline Quat rand_quat(std::mt19937& g) {
     std::uniform_real_distribution<double> a(0.0, 6.283185307179586);
-    return Quat(Eigen::AngleAxisd(a(g), rand_unit(g)));
+    const Vec3 axis = rand_unit(g);  // drawn before the angle, as g++ evaluates the call
+    return Quat(Eigen::AngleAxisd(a(g), axis));
 }
 
 }  // namespace penalty::test

@@ -4,6 +4,7 @@
 #include "fixtures.hpp"
 
 #include "penalty/collision/ccd_detection.hpp"
+#include "penalty_test/random_draws.hpp"
 
 #include <gtest/gtest.h>
 
@@ -180,7 +181,10 @@ CloudThroughSheet cloud_through_sheet(int cells, int points) {
     TriangleModel tri(sheet->state, sheet->topo, named("sheet"));
     std::uniform_real_distribution<double> u(0.0, 4.0);
     std::vector<Vec3> start;
-    for (int i = 0; i < points; ++i) start.emplace_back(u(g), u(g), 0.5 * test::rand_vec(g, 1.0).z());
+    for (int i = 0; i < points; ++i) {  // (draws in g++'s order of evaluation: z, y, x)
+        const double z = 0.5 * test::rand_vec(g, 1.0).z(), y = u(g), x = u(g);
+        start.emplace_back(x, y, z);
+    }
     Vec3State cloud = test::make_state(start);
     PointModel cloud_model(cloud, nullptr, named("cloud"));
     const ModelPair pair{&tri, &cloud_model};

@@ -262,7 +262,8 @@ std::unique_ptr<Elem> make_elem(T t, const Vec3& c, std::mt19937& g) {
         }
         case T::Cylinder: {
             e->rs = test::make_rigid_state({RigidFrame{c, test::rand_quat(g)}});
-            auto cyl = std::make_unique<CylinderModel>(e->rs, 0.1 + 0.3 * u(g), 0.2 + 0.8 * u(g));
+            const double length = 0.2 + 0.8 * u(g), radius = 0.1 + 0.3 * u(g);  // (g++'s order of the call's draws)
+            auto cyl = std::make_unique<CylinderModel>(e->rs, radius, length);
             const CylinderShape s = cyl->shape(0);
             e->model = std::move(cyl);
             const Vec3 e1 = any_orthogonal(s.axis), e2 = s.axis.cross(e1);
@@ -359,7 +360,8 @@ RunStats run_row(const Row& r, int n, unsigned seed, const SofaQuirkFixes& quirk
     RunStats st;
     for (int s = 0; s < n; ++s) {
         auto ea = make_elem(r.a, test::rand_vec(g, 0.2), g);
-        auto eb = make_elem(r.b, radial(g) * test::rand_unit(g), g);
+        const Vec3 direction = test::rand_unit(g);  // (before the distance: g++'s order of the product's draws)
+        auto eb = make_elem(r.b, radial(g) * direction, g);
         bool overlap = false;
         const double brute = brute_gap(*ea, *eb, overlap);
         const double tol = ea->spacing + eb->spacing + 1e-9;

@@ -5,6 +5,7 @@
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/separation.hpp"
 #include "penalty_test/same_bits.hpp"
+#include "penalty_test/random_draws.hpp"
 
 #include <gtest/gtest.h>
 
@@ -292,8 +293,11 @@ std::size_t same_outputs(const SceneDetection& got, const SceneDetection& ref) {
 // The BVH detection's outputs, after checking them bit for bit against the exhaustive ones.
 std::size_t outputs_checked(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
                             bool candidate_cache = true) {
-    return same_outputs(detect(params, models, ContactDetection::bvh, candidate_cache),
-                        detect(params, models, ContactDetection::exhaustive));
+    // the exhaustive detection first, so that the BVH detection's state (the triangles' planes) is
+    // the last one left in the models
+    const auto exhaustive = detect(params, models, ContactDetection::exhaustive);
+    const auto bvh = detect(params, models, ContactDetection::bvh, candidate_cache);
+    return same_outputs(bvh, exhaustive);
 }
 
 MeshTopology edges_topology(std::size_t points, std::vector<Edge> edges) {
@@ -488,7 +492,8 @@ TEST(Separation, RowModeFollowsACloudDriftingThroughAStaticPyramid) {
         std::size_t outputs = 0, overlapping = 0;
         for (int step = 0; step < 200; ++step) {
             for (std::size_t i = 0; i < cloud.size(); ++i) state.position[i] += 0.02 * drift[i];  // 4 m in all
-            outputs += same_outputs(bvh.detect(), exhaustive.detect());
+            const SceneDetection& reference = exhaustive.detect();  // (first, as g++ ordered the call)
+            outputs += same_outputs(bvh.detect(), reference);
             for (std::size_t e1 = 0; e1 < long_model->size(); ++e1)
                 for (std::size_t e2 = 0; e2 < other->size(); ++e2)
                     overlapping += long_model->element_box(Index(e1)).overlaps(other->element_box(Index(e2)), kR + 0.5);
@@ -519,8 +524,13 @@ TEST(Separation, TriangleTriangleVertexTestsAgainstThePlanesKeepTheOutputs) {
         std::vector<Vec3> pts;
         std::vector<Triangle> tris;
         for (int t = 0; t < count; ++t) {
-            const Vec3 centre(unit(rng), unit(rng), z0 + 0.15 * unit(rng));
-            for (int k = 0; k < 3; ++k) pts.push_back(centre + 0.25 * Vec3(unit(rng), unit(rng), 0.4 * unit(rng)));
+            // (draws in g++'s order of evaluation: z, y, x; penalty_test/random_draws.hpp)
+            const double cz = unit(rng), cy = unit(rng), cx = unit(rng);
+            const Vec3 centre(cx, cy, z0 + 0.15 * cz);
+            for (int k = 0; k < 3; ++k) {
+                const Vec3 d = draw_vec3(unit, rng);
+                pts.push_back(centre + 0.25 * Vec3(d.x(), d.y(), 0.4 * d.z()));
+            }
             tris.push_back({3 * t, 3 * t + 1, 3 * t + 2});
         }
         return triangle_mesh(pts, std::move(tris));

@@ -74,8 +74,11 @@ TEST(StablePairMap, OrdersByFirstComparisonNotByRank) {
     EXPECT_FALSE(contacts.contains({&a, &b}));
 }
 
-// SOFA's own calls on a std::map with SOFA's comparator, written as SOFA writes them: the
-// reference that StablePairMap (which reuses erased nodes) must follow comparison for comparison.
+// SOFA's own calls on a std::map with SOFA's comparator: the reference that StablePairMap (which
+// reuses erased nodes) must follow comparison for comparison. SOFA writes the comparator as
+// make_pair(id(b.first), id(b.second)) > make_pair(id(a.first), id(a.second)), whose order of
+// evaluation C++ leaves open; SOFA's build (g++) takes the ids right to left, written out below so
+// that the reference is the same under every compiler (clang takes them left to right).
 struct SofaIds {
     std::map<const Obj*, unsigned> of;
     unsigned next = 0;
@@ -89,7 +92,9 @@ struct SofaIds {
 struct SofaLess {
     SofaIds* ids;
     bool operator()(const std::pair<const Obj*, const Obj*>& a, const std::pair<const Obj*, const Obj*>& b) const {
-        return std::make_pair(ids->id(b.first), ids->id(b.second)) > std::make_pair(ids->id(a.first), ids->id(a.second));
+        const unsigned a2 = ids->id(a.second), a1 = ids->id(a.first);
+        const unsigned b2 = ids->id(b.second), b1 = ids->id(b.first);
+        return std::make_pair(b1, b2) > std::make_pair(a1, a2);
     }
 };
 
