@@ -287,7 +287,7 @@ def _wait_for_started_cluster(pid, workers, timeout=120):
     `pid` catches SIGINT again (it ignores it while its LocalCluster starts)."""
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        spawned = [c for c in _children(pid) if "spawn_main" in Path(f"/proc/{c}/cmdline").read_text(errors="replace")]
+        spawned = [c for c in _children(pid) if "spawn_main" in _cmdline(c)]
         status = Path(f"/proc/{pid}/status").read_text()
         ignored = int(status.split("SigIgn:")[1].split()[0], 16)
         if len(spawned) >= workers and not ignored & (1 << (signal.SIGINT - 1)):
@@ -343,6 +343,14 @@ def _listening_sockets(pids):
                 raw = b"".join(raw[i:i + 4][::-1] for i in range(0, len(raw), 4))
                 found.append((str(ipaddress.ip_address(raw)), int(hex_port, 16)))
     return found
+
+
+def _cmdline(pid):
+    """The command line of process `pid`, or "" when it has ended since it was listed."""
+    try:
+        return Path(f"/proc/{pid}/cmdline").read_text(errors="replace")
+    except OSError:
+        return ""
 
 
 def _children(pid):
