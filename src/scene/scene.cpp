@@ -210,8 +210,10 @@ void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overri
 }
 
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
+    std::vector<std::string> notes = apply_sofa_renames(file);  // first: overrides name the new types' Data
     if (!options.overrides.empty()) apply_overrides(file, options.overrides);
-    std::vector<std::string> notes = read_number_prefixes(file, options.sofa_quirk_fixes);
+    const std::vector<std::string> prefixes = read_number_prefixes(file, options.sofa_quirk_fixes);
+    notes.insert(notes.end(), prefixes.begin(), prefixes.end());
     const std::vector<std::string> detached = detach_unresolved_data_links(file);
     notes.insert(notes.end(), detached.begin(), detached.end());
     auto scene = std::make_unique<Scene>();

@@ -153,6 +153,12 @@ struct ComponentSpec {
 /// @throws io::SceneError for an unknown `type`.
 [[nodiscard]] std::string describe_components(std::string_view type = {});
 
+/// SOFA's renamed components (ObjectFactory::createObject with ComponentChange's
+/// renamedComponents): a component written with its name of before a rename
+/// (`LinearMovementConstraint`, `StiffSpringForceField` ...) becomes the component of the new
+/// name when penalty knows that one and not the old; a note per renamed component is returned.
+[[nodiscard]] std::vector<std::string> apply_sofa_renames(io::SceneFile& scene);
+
 /// SOFA's parse of a Data link (`triangleList="@roi.triangleIndices"`) that names no component:
 /// BaseData::setParent keeps the path, finds no parent, and the Data stays unset. penalty does the
 /// same: such an attribute of a physics component is removed from the parsed scene before it is
