@@ -16,7 +16,7 @@ target_compile_options(penalty_warnings INTERFACE
 if(PENALTY_FUZZ AND NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
   message(FATAL_ERROR "PENALTY_FUZZ needs clang++ (libFuzzer): configure with the 'asan' preset")
 endif()
-if(PENALTY_SANITIZE OR PENALTY_FUZZ)
+if(PENALTY_WITH_SANITIZERS)
   set(_penalty_san -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   add_compile_options(${_penalty_san})
   add_link_options(${_penalty_san})
