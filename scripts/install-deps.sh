@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages that building and testing `penalty` needs (clang and its
-# runtime libraries build the libFuzzer targets, scripts/fuzz.sh; libbullet-dev the optional Bullet
-# comparison of penalty_bench_detection; pip, setuptools, wheel and build for `pip install .` and
-# `python3 -m build --no-isolation`, offline: pyproject.toml).
+# runtime libraries build the libFuzzer targets, scripts/fuzz.sh; clang-format-14 and
+# clang-tidy-14 check the layout and the lint rules, scripts/check-format.sh and
+# scripts/check-tidy.sh; libbullet-dev the optional Bullet comparison of penalty_bench_detection;
+# pip, setuptools, wheel and build for `pip install .` and `python3 -m build --no-isolation`,
+# offline: pyproject.toml).
 # Idempotent: packages already present are left alone. Runs as root or through sudo.
 set -euo pipefail
 
@@ -14,7 +16,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-scipy python3-pytest python3-matplotlib
   python3-distributed python3-h5py python3-pandas
   python3-pip python3-setuptools python3-wheel python3-build python3-venv
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format-14 clang-tidy-14
 )
 
 missing=()
