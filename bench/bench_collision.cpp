@@ -142,7 +142,9 @@ void BM_CandidateFilter(benchmark::State& state) {
     for (auto _ : state) {
         kept.clear();
         if (pair == 2) detail::keep_line_line_candidates(p, a, b, keys, kept, path);
-        else detail::keep_triangle_candidates(p, tri, pair == 0 ? static_cast<CollisionModel&>(pts) : sph, keys, kept, path);
+        else
+            detail::keep_triangle_candidates(p, tri, pair == 0 ? static_cast<CollisionModel&>(pts) : sph, keys, kept,
+                                             path);
         benchmark::DoNotOptimize(kept.data());
     }
     state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(keys.size()));

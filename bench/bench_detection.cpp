@@ -12,8 +12,8 @@
 // The spheres scene against Bullet, every sphere moving: bench_detection_bullet.cpp (BM_Against_Bullet,
 // in this executable when CMake finds Bullet).
 #include "../tests/collision/detection_scenes.hpp"
-#include "spheres_scene.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
+#include "spheres_scene.hpp"
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -50,7 +50,7 @@ CollisionModelParams named(const char* n, int node, bool self = false) {
 std::unique_ptr<Scene> make_scene(int kind, std::size_t n) {
     auto s = std::make_unique<Scene>();
     std::mt19937 g(std::uint32_t(1000 + kind));
-    if (kind == 0) {  // spheres in a box, same density for every n
+    if (kind == 0) {                        // spheres in a box, same density for every n
         s->cloud = bench::sphere_cloud(n);  // seed 1000 = 1000 + kind
         s->add(std::make_unique<SphereModel>(s->cloud, bench::kSphereRadius, std::vector<double>{},
                                              bench::sphere_model_params()));

@@ -37,11 +37,11 @@
 // Counters: pairs (found per step, at the configuration s = +1), and for Bullet bp_pairs (its
 // broad-phase pairs = manifolds) and pair_set_diff (the size of the symmetric difference between
 // Bullet's and penalty's pair sets at s = +1; 0 expected, an error message otherwise).
-#include "spheres_scene.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
+#include "spheres_scene.hpp"
 
-#include <btBulletCollisionCommon.h>
 #include <benchmark/benchmark.h>
+#include <btBulletCollisionCommon.h>
 #include <tbb/global_control.h>
 #include <tbb/task_arena.h>
 
@@ -112,7 +112,8 @@ struct PenaltySpheres {
     /// Moves the spheres to step k and detects; returns the outputs found.
     std::size_t step(const SphereMotion& motion, std::int64_t k) {
         const double s = SphereMotion::sign(k);
-        for (std::size_t i = 0; i < state.position.size(); ++i) state.position[i] = motion.rest[i] + s * motion.offset[i];
+        for (std::size_t i = 0; i < state.position.size(); ++i)
+            state.position[i] = motion.rest[i] + s * motion.offset[i];
         std::size_t found = 0;
         for (const auto& d : pipe.detect()) found += d.outputs.size();
         return found;

@@ -74,7 +74,8 @@ void BM_SoftBodyOnOrgan(benchmark::State& state, Size size) {
         for (int i = 0; i < size.warmup_steps; ++i) scene->step();
     } catch (const std::exception& e) {
         state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     bench::StepSums sums;
@@ -97,7 +98,8 @@ void BM_SoftBodyOnOrgan(benchmark::State& state, Size size) {
 
 [[maybe_unused]] const bool registered = [] {
     for (const Size& size : kSizes)
-        benchmark::RegisterBenchmark(("BM_SoftBodyOnOrgan/n:" + std::to_string(size.cells)).c_str(), BM_SoftBodyOnOrgan, size)
+        benchmark::RegisterBenchmark(("BM_SoftBodyOnOrgan/n:" + std::to_string(size.cells)).c_str(), BM_SoftBodyOnOrgan,
+                                     size)
             ->Iterations(size.timed_steps)
             ->UseManualTime()
             ->MeasureProcessCPUTime()

@@ -16,7 +16,6 @@
 #include <string>
 #include <vector>
 
-
 namespace {
 
 #if defined(__x86_64__)
@@ -68,7 +67,8 @@ template <class V, int W>
 }
 
 template <int W>
-void mul_add_benchmark(benchmark::State& state, bool supported, const char* feature, double (*chains)(const double*, int)) {
+void mul_add_benchmark(benchmark::State& state, bool supported, const char* feature,
+                       double (*chains)(const double*, int)) {
     if (!supported) {
         state.SkipWithError((std::string("no ") + feature + " on this CPU").c_str());
         return;
@@ -78,11 +78,16 @@ void mul_add_benchmark(benchmark::State& state, bool supported, const char* feat
     benchmark::ClobberMemory();
     for (auto _ : state) benchmark::DoNotOptimize(chains(seeds, kRepeat));
     // 12 instructions of W lanes per round
-    state.counters["flops"] = benchmark::Counter(double(state.iterations()) * kRepeat * 12 * W, benchmark::Counter::kIsRate);
+    state.counters["flops"] =
+        benchmark::Counter(double(state.iterations()) * kRepeat * 12 * W, benchmark::Counter::kIsRate);
 }
 
-void BM_Machine_VectorMulAdd(benchmark::State& state) { mul_add_benchmark<4>(state, __builtin_cpu_supports("avx"), "AVX", vector_mul_add4); }
-void BM_Machine_VectorMulAdd8(benchmark::State& state) { mul_add_benchmark<8>(state, __builtin_cpu_supports("avx512f"), "AVX-512F", vector_mul_add8); }
+void BM_Machine_VectorMulAdd(benchmark::State& state) {
+    mul_add_benchmark<4>(state, __builtin_cpu_supports("avx"), "AVX", vector_mul_add4);
+}
+void BM_Machine_VectorMulAdd8(benchmark::State& state) {
+    mul_add_benchmark<8>(state, __builtin_cpu_supports("avx512f"), "AVX-512F", vector_mul_add8);
+}
 BENCHMARK(BM_Machine_VectorMulAdd);
 BENCHMARK(BM_Machine_VectorMulAdd8);
 #endif
@@ -99,7 +104,8 @@ void BM_Machine_Triad(benchmark::State& state) {
         benchmark::DoNotOptimize(a.data());
         benchmark::ClobberMemory();
     }
-    state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(3 * n * sizeof(double)));
+    state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                            static_cast<std::int64_t>(3 * n * sizeof(double)));
 }
 // 24 KiB (first level), 192 KiB and 384 KiB (second), 6 MiB (third), 192 MiB (memory)
 BENCHMARK(BM_Machine_Triad)->Arg(24 << 10)->Arg(192 << 10)->Arg(384 << 10)->Arg(6 << 20)->Arg(192 << 20);

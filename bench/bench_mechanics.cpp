@@ -42,7 +42,8 @@ void run(benchmark::State& state, Model model) {
         body.add_force_field<TetrahedronFEMForceField>(x, kuhn_tetrahedra(grid), 1e5, 0.3, FemMethod::Large);
     } else {
         auto& springs = body.add_force_field<SpringForceField>(x);
-        for (const Spring& s : regular_grid_springs(grid, MeshSpringParameters::uniform(1e3, 0.0))) springs.add_spring(s);
+        for (const Spring& s : regular_grid_springs(grid, MeshSpringParameters::uniform(1e3, 0.0)))
+            springs.add_spring(s);
     }
     std::vector<Index> bottom;
     for (int j = 0; j < n; ++j)
@@ -52,7 +53,8 @@ void run(benchmark::State& state, Model model) {
     for (auto _ : state) sim.step();
     const double dofs = 3.0 * static_cast<double>(grid.num_points());
     state.counters["dofs"] = dofs;
-    state.counters["s_per_dof"] = benchmark::Counter(dofs, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    state.counters["s_per_dof"] =
+        benchmark::Counter(dofs, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
     state.counters["cg_iterations"] = solver.last_cg_stats().iterations;
 }
 
@@ -75,13 +77,15 @@ void BM_TetraFemLargeDForce(benchmark::State& state) {
     const auto path = static_cast<KernelPath>(state.range(1));
     if (!kernel_path_supported(path)) {
         state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     fem.set_kernel_path(path);
     sim.init();
     // a deformed state, so that the rotations are not the identity
-    for (std::size_t i = 0; i < x.position.size(); ++i) x.position[i] += 0.1 * Vec3(std::sin(double(i)), std::cos(double(i)), 0.5);
+    for (std::size_t i = 0; i < x.position.size(); ++i)
+        x.position[i] += 0.1 * Vec3(std::sin(double(i)), std::cos(double(i)), 0.5);
     std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
     fem.add_force(f, x.position, x.velocity);
     for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 7), -1e-3, 2e-3);
@@ -91,7 +95,8 @@ void BM_TetraFemLargeDForce(benchmark::State& state) {
     }
     const double elements = double(fem.tetrahedra().size());
     state.counters["elements"] = elements;
-    state.counters["flops"] = benchmark::Counter(elements * kFemLargeDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["flops"] =
+        benchmark::Counter(elements * kFemLargeDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // The springs of an n × n × (n + 1) grid (regular_grid_springs, diagonals included); n = 6: 2 306
@@ -107,7 +112,8 @@ void BM_SpringDForce(benchmark::State& state) {
     auto& springs = body.add_force_field<SpringForceField>(x);
     for (const Spring& s : regular_grid_springs(grid, MeshSpringParameters::uniform(1e3, 0.0))) springs.add_spring(s);
     sim.init();
-    for (std::size_t i = 0; i < x.position.size(); ++i) x.position[i] += 0.01 * Vec3(std::sin(double(i)), 0.3, std::cos(double(i)));
+    for (std::size_t i = 0; i < x.position.size(); ++i)
+        x.position[i] += 0.01 * Vec3(std::sin(double(i)), 0.3, std::cos(double(i)));
     std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
     springs.add_force(f, f, x.position, x.position, x.velocity, x.velocity);
     for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 5), -1e-3, 2e-3);
@@ -117,7 +123,8 @@ void BM_SpringDForce(benchmark::State& state) {
     }
     const double count = double(springs.springs().size());
     state.counters["springs"] = count;
-    state.counters["flops"] = benchmark::Counter(count * kSpringDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
+    state.counters["flops"] =
+        benchmark::Counter(count * kSpringDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
 }
 
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }

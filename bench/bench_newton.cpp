@@ -41,7 +41,8 @@ struct StiffDrop : test::SpheresOnFloor {
     static std::vector<Vec3> start_positions() {
         std::vector<Vec3> x;
         for (int i = 0; i < 10; ++i)
-            for (int j = 0; j < 10; ++j) x.emplace_back(0.5 * i - 2.25, 0.15 + 0.001 * ((i * 7 + j * 3) % 10), 0.5 * j - 2.25);
+            for (int j = 0; j < 10; ++j)
+                x.emplace_back(0.5 * i - 2.25, 0.15 + 0.001 * ((i * 7 + j * 3) % 10), 0.5 * j - 2.25);
         return x;
     }
     static std::vector<Vec3> start_velocities() { return std::vector<Vec3>(100, Vec3(0.0, -8.0, 0.0)); }
@@ -89,7 +90,8 @@ struct MeshScene {
         const double s = 5.0;
         // waviness of amplitude 2 cm along the grid indices
         const auto wavy = [](double y) {
-            return [y](const test::GridVertex& v) { return y + 0.02 * std::sin(1.7 * double(v.i) + 0.3 * double(v.j)); };
+            return
+                [y](const test::GridVertex& v) { return y + 0.02 * std::sin(1.7 * double(v.i) + 0.3 * double(v.j)); };
         };
         test::grid_mesh(std::size_t(n), s, wavy(0.0), fx.position, floor_topology);
         Node& bodies = sim.root().add_child("bodies");
@@ -152,9 +154,14 @@ void BM_PipelineUpdate(benchmark::State& state) {
 // args: floor quads per side, detection (0 exhaustive, 1 bvh), threads (0 = TBB default)
 BENCHMARK(BM_PipelineUpdate)
     ->ArgNames({"n", "bvh", "threads"})
-    ->Args({50, 0, 0})->Args({50, 1, 1})->Args({50, 1, 2})
-    ->Args({100, 0, 0})->Args({100, 1, 1})->Args({100, 1, 2})
-    ->Args({200, 1, 1})->Args({200, 1, 2})
+    ->Args({50, 0, 0})
+    ->Args({50, 1, 1})
+    ->Args({50, 1, 2})
+    ->Args({100, 0, 0})
+    ->Args({100, 1, 1})
+    ->Args({100, 1, 2})
+    ->Args({200, 1, 1})
+    ->Args({200, 1, 2})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

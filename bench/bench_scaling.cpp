@@ -1,6 +1,6 @@
 // Whole-scene scaling (issues 17, 54): k×k×k deformable cubes dropped into a bowl, k = 1 … 8, 10,
-// 12 and 16 (4 096 cubes, 98 304 DOFs) — time per step against contacts per step. The scene is generated (tests/support/penalty_test/
-// cubes_in_bowl.hpp: one-cell FEM cubes of 0.1 m with a triangle surface, a static bowl (a
+// 12 and 16 (4 096 cubes, 98 304 DOFs) — time per step against contacts per step. The scene is generated
+// (tests/support/penalty_test/ cubes_in_bowl.hpp: one-cell FEM cubes of 0.1 m with a triangle surface, a static bowl (a
 // spherical cap), one implicit Euler + CG over every cube, NewProximity, SOFA's penalty response) and built
 // by the scene builder, so a step is the one `penalty run` takes. bench/plot_scaling.py reads the
 // JSON output (--benchmark_out=FILE --benchmark_out_format=json), fits the log-log slope and
@@ -78,7 +78,8 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
         for (int i = 1; i < kWarmupSteps; ++i) scene->step();
     } catch (const std::exception& e) {
         state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     bench::StepSums sums;

@@ -47,8 +47,8 @@ using Clock = std::chrono::steady_clock;
 
 constexpr int kWarmupSteps = 20;
 constexpr int kStepsPerIteration = 50;
-constexpr int kIterations = 4;           // 200 timed steps per scene
-constexpr int kCompareIterations = 2;    // per build: 100 timed steps each
+constexpr int kIterations = 4;         // 200 timed steps per scene
+constexpr int kCompareIterations = 2;  // per build: 100 timed steps each
 
 fs::path source_dir() { return fs::path(__FILE__).parent_path().parent_path(); }
 
@@ -139,13 +139,15 @@ double run_steps(Scene& s, int n, Totals& t, std::vector<std::size_t>* counts = 
 void BM_Scene(benchmark::State& state, const fs::path& file, bool shared) {
     if (shared && !fs::is_directory(shared_scene_dir())) {
         state.SkipWithError(("shared folder absent: " + shared_scene_dir().string()).c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     Loaded& l = loaded(file, false);
     if (!l.scene) {
         state.SkipWithError(("build or warm-up failed: " + l.error).c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     Scene& s = *l.scene;
@@ -169,7 +171,8 @@ void BM_Scene(benchmark::State& state, const fs::path& file, bool shared) {
 void BM_BvhVsExhaustive(benchmark::State& state, const fs::path& file) {
     if (!fs::is_directory(shared_scene_dir()) || !fs::exists(file)) {
         state.SkipWithError(("shared scene absent: " + file.string()).c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     // Fresh builds for both modes, so that both start from the same state (BM_Scene's build of
@@ -188,7 +191,8 @@ void BM_BvhVsExhaustive(benchmark::State& state, const fs::path& file) {
         }
     } catch (const std::exception& e) {
         state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     Totals tb, te;

@@ -107,7 +107,8 @@ void BM_Tunnelling(benchmark::State& state, const Case& c) {
             for (ModeRun& r : runs) r.step(false);
     } catch (const std::exception& e) {
         state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
-        for (auto _ : state) {}
+        for (auto _ : state) {
+        }
         return;
     }
     long steps = 0;
@@ -159,7 +160,8 @@ std::vector<Case> cases() {
     for (int k = 1; k <= 8; ++k) {
         bowl::Setup s;
         s.k = k;
-        out.push_back({"Bowl/k:" + std::to_string(k), bowl::scene_xml(s), 300, std::clamp(2000 / (k * k * k), 10, 200), k});
+        out.push_back(
+            {"Bowl/k:" + std::to_string(k), bowl::scene_xml(s), 300, std::clamp(2000 / (k * k * k), 10, 200), k});
     }
     return out;
 }

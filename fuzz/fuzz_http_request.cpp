@@ -42,7 +42,8 @@ void check_route(std::string_view method, std::string_view target) {
     }
     require(method == "GET" || method == "HEAD");
     require(http::is_servable_name(route.name));
-    require(route.name.find('/') == std::string::npos && route.name.front() != '.' && route.name.find('\0') == std::string::npos);
+    require(route.name.find('/') == std::string::npos && route.name.front() != '.' &&
+            route.name.find('\0') == std::string::npos);
 }
 
 }  // namespace
@@ -55,7 +56,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             require(whole.head_bytes > 0 && whole.head_bytes <= size && whole.head_bytes <= http::kMaxHeadBytes);
             const std::string_view head = input.substr(0, whole.head_bytes);
             require(same(http::parse_request_head(head), whole));
-            require(whole.method.data() >= head.data() && whole.target.data() + whole.target.size() <= head.data() + head.size());
+            require(whole.method.data() >= head.data() &&
+                    whole.target.data() + whole.target.size() <= head.data() + head.size());
             for (const std::size_t cut : {std::size_t(0), whole.head_bytes / 2, whole.head_bytes - 1})
                 require(http::parse_request_head(head.substr(0, cut)).outcome == ParsedHead::Outcome::incomplete);
             check_route(whole.method, whole.target);
@@ -72,7 +74,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             require(longer.outcome == ParsedHead::Outcome::refused && longer.status.code == code);
             break;
         }
-        case ParsedHead::Outcome::incomplete: require(size < http::kMaxHeadBytes); break;
+        case ParsedHead::Outcome::incomplete:
+            require(size < http::kMaxHeadBytes);
+            break;
     }
     // The router and the Host check on their own, on the raw input split at its first space.
     const std::size_t space = input.find(' ');

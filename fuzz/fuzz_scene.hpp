@@ -41,10 +41,10 @@ inline int run_scene_input(const std::uint8_t* data, std::size_t size, std::int6
         scene::RunOptions run;
         run.steps = steps;
         (void)scene::run_scene(*built, run);
-    } catch (const io::LoadError&) {            // a parameter too large, found at the first step
+    } catch (const io::LoadError&) {                // a parameter too large, found at the first step
     } catch (const output::NonFiniteValueError&) {  // diverged
-    } catch (const NonFiniteSolveError&) {      // diverged inside a solve
-    } catch (const std::runtime_error&) {       // the runner's "other error" (exit 5) with a message
+    } catch (const NonFiniteSolveError&) {          // diverged inside a solve
+    } catch (const std::runtime_error&) {           // the runner's "other error" (exit 5) with a message
     }
     return 0;
 }

@@ -19,9 +19,12 @@ std::string format(const char* pattern, auto... values) {
 
 const char* state_name(FrictionState s) {
     switch (s) {
-        case FrictionState::none: return "none";
-        case FrictionState::sticking: return "stick";
-        case FrictionState::sliding: return "slide";
+        case FrictionState::none:
+            return "none";
+        case FrictionState::sticking:
+            return "stick";
+        case FrictionState::sliding:
+            return "slide";
     }
     return "?";
 }
@@ -50,8 +53,8 @@ void pressed_plates(const DemoOptions& options, std::ostream& out) {
     out << format("   total potential energy %.6e J, |sum of all forces| = %.1e N\n", ff.potential_energy(),
                   total.norm());
     const SparseMatrix K = ff.stiffness_matrix(4, 4, false);
-    out << format("   stiffness K = df/dx (two-state layout, %ldx%ld, %ld non-zeros):\n",
-                  static_cast<long>(K.rows()), static_cast<long>(K.cols()), static_cast<long>(K.nonZeros()));
+    out << format("   stiffness K = df/dx (two-state layout, %ldx%ld, %ld non-zeros):\n", static_cast<long>(K.rows()),
+                  static_cast<long>(K.cols()), static_cast<long>(K.nonZeros()));
     for (Eigen::Index row = 0; row < K.outerSize(); ++row)
         for (SparseMatrix::InnerIterator it(K, row); it; ++it)
             out << format("     K(%2ld,%2ld) = %+g\n", static_cast<long>(it.row()), static_cast<long>(it.col()),
@@ -75,7 +78,8 @@ bool damped_frictional_drop(const DemoOptions& options, std::ostream& out) {
 
     out << format("   ks = %g N/m, c = %g N·s/m, mu = %g, dt = %g s\n", options.stiffness, options.damping,
                   options.friction, parameters.time_step);
-    out << "   t (s)   y (m)     vx (m/s)  vy (m/s)   pen (m)   f_n (N)   |f_t| (N)  state  stored (J)  dissipated (J)\n";
+    out << "   t (s)   y (m)     vx (m/s)  vy (m/s)   pen (m)   f_n (N)   |f_t| (N)  state  stored (J)  dissipated "
+           "(J)\n";
     const int steps = 8000;
     for (int i = 0; i <= steps; ++i) {
         Vec3List f1{Vec3::Zero()}, f2{Vec3(0, -mass * g, 0)};
@@ -94,12 +98,13 @@ bool damped_frictional_drop(const DemoOptions& options, std::ostream& out) {
     // energy balance: initial = gravity potential + kinetic + stored + dissipated
     Vec3List f1{Vec3::Zero()}, f2{Vec3::Zero()};
     ff.add_force(f1, f2, x1, x2, v1, v2);
-    const double final_energy = mass * g * x2[0].y() + 0.5 * mass * v2[0].squaredNorm() +
-                                ff.potential_energy() + ff.dissipated_energy();
+    const double final_energy =
+        mass * g * x2[0].y() + 0.5 * mass * v2[0].squaredNorm() + ff.potential_energy() + ff.dissipated_energy();
     const double error = std::abs(final_energy - initial) / initial;
-    out << format("   energy balance: initial %.6f J, final (potential + kinetic + stored + dissipated) "
-                  "%.6f J, relative error %.2e\n",
-                  initial, final_energy, error);
+    out << format(
+        "   energy balance: initial %.6f J, final (potential + kinetic + stored + dissipated) "
+        "%.6f J, relative error %.2e\n",
+        initial, final_energy, error);
     out << format("   dissipated by damping %.6f J, by sliding %.6f J\n", ff.dissipated_by_damping(),
                   ff.dissipated_by_sliding());
     return error < 1e-2;

@@ -46,7 +46,8 @@ bool parse_request_line(std::string_view line, ParsedHead& head) {
     const std::string_view version = line.substr(sp2 + 1);
     if (!is_token(method) || target.empty() || !std::all_of(target.begin(), target.end(), is_visible)) return false;
     const auto digit = [](char c) { return c >= '0' && c <= '9'; };
-    if (version.size() != 8 || !version.starts_with("HTTP/") || !digit(version[5]) || version[6] != '.' || !digit(version[7]))
+    if (version.size() != 8 || !version.starts_with("HTTP/") || !digit(version[5]) || version[6] != '.' ||
+        !digit(version[7]))
         return false;
     if (version[5] != '1') {
         head.status = {505, "HTTP Version Not Supported"};
@@ -139,7 +140,8 @@ bool is_loopback_host(std::string_view host) {
 bool is_servable_name(std::string_view name) {
     if (name.empty() || name.size() > 255 || name.front() == '.') return false;
     return std::all_of(name.begin(), name.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' || c == '-';
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' ||
+               c == '-';
     });
 }
 

@@ -28,11 +28,11 @@ struct ParsedHead {
         refused,     ///< answer `status` (400, 431, 505) and close
     };
     Outcome outcome = Outcome::incomplete;
-    Status status;                ///< refused: the answer
-    std::string_view method;      ///< complete: views into the parsed bytes
+    Status status;            ///< refused: the answer
+    std::string_view method;  ///< complete: views into the parsed bytes
     std::string_view target;
-    std::string_view host;        ///< the Host field's value, empty when absent
-    std::size_t head_bytes = 0;   ///< complete: the head's size; bytes after it are a body (ignored)
+    std::string_view host;       ///< the Host field's value, empty when absent
+    std::size_t head_bytes = 0;  ///< complete: the head's size; bytes after it are a body (ignored)
 };
 
 /// Parses the start of `received`. Lines end with LF, optionally preceded by CR; the head ends at

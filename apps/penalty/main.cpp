@@ -10,31 +10,30 @@
 #include "view_server.hpp"
 
 #include "penalty/collision/intersection.hpp"
-#include "penalty/io/overrides.hpp"
 #include "penalty/io/error.hpp"
-#include "penalty/output/output_file.hpp"
+#include "penalty/io/overrides.hpp"
 #include "penalty/output/format.hpp"
+#include "penalty/output/output_file.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/viewer_writer.hpp"
-#include "penalty/scene/runner.hpp"
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/contact_advice.hpp"
+#include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/solver.hpp"
 
-#include <CLI/CLI.hpp>
 #include <tbb/global_control.h>
+#include <CLI/CLI.hpp>
 
+#include <unistd.h>
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cerrno>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
-#include <string_view>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -42,7 +41,7 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
-#include <unistd.h>
+#include <string_view>
 
 namespace {
 
@@ -68,7 +67,8 @@ CLI::Validator integer_in(std::int64_t lo, std::int64_t hi) {
                 return "'" + text + "' is out of range (" + std::to_string(lo) + " to " + std::to_string(hi) + ")";
             if (ec != std::errc() || ptr != last || first == last) return "'" + text + "' is not a whole number";
             if (value < lo || value > hi)
-                return std::to_string(value) + " is out of range (" + std::to_string(lo) + " to " + std::to_string(hi) + ")";
+                return std::to_string(value) + " is out of range (" + std::to_string(lo) + " to " + std::to_string(hi) +
+                       ")";
             return {};
         },
         "INT in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
@@ -103,20 +103,20 @@ struct RunArguments {
     int threads = 0;
     std::vector<std::string> data_dirs;
     std::string vtk, states, stats, reference;
-    std::string compare_trajectory;          ///< --compare-trajectory DIR
-    double trajectory_threshold = 1e-12;     ///< --trajectory-threshold
-    std::int64_t debug_step = -1;            ///< --debug-step K
+    std::string compare_trajectory;                     ///< --compare-trajectory DIR
+    double trajectory_threshold = 1e-12;                ///< --trajectory-threshold
+    std::int64_t debug_step = -1;                       ///< --debug-step K
     std::string debug_file = "penalty-debug-step.txt";  ///< --debug-file FILE
-    std::vector<std::string> quirk_fixes;    ///< --fix-sofa-quirk NAME (repeatable), --fix-sofa-quirks all
-    std::vector<std::string> overrides;      ///< --set PATH.attribute=value (repeatable)
+    std::vector<std::string> quirk_fixes;               ///< --fix-sofa-quirk NAME (repeatable), --fix-sofa-quirks all
+    std::vector<std::string> overrides;                 ///< --set PATH.attribute=value (repeatable)
     std::int64_t vtk_every = 1, export_every = 1;
     double divergence_factor = 100.0;
     bool export_mapped = false;
     bool exhaustive = false;
     bool sofa_head_orders = true;
     bool quiet = false;
-    std::string summary_json;        // --summary-json FILE
-    std::string view;                // --view DIR: the browser viewer (docs/viewer.md)
+    std::string summary_json;  // --summary-json FILE
+    std::string view;          // --view DIR: the browser viewer (docs/viewer.md)
     std::int64_t view_every = 1;
     bool no_serve = false;
     int port = 0;                    // 0: a free port
@@ -169,12 +169,14 @@ public:
         last_ = now;
         const int width = 30;
         const int filled = total > 0 ? int(double(width) * double(done) / double(total)) : width;
-        std::fprintf(stderr, "\r[%s%s] %3d%%  step %lld/%lld  t = %.4g s  %.0f steps/s ", std::string(std::size_t(filled), '#').c_str(),
-                     std::string(std::size_t(width - filled), '.').c_str(), total > 0 ? int(100 * done / total) : 100,
-                     static_cast<long long>(done), static_cast<long long>(total), s.simulated_time,
-                     s.detection_seconds + s.response_seconds + s.solve_seconds > 0
-                         ? double(done) / (s.detection_seconds + s.response_seconds + s.solve_seconds + s.output_seconds)
-                         : 0.0);
+        std::fprintf(
+            stderr, "\r[%s%s] %3d%%  step %lld/%lld  t = %.4g s  %.0f steps/s ",
+            std::string(std::size_t(filled), '#').c_str(), std::string(std::size_t(width - filled), '.').c_str(),
+            total > 0 ? int(100 * done / total) : 100, static_cast<long long>(done), static_cast<long long>(total),
+            s.simulated_time,
+            s.detection_seconds + s.response_seconds + s.solve_seconds > 0
+                ? double(done) / (s.detection_seconds + s.response_seconds + s.solve_seconds + s.output_seconds)
+                : 0.0);
         if (done == total) std::fprintf(stderr, "\n");
         std::fflush(stderr);
     }
@@ -214,8 +216,8 @@ int run_command(const RunArguments& a) {
     std::unique_ptr<sc::Scene> scene =
         builtin ? sc::build_scene(penalty::io::parse_scene_string(sc::default_scene_xml(), "<built-in scene>"), build)
                 : sc::load_scene(a.scene, build);
-    std::cout << "penalty run: " << (builtin ? std::string("built-in scene (soft cube and rigid ball on a floor)") : a.scene)
-              << "\n";
+    std::cout << "penalty run: "
+              << (builtin ? std::string("built-in scene (soft cube and rigid ball on a floor)") : a.scene) << "\n";
     std::cout << scene->states().size() << " states, " << scene->collision_models().size() << " collision models, "
               << scene->pipelines().size() << " collision pipeline(s)\n";
     for (const std::string& w : scene->warnings()) std::cout << "note: " << w << "\n";
@@ -242,7 +244,8 @@ int run_command(const RunArguments& a) {
     run.view_title = builtin ? std::string("built-in scene") : std::filesystem::path(a.scene).filename().string();
     if (a.debug_step >= 0) {
         if (a.debug_step >= run.steps)
-            throw UsageError("--debug-step " + std::to_string(a.debug_step) + " is not below --steps " + std::to_string(run.steps));
+            throw UsageError("--debug-step " + std::to_string(a.debug_step) + " is not below --steps " +
+                             std::to_string(run.steps));
         run.debug_step = a.debug_step;
         run.debug_file = a.debug_file;
     }
@@ -269,8 +272,8 @@ int run_command(const RunArguments& a) {
         for (const auto& m : r.messages) std::cout << "reference: " << m << "\n";
         for (std::size_t i = 0; i < r.per_state_error.size(); ++i)
             std::cout << "reference: " << refs[i].filename().string() << ": error " << r.per_state_error[i] << "\n";
-        std::cout << "reference: mean error " << r.mean_error << " (SOFA's criterion: <= 1e-4): "
-                  << (r.passed() ? "PASS" : "FAIL") << "\n";
+        std::cout << "reference: mean error " << r.mean_error
+                  << " (SOFA's criterion: <= 1e-4): " << (r.passed() ? "PASS" : "FAIL") << "\n";
         if (!r.passed()) return kReferenceMismatch;
     }
     if (!a.compare_trajectory.empty()) {
@@ -288,12 +291,15 @@ int run_command(const RunArguments& a) {
 int view_command(const std::string& directory, int port, bool no_serve) {
     // the server serves only regular files that are not links (view_server.cpp): a run.json that
     // is a link would pass a check that follows it and then be refused, so it is refused here
-    const std::filesystem::file_status run_json = std::filesystem::symlink_status(std::filesystem::path(directory) / "run.json");
+    const std::filesystem::file_status run_json =
+        std::filesystem::symlink_status(std::filesystem::path(directory) / "run.json");
     if (std::filesystem::is_symlink(run_json))
         throw std::invalid_argument("'" + directory + "/run.json' is a symbolic link: penalty view serves no link");
     if (!std::filesystem::is_regular_file(run_json))
-        throw std::invalid_argument("'" + directory + "' has no run.json: not a viewer directory (write one with "
-                                    "`penalty run SCENE --view " + directory + "`)");
+        throw std::invalid_argument("'" + directory +
+                                    "' has no run.json: not a viewer directory (write one with "
+                                    "`penalty run SCENE --view " +
+                                    directory + "`)");
     penalty::output::write_viewer_page(directory);
     if (no_serve) {
         std::cout << "penalty view: page files written in " << directory << "\n";
@@ -312,7 +318,8 @@ int info_command(const std::string& scene_path, const std::vector<std::string>& 
             throw UsageError("--fix-sofa-quirk: unknown SOFA quirk '" + name + "' (" + quirk_names() + ")");
     const std::unique_ptr<penalty::scene::Scene> scene = penalty::scene::load_scene(scene_path, build);
     if (contact_advice) {
-        std::cout << penalty::scene::contact_advice(*scene, impact_speed > 0 ? std::optional<double>(impact_speed) : std::nullopt);
+        std::cout << penalty::scene::contact_advice(
+            *scene, impact_speed > 0 ? std::optional<double>(impact_speed) : std::nullopt);
         return kOk;
     }
     std::cout << penalty::scene::describe_scene(*scene);
@@ -323,18 +330,20 @@ int info_command(const std::string& scene_path, const std::vector<std::string>& 
     return kOk;
 }
 
-/// `penalty run|info scene.py ...` and `penalty sweep ...`: a SofaPython3 script, or a sweep, runs in the Python module (same options,
-/// output and exit codes), through Debian's interpreter: `python3 -m penalty <same arguments>`.
-/// Returns only if the script cannot be handed over.
+/// `penalty run|info scene.py ...` and `penalty sweep ...`: a SofaPython3 script, or a sweep, runs in the Python module
+/// (same options, output and exit codes), through Debian's interpreter: `python3 -m penalty <same arguments>`. Returns
+/// only if the script cannot be handed over.
 int run_python_scene(int argc, char** argv) {
 #ifdef PENALTY_PYTHON_EXECUTABLE
     namespace fs = std::filesystem;
     std::string path;
     for (const char* dir : {PENALTY_PYTHON_BUILD_PATH, PENALTY_PYTHON_INSTALL_PATH}) {
         std::error_code ec;
-        if (fs::exists(fs::path(dir) / "penalty" / "__init__.py", ec)) path += (path.empty() ? "" : ":") + std::string(dir);
+        if (fs::exists(fs::path(dir) / "penalty" / "__init__.py", ec))
+            path += (path.empty() ? "" : ":") + std::string(dir);
     }
-    if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0') path += (path.empty() ? "" : ":") + std::string(old);
+    if (const char* old = std::getenv("PYTHONPATH"); old != nullptr && *old != '\0')
+        path += (path.empty() ? "" : ":") + std::string(old);
     setenv("PYTHONPATH", path.c_str(), 1);
     // A pip-installed `penalty` (python/penalty/_cli.py) names its own interpreter.
     const char* python = std::getenv("PENALTY_PYTHON");
@@ -348,7 +357,8 @@ int run_python_scene(int argc, char** argv) {
 #else
     (void)argc;
     (void)argv;
-    std::cerr << "penalty: error: SofaPython3 scenes (.py) and `penalty sweep` need the Python module, which this build does not include "
+    std::cerr << "penalty: error: SofaPython3 scenes (.py) and `penalty sweep` need the Python module, which this "
+                 "build does not include "
                  "(PENALTY_BUILD_PYTHON: it needs pybind11-dev, python3-dev and python3-numpy, and is off under the "
                  "sanitizers); use a release build or python3 -m penalty\n";
     return kBadInput;
@@ -362,7 +372,9 @@ bool is_python_scene_command(int argc, char** argv) {
     for (int i = 2; i < argc; ++i) {
         const std::string_view a = argv[i];
         if (a.starts_with("-")) {
-            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--sofa-head-orders" || a == "--no-sofa-head-orders" || a == "--quiet" || a == "--contact-advice" || a.find('=') != a.npos;
+            const bool flag = a == "--export-mapped" || a == "--exhaustive" || a == "--sofa-head-orders" ||
+                              a == "--no-sofa-head-orders" || a == "--quiet" || a == "--contact-advice" ||
+                              a.find('=') != a.npos;
             if (!flag) ++i;  // its value
             continue;
         }
@@ -418,28 +430,34 @@ std::optional<std::string> unknown_option(CLI::App& sub, int argc, char** argv) 
 /// The `run` subcommand and its options, bound to `args`.
 CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
     CLI::App* run = app.add_subcommand("run", "Run a SOFA scene headless (the built-in scene when none is given)");
-    run->add_option("scene", args.scene, "SOFA .scn file (or SofaPython3 .py script, run by the Python module)")->check(CLI::ExistingFile);
+    run->add_option("scene", args.scene, "SOFA .scn file (or SofaPython3 .py script, run by the Python module)")
+        ->check(CLI::ExistingFile);
     run->add_option("--steps", args.steps, "Number of time steps (default 100; 400 for the built-in scene)")
         ->check(integer_in(0, kMaxSteps));
     run->add_option("--dt", args.dt, "Time step (s), overrides the scene's")
         ->check(number_in(penalty::scene::kMinTimeStep, penalty::scene::kMaxTimeStep, false));
-    run->add_option("--threads", args.threads, "Threads for the detection, the contacts' response and independent solvers (default: all cores)")
+    run->add_option("--threads", args.threads,
+                    "Threads for the detection, the contacts' response and independent solvers (default: all cores)")
         ->check(integer_in(1, penalty::kMaxThreads));
     run->add_option("--set", args.overrides,
                     "Override an attribute before the scene is built: PATH.attribute=value, e.g. "
                     "/Floor/FloorTri1.contactStiffness=200 or /.dt=0.005 (repeatable; docs/sweeps.md)");
-    run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh and included files (repeatable)")->check(CLI::ExistingDirectory);
+    run->add_option("--data-dir", args.data_dirs, "Folder searched for mesh and included files (repeatable)")
+        ->check(CLI::ExistingDirectory);
     run->add_option("--vtk", args.vtk, "Write a ParaView time series (.pvd + .vtu/.vtp) into DIR");
     run->add_option("--vtk-every", args.vtk_every, "Write one VTK step in M")->check(integer_in(1, kMaxSteps));
     run->add_option("--export-states", args.states, "Write SOFA regression state files into DIR");
     run->add_flag("--export-mapped", args.export_mapped, "Also export mapped states");
-    run->add_option("--export-every", args.export_every, "Export one step in M, plus the last")->check(integer_in(1, kMaxSteps));
-    run->add_option("--divergence-factor", args.divergence_factor,
-                    "Diverged when a step moves a DOF by more than F times the initial scene size (default 100; 0: off)")
+    run->add_option("--export-every", args.export_every, "Export one step in M, plus the last")
+        ->check(integer_in(1, kMaxSteps));
+    run->add_option(
+           "--divergence-factor", args.divergence_factor,
+           "Diverged when a step moves a DOF by more than F times the initial scene size (default 100; 0: off)")
         ->check(number_in(0.0, 1e100, false));
     run->add_option("--stats", args.stats, "Write per-step statistics to FILE.csv");
     run->add_option("--summary-json", args.summary_json,
-                    "Write the run's summary to FILE as JSON (the numbers printed at the end; Python's Scene.run returns the same)");
+                    "Write the run's summary to FILE as JSON (the numbers printed at the end; Python's Scene.run "
+                    "returns the same)");
     run->add_option("--reference", args.reference,
                     "Compare the exported states with SOFA's reference files in DIR (needs --export-states)");
     run->add_option("--compare-trajectory", args.compare_trajectory,
@@ -454,28 +472,33 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
         ->check(CLI::NonNegativeNumber);
     run->add_option("--debug-file", args.debug_file, "File of --debug-step (default penalty-debug-step.txt)");
     run->add_option("--fix-sofa-quirk", args.quirk_fixes,
-                    "Fix a SOFA bug: in every intersection method, or in reading MechanicalObjects (repeatable; 'all' for every one; names: penalty info)");
+                    "Fix a SOFA bug: in every intersection method, or in reading MechanicalObjects (repeatable; 'all' "
+                    "for every one; names: penalty info)");
     run->add_option("--fix-sofa-quirks", args.quirk_fixes, "Same as --fix-sofa-quirk (e.g. --fix-sofa-quirks all)");
     run->add_flag("--exhaustive", args.exhaustive, "Detect with SOFA's exhaustive pair loop instead of the BVH");
     run->add_flag("--sofa-head-orders,!--no-sofa-head-orders", args.sofa_head_orders,
                   "Sum forces through SOFA HEAD's MappingGraph and order contacts by its stable-id maps "
                   "(default; --no-sofa-head-orders: the visitors' order and contacts in scene order)");
     run->add_flag("--quiet", args.quiet, "No progress bar");
-    run->add_option("--no-tunnelling", args.no_tunnelling,
-                    "Tunnelling guard (beyond SOFA, docs/no-tunnelling.md): off, warn (report the crossings), substep "
-                    "(redo a crossing step in halves) or stiffen (stiffen deep contacts); default: the scene's noTunnelling")
+    run->add_option(
+           "--no-tunnelling", args.no_tunnelling,
+           "Tunnelling guard (beyond SOFA, docs/no-tunnelling.md): off, warn (report the crossings), substep "
+           "(redo a crossing step in halves) or stiffen (stiffen deep contacts); default: the scene's noTunnelling")
         ->check(CLI::IsMember({"off", "warn", "substep", "stiffen"}));
-    run->add_option("--reduction", args.reduction,
-                    "The CG's dot products: sofa (SOFA's single chain, the default) or blocked (beyond SOFA: fixed blocks "
-                    "of 4096 DOFs summed on several threads, the same bits at any --threads; docs/performance.md)")
+    run->add_option(
+           "--reduction", args.reduction,
+           "The CG's dot products: sofa (SOFA's single chain, the default) or blocked (beyond SOFA: fixed blocks "
+           "of 4096 DOFs summed on several threads, the same bits at any --threads; docs/performance.md)")
         ->check(CLI::IsMember({"sofa", "blocked"}));
-    auto* view_option =
-        run->add_option("--view", args.view, "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
+    auto* view_option = run->add_option("--view", args.view,
+                                        "Write the browser viewer into DIR and serve it on 127.0.0.1 after the run");
     run->add_option("--view-every", args.view_every, "Keep one viewer frame in M (and the last)")
-        ->check(CLI::PositiveNumber)->needs(view_option);
+        ->check(CLI::PositiveNumber)
+        ->needs(view_option);
     run->add_flag("--no-serve", args.no_serve, "With --view: only write the files")->needs(view_option);
     run->add_option("--port", args.port, "With --view: the port to serve on (default: a free one)")
-        ->check(CLI::Range(0, 65535))->needs(view_option);
+        ->check(CLI::Range(0, 65535))
+        ->needs(view_option);
     return run;
 }
 
@@ -495,7 +518,8 @@ int main(int argc, char** argv) {
     std::string view_dir;
     int view_port = 0;
     bool view_no_serve = false;
-    auto* view = app.add_subcommand("view", "Serve the browser viewer of a run (written by penalty run --view DIR) on 127.0.0.1");
+    auto* view = app.add_subcommand(
+        "view", "Serve the browser viewer of a run (written by penalty run --view DIR) on 127.0.0.1");
     view->add_option("dir", view_dir, "Viewer directory")->required()->check(CLI::ExistingDirectory);
     view->add_option("--port", view_port, "Port (default: a free one)")->check(CLI::Range(0, 65535));
     view->add_flag("--no-serve", view_no_serve, "Only refresh the page files");
@@ -503,32 +527,38 @@ int main(int argc, char** argv) {
     std::string info_scene;
     std::vector<std::string> info_data_dirs;
     auto* info = app.add_subcommand(
-        "info", "Build a scene without running it: what each component becomes, and which model pairs make contacts where");
+        "info",
+        "Build a scene without running it: what each component becomes, and which model pairs make contacts where");
     info->add_option("scene", info_scene, "SOFA .scn file")->check(CLI::ExistingFile);
     bool info_all_components = false;
     std::string info_component;
     info->add_flag("--components", info_all_components,
                    "List every supported component type with the attributes it reads (kind, unit, check, default)");
     info->add_option("--component", info_component, "The same for one component type (e.g. UniformMass)");
-    info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh and included files (repeatable)")->check(CLI::ExistingDirectory);
+    info->add_option("--data-dir", info_data_dirs, "Folder searched for mesh and included files (repeatable)")
+        ->check(CLI::ExistingDirectory);
     std::vector<std::string> info_quirk_fixes;
-    info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes, "As for run: SOFA bugs fixed (repeatable; 'all')");
+    info->add_option("--fix-sofa-quirk,--fix-sofa-quirks", info_quirk_fixes,
+                     "As for run: SOFA bugs fixed (repeatable; 'all')");
     bool info_contact_advice = false;
     double info_impact_speed = 0.0;
     info->add_flag("--contact-advice", info_contact_advice,
                    "The largest time step and smallest contact stiffness at which the scene's bodies cannot tunnel "
                    "(docs/no-tunnelling.md)");
-    info->add_option("--impact-speed", info_impact_speed, "With --contact-advice: the impact speed (m/s; default: estimated)")
+    info->add_option("--impact-speed", info_impact_speed,
+                     "With --contact-advice: the impact speed (m/s; default: estimated)")
         ->check(number_in(0.0, 1e6, true));
 
     // Listed for --help only: `penalty sweep ...` is handed to the Python module before parsing.
-    app.add_subcommand("sweep", "Parameter sweep on Dask: one run per override set (python3 -m penalty sweep --help; "
-                                "docs/sweeps.md)")
+    app.add_subcommand("sweep",
+                       "Parameter sweep on Dask: one run per override set (python3 -m penalty sweep --help; "
+                       "docs/sweeps.md)")
         ->allow_extras();
     auto* demo = app.add_subcommand("demo", "Built-in demonstration of the penalty force field alone");
     penalty::apps::DemoOptions options;
     demo->add_option("--stiffness", options.stiffness, "Contact stiffness ks (N/m)")->check(number_in(0.0, 1e12, true));
-    demo->add_option("--damping", options.damping, "Normal damping c (N·s/m) of the drop")->check(number_in(0.0, 1e12, false));
+    demo->add_option("--damping", options.damping, "Normal damping c (N·s/m) of the drop")
+        ->check(number_in(0.0, 1e12, false));
     demo->add_option("--friction", options.friction, "Friction coefficient mu (static = dynamic) of the drop")
         ->check(number_in(0.0, 100.0, false));
 
@@ -564,7 +594,8 @@ int main(int argc, char** argv) {
             return kOk;
         }
         if (*info && info_scene.empty()) throw UsageError("info: a scene file, or --components, or --component TYPE");
-        if (*info) return info_command(info_scene, info_data_dirs, info_quirk_fixes, info_contact_advice, info_impact_speed);
+        if (*info)
+            return info_command(info_scene, info_data_dirs, info_quirk_fixes, info_contact_advice, info_impact_speed);
         if (*view) return view_command(view_dir, view_port, view_no_serve);
         return penalty::apps::run_demo(options, std::cout);
     } catch (const UsageError& e) {

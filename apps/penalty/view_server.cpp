@@ -77,9 +77,10 @@ std::string_view content_type(std::string_view name) {
     return "text/plain; charset=utf-8";
 }
 
-std::string response_head(http::Status status, std::string_view type, std::uint64_t length, std::string_view extra = {}) {
-    return "HTTP/1.1 " + std::to_string(status.code) + " " + std::string(status.reason) + "\r\nContent-Type: " +
-           std::string(type) + "\r\nContent-Length: " + std::to_string(length) +
+std::string response_head(http::Status status, std::string_view type, std::uint64_t length,
+                          std::string_view extra = {}) {
+    return "HTTP/1.1 " + std::to_string(status.code) + " " + std::string(status.reason) +
+           "\r\nContent-Type: " + std::string(type) + "\r\nContent-Length: " + std::to_string(length) +
            "\r\nCache-Control: no-store\r\nX-Content-Type-Options: nosniff\r\n" + std::string(extra) +
            "Connection: close\r\n\r\n";
 }
@@ -96,7 +97,7 @@ struct Connection {
     std::string received;        ///< the request head so far (at most kMaxHeadBytes + 1 bytes)
     std::string pending;         ///< response bytes not sent yet (head, or a whole error answer)
     std::size_t pending_sent = 0;
-    Descriptor file;             ///< the body, sent with sendfile(2) after `pending`
+    Descriptor file;  ///< the body, sent with sendfile(2) after `pending`
     off_t file_offset = 0;
     std::uint64_t file_left = 0;
     std::size_t drained = 0;
@@ -121,7 +122,8 @@ public:
             }
             const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(wake - Clock::now()).count();
             const int ready = ::poll(fds.data(), fds.size(), int(std::clamp<long long>(wait + 1, 0, 200)));
-            if (ready < 0 && errno != EINTR) throw std::runtime_error(std::string("poll failed: ") + std::strerror(errno));
+            if (ready < 0 && errno != EINTR)
+                throw std::runtime_error(std::string("poll failed: ") + std::strerror(errno));
             const Clock::time_point now = Clock::now();
             for (std::size_t i = 0; ready > 0 && i < connections_.size(); ++i)
                 if (fds[i + 1].revents != 0) advance(*connections_[i], fds[i + 1].revents, now);
@@ -161,22 +163,28 @@ private:
         const auto rank = [](const Connection& c) {
             return c.phase == Connection::Phase::draining ? 0 : c.phase == Connection::Phase::reading ? 1 : 2;
         };
-        const auto victim = std::min_element(connections_.begin(), connections_.end(), [&](const auto& a, const auto& b) {
-            return std::pair(rank(*a), a->accepted) < std::pair(rank(*b), b->accepted);
-        });
+        const auto victim =
+            std::min_element(connections_.begin(), connections_.end(), [&](const auto& a, const auto& b) {
+                return std::pair(rank(*a), a->accepted) < std::pair(rank(*b), b->accepted);
+            });
         if (victim == connections_.end()) return;
         connections_.erase(victim);  // closes its socket and file
     }
 
     void advance(Connection& c, short events, Clock::time_point now) {
         switch (c.phase) {
-            case Connection::Phase::reading: read_request(c, now); break;
+            case Connection::Phase::reading:
+                read_request(c, now);
+                break;
             case Connection::Phase::sending:
                 if ((events & (POLLERR | POLLHUP)) != 0 && (events & POLLOUT) == 0) close(c);
                 else send_some(c, now);
                 break;
-            case Connection::Phase::draining: drain(c); break;
-            case Connection::Phase::closed: break;
+            case Connection::Phase::draining:
+                drain(c);
+                break;
+            case Connection::Phase::closed:
+                break;
         }
     }
 
@@ -192,10 +200,12 @@ private:
         switch (head.outcome) {
             case http::ParsedHead::Outcome::incomplete:
                 if (!end_of_input) return;
-                if (c.received.empty()) return close(c);  // connected and left: nothing to answer
+                if (c.received.empty()) return close(c);             // connected and left: nothing to answer
                 return answer_status(c, {400, "Bad Request"}, now);  // the client stopped mid-request
-            case http::ParsedHead::Outcome::refused: return answer_status(c, head.status, now);
-            case http::ParsedHead::Outcome::complete: break;
+            case http::ParsedHead::Outcome::refused:
+                return answer_status(c, head.status, now);
+            case http::ParsedHead::Outcome::complete:
+                break;
         }
         if (!http::is_loopback_host(head.host)) return answer_status(c, {421, "Misdirected Request"}, now);
         const http::Route route = http::route_request(head.method, head.target);
@@ -207,7 +217,8 @@ private:
     /// keeps a FIFO from blocking the open, and fstat accepts regular files only. The name has no
     /// '/' (http::is_servable_name), so the file is an entry of the directory itself.
     void answer_file(Connection& c, const http::Route& route, Clock::time_point now) {
-        Descriptor file(::openat(directory_, route.name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
+        Descriptor file(
+            ::openat(directory_, route.name.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC | O_NOCTTY));
         struct stat info {};
         if (!file.valid() || ::fstat(file.get(), &info) != 0 || !S_ISREG(info.st_mode))
             return answer_status(c, {404, "Not Found"}, now);
@@ -223,7 +234,8 @@ private:
     void answer_status(Connection& c, http::Status status, Clock::time_point now) {
         const std::string body = std::to_string(status.code) + " " + std::string(status.reason) + "\n";
         c.pending = response_head(status, "text/plain; charset=utf-8", body.size(),
-                                  status.code == 405 ? "Allow: GET, HEAD\r\n" : "") + body;
+                                  status.code == 405 ? "Allow: GET, HEAD\r\n" : "") +
+                    body;
         start_sending(c, now);
     }
 
@@ -238,8 +250,8 @@ private:
     void send_some(Connection& c, Clock::time_point now) {
         bool progress = false;
         while (c.pending_sent < c.pending.size()) {
-            const ssize_t n = ::send(c.socket.get(), c.pending.data() + c.pending_sent, c.pending.size() - c.pending_sent,
-                                     MSG_NOSIGNAL);
+            const ssize_t n = ::send(c.socket.get(), c.pending.data() + c.pending_sent,
+                                     c.pending.size() - c.pending_sent, MSG_NOSIGNAL);
             if (n < 0 && errno == EINTR) continue;
             if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
             if (n <= 0) return close(c);  // the client went away
@@ -283,8 +295,7 @@ private:
     void expire(Connection& c, Clock::time_point now) {
         if (c.phase == Connection::Phase::reading && !c.received.empty())
             answer_status(c, {408, "Request Timeout"}, now);
-        else
-            close(c);
+        else close(c);
     }
 
     static void close(Connection& c) {
@@ -312,7 +323,8 @@ std::size_t connection_capacity() {
 
 void serve_directory(const std::filesystem::path& directory, int port, std::ostream& out) {
     Descriptor folder(::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC));
-    if (!folder.valid()) throw std::runtime_error("cannot open directory '" + directory.string() + "': " + std::strerror(errno));
+    if (!folder.valid())
+        throw std::runtime_error("cannot open directory '" + directory.string() + "': " + std::strerror(errno));
     Descriptor listener(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0));
     if (!listener.valid()) throw std::runtime_error(std::string("cannot create a socket: ") + std::strerror(errno));
     const int yes = 1;

@@ -17,7 +17,7 @@ void bind_force_field(py::module_& m);
 void bind_collision(py::module_& m);
 /// Adds the topological-change methods to the Scene class (topology_bindings.cpp).
 void bind_scene_topology(py::handle scene_class);
-void bind_live(py::module_& m);  // live_bindings.cpp: after bind_scene (adds to its Scene class)
+void bind_live(py::module_& m);           // live_bindings.cpp: after bind_scene (adds to its Scene class)
 void bind_linear_system(py::module_& m);  // linear_system_bindings.cpp: after bind_scene
 
 // ---- the tunnelling guard (tunnelling_bindings.cpp) ----------------------------------------------

@@ -163,129 +163,160 @@ py::dict outputs_dict(const ModelPairDetection& d) {
 
 void bind_collision(py::module_& parent) {
     py::module_ m = parent.def_submodule("collision", "Collision detection alone, from numpy arrays");
-    auto model = py::class_<PyModel>(m, "CollisionModel", "A collision model over points it owns")
-        .def_property_readonly("type", [](const PyModel& p) { return model_type_name(p.model->type()); })
-        .def_property_readonly("name", [](const PyModel& p) { return p.model->name(); })
-        .def("__len__", [](const PyModel& p) { return p.model->size(); })
-        .def_property("points",
-            [](py::object self) {
-                auto& p = self.cast<PyModel&>();
-                if (p.frames) {  // the frame centres (view; the frame is padded to 64 bytes)
-                    auto& f = p.frames->position;
-                    return view(f.empty() ? nullptr : f.data()->center.data(), py::ssize_t(f.size()), 3,
-                                sizeof(RigidFrame), self);
-                }
-                auto& x = p.state->position;
-                return view(x.empty() ? nullptr : x.data()->data(), py::ssize_t(x.size()), 3, sizeof(Vec3), self);
-            },
-            [](PyModel& p, const py::handle& v) {
-                const auto a = as_points(v, "points");
-                if (p.frames) {
-                    if (std::size_t(a.shape(0)) != p.frames->position.size())
-                        throw py::value_error("points: expected " + std::to_string(p.frames->position.size()) + " points");
-                    for (std::size_t i = 0; i < p.frames->position.size(); ++i)
-                        p.frames->position[i].center = Vec3(a.at(py::ssize_t(i), 0), a.at(py::ssize_t(i), 1), a.at(py::ssize_t(i), 2));
-                    return;
-                }
-                if (std::size_t(a.shape(0)) != p.state->position.size())
-                    throw py::value_error("points: expected " + std::to_string(p.state->position.size()) + " points");
-                const auto* q = reinterpret_cast<const Vec3*>(a.data());
-                std::copy(q, q + a.shape(0), p.state->position.begin());
-            },
-            "(n, 3) view of the model's points: move them, then detect() again");
+    auto model =
+        py::class_<PyModel>(m, "CollisionModel", "A collision model over points it owns")
+            .def_property_readonly("type", [](const PyModel& p) { return model_type_name(p.model->type()); })
+            .def_property_readonly("name", [](const PyModel& p) { return p.model->name(); })
+            .def("__len__", [](const PyModel& p) { return p.model->size(); })
+            .def_property(
+                "points",
+                [](py::object self) {
+                    auto& p = self.cast<PyModel&>();
+                    if (p.frames) {  // the frame centres (view; the frame is padded to 64 bytes)
+                        auto& f = p.frames->position;
+                        return view(f.empty() ? nullptr : f.data()->center.data(), py::ssize_t(f.size()), 3,
+                                    sizeof(RigidFrame), self);
+                    }
+                    auto& x = p.state->position;
+                    return view(x.empty() ? nullptr : x.data()->data(), py::ssize_t(x.size()), 3, sizeof(Vec3), self);
+                },
+                [](PyModel& p, const py::handle& v) {
+                    const auto a = as_points(v, "points");
+                    if (p.frames) {
+                        if (std::size_t(a.shape(0)) != p.frames->position.size())
+                            throw py::value_error("points: expected " + std::to_string(p.frames->position.size()) +
+                                                  " points");
+                        for (std::size_t i = 0; i < p.frames->position.size(); ++i)
+                            p.frames->position[i].center =
+                                Vec3(a.at(py::ssize_t(i), 0), a.at(py::ssize_t(i), 1), a.at(py::ssize_t(i), 2));
+                        return;
+                    }
+                    if (std::size_t(a.shape(0)) != p.state->position.size())
+                        throw py::value_error("points: expected " + std::to_string(p.state->position.size()) +
+                                              " points");
+                    const auto* q = reinterpret_cast<const Vec3*>(a.data());
+                    std::copy(q, q + a.shape(0), p.state->position.begin());
+                },
+                "(n, 3) view of the model's points: move them, then detect() again");
 
-    m.def("PointModel", [](const py::handle& points, const std::string& name, double contact_distance, double contact_stiffness,
-                           bool simulated, bool moving, bool self_collision, const std::vector<int>& group) {
-        auto p = std::make_unique<PyModel>();
-        fill_points(*p, points);
-        p->model = std::make_unique<PointModel>(*p->state, p->topology.get(),
-            model_params(name.empty() ? "points" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return validated(std::move(p));
-    }, py::arg("points"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
-       py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
-       py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
-    m.def("LineModel", [](const py::handle& points, const py::handle& edges, const std::string& name, double contact_distance,
-                          double contact_stiffness, bool simulated, bool moving, bool self_collision, const std::vector<int>& group) {
-        auto p = std::make_unique<PyModel>();
-        fill_points(*p, points);
-        p->topology->set_edges(elements<2>(edges, "edges", p->state->position.size()));
-        p->model = std::make_unique<LineModel>(*p->state, *p->topology,
-            model_params(name.empty() ? "lines" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return validated(std::move(p));
-    }, py::arg("points"), py::arg("edges"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
-       py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
-       py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
-    m.def("TriangleModel", [](const py::handle& points, const py::handle& triangles, const std::string& name,
-                              double contact_distance, double contact_stiffness, bool simulated, bool moving,
-                              bool self_collision, const std::vector<int>& group) {
-        auto p = std::make_unique<PyModel>();
-        fill_points(*p, points);
-        p->topology->set_triangles(elements<3>(triangles, "triangles", p->state->position.size()));
-        p->model = std::make_unique<TriangleModel>(*p->state, *p->topology,
-            model_params(name.empty() ? "triangles" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return validated(std::move(p));
-    }, py::arg("points"), py::arg("triangles"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
-       py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
-       py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
-    m.def("SphereModel", [](const py::handle& centers, const py::handle& radius, const std::string& name,
-                            double contact_distance, double contact_stiffness, bool simulated, bool moving,
-                            bool self_collision, const std::vector<int>& group) {
-        auto p = std::make_unique<PyModel>();
-        fill_points(*p, centers);
-        std::vector<double> list;
-        double uniform = 1.0;
-        read_radius(radius, p->state->position.size(), uniform, list);
-        p->model = std::make_unique<SphereModel>(*p->state, uniform, std::move(list),
-            model_params(name.empty() ? "spheres" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return validated(std::move(p));
-    }, py::arg("centers"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
-       py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
-       py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
-    m.def("RigidSphereModel", [](const py::handle& frames, const py::handle& radius, const std::string& name,
-                                 double contact_distance, double contact_stiffness, bool simulated, bool moving,
-                                 bool self_collision, const std::vector<int>& group) {
-        (void)numeric_kind(frames, "frames");
-        const auto a = numbers_array<double>(frames, "frames");
-        if (a.ndim() != 2 || (a.shape(1) != 3 && a.shape(1) != 7))
-            throw py::value_error("frames: expected shape (n, 7) x y z qx qy qz qw, or (n, 3) centres");
-        for (py::ssize_t i = 0; i < a.size(); ++i)
-            if (!std::isfinite(a.data()[i]))
-                throw py::value_error("frames: frame " + std::to_string(i / a.shape(1)) + " holds " +
-                                      output::format_number(a.data()[i]) + " (every value must be finite)");
-        auto p = std::make_unique<PyModel>();
-        p->frames = std::make_unique<Rigid3State>();
-        for (py::ssize_t i = 0; i < a.shape(0); ++i) {
-            RigidFrame f;
-            f.center = Vec3(a.at(i, 0), a.at(i, 1), a.at(i, 2));
-            if (a.shape(1) == 7) {
-                f.orientation = Quat(a.at(i, 6), a.at(i, 3), a.at(i, 4), a.at(i, 5));
-                if (!(f.orientation.norm() > 0.0)) throw py::value_error("frames: zero quaternion in frame " + std::to_string(i));
-                f.orientation.normalize();
+    m.def(
+        "PointModel",
+        [](const py::handle& points, const std::string& name, double contact_distance, double contact_stiffness,
+           bool simulated, bool moving, bool self_collision, const std::vector<int>& group) {
+            auto p = std::make_unique<PyModel>();
+            fill_points(*p, points);
+            p->model = std::make_unique<PointModel>(
+                *p->state, p->topology.get(),
+                model_params(name.empty() ? "points" : name, contact_distance, contact_stiffness, simulated, moving,
+                             self_collision, false, group));
+            return validated(std::move(p));
+        },
+        py::arg("points"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
+        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
+        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
+    m.def(
+        "LineModel",
+        [](const py::handle& points, const py::handle& edges, const std::string& name, double contact_distance,
+           double contact_stiffness, bool simulated, bool moving, bool self_collision, const std::vector<int>& group) {
+            auto p = std::make_unique<PyModel>();
+            fill_points(*p, points);
+            p->topology->set_edges(elements<2>(edges, "edges", p->state->position.size()));
+            p->model = std::make_unique<LineModel>(
+                *p->state, *p->topology,
+                model_params(name.empty() ? "lines" : name, contact_distance, contact_stiffness, simulated, moving,
+                             self_collision, false, group));
+            return validated(std::move(p));
+        },
+        py::arg("points"), py::arg("edges"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
+        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
+        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
+    m.def(
+        "TriangleModel",
+        [](const py::handle& points, const py::handle& triangles, const std::string& name, double contact_distance,
+           double contact_stiffness, bool simulated, bool moving, bool self_collision, const std::vector<int>& group) {
+            auto p = std::make_unique<PyModel>();
+            fill_points(*p, points);
+            p->topology->set_triangles(elements<3>(triangles, "triangles", p->state->position.size()));
+            p->model = std::make_unique<TriangleModel>(
+                *p->state, *p->topology,
+                model_params(name.empty() ? "triangles" : name, contact_distance, contact_stiffness, simulated, moving,
+                             self_collision, false, group));
+            return validated(std::move(p));
+        },
+        py::arg("points"), py::arg("triangles"), py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
+        py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
+        py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
+    m.def(
+        "SphereModel",
+        [](const py::handle& centers, const py::handle& radius, const std::string& name, double contact_distance,
+           double contact_stiffness, bool simulated, bool moving, bool self_collision, const std::vector<int>& group) {
+            auto p = std::make_unique<PyModel>();
+            fill_points(*p, centers);
+            std::vector<double> list;
+            double uniform = 1.0;
+            read_radius(radius, p->state->position.size(), uniform, list);
+            p->model = std::make_unique<SphereModel>(
+                *p->state, uniform, std::move(list),
+                model_params(name.empty() ? "spheres" : name, contact_distance, contact_stiffness, simulated, moving,
+                             self_collision, false, group));
+            return validated(std::move(p));
+        },
+        py::arg("centers"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "",
+        py::arg("contact_distance") = 0.0, py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true,
+        py::arg("moving") = true, py::arg("self_collision") = false, py::arg("group") = std::vector<int>{});
+    m.def(
+        "RigidSphereModel",
+        [](const py::handle& frames, const py::handle& radius, const std::string& name, double contact_distance,
+           double contact_stiffness, bool simulated, bool moving, bool self_collision, const std::vector<int>& group) {
+            (void)numeric_kind(frames, "frames");
+            const auto a = numbers_array<double>(frames, "frames");
+            if (a.ndim() != 2 || (a.shape(1) != 3 && a.shape(1) != 7))
+                throw py::value_error("frames: expected shape (n, 7) x y z qx qy qz qw, or (n, 3) centres");
+            for (py::ssize_t i = 0; i < a.size(); ++i)
+                if (!std::isfinite(a.data()[i]))
+                    throw py::value_error("frames: frame " + std::to_string(i / a.shape(1)) + " holds " +
+                                          output::format_number(a.data()[i]) + " (every value must be finite)");
+            auto p = std::make_unique<PyModel>();
+            p->frames = std::make_unique<Rigid3State>();
+            for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+                RigidFrame f;
+                f.center = Vec3(a.at(i, 0), a.at(i, 1), a.at(i, 2));
+                if (a.shape(1) == 7) {
+                    f.orientation = Quat(a.at(i, 6), a.at(i, 3), a.at(i, 4), a.at(i, 5));
+                    if (!(f.orientation.norm() > 0.0))
+                        throw py::value_error("frames: zero quaternion in frame " + std::to_string(i));
+                    f.orientation.normalize();
+                }
+                p->frames->position.push_back(f);
             }
-            p->frames->position.push_back(f);
-        }
-        p->frames->velocity.assign(p->frames->position.size(), RigidDeriv{});
-        p->frames->rest_position = p->frames->position;
-        std::vector<double> list;
-        double uniform = 1.0;
-        read_radius(radius, p->frames->position.size(), uniform, list);
-        p->model = std::make_unique<RigidSphereModel>(*p->frames, uniform, std::move(list),
-            model_params(name.empty() ? "rigid_spheres" : name, contact_distance, contact_stiffness, simulated, moving, self_collision, false, group));
-        return validated(std::move(p));
-    }, py::arg("frames"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "", py::arg("contact_distance") = 0.0,
-       py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true, py::arg("moving") = true,
-       py::arg("self_collision") = false, py::arg("group") = std::vector<int>{},
-       "Spheres on rigid frames (SOFA's SphereCollisionModel<Rigid3d>); points views the centres");
+            p->frames->velocity.assign(p->frames->position.size(), RigidDeriv{});
+            p->frames->rest_position = p->frames->position;
+            std::vector<double> list;
+            double uniform = 1.0;
+            read_radius(radius, p->frames->position.size(), uniform, list);
+            p->model = std::make_unique<RigidSphereModel>(
+                *p->frames, uniform, std::move(list),
+                model_params(name.empty() ? "rigid_spheres" : name, contact_distance, contact_stiffness, simulated,
+                             moving, self_collision, false, group));
+            return validated(std::move(p));
+        },
+        py::arg("frames"), py::arg("radius") = 1.0, py::kw_only(), py::arg("name") = "",
+        py::arg("contact_distance") = 0.0, py::arg("contact_stiffness") = 10.0, py::arg("simulated") = true,
+        py::arg("moving") = true, py::arg("self_collision") = false, py::arg("group") = std::vector<int>{},
+        "Spheres on rigid frames (SOFA's SphereCollisionModel<Rigid3d>); points views the centres");
     (void)model;
 
-    m.def("detect", [](PyModel& a, PyModel& b, const std::string& method, const py::kwargs& options) {
-        const IntersectionParams params = intersection_params(method, options);
-        return outputs_dict(detect_model_pair(params, *a.model, *b.model));
-    }, py::arg("model1"), py::arg("model2"), py::arg("method") = "NewProximity",
-       "Detection between two models with one intersection method (alarm_distance=, contact_distance=, and the "
-       "method's switches as keywords). Returns model1/model2 (SOFA's registered order, which may swap the "
-       "arguments), support, skipped, and per output: element1, element2, id, point1, point2, normal (1 -> 2), "
-       "distance (distance minus the contact distance, m; < 0 closer)");
+    m.def(
+        "detect",
+        [](PyModel& a, PyModel& b, const std::string& method, const py::kwargs& options) {
+            const IntersectionParams params = intersection_params(method, options);
+            return outputs_dict(detect_model_pair(params, *a.model, *b.model));
+        },
+        py::arg("model1"), py::arg("model2"), py::arg("method") = "NewProximity",
+        "Detection between two models with one intersection method (alarm_distance=, contact_distance=, and the "
+        "method's switches as keywords). Returns model1/model2 (SOFA's registered order, which may swap the "
+        "arguments), support, skipped, and per output: element1, element2, id, point1, point2, normal (1 -> 2), "
+        "distance (distance minus the contact distance, m; < 0 closer)");
 }
 
 }  // namespace penalty::python

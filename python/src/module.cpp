@@ -21,8 +21,7 @@ py::array_t<double, py::array::c_style | py::array::forcecast> as_points(const p
     (void)numeric_kind(a, what);
     auto array = numbers_array<double>(a, what);
     if (array.ndim() == 1 && array.shape(0) == 3) array = array.reshape({py::ssize_t(1), py::ssize_t(3)});
-    if (array.ndim() != 2 || array.shape(1) != 3)
-        throw py::value_error(std::string(what) + ": expected shape (n, 3)");
+    if (array.ndim() != 2 || array.shape(1) != 3) throw py::value_error(std::string(what) + ": expected shape (n, 3)");
     const double* x = array.data();
     for (py::ssize_t i = 0; i < array.size(); ++i)
         if (!std::isfinite(x[i]))
@@ -83,8 +82,8 @@ PYBIND11_MODULE(_core, m) {
         }
     });
     m.attr("__version__") = PENALTY_VERSION;
-    m.attr("max_threads") = penalty::kMaxThreads;          // --threads, load_scene(threads=)
-    m.attr("min_dt") = penalty::scene::kMinTimeStep;        // --dt, load_scene(dt=) (s)
+    m.attr("max_threads") = penalty::kMaxThreads;     // --threads, load_scene(threads=)
+    m.attr("min_dt") = penalty::scene::kMinTimeStep;  // --dt, load_scene(dt=) (s)
     m.attr("max_dt") = penalty::scene::kMaxTimeStep;
     penalty::python::bind_scene(m);
     penalty::python::bind_live(m);

@@ -39,7 +39,9 @@ class StateRecordRef {
 public:
     StateRecordRef() = default;
     StateRecordRef(const py::object& scene, const output::StateRecord* record)
-        : scene_(scene), label_(output::state_label(*record)), record_(record),
+        : scene_(scene),
+          label_(output::state_label(*record)),
+          record_(record),
           generation_(scene.cast<const PyScene&>().scene->generation()) {}
     const output::StateRecord* operator->() const { return get(); }
     const output::StateRecord& operator*() const { return *get(); }

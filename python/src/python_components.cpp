@@ -67,7 +67,8 @@ public:
     template <class... Args>
     py::object call(const char* method, Args&&... args) const {
         py::object self = target_();
-        if (self.is_none()) throw std::runtime_error(std::string("the Python object of a component is gone (") + method + ")");
+        if (self.is_none())
+            throw std::runtime_error(std::string("the Python object of a component is gone (") + method + ")");
         return dispatch_(self, method, std::forward<Args>(args)...);
     }
 
@@ -161,7 +162,8 @@ public:
                     for (int a = 0; a < kOut; ++a) {
                         const double value = reinterpret_cast<const double*>(&column[r])[a];
                         if (value != 0.0)
-                            t.emplace_back(row_offset + Index(kOut * r) + a, col_offset + Index(In::kDerivSize * i) + k, value);
+                            t.emplace_back(row_offset + Index(kOut * r) + a, col_offset + Index(In::kDerivSize * i) + k,
+                                           value);
                     }
             }
         }
@@ -177,7 +179,8 @@ private:
 std::unique_ptr<BaseForceField> PythonComponents::force_field(std::int64_t id, BaseState& state) {
     py::gil_scoped_acquire gil;
     py::object target = resolve_(id);
-    if (auto* v = dynamic_cast<Vec3Object*>(&state)) return std::make_unique<PythonForceField<Vec3Types>>(*v, dispatch_, target);
+    if (auto* v = dynamic_cast<Vec3Object*>(&state))
+        return std::make_unique<PythonForceField<Vec3Types>>(*v, dispatch_, target);
     if (auto* r = dynamic_cast<Rigid3Object*>(&state))
         return std::make_unique<PythonForceField<Rigid3Types>>(*r, dispatch_, target);
     throw std::invalid_argument("a Python force field needs a Vec3d or Rigid3d state");
@@ -188,13 +191,18 @@ std::unique_ptr<BaseMapping> PythonComponents::mapping(std::int64_t id, BaseStat
     py::object target = resolve_(id);
     if (auto* scalar = dynamic_cast<Vec1Object*>(&to)) {  // Mapping_Vec3d_Vec1d
         auto* v = dynamic_cast<Vec3Object*>(&from);
-        if (v == nullptr) throw std::invalid_argument("a Python mapping onto a Vec1d state needs a Vec3d input (Mapping_Vec3d_Vec1d)");
+        if (v == nullptr)
+            throw std::invalid_argument(
+                "a Python mapping onto a Vec1d state needs a Vec3d input (Mapping_Vec3d_Vec1d)");
         return std::make_unique<PythonMapping<Vec3Types, Vec1Types>>(*v, *scalar, dispatch_, target);
     }
     auto* out = dynamic_cast<Vec3Object*>(&to);
     if (out == nullptr)
-        throw std::invalid_argument("a Python mapping's output must be a Vec3d or Vec1d state (Mapping_Vec3d_Vec3d, Mapping_Rigid3d_Vec3d, Mapping_Vec3d_Vec1d)");
-    if (auto* v = dynamic_cast<Vec3Object*>(&from)) return std::make_unique<PythonMapping<Vec3Types>>(*v, *out, dispatch_, target);
+        throw std::invalid_argument(
+            "a Python mapping's output must be a Vec3d or Vec1d state (Mapping_Vec3d_Vec3d, Mapping_Rigid3d_Vec3d, "
+            "Mapping_Vec3d_Vec1d)");
+    if (auto* v = dynamic_cast<Vec3Object*>(&from))
+        return std::make_unique<PythonMapping<Vec3Types>>(*v, *out, dispatch_, target);
     if (auto* r = dynamic_cast<Rigid3Object*>(&from))
         return std::make_unique<PythonMapping<Rigid3Types>>(*r, *out, dispatch_, target);
     throw std::invalid_argument("a Python mapping's input must be a Vec3d or Rigid3d state");

@@ -12,7 +12,8 @@ namespace penalty::python {
 /// (penalty.sofa_api's dispatcher).
 class PythonComponents final : public scene::ExternalComponents {
 public:
-    PythonComponents(py::object dispatch, py::object resolve) : dispatch_(std::move(dispatch)), resolve_(std::move(resolve)) {}
+    PythonComponents(py::object dispatch, py::object resolve)
+        : dispatch_(std::move(dispatch)), resolve_(std::move(resolve)) {}
     PythonComponents(const PythonComponents&) = delete;
     PythonComponents& operator=(const PythonComponents&) = delete;
     ~PythonComponents() override;

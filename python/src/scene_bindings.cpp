@@ -16,11 +16,11 @@
 
 #include <tbb/global_control.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
-#include <unistd.h>
 
 namespace penalty::python {
 
@@ -81,7 +81,8 @@ void rigid_assign(std::vector<RigidFrame>& frames, const py::handle& value, cons
             throw py::value_error(std::string(what) + ": frame " + std::to_string(i) + " has a zero quaternion");
     for (std::size_t i = 0; i < frames.size(); ++i) {
         frames[i].center = Vec3(r(py::ssize_t(i), 0), r(py::ssize_t(i), 1), r(py::ssize_t(i), 2));
-        frames[i].orientation = Quat(r(py::ssize_t(i), 6), r(py::ssize_t(i), 3), r(py::ssize_t(i), 4), r(py::ssize_t(i), 5));
+        frames[i].orientation =
+            Quat(r(py::ssize_t(i), 6), r(py::ssize_t(i), 3), r(py::ssize_t(i), 4), r(py::ssize_t(i), 5));
         frames[i].orientation.normalize();
     }
 }
@@ -106,29 +107,44 @@ py::object state_field(const py::object& self, Field field) {
     const PyState& s = self.cast<const PyState&>();
     if (Vec3Object* v = vec3_of(s)) {
         switch (field) {
-            case Field::positions: return vec3_view(v->position, self);
-            case Field::velocities: return vec3_view(v->velocity, self);
-            case Field::forces: return vec3_view(v->force, self);
-            case Field::rest_positions: return vec3_view(v->rest_position, self);
-            case Field::external_forces: return vec3_view(v->external_force, self);
+            case Field::positions:
+                return vec3_view(v->position, self);
+            case Field::velocities:
+                return vec3_view(v->velocity, self);
+            case Field::forces:
+                return vec3_view(v->force, self);
+            case Field::rest_positions:
+                return vec3_view(v->rest_position, self);
+            case Field::external_forces:
+                return vec3_view(v->external_force, self);
         }
     }
     if (Rigid3Object* r = rigid_of(s)) {
         switch (field) {
-            case Field::positions: return rigid_copy(r->position);
-            case Field::rest_positions: return rigid_copy(r->rest_position);
-            case Field::velocities: return rigid_deriv_view(r->velocity, self);
-            case Field::forces: return rigid_deriv_view(r->force, self);
-            case Field::external_forces: return rigid_deriv_view(r->external_force, self);
+            case Field::positions:
+                return rigid_copy(r->position);
+            case Field::rest_positions:
+                return rigid_copy(r->rest_position);
+            case Field::velocities:
+                return rigid_deriv_view(r->velocity, self);
+            case Field::forces:
+                return rigid_deriv_view(r->force, self);
+            case Field::external_forces:
+                return rigid_deriv_view(r->external_force, self);
         }
     }
     if (Vec1Object* d = vec1_of(s)) {
         switch (field) {
-            case Field::positions: return vec1_view(d->position, self);
-            case Field::velocities: return vec1_view(d->velocity, self);
-            case Field::forces: return vec1_view(d->force, self);
-            case Field::rest_positions: return vec1_view(d->rest_position, self);
-            case Field::external_forces: return vec1_view(d->external_force, self);
+            case Field::positions:
+                return vec1_view(d->position, self);
+            case Field::velocities:
+                return vec1_view(d->velocity, self);
+            case Field::forces:
+                return vec1_view(d->force, self);
+            case Field::rest_positions:
+                return vec1_view(d->rest_position, self);
+            case Field::external_forces:
+                return vec1_view(d->external_force, self);
         }
     }
     throw py::type_error("state '" + output::state_label(*s.record) + "' is neither Vec3d, Rigid3d nor Vec1d");
@@ -221,14 +237,16 @@ py::dict energies_dict(const Scene& scene) {
 /// The matrix of one component of the file (SofaPython3's ForceField.assembleKMatrix, K with
 /// kFactor 1; Mass.assembleMMatrix, M), as (rows, columns, values, size) of its state's scalars:
 /// component `index` of the file's node `node_path` (controllers not counted).
-py::tuple component_matrix(const Scene& scene, const std::string& node_path, std::size_t index, const std::string& kind) {
+py::tuple component_matrix(const Scene& scene, const std::string& node_path, std::size_t index,
+                           const std::string& kind) {
     const io::SceneNode* found = nullptr;
     std::function<void(const io::SceneNode&)> visit = [&](const io::SceneNode& sn) {
         if (found == nullptr && sn.path() == node_path) found = &sn;
         for (const auto& child : sn.children) visit(*child);
     };
     visit(*scene.file().root);
-    if (found == nullptr || index >= found->components.size()) throw py::value_error("no such component in the built scene");
+    if (found == nullptr || index >= found->components.size())
+        throw py::value_error("no such component in the built scene");
     const io::SceneComponent* component = found->components[index].get();
     const Node* node = scene.node_of(*found);
     TripletList triplets;
@@ -240,13 +258,16 @@ py::tuple component_matrix(const Scene& scene, const std::string& node_path, std
         for (const auto& ff : node->force_fields()) {
             if (scene.component_of(ff.get()) != component) continue;
             const ForceFieldStates states = ff->states();
-            if (states.size() != 1) throw py::value_error(component->describe() + ": assembleKMatrix of an interaction force field");
-            ff->add_stiffness(triplets, [](const BaseState*) { return Index{0}; }, 1.0);
+            if (states.size() != 1)
+                throw py::value_error(component->describe() + ": assembleKMatrix of an interaction force field");
+            ff->add_stiffness(
+                triplets, [](const BaseState*) { return Index{0}; }, 1.0);
             size = states[0]->scalar_size();
         }
     }
     if (size == 0)
-        throw py::value_error(component->describe() + (kind == "M" ? " is not a mass penalty built" : " is not a force field penalty built"));
+        throw py::value_error(component->describe() +
+                              (kind == "M" ? " is not a mass penalty built" : " is not a force field penalty built"));
     std::vector<Index> rows, cols;
     std::vector<double> values;
     for (const Triplet& t : triplets) {
@@ -290,7 +311,8 @@ py::dict info_dict(const Scene& scene) {
         d["name"] = p.name;
         d["intersection"] = intersection_method_short_name(p.intersection);
         py::list models;
-        for (const auto* m : p.models) models.append(m->component != nullptr ? m->component->describe() : std::string());
+        for (const auto* m : p.models)
+            models.append(m->component != nullptr ? m->component->describe() : std::string());
         d["models"] = models;
         pipelines.append(d);
     }
@@ -315,7 +337,8 @@ void read_attributes(const py::dict& d, io::SceneElement& e) {
     e.line = d["line"].cast<int>();
     for (const py::handle a : d["attributes"]) {
         auto t = a.cast<py::tuple>();
-        e.attributes.push_back(io::SceneAttribute{t[0].cast<std::string>(), t[1].cast<std::string>(), t[2].cast<int>()});
+        e.attributes.push_back(
+            io::SceneAttribute{t[0].cast<std::string>(), t[1].cast<std::string>(), t[2].cast<int>()});
     }
 }
 
@@ -379,175 +402,227 @@ void bind_scene(py::module_& m) {
         .def_property_readonly("name", [](const PyState& s) { return s.record->name; })
         .def_property_readonly("node_path", [](const PyState& s) { return s.record->node_path; })
         .def_property_readonly("path", [](const PyState& s) { return output::state_label(*s.record); })
-        .def_property_readonly("template", [](const PyState& s) { return rigid_of(s) ? "Rigid3d" : vec1_of(s) ? "Vec1d" : "Vec3d"; })
+        .def_property_readonly("template",
+                               [](const PyState& s) {
+                                   return rigid_of(s) ? "Rigid3d" : vec1_of(s) ? "Vec1d" : "Vec3d";
+                               })
         .def_property_readonly("size", [](const PyState& s) { return s.record->state->num_dofs(); })
         .def_property_readonly("mapped", [](const PyState& s) { return s.record->mapped; })
         .def_property_readonly("in_solver_subtree", [](const PyState& s) { return s.record->in_solver_subtree; })
-        .def_property("positions", [](py::object self) { return state_field(self, Field::positions); },
-                      [](py::object self, py::handle v) { set_state_field(self, Field::positions, v, "positions"); },
-                      "(n, 3) view for Vec3d; (n, 7) x y z qx qy qz qw copy for Rigid3d; (n, 1) view for Vec1d (assign to write)")
-        .def_property("velocities", [](py::object self) { return state_field(self, Field::velocities); },
-                      [](py::object self, py::handle v) { set_state_field(self, Field::velocities, v, "velocities"); },
-                      "(n, 3) view, (n, 6) linear then angular for Rigid3d, (n, 1) for Vec1d")
-        .def_property("forces", [](py::object self) { return state_field(self, Field::forces); },
-                      [](py::object self, py::handle v) { set_state_field(self, Field::forces, v, "forces"); },
-                      "forces of the last step's last evaluation (view)")
-        .def_property("rest_positions", [](py::object self) { return state_field(self, Field::rest_positions); },
-                      [](py::object self, py::handle v) { set_state_field(self, Field::rest_positions, v, "rest_positions"); })
-        .def_property("external_forces", [](py::object self) { return state_field(self, Field::external_forces); },
-                      [](py::object self, py::handle v) { set_state_field(self, Field::external_forces, v, "external_forces"); },
-                      "explicit forces applied during the next step, cleared after it (view)")
-        .def_property_readonly("centers", [](py::object self) -> py::object {
-            Rigid3Object* r = rigid_of(self.cast<const PyState&>());
-            if (r == nullptr) throw py::attribute_error("centers: only Rigid3d states have frames");
-            return view(r->position.empty() ? nullptr : r->position.data()->center.data(), py::ssize_t(r->position.size()), 3,
-                        sizeof(RigidFrame), self);
-        }, "(n, 3) view of the frame origins (Rigid3d)")
-        .def_property_readonly("orientations", [](py::object self) -> py::object {
-            Rigid3Object* r = rigid_of(self.cast<const PyState&>());
-            if (r == nullptr) throw py::attribute_error("orientations: only Rigid3d states have frames");
-            return view(r->position.empty() ? nullptr : r->position.data()->orientation.coeffs().data(),
-                        py::ssize_t(r->position.size()), 4, sizeof(RigidFrame), self);
-        }, "(n, 4) view of the quaternions qx qy qz qw (Rigid3d; keep them unit)")
+        .def_property(
+            "positions", [](py::object self) { return state_field(self, Field::positions); },
+            [](py::object self, py::handle v) { set_state_field(self, Field::positions, v, "positions"); },
+            "(n, 3) view for Vec3d; (n, 7) x y z qx qy qz qw copy for Rigid3d; (n, 1) view for Vec1d (assign to write)")
+        .def_property(
+            "velocities", [](py::object self) { return state_field(self, Field::velocities); },
+            [](py::object self, py::handle v) { set_state_field(self, Field::velocities, v, "velocities"); },
+            "(n, 3) view, (n, 6) linear then angular for Rigid3d, (n, 1) for Vec1d")
+        .def_property(
+            "forces", [](py::object self) { return state_field(self, Field::forces); },
+            [](py::object self, py::handle v) { set_state_field(self, Field::forces, v, "forces"); },
+            "forces of the last step's last evaluation (view)")
+        .def_property(
+            "rest_positions", [](py::object self) { return state_field(self, Field::rest_positions); },
+            [](py::object self, py::handle v) { set_state_field(self, Field::rest_positions, v, "rest_positions"); })
+        .def_property(
+            "external_forces", [](py::object self) { return state_field(self, Field::external_forces); },
+            [](py::object self, py::handle v) { set_state_field(self, Field::external_forces, v, "external_forces"); },
+            "explicit forces applied during the next step, cleared after it (view)")
+        .def_property_readonly(
+            "centers",
+            [](py::object self) -> py::object {
+                Rigid3Object* r = rigid_of(self.cast<const PyState&>());
+                if (r == nullptr) throw py::attribute_error("centers: only Rigid3d states have frames");
+                return view(r->position.empty() ? nullptr : r->position.data()->center.data(),
+                            py::ssize_t(r->position.size()), 3, sizeof(RigidFrame), self);
+            },
+            "(n, 3) view of the frame origins (Rigid3d)")
+        .def_property_readonly(
+            "orientations",
+            [](py::object self) -> py::object {
+                Rigid3Object* r = rigid_of(self.cast<const PyState&>());
+                if (r == nullptr) throw py::attribute_error("orientations: only Rigid3d states have frames");
+                return view(r->position.empty() ? nullptr : r->position.data()->orientation.coeffs().data(),
+                            py::ssize_t(r->position.size()), 4, sizeof(RigidFrame), self);
+            },
+            "(n, 4) view of the quaternions qx qy qz qw (Rigid3d; keep them unit)")
         .def_property_readonly("radius", [](const PyState& s) { return s.record->radius; })
         .def("__repr__", [](const PyState& s) {
-            return "<penalty.State '" + output::state_label(*s.record) + "' " + (rigid_of(s) ? "Rigid3d" : "Vec3d") + ", " +
-                   std::to_string(s.record->state->num_dofs()) + " DOFs>";
+            return "<penalty.State '" + output::state_label(*s.record) + "' " + (rigid_of(s) ? "Rigid3d" : "Vec3d") +
+                   ", " + std::to_string(s.record->state->num_dofs()) + " DOFs>";
         });
 
     auto scene_class = py::class_<PyScene>(m, "Scene", "A built scene (from a .scn file or a SofaPython3 script)");
-    scene_class
-        .def("step", &PyScene::step, py::arg("n") = 1, "Runs n steps (controllers' hooks around each)")
-        .def_property_readonly("time", [](const PyScene& s) { return s.scene->simulation().time(); }, "s")
-        .def_property_readonly("dt", [](const PyScene& s) { return s.scene->dt(); }, "s")
+    scene_class.def("step", &PyScene::step, py::arg("n") = 1, "Runs n steps (controllers' hooks around each)")
+        .def_property_readonly(
+            "time", [](const PyScene& s) { return s.scene->simulation().time(); }, "s")
+        .def_property_readonly(
+            "dt", [](const PyScene& s) { return s.scene->dt(); }, "s")
         .def_property_readonly("file", [](const PyScene& s) { return s.scene->file().path; })
-        .def("_state_list", [](py::object self) {
-            py::list out;
-            const PyScene& s = self.cast<const PyScene&>();
-            for (const auto& r : s.scene->states()) out.append(PyState{self, StateRecordRef(self, &r)});
-            return out;
-        })
-        .def("contacts", [](const PyScene& s) { return contacts_dict(*s.scene); },
-             "The live contacts after the last step, one row per contact (dict of arrays)")
-        .def("_contact_summary", [](const PyScene& s) {
-            // the per-step numbers of `penalty run --stats` (output::summarize_contacts)
-            const output::ContactSummary c = output::summarize_contacts(s.scene->contacts());
-            py::dict d;
-            d["contacts"] = c.contacts;
-            d["active_contacts"] = c.active_contacts;
-            d["max_penetration"] = c.max_penetration;
-            d["contact_energy"] = c.contact_energy;
-            d["dissipated_energy"] = c.dissipated_energy;
-            return d;
-        }, "After a step: contacts, active_contacts, max_penetration (m, at the positions after the step, "
-           "0 without a penetrating contact), contact_energy, dissipated_energy (J): --stats' columns")
-        .def("energies", [](const PyScene& s) { return energies_dict(*s.scene); },
-             "kinetic, contact (stored), dissipated_damping, dissipated_friction, dissipated (J)")
-        .def("info", [](const PyScene& s) { return info_dict(*s.scene); }, "What `penalty info` prints, as data")
-        .def("_component_matrix", [](const PyScene& s, const std::string& node_path, std::size_t index,
-                                     const std::string& kind) { return component_matrix(*s.scene, node_path, index, kind); },
-             py::arg("node_path"), py::arg("index"), py::arg("kind"))
+        .def("_state_list",
+             [](py::object self) {
+                 py::list out;
+                 const PyScene& s = self.cast<const PyScene&>();
+                 for (const auto& r : s.scene->states()) out.append(PyState{self, StateRecordRef(self, &r)});
+                 return out;
+             })
+        .def(
+            "contacts", [](const PyScene& s) { return contacts_dict(*s.scene); },
+            "The live contacts after the last step, one row per contact (dict of arrays)")
+        .def(
+            "_contact_summary",
+            [](const PyScene& s) {
+                // the per-step numbers of `penalty run --stats` (output::summarize_contacts)
+                const output::ContactSummary c = output::summarize_contacts(s.scene->contacts());
+                py::dict d;
+                d["contacts"] = c.contacts;
+                d["active_contacts"] = c.active_contacts;
+                d["max_penetration"] = c.max_penetration;
+                d["contact_energy"] = c.contact_energy;
+                d["dissipated_energy"] = c.dissipated_energy;
+                return d;
+            },
+            "After a step: contacts, active_contacts, max_penetration (m, at the positions after the step, "
+            "0 without a penetrating contact), contact_energy, dissipated_energy (J): --stats' columns")
+        .def(
+            "energies", [](const PyScene& s) { return energies_dict(*s.scene); },
+            "kinetic, contact (stored), dissipated_damping, dissipated_friction, dissipated (J)")
+        .def(
+            "info", [](const PyScene& s) { return info_dict(*s.scene); }, "What `penalty info` prints, as data")
+        .def(
+            "_component_matrix",
+            [](const PyScene& s, const std::string& node_path, std::size_t index, const std::string& kind) {
+                return component_matrix(*s.scene, node_path, index, kind);
+            },
+            py::arg("node_path"), py::arg("index"), py::arg("kind"))
         .def("warnings", [](const PyScene& s) { return s.scene->warnings(); })
-        .def_property("no_tunnelling", [](const PyScene& s) { return tunnelling_mode(*s.scene); },
-                      [](PyScene& s, const std::string& mode) { set_tunnelling_mode(*s.scene, mode); },
-                      "tunnelling guard: off, warn, substep or stiffen (docs/no-tunnelling.md)")
-        .def_property("reduction",
-                      [](const PyScene& s) { return std::string(s.scene->build_options().blocked_reductions ? "blocked" : "sofa"); },
-                      [](PyScene& s, const std::string& mode) {
-                          if (mode != "sofa" && mode != "blocked")
-                              throw py::value_error("reduction: '" + mode + "' is not one of sofa, blocked");
-                          s.scene->set_blocked_reductions(mode == "blocked");
-                      },
-                      "the CG's dot products: sofa (SOFA's chain) or blocked (docs/performance.md, Blocked reductions)")
-        .def("tunnelling", [](const PyScene& s) { return tunnelling_report(*s.scene); },
-             "The guard's report of the last step (dict), None without a guard")
-        .def("contact_advice", [](const PyScene& s, std::optional<double> v) { return contact_advice_list(*s.scene, v); },
-             py::arg("impact_speed") = py::none(), "`penalty info --contact-advice` per model pair (list of dicts)")
-        .def("_contact_advice_text", [](const PyScene& s, std::optional<double> v) { return scene::contact_advice(*s.scene, v); },
-             py::arg("impact_speed") = py::none())
-        .def_property_readonly("last_timings", [](const PyScene& s) {
-            const auto& t = s.scene->last_timings();
-            py::dict d;
-            d["detection_seconds"] = t.detection_seconds;
-            d["response_seconds"] = t.response_seconds;
-            d["solve_seconds"] = t.solve_seconds;
-            return d;
-        })
-        .def("_add_hooks", [](PyScene& s, py::object before, py::object after) {
-            if (!before.is_none()) s.before_step.push_back(std::move(before));
-            if (!after.is_none()) s.after_step.push_back(std::move(after));
-        })
-        .def("_run", [](PyScene& s, std::int64_t steps, std::optional<std::filesystem::path> vtk, std::int64_t vtk_every,
-                        std::optional<std::filesystem::path> states, bool export_mapped, std::int64_t export_every,
-                        std::optional<std::filesystem::path> stats, std::optional<bool> progress, py::object callback,
-                        double divergence_factor, std::optional<std::filesystem::path> view, std::int64_t view_every) {
-            scene::RunOptions o;
-            o.steps = steps;
-            o.divergence_factor = divergence_factor;
-            o.view_directory = view;
-            o.view_every = view_every;
-            o.view_title = s.scene->file().path.filename().string();
-            o.vtk_directory = vtk;
-            o.vtk_every = vtk_every;
-            o.states_directory = states;
-            o.export_mapped = export_mapped;
-            o.export_every = export_every;
-            o.stats_file = stats;
-            // controllers and a callback may move any state between the steps
-            o.states_change_between_steps = !s.before_step.empty() || !s.after_step.empty() || !callback.is_none();
-            const bool bar = progress.value_or(isatty(STDERR_FILENO) != 0);
-            // Controllers: the first step's "begin" before the run, then after step k its "end"
-            // and step k+1's "begin" (so a "begin" runs before the outputs of its step).
-            if (steps > 0) s.call_hooks(s.before_step);
-            const scene::RunSummary summary = scene::run_scene(*s.scene, o, [&](std::int64_t done, std::int64_t total,
-                                                                                const scene::RunSummary& so_far) {
-                s.call_hooks(s.after_step);
-                if (!callback.is_none()) callback(done, total);
-                if (done < total) s.call_hooks(s.before_step);
-                if (bar && (done == total || done % std::max<std::int64_t>(1, total / 100) == 0))
-                    print_progress(done, total, so_far.simulated_time);
-                if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-            });
-            return summary_dict(summary);
-        });
+        .def_property(
+            "no_tunnelling", [](const PyScene& s) { return tunnelling_mode(*s.scene); },
+            [](PyScene& s, const std::string& mode) { set_tunnelling_mode(*s.scene, mode); },
+            "tunnelling guard: off, warn, substep or stiffen (docs/no-tunnelling.md)")
+        .def_property(
+            "reduction",
+            [](const PyScene& s) {
+                return std::string(s.scene->build_options().blocked_reductions ? "blocked" : "sofa");
+            },
+            [](PyScene& s, const std::string& mode) {
+                if (mode != "sofa" && mode != "blocked")
+                    throw py::value_error("reduction: '" + mode + "' is not one of sofa, blocked");
+                s.scene->set_blocked_reductions(mode == "blocked");
+            },
+            "the CG's dot products: sofa (SOFA's chain) or blocked (docs/performance.md, Blocked reductions)")
+        .def(
+            "tunnelling", [](const PyScene& s) { return tunnelling_report(*s.scene); },
+            "The guard's report of the last step (dict), None without a guard")
+        .def(
+            "contact_advice",
+            [](const PyScene& s, std::optional<double> v) { return contact_advice_list(*s.scene, v); },
+            py::arg("impact_speed") = py::none(), "`penalty info --contact-advice` per model pair (list of dicts)")
+        .def(
+            "_contact_advice_text",
+            [](const PyScene& s, std::optional<double> v) { return scene::contact_advice(*s.scene, v); },
+            py::arg("impact_speed") = py::none())
+        .def_property_readonly("last_timings",
+                               [](const PyScene& s) {
+                                   const auto& t = s.scene->last_timings();
+                                   py::dict d;
+                                   d["detection_seconds"] = t.detection_seconds;
+                                   d["response_seconds"] = t.response_seconds;
+                                   d["solve_seconds"] = t.solve_seconds;
+                                   return d;
+                               })
+        .def("_add_hooks",
+             [](PyScene& s, py::object before, py::object after) {
+                 if (!before.is_none()) s.before_step.push_back(std::move(before));
+                 if (!after.is_none()) s.after_step.push_back(std::move(after));
+             })
+        .def("_run",
+             [](PyScene& s, std::int64_t steps, std::optional<std::filesystem::path> vtk, std::int64_t vtk_every,
+                std::optional<std::filesystem::path> states, bool export_mapped, std::int64_t export_every,
+                std::optional<std::filesystem::path> stats, std::optional<bool> progress, py::object callback,
+                double divergence_factor, std::optional<std::filesystem::path> view, std::int64_t view_every) {
+                 scene::RunOptions o;
+                 o.steps = steps;
+                 o.divergence_factor = divergence_factor;
+                 o.view_directory = view;
+                 o.view_every = view_every;
+                 o.view_title = s.scene->file().path.filename().string();
+                 o.vtk_directory = vtk;
+                 o.vtk_every = vtk_every;
+                 o.states_directory = states;
+                 o.export_mapped = export_mapped;
+                 o.export_every = export_every;
+                 o.stats_file = stats;
+                 // controllers and a callback may move any state between the steps
+                 o.states_change_between_steps = !s.before_step.empty() || !s.after_step.empty() || !callback.is_none();
+                 const bool bar = progress.value_or(isatty(STDERR_FILENO) != 0);
+                 // Controllers: the first step's "begin" before the run, then after step k its "end"
+                 // and step k+1's "begin" (so a "begin" runs before the outputs of its step).
+                 if (steps > 0) s.call_hooks(s.before_step);
+                 const scene::RunSummary summary = scene::run_scene(
+                     *s.scene, o, [&](std::int64_t done, std::int64_t total, const scene::RunSummary& so_far) {
+                         s.call_hooks(s.after_step);
+                         if (!callback.is_none()) callback(done, total);
+                         if (done < total) s.call_hooks(s.before_step);
+                         if (bar && (done == total || done % std::max<std::int64_t>(1, total / 100) == 0))
+                             print_progress(done, total, so_far.simulated_time);
+                         if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+                     });
+                 return summary_dict(summary);
+             });
     bind_scene_topology(scene_class);
 
-    m.def("_load_scene", [](const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs,
-                            std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides,
-                            const std::vector<std::string>& quirk_fixes) {
-        PyScene s;
-        s.scene = scene::load_scene(path, build_options(data_dirs, dt, threads, exhaustive, std::move(overrides), quirk_fixes));
-        return s;
-    }, py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
-       py::arg("overrides") = std::vector<std::string>{}, py::arg("fix_sofa_quirks") = std::vector<std::string>{});
-    m.def("_sofa_quirk_names", [] {
-        std::vector<std::string> out{"all"};
-        for (const SofaQuirkInfo& q : sofa_quirk_table()) out.emplace_back(q.name);
-        return out;
-    }, "The names --fix-sofa-quirk takes (docs/sofa-compatibility.md)");
-    m.def("_check_override", [](const std::string& text) {
-        const io::Override o = io::parse_override(text);
-        return py::make_tuple(o.path, o.attribute, o.value);
-    }, "Parses PATH.attribute=value; ValueError naming what is malformed");
+    m.def(
+        "_load_scene",
+        [](const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs,
+           std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides,
+           const std::vector<std::string>& quirk_fixes) {
+            PyScene s;
+            s.scene = scene::load_scene(
+                path, build_options(data_dirs, dt, threads, exhaustive, std::move(overrides), quirk_fixes));
+            return s;
+        },
+        py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
+        py::arg("overrides") = std::vector<std::string>{}, py::arg("fix_sofa_quirks") = std::vector<std::string>{});
+    m.def(
+        "_sofa_quirk_names",
+        [] {
+            std::vector<std::string> out{"all"};
+            for (const SofaQuirkInfo& q : sofa_quirk_table()) out.emplace_back(q.name);
+            return out;
+        },
+        "The names --fix-sofa-quirk takes (docs/sofa-compatibility.md)");
+    m.def(
+        "_check_override",
+        [](const std::string& text) {
+            const io::Override o = io::parse_override(text);
+            return py::make_tuple(o.path, o.attribute, o.value);
+        },
+        "Parses PATH.attribute=value; ValueError naming what is malformed");
     m.def("_builtin_scene", [](std::optional<double> dt) {
         PyScene s;
         s.scene = scene::build_scene(io::parse_scene_string(scene::default_scene_xml(), "<built-in scene>"),
                                      build_options({}, dt, 0, false));
         return s;
     });
-    m.def("_build_tree", [](const py::dict& root, const std::filesystem::path& path,
-                            const std::vector<std::filesystem::path>& data_dirs, std::optional<double> dt, int threads,
-                            bool exhaustive, std::vector<std::string> overrides, const std::vector<std::string>& quirk_fixes) {
-        io::SceneFile file;
-        file.path = path;
-        file.root = std::make_unique<io::SceneNode>();
-        read_tree_node(root, *file.root, 0);
-        PyScene s;
-        s.scene = scene::build_scene(std::move(file),
-                                     build_options(data_dirs, dt, threads, exhaustive, std::move(overrides), quirk_fixes));
-        return s;
-    }, py::arg("root"), py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"), py::arg("exhaustive"),
-       py::arg("overrides") = std::vector<std::string>{}, py::arg("fix_sofa_quirks") = std::vector<std::string>{}, "Builds a scene from the node tree of a SofaPython3 script (nested dicts), with the .scn builder");
+    m.def(
+        "_build_tree",
+        [](const py::dict& root, const std::filesystem::path& path, const std::vector<std::filesystem::path>& data_dirs,
+           std::optional<double> dt, int threads, bool exhaustive, std::vector<std::string> overrides,
+           const std::vector<std::string>& quirk_fixes) {
+            io::SceneFile file;
+            file.path = path;
+            file.root = std::make_unique<io::SceneNode>();
+            read_tree_node(root, *file.root, 0);
+            PyScene s;
+            s.scene = scene::build_scene(
+                std::move(file), build_options(data_dirs, dt, threads, exhaustive, std::move(overrides), quirk_fixes));
+            return s;
+        },
+        py::arg("root"), py::arg("path"), py::arg("data_dirs"), py::arg("dt"), py::arg("threads"),
+        py::arg("exhaustive"), py::arg("overrides") = std::vector<std::string>{},
+        py::arg("fix_sofa_quirks") = std::vector<std::string>{},
+        "Builds a scene from the node tree of a SofaPython3 script (nested dicts), with the .scn builder");
 }
 
 }  // namespace penalty::python

@@ -2,9 +2,9 @@
 // step with the near ones found by a sweep (broad_phase.hpp).
 #include "broad_phase.hpp"
 
+#include "narrow_phase.hpp"
 #include "penalty/core/error.hpp"
 #include "penalty/core/radix_sort.hpp"
-#include "narrow_phase.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -56,7 +56,8 @@ bool BroadPhase::ModelKey::describes(const CollisionModel& m) const {
            self_collision == p.self_collision && both_side == p.both_side && node == p.node && group == p.group;
 }
 
-bool BroadPhase::update(const IntersectionParams& params, const std::vector<CollisionModel*>& models, SceneDetection& result) {
+bool BroadPhase::update(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
+                        SceneDetection& result) {
     bool same = key_.size() == models.size();
     for (std::size_t i = 0; same && i < models.size(); ++i) same = key_[i].describes(*models[i]);
     if (same) return false;
@@ -90,8 +91,8 @@ bool BroadPhase::update(const IntersectionParams& params, const std::vector<Coll
 }
 
 void BroadPhase::find_near(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
-                           const std::vector<Bvh>& trees, const std::function<bool(std::size_t, std::size_t)>& within_margin,
-                           SceneDetection& result) {
+                           const std::vector<Bvh>& trees,
+                           const std::function<bool(std::size_t, std::size_t)>& within_margin, SceneDetection& result) {
     std::swap(near_, near_last_);
     near_.clear();
     if (pairs_.size() <= kMaxPairsTestedOneByOne) {

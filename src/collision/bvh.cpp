@@ -1,7 +1,7 @@
 #include "penalty/collision/bvh.hpp"
 
-#include "penalty/core/error.hpp"
 #include "kernels/prefetch.hpp"
+#include "penalty/core/error.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

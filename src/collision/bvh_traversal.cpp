@@ -125,8 +125,9 @@ struct Traversal {
         const std::uint32_t l = split_a ? ia + 1 : ib + 1;
         const std::uint32_t r = split_a ? na.right : nb.right;
         if (fork) {
-            tbb::parallel_invoke([&] { split_a ? pair<Rows>(l, ib, &buffers.local()) : pair<Rows>(ia, l, &buffers.local()); },
-                                 [&] { split_a ? pair<Rows>(r, ib, &buffers.local()) : pair<Rows>(ia, r, &buffers.local()); });
+            tbb::parallel_invoke(
+                [&] { split_a ? pair<Rows>(l, ib, &buffers.local()) : pair<Rows>(ia, l, &buffers.local()); },
+                [&] { split_a ? pair<Rows>(r, ib, &buffers.local()) : pair<Rows>(ia, r, &buffers.local()); });
         } else if (split_a) {
             pair<Rows>(l, ib, out);
             pair<Rows>(r, ib, out);
@@ -276,11 +277,9 @@ void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double ma
     std::swap(keys, sorted);
 }
 
-
 }  // namespace detail
 
-std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin,
-                                          bool parallel) {
+std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin, bool parallel) {
     NarrowPhaseScratch scratch;
     detail::collect_candidates(t1, t2, same_model, margin, parallel, true, scratch.buffers());
     return std::move(scratch.buffers().keys);

@@ -1,10 +1,10 @@
 // CandidateCache: each model pair's candidates kept from step to step (candidate_cache.hpp).
 #include "candidate_cache.hpp"
 
-#include "penalty/collision/separation.hpp"
 #include "kernels.hpp"
 #include "kernels/box_overlap.hpp"
 #include "kernels/prefetch.hpp"
+#include "penalty/collision/separation.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -37,7 +37,6 @@ double largest_bound_change(std::span<const Aabb> now, std::span<const Aabb> bef
     }
     return moved;
 }
-
 
 void CandidateCache::reset(std::size_t models) {
     motion_.assign(models, ModelMotion{});
@@ -147,8 +146,8 @@ void CandidateCache::collect(const CachedPair& p, PairCandidates& kept, NarrowPh
     kept.keys.clear();
     const bool sorted_candidates = p.options.narrow.sorted_candidates && !p.options.sofa_output_order;
     if (&p.m1 == &p.m2 || p.t1.root_box().overlaps(p.t2.root_box(), wide)) {
-        collect_candidates(p.t1, p.t2, &p.m1 == &p.m2, wide, p.options.narrow.parallel, sorted_candidates || writes_models,
-                           buf, rows.model != nullptr ? &rows : nullptr);
+        collect_candidates(p.t1, p.t2, &p.m1 == &p.m2, wide, p.options.narrow.parallel,
+                           sorted_candidates || writes_models, buf, rows.model != nullptr ? &rows : nullptr);
         kept.keys.assign(buf.keys.begin(), buf.keys.end());
     }
     kept.in_sofa_order = false;
@@ -205,7 +204,8 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
         const auto magnitude = [](const Aabb& box) {
             return std::max(box.min.cwiseAbs().maxCoeff(), box.max.cwiseAbs().maxCoeff());
         };
-        const double scale = 1.0 + std::abs(margin) + reach + std::max(magnitude(p.t1.root_box()), magnitude(p.t2.root_box()));
+        const double scale =
+            1.0 + std::abs(margin) + reach + std::max(magnitude(p.t1.root_box()), magnitude(p.t2.root_box()));
         sure_margin = margin - reach - 1e-12 * scale;
         kept.sure.resize(n_kept);
     }
@@ -275,7 +275,8 @@ bool CandidateCache::detect(const CachedPair& p, PairCandidates& kept, NarrowPha
     // candidates' order). Sorted when the outputs sorted in this generation outnumber the kept
     // keys (PairCandidates). Not for a kernel that writes the models: its writes run over the
     // candidates sorted by element.
-    if (p.options.sofa_output_order && !writes_models && !kept.in_sofa_order && kept.outputs_sorted >= kept.keys.size()) {
+    if (p.options.sofa_output_order && !writes_models && !kept.in_sofa_order &&
+        kept.outputs_sorted >= kept.keys.size()) {
         if (kept.keys.size() >= 2) p.sofa_trees.sort_keys(p.models, p.i1, p.i2, kept.keys, sofa_scratch);
         kept.in_sofa_order = true;
         kept.sure_current = false;
@@ -289,7 +290,8 @@ bool CandidateCache::detect(const CachedPair& p, PairCandidates& kept, NarrowPha
     if (p.options.sofa_output_order) narrow.sorted_candidates = false;
     const bool nearest = kept.nearest_outputs && worth_keeping_nearest(now.size(), p.m2);
     if (nearest)
-        keep_nearest_candidates(p.params, p.m1, p.t1.element_boxes().data(), p.m2, now, buf, separation_tests, deferred_writes);
+        keep_nearest_candidates(p.params, p.m1, p.t1.element_boxes().data(), p.m2, now, buf, separation_tests,
+                                deferred_writes);
     const std::size_t from = out.size();
     if (nearest) out.reserve(from + kept.keys.size());
     evaluate_candidates(p.params, p.m1, p.m2, now, narrow, buf, out, separation_tests, deferred_writes);

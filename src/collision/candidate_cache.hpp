@@ -89,20 +89,23 @@ public:
     [[nodiscard]] PairCandidates* entry(std::size_t i1, std::size_t i2);
     /// The models' kept and overlapping keys of the pairs `near` (their entries `kept`, by pair)
     /// in their current generations.
-    void count_kept_keys(const std::vector<std::size_t>& near, const std::vector<std::array<std::size_t, 2>>& pair_indices,
+    void count_kept_keys(const std::vector<std::size_t>& near,
+                         const std::vector<std::array<std::size_t, 2>>& pair_indices,
                          const std::vector<PairCandidates*>& kept);
     /// The outputs of `pair` from its kept candidates, collected again when a generation moved
     /// on: the traversal's candidates, so the traversal's outputs. Returns whether they are in
     /// SOFA's order.
     static bool detect(const CachedPair& pair, PairCandidates& kept, NarrowPhaseScratch::Buffers& buf,
-                       SofaOrderScratch& sofa_scratch, PairCounts& counts, Keys* deferred_writes, DetectionOutputList& out);
+                       SofaOrderScratch& sofa_scratch, PairCounts& counts, Keys* deferred_writes,
+                       DetectionOutputList& out);
 
 private:
     /// Collects the pair's candidates again, with the boxes grown by 2·(s1 + s2).
     static void collect(const CachedPair& pair, PairCandidates& kept, NarrowPhaseScratch::Buffers& buf,
                         SofaOrderScratch& sofa_scratch, bool writes_models);
     /// Box-tests the kept keys with the pair's margin into buf.keys (their order kept).
-    static void test_kept_keys(const CachedPair& pair, PairCandidates& kept, double margin, Keys& now, PairCounts& counts);
+    static void test_kept_keys(const CachedPair& pair, PairCandidates& kept, double margin, Keys& now,
+                               PairCounts& counts);
     std::vector<ModelMotion> motion_;
     std::uint64_t generations_ = 0;  ///< generations begun, all models together (each one unique)
     std::unordered_map<std::uint64_t, PairCandidates> pairs_;  ///< key: index 1 << 32 | index 2

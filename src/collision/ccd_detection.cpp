@@ -19,10 +19,14 @@ using namespace detail;
 
 const char* crossing_kind_name(CrossingKind kind) {
     switch (kind) {
-        case CrossingKind::point_triangle: return "point-triangle";
-        case CrossingKind::edge_edge: return "edge-edge";
-        case CrossingKind::sphere_triangle: return "sphere-triangle";
-        case CrossingKind::sphere_sphere: return "sphere-sphere";
+        case CrossingKind::point_triangle:
+            return "point-triangle";
+        case CrossingKind::edge_edge:
+            return "edge-edge";
+        case CrossingKind::sphere_triangle:
+            return "sphere-triangle";
+        case CrossingKind::sphere_sphere:
+            return "sphere-sphere";
     }
     return "?";
 }
@@ -92,7 +96,7 @@ void test_candidate(const ContinuousDetection::Task& task, const ContinuousDetec
     c.surface2 = task.second;
     CcdResult r;
     switch (task.kind1 * kFeatureKinds + task.kind2) {
-        case kVertexFeature * kFeatureKinds + kTriangleFeature: {
+        case kVertexFeature* kFeatureKinds + kTriangleFeature: {
             const Index p = s1.vertices[e1];
             const auto& t = s2.triangles[e2];
             if (self && (p == t[0] || p == t[1] || p == t[2])) return;
@@ -108,7 +112,7 @@ void test_candidate(const ContinuousDetection::Task& task, const ContinuousDetec
             c.depth = point_triangle_distance(s1.now(p), s2.now(t[0]), s2.now(t[1]), s2.now(t[2]));
             break;
         }
-        case kEdgeFeature * kFeatureKinds + kEdgeFeature: {
+        case kEdgeFeature* kFeatureKinds + kEdgeFeature: {
             const auto& a = s1.edges[e1];
             const auto& b = s2.edges[e2];
             if (self && shares_dof(a, b)) return;
@@ -126,7 +130,7 @@ void test_candidate(const ContinuousDetection::Task& task, const ContinuousDetec
             c.depth = edge_edge_distance(s1.now(a[0]), s1.now(a[1]), s2.now(b[0]), s2.now(b[1]));
             break;
         }
-        case kSphereFeature * kFeatureKinds + kTriangleFeature: {
+        case kSphereFeature* kFeatureKinds + kTriangleFeature: {
             const Index p = s1.sphere_dof[e1];
             const auto& t = s2.triangles[e2];
             if (self && s1.vec3 != nullptr && (p == t[0] || p == t[1] || p == t[2])) return;
@@ -248,8 +252,9 @@ void ContinuousDetection::find_tasks() {
     near_.clear();
     sweep_.resize(surfaces_.size());
     for (std::size_t i = 0; i < surfaces_.size(); ++i) sweep_[i] = i;
-    sweep_.erase(std::remove_if(sweep_.begin(), sweep_.end(), [&](std::size_t i) { return surfaces_[i]->swept_box.empty(); }),
-                 sweep_.end());
+    sweep_.erase(
+        std::remove_if(sweep_.begin(), sweep_.end(), [&](std::size_t i) { return surfaces_[i]->swept_box.empty(); }),
+        sweep_.end());
     std::sort(sweep_.begin(), sweep_.end(), [&](std::size_t a, std::size_t b) {
         const double xa = surfaces_[a]->swept_box.min.x(), xb = surfaces_[b]->swept_box.min.x();
         return xa < xb || (xa == xb && a < b);
@@ -266,7 +271,8 @@ void ContinuousDetection::find_tasks() {
     }
     std::sort(near_.begin(), near_.end());
     for (std::uint64_t key : near_) {
-        const auto it = std::lower_bound(pair_tests_.begin(), pair_tests_.end(), std::pair<std::uint64_t, std::uint32_t>{key, 0u});
+        const auto it =
+            std::lower_bound(pair_tests_.begin(), pair_tests_.end(), std::pair<std::uint64_t, std::uint32_t>{key, 0u});
         if (it == pair_tests_.end() || it->first != key) continue;
         const std::size_t a = std::size_t(key >> 32), b = std::size_t(key & 0xffffffffu);
         ++stats_.surface_pairs;
@@ -313,7 +319,9 @@ const std::vector<Crossing>& ContinuousDetection::detect(const CcdOptions& optio
             return std::tie(x.dofs1, x.element1, x.toi) < std::tie(y.dofs1, y.element1, y.toi);
         });
         out.erase(std::unique(out.begin(), out.end(),
-                              [](const Crossing& x, const Crossing& y) { return x.dofs1 == y.dofs1 && x.element1 == y.element1; }),
+                              [](const Crossing& x, const Crossing& y) {
+                                  return x.dofs1 == y.dofs1 && x.element1 == y.element1;
+                              }),
                   out.end());
     });
     crossings_.clear();
@@ -322,7 +330,8 @@ const std::vector<Crossing>& ContinuousDetection::detect(const CcdOptions& optio
         stats_.candidates += task_candidates_[k];
         stats_.capped += capped[k];
     }
-    std::stable_sort(crossings_.begin(), crossings_.end(), [](const Crossing& x, const Crossing& y) { return x.toi < y.toi; });
+    std::stable_sort(crossings_.begin(), crossings_.end(),
+                     [](const Crossing& x, const Crossing& y) { return x.toi < y.toi; });
     return crossings_;
 }
 

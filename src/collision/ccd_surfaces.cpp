@@ -38,18 +38,26 @@ namespace {
 struct ModelState {
     const Vec3State* vec3 = nullptr;
     const Rigid3State* rigid = nullptr;
-    [[nodiscard]] const void* key() const { return vec3 ? static_cast<const void*>(vec3) : static_cast<const void*>(rigid); }
+    [[nodiscard]] const void* key() const {
+        return vec3 ? static_cast<const void*>(vec3) : static_cast<const void*>(rigid);
+    }
 };
 
 ModelState state_of(const CollisionModel& m) {
     switch (m.type()) {
-        case ModelType::Point: return {&static_cast<const PointModel&>(m).state(), nullptr};
-        case ModelType::Line: return {&static_cast<const LineModel&>(m).state(), nullptr};
-        case ModelType::Triangle: return {&static_cast<const TriangleModel&>(m).state(), nullptr};
-        case ModelType::Sphere: return {&static_cast<const SphereModel&>(m).state(), nullptr};
-        case ModelType::RigidSphere: return {nullptr, &static_cast<const RigidSphereModel&>(m).state()};
+        case ModelType::Point:
+            return {&static_cast<const PointModel&>(m).state(), nullptr};
+        case ModelType::Line:
+            return {&static_cast<const LineModel&>(m).state(), nullptr};
+        case ModelType::Triangle:
+            return {&static_cast<const TriangleModel&>(m).state(), nullptr};
+        case ModelType::Sphere:
+            return {&static_cast<const SphereModel&>(m).state(), nullptr};
+        case ModelType::RigidSphere:
+            return {nullptr, &static_cast<const RigidSphereModel&>(m).state()};
         case ModelType::Cylinder:
-        case ModelType::Tetrahedron: return {};  // no feature the guard tests (docs/no-tunnelling.md)
+        case ModelType::Tetrahedron:
+            return {};  // no feature the guard tests (docs/no-tunnelling.md)
     }
     return {};
 }
@@ -75,9 +83,9 @@ std::uint32_t tests_of(ModelType t1, ModelType t2, bool edge_edge) {
 /// The bits of (m1 on a, m2 on b) seen from (b, a).
 std::uint32_t swapped(std::uint32_t bits) {
     const auto move = [&](std::uint32_t from, std::uint32_t to) { return (bits & from) ? to : 0u; };
-    return move(kVertexTriangleAB, kVertexTriangleBA) | move(kVertexTriangleBA, kVertexTriangleAB) | (bits & kEdgeEdge) |
-           move(kSphereTriangleAB, kSphereTriangleBA) | move(kSphereTriangleBA, kSphereTriangleAB) |
-           (bits & kSphereSphere);
+    return move(kVertexTriangleAB, kVertexTriangleBA) | move(kVertexTriangleBA, kVertexTriangleAB) |
+           (bits & kEdgeEdge) | move(kSphereTriangleAB, kSphereTriangleBA) |
+           move(kSphereTriangleBA, kSphereTriangleAB) | (bits & kSphereSphere);
 }
 
 std::uint64_t edge_key(Index a, Index b) {
@@ -89,10 +97,14 @@ std::uint64_t edge_key(Index a, Index b) {
 
 std::size_t ContinuousDetection::Surface::feature_count(int kind) const {
     switch (kind) {
-        case kVertexFeature: return vertices.size();
-        case kEdgeFeature: return edges.size();
-        case kTriangleFeature: return triangles.size();
-        default: return sphere_dof.size();
+        case kVertexFeature:
+            return vertices.size();
+        case kEdgeFeature:
+            return edges.size();
+        case kTriangleFeature:
+            return triangles.size();
+        default:
+            return sphere_dof.size();
     }
 }
 
@@ -109,12 +121,14 @@ void ContinuousDetection::Surface::update_trees() {
     boxes[kVertexFeature].boxes.resize(vertices.size());
     for (std::size_t i = 0; i < vertices.size(); ++i) boxes[kVertexFeature].boxes[i] = box_of({vertices[i]}, 0.0);
     boxes[kEdgeFeature].boxes.resize(edges.size());
-    for (std::size_t i = 0; i < edges.size(); ++i) boxes[kEdgeFeature].boxes[i] = box_of({edges[i][0], edges[i][1]}, 0.0);
+    for (std::size_t i = 0; i < edges.size(); ++i)
+        boxes[kEdgeFeature].boxes[i] = box_of({edges[i][0], edges[i][1]}, 0.0);
     boxes[kTriangleFeature].boxes.resize(triangles.size());
     for (std::size_t i = 0; i < triangles.size(); ++i)
         boxes[kTriangleFeature].boxes[i] = box_of({triangles[i][0], triangles[i][1], triangles[i][2]}, 0.0);
     boxes[kSphereFeature].boxes.resize(sphere_dof.size());
-    for (std::size_t i = 0; i < sphere_dof.size(); ++i) boxes[kSphereFeature].boxes[i] = box_of({sphere_dof[i]}, sphere_radius[i]);
+    for (std::size_t i = 0; i < sphere_dof.size(); ++i)
+        boxes[kSphereFeature].boxes[i] = box_of({sphere_dof[i]}, sphere_radius[i]);
     swept_box = Aabb{};
     for (int k = 0; k < kFeatureKinds; ++k) {
         const auto kk = std::size_t(k);
@@ -140,13 +154,15 @@ const std::string& ContinuousDetection::surface_name(std::size_t s) const { retu
 
 void ContinuousDetection::set_pairs(std::span<const ModelPair> pairs, bool edge_edge) {
     for (const ModelPair& p : pairs)
-        if (p.model1 == nullptr || p.model2 == nullptr) throw_invalid_argument("ContinuousDetection::set_pairs: a null model");
+        if (p.model1 == nullptr || p.model2 == nullptr)
+            throw_invalid_argument("ContinuousDetection::set_pairs: a null model");
     pairs_.assign(pairs.begin(), pairs.end());
     pair_edge_edge_.assign(pairs_.size(), edge_edge ? 1 : 0);
     build_surfaces();
 }
 
-void ContinuousDetection::add_pipeline_pairs(const IntersectionParams& params, std::span<CollisionModel* const> models) {
+void ContinuousDetection::add_pipeline_pairs(const IntersectionParams& params,
+                                             std::span<CollisionModel* const> models) {
     std::vector<ModelPair> kept;
     broad_phase(params, models, kept);
     const auto key = [](const ModelPair& p) {
@@ -268,9 +284,14 @@ void ContinuousDetection::build_surfaces() {
                     }
                     break;
                 }
-                case ModelType::Sphere: add_spheres(static_cast<const SphereModel&>(*m), m); break;
-                case ModelType::RigidSphere: add_spheres(static_cast<const RigidSphereModel&>(*m), m); break;
-                default: break;
+                case ModelType::Sphere:
+                    add_spheres(static_cast<const SphereModel&>(*m), m);
+                    break;
+                case ModelType::RigidSphere:
+                    add_spheres(static_cast<const RigidSphereModel&>(*m), m);
+                    break;
+                default:
+                    break;
             }
         }
     }

@@ -28,7 +28,13 @@ public:
 };
 
 /// The feature kinds of a surface (the index of its trees).
-enum FeatureKind : int { kVertexFeature = 0, kEdgeFeature = 1, kTriangleFeature = 2, kSphereFeature = 3, kFeatureKinds = 4 };
+enum FeatureKind : int {
+    kVertexFeature = 0,
+    kEdgeFeature = 1,
+    kTriangleFeature = 2,
+    kSphereFeature = 3,
+    kFeatureKinds = 4
+};
 
 /// The tests of a pair of surfaces (a, b), a ≤ b, as bits: `ab` tests a's first feature against
 /// b's second, `ba` the other way (for a == b only the `ab` bits are used).
@@ -45,7 +51,7 @@ enum PairTest : std::uint32_t {
 
 struct ContinuousDetection::Surface {
     std::string name;
-    const Vec3State* vec3 = nullptr;    ///< the state (one of the two)
+    const Vec3State* vec3 = nullptr;  ///< the state (one of the two)
     const Rigid3State* rigid = nullptr;
     std::vector<const CollisionModel*> models;
 

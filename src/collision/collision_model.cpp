@@ -8,19 +8,25 @@ namespace penalty {
 
 const char* model_type_name(ModelType t) {
     switch (t) {
-        case ModelType::Point: return "Point";
-        case ModelType::Line: return "Line";
-        case ModelType::Triangle: return "Triangle";
-        case ModelType::Sphere: return "Sphere";
-        case ModelType::RigidSphere: return "RigidSphere";
-        case ModelType::Cylinder: return "Cylinder";
-        case ModelType::Tetrahedron: return "Tetrahedron";
+        case ModelType::Point:
+            return "Point";
+        case ModelType::Line:
+            return "Line";
+        case ModelType::Triangle:
+            return "Triangle";
+        case ModelType::Sphere:
+            return "Sphere";
+        case ModelType::RigidSphere:
+            return "RigidSphere";
+        case ModelType::Cylinder:
+            return "Cylinder";
+        case ModelType::Tetrahedron:
+            return "Tetrahedron";
     }
     return "?";
 }
 
-CollisionModel::CollisionModel(ModelType type, CollisionModelParams params)
-    : type_(type), params_(std::move(params)) {}
+CollisionModel::CollisionModel(ModelType type, CollisionModelParams params) : type_(type), params_(std::move(params)) {}
 
 Aabb CollisionModel::model_box() const {
     Aabb box;
@@ -46,8 +52,8 @@ void CollisionModel::update() {
 void CollisionModel::validate() const {
     const auto& p = params_;
     auto bad = [&](const char* what, double v) {
-        throw_invalid_argument(model_type_name(type_), "Model '", p.name, "': parameter ", what,
-                               " is ", v, " (must be finite and >= 0)");
+        throw_invalid_argument(model_type_name(type_), "Model '", p.name, "': parameter ", what, " is ", v,
+                               " (must be finite and >= 0)");
     };
     if (!(p.contact_distance >= 0.0) || !is_finite(p.contact_distance)) bad("contactDistance", p.contact_distance);
     if (!(p.contact_stiffness >= 0.0) || !is_finite(p.contact_stiffness)) bad("contactStiffness", p.contact_stiffness);
@@ -56,8 +62,8 @@ void CollisionModel::validate() const {
 
 void CollisionModel::check_point(const Vec3& x, Index elem, const char* what) const {
     if (!x.allFinite()) {
-        throw_invalid_argument(model_type_name(type_), "Model '", params_.name, "': element ", elem,
-                               ": ", what, " is not finite (", x.x(), ", ", x.y(), ", ", x.z(), ")");
+        throw_invalid_argument(model_type_name(type_), "Model '", params_.name, "': element ", elem, ": ", what,
+                               " is not finite (", x.x(), ", ", x.y(), ", ", x.z(), ")");
     }
 }
 

@@ -3,12 +3,12 @@
 // phase are broad_phase.cpp, candidate_cache.cpp and narrow_phase.cpp / bvh_traversal.cpp.
 #include "penalty/collision/collision_pipeline.hpp"
 
-#include "penalty/core/error.hpp"
-#include "penalty/core/first_error.hpp"
 #include "broad_phase.hpp"
 #include "candidate_cache.hpp"
 #include "kernels.hpp"
 #include "narrow_phase.hpp"
+#include "penalty/core/error.hpp"
+#include "penalty/core/first_error.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -25,8 +25,11 @@ constexpr std::size_t kChunksPerThread = 4;  // detect() in parallel: chunks of 
 
 CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
                                      ContactDetection detection)
-    : params_(std::move(params)), opt_(opt), detection_(detection),
-      broad_(std::make_unique<detail::BroadPhase>()), cache_(std::make_unique<detail::CandidateCache>()) {
+    : params_(std::move(params)),
+      opt_(opt),
+      detection_(detection),
+      broad_(std::make_unique<detail::BroadPhase>()),
+      cache_(std::make_unique<detail::CandidateCache>()) {
     params_.validate();
     if (opt_.depth < 0) opt_.depth = 6;  // SOFA resets a negative depth to 6
     if (opt_.leaf_size == 0) throw_invalid_argument("CollisionPipeline: leaf_size must be >= 1");
@@ -60,7 +63,8 @@ void CollisionPipeline::add_model(CollisionModel& model) {
 
 std::size_t CollisionPipeline::model_index(const CollisionModel& m) const {
     // binary search in (address, index) pairs: a scene with many models asks for two per pair
-    const auto it = std::lower_bound(index_of_.begin(), index_of_.end(), std::pair<const CollisionModel*, std::size_t>(&m, 0));
+    const auto it =
+        std::lower_bound(index_of_.begin(), index_of_.end(), std::pair<const CollisionModel*, std::size_t>(&m, 0));
     if (it == index_of_.end() || it->first != &m)
         throw_invalid_argument("CollisionPipeline: model '", m.name(), "' is not registered");
     return it->second;
@@ -92,7 +96,8 @@ void CollisionPipeline::refit() {
             m.validate_for_step();
             m.update();
             // the separation tests' size measured at each (re)build only: it decides speed, never outputs
-            if (tree.refit(m, opt_.rebuild_ratio, opt_.leaf_size)) cache_->motion(i).longest_side = detail::longest_box_side(m, tree);
+            if (tree.refit(m, opt_.rebuild_ratio, opt_.leaf_size))
+                cache_->motion(i).longest_side = detail::longest_box_side(m, tree);
             if (opt_.candidate_cache) cache_->track_motion(i, tree, m, params_.alarm_distance);
         } else if (tree.build_count() == 0 || tree.element_boxes().size() != m.size()) {
             m.validate();  // static: checked and built once (SOFA: bounding tree computed once)
@@ -110,8 +115,8 @@ void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, Dete
     counts.add_to(cache_stats_, candidates_evaluated_);
 }
 
-void CollisionPipeline::detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out,
-                                         PairScratch& scratch, detail::PairCounts& counts, detail::PairCandidates* kept,
+void CollisionPipeline::detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out, PairScratch& scratch,
+                                         detail::PairCounts& counts, detail::PairCandidates* kept,
                                          std::vector<std::uint64_t>* deferred_writes) {
     out.clear();
     const bool in_sofa_order = detect_pair_unordered(i1, i2, out, scratch, counts, kept, deferred_writes);
@@ -126,7 +131,8 @@ detail::PairCandidates* CollisionPipeline::pair_candidates_entry(std::size_t i1,
 
 bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
                                               PairScratch& scratch, detail::PairCounts& counts,
-                                              detail::PairCandidates* kept_entry, std::vector<std::uint64_t>* deferred_writes) {
+                                              detail::PairCandidates* kept_entry,
+                                              std::vector<std::uint64_t>* deferred_writes) {
     // the models were validated and update()d by refit()
     CollisionModel& m1 = *models_[i1];
     CollisionModel& m2 = *models_[i2];
@@ -158,17 +164,18 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
                                           deferred_writes, out);
 }
 
-
 const SceneDetection& CollisionPipeline::detect() {
     refit();
-    if (opt_.sofa_output_order) sofa_trees_.build_all(models_);  // SOFA computes every model's bounding tree at each detection
+    if (opt_.sofa_output_order)
+        sofa_trees_.build_all(models_);  // SOFA computes every model's bounding tree at each detection
     const bool rebuilt = broad_->update(params_, models_, result_);
     const std::size_t pairs = broad_->pairs().size();
     if (detection_ == ContactDetection::exhaustive) {
         find_exhaustive_root_boxes();
     } else {
-        broad_->find_near(params_, models_, trees_, [this](std::size_t i1, std::size_t i2) { return roots_within_margin(i1, i2); },
-                          result_);
+        broad_->find_near(
+            params_, models_, trees_, [this](std::size_t i1, std::size_t i2) { return roots_within_margin(i1, i2); },
+            result_);
     }
     if (opt_.narrow_phase_override) return opt_.narrow_phase_override->detect(result_);
     last_concurrent_ = pairs_run_concurrently();
@@ -201,9 +208,9 @@ void CollisionPipeline::find_exhaustive_root_boxes() {
         for (const Aabb& b : boxes_) root_boxes_[i].extend(b);
     }
     const auto& indices = broad_->indices();
-    for (std::size_t k = 0; k < indices.size(); ++k) result_[k].narrow_phase = roots_within_margin(indices[k][0], indices[k][1]);
+    for (std::size_t k = 0; k < indices.size(); ++k)
+        result_[k].narrow_phase = roots_within_margin(indices[k][0], indices[k][1]);
 }
-
 
 bool CollisionPipeline::pairs_run_concurrently() const {
     if (detection_ != ContactDetection::bvh || opt_.pair_concurrency == PairConcurrency::never ||
@@ -286,7 +293,8 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // writes alone (pairs_run_concurrently): each pair keeps its writes' candidates, run below
     // in pair order, as detect_pairs_in_order would have run them.
     const bool defer_writes = broad_->any_pair_writes_models();
-    if (defer_writes && deferred_writes_.size() < broad_->pairs().size()) deferred_writes_.resize(broad_->pairs().size());
+    if (defer_writes && deferred_writes_.size() < broad_->pairs().size())
+        deferred_writes_.resize(broad_->pairs().size());
     std::mutex merge;
     detail::PairCounts total;
     FirstErrorInOrder failure;

@@ -10,30 +10,42 @@ namespace penalty {
 
 const char* intersection_method_name(IntersectionMethod m) {
     switch (m) {
-        case IntersectionMethod::Discrete: return "DiscreteIntersection";
-        case IntersectionMethod::NewProximity: return "NewProximityIntersection";
-        case IntersectionMethod::MinProximity: return "MinProximityIntersection";
-        case IntersectionMethod::LocalMinDistance: return "LocalMinDistance";
+        case IntersectionMethod::Discrete:
+            return "DiscreteIntersection";
+        case IntersectionMethod::NewProximity:
+            return "NewProximityIntersection";
+        case IntersectionMethod::MinProximity:
+            return "MinProximityIntersection";
+        case IntersectionMethod::LocalMinDistance:
+            return "LocalMinDistance";
     }
     return "?";
 }
 
 const char* intersection_method_short_name(IntersectionMethod m) {
     switch (m) {
-        case IntersectionMethod::Discrete: return "Discrete";
-        case IntersectionMethod::NewProximity: return "NewProximity";
-        case IntersectionMethod::MinProximity: return "MinProximity";
-        case IntersectionMethod::LocalMinDistance: return "LocalMinDistance";
+        case IntersectionMethod::Discrete:
+            return "Discrete";
+        case IntersectionMethod::NewProximity:
+            return "NewProximity";
+        case IntersectionMethod::MinProximity:
+            return "MinProximity";
+        case IntersectionMethod::LocalMinDistance:
+            return "LocalMinDistance";
     }
     return "?";
 }
 
 const char* pair_support_name(PairSupport s) {
     switch (s) {
-        case PairSupport::Supported: return "supported";
-        case PairSupport::Ignored: return "ignored";
-        case PairSupport::Unsupported: return "unsupported";
-        case PairSupport::BeyondSofa: return "beyond-SOFA";
+        case PairSupport::Supported:
+            return "supported";
+        case PairSupport::Ignored:
+            return "ignored";
+        case PairSupport::Unsupported:
+            return "unsupported";
+        case PairSupport::BeyondSofa:
+            return "beyond-SOFA";
     }
     return "?";
 }
@@ -61,8 +73,10 @@ constexpr std::array<SofaQuirkInfo, 12> kSofaQuirks{{
      "a number attribute with text after its number (tolerance=\"10-3\") is an error, not read as its leading number "
      "as SOFA's Data<T>::read does (command line or BuildOptions only)"},
     {"topology_removal_out_of_range", &SofaQuirkFixes::fix_topology_removal_out_of_range,
-     "TopologicalChangeProcessor: an edge, triangle, quad, tetrahedron or hexahedron index past the topology's end is an "
-     "error, not dropped with a warning as SOFA's *SetTopologyModifier::remove* do (command line or BuildOptions only)"},
+     "TopologicalChangeProcessor: an edge, triangle, quad, tetrahedron or hexahedron index past the topology's end is "
+     "an "
+     "error, not dropped with a warning as SOFA's *SetTopologyModifier::remove* do (command line or BuildOptions "
+     "only)"},
     {"uniform_mass_lazy_write", &SofaQuirkFixes::fix_uniform_mass_lazy_write,
      "UniformMass: a totalMass or vertexMass written after init reaches the weight and the mass matrix at the same "
      "step, as a fresh scene, not the weight first with the old value as SOFA's lazy update callback does (command "
@@ -109,9 +123,12 @@ SofaQuirkFixes merge_sofa_quirk_fixes(const SofaQuirkFixes& a, const SofaQuirkFi
 
 const char* zero_distance_normal_name(ZeroDistanceNormal policy) {
     switch (policy) {
-        case ZeroDistanceNormal::FallbackX: return "fallbackX";
-        case ZeroDistanceNormal::Drop: return "drop";
-        case ZeroDistanceNormal::SofaNaN: return "sofaNaN";
+        case ZeroDistanceNormal::FallbackX:
+            return "fallbackX";
+        case ZeroDistanceNormal::Drop:
+            return "drop";
+        case ZeroDistanceNormal::SofaNaN:
+            return "sofaNaN";
     }
     return "?";
 }
@@ -161,13 +178,20 @@ void IntersectionParams::validate() const {
 namespace {
 int rank(ModelType t) {
     switch (t) {
-        case ModelType::Point: return 0;
-        case ModelType::RigidSphere: return 1;
-        case ModelType::Sphere: return 2;
-        case ModelType::Line: return 3;
-        case ModelType::Triangle: return 4;
-        case ModelType::Tetrahedron: return 5;
-        case ModelType::Cylinder: return 6;
+        case ModelType::Point:
+            return 0;
+        case ModelType::RigidSphere:
+            return 1;
+        case ModelType::Sphere:
+            return 2;
+        case ModelType::Line:
+            return 3;
+        case ModelType::Triangle:
+            return 4;
+        case ModelType::Tetrahedron:
+            return 5;
+        case ModelType::Cylinder:
+            return 6;
     }
     return 0;
 }
@@ -290,11 +314,16 @@ const Entry& entry(IntersectionMethod m, ModelType a, ModelType b) {
 
 bool switch_on(const IntersectionParams& p, Switch s) {
     switch (s) {
-        case Switch::None: return true;
-        case Switch::SphereTriangle: return p.use_sphere_triangle;
-        case Switch::PointPoint: return p.use_point_point;
-        case Switch::LinePoint: return p.use_line_point;
-        case Switch::LineLine: return p.use_line_line;
+        case Switch::None:
+            return true;
+        case Switch::SphereTriangle:
+            return p.use_sphere_triangle;
+        case Switch::PointPoint:
+            return p.use_point_point;
+        case Switch::LinePoint:
+            return p.use_line_point;
+        case Switch::LineLine:
+            return p.use_line_line;
     }
     return true;
 }
@@ -320,19 +349,27 @@ bool has_vertex(const CollisionModel& m, Index e, Index v) {
             for (auto x : static_cast<const TetrahedronModel&>(m).tetrahedron(e))
                 if (x == v) return true;
             return false;
-        default: return false;
+        default:
+            return false;
     }
 }
 
 const void* state_of(const CollisionModel& m) {
     switch (m.type()) {
-        case ModelType::Point: return &static_cast<const PointModel&>(m).state();
-        case ModelType::Line: return &static_cast<const LineModel&>(m).state();
-        case ModelType::Triangle: return &static_cast<const TriangleModel&>(m).state();
-        case ModelType::Sphere: return &static_cast<const SphereModel&>(m).state();
-        case ModelType::RigidSphere: return &static_cast<const RigidSphereModel&>(m).state();
-        case ModelType::Cylinder: return &static_cast<const CylinderModel&>(m).state();
-        case ModelType::Tetrahedron: return &static_cast<const TetrahedronModel&>(m).state();
+        case ModelType::Point:
+            return &static_cast<const PointModel&>(m).state();
+        case ModelType::Line:
+            return &static_cast<const LineModel&>(m).state();
+        case ModelType::Triangle:
+            return &static_cast<const TriangleModel&>(m).state();
+        case ModelType::Sphere:
+            return &static_cast<const SphereModel&>(m).state();
+        case ModelType::RigidSphere:
+            return &static_cast<const RigidSphereModel&>(m).state();
+        case ModelType::Cylinder:
+            return &static_cast<const CylinderModel&>(m).state();
+        case ModelType::Tetrahedron:
+            return &static_cast<const TetrahedronModel&>(m).state();
     }
     return nullptr;
 }
@@ -378,9 +415,11 @@ detail::KernelFn detail::pair_kernel(const IntersectionParams& params, const Col
     }
     const Entry& e = entry(params.method, m1.type(), m2.type());
     if (!active(params, e)) {
-        throw_invalid_argument("intersect_elements(): ", intersection_method_name(params.method), " has no active "
-                               "intersector for ", model_type_name(m1.type()), "-", model_type_name(m2.type()),
-                               " (", pair_support_name(pair_support(params, m1.type(), m2.type())), ")");
+        throw_invalid_argument("intersect_elements(): ", intersection_method_name(params.method),
+                               " has no active "
+                               "intersector for ",
+                               model_type_name(m1.type()), "-", model_type_name(m2.type()), " (",
+                               pair_support_name(pair_support(params, m1.type(), m2.type())), ")");
     }
     return e.fn;
 }
@@ -402,8 +441,8 @@ detail::KernelParts detail::pair_kernel_parts(const IntersectionParams& params, 
     return {nullptr, fn};
 }
 
-int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1, CollisionModel& m2,
-                       Index e2, DetectionOutputList& out) {
+int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1, CollisionModel& m2, Index e2,
+                       DetectionOutputList& out) {
     const detail::KernelFn fn = detail::pair_kernel(params, m1, m2);
     if (e1 < 0 || std::size_t(e1) >= m1.size() || e2 < 0 || std::size_t(e2) >= m2.size()) {
         throw_invalid_argument("intersect_elements(): element index out of range: ", m1.name(), "[", e1, "] (size ",

@@ -129,8 +129,7 @@ void with_element_points(const CollisionModel& m, F&& f) {
         f([&s = static_cast<const SphereModel&>(m)](Index e) -> const Vec3& { return s.center(e); });
     else if (m.type() == ModelType::RigidSphere)
         f([&s = static_cast<const RigidSphereModel&>(m)](Index e) -> const Vec3& { return s.center(e); });
-    else
-        f([&p = static_cast<const PointModel&>(m)](Index e) -> const Vec3& { return p.point(e); });
+    else f([&p = static_cast<const PointModel&>(m)](Index e) -> const Vec3& { return p.point(e); });
 }
 
 /// The two models' contact distances, summed (PairCtx::skin).
@@ -155,9 +154,14 @@ inline bool unit_normal(const PairCtx& c, const Vec3& d, double len, Guard g, Ve
         if (n.allFinite()) return true;
     }
     switch (c.p.quirks.zero_distance_normal) {
-        case ZeroDistanceNormal::FallbackX: n = Vec3::UnitX(); return true;
-        case ZeroDistanceNormal::Drop: return false;
-        case ZeroDistanceNormal::SofaNaN: n = d / len; return true;
+        case ZeroDistanceNormal::FallbackX:
+            n = Vec3::UnitX();
+            return true;
+        case ZeroDistanceNormal::Drop:
+            return false;
+        case ZeroDistanceNormal::SofaNaN:
+            n = d / len;
+            return true;
     }
     return false;
 }
@@ -213,10 +217,10 @@ struct TriangleRegionConstants {
 
 /// NewProximity (SOFA's NewProximityIntersection::doIntersection* routines).
 struct NewProximityConstants {
-    Guard point_point_guard;                   ///< point–point, sphere–sphere, sphere–point
-    LineLineConstants line_line;               ///< line–line, triangle–line, triangle–triangle edges
-    TriangleRegionConstants triangle_point;    ///< triangle–point, triangle–line, triangle–triangle
-    TriangleRegionConstants triangle_sphere;   ///< as SOFA (quirks may fix the range and flags)
+    Guard point_point_guard;                  ///< point–point, sphere–sphere, sphere–point
+    LineLineConstants line_line;              ///< line–line, triangle–line, triangle–triangle edges
+    TriangleRegionConstants triangle_point;   ///< triangle–point, triangle–line, triangle–triangle
+    TriangleRegionConstants triangle_sphere;  ///< as SOFA (quirks may fix the range and flags)
 };
 inline constexpr NewProximityConstants kNewProximity{
     .point_point_guard = Guard::None,
@@ -253,8 +257,7 @@ inline Gram gram(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& q) 
     g.b1 = aq.dot(g.ac);
     g.det = g.g00 * g.g11 - g.g01 * g.g01;
     // zero-area triangle: SOFA divides by det = 0 (NaN/inf); we report no contact
-    g.degenerate = !(g.det > 0.0) || !(g.g00 > 0.0) || !(g.g11 > 0.0) ||
-                   !(g.g00 + g.g11 - 2.0 * g.g01 > 0.0);
+    g.degenerate = !(g.det > 0.0) || !(g.g00 > 0.0) || !(g.g11 > 0.0) || !(g.g00 + g.g11 - 2.0 * g.g01 > 0.0);
     g.alpha = g.degenerate ? 0.0 : (g.b0 * g.g11 - g.b1 * g.g01) / g.det;
     g.beta = g.degenerate ? 0.0 : (g.b1 * g.g00 - g.b0 * g.g01) / g.det;
     return g;
@@ -270,7 +273,7 @@ inline bool inside_triangle(double alpha, double beta, double lo, double hi) {
 /// NewProximity's closest feature of the triangle to the projected point (see
 /// TriangleRegionConstants): its α, β, or false if the triangle does not own it (`flags`).
 inline bool closest_feature(const Gram& g, std::uint32_t flags, const TriangleRegionConstants& k, double& alpha,
-                     double& beta) {
+                            double& beta) {
     using F = TriangleModel::Flags;
     alpha = g.alpha;
     beta = g.beta;
@@ -331,9 +334,9 @@ void filter_line_line_candidates(const IntersectionParams& params, const Collisi
 
 /// MinProximity (SOFA's MinProximityIntersection::doIntersection* routines).
 struct MinProximityConstants {
-    Guard point_point_guard;     ///< point–point
+    Guard point_point_guard;  ///< point–point
     LineLineConstants line_line;
-    double interior_lo;          ///< strict interior of a segment (t) or triangle (α, β, α + β)
+    double interior_lo;  ///< strict interior of a segment (t) or triangle (α, β, α + β)
     double interior_hi;
 };
 inline constexpr MinProximityConstants kMinProximity{
@@ -346,9 +349,9 @@ inline constexpr MinProximityConstants kMinProximity{
 /// LocalMinDistance (SOFA's LocalMinDistance::computeIntersection routines).
 struct LocalMinDistanceConstants {
     LineLineConstants line_line;
-    double interior_lo;          ///< strict interior of a segment (t) or triangle (α, β, α + β)
+    double interior_lo;  ///< strict interior of a segment (t) or triangle (α, β, α + β)
     double interior_hi;
-    double degenerate_segment;   ///< no contact if |AB| < this · |AP| (segment–point, segment–sphere)
+    double degenerate_segment;  ///< no contact if |AB| < this · |AP| (segment–point, segment–sphere)
 };
 inline constexpr LocalMinDistanceConstants kLocalMinDistance{
     .line_line = {.parallel = 1e-30, .lo = 1e-15, .hi = 1.0 - 1e-15, .guard = Guard::None},
@@ -358,8 +361,8 @@ inline constexpr LocalMinDistanceConstants kLocalMinDistance{
 };
 
 /// The closest points of SOFA's line–line routines (see LineLineConstants); false: no output.
-inline bool line_line_points(const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3& q2,
-                             const LineLineConstants& k, Vec3& p, Vec3& q) {
+inline bool line_line_points(const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3& q2, const LineLineConstants& k,
+                             Vec3& p, Vec3& q) {
     const Vec3 ab = p2 - p1;
     const Vec3 cd = q2 - q1;
     const Vec3 ac = q1 - p1;
@@ -389,19 +392,19 @@ void exhaustive_element_pairs(const IntersectionParams& params, CollisionModel& 
 
 // ---- kernels, by method (definitions in the kernels_*.cpp files) ----
 // NewProximity
-int np_sphere_sphere(PairCtx&);     // Sphere/RigidSphere pairs (centres)
-int np_sphere_point(PairCtx&);      // Sphere–Point, RigidSphere–Point
+int np_sphere_sphere(PairCtx&);                                           // Sphere/RigidSphere pairs (centres)
+int np_sphere_point(PairCtx&);                                            // Sphere–Point, RigidSphere–Point
 void np_sphere_point_all(PairCtx&, std::span<const std::uint64_t> keys);  // KernelParts::reads_all
 int np_point_point(PairCtx&);
 int np_line_point(PairCtx&);
 int np_line_line(PairCtx&);
-int np_line_sphere(PairCtx&);       // Line–Sphere, Line–RigidSphere
+int np_line_sphere(PairCtx&);  // Line–Sphere, Line–RigidSphere
 int np_triangle_point(PairCtx&);
-int np_triangle_sphere(PairCtx&);   // Triangle–Sphere, Triangle–RigidSphere
+int np_triangle_sphere(PairCtx&);  // Triangle–Sphere, Triangle–RigidSphere
 int np_triangle_line(PairCtx&);
 int np_triangle_triangle(PairCtx&);           // ≡ the two parts below in turn
-void np_triangle_triangle_normals(PairCtx&);   // SOFA's normal overwrite, where it applies (writes the models)
-int np_triangle_triangle_geometry(PairCtx&);   // the outputs (reads the positions only)
+void np_triangle_triangle_normals(PairCtx&);  // SOFA's normal overwrite, where it applies (writes the models)
+int np_triangle_triangle_geometry(PairCtx&);  // the outputs (reads the positions only)
 // MinProximity
 int min_sphere_sphere(PairCtx&);
 int min_sphere_point(PairCtx&);
@@ -415,7 +418,7 @@ int min_triangle_sphere(PairCtx&);
 int discrete_sphere_sphere(PairCtx&);
 int discrete_triangle_line(PairCtx&);
 // LocalMinDistance
-int lmd_sphere_sphere(PairCtx&);    // Sphere–Sphere (Vec3); rigid pairs use the Discrete routine
+int lmd_sphere_sphere(PairCtx&);  // Sphere–Sphere (Vec3); rigid pairs use the Discrete routine
 int lmd_rigid_sphere_pair(PairCtx&);
 int lmd_sphere_point(PairCtx&);
 int lmd_point_point(PairCtx&);
@@ -425,7 +428,7 @@ int lmd_line_sphere(PairCtx&);
 int lmd_triangle_point(PairCtx&);
 int lmd_triangle_sphere(PairCtx&);
 // Beyond SOFA
-int cylinder_sphere(PairCtx&);      // Cylinder–Sphere, Cylinder–RigidSphere
+int cylinder_sphere(PairCtx&);  // Cylinder–Sphere, Cylinder–RigidSphere
 int cylinder_cylinder(PairCtx&);
 int cylinder_triangle(PairCtx&);
 int tetrahedron_point(PairCtx&);

@@ -23,9 +23,7 @@ namespace penalty::detail {
 
 namespace {
 
-std::int64_t pair_id(const PairCtx& c) {
-    return std::int64_t(c.e1) * std::int64_t(c.m2.size()) + std::int64_t(c.e2);
-}
+std::int64_t pair_id(const PairCtx& c) { return std::int64_t(c.e1) * std::int64_t(c.m2.size()) + std::int64_t(c.e2); }
 
 bool min_semantics(const PairCtx& c) { return c.p.method == IntersectionMethod::MinProximity; }
 
@@ -66,9 +64,9 @@ int cylinder_cylinder(PairCtx& c) {
     const CylinderShape a = m1.shape(c.e1);
     const CylinderShape b = m2.shape(c.e2);
     // candidate separating directions for the overlapping case (fixed size: no allocation)
-    const SegmentSegmentResult ss = segment_segment_closest_points(
-        a.center - a.half_height * a.axis, a.center + a.half_height * a.axis,
-        b.center - b.half_height * b.axis, b.center + b.half_height * b.axis);
+    const SegmentSegmentResult ss =
+        segment_segment_closest_points(a.center - a.half_height * a.axis, a.center + a.half_height * a.axis,
+                                       b.center - b.half_height * b.axis, b.center + b.half_height * b.axis);
     const Vec3 w = ss.q - ss.p;
     const std::array<Vec3, 8> cand = {a.axis, b.axis, a.axis.cross(b.axis), b.center - a.center,
                                       w - w.dot(a.axis) * a.axis, w - w.dot(b.axis) * b.axis,

@@ -28,8 +28,8 @@ bool valid_point(const PairCtx& c, const PointModel& m, Index i, const Vec3& pq)
     Vec3 n_mean = Vec3::Zero();
     for (auto t : tris) {
         const Triangle& tr = topo.triangles()[std::size_t(t)];
-        n_mean += safe_normalized((x[std::size_t(tr[1])] - x[std::size_t(tr[0])])
-                                      .cross(x[std::size_t(tr[2])] - x[std::size_t(tr[0])]));
+        n_mean += safe_normalized(
+            (x[std::size_t(tr[1])] - x[std::size_t(tr[0])]).cross(x[std::size_t(tr[2])] - x[std::size_t(tr[0])]));
     }
     if (tris.empty()) {
         for (auto e : edges) {
@@ -69,7 +69,8 @@ bool valid_line(const PairCtx& c, const LineModel& m, Index i, const Vec3& pq) {
         const Triangle& right = topo.triangles()[std::size_t(t0_left ? around[1] : around[0])];
         const Triangle& left = topo.triangles()[std::size_t(t0_left ? around[0] : around[1])];
         auto tri_normal = [&x](const Triangle& t) {
-            return safe_normalized((x[std::size_t(t[1])] - x[std::size_t(t[0])]).cross(x[std::size_t(t[2])] - x[std::size_t(t[0])]));
+            return safe_normalized(
+                (x[std::size_t(t[1])] - x[std::size_t(t[0])]).cross(x[std::size_t(t[2])] - x[std::size_t(t[0])]));
         };
         const Vec3 n1 = tri_normal(right);
         const Vec3 t1 = safe_normalized(n1.cross(ab));

@@ -33,8 +33,7 @@ int np_closest_output(PairCtx& c, const Vec3& p, const Vec3& q, double R, double
 
 // NP-LP: segment [a, b] vs point q, clamped projection; swap: the point is element 1.
 // Zero-length segment: no contact (SOFA computes t = 0/0 and emits NaN, see differences doc).
-int np_lp(PairCtx& c, const Vec3& a, const Vec3& b, const Vec3& q, double R, double cfull,
-          std::int64_t id, bool swap) {
+int np_lp(PairCtx& c, const Vec3& a, const Vec3& b, const Vec3& q, double R, double cfull, std::int64_t id, bool swap) {
     const Vec3 ab = b - a;
     const double A = ab.squaredNorm();
     if (!(A > 0.0)) return 0;
@@ -46,8 +45,8 @@ int np_lp(PairCtx& c, const Vec3& a, const Vec3& b, const Vec3& q, double R, dou
 }
 
 // NP-LL: segment [p1, p2] vs segment [q1, q2] (see LineLineConstants)
-int np_ll(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3& q2, double R,
-          double cfull, std::int64_t id, const LineLineConstants& k) {
+int np_ll(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3& q2, double R, double cfull,
+          std::int64_t id, const LineLineConstants& k) {
     Vec3 p;
     Vec3 q;
     if (!line_line_points(p1, p2, q1, q2, k, p, q)) return 0;
@@ -59,8 +58,8 @@ int np_ll(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& q1, const Vec3
 
 // NP-TP: triangle (p1, p2, p3) vs point q, flag checks on vertex/edge regions; swap: the point is
 // element 1.
-int np_tp(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& p3, std::uint32_t flags,
-          const Vec3& q, double R, double cfull, std::int64_t id, bool swap) {
+int np_tp(PairCtx& c, const Vec3& p1, const Vec3& p2, const Vec3& p3, std::uint32_t flags, const Vec3& q, double R,
+          double cfull, std::int64_t id, bool swap) {
     const Gram g = gram(p1, p2, p3, q);
     if (g.degenerate) return 0;
     double alpha = 0.0;
@@ -98,8 +97,8 @@ int np_sphere_sphere(PairCtx& c) {
     const SphereElem s1 = sphere_elem(c.m1, c.e1);
     const SphereElem s2 = sphere_elem(c.m2, c.e2);
     const double sk = skins(c);
-    return np_pp(c, s1.c, s2.c, c.p.alarm_distance + sk + s1.r + s2.r,
-                 c.p.contact_distance + sk + s1.r + s2.r, id_big(c), kNewProximity.point_point_guard);
+    return np_pp(c, s1.c, s2.c, c.p.alarm_distance + sk + s1.r + s2.r, c.p.contact_distance + sk + s1.r + s2.r,
+                 id_big(c), kNewProximity.point_point_guard);
 }
 
 int np_sphere_point(PairCtx& c) {
@@ -165,8 +164,8 @@ int np_line_sphere(PairCtx& c) {
     const auto& l = static_cast<const LineModel&>(c.m1);
     const SphereElem s = sphere_elem(c.m2, c.e2);
     const double sk = skins(c);
-    return np_lp(c, l.p1(c.e1), l.p2(c.e1), s.c, c.p.alarm_distance + sk + s.r,
-                 c.p.contact_distance + sk + s.r, c.e2, false);
+    return np_lp(c, l.p1(c.e1), l.p2(c.e1), s.c, c.p.alarm_distance + sk + s.r, c.p.contact_distance + sk + s.r, c.e2,
+                 false);
 }
 
 int np_triangle_point(PairCtx& c) {
@@ -239,7 +238,9 @@ bool np_triangle_triangle_writes_normals(const IntersectionParams& p, const Coll
            !(m1.params().both_side && m2.params().both_side);
 }
 
-bool model_writes_read_only_by_writes(const IntersectionParams& p) { return p.method == IntersectionMethod::NewProximity; }
+bool model_writes_read_only_by_writes(const IntersectionParams& p) {
+    return p.method == IntersectionMethod::NewProximity;
+}
 
 namespace {
 // Two triangles of one model that share a vertex are neighbours: SOFA tests neither.
@@ -276,8 +277,8 @@ int np_triangle_triangle_geometry(PairCtx& c) {
     const Vec3 &q1 = t2.p(c.e2, 0), &q2 = t2.p(c.e2, 1), &q3 = t2.p(c.e2, 2);
     // every output joins a point of one triangle to a point of the other: a plane holding one
     // triangle with the other beyond R on one side rules them all out
-    if (c.separation_tests && (plane_separates(p1, p2 - p1, p3 - p1, R, q1, q2, q3) ||
-                               plane_separates(q1, q2 - q1, q3 - q1, R, p1, p2, p3)))
+    if (c.separation_tests &&
+        (plane_separates(p1, p2 - p1, p3 - p1, R, q1, q2, q3) || plane_separates(q1, q2 - q1, q3 - q1, R, p1, p2, p3)))
         return 0;
     const std::uint32_t f1 = t1.flags(c.e1);
     const std::uint32_t f2 = t2.flags(c.e2);
@@ -342,10 +343,10 @@ bool outputs_join_element_points(const KernelParts& kernel) {
     // other (a point, a sphere's centre or surface point, a clamped or interior segment
     // parameter, an interior or edge point of a triangle_point region). Triangle–Triangle only
     // as np_triangle_triangle: its geometry part is a `reads` only beside the normal writes.
-    static constexpr KernelFn kJoining[] = {
-        &np_line_point, &np_line_sphere, &np_line_line, &np_triangle_point, &np_triangle_sphere,
-        &np_triangle_line, &np_triangle_triangle, &min_line_point, &min_line_sphere, &min_line_line,
-        &min_triangle_point, &min_triangle_sphere};
+    static constexpr KernelFn kJoining[] = {&np_line_point,        &np_line_sphere,     &np_line_line,
+                                            &np_triangle_point,    &np_triangle_sphere, &np_triangle_line,
+                                            &np_triangle_triangle, &min_line_point,     &min_line_sphere,
+                                            &min_line_line,        &min_triangle_point, &min_triangle_sphere};
     if (kernel.writes != nullptr) return false;
     for (const KernelFn fn : kJoining)
         if (kernel.reads == fn) return true;
@@ -357,10 +358,9 @@ bool outputs_nearest_to_element2(const IntersectionParams& params, const KernelP
     // the segment parameter; np_tp's features have α, β, edge parameters ≥ ε (triangle_point
     // constants); the MinProximity and LocalMinDistance ones take a clamped or strict interior
     // parameter (min_line_sphere's mirror, §14.1, maps the interior onto itself)
-    static constexpr KernelFn kInBox[] = {&np_line_point,      &np_line_sphere,      &np_triangle_point,
-                                          &min_line_point,     &min_line_sphere,     &min_triangle_point,
-                                          &min_triangle_sphere, &lmd_line_point,     &lmd_line_sphere,
-                                          &lmd_triangle_point, &lmd_triangle_sphere};
+    static constexpr KernelFn kInBox[] = {&np_line_point,   &np_line_sphere,     &np_triangle_point,   &min_line_point,
+                                          &min_line_sphere, &min_triangle_point, &min_triangle_sphere, &lmd_line_point,
+                                          &lmd_line_sphere, &lmd_triangle_point, &lmd_triangle_sphere};
     if (kernel.writes != nullptr) return false;
     if (kernel.reads == &np_triangle_sphere) return params.quirks.fix_newproximity_triangle_sphere_edge_range;
     for (const KernelFn fn : kInBox)

@@ -1,7 +1,7 @@
 #include "penalty/collision/models.hpp"
 
-#include "penalty/collision/separation.hpp"
 #include "kernels/collision/triangle_normals.hpp"
+#include "penalty/collision/separation.hpp"
 #include "penalty/core/error.hpp"
 
 #include <algorithm>
@@ -23,8 +23,8 @@ void check_indices(const CollisionModel& m, Index elem, const Ids& ids, std::siz
 
 void check_radius(const CollisionModel& m, Index elem, double r, const char* what) {
     if (!(r >= 0.0) || !std::isfinite(r)) {
-        throw_invalid_argument(model_type_name(m.type()), "Model '", m.name(), "': element ", elem,
-                               ": ", what, " is ", r, " (must be finite and >= 0)");
+        throw_invalid_argument(model_type_name(m.type()), "Model '", m.name(), "': element ", elem, ": ", what, " is ",
+                               r, " (must be finite and >= 0)");
     }
 }
 
@@ -44,9 +44,7 @@ inline Aabb vertices_box(const std::array<const Vec3*, N>& v, double cd) {
 }
 
 /// Every coordinate of every position is finite (one vectorised pass over the state).
-bool positions_finite(const std::vector<Vec3>& x) {
-    return x.empty() || all_finite(x.front().data(), 3 * x.size());
-}
+bool positions_finite(const std::vector<Vec3>& x) { return x.empty() || all_finite(x.front().data(), 3 * x.size()); }
 
 }  // namespace
 
@@ -54,9 +52,7 @@ bool positions_finite(const std::vector<Vec3>& x) {
 PointModel::PointModel(const Vec3State& state, const MeshTopology* topology, CollisionModelParams params)
     : CollisionModel(ModelType::Point, std::move(params)), state_(&state), topology_(topology) {}
 
-Aabb PointModel::element_box(Index i) const {
-    return vertices_box<1>({&point(i)}, params().contact_distance);
-}
+Aabb PointModel::element_box(Index i) const { return vertices_box<1>({&point(i)}, params().contact_distance); }
 
 void PointModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
     const double cd = params().contact_distance;
@@ -75,7 +71,9 @@ bool PointModel::elements_unchanged_and_finite() const {
 
 // ---------------------------------------------------------------------------------------------
 LineModel::LineModel(const Vec3State& state, const MeshTopology& topology, CollisionModelParams params)
-    : CollisionModel(ModelType::Line, std::move(params)), state_(&state), topology_(&topology),
+    : CollisionModel(ModelType::Line, std::move(params)),
+      state_(&state),
+      topology_(&topology),
       edges_(topology.edges()) {
     const auto& eav = topology.edges_around_vertex();
     flags_.assign(edges_.size(), 0u);
@@ -89,9 +87,7 @@ LineModel::LineModel(const Vec3State& state, const MeshTopology& topology, Colli
     }
 }
 
-Aabb LineModel::element_box(Index i) const {
-    return vertices_box<2>({&p1(i), &p2(i)}, params().contact_distance);
-}
+Aabb LineModel::element_box(Index i) const { return vertices_box<2>({&p1(i), &p2(i)}, params().contact_distance); }
 
 void LineModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
     const double cd = params().contact_distance;
@@ -169,8 +165,9 @@ void TriangleModel::update_planes() {
         const Vec3 ac = p(Index(i), 2) - a;
         const Vec3 n = ab.cross(ac);
         const double n2 = n.squaredNorm();
-        plane_normals_[i] = detail::reliable_plane(n2, ab.squaredNorm() * ac.squaredNorm()) ? Vec3(n * (1.0 / std::sqrt(n2)))
-                                                                                          : Vec3::Zero();
+        plane_normals_[i] = detail::reliable_plane(n2, ab.squaredNorm() * ac.squaredNorm())
+                                ? Vec3(n * (1.0 / std::sqrt(n2)))
+                                : Vec3::Zero();
     }
     // over the whole state: a bound for the triangles' vertices
     double bound = 0.0;
@@ -185,7 +182,8 @@ Aabb TriangleModel::element_box(Index i) const {
 
 void TriangleModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
     const double cd = params().contact_distance;
-    for (std::size_t i = begin; i < end; ++i) *out++ = vertices_box<3>({&p(Index(i), 0), &p(Index(i), 1), &p(Index(i), 2)}, cd);
+    for (std::size_t i = begin; i < end; ++i)
+        *out++ = vertices_box<3>({&p(Index(i), 0), &p(Index(i), 1), &p(Index(i), 2)}, cd);
 }
 
 void TriangleModel::validate() const {
@@ -224,7 +222,9 @@ void check_spheres(const Spheres& m, double default_radius) {
 
 SphereModel::SphereModel(const Vec3State& state, double radius, std::vector<double> list_radius,
                          CollisionModelParams params)
-    : CollisionModel(ModelType::Sphere, std::move(params)), state_(&state), radius_(radius),
+    : CollisionModel(ModelType::Sphere, std::move(params)),
+      state_(&state),
+      radius_(radius),
       list_radius_(std::move(list_radius)) {}
 
 Aabb SphereModel::element_box(Index i) const { return sphere_box(*this, i); }
@@ -236,7 +236,9 @@ void SphereModel::validate() const {
 
 RigidSphereModel::RigidSphereModel(const Rigid3State& state, double radius, std::vector<double> list_radius,
                                    CollisionModelParams params)
-    : CollisionModel(ModelType::RigidSphere, std::move(params)), state_(&state), radius_(radius),
+    : CollisionModel(ModelType::RigidSphere, std::move(params)),
+      state_(&state),
+      radius_(radius),
       list_radius_(std::move(list_radius)) {}
 
 Aabb RigidSphereModel::element_box(Index i) const { return sphere_box(*this, i); }
@@ -249,8 +251,11 @@ void RigidSphereModel::validate() const {
 // ---------------------------------------------------------------------------------------------
 CylinderModel::CylinderModel(const Rigid3State& state, double default_radius, double default_height,
                              Vec3 default_local_axis, CollisionModelParams params)
-    : CollisionModel(ModelType::Cylinder, std::move(params)), state_(&state),
-      default_radius_(default_radius), default_height_(default_height), default_axis_(default_local_axis) {}
+    : CollisionModel(ModelType::Cylinder, std::move(params)),
+      state_(&state),
+      default_radius_(default_radius),
+      default_height_(default_height),
+      default_axis_(default_local_axis) {}
 
 double CylinderModel::radius(Index i) const {
     return std::size_t(i) < radii.size() ? radii[std::size_t(i)] : default_radius_;
@@ -301,8 +306,7 @@ void CylinderModel::validate() const {
             throw_invalid_argument("CylinderModel '", name(), "': element ", i,
                                    ": local axis must be finite and non-zero");
         }
-        if (!frame(Index(i)).orientation.coeffs().allFinite() ||
-            !(frame(Index(i)).orientation.norm() > 0.0)) {
+        if (!frame(Index(i)).orientation.coeffs().allFinite() || !(frame(Index(i)).orientation.norm() > 0.0)) {
             throw_invalid_argument("CylinderModel '", name(), "': element ", i,
                                    ": orientation must be a finite non-zero quaternion");
         }
@@ -311,8 +315,10 @@ void CylinderModel::validate() const {
 
 // ---------------------------------------------------------------------------------------------
 TetrahedronModel::TetrahedronModel(const Vec3State& state, const MeshTopology& topology, CollisionModelParams params)
-    : CollisionModel(ModelType::Tetrahedron, std::move(params)), state_(&state),
-      tetrahedra_(topology.tetrahedra()), coord2bary_(tetrahedra_.size(), Mat3::Zero()) {}
+    : CollisionModel(ModelType::Tetrahedron, std::move(params)),
+      state_(&state),
+      tetrahedra_(topology.tetrahedra()),
+      coord2bary_(tetrahedra_.size(), Mat3::Zero()) {}
 
 void TetrahedronModel::do_update() {
     for (std::size_t i = 0; i < tetrahedra_.size(); ++i) {
@@ -336,7 +342,8 @@ Aabb TetrahedronModel::element_box(Index i) const {
 
 void TetrahedronModel::element_boxes(std::size_t begin, std::size_t end, Aabb* out) const {
     const double cd = params().contact_distance;
-    for (std::size_t i = begin; i < end; ++i) *out++ = vertices_box<4>({&p(Index(i), 0), &p(Index(i), 1), &p(Index(i), 2), &p(Index(i), 3)}, cd);
+    for (std::size_t i = begin; i < end; ++i)
+        *out++ = vertices_box<4>({&p(Index(i), 0), &p(Index(i), 1), &p(Index(i), 2), &p(Index(i), 3)}, cd);
 }
 
 void TetrahedronModel::validate() const {

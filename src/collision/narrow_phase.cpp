@@ -2,10 +2,10 @@
 // filters that evaluate fewer (contact outputs only), bvh_narrow_phase.
 #include "narrow_phase.hpp"
 
-#include "penalty/collision/separation.hpp"
-#include "penalty/core/error.hpp"
 #include "kernels.hpp"
 #include "kernels/prefetch.hpp"
+#include "penalty/collision/separation.hpp"
+#include "penalty/core/error.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -73,9 +73,9 @@ void run_kernel_writes(const IntersectionParams& params, CollisionModel& m1, Col
 // separation_tests: the kernels run their early outs (separation.hpp) on every candidate.
 // deferred_writes: if not null, the kernel's writes are not run but their candidates appended
 // to it, in the order they would have run in (run_kernel_writes runs them later).
-void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2,
-                         const Keys& all_keys, const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b,
-                         DetectionOutputList& out, bool separation_tests, Keys* deferred_writes) {
+void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, CollisionModel& m2, const Keys& all_keys,
+                         const NarrowPhaseOptions& opt, NarrowPhaseScratch::Buffers& b, DetectionOutputList& out,
+                         bool separation_tests, Keys* deferred_writes) {
     const bool node = same_node(m1, m2);
     // intersect_elements' lookup and checks, once for the pair; the keys come from trees of the
     // models' sizes (check_trees), so every element index is in range
@@ -217,7 +217,8 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
         b.nearest_outputs.clear();
         NarrowPhaseOptions serial;
         serial.parallel = false;
-        evaluate_candidates(params, m1, m2, b.nearest_keys, serial, b, b.nearest_outputs, separation_tests, deferred_writes);
+        evaluate_candidates(params, m1, m2, b.nearest_keys, serial, b, b.nearest_outputs, separation_tests,
+                            deferred_writes);
         for (const DetectionOutput& o : b.nearest_outputs) {
             const Vec3& q = point_of(o.elem2);
             const double length = (q - o.point[0]).norm();
@@ -286,7 +287,9 @@ void narrow_phase_on_trees(const IntersectionParams& params, CollisionModel& m1,
     const std::size_t candidates = b.keys.size();
     const bool nearest = contact_outputs_only && worth_keeping_nearest(candidates, m2) &&
                          detail::outputs_nearest_to_element2(params, detail::pair_kernel_parts(params, m1, m2));
-    if (nearest) keep_nearest_candidates(params, m1, t1.element_boxes().data(), m2, b.keys, b, separation_tests, deferred_writes);
+    if (nearest)
+        keep_nearest_candidates(params, m1, t1.element_boxes().data(), m2, b.keys, b, separation_tests,
+                                deferred_writes);
     const std::size_t from = out.size();
     if (nearest) out.reserve(from + candidates);
     evaluate_candidates(params, m1, m2, b.keys, opt, b, out, separation_tests, deferred_writes);
@@ -299,7 +302,7 @@ void bvh_narrow_phase(const IntersectionParams& params, CollisionModel& m1, cons
                       const Bvh& t2, const NarrowPhaseOptions& opt, NarrowPhaseScratch& scratch,
                       DetectionOutputList& out) {
     detail::narrow_phase_on_trees(params, m1, t1, m2, t2, opt, scratch, out, detail::longest_box_side(m1, t1),
-                          detail::longest_box_side(m2, t2));
+                                  detail::longest_box_side(m2, t2));
 }
 
 }  // namespace penalty

@@ -4,9 +4,9 @@
 /// collects a pair's candidate element pairs (bvh_traversal.cpp) and their evaluation by the
 /// pair's kernel (narrow_phase.cpp), which CollisionPipeline and its candidate cache share.
 
+#include "kernels.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/detection_output.hpp"
-#include "kernels.hpp"
 
 #include <tbb/enumerable_thread_specific.h>
 
@@ -60,7 +60,8 @@ void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double ma
                         NarrowPhaseScratch::Buffers& b, const LongElements* rows = nullptr);
 
 /// A kernel that writes the models (detail::KernelParts) needs its candidates in a fixed order.
-[[nodiscard]] bool kernel_writes_models(const IntersectionParams& p, const CollisionModel& m1, const CollisionModel& m2);
+[[nodiscard]] bool kernel_writes_models(const IntersectionParams& p, const CollisionModel& m1,
+                                        const CollisionModel& m2);
 
 /// The largest side of an element box of a Triangle or Line model (0 for the other models, whose
 /// kernels have no separation tests).
@@ -96,8 +97,9 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
 
 /// Drops from `keys` (the rest kept in order) the candidates none of whose outputs a contact can
 /// be made of (narrow_phase.cpp says why that is exact).
-void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m1, const Aabb* boxes1, CollisionModel& m2,
-                             Keys& keys, NarrowPhaseScratch::Buffers& b, bool separation_tests, Keys* deferred_writes);
+void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m1, const Aabb* boxes1,
+                             CollisionModel& m2, Keys& keys, NarrowPhaseScratch::Buffers& b, bool separation_tests,
+                             Keys* deferred_writes);
 
 /// After keep_nearest_candidates and the evaluation of the candidates left: drops from
 /// out[from, end) every output whose value is above the least value of its element 2.

@@ -2,8 +2,8 @@
 
 #include "penalty/core/radix_sort.hpp"
 
-#include "penalty/core/error.hpp"
 #include "kernels/prefetch.hpp"
+#include "penalty/core/error.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -142,7 +142,8 @@ void SofaCubeTree::build(const CollisionModel& model, int depth) {
         // a cell's path: split steps of size 2, then its elements' last step of the cell's size
         const std::size_t depth_of_cell = cell_offsets_[c + 1] - cell_offsets_[c];
         if (depth_of_cell + 1 > level_max_size_.size()) level_max_size_.resize(depth_of_cell + 1, 1);
-        for (std::size_t t = 0; t < depth_of_cell; ++t) level_max_size_[t] = std::max<std::uint32_t>(level_max_size_[t], 2);
+        for (std::size_t t = 0; t < depth_of_cell; ++t)
+            level_max_size_[t] = std::max<std::uint32_t>(level_max_size_[t], 2);
         level_max_size_[depth_of_cell] = std::max(level_max_size_[depth_of_cell], cell_sizes_[c]);
     }
     compute_keys_against_one_element();
@@ -156,8 +157,9 @@ void SofaCubeTree::compute_keys_against_one_element() {
     std::vector<std::uint64_t> span;
     std::vector<int> shift;
     const PackedLevels levels{span, shift};
-    if (!pack_levels(std::max<std::size_t>(this->levels(), 1), [&](std::size_t t) { return std::uint64_t(max_range(t)); },
-                     levels))
+    if (!pack_levels(
+            std::max<std::size_t>(this->levels(), 1), [&](std::size_t t) { return std::uint64_t(max_range(t)); },
+            levels))
         return;
     const std::size_t n = size();
     key_as_first_.resize(n);
@@ -186,10 +188,9 @@ bool sofa_visits_before(const SofaCubeTree& t1, const SofaCubeTree& t2, Index a1
         const std::int64_t k2 = key(pa2, pb2, t, leaf2);
         if (leaf1 != leaf2) return leaf1;  // intersected in the loop, before anything pushed
         if (k1 != k2) return k1 < k2;
-        if (leaf1) return false;           // the same element pair
+        if (leaf1) return false;  // the same element pair
     }
 }
-
 
 namespace {
 
@@ -200,9 +201,8 @@ void sort_by_key_stable(std::vector<SofaOrderScratch::Keyed>& v, std::vector<Sof
     using Keyed = SofaOrderScratch::Keyed;
     if (v.size() < 512) {
         // v is in index order (the caller's), so the index is the position
-        std::sort(v.begin(), v.end(), [](const Keyed& x, const Keyed& y) {
-            return x.key != y.key ? x.key < y.key : x.index < y.index;
-        });
+        std::sort(v.begin(), v.end(),
+                  [](const Keyed& x, const Keyed& y) { return x.key != y.key ? x.key < y.key : x.index < y.index; });
         return;
     }
     stable_radix_sort(v, swap, counts, [](const Keyed& k) { return k.key; });

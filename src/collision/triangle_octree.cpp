@@ -116,7 +116,8 @@ void TriangleOctree::insert(int node, double x, double y, double z, double cell,
         const int dz = z >= n.z + half ? 1 : 0;
         const int i = dx * 4 + dy * 2 + dz;
         if (n.children[std::size_t(i)] < 0) {
-            const int index = new_node(n.x + dx * half, n.y + dy * half, n.z + dz * half, half);  // (n is not used after this)
+            const int index =
+                new_node(n.x + dx * half, n.y + dy * half, n.z + dz * half, half);  // (n is not used after this)
             nodes_[std::size_t(node)].children[std::size_t(i)] = index;
             nodes_[std::size_t(node)].leaf = false;
         }
@@ -184,7 +185,8 @@ int TriangleOctree::walk(int node, const Ray& ray, double tx0, double ty0, doubl
         if (tym < tz0) octant |= 2;
     }
     constexpr unsigned kEnd = 8;
-    const auto visit = [&](unsigned child_octant, double ax0, double ay0, double az0, double ax1, double ay1, double az1) {
+    const auto visit = [&](unsigned child_octant, double ax0, double ay0, double az0, double ax1, double ay1,
+                           double az1) {
         const int child = n.children[child_octant ^ ray.a];
         if (child < 0) return -1;
         const int found = walk(child, ray, ax0, ay0, az0, ax1, ay1, az1, hit);
@@ -269,8 +271,8 @@ RayHit TriangleOctree::nearest_hit(const Vec3& origin, const Vec3& direction) co
     for (std::size_t i = 0; i < triangles_.size(); ++i) {
         const Triangle& tri = triangles_[i];
         double t = 0, u = 0, v = 0;
-        if (!ray_triangle_hit(positions_[std::size_t(tri[0])], positions_[std::size_t(tri[1])], positions_[std::size_t(tri[2])],
-                              origin, direction, t, u, v))
+        if (!ray_triangle_hit(positions_[std::size_t(tri[0])], positions_[std::size_t(tri[1])],
+                              positions_[std::size_t(tri[2])], origin, direction, t, u, v))
             continue;
         if (best.triangle < 0 || t < best.t) best = {int(i), t, u, v};
     }

@@ -124,7 +124,8 @@ CcdResult advance(const std::array<Vec3, 4>& x0, const std::array<Vec3, 4>& x1, 
         }
         t += step;
         // positions at t from the start (not accumulated: no drift)
-        for (int i = 0; i < 4; ++i) x[std::size_t(i)] = x0[std::size_t(i)] + t * (x1[std::size_t(i)] - x0[std::size_t(i)]);
+        for (int i = 0; i < 4; ++i)
+            x[std::size_t(i)] = x0[std::size_t(i)] + t * (x1[std::size_t(i)] - x0[std::size_t(i)]);
         d = distance(x);
         ++r.iterations;
         if (d <= eps) {
@@ -139,12 +140,14 @@ CcdResult advance(const std::array<Vec3, 4>& x0, const std::array<Vec3, 4>& x1, 
     // the rest of the motion by the coplanarity roots, at which the distance must fall to ε.
     const auto at = [&](double u) {
         std::array<Vec3, 4> y;
-        for (int i = 0; i < 4; ++i) y[std::size_t(i)] = x0[std::size_t(i)] + u * (x1[std::size_t(i)] - x0[std::size_t(i)]);
+        for (int i = 0; i < 4; ++i)
+            y[std::size_t(i)] = x0[std::size_t(i)] + u * (x1[std::size_t(i)] - x0[std::size_t(i)]);
         return y;
     };
     const double scale_cubed = std::pow(scale + lp, 3.0);
-    const bool degenerate = std::abs(coplanarity[0]) + std::abs(coplanarity[1]) + std::abs(coplanarity[2]) +
-                                std::abs(coplanarity[3]) <= 1e-14 * scale_cubed;
+    const bool degenerate =
+        std::abs(coplanarity[0]) + std::abs(coplanarity[1]) + std::abs(coplanarity[2]) + std::abs(coplanarity[3]) <=
+        1e-14 * scale_cubed;
     if (degenerate) {  // coplanar throughout: no root tells; conservative
         r.hit = r.capped = true;
         r.toi = t;
@@ -174,17 +177,19 @@ CcdResult point_triangle_ccd(const Vec3& p0, const Vec3& t10, const Vec3& t20, c
     // coplanar when det(t2 − t1, t3 − t1, p − t1) = 0
     const std::array<double, 4> k = cubic_of(t20 - t10, (t21 - t11) - (t20 - t10), t30 - t10, (t31 - t11) - (t30 - t10),
                                              p0 - t10, (p1 - t11) - (p0 - t10));
-    return advance({p0, t10, t20, t30}, {p1, t11, t21, t31}, 1, max_edge(t10, t20, t30), options,
-                   [](const std::array<Vec3, 4>& x) { return point_triangle_distance(x[0], x[1], x[2], x[3]); }, k);
+    return advance(
+        {p0, t10, t20, t30}, {p1, t11, t21, t31}, 1, max_edge(t10, t20, t30), options,
+        [](const std::array<Vec3, 4>& x) { return point_triangle_distance(x[0], x[1], x[2], x[3]); }, k);
 }
 
-CcdResult edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
-                        const Vec3& b1, const Vec3& c1, const Vec3& d1, const CcdOptions& options) {
+CcdResult edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1, const Vec3& b1,
+                        const Vec3& c1, const Vec3& d1, const CcdOptions& options) {
     // coplanar when det(b − a, c − a, d − a) = 0
-    const std::array<double, 4> k = cubic_of(b0 - a0, (b1 - a1) - (b0 - a0), c0 - a0, (c1 - a1) - (c0 - a0), d0 - a0,
-                                             (d1 - a1) - (d0 - a0));
-    return advance({a0, b0, c0, d0}, {a1, b1, c1, d1}, 2, std::max((b0 - a0).norm(), (d0 - c0).norm()), options,
-                   [](const std::array<Vec3, 4>& x) { return edge_edge_distance(x[0], x[1], x[2], x[3]); }, k);
+    const std::array<double, 4> k =
+        cubic_of(b0 - a0, (b1 - a1) - (b0 - a0), c0 - a0, (c1 - a1) - (c0 - a0), d0 - a0, (d1 - a1) - (d0 - a0));
+    return advance(
+        {a0, b0, c0, d0}, {a1, b1, c1, d1}, 2, std::max((b0 - a0).norm(), (d0 - c0).norm()), options,
+        [](const std::array<Vec3, 4>& x) { return edge_edge_distance(x[0], x[1], x[2], x[3]); }, k);
 }
 
 CcdResult sphere_sphere_ccd(const Vec3& c10, const Vec3& c20, const Vec3& c11, const Vec3& c21, double r1, double r2) {
@@ -199,7 +204,7 @@ CcdResult sphere_sphere_ccd(const Vec3& c10, const Vec3& c20, const Vec3& c11, c
     const double c = u0.squaredNorm() - R * R;
     if (!(c > 0.0) || !(b < 0.0) || !(a > 0.0)) return r;  // inside at the start, or not approaching
     const double disc = b * b - a * c;
-    if (disc < 0.0) return r;  // passes by
+    if (disc < 0.0) return r;                     // passes by
     const double t = c / (-b + std::sqrt(disc));  // the smaller root, without cancellation
     if (!(t <= 1.0)) return r;
     r.hit = true;

@@ -71,10 +71,14 @@ Vec3 ConvexShape::support(const Vec3& d) const {
 
 Vec3 ConvexShape::inner_point() const {
     switch (kind) {
-        case Kind::kPoint: return v[0];
-        case Kind::kSegment: return 0.5 * (v[0] + v[1]);
-        case Kind::kTriangle: return (v[0] + v[1] + v[2]) / 3.0;
-        case Kind::kCylinder: return cylinder.center;
+        case Kind::kPoint:
+            return v[0];
+        case Kind::kSegment:
+            return 0.5 * (v[0] + v[1]);
+        case Kind::kTriangle:
+            return (v[0] + v[1] + v[2]) / 3.0;
+        case Kind::kCylinder:
+            return cylinder.center;
     }
     return v[0];
 }
@@ -84,11 +88,14 @@ namespace {
 double extent(const ConvexShape& s) {
     const Vec3 c = s.inner_point();
     switch (s.kind) {
-        case ConvexShape::Kind::kPoint: return 0.0;
-        case ConvexShape::Kind::kSegment: return std::max((s.v[0] - c).norm(), (s.v[1] - c).norm());
+        case ConvexShape::Kind::kPoint:
+            return 0.0;
+        case ConvexShape::Kind::kSegment:
+            return std::max((s.v[0] - c).norm(), (s.v[1] - c).norm());
         case ConvexShape::Kind::kTriangle:
             return std::max({(s.v[0] - c).norm(), (s.v[1] - c).norm(), (s.v[2] - c).norm()});
-        case ConvexShape::Kind::kCylinder: return s.cylinder.radius + s.cylinder.half_height;
+        case ConvexShape::Kind::kCylinder:
+            return s.cylinder.radius + s.cylinder.half_height;
     }
     return 0.0;
 }
@@ -129,13 +136,27 @@ bool reduce(Simplex& s, Vec3& v) {
         const PointTriangleResult r = point_triangle_closest_point(origin, s.w[0], s.w[1], s.w[2]);
         const Vec3& l = r.barycentric;
         switch (r.feature) {
-            case TriangleFeature::V0: keep({0}, {1.0}); break;
-            case TriangleFeature::V1: keep({1}, {1.0}); break;
-            case TriangleFeature::V2: keep({2}, {1.0}); break;
-            case TriangleFeature::E01: keep({0, 1}, {l[0], l[1]}); break;
-            case TriangleFeature::E12: keep({1, 2}, {l[1], l[2]}); break;
-            case TriangleFeature::E20: keep({2, 0}, {l[2], l[0]}); break;
-            case TriangleFeature::Face: keep({0, 1, 2}, {l[0], l[1], l[2]}); break;
+            case TriangleFeature::V0:
+                keep({0}, {1.0});
+                break;
+            case TriangleFeature::V1:
+                keep({1}, {1.0});
+                break;
+            case TriangleFeature::V2:
+                keep({2}, {1.0});
+                break;
+            case TriangleFeature::E01:
+                keep({0, 1}, {l[0], l[1]});
+                break;
+            case TriangleFeature::E12:
+                keep({1, 2}, {l[1], l[2]});
+                break;
+            case TriangleFeature::E20:
+                keep({2, 0}, {l[2], l[0]});
+                break;
+            case TriangleFeature::Face:
+                keep({0, 1, 2}, {l[0], l[1], l[2]});
+                break;
         }
     } else {
         // tetrahedron: inside test by face orientation, else the closest face
@@ -156,8 +177,7 @@ bool reduce(Simplex& s, Vec3& v) {
         double best = std::numeric_limits<double>::infinity();
         int bk = 0;
         for (int k = 0; k < 4; ++k) {
-            const double d2 = point_triangle_closest_point(origin, s.w[kFace[k][0]],
-                                                           s.w[kFace[k][1]], s.w[kFace[k][2]])
+            const double d2 = point_triangle_closest_point(origin, s.w[kFace[k][0]], s.w[kFace[k][1]], s.w[kFace[k][2]])
                                   .distance_squared;
             if (d2 < best) {
                 best = d2;
@@ -174,8 +194,8 @@ bool reduce(Simplex& s, Vec3& v) {
 
 }  // namespace
 
-ConvexDistanceResult convex_distance(const ConvexShape& A, const ConvexShape& B,
-                                     double relative_tolerance, int max_iterations) {
+ConvexDistanceResult convex_distance(const ConvexShape& A, const ConvexShape& B, double relative_tolerance,
+                                     int max_iterations) {
     ConvexDistanceResult res;
     const double scale = 1.0 + extent(A) + extent(B) + (A.inner_point() - B.inner_point()).norm();
     const double tiny2 = 1e-24 * scale * scale;

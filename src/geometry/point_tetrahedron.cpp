@@ -9,8 +9,7 @@
 
 namespace penalty {
 
-PointTetrahedronResult point_tetrahedron_signed_distance(const Vec3& p, const Vec3& p0,
-                                                         const Vec3& p1, const Vec3& p2,
+PointTetrahedronResult point_tetrahedron_signed_distance(const Vec3& p, const Vec3& p0, const Vec3& p1, const Vec3& p2,
                                                          const Vec3& p3) {
     const std::array<Vec3, 4> v = {p0, p1, p2, p3};
     // face k is opposite vertex k
@@ -52,8 +51,7 @@ PointTetrahedronResult point_tetrahedron_signed_distance(const Vec3& p, const Ve
     // outside (or flat): nearest face
     double best_d2 = std::numeric_limits<double>::infinity();
     for (int k = 0; k < 4; ++k) {
-        const PointTriangleResult t =
-            point_triangle_closest_point(p, v[kFace[k][0]], v[kFace[k][1]], v[kFace[k][2]]);
+        const PointTriangleResult t = point_triangle_closest_point(p, v[kFace[k][0]], v[kFace[k][1]], v[kFace[k][2]]);
         if (t.distance_squared < best_d2) {
             best_d2 = t.distance_squared;
             res.closest = t.closest;

@@ -18,8 +18,7 @@ PointTriangleResult make(const Vec3& p, const Vec3& q, const Vec3& w, TriangleFe
 }
 
 // closest point over the three edges (zero-area triangle)
-PointTriangleResult degenerate_closest(const Vec3& p, const Vec3& p0, const Vec3& p1,
-                                       const Vec3& p2) {
+PointTriangleResult degenerate_closest(const Vec3& p, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
     const PointSegmentResult e01 = point_segment_closest_point(p, p0, p1);
     const PointSegmentResult e12 = point_segment_closest_point(p, p1, p2);
     const PointSegmentResult e20 = point_segment_closest_point(p, p2, p0);
@@ -46,8 +45,7 @@ PointTriangleResult degenerate_closest(const Vec3& p, const Vec3& p0, const Vec3
 
 }  // namespace
 
-PointTriangleResult point_triangle_closest_point(const Vec3& p, const Vec3& p0, const Vec3& p1,
-                                                 const Vec3& p2) {
+PointTriangleResult point_triangle_closest_point(const Vec3& p, const Vec3& p0, const Vec3& p1, const Vec3& p2) {
     const Vec3 ab = p1 - p0;
     const Vec3 ac = p2 - p0;
     const double l2max = std::max({ab.squaredNorm(), ac.squaredNorm(), (p2 - p1).squaredNorm()});

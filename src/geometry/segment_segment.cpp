@@ -8,8 +8,7 @@ namespace {
 double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 }  // namespace
 
-SegmentSegmentResult segment_segment_closest_points(const Vec3& a, const Vec3& b, const Vec3& c,
-                                                    const Vec3& d) {
+SegmentSegmentResult segment_segment_closest_points(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     SegmentSegmentResult r;
     const Vec3 d1 = b - a;
     const Vec3 d2 = d - c;

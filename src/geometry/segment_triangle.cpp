@@ -4,9 +4,8 @@
 
 namespace penalty {
 
-std::optional<SegmentTriangleCrossing> segment_triangle_crossing(const Vec3& p0, const Vec3& p1,
-                                                                 const Vec3& p2, const Vec3& q0,
-                                                                 const Vec3& q1) {
+std::optional<SegmentTriangleCrossing> segment_triangle_crossing(const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                                                                 const Vec3& q0, const Vec3& q1) {
     Mat3 m;
     m.col(0) = p1 - p0;
     m.col(1) = p2 - p0;

@@ -76,8 +76,7 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
         const std::string_view key = tokens[0];
         if (key == "v") {
             if (tokens.size() < 4) {
-                fail(path, line_number,
-                     "vertex needs 3 coordinates, found " + std::to_string(tokens.size() - 1));
+                fail(path, line_number, "vertex needs 3 coordinates, found " + std::to_string(tokens.size() - 1));
             }
             Vec3 p;
             for (int k = 0; k < 3; ++k) {
@@ -88,7 +87,8 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
                              quoted(tokens[static_cast<std::size_t>(k) + 1]));
                 }
                 if (const auto problem = detail::magnitude_problem(*value))
-                    fail(path, line_number, "vertex coordinate " + quoted(tokens[static_cast<std::size_t>(k) + 1]) + ": " + *problem);
+                    fail(path, line_number,
+                         "vertex coordinate " + quoted(tokens[static_cast<std::size_t>(k) + 1]) + ": " + *problem);
                 p[k] = *value;
             }
             mesh.positions.push_back(p);
@@ -115,9 +115,11 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
                 record.nodes.push_back(resolved);
                 if (handle_seams) {
                     const std::size_t slash = token.find('/');
-                    const std::string_view rest = slash == std::string_view::npos ? std::string_view() : token.substr(slash + 1);
+                    const std::string_view rest =
+                        slash == std::string_view::npos ? std::string_view() : token.substr(slash + 1);
                     const std::size_t slash2 = rest.find('/');
-                    const std::string_view normal = slash2 == std::string_view::npos ? std::string_view() : rest.substr(slash2 + 1);
+                    const std::string_view normal =
+                        slash2 == std::string_view::npos ? std::string_view() : rest.substr(slash2 + 1);
                     record.attributes.emplace_back(obj_attribute_index(rest.substr(0, slash2), texture_coordinates),
                                                    obj_attribute_index(normal.substr(0, normal.find('/')), normals));
                 }
@@ -139,8 +141,7 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
         for (const std::int64_t v : r.nodes) {
             if (v >= n || v > kMaxPointId) {
                 fail(path, r.line,
-                     "vertex index " + std::to_string(v + 1) + " out of range (" + std::to_string(n) +
-                         " vertices)");
+                     "vertex index " + std::to_string(v + 1) + " out of range (" + std::to_string(n) + " vertices)");
             }
         }
     }
@@ -159,7 +160,8 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
             }
         if (positions.size() > std::size_t(kMaxPointId)) fail(path, 0, "too many vertices after splitting the seams");
         for (ObjRecord& r : records)
-            for (std::size_t k = 0; k < r.nodes.size(); ++k) r.nodes[k] = split[std::size_t(r.nodes[k])].at(r.attributes[k]);
+            for (std::size_t k = 0; k < r.nodes.size(); ++k)
+                r.nodes[k] = split[std::size_t(r.nodes[k])].at(r.attributes[k]);
         mesh.positions = std::move(positions);
     }
     for (const ObjRecord& r : records) {
@@ -176,7 +178,6 @@ MeshData parse_obj(std::string_view text, const std::filesystem::path& path, boo
     }
     return mesh;
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // SPH
@@ -257,19 +258,35 @@ void add_vtk_cell(MeshData& mesh, std::int64_t type, const std::vector<PointId>&
         }
     };
     switch (type) {
-        case 1: break;  // vertex
-        case 3: need(2); mesh.edges.push_back(Edge{p[0], p[1]}); break;
+        case 1:
+            break;  // vertex
+        case 3:
+            need(2);
+            mesh.edges.push_back(Edge{p[0], p[1]});
+            break;
         case 4:
             for (std::size_t j = 1; j < p.size(); ++j) mesh.edges.push_back(Edge{p[j - 1], p[j]});
             break;
-        case 5: need(3); mesh.triangles.push_back(Triangle{p[0], p[1], p[2]}); break;
+        case 5:
+            need(3);
+            mesh.triangles.push_back(Triangle{p[0], p[1], p[2]});
+            break;
         case 7:
             if (p.size() < 3) fail(path, cell_line, "polygon with fewer than 3 points");
             add_polygon(mesh, p);
             break;
-        case 8: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[3], p[2]}); break;
-        case 9: need(4); mesh.quads.push_back(Quad{p[0], p[1], p[2], p[3]}); break;
-        case 10: need(4); mesh.tetrahedra.push_back(Tetrahedron{p[0], p[1], p[2], p[3]}); break;
+        case 8:
+            need(4);
+            mesh.quads.push_back(Quad{p[0], p[1], p[3], p[2]});
+            break;
+        case 9:
+            need(4);
+            mesh.quads.push_back(Quad{p[0], p[1], p[2], p[3]});
+            break;
+        case 10:
+            need(4);
+            mesh.tetrahedra.push_back(Tetrahedron{p[0], p[1], p[2], p[3]});
+            break;
         case 11:
             need(8);
             mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[3], p[2], p[4], p[5], p[7], p[6]});
@@ -278,7 +295,8 @@ void add_vtk_cell(MeshData& mesh, std::int64_t type, const std::vector<PointId>&
             need(8);
             mesh.hexahedra.push_back(Hexahedron{p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]});
             break;
-        default: fail(path, type_line, "VTK cell type " + std::to_string(type) + " is not supported");
+        default:
+            fail(path, type_line, "VTK cell type " + std::to_string(type) + " is not supported");
     }
 }
 
@@ -299,7 +317,8 @@ MeshData parse_vtk_legacy(std::string_view text, const std::filesystem::path& pa
     const std::string kind_name = upper(kind.text);
     const bool polydata = kind_name == "POLYDATA";
     if (!polydata && kind_name != "UNSTRUCTURED_GRID") {
-        fail(path, kind.line, "VTK dataset " + std::string(kind.text) + " is not supported (POLYDATA or UNSTRUCTURED_GRID)");
+        fail(path, kind.line,
+             "VTK dataset " + std::string(kind.text) + " is not supported (POLYDATA or UNSTRUCTURED_GRID)");
     }
 
     std::int64_t npoints = -1;
@@ -399,8 +418,9 @@ namespace {
 PointId checked_point(Tokenizer& tok, std::size_t point_count, std::string_view what) {
     const std::int64_t i = tok.expect_int(what);
     if (i < 0 || i >= static_cast<std::int64_t>(point_count))
-        fail(tok.path(), tok.line(), std::string(what) + " " + std::to_string(i) + " is not one of the " +
-                                         std::to_string(point_count) + " points");
+        fail(tok.path(), tok.line(),
+             std::string(what) + " " + std::to_string(i) + " is not one of the " + std::to_string(point_count) +
+                 " points");
     return static_cast<PointId>(i);
 }
 
@@ -411,7 +431,7 @@ void skip_off_comments(Tokenizer& tok, std::string_view text) {
         std::size_t i = at;
         while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\r' || text[i] == '\n')) ++i;
         if (i >= text.size() || text[i] != '#') return;
-        (void)tok.next();           // the comment's first token
+        (void)tok.next();          // the comment's first token
         (void)tok.rest_of_line();  // and the rest of its line
     }
 }
@@ -424,7 +444,8 @@ MeshData parse_off(std::string_view text, const std::filesystem::path& path) {
     Tokenizer tok(text, path);
     MeshData mesh;
     const auto header = tok.next();
-    if (!header || header->text != "OFF") fail(path, header ? header->line : 1, "not an OFF file (the first word must be OFF)");
+    if (!header || header->text != "OFF")
+        fail(path, header ? header->line : 1, "not an OFF file (the first word must be OFF)");
     (void)tok.rest_of_line();
     skip_off_comments(tok, text);
     const std::int64_t vertices = tok.expect_int("vertex count");
@@ -502,8 +523,7 @@ void apply_transform(std::vector<Vec3>& points, const Vec3& translation, const V
     for (Vec3& p : points) p = m * p + translation;
 }
 
-void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees,
-                     const Vec3& scale3d) {
+void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees, const Vec3& scale3d) {
     apply_transform(mesh.positions, translation, rotation_degrees, scale3d);
 }
 
@@ -531,8 +551,8 @@ void add_missing(std::vector<std::array<PointId, N>>& target, const Elements& el
 }  // namespace
 
 void create_subelements(MeshData& mesh) {
-    static constexpr std::array<std::array<int, 4>, 6> hexa_faces{{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                                                   {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
+    static constexpr std::array<std::array<int, 4>, 6> hexa_faces{
+        {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};
     static constexpr std::array<std::array<int, 3>, 4> tetra_faces{{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}};
     static constexpr std::array<std::array<int, 2>, 4> quad_edges{{{1, 2}, {2, 3}, {3, 0}, {0, 1}}};
     static constexpr std::array<std::array<int, 2>, 3> triangle_edges{{{1, 2}, {2, 0}, {0, 1}}};

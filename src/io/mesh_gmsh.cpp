@@ -20,23 +20,31 @@ using detail::Tokenizer;
 
 namespace {
 
-bool starts_with(std::string_view s, std::string_view prefix) {
-    return s.substr(0, prefix.size()) == prefix;
-}
+bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
 // Number of nodes of a v2 element type; -1 when the type is unknown.
 int gmsh_node_count(std::int64_t type) {
     switch (type) {
-        case 15: return 1;
-        case 1: return 2;
-        case 2: return 3;
-        case 3: return 4;
-        case 4: return 4;
-        case 5: return 8;
-        case 8: return 3;
-        case 9: return 6;
-        case 11: return 10;
-        default: return -1;
+        case 15:
+            return 1;
+        case 1:
+            return 2;
+        case 2:
+            return 3;
+        case 3:
+            return 4;
+        case 4:
+            return 4;
+        case 5:
+            return 8;
+        case 8:
+            return 3;
+        case 9:
+            return 6;
+        case 11:
+            return 10;
+        default:
+            return -1;
     }
 }
 
@@ -47,17 +55,26 @@ void add_gmsh_element(MeshData& mesh, std::int64_t type, const std::vector<Point
                       std::set<std::pair<PointId, PointId>>& seen) {
     switch (type) {
         case 1:
-        case 8: mesh.edges.push_back(Edge{nodes[0], nodes[1]}); break;
-        case 2:
-        case 9: mesh.triangles.push_back(Triangle{nodes[0], nodes[1], nodes[2]}); break;
-        case 3: mesh.quads.push_back(Quad{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
-        case 4:
-        case 11: mesh.tetrahedra.push_back(Tetrahedron{nodes[0], nodes[1], nodes[2], nodes[3]}); break;
-        case 5:
-            mesh.hexahedra.push_back(Hexahedron{nodes[0], nodes[1], nodes[2], nodes[3], nodes[4],
-                                                nodes[5], nodes[6], nodes[7]});
+        case 8:
+            mesh.edges.push_back(Edge{nodes[0], nodes[1]});
             break;
-        default: break;  // points and unknown types are skipped
+        case 2:
+        case 9:
+            mesh.triangles.push_back(Triangle{nodes[0], nodes[1], nodes[2]});
+            break;
+        case 3:
+            mesh.quads.push_back(Quad{nodes[0], nodes[1], nodes[2], nodes[3]});
+            break;
+        case 4:
+        case 11:
+            mesh.tetrahedra.push_back(Tetrahedron{nodes[0], nodes[1], nodes[2], nodes[3]});
+            break;
+        case 5:
+            mesh.hexahedra.push_back(
+                Hexahedron{nodes[0], nodes[1], nodes[2], nodes[3], nodes[4], nodes[5], nodes[6], nodes[7]});
+            break;
+        default:
+            break;  // points and unknown types are skipped
     }
     // second-order elements: SOFA also adds their edges (corner pairs) for the mid nodes
     if (type == 9 || type == 11) {
@@ -108,9 +125,11 @@ MeshData parse_gmsh4_sections(Tokenizer& tok, const std::filesystem::path& path)
     }
     if (mesh.positions.empty()) fail(path, tok.line(), "no nodes (node count 0)");
     const Token end_nodes = tok.expect("$EndNodes");
-    if (!starts_with(end_nodes.text, "$EndNodes")) fail(path, end_nodes.line, "expected $EndNodes, found " + quoted(end_nodes.text));
+    if (!starts_with(end_nodes.text, "$EndNodes"))
+        fail(path, end_nodes.line, "expected $EndNodes, found " + quoted(end_nodes.text));
     const Token elements = tok.expect("$Elements");
-    if (!starts_with(elements.text, "$Elements")) fail(path, elements.line, "expected $Elements, found " + quoted(elements.text));
+    if (!starts_with(elements.text, "$Elements"))
+        fail(path, elements.line, "expected $Elements, found " + quoted(elements.text));
     const std::int64_t element_blocks = tok.expect_int("number of element blocks");
     (void)tok.expect_int("number of elements");
     (void)tok.expect_int("minimum element tag");
@@ -206,14 +225,12 @@ MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path) {
     const Token end_nodes = tok.expect(format == 1 ? "$ENDNOD" : "$EndNodes");
     if (!starts_with(end_nodes.text, "$ENDNOD") && !starts_with(end_nodes.text, "$EndNodes")) {
         fail(path, end_nodes.line,
-             std::string("expected ") + (format == 1 ? "$ENDNOD" : "$EndNodes") + ", found " +
-                 quoted(end_nodes.text));
+             std::string("expected ") + (format == 1 ? "$ENDNOD" : "$EndNodes") + ", found " + quoted(end_nodes.text));
     }
     const Token elements = tok.expect(format == 1 ? "$ELM" : "$Elements");
     if (!starts_with(elements.text, "$ELM") && !starts_with(elements.text, "$Elements")) {
         fail(path, elements.line,
-             std::string("expected ") + (format == 1 ? "$ELM" : "$Elements") + ", found " +
-                 quoted(elements.text));
+             std::string("expected ") + (format == 1 ? "$ELM" : "$Elements") + ", found " + quoted(elements.text));
     }
 
     const std::int64_t nelems = tok.expect_int("number of elements");
@@ -231,8 +248,8 @@ MeshData parse_gmsh(std::string_view text, const std::filesystem::path& path) {
             const int expected = gmsh_node_count(type);
             if (nnodes < 0 || nnodes > 1000 || (expected >= 0 && nnodes != expected)) {
                 fail(path, element_line,
-                     "element of type " + std::to_string(type) + " has " + std::to_string(nnodes) +
-                         " nodes" + (expected >= 0 ? " (expected " + std::to_string(expected) + ")" : ""));
+                     "element of type " + std::to_string(type) + " has " + std::to_string(nnodes) + " nodes" +
+                         (expected >= 0 ? " (expected " + std::to_string(expected) + ")" : ""));
             }
         } else {
             const std::int64_t ntags = tok.expect_int("number of tags");

@@ -24,8 +24,9 @@ std::vector<double> data_array(const tinyxml2::XMLElement& array, const std::fil
     const char* format = array.Attribute("format");
     if (format == nullptr) format = array.Attribute("Format");
     if (format == nullptr || std::string_view(format) != "ascii")
-        fail(path, line, std::string(what) + ": only ASCII DataArrays are read (format=\"" +
-                             (format != nullptr ? format : "") + "\")");
+        fail(path, line,
+             std::string(what) + ": only ASCII DataArrays are read (format=\"" + (format != nullptr ? format : "") +
+                 "\")");
     std::vector<double> values;
     const char* text = array.GetText();
     for (std::string_view word : detail::split_blanks(text != nullptr ? text : "")) {
@@ -35,14 +36,16 @@ std::vector<double> data_array(const tinyxml2::XMLElement& array, const std::fil
     }
     if (values.size() < expected)
         fail(path, line,
-             std::string(what) + ": expected " + std::to_string(expected) + " numbers, found " + std::to_string(values.size()));
+             std::string(what) + ": expected " + std::to_string(expected) + " numbers, found " +
+                 std::to_string(values.size()));
     return values;
 }
 
 /// A count or an index read as a double: a non-negative integer below `limit`.
 std::int64_t whole(double v, std::int64_t limit, const std::filesystem::path& path, int line, std::string_view what) {
     if (!(v >= 0 && v < double(limit)) || v != double(std::int64_t(v)))
-        fail(path, line, std::string(what) + " " + std::to_string(v) + " is not an integer in [0, " + std::to_string(limit) + ")");
+        fail(path, line,
+             std::string(what) + " " + std::to_string(v) + " is not an integer in [0, " + std::to_string(limit) + ")");
     return std::int64_t(v);
 }
 
@@ -60,7 +63,8 @@ void read_piece(const tinyxml2::XMLElement& piece, const std::filesystem::path& 
     if (points < 0 || cells < 0) fail(path, line, "Piece needs NumberOfPoints and NumberOfCells");
     const auto first_point = static_cast<std::int64_t>(mesh.positions.size());
     const tinyxml2::XMLElement* point_node = piece.FirstChildElement("Points");
-    const tinyxml2::XMLElement* point_array = point_node != nullptr ? point_node->FirstChildElement("DataArray") : nullptr;
+    const tinyxml2::XMLElement* point_array =
+        point_node != nullptr ? point_node->FirstChildElement("DataArray") : nullptr;
     if (point_array == nullptr) fail(path, line, "Piece without Points");
     const std::vector<double> xyz = data_array(*point_array, path, std::size_t(3 * points), "Points");
     for (std::int64_t i = 0; i < points; ++i)
@@ -79,11 +83,13 @@ void read_piece(const tinyxml2::XMLElement& piece, const std::filesystem::path& 
     std::int64_t begin = 0;
     std::vector<PointId> p;
     for (std::int64_t c = 0; c < cells; ++c) {
-        const std::int64_t end = whole(ends[std::size_t(c)], std::int64_t(ids.size()) + 1, path, offsets->GetLineNum(), "offset");
+        const std::int64_t end =
+            whole(ends[std::size_t(c)], std::int64_t(ids.size()) + 1, path, offsets->GetLineNum(), "offset");
         if (end < begin) fail(path, offsets->GetLineNum(), "offsets decrease at cell " + std::to_string(c));
         p.clear();
         for (std::int64_t k = begin; k < end; ++k)
-            p.push_back(PointId(first_point + whole(ids[std::size_t(k)], points, path, connectivity->GetLineNum(), "point index")));
+            p.push_back(PointId(first_point +
+                                whole(ids[std::size_t(k)], points, path, connectivity->GetLineNum(), "point index")));
         const std::int64_t type = whole(kinds[std::size_t(c)], 256, path, types->GetLineNum(), "cell type");
         add_vtk_cell(mesh, type, p, path, connectivity->GetLineNum(), types->GetLineNum());
         begin = end;
@@ -100,14 +106,16 @@ MeshData parse_vtk_xml(std::string_view text, const std::filesystem::path& path)
     if (root == nullptr) fail(path, 1, "not a VTK XML file (no <VTKFile> element)");
     const char* type = root->Attribute("type");
     if (type == nullptr || std::string_view(type) != "UnstructuredGrid")
-        fail(path, root->GetLineNum(),
-             std::string("VTK XML dataset '") + (type != nullptr ? type : "") + "' is not supported (UnstructuredGrid)");
+        fail(
+            path, root->GetLineNum(),
+            std::string("VTK XML dataset '") + (type != nullptr ? type : "") + "' is not supported (UnstructuredGrid)");
     const tinyxml2::XMLElement* grid = root->FirstChildElement("UnstructuredGrid");
     if (grid == nullptr || grid->FirstChildElement("Piece") == nullptr)
         fail(path, root->GetLineNum(), "no <UnstructuredGrid><Piece>");
     const tinyxml2::XMLElement* piece = grid->FirstChildElement("Piece");
     if (piece->NextSiblingElement("Piece") != nullptr)
-        fail(path, piece->NextSiblingElement("Piece")->GetLineNum(), "more than one Piece (SOFA keeps only the last one's)");
+        fail(path, piece->NextSiblingElement("Piece")->GetLineNum(),
+             "more than one Piece (SOFA keeps only the last one's)");
     MeshData mesh;
     read_piece(*piece, path, mesh);
     if (mesh.positions.empty()) fail(path, grid->GetLineNum(), "no points");

@@ -95,8 +95,8 @@ SceneElement* find_element(SceneFile& file, std::string_view path, std::string* 
             if (SceneComponent* c = child_component(*node, s)) return c;
         }
         if (why != nullptr)
-            *why = "no " + std::string(i + 1 == segments.size() ? "node or component" : "node") + " '" + s +
-                   "' in '" + node->path() + "' (it has: " + names_below(*node) + ")";
+            *why = "no " + std::string(i + 1 == segments.size() ? "node or component" : "node") + " '" + s + "' in '" +
+                   node->path() + "' (it has: " + names_below(*node) + ")";
         return nullptr;
     }
     return node;

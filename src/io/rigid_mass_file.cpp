@@ -22,7 +22,8 @@ RigidMassFile parse_rigid_mass_file(std::string_view text, const std::filesystem
         const std::size_t end = std::min(text.find('\n', pos), text.size());
         ++line;
         if (line > 1)
-            for (const std::string_view t : detail::split_blanks(text.substr(pos, end - pos))) tokens.emplace_back(t, line);
+            for (const std::string_view t : detail::split_blanks(text.substr(pos, end - pos)))
+                tokens.emplace_back(t, line);
         pos = end + 1;
     }
     std::size_t k = 0;
@@ -61,7 +62,8 @@ RigidMassFile parse_rigid_mass_file(std::string_view text, const std::filesystem
             (void)numbers(keyword, 3);
         } else if (keyword == "frme") {
             (void)numbers(keyword, 4);
-        } else if (keyword == "volm" || keyword == "visc" || keyword == "stck" || keyword == "step" || keyword == "prec") {
+        } else if (keyword == "volm" || keyword == "visc" || keyword == "stck" || keyword == "step" ||
+                   keyword == "prec") {
             (void)numbers(keyword, 1);
         } else {  // '#' comment or an unknown keyword: the rest of its line
             skip_line(keyword_line);

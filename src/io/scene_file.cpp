@@ -20,9 +20,7 @@ const SceneAttribute* SceneElement::find(std::string_view attribute) const {
     return nullptr;
 }
 
-std::string SceneElement::describe() const {
-    return name.empty() ? type : type + " '" + name + "'";
-}
+std::string SceneElement::describe() const { return name.empty() ? type : type + " '" + name + "'"; }
 
 const SceneNode* SceneNode::child(std::string_view child_name) const {
     for (const auto& c : children) {
@@ -57,15 +55,24 @@ namespace {
 
 std::string xml_error_text(tinyxml2::XMLError error) {
     switch (error) {
-        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT: return "element closed by a mismatched tag";
-        case tinyxml2::XML_ERROR_PARSING: return "unclosed element or malformed document";
-        case tinyxml2::XML_ERROR_PARSING_ELEMENT: return "malformed or unclosed element";
-        case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE: return "malformed attribute";
-        case tinyxml2::XML_ERROR_PARSING_TEXT: return "malformed text";
-        case tinyxml2::XML_ERROR_PARSING_COMMENT: return "malformed comment";
-        case tinyxml2::XML_ERROR_PARSING_DECLARATION: return "malformed declaration";
-        case tinyxml2::XML_ERROR_EMPTY_DOCUMENT: return "empty document";
-        default: return tinyxml2::XMLDocument::ErrorIDToName(error);
+        case tinyxml2::XML_ERROR_MISMATCHED_ELEMENT:
+            return "element closed by a mismatched tag";
+        case tinyxml2::XML_ERROR_PARSING:
+            return "unclosed element or malformed document";
+        case tinyxml2::XML_ERROR_PARSING_ELEMENT:
+            return "malformed or unclosed element";
+        case tinyxml2::XML_ERROR_PARSING_ATTRIBUTE:
+            return "malformed attribute";
+        case tinyxml2::XML_ERROR_PARSING_TEXT:
+            return "malformed text";
+        case tinyxml2::XML_ERROR_PARSING_COMMENT:
+            return "malformed comment";
+        case tinyxml2::XML_ERROR_PARSING_DECLARATION:
+            return "malformed declaration";
+        case tinyxml2::XML_ERROR_EMPTY_DOCUMENT:
+            return "empty document";
+        default:
+            return tinyxml2::XMLDocument::ErrorIDToName(error);
     }
 }
 
@@ -223,11 +230,13 @@ void read_include(const tinyxml2::XMLElement& xml, SceneNode& node, const std::s
 
     tinyxml2::XMLDocument doc(true, tinyxml2::PRESERVE_WHITESPACE);
     const tinyxml2::XMLError error = doc.Parse(text.data(), text.size());
-    if (error != tinyxml2::XML_SUCCESS) scene_fail(label, doc.ErrorLineNum(), "XML error: " + xml_error_text(error) + from);
+    if (error != tinyxml2::XML_SUCCESS)
+        scene_fail(label, doc.ErrorLineNum(), "XML error: " + xml_error_text(error) + from);
     const tinyxml2::XMLElement* root = doc.RootElement();
     if (root == nullptr) scene_fail(label, 0, "XML error: empty document" + from);
     const std::string_view root_tag = root->Name();
-    if (root_tag == "include") scene_fail(label, root->GetLineNum(), "the root of an included file cannot be an <include>" + from);
+    if (root_tag == "include")
+        scene_fail(label, root->GetLineNum(), "the root of an included file cannot be an <include>" + from);
 
     // The included tree, under a holder node that stands for SOFA's returned element.
     SceneNode holder;
@@ -239,7 +248,7 @@ void read_include(const tinyxml2::XMLElement& xml, SceneNode& node, const std::s
         add_component(holder, read_component(*root, label, context));
     }
     SceneElement& included_root = holder.children.empty() ? static_cast<SceneElement&>(*holder.components.front())
-                                                           : static_cast<SceneElement&>(*holder.children.front());
+                                                          : static_cast<SceneElement&>(*holder.children.front());
     for (const tinyxml2::XMLAttribute* a = xml.FirstAttribute(); a != nullptr; a = a->Next()) {
         const std::string_view name = a->Name();
         if (name == "href") continue;
@@ -248,7 +257,8 @@ void read_include(const tinyxml2::XMLElement& xml, SceneNode& node, const std::s
             continue;
         }
         const std::size_t separator = name.find("__");
-        const std::string_view only_named = separator == std::string_view::npos ? std::string_view() : name.substr(0, separator);
+        const std::string_view only_named =
+            separator == std::string_view::npos ? std::string_view() : name.substr(0, separator);
         const std::string_view attribute = separator == std::string_view::npos ? name : name.substr(separator + 2);
         replace_attribute(holder, only_named, SceneAttribute{std::string(attribute), a->Value(), a->GetLineNum()});
     }
@@ -274,7 +284,8 @@ void read_include(const tinyxml2::XMLElement& xml, SceneNode& node, const std::s
 
 void read_node(const tinyxml2::XMLElement& xml, SceneNode& node, const std::string& file, int depth,
                ReadContext& context) {
-    if (depth > 256) scene_fail(file, xml.GetLineNum(), "nodes nested more than 256 levels deep" + included_from_text(context));
+    if (depth > 256)
+        scene_fail(file, xml.GetLineNum(), "nodes nested more than 256 levels deep" + included_from_text(context));
     node.type = "Node";
     node.file = file;
     node.included_from = included_from_text(context);
@@ -304,8 +315,7 @@ SceneFile parse(const char* xml, std::size_t size, std::filesystem::path path, c
     const tinyxml2::XMLElement* root = doc.RootElement();
     if (root == nullptr) scene_fail(label, 0, "XML error: empty document");
     if (std::string_view(root->Name()) != "Node") {
-        scene_fail(label, root->GetLineNum(),
-                   "root element must be <Node>, found <" + std::string(root->Name()) + ">");
+        scene_fail(label, root->GetLineNum(), "root element must be <Node>, found <" + std::string(root->Name()) + ">");
     }
     ReadContext context;
     context.data_dirs = data_dirs;
@@ -379,9 +389,10 @@ void check_inline_size(const SceneElement& e, std::string_view attr, std::string
         in_token = !blank;
     }
     if (tokens > kMaxInlineValues) {
-        throw_attribute_error(e, attr, std::to_string(tokens) + " values, more than penalty's limit of " +
-                                           std::to_string(kMaxInlineValues) +
-                                           " in one attribute (put large data in a mesh file)");
+        throw_attribute_error(e, attr,
+                              std::to_string(tokens) + " values, more than penalty's limit of " +
+                                  std::to_string(kMaxInlineValues) +
+                                  " in one attribute (put large data in a mesh file)");
     }
 }
 
@@ -478,8 +489,8 @@ std::vector<Vec3> get_vec3_list(const SceneElement& e, std::string_view attr) {
 std::vector<RigidFrame> get_rigid_list(const SceneElement& e, std::string_view attr) {
     const std::vector<double> v = get_doubles(e, attr);
     if (v.size() % 7 != 0) {
-        throw_attribute_error(e, attr,
-                              "expected a multiple of 7 numbers (x y z qx qy qz qw), found " + std::to_string(v.size()));
+        throw_attribute_error(
+            e, attr, "expected a multiple of 7 numbers (x y z qx qy qz qw), found " + std::to_string(v.size()));
     }
     std::vector<RigidFrame> out;
     for (std::size_t i = 0; i < v.size(); i += 7) {
@@ -519,12 +530,14 @@ std::vector<PointId> get_indices(const SceneElement& e, std::string_view attr) {
         }
         std::int64_t first = index(token, token.substr(0, hyphen));
         const std::size_t hyphen2 = token.find('-', hyphen + 2);
-        std::int64_t last = index(token, token.substr(hyphen + 1, hyphen2 == std::string_view::npos ? std::string_view::npos
-                                                                                                    : hyphen2 - hyphen - 1));
+        std::int64_t last =
+            index(token, token.substr(hyphen + 1, hyphen2 == std::string_view::npos ? std::string_view::npos
+                                                                                    : hyphen2 - hyphen - 1));
         std::int64_t step = first <= last ? 1 : -1;
         if (hyphen2 != std::string_view::npos) {
             const auto given = detail::parse_int(token.substr(hyphen2 + 1));
-            if (!given) throw_attribute_error(e, attr, "expected a range A-B or A-B-STEP, found '" + shorten(token) + "'");
+            if (!given)
+                throw_attribute_error(e, attr, "expected a range A-B or A-B-STEP, found '" + shorten(token) + "'");
             if (*given != 0) step = *given;
             if ((last - first) * step < 0) std::swap(first, last);
         }
@@ -591,8 +604,9 @@ LinkTarget resolve_link_text(const SceneComponent& from, std::string_view link, 
         if (!k || *k > 0) broken(from, attr, link, "malformed index (expected [-k] with k >= 0)");
         const auto back = static_cast<std::size_t>(-*k);
         if (back > from.index) {
-            broken(from, attr, link,
-                   "only " + std::to_string(from.index) + " component(s) before it in node '" + from.node->path() + "'");
+            broken(
+                from, attr, link,
+                "only " + std::to_string(from.index) + " component(s) before it in node '" + from.node->path() + "'");
         }
         target.component = from.node->components[from.index - back].get();
         target.data = data;
@@ -614,8 +628,8 @@ LinkTarget resolve_link_text(const SceneComponent& from, std::string_view link, 
         pos = end + 1;
         if (segment.empty()) continue;  // extra '/'
         if (component != nullptr) {
-            broken(from, attr, link, "'" + component->describe() + "' is a component, it has no child '" +
-                                         std::string(segment) + "'");
+            broken(from, attr, link,
+                   "'" + component->describe() + "' is a component, it has no child '" + std::string(segment) + "'");
         }
         if (segment == ".") {
             based = true;

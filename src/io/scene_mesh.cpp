@@ -95,7 +95,8 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
     if (c.type == "GridMeshCreator") {
         const Vec3 scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * get_double_or(c, "scale", 1.0);
         MeshData mesh = grid_mesh_creator(c);
-        apply_transform(mesh, get_vec3_or(c, "translation", Vec3::Zero()), get_vec3_or(c, "rotation", Vec3::Zero()), scale3d);
+        apply_transform(mesh, get_vec3_or(c, "translation", Vec3::Zero()), get_vec3_or(c, "rotation", Vec3::Zero()),
+                        scale3d);
         return mesh;
     }
     const bool is_topology_file = c.type == "MeshTopology" || c.type == "MechanicalObject" ||
@@ -118,7 +119,9 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
                 }
                 return true;
             }();
-            if (!identity) throw_attribute_error(c, "transformation", "not supported by penalty (use translation, rotation, scale3d)");
+            if (!identity)
+                throw_attribute_error(c, "transformation",
+                                      "not supported by penalty (use translation, rotation, scale3d)");
         }
     }
     // validate the transform attributes before reading the file
@@ -128,7 +131,8 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
     if (is_mesh_loader) {
         scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * mesh_loader_scale(c);
     } else if (is_sphere_loader) {
-        if (c.has("scale") && c.has("scale3d")) throw_attribute_error(c, "scale3d", "'scale' and its alias 'scale3d' are both set");
+        if (c.has("scale") && c.has("scale3d"))
+            throw_attribute_error(c, "scale3d", "'scale' and its alias 'scale3d' are both set");
         scale3d = get_vec3_or(c, c.has("scale3d") ? "scale3d" : "scale", Vec3::Ones());
     }
     const bool triangulate = is_mesh_loader && get_bool_or(c, "triangulate", false);
@@ -147,7 +151,8 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
         } else if (c.type == "MeshOffLoader") {
             mesh = load_off(file);
         } else if (c.type == "MeshTrianLoader") {
-            if (get_bool_or(c, "trian2", false)) throw_attribute_error(c, "trian2", "the trian2 format is not supported by penalty");
+            if (get_bool_or(c, "trian2", false))
+                throw_attribute_error(c, "trian2", "the trian2 format is not supported by penalty");
             mesh = load_trian(file);
         } else if (is_sphere_loader) {
             mesh = load_sph(file);

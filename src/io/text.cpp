@@ -19,14 +19,22 @@ std::optional<std::string> unreadable_reason(const std::filesystem::path& path) 
         return "cannot be examined (" + ec.message() + ")";
     }
     switch (target.type()) {
-        case fs::file_type::regular: break;
-        case fs::file_type::directory: return "is a directory, not a file";
-        case fs::file_type::character: return "is a character device, not a regular file";
-        case fs::file_type::block: return "is a block device, not a regular file";
-        case fs::file_type::fifo: return "is a named pipe, not a regular file";
-        case fs::file_type::socket: return "is a socket, not a regular file";
-        case fs::file_type::not_found: return "is a symbolic link to a missing file";
-        default: return "is not a regular file";
+        case fs::file_type::regular:
+            break;
+        case fs::file_type::directory:
+            return "is a directory, not a file";
+        case fs::file_type::character:
+            return "is a character device, not a regular file";
+        case fs::file_type::block:
+            return "is a block device, not a regular file";
+        case fs::file_type::fifo:
+            return "is a named pipe, not a regular file";
+        case fs::file_type::socket:
+            return "is a socket, not a regular file";
+        case fs::file_type::not_found:
+            return "is a symbolic link to a missing file";
+        default:
+            return "is not a regular file";
     }
     const std::uintmax_t bytes = fs::file_size(path, ec);
     if (ec) return "cannot be examined (" + ec.message() + ")";
@@ -48,9 +56,7 @@ std::string read_file(const std::filesystem::path& path) {
 }
 
 namespace {
-bool is_blank(char c) {
-    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-}
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
 }  // namespace
 
 std::optional<double> parse_double(std::string_view token) {
@@ -69,8 +75,9 @@ std::optional<std::string> magnitude_problem(double value) {
     if (magnitude > kMaxMagnitude)
         return std::string("magnitude above 1e100 (penalty's limit for any number in a scene or mesh file)");
     if (magnitude > 0.0 && magnitude < kMinMagnitude)
-        return std::string("magnitude below 1e-100 (penalty's limit for a nonzero number in a scene or mesh "
-                           "file; write 0 for zero)");
+        return std::string(
+            "magnitude below 1e-100 (penalty's limit for a nonzero number in a scene or mesh "
+            "file; write 0 for zero)");
     return std::nullopt;
 }
 

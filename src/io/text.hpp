@@ -105,8 +105,8 @@ private:
     std::string_view text_;
     std::filesystem::path path_;
     std::size_t pos_ = 0;
-    int line_ = 1;       // line of the read position
-    int token_line_ = 1; // line of the last token
+    int line_ = 1;        // line of the read position
+    int token_line_ = 1;  // line of the last token
 };
 
 }  // namespace penalty::io::detail

@@ -28,9 +28,11 @@ namespace penalty::detail {
 [[nodiscard]] inline bool boxes_overlap_branch_free(const Aabb& a, const Aabb& b, double margin) {
 #if defined(__SSE2__)
     const __m128d m = _mm_set1_pd(margin);
-    const __m128d apart_xy = _mm_or_pd(_mm_cmpgt_pd(_mm_loadu_pd(a.min.data()), _mm_add_pd(_mm_loadu_pd(b.max.data()), m)),
-                                       _mm_cmpgt_pd(_mm_loadu_pd(b.min.data()), _mm_add_pd(_mm_loadu_pd(a.max.data()), m)));
-    const __m128d apart_z = _mm_cmpgt_pd(_mm_setr_pd(a.min[2], b.min[2]), _mm_add_pd(_mm_setr_pd(b.max[2], a.max[2]), m));
+    const __m128d apart_xy =
+        _mm_or_pd(_mm_cmpgt_pd(_mm_loadu_pd(a.min.data()), _mm_add_pd(_mm_loadu_pd(b.max.data()), m)),
+                  _mm_cmpgt_pd(_mm_loadu_pd(b.min.data()), _mm_add_pd(_mm_loadu_pd(a.max.data()), m)));
+    const __m128d apart_z =
+        _mm_cmpgt_pd(_mm_setr_pd(a.min[2], b.min[2]), _mm_add_pd(_mm_setr_pd(b.max[2], a.max[2]), m));
     return _mm_movemask_pd(_mm_or_pd(apart_xy, apart_z)) == 0;
 #else
     return boxes_overlap_branch_free_scalar(a, b, margin);

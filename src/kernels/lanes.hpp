@@ -17,8 +17,8 @@ struct Lanes3 {
 };
 
 /// Lane k holds the point p[k] (three doubles each).
-[[gnu::target("avx"), gnu::always_inline]] inline Lanes3 load_lanes(const double* p0, const double* p1, const double* p2,
-                                                                    const double* p3) {
+[[gnu::target("avx"), gnu::always_inline]] inline Lanes3 load_lanes(const double* p0, const double* p1,
+                                                                    const double* p2, const double* p3) {
     const __m128d a = _mm_loadu_pd(p0), b = _mm_loadu_pd(p1), c = _mm_loadu_pd(p2), d = _mm_loadu_pd(p3);
     return {_mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_unpacklo_pd(a, b)), _mm_unpacklo_pd(c, d), 1),
             _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_unpackhi_pd(a, b)), _mm_unpackhi_pd(c, d), 1),

@@ -18,7 +18,8 @@ void AttachProjectiveConstraint<DataTypes>::init() {
     check_constraint_indices("AttachProjectiveConstraint (indices1)", p_.indices1, object1_->num_dofs());
     check_constraint_indices("AttachProjectiveConstraint (indices2)", p_.indices2, object2_->num_dofs());
     if (p_.two_way && object1_ != object2_)
-        throw_invalid_argument("AttachProjectiveConstraint: twoWay needs object1 and object2 to be the same state in penalty");
+        throw_invalid_argument(
+            "AttachProjectiveConstraint: twoWay needs object1 and object2 to be the same state in penalty");
     if (!p_.constraint_factor.empty() && p_.constraint_factor.size() < pairs())
         throw_invalid_argument("AttachProjectiveConstraint: constraintFactor has ", p_.constraint_factor.size(),
                                " values for ", pairs(), " pairs");

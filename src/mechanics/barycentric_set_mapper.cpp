@@ -6,9 +6,9 @@
 // element (a point whose element was removed) it may keep another, which this reproduces. A
 // hexahedron is mapped as the parallelepiped of its three edges from vertex 0 (affine
 // coordinates, trilinear weights), not by the inverse trilinear map of map_on_hexahedra.
+#include "barycentric_tetrahedra.hpp"
 #include "penalty/core/error.hpp"
 #include "penalty/mechanics/mapping.hpp"
-#include "barycentric_tetrahedra.hpp"
 
 #include <array>
 #include <cmath>
@@ -24,19 +24,21 @@ using Cell = std::array<int, 3>;
 /// The spatial hash of BarycentricMapperTopologyContainer: cells of the mean edge length,
 /// each listing the elements whose bounding box touches it, in element order.
 struct TetrahedronHashGrid {
-    double cell_size = 0.0;        ///< m: mean edge length (computeHashingCellSize)
-    double per_length = 0.0;       ///< 1/m (m_convFactor)
+    double cell_size = 0.0;   ///< m: mean edge length (computeHashingCellSize)
+    double per_length = 0.0;  ///< 1/m (m_convFactor)
     std::map<Cell, std::vector<std::size_t>> cells;
 
     /// getGridIndices: ⌊p·(1/m)⌋ per axis.
     [[nodiscard]] Cell cell_of(const Vec3& p) const {
-        return {int(std::floor(p[0] * per_length)), int(std::floor(p[1] * per_length)), int(std::floor(p[2] * per_length))};
+        return {int(std::floor(p[0] * per_length)), int(std::floor(p[1] * per_length)),
+                int(std::floor(p[2] * per_length))};
     }
 };
 
 /// The grid of `elements` (each an array of vertex indices) with the positions `x`.
 template <class Element>
-TetrahedronHashGrid hash_elements(const MeshTopology& topo, const std::vector<Element>& elements, std::span<const Vec3> x) {
+TetrahedronHashGrid hash_elements(const MeshTopology& topo, const std::vector<Element>& elements,
+                                  std::span<const Vec3> x) {
     TetrahedronHashGrid g;
     // computeHashingCellSize: the mean length of the topology's edges (of the elements' first
     // edges when it lists none), summed in edge order
@@ -73,17 +75,20 @@ struct HexahedronFrames {
     std::vector<Mat3> bases;
     std::vector<Vec3> centres;
 
-    HexahedronFrames(const std::vector<Hexahedron>& hexas, std::span<const Vec3> x) : bases(hexas.size()), centres(hexas.size()) {
+    HexahedronFrames(const std::vector<Hexahedron>& hexas, std::span<const Vec3> x)
+        : bases(hexas.size()), centres(hexas.size()) {
         for (std::size_t h = 0; h < hexas.size(); ++h) {
             for (const PointId p : hexas[h])
-                if (std::size_t(p) >= x.size()) throw_invalid_argument("BarycentricMapping: hexahedron ", h, " vertex out of range");
+                if (std::size_t(p) >= x.size())
+                    throw_invalid_argument("BarycentricMapping: hexahedron ", h, " vertex out of range");
             const auto at = [&](std::size_t k) -> const Vec3& { return x[std::size_t(hexas[h][k])]; };
             Mat3 edges;  // columns x1 − x0, x3 − x0, x4 − x0 (SOFA: the transpose of the rows)
             edges.col(0) = at(1) - at(0);
             edges.col(1) = at(3) - at(0);
             edges.col(2) = at(4) - at(0);
             if (std::abs(sofa_vec::determinant(edges)) < 1e-300)
-                throw_invalid_argument("BarycentricMapping: hexahedron ", h, " is degenerate (its edges from vertex 0 are coplanar)");
+                throw_invalid_argument("BarycentricMapping: hexahedron ", h,
+                                       " is degenerate (its edges from vertex 0 are coplanar)");
             bases[h] = sofa_vec::inverse(edges);
             Vec3 sum = at(0);
             for (std::size_t k = 1; k < 8; ++k) sum = sum + at(k);
@@ -94,7 +99,8 @@ struct HexahedronFrames {
     [[nodiscard]] double score(std::size_t h, const Vec3& x0, const Vec3& p, Vec3& coefs) const {
         coefs = sofa_vec::times(bases[h], p - x0);
         const Vec3& v = coefs;
-        const double d = std::max(std::max(-v[0], -v[1]), std::max(std::max(-v[2], v[0] - 1), std::max(v[1] - 1, v[2] - 1)));
+        const double d =
+            std::max(std::max(-v[0], -v[1]), std::max(std::max(-v[2], v[0] - 1), std::max(v[1] - 1, v[2] - 1)));
         if (d <= 0) return d;
         const Vec3 r = p - centres[h];
         return sofa_vec::dot3(r, r);
@@ -103,10 +109,14 @@ struct HexahedronFrames {
 
 /// getBarycentricCoefficients of the hexahedron mapper (trilinear in b, SOFA's products).
 void push_hexahedron_weights(BarycentricRow& row, const Hexahedron& h, const Vec3& f) {
-    const double w[8] = {(1 - f[0]) * (1 - f[1]) * (1 - f[2]), (f[0]) * (1 - f[1]) * (1 - f[2]),
-                         (f[0]) * (f[1]) * (1 - f[2]),         (1 - f[0]) * (f[1]) * (1 - f[2]),
-                         (1 - f[0]) * (1 - f[1]) * (f[2]),     (f[0]) * (1 - f[1]) * (f[2]),
-                         (f[0]) * (f[1]) * (f[2]),             (1 - f[0]) * (f[1]) * (f[2])};
+    const double w[8] = {(1 - f[0]) * (1 - f[1]) * (1 - f[2]),
+                         (f[0]) * (1 - f[1]) * (1 - f[2]),
+                         (f[0]) * (f[1]) * (1 - f[2]),
+                         (1 - f[0]) * (f[1]) * (1 - f[2]),
+                         (1 - f[0]) * (1 - f[1]) * (f[2]),
+                         (f[0]) * (1 - f[1]) * (f[2]),
+                         (f[0]) * (f[1]) * (f[2]),
+                         (1 - f[0]) * (f[1]) * (f[2])};
     for (std::size_t k = 0; k < 8; ++k) row.push(h[k], w[k]);
 }
 
@@ -164,14 +174,16 @@ std::vector<BarycentricRow> map_on_set_elements(const MeshTopology& topo, const 
 
 }  // namespace
 
-void BarycentricMapping::map_on_set_tetrahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {
+void BarycentricMapping::map_on_set_tetrahedra(const MeshTopology& topo, std::span<const Vec3> x,
+                                               std::span<const Vec3> points) {
     const auto& tetras = topo.tetrahedra();
     if (tetras.empty()) throw_invalid_argument("BarycentricMapping: topology has no tetrahedron");
     const detail::TetrahedronFrames frames(tetras, x);  // computeBasesAndCenters (checks every vertex)
     set_rows(map_on_set_elements(topo, tetras, frames, x, points, detail::push_tetrahedron_weights));
 }
 
-void BarycentricMapping::map_on_set_hexahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {
+void BarycentricMapping::map_on_set_hexahedra(const MeshTopology& topo, std::span<const Vec3> x,
+                                              std::span<const Vec3> points) {
     const auto& hexas = topo.hexahedra();
     if (hexas.empty()) throw_invalid_argument("BarycentricMapping: topology has no hexahedron");
     const HexahedronFrames frames(hexas, x);

@@ -19,10 +19,12 @@ struct TetrahedronFrames {
     std::vector<Mat3> bases;
     std::vector<Vec3> centres;
 
-    TetrahedronFrames(const std::vector<Tetrahedron>& tetras, std::span<const Vec3> x) : bases(tetras.size()), centres(tetras.size()) {
+    TetrahedronFrames(const std::vector<Tetrahedron>& tetras, std::span<const Vec3> x)
+        : bases(tetras.size()), centres(tetras.size()) {
         for (std::size_t t = 0; t < tetras.size(); ++t) {
             for (const PointId p : tetras[t])
-                if (std::size_t(p) >= x.size()) throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " vertex out of range");
+                if (std::size_t(p) >= x.size())
+                    throw_invalid_argument("BarycentricMapping: tetrahedron ", t, " vertex out of range");
             const Vec3& x0 = x[std::size_t(tetras[t][0])];
             const Vec3& x1 = x[std::size_t(tetras[t][1])];
             const Vec3& x2 = x[std::size_t(tetras[t][2])];
@@ -42,7 +44,8 @@ struct TetrahedronFrames {
     /// `coefs`); max(−b0, −b1, −b2, b0 + b1 + b2 − 1), replaced, when positive (outside), by |p − c|².
     [[nodiscard]] double score(std::size_t t, const Vec3& x0, const Vec3& p, Vec3& coefs) const {
         coefs = sofa_vec::times(bases[t], p - x0);
-        const double d = std::max(std::max(-coefs[0], -coefs[1]), std::max(-coefs[2], coefs[0] + coefs[1] + coefs[2] - 1));
+        const double d =
+            std::max(std::max(-coefs[0], -coefs[1]), std::max(-coefs[2], coefs[0] + coefs[1] + coefs[2] - 1));
         if (d <= 0) return d;
         const Vec3 r = p - centres[t];
         return sofa_vec::dot3(r, r);

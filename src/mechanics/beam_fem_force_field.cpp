@@ -13,7 +13,9 @@ BeamFEMForceField::BeamFEMForceField(Rigid3Object& state, std::vector<std::array
 
 namespace {
 
-double in_element(const std::vector<double>& values, std::size_t i) { return i < values.size() ? values[i] : values.front(); }
+double in_element(const std::vector<double>& values, std::size_t i) {
+    return i < values.size() ? values[i] : values.front();
+}
 
 /// BeamFEMForceField::BeamInfo::init then computeStiffness (φy = φz = 0: SOFA's shear areas are 0).
 BeamFEMForceField::Stiffness beam_local_stiffness(double e, double nu, double length, double r, double r_in) {
@@ -78,12 +80,14 @@ void BeamFEMForceField::init() {
     for (std::size_t i = 0; i < beams_.size(); ++i) {
         const auto [a, b] = beams_[i];
         if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= n || static_cast<std::size_t>(b) >= n)
-            throw_invalid_argument("BeamFEMForceField: beam ", i, " joins frames ", a, " and ", b, ", out of range (", n, " frames)");
-        const Vec3 d = state_->rest_position[static_cast<std::size_t>(a)].center - state_->rest_position[static_cast<std::size_t>(b)].center;
+            throw_invalid_argument("BeamFEMForceField: beam ", i, " joins frames ", a, " and ", b, ", out of range (",
+                                   n, " frames)");
+        const Vec3 d = state_->rest_position[static_cast<std::size_t>(a)].center -
+                       state_->rest_position[static_cast<std::size_t>(b)].center;
         const double length = std::sqrt(sofa_vec::dot3(d, d));
         if (!(length > 0)) throw_invalid_argument("BeamFEMForceField: beam ", i, " has zero rest length");
-        k_.push_back(beam_local_stiffness(in_element(p_.young_modulus, i), in_element(p_.poisson_ratio, i), length, p_.radius,
-                                     p_.radius_inner));
+        k_.push_back(beam_local_stiffness(in_element(p_.young_modulus, i), in_element(p_.poisson_ratio, i), length,
+                                          p_.radius, p_.radius_inner));
     }
     frame_.assign(beams_.size(), Quat::Identity());
     for (std::size_t i = 0; i < beams_.size(); ++i)
@@ -91,7 +95,8 @@ void BeamFEMForceField::init() {
 }
 
 // BeamFEMForceField::accumulateForceLarge per beam, in edge order.
-void BeamFEMForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x, std::span<const RigidDeriv> /*v*/) {
+void BeamFEMForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x,
+                                  std::span<const RigidDeriv> /*v*/) {
     const std::vector<RigidFrame>& x0 = state_->rest_position;
     energy_ = 0;
     for (std::size_t i = 0; i < beams_.size(); ++i) {

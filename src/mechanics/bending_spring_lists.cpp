@@ -61,10 +61,11 @@ std::vector<Spring> triangle_bending_springs(const MeshTopology& topology, std::
     std::map<VertexPair, PointId> first_opposite;  // edge → opposite vertex in the first face holding it
     const auto register_face = [&](PointId a, PointId b, PointId c) {
         // TriangleBendingSprings::registerTriangle: edges {a,b}, {b,c}, {c,a}, opposite c, a, b
-        for (const auto& [edge, opposite] : {std::pair{sorted_pair(a, b), c}, std::pair{sorted_pair(b, c), a},
-                                             std::pair{sorted_pair(c, a), b}}) {
+        for (const auto& [edge, opposite] :
+             {std::pair{sorted_pair(a, b), c}, std::pair{sorted_pair(b, c), a}, std::pair{sorted_pair(c, a), b}}) {
             const auto [it, first] = first_opposite.try_emplace(edge, opposite);
-            if (!first) springs.push_back(spring_between(opposite, it->second, positions, ks, kd, "TriangleBendingSprings"));
+            if (!first)
+                springs.push_back(spring_between(opposite, it->second, positions, ks, kd, "TriangleBendingSprings"));
         }
     };
     for (const Triangle& t : topology.triangles()) register_face(t[0], t[1], t[2]);
@@ -79,7 +80,7 @@ std::vector<Spring> quad_bending_springs(const MeshTopology& topology, std::span
                                          double kd, LocalRange range) {
     std::vector<Spring> springs;
     std::map<VertexPair, VertexPair> first_facing;  // edge → facing pair in the first quad holding it
-    std::set<VertexPair> made;                       // unordered pairs that have a spring
+    std::set<VertexPair> made;                      // unordered pairs that have a spring
     const auto add_spring = [&](PointId a, PointId b) {
         // QuadBendingSprings::addSpring: outside the local range, or a pair seen before: nothing
         if (range.first >= 0 && a < range.first && b < range.first) return;

@@ -19,7 +19,8 @@ TetrahedralCorotationalFEMForceField::TetrahedralCorotationalFEMForceField(Vec3O
                                  "TetrahedralCorotationalFEMForceField"),
       options_(std::move(options)) {
     for (double factor : options_.local_stiffness_factors)
-        if (!std::isfinite(factor)) throw_invalid_argument(component_, ": localStiffnessFactor must be finite, got ", factor);
+        if (!std::isfinite(factor))
+            throw_invalid_argument(component_, ": localStiffnessFactor must be finite, got ", factor);
 }
 
 double TetrahedralCorotationalFEMForceField::stiffness_factor(std::size_t e) const {
@@ -63,7 +64,8 @@ TetrahedralCorotationalFEMForceField::ElementMatrix TetrahedralCorotationalFEMFo
     return tetrahedron_stiffness_from_gradients(cofactors, material_, stiffness_factor(e) / (36.0 * rest_volume));
 }
 
-void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
+void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
+                                                     std::span<const Vec3> v) {
     if (options_.update_stiffness && method_ != FemMethod::Small) {
         // accumulateForceLarge / accumulateForcePolar with updateStiffnessMatrix: J from the current
         // shape in the element frame, before the force (method small ignores the option).

@@ -24,8 +24,8 @@ double lump(const std::vector<std::array<PointId, N>>& elements, std::span<const
         for (std::size_t k = 0; k < N; ++k) {
             const auto i = static_cast<std::size_t>(e[k]);
             if (i >= x.size() || i >= masses.size())
-                throw_invalid_argument("DiagonalMass: element vertex ", i, " is out of range (", x.size(), " positions, ",
-                                       masses.size(), " DOFs)");
+                throw_invalid_argument("DiagonalMass: element vertex ", i, " is out of range (", x.size(),
+                                       " positions, ", masses.size(), " DOFs)");
             p[k] = x[i];
         }
         const double share = (density * measure(p)) / static_cast<double>(N);
@@ -50,11 +50,16 @@ LumpedElementKind lumped_element_kind(const MeshTopology& t) {
 
 const char* lumped_element_name(LumpedElementKind kind) {
     switch (kind) {
-        case LumpedElementKind::hexahedron: return "hexahedra";
-        case LumpedElementKind::tetrahedron: return "tetrahedra";
-        case LumpedElementKind::quad: return "quads";
-        case LumpedElementKind::triangle: return "triangles";
-        case LumpedElementKind::edge: return "edges";
+        case LumpedElementKind::hexahedron:
+            return "hexahedra";
+        case LumpedElementKind::tetrahedron:
+            return "tetrahedra";
+        case LumpedElementKind::quad:
+            return "quads";
+        case LumpedElementKind::triangle:
+            return "triangles";
+        case LumpedElementKind::edge:
+            return "edges";
     }
     return "?";
 }
@@ -66,10 +71,10 @@ double lump_vertex_masses(const MeshTopology& t, LumpedElementKind kind, std::sp
         case LumpedElementKind::edge:
             return lump(t.edges(), x, density, masses, [](const auto& p) { return (p[1] - p[0]).norm(); });
         case LumpedElementKind::triangle:
-            return lump(t.triangles(), x, density, masses, [](const auto& p) { return triangle_area(p[0], p[1], p[2]); });
+            return lump(t.triangles(), x, density, masses,
+                        [](const auto& p) { return triangle_area(p[0], p[1], p[2]); });
         case LumpedElementKind::quad:
-            return lump(t.quads(), x, density, masses,
-                        [](const auto& p) { return quad_area(p[0], p[1], p[2], p[3]); });
+            return lump(t.quads(), x, density, masses, [](const auto& p) { return quad_area(p[0], p[1], p[2], p[3]); });
         case LumpedElementKind::tetrahedron:
             return lump(t.tetrahedra(), x, density, masses,
                         [](const auto& p) { return tetrahedron_volume(p[0], p[1], p[2], p[3]); });
@@ -81,10 +86,14 @@ double lump_vertex_masses(const MeshTopology& t, LumpedElementKind kind, std::sp
 
 double lumped_element_measure(LumpedElementKind kind, std::span<const Vec3> p) {
     switch (kind) {
-        case LumpedElementKind::edge: return (p[1] - p[0]).norm();
-        case LumpedElementKind::triangle: return triangle_area(p[0], p[1], p[2]);
-        case LumpedElementKind::quad: return triangle_area(p[0], p[1], p[2]) + triangle_area(p[0], p[2], p[3]);
-        case LumpedElementKind::tetrahedron: return tetrahedron_volume(p[0], p[1], p[2], p[3]);
+        case LumpedElementKind::edge:
+            return (p[1] - p[0]).norm();
+        case LumpedElementKind::triangle:
+            return triangle_area(p[0], p[1], p[2]);
+        case LumpedElementKind::quad:
+            return triangle_area(p[0], p[1], p[2]) + triangle_area(p[0], p[2], p[3]);
+        case LumpedElementKind::tetrahedron:
+            return tetrahedron_volume(p[0], p[1], p[2], p[3]);
         case LumpedElementKind::hexahedron: {
             std::array<Vec3, 8> n;
             std::copy(p.begin(), p.begin() + 8, n.begin());
@@ -162,7 +171,9 @@ void DiagonalMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in, Ei
 
 void DiagonalMass::add_mass_triplets(TripletList& t, Index offset, double factor) const {
     for (std::size_t i = 0; i < masses_.size(); ++i)
-        for (Index a = 0; a < 3; ++a) t.emplace_back(offset + 3 * static_cast<Index>(i) + a, offset + 3 * static_cast<Index>(i) + a, masses_[i] * factor);
+        for (Index a = 0; a < 3; ++a)
+            t.emplace_back(offset + 3 * static_cast<Index>(i) + a, offset + 3 * static_cast<Index>(i) + a,
+                           masses_[i] * factor);
 }
 
 // DiagonalMass::getKineticEnergy: ½ Σ (v_i m_i)·v_i.

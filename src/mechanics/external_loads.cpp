@@ -63,7 +63,8 @@ double plane_forces(const PlaneForceFieldParameters& p, Index count, Position po
         const double damping_intensity = -p.damping * depth;
         Vec3 force = p.normal * force_intensity - velocity(ui) * damping_intensity;
         const double amplitude_squared = force.squaredNorm();
-        if (limit_squared > 0.0 && amplitude_squared > limit_squared) force *= std::sqrt(limit_squared / amplitude_squared);
+        if (limit_squared > 0.0 && amplitude_squared > limit_squared)
+            force *= std::sqrt(limit_squared / amplitude_squared);
         add(i, force);
         energy += 0.5 * p.stiffness * depth * depth;
     }
@@ -83,7 +84,8 @@ void PlaneForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std:
         });
 }
 
-void PlaneForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double /*b_factor*/) const {
+void PlaneForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                 double /*b_factor*/) const {
     // PlaneForceField::addDForce: df_p += n·(−k·kFactor·(dx_p·n)) on the active points; no B
     const double fact = -parameters_.stiffness * k_factor;
     const Vec3& n = parameters_.normal;
@@ -105,7 +107,8 @@ RigidPlaneForceField::RigidPlaneForceField(Rigid3Object& state, const PlaneForce
     check_plane_parameters(parameters_);
 }
 
-void RigidPlaneForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x, std::span<const RigidDeriv> v) {
+void RigidPlaneForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x,
+                                     std::span<const RigidDeriv> v) {
     // getCPos: the frame's centre; getDPos: the linear velocity; setDPos: the linear force
     active_.clear();
     energy_ = plane_forces(
@@ -134,7 +137,8 @@ void RigidPlaneForceField::add_stiffness_triplets(TripletList& triplets, Index o
     for (const Index p : active_) {
         const Index row = offset + 6 * p;
         for (Index l = 0; l < 3; ++l)
-            for (Index c = 0; c < 3; ++c) triplets.emplace_back(row + l, row + c, parameters_.normal[l] * fact * parameters_.normal[c]);
+            for (Index c = 0; c < 3; ++c)
+                triplets.emplace_back(row + l, row + c, parameters_.normal[l] * fact * parameters_.normal[c]);
     }
 }
 
@@ -159,7 +163,8 @@ void ConstantForceField::init() {
     points_.clear();
     for (const Index j : indices) {
         if (j < 0 || j >= size)
-            throw_invalid_argument("ConstantForceField: index ", j, " is out of range (the state has ", size, " points)");
+            throw_invalid_argument("ConstantForceField: index ", j, " is out of range (the state has ", size,
+                                   " points)");
         points_.push_back(parameters_.index_from_end ? size - 1 - j : j);
     }
     const auto count = indices.size();
@@ -258,7 +263,8 @@ void ConicalForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, st
     }
 }
 
-void ConicalForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double /*b_factor*/) const {
+void ConicalForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                   double /*b_factor*/) const {
     // ConicalForceField::addDForce: df_i += (n (dx_i·n))·(−k)·kFactor; no B
     for (const Contact& c : contacts_) {
         const auto i = static_cast<std::size_t>(c.index);
@@ -267,7 +273,8 @@ void ConicalForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx,
 }
 
 void ConicalForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
-    for (const Contact& c : contacts_) add_normal_block(triplets, offset, c.index, c.normal, -parameters_.stiffness * factor);
+    for (const Contact& c : contacts_)
+        add_normal_block(triplets, offset, c.index, c.normal, -parameters_.stiffness * factor);
 }
 
 }  // namespace penalty

@@ -61,9 +61,11 @@ FastTetrahedralCorotationalForceField::FastTetrahedralCorotationalForceField(Vec
     if (p_.young_modulus.empty() || p_.poisson_ratio.empty())
         throw_invalid_argument("FastTetrahedralCorotationalForceField: youngModulus and poissonRatio need a value");
     for (double v : p_.young_modulus)
-        if (!std::isfinite(v)) throw_invalid_argument("FastTetrahedralCorotationalForceField: youngModulus must be finite, got ", v);
+        if (!std::isfinite(v))
+            throw_invalid_argument("FastTetrahedralCorotationalForceField: youngModulus must be finite, got ", v);
     for (double v : p_.poisson_ratio)
-        if (!std::isfinite(v)) throw_invalid_argument("FastTetrahedralCorotationalForceField: poissonRatio must be finite, got ", v);
+        if (!std::isfinite(v))
+            throw_invalid_argument("FastTetrahedralCorotationalForceField: poissonRatio must be finite, got ", v);
 }
 
 FastTetrahedralCorotationalForceField::RestTetrahedron FastTetrahedralCorotationalForceField::rest_information(
@@ -83,7 +85,8 @@ FastTetrahedralCorotationalForceField::RestTetrahedron FastTetrahedralCorotation
     const double scale = std::max({(p[1] - p[0]).norm(), (p[2] - p[0]).norm(), (p[3] - p[0]).norm()});
     // SOFA divides by the volume (infinite stiffness); penalty refuses the element.
     if (!std::isfinite(volume) || std::abs(volume) <= 1e-12 / 6 * scale * scale * scale)
-        throw_invalid_argument("FastTetrahedralCorotationalForceField: tetrahedron ", t, " is degenerate (volume ", volume, ")");
+        throw_invalid_argument("FastTetrahedralCorotationalForceField: tetrahedron ", t, " is degenerate (volume ",
+                               volume, ")");
     r.rest_volume = volume;
     mu *= std::fabs(volume);
     lambda *= std::fabs(volume);
@@ -126,9 +129,12 @@ FastTetrahedralCorotationalForceField::RestTetrahedron FastTetrahedralCorotation
     // updateTopologyInformation: the global edges and their orientation
     const auto& edges = topology_->edges();
     for (std::size_t j = 0; j < 6; ++j) {
-        const PointId a = tet[static_cast<std::size_t>(kLocalEdges[j][0])], b = tet[static_cast<std::size_t>(kLocalEdges[j][1])];
+        const PointId a = tet[static_cast<std::size_t>(kLocalEdges[j][0])],
+                      b = tet[static_cast<std::size_t>(kLocalEdges[j][1])];
         const std::int32_t e = topology_->edge_index(a, b);
-        if (e < 0) throw_invalid_argument("FastTetrahedralCorotationalForceField: edge (", a, ", ", b, ") of tetrahedron ", t, " is not in the topology");
+        if (e < 0)
+            throw_invalid_argument("FastTetrahedralCorotationalForceField: edge (", a, ", ", b, ") of tetrahedron ", t,
+                                   " is not in the topology");
         r.edge[j] = e;
         r.edge_orientation[j] = edges[static_cast<std::size_t>(e)][0] == a ? 1.0 : -1.0;
     }
@@ -142,7 +148,8 @@ void FastTetrahedralCorotationalForceField::init() {
     for (const Tetrahedron& t : tetrahedra)
         for (PointId v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= n)
-                throw_invalid_argument("FastTetrahedralCorotationalForceField: tetrahedron vertex ", v, " outside the state's ", n, " points");
+                throw_invalid_argument("FastTetrahedralCorotationalForceField: tetrahedron vertex ", v,
+                                       " outside the state's ", n, " points");
     rest_.clear();
     rest_.reserve(tetrahedra.size());
     for (std::size_t t = 0; t < tetrahedra.size(); ++t) rest_.push_back(rest_information(t));
@@ -161,19 +168,22 @@ Mat3 FastTetrahedralCorotationalForceField::rotation_of(const RestTetrahedron& r
                     for (int l = 0; l < 3; ++l) f(k, l) += d[j][k] * r.shape_vector[j + 1][l];
             return polar_rotation(f);
         }
-        case FastTetrahedralRotation::qr: return transpose_product(qr_frame(d[0], d[1]), r.rest_rotation);
+        case FastTetrahedralRotation::qr:
+            return transpose_product(qr_frame(d[0], d[1]), r.rest_rotation);
         case FastTetrahedralRotation::polar_modified: {
             Mat3 s;
             for (int j = 0; j < 3; ++j) s.row(j) = d[static_cast<std::size_t>(j)].transpose();
             const Mat3 q = polar_rotation(s);
             return product(q.transpose(), r.rest_rotation);
         }
-        case FastTetrahedralRotation::linear: break;
+        case FastTetrahedralRotation::linear:
+            break;
     }
     return Mat3::Identity();
 }
 
-void FastTetrahedralCorotationalForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+void FastTetrahedralCorotationalForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
+                                                      std::span<const Vec3>) {
     PENALTY_DEMAND(rest_.size() == topology_->tetrahedra().size());
     const auto& tetrahedra = topology_->tetrahedra();
     for (std::size_t i = 0; i < tetrahedra.size(); ++i) {
@@ -183,7 +193,8 @@ void FastTetrahedralCorotationalForceField::add_force(std::span<Vec3> f, std::sp
         for (std::size_t j = 0; j < 4; ++j) vertex[j] = x[static_cast<std::size_t>(tet[j])];
         std::array<Vec3, 6> d;
         for (std::size_t j = 0; j < 6; ++j)
-            d[j] = vertex[static_cast<std::size_t>(kLocalEdges[j][1])] - vertex[static_cast<std::size_t>(kLocalEdges[j][0])];
+            d[j] = vertex[static_cast<std::size_t>(kLocalEdges[j][1])] -
+                   vertex[static_cast<std::size_t>(kLocalEdges[j][0])];
         const Mat3 rot = rotation_of(r, d);
         r.rotation = rot.transpose();
         std::array<Vec3, 4> force{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
@@ -222,13 +233,14 @@ void FastTetrahedralCorotationalForceField::add_dforce(std::span<Vec3> df, std::
     }
 }
 
-void FastTetrahedralCorotationalForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
+void FastTetrahedralCorotationalForceField::add_stiffness_triplets(TripletList& triplets, Index offset,
+                                                                   double factor) const {
     // buildStiffnessMatrix: diagonal blocks −Σ R D_i Rᵀ, off-diagonal −E_eᵀ (row k, column l) and −E_e
     const auto add_block = [&](std::size_t row, std::size_t col, const Mat3& block) {
         for (int m = 0; m < 3; ++m)
             for (int n = 0; n < 3; ++n)
-                triplets.emplace_back(offset + 3 * static_cast<Index>(row) + m, offset + 3 * static_cast<Index>(col) + n,
-                                      -factor * block(m, n));
+                triplets.emplace_back(offset + 3 * static_cast<Index>(row) + m,
+                                      offset + 3 * static_cast<Index>(col) + n, -factor * block(m, n));
     };
     std::vector<Mat3> point_dfdx(state_->position.size(), Mat3::Zero());
     const auto& tetrahedra = topology_->tetrahedra();

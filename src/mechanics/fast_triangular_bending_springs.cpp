@@ -16,7 +16,8 @@ namespace {
 double norm(const Vec3& v) { return std::sqrt(dot3(v, v)); }
 
 /// EdgeSpring::setEdgeSpring on rest positions p.
-FastTriangularBendingSprings::Element make_element(std::span<const Vec3> p, std::array<Index, 4> vid, double stiffness) {
+FastTriangularBendingSprings::Element make_element(std::span<const Vec3> p, std::array<Index, 4> vid,
+                                                   double stiffness) {
     FastTriangularBendingSprings::Element e;
     e.vid = vid;
     const auto at = [&](int k) -> const Vec3& { return p[static_cast<std::size_t>(vid[static_cast<std::size_t>(k)])]; };
@@ -49,7 +50,8 @@ void FastTriangularBendingSprings::init() {
     for (const Triangle& t : triangles)
         for (PointId v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= p.size())
-                throw_invalid_argument("FastTriangularBendingSprings: triangle point ", v, " out of range (", p.size(), " points)");
+                throw_invalid_argument("FastTriangularBendingSprings: triangle point ", v, " out of range (", p.size(),
+                                       " points)");
     const double eps2 = min_dist_ * min_dist_;
     std::vector<std::optional<Element>> per_edge(edges.size());
     for (std::size_t i = 0; i < triangles.size(); ++i)
@@ -70,7 +72,8 @@ void FastTriangularBendingSprings::init() {
             const Index e1 = edges[edge][0], e2 = edges[edge][1];
             const Vec3 vp = p[static_cast<std::size_t>(v2)] - p[static_cast<std::size_t>(v1)];
             const Vec3 ve = p[static_cast<std::size_t>(e2)] - p[static_cast<std::size_t>(e1)];
-            if (dot3(vp, vp) > eps2 && dot3(ve, ve) > eps2) per_edge[edge] = make_element(p, {v1, v2, e1, e2}, stiffness_);
+            if (dot3(vp, vp) > eps2 && dot3(ve, ve) > eps2)
+                per_edge[edge] = make_element(p, {v1, v2, e1, e2}, stiffness_);
             // else: SOFA leaves the element as it was (the other triangle's pass may have made it)
         }
     elements_.clear();

@@ -48,9 +48,14 @@ void fill_b(Eigen::Matrix<double, 6, Eigen::Dynamic>& b, int node, const Vec3& g
 template <int N>
 LinearElementForceField<N>::LinearElementForceField(Vec3Object& state, std::vector<Element> elements, double young,
                                                     double poisson, FemMethod method, const char* component)
-    : ForceField<Vec3Types>(state), elements_(std::move(elements)), young_(young), poisson_(poisson), method_(method),
+    : ForceField<Vec3Types>(state),
+      elements_(std::move(elements)),
+      young_(young),
+      poisson_(poisson),
+      method_(method),
       component_(component) {
-    if (!std::isfinite(young) || young <= 0) throw_invalid_argument(component, ": youngModulus must be finite and > 0, got ", young);
+    if (!std::isfinite(young) || young <= 0)
+        throw_invalid_argument(component, ": youngModulus must be finite and > 0, got ", young);
     if (!std::isfinite(poisson) || poisson <= -1.0 || poisson >= 0.5)
         throw_invalid_argument(component, ": poissonRatio must be in (-1, 0.5), got ", poisson);
 }
@@ -72,12 +77,14 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
         for (int k = 0; k < N; ++k) {
             const PointId v = elements_[e][static_cast<std::size_t>(k)];
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument(component_, ": element ", e, " uses vertex ", v, " out of range (", x0.size(), " DOFs)");
+                throw_invalid_argument(component_, ": element ", e, " uses vertex ", v, " out of range (", x0.size(),
+                                       " DOFs)");
             p[static_cast<std::size_t>(k)] = x0[static_cast<std::size_t>(v)];
         }
         const Mat3 r = method_ != FemMethod::Small ? element_rotation(p) : Mat3::Identity();
         rotation_[e] = r;
-        for (int k = 0; k < N; ++k) rest_local_[e][static_cast<std::size_t>(k)] = r * (p[static_cast<std::size_t>(k)] - p[0]);
+        for (int k = 0; k < N; ++k)
+            rest_local_[e][static_cast<std::size_t>(k)] = r * (p[static_cast<std::size_t>(k)] - p[0]);
         ke_[e] = compute_stiffness(rest_local_[e], d, e);
     }
 }
@@ -90,31 +97,39 @@ void LinearElementForceField<N>::add_force(std::span<Vec3> f, std::span<const Ve
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];
         std::array<Vec3, N> p;
-        for (int k = 0; k < N; ++k) p[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+        for (int k = 0; k < N; ++k)
+            p[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
         if (method_ != FemMethod::Small) {
             rotation_[e] = element_rotation_of(p, e);
             for (int k = 0; k < N; ++k)
-                u.template segment<3>(3 * k) = rotation_[e] * (p[static_cast<std::size_t>(k)] - p[0]) - rest_local_[e][static_cast<std::size_t>(k)];
+                u.template segment<3>(3 * k) = rotation_[e] * (p[static_cast<std::size_t>(k)] - p[0]) -
+                                               rest_local_[e][static_cast<std::size_t>(k)];
         } else {
             for (int k = 0; k < N; ++k)
-                u.template segment<3>(3 * k) = p[static_cast<std::size_t>(k)] - state_->rest_position[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+                u.template segment<3>(3 * k) =
+                    p[static_cast<std::size_t>(k)] -
+                    state_->rest_position[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
         }
         const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
         energy_ += 0.5 * u.dot(fl);
         for (int k = 0; k < N; ++k)
-            f[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -= rotation_[e].transpose() * fl.template segment<3>(3 * k);
+            f[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -=
+                rotation_[e].transpose() * fl.template segment<3>(3 * k);
     }
 }
 
 template <int N>
-void LinearElementForceField<N>::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
+void LinearElementForceField<N>::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                            double) const {
     Eigen::Matrix<double, 3 * N, 1> u;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];
-        for (int k = 0; k < N; ++k) u.template segment<3>(3 * k) = rotation_[e] * dx[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+        for (int k = 0; k < N; ++k)
+            u.template segment<3>(3 * k) = rotation_[e] * dx[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
         const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
         for (int k = 0; k < N; ++k)
-            df[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -= k_factor * (rotation_[e].transpose() * fl.template segment<3>(3 * k));
+            df[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -=
+                k_factor * (rotation_[e].transpose() * fl.template segment<3>(3 * k));
     }
 }
 
@@ -124,7 +139,8 @@ void LinearElementForceField<N>::add_stiffness_triplets(TripletList& t, Index of
         const auto& el = elements_[e];
         for (int a = 0; a < N; ++a)
             for (int b = 0; b < N; ++b) {
-                const Mat3 blk = -factor * rotation_[e].transpose() * ke_[e].template block<3, 3>(3 * a, 3 * b) * rotation_[e];
+                const Mat3 blk =
+                    -factor * rotation_[e].transpose() * ke_[e].template block<3, 3>(3 * a, 3 * b) * rotation_[e];
                 const Index ra = offset + 3 * el[static_cast<std::size_t>(a)];
                 const Index cb = offset + 3 * el[static_cast<std::size_t>(b)];
                 for (Index r = 0; r < 3; ++r)
@@ -148,7 +164,8 @@ Mat3 polar_rotation(const Mat3& m) {
         cofactor.row(2) = x.row(0).cross(x.row(1));
         const double det = x.row(0).dot(cofactor.row(0));
         if (det == 0.0) break;
-        const double gamma = std::sqrt(std::sqrt((one_norm(cofactor) * inf_norm(cofactor)) / (x_one * x_inf)) / std::abs(det));
+        const double gamma =
+            std::sqrt(std::sqrt((one_norm(cofactor) * inf_norm(cofactor)) / (x_one * x_inf)) / std::abs(det));
         const Mat3 next = x * (gamma * 0.5) + cofactor * (0.5 / (gamma * det));
         const double change = one_norm(x - next);
         x = next;
@@ -169,16 +186,16 @@ std::vector<Tetrahedron> tetrahedra_of(const MeshTopology& topo, int nx, int ny)
 
 TetrahedronFEMForceField::TetrahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young,
                                                    double poisson, FemMethod method)
-    : LinearElementForceField<4>(state, tetrahedra_of(topology, 2, 1), young, poisson, method, "TetrahedronFEMForceField") {}
+    : LinearElementForceField<4>(state, tetrahedra_of(topology, 2, 1), young, poisson, method,
+                                 "TetrahedronFEMForceField") {}
 
 TetrahedronFEMForceField::TetrahedronFEMForceField(Vec3Object& state, const RegularGridTopology& grid, double young,
                                                    double poisson, FemMethod method)
     : LinearElementForceField<4>(state, tetrahedra_of(grid.mesh(), grid.cells_x(), grid.cells_y()), young, poisson,
                                  method, "TetrahedronFEMForceField") {}
 
-TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffness(const std::array<Vec3, 4>& p,
-                                                                                    const Eigen::Matrix<double, 6, 6>& d,
-                                                                                    std::size_t e) const {
+TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffness(
+    const std::array<Vec3, 4>& p, const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const {
     Mat3 m;
     m << p[1] - p[0], p[2] - p[0], p[3] - p[0];
     const double det = m.determinant();
@@ -226,9 +243,7 @@ Mat3 edge_rows(const std::array<Vec3, 4>& p) {
 }
 }  // namespace
 
-void TetrahedronFEMForceField::init() {
-    init_elements(0);
-}
+void TetrahedronFEMForceField::init() { init_elements(0); }
 
 void TetrahedronFEMForceField::init_elements(std::size_t first) {
     LinearElementForceField<4>::init_from(first);
@@ -242,7 +257,8 @@ void TetrahedronFEMForceField::init_elements(std::size_t first) {
         std::array<Vec3, 4> p;
         for (std::size_t k = 0; k < 4; ++k) p[k] = x0[static_cast<std::size_t>(elements_[e][k])];
         const Mat3 a0 = edge_rows(p);
-        if (a0.determinant() == 0.0) throw_invalid_argument(component_, ": tetrahedron ", e, " is flat at rest (method svd)");
+        if (a0.determinant() == 0.0)
+            throw_invalid_argument(component_, ": tetrahedron ", e, " is flat at rest (method svd)");
         rest_edges_inverse_[e] = a0.inverse();
         rest_rotation_[e] = polar_rotation(a0);
     }
@@ -328,7 +344,8 @@ MaterialMatrix material_over_volume(double young, double poisson, const std::arr
 /// Lane e % W of block e / W from data(e); `pad`: a lane 0 also gives its vertices to the block's
 /// other lanes (the missing elements of a last block read them).
 template <std::size_t W, class ElementData>
-void fill_lane(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t e, const ElementData& data, bool pad) {
+void fill_lane(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t e, const ElementData& data,
+               bool pad) {
     auto& block = blocks[e / W];
     const std::size_t lane = e % W;
     const auto& [j, m, rotation, element] = data(e);
@@ -353,7 +370,8 @@ void fill_lane(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_
 /// Method large's element data W elements a block (lane e of block b: element W·b + e); data(e)
 /// gives element e's (J, D/(36V), R, vertices).
 template <std::size_t W, class ElementData>
-void fill_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t element_count, const ElementData& data) {
+void fill_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t element_count,
+                      const ElementData& data) {
     blocks.assign((element_count + W - 1) / W, detail::TetrahedronLargeLanes<W>{});
     for (std::size_t e = 0; e < element_count; ++e) fill_lane(blocks, e, data, true);
 }
@@ -366,7 +384,8 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
     for (std::size_t e = first; e < elements_.size(); ++e) {
         std::array<Vec3, 4> x;
         for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
-        const double factor = young_factors_.empty() ? 1.0 : young_factors_[e * young_factors_.size() / elements_.size()];
+        const double factor =
+            young_factors_.empty() ? 1.0 : young_factors_[e * young_factors_.size() / elements_.size()];
         const double young = young_factors_.empty() ? young_ : factor * young_;
         large_[e].material = material_over_volume(young, poisson_, x);
         if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
@@ -399,7 +418,8 @@ void refresh_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, 
     const std::size_t used = count - W * (blocks.size() - 1);
     fill_lane(blocks, W * (blocks.size() - 1), data, true);  // lane 0, and its vertices in the missing lanes
     for (std::size_t lane = 1; lane < used; ++lane)
-        for (std::size_t k = 0; k < 4; ++k) last.vertex[k][lane] = static_cast<std::size_t>(std::get<3>(data(W * (blocks.size() - 1) + lane))[k]);
+        for (std::size_t k = 0; k < 4; ++k)
+            last.vertex[k][lane] = static_cast<std::size_t>(std::get<3>(data(W * (blocks.size() - 1) + lane))[k]);
     for (std::size_t lane = used; lane < W; ++lane) {
         for (auto& c : last.cofactor)
             for (auto& l : c) l[lane] = 0.0;
@@ -425,14 +445,16 @@ void TetrahedronFEMForceField::fill_eight_lane_blocks() {
     fill_lane_blocks(large_blocks8_, elements_.size(), [this](std::size_t e) { return large_element_lanes(e); });
 }
 
-std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&, const TetrahedronFEMForceField::Element&>
+std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&,
+           const TetrahedronFEMForceField::Element&>
 TetrahedronFEMForceField::large_element_lanes(std::size_t e) const {
     return std::tie(large_[e].strain_displacement, large_[e].material, rotation_[e], elements_[e]);
 }
 
 void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
     if (!kernel_path_supported(path))
-        throw_invalid_argument("TetrahedronFEMForceField: kernel path ", to_string(path), " is not supported by this CPU");
+        throw_invalid_argument("TetrahedronFEMForceField: kernel path ", to_string(path),
+                               " is not supported by this CPU");
     kernel_path_ = path;
     fill_eight_lane_blocks();  // after init: the eight-lane blocks, with the current R, or none
 }
@@ -454,7 +476,8 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     if (kernel_path_ != KernelPath::scalar) {
         // frames, δ and F four elements at a time; the energy and f += Rᵀ·F element by element in
         // order, as below
-        energy_ = detail::large_add_force_avx(large_blocks_, large_blocks8_, rest_local_, elements_, rotation_, x.data(), f.data());
+        energy_ = detail::large_add_force_avx(large_blocks_, large_blocks8_, rest_local_, elements_, rotation_,
+                                              x.data(), f.data());
         return;
     }
 #endif
@@ -477,7 +500,8 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
         delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
         for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
-        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, delta, std::nullopt);
+        const Displacement force =
+            element_force(large_[e].strain_displacement, large_[e].material, delta, std::nullopt);
         double energy = 0.0;
         detail::large_element_energy(delta, force, energy);
         energy_ += energy;
@@ -513,7 +537,8 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
             local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[static_cast<std::size_t>(el[k])]);
         const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, local, k_factor);
         for (std::size_t k = 0; k < 4; ++k)
-            df[static_cast<std::size_t>(el[k])] -= sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+            df[static_cast<std::size_t>(el[k])] -=
+                sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     }
 }
 
@@ -558,7 +583,8 @@ Mat3 stable_polar_rotation(const Mat3& f) {
         // SOFA's third edge mixes two columns' entries: (U(0, o2), U(1, o0), U(2, o0)), kept as SOFA
         const Vec3 edge2(u(0, order[2]), u(1, order[0]), u(2, order[0]));
         const Vec3 a = edge2.cwiseAbs();
-        Vec3 edge0 = a[0] > a[1] ? (a[0] > a[2] ? Vec3(0, 1, 0) : Vec3(1, 0, 0)) : (a[1] > a[2] ? Vec3(0, 0, 1) : Vec3(1, 0, 0));
+        Vec3 edge0 =
+            a[0] > a[1] ? (a[0] > a[2] ? Vec3(0, 1, 0) : Vec3(1, 0, 0)) : (a[1] > a[2] ? Vec3(0, 0, 1) : Vec3(1, 0, 0));
         const Vec3 edge1 = edge2.cross(edge0).normalized();
         edge0 = edge1.cross(edge2);
         u.col(order[0]) = edge0;

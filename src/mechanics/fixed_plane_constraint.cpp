@@ -5,7 +5,8 @@ namespace penalty {
 void FixedPlaneProjectiveConstraint::init() {
     for (Index i : indices_)
         if (i < 0 || static_cast<std::size_t>(i) >= state_->num_dofs())
-            throw_invalid_argument("FixedPlaneProjectiveConstraint: index ", i, " out of range (", state_->num_dofs(), " DOFs)");
+            throw_invalid_argument("FixedPlaneProjectiveConstraint: index ", i, " out of range (", state_->num_dofs(),
+                                   " DOFs)");
 }
 
 // FixedPlaneProjectiveConstraint::projectResponse: u ← u − d (u·d) on the linear part.
@@ -26,7 +27,8 @@ bool FixedPlaneProjectiveConstraint::list_discarded_rows(std::vector<Index>& row
     return true;
 }
 
-std::vector<Index> points_between_planes(std::span<const Vec3> points, const Vec3& direction, double dmin, double dmax) {
+std::vector<Index> points_between_planes(std::span<const Vec3> points, const Vec3& direction, double dmin,
+                                         double dmax) {
     std::vector<Index> inside;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const double d = points[i].dot(direction);

@@ -82,12 +82,12 @@ void SkinningMapping::init() {
     for (std::size_t i = 0; i < influences_.size(); ++i) {
         const Influences& in = influences_[i];
         if (in.frames.size() != in.weights.size())
-            throw_invalid_argument("SkinningMapping: point ", i, " has ", in.frames.size(), " frames and ", in.weights.size(),
-                                   " weights");
+            throw_invalid_argument("SkinningMapping: point ", i, " has ", in.frames.size(), " frames and ",
+                                   in.weights.size(), " weights");
         for (const Index f : in.frames)
             if (f < 0 || std::size_t(f) >= frames.size())
-                throw_invalid_argument("SkinningMapping: point ", i, " uses frame ", f, " but the input has ", frames.size(),
-                                       " frames");
+                throw_invalid_argument("SkinningMapping: point ", i, " uses frame ", f, " but the input has ",
+                                       frames.size(), " frames");
     }
     // SkinningMapping::reinit: the weights normalised again, the weighted local points
     local_.assign(initial_points_.size(), {});
@@ -162,7 +162,10 @@ void SkinningMapping::add_jacobian_triplets(TripletList& t, Index row_offset, In
 DeformableOnRigidFrameMapping::DeformableOnRigidFrameMapping(Vec3Object& deformable, Rigid3Object& frames,
                                                              Vec3Object& to, Index index, bool index_from_end,
                                                              std::vector<unsigned> repartition)
-    : Mapping(deformable, to), frames_(&frames), index_(index), index_from_end_(index_from_end),
+    : Mapping(deformable, to),
+      frames_(&frames),
+      index_(index),
+      index_from_end_(index_from_end),
       repartition_(std::move(repartition)) {}
 
 std::vector<Index> DeformableOnRigidFrameMapping::point_frames(std::size_t frame_count) const {
@@ -170,8 +173,8 @@ std::vector<Index> DeformableOnRigidFrameMapping::point_frames(std::size_t frame
     if (frame_count == 0) throw_invalid_argument("DeformableOnRigidFrameMapping: the frame input has no frame");
     const auto frame_index = [&] {
         if (index_ < 0 || std::size_t(index_) >= frame_count)
-            throw_invalid_argument("DeformableOnRigidFrameMapping: index ", index_, " but the frame input has ", frame_count,
-                                   " frames");
+            throw_invalid_argument("DeformableOnRigidFrameMapping: index ", index_, " but the frame input has ",
+                                   frame_count, " frames");
         return index_from_end_ ? Index(frame_count) - 1 - index_ : index_;
     };
     std::vector<Index> out;
@@ -186,8 +189,8 @@ std::vector<Index> DeformableOnRigidFrameMapping::point_frames(std::size_t frame
         for (std::size_t f = 0; f < frame_count; ++f) out.insert(out.end(), repartition_[f], Index(f));
     }
     if (out.size() != points)
-        throw_invalid_argument("DeformableOnRigidFrameMapping: the repartition places ", out.size(), " points, the input has ",
-                               points);
+        throw_invalid_argument("DeformableOnRigidFrameMapping: the repartition places ", out.size(),
+                               " points, the input has ", points);
     return out;
 }
 
@@ -197,7 +200,8 @@ void DeformableOnRigidFrameMapping::init() {
     Mapping::init();
 }
 
-void DeformableOnRigidFrameMapping::apply_both(std::span<Vec3> out, std::span<const Vec3> in, std::span<const RigidFrame> frames) {
+void DeformableOnRigidFrameMapping::apply_both(std::span<Vec3> out, std::span<const Vec3> in,
+                                               std::span<const RigidFrame> frames) {
     point_frame_ = point_frames(frames.size());
     rotated_.resize(in.size());
     for (std::size_t i = 0; i < in.size(); ++i) {
@@ -229,7 +233,8 @@ void DeformableOnRigidFrameMapping::apply_jt_both(std::span<Vec3> in, std::span<
     RigidDeriv& root = frames[index_from_end_ ? frames.size() - 1 - std::size_t(index_) : std::size_t(index_)];
     root.linear = plus(root.linear, force);
     root.angular = plus(root.angular, torque);
-    for (std::size_t i = 0; i < out.size(); ++i) in[i] = plus(in[i], sofa_quat::inverse_rotate(root_.orientation, out[i]));
+    for (std::size_t i = 0; i < out.size(); ++i)
+        in[i] = plus(in[i], sofa_quat::inverse_rotate(root_.orientation, out[i]));
 }
 
 void DeformableOnRigidFrameMapping::apply_j(std::span<Vec3> out, std::span<const Vec3> in) const {
@@ -237,14 +242,16 @@ void DeformableOnRigidFrameMapping::apply_j(std::span<Vec3> out, std::span<const
 }
 
 void DeformableOnRigidFrameMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out) const {
-    for (std::size_t i = 0; i < out.size(); ++i) in[i] = plus(in[i], sofa_quat::inverse_rotate(root_.orientation, out[i]));
+    for (std::size_t i = 0; i < out.size(); ++i)
+        in[i] = plus(in[i], sofa_quat::inverse_rotate(root_.orientation, out[i]));
 }
 
 void DeformableOnRigidFrameMapping::add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const {
     const Mat3 r = sofa_quat::to_matrix(root_.orientation);
     for (std::size_t i = 0; i < rotated_.size(); ++i)
         for (Index a = 0; a < 3; ++a)
-            for (Index b = 0; b < 3; ++b) t.emplace_back(row_offset + 3 * Index(i) + a, col_offset + 3 * Index(i) + b, r(a, b));
+            for (Index b = 0; b < 3; ++b)
+                t.emplace_back(row_offset + 3 * Index(i) + a, col_offset + 3 * Index(i) + b, r(a, b));
 }
 
 void DeformableOnRigidFrameMapping::add_second_input_jacobian_triplets(TripletList& t, Index row_offset,
@@ -263,10 +270,14 @@ void DeformableOnRigidFrameMapping::add_second_input_jacobian_triplets(TripletLi
 DistanceFromTargetMapping::DistanceFromTargetMapping(Vec3Object& from, Vec1Object& to, std::vector<Index> indices,
                                                      std::vector<Vec3> targets, std::vector<double> rest_lengths,
                                                      int geometric_stiffness)
-    : Mapping(from, to), indices_(std::move(indices)), targets_(std::move(targets)),
-      rest_lengths_(std::move(rest_lengths)), geometric_stiffness_mode_(geometric_stiffness) {
+    : Mapping(from, to),
+      indices_(std::move(indices)),
+      targets_(std::move(targets)),
+      rest_lengths_(std::move(rest_lengths)),
+      geometric_stiffness_mode_(geometric_stiffness) {
     if (geometric_stiffness < 0 || geometric_stiffness > 2)
-        throw_invalid_argument("DistanceFromTargetMapping: geometricStiffness must be 0, 1 or 2, got ", geometric_stiffness);
+        throw_invalid_argument("DistanceFromTargetMapping: geometricStiffness must be 0, 1 or 2, got ",
+                               geometric_stiffness);
     geometric_stiffness_ = geometric_stiffness != 0;
 }
 
@@ -274,11 +285,13 @@ void DistanceFromTargetMapping::init() {
     // DistanceFromTargetMapping::init: missing indices are 0, 1, ...; missing rest lengths 0
     for (std::size_t i = indices_.size(); i < targets_.size(); ++i) indices_.push_back(Index(i));
     if (indices_.size() != targets_.size())
-        throw_invalid_argument("DistanceFromTargetMapping: ", indices_.size(), " indices for ", targets_.size(), " targets");
+        throw_invalid_argument("DistanceFromTargetMapping: ", indices_.size(), " indices for ", targets_.size(),
+                               " targets");
     if (rest_lengths_.size() != indices_.size()) rest_lengths_.resize(indices_.size(), 0.0);
     for (const Index i : indices_)
         if (i < 0 || std::size_t(i) >= in_->num_dofs())
-            throw_invalid_argument("DistanceFromTargetMapping: index ", i, " but the input has ", in_->num_dofs(), " points");
+            throw_invalid_argument("DistanceFromTargetMapping: index ", i, " but the input has ", in_->num_dofs(),
+                                   " points");
     Mapping::init();
 }
 
@@ -319,7 +332,8 @@ void DistanceFromTargetMapping::apply_jt(std::span<Vec3> in, std::span<const dou
 
 void DistanceFromTargetMapping::add_jacobian_triplets(TripletList& t, Index row_offset, Index col_offset) const {
     for (std::size_t i = 0; i < indices_.size(); ++i)
-        for (Index k = 0; k < 3; ++k) t.emplace_back(row_offset + Index(i), col_offset + 3 * indices_[i] + k, directions_[i][k]);
+        for (Index k = 0; k < 3; ++k)
+            t.emplace_back(row_offset + Index(i), col_offset + 3 * indices_[i] + k, directions_[i][k]);
 }
 
 void DistanceFromTargetMapping::add_geometric_stiffness(std::span<Vec3> df, std::span<const Vec3> dx,

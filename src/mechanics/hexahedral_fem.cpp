@@ -17,8 +17,7 @@ constexpr int kCorner[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1
 /// factor integrates to 2) and f_c = 2 + ⅔ s_c^i s_c^j otherwise.
 double gradient_product_integral(int i, int j, int a, int b) {
     double value = kCorner[i][a] * kCorner[j][b] / 64.0;
-    for (int c = 0; c < 3; ++c)
-        value *= (c == a || c == b) ? 2.0 : 2.0 + (2.0 / 3.0) * kCorner[i][c] * kCorner[j][c];
+    for (int c = 0; c < 3; ++c) value *= (c == a || c == b) ? 2.0 : 2.0 + (2.0 / 3.0) * kCorner[i][c] * kCorner[j][c];
     return value;
 }
 
@@ -67,8 +66,8 @@ HexahedralFEMForceField::ElementMatrix HexahedralFEMForceField::compute_stiffnes
     for (std::size_t k = 0; k < 8; ++k) p[k] = state_->rest_position[static_cast<std::size_t>(elements_[e][k])];
     const Vec3 l = p[6] - p[0];
     if (!(l.array() != 0.0).all() || !l.allFinite())
-        throw_invalid_argument(component_, ": hexahedron ", e, " has a diagonal 0→6 with a zero component (", l.transpose(),
-                               "): SOFA's stiffness needs a box aligned with the axes");
+        throw_invalid_argument(component_, ": hexahedron ", e, " has a diagonal 0→6 with a zero component (",
+                               l.transpose(), "): SOFA's stiffness needs a box aligned with the axes");
     const Vec3 inv_j(2.0 / l.x(), 2.0 / l.y(), 2.0 / l.z());
     const double volume_factor = box_volume(p) / 8.0;
     ElementMatrix k = ElementMatrix::Zero();
@@ -143,7 +142,8 @@ void HexahedralFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3>
         Eigen::Matrix<double, 24, 1> d;
         for (std::size_t w = 0; w < 8; ++w) {
             const Vec3 deformed = sofa_vec::times(r, p[w]);
-            for (std::size_t a = 0; a < 3; ++a) d[Eigen::Index(3 * w + a)] = rotated_rest_[e][w][Eigen::Index(a)] - deformed[Eigen::Index(a)];
+            for (std::size_t a = 0; a < 3; ++a)
+                d[Eigen::Index(3 * w + a)] = rotated_rest_[e][w][Eigen::Index(a)] - deformed[Eigen::Index(a)];
         }
         const Eigen::Matrix<double, 24, 1> force = sofa_product(ke_[e], d);
         for (std::size_t w = 0; w < 8; ++w) {
@@ -154,7 +154,8 @@ void HexahedralFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3>
     }
 }
 
-void HexahedralFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const {
+void HexahedralFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                         double b_factor) const {
     if (method_ != FemMethod::Large) {
         LinearElementForceField<8>::add_dforce(df, dx, k_factor, b_factor);
         return;
@@ -191,7 +192,8 @@ Mat3 HexahedralFEMForceField::element_rotation(const std::array<Vec3, 8>& p) con
 HexahedronElementMass::HexahedronElementMass(Vec3Object& state, std::vector<Hexahedron> hexahedra, double density,
                                              bool lumped, const char* component)
     : state_(&state), hexahedra_(std::move(hexahedra)), density_(density), lumped_(lumped), component_(component) {
-    if (!std::isfinite(density) || density <= 0) throw_invalid_argument(component, ": density must be finite and > 0, got ", density);
+    if (!std::isfinite(density) || density <= 0)
+        throw_invalid_argument(component, ": density must be finite and > 0, got ", density);
 }
 
 // HexahedralFEMForceFieldAndMass::computeElementMasses / computeParticleMasses / computeLumpedMasses
@@ -199,7 +201,8 @@ HexahedronElementMass::HexahedronElementMass(Vec3Object& state, std::vector<Hexa
 void HexahedronElementMass::init() {
     const auto& x0 = state_->rest_position;
     if (!mass_factors_.empty() && mass_factors_.size() != hexahedra_.size())
-        throw_invalid_argument(component_, ": ", mass_factors_.size(), " mass factors for ", hexahedra_.size(), " hexahedra");
+        throw_invalid_argument(component_, ": ", mass_factors_.size(), " mass factors for ", hexahedra_.size(),
+                               " hexahedra");
     element_weights_.assign(hexahedra_.size(), 0.0);
     particle_masses_.assign(x0.size(), 0.0);
     lumped_masses_.assign(lumped_ ? x0.size() : 0, 0.0);
@@ -211,7 +214,8 @@ void HexahedronElementMass::init() {
         for (std::size_t k = 0; k < 8; ++k) {
             const PointId v = hexahedra_[e][k];
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument(component_, ": hexahedron ", e, " uses vertex ", v, " out of range (", x0.size(), " DOFs)");
+                throw_invalid_argument(component_, ": hexahedron ", e, " uses vertex ", v, " out of range (", x0.size(),
+                                       " DOFs)");
             p[k] = x0[static_cast<std::size_t>(v)];
         }
         const double factor = mass_factors_.empty() ? 1.0 : mass_factors_[e];
@@ -245,14 +249,16 @@ void HexahedronElementMass::add_gravity_force(const Vec3& gravity) {
 void HexahedronElementMass::add_mdx(double factor) { multiply_add(state_->df, state_->dx, factor); }
 
 void HexahedronElementMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) const {
-    throw_invalid_argument(component_, ": no inverse mass (SOFA's accFromF is not implemented): use an implicit solver");
+    throw_invalid_argument(component_,
+                           ": no inverse mass (SOFA's accFromF is not implemented): use an implicit solver");
 }
 
 void HexahedronElementMass::add_mass_triplets(TripletList& t, Index offset, double factor) const {
     if (lumped_) {
         for (std::size_t i = 0; i < lumped_masses_.size(); ++i)
             for (Index a = 0; a < 3; ++a)
-                t.emplace_back(offset + 3 * static_cast<Index>(i) + a, offset + 3 * static_cast<Index>(i) + a, lumped_masses_[i] * factor);
+                t.emplace_back(offset + 3 * static_cast<Index>(i) + a, offset + 3 * static_cast<Index>(i) + a,
+                               lumped_masses_[i] * factor);
         return;
     }
     for (std::size_t e = 0; e < hexahedra_.size(); ++e)
@@ -272,7 +278,8 @@ double HexahedronElementMass::kinetic_energy() const {
 
 double HexahedronElementMass::gravity_potential_energy(const Vec3& gravity) const {
     double energy = 0.0;
-    for (std::size_t i = 0; i < particle_masses_.size(); ++i) energy -= particle_masses_[i] * gravity.dot(state_->position[i]);
+    for (std::size_t i = 0; i < particle_masses_.size(); ++i)
+        energy -= particle_masses_[i] * gravity.dot(state_->position[i]);
     return energy;
 }
 

@@ -14,10 +14,11 @@ TetrahedronHyperelasticityFEMForceField::TetrahedronHyperelasticityFEMForceField
     : ForceField<Vec3Types>(state), tetrahedra_(std::move(tetrahedra)), law_(std::move(law)) {
     const std::size_t n = material_parameter_count(law_.material);
     if (law_.parameters.size() != n)
-        throw_invalid_argument("TetrahedronHyperelasticityFEMForceField: material ", material_name(law_.material), " needs ", n,
-                               " parameters, got ", law_.parameters.size());
+        throw_invalid_argument("TetrahedronHyperelasticityFEMForceField: material ", material_name(law_.material),
+                               " needs ", n, " parameters, got ", law_.parameters.size());
     for (const double p : law_.parameters)
-        if (!std::isfinite(p)) throw_invalid_argument("TetrahedronHyperelasticityFEMForceField: parameters must be finite");
+        if (!std::isfinite(p))
+            throw_invalid_argument("TetrahedronHyperelasticityFEMForceField: parameters must be finite");
     if (law_.material == HyperelasticMaterial::Ogden && law_.parameters[1] == 0)
         throw_invalid_argument("TetrahedronHyperelasticityFEMForceField: Ogden's alpha1 must be non-zero");
 }
@@ -39,8 +40,8 @@ void TetrahedronHyperelasticityFEMForceField::init() {
         const double six_volume = (p[2] - p[0]).cross(p[3] - p[0]).dot(p[1] - p[0]);
         const double scale = std::max({(p[1] - p[0]).norm(), (p[2] - p[0]).norm(), (p[3] - p[0]).norm()});
         if (!(std::abs(six_volume) > 1e-12 * scale * scale * scale))
-            throw_invalid_argument("TetrahedronHyperelasticityFEMForceField: tetrahedron ", e, " is flat at rest (volume ",
-                                   six_volume / 6, ")");
+            throw_invalid_argument("TetrahedronHyperelasticityFEMForceField: tetrahedron ", e,
+                                   " is flat at rest (volume ", six_volume / 6, ")");
         Element& el = elements_[e];
         el.rest_volume = std::abs(six_volume / 6);
         for (std::size_t j = 0; j < 4; ++j) {
@@ -51,7 +52,8 @@ void TetrahedronHyperelasticityFEMForceField::init() {
     }
 }
 
-void TetrahedronHyperelasticityFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+void TetrahedronHyperelasticityFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
+                                                        std::span<const Vec3>) {
     PENALTY_DEMAND(elements_.size() == tetrahedra_.size());
     energy_ = 0;
     for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
@@ -64,7 +66,8 @@ void TetrahedronHyperelasticityFEMForceField::add_force(std::span<Vec3> f, std::
         const Mat3 c = def.transpose() * def;
         const Mat3 s = law_.second_piola(c, jac);
         energy_ += el.rest_volume * law_.energy_density(c, jac);
-        for (std::size_t k = 0; k < 4; ++k) f[static_cast<std::size_t>(t[k])] -= el.rest_volume * (def * (s * el.shape[k]));
+        for (std::size_t k = 0; k < 4; ++k)
+            f[static_cast<std::size_t>(t[k])] -= el.rest_volume * (def * (s * el.shape[k]));
         // ∂fₖ/∂xₗ: column m = −V₀[(gₖ·S·gₗ) eₘ + F dS[dC] gₖ], dC = (Fᵀeₘ) ⊗ gₗ + gₗ ⊗ (Fᵀeₘ)
         // (updateTangentMatrix's M and N)
         for (std::size_t l = 0; l < 4; ++l) {
@@ -89,13 +92,15 @@ void TetrahedronHyperelasticityFEMForceField::add_dforce(std::span<Vec3> df, std
         const auto& t = tetrahedra_[e];
         for (std::size_t k = 0; k < 4; ++k) {
             Vec3 sum = Vec3::Zero();
-            for (std::size_t l = 0; l < 4; ++l) sum += elements_[e].stiffness[4 * k + l] * dx[static_cast<std::size_t>(t[l])];
+            for (std::size_t l = 0; l < 4; ++l)
+                sum += elements_[e].stiffness[4 * k + l] * dx[static_cast<std::size_t>(t[l])];
             df[static_cast<std::size_t>(t[k])] += k_factor * sum;
         }
     }
 }
 
-void TetrahedronHyperelasticityFEMForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
+void TetrahedronHyperelasticityFEMForceField::add_stiffness_triplets(TripletList& triplets, Index offset,
+                                                                     double factor) const {
     for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
         const auto& t = tetrahedra_[e];
         for (std::size_t k = 0; k < 4; ++k)

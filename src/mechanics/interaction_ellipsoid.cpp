@@ -17,7 +17,8 @@ InteractionEllipsoidForceField::InteractionEllipsoidForceField(Vec3Object& point
         throw_invalid_argument("InteractionEllipsoidForceField: center must be finite");
     for (const Vec3& r : parameters_.radii)
         if (!r.allFinite() || (r.array() == 0.0).any())
-            throw_invalid_argument("InteractionEllipsoidForceField: vradius must be finite and non-zero, got (", r.transpose(), ")");
+            throw_invalid_argument("InteractionEllipsoidForceField: vradius must be finite and non-zero, got (",
+                                   r.transpose(), ")");
     if (!std::isfinite(parameters_.stiffness) || !std::isfinite(parameters_.damping))
         throw_invalid_argument("InteractionEllipsoidForceField: stiffness and damping must be finite");
     // initCalcF: as many ellipsoids as the longer list; a missing center or radius repeats the
@@ -30,7 +31,8 @@ InteractionEllipsoidForceField::InteractionEllipsoidForceField(Vec3Object& point
     }
     parameters_.centers = std::move(centers);
     parameters_.radii = std::move(radii);
-    for (const Vec3& r : parameters_.radii) inverse_radii2_.emplace_back(1 / (r[0] * r[0]), 1 / (r[1] * r[1]), 1 / (r[2] * r[2]));
+    for (const Vec3& r : parameters_.radii)
+        inverse_radii2_.emplace_back(1 / (r[0] * r[0]), 1 / (r[1] * r[1]), 1 / (r[2] * r[2]));
 }
 
 void InteractionEllipsoidForceField::init() {
@@ -63,7 +65,8 @@ bool InteractionEllipsoidForceField::local_force(const Vec3& p, const Vec3& v, V
     double best_n2 = -1;
     std::size_t best = 0;
     for (std::size_t e = 0; e < parameters_.centers.size(); ++e) {
-        const Vec3 dp(p[0] - parameters_.centers[e][0], p[1] - parameters_.centers[e][1], p[2] - parameters_.centers[e][2]);
+        const Vec3 dp(p[0] - parameters_.centers[e][0], p[1] - parameters_.centers[e][1],
+                      p[2] - parameters_.centers[e][2]);
         double n2 = 0;
         for (int j = 0; j < 3; ++j) n2 += (dp[j] * dp[j]) * inverse_radii2_[e][j];
         if (e == 0 || n2 < best_n2) {
@@ -102,7 +105,8 @@ void InteractionEllipsoidForceField::accumulate_force() {
     Vec3 frame_force = Vec3::Zero();
     for (std::size_t i = 0; i < points_->num_dofs(); ++i) {
         const Vec3& x = points_->position[i];
-        const Vec3 p = sofa_quat::inverse_rotate(c.orientation, Vec3(x[0] - c.center[0], x[1] - c.center[1], x[2] - c.center[2]));
+        const Vec3 p =
+            sofa_quat::inverse_rotate(c.orientation, Vec3(x[0] - c.center[0], x[1] - c.center[1], x[2] - c.center[2]));
         const Vec3 v = sofa_quat::inverse_rotate(c.orientation, points_->velocity[i]);
         Vec3 local = Vec3::Zero();
         Mat3 m;
@@ -112,7 +116,8 @@ void InteractionEllipsoidForceField::accumulate_force() {
         frame_force -= force;
         contacts_.push_back({static_cast<Index>(i), m});
     }
-    if (parameters_.object2_forces) frames_->force[static_cast<std::size_t>(parameters_.frame_index)].linear += frame_force;
+    if (parameters_.object2_forces)
+        frames_->force[static_cast<std::size_t>(parameters_.frame_index)].linear += frame_force;
 }
 
 void InteractionEllipsoidForceField::accumulate_dforce(double k_factor, double) {
@@ -125,7 +130,8 @@ void InteractionEllipsoidForceField::accumulate_dforce(double k_factor, double) 
         const Vec3 local = sofa_quat::inverse_rotate(orientation_, du);
         Vec3 dforce;
         for (int i = 0; i < 3; ++i)
-            dforce[i] = c.local_stiffness(i, 0) * local[0] + c.local_stiffness(i, 1) * local[1] + c.local_stiffness(i, 2) * local[2];
+            dforce[i] = c.local_stiffness(i, 0) * local[0] + c.local_stiffness(i, 1) * local[1] +
+                        c.local_stiffness(i, 2) * local[2];
         dforce *= k_factor;
         const Vec3 df = sofa_quat::rotate(orientation_, dforce);
         points_->df[static_cast<std::size_t>(c.point)] += df;

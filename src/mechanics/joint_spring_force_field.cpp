@@ -41,7 +41,8 @@ public:
     }
     bool flag(std::string_view what) {
         const double v = number(what);
-        if (v != 0 && v != 1) throw_invalid_argument("JointSpringForceField: spring: ", what, ": expected 0 or 1, found ", v);
+        if (v != 0 && v != 1)
+            throw_invalid_argument("JointSpringForceField: spring: ", what, ": expected 0 or 1, found ", v);
         return v != 0;
     }
 
@@ -105,7 +106,8 @@ std::vector<JointSpring> parse_joint_springs(std::string_view text) {
 }
 
 // ---- force field ------------------------------------------------------------------------------
-JointSpringForceField::JointSpringForceField(Rigid3Object& state1, Rigid3Object& state2, std::vector<JointSpring> springs)
+JointSpringForceField::JointSpringForceField(Rigid3Object& state1, Rigid3Object& state2,
+                                             std::vector<JointSpring> springs)
     : s1_(&state1), s2_(&state2), springs_(std::move(springs)) {}
 
 ForceFieldStates JointSpringForceField::states() const {
@@ -243,7 +245,8 @@ void JointSpringForceField::accumulate_force() {
     energy_ = 0;
     for (JointSpring& s : springs_) {
         const auto a = static_cast<std::size_t>(s.m1), b = static_cast<std::size_t>(s.m2);
-        const RigidDeriv f = spring_force(s, s1_->position[a], s2_->position[b], s1_->velocity[a], s2_->velocity[b], energy_);
+        const RigidDeriv f =
+            spring_force(s, s1_->position[a], s2_->position[b], s1_->velocity[a], s2_->velocity[b], energy_);
         s1_->force[a].linear += f.linear;
         s1_->force[a].angular += f.angular;
         s2_->force[b].linear -= f.linear;

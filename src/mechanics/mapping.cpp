@@ -70,7 +70,8 @@ void RigidMapping::set_points(std::vector<Vec3> local_points, std::vector<Index>
     for (std::size_t i = 0; i < local_points.size(); ++i)
         if (!local_points[i].allFinite()) throw_invalid_argument("RigidMapping: local point ", i, " is not finite");
     if (!frame_index.empty() && frame_index.size() != local_points.size())
-        throw_invalid_argument("RigidMapping: ", frame_index.size(), " frame indices for ", local_points.size(), " points");
+        throw_invalid_argument("RigidMapping: ", frame_index.size(), " frame indices for ", local_points.size(),
+                               " points");
     for (const Index r : frame_index)
         if (r < 0) throw_invalid_argument("RigidMapping: negative frame index ", r);
     rows_.assign(local_points.size(), RigidPointRow{});
@@ -95,19 +96,23 @@ void RigidMapping::set_points_from_world(std::span<const Vec3> world, std::vecto
 void RigidMapping::init() {
     for (std::size_t i = 0; i < rows_.size(); ++i)
         if (static_cast<std::size_t>(rows_[i].frame) >= in_->num_dofs())
-            throw_invalid_argument("RigidMapping: point ", i, " uses frame ", rows_[i].frame, " out of range (", in_->num_dofs(), " frames)");
+            throw_invalid_argument("RigidMapping: point ", i, " uses frame ", rows_[i].frame, " out of range (",
+                                   in_->num_dofs(), " frames)");
     Mapping::init();
 }
 
 void RigidMapping::apply(std::span<Vec3> out, std::span<const RigidFrame> in) {
     PENALTY_DEMAND(out.size() == rows_.size());
-    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].place(in[static_cast<std::size_t>(rows_[i].frame)]);
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+        out[i] = rows_[i].place(in[static_cast<std::size_t>(rows_[i].frame)]);
 }
 void RigidMapping::apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].velocity(in[static_cast<std::size_t>(rows_[i].frame)]);
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+        out[i] = rows_[i].velocity(in[static_cast<std::size_t>(rows_[i].frame)]);
 }
 void RigidMapping::apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> out) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].spread(in[static_cast<std::size_t>(rows_[i].frame)], out[i]);
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+        rows_[i].spread(in[static_cast<std::size_t>(rows_[i].frame)], out[i]);
 }
 void RigidMapping::add_jacobian_triplets(TripletList& t, Index ro, Index co) const {
     for (std::size_t i = 0; i < rows_.size(); ++i) rows_[i].add_triplets(t, ro + 3 * static_cast<Index>(i), co);
@@ -134,8 +139,10 @@ void BarycentricMapping::set_weights(std::vector<std::vector<Entry>> rows) {
 void BarycentricMapping::set_rows(std::vector<BarycentricRow> rows) {
     for (std::size_t i = 0; i < rows.size(); ++i)
         for (const Entry& e : rows[i]) {
-            if (e.index < 0) throw_invalid_argument("BarycentricMapping: point ", i, " uses a negative input index ", e.index);
-            if (!std::isfinite(e.weight)) throw_invalid_argument("BarycentricMapping: point ", i, " has a non-finite weight");
+            if (e.index < 0)
+                throw_invalid_argument("BarycentricMapping: point ", i, " uses a negative input index ", e.index);
+            if (!std::isfinite(e.weight))
+                throw_invalid_argument("BarycentricMapping: point ", i, " has a non-finite weight");
         }
     rows_ = std::move(rows);
     row_begin_.assign(1, 0);
@@ -180,12 +187,13 @@ void BarycentricMapping::init() {
     for (std::size_t i = 0; i < rows_.size(); ++i)
         for (const Entry& e : rows_[i])
             if (static_cast<std::size_t>(e.index) >= in_->num_dofs())
-                throw_invalid_argument("BarycentricMapping: point ", i, " uses input index ", e.index, " out of range (",
-                                       in_->num_dofs(), " input DOFs)");
+                throw_invalid_argument("BarycentricMapping: point ", i, " uses input index ", e.index,
+                                       " out of range (", in_->num_dofs(), " input DOFs)");
     Mapping::init();
 }
 
-void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {
+void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<const Vec3> x,
+                                           std::span<const Vec3> points) {
     // BarycentricMapperMeshTopology::init (tetrahedra), in SOFA's operations and order, so that
     // the weights, hence the mapped positions and the forces mapped back, are SOFA's to the bit
     const auto& tetras = topo.tetrahedra();
@@ -205,13 +213,17 @@ void BarycentricMapping::map_on_tetrahedra(const MeshTopology& topo, std::span<c
                 index = t;
             }
         }
-        if (index == tetras.size()) throw_invalid_argument("BarycentricMapping: point ", i, " is not finite, or 1e5 or farther from the centre of every tetrahedron (SOFA's search starts at a squared distance of 1e10)");
+        if (index == tetras.size())
+            throw_invalid_argument("BarycentricMapping: point ", i,
+                                   " is not finite, or 1e5 or farther from the centre of every tetrahedron (SOFA's "
+                                   "search starts at a squared distance of 1e10)");
         detail::push_tetrahedron_weights(rows[i], tetras[index], coefs);
     }
     set_rows(std::move(rows));
 }
 
-void BarycentricMapping::map_on_hexahedra(const MeshTopology& topo, std::span<const Vec3> x, std::span<const Vec3> points) {
+void BarycentricMapping::map_on_hexahedra(const MeshTopology& topo, std::span<const Vec3> x,
+                                          std::span<const Vec3> points) {
     const auto& hexas = topo.hexahedra();
     if (hexas.empty()) throw_invalid_argument("BarycentricMapping: topology has no hexahedron");
     std::vector<BarycentricRow> rows(points.size());
@@ -239,7 +251,8 @@ void BarycentricMapping::map_on_hexahedra(const MeshTopology& topo, std::span<co
                                 uu * vv * (c[6] - c[2]) + (1 - uu) * vv * (c[7] - c[3]);
                 Mat3 jac;
                 jac << du, dv, dw;
-                if (std::abs(jac.determinant()) < 1e-300) throw_invalid_argument("BarycentricMapping: hexahedron ", h, " is degenerate");
+                if (std::abs(jac.determinant()) < 1e-300)
+                    throw_invalid_argument("BarycentricMapping: hexahedron ", h, " is degenerate");
                 const Vec3 step = jac.lu().solve(r);
                 u -= step;
                 if (step.norm() < 1e-15) break;
@@ -345,7 +358,8 @@ void BarycentricMapping::apply_jt_df_rows(std::span<const std::uint32_t> rows) {
     for (const std::uint32_t i : rows) row_counted_[i] = 0;
 }
 
-void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const Vec3> out, const std::uint8_t* counted) const {
+void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const Vec3> out,
+                                             const std::uint8_t* counted) const {
     // Inputs starting at −0 in some component: their full gather, computed before the scatter
     // (from their value before it) and stored after it.
     negative_zero_inputs_.clear();
@@ -379,7 +393,8 @@ void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const
             s[2] += w * f[2];
         }
     }
-    for (std::size_t n = 0; n < negative_zero_inputs_.size(); ++n) input[negative_zero_inputs_[n]] = negative_zero_sums_[n];
+    for (std::size_t n = 0; n < negative_zero_inputs_.size(); ++n)
+        input[negative_zero_inputs_[n]] = negative_zero_sums_[n];
 }
 
 Vec3 BarycentricMapping::gathered_jt(std::span<const Vec3> in, std::span<const Vec3> out, std::uint32_t j,
@@ -398,7 +413,8 @@ Vec3 BarycentricMapping::gathered_jt(std::span<const Vec3> in, std::span<const V
     return {s0, s1, s2};
 }
 
-void BarycentricMapping::gather_jt(std::span<Vec3> in, std::span<const Vec3> out, std::size_t first, std::size_t last) const {
+void BarycentricMapping::gather_jt(std::span<Vec3> in, std::span<const Vec3> out, std::size_t first,
+                                   std::size_t last) const {
     // BarycentricRow::spread of every row (in[i_k] += w_k·f_i, rows in order, entries in order)
     // as a gather: each input point adds its entries in that same order, accumulated in registers
     // and stored once.

@@ -10,7 +10,8 @@ namespace penalty {
 
 namespace {
 void check_mass(double m, const char* parameter) {
-    if (!std::isfinite(m) || m <= 0.0) throw_invalid_argument("UniformMass: ", parameter, " must be finite and > 0, got ", m);
+    if (!std::isfinite(m) || m <= 0.0)
+        throw_invalid_argument("UniformMass: ", parameter, " must be finite and > 0, got ", m);
 }
 }  // namespace
 
@@ -106,7 +107,8 @@ void UniformMass<Rigid3Types>::apply_inverse(const Eigen::Ref<const Eigen::Vecto
 template <>
 void UniformMass<Vec3Types>::add_mass_triplets(TripletList& t, Index offset, double factor) const {
     lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
-    for (Index i = 0; i < static_cast<Index>(3 * state_->num_dofs()); ++i) t.emplace_back(offset + i, offset + i, factor * mass_);
+    for (Index i = 0; i < static_cast<Index>(3 * state_->num_dofs()); ++i)
+        t.emplace_back(offset + i, offset + i, factor * mass_);
 }
 template <>
 void UniformMass<Rigid3Types>::add_mass_triplets(TripletList& t, Index offset, double factor) const {
@@ -128,7 +130,8 @@ double UniformMass<Vec3Types>::kinetic_energy() const {
 template <>
 double UniformMass<Rigid3Types>::kinetic_energy() const {
     double e = 0.0;
-    for (const auto& v : state_->velocity) e += mass_ * v.linear.squaredNorm() + mass_ * v.angular.dot(inertia_ * v.angular);
+    for (const auto& v : state_->velocity)
+        e += mass_ * v.linear.squaredNorm() + mass_ * v.angular.dot(inertia_ * v.angular);
     return 0.5 * e;
 }
 

@@ -12,8 +12,9 @@ namespace {
 
 /// SOFA's Quat<double>::createQuaterFromEuler(Vec3(rx, ry, rz) * M_PI / 180.0): angles (deg·π)/180.
 Quat sofa_quaternion_from_euler_degrees(const Vec3& degrees) {
-    return sofa_quat::from_euler_zyx(Vec3(degrees.x() * std::numbers::pi / 180.0, degrees.y() * std::numbers::pi / 180.0,
-                                              degrees.z() * std::numbers::pi / 180.0));
+    return sofa_quat::from_euler_zyx(Vec3(degrees.x() * std::numbers::pi / 180.0,
+                                          degrees.y() * std::numbers::pi / 180.0,
+                                          degrees.z() * std::numbers::pi / 180.0));
 }
 
 /// SOFA's MechanicalObject::reinit on one point: applyScale (x·s per component), applyRotation
@@ -79,7 +80,8 @@ void complete_sizes(State& s) {
     if (s.rest_position.size() > s.position.size()) s.position = s.rest_position;
     const std::size_t n = s.position.size();
     if (s.velocity.size() > n)
-        throw_invalid_argument("MechanicalObject '", s.name, "': ", s.velocity.size(), " velocities for ", n, " positions");
+        throw_invalid_argument("MechanicalObject '", s.name, "': ", s.velocity.size(), " velocities for ", n,
+                               " positions");
     if (!s.velocity.empty() && s.velocity.size() < n) s.velocity.resize(n, s.velocity.back());
 }
 }  // namespace
@@ -146,7 +148,8 @@ void MechanicalObject<Vec1Types>::init() {
     complete_sizes(*this);
     const std::size_t n = position.size();
     for (std::size_t i = 0; i < n; ++i)
-        if (!std::isfinite(position[i])) throw_invalid_argument("MechanicalObject '", name, "': position[", i, "] is not finite");
+        if (!std::isfinite(position[i]))
+            throw_invalid_argument("MechanicalObject '", name, "': position[", i, "] is not finite");
     if (rest_position.size() != n) rest_position = position;
     velocity.resize(n);
     force.assign(n, 0.0);

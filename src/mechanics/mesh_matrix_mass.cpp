@@ -29,11 +29,16 @@ struct ElementShares {
 
 ElementShares shares_of(LumpedElementKind kind) {
     switch (kind) {
-        case LumpedElementKind::triangle: return {6.0, 12.0, 2.0};
-        case LumpedElementKind::quad: return {8.0, 16.0, 2.0};
-        case LumpedElementKind::tetrahedron: return {10.0, 20.0, 2.5};
-        case LumpedElementKind::hexahedron: return {20.0, 40.0, 2.5};
-        case LumpedElementKind::edge: return {3.0, 6.0, 1.5};  // beyond SOFA: the linear bar
+        case LumpedElementKind::triangle:
+            return {6.0, 12.0, 2.0};
+        case LumpedElementKind::quad:
+            return {8.0, 16.0, 2.0};
+        case LumpedElementKind::tetrahedron:
+            return {10.0, 20.0, 2.5};
+        case LumpedElementKind::hexahedron:
+            return {20.0, 40.0, 2.5};
+        case LumpedElementKind::edge:
+            return {3.0, 6.0, 1.5};  // beyond SOFA: the linear bar
     }
     return {1.0, 1.0, 1.0};
 }
@@ -111,11 +116,16 @@ void MeshMatrixMass::set_edge_masses(std::vector<double> masses) {
 
 std::size_t MeshMatrixMass::element_count() const {
     switch (kind_) {
-        case LumpedElementKind::hexahedron: return topology_->hexahedra().size();
-        case LumpedElementKind::tetrahedron: return topology_->tetrahedra().size();
-        case LumpedElementKind::quad: return topology_->quads().size();
-        case LumpedElementKind::triangle: return topology_->triangles().size();
-        case LumpedElementKind::edge: return topology_->edges().size();
+        case LumpedElementKind::hexahedron:
+            return topology_->hexahedra().size();
+        case LumpedElementKind::tetrahedron:
+            return topology_->tetrahedra().size();
+        case LumpedElementKind::quad:
+            return topology_->quads().size();
+        case LumpedElementKind::triangle:
+            return topology_->triangles().size();
+        case LumpedElementKind::edge:
+            return topology_->edges().size();
     }
     return 0;
 }
@@ -187,11 +197,12 @@ void MeshMatrixMass::init() {
         // initFromVertexMass (lumping) or initFromVertexAndEdgeMass.
         const std::vector<double>& vertex = *given_vertex_masses_;
         if (vertex.size() != state_->num_dofs())
-            throw_invalid_argument("MeshMatrixMass: vertexMass has ", vertex.size(), " values for ",
-                                   state_->num_dofs(), " points");
+            throw_invalid_argument("MeshMatrixMass: vertexMass has ", vertex.size(), " values for ", state_->num_dofs(),
+                                   " points");
         if (!given_edge_masses_ && !lumping_)
-            throw_invalid_argument("MeshMatrixMass: vertexMass needs lumping or edgeMass (SOFA: 'Initialization "
-                                   "using vertexMass requires the lumping option or the edgeMass information')");
+            throw_invalid_argument(
+                "MeshMatrixMass: vertexMass needs lumping or edgeMass (SOFA: 'Initialization "
+                "using vertexMass requires the lumping option or the edgeMass information')");
         if (given_edge_masses_ && given_edge_masses_->size() != topology_->edges().size())
             throw_invalid_argument("MeshMatrixMass: edgeMass has ", given_edge_masses_->size(), " values for ",
                                    topology_->edges().size(), " edges");
@@ -211,7 +222,8 @@ void MeshMatrixMass::init() {
 
 // MeshMatrixMass::addForce: f_i += g·m_i·c.
 void MeshMatrixMass::add_gravity_force(const Vec3& g) {
-    for (std::size_t i = 0; i < vertex_masses_.size(); ++i) state_->force[i] += g * vertex_masses_[i] * lumping_coefficient_;
+    for (std::size_t i = 0; i < vertex_masses_.size(); ++i)
+        state_->force[i] += g * vertex_masses_[i] * lumping_coefficient_;
 }
 
 // MeshMatrixMass::addMDx: lumped df_i += dx_i·m_i·c·factor; else df_i += dx_i·m_i·factor, then per
@@ -220,7 +232,8 @@ void MeshMatrixMass::add_mdx(double factor) {
     auto& df = state_->df;
     const auto& dx = state_->dx;
     if (lumping_) {
-        for (std::size_t i = 0; i < vertex_masses_.size(); ++i) df[i] += dx[i] * vertex_masses_[i] * lumping_coefficient_ * factor;
+        for (std::size_t i = 0; i < vertex_masses_.size(); ++i)
+            df[i] += dx[i] * vertex_masses_[i] * lumping_coefficient_ * factor;
         return;
     }
     for (std::size_t i = 0; i < vertex_masses_.size(); ++i) df[i] += dx[i] * vertex_masses_[i] * factor;
@@ -237,8 +250,9 @@ void MeshMatrixMass::add_mdx(double factor) {
 // MeshMatrixMass::accFromF (lumped): a_i = f_i / (m_i·c).
 void MeshMatrixMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in, Eigen::Ref<Eigen::VectorXd> out) const {
     if (!lumping_)
-        throw_invalid_argument("MeshMatrixMass: an explicit solver needs M⁻¹, which the consistent mass matrix does "
-                               "not give (SOFA's accFromF refuses it too): set lumping=\"1\"");
+        throw_invalid_argument(
+            "MeshMatrixMass: an explicit solver needs M⁻¹, which the consistent mass matrix does "
+            "not give (SOFA's accFromF refuses it too): set lumping=\"1\"");
     for (std::size_t i = 0; i < vertex_masses_.size(); ++i) {
         const auto k = static_cast<Eigen::Index>(3 * i);
         out.segment<3>(k) = in.segment<3>(k) / (vertex_masses_[i] * lumping_coefficient_);
@@ -271,7 +285,8 @@ double MeshMatrixMass::kinetic_energy() const {
     for (std::size_t i = 0; i < vertex_masses_.size(); ++i) e += v[i].dot(v[i]) * vertex_masses_[i] * scale;
     const std::vector<Edge>& edges = topology_->edges();
     for (std::size_t j = 0; j < edge_masses_.size(); ++j)
-        e += 2 * v[static_cast<std::size_t>(edges[j][0])].dot(v[static_cast<std::size_t>(edges[j][1])]) * edge_masses_[j];
+        e += 2 * v[static_cast<std::size_t>(edges[j][0])].dot(v[static_cast<std::size_t>(edges[j][1])]) *
+             edge_masses_[j];
     return e / 2;
 }
 
@@ -292,15 +307,21 @@ double MeshMatrixMass::gravity_potential_energy(const Vec3& g) const {
 // densities are no topology data: a new element whose index is past their end gets its ancestors'
 // weighted density, or the first one (addMassDensity); a removal leaves them as they are, so a
 // later element takes the density at its index (SOFA's).
-void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes) {
+void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container,
+                                             std::span<const TopologyChange> changes) {
     const ElementShares shares = shares_of(kind_);
     const ElementType type = [&] {
         switch (kind_) {
-            case LumpedElementKind::triangle: return ElementType::triangle;
-            case LumpedElementKind::quad: return ElementType::quad;
-            case LumpedElementKind::tetrahedron: return ElementType::tetrahedron;
-            case LumpedElementKind::hexahedron: return ElementType::hexahedron;
-            case LumpedElementKind::edge: break;
+            case LumpedElementKind::triangle:
+                return ElementType::triangle;
+            case LumpedElementKind::quad:
+                return ElementType::quad;
+            case LumpedElementKind::tetrahedron:
+                return ElementType::tetrahedron;
+            case LumpedElementKind::hexahedron:
+                return ElementType::hexahedron;
+            case LumpedElementKind::edge:
+                break;
         }
         return ElementType::edge;
     }();
@@ -311,11 +332,16 @@ void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container,
         std::array<Vec3, 8> p;
         for (std::size_t k = 0; k < v.size(); ++k) p[k] = x[std::size_t(v[k])];
         switch (kind_) {
-            case LumpedElementKind::triangle: return triangle_area(p[0], p[1], p[2]);
-            case LumpedElementKind::quad: return quad_area(p[0], p[1], p[2], p[3]);
-            case LumpedElementKind::tetrahedron: return tetrahedron_volume(p[0], p[1], p[2], p[3]);
-            case LumpedElementKind::hexahedron: return hexahedron_volume(p);
-            case LumpedElementKind::edge: break;
+            case LumpedElementKind::triangle:
+                return triangle_area(p[0], p[1], p[2]);
+            case LumpedElementKind::quad:
+                return quad_area(p[0], p[1], p[2], p[3]);
+            case LumpedElementKind::tetrahedron:
+                return tetrahedron_volume(p[0], p[1], p[2], p[3]);
+            case LumpedElementKind::hexahedron:
+                return hexahedron_volume(p);
+            case LumpedElementKind::edge:
+                break;
         }
         return 0.0;
     };
@@ -325,11 +351,20 @@ void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container,
             for (const auto& [a, b] : local) f(container.edge_index(v[std::size_t(a)], v[std::size_t(b)]));
         };
         switch (kind_) {
-            case LumpedElementKind::triangle: visit(kTriangleEdges); break;
-            case LumpedElementKind::quad: visit(kQuadEdges); break;
-            case LumpedElementKind::tetrahedron: visit(MeshTopology::kTetraEdges); break;
-            case LumpedElementKind::hexahedron: visit(MeshTopology::kHexaEdges); break;
-            case LumpedElementKind::edge: break;
+            case LumpedElementKind::triangle:
+                visit(kTriangleEdges);
+                break;
+            case LumpedElementKind::quad:
+                visit(kQuadEdges);
+                break;
+            case LumpedElementKind::tetrahedron:
+                visit(MeshTopology::kTetraEdges);
+                break;
+            case LumpedElementKind::hexahedron:
+                visit(MeshTopology::kHexaEdges);
+                break;
+            case LumpedElementKind::edge:
+                break;
         }
     };
     const double vertex_count = double(vertices_per_element(type));
@@ -352,7 +387,8 @@ void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container,
     };
     for (const TopologyChange& c : changes) {
         if (c.element == ElementType::point) {
-            if (c.kind == TopologyChangeKind::added) vertex_masses_.resize(vertex_masses_.size() + c.indices.size(), 0.0);
+            if (c.kind == TopologyChangeKind::added)
+                vertex_masses_.resize(vertex_masses_.size() + c.indices.size(), 0.0);
             else if (c.kind == TopologyChangeKind::removed)
                 topology_data_remove(vertex_masses_, c.indices, [&](ElementId, double& m) { total_ -= m; });
             else if (c.kind == TopologyChangeKind::renumbered) topology_data_renumber(vertex_masses_, c.indices);

@@ -54,7 +54,8 @@ bool ray_crosses(const Vec3& n0, const Vec3& n1, const Vec3& n2, const Vec3& ori
 
 class Stuffing {
 public:
-    Stuffing(std::span<const Vec3> surface_points, std::vector<Triangle> triangles, const MeshTetraStuffingParameters& p)
+    Stuffing(std::span<const Vec3> surface_points, std::vector<Triangle> triangles,
+             const MeshTetraStuffingParameters& p)
         : in_points_(surface_points), in_triangles_(std::move(triangles)), p_(p) {}
 
     StuffedVolume run(std::size_t max_points) {
@@ -76,8 +77,8 @@ private:
     void classify_points();
     void trace_line(int start, int e);
     void snap_points();
-    void wrap_outside_points(std::set<int>& violated_inside,
-                             const std::set<int>& violated_outside, std::vector<bool>& violated);
+    void wrap_outside_points(std::set<int>& violated_inside, const std::set<int>& violated_outside,
+                             std::vector<bool>& violated);
     void wrap_inside_points(const std::set<int>& violated_inside, std::vector<bool>& violated);
     void move_onto_surface(int p, int toward, double fraction, std::vector<bool>& violated);
     void make_cut_points();
@@ -106,8 +107,8 @@ private:
     Vec3 g0_, h0_;
     int h_first_ = 0;  ///< SOFA's ph0: index of H's first point
     std::vector<Vec3> points_;
-    std::vector<int> inside_;                               ///< > 0 inside, < 0 outside, 0 on the surface
-    std::vector<std::array<double, kDirections>> distance_; ///< SOFA's eBDist
+    std::vector<int> inside_;                                ///< > 0 inside, < 0 outside, 0 on the surface
+    std::vector<std::array<double, kDirections>> distance_;  ///< SOFA's eBDist
     std::map<std::pair<int, int>, int> cut_points_;
     std::vector<Tetrahedron> tetrahedra_;
     std::size_t invalid_splits_ = 0;
@@ -145,7 +146,8 @@ void Stuffing::make_lattice(std::size_t max_points) {
         h0_[c] = g0_[c] - cell_ / 2;
         count *= double(h_size_[std::size_t(c)]);
     }
-    if (2 * count > double(max_points)) throw_invalid_argument("MeshTetraStuffing: the lattice would have over ", max_points, " points");
+    if (2 * count > double(max_points))
+        throw_invalid_argument("MeshTetraStuffing: the lattice would have over ", max_points, " points");
     h_first_ = g_size_[0] * g_size_[1] * g_size_[2];
     points_.reserve(std::size_t(h_first_) + std::size_t(h_size_[0] * h_size_[1] * h_size_[2]));
     for (const auto& [size, origin] : {std::pair{g_size_, g0_}, std::pair{h_size_, h0_}})
@@ -199,8 +201,8 @@ void Stuffing::trace_line(int start, int e) {
     for (std::size_t t = 0; t < in_triangles_.size(); ++t) {
         const Triangle& tri = in_triangles_[t];
         Crossing h{int(t), 0.0};
-        if (ray_crosses(in_points_[std::size_t(tri[0])], in_points_[std::size_t(tri[1])], in_points_[std::size_t(tri[2])],
-                        origin, direction, h.t))
+        if (ray_crosses(in_points_[std::size_t(tri[0])], in_points_[std::size_t(tri[1])],
+                        in_points_[std::size_t(tri[2])], origin, direction, h.t))
             hits.push_back(h);
     }
     if (hits.empty()) return;
@@ -254,8 +256,8 @@ void Stuffing::move_onto_surface(int p, int toward, double fraction, std::vector
     violated[std::size_t(p)] = false;
 }
 
-void Stuffing::wrap_outside_points(std::set<int>& violated_inside,
-                                   const std::set<int>& violated_outside, std::vector<bool>& violated) {
+void Stuffing::wrap_outside_points(std::set<int>& violated_inside, const std::set<int>& violated_outside,
+                                   std::vector<bool>& violated) {
     // first the violated outside points, each toward an outside, unviolated neighbour across its
     // shortest violated edge, until a pass moves none
     int moved = 0;
@@ -352,7 +354,6 @@ void Stuffing::make_tetrahedra() {
                 if (z > 0) around(p - g01, {ph, ph + 1, ph + 1 + h0, ph + h0});
             }
 }
-
 
 void Stuffing::add_lattice_tetrahedron(int p1, int p2, int p3, int p4) {
     if (volume6(p1, p2, p3, p4) < 0) std::swap(p3, p4);
@@ -526,7 +527,8 @@ StuffedVolume Stuffing::finish() {
 }  // namespace
 
 StuffedVolume mesh_tetra_stuffing(std::span<const Vec3> points, std::span<const Triangle> triangles,
-                                  std::span<const Quad> quads, const MeshTetraStuffingParameters& p, std::size_t max_points) {
+                                  std::span<const Quad> quads, const MeshTetraStuffingParameters& p,
+                                  std::size_t max_points) {
     if (points.empty() || (triangles.empty() && quads.empty()))
         throw_invalid_argument("MeshTetraStuffing: empty input surface (inputPoints and inputTriangles or inputQuads)");
     for (const Vec3& x : points)
@@ -539,7 +541,8 @@ StuffedVolume mesh_tetra_stuffing(std::span<const Vec3> points, std::span<const 
     for (const Triangle& t : all)
         for (PointId v : t)
             if (v < 0 || std::size_t(v) >= points.size())
-                throw_invalid_argument("MeshTetraStuffing: surface index ", v, " outside the ", points.size(), " input points");
+                throw_invalid_argument("MeshTetraStuffing: surface index ", v, " outside the ", points.size(),
+                                       " input points");
     if (!(p.alpha_long >= 0 && p.alpha_short >= 0))
         throw_invalid_argument("MeshTetraStuffing: alphaLong and alphaShort must be >= 0");
     return Stuffing(points, std::move(all), p).run(max_points);

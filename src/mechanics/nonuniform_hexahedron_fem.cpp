@@ -12,7 +12,8 @@ namespace {
 /// corner f of child `child` (children and corners numbered by their bits x, y, z).
 double fine_to_coarse(int child, int f, int c) {
     // corner f of child `child`, in half-cells of the coarse cell, then the trilinear weight of c
-    const int hx = (child & 1) + (f & 1), hy = ((child >> 1) & 1) + ((f >> 1) & 1), hz = ((child >> 2) & 1) + ((f >> 2) & 1);
+    const int hx = (child & 1) + (f & 1), hy = ((child >> 1) & 1) + ((f >> 1) & 1),
+              hz = ((child >> 2) & 1) + ((f >> 2) & 1);
     const auto weight = [](int half, int bit) { return bit ? half * 0.5 : 1.0 - half * 0.5; };
     return weight(hx, c & 1) * weight(hy, (c >> 1) & 1) * weight(hz, (c >> 2) & 1);
 }
@@ -28,7 +29,8 @@ struct FineToCoarse {
         for (int child_bits = 0; child_bits < 8; ++child_bits)
             for (int f_bits = 0; f_bits < 8; ++f_bits)
                 for (int c_bits = 0; c_bits < 8; ++c_bits)
-                    t[child_bits][kVertexOfBits[f_bits]][kVertexOfBits[c_bits]] = fine_to_coarse(child_bits, f_bits, c_bits);
+                    t[child_bits][kVertexOfBits[f_bits]][kVertexOfBits[c_bits]] =
+                        fine_to_coarse(child_bits, f_bits, c_bits);
     }
 };
 
@@ -75,7 +77,8 @@ HexahedronMatrix cell_mass(const std::array<Vec3, 8>& p, double density, double 
     const auto norm = [](const Vec3& v) { return std::sqrt(sofa_vec::dot3(v, v)); };
     const double volume = norm(p[1] - p[0]) * norm(p[3] - p[0]) * norm(p[4] - p[0]);
     const double integral =
-        (1.0 / 72.0 + 1.0 / 72.0 + 1.0 / 216.0 + 1.0 / 24.0 + 1.0 / 8.0 + 1.0 / 72.0 + 1.0 / 24.0 + 1.0 / 24.0) * density;
+        (1.0 / 72.0 + 1.0 / 72.0 + 1.0 / 216.0 + 1.0 / 24.0 + 1.0 / 8.0 + 1.0 / 72.0 + 1.0 / 24.0 + 1.0 / 24.0) *
+        density;
     const double m = volume * integral;
     HexahedronMatrix mass = HexahedronMatrix::Zero();
     for (int i = 0; i < 8; ++i)
@@ -92,7 +95,8 @@ struct Condenser {
     FineToCoarse table;
 
     /// computeMechanicalMatricesByCondensation(K, M, element, level) on `grid` (level `level`).
-    void condense(const SparseGridTopology& grid, std::size_t element, int level, HexahedronMatrix& k, HexahedronMatrix& m) const {
+    void condense(const SparseGridTopology& grid, std::size_t element, int level, HexahedronMatrix& k,
+                  HexahedronMatrix& m) const {
         if (level == levels) {  // computeClassicalMechanicalMatrices
             const Hexahedron& h = grid.hexahedra()[element];
             std::array<Vec3, 8> p;
@@ -117,11 +121,11 @@ struct Condenser {
 
 }  // namespace
 
-CondensedHexahedra condense_hexahedra(const SparseGridTopology& grid, int levels, double young_modulus, double poisson_ratio,
-                                      double density, bool fill_weighted, const Vec3& scale) {
+CondensedHexahedra condense_hexahedra(const SparseGridTopology& grid, int levels, double young_modulus,
+                                      double poisson_ratio, double density, bool fill_weighted, const Vec3& scale) {
     if (levels < 1 || levels > grid.finer_levels())
-        throw_invalid_argument("NonUniformHexahedronFEMForceFieldAndMass: ", levels, " virtual finer levels asked, the grid has ",
-                               grid.finer_levels());
+        throw_invalid_argument("NonUniformHexahedronFEMForceFieldAndMass: ", levels,
+                               " virtual finer levels asked, the grid has ", grid.finer_levels());
     Condenser c{young_modulus, poisson_ratio, density, fill_weighted, scale, levels, {}};
     CondensedHexahedra out;
     out.stiffness.resize(grid.hexahedra().size());
@@ -141,23 +145,28 @@ CondensedHexahedronFEMForceField::CondensedHexahedronFEMForceField(Vec3Object& s
 CondensedHexahedronFEMForceField::ElementMatrix CondensedHexahedronFEMForceField::compute_stiffness(
     const std::array<Vec3, 8>& /*rest_local*/, const Eigen::Matrix<double, 6, 6>& /*d*/, std::size_t e) const {
     if (e >= given_.size())
-        throw_invalid_argument(component_, ": no condensed stiffness for hexahedron ", e, " (", given_.size(), " given)");
+        throw_invalid_argument(component_, ": no condensed stiffness for hexahedron ", e, " (", given_.size(),
+                               " given)");
     return given_[e];
 }
 
 // ---- mass -------------------------------------------------------------------------------------
 HexahedronMatrixMass::HexahedronMatrixMass(Vec3Object& state, std::vector<Hexahedron> hexahedra,
-                                           std::vector<HexahedronMatrix> element_mass, std::vector<double> mass_coefficients,
-                                           Parameters p)
-    : state_(&state), hexahedra_(std::move(hexahedra)), element_mass_(std::move(element_mass)),
-      mass_coefficients_(std::move(mass_coefficients)), p_(p) {}
+                                           std::vector<HexahedronMatrix> element_mass,
+                                           std::vector<double> mass_coefficients, Parameters p)
+    : state_(&state),
+      hexahedra_(std::move(hexahedra)),
+      element_mass_(std::move(element_mass)),
+      mass_coefficients_(std::move(mass_coefficients)),
+      p_(p) {}
 
 // NonUniformHexahedronFEMForceFieldAndMass::init's mass part.
 void HexahedronMatrixMass::init() {
     const std::vector<Vec3>& x0 = state_->position;  // SOFA's d_initialPoints
     if (element_mass_.size() != hexahedra_.size() || mass_coefficients_.size() != hexahedra_.size())
-        throw_invalid_argument("NonUniformHexahedronFEMForceFieldAndMass: ", element_mass_.size(), " mass matrices and ",
-                               mass_coefficients_.size(), " coefficients for ", hexahedra_.size(), " hexahedra");
+        throw_invalid_argument("NonUniformHexahedronFEMForceFieldAndMass: ", element_mass_.size(),
+                               " mass matrices and ", mass_coefficients_.size(), " coefficients for ",
+                               hexahedra_.size(), " hexahedra");
     particle_masses_.assign(x0.size(), 0.0);
     lumped_.clear();
     if (!p_.use_mass) {
@@ -185,7 +194,8 @@ void HexahedronMatrixMass::init() {
         for (std::size_t e = 0; e < hexahedra_.size(); ++e)
             for (int w = 0; w < 8; ++w)
                 for (int j = 0; j < 24; ++j)
-                    for (int a = 0; a < 3; ++a) lumped_[std::size_t(hexahedra_[e][std::size_t(w)])][a] += element_mass_[e](3 * w + a, j);
+                    for (int a = 0; a < 3; ++a)
+                        lumped_[std::size_t(hexahedra_[e][std::size_t(w)])][a] += element_mass_[e](3 * w + a, j);
         for (Vec3& l : lumped_) l = l.cwiseAbs();
     }
 }
@@ -225,8 +235,9 @@ void HexahedronMatrixMass::multiply_add(std::span<Vec3> y, std::span<const Vec3>
 void HexahedronMatrixMass::add_mdx(double factor) { multiply_add(state_->df, state_->dx, factor); }
 
 void HexahedronMatrixMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) const {
-    throw_invalid_argument("NonUniformHexahedronFEMForceFieldAndMass: no inverse mass (SOFA's accFromF is not implemented): "
-                           "use an implicit solver");
+    throw_invalid_argument(
+        "NonUniformHexahedronFEMForceFieldAndMass: no inverse mass (SOFA's accFromF is not implemented): "
+        "use an implicit solver");
 }
 
 void HexahedronMatrixMass::add_mass_triplets(TripletList& t, Index offset, double factor) const {
@@ -241,7 +252,8 @@ void HexahedronMatrixMass::add_mass_triplets(TripletList& t, Index offset, doubl
         for (int r = 0; r < 24; ++r)
             for (int c = 0; c < 24; ++c)
                 t.emplace_back(offset + 3 * Index(hexahedra_[e][std::size_t(r / 3)]) + r % 3,
-                               offset + 3 * Index(hexahedra_[e][std::size_t(c / 3)]) + c % 3, element_mass_[e](r, c) * factor);
+                               offset + 3 * Index(hexahedra_[e][std::size_t(c / 3)]) + c % 3,
+                               element_mass_[e](r, c) * factor);
 }
 
 double HexahedronMatrixMass::kinetic_energy() const {
@@ -254,7 +266,8 @@ double HexahedronMatrixMass::kinetic_energy() const {
 
 double HexahedronMatrixMass::gravity_potential_energy(const Vec3& gravity) const {
     double energy = 0.0;
-    for (std::size_t i = 0; i < particle_masses_.size(); ++i) energy -= particle_masses_[i] * gravity.dot(state_->position[i]);
+    for (std::size_t i = 0; i < particle_masses_.size(); ++i)
+        energy -= particle_masses_[i] * gravity.dot(state_->position[i]);
     return energy;
 }
 

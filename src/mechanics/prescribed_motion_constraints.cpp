@@ -40,11 +40,17 @@ RigidFrame moved(const RigidFrame& x0, const RigidDeriv& m, const RigidDeriv& pr
 
 // ---- LinearMovementProjectiveConstraint -------------------------------------------------------
 template <class DataTypes>
-LinearMovementProjectiveConstraint<DataTypes>::LinearMovementProjectiveConstraint(
-    MechanicalObject<DataTypes>& state, std::vector<Index> indices, std::vector<double> key_times,
-    std::vector<Deriv> movements, bool relative, ContextClock clock)
-    : state_(&state), indices_(std::move(indices)), key_times_(std::move(key_times)), movements_(std::move(movements)),
-      relative_(relative), clock_(std::move(clock)) {}
+LinearMovementProjectiveConstraint<DataTypes>::LinearMovementProjectiveConstraint(MechanicalObject<DataTypes>& state,
+                                                                                  std::vector<Index> indices,
+                                                                                  std::vector<double> key_times,
+                                                                                  std::vector<Deriv> movements,
+                                                                                  bool relative, ContextClock clock)
+    : state_(&state),
+      indices_(std::move(indices)),
+      key_times_(std::move(key_times)),
+      movements_(std::move(movements)),
+      relative_(relative),
+      clock_(std::move(clock)) {}
 
 template <class DataTypes>
 void LinearMovementProjectiveConstraint<DataTypes>::init() {
@@ -123,8 +129,15 @@ ParabolicProjectiveConstraint<DataTypes>::ParabolicProjectiveConstraint(Mechanic
                                                                         const Vec3& p2, const Vec3& p3,
                                                                         double begin_time, double end_time,
                                                                         ContextClock clock, ContextClock dt)
-    : state_(&state), indices_(std::move(indices)), p1_(p1), p2_(p2), p3_(p3), begin_(begin_time), end_(end_time),
-      clock_(std::move(clock)), dt_(std::move(dt)) {}
+    : state_(&state),
+      indices_(std::move(indices)),
+      p1_(p1),
+      p2_(p2),
+      p3_(p3),
+      begin_(begin_time),
+      end_(end_time),
+      clock_(std::move(clock)),
+      dt_(std::move(dt)) {}
 
 // ParabolicProjectiveConstraint::init: the parabola's frame (x along P1P3, z = P1P3 × P1P2,
 // y = z × x, each normalised), its rotation as a normalised quaternion, P2 and P3 in the frame.

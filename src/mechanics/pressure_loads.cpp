@@ -103,8 +103,8 @@ double TrianglePressureForceField::total_rest_area() const {
 
 // ---- EdgePressureForceField -----------------------------------------------------------------
 
-EdgePressureForceField::EdgePressureForceField(Vec3Object& state, const MeshTopology& topology, std::vector<Index> edges,
-                                               const Vec3& pressure)
+EdgePressureForceField::EdgePressureForceField(Vec3Object& state, const MeshTopology& topology,
+                                               std::vector<Index> edges, const Vec3& pressure)
     : ForceField(state), topology_(&topology), edges_(std::move(edges)), pressure_(pressure) {
     if (!pressure_.allFinite()) throw_invalid_argument("EdgePressureForceField: pressure must be finite");
 }
@@ -163,7 +163,8 @@ std::vector<bool> points_between_planes(std::span<const Vec3> points, const Vec3
 
 std::vector<Index> edges_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
                                         double dmin, double dmax) {
-    const std::vector<bool> in = points_between_planes(points, normal, dmin, dmax);  // EdgePressureForceField::isPointInPlane
+    const std::vector<bool> in =
+        points_between_planes(points, normal, dmin, dmax);  // EdgePressureForceField::isPointInPlane
     std::vector<Index> out;
     const auto& edges = topology.edges();
     for (std::size_t k = 0; k < edges.size(); ++k) {
@@ -184,8 +185,8 @@ std::vector<Index> edge_indices_of(const MeshTopology& topology, std::span<const
 
 // ---- QuadPressureForceField ------------------------------------------------------------------
 
-QuadPressureForceField::QuadPressureForceField(Vec3Object& state, const MeshTopology& topology, std::vector<Index> quads,
-                                               const Vec3& pressure)
+QuadPressureForceField::QuadPressureForceField(Vec3Object& state, const MeshTopology& topology,
+                                               std::vector<Index> quads, const Vec3& pressure)
     : ForceField(state), topology_(&topology), quads_(std::move(quads)), pressure_(pressure) {
     if (!pressure_.allFinite()) throw_invalid_argument("QuadPressureForceField: pressure must be finite");
 }
@@ -236,7 +237,8 @@ double QuadPressureForceField::total_rest_area() const {
 
 std::vector<Index> quads_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
                                         double dmin, double dmax) {
-    const std::vector<bool> in = points_between_planes(points, normal, dmin, dmax);  // QuadPressureForceField::isPointInPlane
+    const std::vector<bool> in =
+        points_between_planes(points, normal, dmin, dmax);  // QuadPressureForceField::isPointInPlane
     std::vector<Index> out;
     const auto& quads = topology.quads();
     for (std::size_t k = 0; k < quads.size(); ++k) {
@@ -306,7 +308,8 @@ double SurfacePressureForceField::mesh_volume(std::span<const Vec3> x) const {
     const auto& triangles = topology_->triangles();
     const std::size_t nt = params_.triangle_indices.empty() ? triangles.size() : params_.triangle_indices.size();
     for (std::size_t i = 0; i < nt; ++i) {
-        const std::size_t id = params_.triangle_indices.empty() ? i : static_cast<std::size_t>(params_.triangle_indices[i]);
+        const std::size_t id =
+            params_.triangle_indices.empty() ? i : static_cast<std::size_t>(params_.triangle_indices[i]);
         const Triangle& t = triangles[id];
         volume += x[at(t[0])].cross(x[at(t[1])]).dot(x[at(t[2])]);
     }
@@ -390,7 +393,8 @@ void SurfacePressureForceField::add_force(std::span<Vec3> f, std::span<const Vec
 // SurfacePressureForceField::addDForce: per pressed triangle (a, b, c) and each corner,
 // d f = p/6·([bc]ₓ da − [ac]ₓ db + [ab]ₓ dc) with bc = c − b, ac = c − a, ab = b − a at the last
 // add_force (the DcrossDA, DcrossDB, DcrossDC blocks).
-void SurfacePressureForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
+void SurfacePressureForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                           double) const {
     if (!params_.use_tangent_stiffness) return;
     const auto& triangles = topology_->triangles();
     for (Index id : pressed_triangles_) {

@@ -49,7 +49,8 @@ void BlockProjectionConstraint::init() {
 void BlockProjectionConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     const std::span<Vec3> u = as_derivs<Vec3Types>(v);
     for (Index i : projected_)  // (a point past the end: a projection kept over a topological change)
-        if (static_cast<std::size_t>(i) < u.size()) u[static_cast<std::size_t>(i)] = block_times(block_, u[static_cast<std::size_t>(i)]);
+        if (static_cast<std::size_t>(i) < u.size())
+            u[static_cast<std::size_t>(i)] = block_times(block_, u[static_cast<std::size_t>(i)]);
 }
 
 void BlockProjectionConstraint::project_velocity() { project_response(Vec3Object::flat(state_->velocity)); }
@@ -110,7 +111,9 @@ void DirectionProjectiveConstraint::project_position() {
 }
 
 // ---- Point ------------------------------------------------------------------------------------
-void PointProjectiveConstraint::init() { check_constraint_indices("PointProjectiveConstraint", indices_, state_->num_dofs()); }
+void PointProjectiveConstraint::init() {
+    check_constraint_indices("PointProjectiveConstraint", indices_, state_->num_dofs());
+}
 
 void PointProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     const std::span<Vec3> u = as_derivs<Vec3Types>(v);

@@ -6,7 +6,9 @@ namespace penalty {
 
 namespace {
 
-double in_element(const std::vector<double>& values, std::size_t i) { return i < values.size() ? values[i] : values.front(); }
+double in_element(const std::vector<double>& values, std::size_t i) {
+    return i < values.size() ? values[i] : values.front();
+}
 
 using StrainDisplacement = Eigen::Matrix<double, 32, 20>;
 
@@ -54,8 +56,11 @@ void QuadBendingFEMForceField::init() {
         const Quad& q = quads[i];
         for (PointId v : q)
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument("QuadBendingFEMForceField: quad ", i, " uses point ", v, ", out of range (", x0.size(), " points)");
-        const auto at = [&](int k) -> const Vec3& { return x0[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])]; };
+                throw_invalid_argument("QuadBendingFEMForceField: quad ", i, " uses point ", v, ", out of range (",
+                                       x0.size(), " points)");
+        const auto at = [&](int k) -> const Vec3& {
+            return x0[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])];
+        };
         if (half_norm(at(1) - at(0)) == 0 || half_norm(at(3) - at(0)) == 0)
             throw_invalid_argument("QuadBendingFEMForceField: quad ", i, " has a zero-length side at rest");
         const Vec3 centroid = (at(0) + at(2)) / 2;
@@ -78,14 +83,16 @@ void QuadBendingFEMForceField::init() {
 }
 
 // QuadBendingFEMForceField::computeElementStiffness, entry by entry in SOFA's operation order.
-QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(std::size_t qi, std::span<const Vec3> x) const {
+QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(std::size_t qi,
+                                                                                std::span<const Vec3> x) const {
     const Quad& q = topology_->quads()[qi];
     const double length = half_norm(x[static_cast<std::size_t>(q[1])] - x[static_cast<std::size_t>(q[0])]);
     const double height = half_norm(x[static_cast<std::size_t>(q[3])] - x[static_cast<std::size_t>(q[0])]);
     const Material& c = material_[qi];
     const double g = std::sqrt(3.0) / 3;
-    const std::array<StrainDisplacement, 4> jb{bending_strain(g, g, length, height), bending_strain(-g, g, length, height),
-                                               bending_strain(g, -g, length, height), bending_strain(-g, -g, length, height)};
+    const std::array<StrainDisplacement, 4> jb{
+        bending_strain(g, g, length, height), bending_strain(-g, g, length, height),
+        bending_strain(g, -g, length, height), bending_strain(-g, -g, length, height)};
     const double wb = 1;
     Stiffness kb = Stiffness::Zero();
     for (int i = 0; i < 4; ++i)
@@ -94,13 +101,27 @@ QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(
             for (std::size_t gp = 0; gp < 4; ++gp) {
                 const StrainDisplacement& b = jb[gp];
                 const auto bt = [&](int row, int col) { return b(col, row); };  // Jb_t
-                part[gp][0] = length * height * (bt(5 * i, 8 * i) * c.cb00 * b(8 * j, 5 * j) + bt(5 * i, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j)) * wb;
-                part[gp][1] = length * height * (bt(5 * i, 8 * i) * c.cb01 * b(8 * j + 1, 5 * j + 1) + bt(5 * i, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j + 1)) * wb;
-                part[gp][2] = length * height * (bt(5 * i + 1, 8 * i + 1) * c.cb01 * b(8 * j, 5 * j) + bt(5 * i + 1, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j)) * wb;
-                part[gp][3] = length * height * (bt(5 * i + 1, 8 * i + 1) * c.cb11 * b(8 * j + 1, 5 * j + 1) + bt(5 * i + 1, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j + 1)) * wb;
+                part[gp][0] = length * height *
+                              (bt(5 * i, 8 * i) * c.cb00 * b(8 * j, 5 * j) +
+                               bt(5 * i, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j)) *
+                              wb;
+                part[gp][1] = length * height *
+                              (bt(5 * i, 8 * i) * c.cb01 * b(8 * j + 1, 5 * j + 1) +
+                               bt(5 * i, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j + 1)) *
+                              wb;
+                part[gp][2] = length * height *
+                              (bt(5 * i + 1, 8 * i + 1) * c.cb01 * b(8 * j, 5 * j) +
+                               bt(5 * i + 1, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j)) *
+                              wb;
+                part[gp][3] = length * height *
+                              (bt(5 * i + 1, 8 * i + 1) * c.cb11 * b(8 * j + 1, 5 * j + 1) +
+                               bt(5 * i + 1, 8 * i + 2) * c.cb22 * b(8 * j + 2, 5 * j + 1)) *
+                              wb;
             }
             const int rows[4] = {5 * i, 5 * i, 5 * i + 1, 5 * i + 1}, cols[4] = {5 * j, 5 * j + 1, 5 * j, 5 * j + 1};
-            for (int e = 0; e < 4; ++e) kb(rows[e], cols[e]) = part[0][static_cast<std::size_t>(e)] + part[1][static_cast<std::size_t>(e)] + part[2][static_cast<std::size_t>(e)] + part[3][static_cast<std::size_t>(e)];
+            for (int e = 0; e < 4; ++e)
+                kb(rows[e], cols[e]) = part[0][static_cast<std::size_t>(e)] + part[1][static_cast<std::size_t>(e)] +
+                                       part[2][static_cast<std::size_t>(e)] + part[3][static_cast<std::size_t>(e)];
         }
     const StrainDisplacement js = shear_strain(length, height);
     const auto jt = [&](int row, int col) { return js(col, row); };  // Js_t
@@ -109,15 +130,32 @@ QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(
     for (int i = 0; i < 4; ++i)
         for (int j = 0; j < 4; ++j) {
             const double lh = length * height;
-            ks(5 * i + 2, 5 * j + 2) = lh * (jt(5 * i + 2, 8 * i + 6) * c.cs66 * js(8 * j + 6, 5 * j + 2) + jt(5 * i + 2, 8 * i + 7) * c.cs77 * js(8 * j + 7, 5 * j + 2)) * ws * ws;
+            ks(5 * i + 2, 5 * j + 2) = lh *
+                                       (jt(5 * i + 2, 8 * i + 6) * c.cs66 * js(8 * j + 6, 5 * j + 2) +
+                                        jt(5 * i + 2, 8 * i + 7) * c.cs77 * js(8 * j + 7, 5 * j + 2)) *
+                                       ws * ws;
             ks(5 * i + 2, 5 * j + 3) = lh * (jt(5 * i + 2, 8 * i + 6) * c.cs66 * js(8 * j + 6, 5 * j + 3)) * ws * ws;
             ks(5 * i + 2, 5 * j + 4) = lh * (jt(5 * i + 2, 8 * i + 7) * c.cs77 * js(8 * j + 7, 5 * j + 4)) * ws * ws;
             ks(5 * i + 3, 5 * j + 2) = lh * (jt(5 * i + 3, 8 * i + 6) * c.cs66 * js(8 * j + 6, 5 * j + 2)) * ws * ws;
-            ks(5 * i + 3, 5 * j + 3) = lh * (jt(5 * i + 3, 8 * i + 3) * c.cs33 * js(8 * j + 3, 5 * j + 3) + jt(5 * i + 3, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 3) + jt(5 * i + 3, 8 * i + 6) * c.cs66 * js(8 * j + 6, 5 * j + 3)) * ws * ws;
-            ks(5 * i + 3, 5 * j + 4) = lh * (jt(5 * i + 3, 8 * i + 3) * c.cs34 * js(8 * j + 4, 5 * j + 4) + jt(5 * i + 3, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 4)) * ws * ws;
+            ks(5 * i + 3, 5 * j + 3) = lh *
+                                       (jt(5 * i + 3, 8 * i + 3) * c.cs33 * js(8 * j + 3, 5 * j + 3) +
+                                        jt(5 * i + 3, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 3) +
+                                        jt(5 * i + 3, 8 * i + 6) * c.cs66 * js(8 * j + 6, 5 * j + 3)) *
+                                       ws * ws;
+            ks(5 * i + 3, 5 * j + 4) = lh *
+                                       (jt(5 * i + 3, 8 * i + 3) * c.cs34 * js(8 * j + 4, 5 * j + 4) +
+                                        jt(5 * i + 3, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 4)) *
+                                       ws * ws;
             ks(5 * i + 4, 5 * j + 2) = lh * (jt(5 * i + 4, 8 * i + 7) * c.cs77 * js(8 * j + 7, 5 * j + 2)) * ws * ws;
-            ks(5 * i + 4, 5 * j + 3) = lh * (jt(5 * i + 4, 8 * i + 4) * c.cs34 * js(8 * j + 3, 5 * j + 3) + jt(5 * i + 4, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 3)) * ws * ws;
-            ks(5 * i + 4, 5 * j + 4) = lh * (jt(5 * i + 4, 8 * i + 4) * c.cs44 * js(8 * j + 4, 5 * j + 4) + jt(5 * i + 4, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 4) + jt(5 * i + 4, 8 * i + 7) * c.cs77 * js(8 * j + 7, 5 * j + 4)) * ws * ws;
+            ks(5 * i + 4, 5 * j + 3) = lh *
+                                       (jt(5 * i + 4, 8 * i + 4) * c.cs34 * js(8 * j + 3, 5 * j + 3) +
+                                        jt(5 * i + 4, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 3)) *
+                                       ws * ws;
+            ks(5 * i + 4, 5 * j + 4) = lh *
+                                       (jt(5 * i + 4, 8 * i + 4) * c.cs44 * js(8 * j + 4, 5 * j + 4) +
+                                        jt(5 * i + 4, 8 * i + 5) * c.cs55 * js(8 * j + 5, 5 * j + 4) +
+                                        jt(5 * i + 4, 8 * i + 7) * c.cs77 * js(8 * j + 7, 5 * j + 4)) *
+                                       ws * ws;
         }
     return kb + ks;
 }
@@ -153,18 +191,24 @@ void QuadBendingFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     stiffness_.resize(quads.size());
     for (std::size_t i = 0; i < quads.size(); ++i) {
         const Quad& q = quads[i];
-        const auto at = [&](int k) -> const Vec3& { return x[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])]; };
+        const auto at = [&](int k) -> const Vec3& {
+            return x[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])];
+        };
         const Vec3 centroid = (at(0) + at(2)) / 2;
         std::array<double, 20> d{};
         for (int k = 0; k < 4; ++k) {
             const Vec3 deform = at(k) - centroid;
-            for (int a = 0; a < 3; ++a) d[static_cast<std::size_t>(5 * k + a)] = rest_offsets_[i][static_cast<std::size_t>(k)][a] - deform[a];
+            for (int a = 0; a < 3; ++a)
+                d[static_cast<std::size_t>(5 * k + a)] = rest_offsets_[i][static_cast<std::size_t>(k)][a] - deform[a];
         }
         stiffness_[i] = element_stiffness(i, x);
         const std::array<double, 20> force = force_of(stiffness_[i], d);
         for (int k = 0; k < 4; ++k) {
-            f[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])] += Vec3(force[static_cast<std::size_t>(5 * k)], force[static_cast<std::size_t>(5 * k + 1)], force[static_cast<std::size_t>(5 * k + 2)]);
-            for (int a = 0; a < 3; ++a) energy_ += 0.5 * d[static_cast<std::size_t>(5 * k + a)] * force[static_cast<std::size_t>(5 * k + a)];
+            f[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])] +=
+                Vec3(force[static_cast<std::size_t>(5 * k)], force[static_cast<std::size_t>(5 * k + 1)],
+                     force[static_cast<std::size_t>(5 * k + 2)]);
+            for (int a = 0; a < 3; ++a)
+                energy_ += 0.5 * d[static_cast<std::size_t>(5 * k + a)] * force[static_cast<std::size_t>(5 * k + a)];
         }
     }
 }
@@ -177,11 +221,15 @@ void QuadBendingFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
         const Quad& q = quads[i];
         std::array<double, 20> d{};
         for (int k = 0; k < 4; ++k)
-            for (int a = 0; a < 3; ++a) d[static_cast<std::size_t>(5 * k + a)] = dx[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])][a];
+            for (int a = 0; a < 3; ++a)
+                d[static_cast<std::size_t>(5 * k + a)] =
+                    dx[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])][a];
         const std::array<double, 20> force = force_of(stiffness_at(i), d);
         const double h = 1;
         for (int k = 0; k < 4; ++k) {
-            const Vec3 minus(-h * force[static_cast<std::size_t>(5 * k)], -h * force[static_cast<std::size_t>(5 * k + 1)], -h * force[static_cast<std::size_t>(5 * k + 2)]);
+            const Vec3 minus(-h * force[static_cast<std::size_t>(5 * k)],
+                             -h * force[static_cast<std::size_t>(5 * k + 1)],
+                             -h * force[static_cast<std::size_t>(5 * k + 2)]);
             df[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])] += minus * k_factor;
         }
     }
@@ -197,7 +245,8 @@ void QuadBendingFEMForceField::add_stiffness_triplets(TripletList& t, Index offs
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < 3; ++b) {
                         if ((a == 2) != (b == 2)) continue;  // computeForce: in-plane and normal rows apart
-                        t.emplace_back(offset + 3 * q[static_cast<std::size_t>(m)] + a, offset + 3 * q[static_cast<std::size_t>(n)] + b,
+                        t.emplace_back(offset + 3 * q[static_cast<std::size_t>(m)] + a,
+                                       offset + 3 * q[static_cast<std::size_t>(n)] + b,
                                        -factor * k(5 * m + a, 5 * n + b));
                     }
     }

@@ -51,13 +51,16 @@ MeshTopology RegularGridTopology::mesh(bool with_triangles, bool with_hexahedra)
     std::vector<Quad> quads;  // XY planes, then XZ, then YZ (every face, interior ones included)
     for (int z = 0; z < nz; ++z)
         for (int y = 0; y + 1 < ny; ++y)
-            for (int x = 0; x + 1 < nx; ++x) quads.push_back({p(x, y, z), p(x + 1, y, z), p(x + 1, y + 1, z), p(x, y + 1, z)});
+            for (int x = 0; x + 1 < nx; ++x)
+                quads.push_back({p(x, y, z), p(x + 1, y, z), p(x + 1, y + 1, z), p(x, y + 1, z)});
     for (int z = 0; z + 1 < nz; ++z)
         for (int y = 0; y < ny; ++y)
-            for (int x = 0; x + 1 < nx; ++x) quads.push_back({p(x, y, z), p(x + 1, y, z), p(x + 1, y, z + 1), p(x, y, z + 1)});
+            for (int x = 0; x + 1 < nx; ++x)
+                quads.push_back({p(x, y, z), p(x + 1, y, z), p(x + 1, y, z + 1), p(x, y, z + 1)});
     for (int z = 0; z + 1 < nz; ++z)
         for (int y = 0; y + 1 < ny; ++y)
-            for (int x = 0; x < nx; ++x) quads.push_back({p(x, y, z), p(x, y + 1, z), p(x, y + 1, z + 1), p(x, y, z + 1)});
+            for (int x = 0; x < nx; ++x)
+                quads.push_back({p(x, y, z), p(x, y + 1, z), p(x, y + 1, z + 1), p(x, y, z + 1)});
     // GridUpdate::updateEdges: edges from the triangles when there are some, else along the axes
     // (a grid of one row or column has no quad, hence no triangle: its segments are its edges)
     if (with_triangles && !quads.empty()) {
@@ -131,7 +134,8 @@ std::pair<std::array<int, 3>, Vec3> RegularGridTopology::locate(const Vec3& p) c
         const auto ua = static_cast<std::size_t>(a);
         if (n_[ua] < 2) throw_invalid_argument("RegularGridTopology: locate needs a 3-D grid");
         if (dx_[a] == 0.0)
-            throw_invalid_argument("RegularGridTopology: locate needs cells of non-zero size (max[", a, "] = min[", a, "])");
+            throw_invalid_argument("RegularGridTopology: locate needs cells of non-zero size (max[", a, "] = min[", a,
+                                   "])");
         // SOFA's RegularGridTopology::findCube: x = ((pos − p0)·dx)·inv_dx2, inv_dx2 = 1/(dx·dx),
         // with dx the cell vector (one non-zero component, so the dot product is one product).
         const double inverse_squared = 1 / (dx_[a] * dx_[a]);
@@ -178,7 +182,8 @@ std::vector<Spring> regular_grid_springs(const RegularGridTopology& grid, const 
         double l = length(dx);
         for (int z = 0; z < nz; ++z)
             for (int y = 0; y < ny; ++y)
-                for (int x = 0; x < nx - 1; ++x) add(x, y, z, x + 1, y, z, l, p.lines_stiffness / l, p.lines_damping / l);
+                for (int x = 0; x < nx - 1; ++x)
+                    add(x, y, z, x + 1, y, z, l, p.lines_stiffness / l, p.lines_damping / l);
         l = length(dy);
         for (int z = 0; z < nz; ++z)
             for (int y = 0; y < ny - 1; ++y)

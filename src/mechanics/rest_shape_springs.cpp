@@ -1,8 +1,8 @@
 #include "penalty/mechanics/rest_shape_springs.hpp"
 
 #include <cmath>
-#include <string>
 #include <limits>
+#include <string>
 
 namespace penalty {
 
@@ -226,7 +226,8 @@ void RestShapeSpringsForceField<DataTypes>::add_stiffness_triplets(TripletList& 
             if (sofa_assembly_ || active_[static_cast<std::size_t>(c)])
                 t.emplace_back(offset + width * p + c, offset + width * p + c, -k * factor);
         if constexpr (std::is_same_v<DataTypes, Rigid3Types>) {
-            const double ka = sofa_assembly_ ? angular_stiffness_of(static_cast<std::size_t>(p)) : angular_stiffness_of(i);
+            const double ka =
+                sofa_assembly_ ? angular_stiffness_of(static_cast<std::size_t>(p)) : angular_stiffness_of(i);
             for (Index c = 3; c < 6; ++c)
                 if (active_[static_cast<std::size_t>(c)])
                     t.emplace_back(offset + width * p + c, offset + width * p + c, -ka * factor);
@@ -235,7 +236,8 @@ void RestShapeSpringsForceField<DataTypes>::add_stiffness_triplets(TripletList& 
 }
 
 template <class DataTypes>
-bool RestShapeSpringsForceField<DataTypes>::list_dx_read(const BaseState& state, std::vector<std::uint32_t>& rows) const {
+bool RestShapeSpringsForceField<DataTypes>::list_dx_read(const BaseState& state,
+                                                         std::vector<std::uint32_t>& rows) const {
     if (&state != this->state_) return true;
     for (Index p : indices_) rows.push_back(static_cast<std::uint32_t>(p));
     return true;

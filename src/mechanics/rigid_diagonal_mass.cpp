@@ -14,8 +14,10 @@ RigidDiagonalMass::RigidDiagonalMass(Rigid3Object& state, std::vector<FrameMass>
         const FrameMass& m = masses_[i];
         if (!std::isfinite(m.mass) || m.mass <= 0.0)
             throw_invalid_argument("DiagonalMass: the mass of frame ", i, " must be finite and > 0, got ", m.mass);
-        if (!m.inertia.allFinite() || !m.inertia.isApprox(m.inertia.transpose(), 1e-12) || !(m.inertia.determinant() > 0.0))
-            throw_invalid_argument("DiagonalMass: the inertia matrix of frame ", i, " must be symmetric and invertible");
+        if (!m.inertia.allFinite() || !m.inertia.isApprox(m.inertia.transpose(), 1e-12) ||
+            !(m.inertia.determinant() > 0.0))
+            throw_invalid_argument("DiagonalMass: the inertia matrix of frame ", i,
+                                   " must be symmetric and invertible");
         inertia_mass_.push_back(m.inertia * m.mass);  // RigidMass::recalc
     }
 }
@@ -42,7 +44,8 @@ void RigidDiagonalMass::add_mdx(double factor) {
     }
 }
 
-void RigidDiagonalMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in, Eigen::Ref<Eigen::VectorXd> out) const {
+void RigidDiagonalMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in,
+                                      Eigen::Ref<Eigen::VectorXd> out) const {
     // DiagonalMass::accFromF: a = f / m (linear), (J·m)⁻¹·f (angular); no mass: 0
     out.setZero();
     for (std::size_t i = 0; i < count(); ++i) {

@@ -2,8 +2,8 @@
 // arithmetic follows SpringForceField::computeSpringForce / computeSpringDForce term by term.
 #include "penalty/mechanics/rigid_spring_force_field.hpp"
 
-#include "sofa_vector_ops.hpp"
 #include "penalty/core/error.hpp"
+#include "sofa_vector_ops.hpp"
 
 #include <cmath>
 
@@ -22,11 +22,12 @@ void RigidSpringForceField::init() {
         const Spring& s = springs_[k];
         if (s.a < 0 || static_cast<std::size_t>(s.a) >= s1_->num_dofs() || s.b < 0 ||
             static_cast<std::size_t>(s.b) >= s2_->num_dofs())
-            throw_invalid_argument("SpringForceField: spring ", k, " joins frames ", s.a, " and ", s.b, ", out of range (",
-                                   s1_->num_dofs(), " and ", s2_->num_dofs(), " frames)");
+            throw_invalid_argument("SpringForceField: spring ", k, " joins frames ", s.a, " and ", s.b,
+                                   ", out of range (", s1_->num_dofs(), " and ", s2_->num_dofs(), " frames)");
         if (!(s.ks >= 0) || !(s.kd >= 0) || !(s.rest_length >= 0) || !std::isfinite(s.ks) || !std::isfinite(s.kd) ||
             !std::isfinite(s.rest_length))
-            throw_invalid_argument("SpringForceField: spring ", k, ": stiffness, damping and length must be finite and >= 0");
+            throw_invalid_argument("SpringForceField: spring ", k,
+                                   ": stiffness, damping and length must be finite and >= 0");
     }
     dfdx_.assign(springs_.size(), Mat3::Zero());
 }

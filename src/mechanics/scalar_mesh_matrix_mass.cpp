@@ -45,10 +45,12 @@ void ScalarMeshMatrixMass::add_mdx(double factor) {
     }
 }
 
-void ScalarMeshMatrixMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in, Eigen::Ref<Eigen::VectorXd> out) const {
+void ScalarMeshMatrixMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>& in,
+                                         Eigen::Ref<Eigen::VectorXd> out) const {
     if (!masses_->lumping())
-        throw_invalid_argument("MeshMatrixMass<Vec1d,Vec3d>: an explicit solver needs M⁻¹, which the consistent mass "
-                               "matrix does not give (SOFA's accFromF refuses it too): set lumping=\"1\"");
+        throw_invalid_argument(
+            "MeshMatrixMass<Vec1d,Vec3d>: an explicit solver needs M⁻¹, which the consistent mass "
+            "matrix does not give (SOFA's accFromF refuses it too): set lumping=\"1\"");
     const std::vector<double>& m = masses_->vertex_masses();
     const double c = masses_->lumping_coefficient();
     for (std::size_t i = 0; i < m.size(); ++i) out[Eigen::Index(i)] = in[Eigen::Index(i)] / (m[i] * c);
@@ -57,7 +59,8 @@ void ScalarMeshMatrixMass::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>
 void ScalarMeshMatrixMass::add_mass_triplets(TripletList& t, Index offset, double factor) const {
     const std::vector<double>& m = masses_->vertex_masses();
     const double scale = masses_->lumping() ? masses_->lumping_coefficient() : 1.0;
-    for (std::size_t i = 0; i < m.size(); ++i) t.emplace_back(offset + Index(i), offset + Index(i), m[i] * scale * factor);
+    for (std::size_t i = 0; i < m.size(); ++i)
+        t.emplace_back(offset + Index(i), offset + Index(i), m[i] * scale * factor);
     const std::vector<double>& me = masses_->edge_masses();
     const std::vector<Edge>& edges = masses_->topology().edges();
     for (std::size_t j = 0; j < me.size(); ++j) {

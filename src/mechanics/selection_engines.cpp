@@ -13,8 +13,8 @@ MeshRegion::MeshRegion(std::vector<Vec3> points, std::vector<Triangle> triangles
     for (std::size_t t = 0; t < triangles_.size(); ++t)
         for (const PointId i : triangles_[t])
             if (i < 0 || std::size_t(i) >= points_.size())
-                throw_invalid_argument("MeshROI: ROI triangle ", t, " uses point ", i, " but the ROI mesh has ", points_.size(),
-                                       " points");
+                throw_invalid_argument("MeshROI: ROI triangle ", t, " uses point ", i, " but the ROI mesh has ",
+                                       points_.size(), " points");
     // MeshROI::computeBoundingBox: b[0..2] collect the largest coordinates and b[3..5] the least,
     // then each pair is swapped into (min, max)
     std::array<double, 6>& b = box_;

@@ -123,7 +123,8 @@ void gather_by_radius(const std::vector<Vec3>& x, const std::vector<PointId>& se
     for (std::size_t j = 0; j < x.size(); ++j) {
         bool inserted = false;
         for (std::size_t i = 0; i < seeds.size(); ++i)
-            if (static_cast<PointId>(j) != seeds[i] && distance(x[j], x[static_cast<std::size_t>(seeds[i])]) < params.radius) {
+            if (static_cast<PointId>(j) != seeds[i] &&
+                distance(x[j], x[static_cast<std::size_t>(seeds[i])]) < params.radius) {
                 clusters[i].push_back(static_cast<PointId>(j));
                 inserted = true;
             }
@@ -224,14 +225,18 @@ Mat3 sofa_polar_rotation(const Mat3& m) {
 
 ShapeMatching::ShapeMatching(Clusters clusters, std::vector<Vec3> rest_positions, const ShapeMatchingParameters& params,
                              std::vector<Vec3> fixed_rest_positions, std::vector<Vec3> fixed_positions)
-    : clusters_(std::move(clusters)), rest_(std::move(rest_positions)), params_(params),
-      fixed_rest_(std::move(fixed_rest_positions)), fixed_(std::move(fixed_positions)) {
+    : clusters_(std::move(clusters)),
+      rest_(std::move(rest_positions)),
+      params_(params),
+      fixed_rest_(std::move(fixed_rest_positions)),
+      fixed_(std::move(fixed_positions)) {
     const std::size_t nbp = rest_.size();
     if (fixed_.size() != fixed_rest_.size())
         throw std::invalid_argument("ShapeMatching: fixedPosition has " + std::to_string(fixed_.size()) +
                                     " points and fixedPosition0 " + std::to_string(fixed_rest_.size()));
     for (std::size_t i = 0; i < clusters_.size(); ++i) {
-        if (clusters_[i].empty()) throw std::invalid_argument("ShapeMatching: cluster " + std::to_string(i) + " is empty");
+        if (clusters_[i].empty())
+            throw std::invalid_argument("ShapeMatching: cluster " + std::to_string(i) + " is empty");
         for (PointId p : clusters_[i])
             if (p < 0 || static_cast<std::size_t>(p) >= nbp + fixed_rest_.size())
                 throw std::invalid_argument("ShapeMatching: cluster " + std::to_string(i) + " names point " +
@@ -259,8 +264,9 @@ ShapeMatching::ShapeMatching(Clusters clusters, std::vector<Vec3> rest_positions
         qx -= (rest_centres_[i] * rest_centres_[i].transpose()) * weights_[i];
         if (params_.affine_ratio != 0.0) {
             if (qx.determinant() == 0.0)
-                throw std::invalid_argument("ShapeMatching: cluster " + std::to_string(i) +
-                                            " is flat (its rest covariance cannot be inverted), so affineRatio must be 0");
+                throw std::invalid_argument(
+                    "ShapeMatching: cluster " + std::to_string(i) +
+                    " is flat (its rest covariance cannot be inverted), so affineRatio must be 0");
             inverse_covariance_[i] = qx.inverse();
         }
     }

@@ -52,8 +52,11 @@ SparseGridTopology SparseGridTopology::from_finer(std::shared_ptr<const SparseGr
                 kept.push_back({i, j, k});
             }
     // points: the kept cells' corners, sorted by position (SOFA's std::map keyed by Vec3)
-    const auto key = [&](int i, int j, int k) { return (std::size_t(i) * std::size_t(n[1]) + std::size_t(j)) * std::size_t(n[2]) + std::size_t(k); };
-    static constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const auto key = [&](int i, int j, int k) {
+        return (std::size_t(i) * std::size_t(n[1]) + std::size_t(j)) * std::size_t(n[2]) + std::size_t(k);
+    };
+    static constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                          {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     const std::size_t grid_points = std::size_t(n[0]) * std::size_t(n[1]) * std::size_t(n[2]);
     std::vector<PointId> point_of_key(grid_points, -1);
     for (const auto& c : kept)
@@ -69,7 +72,8 @@ SparseGridTopology SparseGridTopology::from_finer(std::shared_ptr<const SparseGr
             }
     for (const auto& c : kept) {
         Hexahedron h{};
-        for (std::size_t v = 0; v < 8; ++v) h[v] = point_of_key[key(c[0] + kCorner[v][0], c[1] + kCorner[v][1], c[2] + kCorner[v][2])];
+        for (std::size_t v = 0; v < 8; ++v)
+            h[v] = point_of_key[key(c[0] + kCorner[v][0], c[1] + kCorner[v][1], c[2] + kCorner[v][2])];
         coarse.hexahedra_.push_back(h);
     }
     // coefficients: the children's sum over 8 (absent children count 0); in single precision

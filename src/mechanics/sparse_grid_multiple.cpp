@@ -7,8 +7,9 @@
 
 namespace penalty {
 
-SparseGridTopology SparseGridTopology::from_surfaces(std::array<int, 3> n, Vec3 min, Vec3 max, std::span<const WeightedSurface> surfaces,
-                                                     bool fill_weighted, bool erase_previous, bool only_inside_cells) {
+SparseGridTopology SparseGridTopology::from_surfaces(std::array<int, 3> n, Vec3 min, Vec3 max,
+                                                     std::span<const WeightedSurface> surfaces, bool fill_weighted,
+                                                     bool erase_previous, bool only_inside_cells) {
     if (surfaces.empty()) throw_invalid_argument("SparseGridMultipleTopology: no surface");
     for (int& count : n) count = std::max(count, 2);
     const std::size_t cells = std::size_t(n[0] - 1) * std::size_t(n[1] - 1) * std::size_t(n[2] - 1);

@@ -151,7 +151,8 @@ std::shared_ptr<SparseGridRamification> group_connexions(const SparseGridRamific
                 group[std::size_t(c)] = Index(m);
                 for (const auto& direction : fine.connexions[std::size_t(c)].neighbors)
                     for (const Index neighbour : direction)
-                        if (in_cell.contains(neighbour) && group[std::size_t(neighbour)] == kNone) stack.push_back(neighbour);
+                        if (in_cell.contains(neighbour) && group[std::size_t(neighbour)] == kNone)
+                            stack.push_back(neighbour);
             }
         }
         std::map<Index, Index> connexion_of_group;
@@ -185,14 +186,16 @@ std::shared_ptr<SparseGridRamification> group_connexions(const SparseGridRamific
     }
     for (std::size_t c = 0; c < neighbours.size(); ++c)
         for (int d = 0; d < kDirections; ++d)
-            r->connexions[c].neighbors[std::size_t(d)].assign(neighbours[c][std::size_t(d)].begin(), neighbours[c][std::size_t(d)].end());
+            r->connexions[c].neighbors[std::size_t(d)].assign(neighbours[c][std::size_t(d)].begin(),
+                                                              neighbours[c][std::size_t(d)].end());
 
     return r;
 }
 
 }  // namespace
 
-SparseGridTopology SparseGridTopology::ramified_finest(SparseGridTopology voxels, const SparseGridFacets* surface, bool ramify_points) {
+SparseGridTopology SparseGridTopology::ramified_finest(SparseGridTopology voxels, const SparseGridFacets* surface,
+                                                       bool ramify_points) {
     SparseGridTopology grid = std::move(voxels);
     auto r = std::make_shared<SparseGridRamification>();
     const std::size_t cells = grid.hexahedra_.size();
@@ -208,11 +211,13 @@ SparseGridTopology SparseGridTopology::ramified_finest(SparseGridTopology voxels
     // sharingTriangle: only two BOUNDARY cells are tested, on the cell's face toward the neighbour
     const auto connected = [&](Index cell, Index neighbour, int direction) {
         if (surface == nullptr) return true;
-        if (grid.types_[std::size_t(cell)] != SparseCellType::boundary || grid.types_[std::size_t(neighbour)] != SparseCellType::boundary)
+        if (grid.types_[std::size_t(cell)] != SparseCellType::boundary ||
+            grid.types_[std::size_t(neighbour)] != SparseCellType::boundary)
             return true;
         static constexpr int kFace[6][4] = {{}, {0, 1, 5, 4}, {}, {0, 4, 7, 3}, {0, 1, 2, 3}, {}};
         const auto& f = kFace[direction];
-        return surface_crosses_face(*surface, corner(cell, f[0]), corner(cell, f[1]), corner(cell, f[2]), corner(cell, f[3]));
+        return surface_crosses_face(*surface, corner(cell, f[0]), corner(cell, f[1]), corner(cell, f[2]),
+                                    corner(cell, f[3]));
     };
     const std::array<int, 3> n = grid.grid_.n();
     const int cx = n[0] - 1, cy = n[1] - 1, cz = n[2] - 1;
@@ -241,8 +246,10 @@ SparseGridTopology SparseGridTopology::ramified_finest(SparseGridTopology voxels
     return grid;
 }
 
-SparseGridTopology SparseGridTopology::from_finer_ramified(std::shared_ptr<const SparseGridTopology> finer, bool fill_weighted) {
-    if (!finer || !finer->ramification_) throw_invalid_argument("SparseGridRamificationTopology: no ramified finer grid to build from");
+SparseGridTopology SparseGridTopology::from_finer_ramified(std::shared_ptr<const SparseGridTopology> finer,
+                                                           bool fill_weighted) {
+    if (!finer || !finer->ramification_)
+        throw_invalid_argument("SparseGridRamificationTopology: no ramified finer grid to build from");
     const SparseGridRamification& fine = *finer->ramification_;
     const RegularGridTopology& fine_grid = finer->grid();
     const std::array<int, 3> fine_n = fine_grid.n();
@@ -261,7 +268,8 @@ SparseGridTopology SparseGridTopology::from_finer_ramified(std::shared_ptr<const
     std::vector<std::array<Index, 8>> cell_children;
     std::vector<SparseCellType> cell_types;
     std::vector<std::array<Vec3, 8>> cell_corners;
-    static constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    static constexpr int kCorner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                          {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     for (int i = 0; i < cx; ++i)
         for (int j = 0; j < cy; ++j)
             for (int k = 0; k < cz; ++k) {

@@ -74,7 +74,8 @@ std::pair<Vec3, Vec3> SparseGridTopology::default_box(std::span<const Vec3> posi
     return {lo - grow, hi + grow};
 }
 
-SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 min, Vec3 max, std::span<const Vec3> positions,
+SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 min, Vec3 max,
+                                                    std::span<const Vec3> positions,
                                                     std::span<const Triangle> triangles, bool only_inside_cells) {
     if (positions.empty()) throw_invalid_argument("SparseGridTopology: the surface has no points");
     for (int& count : n) count = std::max(count, 2);  // SparseGridTopology::init
@@ -126,7 +127,8 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
                     std::array<std::array<float, 3>, 3> scaled{};
                     for (std::size_t k = 0; k < 3; ++k)
                         for (int a = 0; a < 3; ++a)
-                            scaled[k][std::size_t(a)] = float((positions[std::size_t(t[k])][a] - centre[a]) / diagonal[a]);
+                            scaled[k][std::size_t(a)] =
+                                float((positions[std::size_t(t[k])][a] - centre[a]) / diagonal[a]);
                     if (triangle_meets_unit_cube(scaled)) type = SparseCellType::boundary;
                 }
     }
@@ -158,14 +160,15 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
     return from_grid_types(n, min, max, std::move(types), only_inside_cells);
 }
 
-SparseGridTopology SparseGridTopology::from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max, std::vector<SparseCellType> types,
-                                                       bool only_inside_cells) {
+SparseGridTopology SparseGridTopology::from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max,
+                                                       std::vector<SparseCellType> types, bool only_inside_cells) {
     for (int& count : n) count = std::max(count, 2);
     SparseGridTopology sparse{RegularGridTopology(n, min, max)};
     const RegularGridTopology& grid = sparse.grid_;
     const int cx = n[0] - 1, cy = n[1] - 1;
     if (types.size() != std::size_t(cx) * std::size_t(cy) * std::size_t(n[2] - 1))
-        throw_invalid_argument("SparseGridTopology: ", types.size(), " cell types for a grid of ", cx * cy * (n[2] - 1), " cells");
+        throw_invalid_argument("SparseGridTopology: ", types.size(), " cell types for a grid of ", cx * cy * (n[2] - 1),
+                               " cells");
     sparse.grid_types_ = std::move(types);
     const std::vector<SparseCellType>& grid_types = sparse.grid_types_;
     // Kept cells (SparseGridTopology::buildFromRegularGridTypes): BOUNDARY then INSIDE.
@@ -177,11 +180,20 @@ SparseGridTopology SparseGridTopology::from_grid_types(std::array<int, 3> n, Vec
         if (grid_types[w] == SparseCellType::inside) kept.push_back(w);
 
     // Points: corners of kept cells, ordered by (i, j, k) with i slowest (= SOFA's position order).
-    const auto corner_key = [&](int i, int j, int k) { return (std::size_t(i) * std::size_t(n[1]) + std::size_t(j)) * std::size_t(n[2]) + std::size_t(k); };
+    const auto corner_key = [&](int i, int j, int k) {
+        return (std::size_t(i) * std::size_t(n[1]) + std::size_t(j)) * std::size_t(n[2]) + std::size_t(k);
+    };
     const auto corners_of = [&](std::size_t w) {
-        const int x = int(w % std::size_t(cx)), y = int(w / std::size_t(cx) % std::size_t(cy)), z = int(w / (std::size_t(cx) * std::size_t(cy)));
-        return std::array<std::array<int, 3>, 8>{{{x, y, z}, {x + 1, y, z}, {x + 1, y + 1, z}, {x, y + 1, z},
-                                                  {x, y, z + 1}, {x + 1, y, z + 1}, {x + 1, y + 1, z + 1}, {x, y + 1, z + 1}}};
+        const int x = int(w % std::size_t(cx)), y = int(w / std::size_t(cx) % std::size_t(cy)),
+                  z = int(w / (std::size_t(cx) * std::size_t(cy)));
+        return std::array<std::array<int, 3>, 8>{{{x, y, z},
+                                                  {x + 1, y, z},
+                                                  {x + 1, y + 1, z},
+                                                  {x, y + 1, z},
+                                                  {x, y, z + 1},
+                                                  {x + 1, y, z + 1},
+                                                  {x + 1, y + 1, z + 1},
+                                                  {x, y + 1, z + 1}}};
     };
     const std::size_t grid_points = std::size_t(n[0]) * std::size_t(n[1]) * std::size_t(n[2]);
     std::vector<PointId> point_of_key(grid_points, -1);
@@ -201,7 +213,8 @@ SparseGridTopology SparseGridTopology::from_grid_types(std::array<int, 3> n, Vec
         sparse.kept_of_grid_cell_[w] = Index(sparse.hexahedra_.size());
         Hexahedron h{};
         const auto corners = corners_of(w);
-        for (std::size_t k = 0; k < 8; ++k) h[k] = point_of_key[corner_key(corners[k][0], corners[k][1], corners[k][2])];
+        for (std::size_t k = 0; k < 8; ++k)
+            h[k] = point_of_key[corner_key(corners[k][0], corners[k][1], corners[k][2])];
         sparse.hexahedra_.push_back(h);
         sparse.types_.push_back(grid_types[w]);
     }
@@ -220,7 +233,8 @@ std::vector<Edge> SparseGridTopology::edges() const {
 }
 
 std::vector<Quad> SparseGridTopology::quads() const {
-    static constexpr int kFaces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4}, {3, 2, 6, 7}, {0, 4, 7, 3}, {1, 5, 6, 2}};
+    static constexpr int kFaces[6][4] = {{0, 1, 2, 3}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                                         {3, 2, 6, 7}, {0, 4, 7, 3}, {1, 5, 6, 2}};
     std::vector<Quad> all;
     for (const Hexahedron& h : hexahedra_)
         for (const auto& f : kFaces)
@@ -288,14 +302,16 @@ std::optional<std::pair<Index, Vec3>> SparseGridTopology::locate_ramified(const 
     Index fine_cell = kNotKept;
     if (const auto found = regular_cell(finest.grid_, p)) {
         const auto& c = found->first;
-        fine_cell = finest.kept_of_grid_cell_[std::size_t(c[0] + (finest.grid_.n()[0] - 1) * (c[1] + (finest.grid_.n()[1] - 1) * c[2]))];
+        fine_cell = finest.kept_of_grid_cell_[std::size_t(c[0] + (finest.grid_.n()[0] - 1) *
+                                                                     (c[1] + (finest.grid_.n()[1] - 1) * c[2]))];
     }
     Vec3 fraction;
     const auto inside = fine_cell != kNotKept ? regular_cell(grid_, p) : std::nullopt;
     if (inside) {
         fraction = inside->second;
     } else {
-        if (fine_cell == kNotKept) fine_cell = Index(nearest_boundary_hexahedron(finest.hexahedra_, finest.types_, finest.points_, p));
+        if (fine_cell == kNotKept)
+            fine_cell = Index(nearest_boundary_hexahedron(finest.hexahedra_, finest.types_, finest.points_, p));
         const Vec3 dx = grid_.spacing();
         for (int a = 0; a < 3; ++a) {
             const double t = ((p[a] - grid_.origin()[a]) * dx[a]) * (1 / (dx[a] * dx[a]));
@@ -324,8 +340,8 @@ std::vector<double> SparseGridTopology::mass_coefficients(bool fill_weighted) co
 
 void SparseGridTopology::set_coefficients(std::vector<float> stiffness, std::vector<float> mass) {
     if (stiffness.size() != hexahedra_.size() || mass.size() != hexahedra_.size())
-        throw_invalid_argument("SparseGridTopology: ", stiffness.size(), " stiffness and ", mass.size(), " mass coefficients for ",
-                               hexahedra_.size(), " hexahedra");
+        throw_invalid_argument("SparseGridTopology: ", stiffness.size(), " stiffness and ", mass.size(),
+                               " mass coefficients for ", hexahedra_.size(), " hexahedra");
     stiffness_coefficients_ = std::move(stiffness);
     mass_coefficients_ = std::move(mass);
 }

@@ -10,8 +10,10 @@
 namespace penalty {
 
 void SpringForceField::add_spring(const Spring& s) {
-    if (!std::isfinite(s.ks) || s.ks < 0) throw_invalid_argument("SpringForceField: stiffness must be finite and >= 0, got ", s.ks);
-    if (!std::isfinite(s.kd) || s.kd < 0) throw_invalid_argument("SpringForceField: damping must be finite and >= 0, got ", s.kd);
+    if (!std::isfinite(s.ks) || s.ks < 0)
+        throw_invalid_argument("SpringForceField: stiffness must be finite and >= 0, got ", s.ks);
+    if (!std::isfinite(s.kd) || s.kd < 0)
+        throw_invalid_argument("SpringForceField: damping must be finite and >= 0, got ", s.kd);
     if (!std::isfinite(s.rest_length) || s.rest_length < 0)
         throw_invalid_argument("SpringForceField: rest length must be finite and >= 0, got ", s.rest_length);
     if (s.a < 0 || s.b < 0) throw_invalid_argument("SpringForceField: negative spring index (", s.a, ", ", s.b, ")");
@@ -36,8 +38,10 @@ void SpringForceField::init() {
 
 void SpringForceField::set_kernel_path(KernelPath path) {
     if (path == KernelPath::avx512)
-        throw_invalid_argument("SpringForceField: kernel path avx512 is TetrahedronFEMForceField's only; springs run scalar or avx");
-    if (!kernel_path_supported(path)) throw_invalid_argument("SpringForceField: kernel path ", to_string(path), " is not supported by this CPU");
+        throw_invalid_argument(
+            "SpringForceField: kernel path avx512 is TetrahedronFEMForceField's only; springs run scalar or avx");
+    if (!kernel_path_supported(path))
+        throw_invalid_argument("SpringForceField: kernel path ", to_string(path), " is not supported by this CPU");
     kernel_path_ = path;
 }
 
@@ -50,15 +54,15 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
                                  ConstVec3Span v2) {
     dfdx_.resize(springs_.size());
     energy_ = 0.0;
-    detail::spring_forces(kernel_path_, arithmetic_, springs_, null_length_, f1.data(), f2.data(), x1.data(), x2.data(), v1.data(),
-                          v2.data(), dfdx_.data(), energy_);
+    detail::spring_forces(kernel_path_, arithmetic_, springs_, null_length_, f1.data(), f2.data(), x1.data(), x2.data(),
+                          v1.data(), v2.data(), dfdx_.data(), energy_);
 }
 
 void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
                                   double /*b_factor*/) const {
     PENALTY_DEMAND(dfdx_.size() == springs_.size() && end_offsets_.size() == springs_.size());
-    detail::spring_dforces(kernel_path_, arithmetic_, springs_, end_offsets_.data(), dfdx_.data(), df1.data(), df2.data(), dx1.data(),
-                           dx2.data(), k_factor);
+    detail::spring_dforces(kernel_path_, arithmetic_, springs_, end_offsets_.data(), dfdx_.data(), df1.data(),
+                           df2.data(), dx1.data(), dx2.data(), k_factor);
 }
 
 void SpringForceField::add_stiffness_triplets(TripletList& t, Index o1, Index o2, double factor) const {
@@ -90,7 +94,8 @@ void add_element_springs(const std::vector<Element>& elements, double ks, double
                          std::set<std::pair<PointId, PointId>>& seen, std::vector<Spring>& out) {
     if (ks == 0.0 && kd == 0.0) return;
     if (!std::isfinite(ks) || ks < 0 || !std::isfinite(kd) || kd < 0)
-        throw_invalid_argument("MeshSpringForceField: stiffness and damping must be finite and >= 0, got ", ks, ", ", kd);
+        throw_invalid_argument("MeshSpringForceField: stiffness and damping must be finite and >= 0, got ", ks, ", ",
+                               kd);
     const std::size_t n = std::tuple_size<Element>::value;
     for (const auto& e : elements) {
         for (std::size_t i = 0; i < n; ++i)
@@ -101,7 +106,8 @@ void add_element_springs(const std::vector<Element>& elements, double ks, double
                 if (static_cast<std::size_t>(std::max(a, b)) >= x0.size())
                     throw_invalid_argument("MeshSpringForceField: vertex ", std::max(a, b), " has no rest position");
                 const double l = (x0[static_cast<std::size_t>(b)] - x0[static_cast<std::size_t>(a)]).norm();
-                if (!(l > 0.0)) throw_invalid_argument("MeshSpringForceField: zero rest length between vertices ", a, " and ", b);
+                if (!(l > 0.0))
+                    throw_invalid_argument("MeshSpringForceField: zero rest length between vertices ", a, " and ", b);
                 out.push_back(Spring{a, b, ks / l, kd / l, l});
             }
     }

@@ -13,7 +13,8 @@ class Region {
 public:
     explicit Region(const SubsetRegion& region) : region_(region) {
         if (!region.centers.empty() && region.centers.size() != region.radii.size())
-            throw_invalid_argument("SubsetTopology: ", region.centers.size(), " sphere centers but ", region.radii.size(), " radii");
+            throw_invalid_argument("SubsetTopology: ", region.centers.size(), " sphere centers but ",
+                                   region.radii.size(), " radii");
     }
     [[nodiscard]] std::size_t count() const {
         return region_.centers.empty() ? region_.boxes.size() : region_.centers.size();
@@ -32,7 +33,8 @@ void check_elements(const std::vector<std::array<PointId, N>>& elements, std::si
     for (std::size_t e = 0; e < elements.size(); ++e)
         for (const PointId v : elements[e])
             if (v < 0 || static_cast<std::size_t>(v) >= num_points)
-                throw_invalid_argument("SubsetTopology: ", what, " ", e, " uses point ", v, " out of range (", num_points, " points)");
+                throw_invalid_argument("SubsetTopology: ", what, " ", e, " uses point ", v, " out of range (",
+                                       num_points, " points)");
 }
 
 /// SubsetTopology with `tetrahedraInput`: the listed tetrahedra are inside; the point lists are

@@ -10,8 +10,8 @@ using sofa_vec::cross;
 using sofa_vec::dot3;
 using sofa_vec::scaled;
 
-TaitSurfacePressureForceField::TaitSurfacePressureForceField(Vec3Object& state, const MeshTopology& topology, TaitParameters p,
-                                                             ContextClock clock, ContextClock dt)
+TaitSurfacePressureForceField::TaitSurfacePressureForceField(Vec3Object& state, const MeshTopology& topology,
+                                                             TaitParameters p, ContextClock clock, ContextClock dt)
     : ForceField(state), topology_(&topology), p_(p), clock_(std::move(clock)), dt_(std::move(dt)) {}
 
 // TaitSurfacePressureForceField::init → updateFromTopology (computePressureTriangles, the rest volume).
@@ -24,8 +24,8 @@ void TaitSurfacePressureForceField::init() {
     for (const Triangle& t : triangles_)
         for (PointId v : t)
             if (v < 0 || std::size_t(v) >= state_->num_dofs())
-                throw_invalid_argument("TaitSurfacePressureForceField: surface point ", v, " out of range (", state_->num_dofs(),
-                                       " points)");
+                throw_invalid_argument("TaitSurfacePressureForceField: surface point ", v, " out of range (",
+                                       state_->num_dofs(), " points)");
     initial_volume_ = volume_of(state_->rest_position);
     current_injected_ = p_.current_injected_volume;
     last_step_time_ = -1e300;
@@ -41,7 +41,8 @@ double TaitSurfacePressureForceField::volume_of(std::span<const Vec3> x) const {
     center /= double(x.size());
     double volume6 = 0;
     for (const Triangle& t : triangles_) {
-        const Vec3 a = x[std::size_t(t[0])] - center, b = x[std::size_t(t[1])] - center, c = x[std::size_t(t[2])] - center;
+        const Vec3 a = x[std::size_t(t[0])] - center, b = x[std::size_t(t[1])] - center,
+                   c = x[std::size_t(t[2])] - center;
         volume6 += dot3(cross(a, b), c);
     }
     return volume6 / 6.0;
@@ -121,7 +122,8 @@ Mat3 cross_matrix(const Vec3& u) {  // [u]× v = u × v
 void TaitSurfacePressureForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
     const auto add = [&](std::size_t r, std::size_t c, const Mat3& m) {
         for (Index i = 0; i < 3; ++i)
-            for (Index j = 0; j < 3; ++j) t.emplace_back(offset + 3 * Index(r) + i, offset + 3 * Index(c) + j, m(i, j) * factor);
+            for (Index j = 0; j < 3; ++j)
+                t.emplace_back(offset + 3 * Index(r) + i, offset + 3 * Index(c) + j, m(i, j) * factor);
     };
     if (stiffness_ != 0)
         for (std::size_t i = 0; i < grad_v_.size(); ++i) {

@@ -29,7 +29,8 @@ void TetrahedronDiffusionFEMForceField::init() {
     if (geometry_.size() < n_points)
         throw_invalid_argument(what, "the geometry has ", geometry_.size(), " points, the topology ", n_points);
     if (state_->num_dofs() < n_points)
-        throw_invalid_argument(what, "the state has ", state_->num_dofs(), " values, the topology ", n_points, " points");
+        throw_invalid_argument(what, "the state has ", state_->num_dofs(), " values, the topology ", n_points,
+                               " points");
     // SOFA's init: tetraDiffusionCoefficient given (one per tetrahedron), else the constant for all
     if (per_tetrahedron_.empty()) {
         coefficients_.assign(tetrahedra.size(), constant_);
@@ -41,8 +42,10 @@ void TetrahedronDiffusionFEMForceField::init() {
     }
     const bool isotropic = ratio_ == 1.0;
     if (!isotropic && directions_.size() < tetrahedra.size())
-        throw_invalid_argument(what, "an anisotropic diffusion (anisotropyRatio ", ratio_, ") needs one direction per tetrahedron in "
-                               "transverseAnisotropyArray: ", directions_.size(), " for ", tetrahedra.size());
+        throw_invalid_argument(what, "an anisotropic diffusion (anisotropyRatio ", ratio_,
+                               ") needs one direction per tetrahedron in "
+                               "transverseAnisotropyArray: ",
+                               directions_.size(), " for ", tetrahedra.size());
     edge_coefficients_.assign(edges.size(), 0.0);
     for (std::size_t t = 0; t < tetrahedra.size(); ++t) {
         const Tetrahedron& tet = tetrahedra[t];
@@ -68,14 +71,17 @@ void TetrahedronDiffusionFEMForceField::init() {
                 const Vec3& a = directions_[t];
                 const Vec3& sl = shape[std::size_t(l)];
                 const double along = (ratio_ - 1) * dot3(a, sl);
-                value = dot3(shape[std::size_t(k)], Vec3(sl[0] + a[0] * along, sl[1] + a[1] * along, sl[2] + a[2] * along)) * diff;
+                value = dot3(shape[std::size_t(k)],
+                             Vec3(sl[0] + a[0] * along, sl[1] + a[1] * along, sl[2] + a[2] * along)) *
+                        diff;
             }
             edge_coefficients_[std::size_t(e)] += value;
         }
     }
 }
 
-void TetrahedronDiffusionFEMForceField::add_force(std::span<double> f, std::span<const double> x, std::span<const double>) {
+void TetrahedronDiffusionFEMForceField::add_force(std::span<double> f, std::span<const double> x,
+                                                  std::span<const double>) {
     const auto& edges = topology_->edges();
     double energy = 0.0;
     for (std::size_t i = 0; i < edges.size(); ++i) {
@@ -102,7 +108,8 @@ void TetrahedronDiffusionFEMForceField::add_dforce(std::span<double> df, std::sp
     }
 }
 
-void TetrahedronDiffusionFEMForceField::add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const {
+void TetrahedronDiffusionFEMForceField::add_stiffness_triplets(TripletList& triplets, Index offset,
+                                                               double factor) const {
     // SOFA's buildStiffnessMatrix: per edge, −c at (v1, v0) and (v0, v1), +c at (v0, v0) and (v1, v1)
     const auto& edges = topology_->edges();
     for (std::size_t i = 0; i < edges.size(); ++i) {

@@ -11,7 +11,8 @@ namespace penalty {
 
 void TetrahedronFEMForceField::set_plasticity(const Plasticity& p) {
     if (method_ != FemMethod::Large && p.max_threshold > 0)
-        throw_invalid_argument(component_, ": plasticity (plasticMaxThreshold > 0) is supported with method large only");
+        throw_invalid_argument(component_,
+                               ": plasticity (plasticMaxThreshold > 0) is supported with method large only");
     for (const double v : {p.max_threshold, p.yield_threshold, p.creep})
         if (!std::isfinite(v) || v < 0)
             throw_invalid_argument(component_, ": plasticity thresholds and creep must be finite and >= 0, got ", v);

@@ -13,8 +13,6 @@
 
 namespace penalty {
 
-
-
 std::shared_ptr<MeshTopology::Cache> MeshTopology::new_cache() { return std::make_shared<Cache>(); }
 
 namespace {
@@ -42,8 +40,7 @@ void check_range(const std::vector<Element>& elements, std::size_t n, const char
     for (std::size_t i = 0; i < elements.size(); ++i) {
         for (const PointId p : elements[i]) {
             if (static_cast<std::size_t>(p) >= n) {
-                throw_invalid_argument("MeshTopology: ", what, "[", i, "] uses vertex ", p,
-                                       " but num_points is ", n);
+                throw_invalid_argument("MeshTopology: ", what, "[", i, "] uses vertex ", p, " but num_points is ", n);
             }
         }
     }
@@ -53,8 +50,7 @@ Edge sorted_edge(PointId a, PointId b) { return a < b ? Edge{a, b} : Edge{b, a};
 
 /// Adds the sorted edge (a, b) to `edges` unless already known (first occurrence wins).
 /// `stored` is what is pushed (the sorted pair, or the oriented pair for triangle edges).
-void add_edge(std::map<Edge, std::int32_t>& known, std::vector<Edge>& edges, PointId a, PointId b,
-              const Edge& stored) {
+void add_edge(std::map<Edge, std::int32_t>& known, std::vector<Edge>& edges, PointId a, PointId b, const Edge& stored) {
     const Edge key = sorted_edge(a, b);
     if (known.find(key) == known.end()) {
         known.emplace(key, static_cast<std::int32_t>(edges.size()));
@@ -62,8 +58,7 @@ void add_edge(std::map<Edge, std::int32_t>& known, std::vector<Edge>& edges, Poi
     }
 }
 
-std::vector<Edge> edges_from_volumes(const std::vector<Tetrahedron>& tetras,
-                                     const std::vector<Hexahedron>& hexas) {
+std::vector<Edge> edges_from_volumes(const std::vector<Tetrahedron>& tetras, const std::vector<Hexahedron>& hexas) {
     std::vector<Edge> edges;
     std::map<Edge, std::int32_t> known;
     for (const auto& t : tetras) {
@@ -83,8 +78,7 @@ std::vector<Edge> edges_from_volumes(const std::vector<Tetrahedron>& tetras,
     return edges;
 }
 
-std::vector<Edge> edges_from_surface(const std::vector<Triangle>& triangles,
-                                     const std::vector<Quad>& quads) {
+std::vector<Edge> edges_from_surface(const std::vector<Triangle>& triangles, const std::vector<Quad>& quads) {
     std::vector<Edge> edges;
     std::map<Edge, std::int32_t> known;
     for (const auto& t : triangles) {
@@ -145,8 +139,7 @@ std::vector<Quad> quads_from_hexahedra(const std::vector<Hexahedron>& hexas) {
 }
 
 template <class Element>
-std::vector<std::vector<std::int32_t>> around_vertex(const std::vector<Element>& elements,
-                                                     std::size_t n) {
+std::vector<std::vector<std::int32_t>> around_vertex(const std::vector<Element>& elements, std::size_t n) {
     std::vector<std::vector<std::int32_t>> around(n);
     for (std::size_t i = 0; i < elements.size(); ++i) {
         for (const PointId p : elements[i]) around[static_cast<std::size_t>(p)].push_back(static_cast<std::int32_t>(i));
@@ -344,9 +337,7 @@ const std::vector<std::array<std::int32_t, 3>>& MeshTopology::edges_in_triangle(
 const std::vector<std::vector<PointId>>& MeshTopology::vertices_around_vertex() const {
     return cache().vertices_around_vertex;
 }
-const std::vector<std::array<std::int32_t, 4>>& MeshTopology::edges_in_quad() const {
-    return cache().edges_in_quad;
-}
+const std::vector<std::array<std::int32_t, 4>>& MeshTopology::edges_in_quad() const { return cache().edges_in_quad; }
 const std::vector<std::vector<std::int32_t>>& MeshTopology::quads_around_edge() const {
     return cache().quads_around_edge;
 }

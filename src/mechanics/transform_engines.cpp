@@ -18,7 +18,7 @@ namespace {
 /// One step of TransformEngine's list (Scale, Rotation, Translation operations).
 struct TransformStep {
     enum class Kind { scale, rotation, translation } kind;
-    Vec3 vector = Vec3::Zero();     ///< scale factors or translation
+    Vec3 vector = Vec3::Zero();  ///< scale factors or translation
     Quat rotation = Quat::Identity();
 };
 
@@ -57,9 +57,12 @@ TransformSteps transform_steps(const TransformEngineParameters& p) {
 
 Vec3 apply_step(const TransformStep& s, const Vec3& x) {
     switch (s.kind) {
-        case TransformStep::Kind::scale: return {x[0] * s.vector[0], x[1] * s.vector[1], x[2] * s.vector[2]};
-        case TransformStep::Kind::rotation: return sofa_quat::rotate(s.rotation, x);
-        case TransformStep::Kind::translation: return {x[0] + s.vector[0], x[1] + s.vector[1], x[2] + s.vector[2]};
+        case TransformStep::Kind::scale:
+            return {x[0] * s.vector[0], x[1] * s.vector[1], x[2] * s.vector[2]};
+        case TransformStep::Kind::rotation:
+            return sofa_quat::rotate(s.rotation, x);
+        case TransformStep::Kind::translation:
+            return {x[0] + s.vector[0], x[1] + s.vector[1], x[2] + s.vector[2]};
     }
     return x;
 }
@@ -101,13 +104,19 @@ std::vector<Vec3> transform_position(std::span<const Vec3> points, const Transfo
                 out[i] = plus(x, Vec3(normal[0] * t, normal[1] * t, normal[2] * t));
                 break;
             }
-            case M::translation: out[i] = plus(x, p.translation); break;
-            case M::scale:
-                out[i] = plus(p.origin,
-                              component_product(Vec3(x[0] - p.origin[0], x[1] - p.origin[1], x[2] - p.origin[2]), p.scale));
+            case M::translation:
+                out[i] = plus(x, p.translation);
                 break;
-            case M::scale_translation: out[i] = plus(component_product(x, p.scale), p.translation); break;
-            case M::rotation: out[i] = sofa_quat::rotate(q, x); break;
+            case M::scale:
+                out[i] = plus(p.origin, component_product(
+                                            Vec3(x[0] - p.origin[0], x[1] - p.origin[1], x[2] - p.origin[2]), p.scale));
+                break;
+            case M::scale_translation:
+                out[i] = plus(component_product(x, p.scale), p.translation);
+                break;
+            case M::rotation:
+                out[i] = sofa_quat::rotate(q, x);
+                break;
             case M::scale_rotation_translation:
                 out[i] = plus(sofa_quat::rotate(q, component_product(x, p.scale)), p.translation);
                 break;
@@ -116,7 +125,8 @@ std::vector<Vec3> transform_position(std::span<const Vec3> points, const Transfo
                 // (then SOFA leaves the output point as it was: zero)
                 std::array<double, 4> c{};
                 for (int r = 0; r < 4; ++r)
-                    c[std::size_t(r)] = p.matrix(r, 0) * x[0] + p.matrix(r, 1) * x[1] + p.matrix(r, 2) * x[2] + p.matrix(r, 3) * 1.0;
+                    c[std::size_t(r)] =
+                        p.matrix(r, 0) * x[0] + p.matrix(r, 1) * x[1] + p.matrix(r, 2) * x[2] + p.matrix(r, 3) * 1.0;
                 if (std::abs(c[3]) > 1e-10) out[i] = Vec3(c[0] / c[3], c[1] / c[3], c[2] / c[3]);
                 break;
             }
@@ -124,7 +134,8 @@ std::vector<Vec3> transform_position(std::span<const Vec3> points, const Transfo
     }
     for (const PointId i : p.fixed_indices) {
         if (i < 0 || std::size_t(i) >= points.size())
-            throw_invalid_argument("TransformPosition: fixedIndices holds ", i, " but there are ", points.size(), " points");
+            throw_invalid_argument("TransformPosition: fixedIndices holds ", i, " but there are ", points.size(),
+                                   " points");
         out[std::size_t(i)] = points[std::size_t(i)];
     }
     return out;
@@ -192,7 +203,8 @@ Eigen::Matrix4d read_affine_transform_file(const std::filesystem::path& path) {
             if (line.find("Parameters") == std::string::npos) continue;
             std::vector<double> values;
             for (const std::string& w : words(line))
-                if (w.find_first_of("1234567890.-") != std::string::npos) values.push_back(number(w, path, line_number));
+                if (w.find_first_of("1234567890.-") != std::string::npos)
+                    values.push_back(number(w, path, line_number));
             if (values.size() != 12)
                 throw_invalid_argument(path.string(), ":", line_number, ": expected 12 numbers, found ", values.size());
             for (int i = 0; i < 3; ++i) {
@@ -213,7 +225,8 @@ Eigen::Matrix4d read_affine_transform_file(const std::filesystem::path& path) {
         if (line.empty()) continue;
         const std::vector<std::string> w = words(line);
         if (w.size() != per_line)
-            throw_invalid_argument(path.string(), ":", line_number, ": expected ", per_line, " numbers, found ", w.size());
+            throw_invalid_argument(path.string(), ":", line_number, ": expected ", per_line, " numbers, found ",
+                                   w.size());
         if (rows == 4) throw_invalid_argument(path.string(), ":", line_number, ": more than 4 lines");
         for (std::size_t i = 0; i < per_line; ++i) {
             const double v = number(w[i], path, line_number);

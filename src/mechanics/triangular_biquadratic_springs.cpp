@@ -30,7 +30,8 @@ TriangularBiquadraticSpringsForceField::TriangularBiquadraticSpringsForceField(V
         throw_invalid_argument("TriangularBiquadraticSpringsForceField: poissonRatio must be finite and not +-1, got ",
                                p.poisson_ratio);
     if (!std::isfinite(p.damping_ratio))
-        throw_invalid_argument("TriangularBiquadraticSpringsForceField: dampingRatio must be finite, got ", p.damping_ratio);
+        throw_invalid_argument("TriangularBiquadraticSpringsForceField: dampingRatio must be finite, got ",
+                               p.damping_ratio);
     // updateLameCoefficients
     const double e = p.young_modulus;
     const double nu = p.poisson_ratio;
@@ -45,8 +46,8 @@ void TriangularBiquadraticSpringsForceField::init() {
     for (const Triangle& t : tris)
         for (const PointId v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument("TriangularBiquadraticSpringsForceField: point ", v, " out of range for a state of ",
-                                       x0.size(), " points");
+                throw_invalid_argument("TriangularBiquadraticSpringsForceField: point ", v,
+                                       " out of range for a state of ", x0.size(), " points");
     // applyEdgeCreation of every edge, then applyTriangleCreation of every triangle in order
     rest_square_length_.assign(edges.size(), 0.0);
     edge_stiffness_.assign(edges.size(), 0.0);
@@ -75,14 +76,17 @@ void TriangularBiquadraticSpringsForceField::create_triangle(std::size_t ti) {
     const Triangle& t = topology_->triangles()[ti];
     const auto& te = topology_->edges_in_triangle()[ti];
     double square[3];
-    for (int j = 0; j < 3; ++j) square[j] = rest_square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
+    for (int j = 0; j < 3; ++j)
+        square[j] = rest_square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
     double area = 0;  // Heron: 16 A² = Σ ℓ_j² (ℓ_{j+1}² + ℓ_{j+2}² − ℓ_j²)
     for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
     area = std::sqrt(area) / 4;
-    if (!(area > 0)) throw_invalid_argument("TriangularBiquadraticSpringsForceField: triangle ", ti, " has a zero rest area");
+    if (!(area > 0))
+        throw_invalid_argument("TriangularBiquadraticSpringsForceField: triangle ", ti, " has a zero rest area");
     td.rest_area = area;
     const Vec3& p0 = x0[static_cast<std::size_t>(t[0])];
-    td.normal = divided(cross3(x0[static_cast<std::size_t>(t[1])] - p0, x0[static_cast<std::size_t>(t[2])] - p0), 2 * area);
+    td.normal =
+        divided(cross3(x0[static_cast<std::size_t>(t[1])] - p0, x0[static_cast<std::size_t>(t[2])] - p0), 2 * area);
     td.last_valid_normal = td.normal;
     double cotangent[3];
     for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
@@ -90,8 +94,10 @@ void TriangularBiquadraticSpringsForceField::create_triangle(std::size_t ti) {
         const int k = (j + 1) % 3;
         const int l = (j + 2) % 3;
         td.gamma[static_cast<std::size_t>(j)] = (2 * cotangent[k] * cotangent[l] * (lambda_ + mu_) - mu_) / (16 * area);
-        td.stiffness[static_cast<std::size_t>(j)] = (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (16 * area);
-        edge_stiffness_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])] += td.stiffness[static_cast<std::size_t>(j)];
+        td.stiffness[static_cast<std::size_t>(j)] =
+            (2 * cotangent[j] * cotangent[j] * (lambda_ + mu_) + mu_) / (16 * area);
+        edge_stiffness_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])] +=
+            td.stiffness[static_cast<std::size_t>(j)];
     }
 }
 
@@ -122,7 +128,9 @@ void TriangularBiquadraticSpringsForceField::add_force(std::span<Vec3> f, std::s
             TriangleData& td = triangles_[ti];
             const Triangle& t = tris[ti];
             const auto& te = edges_in_triangle[ti];
-            const auto delta_of = [&](int j) { return delta_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])]; };
+            const auto delta_of = [&](int j) {
+                return delta_[static_cast<std::size_t>(te[static_cast<std::size_t>(j)])];
+            };
             const auto at = [&](int j) { return static_cast<std::size_t>(t[static_cast<std::size_t>(j)]); };
             for (int j = 0; j < 3; ++j) {
                 const int k = (j + 1) % 3;
@@ -187,7 +195,8 @@ void TriangularBiquadraticSpringsForceField::update_stiffness() {
             const auto sj = static_cast<std::size_t>(j);
             const Vec3 dpj = td.dp[sj];   // x_i − x_k
             const Vec3 dpi = -td.dp[si];  // x_j − x_k
-            const double diagonal = -(td.stiffness[sk] * delta_of(k) + td.gamma[si] * delta_of(j) + td.gamma[sj] * delta_of(i));
+            const double diagonal =
+                -(td.stiffness[sk] * delta_of(k) + td.gamma[si] * delta_of(j) + td.gamma[sj] * delta_of(i));
             const double along = -2 * td.stiffness[sk];
             const double val_k = 2 * td.gamma[sk];
             const double val_i = 2 * td.gamma[si];
@@ -212,7 +221,8 @@ void TriangularBiquadraticSpringsForceField::update_stiffness() {
         for (int u = 0; u < 3; ++u)
             for (int w = 0; w < 3; ++w) nn(u, w) = td.normal[u] * td.normal[w] * val1;
         double length_square[3];
-        for (int e = 0; e < 3; ++e) length_square[e] = square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(e)])];
+        for (int e = 0; e < 3; ++e)
+            length_square[e] = square_length_[static_cast<std::size_t>(te[static_cast<std::size_t>(e)])];
         const double total = length_square[0] + length_square[1] + length_square[2];
         for (int k = 0; k < 3; ++k) {
             Mat3& m = td.dfdx[static_cast<std::size_t>(k)];
@@ -237,7 +247,7 @@ void TriangularBiquadraticSpringsForceField::update_stiffness() {
 }
 
 void TriangularBiquadraticSpringsForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
-                                                      double /*b_factor*/) const {
+                                                        double /*b_factor*/) const {
     PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
     edge_blocks::add_dforce(topology_->triangles(), triangles_, df, dx, k_factor);
 }

@@ -65,14 +65,16 @@ bool strain_displacement_global(TriangularFEMForceField::StrainDisplacement& j, 
 
 TriangularFEMForceField::TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology, double young,
                                                  double poisson, FemMethod method)
-    : TriangularFEMForceField(state, topology, TriangleFemParameters{.young_modulus = young, .poisson_ratio = poisson, .method = method}) {}
+    : TriangularFEMForceField(
+          state, topology, TriangleFemParameters{.young_modulus = young, .poisson_ratio = poisson, .method = method}) {}
 
 TriangularFEMForceField::TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology,
                                                  const TriangleFemParameters& parameters)
     : ForceField<Vec3Types>(state), triangles_(elements_of(topology, parameters.flavor)), parameters_(parameters) {
     const char* name = component_name(parameters.flavor);
     const double young = parameters.young_modulus, poisson = parameters.poisson_ratio;
-    if (!std::isfinite(young) || young <= 0) throw_invalid_argument(name, ": youngModulus must be finite and > 0, got ", young);
+    if (!std::isfinite(young) || young <= 0)
+        throw_invalid_argument(name, ": youngModulus must be finite and > 0, got ", young);
     if (!std::isfinite(poisson) || poisson <= -1.0 || poisson >= 0.5)
         throw_invalid_argument(name, ": poissonRatio must be in (-1, 0.5), got ", poisson);
     if (!std::isfinite(parameters.thickness) || parameters.thickness <= 0)
@@ -92,8 +94,8 @@ void TriangularFEMForceField::init() {
     for (std::size_t e = 0; e < n; ++e) {
         for (const PointId v : triangles_[e])
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument(kComponent, ": triangle ", e, " uses point ", v, " but the state has ", x0.size(),
-                                       " points");
+                throw_invalid_argument(kComponent, ": triangle ", e, " uses point ", v, " but the state has ",
+                                       x0.size(), " points");
         const Vec3& a = x0[static_cast<std::size_t>(triangles_[e][0])];
         const Vec3& b = x0[static_cast<std::size_t>(triangles_[e][1])];
         const Vec3& c = x0[static_cast<std::size_t>(triangles_[e][2])];
@@ -106,7 +108,8 @@ void TriangularFEMForceField::init() {
                 rest_local_[e] = triangle_fem_sofa::rest_local_large(r0, a, b, c);
                 rotation_[e] = r0.transpose();
             } else {
-                rest_local_[e] = {Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2]), Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2])};
+                rest_local_[e] = {Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
+                                  Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2])};
             }
             ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
         } else if (parameters_.method == FemMethod::Large) {
@@ -207,7 +210,7 @@ bool TriangularFEMForceField::element_force(std::size_t e, std::span<Vec3> f, st
         if (!strain_displacement_global(j, db, dc)) return false;
     }
     const Vec3 strain = j.transpose() * displacement;  // (εxx, εyy, γxy)
-    const Vec3 stress = material_[e] * strain;          // area-weighted σ (N/m)
+    const Vec3 stress = material_[e] * strain;         // area-weighted σ (N/m)
     const Eigen::Matrix<double, 6, 1> nodal = j * stress;
     f[static_cast<std::size_t>(ia)] += to_world * Vec3(nodal[0], nodal[1], 0);
     f[static_cast<std::size_t>(ib)] += to_world * Vec3(nodal[2], nodal[3], 0);
@@ -229,7 +232,8 @@ Eigen::Matrix<double, 6, 6> TriangularFEMForceField::local_stiffness(std::size_t
     return -(j_[e] * material_[e] * j_[e].transpose());
 }
 
-void TriangularFEMForceField::add_dforce_sofa_order(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const {
+void TriangularFEMForceField::add_dforce_sofa_order(std::span<Vec3> df, std::span<const Vec3> dx,
+                                                    double k_factor) const {
     // TriangleFEMForceField::applyStiffnessLarge / applyStiffnessSmall (h = 1): dx in the element
     // frame (large), local x, y only; df += (R_2_0·(−F_x, −F_y, 0))·k
     const bool large = parameters_.method == FemMethod::Large;
@@ -286,7 +290,8 @@ void TriangularFEMForceField::add_stiffness_triplets(TripletList& t, Index offse
         for (std::size_t a = 0; a < 3; ++a)
             for (std::size_t b = 0; b < 3; ++b) {
                 Mat3 local = Mat3::Zero();
-                local.topLeftCorner<2, 2>() = k.block<2, 2>(static_cast<Eigen::Index>(2 * a), static_cast<Eigen::Index>(2 * b));
+                local.topLeftCorner<2, 2>() =
+                    k.block<2, 2>(static_cast<Eigen::Index>(2 * a), static_cast<Eigen::Index>(2 * b));
                 const Mat3 blk = factor * r * local * r.transpose();
                 const Index ra = offset + 3 * triangles_[e][a];
                 const Index cb = offset + 3 * triangles_[e][b];

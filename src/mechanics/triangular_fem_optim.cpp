@@ -16,7 +16,9 @@ std::pair<Vec3, Vec3> triangle_frame(const Vec3& ab, const Vec3& ac) {
     return {sofa_vec::normalized(ab), sofa_vec::normalized(cross(n, ab))};
 }
 
-double in_element(const std::vector<double>& values, std::size_t i) { return i < values.size() ? values[i] : values.front(); }
+double in_element(const std::vector<double>& values, std::size_t i) {
+    return i < values.size() ? values[i] : values.front();
+}
 
 }  // namespace
 
@@ -35,9 +37,11 @@ void TriangularFEMForceFieldOptim::init() {
         const Triangle& t = triangles[i];
         for (PointId v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument("TriangularFEMForceFieldOptim: triangle ", i, " uses point ", v, ", out of range (",
-                                       x0.size(), " points)");
-        const auto at = [&](const std::vector<Vec3>& p, int k) -> const Vec3& { return p[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])]; };
+                throw_invalid_argument("TriangularFEMForceFieldOptim: triangle ", i, " uses point ", v,
+                                       ", out of range (", x0.size(), " points)");
+        const auto at = [&](const std::vector<Vec3>& p, int k) -> const Vec3& {
+            return p[static_cast<std::size_t>(t[static_cast<std::size_t>(k)])];
+        };
         Vec3 ab = at(x0, 1) - at(x0, 0), ac = at(x0, 2) - at(x0, 0);
         if (p_.rest_scale) {
             ab = scaled(ab, *p_.rest_scale);
@@ -48,7 +52,8 @@ void TriangularFEMForceFieldOptim::init() {
         r.bx = dot3(fx, ab);
         r.cx = dot3(fx, ac);
         r.cy = dot3(fy, ac);
-        if (!(r.bx * r.cy != 0)) throw_invalid_argument("TriangularFEMForceFieldOptim: triangle ", i, " is degenerate at rest");
+        if (!(r.bx * r.cy != 0))
+            throw_invalid_argument("TriangularFEMForceFieldOptim: triangle ", i, " is degenerate at rest");
         r.ss_factor = 0.5 / (r.bx * r.cy);
         const auto [cx, cy] = triangle_frame(at(x, 1) - at(x, 0), at(x, 2) - at(x, 0));
         frame_[i] = {cx, cy};
@@ -72,7 +77,8 @@ void TriangularFEMForceFieldOptim::add_force(std::span<Vec3> f, std::span<const 
         const double gamma_xy = gamma * (strain[0] + strain[1]);
         Vec3 stress(mu * strain[0] + gamma_xy, mu * strain[1] + gamma_xy, 0.5 * mu * strain[2]);
         stress = scaled(stress, r.ss_factor);
-        const Vec3 fb = scaled(fx, r.cy * stress[0] - r.cx * stress[2]) + scaled(fy, r.cy * stress[2] - r.cx * stress[1]);
+        const Vec3 fb =
+            scaled(fx, r.cy * stress[0] - r.cx * stress[2]) + scaled(fy, r.cy * stress[2] - r.cx * stress[1]);
         const Vec3 fc = scaled(fx, r.bx * stress[2]) + scaled(fy, r.bx * stress[1]);
         const Vec3 fa = -fb - fc;
         f[static_cast<std::size_t>(t[0])] += fa;
@@ -143,7 +149,8 @@ void TriangularFEMForceFieldOptim::add_stiffness_triplets(TripletList& t, Index 
                 for (int a = 0; a < 3; ++a)
                     for (int b = 0; b < 3; ++b)
                         t.emplace_back(offset + 3 * tri[static_cast<std::size_t>(p)] + a,
-                                       offset + 3 * tri[static_cast<std::size_t>(q)] + b, factor * k(3 * p + a, 3 * q + b));
+                                       offset + 3 * tri[static_cast<std::size_t>(q)] + b,
+                                       factor * k(3 * p + a, 3 * q + b));
     }
 }
 

@@ -15,7 +15,8 @@ using edge_blocks::transpose_times;
 
 }  // namespace
 
-TriangularQuadraticSpringsForceField::TriangularQuadraticSpringsForceField(Vec3Object& state, const MeshTopology& topology,
+TriangularQuadraticSpringsForceField::TriangularQuadraticSpringsForceField(Vec3Object& state,
+                                                                           const MeshTopology& topology,
                                                                            QuadraticSpringParameters p)
     : ForceField<Vec3Types>(state), topology_(&topology), parameters_(p) {
     if (!std::isfinite(p.young_modulus) || p.young_modulus < 0)
@@ -25,7 +26,8 @@ TriangularQuadraticSpringsForceField::TriangularQuadraticSpringsForceField(Vec3O
         throw_invalid_argument("TriangularQuadraticSpringsForceField: poissonRatio must be finite and not +-1, got ",
                                p.poisson_ratio);
     if (!std::isfinite(p.damping_ratio))
-        throw_invalid_argument("TriangularQuadraticSpringsForceField: dampingRatio must be finite, got ", p.damping_ratio);
+        throw_invalid_argument("TriangularQuadraticSpringsForceField: dampingRatio must be finite, got ",
+                               p.damping_ratio);
     // updateLameCoefficients
     const double e = p.young_modulus;
     const double nu = p.poisson_ratio;
@@ -40,8 +42,8 @@ void TriangularQuadraticSpringsForceField::init() {
     for (const Triangle& t : tris)
         for (const PointId v : t)
             if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument("TriangularQuadraticSpringsForceField: point ", v, " out of range for a state of ",
-                                       x0.size(), " points");
+                throw_invalid_argument("TriangularQuadraticSpringsForceField: point ", v,
+                                       " out of range for a state of ", x0.size(), " points");
     // applyEdgeCreation of every edge, then applyTriangleCreation of every triangle in order
     rest_length_.assign(edges.size(), 0.0);
     edge_stiffness_.assign(edges.size(), 0.0);
@@ -74,7 +76,8 @@ void TriangularQuadraticSpringsForceField::create_triangle(std::size_t ti) {
     double area = 0;  // Heron
     for (int j = 0; j < 3; ++j) area += square[j] * (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]);
     area = std::sqrt(area) / 4;
-    if (!(area > 0)) throw_invalid_argument("TriangularQuadraticSpringsForceField: triangle ", ti, " has a zero rest area");
+    if (!(area > 0))
+        throw_invalid_argument("TriangularQuadraticSpringsForceField: triangle ", ti, " has a zero rest area");
     double cotangent[3];
     for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
     for (int j = 0; j < 3; ++j) {
@@ -87,7 +90,8 @@ void TriangularQuadraticSpringsForceField::create_triangle(std::size_t ti) {
     }
 }
 
-void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
+void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
+                                                     std::span<const Vec3> v) {
     PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
     const auto& edges = topology_->edges();
     const auto& tris = topology_->triangles();
@@ -155,8 +159,8 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
             const auto sj = static_cast<std::size_t>(j);
             const double li = length_[edge_of(i)];
             const double lj = length_[edge_of(j)];
-            double diagonal =
-                -(td.stiffness[sk] * delta_[edge_of(k)] + td.gamma[si] * delta_[edge_of(j)] + td.gamma[sj] * delta_[edge_of(i)]);
+            double diagonal = -(td.stiffness[sk] * delta_[edge_of(k)] + td.gamma[si] * delta_[edge_of(j)] +
+                                td.gamma[sj] * delta_[edge_of(i)]);
             // SOFA: −val1 − s_k ℓ_k; the Hessian: −val1 − s_k L_k (exact_angular_stiffness)
             const double length_in_along = parameters_.exact_angular_stiffness ? lk : rest_length_[edge_of(k)];
             double along = -diagonal - td.stiffness[sk] * length_in_along;

@@ -31,9 +31,11 @@ TriangularTensorMassForceField::TriangularTensorMassForceField(Vec3Object& state
                                                                TensorMassParameters p)
     : ForceField<Vec3Types>(state), topology_(&topology) {
     if (!std::isfinite(p.young_modulus) || p.young_modulus < 0)
-        throw_invalid_argument("TriangularTensorMassForceField: youngModulus must be finite and >= 0, got ", p.young_modulus);
+        throw_invalid_argument("TriangularTensorMassForceField: youngModulus must be finite and >= 0, got ",
+                               p.young_modulus);
     if (!std::isfinite(p.poisson_ratio) || p.poisson_ratio * p.poisson_ratio == 1.0)
-        throw_invalid_argument("TriangularTensorMassForceField: poissonRatio must be finite and not +-1, got ", p.poisson_ratio);
+        throw_invalid_argument("TriangularTensorMassForceField: poissonRatio must be finite and not +-1, got ",
+                               p.poisson_ratio);
     // TriangularTensorMassForceField::updateLameCoefficients, operation by operation
     const double e = p.young_modulus;
     const double nu = p.poisson_ratio;
@@ -64,7 +66,8 @@ void TriangularTensorMassForceField::init() {
         for (int j = 0; j < 3; ++j)
             area += square_length[j] * (square_length[(j + 1) % 3] + square_length[(j + 2) % 3] - square_length[j]);
         area = std::sqrt(area) / 4;
-        if (!(area > 0)) throw_invalid_argument("TriangularTensorMassForceField: triangle ", ti, " has a zero rest area");
+        if (!(area > 0))
+            throw_invalid_argument("TriangularTensorMassForceField: triangle ", ti, " has a zero rest area");
         const double lambda_star = lambda_ / (4 * area);
         const double mu_star = mu_ / (8 * area);
         double cotangent[3];

@@ -53,7 +53,8 @@ std::unique_ptr<std::ostream> open_output_file(const std::filesystem::path& file
     int fd = ::open(file.c_str(), kFlags | O_TRUNC, 0644);
     if (fd < 0 && errno == ELOOP) {
         // a link at the name: replaced by the file, never written through
-        if (::unlink(file.c_str()) != 0 && errno != ENOENT) fail_open(file, "a symbolic link that cannot be removed: " + std::string(std::strerror(errno)));
+        if (::unlink(file.c_str()) != 0 && errno != ENOENT)
+            fail_open(file, "a symbolic link that cannot be removed: " + std::string(std::strerror(errno)));
         fd = ::open(file.c_str(), kFlags | O_EXCL, 0644);
     }
     if (fd < 0) fail_open(file, std::strerror(errno));
@@ -80,6 +81,8 @@ void write_file(const std::filesystem::path& file, std::string_view content) {
 
 namespace penalty::output {
 
-void write_output_file(const std::filesystem::path& file, std::string_view content) { detail::write_file(file, content); }
+void write_output_file(const std::filesystem::path& file, std::string_view content) {
+    detail::write_file(file, content);
+}
 
 }  // namespace penalty::output

@@ -60,7 +60,11 @@ int OutputFolder::create_temporary(std::string_view name, std::string& temporary
     static std::atomic<unsigned> counter{0};
     for (int attempt = 0; attempt < 100; ++attempt) {
         temporary.assign(1, '.');  // appended piece by piece: GCC 12 warns (-Wrestrict, wrongly) on "." + string
-        temporary.append(name).append(".tmp-").append(std::to_string(::getpid())).append("-").append(std::to_string(counter++));
+        temporary.append(name)
+            .append(".tmp-")
+            .append(std::to_string(::getpid()))
+            .append("-")
+            .append(std::to_string(counter++));
         const int fd = ::openat(fd_, temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
         if (fd >= 0) return fd;
         if (errno != EEXIST) break;  // EEXIST: an entry (perhaps a planted link) has that name: another one

@@ -176,7 +176,8 @@ std::vector<StateSample> read_state_file(const std::filesystem::path& file) {
         if (words.empty()) continue;
         const std::string_view keyword = words.front();
         if (keyword == "T=") {
-            if (!has_x) fail_at(file, sample_line, "sample T= " + format_number(samples.back().time) + " has no X line");
+            if (!has_x)
+                fail_at(file, sample_line, "sample T= " + format_number(samples.back().time) + " has no X line");
             if (words.size() != 2) fail_at(file, line_number, "expected 'T= <time>'");
             samples.push_back({parse_number(words[1], file, line_number), {}});
             has_x = false;
@@ -270,7 +271,8 @@ RegressionResult compare_with_reference(std::span<const std::filesystem::path> r
     }
     double total = 0.0;
     for (double error : result.per_state_error) total += error;
-    result.mean_error = result.per_state_error.empty() ? 0.0 : total / static_cast<double>(result.per_state_error.size());
+    result.mean_error =
+        result.per_state_error.empty() ? 0.0 : total / static_cast<double>(result.per_state_error.size());
     if (reference_files.size() != our_files.size()) result.mean_error = kInfinity;
     return result;
 }
@@ -328,8 +330,8 @@ std::vector<std::filesystem::path> find_trajectory_files(const std::filesystem::
     }
     if (!by_index.empty() && by_index.rbegin()->first >= our_files.size())
         messages.push_back(std::to_string(by_index.rbegin()->first + 1 - our_files.size()) +
-                           " more SOFA state file index(es) in " + detail::quoted(directory) + " than exported states (" +
-                           std::to_string(our_files.size()) + ")");
+                           " more SOFA state file index(es) in " + detail::quoted(directory) +
+                           " than exported states (" + std::to_string(our_files.size()) + ")");
     return out;
 }
 
@@ -338,7 +340,7 @@ TrajectoryStateComparison compare_state_trajectory(std::span<const StateSample> 
     if (values_per_dof <= 0) throw_invalid_argument("compare_state_trajectory: values_per_dof = ", values_per_dof);
     TrajectoryStateComparison c;
     const auto vpd = static_cast<std::size_t>(values_per_dof);
-    double sum = 0.0;  // SOFA's error_s over the compared samples: Σ_T Σ_i |ΔX_i(T)| / n_dofs
+    double sum = 0.0;   // SOFA's error_s over the compared samples: Σ_T Σ_i |ΔX_i(T)| / n_dofs
     std::size_t j = 0;  // both files are in time order: walk ours alongside SOFA's
     for (std::size_t step = 0; step < sofa.size(); ++step) {
         const StateSample& expected = sofa[step];
@@ -393,12 +395,13 @@ TrajectoryComparison compare_trajectories(const std::filesystem::path& sofa_dire
                                           std::span<const std::filesystem::path> our_files,
                                           std::span<const int> values_per_dof, double threshold) {
     if (values_per_dof.size() != our_files.size())
-        throw_invalid_argument("compare_trajectories: ", values_per_dof.size(), " values_per_dof for ", our_files.size(),
-                               " files");
+        throw_invalid_argument("compare_trajectories: ", values_per_dof.size(), " values_per_dof for ",
+                               our_files.size(), " files");
     if (!(threshold >= 0.0)) throw_invalid_argument("compare_trajectories: threshold ", threshold, " must be >= 0");
     TrajectoryComparison result;
     result.threshold = threshold;
-    const std::vector<std::filesystem::path> sofa_files = find_trajectory_files(sofa_directory, our_files, result.messages);
+    const std::vector<std::filesystem::path> sofa_files =
+        find_trajectory_files(sofa_directory, our_files, result.messages);
     double total = 0.0;
     for (std::size_t k = 0; k < our_files.size(); ++k) {
         TrajectoryStateComparison c;

@@ -41,7 +41,8 @@ void append_tunnelling(std::string& row, const StepStats& stats) {
         if (!std::isfinite(value))
             throw NonFiniteValueError(std::string("stats: ") + column + " is " + format_number(value) + " at step " +
                                       std::to_string(stats.step) + " (the simulation diverged)");
-    row += ',' + std::to_string(t.crossings) + ',' + std::to_string(t.prevented) + ',' + csv_field(t.first_crossing) + ',';
+    row +=
+        ',' + std::to_string(t.crossings) + ',' + std::to_string(t.prevented) + ',' + csv_field(t.first_crossing) + ',';
     append_number(row, t.max_depth);
     row += ',' + std::to_string(t.solves) + ',' + std::to_string(t.stiffened_contacts) + ',';
     append_number(row, t.stiffening_energy);
@@ -114,7 +115,8 @@ ContactSummary summarize_contacts(std::span<const ContactRecord> contacts) {
             if (std::size_t(c.m1) >= x1.size() || std::size_t(c.m2) >= x2.size())
                 throw_invalid_argument("summarize_contacts: contact record ", p, " ('", record.name,
                                        "') refers to a DOF outside its states");
-            summary.max_penetration = std::max(summary.max_penetration, c.dist - (x2[std::size_t(c.m2)] - x1[std::size_t(c.m1)]).dot(c.normal));
+            summary.max_penetration = std::max(summary.max_penetration,
+                                               c.dist - (x2[std::size_t(c.m2)] - x1[std::size_t(c.m1)]).dot(c.normal));
         }
     }
     return summary;

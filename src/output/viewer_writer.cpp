@@ -18,11 +18,16 @@ static_assert(std::endian::native == std::endian::little, "the viewer's binary f
 
 const char* viewer_shape_kind_name(ViewerShapeKind kind) {
     switch (kind) {
-        case ViewerShapeKind::triangles: return "triangles";
-        case ViewerShapeKind::lines: return "lines";
-        case ViewerShapeKind::points: return "points";
-        case ViewerShapeKind::spheres: return "spheres";
-        case ViewerShapeKind::cylinders: return "cylinders";
+        case ViewerShapeKind::triangles:
+            return "triangles";
+        case ViewerShapeKind::lines:
+            return "lines";
+        case ViewerShapeKind::points:
+            return "points";
+        case ViewerShapeKind::spheres:
+            return "spheres";
+        case ViewerShapeKind::cylinders:
+            return "cylinders";
     }
     return "points";
 }
@@ -34,10 +39,18 @@ void append_json_string(std::string& out, std::string_view text) {
     out += '"';
     for (const char c : text) {
         switch (c) {
-            case '"': out += "\\\""; break;
-            case '\\': out += "\\\\"; break;
-            case '\n': out += "\\n"; break;
-            case '\t': out += "\\t"; break;
+            case '"':
+                out += "\\\"";
+                break;
+            case '\\':
+                out += "\\\\";
+                break;
+            case '\n':
+                out += "\\n";
+                break;
+            case '\t':
+                out += "\\t";
+                break;
             default:
                 if (static_cast<unsigned char>(c) < 0x20) {
                     char buf[8];
@@ -81,7 +94,8 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
     std::vector<std::size_t> dofs;
     for (std::size_t k = 0; k < states_.size(); ++k) {
         const StateRecord* r = states_[k];
-        if (r == nullptr || r->state == nullptr) throw std::invalid_argument("ViewerWriter: state " + std::to_string(k) + " is null");
+        if (r == nullptr || r->state == nullptr)
+            throw std::invalid_argument("ViewerWriter: state " + std::to_string(k) + " is null");
         frame_floats_ += r->state->num_dofs() * std::size_t(values_per_dof(*r->state));  // throws if unsupported
         dofs.push_back(r->state->num_dofs());
     }
@@ -98,7 +112,8 @@ ViewerWriter::ViewerWriter(std::filesystem::path directory, std::vector<const St
     contacts_ = std::make_unique<detail::CreatedFile>(folder_->create_file("contacts.f32"));
 }
 
-void ViewerWriter::follow_topology(std::function<std::uint64_t()> revision, std::function<std::vector<ViewerShape>()> shapes) {
+void ViewerWriter::follow_topology(std::function<std::uint64_t()> revision,
+                                   std::function<std::vector<ViewerShape>()> shapes) {
     revision_ = std::move(revision);
     reshape_ = std::move(shapes);
     if (revision_) layouts_.back().revision = revision_();
@@ -124,10 +139,12 @@ ViewerWriter::Layout ViewerWriter::make_layout(std::vector<ViewerShape> shapes, 
                 throw std::invalid_argument(what + ": DOF index " + std::to_string(i) + " out of range (state '" +
                                             state_label(*states_[shape.state]) + "' has " +
                                             std::to_string(layout.dofs[shape.state]) + " DOFs)");
-        const std::size_t per = shape.kind == ViewerShapeKind::triangles ? 3 : shape.kind == ViewerShapeKind::lines ? 2 : 1;
+        const std::size_t per = shape.kind == ViewerShapeKind::triangles ? 3
+                                : shape.kind == ViewerShapeKind::lines   ? 2
+                                                                         : 1;
         if (shape.indices.size() % per != 0)
-            throw std::invalid_argument(what + ": " + std::to_string(shape.indices.size()) + " indices, not a multiple of " +
-                                        std::to_string(per));
+            throw std::invalid_argument(what + ": " + std::to_string(shape.indices.size()) +
+                                        " indices, not a multiple of " + std::to_string(per));
         const std::size_t elements = shape.indices.size() / per;
         const bool rigid_only = shape.kind == ViewerShapeKind::cylinders;
         if (rigid_only && values_per_dof(*states_[shape.state]->state) != 7)
@@ -139,7 +156,8 @@ ViewerWriter::Layout ViewerWriter::make_layout(std::vector<ViewerShape> shapes, 
             throw std::invalid_argument(what + ": cylinders need one height and one axis per element");
         layout.index_offsets.push_back(topology_size_ + topology.size() / sizeof(std::uint32_t));
         layout.index_counts.push_back(shape.indices.size());
-        topology.append(reinterpret_cast<const char*>(shape.indices.data()), shape.indices.size() * sizeof(std::uint32_t));
+        topology.append(reinterpret_cast<const char*>(shape.indices.data()),
+                        shape.indices.size() * sizeof(std::uint32_t));
     }
     for (ViewerShape& shape : shapes) shape.indices = {};  // kept in `topology`
     layout.shapes = std::move(shapes);
@@ -193,8 +211,9 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
     const std::uint64_t revision = revision_ ? revision_() : 0;
     if (dofs != layouts_.back().dofs || revision != layouts_.back().revision) {
         if (!reshape_)
-            throw std::invalid_argument("viewer: the states changed size during the run (" + std::to_string(buffer_.size()) +
-                                        " position values, " + std::to_string(frame_floats_) + " at the start)");
+            throw std::invalid_argument("viewer: the states changed size during the run (" +
+                                        std::to_string(buffer_.size()) + " position values, " +
+                                        std::to_string(frame_floats_) + " at the start)");
         std::string indices;
         Layout layout = make_layout(reshape_(), std::move(dofs), revision, indices);
         append_layout(std::move(layout), indices);
@@ -212,7 +231,8 @@ void ViewerWriter::write_frame(double time, std::span<const ContactRecord> conta
             const double normal_force = s.force.dot(s.normal);  // N, on side 2 along n
             if (!finite(s.point1) || !finite(s.point2) || !finite(s.normal) || !std::isfinite(normal_force))
                 throw NonFiniteValueError("viewer: contact " + std::to_string(c) + " of '" + rec.name +
-                                          "' is not finite at t = " + format_number(time) + " s: the simulation diverged");
+                                          "' is not finite at t = " + format_number(time) +
+                                          " s: the simulation diverged");
             segments.insert(segments.end(),
                             {float(s.point1.x()), float(s.point1.y()), float(s.point1.z()), float(s.point2.x()),
                              float(s.point2.y()), float(s.point2.z()), float(s.normal.x()), float(s.normal.y()),
@@ -347,8 +367,7 @@ void ViewerWriter::finish() {
                 j += std::to_string(f.*member);
             else if (!std::isfinite(f.*member))
                 j += "null";  // a kinetic energy that overflowed (v² beyond double) just before divergence
-            else
-                append_number(j, f.*member);
+            else append_number(j, f.*member);
         });
     };
     column("time", &FrameStats::time);

@@ -24,15 +24,16 @@ template <class Vector>
 void check_finite(const Vector& v, const std::string& what, std::size_t item, const char* item_kind, double time) {
     for (Eigen::Index c = 0; c < v.size(); ++c)
         if (!std::isfinite(v[c]))
-            throw NonFiniteValueError(what + ": " + item_kind + " " + std::to_string(item) + " has a non-finite value (" +
-                                      format_number(v[c]) + ") at time " + format_number(time) +
-                                      " (the simulation diverged)");
+            throw NonFiniteValueError(what + ": " + item_kind + " " + std::to_string(item) +
+                                      " has a non-finite value (" + format_number(v[c]) + ") at time " +
+                                      format_number(time) + " (the simulation diverged)");
 }
 
 /// <DataArray ...> with `components` values per tuple, one tuple per line.
 class XmlArray {
 public:
-    XmlArray(std::string& out, const char* type, const char* name, int components) : out_(out), components_(components) {
+    XmlArray(std::string& out, const char* type, const char* name, int components)
+        : out_(out), components_(components) {
         out_ += "        <DataArray type=\"";
         out_ += type;
         out_ += '"';
@@ -90,8 +91,9 @@ void append_footer(std::string& out, const char* type) {
 }
 
 void append_time_field(std::string& out, double time) {
-    out += "    <FieldData>\n"
-           "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">";
+    out +=
+        "    <FieldData>\n"
+        "      <DataArray type=\"Float64\" Name=\"TimeValue\" NumberOfTuples=\"1\" format=\"ascii\">";
     append_number(out, time);
     out += "</DataArray>\n    </FieldData>\n";
 }
@@ -116,8 +118,7 @@ void append_cells(std::string& out, const VtkCells& cells) {
 /// Point data `radius` of a state covered by a sphere model (nothing when record.radius is empty).
 void append_radius(std::string& out, const StateRecord& record, std::size_t n, const std::string& label) {
     if (record.radius.empty()) return;
-    if (record.radius.size() != n)
-        throw_invalid_argument(label, ": ", record.radius.size(), " radii for ", n, " DOFs");
+    if (record.radius.size() != n) throw_invalid_argument(label, ": ", record.radius.size(), " radii for ", n, " DOFs");
     XmlArray radius(out, "Float64", "radius", 1);
     for (double r : record.radius) radius.add(r);
 }
@@ -130,8 +131,10 @@ std::string point_data_open(const StateRecord& record) {
 
 std::string vec3_piece(const StateRecord& record, const Vec3Object& state, double time) {
     const std::string label = "state " + state_label(record);
-    for (std::size_t i = 0; i < state.position.size(); ++i) check_finite(state.position[i], label + " position", i, "DOF", time);
-    for (std::size_t i = 0; i < state.velocity.size(); ++i) check_finite(state.velocity[i], label + " velocity", i, "DOF", time);
+    for (std::size_t i = 0; i < state.position.size(); ++i)
+        check_finite(state.position[i], label + " position", i, "DOF", time);
+    for (std::size_t i = 0; i < state.velocity.size(); ++i)
+        check_finite(state.velocity[i], label + " velocity", i, "DOF", time);
     const std::size_t n = state.position.size();
     const VtkCells cells = [&] {
         try {
@@ -149,7 +152,8 @@ std::string vec3_piece(const StateRecord& record, const Vec3Object& state, doubl
     out += point_data_open(record);
     {
         XmlArray velocity(out, "Float64", "velocity", 3);
-        for (std::size_t i = 0; i < n; ++i) velocity.add_vector(i < state.velocity.size() ? state.velocity[i] : Vec3::Zero().eval());
+        for (std::size_t i = 0; i < n; ++i)
+            velocity.add_vector(i < state.velocity.size() ? state.velocity[i] : Vec3::Zero().eval());
     }
     append_radius(out, record, n, label);
     out += "      </PointData>\n      <Points>\n";
@@ -248,9 +252,8 @@ std::string contacts_piece_text(std::span<const ContactRecord> contacts, double 
     std::string out;
     append_header(out, "PolyData");
     append_time_field(out, time);
-    out += "    <Piece NumberOfPoints=\"" + std::to_string(2 * n) +
-           "\" NumberOfVerts=\"0\" NumberOfLines=\"" + std::to_string(n) +
-           "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
+    out += "    <Piece NumberOfPoints=\"" + std::to_string(2 * n) + "\" NumberOfVerts=\"0\" NumberOfLines=\"" +
+           std::to_string(n) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n";
     out += "      <CellData Scalars=\"penetration\" Vectors=\"force\">\n";
     {
         XmlArray force(out, "Float64", "force", 3);
@@ -361,7 +364,8 @@ VtkCells vtk_cells(const MeshTopology* topology, std::size_t num_points) {
 /// line overwrites it, so appending a step costs one line whatever the number of steps.
 class VtkSeriesWriter::Collection {
 public:
-    explicit Collection(std::filesystem::path file) : file_(std::move(file)), stream_(detail::open_output_file(file_)), out_(*stream_) {
+    explicit Collection(std::filesystem::path file)
+        : file_(std::move(file)), stream_(detail::open_output_file(file_)), out_(*stream_) {
         out_ << kCollectionHeader;
         footer_position_ = out_.tellp();
         write_footer();
@@ -395,7 +399,8 @@ VtkSeriesWriter::VtkSeriesWriter(std::filesystem::path directory, std::vector<co
         state_collections_.push_back(directory_ / (stems_.back() + ".pvd"));
     }
     detail::create_directory(directory_);
-    for (const std::filesystem::path& file : state_collections_) collections_.push_back(std::make_unique<Collection>(file));
+    for (const std::filesystem::path& file : state_collections_)
+        collections_.push_back(std::make_unique<Collection>(file));
     collections_.push_back(std::make_unique<Collection>(contacts_collection()));
 }
 
@@ -419,8 +424,7 @@ void VtkSeriesWriter::write_step(double time, std::span<const ContactRecord> con
     for (const StateRecord* record : states_) {
         if (const auto* vec3 = dynamic_cast<const Vec3Object*>(record->state))
             pieces.push_back(vec3_piece(*record, *vec3, time));
-        else
-            pieces.push_back(rigid_piece(*record, dynamic_cast<const Rigid3Object&>(*record->state), time));
+        else pieces.push_back(rigid_piece(*record, dynamic_cast<const Rigid3Object&>(*record->state), time));
     }
     const std::string contacts_text = contacts_piece_text(contacts, time);
 

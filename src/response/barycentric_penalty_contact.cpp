@@ -12,25 +12,21 @@ void ContactResponseParameters::validate() const { penalty.validate(); }
 
 double combined_contact_stiffness(StiffnessLaw law, double k1, double k2, double dist) {
     if (!std::isfinite(k1) || k1 < 0 || !std::isfinite(k2) || k2 < 0)
-        throw_invalid_argument("combined_contact_stiffness: contact_stiffness must be finite and >= 0 (k1 = ",
-                               k1, ", k2 = ", k2, ")");
+        throw_invalid_argument("combined_contact_stiffness: contact_stiffness must be finite and >= 0 (k1 = ", k1,
+                               ", k2 = ", k2, ")");
     return combined_contact_stiffness_of_checked(law, k1, k2, dist);
 }
 
 double contact_critical_time_step(double ks, double m1, double m2) {
     if (!(ks >= 0) || !(m1 > 0) || !(m2 > 0))
-        throw_invalid_argument("contact_critical_time_step: need ks >= 0 and masses > 0 (ks = ", ks,
-                               ", m1 = ", m1, ", m2 = ", m2, ")");
+        throw_invalid_argument("contact_critical_time_step: need ks >= 0 and masses > 0 (ks = ", ks, ", m1 = ", m1,
+                               ", m2 = ", m2, ")");
     if (ks == 0.0) return std::numeric_limits<double>::infinity();
     double m;
-    if (std::isinf(m1) && std::isinf(m2))
-        return std::numeric_limits<double>::infinity();
-    else if (std::isinf(m1))
-        m = m2;
-    else if (std::isinf(m2))
-        m = m1;
-    else
-        m = m1 * m2 / (m1 + m2);
+    if (std::isinf(m1) && std::isinf(m2)) return std::numeric_limits<double>::infinity();
+    else if (std::isinf(m1)) m = m2;
+    else if (std::isinf(m2)) m = m1;
+    else m = m1 * m2 / (m1 + m2);
     return std::sqrt(m / ks);
 }
 
@@ -93,9 +89,8 @@ void BarycentricPenaltyContact::add_force(std::span<double> parent_f1, std::span
 }
 
 void BarycentricPenaltyContact::add_dforce(std::span<double> parent_df1, std::span<double> parent_df2,
-                                           std::span<const double> parent_dq1,
-                                           std::span<const double> parent_dq2, double k_factor,
-                                           double b_factor) {
+                                           std::span<const double> parent_dq1, std::span<const double> parent_dq2,
+                                           double k_factor, double b_factor) {
     dx1_.resize(mapper1_->size());
     dx2_.resize(mapper2_->size());
     mapper1_->apply_j(parent_dq1, dx1_);

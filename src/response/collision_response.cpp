@@ -18,14 +18,30 @@ namespace {
 using MT = ModelType;
 
 constexpr std::pair<MT, MT> kRegistered[] = {
-    {MT::Sphere, MT::Sphere},           {MT::Sphere, MT::RigidSphere},     {MT::RigidSphere, MT::RigidSphere},
-    {MT::Sphere, MT::Point},            {MT::RigidSphere, MT::Point},      {MT::Point, MT::Point},
-    {MT::Line, MT::Point},              {MT::Line, MT::Line},              {MT::Line, MT::Sphere},
-    {MT::Line, MT::RigidSphere},        {MT::Triangle, MT::Sphere},        {MT::Triangle, MT::RigidSphere},
-    {MT::Triangle, MT::Point},          {MT::Triangle, MT::Line},          {MT::Triangle, MT::Triangle},
-    {MT::Cylinder, MT::Cylinder},       {MT::Cylinder, MT::Triangle},      {MT::Cylinder, MT::Sphere},
-    {MT::Cylinder, MT::RigidSphere},    {MT::Tetrahedron, MT::Sphere},     {MT::Tetrahedron, MT::Point},
-    {MT::Tetrahedron, MT::Line},        {MT::Tetrahedron, MT::Triangle},   {MT::Tetrahedron, MT::Tetrahedron},
+    {MT::Sphere, MT::Sphere},
+    {MT::Sphere, MT::RigidSphere},
+    {MT::RigidSphere, MT::RigidSphere},
+    {MT::Sphere, MT::Point},
+    {MT::RigidSphere, MT::Point},
+    {MT::Point, MT::Point},
+    {MT::Line, MT::Point},
+    {MT::Line, MT::Line},
+    {MT::Line, MT::Sphere},
+    {MT::Line, MT::RigidSphere},
+    {MT::Triangle, MT::Sphere},
+    {MT::Triangle, MT::RigidSphere},
+    {MT::Triangle, MT::Point},
+    {MT::Triangle, MT::Line},
+    {MT::Triangle, MT::Triangle},
+    {MT::Cylinder, MT::Cylinder},
+    {MT::Cylinder, MT::Triangle},
+    {MT::Cylinder, MT::Sphere},
+    {MT::Cylinder, MT::RigidSphere},
+    {MT::Tetrahedron, MT::Sphere},
+    {MT::Tetrahedron, MT::Point},
+    {MT::Tetrahedron, MT::Line},
+    {MT::Tetrahedron, MT::Triangle},
+    {MT::Tetrahedron, MT::Tetrahedron},
 };
 
 double parse_double(std::string_view key, std::string_view value) {
@@ -50,8 +66,7 @@ bool is_penalty_response_pair(ModelType t1, ModelType t2) {
                        [&](const auto& p) { return p.first == t1 && p.second == t2; });
 }
 
-void apply_response_params(std::string_view params, ContactResponseParameters& p,
-                           std::vector<std::string>* unknown) {
+void apply_response_params(std::string_view params, ContactResponseParameters& p, std::vector<std::string>* unknown) {
     std::size_t start = 0;
     while (start <= params.size()) {
         std::size_t amp = params.find('&', start);
@@ -68,7 +83,9 @@ void apply_response_params(std::string_view params, ContactResponseParameters& p
         } else if (key == "friction") {
             if (value == "ignored") p.penalty.friction = FrictionModel::ignored;
             else if (value == "coulomb") p.penalty.friction = FrictionModel::coulomb;
-            else throw_invalid_argument("responseParams: parameter 'friction': '", value, "' (expected ignored or coulomb)");
+            else
+                throw_invalid_argument("responseParams: parameter 'friction': '", value,
+                                       "' (expected ignored or coulomb)");
         } else if (key == "tangentialStiffnessRatio" || key == "tangential_stiffness_ratio") {
             p.penalty.tangential_stiffness_ratio = parse_double(key, value);
         } else if (key == "tangentialDamping" || key == "tangential_damping") {
@@ -78,11 +95,15 @@ void apply_response_params(std::string_view params, ContactResponseParameters& p
         } else if (key == "stiffnessLaw" || key == "stiffness_law") {
             if (value == "sofa") p.stiffness_law = StiffnessLaw::sofa;
             else if (value == "physical") p.stiffness_law = StiffnessLaw::physical;
-            else throw_invalid_argument("responseParams: parameter 'stiffnessLaw': '", value, "' (expected sofa or physical)");
+            else
+                throw_invalid_argument("responseParams: parameter 'stiffnessLaw': '", value,
+                                       "' (expected sofa or physical)");
         } else if (key == "rigidSphereRadius" || key == "rigid_sphere_radius") {
             if (value == "head") p.rigid_sphere_radius = RigidSphereRadius::sofa_head;
             else if (value == "v26.06") p.rigid_sphere_radius = RigidSphereRadius::sofa_v26_06;
-            else throw_invalid_argument("responseParams: parameter 'rigidSphereRadius': '", value, "' (expected head or v26.06)");
+            else
+                throw_invalid_argument("responseParams: parameter 'rigidSphereRadius': '", value,
+                                       "' (expected head or v26.06)");
         } else if (unknown) {
             unknown->emplace_back(key);
         }
@@ -120,16 +141,18 @@ std::string CollisionResponse::response_name(const CollisionModel& m1, const Col
     return r1 == r2 ? r1 : base;
 }
 
-std::unique_ptr<BarycentricPenaltyContact> CollisionResponse::create_contact(
-    const std::string& name, const CollisionModel& m1, const CollisionModel& m2, double intersection_cd) {
+std::unique_ptr<BarycentricPenaltyContact> CollisionResponse::create_contact(const std::string& name,
+                                                                             const CollisionModel& m1,
+                                                                             const CollisionModel& m2,
+                                                                             double intersection_cd) {
     const auto [key, params] = split_name(name);
     if (key.empty() || key == "nullptr") return nullptr;
     if (key != kPenaltyResponseName)
-        throw_invalid_argument("CollisionResponse: models '", m1.name(), "' and '", m2.name(),
-                               "': unknown response '", key, "'");
+        throw_invalid_argument("CollisionResponse: models '", m1.name(), "' and '", m2.name(), "': unknown response '",
+                               key, "'");
     if (!is_penalty_response_pair(m1.type(), m2.type())) {
-        warnings_.push_back(std::string("CollisionResponse: contact ") + std::string(key) + " between '" +
-                            m1.name() + "' (" + model_type_name(m1.type()) + ") and '" + m2.name() + "' (" +
+        warnings_.push_back(std::string("CollisionResponse: contact ") + std::string(key) + " between '" + m1.name() +
+                            "' (" + model_type_name(m1.type()) + ") and '" + m2.name() + "' (" +
                             model_type_name(m2.type()) + ") creation failed: pair not registered");
         return nullptr;
     }
@@ -165,7 +188,8 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
     feed_.clear();
     // the pairs refused a contact are searched only when there are some (a search of every
     // pair per new pair was quadratic in the live pairs)
-    const bool any_refused = std::any_of(pairs_.begin(), pairs_.end(), [](const ContactPairEntry& e) { return !e.contact; });
+    const bool any_refused =
+        std::any_of(pairs_.begin(), pairs_.end(), [](const ContactPairEntry& e) { return !e.contact; });
     for (const auto& [models, d] : outputs_map_) {
         const auto [it, inserted] = contact_map_.insert(models, nullptr);
         if (!inserted) {  // a live contact
@@ -175,9 +199,10 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         // (a copy of the key: a structured binding cannot be captured by a lambda before C++20's
         // P1091, which clang 14 lacks)
         const auto key = models;
-        const auto refused = !any_refused ? pairs_.end() : std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
-            return !e.contact && e.model1 == key.first && e.model2 == key.second;
-        });
+        const auto refused =
+            !any_refused ? pairs_.end() : std::find_if(pairs_.begin(), pairs_.end(), [&](const ContactPairEntry& e) {
+                return !e.contact && e.model1 == key.first && e.model2 == key.second;
+            });
         const bool refused_before = refused != pairs_.end();
         if (!refused_before) {
             ContactPairEntry e;
@@ -305,16 +330,17 @@ void CollisionResponse::feed_contacts() {
         return;
     }
     FirstErrorInOrder failure;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, feed_.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            try {
-                feed_[i].first->set_detection_outputs(feed_[i].second->outputs);
-            } catch (...) {
-                failure.record(i);
-                return;
-            }
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, feed_.size(), 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              try {
+                                  feed_[i].first->set_detection_outputs(feed_[i].second->outputs);
+                              } catch (...) {
+                                  failure.record(i);
+                                  return;
+                              }
+                          }
+                      });
     failure.rethrow_if_any();
 }
 

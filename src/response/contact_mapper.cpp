@@ -14,13 +14,13 @@ constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 /// The error of a contact point that check_element refuses (out of line: the check, called for
 /// every contact, stays a compare and a branch).
-[[noreturn, gnu::cold, gnu::noinline]] void throw_bad_element(const CollisionModel& m, const char* function, Index element,
-                                                                const Vec3& P) {
+[[noreturn, gnu::cold, gnu::noinline]] void throw_bad_element(const CollisionModel& m, const char* function,
+                                                              Index element, const Vec3& P) {
     if (element < 0 || static_cast<std::size_t>(element) >= m.size())
-        throw_invalid_argument(function, ": model '", m.name(), "' (", model_type_name(m.type()),
-                               "): element ", element, " out of range [0, ", m.size(), ")");
-    throw_invalid_argument(function, ": model '", m.name(), "', element ", element,
-                           ": non-finite contact point P (", P.transpose(), ")");
+        throw_invalid_argument(function, ": model '", m.name(), "' (", model_type_name(m.type()), "): element ",
+                               element, " out of range [0, ", m.size(), ")");
+    throw_invalid_argument(function, ": model '", m.name(), "', element ", element, ": non-finite contact point P (",
+                           P.transpose(), ")");
 }
 
 /// `element` must be one of the model's and P finite.
@@ -42,12 +42,11 @@ std::span<Deriv> as_derivs(std::span<double> v) {
 
 }  // namespace
 
-void ContactMapper::check_sizes(const char* function, std::size_t contact_size,
-                                std::size_t parent_scalars) const {
+void ContactMapper::check_sizes(const char* function, std::size_t contact_size, std::size_t parent_scalars) const {
     if (contact_size != size() || parent_scalars != parent_scalar_size())
-        throw_invalid_argument(function, ": model '", model().name(), "': contact vector size ",
-                               contact_size, " (expected ", size(), "), parent vector size ",
-                               parent_scalars, " (expected ", parent_scalar_size(), ")");
+        throw_invalid_argument(function, ": model '", model().name(), "': contact vector size ", contact_size,
+                               " (expected ", size(), "), parent vector size ", parent_scalars, " (expected ",
+                               parent_scalar_size(), ")");
 }
 
 // ---------------------------------------------------------------------------- identity
@@ -59,8 +58,8 @@ IdentityContactMapper::IdentityContactMapper(const CollisionModel& model) : mode
         state_ = &s->state();
         sphere_ = s;
     } else {
-        throw_invalid_argument("IdentityContactMapper: model '", model.name(), "' (",
-                               model_type_name(model.type()), ") is neither a Point nor a Sphere model");
+        throw_invalid_argument("IdentityContactMapper: model '", model.name(), "' (", model_type_name(model.type()),
+                               ") is neither a Point nor a Sphere model");
     }
 }
 
@@ -105,8 +104,7 @@ std::array<double, 2> line_contact_weights(const Vec3& a, const Vec3& b, const V
     return {1.0 - f, f};
 }
 
-std::array<double, 2> triangle_contact_coordinates(const Vec3& p0, const Vec3& p1, const Vec3& p2,
-                                                   const Vec3& P) {
+std::array<double, 2> triangle_contact_coordinates(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& P) {
     const Vec3 ab = p1 - p0, ac = p2 - p0, aq = P - p0;
     const double g00 = ab.dot(ab), g01 = ab.dot(ac), g11 = ac.dot(ac);
     const double b0 = aq.dot(ab), b1 = aq.dot(ac);
@@ -164,8 +162,7 @@ BarycentricContactMapper::BarycentricContactMapper(const CollisionModel& model) 
     else if (model.type() == ModelType::Triangle) state_ = &dynamic_cast<const TriangleModel&>(model).state();
     else if (model.type() == ModelType::Tetrahedron) state_ = &dynamic_cast<const TetrahedronModel&>(model).state();
     else
-        throw_invalid_argument("BarycentricContactMapper: model '", model.name(), "' (",
-                               model_type_name(model.type()),
+        throw_invalid_argument("BarycentricContactMapper: model '", model.name(), "' (", model_type_name(model.type()),
                                ") is not a Line, Triangle or Tetrahedron model");
 }
 
@@ -192,16 +189,16 @@ ContactBarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index
         const std::size_t nt = t->num_topology_triangles();
         if (std::size_t(e) < nt) {
             const Triangle& tr = t->triangle(e);
-            const auto ab = triangle_contact_coordinates(x[std::size_t(tr[0])], x[std::size_t(tr[1])],
-                                                         x[std::size_t(tr[2])], P);
+            const auto ab =
+                triangle_contact_coordinates(x[std::size_t(tr[0])], x[std::size_t(tr[1])], x[std::size_t(tr[2])], P);
             row.push(tr[0], 1.0 - ab[0] - ab[1]);
             row.push(tr[1], ab[0]);
             row.push(tr[2], ab[1]);
         } else {
             const std::size_t k = (std::size_t(e) - nt) / 2;
             const Quad& q = t->topology().quads()[k];
-            const auto f = quad_contact_coordinates(x[std::size_t(q[0])], x[std::size_t(q[1])],
-                                                    x[std::size_t(q[3])], P);
+            const auto f =
+                quad_contact_coordinates(x[std::size_t(q[0])], x[std::size_t(q[1])], x[std::size_t(q[3])], P);
             // SOFA's BarycentricMapperMeshTopology::apply sums a quad's vertices in the order
             // q0, q1, q3, q2; so do we (the rounding of the mapped point depends on it).
             row.push(q[0], (1 - f[0]) * (1 - f[1]));
@@ -260,8 +257,8 @@ RigidContactMapper::RigidContactMapper(const CollisionModel& model, RigidSphereR
     } else if (const auto* c = dynamic_cast<const CylinderModel*>(&model)) {
         state_ = &c->state();
     } else {
-        throw_invalid_argument("RigidContactMapper: model '", model.name(), "' (",
-                               model_type_name(model.type()), ") is neither a RigidSphere nor a Cylinder model");
+        throw_invalid_argument("RigidContactMapper: model '", model.name(), "' (", model_type_name(model.type()),
+                               ") is neither a RigidSphere nor a Cylinder model");
     }
 }
 
@@ -312,12 +309,15 @@ void RigidContactMapper::add_jacobian_triplets(TripletList& t, Index ro, Index c
 std::unique_ptr<ContactMapper> make_contact_mapper(const CollisionModel& model, RigidSphereRadius radius_rule) {
     switch (model.type()) {
         case ModelType::Point:
-        case ModelType::Sphere: return std::make_unique<IdentityContactMapper>(model);
+        case ModelType::Sphere:
+            return std::make_unique<IdentityContactMapper>(model);
         case ModelType::Line:
         case ModelType::Triangle:
-        case ModelType::Tetrahedron: return std::make_unique<BarycentricContactMapper>(model);
+        case ModelType::Tetrahedron:
+            return std::make_unique<BarycentricContactMapper>(model);
         case ModelType::RigidSphere:
-        case ModelType::Cylinder: return std::make_unique<RigidContactMapper>(model, radius_rule);
+        case ModelType::Cylinder:
+            return std::make_unique<RigidContactMapper>(model, radius_rule);
     }
     throw_invalid_argument("make_contact_mapper: model '", model.name(), "': unknown model type");
 }

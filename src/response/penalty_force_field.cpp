@@ -26,17 +26,18 @@ bool finite_non_negative(double value) { return std::isfinite(value) && value >=
 /// add_contact's error: the first of its checks that the contact fails (out of line: the checks,
 /// made for every contact, stay compares and one branch).
 [[noreturn, gnu::cold, gnu::noinline]] void throw_bad_contact(std::size_t id, Index m1, Index m2, const Vec3& normal,
-                                                                double dist, double ks, double mu_s, double mu_v) {
+                                                              double dist, double ks, double mu_s, double mu_v) {
     if (m1 < 0 || m2 < 0)
-        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": DOF index m1 = ", m1,
-                               ", m2 = ", m2, " must be >= 0");
+        throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": DOF index m1 = ", m1, ", m2 = ", m2,
+                               " must be >= 0");
     if (!normal.allFinite() || std::abs(normal.norm() - 1.0) > 1e-6)
         throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": normal (", normal.x(), ", ",
                                normal.y(), ", ", normal.z(), ") must be a finite unit vector");
     if (!std::isfinite(dist))
         throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": dist = ", dist, " must be finite");
-    const char* what = !finite_non_negative(ks) ? "stiffness ks" : !finite_non_negative(mu_s) ? "static friction mu_s"
-                                                                                             : "dynamic friction mu_v";
+    const char* what = !finite_non_negative(ks)     ? "stiffness ks"
+                       : !finite_non_negative(mu_s) ? "static friction mu_s"
+                                                    : "dynamic friction mu_v";
     const double value = !finite_non_negative(ks) ? ks : !finite_non_negative(mu_s) ? mu_s : mu_v;
     throw_invalid_argument("PenaltyForceField::add_contact(): contact ", id, ": ", what, " = ", value,
                            " must be finite and >= 0");
@@ -51,8 +52,8 @@ void PenaltyParameters::validate() const {
         throw_invalid_argument("PenaltyParameters: tangential_damping = ", tangential_damping,
                                " must be finite and >= 0");
     if (!std::isfinite(tangential_stiffness_ratio) || tangential_stiffness_ratio <= 0.0)
-        throw_invalid_argument("PenaltyParameters: tangential_stiffness_ratio = ",
-                               tangential_stiffness_ratio, " must be finite and > 0");
+        throw_invalid_argument("PenaltyParameters: tangential_stiffness_ratio = ", tangential_stiffness_ratio,
+                               " must be finite and > 0");
     if (!std::isfinite(time_step) || time_step <= 0.0)
         throw_invalid_argument("PenaltyParameters: time_step = ", time_step, " must be finite and > 0");
 }
@@ -71,9 +72,8 @@ void PenaltyForceField::clear(std::size_t reserve) {
     checked_size1_ = checked_size2_ = kUnchecked;
 }
 
-void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index index2,
-                                    const Vec3& normal, double dist, double ks, double mu_s,
-                                    double mu_v, Index old_index) {
+void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index index2, const Vec3& normal, double dist,
+                                    double ks, double mu_s, double mu_v, Index old_index) {
     // DOF indices >= 0, a finite unit normal (|‖n‖ − 1| <= 1e-6), a finite dist, finite ks, mu_s,
     // mu_v >= 0 (NaN fails every comparison below)
     const bool valid = m1 >= 0 && m2 >= 0 && normal.allFinite() && std::abs(normal.norm() - 1.0) <= 1e-6 &&
@@ -84,8 +84,15 @@ void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index inde
 
     // made whole, then copied: emplace_back() value-initialised the 240 bytes with `rep stos`
     // (a slow start for so few) before the fields were written
-    PenaltyContact made{.m1 = m1, .m2 = m2, .normal = normal, .dist = dist, .ks = ks,
-                        .index1 = index1, .index2 = index2, .mu_s = mu_s, .mu_v = mu_v};
+    PenaltyContact made{.m1 = m1,
+                        .m2 = m2,
+                        .normal = normal,
+                        .dist = dist,
+                        .ks = ks,
+                        .index1 = index1,
+                        .index2 = index2,
+                        .mu_s = mu_s,
+                        .mu_v = mu_v};
     PenaltyContact& contact = contacts_.emplace_back(made);
     // SOFA: age carries over only from a valid 1-based index into the previous list
     if (old_index >= 1 && static_cast<std::size_t>(old_index) <= previous_.size()) {
@@ -122,8 +129,7 @@ void PenaltyForceField::renew_contacts() {
     clear(contacts_.size());
     for (std::size_t i = 0; i < previous_.size(); ++i) {
         const PenaltyContact& c = previous_[i];
-        add_contact(c.m1, c.m2, c.index1, c.index2, c.normal, c.dist, c.ks, c.mu_s, c.mu_v,
-                    static_cast<Index>(i + 1));
+        add_contact(c.m1, c.m2, c.index1, c.index2, c.normal, c.dist, c.ks, c.mu_s, c.mu_v, static_cast<Index>(i + 1));
     }
 }
 
@@ -142,19 +148,18 @@ void PenaltyForceField::check_indices(const char* function, std::size_t n1, std:
     checked_size2_ = n2;
 }
 
-void PenaltyForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2,
-                                  ConstVec3Span v1, ConstVec3Span v2) {
+void PenaltyForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
+                                  ConstVec3Span v2) {
     if (f1.size() != x1.size() || f2.size() != x2.size())
-        throw_invalid_argument("PenaltyForceField::add_force(): force sizes (", f1.size(), ", ",
-                               f2.size(), ") differ from position sizes (", x1.size(), ", ",
-                               x2.size(), ")");
+        throw_invalid_argument("PenaltyForceField::add_force(): force sizes (", f1.size(), ", ", f2.size(),
+                               ") differ from position sizes (", x1.size(), ", ", x2.size(), ")");
     check_indices("add_force", x1.size(), x2.size());
     const bool damping = parameters_.damping > 0.0;
     const bool friction = parameters_.friction == FrictionModel::coulomb;
     if ((damping || friction) && (v1.size() != x1.size() || v2.size() != x2.size()))
-        throw_invalid_argument("PenaltyForceField::add_force(): velocity sizes (", v1.size(), ", ",
-                               v2.size(), ") differ from position sizes (", x1.size(), ", ",
-                               x2.size(), "); damping and friction need velocities");
+        throw_invalid_argument("PenaltyForceField::add_force(): velocity sizes (", v1.size(), ", ", v2.size(),
+                               ") differ from position sizes (", x1.size(), ", ", x2.size(),
+                               "); damping and friction need velocities");
     if (damping) {
         if (friction) add_force_impl<true, true>(f1, f2, x1, x2, v1, v2);
         else add_force_impl<true, false>(f1, f2, x1, x2, v1, v2);
@@ -165,8 +170,8 @@ void PenaltyForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Co
 }
 
 template <bool kDamping, bool kFriction>
-void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2,
-                                       ConstVec3Span v1, ConstVec3Span v2) {
+void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
+                                       ConstVec3Span v2) {
     const double c = parameters_.damping;
     const double c_t = parameters_.tangential_damping;
     const double h = parameters_.time_step;
@@ -198,8 +203,8 @@ void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x
                 if (first_evaluation_of_step) {
                     // the released spring's energy is lost
                     if (ct.has_history)
-                        dissipated_sliding_ += 0.5 * parameters_.tangential_stiffness_ratio * ct.ks *
-                                               ct.shear_start.squaredNorm();
+                        dissipated_sliding_ +=
+                            0.5 * parameters_.tangential_stiffness_ratio * ct.ks * ct.shear_start.squaredNorm();
                     ct.has_history = false;
                     ct.shear_start.setZero();
                     ct.u_start = u;
@@ -225,9 +230,8 @@ void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x
                 // ξ₀: the previous spring rotated onto this tangent plane plus the tangential motion
                 // of the previous step (h·v_t); a new contact is anchored here with ξ₀ = 0.
                 const Vec3 v_t = tangential_part(v_rel, n);
-                ct.shear_start = ct.has_history
-                                     ? Vec3(rotate_onto_tangent_plane(ct.shear_start, n) + h * v_t)
-                                     : Vec3::Zero();
+                ct.shear_start =
+                    ct.has_history ? Vec3(rotate_onto_tangent_plane(ct.shear_start, n) + h * v_t) : Vec3::Zero();
                 ct.u_start = u;
             }
             const double kt = parameters_.tangential_stiffness_ratio * ct.ks;
@@ -263,8 +267,7 @@ void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x
                 ct.shear = (sliding_force / spring_norm) * shear;
                 ct.tangential_force = -kt * ct.shear;
                 // Coulomb work of the slip: sliding force × slip length (m)
-                if (first_evaluation_of_step)
-                    dissipated_sliding_ += sliding_force * (shear.norm() - ct.shear.norm());
+                if (first_evaluation_of_step) dissipated_sliding_ += sliding_force * (shear.norm() - ct.shear.norm());
             }
             // the anchor moved at the step start belongs to the whole step
             if (first_evaluation_of_step) ct.shear_start = ct.shear;
@@ -276,11 +279,11 @@ void PenaltyForceField::add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x
     }
 }
 
-void PenaltyForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2,
-                                   double k_factor, double b_factor) const {
+void PenaltyForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
+                                   double b_factor) const {
     if (df1.size() != dx1.size() || df2.size() != dx2.size())
-        throw_invalid_argument("PenaltyForceField::add_dforce(): df sizes (", df1.size(), ", ",
-                               df2.size(), ") differ from dx sizes (", dx1.size(), ", ", dx2.size(), ")");
+        throw_invalid_argument("PenaltyForceField::add_dforce(): df sizes (", df1.size(), ", ", df2.size(),
+                               ") differ from dx sizes (", dx1.size(), ", ", dx2.size(), ")");
     check_indices("add_dforce", dx1.size(), dx2.size());
     const double c = parameters_.damping;
     const double c_t = parameters_.tangential_damping;
@@ -354,8 +357,7 @@ void PenaltyForceField::add_stiffness_triplets(TripletList& triplets, Index offs
     }
 }
 
-void PenaltyForceField::add_damping_triplets(TripletList& triplets, Index offset1, Index offset2,
-                                             double factor) const {
+void PenaltyForceField::add_damping_triplets(TripletList& triplets, Index offset1, Index offset2, double factor) const {
     const double c = parameters_.damping;
     const double c_t = parameters_.tangential_damping;
     const bool friction = parameters_.friction == FrictionModel::coulomb;
@@ -372,7 +374,8 @@ void PenaltyForceField::add_damping_triplets(TripletList& triplets, Index offset
 
 void PenaltyForceField::check_matrix_sizes(const char* function, Index n1, Index n2, bool same_state) const {
     if (n1 < 0) throw_invalid_argument("PenaltyForceField::", function, "(): n1 = ", n1, " must be >= 0");
-    if (!same_state && n2 < 0) throw_invalid_argument("PenaltyForceField::", function, "(): n2 = ", n2, " must be >= 0");
+    if (!same_state && n2 < 0)
+        throw_invalid_argument("PenaltyForceField::", function, "(): n2 = ", n2, " must be >= 0");
     // a contact outside its state would write outside the matrix
     check_indices(function, std::size_t(n1), std::size_t(same_state ? n1 : n2));
 }
@@ -397,7 +400,7 @@ double PenaltyForceField::potential_energy() const {
     double energy = 0.0;
     for (const PenaltyContact& ct : contacts_) {
         if (!(ct.pen > 0.0)) continue;
-        energy += 0.5 * ct.ks * ct.pen * ct.pen;  // ½·ks·pen²
+        energy += 0.5 * ct.ks * ct.pen * ct.pen;                               // ½·ks·pen²
         if (friction) energy += 0.5 * ratio * ct.ks * ct.shear.squaredNorm();  // ½·kt·|ξ|²
     }
     return energy;
@@ -409,8 +412,8 @@ void PenaltyForceField::reset_dissipated_energy() {
 }
 
 std::size_t PenaltyForceField::active_count() const {
-    return static_cast<std::size_t>(std::count_if(
-        contacts_.begin(), contacts_.end(), [](const PenaltyContact& c) { return c.pen > 0.0; }));
+    return static_cast<std::size_t>(
+        std::count_if(contacts_.begin(), contacts_.end(), [](const PenaltyContact& c) { return c.pen > 0.0; }));
 }
 
 std::vector<ContactSegment> PenaltyForceField::export_contacts(ConstVec3Span x1, ConstVec3Span x2) const {
@@ -431,8 +434,7 @@ std::vector<ContactSegment> PenaltyForceField::export_contacts(ConstVec3Span x1,
     return segments;
 }
 
-std::vector<GrabbedPoint> PenaltyForceField::grab_points(ContactSide tool_side,
-                                                         std::span<const Index> tool_dofs,
+std::vector<GrabbedPoint> PenaltyForceField::grab_points(ContactSide tool_side, std::span<const Index> tool_dofs,
                                                          ConstVec3Span other_positions) const {
     std::vector<GrabbedPoint> grabbed;
     for (std::size_t i = 0; i < contacts_.size(); ++i) {
@@ -443,9 +445,8 @@ std::vector<GrabbedPoint> PenaltyForceField::grab_points(ContactSide tool_side,
         for (const Index dof : tool_dofs) {
             if (dof != tool_dof) continue;
             if (static_cast<std::size_t>(other_dof) >= other_positions.size())
-                throw_invalid_argument("PenaltyForceField::grab_points(): contact ", i,
-                                       ": other-side DOF ", other_dof, " is outside the given positions (size ",
-                                       other_positions.size(), ")");
+                throw_invalid_argument("PenaltyForceField::grab_points(): contact ", i, ": other-side DOF ", other_dof,
+                                       " is outside the given positions (size ", other_positions.size(), ")");
             grabbed.push_back({other_positions[static_cast<std::size_t>(other_dof)], other_element, dof});
         }
     }

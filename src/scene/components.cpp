@@ -65,18 +65,38 @@ constexpr AttributeSpec kGridMeshCreatorAttributes[] = {
 };
 
 constexpr ComponentSpec kLoaders[] = {
-    {.type = "GridMeshCreator", .family = F::loader, .summary = "unit square grid of points, quads or triangles",
+    {.type = "GridMeshCreator",
+     .family = F::loader,
+     .summary = "unit square grid of points, quads or triangles",
      .attributes = kGridMeshCreatorAttributes},
-    {.type = "MeshOBJLoader", .family = F::loader, .summary = "Wavefront OBJ mesh", .attributes = kObjVtkLoaderAttributes,
+    {.type = "MeshOBJLoader",
+     .family = F::loader,
+     .summary = "Wavefront OBJ mesh",
+     .attributes = kObjVtkLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
-    {.type = "MeshGmshLoader", .family = F::loader, .summary = "Gmsh v1/v2/v4 ASCII mesh", .attributes = kGmshLoaderAttributes,
+    {.type = "MeshGmshLoader",
+     .family = F::loader,
+     .summary = "Gmsh v1/v2/v4 ASCII mesh",
+     .attributes = kGmshLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
-    {.type = "MeshOffLoader", .family = F::loader, .summary = "OFF mesh (triangles and quads)", .attributes = kObjVtkLoaderAttributes,
+    {.type = "MeshOffLoader",
+     .family = F::loader,
+     .summary = "OFF mesh (triangles and quads)",
+     .attributes = kObjVtkLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
-    {.type = "MeshTrianLoader", .family = F::loader, .summary = "SOFA .trian triangle mesh", .attributes = kTrianLoaderAttributes,
+    {.type = "MeshTrianLoader",
+     .family = F::loader,
+     .summary = "SOFA .trian triangle mesh",
+     .attributes = kTrianLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
-    {.type = "SphereLoader", .family = F::loader, .summary = "sphere list (.sph)", .attributes = kSphereLoaderAttributes},
-    {.type = "MeshVTKLoader", .family = F::loader, .summary = "legacy ASCII VTK mesh", .attributes = kObjVtkLoaderAttributes,
+    {.type = "SphereLoader",
+     .family = F::loader,
+     .summary = "sphere list (.sph)",
+     .attributes = kSphereLoaderAttributes},
+    {.type = "MeshVTKLoader",
+     .family = F::loader,
+     .summary = "legacy ASCII VTK mesh",
+     .attributes = kObjVtkLoaderAttributes,
      .shared_attributes = kMeshLoaderAttributes},
 };
 
@@ -203,7 +223,8 @@ constexpr ComponentSpec kVisual[] = {
 constexpr AttributeSpec kBoxConstraint[] = {
     {"box", K::numbers, "", "m", ValueCheck::none, "ignored (SOFA creates no BoxConstraint)"},
 };
-constexpr std::string_view kUnknownToSofa = "unknown to SOFA today, which creates nothing and runs the scene without it";
+constexpr std::string_view kUnknownToSofa =
+    "unknown to SOFA today, which creates nothing and runs the scene without it";
 constexpr ComponentSpec kAbsentFromSofa[] = {
     {.type = "BoxConstraint", .summary = kUnknownToSofa, .attributes = kBoxConstraint},
     {.type = "PlaneConstraint", .summary = kUnknownToSofa},
@@ -217,50 +238,84 @@ constexpr AttributeSpec kNodeAttributes[] = {
 };
 
 // SOFA Data that never change the numbers (logging, display, bookkeeping).
-constexpr std::string_view kHarmless[] = {"printLog", "tags", "listening", "draw", "verbose", "bbox",
-                                          "componentState", "showObject", "showObjectScale", "drawMode",
-                                          "color", "showIndices", "showIndicesScale", "showColor",
-                                          "showVectors", "showVectorsScale", "drawArrows", "drawSize",
-                                          "showImpostors", "displayFreePosition", "showEdges", "showTriangles",
-                                          "drawEdges", "drawTriangles", "drawHeterogeneousTetra", "showStressColorMap",
-                                          "showStressAlpha", "showVonMisesStressPerNode", "computeVonMisesStress",
-                                          "showWireFrame", "showAxisSizeFactor", "showGravity", "showLines",
-                                          "drawElements", "activated", "depth", "handleSeams"};
+constexpr std::string_view kHarmless[] = {"printLog",
+                                          "tags",
+                                          "listening",
+                                          "draw",
+                                          "verbose",
+                                          "bbox",
+                                          "componentState",
+                                          "showObject",
+                                          "showObjectScale",
+                                          "drawMode",
+                                          "color",
+                                          "showIndices",
+                                          "showIndicesScale",
+                                          "showColor",
+                                          "showVectors",
+                                          "showVectorsScale",
+                                          "drawArrows",
+                                          "drawSize",
+                                          "showImpostors",
+                                          "displayFreePosition",
+                                          "showEdges",
+                                          "showTriangles",
+                                          "drawEdges",
+                                          "drawTriangles",
+                                          "drawHeterogeneousTetra",
+                                          "showStressColorMap",
+                                          "showStressAlpha",
+                                          "showVonMisesStressPerNode",
+                                          "computeVonMisesStress",
+                                          "showWireFrame",
+                                          "showAxisSizeFactor",
+                                          "showGravity",
+                                          "showLines",
+                                          "drawElements",
+                                          "activated",
+                                          "depth",
+                                          "handleSeams"};
 
 const std::vector<ComponentSpec>& registry() {
     static const std::vector<ComponentSpec> all = [] {
         std::vector<ComponentSpec> out;
-        for (std::span<const ComponentSpec> family :
-             {builder::solver_components(), builder::state_and_topology_components(),
-              builder::mass_and_force_field_components(), builder::mapping_and_constraint_components(),
-              builder::collision_components(), builder::topology_container_components(),
-              builder::surface_force_field_components(), builder::mass_and_region_components(),
-              builder::sparse_grid_components(),
-              builder::pressure_load_components(), builder::region_of_interest_components(),
-              builder::external_load_components(),
-              builder::hexahedra_and_subset_components(),
-              builder::bending_spring_components(),
-              builder::corotational_fem_components(),
-              builder::topology_change_components(),
-              builder::direct_solver_components(), builder::integrator_components(),
-              builder::matrix_mass_and_rest_spring_components(),
-              builder::transform_engine_components(),
-              builder::selection_engine_components(),
-              builder::frame_mapping_components(),
-              builder::python_components(),
-              builder::projective_constraint_components(),
-              builder::rigid_force_field_components(),
-              builder::interaction_force_field_components(),
-              builder::hyperelasticity_components(),
-              builder::shell_force_field_components(),
-              builder::nonuniform_hexahedra_components(),
-              builder::tait_pressure_components(),
-              builder::multi_mapping_components(),
-              builder::drawing_components(),
-              builder::shape_matching_components(),
-              builder::diffusion_components(),
-              std::span<const ComponentSpec>(kLoaders),
-              std::span<const ComponentSpec>(kVisual), std::span<const ComponentSpec>(kAbsentFromSofa)})
+        for (std::span<const ComponentSpec> family : {builder::solver_components(),
+                                                      builder::state_and_topology_components(),
+                                                      builder::mass_and_force_field_components(),
+                                                      builder::mapping_and_constraint_components(),
+                                                      builder::collision_components(),
+                                                      builder::topology_container_components(),
+                                                      builder::surface_force_field_components(),
+                                                      builder::mass_and_region_components(),
+                                                      builder::sparse_grid_components(),
+                                                      builder::pressure_load_components(),
+                                                      builder::region_of_interest_components(),
+                                                      builder::external_load_components(),
+                                                      builder::hexahedra_and_subset_components(),
+                                                      builder::bending_spring_components(),
+                                                      builder::corotational_fem_components(),
+                                                      builder::topology_change_components(),
+                                                      builder::direct_solver_components(),
+                                                      builder::integrator_components(),
+                                                      builder::matrix_mass_and_rest_spring_components(),
+                                                      builder::transform_engine_components(),
+                                                      builder::selection_engine_components(),
+                                                      builder::frame_mapping_components(),
+                                                      builder::python_components(),
+                                                      builder::projective_constraint_components(),
+                                                      builder::rigid_force_field_components(),
+                                                      builder::interaction_force_field_components(),
+                                                      builder::hyperelasticity_components(),
+                                                      builder::shell_force_field_components(),
+                                                      builder::nonuniform_hexahedra_components(),
+                                                      builder::tait_pressure_components(),
+                                                      builder::multi_mapping_components(),
+                                                      builder::drawing_components(),
+                                                      builder::shape_matching_components(),
+                                                      builder::diffusion_components(),
+                                                      std::span<const ComponentSpec>(kLoaders),
+                                                      std::span<const ComponentSpec>(kVisual),
+                                                      std::span<const ComponentSpec>(kAbsentFromSofa)})
             out.insert(out.end(), family.begin(), family.end());
         return out;
     }();
@@ -269,48 +324,84 @@ const std::vector<ComponentSpec>& registry() {
 
 std::string_view kind_name(AttributeKind k) {
     switch (k) {
-        case K::boolean: return "bool";
-        case K::integer: return "integer";
-        case K::real: return "number";
-        case K::vector3: return "3 numbers";
-        case K::numbers: return "numbers";
-        case K::indices: return "indices";
-        case K::points: return "points";
-        case K::frames: return "rigid frames";
-        case K::elements: return "elements";
-        case K::text: return "text";
-        case K::link: return "link";
-        case K::links: return "links";
+        case K::boolean:
+            return "bool";
+        case K::integer:
+            return "integer";
+        case K::real:
+            return "number";
+        case K::vector3:
+            return "3 numbers";
+        case K::numbers:
+            return "numbers";
+        case K::indices:
+            return "indices";
+        case K::points:
+            return "points";
+        case K::frames:
+            return "rigid frames";
+        case K::elements:
+            return "elements";
+        case K::text:
+            return "text";
+        case K::link:
+            return "link";
+        case K::links:
+            return "links";
     }
     return "?";
 }
 
 std::string_view family_name(ComponentFamily f) {
     switch (f) {
-        case F::gravity: return "context";
-        case F::topology: return "topologies";
-        case F::topology_helper: return "topology modifiers and algorithms (accepted; only topological changes use them)";
-        case F::state: return "states";
-        case F::mapping: return "mappings";
-        case F::mass: return "masses";
-        case F::force_field: return "force fields";
-        case F::constraint: return "constraints";
-        case F::engine: return "engines";
-        case F::data_engine: return "data engines (run when an output is first read)";
-        case F::ode_solver: return "ODE solvers";
-        case F::linear_solver: return "linear solvers";
-        case F::solver_part: return "parts of solvers (linear systems, orderings, Newton-Raphson)";
-        case F::collision_model: return "collision models";
-        case F::animation_loop: return "animation loops";
-        case F::collision_pipeline: return "collision pipelines";
-        case F::composite_pipeline: return "composite collision pipelines";
-        case F::sub_pipeline: return "sub-pipelines of a composite";
-        case F::broad_phase: return "broad phases";
-        case F::narrow_phase: return "narrow phases";
-        case F::intersection: return "intersection methods";
-        case F::contact_manager: return "contact managers";
-        case F::loader: return "loaders";
-        case F::visual: return "visual or editor only (ignored)";
+        case F::gravity:
+            return "context";
+        case F::topology:
+            return "topologies";
+        case F::topology_helper:
+            return "topology modifiers and algorithms (accepted; only topological changes use them)";
+        case F::state:
+            return "states";
+        case F::mapping:
+            return "mappings";
+        case F::mass:
+            return "masses";
+        case F::force_field:
+            return "force fields";
+        case F::constraint:
+            return "constraints";
+        case F::engine:
+            return "engines";
+        case F::data_engine:
+            return "data engines (run when an output is first read)";
+        case F::ode_solver:
+            return "ODE solvers";
+        case F::linear_solver:
+            return "linear solvers";
+        case F::solver_part:
+            return "parts of solvers (linear systems, orderings, Newton-Raphson)";
+        case F::collision_model:
+            return "collision models";
+        case F::animation_loop:
+            return "animation loops";
+        case F::collision_pipeline:
+            return "collision pipelines";
+        case F::composite_pipeline:
+            return "composite collision pipelines";
+        case F::sub_pipeline:
+            return "sub-pipelines of a composite";
+        case F::broad_phase:
+            return "broad phases";
+        case F::narrow_phase:
+            return "narrow phases";
+        case F::intersection:
+            return "intersection methods";
+        case F::contact_manager:
+            return "contact managers";
+        case F::loader:
+            return "loaders";
+        case F::visual:
+            return "visual or editor only (ignored)";
     }
     return "?";
 }
@@ -393,7 +484,8 @@ std::string describe_components(std::string_view type) {
     if (!type.empty()) {
         const ComponentSpec* spec = find_component(type);
         if (spec == nullptr)
-            throw io::SceneError("unknown component '" + std::string(type) + "' (penalty info --components lists them)");
+            throw io::SceneError("unknown component '" + std::string(type) +
+                                 "' (penalty info --components lists them)");
         out << family_name(spec->family) << ":\n";
         describe_one(*spec, out);
         return out.str();
@@ -436,9 +528,10 @@ std::vector<std::string> detach_unresolved_data_links(io::SceneFile& scene) {
             const std::string_view value = trimmed(a->value);
             // a region's points keep their link: SOFA's Data is then set and empty, so the region
             // does not fall back to its state's points (BoxROI::init tests d_X0.isSet(); roi_points)
-            const bool region_points = spec->family == F::engine && (a->name == "position" || a->name == "rest_position");
-            if (!io::is_link(a->value) || value.find_first_of(" \t\r\n") != std::string_view::npos || !is_data_link(value) ||
-                region_points) {
+            const bool region_points =
+                spec->family == F::engine && (a->name == "position" || a->name == "rest_position");
+            if (!io::is_link(a->value) || value.find_first_of(" \t\r\n") != std::string_view::npos ||
+                !is_data_link(value) || region_points) {
                 ++a;
                 continue;
             }
@@ -446,7 +539,8 @@ std::vector<std::string> detach_unresolved_data_links(io::SceneFile& scene) {
                 (void)io::resolve_link(*c, a->name);
                 ++a;
             } catch (const io::SceneError& e) {
-                notes.push_back(std::string(e.what()) + "; SOFA leaves that Data unset (BaseData::setParent finds no "
+                notes.push_back(std::string(e.what()) +
+                                "; SOFA leaves that Data unset (BaseData::setParent finds no "
                                 "parent), and so does penalty: the attribute is ignored");
                 a = c->attributes.erase(a);
             }
@@ -499,7 +593,8 @@ SceneCheck validate(const io::SceneFile& scene) {
             // `output="@."` naming a node without a MechanicalObject: SOFA's link finds no state
             // there, Mapping::canCreate fails and the mapping is not created
             const auto is_state = [](const auto& x) { return x->type == "MechanicalObject"; };
-            if (out.node != nullptr && std::none_of(out.node->components.begin(), out.node->components.end(), is_state)) {
+            if (out.node != nullptr &&
+                std::none_of(out.node->components.begin(), out.node->components.end(), is_state)) {
                 check.ignored.push_back(c);
                 ++ignored_counts[c->type + " (output node without a state: SOFA does not create it)"];
                 continue;

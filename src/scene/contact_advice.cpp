@@ -25,7 +25,8 @@ bool has_spheres(ModelType t) { return t == ModelType::Sphere || t == ModelType:
 bool can_tunnel(ModelType a, ModelType b) {
     const auto one_way = [](ModelType x, ModelType y) {
         return ((has_vertices(x) || has_spheres(x)) && (y == ModelType::Triangle || has_spheres(y))) ||
-               ((x == ModelType::Line || x == ModelType::Triangle) && (y == ModelType::Line || y == ModelType::Triangle));
+               ((x == ModelType::Line || x == ModelType::Triangle) &&
+                (y == ModelType::Line || y == ModelType::Triangle));
     };
     return one_way(a, b) || one_way(b, a);
 }
@@ -67,7 +68,8 @@ Side side_of(const Scene& scene, const CollisionModel& m) {
             s.implicit = dynamic_cast<const EulerImplicitSolver*>(n->ode_solver());
         }
         if (n->mass() != nullptr && !std::isfinite(s.mass)) {
-            const std::size_t points = std::max<std::size_t>(1, entry->node->state() ? entry->node->state()->num_dofs() : 1);
+            const std::size_t points =
+                std::max<std::size_t>(1, entry->node->state() ? entry->node->state()->num_dofs() : 1);
             s.mass = n->mass()->total_mass() / double(points);
         }
     }
@@ -133,7 +135,9 @@ std::vector<PairAdvice> contact_advice_pairs(const Scene& scene, std::optional<d
             a.model2 = m2.name();
             a.impact_speed = v;
             a.dt = dt;
-            a.mass = !std::isfinite(s1.mass) ? s2.mass : !std::isfinite(s2.mass) ? s1.mass : s1.mass * s2.mass / (s1.mass + s2.mass);
+            a.mass = !std::isfinite(s1.mass)   ? s2.mass
+                     : !std::isfinite(s2.mass) ? s1.mass
+                                               : s1.mass * s2.mass / (s1.mass + s2.mass);
             const double skins = m1.params().contact_distance + m2.params().contact_distance;
             const double r1 = smallest_radius(m1), r2 = smallest_radius(m2);
             // the far side: a centre through a triangle (reach + r), into the other sphere (+ min r)
@@ -141,11 +145,13 @@ std::vector<PairAdvice> contact_advice_pairs(const Scene& scene, std::optional<d
             a.reach = params.contact_distance + skins + radii;
             a.alarm = params.alarm_distance + skins + radii;
             const double spring_dist = params.contact_distance + skins + r1 + r2;
-            a.ks = combined_contact_stiffness(p.pipeline->response().base_parameters().stiffness_law,
-                                              m1.params().contact_stiffness, m2.params().contact_stiffness, spring_dist);
+            a.ks =
+                combined_contact_stiffness(p.pipeline->response().base_parameters().stiffness_law,
+                                           m1.params().contact_stiffness, m2.params().contact_stiffness, spring_dist);
             a.max_dt_detection = v > 0 ? a.alarm / v : kInf;
             a.min_ks_energy = a.reach > 0 ? a.mass * v * v / (a.reach * a.reach) : kInf;
-            a.min_ks_implicit = v * dt > a.reach ? (a.reach > 0 ? a.mass * (v * dt - a.reach) / (dt * dt * a.reach) : kInf) : 0.0;
+            a.min_ks_implicit =
+                v * dt > a.reach ? (a.reach > 0 ? a.mass * (v * dt - a.reach) / (dt * dt * a.reach) : kInf) : 0.0;
             // §2.1: the field goes to the moving side's node, or to the pipeline's when both move
             const Node* host = p.pipeline->host_node(m1, m2);
             const EulerImplicitSolver* implicit = nullptr;
@@ -176,16 +182,19 @@ double largest_dt(const PairAdvice& a) {
 double smallest_ks(const PairAdvice& a) { return std::max(a.min_ks_energy, a.min_ks_implicit); }
 
 void describe_pair(std::ostringstream& o, const PairAdvice& a) {
-    o << "pair " << a.model1 << " - " << a.model2 << ": mass per contact point m = " << num(a.mass) << " kg, reach D = "
-      << num(a.reach) << " m, first seen at A = " << num(a.alarm) << " m, spring ks = " << num(a.ks) << " N/m\n";
-    o << "  detection: dt <= A/v = " << num(a.max_dt_detection) << " s" << (a.dt <= a.max_dt_detection ? "" : "  (EXCEEDED)") << "\n";
-    o << "  energy: ks >= m v^2/D^2 = " << num(a.min_ks_energy) << " N/m" << (a.ks >= a.min_ks_energy ? "" : "  (NOT MET)") << "\n";
+    o << "pair " << a.model1 << " - " << a.model2 << ": mass per contact point m = " << num(a.mass)
+      << " kg, reach D = " << num(a.reach) << " m, first seen at A = " << num(a.alarm)
+      << " m, spring ks = " << num(a.ks) << " N/m\n";
+    o << "  detection: dt <= A/v = " << num(a.max_dt_detection) << " s"
+      << (a.dt <= a.max_dt_detection ? "" : "  (EXCEEDED)") << "\n";
+    o << "  energy: ks >= m v^2/D^2 = " << num(a.min_ks_energy) << " N/m"
+      << (a.ks >= a.min_ks_energy ? "" : "  (NOT MET)") << "\n";
     if (a.min_ks_implicit > 0)
         o << "  implicit step: ks >= m (v dt - D)/(dt^2 D) = " << num(a.min_ks_implicit) << " N/m"
           << (a.ks >= a.min_ks_implicit ? "" : "  (NOT MET)") << "\n";
     if (a.explicit_contact) {
-        o << "  solve: explicit contact (stored above the sides' solvers, spec 2.1): stable for dt <= 2 sqrt(m/ks) = " << num(a.max_dt_explicit)
-          << " s" << (a.dt <= a.max_dt_explicit ? "" : "  (EXCEEDED)") << "\n";
+        o << "  solve: explicit contact (stored above the sides' solvers, spec 2.1): stable for dt <= 2 sqrt(m/ks) = "
+          << num(a.max_dt_explicit) << " s" << (a.dt <= a.max_dt_explicit ? "" : "  (EXCEEDED)") << "\n";
     } else {
         o << "  solve: implicit Euler (A-stable for any ks); CG needs about sqrt(1 + dt^2 ks/m) ln(2/tol) = "
           << num(a.cg_iterations) << " iterations of its limit " << a.cg_limit
@@ -201,20 +210,26 @@ std::string contact_advice(const Scene& scene, std::optional<double> impact_spee
     std::ostringstream o;
     const std::vector<PairAdvice> pairs = contact_advice_pairs(scene, impact_speed);
     const double v = impact_speed ? *impact_speed : estimated_impact_speed(scene);
-    o << "contact advice (docs/no-tunnelling.md, \"Advice\"): dt = " << num(scene.dt()) << " s, impact speed v = " << num(v)
-      << " m/s" << (impact_speed ? " (--impact-speed)" : " (initial speed + sqrt(2 g H), H the scene's height; --impact-speed V to set it)")
+    o << "contact advice (docs/no-tunnelling.md, \"Advice\"): dt = " << num(scene.dt())
+      << " s, impact speed v = " << num(v) << " m/s"
+      << (impact_speed ? " (--impact-speed)"
+                       : " (initial speed + sqrt(2 g H), H the scene's height; --impact-speed V to set it)")
       << "\n";
     if (pairs.empty()) {
         o << "no model pair can tunnel (no moving model paired with a triangle, edge or sphere model)\n";
         return o.str();
     }
     // the scene's limits: the smallest largest-dt and the largest smallest-ks over its pairs
-    const auto by_dt = std::min_element(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return largest_dt(x) < largest_dt(y); });
-    const auto by_ks = std::max_element(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) { return smallest_ks(x) < smallest_ks(y); });
-    const std::size_t unsafe = std::size_t(std::count_if(pairs.begin(), pairs.end(), [](const PairAdvice& a) { return !a.safe(); }));
+    const auto by_dt = std::min_element(pairs.begin(), pairs.end(),
+                                        [](const auto& x, const auto& y) { return largest_dt(x) < largest_dt(y); });
+    const auto by_ks = std::max_element(pairs.begin(), pairs.end(),
+                                        [](const auto& x, const auto& y) { return smallest_ks(x) < smallest_ks(y); });
+    const std::size_t unsafe =
+        std::size_t(std::count_if(pairs.begin(), pairs.end(), [](const PairAdvice& a) { return !a.safe(); }));
     o << "scene: largest dt " << num(largest_dt(*by_dt)) << " s (pair " << by_dt->model1 << " - " << by_dt->model2
       << "), smallest contact stiffness ks " << num(smallest_ks(*by_ks)) << " N/m (pair " << by_ks->model1 << " - "
-      << by_ks->model2 << "); " << unsafe << " of " << pairs.size() << " model pairs may tunnel at the scene's dt and ks\n";
+      << by_ks->model2 << "); " << unsafe << " of " << pairs.size()
+      << " model pairs may tunnel at the scene's dt and ks\n";
     // the pairs, the unsafe ones first, the most demanding first
     std::vector<const PairAdvice*> order;
     for (const PairAdvice& a : pairs) order.push_back(&a);

@@ -1,7 +1,7 @@
 // `penalty info`: what a built scene is made of, component by component, and which model pairs
 // can make contacts, with where each contact goes (spec §2.1).
-#include "penalty/scene/components.hpp"
 #include "penalty/response/collision_response.hpp"
+#include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
 #include "scene/display.hpp"
 
@@ -33,8 +33,8 @@ std::string ignored_reason(const io::SceneComponent& c) {
     return "ignored (maps onto a visual model)";
 }
 
-void describe_node(const Scene& scene, const io::SceneNode& sn, int depth, const std::set<const io::SceneComponent*>& ignored,
-                   std::ostringstream& out) {
+void describe_node(const Scene& scene, const io::SceneNode& sn, int depth,
+                   const std::set<const io::SceneComponent*>& ignored, std::ostringstream& out) {
     const std::string indent(std::size_t(2 * depth), ' ');
     out << indent << "Node " << (sn.parent ? sn.path() : std::string("/ (") + sn.name + ")");
     // dt and gravity where they are set (the root always), inherited below
@@ -43,8 +43,8 @@ void describe_node(const Scene& scene, const io::SceneNode& sn, int depth, const
     if (n && (parent == nullptr || parent->dt() != n->dt())) out << ": dt " << num(n->dt()) << " s";
     if (n && (parent == nullptr || parent->gravity() != n->gravity())) {
         const Vec3 g = n->gravity();
-        out << (parent && parent->dt() == n->dt() ? ": " : ", ") << "gravity (" << num(g.x()) << ", " << num(g.y()) << ", "
-            << num(g.z()) << ") m/s^2";
+        out << (parent && parent->dt() == n->dt() ? ": " : ", ") << "gravity (" << num(g.x()) << ", " << num(g.y())
+            << ", " << num(g.z()) << ") m/s^2";
     }
     out << "\n";
     const auto print = [&](const std::string& label, const std::string& what) {
@@ -85,11 +85,16 @@ void describe_node(const Scene& scene, const io::SceneNode& sn, int depth, const
 
 std::string support_text(PairSupport s, const IntersectionParams& p, const std::string& method) {
     switch (s) {
-        case PairSupport::Supported: return "";
-        case PairSupport::Ignored: return "not detected: " + method + " ignores this pair (SOFA registers it so, or a use* switch is off)";
-        case PairSupport::Unsupported: return "not detected: " + method + " has no intersector for this pair (as SOFA)";
+        case PairSupport::Supported:
+            return "";
+        case PairSupport::Ignored:
+            return "not detected: " + method + " ignores this pair (SOFA registers it so, or a use* switch is off)";
+        case PairSupport::Unsupported:
+            return "not detected: " + method + " has no intersector for this pair (as SOFA)";
         case PairSupport::BeyondSofa:
-            return p.enable_beyond_sofa_pairs ? "" : "not detected: beyond-SOFA pair, off (beyondSofaPairs=\"1\" on the intersection turns it on)";
+            return p.enable_beyond_sofa_pairs
+                       ? ""
+                       : "not detected: beyond-SOFA pair, off (beyondSofaPairs=\"1\" on the intersection turns it on)";
     }
     return "";
 }

@@ -40,11 +40,12 @@ namespace {
 std::string element_counts(std::size_t points, std::size_t edges, std::size_t triangles, std::size_t quads,
                            std::size_t tetrahedra, std::size_t hexahedra) {
     std::string out = counted(points, "point", "points");
-    const std::array<std::pair<std::size_t, std::array<const char*, 2>>, 5> parts{{{edges, {"edge", "edges"}},
-                                                                                   {triangles, {"triangle", "triangles"}},
-                                                                                   {quads, {"quad", "quads"}},
-                                                                                   {tetrahedra, {"tetrahedron", "tetrahedra"}},
-                                                                                   {hexahedra, {"hexahedron", "hexahedra"}}}};
+    const std::array<std::pair<std::size_t, std::array<const char*, 2>>, 5> parts{
+        {{edges, {"edge", "edges"}},
+         {triangles, {"triangle", "triangles"}},
+         {quads, {"quad", "quads"}},
+         {tetrahedra, {"tetrahedron", "tetrahedra"}},
+         {hexahedra, {"hexahedron", "hexahedra"}}}};
     for (const auto& [n, words] : parts)
         if (n > 0) out += ", " + counted(n, words[0], words[1]);
     return out;

@@ -9,14 +9,14 @@
 #include "scene/live_policy.hpp"
 
 #include <algorithm>
-#include <map>
-#include <mutex>
-#include <tuple>
 #include <cmath>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 namespace penalty::scene {
 
@@ -41,18 +41,30 @@ bool is_rigid(const io::SceneComponent& c) {
 /// How SofaPython3 would present an attribute SOFA's catalog lacks, from the registry's kind.
 std::pair<std::string, std::string> form_of_kind(AttributeKind kind) {
     switch (kind) {
-        case AttributeKind::boolean: return {"bool", "int"};
-        case AttributeKind::integer: return {"i", "int"};
-        case AttributeKind::real: return {"d", "float"};
-        case AttributeKind::vector3: return {"Vec3d", "ndarray:float64:1"};
-        case AttributeKind::numbers: return {"vector<d>", "ndarray:float64:1"};
-        case AttributeKind::indices: return {"vector<I>", "ndarray:int32:1"};
-        case AttributeKind::points: return {"vector<Vec3d>", "ndarray:float64:2"};
-        case AttributeKind::frames: return {"vector<RigidCoord3d>", "ndarray:float64:2"};
-        case AttributeKind::elements: return {"vector<I>", "ndarray:int32:2"};
-        case AttributeKind::text: return {"string", "str"};
-        case AttributeKind::link: return {"link", "link"};
-        case AttributeKind::links: return {"link", "list"};
+        case AttributeKind::boolean:
+            return {"bool", "int"};
+        case AttributeKind::integer:
+            return {"i", "int"};
+        case AttributeKind::real:
+            return {"d", "float"};
+        case AttributeKind::vector3:
+            return {"Vec3d", "ndarray:float64:1"};
+        case AttributeKind::numbers:
+            return {"vector<d>", "ndarray:float64:1"};
+        case AttributeKind::indices:
+            return {"vector<I>", "ndarray:int32:1"};
+        case AttributeKind::points:
+            return {"vector<Vec3d>", "ndarray:float64:2"};
+        case AttributeKind::frames:
+            return {"vector<RigidCoord3d>", "ndarray:float64:2"};
+        case AttributeKind::elements:
+            return {"vector<I>", "ndarray:int32:2"};
+        case AttributeKind::text:
+            return {"string", "str"};
+        case AttributeKind::link:
+            return {"link", "link"};
+        case AttributeKind::links:
+            return {"link", "list"};
     }
     return {"string", "str"};
 }
@@ -85,8 +97,14 @@ std::vector<double> parse_numbers(std::string_view text) {
     std::istringstream in{std::string(text)};
     std::string word;
     while (in >> word) {
-        if (word == "true" || word == "True") { out.push_back(1.0); continue; }
-        if (word == "false" || word == "False") { out.push_back(0.0); continue; }
+        if (word == "true" || word == "True") {
+            out.push_back(1.0);
+            continue;
+        }
+        if (word == "false" || word == "False") {
+            out.push_back(0.0);
+            continue;
+        }
         char* end = nullptr;
         const double v = std::strtod(word.c_str(), &end);
         if (end == word.c_str() || *end != '\0') return {};  // not a list of numbers (a link, a word)
@@ -185,7 +203,8 @@ const io::SceneElement* Scene::find_element(const DataOwner& owner) const {
     if (node == nullptr) return nullptr;
     const std::string_view name = std::string_view(owner.path).substr(slash + 1);
     for (const auto& c : node->components)
-        if ((c->name.empty() ? sofa_default_name(*c) : c->name) == name && !live_->removed.count(c.get())) return c.get();
+        if ((c->name.empty() ? sofa_default_name(*c) : c->name) == name && !live_->removed.count(c.get()))
+            return c.get();
     return nullptr;
 }
 
@@ -266,7 +285,8 @@ std::vector<DataField> Scene::data_fields(const DataOwner& owner) const { return
 
 const std::vector<DataField>& Scene::fields_of(const DataOwner& owner) const {
     const io::SceneElement* e = find_element(owner);
-    if (e == nullptr) throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
+    if (e == nullptr)
+        throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
     if (owner.node) return data_fields_of_type("Node", true, false);
     const auto& c = *static_cast<const io::SceneComponent*>(e);
     return data_fields_of_type(c.type, false, is_rigid(c));
@@ -329,13 +349,16 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
     if (c.type == "MechanicalObject" && node != nullptr && node->state() != nullptr) {
         BaseState* s = node->state();
         static const std::pair<std::string_view, StateVector> vectors[] = {
-            {"position", StateVector::position},           {"velocity", StateVector::velocity},
-            {"force", StateVector::force},                 {"rest_position", StateVector::rest_position},
+            {"position", StateVector::position},
+            {"velocity", StateVector::velocity},
+            {"force", StateVector::force},
+            {"rest_position", StateVector::rest_position},
             {"externalForce", StateVector::external_force}};
         for (const auto& [data_name, which] : vectors) {
             if (name != data_name) continue;
             DataValue v = numbers_value(state_vector_numbers(*s, which), 0);
-            v.columns = (which == StateVector::position || which == StateVector::rest_position) && dynamic_cast<Rigid3Object*>(s)
+            v.columns = (which == StateVector::position || which == StateVector::rest_position) &&
+                                dynamic_cast<Rigid3Object*>(s)
                             ? 7
                             : std::size_t(s->deriv_size());
             v.state = s;
@@ -369,7 +392,8 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
         if (name == "listRadius") return numbers_value(mesh->radii, 0);
     }
     if (auto topology = topology_value(c, f)) return topology;
-    if (c.type == "UniformMass" && node != nullptr && node->mass() != nullptr && (name == "vertexMass" || name == "totalMass")) {
+    if (c.type == "UniformMass" && node != nullptr && node->mass() != nullptr &&
+        (name == "vertexMass" || name == "totalMass")) {
         const BaseMass& m = *node->mass();
         const double n = m.state() != nullptr ? double(m.state()->num_dofs()) : 0.0;
         const double total = m.total_mass();
@@ -446,7 +470,8 @@ std::vector<double> Scene::state_vector_numbers(const BaseState& s, StateVector 
             for (const RigidDeriv& d : which == StateVector::velocity ? r->velocity
                                        : which == StateVector::force  ? r->force
                                                                       : r->external_force)
-                out.insert(out.end(), {d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z()});
+                out.insert(out.end(),
+                           {d.linear.x(), d.linear.y(), d.linear.z(), d.angular.x(), d.angular.y(), d.angular.z()});
         }
     }
     return out;

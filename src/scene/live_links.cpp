@@ -60,7 +60,9 @@ public:
             io::for_each_component(root, [&](const io::SceneComponent& c) { changed = visit(c) || changed; });
         }
     }
-    [[nodiscard]] bool contains(const DataKey& key) const { return dirty_.count(key) != 0 || engines_.count(key.first) != 0; }
+    [[nodiscard]] bool contains(const DataKey& key) const {
+        return dirty_.count(key) != 0 || engines_.count(key.first) != 0;
+    }
 
 private:
     bool visit(const io::SceneComponent& c) {
@@ -95,12 +97,23 @@ bool copy_state_vector(const BaseState& a, BaseState& b, StateVector which) {
     auto* to = dynamic_cast<MechanicalObject<Types>*>(&b);
     if (from == nullptr || to == nullptr) return false;
     switch (which) {
-        case StateVector::position: to->position = from->position; break;
-        case StateVector::velocity: to->velocity = from->velocity; break;
-        case StateVector::force: to->force = from->force; break;
-        case StateVector::rest_position: to->rest_position = from->rest_position; break;
-        case StateVector::external_force: to->external_force = from->external_force; break;
-        case StateVector::none: break;
+        case StateVector::position:
+            to->position = from->position;
+            break;
+        case StateVector::velocity:
+            to->velocity = from->velocity;
+            break;
+        case StateVector::force:
+            to->force = from->force;
+            break;
+        case StateVector::rest_position:
+            to->rest_position = from->rest_position;
+            break;
+        case StateVector::external_force:
+            to->external_force = from->external_force;
+            break;
+        case StateVector::none:
+            break;
     }
     return true;
 }
@@ -114,11 +127,12 @@ std::vector<std::pair<const BaseState*, StateVector>> Scene::states_linked_to_wr
     std::vector<std::pair<const BaseState*, StateVector>> out;
     if (written.empty() || !fresh.file_.root) return out;
     const DirtyData dirty(*fresh.file_.root, std::move(written));
-    static constexpr std::array<std::pair<const char*, StateVector>, 5> vectors{{{"position", StateVector::position},
-                                                                                 {"velocity", StateVector::velocity},
-                                                                                 {"force", StateVector::force},
-                                                                                 {"rest_position", StateVector::rest_position},
-                                                                                 {"externalForce", StateVector::external_force}}};
+    static constexpr std::array<std::pair<const char*, StateVector>, 5> vectors{
+        {{"position", StateVector::position},
+         {"velocity", StateVector::velocity},
+         {"force", StateVector::force},
+         {"rest_position", StateVector::rest_position},
+         {"externalForce", StateVector::external_force}}};
     io::for_each_component(*fresh.file_.root, [&](const io::SceneComponent& c) {
         if (c.type != "MechanicalObject") return;
         const Node* node = fresh.node_of(*c.node);

@@ -108,8 +108,8 @@ constexpr std::array kStateVectors = {"position"sv, "velocity"sv, "force"sv, "re
 
 /// Data of every component that change nothing simulated.
 bool is_cosmetic(std::string_view name) {
-    static constexpr std::array names = {"printLog"sv, "tags"sv, "bbox"sv, "listening"sv, "componentState"sv,
-                                         "color"sv, "drawMode"sv, "verbose"sv, "isToPrint"sv, "group"sv};
+    static constexpr std::array names = {"printLog"sv, "tags"sv,     "bbox"sv,    "listening"sv, "componentState"sv,
+                                         "color"sv,    "drawMode"sv, "verbose"sv, "isToPrint"sv, "group"sv};
     if (std::find(names.begin(), names.end(), name) != names.end()) return true;
     for (std::string_view prefix : {"show"sv, "draw"sv, "display"sv})
         if (name.substr(0, prefix.size()) == prefix) return true;
@@ -144,7 +144,8 @@ LiveWrite live_policy(std::string_view type, bool node, std::string_view name, c
         return LiveWrite::refused;
     }
     if (is_cosmetic(name)) return LiveWrite::no_effect;
-    if (type == "MechanicalObject" && std::find(kStateVectors.begin(), kStateVectors.end(), name) != kStateVectors.end())
+    if (type == "MechanicalObject" &&
+        std::find(kStateVectors.begin(), kStateVectors.end(), name) != kStateVectors.end())
         return LiveWrite::state;
     if (find_rule(kRefused, type, name) != nullptr) {
         refusal = "SOFA's " + std::string(type) + " reads it at init only (its reinit() keeps what init made)";
@@ -157,7 +158,8 @@ LiveWrite live_policy(std::string_view type, bool node, std::string_view name, c
         return LiveWrite::refused;
     }
     if (spec == nullptr) {
-        refusal = "penalty does not simulate it (SOFA's " + std::string(type) + " declares it; penalty reads none such)";
+        refusal =
+            "penalty does not simulate it (SOFA's " + std::string(type) + " declares it; penalty reads none such)";
         return LiveWrite::refused;
     }
     if (name == "template" || name == "filename" || name == "src" || spec->kind == AttributeKind::elements) {

@@ -95,7 +95,8 @@ void copy_state_values(BaseState& a, BaseState& b) {
 
 }  // namespace
 
-std::optional<std::string> Scene::write_attribute(io::SceneElement& element, std::string_view name, std::string_view text) {
+std::optional<std::string> Scene::write_attribute(io::SceneElement& element, std::string_view name,
+                                                  std::string_view text) {
     for (io::SceneAttribute& a : element.attributes) {
         if (a.name != name) continue;
         std::optional<std::string> old = a.value;
@@ -164,15 +165,32 @@ void check_write(const io::SceneElement& element, bool node, const DataField& f,
     }
     const Attributes a(probe);
     switch (f.spec->kind) {
-        case AttributeKind::boolean: (void)a.boolean_or(f.name, false); break;
-        case AttributeKind::integer: (void)a.integer_or(f.name, 0); break;
-        case AttributeKind::real: (void)a.real_or(f.name, 0.0); break;
-        case AttributeKind::vector3: (void)a.vector3_or(f.name, Vec3::Zero()); break;
-        case AttributeKind::numbers: (void)a.numbers(f.name); break;
-        case AttributeKind::indices: (void)a.indices(f.name); break;
-        case AttributeKind::points: (void)a.points(f.name); break;
-        case AttributeKind::frames: (void)a.frames(f.name); break;
-        default: break;
+        case AttributeKind::boolean:
+            (void)a.boolean_or(f.name, false);
+            break;
+        case AttributeKind::integer:
+            (void)a.integer_or(f.name, 0);
+            break;
+        case AttributeKind::real:
+            (void)a.real_or(f.name, 0.0);
+            break;
+        case AttributeKind::vector3:
+            (void)a.vector3_or(f.name, Vec3::Zero());
+            break;
+        case AttributeKind::numbers:
+            (void)a.numbers(f.name);
+            break;
+        case AttributeKind::indices:
+            (void)a.indices(f.name);
+            break;
+        case AttributeKind::points:
+            (void)a.points(f.name);
+            break;
+        case AttributeKind::frames:
+            (void)a.frames(f.name);
+            break;
+        default:
+            break;
     }
 }
 
@@ -191,7 +209,8 @@ bool recomputed_each_step(const io::SceneElement& e, std::string_view name) {
 
 void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_view text) {
     auto* e = const_cast<io::SceneElement*>(find_element(owner));
-    if (e == nullptr) throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
+    if (e == nullptr)
+        throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
     const std::vector<DataField>& fields = fields_of(owner);
     const auto it = std::find_if(fields.begin(), fields.end(), [&](const DataField& f) { return f.name == name; });
     if (it == fields.end()) throw std::invalid_argument(e->describe() + " has no data '" + std::string(name) + "'");
@@ -212,12 +231,14 @@ void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_
                 return;
             }
             const Node* node = node_of(*static_cast<io::SceneComponent*>(e)->node);
-            if (node == nullptr || node->state() == nullptr) throw std::invalid_argument(what + ": the state is not built");
+            if (node == nullptr || node->state() == nullptr)
+                throw std::invalid_argument(what + ": the state is not built");
             write_state(*node->state(), f.name, numbers_of(text, what), what);
             return;
         }
         case LiveWrite::next_step:
-        case LiveWrite::reinit: break;
+        case LiveWrite::reinit:
+            break;
     }
     if (write_spring_list_quirk(*e, owner, name, text, what)) return;  // a list: checked there
     check_write(*e, owner.node, f, text);
@@ -277,18 +298,21 @@ void Scene::release_held_gravity() {
 
 void Scene::set_gravity_write_delay(bool delay) { live_->gravity_write_delay = delay; }
 
-void Scene::write_state(BaseState& s, std::string_view name, const std::vector<double>& values, const std::string& what) {
+void Scene::write_state(BaseState& s, std::string_view name, const std::vector<double>& values,
+                        const std::string& what) {
     const std::size_t n = s.num_dofs();
     if (auto* v = dynamic_cast<Vec3Object*>(&s)) {
-        std::vector<Vec3>& list = name == "position"      ? v->position
-                                  : name == "velocity"    ? v->velocity
-                                  : name == "force"       ? v->force
+        std::vector<Vec3>& list = name == "position"        ? v->position
+                                  : name == "velocity"      ? v->velocity
+                                  : name == "force"         ? v->force
                                   : name == "rest_position" ? v->rest_position
                                                             : v->external_force;
         if (values.size() != 3 * list.size())
-            throw std::invalid_argument(what + ": expected " + std::to_string(list.size()) + " points (3 numbers each), found " +
-                                        std::to_string(values.size()) + " numbers (penalty keeps a state's size after init)");
-        for (std::size_t i = 0; i < list.size(); ++i) list[i] = Vec3(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
+            throw std::invalid_argument(what + ": expected " + std::to_string(list.size()) +
+                                        " points (3 numbers each), found " + std::to_string(values.size()) +
+                                        " numbers (penalty keeps a state's size after init)");
+        for (std::size_t i = 0; i < list.size(); ++i)
+            list[i] = Vec3(values[3 * i], values[3 * i + 1], values[3 * i + 2]);
         return;
     }
     if (auto* w = dynamic_cast<Vec1Object*>(&s)) {
@@ -308,7 +332,8 @@ void Scene::write_state(BaseState& s, std::string_view name, const std::vector<d
         std::vector<RigidFrame>& list = name == "position" ? r.position : r.rest_position;
         if (values.size() != 7 * list.size())
             throw std::invalid_argument(what + ": expected " + std::to_string(list.size()) +
-                                        " frames (x y z qx qy qz qw), found " + std::to_string(values.size()) + " numbers");
+                                        " frames (x y z qx qy qz qw), found " + std::to_string(values.size()) +
+                                        " numbers");
         for (std::size_t i = 0; i < list.size(); ++i) {
             const double* x = values.data() + 7 * i;
             list[i].center = Vec3(x[0], x[1], x[2]);
@@ -344,7 +369,8 @@ void Scene::reinit(const DataOwner& owner) {
         const DataOwner target{key.first, key.second};
         auto* e = const_cast<io::SceneElement*>(find_element(target));
         if (e != nullptr)
-            for (const auto& [name, text] : writes) live_->applied.push_back({target, name, write_attribute(*e, name, text)});
+            for (const auto& [name, text] : writes)
+                live_->applied.push_back({target, name, write_attribute(*e, name, text)});
         it = live_->at_reinit.erase(it);
         live_->rebuild = true;
     }
@@ -353,7 +379,8 @@ void Scene::reinit(const DataOwner& owner) {
 
 std::string Scene::add_to_node(std::string_view node_path, std::unique_ptr<io::SceneComponent> component,
                                std::string_view node_name) {
-    auto* node = const_cast<io::SceneNode*>(static_cast<const io::SceneNode*>(find_element({std::string(node_path), true})));
+    auto* node =
+        const_cast<io::SceneNode*>(static_cast<const io::SceneNode*>(find_element({std::string(node_path), true})));
     if (node == nullptr) throw std::invalid_argument("no node '" + std::string(node_path) + "'");
     std::string path;
     if (component) {
@@ -380,7 +407,8 @@ std::string Scene::add_to_node(std::string_view node_path, std::unique_ptr<io::S
 
 void Scene::remove(const DataOwner& owner) {
     const io::SceneElement* e = find_element(owner);
-    if (e == nullptr) throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
+    if (e == nullptr)
+        throw std::invalid_argument(std::string(owner.node ? "no node '" : "no component '") + owner.path + "'");
     if (owner.node && static_cast<const io::SceneNode*>(e)->parent == nullptr)
         throw std::invalid_argument("the root node cannot be removed");
     live_->removed.insert(e);
@@ -421,9 +449,12 @@ void Scene::rebuild(bool reset) {
         // the scene's text holds the topologies as built: a rebuild would undo the changes
         // (docs/topological-changes.md, "Limits")
         if (topology_revision() != 0)
-            throw io::SceneError(std::string(reset ? "reset" : "a write of a Data that takes effect at reinit, or an added or removed component,") +
-                                 " builds the scene again from its text, which would undo the topological changes made since init "
-                                 "(elements removed or added): refused once a topology changed");
+            throw io::SceneError(
+                std::string(reset
+                                ? "reset"
+                                : "a write of a Data that takes effect at reinit, or an added or removed component,") +
+                " builds the scene again from its text, which would undo the topological changes made since init "
+                "(elements removed or added): refused once a topology changed");
         io::SceneFile copy;
         copy.path = file_.path;
         copy.root = clone_node(*file_.root, nullptr, live_->removed);
@@ -458,10 +489,10 @@ void Scene::rebuild(bool reset) {
     std::swap(topology_runtime_, fresh->topology_runtime_);  // its handlers refer to the fresh components
     // States: the records keep their addresses when the list has the same states (the usual
     // case: a Data written), so that what points to them stays valid.
-    const bool same_list = states_.size() == fresh->states_.size() &&
-                           std::equal(states_.begin(), states_.end(), fresh->states_.begin(), [](const auto& a, const auto& b) {
-                               return a.node_path == b.node_path && a.name == b.name;
-                           });
+    const bool same_list =
+        states_.size() == fresh->states_.size() &&
+        std::equal(states_.begin(), states_.end(), fresh->states_.begin(),
+                   [](const auto& a, const auto& b) { return a.node_path == b.node_path && a.name == b.name; });
     if (same_list) {
         for (std::size_t i = 0; i < states_.size(); ++i) std::swap(states_[i], fresh->states_[i]);
     } else {
@@ -489,11 +520,12 @@ void Scene::carry_states(Scene& fresh, bool reset) const {
         const auto old = std::find_if(states_.begin(), states_.end(), [&](const output::StateRecord& o) {
             return o.node_path == n.node_path && o.name == n.name;
         });
-        if (old == states_.end()) continue;  // added after init: its own values
+        if (old == states_.end()) continue;        // added after init: its own values
         const BaseState& old_state = *old->state;  // (typeid of a plain reference: nothing evaluated twice)
         const BaseState& new_state = *n.state;
         if (typeid(old_state) != typeid(new_state))
-            throw io::SceneError(output::state_label(n) + ": a write changes the template of the state (penalty keeps it after init)");
+            throw io::SceneError(output::state_label(n) +
+                                 ": a write changes the template of the state (penalty keeps it after init)");
         if (old->state->num_dofs() != n.state->num_dofs())
             throw io::SceneError(output::state_label(n) + ": the write changes its number of DOFs from " +
                                  std::to_string(old->state->num_dofs()) + " to " + std::to_string(n.state->num_dofs()) +

@@ -53,9 +53,12 @@ const AttributeSpec* declared(const ComponentSpec& spec, std::string_view name) 
 /// not Data<T>::read: a value with text after its number gives the default there (the builder
 /// reads them so: MechanicalObject::parse, RegularGridTopology::parse).
 bool read_in_parse(std::string_view type, std::string_view attribute) {
-    static constexpr std::string_view kMechanicalObject[] = {"dx", "dy", "dz", "rx", "ry", "rz", "scale", "sx", "sy", "sz"};
+    static constexpr std::string_view kMechanicalObject[] = {"dx", "dy",    "dz", "rx", "ry",
+                                                             "rz", "scale", "sx", "sy", "sz"};
     static constexpr std::string_view kRegularGrid[] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax", "scale"};
-    const auto in = [&](const auto& names) { return std::find(std::begin(names), std::end(names), attribute) != std::end(names); };
+    const auto in = [&](const auto& names) {
+        return std::find(std::begin(names), std::end(names), attribute) != std::end(names);
+    };
     if (type == "MechanicalObject") return in(kMechanicalObject);
     if (type == "RegularGridTopology" || type == "RegularGrid") return in(kRegularGrid);
     return false;
@@ -79,8 +82,9 @@ void read_prefixes(io::SceneNode& node, bool fix, std::vector<std::string>& note
             std::string note = c->file + ":";
             note += std::to_string(a.line);
             note += ": " + c->describe() + ": attribute '" + a.name + "' = '" + a.value + "' read as " + read;
-            note += ", as SOFA's Data<T>::read does (it ignores the text after a number; --fix-sofa-quirk "
-                    "number_trailing_text makes it an error)";
+            note +=
+                ", as SOFA's Data<T>::read does (it ignores the text after a number; --fix-sofa-quirk "
+                "number_trailing_text makes it an error)";
             notes.push_back(std::move(note));
             a.value = read;
         }

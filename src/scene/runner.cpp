@@ -13,11 +13,11 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <cstdio>
-#include <memory>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -72,12 +72,13 @@ void check_finite_states(const Scene& scene, std::int64_t step, double time, boo
                     bad = i;
         } else if (const auto* s = dynamic_cast<const Vec1Object*>(r.state)) {
             for (std::size_t i = 0; i < s->position.size() && !bad; ++i)
-                if (!std::isfinite(s->position[i]) || (i < s->velocity.size() && !std::isfinite(s->velocity[i]))) bad = i;
+                if (!std::isfinite(s->position[i]) || (i < s->velocity.size() && !std::isfinite(s->velocity[i])))
+                    bad = i;
         }
         if (bad) {
-            throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
-                                              output::format_number(time) + " s): state '" + output::state_label(r) +
-                                              "' DOF " + std::to_string(*bad) +
+            throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) +
+                                              " (t = " + output::format_number(time) + " s): state '" +
+                                              output::state_label(r) + "' DOF " + std::to_string(*bad) +
                                               " is not finite (position or velocity); try a smaller --dt");
         }
     }
@@ -96,8 +97,8 @@ std::string component_label(const Scene& scene, const void* object, const std::s
 /// naming the step, the state and, where known, the force field or mass.
 [[noreturn]] void report_non_finite_solve(const Scene& scene, std::int64_t step, double time,
                                           const NonFiniteSolveError& e) {
-    const void* source = e.force_field() != nullptr ? static_cast<const void*>(e.force_field())
-                                                    : static_cast<const void*>(e.mass());
+    const void* source =
+        e.force_field() != nullptr ? static_cast<const void*>(e.force_field()) : static_cast<const void*>(e.mass());
     const io::SceneComponent* c = source != nullptr ? scene.component_of(source) : nullptr;
     if (step == 0 && c != nullptr) {
         // Name the attributes that hold large numbers (and the node's gravity for a mass).
@@ -120,18 +121,17 @@ std::string component_label(const Scene& scene, const void* object, const std::s
         scan(*c, "");
         if (e.mass() != nullptr)
             for (const io::SceneNode* n = c->node; n != nullptr; n = n->parent) scan(*n, "node " + n->path() + " ");
-        io::throw_element_error(*c, std::string(e.what()) + ", at the first step from finite initial states: " +
-                                        (large.empty() ? std::string("a parameter is too large")
-                                                       : "too large: " + large) +
-                                        " (a product overflows)");
+        io::throw_element_error(*c,
+                                std::string(e.what()) + ", at the first step from finite initial states: " +
+                                    (large.empty() ? std::string("a parameter is too large") : "too large: " + large) +
+                                    " (a product overflows)");
     }
     std::string where;
     if (e.force_field() != nullptr)
         where = "; from " + component_label(scene, e.force_field(), "contact springs added by a collision pipeline");
-    else if (e.mass() != nullptr)
-        where = "; from " + component_label(scene, e.mass(), "a mass");
-    throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
-                                      output::format_number(time) + " s): " + e.what() + where +
+    else if (e.mass() != nullptr) where = "; from " + component_label(scene, e.mass(), "a mass");
+    throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) +
+                                      " (t = " + output::format_number(time) + " s): " + e.what() + where +
                                       "; try a smaller --dt or a softer contact stiffness");
 }
 
@@ -150,7 +150,8 @@ void DivergenceBound::for_each_position(const Scene& scene, F&& f) {
 
 DivergenceBound::DivergenceBound(const Scene& scene, double factor) : factor_(factor) {
     if (!(factor >= 0.0) || !std::isfinite(factor))
-        throw std::invalid_argument("the divergence factor must be a finite number >= 0, got " + output::format_number(factor));
+        throw std::invalid_argument("the divergence factor must be a finite number >= 0, got " +
+                                    output::format_number(factor));
     Eigen::AlignedBox3d box;
     for_each_position(scene, [&](const output::StateRecord&, std::size_t, const Vec3& p) {
         box.extend(p);
@@ -195,13 +196,15 @@ void DivergenceBound::check_energy(const Scene& scene, std::int64_t step, double
                " J: kinetic + stored energy at the start, plus every moving mass dropped through the scene's height)";
     } else if (step_growth > factor_ * step_scale) {
         what = "the energy grew by " + output::format_number(step_growth) + " J in one step, more than " +
-               output::format_number(factor_) + " times the scene's energy scale plus the kinetic and stored energy "
-               "before the step (" + output::format_number(step_scale) + " J)";
+               output::format_number(factor_) +
+               " times the scene's energy scale plus the kinetic and stored energy "
+               "before the step (" +
+               output::format_number(step_scale) + " J)";
     } else {
         return;
     }
-    throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) + " (t = " +
-                                      output::format_number(time) + " s): " + what +
+    throw output::NonFiniteValueError("simulation diverged at step " + std::to_string(step) +
+                                      " (t = " + output::format_number(time) + " s): " + what +
                                       "; try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 "
                                       "to turn this check off");
 }
@@ -229,7 +232,8 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time, 
                 sizes_kept = false;
                 break;
             }
-            if (n > 0 && !skip) largest = std::max(largest, largest_change(v->position.data()->data(), previous_[k].data(), 3 * n));
+            if (n > 0 && !skip)
+                largest = std::max(largest, largest_change(v->position.data()->data(), previous_[k].data(), 3 * n));
             k += n;
         } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
             const std::size_t n = g->position.size();
@@ -249,7 +253,8 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time, 
             if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
                 const Eigen::Index n = Eigen::Index(3 * v->position.size());
                 if (n > 0 && !skip)
-                    Eigen::Map<Eigen::ArrayXd>(previous_[k].data(), n) = Eigen::Map<const Eigen::ArrayXd>(v->position.data()->data(), n);
+                    Eigen::Map<Eigen::ArrayXd>(previous_[k].data(), n) =
+                        Eigen::Map<const Eigen::ArrayXd>(v->position.data()->data(), n);
                 k += v->position.size();
             } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
                 if (skip) {
@@ -273,7 +278,8 @@ void DivergenceBound::check(const Scene& scene, std::int64_t step, double time, 
                 " s): state '" + output::state_label(r) + "' DOF " + std::to_string(dof) + " moved " +
                 output::format_number(moved) + " m in one step, more than " + output::format_number(factor_) +
                 " times the initial scene size (" + output::format_number(size_) +
-                " m); try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 to turn this check off");
+                " m); try a smaller --dt or a softer contact stiffness, or --divergence-factor 0 to turn this check "
+                "off");
         }
     });
     previous_.resize(k);
@@ -369,7 +375,8 @@ void step_naming_failures(Scene& scene, std::int64_t k, double t) {
         // Any other error of the step: name the state that diverged first, if one did
         // (non-finite solves are NonFiniteSolveError, handled above).
         check_finite_states(scene, k, t);
-        throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
+        throw std::runtime_error("step " + std::to_string(k) + " (t = " + output::format_number(t) +
+                                 " s): " + e.what());
     }
 }
 
@@ -408,7 +415,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     summary.dt = scene.dt();
     std::optional<output::StateExporter> exporter;
     if (options.states_directory) {
-        exporter.emplace(*options.states_directory, output::select_exported_states(scene.states(), options.export_mapped));
+        exporter.emplace(*options.states_directory,
+                         output::select_exported_states(scene.states(), options.export_mapped));
         summary.state_files = exporter->files();
         summary.values_per_dof = exporter->values_per_dof();
     }
@@ -421,7 +429,8 @@ RunSummary run_scene(Scene& scene, const RunOptions& options, const ProgressCall
     }
     std::optional<output::StatsCsvWriter> stats;
     if (options.stats_file) stats.emplace(*options.stats_file, scene.tunnelling_report() != nullptr);
-    if (scene.tunnelling_report() != nullptr) summary.tunnelling.mode = tunnelling_mode_name(scene.tunnelling_options().mode);
+    if (scene.tunnelling_report() != nullptr)
+        summary.tunnelling.mode = tunnelling_mode_name(scene.tunnelling_options().mode);
     std::unique_ptr<output::ViewerWriter> viewer;
     if (options.view_directory) viewer = open_viewer(scene, *options.view_directory, options.view_title);
 
@@ -520,9 +529,10 @@ std::string step_debug_text(const Scene& scene, std::int64_t step, double t_star
         for (std::size_t i = 0; i < contacts.size(); ++i) {
             const PenaltyContact& c = contacts[i];
             out << "contact " << i << " elements " << c.index1 << " " << c.index2 << " point1 "
-                << vec3(r.state1->position[std::size_t(c.m1)]) << " point2 " << vec3(r.state2->position[std::size_t(c.m2)])
-                << " normal " << vec3(c.normal) << " distance " << number(c.dist) << " penetration " << number(c.pen)
-                << " stiffness " << number(c.ks) << " force " << number(c.normal_force) << "\n";
+                << vec3(r.state1->position[std::size_t(c.m1)]) << " point2 "
+                << vec3(r.state2->position[std::size_t(c.m2)]) << " normal " << vec3(c.normal) << " distance "
+                << number(c.dist) << " penetration " << number(c.pen) << " stiffness " << number(c.ks) << " force "
+                << number(c.normal_force) << "\n";
         }
     }
     out << "solves:\n";
@@ -536,12 +546,15 @@ std::string step_debug_text(const Scene& scene, std::int64_t step, double t_star
     for (const output::StateRecord& r : scene.states()) {
         const std::string label = output::state_label(r);
         if (const auto* v = dynamic_cast<const Vec3Object*>(r.state)) {
-            for (std::size_t i = 0; i < v->force.size(); ++i) out << "force " << label << " " << i << " " << vec3(v->force[i]) << "\n";
+            for (std::size_t i = 0; i < v->force.size(); ++i)
+                out << "force " << label << " " << i << " " << vec3(v->force[i]) << "\n";
         } else if (const auto* g = dynamic_cast<const Rigid3Object*>(r.state)) {
             for (std::size_t i = 0; i < g->force.size(); ++i)
-                out << "force " << label << " " << i << " " << vec3(g->force[i].linear) << " " << vec3(g->force[i].angular) << "\n";
+                out << "force " << label << " " << i << " " << vec3(g->force[i].linear) << " "
+                    << vec3(g->force[i].angular) << "\n";
         } else if (const auto* d = dynamic_cast<const Vec1Object*>(r.state)) {
-            for (std::size_t i = 0; i < d->force.size(); ++i) out << "force " << label << " " << i << " " << number(d->force[i]) << "\n";
+            for (std::size_t i = 0; i < d->force.size(); ++i)
+                out << "force " << label << " " << i << " " << number(d->force[i]) << "\n";
         }
     }
     return out.str();
@@ -568,13 +581,15 @@ std::string format_summary(const RunSummary& s) {
                   s.output_seconds * per_step);
     out << buf;
     if (s.cg) {
-        std::snprintf(buf, sizeof buf, "CG iterations per step: mean %.1f, max %d; iteration limit reached in %lld steps\n",
+        std::snprintf(buf, sizeof buf,
+                      "CG iterations per step: mean %.1f, max %d; iteration limit reached in %lld steps\n",
                       s.mean_cg_iterations, s.max_cg_iterations, static_cast<long long>(s.cg_limit_steps));
         out << buf;
     }
     if (s.newton) {
         std::snprintf(buf, sizeof buf, "Newton iterations per step: mean %.2f, max %d; not converged in %lld steps\n",
-                      s.mean_newton_iterations, s.max_newton_iterations, static_cast<long long>(s.newton_unconverged_steps));
+                      s.mean_newton_iterations, s.max_newton_iterations,
+                      static_cast<long long>(s.newton_unconverged_steps));
         out << buf;
     }
     if (!s.tunnelling.mode.empty()) out << format_tunnelling_summary(s);
@@ -585,9 +600,10 @@ std::string format_tunnelling_summary(const RunSummary& s) {
     const RunSummary::Tunnelling& t = s.tunnelling;
     char buf[512];
     std::ostringstream out;
-    std::snprintf(buf, sizeof buf, "tunnelling guard (%s): %lld crossings in %lld steps, deepest %.3g m; %.3f ms per step\n",
-                  t.mode.c_str(), static_cast<long long>(t.crossings), static_cast<long long>(t.crossing_steps), t.max_depth,
-                  s.steps > 0 ? 1e3 * t.guard_seconds / double(s.steps) : 0.0);
+    std::snprintf(buf, sizeof buf,
+                  "tunnelling guard (%s): %lld crossings in %lld steps, deepest %.3g m; %.3f ms per step\n",
+                  t.mode.c_str(), static_cast<long long>(t.crossings), static_cast<long long>(t.crossing_steps),
+                  t.max_depth, s.steps > 0 ? 1e3 * t.guard_seconds / double(s.steps) : 0.0);
     out << buf;
     if (!t.first_crossing.empty()) out << "  first crossing: " << t.first_crossing << "\n";
     if (t.mode != "warn") {

@@ -87,7 +87,8 @@ void Scene::set_blocked_reductions(bool on) {
 
 std::vector<std::pair<std::string, const EulerImplicitSolver*>> Scene::implicit_solvers() const {
     std::vector<std::pair<std::string, const EulerImplicitSolver*>> out;
-    for (std::size_t i = 0; i < implicit_solvers_.size(); ++i) out.emplace_back(implicit_solver_paths_[i], implicit_solvers_[i]);
+    for (std::size_t i = 0; i < implicit_solvers_.size(); ++i)
+        out.emplace_back(implicit_solver_paths_[i], implicit_solvers_[i]);
     return out;
 }
 
@@ -156,7 +157,8 @@ double force_field_energy(const Node& node) {
 
 double Scene::potential_energy() const {
     double e = stored_energy();
-    for (std::size_t i = 0; i < masses_.size(); ++i) e += masses_[i]->gravity_potential_energy(mass_nodes_[i]->gravity());
+    for (std::size_t i = 0; i < masses_.size(); ++i)
+        e += masses_[i]->gravity_potential_energy(mass_nodes_[i]->gravity());
     return e;
 }
 
@@ -166,9 +168,8 @@ double Scene::gravity_energy_scale(const Vec3& lo, const Vec3& hi) const {
     const Vec3 extent = (hi - lo).cwiseAbs();
     double e = 0.0;
     for (std::size_t i = 0; i < masses_.size(); ++i) {
-        const auto record = std::find_if(states_.begin(), states_.end(), [&](const output::StateRecord& r) {
-            return r.state == masses_[i]->state();
-        });
+        const auto record = std::find_if(states_.begin(), states_.end(),
+                                         [&](const output::StateRecord& r) { return r.state == masses_[i]->state(); });
         if (record == states_.end() || !record->in_solver_subtree) continue;
         const Vec3& g = mass_nodes_[i]->gravity();
         const double g_norm = g.norm();
@@ -189,7 +190,6 @@ std::vector<std::string> Scene::warnings() const {
 }
 
 // ---- entry points: overrides, then the builder (src/scene/builder/) ------------------------------
-
 
 void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overrides) {
     std::vector<io::Override> parsed;

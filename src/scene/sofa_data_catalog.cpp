@@ -83,14 +83,30 @@ const std::vector<CatalogEntry>& sofa_data_catalog(std::string_view type, bool r
 
 std::size_t sofa_type_columns(std::string_view t) {
     static const std::map<std::string_view, std::size_t, std::less<>> rows = {
-        {"vector<Vec3d>", 3},        {"vector<Vec2d>", 2},        {"vector<Vec6d>", 6},
-        {"vector<Vec10d>", 10},      {"vector<Vec2f>", 2},        {"vector<Edge>", 2},
-        {"vector<Triangle>", 3},     {"vector<Quad>", 4},         {"vector<Tetrahedron>", 4},
-        {"vector<Hexahedron>", 8},   {"vector<Pyramid>", 5},      {"vector<Prism>", 6},
-        {"vector<RigidCoord3d>", 7}, {"vector<RigidDeriv3d>", 6}, {"vector<Quatd>", 4},
-        {"vector<RGBAColor>", 4},    {"BoundingBox", 3},          {"vector<fixed_array<I,4>>", 4},
-        {"vector<fixed_array<I,5>>", 5}, {"vector<fixed_array<I,6>>", 6}, {"vector<fixed_array<I,8>>", 8},
-        {"vector<fixed_array<i,3>>", 3}, {"Mat4x4d", 4},          {"vector<Mat3x3d>", 9},
+        {"vector<Vec3d>", 3},
+        {"vector<Vec2d>", 2},
+        {"vector<Vec6d>", 6},
+        {"vector<Vec10d>", 10},
+        {"vector<Vec2f>", 2},
+        {"vector<Edge>", 2},
+        {"vector<Triangle>", 3},
+        {"vector<Quad>", 4},
+        {"vector<Tetrahedron>", 4},
+        {"vector<Hexahedron>", 8},
+        {"vector<Pyramid>", 5},
+        {"vector<Prism>", 6},
+        {"vector<RigidCoord3d>", 7},
+        {"vector<RigidDeriv3d>", 6},
+        {"vector<Quatd>", 4},
+        {"vector<RGBAColor>", 4},
+        {"BoundingBox", 3},
+        {"vector<fixed_array<I,4>>", 4},
+        {"vector<fixed_array<I,5>>", 5},
+        {"vector<fixed_array<I,6>>", 6},
+        {"vector<fixed_array<I,8>>", 8},
+        {"vector<fixed_array<i,3>>", 3},
+        {"Mat4x4d", 4},
+        {"vector<Mat3x3d>", 9},
     };
     const auto it = rows.find(t);
     return it == rows.end() ? 0 : it->second;
@@ -98,12 +114,18 @@ std::size_t sofa_type_columns(std::string_view t) {
 
 std::string_view live_write_name(LiveWrite live) {
     switch (live) {
-        case LiveWrite::state: return "state";
-        case LiveWrite::next_step: return "next step";
-        case LiveWrite::reinit: return "at reinit";
-        case LiveWrite::no_effect: return "no effect";
-        case LiveWrite::refused: return "refused";
-        case LiveWrite::read_only: return "read-only";
+        case LiveWrite::state:
+            return "state";
+        case LiveWrite::next_step:
+            return "next step";
+        case LiveWrite::reinit:
+            return "at reinit";
+        case LiveWrite::no_effect:
+            return "no effect";
+        case LiveWrite::refused:
+            return "refused";
+        case LiveWrite::read_only:
+            return "read-only";
     }
     return "?";
 }

@@ -23,7 +23,8 @@ std::size_t state_index(const Scene& scene, const State& state, const CollisionM
             return states.size() - 1;
         }
     }
-    throw std::invalid_argument("viewer: the state of collision model '" + model.name() + "' is not a state of the scene");
+    throw std::invalid_argument("viewer: the state of collision model '" + model.name() +
+                                "' is not a state of the scene");
 }
 
 std::uint32_t index32(Index i) { return static_cast<std::uint32_t>(i); }
@@ -82,8 +83,8 @@ ViewerBodies viewer_bodies(const Scene& scene) {
             std::map<std::array<Index, 3>, std::pair<std::array<Index, 3>, int>> faces;
             for (std::size_t i = 0; i < tet->size(); ++i) {
                 const auto& v = tet->tetrahedron(Index(i));
-                const std::array<std::array<Index, 3>, 4> local{{{v[1], v[2], v[3]}, {v[0], v[3], v[2]},
-                                                                 {v[0], v[1], v[3]}, {v[0], v[2], v[1]}}};
+                const std::array<std::array<Index, 3>, 4> local{
+                    {{v[1], v[2], v[3]}, {v[0], v[3], v[2]}, {v[0], v[1], v[3]}, {v[0], v[2], v[1]}}};
                 for (const auto& f : local) {
                     auto key = f;
                     std::sort(key.begin(), key.end());
@@ -120,16 +121,18 @@ ViewerBodies viewer_bodies(const Scene& scene) {
 std::unique_ptr<output::ViewerWriter> open_viewer(const Scene& scene, const std::filesystem::path& directory,
                                                   std::string title) {
     ViewerBodies bodies = viewer_bodies(scene);
-    auto writer = std::make_unique<output::ViewerWriter>(directory, bodies.states, std::move(bodies.shapes), std::move(title));
+    auto writer =
+        std::make_unique<output::ViewerWriter>(directory, bodies.states, std::move(bodies.shapes), std::move(title));
     if (!scene.dynamic_topologies().empty()) {
         // Topological changes: the shapes of the frames after a change (same states, in the same order).
-        writer->follow_topology([&scene] { return scene.topology_revision(); },
-                                [&scene, states = std::move(bodies.states)] {
-                                    ViewerBodies now = viewer_bodies(scene);
-                                    if (now.states != states)
-                                        throw std::invalid_argument("viewer: a topological change changed the drawn states");
-                                    return std::move(now.shapes);
-                                });
+        writer->follow_topology(
+            [&scene] { return scene.topology_revision(); },
+            [&scene, states = std::move(bodies.states)] {
+                ViewerBodies now = viewer_bodies(scene);
+                if (now.states != states)
+                    throw std::invalid_argument("viewer: a topological change changed the drawn states");
+                return std::move(now.shapes);
+            });
     }
     return writer;
 }

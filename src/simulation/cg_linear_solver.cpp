@@ -1,8 +1,8 @@
 #include "penalty/simulation/cg_linear_solver.hpp"
 
+#include "flat_vector_ops.hpp"
 #include "penalty/core/error.hpp"
 #include "penalty/simulation/solve_error.hpp"
-#include "flat_vector_ops.hpp"
 
 #include <cmath>
 #include <ostream>
@@ -12,22 +12,32 @@ namespace penalty {
 // ---- CG ---------------------------------------------------------------------------------------
 std::string_view cg_end_condition_name(CgEndCondition condition) {
     switch (condition) {
-        case CgEndCondition::none: return "none";
-        case CgEndCondition::iterations: return "iterations";
-        case CgEndCondition::tolerance: return "tolerance";
-        case CgEndCondition::threshold: return "threshold";
-        case CgEndCondition::den_zero: return "den=0";
-        case CgEndCondition::b_zero: return "b=0";
+        case CgEndCondition::none:
+            return "none";
+        case CgEndCondition::iterations:
+            return "iterations";
+        case CgEndCondition::tolerance:
+            return "tolerance";
+        case CgEndCondition::threshold:
+            return "threshold";
+        case CgEndCondition::den_zero:
+            return "den=0";
+        case CgEndCondition::b_zero:
+            return "b=0";
     }
     return "unknown";
 }
 
-std::ostream& operator<<(std::ostream& out, CgEndCondition condition) { return out << cg_end_condition_name(condition); }
+std::ostream& operator<<(std::ostream& out, CgEndCondition condition) {
+    return out << cg_end_condition_name(condition);
+}
 
 void CGLinearSolver::check() const {
     if (iterations < 1) throw_invalid_argument("CGLinearSolver: iterations must be >= 1, got ", iterations);
-    if (!std::isfinite(tolerance) || tolerance < 0) throw_invalid_argument("CGLinearSolver: tolerance must be >= 0, got ", tolerance);
-    if (!std::isfinite(threshold) || threshold < 0) throw_invalid_argument("CGLinearSolver: threshold must be >= 0, got ", threshold);
+    if (!std::isfinite(tolerance) || tolerance < 0)
+        throw_invalid_argument("CGLinearSolver: tolerance must be >= 0, got ", tolerance);
+    if (!std::isfinite(threshold) || threshold < 0)
+        throw_invalid_argument("CGLinearSolver: threshold must be >= 0, got ", threshold);
 }
 
 namespace {
@@ -57,8 +67,8 @@ double CgSystem::direction_and_product(const Eigen::VectorXd& r, double beta, bo
     return dot(p, q);
 }
 
-double CgSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
-                                     Eigen::VectorXd& r) {
+double CgSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                     Eigen::VectorXd& x, Eigen::VectorXd& r) {
     x += alpha * p;
     r -= alpha * q;
     return dot(r, r);
@@ -77,7 +87,8 @@ CgStats CGLinearSolver::solve(CgSystem& system, const Eigen::VectorXd& b, Eigen:
     x.setZero(b.size());
     const double norm_b = std::sqrt(system.dot(b, b));  // SOFA: MultiVec::norm() = sqrt(v_dot(b, b))
     if (!std::isfinite(norm_b))
-        throw NonFiniteSolveError("CGLinearSolver: the right-hand side is not finite (|b| overflows)", nullptr, nullptr, nullptr);
+        throw NonFiniteSolveError("CGLinearSolver: the right-hand side is not finite (|b| overflows)", nullptr, nullptr,
+                                  nullptr);
     if (norm_b == 0.0) {
         stats.end_condition = CgEndCondition::b_zero;
         return stats;
@@ -116,8 +127,9 @@ CgStats CGLinearSolver::solve(CgSystem& system, const Eigen::VectorXd& b, Eigen:
         rho = system.update_and_residual(alpha, p, q, x, r);  // x += α·p, r −= α·q
     }
     if (!x.allFinite())
-        throw NonFiniteSolveError("CGLinearSolver: the solution is not finite (singular or indefinite system, or an overflow)",
-                                  nullptr, nullptr, nullptr);
+        throw NonFiniteSolveError(
+            "CGLinearSolver: the solution is not finite (singular or indefinite system, or an overflow)", nullptr,
+            nullptr, nullptr);
     return stats;
 }
 

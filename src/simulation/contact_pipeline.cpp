@@ -120,12 +120,15 @@ CollisionPipelineOptions collision_options(const ContactPipelineOptions& options
 
 ContactPipeline::ContactPipeline(Simulation& simulation, const IntersectionParams& intersection,
                                  CollisionResponse response, Node* node, const ContactPipelineOptions& options)
-    : simulation_(&simulation), intersection_(intersection), response_(std::move(response)),
-      node_(node ? node : &simulation.root()), options_(options),
+    : simulation_(&simulation),
+      intersection_(intersection),
+      response_(std::move(response)),
+      node_(node ? node : &simulation.root()),
+      options_(options),
       collision_(intersection, collision_options(options), options.detection) {
     if (options_.threads < 0 || options_.threads > kMaxDetectionThreads)
-        throw_invalid_argument("ContactPipeline: options.threads must be between 0 and ", kMaxDetectionThreads, ", got ",
-                               options_.threads);
+        throw_invalid_argument("ContactPipeline: options.threads must be between 0 and ", kMaxDetectionThreads,
+                               ", got ", options_.threads);
     // options.bvh.leaf_size = 0 and bad intersection parameters: thrown by collision_
     if (options_.threads > 0)
         arena_ = std::make_unique<ThreadArena>(options_.threads);  // once: TBB makes its threads lazily
@@ -148,18 +151,22 @@ ContactPipeline::~ContactPipeline() {
 
 void ContactPipeline::add_model(CollisionModel& model, Node& node, std::size_t scene_rank) {
     for (const auto& e : models_)
-        if (e.model == &model) throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' is already registered");
+        if (e.model == &model)
+            throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' is already registered");
     const auto [state, rigid] = model_state(model);
-    ModelEntry e{&model, &node, nullptr, nullptr, scene_rank == kRegistrationOrder ? models_.size() : scene_rank, {}, {}, {}, {}};
+    ModelEntry e{&model, &node, nullptr, nullptr, scene_rank == kRegistrationOrder ? models_.size() : scene_rank,
+                 {},     {},    {},      {}};
     if (rigid) {
         e.rigid = dynamic_cast<Rigid3Object*>(node.state());
         if (!e.rigid || static_cast<const Rigid3State*>(e.rigid) != state)
-            throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' (", model_type_name(model.type()),
+            throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' (",
+                                   model_type_name(model.type()),
                                    ") reads a Rigid3 state that is not the state of node '", node.name(), "'");
     } else {
         e.vec3 = dynamic_cast<Vec3Object*>(node.state());
         if (!e.vec3 || static_cast<const Vec3State*>(e.vec3) != state)
-            throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' (", model_type_name(model.type()),
+            throw_invalid_argument("ContactPipeline::add_model: model '", model.name(), "' (",
+                                   model_type_name(model.type()),
                                    ") reads a Vec3 state that is not the state of node '", node.name(), "'");
     }
     if (model.params().node == -1) model.params().node = kAutoNodeIdBase + node.id();
@@ -187,10 +194,10 @@ void ContactPipeline::record_skipped_pairs() {
         skipped_keys_.push_back(p);
         const CollisionModel& a = *p.model1;
         const CollisionModel& b = *p.model2;
-        skipped_pairs_.push_back(detail::concat(
-            "ContactPipeline: models '", a.name(), "' (", model_type_name(a.type()), ") and '", b.name(), "' (",
-            model_type_name(b.type()), "): pair ", pair_support_name(pair_support(intersection_, a.type(), b.type())),
-            " for this intersection method, no contact"));
+        skipped_pairs_.push_back(detail::concat("ContactPipeline: models '", a.name(), "' (", model_type_name(a.type()),
+                                                ") and '", b.name(), "' (", model_type_name(b.type()), "): pair ",
+                                                pair_support_name(pair_support(intersection_, a.type(), b.type())),
+                                                " for this intersection method, no contact"));
     }
 }
 
@@ -433,7 +440,9 @@ void ContactPipeline::on_create(BarycentricPenaltyContact& contact) {
         const ModelEntry& me = *sides[std::size_t(s)];
         ContactMapper& mapper = s == 0 ? contact.mapper1() : contact.mapper2();
         if (mapper.kind() == ContactMapperKind::identity) {
-            if (!me.vec3) throw_invalid_argument("ContactPipeline: identity contact mapper on non-Vec3 model '", me.model->name(), "'");
+            if (!me.vec3)
+                throw_invalid_argument("ContactPipeline: identity contact mapper on non-Vec3 model '", me.model->name(),
+                                       "'");
             e.point_states[std::size_t(s)] = me.vec3;
             continue;
         }

@@ -11,19 +11,26 @@ namespace penalty {
 
 std::string_view factorization_name(FactorizationMethod method) {
     switch (method) {
-        case FactorizationMethod::ldlt: return "LDLT";
-        case FactorizationMethod::llt: return "LLT";
-        case FactorizationMethod::lu: return "LU";
-        case FactorizationMethod::qr: return "QR";
+        case FactorizationMethod::ldlt:
+            return "LDLT";
+        case FactorizationMethod::llt:
+            return "LLT";
+        case FactorizationMethod::lu:
+            return "LU";
+        case FactorizationMethod::qr:
+            return "QR";
     }
     return "?";
 }
 
 std::string_view ordering_name(FillOrdering ordering) {
     switch (ordering) {
-        case FillOrdering::amd: return "AMD";
-        case FillOrdering::colamd: return "COLAMD";
-        case FillOrdering::natural: return "natural";
+        case FillOrdering::amd:
+            return "AMD";
+        case FillOrdering::colamd:
+            return "COLAMD";
+        case FillOrdering::natural:
+            return "natural";
     }
     return "?";
 }
@@ -60,18 +67,42 @@ struct DirectLinearSolver::Factorization {
     }
     void emplace(int index) {
         switch (index) {
-            case 0: solver.emplace<Ldlt<Amd>>(); break;
-            case 1: solver.emplace<Ldlt<Colamd>>(); break;
-            case 2: solver.emplace<Ldlt<Natural>>(); break;
-            case 3: solver.emplace<Llt<Amd>>(); break;
-            case 4: solver.emplace<Llt<Colamd>>(); break;
-            case 5: solver.emplace<Llt<Natural>>(); break;
-            case 6: solver.emplace<Lu<Amd>>(); break;
-            case 7: solver.emplace<Lu<Colamd>>(); break;
-            case 8: solver.emplace<Lu<Natural>>(); break;
-            case 9: solver.emplace<Qr<Amd>>(); break;
-            case 10: solver.emplace<Qr<Colamd>>(); break;
-            default: solver.emplace<Qr<Natural>>(); break;
+            case 0:
+                solver.emplace<Ldlt<Amd>>();
+                break;
+            case 1:
+                solver.emplace<Ldlt<Colamd>>();
+                break;
+            case 2:
+                solver.emplace<Ldlt<Natural>>();
+                break;
+            case 3:
+                solver.emplace<Llt<Amd>>();
+                break;
+            case 4:
+                solver.emplace<Llt<Colamd>>();
+                break;
+            case 5:
+                solver.emplace<Llt<Natural>>();
+                break;
+            case 6:
+                solver.emplace<Lu<Amd>>();
+                break;
+            case 7:
+                solver.emplace<Lu<Colamd>>();
+                break;
+            case 8:
+                solver.emplace<Lu<Natural>>();
+                break;
+            case 9:
+                solver.emplace<Qr<Amd>>();
+                break;
+            case 10:
+                solver.emplace<Qr<Colamd>>();
+                break;
+            default:
+                solver.emplace<Qr<Natural>>();
+                break;
         }
     }
     [[nodiscard]] bool same_pattern(const ColumnSparseMatrix& a) const {

@@ -39,7 +39,7 @@ inline double state_dot(const double* a, const double* b, Eigen::Index begin, Ei
 /// of distinct vectors), so the compiler may run the lanes together; each value gets the same
 /// operations as in the loop over j alone.
 inline void direction(bool first, double beta, const double* __restrict r, double* __restrict p, double* __restrict dx,
-               Eigen::Index n) {
+                      Eigen::Index n) {
     if (first) {
         for (Eigen::Index j = 0; j < n; ++j) dx[j] = p[j] = r[j];
         return;

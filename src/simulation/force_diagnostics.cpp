@@ -37,14 +37,15 @@ void SubtreeSystem::throw_non_finite_force() const {
     for (const auto& [mass, g] : layout_->masses) {
         mass->add_gravity_force(g);
         if (const BaseState* s = first_bad(false))
-            throw NonFiniteSolveError("the gravity force m·g on state '" + std::string(s->state_name()) + "' is not finite",
-                                      nullptr, mass, s);
+            throw NonFiniteSolveError(
+                "the gravity force m·g on state '" + std::string(s->state_name()) + "' is not finite", nullptr, mass,
+                s);
     }
     for (BaseForceField* ff : layout_->force_fields) {
         ff->accumulate_force();
         if (const BaseState* s = first_bad(false))
-            throw NonFiniteSolveError("a force field's force on state '" + std::string(s->state_name()) + "' is not finite",
-                                      ff, nullptr, s);
+            throw NonFiniteSolveError(
+                "a force field's force on state '" + std::string(s->state_name()) + "' is not finite", ff, nullptr, s);
     }
     throw NonFiniteSolveError("the forces are not finite after the mappings' Jᵀ", nullptr, nullptr, nullptr);
 }
@@ -98,6 +99,5 @@ void SubtreeSystem::throw_naming_largest_force(const std::string& what) const {
                  std::string(best_state->state_name()) + "'";
     throw NonFiniteSolveError(what + source, best_ff, best_mass, best_state);
 }
-
 
 }  // namespace penalty

@@ -29,7 +29,7 @@ struct FindTables {
     PointerIndex<BaseState> candidate_on;      // output state → its entry of candidates
     PointerIndex<Vec3Object> unread_group_of;  // parent → unread_by_parent_
     PointerIndex<BaseState> external;
-    PointerIndex<BaseForceField> fused_field_of;  // field → fields_
+    PointerIndex<BaseForceField> fused_field_of;   // field → fields_
     std::vector<std::ptrdiff_t> fused_mapping_of;  // per layout mapping: index in mappings_ or -1
     void clear(std::size_t mappings) {
         candidates.clear();
@@ -56,7 +56,8 @@ void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
     // force field and no mapping; those read by nobody are fused at once (unread).
     for (std::size_t i = 0; i < l.mappings.size(); ++i) {
         const DxReaders& r = l.dx_readers[i];
-        if (l.mappings[i]->contact_barycentric_rows() == nullptr || !r.mappings.empty() || r.force_fields.size() > 1) continue;
+        if (l.mappings[i]->contact_barycentric_rows() == nullptr || !r.mappings.empty() || r.force_fields.size() > 1)
+            continue;
         auto* from = dynamic_cast<Vec3Object*>(l.mappings[i]->from());
         auto* to = dynamic_cast<Vec3Object*>(l.mappings[i]->to());
         if (from == nullptr || to == nullptr) continue;
@@ -68,7 +69,11 @@ void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
         if (added) unread_by_parent_.emplace_back(from, std::vector<std::size_t>{});
         unread_by_parent_[group].second.push_back(mappings_.size());
         t.fused_mapping_of[i] = static_cast<std::ptrdiff_t>(mappings_.size());
-        mappings_.push_back({.mapping_index = i, .from = from, .to = to, .rows = l.mappings[i]->contact_barycentric_rows(), .live = false});
+        mappings_.push_back({.mapping_index = i,
+                             .from = from,
+                             .to = to,
+                             .rows = l.mappings[i]->contact_barycentric_rows(),
+                             .live = false});
     }
     // Fields: two-state Vec3 interaction fields each of whose sides is a candidate read by this
     // field alone or an external state (dx 0, df scratch), one side at least a candidate.
@@ -93,13 +98,16 @@ void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
             const Candidate* c = mapping_of_side[side];
             if (c == nullptr) {
                 entry.sides[side].state = side == 0 ? &field->state1() : &field->state2();
-                entry.sides[side].external_slot = external_slot.emplace(entry.sides[side].state, external_slot.size()).first;
+                entry.sides[side].external_slot =
+                    external_slot.emplace(entry.sides[side].state, external_slot.size()).first;
                 continue;
             }
             t.fused_mapping_of[c->mapping_index] = static_cast<std::ptrdiff_t>(mappings_.size());
             entry.sides[side].mapping = static_cast<std::ptrdiff_t>(mappings_.size());
-            mappings_.push_back(
-                {.mapping_index = c->mapping_index, .from = c->from, .to = c->to, .rows = l.mappings[c->mapping_index]->contact_barycentric_rows()});
+            mappings_.push_back({.mapping_index = c->mapping_index,
+                                 .from = c->from,
+                                 .to = c->to,
+                                 .rows = l.mappings[c->mapping_index]->contact_barycentric_rows()});
         }
         t.fused_field_of.emplace(ff, fields_.size());
         fields_.push_back(entry);
@@ -118,7 +126,8 @@ void FusedContactBlock::mark_steps(SubtreeLayout& l, const std::vector<std::ptrd
         if (s.mapping != nullptr) {
             s.fused = fused_mapping_of[s.mapping_index];
         } else if (s.force_field != nullptr) {
-            if (const std::size_t at = fused_field_of.find(s.force_field); at != kNone) s.fused = static_cast<std::ptrdiff_t>(at);
+            if (const std::size_t at = fused_field_of.find(s.force_field); at != kNone)
+                s.fused = static_cast<std::ptrdiff_t>(at);
         }
         const bool dropped = s.fused >= 0 && (s.force_field != nullptr || !mappings_[std::size_t(s.fused)].live);
         if (!dropped) steps_.push_back(s);
@@ -169,7 +178,8 @@ void FusedContactBlock::prepare() {
                 }
         for (std::size_t dof = 0; dof < zero_add_kind_.size(); ++dof)
             if (zero_add_kind_[dof] != 0)
-                zero_adds_.push_back({&parent->df[dof], zero_add_kind_[dof] == 2 ? std::numeric_limits<double>::quiet_NaN() : 0.0});
+                zero_adds_.push_back(
+                    {&parent->df[dof], zero_add_kind_[dof] == 2 ? std::numeric_limits<double>::quiet_NaN() : 0.0});
     }
     ready_ = true;
 }

@@ -75,8 +75,8 @@ private:
         std::size_t count = 0;
     };
     struct FusedSide {
-        std::ptrdiff_t mapping = -1;  ///< index in mappings_, or -1: external state
-        Vec3Object* state = nullptr;  ///< the external state (mapping == -1)
+        std::ptrdiff_t mapping = -1;    ///< index in mappings_, or -1: external state
+        Vec3Object* state = nullptr;    ///< the external state (mapping == -1)
         std::size_t external_slot = 0;  ///< the external state's place among the block's (parallel scratch)
     };
     struct FusedField {

@@ -59,7 +59,8 @@ ExtendedSpace extended_space(const SubtreeSystem& system) {
     for (const auto& [state, rows] : rows_of) {
         const auto o = static_cast<int>(space.offset.at(state));
         for (int r = 0; r < rows.outerSize(); ++r)
-            for (RowMatrix::InnerIterator it(rows, r); it; ++it) t.emplace_back(o + r, static_cast<int>(it.col()), it.value());
+            for (RowMatrix::InnerIterator it(rows, r); it; ++it)
+                t.emplace_back(o + r, static_cast<int>(it.col()), it.value());
     }
     space.p.resize(static_cast<int>(space.total), static_cast<int>(n));
     space.p.setFromTriplets(t.begin(), t.end());
@@ -73,9 +74,11 @@ ExtendedSpace extended_space(const SubtreeSystem& system) {
 /// and places of the pattern no triplet names stay 0.
 void fill_from_triplets(const TripletList& x, Index size, ColumnSparseMatrix& out, AssemblyWorkspace& w) {
     const bool same_sequence =
-        w.positions.size() == x.size() && out.rows() == size && out.isCompressed() && out.nonZeros() == w.slots_nonzeros &&
-        std::equal(x.begin(), x.end(), w.positions.begin(),
-                   [](const Triplet& t, const std::pair<Index, Index>& p) { return t.row() == p.first && t.col() == p.second; });
+        w.positions.size() == x.size() && out.rows() == size && out.isCompressed() &&
+        out.nonZeros() == w.slots_nonzeros &&
+        std::equal(x.begin(), x.end(), w.positions.begin(), [](const Triplet& t, const std::pair<Index, Index>& p) {
+            return t.row() == p.first && t.col() == p.second;
+        });
     if (same_sequence) {
         double* values = out.valuePtr();
         std::fill(values, values + out.nonZeros(), 0.0);
@@ -95,7 +98,8 @@ void fill_from_triplets(const TripletList& x, Index size, ColumnSparseMatrix& ou
         }
         return true;
     };
-    const bool reuse = out.rows() == size && out.cols() == size && out.isCompressed() && out.nonZeros() > 0 && find_slots();
+    const bool reuse =
+        out.rows() == size && out.cols() == size && out.isCompressed() && out.nonZeros() > 0 && find_slots();
     if (!reuse) {
         out.resize(static_cast<int>(size), static_cast<int>(size));
         out.setFromTriplets(x.begin(), x.end());
@@ -120,8 +124,8 @@ ColumnSparseMatrix assemble_mbk_matrix(const SubtreeSystem& system, double m, do
     return out;
 }
 
-void assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k, const MatrixAssemblyOptions& options,
-                         AssemblyWorkspace& workspace, ColumnSparseMatrix& out) {
+void assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k,
+                         const MatrixAssemblyOptions& options, AssemblyWorkspace& workspace, ColumnSparseMatrix& out) {
     const auto n = static_cast<Index>(system.size());
     const bool mapped = options.apply_mapped_components && !system.mapped_states().empty();
     ExtendedSpace space;
@@ -148,8 +152,9 @@ void assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double
         }
     // a triplet on a state outside the subtree (offset past the end) is dropped (dx 0 there)
     const Index total = space.total;
-    x.erase(std::remove_if(x.begin(), x.end(), [total](const Triplet& t) { return t.row() >= total || t.col() >= total; }),
-            x.end());
+    x.erase(
+        std::remove_if(x.begin(), x.end(), [total](const Triplet& t) { return t.row() >= total || t.col() >= total; }),
+        x.end());
     if (!mapped) {
         fill_from_triplets(x, total, out, workspace);
         return;
@@ -197,20 +202,21 @@ void apply_projective_constraints(const SubtreeSystem& system, ColumnSparseMatri
         Eigen::VectorXd expected = Eigen::VectorXd::Zero(size);
         for (Eigen::Index dof = 0; dof < size / width; ++dof)
             for (Index col = 0; col < width; ++col)
-                expected.segment(dof * width, width) += columns[static_cast<std::size_t>(col)].segment(dof * width, width) *
-                                                        check[dof * width + col];
+                expected.segment(dof * width, width) +=
+                    columns[static_cast<std::size_t>(col)].segment(dof * width, width) * check[dof * width + col];
         c->project_response(check);
         if (!(check - expected).isZero(1e-12 * std::max(1.0, expected.lpNorm<Eigen::Infinity>())))
-            throw std::logic_error("apply_projective_constraints: a projective constraint couples DOFs; its matrix form "
-                                   "is not supported");
+            throw std::logic_error(
+                "apply_projective_constraints: a projective constraint couples DOFs; its matrix form "
+                "is not supported");
         for (Eigen::Index dof = 0; dof < size / width; ++dof)
             for (Index col = 0; col < width; ++col)
                 for (Index row = 0; row < width; ++row) {
                     const double pv = columns[static_cast<std::size_t>(col)][dof * width + row];
                     const double identity = row == col ? 1.0 : 0.0;
                     if (pv == identity) continue;
-                    projector.emplace_back(static_cast<int>(o + dof * width + row), static_cast<int>(o + dof * width + col),
-                                           pv - identity);
+                    projector.emplace_back(static_cast<int>(o + dof * width + row),
+                                           static_cast<int>(o + dof * width + col), pv - identity);
                 }
     }
     if (!projector.empty()) {

@@ -25,16 +25,16 @@ struct MappingGraphScratch {
         bool operator==(const Group&) const = default;
     };
     std::vector<Group> groups;
-    std::vector<std::size_t> group_slots;  // size a power of two: a group's index + 1, 0 empty
-    std::vector<std::size_t> step_group;   // per non-mapping force step, in force_steps_ order
+    std::vector<std::size_t> group_slots;           // size a power of two: a group's index + 1, 0 empty
+    std::vector<std::size_t> step_group;            // per non-mapping force step, in force_steps_ order
     std::vector<std::array<std::size_t, 2>> edges;  // (from, to), in the order they were added
     std::vector<std::size_t> parents;               // per node: parents not yet reached
     std::vector<std::size_t> first_child;           // per node + 1: its children in `children`
     std::vector<std::size_t> children;
-    std::vector<std::size_t> ready;  // the breadth-first queue
-    std::vector<BaseMapping*> reached;  // the mappings in breadth-first order
+    std::vector<std::size_t> ready;                       // the breadth-first queue
+    std::vector<BaseMapping*> reached;                    // the mappings in breadth-first order
     std::vector<std::array<std::size_t, 2>> group_steps;  // (group, step) per non-mapping step
-    std::vector<std::size_t> first_member;  // per group + 1: its steps in `members`
+    std::vector<std::size_t> first_member;                // per group + 1: its steps in `members`
     std::vector<std::size_t> members;
     std::vector<ForceStep> ordered;  // the steps in the graph's order, swapped with the visitors'
 
@@ -76,7 +76,8 @@ private:
 /// Sorts `pairs` (key, value) into CSR form by key, each key's values in their order in `pairs`
 /// (a counting sort): key k's values are values[first[k] .. first[k + 1]).
 template <class Pairs>
-void bucket_by_key(const Pairs& pairs, std::size_t keys, std::vector<std::size_t>& first, std::vector<std::size_t>& values) {
+void bucket_by_key(const Pairs& pairs, std::size_t keys, std::vector<std::size_t>& first,
+                   std::vector<std::size_t>& values) {
     first.assign(keys + 1, 0);
     for (const auto& p : pairs) ++first[p[0] + 1];
     for (std::size_t k = 0; k < keys; ++k) first[k + 1] += first[k];
@@ -134,14 +135,16 @@ void order_as_mapping_graph(Node& root, const std::vector<BaseMapping*>& mapping
     for (std::size_t i = 0; i < mappings.size(); ++i) {
         const BaseMapping* m = mappings[i];
         const std::size_t node = first_mapping + i;
-        for (const BaseState* input : {static_cast<const BaseState*>(m->from()), static_cast<const BaseState*>(m->second_from())}) {
+        for (const BaseState* input :
+             {static_cast<const BaseState*>(m->from()), static_cast<const BaseState*>(m->second_from())}) {
             if (input == nullptr) continue;
             if (const std::size_t holder = g.first_group_of.find(input); holder != PointerIndex<BaseState>::npos)
                 edges.push_back({state_count + holder, node});
             else if (const std::size_t from = g.state_node.find(input); from != PointerIndex<BaseState>::npos)
                 edges.push_back({from, node});
         }
-        if (const std::size_t to = g.state_node.find(m->to()); to != PointerIndex<BaseState>::npos) edges.push_back({node, to});
+        if (const std::size_t to = g.state_node.find(m->to()); to != PointerIndex<BaseState>::npos)
+            edges.push_back({node, to});
     }
     // MappingGraphAlgorithms::traverseBottomUp: the breadth-first order from the parentless nodes
     // (in node order), each node's children in the order of their edges; reversed.

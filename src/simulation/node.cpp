@@ -84,7 +84,8 @@ void Node::set_gravity(const Vec3& g) {
 }
 
 void Node::set_dt(double dt) {
-    if (!std::isfinite(dt) || dt <= 0.0) throw_invalid_argument("Node '", name_, "': dt must be finite and > 0, got ", dt);
+    if (!std::isfinite(dt) || dt <= 0.0)
+        throw_invalid_argument("Node '", name_, "': dt must be finite and > 0, got ", dt);
     dt_ = dt;
 }
 

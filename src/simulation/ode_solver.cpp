@@ -17,7 +17,8 @@ void EulerImplicitSolver::init(Node& node) {
         throw_invalid_argument("EulerImplicitSolver: rayleighStiffness must be >= 0, got ", rayleigh_stiffness);
     if (!std::isfinite(rayleigh_mass) || rayleigh_mass < 0)
         throw_invalid_argument("EulerImplicitSolver: rayleighMass must be >= 0, got ", rayleigh_mass);
-    if (!std::isfinite(vdamping) || vdamping < 0) throw_invalid_argument("EulerImplicitSolver: vdamping must be >= 0, got ", vdamping);
+    if (!std::isfinite(vdamping) || vdamping < 0)
+        throw_invalid_argument("EulerImplicitSolver: vdamping must be >= 0, got ", vdamping);
 }
 
 void EulerImplicitSolver::record_cg(const CgStats& stats) {
@@ -161,6 +162,5 @@ void EulerExplicitSolver::solve(Node& node, double dt) {
     sys.scatter_velocity(v_);
     sys.add_to_positions(dt, v_);
 }
-
 
 }  // namespace penalty

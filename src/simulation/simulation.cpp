@@ -57,7 +57,8 @@ void Simulation::init() {
 
 void Simulation::set_multi_step(int collision_steps, int integration_steps, bool sofa_time) {
     constexpr int kMaxSubsteps = 1000000;
-    if (collision_steps < 1 || collision_steps > kMaxSubsteps || integration_steps < 1 || integration_steps > kMaxSubsteps)
+    if (collision_steps < 1 || collision_steps > kMaxSubsteps || integration_steps < 1 ||
+        integration_steps > kMaxSubsteps)
         throw_invalid_argument("Simulation: collision and integration steps must be between 1 and ", kMaxSubsteps,
                                ", got ", collision_steps, " and ", integration_steps);
     collision_steps_ = collision_steps;
@@ -71,8 +72,6 @@ void Simulation::add_contact_stage(ContactStage& stage) {
     contact_stages_.push_back(&stage);
 }
 
-void Simulation::remove_contact_stage(const ContactStage& stage) {
-    std::erase(contact_stages_, &stage);
-}
+void Simulation::remove_contact_stage(const ContactStage& stage) { std::erase(contact_stages_, &stage); }
 
 }  // namespace penalty

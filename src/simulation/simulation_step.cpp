@@ -18,8 +18,9 @@ void Simulation::step() {
     const double dt = root_.dt();
     if (step_driver_ != nullptr) {
         if (collision_steps_ != 1 || integration_steps_ != 1)
-            throw std::logic_error("Simulation::step: a step driver (the tunnelling guard) runs single steps, not a "
-                                   "MultiStepAnimationLoop's");
+            throw std::logic_error(
+                "Simulation::step: a step driver (the tunnelling guard) runs single steps, not a "
+                "MultiStepAnimationLoop's");
         step_driver_->run_step(*this, dt);
         return;
     }

@@ -85,7 +85,8 @@ void Simulation::find_run(std::size_t begin) {
         if (!unknowns || plan_[end].solver_node->ode_solver()->runs_in_plan_order()) break;
         std::sort(solver_states.begin(), solver_states.end());
         bool meet = false;
-        for (auto a = run_states.begin(), b = solver_states.begin(); !meet && a != run_states.end() && b != solver_states.end();) {
+        for (auto a = run_states.begin(), b = solver_states.begin();
+             !meet && a != run_states.end() && b != solver_states.end();) {
             if (*a < *b) {
                 ++a;
             } else if (*b < *a) {
@@ -126,15 +127,16 @@ void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::s
     if (!arena_) arena_ = std::make_unique<ThreadArena>(threads_);
     FirstErrorInOrder failure;
     arena_->arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                try {
-                    run_action(plan[i], dt);
-                } catch (...) {
-                    failure.record(i);
-                }
-            }
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                  try {
+                                      run_action(plan[i], dt);
+                                  } catch (...) {
+                                      failure.record(i);
+                                  }
+                              }
+                          });
     });
     // The error of the first failing solver in plan order, as a sequential run would raise it.
     failure.rethrow_if_any();

@@ -5,9 +5,11 @@
 namespace penalty {
 
 void NewtonRaphsonParameters::check() const {
-    if (max_iterations < 0) throw_invalid_argument("NewtonRaphsonSolver: maxNbIterationsNewton must be >= 0, got ", max_iterations);
+    if (max_iterations < 0)
+        throw_invalid_argument("NewtonRaphsonSolver: maxNbIterationsNewton must be >= 0, got ", max_iterations);
     if (max_line_search_iterations < 0)
-        throw_invalid_argument("NewtonRaphsonSolver: maxNbIterationsLineSearch must be >= 0, got ", max_line_search_iterations);
+        throw_invalid_argument("NewtonRaphsonSolver: maxNbIterationsLineSearch must be >= 0, got ",
+                               max_line_search_iterations);
     const std::pair<const char*, double> thresholds[] = {
         {"relativeSuccessiveStoppingThreshold", relative_successive},
         {"relativeInitialStoppingThreshold", relative_initial},
@@ -16,23 +18,35 @@ void NewtonRaphsonParameters::check() const {
         {"absoluteEstimateDifferenceThreshold", absolute_estimate_difference},
     };
     for (const auto& [name, value] : thresholds)
-        if (!std::isfinite(value) || value < 0) throw_invalid_argument("NewtonRaphsonSolver: ", name, " must be finite and >= 0, got ", value);
+        if (!std::isfinite(value) || value < 0)
+            throw_invalid_argument("NewtonRaphsonSolver: ", name, " must be finite and >= 0, got ", value);
     if (!std::isfinite(line_search_coefficient) || line_search_coefficient <= 0 || line_search_coefficient > 1)
-        throw_invalid_argument("NewtonRaphsonSolver: lineSearchCoefficient must be in (0, 1], got ", line_search_coefficient);
+        throw_invalid_argument("NewtonRaphsonSolver: lineSearchCoefficient must be in (0, 1], got ",
+                               line_search_coefficient);
 }
 
 std::string_view newton_status_name(NewtonStatus status) {
     switch (status) {
-        case NewtonStatus::undefined: return "Undefined";
-        case NewtonStatus::running: return "Running";
-        case NewtonStatus::converged_equilibrium: return "ConvergedEquilibrium";
-        case NewtonStatus::diverged_line_search: return "DivergedLineSearch";
-        case NewtonStatus::diverged_max_iterations: return "DivergedMaxIterations";
-        case NewtonStatus::converged_residual_successive_ratio: return "ConvergedResidualSuccessiveRatio";
-        case NewtonStatus::converged_residual_initial_ratio: return "ConvergedResidualInitialRatio";
-        case NewtonStatus::converged_absolute_residual: return "ConvergedAbsoluteResidual";
-        case NewtonStatus::converged_relative_estimate_difference: return "ConvergedRelativeEstimateDifference";
-        case NewtonStatus::converged_absolute_estimate_difference: return "ConvergedAbsoluteEstimateDifference";
+        case NewtonStatus::undefined:
+            return "Undefined";
+        case NewtonStatus::running:
+            return "Running";
+        case NewtonStatus::converged_equilibrium:
+            return "ConvergedEquilibrium";
+        case NewtonStatus::diverged_line_search:
+            return "DivergedLineSearch";
+        case NewtonStatus::diverged_max_iterations:
+            return "DivergedMaxIterations";
+        case NewtonStatus::converged_residual_successive_ratio:
+            return "ConvergedResidualSuccessiveRatio";
+        case NewtonStatus::converged_residual_initial_ratio:
+            return "ConvergedResidualInitialRatio";
+        case NewtonStatus::converged_absolute_residual:
+            return "ConvergedAbsoluteResidual";
+        case NewtonStatus::converged_relative_estimate_difference:
+            return "ConvergedRelativeEstimateDifference";
+        case NewtonStatus::converged_absolute_estimate_difference:
+            return "ConvergedAbsoluteEstimateDifference";
     }
     return "?";
 }
@@ -93,8 +107,7 @@ void StaticSolver::solve(Node& node, double /*dt*/) {
     bool converged = false;
     for (; iterations_ < newton.max_iterations; ++iterations_) {
         const double previous_squared_residual = squared_residual;
-        const double squared_previous_x =
-            newton.relative_estimate_difference > 0 ? squared_positions_norm(sys) : 0.0;
+        const double squared_previous_x = newton.relative_estimate_difference > 0 ? squared_positions_norm(sys) : 0.0;
         // computeGradientFromCurrentGuess, solveLinearEquation: (−K)·dx = r
         {
             const SubtreeSystem::FixedReaders fixed_readers(sys);  // the contacts do not change in a solve
@@ -133,7 +146,8 @@ void StaticSolver::solve(Node& node, double /*dt*/) {
             converged_on(NewtonStatus::converged_residual_successive_ratio);
             break;
         }
-        if (newton.relative_initial > 0 && squared_residual < squared(newton.relative_initial) * first_squared_residual) {
+        if (newton.relative_initial > 0 &&
+            squared_residual < squared(newton.relative_initial) * first_squared_residual) {
             converged_on(NewtonStatus::converged_residual_initial_ratio);
             break;
         }

@@ -97,7 +97,8 @@ void find_step_chains(const SubtreeLayout& layout, const std::vector<ForceStep>&
     t.step_chain.resize(steps.size());
     for (std::size_t i = 0; i < steps.size(); ++i) t.step_chain[i] = t.chain(written_state(steps[i]), count);
     t.mapping_chain.resize(mapped.size());
-    for (std::size_t i = 0; i < mapped.size(); ++i) t.mapping_chain[i] = t.chain(layout.mappings[mapped[i]]->to(), count);
+    for (std::size_t i = 0; i < mapped.size(); ++i)
+        t.mapping_chain[i] = t.chain(layout.mappings[mapped[i]]->to(), count);
     group_by_chain(t.step_chain, count, chains.step_first, chains.steps_of);
     group_by_chain(t.mapping_chain, count, chains.mapping_first, chains.mappings_of);
     // mappings_of holds places in `mapped`: the layout's indices

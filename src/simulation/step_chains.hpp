@@ -19,7 +19,6 @@
 
 namespace penalty::detail {
 
-
 /// The chains of `steps` (the layout's, or the fused block's) with the mappings of `mapped` (the
 /// layout's mapping indices whose J the product applies, parents first).
 void find_step_chains(const SubtreeLayout& layout, const std::vector<ForceStep>& steps,

@@ -34,8 +34,8 @@ struct LayoutBuildLists {
     }
     /// The list of `s` in (index, lists, used), a new empty one if it has none.
     template <class T>
-    static std::vector<T>& list_of(const BaseState* s, PointerIndex<BaseState>& index, std::vector<std::vector<T>>& lists,
-                                   std::size_t& used) {
+    static std::vector<T>& list_of(const BaseState* s, PointerIndex<BaseState>& index,
+                                   std::vector<std::vector<T>>& lists, std::size_t& used) {
         const auto [at, added] = index.emplace(s, used);
         if (added) {
             if (lists.size() == used) lists.emplace_back();
@@ -58,7 +58,8 @@ struct LayoutBuildLists {
 void collect(Node& node, SubtreeLayout& l) {
     if (BaseState* s = node.state()) {
         if (node.mapping()) {
-            if (node.mapping()->to() != s) throw_invalid_argument("Node '", node.name(), "': the mapping output is not the node's state");
+            if (node.mapping()->to() != s)
+                throw_invalid_argument("Node '", node.name(), "': the mapping output is not the node's state");
             l.mapped.push_back(s);
             l.mappings.push_back(node.mapping());
         } else {
@@ -119,8 +120,9 @@ void find_readers(SubtreeLayout& l, LayoutBuildLists& t) {
         DxReaders& r = l.dx_readers.emplace_back();
         r.mapping = m;
         // (a mass on the mapped state reads every row's dx)
-        r.selective = m->maps_selected_rows() &&
-                      std::none_of(l.masses.begin(), l.masses.end(), [&](const auto& e) { return e.first->state() == m->to(); });
+        r.selective = m->maps_selected_rows() && std::none_of(l.masses.begin(), l.masses.end(), [&](const auto& e) {
+                          return e.first->state() == m->to();
+                      });
         // the force fields acting on the mapped state and the mappings reading it, in the
         // subtree's order
         if (const auto* on = t.fields_acting_on(m->to())) r.force_fields = *on;

@@ -78,7 +78,7 @@ struct SubtreeLayout {
     // mapped states and their mappings, pre-order: parents before children (J·dx)
     std::vector<BaseState*> mapped;
     std::vector<BaseMapping*> mappings;
-    std::vector<DxReaders> dx_readers;  ///< one per mappings entry, same order
+    std::vector<DxReaders> dx_readers;      ///< one per mappings entry, same order
     std::vector<std::size_t> all_mappings;  ///< 0 … mappings.size() − 1: a product's J passes
     /// states used by the subtree's force fields and mappings but outside it, with their readers
     std::vector<BaseState*> external;

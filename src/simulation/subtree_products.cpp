@@ -2,12 +2,12 @@
 // passes, dot products, projections.
 #include "penalty/simulation/subtree_system.hpp"
 
-#include "penalty/core/error.hpp"
 #include "flat_vector_ops.hpp"
 #include "fused_contact_block.hpp"
 #include "kernels/prefetch.hpp"
-#include "subtree_layout.hpp"
+#include "penalty/core/error.hpp"
 #include "step_chains.hpp"
+#include "subtree_layout.hpp"
 #include "subtree_scratch.hpp"
 
 #include <tbb/blocked_range.h>
@@ -24,13 +24,15 @@ using detail::state_dot;
 namespace {
 /// The one component a force step calls.
 const void* step_object(const detail::ForceStep& s) {
-    return s.mass != nullptr ? static_cast<const void*>(s.mass)
-                             : s.force_field != nullptr ? static_cast<const void*>(s.force_field) : static_cast<const void*>(s.mapping);
+    return s.mass != nullptr          ? static_cast<const void*>(s.mass)
+           : s.force_field != nullptr ? static_cast<const void*>(s.force_field)
+                                      : static_cast<const void*>(s.mapping);
 }
 }  // namespace
 
 double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
-    if (blocked_reductions_) return detail::blocked_dot(scratch_->reduction_blocks, a.data(), b.data(), scratch_->block_sums);
+    if (blocked_reductions_)
+        return detail::blocked_dot(scratch_->reduction_blocks, a.data(), b.data(), scratch_->block_sums);
     double total = 0.0;
     for (std::size_t s = 0; s < layout_->independent.size(); ++s) {
         const Eigen::Index begin = layout_->offsets[s];
@@ -102,7 +104,6 @@ void SubtreeSystem::apply_mbk(const Eigen::VectorXd& dx, Eigen::VectorXd& out, d
     if (do_project) project(out);
 }
 
-
 double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, bool first, Eigen::VectorXd& p,
                                         Eigen::VectorXd& q, double m, double b, double k) const {
     PENALTY_DEMAND(r.size() == layout_->size && p.size() == layout_->size && &r != &p);
@@ -139,13 +140,15 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
 
 double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                                           Eigen::VectorXd& x, Eigen::VectorXd& r) const {
-    PENALTY_DEMAND(p.size() == layout_->size && q.size() == layout_->size && x.size() == layout_->size && r.size() == layout_->size);
+    PENALTY_DEMAND(p.size() == layout_->size && q.size() == layout_->size && x.size() == layout_->size &&
+                   r.size() == layout_->size);
     const double* ps = p.data();
     const double* qs = q.data();
     double* xs = x.data();
     double* rs = r.data();
     if (blocked_reductions_)
-        return detail::blocked_update_and_residual(scratch_->reduction_blocks, alpha, ps, qs, xs, rs, scratch_->block_sums);
+        return detail::blocked_update_and_residual(scratch_->reduction_blocks, alpha, ps, qs, xs, rs,
+                                                   scratch_->block_sums);
     double total = 0.0;  // dot(r, r), each state's sum over its DOFs as they are updated
     for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
         const Eigen::Index begin = layout_->offsets[i];
@@ -203,18 +206,22 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
     const bool concurrent = scratch_->readers_fixed && scratch_->rows_known && chains_worth_tasks(chains, steps.size());
     if (concurrent) {
         ++scratch_->concurrent_products;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t c = r.begin(); c != r.end(); ++c) {
-                for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i) map_dx(chains.mappings_of[i]);
-                for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i) zero_mapped_df(chains.mappings_of[i]);
-            }
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t c = r.begin(); c != r.end(); ++c) {
+                                  for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i)
+                                      map_dx(chains.mappings_of[i]);
+                                  for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i)
+                                      zero_mapped_df(chains.mappings_of[i]);
+                              }
+                          });
         if (fused) fused_->begin_product(k, b, /*parallel=*/true);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-            for (std::size_t c = r.begin(); c != r.end(); ++c)
-                for (std::size_t i = chains.step_first[c]; i < chains.step_first[c + 1]; ++i)
-                    apply_step(steps[chains.steps_of[i]], m, b, k, fused);
-        });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t c = r.begin(); c != r.end(); ++c)
+                                  for (std::size_t i = chains.step_first[c]; i < chains.step_first[c + 1]; ++i)
+                                      apply_step(steps[chains.steps_of[i]], m, b, k, fused);
+                          });
         return;
     }
     // The loops below call thousands of small objects (a contact pair's states and mappings) a
@@ -287,12 +294,14 @@ void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorX
     out.setZero(layout_->size);
     for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
         const auto n = layout_->sizes[i];
-        const auto it = std::find_if(layout_->masses.begin(), layout_->masses.end(), [&](const auto& e) { return e.first->state() == layout_->independent[i]; });
-        if (it == layout_->masses.end()) throw_invalid_argument("EulerExplicitSolver: state '", layout_->independent[i]->state_name(), "' has no mass");
+        const auto it = std::find_if(layout_->masses.begin(), layout_->masses.end(),
+                                     [&](const auto& e) { return e.first->state() == layout_->independent[i]; });
+        if (it == layout_->masses.end())
+            throw_invalid_argument("EulerExplicitSolver: state '", layout_->independent[i]->state_name(),
+                                   "' has no mass");
         it->first->apply_inverse(in.segment(layout_->offsets[i], n), out.segment(layout_->offsets[i], n));
     }
 }
-
 
 double SubtreeSystem::total_energy() const {
     double e = 0.0;
@@ -300,6 +309,5 @@ double SubtreeSystem::total_energy() const {
     for (const auto& [mass, g] : layout_->masses) e += mass->kinetic_energy() + mass->gravity_potential_energy(g);
     return e;
 }
-
 
 }  // namespace penalty

@@ -14,9 +14,9 @@ namespace penalty::detail {
 
 /// The rows of one mapped state a product maps (SubtreeLayout::dx_readers, same index).
 struct DxRows {
-    bool restricted = false;          ///< restricted to `rows` (ascending), or every row
+    bool restricted = false;  ///< restricted to `rows` (ascending), or every row
     std::vector<std::uint32_t> rows;
-    bool found = false;               ///< `restricted` and `rows` found under the current FixedReaders
+    bool found = false;  ///< `restricted` and `rows` found under the current FixedReaders
 };
 
 struct SubtreeScratch {
@@ -28,7 +28,7 @@ struct SubtreeScratch {
     /// Every mapped state's read rows found under the current FixedReaders (its first product
     /// ran): the products after it may run in chains on several threads.
     bool rows_known = false;
-    std::size_t concurrent_products = 0;     ///< products whose chains ran on TBB's threads
+    std::size_t concurrent_products = 0;  ///< products whose chains ran on TBB's threads
     /// The blocked reductions' blocks (made when they are turned on) and their sums.
     ReductionBlocks reduction_blocks;
     std::vector<double> block_sums;

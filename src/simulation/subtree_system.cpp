@@ -2,9 +2,9 @@
 // its products map and clear.
 #include "penalty/simulation/subtree_system.hpp"
 
-#include "penalty/core/error.hpp"
 #include "flat_vector_ops.hpp"
 #include "fused_contact_block.hpp"
+#include "penalty/core/error.hpp"
 #include "subtree_layout.hpp"
 #include "subtree_scratch.hpp"
 
@@ -34,7 +34,8 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
 SubtreeSystem::~SubtreeSystem() = default;
 
 void SubtreeSystem::set_blocked_reductions(bool on) {
-    if (on && scratch_->reduction_blocks.segments.empty()) scratch_->reduction_blocks = detail::reduction_blocks(*layout_);
+    if (on && scratch_->reduction_blocks.segments.empty())
+        scratch_->reduction_blocks = detail::reduction_blocks(*layout_);
     blocked_reductions_ = on;
 }
 
@@ -69,7 +70,8 @@ bool SubtreeSystem::offsets_valid() const {
 SubtreeSystem& SubtreeSystemCache::get(Node& node, bool mapping_graph_order, bool fuse_contact_products) {
     const std::uint64_t version = node.structure_version();
     if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid() ||
-        system_->mapping_graph_order() != mapping_graph_order || system_->fuses_contact_products() != fuse_contact_products) {
+        system_->mapping_graph_order() != mapping_graph_order ||
+        system_->fuses_contact_products() != fuse_contact_products) {
         system_.reset();  // the old system first: its pointers may dangle
         system_.emplace(node, mapping_graph_order, fuse_contact_products);
         node_ = &node;
@@ -104,12 +106,12 @@ bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<con
     return true;
 }
 
-
 void SubtreeSystem::clear_external_scratch(bool forces) const {
     for (std::size_t i = 0; i < layout_->external.size(); ++i) {
         BaseState& s = *layout_->external[i];
-        const bool listed = s.is_static() && s.num_dofs() >= kMinDofsForScratchRows &&
-                            list_rows_read(s, layout_->external_readers[i].force_fields, layout_->external_readers[i].mappings);
+        const bool listed =
+            s.is_static() && s.num_dofs() >= kMinDofsForScratchRows &&
+            list_rows_read(s, layout_->external_readers[i].force_fields, layout_->external_readers[i].mappings);
         BaseState::ScratchRows& record = forces ? s.static_force_rows : s.static_work_rows;
         const auto width = static_cast<Eigen::Index>(s.deriv_size());
         const auto clear = [&](FlatVector v) {

@@ -52,7 +52,8 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
         for (const auto& [s, rows] : p_rows) {
             const Index o = ext_offset.at(s);
             for (Eigen::Index c = 0; c < rows.outerSize(); ++c)
-                for (ColMatrix::InnerIterator itr(rows, c); itr; ++itr) t.emplace_back(o + itr.row(), itr.col(), itr.value());
+                for (ColMatrix::InnerIterator itr(rows, c); itr; ++itr)
+                    t.emplace_back(o + itr.row(), itr.col(), itr.value());
         }
         p.setFromTriplets(t.begin(), t.end());
     }
@@ -65,7 +66,9 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
     for (const auto& entry : layout_->masses)  // masses on mapped states: Pᵀ·(m·M)·P with the stiffness
         if (layout_->offset_of.find(entry.first->state()) == layout_->offset_of.end())
             entry.first->add_mass_triplets(kt, offs(entry.first->state()), m);
-    kt.erase(std::remove_if(kt.begin(), kt.end(), [&](const Triplet& t) { return t.row() >= total || t.col() >= total; }), kt.end());
+    kt.erase(
+        std::remove_if(kt.begin(), kt.end(), [&](const Triplet& t) { return t.row() >= total || t.col() >= total; }),
+        kt.end());
     ColMatrix kext(total, total);
     kext.setFromTriplets(kt.begin(), kt.end());
     TripletList mt;

@@ -47,16 +47,21 @@ struct TunnellingGuard::Snapshot {
 
 const char* tunnelling_mode_name(TunnellingMode mode) {
     switch (mode) {
-        case TunnellingMode::off: return "off";
-        case TunnellingMode::warn: return "warn";
-        case TunnellingMode::substep: return "substep";
-        case TunnellingMode::stiffen: return "stiffen";
+        case TunnellingMode::off:
+            return "off";
+        case TunnellingMode::warn:
+            return "warn";
+        case TunnellingMode::substep:
+            return "substep";
+        case TunnellingMode::stiffen:
+            return "stiffen";
     }
     return "?";
 }
 
 std::optional<TunnellingMode> parse_tunnelling_mode(std::string_view name) {
-    for (TunnellingMode m : {TunnellingMode::off, TunnellingMode::warn, TunnellingMode::substep, TunnellingMode::stiffen})
+    for (TunnellingMode m :
+         {TunnellingMode::off, TunnellingMode::warn, TunnellingMode::substep, TunnellingMode::stiffen})
         if (name == tunnelling_mode_name(m)) return m;
     return std::nullopt;
 }
@@ -72,10 +77,12 @@ void TunnellingOptions::validate() const {
         throw_invalid_argument("tunnelling guard: touch_tolerance ", ccd.touch_tolerance, " is outside (0, 1)");
     if (!(ccd.advance_fraction > 0.0 && ccd.advance_fraction < 1.0))
         throw_invalid_argument("tunnelling guard: advance_fraction ", ccd.advance_fraction, " is outside (0, 1)");
-    if (ccd.max_iterations < 1) throw_invalid_argument("tunnelling guard: max_iterations ", ccd.max_iterations, " must be >= 1");
+    if (ccd.max_iterations < 1)
+        throw_invalid_argument("tunnelling guard: max_iterations ", ccd.max_iterations, " must be >= 1");
 }
 
-TunnellingGuard::TunnellingGuard(Simulation& simulation, std::vector<ContactPipeline*> pipelines, TunnellingOptions options)
+TunnellingGuard::TunnellingGuard(Simulation& simulation, std::vector<ContactPipeline*> pipelines,
+                                 TunnellingOptions options)
     : simulation_(&simulation), pipelines_(std::move(pipelines)), step_start_(std::make_unique<Snapshot>()) {
     for (const ContactPipeline* p : pipelines_)
         if (p == nullptr) throw_invalid_argument("TunnellingGuard: a null pipeline");
@@ -301,7 +308,8 @@ void TunnellingGuard::set_contact_time_step(double h) {
         for (const ContactGraphEntry& e : p->graph_entries()) {
             if (e.force_field == nullptr) continue;
             PenaltyForceField& f = e.force_field->field();
-            auto it = std::find_if(time_step_of_.begin(), time_step_of_.end(), [&](const auto& x) { return x.first == &f; });
+            auto it =
+                std::find_if(time_step_of_.begin(), time_step_of_.end(), [&](const auto& x) { return x.first == &f; });
             if (it == time_step_of_.end()) {
                 if (h == 0.0) continue;
                 time_step_of_.emplace_back(&f, f.parameters().time_step);
@@ -339,7 +347,8 @@ void TunnellingGuard::take_snapshot(Snapshot& s) {
             if (e.force_field == nullptr) continue;
             const PenaltyForceField& f = e.force_field->field();
             const PenaltyParameters& q = f.parameters();
-            const bool whole = q.damping != 0.0 || q.friction != FrictionModel::ignored || q.tangential_damping != 0.0 ||
+            const bool whole = q.damping != 0.0 || q.friction != FrictionModel::ignored ||
+                               q.tangential_damping != 0.0 ||
                                p->keeps_step_start();  // Newton iterates rebuild the contact list
             s.fields.push_back(&e.force_field->field());
             s.whole.push_back(whole ? 1 : 0);
@@ -400,10 +409,12 @@ void TunnellingGuard::restore_applied_forces(const Snapshot& start) {
             for (std::size_t k = 0; k < start.state_count && c == nullptr; ++k)
                 if (start.states[k].state == st) c = &start.states[k];
         if (auto* v = dynamic_cast<Vec3Object*>(st)) {
-            if (c && c->f3.size() == v->external_force.size()) std::copy(c->f3.begin(), c->f3.end(), v->external_force.begin());
+            if (c && c->f3.size() == v->external_force.size())
+                std::copy(c->f3.begin(), c->f3.end(), v->external_force.begin());
             else std::fill(v->external_force.begin(), v->external_force.end(), Vec3::Zero());
         } else if (auto* r = dynamic_cast<Rigid3Object*>(st)) {
-            if (c && c->fr.size() == r->external_force.size()) std::copy(c->fr.begin(), c->fr.end(), r->external_force.begin());
+            if (c && c->fr.size() == r->external_force.size())
+                std::copy(c->fr.begin(), c->fr.end(), r->external_force.begin());
             else std::fill(r->external_force.begin(), r->external_force.end(), RigidDeriv{});
         }
     });

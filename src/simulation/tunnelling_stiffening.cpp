@@ -83,7 +83,8 @@ bool start_gap(const ContactGraphEntry& e, const PenaltyContact& c, double& u0) 
 }
 
 bool usable(const ContactGraphEntry& e) {
-    return e.force_field != nullptr && e.contact != nullptr && e.point_states[0] != nullptr && e.point_states[1] != nullptr;
+    return e.force_field != nullptr && e.contact != nullptr && e.point_states[0] != nullptr &&
+           e.point_states[1] != nullptr;
 }
 
 }  // namespace

@@ -46,10 +46,9 @@ inline std::unique_ptr<Mesh> triangle_mesh(const std::vector<Vec3>& pts, std::ve
 
 /// Closed octahedron (6 vertices, 8 outward triangles, 12 edges), centred at c, radius s.
 inline std::unique_ptr<Mesh> octahedron(const Vec3& c = Vec3::Zero(), double s = 1.0) {
-    std::vector<Vec3> p = {c + s * Vec3(1, 0, 0), c + s * Vec3(-1, 0, 0), c + s * Vec3(0, 1, 0),
-                           c + s * Vec3(0, -1, 0), c + s * Vec3(0, 0, 1), c + s * Vec3(0, 0, -1)};
-    std::vector<Triangle> t = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
-                               {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+    std::vector<Vec3> p = {c + s * Vec3(1, 0, 0),  c + s * Vec3(-1, 0, 0), c + s * Vec3(0, 1, 0),
+                           c + s * Vec3(0, -1, 0), c + s * Vec3(0, 0, 1),  c + s * Vec3(0, 0, -1)};
+    std::vector<Triangle> t = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
     return triangle_mesh(p, t);
 }
 
@@ -60,7 +59,9 @@ inline Vec3 rand_vec(std::mt19937& g, double s) {
 
 inline Vec3 rand_unit(std::mt19937& g) {
     Vec3 v;
-    do { v = rand_vec(g, 1.0); } while (v.squaredNorm() < 1e-3 || v.squaredNorm() > 1.0);
+    do {
+        v = rand_vec(g, 1.0);
+    } while (v.squaredNorm() < 1e-3 || v.squaredNorm() > 1.0);
     return v.normalized();
 }
 

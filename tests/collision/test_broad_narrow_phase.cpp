@@ -50,10 +50,18 @@ CollisionModelParams static_mp(const char* name) {
 IntersectionParams method_params(IntersectionMethod m) {
     IntersectionParams p;
     switch (m) {
-        case IntersectionMethod::Discrete: p = IntersectionParams::discrete(); break;
-        case IntersectionMethod::NewProximity: p = IntersectionParams::new_proximity(); break;
-        case IntersectionMethod::MinProximity: p = IntersectionParams::min_proximity(); break;
-        case IntersectionMethod::LocalMinDistance: p = IntersectionParams::local_min_distance(); break;
+        case IntersectionMethod::Discrete:
+            p = IntersectionParams::discrete();
+            break;
+        case IntersectionMethod::NewProximity:
+            p = IntersectionParams::new_proximity();
+            break;
+        case IntersectionMethod::MinProximity:
+            p = IntersectionParams::min_proximity();
+            break;
+        case IntersectionMethod::LocalMinDistance:
+            p = IntersectionParams::local_min_distance();
+            break;
     }
     if (m != IntersectionMethod::Discrete) {
         p.alarm_distance = 0.05;
@@ -219,7 +227,8 @@ TEST(Bvh, IsAValidTreeOverTheElementBoxes) {
     // balanced median split: 1000 -> 500 -> 250 -> 125 -> 62/63 -> 31/32 -> 15/16 -> 7/8 -> 3/4
     EXPECT_EQ(t.depth(), 9);
     EXPECT_EQ(t.nodes().size(), 2 * 256u - 1);
-    for (std::uint32_t i = 0; i < 1000; ++i) ASSERT_TRUE(same_bits(t.element_boxes()[i].min, m.element_box(Index(i)).min));
+    for (std::uint32_t i = 0; i < 1000; ++i)
+        ASSERT_TRUE(same_bits(t.element_boxes()[i].min, m.element_box(Index(i)).min));
 }
 
 TEST(Bvh, RefitKeepsTheTreeForSmallMotionAndRebuildsWhenDegraded) {
@@ -263,18 +272,18 @@ TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
     std::mt19937 g(11);
     Vec3State s = random_cloud(10, 1.0, g);
     auto tm = test::make_torus(8, 6, 0.5, 0.2, Vec3::Zero(), g);
-    SphereModel a(s, 0.1, {}, mp("a", 0, true));           // self pair
+    SphereModel a(s, 0.1, {}, mp("a", 0, true));             // self pair
     TriangleModel t(tm->state, tm->topo, mp("t", 1, true));  // self pair (Triangle-Triangle NP)
     PointModel p(tm->state, &tm->topo, mp("p", 1, true));    // same node as t: kept (self_collision)
     SphereModel off(s, 0.1, {}, mp("off"));
     off.params().active = false;
     SphereModel ns1(s, 0.1, {}, mp("ns1", 5, true));
-    ns1.params().simulated = false;                          // no self pair (non-simulated)
+    ns1.params().simulated = false;  // no self pair (non-simulated)
     SphereModel ns2(s, 0.1, {}, mp("ns2"));
-    ns2.params().simulated = false;                          // ns1-ns2 never pair
+    ns2.params().simulated = false;  // ns1-ns2 never pair
     SphereModel g1(s, 0.1, {}, mp("g1", -1, false, {4, 7}));
-    SphereModel g2(s, 0.1, {}, mp("g2", -1, false, {7}));   // shares group 7 with g1
-    PointModel p2(tm->state, &tm->topo, mp("p2", 1, false)); // same node as t, self_collision off
+    SphereModel g2(s, 0.1, {}, mp("g2", -1, false, {7}));     // shares group 7 with g1
+    PointModel p2(tm->state, &tm->topo, mp("p2", 1, false));  // same node as t, self_collision off
     std::vector<CollisionModel*> models = {&a, &t, &p, &off, &ns1, &ns2, &g1, &g2, &p2};
     std::vector<ModelPair> pairs, unsupported;
     broad_phase(IntersectionParams::new_proximity(), models, pairs, &unsupported);
@@ -284,10 +293,10 @@ TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
     // earlier models in order; each pair (model j, earlier model) swapped only into registered
     // order (Triangle before Sphere and Point, Sphere before Point), so two models of one type
     // are keyed (later, earlier)
-    const std::vector<std::string> expected = {
-        "a-a",   "t-t",    "t-a",    "p-p",    "a-p",    "t-p",   "ns1-a", "t-ns1",  "ns1-p",
-        "ns2-a", "t-ns2",  "ns2-p",  "g1-a",   "t-g1",   "g1-p",  "g1-ns1", "g1-ns2", "g2-a",
-        "t-g2",  "g2-p",   "g2-ns1", "g2-ns2", "a-p2",   "ns1-p2", "ns2-p2", "g1-p2", "g2-p2"};
+    const std::vector<std::string> expected = {"a-a",    "t-t",    "t-a",    "p-p",    "a-p",   "t-p",  "ns1-a",
+                                               "t-ns1",  "ns1-p",  "ns2-a",  "t-ns2",  "ns2-p", "g1-a", "t-g1",
+                                               "g1-p",   "g1-ns1", "g1-ns2", "g2-a",   "t-g2",  "g2-p", "g2-ns1",
+                                               "g2-ns2", "a-p2",   "ns1-p2", "ns2-p2", "g1-p2", "g2-p2"};
     EXPECT_EQ(got, expected);
     EXPECT_TRUE(unsupported.empty());  // NewProximity detects every pair of these types
     // MinProximity ignores Triangle-Triangle: the kept pair goes to `unsupported`, not `pairs`
@@ -360,8 +369,7 @@ TEST(NarrowPhase, MeshScenesEqualExhaustiveForEveryMethodSelfCollisionOnAndOff) 
                 for (const auto& p : last) self_pairs += same_node(*p.model1, *p.model2) ? 1 : 0;
                 if (!self) {
                     EXPECT_EQ(self_pairs, 0u);
-                } else if (method == IntersectionMethod::NewProximity ||
-                           method == IntersectionMethod::MinProximity) {
+                } else if (method == IntersectionMethod::NewProximity || method == IntersectionMethod::MinProximity) {
                     // (LocalMinDistance's cone filters reject these near-surface self contacts)
                     EXPECT_GT(self_pairs, 0u);
                 }
@@ -432,35 +440,38 @@ TEST(NarrowPhase, NormalOverwriteLastsThroughTheLaterPairsOfOneDetection) {
     const tbb::global_control gc(tbb::global_control::max_allowed_parallelism, 2);
     tbb::task_arena arena(2);
     for (const bool concurrent : {false, true})
-    for (const ContactDetection detection : {ContactDetection::bvh, ContactDetection::exhaustive}) {
-        if (concurrent && detection == ContactDetection::exhaustive) continue;
-        auto a = test::triangle_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});         // n = +z
-        auto b = test::triangle_mesh({{0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1}}, {{0, 1, 2}});   // n = +z
-        auto c = test::triangle_mesh({{0, 0, -0.1}, {0, 1, -0.1}, {1, 0, -0.1}}, {{0, 1, 2}});  // n = −z
-        CollisionModelParams two_sided;
-        two_sided.both_side = true;
-        TriangleModel ta(a->state, a->topo), tb(b->state, b->topo), tc(c->state, c->topo, two_sided);
-        IntersectionParams params = IntersectionParams::new_proximity();
-        params.alarm_distance = 0.15;
-        params.contact_distance = 0.05;
-        CollisionPipelineOptions options;
-        options.pair_concurrency = concurrent ? PairConcurrency::always : PairConcurrency::never;
-        CollisionPipeline pipe(params, options, detection);
-        pipe.set_models({&ta, &tb, &tc});
-        for (int step = 0; step < 2; ++step) {  // the next detection computes them again first
-            const SceneDetection* detected = nullptr;
-            arena.execute([&] { detected = &pipe.detect(); });
-            const SceneDetection& got = *detected;
-            EXPECT_EQ(pipe.last_detection_concurrent(), concurrent);
-            ASSERT_NE(find_pair(got, &tb, &ta), nullptr);
-            ASSERT_NE(find_pair(got, &tc, &ta), nullptr);
-            const ModelPairDetection* cb = find_pair(got, &tc, &tb);
-            ASSERT_TRUE(cb == nullptr || cb->outputs.empty());
-            EXPECT_EQ(ta.normal(0), Vec3(0, 0, -1)) << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
-            EXPECT_EQ(tb.normal(0), Vec3(0, 0, 1)) << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
-            EXPECT_EQ(tc.normal(0), Vec3(0, 0, 1)) << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
+        for (const ContactDetection detection : {ContactDetection::bvh, ContactDetection::exhaustive}) {
+            if (concurrent && detection == ContactDetection::exhaustive) continue;
+            auto a = test::triangle_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});           // n = +z
+            auto b = test::triangle_mesh({{0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1}}, {{0, 1, 2}});     // n = +z
+            auto c = test::triangle_mesh({{0, 0, -0.1}, {0, 1, -0.1}, {1, 0, -0.1}}, {{0, 1, 2}});  // n = −z
+            CollisionModelParams two_sided;
+            two_sided.both_side = true;
+            TriangleModel ta(a->state, a->topo), tb(b->state, b->topo), tc(c->state, c->topo, two_sided);
+            IntersectionParams params = IntersectionParams::new_proximity();
+            params.alarm_distance = 0.15;
+            params.contact_distance = 0.05;
+            CollisionPipelineOptions options;
+            options.pair_concurrency = concurrent ? PairConcurrency::always : PairConcurrency::never;
+            CollisionPipeline pipe(params, options, detection);
+            pipe.set_models({&ta, &tb, &tc});
+            for (int step = 0; step < 2; ++step) {  // the next detection computes them again first
+                const SceneDetection* detected = nullptr;
+                arena.execute([&] { detected = &pipe.detect(); });
+                const SceneDetection& got = *detected;
+                EXPECT_EQ(pipe.last_detection_concurrent(), concurrent);
+                ASSERT_NE(find_pair(got, &tb, &ta), nullptr);
+                ASSERT_NE(find_pair(got, &tc, &ta), nullptr);
+                const ModelPairDetection* cb = find_pair(got, &tc, &tb);
+                ASSERT_TRUE(cb == nullptr || cb->outputs.empty());
+                EXPECT_EQ(ta.normal(0), Vec3(0, 0, -1))
+                    << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
+                EXPECT_EQ(tb.normal(0), Vec3(0, 0, 1))
+                    << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
+                EXPECT_EQ(tc.normal(0), Vec3(0, 0, 1))
+                    << (detection == ContactDetection::bvh ? "bvh" : "exhaustive") << ", step " << step;
+            }
         }
-    }
 }
 
 /// Every model type, with the beyond-SOFA pairs (Cylinder, Tetrahedron–Point) enabled.
@@ -627,8 +638,8 @@ TEST(NarrowPhase, MovingPointsKeepTheirCandidatesForSeveralSteps) {
     IntersectionParams params = IntersectionParams::min_proximity();
     params.alarm_distance = 0.5;
     params.contact_distance = 0.1;
-    auto floor = test::triangle_mesh({Vec3(-5, -5, 0), Vec3(5, -5, 0), Vec3(5, 5, 0), Vec3(-5, 5, 0)},
-                                     {{0, 1, 2}, {0, 2, 3}});
+    auto floor =
+        test::triangle_mesh({Vec3(-5, -5, 0), Vec3(5, -5, 0), Vec3(5, 5, 0), Vec3(-5, 5, 0)}, {{0, 1, 2}, {0, 2, 3}});
     TriangleModel tris(floor->state, floor->topo, static_mp("floor"));
     std::vector<Vec3> corners;
     for (int k = 0; k < 8; ++k) corners.emplace_back(0.3 + (k & 1), 0.1 + ((k >> 1) & 1), 0.3 + ((k >> 2) & 1));
@@ -722,9 +733,9 @@ TEST(NarrowPhase, CandidateCacheFollowsSphereCloudsThatMoveFast) {
 TEST(NarrowPhase, PairsWhoseRootBoxesAreApartAreNeitherTraversedNorLookedUp) {
     // A row of 12 sphere clouds 0.22 m apart (each about 0.24 m wide with its radii): each
     // overlaps its neighbours only. One cloud travels along the row, 4 mm a step (within the
-    // cache's slack: every pair detection uses the cache). Of the 66 pairs only those whose root boxes are within the margin reach the trees and the candidate
-    // cache (one cache statistic each); the outputs stay the exhaustive loop's, with the pairs
-    // run in order and in parallel.
+    // cache's slack: every pair detection uses the cache). Of the 66 pairs only those whose root boxes are within the
+    // margin reach the trees and the candidate cache (one cache statistic each); the outputs stay the exhaustive
+    // loop's, with the pairs run in order and in parallel.
     constexpr int kClouds = 12;
     std::mt19937 g(21);
     std::vector<Vec3State> states(kClouds);
@@ -793,8 +804,9 @@ TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
         const Vec3 centre(0.8 * unit(g), 0.8 * unit(g), 0.8 * unit(g));
         states[std::size_t(i)] = random_cloud(i == 7 || i == 50 ? 0 : 6, 0.025, g, centre);
         velocity[std::size_t(i)] = Vec3(unit(g) - 0.5, unit(g) - 0.5, unit(g) - 0.5) * 0.01;
-        clouds.push_back(std::make_unique<SphereModel>(states[std::size_t(i)], 0.01, std::vector<double>{},
-                                                       mp(names[std::size_t(i)].c_str(), i % 150, false, {}, 0.02 * unit(g))));
+        clouds.push_back(
+            std::make_unique<SphereModel>(states[std::size_t(i)], 0.01, std::vector<double>{},
+                                          mp(names[std::size_t(i)].c_str(), i % 150, false, {}, 0.02 * unit(g))));
         models.push_back(clouds.back().get());
     }
     const IntersectionParams params = method_params(IntersectionMethod::NewProximity);
@@ -817,7 +829,8 @@ TEST(NarrowPhase, ManyMovingModelsNearPairsEqualTheTestOfEveryPair) {
             const SceneDetection ref = detect_scene_exhaustive(params, models);
             expect_identical(got, ref);
             bool same_flags = true;
-            for (std::size_t k = 0; k < ref.size(); ++k) same_flags = same_flags && got[k].narrow_phase == ref[k].narrow_phase;
+            for (std::size_t k = 0; k < ref.size(); ++k)
+                same_flags = same_flags && got[k].narrow_phase == ref[k].narrow_phase;
             flag_steps += same_flags ? 1 : 0;
             pairs += got.size();
             std::size_t near_now = 0;
@@ -948,7 +961,7 @@ SceneDetection run_with_threads(int threads, std::uint32_t seed, IntersectionMet
         std::vector<CollisionModel*> models = sc.models;
         models.push_back(&cloud);
         NarrowPhaseOptions narrow;
-        narrow.chunk_size = 64;  // many chunks so that threads really interleave
+        narrow.chunk_size = 64;        // many chunks so that threads really interleave
         CollisionPipelineOptions opt;  // SOFA's order: thread-independent too
         opt.narrow = narrow;
         CollisionPipeline pipe(method_params(method), opt);
@@ -956,8 +969,10 @@ SceneDetection run_with_threads(int threads, std::uint32_t seed, IntersectionMet
         out = pipe.detect();
         // the pointers die with the scene: keep the names in model-free form
         for (auto& p : out) {
-            p.model1 = reinterpret_cast<CollisionModel*>(std::uintptr_t(std::find(models.begin(), models.end(), p.model1) - models.begin()));
-            p.model2 = reinterpret_cast<CollisionModel*>(std::uintptr_t(std::find(models.begin(), models.end(), p.model2) - models.begin()));
+            p.model1 = reinterpret_cast<CollisionModel*>(
+                std::uintptr_t(std::find(models.begin(), models.end(), p.model1) - models.begin()));
+            p.model2 = reinterpret_cast<CollisionModel*>(
+                std::uintptr_t(std::find(models.begin(), models.end(), p.model2) - models.begin()));
         }
     });
     return out;
@@ -1066,7 +1081,8 @@ TEST(NarrowPhase, PairsDetectedInParallelGiveTheBitsOfOneThreadOverSteps) {
         }
         // the scene does what it is for: many pairs with outputs at every step, the cache both
         // collecting and reusing
-        EXPECT_GE(pairs_with_outputs, 24u * (c.params.method == IntersectionMethod::Discrete ? 2u : 6u)) << pairs_with_outputs << " pairs, " << outputs << " outputs";
+        EXPECT_GE(pairs_with_outputs, 24u * (c.params.method == IntersectionMethod::Discrete ? 2u : 6u))
+            << pairs_with_outputs << " pairs, " << outputs << " outputs";
         EXPECT_GT(outputs, c.params.method == IntersectionMethod::Discrete ? 100u : 5000u);
         EXPECT_GT(one.stats.reused, 0u);
         EXPECT_GT(one.stats.collected, 0u);
@@ -1100,7 +1116,8 @@ TEST(NarrowPhase, PairsRunInParallelWhenTheirCandidatesOutweighTheMovingElements
     std::vector<Triangle> tris;
     const int n = 40;
     for (int i = 0; i <= n; ++i)
-        for (int j = 0; j <= n; ++j) grid.emplace_back(-1.0 + 2.0 * i / n, 0.002 * ((i * 7 + j * 3) % 5), -1.0 + 2.0 * j / n);
+        for (int j = 0; j <= n; ++j)
+            grid.emplace_back(-1.0 + 2.0 * i / n, 0.002 * ((i * 7 + j * 3) % 5), -1.0 + 2.0 * j / n);
     for (int i = 0; i < n; ++i)
         for (int j = 0; j < n; ++j) {
             const int a = i * (n + 1) + j, b = a + n + 1;
@@ -1110,7 +1127,7 @@ TEST(NarrowPhase, PairsRunInParallelWhenTheirCandidatesOutweighTheMovingElements
     struct Setting {
         const char* name;
         bool floor_moving;
-        double lift;  // of clouds 1, 2 and 3 (m)
+        double lift;          // of clouds 1, 2 and 3 (m)
         std::size_t spheres;  // per cloud
         int concurrent;
     };
@@ -1135,8 +1152,9 @@ TEST(NarrowPhase, PairsRunInParallelWhenTheirCandidatesOutweighTheMovingElements
         }
         static const char* names[] = {"c0", "c1", "c2", "c3"};
         for (int c = 0; c < 4; ++c)
-            clouds.push_back(std::make_unique<SphereModel>(states[std::size_t(c)], 0.02, std::vector<double>{},
-                                                           mp(names[c], c, false, {7})));  // one group: no cloud–cloud pairs
+            clouds.push_back(
+                std::make_unique<SphereModel>(states[std::size_t(c)], 0.02, std::vector<double>{},
+                                              mp(names[c], c, false, {7})));  // one group: no cloud–cloud pairs
         std::vector<CollisionModel*> models = {&floor};
         for (auto& c : clouds) models.push_back(c.get());
         const IntersectionParams params = method_params(IntersectionMethod::MinProximity);

@@ -90,7 +90,8 @@ TEST(CcdDetection, AVertexOfSeveralModelsOfOneStateIsTestedOnce) {
         EXPECT_EQ(x.kind, CrossingKind::point_triangle);
         vertices.insert({x.model1 == &tri ? "sheet" : "body", x.dofs1[0]});
     }
-    EXPECT_EQ(vertices, (std::multiset<std::pair<std::string, Index>>{{"body", 0}, {"body", 1}, {"body", 2}, {"sheet", 12}}));
+    EXPECT_EQ(vertices,
+              (std::multiset<std::pair<std::string, Index>>{{"body", 0}, {"body", 1}, {"body", 2}, {"sheet", 12}}));
 }
 
 TEST(CcdDetection, EdgeEdgeOnlyWhereTheMethodMakesEdgeContacts) {

@@ -32,10 +32,10 @@ enum class Accuracy {
 
 struct Row {
     M method;
-    T a, b;              ///< registered order
+    T a, b;  ///< registered order
     PairSupport support;
     Accuracy acc;
-    bool complete;       ///< every pair closer than the alarm distance is reported
+    bool complete;  ///< every pair closer than the alarm distance is reported
 };
 
 constexpr auto S = PairSupport::Supported;
@@ -111,10 +111,18 @@ const std::vector<Row> kTable = {
 IntersectionParams params_for(M m) {
     IntersectionParams p;
     switch (m) {
-        case M::Discrete: p = IntersectionParams::discrete(); break;
-        case M::NewProximity: p = IntersectionParams::new_proximity(); break;
-        case M::MinProximity: p = IntersectionParams::min_proximity(); break;
-        case M::LocalMinDistance: p = IntersectionParams::local_min_distance(); break;
+        case M::Discrete:
+            p = IntersectionParams::discrete();
+            break;
+        case M::NewProximity:
+            p = IntersectionParams::new_proximity();
+            break;
+        case M::MinProximity:
+            p = IntersectionParams::min_proximity();
+            break;
+        case M::LocalMinDistance:
+            p = IntersectionParams::local_min_distance();
+            break;
     }
     p.enable_beyond_sofa_pairs = true;
     return p;
@@ -203,9 +211,9 @@ struct Elem {
     Rigid3State rs;
     MeshTopology topo;
     std::unique_ptr<CollisionModel> model;
-    std::vector<Vec3> samples;  ///< boundary (and point) samples
-    double inflate = 0.0;       ///< sphere radius (the element is samples ⊕ ball(inflate))
-    double spacing = 0.0;       ///< max distance from any element point to the nearest sample
+    std::vector<Vec3> samples;                ///< boundary (and point) samples
+    double inflate = 0.0;                     ///< sphere radius (the element is samples ⊕ ball(inflate))
+    double spacing = 0.0;                     ///< max distance from any element point to the nearest sample
     std::function<bool(const Vec3&)> inside;  ///< analytic inside test for solids
 };
 
@@ -272,7 +280,8 @@ std::unique_ptr<Elem> make_elem(T t, const Vec3& c, std::mt19937& g) {
                 const double th = 2 * std::numbers::pi * i / na;
                 const Vec3 rad = std::cos(th) * e1 + std::sin(th) * e2;
                 for (int j = 0; j <= nh; ++j)
-                    e->samples.push_back(s.center + (-s.half_height + 2 * s.half_height * j / nh) * s.axis + s.radius * rad);
+                    e->samples.push_back(s.center + (-s.half_height + 2 * s.half_height * j / nh) * s.axis +
+                                         s.radius * rad);
                 for (int k = 0; k < nr; ++k) {
                     const double rr = s.radius * k / nr;
                     e->samples.push_back(s.center + s.half_height * s.axis + rr * rad);
@@ -354,7 +363,7 @@ RunStats run_row(const Row& r, int n, unsigned seed, const SofaQuirkFixes& quirk
     // cylinders are large: place the second element further so that misses occur
     // placement radius of the second element: both hits and misses must occur
     double offset = r.a == T::Cylinder ? 3.0 : 2.0;
-    if (r.method == M::Discrete) offset = 0.6;  // Discrete needs an actual overlap
+    if (r.method == M::Discrete) offset = 0.6;                                // Discrete needs an actual overlap
     if (r.method == M::LocalMinDistance && r.a == T::Triangle) offset = 0.9;  // interior + one side
     std::uniform_real_distribution<double> radial(0.0, offset);
     RunStats st;
@@ -369,14 +378,16 @@ RunStats run_row(const Row& r, int n, unsigned seed, const SofaQuirkFixes& quirk
         EXPECT_EQ(det.model1, ea->model.get());
         ++st.samples;
         for (const auto& o : det.outputs) {
-            EXPECT_TRUE(o.normal.allFinite() && o.point[0].allFinite() && o.point[1].allFinite() && std::isfinite(o.value));
+            EXPECT_TRUE(o.normal.allFinite() && o.point[0].allFinite() && o.point[1].allFinite() &&
+                        std::isfinite(o.value));
             EXPECT_NEAR(o.normal.norm(), 1.0, 1e-9);
         }
         if (det.outputs.empty()) {
             // completeness: pairs clearly inside the alarm distance must be reported
             if (r.complete) {
                 const double alarm = r.method == M::Discrete ? 0.0 : p.alarm_distance;
-                EXPECT_FALSE(brute < alarm - tol) << row_name(r.method, r.a, r.b) << " sample " << s << " missed, brute gap " << brute;
+                EXPECT_FALSE(brute < alarm - tol)
+                    << row_name(r.method, r.a, r.b) << " sample " << s << " missed, brute gap " << brute;
             }
             continue;
         }
@@ -403,7 +414,9 @@ RunStats run_row(const Row& r, int n, unsigned seed, const SofaQuirkFixes& quirk
             case Accuracy::Unbounded:
                 ++st.checked;
                 break;
-            case Accuracy::None: ADD_FAILURE() << "output from an ignored pair"; break;
+            case Accuracy::None:
+                ADD_FAILURE() << "output from an ignored pair";
+                break;
         }
     }
     return st;

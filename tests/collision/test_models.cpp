@@ -178,8 +178,8 @@ TEST(Boxes, ElementRowOfAModelWithOneElementPerDofIsItsPositions) {
         EXPECT_EQ(at(points.element_row(), i), static_cast<const void*>(&points.point(Index(i))));
         EXPECT_EQ(at(spheres.element_row(), i), static_cast<const void*>(&spheres.center(Index(i))));
     }
-    Rigid3State rs = test::make_rigid_state({RigidFrame{Vec3(0, 0, 0), Quat::Identity()},
-                                             RigidFrame{Vec3(1, 2, 3), Quat::Identity()}});
+    Rigid3State rs = test::make_rigid_state(
+        {RigidFrame{Vec3(0, 0, 0), Quat::Identity()}, RigidFrame{Vec3(1, 2, 3), Quat::Identity()}});
     const RigidSphereModel rigid(rs, 0.5);
     EXPECT_EQ(at(rigid.element_row(), 1), static_cast<const void*>(&rigid.center(Index(1))));
     EXPECT_EQ(rigid.element_row().stride, sizeof(RigidFrame));

@@ -79,8 +79,7 @@ TEST(Quirk3, TriangleTriangleVertex1WithoutOwnership) {
     p.alarm_distance = 0.2;
     auto count_vertex0 = [&](const IntersectionParams& ip) {
         int n = 0;
-        for (const auto& o : detect_model_pair(ip, a, b).outputs)
-            n += (o.point[0] - Vec3(0, 0, 0.1)).norm() < 1e-15;
+        for (const auto& o : detect_model_pair(ip, a, b).outputs) n += (o.point[0] - Vec3(0, 0, 0.1)).norm() < 1e-15;
         return n;
     };
     EXPECT_EQ(count_vertex0(p), 2);  // from triangle 0 (id 0) and triangle 1 (id 3)

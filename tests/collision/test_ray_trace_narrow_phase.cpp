@@ -100,7 +100,8 @@ std::set<std::tuple<Index, Index, std::int64_t>> reference_outputs(const OctreeS
             const RayHit hit = b.octree.nearest_hit(p, -n);
             if (hit.triangle < 0 || a.normals[j].dot(b.normals[std::size_t(hit.triangle)]) > 0) continue;
             const RayHit own = a.octree.nearest_hit(p, -n);
-            if (own.triangle < 0 || own.t < hit.t || a.normals[j].dot(a.normals[std::size_t(own.triangle)]) > 0) continue;
+            if (own.triangle < 0 || own.t < hit.t || a.normals[j].dot(a.normals[std::size_t(own.triangle)]) > 0)
+                continue;
             out.insert({Index(j), Index(hit.triangle), std::int64_t(j) * 3 + id_rank});
         }
     }

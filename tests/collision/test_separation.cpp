@@ -4,8 +4,8 @@
 #include "fixtures.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/separation.hpp"
-#include "penalty_test/same_bits.hpp"
 #include "penalty_test/random_draws.hpp"
+#include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
 
@@ -45,8 +45,7 @@ TEST(Separation, RejectsOnlyBeyondRAndTheAllowanceAndFindsTheFarOnes) {
     std::mt19937 rng(20261124);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double scales[] = {1e-3, 1.0, 1e3};
-    int far = 0, far_rejected = 0, near = 0, near_rejected = 0, between_rejected = 0, band_rejected = 0,
-        rejected = 0;
+    int far = 0, far_rejected = 0, near = 0, near_rejected = 0, between_rejected = 0, band_rejected = 0, rejected = 0;
     for (int trial = 0; trial < 30000; ++trial) {
         const double scale = scales[trial % 3];
         const double R = scale * (0.01 + unit(rng));
@@ -93,8 +92,8 @@ TEST(Separation, EveryPointOnOneSide) {
     const Vec3 up(1, 1, 2), up2(3, -4, 5), down(1, 1, -2), close(1, 1, 0.5);
     EXPECT_TRUE(plane_separates(o, u, v, 1.0, up, up2));
     EXPECT_TRUE(plane_separates(o, u, v, 1.0, down));
-    EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, down));    // the element crosses the plane
-    EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, close));   // one point within R
+    EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, down));   // the element crosses the plane
+    EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, close));  // one point within R
     EXPECT_TRUE(plane_separates(o, u, v, 1.0, up, up2, Vec3(0, 0, 1.01)));
     EXPECT_FALSE(plane_separates(o, u, v, 1.0, up, up2, Vec3(0, 0, 1.0003)));  // within the allowance
 }
@@ -161,13 +160,17 @@ TEST(Separation, ElementPlanesClearOnlyBoxesBeyondRAndFindTheFarOnes) {
         const Vec3 p1 = rand_vec(rng, 100.0 * scale);
         const Vec3 u = rand_vec(rng, 50.0 * R), v = rand_vec(rng, 50.0 * R);
         const Vec3 p2 = p1 + u, p3 = p1 + v;
-        const ElementPlanes planes = triangle ? ElementPlanes::triangle(p1, p2, p3, R) : ElementPlanes::segment(p1, p2, R);
+        const ElementPlanes planes =
+            triangle ? ElementPlanes::triangle(p1, p2, p3, R) : ElementPlanes::segment(p1, p2, R);
         // the exact normals of the element's planes (from the stored vertices), in long double
         std::vector<std::array<long double, 3>> normals;
-        const long double du[3] = {(long double)p2.x() - p1.x(), (long double)p2.y() - p1.y(), (long double)p2.z() - p1.z()};
-        const long double dv[3] = {(long double)p3.x() - p1.x(), (long double)p3.y() - p1.y(), (long double)p3.z() - p1.z()};
+        const long double du[3] = {(long double)p2.x() - p1.x(), (long double)p2.y() - p1.y(),
+                                   (long double)p2.z() - p1.z()};
+        const long double dv[3] = {(long double)p3.x() - p1.x(), (long double)p3.y() - p1.y(),
+                                   (long double)p3.z() - p1.z()};
         if (triangle) {
-            normals.push_back({du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]});
+            normals.push_back(
+                {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]});
         } else {
             normals.push_back({0.0L, du[2], -du[1]});
             normals.push_back({-du[2], 0.0L, du[0]});
@@ -180,7 +183,8 @@ TEST(Separation, ElementPlanesClearOnlyBoxesBeyondRAndFindTheFarOnes) {
         const double pad = trial % 4 == 1 ? 0.1 * R : 0.0;
         const double extent = n_aim.cwiseAbs().dot(half + Vec3::Constant(pad));
         const double h = (R * (1.0 + rel[trial % 11]) + extent) * (trial % 3 == 0 ? -1.0 : 1.0);
-        const Vec3 foot = triangle ? Vec3(p1 + unit(rng) * u + unit(rng) * (1.0 - unit(rng)) * v) : Vec3(p1 + unit(rng) * u);
+        const Vec3 foot =
+            triangle ? Vec3(p1 + unit(rng) * u + unit(rng) * (1.0 - unit(rng)) * v) : Vec3(p1 + unit(rng) * u);
         const Vec3 centre = foot + h * n_aim;
         Aabb box;
         box.min = centre - half;
@@ -282,7 +286,8 @@ std::size_t same_outputs(const SceneDetection& got, const SceneDetection& ref) {
             const DetectionOutput& a = got[k].outputs[i];
             const DetectionOutput& b = ref[k].outputs[i];
             EXPECT_TRUE(a.elem1 == b.elem1 && a.elem2 == b.elem2 && a.id == b.id && same_bits(a.point[0], b.point[0]) &&
-                        same_bits(a.point[1], b.point[1]) && same_bits(a.normal, b.normal) && same_bits(a.value, b.value))
+                        same_bits(a.point[1], b.point[1]) && same_bits(a.normal, b.normal) &&
+                        same_bits(a.value, b.value))
                 << "pair " << k << " output " << i;
         }
         n += got[k].outputs.size();
@@ -498,7 +503,7 @@ TEST(Separation, RowModeFollowsACloudDriftingThroughAStaticPyramid) {
                 for (std::size_t e2 = 0; e2 < other->size(); ++e2)
                     overlapping += long_model->element_box(Index(e1)).overlaps(other->element_box(Index(e2)), kR + 0.5);
         }
-        EXPECT_GT(outputs, 100u);  // 163 for the edges and segments, thousands for the others
+        EXPECT_GT(outputs, 100u);                            // 163 for the edges and segments, thousands for the others
         EXPECT_GT(bvh.candidate_cache_stats().reused, 50u);  // the cache's path ran too (133 of 200)
         // the element pairs the kernels saw (each gives at most one output here): those near
         // the pyramid, 6–14 % of those whose boxes overlap
@@ -571,8 +576,8 @@ TEST(Separation, TriangleTriangleVertexTestsAgainstThePlanesKeepTheOutputs) {
 TEST(Separation, TrianglePlanesAreUnitNormalsOrZeroWhenUnreliable) {
     // a right triangle, a sliver (angle at A about 1e-4 rad: below reliable_plane's 1e-3) and a
     // zero-area one
-    auto mesh = triangle_mesh({{0, 0, 0}, {2, 0, 0}, {0, 3, 0}, {1, 1e-4, 0}, {1, 1, 1}},
-                              {{0, 1, 2}, {0, 1, 3}, {0, 4, 4}});
+    auto mesh =
+        triangle_mesh({{0, 0, 0}, {2, 0, 0}, {0, 3, 0}, {1, 1e-4, 0}, {1, 1, 1}}, {{0, 1, 2}, {0, 1, 3}, {0, 4, 4}});
     TriangleModel t(mesh->state, mesh->topo);
     t.update();
     t.update_planes();

@@ -147,61 +147,63 @@ TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
     // 400 outputs: sorted by std::sort; 3000: by the radix sort (512 or more), most cases with
     // that many distinct element pairs too
     for (int count : {400, 3000})
-    for (int depth : {0, 1, 2, 6, 12}) {
-        for (int n1 : {1, 5, 37, 300}) {
-            for (int n2 : {1, 2, 9, 120}) {  // a one-element model: keys precomputed at build
-                Vec3State s1, s2;
-                for (int i = 0; i < n1; ++i) s1.position.emplace_back(u(g), u(g), u(g));
-                for (int i = 0; i < n2; ++i) s2.position.emplace_back(u(g), u(g), u(g));
-                PointModel m1(s1, nullptr, named("a", 0)), m2(s2, nullptr, named("b", 1));
-                SofaCubeTree t1, t2;
-                t1.build(m1, depth);
-                t2.build(m2, depth == 12 ? 3 : depth);
-                DetectionOutputList out;
-                std::uniform_int_distribution<int> e1(0, n1 - 1), e2(0, n2 - 1);
-                for (int k = 0; k < count; ++k) {
-                    DetectionOutput o;
-                    o.elem1 = Index(e1(g));
-                    o.elem2 = Index(e2(g));
-                    o.value = double(k);  // the kernel order, to check stability
-                    out.push_back(o);
-                }
-                DetectionOutputList expected = out;
-                std::stable_sort(expected.begin(), expected.end(), [&](const DetectionOutput& x, const DetectionOutput& y) {
-                    return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
-                });
-                // sort_keys_in_sofa_order: the same order on the element pairs, each once (the
-                // candidate cache's keys), given in the outputs' random order
-                std::vector<std::uint64_t> keys, expected_keys;
-                const auto key_of = [](const DetectionOutput& o) {
-                    return (std::uint64_t(std::uint32_t(o.elem1)) << 32) | std::uint64_t(std::uint32_t(o.elem2));
-                };
-                std::set<std::uint64_t> seen;
-                for (const DetectionOutput& o : out)
-                    if (seen.insert(key_of(o)).second) keys.push_back(key_of(o));
-                if (keys.size() >= 512) ++radix_key_cases;
-                for (const DetectionOutput& o : expected)
-                    if (expected_keys.empty() || expected_keys.back() != key_of(o)) expected_keys.push_back(key_of(o));
-                SofaOrderScratch key_scratch;
-                sort_keys_in_sofa_order(t1, t2, keys, key_scratch);
-                ASSERT_EQ(keys, expected_keys) << depth << " " << n1 << " " << n2;
-                SofaOrderScratch scratch;
-                sort_in_sofa_order(t1, t2, out, scratch);
-                ASSERT_EQ(out.size(), expected.size());
-                for (std::size_t i = 0; i < out.size(); ++i) {
-                    ASSERT_EQ(out[i].elem1, expected[i].elem1) << depth << " " << n1 << " " << n2 << " " << i;
-                    ASSERT_EQ(out[i].elem2, expected[i].elem2) << i;
-                    ASSERT_EQ(out[i].value, expected[i].value) << i;
-                }
-                ++cases;
-                for (std::size_t i = 0; i < out.size(); ++i)
-                    if (out[i].value != double(i)) {
-                        ++reordered;
-                        break;
+        for (int depth : {0, 1, 2, 6, 12}) {
+            for (int n1 : {1, 5, 37, 300}) {
+                for (int n2 : {1, 2, 9, 120}) {  // a one-element model: keys precomputed at build
+                    Vec3State s1, s2;
+                    for (int i = 0; i < n1; ++i) s1.position.emplace_back(u(g), u(g), u(g));
+                    for (int i = 0; i < n2; ++i) s2.position.emplace_back(u(g), u(g), u(g));
+                    PointModel m1(s1, nullptr, named("a", 0)), m2(s2, nullptr, named("b", 1));
+                    SofaCubeTree t1, t2;
+                    t1.build(m1, depth);
+                    t2.build(m2, depth == 12 ? 3 : depth);
+                    DetectionOutputList out;
+                    std::uniform_int_distribution<int> e1(0, n1 - 1), e2(0, n2 - 1);
+                    for (int k = 0; k < count; ++k) {
+                        DetectionOutput o;
+                        o.elem1 = Index(e1(g));
+                        o.elem2 = Index(e2(g));
+                        o.value = double(k);  // the kernel order, to check stability
+                        out.push_back(o);
                     }
+                    DetectionOutputList expected = out;
+                    std::stable_sort(expected.begin(), expected.end(),
+                                     [&](const DetectionOutput& x, const DetectionOutput& y) {
+                                         return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
+                                     });
+                    // sort_keys_in_sofa_order: the same order on the element pairs, each once (the
+                    // candidate cache's keys), given in the outputs' random order
+                    std::vector<std::uint64_t> keys, expected_keys;
+                    const auto key_of = [](const DetectionOutput& o) {
+                        return (std::uint64_t(std::uint32_t(o.elem1)) << 32) | std::uint64_t(std::uint32_t(o.elem2));
+                    };
+                    std::set<std::uint64_t> seen;
+                    for (const DetectionOutput& o : out)
+                        if (seen.insert(key_of(o)).second) keys.push_back(key_of(o));
+                    if (keys.size() >= 512) ++radix_key_cases;
+                    for (const DetectionOutput& o : expected)
+                        if (expected_keys.empty() || expected_keys.back() != key_of(o))
+                            expected_keys.push_back(key_of(o));
+                    SofaOrderScratch key_scratch;
+                    sort_keys_in_sofa_order(t1, t2, keys, key_scratch);
+                    ASSERT_EQ(keys, expected_keys) << depth << " " << n1 << " " << n2;
+                    SofaOrderScratch scratch;
+                    sort_in_sofa_order(t1, t2, out, scratch);
+                    ASSERT_EQ(out.size(), expected.size());
+                    for (std::size_t i = 0; i < out.size(); ++i) {
+                        ASSERT_EQ(out[i].elem1, expected[i].elem1) << depth << " " << n1 << " " << n2 << " " << i;
+                        ASSERT_EQ(out[i].elem2, expected[i].elem2) << i;
+                        ASSERT_EQ(out[i].value, expected[i].value) << i;
+                    }
+                    ++cases;
+                    for (std::size_t i = 0; i < out.size(); ++i)
+                        if (out[i].value != double(i)) {
+                            ++reordered;
+                            break;
+                        }
+                }
             }
         }
-    }
     EXPECT_EQ(cases, 160);
     // the order is not the input's (1×1 elements cannot change it, 1×2 could keep it)
     EXPECT_GE(reordered, 148);

@@ -35,7 +35,8 @@ TEST(RadixSort, EqualsStableSortByKeyForEveryKeyWidth) {
                     v[i] = {key, static_cast<std::uint32_t>(i)};
                 }
                 std::vector<Item> expected = v;
-                std::stable_sort(expected.begin(), expected.end(), [](const Item& a, const Item& b) { return a.first < b.first; });
+                std::stable_sort(expected.begin(), expected.end(),
+                                 [](const Item& a, const Item& b) { return a.first < b.first; });
                 stable_radix_sort(v, swap, counts, [](const Item& x) { return x.first; });
                 ASSERT_EQ(v, expected) << bits << " bits, n = " << n << (gap ? ", gap" : "");
                 ++lists;

@@ -27,8 +27,8 @@ TEST(Ccd, PointThroughStaticTriangleHitsAtTheClosedFormTime) {
     const CcdResult r = point_triangle_ccd(Vec3(0.2, 0.2, 1), a, b, c, Vec3(0.2, 0.2, -1), a, b, c);
     ASSERT_TRUE(r.hit);
     EXPECT_FALSE(r.capped);
-    EXPECT_LE(r.toi, 0.5);           // conservative: never after the impact
-    EXPECT_NEAR(r.toi, 0.5, 1e-8);   // and within the touch distance ε = 1e-9·L of it
+    EXPECT_LE(r.toi, 0.5);          // conservative: never after the impact
+    EXPECT_NEAR(r.toi, 0.5, 1e-8);  // and within the touch distance ε = 1e-9·L of it
     EXPECT_LE(r.distance, 1e-9 * 4);
 }
 
@@ -48,8 +48,8 @@ TEST(Ccd, PointMissesATriangleThatSlidesAway) {
     const Vec3 p0(0, 0, 1), p1(0, 0, -3);
     EXPECT_FALSE(point_triangle_ccd(p0, a0, b0, c0, p1, a0 + slide, b0 + slide, c0 + slide).hit);
     const Vec3 back(-1, 0, 0);
-    const CcdResult r = point_triangle_ccd(p0, a0 + back, b0 + back, c0 + back, p1, a0 + back + slide, b0 + back + slide,
-                                           c0 + back + slide);
+    const CcdResult r = point_triangle_ccd(p0, a0 + back, b0 + back, c0 + back, p1, a0 + back + slide,
+                                           b0 + back + slide, c0 + back + slide);
     ASSERT_TRUE(r.hit);
     EXPECT_NEAR(r.toi, 0.25, 1e-8);
     EXPECT_LE(r.toi, 0.25);
@@ -112,7 +112,8 @@ TEST(Ccd, TouchingAtTheStartIsAHitAtZero) {
 
 TEST(Ccd, NoRelativeMotionIsNoHit) {
     const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0), shift(5, 5, 5);
-    const CcdResult r = point_triangle_ccd(Vec3(0.2, 0.2, 1), a, b, c, Vec3(0.2, 0.2, 1) + shift, a + shift, b + shift, c + shift);
+    const CcdResult r =
+        point_triangle_ccd(Vec3(0.2, 0.2, 1), a, b, c, Vec3(0.2, 0.2, 1) + shift, a + shift, b + shift, c + shift);
     EXPECT_FALSE(r.hit);
     EXPECT_EQ(r.iterations, 0);
 }
@@ -230,10 +231,11 @@ RandomMotionCounts random_edge_edge(int n, unsigned seed) {
 
 void report(const char* name, const RandomMotionCounts& c) {
     const int negatives = c.motions - c.crossings;
-    std::printf("%s: %d motions, %d crossings (sampled), %d false negatives, %d late, %d false positives "
-                "(rate %.3g of the %d non-crossing motions), %.2f advances per motion\n",
-                name, c.motions, c.crossings, c.false_negatives, c.late, c.false_positives,
-                negatives > 0 ? double(c.false_positives) / negatives : 0.0, negatives, double(c.iterations) / c.motions);
+    std::printf(
+        "%s: %d motions, %d crossings (sampled), %d false negatives, %d late, %d false positives "
+        "(rate %.3g of the %d non-crossing motions), %.2f advances per motion\n",
+        name, c.motions, c.crossings, c.false_negatives, c.late, c.false_positives,
+        negatives > 0 ? double(c.false_positives) / negatives : 0.0, negatives, double(c.iterations) / c.motions);
     testing::Test::RecordProperty(std::string(name) + "_false_positives", c.false_positives);
     testing::Test::RecordProperty(std::string(name) + "_crossings", c.crossings);
 }
@@ -243,7 +245,8 @@ TEST(CcdRandomMotions, PointTriangleHasNoFalseNegativeOn100000Motions) {
     report("point_triangle", c);
     EXPECT_EQ(c.false_negatives, 0);
     EXPECT_EQ(c.late, 0);
-    EXPECT_GT(c.crossings, 3000 / kMotionDivisor);  // the motions are a test: at least 3 % of them cross (4060 measured)
+    EXPECT_GT(c.crossings,
+              3000 / kMotionDivisor);  // the motions are a test: at least 3 % of them cross (4060 measured)
     // measured 0 false positives (a hit needs the distance within 1e-9·L of 0 without touching)
     EXPECT_LE(c.false_positives, (c.motions - c.crossings) / 10000);
 }

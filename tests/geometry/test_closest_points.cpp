@@ -24,7 +24,9 @@ Vec3 rand_vec(std::mt19937& g, double s) {
 }
 Vec3 rand_unit(std::mt19937& g) {
     Vec3 v;
-    do { v = rand_vec(g, 1.0); } while (v.squaredNorm() < 1e-3 || v.squaredNorm() > 1.0);
+    do {
+        v = rand_vec(g, 1.0);
+    } while (v.squaredNorm() < 1e-3 || v.squaredNorm() > 1.0);
     return v.normalized();
 }
 
@@ -107,7 +109,10 @@ TEST(SegmentSegment, MatchesReferenceIncludingParallel) {
         ASSERT_TRUE(std::isfinite(dist));
         EXPECT_LE(dist, ref + 1e-12);
         EXPECT_GE(dist, ref - 2e-3);
-        EXPECT_GE(r.s, 0.0); EXPECT_LE(r.s, 1.0); EXPECT_GE(r.t, 0.0); EXPECT_LE(r.t, 1.0);
+        EXPECT_GE(r.s, 0.0);
+        EXPECT_LE(r.s, 1.0);
+        EXPECT_GE(r.t, 0.0);
+        EXPECT_LE(r.t, 1.0);
     }
     EXPECT_GE(parallel, 90);
 }
@@ -187,7 +192,8 @@ TEST(PointCylinder, SignedDistanceMatchesSurfaceSampling) {
         for (const Vec3& x : cylinder_surface(c, 60)) brute = std::min(brute, (x - p).norm());
         // the exact distance is below every sample and above the best sample minus the grid
         // resolution
-        const double tol = std::hypot(2.0 * std::numbers::pi * c.radius / 240.0, 2.0 * c.half_height / 60.0, c.radius / 60.0);
+        const double tol =
+            std::hypot(2.0 * std::numbers::pi * c.radius / 240.0, 2.0 * c.half_height / 60.0, c.radius / 60.0);
         EXPECT_LE(std::abs(r.signed_distance), brute + 1e-12);
         EXPECT_GE(std::abs(r.signed_distance), brute - tol);
         EXPECT_NEAR((p - (r.closest + r.signed_distance * r.normal)).norm(), 0.0, 1e-12);

@@ -11,9 +11,7 @@
 namespace penalty::io::test {
 
 /// tests/io/data in the source tree.
-inline std::filesystem::path data_dir() {
-    return std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "io" / "data";
-}
+inline std::filesystem::path data_dir() { return std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "io" / "data"; }
 
 /// A fresh file under the test temporary directory with exactly `contents`.
 inline std::filesystem::path write_temp(const std::string& name, const std::string& contents) {

@@ -53,12 +53,14 @@ struct Format {
 std::vector<Format> formats() {
     return {
         {".obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n", 4},
-        {".msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
-                 "$Elements\n1\n1 4 2 0 1 1 2 3 4\n$EndElements\n",
+        {".msh",
+         "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n$EndNodes\n"
+         "$Elements\n1\n1 4 2 0 1 1 2 3 4\n$EndElements\n",
          4},
         {".sph", "sph 1.0\nnums 2\nsphe 1 0 0 0 0.5\nsphe 2 1 0 0 0.25\n", 2},
-        {".vtk", "# vtk DataFile Version 2.0\ntest\nASCII\nDATASET POLYDATA\nPOINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\n"
-                 "POLYGONS 2 8\n3 0 1 2\n3 0 1 3\n",
+        {".vtk",
+         "# vtk DataFile Version 2.0\ntest\nASCII\nDATASET POLYDATA\nPOINTS 4 double\n0 0 0 1 0 0 0 1 0 0 0 1\n"
+         "POLYGONS 2 8\n3 0 1 2\n3 0 1 3\n",
          4},
         {".off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n", 4},
         {".trian", "4\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n2\n0 1 2 -1 -1 -1\n0 1 3 -1 -1 -1\n", 4},

@@ -94,12 +94,14 @@ TEST(ObjLoader, RelativeIndexBeforeFirstVertex) {
 
 TEST(ObjLoader, BadFaceToken) {
     const auto p = write_temp("bad_face.obj", "v 0 0 0\nf 1 x/2 3\n");
-    EXPECT_EQ(message_of<LoadError>([&] { (void)load_obj(p); }), p.string() + ":2: expected a vertex index, found 'x/2'");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_obj(p); }),
+              p.string() + ":2: expected a vertex index, found 'x/2'");
 }
 
 TEST(ObjLoader, FaceWithOneVertex) {
     const auto p = write_temp("one.obj", "v 0 0 0\nf 1\n");
-    EXPECT_EQ(message_of<LoadError>([&] { (void)load_obj(p); }), p.string() + ":2: face needs at least 2 vertices, found 1");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_obj(p); }),
+              p.string() + ":2: face needs at least 2 vertices, found 1");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -166,8 +168,10 @@ TEST(GmshLoader, HugeCountIsRejectedBeforeAllocating) {
 }
 
 TEST(GmshLoader, UndefinedNode) {
-    const auto p = write_temp("undefined.msh", "$NOD\n2\n1 0 0 0\n2 1 0 0\n$ENDNOD\n$ELM\n1\n1 1 0 0 2 1 99\n$ENDELM\n");
-    EXPECT_EQ(message_of<LoadError>([&] { (void)load_gmsh(p); }), p.string() + ":8: element node 99 is not a defined node");
+    const auto p =
+        write_temp("undefined.msh", "$NOD\n2\n1 0 0 0\n2 1 0 0\n$ENDNOD\n$ELM\n1\n1 1 0 0 2 1 99\n$ENDELM\n");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_gmsh(p); }),
+              p.string() + ":8: element node 99 is not a defined node");
 }
 
 TEST(GmshLoader, WrongNodeCountForType) {
@@ -328,7 +332,8 @@ TEST(VtkLoader, UnstructuredGrid) {
     EXPECT_TRUE(m.triangles.empty());
 }
 
-const char* const kVtkHead = "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n";
+const char* const kVtkHead =
+    "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1 0 0 0 1 0\n";
 
 TEST(VtkLoader, IndexOutOfRange) {
     const auto p = write_temp("out_of_range.vtk", std::string(kVtkHead) + "POLYGONS 1 4\n3 0 1 7\n");
@@ -352,11 +357,14 @@ TEST(VtkLoader, UnsupportedCellType) {
     const auto p = write_temp("wedge.vtk",
                               "# vtk DataFile Version 3.0\nt\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS 3 float\n"
                               "0 0 0 1 0 0 0 1 0\nCELLS 1 4\n3 0 1 2\nCELL_TYPES 1\n13\n");
-    EXPECT_EQ(message_of<LoadError>([&] { (void)load_vtk_legacy(p); }), p.string() + ":10: VTK cell type 13 is not supported");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_vtk_legacy(p); }),
+              p.string() + ":10: VTK cell type 13 is not supported");
 }
 
 TEST(VtkLoader, Truncated) {
-    const auto p = write_temp("truncated.vtk", "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1.000000 0 0 0 1.0000\n");
+    const auto p = write_temp(
+        "truncated.vtk",
+        "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n0 0 0 1.000000 0 0 0 1.0000\n");
     EXPECT_EQ(message_of<LoadError>([&] { (void)load_vtk_legacy(p); }),
               p.string() + ":6: unexpected end of file (expected point coordinate)");
 }
@@ -365,8 +373,11 @@ TEST(VtkLoader, Truncated) {
 std::string vtu(const std::string& points, int n_points, const std::string& connectivity, const std::string& offsets,
                 const std::string& types, int n_cells, const std::string& format = "ascii") {
     return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
-           "<Piece NumberOfPoints=\"" + std::to_string(n_points) + "\" NumberOfCells=\"" + std::to_string(n_cells) + "\">\n"
-           "<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"" + format + "\">" + points +
+           "<Piece NumberOfPoints=\"" +
+           std::to_string(n_points) + "\" NumberOfCells=\"" + std::to_string(n_cells) +
+           "\">\n"
+           "<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"" +
+           format + "\">" + points +
            "</DataArray></Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">" +
            connectivity + "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">" + offsets +
            "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">" + types +
@@ -403,8 +414,9 @@ TEST(MeshFile, DispatchesOnExtension) {
     EXPECT_EQ(load_mesh_file(mesh_file("spheres.sph")).radii.size(), 3u);
     EXPECT_EQ(load_mesh_file(mesh_file("grid.vtk")).hexahedra.size(), 1u);
     const auto p = write_temp("mesh.stl", "solid\n");
-    EXPECT_EQ(message_of<LoadError>([&] { (void)load_mesh_file(p); }),
-              p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph, .vtk, .vtu, .off or .trian)");
+    EXPECT_EQ(
+        message_of<LoadError>([&] { (void)load_mesh_file(p); }),
+        p.string() + ": unknown mesh file extension '.stl' (expected .obj, .msh, .sph, .vtk, .vtu, .off or .trian)");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -427,7 +439,8 @@ TEST(Transform, EulerAnglesFollowSofaOrder) {
     const Mat3 r = euler_degrees_to_matrix(Vec3(90, 90, 0));
     EXPECT_LT((r * Vec3(0, 1, 0) - Vec3(1, 0, 0)).norm(), 1e-15);
     for (const Vec3& angles : {Vec3(33, 0, 0), Vec3(0, 10, 0), Vec3(0, 0, 64), Vec3(180, 0, 0), Vec3(12, -47, 131)}) {
-        EXPECT_LT((euler_degrees_to_matrix(angles) - sofa_reference_rotation(angles)).norm(), 1e-15) << angles.transpose();
+        EXPECT_LT((euler_degrees_to_matrix(angles) - sofa_reference_rotation(angles)).norm(), 1e-15)
+            << angles.transpose();
     }
 }
 
@@ -483,7 +496,8 @@ TEST(OffLoader, Errors) {
     EXPECT_EQ(message_of<LoadError>([&] { (void)load_off(bad_index); }),
               bad_index.string() + ":6: face vertex 3 is not one of the 3 points");
     const auto short_file = write_temp("short.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-    EXPECT_THAT(message_of<LoadError>([&] { (void)load_off(short_file); }), ::testing::HasSubstr("unexpected end of file"));
+    EXPECT_THAT(message_of<LoadError>([&] { (void)load_off(short_file); }),
+                ::testing::HasSubstr("unexpected end of file"));
 }
 
 TEST(TrianLoader, PointsAndTrianglesNeighboursIgnored) {
@@ -492,7 +506,8 @@ TEST(TrianLoader, PointsAndTrianglesNeighboursIgnored) {
     ASSERT_EQ(m.positions.size(), 4u);
     EXPECT_THAT(m.triangles, ElementsAre(Triangle{0, 1, 2}, Triangle{0, 2, 3}));
     const auto bad = write_temp("bad.trian", "1\n0 0 0\n1\n0 0 1 -1 -1 -1\n");
-    EXPECT_EQ(message_of<LoadError>([&] { (void)load_trian(bad); }), bad.string() + ":4: triangle point 1 is not one of the 1 points");
+    EXPECT_EQ(message_of<LoadError>([&] { (void)load_trian(bad); }),
+              bad.string() + ":4: triangle point 1 is not one of the 1 points");
 }
 
 }  // namespace

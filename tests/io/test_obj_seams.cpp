@@ -45,7 +45,8 @@ TEST(ObjSeams, PointsSplitPerTextureAndNormalPairInPairOrder) {
     EXPECT_EQ(m.triangles[0], (Triangle{1, 2, 3}));
     EXPECT_EQ(m.triangles[1], (Triangle{0, 3, 4}));
     // negative indices count back from the vt / vn lines read so far
-    const MeshData relative = parse_obj(text.substr(0, text.find("f 1/2")) + "f 1/-2/-1 2/-2/-1 3/-1/-1\n", "r.obj", false, true);
+    const MeshData relative =
+        parse_obj(text.substr(0, text.find("f 1/2")) + "f 1/-2/-1 2/-2/-1 3/-1/-1\n", "r.obj", false, true);
     EXPECT_EQ(relative.positions.size(), 3u);
 }
 

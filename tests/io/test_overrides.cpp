@@ -80,7 +80,9 @@ TEST(Overrides, AddsAnAbsentAttributeOnlyWhenTheFilterAcceptsIt) {
     EXPECT_EQ(message_of<SceneError>([&] { apply_overrides(s, {o}); }),
               "s.scn:5: TriangleCollisionModel 'FloorTri1': --set '/Floor/FloorTri1.contactFriction=0.3': "
               "no attribute 'contactFriction' in the file");
-    const AttributeFilter only_friction = [](const SceneElement&, std::string_view a) { return a == "contactFriction"; };
+    const AttributeFilter only_friction = [](const SceneElement&, std::string_view a) {
+        return a == "contactFriction";
+    };
     apply_overrides(s, {o}, only_friction);
     const SceneComponent* tri = s.root->child("Floor")->component("FloorTri1");
     ASSERT_NE(tri->find("contactFriction"), nullptr);
@@ -97,8 +99,9 @@ TEST(Overrides, AddsAnAbsentAttributeOnlyWhenTheFilterAcceptsIt) {
 
 TEST(Overrides, UnknownPathsNameTheMissingSegment) {
     SceneFile s = scene();
-    EXPECT_EQ(message_of<SceneError>([&] { apply_overrides(s, {parse_override("/Flor/FloorTri1.contactStiffness=1")}); }),
-              "s.scn: --set '/Flor/FloorTri1.contactStiffness=1': no node 'Flor' in '/' (it has: Floor/, solver)");
+    EXPECT_EQ(
+        message_of<SceneError>([&] { apply_overrides(s, {parse_override("/Flor/FloorTri1.contactStiffness=1")}); }),
+        "s.scn: --set '/Flor/FloorTri1.contactStiffness=1': no node 'Flor' in '/' (it has: Floor/, solver)");
     EXPECT_EQ(message_of<SceneError>([&] { apply_overrides(s, {parse_override("/Floor/Tri.contactStiffness=1")}); }),
               "s.scn: --set '/Floor/Tri.contactStiffness=1': no node or component 'Tri' in '/Floor' "
               "(it has: Inner/, dofs, FloorTri1)");

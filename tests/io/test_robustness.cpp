@@ -3,10 +3,10 @@
 
 #include "io_test_util.hpp"
 
-#include "penalty/io/scene_mesh.hpp"
-#include "penalty/scene/components.hpp"
 #include "penalty/io/mesh.hpp"
 #include "penalty/io/scene_file.hpp"
+#include "penalty/io/scene_mesh.hpp"
+#include "penalty/scene/components.hpp"
 
 #include <gtest/gtest.h>
 

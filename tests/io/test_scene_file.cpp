@@ -3,10 +3,10 @@
 
 #include "io_test_util.hpp"
 
-#include "penalty/io/scene_mesh.hpp"
-#include "penalty/scene/components.hpp"
 #include "penalty/io/data_path.hpp"
 #include "penalty/io/scene_file.hpp"
+#include "penalty/io/scene_mesh.hpp"
+#include "penalty/scene/components.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -73,7 +73,8 @@ TEST(SceneParser, BuildsTheTreeWithLinesAndTemplates) {
 
 TEST(SceneParser, ObjectSyntaxAndUnnamedNodes) {
     const SceneFile s = parse_scene_string(
-        "<Node name='r'>\n  <Node>\n    <Object type='MechanicalObject' name='m' position='1 2 3'/>\n  </Node>\n</Node>\n",
+        "<Node name='r'>\n  <Node>\n    <Object type='MechanicalObject' name='m' position='1 2 3'/>\n  "
+        "</Node>\n</Node>\n",
         "inline.scn");
     ASSERT_EQ(s.root->children.size(), 1u);
     const SceneNode& n = *s.root->children[0];
@@ -86,7 +87,8 @@ TEST(SceneParser, ObjectSyntaxAndUnnamedNodes) {
 
 TEST(SceneParser, MissingFile) {
     const auto p = data_dir() / "scenes" / "no_such.scn";
-    EXPECT_EQ(message_of<SceneError>([&] { (void)parse_scene_file(p); }), p.string() + ": cannot read: the path does not exist");
+    EXPECT_EQ(message_of<SceneError>([&] { (void)parse_scene_file(p); }),
+              p.string() + ": cannot read: the path does not exist");
 }
 
 TEST(SceneParser, UnclosedTagNamesTheLine) {
@@ -110,10 +112,12 @@ TEST(SceneParser, MalformedXmlAttribute) {
 TEST(SceneParser, EmptyAndWrongRoot) {
     EXPECT_EQ(message_of<SceneError>([&] { (void)parse_scene_string("", "empty.scn"); }),
               "empty.scn: XML error: empty document");
-    EXPECT_EQ(message_of<SceneError>([&] { (void)parse_scene_string("<?xml version='1.0'?>\n<Scene/>\n", "root.scn"); }),
-              "root.scn:2: root element must be <Node>, found <Scene>");
-    EXPECT_EQ(message_of<SceneError>([&] { (void)parse_scene_string("<Node>\n<Object name='x'/>\n</Node>", "obj.scn"); }),
-              "obj.scn:2: <Object> without a 'type' attribute");
+    EXPECT_EQ(
+        message_of<SceneError>([&] { (void)parse_scene_string("<?xml version='1.0'?>\n<Scene/>\n", "root.scn"); }),
+        "root.scn:2: root element must be <Node>, found <Scene>");
+    EXPECT_EQ(
+        message_of<SceneError>([&] { (void)parse_scene_string("<Node>\n<Object name='x'/>\n</Node>", "obj.scn"); }),
+        "obj.scn:2: <Object> without a 'type' attribute");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -260,19 +264,23 @@ TEST(SceneLinks, BrokenLinksNameTheAttribute) {
     const std::string file = tiny_path().string();
     const SceneComponent& mapping = *node_at(s, {"Body", "Collision"}).components[2];  // line 21
     EXPECT_EQ(message_of<SceneError>([&] { (void)resolve_link_text(mapping, "@../rigidx", "input"); }),
-              file + ":21: IdentityMapping: attribute 'input': broken link '@../rigidx': no node or component named "
-                     "'rigidx' in node '/Body'");
+              file +
+                  ":21: IdentityMapping: attribute 'input': broken link '@../rigidx': no node or component named "
+                  "'rigidx' in node '/Body'");
     EXPECT_EQ(message_of<SceneError>([&] { (void)resolve_link_text(mapping, "@nowhere", "input"); }),
-              file + ":21: IdentityMapping: attribute 'input': broken link '@nowhere': no node or component named "
-                     "'nowhere' in node '/Body/Collision' or its ancestors");
+              file +
+                  ":21: IdentityMapping: attribute 'input': broken link '@nowhere': no node or component named "
+                  "'nowhere' in node '/Body/Collision' or its ancestors");
     EXPECT_EQ(message_of<SceneError>([&] { (void)resolve_link_text(mapping, "@../../..", "input"); }),
               file + ":21: IdentityMapping: attribute 'input': broken link '@../../..': '..' goes above the root node");
     EXPECT_EQ(message_of<SceneError>([&] { (void)resolve_link_text(mapping, "@[-5].position", "input"); }),
-              file + ":21: IdentityMapping: attribute 'input': broken link '@[-5].position': only 2 component(s) "
-                     "before it in node '/Body/Collision'");
+              file +
+                  ":21: IdentityMapping: attribute 'input': broken link '@[-5].position': only 2 component(s) "
+                  "before it in node '/Body/Collision'");
     EXPECT_EQ(message_of<SceneError>([&] { (void)resolve_link_text(mapping, "@points/x", "input"); }),
-              file + ":21: IdentityMapping: attribute 'input': broken link '@points/x': 'MechanicalObject 'points'' "
-                     "is a component, it has no child 'x'");
+              file +
+                  ":21: IdentityMapping: attribute 'input': broken link '@points/x': 'MechanicalObject 'points'' "
+                  "is a component, it has no child 'x'");
     EXPECT_EQ(message_of<SceneError>([&] { (void)resolve_link(mapping, "template"); }),
               file + ":21: IdentityMapping: attribute 'template': missing (a link was expected)");
 }
@@ -290,7 +298,8 @@ TEST(SceneValidation, ClassifiesComponentsAndSummarizesIgnoredOnes) {
     EXPECT_EQ(check.loaders[2]->type, "MeshGmshLoader");
     EXPECT_EQ(check.ignored.size(), 5u);
     EXPECT_EQ(check.summary,
-              "ignored 5 components that do not change the numbers: BarycentricMapping (visual output) x1, MeshOBJLoader (visual only) x1, "
+              "ignored 5 components that do not change the numbers: BarycentricMapping (visual output) x1, "
+              "MeshOBJLoader (visual only) x1, "
               "OglModel x1, RequiredPlugin x1, VisualStyle x1");
     EXPECT_EQ(scene::component_category("TriangleCollisionModel"), scene::ComponentCategory::physics);
     EXPECT_EQ(scene::component_category("OglModel"), scene::ComponentCategory::ignored);
@@ -333,8 +342,8 @@ TEST(DataPath, SceneFolderThenDataDirsThenEnvironment) {
     ::setenv(kDataPathEnvironmentVariable, ("/nonexistent2::" + data_dir().string()).c_str(), 1);
     EXPECT_EQ(resolve_data_file("mesh/tetra.obj", scene_dir, {}), data_dir() / "mesh" / "tetra.obj");
     EXPECT_EQ(message_of<LoadError>([&] { (void)resolve_data_file("mesh/none.obj", scene_dir, {"/nonexistent"}); }),
-              "cannot find data file 'mesh/none.obj'; looked in: " + scene_dir.string() + ", /nonexistent, /nonexistent2, " +
-                  data_dir().string());
+              "cannot find data file 'mesh/none.obj'; looked in: " + scene_dir.string() +
+                  ", /nonexistent, /nonexistent2, " + data_dir().string());
     ::unsetenv(kDataPathEnvironmentVariable);
     EXPECT_EQ(message_of<LoadError>([&] { (void)resolve_data_file("/no/such/file.obj", scene_dir, {}); }),
               "cannot find data file '/no/such/file.obj'");
@@ -400,12 +409,16 @@ TEST(SceneMeshes, ErrorsNameTheComponentAndAttribute) {
     const std::string file = tiny_path().string();
     const SceneComponent& visual_loader = *node_at(s, {"Body", "Visu"}).components[0];
     EXPECT_EQ(message_of<SceneError>([&] { (void)load_scene_mesh(visual_loader, s.directory(), {data_dir()}); }),
-              file + ":24: MeshOBJLoader 'visual_loader': attribute 'onlyAttachedPoints': not supported by penalty (it "
-                     "changes the point list)");
+              file +
+                  ":24: MeshOBJLoader 'visual_loader': attribute 'onlyAttachedPoints': not supported by penalty (it "
+                  "changes the point list)");
     // without the data folder the file is not found
-    EXPECT_EQ(message_of<SceneError>([&] { (void)load_scene_mesh(*s.root->component("shared_loader"), s.directory(), {}); }),
-              file + ":12: MeshOBJLoader 'shared_loader': attribute 'filename': cannot find data file 'mesh/tetra.obj'; "
-                     "looked in: " + s.directory().string());
+    EXPECT_EQ(
+        message_of<SceneError>([&] { (void)load_scene_mesh(*s.root->component("shared_loader"), s.directory(), {}); }),
+        file +
+            ":12: MeshOBJLoader 'shared_loader': attribute 'filename': cannot find data file 'mesh/tetra.obj'; "
+            "looked in: " +
+            s.directory().string());
 
     const auto bad_mesh = write_temp("bad_in_scene.obj", "v 0 0 0\nf 1 2 3\n");
     const SceneFile t = parse_scene_string("<Node>\n<MeshOBJLoader name='l' filename='" + bad_mesh.string() +

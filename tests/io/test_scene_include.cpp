@@ -134,16 +134,18 @@ TEST(SceneInclude, IncludedComponentRootIsAddedToTheNode) {
 }
 
 TEST(SceneInclude, FilesAreLookedForInTheDataDirectoriesAfterTheIncludingFolder) {
-    const std::filesystem::path scene =
-        write_temp("include_from_data_dir.scn", "<Node name=\"root\">\n  <include href=\"Objects/Mass.xml\"/>\n</Node>\n");
-    EXPECT_THAT(message_of<SceneError>([&] { (void)parse_scene_file(scene); }),
-                HasSubstr("include_from_data_dir.scn:2: <include>: cannot find data file 'Objects/Mass.xml'; looked in: "));
+    const std::filesystem::path scene = write_temp(
+        "include_from_data_dir.scn", "<Node name=\"root\">\n  <include href=\"Objects/Mass.xml\"/>\n</Node>\n");
+    EXPECT_THAT(
+        message_of<SceneError>([&] { (void)parse_scene_file(scene); }),
+        HasSubstr("include_from_data_dir.scn:2: <include>: cannot find data file 'Objects/Mass.xml'; looked in: "));
     const SceneFile s = parse_scene_file(scene, {include_dir()});
     ASSERT_EQ(s.root->components.size(), 1u);
     EXPECT_EQ(s.root->components[0]->name, "massFromFile");
     EXPECT_EQ(s.root->components[0]->file, (include_dir() / "Objects/Mass.xml").string());
     // parse_scene_string takes the same data directories
-    const SceneFile t = parse_scene_string("<Node><include href=\"Objects/Mass.xml\"/></Node>", "text.scn", {include_dir()});
+    const SceneFile t =
+        parse_scene_string("<Node><include href=\"Objects/Mass.xml\"/></Node>", "text.scn", {include_dir()});
     EXPECT_EQ(t.root->components.at(0)->type, "UniformMass");
 }
 
@@ -157,7 +159,8 @@ TEST(SceneInclude, ErrorsNameFileAndLine) {
     EXPECT_THAT(loop, HasSubstr("LoopB.xml includes "));
     EXPECT_THAT(loop, HasSubstr("(included from "));
 
-    const std::filesystem::path self = write_temp("include_self.scn", "<Node>\n<include href=\"include_self.scn\"/>\n</Node>\n");
+    const std::filesystem::path self =
+        write_temp("include_self.scn", "<Node>\n<include href=\"include_self.scn\"/>\n</Node>\n");
     EXPECT_THAT(message_of<SceneError>([&] { (void)parse_scene_file(self); }),
                 HasSubstr("include_self.scn:2: <include>: include loop: "));
 
@@ -180,8 +183,10 @@ TEST(SceneInclude, AttributeErrorsInIncludedComponentsSayWhereTheyWereIncluded) 
 TEST(SceneInclude, NestingIsLimited) {
     // chain_0.xml includes chain_1.xml ... : 17 levels of includes, one more than the limit
     for (int i = 0; i <= 17; ++i) {
-        const std::string body = i < 17 ? "<include href=\"chain_" + std::to_string(i + 1) + ".xml\"/>" : "<MechanicalObject/>";
-        (void)write_temp("chain_" + std::to_string(i) + ".xml", "<Node name=\"n" + std::to_string(i) + "\">" + body + "</Node>\n");
+        const std::string body =
+            i < 17 ? "<include href=\"chain_" + std::to_string(i + 1) + ".xml\"/>" : "<MechanicalObject/>";
+        (void)write_temp("chain_" + std::to_string(i) + ".xml",
+                         "<Node name=\"n" + std::to_string(i) + "\">" + body + "</Node>\n");
     }
     const std::filesystem::path deep = write_temp("chain.scn", "<Node><include href=\"chain_0.xml\"/></Node>\n");
     EXPECT_THAT(message_of<SceneError>([&] { (void)parse_scene_file(deep); }),

@@ -2,9 +2,9 @@
 // components use. Skipped when the shared folder is absent (the SOFA files are not part of
 // this repository).
 
+#include "penalty/io/scene_file.hpp"
 #include "penalty/io/scene_mesh.hpp"
 #include "penalty/scene/components.hpp"
-#include "penalty/io/scene_file.hpp"
 
 #include <gtest/gtest.h>
 
@@ -29,7 +29,7 @@ std::ostream& operator<<(std::ostream& out, const Counts& c) {
 }
 
 Counts counts_of(const MeshData& m) {
-    return {m.positions.size(), m.edges.size(), m.triangles.size(), m.quads.size(),
+    return {m.positions.size(),  m.edges.size(),     m.triangles.size(), m.quads.size(),
             m.tetrahedra.size(), m.hexahedra.size(), m.radii.size()};
 }
 
@@ -66,23 +66,36 @@ const std::map<std::string, SceneExpectation> kScenes{
     {"CompositeCollisionPipeline_none.scn",
      {30, 1, "ignored 13 components that do not change the numbers: RequiredPlugin x12, VisualStyle x1"}},
     {"Gravity.scn",
-     {42, 4, "ignored 25 components that do not change the numbers: BarycentricMapping (visual output) x2, MeshOBJLoader (visual only) "
-             "x4, OglModel x4, RequiredPlugin x15"}},
+     {42, 4,
+      "ignored 25 components that do not change the numbers: BarycentricMapping (visual output) x2, MeshOBJLoader "
+      "(visual only) "
+      "x4, OglModel x4, RequiredPlugin x15"}},
     {"MeshSpringForceField.scn",
-     {49, 9, "ignored 27 components that do not change the numbers: BarycentricMapping (visual output) x4, MeshOBJLoader (visual only) "
-             "x5, OglModel x5, RequiredPlugin x13"}},
-    {"ModelizationSphereBased.scn", {16, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
-    {"ModelizationTriangleBased.scn", {18, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
-    {"MultipleObjectsTwoCubes.scn", {25, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
+     {49, 9,
+      "ignored 27 components that do not change the numbers: BarycentricMapping (visual output) x4, MeshOBJLoader "
+      "(visual only) "
+      "x5, OglModel x5, RequiredPlugin x13"}},
+    {"ModelizationSphereBased.scn",
+     {16, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
+    {"ModelizationTriangleBased.scn",
+     {18, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
+    {"MultipleObjectsTwoCubes.scn",
+     {25, 1, "ignored 12 components that do not change the numbers: RequiredPlugin x11, VisualStyle x1"}},
     {"RegularGridSpringForceField.scn",
-     {49, 5, "ignored 28 components that do not change the numbers: BarycentricMapping (visual output) x4, MeshOBJLoader (visual only) "
-             "x5, OglModel x5, RequiredPlugin x14"}},
+     {49, 5,
+      "ignored 28 components that do not change the numbers: BarycentricMapping (visual output) x4, MeshOBJLoader "
+      "(visual only) "
+      "x5, OglModel x5, RequiredPlugin x14"}},
     {"SphereModel.scn",
-     {17, 2, "ignored 21 components that do not change the numbers: MeshOBJLoader (visual only) x2, OglModel x2, RequiredPlugin x14, "
-             "SubsetMapping (visual output) x1, VisualStyle x2"}},
+     {17, 2,
+      "ignored 21 components that do not change the numbers: MeshOBJLoader (visual only) x2, OglModel x2, "
+      "RequiredPlugin x14, "
+      "SubsetMapping (visual output) x1, VisualStyle x2"}},
     {"collisionMultiple.scn",
-     {47, 4, "ignored 34 components that do not change the numbers: BarycentricMapping (visual output) x6, MeshOBJLoader (visual only) "
-             "x7, OglModel x7, RequiredPlugin x14"}},
+     {47, 4,
+      "ignored 34 components that do not change the numbers: BarycentricMapping (visual output) x6, MeshOBJLoader "
+      "(visual only) "
+      "x7, OglModel x7, RequiredPlugin x14"}},
 };
 
 TEST(SharedScenes, EverySceneParsesValidatesAndLoadsItsMeshes) {

@@ -123,7 +123,7 @@ TEST(BoxColumns, BvhCandidatesEqualEveryOverlappingPairForEveryLeafSize) {
     };
     const std::vector<std::uint64_t> ab = expected_pairs(a, b);
     const std::vector<std::uint64_t> ca = expected_pairs(c, a);
-    ASSERT_GT(ab.size(), 1000u);  // a real test: many pairs …
+    ASSERT_GT(ab.size(), 1000u);             // a real test: many pairs …
     ASSERT_LT(ab.size(), 700u * 500u / 10);  // … but far from all
     ASSERT_GT(ca.size(), 20u);
     for (const std::size_t leaf : {1, 3, 8, 64, 65, 200}) {
@@ -145,18 +145,18 @@ TEST(BoxColumns, BvhCandidatesEqualEveryOverlappingPairForEveryLeafSize) {
 TEST(BoxColumns, BvhCandidatesAreSortedOnEveryPathOfTheSort) {
     struct Case {
         std::size_t n1, n2;
-        double radius;                  // of every sphere; cloud of side 1 (and the second one of side `side2`)
+        double radius;  // of every sphere; cloud of side 1 (and the second one of side `side2`)
         double side2;
         std::size_t min_keys, max_keys;  // the path's range
     };
     const Case cases[] = {
         // expected keys n1·n2·P³ with P = 2r − r² for two clouds of side 2 (about 100, 1 500,
         // 50 000 and 600 000), n1·n2·(2r)³ for a small second cloud (about 7 000)
-        {100, 100, 0.114, 1.0, 20, 255},           // comparisons
-        {300, 300, 0.137, 1.0, 256, 4095},         // radix (few keys)
-        {40000, 40, 0.0818, 0.1, 4096, 9999},      // radix (fewer keys than n1 / 4)
-        {1000, 1000, 0.205, 1.0, 4096, 262143},    // two counting sorts
-        {2000, 2000, 0.315, 1.0, 262144, 4000000}, // counting + per-element sorts (parallel)
+        {100, 100, 0.114, 1.0, 20, 255},            // comparisons
+        {300, 300, 0.137, 1.0, 256, 4095},          // radix (few keys)
+        {40000, 40, 0.0818, 0.1, 4096, 9999},       // radix (fewer keys than n1 / 4)
+        {1000, 1000, 0.205, 1.0, 4096, 262143},     // two counting sorts
+        {2000, 2000, 0.315, 1.0, 262144, 4000000},  // counting + per-element sorts (parallel)
     };
     std::mt19937 g(20261127);
     int paths = 0;
@@ -168,7 +168,8 @@ TEST(BoxColumns, BvhCandidatesAreSortedOnEveryPathOfTheSort) {
         std::vector<std::uint64_t> expected;
         for (std::size_t i = 0; i < c.n1; ++i)
             for (std::size_t j = 0; j < c.n2; ++j)
-                if (a.element_box(Index(i)).overlaps(b.element_box(Index(j)), 0.0)) expected.push_back((std::uint64_t(i) << 32) | j);
+                if (a.element_box(Index(i)).overlaps(b.element_box(Index(j)), 0.0))
+                    expected.push_back((std::uint64_t(i) << 32) | j);
         ASSERT_GE(expected.size(), c.min_keys) << c.n1 << " x " << c.n2;
         ++paths;
         ASSERT_LE(expected.size(), c.max_keys) << c.n1 << " x " << c.n2;
@@ -176,7 +177,8 @@ TEST(BoxColumns, BvhCandidatesAreSortedOnEveryPathOfTheSort) {
         ta.build(a, 8);
         tb.build(b, 8);
         for (const bool parallel : {false, true})
-            EXPECT_EQ(bvh_candidates(ta, tb, false, 0.0, parallel), expected) << c.n1 << " x " << c.n2 << (parallel ? " parallel" : "");
+            EXPECT_EQ(bvh_candidates(ta, tb, false, 0.0, parallel), expected)
+                << c.n1 << " x " << c.n2 << (parallel ? " parallel" : "");
     }
     EXPECT_EQ(paths, 5);
 }

@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <iterator>
 #include <limits>
-#include <cmath>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -136,8 +136,8 @@ void expect_filter_keeps_the_kernels_candidates(const IntersectionParams& params
 }
 
 IntersectionParams feature_filter_params(IntersectionMethod method = IntersectionMethod::NewProximity) {
-    IntersectionParams p =
-        method == IntersectionMethod::NewProximity ? IntersectionParams::new_proximity() : IntersectionParams::min_proximity();
+    IntersectionParams p = method == IntersectionMethod::NewProximity ? IntersectionParams::new_proximity()
+                                                                      : IntersectionParams::min_proximity();
     p.alarm_distance = 1e6;  // every pair within range: an output iff the feature tests pass
     p.contact_distance = 0.1;
     return p;
@@ -174,7 +174,8 @@ TEST(CandidateFilters, KeepsExactlyTheTriangleToSphereCandidatesUnderEachQuirkSe
     rigid_balls.update();
     for (const bool fix_range : {false, true})
         for (const bool fix_flags : {false, true}) {
-            SCOPED_TRACE(::testing::Message() << "edge range fixed " << fix_range << ", edge flags fixed " << fix_flags);
+            SCOPED_TRACE(::testing::Message()
+                         << "edge range fixed " << fix_range << ", edge flags fixed " << fix_flags);
             IntersectionParams params = feature_filter_params();
             params.quirks.fix_newproximity_triangle_sphere_edge_range = fix_range;
             params.quirks.fix_newproximity_triangle_sphere_edge_flags = fix_flags;
@@ -192,14 +193,14 @@ TEST(CandidateFilters, KeepsExactlyTheTriangleToSphereCandidatesUnderEachQuirkSe
 // (the same vertices again) none of them, T2 shares O, Y and the edge OY with T0.
 TEST(CandidateFilters, ExactThresholdsOnRightTrianglesDecideAsTheKernel) {
     const double eps = std::numeric_limits<double>::epsilon();
-    std::vector<double> marks = {-1e-6, -1e-7, -eps, 0.0, eps, 2 * eps, 1e-7, 1e-6, 0.5 - eps, 0.5, 0.999999,
-                                 1.0 - eps, 1.0, 1.0 + eps, 2.0};
+    std::vector<double> marks = {-1e-6,     -1e-7, -eps,     0.0,       eps, 2 * eps,   1e-7, 1e-6,
+                                 0.5 - eps, 0.5,   0.999999, 1.0 - eps, 1.0, 1.0 + eps, 2.0};
     for (const double m : {eps, 1e-7, 1e-6, 0.999999, 1.0 - eps}) {
         marks.push_back(std::nextafter(m, 0.0));
         marks.push_back(std::nextafter(m, 2.0));
     }
-    auto mesh = triangle_mesh({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0)},
-                              {{0, 1, 2}, {0, 1, 2}, {0, 2, 3}});
+    auto mesh =
+        triangle_mesh({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0)}, {{0, 1, 2}, {0, 1, 2}, {0, 2, 3}});
     std::vector<Vec3> centres;
     for (const double a : marks)
         for (const double b : marks) {
@@ -245,7 +246,7 @@ TEST(CandidateFilters, LineLineKeepsExactlyTheKernelsCandidatesAtItsThresholds) 
         }
     others.emplace_back(-1.0, 0.5, 0.5);  // parallel to x
     others.emplace_back(3.0, 0.5, 0.5);
-    others.emplace_back(0.2, 0.0, 1.0);   // zero length
+    others.emplace_back(0.2, 0.0, 1.0);  // zero length
     others.emplace_back(0.2, 0.0, 1.0);
     others.emplace_back(0.5, 0.0, 0.25);  // det = 1 · (10⁻⁶)² = 10⁻¹², NewProximity's `parallel`, exactly
     others.emplace_back(0.5, 1e-6, 0.25);

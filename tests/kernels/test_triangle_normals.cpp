@@ -2,8 +2,8 @@
 // (p2 − p0)) bit for bit, zeros' signs included, on random meshes with degenerate, tiny, huge and
 // non-finite triangles; and TriangleModel::update() computing them once per call.
 #include "fixtures.hpp"
-#include "penalty/collision/models.hpp"
 #include "kernels/collision/triangle_normals.hpp"
+#include "penalty/collision/models.hpp"
 #include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
@@ -59,8 +59,8 @@ TEST(TriangleNormals, EveryPathEqualsEigensNormalizedCrossProduct) {
             std::vector<Vec3> n(count, Vec3::Constant(7.0));
             detail::triangle_normals(x, t, n, path);
             for (std::size_t i = 0; i < count; ++i) {
-                const Vec3 expected = reference_normal(x[std::size_t(t[i][0])], x[std::size_t(t[i][1])],
-                                                       x[std::size_t(t[i][2])]);
+                const Vec3 expected =
+                    reference_normal(x[std::size_t(t[i][0])], x[std::size_t(t[i][1])], x[std::size_t(t[i][2])]);
                 ASSERT_TRUE(same_bits(n[i], expected))
                     << to_string(path) << ", " << count << " triangles, triangle " << i << ": " << n[i].transpose()
                     << " instead of " << expected.transpose();

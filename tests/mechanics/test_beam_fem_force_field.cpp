@@ -6,8 +6,8 @@
 
 #include "penalty_test/rigid_derivatives.hpp"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <cmath>
 #include <numbers>

@@ -76,7 +76,8 @@ TEST(QuadularBendingSprings, TwoSpringsPerSharedEdgeInEdgeOrder) {
     const auto springs2 = quadular_bending_springs(topo, moved, 1.0, 0.0);
     for (const Spring& s : springs2)
         EXPECT_EQ(s.rest_length, (moved[static_cast<std::size_t>(s.a)] - moved[static_cast<std::size_t>(s.b)]).norm());
-    EXPECT_THROW((void)quadular_bending_springs(topo, std::span<const Vec3>(x).first(6), 1.0, 0.0), std::invalid_argument);
+    EXPECT_THROW((void)quadular_bending_springs(topo, std::span<const Vec3>(x).first(6), 1.0, 0.0),
+                 std::invalid_argument);
 }
 
 TEST(QuadularBendingSprings, NoSpringOnBorderEdgesOrWithoutQuads) {
@@ -95,8 +96,8 @@ TEST(TriangleBendingSprings, OneSpringPerLaterFaceOnAnEdgeQuadsSplit) {
     //   t1's {2,1}: opposite 3, first face's opposite 0       → spring (3, 0)
     //   (2,3,5)'s {2,3}: opposite 5, t1's opposite 1          → spring (5, 1)
     //   (2,5,4)'s {2,5}: opposite 4, (2,3,5)'s opposite 3     → spring (4, 3)
-    const std::vector<Vec3> x = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(1, 1, 0.3),
-                                 Vec3(0, 2, 0), Vec3(1, 2, -0.2)};
+    const std::vector<Vec3> x = {Vec3(0, 0, 0),   Vec3(1, 0, 0), Vec3(0, 1, 0),
+                                 Vec3(1, 1, 0.3), Vec3(0, 2, 0), Vec3(1, 2, -0.2)};
     MeshTopology topo;
     topo.set_triangles({{0, 1, 2}, {1, 3, 2}});
     topo.set_quads({{2, 3, 5, 4}});

@@ -13,7 +13,7 @@ TEST(TriangularBendingSprings, OneSpringPerSharedEdgeBetweenTheOppositeVertices)
     // A fan around vertex 0: triangles (0,1,2), (0,2,3), (0,3,4), and a lone triangle (5,6,7).
     // Edges from triangles (edge opposite vertex j = (t[j+1], t[j+2])): the shared ones are
     // (0,2) and (0,3); for each, m1 = opposite vertex in the higher-index triangle, m2 in the lower.
-    const std::vector<Vec3> x0 = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),
+    const std::vector<Vec3> x0 = {Vec3(0, 0, 0),    Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),
                                   Vec3(-1, 1, 0.5), Vec3(5, 0, 0), Vec3(6, 0, 0), Vec3(5, 1, 0)};
     MeshTopology topo;
     topo.set_triangles({{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {5, 6, 7}});

@@ -9,8 +9,8 @@
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <random>
@@ -31,7 +31,8 @@ struct CornerTetrahedron {
     }
     /// Stretch along x: x ← (1 + ε)·x (an affine field: uniform strain εxx = ε).
     void stretch(double strain) {
-        for (std::size_t i = 0; i < 4; ++i) state.position[i] = state.rest_position[i] + Vec3(strain * state.rest_position[i].x(), 0, 0);
+        for (std::size_t i = 0; i < 4; ++i)
+            state.position[i] = state.rest_position[i] + Vec3(strain * state.rest_position[i].x(), 0, 0);
     }
 };
 
@@ -60,7 +61,8 @@ TEST(TetrahedralCorotationalFem, UniaxialStretchGivesTheLinearElasticForcesForEa
         ff.accumulate_force();
         // the corner tetrahedron's large frame and polar rotation are the identity under this stretch
         for (std::size_t k = 0; k < 4; ++k)
-            EXPECT_TRUE(t.state.force[k].isApprox(expected[k], 1e-12) || (t.state.force[k] - expected[k]).norm() < 1e-12)
+            EXPECT_TRUE(t.state.force[k].isApprox(expected[k], 1e-12) ||
+                        (t.state.force[k] - expected[k]).norm() < 1e-12)
                 << "method " << int(method) << " node " << k << ": " << t.state.force[k].transpose() << " vs "
                 << expected[k].transpose();
         // energy ½uᵀK^e u = V·½σ:ε = L³/6 · ½(λ+2μ)ε²
@@ -106,7 +108,8 @@ TEST(TetrahedralCorotationalFem, LargeAndPolarForcesRotateWithTheBody) {
             TetrahedralCorotationalFEMForceField ff(t.state, t.tetrahedra, kYoung, kPoisson,
                                                     {.method = method, .update_stiffness = update});
             ff.init();
-            t.state.position = {Vec3(0.01, -0.02, 0.0), Vec3(2.1, 0.05, -0.03), Vec3(-0.04, 1.9, 0.02), Vec3(0.03, 0.01, 2.2)};
+            t.state.position = {Vec3(0.01, -0.02, 0.0), Vec3(2.1, 0.05, -0.03), Vec3(-0.04, 1.9, 0.02),
+                                Vec3(0.03, 0.01, 2.2)};
             const auto force = [&] {
                 std::fill(t.state.force.begin(), t.state.force.end(), Vec3::Zero());
                 ff.accumulate_force();
@@ -161,8 +164,8 @@ TEST(TetrahedralCorotationalFem, CorotationalStiffnessMatchesFiniteDifferencesAt
             ff.init();
             for (std::size_t i = 0; i < b.state.position.size(); ++i)
                 b.state.position[i] = q * b.state.rest_position[i] + Vec3(1, -0.5, 0.2);
-            const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12,
-                                                 .force_vs_energy = std::nullopt};
+            const test::DerivativeTolerances tol{
+                .dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
             const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, b.state, tol);
             EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 100.0);
             EXPECT_LT(d.force.cwiseAbs().maxCoeff(), 1e-9);
@@ -204,12 +207,15 @@ TEST(TetrahedralCorotationalFem, DeformedStiffnessIsTheRotatedElementStiffness) 
         const Mat3 inv = m.inverse();
         const std::array<Vec3, 4> g{-(inv.row(0) + inv.row(1) + inv.row(2)).transpose(), inv.row(0).transpose(),
                                     inv.row(1).transpose(), inv.row(2).transpose()};
-        const Eigen::Matrix<double, 12, 12> ke = tetrahedron_stiffness_from_gradients(g, isotropic_elasticity(800, 0.35), v * v / v0);
+        const Eigen::Matrix<double, 12, 12> ke =
+            tetrahedron_stiffness_from_gradients(g, isotropic_elasticity(800, 0.35), v * v / v0);
         Eigen::Matrix<double, 12, 1> local_dx;
-        for (std::size_t k = 0; k < 4; ++k) local_dx.segment<3>(3 * static_cast<Eigen::Index>(k)) = r * dx[static_cast<std::size_t>(t[k])];
+        for (std::size_t k = 0; k < 4; ++k)
+            local_dx.segment<3>(3 * static_cast<Eigen::Index>(k)) = r * dx[static_cast<std::size_t>(t[k])];
         const Eigen::Matrix<double, 12, 1> fl = ke * local_dx;
         for (std::size_t k = 0; k < 4; ++k)
-            expected[static_cast<std::size_t>(t[k])] -= 2.0 * r.transpose() * fl.segment<3>(3 * static_cast<Eigen::Index>(k));
+            expected[static_cast<std::size_t>(t[k])] -=
+                2.0 * r.transpose() * fl.segment<3>(3 * static_cast<Eigen::Index>(k));
     }
     double scale = 0, diff = 0;
     for (std::size_t i = 0; i < df.size(); ++i) {

@@ -130,7 +130,7 @@ TEST(MeshRegion, InsideAClosedCube) {
     // not inside
     EXPECT_FALSE(region.contains(Vec3(0.5, 0.5, 0.5)));
     EXPECT_TRUE(region.contains(Vec3(0.9, 0.2, 0.7)));
-    EXPECT_FALSE(region.contains(Vec3(1.5, 0.5, 0.5)));   // outside the box
+    EXPECT_FALSE(region.contains(Vec3(1.5, 0.5, 0.5)));  // outside the box
     EXPECT_FALSE(region.contains(Vec3(0.5, -0.01, 0.5)));
     // a seeded sample: the parity test agrees with the box for a convex mesh, and hits both sides
     std::mt19937 rng(3);
@@ -154,7 +154,8 @@ TEST(MeshRegion, InsideAClosedCube) {
     EXPECT_TRUE(MeshRegion(points, triangles, false).contains(Vec3(5, 5, 5)));
     EXPECT_THROW(MeshRegion(points, {{0, 1, 8}}, true), std::invalid_argument);
     // MeshROI's non-strict elements: all points inside, or else the centre
-    const std::vector<Vec3> tested = {Vec3(0.4, 0.55, 0.6), Vec3(1.2, 0.47, 0.61), Vec3(-0.1, 0.53, 0.38), Vec3(3, 3, 3)};
+    const std::vector<Vec3> tested = {Vec3(0.4, 0.55, 0.6), Vec3(1.2, 0.47, 0.61), Vec3(-0.1, 0.53, 0.38),
+                                      Vec3(3, 3, 3)};
     RoiElements elements;
     elements.edges = {{0, 1}, {1, 2}, {1, 3}};
     const RoiSelection s = select_in_region(

@@ -27,8 +27,8 @@ std::vector<Vec3> dforce_of(BaseForceField& ff, Vec3Object& s, const std::vector
 }
 
 void expect_vec_near(const Vec3& actual, const Vec3& expected, double tol) {
-    EXPECT_NEAR((actual - expected).norm(), 0.0, tol) << "actual " << actual.transpose() << ", expected "
-                                                       << expected.transpose();
+    EXPECT_NEAR((actual - expected).norm(), 0.0, tol)
+        << "actual " << actual.transpose() << ", expected " << expected.transpose();
 }
 
 // ---- PlaneForceField ----------------------------------------------------------------------------
@@ -280,7 +280,8 @@ TEST(ConstantForceField, ForceIsMinusTheGradientOfItsEnergyAndHasNoStiffness) {
     EXPECT_TRUE(test::near_relative(Eigen::VectorXd(-grad), Eigen::VectorXd(Vec3Object::flat(f)), 1e-8));
     for (const Vec3& df : dforce_of(ff, s, {Vec3(1, 1, 1), Vec3(1, 1, 1)})) EXPECT_EQ(df, Vec3::Zero());
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, 1.0);
     EXPECT_TRUE(t.empty());
 }
 
@@ -312,13 +313,13 @@ ConicalForceFieldParameters example_cone() {
 TEST(ConicalForceField, InsideTestFollowsTheConeAndItsSphericalCap) {
     Vec3Object s = state_at({Vec3::Zero()});
     const ConicalForceField ff(s, example_cone());
-    EXPECT_TRUE(ff.is_inside(Vec3(0.0, 5.0, 0.0)));          // on the axis
-    EXPECT_TRUE(ff.is_inside(Vec3(0.0, -10.0, 0.0)));        // the apex
-    EXPECT_TRUE(ff.is_inside(Vec3(5.0, 0.0, 0.0)));          // 26.6° off the axis
-    EXPECT_FALSE(ff.is_inside(Vec3(9.0, 0.0, 0.0)));         // 42° off the axis
-    EXPECT_FALSE(ff.is_inside(Vec3(0.0, 10.5, 0.0)));        // beyond the cap |u| = 20.5 > 20
-    EXPECT_TRUE(ff.is_inside(Vec3(12.0, 5.0, 0.0)));         // |u| = 19.2, 38.7°
-    EXPECT_FALSE(ff.is_inside(Vec3(0.0, -11.0, 0.0)));       // behind the apex
+    EXPECT_TRUE(ff.is_inside(Vec3(0.0, 5.0, 0.0)));     // on the axis
+    EXPECT_TRUE(ff.is_inside(Vec3(0.0, -10.0, 0.0)));   // the apex
+    EXPECT_TRUE(ff.is_inside(Vec3(5.0, 0.0, 0.0)));     // 26.6° off the axis
+    EXPECT_FALSE(ff.is_inside(Vec3(9.0, 0.0, 0.0)));    // 42° off the axis
+    EXPECT_FALSE(ff.is_inside(Vec3(0.0, 10.5, 0.0)));   // beyond the cap |u| = 20.5 > 20
+    EXPECT_TRUE(ff.is_inside(Vec3(12.0, 5.0, 0.0)));    // |u| = 19.2, 38.7°
+    EXPECT_FALSE(ff.is_inside(Vec3(0.0, -11.0, 0.0)));  // behind the apex
 }
 
 TEST(ConicalForceField, ClosedFormForcesInTheThreeRegions) {
@@ -367,11 +368,11 @@ TEST(ConicalForceField, ForceIsMinusTheGradientOfItsEnergyAndStiffnessIsItsNorma
     // triplets equal add_dforce, and add_dforce = P·(FD ∂f/∂x) with P = n nᵀ per contact.
     ConicalForceFieldParameters p = example_cone();
     p.stiffness = 300.0;
-    p.damping = 2.0;  // zero velocities
-    Vec3Object s = state_at({Vec3(1.0, 11.0, 2.0),     // beyond the cap
-                             Vec3(9.0, 0.0, 1.0),      // beside the cone
-                             Vec3(0.5, -10.5, -0.5),   // behind the apex
-                             Vec3(0.0, 0.0, 1.0)});    // inside
+    p.damping = 2.0;                                  // zero velocities
+    Vec3Object s = state_at({Vec3(1.0, 11.0, 2.0),    // beyond the cap
+                             Vec3(9.0, 0.0, 1.0),     // beside the cone
+                             Vec3(0.5, -10.5, -0.5),  // behind the apex
+                             Vec3(0.0, 0.0, 1.0)});   // inside
     ConicalForceField ff(s, p);
     const Eigen::VectorXd x0 = Vec3Object::flat(s.position);
     const auto force = [&](const Eigen::VectorXd& x) -> Eigen::VectorXd {
@@ -403,7 +404,8 @@ TEST(ConicalForceField, ForceIsMinusTheGradientOfItsEnergyAndStiffnessIsItsNorma
     EXPECT_GT((jacobian_fd - k_dforce).cwiseAbs().maxCoeff(), 1.0);
 
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, 1.0);
     SparseMatrix k_sparse(12, 12);
     k_sparse.setFromTriplets(t.begin(), t.end());
     EXPECT_TRUE(test::near_relative(Eigen::MatrixXd(k_sparse), k_dforce, 1e-14));

@@ -10,8 +10,8 @@
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 
@@ -77,8 +77,8 @@ TEST(FastTetrahedralCorotational, StiffnessMatchesFiniteDifferencesAtARigidlyMov
         if (rotation == FastTetrahedralRotation::linear) continue;
         FastTetraBlock b(rotation);
         b.move_rigidly(kRotation, Vec3(1, 0, 0));
-        const auto d = test::check_force_field_derivatives(b.field, b.state, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12,
-                                                                              .force_vs_energy = std::nullopt});
+        const auto d = test::check_force_field_derivatives(
+            b.field, b.state, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt});
         EXPECT_GT(d.k_dforce.cwiseAbs().maxCoeff(), 1.0);
         EXPECT_LT((d.k_dforce - d.k_dforce.transpose()).cwiseAbs().maxCoeff(), 1e-12) << "symmetric at rest";
     }
@@ -87,8 +87,8 @@ TEST(FastTetrahedralCorotational, StiffnessMatchesFiniteDifferencesAtARigidlyMov
 TEST(FastTetrahedralCorotational, LinearMethodStiffnessIsExactAnywhere) {
     FastTetraBlock b(FastTetrahedralRotation::linear);
     b.perturb(0.2, 7);
-    test::check_force_field_derivatives(b.field, b.state, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-12,
-                                                           .force_vs_energy = std::nullopt});
+    test::check_force_field_derivatives(
+        b.field, b.state, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt});
 }
 
 TEST(FastTetrahedralCorotational, AssembledMatrixEqualsTheProductWhenDeformed) {
@@ -99,18 +99,21 @@ TEST(FastTetrahedralCorotational, AssembledMatrixEqualsTheProductWhenDeformed) {
         b.max_force();  // linearise here
         const auto n = static_cast<Eigen::Index>(3 * b.state.num_dofs());
         TripletList t;
-        b.field.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+        b.field.add_stiffness(
+            t, [](const BaseState*) { return Index{0}; }, 1.0);
         SparseMatrix k(n, n);
         k.setFromTriplets(t.begin(), t.end());
         std::mt19937 rng(3);
         std::uniform_real_distribution<double> u(-1, 1);
         Eigen::VectorXd dx(n);
         for (Eigen::Index i = 0; i < n; ++i) dx[i] = u(rng);
-        for (std::size_t i = 0; i < b.state.num_dofs(); ++i) b.state.dx[i] = dx.segment<3>(3 * static_cast<Eigen::Index>(i));
+        for (std::size_t i = 0; i < b.state.num_dofs(); ++i)
+            b.state.dx[i] = dx.segment<3>(3 * static_cast<Eigen::Index>(i));
         std::fill(b.state.df.begin(), b.state.df.end(), Vec3::Zero());
         b.field.accumulate_dforce(2.5, 0.0);
         const Eigen::VectorXd expected = 2.5 * (k * dx);
-        EXPECT_LT((Vec3Object::flat(b.state.df) - expected).cwiseAbs().maxCoeff(), 1e-11 * expected.cwiseAbs().maxCoeff())
+        EXPECT_LT((Vec3Object::flat(b.state.df) - expected).cwiseAbs().maxCoeff(),
+                  1e-11 * expected.cwiseAbs().maxCoeff())
             << static_cast<int>(rotation);
     }
 }

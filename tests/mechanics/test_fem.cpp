@@ -4,9 +4,9 @@
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
+#include <gtest/gtest.h>
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
-#include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
@@ -183,8 +183,8 @@ TEST(TetrahedronFEM, LargeMethodMatchesTheUniaxialStretchClosedForm) {
     // ε_xx = ε, σ = (λ+2μ, λ, λ)·ε, and f_k = −V·σ·∇N_k with V = 1/6, ∇N_0 = (−1, −1, −1).
     const double eps = 1e-3, e = 100, nu = 0.3;
     const double lambda = e * nu / ((1 + nu) * (1 - 2 * nu)), mu = e / (2 * (1 + nu));
-    const auto f = one_tetrahedron_forces(FemMethod::Large,
-                                          {Vec3(0, 0, 0), Vec3(1 + eps, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
+    const auto f =
+        one_tetrahedron_forces(FemMethod::Large, {Vec3(0, 0, 0), Vec3(1 + eps, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
     const double axial = (lambda + 2 * mu) * eps / 6, lateral = lambda * eps / 6;
     const std::array<Vec3, 4> expected{Vec3(axial, lateral, lateral), Vec3(-axial, 0, 0), Vec3(0, -lateral, 0),
                                        Vec3(0, 0, -lateral)};
@@ -217,25 +217,30 @@ TEST(TetrahedronFEM, PlasticityCreepsAndClampsThePlasticStrain) {
     // while |ε − εp| > yield, so the force is (1 − c)ⁿ of the elastic one after n evaluations;
     // |εp| is clamped to plasticMaxThreshold along its direction.
     const double eps = 1e-3;
-    const auto elastic = one_tetrahedron_forces(FemMethod::Large, {Vec3(0, 0, 0), Vec3(1 + eps, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
+    const auto elastic =
+        one_tetrahedron_forces(FemMethod::Large, {Vec3(0, 0, 0), Vec3(1 + eps, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)});
     const double scale = elastic[1].norm();
     ASSERT_GT(scale, 1e-3);
     const auto expect_ratio = [&](const std::vector<Vec3>& f, double ratio) {
-        for (std::size_t k = 0; k < 4; ++k) EXPECT_LT((f[k] - ratio * elastic[k]).norm(), 1e-12 * scale) << k << " " << ratio;
+        for (std::size_t k = 0; k < 4; ++k)
+            EXPECT_LT((f[k] - ratio * elastic[k]).norm(), 1e-12 * scale) << k << " " << ratio;
     };
     // below the yield threshold: the elastic force (εp stays 0)
     std::array<double, 6> plastic{};
-    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-2, .creep = 0.5}, 3, eps, &plastic), 1.0);
+    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-2, .creep = 0.5}, 3, eps, &plastic),
+                 1.0);
     for (const double v : plastic) EXPECT_EQ(v, 0.0);
     // creep 0.5: ½ after one evaluation, ¼ after two, εp = ¾ ε
     expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-4, .creep = 0.5}, 1, eps), 0.5);
-    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-4, .creep = 0.5}, 2, eps, &plastic), 0.25);
+    expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 1e-4, .creep = 0.5}, 2, eps, &plastic),
+                 0.25);
     // SOFA's D = r − R·x is minus the displacement: its strains, the plastic one included, are −ε
     EXPECT_NEAR(plastic[0], -0.75 * eps, 1e-15);
     // creep stops once |ε − εp| <= yield: 1e-3 → 5e-4 → 2.5e-4 (two evaluations), then no more
     expect_ratio(plastic_stretch_forces({.max_threshold = 1, .yield_threshold = 3e-4, .creep = 0.5}, 5, eps), 0.25);
     // clamp: εp = ½ε has norm 5e-4 > 2e-4 → εp = 0.2 ε, force 0.8 of the elastic one
-    expect_ratio(plastic_stretch_forces({.max_threshold = 2e-4, .yield_threshold = 1e-4, .creep = 0.5}, 1, eps, &plastic), 0.8);
+    expect_ratio(
+        plastic_stretch_forces({.max_threshold = 2e-4, .yield_threshold = 1e-4, .creep = 0.5}, 1, eps, &plastic), 0.8);
     EXPECT_NEAR(plastic[0], -2e-4, 1e-18);
 }
 
@@ -271,12 +276,15 @@ TEST(TetrahedronFEM, LargeMethodIsTheRotatedElementStiffnessTimesTheLocalDisplac
     const Mat3 turn = Eigen::AngleAxisd(0.9, Vec3(-1, 2, 0.5).normalized()).toRotationMatrix();
     for (auto& p : s.position) p = turn * (p + Vec3(u(rng), u(rng), u(rng)));
     ff.accumulate_force();
-    const auto frame = [](const std::vector<Vec3>& x) { return tetrahedron_rotation({x[0], x[1], x[2], x[3]}, FemMethod::Large); };
+    const auto frame = [](const std::vector<Vec3>& x) {
+        return tetrahedron_rotation({x[0], x[1], x[2], x[3]}, FemMethod::Large);
+    };
     const Mat3 r0 = frame(s.rest_position), r = frame(s.position);
     Eigen::Matrix<double, 12, 1> displacement;
     for (int k = 0; k < 4; ++k) {
         const auto uk = static_cast<std::size_t>(k);
-        displacement.segment<3>(3 * k) = r * (s.position[uk] - s.position[0]) - r0 * (s.rest_position[uk] - s.rest_position[0]);
+        displacement.segment<3>(3 * k) =
+            r * (s.position[uk] - s.position[0]) - r0 * (s.rest_position[uk] - s.rest_position[0]);
     }
     const Eigen::Matrix<double, 12, 1> local = ff.element_stiffness()[0] * displacement;
     double largest = 0;
@@ -323,7 +331,9 @@ TEST(TetrahedronFEM, HexahedraSplitAsSofaFillsTheGrid) {
     double volume = 0;
     for (const auto& t : tets) {
         Mat3 m;
-        for (int k = 0; k < 3; ++k) m.col(k) = x[static_cast<std::size_t>(t[static_cast<std::size_t>(k + 1)])] - x[static_cast<std::size_t>(t[0])];
+        for (int k = 0; k < 3; ++k)
+            m.col(k) =
+                x[static_cast<std::size_t>(t[static_cast<std::size_t>(k + 1)])] - x[static_cast<std::size_t>(t[0])];
         EXPECT_GT(std::abs(m.determinant()), 1e-12);
         volume += std::abs(m.determinant()) / 6;
     }
@@ -336,7 +346,8 @@ TEST(TetrahedronFEM, HexahedraSplitAsSofaFillsTheGrid) {
     std::set<std::array<PointId, 3>> faces;
     for (const auto& t : tets)
         for (const auto& f : MeshTopology::kTetraFaces) {
-            std::array<PointId, 3> k{t[static_cast<std::size_t>(f[0])], t[static_cast<std::size_t>(f[1])], t[static_cast<std::size_t>(f[2])]};
+            std::array<PointId, 3> k{t[static_cast<std::size_t>(f[0])], t[static_cast<std::size_t>(f[1])],
+                                     t[static_cast<std::size_t>(f[2])]};
             std::sort(k.begin(), k.end());
             faces.insert(k);
         }
@@ -361,7 +372,8 @@ TEST(FEM, BadInputThrows) {
     topo.set_tetrahedra({{0, 1, 2, 3}});
     EXPECT_THROW(TetrahedronFEMForceField(s, topo, 100, 0.5), std::invalid_argument);
     EXPECT_THROW(TetrahedronFEMForceField(s, topo, -1, 0.3), std::invalid_argument);
-    EXPECT_THROW(TetrahedronFEMForceField(s, topo, std::numeric_limits<double>::quiet_NaN(), 0.3), std::invalid_argument);
+    EXPECT_THROW(TetrahedronFEMForceField(s, topo, std::numeric_limits<double>::quiet_NaN(), 0.3),
+                 std::invalid_argument);
     TetrahedronFEMForceField flat(s, topo, 100, 0.3);
     EXPECT_THROW(flat.init(), std::invalid_argument);  // coplanar
     MeshTopology out;
@@ -382,7 +394,8 @@ double cantilever_tip_deflection(int nx, int ny) {
     ff.init();
     ff.accumulate_force();  // at rest: linearise
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, -1.0);  // K_spd = −∂f/∂x
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, -1.0);  // K_spd = −∂f/∂x
     const auto n = static_cast<Eigen::Index>(3 * s.num_dofs());
     // Clamp: replace the rows/cols of x = 0 nodes by identity.
     std::vector<bool> fixed(static_cast<std::size_t>(n), false);

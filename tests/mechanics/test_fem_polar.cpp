@@ -8,8 +8,8 @@
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <random>
 
@@ -45,7 +45,8 @@ TEST(TetrahedronFEMPolar, RigidMotionIsStressFreeAndStiffnessMatchesFiniteDiffer
     ff.init();
     const Mat3 r = Eigen::AngleAxisd(0.8, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
     for (std::size_t i = 0; i < s.position.size(); ++i) s.position[i] = r * s.rest_position[i] + Vec3(0.3, -1, 2);
-    const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
+    const test::DerivativeTolerances tol{
+        .dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
     const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, s, tol);
     EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0);
     EXPECT_LT(d.force.cwiseAbs().maxCoeff(), 1e-10);
@@ -129,7 +130,8 @@ TEST(HexahedronFEMPolar, RigidMotionIsStressFreeAndStiffnessMatchesFiniteDiffere
     ff.init();
     const Mat3 r = Eigen::AngleAxisd(0.9, Vec3(-1, 2, 0.5).normalized()).toRotationMatrix();
     for (std::size_t i = 0; i < s.position.size(); ++i) s.position[i] = r * s.rest_position[i] + Vec3(1, 0.5, -2);
-    const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
+    const test::DerivativeTolerances tol{
+        .dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
     const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, s, tol);
     EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0);
     EXPECT_LT(d.force.cwiseAbs().maxCoeff(), 1e-10);
@@ -166,7 +168,8 @@ TEST(HexahedronFEMPolar, ShearedElementRotatesByThePolarFactorNotTheEdgeFrame) {
     EXPECT_GT(fmax, 1.0);
     EXPECT_GT(diff, 1e-3 * fmax);  // the frames differ: not the large method under another name
     std::array<Vec3, 8> p;
-    for (std::size_t k = 0; k < 8; ++k) p[k] = polar_state.position[static_cast<std::size_t>(g.mesh().hexahedra()[0][k])];
+    for (std::size_t k = 0; k < 8; ++k)
+        p[k] = polar_state.position[static_cast<std::size_t>(g.mesh().hexahedra()[0][k])];
     Mat3 edges;
     edges.row(0) = ((p[1] - p[0] + p[2] - p[3] + p[5] - p[4] + p[6] - p[7]) * 0.25).transpose();
     edges.row(1) = ((p[3] - p[0] + p[2] - p[1] + p[7] - p[4] + p[6] - p[5]) * 0.25).transpose();

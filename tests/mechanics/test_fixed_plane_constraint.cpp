@@ -6,7 +6,8 @@ namespace penalty {
 namespace {
 
 TEST(FixedPlaneProjectiveConstraint, SelectsThePointsStrictlyBetweenThePlanes) {
-    const std::vector<Vec3> points{Vec3(0, 0, -0.1), Vec3(5, 3, 0.05), Vec3(1, 1, 0.1), Vec3(0, 0, -0.09), Vec3(0, 0, 2)};
+    const std::vector<Vec3> points{Vec3(0, 0, -0.1), Vec3(5, 3, 0.05), Vec3(1, 1, 0.1), Vec3(0, 0, -0.09),
+                                   Vec3(0, 0, 2)};
     EXPECT_EQ(points_between_planes(points, Vec3(0, 0, 1), -0.1, 0.1), (std::vector<Index>{1, 3}));
     // p·d with d not normalised: z·2 in (-0.1, 0.1) keeps |z| < 0.05 only.
     EXPECT_EQ(points_between_planes(points, Vec3(0, 0, 2), -0.1, 0.1), (std::vector<Index>{}));

@@ -31,8 +31,9 @@ Eigen::VectorXd positions_of(const Vec3Object& s) {
 
 /// J (columns: the inputs' scalars in order) by apply_dx on unit vectors, and by central finite
 /// differences of apply_position; both returned.
-std::pair<Eigen::MatrixXd, Eigen::MatrixXd> jacobians(BaseMapping& map, std::vector<BaseState*> inputs, Vec3Object& out,
-                                                      const std::function<void(std::size_t, double, Eigen::Index)>& move) {
+std::pair<Eigen::MatrixXd, Eigen::MatrixXd> jacobians(
+    BaseMapping& map, std::vector<BaseState*> inputs, Vec3Object& out,
+    const std::function<void(std::size_t, double, Eigen::Index)>& move) {
     Eigen::Index columns = 0;
     for (BaseState* s : inputs) columns += Eigen::Index(s->scalar_size());
     const auto rows = Eigen::Index(out.scalar_size());
@@ -71,7 +72,8 @@ void expect_adjoint(BaseMapping& map, std::vector<BaseState*> inputs, BaseState&
             s->df_flat().setZero();
         }
         map.apply_dx();
-        const Eigen::VectorXd y = Eigen::VectorXd::NullaryExpr(Eigen::Index(out.scalar_size()), [] { return frame_uni(); });
+        const Eigen::VectorXd y =
+            Eigen::VectorXd::NullaryExpr(Eigen::Index(out.scalar_size()), [] { return frame_uni(); });
         const double lhs = out.dx_flat().dot(y);
         out.df_flat() = y;
         map.apply_jt_df();
@@ -100,9 +102,11 @@ TEST(SkinningMapping, JacobianAdjointAndFiniteDifferences) {
         EXPECT_GE(inf.weights[1], inf.weights[2]);
     }
     // at rest the skinned points are the initial ones
-    for (std::size_t i = 0; i < points.position.size(); ++i) EXPECT_TRUE(points.position[i].isApprox(initial[i], 1e-13));
+    for (std::size_t i = 0; i < points.position.size(); ++i)
+        EXPECT_TRUE(points.position[i].isApprox(initial[i], 1e-13));
     for (auto& f : frames.position) f = {f.center + frame_vec(), frame_rotation() * f.orientation};
-    const auto [j, fd] = jacobians(map, {&frames}, points, [&](std::size_t, double h, Eigen::Index c) { move_frame(frames, h, c); });
+    const auto [j, fd] =
+        jacobians(map, {&frames}, points, [&](std::size_t, double h, Eigen::Index c) { move_frame(frames, h, c); });
     EXPECT_TRUE(test::near_relative(j, fd, 1e-7)) << j << "\n--\n" << fd;
     expect_adjoint(map, {&frames}, points);
     TripletList t;
@@ -129,7 +133,7 @@ TEST(SkinningMapping, OneInfluenceIsARigidAttachment) {
     frames.position[1] = {Vec3(10, 3, 0), q};
     map.apply_position();
     EXPECT_TRUE(points.position[1].isApprox(Vec3(10, 3, 0) + q * Vec3(-1, -1, 2), 1e-14));
-    EXPECT_EQ(points.position[2], Vec3(10, 3, 0));  // on the frame's centre (weight: the largest double)
+    EXPECT_EQ(points.position[2], Vec3(10, 3, 0));   // on the frame's centre (weight: the largest double)
     EXPECT_EQ(points.position[0], Vec3(1, 0.5, 0));  // frame 0 did not move
 }
 
@@ -145,7 +149,8 @@ TEST(DeformableOnRigidFrameMapping, BothInputsJacobianAdjointAndClosedForm) {
     map.init();
     EXPECT_EQ(map.second_from(), &frames);
     for (std::size_t i = 0; i < 5; ++i)
-        EXPECT_TRUE(out.position[i].isApprox(frames.position[1].center + frames.position[1].orientation * local.position[i], 1e-14));
+        EXPECT_TRUE(out.position[i].isApprox(
+            frames.position[1].center + frames.position[1].orientation * local.position[i], 1e-14));
     const auto [j, fd] = jacobians(map, {&local, &frames}, out, [&](std::size_t k, double h, Eigen::Index c) {
         if (k == 0) move_point(local, h, c);
         else move_frame(frames, h, c);

@@ -28,7 +28,9 @@ TEST(RegularGridOrigin, P0OffsetsEveryPointAndOnePointAxesTakeTheMiddle) {
     const RegularGridTopology flat({3, 3, 2}, Vec3(0, 0, 0), Vec3(2, 2, 0));
     EXPECT_EQ(flat.point(1, 1, 0), flat.point(1, 1, 1));
     EXPECT_THROW((void)flat.locate(Vec3(1, 1, 0)), std::invalid_argument);  // no cell of non-zero size
-    EXPECT_THROW(RegularGridTopology({2, 2, 2}, Vec3::Zero(), Vec3::Ones(), Vec3(0, std::numeric_limits<double>::infinity(), 0)), std::invalid_argument);
+    EXPECT_THROW(
+        RegularGridTopology({2, 2, 2}, Vec3::Zero(), Vec3::Ones(), Vec3(0, std::numeric_limits<double>::infinity(), 0)),
+        std::invalid_argument);
 }
 
 TEST(RigidStep, ExponentialIntegrationOfTheAngularVelocity) {
@@ -50,7 +52,8 @@ TEST(RigidStep, ExponentialIntegrationOfTheAngularVelocity) {
                 .normalized();
     EXPECT_GT(end.orientation.angularDistance(first), 1e-7);
     // a zero angular velocity keeps the orientation bit for bit
-    EXPECT_EQ(rigid_add(start, RigidDeriv{Vec3::Zero(), Vec3::Zero()}, h).orientation.coeffs(), start.orientation.coeffs());
+    EXPECT_EQ(rigid_add(start, RigidDeriv{Vec3::Zero(), Vec3::Zero()}, h).orientation.coeffs(),
+              start.orientation.coeffs());
 }
 
 }  // namespace

@@ -5,8 +5,8 @@
 
 #include "penalty_test/force_field_derivatives.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 
@@ -79,7 +79,8 @@ TEST(HexahedralFEM, RefusesBoxesNotAlignedWithTheAxes) {
     Vec3Object s;
     const MeshTopology topo = cube_topology(s, 1.0);
     const Hexahedron& h = topo.hexahedra().at(0);
-    s.rest_position[static_cast<std::size_t>(h[6])].x() = s.rest_position[static_cast<std::size_t>(h[0])].x();  // diagonal 0→6 without x
+    s.rest_position[static_cast<std::size_t>(h[6])].x() =
+        s.rest_position[static_cast<std::size_t>(h[0])].x();  // diagonal 0→6 without x
     HexahedralFEMForceField ff(s, topo, 1000.0, 0.3);
     EXPECT_THROW(ff.init(), std::invalid_argument);
 }
@@ -96,8 +97,8 @@ void check_derivatives(FemMethod method) {
     const Mat3 r = Eigen::AngleAxisd(0.8, Vec3(1, -2, 0.5).normalized()).toRotationMatrix();
     const Vec3 t(0.3, -1, 2);
     for (std::size_t i = 0; i < s.position.size(); ++i) s.position[i] = r * s.rest_position[i] + t;
-    const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12,
-                                         .force_vs_energy = std::nullopt};
+    const test::DerivativeTolerances tol{
+        .dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
     const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, s, tol);
     EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0);
     EXPECT_TRUE(d.k_dforce.isApprox(d.k_dforce.transpose(), 1e-12));
@@ -121,13 +122,9 @@ void check_derivatives(FemMethod method) {
     EXPECT_LT((d.force - expected).cwiseAbs().maxCoeff(), 1e-10);
 }
 
-TEST(HexahedralFEM, LargeStiffnessMatchesFiniteDifferences) {
-    check_derivatives(FemMethod::Large);
-}
+TEST(HexahedralFEM, LargeStiffnessMatchesFiniteDifferences) { check_derivatives(FemMethod::Large); }
 
-TEST(HexahedralFEM, PolarStiffnessMatchesFiniteDifferences) {
-    check_derivatives(FemMethod::Polar);
-}
+TEST(HexahedralFEM, PolarStiffnessMatchesFiniteDifferences) { check_derivatives(FemMethod::Polar); }
 
 TEST(HexahedralFEM, ForcesRotateWithTheBody) {
     // A deformed block, rotated, gives the rotated forces (large and polar).

@@ -8,8 +8,8 @@
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <random>
 
@@ -95,7 +95,8 @@ TEST(TetrahedronHyperelasticity, ForceIsMinusEnergyGradientAndStiffnessMatchesFi
         TetrahedronHyperelasticityFEMForceField ff(b.state, b.topo.tetrahedra(), law);
         ff.init();
         b.deform(11, 0.08);
-        const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-6};
+        const test::DerivativeTolerances tol{
+            .dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-6};
         const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, b.state, tol);
         EXPECT_GT(d.force.cwiseAbs().maxCoeff(), 1.0);
         EXPECT_TRUE(d.k_dforce.isApprox(d.k_dforce.transpose(), 1e-9));  // a Hessian: symmetric
@@ -123,8 +124,8 @@ TEST(TetrahedronHyperelasticity, StiffnessAtRestIsLinearElasticity) {
     for (const HyperelasticMaterial m : {HyperelasticMaterial::NeoHookean, HyperelasticMaterial::StVenantKirchhoff}) {
         HyperBlock b;
         TetrahedronHyperelasticityFEMForceField ff(b.state, b.topo.tetrahedra(), {m, {mu, lambda}});
-        TetrahedronFEMForceField linear(b.state, b.topo, mu * (3 * lambda + 2 * mu) / (lambda + mu), lambda / (2 * (lambda + mu)),
-                                        FemMethod::Small);
+        TetrahedronFEMForceField linear(b.state, b.topo, mu * (3 * lambda + 2 * mu) / (lambda + mu),
+                                        lambda / (2 * (lambda + mu)), FemMethod::Small);
         ff.init();
         linear.init();
         ff.accumulate_force();
@@ -142,10 +143,12 @@ TEST(TetrahedronHyperelasticity, StiffnessAtRestIsLinearElasticity) {
 
 TEST(TetrahedronHyperelasticity, BadParametersAreRejected) {
     HyperBlock b;
-    EXPECT_THROW(TetrahedronHyperelasticityFEMForceField(b.state, b.topo.tetrahedra(), {HyperelasticMaterial::Ogden, {1, 2}}),
-                 std::invalid_argument);
-    EXPECT_THROW(TetrahedronHyperelasticityFEMForceField(b.state, b.topo.tetrahedra(), {HyperelasticMaterial::Ogden, {1, 0, 3}}),
-                 std::invalid_argument);
+    EXPECT_THROW(
+        TetrahedronHyperelasticityFEMForceField(b.state, b.topo.tetrahedra(), {HyperelasticMaterial::Ogden, {1, 2}}),
+        std::invalid_argument);
+    EXPECT_THROW(
+        TetrahedronHyperelasticityFEMForceField(b.state, b.topo.tetrahedra(), {HyperelasticMaterial::Ogden, {1, 0, 3}}),
+        std::invalid_argument);
     std::vector<Tetrahedron> flat{{0, 1, 2, 1}};
     TetrahedronHyperelasticityFEMForceField degenerate(b.state, flat, {HyperelasticMaterial::NeoHookean, {1, 1}});
     EXPECT_THROW(degenerate.init(), std::invalid_argument);

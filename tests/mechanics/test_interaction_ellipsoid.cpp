@@ -6,8 +6,8 @@
 #include "penalty_test/finite_difference.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 
@@ -25,9 +25,7 @@ struct EllipsoidRig {
     }
 };
 
-RigidFrame tilted_frame() {
-    return {Vec3(0.5, -1, 2), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, -0.5).normalized()))};
-}
+RigidFrame tilted_frame() { return {Vec3(0.5, -1, 2), Quat(Eigen::AngleAxisd(0.7, Vec3(1, 2, -0.5).normalized()))}; }
 
 TEST(InteractionEllipsoid, SphereClosedFormPushesOutByDepthTimesStiffness) {
     // sphere of radius r: f = k·(1 − d/r)·d̂ for a point at distance d < r from its center
@@ -35,8 +33,8 @@ TEST(InteractionEllipsoid, SphereClosedFormPushesOutByDepthTimesStiffness) {
     const Vec3 local_center(0.3, 0, -0.2), direction = Vec3(1, -2, 2).normalized();
     const double r = 2.0, d = 1.5, k = 40.0;
     EllipsoidRig rig({frame.center + frame.orientation * (local_center + d * direction), Vec3(100, 0, 0)}, frame);
-    InteractionEllipsoidForceField ff(rig.points, rig.frames,
-                                      {.centers = {local_center}, .radii = {Vec3(r, r, r)}, .stiffness = k, .damping = 0});
+    InteractionEllipsoidForceField ff(
+        rig.points, rig.frames, {.centers = {local_center}, .radii = {Vec3(r, r, r)}, .stiffness = k, .damping = 0});
     ff.init();
     ff.accumulate_force();
     const Vec3 expected = k * (1 - d / r) * (frame.orientation * direction);
@@ -50,7 +48,8 @@ TEST(InteractionEllipsoid, SphereClosedFormPushesOutByDepthTimesStiffness) {
 
 TEST(InteractionEllipsoid, NegativeStiffnessHoldsPointsInside) {
     EllipsoidRig rig({Vec3(3, 0, 0), Vec3(0.5, 0, 0)}, RigidFrame{});
-    InteractionEllipsoidForceField ff(rig.points, rig.frames, {.radii = {Vec3(2, 1, 1)}, .stiffness = -10, .damping = 0});
+    InteractionEllipsoidForceField ff(rig.points, rig.frames,
+                                      {.radii = {Vec3(2, 1, 1)}, .stiffness = -10, .damping = 0});
     ff.init();
     ff.accumulate_force();
     // x = 3 on the x axis of radius 2: n = 1.5, g = (3/4, 0, 0): f = −10·0.5·x̂
@@ -61,8 +60,9 @@ TEST(InteractionEllipsoid, NegativeStiffnessHoldsPointsInside) {
 TEST(InteractionEllipsoid, LeastNormalisedDistanceEllipsoidActsAndMissingRadiiRepeatTheLast) {
     // two centers, one radius: both ellipsoids have radii (1, 2, 1); the point is nearer the second
     EllipsoidRig rig({Vec3(0, -4.5, 0)}, RigidFrame{});
-    InteractionEllipsoidForceField ff(rig.points, rig.frames,
-                                      {.centers = {Vec3::Zero(), Vec3(0, -5, 0)}, .radii = {Vec3(1, 2, 1)}, .stiffness = 8, .damping = 0});
+    InteractionEllipsoidForceField ff(
+        rig.points, rig.frames,
+        {.centers = {Vec3::Zero(), Vec3(0, -5, 0)}, .radii = {Vec3(1, 2, 1)}, .stiffness = 8, .damping = 0});
     ff.init();
     ff.accumulate_force();
     EXPECT_LT((rig.points.force[0] - Vec3(0, 8 * 0.75, 0)).norm(), 1e-14);  // v = 0.25 − 1, pushed toward +y
@@ -71,7 +71,8 @@ TEST(InteractionEllipsoid, LeastNormalisedDistanceEllipsoidActsAndMissingRadiiRe
 TEST(InteractionEllipsoid, DampingOpposesThePointVelocityTimesDepth) {
     EllipsoidRig rig({Vec3(0.5, 0, 0)}, RigidFrame{});
     rig.points.velocity = {Vec3(0, 2, 0)};
-    InteractionEllipsoidForceField ff(rig.points, rig.frames, {.radii = {Vec3(1, 1, 1)}, .stiffness = 10, .damping = 3});
+    InteractionEllipsoidForceField ff(rig.points, rig.frames,
+                                      {.radii = {Vec3(1, 1, 1)}, .stiffness = 10, .damping = 3});
     ff.init();
     ff.accumulate_force();
     EXPECT_LT((rig.points.force[0] - Vec3(5, -3 * 0.5 * 2, 0)).norm(), 1e-14);
@@ -103,19 +104,24 @@ EllipsoidRig scattered_points(std::uint32_t seed) {
     std::uniform_real_distribution<double> u(-1, 1);
     const RigidFrame frame = tilted_frame();
     std::vector<Vec3> x;
-    for (int i = 0; i < 12; ++i) x.push_back(frame.center + frame.orientation * Vec3(2.5 * u(rng), 1.5 * u(rng), 2 * u(rng)));
+    for (int i = 0; i < 12; ++i)
+        x.push_back(frame.center + frame.orientation * Vec3(2.5 * u(rng), 1.5 * u(rng), 2 * u(rng)));
     return EllipsoidRig(x, frame);
 }
 
-const InteractionEllipsoidParameters kScattered{.centers = {Vec3(0.1, 0, -0.1)}, .radii = {Vec3(3, 2, 2.5)}, .stiffness = 50,
-                                                .damping = 0, .object2_forces = false};
+const InteractionEllipsoidParameters kScattered{.centers = {Vec3(0.1, 0, -0.1)},
+                                                .radii = {Vec3(3, 2, 2.5)},
+                                                .stiffness = 50,
+                                                .damping = 0,
+                                                .object2_forces = false};
 
 TEST(InteractionEllipsoid, ExactStiffnessMatchesFiniteDifferencesAndTheAssembledMatrix) {
     EllipsoidRig rig = scattered_points(3);
     InteractionEllipsoidForceField ff(rig.points, rig.frames, kScattered);
     ff.set_exact_stiffness(true);
     ff.init();
-    const test::DerivativeTolerances tol{.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
+    const test::DerivativeTolerances tol{
+        .dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
     const test::ForceFieldDerivatives d = test::check_force_field_derivatives(ff, rig.points, tol);
     EXPECT_GE(ff.contact_count(), 6u);  // most points are inside: the check is not vacuous
     EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0);
@@ -126,7 +132,8 @@ TEST(InteractionEllipsoid, SofaStiffnessIsSofasMatrixNotTheDerivative) {
     // β = +|k|v/|g|³: the two differ by g gᵀ diag(1/r²)·(β_sofa − β_exact), non-zero inside.
     EllipsoidRig rig({Vec3(0.6, -0.3, 0.2)}, RigidFrame{});
     const Vec3 r(1.5, 1, 1.2);
-    InteractionEllipsoidForceField sofa(rig.points, rig.frames, {.radii = {r}, .stiffness = 20, .damping = 0, .object2_forces = false});
+    InteractionEllipsoidForceField sofa(rig.points, rig.frames,
+                                        {.radii = {r}, .stiffness = 20, .damping = 0, .object2_forces = false});
     sofa.init();
     sofa.accumulate_force();
     rig.points.dx = {Vec3(0.3, -0.7, 0.5)};
@@ -136,8 +143,10 @@ TEST(InteractionEllipsoid, SofaStiffnessIsSofasMatrixNotTheDerivative) {
     const Vec3 inv_r2(1 / (r[0] * r[0]), 1 / (r[1] * r[1]), 1 / (r[2] * r[2]));
     const Vec3 g = p.cwiseProduct(inv_r2);
     const double n = std::sqrt(p.cwiseProduct(p).dot(inv_r2)), v = n - 1, k = 20;
-    const Mat3 m = g * g.transpose() * (Mat3::Identity() * (-k / (n * g.norm())) + (-k * v / g.squaredNorm()) * Mat3(inv_r2.asDiagonal())) +
-                   Mat3((-k * v / g.norm()) * inv_r2.asDiagonal());
+    const Mat3 m =
+        g * g.transpose() *
+            (Mat3::Identity() * (-k / (n * g.norm())) + (-k * v / g.squaredNorm()) * Mat3(inv_r2.asDiagonal())) +
+        Mat3((-k * v / g.norm()) * inv_r2.asDiagonal());
     EXPECT_LT((rig.points.df[0] - m * rig.points.dx[0]).norm(), 1e-12);
 }
 
@@ -164,7 +173,9 @@ TEST(InteractionEllipsoid, FrameReactionAndItsStiffnessAgainstFiniteDifferences)
     ASSERT_GE(ff.contact_count(), 6u);
     // Σ f = 0 (action and reaction on the linear parts)
     EXPECT_LT((forces(c0).head(3 * rig.points.num_dofs()).reshaped(3, rig.points.num_dofs()).rowwise().sum() +
-               forces(c0).tail<3>()).norm(), 1e-10);
+               forces(c0).tail<3>())
+                  .norm(),
+              1e-10);
     Eigen::MatrixXd product(fd.rows(), 3);
     for (int j = 0; j < 3; ++j) {
         std::fill(rig.points.dx.begin(), rig.points.dx.end(), Vec3::Zero());
@@ -179,7 +190,8 @@ TEST(InteractionEllipsoid, FrameReactionAndItsStiffnessAgainstFiniteDifferences)
     // the assembled matrix (points then the frame's 6 rows) against the products
     TripletList t;
     const auto n1 = static_cast<Index>(3 * rig.points.num_dofs());
-    ff.add_stiffness(t, [&](const BaseState* s) { return s == &rig.points ? Index{0} : n1; }, 1.0);
+    ff.add_stiffness(
+        t, [&](const BaseState* s) { return s == &rig.points ? Index{0} : n1; }, 1.0);
     SparseMatrix k(n1 + 6, n1 + 6);
     k.setFromTriplets(t.begin(), t.end());
     const Eigen::MatrixXd dense(k);
@@ -191,8 +203,10 @@ TEST(InteractionEllipsoid, FrameReactionAndItsStiffnessAgainstFiniteDifferences)
 
 TEST(InteractionEllipsoid, BadValuesAreRejected) {
     EllipsoidRig rig({Vec3::Zero()}, RigidFrame{});
-    EXPECT_THROW(InteractionEllipsoidForceField(rig.points, rig.frames, {.radii = {Vec3(1, 0, 1)}}), std::invalid_argument);
-    EXPECT_THROW(InteractionEllipsoidForceField(rig.points, rig.frames, {.stiffness = std::nan("")}), std::invalid_argument);
+    EXPECT_THROW(InteractionEllipsoidForceField(rig.points, rig.frames, {.radii = {Vec3(1, 0, 1)}}),
+                 std::invalid_argument);
+    EXPECT_THROW(InteractionEllipsoidForceField(rig.points, rig.frames, {.stiffness = std::nan("")}),
+                 std::invalid_argument);
     InteractionEllipsoidForceField far(rig.points, rig.frames, {.frame_index = 3});
     EXPECT_THROW(far.init(), std::invalid_argument);
 }

@@ -63,7 +63,8 @@ Rigid3Object two_frames(const Vec3& c1, double angle, const Vec3& axis) {
 TEST(JointSpringForceField, ClampedJointRestoringForceAndTorqueInClosedForm) {
     Rigid3Object s = two_frames(Vec3(0.2, 0, 0), 0.3, Vec3::UnitZ());
     const double kt = 500, kr = 40;
-    JointSpringForceField ff(s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 0 KS_T 0 500 KS_R 0 40 END_SPRING"));
+    JointSpringForceField ff(
+        s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 0 KS_T 0 500 KS_R 0 40 END_SPRING"));
     ff.init();
     ff.accumulate_force();
     // no REST_T: rest offset 0, rest rotation identity; frame 0's axes are the world's
@@ -77,13 +78,15 @@ TEST(JointSpringForceField, ClampedJointRestoringForceAndTorqueInClosedForm) {
 TEST(JointSpringForceField, FreeAxisInsideItsLimitsIsAPivot) {
     // rotation about z free inside ±1 rad with a soft stiffness 0: a turn of 0.5 about z gives no torque
     Rigid3Object s = two_frames(Vec3::Zero(), 0.5, Vec3::UnitZ());
-    JointSpringForceField ff(s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 1 KS_R 0 100 R_LIM_Z -1 1 END_SPRING"));
+    JointSpringForceField ff(
+        s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 1 KS_R 0 100 R_LIM_Z -1 1 END_SPRING"));
     ff.init();
     ff.accumulate_force();
     EXPECT_NEAR(s.force[0].angular.norm(), 0.0, 1e-12);
     // past the limit: the bloc stiffness (100/100 = 1) times the rotation beyond it (1.3 − 1)
     Rigid3Object far = two_frames(Vec3::Zero(), 1.3, Vec3::UnitZ());
-    JointSpringForceField beyond(far, far, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 1 KS_R 0 100 R_LIM_Z -1 1 END_SPRING"));
+    JointSpringForceField beyond(
+        far, far, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 1 KS_R 0 100 R_LIM_Z -1 1 END_SPRING"));
     beyond.init();
     beyond.accumulate_force();
     EXPECT_NEAR(far.force[0].angular.z(), 1.0 * 0.3, 1e-12);
@@ -98,7 +101,8 @@ TEST(JointSpringForceField, StiffnessExactAtRestAndForTranslations) {
     s.position = {RigidFrame{Vec3(0.1, -0.3, 0.2), q}, RigidFrame{Vec3(1.0, 0.2, -0.1), q}};
     s.init();
     JointSpringForceField ff(
-        s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 1 0 0 0 0 KS_T 30 500 KS_R 7 40 REST_T 0 0 0 END_SPRING"));
+        s, s,
+        parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 1 0 0 0 0 KS_T 30 500 KS_R 7 40 REST_T 0 0 0 END_SPRING"));
     ff.init();
     const Eigen::MatrixXd fd = test::rigid_force_jacobian(ff, s);
     const Eigen::MatrixXd k = test::rigid_dforce_matrix(ff, s);
@@ -109,14 +113,14 @@ TEST(JointSpringForceField, StiffnessExactAtRestAndForTranslations) {
     s.position[1].orientation = (Quat(Eigen::AngleAxisd(0.2, Vec3::UnitX())) * s.position[1].orientation).normalized();
     const Eigen::MatrixXd fd2 = test::rigid_force_jacobian(ff, s);
     const Eigen::MatrixXd k2 = test::rigid_dforce_matrix(ff, s);
-    for (int c : {0, 1, 2, 6, 7, 8})
-        EXPECT_TRUE(test::near_relative(k2.col(c), fd2.col(c), 1e-6)) << "column " << c;
+    for (int c : {0, 1, 2, 6, 7, 8}) EXPECT_TRUE(test::near_relative(k2.col(c), fd2.col(c), 1e-6)) << "column " << c;
     EXPECT_TRUE(test::near_relative(test::assembled_stiffness(ff, 12), k2, 1e-14));
 }
 
 TEST(JointSpringForceField, ForceIsMinusTheEnergyGradientInTheCentres) {
     Rigid3Object s = two_frames(Vec3(0.3, 0.1, -0.2), 0.25, Vec3(1, 1, 1));
-    JointSpringForceField ff(s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 0 KS_T 0 800 KS_R 0 50 END_SPRING"));
+    JointSpringForceField ff(
+        s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 0 KS_T 0 800 KS_R 0 50 END_SPRING"));
     ff.init();
     const std::vector<RigidFrame> x0 = s.position;
     const Eigen::VectorXd f = test::rigid_force_at(ff, s, x0, Eigen::VectorXd::Zero(12));
@@ -137,7 +141,8 @@ TEST(JointSpringForceField, RestRotationFromThePositionsIsSofasProduct) {
     // frame 1 turned by 0.3 about z, REST_T given: SOFA's initRot = q2·q1⁻¹ = q2, and the relative
     // rotation at rest is q1⁻¹·q2·initRot, a turn of 0.6: the rest pose is not torque-free (kept)
     Rigid3Object s = two_frames(Vec3(1, 0, 0), 0.3, Vec3::UnitZ());
-    JointSpringForceField ff(s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 0 KS_R 0 10 REST_T 0 0 0 END_SPRING"));
+    JointSpringForceField ff(
+        s, s, parse_joint_springs("BEGIN_SPRING 0 1 FREE_AXIS 0 0 0 0 0 0 KS_R 0 10 REST_T 0 0 0 END_SPRING"));
     ff.init();
     ff.accumulate_force();
     EXPECT_NEAR(s.force[0].angular.z(), 10 * 0.6, 1e-12);

@@ -75,7 +75,9 @@ void check_mapping(Mapping<In, Vec3Types>& map, MechanicalObject<In>& in, Vec3Ob
     EXPECT_TRUE(test::near_relative(Eigen::MatrixXd(js), j, 1e-14));
 }
 
-void perturb_vec3(Vec3Object& in, double h, Eigen::Index c) { in.position[static_cast<std::size_t>(c / 3)][c % 3] += h; }
+void perturb_vec3(Vec3Object& in, double h, Eigen::Index c) {
+    in.position[static_cast<std::size_t>(c / 3)][c % 3] += h;
+}
 
 void perturb_rigid(Rigid3Object& in, double h, Eigen::Index c) {
     RigidFrame& f = in.position[static_cast<std::size_t>(c / 6)];
@@ -100,7 +102,8 @@ TEST(Mapping, IdentityVec3) {
 TEST(Mapping, IdentityRigidToVec3TakesCentres) {
     Rigid3Object in;
     Vec3Object out;
-    for (int i = 0; i < 3; ++i) in.position.push_back({rand_vec(), Quat(Eigen::AngleAxisd(uni(), rand_vec().normalized()))});
+    for (int i = 0; i < 3; ++i)
+        in.position.push_back({rand_vec(), Quat(Eigen::AngleAxisd(uni(), rand_vec().normalized()))});
     in.init();
     RigidCenterIdentityMapping map(in, out);
     check_mapping<Rigid3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_rigid(in, h, c); });
@@ -110,7 +113,8 @@ TEST(Mapping, IdentityRigidToVec3TakesCentres) {
 TEST(Mapping, RigidMappingAdjointAndFiniteDifferences) {
     Rigid3Object in;
     Vec3Object out;
-    for (int i = 0; i < 2; ++i) in.position.push_back({rand_vec(), Quat(Eigen::AngleAxisd(2 * uni(), rand_vec().normalized()))});
+    for (int i = 0; i < 2; ++i)
+        in.position.push_back({rand_vec(), Quat(Eigen::AngleAxisd(2 * uni(), rand_vec().normalized()))});
     in.velocity = {RigidDeriv{rand_vec(), rand_vec()}, RigidDeriv{rand_vec(), rand_vec()}};
     in.init();
     RigidMapping map(in, out);
@@ -147,8 +151,8 @@ TEST(Mapping, BarycentricOnTetrahedra) {
     check_mapping<Vec3Types>(map, in, out, [&](double h, Eigen::Index c) { perturb_vec3(in, h, c); });
     map.apply_position();
     for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_TRUE(out.position[i].isApprox(pts[i], 1e-14)) << i;
-    EXPECT_EQ(map.weights()[0][0].index, 0);   // inside tetra 0
-    EXPECT_EQ(map.weights()[1][3].index, 4);   // inside tetra 1
+    EXPECT_EQ(map.weights()[0][0].index, 0);  // inside tetra 0
+    EXPECT_EQ(map.weights()[1][3].index, 4);  // inside tetra 1
     EXPECT_NEAR(map.weights()[0][0].weight, 0.4, 1e-15);
 }
 
@@ -159,7 +163,7 @@ TEST(Mapping, BarycentricOnTetrahedraTakesSofasNearestCentreAndWeights) {
     Vec3Object in, out;
     // tetra 0: the unit tetrahedron (its edge matrix is the identity: b = p exactly); tetra 1: a
     // sliver 0.01 thick at x ≈ −0.4, its centre (−0.4025, 0.325, 0.325)
-    in.position = {Vec3(0, 0, 0),     Vec3(1, 0, 0),     Vec3(0, 1, 0),     Vec3(0, 0, 1),
+    in.position = {Vec3(0, 0, 0),    Vec3(1, 0, 0),    Vec3(0, 1, 0),    Vec3(0, 0, 1),
                    Vec3(-0.4, 0, 0), Vec3(-0.4, 1, 0), Vec3(-0.4, 0, 1), Vec3(-0.41, 0.3, 0.3)};
     in.init();
     MeshTopology topo;
@@ -224,9 +228,11 @@ TEST(Mapping, BarycentricOnSetTetrahedraEqualsTheMeshMapperInsideTheElements) {
     for (int k = 0; k < 3; ++k)
         for (int j = 0; j < 3; ++j)
             for (int i = 0; i < 3; ++i) {
-                const PointId c[8] = {id(i, j, k),         id(i + 1, j, k),         id(i + 1, j + 1, k),     id(i, j + 1, k),
-                                      id(i, j, k + 1),     id(i + 1, j, k + 1),     id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
-                for (const auto& t : {std::array<int, 4>{0, 1, 3, 4}, {1, 2, 3, 6}, {1, 4, 5, 6}, {3, 4, 6, 7}, {1, 3, 4, 6}})
+                const PointId c[8] = {
+                    id(i, j, k),     id(i + 1, j, k),     id(i + 1, j + 1, k),     id(i, j + 1, k),
+                    id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)};
+                for (const auto& t :
+                     {std::array<int, 4>{0, 1, 3, 4}, {1, 2, 3, 6}, {1, 4, 5, 6}, {3, 4, 6, 7}, {1, 3, 4, 6}})
                     tets.push_back({c[t[0]], c[t[1]], c[t[2]], c[t[3]]});
             }
     MeshTopology topo;
@@ -241,7 +247,8 @@ TEST(Mapping, BarycentricOnSetTetrahedraEqualsTheMeshMapperInsideTheElements) {
         bool same = true;
         for (int k = 0; k < 4; ++k)
             same = same && hashed.weights()[i][std::size_t(k)].index == exhaustive.weights()[i][std::size_t(k)].index &&
-                   test::same_bits(hashed.weights()[i][std::size_t(k)].weight, exhaustive.weights()[i][std::size_t(k)].weight);
+                   test::same_bits(hashed.weights()[i][std::size_t(k)].weight,
+                                   exhaustive.weights()[i][std::size_t(k)].weight);
         double least = 0;  // inside when every weight of the exhaustive element is ≥ 0
         for (int k = 0; k < 4; ++k) least = std::min(least, exhaustive.weights()[i][std::size_t(k)].weight);
         if (least >= 0) {
@@ -315,7 +322,7 @@ TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
         out.df[17] = Vec3(uni(), -0.0, 0.0);  // forced, with zero components
         if (trial >= 2) out.df[33] = rand_vec();
         for (auto& v : in.df) v = rand_vec();
-        in.df[0] = Vec3(-0.0, 0.0, -0.0);  // starts at −0: the skipped +0 terms decide its sign
+        in.df[0] = Vec3(-0.0, 0.0, -0.0);   // starts at −0: the skipped +0 terms decide its sign
         in.df[11] = Vec3(-0.0, -0.0, 0.0);  // only −0 terms from row 3 (unforced): stays −0
         in.df[4] = Vec3(0.0, -0.0, 1.0);
         in.df[9] = Vec3(1.0, 0.5, -0.0);  // −0 in its last component only
@@ -396,7 +403,7 @@ TEST(Mapping, BarycentricProductsOfSelectedRowsAreBitwiseTheFullOnesWithZerosEls
 TEST(Mapping, BarycentricOnHexahedraIsTrilinear) {
     Vec3Object in, out;
     // A distorted hexahedron (not a parallelepiped).
-    in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.2, 1, 0), Vec3(0, 1, 0.1),
+    in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0),   Vec3(1.2, 1, 0), Vec3(0, 1, 0.1),
                    Vec3(0, 0, 1), Vec3(1, 0.1, 1), Vec3(1, 1, 1.3), Vec3(-0.1, 1, 1)};
     in.init();
     MeshTopology topo;
@@ -415,7 +422,8 @@ TEST(Mapping, BarycentricOnHexahedraIsTrilinear) {
     map.apply_position();
     for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_TRUE(out.position[i].isApprox(pts[i], 1e-12));
     const auto w0 = trilinear_weights(uvw[0]);
-    for (int k = 0; k < 8; ++k) EXPECT_NEAR(map.weights()[0][static_cast<std::size_t>(k)].weight, w0[static_cast<std::size_t>(k)], 1e-12);
+    for (int k = 0; k < 8; ++k)
+        EXPECT_NEAR(map.weights()[0][static_cast<std::size_t>(k)].weight, w0[static_cast<std::size_t>(k)], 1e-12);
 }
 
 TEST(Mapping, BarycentricOnRegularGridAdjointAndFiniteDifferences) {
@@ -426,8 +434,7 @@ TEST(Mapping, BarycentricOnRegularGridAdjointAndFiniteDifferences) {
     Vec3Object in, out;
     in.position = g.points();
     in.init();
-    const std::vector<Vec3> pts = {Vec3(-0.7, 0.1, 0.6), Vec3(0.4, 0.5, 2.2), Vec3(0.0, 0.4, 1.5),
-                                   Vec3(1.3, 0.2, 1.0)};
+    const std::vector<Vec3> pts = {Vec3(-0.7, 0.1, 0.6), Vec3(0.4, 0.5, 2.2), Vec3(0.0, 0.4, 1.5), Vec3(1.3, 0.2, 1.0)};
     BarycentricMapping map(in, out);
     map_on_regular_grid(map, g, pts);
     for (auto& x : in.position) x += 0.1 * rand_vec();
@@ -515,7 +522,9 @@ TEST(Mapping, BadInputThrows) {
     const std::vector<Vec3> corners = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
     MeshTopology unit;
     unit.set_tetrahedra({{0, 1, 2, 3}});
-    EXPECT_THROW(map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)}), std::invalid_argument);
+    EXPECT_THROW(
+        map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)}),
+        std::invalid_argument);
     EXPECT_THROW(map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(2e5, 0, 0)}), std::invalid_argument);
     map.map_on_tetrahedra(unit, corners, std::vector<Vec3>{Vec3(9e4, 0, 0)});  // within reach: mapped
     EXPECT_EQ(map.weights()[0][1].index, 1);

@@ -49,7 +49,8 @@ Eigen::MatrixXd integrated_tetrahedra(const std::vector<Vec3>& x, const MeshTopo
             std::array<double, 4> n{b, b, b, b};
             n[std::size_t(q)] = a;
             for (int i = 0; i < 4; ++i)
-                for (int j = 0; j < 4; ++j) m(e[std::size_t(i)], e[std::size_t(j)]) += rho * volume / 4 * n[std::size_t(i)] * n[std::size_t(j)];
+                for (int j = 0; j < 4; ++j)
+                    m(e[std::size_t(i)], e[std::size_t(j)]) += rho * volume / 4 * n[std::size_t(i)] * n[std::size_t(j)];
         }
     }
     return m;
@@ -95,7 +96,9 @@ TEST(MeshMatrixMass, TrianglesHaveTheIntegratedConsistentMatrix) {
             std::array<double, 3> n{0.5, 0.5, 0.5};
             n[std::size_t(q)] = 0.0;
             for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) expected(e[std::size_t(i)], e[std::size_t(j)]) += 2.0 * area / 3 * n[std::size_t(i)] * n[std::size_t(j)];
+                for (int j = 0; j < 3; ++j)
+                    expected(e[std::size_t(i)], e[std::size_t(j)]) +=
+                        2.0 * area / 3 * n[std::size_t(i)] * n[std::size_t(j)];
         }
     }
     EXPECT_LT((dense_mass(m, 4) - times_identity3(expected)).cwiseAbs().maxCoeff(), 1e-14);

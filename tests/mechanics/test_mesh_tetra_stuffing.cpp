@@ -28,8 +28,10 @@ struct StuffingSurface {
 /// The box [lo, hi] as 12 outward triangles.
 StuffingSurface closed_box(const Vec3& lo, const Vec3& hi) {
     StuffingSurface s;
-    for (int k = 0; k < 8; ++k) s.points.emplace_back((k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]);
-    const std::array<std::array<int, 4>, 6> faces{{{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+    for (int k = 0; k < 8; ++k)
+        s.points.emplace_back((k & 1) ? hi[0] : lo[0], (k & 2) ? hi[1] : lo[1], (k & 4) ? hi[2] : lo[2]);
+    const std::array<std::array<int, 4>, 6> faces{
+        {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
     for (const auto& f : faces) {
         s.triangles.push_back({f[0], f[1], f[2]});
         s.triangles.push_back({f[0], f[2], f[3]});
@@ -41,12 +43,13 @@ StuffingSurface closed_box(const Vec3& lo, const Vec3& hi) {
 StuffingSurface icosphere(double r, int levels, const Vec3& centre) {
     const double g = (1 + std::sqrt(5.0)) / 2;
     StuffingSurface s;
-    for (const Vec3& p : {Vec3(-1, g, 0), Vec3(1, g, 0), Vec3(-1, -g, 0), Vec3(1, -g, 0), Vec3(0, -1, g), Vec3(0, 1, g),
-                          Vec3(0, -1, -g), Vec3(0, 1, -g), Vec3(g, 0, -1), Vec3(g, 0, 1), Vec3(-g, 0, -1), Vec3(-g, 0, 1)})
+    for (const Vec3& p :
+         {Vec3(-1, g, 0), Vec3(1, g, 0), Vec3(-1, -g, 0), Vec3(1, -g, 0), Vec3(0, -1, g), Vec3(0, 1, g),
+          Vec3(0, -1, -g), Vec3(0, 1, -g), Vec3(g, 0, -1), Vec3(g, 0, 1), Vec3(-g, 0, -1), Vec3(-g, 0, 1)})
         s.points.push_back(p.normalized() * r);
-    s.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    s.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                    {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                   {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+                   {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (int l = 0; l < levels; ++l) {
         std::map<std::pair<PointId, PointId>, PointId> middle;
         const auto mid = [&](PointId a, PointId b) {
@@ -68,7 +71,8 @@ StuffingSurface icosphere(double r, int levels, const Vec3& centre) {
 
 double volume6(const StuffedVolume& v, const Tetrahedron& t) {
     const Vec3& p0 = v.points[std::size_t(t[0])];
-    return (v.points[std::size_t(t[1])] - p0).dot((v.points[std::size_t(t[2])] - p0).cross(v.points[std::size_t(t[3])] - p0));
+    return (v.points[std::size_t(t[1])] - p0)
+        .dot((v.points[std::size_t(t[2])] - p0).cross(v.points[std::size_t(t[3])] - p0));
 }
 
 /// Total volume, after checking every tetrahedron is positive and no oriented face is repeated.

@@ -29,7 +29,8 @@ public:
     void apply_inverse(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) const override {}
     void add_mass_triplets(TripletList& t, Index offset, double factor) const override {
         for (std::size_t i = 0; i < masses_.size(); ++i)
-            for (Index a = 0; a < 6; ++a) t.emplace_back(offset + 6 * Index(i) + a, offset + 6 * Index(i) + a, factor * masses_[i]);
+            for (Index a = 0; a < 6; ++a)
+                t.emplace_back(offset + 6 * Index(i) + a, offset + 6 * Index(i) + a, factor * masses_[i]);
     }
     [[nodiscard]] double kinetic_energy() const override { return 0; }
     [[nodiscard]] double gravity_potential_energy(const Vec3&) const override { return 0; }
@@ -120,7 +121,8 @@ void expect_transpose_is_adjoint(BaseMapping& map, std::vector<BaseState*> input
             s->force_flat().setZero();
         }
         map.apply_dx();
-        const Eigen::VectorXd y = Eigen::VectorXd::NullaryExpr(Eigen::Index(out.scalar_size()), [] { return multi_uni(); });
+        const Eigen::VectorXd y =
+            Eigen::VectorXd::NullaryExpr(Eigen::Index(out.scalar_size()), [] { return multi_uni(); });
         const double lhs = out.dx_flat().dot(y);
         out.df_flat() = y;
         out.force_flat() = y;

@@ -109,10 +109,11 @@ TEST(NonUniformHexahedronFEM, AssembledMatricesEqualTheProducts) {
     // at rest (rigidly turned), the corotational field's df = K dx is exact
     const Quat q(Eigen::AngleAxisd(0.5, Vec3(1, 1, 0).normalized()));
     for (Vec3& x : s.position) x = q * x;
-    static_cast<void>(test::check_force_field_derivatives(ff, s, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12,
-                                                                  .force_vs_energy = std::nullopt}));
+    static_cast<void>(test::check_force_field_derivatives(
+        ff, s, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt}));
     for (const bool lumped : {false, true}) {
-        HexahedronMatrixMass mass(s, coarse.hexahedra(), m.mass, coarse.coefficients(true), {.density = 3.0, .lumped = lumped});
+        HexahedronMatrixMass mass(s, coarse.hexahedra(), m.mass, coarse.coefficients(true),
+                                  {.density = 3.0, .lumped = lumped});
         mass.init();
         const auto n = Eigen::Index(3 * s.num_dofs());
         Eigen::MatrixXd product(n, n);

@@ -3,8 +3,8 @@
 // closed forms on known areas and lengths, SOFA's corner shares, and the derivative checks.
 #include "penalty/mechanics/pressure_loads.hpp"
 
-#include "penalty_test/point_state.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/point_state.hpp"
 
 #include <gtest/gtest.h>
 
@@ -44,7 +44,8 @@ double check_constant_force_field(BaseForceField& ff, Vec3Object& s) {
     ff.accumulate_dforce(1.0, 1.0);
     for (const Vec3& v : s.df) EXPECT_EQ(v, Vec3::Zero());
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, 1.0);
     EXPECT_TRUE(t.empty());
     EXPECT_EQ(f.size(), n);
     return f.cwiseAbs().maxCoeff();
@@ -173,8 +174,8 @@ TEST(EdgePressureForceField, PressureTimesRestLengthSplitInHalves) {
     ff.init();
     EXPECT_DOUBLE_EQ(ff.total_rest_length(), 7.0);
     std::vector<Vec3> f = force_of(ff, s);
-    EXPECT_TRUE(f[0].isApprox(Vec3(0, 0, -0.25), 1e-15));   // half of 0.1·5
-    EXPECT_TRUE(f[1].isApprox(Vec3(0, 0, -0.35), 1e-15));   // 0.25 + half of 0.1·2
+    EXPECT_TRUE(f[0].isApprox(Vec3(0, 0, -0.25), 1e-15));  // half of 0.1·5
+    EXPECT_TRUE(f[1].isApprox(Vec3(0, 0, -0.35), 1e-15));  // 0.25 + half of 0.1·2
     EXPECT_TRUE(f[2].isApprox(Vec3(0, 0, -0.1), 1e-15));
     s.position[2] = Vec3(10, 10, 10);  // rest lengths: unchanged
     EXPECT_TRUE(total(force_of(ff, s)).isApprox(Vec3(0, 0, -0.7), 1e-15));
@@ -291,7 +292,8 @@ TEST(SurfacePressureForceField, WithoutTangentStiffnessAddsNothing) {
     ff.accumulate_dforce(1.0, 0.0);
     EXPECT_EQ(total(s.df), Vec3::Zero());
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, 1.0);
     EXPECT_TRUE(t.empty());
 }
 
@@ -331,7 +333,7 @@ TEST(SurfacePressureForceField, VolumeConservationScalesByTheFirstVolumeOverTheC
     ff.init();
     (void)force_of(ff, s);
     EXPECT_DOUBLE_EQ(ff.last_pressure(), 10.0);  // the first call records V₀ = 1/6
-    for (Vec3& x : s.position) x *= 2.0;        // V = 8 V₀
+    for (Vec3& x : s.position) x *= 2.0;         // V = 8 V₀
     (void)force_of(ff, s);
     EXPECT_NEAR(ff.last_pressure(), 10.0 / 8.0, 1e-14);
 }

@@ -177,9 +177,8 @@ TEST(LinearMovementProjectiveConstraint, FollowsThePiecewiseLinearMotionAtTheClo
     Vec3Object s = random_points(2, 11);
     const Vec3 x0 = s.position[0];
     double now = 0.0;
-    LinearMovementProjectiveConstraint<Vec3Types> c(s, {0}, {0.0, 1.0, 3.0},
-                                                    {Vec3::Zero(), Vec3(1, 0, 0), Vec3(1, 4, 0)}, true,
-                                                    [&now] { return now; });
+    LinearMovementProjectiveConstraint<Vec3Types> c(
+        s, {0}, {0.0, 1.0, 3.0}, {Vec3::Zero(), Vec3(1, 0, 0), Vec3(1, 4, 0)}, true, [&now] { return now; });
     c.init();
     c.project_position();  // t = 0: x0 recorded, m = 0
     EXPECT_EQ(s.position[0], x0);
@@ -230,7 +229,8 @@ TEST(ParabolicProjectiveConstraint, PassesThroughItsThreePointsInItsPlane) {
     Vec3Object s = random_points(1, 12);
     double now = 0.5;
     const Vec3 p1(1, 0, 0), p2(5, 3, 1), p3(7, 6, -5);
-    ParabolicProjectiveConstraint<Vec3Types> c(s, {0}, p1, p2, p3, 0.5, 1.5, [&now] { return now; }, [] { return 0.01; });
+    ParabolicProjectiveConstraint<Vec3Types> c(
+        s, {0}, p1, p2, p3, 0.5, 1.5, [&now] { return now; }, [] { return 0.01; });
     c.init();
     EXPECT_NEAR((c.point_at(0.5) - p1).norm(), 0.0, 1e-12);
     EXPECT_NEAR((c.point_at(1.5) - p3).norm(), 0.0, 1e-12);
@@ -248,7 +248,8 @@ TEST(ParabolicProjectiveConstraint, PassesThroughItsThreePointsInItsPlane) {
     const Vec3 held = s.position[0];
     c.project_position();
     EXPECT_EQ(s.position[0], held);
-    ParabolicProjectiveConstraint<Vec3Types> degenerate(s, {0}, p1, p1, p3, 0, 1, [] { return 0.0; }, [] { return 0.01; });
+    ParabolicProjectiveConstraint<Vec3Types> degenerate(
+        s, {0}, p1, p1, p3, 0, 1, [] { return 0.0; }, [] { return 0.01; });
     EXPECT_THROW(degenerate.init(), std::invalid_argument);
 }
 

@@ -25,8 +25,8 @@ TEST(PlaneRegion, ABoxOnThreeCornersWithADepthCentredOnThem) {
     EXPECT_FALSE(plane.contains(Vec3(1.01, 0.5, 0)));
     EXPECT_FALSE(plane.contains(Vec3(0.5, -0.01, 0)));
     const std::vector<Vec3> points = grid();
-    const RoiSelection s =
-        select_in_region(points, {}, [&](const Vec3& p) { return plane.contains(p); }, ElementTest::all_points);
+    const RoiSelection s = select_in_region(
+        points, {}, [&](const Vec3& p) { return plane.contains(p); }, ElementTest::all_points);
     EXPECT_EQ(s.points, (std::vector<PointId>{0, 1, 2, 3, 4, 5, 6, 7, 8}));  // the layer z = 0
 }
 
@@ -41,8 +41,8 @@ TEST(PlaneRegion, AnObliqueBoxAndTheDegenerateDefault) {
     // an oblique box: corners (0,0,0) → (1,1,0) → (1,1,1), depth 0.2 (normal (1,−1,0)/√2)
     const PlaneRegion oblique(Vec3(0, 0, 0), Vec3(1, 1, 0), Vec3(1, 1, 1), 0.2);
     EXPECT_TRUE(oblique.contains(Vec3(0.5, 0.5, 0.5)));
-    EXPECT_TRUE(oblique.contains(Vec3(0.55, 0.45, 0.5)));   // 0.1/√2 ≈ 0.07 off the plane
-    EXPECT_FALSE(oblique.contains(Vec3(0.6, 0.4, 0.5)));    // 0.2/√2 ≈ 0.14 off
+    EXPECT_TRUE(oblique.contains(Vec3(0.55, 0.45, 0.5)));  // 0.1/√2 ≈ 0.07 off the plane
+    EXPECT_FALSE(oblique.contains(Vec3(0.6, 0.4, 0.5)));   // 0.2/√2 ≈ 0.14 off
     EXPECT_FALSE(oblique.contains(Vec3(0.5, 0.5, 1.2)));
     // ten zeros (SOFA's default): every test is |0| ≤ 0, every point is inside
     const PlaneRegion zero(Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0.0);
@@ -54,8 +54,8 @@ TEST(SphereRegion, ClosedBall) {
     EXPECT_TRUE(ball.contains(Vec3(0, 0.5, 1)));
     EXPECT_FALSE(ball.contains(Vec3(0, 0.5, 1.01)));
     const std::vector<Vec3> points = grid();
-    const RoiSelection s = select_in_region(points, {}, [&](const Vec3& p) { return ball.contains(p); },
-                                            ElementTest::all_points);
+    const RoiSelection s = select_in_region(
+        points, {}, [&](const Vec3& p) { return ball.contains(p); }, ElementTest::all_points);
     // z = 0.5 at (0,0): 9 + 0 = 9 (distance 0.5); z = 1: (0,0), (0.5,0), (0,0.5) → 18, 19, 21
     EXPECT_EQ(s.points, (std::vector<PointId>{9, 18, 19, 21}));
 }

@@ -43,8 +43,8 @@ TEST(RestShapeSprings, ForceIsMinusTheEnergyGradientAndStiffnessTheForceDerivati
     ff.set_active_directions({true, false, true});
     ff.set_sofa_assembly(false);
     ff.init();
-    const auto d = test::check_force_field_derivatives(ff, s, {.dforce_vs_fd = 1e-8, .assembled_vs_dforce = 1e-15,
-                                                               .force_vs_energy = 1e-8});
+    const auto d = test::check_force_field_derivatives(
+        ff, s, {.dforce_vs_fd = 1e-8, .assembled_vs_dforce = 1e-15, .force_vs_energy = 1e-8});
     // closed form: f_p = −k (x_p − x0_p) in the active directions only
     EXPECT_NEAR(d.force[0], -200.0 * 0.1, 1e-12);   // point 0, x
     EXPECT_EQ(d.force[1], 0.0);                     // point 0, y inactive
@@ -63,9 +63,9 @@ TEST(RestShapeSprings, TheAssembledMatrixIsSofaHeadsBuildStiffnessMatrixByDefaul
     ff.set_active_directions({true, false, true});
     ff.init();
     const Eigen::MatrixXd sofa = rest_spring_matrix(ff, 12);
-    EXPECT_EQ(sofa(9, 9), -40000.0);  // point 3: stiffness[3], the spring's own is stiffness[0] = 10
+    EXPECT_EQ(sofa(9, 9), -40000.0);    // point 3: stiffness[3], the spring's own is stiffness[0] = 10
     EXPECT_EQ(sofa(10, 10), -40000.0);  // inactive y kept
-    EXPECT_EQ(sofa(0, 0), -10.0);     // point 0: stiffness[0], the spring's own is stiffness[1] = 200
+    EXPECT_EQ(sofa(0, 0), -10.0);       // point 0: stiffness[0], the spring's own is stiffness[1] = 200
     ff.set_sofa_assembly(false);
     const Eigen::MatrixXd fixed = rest_spring_matrix(ff, 12);
     EXPECT_EQ(fixed(9, 9), -10.0);

@@ -29,7 +29,7 @@ TEST(RigidDiagonalMass, ProductMatchesTheAssembledMatrixAndClosedForms) {
     m.setFromTriplets(t.begin(), t.end());
     const Eigen::VectorXd expected = m * Eigen::VectorXd(s.dx_flat());
     EXPECT_TRUE(Eigen::VectorXd(s.df_flat()).isApprox(expected, 1e-14));
-    EXPECT_DOUBLE_EQ(s.df[0].linear.x(), 0.3 * 15.0);      // m·dx
+    EXPECT_DOUBLE_EQ(s.df[0].linear.x(), 0.3 * 15.0);         // m·dx
     EXPECT_DOUBLE_EQ(s.df[0].angular.x(), 0.3 * 300 * 0.25);  // (J·m)·dx, J = 20·I
     EXPECT_TRUE(s.df[2].linear.isZero(0));  // past the list: no mass (SOFA does not pad a Rigid3 list)
     // gravity: f = m·g, no torque; kinetic energy ½(m v² + ωᵀ(J·m)ω)

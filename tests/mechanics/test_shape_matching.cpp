@@ -5,8 +5,8 @@
 // the SVD's, and one PBD projection against SOFA's projectPosition/projectVelocity formulas.
 #include "penalty/mechanics/shape_matching.hpp"
 
-#include <Eigen/SVD>
 #include <gtest/gtest.h>
+#include <Eigen/SVD>
 
 #include <random>
 
@@ -63,11 +63,11 @@ TEST(ClusteringEngine, GeodesicSeedsVoronoiRegionsAndOneRing) {
     EXPECT_EQ(clustering_engine(kChainPoints, &kChainNeighbours, p).at(0), (std::vector<PointId>{0, 1, 2, 3, 4, 5}));
 }
 
-Mat3 rotation_about(const Vec3& axis, double angle) { return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix(); }
-
-std::vector<Vec3> shape_points() {
-    return {{0, 0, 0}, {1, 0, 0}, {0, 1.5, 0}, {0, 0, 2}, {1, 1, 1}, {-0.5, 0.3, 0.7}};
+Mat3 rotation_about(const Vec3& axis, double angle) {
+    return Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
 }
+
+std::vector<Vec3> shape_points() { return {{0, 0, 0}, {1, 0, 0}, {0, 1.5, 0}, {0, 0, 2}, {1, 1, 1}, {-0.5, 0.3, 0.7}}; }
 
 TEST(ShapeMatching, ARigidMotionIsReproduced) {
     const std::vector<Vec3> rest = shape_points();
@@ -83,7 +83,8 @@ TEST(ShapeMatching, ARigidMotionIsReproduced) {
 }
 
 /// The best rigid fit (Kabsch) of a cluster: the target of each member.
-std::vector<Vec3> kabsch_fit(const std::vector<Vec3>& rest, const std::vector<Vec3>& x, const std::vector<PointId>& ids) {
+std::vector<Vec3> kabsch_fit(const std::vector<Vec3>& rest, const std::vector<Vec3>& x,
+                             const std::vector<PointId>& ids) {
     Vec3 c0 = Vec3::Zero(), c = Vec3::Zero();
     for (PointId i : ids) {
         c0 += rest[static_cast<std::size_t>(i)];
@@ -92,7 +93,8 @@ std::vector<Vec3> kabsch_fit(const std::vector<Vec3>& rest, const std::vector<Ve
     c0 /= static_cast<double>(ids.size());
     c /= static_cast<double>(ids.size());
     Mat3 h = Mat3::Zero();
-    for (PointId i : ids) h += (x[static_cast<std::size_t>(i)] - c) * (rest[static_cast<std::size_t>(i)] - c0).transpose();
+    for (PointId i : ids)
+        h += (x[static_cast<std::size_t>(i)] - c) * (rest[static_cast<std::size_t>(i)] - c0).transpose();
     Eigen::JacobiSVD<Mat3> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Mat3 d = Mat3::Identity();
     d(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() > 0 ? 1 : -1;

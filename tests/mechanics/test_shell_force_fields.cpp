@@ -65,8 +65,8 @@ TEST(FastTriangularBendingSprings, DerivativesAreExactAnywhere) {
     FastTriangularBendingSprings ff(c.state, c.topology, 2.0, 1e-6);
     ff.init();
     c.deform();
-    const auto d = test::check_force_field_derivatives(ff, c.state, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-13,
-                                                                     .force_vs_energy = 1e-7});
+    const auto d = test::check_force_field_derivatives(
+        ff, c.state, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-13, .force_vs_energy = 1e-7});
     EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 0.1);
 }
 
@@ -104,13 +104,13 @@ TEST(TriangularFEMForceFieldOptim, DerivativesAtARigidlyPlacedRestAndNearIt) {
     ff.init();
     const Quat q(Eigen::AngleAxisd(0.9, Vec3(1, 2, -1).normalized()));
     for (Vec3& x : c.state.position) x = q * x + Vec3(0.5, -1, 2);
-    const auto d = test::check_force_field_derivatives(ff, c.state, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12,
-                                                                     .force_vs_energy = std::nullopt});
+    const auto d = test::check_force_field_derivatives(
+        ff, c.state, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt});
     EXPECT_LT(d.force.cwiseAbs().maxCoeff(), 1e-12) << "stress-free";
     // near rest the frame's rotation is a small correction: df = K dx to the strain's order
     c.state.position[4] += Vec3(0.001, 0.0005, -0.0007);
-    static_cast<void>(test::check_force_field_derivatives(ff, c.state, {.dforce_vs_fd = 5e-3, .assembled_vs_dforce = 1e-12,
-                                                                        .force_vs_energy = std::nullopt}));
+    static_cast<void>(test::check_force_field_derivatives(
+        ff, c.state, {.dforce_vs_fd = 5e-3, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt}));
 }
 
 // ---- QuadBendingFEMForceField -----------------------------------------------------------------
@@ -159,16 +159,17 @@ TEST(QuadBendingFEMForceField, DerivativesOfTheFlatPlate) {
     QuadBendingFEMForceField ff(plate.state, plate.topology, p);
     ff.init();
     // at rest D = 0, so the stiffness's dependence on the positions does not show: K is exact
-    const auto rest = test::check_force_field_derivatives(ff, plate.state, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-13,
-                                                                            .force_vs_energy = std::nullopt});
+    const auto rest = test::check_force_field_derivatives(
+        ff, plate.state, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-13, .force_vs_energy = std::nullopt});
     EXPECT_GT(rest.k_dforce.cwiseAbs().maxCoeff(), 1.0);
     // stretched in its plane, the plate's side lengths do not change to first order with the
     // out-of-plane coordinates: the z columns of K and the z gradient of the energy are exact
     for (Vec3& x : plate.state.position) x = Vec3(1.01 * x.x() + 0.02 * x.y(), 0.99 * x.y(), 0.0);
-    const auto d = test::check_force_field_derivatives(ff, plate.state, {.dforce_vs_fd = 1e9, .assembled_vs_dforce = 1e-13,
-                                                                         .force_vs_energy = std::nullopt});
+    const auto d = test::check_force_field_derivatives(
+        ff, plate.state, {.dforce_vs_fd = 1e9, .assembled_vs_dforce = 1e-13, .force_vs_energy = std::nullopt});
     for (Eigen::Index i = 0; i < 9; ++i)
-        EXPECT_TRUE(test::near_relative(Eigen::VectorXd(d.k_dforce.col(3 * i + 2)), Eigen::VectorXd(d.k_fd.col(3 * i + 2)), 1e-6))
+        EXPECT_TRUE(test::near_relative(Eigen::VectorXd(d.k_dforce.col(3 * i + 2)),
+                                        Eigen::VectorXd(d.k_fd.col(3 * i + 2)), 1e-6))
             << "column z of point " << i;
     // with the out-of-plane moves alone, the energy ½ Dᵀ F of a bent plate has the gradient −f_z
     // up to the lengths' second-order change (K is evaluated at the current positions)

@@ -18,7 +18,8 @@ constexpr Cell kO = Cell::outside, kB = Cell::boundary;
 
 /// A finest level of unit cells from (0, 0, 0), typed by hand, with its connexion graph.
 std::shared_ptr<const SparseGridTopology> ramified_unit_cells(std::array<int, 3> n, std::vector<Cell> types,
-                                                              const SparseGridFacets* surface = nullptr, bool ramify = false) {
+                                                              const SparseGridFacets* surface = nullptr,
+                                                              bool ramify = false) {
     const Vec3 max(n[0] - 1, n[1] - 1, n[2] - 1);
     return std::make_shared<const SparseGridTopology>(SparseGridTopology::ramified_finest(
         SparseGridTopology::from_grid_types(n, Vec3::Zero(), max, std::move(types)), surface, ramify));
@@ -37,10 +38,12 @@ TEST(SparseGridRamification, DiagonalFineCellsSplitTheirCoarseCellIntoTwoHexahed
     // one coarse cell [0,2]³ (max = min + (n − 1)·2·dx), two connexions: two hexahedra, 16 points
     ASSERT_EQ(coarse.hexahedra().size(), 2u);
     ASSERT_EQ(coarse.points().size(), 16u);
-    const std::array<Vec3, 8> cube{{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0, 2}, {2, 0, 2}, {2, 2, 2}, {0, 2, 2}}};
+    const std::array<Vec3, 8> cube{
+        {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0, 2}, {2, 0, 2}, {2, 2, 2}, {0, 2, 2}}};
     for (std::size_t h = 0; h < 2; ++h) {
         EXPECT_EQ(corners_of(coarse, h), cube) << h;
-        for (std::size_t k = 0; k < 8; ++k) EXPECT_EQ(coarse.hexahedra()[h][k], PointId(8 * h + k));  // own points, in order
+        for (std::size_t k = 0; k < 8; ++k)
+            EXPECT_EQ(coarse.hexahedra()[h][k], PointId(8 * h + k));  // own points, in order
         EXPECT_EQ(coarse.cell_types()[h], Cell::boundary);
     }
     // children: each connexion keeps its own finer cell (place 0, place 3)

@@ -41,8 +41,8 @@ Surface octahedron() {
 TEST(SparseGridTopology, CubeSurfaceKeepsTheShellAsBoundaryThenTheInsideCells) {
     // cells of 0.4 from −1.1: the faces x = 0 and x = 1 lie inside cell layers 2 and 5
     const Surface cube = unit_cube_surface();
-    const auto g = SparseGridTopology::from_surface({9, 9, 9}, Vec3::Constant(-1.1), Vec3::Constant(2.1), cube.positions,
-                                                    cube.triangles);
+    const auto g = SparseGridTopology::from_surface({9, 9, 9}, Vec3::Constant(-1.1), Vec3::Constant(2.1),
+                                                    cube.positions, cube.triangles);
     const auto& types = g.grid_cell_types();
     ASSERT_EQ(types.size(), 512u);
     for (int z = 0; z < 8; ++z)
@@ -50,7 +50,9 @@ TEST(SparseGridTopology, CubeSurfaceKeepsTheShellAsBoundaryThenTheInsideCells) {
             for (int x = 0; x < 8; ++x) {
                 const bool in_block = std::min({x, y, z}) >= 2 && std::max({x, y, z}) <= 5;
                 const bool shell = in_block && (std::min({x, y, z}) == 2 || std::max({x, y, z}) == 5);
-                const auto expected = !in_block ? SparseCellType::outside : shell ? SparseCellType::boundary : SparseCellType::inside;
+                const auto expected = !in_block ? SparseCellType::outside
+                                      : shell   ? SparseCellType::boundary
+                                                : SparseCellType::inside;
                 EXPECT_EQ(types[std::size_t(x + 8 * (y + 8 * z))], expected) << x << " " << y << " " << z;
             }
     ASSERT_EQ(g.hexahedra().size(), 64u);
@@ -69,7 +71,8 @@ TEST(SparseGridTopology, CubeSurfaceKeepsTheShellAsBoundaryThenTheInsideCells) {
     EXPECT_EQ(g.hexahedra().front(), first);
     // first inside cell: regular cell (3,3,3)
     const auto at = [](int i, int j, int k) { return PointId(25 * i + 5 * j + k); };
-    const Hexahedron inside{at(1, 1, 1), at(2, 1, 1), at(2, 2, 1), at(1, 2, 1), at(1, 1, 2), at(2, 1, 2), at(2, 2, 2), at(1, 2, 2)};
+    const Hexahedron inside{at(1, 1, 1), at(2, 1, 1), at(2, 2, 1), at(1, 2, 1),
+                            at(1, 1, 2), at(2, 1, 2), at(2, 2, 2), at(1, 2, 2)};
     EXPECT_EQ(g.hexahedra()[56], inside);
     // edges and quads of the 4³ block of cells: 3·4·5·5 edges, 3·5·4·4 faces, sorted
     const auto edges = g.edges();
@@ -115,11 +118,12 @@ TEST(SparseGridTopology, OctahedronCellsMatchTheClosedFormClassification) {
                     largest += std::max(std::abs(a[k]), std::abs(b[k]));
                 }
                 const auto expected = (smallest <= 1 && largest >= 1) ? SparseCellType::boundary
-                                      : largest < 1                  ? SparseCellType::inside
-                                                                     : SparseCellType::outside;
+                                      : largest < 1                   ? SparseCellType::inside
+                                                                      : SparseCellType::outside;
                 boundary += expected == SparseCellType::boundary;
                 inside += expected == SparseCellType::inside;
-                EXPECT_EQ(types[std::size_t(x + (n[0] - 1) * (y + (n[1] - 1) * z))], expected) << x << " " << y << " " << z;
+                EXPECT_EQ(types[std::size_t(x + (n[0] - 1) * (y + (n[1] - 1) * z))], expected)
+                    << x << " " << y << " " << z;
             }
     EXPECT_GT(inside, 0);
     EXPECT_EQ(g.hexahedra().size(), std::size_t(boundary + inside));
@@ -136,14 +140,15 @@ TEST(SparseGridTopology, OctahedronCellsMatchTheClosedFormClassification) {
         EXPECT_TRUE(std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3)) << i;
     }
     // only inside cells
-    const auto core = SparseGridTopology::from_surface(n, lo, hi, oct.positions, oct.triangles, /*only_inside_cells=*/true);
+    const auto core =
+        SparseGridTopology::from_surface(n, lo, hi, oct.positions, oct.triangles, /*only_inside_cells=*/true);
     EXPECT_EQ(core.hexahedra().size(), std::size_t(inside));
 }
 
 TEST(SparseGridTopology, MappingIsTrilinearInTheKeptCellElseInTheNearestBoundaryCell) {
     const Surface cube = unit_cube_surface();
-    const auto g = SparseGridTopology::from_surface({9, 9, 9}, Vec3::Constant(-1.1), Vec3::Constant(2.1), cube.positions,
-                                                    cube.triangles);
+    const auto g = SparseGridTopology::from_surface({9, 9, 9}, Vec3::Constant(-1.1), Vec3::Constant(2.1),
+                                                    cube.positions, cube.triangles);
     Vec3Object in("grid"), out("points");
     in.position = g.points();
     in.init();

@@ -48,7 +48,8 @@ TEST(SpringForceField, DerivativesMatchFiniteDifferencesOnRandomSprings) {
             ff.add_spring({a, b, 10 + 90 * std::abs(u(rng)), 0.5, std::abs(u(rng))});
         }
         ff.init();
-        const auto d = test::check_force_field_derivatives(ff, s, {.dforce_vs_fd = 1e-5, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-5});
+        const auto d = test::check_force_field_derivatives(
+            ff, s, {.dforce_vs_fd = 1e-5, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-5});
         EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 1.0);
         ++checked;
     }
@@ -61,7 +62,8 @@ TEST(SpringForceField, DforceIsBitwiseSofasPerSpringProduct) {
     // (QuadularBendingSprings), df_a += d, df_b −= d; m read back from the stiffness triplets.
     std::mt19937 rng(5);
     std::uniform_real_distribution<double> u(-1, 1);
-    for (const SpringArithmetic arithmetic : {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs}) {
+    for (const SpringArithmetic arithmetic :
+         {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs}) {
         Vec3Object s;
         for (int i = 0; i < 7; ++i) s.position.emplace_back(u(rng), u(rng), u(rng));
         for (int i = 0; i < 7; ++i) s.velocity.emplace_back(u(rng), u(rng), u(rng));
@@ -93,8 +95,7 @@ TEST(SpringForceField, DforceIsBitwiseSofasPerSpringProduct) {
             for (int r = 0; r < 3; ++r) {
                 if (arithmetic == SpringArithmetic::spring_force_field)
                     d[r] = (m(r, 0) * dx[0] + m(r, 1) * dx[1] + m(r, 2) * dx[2]) * k;
-                else
-                    d[r] = m(r, 0) * (dx[0] * k) + m(r, 1) * (dx[1] * k) + m(r, 2) * (dx[2] * k);
+                else d[r] = m(r, 0) * (dx[0] * k) + m(r, 1) * (dx[1] * k) + m(r, 2) * (dx[2] * k);
             }
             expected[a] += d;
             expected[b] -= d;

@@ -43,7 +43,8 @@ ContextClock step_of(double dt) {
 
 TEST(TaitSurfacePressureForceField, VolumeOfTheQuadCube) {
     FluidCube c(1.3);
-    TaitSurfacePressureForceField ff(c.state, c.topology, {.p0 = 2, .bulk_modulus = 0, .gamma = 0}, c.clock(), step_of(0.01));
+    TaitSurfacePressureForceField ff(c.state, c.topology, {.p0 = 2, .bulk_modulus = 0, .gamma = 0}, c.clock(),
+                                     step_of(0.01));
     ff.init();
     EXPECT_EQ(ff.triangles().size(), 12u);
     EXPECT_NEAR(ff.rest_volume(), 1.0, 1e-15);
@@ -81,8 +82,9 @@ TEST(TaitSurfacePressureForceField, InjectionRampsAtTheMaximumRateOncePerStep) {
     FluidCube c;
     const double dt = 0.01, rate = 2.0, target = 0.05;
     TaitSurfacePressureForceField ff(
-        c.state, c.topology, {.p0 = 0, .bulk_modulus = 100, .gamma = 1, .injected_volume = target, .max_injection_rate = rate},
-        c.clock(), step_of(dt));
+        c.state, c.topology,
+        {.p0 = 0, .bulk_modulus = 100, .gamma = 1, .injected_volume = target, .max_injection_rate = rate}, c.clock(),
+        step_of(dt));
     ff.init();
     for (int step = 1; step <= 4; ++step) {
         c.force(ff);
@@ -107,12 +109,12 @@ void deform(FluidCube& c) {
 TEST(TaitSurfacePressureForceField, DerivativesAreExactForEveryExponent) {
     for (const double gamma : {0.0, 1.0, 5.0}) {
         FluidCube c;
-        TaitSurfacePressureForceField ff(c.state, c.topology, {.p0 = 30, .bulk_modulus = 1000, .gamma = gamma}, c.clock(),
-                                         step_of(0.01));
+        TaitSurfacePressureForceField ff(c.state, c.topology, {.p0 = 30, .bulk_modulus = 1000, .gamma = gamma},
+                                         c.clock(), step_of(0.01));
         ff.init();
         deform(c);
-        const auto d = test::check_force_field_derivatives(ff, c.state, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-13,
-                                                                         .force_vs_energy = 1e-7});
+        const auto d = test::check_force_field_derivatives(
+            ff, c.state, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-13, .force_vs_energy = 1e-7});
         EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 1.0) << gamma;
         // K = (dp/dV) ∇V∇Vᵀ + p ∂∇V/∂x is symmetric
         EXPECT_LT((d.k_dforce - d.k_dforce.transpose()).cwiseAbs().maxCoeff(), 1e-9 * d.k_dforce.cwiseAbs().maxCoeff())

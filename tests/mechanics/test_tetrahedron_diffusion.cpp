@@ -93,7 +93,7 @@ TEST(TetrahedronDiffusion, ForceIsMinusTheEnergyGradientAndConservesTheTotal) {
         return d.ff->potential_energy();
     });
     EXPECT_TRUE(test::near_relative(f, Eigen::VectorXd(-grad), 1e-8));
-    EXPECT_NEAR(f.sum(), 0.0, 1e-15);  // what leaves a point enters its neighbours
+    EXPECT_NEAR(f.sum(), 0.0, 1e-15);          // what leaves a point enters its neighbours
     EXPECT_GT(d.ff->potential_energy(), 0.0);  // heat flows down the gradient: E ≥ 0
     EXPECT_EQ(d.force(Eigen::VectorXd::Constant(5, 0.7)).cwiseAbs().maxCoeff(), 0.0);  // uniform: no flux
 }
@@ -114,7 +114,8 @@ TEST(TetrahedronDiffusion, DforceAndAssembledStiffnessAreTheForceJacobian) {
     std::vector<double> df(5, 0.0);
     std::vector<double> dxs(dx.data(), dx.data() + 5);
     d.ff->add_dforce(df, dxs, 0.25, 3.0);  // b_factor: no damping
-    EXPECT_TRUE(test::near_relative(Eigen::Map<Eigen::VectorXd>(df.data(), 5), Eigen::VectorXd(0.25 * (k_dense * dx)), 1e-14));
+    EXPECT_TRUE(
+        test::near_relative(Eigen::Map<Eigen::VectorXd>(df.data(), 5), Eigen::VectorXd(0.25 * (k_dense * dx)), 1e-14));
 }
 
 TEST(TetrahedronDiffusion, RefusesBadInputWithAClearMessage) {

@@ -17,7 +17,8 @@ using ::testing::ElementsAre;
 const std::vector<Vec3> kCube{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
 
 double signed_volume(const std::vector<Vec3>& x, const Tetrahedron& t) {
-    const Vec3 &a = x[std::size_t(t[0])], &b = x[std::size_t(t[1])], &c = x[std::size_t(t[2])], &d = x[std::size_t(t[3])];
+    const Vec3 &a = x[std::size_t(t[0])], &b = x[std::size_t(t[1])], &c = x[std::size_t(t[2])],
+               &d = x[std::size_t(t[3])];
     return (b - a).dot((c - a).cross(d - a)) / 6.0;
 }
 
@@ -26,12 +27,10 @@ TEST(TopologicalMapping, Tetra2TriangleKeepsTheBorderInTheInputTriangleOrder) {
     tetras.set_tetrahedra({{0, 1, 2, 3}, {1, 2, 3, 4}});
     // Input triangles (derived): (1,2,3) (0,3,2) (0,1,3) (0,2,1) (2,3,4) (1,4,3) (1,2,4);
     // (1,2,3) is shared by both tetrahedra.
-    EXPECT_THAT(border_triangles(tetras, false),
-                ElementsAre(Triangle{0, 3, 2}, Triangle{0, 1, 3}, Triangle{0, 2, 1}, Triangle{2, 3, 4},
-                            Triangle{1, 4, 3}, Triangle{1, 2, 4}));
-    EXPECT_THAT(border_triangles(tetras, true),
-                ElementsAre(Triangle{0, 2, 3}, Triangle{0, 3, 1}, Triangle{0, 1, 2}, Triangle{2, 4, 3},
-                            Triangle{1, 3, 4}, Triangle{1, 4, 2}));
+    EXPECT_THAT(border_triangles(tetras, false), ElementsAre(Triangle{0, 3, 2}, Triangle{0, 1, 3}, Triangle{0, 2, 1},
+                                                             Triangle{2, 3, 4}, Triangle{1, 4, 3}, Triangle{1, 2, 4}));
+    EXPECT_THAT(border_triangles(tetras, true), ElementsAre(Triangle{0, 2, 3}, Triangle{0, 3, 1}, Triangle{0, 1, 2},
+                                                            Triangle{2, 4, 3}, Triangle{1, 3, 4}, Triangle{1, 4, 2}));
 }
 
 TEST(TopologicalMapping, Tetra2TriangleBorderFacesPointOutward) {
@@ -54,10 +53,10 @@ TEST(TopologicalMapping, Hexa2QuadKeepsTheBorderInTheInputQuadOrder) {
     // (8,9,11,10) (2,6,11,9), its face (1,5,6,2) being the first's (1,2,6,5) reversed.
     MeshTopology hexas;
     hexas.set_hexahedra({{0, 1, 2, 3, 4, 5, 6, 7}, {1, 8, 9, 2, 5, 10, 11, 6}});
-    EXPECT_THAT(border_quads(hexas, false),
-                ElementsAre(Quad{0, 3, 2, 1}, Quad{4, 5, 6, 7}, Quad{0, 1, 5, 4}, Quad{2, 3, 7, 6}, Quad{0, 4, 7, 3},
-                            Quad{1, 2, 9, 8}, Quad{5, 10, 11, 6}, Quad{1, 8, 10, 5}, Quad{8, 9, 11, 10},
-                            Quad{2, 6, 11, 9}));
+    EXPECT_THAT(
+        border_quads(hexas, false),
+        ElementsAre(Quad{0, 3, 2, 1}, Quad{4, 5, 6, 7}, Quad{0, 1, 5, 4}, Quad{2, 3, 7, 6}, Quad{0, 4, 7, 3},
+                    Quad{1, 2, 9, 8}, Quad{5, 10, 11, 6}, Quad{1, 8, 10, 5}, Quad{8, 9, 11, 10}, Quad{2, 6, 11, 9}));
     EXPECT_EQ(border_quads(hexas, true).front(), (Quad{1, 2, 3, 0}));
 }
 

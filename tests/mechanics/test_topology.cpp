@@ -59,8 +59,7 @@ TEST(MeshTopology, TetrahedraGiveSortedEdgesAndRotatedOutwardFaces) {
     const std::vector<Edge> edges{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}, {1, 4}, {3, 4}, {2, 4}};
     EXPECT_EQ(topo.edges(), edges);
     // Shared face (1,2,3) appears once; tetra 1's faces rotated to start at their smallest vertex.
-    const std::vector<Triangle> triangles{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1},
-                                          {2, 3, 4}, {1, 2, 4}, {1, 4, 3}};
+    const std::vector<Triangle> triangles{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}, {2, 3, 4}, {1, 2, 4}, {1, 4, 3}};
     EXPECT_EQ(topo.triangles(), triangles);
     EXPECT_TRUE(topo.quads().empty());
     EXPECT_EQ(topo.tetrahedra_around_vertex()[1], (IdList{0, 1}));
@@ -160,7 +159,10 @@ TEST(MeshTopology, RandomTetraGridsSatisfyEulerCharacteristic) {
                             pos[static_cast<std::size_t>(s + 1)] = c;
                             t[static_cast<std::size_t>(s + 1)] = id(c[0], c[1], c[2]);
                         }
-                        auto d = [&](int a, int b) { return pos[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)] - pos[0][static_cast<std::size_t>(b)]; };
+                        auto d = [&](int a, int b) {
+                            return pos[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)] -
+                                   pos[0][static_cast<std::size_t>(b)];
+                        };
                         const int vol = d(1, 0) * (d(2, 1) * d(3, 2) - d(2, 2) * d(3, 1)) -
                                         d(1, 1) * (d(2, 0) * d(3, 2) - d(2, 2) * d(3, 0)) +
                                         d(1, 2) * (d(2, 0) * d(3, 1) - d(2, 1) * d(3, 0));

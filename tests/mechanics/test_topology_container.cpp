@@ -46,7 +46,8 @@ struct TcRecorder final : TopologyHandler, StateFollower {
 void tc_expect_consistent(const TopologyContainer& c) {
     const MeshTopology& m = c.mesh();
     const std::size_t n = m.num_points();
-    auto check_around = [&](const auto& elements, const std::vector<std::vector<std::int32_t>>& around, const char* what) {
+    auto check_around = [&](const auto& elements, const std::vector<std::vector<std::int32_t>>& around,
+                            const char* what) {
         ASSERT_EQ(around.size(), n) << what;
         std::vector<std::multiset<std::int32_t>> expected(n);
         for (std::size_t e = 0; e < elements.size(); ++e)
@@ -55,7 +56,8 @@ void tc_expect_consistent(const TopologyContainer& c) {
                 expected[std::size_t(p)].insert(std::int32_t(e));
             }
         for (std::size_t v = 0; v < n; ++v)
-            EXPECT_EQ(std::multiset<std::int32_t>(around[v].begin(), around[v].end()), expected[v]) << what << " vertex " << v;
+            EXPECT_EQ(std::multiset<std::int32_t>(around[v].begin(), around[v].end()), expected[v])
+                << what << " vertex " << v;
     };
     check_around(m.edges(), m.edges_around_vertex(), "edges");
     check_around(m.triangles(), m.triangles_around_vertex(), "triangles");
@@ -263,8 +265,8 @@ MeshTopology tc_tetrahedral_cube(int n) {
     for (int z = 0; z < n; ++z)
         for (int y = 0; y < n; ++y)
             for (int x = 0; x < n; ++x) {
-                PointId v[8] = {id(x, y, z),         id(x + 1, y, z),         id(x + 1, y + 1, z),     id(x, y + 1, z),
-                                id(x, y, z + 1),     id(x + 1, y, z + 1),     id(x + 1, y + 1, z + 1), id(x, y + 1, z + 1)};
+                PointId v[8] = {id(x, y, z),     id(x + 1, y, z),     id(x + 1, y + 1, z),     id(x, y + 1, z),
+                                id(x, y, z + 1), id(x + 1, y, z + 1), id(x + 1, y + 1, z + 1), id(x, y + 1, z + 1)};
                 if ((x + y + z) % 2 == 0) {
                     tets.push_back({v[0], v[1], v[3], v[4]});
                     tets.push_back({v[1], v[2], v[3], v[6]});

@@ -37,7 +37,8 @@ TEST(TriangularBiquadraticSprings, RestCoefficientsOfOneRightTriangle) {
     rest.init();
     EXPECT_LT(c.force(rest).cwiseAbs().maxCoeff(), 1e-30);
     EXPECT_LT(rest.potential_energy(), 1e-30);
-    EXPECT_THROW(TriangularBiquadraticSpringsForceField(c.state, c.topology, {.poisson_ratio = -1.0}), std::invalid_argument);
+    EXPECT_THROW(TriangularBiquadraticSpringsForceField(c.state, c.topology, {.poisson_ratio = -1.0}),
+                 std::invalid_argument);
 }
 
 TEST(TriangularBiquadraticSprings, StretchedDerivativesMatchFiniteDifferences) {
@@ -45,11 +46,12 @@ TEST(TriangularBiquadraticSprings, StretchedDerivativesMatchFiniteDifferences) {
     // the exact Hessian of E
     for (const bool angular : {true, false}) {
         Cloth c;
-        TriangularBiquadraticSpringsForceField ff(c.state, c.topology,
-                                                  {.young_modulus = 15.0, .poisson_ratio = 0.3, .use_angular_springs = angular});
+        TriangularBiquadraticSpringsForceField ff(
+            c.state, c.topology, {.young_modulus = 15.0, .poisson_ratio = 0.3, .use_angular_springs = angular});
         ff.init();
         for (std::size_t i = 0; i < c.state.position.size(); ++i)
-            c.state.position[i] = 1.1 * c.state.position[i] + Vec3(0.02 * std::sin(1.0 + i), 0.05 * std::cos(2.0 * i), 0.01 * i);
+            c.state.position[i] =
+                1.1 * c.state.position[i] + Vec3(0.02 * std::sin(1.0 + i), 0.05 * std::cos(2.0 * i), 0.01 * i);
         if (angular) {
             const auto d = test::check_force_field_derivatives(ff, c.state, {1e-6, 1e-12, 1e-6});
             EXPECT_GT(d.force.norm(), 0.1);
@@ -108,7 +110,8 @@ TEST(TriangularBiquadraticSprings, CompressedForceIsMinusTheEnergyGradient) {
         k_dforce.col(j) = Vec3Object::flat(c.state.df);
     }
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, 1.0);
     SparseMatrix k(n, n);
     k.setFromTriplets(t.begin(), t.end());
     EXPECT_TRUE(test::near_relative(Eigen::MatrixXd(k), k_dforce, 1e-12));

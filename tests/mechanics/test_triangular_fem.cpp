@@ -4,8 +4,8 @@
 
 #include "penalty_test/force_field_derivatives.hpp"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include <random>
 
@@ -53,9 +53,7 @@ struct Membrane {
     }
 };
 
-Mat3 some_rotation() {
-    return Eigen::AngleAxisd(0.7, Vec3(1, 2, -0.5).normalized()).toRotationMatrix();
-}
+Mat3 some_rotation() { return Eigen::AngleAxisd(0.7, Vec3(1, 2, -0.5).normalized()).toRotationMatrix(); }
 
 TEST(TriangularFEM, StretchedTriangleMatchesClosedForm) {
     // a = 0, b = (1, 0), c = (0, 1), stretched by λ along x. SOFA's strain is measured with the
@@ -98,15 +96,18 @@ TEST(TriangleFEM, ThicknessPlaneStrainAndQuadsAsSofasOlderComponent) {
             MeshTopology topo;
             topo.set_triangles({{0, 1, 2}});
             TriangularFEMForceField ff(s, topo,
-                                       TriangleFemParameters{.young_modulus = e, .poisson_ratio = nu, .method = method,
+                                       TriangleFemParameters{.young_modulus = e,
+                                                             .poisson_ratio = nu,
+                                                             .method = method,
                                                              .flavor = TriangleFemFlavor::TriangleFEM,
-                                                             .thickness = thickness, .plane_strain = plane_strain});
+                                                             .thickness = thickness,
+                                                             .plane_strain = plane_strain});
             ff.init();
             s.position[1].x() = lambda;
             std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
             ff.accumulate_force();
-            const double k = plane_strain ? e / ((1 + nu) * (1 - 2 * nu)) * thickness * 0.5
-                                          : e / (1 - nu * nu) * thickness * 0.5;
+            const double k =
+                plane_strain ? e / ((1 + nu) * (1 - 2 * nu)) * thickness * 0.5 : e / (1 - nu * nu) * thickness * 0.5;
             const double diagonal = plane_strain ? 1 - nu : 1.0;
             EXPECT_NEAR((s.force[1] - Vec3(k * diagonal * (1 - lambda) / (lambda * lambda), 0, 0)).norm(), 0.0, 1e-12);
             EXPECT_NEAR((s.force[2] - Vec3(0, k * nu * (1 - lambda) / lambda, 0)).norm(), 0.0, 1e-12);
@@ -121,7 +122,8 @@ TEST(TriangleFEM, ThicknessPlaneStrainAndQuadsAsSofasOlderComponent) {
     ASSERT_EQ(split.triangles().size(), 2u);
     EXPECT_EQ(split.triangles()[1], (Triangle{0, 2, 3}));
     EXPECT_TRUE(TriangularFEMForceField(s, quads, 10.0, 0.3).triangles().empty());  // Triangular: triangles only
-    EXPECT_THROW(TriangularFEMForceField(s, quads, TriangleFemParameters{.flavor = TriangleFemFlavor::TriangleFEM, .thickness = 0}),
+    EXPECT_THROW(TriangularFEMForceField(
+                     s, quads, TriangleFemParameters{.flavor = TriangleFemFlavor::TriangleFEM, .thickness = 0}),
                  std::invalid_argument);
 }
 

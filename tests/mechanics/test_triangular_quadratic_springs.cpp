@@ -38,13 +38,15 @@ TEST(TriangularQuadraticSprings, SofasAngularStiffnessIsOffByOneTerm) {
     // SOFA's matrix with angular springs is not the Hessian (see exact_angular_stiffness): the
     // exact variant matches finite differences, SOFA's differs from it by Σ s_k δ_k/L U Uᵀ
     Cloth exact_cloth;
-    TriangularQuadraticSpringsForceField exact(exact_cloth.state, exact_cloth.topology,
-                                               {.young_modulus = 15.0, .poisson_ratio = 0.3, .exact_angular_stiffness = true});
+    TriangularQuadraticSpringsForceField exact(
+        exact_cloth.state, exact_cloth.topology,
+        {.young_modulus = 15.0, .poisson_ratio = 0.3, .exact_angular_stiffness = true});
     exact.init();
     exact_cloth.deform();
     const auto e = test::check_force_field_derivatives(exact, exact_cloth.state, {1e-6, 1e-12, 1e-6});
     Cloth sofa_cloth;
-    TriangularQuadraticSpringsForceField sofa(sofa_cloth.state, sofa_cloth.topology, {.young_modulus = 15.0, .poisson_ratio = 0.3});
+    TriangularQuadraticSpringsForceField sofa(sofa_cloth.state, sofa_cloth.topology,
+                                              {.young_modulus = 15.0, .poisson_ratio = 0.3});
     sofa.init();
     sofa_cloth.deform();
     const auto n = static_cast<Eigen::Index>(3 * sofa_cloth.state.num_dofs());
@@ -80,8 +82,8 @@ TEST(TriangularQuadraticSprings, ForceDerivativesMatchFiniteDifferences) {
         s.init();
         MeshTopology topo;
         topo.set_triangles({{0, 1, 4}, {0, 4, 3}, {1, 2, 4}, {2, 5, 4}, {3, 4, 6}, {4, 7, 6}, {4, 5, 8}, {4, 8, 7}});
-        TriangularQuadraticSpringsForceField ff(s, topo,
-                                                {.young_modulus = 15.0, .poisson_ratio = 0.3, .use_angular_springs = angular});
+        TriangularQuadraticSpringsForceField ff(
+            s, topo, {.young_modulus = 15.0, .poisson_ratio = 0.3, .use_angular_springs = angular});
         ff.init();
         // stretched in x, squeezed in z, lifted: edges both longer and shorter than at rest
         for (std::size_t i = 0; i < s.position.size(); ++i)

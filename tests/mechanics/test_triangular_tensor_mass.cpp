@@ -41,7 +41,8 @@ TEST(TriangularTensorMass, EdgeTensorsOfOneRightTriangle) {
     const double lambda = ff.lambda(), mu = ff.mu();
     const auto e12 = static_cast<std::size_t>(topo.edge_index(1, 2));
     ASSERT_EQ(topo.edges()[e12][0], 1);
-    Mat3 m = lambda / 2 * Vec3(-1, 0, 0) * Vec3(0, -1, 0).transpose() + mu / 4 * Vec3(0, -1, 0) * Vec3(-1, 0, 0).transpose();
+    Mat3 m =
+        lambda / 2 * Vec3(-1, 0, 0) * Vec3(0, -1, 0).transpose() + mu / 4 * Vec3(0, -1, 0) * Vec3(-1, 0, 0).transpose();
     EXPECT_TRUE(ff.edge_tensors()[e12].isApprox(m.transpose(), 1e-15)) << ff.edge_tensors()[e12];
     // the three tensors have the diagonal −cot_j (λ+μ)/2: 0, −(λ+μ)/2, −(λ+μ)/2
     double trace_sum = 0;

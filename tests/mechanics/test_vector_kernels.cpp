@@ -26,10 +26,14 @@ void expect_same_bits(const std::vector<Vec3>& expected, const std::vector<Vec3>
 /// dx and df entries of every sign and size, zeros of both signs included.
 double product_entry(std::mt19937& rng) {
     switch (rng() % 8) {
-    case 0: return 0.0;
-    case 1: return -0.0;
-    case 2: return std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), -40);
-    default: return std::uniform_real_distribution<double>(-3, 3)(rng);
+        case 0:
+            return 0.0;
+        case 1:
+            return -0.0;
+        case 2:
+            return std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), -40);
+        default:
+            return std::uniform_real_distribution<double>(-3, 3)(rng);
     }
 }
 
@@ -58,9 +62,9 @@ void build_springs(SpringCase& c, std::mt19937& rng, std::size_t count, bool two
     std::uniform_real_distribution<double> u(-1, 1);
     for (int i = 0; i < 9; ++i) c.s1.position.emplace_back(u(rng), u(rng), u(rng));
     for (int i = 0; i < 9; ++i) c.s1.velocity.emplace_back(u(rng), u(rng), u(rng));
-    c.s1.position[3] = c.s1.position[2];                        // coincident DOFs
-    c.s1.position[5] = c.s1.position[4] + Vec3(1e-10, 0, 0);    // below the null length
-    c.s1.position[7] = c.s1.position[6] + Vec3(0, 0, 1e-6);     // short, but a spring
+    c.s1.position[3] = c.s1.position[2];                      // coincident DOFs
+    c.s1.position[5] = c.s1.position[4] + Vec3(1e-10, 0, 0);  // below the null length
+    c.s1.position[7] = c.s1.position[6] + Vec3(0, 0, 1e-6);   // short, but a spring
     c.s1.init();
     c.s2.position = c.s1.position;
     c.s2.velocity = c.s1.velocity;
@@ -70,11 +74,12 @@ void build_springs(SpringCase& c, std::mt19937& rng, std::size_t count, bool two
     for (std::size_t k = 0; k < count; ++k) {
         Index a = static_cast<Index>(rng() % 9);
         Index b = static_cast<Index>(rng() % 9);
-        if (k % 5 == 0) b = a;                               // zero length on one state
+        if (k % 5 == 0) b = a;  // zero length on one state
         if (k % 7 == 1) std::tie(a, b) = std::pair<Index, Index>{2, 3};
         if (k % 7 == 2) std::tie(a, b) = std::pair<Index, Index>{4, 5};
         if (k % 7 == 3) std::tie(a, b) = std::pair<Index, Index>{6, 7};
-        c.springs.push_back({a, b, 1000 * std::abs(u(rng)), 0.5 * std::abs(u(rng)), two_states ? 0.0 : std::abs(u(rng))});
+        c.springs.push_back(
+            {a, b, 1000 * std::abs(u(rng)), 0.5 * std::abs(u(rng)), two_states ? 0.0 : std::abs(u(rng))});
     }
 }
 
@@ -82,14 +87,16 @@ TEST(VectorKernels, SpringProductIsBitwiseTheScalarLoopOnEveryPath) {
     if (!avx_available()) GTEST_SKIP() << "this CPU has no AVX: only the scalar path runs";
     std::mt19937 rng(17);
     int compared = 0, changed = 0;
-    for (const SpringArithmetic arithmetic : {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs})
+    for (const SpringArithmetic arithmetic :
+         {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs})
         for (const bool two_states : {false, true})
-            for (const std::size_t count : {std::size_t{1}, std::size_t{2}, std::size_t{3}, std::size_t{5}, std::size_t{7},
-                                            std::size_t{13}, std::size_t{64}, std::size_t{203}}) {
+            for (const std::size_t count : {std::size_t{1}, std::size_t{2}, std::size_t{3}, std::size_t{5},
+                                            std::size_t{7}, std::size_t{13}, std::size_t{64}, std::size_t{203}}) {
                 SpringCase c;
                 build_springs(c, rng, count, two_states);
                 const auto make = [&](KernelPath path) {
-                    auto ff = two_states ? std::make_unique<SpringForceField>(c.s1, c.s2) : std::make_unique<SpringForceField>(c.s1);
+                    auto ff = two_states ? std::make_unique<SpringForceField>(c.s1, c.s2)
+                                         : std::make_unique<SpringForceField>(c.s1);
                     ff->set_arithmetic(arithmetic);
                     ff->set_kernel_path(path);
                     for (const auto& s : c.springs) ff->add_spring(s);
@@ -105,7 +112,8 @@ TEST(VectorKernels, SpringProductIsBitwiseTheScalarLoopOnEveryPath) {
                     fill_products(c.s2, rng);
                     const std::vector<Vec3> df1(c.s1.df.begin(), c.s1.df.end()), df2(c.s2.df.begin(), c.s2.df.end());
                     scalar->accumulate_dforce(k, 0.0);
-                    const std::vector<Vec3> expected1(c.s1.df.begin(), c.s1.df.end()), expected2(c.s2.df.begin(), c.s2.df.end());
+                    const std::vector<Vec3> expected1(c.s1.df.begin(), c.s1.df.end()),
+                        expected2(c.s2.df.begin(), c.s2.df.end());
                     changed += changed_dofs(df1, expected1) + changed_dofs(df2, expected2);
                     std::copy(df1.begin(), df1.end(), c.s1.df.begin());
                     std::copy(df2.begin(), df2.end(), c.s2.df.begin());
@@ -124,15 +132,17 @@ TEST(VectorKernels, SpringForceEnergyAndStiffnessAreBitwiseTheScalarLoopOnEveryP
     if (!avx_available()) GTEST_SKIP() << "this CPU has no AVX: only the scalar path runs";
     std::mt19937 rng(29);
     int compared = 0, changed = 0, short_springs = 0;
-    for (const SpringArithmetic arithmetic : {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs})
+    for (const SpringArithmetic arithmetic :
+         {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs})
         for (const bool two_states : {false, true})
-            for (const std::size_t count : {std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{5}, std::size_t{8},
-                                            std::size_t{13}, std::size_t{64}, std::size_t{203}}) {
+            for (const std::size_t count : {std::size_t{1}, std::size_t{3}, std::size_t{4}, std::size_t{5},
+                                            std::size_t{8}, std::size_t{13}, std::size_t{64}, std::size_t{203}}) {
                 SpringCase c;
                 build_springs(c, rng, count, two_states);
                 c.s1.velocity[8] = Vec3(-0.0, 1e-300, -7.0);
                 const auto run = [&](KernelPath path, std::vector<Vec3>& f1, std::vector<Vec3>& f2, TripletList& k) {
-                    auto ff = two_states ? std::make_unique<SpringForceField>(c.s1, c.s2) : std::make_unique<SpringForceField>(c.s1);
+                    auto ff = two_states ? std::make_unique<SpringForceField>(c.s1, c.s2)
+                                         : std::make_unique<SpringForceField>(c.s1);
                     ff->set_arithmetic(arithmetic);
                     ff->set_kernel_path(path);
                     for (const auto& s : c.springs) ff->add_spring(s);
@@ -157,12 +167,13 @@ TEST(VectorKernels, SpringForceEnergyAndStiffnessAreBitwiseTheScalarLoopOnEveryP
                 const std::string what = "springs " + std::to_string(count) + (two_states ? " (two states)" : "");
                 expect_same_bits(sf1, vf1, what + ", f1");
                 expect_same_bits(sf2, vf2, what + ", f2");
-                EXPECT_EQ(0, std::memcmp(&scalar_energy, &vector_energy, sizeof(double))) << what << ": energy "
-                                                                                           << scalar_energy << " against " << vector_energy;
+                EXPECT_EQ(0, std::memcmp(&scalar_energy, &vector_energy, sizeof(double)))
+                    << what << ": energy " << scalar_energy << " against " << vector_energy;
                 ASSERT_EQ(sk.size(), vk.size());
                 for (std::size_t i = 0; i < sk.size(); ++i) {
                     const double a = sk[i].value(), b = vk[i].value();
-                    ASSERT_EQ(0, std::memcmp(&a, &b, sizeof(double))) << what << ": stiffness entry " << i << ": " << a << " against " << b;
+                    ASSERT_EQ(0, std::memcmp(&a, &b, sizeof(double)))
+                        << what << ": stiffness entry " << i << ": " << a << " against " << b;
                     short_springs += (i % 36 == 0 && a == 0.0) ? 1 : 0;
                 }
                 if (count >= 4) {
@@ -171,8 +182,8 @@ TEST(VectorKernels, SpringForceEnergyAndStiffnessAreBitwiseTheScalarLoopOnEveryP
                 ++compared;
             }
     EXPECT_EQ(compared, 2 * 2 * 8);
-    EXPECT_GT(changed, 150);        // the forces moved
-    EXPECT_GT(short_springs, 40);   // springs at or below the null length: zero stiffness
+    EXPECT_GT(changed, 150);       // the forces moved
+    EXPECT_GT(short_springs, 40);  // springs at or below the null length: zero stiffness
 }
 
 TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoops) {
@@ -207,13 +218,15 @@ TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoo
         TetrahedronFEMForceField wide(s, topo, 1e4, 0.3, FemMethod::Large);
         scalar.set_kernel_path(KernelPath::scalar);
         vector.set_kernel_path(KernelPath::avx);
-        wide.set_kernel_path(count % 2 == 1 ? KernelPath::avx : (wide_available ? KernelPath::avx512 : KernelPath::avx));
+        wide.set_kernel_path(count % 2 == 1 ? KernelPath::avx
+                                            : (wide_available ? KernelPath::avx512 : KernelPath::avx));
         scalar.init();
         vector.init();
         wide.init();
         for (int configuration = 0; configuration < 3; ++configuration) {
             // deformed and turned; the third time collapsed (coincident vertices: degenerate frames)
-            for (std::size_t i = 0; i < points; ++i) s.position[i] = s.rest_position[i] + 0.3 * Vec3(u(rng), u(rng), u(rng));
+            for (std::size_t i = 0; i < points; ++i)
+                s.position[i] = s.rest_position[i] + 0.3 * Vec3(u(rng), u(rng), u(rng));
             if (configuration == 2) {
                 s.position[1] = s.position[0];
                 s.position[3] = s.position[2];
@@ -226,11 +239,13 @@ TEST(VectorKernels, CorotationalTetrahedronForceAndProductAreBitwiseTheScalarLoo
             const std::vector<Vec3> expected_force(s.force.begin(), s.force.end());
             std::copy(force_before.begin(), force_before.end(), s.force.begin());
             vector.accumulate_force();
-            expect_same_bits(expected_force, {s.force.begin(), s.force.end()}, "add_force, tetrahedra " + std::to_string(count));
+            expect_same_bits(expected_force, {s.force.begin(), s.force.end()},
+                             "add_force, tetrahedra " + std::to_string(count));
             EXPECT_EQ(scalar.potential_energy(), vector.potential_energy());
             std::copy(force_before.begin(), force_before.end(), s.force.begin());
             wide.accumulate_force();
-            expect_same_bits(expected_force, {s.force.begin(), s.force.end()}, "add_force (wide), tetrahedra " + std::to_string(count));
+            expect_same_bits(expected_force, {s.force.begin(), s.force.end()},
+                             "add_force (wide), tetrahedra " + std::to_string(count));
             if (configuration == 0 && count % 2 == 1 && wide_available) wide.set_kernel_path(KernelPath::avx512);
             changed_forces += changed_dofs(force_before, expected_force);
             for (const double k : {-0.0123, 1.0}) {

@@ -171,7 +171,9 @@ TEST(ReadStateFile, RoundTripIsExact) {
 
 TEST(ReadStateFile, ReadsSofaLayoutWithVLinesAndBlankLines) {
     TempDir dir;
-    write_text(dir.path() / "sofa.txt", "T= 0\n  X= -5 10 0 0 0 0 1\n  V= 0 0 0 0 0 0\n\nT= 1.99\n  X= -4.99544 -2.30941 -0.000787169 0 0 0 1\n");
+    write_text(
+        dir.path() / "sofa.txt",
+        "T= 0\n  X= -5 10 0 0 0 0 1\n  V= 0 0 0 0 0 0\n\nT= 1.99\n  X= -4.99544 -2.30941 -0.000787169 0 0 0 1\n");
     const auto samples = read_state_file(dir.path() / "sofa.txt");
     ASSERT_EQ(samples.size(), 2u);
     EXPECT_EQ(samples[0].time, 0.0);

@@ -18,8 +18,7 @@ TEST(SelectExportedStates, KeepsSolverSubtreeAndMappedOnlyOnRequest) {
     records[2] = {"surface", "/A/S", nullptr, nullptr, true, true, nullptr, {}};
     records[3] = {"free", "/B", nullptr, nullptr, false, true, nullptr, {}};
     EXPECT_THAT(select_exported_states(records, false), ::testing::ElementsAre(&records[1], &records[3]));
-    EXPECT_THAT(select_exported_states(records, true),
-                ::testing::ElementsAre(&records[1], &records[2], &records[3]));
+    EXPECT_THAT(select_exported_states(records, true), ::testing::ElementsAre(&records[1], &records[2], &records[3]));
 }
 
 TEST(CollectStateRecords, DepthFirstPathsSolverSubtreeMappingAndMass) {

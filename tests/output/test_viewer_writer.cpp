@@ -50,7 +50,8 @@ struct TwoBodies {
         // pen = dist − (x2 − x1)·n = 0 − (−0.1 − 0)·1 = 0.1 m; ks = 100 N/m: force on side 2 = +10 N along y
         field.add_contact(1, 0, 0, 0, Vec3::UnitY(), 0.0, 100.0);
         Vec3List f1(4, Vec3::Zero()), f2(1, Vec3::Zero());
-        field.add_force(f1, f2, surface.position, ball_point.position, Vec3List(4, Vec3::Zero()), Vec3List(1, Vec3::Zero()));
+        field.add_force(f1, f2, surface.position, ball_point.position, Vec3List(4, Vec3::Zero()),
+                        Vec3List(1, Vec3::Zero()));
     }
     [[nodiscard]] std::vector<ViewerShape> shapes() const {
         ViewerShape floor{"floor_triangles", "Triangle", ViewerShapeKind::triangles, 0, {0, 2, 1, 0, 3, 2}, {}, {}, {}};
@@ -63,7 +64,8 @@ TEST(ViewerWriter, PositionsAndContactSegmentsRoundTrip) {
     TempDir dir;
     TwoBodies bodies;
     const std::vector<ContactRecord> contacts{{"floor-ball", &bodies.field, &bodies.surface, &bodies.ball_point}};
-    ViewerWriter writer(dir.path() / "view", {&bodies.surface_record, &bodies.ball_record}, bodies.shapes(), "two bodies");
+    ViewerWriter writer(dir.path() / "view", {&bodies.surface_record, &bodies.ball_record}, bodies.shapes(),
+                        "two bodies");
     EXPECT_EQ(writer.frame_floats(), 4u * 3 + 7);
     writer.write_frame(0.0, {}, 0.0);
     bodies.surface.position[2] = Vec3(1.5, -0.125, 1);  // move a point between frames
@@ -80,8 +82,10 @@ TEST(ViewerWriter, PositionsAndContactSegmentsRoundTrip) {
                 ElementsAre(0, 0, 0, 1, 0, 0, 1, 0, 1, 0, 0, 1, 0.5f, 0.25f, 0.5f, float(q.x()), float(q.y()),
                             float(q.z()), float(q.w())));
     // frame 1: the moved point and ball centre
-    EXPECT_THAT(std::vector<float>(positions.begin() + 19 + 6, positions.begin() + 19 + 9), ElementsAre(1.5f, -0.125f, 1.0f));
-    EXPECT_THAT(std::vector<float>(positions.begin() + 19 + 12, positions.begin() + 19 + 15), ElementsAre(0.5f, 0.2f, 0.5f));
+    EXPECT_THAT(std::vector<float>(positions.begin() + 19 + 6, positions.begin() + 19 + 9),
+                ElementsAre(1.5f, -0.125f, 1.0f));
+    EXPECT_THAT(std::vector<float>(positions.begin() + 19 + 12, positions.begin() + 19 + 15),
+                ElementsAre(0.5f, 0.2f, 0.5f));
     EXPECT_FLOAT_EQ(q.z(), float(std::sin(0.25)));
 
     // one contact, in frame 1 only: point1 = surface[1], point2 = ball_point[0], normal +y, f·n = 10 N
@@ -94,15 +98,20 @@ TEST(ViewerWriter, PositionsAndContactSegmentsRoundTrip) {
     const std::string manifest = test::read_text(dir.path() / "view" / "run.json");
     EXPECT_THAT(manifest, HasSubstr("\"title\":\"two bodies\""));
     EXPECT_THAT(manifest, HasSubstr("\"frame_floats\":19,\"contact_floats\":10,\"max_normal_force\":10"));
-    EXPECT_THAT(manifest, HasSubstr("{\"name\":\"surface\",\"node_path\":\"/Floor\",\"type\":\"Vec3d\",\"dofs\":4,\"offset\":0,"));
-    EXPECT_THAT(manifest, HasSubstr("{\"name\":\"ball\",\"node_path\":\"/Ball\",\"type\":\"Rigid3d\",\"dofs\":1,\"offset\":12,"));
+    EXPECT_THAT(
+        manifest,
+        HasSubstr("{\"name\":\"surface\",\"node_path\":\"/Floor\",\"type\":\"Vec3d\",\"dofs\":4,\"offset\":0,"));
+    EXPECT_THAT(manifest,
+                HasSubstr("{\"name\":\"ball\",\"node_path\":\"/Ball\",\"type\":\"Rigid3d\",\"dofs\":1,\"offset\":12,"));
     EXPECT_THAT(manifest, HasSubstr("\"kind\":\"triangles\",\"state\":0,\"index_offset\":0,\"index_count\":6}"));
-    EXPECT_THAT(manifest, HasSubstr("\"kind\":\"spheres\",\"state\":1,\"index_offset\":6,\"index_count\":1,\"radius\":[0.25]}"));
+    EXPECT_THAT(manifest,
+                HasSubstr("\"kind\":\"spheres\",\"state\":1,\"index_offset\":6,\"index_count\":1,\"radius\":[0.25]}"));
     // per-frame statistics: contact energy ½·100·0.1² = 0.5 J
-    EXPECT_THAT(manifest, HasSubstr("\"frames\":{\"count\":2,\"time\":[0,0.01],\"contacts\":[0,1],\"active_contacts\":[0,1],"
-                                    "\"max_penetration\":[0,0.1],\"contact_energy\":[0," +
-                                    format_number(0.5 * 100 * 0.1 * 0.1) +
-                                    "],\"kinetic_energy\":[0,0.0625],\"dissipated_energy\":[0,0]}"));
+    EXPECT_THAT(manifest,
+                HasSubstr("\"frames\":{\"count\":2,\"time\":[0,0.01],\"contacts\":[0,1],\"active_contacts\":[0,1],"
+                          "\"max_penetration\":[0,0.1],\"contact_energy\":[0," +
+                          format_number(0.5 * 100 * 0.1 * 0.1) +
+                          "],\"kinetic_energy\":[0,0.0625],\"dissipated_energy\":[0,0]}"));
 
     // the page files are there, the page loads the vendored three.js, not another host
     const std::string page = test::read_text(dir.path() / "view" / "index.html");
@@ -158,8 +167,10 @@ TEST(ViewerWriter, BadShapesAreRejectedNamingTheShape) {
     };
     expect_error({"tri", "Triangle", ViewerShapeKind::triangles, 0, {0, 1, 4}, {}, {}, {}},
                  "shape 'tri': DOF index 4 out of range (state '/Floor/surface' has 4 DOFs)");
-    expect_error({"tri", "Triangle", ViewerShapeKind::triangles, 0, {0, 1}, {}, {}, {}}, "2 indices, not a multiple of 3");
-    expect_error({"s", "Sphere", ViewerShapeKind::spheres, 2, {0}, {1.0}, {}, {}}, "state index 2 out of range (2 states)");
+    expect_error({"tri", "Triangle", ViewerShapeKind::triangles, 0, {0, 1}, {}, {}, {}},
+                 "2 indices, not a multiple of 3");
+    expect_error({"s", "Sphere", ViewerShapeKind::spheres, 2, {0}, {1.0}, {}, {}},
+                 "state index 2 out of range (2 states)");
     expect_error({"s", "Sphere", ViewerShapeKind::spheres, 0, {0, 1}, {1.0}, {}, {}}, "1 radii for 2 elements");
     expect_error({"c", "Cylinder", ViewerShapeKind::cylinders, 0, {0}, {1.0}, {2.0}, {Vec3::UnitY()}},
                  "cylinders need a Rigid3 state");
@@ -187,13 +198,16 @@ TEST(ViewerWriter, TopologicalChangesStartNewLayouts) {
     EXPECT_EQ(writer.layout_count(), 3u);
     EXPECT_EQ(writer.frame_floats(), 19u);  // of the first layout
     EXPECT_EQ(read_binary<float>(dir.path() / "positions.f32").size(), 2 * 19u + 2 * 16u);
-    EXPECT_THAT(read_binary<std::uint32_t>(dir.path() / "topology.u32"), ElementsAre(0, 2, 1, 0, 3, 2, 0, 0, 2, 1, 0, 0, 1, 2, 0));
+    EXPECT_THAT(read_binary<std::uint32_t>(dir.path() / "topology.u32"),
+                ElementsAre(0, 2, 1, 0, 3, 2, 0, 0, 2, 1, 0, 0, 1, 2, 0));
     const std::string manifest = test::read_text(dir.path() / "run.json");
     EXPECT_THAT(manifest, HasSubstr("\"version\":2,"));
     EXPECT_THAT(manifest, HasSubstr("\"layouts\":[{\"frame_floats\":19,"));
-    EXPECT_THAT(manifest, HasSubstr("{\"frame_floats\":16,\"states\":[{\"name\":\"surface\",\"node_path\":\"/Floor\",\"type\":\"Vec3d\","
-                                    "\"dofs\":3,\"offset\":0,\"mapped\":false},{\"name\":\"ball\",\"node_path\":\"/Ball\","
-                                    "\"type\":\"Rigid3d\",\"dofs\":1,\"offset\":9,"));
+    EXPECT_THAT(
+        manifest,
+        HasSubstr("{\"frame_floats\":16,\"states\":[{\"name\":\"surface\",\"node_path\":\"/Floor\",\"type\":\"Vec3d\","
+                  "\"dofs\":3,\"offset\":0,\"mapped\":false},{\"name\":\"ball\",\"node_path\":\"/Ball\","
+                  "\"type\":\"Rigid3d\",\"dofs\":1,\"offset\":9,"));
     EXPECT_THAT(manifest, HasSubstr("\"kind\":\"triangles\",\"state\":0,\"index_offset\":7,\"index_count\":3}"));
     EXPECT_THAT(manifest, HasSubstr("\"layout\":[0,0,1,2],\"position_offset\":[0,19,38,54]}"));
 
@@ -225,8 +239,8 @@ TEST(ViewerWriter, LinksInTheDirectoryAreReplacedNeverWrittenThrough) {
     TempDir dir;
     const std::filesystem::path view = dir.path() / "view";
     std::filesystem::create_directories(view);
-    const std::vector<std::string> names{"index.html", "viewer.js", "topology.u32", "positions.f32", "contacts.f32",
-                                         "run.json", "run.json.tmp"};
+    const std::vector<std::string> names{"index.html",   "viewer.js", "topology.u32", "positions.f32",
+                                         "contacts.f32", "run.json",  "run.json.tmp"};
     for (const std::string& name : names) {
         test::write_text(dir.path() / ("victim-" + name), "precious");
         std::filesystem::create_symlink(std::filesystem::path("..") / ("victim-" + name), view / name);

@@ -97,7 +97,7 @@ struct Scene {
 
     Scene() {
         // unit cube 0..7 (SOFA/VTK hexahedron order) plus apex 8 above it
-        block.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0), Vec3(0, 0, 1),
+        block.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0),    Vec3(0, 0, 1),
                           Vec3(1, 0, 1), Vec3(1, 1, 1), Vec3(0, 1, 1), Vec3(0.5, 0.5, 2)};
         block.velocity = std::vector<Vec3>(9, Vec3::Zero());
         block.velocity[8] = Vec3(0.1, -5, 0);
@@ -326,8 +326,8 @@ TEST(VtkSeriesWriter, ContactsPieceHasOneLinePerContact) {
     b.position = {Vec3(0, -0.1, 0), Vec3(1, 0.5, 0)};
     b.init();
     PenaltyForceField field1;
-    field1.add_contact(0, 0, 7, 8, Vec3::UnitY(), 0.0, 100.0);  // pen 0.1, force on b: +10 y
-    field1.add_contact(1, 1, 9, 10, Vec3::UnitY(), 0.0, 100.0); // pen −0.5, inactive
+    field1.add_contact(0, 0, 7, 8, Vec3::UnitY(), 0.0, 100.0);   // pen 0.1, force on b: +10 y
+    field1.add_contact(1, 1, 9, 10, Vec3::UnitY(), 0.0, 100.0);  // pen −0.5, inactive
     Vec3List f1(2, Vec3::Zero()), f2(2, Vec3::Zero());
     const Vec3List v(2, Vec3::Zero());
     field1.add_force(f1, f2, a.position, b.position, v, v);

@@ -19,8 +19,7 @@ using test::make_state;
 using test::named;
 
 struct FloorAndBall {
-    std::unique_ptr<test::Mesh> mesh =
-        test::triangle_mesh({{-5, 0, -5}, {5, 0, -5}, {0, 0, 5}}, {{0, 2, 1}});
+    std::unique_ptr<test::Mesh> mesh = test::triangle_mesh({{-5, 0, -5}, {5, 0, -5}, {0, 0, 5}}, {{0, 2, 1}});
     Vec3State ball = make_state({{0.2, 0.9, 0.3}});
     TriangleModel floor{mesh->state, mesh->topo, named("floor")};
     SphereModel sphere{ball, 0.5, {}, named("ball")};
@@ -40,7 +39,7 @@ TEST(CollisionResponse, NameResolution) {
     EXPECT_EQ(r.response_name(a, b), "nullptr");
     b.params().contact_response = "PenalityContactForceField?damping=5";
     EXPECT_EQ(r.response_name(a, b), "PenalityContactForceField?damping=2");  // differ → base
-    EXPECT_THROW(CollisionResponse("default"), std::invalid_argument);  // removed in SOFA (§1)
+    EXPECT_THROW(CollisionResponse("default"), std::invalid_argument);        // removed in SOFA (§1)
     EXPECT_THROW(CollisionResponse("FrictionContactConstraint"), std::invalid_argument);
     CollisionResponse none("");
     EXPECT_EQ(none.warnings().size(), 1u);
@@ -74,9 +73,10 @@ TEST(CollisionResponse, RegisteredPairsAreOrdered) {
 TEST(CollisionResponse, ResponseParamsParsing) {
     ContactResponseParameters p;
     std::vector<std::string> unknown;
-    apply_response_params("damping=0.5&friction=coulomb&tangentialStiffnessRatio=0.8&tangentialDamping=0.1&"
-                          "timeStep=0.005&stiffnessLaw=physical&rigidSphereRadius=v26.06&mu=0.3",
-                          p, &unknown);
+    apply_response_params(
+        "damping=0.5&friction=coulomb&tangentialStiffnessRatio=0.8&tangentialDamping=0.1&"
+        "timeStep=0.005&stiffnessLaw=physical&rigidSphereRadius=v26.06&mu=0.3",
+        p, &unknown);
     EXPECT_EQ(p.penalty.damping, 0.5);
     EXPECT_EQ(p.penalty.friction, FrictionModel::coulomb);
     EXPECT_EQ(p.penalty.tangential_stiffness_ratio, 0.8);
@@ -118,9 +118,8 @@ TEST(CollisionResponse, ParamsReachTheForceFieldAndCppBase) {
     ASSERT_EQ(c->force_field().size(), 1u);
     EXPECT_DOUBLE_EQ(c->force_field().contacts()[0].ks, 5.0);  // 10·10/(10+10)
     // time scale: mass 1 on the ball, static floor → sqrt(1/5)
-    const auto ts = r.time_scales([&](const CollisionModel& m) {
-        return &m == &s.sphere ? 1.0 : std::numeric_limits<double>::infinity();
-    });
+    const auto ts = r.time_scales(
+        [&](const CollisionModel& m) { return &m == &s.sphere ? 1.0 : std::numeric_limits<double>::infinity(); });
     ASSERT_EQ(ts.size(), 1u);
     EXPECT_EQ(ts[0].type1, ModelType::Triangle);
     EXPECT_EQ(ts[0].type2, ModelType::Sphere);
@@ -197,7 +196,8 @@ struct FloorAndClouds {
         states.reserve(4);
         for (int c = 0; c < 4; ++c) {
             std::vector<Vec3> pts;
-            for (int i = 0; i < 160; ++i) pts.emplace_back(-2.0 + 0.025 * i, 0.01 * (1 + c) + 0.00025 * i, 0.3 * c - 0.5);
+            for (int i = 0; i < 160; ++i)
+                pts.emplace_back(-2.0 + 0.025 * i, 0.01 * (1 + c) + 0.00025 * i, 0.3 * c - 0.5);
             states.push_back(make_state(pts));
         }
         for (int c = 0; c < 4; ++c) {
@@ -233,7 +233,9 @@ FedContacts feed(int threads, const std::vector<ModelPairDetection>& detections,
         for (auto& c : s.clouds) {
             const BarycentricPenaltyContact* contact = response.find(s.floor, *c);
             r.contacts.emplace_back();
-            if (contact) r.contacts.back().assign(contact->force_field().contacts().begin(), contact->force_field().contacts().end());
+            if (contact)
+                r.contacts.back().assign(contact->force_field().contacts().begin(),
+                                         contact->force_field().contacts().end());
         }
     });
     return r;
@@ -254,7 +256,8 @@ TEST(CollisionResponse, ContactsFedInParallelAreThoseOfOneThreadAndTheFirstError
         for (std::size_t i = 0; i < 160; ++i) {
             const PenaltyContact &a = one.contacts[c][i], &b = two.contacts[c][i];
             EXPECT_TRUE(a.m1 == b.m1 && a.m2 == b.m2 && a.index1 == b.index1 && a.index2 == b.index2 && a.age == b.age);
-            EXPECT_TRUE(test::same_bits(a.normal, b.normal) && test::same_bits(a.dist, b.dist) && test::same_bits(a.ks, b.ks));
+            EXPECT_TRUE(test::same_bits(a.normal, b.normal) && test::same_bits(a.dist, b.dist) &&
+                        test::same_bits(a.ks, b.ks));
         }
         EXPECT_EQ(one.contacts[c][5].age, 1);  // tracked over the two steps
     }

@@ -64,8 +64,8 @@ struct Scene {
         for (CollisionModel* m : models()) m->update();
     }
     std::vector<CollisionModel*> models() {
-        return {points.get(), spheres.get(), lines.get(), triangles.get(), tetras.get(),
-                rigid_spheres.get(), cylinders.get()};
+        return {points.get(), spheres.get(),       lines.get(),    triangles.get(),
+                tetras.get(), rigid_spheres.get(), cylinders.get()};
     }
     bool is_rigid(const CollisionModel* m) const { return m == rigid_spheres.get() || m == cylinders.get(); }
 
@@ -112,8 +112,10 @@ Vec3 point_near(Scene& s, const CollisionModel& m, Index e, std::mt19937& g) {
             return (t.p(e, 0) + t.p(e, 1) + t.p(e, 2) + t.p(e, 3)) / 4.0 + rand_vec(g, 0.5);
         }
         case ModelType::RigidSphere:
-        case ModelType::Cylinder: return s.rigid.position[std::size_t(e)].center + rand_vec(g, 0.6);
-        default: return s.soft.position[std::size_t(e)] + rand_vec(g, 0.3);
+        case ModelType::Cylinder:
+            return s.rigid.position[std::size_t(e)].center + rand_vec(g, 0.6);
+        default:
+            return s.soft.position[std::size_t(e)] + rand_vec(g, 0.3);
     }
 }
 
@@ -308,9 +310,12 @@ TEST(BarycentricPenaltyContact, ParentForcesAreMinusEnergyGradientIncludingTorqu
     for (int trial = 0; trial < 30; ++trial) {
         Scene s(g);
         const std::vector<std::pair<CollisionModel*, CollisionModel*>> combos = {
-            {s.triangles.get(), s.rigid_spheres.get()}, {s.cylinders.get(), s.triangles.get()},
-            {s.tetras.get(), s.spheres.get()},          {s.lines.get(), s.points.get()},
-            {s.rigid_spheres.get(), s.rigid_spheres.get()}, {s.cylinders.get(), s.spheres.get()}};
+            {s.triangles.get(), s.rigid_spheres.get()},
+            {s.cylinders.get(), s.triangles.get()},
+            {s.tetras.get(), s.spheres.get()},
+            {s.lines.get(), s.points.get()},
+            {s.rigid_spheres.get(), s.rigid_spheres.get()},
+            {s.cylinders.get(), s.spheres.get()}};
         for (const auto& combo : combos) {
             CollisionModel* const m1 = combo.first;  // (named variables: lambdas below capture them)
             CollisionModel* const m2 = combo.second;

@@ -19,8 +19,7 @@ DetectionOutput output(std::int64_t id, double value) {
 }
 
 TEST(ContactTracker, WorkedExampleD) {
-    const std::vector<DetectionOutput> outputs{output(7, -0.10), output(3, -0.05), output(7, -0.30),
-                                               output(7, -0.30)};
+    const std::vector<DetectionOutput> outputs{output(7, -0.10), output(3, -0.05), output(7, -0.30), output(7, -0.30)};
     ContactTracker tracker;
     const auto kept = tracker.update(outputs);
     // #2 replaces #0 (−0.30 < −0.10); #3 is ignored (−0.30 ≤ −0.30 keeps the earlier one)
@@ -39,8 +38,8 @@ TEST(ContactTracker, PersistentIdsCarryTheirPreviousPositionAndVanishedIdsAreFor
     ContactTracker tracker;
     (void)tracker.update(std::vector<DetectionOutput>{output(10, -0.1), output(20, -0.2), output(30, -0.3)});
     // next step: 30 first, 10 gone, 20 duplicated (the second is smaller and wins), 40 new
-    const auto kept = tracker.update(std::vector<DetectionOutput>{output(30, -0.3), output(20, -0.1),
-                                                                  output(40, 0.0), output(20, -0.2)});
+    const auto kept = tracker.update(
+        std::vector<DetectionOutput>{output(30, -0.3), output(20, -0.1), output(40, 0.0), output(20, -0.2)});
     ASSERT_EQ(kept.size(), 3u);
     EXPECT_EQ(kept[0].output, 0u);
     EXPECT_EQ(kept[0].old_index, 3);  // id 30 was at position 3
@@ -107,8 +106,9 @@ TEST(ContactTracker, IdSlotsRadixAndComparisonSortsKeepTheSameOutputsAndPosition
             std::int64_t id = 0;
             if (regime == 0) id = 1000 + std::int64_t(rng() % unsigned(2 * n));  // narrow: id slots
             else if (regime == 1) id = -std::int64_t(rng() % unsigned(50 * n));  // wide: compared
-            else id = (rng() % 2 == 0 ? std::numeric_limits<std::int64_t>::max() - std::int64_t(rng() % 40)
-                                       : std::numeric_limits<std::int64_t>::min() + std::int64_t(rng() % 40));
+            else
+                id = (rng() % 2 == 0 ? std::numeric_limits<std::int64_t>::max() - std::int64_t(rng() % 40)
+                                     : std::numeric_limits<std::int64_t>::min() + std::int64_t(rng() % 40));
             outputs.push_back(output(id, 0.1 * double(int(rng() % 5))));
         }
         // what sort_by_id chooses (the lists are never in id order here)

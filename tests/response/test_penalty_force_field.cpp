@@ -81,8 +81,7 @@ TEST_P(SofaUnitTestCases, ForceAndDerivativesMatchSofa) {
 
 INSTANTIATE_TEST_SUITE_P(
     Sofa, SofaUnitTestCases,
-    ::testing::Values(SofaCase{Vec3(2, 0, 0), 3, 1, Vec3(-1, 0, 0)},
-                      SofaCase{Vec3(2, 0, 0), 3, 2, Vec3(-2, 0, 0)},
+    ::testing::Values(SofaCase{Vec3(2, 0, 0), 3, 1, Vec3(-1, 0, 0)}, SofaCase{Vec3(2, 0, 0), 3, 2, Vec3(-2, 0, 0)},
                       SofaCase{Vec3(4.8, -0.4, -2.3), 6, 2,
                                Vec3(-1.19136193691474900901994260494, 0.0992801614095624312961163582258,
                                     0.57086092810498378913308670235)}));
@@ -153,8 +152,8 @@ RandomScene make_random_scene(std::mt19937& rng, std::size_t n1, std::size_t n2,
 
 /// Runs add_force on `ff` at stacked positions q (state 1 then state 2, or the single state) and
 /// returns the stacked forces.
-Eigen::VectorXd evaluate(PenaltyForceField& ff, const Eigen::VectorXd& q, const RandomScene& s,
-                         bool same_state, const Eigen::VectorXd* velocities = nullptr) {
+Eigen::VectorXd evaluate(PenaltyForceField& ff, const Eigen::VectorXd& q, const RandomScene& s, bool same_state,
+                         const Eigen::VectorXd* velocities = nullptr) {
     const auto n1 = static_cast<Eigen::Index>(s.x1.size());
     const auto n2 = static_cast<Eigen::Index>(s.x2.size());
     Vec3List x1 = unflatten(q, 0, n1);
@@ -174,8 +173,8 @@ Eigen::VectorXd evaluate(PenaltyForceField& ff, const Eigen::VectorXd& q, const 
 }
 
 /// Force at q, evaluated on a copy (the contacts' step state is left untouched).
-Eigen::VectorXd stacked_force(PenaltyForceField ff, const Eigen::VectorXd& q, const RandomScene& s,
-                              bool same_state, const Eigen::VectorXd* velocities = nullptr) {
+Eigen::VectorXd stacked_force(PenaltyForceField ff, const Eigen::VectorXd& q, const RandomScene& s, bool same_state,
+                              const Eigen::VectorXd* velocities = nullptr) {
     return evaluate(ff, q, s, same_state, velocities);
 }
 
@@ -203,19 +202,17 @@ TEST_P(RandomFiniteDifferences, ForceIsMinusEnergyGradientAndStiffnessIsForceJac
         ASSERT_GT(f.norm(), 0.0);
 
         // force = −dE/dx
-        const Eigen::VectorXd grad = finite_gradient(q, [&](const Eigen::VectorXd& y) {
-            return stacked_energy(s.ff, y, s, same_state);
-        });
+        const Eigen::VectorXd grad =
+            finite_gradient(q, [&](const Eigen::VectorXd& y) { return stacked_energy(s.ff, y, s, same_state); });
         EXPECT_TRUE(near_relative(f, -grad, 1e-6)) << "trial " << trial;
 
         // assembled K = df/dx
         PenaltyForceField evaluated = s.ff;
         evaluate(evaluated, q, s, same_state);
-        const Eigen::MatrixXd K = Eigen::MatrixXd(evaluated.stiffness_matrix(
-            static_cast<Index>(s.x1.size()), static_cast<Index>(s.x2.size()), same_state));
-        const Eigen::MatrixXd fd_K = finite_jacobian(q, [&](const Eigen::VectorXd& y) {
-            return stacked_force(s.ff, y, s, same_state);
-        });
+        const Eigen::MatrixXd K = Eigen::MatrixXd(
+            evaluated.stiffness_matrix(static_cast<Index>(s.x1.size()), static_cast<Index>(s.x2.size()), same_state));
+        const Eigen::MatrixXd fd_K =
+            finite_jacobian(q, [&](const Eigen::VectorXd& y) { return stacked_force(s.ff, y, s, same_state); });
         EXPECT_TRUE(near_relative(K, fd_K, 1e-6)) << "trial " << trial;
         EXPECT_TRUE(K.isApprox(K.transpose(), 1e-14));
 
@@ -260,9 +257,8 @@ TEST_P(RandomFiniteDifferences, DampingMatrixIsForceVelocityJacobian) {
         evaluate(evaluated, q, s, same_state);
         const auto n1 = static_cast<Index>(s.x1.size()), n2 = static_cast<Index>(s.x2.size());
         const Eigen::MatrixXd B = Eigen::MatrixXd(evaluated.damping_matrix(n1, n2, same_state));
-        const Eigen::MatrixXd fd_B = finite_jacobian(w, [&](const Eigen::VectorXd& y) {
-            return stacked_force(s.ff, q, s, same_state, &y);
-        });
+        const Eigen::MatrixXd fd_B =
+            finite_jacobian(w, [&](const Eigen::VectorXd& y) { return stacked_force(s.ff, q, s, same_state, &y); });
         ASSERT_GT(B.norm(), 0.0);
         EXPECT_TRUE(near_relative(B, fd_B, 1e-6)) << "trial " << trial;
         EXPECT_TRUE(B.isApprox(B.transpose(), 1e-14));
@@ -309,18 +305,16 @@ TEST_P(RandomFiniteDifferences, StickingFrictionIsConservativeWithinAStep) {
 
         const Eigen::VectorXd q = same_state ? flatten(base.x1) : flatten(base.x1, base.x2);
         const Eigen::VectorXd f = stacked_force(ff, q, base, same_state);
-        const Eigen::VectorXd grad = finite_gradient(q, [&](const Eigen::VectorXd& y) {
-            return stacked_energy(ff, y, base, same_state);
-        });
+        const Eigen::VectorXd grad =
+            finite_gradient(q, [&](const Eigen::VectorXd& y) { return stacked_energy(ff, y, base, same_state); });
         EXPECT_TRUE(near_relative(f, -grad, 1e-6)) << "trial " << trial;
 
         PenaltyForceField evaluated = ff;
         evaluate(evaluated, q, base, same_state);
         const Eigen::MatrixXd K = Eigen::MatrixXd(evaluated.stiffness_matrix(
             static_cast<Index>(base.x1.size()), static_cast<Index>(base.x2.size()), same_state));
-        const Eigen::MatrixXd fd_K = finite_jacobian(q, [&](const Eigen::VectorXd& y) {
-            return stacked_force(ff, y, base, same_state);
-        });
+        const Eigen::MatrixXd fd_K =
+            finite_jacobian(q, [&](const Eigen::VectorXd& y) { return stacked_force(ff, y, base, same_state); });
         EXPECT_TRUE(near_relative(K, fd_K, 1e-6)) << "trial " << trial;
         EXPECT_TRUE(K.isApprox(K.transpose(), 1e-14));
         for (const PenaltyContact& c : evaluated.contacts()) {
@@ -389,8 +383,8 @@ TEST(PenaltyForceField, TwoStateAndSameStateAssemblyAgree) {
     two.add_force(f1, f2, x1, x2, z2, z2);
     one.add_force(f, f, merged, merged, z4, z4);
     EXPECT_TRUE(flatten(f1, f2).isApprox(flatten(f)));
-    EXPECT_TRUE(Eigen::MatrixXd(two.stiffness_matrix(2, 2, false)).isApprox(
-        Eigen::MatrixXd(one.stiffness_matrix(4, 0, true))));
+    EXPECT_TRUE(
+        Eigen::MatrixXd(two.stiffness_matrix(2, 2, false)).isApprox(Eigen::MatrixXd(one.stiffness_matrix(4, 0, true))));
     EXPECT_GT(two.stiffness_matrix(2, 2, false).norm(), 0.0);
 }
 
@@ -473,14 +467,10 @@ TEST(PenaltyForceField, InvalidParametersNameTheParameterAndTheContact) {
                 HasSubstr("mu_s = -0.1"));
     EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0, 0.0, nan); }),
                 HasSubstr("mu_v = nan"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3(nan, 0, 0), 1.0, 1.0); }),
-                HasSubstr("normal (nan"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3(1, 1, 0), 1.0, 1.0); }),
-                HasSubstr("unit vector"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), nan, 1.0); }),
-                HasSubstr("dist = nan"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(-1, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0); }),
-                HasSubstr("m1 = -1"));
+    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3(nan, 0, 0), 1.0, 1.0); }), HasSubstr("normal (nan"));
+    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3(1, 1, 0), 1.0, 1.0); }), HasSubstr("unit vector"));
+    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), nan, 1.0); }), HasSubstr("dist = nan"));
+    EXPECT_THAT(message_of([&] { ff.add_contact(-1, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0); }), HasSubstr("m1 = -1"));
     EXPECT_EQ(ff.size(), 1u);  // nothing was appended by the failed calls
 
     ff.add_contact(0, 3, 0, 0, Vec3::UnitX(), 1.0, 1.0);
@@ -507,8 +497,7 @@ TEST(PenaltyForceField, InvalidParametersNameTheParameterAndTheContact) {
     PenaltyForceField damped(bad);
     damped.add_contact(0, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0);
     Vec3List empty;
-    EXPECT_THAT(message_of([&] { damped.add_force(f, f, x, x, empty, empty); }),
-                HasSubstr("need velocities"));
+    EXPECT_THAT(message_of([&] { damped.add_force(f, f, x, x, empty, empty); }), HasSubstr("need velocities"));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -111,28 +111,28 @@ void same_order_and_ids_as_sofas_calls(int count, int steps) {
         const Obj* p = &objs[rng() % unsigned(count)];
         const Obj* q = &objs[rng() % unsigned(count)];
         switch (rng() % 4) {
-        case 0:
-        case 1:  // NarrowPhaseDetection::getDetectionOutputs / CollisionResponse::createNewContacts
-            ref_hint.insert(ref_hint.end(), {{p, q}, step});
-            hint.insert_at_end({p, q}, step);
-            ref_plain.insert(decltype(ref_plain)::value_type({p, q}, step));
-            plain.insert({p, q}, step);
-            break;
-        case 2:  // endNarrowPhase / removeInactiveContacts: erase the n-th entry
-            if (!ref_hint.empty()) {
-                const std::size_t n = rng() % ref_hint.size();
-                ref_hint.erase(std::next(ref_hint.begin(), std::ptrdiff_t(n)));
-                hint.erase(std::next(hint.begin(), std::ptrdiff_t(n)));
-            }
-            if (!ref_plain.empty()) {
-                const std::size_t n = rng() % ref_plain.size();
-                ref_plain.erase(std::next(ref_plain.begin(), std::ptrdiff_t(n)));
-                plain.erase(std::next(plain.begin(), std::ptrdiff_t(n)));
-            }
-            break;
-        default:  // removeInactiveContacts' outputsMap.contains
-            EXPECT_EQ(ref_hint.contains({p, q}), hint.contains({p, q}));
-            EXPECT_EQ(ref_plain.contains({p, q}), plain.contains({p, q}));
+            case 0:
+            case 1:  // NarrowPhaseDetection::getDetectionOutputs / CollisionResponse::createNewContacts
+                ref_hint.insert(ref_hint.end(), {{p, q}, step});
+                hint.insert_at_end({p, q}, step);
+                ref_plain.insert(decltype(ref_plain)::value_type({p, q}, step));
+                plain.insert({p, q}, step);
+                break;
+            case 2:  // endNarrowPhase / removeInactiveContacts: erase the n-th entry
+                if (!ref_hint.empty()) {
+                    const std::size_t n = rng() % ref_hint.size();
+                    ref_hint.erase(std::next(ref_hint.begin(), std::ptrdiff_t(n)));
+                    hint.erase(std::next(hint.begin(), std::ptrdiff_t(n)));
+                }
+                if (!ref_plain.empty()) {
+                    const std::size_t n = rng() % ref_plain.size();
+                    ref_plain.erase(std::next(ref_plain.begin(), std::ptrdiff_t(n)));
+                    plain.erase(std::next(plain.begin(), std::ptrdiff_t(n)));
+                }
+                break;
+            default:  // removeInactiveContacts' outputsMap.contains
+                EXPECT_EQ(ref_hint.contains({p, q}), hint.contains({p, q}));
+                EXPECT_EQ(ref_plain.contains({p, q}), plain.contains({p, q}));
         }
         if (count > 100 && step % 97 != 0) continue;  // the full comparisons now and then
         ASSERT_EQ(ranks_in_order(ref_hint), ranks_in_order(hint)) << "step " << step;
@@ -151,7 +151,9 @@ void same_order_and_ids_as_sofas_calls(int count, int steps) {
 
 TEST(StablePairMap, SameOrderAndIdsAsSofasCallsOnAStdMap) { same_order_and_ids_as_sofas_calls(7, 200); }
 
-TEST(StablePairMap, SameOrderAndIdsAsSofasCallsWithThousandsOfPointers) { same_order_and_ids_as_sofas_calls(3000, 20000); }
+TEST(StablePairMap, SameOrderAndIdsAsSofasCallsWithThousandsOfPointers) {
+    same_order_and_ids_as_sofas_calls(3000, 20000);
+}
 
 // A null pointer gets its id at its first comparison like any other (SOFA's ptr_stable_id keys
 // its std::map by the pointer, null included): the same ids and order as SOFA's calls.
@@ -160,7 +162,8 @@ TEST(StablePairMap, ANullPointerGetsItsIdInTurn) {
     SofaIds ids;
     std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref(SofaLess{&ids});
     Map m;
-    const std::vector<std::pair<const Obj*, const Obj*>> keys = {{&a, &b}, {nullptr, &a}, {&b, nullptr}, {nullptr, nullptr}, {&a, nullptr}};
+    const std::vector<std::pair<const Obj*, const Obj*>> keys = {
+        {&a, &b}, {nullptr, &a}, {&b, nullptr}, {nullptr, nullptr}, {&a, nullptr}};
     for (std::size_t i = 0; i < keys.size(); ++i) {
         ref.insert(decltype(ref)::value_type(keys[i], int(i)));
         m.insert(keys[i], int(i));
@@ -197,7 +200,8 @@ TEST(CollisionResponse, CreatesInOutputsMapOrderAndListsInContactMapOrder) {
     std::vector<const CollisionModel*> created;
     r.on_create = [&](BarycentricPenaltyContact& contact) { created.push_back(&contact.model2()); };
     const auto step = [&] {
-        const std::vector<ModelPairDetection> d = {detect_model_pair(params, floor, c), detect_model_pair(params, floor, b)};
+        const std::vector<ModelPairDetection> d = {detect_model_pair(params, floor, c),
+                                                   detect_model_pair(params, floor, b)};
         ASSERT_FALSE(d[0].outputs.empty());
         ASSERT_FALSE(d[1].outputs.empty());
         r.set_detections(d, params.contact_distance);

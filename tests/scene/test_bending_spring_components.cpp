@@ -38,7 +38,8 @@ std::string cloth_scene(const std::string& force_fields, bool quads = true) {
         <MechanicalObject name="cloth"/>
         <UniformMass vertexMass="0.1"/>
         <FixedConstraint indices="0 2"/>
-        )" + force_fields + R"(
+        )" +
+           force_fields + R"(
       </Node>
     </Node>)";
 }
@@ -102,7 +103,8 @@ TEST(BendingSpringComponents, QuadularBendingSpringsBuildSofasSpringsAndRun) {
 
 TEST(BendingSpringComponents, TriangleAndQuadBendingSpringsReadTheFirstStiffness) {
     auto t = build(cloth_scene(R"(<TriangleBendingSprings stiffness="100 7" damping="0.1"/>)"));
-    EXPECT_THAT(scene::describe_scene(*t), HasSubstr("bending springs between the opposite vertices of faces sharing an edge"));
+    EXPECT_THAT(scene::describe_scene(*t),
+                HasSubstr("bending springs between the opposite vertices of faces sharing an edge"));
     const auto& tf = dynamic_cast<const SpringForceField&>(*cloth_force_fields(*t).at(0));
     expect_same_springs(tf.springs(), triangle_bending_springs(grid_quads(), grid(), 100.0, 0.1));
     EXPECT_EQ(tf.springs().size(), 8u);  // one across each quad's split diagonal, one across each of the 4 shared edges
@@ -123,7 +125,10 @@ TEST(BendingSpringComponents, TriangleAndQuadBendingSpringsReadTheFirstStiffness
             (void)build(cloth_scene("<QuadBendingSprings localRange=\"" + std::string(range) + "\"/>"));
             ADD_FAILURE() << range << " was accepted";
         } catch (const io::SceneError& e) {
-            EXPECT_THAT(e.what(), HasSubstr("QuadBendingSprings: attribute 'localRange': expected integers from -2147483648 to 2147483647"))
+            EXPECT_THAT(
+                e.what(),
+                HasSubstr(
+                    "QuadBendingSprings: attribute 'localRange': expected integers from -2147483648 to 2147483647"))
                 << range;
         }
     }
@@ -137,7 +142,8 @@ TEST(BendingSpringComponents, SpringForceFieldTakesExplicitListsOrIndexLists) {
     expect_same_springs(ff.springs(), {{.a = 4, .b = 8, .ks = 50, .kd = 0.5, .rest_length = 1.2},
                                        {.a = 1, .b = 5, .ks = 60, .kd = 0, .rest_length = 0.9}});
     // indices1/indices2: lengths, stiffness and damping resized by repeating their last value
-    auto i = build(cloth_scene(R"(<SpringForceField indices1="0 1 2" indices2="3 4 5" lengths="1 2" stiffness="10"/>)"));
+    auto i =
+        build(cloth_scene(R"(<SpringForceField indices1="0 1 2" indices2="3 4 5" lengths="1 2" stiffness="10"/>)"));
     const auto& fi = dynamic_cast<const SpringForceField&>(*cloth_force_fields(*i).at(0));
     expect_same_springs(fi.springs(), {{.a = 0, .b = 3, .ks = 10, .kd = 5, .rest_length = 1},
                                        {.a = 1, .b = 4, .ks = 10, .kd = 5, .rest_length = 2},
@@ -154,7 +160,8 @@ TEST(BendingSpringComponents, SpringForceFieldTakesExplicitListsOrIndexLists) {
 }
 
 TEST(BendingSpringComponents, TriangularTensorMassDefaultsAndRun) {
-    auto s = build(cloth_scene(R"(<TriangularTensorMassForceField name="TM" youngModulus="15" poissonRatio="0.3"/>)", false));
+    auto s = build(
+        cloth_scene(R"(<TriangularTensorMassForceField name="TM" youngModulus="15" poissonRatio="0.3"/>)", false));
     const std::string text = scene::describe_scene(*s);
     EXPECT_THAT(text, HasSubstr("E = 15 Pa, nu = 0.3 (linear, from the rest positions)"));
     const auto& ff = dynamic_cast<const TriangularTensorMassForceField&>(*cloth_force_fields(*s).at(0));
@@ -174,17 +181,23 @@ TEST(BendingSpringComponents, TriangularSpringMembranesDefaultsAndRun) {
     auto bq = build(cloth_scene(
         R"(<TriangularBiquadraticSpringsForceField name="BQS" youngModulus="500" poissonRatio="0.3" useAngularSprings="1" dampingRatio="0"/>)",
         false));
-    EXPECT_THAT(scene::describe_scene(*bq),
-                HasSubstr("16 edge springs on squared lengths, E = 500 Pa, nu = 0.3, angular springs, area term under compression"));
-    auto q = build(cloth_scene(R"(<TriangularQuadraticSpringsForceField name="QS" youngModulus="500" poissonRatio="0.3"/>)", false));
-    EXPECT_THAT(scene::describe_scene(*q), HasSubstr("16 edge springs on lengths, E = 500 Pa, nu = 0.3, angular springs"));
+    EXPECT_THAT(
+        scene::describe_scene(*bq),
+        HasSubstr(
+            "16 edge springs on squared lengths, E = 500 Pa, nu = 0.3, angular springs, area term under compression"));
+    auto q = build(cloth_scene(
+        R"(<TriangularQuadraticSpringsForceField name="QS" youngModulus="500" poissonRatio="0.3"/>)", false));
+    EXPECT_THAT(scene::describe_scene(*q),
+                HasSubstr("16 edge springs on lengths, E = 500 Pa, nu = 0.3, angular springs"));
     // SOFA's defaults: E = 1000, nu = 0.3, angular springs, compressible
-    auto d = build(cloth_scene("<TriangularBiquadraticSpringsForceField/><TriangularQuadraticSpringsForceField/>", false));
+    auto d =
+        build(cloth_scene("<TriangularBiquadraticSpringsForceField/><TriangularQuadraticSpringsForceField/>", false));
     const auto& bd = dynamic_cast<const TriangularBiquadraticSpringsForceField&>(*cloth_force_fields(*d).at(0));
     const auto& qd = dynamic_cast<const TriangularQuadraticSpringsForceField&>(*cloth_force_fields(*d).at(1));
     EXPECT_DOUBLE_EQ(bd.mu(), 1000.0 * 0.7 / 0.91);
     EXPECT_DOUBLE_EQ(qd.lambda(), 1000.0 * 0.3 / 0.91);
-    EXPECT_THAT(scene::describe_scene(*d), HasSubstr("E = 1000 Pa, nu = 0.3, angular springs, area term under compression"));
+    EXPECT_THAT(scene::describe_scene(*d),
+                HasSubstr("E = 1000 Pa, nu = 0.3, angular springs, area term under compression"));
     auto free_fall = build(cloth_scene("", false));
     const double loose = sag_after(*free_fall, 100);
     for (scene::Scene* s : {bq.get(), q.get()}) {
@@ -192,8 +205,10 @@ TEST(BendingSpringComponents, TriangularSpringMembranesDefaultsAndRun) {
         EXPECT_GT(sag, 0.5 * loose);  // the membrane holds the cloth up
         EXPECT_LT(sag, -1e-3);
     }
-    EXPECT_THROW(build(cloth_scene(R"(<TriangularQuadraticSpringsForceField poissonRatio="-1"/>)", false)), io::SceneError);
-    EXPECT_THROW(build(cloth_scene(R"(<TriangularBiquadraticSpringsForceField youngModulus="-2"/>)", false)), io::SceneError);
+    EXPECT_THROW(build(cloth_scene(R"(<TriangularQuadraticSpringsForceField poissonRatio="-1"/>)", false)),
+                 io::SceneError);
+    EXPECT_THROW(build(cloth_scene(R"(<TriangularBiquadraticSpringsForceField youngModulus="-2"/>)", false)),
+                 io::SceneError);
 }
 
 }  // namespace

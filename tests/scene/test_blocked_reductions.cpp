@@ -31,8 +31,9 @@ std::string reduction_beam(int nx, int ny, int nz, bool small) {
     s << R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><Node name="beams">
   <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/><CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-14"/>
   <Node name="big">
-    <RegularGridTopology nx=")" << nx << R"(" ny=")" << ny << R"(" nz=")" << nz << R"(" min="0 0 0" max=")" << nx - 1 << " "
-      << ny - 1 << " " << nz - 1 << R"("/>
+    <RegularGridTopology nx=")"
+      << nx << R"(" ny=")" << ny << R"(" nz=")" << nz << R"(" min="0 0 0" max=")" << nx - 1 << " " << ny - 1 << " "
+      << nz - 1 << R"("/>
     <MechanicalObject/><UniformMass totalMass="10"/><RegularGridSpringForceField stiffness="500"/>
     <BoxROI name="end" box="-0.1 -0.1 -0.1 0.1 100 100"/><FixedProjectiveConstraint indices="@end.indices"/>
   </Node>)";
@@ -79,7 +80,8 @@ TEST(BlockedReductions, DotIsTheSumOfTheBlocksChainsAtAnyThreadCount) {
     for (Eigen::Index i = 0; i < a.size(); ++i) a[i] = unit(rng), b[i] = unit(rng);
     const double sofa = reduction_chain(a, b, 0, 27000) + reduction_chain(a, b, 27000, 27024);
     const double blocks = ((reduction_chain(a, b, 0, 12288) + reduction_chain(a, b, 12288, 24576)) +
-                           reduction_chain(a, b, 24576, 27000)) + reduction_chain(a, b, 27000, 27024);
+                           reduction_chain(a, b, 24576, 27000)) +
+                          reduction_chain(a, b, 27000, 27024);
     EXPECT_TRUE(test::same_bits(system.dot(a, b), 0.0 + sofa));
     system.set_blocked_reductions(true);
     for (const int threads : {1, 2}) {
@@ -96,9 +98,11 @@ TEST(BlockedReductions, DotIsTheSumOfTheBlocksChainsAtAnyThreadCount) {
     (void)system.update_and_residual(0.3, p, q, x0, r0);
     system.set_blocked_reductions(true);
     const double rr = system.update_and_residual(0.3, p, q, x1, r1);
-    for (Eigen::Index i = 0; i < x0.size(); ++i) ASSERT_TRUE(test::same_bits(x0[i], x1[i]) && test::same_bits(r0[i], r1[i])) << i;
+    for (Eigen::Index i = 0; i < x0.size(); ++i)
+        ASSERT_TRUE(test::same_bits(x0[i], x1[i]) && test::same_bits(r0[i], r1[i])) << i;
     EXPECT_TRUE(test::same_bits(rr, ((reduction_chain(r1, r1, 0, 12288) + reduction_chain(r1, r1, 12288, 24576)) +
-                                     reduction_chain(r1, r1, 24576, 27000)) + reduction_chain(r1, r1, 27000, 27024)));
+                                     reduction_chain(r1, r1, 24576, 27000)) +
+                                        reduction_chain(r1, r1, 27000, 27024)));
 }
 
 TEST(BlockedReductions, RunsAreTheSameBitsAtAnyThreadCountAndWithinRoundingOfSofas) {

@@ -12,7 +12,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <sstream>
 #include <set>
 #include <sstream>
 #include <string>
@@ -25,7 +24,9 @@ using ::testing::HasSubstr;
 
 using penalty::test::default_number;
 
-bool is_scene_dependent(std::string_view default_value) { return !default_value.empty() && default_value.front() == '('; }
+bool is_scene_dependent(std::string_view default_value) {
+    return !default_value.empty() && default_value.front() == '(';
+}
 
 TEST(ComponentRegistry, EachTypeOnceEachAttributeOncePhysicsIsBuilt) {
     std::set<std::string_view> types;
@@ -62,7 +63,8 @@ TEST(ComponentRegistry, WrittenDefaultsParseAsTheirKind) {
                     case AttributeKind::real:
                     case AttributeKind::integer:
                     case AttributeKind::boolean:
-                        EXPECT_TRUE(in >> x && (in >> std::ws).eof()) << s.type << "." << a.name << " = " << a.default_value;
+                        EXPECT_TRUE(in >> x && (in >> std::ws).eof())
+                            << s.type << "." << a.name << " = " << a.default_value;
                         if (a.kind == AttributeKind::boolean) {
                             EXPECT_TRUE(x == 0 || x == 1) << s.type << "." << a.name;
                         }
@@ -78,7 +80,8 @@ TEST(ComponentRegistry, WrittenDefaultsParseAsTheirKind) {
                         EXPECT_TRUE(in >> x >> y >> z && (in >> std::ws).eof()) << s.type << "." << a.name;
                         ++checked;
                         break;
-                    default: break;
+                    default:
+                        break;
                 }
             }
         }
@@ -133,17 +136,18 @@ TEST(ComponentRegistry, DefaultsAgreeWithTheLibrary) {
 // that attribute, never a logic_error: the builder reads only declared attributes, and each of
 // them is reachable from a scene.
 TEST(ComponentRegistry, UnreadAttributesAreReportedPerElement) {
-    const auto s = build_scene(io::parse_scene_string(
-        "<Node name='root' dt='0.01' color='1' frobnicate='2'>\n"
-        "  <MeshOBJLoader name='loader' filename='none.obj' whatever='1'/>\n"
-        "  <Node name='A'>\n"
-        "    <MechanicalObject position='0 0 0' velocty='1 0 0'/>\n"
-        "    <UniformMass vertexMass='1' showAxisSizeFactor='2'/>\n"
-        "  </Node>\n</Node>\n",
-        "unread.scn"));
+    const auto s =
+        build_scene(io::parse_scene_string("<Node name='root' dt='0.01' color='1' frobnicate='2'>\n"
+                                           "  <MeshOBJLoader name='loader' filename='none.obj' whatever='1'/>\n"
+                                           "  <Node name='A'>\n"
+                                           "    <MechanicalObject position='0 0 0' velocty='1 0 0'/>\n"
+                                           "    <UniformMass vertexMass='1' showAxisSizeFactor='2'/>\n"
+                                           "  </Node>\n</Node>\n",
+                                           "unread.scn"));
     const std::vector<std::string> w = s->warnings();
     const auto count = [&](const std::string& needle) {
-        return std::count_if(w.begin(), w.end(), [&](const std::string& x) { return x.find(needle) != std::string::npos; });
+        return std::count_if(w.begin(), w.end(),
+                             [&](const std::string& x) { return x.find(needle) != std::string::npos; });
     };
     EXPECT_EQ(count("unread.scn:1: Node 'root': attribute 'frobnicate' is not read by penalty (ignored)"), 1);
     EXPECT_EQ(count("unread.scn:4: MechanicalObject: attribute 'velocty' is not read by penalty (ignored)"), 1);
@@ -170,8 +174,9 @@ TEST(ComponentRegistry, ReadAttributesListsOwnThenShared) {
 TEST(ComponentRegistry, InfoListsAttributesWithKindUnitCheckAndDefault) {
     const std::string mass = describe_components("UniformMass");
     EXPECT_THAT(mass, HasSubstr("masses:\n  UniformMass: uniform mass\n"));
-    EXPECT_THAT(mass, HasSubstr("    vertexMass (text, kg): mass of each DOF (or totalMass), > 0; Rigid3d: `m` or SOFA's "
-                                "Rigid3Mass `m volume [3x3 inertia per unit mass]`\n"));
+    EXPECT_THAT(mass,
+                HasSubstr("    vertexMass (text, kg): mass of each DOF (or totalMass), > 0; Rigid3d: `m` or SOFA's "
+                          "Rigid3Mass `m volume [3x3 inertia per unit mass]`\n"));
     const std::string fem = describe_components("TetrahedronFEMForceField");
     EXPECT_THAT(fem, HasSubstr("    youngModulus (number, Pa, > 0) default 5000\n"));
     EXPECT_THAT(fem, HasSubstr("    poissonRatio (number) default 0.45: in (-1, 0.5)\n"));
@@ -189,10 +194,12 @@ TEST(ComponentRegistry, SpelledOutDefaultsChangeNothing) {
         "<UniformMass vertexMass='1'/><MeshSpringForceField/>"
         "<TriangleCollisionModel/><PointCollisionModel/>";
     const std::string body_spelled =
-        "<MechanicalObject position='0 0 0  1 0 0  0 1 0' translation='0 0 0' rotation='0 0 0' scale3d='1 1 1' scale='1'/>"
+        "<MechanicalObject position='0 0 0  1 0 0  0 1 0' translation='0 0 0' rotation='0 0 0' scale3d='1 1 1' "
+        "scale='1'/>"
         "<MeshTopology triangles='0 1 2'/><UniformMass vertexMass='1'/>"
         "<MeshSpringForceField stiffness='0' damping='0'/>"
-        "<TriangleCollisionModel active='1' moving='1' simulated='1' selfCollision='0' proximity='0' contactStiffness='10' "
+        "<TriangleCollisionModel active='1' moving='1' simulated='1' selfCollision='0' proximity='0' "
+        "contactStiffness='10' "
         "contactFriction='0' contactRestitution='0' bothSide='0' computeNormals='1'/>"
         "<PointCollisionModel contactStiffness='10'/>";
     const auto roles = [](const std::string& body, const std::string& pipeline) {
@@ -233,7 +240,8 @@ TEST(ComponentRegistry, FuzzDictionaryCoversTheRegistry) {
         if (category_of(s.family) == ComponentCategory::ignored) continue;
         for (std::span<const AttributeSpec> list : {s.attributes, s.shared_attributes}) {
             for (const AttributeSpec& a : list) {
-                EXPECT_NE(dict.find("\" " + std::string(a.name) + "=\\\"\""), std::string::npos) << s.type << "." << a.name;
+                EXPECT_NE(dict.find("\" " + std::string(a.name) + "=\\\"\""), std::string::npos)
+                    << s.type << "." << a.name;
                 ++entries;
             }
         }

@@ -1,8 +1,8 @@
 // SubtreeSystem's products in chains on TBB's threads (src/simulation/step_chains.hpp): a pile of
 // 125 FEM cubes in a bowl under one solver has about 300 force steps a product (more than
 // SubtreeSystem::kMinStepsForConcurrentProducts) in 125 chains of disjoint written states, so
-// under a FixedReaders the products after the first run concurrently. Every result must be the bits of the same product on one thread, and a whole run
-// the same state files at 1, 2 and 8 threads.
+// under a FixedReaders the products after the first run concurrently. Every result must be the bits of the same product
+// on one thread, and a whole run the same state files at 1, 2 and 8 threads.
 #include "penalty/io/scene_file.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/scene/scene.hpp"

@@ -60,9 +60,9 @@ struct GridsRun {
     std::size_t concurrent_solvers = 0;  // in the one run of concurrent solvers, at the last step
     int concurrent_detections = 0;       // steps whose model pairs were detected in parallel
     int concurrent_feeds = 0;            // steps whose contacts were fed in parallel
-    std::vector<Vec3> states;          // positions then velocities of every grid
-    std::vector<std::size_t> contacts;  // per step
-    std::vector<int> cg_iterations;     // per step
+    std::vector<Vec3> states;            // positions then velocities of every grid
+    std::vector<std::size_t> contacts;   // per step
+    std::vector<int> cg_iterations;      // per step
 };
 
 GridsRun run(int threads, int steps) {
@@ -102,7 +102,7 @@ TEST(ConcurrentSolverScene, GridsOnTheirOwnSolversGiveTheBitsOfOneThread) {
     EXPECT_GT(one.cg_iterations.back(), 3 * 3);
     ASSERT_EQ(one.states.size(), 3u * 64u * 2u);
     for (int b = 0; b < 3; ++b) {
-        EXPECT_NEAR(one.states[std::size_t(b) * 128].y(), 0.0, 0.02) << "grid " << b;      // a bottom corner
+        EXPECT_NEAR(one.states[std::size_t(b) * 128].y(), 0.0, 0.02) << "grid " << b;   // a bottom corner
         EXPECT_LT(one.states[std::size_t(b) * 128 + 64].norm(), 0.05) << "grid " << b;  // its velocity
     }
     // the three solvers form one run (contact pairs between grids are in the root, explicit)
@@ -115,7 +115,8 @@ TEST(ConcurrentSolverScene, GridsOnTheirOwnSolversGiveTheBitsOfOneThread) {
     EXPECT_EQ(one.contacts, two.contacts);
     EXPECT_EQ(one.cg_iterations, two.cg_iterations);
     int differing = 0;
-    for (std::size_t i = 0; i < one.states.size(); ++i) differing += test::same_bits(one.states[i], two.states[i]) ? 0 : 1;
+    for (std::size_t i = 0; i < one.states.size(); ++i)
+        differing += test::same_bits(one.states[i], two.states[i]) ? 0 : 1;
     EXPECT_EQ(differing, 0);
 }
 

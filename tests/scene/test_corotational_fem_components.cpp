@@ -32,11 +32,14 @@ std::string beam_scene(const std::string& force_field) {
     return R"(<Node name="root" dt="0.02" gravity="0 -9.81 0">
       <Node name="Beam"><EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
         <CGLinearSolver iterations="200" tolerance="1e-14" threshold="1e-14"/>
-        <TetrahedronSetTopologyContainer name="topo" position=")" + positions.str() + R"(" tetrahedra=")" + tetrahedra.str() + R"("/>
+        <TetrahedronSetTopologyContainer name="topo" position=")" +
+           positions.str() + R"(" tetrahedra=")" + tetrahedra.str() + R"("/>
         <MechanicalObject name="beam"/>
         <UniformMass totalMass="2"/>
-        <FixedConstraint indices=")" + fixed.str() + R"("/>
-        )" + force_field + R"(
+        <FixedConstraint indices=")" +
+           fixed.str() + R"("/>
+        )" +
+           force_field + R"(
       </Node>
     </Node>)";
 }
@@ -73,7 +76,8 @@ TEST(CorotationalFemComponent, BuildsDescribesAndRunsLikeTetrahedronFem) {
     // at the default options, SOFA's two tetrahedral FEMs compute the same forces and stiffness (to
     // rounding, 1e-12 relative: tests/mechanics/test_corotational_fem.cpp); over 60 steps the CG's
     // stopping test (residual² ≤ 1e-14) lets those roundings grow to ~2e-8 of the sag
-    auto reference = build(beam_scene(R"(<TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>)"));
+    auto reference =
+        build(beam_scene(R"(<TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>)"));
     const double gap = max_distance(x, positions_after(*reference, 60));
     EXPECT_LT(gap, 1e-6 * std::abs(sag)) << "sag " << sag;
 }
@@ -82,14 +86,17 @@ TEST(CorotationalFemComponent, DefaultsMethodsAndOptions) {
     auto s = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField/>)"));
     EXPECT_THAT(scene::describe_scene(*s), HasSubstr("12 tetrahedra, E = 5000 Pa, nu = 0.45, corotational (large)"));
     for (const char* method : {"small", "polar"}) {
-        auto m = build(beam_scene(std::string(R"(<TetrahedralCorotationalFEMForceField youngModulus="2000" method=")") + method + R"("/>)"));
+        auto m = build(beam_scene(std::string(R"(<TetrahedralCorotationalFEMForceField youngModulus="2000" method=")") +
+                                  method + R"("/>)"));
         EXPECT_THAT(scene::describe_scene(*m), HasSubstr(std::string("(") + method + ")"));
         EXPECT_LT(lowest_y(positions_after(*m, 20)), -1e-3);
     }
     // updateStiffnessMatrix changes the trajectory (J of the current shape), localStiffnessFactor stiffens it
     auto plain = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500"/>)"));
-    auto updated = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500" updateStiffnessMatrix="1"/>)"));
-    auto stiffer = build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500" localStiffnessFactor="4"/>)"));
+    auto updated =
+        build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500" updateStiffnessMatrix="1"/>)"));
+    auto stiffer =
+        build(beam_scene(R"(<TetrahedralCorotationalFEMForceField youngModulus="500" localStiffnessFactor="4"/>)"));
     EXPECT_THAT(scene::describe_scene(*updated), HasSubstr("stiffness updated each step"));
     const std::vector<Vec3> x_plain = positions_after(*plain, 40);
     const std::vector<Vec3> x_updated = positions_after(*updated, 40);

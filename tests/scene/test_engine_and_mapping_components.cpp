@@ -43,8 +43,9 @@ const std::string kEngineScene = R"(<Node name="root" dt="0.01" gravity="0 0 0">
 </Node>)";
 
 TEST(DataEngineComponents, TransformEngineFeedsAStateScaledRotatedTranslated) {
-    auto s = build(with(kEngineScene, "ENGINE",
-                        R"(<TransformEngine name="engine" input_position="0 0 0  1 0 0  0 2 0" scale="2 1 1" rotation="0 0 90" translation="5 0 0"/>)"));
+    auto s = build(with(
+        kEngineScene, "ENGINE",
+        R"(<TransformEngine name="engine" input_position="0 0 0  1 0 0  0 2 0" scale="2 1 1" rotation="0 0 90" translation="5 0 0"/>)"));
     const Vec3Object& x = engine_state(*s);
     ASSERT_EQ(x.position.size(), 3u);
     EXPECT_NEAR((x.position[1] - Vec3(5, 2, 0)).norm(), 0, 1e-15);  // (1,0,0) → (2,0,0) → (0,2,0) → +5 x
@@ -67,18 +68,20 @@ TEST(DataEngineComponents, AnEngineAfterItsReaderIsBuiltWhenRead) {
 }
 
 TEST(DataEngineComponents, TransformPositionMethodsAndErrors) {
-    auto s = build(with(kEngineScene, "ENGINE",
-                        R"(<TransformPosition name="engine" method="translation" translation="0 0 3" input_position="1 2 3  4 5 6" fixedIndices="1"/>)"));
+    auto s = build(with(
+        kEngineScene, "ENGINE",
+        R"(<TransformPosition name="engine" method="translation" translation="0 0 3" input_position="1 2 3  4 5 6" fixedIndices="1"/>)"));
     EXPECT_EQ(engine_state(*s).position[0], Vec3(1, 2, 6));
     EXPECT_EQ(engine_state(*s).position[1], Vec3(4, 5, 6));
-    const std::string bad = error_of(with(kEngineScene, "ENGINE",
-                                          R"(<TransformPosition name="engine" method="warp" input_position="1 2 3"/>)"));
+    const std::string bad = error_of(
+        with(kEngineScene, "ENGINE", R"(<TransformPosition name="engine" method="warp" input_position="1 2 3"/>)"));
     EXPECT_THAT(bad, HasSubstr("test.scn:3: TransformPosition 'engine': attribute 'method': unknown method 'warp'"));
-    const std::string file = error_of(with(kEngineScene, "ENGINE",
-                                           R"(<TransformPosition name="engine" method="fromFile" filename="no_such.tfm" input_position="1 2 3"/>)"));
+    const std::string file = error_of(
+        with(kEngineScene, "ENGINE",
+             R"(<TransformPosition name="engine" method="fromFile" filename="no_such.tfm" input_position="1 2 3"/>)"));
     EXPECT_THAT(file, HasSubstr("TransformPosition 'engine': attribute 'filename'"));
-    const std::string rigid =
-        error_of(with(kEngineScene, "ENGINE", R"(<TransformEngine name="engine" template="Rigid3" input_position="1 2 3"/>)"));
+    const std::string rigid = error_of(
+        with(kEngineScene, "ENGINE", R"(<TransformEngine name="engine" template="Rigid3" input_position="1 2 3"/>)"));
     EXPECT_THAT(rigid, HasSubstr("TransformEngine 'engine': template 'Rigid3' is not supported"));
 }
 
@@ -99,8 +102,7 @@ TEST(SelectionEngineComponents, MeshRoiSelectsThePointsInsideTheMesh) {
     const std::string plain = with(kMeshRoi, "ATTR", "");
     EXPECT_THAT(error_of(with(plain, R"(ROIposition="0 0 0 1 0 0)", R"(ROIposition="0 0 0 1 0)")),
                 HasSubstr("test.scn:5: MeshROI 'roi': attribute 'ROIposition': expected a multiple of 3 numbers"));
-    const std::string outside = error_of(
-        with(plain, R"(ROItriangles="0 2 3)", R"(ROItriangles="0 2 30)"));
+    const std::string outside = error_of(with(plain, R"(ROItriangles="0 2 3)", R"(ROItriangles="0 2 30)"));
     EXPECT_THAT(outside, HasSubstr("test.scn:5: MeshROI 'roi': ROI triangle 0 uses point 30"));
 }
 
@@ -119,7 +121,8 @@ TEST(SelectionEngineComponents, ProximityRoiKeepsTheNearestPointsAndRefusesANega
     EXPECT_EQ(x.position[0], Vec3(0, 0, 0));  // the two nearest are fixed
     EXPECT_EQ(x.position[1], Vec3(0.1, 0, 0));
     EXPECT_LT(x.position[2].y(), 0.0);  // the others fall
-    EXPECT_THAT(error_of(with(xml, R"(N="2")", R"(N="-2")")), HasSubstr("test.scn:5: ProximityROI 'roi': attribute 'N': must be >= 0"));
+    EXPECT_THAT(error_of(with(xml, R"(N="2")", R"(N="-2")")),
+                HasSubstr("test.scn:5: ProximityROI 'roi': attribute 'N': must be >= 0"));
 }
 
 // A rigid frame carrying mapped points that have a mass: the frame (1 kg) and 4 points (0.5 kg
@@ -150,8 +153,8 @@ TEST(MappedMassComponents, AMassOnAMappedStateActsThroughTheMapping) {
 }
 
 TEST(MappedMassComponents, TheExplicitSolverRefusesAMappedMass) {
-    std::string xml = with(kMappedMass, R"(<EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>)",
-                           "<EulerExplicitSolver/>");
+    std::string xml =
+        with(kMappedMass, R"(<EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>)", "<EulerExplicitSolver/>");
     xml = with(xml, R"(<CGLinearSolver iterations="50" tolerance="1e-14" threshold="1e-30"/>)", "");
     try {
         auto s = build(xml);
@@ -175,9 +178,10 @@ TEST(FrameMappingComponents, DeformableOnRigidFrameMappingCarriesTheBody) {
   </Node>
 </Node>)";
     auto s = build(xml);
-    const auto* world = dynamic_cast<const Vec3Object*>(s->simulation().root().children()[0]->children()[0]->children()[0]->state());
+    const auto* world =
+        dynamic_cast<const Vec3Object*>(s->simulation().root().children()[0]->children()[0]->children()[0]->state());
     ASSERT_NE(world, nullptr);
-    EXPECT_NEAR((world->position[0] - Vec3(1, 3, 3)).norm(), 0, 1e-15);  // 90° about z, then +(1, 2, 3)
+    EXPECT_NEAR((world->position[0] - Vec3(1, 3, 3)).norm(), 0, 1e-15);   // 90° about z, then +(1, 2, 3)
     EXPECT_NEAR((world->velocity[0] - Vec3(-1, 0, 0)).norm(), 0, 1e-15);  // ω × (R·u) = z × y
     EXPECT_THAT(error_of(with(xml, R"( input2="@../../frame")", "")),
                 HasSubstr("DeformableOnRigidFrameMapping: attribute 'input2': needs the frames"));
@@ -202,8 +206,9 @@ TEST(FrameMappingComponents, DistanceFromTargetMappingOntoAVec1State) {
     ASSERT_EQ(output::select_exported_states(s->states(), true).size(), 2u);
     EXPECT_EQ(output::format_positions(*s->states()[1].state), "4 2");
     s->step();
-    EXPECT_THAT(error_of(with(xml, "GS", R"(geometricStiffness="Sometimes")")),
-                HasSubstr("DistanceFromTargetMapping: attribute 'geometricStiffness': expected None, Exact or Stabilized"));
+    EXPECT_THAT(
+        error_of(with(xml, "GS", R"(geometricStiffness="Sometimes")")),
+        HasSubstr("DistanceFromTargetMapping: attribute 'geometricStiffness': expected None, Exact or Stabilized"));
 }
 
 TEST(FrameMappingComponents, SkinningMappingFollowsTheFrames) {
@@ -266,8 +271,9 @@ TEST(LinkComponents, ARegularGridTakesAnotherGridsDataThroughSrc) {
     // a value given on the copy wins over the source's
     auto t = build(with(xml, R"(src="@/Mesh/Grid")", R"(src="@/Mesh/Grid" n="2 2 1")"));
     EXPECT_EQ(engine_state(*t).position.size(), 4u);
-    EXPECT_THAT(error_of(with(xml, R"(src="@/Mesh/Grid")", R"(src="@/Body/dofs")")),
-                HasSubstr("RegularGridTopology 'copy': attribute 'src': must link to a RegularGridTopology built before"));
+    EXPECT_THAT(
+        error_of(with(xml, R"(src="@/Mesh/Grid")", R"(src="@/Body/dofs")")),
+        HasSubstr("RegularGridTopology 'copy': attribute 'src': must link to a RegularGridTopology built before"));
 }
 
 TEST(LinkComponents, AMappingOntoANodeWithoutAStateIsNotCreated) {
@@ -283,7 +289,8 @@ TEST(LinkComponents, AMappingOntoANodeWithoutAStateIsNotCreated) {
     auto s = build(xml);
     bool noted = false;
     for (const std::string& w : s->warnings())
-        noted = noted || w.find("IdentityMapping (output node without a state: SOFA does not create it) x1") != std::string::npos;
+        noted = noted || w.find("IdentityMapping (output node without a state: SOFA does not create it) x1") !=
+                             std::string::npos;
     EXPECT_TRUE(noted);
     // with a state in that node, the mapping is built
     auto t = build(with(xml, R"(<Node name="Data">)", R"(<Node name="Data"><MechanicalObject name="copy"/>)"));

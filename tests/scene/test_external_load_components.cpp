@@ -26,11 +26,14 @@ using penalty::test::build;
 std::string particles_scene(const std::string& positions, const std::string& components,
                             const std::string& gravity = "0 -9.81 0", const std::string& rayleigh = "0") {
     return R"(<Node name="root" dt="0.01" gravity=")" + gravity + R"(">
-      <Node name="P"><EulerImplicitSolver rayleighStiffness="0" rayleighMass=")" + rayleigh + R"("/>
+      <Node name="P"><EulerImplicitSolver rayleighStiffness="0" rayleighMass=")" +
+           rayleigh + R"("/>
         <CGLinearSolver iterations="100" tolerance="1e-16" threshold="1e-20"/>
-        <MechanicalObject name="dofs" position=")" + positions + R"("/>
+        <MechanicalObject name="dofs" position=")" +
+           positions + R"("/>
         <UniformMass vertexMass="0.5"/>
-        )" + components + R"(
+        )" +
+           components + R"(
       </Node>
     </Node>)";
 }
@@ -56,9 +59,10 @@ TEST(ExternalLoadComponents, ParticleRestsOnThePlaneAtTheDepthWhereStiffnessBala
     // m g = k depth: 0.5 kg · 9.81 m/s² / 1000 N/m = 4.905 mm below the plane y = −1
     auto s = build(particles_scene(
         "0 -0.5 0  3 2 1",
-        R"(<PlaneForceField name="floor" normal="0 1 0" d="-1" stiffness="1000" damping="2" showPlane="1"/>)", "0 -9.81 0",
-        "0.5"));
-    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("plane x.n = -1 m, n = (0, 1, 0), stiffness 1000 N/m, damping 2 N s/m"));
+        R"(<PlaneForceField name="floor" normal="0 1 0" d="-1" stiffness="1000" damping="2" showPlane="1"/>)",
+        "0 -9.81 0", "0.5"));
+    EXPECT_THAT(scene::describe_scene(*s),
+                HasSubstr("plane x.n = -1 m, n = (0, 1, 0), stiffness 1000 N/m, damping 2 N s/m"));
     for (int i = 0; i < 1500; ++i) s->step();
     const Vec3Object& x = dofs(*s);
     EXPECT_NEAR(x.position[0].y(), -1.0 - 0.5 * 9.81 / 1000.0, 1e-7);
@@ -104,8 +108,9 @@ TEST(ExternalLoadComponents, ConeHoldsParticlesInside) {
                                    R"(<ConicalForceField coneCenter="0 0 0" coneHeight="0 2 0" coneAngle="30"
                                           stiffness="2000" damping="1"/>)",
                                    "0 0 0", "3"));
-    EXPECT_THAT(scene::describe_scene(*s),
-                HasSubstr("cone apex (0, 0, 0) m, axis (0, 2, 0) m, half-angle 30 deg, stiffness 2000 N/m, damping 1 N s/m"));
+    EXPECT_THAT(
+        scene::describe_scene(*s),
+        HasSubstr("cone apex (0, 0, 0) m, axis (0, 2, 0) m, half-angle 30 deg, stiffness 2000 N/m, damping 1 N s/m"));
     for (int i = 0; i < 600; ++i) s->step();  // Rayleigh mass damping e^(−3 t) settles them
     const Vec3Object& x = dofs(*s);
     // the depth outside the cone of each particle: |f| of a unit-stiffness cone at rest
@@ -131,23 +136,27 @@ TEST(ExternalLoadComponents, SofaFallbacksAndErrors) {
     auto s = build(particles_scene("0 0 0", R"(<PlaneForceField stiffness="-3" localRange="4 2"/>)"));
     EXPECT_THAT(scene::describe_scene(*s), HasSubstr("stiffness 500 N/m, damping 5 N s/m"));
     const std::vector<std::string> w = s->warnings();
-    EXPECT_TRUE(std::any_of(w.begin(), w.end(), [](const std::string& x) { return x.find("SOFA uses 500") != std::string::npos; }));
-    EXPECT_TRUE(std::any_of(w.begin(), w.end(), [](const std::string& x) { return x.find("localRange") != std::string::npos; }));
+    EXPECT_TRUE(std::any_of(w.begin(), w.end(),
+                            [](const std::string& x) { return x.find("SOFA uses 500") != std::string::npos; }));
+    EXPECT_TRUE(std::any_of(w.begin(), w.end(),
+                            [](const std::string& x) { return x.find("localRange") != std::string::npos; }));
     // ends that are not ints are the attribute's error, never a conversion out of range
     for (const char* range : {"0 1e19", "-1e10 2", "0.5 2"}) {
         try {
             (void)build(particles_scene("0 0 0", "<PlaneForceField localRange=\"" + std::string(range) + "\"/>"));
             ADD_FAILURE() << range << " was accepted";
         } catch (const io::SceneError& e) {
-            EXPECT_NE(std::string(e.what()).find("PlaneForceField: attribute 'localRange': expected integers from -2147483648 to 2147483647"),
+            EXPECT_NE(std::string(e.what()).find(
+                          "PlaneForceField: attribute 'localRange': expected integers from -2147483648 to 2147483647"),
                       std::string::npos)
                 << e.what();
         }
     }
     // no force given, a count mismatch, an index out of range, a Rigid3d template
     EXPECT_THROW(build(particles_scene("0 0 0", "<ConstantForceField indices='0'/>")), io::SceneError);
-    EXPECT_THROW(build(particles_scene("0 0 0  1 1 1", "<ConstantForceField indices='0 1' forces='1 0 0  0 1 0  0 0 1'/>")),
-                 io::SceneError);
+    EXPECT_THROW(
+        build(particles_scene("0 0 0  1 1 1", "<ConstantForceField indices='0 1' forces='1 0 0  0 1 0  0 0 1'/>")),
+        io::SceneError);
     EXPECT_THROW(build(particles_scene("0 0 0", "<ConstantForceField indices='1' forces='1 0 0'/>")), io::SceneError);
     EXPECT_THROW(build(particles_scene("0 0 0", "<PlaneForceField template='Rigid3d'/>")), io::SceneError);
     EXPECT_THROW(build(particles_scene("0 0 0", "<PlaneForceField localRange='1 2 3'/>")), io::SceneError);

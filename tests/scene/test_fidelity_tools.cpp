@@ -55,9 +55,10 @@ TEST(FidelityTools, LocalMinDistanceReadsSofaData) {
     EXPECT_DOUBLE_EQ(p.cone_factor, 0.7);
     EXPECT_FALSE(p.filter_intersection);
     EXPECT_TRUE(p.use_lmd_filters);
-    EXPECT_TRUE(s->warnings().empty() || std::none_of(s->warnings().begin(), s->warnings().end(), [](const std::string& w) {
-        return w.find("LocalMinDistance: attribute") != std::string::npos;
-    }));
+    EXPECT_TRUE(s->warnings().empty() ||
+                std::none_of(s->warnings().begin(), s->warnings().end(), [](const std::string& w) {
+                    return w.find("LocalMinDistance: attribute") != std::string::npos;
+                }));
     // SOFA's defaults (LocalMinDistance's constructor and BaseProximityIntersection's).
     auto d = build(two_spheres("<LocalMinDistance/>"));
     const IntersectionParams& q = d->pipelines()[0].pipeline->intersection();
@@ -83,8 +84,8 @@ TEST(FidelityTools, QuirkFixesFromSceneAttributeAndBuildOptions) {
 
     scene::BuildOptions cli;  // --fix-sofa-quirk minproximity_line_sphere_mirror
     ASSERT_TRUE(enable_sofa_quirk_fix(cli.sofa_quirk_fixes, "minproximity_line_sphere_mirror"));
-    auto both = build(two_spheres(R"(<NewProximityIntersection fixSofaQuirks="newproximity_triangle_sphere_edge_flags"/>)"),
-                      cli);
+    auto both = build(
+        two_spheres(R"(<NewProximityIntersection fixSofaQuirks="newproximity_triangle_sphere_edge_flags"/>)"), cli);
     EXPECT_EQ(enabled_sofa_quirk_fixes(both->pipelines()[0].pipeline->intersection().quirks),
               (std::vector<std::string>{"minproximity_line_sphere_mirror", "newproximity_triangle_sphere_edge_flags"}));
 

@@ -23,18 +23,20 @@
 namespace {
 
 using namespace penalty;
-using ::testing::HasSubstr;
 using penalty::test::build;
 using penalty::test::default_number;
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 std::string particles(const std::string& positions, const std::string& components, const std::string& extra_root = "") {
     return R"(<Node name="root" dt="0.01" gravity="0 -10 0">)" + extra_root + R"(
       <Node name="P"><EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>
         <CGLinearSolver iterations="100" tolerance="1e-20" threshold="1e-30"/>
-        <MechanicalObject name="dofs" position=")" + positions + R"("/>
+        <MechanicalObject name="dofs" position=")" +
+           positions + R"("/>
         <UniformMass vertexMass="2"/>
-        )" + components + R"(
+        )" +
+           components + R"(
       </Node>
     </Node>)";
 }
@@ -58,7 +60,8 @@ TEST(FieldAndConstraintComponents, RegistryDefaultsAgreeWithTheLibrary) {
 TEST(FieldAndConstraintComponents, ParticleSlidesDownItsLineAsImplicitEulerPredicts) {
     // line through the origin along (1, −1, 0)/√2: the gravity component along it is g/√2, and
     // implicit Euler without stiffness gives v_n = n h a, x_n = x_0 + h² a n(n+1)/2 along n
-    auto s = build(particles("0 0 0  5 5 5", R"(<LineProjectiveConstraint indices="0" origin="0 0 0" direction="1 -1 0"/>)"));
+    auto s = build(
+        particles("0 0 0  5 5 5", R"(<LineProjectiveConstraint indices="0" origin="0 0 0" direction="1 -1 0"/>)"));
     EXPECT_THAT(scene::describe_scene(*s), HasSubstr("keeps 1 point on the line through (0, 0, 0)"));
     const int steps = 30;
     for (int i = 0; i < steps; ++i) s->step();
@@ -84,7 +87,8 @@ TEST(FieldAndConstraintComponents, PlaneAndPointConstraintsHoldTheirPoints) {
 TEST(FieldAndConstraintComponents, LinearMovementLagsOneStepBehindTheStepsTime) {
     // SOFA projects after the solve at the context time, still the step's start: after step k
     // the point is at the movement of time (k − 1)·h
-    auto s = build(particles("1 0 0", R"(<LinearMovementProjectiveConstraint indices="0" keyTimes="0 1" movements="0 0 0  2 0 0"/>)"));
+    auto s = build(particles(
+        "1 0 0", R"(<LinearMovementProjectiveConstraint indices="0" keyTimes="0 1" movements="0 0 0  2 0 0"/>)"));
     const int steps = 10;
     for (int i = 0; i < steps; ++i) s->step();
     const Vec3Object& x = vec3_dofs(*s);
@@ -201,7 +205,8 @@ TEST(FieldAndConstraintComponents, MeshLoaderScaleThatIsNotOneNumberIsOneAsInSof
         scene::BuildOptions options;
         options.data_dirs.push_back(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data");
         auto s = build(R"(<Node name="root"><Node name="N"><EulerImplicitSolver/><CGLinearSolver/>
-            <MeshOBJLoader name="loader" filename="box_3x1x1.obj" )" + scale + R"(/>
+            <MeshOBJLoader name="loader" filename="box_3x1x1.obj" )" +
+                           scale + R"(/>
             <MeshTopology src="@loader"/><MechanicalObject src="@loader"/><UniformMass vertexMass="1"/></Node></Node>)",
                        options);
         return std::pair{vec3_dofs(*s).position[6], s->warnings()};
@@ -233,13 +238,18 @@ TEST(FieldAndConstraintComponents, BadAttributesNameFileLineComponentAndAttribut
                  "attribute 'P2': P1, P2 and P3 must be three distinct points");
     expect_error(R"(<LineProjectiveConstraint indices="5" direction="1 0 0"/>)", "index 5 out of range");
     expect_error(R"(<FixedRotationProjectiveConstraint FixedZRotation="1"/>)", "acts on Rigid3d states only");
-    expect_error(R"(<BoxROI orientedBox="0 0 0 1 0 0 1 1 0"/>)", "attribute 'orientedBox': expected 10 numbers per box");
-    expect_error(R"(<BoxROI orientedBox="0 0 0 1 0 0 2 0 0 1"/>)", "attribute 'orientedBox': box 0: p0, p1 and p2 are aligned");
+    expect_error(R"(<BoxROI orientedBox="0 0 0 1 0 0 1 1 0"/>)",
+                 "attribute 'orientedBox': expected 10 numbers per box");
+    expect_error(R"(<BoxROI orientedBox="0 0 0 1 0 0 2 0 0 1"/>)",
+                 "attribute 'orientedBox': box 0: p0, p1 and p2 are aligned");
     expect_error(R"(<AttachProjectiveConstraint indices1="0" indices2="1" clamp="1"/>)",
                  "attribute 'clamp': only false is supported");
-    expect_error(R"(<TriangularFEMForceFieldOptim poissonRatio="0.5"/>)", "attribute 'poissonRatio': must be in [0, 0.5)");
-    expect_error(R"(<FastTetrahedralCorotationalForceField method="qrs"/>)", "attribute 'method': must be qr, large, polar");
-    expect_error(R"(<FastTetrahedralCorotationalForceField youngModulus="30 -1"/>)", "attribute 'youngModulus': must be > 0");
+    expect_error(R"(<TriangularFEMForceFieldOptim poissonRatio="0.5"/>)",
+                 "attribute 'poissonRatio': must be in [0, 0.5)");
+    expect_error(R"(<FastTetrahedralCorotationalForceField method="qrs"/>)",
+                 "attribute 'method': must be qr, large, polar");
+    expect_error(R"(<FastTetrahedralCorotationalForceField youngModulus="30 -1"/>)",
+                 "attribute 'youngModulus': must be > 0");
     expect_error(R"(<Mesh2PointTopologicalMapping copyEdges="1"/>)", "attribute 'copyEdges': only false is supported");
     expect_error(R"(<TaitSurfacePressureForceField B="-1"/>)", "attribute 'B'");
     expect_error(R"(<TaitSurfacePressureForceField maxInjectionRate="-2"/>)", "attribute 'maxInjectionRate'");
@@ -249,10 +259,13 @@ TEST(FieldAndConstraintComponents, BadAttributesNameFileLineComponentAndAttribut
     const std::string rigid = R"(<Node name="root"><Node name="R"><EulerImplicitSolver/><CGLinearSolver/>
         <MechanicalObject template="Rigid3" position="0 0 0 0 0 0 1  1 0 0 0 0 0 1"/><UniformMass vertexMass="1"/>
         <MeshTopology edges="0 1"/>)";
-    EXPECT_THAT(error_of(rigid + R"(<JointSpringForceField spring="BEGIN_SPRING 0 1 KS_Q 1 END_SPRING"/></Node></Node>)"),
-                HasSubstr("attribute 'spring': unknown keyword 'KS_Q'"));
-    EXPECT_THAT(error_of(rigid + R"(<JointSpringForceField spring="BEGIN_SPRING 0 1 END_SPRING" outfile="log.txt"/></Node></Node>)"),
-                HasSubstr("attribute 'outfile': files are not supported"));
+    EXPECT_THAT(
+        error_of(rigid + R"(<JointSpringForceField spring="BEGIN_SPRING 0 1 KS_Q 1 END_SPRING"/></Node></Node>)"),
+        HasSubstr("attribute 'spring': unknown keyword 'KS_Q'"));
+    EXPECT_THAT(
+        error_of(rigid +
+                 R"(<JointSpringForceField spring="BEGIN_SPRING 0 1 END_SPRING" outfile="log.txt"/></Node></Node>)"),
+        HasSubstr("attribute 'outfile': files are not supported"));
     EXPECT_THAT(error_of(rigid + R"(<BeamFEMForceField radius="0.1" radiusInner="0.2"/></Node></Node>)"),
                 HasSubstr("attribute 'radiusInner': must be smaller than radius"));
     EXPECT_THAT(error_of(rigid + R"(<BeamFEMForceField radius="0.1" poissonRatio="0.7"/></Node></Node>)"),
@@ -269,7 +282,8 @@ std::vector<double> coordinates_after(const std::string& xml, int steps) {
     for (int k = 0; k < steps; ++k) s->step();
     std::vector<double> out;
     for (const auto& r : s->states())
-        for (const Vec3& p : dynamic_cast<const Vec3Object&>(*r.state).position) out.insert(out.end(), {p.x(), p.y(), p.z()});
+        for (const Vec3& p : dynamic_cast<const Vec3Object&>(*r.state).position)
+            out.insert(out.end(), {p.x(), p.y(), p.z()});
     return out;
 }
 
@@ -282,7 +296,8 @@ TEST(FieldAndConstraintComponents, SofasOlderNamesBuildTheRenamedComponents) {
     const std::string older = R"(<LinearMovementConstraint indices="0" keyTimes="0 1" movements="0 0 0  2 0 0"/>
         <StiffSpringForceField spring="1 2 50 0.5 0.3"/>
         <ProjectToPlaneConstraint indices="2" origin="0 0 0" normal="0 1 0"/>)";
-    const std::string newer = R"(<LinearMovementProjectiveConstraint indices="0" keyTimes="0 1" movements="0 0 0  2 0 0"/>
+    const std::string newer =
+        R"(<LinearMovementProjectiveConstraint indices="0" keyTimes="0 1" movements="0 0 0  2 0 0"/>
         <SpringForceField spring="1 2 50 0.5 0.3"/>
         <PlaneProjectiveConstraint indices="2" origin="0 0 0" normal="0 1 0"/>)";
     const std::string positions = "1 0 0  0 1 0  0 0 1";
@@ -293,9 +308,10 @@ TEST(FieldAndConstraintComponents, SofasOlderNamesBuildTheRenamedComponents) {
     EXPECT_NE(a[0], 1.0);  // the prescribed motion moved point 0
     auto s = build(particles(positions, older));
     const std::vector<std::string> w = s->warnings();
-    EXPECT_EQ(std::count_if(w.begin(), w.end(), [](const std::string& m) {
-                  return m.find("SOFA's name before v24.06") != std::string::npos;
-              }),
-              3);
-    EXPECT_THAT(error_of(particles(positions, R"(<UniformConstraint/>)")), HasSubstr("unknown component 'UniformConstraint'"));
+    EXPECT_EQ(
+        std::count_if(w.begin(), w.end(),
+                      [](const std::string& m) { return m.find("SOFA's name before v24.06") != std::string::npos; }),
+        3);
+    EXPECT_THAT(error_of(particles(positions, R"(<UniformConstraint/>)")),
+                HasSubstr("unknown component 'UniformConstraint'"));
 }

@@ -35,9 +35,11 @@ TEST(FixedReaders, ProductsOfOneSolveKeepTheRowsTheFirstFoundAndTheNextSolveFind
 
     std::mt19937 rng(20261125);
     std::uniform_real_distribution<double> unit(-1.0, 1.0);
-    const auto draw = [&](Eigen::Index n) { return Eigen::VectorXd(Eigen::VectorXd::NullaryExpr(n, [&] { return unit(rng); })); };
+    const auto draw = [&](Eigen::Index n) {
+        return Eigen::VectorXd(Eigen::VectorXd::NullaryExpr(n, [&] { return unit(rng); }));
+    };
     const double m = 1.02, b = -0.01, k = -1.01e-4;  // an implicit-Euler operator
-    std::unique_ptr<SubtreeSystem> kept;              // lives over steps, rebuilt when the graph changes
+    std::unique_ptr<SubtreeSystem> kept;             // lives over steps, rebuilt when the graph changes
     std::uint64_t version = 0;
     int steps_with_contacts = 0, differing = 0, stale_compared = 0, stale_differing = 0;
     for (int step = 0; step < 60; ++step) {

@@ -14,16 +14,18 @@
 namespace {
 
 using namespace penalty;
-using ::testing::HasSubstr;
 using penalty::test::build;
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 std::string with_text(std::string xml, const std::string& what, const std::string& by) {
     xml.replace(xml.find(what), what.size(), by);
     return xml;
 }
 
-const Vec3Object& family_state(const scene::Scene& s, std::size_t i) { return dynamic_cast<const Vec3Object&>(*s.states()[i].state); }
+const Vec3Object& family_state(const scene::Scene& s, std::size_t i) {
+    return dynamic_cast<const Vec3Object&>(*s.states()[i].state);
+}
 
 // Points falling onto a sphere carried by a rigid frame at (0, 0, 0) (SOFA's example scene's
 // layout: the frame in its own node with an explicit solver, translations fixed).
@@ -54,10 +56,13 @@ TEST(InteractionEllipsoidComponent, PointsRestOnTheSphereAndTheFrameIsOnlyRead) 
 }
 
 TEST(InteractionEllipsoidComponent, BadAttributesNameTheAttribute) {
-    EXPECT_THAT(error_of(with_text(kEllipsoidScene, R"(vradius="1 1 1")", R"(vradius="1 0 1")")),
-                HasSubstr("test.scn:11: InteractionEllipsoidForceField 'ellipsoid': attribute 'vradius': radii must be non-zero"));
-    EXPECT_THAT(error_of(with_text(kEllipsoidScene, R"(center="0 0 0")", R"(center="0 0 0 1")")),
-                HasSubstr("InteractionEllipsoidForceField 'ellipsoid': attribute 'center': needs 3 numbers per ellipsoid"));
+    EXPECT_THAT(
+        error_of(with_text(kEllipsoidScene, R"(vradius="1 1 1")", R"(vradius="1 0 1")")),
+        HasSubstr(
+            "test.scn:11: InteractionEllipsoidForceField 'ellipsoid': attribute 'vradius': radii must be non-zero"));
+    EXPECT_THAT(
+        error_of(with_text(kEllipsoidScene, R"(center="0 0 0")", R"(center="0 0 0 1")")),
+        HasSubstr("InteractionEllipsoidForceField 'ellipsoid': attribute 'center': needs 3 numbers per ellipsoid"));
     EXPECT_THAT(error_of(with_text(kEllipsoidScene, R"(object2="@../Obstacle/frame")", R"(object2="@dofs")")),
                 HasSubstr("InteractionEllipsoidForceField 'ellipsoid': attribute 'object2': must be a Rigid3d state"));
     EXPECT_THAT(error_of(with_text(kEllipsoidScene, R"(object2_forces="false")", R"(object2_dof_index="2")")),
@@ -88,7 +93,8 @@ TEST(HexahedronFemComponent, PolarIsBuiltAndSvdIsRefused) {
     EXPECT_LT(tip_polar.y(), -1e-3);
     EXPECT_LT((tip_polar - tip_large).norm(), 0.1 * std::abs(tip_polar.y()));
     EXPECT_THAT(error_of(with_text(kHexahedronScene, "METHOD", "svd")),
-                HasSubstr("test.scn:6: HexahedronFEMForceField 'FEM': attribute 'method': 'svd' is not supported (small, large or polar)"));
+                HasSubstr("test.scn:6: HexahedronFEMForceField 'FEM': attribute 'method': 'svd' is not supported "
+                          "(small, large or polar)"));
 }
 
 // A hyperelastic cantilever: a grid's hexahedra split into tetrahedra by Hexa2TetraTopologicalMapping
@@ -116,7 +122,8 @@ TEST(HyperelasticityComponent, EveryMaterialBuildsAndBadAttributesNameTheAttribu
     auto ogden = build(with_text(with_text(kHyperelasticScene, "MATERIAL", "Ogden"), "3448 31034", "1500 500 5000"));
     ogden->step();
     EXPECT_THAT(error_of(with_text(kHyperelasticScene, "MATERIAL", "Costa")),
-                HasSubstr("test.scn:9: TetrahedronHyperelasticityFEMForceField 'FEM': attribute 'materialName': 'Costa' is not supported"));
+                HasSubstr("test.scn:9: TetrahedronHyperelasticityFEMForceField 'FEM': attribute 'materialName': "
+                          "'Costa' is not supported"));
     EXPECT_THAT(error_of(with_text(kHyperelasticScene, "MATERIAL", "MooneyRivlin")),
                 HasSubstr("attribute 'ParameterSet': MooneyRivlin needs 3 parameters, found 2"));
 }

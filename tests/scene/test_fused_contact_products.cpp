@@ -38,7 +38,8 @@ std::string stacked_cubes_xml() {
     const auto cube = [](const std::string& name, double y, double vy) {
         std::ostringstream s;
         s << "    <Node name=\"" << name << "\">\n      <MechanicalObject position=\"";
-        for (int k = 0; k < 8; ++k) s << 0.4 * (k & 1) + 0.01 * y << ' ' << y + 0.4 * ((k >> 1) & 1) << ' ' << 0.4 * (k >> 2) << "  ";
+        for (int k = 0; k < 8; ++k)
+            s << 0.4 * (k & 1) + 0.01 * y << ' ' << y + 0.4 * ((k >> 1) & 1) << ' ' << 0.4 * (k >> 2) << "  ";
         s << "\" velocity=\"";
         for (int k = 0; k < 8; ++k) s << "0 " << vy << " 0  ";
         // the 12 outer triangles of the hexahedron (vertex k at bits x, y, z of k)
@@ -60,7 +61,8 @@ std::string stacked_cubes_xml() {
   <Node name="Bodies">
     <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
     <CGLinearSolver iterations="40" tolerance="1e-10" threshold="1e-12"/>
-)" + cube("Lower", 0.0, 0.05) + cube("Upper", 0.44, -0.05) + R"(  </Node>
+)" + cube("Lower", 0.0, 0.05) +
+           cube("Upper", 0.44, -0.05) + R"(  </Node>
 </Node>
 )";
 }
@@ -78,12 +80,12 @@ Node& child(Node& parent, const std::string& name) {
 }
 
 struct Tally {
-    int steps_with_fields = 0;     ///< steps whose system fused a contact field
-    int steps_with_unread = 0;     ///< steps whose system fused an unread contact mapping
+    int steps_with_fields = 0;       ///< steps whose system fused a contact field
+    int steps_with_unread = 0;       ///< steps whose system fused an unread contact mapping
     int steps_with_plain_field = 0;  ///< steps with a contact field the block does not take
     long compared = 0;
     long differing = 0;
-    long signed_zeros = 0;         ///< −0 results of the zero products (the signs are exercised)
+    long signed_zeros = 0;  ///< −0 results of the zero products (the signs are exercised)
 };
 
 // After each step: two systems of `node`, fused and not, each under a FixedReaders; the same
@@ -107,7 +109,8 @@ void compare_products(scene::Scene& scene, Node& node, int steps, std::uint32_t 
         t.steps_with_fields += counts.force_fields > 0 ? 1 : 0;
         t.steps_with_unread += counts.unread_mappings > 0 ? 1 : 0;
         std::size_t contact_fields = 0;
-        for (const BaseForceField* ff : fused.force_fields()) contact_fields += dynamic_cast<const Vec3InteractionForceField*>(ff) ? 1 : 0;
+        for (const BaseForceField* ff : fused.force_fields())
+            contact_fields += dynamic_cast<const Vec3InteractionForceField*>(ff) ? 1 : 0;
         t.steps_with_plain_field += contact_fields > counts.force_fields ? 1 : 0;
         EXPECT_EQ(plain.fused_contact_counts().force_fields + plain.fused_contact_counts().unread_mappings, 0u);
 
@@ -178,7 +181,8 @@ TEST(FusedContactProducts, RunsOfAPileAreTheSameBitsWithAndWithoutFusion) {
     auto* solver = dynamic_cast<EulerImplicitSolver*>(child(plain->simulation().root(), "Cubes").ode_solver());
     ASSERT_NE(solver, nullptr);
     solver->fuse_contact_products = false;
-    const auto* fused_solver = dynamic_cast<const EulerImplicitSolver*>(child(fused->simulation().root(), "Cubes").ode_solver());
+    const auto* fused_solver =
+        dynamic_cast<const EulerImplicitSolver*>(child(fused->simulation().root(), "Cubes").ode_solver());
     ASSERT_NE(fused_solver, nullptr);
     ASSERT_TRUE(fused_solver->fuse_contact_products);
     long compared = 0, differing = 0;
@@ -192,7 +196,9 @@ TEST(FusedContactProducts, RunsOfAPileAreTheSameBitsWithAndWithoutFusion) {
             ASSERT_EQ(a.position.size(), b.position.size());
             for (std::size_t i = 0; i < a.position.size(); ++i) {
                 ++compared;
-                differing += test::same_bits(a.position[i], b.position[i]) && test::same_bits(a.velocity[i], b.velocity[i]) ? 0 : 1;
+                differing +=
+                    test::same_bits(a.position[i], b.position[i]) && test::same_bits(a.velocity[i], b.velocity[i]) ? 0
+                                                                                                                   : 1;
             }
         }
     }

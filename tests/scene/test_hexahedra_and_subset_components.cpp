@@ -35,7 +35,8 @@ std::string cantilever(const std::string& fem) {
     <MechanicalObject name="dofs"/>
     <RegularGridTopology nx="3" ny="3" nz="5" xmin="0" xmax="2" ymin="0" ymax="2" zmin="0" zmax="4"/>
     <FixedProjectiveConstraint indices="0 1 2 3 4 5 6 7 8"/>
-    )" + fem + R"(
+    )" + fem +
+           R"(
   </Node>
 </Node>)";
 }
@@ -48,8 +49,10 @@ std::vector<Vec3> run(scene::Scene& s, int steps) {
 TEST(HexahedraComponents, FemAndMassVariantsAgreeOnCubes) {
     // On cubes the two stiffness formulas agree (to float rounding) and the masses are the same:
     // the two components give the same motion.
-    auto hexahedral = build(cantilever(R"(<HexahedralFEMForceFieldAndMass youngModulus="2000" poissonRatio="0.3" density="2"/>)"));
-    auto hexahedron = build(cantilever(R"(<HexahedronFEMForceFieldAndMass youngModulus="2000" poissonRatio="0.3" density="2"/>)"));
+    auto hexahedral =
+        build(cantilever(R"(<HexahedralFEMForceFieldAndMass youngModulus="2000" poissonRatio="0.3" density="2"/>)"));
+    auto hexahedron =
+        build(cantilever(R"(<HexahedronFEMForceFieldAndMass youngModulus="2000" poissonRatio="0.3" density="2"/>)"));
     const auto* mass = dynamic_cast<const HexahedronElementMass*>(hexahedral->states()[0].mass);
     ASSERT_NE(mass, nullptr);
     EXPECT_DOUBLE_EQ(mass->total_mass(), 2.0 * 16.0);  // ρ·V
@@ -75,7 +78,8 @@ TEST(HexahedraComponents, HexahedralFemWithADiagonalMassFalls) {
 
 TEST(HexahedraComponents, RefusesUnsupportedMethodsAndTopologies) {
     EXPECT_THAT(error_of(cantilever(R"(<HexahedralFEMForceField method="small"/>)")), HasSubstr("large or polar"));
-    EXPECT_THAT(error_of(cantilever(R"(<HexahedronFEMForceFieldAndMass method="polar"/>)")), HasSubstr("large or small"));
+    EXPECT_THAT(error_of(cantilever(R"(<HexahedronFEMForceFieldAndMass method="polar"/>)")),
+                HasSubstr("large or small"));
     EXPECT_THAT(error_of(R"(<Node name="root"><Node name="A"><MechanicalObject position="0 0 0 1 0 0 0 1 0"/>
       <MeshTopology triangles="0 1 2"/><HexahedralFEMForceField/></Node></Node>)"),
                 HasSubstr("hexahedra"));

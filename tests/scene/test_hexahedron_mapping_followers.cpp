@@ -19,8 +19,8 @@ TEST(HexahedronMappingFollowers, SetHexahedraMapInTheParallelepipedOfThreeEdgesA
     // (p − x0), weights trilinear in b; the mapped point is then not p (the inverse trilinear map
     // of map_on_hexahedra gives p back)
     Vec3Object in, out;
-    in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1.2, 1.1, 0.1), Vec3(0, 1, 0),
-                   Vec3(0, 0, 1), Vec3(1, 0.1, 1), Vec3(1, 1, 1.3), Vec3(-0.1, 1, 1)};
+    in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0),   Vec3(1.2, 1.1, 0.1), Vec3(0, 1, 0),
+                   Vec3(0, 0, 1), Vec3(1, 0.1, 1), Vec3(1, 1, 1.3),     Vec3(-0.1, 1, 1)};
     in.init();
     const std::vector<Vec3> points{Vec3(0.6, 0.7, 0.8)};
     out.position = points;
@@ -43,7 +43,8 @@ TEST(HexahedronMappingFollowers, SetHexahedraMapInTheParallelepipedOfThreeEdgesA
         EXPECT_EQ(sofa.weights()[0].entries[k].index, Index(k));
         EXPECT_NEAR(sofa.weights()[0].entries[k].weight, w[k], 1e-15) << k;
         mapped += sofa.weights()[0].entries[k].weight * in.position[k];
-        back += inverse.weights()[0].entries[k].weight * in.position[std::size_t(inverse.weights()[0].entries[k].index)];
+        back +=
+            inverse.weights()[0].entries[k].weight * in.position[std::size_t(inverse.weights()[0].entries[k].index)];
     }
     EXPECT_GT((mapped - points[0]).norm(), 1e-3);  // SOFA's approximation
     EXPECT_LT((back - points[0]).norm(), 1e-12);
@@ -56,8 +57,8 @@ std::string hmf_grid_scene() {
     for (int z = 0; z <= 2; ++z)
         for (int y = 0; y <= 2; ++y)
             for (int x = 0; x <= 2; ++x)
-                points += std::to_string(0.1 * x + 0.004 * ((x * 7 + y * 3 + z) % 3)) + " " + std::to_string(0.1 * y) + " " +
-                          std::to_string(0.1 * z + 0.003 * ((x + y * 5) % 2)) + "  ";
+                points += std::to_string(0.1 * x + 0.004 * ((x * 7 + y * 3 + z) % 3)) + " " + std::to_string(0.1 * y) +
+                          " " + std::to_string(0.1 * z + 0.003 * ((x + y * 5) % 2)) + "  ";
     for (int z = 0; z < 2; ++z)
         for (int y = 0; y < 2; ++y)
             for (int x = 0; x < 2; ++x)

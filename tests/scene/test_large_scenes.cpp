@@ -24,7 +24,7 @@ namespace bowl = penalty::test::cubes_in_bowl;
 
 organ::Setup small_setup() {
     organ::Setup s;
-    s.cells = 8;  // 8 × 1 × 8 cells: 162 nodes, 384 tetrahedra
+    s.cells = 8;                // 8 × 1 × 8 cells: 162 nodes, 384 tetrahedra
     s.organ_subdivisions = 16;  // 3 072 triangles
     return s;
 }
@@ -127,7 +127,7 @@ TEST(SoftBodyOnOrgan, BodyLandsAndSlidesWithoutGoingThrough) {
     }
     EXPECT_LT(deepest, organ::contact_distance(s));
     const Vec3 now = centre();
-    EXPECT_LT(now.x(), start.x() - 0.005);  // slid down the −x side
+    EXPECT_LT(now.x(), start.x() - 0.005);                                      // slid down the −x side
     EXPECT_GT(output::summarize_contacts(sc->contacts()).active_contacts, 0u);  // still on the organ
 }
 

@@ -128,15 +128,17 @@ TEST(LiveData, RefusedWritesSayWhy) {
         s->set_data(kFem, "topology", "@../grid");
         FAIL() << "a link written after init";
     } catch (const std::invalid_argument& e) {
-        EXPECT_THAT(e.what(), HasSubstr("HexahedronFEMForceField 'ff': data 'topology' cannot be written after init: links "
-                                        "are resolved at init"));
+        EXPECT_THAT(e.what(),
+                    HasSubstr("HexahedronFEMForceField 'ff': data 'topology' cannot be written after init: links "
+                              "are resolved at init"));
     }
     EXPECT_THROW(s->set_data({"/B/grid", false}, "nx", "5"), std::invalid_argument);
     try {
         s->set_data({"/B/mass", false}, "totalMass", "-2");
         FAIL() << "a negative mass";
     } catch (const io::SceneError& e) {
-        EXPECT_THAT(e.what(), HasSubstr("test.scn:7: UniformMass 'mass': attribute 'totalMass': must be > 0, found '-2'"));
+        EXPECT_THAT(e.what(),
+                    HasSubstr("test.scn:7: UniformMass 'mass': attribute 'totalMass': must be > 0, found '-2'"));
     }
 }
 

@@ -23,7 +23,8 @@ TEST(AlignedBox, PointsOnTheFacesAreInsideAndCornersAreOrdered) {
     const AlignedBox box = AlignedBox::from_corners(Vec3(1, 1, 1), Vec3(0, 0, 0));
     EXPECT_EQ(box.min, Vec3(0, 0, 0));
     EXPECT_EQ(box.max, Vec3(1, 1, 1));
-    const std::vector<Vec3> points{Vec3(0, 0, 0), Vec3(1, 1, 1.0000001), Vec3(0.5, 1, 0.5), Vec3(3, 3, 3), Vec3(-1, 0, 0)};
+    const std::vector<Vec3> points{Vec3(0, 0, 0), Vec3(1, 1, 1.0000001), Vec3(0.5, 1, 0.5), Vec3(3, 3, 3),
+                                   Vec3(-1, 0, 0)};
     const std::vector<AlignedBox> boxes{box, AlignedBox::from_corners(Vec3(2.5, 2.5, 2.5), Vec3(3, 3, 3))};
     EXPECT_EQ(points_in_boxes(points, boxes), (std::vector<PointId>{0, 2, 3}));
 }

@@ -35,14 +35,16 @@ T* msm_find(Node& n) {
     return nullptr;
 }
 
-std::string msm_body(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets, const std::string& components) {
+std::string msm_body(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets,
+                     const std::string& components) {
     return R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><Node name="body">
   <EulerImplicitSolver/><CGLinearSolver iterations="50" tolerance="1e-12" threshold="1e-12"/>
   <TetrahedronSetTopologyContainer name="volume" position=")" +
            test::points_text(points) + R"(" tetrahedra=")" + test::elements_text(tets) + R"("/>
   <TetrahedronSetTopologyModifier/>
   <MechanicalObject name="dofs"/>
-  )" + components + "\n</Node></Node>\n";
+  )" + components +
+           "\n</Node></Node>\n";
 }
 
 Vec3Object& msm_state(scene::Scene& s, std::size_t k = 0) { return *dynamic_cast<Vec3Object*>(s.states().at(k).state); }
@@ -71,7 +73,8 @@ TEST(MassSpringMappingFollowers, MeshMatrixMassEqualsTheMassBuiltOnTheRemainingM
         const auto by_edge = [](const MeshTopology& m, const std::vector<double>& values) {
             std::map<std::pair<PointId, PointId>, double> out;
             for (std::size_t e = 0; e < values.size(); ++e)
-                out[{std::min(m.edges()[e][0], m.edges()[e][1]), std::max(m.edges()[e][0], m.edges()[e][1])}] = values[e];
+                out[{std::min(m.edges()[e][0], m.edges()[e][1]), std::max(m.edges()[e][0], m.edges()[e][1])}] =
+                    values[e];
             return out;
         };
         const auto ea = by_edge(mesh, a->edge_masses());
@@ -157,11 +160,12 @@ TEST(MassSpringMappingFollowers, BarycentricMappingMapsItsPointsAgainOntoTheRema
         skin.push_back(c);
     }
     skin.push_back(Vec3(0.25, 0.1, 0.1));
-    auto s = test::build(msm_body(cube.points, cube.tetrahedra, R"(<DiagonalMass massDensity="1000"/>
+    auto s = test::build(msm_body(cube.points, cube.tetrahedra,
+                                  R"(<DiagonalMass massDensity="1000"/>
   <TetrahedronFEMForceField youngModulus="5000" poissonRatio="0.3"/>
   <FixedProjectiveConstraint indices="0 1 2"/>
-  <Node name="skin"><MechanicalObject name="skinDofs" position=")" + test::points_text(skin) +
-                                                                  R"("/><BarycentricMapping name="attach"/></Node>)"));
+  <Node name="skin"><MechanicalObject name="skinDofs" position=")" +
+                                      test::points_text(skin) + R"("/><BarycentricMapping name="attach"/></Node>)"));
     for (int k = 0; k < 5; ++k) s->step();
     auto* mapping = msm_find<BarycentricMapping>(s->simulation().root());
     ASSERT_NE(mapping, nullptr);
@@ -178,8 +182,10 @@ TEST(MassSpringMappingFollowers, BarycentricMappingMapsItsPointsAgainOntoTheRema
     for (std::size_t i = 0; i < fresh.weights().size(); ++i) {
         ASSERT_EQ(mapping->weights()[i].count, fresh.weights()[i].count) << i;
         for (int k = 0; k < fresh.weights()[i].count; ++k) {
-            EXPECT_EQ(mapping->weights()[i].entries[std::size_t(k)].index, fresh.weights()[i].entries[std::size_t(k)].index);
-            EXPECT_EQ(mapping->weights()[i].entries[std::size_t(k)].weight, fresh.weights()[i].entries[std::size_t(k)].weight);
+            EXPECT_EQ(mapping->weights()[i].entries[std::size_t(k)].index,
+                      fresh.weights()[i].entries[std::size_t(k)].index);
+            EXPECT_EQ(mapping->weights()[i].entries[std::size_t(k)].weight,
+                      fresh.weights()[i].entries[std::size_t(k)].weight);
         }
     }
     // an affine map of the points it was made from: the mapped positions stay where they were
@@ -235,7 +241,8 @@ TEST(MassSpringMappingFollowers, RemovingTheLastTetrahedraUnderABarycentricMappi
     }
     // a change file: the second removal of the step takes the last ones (file and line named)
     const std::string file = msm_change_file("last.txt", "T= 0.01\n  REMOVE= 2\n4 3\n  REMOVE= 3\n0 1 2\n");
-    const std::string dataInputs = R"(<TopologicalChangeProcessor useDataInputs="1" timeToRemove="0.005" tetrahedraToRemove="0 1 2 3 4"/>)";
+    const std::string dataInputs =
+        R"(<TopologicalChangeProcessor useDataInputs="1" timeToRemove="0.005" tetrahedraToRemove="0 1 2 3 4"/>)";
     for (const std::string& changer : {R"(<TopologicalChangeProcessor filename=")" + file + R"("/>)", dataInputs}) {
         auto s = test::build(msm_mapped_cube(changer));
         s->step();
@@ -244,7 +251,8 @@ TEST(MassSpringMappingFollowers, RemovingTheLastTetrahedraUnderABarycentricMappi
             ADD_FAILURE() << "no error";
         } catch (const io::SceneError& e) {
             EXPECT_THAT(e.what(), ::testing::HasSubstr(why));
-            EXPECT_THAT(e.what(), ::testing::HasSubstr(changer == dataInputs ? "TopologicalChangeProcessor: " : "last.txt:5: "));
+            EXPECT_THAT(e.what(),
+                        ::testing::HasSubstr(changer == dataInputs ? "TopologicalChangeProcessor: " : "last.txt:5: "));
         }
         EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 5u);
     }
@@ -257,7 +265,10 @@ TEST(MassSpringMappingFollowers, RemovingTheLastTetrahedraUnderABarycentricMappi
         s->step();
         ADD_FAILURE() << "no error";
     } catch (const io::SceneError& e) {
-        EXPECT_THAT(e.what(), ::testing::HasSubstr("TopologicalChangeProcessor 'cuts': tetrahedra 4 does not exist (the topology '/body/volume' has 4)"));
+        EXPECT_THAT(
+            e.what(),
+            ::testing::HasSubstr(
+                "TopologicalChangeProcessor 'cuts': tetrahedra 4 does not exist (the topology '/body/volume' has 4)"));
     }
     EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 5u);
 }
@@ -288,8 +299,9 @@ TEST(MassSpringMappingFollowers, CarvingTheLastTetrahedronUnderABarycentricMappi
         s->step();
         ADD_FAILURE() << "no error";
     } catch (const io::SceneError& e) {
-        EXPECT_THAT(e.what(), ::testing::HasSubstr("CarvingManager 'carver': topology '/body/volume': the removal leaves no "
-                                                   "tetrahedra, and BarycentricMapping 'attach'"));
+        EXPECT_THAT(e.what(),
+                    ::testing::HasSubstr("CarvingManager 'carver': topology '/body/volume': the removal leaves no "
+                                         "tetrahedra, and BarycentricMapping 'attach'"));
     }
     EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 1u);
 }
@@ -300,8 +312,9 @@ TEST(MassSpringMappingFollowers, SetContainersMapOutsidePointsAsSofasHashGrid) {
     // force on A's vertex 1. SOFA HEAD after one step (SofaPython3, the same scene): through a
     // TetrahedronSetTopologyContainer the point follows B (it does not move), through a
     // MeshTopology it follows A; both to the bit.
-    const std::map<std::string, Vec3> sofa{{"TetrahedronSetTopologyContainer", Vec3(0.019999999999999962, 0.5, 0.45)},
-                                           {"MeshTopology", Vec3(0.0199999999999999, 0.5566101694915254, 0.44999999999999996)}};
+    const std::map<std::string, Vec3> sofa{
+        {"TetrahedronSetTopologyContainer", Vec3(0.019999999999999962, 0.5, 0.45)},
+        {"MeshTopology", Vec3(0.0199999999999999, 0.5566101694915254, 0.44999999999999996)}};
     for (const auto& [container, expected] : sofa) {
         auto s = test::build(R"(<Node name="root" gravity="0 0 0" dt="0.01"><Node name="body">
   <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>

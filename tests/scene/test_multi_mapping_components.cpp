@@ -41,8 +41,9 @@ const std::string kSubsetScene = R"(<Node name="root" dt="0.01" gravity="0 0 0">
 </Node>)";
 
 TEST(MultiMappingComponents, SubsetMultiMappingPicksPointsAndCarriesTheirForces) {
-    auto s = build(multi_replaced(kSubsetScene, "<MAPPING/>",
-                            R"(<SubsetMultiMapping input="@../../a @../b" output="@c" indexPairs="0 1  1 0  1 1"/>)"));
+    auto s =
+        build(multi_replaced(kSubsetScene, "<MAPPING/>",
+                             R"(<SubsetMultiMapping input="@../../a @../b" output="@c" indexPairs="0 1  1 0  1 1"/>)"));
     const Node& a = multi_child(s->simulation().root(), 0);
     const Node& b = multi_child(a, 0);
     const auto& c = dynamic_cast<const Vec3Object&>(*multi_child(b, 0).state());
@@ -59,7 +60,8 @@ TEST(MultiMappingComponents, SubsetMultiMappingPicksPointsAndCarriesTheirForces)
 }
 
 TEST(MultiMappingComponents, IdentityMultiMappingConcatenates) {
-    auto s = build(multi_replaced(kSubsetScene, "<MAPPING/>", R"(<IdentityMultiMapping input="@../../a @../b" output="@c"/>)"));
+    auto s = build(
+        multi_replaced(kSubsetScene, "<MAPPING/>", R"(<IdentityMultiMapping input="@../../a @../b" output="@c"/>)"));
     const auto& c = dynamic_cast<const Vec3Object&>(
         *multi_child(multi_child(multi_child(s->simulation().root(), 0), 0), 0).state());
     ASSERT_EQ(c.position.size(), 4u);
@@ -69,8 +71,10 @@ TEST(MultiMappingComponents, IdentityMultiMappingConcatenates) {
 
 TEST(MultiMappingComponents, BadMultiMappingAttributesAreNamed) {
     const auto with_mapping = [](const std::string& m) { return multi_replaced(kSubsetScene, "<MAPPING/>", m); };
-    EXPECT_THAT(error_of(with_mapping(R"(<SubsetMultiMapping input="@../../a @../b" indexPairs="0 1 1"/>)")),
-                HasSubstr("test.scn:6: SubsetMultiMapping: attribute 'indexPairs': expected pairs (input, index), found 3 numbers"));
+    EXPECT_THAT(
+        error_of(with_mapping(R"(<SubsetMultiMapping input="@../../a @../b" indexPairs="0 1 1"/>)")),
+        HasSubstr(
+            "test.scn:6: SubsetMultiMapping: attribute 'indexPairs': expected pairs (input, index), found 3 numbers"));
     EXPECT_THAT(error_of(with_mapping(R"(<SubsetMultiMapping input="@../../a @../b" indexPairs="2 0"/>)")),
                 HasSubstr("SubsetMultiMapping: attribute 'indexPairs': pair 0 names input 2, and there are 2 inputs"));
     EXPECT_THAT(error_of(with_mapping(R"(<SubsetMultiMapping input="@../../a @../b" indexPairs="1 7"/>)")),
@@ -92,8 +96,9 @@ const std::string kCenterOfMassScene = R"(<Node name="root" dt="0.01" gravity="0
 </Node>)";
 
 TEST(MultiMappingComponents, CenterOfMassOfRigidFramesWeighedByTheirDiagonalMass) {
-    auto s = build(multi_replaced(kCenterOfMassScene, "MASS",
-                            R"(<DiagonalMass template="Rigid3" vertexMass="1 1 [1 0 0,0 1 0,0 0 1]  2 1 [1 0 0,0 1 0,0 0 1]  3 1 [1 0 0,0 1 0,0 0 1]"/>)"));
+    auto s = build(multi_replaced(
+        kCenterOfMassScene, "MASS",
+        R"(<DiagonalMass template="Rigid3" vertexMass="1 1 [1 0 0,0 1 0,0 0 1]  2 1 [1 0 0,0 1 0,0 0 1]  3 1 [1 0 0,0 1 0,0 0 1]"/>)"));
     const Node& frames = multi_child(s->simulation().root(), 0);
     const auto& centre = dynamic_cast<const Vec3Object&>(*multi_child(frames, 0).state());
     ASSERT_EQ(centre.position.size(), 1u);
@@ -101,13 +106,16 @@ TEST(MultiMappingComponents, CenterOfMassOfRigidFramesWeighedByTheirDiagonalMass
     s->step();
     // free fall: every frame moves by the same amount, so does the centre
     const auto& f = dynamic_cast<const Rigid3Object&>(*frames.state());
-    EXPECT_NEAR(centre.position[0].y(), (f.position[0].center.y() + 2 * f.position[1].center.y() + 3 * f.position[2].center.y()) / 6.0,
-                1e-14);
+    EXPECT_NEAR(centre.position[0].y(),
+                (f.position[0].center.y() + 2 * f.position[1].center.y() + 3 * f.position[2].center.y()) / 6.0, 1e-14);
     EXPECT_LT(centre.position[0].y(), 3.0);
     EXPECT_THAT(error_of(multi_replaced(kCenterOfMassScene, "MASS", "")),
                 HasSubstr("test.scn:5: CenterOfMassMapping: attribute 'input': the input's node has no mass"));
-    EXPECT_THAT(error_of(multi_replaced(kCenterOfMassScene, "MASS", R"(<DiagonalMass template="Rigid3" vertexMass="1 1 [1 0 0]"/>)")),
-                HasSubstr("test.scn:4: DiagonalMass: attribute 'vertexMass': a Rigid3d DiagonalMass takes 11 numbers per frame"));
+    EXPECT_THAT(
+        error_of(multi_replaced(kCenterOfMassScene, "MASS",
+                                R"(<DiagonalMass template="Rigid3" vertexMass="1 1 [1 0 0]"/>)")),
+        HasSubstr(
+            "test.scn:4: DiagonalMass: attribute 'vertexMass': a Rigid3d DiagonalMass takes 11 numbers per frame"));
 }
 
 TEST(MultiMappingComponents, MeshTopologyTakesTheInitialisedPointsOfAMechanicalObject) {
@@ -125,10 +133,12 @@ TEST(MultiMappingComponents, MeshTopologyTakesTheInitialisedPointsOfAMechanicalO
     // replaces the translation by (dx, dy, dz): (0, 0, 0) here
     const auto& f = dynamic_cast<const Rigid3Object&>(*multi_child(s->simulation().root(), 0).state());
     EXPECT_EQ(f.position[0].center, Vec3(1, 0, 0));
-    EXPECT_THAT(::testing::PrintToString(s->warnings()), HasSubstr("test.scn:3: MechanicalObject 'frames': dx '0 0 0 0 0 0' is not one number: 0 used"));
+    EXPECT_THAT(::testing::PrintToString(s->warnings()),
+                HasSubstr("test.scn:3: MechanicalObject 'frames': dx '0 0 0 0 0 0' is not one number: 0 used"));
     auto translated = build(multi_replaced(xml, R"( dx="0 0 0 0 0 0")", ""));
-    EXPECT_EQ(dynamic_cast<const Rigid3Object&>(*multi_child(translated->simulation().root(), 0).state()).position[1].center,
-              Vec3(0, 1, 5));
+    EXPECT_EQ(
+        dynamic_cast<const Rigid3Object&>(*multi_child(translated->simulation().root(), 0).state()).position[1].center,
+        Vec3(0, 1, 5));
 }
 
 TEST(MultiMappingComponents, MappingsThatOnlyFeedDrawingAreAccepted) {
@@ -153,9 +163,11 @@ TEST(MultiMappingComponents, MappingsThatOnlyFeedDrawingAreAccepted) {
     EXPECT_EQ(multi_child(beam, 0).mapping(), nullptr);
     EXPECT_EQ(multi_child(beam, 1).mapping(), nullptr);
     // onto a MechanicalObject they are refused, naming the attribute
-    const std::string mechanical = multi_replaced(multi_replaced(xml, R"(<OglModel name="surface"/>)", R"(<MechanicalObject name="surface"/>)"),
-                                            R"(<TubularMapping nbPointsOnEachCircle="8" radius="1" input="@../frames" output="@surface"/>)", "");
-    EXPECT_THAT(error_of(mechanical), HasSubstr("test.scn:10: Edge2QuadTopologicalMapping: attribute 'output': feeds node '/Beam/Tube', which has a MechanicalObject"));
+    const std::string mechanical = multi_replaced(
+        multi_replaced(xml, R"(<OglModel name="surface"/>)", R"(<MechanicalObject name="surface"/>)"),
+        R"(<TubularMapping nbPointsOnEachCircle="8" radius="1" input="@../frames" output="@surface"/>)", "");
+    EXPECT_THAT(error_of(mechanical), HasSubstr("test.scn:10: Edge2QuadTopologicalMapping: attribute 'output': feeds "
+                                                "node '/Beam/Tube', which has a MechanicalObject"));
 }
 
 TEST(MultiMappingComponents, SimpleTesselatedTetraCutsATetrahedronInEight) {
@@ -182,7 +194,10 @@ TEST(MultiMappingComponents, SimpleTesselatedTetraCutsATetrahedronInEight) {
     double total = 0;
     for (const Tetrahedron& e : t->tetrahedra()) {
         const Vec3& p0 = x.position[std::size_t(e[0])];
-        const double v = (x.position[std::size_t(e[1])] - p0).cross(x.position[std::size_t(e[2])] - p0).dot(x.position[std::size_t(e[3])] - p0) / 6;
+        const double v = (x.position[std::size_t(e[1])] - p0)
+                             .cross(x.position[std::size_t(e[2])] - p0)
+                             .dot(x.position[std::size_t(e[3])] - p0) /
+                         6;
         EXPECT_NEAR(std::abs(v), 8.0 / 6.0 / 8.0, 1e-15);
         total += std::abs(v);
     }
@@ -191,10 +206,12 @@ TEST(MultiMappingComponents, SimpleTesselatedTetraCutsATetrahedronInEight) {
     int middles = 0;
     for (std::size_t i = 4; i < 10; ++i)
         for (std::size_t p = 0; p < 4; ++p)
-            for (std::size_t q = p + 1; q < 4; ++q) middles += x.position[i] == (x.position[p] + x.position[q]) / 2 ? 1 : 0;
+            for (std::size_t q = p + 1; q < 4; ++q)
+                middles += x.position[i] == (x.position[p] + x.position[q]) / 2 ? 1 : 0;
     EXPECT_EQ(middles, 6);
-    EXPECT_THAT(error_of(multi_replaced(xml, R"(input="@../coarse")", R"(input="@../dofs")")),
-                HasSubstr("test.scn:7: SimpleTesselatedTetraTopologicalMapping: attribute 'input': must link to a topology"));
+    EXPECT_THAT(
+        error_of(multi_replaced(xml, R"(input="@../coarse")", R"(input="@../dofs")")),
+        HasSubstr("test.scn:7: SimpleTesselatedTetraTopologicalMapping: attribute 'input': must link to a topology"));
 }
 
 }  // namespace

@@ -41,7 +41,8 @@ std::string cloth_scene(const std::string& cloth_extra, const std::string& surfa
     <CGLinearSolver iterations="50" tolerance="1e-12" threshold="1e-12"/>
     <MechanicalObject name="dofs" position="0 0.3 0  0.5 0.3 0  1 0.3 0  0 0.3 0.5  0.5 0.3 0.5  1 0.3 0.5  0 0.3 1  0.5 0.3 1  1 0.3 1"/>
     <UniformMass totalMass="0.9"/>
-)" + cloth_extra + surface +
+)" + cloth_extra +
+           surface +
            R"(  </Node>
 </Node>
 )";
@@ -59,11 +60,13 @@ std::vector<Vec3> cloth_after(scene::Scene& s, int steps) {
 
 TEST(NodeContextLookup, CollisionModelsInAChildNodeActOnTheParentsState) {
     // The FEM sits in the child node in both scenes; the collision models move.
-    const std::string models = "<TriangleCollisionModel contactStiffness=\"10\"/><PointCollisionModel contactStiffness=\"10\"/>";
+    const std::string models =
+        "<TriangleCollisionModel contactStiffness=\"10\"/><PointCollisionModel contactStiffness=\"10\"/>";
     const std::string fem = "<TriangleSetTopologyContainer " + kTriangles +
                             "/><TriangularFEMForceField youngModulus=\"300\" poissonRatio=\"0.3\"/>";
     auto a = build(cloth_scene("", "<Node name=\"surface\">" + fem + models + "</Node>\n"));
-    auto b = build(cloth_scene("<MeshTopology " + kTriangles + "/>" + models + "\n", "<Node name=\"surface\">" + fem + "</Node>\n"));
+    auto b = build(cloth_scene("<MeshTopology " + kTriangles + "/>" + models + "\n",
+                               "<Node name=\"surface\">" + fem + "</Node>\n"));
     ASSERT_EQ(a->collision_models().size(), 3u);
     // The models of the child node read the cloth's state: the node they record is the cloth's.
     EXPECT_EQ(a->collision_models()[1].node->name(), "cloth");
@@ -82,10 +85,11 @@ TEST(NodeContextLookup, CollisionModelsInAChildNodeActOnTheParentsState) {
 
 TEST(NodeContextLookup, TopologyComesFromTheNearestAncestor) {
     // The FEM in the child node has no topology of its own: it takes the cloth's.
-    const std::string in_child = cloth_scene("    <MeshTopology " + kTriangles + "/>\n",
-                                             "    <Node name=\"fem\">\n      <TriangularFEMForceField youngModulus=\"300\"/>\n    </Node>\n");
-    const std::string in_parent =
-        cloth_scene("    <MeshTopology " + kTriangles + "/>\n    <TriangularFEMForceField youngModulus=\"300\"/>\n", "");
+    const std::string in_child =
+        cloth_scene("    <MeshTopology " + kTriangles + "/>\n",
+                    "    <Node name=\"fem\">\n      <TriangularFEMForceField youngModulus=\"300\"/>\n    </Node>\n");
+    const std::string in_parent = cloth_scene(
+        "    <MeshTopology " + kTriangles + "/>\n    <TriangularFEMForceField youngModulus=\"300\"/>\n", "");
     auto a = build(in_child);
     auto b = build(in_parent);
     const std::vector<Vec3> xa = cloth_after(*a, 10);
@@ -104,7 +108,6 @@ TEST(NodeContextLookup, NoStateAnywhereUpIsAnErrorNamingTheComponent) {
         EXPECT_THAT(e.what(), HasSubstr("needs a MechanicalObject in its node or an ancestor node"));
     }
 }
-
 
 TEST(NodeContextLookup, TheLastTopologyOfANodeIsTheNodesTopology) {
     // The first topology has one triangle, the second (last) two: the FEM and the collision

@@ -60,16 +60,18 @@ TEST(PressureComponents, TrianglePressureOnTheBoxTrianglesPushesTheirCornersByPr
 TEST(PressureComponents, BoxRoiElementsFollowStrictOrTheCentre) {
     // strict = 0: a triangle is in when its centre is: triangle 3 (1,5,4) has x̄ = 4/3 > 1.1, out;
     // with the box up to x = 1.4 it is in (centre), but not strictly (point 5 at x = 2)
-    auto centre = build(replaced(replaced(kPlate, "LOAD",
-                                          R"(<TrianglePressureForceField triangleList="@box.triangleIndices" pressure="0 0 6"/>)"),
-                                 R"(box="-0.1 -0.1 -0.1 1.1 1.1 0.1")", R"(box="-0.1 -0.1 -0.1 1.4 1.1 0.1" strict="0")"));
+    auto centre = build(
+        replaced(replaced(kPlate, "LOAD",
+                          R"(<TrianglePressureForceField triangleList="@box.triangleIndices" pressure="0 0 6"/>)"),
+                 R"(box="-0.1 -0.1 -0.1 1.1 1.1 0.1")", R"(box="-0.1 -0.1 -0.1 1.4 1.1 0.1" strict="0")"));
     centre->step();
     // triangles 0, 1, 3: point 5 is a corner of triangle 3 only
     EXPECT_NEAR(state_of(*centre).velocity[5].z(), 0.1 * 1.0 / 0.5, 1e-12);
     EXPECT_NEAR(state_of(*centre).velocity[2].z(), 0.0, 1e-15);
-    auto strict = build(replaced(replaced(kPlate, "LOAD",
-                                          R"(<TrianglePressureForceField triangleList="@box.triangleIndices" pressure="0 0 6"/>)"),
-                                 R"(box="-0.1 -0.1 -0.1 1.1 1.1 0.1")", R"(box="-0.1 -0.1 -0.1 1.4 1.1 0.1")"));
+    auto strict = build(
+        replaced(replaced(kPlate, "LOAD",
+                          R"(<TrianglePressureForceField triangleList="@box.triangleIndices" pressure="0 0 6"/>)"),
+                 R"(box="-0.1 -0.1 -0.1 1.1 1.1 0.1")", R"(box="-0.1 -0.1 -0.1 1.4 1.1 0.1")"));
     strict->step();
     EXPECT_EQ(state_of(*strict).velocity[5].z(), 0.0);
 }
@@ -89,12 +91,13 @@ TEST(PressureComponents, TrianglePressureInAChildNodeActsOnTheParentsState) {
 
 TEST(PressureComponents, UnknownTriangleIndicesAttributeLoadsNothingAsSofa) {
     // SOFA's TrianglePressureForceField has no `triangleIndices`: its list stays empty
-    auto s = build(replaced(kPlate, "LOAD",
-                            R"(<TrianglePressureForceField triangleIndices="@box.triangleIndices" pressure="0 0 6"/>)"));
+    auto s = build(replaced(
+        kPlate, "LOAD", R"(<TrianglePressureForceField triangleIndices="@box.triangleIndices" pressure="0 0 6"/>)"));
     s->step();
     for (const Vec3& v : state_of(*s).velocity) EXPECT_EQ(v, Vec3::Zero());
-    EXPECT_THAT(error_of(replaced(kPlate, "LOAD", R"(<TrianglePressureForceField triangleList="7" pressure="0 0 6"/>)")),
-                HasSubstr("triangle index 7"));
+    EXPECT_THAT(
+        error_of(replaced(kPlate, "LOAD", R"(<TrianglePressureForceField triangleList="7" pressure="0 0 6"/>)")),
+        HasSubstr("triangle index 7"));
 }
 
 TEST(PressureComponents, EdgePressureOnTheEdgesOfALinkedList) {
@@ -116,8 +119,8 @@ TEST(PressureComponents, EdgePressureOnTheEdgesOfALinkedList) {
 
 TEST(PressureComponents, EdgePressureSelectsTheEdgesBetweenTwoPlanes) {
     // dmin < y < dmax: the edges with both ends at y = 1 (points 3, 4, 5): (4,3) and (5,4)
-    auto s = build(replaced(kPlate, "LOAD",
-                            R"(<EdgePressureForceField pressure="0 0 1" normal="0 1 0" dmin="0.5" dmax="1.5"/>)"));
+    auto s = build(
+        replaced(kPlate, "LOAD", R"(<EdgePressureForceField pressure="0 0 1" normal="0 1 0" dmin="0.5" dmax="1.5"/>)"));
     s->step();
     const Vec3Object& x = state_of(*s);
     EXPECT_NEAR(x.velocity[3].z(), 0.1 * 0.5 / 0.5, 1e-12);
@@ -128,9 +131,10 @@ TEST(PressureComponents, EdgePressureSelectsTheEdgesBetweenTwoPlanes) {
 
 // The plate as two unit quads (0 1 4 3) and (1 2 5 4).
 std::string quad_plate(const std::string& load) {
-    return replaced(replaced(kPlate, R"(<TriangleSetTopologyContainer name="surface" triangles="0 1 4  0 4 3  1 2 5  1 5 4"/>)",
-                             R"(<QuadSetTopologyContainer name="surface" quads="0 1 4 3  1 2 5 4"/>)"),
-                    "LOAD", load);
+    return replaced(
+        replaced(kPlate, R"(<TriangleSetTopologyContainer name="surface" triangles="0 1 4  0 4 3  1 2 5  1 5 4"/>)",
+                 R"(<QuadSetTopologyContainer name="surface" quads="0 1 4 3  1 2 5 4"/>)"),
+        "LOAD", load);
 }
 
 TEST(PressureComponents, QuadPressureOnAListedQuadPushesItsCornersByAQuarterOfPressureTimesArea) {
@@ -144,7 +148,8 @@ TEST(PressureComponents, QuadPressureOnAListedQuadPushesItsCornersByAQuarterOfPr
 
 TEST(PressureComponents, QuadPressureSelectsBetweenPlanesAndReadsTheFirstPointsOfLinkedQuads) {
     // dmin < x < dmax: points 1, 2, 4, 5 (x in 1..2): quad 1
-    auto planes = build(quad_plate(R"(<QuadPressureForceField pressure="0 0 8" normal="1 0 0" dmin="0.5" dmax="2.5"/>)"));
+    auto planes =
+        build(quad_plate(R"(<QuadPressureForceField pressure="0 0 8" normal="1 0 0" dmin="0.5" dmax="2.5"/>)"));
     planes->step();
     EXPECT_NEAR(state_of(*planes).velocity[2].z(), 0.1 * 2 / 0.5, 1e-12);
     EXPECT_EQ(state_of(*planes).velocity[0].z(), 0.0);
@@ -154,7 +159,8 @@ TEST(PressureComponents, QuadPressureSelectsBetweenPlanesAndReadsTheFirstPointsO
     const std::string swapped = R"(<QuadSetTopologyContainer name="surface" quads="1 2 5 4  0 1 4 3"/>)";
     const auto left_box = [&](const std::string& data) {
         return replaced(quad_plate(R"(<BoxROI name="left" box="-0.1 -0.1 -0.1 1.1 1.1 0.1"/>
-            <QuadPressureForceField quadList="@left.)" + data + R"(" pressure="0 0 8"/>)"),
+            <QuadPressureForceField quadList="@left.)" +
+                                   data + R"(" pressure="0 0 8"/>)"),
                         R"(<QuadSetTopologyContainer name="surface" quads="0 1 4 3  1 2 5 4"/>)", swapped);
     };
     for (const char* data : {"quadInROI", "quadsInROI"}) {

@@ -52,7 +52,9 @@ struct ManifestRun {
     std::int64_t every = 1;
 };
 
-void PrintTo(const ManifestRun& r, std::ostream* os) { *os << r.scene << " (" << r.steps << " steps, every " << r.every << ")"; }
+void PrintTo(const ManifestRun& r, std::ostream* os) {
+    *os << r.scene << " (" << r.steps << " steps, every " << r.every << ")";
+}
 
 std::vector<ManifestRun> read_manifest() {
     std::ifstream in(kExpected / "manifest.txt");
@@ -74,7 +76,8 @@ const std::map<std::string, std::set<std::string>>& expected_pairs() {
          {"Sphere-Sphere", "Sphere-RigidSphere", "RigidSphere-RigidSphere", "Sphere-Point", "RigidSphere-Point",
           "Point-Point"}},
         {"line_pairs", {"Line-Point", "Line-Line", "Line-Sphere", "Line-RigidSphere"}},
-        {"triangle_pairs", {"Triangle-Sphere", "Triangle-RigidSphere", "Triangle-Point", "Triangle-Line", "Triangle-Triangle"}},
+        {"triangle_pairs",
+         {"Triangle-Sphere", "Triangle-RigidSphere", "Triangle-Point", "Triangle-Line", "Triangle-Triangle"}},
         {"cylinders", {"Cylinder-Cylinder", "Cylinder-Triangle", "Cylinder-Sphere", "Cylinder-RigidSphere"}},
         {"tetra_point", {"Tetrahedron-Point"}},
         {"friction_incline", {"Triangle-Point"}},
@@ -111,9 +114,9 @@ void record_pairs(const penalty::scene::Scene& scene, PairCounts& counts) {
 }
 
 fs::path fresh_temp_dir(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() /
-                       ("penalty_project_scenes_" + name + "_" +
-                        std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+    const fs::path d =
+        fs::temp_directory_path() / ("penalty_project_scenes_" + name + "_" +
+                                     std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
     fs::remove_all(d);
     fs::create_directories(d);
     return d;
@@ -155,7 +158,8 @@ TEST_P(ProjectScene, MatchesExpectedStatesAndExercisesItsPairs) {
     options.states_directory = out;
     PairCounts counts;
     const auto summary = penalty::scene::run_scene(
-        *scene, options, [&](std::int64_t, std::int64_t, const penalty::scene::RunSummary&) { record_pairs(*scene, counts); });
+        *scene, options,
+        [&](std::int64_t, std::int64_t, const penalty::scene::RunSummary&) { record_pairs(*scene, counts); });
     EXPECT_EQ(summary.steps, run.steps);
     EXPECT_GT(summary.max_contacts, 0U);
 
@@ -199,7 +203,9 @@ std::vector<ManifestRun> manifest_or_placeholder() {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, ProjectScene, ::testing::ValuesIn(manifest_or_placeholder()),
-                         [](const ::testing::TestParamInfo<ManifestRun>& param_info) { return param_info.param.scene; });
+                         [](const ::testing::TestParamInfo<ManifestRun>& param_info) {
+                             return param_info.param.scene;
+                         });
 
 TEST(ProjectScenes, ManifestListsEveryScene) {
     std::set<std::string> listed;
@@ -309,7 +315,8 @@ double restitution_with_gravity(double m, double ks, double c, double g, double 
     const double A = -d, B = (v0 + z * w * A) / wd;  // p(0) = 0, p'(0) = −zωA + ω_d B = v0
     auto p = [&](double t) { return d + std::exp(-z * w * t) * (A * std::cos(wd * t) + B * std::sin(wd * t)); };
     auto pd = [&](double t) {
-        return std::exp(-z * w * t) * ((-z * w * A + wd * B) * std::cos(wd * t) + (-z * w * B - wd * A) * std::sin(wd * t));
+        return std::exp(-z * w * t) *
+               ((-z * w * A + wd * B) * std::cos(wd * t) + (-z * w * B - wd * A) * std::sin(wd * t));
     };
     double lo = 0.5 * std::numbers::pi / wd, hi = 1.5 * std::numbers::pi / wd;  // p > 0 at lo, < 0 at hi
     for (int i = 0; i < 200; ++i) {

@@ -54,17 +54,22 @@ SphereText sphere_at(double cx, double cy, double cz) {
 std::string scene_with(const std::string& narrow_phase) {
     const SphereText ground = sphere_at(0, 0, 0), body = sphere_at(0.1, 0.05, 1.7);
     return R"(<Node name="root" dt="0.01" gravity="0 0 0">
-  <CollisionPipeline/><BruteForceBroadPhase/><)" + narrow_phase + R"(/>
+  <CollisionPipeline/><BruteForceBroadPhase/><)" +
+           narrow_phase + R"(/>
   <NewProximityIntersection alarmDistance="0.5" contactDistance="0.1"/>
   <CollisionResponse response="PenalityContactForceField"/>
   <Node name="Ground">
-    <MeshTopology triangles=")" + ground.triangles + R"("/>
-    <MechanicalObject position=")" + ground.positions + R"("/>
+    <MeshTopology triangles=")" +
+           ground.triangles + R"("/>
+    <MechanicalObject position=")" +
+           ground.positions + R"("/>
     <TriangleOctreeCollisionModel simulated="0" moving="0"/>
   </Node>
   <Node name="Body"><EulerImplicitSolver/><CGLinearSolver iterations="50" tolerance="1e-12" threshold="1e-20"/>
-    <MeshTopology triangles=")" + body.triangles + R"("/>
-    <MechanicalObject name="body" position=")" + body.positions + R"("/>
+    <MeshTopology triangles=")" +
+           body.triangles + R"("/>
+    <MechanicalObject name="body" position=")" +
+           body.positions + R"("/>
     <UniformMass totalMass="1"/>
     <TriangleOctreeCollisionModel contactStiffness="100"/>
   </Node>
@@ -82,7 +87,7 @@ TEST(RayTraceScene, OverlappingSpheresArePushedApart) {
     for (int k = 0; k < 20; ++k) s->step();
     double z = 0.0;
     for (const Vec3& p : body.position) z += p.z() / double(body.position.size());
-    EXPECT_GT(z, 1.7 + 1e-3);  // pushed up, no gravity
+    EXPECT_GT(z, 1.7 + 1e-3);                  // pushed up, no gravity
     EXPECT_GT(body.velocity.back().z(), 0.0);  // the south pole moves up
 }
 

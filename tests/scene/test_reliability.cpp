@@ -104,7 +104,8 @@ TEST(Threads, AContactPipelineRefusesMoreThanItsMaximum) {
 // (5, 0, 0). Implicit Euler is exact on uniform acceleration: y_n = −g·h²·n(n+1)/2 after n steps
 // (g = 10 m/s², h = 0.1 s: y_n = −0.05·n(n+1) m).
 const std::string kFreeFall = [] {
-    std::ifstream in(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "scene" / "data" / "free_fall_beside_a_marker.scn");
+    std::ifstream in(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "scene" / "data" /
+                     "free_fall_beside_a_marker.scn");
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
@@ -180,7 +181,8 @@ TEST(Divergence, AStateThatIsNotFiniteIsNamedWithItsDof) {
         scene::RunOptions run;
         run.steps = 3;
         const std::string message = run_error<output::NonFiniteValueError>(*s, run);
-        EXPECT_THAT(message, HasSubstr("simulation diverged at step 0 (t = 0.1 s): state '/Marker/m' DOF 3 is not finite"));
+        EXPECT_THAT(message,
+                    HasSubstr("simulation diverged at step 0 (t = 0.1 s): state '/Marker/m' DOF 3 is not finite"));
     }
 }
 
@@ -258,7 +260,8 @@ TEST(Divergence, AHugeTimeStepThatDropsABodyThroughTheFloorIsCaught) {
     }());
     scene::RunOptions run;
     run.steps = 3;
-    EXPECT_THAT(run_error<output::NonFiniteValueError>(*s, run), HasSubstr("simulation diverged at step 0 (t = 1000 s)"));
+    EXPECT_THAT(run_error<output::NonFiniteValueError>(*s, run),
+                HasSubstr("simulation diverged at step 0 (t = 1000 s)"));
 }
 
 TEST(Divergence, EnergyCreatedFromNothingIsCaught) {
@@ -297,7 +300,8 @@ TEST(NonFiniteSolve, AnOverflowAtTheFirstStepIsInvalidInputNamingTheComponentAnd
   </Node>
 </Node>)");
     const std::string message = run_error<io::LoadError>(*s, scene::RunOptions{});
-    EXPECT_THAT(message, HasSubstr("test.scn:6: UniformMass 'mass': CGLinearSolver: the right-hand side is not finite"));
+    EXPECT_THAT(message,
+                HasSubstr("test.scn:6: UniformMass 'mass': CGLinearSolver: the right-hand side is not finite"));
     EXPECT_THAT(message, HasSubstr("the largest force (1e+200 N) is the gravity force m·g on state 'p'"));
     EXPECT_THAT(message, HasSubstr("attribute 'totalMass' = 1e100, node / attribute 'gravity' = 0 -1e100 0"));
 }
@@ -353,8 +357,9 @@ TEST(DegenerateTriangles, ACollisionModelWithZeroAreaTrianglesIsReported) {
 </Node>)");
     bool found = false;
     for (const std::string& w : s->warnings())
-        found = found || w == "test.scn:5: TriangleCollisionModel 'floor': 2 of 3 triangles have zero area (first: triangle 1); "
-                              "they make no reliable contact";
+        found = found ||
+                w == "test.scn:5: TriangleCollisionModel 'floor': 2 of 3 triangles have zero area (first: triangle 1); "
+                     "they make no reliable contact";
     EXPECT_TRUE(found);
 }
 
@@ -373,7 +378,8 @@ TEST(Numbers, AMagnitudeAbove1e100IsRefusedWhereItIsWritten) {
     EXPECT_EQ(build_error(R"(<Node name="root" dt="1e300"><MechanicalObject position="0 0 0"/></Node>)"),
               "test.scn:1: Node 'root': attribute 'dt': '1e300': magnitude above 1e100 (penalty's limit for any "
               "number in a scene or mesh file)");
-    EXPECT_EQ(build_error(R"(<Node name="root" dt="1e100"><MechanicalObject position="0 -1e100 0"/></Node>)"), "no error");
+    EXPECT_EQ(build_error(R"(<Node name="root" dt="1e100"><MechanicalObject position="0 -1e100 0"/></Node>)"),
+              "no error");
 }
 
 // ---- inputs the fuzzers found -------------------------------------------------------------------

@@ -23,8 +23,9 @@ using penalty::test::build;
 using penalty::test::error_of;
 
 std::filesystem::path temp_dir(const std::string& name) {
-    const auto d = std::filesystem::temp_directory_path() /
-                   ("penalty_scene_test_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    const auto d =
+        std::filesystem::temp_directory_path() /
+        ("penalty_scene_test_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
     std::filesystem::remove_all(d);
     return d;
 }
@@ -221,9 +222,11 @@ TEST(SceneBuilder, IncompletePipelineAndUnreadAttributesAreReported) {
     auto s = build(xml);
     EXPECT_TRUE(s->pipelines().empty());
     const auto w = s->warnings();
-    EXPECT_THAT(w, ::testing::Contains(HasSubstr("ignored 1 component that does not change the numbers: VisualStyle x1")));
+    EXPECT_THAT(w,
+                ::testing::Contains(HasSubstr("ignored 1 component that does not change the numbers: VisualStyle x1")));
     EXPECT_THAT(w, ::testing::Contains(HasSubstr("test.scn:2: CollisionPipeline: no contact will be detected")));
-    EXPECT_THAT(w, ::testing::Contains("test.scn:5: EulerImplicitSolver: attribute 'fancyOption' is not read by penalty (ignored)"));
+    EXPECT_THAT(w, ::testing::Contains(
+                       "test.scn:5: EulerImplicitSolver: attribute 'fancyOption' is not read by penalty (ignored)"));
 }
 
 TEST(SceneBuilder, ComponentsSofaNoLongerKnowsAreDroppedAsSofaDoes) {
@@ -313,7 +316,8 @@ TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
   <MechanicalObject position="0 0 0  1 0 0"/>
   <TriangleCollisionModel/>
 </Node>)"),
-              "test.scn:3: TriangleCollisionModel: needs a topology (MeshTopology or RegularGridTopology) in its node or an ancestor "
+              "test.scn:3: TriangleCollisionModel: needs a topology (MeshTopology or RegularGridTopology) in its node "
+              "or an ancestor "
               "node");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <MinProximityIntersection alarmDistance="0.1" contactDistance="0.5"/>
@@ -330,28 +334,31 @@ TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
   <MechanicalObject position="0 0 0"/>
   <MechanicalObject position="0 0 0"/>
 </Node>)"),
-              "test.scn:3: MechanicalObject: a node holds one mechanical state, and this node already has MechanicalObject at line 2");
+              "test.scn:3: MechanicalObject: a node holds one mechanical state, and this node already has "
+              "MechanicalObject at line 2");
     EXPECT_EQ(error_of(R"(<Node name="root">
   <MechanicalObject position="0 nan 0"/>
 </Node>)"),
               "test.scn:2: MechanicalObject: attribute 'position': expected a number, found 'nan'");
-    EXPECT_THAT(error_of(R"(<Node name="root">
+    EXPECT_THAT(
+        error_of(R"(<Node name="root">
   <MeshOBJLoader name="l" filename="no/such/mesh.obj"/>
   <MeshTopology src="@l"/>
 </Node>)"),
-                HasSubstr("test.scn:2: MeshOBJLoader 'l': attribute 'filename': cannot find data file 'no/such/mesh.obj'"));
+        HasSubstr("test.scn:2: MeshOBJLoader 'l': attribute 'filename': cannot find data file 'no/such/mesh.obj'"));
     EXPECT_EQ(error_of(R"(<Node name="root">
   <Node name="A"><MechanicalObject position="0 0 0"/><IdentityMapping input="@../nothing"/></Node>
 </Node>)"),
               "test.scn:2: IdentityMapping: attribute 'input': broken link '@../nothing': no node or component named "
               "'nothing' in node '/'");
-    EXPECT_EQ(error_of(R"(<Node name="root">
+    EXPECT_EQ(
+        error_of(R"(<Node name="root">
   <MechanicalObject position="0 0 0  1 0 0  0 1 0"/>
   <MeshTopology triangles="0 1 5"/>
   <TriangleCollisionModel/>
 </Node>)"),
-              "test.scn:4: TriangleCollisionModel: TriangleModel 'TriangleCollisionModel': element 0: vertex index 5 out "
-              "of range (state has 3 points)");
+        "test.scn:4: TriangleCollisionModel: TriangleModel 'TriangleCollisionModel': element 0: vertex index 5 out "
+        "of range (state has 3 points)");
 }
 
 TEST(SceneBuilder, BuiltInSceneRunsAndMakesContacts) {
@@ -466,19 +473,29 @@ TEST(SceneBuilder, DescribeShowsWhatEachComponentBecameAndWhereContactsGo) {
     const std::string text = scene::describe_scene(*s);
     EXPECT_THAT(text, HasSubstr("Node / (root): dt 0.01 s, gravity (0, -9.81, 0) m/s^2\n"));
     EXPECT_THAT(text, HasSubstr("  Node /Cube\n"));  // dt and gravity inherited: not repeated
-    EXPECT_THAT(text, HasSubstr("Vec3d state, 8 DOFs, translated (0.3, 0.15, 0.1); integrated by the ODE solver of /Cube\n"));
+    EXPECT_THAT(text,
+                HasSubstr("Vec3d state, 8 DOFs, translated (0.3, 0.15, 0.1); integrated by the ODE solver of /Cube\n"));
     EXPECT_THAT(text, HasSubstr("8 points, 12 edges, 6 quads, 1 hexahedron\n"));
     EXPECT_THAT(text, HasSubstr("mass 0.125 kg per DOF, 1 kg in all\n"));
     // 12 edges + 12 face diagonals + 4 cell diagonals of the hexahedron
     EXPECT_THAT(text, HasSubstr("28 springs between the topology's vertex pairs"));
-    EXPECT_THAT(text, HasSubstr("implicit Euler over this subtree (8 DOFs in 1 state), Rayleigh stiffness 0.1 mass 0.1\n"));
+    EXPECT_THAT(text,
+                HasSubstr("implicit Euler over this subtree (8 DOFs in 1 state), Rayleigh stiffness 0.1 mass 0.1\n"));
     EXPECT_THAT(text, HasSubstr("at most 25 iterations, tolerance 1e-09, threshold 1e-09\n"));
     EXPECT_THAT(text, HasSubstr("Vec3d state, 4 DOFs; static: in no solver's subtree, never moves\n"));
-    EXPECT_THAT(text, HasSubstr("2 triangles, static obstacle (simulated=0, moving=0), contactStiffness 10; pipeline CollisionPipeline\n"));
-    EXPECT_THAT(text, HasSubstr("collision pipeline: MinProximity (alarm 0.2 m, contact 0.1 m), 2 collision models, response PenalityContactForceField\n"));
-    EXPECT_THAT(text, HasSubstr("  floor_triangles (Triangle, /Floor) - cube_points (Point, /Cube): penalty contact in /Cube, implicit (solver of /Cube)\n"));
-    EXPECT_THAT(text, HasSubstr("  1 model pair kept by the broad phase, 1 can make penalty contacts; 1 excluded (both non-simulated); "
-                                "1 excluded (same node without selfCollision)\n"));
+    EXPECT_THAT(
+        text,
+        HasSubstr(
+            "2 triangles, static obstacle (simulated=0, moving=0), contactStiffness 10; pipeline CollisionPipeline\n"));
+    EXPECT_THAT(text, HasSubstr("collision pipeline: MinProximity (alarm 0.2 m, contact 0.1 m), 2 collision models, "
+                                "response PenalityContactForceField\n"));
+    EXPECT_THAT(text, HasSubstr("  floor_triangles (Triangle, /Floor) - cube_points (Point, /Cube): penalty contact in "
+                                "/Cube, implicit (solver of /Cube)\n"));
+    EXPECT_THAT(
+        text,
+        HasSubstr(
+            "  1 model pair kept by the broad phase, 1 can make penalty contacts; 1 excluded (both non-simulated); "
+            "1 excluded (same node without selfCollision)\n"));
 }
 
 TEST(SceneBuilder, DescribeNamesUndetectedPairsDisabledResponsesAndExplicitContacts) {
@@ -498,11 +515,14 @@ TEST(SceneBuilder, DescribeNamesUndetectedPairsDisabledResponsesAndExplicitConta
     EXPECT_THAT(text, HasSubstr("  Node /B: gravity (0, 0, -1) m/s^2\n"));
     EXPECT_THAT(text, HasSubstr("RequiredPlugin 'plugins'"));
     EXPECT_THAT(text, HasSubstr("ignored (plugin loading)\n"));
-    EXPECT_THAT(text, HasSubstr("  ta (Triangle, /A) - tb (Triangle, /B): not detected: MinProximity ignores this pair"));
-    EXPECT_THAT(text, HasSubstr("  ta (Triangle, /A) - pb (Point, /B): penalty contact in /, explicit (no solver above it"));
+    EXPECT_THAT(text,
+                HasSubstr("  ta (Triangle, /A) - tb (Triangle, /B): not detected: MinProximity ignores this pair"));
+    EXPECT_THAT(text,
+                HasSubstr("  ta (Triangle, /A) - pb (Point, /B): penalty contact in /, explicit (no solver above it"));
     EXPECT_THAT(text, HasSubstr("  tb (Triangle, /B) - pa (Point, /A): detected; no response (nullptr): no contact\n"));
     EXPECT_THAT(text, HasSubstr("  pa (Point, /A) - pb (Point, /B): detected; no response (nullptr): no contact\n"));
-    EXPECT_THAT(text, HasSubstr("  4 model pairs kept by the broad phase, 1 can make penalty contacts; 6 excluded (same node without selfCollision)\n"));
+    EXPECT_THAT(text, HasSubstr("  4 model pairs kept by the broad phase, 1 can make penalty contacts; 6 excluded "
+                                "(same node without selfCollision)\n"));
     EXPECT_THAT(text, HasSubstr(" physics components, 0 loaders, 1 ignored\n"));
 }
 

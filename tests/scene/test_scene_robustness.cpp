@@ -16,7 +16,8 @@ namespace {
 
 using namespace penalty;
 
-const char* const kHostileValues[] = {"", "-1", "nan", "inf", "1e400", "abc", "@nowhere", "0", "1 2", "99999999999", "-0.5 0 0"};
+const char* const kHostileValues[] = {"",         "-1", "nan", "inf",         "1e400",   "abc",
+                                      "@nowhere", "0",  "1 2", "99999999999", "-0.5 0 0"};
 
 const std::string kRigidAndGrid = R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
   <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/>
@@ -144,7 +145,8 @@ TEST(SceneRobustness, SpringIndicesBeyondAPointIndexAreRefusedAsTheAttribute) {
         }
         return "no error";
     };
-    const std::string refused = "springs.scn:5: SpringForceField: attribute 'spring': indices must be integers from 0 to 2147483647";
+    const std::string refused =
+        "springs.scn:5: SpringForceField: attribute 'spring': indices must be integers from 0 to 2147483647";
     EXPECT_EQ(error_of("0 9223372036854775808 100 1 1"), refused);
     EXPECT_EQ(error_of("2147483648 1 100 1 1"), refused);
     EXPECT_EQ(error_of("0 -1 100 1 1"), refused);

@@ -25,14 +25,18 @@ std::string shape_matching_scene(const std::string& clustering, const std::strin
     <MechanicalObject name="dofs" position="@topo.position"/>
     <UniformMass vertexMass="1"/>
     <ConstantForceField indices="0" forces="100 0 0"/>
-    )" + clustering + "\n    " + matching + "\n    " + constraint + R"(
+    )" + clustering +
+           "\n    " + matching + "\n    " + constraint + R"(
   </Node>
 </Node>)";
 }
 
-const std::string kClustering = R"(<ClusteringEngine name="clustering" radius="10" number="1" position="@topo.position"/>)";
-const std::string kMatching = R"(<ShapeMatching template="Vec3" name="sm" position="@dofs.position" cluster="@clustering.cluster"/>)";
-const std::string kConstraint = R"(<PositionBasedDynamicsProjectiveConstraint stiffness="1" position="@sm.targetPosition"/>)";
+const std::string kClustering =
+    R"(<ClusteringEngine name="clustering" radius="10" number="1" position="@topo.position"/>)";
+const std::string kMatching =
+    R"(<ShapeMatching template="Vec3" name="sm" position="@dofs.position" cluster="@clustering.cluster"/>)";
+const std::string kConstraint =
+    R"(<PositionBasedDynamicsProjectiveConstraint stiffness="1" position="@sm.targetPosition"/>)";
 
 TEST(ShapeMatchingComponents, AStepEndsOnTheRigidFitOfTheSolversPositions) {
     auto s = penalty::test::build(shape_matching_scene(kClustering, kMatching, kConstraint));
@@ -60,7 +64,8 @@ TEST(ShapeMatchingComponents, AStepEndsOnTheRigidFitOfTheSolversPositions) {
 TEST(ShapeMatchingComponents, WithoutATemplateShapeMatchingIsSofasInertRigid3dOne) {
     // SOFA's factory picks ShapeMatching<Rigid3d> (an empty doUpdate): no targets, no projection
     auto s = penalty::test::build(shape_matching_scene(
-        kClustering, R"(<ShapeMatching name="sm" position="@dofs.position" cluster="@clustering.cluster"/>)", kConstraint));
+        kClustering, R"(<ShapeMatching name="sm" position="@dofs.position" cluster="@clustering.cluster"/>)",
+        kConstraint));
     bool noted = false;
     for (const std::string& w : s->warnings()) noted = noted || w.find("SOFA makes Rigid3d") != std::string::npos;
     EXPECT_TRUE(noted);
@@ -73,21 +78,26 @@ TEST(ShapeMatchingComponents, WithoutATemplateShapeMatchingIsSofasInertRigid3dOn
 
 TEST(ShapeMatchingComponents, BadLinksAndAttributesNameTheComponent) {
     using penalty::test::error_of;
-    EXPECT_THAT(error_of(shape_matching_scene(kClustering, R"(<ShapeMatching template="Vec3" name="sm" position="@dofs.position"/>)", kConstraint)),
-                AllOf(HasSubstr("ShapeMatching"), HasSubstr("cluster")));
-    EXPECT_THAT(error_of(shape_matching_scene(kClustering,
-                                              R"(<ShapeMatching template="Vec3" name="sm" position="@dofs.position" cluster="@topo.edges"/>)",
-                                              kConstraint)),
+    EXPECT_THAT(
+        error_of(shape_matching_scene(
+            kClustering, R"(<ShapeMatching template="Vec3" name="sm" position="@dofs.position"/>)", kConstraint)),
+        AllOf(HasSubstr("ShapeMatching"), HasSubstr("cluster")));
+    EXPECT_THAT(error_of(shape_matching_scene(
+                    kClustering,
+                    R"(<ShapeMatching template="Vec3" name="sm" position="@dofs.position" cluster="@topo.edges"/>)",
+                    kConstraint)),
                 AllOf(HasSubstr("cluster"), HasSubstr("ClusteringEngine")));
-    EXPECT_THAT(error_of(shape_matching_scene(R"(<ClusteringEngine name="clustering" number="-3" position="@topo.position"/>)",
-                                              kMatching, kConstraint)),
-                AllOf(HasSubstr("ClusteringEngine"), HasSubstr("number")));
-    EXPECT_THAT(error_of(shape_matching_scene(kClustering, kMatching,
-                                              R"(<PositionBasedDynamicsProjectiveConstraint position="0 0 0  1 1 1"/>)")),
+    EXPECT_THAT(
+        error_of(shape_matching_scene(R"(<ClusteringEngine name="clustering" number="-3" position="@topo.position"/>)",
+                                      kMatching, kConstraint)),
+        AllOf(HasSubstr("ClusteringEngine"), HasSubstr("number")));
+    EXPECT_THAT(error_of(shape_matching_scene(
+                    kClustering, kMatching, R"(<PositionBasedDynamicsProjectiveConstraint position="0 0 0  1 1 1"/>)")),
                 AllOf(HasSubstr("PositionBasedDynamicsProjectiveConstraint"), HasSubstr("2 targets for a state of 8")));
-    EXPECT_THAT(error_of(shape_matching_scene(R"(<ClusteringEngine name="clustering" radius="-1" position="@topo.position"/>)",
-                                              kMatching, kConstraint)),
-                AllOf(HasSubstr("ClusteringEngine"), HasSubstr("radius")));
+    EXPECT_THAT(
+        error_of(shape_matching_scene(R"(<ClusteringEngine name="clustering" radius="-1" position="@topo.position"/>)",
+                                      kMatching, kConstraint)),
+        AllOf(HasSubstr("ClusteringEngine"), HasSubstr("radius")));
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ constexpr std::int64_t kSteps = test::kUnderSanitizer ? 50 : 1000;
 
 struct SharedScene {
     const char* file;
-    std::size_t states;          ///< MechanicalObjects built
+    std::size_t states;  ///< MechanicalObjects built
     std::size_t collision_models;
     /// true: some contact during the run; false: none at all (RegularGridSpringForceField.scn:
     /// its link surfaces are moved twice by SOFA's regular-grid mapping rule, so the links do
@@ -56,23 +56,22 @@ TEST_P(SharedSceneRun, RunsAndStaysFinite) {
 }
 
 // States and collision models as built (visual models and their mappings are not built).
-INSTANTIATE_TEST_SUITE_P(
-    Sofa, SharedSceneRun,
-    ::testing::Values(SharedScene{"AdvancedSolversMultipleGroupsSolver.scn", 5, 11, true},
-                      SharedScene{"CompositeCollisionPipeline.scn", 6, 8, true},
-                      SharedScene{"CompositeCollisionPipeline_none.scn", 6, 8, true},
-                      SharedScene{"Gravity.scn", 6, 12, true},
-                      SharedScene{"MeshSpringForceField.scn", 9, 5, true},
-                      SharedScene{"ModelizationSphereBased.scn", 2, 2, true},
-                      SharedScene{"ModelizationTriangleBased.scn", 2, 4, true},
-                      SharedScene{"MultipleObjectsTwoCubes.scn", 3, 5, true},
-                      SharedScene{"RegularGridSpringForceField.scn", 9, 5, false},
-                      SharedScene{"SphereModel.scn", 3, 2, true},
-                      SharedScene{"collisionMultiple.scn", 7, 12, true}),
-    [](const ::testing::TestParamInfo<SharedScene>& param_info) {
-        std::string name = param_info.param.file;
-        name = name.substr(0, name.find('.'));
-        return name;
-    });
+INSTANTIATE_TEST_SUITE_P(Sofa, SharedSceneRun,
+                         ::testing::Values(SharedScene{"AdvancedSolversMultipleGroupsSolver.scn", 5, 11, true},
+                                           SharedScene{"CompositeCollisionPipeline.scn", 6, 8, true},
+                                           SharedScene{"CompositeCollisionPipeline_none.scn", 6, 8, true},
+                                           SharedScene{"Gravity.scn", 6, 12, true},
+                                           SharedScene{"MeshSpringForceField.scn", 9, 5, true},
+                                           SharedScene{"ModelizationSphereBased.scn", 2, 2, true},
+                                           SharedScene{"ModelizationTriangleBased.scn", 2, 4, true},
+                                           SharedScene{"MultipleObjectsTwoCubes.scn", 3, 5, true},
+                                           SharedScene{"RegularGridSpringForceField.scn", 9, 5, false},
+                                           SharedScene{"SphereModel.scn", 3, 2, true},
+                                           SharedScene{"collisionMultiple.scn", 7, 12, true}),
+                         [](const ::testing::TestParamInfo<SharedScene>& param_info) {
+                             std::string name = param_info.param.file;
+                             name = name.substr(0, name.find('.'));
+                             return name;
+                         });
 
 }  // namespace

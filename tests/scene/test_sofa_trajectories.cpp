@@ -14,13 +14,13 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <ostream>
 #include <sstream>
 #include <string>
-#include <unistd.h>
 
 namespace {
 
@@ -119,14 +119,12 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(TrajectoryCase{"AdvancedSolversMultipleGroupsSolver", -1, -1, 0.0},
                       TrajectoryCase{"CompositeCollisionPipeline", -1, -1, 0.0},
                       TrajectoryCase{"CompositeCollisionPipeline_none", -1, -1, 0.0},
-                      TrajectoryCase{"Gravity", -1, -1, 0.0},
-                      TrajectoryCase{"MeshSpringForceField", -1, -1, 0.0},
+                      TrajectoryCase{"Gravity", -1, -1, 0.0}, TrajectoryCase{"MeshSpringForceField", -1, -1, 0.0},
                       TrajectoryCase{"ModelizationSphereBased", -1, -1, 0.0},
                       TrajectoryCase{"ModelizationTriangleBased", -1, -1, 0.0},
                       TrajectoryCase{"MultipleObjectsTwoCubes", -1, -1, 0.0},
                       TrajectoryCase{"RegularGridSpringForceField", -1, -1, 0.0},
-                      TrajectoryCase{"SphereModel", -1, -1, 0.0},
-                      TrajectoryCase{"collisionMultiple", -1, -1, 0.0}),
+                      TrajectoryCase{"SphereModel", -1, -1, 0.0}, TrajectoryCase{"collisionMultiple", -1, -1, 0.0}),
     [](const ::testing::TestParamInfo<TrajectoryCase>& param_info) { return std::string(param_info.param.scene); });
 
 // Without SOFA HEAD's orders (`--no-sofa-head-orders`: the visitors' summation order, contacts

@@ -19,10 +19,10 @@
 namespace {
 
 using namespace penalty;
-using ::testing::AllOf;
-using ::testing::HasSubstr;
 using penalty::test::build;
 using penalty::test::error_of;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
 
 const std::filesystem::path kSolverScenes =
     std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "scene" / "data" / "solvers";
@@ -118,7 +118,8 @@ TEST(SolverComponents, RungeKuttaSolversAndRestShapeSpringsAreBuilt) {
 
 TEST(SolverComponents, RigidRestSpringsFollowTheExternalRestShape) {
     auto s = load_solver_scene("rigid_rest_springs.scn");
-    EXPECT_THAT(scene::describe_scene(*s), HasSubstr("2 springs (translation and rotation) to the external state's frames"));
+    EXPECT_THAT(scene::describe_scene(*s),
+                HasSubstr("2 springs (translation and rotation) to the external state's frames"));
     run_steps(*s, 1500);
     // damped (Rayleigh): after 15 s the frames rest at their anchors, sagged by m g / k (m = 1 kg)
     const auto* frames = state_named<Rigid3Object>(*s, "frames");
@@ -137,7 +138,8 @@ TEST(SolverComponents, MultiStepAnimationLoopSetsTheSimulationsSubsteps) {
     EXPECT_EQ(s->simulation().integration_steps(), 2);
     s->step();
     EXPECT_NEAR(s->simulation().time(), 0.02, 1e-15);  // SOFA's time: dt / collisionSteps a step
-    auto exact = build(R"(<Node name="root" dt="0.04"><MultiStepAnimationLoop collisionSteps="2" exactTime="1"/></Node>)");
+    auto exact =
+        build(R"(<Node name="root" dt="0.04"><MultiStepAnimationLoop collisionSteps="2" exactTime="1"/></Node>)");
     exact->step();
     EXPECT_NEAR(exact->simulation().time(), 0.04, 1e-15);
 }
@@ -167,7 +169,8 @@ std::string body_with(const std::string& components) {
   <Node name="B"><EulerImplicitSolver/>
     <MechanicalObject position="0 0 0  1 0 0  0 1 0  0 0 1"/>
     <MeshTopology tetrahedra="0 1 2 3"/>
-)" + components + "\n  </Node>\n</Node>";
+)" + components +
+           "\n  </Node>\n</Node>";
 }
 
 TEST(SolverComponents, BadValuesNameFileLineComponentAndAttribute) {
@@ -175,29 +178,37 @@ TEST(SolverComponents, BadValuesNameFileLineComponentAndAttribute) {
                 AllOf(HasSubstr("test.scn:5"), HasSubstr("MeshMatrixMass"), HasSubstr("massDensity")));
     EXPECT_THAT(error_of(body_with(R"(    <MeshMatrixMass massDensity="-3"/>)")),
                 AllOf(HasSubstr("test.scn:5"), HasSubstr("massDensity"), HasSubstr(">= 0")));
-    EXPECT_THAT(error_of(body_with(R"(    <MeshMatrixMass totalMass="nan"/>)")), AllOf(HasSubstr("test.scn:5"), HasSubstr("totalMass")));
+    EXPECT_THAT(error_of(body_with(R"(    <MeshMatrixMass totalMass="nan"/>)")),
+                AllOf(HasSubstr("test.scn:5"), HasSubstr("totalMass")));
     EXPECT_THAT(error_of(body_with(R"(    <MeshMatrixMass vertexMass="1 1 1 1"/>)")),
                 AllOf(HasSubstr("MeshMatrixMass"), HasSubstr("lumping or edgeMass")));
-    EXPECT_THAT(error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField stiffness="10 -1"/>)")),
-                AllOf(HasSubstr("test.scn:5"), HasSubstr("RestShapeSpringsForceField"), HasSubstr("stiffness")));
-    EXPECT_THAT(error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField activeDirections="1 0"/>)")),
-                AllOf(HasSubstr("activeDirections"), HasSubstr("3 flags")));
-    EXPECT_THAT(error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField activeDirections="1 2 0"/>)")),
+    EXPECT_THAT(
+        error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField stiffness="10 -1"/>)")),
+        AllOf(HasSubstr("test.scn:5"), HasSubstr("RestShapeSpringsForceField"), HasSubstr("stiffness")));
+    EXPECT_THAT(
+        error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField activeDirections="1 0"/>)")),
+        AllOf(HasSubstr("activeDirections"), HasSubstr("3 flags")));
+    EXPECT_THAT(error_of(body_with(
+                    R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField activeDirections="1 2 0"/>)")),
                 AllOf(HasSubstr("activeDirections"), HasSubstr("0 or 1")));
     EXPECT_THAT(error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField points="0 7"/>)")),
                 AllOf(HasSubstr("RestShapeSpringsForceField"), HasSubstr("point 7 is out of range")));
-    EXPECT_THAT(error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField external_rest_shape="@B"/>)")),
+    EXPECT_THAT(error_of(body_with(
+                    R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField external_rest_shape="@B"/>)")),
                 AllOf(HasSubstr("external_rest_shape"), HasSubstr("MechanicalObject")));
-    EXPECT_THAT(error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField angularStiffness="3"/>)")),
-                AllOf(HasSubstr("angularStiffness"), HasSubstr("Rigid3d")));
+    EXPECT_THAT(
+        error_of(body_with(R"(    <UniformMass totalMass="1"/><RestShapeSpringsForceField angularStiffness="3"/>)")),
+        AllOf(HasSubstr("angularStiffness"), HasSubstr("Rigid3d")));
     EXPECT_THAT(error_of(R"(<Node name="root"><MultiStepAnimationLoop collisionSteps="0"/></Node>)"),
                 AllOf(HasSubstr("test.scn:1"), HasSubstr("MultiStepAnimationLoop"), HasSubstr("collisionSteps")));
-    EXPECT_THAT(error_of(R"(<Node name="root"><Node name="S"><StaticSolver/><NewtonRaphsonSolver lineSearchCoefficient="2"/>
+    EXPECT_THAT(
+        error_of(R"(<Node name="root"><Node name="S"><StaticSolver/><NewtonRaphsonSolver lineSearchCoefficient="2"/>
       <CGLinearSolver/><MechanicalObject position="0 0 0"/><UniformMass totalMass="1"/></Node></Node>)"),
-                AllOf(HasSubstr("test.scn:1"), HasSubstr("NewtonRaphsonSolver"), HasSubstr("lineSearchCoefficient")));
-    EXPECT_THAT(error_of(R"(<Node name="root"><Node name="S"><StaticSolver/><NewtonRaphsonSolver maxNbIterationsNewton="-1"/>
+        AllOf(HasSubstr("test.scn:1"), HasSubstr("NewtonRaphsonSolver"), HasSubstr("lineSearchCoefficient")));
+    EXPECT_THAT(
+        error_of(R"(<Node name="root"><Node name="S"><StaticSolver/><NewtonRaphsonSolver maxNbIterationsNewton="-1"/>
       <CGLinearSolver/><MechanicalObject position="0 0 0"/><UniformMass totalMass="1"/></Node></Node>)"),
-                AllOf(HasSubstr("NewtonRaphsonSolver"), HasSubstr("maxNbIterationsNewton")));
+        AllOf(HasSubstr("NewtonRaphsonSolver"), HasSubstr("maxNbIterationsNewton")));
     EXPECT_THAT(error_of(R"(<Node name="root"><Node name="S"><StaticSolver/>
       <MechanicalObject position="0 0 0"/><UniformMass totalMass="1"/></Node></Node>)"),
                 AllOf(HasSubstr("StaticSolver"), HasSubstr("linear solver")));

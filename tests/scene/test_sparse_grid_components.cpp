@@ -30,8 +30,9 @@ struct CubeSceneFolder {
 };
 
 CubeSceneFolder write_cube_scene(const std::string& name, const std::string& grid_attributes) {
-    const auto dir = std::filesystem::temp_directory_path() /
-                     ("penalty_sparse_grid_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+    const auto dir =
+        std::filesystem::temp_directory_path() /
+        ("penalty_sparse_grid_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     std::ofstream(dir / "cube.obj") << "# unit cube, outward quads\n"
@@ -41,7 +42,8 @@ CubeSceneFolder write_cube_scene(const std::string& name, const std::string& gri
   <Node name="Cube">
     <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
     <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
-    <SparseGridTopology fileTopology="cube.obj" )" << grid_attributes << R"(/>
+    <SparseGridTopology fileTopology="cube.obj" )"
+                                     << grid_attributes << R"(/>
     <MechanicalObject name="grid" position="0 0 0"/>
     <UniformMass totalMass="1"/>
     <HexahedronFEMForceField youngModulus="1000" poissonRatio="0.3"/>
@@ -100,8 +102,9 @@ TEST(NodeContext, ChildNodeGravityAndDtAreTheParentsAsInSofa) {
     const Node& child = *scene->simulation().root().children().at(0);
     EXPECT_EQ(child.gravity(), Vec3(0, 0, -9.81));
     EXPECT_EQ(child.dt(), 0.02);
-    EXPECT_THAT(scene::describe_scene(*scene),
-                ::testing::HasSubstr("note: /Child: gravity of a child node is ignored (SOFA copies the parent's over it)"));
+    EXPECT_THAT(
+        scene::describe_scene(*scene),
+        ::testing::HasSubstr("note: /Child: gravity of a child node is ignored (SOFA copies the parent's over it)"));
 }
 
 }  // namespace

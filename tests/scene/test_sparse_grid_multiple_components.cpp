@@ -21,7 +21,8 @@ struct NestedCubesFolder {
     std::filesystem::path dir;
     explicit NestedCubesFolder(const std::string& name)
         : dir(std::filesystem::temp_directory_path() /
-              ("penalty_sparse_grid_multiple_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()))) {
+              ("penalty_sparse_grid_multiple_" + name + "_" +
+               std::to_string(::testing::UnitTest::GetInstance()->random_seed()))) {
         std::filesystem::remove_all(dir);
         std::filesystem::create_directories(dir);
         write_cube("outer.obj", 0.5, 5.0);
@@ -36,8 +37,10 @@ struct NestedCubesFolder {
     void write_cube(const char* file, double corner, double size) const {
         std::ofstream out(dir / file);
         for (int k = 0; k < 8; ++k)
-            out << "v " << corner + size * (k & 1) << ' ' << corner + size * ((k >> 1) & 1) << ' ' << corner + size * ((k >> 2) & 1) << '\n';
-        out << "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n";
+            out << "v " << corner + size * (k & 1) << ' ' << corner + size * ((k >> 1) & 1) << ' '
+                << corner + size * ((k >> 2) & 1) << '\n';
+        out << "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 "
+               "8 6\n";
     }
     [[nodiscard]] std::filesystem::path scene(const std::string& grid) const {
         std::ofstream(dir / "scene.scn") << R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
@@ -58,8 +61,9 @@ struct NestedCubesFolder {
     }
 };
 
-const std::string kNestedCubesGrid = R"(<SparseGridMultipleTopology min="0 0 0" max="6 6 6" fileTopologies="outer.obj inner.obj" )"
-                          R"(stiffnessCoefs="10 0.2" massCoefs="3 5" finestConnectivity="0" )";
+const std::string kNestedCubesGrid =
+    R"(<SparseGridMultipleTopology min="0 0 0" max="6 6 6" fileTopologies="outer.obj inner.obj" )"
+    R"(stiffnessCoefs="10 0.2" massCoefs="3 5" finestConnectivity="0" )";
 
 std::string nested_cubes_build_error(const std::filesystem::path& scene) {
     try {
@@ -123,15 +127,20 @@ TEST(SparseGridMultipleComponents, BadAttributesNameFileLineComponentAndAttribut
     EXPECT_THAT(no_files, ::testing::HasSubstr("scene.scn:5: SparseGridMultipleTopology"));
     EXPECT_THAT(no_files, ::testing::HasSubstr("SparseGridMultipleTopology"));
     EXPECT_THAT(no_files, ::testing::HasSubstr("fileTopologies"));
-    EXPECT_THAT(error_of(R"(<SparseGridMultipleTopology n="4 4 4" fileTopologies="outer.obj" stiffnessCoefs="-1" finestConnectivity="0"/>)"),
-                ::testing::HasSubstr("stiffnessCoefs"));
-    EXPECT_THAT(error_of(R"(<SparseGridMultipleTopology n="4 4 4" fileTopologies="outer.obj missing.obj" finestConnectivity="0"/>)"),
-                ::testing::AllOf(::testing::HasSubstr("fileTopologies"), ::testing::HasSubstr("missing.obj")));
+    EXPECT_THAT(
+        error_of(
+            R"(<SparseGridMultipleTopology n="4 4 4" fileTopologies="outer.obj" stiffnessCoefs="-1" finestConnectivity="0"/>)"),
+        ::testing::HasSubstr("stiffnessCoefs"));
+    EXPECT_THAT(
+        error_of(
+            R"(<SparseGridMultipleTopology n="4 4 4" fileTopologies="outer.obj missing.obj" finestConnectivity="0"/>)"),
+        ::testing::AllOf(::testing::HasSubstr("fileTopologies"), ::testing::HasSubstr("missing.obj")));
     // finestConnectivity (SOFA's default) tests faces against fileTopology's surface
     EXPECT_THAT(error_of(R"(<SparseGridMultipleTopology n="4 4 4" fileTopologies="outer.obj"/>)"),
                 ::testing::HasSubstr("finestConnectivity"));
-    EXPECT_THAT(error_of(R"(<SparseGridRamificationTopology n="4 4 4" fileTopology="outer.obj" nbVirtualFinerLevels="9"/>)"),
-                ::testing::HasSubstr("nbVirtualFinerLevels"));
+    EXPECT_THAT(
+        error_of(R"(<SparseGridRamificationTopology n="4 4 4" fileTopology="outer.obj" nbVirtualFinerLevels="9"/>)"),
+        ::testing::HasSubstr("nbVirtualFinerLevels"));
 }
 
 }  // namespace

@@ -30,7 +30,8 @@ T* slf_find(Node& n) {
     return nullptr;
 }
 
-std::string slf_body(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets, const std::string& components) {
+std::string slf_body(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets,
+                     const std::string& components) {
     return R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><Node name="body">
   <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
   <TetrahedronSetTopologyContainer name="volume" position=")" +
@@ -38,7 +39,8 @@ std::string slf_body(const std::vector<Vec3>& points, const std::vector<Tetrahed
   <TetrahedronSetTopologyModifier/>
   <MechanicalObject name="dofs"/>
   <UniformMass vertexMass="0.04"/>
-  )" + components + "\n</Node></Node>\n";
+  )" + components +
+           "\n</Node></Node>\n";
 }
 
 Vec3Object& slf_state(scene::Scene& s) { return dynamic_cast<Vec3Object&>(*s.states().at(0).state); }
@@ -73,8 +75,10 @@ void slf_expect_same_forces(BaseForceField& a, Vec3Object& xa, BaseForceField& b
     for (const Vec3& f : xa.force) norm += f.norm();
     EXPECT_GT(norm, 0.0);  // not vacuous
     TripletList ta, tb;
-    a.add_stiffness(ta, [](const BaseState*) { return Index{0}; }, 1.0);
-    b.add_stiffness(tb, [](const BaseState*) { return Index{0}; }, 1.0);
+    a.add_stiffness(
+        ta, [](const BaseState*) { return Index{0}; }, 1.0);
+    b.add_stiffness(
+        tb, [](const BaseState*) { return Index{0}; }, 1.0);
     const auto n = Index(3 * xa.num_dofs());
     SparseMatrix ka(n, n), kb(n, n);
     ka.setFromTriplets(ta.begin(), ta.end());
@@ -106,7 +110,8 @@ TEST(SpringLoadFollowers, RestShapeSpringsKeepTheirPointsAndStiffnessBySlotAsIfB
         EXPECT_EQ(ff->points(), (std::vector<Index>{1, 2, 0, 9, 13}));
 
         const MeshTopology& mesh = s->topology_container("volume").mesh();
-        auto fresh = test::build(slf_body(x.rest_position, mesh.tetrahedra(), springs("points=\"" + slf_list(ff->point_list()) + "\"")));
+        auto fresh = test::build(
+            slf_body(x.rest_position, mesh.tetrahedra(), springs("points=\"" + slf_list(ff->point_list()) + "\"")));
         auto* ref = slf_find<RestShapeSpringsForceField<Vec3Types>>(fresh->simulation().root());
         ASSERT_NE(ref, nullptr);
         slf_expect_same_forces(*ff, x, *ref, slf_state(*fresh));
@@ -144,8 +149,9 @@ TEST(SpringLoadFollowers, RestShapeSpringsGoOffWhenTheirExternalPointsNoLongerMa
     // SOFA's checkOutOfBoundsIndices clears the springs (an error each step); so does penalty, with
     // a warning naming the component
     const test::TetraCube cube = test::tetra_cube(2, 0.2);
-    auto s = test::build(slf_body(cube.points, cube.tetrahedra,
-                                  R"(<RestShapeSpringsForceField name="anchor" points="0 1 2 25 9 26 13" external_points="0 1 2 25 9 26 13" stiffness="10"/>)"));
+    auto s = test::build(slf_body(
+        cube.points, cube.tetrahedra,
+        R"(<RestShapeSpringsForceField name="anchor" points="0 1 2 25 9 26 13" external_points="0 1 2 25 9 26 13" stiffness="10"/>)"));
     auto* ff = slf_find<RestShapeSpringsForceField<Vec3Types>>(s->simulation().root());
     ASSERT_NE(ff, nullptr);
     EXPECT_EQ(ff->points().size(), 7u);
@@ -166,7 +172,8 @@ TEST(SpringLoadFollowers, RestShapeSpringsGoOffWhenTheirExternalPointsNoLongerMa
 TEST(SpringLoadFollowers, RestShapeSpringsWhoseListsAreEmptiedHoldEveryPointAsSofa) {
     // removing every listed point empties d_points, which recomputeIndices reads as "all points"
     const test::TetraCube cube = test::tetra_cube(2, 0.2);
-    auto s = test::build(slf_body(cube.points, cube.tetrahedra, R"(<RestShapeSpringsForceField points="26" stiffness="3"/>)"));
+    auto s = test::build(
+        slf_body(cube.points, cube.tetrahedra, R"(<RestShapeSpringsForceField points="26" stiffness="3"/>)"));
     auto* ff = slf_find<RestShapeSpringsForceField<Vec3Types>>(s->simulation().root());
     ASSERT_NE(ff, nullptr);
     EXPECT_EQ(ff->points(), (std::vector<Index>{26}));
@@ -192,7 +199,8 @@ TEST(SpringLoadFollowers, RestShapeSpringsWithoutRecomputedIndicesStillBlock) {
 
 /// A tetrahedral body (its own topology and modifier) and a fixed anchor state of 6 points, joined
 /// by `springs` (a SpringForceField at the root, `object1`/`object2` naming the ends).
-std::string slf_two_states(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets, const std::string& springs) {
+std::string slf_two_states(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets,
+                           const std::string& springs) {
     return R"(<Node name="root" gravity="0 -9.81 0" dt="0.01">
   <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
   <Node name="body">
@@ -206,13 +214,15 @@ std::string slf_two_states(const std::vector<Vec3>& points, const std::vector<Te
     <MechanicalObject name="ref" position="0 0.5 0  0.1 0.5 0  0.2 0.5 0  0.3 0.5 0  0.4 0.5 0  0.5 0.5 0"/>
     <UniformMass vertexMass="0.04"/><FixedProjectiveConstraint indices="0 1 2 3 4 5"/>
   </Node>
-  )" + springs + "\n</Node>\n";
+  )" + springs +
+           "\n</Node>\n";
 }
 
 std::string slf_spring_list(const std::vector<Spring>& springs) {
     std::ostringstream out;
     out.precision(17);
-    for (const Spring& s : springs) out << s.a << ' ' << s.b << ' ' << s.ks << ' ' << s.kd << ' ' << s.rest_length << "  ";
+    for (const Spring& s : springs)
+        out << s.a << ' ' << s.b << ' ' << s.ks << ' ' << s.kd << ' ' << s.rest_length << "  ";
     return out.str();
 }
 
@@ -224,12 +234,13 @@ TEST(SpringLoadFollowers, SpringsBetweenTwoStatesFollowTheirEndsTopologyAsIfBuil
     const std::string body = "0 1 25 26 13 25 2", anchor = "0 1 2 3 4 5 0";
     for (const bool body_first : {true, false}) {
         SCOPED_TRACE(body_first ? "the body's ends first" : "the body's ends second");
-        const std::string ends = body_first ? R"(object1="@body/dofs" object2="@anchor/ref" indices1=")" + body +
-                                                  R"(" indices2=")" + anchor + "\""
-                                            : R"(object1="@anchor/ref" object2="@body/dofs" indices1=")" + anchor +
-                                                  R"(" indices2=")" + body + "\"";
-        auto s = test::build(slf_two_states(cube.points, cube.tetrahedra,
-                                            "<SpringForceField " + ends + R"( stiffness="50 60 70 80 90 100 110" damping="1" lengths="0.3"/>)"));
+        const std::string ends =
+            body_first
+                ? R"(object1="@body/dofs" object2="@anchor/ref" indices1=")" + body + R"(" indices2=")" + anchor + "\""
+                : R"(object1="@anchor/ref" object2="@body/dofs" indices1=")" + anchor + R"(" indices2=")" + body + "\"";
+        auto s = test::build(slf_two_states(
+            cube.points, cube.tetrahedra,
+            "<SpringForceField " + ends + R"( stiffness="50 60 70 80 90 100 110" damping="1" lengths="0.3"/>)"));
         s->remove_elements("volume", ElementType::tetrahedron, {0, 38});
         auto* ff = slf_find<SpringForceField>(s->simulation().root());
         ASSERT_NE(ff, nullptr);
@@ -243,9 +254,11 @@ TEST(SpringLoadFollowers, SpringsBetweenTwoStatesFollowTheirEndsTopologyAsIfBuil
         EXPECT_EQ(ks, (std::vector<double>{60, 70, 90, 100, 110}));
 
         const Vec3Object& x = dynamic_cast<const Vec3Object&>(*ff->states()[body_first ? 0 : 1]);
-        const std::string fresh_ends = body_first ? R"(object1="@body/dofs" object2="@anchor/ref")" : R"(object1="@anchor/ref" object2="@body/dofs")";
-        auto fresh = test::build(slf_two_states(x.rest_position, s->topology_container("volume").mesh().tetrahedra(),
-                                                "<SpringForceField " + fresh_ends + " spring=\"" + slf_spring_list(ff->springs()) + "\"/>"));
+        const std::string fresh_ends = body_first ? R"(object1="@body/dofs" object2="@anchor/ref")"
+                                                  : R"(object1="@anchor/ref" object2="@body/dofs")";
+        auto fresh = test::build(
+            slf_two_states(x.rest_position, s->topology_container("volume").mesh().tetrahedra(),
+                           "<SpringForceField " + fresh_ends + " spring=\"" + slf_spring_list(ff->springs()) + "\"/>"));
         for (int k = 0; k < 3; ++k) {
             s->step();
             fresh->step();
@@ -270,13 +283,14 @@ TEST(SpringLoadFollowers, SpringsBetweenTwoChangingBodiesFollowBothEnds) {
         for (Vec3& v : p) v.x() += 0.4;
         return p;
     }();
-    const std::string text = R"(<Node name="root" gravity="0 -9.81 0" dt="0.01">
+    const std::string text =
+        R"(<Node name="root" gravity="0 -9.81 0" dt="0.01">
   <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
   <Node name="a"><TetrahedronSetTopologyContainer name="va" position=")" +
-                             test::points_text(cube.points) + R"(" tetrahedra=")" + test::elements_text(cube.tetrahedra) + R"("/>
+        test::points_text(cube.points) + R"(" tetrahedra=")" + test::elements_text(cube.tetrahedra) + R"("/>
     <TetrahedronSetTopologyModifier/><MechanicalObject name="xa"/><UniformMass vertexMass="0.04"/></Node>
   <Node name="b"><TetrahedronSetTopologyContainer name="vb" position=")" +
-                             test::points_text(other) + R"(" tetrahedra=")" + test::elements_text(cube.tetrahedra) + R"("/>
+        test::points_text(other) + R"(" tetrahedra=")" + test::elements_text(cube.tetrahedra) + R"("/>
     <TetrahedronSetTopologyModifier/><MechanicalObject name="xb"/><UniformMass vertexMass="0.04"/></Node>
   <SpringForceField object1="@a/xa" object2="@b/xb" indices1="0 1 25 26 13 25 2 24" indices2="26 0 1 25 24 3 26 2" stiffness="50"/>
 </Node>)";
@@ -305,7 +319,8 @@ std::string slf_quad_sheet(const std::vector<Vec3>& points, const std::vector<Qu
   <MechanicalObject name="dofs"/>
   <UniformMass vertexMass="0.01"/>
   <MeshSpringForceField stiffness="100" damping="0.1"/>
-  )" + load + "\n</Node></Node>\n";
+  )" + load +
+           "\n</Node></Node>\n";
 }
 
 struct SlfSheet {
@@ -332,7 +347,8 @@ TEST(SpringLoadFollowers, QuadPressureEntriesFollowTheirQuadsAsIfBuiltAfresh) {
     // leaves; 0 leaves and 14 (the last then) becomes 0 -> "3 5 9 0"; then quads 8, 7, 2 go (none listed)
     const SlfSheet sheet = slf_sheet();
     const std::string pressure = R"(pressure="0 -2 0.5")";
-    auto s = test::build(slf_quad_sheet(sheet.points, sheet.quads, R"(<QuadPressureForceField quadList="0 3 5 15 9 14" )" + pressure + "/>"));
+    auto s = test::build(slf_quad_sheet(sheet.points, sheet.quads,
+                                        R"(<QuadPressureForceField quadList="0 3 5 15 9 14" )" + pressure + "/>"));
     auto* ff = slf_find<QuadPressureForceField>(s->simulation().root());
     ASSERT_NE(ff, nullptr);
     s->remove_elements("surface", ElementType::quad, {15, 0});
@@ -341,8 +357,9 @@ TEST(SpringLoadFollowers, QuadPressureEntriesFollowTheirQuadsAsIfBuiltAfresh) {
         if (!removed.empty()) s->remove_elements("surface", ElementType::quad, removed);
         EXPECT_EQ(ff->quads(), (std::vector<Index>{3, 5, 9, 0}));
         Vec3Object& x = slf_state(*s);
-        auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(),
-                                                "<QuadPressureForceField " + slf_quad_list(ff->quads()) + " " + pressure + "/>"));
+        auto fresh = test::build(
+            slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(),
+                           "<QuadPressureForceField " + slf_quad_list(ff->quads()) + " " + pressure + "/>"));
         auto* ref = slf_find<QuadPressureForceField>(fresh->simulation().root());
         ASSERT_NE(ref, nullptr);
         EXPECT_EQ(ff->total_rest_area(), ref->total_rest_area());
@@ -356,7 +373,8 @@ TEST(SpringLoadFollowers, QuadPressureKeepsSofasStaleLastIndexOrTheFixedRule) {
     // to 8) and leaves 12 past the end (11 quads; SOFA HEAD crashes): dropped with a warning.
     // --fix-sofa-quirk subset_data_last_index: the current last quads 13, 12, 11 -> 8, 7, 2
     const SlfSheet sheet = slf_sheet();
-    const std::string load = R"(<QuadPressureForceField name="push" quadList="0 3 5 15 9 14 13 12" pressure="0 -2 0.5"/>)";
+    const std::string load =
+        R"(<QuadPressureForceField name="push" quadList="0 3 5 15 9 14 13 12" pressure="0 -2 0.5"/>)";
     for (const bool fixed : {false, true}) {
         SCOPED_TRACE(fixed ? "fixed" : "SOFA");
         scene::BuildOptions options;
@@ -379,9 +397,11 @@ TEST(SpringLoadFollowers, QuadPressureKeepsSofasStaleLastIndexOrTheFixedRule) {
         EXPECT_EQ(warning, "");
         EXPECT_EQ(ff->quads(), (std::vector<Index>{3, 5, 9, 0, 8, 7}));
         Vec3Object& x = slf_state(*s);
-        auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(),
-                                                R"(<QuadPressureForceField quadList="3 5 9 0 8 7" pressure="0 -2 0.5"/>)"));
-        slf_expect_same_forces(*ff, x, *slf_find<QuadPressureForceField>(fresh->simulation().root()), slf_state(*fresh));
+        auto fresh =
+            test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(),
+                                       R"(<QuadPressureForceField quadList="3 5 9 0 8 7" pressure="0 -2 0.5"/>)"));
+        slf_expect_same_forces(*ff, x, *slf_find<QuadPressureForceField>(fresh->simulation().root()),
+                               slf_state(*fresh));
     }
 }
 
@@ -399,8 +419,8 @@ TEST(SpringLoadFollowers, SurfacePressurePressesTheRemainingQuadsAsIfBuiltAfresh
     auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(), load));
     slf_expect_same_forces(*ff, x, *slf_find<SurfacePressureForceField>(fresh->simulation().root()), slf_state(*fresh));
 
-    auto listed = test::build(slf_quad_sheet(sheet.points, sheet.quads,
-                                             R"(<SurfacePressureForceField name="listed" pressure="3" quadIndices="1 2"/>)"));
+    auto listed = test::build(slf_quad_sheet(
+        sheet.points, sheet.quads, R"(<SurfacePressureForceField name="listed" pressure="3" quadIndices="1 2"/>)"));
     try {
         listed->remove_elements("surface", ElementType::quad, {0});
         ADD_FAILURE() << "no error";

@@ -27,7 +27,8 @@ std::string surface_cloth_scene(const std::string& force_fields) {
         <MechanicalObject name="cloth"/>
         <UniformMass vertexMass="0.1"/>
         <FixedConstraint indices="0 2"/>
-        )" + force_fields + R"(
+        )" +
+           force_fields + R"(
       </Node>
     </Node>)";
 }
@@ -48,7 +49,8 @@ double surface_sag_after(scene::Scene& s, int steps) {
 }
 
 TEST(SurfaceComponents, TriangularFemAndBendingSpringsBuildDescribeAndRun) {
-    auto s = build(surface_cloth_scene(R"(<TriangularFEMForceField name="fem" youngModulus="500" poissonRatio="0.3" method="large"/>
+    auto s = build(surface_cloth_scene(
+        R"(<TriangularFEMForceField name="fem" youngModulus="500" poissonRatio="0.3" method="large"/>
         <TriangularBendingSprings name="bend" stiffness="300" damping="1"/>)"));
     const std::string text = scene::describe_scene(*s);
     EXPECT_THAT(text, HasSubstr("8 triangles, E = 500 Pa, nu = 0.3, co-rotational (large)"));
@@ -57,9 +59,9 @@ TEST(SurfaceComponents, TriangularFemAndBendingSpringsBuildDescribeAndRun) {
     const double stiff = surface_sag_after(*s, 100);
     auto free_fall = build(surface_cloth_scene(""));
     const double loose = surface_sag_after(*free_fall, 100);
-    EXPECT_LT(loose, -0.4);          // nothing holds the free vertices: ½ g t² ≈ 4.9 m, damped
-    EXPECT_GT(stiff, 0.5 * loose);   // the membrane and the springs hold the cloth up
-    EXPECT_LT(stiff, -1e-3);         // it still sags under gravity
+    EXPECT_LT(loose, -0.4);         // nothing holds the free vertices: ½ g t² ≈ 4.9 m, damped
+    EXPECT_GT(stiff, 0.5 * loose);  // the membrane and the springs hold the cloth up
+    EXPECT_LT(stiff, -1e-3);        // it still sags under gravity
 }
 
 TEST(SurfaceComponents, SmallMethodDefaultsAndErrors) {
@@ -73,9 +75,11 @@ TEST(SurfaceComponents, SmallMethodDefaultsAndErrors) {
 }
 
 TEST(SurfaceComponents, OlderTriangleFemReadsThicknessAndPlaneStrain) {
-    auto s = build(surface_cloth_scene(R"(<TriangleFEMForceField youngModulus="500" poissonRatio="0.3" thickness="0.5" planeStrain="1"/>)"));
+    auto s = build(surface_cloth_scene(
+        R"(<TriangleFEMForceField youngModulus="500" poissonRatio="0.3" thickness="0.5" planeStrain="1"/>)"));
     const std::string text = scene::describe_scene(*s);
-    EXPECT_THAT(text, HasSubstr("8 triangles, E = 500 Pa, nu = 0.3, co-rotational (large), thickness 0.5 m, plane strain"));
+    EXPECT_THAT(text,
+                HasSubstr("8 triangles, E = 500 Pa, nu = 0.3, co-rotational (large), thickness 0.5 m, plane strain"));
     const double sag = surface_sag_after(*s, 50);
     EXPECT_LT(sag, -1e-3);
     EXPECT_GT(sag, -2.0);

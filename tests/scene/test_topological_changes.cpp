@@ -28,8 +28,8 @@
 namespace penalty {
 namespace {
 
-using ::testing::HasSubstr;
 using test::build;
+using ::testing::HasSubstr;
 
 /// The first object of type T in the graph (a mass, force field or constraint).
 template <class T>
@@ -51,18 +51,21 @@ Vec3Object& tchg_state(scene::Scene& s, std::size_t k = 0) {
 }
 
 /// A tetrahedral body: container + modifier + state + `components`.
-std::string tchg_body(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets, const std::string& components) {
+std::string tchg_body(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets,
+                      const std::string& components) {
     return R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><Node name="body">
   <TetrahedronSetTopologyContainer name="volume" position=")" +
            test::points_text(points) + R"(" tetrahedra=")" + test::elements_text(tets) + R"("/>
   <TetrahedronSetTopologyModifier/>
   <MechanicalObject name="dofs"/>
-  )" + components + "\n</Node></Node>\n";
+  )" + components +
+           "\n</Node></Node>\n";
 }
 
 Eigen::MatrixXd tchg_stiffness(const BaseForceField& ff, std::size_t dofs) {
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index(0); }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index(0); }, 1.0);
     SparseMatrix k(Eigen::Index(3 * dofs), Eigen::Index(3 * dofs));
     k.setFromTriplets(t.begin(), t.end());
     return Eigen::MatrixXd(k);
@@ -115,7 +118,8 @@ TEST(TopologicalChanges, FollowersEqualTheSameComponentsBuiltOnTheReducedMesh) {
     // forces and stiffness at a deformed configuration: the same bits
     std::mt19937 rng(51);
     std::uniform_real_distribution<double> u(-0.01, 0.01);
-    for (std::size_t i = 0; i < x.num_dofs(); ++i) x.position[i] = y.position[i] = x.rest_position[i] + Vec3(u(rng), u(rng), u(rng));
+    for (std::size_t i = 0; i < x.num_dofs(); ++i)
+        x.position[i] = y.position[i] = x.rest_position[i] + Vec3(u(rng), u(rng), u(rng));
     auto* f1 = tchg_find<TetrahedronFEMForceField>(changed->simulation().root());
     auto* f2 = tchg_find<TetrahedronFEMForceField>(fresh->simulation().root());
     std::fill(x.force.begin(), x.force.end(), Vec3::Zero());
@@ -188,16 +192,19 @@ TEST(TopologicalChanges, CorotationalAndTriangleFemFollowAsIfBuiltAfresh) {
     EXPECT_EQ(got, expected);
 
     Vec3Object& x = tchg_state(*changed);
-    const std::string fresh_components = R"(<TetrahedralCorotationalFEMForceField youngModulus="300" poissonRatio="0.3"/>
+    const std::string fresh_components =
+        R"(<TetrahedralCorotationalFEMForceField youngModulus="300" poissonRatio="0.3"/>
   <Node name="surface">
-    <TriangleSetTopologyContainer name="border" triangles=")" + test::elements_text(border.triangles()) + R"("/>
+    <TriangleSetTopologyContainer name="border" triangles=")" +
+        test::elements_text(border.triangles()) + R"("/>
     <TriangularFEMForceField youngModulus="60" poissonRatio="0.3"/>
   </Node>)";
     auto fresh = build(tchg_body(x.rest_position, volume.tetrahedra(), fresh_components));
     Vec3Object& y = tchg_state(*fresh);
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> u(-0.02, 0.02);
-    for (std::size_t i = 0; i < x.num_dofs(); ++i) x.position[i] = y.position[i] = x.rest_position[i] + Vec3(u(rng), u(rng), u(rng));
+    for (std::size_t i = 0; i < x.num_dofs(); ++i)
+        x.position[i] = y.position[i] = x.rest_position[i] + Vec3(u(rng), u(rng), u(rng));
     auto* c1 = tchg_find<TetrahedralCorotationalFEMForceField>(changed->simulation().root());
     auto* c2 = tchg_find<TetrahedralCorotationalFEMForceField>(fresh->simulation().root());
     auto* t1 = tchg_find<TriangularFEMForceField>(changed->simulation().root());
@@ -221,10 +228,12 @@ TEST(TopologicalChanges, HyperelasticFemFollowsAsIfBuiltAfresh) {
     // left or added): after removals and an addition, the forces, stiffness and energy of the same
     // force field built on the changed mesh
     const test::TetraCube cube = test::tetra_cube(2, 1.0);
-    const std::string ff = R"(<TetrahedronHyperelasticityFEMForceField ParameterSet="3448 31034" materialName="NeoHookean"/>)";
+    const std::string ff =
+        R"(<TetrahedronHyperelasticityFEMForceField ParameterSet="3448 31034" materialName="NeoHookean"/>)";
     auto changed = build(tchg_body(cube.points, cube.tetrahedra, ff));
     changed->remove_elements("volume", ElementType::tetrahedron, {2, 7, 11, 25});
-    changed->add_elements("volume", ElementType::tetrahedron, std::vector<PointId>(cube.tetrahedra[7].begin(), cube.tetrahedra[7].end()), 1);
+    changed->add_elements("volume", ElementType::tetrahedron,
+                          std::vector<PointId>(cube.tetrahedra[7].begin(), cube.tetrahedra[7].end()), 1);
     Vec3Object& x = tchg_state(*changed);
     const MeshTopology& volume = changed->topology_container("volume").mesh();
     ASSERT_EQ(volume.tetrahedra().size(), cube.tetrahedra.size() - 3);
@@ -232,7 +241,8 @@ TEST(TopologicalChanges, HyperelasticFemFollowsAsIfBuiltAfresh) {
     Vec3Object& y = tchg_state(*fresh);
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-0.03, 0.03);
-    for (std::size_t i = 0; i < x.num_dofs(); ++i) x.position[i] = y.position[i] = x.rest_position[i] + Vec3(u(rng), u(rng), u(rng));
+    for (std::size_t i = 0; i < x.num_dofs(); ++i)
+        x.position[i] = y.position[i] = x.rest_position[i] + Vec3(u(rng), u(rng), u(rng));
     auto* a = tchg_find<TetrahedronHyperelasticityFEMForceField>(changed->simulation().root());
     auto* b = tchg_find<TetrahedronHyperelasticityFEMForceField>(fresh->simulation().root());
     ASSERT_TRUE(a && b);
@@ -243,7 +253,8 @@ TEST(TopologicalChanges, HyperelasticFemFollowsAsIfBuiltAfresh) {
     EXPECT_EQ(x.force, y.force);
     EXPECT_EQ(a->potential_energy(), b->potential_energy());
     EXPECT_EQ(tchg_stiffness(*a, x.num_dofs()), tchg_stiffness(*b, y.num_dofs()));
-    test::check_force_field_derivatives(*a, x, {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-6});
+    test::check_force_field_derivatives(*a, x,
+                                        {.dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-6});
 }
 
 /// A ball (a sphere of radius r, UniformMass, implicit solver) above a fixed sheet of triangles
@@ -268,9 +279,11 @@ std::string tchg_ball_over_sheet(const test::TriangleSheet& sheet, double radius
   <Node name="ball">
     <EulerImplicitSolver/>
     <CGLinearSolver iterations="50" tolerance="1e-12" threshold="1e-12"/>
-    <MechanicalObject name="ballDofs" position=")" + b.str() + R"("/>
+    <MechanicalObject name="ballDofs" position=")" +
+           b.str() + R"("/>
     <UniformMass totalMass="0.1"/>
-    <SphereCollisionModel radius=")" + std::to_string(radius) + R"(" contactStiffness="2000"/>
+    <SphereCollisionModel radius=")" +
+           std::to_string(radius) + R"(" contactStiffness="2000"/>
   </Node>
 </Node>
 )";
@@ -304,8 +317,8 @@ TEST(TopologicalChanges, ABallFallsThroughAHoleCutInASheet) {
         whole->step();
         cut->step();
     }
-    EXPECT_GT(tchg_ball_height(*whole), 0.0);   // it rests on the sheet
-    EXPECT_LT(tchg_ball_height(*cut), -0.15);   // it fell through the hole (free fall: about −1.75 m)
+    EXPECT_GT(tchg_ball_height(*whole), 0.0);  // it rests on the sheet
+    EXPECT_LT(tchg_ball_height(*cut), -0.15);  // it fell through the hole (free fall: about −1.75 m)
 }
 
 TEST(TopologicalChanges, ContactsOnRemovedTrianglesEnd) {
@@ -419,14 +432,16 @@ namespace {
 
 /// The cube of tetrahedra with its border (Tetra2Triangle) tagged CarvingSurface, and a tool of
 /// spheres (one per point of `tool`) tagged CarvingTool; no gravity.
-std::string tchg_carving_scene(const test::TetraCube& cube, const std::vector<Vec3>& tool, double radius, double carving) {
+std::string tchg_carving_scene(const test::TetraCube& cube, const std::vector<Vec3>& tool, double radius,
+                               double carving) {
     return R"(<Node name="root" gravity="0 0 0" dt="0.01">
   <CollisionPipeline/>
   <BruteForceBroadPhase/>
   <BVHNarrowPhase/>
   <MinProximityIntersection alarmDistance="0.1" contactDistance="0.01"/>
   <CollisionResponse response="PenalityContactForceField"/>
-  <CarvingManager active="1" carvingDistance=")" + std::to_string(carving) + R"("/>
+  <CarvingManager active="1" carvingDistance=")" +
+           std::to_string(carving) + R"("/>
   <Node name="body">
     <EulerImplicitSolver/>
     <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
@@ -444,8 +459,10 @@ std::string tchg_carving_scene(const test::TetraCube& cube, const std::vector<Ve
     </Node>
   </Node>
   <Node name="tool">
-    <MechanicalObject name="toolDofs" position=")" + test::points_text(tool) + R"("/>
-    <SphereCollisionModel radius=")" + std::to_string(radius) + R"(" tags="CarvingTool"/>
+    <MechanicalObject name="toolDofs" position=")" +
+           test::points_text(tool) + R"("/>
+    <SphereCollisionModel radius=")" +
+           std::to_string(radius) + R"(" tags="CarvingTool"/>
   </Node>
 </Node>
 )";
@@ -483,8 +500,10 @@ TEST(TopologicalChanges, ASphereToolCarvesExactlyTheTetrahedraOfTheTrianglesWith
         const Vec3& c = tool[k];
         int found = 0;
         for (const Triangle& t : border.triangles()) {
-            const Vec3 a = x.position[std::size_t(t[0])], b = x.position[std::size_t(t[1])], d = x.position[std::size_t(t[2])];
-            if (std::abs(a.y() - 0.3) > 1e-12 || std::abs(b.y() - 0.3) > 1e-12 || std::abs(d.y() - 0.3) > 1e-12) continue;
+            const Vec3 a = x.position[std::size_t(t[0])], b = x.position[std::size_t(t[1])],
+                       d = x.position[std::size_t(t[2])];
+            if (std::abs(a.y() - 0.3) > 1e-12 || std::abs(b.y() - 0.3) > 1e-12 || std::abs(d.y() - 0.3) > 1e-12)
+                continue;
             // barycentric coordinates of (c.x, c.z) in the triangle's xz projection
             const double det = (b.x() - a.x()) * (d.z() - a.z()) - (d.x() - a.x()) * (b.z() - a.z());
             const double u = ((c.x() - a.x()) * (d.z() - a.z()) - (d.x() - a.x()) * (c.z() - a.z())) / det;
@@ -523,7 +542,8 @@ std::string tchg_processor_scene(const std::string& processor) {
 }
 
 TEST(TopologicalChanges, ProcessorFilesApplyAtTheirTimesAndBadOnesAreRefusedByLine) {
-    const std::string good = tchg_change_file("good.txt", "T= 0.02\n  REMOVE= 2\n4 0\nT= 0.05\n  ADD= Tetrahedra 1\n0 1 2 3\n");
+    const std::string good =
+        tchg_change_file("good.txt", "T= 0.02\n  REMOVE= 2\n4 0\nT= 0.05\n  ADD= Tetrahedra 1\n0 1 2 3\n");
     auto s = build(tchg_processor_scene(R"(<TopologicalChangeProcessor filename=")" + good + R"("/>)"));
     const MeshTopology& m = s->topology_container("volume").mesh();
     for (int k = 0; k < 2; ++k) s->step();
@@ -551,10 +571,12 @@ TEST(TopologicalChanges, ProcessorFilesApplyAtTheirTimesAndBadOnesAreRefusedByLi
         {"T= 0.01\n  REMOVE= 2\n0 9\n", "late.txt:3: tetrahedra 9 does not exist"},
         {"T= 0.01\n  REMOVE= 2\n1 1\n", "late.txt:3: tetrahedra 1 is listed twice"},
         {"T= 0.01\n  ADD= Tetrahedra 2\n0 1 2 7  0 1 2 2\n", "late.txt:3: new tetrahedra 1 uses vertex 2 twice"},
-        {"T= 0.01\n  ADD= Tetrahedra 1\n0 1 2 3\n", "late.txt:3: the topology '/body/volume': new tetrahedron 0 (0 1 2 3) is degenerate"}};
+        {"T= 0.01\n  ADD= Tetrahedra 1\n0 1 2 3\n",
+         "late.txt:3: the topology '/body/volume': new tetrahedron 0 (0 1 2 3) is degenerate"}};
     for (const auto& [text, expected] : late_cases) {
         const std::string late = tchg_change_file("late.txt", text);
-        auto t = build(tchg_processor_scene(R"(<TopologicalChangeProcessor name="cuts" filename=")" + late + R"("/>)"), refusing);
+        auto t = build(tchg_processor_scene(R"(<TopologicalChangeProcessor name="cuts" filename=")" + late + R"("/>)"),
+                       refusing);
         t->step();
         try {
             t->step();
@@ -585,7 +607,9 @@ TEST(TopologicalChanges, ProcessorSkipsRemovalsPastTheEndAsSofa) {
     ASSERT_EQ(m.tetrahedra().size(), 4u);
     EXPECT_EQ(m.tetrahedra(), reference->topology_container("volume").mesh().tetrahedra());
     EXPECT_EQ(m.num_points(), reference->topology_container("volume").mesh().num_points());
-    EXPECT_THAT(warning, HasSubstr("past_end.txt:3: 2 tetrahedra index(es) past the end of '/body/volume' (5) not removed (9, 12)"));
+    EXPECT_THAT(
+        warning,
+        HasSubstr("past_end.txt:3: 2 tetrahedra index(es) past the end of '/body/volume' (5) not removed (9, 12)"));
     EXPECT_THAT(warning, HasSubstr("--fix-sofa-quirk topology_removal_out_of_range"));
 }
 
@@ -605,12 +629,14 @@ TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {
     // components without a rule: a force field keeping init's points (SOFA's m_indices without
     // recompute_indices), a projective constraint with a target per point (SOFA's
     // PositionBasedDynamicsProjectiveConstraint has no topology data: its reinit does nothing)
-    for (const auto& [component, named] :
-         {std::pair<std::string, std::string>{R"(<UniformMass totalMass="1"/><RestShapeSpringsForceField name="m" stiffness="10" recompute_indices="0"/>)",
-                                              "RestShapeSpringsForceField 'm' (test.scn:"},
-          {R"(<UniformMass totalMass="1"/><PositionBasedDynamicsProjectiveConstraint name="pbd" stiffness="0.5" position=")" +
-               test::points_text(cube.points) + "\"/>",
-           "PositionBasedDynamicsProjectiveConstraint 'pbd' (test.scn:"}}) {
+    for (
+        const auto& [component, named] :
+        {std::pair<std::string, std::string>{
+             R"(<UniformMass totalMass="1"/><RestShapeSpringsForceField name="m" stiffness="10" recompute_indices="0"/>)",
+             "RestShapeSpringsForceField 'm' (test.scn:"},
+         {R"(<UniformMass totalMass="1"/><PositionBasedDynamicsProjectiveConstraint name="pbd" stiffness="0.5" position=")" +
+              test::points_text(cube.points) + "\"/>",
+          "PositionBasedDynamicsProjectiveConstraint 'pbd' (test.scn:"}}) {
         const std::string text = tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/><CGLinearSolver/>
   )" + component + R"(<TopologicalChangeProcessor filename=")" + file + R"("/>)");
         EXPECT_THAT(test::error_of(text), HasSubstr(named));
@@ -674,7 +700,8 @@ TEST(TopologicalChanges, ThousandsOfRemovalsAndAdditionsKeepEveryFollowerConsist
         if (round % 97 == 0) {
             double volume = 0;
             for (const Tetrahedron& t : c.mesh().tetrahedra()) volume += tchg_volume(x, t);
-            EXPECT_NEAR(tchg_find<DiagonalMass>(s->simulation().root())->total_mass(), 1000.0 * volume, 1e-9) << "round " << round;
+            EXPECT_NEAR(tchg_find<DiagonalMass>(s->simulation().root())->total_mass(), 1000.0 * volume, 1e-9)
+                << "round " << round;
             tchg_expect_triangle_models_fresh(*s, "round " + std::to_string(round));
         }
         if (round % 50 == 0) {
@@ -694,10 +721,11 @@ TEST(TopologicalChanges, LinePlaneAndPointConstraintsKeepTheirPointsAndProjectAs
     // projection acts on exactly those
     const test::TetraCube cube = test::tetra_cube(2, 0.2);
     const std::string indices = R"(indices="0 1 2 9 13 26")";
-    auto s = build(tchg_body(cube.points, cube.tetrahedra, "<UniformMass totalMass=\"1\"/>\n  <FixedProjectiveConstraint " + indices +
-                                                                 "/>\n  <LineProjectiveConstraint direction=\"1 1 0\" " + indices +
-                                                                 "/>\n  <PlaneProjectiveConstraint normal=\"0 0 1\" " + indices +
-                                                                 "/>\n  <PointProjectiveConstraint point=\"0 0 0\" " + indices + "/>"));
+    auto s = build(tchg_body(cube.points, cube.tetrahedra,
+                             "<UniformMass totalMass=\"1\"/>\n  <FixedProjectiveConstraint " + indices +
+                                 "/>\n  <LineProjectiveConstraint direction=\"1 1 0\" " + indices +
+                                 "/>\n  <PlaneProjectiveConstraint normal=\"0 0 1\" " + indices +
+                                 "/>\n  <PointProjectiveConstraint point=\"0 0 0\" " + indices + "/>"));
     s->remove_elements("volume", ElementType::tetrahedron, {0, 38});  // the only ones on corners 0 and 26
     Node& root = s->simulation().root();
     const auto* fixed = tchg_find<FixedProjectiveConstraint>(root);

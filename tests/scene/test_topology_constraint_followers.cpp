@@ -39,7 +39,8 @@ std::string tcf_body(const std::string& components) {
   <MechanicalObject name="dofs"/>
   <UniformMass totalMass="1"/>
   <FixedProjectiveConstraint indices="0 1 2 9 13 26"/>
-  )" + components + "\n</Node></Node>\n";
+  )" + components +
+           "\n</Node></Node>\n";
 }
 
 Vec3Object& tcf_state(scene::Scene& s) { return dynamic_cast<Vec3Object&>(*s.states().at(0).state); }
@@ -124,7 +125,8 @@ TEST(TopologyConstraintFollowers, PartialFixedAndParabolicKeepTheirPointsAsIfBui
     const test::TetraCube cube = test::tetra_cube(2, 0.2);
     const auto constraints = [](const std::string& indices) {
         return R"(<PartialFixedProjectiveConstraint indices=")" + indices + R"(" fixedDirections="1 0 1"/>
-  <ParabolicProjectiveConstraint indices=")" + indices + R"(" P1="0 0.2 0" P2="0.1 0.3 0" P3="0.2 0.2 0.1" BeginTime="0" EndTime="1"/>)";
+  <ParabolicProjectiveConstraint indices=")" +
+               indices + R"(" P1="0 0.2 0" P2="0.1 0.3 0" P3="0.2 0.2 0.1" BeginTime="0" EndTime="1"/>)";
     };
     auto s = test::build(tcf_body(constraints("0 1 2 9 13 26")));
     s->remove_elements("volume", ElementType::tetrahedron, {0, 38});
@@ -149,12 +151,15 @@ TEST(TopologyConstraintFollowers, PartialFixedAndParabolicKeepTheirPointsAsIfBui
     const std::string vertex_mass = mass_text.str();
     const std::string fresh_text = R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><Node name="body">
   <EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-12"/>
-  <TetrahedronSetTopologyContainer name="volume" position=")" + test::points_text(x.rest_position) +
-                                   R"(" tetrahedra=")" + test::elements_text(mesh.tetrahedra()) + R"("/>
+  <TetrahedronSetTopologyContainer name="volume" position=")" +
+                                   test::points_text(x.rest_position) + R"(" tetrahedra=")" +
+                                   test::elements_text(mesh.tetrahedra()) + R"("/>
   <TetrahedronSetTopologyModifier/>
   <MechanicalObject name="dofs"/>
-  <UniformMass vertexMass=")" + vertex_mass + R"("/>
-  <FixedProjectiveConstraint indices=")" + indices + R"("/>
+  <UniformMass vertexMass=")" + vertex_mass +
+                                   R"("/>
+  <FixedProjectiveConstraint indices=")" +
+                                   indices + R"("/>
   )" + constraints(indices) + "\n</Node></Node>\n";
     auto fresh = test::build(fresh_text);
     Node& fresh_root = fresh->simulation().root();
@@ -174,7 +179,8 @@ TEST(TopologyConstraintFollowers, PartialFixedAndParabolicKeepTheirPointsAsIfBui
     }
     EXPECT_EQ(x.position, tcf_state(*fresh).position);
     EXPECT_EQ(x.velocity, tcf_state(*fresh).velocity);
-    for (const Index i : arc->indices()) EXPECT_EQ(x.position[std::size_t(i)], x.position[std::size_t(arc->indices()[0])]);
+    for (const Index i : arc->indices())
+        EXPECT_EQ(x.position[std::size_t(i)], x.position[std::size_t(arc->indices()[0])]);
 }
 
 }  // namespace

@@ -35,7 +35,8 @@ std::string one_body(const std::string& topology) {
 TEST(TopologyContainers, TriangleSetDerivesOrientedEdgesInFirstOccurrenceOrder) {
     // TriangleSetTopologyContainer::createEdgeSetArray: edge j of triangle t is (t[j+1], t[j+2]),
     // new when its sorted pair is new; kept oriented.
-    const auto s = build(one_body(R"(<TriangleSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0" triangles="0 1 2  0 2 3"/>)"));
+    const auto s = build(
+        one_body(R"(<TriangleSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0" triangles="0 1 2  0 2 3"/>)"));
     const MeshTopology& t = topology_of(*s);
     EXPECT_THAT(t.edges(), ElementsAre(Edge{1, 2}, Edge{2, 0}, Edge{0, 1}, Edge{2, 3}, Edge{3, 0}));
     EXPECT_TRUE(t.quads().empty());
@@ -70,7 +71,8 @@ TEST(TopologyContainers, SrcMayLinkToATopologyBuiltBefore) {
 
 TEST(TopologyContainers, QuadSetDerivesSortedEdges) {
     // QuadSetTopologyContainer::createEdgeSetArray: (q[j+1], q[j+2]) sorted.
-    const auto s = build(one_body(R"(<QuadSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0" quads="0 1 2 3"/>)"));
+    const auto s =
+        build(one_body(R"(<QuadSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0" quads="0 1 2 3"/>)"));
     EXPECT_THAT(topology_of(*s).edges(), ElementsAre(Edge{1, 2}, Edge{2, 3}, Edge{0, 3}, Edge{0, 1}));
 }
 
@@ -90,7 +92,8 @@ TEST(TopologyContainers, TetrahedronSetDerivesTrianglesAndEdges) {
 TEST(TopologyContainers, HexahedronSetDerivesQuadsInSofaFaceOrder) {
     // HexahedronSetTopologyContainer::createQuadSetArray: faces (0,3,2,1), (4,5,6,7), (0,1,5,4),
     // (1,2,6,5), (2,3,7,6), (3,0,4,7), rotated to start at their smallest vertex.
-    const auto s = build(one_body(R"(<HexahedronSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0  0 0 1  1 0 1  1 1 1  0 1 1" hexahedra="0 1 2 3 4 5 6 7"/>)"));
+    const auto s = build(one_body(
+        R"(<HexahedronSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0  0 0 1  1 0 1  1 1 1  0 1 1" hexahedra="0 1 2 3 4 5 6 7"/>)"));
     const MeshTopology& t = topology_of(*s);
     EXPECT_THAT(t.quads(), ElementsAre(Quad{0, 3, 2, 1}, Quad{4, 5, 6, 7}, Quad{0, 1, 5, 4}, Quad{1, 2, 6, 5},
                                        Quad{2, 3, 7, 6}, Quad{0, 4, 7, 3}));
@@ -99,7 +102,8 @@ TEST(TopologyContainers, HexahedronSetDerivesQuadsInSofaFaceOrder) {
 }
 
 TEST(TopologyContainers, GivenEdgesAreKept) {
-    const auto s = build(one_body(R"(<TriangleSetTopologyContainer position="0 0 0  1 0 0  0 1 0" edges="0 1" triangles="0 1 2"/>)"));
+    const auto s = build(
+        one_body(R"(<TriangleSetTopologyContainer position="0 0 0  1 0 0  0 1 0" edges="0 1" triangles="0 1 2"/>)"));
     EXPECT_THAT(topology_of(*s).edges(), ElementsAre(Edge{0, 1}));
 }
 
@@ -162,8 +166,8 @@ TEST(TopologicalMappings, Tetra2TriangleFillsTheOutputContainerOfItsNode) {
     ASSERT_EQ(s->states().size(), 2u);
     const MeshTopology& surface = *s->states()[1].topology;
     EXPECT_EQ(surface.num_points(), 5u);
-    EXPECT_THAT(surface.triangles(), ElementsAre(Triangle{0, 2, 3}, Triangle{0, 3, 1}, Triangle{0, 1, 2}, Triangle{2, 4, 3},
-                                                 Triangle{1, 3, 4}, Triangle{1, 4, 2}));
+    EXPECT_THAT(surface.triangles(), ElementsAre(Triangle{0, 2, 3}, Triangle{0, 3, 1}, Triangle{0, 1, 2},
+                                                 Triangle{2, 4, 3}, Triangle{1, 3, 4}, Triangle{1, 4, 2}));
     EXPECT_TRUE(surface.tetrahedra().empty());
     const auto* dofs = dynamic_cast<const Vec3Object*>(s->states()[1].state);
     ASSERT_NE(dofs, nullptr);

@@ -28,13 +28,15 @@ T* tsf_find(Node& n) {
     return nullptr;
 }
 
-std::string tsf_scene(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles, const std::string& components) {
+std::string tsf_scene(const std::vector<Vec3>& points, const std::vector<Triangle>& triangles,
+                      const std::string& components) {
     return R"(<Node name="root" gravity="0 0 0" dt="0.01"><Node name="sheet">
   <TriangleSetTopologyContainer name="surface" position=")" +
            test::points_text(points) + R"(" triangles=")" + test::elements_text(triangles) + R"("/>
   <TriangleSetTopologyModifier/>
   <MechanicalObject name="dofs"/>
-  )" + components + "\n</Node></Node>\n";
+  )" + components +
+           "\n</Node></Node>\n";
 }
 
 Vec3Object& tsf_state(scene::Scene& s) { return *dynamic_cast<Vec3Object*>(s.states().at(0).state); }
@@ -89,33 +91,35 @@ void tsf_expect_same_forces(scene::Scene& a, scene::Scene& b) {
 }
 
 TEST(TriangleSpringFollowers, BiquadraticSpringsEqualTheSameForceFieldBuiltOnTheRemainingMesh) {
-    tsf_remove_and_rebuild(R"(<TriangularBiquadraticSpringsForceField youngModulus="15" poissonRatio="0.3" useAngularSprings="1"/>)",
-                           [](scene::Scene& a, scene::Scene& b) {
-                               using FF = TriangularBiquadraticSpringsForceField;
-                               const auto* fa = tsf_find<FF>(a.simulation().root());
-                               const auto* fb = tsf_find<FF>(b.simulation().root());
-                               ASSERT_TRUE(fa && fb);
-                               const MeshTopology& ma = a.topology_container("surface").mesh();
-                               const MeshTopology& mb = b.topology_container("surface").mesh();
-                               EXPECT_EQ(tsf_by_edge(ma, fa->rest_square_lengths()), tsf_by_edge(mb, fb->rest_square_lengths()));
-                               tsf_expect_same_edges(tsf_by_edge(ma, fa->edge_stiffness()), tsf_by_edge(mb, fb->edge_stiffness()));
-                               tsf_expect_same_forces<FF>(a, b);
-                           });
+    tsf_remove_and_rebuild(
+        R"(<TriangularBiquadraticSpringsForceField youngModulus="15" poissonRatio="0.3" useAngularSprings="1"/>)",
+        [](scene::Scene& a, scene::Scene& b) {
+            using FF = TriangularBiquadraticSpringsForceField;
+            const auto* fa = tsf_find<FF>(a.simulation().root());
+            const auto* fb = tsf_find<FF>(b.simulation().root());
+            ASSERT_TRUE(fa && fb);
+            const MeshTopology& ma = a.topology_container("surface").mesh();
+            const MeshTopology& mb = b.topology_container("surface").mesh();
+            EXPECT_EQ(tsf_by_edge(ma, fa->rest_square_lengths()), tsf_by_edge(mb, fb->rest_square_lengths()));
+            tsf_expect_same_edges(tsf_by_edge(ma, fa->edge_stiffness()), tsf_by_edge(mb, fb->edge_stiffness()));
+            tsf_expect_same_forces<FF>(a, b);
+        });
 }
 
 TEST(TriangleSpringFollowers, QuadraticSpringsEqualTheSameForceFieldBuiltOnTheRemainingMesh) {
-    tsf_remove_and_rebuild(R"(<TriangularQuadraticSpringsForceField youngModulus="15" poissonRatio="0.3" useAngularSprings="1"/>)",
-                           [](scene::Scene& a, scene::Scene& b) {
-                               using FF = TriangularQuadraticSpringsForceField;
-                               const auto* fa = tsf_find<FF>(a.simulation().root());
-                               const auto* fb = tsf_find<FF>(b.simulation().root());
-                               ASSERT_TRUE(fa && fb);
-                               const MeshTopology& ma = a.topology_container("surface").mesh();
-                               const MeshTopology& mb = b.topology_container("surface").mesh();
-                               EXPECT_EQ(tsf_by_edge(ma, fa->rest_lengths()), tsf_by_edge(mb, fb->rest_lengths()));
-                               tsf_expect_same_edges(tsf_by_edge(ma, fa->edge_stiffness()), tsf_by_edge(mb, fb->edge_stiffness()));
-                               tsf_expect_same_forces<FF>(a, b);
-                           });
+    tsf_remove_and_rebuild(
+        R"(<TriangularQuadraticSpringsForceField youngModulus="15" poissonRatio="0.3" useAngularSprings="1"/>)",
+        [](scene::Scene& a, scene::Scene& b) {
+            using FF = TriangularQuadraticSpringsForceField;
+            const auto* fa = tsf_find<FF>(a.simulation().root());
+            const auto* fb = tsf_find<FF>(b.simulation().root());
+            ASSERT_TRUE(fa && fb);
+            const MeshTopology& ma = a.topology_container("surface").mesh();
+            const MeshTopology& mb = b.topology_container("surface").mesh();
+            EXPECT_EQ(tsf_by_edge(ma, fa->rest_lengths()), tsf_by_edge(mb, fb->rest_lengths()));
+            tsf_expect_same_edges(tsf_by_edge(ma, fa->edge_stiffness()), tsf_by_edge(mb, fb->edge_stiffness()));
+            tsf_expect_same_forces<FF>(a, b);
+        });
 }
 
 TEST(TriangleSpringFollowers, TrianglePressureKeepsTheSelectedTrianglesThatRemain) {
@@ -129,8 +133,9 @@ TEST(TriangleSpringFollowers, TrianglePressureKeepsTheSelectedTrianglesThatRemai
     using Corners = std::set<std::array<double, 3>>;
     const auto corners = [&](const Triangle& t) {
         Corners c;
-        for (const PointId v : t) c.insert({x.rest_position[std::size_t(v)].x(), x.rest_position[std::size_t(v)].y(),
-                                            x.rest_position[std::size_t(v)].z()});
+        for (const PointId v : t)
+            c.insert({x.rest_position[std::size_t(v)].x(), x.rest_position[std::size_t(v)].y(),
+                      x.rest_position[std::size_t(v)].z()});
         return c;
     };
     std::set<Corners> expected;

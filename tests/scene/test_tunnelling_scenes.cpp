@@ -101,7 +101,8 @@ TEST(TunnellingScenes, BallOnSheetWarnCountsTheCrossingsOfTheUnguardedStep) {
     for (double speed : {10.0, 30.0, 50.0}) {
         tun::BallOnSheet b;
         b.speed = speed;
-        EXPECT_EQ(warn_is_off_bits(tun::ball_on_sheet_xml(b), 60), 1u) << speed << " m/s: the ball passes the sheet once";
+        EXPECT_EQ(warn_is_off_bits(tun::ball_on_sheet_xml(b), 60), 1u)
+            << speed << " m/s: the ball passes the sheet once";
     }
 }
 
@@ -147,7 +148,9 @@ TEST(TunnellingScenes, SubstepWithoutCrossingIsTheUnguardedStepBitForBit) {
         off->step();
         sub->step();
         ASSERT_EQ(sub->tunnelling_report()->solves, 1);
-        ASSERT_TRUE(test::same_bits(guard_state_named(*off, "ball").position[0], guard_state_named(*sub, "ball").position[0])) << k;
+        ASSERT_TRUE(
+            test::same_bits(guard_state_named(*off, "ball").position[0], guard_state_named(*sub, "ball").position[0]))
+            << k;
     }
 }
 
@@ -174,7 +177,8 @@ TEST(TunnellingScenes, BandOnPegsCutsThroughUnguardedAndNotGuarded) {
     for (TunnellingMode mode : {TunnellingMode::substep, TunnellingMode::stiffen}) {
         auto s = build_guarded(tun::band_on_pegs_xml(b), mode);
         double clearance = 1.0;
-        const GuardedRun g = run_guarded(*s, 120, [&](const scene::Scene& sc) { clearance = std::min(clearance, band_clearance(sc, b)); });
+        const GuardedRun g = run_guarded(
+            *s, 120, [&](const scene::Scene& sc) { clearance = std::min(clearance, band_clearance(sc, b)); });
         EXPECT_EQ(g.crossings, 0u) << tunnelling_mode_name(mode);
         EXPECT_TRUE(g.acted()) << tunnelling_mode_name(mode);
         EXPECT_GT(clearance, inner) << tunnelling_mode_name(mode);
@@ -274,12 +278,14 @@ TEST(TunnellingScenes, AMultiStepLoopTakesNoGuard) {
     const std::string loop = "<DefaultAnimationLoop/>";
     ASSERT_NE(xml.find(loop), std::string::npos);
     xml.replace(xml.find(loop), loop.size(), "<MultiStepAnimationLoop collisionSteps=\"2\" integrationSteps=\"1\"/>");
-    for (const std::optional<TunnellingMode> mode : {std::optional<TunnellingMode>{}, std::optional(TunnellingMode::substep)}) {
+    for (const std::optional<TunnellingMode> mode :
+         {std::optional<TunnellingMode>{}, std::optional(TunnellingMode::substep)}) {
         try {
             (void)build_guarded(xml, mode);
             ADD_FAILURE() << "no error";
         } catch (const io::SceneError& e) {
-            EXPECT_NE(std::string(e.what()).find(mode ? "--no-tunnelling substep" : "noTunnelling"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(mode ? "--no-tunnelling substep" : "noTunnelling"), std::string::npos)
+                << e.what();
             EXPECT_NE(std::string(e.what()).find("MultiStepAnimationLoop"), std::string::npos) << e.what();
         }
     }
@@ -306,7 +312,8 @@ TEST(TunnellingScenes, ContactAdviceIsItsClosedForms) {
         EXPECT_NEAR(a[0].max_dt_detection, 0.15 / v, 1e-15);
         EXPECT_NEAR(a[0].min_ks_energy, v * v / (0.12 * 0.12), 1e-9);
         const double reach_in_step = v * 0.005;  // 0.05 m at 10 m/s: within D, no condition
-        EXPECT_NEAR(a[0].min_ks_implicit, reach_in_step > 0.12 ? (reach_in_step - 0.12) / (0.005 * 0.005 * 0.12) : 0.0, 1e-6);
+        EXPECT_NEAR(a[0].min_ks_implicit, reach_in_step > 0.12 ? (reach_in_step - 0.12) / (0.005 * 0.005 * 0.12) : 0.0,
+                    1e-6);
         EXPECT_FALSE(a[0].explicit_contact);
         EXPECT_FALSE(a[0].safe());
     }

@@ -14,8 +14,8 @@
 namespace penalty::scene {
 namespace {
 
-using ::testing::ElementsAre;
 using output::ViewerShapeKind;
+using ::testing::ElementsAre;
 
 const std::filesystem::path kScenes = std::filesystem::path(PENALTY_SOURCE_DIR) / "scenes";
 
@@ -91,7 +91,8 @@ TEST(ViewerBodies, SceneWithoutCollisionModelsShowsItsStatesAsPoints) {
     auto scene = build_scene(io::parse_scene_string(R"(<Node name="root">
         <Node name="A"><MechanicalObject name="p" position="0 0 0  1 0 0  2 0 0"/></Node>
         <Node name="B"><MechanicalObject name="r" template="Rigid3d" position="0 0 0  0 0 0 1"/></Node>
-    </Node>)", "bare.scn"));
+    </Node>)",
+                                                    "bare.scn"));
     const ViewerBodies bodies = viewer_bodies(*scene);
     ASSERT_EQ(bodies.shapes.size(), 1u);  // the Vec3 state; the Rigid3 one has no size to draw
     EXPECT_EQ(bodies.shapes[0].type, "state");

@@ -101,7 +101,8 @@ struct Chains {
             solver.cg.threshold = 1e-20;
             solver.rayleigh_stiffness = 0.05 * b;
             Vec3Object& x = n.add_state<Vec3Types>();
-            for (int i = 0; i < points; ++i) x.position.push_back(Vec3(3.0 * b + 0.1 * i * i / points, -1.0 * i, 0.2 * b));
+            for (int i = 0; i < points; ++i)
+                x.position.push_back(Vec3(3.0 * b + 0.1 * i * i / points, -1.0 * i, 0.2 * b));
             n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.5 + 0.25 * b);
             auto& springs = n.add_force_field<SpringForceField>(x);
             for (int i = 0; i + 1 < points; ++i) springs.add_spring({i, i + 1, 500.0 + 10.0 * b, 0.0, 1.0});
@@ -115,7 +116,8 @@ struct Chains {
             states.push_back(&x);
             nodes.push_back(&n);
         }
-        if (tie_bodies) nodes[0]->add_force_field<SpringForceField>(*states[0], *states[1]).add_spring({1, 1, 300.0, 0.0, 3.0});
+        if (tie_bodies)
+            nodes[0]->add_force_field<SpringForceField>(*states[0], *states[1]).add_spring({1, 1, 300.0, 0.0, 3.0});
     }
 
     /// Adds a rendezvous field to every body.

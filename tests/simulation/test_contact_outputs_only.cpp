@@ -39,7 +39,8 @@ struct GridScene {
         Node& grid = sim.root().add_child("grid");
         auto& gx = grid.add_state<Vec3Types>("grid");
         // 8 × 8 quads over [−2, 2]²: vertices at multiples of 0.5, flat at y = 0 (exact ties)
-        test::grid_mesh(8, 2.0, [](const test::GridVertex&) { return 0.0; }, gx.position, grid_topology);
+        test::grid_mesh(
+            8, 2.0, [](const test::GridVertex&) { return 0.0; }, gx.position, grid_topology);
         Node& bodies = sim.root().add_child("bodies");
         auto& solver = bodies.set_ode_solver<EulerImplicitSolver>();
         solver.cg.iterations = 50;
@@ -142,7 +143,9 @@ void run(IntersectionParams ip, double reduction, bool ties_expected) {
     }
 }
 
-TEST(ContactOutputsOnly, NewProximitySameContactsFromFewerOutputs) { run(IntersectionParams::new_proximity(), 5.0, true); }
+TEST(ContactOutputsOnly, NewProximitySameContactsFromFewerOutputs) {
+    run(IntersectionParams::new_proximity(), 5.0, true);
+}
 
 TEST(ContactOutputsOnly, NewProximityWithTheTriangleSphereEdgeRangeFixed) {
     IntersectionParams ip = IntersectionParams::new_proximity();
@@ -150,7 +153,9 @@ TEST(ContactOutputsOnly, NewProximityWithTheTriangleSphereEdgeRangeFixed) {
     run(ip, 15.0, true);
 }
 
-TEST(ContactOutputsOnly, MinProximitySameContactsFromFewerOutputs) { run(IntersectionParams::min_proximity(), 8.0, true); }
+TEST(ContactOutputsOnly, MinProximitySameContactsFromFewerOutputs) {
+    run(IntersectionParams::min_proximity(), 8.0, true);
+}
 
 TEST(ContactOutputsOnly, LocalMinDistanceSameContactsFromFewerOutputs) {
     run(IntersectionParams::local_min_distance(), 1.1, false);

@@ -14,8 +14,8 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
-#include <string>
 #include <stdexcept>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -200,7 +200,7 @@ TEST(ContactPipeline, RigidSphereOnFloorThroughRigidMapper) {
         sim.step();
         ASSERT_EQ(pipeline.graph_entries().size(), 1u);
         const ContactGraphEntry& e = pipeline.graph_entries()[0];
-        EXPECT_EQ(e.host, &body);                     // floor not simulated → model2's node
+        EXPECT_EQ(e.host, &body);  // floor not simulated → model2's node
         ASSERT_NE(e.point_nodes[1], nullptr);
         EXPECT_EQ(e.point_nodes[1]->parent(), &body);  // rigid contact point under the body
         const PenaltyContact& c = e.contact->force_field().contacts()[0];

@@ -9,9 +9,9 @@
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/function_stage.hpp"
 #include "penalty_test/grid_meshes.hpp"
-#include "penalty_test/static_floor.hpp"
 #include "penalty_test/same_bits.hpp"
 #include "penalty_test/same_contacts.hpp"
+#include "penalty_test/static_floor.hpp"
 
 #include <gtest/gtest.h>
 
@@ -48,8 +48,9 @@ struct MeshScene {
         sim.root().set_dt(0.01);
         Node& floor = sim.root().add_child("floor");
         auto& fx = floor.add_state<Vec3Types>("floor");
-        test::grid_mesh(20, 2.0, [](const test::GridVertex& v) { return 0.05 * std::sin(3.0 * v.x) * std::cos(2.0 * v.z); },
-                        fx.position, floor_topology);
+        test::grid_mesh(
+            20, 2.0, [](const test::GridVertex& v) { return 0.05 * std::sin(3.0 * v.x) * std::cos(2.0 * v.z); },
+            fx.position, floor_topology);
         bodies = &sim.root().add_child("bodies");
         solver = &bodies->set_ode_solver<EulerImplicitSolver>();
         solver->cg.iterations = 50;
@@ -77,7 +78,8 @@ struct MeshScene {
         few_node.set_mass<UniformMass<Vec3Types>>(*few).set_vertex_mass(0.1);
         Node& sheet_node = bodies->add_child("sheet");
         sheet = &sheet_node.add_state<Vec3Types>("sheet");
-        test::grid_mesh(8, 0.6, [](const test::GridVertex&) { return 0.45; }, sheet->position, sheet_topology);
+        test::grid_mesh(
+            8, 0.6, [](const test::GridVertex&) { return 0.45; }, sheet->position, sheet_topology);
         sheet->velocity.assign(sheet->position.size(), Vec3(0.2, -1.5, 0.0));
         sheet_node.set_mass<UniformMass<Vec3Types>>(*sheet).set_vertex_mass(0.05);
 
@@ -294,7 +296,7 @@ TEST(ContactPipelineOptions, PhaseTimingsAreMeasuredEachUpdate) {
         const ContactPipelineTimings t = s.pipeline->last_timings();
         EXPECT_TRUE(std::isfinite(t.detection_seconds));
         EXPECT_TRUE(std::isfinite(t.response_seconds));
-        EXPECT_GT(t.detection_seconds, 0.0);   // 5 models, 800-triangle floor: never 0 ns
+        EXPECT_GT(t.detection_seconds, 0.0);  // 5 models, 800-triangle floor: never 0 ns
         EXPECT_GE(t.response_seconds, 0.0);
         total_detection += t.detection_seconds;
         total_response += t.response_seconds;

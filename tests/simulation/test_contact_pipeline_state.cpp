@@ -27,7 +27,7 @@ TEST(NodeId, UniqueInItsGraphInCreationOrderAndNeverReused) {
     EXPECT_EQ(c.id(), 3);
     ASSERT_TRUE(a.remove_child(&b));
     EXPECT_EQ(a.add_child("b again").id(), 4);  // a removed node's id is not given again
-    Simulation other;                            // another graph numbers its own nodes
+    Simulation other;                           // another graph numbers its own nodes
     EXPECT_EQ(other.root().add_child("a").id(), 1);
 }
 
@@ -54,7 +54,7 @@ TEST(ContactPipelineState, ModelsWithoutNodeIdGetTheirNodesIdentity) {
     EXPECT_EQ(sph.params().node, kAutoNodeIdBase + body.id());
     EXPECT_EQ(far.params().node, kAutoNodeIdBase + other.id());
     EXPECT_EQ(numbered.params().node, 7);
-    EXPECT_TRUE(same_node(pts, sph));    // same node: no pair without self-collision
+    EXPECT_TRUE(same_node(pts, sph));  // same node: no pair without self-collision
     EXPECT_FALSE(same_node(pts, far));
     // a second pipeline of the same simulation gives the same identity
     ContactPipelineOptions no_hook;

@@ -71,15 +71,15 @@ TEST(NewtonContact, StiffDropLinearisedStepOvershootsNewtonSolvesBackwardEuler) 
     EXPECT_NEAR(lin.vy(), v_free, 1e-12);
     EXPECT_NEAR(lin.y(), kY0 + kH * v_free, 1e-12);
     const double pen_lin = kDist - lin.y();
-    EXPECT_NEAR(pen_lin, 0.035981, 1e-9);            // 36 mm, 367 × the resting m·g/ks
-    EXPECT_GT(lin.energy(), e0 + 30.0);              // ½·ks·pen² = 64.7 J stored: energy gain
+    EXPECT_NEAR(pen_lin, 0.035981, 1e-9);  // 36 mm, 367 × the resting m·g/ks
+    EXPECT_GT(lin.energy(), e0 + 30.0);    // ½·ks·pen² = 64.7 J stored: energy gain
     // Newton with geometry updates: the exact backward-Euler step with the spring active.
     const double v1 = be_velocity(kY0, kV0);
     EXPECT_NEAR(v1, -53.0981 / 11.0, 1e-12);
     EXPECT_NEAR(nwt.vy(), v1, 1e-9);
     EXPECT_NEAR(nwt.y(), kY0 + kH * v1, 1e-11);
-    EXPECT_GT(kDist - nwt.y(), 0.0);                 // the active set is consistent
-    EXPECT_LT(kDist - nwt.y(), 0.0034);              // 3.3 mm instead of 36 mm
+    EXPECT_GT(kDist - nwt.y(), 0.0);     // the active set is consistent
+    EXPECT_LT(kDist - nwt.y(), 0.0034);  // 3.3 mm instead of 36 mm
     EXPECT_TRUE(nwt.solver->last_newton_converged());
     EXPECT_LE(nwt.solver->last_newton_residual(), 1e-10);
     // Iterate 0 (x_n: spring inactive, free fall), 1 (spring active: one exact Newton step),
@@ -203,7 +203,7 @@ TEST(NewtonContact, CurvedContactUsesTheEndOfStepNormal) {
     run(true, x1, v1, x0, v0, converged);
     EXPECT_TRUE(converged);
     EXPECT_NEAR((x1 - x0 - kH * v1).norm(), 0.0, 1e-14);  // x1 = x0 + h·v1
-    EXPECT_GT(kC + 1.0 + kRadius - x1.norm(), 0.0);        // in contact at the end
+    EXPECT_GT(kC + 1.0 + kRadius - x1.norm(), 0.0);       // in contact at the end
     EXPECT_LT(residual(x1, v1, v0, x1.normalized()), 1e-8);
     const double with_updates = residual(x1, v1, v0, x0.normalized());
 
@@ -274,8 +274,8 @@ TEST(NewtonContact, ContactsAppearAndDisappearBetweenIterates) {
         const ContactGraphEntry* l = pipeline.find(*floor.model, leaver_model);
         ASSERT_NE(t, nullptr);
         ASSERT_NE(l, nullptr);
-        iterates.push_back({t->contact->force_field().size(), l->contact->force_field().size(),
-                            t->point_states[0]->position.size()});
+        iterates.push_back(
+            {t->contact->force_field().size(), l->contact->force_field().size(), t->point_states[0]->position.size()});
         EXPECT_EQ(pipeline.find(*floor.model, newcomer_model), nullptr);  // never created mid-solve
     };
     sim.init();

@@ -186,8 +186,9 @@ TEST(SubtreeSystem, CgsFusedPassesGiveTheBitsOfTheProductAndDotApart) {
             }
             Eigen::VectorXd x_apart;
             Eigen::VectorXd x_fused;
-            const CgStats apart = apart_cg.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, m, b, k, true); },
-                                                 rhs, x_apart, [&](const Eigen::VectorXd& a, const Eigen::VectorXd& c) { return sys.dot(a, c); });
+            const CgStats apart = apart_cg.solve(
+                [&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { sys.apply_mbk(p, q, m, b, k, true); }, rhs, x_apart,
+                [&](const Eigen::VectorXd& a, const Eigen::VectorXd& c) { return sys.dot(a, c); });
             MbkCgSystem fused_system(sys, m, b, k);
             const CgStats fused = fused_cg.solve(fused_system, rhs, x_fused);
             EXPECT_EQ(fused.iterations, apart.iterations);
@@ -256,7 +257,8 @@ TEST(SubtreeSystem, MapsDxOnlyInTheRowsReadWithTheSameBits) {
     sys_s.compute_force(f_s);
     sys_f.compute_force(f_f);
     ASSERT_EQ(f_s.size(), f_f.size());
-    for (Eigen::Index i = 0; i < f_s.size(); ++i) EXPECT_EQ(std::bit_cast<std::uint64_t>(f_s[i]), std::bit_cast<std::uint64_t>(f_f[i])) << i;
+    for (Eigen::Index i = 0; i < f_s.size(); ++i)
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(f_s[i]), std::bit_cast<std::uint64_t>(f_f[i])) << i;
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -270,9 +272,11 @@ TEST(SubtreeSystem, MapsDxOnlyInTheRowsReadWithTheSameBits) {
         ASSERT_EQ(q_s.size(), q_f.size());
         EXPECT_GT(q_s.norm(), 1e-3);
         for (Eigen::Index i = 0; i < q_s.size(); ++i)
-            EXPECT_EQ(std::bit_cast<std::uint64_t>(q_s[i]), std::bit_cast<std::uint64_t>(q_f[i])) << "trial " << trial << " row " << i;
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(q_s[i]), std::bit_cast<std::uint64_t>(q_f[i]))
+                << "trial " << trial << " row " << i;
         // Rows read: 2, 7, 40 (contact mapping), 3, 50, 20, 33 (penalty interaction); row 0 is not.
-        for (const std::size_t read : {2, 3, 7, 20, 33, 40, 50}) EXPECT_TRUE(selective.surface->dx[read].allFinite()) << read;
+        for (const std::size_t read : {2, 3, 7, 20, 33, 40, 50})
+            EXPECT_TRUE(selective.surface->dx[read].allFinite()) << read;
         EXPECT_TRUE(std::isnan(selective.surface->dx[0][0]));
     }
 }
@@ -302,8 +306,8 @@ struct ObstacleScene {
     /// Step k's contacts: block vertices 0, 1, 2 (its bottom) on obstacle rows that change with k.
     void set_contacts(int k) {
         field.clear();
-        for (const auto& [vertex, row] :
-             std::array<std::pair<Index, Index>, 3>{{{0, (7 * k) % points}, {1, (7 * k + 150) % points}, {2, points - 1 - 3 * k}}})
+        for (const auto& [vertex, row] : std::array<std::pair<Index, Index>, 3>{
+                 {{0, (7 * k) % points}, {1, (7 * k + 150) % points}, {2, points - 1 - 3 * k}}})
             field.add_contact(vertex, row, 0, 0, Vec3(0, 1, 0), 0.05, 500.0);
     }
 };
@@ -320,7 +324,8 @@ TEST(SubtreeSystem, AStaticObstaclesScratchIsClearedOnlyWhereSolvesWroteIt) {
     const auto same_vectors = [&](const std::vector<Vec3>& a, const std::vector<Vec3>& b, const char* what, int k) {
         ASSERT_EQ(a.size(), b.size());
         for (std::size_t i = 0; i < a.size(); ++i)
-            for (int c = 0; c < 3; ++c) ASSERT_EQ(bits(a[i][c]), bits(b[i][c])) << what << " row " << i << " step " << k;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(bits(a[i][c]), bits(b[i][c])) << what << " row " << i << " step " << k;
     };
     std::mt19937 rng(17);
     std::uniform_real_distribution<double> u(-1, 1);

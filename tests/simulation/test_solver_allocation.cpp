@@ -177,13 +177,14 @@ struct ContactScene {
     std::unique_ptr<ContactPipeline> pipeline;
 
     /// floor_simulated: the pair's force field goes to the root, without solver (explicit).
-    explicit ContactScene(bool floor_simulated = false) : floor(sim.root(), test::floor_params(10.0, floor_simulated)) {}
+    explicit ContactScene(bool floor_simulated = false)
+        : floor(sim.root(), test::floor_params(10.0, floor_simulated)) {}
 
     long count_steps_without_hook(CollisionModel& model, Node& body, EulerImplicitSolver& solver) {
         ContactPipelineOptions options;
         options.register_stage = false;  // the stage below runs update() outside the count
-        pipeline = std::make_unique<ContactPipeline>(sim, IntersectionParams::new_proximity(), CollisionResponse(), nullptr,
-                                                     options);
+        pipeline = std::make_unique<ContactPipeline>(sim, IntersectionParams::new_proximity(), CollisionResponse(),
+                                                     nullptr, options);
         pipeline->add_model(*floor.model, *floor.node);
         pipeline->add_model(model, body);
         const test::FunctionStage uncounted(sim, [this] {
@@ -225,7 +226,9 @@ void expect_vec3_sphere_on_floor_allocates_nothing(bool explicit_contact) {
     EXPECT_EQ(scene.pipeline->graph_entries()[0].host, explicit_contact ? &scene.sim.root() : &body);
 }
 
-TEST(SolverAllocation, Vec3SphereOnFloorContactPathAllocatesNothing) { expect_vec3_sphere_on_floor_allocates_nothing(false); }
+TEST(SolverAllocation, Vec3SphereOnFloorContactPathAllocatesNothing) {
+    expect_vec3_sphere_on_floor_allocates_nothing(false);
+}
 
 TEST(SolverAllocation, Vec3SphereOnFloorExplicitContactPathAllocatesNothing) {
     expect_vec3_sphere_on_floor_allocates_nothing(true);

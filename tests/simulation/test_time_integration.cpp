@@ -19,7 +19,8 @@ class PlanarContact final : public Vec3InteractionForceField {
 public:
     PlanarContact(Vec3Object& a, Vec3Object& b, Vec3 n, double dist, double ks)
         : Vec3InteractionForceField(a, b), n_(std::move(n)), dist_(dist), ks_(ks) {}
-    void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span, ConstVec3Span) override {
+    void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span,
+                   ConstVec3Span) override {
         const double pen = dist_ - (x2[0] - x1[0]).dot(n_);
         active_ = pen > 0;
         last_pen_ = pen;
@@ -161,7 +162,8 @@ TEST(CGLinearSolver, StoppingRulesAndFirstSolveException) {
     cg3.threshold = 0;
     Eigen::VectorXd d(4);
     d << 1, 10, 100, 1000;
-    auto s3 = cg3.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { q = d.cwiseProduct(p); }, Eigen::VectorXd::Ones(4), x);
+    auto s3 = cg3.solve([&](const Eigen::VectorXd& p, Eigen::VectorXd& q) { q = d.cwiseProduct(p); },
+                        Eigen::VectorXd::Ones(4), x);
     EXPECT_EQ(s3.end_condition, CgEndCondition::iterations);
     EXPECT_EQ(s3.iterations, 2);
     EXPECT_GT((d.cwiseProduct(x) - Eigen::VectorXd::Ones(4)).norm(), 1e-3);

@@ -57,15 +57,16 @@ TEST(StiffeningLaw, ContinuousAtItsJointsAndBounded) {
     const double fc = kLaw.ks * (ps + gs * 100.0 - gs);
     EXPECT_NEAR(kLaw.force(pc), fc, 1e-9 * fc);
     EXPECT_NEAR(kLaw.force(0.02), fc + kLaw.max_factor * kLaw.ks * gc, 1e-9 * fc);
-    const double e_far = 0.5 * kLaw.ks * ps * ps + kLaw.ks * (ps - gs) * (pc - ps) + kLaw.ks * gs * gs * std::log(100.0) +
-                         fc * gc + 0.5 * kLaw.max_factor * kLaw.ks * gc * gc;
+    const double e_far = 0.5 * kLaw.ks * ps * ps + kLaw.ks * (ps - gs) * (pc - ps) +
+                         kLaw.ks * gs * gs * std::log(100.0) + fc * gc + 0.5 * kLaw.max_factor * kLaw.ks * gc * gc;
     EXPECT_NEAR(kLaw.energy(0.02), e_far, 1e-12 * e_far);
     // it stores more than SOFA's spring over its reach: ½·ks·D² = 0.4 J
     EXPECT_GT(kLaw.energy(0.02), 2.0 * 0.5 * kLaw.ks * 0.02 * 0.02);
 }
 
 TEST(TunnellingOptions, NamesAndChecks) {
-    for (TunnellingMode m : {TunnellingMode::off, TunnellingMode::warn, TunnellingMode::substep, TunnellingMode::stiffen})
+    for (TunnellingMode m :
+         {TunnellingMode::off, TunnellingMode::warn, TunnellingMode::substep, TunnellingMode::stiffen})
         EXPECT_EQ(parse_tunnelling_mode(tunnelling_mode_name(m)), m);
     EXPECT_FALSE(parse_tunnelling_mode("on").has_value());
     TunnellingOptions o;

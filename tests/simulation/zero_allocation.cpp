@@ -142,7 +142,8 @@ TEST_P(ZeroAllocation, WholeStep) {
     const auto& [file, bvh] = GetParam();
     const Counts c = run_scene(file, bvh);
     ASSERT_GT(c.live_pairs, 0u);
-    EXPECT_EQ(c.whole_step, 0) << file << ": a step allocated over steps 50-100 (contact path: " << c.contact_path << ")";
+    EXPECT_EQ(c.whole_step, 0) << file << ": a step allocated over steps 50-100 (contact path: " << c.contact_path
+                               << ")";
 }
 
 // The sort into SOFA's order keeps its buffers (SofaOrderScratch) from call to call: once they

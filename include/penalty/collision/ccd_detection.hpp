@@ -70,7 +70,7 @@ struct Crossing {
     /// Element of model2 for a triangle or a sphere, of model1 for a sphere (−1 otherwise).
     Index element1 = -1;
     Index element2 = -1;
-    double toi = 1.0;     ///< fraction of the step at which the features met (conservative: ≤ the true one)
+    double toi = 1.0;  ///< fraction of the step at which the features met (conservative: ≤ the true one)
     /// How far the features ended beyond each other (m): point–triangle, sphere–triangle and
     /// edge–edge, their distance at the end of the step; sphere–sphere, max(r1, r2) − |c2 − c1|
     /// at the end (0 when the centres left each other's sphere by then).
@@ -83,10 +83,10 @@ struct Crossing {
 
 /// Counts of the last detect().
 struct ContinuousDetectionStats {
-    std::size_t surfaces = 0;          ///< surfaces with features
-    std::size_t surface_pairs = 0;     ///< pairs of surfaces whose swept boxes overlapped
-    std::size_t candidates = 0;        ///< feature pairs whose swept boxes overlapped (tested exactly)
-    std::size_t capped = 0;            ///< tests stopped on CcdOptions::max_iterations (reported as crossings)
+    std::size_t surfaces = 0;       ///< surfaces with features
+    std::size_t surface_pairs = 0;  ///< pairs of surfaces whose swept boxes overlapped
+    std::size_t candidates = 0;     ///< feature pairs whose swept boxes overlapped (tested exactly)
+    std::size_t capped = 0;         ///< tests stopped on CcdOptions::max_iterations (reported as crossings)
 };
 
 class ContinuousDetection {

@@ -61,23 +61,23 @@ struct Aabb {
 
 /// The Data common to all SOFA collision models, with SOFA's defaults.
 struct CollisionModelParams {
-    std::string name;                 ///< used in error messages and contact names
-    bool active = true;               ///< excluded from detection if false
-    bool moving = true;               ///< false: per-element data (normals) computed once only
-    bool simulated = true;            ///< pairs of two non-simulated models are skipped
-    bool self_collision = false;      ///< models of the same node collide only if true
-    double contact_distance = 0.0;    ///< SOFA `contactDistance` (alias `proximity`), m, ≥ 0:
-                                      ///< skin added to alarm/contact distances and to `dist`
-    double contact_stiffness = 10.0;  ///< SOFA `contactStiffness` k (ks = k1·k2/dist), ≥ 0
-    double contact_friction = 0.0;    ///< summed into mu_v, unused by the penalty response
-    double contact_restitution = 0.0; ///< unused
-    std::string contact_response;     ///< per-model response override ("" = none)
-    std::vector<int> group;           ///< models sharing a group id never collide
+    std::string name;                  ///< used in error messages and contact names
+    bool active = true;                ///< excluded from detection if false
+    bool moving = true;                ///< false: per-element data (normals) computed once only
+    bool simulated = true;             ///< pairs of two non-simulated models are skipped
+    bool self_collision = false;       ///< models of the same node collide only if true
+    double contact_distance = 0.0;     ///< SOFA `contactDistance` (alias `proximity`), m, ≥ 0:
+                                       ///< skin added to alarm/contact distances and to `dist`
+    double contact_stiffness = 10.0;   ///< SOFA `contactStiffness` k (ks = k1·k2/dist), ≥ 0
+    double contact_friction = 0.0;     ///< summed into mu_v, unused by the penalty response
+    double contact_restitution = 0.0;  ///< unused
+    std::string contact_response;      ///< per-model response override ("" = none)
+    std::vector<int> group;            ///< models sharing a group id never collide
     /// Identifier of the scene-graph node (SOFA "context") that holds the model. Two models
     /// with the same node id ≥ 0, or a model with itself, are "in the same node".
     /// −1 (default) = a node of its own.
     int node = -1;
-    bool both_side = false;           ///< SOFA `bothSide` (Point/Line/Triangle; LMD filters)
+    bool both_side = false;  ///< SOFA `bothSide` (Point/Line/Triangle; LMD filters)
 };
 
 /// A collision model: a list of elements over a mechanical state.

@@ -134,8 +134,8 @@ struct CollisionPipelineOptions {
     /// Each pair's outputs in SOFA's BVHNarrowPhase order (sofa_traversal_order.hpp); false:
     /// ascending (elem1, elem2), which is cheaper for large pairs and not SOFA's.
     bool sofa_output_order = true;
-    std::size_t leaf_size = 8;      ///< maximum elements per leaf
-    double rebuild_ratio = 2.0;    ///< moving models: rebuild when refitting degrades the tree (Bvh::refit)
+    std::size_t leaf_size = 8;   ///< maximum elements per leaf
+    double rebuild_ratio = 2.0;  ///< moving models: rebuild when refitting degrades the tree (Bvh::refit)
     /// bvh: keep each model pair's candidates from step to step (CollisionPipeline, "candidate
     /// cache") and only box-test them again while no element box has moved past the slack they
     /// were collected with; the outputs are the same as traversing the trees at every step.
@@ -291,9 +291,9 @@ private:
     std::vector<CollisionModel*> models_;
     std::vector<Bvh> trees_;
     std::vector<std::pair<const CollisionModel*, std::size_t>> index_of_;  // sorted by address
-    std::unique_ptr<detail::BroadPhase> broad_;        ///< the pairs, kept while the models' keys hold
-    std::unique_ptr<detail::CandidateCache> cache_;    ///< bvh: each pair's candidates kept (candidate_cache.hpp)
-    SofaOrderTrees sofa_trees_;                        ///< per model: SOFA's tree, built at its first detection
+    std::unique_ptr<detail::BroadPhase> broad_;      ///< the pairs, kept while the models' keys hold
+    std::unique_ptr<detail::CandidateCache> cache_;  ///< bvh: each pair's candidates kept (candidate_cache.hpp)
+    SofaOrderTrees sofa_trees_;                      ///< per model: SOFA's tree, built at its first detection
     CandidateCacheStats cache_stats_;
     std::size_t candidates_evaluated_ = 0;
     PairScratch scratch_;                     // detect_pair's, and detect()'s when the pairs run in order
@@ -308,7 +308,8 @@ private:
     std::vector<PairWork> pair_work_;
     std::size_t moving_elements_ = 0;  // elements of the moving models the last refit() refitted
     bool last_concurrent_ = false;
-    std::vector<std::vector<std::uint64_t>> deferred_writes_;  // per pair: its writes' candidates (detect_pairs_concurrently)
+    std::vector<std::vector<std::uint64_t>>
+        deferred_writes_;           // per pair: its writes' candidates (detect_pairs_concurrently)
     SceneDetection result_;         // entries and their output lists keep their capacity
     std::vector<Aabb> boxes_;       // exhaustive: element boxes of model 2
     std::vector<Aabb> root_boxes_;  // exhaustive: each model's root box (union of its element boxes)

@@ -127,17 +127,17 @@ struct IntersectionParams {
     double alarm_distance = 1.0;    ///< A (m), ≥ 0; Discrete: 0
     double contact_distance = 0.5;  ///< C (m), ≥ 0; Discrete: 0
     // NewProximity and MinProximity
-    bool use_line_line = false;     ///< NewProximity default false, MinProximity default true
+    bool use_line_line = false;  ///< NewProximity default false, MinProximity default true
     // MinProximity switches (false = pair registered as ignored)
     bool use_sphere_triangle = true;  ///< Sphere/RigidSphere vs Point, Line, Triangle
     bool use_point_point = true;
     bool use_line_point = true;
-    bool use_surface_normals = false; ///< Triangle–Point normal = stored triangle normal
+    bool use_surface_normals = false;  ///< Triangle–Point normal = stored triangle normal
     // LocalMinDistance
     bool filter_intersection = true;
     double angle_cone = 0.0;
     double cone_factor = 0.5;
-    bool use_lmd_filters = false;   ///< true: skip the built-in validity filters
+    bool use_lmd_filters = false;  ///< true: skip the built-in validity filters
     /// Beyond SOFA (opt-in, SOFA has no intersector): the four Cylinder pairs (NewProximity
     /// and MinProximity) and Tetrahedron–Point (all methods, proximity semantics).
     bool enable_beyond_sofa_pairs = false;
@@ -178,15 +178,14 @@ enum class PairSupport : std::uint8_t {
 
 /// SOFA's cube-test margin for a model pair (§3.8): Discrete → alarm_distance, otherwise
 /// alarm_distance + contact_distance(m1) + contact_distance(m2).
-[[nodiscard]] double box_margin(const IntersectionParams& params, const CollisionModel& m1,
-                                const CollisionModel& m2);
+[[nodiscard]] double box_margin(const IntersectionParams& params, const CollisionModel& m1, const CollisionModel& m2);
 
 /// Runs the element intersector for (e1 of m1, e2 of m2); (m1, m2) must be in registered order.
 /// Appends 0 or more outputs to `out` and returns their number. Throws std::invalid_argument
 /// for an unsupported/ignored pair or a wrong order (callers should check pair_support first).
 /// May modify m1/m2 (SOFA's Triangle–Triangle normal overwrite, quirk §14.4).
-int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1,
-                       CollisionModel& m2, Index e2, DetectionOutputList& out);
+int intersect_elements(const IntersectionParams& params, CollisionModel& m1, Index e1, CollisionModel& m2, Index e2,
+                       DetectionOutputList& out);
 
 /// Self-collision element filters of SOFA (spec §3.2, §3.4), applied by the narrow phase only
 /// to two models of the same node (same_node(m1, m2)): a Point model with itself rejects
@@ -223,7 +222,7 @@ void exhaustive_narrow_phase(const IntersectionParams& params, CollisionModel& m
 /// One model pair, exhaustively (the reference of the BVH narrow phase): validates both
 /// models, swaps them into registered order, applies the model-pair filter (keep_model_pair:
 /// skipped) and, for a pair with an active intersector, runs exhaustive_narrow_phase.
-[[nodiscard]] ModelPairDetection detect_model_pair(const IntersectionParams& params,
-                                                   CollisionModel& a, CollisionModel& b);
+[[nodiscard]] ModelPairDetection detect_model_pair(const IntersectionParams& params, CollisionModel& a,
+                                                   CollisionModel& b);
 
 }  // namespace penalty

@@ -29,8 +29,7 @@ class PointModel final : public CollisionModel {
 public:
     /// `topology` (optional, non-owning) is needed for the self-collision neighbour filter
     /// and the LocalMinDistance point filter.
-    PointModel(const Vec3State& state, const MeshTopology* topology = nullptr,
-               CollisionModelParams params = {});
+    PointModel(const Vec3State& state, const MeshTopology* topology = nullptr, CollisionModelParams params = {});
 
     [[nodiscard]] std::size_t size() const override { return state_->size(); }
     [[nodiscard]] Aabb element_box(Index i) const override;
@@ -99,9 +98,15 @@ private:
 class TriangleModel final : public CollisionModel {
 public:
     enum Flags : std::uint32_t {
-        kP1 = 1u, kP2 = 2u, kP3 = 4u,
-        kE23 = 8u, kE31 = 16u, kE12 = 32u,
-        kBE23 = 64u, kBE31 = 128u, kBE12 = 256u,
+        kP1 = 1u,
+        kP2 = 2u,
+        kP3 = 4u,
+        kE23 = 8u,
+        kE31 = 16u,
+        kE12 = 32u,
+        kBE23 = 64u,
+        kBE31 = 128u,
+        kBE12 = 256u,
         kPoints = kP1 | kP2 | kP3,
         kEdges = kE23 | kE31 | kE12,
     };
@@ -202,8 +207,8 @@ private:
 /// origin. Same radius rule and box as SphereModel.
 class RigidSphereModel final : public CollisionModel {
 public:
-    RigidSphereModel(const Rigid3State& state, double radius = 1.0,
-                     std::vector<double> list_radius = {}, CollisionModelParams params = {});
+    RigidSphereModel(const Rigid3State& state, double radius = 1.0, std::vector<double> list_radius = {},
+                     CollisionModelParams params = {});
 
     [[nodiscard]] std::size_t size() const override { return state_->size(); }
     [[nodiscard]] Aabb element_box(Index i) const override;
@@ -235,9 +240,9 @@ public:
     [[nodiscard]] Aabb element_box(Index i) const override;
     void validate() const override;
 
-    std::vector<double> radii;        ///< per-cylinder radius (padded with the default)
-    std::vector<double> heights;      ///< per-cylinder full height
-    std::vector<Vec3> local_axes;     ///< per-cylinder local axis (normalised on use)
+    std::vector<double> radii;     ///< per-cylinder radius (padded with the default)
+    std::vector<double> heights;   ///< per-cylinder full height
+    std::vector<Vec3> local_axes;  ///< per-cylinder local axis (normalised on use)
 
     [[nodiscard]] double radius(Index i) const;
     [[nodiscard]] double height(Index i) const;

@@ -27,8 +27,8 @@ struct RayHit {
 
 /// SOFA's sofa::geometry::Triangle::rayIntersection (Möller–Trumbore, tolerance ε = machine
 /// epsilon on u, v, u + v and det, and t ≥ ε), operation by operation. Writes t, u, v on success.
-[[nodiscard]] bool ray_triangle_hit(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& origin, const Vec3& direction,
-                                    double& t, double& u, double& v);
+[[nodiscard]] bool ray_triangle_hit(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& origin,
+                                    const Vec3& direction, double& t, double& u, double& v);
 
 /// SOFA's helper::TriangleOctree over the cube [-800, 800]³: each triangle is stored in every
 /// cell of edge 1600 / 2^d (d the largest with 1600 / 2^d ≥ the triangle box's largest extent)
@@ -66,8 +66,8 @@ private:
     [[nodiscard]] int new_node(double x, double y, double z, double size);
     void insert(int node, double x, double y, double z, double cell, int triangle);
     void fill(int triangle);
-    [[nodiscard]] int walk(int node, const Ray& ray, double tx0, double ty0, double tz0, double tx1, double ty1, double tz1,
-                           RayHit& hit) const;
+    [[nodiscard]] int walk(int node, const Ray& ray, double tx0, double ty0, double tz0, double tx1, double ty1,
+                           double tz1, RayHit& hit) const;
     [[nodiscard]] int nearest_in(int node, int first, const Ray& ray, RayHit& hit) const;
 
     std::span<const Vec3> positions_;

@@ -50,8 +50,7 @@ namespace penalty::detail {
 /// unreliable: u and v nearly parallel (|u × v|² ≤ 1e-6 |u|² |v|²), or |u|² |v|² or the bound
 /// outside the normal floating-point range.
 template <class... Q>
-[[nodiscard]] inline bool plane_separates(const Vec3& origin, const Vec3& u, const Vec3& v, double R,
-                                          const Q&... q) {
+[[nodiscard]] inline bool plane_separates(const Vec3& origin, const Vec3& u, const Vec3& v, double R, const Q&... q) {
     const Vec3 n = u.cross(v);
     const double n2 = n.squaredNorm();
     const double u2 = u.squaredNorm();
@@ -91,10 +90,10 @@ template <class... Q>
 /// within one rounding of the true one componentwise, so each is within about ε of
 /// perpendicular to the true segment whatever its direction. NaN and infinities never clear.
 struct ElementPlanes {
-    Vec3 normal[3];        ///< not unit; the element lies in {x : normal·x = offset}
+    Vec3 normal[3];  ///< not unit; the element lies in {x : normal·x = offset}
     double offset[3] = {};
-    double normal2[3] = {};  ///< |normal|²
-    int count = 0;           ///< 0: nothing is ever cleared (degenerate or unreliable element)
+    double normal2[3] = {};   ///< |normal|²
+    int count = 0;            ///< 0: nothing is ever cleared (degenerate or unreliable element)
     double element_s2 = 0.0;  ///< 2 (|p1|² + |u|² + |v|²)
     double R2 = 0.0;          ///< 1.001 R²
 

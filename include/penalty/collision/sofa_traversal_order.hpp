@@ -85,10 +85,10 @@ private:
         std::uint32_t cell = 0;   ///< leaf cell
         std::uint32_t index = 0;  ///< position in the cell
     };
-    std::vector<Place> places_;                 // per element
-    std::vector<SofaTreeStep> cell_steps_;      // the leaf cells' paths, one after the other
-    std::vector<std::uint32_t> cell_offsets_;   // leaf cell c's path: [offsets[c], offsets[c + 1])
-    std::vector<std::uint32_t> cell_sizes_;     // elements per leaf cell
+    std::vector<Place> places_;                // per element
+    std::vector<SofaTreeStep> cell_steps_;     // the leaf cells' paths, one after the other
+    std::vector<std::uint32_t> cell_offsets_;  // leaf cell c's path: [offsets[c], offsets[c + 1])
+    std::vector<std::uint32_t> cell_sizes_;    // elements per leaf cell
     std::vector<std::uint32_t> level_max_size_;
     std::vector<std::uint64_t> key_as_first_, key_as_second_;
 };
@@ -139,11 +139,11 @@ public:
     /// Builds the trees of the active, non-empty models that have none or an outdated one.
     void build_all(const std::vector<CollisionModel*>& models);
     /// Sorts the outputs of pair (models[i1], models[i2]) into SOFA's order.
-    void sort_outputs(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2, DetectionOutputList& outputs,
-                      SofaOrderScratch& scratch);
+    void sort_outputs(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2,
+                      DetectionOutputList& outputs, SofaOrderScratch& scratch);
     /// Sorts the pair's candidate keys into SOFA's order.
-    void sort_keys(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2, std::span<std::uint64_t> keys,
-                   SofaOrderScratch& scratch);
+    void sort_keys(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2,
+                   std::span<std::uint64_t> keys, SofaOrderScratch& scratch);
 
 private:
     void ensure(const std::vector<CollisionModel*>& models, std::size_t i1, std::size_t i2);

@@ -60,8 +60,8 @@ inline bool all_finite(const double* x, std::size_t n) {
 
 }  // namespace penalty
 
-#define PENALTY_DEMAND(condition)                                                   \
-    do {                                                                            \
+#define PENALTY_DEMAND(condition)                                                            \
+    do {                                                                                     \
         if (!(condition)) ::penalty::detail::fail_invariant(#condition, __FILE__, __LINE__); \
     } while (false)
 

@@ -34,7 +34,8 @@ void stable_radix_sort(std::vector<T>& v, std::vector<T>& swap, std::vector<std:
     counts.assign(std::size_t(passes) * kBuckets, 0);
     for (const T& x : v) {
         const std::uint64_t k = key_of(x);
-        for (int p = 0; p < passes; ++p) ++counts[std::size_t(p) * kBuckets + ((k >> (p * kRadixDigitBits)) & (kBuckets - 1))];
+        for (int p = 0; p < passes; ++p)
+            ++counts[std::size_t(p) * kBuckets + ((k >> (p * kRadixDigitBits)) & (kBuckets - 1))];
     }
     if (swap.size() < n) swap.resize(n);
     T* from = v.data();

@@ -14,10 +14,10 @@
 namespace penalty {
 
 using Real = double;
-using Vec3 = Eigen::Vector3d;   ///< position, displacement, force, normal (3 doubles, unaligned)
-using Mat3 = Eigen::Matrix3d;   ///< 3x3 block (stiffness, rotation)
+using Vec3 = Eigen::Vector3d;  ///< position, displacement, force, normal (3 doubles, unaligned)
+using Mat3 = Eigen::Matrix3d;  ///< 3x3 block (stiffness, rotation)
 using Quat = Eigen::Quaterniond;
-using Index = std::int64_t;     ///< element and DOF indices
+using Index = std::int64_t;  ///< element and DOF indices
 
 /// A Rigid3 frame: world position of the origin and orientation (body -> world).
 /// SOFA's Rigid3d coordinate, stored in its file order x y z qx qy qz qw.

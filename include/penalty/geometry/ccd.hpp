@@ -52,11 +52,11 @@ struct CcdOptions {
 
 /// What a continuous test found.
 struct CcdResult {
-    bool hit = false;        ///< the features touch (to ε) at some t ∈ [0, 1], or `capped`
-    double toi = 1.0;        ///< t of the first touch found (≤ the true one), in [0, 1]; 1 without a hit
-    double distance = 0.0;   ///< the pair's distance at toi (m); at t = 1 without a hit
-    int iterations = 0;      ///< advances made
-    bool capped = false;     ///< a hit by default: coplanar motion the root test cannot decide
+    bool hit = false;       ///< the features touch (to ε) at some t ∈ [0, 1], or `capped`
+    double toi = 1.0;       ///< t of the first touch found (≤ the true one), in [0, 1]; 1 without a hit
+    double distance = 0.0;  ///< the pair's distance at toi (m); at t = 1 without a hit
+    int iterations = 0;     ///< advances made
+    bool capped = false;    ///< a hit by default: coplanar motion the root test cannot decide
 };
 
 /// Point p and triangle (t1, t2, t3), each vertex moving linearly from its `0` position (t = 0)
@@ -66,9 +66,8 @@ struct CcdResult {
                                            const CcdOptions& options = {});
 
 /// Segments [a, b] and [c, d], each end moving linearly (as point_triangle_ccd).
-[[nodiscard]] CcdResult edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0,
-                                      const Vec3& a1, const Vec3& b1, const Vec3& c1, const Vec3& d1,
-                                      const CcdOptions& options = {});
+[[nodiscard]] CcdResult edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
+                                      const Vec3& b1, const Vec3& c1, const Vec3& d1, const CcdOptions& options = {});
 
 /// Spheres of radii r1, r2 ≥ 0 whose centres move linearly (c1: c10 → c11, c2: c20 → c21): a hit
 /// when, at some t ∈ (0, 1], the centre of one lies inside the other, |u(t)| < max(r1, r2) with
@@ -76,8 +75,8 @@ struct CcdResult {
 /// an earlier step). Closed form: the first root of |u₀ + t·Δu|² = R² (R = max(r1, r2)); toi is
 /// that root, distance |u(toi)| − R (0 up to rounding). Exact: no false positive or negative
 /// beyond rounding.
-[[nodiscard]] CcdResult sphere_sphere_ccd(const Vec3& c10, const Vec3& c20, const Vec3& c11, const Vec3& c21,
-                                          double r1, double r2);
+[[nodiscard]] CcdResult sphere_sphere_ccd(const Vec3& c10, const Vec3& c20, const Vec3& c11, const Vec3& c21, double r1,
+                                          double r2);
 
 /// Distance (m) between point p and the solid triangle (t1, t2, t3).
 [[nodiscard]] double point_triangle_distance(const Vec3& p, const Vec3& t1, const Vec3& t2, const Vec3& t3);

@@ -33,8 +33,7 @@ struct PointCylinderResult {
 /// Signed distance from p to the solid cylinder and the closest surface point. A point on the
 /// axis inside uses the nearest of the side (radial direction: any unit vector ⟂ u, chosen
 /// deterministically) and the caps; zero radius or zero height are valid (segment, disk).
-[[nodiscard]] PointCylinderResult point_cylinder_signed_distance(const Vec3& p,
-                                                                 const CylinderShape& cyl);
+[[nodiscard]] PointCylinderResult point_cylinder_signed_distance(const Vec3& p, const CylinderShape& cyl);
 
 /// A unit vector orthogonal to the unit vector u (deterministic choice).
 [[nodiscard]] Vec3 any_orthogonal(const Vec3& u);

@@ -21,7 +21,6 @@ struct PointSegmentResult {
 
 /// Closest point of the segment [a, b] to p: t = clamp(((p − a)·(b − a)) / |b − a|², 0, 1).
 /// Degenerate segment (|b − a|² ≤ 1e-300 or not finite ratio): t = 0, the segment is the point a.
-[[nodiscard]] PointSegmentResult point_segment_closest_point(const Vec3& p, const Vec3& a,
-                                                             const Vec3& b);
+[[nodiscard]] PointSegmentResult point_segment_closest_point(const Vec3& p, const Vec3& a, const Vec3& b);
 
 }  // namespace penalty

@@ -20,10 +20,7 @@ struct PointTetrahedronResult {
 /// Signed distance from p to the solid tetrahedron (p0, p1, p2, p3) (either orientation).
 /// Flat tetrahedra (|volume| ≤ 1e-14 · (max edge)³) have no inside: the distance to the union of
 /// the four faces is returned, ≥ 0.
-[[nodiscard]] PointTetrahedronResult point_tetrahedron_signed_distance(const Vec3& p,
-                                                                       const Vec3& p0,
-                                                                       const Vec3& p1,
-                                                                       const Vec3& p2,
-                                                                       const Vec3& p3);
+[[nodiscard]] PointTetrahedronResult point_tetrahedron_signed_distance(const Vec3& p, const Vec3& p0, const Vec3& p1,
+                                                                       const Vec3& p2, const Vec3& p3);
 
 }  // namespace penalty

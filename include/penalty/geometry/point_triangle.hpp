@@ -26,7 +26,7 @@ struct PointTriangleResult {
 /// Closest point of the solid triangle (p0, p1, p2) to p, by Voronoi-region classification.
 /// A zero-area triangle (|(p1−p0)×(p2−p0)|² ≤ 1e-28 · (max squared edge length)²) is treated
 /// as the union of its three edges (`degenerate` = true); never produces NaN for finite input.
-[[nodiscard]] PointTriangleResult point_triangle_closest_point(const Vec3& p, const Vec3& p0,
-                                                               const Vec3& p1, const Vec3& p2);
+[[nodiscard]] PointTriangleResult point_triangle_closest_point(const Vec3& p, const Vec3& p0, const Vec3& p1,
+                                                               const Vec3& p2);
 
 }  // namespace penalty

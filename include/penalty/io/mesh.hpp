@@ -117,12 +117,11 @@ struct MeshData {
 /// SOFA MeshLoader transform of every point: p' = translation + R(rotation) * (scale3d ∘ p),
 /// i.e. scale first, then rotation (euler_degrees_to_matrix), then translation.
 /// Sphere radii are not changed (SOFA's SphereLoader does not scale them either).
-void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees,
-                     const Vec3& scale3d);
+void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees, const Vec3& scale3d);
 
 /// Same transform on a plain list of points.
-void apply_transform(std::vector<Vec3>& points, const Vec3& translation,
-                     const Vec3& rotation_degrees, const Vec3& scale3d);
+void apply_transform(std::vector<Vec3>& points, const Vec3& translation, const Vec3& rotation_degrees,
+                     const Vec3& scale3d);
 
 /// SOFA MeshLoader `createSubelements`: in this order, appends the missing boundary quads of
 /// the hexahedra (faces (0,3,2,1), (4,5,6,7), (0,1,5,4), (1,2,6,5), (2,3,7,6), (3,0,4,7)), the

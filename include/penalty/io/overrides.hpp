@@ -52,8 +52,7 @@ using AttributeFilter = std::function<bool(const SceneElement&, std::string_view
 /// @throws SceneError `file: --set '/X.a=1': no node or component '/X' (...)`, or
 ///         `file:line: Type 'name': --set '...': no attribute 'a' in the file, and penalty does not
 ///         read it for Type (it reads: ...)`; `name` cannot be overridden.
-void apply_overrides(SceneFile& file, const std::vector<Override>& overrides,
-                     const AttributeFilter& may_add = {},
+void apply_overrides(SceneFile& file, const std::vector<Override>& overrides, const AttributeFilter& may_add = {},
                      const std::function<std::string(const SceneElement&)>& known_attributes = {});
 
 /// The element a path names (see the file comment), or nullptr; `why` explains a failure.

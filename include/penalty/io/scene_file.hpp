@@ -49,12 +49,12 @@ struct SceneAttribute {
 
 /// What nodes and components share: type (tag), name, attributes, location.
 struct SceneElement {
-    std::string type;                       ///< tag: "Node", "MechanicalObject", ...
-    std::string name;                       ///< `name` attribute ("" when absent)
-    std::vector<SceneAttribute> attributes; ///< all other attributes, in file order
-    int line = 0;                           ///< line of the opening tag
-    std::string file;                       ///< the file it was read from: the scene file as given to the
-                                            ///< parser, or the resolved path of an `<include>`d file
+    std::string type;                        ///< tag: "Node", "MechanicalObject", ...
+    std::string name;                        ///< `name` attribute ("" when absent)
+    std::vector<SceneAttribute> attributes;  ///< all other attributes, in file order
+    int line = 0;                            ///< line of the opening tag
+    std::string file;                        ///< the file it was read from: the scene file as given to the
+                                             ///< parser, or the resolved path of an `<include>`d file
     /// "" for an element of the scene file itself; for one read from an included file,
     /// ` (included from a.xml:3, included from scene.scn:12)`, innermost include first (appended
     /// to error messages).
@@ -71,16 +71,16 @@ struct SceneNode;
 
 /// A component (an object in SOFA's words).
 struct SceneComponent : SceneElement {
-    std::string template_name;      ///< `template` attribute ("" when absent): "Vec3d", "Rigid3d", ...
-    const SceneNode* node = nullptr;///< the node holding this component
-    std::size_t index = 0;          ///< position among the node's components (for `@[-1]` links)
+    std::string template_name;        ///< `template` attribute ("" when absent): "Vec3d", "Rigid3d", ...
+    const SceneNode* node = nullptr;  ///< the node holding this component
+    std::size_t index = 0;            ///< position among the node's components (for `@[-1]` links)
 };
 
 /// A node: its own attributes (dt, gravity, ...), child nodes and components in file order.
 struct SceneNode : SceneElement {
-    const SceneNode* parent = nullptr;                         ///< nullptr for the root
-    std::vector<std::unique_ptr<SceneNode>> children;          ///< child nodes, file order
-    std::vector<std::unique_ptr<SceneComponent>> components;   ///< components, file order
+    const SceneNode* parent = nullptr;                        ///< nullptr for the root
+    std::vector<std::unique_ptr<SceneNode>> children;         ///< child nodes, file order
+    std::vector<std::unique_ptr<SceneComponent>> components;  ///< components, file order
 
     /// Child node / component with that name (first one), or nullptr.
     [[nodiscard]] const SceneNode* child(std::string_view child_name) const;
@@ -92,8 +92,8 @@ struct SceneNode : SceneElement {
 /// A parsed scene. The tree is owned through pointers, so that the parent/node back-pointers
 /// stay valid when the SceneFile is moved.
 struct SceneFile {
-    std::filesystem::path path;        ///< the file parsed ("" for a string)
-    std::unique_ptr<SceneNode> root;   ///< the root `<Node>`
+    std::filesystem::path path;       ///< the file parsed ("" for a string)
+    std::unique_ptr<SceneNode> root;  ///< the root `<Node>`
 
     /// Folder of the scene file (for relative data file names); "." for a string.
     [[nodiscard]] std::filesystem::path directory() const;
@@ -166,9 +166,8 @@ template <std::size_t N>
 [[nodiscard]] std::vector<std::array<PointId, N>> get_elements(const SceneElement& e, std::string_view attr) {
     const std::vector<PointId> flat = get_indices(e, attr);
     if (flat.size() % N != 0) {
-        throw_attribute_error(e, attr,
-                              "expected a multiple of " + std::to_string(N) + " indices, found " +
-                                  std::to_string(flat.size()));
+        throw_attribute_error(
+            e, attr, "expected a multiple of " + std::to_string(N) + " indices, found " + std::to_string(flat.size()));
     }
     std::vector<std::array<PointId, N>> out(flat.size() / N);
     for (std::size_t i = 0; i < flat.size(); ++i) out[i / N][i % N] = flat[i];
@@ -205,7 +204,6 @@ struct LinkTarget {
 
 /// Resolves a link text (with or without the leading '@') from component `from`; `attr` only
 /// names the attribute in error messages.
-[[nodiscard]] LinkTarget resolve_link_text(const SceneComponent& from, std::string_view link,
-                                           std::string_view attr);
+[[nodiscard]] LinkTarget resolve_link_text(const SceneComponent& from, std::string_view link, std::string_view attr);
 
 }  // namespace penalty::io

@@ -59,12 +59,18 @@ private:
     std::vector<char> released_;  ///< SOFA's constraintReleased, per pair
 };
 
-template <> void AttachProjectiveConstraint<Vec3Types>::project_position();
-template <> void AttachProjectiveConstraint<Rigid3Types>::project_position();
-template <> void AttachProjectiveConstraint<Vec3Types>::project_velocity();
-template <> void AttachProjectiveConstraint<Rigid3Types>::project_velocity();
-template <> void AttachProjectiveConstraint<Vec3Types>::project_response(Eigen::Ref<Eigen::VectorXd>) const;
-template <> void AttachProjectiveConstraint<Rigid3Types>::project_response(Eigen::Ref<Eigen::VectorXd>) const;
+template <>
+void AttachProjectiveConstraint<Vec3Types>::project_position();
+template <>
+void AttachProjectiveConstraint<Rigid3Types>::project_position();
+template <>
+void AttachProjectiveConstraint<Vec3Types>::project_velocity();
+template <>
+void AttachProjectiveConstraint<Rigid3Types>::project_velocity();
+template <>
+void AttachProjectiveConstraint<Vec3Types>::project_response(Eigen::Ref<Eigen::VectorXd>) const;
+template <>
+void AttachProjectiveConstraint<Rigid3Types>::project_response(Eigen::Ref<Eigen::VectorXd>) const;
 extern template class AttachProjectiveConstraint<Vec3Types>;
 extern template class AttachProjectiveConstraint<Rigid3Types>;
 

@@ -37,7 +37,8 @@ public:
     /// Checks the beams and computes each local stiffness from the rest positions.
     void init() override;
     void add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x, std::span<const RigidDeriv> v) override;
-    void add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor, double b_factor) const override;
+    void add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor,
+                    double b_factor) const override;
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
     /// ½ Σ dᵀ k d over the beams (J), d the local displacement of the last add_force.
     [[nodiscard]] double potential_energy() const override { return energy_; }

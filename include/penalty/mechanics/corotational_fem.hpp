@@ -37,8 +37,8 @@ public:
     [[nodiscard]] double stiffness_factor(std::size_t e) const;
 
 protected:
-    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
-                                                  std::size_t e) const override;
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local,
+                                                  const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 4>& p) const override;
 
 private:
@@ -48,8 +48,8 @@ private:
 
     CorotationalFemOptions options_;
     Eigen::Matrix<double, 6, 6> material_;  ///< isotropic_elasticity(E, ν), Pa
-    std::vector<double> rest_volume_;        ///< V⁰ per element, m³
-    std::vector<Vec3> scratch_force_;        ///< polar + assembling: the force SOFA computes and drops
+    std::vector<double> rest_volume_;       ///< V⁰ per element, m³
+    std::vector<Vec3> scratch_force_;       ///< polar + assembling: the force SOFA computes and drops
 };
 
 }  // namespace penalty

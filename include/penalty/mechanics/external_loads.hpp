@@ -65,7 +65,8 @@ public:
     RigidPlaneForceField(Rigid3Object& state, const PlaneForceFieldParameters& parameters);
 
     void add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x, std::span<const RigidDeriv> v) override;
-    void add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor, double b_factor) const override;
+    void add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor,
+                    double b_factor) const override;
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
     [[nodiscard]] double potential_energy() const override { return energy_; }
 

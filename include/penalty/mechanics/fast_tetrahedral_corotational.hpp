@@ -40,15 +40,15 @@ class FastTetrahedralCorotationalForceField final : public ForceField<Vec3Types>
 public:
     /// SOFA's TetrahedronRestInformation plus the tetrahedron's global edges.
     struct RestTetrahedron {
-        std::array<Vec3, 4> shape_vector{};           ///< ∇ of the barycentric coordinates, 1/m
-        double rest_volume = 0;                        ///< −signedVolume, m³
-        std::array<Vec3, 6> rest_edge{};               ///< p_l − p_k per local edge, m
-        std::array<Mat3, 4> vertex_block{};            ///< D_i, N/m
-        std::array<Mat3, 6> edge_block{};              ///< L_j, N/m
-        Mat3 rest_rotation = Mat3::Identity();         ///< qr and polar2 only
-        Mat3 rotation = Mat3::Identity();              ///< Rᵀ: deformed to rest (last add_force)
-        std::array<std::int32_t, 6> edge{};            ///< global edge of each local edge
-        std::array<double, 6> edge_orientation{};      ///< +1 when the local edge runs as the global one
+        std::array<Vec3, 4> shape_vector{};        ///< ∇ of the barycentric coordinates, 1/m
+        double rest_volume = 0;                    ///< −signedVolume, m³
+        std::array<Vec3, 6> rest_edge{};           ///< p_l − p_k per local edge, m
+        std::array<Mat3, 4> vertex_block{};        ///< D_i, N/m
+        std::array<Mat3, 6> edge_block{};          ///< L_j, N/m
+        Mat3 rest_rotation = Mat3::Identity();     ///< qr and polar2 only
+        Mat3 rotation = Mat3::Identity();          ///< Rᵀ: deformed to rest (last add_force)
+        std::array<std::int32_t, 6> edge{};        ///< global edge of each local edge
+        std::array<double, 6> edge_orientation{};  ///< +1 when the local edge runs as the global one
     };
 
     FastTetrahedralCorotationalForceField(Vec3Object& state, const MeshTopology& topology,

@@ -93,7 +93,8 @@ protected:
     void init_from(std::size_t first);
     /// Element stiffness K^e (SPD, 3N×3N) from local rest coordinates.
     [[nodiscard]] virtual ElementMatrix compute_stiffness(const std::array<Vec3, N>& rest_local,
-                                                          const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const = 0;
+                                                          const Eigen::Matrix<double, 6, 6>& d,
+                                                          std::size_t e) const = 0;
     /// Rotation (rows = local axes) of an element with vertex positions p.
     [[nodiscard]] virtual Mat3 element_rotation(const std::array<Vec3, N>& p) const = 0;
     /// The rotation of element `e` at positions p (element_rotation unless a field needs the
@@ -124,10 +125,10 @@ template <std::size_t W>
 struct alignas(8 * W) TetrahedronLargeLanes {
     static constexpr std::size_t kLanes = W;
     using Lanes = std::array<double, W>;
-    std::array<Lanes, 9> rotation{};                      ///< R(i, j) at 3i + j, from the last add_force
-    std::array<std::array<Lanes, 3>, 4> cofactor{};       ///< J's entries g_yz, g_xz, g_xy of each vertex
-    std::array<Lanes, 9> material{};                      ///< D/(36V)(i, k), i, k < 3, at 3i + k
-    std::array<Lanes, 3> shear{};                         ///< D/(36V)(i, i), i = 3 … 5
+    std::array<Lanes, 9> rotation{};                     ///< R(i, j) at 3i + j, from the last add_force
+    std::array<std::array<Lanes, 3>, 4> cofactor{};      ///< J's entries g_yz, g_xz, g_xy of each vertex
+    std::array<Lanes, 9> material{};                     ///< D/(36V)(i, k), i, k < 3, at 3i + k
+    std::array<Lanes, 3> shear{};                        ///< D/(36V)(i, i), i = 3 … 5
     std::array<std::array<std::size_t, W>, 4> vertex{};  ///< DOF of vertex k of each lane
 };
 using TetrahedronLargeBlock = TetrahedronLargeLanes<4>;
@@ -181,9 +182,9 @@ public:
     /// addDForce ignores the plastic strain). Method large only; the force runs its scalar loop
     /// (src/mechanics/tetrahedron_plasticity.cpp).
     struct Plasticity {
-        double max_threshold = 0.0;                    ///< plasticMaxThreshold; 0: no plasticity
-        double yield_threshold = double(0.0001f);      ///< plasticYieldThreshold (SOFA's float default)
-        double creep = double(0.9f);                   ///< plasticCreep (SOFA's float default)
+        double max_threshold = 0.0;                ///< plasticMaxThreshold; 0: no plasticity
+        double yield_threshold = double(0.0001f);  ///< plasticYieldThreshold (SOFA's float default)
+        double creep = double(0.9f);               ///< plasticCreep (SOFA's float default)
     };
     /// Before init(); throws std::invalid_argument for a method other than large, or bad values.
     void set_plasticity(const Plasticity& plasticity);
@@ -196,8 +197,8 @@ public:
     void set_young_factors(std::vector<double> factors) { young_factors_ = std::move(factors); }
 
 protected:
-    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
-                                                  std::size_t e) const override;
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local,
+                                                  const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 4>& p) const override;
     /// Method svd (TetrahedronFEMForceField::initSVD / accumulateForceSVD): with A the rows
     /// p1−p0, p2−p0, p3−p0 and F = A·A₀⁻¹ (A₀ at rest), R = polar_rotation(A) when det F ≥ 1e-6,
@@ -221,23 +222,24 @@ private:
     /// What a topological change leaves to topology_change_done().
     struct PendingTopologyChange {
         const TopologyContainer* container = nullptr;
-        std::vector<std::size_t> moved;       ///< elements given another's data (swap-and-pop)
-        std::vector<PointId> renumbered;      ///< points that took the last point's index
+        std::vector<std::size_t> moved;   ///< elements given another's data (swap-and-pop)
+        std::vector<PointId> renumbered;  ///< points that took the last point's index
         std::size_t first_new = std::numeric_limits<std::size_t>::max();
-        bool rebuild = false;                 ///< a renumbering: init() again
+        bool rebuild = false;  ///< a renumbering: init() again
     };
     PendingTopologyChange pending_;
 
-    std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
-    std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
-    std::vector<LargeElement> large_;       ///< large: J and D/(36V) per element
+    std::vector<Mat3> rest_edges_inverse_;                     ///< svd: A₀⁻¹ per element
+    std::vector<Mat3> rest_rotation_;                          ///< svd: R₀ per element
+    std::vector<LargeElement> large_;                          ///< large: J and D/(36V) per element
     std::vector<detail::TetrahedronLargeBlock> large_blocks_;  ///< large: the same data and R, four elements a block
     /// large, avx512 path only: the same data and R, eight elements a block (else empty)
     std::vector<detail::TetrahedronLargeBlock8> large_blocks8_;
     /// large_blocks8_ filled from large_, rotation_ and the elements (avx512), or emptied.
     void fill_eight_lane_blocks();
     /// Element e's data as the lane blocks take it: J, D/(36V), R and its vertices.
-    [[nodiscard]] std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&, const Element&>
+    [[nodiscard]] std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&,
+                             const Element&>
     large_element_lanes(std::size_t e) const;
     KernelPath kernel_path_ = best_fem_kernel_path();
     /// add_force of method large with plasticity, SOFA's sums (tetrahedron_plasticity.cpp).
@@ -252,8 +254,8 @@ private:
 /// rest frame from the rest positions, stiffness −Rᵀ K^e R, as large otherwise.
 class HexahedronFEMForceField final : public LinearElementForceField<8> {
 public:
-    HexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
-                            double poisson_ratio, FemMethod method = FemMethod::Large)
+    HexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus, double poisson_ratio,
+                            FemMethod method = FemMethod::Large)
         : LinearElementForceField<8>(state, topology.hexahedra(), young_modulus, poisson_ratio, method,
                                      "HexahedronFEMForceField") {}
 
@@ -264,8 +266,8 @@ public:
     [[nodiscard]] const std::vector<double>& stiffness_factors() const { return stiffness_factors_; }
 
 protected:
-    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
-                                                  std::size_t e) const override;
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local,
+                                                  const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override;
 
 private:

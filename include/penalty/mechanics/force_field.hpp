@@ -88,8 +88,7 @@ public:
     /// f += F(x, v).
     virtual void add_force(std::span<Deriv> f, std::span<const Coord> x, std::span<const Deriv> v) = 0;
     /// df += k·K·dx + b·B·dx.
-    virtual void add_dforce(std::span<Deriv> df, std::span<const Deriv> dx, double k_factor,
-                            double b_factor) const = 0;
+    virtual void add_dforce(std::span<Deriv> df, std::span<const Deriv> dx, double k_factor, double b_factor) const = 0;
     /// factor·K triplets at scalar offset `offset`.
     virtual void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const = 0;
 
@@ -113,12 +112,11 @@ class Vec3InteractionForceField : public BaseForceField {
 public:
     Vec3InteractionForceField(Vec3Object& state1, Vec3Object& state2) : s1_(&state1), s2_(&state2) {}
 
-    virtual void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2,
-                           ConstVec3Span v1, ConstVec3Span v2) = 0;
-    virtual void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2,
-                            double k_factor, double b_factor) const = 0;
-    virtual void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2,
-                                        double factor) const = 0;
+    virtual void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
+                           ConstVec3Span v2) = 0;
+    virtual void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
+                            double b_factor) const = 0;
+    virtual void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2, double factor) const = 0;
 
     void accumulate_force() override {
         add_force(s1_->force, s2_->force, s1_->position, s2_->position, s1_->velocity, s2_->velocity);

@@ -130,7 +130,7 @@ private:
     std::vector<Vec3> targets_;
     std::vector<double> rest_lengths_;
     int geometric_stiffness_mode_;
-    std::vector<Vec3> directions_;     ///< u at the last apply
+    std::vector<Vec3> directions_;         ///< u at the last apply
     std::vector<double> inverse_lengths_;  ///< 1/|x − t| (0 below 1e-10)
 };
 

@@ -22,8 +22,8 @@ namespace penalty {
 /// the matrix whose rows are the mean edges along x, y and z).
 class HexahedralFEMForceField final : public LinearElementForceField<8> {
 public:
-    HexahedralFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
-                            double poisson_ratio, FemMethod method = FemMethod::Large);
+    HexahedralFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus, double poisson_ratio,
+                            FemMethod method = FemMethod::Large);
     [[nodiscard]] const std::vector<Element>& hexahedra() const { return elements_; }
 
     /// Method large: the common corotational data, then SOFA's rest local positions R₀·x⁰_w
@@ -37,8 +37,8 @@ public:
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
 
 protected:
-    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
-                                                  std::size_t e) const override;
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local,
+                                                  const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override;
 
 private:

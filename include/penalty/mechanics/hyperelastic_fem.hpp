@@ -53,7 +53,8 @@ class TetrahedronHyperelasticityFEMForceField final : public ForceField<Vec3Type
 public:
     /// Throws std::invalid_argument when the parameter count is not the material's or a value is
     /// not finite.
-    TetrahedronHyperelasticityFEMForceField(Vec3Object& state, std::vector<Tetrahedron> tetrahedra, HyperelasticLaw law);
+    TetrahedronHyperelasticityFEMForceField(Vec3Object& state, std::vector<Tetrahedron> tetrahedra,
+                                            HyperelasticLaw law);
 
     /// Shape vectors and rest volumes from the rest positions; a flat tetrahedron is an error.
     void init() override;

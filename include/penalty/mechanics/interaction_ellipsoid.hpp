@@ -26,13 +26,13 @@
 namespace penalty {
 
 struct InteractionEllipsoidParameters {
-    std::vector<Vec3> centers{};   ///< cₑ in the frame's local coordinates (m); empty: one at 0
-    std::vector<Vec3> radii{};     ///< rₑ (m, non-zero); missing ones repeat the last (none: 1)
-    double stiffness = 500.0;    ///< k (N): > 0 pushes out, < 0 holds in
-    double damping = 5.0;        ///< d (N·s/m)
-    Index frame_index = 0;       ///< object2_dof_index
-    bool object2_forces = true;  ///< the frame receives the opposite linear force
-    bool object2_invert = false; ///< the inverse of the frame is used
+    std::vector<Vec3> centers{};  ///< cₑ in the frame's local coordinates (m); empty: one at 0
+    std::vector<Vec3> radii{};    ///< rₑ (m, non-zero); missing ones repeat the last (none: 1)
+    double stiffness = 500.0;     ///< k (N): > 0 pushes out, < 0 holds in
+    double damping = 5.0;         ///< d (N·s/m)
+    Index frame_index = 0;        ///< object2_dof_index
+    bool object2_forces = true;   ///< the frame receives the opposite linear force
+    bool object2_invert = false;  ///< the inverse of the frame is used
 };
 
 class InteractionEllipsoidForceField final : public BaseForceField {

@@ -28,14 +28,14 @@ namespace penalty {
 
 struct JointSpring {
     Index m1 = 0, m2 = 0;
-    double kd = 0;                                        ///< damping (N·s/m and N·m·s/rad)
+    double kd = 0;                                                              ///< damping (N·s/m and N·m·s/rad)
     std::array<bool, 6> free_movements{false, false, false, true, true, true};  ///< tx ty tz rx ry rz
     double soft_translation = 0, hard_translation = 10000;
     double soft_rotation = 0, hard_rotation = 10000;
-    double bloc_rotation = 100;                           ///< past a limit (default hard_rotation/100)
+    double bloc_rotation = 100;  ///< past a limit (default hard_rotation/100)
     std::array<double, 6> limit_angles{-100000., 100000., -100000., 100000., -100000., 100000.};  ///< rad
-    Vec3 init_trans = Vec3::Zero();                       ///< rest offset c2 − c1 (m, world axes)
-    Quat init_rot = Quat::Identity();                     ///< rest rotation offset
+    Vec3 init_trans = Vec3::Zero();    ///< rest offset c2 − c1 (m, world axes)
+    Quat init_rot = Quat::Identity();  ///< rest rotation offset
     /// SOFA takes initTrans and initRot from the positions at init exactly when REST_T was
     /// written (JointSpring::operator>> sets needToInitialize* = REST_T found; reproduced).
     bool init_from_positions = false;

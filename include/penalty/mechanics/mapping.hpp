@@ -26,11 +26,11 @@ public:
     [[nodiscard]] virtual BaseState* to() const = 0;
     /// Sizes the output state and computes its positions (and rest positions).
     virtual void init() = 0;
-    virtual void apply_position() = 0;     ///< to.x = φ(from.x)
-    virtual void apply_velocity() = 0;     ///< to.v = J from.v
-    virtual void apply_dx() = 0;           ///< to.dx = J from.dx
-    virtual void apply_jt_force() = 0;     ///< from.f += Jᵀ to.f
-    virtual void apply_jt_df() = 0;        ///< from.df += Jᵀ to.df
+    virtual void apply_position() = 0;  ///< to.x = φ(from.x)
+    virtual void apply_velocity() = 0;  ///< to.v = J from.v
+    virtual void apply_dx() = 0;        ///< to.dx = J from.dx
+    virtual void apply_jt_force() = 0;  ///< from.f += Jᵀ to.f
+    virtual void apply_jt_df() = 0;     ///< from.df += Jᵀ to.df
     /// J as triplets (rows: output scalars + row_offset, columns: input scalars + col_offset).
     virtual void add_jacobian_triplets(TripletList& triplets, Index row_offset, Index col_offset) const = 0;
     /// Appends to `rows` every input DOF (of from()) that apply_dx reads, in any order and
@@ -165,7 +165,7 @@ using ContactBarycentricRow = BarycentricRowOf<4>;
 /// f_r += f, τ_r += p × f (N·m, world frame). The one implementation of this Jacobian, used by
 /// RigidMapping and RigidContactMapper.
 struct RigidPointRow {
-    Index frame = 0;         ///< input frame index
+    Index frame = 0;              ///< input frame index
     Vec3 local = Vec3::Zero();    ///< L, in the frame (m)
     Vec3 rotated = Vec3::Zero();  ///< p = R_r·L at the last place() (m, world axes)
 

@@ -78,18 +78,31 @@ private:
     bool fix_all_ = false;
 };
 
-template <> void UniformMass<Vec3Types>::add_gravity_force(const Vec3&);
-template <> void UniformMass<Vec3Types>::add_mdx(double);
-template <> void UniformMass<Vec3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) const;
-template <> void UniformMass<Vec3Types>::add_mass_triplets(TripletList&, Index, double) const;
-template <> double UniformMass<Vec3Types>::kinetic_energy() const;
-template <> double UniformMass<Vec3Types>::gravity_potential_energy(const Vec3&) const;
-template <> void UniformMass<Rigid3Types>::add_gravity_force(const Vec3&);
-template <> void UniformMass<Rigid3Types>::add_mdx(double);
-template <> void UniformMass<Rigid3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) const;
-template <> void UniformMass<Rigid3Types>::add_mass_triplets(TripletList&, Index, double) const;
-template <> double UniformMass<Rigid3Types>::kinetic_energy() const;
-template <> double UniformMass<Rigid3Types>::gravity_potential_energy(const Vec3&) const;
+template <>
+void UniformMass<Vec3Types>::add_gravity_force(const Vec3&);
+template <>
+void UniformMass<Vec3Types>::add_mdx(double);
+template <>
+void UniformMass<Vec3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>&, Eigen::Ref<Eigen::VectorXd>) const;
+template <>
+void UniformMass<Vec3Types>::add_mass_triplets(TripletList&, Index, double) const;
+template <>
+double UniformMass<Vec3Types>::kinetic_energy() const;
+template <>
+double UniformMass<Vec3Types>::gravity_potential_energy(const Vec3&) const;
+template <>
+void UniformMass<Rigid3Types>::add_gravity_force(const Vec3&);
+template <>
+void UniformMass<Rigid3Types>::add_mdx(double);
+template <>
+void UniformMass<Rigid3Types>::apply_inverse(const Eigen::Ref<const Eigen::VectorXd>&,
+                                             Eigen::Ref<Eigen::VectorXd>) const;
+template <>
+void UniformMass<Rigid3Types>::add_mass_triplets(TripletList&, Index, double) const;
+template <>
+double UniformMass<Rigid3Types>::kinetic_energy() const;
+template <>
+double UniformMass<Rigid3Types>::gravity_potential_energy(const Vec3&) const;
 extern template class UniformMass<Vec3Types>;
 extern template class UniformMass<Rigid3Types>;
 

@@ -150,11 +150,17 @@ std::span<typename DataTypes::Deriv> as_derivs(Eigen::Ref<Eigen::VectorXd> v) {
             static_cast<std::size_t>(v.size() / DataTypes::kDerivSize)};
 }
 
-template <> void MechanicalObject<Vec3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
-template <> void MechanicalObject<Rigid3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
-template <> void MechanicalObject<Vec3Types>::init();
-template <> void MechanicalObject<Rigid3Types>::init();
-template <> void MechanicalObject<Vec1Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
-template <> void MechanicalObject<Vec1Types>::init();
+template <>
+void MechanicalObject<Vec3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
+template <>
+void MechanicalObject<Rigid3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
+template <>
+void MechanicalObject<Vec3Types>::init();
+template <>
+void MechanicalObject<Rigid3Types>::init();
+template <>
+void MechanicalObject<Vec1Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
+template <>
+void MechanicalObject<Vec1Types>::init();
 
 }  // namespace penalty

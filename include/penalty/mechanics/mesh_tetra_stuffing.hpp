@@ -29,7 +29,7 @@ namespace penalty {
 struct MeshTetraStuffingParameters {
     /// vbbox: the box to fill; unset (or min x ≥ max x): the surface's box grown by 1 % of its size.
     std::optional<std::array<Vec3, 2>> box;
-    double size = -8.0;          ///< cell size (m); negative: −(cells along the box's largest side)
+    double size = -8.0;            ///< cell size (m); negative: −(cells along the box's largest side)
     double alpha_long = 0.24999;   ///< snapping threshold on axis edges (fraction of the edge)
     double alpha_short = 0.42978;  ///< snapping threshold on diagonal edges
     bool snap_points = false;
@@ -39,9 +39,9 @@ struct MeshTetraStuffingParameters {
 struct StuffedVolume {
     std::vector<Vec3> points;
     std::vector<Tetrahedron> tetrahedra;
-    std::size_t grid_points = 0;         ///< |G| + |H| before unused points were removed
-    std::size_t inverted_turned = 0;     ///< final tetrahedra SOFA reports as inverted (turned)
-    std::size_t invalid_splits = 0;      ///< SOFA's "Invalid tetra split" / missing cut point errors
+    std::size_t grid_points = 0;      ///< |G| + |H| before unused points were removed
+    std::size_t inverted_turned = 0;  ///< final tetrahedra SOFA reports as inverted (turned)
+    std::size_t invalid_splits = 0;   ///< SOFA's "Invalid tetra split" / missing cut point errors
 };
 
 /// The stuffing of the closed surface (`triangles`, then each quad as two triangles (0,1,2),

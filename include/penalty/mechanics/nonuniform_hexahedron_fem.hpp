@@ -35,20 +35,23 @@ struct CondensedHexahedra {
 /// The condensed matrices of every cell of `grid`, from `levels` levels below it (1 ≤ levels ≤
 /// grid.finer_levels()); `scale`: the mechanical state's scale3d applied to the finest corners.
 [[nodiscard]] CondensedHexahedra condense_hexahedra(const SparseGridTopology& grid, int levels, double young_modulus,
-                                                   double poisson_ratio, double density, bool fill_weighted,
-                                                   const Vec3& scale = Vec3::Ones());
+                                                    double poisson_ratio, double density, bool fill_weighted,
+                                                    const Vec3& scale = Vec3::Ones());
 
 /// The corotational hexahedral FEM with given element stiffness matrices (in the elements' rest
 /// frames, which for a grid's cells are the grid's axes).
 class CondensedHexahedronFEMForceField final : public LinearElementForceField<8> {
 public:
-    CondensedHexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, std::vector<HexahedronMatrix> stiffness,
-                                     double young_modulus, double poisson_ratio);
+    CondensedHexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology,
+                                     std::vector<HexahedronMatrix> stiffness, double young_modulus,
+                                     double poisson_ratio);
 
 protected:
-    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local, const Eigen::Matrix<double, 6, 6>& d,
-                                                  std::size_t e) const override;
-    [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override { return hexahedron_edge_frame(p); }
+    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local,
+                                                  const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
+    [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override {
+        return hexahedron_edge_frame(p);
+    }
 
 private:
     std::vector<HexahedronMatrix> given_;
@@ -65,8 +68,9 @@ public:
         bool use_mass = true;
         double total_mass = 0;  ///< with use_mass false
     };
-    HexahedronMatrixMass(Vec3Object& state, std::vector<Hexahedron> hexahedra, std::vector<HexahedronMatrix> element_mass,
-                         std::vector<double> mass_coefficients, Parameters p);
+    HexahedronMatrixMass(Vec3Object& state, std::vector<Hexahedron> hexahedra,
+                         std::vector<HexahedronMatrix> element_mass, std::vector<double> mass_coefficients,
+                         Parameters p);
     void init() override;
     void add_gravity_force(const Vec3& gravity) override;
     void add_mdx(double factor) override;

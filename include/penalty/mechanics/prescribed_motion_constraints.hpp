@@ -83,8 +83,8 @@ template <class DataTypes>
 class ParabolicProjectiveConstraint final : public BaseProjectiveConstraint {
 public:
     ParabolicProjectiveConstraint(MechanicalObject<DataTypes>& state, std::vector<Index> indices, const Vec3& p1,
-                                  const Vec3& p2, const Vec3& p3, double begin_time, double end_time, ContextClock clock,
-                                  ContextClock dt);
+                                  const Vec3& p2, const Vec3& p3, double begin_time, double end_time,
+                                  ContextClock clock, ContextClock dt);
     void init() override;
     void project_response(Eigen::Ref<Eigen::VectorXd> v) const override;
     void project_velocity() override;

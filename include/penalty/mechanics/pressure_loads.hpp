@@ -86,7 +86,8 @@ private:
 class QuadPressureForceField final : public ForceField<Vec3Types> {
 public:
     /// `quads`: indices into topology.quads(). `pressure`: N/m² (a vector).
-    QuadPressureForceField(Vec3Object& state, const MeshTopology& topology, std::vector<Index> quads, const Vec3& pressure);
+    QuadPressureForceField(Vec3Object& state, const MeshTopology& topology, std::vector<Index> quads,
+                           const Vec3& pressure);
     /// Rest areas and per-quad forces from the state's rest positions (SOFA's init).
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
@@ -185,11 +186,11 @@ private:
 
 // ---- SurfacePressureForceField -------------------------------------------------------------
 struct SurfacePressureParameters {
-    double pressure = 0.0;               ///< p (Pa); > 0 pushes along (b−a)×(c−a)
-    bool pulse_mode = false;             ///< p ramps between the bounds at pressure_speed
-    double pressure_lower_bound = 0.0;   ///< Pa (pulse mode)
-    double pressure_speed = 0.0;         ///< Pa/s (pulse mode; 0 → |pressure|, as SOFA's init)
-    bool volume_conservation = false;    ///< p·V_default/V (V from the surface, divergence theorem)
+    double pressure = 0.0;              ///< p (Pa); > 0 pushes along (b−a)×(c−a)
+    bool pulse_mode = false;            ///< p ramps between the bounds at pressure_speed
+    double pressure_lower_bound = 0.0;  ///< Pa (pulse mode)
+    double pressure_speed = 0.0;        ///< Pa/s (pulse mode; 0 → |pressure|, as SOFA's init)
+    bool volume_conservation = false;   ///< p·V_default/V (V from the surface, divergence theorem)
     bool use_tangent_stiffness = true;
     double default_volume = -1.0;        ///< m³; −1: the volume at the first add_force
     Vec3 main_direction = Vec3::Zero();  ///< ≠ 0: each triangle's force times |n̂·d|

@@ -67,7 +67,9 @@ protected:
 class LineProjectiveConstraint final : public BlockProjectionConstraint {
 public:
     LineProjectiveConstraint(Vec3Object& state, std::vector<Index> indices, const Vec3& origin, const Vec3& direction)
-        : BlockProjectionConstraint(state, std::move(indices), "LineProjectiveConstraint"), origin_(origin), direction_(direction) {}
+        : BlockProjectionConstraint(state, std::move(indices), "LineProjectiveConstraint"),
+          origin_(origin),
+          direction_(direction) {}
     void project_position() override;
 
 private:
@@ -81,7 +83,9 @@ private:
 class PlaneProjectiveConstraint final : public BlockProjectionConstraint {
 public:
     PlaneProjectiveConstraint(Vec3Object& state, std::vector<Index> indices, const Vec3& origin, const Vec3& normal)
-        : BlockProjectionConstraint(state, std::move(indices), "PlaneProjectiveConstraint"), origin_(origin), normal_(normal) {}
+        : BlockProjectionConstraint(state, std::move(indices), "PlaneProjectiveConstraint"),
+          origin_(origin),
+          normal_(normal) {}
     void project_position() override;
 
 private:
@@ -100,7 +104,8 @@ private:
 class DirectionProjectiveConstraint final : public BlockProjectionConstraint {
 public:
     DirectionProjectiveConstraint(Vec3Object& state, std::vector<Index> indices, const Vec3& direction)
-        : BlockProjectionConstraint(state, std::move(indices), "DirectionProjectiveConstraint"), direction_(direction) {}
+        : BlockProjectionConstraint(state, std::move(indices), "DirectionProjectiveConstraint"),
+          direction_(direction) {}
     void project_position() override;
     [[nodiscard]] const std::vector<Vec3>& origins() const { return origins_; }
 
@@ -143,7 +148,10 @@ class PartialFixedProjectiveConstraint final : public BaseProjectiveConstraint {
 public:
     PartialFixedProjectiveConstraint(BaseState& state, std::vector<Index> indices, bool fix_all,
                                      std::vector<bool> fixed_directions, bool project_velocity)
-        : state_(&state), indices_(std::move(indices)), fix_all_(fix_all), fixed_(std::move(fixed_directions)),
+        : state_(&state),
+          indices_(std::move(indices)),
+          fix_all_(fix_all),
+          fixed_(std::move(fixed_directions)),
           project_velocity_(project_velocity) {}
     void init() override;
     void project_response(Eigen::Ref<Eigen::VectorXd> v) const override;

@@ -28,7 +28,7 @@ namespace penalty {
 struct QuadBendingParameters {
     std::vector<double> young_modulus{1000};  ///< Pa, one per quad or one for all
     std::vector<double> poisson_ratio{0.45};
-    double thickness = 1;                     ///< m
+    double thickness = 1;  ///< m
 };
 
 class QuadBendingFEMForceField final : public ForceField<Vec3Types> {
@@ -47,8 +47,8 @@ public:
 
 private:
     struct Material {
-        double cb00, cb01, cb11, cb22;                   ///< bending (membrane) matrix entries
-        double cs33, cs34, cs44, cs55, cs66, cs77;       ///< shear matrix entries
+        double cb00, cb01, cb11, cb22;              ///< bending (membrane) matrix entries
+        double cs33, cs34, cs44, cs55, cs66, cs77;  ///< shear matrix entries
     };
     /// F = K·D on the translations (computeForce's sums), D of 20 entries.
     static std::array<double, 20> force_of(const Stiffness& k, const std::array<double, 20>& d);

@@ -102,8 +102,8 @@ private:
     bool active_springs_ = true;
     std::string inactive_reason_;
     std::size_t resolved_dofs_ = 0, resolved_external_dofs_ = 0;  ///< the states' sizes at the last resolution
-    std::vector<Index> indices_;           ///< resolved points
-    std::vector<Index> anchor_indices_;    ///< resolved anchors (in the external state, or = indices_)
+    std::vector<Index> indices_;                                  ///< resolved points
+    std::vector<Index> anchor_indices_;  ///< resolved anchors (in the external state, or = indices_)
     std::vector<double> stiffness_{100.0};
     std::vector<double> angular_stiffness_;
     std::array<bool, kDirections> active_ = [] {

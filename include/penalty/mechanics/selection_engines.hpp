@@ -41,10 +41,10 @@ private:
 
 /// What ProximityROI gives.
 struct ProximitySelection {
-    std::vector<PointId> indices;       ///< the selected points, in the order of SOFA's heap
-    std::vector<Vec3> points;           ///< their positions (pointsInROI)
-    std::vector<double> distances;      ///< their distance to the nearest centre whose ball holds them
-    std::vector<PointId> indices_out;   ///< the others (with SOFA's bookkeeping, see proximity_roi)
+    std::vector<PointId> indices;      ///< the selected points, in the order of SOFA's heap
+    std::vector<Vec3> points;          ///< their positions (pointsInROI)
+    std::vector<double> distances;     ///< their distance to the nearest centre whose ball holds them
+    std::vector<PointId> indices_out;  ///< the others (with SOFA's bookkeeping, see proximity_roi)
 };
 
 /// ProximityROI::doUpdate: for each point, the least distance |c_j − p| over the centres whose
@@ -67,10 +67,9 @@ struct ValuesFromPositionsResult {
 /// (p2 + p1 + p0)/3, (p3 + p2 + p1 + p0)/4) the value t = ((p·dir) − bmin)/(bmax − bmin)·(n − 1)
 /// linearly interpolated between the n `input_values` (clamped to the first and last); vector
 /// field: `direction` everywhere. [bmin, bmax]: SOFA takes the x extent of the scene's bounding box.
-[[nodiscard]] ValuesFromPositionsResult values_from_positions(std::span<const Vec3> points, const std::vector<Edge>& edges,
-                                                              const std::vector<Triangle>& triangles,
-                                                              const std::vector<Tetrahedron>& tetrahedra,
-                                                              const Vec3& direction, std::span<const double> input_values,
-                                                              double bmin, double bmax, bool vector_field);
+[[nodiscard]] ValuesFromPositionsResult values_from_positions(
+    std::span<const Vec3> points, const std::vector<Edge>& edges, const std::vector<Triangle>& triangles,
+    const std::vector<Tetrahedron>& tetrahedra, const Vec3& direction, std::span<const double> input_values,
+    double bmin, double bmax, bool vector_field);
 
 }  // namespace penalty

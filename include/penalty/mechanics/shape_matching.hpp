@@ -21,10 +21,10 @@ namespace penalty {
 
 /// ClusteringEngine's Data (SOFA's defaults).
 struct ClusteringParameters {
-    bool use_topology = true;  ///< useTopo: geodesic (edge-path) distances when a topology is given
-    double radius = 1.0;       ///< radius (m): neighbourhood range
-    double fixed_radius = 1.0; ///< fixedRadius (m): range for the non-mechanical points
-    int number = -1;           ///< number of clusters; -1: one cluster per point
+    bool use_topology = true;   ///< useTopo: geodesic (edge-path) distances when a topology is given
+    double radius = 1.0;        ///< radius (m): neighbourhood range
+    double fixed_radius = 1.0;  ///< fixedRadius (m): range for the non-mechanical points
+    int number = -1;            ///< number of clusters; -1: one cluster per point
 };
 
 /// ClusteringEngine::doUpdate: the clusters of `positions` (rest positions). Each cluster starts
@@ -48,9 +48,9 @@ struct ClusteringParameters {
 
 /// ShapeMatching's Data (SOFA's defaults).
 struct ShapeMatchingParameters {
-    unsigned iterations = 1;     ///< iterations
-    double affine_ratio = 0.0;   ///< affineRatio: 0 rigid, 1 affine (T·Qx⁻¹)
-    double fixed_weight = 1.0;   ///< fixedweight of the non-mechanical points
+    unsigned iterations = 1;    ///< iterations
+    double affine_ratio = 0.0;  ///< affineRatio: 0 rigid, 1 affine (T·Qx⁻¹)
+    double fixed_weight = 1.0;  ///< fixedweight of the non-mechanical points
 };
 
 /// ShapeMatching<Vec3d>::doUpdate. Built once from the clusters and the rest positions (the
@@ -73,10 +73,10 @@ private:
     std::vector<Vec3> rest_;
     ShapeMatchingParameters params_;
     std::vector<Vec3> fixed_rest_, fixed_;
-    std::vector<Vec3> rest_centres_;         ///< Xcm0 per cluster
-    std::vector<Mat3> inverse_covariance_;   ///< Qx⁻¹ per cluster
-    std::vector<double> weights_;            ///< W per cluster
-    std::vector<unsigned> clusters_of_point_;///< number of clusters holding each point
+    std::vector<Vec3> rest_centres_;           ///< Xcm0 per cluster
+    std::vector<Mat3> inverse_covariance_;     ///< Qx⁻¹ per cluster
+    std::vector<double> weights_;              ///< W per cluster
+    std::vector<unsigned> clusters_of_point_;  ///< number of clusters holding each point
 };
 
 /// The target positions of PositionBasedDynamicsProjectiveConstraint: fixed, or computed from
@@ -92,8 +92,7 @@ using TargetPositions = std::function<void(const std::vector<Vec3>& current, std
 /// error at each projection): nothing is projected.
 class PositionBasedDynamicsConstraint final : public BaseProjectiveConstraint {
 public:
-    PositionBasedDynamicsConstraint(Vec3Object& state, TargetPositions targets, double stiffness,
-                                    ContextClock dt);
+    PositionBasedDynamicsConstraint(Vec3Object& state, TargetPositions targets, double stiffness, ContextClock dt);
     void project_response(Eigen::Ref<Eigen::VectorXd> /*v*/) const override {}
     void project_velocity() override;
     void project_position() override;

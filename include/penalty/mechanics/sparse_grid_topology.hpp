@@ -47,8 +47,8 @@ public:
     /// SOFA's SparseGridTopology::buildFromRegularGridTypes: the cells of the regular grid (n, min,
     /// max) typed `types` (regular-grid order, x fastest): BOUNDARY cells (unless
     /// only_inside_cells) then INSIDE ones, points sorted by position.
-    static SparseGridTopology from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max, std::vector<SparseCellType> types,
-                                              bool only_inside_cells = false);
+    static SparseGridTopology from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max,
+                                              std::vector<SparseCellType> types, bool only_inside_cells = false);
     /// SOFA's SparseGridMultipleTopology::buildAsFinest (sparse_grid_multiple.cpp): each surface
     /// voxelised on the grid (n, min, max), then the cells assembled surface by surface
     /// (assembleRegularGrids): a cell INSIDE a surface (or BOUNDARY of it without fill_weighted)
@@ -60,8 +60,9 @@ public:
         std::span<const Triangle> triangles;
         float stiffness = 1.0f, mass = 1.0f;
     };
-    static SparseGridTopology from_surfaces(std::array<int, 3> n, Vec3 min, Vec3 max, std::span<const WeightedSurface> surfaces,
-                                            bool fill_weighted, bool erase_previous, bool only_inside_cells = false);
+    static SparseGridTopology from_surfaces(std::array<int, 3> n, Vec3 min, Vec3 max,
+                                            std::span<const WeightedSurface> surfaces, bool fill_weighted,
+                                            bool erase_previous, bool only_inside_cells = false);
     /// SOFA's default box: the bounding box of `positions` grown by 1/100 of its size each side.
     static std::pair<Vec3, Vec3> default_box(std::span<const Vec3> positions);
 
@@ -106,7 +107,8 @@ public:
     /// `surface` is given, both are BOUNDARY and no facet edge crosses their common face), then
     /// with `ramify_points` (finestConnectivity) the hexahedra's points numbered again, a point
     /// shared only through connected faces (buildRamifiedFinestLevel).
-    static SparseGridTopology ramified_finest(SparseGridTopology voxels, const SparseGridFacets* surface, bool ramify_points);
+    static SparseGridTopology ramified_finest(SparseGridTopology voxels, const SparseGridFacets* surface,
+                                              bool ramify_points);
     /// SparseGridRamificationTopology::buildFromFiner: as from_finer, but each coarse cell gives
     /// one hexahedron per connected group of its finer connexions, with its own points; the finer
     /// coefficients are its set ones, else coefficients(fill_weighted).
@@ -130,9 +132,9 @@ private:
     std::vector<Vec3> points_;
     std::vector<Hexahedron> hexahedra_;
     std::vector<SparseCellType> types_;
-    std::shared_ptr<const SparseGridTopology> finer_;     ///< from_finer's finer level
-    std::vector<std::array<Index, 8>> children_;          ///< from_finer's cells of finer_
-    std::vector<double> coefficients_;                    ///< from_finer's averaged coefficients
+    std::shared_ptr<const SparseGridTopology> finer_;                ///< from_finer's finer level
+    std::vector<std::array<Index, 8>> children_;                     ///< from_finer's cells of finer_
+    std::vector<double> coefficients_;                               ///< from_finer's averaged coefficients
     std::vector<float> stiffness_coefficients_, mass_coefficients_;  ///< set_coefficients (empty: none)
     std::shared_ptr<const SparseGridRamification> ramification_;
     [[nodiscard]] std::optional<std::pair<Index, Vec3>> locate_ramified(const Vec3& p) const;

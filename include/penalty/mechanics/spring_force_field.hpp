@@ -81,8 +81,7 @@ public:
                    ConstVec3Span v2) override;
     void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
                     double b_factor) const override;
-    void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2,
-                                double factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2, double factor) const override;
     [[nodiscard]] double potential_energy() const override { return energy_; }
     [[nodiscard]] ForceFieldStates states() const override;
 

@@ -19,12 +19,12 @@
 namespace penalty {
 
 struct TaitParameters {
-    double p0 = 0;                     ///< rest pressure (Pa)
-    double bulk_modulus = 0;           ///< B (Pa)
-    double gamma = 0;                  ///< Tait exponent
-    double injected_volume = 0;        ///< target injected volume (m³)
-    double max_injection_rate = 1000;  ///< m³/s
-    double current_injected_volume = 0; ///< the injected volume at the start (m³)
+    double p0 = 0;                       ///< rest pressure (Pa)
+    double bulk_modulus = 0;             ///< B (Pa)
+    double gamma = 0;                    ///< Tait exponent
+    double injected_volume = 0;          ///< target injected volume (m³)
+    double max_injection_rate = 1000;    ///< m³/s
+    double current_injected_volume = 0;  ///< the injected volume at the start (m³)
 };
 
 class TaitSurfacePressureForceField final : public ForceField<Vec3Types> {

@@ -17,7 +17,8 @@ namespace penalty {
 /// A topological mapping between two containers (input → output).
 class TopologicalMappingFollower : public TopologyHandler {
 public:
-    TopologicalMappingFollower(TopologyContainer& input, TopologyContainer& output) : input_(&input), output_(&output) {}
+    TopologicalMappingFollower(TopologyContainer& input, TopologyContainer& output)
+        : input_(&input), output_(&output) {}
     [[nodiscard]] TopologyContainer& input() const { return *input_; }
     [[nodiscard]] TopologyContainer& output() const { return *output_; }
     /// The input element of each output element (SOFA's Loc2GlobVec).

@@ -16,8 +16,8 @@
 #include "penalty/core/types.hpp"
 
 #include <array>
-#include <memory>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace penalty {
@@ -89,13 +89,10 @@ public:
 
     /// Local vertex pairs of the 6 tetrahedron edges and the 12 hexahedron edges, and the four
     /// oriented faces of a tetrahedron (SOFA's tables; faces point outward for a positive tetra).
-    static constexpr std::array<std::array<int, 2>, 6> kTetraEdges{
-        {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
-    static constexpr std::array<std::array<int, 2>, 12> kHexaEdges{{{0, 1}, {0, 3}, {0, 4}, {1, 2},
-                                                                    {1, 5}, {2, 3}, {2, 6}, {3, 7},
-                                                                    {4, 5}, {4, 7}, {5, 6}, {6, 7}}};
-    static constexpr std::array<std::array<int, 3>, 4> kTetraFaces{
-        {{1, 2, 3}, {0, 3, 2}, {1, 3, 0}, {0, 2, 1}}};
+    static constexpr std::array<std::array<int, 2>, 6> kTetraEdges{{{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+    static constexpr std::array<std::array<int, 2>, 12> kHexaEdges{
+        {{0, 1}, {0, 3}, {0, 4}, {1, 2}, {1, 5}, {2, 3}, {2, 6}, {3, 7}, {4, 5}, {4, 7}, {5, 6}, {6, 7}}};
+    static constexpr std::array<std::array<int, 3>, 4> kTetraFaces{{{1, 2, 3}, {0, 3, 2}, {1, 3, 0}, {0, 2, 1}}};
     /// Hexahedron faces in SOFA's order (-z, +z, -y, +x, +y, -x for the grid vertex numbering).
     static constexpr std::array<std::array<int, 4>, 6> kHexaFaces{
         {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}}};

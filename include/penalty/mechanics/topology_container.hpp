@@ -76,12 +76,20 @@ public:
     [[nodiscard]] std::span<const PointId> vertices(ElementType type, ElementId id) const;
 
     // ---- SOFA's cross tables beyond MeshTopology's ------------------------------------------
-    [[nodiscard]] const std::vector<std::array<ElementId, 6>>& edges_in_tetrahedron() const { return edges_in_tetrahedron_; }
-    [[nodiscard]] const std::vector<std::array<ElementId, 4>>& triangles_in_tetrahedron() const { return triangles_in_tetrahedron_; }
+    [[nodiscard]] const std::vector<std::array<ElementId, 6>>& edges_in_tetrahedron() const {
+        return edges_in_tetrahedron_;
+    }
+    [[nodiscard]] const std::vector<std::array<ElementId, 4>>& triangles_in_tetrahedron() const {
+        return triangles_in_tetrahedron_;
+    }
     [[nodiscard]] const Shells& tetrahedra_around_edge() const { return tetrahedra_around_edge_; }
     [[nodiscard]] const Shells& tetrahedra_around_triangle() const { return tetrahedra_around_triangle_; }
-    [[nodiscard]] const std::vector<std::array<ElementId, 12>>& edges_in_hexahedron() const { return edges_in_hexahedron_; }
-    [[nodiscard]] const std::vector<std::array<ElementId, 6>>& quads_in_hexahedron() const { return quads_in_hexahedron_; }
+    [[nodiscard]] const std::vector<std::array<ElementId, 12>>& edges_in_hexahedron() const {
+        return edges_in_hexahedron_;
+    }
+    [[nodiscard]] const std::vector<std::array<ElementId, 6>>& quads_in_hexahedron() const {
+        return quads_in_hexahedron_;
+    }
     [[nodiscard]] const Shells& hexahedra_around_edge() const { return hexahedra_around_edge_; }
     [[nodiscard]] const Shells& hexahedra_around_quad() const { return hexahedra_around_quad_; }
     /// SOFA's getEdgeIndex / getTriangleIndex / getQuadIndex: the element with these vertices in
@@ -116,7 +124,8 @@ public:
     void remove_edges(std::vector<ElementId> indices, bool remove_isolated_points = true);
     void remove_triangles(std::vector<ElementId> indices, bool remove_isolated_edges = true,
                           bool remove_isolated_points = true);
-    void remove_quads(std::vector<ElementId> indices, bool remove_isolated_edges = true, bool remove_isolated_points = true);
+    void remove_quads(std::vector<ElementId> indices, bool remove_isolated_edges = true,
+                      bool remove_isolated_points = true);
     void remove_tetrahedra(std::vector<ElementId> indices, bool remove_isolated_items = true);
     void remove_hexahedra(std::vector<ElementId> indices);
 
@@ -128,13 +137,16 @@ public:
     /// std::invalid_argument (nothing changed) for a vertex out of range or repeated in an element.
     void add_edges(const std::vector<Edge>& edges, const std::vector<std::vector<ElementId>>& ancestors = {},
                    const std::vector<std::vector<double>>& coefficients = {});
-    void add_triangles(const std::vector<Triangle>& triangles, const std::vector<std::vector<ElementId>>& ancestors = {},
+    void add_triangles(const std::vector<Triangle>& triangles,
+                       const std::vector<std::vector<ElementId>>& ancestors = {},
                        const std::vector<std::vector<double>>& coefficients = {});
     void add_quads(const std::vector<Quad>& quads, const std::vector<std::vector<ElementId>>& ancestors = {},
                    const std::vector<std::vector<double>>& coefficients = {});
-    void add_tetrahedra(const std::vector<Tetrahedron>& tetrahedra, const std::vector<std::vector<ElementId>>& ancestors = {},
+    void add_tetrahedra(const std::vector<Tetrahedron>& tetrahedra,
+                        const std::vector<std::vector<ElementId>>& ancestors = {},
                         const std::vector<std::vector<double>>& coefficients = {});
-    void add_hexahedra(const std::vector<Hexahedron>& hexahedra, const std::vector<std::vector<ElementId>>& ancestors = {},
+    void add_hexahedra(const std::vector<Hexahedron>& hexahedra,
+                       const std::vector<std::vector<ElementId>>& ancestors = {},
                        const std::vector<std::vector<double>>& coefficients = {});
     /// notifyEndingEvent: an `ending` event, propagated (what a topological mapping sends its
     /// output when its input's propagation ends).
@@ -167,7 +179,8 @@ private:
                             const std::vector<std::vector<double>>& coefficients, bool add_dof);
     template <class Element>
     void add_warning(ElementType type, const std::vector<Element>& elements, ElementId first,
-                     const std::vector<std::vector<ElementId>>& ancestors, const std::vector<std::vector<double>>& coefficients);
+                     const std::vector<std::vector<ElementId>>& ancestors,
+                     const std::vector<std::vector<double>>& coefficients);
     void changed();  ///< bumps the mesh's revision and refreshes the touched vertices' neighbours
     void begin();    ///< the start of a public operation (the scope's depth)
     void done();     ///< its end: changed(); the outermost one calls the pending topology_change_done()
@@ -176,8 +189,10 @@ private:
     // removal processes (topology_removal.cpp), SOFA's remove...Process
     void remove_tetrahedra_process(const std::vector<ElementId>& indices, bool remove_isolated_items);
     void remove_hexahedra_process(const std::vector<ElementId>& indices, bool remove_isolated_items);
-    void remove_triangles_process(const std::vector<ElementId>& indices, bool remove_isolated_edges, bool remove_isolated_points);
-    void remove_quads_process(const std::vector<ElementId>& indices, bool remove_isolated_edges, bool remove_isolated_points);
+    void remove_triangles_process(const std::vector<ElementId>& indices, bool remove_isolated_edges,
+                                  bool remove_isolated_points);
+    void remove_quads_process(const std::vector<ElementId>& indices, bool remove_isolated_edges,
+                              bool remove_isolated_points);
     void remove_edges_process(const std::vector<ElementId>& indices, bool remove_isolated_points);
     void remove_points_process(const std::vector<ElementId>& indices, bool remove_dof);
     /// Lower elements a removal left without a higher one: warned (faces, then edges, one

@@ -97,7 +97,7 @@ public:
         object_->handle_topology_changes(*container_, changes);
     }
     void topology_change_done() override {
-        if constexpr (requires(T& t) { t.topology_change_done(); }) object_->topology_change_done();
+        if constexpr (requires(T & t) { t.topology_change_done(); }) object_->topology_change_done();
     }
 
 private:
@@ -147,8 +147,8 @@ private:
 /// applyPointDestruction), rewritten into `springs` when an operation is done.
 class QuadularBendingSpringsFollower final : public TopologyHandler {
 public:
-    QuadularBendingSpringsFollower(SpringForceField& springs, const TopologyContainer& container, const Vec3Object& state,
-                                   double ks, double kd);
+    QuadularBendingSpringsFollower(SpringForceField& springs, const TopologyContainer& container,
+                                   const Vec3Object& state, double ks, double kd);
     void handle_topology_changes(std::span<const TopologyChange> changes) override;
     void topology_change_done() override;
     [[nodiscard]] std::vector<Spring> springs() const;

@@ -28,8 +28,8 @@ namespace penalty {
 /// TransformEngine's Data (SOFA's defaults).
 struct TransformEngineParameters {
     Vec3 translation = Vec3::Zero();
-    Vec3 rotation_deg = Vec3::Zero();        ///< Euler angles (degrees)
-    Quat quaternion = Quat::Identity();      ///< applied after the Euler rotation
+    Vec3 rotation_deg = Vec3::Zero();    ///< Euler angles (degrees)
+    Quat quaternion = Quat::Identity();  ///< applied after the Euler rotation
     Vec3 scale = Vec3::Ones();
     bool inverse = false;
 };
@@ -51,8 +51,8 @@ enum class TransformPositionMethod {
 /// TransformPosition's Data (SOFA's defaults).
 struct TransformPositionParameters {
     TransformPositionMethod method = TransformPositionMethod::project_on_plane;
-    Vec3 origin = Vec3::Zero();       ///< a point of the plane; the centre of `scale`
-    Vec3 normal = Vec3::Zero();       ///< the plane's normal (normalised as TransformPosition::init)
+    Vec3 origin = Vec3::Zero();  ///< a point of the plane; the centre of `scale`
+    Vec3 normal = Vec3::Zero();  ///< the plane's normal (normalised as TransformPosition::init)
     Vec3 translation = Vec3::Zero();
     Vec3 rotation_deg = Vec3::Zero();
     Vec3 scale = Vec3::Ones();

@@ -31,7 +31,7 @@ struct BiquadraticSpringParameters {
     double poisson_ratio = 0.3;     ///< ν, ν² ≠ 1
     double damping_ratio = 0.0;     ///< s: damping / stiffness (explicit only)
     bool use_angular_springs = true;
-    bool compressible = true;       ///< the area term of compressed triangles
+    bool compressible = true;  ///< the area term of compressed triangles
 };
 
 class TriangularBiquadraticSpringsForceField final : public ForceField<Vec3Types> {
@@ -60,10 +60,10 @@ public:
 
 private:
     struct TriangleData {
-        std::array<double, 3> gamma{};      ///< γ_j
-        std::array<double, 3> stiffness{};  ///< s_j
+        std::array<double, 3> gamma{};                                       ///< γ_j
+        std::array<double, 3> stiffness{};                                   ///< s_j
         std::array<Mat3, 3> dfdx{Mat3::Zero(), Mat3::Zero(), Mat3::Zero()};  ///< SOFA's DfDx[k]
-        std::array<Vec3, 3> dp{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};     ///< x_{j+2} − x_{j+1}
+        std::array<Vec3, 3> dp{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};    ///< x_{j+2} − x_{j+1}
         std::array<Vec3, 3> area_vector{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
         Vec3 normal = Vec3::Zero();
         Vec3 last_valid_normal = Vec3::Zero();

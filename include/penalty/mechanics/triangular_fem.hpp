@@ -44,8 +44,8 @@ struct TriangleFemParameters {
     double poisson_ratio = 0.45;    ///< ν ∈ (−1, 0.5)
     FemMethod method = FemMethod::Large;
     TriangleFemFlavor flavor = TriangleFemFlavor::TriangularFEM;
-    double thickness = 1.0;         ///< m, > 0 (TriangleFEM flavor only)
-    bool plane_strain = false;      ///< TriangleFEM flavor only
+    double thickness = 1.0;     ///< m, > 0 (TriangleFEM flavor only)
+    bool plane_strain = false;  ///< TriangleFEM flavor only
 };
 
 class TriangularFEMForceField final : public ForceField<Vec3Types> {
@@ -53,8 +53,8 @@ public:
     using StrainDisplacement = Eigen::Matrix<double, 6, 3>;
 
     /// The triangles of `topology` (in its order); E > 0 (Pa), ν ∈ (−1, 0.5).
-    TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus,
-                            double poisson_ratio, FemMethod method = FemMethod::Large);
+    TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus, double poisson_ratio,
+                            FemMethod method = FemMethod::Large);
     /// Either flavor; the TriangleFEM flavor splits the quads of a topology without triangles.
     TriangularFEMForceField(Vec3Object& state, const MeshTopology& topology, const TriangleFemParameters& parameters);
 
@@ -91,9 +91,9 @@ private:
     TriangleFemParameters parameters_;
     std::vector<std::array<Vec3, 2>> rest_local_;  ///< r_b, r_c (rotatedInitialElements 1, 2)
     std::vector<double> area_;
-    std::vector<Mat3> material_;                   ///< Dₐ (includes A₀)
-    std::vector<StrainDisplacement> j_;            ///< J at the last add_force
-    std::vector<Mat3> rotation_;                   ///< Rᵀ (columns = local axes) at the last add_force
+    std::vector<Mat3> material_;         ///< Dₐ (includes A₀)
+    std::vector<StrainDisplacement> j_;  ///< J at the last add_force
+    std::vector<Mat3> rotation_;         ///< Rᵀ (columns = local axes) at the last add_force
     double energy_ = 0.0;
 };
 

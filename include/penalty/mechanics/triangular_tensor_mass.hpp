@@ -47,8 +47,8 @@ private:
     const MeshTopology* topology_;
     double lambda_ = 0.0;
     double mu_ = 0.0;
-    std::vector<Mat3> tensors_;     ///< D_e per edge of the topology
-    std::vector<Vec3> rest_;        ///< x⁰ (SOFA's _initialPoints)
+    std::vector<Mat3> tensors_;  ///< D_e per edge of the topology
+    std::vector<Vec3> rest_;     ///< x⁰ (SOFA's _initialPoints)
     double energy_ = 0.0;
 };
 

@@ -13,9 +13,9 @@
 #include "penalty/output/state_record.hpp"
 
 #include <filesystem>
-#include <ostream>
 #include <memory>
 #include <optional>
+#include <ostream>
 #include <span>
 #include <string>
 #include <vector>
@@ -23,9 +23,9 @@
 namespace penalty::output {
 
 /// Writes the k-th state to DIR/<k>_<name>_mstate.txt (k from 0, name = sanitize_file_name of the
-/// record's name, i.e. the name itself for ordinary names: SOFA's naming of regression files). The constructor creates DIR and truncates the files.
-/// Throws std::runtime_error naming the path when a directory or file cannot be created/written,
-/// std::invalid_argument for a null state or a state that is neither Vec3 nor Rigid3.
+/// record's name, i.e. the name itself for ordinary names: SOFA's naming of regression files). The constructor creates
+/// DIR and truncates the files. Throws std::runtime_error naming the path when a directory or file cannot be
+/// created/written, std::invalid_argument for a null state or a state that is neither Vec3 nor Rigid3.
 class StateExporter {
 public:
     StateExporter(std::filesystem::path directory, std::vector<const StateRecord*> states);
@@ -58,8 +58,8 @@ struct StateSample {
     std::vector<double> x;
 };
 
-/// Reads a state file (gzip-compressed when its name ends in ".gz"). Blank lines are skipped, leading spaces ignored; "T= t" starts a sample,
-/// "X= ..." gives its positions (exactly one per sample), "V= ..." lines (SOFA's writeV) are
+/// Reads a state file (gzip-compressed when its name ends in ".gz"). Blank lines are skipped, leading spaces ignored;
+/// "T= t" starts a sample, "X= ..." gives its positions (exactly one per sample), "V= ..." lines (SOFA's writeV) are
 /// ignored. Throws std::runtime_error "<file>:<line>: <reason>" for an unreadable file, a number
 /// that does not parse, an X line before any T line, a second X line for one time, a sample
 /// without X, or an unknown keyword.
@@ -105,12 +105,12 @@ struct RegressionResult {
 
 /// The largest difference between two samples of a state at one step.
 struct StepDifference {
-    std::size_t step = 0;          ///< index of the sample in SOFA's file (step k: state at T = k·dt)
-    double time = 0.0;             ///< s
-    std::size_t value_index = 0;   ///< index in the X line
-    double max_difference = 0.0;   ///< max_i |X_i − Xsofa_i| (+inf for a NaN)
-    std::size_t dof = 0;           ///< value_index / values_per_dof
-    std::size_t component = 0;     ///< value_index % values_per_dof (0..2 x y z, 3..6 qx qy qz qw)
+    std::size_t step = 0;         ///< index of the sample in SOFA's file (step k: state at T = k·dt)
+    double time = 0.0;            ///< s
+    std::size_t value_index = 0;  ///< index in the X line
+    double max_difference = 0.0;  ///< max_i |X_i − Xsofa_i| (+inf for a NaN)
+    std::size_t dof = 0;          ///< value_index / values_per_dof
+    std::size_t component = 0;    ///< value_index % values_per_dof (0..2 x y z, 3..6 qx qy qz qw)
 };
 
 /// One exported state against SOFA's trajectory of it (every sample of SOFA's file whose time
@@ -119,20 +119,20 @@ struct StepDifference {
 /// samples: Σ_T Σ_i |X_i(T) − Xsofa_i(T)| / n_dofs (as compare_with_reference).
 struct TrajectoryStateComparison {
     std::filesystem::path sofa_file, our_file;
-    double criterion = 0.0;                          ///< SOFA's error_s (compare_with_reference)
+    double criterion = 0.0;  ///< SOFA's error_s (compare_with_reference)
     std::size_t steps_compared = 0;
-    std::size_t sofa_steps_not_compared = 0;         ///< SOFA samples at times we did not export
+    std::size_t sofa_steps_not_compared = 0;             ///< SOFA samples at times we did not export
     std::optional<StepDifference> first_over_threshold;  ///< first step with max|Δx| > threshold
-    std::optional<StepDifference> largest;           ///< the step with the largest max|Δx|
-    std::optional<StepDifference> last;              ///< the last compared step
-    std::string problem;                             ///< unreadable file, missing time, ... ("" if none)
+    std::optional<StepDifference> largest;               ///< the step with the largest max|Δx|
+    std::optional<StepDifference> last;                  ///< the last compared step
+    std::string problem;                                 ///< unreadable file, missing time, ... ("" if none)
 };
 
 /// Every exported state against SOFA's trajectory (`penalty run --compare-trajectory DIR`).
 struct TrajectoryComparison {
     std::vector<TrajectoryStateComparison> states;
-    double mean_criterion = 0.0;   ///< SOFA's criterion: mean of the states' error_s
-    double threshold = 1e-12;      ///< m (or quaternion units) per value
+    double mean_criterion = 0.0;        ///< SOFA's criterion: mean of the states' error_s
+    double threshold = 1e-12;           ///< m (or quaternion units) per value
     std::vector<std::string> messages;  ///< file pairing problems; "note: ..." ones are informative
     [[nodiscard]] bool messages_are_notes() const;
     /// No pairing problem, every state compared at least once, SOFA's criterion ≤ tolerance and

@@ -30,25 +30,25 @@ namespace penalty::output {
 
 struct StepStats {
     std::int64_t step = 0;
-    double time = 0.0;                  ///< s
+    double time = 0.0;  ///< s
     std::size_t contacts = 0;
     std::size_t active_contacts = 0;
-    double max_penetration = 0.0;       ///< m, 0 if none
-    double contact_energy = 0.0;        ///< J
-    double kinetic_energy = 0.0;        ///< J
-    double dissipated_energy = 0.0;     ///< J, cumulative
+    double max_penetration = 0.0;    ///< m, 0 if none
+    double contact_energy = 0.0;     ///< J
+    double kinetic_energy = 0.0;     ///< J
+    double dissipated_energy = 0.0;  ///< J, cumulative
     double detection_seconds = 0.0;
     double response_seconds = 0.0;
     double solve_seconds = 0.0;
     double output_seconds = 0.0;
-    int cg_iterations = 0;              ///< CG iterations of the step, every implicit solver
-    int newton_iterations = 0;          ///< Newton iterates of the step (0 without Newton)
+    int cg_iterations = 0;      ///< CG iterations of the step, every implicit solver
+    int newton_iterations = 0;  ///< Newton iterates of the step (0 without Newton)
     /// The tunnelling guard's columns (written only by a writer made with them).
     struct Tunnelling {
         std::size_t crossings = 0;
         std::size_t prevented = 0;
-        std::string first_crossing;      ///< "" when none
-        double max_depth = 0.0;          ///< m
+        std::string first_crossing;  ///< "" when none
+        double max_depth = 0.0;      ///< m
         int solves = 1;
         std::size_t stiffened_contacts = 0;
         double stiffening_energy = 0.0;  ///< J

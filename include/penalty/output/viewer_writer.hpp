@@ -50,14 +50,14 @@ enum class ViewerShapeKind : std::uint8_t {
 
 /// One collision model as the viewer draws it.
 struct ViewerShape {
-    std::string name;                   ///< collision model name
-    std::string type;                   ///< SOFA-like model type ("Triangle", "RigidSphere", ...)
+    std::string name;  ///< collision model name
+    std::string type;  ///< SOFA-like model type ("Triangle", "RigidSphere", ...)
     ViewerShapeKind kind = ViewerShapeKind::points;
-    std::size_t state = 0;              ///< index of its state in the writer's state list
-    std::vector<std::uint32_t> indices; ///< DOF indices, see ViewerShapeKind
-    std::vector<double> radius;         ///< spheres, cylinders: one per element (m)
-    std::vector<double> height;         ///< cylinders: full height (m)
-    std::vector<Vec3> axis;             ///< cylinders: unit axis in the body frame
+    std::size_t state = 0;               ///< index of its state in the writer's state list
+    std::vector<std::uint32_t> indices;  ///< DOF indices, see ViewerShapeKind
+    std::vector<double> radius;          ///< spheres, cylinders: one per element (m)
+    std::vector<double> height;          ///< cylinders: full height (m)
+    std::vector<Vec3> axis;              ///< cylinders: unit axis in the body frame
 };
 
 class ViewerWriter {
@@ -123,8 +123,8 @@ private:
     };
     /// Checks `shapes` against the state sizes `dofs` (throws std::invalid_argument) and returns
     /// the layout; its indices are appended to `topology` (uint32 bytes).
-    [[nodiscard]] Layout make_layout(std::vector<ViewerShape> shapes, std::vector<std::size_t> dofs, std::uint64_t revision,
-                                     std::string& topology) const;
+    [[nodiscard]] Layout make_layout(std::vector<ViewerShape> shapes, std::vector<std::size_t> dofs,
+                                     std::uint64_t revision, std::string& topology) const;
     /// Appends `topology` to topology.u32 and the layout to the list.
     void append_layout(Layout layout, const std::string& topology);
     struct FrameStats {
@@ -144,8 +144,8 @@ private:
     std::string title_;
     std::size_t frame_floats_ = 0;
     std::vector<Layout> layouts_;
-    std::size_t topology_size_ = 0;    ///< indices in topology.u32
-    std::size_t positions_size_ = 0;   ///< floats in positions.f32
+    std::size_t topology_size_ = 0;   ///< indices in topology.u32
+    std::size_t positions_size_ = 0;  ///< floats in positions.f32
     std::function<std::uint64_t()> revision_;
     std::function<std::vector<ViewerShape>()> reshape_;
     std::vector<FrameStats> frames_;

@@ -73,8 +73,7 @@ public:
     /// Discrete). The models are not owned and must outlive the contact; (model1, model2) in the
     /// intersector's registered order (as in the DetectionOutputs).
     BarycentricPenaltyContact(const CollisionModel& model1, const CollisionModel& model2,
-                              double intersection_contact_distance,
-                              const ContactResponseParameters& parameters = {});
+                              double intersection_contact_distance, const ContactResponseParameters& parameters = {});
 
     /// SOFA's setDetectionOutputs (§7.1): deduplicates, rebuilds the spring list (clear, then
     /// add_contact per kept output with its old_index) and updates the contact points.
@@ -90,9 +89,8 @@ public:
     /// share a state).
     void add_force(std::span<double> parent_f1, std::span<double> parent_f2);
     /// parent_df += Jᵀ (k_factor·K + b_factor·B) J dq with the active set of the last add_force.
-    void add_dforce(std::span<double> parent_df1, std::span<double> parent_df2,
-                    std::span<const double> parent_dq1, std::span<const double> parent_dq2,
-                    double k_factor, double b_factor = 0.0);
+    void add_dforce(std::span<double> parent_df1, std::span<double> parent_df2, std::span<const double> parent_dq1,
+                    std::span<const double> parent_dq2, double k_factor, double b_factor = 0.0);
 
     [[nodiscard]] const CollisionModel& model1() const { return *model1_; }
     [[nodiscard]] const CollisionModel& model2() const { return *model2_; }

@@ -53,7 +53,7 @@ void apply_response_params(std::string_view params, ContactResponseParameters& p
 struct ContactPairEntry {
     const CollisionModel* model1 = nullptr;
     const CollisionModel* model2 = nullptr;
-    std::string response;  ///< resolved name (key?params)
+    std::string response;                                ///< resolved name (key?params)
     std::unique_ptr<BarycentricPenaltyContact> contact;  ///< null for a "nullptr" response
 };
 
@@ -72,8 +72,7 @@ public:
     /// std::invalid_argument naming the parameter `response`. `base` supplies the C++-side
     /// parameters that response_params then override.
     explicit CollisionResponse(std::string response = std::string(kPenaltyResponseName),
-                               std::string response_params = "",
-                               const ContactResponseParameters& base = {});
+                               std::string response_params = "", const ContactResponseParameters& base = {});
 
     /// The pipeline-wide name: response, plus "?" + response_params when not empty.
     [[nodiscard]] std::string base_response_name() const;
@@ -83,9 +82,10 @@ public:
     /// Factory: a new contact for `name` and (m1, m2) in this order; nullptr for "nullptr", an
     /// empty name, or an unregistered pair (then a warning is recorded). Throws
     /// std::invalid_argument for an unknown key or malformed parameters.
-    [[nodiscard]] std::unique_ptr<BarycentricPenaltyContact> create_contact(
-        const std::string& name, const CollisionModel& m1, const CollisionModel& m2,
-        double intersection_contact_distance);
+    [[nodiscard]] std::unique_ptr<BarycentricPenaltyContact> create_contact(const std::string& name,
+                                                                            const CollisionModel& m1,
+                                                                            const CollisionModel& m2,
+                                                                            double intersection_contact_distance);
 
     /// Contacts fed in parallel (set_detections) only when the step's contacts (two or more) have
     /// twice this many outputs together.
@@ -157,11 +157,11 @@ private:
     /// set_detection_outputs of every fed contact (feed_), in parallel when worth it.
     void feed_contacts();
     // set_detections' scratch, reused from step to step
-    std::vector<ContactPairEntry> ordered_;       // pairs_ in their new order
+    std::vector<ContactPairEntry> ordered_;  // pairs_ in their new order
     /// stable ids: (contact, its place in pairs_), sorted by address (kept: no allocation a step)
     std::vector<std::pair<const BarycentricPenaltyContact*, std::size_t>> place_of_;
-    std::vector<char> seen_;                      // by rank: per pair, fed this step
-    std::vector<ContactPairEntry> created_;       // by rank: pairs new this step
+    std::vector<char> seen_;                 // by rank: per pair, fed this step
+    std::vector<ContactPairEntry> created_;  // by rank: pairs new this step
     std::vector<std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> feed_;
     bool last_feed_concurrent_ = false;
 };

@@ -150,11 +150,11 @@ private:
 [[nodiscard]] std::array<double, 2> line_contact_weights(const Vec3& a, const Vec3& b, const Vec3& P);
 /// (a, b) coordinates of P in triangle (p0, p1, p2), projected on the closest feature when the
 /// projection is outside (SOFA's BarycentricMapperMeshTopology triangle rule).
-[[nodiscard]] std::array<double, 2> triangle_contact_coordinates(const Vec3& p0, const Vec3& p1,
-                                                                 const Vec3& p2, const Vec3& P);
+[[nodiscard]] std::array<double, 2> triangle_contact_coordinates(const Vec3& p0, const Vec3& p1, const Vec3& p2,
+                                                                 const Vec3& P);
 /// (fx, fy) of P in the quad (q0, q1, q2, q3) frame, not clamped.
-[[nodiscard]] std::array<double, 2> quad_contact_coordinates(const Vec3& q0, const Vec3& q1,
-                                                             const Vec3& q3, const Vec3& P);
+[[nodiscard]] std::array<double, 2> quad_contact_coordinates(const Vec3& q0, const Vec3& q1, const Vec3& q3,
+                                                             const Vec3& P);
 
 /// RigidSphere and Cylinder: contact points rigidly attached to a body frame (§8.3).
 class RigidContactMapper final : public ContactMapper {

@@ -63,14 +63,16 @@ private:
     // reached, whichever ids come and go
     std::vector<IdPosition> previous_;
     // scratch, reused across steps
-    std::vector<IdPosition> next_;            // the map being built (swapped with previous_)
-    std::vector<std::pair<std::int64_t, std::size_t>> by_id_;  // (id, output index), sorted: compact, so the sort stays in cache
+    std::vector<IdPosition> next_;  // the map being built (swapped with previous_)
+    std::vector<std::pair<std::int64_t, std::size_t>>
+        by_id_;  // (id, output index), sorted: compact, so the sort stays in cache
     std::vector<std::pair<std::int64_t, std::size_t>> by_id_swap_;  // the radix sort's other buffer
-    std::vector<std::size_t> radix_counts_;   // the radix sort's digit counts
+    std::vector<std::size_t> radix_counts_;                         // the radix sort's digit counts
     std::vector<std::int64_t> old_;           // per output: previous position, 0 new, −1 dropped
     std::vector<std::int64_t> new_position_;  // per output: 1-based position in this step's list
     std::vector<KeptOutput> kept_;            // the result of the last update()
-    std::vector<std::size_t> winner_of_id_;   // update_dense: per id of the range, 1 + its winner's output index (0: none)
+    std::vector<std::size_t>
+        winner_of_id_;  // update_dense: per id of the range, 1 + its winner's output index (0: none)
     std::vector<std::int64_t> position_of_id_;  // update_dense: per id, its previous position, then its new one
 };
 

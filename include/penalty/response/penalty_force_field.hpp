@@ -50,12 +50,12 @@ enum class FrictionModel : std::uint8_t {
 
 /// Opt-in extensions; the defaults reproduce SOFA exactly.
 struct PenaltyParameters {
-    double damping = 0.0;                      ///< c: normal viscous damping (N·s/m), ≥ 0
+    double damping = 0.0;  ///< c: normal viscous damping (N·s/m), ≥ 0
     FrictionModel friction = FrictionModel::ignored;
-    double tangential_stiffness_ratio = 1.0;   ///< kt / ks (dimensionless), > 0 when friction acts
-    double tangential_damping = 0.0;           ///< c_t: viscous damping of the sticking tangential
-                                               ///< spring (N·s/m), ≥ 0: f_t2 += −c_t·P·(v2 − v1)
-    double time_step = 0.01;                   ///< h (s), > 0: accumulates ξ and dissipated energy
+    double tangential_stiffness_ratio = 1.0;  ///< kt / ks (dimensionless), > 0 when friction acts
+    double tangential_damping = 0.0;          ///< c_t: viscous damping of the sticking tangential
+                                              ///< spring (N·s/m), ≥ 0: f_t2 += −c_t·P·(v2 − v1)
+    double time_step = 0.01;                  ///< h (s), > 0: accumulates ξ and dissipated energy
 
     /// Throws std::invalid_argument naming the parameter.
     void validate() const;
@@ -68,49 +68,49 @@ enum class FrictionState : std::uint8_t { none, sticking, sliding };
 /// The fields add_force reads and writes on SOFA's path come first (the first 80 bytes, two
 /// cache lines), the friction history and bookkeeping after.
 struct PenaltyContact {
-    Index m1 = 0;             ///< DOF in state 1 (contact point of model 1)
-    Index m2 = 0;             ///< DOF in state 2
+    Index m1 = 0;                 ///< DOF in state 1 (contact point of model 1)
+    Index m2 = 0;                 ///< DOF in state 2
     Vec3 normal = Vec3::UnitX();  ///< unit, from side 1 toward side 2 (world)
-    double dist = 0.0;        ///< rest distance (m): the spring pushes while (x2 − x1)·n < dist
-    double ks = 0.0;          ///< normal stiffness (N/m)
-    double pen = 0.0;         ///< penetration dist − (x2 − x1)·n at the last add_force (m)
-    double normal_force = 0.0;  ///< f_n = ks·pen − c·v_n on side 2 along n (N), 0 if inactive
-    int age = 0;              ///< steps this contact has persisted (0 = new)
+    double dist = 0.0;            ///< rest distance (m): the spring pushes while (x2 − x1)·n < dist
+    double ks = 0.0;              ///< normal stiffness (N/m)
+    double pen = 0.0;             ///< penetration dist − (x2 − x1)·n at the last add_force (m)
+    double normal_force = 0.0;    ///< f_n = ks·pen − c·v_n on side 2 along n (N), 0 if inactive
+    int age = 0;                  ///< steps this contact has persisted (0 = new)
     FrictionState friction_state = FrictionState::none;
-    bool step_started = false;   ///< add_force ran since add_contact (per-step bookkeeping done)
-    bool slid_last_step = false; ///< the dynamic threshold applies (hysteresis)
-    bool has_history = false;    ///< shear_start carries a previous step's spring
+    bool step_started = false;    ///< add_force ran since add_contact (per-step bookkeeping done)
+    bool slid_last_step = false;  ///< the dynamic threshold applies (hysteresis)
+    bool has_history = false;     ///< shear_start carries a previous step's spring
 
-    Index index1 = 0;         ///< collision element of model 1 (export / grab only)
-    Index index2 = 0;         ///< collision element of model 2
-    double mu_s = 0.0;        ///< static friction coefficient (used only with FrictionModel::coulomb)
-    double mu_v = 0.0;        ///< dynamic friction coefficient (idem)
+    Index index1 = 0;   ///< collision element of model 1 (export / grab only)
+    Index index2 = 0;   ///< collision element of model 2
+    double mu_s = 0.0;  ///< static friction coefficient (used only with FrictionModel::coulomb)
+    double mu_v = 0.0;  ///< dynamic friction coefficient (idem)
 
     // --- beyond SOFA: set by add_force, carried by add_contact(old_index) -------------------
     Vec3 tangential_force = Vec3::Zero();  ///< friction force on side 2 (N), ⟂ n
-    Vec3 shear = Vec3::Zero();       ///< ξ after the cap at the last add_force (m)
-    double damper_scale = 1.0;       ///< α: share of the tangential damper applied while sticking
-    Vec3 shear_start = Vec3::Zero(); ///< ξ₀ at the start of the step (m)
-    Vec3 u_start = Vec3::Zero();     ///< u at the start of the step (m)
+    Vec3 shear = Vec3::Zero();             ///< ξ after the cap at the last add_force (m)
+    double damper_scale = 1.0;             ///< α: share of the tangential damper applied while sticking
+    Vec3 shear_start = Vec3::Zero();       ///< ξ₀ at the start of the step (m)
+    Vec3 u_start = Vec3::Zero();           ///< u at the start of the step (m)
 };
 
 /// A contact drawn as a segment x1[m1] → x2[m2] (replaces SOFA's draw).
 struct ContactSegment {
-    Vec3 point1;        ///< x1[m1] (m)
-    Vec3 point2;        ///< x2[m2] (m)
-    Vec3 normal;        ///< from side 1 toward side 2
-    double pen;         ///< dist − (x2 − x1)·n at these positions (m); > 0 pushes
+    Vec3 point1;  ///< x1[m1] (m)
+    Vec3 point2;  ///< x2[m2] (m)
+    Vec3 normal;  ///< from side 1 toward side 2
+    double pen;   ///< dist − (x2 − x1)·n at these positions (m); > 0 pushes
     int age;
-    Vec3 force;         ///< total force on side 2 (N) from the last add_force; −force on side 1
+    Vec3 force;  ///< total force on side 2 (N) from the last add_force; −force on side 1
     Index index1, index2;
 };
 
 /// Result of a grab query: a point of the other side in contact with a grabbed DOF
 /// (replaces SOFA's grabPoint).
 struct GrabbedPoint {
-    Vec3 position;      ///< current position of the other side's contact point (m)
-    Index element;      ///< collision element index on the other side
-    Index tool_dof;     ///< the grabbed DOF of the tool side
+    Vec3 position;   ///< current position of the other side's contact point (m)
+    Index element;   ///< collision element index on the other side
+    Index tool_dof;  ///< the grabbed DOF of the tool side
 };
 
 enum class ContactSide : std::uint8_t { first, second };
@@ -134,8 +134,8 @@ public:
     /// tangential spring is carried over from that previous contact.
     /// Throws std::invalid_argument for negative or non-finite stiffness / friction, a non-finite
     /// dist, a NaN or non-unit normal (| |n| − 1 | > 1e-6), or a negative index.
-    void add_contact(Index m1, Index m2, Index index1, Index index2, const Vec3& normal, double dist,
-                     double ks, double mu_s = 0.0, double mu_v = 0.0, Index old_index = 0);
+    void add_contact(Index m1, Index m2, Index index1, Index index2, const Vec3& normal, double dist, double ks,
+                     double mu_s = 0.0, double mu_v = 0.0, Index old_index = 0);
 
     /// Replaces the normal law of contact i, ks·(dist − u·n), by ks'·(dist' − u·n) for the rest
     /// of the step (beyond SOFA: the tunnelling guard's stiffening, tunnelling_guard.hpp). Throws
@@ -149,21 +149,18 @@ public:
     /// Accumulates the contact forces (N) into f1 (state 1) and f2 (state 2) and stores pen,
     /// the normal and tangential forces and the friction state in every contact.
     /// f1/f2 must have the sizes of x1/x2; indices outside the states throw std::invalid_argument.
-    void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
-                   ConstVec3Span v2);
+    void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1, ConstVec3Span v2);
 
     /// df += k_factor·K·dx + b_factor·B·dx, with the active set and friction states of the last
     /// add_force (SOFA: pen > 0 as stored). Sliding friction contributes nothing (explicit).
-    void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2,
-                    double k_factor, double b_factor = 0.0) const;
+    void add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
+                    double b_factor = 0.0) const;
 
     /// Appends factor·K (K = ∂f/∂x, SOFA's blocks and sign) as 3×3 blocks. Row/column of DOF m of
     /// state s is offset_s + 3·m. Same state: offset1 == offset2 (blocks are summed).
-    void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2,
-                                double factor = 1.0) const;
+    void add_stiffness_triplets(TripletList& triplets, Index offset1, Index offset2, double factor = 1.0) const;
     /// Appends factor·B (B = ∂f/∂v: −c·n·nᵀ blocks), empty without damping (SOFA).
-    void add_damping_triplets(TripletList& triplets, Index offset1, Index offset2,
-                              double factor = 1.0) const;
+    void add_damping_triplets(TripletList& triplets, Index offset1, Index offset2, double factor = 1.0) const;
 
     /// K as a sparse matrix. Two-state layout: (3·n1 + 3·n2)² with state 2 after state 1.
     /// Same-state layout (same_state = true): (3·n1)², n2 ignored. std::invalid_argument for a
@@ -186,8 +183,7 @@ public:
 
     /// For every contact (in order) and every tool DOF (in order) whose DOF on `tool_side`
     /// equals it: the other side's contact-point position and element (SOFA's grabPoint).
-    [[nodiscard]] std::vector<GrabbedPoint> grab_points(ContactSide tool_side,
-                                                        std::span<const Index> tool_dofs,
+    [[nodiscard]] std::vector<GrabbedPoint> grab_points(ContactSide tool_side, std::span<const Index> tool_dofs,
                                                         ConstVec3Span other_positions) const;
 
     [[nodiscard]] std::span<const PenaltyContact> contacts() const { return contacts_; }
@@ -198,8 +194,8 @@ public:
 
 private:
     template <bool kDamping, bool kFriction>
-    void add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2,
-                        ConstVec3Span v1, ConstVec3Span v2);
+    void add_force_impl(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
+                        ConstVec3Span v2);
     /// Throws if a contact's DOF index is outside states of sizes n1, n2; the verified sizes are
     /// cached until the contact list changes, so the hot loops need no per-contact check.
     void check_indices(const char* function, std::size_t n1, std::size_t n2) const;

@@ -61,7 +61,7 @@ private:
         mutable unsigned first_id = kNoId;
         mutable unsigned second_id = kNoId;
         StoredKey(const Key& key) : first(key.first), second(key.second) {}  // NOLINT: a Key converts
-        operator Key() const { return {first, second}; }                      // NOLINT: to and from
+        operator Key() const { return {first, second}; }                     // NOLINT: to and from
     };
     struct Less {
         Ids* ids;

@@ -38,37 +38,37 @@ enum class ComponentCategory {
 /// What a component is in its node. The builder builds a node's components family by family in
 /// SOFA's order (see ComponentFamily order in build_node, src/scene/builder/scene_builder.cpp).
 enum class ComponentFamily {
-    gravity,              ///< sets its node's gravity (before anything else of the node)
-    topology,             ///< one per node
-    topology_helper,      ///< topology modifiers and geometry algorithms: accepted, build nothing (static topologies)
-    state,                ///< MechanicalObject: one per node
-    mapping,              ///< one per node
-    mass,                 ///< one per node
-    force_field,          ///< any number, file order
-    constraint,           ///< projective constraints, any number, file order
-    ode_solver,           ///< one per node
-    linear_solver,        ///< one per node; read by the node's ODE solver
-    solver_part,          ///< read by a solver: linear systems, ordering methods, Newton-Raphson solvers
-    collision_model,      ///< any number, file order (SOFA's broad-phase order, depth first)
-    animation_loop,       ///< one per node
-    collision_pipeline,   ///< CollisionPipeline
-    composite_pipeline,   ///< CompositeCollisionPipeline
-    sub_pipeline,         ///< SubCollisionPipeline: read by its composite
-    broad_phase,          ///< read by a pipeline
-    narrow_phase,         ///< read by a pipeline
-    intersection,         ///< intersection method: read by a pipeline
-    contact_manager,      ///< CollisionResponse: read by a pipeline
-    loader,               ///< mesh and sphere files
-    visual,               ///< ignored
-    engine,               ///< data engines (BoxROI): built in file order with masses, force fields, constraints
-    data_engine,          ///< engines whose inputs are links or values (TransformEngine, MergePoints): built
-                          ///< when a component first reads an output, as SOFA evaluates engines on demand,
-                          ///< else with the engines
+    gravity,             ///< sets its node's gravity (before anything else of the node)
+    topology,            ///< one per node
+    topology_helper,     ///< topology modifiers and geometry algorithms: accepted, build nothing (static topologies)
+    state,               ///< MechanicalObject: one per node
+    mapping,             ///< one per node
+    mass,                ///< one per node
+    force_field,         ///< any number, file order
+    constraint,          ///< projective constraints, any number, file order
+    ode_solver,          ///< one per node
+    linear_solver,       ///< one per node; read by the node's ODE solver
+    solver_part,         ///< read by a solver: linear systems, ordering methods, Newton-Raphson solvers
+    collision_model,     ///< any number, file order (SOFA's broad-phase order, depth first)
+    animation_loop,      ///< one per node
+    collision_pipeline,  ///< CollisionPipeline
+    composite_pipeline,  ///< CompositeCollisionPipeline
+    sub_pipeline,        ///< SubCollisionPipeline: read by its composite
+    broad_phase,         ///< read by a pipeline
+    narrow_phase,        ///< read by a pipeline
+    intersection,        ///< intersection method: read by a pipeline
+    contact_manager,     ///< CollisionResponse: read by a pipeline
+    loader,              ///< mesh and sphere files
+    visual,              ///< ignored
+    engine,              ///< data engines (BoxROI): built in file order with masses, force fields, constraints
+    data_engine,         ///< engines whose inputs are links or values (TransformEngine, MergePoints): built
+                         ///< when a component first reads an output, as SOFA evaluates engines on demand,
+                         ///< else with the engines
 };
 
 /// The kind of value an attribute holds (as written in a scene file).
 enum class AttributeKind {
-    boolean,   ///< 0, 1, true, false
+    boolean,  ///< 0, 1, true, false
     integer,
     real,
     vector3,   ///< 3 numbers
@@ -78,8 +78,8 @@ enum class AttributeKind {
     frames,    ///< 7·n numbers (Rigid3d: x y z qx qy qz qw)
     elements,  ///< index tuples (edges, triangles, ...)
     text,
-    link,      ///< `@path`
-    links,     ///< blank-separated links
+    link,   ///< `@path`
+    links,  ///< blank-separated links
 };
 
 /// A check applied to a numeric attribute whatever its value comes from.

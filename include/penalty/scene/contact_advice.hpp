@@ -26,19 +26,19 @@ namespace penalty::scene {
 ///   CG          √(1 + dt²·ks/m)·ln(2/tol)   CG iterations the implicit solve of the spring needs
 struct PairAdvice {
     std::string model1, model2;
-    double impact_speed = 0.0;       ///< v (m/s)
-    double mass = 0.0;               ///< m (kg); +inf when neither side moves
-    double reach = 0.0;              ///< D (m)
-    double alarm = 0.0;              ///< A (m)
-    double ks = 0.0;                 ///< the scene's spring stiffness (N/m)
-    double dt = 0.0;                 ///< the scene's time step (s)
-    double max_dt_detection = 0.0;   ///< A / v
-    double min_ks_energy = 0.0;      ///< m·v²/D²
-    double min_ks_implicit = 0.0;    ///< m·(v·dt − D)/(dt²·D), 0 when v·dt ≤ D
-    bool explicit_contact = false;   ///< both sides simulated by different solvers
-    double max_dt_explicit = 0.0;    ///< 2·√(m/ks) (explicit contacts)
-    double cg_iterations = 0.0;      ///< estimated, implicit contacts
-    int cg_limit = 0;                ///< the solver's `iterations` (0: none found)
+    double impact_speed = 0.0;      ///< v (m/s)
+    double mass = 0.0;              ///< m (kg); +inf when neither side moves
+    double reach = 0.0;             ///< D (m)
+    double alarm = 0.0;             ///< A (m)
+    double ks = 0.0;                ///< the scene's spring stiffness (N/m)
+    double dt = 0.0;                ///< the scene's time step (s)
+    double max_dt_detection = 0.0;  ///< A / v
+    double min_ks_energy = 0.0;     ///< m·v²/D²
+    double min_ks_implicit = 0.0;   ///< m·(v·dt − D)/(dt²·D), 0 when v·dt ≤ D
+    bool explicit_contact = false;  ///< both sides simulated by different solvers
+    double max_dt_explicit = 0.0;   ///< 2·√(m/ks) (explicit contacts)
+    double cg_iterations = 0.0;     ///< estimated, implicit contacts
+    int cg_limit = 0;               ///< the solver's `iterations` (0: none found)
     /// Whether the scene's dt and ks meet every condition.
     [[nodiscard]] bool safe() const;
 };
@@ -50,7 +50,8 @@ struct PairAdvice {
 
 /// The advice of every model pair the pipelines keep and whose features can tunnel (at least one
 /// side simulated), in pipeline and broad-phase order.
-[[nodiscard]] std::vector<PairAdvice> contact_advice_pairs(const Scene& scene, std::optional<double> impact_speed = std::nullopt);
+[[nodiscard]] std::vector<PairAdvice> contact_advice_pairs(const Scene& scene,
+                                                           std::optional<double> impact_speed = std::nullopt);
 
 /// The text `penalty info --contact-advice` prints.
 [[nodiscard]] std::string contact_advice(const Scene& scene, std::optional<double> impact_speed = std::nullopt);

@@ -78,11 +78,11 @@ enum class StateVector : std::uint8_t { none, position, velocity, force, rest_po
 
 /// A Data's current value.
 struct DataValue {
-    std::string python_form;        ///< as DataField::python_form
-    std::string text;               ///< as SOFA writes it (BaseData::getValueString)
-    std::vector<double> numbers;    ///< numbers of a numeric form, row-major
-    std::size_t columns = 0;        ///< values per row of a 2-D array (0: scalar or 1-D)
-    std::vector<std::string> items; ///< the items of a "list" form (tags, names, links)
+    std::string python_form;         ///< as DataField::python_form
+    std::string text;                ///< as SOFA writes it (BaseData::getValueString)
+    std::vector<double> numbers;     ///< numbers of a numeric form, row-major
+    std::size_t columns = 0;         ///< values per row of a 2-D array (0: scalar or 1-D)
+    std::vector<std::string> items;  ///< the items of a "list" form (tags, names, links)
     /// A state vector: the binding may view the state's memory instead of copying `numbers`.
     BaseState* state = nullptr;
     StateVector state_vector = StateVector::none;

@@ -29,17 +29,17 @@ namespace penalty::scene {
 struct RunOptions {
     std::int64_t steps = 100;
     std::optional<std::filesystem::path> vtk_directory;     ///< `--vtk DIR`
-    std::int64_t vtk_every = 1;                              ///< `--vtk-every M`
+    std::int64_t vtk_every = 1;                             ///< `--vtk-every M`
     std::optional<std::filesystem::path> states_directory;  ///< `--export-states DIR`
-    bool export_mapped = false;                              ///< `--export-mapped`
-    std::int64_t export_every = 1;                           ///< `--export-every M`: steps k with k % M == 0, and the last
-    std::optional<std::filesystem::path> stats_file;        ///< `--stats FILE.csv`
+    bool export_mapped = false;                             ///< `--export-mapped`
+    std::int64_t export_every = 1;                    ///< `--export-every M`: steps k with k % M == 0, and the last
+    std::optional<std::filesystem::path> stats_file;  ///< `--stats FILE.csv`
     /// `--divergence-factor F`: the run has diverged when a step moves a DOF by more than F times
     /// the initial scene size (DivergenceBound); 0 turns the check off.
     double divergence_factor = 100.0;
-    std::optional<std::filesystem::path> view_directory;    ///< `--view DIR`: the browser viewer (viewer.hpp)
-    std::int64_t view_every = 1;                             ///< `--view-every M`: frames k with k % M == 0, and the end
-    std::string view_title;                                  ///< the viewer page's title (the scene's name)
+    std::optional<std::filesystem::path> view_directory;  ///< `--view DIR`: the browser viewer (viewer.hpp)
+    std::int64_t view_every = 1;                          ///< `--view-every M`: frames k with k % M == 0, and the end
+    std::string view_title;                               ///< the viewer page's title (the scene's name)
     /// `--debug-step K --debug-file FILE`: after step K, write what it did (write_step_debug).
     std::optional<std::int64_t> debug_step;
     std::filesystem::path debug_file = "penalty-debug-step.txt";
@@ -89,10 +89,10 @@ private:
     /// The energy rules (docs/reliability.md): E − E₀ > 10·F·E_ref, or, in one step,
     /// E − E_previous > F·(E_ref + kinetic_previous + |stored_previous|).
     void check_energy(const Scene& scene, std::int64_t step, double time);
-    double initial_energy_ = 0.0;  ///< E₀ (J)
-    double energy_scale_ = 0.0;    ///< E_ref (J)
-    double previous_energy_ = 0.0;  ///< E after the last checked step (J)
-    double previous_content_ = 0.0;  ///< kinetic + |stored| energy after the last checked step (J)
+    double initial_energy_ = 0.0;       ///< E₀ (J)
+    double energy_scale_ = 0.0;         ///< E_ref (J)
+    double previous_energy_ = 0.0;      ///< E after the last checked step (J)
+    double previous_content_ = 0.0;     ///< kinetic + |stored| energy after the last checked step (J)
     bool stored_energy_known_ = false;  ///< the force fields' energy at the start is read at the first check
 };
 
@@ -106,35 +106,35 @@ struct RunSummary {
     double response_seconds = 0.0;
     double solve_seconds = 0.0;
     double output_seconds = 0.0;
-    double mean_contacts = 0.0;      ///< contacts per step (after the step's collision)
+    double mean_contacts = 0.0;  ///< contacts per step (after the step's collision)
     std::size_t max_contacts = 0;
-    double max_penetration = 0.0;    ///< m, over the run
-    double kinetic_energy = 0.0;     ///< J, at the end
-    double contact_energy = 0.0;     ///< J, stored in the contact springs at the end
-    double dissipated_energy = 0.0;  ///< J, by contact damping/friction (cumulative, live pairs)
-    bool cg = false;                         ///< the scene has an implicit solver
-    double mean_cg_iterations = 0.0;         ///< per step, all implicit solvers
+    double max_penetration = 0.0;     ///< m, over the run
+    double kinetic_energy = 0.0;      ///< J, at the end
+    double contact_energy = 0.0;      ///< J, stored in the contact springs at the end
+    double dissipated_energy = 0.0;   ///< J, by contact damping/friction (cumulative, live pairs)
+    bool cg = false;                  ///< the scene has an implicit solver
+    double mean_cg_iterations = 0.0;  ///< per step, all implicit solvers
     int max_cg_iterations = 0;
-    std::int64_t cg_limit_steps = 0;         ///< steps where a linear solve hit its iteration limit
-    bool newton = false;                     ///< a solver runs Newton iterations
-    double mean_newton_iterations = 0.0;     ///< per step
+    std::int64_t cg_limit_steps = 0;      ///< steps where a linear solve hit its iteration limit
+    bool newton = false;                  ///< a solver runs Newton iterations
+    double mean_newton_iterations = 0.0;  ///< per step
     int max_newton_iterations = 0;
     std::int64_t newton_unconverged_steps = 0;  ///< steps where Newton stopped on newtonIterations
     /// The tunnelling guard (beyond SOFA, docs/no-tunnelling.md), when the scene has one.
     struct Tunnelling {
-        std::string mode;                   ///< "" without a guard
-        std::int64_t crossings = 0;         ///< kept in the accepted motion, over the run
-        std::int64_t crossing_steps = 0;    ///< steps with a kept crossing
-        std::int64_t prevented = 0;         ///< found by undone solves
+        std::string mode;                 ///< "" without a guard
+        std::int64_t crossings = 0;       ///< kept in the accepted motion, over the run
+        std::int64_t crossing_steps = 0;  ///< steps with a kept crossing
+        std::int64_t prevented = 0;       ///< found by undone solves
         std::int64_t undone_solves = 0;
-        std::int64_t extra_solves = 0;      ///< Σ (solves − 1): the steps' substeps
-        int deepest_halving = 0;            ///< the shortest solve was dt / 2^this
-        double max_depth = 0.0;             ///< m, of the kept crossings
-        std::string first_crossing;         ///< "step k: Crossing::describe()" of the first kept one
+        std::int64_t extra_solves = 0;  ///< Σ (solves − 1): the steps' substeps
+        int deepest_halving = 0;        ///< the shortest solve was dt / 2^this
+        double max_depth = 0.0;         ///< m, of the kept crossings
+        std::string first_crossing;     ///< "step k: Crossing::describe()" of the first kept one
         std::int64_t stiffened_contacts = 0;
         double max_stiffening = 1.0;
-        double stiffening_energy = 0.0;     ///< J, cumulative
-        double guard_seconds = 0.0;         ///< Σ over steps
+        double stiffening_energy = 0.0;  ///< J, cumulative
+        double guard_seconds = 0.0;      ///< Σ over steps
     } tunnelling;
     std::vector<std::filesystem::path> state_files;  ///< the files written by --export-states
     std::vector<int> values_per_dof;                 ///< per state file (3 Vec3, 7 Rigid3)

@@ -13,11 +13,11 @@
 
 #include "penalty/collision/collision_model.hpp"
 #include "penalty/io/scene_file.hpp"
-#include "penalty/mechanics/topology_container.hpp"
 #include "penalty/io/scene_mesh.hpp"
-#include "penalty/scene/live_data.hpp"
+#include "penalty/mechanics/topology_container.hpp"
 #include "penalty/output/state_record.hpp"
 #include "penalty/output/vtk_writer.hpp"
+#include "penalty/scene/live_data.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/tunnelling_guard.hpp"
 
@@ -80,14 +80,14 @@ struct BuildOptions {
 /// One collision model of the scene and where it comes from.
 struct SceneCollisionModel {
     std::unique_ptr<CollisionModel> model;
-    Node* node = nullptr;                            ///< node holding the model's state
-    const io::SceneComponent* component = nullptr;   ///< its `<...CollisionModel>` element
+    Node* node = nullptr;                           ///< node holding the model's state
+    const io::SceneComponent* component = nullptr;  ///< its `<...CollisionModel>` element
 };
 
 /// One SOFA collision pipeline (CollisionPipeline, or a SubCollisionPipeline of a
 /// CompositeCollisionPipeline) as built.
 struct ScenePipeline {
-    std::string name;                              ///< component name or type
+    std::string name;                                                    ///< component name or type
     IntersectionMethod intersection = IntersectionMethod::NewProximity;  ///< named by intersection_method_short_name
     std::unique_ptr<ContactPipeline> pipeline;
     std::vector<const SceneCollisionModel*> models;  ///< the models it detects, registration order
@@ -223,7 +223,8 @@ public:
     /// from numbers: 3 per Vec3d DOF, 7 per Rigid3d frame (quaternions normalised), 6 per Rigid3d
     /// derivative. @throws std::invalid_argument naming `what` for another count (a state keeps
     /// its size after init).
-    static void write_state(BaseState& s, std::string_view name, const std::vector<double>& values, const std::string& what);
+    static void write_state(BaseState& s, std::string_view name, const std::vector<double>& values,
+                            const std::string& what);
     /// SOFA's reinit() of a component (a node: init() of every component below it): the writes of
     /// its Data that wait for it take effect (the scene is built again, states kept).
     void reinit(const DataOwner& owner);
@@ -263,7 +264,8 @@ public:
     /// The mesh a loader read (null when no physics component used it).
     [[nodiscard]] const io::MeshData* loader_mesh(const io::SceneComponent& loader) const;
     /// The outputs an engine computed (BoxROI's `indices`, ...), or null.
-    [[nodiscard]] const std::vector<PointId>* engine_indices(const io::SceneComponent& engine, const std::string& data) const;
+    [[nodiscard]] const std::vector<PointId>* engine_indices(const io::SceneComponent& engine,
+                                                             const std::string& data) const;
     [[nodiscard]] const io::MeshData* engine_mesh(const io::SceneComponent& engine, const std::string& data) const;
 
 private:
@@ -324,7 +326,8 @@ private:
     void carry_states(Scene& fresh, bool reset) const;
     /// The vectors of `fresh`'s states whose Data is linked to a Data the pending writes made
     /// dirty (an engine's output whose input was written: SOFA's Data links, live_links.cpp).
-    [[nodiscard]] std::vector<std::pair<const BaseState*, StateVector>> states_linked_to_writes(const Scene& fresh) const;
+    [[nodiscard]] std::vector<std::pair<const BaseState*, StateVector>> states_linked_to_writes(
+        const Scene& fresh) const;
     /// `carried`'s vector `which` takes the values of `rebuilt` (same size: the memory stays).
     static void take_linked_vectors(const BaseState& rebuilt, BaseState& carried, StateVector which);
     /// Builds the scene again from its text; `reset`: states back to their values at init.
@@ -351,7 +354,8 @@ private:
     void install_contact_stage();
     /// Writes `text` into attribute `name` of `element` (adds it when absent); returns the old
     /// text (nullopt: absent).
-    static std::optional<std::string> write_attribute(io::SceneElement& element, std::string_view name, std::string_view text);
+    static std::optional<std::string> write_attribute(io::SceneElement& element, std::string_view name,
+                                                      std::string_view text);
     /// The topologies that change and what follows them (last: destroyed first).
     std::unique_ptr<TopologyRuntime> topology_runtime_;
 };

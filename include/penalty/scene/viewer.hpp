@@ -27,7 +27,8 @@ struct ViewerBodies {
 [[nodiscard]] ViewerBodies viewer_bodies(const Scene& scene);
 
 /// A ViewerWriter over viewer_bodies(scene) in `directory`.
-[[nodiscard]] std::unique_ptr<output::ViewerWriter> open_viewer(const Scene& scene, const std::filesystem::path& directory,
+[[nodiscard]] std::unique_ptr<output::ViewerWriter> open_viewer(const Scene& scene,
+                                                                const std::filesystem::path& directory,
                                                                 std::string title);
 
 }  // namespace penalty::scene

@@ -29,9 +29,9 @@ std::ostream& operator<<(std::ostream& out, CgEndCondition condition);
 
 /// Result of one CG solve.
 struct CgStats {
-    int iterations = 0;                                ///< iterations started (SOFA's nb_iter)
+    int iterations = 0;  ///< iterations started (SOFA's nb_iter)
     CgEndCondition end_condition = CgEndCondition::none;
-    double error = 0.0;                                ///< last |r|/|b| evaluated
+    double error = 0.0;  ///< last |r|/|b| evaluated
 };
 
 /// A linear system A·x = b for CGLinearSolver: its product, its dot product, and the two vector

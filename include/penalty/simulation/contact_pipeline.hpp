@@ -57,7 +57,8 @@
 /// ξ_{n+1} = rotate(ξ_n) + h·P·v_{n+1}, the backward-Euler update of the tangential spring.
 ///
 /// Lifetime: the Simulation, the nodes and the models must outlive the pipeline; the pipeline's
-/// destructor removes what it added to the graph, unregisters its contact stage, and clears the update_geometry of the solvers it was attached to.
+/// destructor removes what it added to the graph, unregisters its contact stage, and clears the update_geometry of the
+/// solvers it was attached to.
 
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/intersection.hpp"
@@ -118,11 +119,11 @@ extern template class ContactPointMapping<Rigid3Types>;
 /// What the pipeline put into the graph for one live pair.
 struct ContactGraphEntry {
     BarycentricPenaltyContact* contact = nullptr;
-    Node* host = nullptr;                        ///< node storing the force field (§2.1)
-    PenaltyInteraction* force_field = nullptr;   ///< owned by `host`
-    std::array<Node*, 2> point_nodes{};          ///< contact-point nodes (null: identity mapper)
-    std::array<Vec3Object*, 2> point_states{};   ///< the states the force field acts on
-    std::array<BaseMapping*, 2> mappings{};      ///< null for an identity side
+    Node* host = nullptr;                       ///< node storing the force field (§2.1)
+    PenaltyInteraction* force_field = nullptr;  ///< owned by `host`
+    std::array<Node*, 2> point_nodes{};         ///< contact-point nodes (null: identity mapper)
+    std::array<Vec3Object*, 2> point_states{};  ///< the states the force field acts on
+    std::array<BaseMapping*, 2> mappings{};     ///< null for an identity side
 };
 
 /// Node ids given by ContactPipeline::add_model (base + Node::id()), far from the ids users and
@@ -252,8 +253,8 @@ private:
     struct ModelEntry {
         CollisionModel* model;
         Node* node;
-        Vec3Object* vec3;    ///< the node's state when Vec3
-        Rigid3Object* rigid; ///< the node's state when Rigid3
+        Vec3Object* vec3;        ///< the node's state when Vec3
+        Rigid3Object* rigid;     ///< the node's state when Rigid3
         std::size_t scene_rank;  ///< add_model's scene_rank (the contact-map order)
         // Newton (attach_newton): the state's positions and velocities at the last update()
         std::vector<Vec3> start_x, start_v;
@@ -285,10 +286,10 @@ private:
 
     /// Per live pair (same index as entries_): what update_geometry restores before rebuilding.
     struct StepStart {
-        PenaltyForceField field_before;         ///< the pair's field before this step's update()
-        DetectionOutputList outputs_before;     ///< the outputs that built field_before's contacts
-        DetectionOutputList last_outputs;       ///< the outputs that built the current contacts
-        DetectionOutputList iterate_outputs;    ///< scratch: the outputs at a Newton iterate
+        PenaltyForceField field_before;       ///< the pair's field before this step's update()
+        DetectionOutputList outputs_before;   ///< the outputs that built field_before's contacts
+        DetectionOutputList last_outputs;     ///< the outputs that built the current contacts
+        DetectionOutputList iterate_outputs;  ///< scratch: the outputs at a Newton iterate
     };
 
     Simulation* simulation_;
@@ -297,24 +298,24 @@ private:
     Node* node_;
     ContactPipelineOptions options_;
     ContactPipelineTimings timings_;
-    CollisionPipeline collision_;               ///< the detection driver over models_' models
-    struct ThreadArena;                         ///< a tbb::task_arena, made once (threads > 0)
+    CollisionPipeline collision_;  ///< the detection driver over models_' models
+    struct ThreadArena;            ///< a tbb::task_arena, made once (threads > 0)
     std::unique_ptr<ThreadArena> arena_;
     std::vector<StepStart> step_start_;
-    bool keep_step_start_ = false;             ///< attach_newton was called
-    bool snapshot_valid_ = false;              ///< step_start_ recorded by an update() since then
+    bool keep_step_start_ = false;  ///< attach_newton was called
+    bool snapshot_valid_ = false;   ///< step_start_ recorded by an update() since then
     int geometry_updates_ = 0;
     std::vector<EulerImplicitSolver*> attached_solvers_;
     std::vector<ModelEntry> models_;
     std::vector<std::string> skipped_pairs_;
-    std::vector<ModelPair> skipped_keys_;       ///< the pairs of skipped_pairs_
+    std::vector<ModelPair> skipped_keys_;  ///< the pairs of skipped_pairs_
     std::vector<ContactGraphEntry> entries_;
     std::size_t created_count_ = 0;
     PointerIndex<CollisionModel> model_index_;  ///< model → its index in models_
     // on_destroy's lookups and the removals it leaves to remove_destroyed_entries
     PointerIndex<BarycentricPenaltyContact> entry_of_;  ///< contact → its entry, while entry_of_valid_
     bool entry_of_valid_ = false;
-    std::size_t destroyed_entries_ = 0;                 ///< entries_ with contact == nullptr
+    std::size_t destroyed_entries_ = 0;                                    ///< entries_ with contact == nullptr
     std::vector<std::pair<Node*, const BaseForceField*>> removed_fields_;  ///< (host, field)
     std::vector<std::pair<Node*, const Node*>> removed_nodes_;             ///< (parent, point node)
     // order_graph_entries' scratch, reused from step to step

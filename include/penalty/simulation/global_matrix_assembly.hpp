@@ -16,11 +16,11 @@ using ColumnSparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 
 /// What an assembly takes (SOFA's MatrixLinearSystem data of the same names).
 struct MatrixAssemblyOptions {
-    bool assemble_mass = true;                  ///< assembleMass
-    bool assemble_stiffness = true;             ///< assembleStiffness
-    bool assemble_damping = true;               ///< assembleDamping
-    bool apply_mapped_components = true;        ///< applyMappedComponents: fields and masses of mapped states
-    bool apply_projective_constraints = true;   ///< applyProjectiveConstraints
+    bool assemble_mass = true;                 ///< assembleMass
+    bool assemble_stiffness = true;            ///< assembleStiffness
+    bool assemble_damping = true;              ///< assembleDamping
+    bool apply_mapped_components = true;       ///< applyMappedComponents: fields and masses of mapped states
+    bool apply_projective_constraints = true;  ///< applyProjectiveConstraints
 };
 
 /// Buffers an assembly reuses from one call to the next (a solver assembles at every step: the
@@ -45,8 +45,8 @@ struct AssemblyWorkspace {
 [[nodiscard]] ColumnSparseMatrix assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k,
                                                      const MatrixAssemblyOptions& options = {});
 /// The same into `out`, with `workspace`'s buffers.
-void assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k, const MatrixAssemblyOptions& options,
-                         AssemblyWorkspace& workspace, ColumnSparseMatrix& out);
+void assemble_mbk_matrix(const SubtreeSystem& system, double m, double b, double k,
+                         const MatrixAssemblyOptions& options, AssemblyWorkspace& workspace, ColumnSparseMatrix& out);
 
 /// Applies the subtree's projective constraints to an assembled matrix: a constraint that lists
 /// discarded rows (BaseProjectiveConstraint::list_discarded_rows: SOFA's ZeroDirichletCondition)

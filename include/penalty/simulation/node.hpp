@@ -132,7 +132,9 @@ public:
     [[nodiscard]] const std::vector<std::unique_ptr<BaseForceField>>& force_fields() const { return force_fields_; }
     [[nodiscard]] BaseMass* mass() const { return mass_.get(); }
     [[nodiscard]] BaseMapping* mapping() const { return mapping_.get(); }
-    [[nodiscard]] const std::vector<std::unique_ptr<BaseProjectiveConstraint>>& constraints() const { return constraints_; }
+    [[nodiscard]] const std::vector<std::unique_ptr<BaseProjectiveConstraint>>& constraints() const {
+        return constraints_;
+    }
     [[nodiscard]] OdeSolver* ode_solver() const { return solver_.get(); }
 
     /// Version of the structure of the whole graph (kept by the root): changes whenever a node,

@@ -78,7 +78,8 @@ public:
 
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
-    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node, std::vector<const BaseState*>& out) override;
+    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node,
+                                                                 std::vector<const BaseState*>& out) override;
     [[nodiscard]] bool runs_in_plan_order() const override { return newton.enabled; }
     [[nodiscard]] const CgStats& last_cg_stats() const { return last_cg_; }
     /// Every linear solve of the last solve() in order (one, or one per Newton iterate).
@@ -128,7 +129,8 @@ public:
     /// std::invalid_argument naming the state otherwise.
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
-    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node, std::vector<const BaseState*>& out) override;
+    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node,
+                                                                 std::vector<const BaseState*>& out) override;
 
 private:
     SubtreeSystemCache system_;

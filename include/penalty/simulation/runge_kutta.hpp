@@ -29,7 +29,8 @@ class RungeKuttaSolver : public OdeSolver {
 public:
     /// Checks that every independent state has an invertible mass (SOFA's accFromF), naming it.
     void init(Node& node) override;
-    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node, std::vector<const BaseState*>& out) override;
+    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node,
+                                                                 std::vector<const BaseState*>& out) override;
 
 protected:
     /// a = P·M⁻¹·f(x, v) with the positions x already in the states: v is scattered, projected

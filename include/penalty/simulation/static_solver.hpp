@@ -14,14 +14,14 @@ namespace penalty {
 
 /// SOFA's NewtonRaphsonSolver data (its defaults). A threshold of 0 turns its criterion off.
 struct NewtonRaphsonParameters {
-    int max_iterations = 1;                    ///< maxNbIterationsNewton
-    double relative_successive = 1e-5;         ///< relativeSuccessiveStoppingThreshold: |r_k| < t·|r_{k−1}|
-    double relative_initial = 1e-5;            ///< relativeInitialStoppingThreshold: |r_k| < t·|r_0|
-    double absolute_residual = 1e-5;           ///< absoluteResidualStoppingThreshold: |r_k| < t (N)
-    double relative_estimate_difference = 0.0; ///< relativeEstimateDifferenceThreshold: |dx| < t·|x|
-    double absolute_estimate_difference = 0.0; ///< absoluteEstimateDifferenceThreshold: |dx| < t (m)
-    int max_line_search_iterations = 1;        ///< maxNbIterationsLineSearch (at least 1 is run)
-    double line_search_coefficient = 0.5;      ///< lineSearchCoefficient: α ← c·α
+    int max_iterations = 1;                     ///< maxNbIterationsNewton
+    double relative_successive = 1e-5;          ///< relativeSuccessiveStoppingThreshold: |r_k| < t·|r_{k−1}|
+    double relative_initial = 1e-5;             ///< relativeInitialStoppingThreshold: |r_k| < t·|r_0|
+    double absolute_residual = 1e-5;            ///< absoluteResidualStoppingThreshold: |r_k| < t (N)
+    double relative_estimate_difference = 0.0;  ///< relativeEstimateDifferenceThreshold: |dx| < t·|x|
+    double absolute_estimate_difference = 0.0;  ///< absoluteEstimateDifferenceThreshold: |dx| < t (m)
+    int max_line_search_iterations = 1;         ///< maxNbIterationsLineSearch (at least 1 is run)
+    double line_search_coefficient = 0.5;       ///< lineSearchCoefficient: α ← c·α
     /// std::invalid_argument naming the first bad value (negative or non-finite thresholds,
     /// iteration counts below 0, a coefficient outside (0, 1]).
     void check() const;
@@ -59,7 +59,8 @@ public:
 
     void init(Node& node) override;
     void solve(Node& node, double dt) override;
-    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node, std::vector<const BaseState*>& out) override;
+    [[nodiscard]] std::optional<std::size_t> list_touched_states(Node& node,
+                                                                 std::vector<const BaseState*>& out) override;
 
     /// The last solve: its status, Newton iterations, squared residual norms (initial then one per
     /// iteration, SOFA's residualGraph) and linear solves' CG statistics.

@@ -61,10 +61,10 @@ enum class TunnellingMode : std::uint8_t { off, warn, substep, stiffen };
 
 /// The stiffening law of one contact (see the file comment). Units: m, N/m, N, J.
 struct StiffeningLaw {
-    double ks = 0.0;         ///< the contact's stiffness (N/m)
-    double reach = 0.0;      ///< D: its rest distance dist (m), > 0 for the law to act
-    double fraction = 0.5;   ///< f in (0, 1)
-    double max_factor = 1e4; ///< κ ≥ 1
+    double ks = 0.0;          ///< the contact's stiffness (N/m)
+    double reach = 0.0;       ///< D: its rest distance dist (m), > 0 for the law to act
+    double fraction = 0.5;    ///< f in (0, 1)
+    double max_factor = 1e4;  ///< κ ≥ 1
 
     /// Whether the law changes anything at penetration `pen` (pen > f·D, D > 0).
     [[nodiscard]] bool acts(double pen) const { return reach > 0.0 && pen > fraction * reach; }
@@ -96,17 +96,17 @@ struct TunnellingReport {
     /// Crossings of the step's accepted motion (warn: every crossing; substep, stiffen: those the
     /// guard could not prevent), sorted by toi within each solve, solves in time order.
     std::vector<Crossing> crossings;
-    std::size_t prevented = 0;     ///< crossings found by solves the guard undid
-    double max_depth = 0.0;        ///< over `crossings` (m)
-    int solves = 0;                ///< solves kept to make the step (1: the user's dt)
-    int undone_solves = 0;         ///< solves undone
-    int deepest_halving = 0;       ///< the step's shortest solve was dt / 2^deepest_halving
+    std::size_t prevented = 0;           ///< crossings found by solves the guard undid
+    double max_depth = 0.0;              ///< over `crossings` (m)
+    int solves = 0;                      ///< solves kept to make the step (1: the user's dt)
+    int undone_solves = 0;               ///< solves undone
+    int deepest_halving = 0;             ///< the step's shortest solve was dt / 2^deepest_halving
     std::size_t stiffened_contacts = 0;  ///< contact springs given the stiffening law (every solve)
-    double max_stiffening = 1.0;   ///< largest ks'/ks applied
-    double stiffening_energy = 0.0;  ///< J, this step (see the file comment)
-    double detection_seconds = 0.0;  ///< Σ of the pipelines' detections of the step
-    double response_seconds = 0.0;   ///< Σ of their responses
-    double guard_seconds = 0.0;      ///< continuous detection, snapshots and restores
+    double max_stiffening = 1.0;         ///< largest ks'/ks applied
+    double stiffening_energy = 0.0;      ///< J, this step (see the file comment)
+    double detection_seconds = 0.0;      ///< Σ of the pipelines' detections of the step
+    double response_seconds = 0.0;       ///< Σ of their responses
+    double guard_seconds = 0.0;          ///< continuous detection, snapshots and restores
 };
 
 class TunnellingGuard final : public StepDriver {
@@ -182,10 +182,10 @@ private:
     ContinuousDetection ccd_;
     TunnellingReport report_;
     double total_stiffening_energy_ = 0.0;
-    std::vector<std::unique_ptr<Snapshot>> snapshots_;  ///< one per depth, reused
-    std::unique_ptr<Snapshot> step_start_;              ///< the step's start (its applied forces)
+    std::vector<std::unique_ptr<Snapshot>> snapshots_;                 ///< one per depth, reused
+    std::unique_ptr<Snapshot> step_start_;                             ///< the step's start (its applied forces)
     std::vector<std::pair<PenaltyForceField*, double>> time_step_of_;  ///< fields' own time steps (this step)
-    std::unordered_map<const BaseState*, Node*> node_of_;  ///< contact_point_mass's, at node_of_version_
+    std::unordered_map<const BaseState*, Node*> node_of_;              ///< contact_point_mass's, at node_of_version_
     std::uint64_t node_of_version_ = ~std::uint64_t(0);
     /// What retry_stiffer changed for the solve under way (kept with it, or undone with it).
     struct Attempt {

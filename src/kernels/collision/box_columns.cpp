@@ -22,8 +22,7 @@ std::uint64_t overlap_mask_scalar(const Aabb& a, double margin, const BoxColumns
 // Four columns per step: the six comparisons of each lane or-ed (ordered, quiet: NaN is false,
 // as the scalar `>`), then the lanes' "not disjoint" bits.
 [[gnu::target("avx")]] std::uint64_t overlap_mask_avx(const Aabb& a, double margin, const BoxColumns& c) {
-    const __m256d amin0 = _mm256_set1_pd(a.min[0]), amin1 = _mm256_set1_pd(a.min[1]),
-                  amin2 = _mm256_set1_pd(a.min[2]);
+    const __m256d amin0 = _mm256_set1_pd(a.min[0]), amin1 = _mm256_set1_pd(a.min[1]), amin2 = _mm256_set1_pd(a.min[2]);
     const __m256d amax0 = _mm256_set1_pd(a.max[0] + margin), amax1 = _mm256_set1_pd(a.max[1] + margin),
                   amax2 = _mm256_set1_pd(a.max[2] + margin);
     std::uint64_t mask = 0;

@@ -180,10 +180,11 @@ template <bool kFeatures, class PointOf>
             const int in_c = along_bc & ~below_b & above_c;
             const int in_bc = along_bc & ~below_b & ~above_c;
             // the lanes whose triangle owns each feature's flag
-            const __m128i flags = _mm_set_epi32(int(t.flags(e1[3])), int(t.flags(e1[2])), int(t.flags(e1[1])),
-                                                int(t.flags(e1[0])));
+            const __m128i flags =
+                _mm_set_epi32(int(t.flags(e1[3])), int(t.flags(e1[2])), int(t.flags(e1[1])), int(t.flags(e1[0])));
             const auto owns = [&flags](std::uint32_t flag) {
-                const __m128i none = _mm_cmpeq_epi32(_mm_and_si128(flags, _mm_set1_epi32(int(flag))), _mm_setzero_si128());
+                const __m128i none =
+                    _mm_cmpeq_epi32(_mm_and_si128(flags, _mm_set1_epi32(int(flag))), _mm_setzero_si128());
                 return ~_mm_movemask_ps(_mm_castsi128_ps(none)) & 0xF;
             };
             keep_bits |= (in_a & owns(F::kP1)) | (in_ab & owns(F::kE12)) | (in_ac & owns(k.edge_ac_flag)) |
@@ -264,8 +265,7 @@ void keep_triangle_candidates(const IntersectionParams& params, const TriangleMo
 }
 
 void keep_line_line_candidates(const IntersectionParams& params, const LineModel& l1, const LineModel& l2,
-                               std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept,
-                               KernelPath path) {
+                               std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept, KernelPath path) {
     const LineLineConstants& k = line_line_rule(params);
     kept.reserve(kept.size() + keys.size());
     std::size_t done = 0;

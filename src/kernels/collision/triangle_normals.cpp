@@ -74,7 +74,8 @@ void triangle_normals(std::span<const Vec3> x, std::span<const Triangle> triangl
     PENALTY_DEMAND(triangles.size() == normals.size());
     std::size_t done = 0;
 #ifdef PENALTY_HAS_AVX_LANES
-    if (path == KernelPath::avx) done = triangle_normals_avx(x.data(), triangles.data(), triangles.size(), normals.data());
+    if (path == KernelPath::avx)
+        done = triangle_normals_avx(x.data(), triangles.data(), triangles.size(), normals.data());
 #endif
     (void)path;
     triangle_normals_scalar(x.data(), triangles.data(), done, triangles.size(), normals.data());

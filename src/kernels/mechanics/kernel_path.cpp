@@ -6,20 +6,21 @@ namespace penalty {
 
 bool kernel_path_supported(KernelPath path) {
     switch (path) {
-    case KernelPath::scalar: return true;
-    case KernelPath::avx:
+        case KernelPath::scalar:
+            return true;
+        case KernelPath::avx:
 #ifdef PENALTY_HAS_AVX_LANES
-        // libgcc's check includes the OS's support of the YMM state (XGETBV)
-        return __builtin_cpu_supports("avx");
+            // libgcc's check includes the OS's support of the YMM state (XGETBV)
+            return __builtin_cpu_supports("avx");
 #else
-        return false;
+            return false;
 #endif
-    case KernelPath::avx512:
+        case KernelPath::avx512:
 #ifdef PENALTY_HAS_AVX_LANES
-        // AVX-512F's ZMM state is checked by libgcc as well
-        return __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx512f");
+            // AVX-512F's ZMM state is checked by libgcc as well
+            return __builtin_cpu_supports("avx") && __builtin_cpu_supports("avx512f");
 #else
-        return false;
+            return false;
 #endif
     }
     return false;
@@ -32,8 +33,9 @@ KernelPath best_kernel_path() {
 
 KernelPath best_fem_kernel_path() {
 #ifdef PENALTY_HAS_AVX_LANES
-    static const KernelPath best =
-        kernel_path_supported(KernelPath::avx512) && __builtin_cpu_is("intel") ? KernelPath::avx512 : best_kernel_path();
+    static const KernelPath best = kernel_path_supported(KernelPath::avx512) && __builtin_cpu_is("intel")
+                                       ? KernelPath::avx512
+                                       : best_kernel_path();
     return best;
 #else
     return best_kernel_path();
@@ -42,9 +44,12 @@ KernelPath best_fem_kernel_path() {
 
 const char* to_string(KernelPath path) {
     switch (path) {
-    case KernelPath::scalar: return "scalar";
-    case KernelPath::avx: return "avx";
-    case KernelPath::avx512: return "avx512";
+        case KernelPath::scalar:
+            return "scalar";
+        case KernelPath::avx:
+            return "avx";
+        case KernelPath::avx512:
+            return "avx512";
     }
     return "unknown";
 }

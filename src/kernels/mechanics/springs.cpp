@@ -14,8 +14,8 @@ namespace {
 /// m. The energy ½·ks·e² is added spring by spring, in order.
 template <class Stiffness>
 void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_t begin, std::size_t end,
-                  double null_length, Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1, const Vec3* v2,
-                  Stiffness* dfdx, double& energy) {
+                  double null_length, Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
+                  const Vec3* v2, Stiffness* dfdx, double& energy) {
     for (std::size_t i = begin; i < end; ++i) {
         const Spring& s = springs[i];
         const auto a = static_cast<std::size_t>(s.a);
@@ -31,7 +31,8 @@ void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_
         const double elongation = d - s.rest_length;
         energy += elongation * elongation * s.ks / 2;
         const Vec3 relative_velocity = v2[b] - v1[a];
-        const double elongation_velocity = n[0] * relative_velocity[0] + n[1] * relative_velocity[1] + n[2] * relative_velocity[2];
+        const double elongation_velocity =
+            n[0] * relative_velocity[0] + n[1] * relative_velocity[1] + n[2] * relative_velocity[2];
         const double intensity = s.ks * elongation + s.kd * elongation_velocity;
         const Vec3 force(n[0] * intensity, n[1] * intensity, n[2] * intensity);
         f1[a] += force;
@@ -61,8 +62,8 @@ void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_
 /// spring by spring in spring order, and each spring's m is stored as its three padded columns.
 /// Returns the number of springs done.
 template <SpringArithmetic Arithmetic, class Stiffness>
-[[gnu::target("avx")]] std::size_t spring_force_avx(const Spring* springs, std::size_t count, double null_length, Vec3* f1,
-                                                    Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
+[[gnu::target("avx")]] std::size_t spring_force_avx(const Spring* springs, std::size_t count, double null_length,
+                                                    Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
                                                     const Vec3* v2, Stiffness* dfdx, double& energy) {
     const __m256d one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0), null = _mm256_set1_pd(null_length);
     std::size_t i = 0;
@@ -73,8 +74,10 @@ template <SpringArithmetic Arithmetic, class Stiffness>
             a[k] = static_cast<std::size_t>(s[k].a);
             b[k] = static_cast<std::size_t>(s[k].b);
         }
-        const detail::Lanes3 xa = detail::load_lanes(x1[a[0]].data(), x1[a[1]].data(), x1[a[2]].data(), x1[a[3]].data());
-        const detail::Lanes3 xb = detail::load_lanes(x2[b[0]].data(), x2[b[1]].data(), x2[b[2]].data(), x2[b[3]].data());
+        const detail::Lanes3 xa =
+            detail::load_lanes(x1[a[0]].data(), x1[a[1]].data(), x1[a[2]].data(), x1[a[3]].data());
+        const detail::Lanes3 xb =
+            detail::load_lanes(x2[b[0]].data(), x2[b[1]].data(), x2[b[2]].data(), x2[b[3]].data());
         const __m256d ks = _mm256_set_pd(s[3].ks, s[2].ks, s[1].ks, s[0].ks);
         const __m256d kd = _mm256_set_pd(s[3].kd, s[2].kd, s[1].kd, s[0].kd);
         const __m256d l0 = _mm256_set_pd(s[3].rest_length, s[2].rest_length, s[1].rest_length, s[0].rest_length);
@@ -89,8 +92,10 @@ template <SpringArithmetic Arithmetic, class Stiffness>
                       nz = _mm256_mul_pd(uz, inverse_length);
         const __m256d elongation = _mm256_sub_pd(d, l0);
         const __m256d spring_energy = _mm256_div_pd(_mm256_mul_pd(_mm256_mul_pd(elongation, elongation), ks), two);
-        const detail::Lanes3 va = detail::load_lanes(v1[a[0]].data(), v1[a[1]].data(), v1[a[2]].data(), v1[a[3]].data());
-        const detail::Lanes3 vb = detail::load_lanes(v2[b[0]].data(), v2[b[1]].data(), v2[b[2]].data(), v2[b[3]].data());
+        const detail::Lanes3 va =
+            detail::load_lanes(v1[a[0]].data(), v1[a[1]].data(), v1[a[2]].data(), v1[a[3]].data());
+        const detail::Lanes3 vb =
+            detail::load_lanes(v2[b[0]].data(), v2[b[1]].data(), v2[b[2]].data(), v2[b[3]].data());
         const __m256d rx = _mm256_sub_pd(vb.x, va.x), ry = _mm256_sub_pd(vb.y, va.y), rz = _mm256_sub_pd(vb.z, va.z);
         const __m256d elongation_velocity =
             _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(nx, rx), _mm256_mul_pd(ny, ry)), _mm256_mul_pd(nz, rz));
@@ -125,13 +130,13 @@ template <SpringArithmetic Arithmetic, class Stiffness>
                 __m256d m;
                 if constexpr (Arithmetic == SpringArithmetic::quadular_bending_springs)
                     m = _mm256_mul_pd(c, _mm256_mul_pd(w[j], w[k]));
-                else
-                    m = _mm256_mul_pd(_mm256_mul_pd(c, w[j]), w[k]);
+                else m = _mm256_mul_pd(_mm256_mul_pd(c, w[j]), w[k]);
                 if (j == k) m = _mm256_add_pd(m, t);
                 row[j] = _mm256_and_pd(m, live);
             }
             detail::store_rows_padded(row[0], row[1], row[2], dfdx[i].column[std::size_t(k)].data(),
-                                      dfdx[i + 1].column[std::size_t(k)].data(), dfdx[i + 2].column[std::size_t(k)].data(),
+                                      dfdx[i + 1].column[std::size_t(k)].data(),
+                                      dfdx[i + 2].column[std::size_t(k)].data(),
                                       dfdx[i + 3].column[std::size_t(k)].data());
         }
     }
@@ -144,8 +149,8 @@ template <SpringArithmetic Arithmetic, class Stiffness>
 /// stores into df do not force the compiler to reload the spring list's bounds per spring; each
 /// floating-point operation and its order are those of the straightforward loop.
 template <SpringArithmetic Arithmetic, class Stiffness>
-void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1,
-                   const Vec3* dx2, double k_factor) {
+void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t count, Vec3* df1, Vec3* df2,
+                   const Vec3* dx1, const Vec3* dx2, double k_factor) {
     for (std::size_t i = 0; i < count; ++i) {
         const auto a = static_cast<std::size_t>(springs[i].a);
         const auto b = static_cast<std::size_t>(springs[i].b);
@@ -170,7 +175,9 @@ void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t cou
 inline const double* at(const Vec3* base, std::ptrdiff_t offset) {
     return reinterpret_cast<const double*>(reinterpret_cast<const char*>(base) + offset);
 }
-inline double* at(Vec3* base, std::ptrdiff_t offset) { return reinterpret_cast<double*>(reinterpret_cast<char*>(base) + offset); }
+inline double* at(Vec3* base, std::ptrdiff_t offset) {
+    return reinterpret_cast<double*>(reinterpret_cast<char*>(base) + offset);
+}
 
 /// The same product with the three rows of m·dx in the lanes 0–2 of 256-bit registers (lane 3
 /// computes 0·dx and is dropped): lane r does row r's operations of spring_dforce, in its order,
@@ -179,8 +186,9 @@ inline double* at(Vec3* base, std::ptrdiff_t offset) { return reinterpret_cast<d
 /// spring in spring order (x and y in one 128-bit add, z alone). `ends`: the springs' ends as
 /// byte offsets (SpringForceField::end_offsets_).
 template <SpringArithmetic Arithmetic, class Stiffness>
-[[gnu::target("avx")]] void spring_dforce_avx(const std::array<std::ptrdiff_t, 2>* ends, const Stiffness* dfdx, std::size_t count,
-                                              Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor) {
+[[gnu::target("avx")]] void spring_dforce_avx(const std::array<std::ptrdiff_t, 2>* ends, const Stiffness* dfdx,
+                                              std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2,
+                                              double k_factor) {
     const __m256d k = _mm256_set1_pd(k_factor);
     for (std::size_t i = 0; i < count; ++i) {
         const std::ptrdiff_t a = ends[i][0];  // read once: the stores into df may alias
@@ -199,7 +207,8 @@ template <SpringArithmetic Arithmetic, class Stiffness>
             const __m256d s0 = _mm256_mul_pd(u0, k), s1 = _mm256_mul_pd(u1, k), s2 = _mm256_mul_pd(u2, k);
             d = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(m0, s0), _mm256_mul_pd(m1, s1)), _mm256_mul_pd(m2, s2));
         } else {
-            d = _mm256_mul_pd(_mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(m0, u0), _mm256_mul_pd(m1, u1)), _mm256_mul_pd(m2, u2)), k);
+            d = _mm256_mul_pd(
+                _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(m0, u0), _mm256_mul_pd(m1, u1)), _mm256_mul_pd(m2, u2)), k);
         }
         const __m128d d_xy = _mm256_castpd256_pd128(d);
         const __m128d d_z = _mm256_extractf128_pd(d, 1);
@@ -214,8 +223,9 @@ template <SpringArithmetic Arithmetic, class Stiffness>
 #endif
 
 template <SpringArithmetic Arithmetic, class Stiffness>
-void spring_dforce_on(KernelPath path, const Spring* springs, const std::array<std::ptrdiff_t, 2>* ends, const Stiffness* dfdx,
-                      std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor) {
+void spring_dforce_on(KernelPath path, const Spring* springs, const std::array<std::ptrdiff_t, 2>* ends,
+                      const Stiffness* dfdx, std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2,
+                      double k_factor) {
 #ifdef PENALTY_HAS_AVX_LANES
     if (path == KernelPath::avx) {
         spring_dforce_avx<Arithmetic>(ends, dfdx, count, df1, df2, dx1, dx2, k_factor);
@@ -228,17 +238,17 @@ void spring_dforce_on(KernelPath path, const Spring* springs, const std::array<s
 }
 }  // namespace
 
-void spring_forces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs, double null_length, Vec3* f1,
-                   Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1, const Vec3* v2, SpringStiffnessColumns* dfdx,
-                   double& energy) {
+void spring_forces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs, double null_length,
+                   Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1, const Vec3* v2,
+                   SpringStiffnessColumns* dfdx, double& energy) {
     std::size_t done = 0;
 #ifdef PENALTY_HAS_AVX_LANES
     if (path == KernelPath::avx) {
         done = arithmetic == SpringArithmetic::quadular_bending_springs
-                   ? spring_force_avx<SpringArithmetic::quadular_bending_springs>(springs.data(), springs.size(), null_length, f1,
-                                                                                  f2, x1, x2, v1, v2, dfdx, energy)
-                   : spring_force_avx<SpringArithmetic::spring_force_field>(springs.data(), springs.size(), null_length, f1, f2,
-                                                                            x1, x2, v1, v2, dfdx, energy);
+                   ? spring_force_avx<SpringArithmetic::quadular_bending_springs>(
+                         springs.data(), springs.size(), null_length, f1, f2, x1, x2, v1, v2, dfdx, energy)
+                   : spring_force_avx<SpringArithmetic::spring_force_field>(springs.data(), springs.size(), null_length,
+                                                                            f1, f2, x1, x2, v1, v2, dfdx, energy);
     }
 #endif
     (void)path;
@@ -249,11 +259,11 @@ void spring_dforces(KernelPath path, SpringArithmetic arithmetic, std::span<cons
                     const std::array<std::ptrdiff_t, 2>* ends, const SpringStiffnessColumns* dfdx, Vec3* df1, Vec3* df2,
                     const Vec3* dx1, const Vec3* dx2, double k_factor) {
     if (arithmetic == SpringArithmetic::quadular_bending_springs)
-        spring_dforce_on<SpringArithmetic::quadular_bending_springs>(path, springs.data(), ends, dfdx, springs.size(), df1, df2,
-                                                                     dx1, dx2, k_factor);
+        spring_dforce_on<SpringArithmetic::quadular_bending_springs>(path, springs.data(), ends, dfdx, springs.size(),
+                                                                     df1, df2, dx1, dx2, k_factor);
     else
-        spring_dforce_on<SpringArithmetic::spring_force_field>(path, springs.data(), ends, dfdx, springs.size(), df1, df2, dx1,
-                                                               dx2, k_factor);
+        spring_dforce_on<SpringArithmetic::spring_force_field>(path, springs.data(), ends, dfdx, springs.size(), df1,
+                                                               df2, dx1, dx2, k_factor);
 }
 
 }  // namespace penalty::detail

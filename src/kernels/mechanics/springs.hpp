@@ -16,9 +16,9 @@ namespace penalty::detail {
 /// f1[a] += F·U, f2[b] −= F·U and dfdx[i] = m of each spring in order (SpringForceField's class
 /// comment gives the law); `energy` += ½·ks·e² spring by spring. Springs no longer than
 /// `null_length` give no force and a zero m.
-void spring_forces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs, double null_length, Vec3* f1,
-                   Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1, const Vec3* v2, SpringStiffnessColumns* dfdx,
-                   double& energy);
+void spring_forces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs, double null_length,
+                   Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1, const Vec3* v2,
+                   SpringStiffnessColumns* dfdx, double& energy);
 
 /// df1[a] += d, df2[b] −= d for each spring in order, d = m·(dx_b − dx_a)·k_factor in
 /// `arithmetic`'s rounding; `ends` are the springs' ends as byte offsets (a·sizeof(Vec3),

@@ -22,7 +22,8 @@ constexpr std::array<std::array<int, 3>, 3> kRowColumns{{{0, 3, 5}, {1, 3, 4}, {
 
 /// Vertex r/3's entry of J(r, c): 0 its g_yz, 1 its g_xz, 2 its g_xy (as strain_displacement
 /// places them), by row component r % 3 and Voigt column c; −1 where J is 0.
-constexpr std::array<std::array<int, 6>, 3> kCofactorOfEntry{{{0, -1, -1, 1, -1, 2}, {-1, 1, -1, 0, 2, -1}, {-1, -1, 2, -1, 1, 0}}};
+constexpr std::array<std::array<int, 6>, 3> kCofactorOfEntry{
+    {{0, -1, -1, 1, -1, 2}, {-1, 1, -1, 0, 2, -1}, {-1, -1, 2, -1, 1, 0}}};
 
 /// Σ over the non-zero rows r of column c, in kColumnRows order: j(r, c)·δ_r, the first term
 /// alone then each next one added (no leading 0 +). T is double (one element) or a vector of
@@ -31,7 +32,8 @@ template <int C, class T, class Entries>
 [[gnu::always_inline]] inline void strain_entry(const Entries& j, const T (&delta)[12], T& sum) {
     constexpr auto& rows = kColumnRows[C];
     sum = j(rows[0], C) * delta[rows[0]];
-    for (int n = 1; n < kColumnRowCount[C]; ++n) sum += j(rows[static_cast<std::size_t>(n)], C) * delta[rows[static_cast<std::size_t>(n)]];
+    for (int n = 1; n < kColumnRowCount[C]; ++n)
+        sum += j(rows[static_cast<std::size_t>(n)], C) * delta[rows[static_cast<std::size_t>(n)]];
 }
 
 /// An element's stored energy ½ δᵀF (method large), over the entries of δ that can be non-zero
@@ -39,8 +41,8 @@ template <int C, class T, class Entries>
 /// (Displacement, into a double) or one per vector lane (arrays of lanes, into lanes).
 template <class Entries, class Energy>
 [[gnu::always_inline]] inline void large_element_energy(const Entries& delta, const Entries& force, Energy& energy) {
-    energy = 0.5 * (delta[3] * force[3] + delta[6] * force[6] + delta[7] * force[7] + delta[9] * force[9] + delta[10] * force[10] +
-                     delta[11] * force[11]);
+    energy = 0.5 * (delta[3] * force[3] + delta[6] * force[6] + delta[7] * force[7] + delta[9] * force[9] +
+                    delta[10] * force[10] + delta[11] * force[11]);
 }
 
 /// F = J·(factor·(M·(Jᵀ·δ))) with SOFA's sums (TetrahedronFEMForceField::computeForce): each

@@ -32,7 +32,8 @@ struct LaneStrainDisplacement {
     using T = typename LaneVector<W>::type;
     const std::array<std::array<std::array<double, W>, 3>, 4>* cofactor;
     [[gnu::always_inline]] const T& operator()(int r, int c) const {
-        const auto& entry = (*cofactor)[static_cast<std::size_t>(r / 3)][static_cast<std::size_t>(kCofactorOfEntry[static_cast<std::size_t>(r % 3)][static_cast<std::size_t>(c)])];
+        const auto& entry = (*cofactor)[static_cast<std::size_t>(r / 3)][static_cast<std::size_t>(
+            kCofactorOfEntry[static_cast<std::size_t>(r % 3)][static_cast<std::size_t>(c)])];
         return *reinterpret_cast<const T*>(entry.data());
     }
 };
@@ -43,7 +44,8 @@ struct LaneMaterial {
     const std::array<std::array<double, W>, 9>* normal;
     const std::array<std::array<double, W>, 3>* shear;
     [[gnu::always_inline]] const T& operator()(int i, int k) const {
-        const auto& entry = i < 3 ? (*normal)[static_cast<std::size_t>(3 * i + k)] : (*shear)[static_cast<std::size_t>(i - 3)];
+        const auto& entry =
+            i < 3 ? (*normal)[static_cast<std::size_t>(3 * i + k)] : (*shear)[static_cast<std::size_t>(i - 3)];
         return *reinterpret_cast<const T*>(entry.data());
     }
 };
@@ -68,9 +70,10 @@ struct LaneMaterial {
 /// coordinates `rest` (rest[1].x, rest[2].x, rest[2].y, rest[3].x, rest[3].y, rest[3].z),
 /// F = element_force_of(δ), Rᵀ·F by [vertex][component] (sofa_vec::transpose_times) and the
 /// element energies (large_element_energy).
-[[gnu::target("avx")]] void large_force_block_avx(detail::TetrahedronLargeBlock& block, double* rotation8, const Vec3* x,
-                                            const Lanes4 (&rest)[6], Lanes4 (&r)[9], Lanes4 (&delta)[12], Lanes4 (&force)[12],
-                                            Lanes4 (&back)[4][3], Lanes4& energy) {
+[[gnu::target("avx")]] void large_force_block_avx(detail::TetrahedronLargeBlock& block, double* rotation8,
+                                                  const Vec3* x, const Lanes4 (&rest)[6], Lanes4 (&r)[9],
+                                                  Lanes4 (&delta)[12], Lanes4 (&force)[12], Lanes4 (&back)[4][3],
+                                                  Lanes4& energy) {
     Lanes4 p[4][3];
     for (std::size_t v = 0; v < 4; ++v)
         for (std::size_t c = 0; c < 3; ++c) {
@@ -97,25 +100,28 @@ struct LaneMaterial {
     // each vertex rotated (sofa_vec::times), then δ = rest − (R·p_k − R·p_0) in the entries J couples
     Lanes4 deformed[4][3];
     for (std::size_t v = 0; v < 4; ++v)
-        for (std::size_t i = 0; i < 3; ++i) deformed[v][i] = r[3 * i] * p[v][0] + r[3 * i + 1] * p[v][1] + r[3 * i + 2] * p[v][2];
+        for (std::size_t i = 0; i < 3; ++i)
+            deformed[v][i] = r[3 * i] * p[v][0] + r[3 * i + 1] * p[v][1] + r[3 * i + 2] * p[v][2];
     const Lanes4 zero = {0.0, 0.0, 0.0, 0.0};
     for (auto& d : delta) d = zero;
     delta[3] = rest[0] - (deformed[1][0] - deformed[0][0]);
     delta[6] = rest[1] - (deformed[2][0] - deformed[0][0]);
     delta[7] = rest[2] - (deformed[2][1] - deformed[0][1]);
     for (std::size_t c = 0; c < 3; ++c) delta[9 + c] = rest[3 + c] - (deformed[3][c] - deformed[0][c]);
-    element_force_of<Lanes4>(LaneStrainDisplacement<4>{&block.cofactor}, LaneMaterial<4>{&block.material, &block.shear}, delta, nullptr,
-                             force);
+    element_force_of<Lanes4>(LaneStrainDisplacement<4>{&block.cofactor}, LaneMaterial<4>{&block.material, &block.shear},
+                             delta, nullptr, force);
     // Rᵀ·F_k: row i = R(0,i)F₀ + R(1,i)F₁ + R(2,i)F₂
     for (std::size_t v = 0; v < 4; ++v)
-        for (std::size_t i = 0; i < 3; ++i) back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
+        for (std::size_t i = 0; i < 3; ++i)
+            back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
     large_element_energy(delta, force, energy);
 }
 }  // namespace
 
 double large_add_force_avx(std::span<TetrahedronLargeBlock> blocks, std::span<TetrahedronLargeBlock8> blocks8,
-                           std::span<const std::array<Vec3, 4>> rest_local, std::span<const std::array<PointId, 4>> elements,
-                           std::span<Mat3> rotation, const Vec3* x, Vec3* f) {
+                           std::span<const std::array<Vec3, 4>> rest_local,
+                           std::span<const std::array<PointId, 4>> elements, std::span<Mat3> rotation, const Vec3* x,
+                           Vec3* f) {
     double total = 0.0;
     for (std::size_t first = 0; first < elements.size(); first += 4) {
         const std::size_t lanes = std::min<std::size_t>(4, elements.size() - first);
@@ -135,7 +141,8 @@ double large_add_force_avx(std::span<TetrahedronLargeBlock> blocks, std::span<Te
         for (std::size_t lane = 0; lane < lanes; ++lane) {
             const std::size_t e = first + lane;
             Mat3& frame = rotation[e];
-            for (std::size_t i = 0; i < 9; ++i) frame(static_cast<Index>(i / 3), static_cast<Index>(i % 3)) = r[i][lane];
+            for (std::size_t i = 0; i < 9; ++i)
+                frame(static_cast<Index>(i / 3), static_cast<Index>(i % 3)) = r[i][lane];
             total += energy[lane];
             for (std::size_t k = 0; k < 4; ++k) {
                 Vec3& target = f[static_cast<std::size_t>(elements[e][k])];
@@ -151,8 +158,8 @@ double large_add_force_avx(std::span<TetrahedronLargeBlock> blocks, std::span<Te
 /// Rᵀ·F per vertex), in the same order, with IEEE lane-wise operations and no fused
 /// multiply-add, so each lane's F has the scalar loop's bits; df −= Rᵀ·F is then done element
 /// by element, vertex by vertex, in the scalar loop's order.
-[[gnu::target("avx")]] void large_dforce_avx(const detail::TetrahedronLargeBlock* blocks, std::size_t element_count, Vec3* df,
-                                             const Vec3* dx, double k_factor) {
+[[gnu::target("avx")]] void large_dforce_avx(const detail::TetrahedronLargeBlock* blocks, std::size_t element_count,
+                                             Vec3* df, const Vec3* dx, double k_factor) {
     const Lanes4 k = {k_factor, k_factor, k_factor, k_factor};
     for (std::size_t first = 0; first < element_count; first += 4) {
         const detail::TetrahedronLargeBlock& block = blocks[first / 4];
@@ -161,15 +168,19 @@ double large_add_force_avx(std::span<TetrahedronLargeBlock> blocks, std::span<Te
         for (std::size_t v = 0; v < 4; ++v) {
             const auto& dof = block.vertex[v];
             Lanes4 d[3];
-            for (std::size_t c = 0; c < 3; ++c) d[c] = Lanes4{dx[dof[0]][c], dx[dof[1]][c], dx[dof[2]][c], dx[dof[3]][c]};
-            for (std::size_t i = 0; i < 3; ++i) local[3 * v + i] = r[3 * i] * d[0] + r[3 * i + 1] * d[1] + r[3 * i + 2] * d[2];
+            for (std::size_t c = 0; c < 3; ++c)
+                d[c] = Lanes4{dx[dof[0]][c], dx[dof[1]][c], dx[dof[2]][c], dx[dof[3]][c]};
+            for (std::size_t i = 0; i < 3; ++i)
+                local[3 * v + i] = r[3 * i] * d[0] + r[3 * i + 1] * d[1] + r[3 * i + 2] * d[2];
         }
         Lanes4 force[12];
-        element_force_of(LaneStrainDisplacement<4>{&block.cofactor}, LaneMaterial<4>{&block.material, &block.shear}, local, &k, force);
+        element_force_of(LaneStrainDisplacement<4>{&block.cofactor}, LaneMaterial<4>{&block.material, &block.shear},
+                         local, &k, force);
         // Rᵀ·F_k (sofa_vec::transpose_times: row i = R(0,i)F₀ + R(1,i)F₁ + R(2,i)F₂), by [vertex][component]
         Lanes4 back[4][3];
         for (std::size_t v = 0; v < 4; ++v)
-            for (std::size_t i = 0; i < 3; ++i) back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
+            for (std::size_t i = 0; i < 3; ++i)
+                back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
         const std::size_t lanes = std::min<std::size_t>(4, element_count - first);
         for (std::size_t e = 0; e < lanes; ++e)
             for (std::size_t v = 0; v < 4; ++v) {
@@ -183,8 +194,9 @@ double large_add_force_avx(std::span<TetrahedronLargeBlock> blocks, std::span<Te
 /// lane and the same order of the df updates. (Its own function, not one template with the
 /// four-lane one: GCC unrolled and spilled the template's four-lane instance differently, 7–10 %
 /// slower.)
-[[gnu::target("avx512f")]] void large_dforce_avx512(const detail::TetrahedronLargeBlock8* blocks, std::size_t element_count, Vec3* df,
-                                                    const Vec3* dx, double k_factor) {
+[[gnu::target("avx512f")]] void large_dforce_avx512(const detail::TetrahedronLargeBlock8* blocks,
+                                                    std::size_t element_count, Vec3* df, const Vec3* dx,
+                                                    double k_factor) {
     const Lanes8 k = {k_factor, k_factor, k_factor, k_factor, k_factor, k_factor, k_factor, k_factor};
     for (std::size_t first = 0; first < element_count; first += 8) {
         const detail::TetrahedronLargeBlock8& block = blocks[first / 8];
@@ -194,14 +206,18 @@ double large_add_force_avx(std::span<TetrahedronLargeBlock> blocks, std::span<Te
             const auto& dof = block.vertex[v];
             Lanes8 d[3];
             for (std::size_t c = 0; c < 3; ++c)
-                d[c] = Lanes8{dx[dof[0]][c], dx[dof[1]][c], dx[dof[2]][c], dx[dof[3]][c], dx[dof[4]][c], dx[dof[5]][c], dx[dof[6]][c], dx[dof[7]][c]};
-            for (std::size_t i = 0; i < 3; ++i) local[3 * v + i] = r[3 * i] * d[0] + r[3 * i + 1] * d[1] + r[3 * i + 2] * d[2];
+                d[c] = Lanes8{dx[dof[0]][c], dx[dof[1]][c], dx[dof[2]][c], dx[dof[3]][c],
+                              dx[dof[4]][c], dx[dof[5]][c], dx[dof[6]][c], dx[dof[7]][c]};
+            for (std::size_t i = 0; i < 3; ++i)
+                local[3 * v + i] = r[3 * i] * d[0] + r[3 * i + 1] * d[1] + r[3 * i + 2] * d[2];
         }
         Lanes8 force[12];
-        element_force_of(LaneStrainDisplacement<8>{&block.cofactor}, LaneMaterial<8>{&block.material, &block.shear}, local, &k, force);
+        element_force_of(LaneStrainDisplacement<8>{&block.cofactor}, LaneMaterial<8>{&block.material, &block.shear},
+                         local, &k, force);
         Lanes8 back[4][3];
         for (std::size_t v = 0; v < 4; ++v)
-            for (std::size_t i = 0; i < 3; ++i) back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
+            for (std::size_t i = 0; i < 3; ++i)
+                back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
         const std::size_t lanes = std::min<std::size_t>(8, element_count - first);
         for (std::size_t e = 0; e < lanes; ++e)
             for (std::size_t v = 0; v < 4; ++v) {

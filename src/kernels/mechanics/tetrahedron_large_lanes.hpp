@@ -21,8 +21,9 @@ namespace penalty::detail {
 /// rotated vertices and `rest_local`, F = J·M·Jᵀδ, then f += Rᵀ·F element by element. Returns the
 /// elements' energy ½ δᵀF summed in element order.
 double large_add_force_avx(std::span<TetrahedronLargeBlock> blocks, std::span<TetrahedronLargeBlock8> blocks8,
-                           std::span<const std::array<Vec3, 4>> rest_local, std::span<const std::array<PointId, 4>> elements,
-                           std::span<Mat3> rotation, const Vec3* x, Vec3* f);
+                           std::span<const std::array<Vec3, 4>> rest_local,
+                           std::span<const std::array<PointId, 4>> elements, std::span<Mat3> rotation, const Vec3* x,
+                           Vec3* f);
 
 /// TetrahedronFEMForceField::applyStiffnessCorotational (method large): df −= Rᵀ·F(R·dx, k_factor)
 /// for `element_count` elements, four (large_dforce_avx) or eight (large_dforce_avx512) a block.

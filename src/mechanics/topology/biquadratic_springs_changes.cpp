@@ -19,9 +19,9 @@ namespace {
 /// The shared walk: `edge_data` every per-edge vector, `create_edge(e)`, `create_triangle(t)`.
 template <class TriangleData, class CreateEdge, class CreateTriangle>
 void follow_edge_and_triangle_data(const TopologyContainer& container, std::span<const TopologyChange> changes,
-                                   std::initializer_list<std::vector<double>*> edge_data, std::vector<double>& edge_stiffness,
-                                   std::vector<TriangleData>& triangles, CreateEdge&& create_edge,
-                                   CreateTriangle&& create_triangle) {
+                                   std::initializer_list<std::vector<double>*> edge_data,
+                                   std::vector<double>& edge_stiffness, std::vector<TriangleData>& triangles,
+                                   CreateEdge&& create_edge, CreateTriangle&& create_triangle) {
     const MeshTopology& mesh = container.mesh();
     for (const TopologyChange& c : changes) {
         if (c.is(TopologyChangeKind::added, ElementType::edge)) {

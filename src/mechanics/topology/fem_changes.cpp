@@ -18,7 +18,8 @@ void TetrahedronFEMForceField::handle_topology_changes(const TopologyContainer& 
     pending_.container = &container;
     for (const TopologyChange& c : changes) {
         if (c.is(TopologyChangeKind::removed, ElementType::tetrahedron)) {
-            if (pending_.first_new != std::numeric_limits<std::size_t>::max()) pending_.rebuild = true;  // new ones moved
+            if (pending_.first_new != std::numeric_limits<std::size_t>::max())
+                pending_.rebuild = true;  // new ones moved
             if (pending_.rebuild) continue;
             const std::size_t n = elements_.size();
             const auto swap_pop = [&](auto& data, std::size_t i, std::size_t last) {

@@ -74,9 +74,11 @@ void SubsetIndicesFollower::handle_topology_changes(std::span<const TopologyChan
 // ---- SpringPointsFollower -----------------------------------------------------------------------
 
 SpringPointsFollower::SpringPointsFollower(SpringForceField& springs, const TopologyContainer& container)
-    : SpringPointsFollower(std::make_shared<SpringListEdit>(SpringListEdit{&springs, {}, false}), container, Ends::both) {}
+    : SpringPointsFollower(std::make_shared<SpringListEdit>(SpringListEdit{&springs, {}, false}), container,
+                           Ends::both) {}
 
-SpringPointsFollower::SpringPointsFollower(std::shared_ptr<SpringListEdit> edit, const TopologyContainer& container, Ends ends)
+SpringPointsFollower::SpringPointsFollower(std::shared_ptr<SpringListEdit> edit, const TopologyContainer& container,
+                                           Ends ends)
     : edit_(std::move(edit)), container_(&container), ends_(ends) {}
 
 void SpringPointsFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
@@ -117,7 +119,8 @@ void SpringPointsFollower::handle_topology_changes(std::span<const TopologyChang
                     }
                 }
                 std::sort(doomed.begin(), doomed.end());
-                for (auto it = doomed.rbegin(); it != doomed.rend(); ++it) list.erase(list.begin() + std::ptrdiff_t(*it));
+                for (auto it = doomed.rbegin(); it != doomed.rend(); ++it)
+                    list.erase(list.begin() + std::ptrdiff_t(*it));
             }
             edit_->dirty = true;
         }
@@ -147,7 +150,8 @@ TriangularBendingSpringsFollower::TriangularBendingSpringsFollower(SpringForceFi
     triangles_added(all);
 }
 
-void TriangularBendingSpringsFollower::make_spring(EdgeInformation& ei, ElementId edge, ElementId t1, ElementId t2) const {
+void TriangularBendingSpringsFollower::make_spring(EdgeInformation& ei, ElementId edge, ElementId t1,
+                                                   ElementId t2) const {
     const MeshTopology& m = container_->mesh();
     const auto index_in = [&](ElementId t) {
         const auto& te = m.edges_in_triangle()[std::size_t(t)];
@@ -242,7 +246,8 @@ void TriangularBendingSpringsFollower::handle_topology_changes(std::span<const T
 std::vector<Spring> TriangularBendingSpringsFollower::springs() const {
     std::vector<Spring> out;
     for (const EdgeInformation& ei : edges_)
-        if (ei.activated) out.push_back({.a = ei.m1, .b = ei.m2, .ks = ei.ks, .kd = ei.kd, .rest_length = ei.rest_length});
+        if (ei.activated)
+            out.push_back({.a = ei.m1, .b = ei.m2, .ks = ei.ks, .kd = ei.kd, .rest_length = ei.rest_length});
     return out;
 }
 
@@ -256,7 +261,8 @@ void TriangularBendingSpringsFollower::topology_change_done() {
 
 // ---- QuadularBendingSpringsFollower -------------------------------------------------------------
 
-QuadularBendingSpringsFollower::QuadularBendingSpringsFollower(SpringForceField& springs, const TopologyContainer& container,
+QuadularBendingSpringsFollower::QuadularBendingSpringsFollower(SpringForceField& springs,
+                                                               const TopologyContainer& container,
                                                                const Vec3Object& state, double ks, double kd)
     : springs_(&springs), container_(&container), state_(&state), ks_(ks), kd_(kd) {
     edges_.assign(container.count(ElementType::edge), EdgeInformation{});
@@ -266,7 +272,8 @@ QuadularBendingSpringsFollower::QuadularBendingSpringsFollower(SpringForceField&
 }
 
 // springs (t1[i1], t2[i2+3]) and (t1[i1+3], t2[i2]) across the edge, i the edge's place in each quad
-void QuadularBendingSpringsFollower::make_springs(EdgeInformation& ei, ElementId edge, ElementId q1, ElementId q2) const {
+void QuadularBendingSpringsFollower::make_springs(EdgeInformation& ei, ElementId edge, ElementId q1,
+                                                  ElementId q2) const {
     const MeshTopology& m = container_->mesh();
     const auto index_in = [&](ElementId q) {
         const auto& qe = m.edges_in_quad()[std::size_t(q)];
@@ -358,7 +365,11 @@ std::vector<Spring> QuadularBendingSpringsFollower::springs() const {
     for (const EdgeInformation& ei : edges_)
         if (ei.activated)
             for (std::size_t s = 0; s < 2; ++s)
-                out.push_back({.a = ei.springs[s][0], .b = ei.springs[s][1], .ks = ei.ks, .kd = ei.kd, .rest_length = ei.rest_length[s]});
+                out.push_back({.a = ei.springs[s][0],
+                               .b = ei.springs[s][1],
+                               .ks = ei.ks,
+                               .kd = ei.kd,
+                               .rest_length = ei.rest_length[s]});
     return out;
 }
 

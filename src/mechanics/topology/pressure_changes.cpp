@@ -1,7 +1,7 @@
 // EdgePressureForceField::handle_topology_changes, TrianglePressureForceField:: and
 // QuadPressureForceField::handle_topology_changes: SOFA's EdgeSubsetData, TriangleSubsetData and
-// QuadSubsetData rules for their edgePressureMap, trianglePressureMap and quadPressureMap (TopologySubsetData::remove: erase, keeping the order,
-// then the entries of the last element renamed; add with supportNewTopologyElements false).
+// QuadSubsetData rules for their edgePressureMap, trianglePressureMap and quadPressureMap (TopologySubsetData::remove:
+// erase, keeping the order, then the entries of the last element renamed; add with supportNewTopologyElements false).
 #include "penalty/mechanics/pressure_loads.hpp"
 
 #include "penalty/core/error.hpp"
@@ -11,7 +11,8 @@
 
 namespace penalty {
 
-void EdgePressureForceField::handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes) {
+void EdgePressureForceField::handle_topology_changes(const TopologyContainer& container,
+                                                     std::span<const TopologyChange> changes) {
     // BaseTopologyData::setDataSetArraySize at the data's link: the last edge of the topology then
     if (subset_last_ == -2) subset_last_ = Index(container.count(ElementType::edge)) - 1;
     bool changed = false;
@@ -93,8 +94,10 @@ std::size_t drop_past_end(std::vector<Index>& ids, std::size_t count, std::vecto
 }  // namespace
 
 // (the events come before the container changes: its count is the one before each event)
-void TrianglePressureForceField::handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes) {
-    follow_subset_data(subset_last_, current_last_index_ ? &container : nullptr, ElementType::triangle, triangles_, changes, rest_areas_, forces_);
+void TrianglePressureForceField::handle_topology_changes(const TopologyContainer& container,
+                                                         std::span<const TopologyChange> changes) {
+    follow_subset_data(subset_last_, current_last_index_ ? &container : nullptr, ElementType::triangle, triangles_,
+                       changes, rest_areas_, forces_);
 }
 
 std::size_t TrianglePressureForceField::drop_entries_past_end() {
@@ -103,8 +106,10 @@ std::size_t TrianglePressureForceField::drop_entries_past_end() {
 
 // QuadPressureForceField's quadPressureMap, a QuadSubsetData (init's createTopologyHandler):
 // addForce reads each kept entry's force (P·A₀ of its quad at init) on its quad's current points.
-void QuadPressureForceField::handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes) {
-    follow_subset_data(subset_last_, current_last_index_ ? &container : nullptr, ElementType::quad, quads_, changes, rest_areas_, forces_);
+void QuadPressureForceField::handle_topology_changes(const TopologyContainer& container,
+                                                     std::span<const TopologyChange> changes) {
+    follow_subset_data(subset_last_, current_last_index_ ? &container : nullptr, ElementType::quad, quads_, changes,
+                       rest_areas_, forces_);
 }
 
 std::size_t QuadPressureForceField::drop_entries_past_end() {

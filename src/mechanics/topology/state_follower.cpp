@@ -27,7 +27,8 @@ Vec3 interpolate(const std::vector<Vec3>& v, const std::vector<ElementId>& ances
     for (std::size_t k = 0; k < ancestors.size(); ++k) sum += v[std::size_t(ancestors[k])] * c[k];
     return sum;
 }
-RigidFrame interpolate(const std::vector<RigidFrame>& v, const std::vector<ElementId>& ancestors, const std::vector<double>& c) {
+RigidFrame interpolate(const std::vector<RigidFrame>& v, const std::vector<ElementId>& ancestors,
+                       const std::vector<double>& c) {
     RigidFrame out;
     out.center = Vec3::Zero();
     Eigen::Vector4d q = Eigen::Vector4d::Zero();
@@ -39,7 +40,8 @@ RigidFrame interpolate(const std::vector<RigidFrame>& v, const std::vector<Eleme
     out.orientation.normalize();
     return out;
 }
-RigidDeriv interpolate(const std::vector<RigidDeriv>& v, const std::vector<ElementId>& ancestors, const std::vector<double>& c) {
+RigidDeriv interpolate(const std::vector<RigidDeriv>& v, const std::vector<ElementId>& ancestors,
+                       const std::vector<double>& c) {
     RigidDeriv out;
     for (std::size_t k = 0; k < ancestors.size(); ++k) {
         out.linear += v[std::size_t(ancestors[k])].linear * c[k];
@@ -110,7 +112,8 @@ void StateTopologyFollower<DataTypes>::handle_state_change(const TopologyChange&
         case TopologyChangeKind::renumbered:
             each([&](auto& v) { renumber(v, change.indices); });
             break;
-        case TopologyChangeKind::ending: break;
+        case TopologyChangeKind::ending:
+            break;
     }
 }
 

@@ -46,7 +46,8 @@ void remove_one_by_one(const TopologyChange& c, std::size_t input_count, std::si
 
 // ---- Hexa2Quad ----------------------------------------------------------------------------------
 
-Hexa2QuadMappingFollower::Hexa2QuadMappingFollower(TopologyContainer& input, TopologyContainer& output, bool flip_normals)
+Hexa2QuadMappingFollower::Hexa2QuadMappingFollower(TopologyContainer& input, TopologyContainer& output,
+                                                   bool flip_normals)
     : TopologicalMappingFollower(input, output), flip_normals_(flip_normals) {
     const auto& around = input.hexahedra_around_quad();
     for (std::size_t q = 0; q < around.size(); ++q) {
@@ -59,8 +60,8 @@ Hexa2QuadMappingFollower::Hexa2QuadMappingFollower(TopologyContainer& input, Top
 void Hexa2QuadMappingFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
     for (const TopologyChange& c : changes) {
         if (c.is(TopologyChangeKind::removed, ElementType::quad)) {
-            remove_one_by_one(c, input_->count(ElementType::quad), output_->count(ElementType::quad), loc2glob_, glob2loc_,
-                              [this](ElementId q) { output_->remove_quads({q}, true, false); });
+            remove_one_by_one(c, input_->count(ElementType::quad), output_->count(ElementType::quad), loc2glob_,
+                              glob2loc_, [this](ElementId q) { output_->remove_quads({q}, true, false); });
         } else if (c.is(TopologyChangeKind::removed, ElementType::hexahedron)) {
             hexahedra_removed(c);
         } else if (c.kind == TopologyChangeKind::ending || c.is(TopologyChangeKind::removed, ElementType::point)) {
@@ -87,7 +88,8 @@ void Hexa2QuadMappingFollower::hexahedra_removed(const TopologyChange& c) {
             const auto& around = input_->hexahedra_around_quad()[std::size_t(k)];
             if (around.size() == 1) continue;  // removed with it (QUADSREMOVED)
             const ElementId other = hexa == around[0] ? around[1] : around[0];
-            if (std::find(c.indices.begin(), c.indices.begin() + std::ptrdiff_t(i), other) != c.indices.begin() + std::ptrdiff_t(i))
+            if (std::find(c.indices.begin(), c.indices.begin() + std::ptrdiff_t(i), other) !=
+                c.indices.begin() + std::ptrdiff_t(i))
                 continue;
             const auto& faces = input_->quads_in_hexahedron()[std::size_t(other)];
             const auto h = std::size_t(std::find(faces.begin(), faces.end(), k) - faces.begin());
@@ -187,8 +189,8 @@ Triangle2EdgeMappingFollower::Triangle2EdgeMappingFollower(TopologyContainer& in
 void Triangle2EdgeMappingFollower::handle_topology_changes(std::span<const TopologyChange> changes) {
     for (const TopologyChange& c : changes) {
         if (c.is(TopologyChangeKind::removed, ElementType::edge)) {
-            remove_one_by_one(c, input_->count(ElementType::edge), output_->count(ElementType::edge), loc2glob_, glob2loc_,
-                              [this](ElementId e) { output_->remove_edges({e}, false); });
+            remove_one_by_one(c, input_->count(ElementType::edge), output_->count(ElementType::edge), loc2glob_,
+                              glob2loc_, [this](ElementId e) { output_->remove_edges({e}, false); });
         } else if (c.is(TopologyChangeKind::removed, ElementType::triangle)) {
             triangles_removed(c);
         } else if (c.is(TopologyChangeKind::added, ElementType::triangle)) {
@@ -212,7 +214,8 @@ void Triangle2EdgeMappingFollower::triangles_removed(const TopologyChange& c) {
             const auto& around = m.triangles_around_edge()[std::size_t(e)];
             if (around.size() != 2) continue;
             const ElementId neighbour = t == around[0] ? around[1] : around[0];
-            if (std::find(c.indices.begin(), c.indices.begin() + std::ptrdiff_t(i), neighbour) != c.indices.begin() + std::ptrdiff_t(i))
+            if (std::find(c.indices.begin(), c.indices.begin() + std::ptrdiff_t(i), neighbour) !=
+                c.indices.begin() + std::ptrdiff_t(i))
                 continue;
             Edge edge = m.edges()[std::size_t(e)];
             if (edge[0] > edge[1]) std::swap(edge[0], edge[1]);

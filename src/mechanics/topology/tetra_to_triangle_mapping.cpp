@@ -20,7 +20,8 @@ bool TopologicalMappingFollower::forward_common(const TopologyChange& c) {
             if (c.element != ElementType::point) return false;
             output_->remove_points(c.indices, false);
             return true;
-        case TopologyChangeKind::renumbered: return false;
+        case TopologyChangeKind::renumbered:
+            return false;
     }
     return false;
 }
@@ -147,13 +148,15 @@ void Tetra2TriangleMappingFollower::tetrahedra_removed(const TopologyChange& c) 
             const auto& around = input_->tetrahedra_around_triangle()[std::size_t(g)];
             if (around.size() != 2) continue;
             const ElementId other = around[0] == tet ? around[1] : around[0];
-            if (std::find(c.indices.begin(), c.indices.begin() + std::ptrdiff_t(i), other) != c.indices.begin() + std::ptrdiff_t(i))
+            if (std::find(c.indices.begin(), c.indices.begin() + std::ptrdiff_t(i), other) !=
+                c.indices.begin() + std::ptrdiff_t(i))
                 continue;
             const auto& faces = input_->triangles_in_tetrahedron()[std::size_t(other)];
             const auto at = std::size_t(std::find(faces.begin(), faces.end(), g) - faces.begin());
             const auto& orientation = MeshTopology::kTetraFaces[at];
             const Tetrahedron& o = tetrahedra[std::size_t(other)];
-            Triangle tri{o[std::size_t(orientation[0])], o[std::size_t(orientation[1])], o[std::size_t(orientation[2])]};
+            Triangle tri{o[std::size_t(orientation[0])], o[std::size_t(orientation[1])],
+                         o[std::size_t(orientation[2])]};
             if (flip_normals_) std::swap(tri[1], tri[2]);
             while (tri[0] > tri[1] || tri[0] > tri[2]) tri = Triangle{tri[1], tri[2], tri[0]};
             created.push_back(tri);

@@ -205,7 +205,8 @@ void TopologyContainer::add_points(std::size_t count, const std::vector<std::vec
                                        ": the container has ", num_points(), " points");
         if (!coefficients.empty() && (coefficients.size() != count || coefficients[k].size() != ancestors[k].size()))
             throw_invalid_argument("TopologyContainer '", name_, "': new point ", k, " has ", ancestors[k].size(),
-                                   " ancestors and ", coefficients.empty() ? 0 : coefficients[k].size(), " coefficients");
+                                   " ancestors and ", coefficients.empty() ? 0 : coefficients[k].size(),
+                                   " coefficients");
     }
     begin();
     add_points_process(count);
@@ -228,7 +229,8 @@ void TopologyContainer::add_edges(const std::vector<Edge>& edges, const std::vec
 
 // TriangleSetTopologyModifier::addTriangles: process (new edges warned as they come), warning,
 // propagation.
-void TopologyContainer::add_triangles(const std::vector<Triangle>& triangles, const std::vector<std::vector<ElementId>>& ancestors,
+void TopologyContainer::add_triangles(const std::vector<Triangle>& triangles,
+                                      const std::vector<std::vector<ElementId>>& ancestors,
                                       const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::triangle, triangles);
     begin();
@@ -250,7 +252,8 @@ void TopologyContainer::add_quads(const std::vector<Quad>& quads, const std::vec
     done();
 }
 
-void TopologyContainer::add_tetrahedra(const std::vector<Tetrahedron>& tetrahedra, const std::vector<std::vector<ElementId>>& ancestors,
+void TopologyContainer::add_tetrahedra(const std::vector<Tetrahedron>& tetrahedra,
+                                       const std::vector<std::vector<ElementId>>& ancestors,
                                        const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::tetrahedron, tetrahedra);
     begin();
@@ -261,7 +264,8 @@ void TopologyContainer::add_tetrahedra(const std::vector<Tetrahedron>& tetrahedr
     done();
 }
 
-void TopologyContainer::add_hexahedra(const std::vector<Hexahedron>& hexahedra, const std::vector<std::vector<ElementId>>& ancestors,
+void TopologyContainer::add_hexahedra(const std::vector<Hexahedron>& hexahedra,
+                                      const std::vector<std::vector<ElementId>>& ancestors,
                                       const std::vector<std::vector<double>>& coefficients) {
     check_addition(ElementType::hexahedron, hexahedra);
     begin();

@@ -15,12 +15,18 @@ namespace penalty {
 
 const char* element_type_name(ElementType type) {
     switch (type) {
-        case ElementType::point: return "points";
-        case ElementType::edge: return "edges";
-        case ElementType::triangle: return "triangles";
-        case ElementType::quad: return "quads";
-        case ElementType::tetrahedron: return "tetrahedra";
-        case ElementType::hexahedron: return "hexahedra";
+        case ElementType::point:
+            return "points";
+        case ElementType::edge:
+            return "edges";
+        case ElementType::triangle:
+            return "triangles";
+        case ElementType::quad:
+            return "quads";
+        case ElementType::tetrahedron:
+            return "tetrahedra";
+        case ElementType::hexahedron:
+            return "hexahedra";
     }
     return "?";
 }
@@ -39,12 +45,18 @@ std::span<const ElementType> handler_phases(ElementType level) {
     static constexpr T kTetrahedron[] = {T::tetrahedron, T::triangle, T::edge, T::point};
     static constexpr T kHexahedron[] = {T::hexahedron, T::quad, T::edge, T::point};
     switch (level) {
-        case T::point: return kPoint;
-        case T::edge: return kEdge;
-        case T::triangle: return kTriangle;
-        case T::quad: return kQuad;
-        case T::tetrahedron: return kTetrahedron;
-        case T::hexahedron: return kHexahedron;
+        case T::point:
+            return kPoint;
+        case T::edge:
+            return kEdge;
+        case T::triangle:
+            return kTriangle;
+        case T::quad:
+            return kQuad;
+        case T::tetrahedron:
+            return kTetrahedron;
+        case T::hexahedron:
+            return kHexahedron;
     }
     return kPoint;
 }
@@ -53,7 +65,8 @@ std::uint8_t bit(ElementType t) { return static_cast<std::uint8_t>(1u << static_
 
 }  // namespace
 
-TopologyContainer::TopologyContainer(MeshTopology& mesh, ElementType level, std::string name, TopologyModifierOptions options)
+TopologyContainer::TopologyContainer(MeshTopology& mesh, ElementType level, std::string name,
+                                     TopologyModifierOptions options)
     : mesh_(&mesh), level_(level), name_(std::move(name)), options_(options) {
     (void)lists();
     build_volume_tables();
@@ -72,12 +85,18 @@ std::size_t TopologyContainer::num_points() const { return mesh_->num_points(); 
 
 std::size_t TopologyContainer::count(ElementType type) const {
     switch (type) {
-        case ElementType::point: return mesh_->num_points();
-        case ElementType::edge: return mesh_->edges().size();
-        case ElementType::triangle: return mesh_->triangles().size();
-        case ElementType::quad: return mesh_->quads().size();
-        case ElementType::tetrahedron: return mesh_->tetrahedra().size();
-        case ElementType::hexahedron: return mesh_->hexahedra().size();
+        case ElementType::point:
+            return mesh_->num_points();
+        case ElementType::edge:
+            return mesh_->edges().size();
+        case ElementType::triangle:
+            return mesh_->triangles().size();
+        case ElementType::quad:
+            return mesh_->quads().size();
+        case ElementType::tetrahedron:
+            return mesh_->tetrahedra().size();
+        case ElementType::hexahedron:
+            return mesh_->hexahedra().size();
     }
     return 0;
 }
@@ -85,12 +104,18 @@ std::size_t TopologyContainer::count(ElementType type) const {
 std::span<const PointId> TopologyContainer::vertices(ElementType type, ElementId id) const {
     const auto i = static_cast<std::size_t>(id);
     switch (type) {
-        case ElementType::point: return {};
-        case ElementType::edge: return mesh_->edges()[i];
-        case ElementType::triangle: return mesh_->triangles()[i];
-        case ElementType::quad: return mesh_->quads()[i];
-        case ElementType::tetrahedron: return mesh_->tetrahedra()[i];
-        case ElementType::hexahedron: return mesh_->hexahedra()[i];
+        case ElementType::point:
+            return {};
+        case ElementType::edge:
+            return mesh_->edges()[i];
+        case ElementType::triangle:
+            return mesh_->triangles()[i];
+        case ElementType::quad:
+            return mesh_->quads()[i];
+        case ElementType::tetrahedron:
+            return mesh_->tetrahedra()[i];
+        case ElementType::hexahedron:
+            return mesh_->hexahedra()[i];
     }
     return {};
 }
@@ -137,7 +162,8 @@ void TopologyContainer::build_volume_tables() {
         }
         for (std::size_t j = 0; j < 6; ++j) {
             const auto& f = MeshTopology::kHexaFaces[j];
-            const ElementId q = quad_index(h[std::size_t(f[0])], h[std::size_t(f[1])], h[std::size_t(f[2])], h[std::size_t(f[3])]);
+            const ElementId q =
+                quad_index(h[std::size_t(f[0])], h[std::size_t(f[1])], h[std::size_t(f[2])], h[std::size_t(f[3])]);
             if (q < 0) throw_invalid_argument("TopologyContainer '", name_, "': hexahedron ", i, " has no face ", j);
             quads_in_hexahedron_[i][j] = q;
             hexahedra_around_quad_[std::size_t(q)].push_back(ElementId(i));
@@ -153,7 +179,8 @@ ElementId TopologyContainer::triangle_index(PointId a, PointId b, PointId c) con
     ElementId found = -1;
     for (const ElementId t : around[std::size_t(a)]) {
         const Triangle& tri = mesh_->triangles()[std::size_t(t)];
-        if (std::find(tri.begin(), tri.end(), b) == tri.end() || std::find(tri.begin(), tri.end(), c) == tri.end()) continue;
+        if (std::find(tri.begin(), tri.end(), b) == tri.end() || std::find(tri.begin(), tri.end(), c) == tri.end())
+            continue;
         if (found >= 0) return -1;  // SOFA: only a single match counts
         found = t;
     }
@@ -177,7 +204,8 @@ ElementId TopologyContainer::quad_index(PointId a, PointId b, PointId c, PointId
 // ---- registration ---------------------------------------------------------------------------
 
 void TopologyContainer::add_handler(TopologyHandler& handler, std::initializer_list<ElementType> types) {
-    auto it = std::find_if(handlers_.begin(), handlers_.end(), [&](const Registered& r) { return r.handler == &handler; });
+    auto it =
+        std::find_if(handlers_.begin(), handlers_.end(), [&](const Registered& r) { return r.handler == &handler; });
     if (it == handlers_.end()) {
         handlers_.push_back({&handler, 0, false});
         it = handlers_.end() - 1;
@@ -329,13 +357,17 @@ void TopologyContainer::add_warning(ElementType type, const std::vector<Element>
     add_change(std::move(c));
 }
 template void TopologyContainer::add_warning(ElementType, const std::vector<Edge>&, ElementId,
-                                             const std::vector<std::vector<ElementId>>&, const std::vector<std::vector<double>>&);
+                                             const std::vector<std::vector<ElementId>>&,
+                                             const std::vector<std::vector<double>>&);
 template void TopologyContainer::add_warning(ElementType, const std::vector<Triangle>&, ElementId,
-                                             const std::vector<std::vector<ElementId>>&, const std::vector<std::vector<double>>&);
+                                             const std::vector<std::vector<ElementId>>&,
+                                             const std::vector<std::vector<double>>&);
 template void TopologyContainer::add_warning(ElementType, const std::vector<Quad>&, ElementId,
-                                             const std::vector<std::vector<ElementId>>&, const std::vector<std::vector<double>>&);
+                                             const std::vector<std::vector<ElementId>>&,
+                                             const std::vector<std::vector<double>>&);
 template void TopologyContainer::add_warning(ElementType, const std::vector<Hexahedron>&, ElementId,
-                                             const std::vector<std::vector<ElementId>>&, const std::vector<std::vector<double>>&);
+                                             const std::vector<std::vector<ElementId>>&,
+                                             const std::vector<std::vector<double>>&);
 
 void TopologyContainer::notify_ending_event() {
     begin();
@@ -348,15 +380,16 @@ void TopologyContainer::notify_ending_event() {
 
 void TopologyContainer::check_removal(ElementType type, std::span<const ElementId> indices) const {
     if (!keeps(type))
-        throw_invalid_argument("TopologyContainer '", name_, "': a ", element_type_name(level_),
-                               " container has no ", element_type_name(type));
+        throw_invalid_argument("TopologyContainer '", name_, "': a ", element_type_name(level_), " container has no ",
+                               element_type_name(type));
     const std::size_t n = count(type);
     std::vector<char> seen(n, 0);
     for (std::size_t k = 0; k < indices.size(); ++k) {
         const ElementId i = indices[k];
         if (i < 0 || std::size_t(i) >= n)
             throw_invalid_argument("TopologyContainer '", name_, "': cannot remove ", element_type_name(type), " ", i,
-                                   " (entry ", k, "): out of range, the container has ", n, " ", element_type_name(type));
+                                   " (entry ", k, "): out of range, the container has ", n, " ",
+                                   element_type_name(type));
         if (seen[std::size_t(i)])
             throw_invalid_argument("TopologyContainer '", name_, "': ", element_type_name(type), " ", i,
                                    " is listed twice (entry ", k, ") in one removal");
@@ -366,12 +399,18 @@ void TopologyContainer::check_removal(ElementType type, std::span<const ElementI
 
 void TopologyContainer::remove_items(std::vector<ElementId> indices) {
     switch (level_) {
-        case ElementType::point: return remove_points(std::move(indices));
-        case ElementType::edge: return remove_edges(std::move(indices));
-        case ElementType::triangle: return remove_triangles(std::move(indices));
-        case ElementType::quad: return remove_quads(std::move(indices));
-        case ElementType::tetrahedron: return remove_tetrahedra(std::move(indices));
-        case ElementType::hexahedron: return remove_hexahedra(std::move(indices));
+        case ElementType::point:
+            return remove_points(std::move(indices));
+        case ElementType::edge:
+            return remove_edges(std::move(indices));
+        case ElementType::triangle:
+            return remove_triangles(std::move(indices));
+        case ElementType::quad:
+            return remove_quads(std::move(indices));
+        case ElementType::tetrahedron:
+            return remove_tetrahedra(std::move(indices));
+        case ElementType::hexahedron:
+            return remove_hexahedra(std::move(indices));
     }
 }
 
@@ -394,7 +433,8 @@ void TopologyContainer::remove_edges(std::vector<ElementId> indices, bool remove
     done();
 }
 
-void TopologyContainer::remove_triangles(std::vector<ElementId> indices, bool remove_isolated_edges, bool remove_isolated_points) {
+void TopologyContainer::remove_triangles(std::vector<ElementId> indices, bool remove_isolated_edges,
+                                         bool remove_isolated_points) {
     check_removal(ElementType::triangle, indices);
     begin();
     remove_warning(ElementType::triangle, indices);
@@ -403,7 +443,8 @@ void TopologyContainer::remove_triangles(std::vector<ElementId> indices, bool re
     done();
 }
 
-void TopologyContainer::remove_quads(std::vector<ElementId> indices, bool remove_isolated_edges, bool remove_isolated_points) {
+void TopologyContainer::remove_quads(std::vector<ElementId> indices, bool remove_isolated_edges,
+                                     bool remove_isolated_points) {
     check_removal(ElementType::quad, indices);
     begin();
     remove_warning(ElementType::quad, indices);
@@ -432,8 +473,8 @@ void TopologyContainer::remove_hexahedra(std::vector<ElementId> indices) {
 
 // ...Process of the removed elements' isolated faces, edges and points (the end of SOFA's
 // removeTetrahedraProcess / removeHexahedraProcess / removeTrianglesProcess / removeQuadsProcess).
-void TopologyContainer::remove_isolated(std::vector<ElementId>& faces, ElementType face_type, std::vector<ElementId>& edges,
-                                        std::vector<ElementId>& points) {
+void TopologyContainer::remove_isolated(std::vector<ElementId>& faces, ElementType face_type,
+                                        std::vector<ElementId>& edges, std::vector<ElementId>& points) {
     if (!faces.empty() || !edges.empty()) {
         if (!faces.empty()) remove_warning(face_type, faces);
         if (!edges.empty()) remove_warning(ElementType::edge, edges);

@@ -18,7 +18,9 @@ std::vector<ElementId>& shell(Shells& shells, ElementId i) { return shells[std::
 
 void erase_value(std::vector<ElementId>& s, ElementId v) { s.erase(std::remove(s.begin(), s.end(), v), s.end()); }
 
-void replace_value(std::vector<ElementId>& s, ElementId from, ElementId to) { std::replace(s.begin(), s.end(), from, to); }
+void replace_value(std::vector<ElementId>& s, ElementId from, ElementId to) {
+    std::replace(s.begin(), s.end(), from, to);
+}
 
 /// Removes `id` from the shells of its `items` (vertices, edges or faces); an emptied shell's item
 /// joins `isolated` when `collect`.
@@ -48,9 +50,10 @@ void move_last_into(std::vector<T>& v, ElementId i, ElementId last) {
 template <std::size_t NV, std::size_t NE, std::size_t NF>
 void remove_cells(std::vector<std::array<PointId, NV>>& cells, Shells& around_vertex,
                   std::vector<std::array<ElementId, NE>>& edges_in, Shells& around_edge,
-                  std::vector<std::array<ElementId, NF>>& faces_in, Shells& around_face, const std::vector<ElementId>& indices,
-                  bool vertices, bool edges, bool faces, std::vector<ElementId>& isolated_vertices,
-                  std::vector<ElementId>& isolated_edges, std::vector<ElementId>& isolated_faces) {
+                  std::vector<std::array<ElementId, NF>>& faces_in, Shells& around_face,
+                  const std::vector<ElementId>& indices, bool vertices, bool edges, bool faces,
+                  std::vector<ElementId>& isolated_vertices, std::vector<ElementId>& isolated_edges,
+                  std::vector<ElementId>& isolated_faces) {
     auto last = ElementId(cells.size()) - 1;
     for (const ElementId i : indices) {
         const auto removed = cells[std::size_t(i)];
@@ -72,8 +75,9 @@ void remove_cells(std::vector<std::array<PointId, NV>>& cells, Shells& around_ve
 
 /// The surface elements (triangles or quads) of SOFA's removeTrianglesProcess / removeQuadsProcess.
 template <std::size_t N>
-void remove_faces(std::vector<std::array<PointId, N>>& faces, Shells& around_vertex, std::vector<std::array<ElementId, N>>& edges_in,
-                  Shells& around_edge, const std::vector<ElementId>& indices, bool edges, bool vertices,
+void remove_faces(std::vector<std::array<PointId, N>>& faces, Shells& around_vertex,
+                  std::vector<std::array<ElementId, N>>& edges_in, Shells& around_edge,
+                  const std::vector<ElementId>& indices, bool edges, bool vertices,
                   std::vector<ElementId>& isolated_edges, std::vector<ElementId>& isolated_vertices) {
     auto last = ElementId(faces.size()) - 1;
     for (const ElementId i : indices) {
@@ -114,8 +118,8 @@ void rename_lower(std::vector<std::array<ElementId, K>>& in, Shells& around, con
 /// removed point's index (`all`: every slot holding it, as SOFA's triangle and quad modifiers;
 /// otherwise the first, as its tetrahedron and hexahedron modifiers), whose shell it takes.
 template <std::size_t N>
-void rename_vertices(std::vector<std::array<PointId, N>>& elements, Shells& around, const std::vector<ElementId>& indices,
-                     std::size_t num_points, bool all) {
+void rename_vertices(std::vector<std::array<PointId, N>>& elements, Shells& around,
+                     const std::vector<ElementId>& indices, std::size_t num_points, bool all) {
     if (elements.empty()) {  // no element to rename; the shells (all empty) follow the count
         around.resize(std::min(around.size(), num_points - indices.size()));
         return;
@@ -143,9 +147,10 @@ void TopologyContainer::remove_tetrahedra_process(const std::vector<ElementId>& 
     if (cells.empty()) return;
     MeshTopology::Cache& c = lists();
     std::vector<ElementId> faces, edges, points;
-    remove_cells(cells, c.tetrahedra_around_vertex, edges_in_tetrahedron_, tetrahedra_around_edge_, triangles_in_tetrahedron_,
-                 tetrahedra_around_triangle_, indices, remove_isolated_items && options_.remove_isolated,
-                 remove_isolated_items && !c.edges.empty(), remove_isolated_items && !c.triangles.empty(), points, edges, faces);
+    remove_cells(cells, c.tetrahedra_around_vertex, edges_in_tetrahedron_, tetrahedra_around_edge_,
+                 triangles_in_tetrahedron_, tetrahedra_around_triangle_, indices,
+                 remove_isolated_items && options_.remove_isolated, remove_isolated_items && !c.edges.empty(),
+                 remove_isolated_items && !c.triangles.empty(), points, edges, faces);
     remove_isolated(faces, ElementType::triangle, edges, points);
 }
 
@@ -156,7 +161,8 @@ void TopologyContainer::remove_hexahedra_process(const std::vector<ElementId>& i
     std::vector<ElementId> faces, edges, points;
     remove_cells(cells, c.hexahedra_around_vertex, edges_in_hexahedron_, hexahedra_around_edge_, quads_in_hexahedron_,
                  hexahedra_around_quad_, indices, remove_isolated_items && options_.remove_isolated,
-                 remove_isolated_items && !c.edges.empty(), remove_isolated_items && !c.quads.empty(), points, edges, faces);
+                 remove_isolated_items && !c.edges.empty(), remove_isolated_items && !c.quads.empty(), points, edges,
+                 faces);
     remove_isolated(faces, ElementType::quad, edges, points);
 }
 
@@ -164,7 +170,8 @@ void TopologyContainer::remove_triangles_process(const std::vector<ElementId>& i
                                                  bool remove_isolated_points) {
     MeshTopology::Cache& c = lists();
     if (c.triangles.empty()) return;
-    if (level_ == ElementType::tetrahedron) rename_lower(triangles_in_tetrahedron_, tetrahedra_around_triangle_, indices);
+    if (level_ == ElementType::tetrahedron)
+        rename_lower(triangles_in_tetrahedron_, tetrahedra_around_triangle_, indices);
     std::vector<ElementId> faces, edges, points;
     remove_faces(c.triangles, c.triangles_around_vertex, c.edges_in_triangle, c.triangles_around_edge, indices,
                  remove_isolated_edges && !c.edges.empty(), remove_isolated_points, edges, points);

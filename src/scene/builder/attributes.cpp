@@ -97,7 +97,8 @@ std::optional<io::SceneComponent> Attributes::linked_value(std::string_view name
     fail(name, "a chain of more than 16 links");
 }
 
-const io::SceneComponent& Attributes::value_source(std::string_view name, std::optional<io::SceneComponent>& storage) const {
+const io::SceneComponent& Attributes::value_source(std::string_view name,
+                                                   std::optional<io::SceneComponent>& storage) const {
     storage = linked_value(name);
     return storage ? *storage : component_;
 }
@@ -134,9 +135,7 @@ bool Attributes::boolean_or(std::string_view name, bool fallback) const {
     std::optional<io::SceneComponent> linked;
     return io::get_bool_or(value_source(name, linked), declared(name).name, fallback);
 }
-Vec3 Attributes::vector3(std::string_view name) const {
-    return vector3_or(name, parse_default_vector(declared(name)));
-}
+Vec3 Attributes::vector3(std::string_view name) const { return vector3_or(name, parse_default_vector(declared(name))); }
 Vec3 Attributes::vector3_or(std::string_view name, const Vec3& fallback) const {
     std::optional<io::SceneComponent> linked;
     return io::get_vec3_or(value_source(name, linked), declared(name).name, fallback);
@@ -160,19 +159,26 @@ std::vector<int> Attributes::as_ints(std::string_view name, const std::vector<do
     std::vector<int> out;
     out.reserve(values.size());
     for (const double v : values) {
-        if (!(v >= double(std::numeric_limits<int>::min()) && v <= double(std::numeric_limits<int>::max())) || v != std::floor(v))
+        if (!(v >= double(std::numeric_limits<int>::min()) && v <= double(std::numeric_limits<int>::max())) ||
+            v != std::floor(v))
             fail(name, "expected integers from " + std::to_string(std::numeric_limits<int>::min()) + " to " +
                            std::to_string(std::numeric_limits<int>::max()) + ", found " + num(v));
         out.push_back(static_cast<int>(v));
     }
     return out;
 }
-std::vector<PointId> Attributes::indices(std::string_view name) const { return io::get_indices(component_, declared(name).name); }
-std::vector<Vec3> Attributes::points(std::string_view name) const { return io::get_vec3_list(component_, declared(name).name); }
+std::vector<PointId> Attributes::indices(std::string_view name) const {
+    return io::get_indices(component_, declared(name).name);
+}
+std::vector<Vec3> Attributes::points(std::string_view name) const {
+    return io::get_vec3_list(component_, declared(name).name);
+}
 std::vector<RigidFrame> Attributes::frames(std::string_view name) const {
     return io::get_rigid_list(component_, declared(name).name);
 }
-io::LinkTarget Attributes::link(std::string_view name) const { return io::resolve_link(component_, declared(name).name); }
+io::LinkTarget Attributes::link(std::string_view name) const {
+    return io::resolve_link(component_, declared(name).name);
+}
 std::vector<io::LinkTarget> Attributes::links(std::string_view name) const {
     return io::resolve_links(component_, declared(name).name);
 }
@@ -204,7 +210,8 @@ std::string sofa_default_name(const SceneComponent& c) {
     return std::string(cls) + std::to_string(count);
 }
 
-std::vector<double> elasticity_values(const Attributes& a, std::string_view name, std::vector<double> fallback, bool poisson) {
+std::vector<double> elasticity_values(const Attributes& a, std::string_view name, std::vector<double> fallback,
+                                      bool poisson) {
     if (!a.has(name)) return fallback;
     std::vector<double> v = a.numbers(name);
     if (v.empty()) a.fail(name, "is empty");

@@ -5,8 +5,8 @@
 // once initialised (SOFA's init order). Also the triangle membranes of the same SOFA examples:
 // TriangularTensorMassForceField, TriangularBiquadraticSpringsForceField,
 // TriangularQuadraticSpringsForceField.
-#include "penalty/mechanics/bending_spring_lists.hpp"
 #include "penalty/mechanics/bending_springs.hpp"
+#include "penalty/mechanics/bending_spring_lists.hpp"
 #include "penalty/mechanics/rigid_spring_force_field.hpp"
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
@@ -121,7 +121,8 @@ void build_triangle_bending_springs(SceneBuilder& b, const SceneComponent& c, No
 constexpr AttributeSpec kQuadBendingSprings[] = {
     {"stiffness", K::numbers, "100", "N/m", ValueCheck::none, "the first value: every spring's ks"},
     {"damping", K::numbers, "5", "N s/m", ValueCheck::none, "the first value: every spring's kd (explicit only)"},
-    {"localRange", K::numbers, "-1 -1", "", ValueCheck::none, "skip springs with both ends below / above (-1: no bound)"},
+    {"localRange", K::numbers, "-1 -1", "", ValueCheck::none,
+     "skip springs with both ends below / above (-1: no bound)"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "its quads"},
 };
 
@@ -141,7 +142,8 @@ void build_quad_bending_springs(SceneBuilder& b, const SceneComponent& c, NodeBu
             return quad_bending_springs(topology, state.position, ks, kd, range);
         });
         b.role(c, [f = &ff] {
-            return counted(f->springs().size(), "bending spring", "bending springs") + " across the edges shared by two quads";
+            return counted(f->springs().size(), "bending spring", "bending springs") +
+                   " across the edges shared by two quads";
         });
     });
     b.note_unread_attributes(c);
@@ -185,7 +187,8 @@ void require_all(const Attributes& a, std::string_view name, bool expected) {
             const bool is_true = word == "1" || word == "true";
             const bool is_false = word == "0" || word == "false";
             if (!is_true && !is_false) a.fail(name, "'" + word + "' is not a boolean");
-            if (is_true != expected) a.fail(name, std::string("only ") + (expected ? "true" : "false") + " is supported");
+            if (is_true != expected)
+                a.fail(name, std::string("only ") + (expected ? "true" : "false") + " is supported");
         }
         if (space == std::string::npos) break;
         start = space + 1;
@@ -200,10 +203,15 @@ std::vector<Spring> explicit_springs(const Attributes& a) {
         for (std::size_t i = 0; i < v.size(); i += 5) {
             // as indices1/indices2 (io::get_indices): integers from 0 to PointId's largest
             for (std::size_t j = 0; j < 2; ++j)
-                if (!(v[i + j] >= 0) || v[i + j] != std::floor(v[i + j]) || v[i + j] > double(std::numeric_limits<PointId>::max()))
-                    a.fail("spring", "indices must be integers from 0 to " + std::to_string(std::numeric_limits<PointId>::max()));
-            springs.push_back({.a = static_cast<Index>(v[i]), .b = static_cast<Index>(v[i + 1]), .ks = v[i + 2],
-                               .kd = v[i + 3], .rest_length = v[i + 4]});
+                if (!(v[i + j] >= 0) || v[i + j] != std::floor(v[i + j]) ||
+                    v[i + j] > double(std::numeric_limits<PointId>::max()))
+                    a.fail("spring",
+                           "indices must be integers from 0 to " + std::to_string(std::numeric_limits<PointId>::max()));
+            springs.push_back({.a = static_cast<Index>(v[i]),
+                               .b = static_cast<Index>(v[i + 1]),
+                               .ks = v[i + 2],
+                               .kd = v[i + 3],
+                               .rest_length = v[i + 4]});
         }
         return springs;
     }
@@ -243,12 +251,15 @@ void build_spring_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuil
         auto* r1 = dynamic_cast<Rigid3Object*>(&e1);
         auto* r2 = dynamic_cast<Rigid3Object*>(&e2);
         if ((r1 == nullptr) != (r2 == nullptr))
-            attributes.fail(r1 == nullptr ? "object2" : "object1", "links to a Rigid3d state and the other end to a Vec3d one");
+            attributes.fail(r1 == nullptr ? "object2" : "object1",
+                            "links to a Rigid3d state and the other end to a Vec3d one");
         if (r1 != nullptr) {  // SpringForceField<Rigid3>: springs between the frames' centres
             auto* rf = &info.node->add_force_field<RigidSpringForceField>(*r1, *r2, springs);
             b.record_origin(rf, c);
             b.add_init(1, c, [rf] { rf->init(); });
-            b.role(c, [rf] { return counted(rf->springs().size(), "spring", "springs") + " between Rigid3d frame centres"; });
+            b.role(c, [rf] {
+                return counted(rf->springs().size(), "spring", "springs") + " between Rigid3d frame centres";
+            });
             return;
         }
         Vec3Object& s1 = dynamic_cast<Vec3Object&>(e1);
@@ -319,8 +330,8 @@ void build_triangular_biquadratic_springs(SceneBuilder& b, const SceneComponent&
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, p] {
-            return counted(ff->edge_stiffness().size(), "edge spring", "edge springs") + " on squared lengths, E = " +
-                   num(p.young_modulus) + " Pa, nu = " + num(p.poisson_ratio) +
+            return counted(ff->edge_stiffness().size(), "edge spring", "edge springs") +
+                   " on squared lengths, E = " + num(p.young_modulus) + " Pa, nu = " + num(p.poisson_ratio) +
                    (p.use_angular_springs ? ", angular springs" : "") +
                    (p.use_angular_springs && p.compressible ? ", area term under compression" : "");
         });
@@ -351,33 +362,50 @@ void build_triangular_quadratic_springs(SceneBuilder& b, const SceneComponent& c
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, p] {
-            return counted(ff->edge_stiffness().size(), "edge spring", "edge springs") + " on lengths, E = " +
-                   num(p.young_modulus) + " Pa, nu = " + num(p.poisson_ratio) + (p.use_angular_springs ? ", angular springs" : "");
+            return counted(ff->edge_stiffness().size(), "edge spring", "edge springs") +
+                   " on lengths, E = " + num(p.young_modulus) + " Pa, nu = " + num(p.poisson_ratio) +
+                   (p.use_angular_springs ? ", angular springs" : "");
         });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "QuadularBendingSprings", .family = F::force_field,
-     .summary = "two springs across each edge shared by two quads", .attributes = kQuadularBendingSprings,
+    {.type = "QuadularBendingSprings",
+     .family = F::force_field,
+     .summary = "two springs across each edge shared by two quads",
+     .attributes = kQuadularBendingSprings,
      .build = build_quadular_bending_springs},
-    {.type = "TriangleBendingSprings", .family = F::force_field,
-     .summary = "springs between the opposite vertices of faces sharing an edge", .attributes = kTriangleBendingSprings,
+    {.type = "TriangleBendingSprings",
+     .family = F::force_field,
+     .summary = "springs between the opposite vertices of faces sharing an edge",
+     .attributes = kTriangleBendingSprings,
      .build = build_triangle_bending_springs},
-    {.type = "QuadBendingSprings", .family = F::force_field, .summary = "springs across the edges shared by two quads",
-     .attributes = kQuadBendingSprings, .build = build_quad_bending_springs},
-    {.type = "SpringForceField", .family = F::force_field, .summary = "springs of an explicit list",
-     .attributes = kSpringForceField, .build = build_spring_force_field},
-    {.type = "TriangularTensorMassForceField", .family = F::force_field,
-     .summary = "linear triangle membrane as per-edge tensors", .attributes = kTriangularTensorMass,
+    {.type = "QuadBendingSprings",
+     .family = F::force_field,
+     .summary = "springs across the edges shared by two quads",
+     .attributes = kQuadBendingSprings,
+     .build = build_quad_bending_springs},
+    {.type = "SpringForceField",
+     .family = F::force_field,
+     .summary = "springs of an explicit list",
+     .attributes = kSpringForceField,
+     .build = build_spring_force_field},
+    {.type = "TriangularTensorMassForceField",
+     .family = F::force_field,
+     .summary = "linear triangle membrane as per-edge tensors",
+     .attributes = kTriangularTensorMass,
      .build = build_triangular_tensor_mass},
-    {.type = "TriangularBiquadraticSpringsForceField", .family = F::force_field,
+    {.type = "TriangularBiquadraticSpringsForceField",
+     .family = F::force_field,
      .summary = "springs on squared edge lengths of triangles, coupled per triangle",
-     .attributes = kTriangularBiquadraticSprings, .build = build_triangular_biquadratic_springs},
-    {.type = "TriangularQuadraticSpringsForceField", .family = F::force_field,
+     .attributes = kTriangularBiquadraticSprings,
+     .build = build_triangular_biquadratic_springs},
+    {.type = "TriangularQuadraticSpringsForceField",
+     .family = F::force_field,
      .summary = "springs on edge lengths of triangles, coupled per triangle",
-     .attributes = kTriangularQuadraticSprings, .build = build_triangular_quadratic_springs},
+     .attributes = kTriangularQuadraticSprings,
+     .build = build_triangular_quadratic_springs},
 };
 
 }  // namespace

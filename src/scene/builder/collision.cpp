@@ -84,13 +84,27 @@ std::string describe_model(SceneBuilder& b, const CollisionModel& m, const std::
     const CollisionModelParams& p = m.params();
     std::string out = std::to_string(m.size()) + " ";
     switch (m.type()) {
-        case ModelType::Point: out = counted(m.size(), "point", "points"); break;
-        case ModelType::Line: out = counted(m.size(), "edge", "edges"); break;
-        case ModelType::Triangle: out = counted(m.size(), "triangle", "triangles"); break;
-        case ModelType::Sphere: out = counted(m.size(), "sphere", "spheres"); break;
-        case ModelType::RigidSphere: out = counted(m.size(), "rigid sphere", "rigid spheres"); break;
-        case ModelType::Cylinder: out = counted(m.size(), "cylinder", "cylinders"); break;
-        case ModelType::Tetrahedron: out = counted(m.size(), "tetrahedron", "tetrahedra"); break;
+        case ModelType::Point:
+            out = counted(m.size(), "point", "points");
+            break;
+        case ModelType::Line:
+            out = counted(m.size(), "edge", "edges");
+            break;
+        case ModelType::Triangle:
+            out = counted(m.size(), "triangle", "triangles");
+            break;
+        case ModelType::Sphere:
+            out = counted(m.size(), "sphere", "spheres");
+            break;
+        case ModelType::RigidSphere:
+            out = counted(m.size(), "rigid sphere", "rigid spheres");
+            break;
+        case ModelType::Cylinder:
+            out = counted(m.size(), "cylinder", "cylinders");
+            break;
+        case ModelType::Tetrahedron:
+            out = counted(m.size(), "tetrahedron", "tetrahedra");
+            break;
     }
     out += shape;
     if (!p.simulated && !p.moving) out += ", static obstacle (simulated=0, moving=0)";
@@ -193,7 +207,8 @@ void build_sphere_model(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             model = std::make_unique<SphereModel>(*v, radius, std::move(list), p);
         }
     });
-    add_model(b, c, info, std::move(model), a.has("listRadius") ? ", radii from listRadius" : ", radius " + num(a.real("radius")));
+    add_model(b, c, info, std::move(model),
+              a.has("listRadius") ? ", radii from listRadius" : ", radius " + num(a.real("radius")));
 }
 
 void build_cylinder_model(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -217,7 +232,8 @@ void build_cylinder_model(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
 
 // ---- intersection methods -------------------------------------------------------------------------
 constexpr AttributeSpec kBeyondSofa[] = {
-    {"beyondSofaPairs", K::boolean, "0", "", ValueCheck::none, "beyond SOFA: detect the pairs SOFA has no intersector for"},
+    {"beyondSofaPairs", K::boolean, "0", "", ValueCheck::none,
+     "beyond SOFA: detect the pairs SOFA has no intersector for"},
     {"fixSofaQuirks", K::text, "", "", ValueCheck::none, "beyond SOFA: names of SOFA bugs to fix (or all)"},
     {"zeroDistanceNormal", K::text, "fallbackX", "", ValueCheck::none, "fallbackX, drop or sofaNaN"},
 };
@@ -256,7 +272,8 @@ void read_beyond_sofa(SceneBuilder& b, const Attributes& a, IntersectionParams& 
     p.enable_beyond_sofa_pairs = a.boolean("beyondSofaPairs");
     std::istringstream words(a.text("fixSofaQuirks"));
     for (std::string w; words >> w;)
-        if (!enable_sofa_quirk_fix(p.quirks, w)) a.fail("fixSofaQuirks", "unknown SOFA quirk '" + w + "' (" + quirk_choices() + ")");
+        if (!enable_sofa_quirk_fix(p.quirks, w))
+            a.fail("fixSofaQuirks", "unknown SOFA quirk '" + w + "' (" + quirk_choices() + ")");
     if (a.has("zeroDistanceNormal")) {
         const std::string policy = a.text("zeroDistanceNormal");
         if (policy == "fallbackX") p.quirks.zero_distance_normal = ZeroDistanceNormal::FallbackX;
@@ -316,7 +333,8 @@ constexpr AttributeSpec kResponse[] = {
     {"responseParams", K::text, "", "", ValueCheck::none, "name=value pairs (e.g. damping=0.1&mu=0.5)"},
 };
 constexpr AttributeSpec kPipeline[] = {
-    {"depth", K::integer, "6", "", ValueCheck::none, "depth of SOFA's bounding trees (the order of the contacts; negative: 6)"},
+    {"depth", K::integer, "6", "", ValueCheck::none,
+     "depth of SOFA's bounding trees (the order of the contacts; negative: 6)"},
 };
 constexpr AttributeSpec kComposite[] = {
     {"subCollisionPipelines", K::links, "", "", ValueCheck::none, "SubCollisionPipeline components"},
@@ -349,43 +367,105 @@ void build_pipeline(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
 void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) { b.note_unread_attributes(c); }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "CollisionPipeline", .family = F::collision_pipeline,
-     .summary = "collision pipeline (broad phase, narrow phase, response)", .attributes = kPipeline,
-     .shared_attributes = kNoTunnelling, .build = build_pipeline},
-    {.type = "CompositeCollisionPipeline", .family = F::composite_pipeline, .summary = "runs several SubCollisionPipelines",
-     .attributes = kComposite, .shared_attributes = kNoTunnelling, .build = build_pipeline},
-    {.type = "SubCollisionPipeline", .family = F::sub_pipeline, .summary = "collision pipeline restricted to listed models",
-     .attributes = kSubPipeline, .build = note_only},
-    {.type = "BruteForceBroadPhase", .family = F::broad_phase, .summary = "broad phase over all model pairs",
+    {.type = "CollisionPipeline",
+     .family = F::collision_pipeline,
+     .summary = "collision pipeline (broad phase, narrow phase, response)",
+     .attributes = kPipeline,
+     .shared_attributes = kNoTunnelling,
+     .build = build_pipeline},
+    {.type = "CompositeCollisionPipeline",
+     .family = F::composite_pipeline,
+     .summary = "runs several SubCollisionPipelines",
+     .attributes = kComposite,
+     .shared_attributes = kNoTunnelling,
+     .build = build_pipeline},
+    {.type = "SubCollisionPipeline",
+     .family = F::sub_pipeline,
+     .summary = "collision pipeline restricted to listed models",
+     .attributes = kSubPipeline,
      .build = note_only},
-    {.type = "BVHNarrowPhase", .family = F::narrow_phase, .summary = "bounding-volume narrow phase", .build = note_only},
-    {.type = "RayTraceNarrowPhase", .family = F::narrow_phase,
-     .summary = "ray-cast narrow phase between TriangleOctreeCollisionModel surfaces", .build = note_only},
-    {.type = "CollisionResponse", .family = F::contact_manager,
-     .summary = "contact manager (response=PenalityContactForceField)", .attributes = kResponse, .build = note_only},
-    {.type = "MinProximityIntersection", .family = F::intersection, .summary = "proximity intersection (MinProximity)",
-     .attributes = kMinProximity, .shared_attributes = kBeyondSofa, .build = build_min_proximity},
-    {.type = "NewProximityIntersection", .family = F::intersection, .summary = "proximity intersection (NewProximity)",
-     .attributes = kNewProximity, .shared_attributes = kBeyondSofa, .build = build_new_proximity},
-    {.type = "DiscreteIntersection", .family = F::intersection, .summary = "discrete (overlap-only) intersection",
-     .shared_attributes = kBeyondSofa, .build = build_discrete},
-    {.type = "LocalMinDistance", .family = F::intersection, .summary = "proximity intersection (LocalMinDistance)",
-     .attributes = kLocalMinDistance, .shared_attributes = kBeyondSofa, .build = build_local_min_distance},
-    {.type = "PointCollisionModel", .family = F::collision_model, .summary = "point collision model",
-     .attributes = kTopologyLink, .shared_attributes = kModelCommon, .build = build_point_model},
-    {.type = "LineCollisionModel", .family = F::collision_model, .summary = "edge collision model",
-     .attributes = kTopologyLink, .shared_attributes = kModelCommon, .build = build_line_model},
-    {.type = "TriangleCollisionModel", .family = F::collision_model, .summary = "triangle collision model",
-     .attributes = kTriangleModel, .shared_attributes = kModelCommon, .build = build_triangle_model},
-    {.type = "TriangleOctreeCollisionModel", .family = F::collision_model,
-     .summary = "triangle collision model with an octree (RayTraceNarrowPhase)", .attributes = kTriangleOctreeModel,
-     .shared_attributes = kModelCommon, .build = build_triangle_model},
-    {.type = "SphereCollisionModel", .family = F::collision_model, .summary = "sphere collision model (Vec3d or Rigid3d)",
-     .attributes = kSphereModel, .shared_attributes = kModelCommon, .build = build_sphere_model},
-    {.type = "CylinderCollisionModel", .family = F::collision_model, .summary = "cylinder collision model (Rigid3d)",
-     .attributes = kCylinderModel, .shared_attributes = kModelCommon, .build = build_cylinder_model},
-    {.type = "TetrahedronCollisionModel", .family = F::collision_model, .summary = "tetrahedron collision model",
-     .attributes = kTopologyLink, .shared_attributes = kModelCommon, .build = build_tetrahedron_model},
+    {.type = "BruteForceBroadPhase",
+     .family = F::broad_phase,
+     .summary = "broad phase over all model pairs",
+     .build = note_only},
+    {.type = "BVHNarrowPhase",
+     .family = F::narrow_phase,
+     .summary = "bounding-volume narrow phase",
+     .build = note_only},
+    {.type = "RayTraceNarrowPhase",
+     .family = F::narrow_phase,
+     .summary = "ray-cast narrow phase between TriangleOctreeCollisionModel surfaces",
+     .build = note_only},
+    {.type = "CollisionResponse",
+     .family = F::contact_manager,
+     .summary = "contact manager (response=PenalityContactForceField)",
+     .attributes = kResponse,
+     .build = note_only},
+    {.type = "MinProximityIntersection",
+     .family = F::intersection,
+     .summary = "proximity intersection (MinProximity)",
+     .attributes = kMinProximity,
+     .shared_attributes = kBeyondSofa,
+     .build = build_min_proximity},
+    {.type = "NewProximityIntersection",
+     .family = F::intersection,
+     .summary = "proximity intersection (NewProximity)",
+     .attributes = kNewProximity,
+     .shared_attributes = kBeyondSofa,
+     .build = build_new_proximity},
+    {.type = "DiscreteIntersection",
+     .family = F::intersection,
+     .summary = "discrete (overlap-only) intersection",
+     .shared_attributes = kBeyondSofa,
+     .build = build_discrete},
+    {.type = "LocalMinDistance",
+     .family = F::intersection,
+     .summary = "proximity intersection (LocalMinDistance)",
+     .attributes = kLocalMinDistance,
+     .shared_attributes = kBeyondSofa,
+     .build = build_local_min_distance},
+    {.type = "PointCollisionModel",
+     .family = F::collision_model,
+     .summary = "point collision model",
+     .attributes = kTopologyLink,
+     .shared_attributes = kModelCommon,
+     .build = build_point_model},
+    {.type = "LineCollisionModel",
+     .family = F::collision_model,
+     .summary = "edge collision model",
+     .attributes = kTopologyLink,
+     .shared_attributes = kModelCommon,
+     .build = build_line_model},
+    {.type = "TriangleCollisionModel",
+     .family = F::collision_model,
+     .summary = "triangle collision model",
+     .attributes = kTriangleModel,
+     .shared_attributes = kModelCommon,
+     .build = build_triangle_model},
+    {.type = "TriangleOctreeCollisionModel",
+     .family = F::collision_model,
+     .summary = "triangle collision model with an octree (RayTraceNarrowPhase)",
+     .attributes = kTriangleOctreeModel,
+     .shared_attributes = kModelCommon,
+     .build = build_triangle_model},
+    {.type = "SphereCollisionModel",
+     .family = F::collision_model,
+     .summary = "sphere collision model (Vec3d or Rigid3d)",
+     .attributes = kSphereModel,
+     .shared_attributes = kModelCommon,
+     .build = build_sphere_model},
+    {.type = "CylinderCollisionModel",
+     .family = F::collision_model,
+     .summary = "cylinder collision model (Rigid3d)",
+     .attributes = kCylinderModel,
+     .shared_attributes = kModelCommon,
+     .build = build_cylinder_model},
+    {.type = "TetrahedronCollisionModel",
+     .family = F::collision_model,
+     .summary = "tetrahedron collision model",
+     .attributes = kTopologyLink,
+     .shared_attributes = kModelCommon,
+     .build = build_tetrahedron_model},
 };
 
 }  // namespace

@@ -20,7 +20,6 @@ bool scene_has_type(const io::SceneNode& n, std::string_view type) {
     return false;
 }
 
-
 using io::SceneComponent;
 using io::SceneNode;
 using F = ComponentFamily;
@@ -38,7 +37,8 @@ std::string quirk_summary(const SofaQuirkFixes& q) {
     std::string out;
     for (const std::string& name : enabled_sofa_quirk_fixes(q)) out += (out.empty() ? "" : " ") + name;
     if (q.zero_distance_normal != ZeroDistanceNormal::FallbackX)
-        out += (out.empty() ? "" : " ") + std::string("zeroDistanceNormal=") + zero_distance_normal_name(q.zero_distance_normal);
+        out += (out.empty() ? "" : " ") + std::string("zeroDistanceNormal=") +
+               zero_distance_normal_name(q.zero_distance_normal);
     return out.empty() ? "none" : out;
 }
 
@@ -107,7 +107,8 @@ private:
             std::vector<const SceneCollisionModel*> models;
             for (const io::LinkTarget& m : sa.links("collisionModels")) {
                 const auto& all = b_.collision_models();
-                const auto it = std::find_if(all.begin(), all.end(), [&](const SceneCollisionModel& x) { return x.component == m.component; });
+                const auto it = std::find_if(all.begin(), all.end(),
+                                             [&](const SceneCollisionModel& x) { return x.component == m.component; });
                 if (it == all.end()) sa.fail("collisionModels", "links to something that is not a collision model");
                 models.push_back(&*it);
             }
@@ -156,15 +157,17 @@ private:
         options.sofa_stable_id_order = b_.options().sofa_head_orders;
         // SOFA's bounding-tree depth (CollisionPipeline / SubCollisionPipeline `depth`): the
         // order of the contacts; CollisionPipeline::init resets a negative depth to 6
-        const std::int64_t depth = b_.guarded(pipeline_component, [&] { return Attributes(pipeline_component).integer("depth"); });
+        const std::int64_t depth =
+            b_.guarded(pipeline_component, [&] { return Attributes(pipeline_component).integer("depth"); });
         options.bvh.depth = depth < 0 || depth > 64 ? 6 : int(depth);
         if (narrow.type == "RayTraceNarrowPhase") {
             options.bvh.narrow_phase_override = ray_trace_of(models);
         } else {
             for (const SceneCollisionModel* m : models)
                 if (m->component->type == "TriangleOctreeCollisionModel")
-                    b_.warn(m->component->file + ":" + std::to_string(m->component->line) + ": " + m->component->describe() +
-                            ": under " + narrow.type + " penalty detects all its triangles, as a TriangleCollisionModel; "
+                    b_.warn(m->component->file + ":" + std::to_string(m->component->line) + ": " +
+                            m->component->describe() + ": under " + narrow.type +
+                            " penalty detects all its triangles, as a TriangleCollisionModel; "
                             "SOFA's single-cube tree for it reaches triangle 0 only (use RayTraceNarrowPhase)");
         }
         const double dt = b_.options().dt ? *b_.options().dt : sim.root().dt();
@@ -177,9 +180,10 @@ private:
         std::string summary = intersection_method_short_name(sp.intersection);
         if (sp.intersection != IntersectionMethod::Discrete)
             summary += " (alarm " + num(params.alarm_distance) + " m, contact " + num(params.contact_distance) + " m)";
-        summary += ", " + counted(models.size(), "collision model", "collision models") + ", response " +
-                   (sp.pipeline->response().base_response_name().empty() ? std::string("none")
-                                                                          : sp.pipeline->response().base_response_name());
+        summary +=
+            ", " + counted(models.size(), "collision model", "collision models") + ", response " +
+            (sp.pipeline->response().base_response_name().empty() ? std::string("none")
+                                                                  : sp.pipeline->response().base_response_name());
         b_.role(pipeline_component, [summary] { return "collision pipeline: " + summary; });
         b_.mark_used(&intersection);
         b_.mark_used(&response);
@@ -218,8 +222,8 @@ private:
             } else if (family == F::intersection) {
                 const IntersectionParams& p = b_.intersection_params(*c);
                 d = c->type == "DiscreteIntersection" ? "contact only where elements overlap"
-                                                      : "alarm distance " + num(p.alarm_distance) + " m, contact distance " +
-                                                            num(p.contact_distance) + " m";
+                                                      : "alarm distance " + num(p.alarm_distance) +
+                                                            " m, contact distance " + num(p.contact_distance) + " m";
                 if (p.enable_beyond_sofa_pairs) d += ", beyond-SOFA pairs on";
                 d += ", SOFA quirk fixes: " + quirk_summary(p.quirks);
             } else if (family == F::contact_manager) {
@@ -234,8 +238,9 @@ private:
                 d = "rays from each TriangleOctreeCollisionModel vertex along minus its normal, against the other "
                     "surface's octree (SOFA's RayTraceNarrowPhase); other models get no contact";
             } else if (family == F::narrow_phase) {
-                d = b_.options().exhaustive_detection ? "element pairs by SOFA's exhaustive loop (--exhaustive)"
-                                                      : "element pairs from one BVH per model (the same outputs as SOFA's loop)";
+                d = b_.options().exhaustive_detection
+                        ? "element pairs by SOFA's exhaustive loop (--exhaustive)"
+                        : "element pairs from one BVH per model (the same outputs as SOFA's loop)";
             } else {
                 continue;
             }

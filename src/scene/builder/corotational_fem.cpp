@@ -22,7 +22,8 @@ constexpr AttributeSpec kCorotationalFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
     {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},
     {"method", K::text, "large", "", ValueCheck::none,
-     "small (linear), large (corotational, edge frame) or polar (corotational, polar rotation); any other text is large, as SOFA"},
+     "small (linear), large (corotational, edge frame) or polar (corotational, polar rotation); any other text is "
+     "large, as SOFA"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "its tetrahedra"},
     {"localStiffnessFactor", K::numbers, "(none)", "", ValueCheck::none,
      "M factors for N elements: element i's Young's modulus times factor[i*M/N]"},
@@ -51,8 +52,9 @@ CorotationalFemOptions corotational_options(const Attributes& a, SceneBuilder& b
     o.update_stiffness = a.boolean("updateStiffnessMatrix");
     o.assembling = a.has("computeGlobalMatrix") ? a.boolean("computeGlobalMatrix") : a.boolean("assembling");
     if (o.method == FemMethod::Polar && o.assembling)
-        b.warn(c.describe() + ": method polar with computeGlobalMatrix adds no force in SOFA (an unfinished branch); "
-                              "reproduced");
+        b.warn(c.describe() +
+               ": method polar with computeGlobalMatrix adds no force in SOFA (an unfinished branch); "
+               "reproduced");
     return o;
 }
 
@@ -65,14 +67,15 @@ void build_corotational_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         if (!(poisson > -1.0 && poisson < 0.5)) a.fail("poissonRatio", "must be in (-1, 0.5)");
         CorotationalFemOptions options = corotational_options(a, b, c);
         const MeshTopology& topology = b.topology_of(a, info);
-        if (topology.tetrahedra().empty()) b.warn(c.describe() + ": no tetrahedra in its topology (SOFA warns too): no force");
+        if (topology.tetrahedra().empty())
+            b.warn(c.describe() + ": no tetrahedra in its topology (SOFA warns too): no force");
         const std::string law = ", E = " + num(young) + " Pa, nu = " + num(poisson) + ", " +
                                 (options.method == FemMethod::Large   ? "corotational (large)"
                                  : options.method == FemMethod::Polar ? "corotational (polar)"
                                                                       : "linear (small)") +
                                 (options.update_stiffness ? ", stiffness updated each step" : "");
         auto* ff = &info.node->add_force_field<TetrahedralCorotationalFEMForceField>(s, topology.tetrahedra(), young,
-                                                                                    poisson, std::move(options));
+                                                                                     poisson, std::move(options));
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, law] { return counted(ff->tetrahedra().size(), "tetrahedron", "tetrahedra") + law; });
@@ -97,7 +100,6 @@ constexpr AttributeSpec kFastCorotational[] = {
     {"drawColor4", K::text, "", "", ValueCheck::none, "display only"},
 };
 
-
 void build_fast_corotational(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
@@ -114,26 +116,31 @@ void build_fast_corotational(SceneBuilder& b, const SceneComponent& c, NodeBuild
     static_cast<void>(a.boolean("drawing"));
     const MeshTopology& topology = b.topology_of(a, info);
     b.guarded(c, [&] {
-        if (topology.tetrahedra().empty()) b.warn(c.describe() + ": no tetrahedra in its topology (SOFA logs an error): no force");
+        if (topology.tetrahedra().empty())
+            b.warn(c.describe() + ": no tetrahedra in its topology (SOFA logs an error): no force");
         auto* ff = &info.node->add_force_field<FastTetrahedralCorotationalForceField>(s, topology, p);
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, p, method] {
-            return counted(ff->rest_tetrahedra().size(), "tetrahedron", "tetrahedra") + ", E = " +
-                   num(p.young_modulus.front()) + " Pa, nu = " + num(p.poisson_ratio.front()) + ", rotation " + method +
-                   ", stiffness stored per edge";
+            return counted(ff->rest_tetrahedra().size(), "tetrahedron", "tetrahedra") +
+                   ", E = " + num(p.young_modulus.front()) + " Pa, nu = " + num(p.poisson_ratio.front()) +
+                   ", rotation " + method + ", stiffness stored per edge";
         });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "TetrahedralCorotationalFEMForceField", .family = F::force_field,
-     .summary = "corotational tetrahedral FEM (small, large, polar)", .attributes = kCorotationalFem,
+    {.type = "TetrahedralCorotationalFEMForceField",
+     .family = F::force_field,
+     .summary = "corotational tetrahedral FEM (small, large, polar)",
+     .attributes = kCorotationalFem,
      .build = build_corotational_fem},
-    {.type = "FastTetrahedralCorotationalForceField", .family = F::force_field,
+    {.type = "FastTetrahedralCorotationalForceField",
+     .family = F::force_field,
      .summary = "corotational tetrahedral FEM with the stiffness stored per edge (qr, polar, polar2, linear)",
-     .attributes = kFastCorotational, .build = build_fast_corotational},
+     .attributes = kFastCorotational,
+     .build = build_fast_corotational},
 };
 
 }  // namespace

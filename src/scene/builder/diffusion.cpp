@@ -54,18 +54,22 @@ void build_tetrahedron_diffusion(SceneBuilder& b, const SceneComponent& c, NodeB
     BaseState& s = b.state(c, info);
     b.guarded(c, [&] {
         auto* scalar = dynamic_cast<Vec1Object*>(&s);
-        if (scalar == nullptr) io::throw_element_error(c, "penalty's TetrahedronDiffusionFEMForceField supports Vec1d states only");
+        if (scalar == nullptr)
+            io::throw_element_error(c, "penalty's TetrahedronDiffusionFEMForceField supports Vec1d states only");
         if (a.has("mstate") && a.link("mstate").component != info.state_component)
             a.fail("mstate", "must be the node's own MechanicalObject");
         const std::string tag = a.text("tagMechanics");
         Vec3Object* geometry = tagged_geometry(b, info, tag);
         if (geometry == nullptr)
-            a.fail("tagMechanics", "no Vec3d MechanicalObject tagged '" + tag + "' in this node or above (its positions measure the tetrahedra)");
+            a.fail("tagMechanics", "no Vec3d MechanicalObject tagged '" + tag +
+                                       "' in this node or above (its positions measure the tetrahedra)");
         auto* ff = &info.node->add_force_field<TetrahedronDiffusionFEMForceField>(*scalar, b.topology_of(a, info));
         ff->set_constant_coefficient(a.real("constantDiffusionCoefficient"));
-        if (a.has("tetraDiffusionCoefficient")) ff->set_tetrahedron_coefficients(a.numbers("tetraDiffusionCoefficient"));
+        if (a.has("tetraDiffusionCoefficient"))
+            ff->set_tetrahedron_coefficients(a.numbers("tetraDiffusionCoefficient"));
         const double ratio = a.real("anisotropyRatio");
-        ff->set_anisotropy(ratio, a.has("transverseAnisotropyArray") ? a.points("transverseAnisotropyArray") : std::vector<Vec3>{});
+        ff->set_anisotropy(
+            ratio, a.has("transverseAnisotropyArray") ? a.points("transverseAnisotropyArray") : std::vector<Vec3>{});
         static_cast<void>(a.boolean("drawConduc"));  // drawing only
         b.record_origin(ff, c);
         b.add_init(1, c, [ff, geometry] {
@@ -81,9 +85,11 @@ void build_tetrahedron_diffusion(SceneBuilder& b, const SceneComponent& c, NodeB
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "TetrahedronDiffusionFEMForceField", .family = F::force_field,
+    {.type = "TetrahedronDiffusionFEMForceField",
+     .family = F::force_field,
      .summary = "diffusion of a Vec1d scalar (temperature) over tetrahedra measured on a tagged Vec3d state",
-     .attributes = kTetrahedronDiffusion, .build = build_tetrahedron_diffusion},
+     .attributes = kTetrahedronDiffusion,
+     .build = build_tetrahedron_diffusion},
 };
 
 }  // namespace

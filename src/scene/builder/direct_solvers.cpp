@@ -77,7 +77,8 @@ constexpr AttributeSpec kMatrixLinearSystem[] = {
 
 constexpr AttributeSpec kCompositeLinearSystem[] = {
     {"linearSystems", K::links, "", "", ValueCheck::none, "the systems fed (penalty assembles the solver's only)"},
-    {"solverLinearSystem", K::link, "(the first of linearSystems)", "", ValueCheck::none, "the system the solver solves"},
+    {"solverLinearSystem", K::link, "(the first of linearSystems)", "", ValueCheck::none,
+     "the system the solver solves"},
 };
 
 bool is_linear_system(std::string_view type) {
@@ -98,7 +99,8 @@ const SceneComponent& solved_system(const SceneComponent& system) {
         const auto links = a.links("linearSystems");
         if (!links.empty()) target = links.front().component;
     }
-    if (target == nullptr) io::throw_element_error(system, "needs solverLinearSystem (or linearSystems) linking to a MatrixLinearSystem");
+    if (target == nullptr)
+        io::throw_element_error(system, "needs solverLinearSystem (or linearSystems) linking to a MatrixLinearSystem");
     if (target->type != "MatrixLinearSystem" && target->type != "ConstantSparsityPatternSystem")
         a.fail(a.has("solverLinearSystem") ? "solverLinearSystem" : "linearSystems",
                "must link to a MatrixLinearSystem, found " + target->describe());
@@ -128,7 +130,9 @@ const SceneComponent* in_node(const SceneComponent& c, bool (*wanted)(std::strin
 void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.note_unread_attributes(c);
     if (!b.is_used(&c))
-        b.role(c, [] { return std::string("not read by an ODE solver of penalty's (no ODE solver in this node reads it)"); });
+        b.role(c, [] {
+            return std::string("not read by an ODE solver of penalty's (no ODE solver in this node reads it)");
+        });
 }
 
 /// Linear systems and ordering methods: their reader describes them; an unused one is said so.
@@ -137,42 +141,81 @@ void note_part(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     if (!b.is_used(&c))
         b.role(c, [type = c.type] {
             return type == "MatrixLinearSystem" || type == "ConstantSparsityPatternSystem"
-                       ? std::string("not solved by a solver: assembled for access from Python only (its A(), "
-                                     "with the solve's factors, when asked)")
+                       ? std::string(
+                             "not solved by a solver: assembled for access from Python only (its A(), "
+                             "with the solve's factors, when asked)")
                        : std::string("not read by a solver");
         });
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "SparseLDLSolver", .family = F::linear_solver, .summary = "direct LDLᵀ solver of the assembled system",
-     .attributes = kDirectSolver, .build = note_only},
-    {.type = "AsyncSparseLDLSolver", .family = F::linear_solver,
-     .summary = "direct LDLᵀ solver (penalty factorizes at each solve, synchronously)", .attributes = kDirectSolver,
+    {.type = "SparseLDLSolver",
+     .family = F::linear_solver,
+     .summary = "direct LDLᵀ solver of the assembled system",
+     .attributes = kDirectSolver,
      .build = note_only},
-    {.type = "EigenSimplicialLDLT", .family = F::linear_solver, .summary = "Eigen's sparse LDLᵀ of the assembled system",
-     .attributes = kDirectSolver, .build = note_only},
-    {.type = "EigenSimplicialLLT", .family = F::linear_solver, .summary = "Eigen's sparse Cholesky LLᵀ of the assembled system",
-     .attributes = kDirectSolver, .build = note_only},
-    {.type = "SparseCholeskySolver", .family = F::linear_solver,
-     .summary = "sparse Cholesky LLᵀ (SOFA's CSparseSolvers plugin)", .attributes = kDirectSolver, .build = note_only},
-    {.type = "CholeskySolver", .family = F::linear_solver, .summary = "Cholesky LLᵀ, natural ordering",
-     .attributes = kDirectSolver, .build = note_only},
-    {.type = "EigenSparseLU", .family = F::linear_solver, .summary = "Eigen's sparse LU of the assembled system",
-     .attributes = kDirectSolver, .build = note_only},
-    {.type = "SparseLUSolver", .family = F::linear_solver, .summary = "sparse LU (SOFA's CSparseSolvers plugin)",
-     .attributes = kDirectSolver, .build = note_only},
-    {.type = "EigenSparseQR", .family = F::linear_solver, .summary = "Eigen's sparse QR of the assembled system",
-     .attributes = kDirectSolver, .build = note_only},
-    {.type = "MatrixLinearSystem", .family = F::solver_part, .summary = "the assembled global matrix M, B, K (options)",
-     .attributes = kMatrixLinearSystem, .build = note_part},
-    {.type = "ConstantSparsityPatternSystem", .family = F::solver_part,
-     .summary = "MatrixLinearSystem keeping its pattern (same numbers)", .attributes = kMatrixLinearSystem,
+    {.type = "AsyncSparseLDLSolver",
+     .family = F::linear_solver,
+     .summary = "direct LDLᵀ solver (penalty factorizes at each solve, synchronously)",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "EigenSimplicialLDLT",
+     .family = F::linear_solver,
+     .summary = "Eigen's sparse LDLᵀ of the assembled system",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "EigenSimplicialLLT",
+     .family = F::linear_solver,
+     .summary = "Eigen's sparse Cholesky LLᵀ of the assembled system",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "SparseCholeskySolver",
+     .family = F::linear_solver,
+     .summary = "sparse Cholesky LLᵀ (SOFA's CSparseSolvers plugin)",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "CholeskySolver",
+     .family = F::linear_solver,
+     .summary = "Cholesky LLᵀ, natural ordering",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "EigenSparseLU",
+     .family = F::linear_solver,
+     .summary = "Eigen's sparse LU of the assembled system",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "SparseLUSolver",
+     .family = F::linear_solver,
+     .summary = "sparse LU (SOFA's CSparseSolvers plugin)",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "EigenSparseQR",
+     .family = F::linear_solver,
+     .summary = "Eigen's sparse QR of the assembled system",
+     .attributes = kDirectSolver,
+     .build = note_only},
+    {.type = "MatrixLinearSystem",
+     .family = F::solver_part,
+     .summary = "the assembled global matrix M, B, K (options)",
+     .attributes = kMatrixLinearSystem,
      .build = note_part},
-    {.type = "CompositeLinearSystem", .family = F::solver_part, .summary = "several linear systems, one solved",
-     .attributes = kCompositeLinearSystem, .build = note_part},
-    {.type = "AMDOrderingMethod", .family = F::solver_part, .summary = "approximate minimum degree ordering",
+    {.type = "ConstantSparsityPatternSystem",
+     .family = F::solver_part,
+     .summary = "MatrixLinearSystem keeping its pattern (same numbers)",
+     .attributes = kMatrixLinearSystem,
      .build = note_part},
-    {.type = "COLAMDOrderingMethod", .family = F::solver_part, .summary = "column approximate minimum degree ordering",
+    {.type = "CompositeLinearSystem",
+     .family = F::solver_part,
+     .summary = "several linear systems, one solved",
+     .attributes = kCompositeLinearSystem,
+     .build = note_part},
+    {.type = "AMDOrderingMethod",
+     .family = F::solver_part,
+     .summary = "approximate minimum degree ordering",
+     .build = note_part},
+    {.type = "COLAMDOrderingMethod",
+     .family = F::solver_part,
+     .summary = "column approximate minimum degree ordering",
      .build = note_part},
     {.type = "NaturalOrderingMethod", .family = F::solver_part, .summary = "no permutation", .build = note_part},
 };
@@ -196,7 +239,8 @@ std::shared_ptr<DirectLinearSolver> read_direct_linear_solver(SceneBuilder& b, c
     if (a.has("linearSystem")) {
         system = a.link("linearSystem").component;
         if (system == nullptr || !is_linear_system(system->type))
-            a.fail("linearSystem", "must link to a MatrixLinearSystem, ConstantSparsityPatternSystem or CompositeLinearSystem");
+            a.fail("linearSystem",
+                   "must link to a MatrixLinearSystem, ConstantSparsityPatternSystem or CompositeLinearSystem");
     } else {
         system = in_node(linear, [](std::string_view t) { return t == "CompositeLinearSystem"; });
         if (system == nullptr) system = in_node(linear, is_linear_system);
@@ -214,14 +258,15 @@ std::shared_ptr<DirectLinearSolver> read_direct_linear_solver(SceneBuilder& b, c
     if (a.has("orderingMethod")) {
         ordering = a.link("orderingMethod").component;
         if (ordering == nullptr || !is_ordering(ordering->type))
-            a.fail("orderingMethod", "must link to an AMDOrderingMethod, COLAMDOrderingMethod or NaturalOrderingMethod");
+            a.fail("orderingMethod",
+                   "must link to an AMDOrderingMethod, COLAMDOrderingMethod or NaturalOrderingMethod");
     } else {
         ordering = in_node(linear, is_ordering);
     }
     if (ordering != nullptr && kind->method != FactorizationMethod::llt) {
-        solver->ordering = ordering->type == "AMDOrderingMethod"     ? FillOrdering::amd
+        solver->ordering = ordering->type == "AMDOrderingMethod"      ? FillOrdering::amd
                            : ordering->type == "COLAMDOrderingMethod" ? FillOrdering::colamd
-                                                                       : FillOrdering::natural;
+                                                                      : FillOrdering::natural;
         b.mark_used(ordering);
         b.role(*ordering, [] { return std::string("the ordering of the direct linear solver"); });
     } else if (ordering != nullptr) {

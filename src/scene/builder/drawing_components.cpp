@@ -44,9 +44,10 @@ void build_edge2quad(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) 
     const io::SceneNode* node = out.component != nullptr ? out.component->node : out.node;
     if (node == nullptr) a.fail("output", "must link to a topology container");
     if (holds_state(*node))
-        a.fail("output", "feeds node '" + node->path() +
-                             "', which has a MechanicalObject: penalty builds the tube's quads only for drawing (a node without "
-                             "a MechanicalObject)");
+        a.fail("output",
+               "feeds node '" + node->path() +
+                   "', which has a MechanicalObject: penalty builds the tube's quads only for drawing (a node without "
+                   "a MechanicalObject)");
     b.role(c, [] { return std::string("a tube's quads for drawing only: not built by penalty"); });
     b.note_unread_attributes(c);
     static_cast<void>(info);
@@ -68,11 +69,16 @@ void build_tubular_mapping(SceneBuilder&, const SceneComponent& c, NodeBuild&) {
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "Edge2QuadTopologicalMapping", .family = F::topology_helper,
+    {.type = "Edge2QuadTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "a beam's tube quads, for drawing (accepted onto a node without a MechanicalObject)",
-     .attributes = kEdge2Quad, .build = build_edge2quad},
-    {.type = "TubularMapping", .family = F::mapping, .summary = "a beam's tube surface, for drawing (onto a visual model only)",
-     .attributes = kTubular, .build = build_tubular_mapping},
+     .attributes = kEdge2Quad,
+     .build = build_edge2quad},
+    {.type = "TubularMapping",
+     .family = F::mapping,
+     .summary = "a beam's tube surface, for drawing (onto a visual model only)",
+     .attributes = kTubular,
+     .build = build_tubular_mapping},
 };
 
 }  // namespace

@@ -10,8 +10,8 @@ using io::SceneComponent;
 
 namespace {
 
-/// What `src` links: a loader's mesh, a MechanicalObject's points, or a topology built before (SOFA's `src` link copies the
-/// container's same-named Data: its points and its element lists, derived ones included).
+/// What `src` links: a loader's mesh, a MechanicalObject's points, or a topology built before (SOFA's `src` link copies
+/// the container's same-named Data: its points and its element lists, derived ones included).
 io::MeshData linked_source(SceneBuilder& b, const Attributes& a) {
     const io::LinkTarget t = a.link("src");
     if (const ComponentSpec* spec = t.component != nullptr ? find_component(t.component->type) : nullptr;

@@ -20,7 +20,8 @@ struct ElementLists {
 /// `position` reads once the state is initialised (a topology whose `src` links a state):
 /// its positions with its translation, rotation and scale applied; Rigid3d: the frames' centres.
 /// Made from the component's attributes, without building the state (states_and_topologies.cpp).
-[[nodiscard]] std::vector<Vec3> state_initial_points(SceneBuilder& b, const io::SceneComponent& state, const NodeBuild& info);
+[[nodiscard]] std::vector<Vec3> state_initial_points(SceneBuilder& b, const io::SceneComponent& state,
+                                                     const NodeBuild& info);
 
 /// The list a data link names (`triangles="@loader.triangles"`, `tetrahedra="@../topo.tetrahedra"`,
 /// `triangles="@subset.trianglesInROI"`): a loader's list, an engine's output, or a built
@@ -41,7 +42,8 @@ std::vector<Element> linked_elements(SceneBuilder& b, const Attributes& a, std::
 /// `out` := the list of attribute `attr` (inline or a link), when the component sets it.
 template <class Element>
 void read_element_list(SceneBuilder& b, const Attributes& a, std::string_view attr, std::vector<Element>& out,
-                       std::vector<Element> io::MeshData::*loaded, const std::vector<Element>& (MeshTopology::*built)() const) {
+                       std::vector<Element> io::MeshData::*loaded,
+                       const std::vector<Element>& (MeshTopology::*built)() const) {
     if (!a.has(attr)) return;
     if (a.is_link(attr)) out = linked_elements(b, a, attr, loaded, built);
     else out = a.elements<std::tuple_size_v<Element>>(attr);

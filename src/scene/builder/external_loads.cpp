@@ -53,7 +53,8 @@ void build_plane_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild
         const auto nonnegative_or_default = [&](std::string_view name, double fallback) {
             const double value = a.real(name);
             if (value >= 0.0) return value;
-            b.warn(c.describe() + ": " + std::string(name) + " = " + num(value) + " is negative; SOFA uses " + num(fallback));
+            b.warn(c.describe() + ": " + std::string(name) + " = " + num(value) + " is negative; SOFA uses " +
+                   num(fallback));
             return fallback;
         };
         p.stiffness = nonnegative_or_default("stiffness", defaults.stiffness);
@@ -68,8 +69,7 @@ void build_plane_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild
             // PlaneForceField::init: a set range must be two non-negative indices in order, else none
             if (r[0] < 0 || r[1] < 0 || r[0] > r[1])
                 b.warn(c.describe() + ": localRange is not two indices in order; SOFA ignores it");
-            else
-                p.local_range = r;
+            else p.local_range = r;
         }
         static_cast<void>(a.boolean("showPlane"));  // display only: read, no effect
         static_cast<void>(a.real("showPlaneSize"));
@@ -81,7 +81,8 @@ void build_plane_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild
                                num(p.stiffness) + " N/m, damping " + num(p.damping) + " N s/m";
             if (p.max_force > 0.0) text += ", max force " + num(p.max_force) + " N";
             if (p.bilateral) text += ", bilateral";
-            if (p.local_range[0] >= 0) text += ", points " + std::to_string(p.local_range[0]) + ".." + std::to_string(p.local_range[1]);
+            if (p.local_range[0] >= 0)
+                text += ", points " + std::to_string(p.local_range[0]) + ".." + std::to_string(p.local_range[1]);
             return text;
         });
     });
@@ -91,7 +92,8 @@ void build_plane_force_field(SceneBuilder& b, const SceneComponent& c, NodeBuild
 // ---- ConstantForceField ---------------------------------------------------------------------
 // ConstantForceField's Data: indices (empty: every point), indexFromEnd false, forces, totalForce.
 constexpr AttributeSpec kConstantForceField[] = {
-    {"indices", K::indices, "(every point)", "", ValueCheck::none, "points the forces apply to, or a link @engine.indices"},
+    {"indices", K::indices, "(every point)", "", ValueCheck::none,
+     "points the forces apply to, or a link @engine.indices"},
     {"forces", K::points, "", "N", ValueCheck::none, "one force per index, or one force for every index"},
     {"totalForce", K::vector3, "", "N", ValueCheck::none, "split evenly over the indices (when no forces)"},
     {"indexFromEnd", K::boolean, "0", "", ValueCheck::none, "index j means point n-1-j"},
@@ -160,12 +162,21 @@ void build_conical_force_field(SceneBuilder& b, const SceneComponent& c, NodeBui
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "PlaneForceField", .family = F::force_field, .summary = "pushes points (Vec3d) or frame centres (Rigid3d) back above a plane (penalty)",
-     .attributes = kPlaneForceField, .build = build_plane_force_field},
-    {.type = "ConstantForceField", .family = F::force_field, .summary = "constant forces on given points",
-     .attributes = kConstantForceField, .build = build_constant_force_field},
-    {.type = "ConicalForceField", .family = F::force_field, .summary = "pushes points back into a cone (penalty)",
-     .attributes = kConicalForceField, .build = build_conical_force_field},
+    {.type = "PlaneForceField",
+     .family = F::force_field,
+     .summary = "pushes points (Vec3d) or frame centres (Rigid3d) back above a plane (penalty)",
+     .attributes = kPlaneForceField,
+     .build = build_plane_force_field},
+    {.type = "ConstantForceField",
+     .family = F::force_field,
+     .summary = "constant forces on given points",
+     .attributes = kConstantForceField,
+     .build = build_constant_force_field},
+    {.type = "ConicalForceField",
+     .family = F::force_field,
+     .summary = "pushes points back into a cone (penalty)",
+     .attributes = kConicalForceField,
+     .build = build_conical_force_field},
 };
 
 }  // namespace

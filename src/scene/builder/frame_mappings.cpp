@@ -33,7 +33,8 @@ BaseState& input_state(SceneBuilder& b, const Attributes& a, std::string_view at
 
 /// The node's own state, which a mapping's `output` may name.
 BaseState& output_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info) {
-    if (info.node->state() == nullptr) io::throw_element_error(a.component(), "needs a MechanicalObject in its node (its output)");
+    if (info.node->state() == nullptr)
+        io::throw_element_error(a.component(), "needs a MechanicalObject in its node (its output)");
     if (a.has("output") && b.linked_state(a, "output") != info.node->state())
         a.fail("output", "must be the MechanicalObject of the mapping's own node");
     return *info.node->state();
@@ -60,10 +61,12 @@ constexpr AttributeSpec kSkinning[] = {
     {"input", K::link, "(the parent node's state)", "", ValueCheck::none, "the Rigid3d frames"},
     {"output", K::link, "(this node's state)", "", ValueCheck::none, "this node's Vec3d MechanicalObject"},
     {"nbRef", K::indices, "4", "", ValueCheck::none, "frames influencing each point (one value, or one per point)"},
-    {"indices", K::text, "", "", ValueCheck::none, "the frames of each point (with weight); default: the nbRef nearest"},
+    {"indices", K::text, "", "", ValueCheck::none,
+     "the frames of each point (with weight); default: the nbRef nearest"},
     {"weight", K::text, "", "", ValueCheck::none, "their weights, one list per point; default: normalised 1/d²"},
     {"initPos", K::points, "(the output's positions)", "m", ValueCheck::none, "the points' initial world positions"},
-    {"computeWeightsFromPosition", K::boolean, "0", "", ValueCheck::none, "weights from the frames' positions, not rest"},
+    {"computeWeightsFromPosition", K::boolean, "0", "", ValueCheck::none,
+     "weights from the frames' positions, not rest"},
     {"showFromIndex", K::integer, "0", "", ValueCheck::none, "drawing only"},
     {"showWeights", K::boolean, "0", "", ValueCheck::none, "drawing only"},
 };
@@ -117,16 +120,19 @@ void build_skinning_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         }
         m.set_weights_from_position(a.boolean("computeWeightsFromPosition"));
         if (a.has("initPos")) m.set_initial_points(a.points("initPos"));
-        if (a.has("indices") != a.has("weight")) a.fail(a.has("indices") ? "weight" : "indices", "indices and weight go together");
+        if (a.has("indices") != a.has("weight"))
+            a.fail(a.has("indices") ? "weight" : "indices", "indices and weight go together");
         if (a.has("indices")) {
             const auto frames = nested_numbers(a, "indices");
             const auto weights = nested_numbers(a, "weight");
             if (frames.size() != weights.size()) a.fail("weight", "needs one list per list of indices");
             std::vector<SkinningMapping::Influences> influences(frames.size());
             for (std::size_t i = 0; i < frames.size(); ++i) {
-                if (frames[i].size() != weights[i].size()) a.fail("weight", "point " + std::to_string(i) + ": one weight per index");
+                if (frames[i].size() != weights[i].size())
+                    a.fail("weight", "point " + std::to_string(i) + ": one weight per index");
                 for (const double f : frames[i]) {
-                    if (!(f >= 0) || f != std::floor(f)) a.fail("indices", "frame indices must be non-negative integers");
+                    if (!(f >= 0) || f != std::floor(f))
+                        a.fail("indices", "frame indices must be non-negative integers");
                     influences[i].frames.push_back(Index(f));
                 }
                 influences[i].weights = weights[i];
@@ -162,8 +168,8 @@ void build_deformable_on_rigid_frame(SceneBuilder& b, const SceneComponent& c, N
         std::vector<unsigned> repartition;
         if (a.has("repartition"))
             for (const PointId n : a.indices("repartition")) repartition.push_back(unsigned(n));
-        info.node->set_mapping<DeformableOnRigidFrameMapping>(deformable, frames, to, Index(index), a.boolean("indexFromEnd"),
-                                                              std::move(repartition));
+        info.node->set_mapping<DeformableOnRigidFrameMapping>(deformable, frames, to, Index(index),
+                                                              a.boolean("indexFromEnd"), std::move(repartition));
     });
     finish(b, c, info, "a deformable body in a moving frame");
 }
@@ -189,12 +195,14 @@ void build_distance_from_target(SceneBuilder& b, const SceneComponent& c, NodeBu
             for (const PointId i : a.indices("indices")) indices.push_back(i);
         std::vector<Vec3> targets;
         if (a.has("targetPositions"))
-            targets = a.is_link("targetPositions") ? b.linked_positions(a, "targetPositions") : a.points("targetPositions");
+            targets =
+                a.is_link("targetPositions") ? b.linked_positions(a, "targetPositions") : a.points("targetPositions");
         const std::string mode = a.text("geometricStiffness");
         int geometric = 2;
         if (mode == "None" || mode == "0") geometric = 0;
         else if (mode == "Exact" || mode == "1") geometric = 1;
-        else if (mode != "Stabilized" && mode != "2") a.fail("geometricStiffness", "expected None, Exact or Stabilized");
+        else if (mode != "Stabilized" && mode != "2")
+            a.fail("geometricStiffness", "expected None, Exact or Stabilized");
         info.node->set_mapping<DistanceFromTargetMapping>(from, to, std::move(indices), std::move(targets),
                                                           a.numbers("restLengths"), geometric);
     });
@@ -202,13 +210,20 @@ void build_distance_from_target(SceneBuilder& b, const SceneComponent& c, NodeBu
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "SkinningMapping", .family = F::mapping, .summary = "Vec3d points blended from Rigid3d frames (skinning)",
-     .attributes = kSkinning, .build = build_skinning_mapping},
-    {.type = "DeformableOnRigidFrameMapping", .family = F::mapping,
-     .summary = "a Vec3d deformable body carried by a Rigid3d frame", .attributes = kDeformableOnRigid,
+    {.type = "SkinningMapping",
+     .family = F::mapping,
+     .summary = "Vec3d points blended from Rigid3d frames (skinning)",
+     .attributes = kSkinning,
+     .build = build_skinning_mapping},
+    {.type = "DeformableOnRigidFrameMapping",
+     .family = F::mapping,
+     .summary = "a Vec3d deformable body carried by a Rigid3d frame",
+     .attributes = kDeformableOnRigid,
      .build = build_deformable_on_rigid_frame},
-    {.type = "DistanceFromTargetMapping", .family = F::mapping,
-     .summary = "Vec1d distances of Vec3d points to targets", .attributes = kDistanceFromTarget,
+    {.type = "DistanceFromTargetMapping",
+     .family = F::mapping,
+     .summary = "Vec1d distances of Vec3d points to targets",
+     .attributes = kDistanceFromTarget,
      .build = build_distance_from_target},
 };
 

@@ -17,14 +17,16 @@ using F = ComponentFamily;
 
 // ---- hexahedral FEM ----------------------------------------------------------------------------
 // BaseLinearElasticityFEMForceField's defaults: youngModulus 5000, poissonRatio 0.45.
-#define PENALTY_HEXA_FEM_ATTRIBUTES(methods)                                                                  \
-    {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},                                         \
-        {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},                               \
-        {"method", K::text, "large", "", ValueCheck::none, methods},                                           \
-        {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "its hexahedra (SOFA vertex order)"}
-#define PENALTY_ELEMENT_MASS_ATTRIBUTES                                                                            \
-    {"density", K::real, "1", "kg/m^3", ValueCheck::positive, "per hexahedron volume |e01|·|e03|·|e04|"},          \
-        {"lumpedMass", K::boolean, "0", "", ValueCheck::none, "diagonal mass: row sums of the element matrices"}
+#define PENALTY_HEXA_FEM_ATTRIBUTES(methods)                                                                    \
+    {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},                                          \
+        {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},                                \
+        {"method", K::text, "large", "", ValueCheck::none, methods}, {                                          \
+        "topology", K::link, "(the node's topology)", "", ValueCheck::none, "its hexahedra (SOFA vertex order)" \
+    }
+#define PENALTY_ELEMENT_MASS_ATTRIBUTES                                                                        \
+    {"density", K::real, "1", "kg/m^3", ValueCheck::positive, "per hexahedron volume |e01|·|e03|·|e04|"}, {    \
+        "lumpedMass", K::boolean, "0", "", ValueCheck::none, "diagonal mass: row sums of the element matrices" \
+    }
 
 constexpr AttributeSpec kHexahedralFem[] = {
     PENALTY_HEXA_FEM_ATTRIBUTES("large (frame from the mean edges) or polar (polar factor of the mean edges)")};
@@ -59,7 +61,8 @@ HexaLaw hexa_law(const Attributes& a, bool hexahedral) {
 }
 
 std::string hexa_text(std::size_t count, const HexaLaw& law) {
-    return counted(count, "hexahedron", "hexahedra") + ", E = " + num(law.young) + " Pa, nu = " + num(law.poisson) + ", " +
+    return counted(count, "hexahedron", "hexahedra") + ", E = " + num(law.young) + " Pa, nu = " + num(law.poisson) +
+           ", " +
            (law.method == FemMethod::Large   ? "corotational (large)"
             : law.method == FemMethod::Polar ? "corotational (polar)"
                                              : "linear (small)");
@@ -77,7 +80,7 @@ void build_hexahedral_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     b.guarded(c, [&] {
         const HexaLaw law = hexa_law(a, /*hexahedral=*/true);
         auto* ff = &info.node->add_force_field<HexahedralFEMForceField>(s, hexahedral_topology(b, a, info), law.young,
-                                                                         law.poisson, law.method);
+                                                                        law.poisson, law.method);
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, law] { return hexa_text(ff->hexahedra().size(), law); });
@@ -107,11 +110,13 @@ void build_fem_and_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         std::vector<double> mass_factors;
         // SOFA's …AndMass::init: the force field first, then the masses (from the rest positions)
         if constexpr (Hexahedral) {
-            auto* ff = &info.node->add_force_field<HexahedralFEMForceField>(s, topology, law.young, law.poisson, law.method);
+            auto* ff =
+                &info.node->add_force_field<HexahedralFEMForceField>(s, topology, law.young, law.poisson, law.method);
             b.record_origin(ff, c);
             b.add_init(1, c, [ff] { ff->init(); });
         } else {
-            auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, topology, law.young, law.poisson, law.method);
+            auto* ff =
+                &info.node->add_force_field<HexahedronFEMForceField>(s, topology, law.young, law.poisson, law.method);
             // on a sparse grid SOFA weights a cell's stiffness and mass alike (SparseGridTopology's
             // getStiffnessCoef and getMassCoef, both 0.5 for a boundary cell when fillWeighted)
             if (sparse) sparse_grid_stiffness_factors(*ff, info);
@@ -140,7 +145,8 @@ constexpr AttributeSpec kSubsetTopology[] = {
     {"edgeAngle", K::real, "0", "", ValueCheck::none, "no effect (as SOFA)"},
     {"triAngle", K::real, "0", "", ValueCheck::none, "no effect (as SOFA)"},
     {"src", K::link, "", "", ValueCheck::none, "loader whose element lists it takes"},
-    {"rest_position", K::points, "(the node's state, else its loader)", "m", ValueCheck::none, "points tested, or a link"},
+    {"rest_position", K::points, "(the node's state, else its loader)", "m", ValueCheck::none,
+     "points tested, or a link"},
     {"edges", K::elements, "(src, else the node's topology)", "", ValueCheck::none, "or a link"},
     {"triangles", K::elements, "(src, else the node's topology)", "", ValueCheck::none, "or a link"},
     {"quads", K::elements, "(src)", "", ValueCheck::none, "or a link"},
@@ -232,8 +238,8 @@ void build_subset_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     record("hexahedraInROI", &io::MeshData::hexahedra, out.hexahedra_in);
     record("hexahedraOutROI", &io::MeshData::hexahedra, out.hexahedra_out);
     b.role(c, [n = in.positions.size(), in_points = out.points_in.size(), border = out.border_count,
-               elements = out.edges_in.size() + out.triangles_in.size() + out.quads_in.size() + out.tetrahedra_in.size() +
-                          out.hexahedra_in.size()] {
+               elements = out.edges_in.size() + out.triangles_in.size() + out.quads_in.size() +
+                          out.tetrahedra_in.size() + out.hexahedra_in.size()] {
         return "selects " + std::to_string(in_points) + " of " + counted(n, "point", "points") + " and " +
                counted(elements, "element", "elements") + " inside" +
                (border > 0 ? " (" + std::to_string(border) + " border points first, local indices)" : std::string());
@@ -242,18 +248,26 @@ void build_subset_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "HexahedralFEMForceField", .family = F::force_field,
+    {.type = "HexahedralFEMForceField",
+     .family = F::force_field,
      .summary = "corotational hexahedral FEM (SOFA's box stiffness, methods large and polar)",
-     .attributes = kHexahedralFem, .build = build_hexahedral_fem},
-    {.type = "HexahedralFEMForceFieldAndMass", .family = F::mass,
-     .summary = "HexahedralFEMForceField with its element mass", .attributes = kHexahedralFemAndMass,
+     .attributes = kHexahedralFem,
+     .build = build_hexahedral_fem},
+    {.type = "HexahedralFEMForceFieldAndMass",
+     .family = F::mass,
+     .summary = "HexahedralFEMForceField with its element mass",
+     .attributes = kHexahedralFemAndMass,
      .build = build_fem_and_mass<true>},
-    {.type = "HexahedronFEMForceFieldAndMass", .family = F::mass,
-     .summary = "HexahedronFEMForceField with its element mass", .attributes = kHexahedronFemAndMass,
+    {.type = "HexahedronFEMForceFieldAndMass",
+     .family = F::mass,
+     .summary = "HexahedronFEMForceField with its element mass",
+     .attributes = kHexahedronFemAndMass,
      .build = build_fem_and_mass<false>},
-    {.type = "SubsetTopology", .family = F::engine,
+    {.type = "SubsetTopology",
+     .family = F::engine,
      .summary = "points and elements inside / outside boxes or spheres, and their sub-topologies",
-     .attributes = kSubsetTopology, .build = build_subset_topology},
+     .attributes = kSubsetTopology,
+     .build = build_subset_topology},
 };
 
 }  // namespace

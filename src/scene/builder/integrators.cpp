@@ -48,7 +48,8 @@ void read_newton(const SceneComponent& c, NewtonRaphsonParameters& p) {
     p.absolute_estimate_difference = a.real("absoluteEstimateDifferenceThreshold");
     p.line_search_coefficient = a.real("lineSearchCoefficient");
     if (p.line_search_coefficient > 1) a.fail("lineSearchCoefficient", "must be in (0, 1]");
-    if (!a.boolean("updateStateWhenDiverged")) a.fail("updateStateWhenDiverged", "0 is not supported (SOFA ignores it)");
+    if (!a.boolean("updateStateWhenDiverged"))
+        a.fail("updateStateWhenDiverged", "0 is not supported (SOFA ignores it)");
 }
 
 /// SOFA's getContext()->get<T>(SearchDown): the node's components, then its children's, depth first.
@@ -83,7 +84,8 @@ constexpr AttributeSpec kStatic[] = {
 void read_deprecated_newton(const Attributes& a, NewtonRaphsonParameters& p) {
     if (a.has("newton_iterations")) {
         const auto v = a.integer("newton_iterations");
-        if (v < 0 || v > kMaxIterations) a.fail("newton_iterations", "must be between 0 and " + std::to_string(kMaxIterations));
+        if (v < 0 || v > kMaxIterations)
+            a.fail("newton_iterations", "must be between 0 and " + std::to_string(kMaxIterations));
         p.max_iterations = int(v);
     }
     if (a.has("absolute_correction_tolerance_threshold"))
@@ -117,8 +119,9 @@ void build_static_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
         s.sofa_mapping_graph_order = b.options().sofa_head_orders;
         const SceneComponent* linear = linear_solver_of(a, info);
         if (linear == nullptr)
-            io::throw_element_error(c, "needs a linear solver in its node (SOFA: 'A linear solver is required by this "
-                                       "component but has not been found', and the solver does nothing)");
+            io::throw_element_error(c,
+                                    "needs a linear solver in its node (SOFA: 'A linear solver is required by this "
+                                    "component but has not been found', and the solver does nothing)");
         if (is_direct_linear_solver(linear->type)) s.linear.direct = read_direct_linear_solver(b, *linear);
         else read_conjugate_gradient(b, *linear, s.linear.cg);
         const SceneComponent* newton = nullptr;
@@ -165,7 +168,8 @@ void build_runge_kutta(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
         s.sofa_mapping_graph_order = b.options().sofa_head_orders;
         b.add_init(1, c, [p = &s, n = &node] { p->init(*n); });
         b.role(c, [n = &node, order = std::is_same_v<Solver, RungeKutta4Solver> ? 4 : 2] {
-            return "explicit Runge-Kutta of order " + std::to_string(order) + " over this subtree (" + subtree_dofs(*n) + ")";
+            return "explicit Runge-Kutta of order " + std::to_string(order) + " over this subtree (" +
+                   subtree_dofs(*n) + ")";
         });
     });
     b.note_unread_attributes(c);
@@ -206,16 +210,28 @@ void build_multi_step(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "StaticSolver", .family = F::ode_solver, .summary = "static equilibrium by Newton-Raphson (velocities kept)",
-     .attributes = kStatic, .build = build_static_solver},
-    {.type = "NewtonRaphsonSolver", .family = F::solver_part, .summary = "Newton-Raphson parameters of a StaticSolver",
-     .attributes = kNewtonRaphson, .build = build_newton},
-    {.type = "RungeKutta2Solver", .family = F::ode_solver, .summary = "explicit midpoint Runge-Kutta ODE solver",
+    {.type = "StaticSolver",
+     .family = F::ode_solver,
+     .summary = "static equilibrium by Newton-Raphson (velocities kept)",
+     .attributes = kStatic,
+     .build = build_static_solver},
+    {.type = "NewtonRaphsonSolver",
+     .family = F::solver_part,
+     .summary = "Newton-Raphson parameters of a StaticSolver",
+     .attributes = kNewtonRaphson,
+     .build = build_newton},
+    {.type = "RungeKutta2Solver",
+     .family = F::ode_solver,
+     .summary = "explicit midpoint Runge-Kutta ODE solver",
      .build = build_runge_kutta<RungeKutta2Solver>},
-    {.type = "RungeKutta4Solver", .family = F::ode_solver, .summary = "explicit classical Runge-Kutta ODE solver",
+    {.type = "RungeKutta4Solver",
+     .family = F::ode_solver,
+     .summary = "explicit classical Runge-Kutta ODE solver",
      .build = build_runge_kutta<RungeKutta4Solver>},
-    {.type = "MultiStepAnimationLoop", .family = F::animation_loop,
-     .summary = "time loop: several collisions a step, several integrations after each", .attributes = kMultiStep,
+    {.type = "MultiStepAnimationLoop",
+     .family = F::animation_loop,
+     .summary = "time loop: several collisions a step, several integrations after each",
+     .attributes = kMultiStep,
      .build = build_multi_step},
 };
 

@@ -16,7 +16,8 @@ using F = ComponentFamily;
 // Defaults: InteractionEllipsoidForceField's constructor.
 constexpr AttributeSpec kInteractionEllipsoid[] = {
     {"object1", K::link, "(the node's state)", "", ValueCheck::none, "Vec3d points pushed by the ellipsoids"},
-    {"object2", K::link, "(the node's state)", "", ValueCheck::none, "Rigid3d state whose frame carries the ellipsoids"},
+    {"object2", K::link, "(the node's state)", "", ValueCheck::none,
+     "Rigid3d state whose frame carries the ellipsoids"},
     {"center", K::numbers, "", "m", ValueCheck::none, "ellipsoid centers in the frame (3 numbers each)"},
     {"vradius", K::numbers, "", "m", ValueCheck::none, "ellipsoid radii (3 non-zero numbers each)"},
     {"stiffness", K::real, "500", "N", ValueCheck::none, "> 0 pushes points out, < 0 holds them in"},
@@ -80,8 +81,10 @@ void build_interaction_ellipsoid(SceneBuilder& b, const SceneComponent& c, NodeB
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "InteractionEllipsoidForceField", .family = F::force_field,
-     .summary = "ellipsoids on a Rigid3d frame pushing Vec3d points", .attributes = kInteractionEllipsoid,
+    {.type = "InteractionEllipsoidForceField",
+     .family = F::force_field,
+     .summary = "ellipsoids on a Rigid3d frame pushing Vec3d points",
+     .attributes = kInteractionEllipsoid,
      .build = build_interaction_ellipsoid},
 };
 

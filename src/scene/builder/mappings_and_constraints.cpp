@@ -21,20 +21,22 @@ constexpr AttributeSpec kMappingEnds[] = {
 };
 constexpr AttributeSpec kSubsetMapping[] = {
     {"indices", K::indices, "(matched by position)", "", ValueCheck::none, "input point of each output point"},
-    {"radius", K::real, "1e-5", "m", ValueCheck::nonnegative, "without indices: largest distance of a matched input point"},
+    {"radius", K::real, "1e-5", "m", ValueCheck::nonnegative,
+     "without indices: largest distance of a matched input point"},
 };
 constexpr AttributeSpec kRigidMapping[] = {
     {"points", K::points, "(the output's positions)", "m", ValueCheck::none, "points in the frames"},
     {"index", K::indices, "0", "", ValueCheck::none, "frame of every point (one index)"},
     {"rigidIndexPerPoint", K::indices, "", "", ValueCheck::none, "frame of each point"},
     {"globalToLocalCoords", K::boolean, "0", "", ValueCheck::none, "points given in world coordinates"},
-    {"initialPoints", K::numbers, "(the output's positions)", "m", ValueCheck::none, "SOFA's local points (3 numbers each) or frames (7, Rigid3d output)"},
+    {"initialPoints", K::numbers, "(the output's positions)", "m", ValueCheck::none,
+     "SOFA's local points (3 numbers each) or frames (7, Rigid3d output)"},
 };
 
 struct MappingEnds {
     BaseState* in = nullptr;
-    Vec3Object* out = nullptr;        ///< the output when it is a Vec3d state
-    BaseState* out_state = nullptr;   ///< the output (Vec3d, or Rigid3d where the mapping allows it)
+    Vec3Object* out = nullptr;           ///< the output when it is a Vec3d state
+    BaseState* out_state = nullptr;      ///< the output (Vec3d, or Rigid3d where the mapping allows it)
     const NodeBuild* in_info = nullptr;  ///< the input's node (its topology)
 };
 
@@ -53,17 +55,19 @@ BaseState* mapping_end(SceneBuilder& b, const Attributes& a, std::string_view at
             a.fail(attr, "must link to a node or a MechanicalObject");
         }
     }
-    if (target_node == nullptr || b.node_builds().count(target_node) == 0 || b.node_build(*target_node).node == nullptr ||
-        b.node_build(*target_node).node->state() == nullptr)
+    if (target_node == nullptr || b.node_builds().count(target_node) == 0 ||
+        b.node_build(*target_node).node == nullptr || b.node_build(*target_node).node->state() == nullptr)
         a.fail(attr, "no MechanicalObject to map " + std::string(attr == "input" ? "from" : "to"));
     return b.node_build(*target_node).node->state();
 }
 
 /// Resolves input and output; the output is the node's own Vec3d state (or Rigid3d state with
 /// `rigid_output_allowed`).
-MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& info, bool rigid_output_allowed = false) {
+MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& info,
+                         bool rigid_output_allowed = false) {
     const SceneComponent& c = a.component();
-    if (info.state_component == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node (its output)");
+    if (info.state_component == nullptr)
+        io::throw_element_error(c, "needs a MechanicalObject in its node (its output)");
     MappingEnds ends;
     ends.in = mapping_end(b, a, "input", info.scene_node->parent);
     BaseState* out = mapping_end(b, a, "output", info.scene_node);
@@ -73,12 +77,14 @@ MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& 
     ends.out = dynamic_cast<Vec3Object*>(out);
     ends.out_state = out;
     if (ends.out == nullptr && !(rigid_output_allowed && dynamic_cast<Rigid3Object*>(out) != nullptr))
-        a.fail("output", rigid_output_allowed ? "must be a Vec3d or Rigid3d MechanicalObject" : "must be a Vec3d MechanicalObject");
+        a.fail("output", rigid_output_allowed ? "must be a Vec3d or Rigid3d MechanicalObject"
+                                              : "must be a Vec3d MechanicalObject");
     return ends;
 }
 
 /// Registers the mapping's init (phase 0, top-down) and its `penalty info` line.
-void finish_mapping(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const MappingEnds& ends, std::string how) {
+void finish_mapping(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const MappingEnds& ends,
+                    std::string how) {
     BaseMapping* mapping = info.node->mapping();
     b.record_origin(mapping, c);
     b.add_init(0, c, [mapping] { mapping->init(); });
@@ -110,10 +116,13 @@ void build_rigid_frame_mapping(const Attributes& a, const MappingEnds& ends, Nod
     std::vector<RigidFrame> local = out.position;
     if (a.has("initialPoints")) {
         const std::vector<double> v = a.numbers("initialPoints");
-        if (v.size() % 7 != 0) a.fail("initialPoints", "expected 7 numbers (x y z qx qy qz qw) per frame, found " + std::to_string(v.size()));
+        if (v.size() % 7 != 0)
+            a.fail("initialPoints",
+                   "expected 7 numbers (x y z qx qy qz qw) per frame, found " + std::to_string(v.size()));
         local.resize(v.size() / 7);
         for (std::size_t i = 0; i < local.size(); ++i)
-            local[i] = RigidFrame{Vec3(v[7 * i], v[7 * i + 1], v[7 * i + 2]), Quat(v[7 * i + 6], v[7 * i + 3], v[7 * i + 4], v[7 * i + 5])};
+            local[i] = RigidFrame{Vec3(v[7 * i], v[7 * i + 1], v[7 * i + 2]),
+                                  Quat(v[7 * i + 6], v[7 * i + 3], v[7 * i + 4], v[7 * i + 5])};
     }
     // RigidMapping::getRigidIndex: rigidIndexPerPoint when it has one entry per frame, else `index`.
     std::vector<Index> frames;
@@ -154,7 +163,8 @@ void build_rigid_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
         std::vector<Vec3> pts = a.has("points") ? a.points("points") : ends.out->position;
         if (!a.has("points") && a.has("initialPoints")) {
             const std::vector<double> v = a.numbers("initialPoints");
-            if (v.size() % 3 != 0) a.fail("initialPoints", "expected 3 numbers per point, found " + std::to_string(v.size()));
+            if (v.size() % 3 != 0)
+                a.fail("initialPoints", "expected 3 numbers per point, found " + std::to_string(v.size()));
             pts.clear();
             for (std::size_t i = 0; i < v.size(); i += 3) pts.emplace_back(v[i], v[i + 1], v[i + 2]);
         }
@@ -189,8 +199,9 @@ void build_subset_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
                     }
                 }
                 if (found < 0)
-                    io::throw_element_error(c, "output point " + std::to_string(i) + " matches no input point within radius " +
-                                                   num(radius) + " (SOFA would leave it fixed)");
+                    io::throw_element_error(c, "output point " + std::to_string(i) +
+                                                   " matches no input point within radius " + num(radius) +
+                                                   " (SOFA would leave it fixed)");
                 rows.push_back({{found, 1.0}});
             }
         }
@@ -217,15 +228,17 @@ void build_barycentric_mapping(SceneBuilder& b, const SceneComponent& c, NodeBui
         const std::span<const Vec3> points = ends.out->position;
         if (in->grid) map_on_regular_grid(m, *in->grid, points);
         else if (in->sparse_grid) map_on_sparse_grid(m, *in->sparse_grid, points);
-        else if (!in->topology->tetrahedra().empty() && in->topology->hexahedra().empty() && in->topology_component != nullptr &&
-                 in->topology_component->type.ends_with("SetTopologyContainer"))
+        else if (!in->topology->tetrahedra().empty() && in->topology->hexahedra().empty() &&
+                 in->topology_component != nullptr && in->topology_component->type.ends_with("SetTopologyContainer"))
             m.map_on_set_tetrahedra(*in->topology, in3->rest_position, points);  // SOFA's TetrahedronSetMapper
         else if (!in->topology->tetrahedra().empty()) m.map_on_tetrahedra(*in->topology, in3->rest_position, points);
         else if (!in->topology->hexahedra().empty() && in->topology_component != nullptr &&
                  in->topology_component->type == "HexahedronSetTopologyContainer")
             m.map_on_set_hexahedra(*in->topology, in3->rest_position, points);  // SOFA's HexahedronSetMapper
         else if (!in->topology->hexahedra().empty()) m.map_on_hexahedra(*in->topology, in3->rest_position, points);
-        else io::throw_element_error(c, "the input topology has no tetrahedra or hexahedra (penalty maps onto volumes only)");
+        else
+            io::throw_element_error(
+                c, "the input topology has no tetrahedra or hexahedra (penalty maps onto volumes only)");
     });
     std::string how = "barycentric: trilinear in the input's hexahedra";
     if (in && in->grid) how = "barycentric: trilinear in the grid's cells";
@@ -250,32 +263,55 @@ void build_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         for (PointId i : b.indices(a, "indices")) idx.push_back(i);
         for (Index i : idx)
             if (std::size_t(i) >= s.num_dofs())
-                a.fail("indices", "index " + std::to_string(i) + " out of range (" + std::to_string(s.num_dofs()) + " DOFs)");
+                a.fail("indices",
+                       "index " + std::to_string(i) + " out of range (" + std::to_string(s.num_dofs()) + " DOFs)");
         f.set_indices(std::move(idx));
         const bool all = a.boolean("fixAll");
         f.set_fix_all(all);
         b.add_init(1, c, [p = &f] { p->init(); });
         b.role(c, [p = &f, st = &s, all] {
             return all ? "fixes all " + counted(st->num_dofs(), "DOF", "DOFs")
-                       : "fixes " + std::to_string(p->indices().size()) + " of " + counted(st->num_dofs(), "DOF", "DOFs");
+                       : "fixes " + std::to_string(p->indices().size()) + " of " +
+                             counted(st->num_dofs(), "DOF", "DOFs");
         });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "IdentityMapping", .family = F::mapping, .summary = "identity mapping", .attributes = kMappingEnds,
+    {.type = "IdentityMapping",
+     .family = F::mapping,
+     .summary = "identity mapping",
+     .attributes = kMappingEnds,
      .build = build_identity_mapping},
-    {.type = "BarycentricMapping", .family = F::mapping, .summary = "barycentric mapping", .attributes = kMappingEnds,
+    {.type = "BarycentricMapping",
+     .family = F::mapping,
+     .summary = "barycentric mapping",
+     .attributes = kMappingEnds,
      .build = build_barycentric_mapping},
-    {.type = "SubsetMapping", .family = F::mapping, .summary = "subset mapping", .attributes = kSubsetMapping,
-     .shared_attributes = kMappingEnds, .build = build_subset_mapping},
-    {.type = "RigidMapping", .family = F::mapping, .summary = "rigid mapping", .attributes = kRigidMapping,
-     .shared_attributes = kMappingEnds, .build = build_rigid_mapping},
-    {.type = "FixedProjectiveConstraint", .family = F::constraint, .summary = "fixed points", .attributes = kFixed,
+    {.type = "SubsetMapping",
+     .family = F::mapping,
+     .summary = "subset mapping",
+     .attributes = kSubsetMapping,
+     .shared_attributes = kMappingEnds,
+     .build = build_subset_mapping},
+    {.type = "RigidMapping",
+     .family = F::mapping,
+     .summary = "rigid mapping",
+     .attributes = kRigidMapping,
+     .shared_attributes = kMappingEnds,
+     .build = build_rigid_mapping},
+    {.type = "FixedProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "fixed points",
+     .attributes = kFixed,
      .build = build_fixed},
-    {.type = "FixedConstraint", .family = F::constraint, .summary = "fixed points (older name)", .attributes = kFixed,
-     .build = build_fixed, .sofa_class = "FixedProjectiveConstraint"},
+    {.type = "FixedConstraint",
+     .family = F::constraint,
+     .summary = "fixed points (older name)",
+     .attributes = kFixed,
+     .build = build_fixed,
+     .sofa_class = "FixedProjectiveConstraint"},
 };
 
 }  // namespace

@@ -1,10 +1,10 @@
 // Masses, gravity and force fields: UniformMass, Gravity, MeshSpringForceField,
 // RegularGridSpringForceField, TetrahedronFEMForceField, HexahedronFEMForceField.
+#include "penalty/io/data_path.hpp"
+#include "penalty/io/rigid_mass_file.hpp"
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
-#include "penalty/io/data_path.hpp"
-#include "penalty/io/rigid_mass_file.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -23,7 +23,8 @@ using F = ComponentFamily;
 
 // ---- Gravity --------------------------------------------------------------------------------
 constexpr AttributeSpec kGravity[] = {
-    {"gravity", K::vector3, "0 0 0", "m/s^2", ValueCheck::none, "of its node and below (SOFA's Gravity: 0 0 0 when not given)"},
+    {"gravity", K::vector3, "0 0 0", "m/s^2", ValueCheck::none,
+     "of its node and below (SOFA's Gravity: 0 0 0 when not given)"},
 };
 
 void build_gravity(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -92,14 +93,16 @@ void build_uniform_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         };
         if (auto* v = dynamic_cast<Vec3Object*>(&s)) {
             set(info.node->set_mass<UniformMass<Vec3Types>>(*v));
-            if (a.has("filename")) b.warn(c.describe() + ": filename is read for Rigid3d states only (SOFA ignores it here too)");
+            if (a.has("filename"))
+                b.warn(c.describe() + ": filename is read for Rigid3d states only (SOFA ignores it here too)");
         } else {
             auto& mass = info.node->set_mass<UniformMass<Rigid3Types>>(dynamic_cast<Rigid3Object&>(s));
             // UniformMass<Rigid3>::loadRigidMass (at init, before vertexMass/totalMass are chosen):
             // the file's vertexMass replaces the mass and makes vertexMass the one used.
             io::RigidMassFile file;
             if (a.has("filename"))
-                file = io::load_rigid_mass_file(io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
+                file = io::load_rigid_mass_file(
+                    io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
             const std::optional<RigidVertexMass> rigid_mass = rigid_vertex_mass(a);
             if (file.vertex_mass) mass.set_vertex_mass(*file.vertex_mass);
             else if (rigid_mass && !a.has("totalMass")) mass.set_vertex_mass(rigid_mass->mass);
@@ -182,7 +185,8 @@ MeshSpringParameters spring_parameters(const Attributes& a, double default_stiff
     return p;
 }
 
-void add_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, Vec3Object& s, const std::vector<Spring>& springs) {
+void add_springs(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, Vec3Object& s,
+                 const std::vector<Spring>& springs) {
     auto& ff = info.node->add_force_field<SpringForceField>(s);
     b.record_origin(&ff, c);
     for (const Spring& sp : springs) ff.add_spring(sp);
@@ -234,7 +238,8 @@ constexpr AttributeSpec kTetrahedronFem[] = {
     {"youngModulus", K::real, "5000", "Pa", ValueCheck::positive, ""},
     {"poissonRatio", K::real, "0.45", "", ValueCheck::none, "in (-1, 0.5)"},
     {"method", K::text, "large", "", ValueCheck::none,
-     "large (corotational), polar (corotational, polar rotation), svd (polar; stable SVD rotation for inverted elements) or small (linear)"},
+     "large (corotational), polar (corotational, polar rotation), svd (polar; stable SVD rotation for inverted "
+     "elements) or small (linear)"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "MeshTopology or RegularGridTopology"},
     // computeGlobalMatrix / updateStiffnessMatrix only choose how SOFA stores the same matrices;
     // penalty always recomputes the corotational stiffness each step (method large).
@@ -273,7 +278,8 @@ FemLaw fem_law(const Attributes& a, bool svd_supported) {
     else if (method == "polar") law.method = FemMethod::Polar;
     else if (method == "svd" && svd_supported) law.method = FemMethod::Svd;
     else if (method != "large")
-        a.fail("method", "'" + method + "' is not supported (" + (svd_supported ? "small, large, polar or svd)" : "small, large or polar)"));
+        a.fail("method", "'" + method + "' is not supported (" +
+                             (svd_supported ? "small, large, polar or svd)" : "small, large or polar)"));
     return law;
 }
 
@@ -291,10 +297,16 @@ void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     b.guarded(c, [&] {
         const FemLaw law = fem_law(a, /*svd_supported=*/true);
         if ((law.method == FemMethod::Polar || law.method == FemMethod::Svd) && a.boolean("updateStiffnessMatrix"))
-            a.fail("updateStiffnessMatrix", "with method polar or svd is not supported (SOFA recomputes the strain-displacement matrix each step)");
+            a.fail(
+                "updateStiffnessMatrix",
+                "with method polar or svd is not supported (SOFA recomputes the strain-displacement matrix each step)");
         TetrahedronFEMForceField* ff = nullptr;
-        if (info.grid) ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, law.young, law.poisson, law.method);
-        else ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson, law.method);
+        if (info.grid)
+            ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, *info.grid, law.young, law.poisson,
+                                                                       law.method);
+        else
+            ff = &info.node->add_force_field<TetrahedronFEMForceField>(s, b.topology_of(a, info), law.young,
+                                                                       law.poisson, law.method);
         // SOFA's Data defaults are float literals (0.0001f, 0.9f): their float values, unless written
         TetrahedronFEMForceField::Plasticity plasticity;
         plasticity.max_threshold = a.real("plasticMaxThreshold");
@@ -307,13 +319,16 @@ void build_tetrahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
             std::vector<double> factors = a.numbers("localStiffnessFactor");
             if (law.method != FemMethod::Large) a.fail("localStiffnessFactor", "is supported with method large only");
             for (double f : factors)  // any sign, as SOFA (thermoelasticity.py's 1/(1 + 50 T) with T < −0.02)
-                if (!std::isfinite(f)) a.fail("localStiffnessFactor", "each factor must be finite, found '" + num(f) + "'");
+                if (!std::isfinite(f))
+                    a.fail("localStiffnessFactor", "each factor must be finite, found '" + num(f) + "'");
             ff->set_young_factors(std::move(factors));
         }
         static_cast<void>(a.boolean("updateStiffness"));  // when writes take effect (live_writes.cpp)
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
-        b.role(c, [ff, text = law_text(law)] { return counted(ff->tetrahedra().size(), "tetrahedron", "tetrahedra") + text; });
+        b.role(c, [ff, text = law_text(law)] {
+            return counted(ff->tetrahedra().size(), "tetrahedron", "tetrahedra") + text;
+        });
     });
     b.note_unread_attributes(c);
 }
@@ -323,35 +338,59 @@ void build_hexahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
         const FemLaw law = fem_law(a, /*svd_supported=*/false);
-        auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, b.topology_of(a, info), law.young, law.poisson,
-                                                                        law.method);
+        auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, b.topology_of(a, info), law.young,
+                                                                        law.poisson, law.method);
         if (info.sparse_grid && !a.has("topology")) sparse_grid_stiffness_factors(*ff, info);
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
-        b.role(c, [ff, text = law_text(law)] { return counted(ff->element_stiffness().size(), "hexahedron", "hexahedra") + text; });
+        b.role(c, [ff, text = law_text(law)] {
+            return counted(ff->element_stiffness().size(), "hexahedron", "hexahedra") + text;
+        });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "Gravity", .family = F::gravity, .summary = "gravity of its node's context", .attributes = kGravity,
+    {.type = "Gravity",
+     .family = F::gravity,
+     .summary = "gravity of its node's context",
+     .attributes = kGravity,
      .build = build_gravity},
-    {.type = "UniformMass", .family = F::mass, .summary = "uniform mass", .attributes = kUniformMass,
+    {.type = "UniformMass",
+     .family = F::mass,
+     .summary = "uniform mass",
+     .attributes = kUniformMass,
      .build = build_uniform_mass},
-    {.type = "MeshSpringForceField", .family = F::force_field, .summary = "springs on the mesh edges",
-     .attributes = kMeshSprings, .shared_attributes = kSpringKinds, .build = build_mesh_springs},
-    {.type = "RegularGridSpringForceField", .family = F::force_field, .summary = "springs on a regular grid",
-     .attributes = kGridSprings, .shared_attributes = kSpringKinds, .build = build_grid_springs},
-    {.type = "TetrahedronFEMForceField", .family = F::force_field, .summary = "linear tetrahedral FEM",
-     .attributes = kTetrahedronFem, .build = build_tetrahedron_fem},
-    {.type = "HexahedronFEMForceField", .family = F::force_field, .summary = "linear hexahedral FEM",
-     .attributes = kHexahedronFem, .build = build_hexahedron_fem},
+    {.type = "MeshSpringForceField",
+     .family = F::force_field,
+     .summary = "springs on the mesh edges",
+     .attributes = kMeshSprings,
+     .shared_attributes = kSpringKinds,
+     .build = build_mesh_springs},
+    {.type = "RegularGridSpringForceField",
+     .family = F::force_field,
+     .summary = "springs on a regular grid",
+     .attributes = kGridSprings,
+     .shared_attributes = kSpringKinds,
+     .build = build_grid_springs},
+    {.type = "TetrahedronFEMForceField",
+     .family = F::force_field,
+     .summary = "linear tetrahedral FEM",
+     .attributes = kTetrahedronFem,
+     .build = build_tetrahedron_fem},
+    {.type = "HexahedronFEMForceField",
+     .family = F::force_field,
+     .summary = "linear hexahedral FEM",
+     .attributes = kHexahedronFem,
+     .build = build_hexahedron_fem},
     // SOFA's MultiThreading plugin: HexahedronFEMForceField with addForce and addDForce run over
     // the elements in parallel (ParallelHexahedronFEMForceField::addForce, addDForce), the same
     // element forces; penalty runs HexahedronFEMForceField.
-    {.type = "ParallelHexahedronFEMForceField", .family = F::force_field,
+    {.type = "ParallelHexahedronFEMForceField",
+     .family = F::force_field,
      .summary = "HexahedronFEMForceField of SOFA's MultiThreading plugin (run as HexahedronFEMForceField)",
-     .attributes = kHexahedronFem, .build = build_hexahedron_fem},
+     .attributes = kHexahedronFem,
+     .build = build_hexahedron_fem},
 };
 
 }  // namespace

@@ -26,7 +26,8 @@ using F = ComponentFamily;
 // SOFA's DiagonalMass data: massDensity and totalMass default to 1, the default being used as
 // totalMass = 1 when none of the three is set (DiagonalMass::massInitialization).
 constexpr AttributeSpec kDiagonalMass[] = {
-    {"massDensity", K::real, "1", "kg/m^3", ValueCheck::nonnegative, "per volume, area or length of the lumped elements"},
+    {"massDensity", K::real, "1", "kg/m^3", ValueCheck::nonnegative,
+     "per volume, area or length of the lumped elements"},
     {"totalMass", K::real, "1", "kg", ValueCheck::nonnegative, "shared in proportion to the lumped elements; wins"},
     {"vertexMass", K::text, "", "kg", ValueCheck::none,
      "mass of each vertex (a short list is padded with its last value); Rigid3d: mass volume [inertia] per frame"},
@@ -56,8 +57,9 @@ void build_rigid_diagonal_mass(SceneBuilder& b, const Attributes& a, NodeBuild& 
             v.push_back(x);
         }
         if (v.size() % 11 != 0)
-            a.fail("vertexMass", "a Rigid3d DiagonalMass takes 11 numbers per frame (mass volume [3x3 inertia]), found " +
-                                     std::to_string(v.size()));
+            a.fail("vertexMass",
+                   "a Rigid3d DiagonalMass takes 11 numbers per frame (mass volume [3x3 inertia]), found " +
+                       std::to_string(v.size()));
         for (std::size_t i = 0; i < v.size(); i += 11)
             masses.push_back({v[i], Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(v.data() + i + 2)});
         if (masses.size() > s.num_dofs() && s.num_dofs() > 0)
@@ -68,7 +70,8 @@ void build_rigid_diagonal_mass(SceneBuilder& b, const Attributes& a, NodeBuild& 
     auto* mass = static_cast<RigidDiagonalMass*>(info.node->mass());
     b.record_mass(*mass, *info.node, c);
     b.role(c, [mass] {
-        return std::to_string(mass->masses().size()) + " rigid masses as given, " + num(mass->total_mass()) + " kg in all";
+        return std::to_string(mass->masses().size()) + " rigid masses as given, " + num(mass->total_mass()) +
+               " kg in all";
     });
     b.note_unread_attributes(c);
 }
@@ -111,7 +114,8 @@ void build_diagonal_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
 // some box (`strict`, the default), else their centre (regions_of_interest.hpp).
 constexpr AttributeSpec kBoxRoi[] = {
     {"box", K::numbers, "0 0 0 1 1 1", "m", ValueCheck::none, "boxes: xmin ymin zmin xmax ymax zmax each"},
-    {"orientedBox", K::numbers, "", "m", ValueCheck::none, "boxes: p0 p1 p2 (corners) and depth, each (oriented_box.hpp)"},
+    {"orientedBox", K::numbers, "", "m", ValueCheck::none,
+     "boxes: p0 p1 p2 (corners) and depth, each (oriented_box.hpp)"},
     {"position", K::points, "(rest positions of the node's state)", "m", ValueCheck::none, "points tested"},
     {"rest_position", K::points, "", "m", ValueCheck::none, "alias of position"},
     {"edges", K::elements, "(the node's topology)", "", ValueCheck::none, "edges tested (inline or a link)"},
@@ -158,7 +162,8 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         if (v.size() % 6 != 0 || (a.has("box") && v.empty()))
             a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
         for (std::size_t i = 0; i < v.size(); i += 6)
-            boxes.push_back(AlignedBox::from_corners(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])));
+            boxes.push_back(
+                AlignedBox::from_corners(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])));
         const std::vector<double> o = a.numbers("orientedBox");
         if (o.size() % 10 != 0 || (a.has("orientedBox") && o.empty()))
             a.fail("orientedBox", "expected 10 numbers per box (p0, p1, p2, depth), found " + std::to_string(o.size()));
@@ -173,7 +178,8 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         elements = roi_elements(b, a, info, RoiContext::base_roi, {.quad_alias = true});
         const auto inside = [&boxes, &oriented](const Vec3& p) {
             return std::any_of(boxes.begin(), boxes.end(), [&p](const AlignedBox& box) { return box.contains(p); }) ||
-                   std::any_of(oriented.begin(), oriented.end(), [&p](const OrientedBox& box) { return box.contains(p); });
+                   std::any_of(oriented.begin(), oriented.end(),
+                               [&p](const OrientedBox& box) { return box.contains(p); });
         };
         selection = select_in_region(points, elements, inside,
                                      a.boolean("strict") ? ElementTest::all_points : ElementTest::center);
@@ -182,7 +188,8 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         return describe_roi_selection(selection, num_points, elements, counted(n, "box", "boxes"));
     });
     record_roi_elements_in(b, c, selection, elements);
-    if (const io::MeshData* quads = b.engine_mesh(c, "quadsInROI")) b.record_engine_mesh(c, "quadInROI", *quads);  // alias
+    if (const io::MeshData* quads = b.engine_mesh(c, "quadsInROI"))
+        b.record_engine_mesh(c, "quadInROI", *quads);  // alias
     record_roi_selection(b, c, std::move(selection));
     b.note_unread_attributes(c);
 }
@@ -209,7 +216,8 @@ void build_fixed_plane(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
         if (dmin != dmax) {
             std::vector<Vec3> points;
             if (auto* v = dynamic_cast<Vec3Object*>(&s)) points = v->position;
-            else for (const RigidFrame& f : dynamic_cast<Rigid3Object&>(s).position) points.push_back(f.center);
+            else
+                for (const RigidFrame& f : dynamic_cast<Rigid3Object&>(s).position) points.push_back(f.center);
             for (Index i : points_between_planes(points, direction, dmin, dmax)) indices.push_back(i);
         }
         auto& f = info.node->add_constraint<FixedPlaneProjectiveConstraint>(s, direction);
@@ -225,15 +233,27 @@ void build_fixed_plane(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "DiagonalMass", .family = F::mass, .summary = "lumped mass from the topology's elements",
-     .attributes = kDiagonalMass, .build = build_diagonal_mass},
-    {.type = "BoxROI", .family = F::engine, .summary = "indices of the points inside boxes", .attributes = kBoxRoi,
+    {.type = "DiagonalMass",
+     .family = F::mass,
+     .summary = "lumped mass from the topology's elements",
+     .attributes = kDiagonalMass,
+     .build = build_diagonal_mass},
+    {.type = "BoxROI",
+     .family = F::engine,
+     .summary = "indices of the points inside boxes",
+     .attributes = kBoxRoi,
      .build = build_box_roi},
-    {.type = "FixedPlaneProjectiveConstraint", .family = F::constraint,
-     .summary = "no response along a direction for the points between two planes", .attributes = kFixedPlane,
+    {.type = "FixedPlaneProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "no response along a direction for the points between two planes",
+     .attributes = kFixedPlane,
      .build = build_fixed_plane},
-    {.type = "FixedPlaneConstraint", .family = F::constraint, .summary = "FixedPlaneProjectiveConstraint (older name)",
-     .attributes = kFixedPlane, .build = build_fixed_plane, .sofa_class = "FixedPlaneProjectiveConstraint"},
+    {.type = "FixedPlaneConstraint",
+     .family = F::constraint,
+     .summary = "FixedPlaneProjectiveConstraint (older name)",
+     .attributes = kFixedPlane,
+     .build = build_fixed_plane,
+     .sofa_class = "FixedPlaneProjectiveConstraint"},
 };
 
 }  // namespace

@@ -44,13 +44,15 @@ void build_mesh_matrix_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         auto* v = dynamic_cast<Vec3Object*>(&s);
         auto* scalar = dynamic_cast<Vec1Object*>(&s);
         if (v == nullptr && scalar == nullptr)
-            io::throw_element_error(c, "penalty's MeshMatrixMass supports Vec3d states, and Vec1d states with a Vec3d geometryState");
+            io::throw_element_error(
+                c, "penalty's MeshMatrixMass supports Vec3d states, and Vec1d states with a Vec3d geometryState");
         if (a.boolean("separateGravity")) a.fail("separateGravity", "1 is not supported");
         const MeshTopology& topology = b.topology_of(a, info);
         if (scalar != nullptr) {  // MeshMatrixMass<Vec1d, Vec3d>: measured on geometryState
             if (!a.has("geometryState")) a.fail("geometryState", "a Vec1d mass needs the Vec3d state of its geometry");
             auto* geometry = dynamic_cast<Vec3Object*>(b.linked_state(a, "geometryState"));
-            if (geometry == nullptr) a.fail("geometryState", "must link a Vec3d MechanicalObject built before this node");
+            if (geometry == nullptr)
+                a.fail("geometryState", "must link a Vec3d MechanicalObject built before this node");
             auto& m = info.node->set_mass<ScalarMeshMatrixMass>(*scalar, *geometry, topology);
             mass = &m.masses();
             built = &m;
@@ -93,7 +95,8 @@ void build_mesh_matrix_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild&
 constexpr AttributeSpec kRestShapeSprings[] = {
     {"points", K::indices, "(all points)", "", ValueCheck::none, "points held (inline or @engine.indices)"},
     {"stiffness", K::numbers, "100", "N/m", ValueCheck::none, "one per point (the first for the others)"},
-    {"angularStiffness", K::numbers, "(100 per stiffness value)", "N m/rad", ValueCheck::none, "Rigid3d: one per point"},
+    {"angularStiffness", K::numbers, "(100 per stiffness value)", "N m/rad", ValueCheck::none,
+     "Rigid3d: one per point"},
     {"activeDirections", K::numbers, "1 1 1 (Rigid3d: 1 1 1 1 1 1 1)", "", ValueCheck::none,
      "0/1 per direction: x y z (then rotations about x y z)"},
     {"external_rest_shape", K::link, "(the state's rest positions)", "", ValueCheck::none,
@@ -133,7 +136,8 @@ void configure_rest_springs(SceneBuilder& b, const SceneComponent& c, const Attr
     };
     if (a.has("stiffness")) ff.set_stiffness(stiffness("stiffness"));
     if (a.has("angularStiffness")) {
-        if constexpr (std::is_same_v<DataTypes, Vec3Types>) a.fail("angularStiffness", "applies to Rigid3d states only");
+        if constexpr (std::is_same_v<DataTypes, Vec3Types>)
+            a.fail("angularStiffness", "applies to Rigid3d states only");
         ff.set_angular_stiffness(stiffness("angularStiffness"));
     }
     if (a.has("activeDirections")) {
@@ -141,7 +145,8 @@ void configure_rest_springs(SceneBuilder& b, const SceneComponent& c, const Attr
         // SOFA's Data is one flag per Coord component: 3 (Vec3d) or 7 (Rigid3d; the 7th unused)
         const std::size_t written = std::is_same_v<DataTypes, Vec3Types> ? 3 : 7;
         if (d.size() != written && d.size() != std::size_t(n))
-            a.fail("activeDirections", "expected " + std::to_string(written) + " flags, found " + std::to_string(d.size()));
+            a.fail("activeDirections",
+                   "expected " + std::to_string(written) + " flags, found " + std::to_string(d.size()));
         std::array<bool, n> active{};
         for (int i = 0; i < n; ++i) {
             if (d[std::size_t(i)] != 0.0 && d[std::size_t(i)] != 1.0)
@@ -191,7 +196,8 @@ void build_rest_shape_springs(SceneBuilder& b, const SceneComponent& c, NodeBuil
                        (p->external_rest_shape() ? "external state's positions" : "rest positions");
             });
         } else {
-            auto& ff = info.node->add_force_field<RestShapeSpringsForceField<Rigid3Types>>(dynamic_cast<Rigid3Object&>(s));
+            auto& ff =
+                info.node->add_force_field<RestShapeSpringsForceField<Rigid3Types>>(dynamic_cast<Rigid3Object&>(s));
             configure_rest_springs(b, c, a, ff);
             built = &ff;
             b.role(c, [p = &ff] {
@@ -205,10 +211,15 @@ void build_rest_shape_springs(SceneBuilder& b, const SceneComponent& c, NodeBuil
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "MeshMatrixMass", .family = F::mass, .summary = "mass matrix of a mesh (consistent or lumped)",
-     .attributes = kMeshMatrixMass, .build = build_mesh_matrix_mass},
-    {.type = "RestShapeSpringsForceField", .family = F::force_field,
-     .summary = "springs from points (and frames) to their rest shape", .attributes = kRestShapeSprings,
+    {.type = "MeshMatrixMass",
+     .family = F::mass,
+     .summary = "mass matrix of a mesh (consistent or lumped)",
+     .attributes = kMeshMatrixMass,
+     .build = build_mesh_matrix_mass},
+    {.type = "RestShapeSpringsForceField",
+     .family = F::force_field,
+     .summary = "springs from points (and frames) to their rest shape",
+     .attributes = kRestShapeSprings,
      .build = build_rest_shape_springs},
 };
 

@@ -18,7 +18,8 @@ using F = ComponentFamily;
 /// The node's own state, the output every mapping here writes (SOFA: a MechanicalObject the
 /// `output` link names; penalty requires it to be the mapping's node's, as SOFA's scenes do).
 BaseState& own_output(SceneBuilder& b, const Attributes& a, const NodeBuild& info) {
-    if (info.node->state() == nullptr) io::throw_element_error(a.component(), "needs a MechanicalObject in its node (its output)");
+    if (info.node->state() == nullptr)
+        io::throw_element_error(a.component(), "needs a MechanicalObject in its node (its output)");
     if (a.has("output")) {
         const std::vector<io::LinkTarget> outputs = a.links("output");
         if (outputs.size() != 1) a.fail("output", "expected one output state, found " + std::to_string(outputs.size()));
@@ -35,12 +36,15 @@ std::vector<BaseState*> input_states(SceneBuilder& b, const Attributes& a, const
     if (a.has("input")) {
         for (const io::LinkTarget& t : a.links("input")) {
             BaseState* s = b.linked_state(a, "input", t);
-            if (s == nullptr) a.fail("input", "links to a state that is not built yet (it must be in this node or above)");
-            if (std::find(inputs.begin(), inputs.end(), s) != inputs.end()) a.fail("input", "names the same state twice");
+            if (s == nullptr)
+                a.fail("input", "links to a state that is not built yet (it must be in this node or above)");
+            if (std::find(inputs.begin(), inputs.end(), s) != inputs.end())
+                a.fail("input", "names the same state twice");
             inputs.push_back(s);
         }
     } else if (info.scene_node->parent != nullptr) {
-        if (const NodeBuild* owner = b.state_owner(b.node_build(*info.scene_node->parent))) inputs.push_back(owner->node->state());
+        if (const NodeBuild* owner = b.state_owner(b.node_build(*info.scene_node->parent)))
+            inputs.push_back(owner->node->state());
     }
     if (inputs.empty()) a.fail("input", "no MechanicalObject to map from");
     if (inputs.size() > 2)
@@ -66,7 +70,8 @@ void finish(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, std
 
 // ---- CenterOfMassMapping --------------------------------------------------------------------
 constexpr AttributeSpec kCenterOfMass[] = {
-    {"input", K::link, "(the parent node's state)", "", ValueCheck::none, "the Rigid3d frames, with a mass in their node"},
+    {"input", K::link, "(the parent node's state)", "", ValueCheck::none,
+     "the Rigid3d frames, with a mass in their node"},
     {"output", K::link, "(this node's state)", "", ValueCheck::none, "this node's Vec3d MechanicalObject (one point)"},
 };
 
@@ -104,8 +109,8 @@ constexpr AttributeSpec kIdentityMulti[] = {
 /// Builds SubsetMultiMapping<In, Out> on the typed inputs and output; `pairs` empty with
 /// `concatenate`: IdentityMultiMapping.
 template <class In, class Out>
-void set_subset_multi(const Attributes& a, const std::vector<BaseState*>& inputs, MechanicalObject<Out>& to, NodeBuild& info,
-                      bool concatenate, std::vector<SubsetSource> pairs) {
+void set_subset_multi(const Attributes& a, const std::vector<BaseState*>& inputs, MechanicalObject<Out>& to,
+                      NodeBuild& info, bool concatenate, std::vector<SubsetSource> pairs) {
     auto* first = as<MechanicalObject<In>>(inputs[0]);
     auto* second = inputs.size() > 1 ? as<MechanicalObject<In>>(inputs[1]) : nullptr;
     if (first == nullptr || (inputs.size() > 1 && second == nullptr))
@@ -123,18 +128,21 @@ void build_multi_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
         std::vector<SubsetSource> pairs;
         if (!concatenate) {
             const std::vector<PointId> v = a.indices("indexPairs");
-            if (v.size() % 2 != 0) a.fail("indexPairs", "expected pairs (input, index), found " + std::to_string(v.size()) + " numbers");
+            if (v.size() % 2 != 0)
+                a.fail("indexPairs", "expected pairs (input, index), found " + std::to_string(v.size()) + " numbers");
             for (std::size_t i = 0; i < v.size(); i += 2) {
                 if (std::size_t(v[i]) >= inputs.size())
-                    a.fail("indexPairs", "pair " + std::to_string(i / 2) + " names input " + std::to_string(v[i]) + ", and there are " +
-                                             std::to_string(inputs.size()) + " inputs");
+                    a.fail("indexPairs", "pair " + std::to_string(i / 2) + " names input " + std::to_string(v[i]) +
+                                             ", and there are " + std::to_string(inputs.size()) + " inputs");
                 pairs.push_back({unsigned(v[i]), Index(v[i + 1])});
             }
         }
         const bool rigid_in = as<Rigid3Object>(inputs[0]) != nullptr;
         if (auto* to3 = as<Vec3Object>(&out)) {
-            if (rigid_in && concatenate) a.fail("output", "IdentityMultiMapping maps Rigid3d inputs onto a Rigid3d state only");
-            if (rigid_in) set_subset_multi<Rigid3Types, Vec3Types>(a, inputs, *to3, info, concatenate, std::move(pairs));
+            if (rigid_in && concatenate)
+                a.fail("output", "IdentityMultiMapping maps Rigid3d inputs onto a Rigid3d state only");
+            if (rigid_in)
+                set_subset_multi<Rigid3Types, Vec3Types>(a, inputs, *to3, info, concatenate, std::move(pairs));
             else set_subset_multi<Vec3Types, Vec3Types>(a, inputs, *to3, info, concatenate, std::move(pairs));
         } else if (auto* tor = as<Rigid3Object>(&out)) {
             if (!rigid_in) a.fail("output", "a Vec3d input maps onto a Vec3d state only");
@@ -154,13 +162,21 @@ void build_identity_multi_mapping(SceneBuilder& b, const SceneComponent& c, Node
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "CenterOfMassMapping", .family = F::mapping,
-     .summary = "one Vec3d point at the mass-weighted centre of Rigid3d frames", .attributes = kCenterOfMass,
+    {.type = "CenterOfMassMapping",
+     .family = F::mapping,
+     .summary = "one Vec3d point at the mass-weighted centre of Rigid3d frames",
+     .attributes = kCenterOfMass,
      .build = build_center_of_mass_mapping},
-    {.type = "SubsetMultiMapping", .family = F::mapping, .summary = "DOFs picked from one or two states",
-     .attributes = kSubsetMulti, .build = build_subset_multi_mapping},
-    {.type = "IdentityMultiMapping", .family = F::mapping, .summary = "one or two states concatenated",
-     .attributes = kIdentityMulti, .build = build_identity_multi_mapping},
+    {.type = "SubsetMultiMapping",
+     .family = F::mapping,
+     .summary = "DOFs picked from one or two states",
+     .attributes = kSubsetMulti,
+     .build = build_subset_multi_mapping},
+    {.type = "IdentityMultiMapping",
+     .family = F::mapping,
+     .summary = "one or two states concatenated",
+     .attributes = kIdentityMulti,
+     .build = build_identity_multi_mapping},
 };
 
 }  // namespace

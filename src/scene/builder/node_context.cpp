@@ -39,7 +39,8 @@ BaseState* SceneBuilder::linked_state(const Attributes& a, std::string_view attr
     if (t.component != nullptr) {
         const ComponentSpec* spec = find_component(t.component->type);
         if (spec == nullptr || spec->family != ComponentFamily::state)
-            a.fail(attr, "must link to a MechanicalObject or to a node that holds one, found " + t.component->describe());
+            a.fail(attr,
+                   "must link to a MechanicalObject or to a node that holds one, found " + t.component->describe());
         holder = t.component->node;
     }
     if (holder == nullptr) a.fail(attr, "must link to a MechanicalObject or to a node that holds one");
@@ -54,7 +55,8 @@ void SceneBuilder::after_nodes(const SceneComponent& c, std::function<void()> bu
     deferred_builds_.push_back({0, std::move(build), &c});
 }
 
-void SceneBuilder::build_when_ends_exist(const SceneComponent& c, const Attributes& a, const std::function<void()>& build) {
+void SceneBuilder::build_when_ends_exist(const SceneComponent& c, const Attributes& a,
+                                         const std::function<void()>& build) {
     bool later = false;
     guarded(c, [&] {
         for (const std::string_view end : {"object1", "object2"})
@@ -78,7 +80,8 @@ const MeshTopology& SceneBuilder::topology_of(const Attributes& a, const NodeBui
         const auto it = nodes_.find(sn);
         if (it != nodes_.end() && it->second.topology != nullptr) return *it->second.topology;
     }
-    io::throw_element_error(a.component(), "needs a topology (MeshTopology or RegularGridTopology) in its node or an ancestor node");
+    io::throw_element_error(a.component(),
+                            "needs a topology (MeshTopology or RegularGridTopology) in its node or an ancestor node");
 }
 
 }  // namespace penalty::scene

@@ -30,10 +30,13 @@ constexpr AttributeSpec kNonUniform[] = {
 void build_nonuniform(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     Vec3Object& s = b.vec3_state(c, info);
-    if (!info.sparse_grid) io::throw_element_error(c, "needs a SparseGridTopology in its node (its virtual finer levels)");
+    if (!info.sparse_grid)
+        io::throw_element_error(c, "needs a SparseGridTopology in its node (its virtual finer levels)");
     const SparseGridTopology& grid = *info.sparse_grid;
     if (grid.ramification() != nullptr)
-        io::throw_element_error(c, "a ramified sparse grid (SparseGridRamificationTopology, SparseGridMultipleTopology) is not supported here");
+        io::throw_element_error(c,
+                                "a ramified sparse grid (SparseGridRamificationTopology, SparseGridMultipleTopology) "
+                                "is not supported here");
     const std::int64_t levels = a.integer("nbVirtualFinerLevels");
     if (levels < 1 || levels > grid.finer_levels())
         a.fail("nbVirtualFinerLevels", "must be between 1 and the SparseGridTopology's nbVirtualFinerLevels (" +
@@ -49,11 +52,13 @@ void build_nonuniform(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
     mp.total_mass = a.real("totalMass");
     const bool fill = Attributes(*info.topology_component).boolean("fillWeighted");
     b.guarded(c, [&] {
-        CondensedHexahedra m = condense_hexahedra(grid, int(levels), young, poisson, mp.density, fill, s.transform.scale3d);
-        auto* ff = &info.node->add_force_field<CondensedHexahedronFEMForceField>(s, *info.topology, std::move(m.stiffness),
-                                                                                 young, poisson);
+        CondensedHexahedra m =
+            condense_hexahedra(grid, int(levels), young, poisson, mp.density, fill, s.transform.scale3d);
+        auto* ff = &info.node->add_force_field<CondensedHexahedronFEMForceField>(
+            s, *info.topology, std::move(m.stiffness), young, poisson);
         b.record_origin(ff, c);
-        auto* mass = &info.node->set_mass<HexahedronMatrixMass>(s, grid.hexahedra(), std::move(m.mass), grid.coefficients(fill), mp);
+        auto* mass = &info.node->set_mass<HexahedronMatrixMass>(s, grid.hexahedra(), std::move(m.mass),
+                                                                grid.coefficients(fill), mp);
         b.record_mass(*mass, *info.node, c);
         // SOFA's init: the force field (rotations, condensed matrices), then the masses
         b.add_init(1, c, [ff, mass] {
@@ -62,15 +67,18 @@ void build_nonuniform(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
         });
         b.role(c, [n = grid.hexahedra().size(), levels, young, poisson] {
             return counted(n, "hexahedron", "hexahedra") + " condensed from " + std::to_string(levels) +
-                   " virtual finer levels, E = " + num(young) + " Pa, nu = " + num(poisson) + ", corotational (large), element mass";
+                   " virtual finer levels, E = " + num(young) + " Pa, nu = " + num(poisson) +
+                   ", corotational (large), element mass";
         });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "NonUniformHexahedronFEMForceFieldAndMass", .family = F::mass,
-     .summary = "hexahedral FEM and mass condensed from a sparse grid's finer levels", .attributes = kNonUniform,
+    {.type = "NonUniformHexahedronFEMForceFieldAndMass",
+     .family = F::mass,
+     .summary = "hexahedral FEM and mass condensed from a sparse grid's finer levels",
+     .attributes = kNonUniform,
      .build = build_nonuniform},
 };
 

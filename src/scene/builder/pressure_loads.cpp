@@ -1,8 +1,8 @@
 // Pressure loads on the elements of a topology: TrianglePressureForceField, QuadPressureForceField,
-// EdgePressureForceField, SurfacePressureForceField (penalty/mechanics/pressure_loads.hpp; docs/components/pressure_loads.md).
-// Each acts on the state of its node or, as SOFA's context, of the nearest ancestor with one
-// (SceneBuilder::vec3_state), and on the elements of `topology="@..."`, else of the nearest
-// topology (SceneBuilder::topology_of).
+// EdgePressureForceField, SurfacePressureForceField (penalty/mechanics/pressure_loads.hpp;
+// docs/components/pressure_loads.md). Each acts on the state of its node or, as SOFA's context, of the nearest ancestor
+// with one (SceneBuilder::vec3_state), and on the elements of `topology="@..."`, else of the nearest topology
+// (SceneBuilder::topology_of).
 #include "penalty/mechanics/pressure_loads.hpp"
 #include "scene/builder/element_topology.hpp"
 #include "scene/builder/families.hpp"
@@ -38,7 +38,8 @@ void build_triangle_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild
     Vec3Object& s = b.vec3_state(c, info);
     b.guarded(c, [&] {
         const MeshTopology& topology = b.topology_of(a, info);
-        std::vector<Index> triangles = a.has("triangleList") ? as_indices(b.indices(a, "triangleList")) : std::vector<Index>{};
+        std::vector<Index> triangles =
+            a.has("triangleList") ? as_indices(b.indices(a, "triangleList")) : std::vector<Index>{};
         auto* ff = &info.node->add_force_field<TrianglePressureForceField>(s, topology, std::move(triangles),
                                                                            a.vector3("pressure"));
         ff->set_use_constant_force(a.boolean("useConstantForce"));
@@ -55,8 +56,9 @@ void build_triangle_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild
         b.role(c, [ff] {
             if (!ff->use_constant_force())
                 return counted(ff->triangles().size(), "triangle", "triangles") + " loaded by a Cauchy stress";
-            return "pressure " + vec(ff->pressure()) + " N/m^2 on " + counted(ff->triangles().size(), "triangle", "triangles") +
-                   " (rest area " + num(ff->total_rest_area()) + " m^2)";
+            return "pressure " + vec(ff->pressure()) + " N/m^2 on " +
+                   counted(ff->triangles().size(), "triangle", "triangles") + " (rest area " +
+                   num(ff->total_rest_area()) + " m^2)";
         });
     });
     b.note_unread_attributes(c);
@@ -90,7 +92,8 @@ void build_quad_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
             std::vector<Index> given = as_indices(b.indices(a, "quadList"));
             if (!given.empty()) quads = std::move(given);
         }
-        auto* ff = &info.node->add_force_field<QuadPressureForceField>(s, topology, std::move(quads), a.vector3("pressure"));
+        auto* ff =
+            &info.node->add_force_field<QuadPressureForceField>(s, topology, std::move(quads), a.vector3("pressure"));
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff] {
@@ -138,9 +141,9 @@ void build_edge_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
             if (!given.empty()) edges = std::move(given);
         }
         if (a.has("edges")) {
-            const std::vector<Edge> given = a.is_link("edges")
-                                                ? linked_elements(b, a, "edges", &io::MeshData::edges, &MeshTopology::edges)
-                                                : a.elements<2>("edges");
+            const std::vector<Edge> given =
+                a.is_link("edges") ? linked_elements(b, a, "edges", &io::MeshData::edges, &MeshTopology::edges)
+                                   : a.elements<2>("edges");
             if (!given.empty()) edges = edge_indices_of(topology, given);
         }
         auto* ff = &info.node->add_force_field<EdgePressureForceField>(s, topology, std::move(edges), pressure);
@@ -199,7 +202,8 @@ void build_surface_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, &topology] {
             const SurfacePressureParameters& q = ff->parameters();
-            std::string text = "pressure " + num(q.pressure) + " Pa on " + element_counts(topology.num_points(), topology);
+            std::string text =
+                "pressure " + num(q.pressure) + " Pa on " + element_counts(topology.num_points(), topology);
             if (q.pulse_mode)
                 text += ", pulsing between " + num(q.pressure > 0 ? q.pressure_lower_bound : q.pressure) + " and " +
                         num(q.pressure > 0 ? q.pressure : q.pressure_lower_bound) + " Pa at " + num(q.pressure_speed) +
@@ -212,17 +216,25 @@ void build_surface_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild&
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "TrianglePressureForceField", .family = F::force_field,
-     .summary = "a pressure vector times each listed triangle's rest area", .attributes = kTrianglePressure,
+    {.type = "TrianglePressureForceField",
+     .family = F::force_field,
+     .summary = "a pressure vector times each listed triangle's rest area",
+     .attributes = kTrianglePressure,
      .build = build_triangle_pressure},
-    {.type = "QuadPressureForceField", .family = F::force_field,
-     .summary = "a pressure vector times each selected quad's rest area", .attributes = kQuadPressure,
+    {.type = "QuadPressureForceField",
+     .family = F::force_field,
+     .summary = "a pressure vector times each selected quad's rest area",
+     .attributes = kQuadPressure,
      .build = build_quad_pressure},
-    {.type = "EdgePressureForceField", .family = F::force_field,
-     .summary = "a pressure vector times each selected edge's rest length", .attributes = kEdgePressure,
+    {.type = "EdgePressureForceField",
+     .family = F::force_field,
+     .summary = "a pressure vector times each selected edge's rest length",
+     .attributes = kEdgePressure,
      .build = build_edge_pressure},
-    {.type = "SurfacePressureForceField", .family = F::force_field,
-     .summary = "a normal pressure on a surface's triangles and quads", .attributes = kSurfacePressure,
+    {.type = "SurfacePressureForceField",
+     .family = F::force_field,
+     .summary = "a normal pressure on a surface's triangles and quads",
+     .attributes = kSurfacePressure,
      .build = build_surface_pressure},
 };
 

@@ -2,9 +2,9 @@
 // LineProjectiveConstraint, PlaneProjectiveConstraint, DirectionProjectiveConstraint,
 // PointProjectiveConstraint, PartialFixedProjectiveConstraint, LinearMovementProjectiveConstraint,
 // ParabolicProjectiveConstraint, FixedRotationProjectiveConstraint, AttachProjectiveConstraint.
+#include "penalty/mechanics/projective_constraints.hpp"
 #include "penalty/mechanics/attach_constraint.hpp"
 #include "penalty/mechanics/prescribed_motion_constraints.hpp"
-#include "penalty/mechanics/projective_constraints.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
 
@@ -16,8 +16,9 @@ using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
 
-constexpr AttributeSpec kTopologyLink = {"topology", K::link, "(the node's topology)", "", ValueCheck::none,
-                                         "read for topological changes only (penalty's are static)"};
+constexpr AttributeSpec kTopologyLink = {
+    "topology", K::link,          "(the node's topology)",
+    "",         ValueCheck::none, "read for topological changes only (penalty's are static)"};
 
 /// The constraint's state with the component's template: Vec3d, or Rigid3d when `rigid_allowed`
 /// and the template (or the state) says so.
@@ -27,14 +28,17 @@ MechanicalObject<DataTypes>* typed_state(BaseState& s) {
 }
 
 bool wants_rigid(const SceneComponent& c, BaseState& s, bool rigid_allowed) {
-    const bool rigid = c.template_name.empty() ? typed_state<Rigid3Types>(s) != nullptr : is_rigid_template(c, c.template_name);
+    const bool rigid =
+        c.template_name.empty() ? typed_state<Rigid3Types>(s) != nullptr : is_rigid_template(c, c.template_name);
     if (rigid && !rigid_allowed) io::throw_element_error(c, "has no Rigid3d variant in SOFA (Vec3d states only)");
-    if (rigid && typed_state<Rigid3Types>(s) == nullptr) io::throw_element_error(c, "template Rigid3d on a Vec3d state");
+    if (rigid && typed_state<Rigid3Types>(s) == nullptr)
+        io::throw_element_error(c, "template Rigid3d on a Vec3d state");
     if (!rigid && typed_state<Vec3Types>(s) == nullptr) io::throw_element_error(c, "template Vec3d on a Rigid3d state");
     return rigid;
 }
 
-std::vector<Index> index_list(SceneBuilder& b, const Attributes& a, std::string_view attr, std::vector<Index> fallback) {
+std::vector<Index> index_list(SceneBuilder& b, const Attributes& a, std::string_view attr,
+                              std::vector<Index> fallback) {
     if (!a.has(attr)) return fallback;
     std::vector<Index> out;
     for (PointId i : b.indices(a, attr)) out.push_back(i);
@@ -112,7 +116,8 @@ void build_point(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     wants_rigid(c, s, false);
     const std::vector<Index> idx = index_list(b, a, "indices", {0});
     const bool all = a.boolean("fixAll");
-    auto& f = info.node->add_constraint<PointProjectiveConstraint>(*typed_state<Vec3Types>(s), idx, a.vector3("point"), all);
+    auto& f =
+        info.node->add_constraint<PointProjectiveConstraint>(*typed_state<Vec3Types>(s), idx, a.vector3("point"), all);
     finish(b, c, f, "puts " + (all ? "every point" : points_phrase(idx.size())) + " at " + vec(a.vector3("point")));
 }
 
@@ -120,7 +125,8 @@ void build_point(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
 constexpr AttributeSpec kPartialFixed[] = {
     {"indices", K::indices, "", "", ValueCheck::none, "constrained DOFs"},
     {"fixAll", K::boolean, "0", "", ValueCheck::none, "every DOF"},
-    {"fixedDirections", K::numbers, "(all 1)", "", ValueCheck::none, "1 per fixed component (3 for Vec3d, 6 for Rigid3d)"},
+    {"fixedDirections", K::numbers, "(all 1)", "", ValueCheck::none,
+     "1 per fixed component (3 for Vec3d, 6 for Rigid3d)"},
     {"projectVelocity", K::boolean, "0", "", ValueCheck::none, "also zero the fixed components of the velocity"},
     kTopologyLink,
 };
@@ -136,13 +142,15 @@ void build_partial_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
             a.fail("fixedDirections", "expected " + std::to_string(fixed.size()) + " flags (0 or 1), found " +
                                           std::to_string(flags.size()));
         for (std::size_t k = 0; k < flags.size(); ++k) {
-            if (flags[k] != 0 && flags[k] != 1) a.fail("fixedDirections", "flags must be 0 or 1, found " + num(flags[k]));
+            if (flags[k] != 0 && flags[k] != 1)
+                a.fail("fixedDirections", "flags must be 0 or 1, found " + num(flags[k]));
             fixed[k] = flags[k] != 0;
         }
     }
     const std::vector<Index> idx = index_list(b, a, "indices", {});
     const bool all = a.boolean("fixAll");
-    auto& f = info.node->add_constraint<PartialFixedProjectiveConstraint>(s, idx, all, fixed, a.boolean("projectVelocity"));
+    auto& f =
+        info.node->add_constraint<PartialFixedProjectiveConstraint>(s, idx, all, fixed, a.boolean("projectVelocity"));
     std::string axes;
     for (bool x : fixed) axes += x ? '1' : '0';
     finish(b, c, f, "fixes components " + axes + " of " + (all ? "every DOF" : counted(idx.size(), "DOF", "DOFs")));
@@ -152,7 +160,8 @@ void build_partial_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
 constexpr AttributeSpec kLinearMovement[] = {
     {"indices", K::indices, "0", "", ValueCheck::none, "moved DOFs"},
     {"keyTimes", K::numbers, "0", "s", ValueCheck::none, "key times, ascending"},
-    {"movements", K::numbers, "(zero)", "m", ValueCheck::none, "a displacement (Vec3d: 3 numbers; Rigid3d: 6, rotation as Euler angles in rad) per key time"},
+    {"movements", K::numbers, "(zero)", "m", ValueCheck::none,
+     "a displacement (Vec3d: 3 numbers; Rigid3d: 6, rotation as Euler angles in rad) per key time"},
     {"relativeMovements", K::boolean, "1", "", ValueCheck::none, "movements relative to the initial positions"},
     {"showMovement", K::boolean, "0", "", ValueCheck::none, "display only"},
     kTopologyLink,
@@ -165,11 +174,12 @@ std::vector<typename DataTypes::Deriv> key_movements(const Attributes& a) {
     const std::vector<double> v = a.numbers("movements");
     const std::size_t width = DataTypes::kDerivSize;
     if (v.size() % width != 0)
-        a.fail("movements", "expected " + std::to_string(width) + " numbers per key movement, found " + std::to_string(v.size()));
+        a.fail("movements",
+               "expected " + std::to_string(width) + " numbers per key movement, found " + std::to_string(v.size()));
     std::vector<Deriv> out(v.size() / width, zero_deriv<Deriv>());
     for (std::size_t k = 0; k < out.size(); ++k)
-        std::copy(v.begin() + static_cast<std::ptrdiff_t>(k * width), v.begin() + static_cast<std::ptrdiff_t>((k + 1) * width),
-                  reinterpret_cast<double*>(&out[k]));
+        std::copy(v.begin() + static_cast<std::ptrdiff_t>(k * width),
+                  v.begin() + static_cast<std::ptrdiff_t>((k + 1) * width), reinterpret_cast<double*>(&out[k]));
     return out;
 }
 
@@ -181,8 +191,8 @@ BaseProjectiveConstraint& add_linear_movement(SceneBuilder& b, const Attributes&
         a.fail("movements", std::to_string(times.size()) + " key times need as many movements, found " +
                                 std::to_string(movements.size()));
     return info.node->add_constraint<LinearMovementProjectiveConstraint<DataTypes>>(
-        *typed_state<DataTypes>(s), std::move(idx), std::move(times), std::move(movements), a.boolean("relativeMovements"),
-        [sim = &b.simulation()] { return sim->time(); });
+        *typed_state<DataTypes>(s), std::move(idx), std::move(times), std::move(movements),
+        a.boolean("relativeMovements"), [sim = &b.simulation()] { return sim->time(); });
 }
 
 void build_linear_movement(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -223,12 +233,14 @@ void build_parabolic(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) 
     const std::vector<Index> idx = index_list(b, a, "indices", {});
     ContextClock clock = [sim = &b.simulation()] { return sim->time(); };
     ContextClock dt = [node = info.node] { return node->dt(); };
-    BaseProjectiveConstraint& f =
-        rigid ? static_cast<BaseProjectiveConstraint&>(info.node->add_constraint<ParabolicProjectiveConstraint<Rigid3Types>>(
-                    *typed_state<Rigid3Types>(s), idx, p1, p2, p3, begin, end, clock, dt))
-              : info.node->add_constraint<ParabolicProjectiveConstraint<Vec3Types>>(*typed_state<Vec3Types>(s), idx, p1, p2,
-                                                                                   p3, begin, end, clock, dt);
-    finish(b, c, f, "moves " + counted(idx.size(), "DOF", "DOFs") + " on a parabola from " + num(begin) + " s to " + num(end) + " s");
+    BaseProjectiveConstraint& f = rigid ? static_cast<BaseProjectiveConstraint&>(
+                                              info.node->add_constraint<ParabolicProjectiveConstraint<Rigid3Types>>(
+                                                  *typed_state<Rigid3Types>(s), idx, p1, p2, p3, begin, end, clock, dt))
+                                        : info.node->add_constraint<ParabolicProjectiveConstraint<Vec3Types>>(
+                                              *typed_state<Vec3Types>(s), idx, p1, p2, p3, begin, end, clock, dt);
+    finish(b, c, f,
+           "moves " + counted(idx.size(), "DOF", "DOFs") + " on a parabola from " + num(begin) + " s to " + num(end) +
+               " s");
 }
 
 // ---- FixedRotation ----------------------------------------------------------------------------
@@ -247,7 +259,8 @@ void build_fixed_rotation(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     const bool x = a.boolean("FixedXRotation"), y = a.boolean("FixedYRotation"), z = a.boolean("FixedZRotation");
     auto& f = info.node->add_constraint<FixedRotationProjectiveConstraint>(*rigid, x, y, z);
     std::string axes = std::string(x ? "x" : "") + (y ? "y" : "") + (z ? "z" : "");
-    finish(b, c, f, axes.empty() ? "fixes no rotation" : "keeps the rotations about " + axes + " at their initial value");
+    finish(b, c, f,
+           axes.empty() ? "fixes no rotation" : "keeps the rotations about " + axes + " at their initial value");
 }
 
 // ---- Attach -----------------------------------------------------------------------------------
@@ -276,7 +289,8 @@ BaseState& linked_state(SceneBuilder& b, const Attributes& a, std::string_view a
     const io::LinkTarget t = a.link(attr);
     const io::SceneNode* target = t.node;
     if (t.component != nullptr) {
-        if (find_component(t.component->type)->family != F::state) a.fail(attr, "must link to a node or a MechanicalObject");
+        if (find_component(t.component->type)->family != F::state)
+            a.fail(attr, "must link to a node or a MechanicalObject");
         target = t.component->node;
     }
     if (target == nullptr || b.node_builds().count(target) == 0 || b.node_build(*target).node == nullptr ||
@@ -296,16 +310,19 @@ void build_attach(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     BaseState& s1 = linked_state(b, a, "object1", info);
     BaseState& s2 = linked_state(b, a, "object2", info);
     const bool rigid = wants_rigid(c, s2, true);
-    if ((typed_state<Rigid3Types>(s1) != nullptr) != rigid) a.fail("object1", "object1 and object2 must have the same template");
+    if ((typed_state<Rigid3Types>(s1) != nullptr) != rigid)
+        a.fail("object1", "object1 and object2 must have the same template");
     for (const char* flag : {"lastFreeRotation", "restRotations", "clamp"})
         if (a.boolean(flag)) a.fail(flag, "only false is supported by penalty");
-    if (a.vector3("lastDir").norm() > 1.0e-10) a.fail("lastDir", "release planes are not supported by penalty (zero only)");
+    if (a.vector3("lastDir").norm() > 1.0e-10)
+        a.fail("lastDir", "release planes are not supported by penalty (zero only)");
     static_cast<void>(a.vector3("lastPos"));
     AttachParameters p;
     p.indices1 = index_list(b, a, "indices1", {});
     p.indices2 = index_list(b, a, "indices2", {});
     if (p.indices1.size() != p.indices2.size())
-        a.fail("indices2", "has " + std::to_string(p.indices2.size()) + " entries for " + std::to_string(p.indices1.size()) +
+        a.fail("indices2", "has " + std::to_string(p.indices2.size()) + " entries for " +
+                               std::to_string(p.indices1.size()) +
                                " in indices1 (SOFA pairs the first ones and warns)");
     p.two_way = a.boolean("twoWay");
     if (p.two_way && &s1 != &s2) a.fail("twoWay", "is supported when object1 and object2 are the same state");
@@ -318,30 +335,59 @@ void build_attach(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     if (!p.constraint_factor.empty() && p.constraint_factor.size() != p.indices2.size())
         a.fail("constraintFactor", "needs one value per pair (" + std::to_string(p.indices2.size()) + ")");
     const std::size_t pairs = p.indices2.size();
-    BaseProjectiveConstraint& f = rigid ? add_attach<Rigid3Types>(info, s1, s2, std::move(p)) : add_attach<Vec3Types>(info, s1, s2, std::move(p));
-    finish(b, c, f, "attaches " + counted(pairs, "DOF", "DOFs") + " of " + std::string(s2.state_name()) + " to " +
-                        std::string(s1.state_name()));
+    BaseProjectiveConstraint& f =
+        rigid ? add_attach<Rigid3Types>(info, s1, s2, std::move(p)) : add_attach<Vec3Types>(info, s1, s2, std::move(p));
+    finish(b, c, f,
+           "attaches " + counted(pairs, "DOF", "DOFs") + " of " + std::string(s2.state_name()) + " to " +
+               std::string(s1.state_name()));
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "LineProjectiveConstraint", .family = F::constraint, .summary = "points kept on a line", .attributes = kLine,
+    {.type = "LineProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "points kept on a line",
+     .attributes = kLine,
      .build = build_line},
-    {.type = "PlaneProjectiveConstraint", .family = F::constraint, .summary = "points kept on a plane",
-     .attributes = kPlane, .build = build_plane},
-    {.type = "DirectionProjectiveConstraint", .family = F::constraint, .summary = "points moving along one direction",
-     .attributes = kDirection, .build = build_direction},
-    {.type = "PointProjectiveConstraint", .family = F::constraint, .summary = "points held at one point",
-     .attributes = kPoint, .build = build_point},
-    {.type = "PartialFixedProjectiveConstraint", .family = F::constraint, .summary = "DOFs fixed along some axes",
-     .attributes = kPartialFixed, .build = build_partial_fixed},
-    {.type = "LinearMovementProjectiveConstraint", .family = F::constraint, .summary = "piecewise linear prescribed motion",
-     .attributes = kLinearMovement, .build = build_linear_movement},
-    {.type = "ParabolicProjectiveConstraint", .family = F::constraint, .summary = "parabolic prescribed motion",
-     .attributes = kParabolic, .build = build_parabolic},
-    {.type = "FixedRotationProjectiveConstraint", .family = F::constraint, .summary = "rotations about world axes fixed",
-     .attributes = kFixedRotation, .build = build_fixed_rotation},
-    {.type = "AttachProjectiveConstraint", .family = F::constraint, .summary = "DOFs of one state following another's",
-     .attributes = kAttach, .build = build_attach},
+    {.type = "PlaneProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "points kept on a plane",
+     .attributes = kPlane,
+     .build = build_plane},
+    {.type = "DirectionProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "points moving along one direction",
+     .attributes = kDirection,
+     .build = build_direction},
+    {.type = "PointProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "points held at one point",
+     .attributes = kPoint,
+     .build = build_point},
+    {.type = "PartialFixedProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "DOFs fixed along some axes",
+     .attributes = kPartialFixed,
+     .build = build_partial_fixed},
+    {.type = "LinearMovementProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "piecewise linear prescribed motion",
+     .attributes = kLinearMovement,
+     .build = build_linear_movement},
+    {.type = "ParabolicProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "parabolic prescribed motion",
+     .attributes = kParabolic,
+     .build = build_parabolic},
+    {.type = "FixedRotationProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "rotations about world axes fixed",
+     .attributes = kFixedRotation,
+     .build = build_fixed_rotation},
+    {.type = "AttachProjectiveConstraint",
+     .family = F::constraint,
+     .summary = "DOFs of one state following another's",
+     .attributes = kAttach,
+     .build = build_attach},
 };
 
 }  // namespace

@@ -78,23 +78,30 @@ BaseState& mapping_end(SceneBuilder& b, const Attributes& a, std::string_view at
 
 void build_python_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    if (info.state_component == nullptr) io::throw_element_error(c, "needs a MechanicalObject in its node (its output)");
+    if (info.state_component == nullptr)
+        io::throw_element_error(c, "needs a MechanicalObject in its node (its output)");
     BaseState& in = mapping_end(b, a, "input", info.scene_node->parent);
     BaseState& out = mapping_end(b, a, "output", info.scene_node);
     if (&out != info.node->state()) a.fail("output", "must be the MechanicalObject of the mapping's own node");
     b.guarded(c, [&] {
-        BaseMapping& m = info.node->set_mapping<HeldMapping>(external(b, c).mapping(a.integer_or("pythonObject", -1), in, out));
+        BaseMapping& m =
+            info.node->set_mapping<HeldMapping>(external(b, c).mapping(a.integer_or("pythonObject", -1), in, out));
         b.add_init(0, c, [p = &m] { p->init(); });
     });
     b.role(c, [o = &out] { return "mapping in Python onto this node's " + counted(o->num_dofs(), "point", "points"); });
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "PythonForceField", .family = F::force_field,
+    {.type = "PythonForceField",
+     .family = F::force_field,
      .summary = "force field written in Python (Sofa.Core.ForceFieldVec3d / ForceFieldRigid3d)",
-     .attributes = kPythonForceField, .build = build_python_force_field},
-    {.type = "PythonMapping", .family = F::mapping, .summary = "mapping written in Python (Sofa.Core.Mapping_Vec3d_Vec3d)",
-     .attributes = kPythonMapping, .build = build_python_mapping},
+     .attributes = kPythonForceField,
+     .build = build_python_force_field},
+    {.type = "PythonMapping",
+     .family = F::mapping,
+     .summary = "mapping written in Python (Sofa.Core.Mapping_Vec3d_Vec3d)",
+     .attributes = kPythonMapping,
+     .build = build_python_mapping},
 };
 
 }  // namespace

@@ -56,7 +56,8 @@ std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBui
         if (!roi_link_resolves(a.component(), attr)) {
             // SOFA keeps a Data whose link finds no parent set and empty: the ROI selects nothing
             b.warn(a.component().file + ":" + std::to_string(a.component().find(attr)->line) + ": " +
-                   a.component().describe() + ": attribute '" + attr + "': the link '" + a.component().find(attr)->value +
+                   a.component().describe() + ": attribute '" + attr + "': the link '" +
+                   a.component().find(attr)->value +
                    "' finds nothing; as SOFA, the region tests no point and selects nothing");
             return {};
         }
@@ -70,7 +71,8 @@ std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBui
         if (const Vec3Object* s = nearest_state(b, info)) return s->rest_position;
         if (const SceneComponent* loader = first_loader(info)) return b.mesh_of(*loader).positions;
     }
-    io::throw_element_error(a.component(), "finds no points: give `position`, or put it with a MechanicalObject or a loader");
+    io::throw_element_error(a.component(),
+                            "finds no points: give `position`, or put it with a MechanicalObject or a loader");
 }
 
 RoiElements roi_elements(SceneBuilder& b, const Attributes& a, const NodeBuild& info, RoiContext context,
@@ -90,7 +92,8 @@ RoiElements roi_elements(SceneBuilder& b, const Attributes& a, const NodeBuild& 
         // BoxROI's alias `quad` (BoxROI::BoxROI's addAlias)
         const std::string_view quads = names.quad_alias && !a.has("quads") && a.has("quad") ? "quad" : "quads";
         e.quads = roi_list<Quad>(b, a, quads, "computeQuads", fallback, &M::quads, &T::quads);
-        e.hexahedra = roi_list<Hexahedron>(b, a, "hexahedra", "computeHexahedra", fallback, &M::hexahedra, &T::hexahedra);
+        e.hexahedra =
+            roi_list<Hexahedron>(b, a, "hexahedra", "computeHexahedra", fallback, &M::hexahedra, &T::hexahedra);
     }
     return e;
 }
@@ -151,14 +154,18 @@ std::string describe_roi_selection(const RoiSelection& s, std::size_t num_points
 namespace {
 
 // Element inputs of every ROI (BaseROI; PlaneROI has no quads nor hexahedra).
-#define PENALTY_ROI_POINTS                                                                                      \
-    {"position", K::points, "(rest positions of the context's state)", "m", ValueCheck::none, "points tested"}, \
-        {"rest_position", K::points, "", "m", ValueCheck::none, "alias of position"}
-#define PENALTY_ROI_LISTS(ELEMENTS, ELEMENT)                                                                       \
-    {ELEMENTS, K::elements, "(the node's topology)", "", ValueCheck::none, ELEMENT " tested (inline or a link)"}
-#define PENALTY_ROI_COMPUTE(NAME) {NAME, K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"}
-#define PENALTY_ROI_OUTPUT(NAME) {NAME, K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"}
-#define PENALTY_ROI_DRAW(NAME) {NAME, K::boolean, "0", "", ValueCheck::none, "drawing only"}
+#define PENALTY_ROI_POINTS                                                                                        \
+    {"position", K::points, "(rest positions of the context's state)", "m", ValueCheck::none, "points tested"}, { \
+        "rest_position", K::points, "", "m", ValueCheck::none, "alias of position"                                \
+    }
+#define PENALTY_ROI_LISTS(ELEMENTS, ELEMENT) \
+    { ELEMENTS, K::elements, "(the node's topology)", "", ValueCheck::none, ELEMENT " tested (inline or a link)" }
+#define PENALTY_ROI_COMPUTE(NAME) \
+    { NAME, K::boolean, "1", "", ValueCheck::none, "0: that list is not tested" }
+#define PENALTY_ROI_OUTPUT(NAME) \
+    { NAME, K::indices, "", "", ValueCheck::none, "output (a written value is replaced)" }
+#define PENALTY_ROI_DRAW(NAME) \
+    { NAME, K::boolean, "0", "", ValueCheck::none, "drawing only" }
 
 // ---- PlaneROI -------------------------------------------------------------------------------
 // PlaneROI (a DataEngine of its own, not a BaseROI): `plane` = 10 numbers per box (three corners
@@ -285,8 +292,8 @@ void build_sphere_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
         if (radii.size() == 1 && centers.size() > 1) radii.resize(centers.size(), radii[0]);
         std::vector<SphereRegion> spheres;
         if (radii.size() != centers.size()) {
-            b.warn(c.describe() + ": " + std::to_string(centers.size()) + " centres and " + std::to_string(radii.size()) +
-                   " radii: selects nothing, as SOFA");
+            b.warn(c.describe() + ": " + std::to_string(centers.size()) + " centres and " +
+                   std::to_string(radii.size()) + " radii: selects nothing, as SOFA");
         } else {
             for (std::size_t i = 0; i < centers.size(); ++i) spheres.push_back({centers[i], radii[i]});
         }
@@ -333,10 +340,16 @@ void build_sphere_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
 #undef PENALTY_ROI_DRAW
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "PlaneROI", .family = F::engine, .summary = "indices of the points and elements inside plane boxes",
-     .attributes = kPlaneRoi, .build = build_plane_roi},
-    {.type = "SphereROI", .family = F::engine, .summary = "indices of the points and elements inside balls",
-     .attributes = kSphereRoi, .build = build_sphere_roi},
+    {.type = "PlaneROI",
+     .family = F::engine,
+     .summary = "indices of the points and elements inside plane boxes",
+     .attributes = kPlaneRoi,
+     .build = build_plane_roi},
+    {.type = "SphereROI",
+     .family = F::engine,
+     .summary = "indices of the points and elements inside balls",
+     .attributes = kSphereRoi,
+     .build = build_sphere_roi},
 };
 
 }  // namespace

@@ -27,7 +27,8 @@ Rigid3Object& linked_rigid_state(SceneBuilder& b, const Attributes& a, std::stri
     const io::LinkTarget t = a.link(attr);
     const io::SceneNode* target = t.node;
     if (t.component != nullptr) {
-        if (find_component(t.component->type)->family != F::state) a.fail(attr, "must link to a node or a MechanicalObject");
+        if (find_component(t.component->type)->family != F::state)
+            a.fail(attr, "must link to a node or a MechanicalObject");
         target = t.component->node;
     }
     if (target == nullptr || b.node_builds().count(target) == 0 || b.node_build(*target).node == nullptr)
@@ -88,7 +89,8 @@ constexpr AttributeSpec kBeam[] = {
     {"poissonRatio", K::numbers, "0.45", "", ValueCheck::none, "nu (G = E / (2 (1 + nu))), one value or one per beam"},
     {"radius", K::real, "0.1", "m", ValueCheck::positive, "outer radius of the circular section"},
     {"radiusInner", K::real, "0", "m", ValueCheck::nonnegative, "inner radius (hollow section)"},
-    {"useSymmetricAssembly", K::boolean, "0", "", ValueCheck::none, "stiffness matrix from the rest frames (symmetric)"},
+    {"useSymmetricAssembly", K::boolean, "0", "", ValueCheck::none,
+     "stiffness matrix from the rest frames (symmetric)"},
     {"listSegment", K::indices, "(every edge)", "", ValueCheck::none, "the edges that are beams"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "its edges"},
 };
@@ -116,7 +118,8 @@ void build_beam(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         std::vector<std::array<Index, 2>> chosen;
         for (PointId i : a.indices("listSegment")) {
             if (static_cast<std::size_t>(i) >= edges.size())
-                a.fail("listSegment", "edge " + std::to_string(i) + " out of range (" + std::to_string(edges.size()) + " edges)");
+                a.fail("listSegment",
+                       "edge " + std::to_string(i) + " out of range (" + std::to_string(edges.size()) + " edges)");
             chosen.push_back(edges[static_cast<std::size_t>(i)]);
         }
         edges = std::move(chosen);
@@ -126,18 +129,24 @@ void build_beam(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, p] {
-            return counted(ff->beam_count(), "beam", "beams") + " (Euler-Bernoulli, E = " + num(p.young_modulus.front()) +
-                   " Pa, r = " + num(p.radius) + " m)";
+            return counted(ff->beam_count(), "beam", "beams") +
+                   " (Euler-Bernoulli, E = " + num(p.young_modulus.front()) + " Pa, r = " + num(p.radius) + " m)";
         });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "JointSpringForceField", .family = F::force_field, .summary = "joint springs between Rigid3d frames",
-     .attributes = kJointSpring, .build = build_joint_spring},
-    {.type = "BeamFEMForceField", .family = F::force_field, .summary = "elastic beams (SOFA's, shear-free) between Rigid3d frames",
-     .attributes = kBeam, .build = build_beam},
+    {.type = "JointSpringForceField",
+     .family = F::force_field,
+     .summary = "joint springs between Rigid3d frames",
+     .attributes = kJointSpring,
+     .build = build_joint_spring},
+    {.type = "BeamFEMForceField",
+     .family = F::force_field,
+     .summary = "elastic beams (SOFA's, shear-free) between Rigid3d frames",
+     .attributes = kBeam,
+     .build = build_beam},
 };
 
 }  // namespace

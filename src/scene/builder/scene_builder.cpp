@@ -9,8 +9,8 @@
 
 #include <algorithm>
 #include <array>
-#include <initializer_list>
 #include <cmath>
+#include <initializer_list>
 #include <sstream>
 #include <stdexcept>
 
@@ -112,8 +112,9 @@ const io::MeshData& SceneBuilder::mesh_of(const SceneComponent& loader) {
         bool scale_read_whole = true;
         static_cast<void>(io::mesh_loader_scale(loader, &scale_read_whole));
         if (!scale_read_whole)
-            warn(loader.file + ":" + std::to_string(loader.find("scale")->line) + ": " + loader.describe() + ": scale '" +
-                 *io::get_string(loader, "scale") + "' is not one number: scale 1 (SOFA's MeshLoader::parse reads it so)");
+            warn(loader.file + ":" + std::to_string(loader.find("scale")->line) + ": " + loader.describe() +
+                 ": scale '" + *io::get_string(loader, "scale") +
+                 "' is not one number: scale 1 (SOFA's MeshLoader::parse reads it so)");
     }
     return it->second;
 }
@@ -167,7 +168,8 @@ void SceneBuilder::build_unread_data_engines() {
     // be a visual model's or a mapped state's, which penalty builds later or not at all).
     io::for_each_component(*file_.root, [&](const SceneComponent& c) {
         const ComponentSpec* spec = find_component(c.type);
-        if (spec == nullptr || spec->family != ComponentFamily::data_engine || built_data_engines_.count(&c) != 0) return;
+        if (spec == nullptr || spec->family != ComponentFamily::data_engine || built_data_engines_.count(&c) != 0)
+            return;
         try {
             build_data_engine(c);
         } catch (const std::exception& e) {
@@ -182,8 +184,9 @@ void SceneBuilder::build_data_engine(const SceneComponent& c) {
     if (!built_data_engines_.insert(&c).second) return;  // built, or being built (a loop of links)
     const auto node = nodes_.find(c.node);
     if (node == nodes_.end())
-        io::throw_element_error(c, "is read through a link before its node is built (penalty builds nodes "
-                                   "depth first: put it in the reading node or an ancestor)");
+        io::throw_element_error(c,
+                                "is read through a link before its node is built (penalty builds nodes "
+                                "depth first: put it in the reading node or an ancestor)");
     spec->build(*this, c, node->second);
 }
 
@@ -307,8 +310,8 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
         const ComponentSpec& spec = *find_component(c->type);
         if (spec.family != F::topology) continue;
         if (previous_topology != nullptr)
-            warn(c->file + ":" + std::to_string(c->line) + ": " + c->describe() + " replaces " + previous_topology->describe() +
-                 " (line " + std::to_string(previous_topology->line) +
+            warn(c->file + ":" + std::to_string(c->line) + ": " + c->describe() + " replaces " +
+                 previous_topology->describe() + " (line " + std::to_string(previous_topology->line) +
                  ") as the node's topology: a SOFA node keeps its last topology");
         previous_topology = c;
         info.topology = nullptr;
@@ -326,8 +329,8 @@ void SceneBuilder::build_node(const SceneNode& sn, Node& node) {
     build_family({F::mass, F::force_field, F::constraint, F::engine});
     build_family({F::ode_solver});
     build_family({F::collision_model});
-    build_family({F::animation_loop, F::linear_solver, F::solver_part, F::collision_pipeline, F::composite_pipeline, F::sub_pipeline,
-                  F::broad_phase, F::narrow_phase, F::intersection, F::contact_manager});
+    build_family({F::animation_loop, F::linear_solver, F::solver_part, F::collision_pipeline, F::composite_pipeline,
+                  F::sub_pipeline, F::broad_phase, F::narrow_phase, F::intersection, F::contact_manager});
 
     if (info.state_component) record_state(sn, info);
     for (const auto& child : sn.children) build_node(*child, node.add_child(child->name));

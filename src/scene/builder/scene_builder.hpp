@@ -30,14 +30,14 @@ struct NodeBuild {
     Node* node = nullptr;
     const io::SceneNode* scene_node = nullptr;
     const io::SceneComponent* state_component = nullptr;
-    const MeshTopology* topology = nullptr;      ///< MeshTopology, or the grid's element lists
-    std::vector<Vec3> topology_positions;        ///< points given to the topology (may be empty)
+    const MeshTopology* topology = nullptr;  ///< MeshTopology, or the grid's element lists
+    std::vector<Vec3> topology_positions;    ///< points given to the topology (may be empty)
     std::optional<RegularGridTopology> grid;
     std::optional<SparseGridTopology> sparse_grid;  ///< SparseGridTopology (src/scene/builder/sparse_grid.cpp)
     const io::SceneComponent* topology_component = nullptr;
     bool mapped = false;
-    const io::SceneNode* solver_node = nullptr;  ///< first node from the root owning an ODE solver (null: none)
-    int node_id = 0;                             ///< depth-first index (collision same-node rule)
+    const io::SceneNode* solver_node = nullptr;      ///< first node from the root owning an ODE solver (null: none)
+    int node_id = 0;                                 ///< depth-first index (collision same-node rule)
     std::vector<const io::SceneComponent*> physics;  ///< the node's physics components, file order
 };
 
@@ -144,7 +144,8 @@ public:
     /// Positions named by a data link (`@loader.position`, `@[-1].position`, `@../dofs.position`).
     std::vector<Vec3> linked_positions(const Attributes& a, std::string_view attr);
     /// Records an index list an engine computed (BoxROI's `indices`), read through links `@engine.data`.
-    void record_engine_indices(const io::SceneComponent& engine, const std::string& data, std::vector<PointId> indices) {
+    void record_engine_indices(const io::SceneComponent& engine, const std::string& data,
+                               std::vector<PointId> indices) {
         engine_indices_[{&engine, data}] = std::move(indices);
     }
     /// Records a list of index lists an engine computed (ClusteringEngine's `cluster`), read
@@ -155,7 +156,7 @@ public:
     }
     /// The lists recorded by `record_engine_index_lists`, or null; the engine is built first.
     [[nodiscard]] const std::vector<std::vector<PointId>>* engine_index_lists(const io::SceneComponent& engine,
-                                                                            const std::string& data) {
+                                                                              const std::string& data) {
         build_data_engine(engine);
         const auto it = engine_index_lists_.find({&engine, data});
         return it == engine_index_lists_.end() ? nullptr : &it->second;
@@ -250,8 +251,12 @@ public:
     /// Components a collision pipeline uses (the others are described as unused).
     void mark_used(const io::SceneComponent* c) { used_pieces_.insert(c); }
     [[nodiscard]] bool is_used(const io::SceneComponent* c) const { return used_pieces_.count(c) != 0; }
-    [[nodiscard]] const std::vector<const io::SceneComponent*>& pipeline_components() const { return pipeline_components_; }
-    [[nodiscard]] const std::vector<std::pair<EulerImplicitSolver*, Node*>>& newton_solvers() const { return newton_solvers_; }
+    [[nodiscard]] const std::vector<const io::SceneComponent*>& pipeline_components() const {
+        return pipeline_components_;
+    }
+    [[nodiscard]] const std::vector<std::pair<EulerImplicitSolver*, Node*>>& newton_solvers() const {
+        return newton_solvers_;
+    }
     [[nodiscard]] const SceneCheck& check() const { return check_; }
     /// True for a component the scene check ignored (visual).
     [[nodiscard]] bool is_ignored(const io::SceneComponent* c) const { return ignored_.count(c) != 0; }

@@ -38,9 +38,11 @@ void require_vec3(const SceneComponent& c) {
 }
 
 #define PENALTY_ROI_LIST(ELEMENTS, ELEMENT) \
-    {ELEMENTS, K::elements, "(the node's topology)", "", ValueCheck::none, ELEMENT " tested (inline or a link)"}
-#define PENALTY_ROI_FLAG(NAME, DEFAULT, MEANING) {NAME, K::boolean, DEFAULT, "", ValueCheck::none, MEANING}
-#define PENALTY_OUTPUT(NAME) {NAME, K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"}
+    { ELEMENTS, K::elements, "(the node's topology)", "", ValueCheck::none, ELEMENT " tested (inline or a link)" }
+#define PENALTY_ROI_FLAG(NAME, DEFAULT, MEANING) \
+    { NAME, K::boolean, DEFAULT, "", ValueCheck::none, MEANING }
+#define PENALTY_OUTPUT(NAME) \
+    { NAME, K::indices, "", "", ValueCheck::none, "output (a written value is replaced)" }
 
 // ---- MeshROI --------------------------------------------------------------------------------
 // MeshROI (a BaseROI): the ROI mesh (ROIposition, ROItriangles; by default the node's own state's
@@ -112,8 +114,9 @@ void build_mesh_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::base_roi);
-        selection = select_in_region(points, elements, [&region](const Vec3& p) { return region.contains(p); },
-                                     a.boolean("strict") ? ElementTest::all_points : ElementTest::all_points_or_center);
+        selection = select_in_region(
+            points, elements, [&region](const Vec3& p) { return region.contains(p); },
+            a.boolean("strict") ? ElementTest::all_points : ElementTest::all_points_or_center);
     });
     b.role(c, [selection, num_points, elements, roi_triangles] {
         return describe_roi_selection(selection, num_points, elements,
@@ -198,7 +201,8 @@ void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeB
     bool vectors = false;
     b.guarded(c, [&] {
         const std::string field = a.text("fieldType");
-        if (field != "Scalar" && field != "Vector") a.fail("fieldType", "expected Scalar or Vector, found '" + field + "'");
+        if (field != "Scalar" && field != "Vector")
+            a.fail("fieldType", "expected Scalar or Vector, found '" + field + "'");
         vectors = field == "Vector";
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::plane_roi);
         const MeshTopology* topology = nearest_topology(b, info);
@@ -225,7 +229,8 @@ void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeB
         r = values_from_positions(points, edges, triangles, tetrahedra, a.vector3("direction"), input, lo, hi, vectors);
     });
     b.role(c, [n = vectors ? r.point_vectors.size() : r.point_values.size(), vectors] {
-        return std::string(vectors ? "a vector" : "a scalar") + " per point and element (" + counted(n, "point", "points") + ")";
+        return std::string(vectors ? "a vector" : "a scalar") + " per point and element (" +
+               counted(n, "point", "points") + ")";
     });
     const auto record_vectors = [&](const char* name, std::vector<Vec3> v) {
         io::MeshData m;
@@ -244,12 +249,20 @@ void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeB
 #undef PENALTY_OUTPUT
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "MeshROI", .family = F::engine, .summary = "indices of the points and elements inside a closed triangle mesh",
-     .attributes = kMeshRoi, .build = build_mesh_roi},
-    {.type = "ProximityROI", .family = F::engine, .summary = "indices of the N points nearest a set of centres",
-     .attributes = kProximityRoi, .build = build_proximity_roi},
-    {.type = "ValuesFromPositions", .family = F::engine,
-     .summary = "a scalar or vector field per point and element, along a direction", .attributes = kValuesFromPositions,
+    {.type = "MeshROI",
+     .family = F::engine,
+     .summary = "indices of the points and elements inside a closed triangle mesh",
+     .attributes = kMeshRoi,
+     .build = build_mesh_roi},
+    {.type = "ProximityROI",
+     .family = F::engine,
+     .summary = "indices of the N points nearest a set of centres",
+     .attributes = kProximityRoi,
+     .build = build_proximity_roi},
+    {.type = "ValuesFromPositions",
+     .family = F::engine,
+     .summary = "a scalar or vector field per point and element, along a direction",
+     .attributes = kValuesFromPositions,
      .build = build_values_from_positions},
 };
 

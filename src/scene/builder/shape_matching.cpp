@@ -102,7 +102,8 @@ ShapeMatchingSource shape_matching_source(SceneBuilder& b, const SceneComponent&
     const Attributes a(c);
     ShapeMatchingSource s;
     s.rest = &b.vec3_state(c, b.node_build(*c.node));
-    if (!a.has("position")) io::throw_element_error(c, "needs the current positions: give `position=\"@dofs.position\"`");
+    if (!a.has("position"))
+        io::throw_element_error(c, "needs the current positions: give `position=\"@dofs.position\"`");
     s.current = dynamic_cast<Vec3Object*>(b.linked_state(a, "position"));
     if (s.current == nullptr) a.fail("position", "must link to a Vec3d MechanicalObject's position built before");
     if (!a.has("cluster")) io::throw_element_error(c, "needs its clusters: give `cluster=\"@clustering.cluster\"`");
@@ -146,7 +147,8 @@ void build_shape_matching(SceneBuilder& b, const SceneComponent& c, NodeBuild&) 
 
 // ---- PositionBasedDynamicsProjectiveConstraint ------------------------------------------------
 constexpr AttributeSpec kPositionBasedDynamics[] = {
-    {"position", K::points, "", "m", ValueCheck::none, "target positions (inline, a link to positions, or to a ShapeMatching's targetPosition)"},
+    {"position", K::points, "", "m", ValueCheck::none,
+     "target positions (inline, a link to positions, or to a ShapeMatching's targetPosition)"},
     {"stiffness", K::real, "1", "", ValueCheck::none, "blending of the current (0) and target (1) positions"},
 };
 
@@ -189,7 +191,7 @@ void build_position_based_dynamics(SceneBuilder& b, const SceneComponent& c, Nod
     TargetPositions targets = target_positions(b, a, state.num_dofs());
     const double stiffness = a.real("stiffness");
     auto& f = info.node->add_constraint<PositionBasedDynamicsConstraint>(state, std::move(targets), stiffness,
-                                                                        [node = info.node] { return node->dt(); });
+                                                                         [node = info.node] { return node->dt(); });
     b.record_origin(&f, c);
     b.add_init(1, c, [p = &f] { p->init(); });
     b.role(c, [stiffness] { return "moves the points toward their targets (stiffness " + num(stiffness) + ")"; });
@@ -197,15 +199,21 @@ void build_position_based_dynamics(SceneBuilder& b, const SceneComponent& c, Nod
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "ClusteringEngine", .family = F::data_engine,
+    {.type = "ClusteringEngine",
+     .family = F::data_engine,
      .summary = "overlapping clusters of points (farthest-point seeds, geodesic or Euclidean neighbourhoods)",
-     .attributes = kClustering, .build = build_clustering},
-    {.type = "ShapeMatching", .family = F::data_engine,
+     .attributes = kClustering,
+     .build = build_clustering},
+    {.type = "ShapeMatching",
+     .family = F::data_engine,
      .summary = "per-cluster best rigid (or affine-blended) fit of the rest shape: targetPosition",
-     .attributes = kShapeMatching, .build = build_shape_matching},
-    {.type = "PositionBasedDynamicsProjectiveConstraint", .family = F::constraint,
+     .attributes = kShapeMatching,
+     .build = build_shape_matching},
+    {.type = "PositionBasedDynamicsProjectiveConstraint",
+     .family = F::constraint,
      .summary = "positions moved toward target positions after each step, velocities from the motion",
-     .attributes = kPositionBasedDynamics, .build = build_position_based_dynamics},
+     .attributes = kPositionBasedDynamics,
+     .build = build_position_based_dynamics},
 };
 
 }  // namespace

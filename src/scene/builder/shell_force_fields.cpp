@@ -35,8 +35,8 @@ void build_triangular_fem_optim(SceneBuilder& b, const SceneComponent& c, NodeBu
     p.poisson_ratio = elasticity_values(a, "poissonRatio", p.poisson_ratio, true);
     if (a.has("restScale")) p.rest_scale = a.real("restScale");
     if (a.text("method") != "large")
-        b.warn(c.file + ":" + std::to_string(c.find("method")->line) + ": " + c.describe() +
-               ": method '" + a.text("method") + "' ignored: TriangularFEMForceFieldOptim is large-displacement only (as SOFA)");
+        b.warn(c.file + ":" + std::to_string(c.find("method")->line) + ": " + c.describe() + ": method '" +
+               a.text("method") + "' ignored: TriangularFEMForceFieldOptim is large-displacement only (as SOFA)");
     static_cast<void>(a.real("damping"));
     static_cast<void>(a.boolean("computePrincipalStress"));
     static_cast<void>(a.boolean("showStressVector"));
@@ -47,8 +47,8 @@ void build_triangular_fem_optim(SceneBuilder& b, const SceneComponent& c, NodeBu
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, p] {
-            return counted(ff->rest_triangles().size(), "corotational triangle", "corotational triangles") + ", E = " +
-                   num(p.young_modulus.front()) + " Pa, nu = " + num(p.poisson_ratio.front());
+            return counted(ff->rest_triangles().size(), "corotational triangle", "corotational triangles") +
+                   ", E = " + num(p.young_modulus.front()) + " Pa, nu = " + num(p.poisson_ratio.front());
         });
     });
     b.note_unread_attributes(c);
@@ -102,22 +102,30 @@ void build_quad_bending(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [&topology, p] {
-            return counted(topology.quads().size(), "plate quad", "plate quads") + ", E = " + num(p.young_modulus.front()) +
-                   " Pa, thickness " + num(p.thickness) + " m (small displacements)";
+            return counted(topology.quads().size(), "plate quad", "plate quads") +
+                   ", E = " + num(p.young_modulus.front()) + " Pa, thickness " + num(p.thickness) +
+                   " m (small displacements)";
         });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "TriangularFEMForceFieldOptim", .family = F::force_field,
-     .summary = "corotational membrane triangles (SOFA's fast variant)", .attributes = kTriangularFemOptim,
+    {.type = "TriangularFEMForceFieldOptim",
+     .family = F::force_field,
+     .summary = "corotational membrane triangles (SOFA's fast variant)",
+     .attributes = kTriangularFemOptim,
      .build = build_triangular_fem_optim},
-    {.type = "FastTriangularBendingSprings", .family = F::force_field,
-     .summary = "linear bending across the edges shared by two triangles", .attributes = kFastBending,
+    {.type = "FastTriangularBendingSprings",
+     .family = F::force_field,
+     .summary = "linear bending across the edges shared by two triangles",
+     .attributes = kFastBending,
      .build = build_fast_bending},
-    {.type = "QuadBendingFEMForceField", .family = F::force_field, .summary = "Mindlin plate quads (small displacements)",
-     .attributes = kQuadBending, .build = build_quad_bending},
+    {.type = "QuadBendingFEMForceField",
+     .family = F::force_field,
+     .summary = "Mindlin plate quads (small displacements)",
+     .attributes = kQuadBending,
+     .build = build_quad_bending},
 };
 
 }  // namespace

@@ -121,7 +121,8 @@ void build_implicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
             if (p->first_order) out += ", first order";
             if (p->trapezoidal_scheme) out += ", trapezoidal";
             if (p->newton.enabled)
-                out += ", Newton (at most " + std::to_string(p->newton.max_iterations) + " iterations, contact geometry re-detected)";
+                out += ", Newton (at most " + std::to_string(p->newton.max_iterations) +
+                       " iterations, contact geometry re-detected)";
             if (linear == nullptr) out += "; no linear solver in its node: CG with SOFA's defaults";
             else if (p->direct_solver) out += "; direct linear solver " + linear->type;
             return out;
@@ -135,14 +136,25 @@ void build_implicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
 void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) { b.note_unread_attributes(c); }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "DefaultAnimationLoop", .family = F::animation_loop,
-     .summary = "time loop: collision, then one solver step per solver node", .build = note_only},
-    {.type = "EulerImplicitSolver", .family = F::ode_solver, .summary = "implicit Euler ODE solver",
-     .attributes = kImplicit, .build = build_implicit_solver},
-    {.type = "EulerExplicitSolver", .family = F::ode_solver, .summary = "explicit Euler ODE solver",
-     .attributes = kExplicit, .build = build_explicit_solver},
-    {.type = "CGLinearSolver", .family = F::linear_solver, .summary = "conjugate gradient linear solver",
-     .attributes = kConjugateGradient, .build = note_only},
+    {.type = "DefaultAnimationLoop",
+     .family = F::animation_loop,
+     .summary = "time loop: collision, then one solver step per solver node",
+     .build = note_only},
+    {.type = "EulerImplicitSolver",
+     .family = F::ode_solver,
+     .summary = "implicit Euler ODE solver",
+     .attributes = kImplicit,
+     .build = build_implicit_solver},
+    {.type = "EulerExplicitSolver",
+     .family = F::ode_solver,
+     .summary = "explicit Euler ODE solver",
+     .attributes = kExplicit,
+     .build = build_explicit_solver},
+    {.type = "CGLinearSolver",
+     .family = F::linear_solver,
+     .summary = "conjugate gradient linear solver",
+     .attributes = kConjugateGradient,
+     .build = note_only},
 };
 
 }  // namespace

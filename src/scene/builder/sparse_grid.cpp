@@ -1,9 +1,9 @@
 // Sparse grids: SparseGridTopology (the voxelisation of a closed surface mesh file).
 #include "penalty/io/data_path.hpp"
 #include "penalty/io/mesh.hpp"
+#include "penalty/mechanics/fem.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
-#include "penalty/mechanics/fem.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +43,8 @@ constexpr AttributeSpec kSparseGridRamification[] = {
 
 /// SparseGridMultipleTopology's own Data, with SparseGridRamificationTopology's.
 constexpr AttributeSpec kSparseGridMultiple[] = {
-    {"fileTopologies", K::text, "", "", ValueCheck::none, "the closed surfaces (.obj), blank-separated, most specific last"},
+    {"fileTopologies", K::text, "", "", ValueCheck::none,
+     "the closed surfaces (.obj), blank-separated, most specific last"},
     {"stiffnessCoefs", K::numbers, "", "", ValueCheck::none, "a stiffness coefficient per surface (missing ones: 1)"},
     {"massCoefs", K::numbers, "", "", ValueCheck::none, "a mass coefficient per surface (missing ones: 1)"},
     {"computeRamifications", K::boolean, "1", "", ValueCheck::none, "build the grid as SparseGridRamificationTopology"},
@@ -101,7 +102,8 @@ std::array<int, 3> grid_counts(SceneBuilder& b, const Attributes& a) {
     }
     const auto points = std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
     if (points > b.options().max_dofs)
-        io::throw_element_error(a.component(), std::to_string(points) + " grid points (more than " + std::to_string(b.options().max_dofs) + ")");
+        io::throw_element_error(a.component(), std::to_string(points) + " grid points (more than " +
+                                                   std::to_string(b.options().max_dofs) + ")");
     return n;
 }
 
@@ -115,8 +117,8 @@ std::array<int, 3> finest_counts(SceneBuilder& b, const Attributes& a, std::arra
         fine_points *= std::uint64_t(v);
     }
     if (fine_points > b.options().max_dofs)
-        a.fail("nbVirtualFinerLevels", "the finest level has " + std::to_string(fine_points) + " grid points (more than " +
-                                           std::to_string(b.options().max_dofs) + ")");
+        a.fail("nbVirtualFinerLevels", "the finest level has " + std::to_string(fine_points) +
+                                           " grid points (more than " + std::to_string(b.options().max_dofs) + ")");
     return n;
 }
 
@@ -130,12 +132,15 @@ SparseGridFacets facets_of(const io::MeshData& surface) {
 
 /// The coarser levels over `finest` (levels − 1 virtual ones, then this grid): ramified
 /// (SparseGridRamificationTopology::buildFromFiner) or not (SparseGridTopology::buildFromFiner).
-SparseGridTopology coarser_levels(SparseGridTopology finest, std::int64_t levels, bool ramified, bool top_ramified, bool fill) {
+SparseGridTopology coarser_levels(SparseGridTopology finest, std::int64_t levels, bool ramified, bool top_ramified,
+                                  bool fill) {
     auto level = std::make_shared<const SparseGridTopology>(std::move(finest));
     for (std::int64_t l = 1; l < levels; ++l)
-        level = std::make_shared<const SparseGridTopology>(ramified ? SparseGridTopology::from_finer_ramified(level, fill)
-                                                                    : SparseGridTopology::from_finer(level, fill));
-    return top_ramified ? SparseGridTopology::from_finer_ramified(level, fill) : SparseGridTopology::from_finer(level, fill);
+        level =
+            std::make_shared<const SparseGridTopology>(ramified ? SparseGridTopology::from_finer_ramified(level, fill)
+                                                                : SparseGridTopology::from_finer(level, fill));
+    return top_ramified ? SparseGridTopology::from_finer_ramified(level, fill)
+                        : SparseGridTopology::from_finer(level, fill);
 }
 
 /// SparseGridTopology and SparseGridRamificationTopology.
@@ -151,14 +156,15 @@ SparseGridTopology single_surface_grid(SceneBuilder& b, const Attributes& a) {
     const SparseGridFacets facets = finest_connectivity ? facets_of(surface) : SparseGridFacets{};
     const SparseGridFacets* crossing = finest_connectivity ? &facets : nullptr;
     if (levels == 0) {
-        SparseGridTopology grid = SparseGridTopology::from_surface(n, lo, hi, surface.positions, surface.triangles, a.boolean("onlyInsideCells"));
+        SparseGridTopology grid = SparseGridTopology::from_surface(n, lo, hi, surface.positions, surface.triangles,
+                                                                   a.boolean("onlyInsideCells"));
         // SparseGridRamificationTopology::buildAsFinest: without virtual levels the connexions
         // only matter to finestConnectivity's point numbering
         return finest_connectivity ? SparseGridTopology::ramified_finest(std::move(grid), crossing, true) : grid;
     }
     // the virtual finest level never reads onlyInsideCells (SOFA does not pass it on)
-    SparseGridTopology finest =
-        SparseGridTopology::from_surface(finest_counts(b, a, n, levels), lo, hi, surface.positions, surface.triangles, false);
+    SparseGridTopology finest = SparseGridTopology::from_surface(finest_counts(b, a, n, levels), lo, hi,
+                                                                 surface.positions, surface.triangles, false);
     if (ramification) finest = SparseGridTopology::ramified_finest(std::move(finest), crossing, finest_connectivity);
     return coarser_levels(std::move(finest), levels, ramification, ramification, fill);
 }
@@ -177,7 +183,8 @@ SparseGridTopology multiple_surface_grid(SceneBuilder& b, const Attributes& a) {
     for (const std::string& file : files) {
         try {
             const std::filesystem::path path = io::resolve_data_file(file, b.scene_dir(), b.options().data_dirs);
-            if (path.extension() != ".obj") a.fail("fileTopologies", "only .obj surfaces are supported, got '" + file + "'");
+            if (path.extension() != ".obj")
+                a.fail("fileTopologies", "only .obj surfaces are supported, got '" + file + "'");
             surfaces.push_back(io::load_obj(path, /*triangulate=*/true));
         } catch (const io::SceneError&) {
             throw;
@@ -190,7 +197,8 @@ SparseGridTopology multiple_surface_grid(SceneBuilder& b, const Attributes& a) {
         std::vector<float> v;
         if (a.has(name))
             for (const double x : a.numbers(name)) {
-                if (!std::isfinite(x) || x < 0) a.fail(name, "each coefficient must be finite and >= 0, found " + num(x));
+                if (!std::isfinite(x) || x < 0)
+                    a.fail(name, "each coefficient must be finite and >= 0, found " + num(x));
                 v.push_back(float(x));
             }
         v.resize(std::max(v.size(), files.size()), 1.0f);
@@ -204,7 +212,8 @@ SparseGridTopology multiple_surface_grid(SceneBuilder& b, const Attributes& a) {
         std::tie(lo, hi) = SparseGridTopology::default_box(all);
     }
     std::vector<SparseGridTopology::WeightedSurface> weighted;
-    for (std::size_t i = 0; i < surfaces.size(); ++i) weighted.push_back({surfaces[i].positions, surfaces[i].triangles, stiffness[i], mass[i]});
+    for (std::size_t i = 0; i < surfaces.size(); ++i)
+        weighted.push_back({surfaces[i].positions, surfaces[i].triangles, stiffness[i], mass[i]});
     const std::array<int, 3> n = grid_counts(b, a);
     const std::int64_t levels = a.integer("nbVirtualFinerLevels");
     const bool fill = a.boolean("fillWeighted"), erase = a.boolean("erasePreviousCoef");
@@ -213,15 +222,19 @@ SparseGridTopology multiple_surface_grid(SceneBuilder& b, const Attributes& a) {
     std::optional<SparseGridFacets> facets;
     if (finest_connectivity && (ramify || levels > 0)) {
         if (!a.has("fileTopology") && !a.has("filename"))
-            a.fail("finestConnectivity", "1 tests the cells' faces against fileTopology's surface: give fileTopology, or 0");
+            a.fail("finestConnectivity",
+                   "1 tests the cells' faces against fileTopology's surface: give fileTopology, or 0");
         facets = facets_of(sparse_grid_surface(b, a));
     }
     const SparseGridFacets* crossing = facets ? &*facets : nullptr;
     if (levels == 0) {
-        SparseGridTopology grid = SparseGridTopology::from_surfaces(n, lo, hi, weighted, fill, erase, a.boolean("onlyInsideCells"));
-        return ramify && finest_connectivity ? SparseGridTopology::ramified_finest(std::move(grid), crossing, true) : grid;
+        SparseGridTopology grid =
+            SparseGridTopology::from_surfaces(n, lo, hi, weighted, fill, erase, a.boolean("onlyInsideCells"));
+        return ramify && finest_connectivity ? SparseGridTopology::ramified_finest(std::move(grid), crossing, true)
+                                             : grid;
     }
-    SparseGridTopology finest = SparseGridTopology::from_surfaces(finest_counts(b, a, n, levels), lo, hi, weighted, fill, erase);
+    SparseGridTopology finest =
+        SparseGridTopology::from_surfaces(finest_counts(b, a, n, levels), lo, hi, weighted, fill, erase);
     finest = SparseGridTopology::ramified_finest(std::move(finest), crossing, finest_connectivity);
     return coarser_levels(std::move(finest), levels, true, ramify, fill);
 }
@@ -230,7 +243,8 @@ void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
     const Attributes a(c);
     info.topology_component = &c;
     b.guarded(c, [&] {
-        info.sparse_grid.emplace(c.type == "SparseGridMultipleTopology" ? multiple_surface_grid(b, a) : single_surface_grid(b, a));
+        info.sparse_grid.emplace(c.type == "SparseGridMultipleTopology" ? multiple_surface_grid(b, a)
+                                                                        : single_surface_grid(b, a));
         info.topology_positions = info.sparse_grid->points();
         info.topology = b.add_topology(std::make_unique<MeshTopology>(info.sparse_grid->mesh()));
     });
@@ -239,10 +253,10 @@ void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
         std::size_t boundary = 0;
         for (const SparseCellType type : g->cell_types()) boundary += type == SparseCellType::boundary ? 1 : 0;
         return "sparse grid " + std::to_string(n[0]) + " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]) +
-               (g->finer_levels() > 0 ? " (from " + std::to_string(g->finer_levels()) + " virtual finer levels)" : std::string()) +
-               " from " +
-               vec(g->grid().min()) + " to " + vec(g->grid().max()) + ", " + std::to_string(boundary) + " boundary cells: " +
-               element_counts(g->points().size(), *t);
+               (g->finer_levels() > 0 ? " (from " + std::to_string(g->finer_levels()) + " virtual finer levels)"
+                                      : std::string()) +
+               " from " + vec(g->grid().min()) + " to " + vec(g->grid().max()) + ", " + std::to_string(boundary) +
+               " boundary cells: " + element_counts(g->points().size(), *t);
     });
     b.note_unread_attributes(c);
 }

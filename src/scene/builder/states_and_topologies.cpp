@@ -43,8 +43,8 @@ constexpr AttributeSpec kRegularGrid[] = {
     {"nz", K::integer, "(n[2])", "", ValueCheck::none, "points along z"},
     {"min", K::vector3, "0 0 0", "m", ValueCheck::none, "lower corner (max may be below it)"},
     {"max", K::vector3, "1 1 1", "m", ValueCheck::none, "upper corner"},
-    {"p0", K::vector3, "(min; the middle of min and max on x or y when that axis has one point)", "m",
-     ValueCheck::none, "the first point (offsets the grid)"},
+    {"p0", K::vector3, "(min; the middle of min and max on x or y when that axis has one point)", "m", ValueCheck::none,
+     "the first point (offsets the grid)"},
     {"xmin", K::real, "(min[0])", "m", ValueCheck::none,
      "read only when the six of xmin..zmax are all given, as floats (SOFA's parse)"},
     {"xmax", K::real, "(max[0])", "m", ValueCheck::none, ""},
@@ -76,8 +76,9 @@ std::optional<std::pair<Vec3, Vec3>> scalar_grid_bounds(const Attributes& a, con
         if (in_double) return v;
         const float f = std::strtof(a.text(name).c_str(), nullptr);
         if (!std::isfinite(f))
-            a.fail(name, "'" + a.text(name) + "' is beyond float range, and SOFA reads this attribute as a float "
-                         "(--fix-sofa-quirk regular_grid_float_bounds reads it in double)");
+            a.fail(name, "'" + a.text(name) +
+                             "' is beyond float range, and SOFA reads this attribute as a float "
+                             "(--fix-sofa-quirk regular_grid_float_bounds reads it in double)");
         return double(f);
     };
     const double scale = value("scale", 1.0);
@@ -94,7 +95,8 @@ void build_regular_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         const RegularGridTopology* source = nullptr;
         if (a.has("src")) {
             const io::LinkTarget t = a.link("src");
-            const SceneBuilder::BuiltTopology* built = t.component != nullptr ? b.built_topology(*t.component) : nullptr;
+            const SceneBuilder::BuiltTopology* built =
+                t.component != nullptr ? b.built_topology(*t.component) : nullptr;
             if (built == nullptr || !built->grid)
                 a.fail("src", "must link to a RegularGridTopology built before this one");
             source = &*built->grid;
@@ -120,8 +122,8 @@ void build_regular_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         }
         const auto points = std::uint64_t(n[0]) * std::uint64_t(n[1]) * std::uint64_t(n[2]);
         if (points > b.options().max_dofs)
-            io::throw_element_error(c, std::to_string(points) + " grid points (more than " +
-                                           std::to_string(b.options().max_dofs) + ")");
+            io::throw_element_error(
+                c, std::to_string(points) + " grid points (more than " + std::to_string(b.options().max_dofs) + ")");
         Vec3 lo = source != nullptr && !a.has("min") ? source->min() : a.vector3("min");
         Vec3 hi = source != nullptr && !a.has("max") ? source->max() : a.vector3("max");
         std::optional<Vec3> p0 = a.optional_vector3("p0");
@@ -141,12 +143,14 @@ void build_regular_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             if (!a.boolean(flag)) a.fail(flag, "only 1 is supported");
         // GridTopology::GridUpdate::doUpdate (run as soon as a list is read, SOFA's init reading the
         // hexahedra): hexahedra, quads, two triangles per quad, then the edges of the triangles
-        auto t = std::make_unique<MeshTopology>(info.grid->mesh(a.boolean("computeTriangleList"), a.boolean("computeHexaList")));
+        auto t = std::make_unique<MeshTopology>(
+            info.grid->mesh(a.boolean("computeTriangleList"), a.boolean("computeHexaList")));
         info.topology = b.add_topology(std::move(t));
     });
     b.role(c, [g = &*info.grid, t = info.topology] {
-        return "grid " + std::to_string(g->n()[0]) + " x " + std::to_string(g->n()[1]) + " x " + std::to_string(g->n()[2]) +
-               " from " + vec(g->min()) + " to " + vec(g->max()) + ": " + element_counts(g->num_points(), *t);
+        return "grid " + std::to_string(g->n()[0]) + " x " + std::to_string(g->n()[1]) + " x " +
+               std::to_string(g->n()[2]) + " from " + vec(g->min()) + " to " + vec(g->max()) + ": " +
+               element_counts(g->num_points(), *t);
     });
     b.note_unread_attributes(c);
 }
@@ -208,8 +212,9 @@ double short_form(const Attributes& a, std::string_view name, double fallback, b
     if (in_double) return value;
     const float as_float = std::strtof(text.c_str(), nullptr);
     if (!std::isfinite(as_float))
-        a.fail(std::string(name), "'" + text + "' is beyond float range, and SOFA reads this attribute as a float "
-                                  "(--fix-sofa-quirk mechanical_object_float_short_forms reads it in double)");
+        a.fail(std::string(name), "'" + text +
+                                      "' is beyond float range, and SOFA reads this attribute as a float "
+                                      "(--fix-sofa-quirk mechanical_object_float_short_forms reads it in double)");
     return double(as_float);
 }
 
@@ -228,7 +233,8 @@ InitialTransform read_transform(const Attributes& a, const SofaQuirkFixes& quirk
     };
     const auto three = [&](const char* prefix, double fallback) {
         Vec3 v;
-        for (int k = 0; k < 3; ++k) v[k] = short_form(a, std::string(prefix) + char('x' + k), fallback, in_double, notes);
+        for (int k = 0; k < 3; ++k)
+            v[k] = short_form(a, std::string(prefix) + char('x' + k), fallback, in_double, notes);
         return v;
     };
     if (a.has("scale")) tr.scale3d = Vec3::Constant(short_form(a, "scale", 1.0, in_double, notes));
@@ -263,7 +269,8 @@ std::vector<Vec3> linked_source_points(SceneBuilder& b, const Attributes& a) {
     // (a topology built before: also one that a later topology of its node replaced, as SOFA's
     // Data link reads the linked container whatever the node's topology is)
     if (t.component != nullptr && component_category(t.component->type) != ComponentCategory::loader)
-        if (const SceneBuilder::BuiltTopology* built = b.built_topology(*t.component); built != nullptr && built->topology != nullptr)
+        if (const SceneBuilder::BuiltTopology* built = b.built_topology(*t.component);
+            built != nullptr && built->topology != nullptr)
             return built->positions;
     return b.linked_mesh(a, "src").positions;
 }
@@ -393,8 +400,8 @@ void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild
     if (!tr.rotation_deg.isZero(0)) moved += ", rotated " + vec(tr.rotation_deg) + " deg";
     if (!tr.translation.isZero(0)) moved += ", translated " + vec(tr.translation);
     b.role(c, [st = info.node->state(), rigid, where, moved] {
-        return std::string(rigid ? "Rigid3d" : "Vec3d") + " state, " + counted(st->num_dofs(), "DOF", "DOFs") + moved + "; " +
-               where;
+        return std::string(rigid ? "Rigid3d" : "Vec3d") + " state, " + counted(st->num_dofs(), "DOF", "DOFs") + moved +
+               "; " + where;
     });
     b.note_unread_attributes(c);
 }

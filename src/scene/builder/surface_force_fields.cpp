@@ -62,11 +62,12 @@ void build_triangle_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, p] {
-            std::string text = counted(ff->triangles().size(), "triangle", "triangles") + ", E = " + num(p.young_modulus) +
-                               " Pa, nu = " + num(p.poisson_ratio) + ", " +
+            std::string text = counted(ff->triangles().size(), "triangle", "triangles") +
+                               ", E = " + num(p.young_modulus) + " Pa, nu = " + num(p.poisson_ratio) + ", " +
                                (p.method == FemMethod::Large ? "co-rotational (large)" : "linear (small)");
             if (p.flavor == TriangleFemFlavor::TriangleFEM)
-                text += std::string(", thickness ") + num(p.thickness) + " m, " + (p.plane_strain ? "plane strain" : "plane stress");
+                text += std::string(", thickness ") + num(p.thickness) + " m, " +
+                        (p.plane_strain ? "plane strain" : "plane stress");
             return text;
         });
     });
@@ -103,7 +104,8 @@ void build_triangular_bending_springs(SceneBuilder& b, const SceneComponent& c, 
         b.record_origin(ff, c);
         // springs from the rest positions once the state is initialised (SOFA: init → reinit)
         b.add_init(1, c, [ff, &topology, &s, ks, kd] {
-            for (const Spring& spring : triangular_bending_springs(topology, s.rest_position, ks, kd)) ff->add_spring(spring);
+            for (const Spring& spring : triangular_bending_springs(topology, s.rest_position, ks, kd))
+                ff->add_spring(spring);
             ff->init();
         });
         b.role(c, [ff] {
@@ -115,12 +117,20 @@ void build_triangular_bending_springs(SceneBuilder& b, const SceneComponent& c, 
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "TriangularFEMForceField", .family = F::force_field, .summary = "co-rotational triangle membrane FEM",
-     .attributes = kTriangularFem, .build = build_triangular_fem},
-    {.type = "TriangleFEMForceField", .family = F::force_field, .summary = "co-rotational triangle FEM (older)",
-     .attributes = kTriangleFem, .build = build_older_triangle_fem},
-    {.type = "TriangularBendingSprings", .family = F::force_field,
-     .summary = "springs between the opposite vertices of adjacent triangles", .attributes = kTriangularBendingSprings,
+    {.type = "TriangularFEMForceField",
+     .family = F::force_field,
+     .summary = "co-rotational triangle membrane FEM",
+     .attributes = kTriangularFem,
+     .build = build_triangular_fem},
+    {.type = "TriangleFEMForceField",
+     .family = F::force_field,
+     .summary = "co-rotational triangle FEM (older)",
+     .attributes = kTriangleFem,
+     .build = build_older_triangle_fem},
+    {.type = "TriangularBendingSprings",
+     .family = F::force_field,
+     .summary = "springs between the opposite vertices of adjacent triangles",
+     .attributes = kTriangularBendingSprings,
      .build = build_triangular_bending_springs},
 };
 

@@ -23,7 +23,8 @@ constexpr AttributeSpec kTaitPressure[] = {
     {"currentInjectedVolume", K::real, "0", "m^3", ValueCheck::none, "the injected volume at the start"},
     {"drawForceScale", K::real, "0.001", "", ValueCheck::none, "display only"},
     {"drawForceColor", K::text, "0 1 1 1", "", ValueCheck::none, "display only"},
-    {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "its triangles and quads (the closed surface)"},
+    {"topology", K::link, "(the node's topology)", "", ValueCheck::none,
+     "its triangles and quads (the closed surface)"},
 };
 
 void build_tait_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -48,17 +49,20 @@ void build_tait_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
         b.record_origin(ff, c);
         b.add_init(1, c, [ff] { ff->init(); });
         b.role(c, [ff, p] {
-            return "fluid in " + counted(ff->triangles().size(), "surface triangle", "surface triangles") + ", rest volume " +
-                   num(ff->rest_volume()) + " m^3, p0 = " + num(p.p0) + " Pa, B = " + num(p.bulk_modulus) +
-                   " Pa, gamma = " + num(p.gamma) + ", injecting " + num(p.injected_volume) + " m^3";
+            return "fluid in " + counted(ff->triangles().size(), "surface triangle", "surface triangles") +
+                   ", rest volume " + num(ff->rest_volume()) + " m^3, p0 = " + num(p.p0) +
+                   " Pa, B = " + num(p.bulk_modulus) + " Pa, gamma = " + num(p.gamma) + ", injecting " +
+                   num(p.injected_volume) + " m^3";
         });
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "TaitSurfacePressureForceField", .family = F::force_field,
-     .summary = "pressure of an enclosed fluid (Tait's equation of state), with injection", .attributes = kTaitPressure,
+    {.type = "TaitSurfacePressureForceField",
+     .family = F::force_field,
+     .summary = "pressure of an enclosed fluid (Tait's equation of state), with injection",
+     .attributes = kTaitPressure,
      .build = build_tait_pressure},
 };
 

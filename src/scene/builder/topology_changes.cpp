@@ -44,13 +44,15 @@ constexpr AttributeSpec kTrasher[] = {
 };
 
 constexpr AttributeSpec kCarving[] = {
-    {"toolModel", K::link, "", "", ValueCheck::none, "the tool's collision model (default: the one tagged CarvingTool)"},
+    {"toolModel", K::link, "", "", ValueCheck::none,
+     "the tool's collision model (default: the one tagged CarvingTool)"},
     {"surfaceModelPath", K::text, "", "", ValueCheck::none,
      "the carved collision model's path (default: every model tagged CarvingSurface)"},
     {"carvingDistance", K::real, "0", "m", ValueCheck::none,
      "an element whose detection output value (distance minus contact distance) is below it is removed"},
     {"active", K::boolean, "0", "", ValueCheck::none, "carve at the end of each step (no key events headless)"},
-    {"narrowPhaseDetection", K::link, "", "", ValueCheck::none, "no effect: every collision pipeline's detection is read"},
+    {"narrowPhaseDetection", K::link, "", "", ValueCheck::none,
+     "no effect: every collision pipeline's detection is read"},
     {"key", K::text, "1", "", ValueCheck::none, "keyboard only (no effect)"},
     {"keySwitch", K::text, "4", "", ValueCheck::none, "keyboard only (no effect)"},
 };
@@ -60,8 +62,9 @@ void build_carving(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.guarded(c, [&] { (void)a.real("carvingDistance"), (void)a.boolean("active"); });
     b.role(c, [&c] {
         return io::get_bool_or(c, "active", false)
-                   ? std::string("removes, at each step's end, the elements of the carved models its tool comes closer to "
-                                 "than carvingDistance")
+                   ? std::string(
+                         "removes, at each step's end, the elements of the carved models its tool comes closer to "
+                         "than carvingDistance")
                    : std::string("inactive (active=\"0\"; no key events headless)");
     });
     b.note_unread_attributes(c);
@@ -91,14 +94,21 @@ void build_trasher(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "TopologicalChangeProcessor", .family = F::engine,
-     .summary = "removes and adds elements of its topology at given times (SOFA's file format)", .attributes = kProcessor,
+    {.type = "TopologicalChangeProcessor",
+     .family = F::engine,
+     .summary = "removes and adds elements of its topology at given times (SOFA's file format)",
+     .attributes = kProcessor,
      .build = build_processor},
-    {.type = "CarvingManager", .family = F::engine,
-     .summary = "removes the elements of the models tagged CarvingSurface that its tool touches", .attributes = kCarving,
+    {.type = "CarvingManager",
+     .family = F::engine,
+     .summary = "removes the elements of the models tagged CarvingSurface that its tool touches",
+     .attributes = kCarving,
      .build = build_carving},
-    {.type = "TopologyBoundingTrasher", .family = F::engine,
-     .summary = "removes the elements whose barycentre leaves a box", .attributes = kTrasher, .build = build_trasher},
+    {.type = "TopologyBoundingTrasher",
+     .family = F::engine,
+     .summary = "removes the elements whose barycentre leaves a box",
+     .attributes = kTrasher,
+     .build = build_trasher},
 };
 
 }  // namespace

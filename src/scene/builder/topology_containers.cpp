@@ -30,20 +30,30 @@ using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
 
-#define PENALTY_POINTS_ATTRIBUTES                                                                            \
-    {"src", K::link, "", "", ValueCheck::none, "mesh loader, or a topology built before, whose points and elements of this class it takes"}, \
-        {"position", K::points, "", "m", ValueCheck::none, "points (override src), or a link"},                    \
-        {"points", K::points, "", "m", ValueCheck::none, "alias of position"},                                      \
-        {"nbPoints", K::integer, "0", "", ValueCheck::none, "point count when no positions are given"},          \
-        {"filename", K::text, "", "", ValueCheck::none, "mesh file read directly (no transform; the lists of this class)"}
-#define PENALTY_EDGES_ATTRIBUTE {"edges", K::elements, "(derived)", "", ValueCheck::none, "point pairs, or a link"}
+#define PENALTY_POINTS_ATTRIBUTES                                                                         \
+    {"src",                                                                                               \
+     K::link,                                                                                             \
+     "",                                                                                                  \
+     "",                                                                                                  \
+     ValueCheck::none,                                                                                    \
+     "mesh loader, or a topology built before, whose points and elements of this class it takes"},        \
+        {"position", K::points, "", "m", ValueCheck::none, "points (override src), or a link"},           \
+        {"points", K::points, "", "m", ValueCheck::none, "alias of position"},                            \
+        {"nbPoints", K::integer, "0", "", ValueCheck::none, "point count when no positions are given"}, { \
+        "filename", K::text, "", "", ValueCheck::none,                                                    \
+            "mesh file read directly (no transform; the lists of this class)"                             \
+    }
+#define PENALTY_EDGES_ATTRIBUTE \
+    { "edges", K::elements, "(derived)", "", ValueCheck::none, "point pairs, or a link" }
 
 constexpr AttributeSpec kPointSet[] = {PENALTY_POINTS_ATTRIBUTES};
 constexpr AttributeSpec kEdgeSet[] = {PENALTY_POINTS_ATTRIBUTES, PENALTY_EDGES_ATTRIBUTE};
 constexpr AttributeSpec kTriangleSet[] = {
-    PENALTY_POINTS_ATTRIBUTES, PENALTY_EDGES_ATTRIBUTE,
+    PENALTY_POINTS_ATTRIBUTES,
+    PENALTY_EDGES_ATTRIBUTE,
     {"triangles", K::elements, "", "", ValueCheck::none, "point triples, or a link"}};
-constexpr AttributeSpec kQuadSet[] = {PENALTY_POINTS_ATTRIBUTES, PENALTY_EDGES_ATTRIBUTE,
+constexpr AttributeSpec kQuadSet[] = {PENALTY_POINTS_ATTRIBUTES,
+                                      PENALTY_EDGES_ATTRIBUTE,
                                       {"quads", K::elements, "", "", ValueCheck::none, "4 points each, or a link"}};
 constexpr AttributeSpec kTetrahedronSet[] = {
     PENALTY_POINTS_ATTRIBUTES,
@@ -90,7 +100,6 @@ void build_topology_helper(SceneBuilder& b, const SceneComponent& c, NodeBuild&)
     b.note_unread_attributes(c);
 }
 
-
 // ---- topological mappings ---------------------------------------------------------------------
 constexpr AttributeSpec kTopologicalMappingLinks[] = {
     {"input", K::link, "", "", ValueCheck::none, "topology read (built before: same node or above)"},
@@ -135,7 +144,8 @@ NodeBuild& linked_topology_node(SceneBuilder& b, const Attributes& a, std::strin
 /// that node built after the topology family (state, force fields, collision models) uses it.
 NodeBuild& output_topology_node(SceneBuilder& b, const Attributes& a, const NodeBuild& mapping_node) {
     NodeBuild& out = linked_topology_node(b, a, "output");
-    if (out.scene_node != mapping_node.scene_node) a.fail("output", "must link to the topology of the mapping's own node");
+    if (out.scene_node != mapping_node.scene_node)
+        a.fail("output", "must link to the topology of the mapping's own node");
     return out;
 }
 
@@ -143,7 +153,8 @@ NodeBuild& output_topology_node(SceneBuilder& b, const Attributes& a, const Node
 /// Quad2Triangle and Triangle2Edge mappings are invalid without one (their output stays as built).
 bool output_has_modifier(SceneBuilder& b, const SceneComponent& c, const NodeBuild& output, std::string_view modifier) {
     const auto& components = output.scene_node->components;
-    if (std::any_of(components.begin(), components.end(), [&](const auto& x) { return x->type == modifier; })) return true;
+    if (std::any_of(components.begin(), components.end(), [&](const auto& x) { return x->type == modifier; }))
+        return true;
     b.warn(c.file + ":" + std::to_string(c.line) + ": " + c.describe() + ": no " + std::string(modifier) +
            " in the output's node: SOFA leaves the output topology unchanged, and so does penalty");
     return false;
@@ -160,8 +171,10 @@ void replace_output(SceneBuilder& b, const SceneComponent& c, NodeBuild& output,
     output.topology_positions.clear();
     output.topology = b.add_topology(std::move(t));
     b.record_built_topology(output);
-    b.role(c, [&output] { return "fills " + output.topology_component->describe() + ": " +
-                                 element_counts(output.topology->num_points(), *output.topology); });
+    b.role(c, [&output] {
+        return "fills " + output.topology_component->describe() + ": " +
+               element_counts(output.topology->num_points(), *output.topology);
+    });
 }
 
 /// Cells of a grid input along x and y; SOFA's 2 and 1 for any other input.
@@ -254,10 +267,12 @@ void build_simple_tesselated_tetra(SceneBuilder& b, const SceneComponent& c, Nod
 // ---- Mesh2PointTopologicalMapping ---------------------------------------------------------------
 constexpr AttributeSpec kMesh2Point[] = {
     {"pointBaryCoords", K::numbers, "", "m", ValueCheck::none, "per input point, points at p + (x y z)"},
-    {"edgeBaryCoords", K::numbers, "", "", ValueCheck::none, "per input edge, points at p0 (1-fx) + p1 fx (3 numbers each)"},
+    {"edgeBaryCoords", K::numbers, "", "", ValueCheck::none,
+     "per input edge, points at p0 (1-fx) + p1 fx (3 numbers each)"},
     {"triangleBaryCoords", K::numbers, "", "", ValueCheck::none, "per input triangle, p0 (1-fx-fy) + p1 fx + p2 fy"},
     {"quadBaryCoords", K::numbers, "", "", ValueCheck::none, "per input quad, bilinear in (fx, fy)"},
-    {"tetraBaryCoords", K::numbers, "", "", ValueCheck::none, "per input tetrahedron, p0 (1-fx-fy-fz) + p1 fx + p2 fy + p3 fz"},
+    {"tetraBaryCoords", K::numbers, "", "", ValueCheck::none,
+     "per input tetrahedron, p0 (1-fx-fy-fz) + p1 fx + p2 fy + p3 fz"},
     {"hexaBaryCoords", K::numbers, "", "", ValueCheck::none, "not supported"},
     {"copyEdges", K::boolean, "0", "", ValueCheck::none, "only false is supported"},
     {"copyTriangles", K::boolean, "0", "", ValueCheck::none, "only false is supported"},
@@ -342,7 +357,8 @@ void build_hexa2tetra(SceneBuilder& b, const SceneComponent& c, NodeBuild& node)
         const auto cells = grid_cells(in);  // (nx, ny); no structured binding: clang 14 cannot capture one
         const bool swapping = a.boolean("swapping");
         replace_output(b, c, out, in.topology->num_points(), [&](MeshTopology& t) {
-            t.set_tetrahedra(tetrahedra_of_hexahedra(in.topology->hexahedra(), swapping, std::get<0>(cells), std::get<1>(cells)));
+            t.set_tetrahedra(
+                tetrahedra_of_hexahedra(in.topology->hexahedra(), swapping, std::get<0>(cells), std::get<1>(cells)));
         });
     });
     b.note_unread_attributes(c);
@@ -361,66 +377,130 @@ constexpr std::string_view kAlgorithms =
     "geometry algorithms of a topology: used by topological changes and drawing (accepted, builds nothing)";
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "PointSetTopologyContainer", .family = F::topology, .summary = "points only (static use)",
-     .attributes = kPointSet, .build = build_container<kPointLists>},
-    {.type = "EdgeSetTopologyContainer", .family = F::topology, .summary = "edges (static use)",
-     .attributes = kEdgeSet, .build = build_container<kEdgeLists>},
-    {.type = "TriangleSetTopologyContainer", .family = F::topology,
-     .summary = "triangles, derived edges (static use)", .attributes = kTriangleSet,
+    {.type = "PointSetTopologyContainer",
+     .family = F::topology,
+     .summary = "points only (static use)",
+     .attributes = kPointSet,
+     .build = build_container<kPointLists>},
+    {.type = "EdgeSetTopologyContainer",
+     .family = F::topology,
+     .summary = "edges (static use)",
+     .attributes = kEdgeSet,
+     .build = build_container<kEdgeLists>},
+    {.type = "TriangleSetTopologyContainer",
+     .family = F::topology,
+     .summary = "triangles, derived edges (static use)",
+     .attributes = kTriangleSet,
      .build = build_container<kTriangleLists>},
-    {.type = "QuadSetTopologyContainer", .family = F::topology, .summary = "quads, derived edges (static use)",
-     .attributes = kQuadSet, .build = build_container<kQuadLists>},
-    {.type = "TetrahedronSetTopologyContainer", .family = F::topology,
-     .summary = "tetrahedra, derived triangles and edges (static use)", .attributes = kTetrahedronSet,
+    {.type = "QuadSetTopologyContainer",
+     .family = F::topology,
+     .summary = "quads, derived edges (static use)",
+     .attributes = kQuadSet,
+     .build = build_container<kQuadLists>},
+    {.type = "TetrahedronSetTopologyContainer",
+     .family = F::topology,
+     .summary = "tetrahedra, derived triangles and edges (static use)",
+     .attributes = kTetrahedronSet,
      .build = build_container<kTetrahedronLists>},
-    {.type = "HexahedronSetTopologyContainer", .family = F::topology,
-     .summary = "hexahedra, derived quads and edges (static use)", .attributes = kHexahedronSet,
+    {.type = "HexahedronSetTopologyContainer",
+     .family = F::topology,
+     .summary = "hexahedra, derived quads and edges (static use)",
+     .attributes = kHexahedronSet,
      .build = build_container<kHexahedronLists>},
-    {.type = "PointSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+    {.type = "PointSetTopologyModifier",
+     .family = F::topology_helper,
+     .summary = kModifier,
+     .attributes = kPointModifier,
      .build = build_topology_helper},
-    {.type = "EdgeSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+    {.type = "EdgeSetTopologyModifier",
+     .family = F::topology_helper,
+     .summary = kModifier,
+     .attributes = kPointModifier,
      .build = build_topology_helper},
-    {.type = "TriangleSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+    {.type = "TriangleSetTopologyModifier",
+     .family = F::topology_helper,
+     .summary = kModifier,
+     .attributes = kPointModifier,
      .build = build_topology_helper},
-    {.type = "QuadSetTopologyModifier", .family = F::topology_helper, .summary = kModifier, .attributes = kPointModifier,
+    {.type = "QuadSetTopologyModifier",
+     .family = F::topology_helper,
+     .summary = kModifier,
+     .attributes = kPointModifier,
      .build = build_topology_helper},
-    {.type = "TetrahedronSetTopologyModifier", .family = F::topology_helper, .summary = kModifier,
-     .attributes = kVolumeModifier, .build = build_topology_helper},
-    {.type = "HexahedronSetTopologyModifier", .family = F::topology_helper, .summary = kModifier,
-     .attributes = kVolumeModifier, .build = build_topology_helper},
-    {.type = "PointSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
+    {.type = "TetrahedronSetTopologyModifier",
+     .family = F::topology_helper,
+     .summary = kModifier,
+     .attributes = kVolumeModifier,
      .build = build_topology_helper},
-    {.type = "EdgeSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
+    {.type = "HexahedronSetTopologyModifier",
+     .family = F::topology_helper,
+     .summary = kModifier,
+     .attributes = kVolumeModifier,
      .build = build_topology_helper},
-    {.type = "TriangleSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
+    {.type = "PointSetGeometryAlgorithms",
+     .family = F::topology_helper,
+     .summary = kAlgorithms,
      .build = build_topology_helper},
-    {.type = "QuadSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
+    {.type = "EdgeSetGeometryAlgorithms",
+     .family = F::topology_helper,
+     .summary = kAlgorithms,
      .build = build_topology_helper},
-    {.type = "TetrahedronSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
+    {.type = "TriangleSetGeometryAlgorithms",
+     .family = F::topology_helper,
+     .summary = kAlgorithms,
      .build = build_topology_helper},
-    {.type = "HexahedronSetGeometryAlgorithms", .family = F::topology_helper, .summary = kAlgorithms,
+    {.type = "QuadSetGeometryAlgorithms",
+     .family = F::topology_helper,
+     .summary = kAlgorithms,
      .build = build_topology_helper},
-    {.type = "Tetra2TriangleTopologicalMapping", .family = F::topology_helper,
+    {.type = "TetrahedronSetGeometryAlgorithms",
+     .family = F::topology_helper,
+     .summary = kAlgorithms,
+     .build = build_topology_helper},
+    {.type = "HexahedronSetGeometryAlgorithms",
+     .family = F::topology_helper,
+     .summary = kAlgorithms,
+     .build = build_topology_helper},
+    {.type = "Tetra2TriangleTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "output topology := the triangles of the input on one tetrahedron only (static)",
-     .attributes = kTetra2Triangle, .shared_attributes = kTopologicalMappingLinks, .build = build_tetra2triangle},
-    {.type = "Hexa2QuadTopologicalMapping", .family = F::topology_helper,
+     .attributes = kTetra2Triangle,
+     .shared_attributes = kTopologicalMappingLinks,
+     .build = build_tetra2triangle},
+    {.type = "Hexa2QuadTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "output topology := the quads of the input on one hexahedron only (static)",
-     .attributes = kHexa2Quad, .shared_attributes = kTopologicalMappingLinks, .build = build_hexa2quad},
-    {.type = "Triangle2EdgeTopologicalMapping", .family = F::topology_helper,
+     .attributes = kHexa2Quad,
+     .shared_attributes = kTopologicalMappingLinks,
+     .build = build_hexa2quad},
+    {.type = "Triangle2EdgeTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "output topology := the edges of the input on one triangle only (static)",
-     .shared_attributes = kTopologicalMappingLinks, .build = build_triangle2edge},
-    {.type = "Quad2TriangleTopologicalMapping", .family = F::topology_helper,
+     .shared_attributes = kTopologicalMappingLinks,
+     .build = build_triangle2edge},
+    {.type = "Quad2TriangleTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "output topology := two triangles per quad of the input (static)",
-     .attributes = kQuad2Triangle, .shared_attributes = kTopologicalMappingLinks, .build = build_quad2triangle},
-    {.type = "Mesh2PointTopologicalMapping", .family = F::topology_helper,
+     .attributes = kQuad2Triangle,
+     .shared_attributes = kTopologicalMappingLinks,
+     .build = build_quad2triangle},
+    {.type = "Mesh2PointTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "fills its output with points made from the input's points, edges, triangles, quads, tetrahedra",
-     .attributes = kMesh2Point, .shared_attributes = kTopologicalMappingLinks, .build = build_mesh2point},
-    {.type = "SimpleTesselatedTetraTopologicalMapping", .family = F::topology_helper,
+     .attributes = kMesh2Point,
+     .shared_attributes = kTopologicalMappingLinks,
+     .build = build_mesh2point},
+    {.type = "SimpleTesselatedTetraTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "output topology := each input tetrahedron cut in eight at its edges' middles (static)",
-     .shared_attributes = kTopologicalMappingLinks, .build = build_simple_tesselated_tetra},
-    {.type = "Hexa2TetraTopologicalMapping", .family = F::topology_helper,
+     .shared_attributes = kTopologicalMappingLinks,
+     .build = build_simple_tesselated_tetra},
+    {.type = "Hexa2TetraTopologicalMapping",
+     .family = F::topology_helper,
      .summary = "output topology := six tetrahedra per hexahedron of the input (static)",
-     .attributes = kHexa2Tetra, .shared_attributes = kTopologicalMappingLinks, .build = build_hexa2tetra},
+     .attributes = kHexa2Tetra,
+     .shared_attributes = kTopologicalMappingLinks,
+     .build = build_hexa2tetra},
 };
 
 }  // namespace

@@ -1,12 +1,12 @@
 // Data engines that transform or merge points (SOFA's Sofa/Component/Engine/Transform and
-// Generate): TransformEngine, TransformPosition, MergePoints, MeshTetraStuffing. Each reads its input points (inline or a link, `@[-1].position`), computes its
-// output once (the scenes are static: SOFA's engines recompute only when an input changes) and
-// records it as `output_position`, which a MechanicalObject, a topology or another engine reads
+// Generate): TransformEngine, TransformPosition, MergePoints, MeshTetraStuffing. Each reads its input points (inline or
+// a link, `@[-1].position`), computes its output once (the scenes are static: SOFA's engines recompute only when an
+// input changes) and records it as `output_position`, which a MechanicalObject, a topology or another engine reads
 // through a link. Formulas: include/penalty/mechanics/transform_engines.hpp and
 // docs/components/data_engines.md.
+#include "penalty/mechanics/transform_engines.hpp"
 #include "penalty/io/data_path.hpp"
 #include "penalty/mechanics/mesh_tetra_stuffing.hpp"
-#include "penalty/mechanics/transform_engines.hpp"
 #include "scene/builder/element_topology.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/scene_builder.hpp"
@@ -22,7 +22,8 @@ using F = ComponentFamily;
 /// The points of `name` (inline, or a link to positions), or those of `alias` when only it is set.
 std::vector<Vec3> input_points(SceneBuilder& b, const Attributes& a, std::string_view name, std::string_view alias) {
     const std::string_view used = !a.has(name) && !alias.empty() && a.has(alias) ? alias : name;
-    if (!a.has(used)) io::throw_element_error(a.component(), "needs its input points: give `" + std::string(name) + "`");
+    if (!a.has(used))
+        io::throw_element_error(a.component(), "needs its input points: give `" + std::string(name) + "`");
     return a.is_link(used) ? b.linked_positions(a, used) : a.points(used);
 }
 
@@ -107,7 +108,8 @@ TransformPositionMethod position_method(const Attributes& a, SceneBuilder& b, Ei
     if (method == "fromFile") {
         if (!a.has("filename")) a.fail("filename", "method fromFile needs a file");
         try {
-            matrix = read_affine_transform_file(io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
+            matrix = read_affine_transform_file(
+                io::resolve_data_file(a.text("filename"), b.scene_dir(), b.options().data_dirs));
         } catch (const std::exception& e) {  // not found (io::LoadError), or not a transformation
             a.fail("filename", e.what());
         }
@@ -219,8 +221,10 @@ void build_mesh_tetra_stuffing(SceneBuilder& b, const SceneComponent& c, NodeBui
         read_element_list(b, a, "inputTriangles", triangles, &io::MeshData::triangles, &MeshTopology::triangles);
         read_element_list(b, a, "inputQuads", quads, &io::MeshData::quads, &MeshTopology::quads);
         if (!a.has("inputPoints")) a.fail("inputPoints", "is needed (SOFA: empty input mesh)");
-        const std::vector<Vec3> points = a.is_link("inputPoints") ? b.linked_positions(a, "inputPoints") : a.points("inputPoints");
-        if (triangles.empty() && quads.empty()) a.fail("inputTriangles", "no triangles or quads (SOFA: empty input mesh)");
+        const std::vector<Vec3> points =
+            a.is_link("inputPoints") ? b.linked_positions(a, "inputPoints") : a.points("inputPoints");
+        if (triangles.empty() && quads.empty())
+            a.fail("inputTriangles", "no triangles or quads (SOFA: empty input mesh)");
         out = mesh_tetra_stuffing(points, triangles, quads, p, b.options().max_dofs);
         if (out.invalid_splits > 0)
             b.warn(c.describe() + ": " + counted(out.invalid_splits, "cut", "cuts") +
@@ -232,24 +236,33 @@ void build_mesh_tetra_stuffing(SceneBuilder& b, const SceneComponent& c, NodeBui
     mesh.tetrahedra = out.tetrahedra;
     for (const char* name : {"outputTetrahedra", "outputTetras"}) b.record_engine_mesh(c, name, mesh);
     b.role(c, [n = out.points.size(), t = out.tetrahedra.size()] {
-        return "fills the surface with " + counted(t, "tetrahedron", "tetrahedra") + " on " + counted(n, "point", "points") +
-               " (outputPoints, outputTetrahedra)";
+        return "fills the surface with " + counted(t, "tetrahedron", "tetrahedra") + " on " +
+               counted(n, "point", "points") + " (outputPoints, outputTetrahedra)";
     });
     b.note_unread_attributes(c);
 }
 
 constexpr ComponentSpec kComponents[] = {
-    {.type = "MeshTetraStuffing", .family = F::data_engine,
-     .summary = "fills a closed triangle surface with tetrahedra (isosurface stuffing)", .attributes = kMeshTetraStuffing,
+    {.type = "MeshTetraStuffing",
+     .family = F::data_engine,
+     .summary = "fills a closed triangle surface with tetrahedra (isosurface stuffing)",
+     .attributes = kMeshTetraStuffing,
      .build = build_mesh_tetra_stuffing},
-    {.type = "MergePoints", .family = F::data_engine, .summary = "merges two point lists (appended, or injected)",
-     .attributes = kMergePoints, .build = build_merge_points},
-    {.type = "TransformEngine", .family = F::data_engine,
-     .summary = "scales, rotates and translates points (output_position)", .attributes = kTransformEngine,
+    {.type = "MergePoints",
+     .family = F::data_engine,
+     .summary = "merges two point lists (appended, or injected)",
+     .attributes = kMergePoints,
+     .build = build_merge_points},
+    {.type = "TransformEngine",
+     .family = F::data_engine,
+     .summary = "scales, rotates and translates points (output_position)",
+     .attributes = kTransformEngine,
      .build = build_transform_engine},
-    {.type = "TransformPosition", .family = F::data_engine,
+    {.type = "TransformPosition",
+     .family = F::data_engine,
      .summary = "transforms points by one method: plane projection, translation, rotation, scale, affine matrix",
-     .attributes = kTransformPosition, .build = build_transform_position},
+     .attributes = kTransformPosition,
+     .build = build_transform_position},
 };
 
 }  // namespace

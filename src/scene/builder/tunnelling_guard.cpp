@@ -15,12 +15,14 @@ TunnellingOptions read_options(const Attributes& a) {
     if (!m) a.fail("noTunnelling", "must be off, warn, substep or stiffen, found '" + mode + "'");
     o.mode = *m;
     const std::int64_t halvings = a.integer("noTunnellingMaxHalvings");
-    if (halvings < 1 || halvings > 16) a.fail("noTunnellingMaxHalvings", "must be in [1, 16], found " + std::to_string(halvings));
+    if (halvings < 1 || halvings > 16)
+        a.fail("noTunnellingMaxHalvings", "must be in [1, 16], found " + std::to_string(halvings));
     o.max_halvings = int(halvings);
     o.stiffen_fraction = a.real("noTunnellingStiffenFraction");
     if (!(o.stiffen_fraction < 1.0)) a.fail("noTunnellingStiffenFraction", "must be below 1");
     o.max_stiffening = a.real("noTunnellingMaxStiffening");
-    if (!(o.max_stiffening >= 1.0) || !std::isfinite(o.max_stiffening)) a.fail("noTunnellingMaxStiffening", "must be >= 1");
+    if (!(o.max_stiffening >= 1.0) || !std::isfinite(o.max_stiffening))
+        a.fail("noTunnellingMaxStiffening", "must be >= 1");
     return o;
 }
 
@@ -36,8 +38,9 @@ void build_tunnelling_guard(SceneBuilder& b) {
         if (o.mode == TunnellingMode::off) continue;
         if (from != nullptr && o.mode != options.mode)
             Attributes(*p).fail("noTunnelling", std::string("asks for ") + tunnelling_mode_name(o.mode) + " but " +
-                                                     from->describe() + " asks for " + tunnelling_mode_name(options.mode) +
-                                                     ": the guard is one for the scene");
+                                                    from->describe() + " asks for " +
+                                                    tunnelling_mode_name(options.mode) +
+                                                    ": the guard is one for the scene");
         if (from == nullptr) {
             options = o;
             from = p;
@@ -48,7 +51,8 @@ void build_tunnelling_guard(SceneBuilder& b) {
     if (b.simulation().collision_steps() != 1 || b.simulation().integration_steps() != 1) {
         const std::string why = "the tunnelling guard checks single steps, not a MultiStepAnimationLoop's";
         if (from != nullptr && !b.options().no_tunnelling) Attributes(*from).fail("noTunnelling", why);
-        throw io::SceneError(b.file().path.string() + ": --no-tunnelling " + tunnelling_mode_name(options.mode) + ": " + why);
+        throw io::SceneError(b.file().path.string() + ": --no-tunnelling " + tunnelling_mode_name(options.mode) + ": " +
+                             why);
     }
     b.scene().set_tunnelling(options);
     if (from != nullptr) {

@@ -34,8 +34,8 @@ struct CarvedModel {
 
 class CarvingSource final : public TopologyChangeSource {
 public:
-    CarvingSource(const io::SceneComponent& component, Scene& scene, CollisionModel& tool, std::vector<CarvedModel> carved,
-                  double distance)
+    CarvingSource(const io::SceneComponent& component, Scene& scene, CollisionModel& tool,
+                  std::vector<CarvedModel> carved, double distance)
         : component_(&component), scene_(&scene), tool_(&tool), carved_(std::move(carved)), distance_(distance) {}
 
     void end_step(double) override {
@@ -44,7 +44,8 @@ public:
             for (const ModelPairDetection& d : p.pipeline->detections()) {
                 const CarvedModel* target = nullptr;
                 for (const CarvedModel& m : carved_)
-                    if ((d.model1 == tool_ && d.model2 == m.model) || (d.model2 == tool_ && d.model1 == m.model)) target = &m;
+                    if ((d.model1 == tool_ && d.model2 == m.model) || (d.model2 == tool_ && d.model1 == m.model))
+                        target = &m;
                 if (target == nullptr) continue;
                 const bool tool_first = d.model1 == tool_;
                 for (const DetectionOutput& o : d.outputs)
@@ -72,7 +73,8 @@ private:
     const io::SceneComponent* component_;
     /// removeItemsFromTriangleModel / PointModel / SphereModel: the element's item in the model's
     /// topology, then through each topological mapping whose output it is.
-    void add_item(const CarvedModel& m, ElementId element, std::map<DynamicTopology*, std::set<ElementId>>& items) const {
+    void add_item(const CarvedModel& m, ElementId element,
+                  std::map<DynamicTopology*, std::set<ElementId>>& items) const {
         DynamicTopology* t = m.topology;
         const MeshTopology& mesh = t->container->mesh();
         std::vector<ElementId> found;
@@ -122,7 +124,8 @@ void add_carving_managers(TopologyWiring& w) {
             const std::string path = a.text("surfaceModelPath");
             for (SceneCollisionModel& m : w.builder.collision_models()) {
                 if (m.component == nullptr) continue;
-                if (tool_component != nullptr ? m.component == tool_component : (tool == nullptr && has_tag(*m.component, "CarvingTool")))
+                if (tool_component != nullptr ? m.component == tool_component
+                                              : (tool == nullptr && has_tag(*m.component, "CarvingTool")))
                     tool = m.model.get();
                 const bool surface = path.empty() ? has_tag(*m.component, "CarvingSurface")
                                                   : (m.component->node->path() + "/" + m.component->name == path ||
@@ -134,9 +137,10 @@ void add_carving_managers(TopologyWiring& w) {
                 else mesh = w.topology_used(*m.component);
                 DynamicTopology* t = w.runtime.find(mesh);
                 if (t == nullptr)
-                    io::throw_element_error(c, "carved model " + m.component->describe() +
-                                                   " is not over a topology that can change (a ...SetTopologyContainer with a "
-                                                   "...SetTopologyModifier)");
+                    io::throw_element_error(
+                        c, "carved model " + m.component->describe() +
+                               " is not over a topology that can change (a ...SetTopologyContainer with a "
+                               "...SetTopologyModifier)");
                 carved.push_back({m.model.get(), t});
             }
             if (tool == nullptr)
@@ -152,7 +156,8 @@ void add_carving_managers(TopologyWiring& w) {
                     io::throw_element_error(c, e.what());
                 }
             }
-            w.runtime.sources.push_back(std::make_unique<CarvingSource>(c, w.builder.scene(), *tool, std::move(carved), a.real("carvingDistance")));
+            w.runtime.sources.push_back(std::make_unique<CarvingSource>(c, w.builder.scene(), *tool, std::move(carved),
+                                                                        a.real("carvingDistance")));
         }
         for (const auto& child : sn.children) self(self, *child);
     };

@@ -21,8 +21,10 @@ namespace {
 DynamicTopology& target_topology(TopologyWiring& w, const SceneComponent& c) {
     DynamicTopology* t = w.runtime.find(w.topology_used(c));
     if (t == nullptr)
-        io::throw_element_error(c, "needs a topology that can change: a ...SetTopologyContainer with a ...SetTopologyModifier "
-                                   "in its node (or a `topology` link to one)");
+        io::throw_element_error(
+            c,
+            "needs a topology that can change: a ...SetTopologyContainer with a ...SetTopologyModifier "
+            "in its node (or a `topology` link to one)");
     return *t;
 }
 
@@ -46,19 +48,24 @@ const Vec3Object* linked_state(TopologyWiring& w, const SceneComponent& c, std::
 
 /// A removal list linked to a BoxROI's output: BoxROI::doUpdate again when the list is used (SOFA's
 /// engine updates when its inputs, the current positions, changed), on the topology's current elements.
-std::function<std::vector<ElementId>()> box_roi_source(TopologyWiring& w, const SceneComponent& tcp, std::string_view attr,
-                                                       const io::LinkTarget& link, DynamicTopology& target) {
+std::function<std::vector<ElementId>()> box_roi_source(TopologyWiring& w, const SceneComponent& tcp,
+                                                       std::string_view attr, const io::LinkTarget& link,
+                                                       DynamicTopology& target) {
     const SceneComponent& roi = *link.component;
     static constexpr std::pair<std::string_view, ElementType> kOutputs[] = {
-        {"indices", ElementType::point},       {"edgeIndices", ElementType::edge},
-        {"triangleIndices", ElementType::triangle}, {"quadIndices", ElementType::quad},
-        {"tetrahedronIndices", ElementType::tetrahedron}, {"hexahedronIndices", ElementType::hexahedron}};
+        {"indices", ElementType::point},
+        {"edgeIndices", ElementType::edge},
+        {"triangleIndices", ElementType::triangle},
+        {"quadIndices", ElementType::quad},
+        {"tetrahedronIndices", ElementType::tetrahedron},
+        {"hexahedronIndices", ElementType::hexahedron}};
     std::optional<ElementType> type;
     for (const auto& [name, t] : kOutputs)
         if (link.data == name) type = t;
     if (roi.type != "BoxROI" || !type)
-        io::throw_attribute_error(tcp, attr, "a link must name a BoxROI's indices, edgeIndices, triangleIndices, "
-                                             "quadIndices, tetrahedronIndices or hexahedronIndices");
+        io::throw_attribute_error(tcp, attr,
+                                  "a link must name a BoxROI's indices, edgeIndices, triangleIndices, "
+                                  "quadIndices, tetrahedronIndices or hexahedronIndices");
     const std::vector<double> numbers = io::get_doubles(roi, "box");
     if (numbers.empty() || numbers.size() % 6 != 0)
         io::throw_attribute_error(roi, "box", "penalty follows a BoxROI's output over time only with explicit boxes");
@@ -78,22 +85,33 @@ std::function<std::vector<ElementId>()> box_roi_source(TopologyWiring& w, const 
     return [boxes, state, strict, &mesh, wanted] {
         RoiElements elements;
         switch (wanted) {
-            case ElementType::point: break;
-            case ElementType::edge: elements.edges = mesh.edges(); break;
-            case ElementType::triangle: elements.triangles = mesh.triangles(); break;
-            case ElementType::quad: elements.quads = mesh.quads(); break;
-            case ElementType::tetrahedron: elements.tetrahedra = mesh.tetrahedra(); break;
-            case ElementType::hexahedron: elements.hexahedra = mesh.hexahedra(); break;
+            case ElementType::point:
+                break;
+            case ElementType::edge:
+                elements.edges = mesh.edges();
+                break;
+            case ElementType::triangle:
+                elements.triangles = mesh.triangles();
+                break;
+            case ElementType::quad:
+                elements.quads = mesh.quads();
+                break;
+            case ElementType::tetrahedron:
+                elements.tetrahedra = mesh.tetrahedra();
+                break;
+            case ElementType::hexahedron:
+                elements.hexahedra = mesh.hexahedra();
+                break;
         }
         const auto inside = [&](const Vec3& p) {
             return std::any_of(boxes.begin(), boxes.end(), [&](const AlignedBox& b) { return b.contains(p); });
         };
-        const RoiSelection s = select_in_region(state->position, elements, inside,
-                                                strict ? ElementTest::all_points : ElementTest::center);
-        const std::vector<PointId>& picked = wanted == ElementType::point      ? s.points
-                                             : wanted == ElementType::edge     ? s.edges
-                                             : wanted == ElementType::triangle ? s.triangles
-                                             : wanted == ElementType::quad     ? s.quads
+        const RoiSelection s =
+            select_in_region(state->position, elements, inside, strict ? ElementTest::all_points : ElementTest::center);
+        const std::vector<PointId>& picked = wanted == ElementType::point         ? s.points
+                                             : wanted == ElementType::edge        ? s.edges
+                                             : wanted == ElementType::triangle    ? s.triangles
+                                             : wanted == ElementType::quad        ? s.quads
                                              : wanted == ElementType::tetrahedron ? s.tetrahedra
                                                                                   : s.hexahedra;
         return std::vector<ElementId>(picked.begin(), picked.end());
@@ -153,8 +171,8 @@ public:
     BoundingTrasherSource(DynamicTopology& target, const Vec3Object& state, const std::array<double, 6>& box)
         : target_(&target), state_(&state), box_(box) {
         const TopologyContainer& c = *target.container;
-        for (const ElementType t : {ElementType::hexahedron, ElementType::tetrahedron, ElementType::quad, ElementType::triangle,
-                                    ElementType::edge})
+        for (const ElementType t : {ElementType::hexahedron, ElementType::tetrahedron, ElementType::quad,
+                                    ElementType::triangle, ElementType::edge})
             if (c.keeps(t) && c.count(t) > 0) {
                 type_ = t;
                 break;
@@ -171,16 +189,27 @@ public:
             for (const PointId p : v) bary += x[std::size_t(p)];
             bary /= double(v.size());
             bool out = false;
-            for (int k = 0; k < 3; ++k) out = out || bary[k] < box_[std::size_t(k)] || bary[k] > box_[std::size_t(k) + 3];
+            for (int k = 0; k < 3; ++k)
+                out = out || bary[k] < box_[std::size_t(k)] || bary[k] > box_[std::size_t(k) + 3];
             if (out) outside.push_back(ElementId(e));
         }
         if (outside.empty()) return;
         switch (*type_) {
-            case ElementType::hexahedron: c.remove_hexahedra(outside); break;
-            case ElementType::tetrahedron: c.remove_tetrahedra(outside); break;
-            case ElementType::quad: c.remove_quads(outside, true, true); break;
-            case ElementType::triangle: c.remove_triangles(outside, true, true); break;
-            default: c.remove_edges(outside); break;
+            case ElementType::hexahedron:
+                c.remove_hexahedra(outside);
+                break;
+            case ElementType::tetrahedron:
+                c.remove_tetrahedra(outside);
+                break;
+            case ElementType::quad:
+                c.remove_quads(outside, true, true);
+                break;
+            case ElementType::triangle:
+                c.remove_triangles(outside, true, true);
+                break;
+            default:
+                c.remove_edges(outside);
+                break;
         }
     }
 
@@ -203,7 +232,8 @@ void add_trasher(TopologyWiring& w, const SceneComponent& c) {
         if (state == nullptr) a.fail("position", "needs the Vec3d state of the topology's points");
     }
     check_changeable(w, c, target);
-    w.runtime.sources.push_back(std::make_unique<BoundingTrasherSource>(target, *state, std::array<double, 6>{b[0], b[1], b[2], b[3], b[4], b[5]}));
+    w.runtime.sources.push_back(std::make_unique<BoundingTrasherSource>(
+        target, *state, std::array<double, 6>{b[0], b[1], b[2], b[3], b[4], b[5]}));
 }
 
 }  // namespace

@@ -73,11 +73,16 @@ std::string where(const SceneComponent& c) { return c.describe() + " (" + c.file
 
 ElementType lumped_type(LumpedElementKind kind) {
     switch (kind) {
-        case LumpedElementKind::edge: return ElementType::edge;
-        case LumpedElementKind::triangle: return ElementType::triangle;
-        case LumpedElementKind::quad: return ElementType::quad;
-        case LumpedElementKind::tetrahedron: return ElementType::tetrahedron;
-        case LumpedElementKind::hexahedron: return ElementType::hexahedron;
+        case LumpedElementKind::edge:
+            return ElementType::edge;
+        case LumpedElementKind::triangle:
+            return ElementType::triangle;
+        case LumpedElementKind::quad:
+            return ElementType::quad;
+        case LumpedElementKind::tetrahedron:
+            return ElementType::tetrahedron;
+        case LumpedElementKind::hexahedron:
+            return ElementType::hexahedron;
     }
     return ElementType::edge;
 }
@@ -91,9 +96,12 @@ ElementType lumped_type(LumpedElementKind kind) {
 template <class DataTypes>
 class RestShapeSpringsFollower final : public TopologyHandler {
 public:
-    RestShapeSpringsFollower(RestShapeSpringsForceField<DataTypes>& ff, const TopologyContainer& container, std::string name)
+    RestShapeSpringsFollower(RestShapeSpringsForceField<DataTypes>& ff, const TopologyContainer& container,
+                             std::string name)
         : ff_(&ff),
-          points_(container, [f = &ff] { return f->point_list(); }, [f = &ff](std::vector<Index> i) { f->follow_points(std::move(i)); }),
+          points_(
+              container, [f = &ff] { return f->point_list(); },
+              [f = &ff](std::vector<Index> i) { f->follow_points(std::move(i)); }),
           name_(std::move(name)) {}
     void handle_topology_changes(std::span<const TopologyChange> changes) override {
         points_.handle_topology_changes(changes);
@@ -104,8 +112,9 @@ public:
         dirty_ = false;
         const bool was_active = ff_->active();
         if (!ff_->resolve_after_change() && was_active)
-            std::cerr << "warning: " << name_ << ": after the topological change " << ff_->inactive_reason()
-                      << ": its springs are off, as SOFA's RestShapeSpringsForceField::checkOutOfBoundsIndices leaves them\n";
+            std::cerr
+                << "warning: " << name_ << ": after the topological change " << ff_->inactive_reason()
+                << ": its springs are off, as SOFA's RestShapeSpringsForceField::checkOutOfBoundsIndices leaves them\n";
     }
 
 private:
@@ -138,7 +147,7 @@ public:
                          "TopologySubsetData::remove renames the entries of the last element at init, not the current "
                          "one; SOFA HEAD then reads past the topology): dropped (--fix-sofa-quirk "
                          "subset_data_last_index gives the current last element's rule)\n";
-        if constexpr (requires(T& t) { t.topology_change_done(); }) load_->topology_change_done();
+        if constexpr (requires(T & t) { t.topology_change_done(); }) load_->topology_change_done();
     }
 
 private:
@@ -161,7 +170,8 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     if (type == "TetrahedralCorotationalFEMForceField") {
         auto* ff = dynamic_cast<TetrahedralCorotationalFEMForceField*>(f);
         if (ff == nullptr || !ff->options().local_stiffness_factors.empty()) return false;
-        rebuild([ff, &mesh] { ff->set_elements(mesh.tetrahedra()), ff->init(); }, {ElementType::tetrahedron, ElementType::point});
+        rebuild([ff, &mesh] { ff->set_elements(mesh.tetrahedra()), ff->init(); },
+                {ElementType::tetrahedron, ElementType::point});
         return true;
     }
     // FastTetrahedralCorotationalForceField: tetrahedronInfo's creation callback (rest information
@@ -172,7 +182,8 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     if (type == "TetrahedronHyperelasticityFEMForceField") {
         auto* ff = dynamic_cast<TetrahedronHyperelasticityFEMForceField*>(f);
         if (ff == nullptr) return false;
-        rebuild([ff, &mesh] { ff->set_tetrahedra(mesh.tetrahedra()), ff->init(); }, {ElementType::tetrahedron, ElementType::point});
+        rebuild([ff, &mesh] { ff->set_tetrahedra(mesh.tetrahedra()), ff->init(); },
+                {ElementType::tetrahedron, ElementType::point});
         return true;
     }
     if (type == "FastTetrahedralCorotationalForceField") {
@@ -191,18 +202,21 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     }
     if (type == "HexahedralFEMForceField" || type == "HexahedronFEMForceField") {
         if (auto* ff = dynamic_cast<HexahedralFEMForceField*>(f)) {
-            rebuild([ff, &mesh] { ff->set_elements(mesh.hexahedra()), ff->init(); }, {ElementType::hexahedron, ElementType::point});
+            rebuild([ff, &mesh] { ff->set_elements(mesh.hexahedra()), ff->init(); },
+                    {ElementType::hexahedron, ElementType::point});
             return true;
         }
         auto* ff = dynamic_cast<HexahedronFEMForceField*>(f);
         if (ff == nullptr || !ff->stiffness_factors().empty()) return false;
-        rebuild([ff, &mesh] { ff->set_elements(mesh.hexahedra()), ff->init(); }, {ElementType::hexahedron, ElementType::point});
+        rebuild([ff, &mesh] { ff->set_elements(mesh.hexahedra()), ff->init(); },
+                {ElementType::hexahedron, ElementType::point});
         return true;
     }
     if (type == "TriangularFEMForceField" || type == "TriangleFEMForceField") {
         auto* ff = dynamic_cast<TriangularFEMForceField*>(f);
         if (ff == nullptr || !mesh.quads().empty()) return false;
-        rebuild([ff, &mesh] { ff->set_triangles(mesh.triangles()), ff->init(); }, {ElementType::triangle, ElementType::point});
+        rebuild([ff, &mesh] { ff->set_triangles(mesh.triangles()), ff->init(); },
+                {ElementType::triangle, ElementType::point});
         return true;
     }
     if (type == "TriangularBendingSprings") {
@@ -210,8 +224,8 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
         auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
         if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
         const Attributes a(c);
-        container.add_handler(w.keep(std::make_unique<TriangularBendingSpringsFollower>(*ff, container, *state,
-                                                                                       a.real("stiffness"), a.real("damping"))),
+        container.add_handler(w.keep(std::make_unique<TriangularBendingSpringsFollower>(
+                                  *ff, container, *state, a.real("stiffness"), a.real("damping"))),
                               {ElementType::edge, ElementType::point, ElementType::triangle});
         return true;
     }
@@ -220,8 +234,8 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
         auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
         if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
         const Attributes a(c);
-        container.add_handler(w.keep(std::make_unique<QuadularBendingSpringsFollower>(*ff, container, *state,
-                                                                                     a.real("stiffness"), a.real("damping"))),
+        container.add_handler(w.keep(std::make_unique<QuadularBendingSpringsFollower>(
+                                  *ff, container, *state, a.real("stiffness"), a.real("damping"))),
                               {ElementType::edge, ElementType::point, ElementType::quad});
         return true;
     }
@@ -250,31 +264,35 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     if (type == "TriangularBiquadraticSpringsForceField") {
         auto* ff = dynamic_cast<TriangularBiquadraticSpringsForceField*>(f);
         if (ff == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TriangularBiquadraticSpringsForceField>>(*ff, container)),
-                              {ElementType::edge, ElementType::triangle});
+        container.add_handler(
+            w.keep(std::make_unique<MemberTopologyHandler<TriangularBiquadraticSpringsForceField>>(*ff, container)),
+            {ElementType::edge, ElementType::triangle});
         return true;
     }
     if (type == "TriangularQuadraticSpringsForceField") {
         auto* ff = dynamic_cast<TriangularQuadraticSpringsForceField*>(f);
         if (ff == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<TriangularQuadraticSpringsForceField>>(*ff, container)),
-                              {ElementType::edge, ElementType::triangle});
+        container.add_handler(
+            w.keep(std::make_unique<MemberTopologyHandler<TriangularQuadraticSpringsForceField>>(*ff, container)),
+            {ElementType::edge, ElementType::triangle});
         return true;
     }
     if (type == "TrianglePressureForceField") {
         auto* ff = dynamic_cast<TrianglePressureForceField*>(f);
         if (ff == nullptr) return false;
         ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
-        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<TrianglePressureForceField>>(*ff, container, where(c))),
-                              {ElementType::triangle});
+        container.add_handler(
+            w.keep(std::make_unique<PressureLoadFollower<TrianglePressureForceField>>(*ff, container, where(c))),
+            {ElementType::triangle});
         return true;
     }
     if (type == "QuadPressureForceField") {
         auto* ff = dynamic_cast<QuadPressureForceField*>(f);
         if (ff == nullptr) return false;
         ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
-        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<QuadPressureForceField>>(*ff, container, where(c))),
-                              {ElementType::quad});
+        container.add_handler(
+            w.keep(std::make_unique<PressureLoadFollower<QuadPressureForceField>>(*ff, container, where(c))),
+            {ElementType::quad});
         return true;
     }
     // SurfacePressureForceField: no topology data, addForce presses the topology's current
@@ -282,7 +300,8 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     // (an index past the end reads outside the topology): no rule for them
     if (type == "SurfacePressureForceField") {
         auto* ff = dynamic_cast<SurfacePressureForceField*>(f);
-        if (ff == nullptr || !ff->parameters().triangle_indices.empty() || !ff->parameters().quad_indices.empty()) return false;
+        if (ff == nullptr || !ff->parameters().triangle_indices.empty() || !ff->parameters().quad_indices.empty())
+            return false;
         rebuild([ff] { ff->topology_changed(); }, {ElementType::triangle, ElementType::quad, ElementType::point});
         return true;
     }
@@ -290,8 +309,9 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
         auto* ff = dynamic_cast<EdgePressureForceField*>(f);
         if (ff == nullptr) return false;
         ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
-        container.add_handler(w.keep(std::make_unique<PressureLoadFollower<EdgePressureForceField>>(*ff, container, where(c))),
-                              {ElementType::edge});
+        container.add_handler(
+            w.keep(std::make_unique<PressureLoadFollower<EdgePressureForceField>>(*ff, container, where(c))),
+            {ElementType::edge});
         return true;
     }
     return false;
@@ -320,17 +340,19 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
     if ((type == "FixedProjectiveConstraint" || type == "FixedConstraint") && b.constraints.size() == 1) {
         auto* k = dynamic_cast<FixedProjectiveConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
+        container.add_handler(
+            w.keep(std::make_unique<SubsetIndicesFollower>(
+                container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+            {ElementType::point});
         return true;
     }
     if ((type == "FixedPlaneProjectiveConstraint" || type == "FixedPlaneConstraint") && b.constraints.size() == 1) {
         auto* k = dynamic_cast<FixedPlaneProjectiveConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
+        container.add_handler(
+            w.keep(std::make_unique<SubsetIndicesFollower>(
+                container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+            {ElementType::point});
         return true;
     }
     // LineProjectiveConstraint, PlaneProjectiveConstraint: TopologySubsetIndices, and the jacobian
@@ -343,9 +365,10 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         b.constraints.size() == 1) {
         auto* k = dynamic_cast<BlockProjectionConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
+        container.add_handler(
+            w.keep(std::make_unique<SubsetIndicesFollower>(
+                container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+            {ElementType::point});
         return true;
     }
     // LinearMovementProjectiveConstraint: TopologySubsetIndices (init's createTopologyHandler);
@@ -353,12 +376,15 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
     if (type == "LinearMovementProjectiveConstraint" && b.constraints.size() == 1) {
         const auto follow_subset = [&](auto* k) {
             container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                      container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                                      container, [k] { return k->indices(); },
+                                      [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
                                   {ElementType::point});
             return true;
         };
-        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Vec3Types>*>(b.constraints[0])) return follow_subset(k);
-        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
+        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Vec3Types>*>(b.constraints[0]))
+            return follow_subset(k);
+        if (auto* k = dynamic_cast<LinearMovementProjectiveConstraint<Rigid3Types>*>(b.constraints[0]))
+            return follow_subset(k);
         return false;
     }
     // PartialFixedProjectiveConstraint: FixedProjectiveConstraint's TopologySubsetIndices (it
@@ -366,28 +392,33 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
     if (type == "PartialFixedProjectiveConstraint" && b.constraints.size() == 1) {
         auto* k = dynamic_cast<PartialFixedProjectiveConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
+        container.add_handler(
+            w.keep(std::make_unique<SubsetIndicesFollower>(
+                container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+            {ElementType::point});
         return true;
     }
     if (type == "ParabolicProjectiveConstraint" && b.constraints.size() == 1) {
         const auto follow_subset = [&](auto* k) {
             container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                      container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+                                      container, [k] { return k->indices(); },
+                                      [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
                                   {ElementType::point});
             return true;
         };
-        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Vec3Types>*>(b.constraints[0])) return follow_subset(k);
-        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Rigid3Types>*>(b.constraints[0])) return follow_subset(k);
+        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Vec3Types>*>(b.constraints[0]))
+            return follow_subset(k);
+        if (auto* k = dynamic_cast<ParabolicProjectiveConstraint<Rigid3Types>*>(b.constraints[0]))
+            return follow_subset(k);
         return false;
     }
     if (type == "PointProjectiveConstraint" && b.constraints.size() == 1) {
         auto* k = dynamic_cast<PointProjectiveConstraint*>(b.constraints[0]);
         if (k == nullptr) return false;
-        container.add_handler(w.keep(std::make_unique<SubsetIndicesFollower>(
-                                  container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
-                              {ElementType::point});
+        container.add_handler(
+            w.keep(std::make_unique<SubsetIndicesFollower>(
+                container, [k] { return k->indices(); }, [k](std::vector<Index> i) { k->set_indices(std::move(i)); })),
+            {ElementType::point});
         return true;
     }
     return follow_force_field(w, c, b, t);
@@ -445,15 +476,16 @@ bool follow_barycentric(TopologyWiring& w, const SceneComponent& c, BaseMapping*
     auto* in = dynamic_cast<Vec3Object*>(m->from());
     auto* out = dynamic_cast<Vec3Object*>(m->to());
     const MeshTopology& mesh = t.container->mesh();
-    const bool volume = t.container->level() == ElementType::tetrahedron || t.container->level() == ElementType::hexahedron;
+    const bool volume =
+        t.container->level() == ElementType::tetrahedron || t.container->level() == ElementType::hexahedron;
     if (in == nullptr || out == nullptr || !volume) return false;
     const bool tetrahedra = t.container->level() == ElementType::tetrahedron;
     const auto remap = [m, in, out, &mesh, tetrahedra] {
         if (tetrahedra) m->map_on_set_tetrahedra(mesh, in->position, out->position);
         else m->map_on_set_hexahedra(mesh, in->position, out->position);
     };
-    const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
-                                                 ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
+    const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge,        ElementType::triangle,
+                                                 ElementType::quad,  ElementType::tetrahedron, ElementType::hexahedron};
     t.container->add_handler(w.keep(std::make_unique<RebuildFollower>(remap, all)), all);
     t.needs_elements.push_back(where(c));
     return true;
@@ -487,7 +519,8 @@ void wire_components(TopologyWiring& w) {
                     continue;
                 if (!same) {
                     for (DynamicTopology* t : by_state) t->blockers.push_back(where(c));
-                    if (by_topology != nullptr && by_state.count(by_topology) == 0) by_topology->blockers.push_back(where(c));
+                    if (by_topology != nullptr && by_state.count(by_topology) == 0)
+                        by_topology->blockers.push_back(where(c));
                 }
                 continue;
             }
@@ -502,7 +535,8 @@ void wire_components(TopologyWiring& w) {
             }
             // a follower of its topology whose state follows another topology's points
             for (DynamicTopology* t : by_state)
-                if (t != by_topology && std::find(t->outputs.begin(), t->outputs.end(), by_topology) == t->outputs.end())
+                if (t != by_topology &&
+                    std::find(t->outputs.begin(), t->outputs.end(), by_topology) == t->outputs.end())
                     t->blockers.push_back(where(c) + " (its topology is " + by_topology->path + ")");
         }
         for (const auto& child : sn.children) self(self, *child);
@@ -516,7 +550,8 @@ void wire_components(TopologyWiring& w) {
             if (scene.component_of(object) != nullptr) return;
             for (BaseState* s : states) {
                 const auto f = w.followed_states.find(s);
-                if (f != w.followed_states.end()) f->second->blockers.push_back("a component of node '" + n.name() + "'");
+                if (f != w.followed_states.end())
+                    f->second->blockers.push_back("a component of node '" + n.name() + "'");
             }
         };
         if (BaseMass* m = n.mass()) {
@@ -584,7 +619,8 @@ public:
             const auto& triangles = mesh.triangles();
             std::vector<std::size_t> touched = std::move(slots_);
             for (const std::size_t slot : std::vector<std::size_t>(touched))  // a moved triangle's vertices
-                if (slot < triangles.size()) vertices_.insert(vertices_.end(), triangles[slot].begin(), triangles[slot].end());
+                if (slot < triangles.size())
+                    vertices_.insert(vertices_.end(), triangles[slot].begin(), triangles[slot].end());
             std::sort(vertices_.begin(), vertices_.end());
             vertices_.erase(std::unique(vertices_.begin(), vertices_.end()), vertices_.end());
             const auto& around = mesh.triangles_around_vertex();
@@ -633,8 +669,9 @@ void wire_collision_models(TopologyWiring& w) {
                 *te = TetrahedronModel(te->state(), *mesh, te->params());
             }
         };
-        const std::initializer_list<ElementType> all{ElementType::point, ElementType::edge, ElementType::triangle,
-                                                     ElementType::quad, ElementType::tetrahedron, ElementType::hexahedron};
+        const std::initializer_list<ElementType> all{ElementType::point,       ElementType::edge,
+                                                     ElementType::triangle,    ElementType::quad,
+                                                     ElementType::tetrahedron, ElementType::hexahedron};
         if (auto* tm = dynamic_cast<TriangleModel*>(model); tm != nullptr && mesh->quads().empty()) {
             t->container->add_handler(w.keep(std::make_unique<TriangleModelFollower>(*tm, remake)), all);
             continue;

@@ -14,7 +14,8 @@ namespace {
 /// a handler of the collision phase inside Scene::step.
 void check_between_steps(bool stepping, std::string_view what) {
     if (stepping)
-        throw_invalid_argument(what, ": topological changes happen between steps (onAnimateBeginEvent, onAnimateEndEvent), "
+        throw_invalid_argument(what,
+                               ": topological changes happen between steps (onAnimateBeginEvent, onAnimateEndEvent), "
                                "not during the collision phase of a step");
 }
 
@@ -25,7 +26,8 @@ DynamicTopology& named(const TopologyRuntime* rt, std::string_view topology) {
     if (rt != nullptr)
         for (const auto& d : rt->topologies) known += (known.empty() ? "" : ", ") + d->path;
     throw_invalid_argument("no topology '", topology, "' can change in this scene (",
-                           known.empty() ? std::string("none has a topology modifier") : "those that can: " + known, ")");
+                           known.empty() ? std::string("none has a topology modifier") : "those that can: " + known,
+                           ")");
 }
 
 template <std::size_t N>
@@ -61,12 +63,24 @@ void Scene::remove_elements(std::string_view topology, ElementType type, std::ve
     topology_runtime_->check_can_change(t);
     TopologyRuntime::check_keeps_elements(t, type, c.count(type) - indices.size());
     switch (type) {
-        case ElementType::point: c.remove_points(std::move(indices)); break;
-        case ElementType::edge: c.remove_edges(std::move(indices)); break;
-        case ElementType::triangle: c.remove_triangles(std::move(indices)); break;
-        case ElementType::quad: c.remove_quads(std::move(indices)); break;
-        case ElementType::tetrahedron: c.remove_tetrahedra(std::move(indices)); break;
-        case ElementType::hexahedron: c.remove_hexahedra(std::move(indices)); break;
+        case ElementType::point:
+            c.remove_points(std::move(indices));
+            break;
+        case ElementType::edge:
+            c.remove_edges(std::move(indices));
+            break;
+        case ElementType::triangle:
+            c.remove_triangles(std::move(indices));
+            break;
+        case ElementType::quad:
+            c.remove_quads(std::move(indices));
+            break;
+        case ElementType::tetrahedron:
+            c.remove_tetrahedra(std::move(indices));
+            break;
+        case ElementType::hexahedron:
+            c.remove_hexahedra(std::move(indices));
+            break;
     }
     topology_runtime_->changed();
 }
@@ -83,11 +97,21 @@ void Scene::add_elements(std::string_view topology, ElementType type, const std:
             if (!vertices.empty()) throw_invalid_argument("add_elements: points take a count, not vertex indices");
             c.add_points(count, ancestors);
             break;
-        case ElementType::edge: c.add_edges(grouped<2>(vertices, type)); break;
-        case ElementType::triangle: c.add_triangles(grouped<3>(vertices, type)); break;
-        case ElementType::quad: c.add_quads(grouped<4>(vertices, type)); break;
-        case ElementType::tetrahedron: c.add_tetrahedra(grouped<4>(vertices, type)); break;
-        case ElementType::hexahedron: c.add_hexahedra(grouped<8>(vertices, type)); break;
+        case ElementType::edge:
+            c.add_edges(grouped<2>(vertices, type));
+            break;
+        case ElementType::triangle:
+            c.add_triangles(grouped<3>(vertices, type));
+            break;
+        case ElementType::quad:
+            c.add_quads(grouped<4>(vertices, type));
+            break;
+        case ElementType::tetrahedron:
+            c.add_tetrahedra(grouped<4>(vertices, type));
+            break;
+        case ElementType::hexahedron:
+            c.add_hexahedra(grouped<8>(vertices, type));
+            break;
     }
     topology_runtime_->changed();
 }

@@ -7,9 +7,9 @@
 // others skipped; `loop` rewinds) and applied as its processTopologicalChanges applies them. A
 // step's commands are all checked against the topology (indices in range, none repeated) before
 // the first is applied: a step changes the topology whole or not at all.
+#include "scene/topology/topological_change_processor.hpp"
 #include "penalty/mechanics/regions.hpp"
 #include "penalty/mechanics/regions_of_interest.hpp"
-#include "scene/topology/topological_change_processor.hpp"
 
 #include "penalty/core/error.hpp"
 #include "penalty/io/data_path.hpp"
@@ -78,7 +78,8 @@ void TopologyChangeFile::check() {
             }
             long long n = -1;
             if (!(in >> n) || n < 0 || n > 100'000'000) throw_invalid_argument(at(i), ": '", cmd, "' needs a count");
-            if (i + 1 >= lines_.size()) throw_invalid_argument(at(i), ": '", cmd, " ", n, "' has no line of indices after it");
+            if (i + 1 >= lines_.size())
+                throw_invalid_argument(at(i), ": '", cmd, " ", n, "' has no line of indices after it");
             std::istringstream values(lines_[i + 1]);
             std::size_t found = 0;
             for (std::string v; values >> v; ++found) {
@@ -94,7 +95,8 @@ void TopologyChangeFile::check() {
             }
             const std::size_t per = cmd == "ADD=" ? std::size_t(vertices_per_element(*added_type(type))) : 1;
             if (found > std::size_t(n) * per)
-                throw_invalid_argument(at(i + 1), ": ", found, " values for '", cmd, type.empty() ? "" : " ", type, " ", n, "'");
+                throw_invalid_argument(at(i + 1), ": ", found, " values for '", cmd, type.empty() ? "" : " ", type, " ",
+                                       n, "'");
             if (found < std::size_t(n) * per)
                 notes_.push_back(at(i + 1) + ": " + std::to_string(found) + " values for '" + cmd +
                                  (type.empty() ? "" : " " + type) + " " + std::to_string(n) +
@@ -171,7 +173,8 @@ std::vector<TopologyChangeFile::Command> TopologyChangeFile::commands(const std:
 
 // ---- the component ----------------------------------------------------------------------------
 
-TopologicalChangeProcessorSource::TopologicalChangeProcessorSource(const io::SceneComponent& component, DynamicTopology& target,
+TopologicalChangeProcessorSource::TopologicalChangeProcessorSource(const io::SceneComponent& component,
+                                                                   DynamicTopology& target,
                                                                    const TopologyRuntime& runtime)
     : component_(&component), target_(&target), runtime_(&runtime) {}
 
@@ -188,9 +191,9 @@ void TopologicalChangeProcessorSource::drop_out_of_range(Command& cmd, ElementTy
     std::string list;
     for (std::size_t k = 0; k < dropped.size() && k < 5; ++k) list += (k ? ", " : "") + std::to_string(dropped[k]);
     if (dropped.size() > 5) list += ", ...";
-    std::cerr << "penalty: warning: " << component_->file << ":" << component_->line << ": " << component_->describe() << ": "
-              << file_->at(cmd.line + 1) << ": " << dropped.size() << " " << element_type_name(type) << " index(es) past the end of '"
-              << target_->path << "' (" << count << ") not removed (" << list
+    std::cerr << "penalty: warning: " << component_->file << ":" << component_->line << ": " << component_->describe()
+              << ": " << file_->at(cmd.line + 1) << ": " << dropped.size() << " " << element_type_name(type)
+              << " index(es) past the end of '" << target_->path << "' (" << count << ") not removed (" << list
               << "), as SOFA's modifier skips them (--fix-sofa-quirk topology_removal_out_of_range: an error)\n";
 }
 
@@ -212,7 +215,8 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
         fail(commands.front().line, e.what());
     }
     std::array<std::size_t, kElementTypeCount> counts{};
-    for (int t = 0; t < kElementTypeCount; ++t) counts[std::size_t(t)] = c.keeps(ElementType(t)) ? c.count(ElementType(t)) : 0;
+    for (int t = 0; t < kElementTypeCount; ++t)
+        counts[std::size_t(t)] = c.keeps(ElementType(t)) ? c.count(ElementType(t)) : 0;
     bool removed = false;
     for (Command& cmd : commands) {
         const ElementType type = cmd.add ? *cmd.add : c.level();
@@ -223,8 +227,9 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
         if (cmd.add) {
             for (std::size_t k = 0; k < cmd.values.size(); ++k)
                 if (std::size_t(cmd.values[k]) >= counts[0])
-                    fail(cmd.line + 1, "vertex " + std::to_string(cmd.values[k]) + " of new " + element_type_name(type) +
-                                           " " + std::to_string(k / std::size_t(vertices_per_element(type))) +
+                    fail(cmd.line + 1, "vertex " + std::to_string(cmd.values[k]) + " of new " +
+                                           element_type_name(type) + " " +
+                                           std::to_string(k / std::size_t(vertices_per_element(type))) +
                                            " does not exist (the topology '" + target_->path + "' has " +
                                            std::to_string(counts[0]) + " points)");
             const std::size_t per = std::size_t(vertices_per_element(type));
@@ -232,12 +237,12 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
                 for (std::size_t a = 0; a < per; ++a)
                     for (std::size_t b = a + 1; b < per; ++b)
                         if (cmd.values[e + a] == cmd.values[e + b])
-                            fail(cmd.line + 1, "new " + std::string(element_type_name(type)) + " " + std::to_string(e / per) +
-                                                   " uses vertex " + std::to_string(cmd.values[e + a]) + " twice");
+                            fail(cmd.line + 1, "new " + std::string(element_type_name(type)) + " " +
+                                                   std::to_string(e / per) + " uses vertex " +
+                                                   std::to_string(cmd.values[e + a]) + " twice");
             // degenerate new elements (refused by the FEM force fields), checked here while no
             // removal of this step has renumbered the points
-            if (!removed)
-                try {
+            if (!removed) try {
                     TopologyRuntime::check_added(*target_, type, cmd.values);
                 } catch (const std::invalid_argument& e) {
                     fail(cmd.line + 1, e.what());
@@ -250,7 +255,8 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
                     if (i < 0 || std::size_t(i) >= seen.size())
                         throw_invalid_argument(element_type_name(type), " ", i, " does not exist (the topology '",
                                                target_->path, "' has ", seen.size(), ")");
-                    if (seen[std::size_t(i)]) throw_invalid_argument(element_type_name(type), " ", i, " is listed twice");
+                    if (seen[std::size_t(i)])
+                        throw_invalid_argument(element_type_name(type), " ", i, " is listed twice");
                     seen[std::size_t(i)] = 1;
                 }
             } catch (const std::invalid_argument& e) {
@@ -272,12 +278,23 @@ void TopologicalChangeProcessorSource::begin_step(double time) {
         }
         const ElementType type = *cmd.add;
         switch (type) {
-            case ElementType::edge: c.add_edges(elements<2>(cmd.values)); break;
-            case ElementType::triangle: c.add_triangles(elements<3>(cmd.values)); break;
-            case ElementType::quad: c.add_quads(elements<4>(cmd.values)); break;
-            case ElementType::tetrahedron: c.add_tetrahedra(elements<4>(cmd.values)); break;
-            case ElementType::hexahedron: c.add_hexahedra(elements<8>(cmd.values)); break;
-            case ElementType::point: break;
+            case ElementType::edge:
+                c.add_edges(elements<2>(cmd.values));
+                break;
+            case ElementType::triangle:
+                c.add_triangles(elements<3>(cmd.values));
+                break;
+            case ElementType::quad:
+                c.add_quads(elements<4>(cmd.values));
+                break;
+            case ElementType::tetrahedron:
+                c.add_tetrahedra(elements<4>(cmd.values));
+                break;
+            case ElementType::hexahedron:
+                c.add_hexahedra(elements<8>(cmd.values));
+                break;
+            case ElementType::point:
+                break;
         }
     }
 }
@@ -296,7 +313,8 @@ void TopologicalChangeProcessorSource::remove_data_inputs(double time) {
         std::vector<ElementId> items = list.source ? list.source() : list.values;
         if (items.empty()) continue;
         if (!c.keeps(list.type) || c.level() < list.type)
-            fail(list.line, std::string("no modifier of ") + element_type_name(list.type) + " in the topology '" + target_->path + "'");
+            fail(list.line, std::string("no modifier of ") + element_type_name(list.type) + " in the topology '" +
+                                target_->path + "'");
         try {
             runtime_->check_can_change(*target_);
             std::vector<char> seen(count, 0);
@@ -304,7 +322,8 @@ void TopologicalChangeProcessorSource::remove_data_inputs(double time) {
                 if (i < 0 || std::size_t(i) >= count)
                     throw_invalid_argument(element_type_name(c.level()), " ", i, " does not exist (the topology '",
                                            target_->path, "' has ", count, ")");
-                if (seen[std::size_t(i)]) throw_invalid_argument(element_type_name(c.level()), " ", i, " is listed twice");
+                if (seen[std::size_t(i)])
+                    throw_invalid_argument(element_type_name(c.level()), " ", i, " is listed twice");
                 seen[std::size_t(i)] = 1;
             }
             count -= items.size();

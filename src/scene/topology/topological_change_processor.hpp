@@ -19,9 +19,9 @@ public:
     TopologyChangeFile(std::string text, std::string name);
 
     struct Command {
-        std::size_t line = 0;                 ///< the command's line (0-based); its values are on the next
-        std::optional<ElementType> add;       ///< ADD= of this type; none: REMOVE=
-        std::vector<ElementId> values;        ///< indices (REMOVE=) or vertices (ADD=), missing ones 0
+        std::size_t line = 0;            ///< the command's line (0-based); its values are on the next
+        std::optional<ElementType> add;  ///< ADD= of this type; none: REMOVE=
+        std::vector<ElementId> values;   ///< indices (REMOVE=) or vertices (ADD=), missing ones 0
     };
     /// readNext: the lines to apply at `time` (SOFA's validLines), advancing the reading state.
     std::vector<std::size_t> read_next(double time, bool loop);
@@ -59,9 +59,9 @@ public:
     double time_to_remove_ = 0, interval_ = 0;
     struct RemovalList {
         ElementType type;
-        std::size_t line = 0;                          ///< the attribute's line (errors)
-        std::vector<ElementId> values;                 ///< given inline
-        std::function<std::vector<ElementId>()> source; ///< or computed when used (a linked ROI)
+        std::size_t line = 0;                            ///< the attribute's line (errors)
+        std::vector<ElementId> values;                   ///< given inline
+        std::function<std::vector<ElementId>()> source;  ///< or computed when used (a linked ROI)
     };
     std::vector<RemovalList> lists_;  ///< hexahedra, tetrahedra, quads, triangles, edges, points
     /// SofaQuirkFixes::fix_topology_removal_out_of_range: a removed element past the end is an

@@ -86,8 +86,9 @@ namespace penalty::scene {
 
 void TopologyRuntime::check_added(const DynamicTopology& t, ElementType type, std::span<const PointId> flat) {
     if (t.geometry == nullptr || (type != ElementType::tetrahedron && type != ElementType::triangle)) return;
-    const std::vector<Vec3>& x = t.geometry->rest_position.size() == t.geometry->position.size() ? t.geometry->rest_position
-                                                                                                 : t.geometry->position;
+    const std::vector<Vec3>& x = t.geometry->rest_position.size() == t.geometry->position.size()
+                                     ? t.geometry->rest_position
+                                     : t.geometry->position;
     const std::size_t per = std::size_t(vertices_per_element(type));
     for (std::size_t e = 0; e + per <= flat.size(); e += per) {
         bool known = true;

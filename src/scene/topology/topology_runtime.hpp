@@ -18,7 +18,7 @@
 namespace penalty {
 class Node;
 class TopologicalMappingFollower;
-}
+}  // namespace penalty
 
 namespace penalty::scene {
 
@@ -27,8 +27,8 @@ class Scene;
 /// A topology that may change.
 struct DynamicTopology {
     const io::SceneComponent* component = nullptr;  ///< the container
-    std::string path;                                ///< node path / component name
-    Node* node = nullptr;                            ///< the container's node
+    std::string path;                               ///< node path / component name
+    Node* node = nullptr;                           ///< the container's node
     std::unique_ptr<TopologyContainer> container;
     /// Components that use this topology and cannot follow its changes ("Type 'name' (file:line)"):
     /// a change is refused, naming the first, before anything changes.

@@ -32,10 +32,12 @@ namespace {
 /// The class of a dynamic container, from its type.
 std::optional<ElementType> container_level(std::string_view type) {
     using T = ElementType;
-    static constexpr std::pair<std::string_view, T> kLevels[] = {
-        {"PointSetTopologyContainer", T::point},       {"EdgeSetTopologyContainer", T::edge},
-        {"TriangleSetTopologyContainer", T::triangle}, {"QuadSetTopologyContainer", T::quad},
-        {"TetrahedronSetTopologyContainer", T::tetrahedron}, {"HexahedronSetTopologyContainer", T::hexahedron}};
+    static constexpr std::pair<std::string_view, T> kLevels[] = {{"PointSetTopologyContainer", T::point},
+                                                                 {"EdgeSetTopologyContainer", T::edge},
+                                                                 {"TriangleSetTopologyContainer", T::triangle},
+                                                                 {"QuadSetTopologyContainer", T::quad},
+                                                                 {"TetrahedronSetTopologyContainer", T::tetrahedron},
+                                                                 {"HexahedronSetTopologyContainer", T::hexahedron}};
     for (const auto& [name, level] : kLevels)
         if (type == name) return level;
     return std::nullopt;
@@ -105,11 +107,12 @@ void SceneBuilder::wire_topological_changes() {
         options.propagate_to_dof = io::get_bool(*modifier, "propagateToDOF").value_or(true);
         auto t = std::make_unique<DynamicTopology>();
         t->component = nb.topology_component;
-        t->path = (sn.parent == nullptr ? std::string() : sn.path()) + "/" + (nb.topology_component->name.empty() ? sofa_default_name(*nb.topology_component) : nb.topology_component->name);
+        t->path = (sn.parent == nullptr ? std::string() : sn.path()) + "/" +
+                  (nb.topology_component->name.empty() ? sofa_default_name(*nb.topology_component)
+                                                       : nb.topology_component->name);
         t->node = nb.node;
-        guarded(*nb.topology_component, [&] {
-            t->container = std::make_unique<TopologyContainer>(*mesh, *level, t->path, options);
-        });
+        guarded(*nb.topology_component,
+                [&] { t->container = std::make_unique<TopologyContainer>(*mesh, *level, t->path, options); });
         if (container_level(modifier->type.substr(0, modifier->type.size() - 8) + "Container") != level)
             t->blockers.push_back(where(*modifier) + " (a modifier of another class than its container)");
         rt.topologies.push_back(std::move(t));
@@ -130,7 +133,8 @@ void SceneBuilder::wire_topological_changes() {
             if (!root && nb.mapped) {
                 const BaseMapping* m = nb.node != nullptr ? nb.node->mapping() : nullptr;
                 const SceneComponent* mc = m != nullptr ? scene_.component_of(m) : nullptr;
-                const bool same_topology = mc != nullptr && (mc->type == "IdentityMapping" || mc->type == "DeformableOnRigidFrameMapping");
+                const bool same_topology =
+                    mc != nullptr && (mc->type == "IdentityMapping" || mc->type == "DeformableOnRigidFrameMapping");
                 if (!same_topology || nb.topology_component != nullptr) return;
             }
             if (nb.node != nullptr && nb.node->state() != nullptr) {
@@ -139,8 +143,7 @@ void SceneBuilder::wire_topological_changes() {
                 if (auto* v = dynamic_cast<Vec3Object*>(s)) {
                     follower = std::make_unique<StateTopologyFollower<Vec3Types>>(*v);
                     if (root && t->geometry == nullptr) t->geometry = v;
-                }
-                else if (auto* r = dynamic_cast<Rigid3Object*>(s))
+                } else if (auto* r = dynamic_cast<Rigid3Object*>(s))
                     follower = std::make_unique<StateTopologyFollower<Rigid3Types>>(*r);
                 if (follower) {
                     t->container->add_state_follower(*follower);

@@ -22,7 +22,8 @@ struct Cloth {
         for (int j = 0; j < 3; ++j)
             for (int i = 0; i < 3; ++i) state.position.emplace_back(i, 0.0, 1.2 * j);
         state.init();
-        topology.set_triangles({{0, 1, 4}, {0, 4, 3}, {1, 2, 4}, {2, 5, 4}, {3, 4, 6}, {4, 7, 6}, {4, 5, 8}, {4, 8, 7}});
+        topology.set_triangles(
+            {{0, 1, 4}, {0, 4, 3}, {1, 2, 4}, {2, 5, 4}, {3, 4, 6}, {4, 7, 6}, {4, 5, 8}, {4, 8, 7}});
     }
     /// Stretches the cloth and lifts its points out of the plane, each by its own amount.
     void deform() {

@@ -33,35 +33,35 @@ namespace penalty::test::cubes_in_bowl {
 
 /// What scene_xml() builds. Units: m, kg, s, Pa.
 struct Setup {
-    int k = 1;                        ///< cubes per lattice edge (k³ cubes)
-    int cells = 1;                    ///< FEM cells per cube edge: (cells + 1)³ nodes, 6·cells³ tetrahedra
-    double cube_size = 0.1;           ///< edge length a (m)
-    double gap = 0.03;                ///< free space between neighbouring cubes of the lattice (m)
-    double clearance = 0.02;          ///< free space between the lattice's bounding spheres and the bowl (m)
-    double bowl_ratio = 1.5;          ///< bowl radius / horizontal extent of the lattice (bowl_radius)
-    double cube_mass = 1.0;           ///< kg per cube (1000 kg/m³ at a = 0.1 m)
-    double young_modulus = 2e5;       ///< Pa
+    int k = 1;                   ///< cubes per lattice edge (k³ cubes)
+    int cells = 1;               ///< FEM cells per cube edge: (cells + 1)³ nodes, 6·cells³ tetrahedra
+    double cube_size = 0.1;      ///< edge length a (m)
+    double gap = 0.03;           ///< free space between neighbouring cubes of the lattice (m)
+    double clearance = 0.02;     ///< free space between the lattice's bounding spheres and the bowl (m)
+    double bowl_ratio = 1.5;     ///< bowl radius / horizontal extent of the lattice (bowl_radius)
+    double cube_mass = 1.0;      ///< kg per cube (1000 kg/m³ at a = 0.1 m)
+    double young_modulus = 2e5;  ///< Pa
     double poisson_ratio = 0.3;
-    double spring_stiffness = 5e3;    ///< ks of every contact spring (N/m); see contact_stiffness()
+    double spring_stiffness = 5e3;  ///< ks of every contact spring (N/m); see contact_stiffness()
     /// NewProximity alarmDistance A (m): element pairs closer than A get a spring, active closer than C
     double alarm_distance = 0.015;
     /// NewProximity contactDistance C (m): more than twice the static penetration under a column of
     /// 8 cubes (about 20 N per corner spring / ks = 4 mm); with C = 5 mm loaded corners were seen
     /// to sink through the bowl's triangles in piles of k ≥ 3
     double contact_distance = 0.01;
-    double dt = 0.005;                ///< s
-    double rayleigh_stiffness = 0.05; ///< EulerImplicitSolver rayleighStiffness (s)
+    double dt = 0.005;                 ///< s
+    double rayleigh_stiffness = 0.05;  ///< EulerImplicitSolver rayleighStiffness (s)
     /// EulerImplicitSolver rayleighMass (1/s): a strong drag (terminal speed g/10 ≈ 1 m/s, a
     /// corner moves at most about C/2 per step) so that the frictionless cubes stop sliding within
     /// about two seconds and fast corners do not tunnel through the bowl (with 5/s, 185 of the 4096
     /// nodes of k = 8 ended beyond the bowl)
     double rayleigh_mass = 10.0;
-    int cg_iterations = 1000;         ///< CGLinearSolver iterations (a limit, not expected to bind)
+    int cg_iterations = 1000;  ///< CGLinearSolver iterations (a limit, not expected to bind)
     double cg_tolerance = 1e-9;
     double cg_threshold = 1e-12;
-    double max_tilt_deg = 10.0;       ///< each cube turns by up to ± this about x, y and z
-    double bowl_cap_deg = 70.0;       ///< the bowl is the sphere's cap of polar angle ≤ this (from straight down)
-    double bowl_edge = 0.1;           ///< about the bowl triangles' edge length (m)
+    double max_tilt_deg = 10.0;  ///< each cube turns by up to ± this about x, y and z
+    double bowl_cap_deg = 70.0;  ///< the bowl is the sphere's cap of polar angle ≤ this (from straight down)
+    double bowl_edge = 0.1;      ///< about the bowl triangles' edge length (m)
 };
 
 /// contactStiffness k of every model: SOFA's law gives a spring ks = k·k/dist with dist = C (no
@@ -142,7 +142,8 @@ inline CubeMesh cube_mesh(const Setup& s) {
     for (int l = 0; l < n; ++l)
         for (int j = 0; j < n; ++j)
             for (int i = 0; i < n; ++i)
-                m.points.push_back({-0.5 * s.cube_size + i * h, -0.5 * s.cube_size + j * h, -0.5 * s.cube_size + l * h});
+                m.points.push_back(
+                    {-0.5 * s.cube_size + i * h, -0.5 * s.cube_size + j * h, -0.5 * s.cube_size + l * h});
     // hexahedron corners in SOFA's order (0..7: x then y then z), split into 6 tetrahedra
     // (Hexa2TetraTopologicalMapping's pattern); each tetrahedron's order fixed to a positive volume
     constexpr int kTets[6][4] = {{0, 5, 1, 6}, {0, 1, 3, 6}, {1, 3, 6, 2}, {6, 3, 0, 7}, {6, 7, 0, 5}, {7, 5, 4, 0}};
@@ -207,7 +208,8 @@ inline BowlMesh bowl_mesh(const Setup& s) {
         const int n = r == 0 ? 1 : 6 * r;
         for (int g = 0; g < n; ++g) {
             const double phi = 2.0 * std::numbers::pi * g / n;
-            m.points.push_back({R * std::sin(theta) * std::cos(phi), R - R * std::cos(theta), R * std::sin(theta) * std::sin(phi)});
+            m.points.push_back(
+                {R * std::sin(theta) * std::cos(phi), R - R * std::cos(theta), R * std::sin(theta) * std::sin(phi)});
         }
     }
     const auto add = [&](int a, int b, int c) {
@@ -312,11 +314,12 @@ inline std::string scene_xml(const Setup& s) {
                 const auto c = lattice_site(s, ix, iy, iz);
                 const double rx = tilt(), ry = tilt(), rz = tilt();
                 o << "    <Node name=\"Cube_" << i << "\">\n      <MeshTopology " << mesh_attributes << "/>\n"
-                  << "      <MechanicalObject name=\"cube_" << i << "\" rotation=\"" << detail::num(rx) << ' ' << detail::num(ry) << ' ' << detail::num(rz)
-                  << "\" translation=\"" << detail::num(c[0]) << ' ' << detail::num(c[1]) << ' ' << detail::num(c[2]) << "\"/>\n"
+                  << "      <MechanicalObject name=\"cube_" << i << "\" rotation=\"" << detail::num(rx) << ' '
+                  << detail::num(ry) << ' ' << detail::num(rz) << "\" translation=\"" << detail::num(c[0]) << ' '
+                  << detail::num(c[1]) << ' ' << detail::num(c[2]) << "\"/>\n"
                   << "      <UniformMass totalMass=\"" << detail::num(s.cube_mass) << "\"/>\n"
-                  << "      <TetrahedronFEMForceField youngModulus=\"" << detail::num(s.young_modulus) << "\" poissonRatio=\""
-                  << detail::num(s.poisson_ratio) << "\" method=\"large\"/>\n"
+                  << "      <TetrahedronFEMForceField youngModulus=\"" << detail::num(s.young_modulus)
+                  << "\" poissonRatio=\"" << detail::num(s.poisson_ratio) << "\" method=\"large\"/>\n"
                   << "      <TriangleCollisionModel name=\"cube_" << i << "_triangles\" contactStiffness=\""
                   << detail::num(contact_stiffness(s)) << "\"/>\n    </Node>\n";
             }

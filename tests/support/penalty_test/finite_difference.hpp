@@ -11,8 +11,7 @@
 namespace penalty::test {
 
 /// d f / d x by central differences, step h per coordinate: (f(x + h e_i) - f(x - h e_i)) / 2h.
-inline Eigen::VectorXd finite_gradient(const Eigen::VectorXd& x,
-                                       const std::function<double(const Eigen::VectorXd&)>& f,
+inline Eigen::VectorXd finite_gradient(const Eigen::VectorXd& x, const std::function<double(const Eigen::VectorXd&)>& f,
                                        double h = 1e-6) {
     Eigen::VectorXd grad(x.size());
     Eigen::VectorXd xp = x;

@@ -9,8 +9,8 @@
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty_test/finite_difference.hpp"
 
-#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <Eigen/Core>
 
 #include <algorithm>
 #include <optional>
@@ -19,8 +19,8 @@ namespace penalty::test {
 
 /// Relative tolerances of the checks (|a − b|∞ ≤ tol·max(|a|∞, |b|∞), see near_relative).
 struct DerivativeTolerances {
-    double dforce_vs_fd;                 ///< add_dforce columns vs the FD Jacobian of the force
-    double assembled_vs_dforce;          ///< add_stiffness triplets vs add_dforce
+    double dforce_vs_fd;         ///< add_dforce columns vs the FD Jacobian of the force
+    double assembled_vs_dforce;  ///< add_stiffness triplets vs add_dforce
     /// f vs −FD(E); none: E is not the potential of f (corotational FEM), not checked.
     std::optional<double> force_vs_energy;
 };
@@ -58,7 +58,8 @@ inline ForceFieldDerivatives check_force_field_derivatives(BaseForceField& ff, V
         d.k_dforce.col(j) = Vec3Object::flat(s.df);
     }
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, 1.0);
     SparseMatrix k_sparse(n, n);
     k_sparse.setFromTriplets(t.begin(), t.end());
     const Eigen::MatrixXd k_assembled(k_sparse);

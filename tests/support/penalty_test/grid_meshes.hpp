@@ -32,7 +32,8 @@ inline MeshTopology kuhn_tetrahedra(const RegularGridTopology& g) {
                     }
                     Mat3 m;
                     for (int s = 0; s < 3; ++s)
-                        m.col(s) = pts[static_cast<std::size_t>(t[static_cast<std::size_t>(s + 1)])] - pts[static_cast<std::size_t>(t[0])];
+                        m.col(s) = pts[static_cast<std::size_t>(t[static_cast<std::size_t>(s + 1)])] -
+                                   pts[static_cast<std::size_t>(t[0])];
                     if (m.determinant() < 0) std::swap(t[1], t[2]);
                     tetras.push_back(t);
                 } while (std::next_permutation(axes.begin(), axes.end()));

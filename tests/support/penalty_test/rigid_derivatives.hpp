@@ -65,7 +65,8 @@ inline Eigen::MatrixXd rigid_dforce_matrix(BaseForceField& ff, Rigid3Object& s) 
 /// The assembled stiffness (factor 1, offset 0).
 inline Eigen::MatrixXd assembled_stiffness(const BaseForceField& ff, Index size) {
     TripletList t;
-    ff.add_stiffness(t, [](const BaseState*) { return Index{0}; }, 1.0);
+    ff.add_stiffness(
+        t, [](const BaseState*) { return Index{0}; }, 1.0);
     SparseMatrix k(size, size);
     k.setFromTriplets(t.begin(), t.end());
     return Eigen::MatrixXd(k);

@@ -16,7 +16,7 @@ namespace penalty::test {
 
 struct SlidingCube {
     std::vector<double> floor_rows_z = {0.11, 0.29};  ///< z (m) of each row of 25 floor points
-    bool corner_spheres = false;                     ///< spheres on the cube's own 8 points
+    bool corner_spheres = false;                      ///< spheres on the cube's own 8 points
 };
 
 inline std::string sliding_cube_xml(const SlidingCube& c = {}) {
@@ -45,8 +45,8 @@ inline std::string sliding_cube_xml(const SlidingCube& c = {}) {
     const auto v = [](int i, int k) { return 5 * k + i; };
     for (int k = 0; k < 4; ++k)
         for (int i = 0; i < 4; ++i)
-            s << v(i, k) << ' ' << v(i + 1, k) << ' ' << v(i, k + 1) << "  " << v(i + 1, k) << ' ' << v(i + 1, k + 1) << ' '
-              << v(i, k + 1) << "  ";
+            s << v(i, k) << ' ' << v(i + 1, k) << ' ' << v(i, k + 1) << "  " << v(i + 1, k) << ' ' << v(i + 1, k + 1)
+              << ' ' << v(i, k + 1) << "  ";
     s << R"("/>
       <MechanicalObject/>
       <TriangleCollisionModel contactStiffness="200"/>

@@ -28,16 +28,16 @@ namespace penalty::test::soft_body_on_organ {
 
 /// What scene_xml() builds. Units: m, kg, s, Pa.
 struct Setup {
-    int cells = 16;                    ///< n: cells along x and z; n/8 along y (a multiple of 8)
-    double body_length = 0.12;         ///< edge of the slab along x and z (m); thickness length/8
-    double body_mass = 0.216;          ///< kg (1000 kg/m³)
-    double young_modulus = 2e4;        ///< Pa (soft tissue)
+    int cells = 16;              ///< n: cells along x and z; n/8 along y (a multiple of 8)
+    double body_length = 0.12;   ///< edge of the slab along x and z (m); thickness length/8
+    double body_mass = 0.216;    ///< kg (1000 kg/m³)
+    double young_modulus = 2e4;  ///< Pa (soft tissue)
     double poisson_ratio = 0.45;
     /// body bottom above the organ's top at the start, beyond the alarm distance (m): the first
     /// step has no contact
     double clearance = 0.001;
-    double offset = 0.01;              ///< body centre −x of the organ's highest point at the start (m)
-    int organ_subdivisions = 64;       ///< s: quads per edge of each face of the spherified cube
+    double offset = 0.01;         ///< body centre −x of the organ's highest point at the start (m)
+    int organ_subdivisions = 64;  ///< s: quads per edge of each face of the spherified cube
     std::array<double, 3> organ_axes = {0.13, 0.05, 0.08};  ///< semi-axes of the ellipsoid (m)
     /// NewProximity alarmDistance and contactDistance as fractions of the body's cell edge h
     double alarm_cells = 0.6;
@@ -124,8 +124,10 @@ inline Mesh organ_mesh(const Setup& s) {
                         const auto& p = m.points;
                         P3 mid{};
                         for (int c = 0; c < 3; ++c)
-                            mid[std::size_t(c)] = (p[std::size_t(t[0])][std::size_t(c)] + p[std::size_t(t[1])][std::size_t(c)] +
-                                                   p[std::size_t(t[2])][std::size_t(c)]) / 3.0;
+                            mid[std::size_t(c)] =
+                                (p[std::size_t(t[0])][std::size_t(c)] + p[std::size_t(t[1])][std::size_t(c)] +
+                                 p[std::size_t(t[2])][std::size_t(c)]) /
+                                3.0;
                         m.triangles.push_back(cubes_in_bowl::detail::oriented(p, t[0], t[1], t[2], mid));  // outward
                     }
                 }
@@ -148,7 +150,8 @@ inline Mesh body_mesh(const Setup& s) {
     Mesh m;
     for (int l = 0; l <= nz; ++l)
         for (int j = 0; j <= ny; ++j)
-            for (int i = 0; i <= nx; ++i) m.points.push_back({-0.5 * s.body_length + i * h, j * h, -0.5 * s.body_length + l * h});
+            for (int i = 0; i <= nx; ++i)
+                m.points.push_back({-0.5 * s.body_length + i * h, j * h, -0.5 * s.body_length + l * h});
     // hexahedron corners in SOFA's order, 6 tetrahedra each (cubes_in_bowl's pattern), positive volume
     constexpr int kTets[6][4] = {{0, 5, 1, 6}, {0, 1, 3, 6}, {1, 3, 6, 2}, {6, 3, 0, 7}, {6, 7, 0, 5}, {7, 5, 4, 0}};
     using cubes_in_bowl::detail::cross, cubes_in_bowl::detail::dot, cubes_in_bowl::detail::sub;

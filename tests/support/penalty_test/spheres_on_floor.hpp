@@ -19,16 +19,16 @@ namespace penalty::test {
 /// What SpheresOnFloor builds; the defaults are worked example E (one sphere, vertexMass 1,
 /// radius 0.5, k 10 on both models, NewProximity, the default penalty response).
 struct SpheresOnFloorSetup {
-    double gravity = 9.81;            ///< m/s², along −y
-    double dt = 0.01;                 ///< s
-    double floor_stiffness = 10.0;    ///< contactStiffness of the floor model
-    bool floor_simulated = false;     ///< a simulated floor moves the contact to the root (explicit)
-    std::string name = "sphere";      ///< of the body node, its state and its model
+    double gravity = 9.81;          ///< m/s², along −y
+    double dt = 0.01;               ///< s
+    double floor_stiffness = 10.0;  ///< contactStiffness of the floor model
+    bool floor_simulated = false;   ///< a simulated floor moves the contact to the root (explicit)
+    std::string name = "sphere";    ///< of the body node, its state and its model
     std::vector<Vec3> positions = {Vec3(0.2, 0.9, 0.3)};  ///< sphere centres (m), one DOF each
-    std::vector<Vec3> velocities;     ///< m/s (empty: at rest)
-    double vertex_mass = 1.0;         ///< kg per sphere
-    double radius = 0.5;              ///< m
-    double contact_stiffness = 10.0;  ///< contactStiffness of the sphere model
+    std::vector<Vec3> velocities;                         ///< m/s (empty: at rest)
+    double vertex_mass = 1.0;                             ///< kg per sphere
+    double radius = 0.5;                                  ///< m
+    double contact_stiffness = 10.0;                      ///< contactStiffness of the sphere model
     IntersectionParams intersection = IntersectionParams::new_proximity();
     CollisionResponse response;
 };
@@ -73,13 +73,13 @@ struct SpheresOnFloor {
 /// 3.2: stiff), CG to round-off.
 namespace stiff_drop {
 
-constexpr double kG = 9.81;                 ///< gravity, m/s² along −y
-constexpr double kRadius = 0.1;             ///< m
-constexpr double kMass = 1.0;               ///< kg
-constexpr double kKs = 1e5;                 ///< spring stiffness of a contact, N/m
-constexpr double kC = 0.005;                ///< contact distance, m
-constexpr double kDist = kC + kRadius;      ///< rest length of a contact spring, m
-constexpr double kH = 0.01;                 ///< time step, s
+constexpr double kG = 9.81;             ///< gravity, m/s² along −y
+constexpr double kRadius = 0.1;         ///< m
+constexpr double kMass = 1.0;           ///< kg
+constexpr double kKs = 1e5;             ///< spring stiffness of a contact, N/m
+constexpr double kC = 0.005;            ///< contact distance, m
+constexpr double kDist = kC + kRadius;  ///< rest length of a contact spring, m
+constexpr double kH = 0.01;             ///< time step, s
 
 /// NewProximity with alarm distance A and contact distance C (m).
 inline IntersectionParams proximity(double alarm, double contact) {

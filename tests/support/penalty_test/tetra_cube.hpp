@@ -24,14 +24,19 @@ inline TetraCube tetra_cube(int n, double size = 1.0) {
     for (int z = 0; z < n; ++z)
         for (int y = 0; y < n; ++y)
             for (int x = 0; x < n; ++x) {
-                const PointId v[8] = {id(x, y, z),     id(x + 1, y, z),     id(x + 1, y + 1, z),     id(x, y + 1, z),
-                                      id(x, y, z + 1), id(x + 1, y, z + 1), id(x + 1, y + 1, z + 1), id(x, y + 1, z + 1)};
-                static constexpr int kEven[5][4] = {{0, 1, 3, 4}, {1, 2, 3, 6}, {1, 4, 5, 6}, {3, 4, 6, 7}, {1, 3, 4, 6}};
-                static constexpr int kOdd[5][4] = {{0, 1, 2, 5}, {0, 2, 3, 7}, {0, 4, 5, 7}, {2, 5, 6, 7}, {0, 2, 5, 7}};
+                const PointId v[8] = {
+                    id(x, y, z),     id(x + 1, y, z),     id(x + 1, y + 1, z),     id(x, y + 1, z),
+                    id(x, y, z + 1), id(x + 1, y, z + 1), id(x + 1, y + 1, z + 1), id(x, y + 1, z + 1)};
+                static constexpr int kEven[5][4] = {
+                    {0, 1, 3, 4}, {1, 2, 3, 6}, {1, 4, 5, 6}, {3, 4, 6, 7}, {1, 3, 4, 6}};
+                static constexpr int kOdd[5][4] = {
+                    {0, 1, 2, 5}, {0, 2, 3, 7}, {0, 4, 5, 7}, {2, 5, 6, 7}, {0, 2, 5, 7}};
                 for (const auto& t : (x + y + z) % 2 == 0 ? kEven : kOdd) {
                     Tetrahedron tet{v[t[0]], v[t[1]], v[t[2]], v[t[3]]};
                     const Vec3& a = c.points[std::size_t(tet[0])];
-                    if ((c.points[std::size_t(tet[1])] - a).cross(c.points[std::size_t(tet[2])] - a).dot(c.points[std::size_t(tet[3])] - a) < 0)
+                    if ((c.points[std::size_t(tet[1])] - a)
+                            .cross(c.points[std::size_t(tet[2])] - a)
+                            .dot(c.points[std::size_t(tet[3])] - a) < 0)
                         std::swap(tet[2], tet[3]);
                     c.tetrahedra.push_back(tet);
                 }

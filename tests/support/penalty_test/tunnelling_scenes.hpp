@@ -39,7 +39,8 @@ struct Mesh {
 
 inline std::string points_text(const std::vector<P3>& p) {
     std::ostringstream o;
-    for (std::size_t i = 0; i < p.size(); ++i) o << (i ? "  " : "") << num(p[i][0]) << ' ' << num(p[i][1]) << ' ' << num(p[i][2]);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        o << (i ? "  " : "") << num(p[i][0]) << ' ' << num(p[i][1]) << ' ' << num(p[i][2]);
     return o.str();
 }
 template <std::size_t N>
@@ -55,7 +56,8 @@ std::string elements_text(const std::vector<std::array<int, N>>& e) {
 inline Mesh grid(int n, double size, double height) {
     Mesh m;
     for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) m.points.push_back({-0.5 * size + size * i / n, height, -0.5 * size + size * j / n});
+        for (int i = 0; i <= n; ++i)
+            m.points.push_back({-0.5 * size + size * i / n, height, -0.5 * size + size * j / n});
     const auto id = [n](int i, int j) { return i + (n + 1) * j; };
     for (int j = 0; j < n; ++j)
         for (int i = 0; i < n; ++i) {
@@ -79,7 +81,8 @@ inline Mesh uv_sphere(const P3& c, double r, int rings, int segments) {
         const double th = std::numbers::pi * k / rings;
         for (int s = 0; s < segments; ++s) {
             const double ph = 2.0 * std::numbers::pi * s / segments;
-            m.points.push_back({c[0] + r * std::sin(th) * std::cos(ph), c[1] + r * std::cos(th), c[2] + r * std::sin(th) * std::sin(ph)});
+            m.points.push_back({c[0] + r * std::sin(th) * std::cos(ph), c[1] + r * std::cos(th),
+                                c[2] + r * std::sin(th) * std::sin(ph)});
         }
     }
     m.points.push_back({c[0], c[1] - r, c[2]});
@@ -122,7 +125,8 @@ inline std::string header(double dt, double alarm, double contact, const std::st
       << "  <DefaultAnimationLoop/>\n  <CollisionPipeline name=\"pipeline\"";
     if (!guard.empty()) o << " noTunnelling=\"" << guard << "\"";
     o << "/>\n  <BruteForceBroadPhase/>\n  <BVHNarrowPhase/>\n"
-      << "  <NewProximityIntersection alarmDistance=\"" << num(alarm) << "\" contactDistance=\"" << num(contact) << "\"/>\n"
+      << "  <NewProximityIntersection alarmDistance=\"" << num(alarm) << "\" contactDistance=\"" << num(contact)
+      << "\"/>\n"
       << "  <CollisionResponse response=\"PenalityContactForceField\"/>\n";
     return o.str();
 }
@@ -134,8 +138,8 @@ inline std::string static_mesh_node(const std::string& name, const Mesh& m, doub
       << elements_text(m.triangles) << "\"/>\n    <MechanicalObject name=\"" << name << "_dofs\"/>\n"
       << "    <TriangleCollisionModel name=\"" << name << "_triangles" << fixed;
     if (lines_and_points)
-        o << "    <LineCollisionModel name=\"" << name << "_lines" << fixed << "    <PointCollisionModel name=\"" << name << "_points"
-          << fixed;
+        o << "    <LineCollisionModel name=\"" << name << "_lines" << fixed << "    <PointCollisionModel name=\""
+          << name << "_points" << fixed;
     o << "  </Node>\n";
     return o.str();
 }
@@ -143,20 +147,20 @@ inline std::string static_mesh_node(const std::string& name, const Mesh& m, doub
 // ---- a ball onto a single-layer sheet ------------------------------------------------------------
 
 struct BallOnSheet {
-    double speed = 10.0;          ///< downward speed at the start (m/s)
-    double height = 0.3;          ///< the ball's centre above the sheet at the start (m)
-    double radius = 0.1;          ///< m
-    double mass = 1.0;            ///< kg
-    double dt = 0.005;            ///< s
+    double speed = 10.0;                  ///< downward speed at the start (m/s)
+    double height = 0.3;                  ///< the ball's centre above the sheet at the start (m)
+    double radius = 0.1;                  ///< m
+    double mass = 1.0;                    ///< kg
+    double dt = 0.005;                    ///< s
     double alarm = 0.05, contact = 0.02;  ///< NewProximity A, C (m)
     /// contactStiffness of both models: ks = k²/(C + r) = 3333 N/m, the ball's one spring (SOFA's
     /// law; NewProximity gives a sphere one contact): ½·ks·(C + r)² = 24 J, below ½·m·v² = 50 J
     /// (10 m/s) … 1250 J (50 m/s): the spring cannot stop the ball, and from about 30 m/s the
     /// ball moves farther than A + r = 0.15 m in a step
     double stiffness = 20.0;
-    int cells = 10;               ///< the sheet's grid (1 m × 1 m)
+    int cells = 10;                 ///< the sheet's grid (1 m × 1 m)
     bool deformable_sheet = false;  ///< a spring cloth pinned at its corners instead of a static sheet
-    std::string guard;            ///< the pipeline's noTunnelling ("" : none)
+    std::string guard;              ///< the pipeline's noTunnelling ("" : none)
 };
 
 inline std::string ball_on_sheet_xml(const BallOnSheet& s) {
@@ -164,10 +168,11 @@ inline std::string ball_on_sheet_xml(const BallOnSheet& s) {
     o << header(s.dt, s.alarm, s.contact, s.guard);
     const Mesh sheet = grid(s.cells, 1.0, 0.0);
     // the ball alone: no Rayleigh damping (its speed is the case); the cloth: some
-    const std::string solver = s.deformable_sheet ? "<EulerImplicitSolver rayleighStiffness=\"0.05\" rayleighMass=\"0.2\"/>\n"
-                                                    "  <CGLinearSolver iterations=\"1000\" tolerance=\"1e-8\" threshold=\"1e-20\"/>\n"
-                                                  : "<EulerImplicitSolver rayleighStiffness=\"0\" rayleighMass=\"0\"/>\n"
-                                                    "    <CGLinearSolver iterations=\"200\" tolerance=\"1e-12\" threshold=\"1e-20\"/>\n";
+    const std::string solver =
+        s.deformable_sheet ? "<EulerImplicitSolver rayleighStiffness=\"0.05\" rayleighMass=\"0.2\"/>\n"
+                             "  <CGLinearSolver iterations=\"1000\" tolerance=\"1e-8\" threshold=\"1e-20\"/>\n"
+                           : "<EulerImplicitSolver rayleighStiffness=\"0\" rayleighMass=\"0\"/>\n"
+                             "    <CGLinearSolver iterations=\"200\" tolerance=\"1e-12\" threshold=\"1e-20\"/>\n";
     const std::string indent = "  ";
     if (!s.deformable_sheet) {
         o << static_mesh_node("Sheet", sheet, s.stiffness, false);
@@ -177,19 +182,23 @@ inline std::string ball_on_sheet_xml(const BallOnSheet& s) {
         const int n = s.cells;
         o << "  " << solver;
         o << "  <Node name=\"Sheet\">\n"
-          << "    <MeshTopology position=\"" << points_text(sheet.points) << "\" triangles=\"" << elements_text(sheet.triangles)
-          << "\" edges=\"" << elements_text(sheet.edges) << "\"/>\n    <MechanicalObject name=\"sheet\"/>\n"
+          << "    <MeshTopology position=\"" << points_text(sheet.points) << "\" triangles=\""
+          << elements_text(sheet.triangles) << "\" edges=\"" << elements_text(sheet.edges)
+          << "\"/>\n    <MechanicalObject name=\"sheet\"/>\n"
           << "    <UniformMass totalMass=\"0.5\"/>\n    <MeshSpringForceField stiffness=\"2000\" damping=\"1\"/>\n"
           << "    <FixedConstraint indices=\"0 " << n << " " << (n + 1) * n << " " << (n + 1) * (n + 1) - 1 << "\"/>\n"
           << "    <TriangleCollisionModel name=\"sheet_triangles\" contactStiffness=\"" << num(s.stiffness) << "\"/>\n"
-          << "    <PointCollisionModel name=\"sheet_points\" contactStiffness=\"" << num(s.stiffness) << "\"/>\n  </Node>\n";
+          << "    <PointCollisionModel name=\"sheet_points\" contactStiffness=\"" << num(s.stiffness)
+          << "\"/>\n  </Node>\n";
     }
     o << indent << "<Node name=\"Ball\">\n";
     if (!s.deformable_sheet) o << indent << "  " << solver;
     o << indent << "  <MechanicalObject name=\"ball\" position=\"0.03 " << num(s.height) << " 0.04\" velocity=\"0 "
-      << num(-s.speed) << " 0\"/>\n" << indent << "  <UniformMass totalMass=\"" << num(s.mass) << "\"/>\n" << indent
-      << "  <SphereCollisionModel name=\"ball_sphere\" radius=\"" << num(s.radius) << "\" contactStiffness=\""
-      << num(s.stiffness) << "\"/>\n" << indent << "</Node>\n";
+      << num(-s.speed) << " 0\"/>\n"
+      << indent << "  <UniformMass totalMass=\"" << num(s.mass) << "\"/>\n"
+      << indent << "  <SphereCollisionModel name=\"ball_sphere\" radius=\"" << num(s.radius) << "\" contactStiffness=\""
+      << num(s.stiffness) << "\"/>\n"
+      << indent << "</Node>\n";
     o << "</Node>\n";
     return o.str();
 }
@@ -199,11 +208,11 @@ inline std::string ball_on_sheet_xml(const BallOnSheet& s) {
 struct DrapedSheet {
     double dt = 0.01;
     double alarm = 0.02, contact = 0.01;
-    double stiffness = 3.0;        ///< contactStiffness of every model: ks = k²/C = 900 N/m
-    int cells = 16;                ///< the sheet: 1.2 m × 1.2 m, starting 0.05 m above the sphere's top
-    double mass = 0.3;             ///< kg
-    double young_modulus = 5e4;    ///< Pa (a membrane of unit thickness: N/m)
-    double pull = 1.0;             ///< N down on each node of two opposite edges, from the start
+    double stiffness = 3.0;      ///< contactStiffness of every model: ks = k²/C = 900 N/m
+    int cells = 16;              ///< the sheet: 1.2 m × 1.2 m, starting 0.05 m above the sphere's top
+    double mass = 0.3;           ///< kg
+    double young_modulus = 5e4;  ///< Pa (a membrane of unit thickness: N/m)
+    double pull = 1.0;           ///< N down on each node of two opposite edges, from the start
     std::string guard;
 };
 
@@ -217,13 +226,17 @@ inline std::string draped_sheet_xml(const DrapedSheet& s) {
     for (int i = 0; i <= n; ++i) pulled << (i ? " " : "") << i << ' ' << i + (n + 1) * n;
     o << "  <Node name=\"Sheet\">\n    <EulerImplicitSolver rayleighStiffness=\"0.02\" rayleighMass=\"0.5\"/>\n"
       << "    <CGLinearSolver iterations=\"1000\" tolerance=\"1e-10\" threshold=\"1e-20\"/>\n"
-      << "    <MeshTopology position=\"" << points_text(sheet.points) << "\" triangles=\"" << elements_text(sheet.triangles)
-      << "\"/>\n    <MechanicalObject name=\"sheet\"/>\n    <UniformMass totalMass=\"" << num(s.mass) << "\"/>\n"
-      << "    <TriangularFEMForceField name=\"fem\" youngModulus=\"" << num(s.young_modulus) << "\" poissonRatio=\"0.3\" method=\"large\"/>\n"
-      << "    <ConstantForceField name=\"pull\" indices=\"" << pulled.str() << "\" forces=\"0 " << num(-s.pull) << " 0\"/>\n"
+      << "    <MeshTopology position=\"" << points_text(sheet.points) << "\" triangles=\""
+      << elements_text(sheet.triangles) << "\"/>\n    <MechanicalObject name=\"sheet\"/>\n    <UniformMass totalMass=\""
+      << num(s.mass) << "\"/>\n"
+      << "    <TriangularFEMForceField name=\"fem\" youngModulus=\"" << num(s.young_modulus)
+      << "\" poissonRatio=\"0.3\" method=\"large\"/>\n"
+      << "    <ConstantForceField name=\"pull\" indices=\"" << pulled.str() << "\" forces=\"0 " << num(-s.pull)
+      << " 0\"/>\n"
       << "    <TriangleCollisionModel name=\"sheet_triangles\" contactStiffness=\"" << num(s.stiffness) << "\"/>\n"
       << "    <LineCollisionModel name=\"sheet_lines\" contactStiffness=\"" << num(s.stiffness) << "\"/>\n"
-      << "    <PointCollisionModel name=\"sheet_points\" contactStiffness=\"" << num(s.stiffness) << "\"/>\n  </Node>\n</Node>\n";
+      << "    <PointCollisionModel name=\"sheet_points\" contactStiffness=\"" << num(s.stiffness)
+      << "\"/>\n  </Node>\n</Node>\n";
     return o.str();
 }
 
@@ -232,11 +245,11 @@ inline std::string draped_sheet_xml(const DrapedSheet& s) {
 struct BandOnPegs {
     double dt = 0.005;
     double alarm = 0.01, contact = 0.005;
-    double stiffness = 5.0;        ///< contactStiffness: ks = k²/C = 5000 N/m
-    int points = 80;               ///< band points (a closed loop)
+    double stiffness = 5.0;                        ///< contactStiffness: ks = k²/C = 5000 N/m
+    int points = 80;                               ///< band points (a closed loop)
     double peg_radius = 0.03, peg_distance = 0.5;  ///< pegs at x = ±peg_distance/2 (m)
-    double band_stiffness = 2000;  ///< N/m per spring, rest length 70 % of the loop's: stretched
-    double pull = 30.0;            ///< N on each of the 5 middle points of one side, along −z
+    double band_stiffness = 2000;                  ///< N/m per spring, rest length 70 % of the loop's: stretched
+    double pull = 30.0;                            ///< N on each of the 5 middle points of one side, along −z
     std::string guard;
 };
 
@@ -276,7 +289,8 @@ inline std::string band_on_pegs_xml(const BandOnPegs& s) {
     const double rest = 0.7 * perimeter / s.points;
     std::ostringstream springs;
     for (std::size_t i = 0; i < edges.size(); ++i)
-        springs << (i ? "  " : "") << edges[i][0] << ' ' << edges[i][1] << ' ' << num(s.band_stiffness) << " 0.5 " << num(rest);
+        springs << (i ? "  " : "") << edges[i][0] << ' ' << edges[i][1] << ' ' << num(s.band_stiffness) << " 0.5 "
+                << num(rest);
     // the middle of the first straight side (z = +r), pulled along +z: away from the pegs' line,
     // which drags the band across the pegs' round side
     std::ostringstream pulled;
@@ -289,7 +303,8 @@ inline std::string band_on_pegs_xml(const BandOnPegs& s) {
       << "    <SpringForceField spring=\"" << springs.str() << "\"/>\n"
       << "    <ConstantForceField indices=\"" << pulled.str() << "\" forces=\"0 0 " << num(s.pull) << "\"/>\n"
       << "    <LineCollisionModel name=\"band_lines\" contactStiffness=\"" << num(s.stiffness) << "\"/>\n"
-      << "    <PointCollisionModel name=\"band_points\" contactStiffness=\"" << num(s.stiffness) << "\"/>\n  </Node>\n</Node>\n";
+      << "    <PointCollisionModel name=\"band_points\" contactStiffness=\"" << num(s.stiffness)
+      << "\"/>\n  </Node>\n</Node>\n";
     return o.str();
 }
 
