@@ -1,6 +1,7 @@
 // broad_phase() (SOFA's BruteForceBroadPhase filter) and BroadPhase, its pairs kept from step to
 // step with the near ones found by a sweep (broad_phase.hpp).
 #include "broad_phase.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "narrow_phase.hpp"
 #include "penalty/core/error.hpp"
@@ -47,7 +48,7 @@ namespace {
 // sweeps over the models' root boxes.
 constexpr std::size_t kMaxPairsTestedOneByOne = 64;
 // near_'s sort: std::sort below this many pairs, the radix sort from there
-constexpr std::size_t kMinKeysForRadixSort = 256;
+constexpr std::size_t kMinNearPairsForRadixSort = 256;
 }  // namespace
 
 bool BroadPhase::ModelKey::describes(const CollisionModel& m) const {
@@ -82,7 +83,7 @@ bool BroadPhase::update(const IntersectionParams& params, const std::vector<Coll
         any_pair_writes_models_ = any_pair_writes_models_ || kernel_writes_models(params, *d.model1, *d.model2);
         const std::uint64_t lower = std::min(indices_[k][0], indices_[k][1]);
         const std::uint64_t higher = std::max(indices_[k][0], indices_[k][1]);
-        pair_of_models_.emplace(lower << 32 | higher, k);
+        pair_of_models_.emplace(pair_key::make(lower, higher), k);
     }
     near_.clear();
     near_last_.clear();
@@ -103,7 +104,7 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
         return;
     }
     const auto consider = [&](std::size_t a, std::size_t b) {  // models a <= b
-        const auto it = pair_of_models_.find(std::uint64_t(a) << 32 | b);
+        const auto it = pair_of_models_.find(pair_key::make(a, b));
         if (it == pair_of_models_.end()) return;  // filtered out by the broad phase
         const std::size_t k = it->second;
         if (within_margin(indices_[k][0], indices_[k][1])) near_.push_back(k);
@@ -158,7 +159,7 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
         sweep_active_.resize(kept);
         sweep_active_.push_back(s);
     }
-    if (near_.size() < kMinKeysForRadixSort) std::sort(near_.begin(), near_.end());
+    if (near_.size() < kMinNearPairsForRadixSort) std::sort(near_.begin(), near_.end());
     else stable_radix_sort(near_, sweep_swap_, sweep_counts_, [](std::size_t k) { return std::uint64_t(k); });
     mark_near(result);
 }

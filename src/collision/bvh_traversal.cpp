@@ -1,6 +1,7 @@
 // The dual-tree traversal of a model pair's bounding trees: the candidate element pairs whose
 // boxes pass the §3.8 test, sorted (collect_candidates, bvh_candidates).
 #include "narrow_phase.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "kernels/collision/box_columns.hpp"
 #include "penalty/collision/models.hpp"
@@ -21,7 +22,7 @@ namespace {
 
 constexpr std::uint32_t kParallelTraversalMin = 4096;  // element count above which a node pair forks
 
-std::uint64_t key(std::uint32_t e1, std::uint32_t e2) { return (std::uint64_t(e1) << 32) | e2; }
+std::uint64_t key(std::uint32_t e1, std::uint32_t e2) { return pair_key::make(e1, e2); }
 
 // Dual-tree traversal collecting the element pairs whose boxes pass the §3.8 test. Below
 // kBruteForceBelow element pairs, a node pair is finished by testing all its element pairs
@@ -242,7 +243,7 @@ void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double ma
         // unique, so std::sort's, without a comparison
         const int low_bits = std::bit_width(t2.element_boxes().size());
         stable_radix_sort(keys, b.sorted, b.radix_counts,
-                          [low_bits](std::uint64_t k) { return (k >> 32) << low_bits | (k & 0xffffffffU); });
+                          [low_bits](std::uint64_t k) { return pair_key::first(k) << low_bits | pair_key::second(k); });
         return;
     }
     std::vector<std::size_t>& start = b.start;
@@ -253,22 +254,22 @@ void collect_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double ma
         // significant digit first over the two element indices; no comparison)
         const std::size_t n2 = t2.element_boxes().size();
         start.assign(n2 + 1, 0);
-        for (const std::uint64_t k : keys) ++start[std::size_t(k & 0xffffffffU) + 1];
+        for (const std::uint64_t k : keys) ++start[pair_key::second(k) + 1];
         for (std::size_t i = 0; i < n2; ++i) start[i + 1] += start[i];
-        for (const std::uint64_t k : keys) sorted[start[std::size_t(k & 0xffffffffU)]++] = k;
+        for (const std::uint64_t k : keys) sorted[start[pair_key::second(k)]++] = k;
         start.assign(n1 + 1, 0);
-        for (const std::uint64_t k : sorted) ++start[std::size_t(k >> 32) + 1];
+        for (const std::uint64_t k : sorted) ++start[pair_key::first(k) + 1];
         for (std::size_t i = 0; i < n1; ++i) start[i + 1] += start[i];
-        for (const std::uint64_t k : sorted) keys[start[std::size_t(k >> 32)]++] = k;
+        for (const std::uint64_t k : sorted) keys[start[pair_key::first(k)]++] = k;
         return;
     }
     // very many candidates and threads: counting sort on elem1, then each (short) elem1 bucket
     // sorted by elem2, buckets in parallel
     start.assign(n1 + 1, 0);
-    for (const std::uint64_t k : keys) ++start[std::size_t(k >> 32) + 1];
+    for (const std::uint64_t k : keys) ++start[pair_key::first(k) + 1];
     for (std::size_t i = 0; i < n1; ++i) start[i + 1] += start[i];
     b.pos.assign(start.begin(), start.end() - 1);
-    for (const std::uint64_t k : keys) sorted[b.pos[std::size_t(k >> 32)]++] = k;
+    for (const std::uint64_t k : keys) sorted[b.pos[pair_key::first(k)]++] = k;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n1, 4096), [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t e = r.begin(); e < r.end(); ++e)
             if (start[e + 1] - start[e] > 1)

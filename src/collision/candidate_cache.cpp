@@ -1,5 +1,6 @@
 // CandidateCache: each model pair's candidates kept from step to step (candidate_cache.hpp).
 #include "candidate_cache.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "kernels.hpp"
 #include "kernels/box_overlap.hpp"
@@ -114,7 +115,7 @@ void CandidateCache::track_motion(std::size_t i, const Bvh& tree, const Collisio
 
 PairCandidates* CandidateCache::entry(std::size_t i1, std::size_t i2) {
     if (motion_[i1].generation == 0 || motion_[i2].generation == 0) return nullptr;
-    return &pairs_[(std::uint64_t(i1) << 32) | std::uint64_t(i2)];
+    return &pairs_[pair_key::make(i1, i2)];
 }
 
 void CandidateCache::count_kept_keys(const std::vector<std::size_t>& near,
@@ -178,8 +179,8 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
     const auto prefetch_ahead = [&](std::size_t j) {
         if (fetch && j + prefetch::kAhead < n_kept) {
             const std::uint64_t ahead = keys[j + prefetch::kAhead];
-            prefetch::object(boxes1 + (ahead >> 32), sizeof(Aabb));
-            prefetch::object(boxes2 + (ahead & 0xffffffffu), sizeof(Aabb));
+            prefetch::object(boxes1 + pair_key::first(ahead), sizeof(Aabb));
+            prefetch::object(boxes2 + pair_key::second(ahead), sizeof(Aabb));
         }
     };
     // Nearly all or nearly none of the keys overlapped last time: a branch per key, predicted.
@@ -224,16 +225,19 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
                 const std::uint64_t k = keys[j];
                 if constexpr (decltype(branch_free)::value) {
                     block[count] = k;
-                    count += boxes_overlap_branch_free(boxes1[k >> 32], boxes2[k & 0xffffffffu], margin) ? 1 : 0;
+                    count += boxes_overlap_branch_free(boxes1[pair_key::first(k)], boxes2[pair_key::second(k)], margin)
+                                 ? 1
+                                 : 0;
                 } else if (flags == 1) {
-                    if (sure[j] != 0 || boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) block[count++] = k;
+                    if (sure[j] != 0 || boxes1[pair_key::first(k)].overlaps(boxes2[pair_key::second(k)], margin))
+                        block[count++] = k;
                 } else if (flags == 2) {
-                    const Aabb& box1 = boxes1[k >> 32];
-                    const Aabb& box2 = boxes2[k & 0xffffffffu];
+                    const Aabb& box1 = boxes1[pair_key::first(k)];
+                    const Aabb& box2 = boxes2[pair_key::second(k)];
                     sure[j] = boxes_overlap_branch_free(box1, box2, sure_margin) ? 1 : 0;
                     sure_count += sure[j];
                     if (sure[j] != 0 || box1.overlaps(box2, margin)) block[count++] = k;
-                } else if (boxes1[k >> 32].overlaps(boxes2[k & 0xffffffffu], margin)) {
+                } else if (boxes1[pair_key::first(k)].overlaps(boxes2[pair_key::second(k)], margin)) {
                     block[count++] = k;
                 }
             }

@@ -1,6 +1,7 @@
 // ContinuousDetection::detect: surfaces paired by a sweep over their swept boxes, the features of
 // each pair from their trees (bvh_candidates), the exact tests of geometry/ccd.hpp (ccd_detection.hpp).
 #include "ccd_surfaces.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "penalty/core/error.hpp"
 #include "penalty/geometry/segment_segment.hpp"
@@ -218,7 +219,7 @@ void ContinuousDetection::candidates(const Task& task, bool parallel, std::vecto
     }
     const std::vector<Aabb>& b1 = s1.boxes[k1].boxes;
     const std::vector<Aabb>& b2 = s2.boxes[k2].boxes;
-    const auto key = [](std::size_t e1, std::size_t e2) { return (std::uint64_t(e1) << 32) | std::uint64_t(e2); };
+    const auto key = [](std::size_t e1, std::size_t e2) { return pair_key::make(e1, e2); };
     if (same) {  // one small list against itself: e1 > e2
         for (std::size_t i = 0; i < b1.size(); ++i)
             for (std::size_t j = 0; j < i; ++j)
@@ -262,11 +263,11 @@ void ContinuousDetection::find_tasks() {
     for (std::size_t u = 0; u < sweep_.size(); ++u) {
         const std::size_t a = sweep_[u];
         const Aabb& ba = surfaces_[a]->swept_box;
-        near_.push_back((std::uint64_t(a) << 32) | a);  // itself (self-collision, if kept)
+        near_.push_back(pair_key::make(a, a));  // itself (self-collision, if kept)
         for (std::size_t w = u + 1; w < sweep_.size() && surfaces_[sweep_[w]]->swept_box.min.x() <= ba.max.x(); ++w) {
             const std::size_t b = sweep_[w];
             if (!ba.overlaps(surfaces_[b]->swept_box)) continue;
-            near_.push_back((std::uint64_t(std::min(a, b)) << 32) | std::max(a, b));
+            near_.push_back(pair_key::make(std::min(a, b), std::max(a, b)));
         }
     }
     std::sort(near_.begin(), near_.end());
@@ -274,7 +275,7 @@ void ContinuousDetection::find_tasks() {
         const auto it =
             std::lower_bound(pair_tests_.begin(), pair_tests_.end(), std::pair<std::uint64_t, std::uint32_t>{key, 0u});
         if (it == pair_tests_.end() || it->first != key) continue;
-        const std::size_t a = std::size_t(key >> 32), b = std::size_t(key & 0xffffffffu);
+        const std::size_t a = pair_key::first(key), b = pair_key::second(key);
         ++stats_.surface_pairs;
         tasks_of(a, b, it->second, [&](std::size_t first, std::size_t second, int k1, int k2, CrossingKind kind) {
             const Surface& s1 = *surfaces_[first];
@@ -312,7 +313,7 @@ const std::vector<Crossing>& ContinuousDetection::detect(const CcdOptions& optio
         candidates(task, inner_parallel, keys);
         task_candidates_[k] = keys.size();
         for (std::uint64_t key : keys)
-            test_candidate(task, s1, s2, std::uint32_t(key >> 32), std::uint32_t(key), options, out, capped[k]);
+            test_candidate(task, s1, s2, pair_key::first(key), pair_key::second(key), options, out, capped[k]);
         // a feature through several elements of the other surface at once (a vertex through a
         // shared edge, an edge through a vertex) is one crossing: its earliest
         std::stable_sort(out.begin(), out.end(), [](const Crossing& x, const Crossing& y) {

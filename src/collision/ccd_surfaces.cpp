@@ -1,6 +1,7 @@
 // ContinuousDetection's surfaces: the models grouped by state, their features, the recorded start
 // of the motion and the swept-box trees (ccd_detection.hpp).
 #include "ccd_surfaces.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "penalty/collision/models.hpp"
 #include "penalty/core/error.hpp"
@@ -90,7 +91,7 @@ std::uint32_t swapped(std::uint32_t bits) {
 
 std::uint64_t edge_key(Index a, Index b) {
     if (a > b) std::swap(a, b);
-    return (std::uint64_t(a) << 32) | std::uint64_t(b);
+    return pair_key::make(a, b);
 }
 
 }  // namespace
@@ -215,9 +216,9 @@ void ContinuousDetection::build_surfaces() {
         std::uint32_t bits = tests_of(p.model1->type(), p.model2->type(), pair_edge_edge_[k] != 0);
         std::uint64_t key = 0;
         if (a <= b) {
-            key = (std::uint64_t(a) << 32) | b;
+            key = pair_key::make(a, b);
         } else {
-            key = (std::uint64_t(b) << 32) | a;
+            key = pair_key::make(b, a);
             bits = swapped(bits);
         }
         if (a == b) bits |= swapped(bits);  // within one surface both ways are one test

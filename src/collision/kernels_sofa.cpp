@@ -1,6 +1,7 @@
 // NewProximity, MinProximity and Discrete element intersectors (spec §5.3–5.5); each method's
 // constants (tolerances, normal guards, SOFA's flag quirks) are its row in kernels.hpp.
 #include "kernels.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "penalty/collision/separation.hpp"
 #include "penalty/geometry/segment_triangle.hpp"
@@ -116,8 +117,8 @@ void np_sphere_point_all(PairCtx& c, std::span<const std::uint64_t> keys) {
     const double contact = c.p.contact_distance + skins(c);
     const auto run = [&](const auto& spheres) {
         for (const std::uint64_t key : keys) {
-            c.e1 = Index(key >> 32);
-            c.e2 = Index(key & 0xffffffffu);
+            c.e1 = Index(pair_key::first(key));
+            c.e2 = Index(pair_key::second(key));
             const double r = spheres.radius(c.e1);
             np_pp(c, spheres.center(c.e1), points.point(c.e2), alarm + r, contact + r, id_big(c),
                   kNewProximity.point_point_guard);

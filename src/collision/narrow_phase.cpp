@@ -1,6 +1,7 @@
 // The BVH narrow phase of a model pair: its candidates evaluated by the pair's kernel, the
 // filters that evaluate fewer (contact outputs only), bvh_narrow_phase.
 #include "narrow_phase.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "kernels.hpp"
 #include "kernels/prefetch.hpp"
@@ -59,8 +60,8 @@ void run_kernel_writes(const IntersectionParams& params, CollisionModel& m1, Col
     DetectionOutputList none;  // the writes make no output
     detail::PairCtx ctx{params, m1, m2, 0, 0, none};
     for (const std::uint64_t key : keys) {
-        ctx.e1 = Index(key >> 32);
-        ctx.e2 = Index(key & 0xffffffffu);
+        ctx.e1 = Index(pair_key::first(key));
+        ctx.e2 = Index(pair_key::second(key));
         if (node && !elements_may_collide(m1, ctx.e1, m2, ctx.e2)) continue;
         kernel.writes(ctx);
     }
@@ -101,11 +102,11 @@ void evaluate_candidates(const IntersectionParams& params, CollisionModel& m1, C
         for (std::size_t k = begin; k < end; ++k) {
             if (prefetch && k + detail::prefetch::kAhead < end) {
                 const std::uint64_t ahead = keys[k + detail::prefetch::kAhead];
-                detail::prefetch::object(row1.base + row1.stride * (ahead >> 32), row1.stride);
-                detail::prefetch::object(row2.base + row2.stride * (ahead & 0xffffffffu), row2.stride);
+                detail::prefetch::object(row1.base + row1.stride * pair_key::first(ahead), row1.stride);
+                detail::prefetch::object(row2.base + row2.stride * pair_key::second(ahead), row2.stride);
             }
-            ctx.e1 = Index(keys[k] >> 32);
-            ctx.e2 = Index(keys[k] & 0xffffffffu);
+            ctx.e1 = Index(pair_key::first(keys[k]));
+            ctx.e2 = Index(pair_key::second(keys[k]));
             if (node && !elements_may_collide(m1, ctx.e1, m2, ctx.e2)) continue;
             fn(ctx);
         }
@@ -185,7 +186,7 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
             double least = kInf;
             std::uint32_t at = kNone;
             for (std::size_t k = 0; k < n; ++k) {
-                const double d2 = reach_of(boxes1[keys[k] >> 32], q);
+                const double d2 = reach_of(boxes1[pair_key::first(keys[k])], q);
                 b.reach[k] = d2;
                 if (d2 < least) {
                     least = d2;
@@ -197,8 +198,8 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
         } else {
             for (std::size_t k = 0; k < n; ++k) {
                 const std::uint64_t key = keys[k];
-                const std::size_t e2 = key & 0xffffffffu;
-                const double d2 = reach_of(boxes1[key >> 32], point_of(Index(e2)));
+                const std::size_t e2 = pair_key::second(key);
+                const double d2 = reach_of(boxes1[pair_key::first(key)], point_of(Index(e2)));
                 b.reach[k] = d2;
                 if (d2 < b.bound[e2]) {
                     b.bound[e2] = d2;
@@ -230,7 +231,7 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
     });
     std::size_t kept = 0;
     for (std::size_t k = 0; k < n; ++k)
-        if (b.reach[k] <= b.bound[keys[k] & 0xffffffffu]) keys[kept++] = keys[k];
+        if (b.reach[k] <= b.bound[pair_key::second(keys[k])]) keys[kept++] = keys[k];
     keys.resize(kept);
 }
 

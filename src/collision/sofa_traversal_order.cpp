@@ -1,4 +1,5 @@
 #include "penalty/collision/sofa_traversal_order.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "penalty/core/radix_sort.hpp"
 
@@ -289,7 +290,9 @@ void sort_keys_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, std
     if (n < 2) return;
     sofa_order_permutation(
         t1, t2, n,
-        [&](std::size_t i) { return std::pair<Index, Index>(Index(keys[i] >> 32), Index(keys[i] & 0xffffffffu)); },
+        [&](std::size_t i) {
+            return std::pair<Index, Index>(Index(pair_key::first(keys[i])), Index(pair_key::second(keys[i])));
+        },
         scratch);
     scratch.sorted_keys.clear();
     for (const std::uint32_t i : scratch.permutation) scratch.sorted_keys.push_back(keys[i]);

@@ -6,6 +6,7 @@
 // candidates, whose centre projects onto a vertex or an edge that another triangle owns), and
 // the filter costs a fraction of the kernel a candidate.
 #include "kernels/collision/candidate_filters.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include "collision/kernels.hpp"
 #include "kernels/lanes.hpp"
@@ -52,8 +53,8 @@ template <class PointOf>
 void keep_triangle_scalar(const TriangleModel& t, PointOf&& point_of, const TriangleRule& rule,
                           std::span<const std::uint64_t> keys, std::size_t begin, Keys& kept) {
     for (std::size_t i = begin; i < keys.size(); ++i) {
-        const Index e1 = Index(keys[i] >> 32);
-        const Gram g = gram(t.p(e1, 0), t.p(e1, 1), t.p(e1, 2), point_of(Index(keys[i] & 0xffffffffu)));
+        const Index e1 = Index(pair_key::first(keys[i]));
+        const Gram g = gram(t.p(e1, 0), t.p(e1, 1), t.p(e1, 2), point_of(Index(pair_key::second(keys[i]))));
         if (g.degenerate) continue;
         double alpha = 0.0;
         double beta = 0.0;
@@ -66,8 +67,8 @@ void keep_triangle_scalar(const TriangleModel& t, PointOf&& point_of, const Tria
 void keep_line_line_scalar(const LineModel& l1, const LineModel& l2, const LineLineConstants& k,
                            std::span<const std::uint64_t> keys, std::size_t begin, Keys& kept) {
     for (std::size_t i = begin; i < keys.size(); ++i) {
-        const Index e1 = Index(keys[i] >> 32);
-        const Index e2 = Index(keys[i] & 0xffffffffu);
+        const Index e1 = Index(pair_key::first(keys[i]));
+        const Index e2 = Index(pair_key::second(keys[i]));
         Vec3 p;
         Vec3 q;
         if (line_line_points(l1.p1(e1), l1.p2(e1), l2.p1(e2), l2.p2(e2), k, p, q)) kept.push_back(keys[i]);
@@ -125,8 +126,8 @@ template <bool kFeatures, class PointOf>
         const double* q[4];
         const double* v[3][4];
         for (int j = 0; j < 4; ++j) {
-            e1[j] = Index(keys[i + j] >> 32);
-            q[j] = point_of(Index(keys[i + j] & 0xffffffffu)).data();
+            e1[j] = Index(pair_key::first(keys[i + j]));
+            q[j] = point_of(Index(pair_key::second(keys[i + j]))).data();
             const Triangle& tri = triangles[e1[j]];
             for (int c = 0; c < 3; ++c) v[c][j] = x[tri[std::size_t(c)]].data();
         }
@@ -208,8 +209,8 @@ template <bool kFeatures, class PointOf>
     for (std::size_t i = 0; i < n4; i += 4) {
         const double* v[4][4];  // p1, p2, q1, q2 of each lane
         for (int j = 0; j < 4; ++j) {
-            const Index e1 = Index(keys[i + j] >> 32);
-            const Index e2 = Index(keys[i + j] & 0xffffffffu);
+            const Index e1 = Index(pair_key::first(keys[i + j]));
+            const Index e2 = Index(pair_key::second(keys[i + j]));
             v[0][j] = l1.p1(e1).data();
             v[1][j] = l1.p2(e1).data();
             v[2][j] = l2.p1(e2).data();
