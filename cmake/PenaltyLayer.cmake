@@ -17,6 +17,10 @@ function(penalty_add_layer name)
       PRIVATE ${PROJECT_SOURCE_DIR}/src)
     target_link_libraries(${_target} PUBLIC ${L_DEPENDS} PRIVATE $<BUILD_INTERFACE:penalty_warnings>)
     target_compile_features(${_target} PUBLIC cxx_std_20)
+    # A few sources to a translation unit (PENALTY_UNITY_LIBRARY): the headers, Eigen's above all,
+    # are parsed once a batch instead of once a file.
+    set_target_properties(${_target} PROPERTIES UNITY_BUILD ${PENALTY_UNITY_LIBRARY}
+                                                UNITY_BUILD_BATCH_SIZE ${PENALTY_UNITY_BATCH_SIZE})
     if(PENALTY_FUZZ)  # libFuzzer's coverage of the library's code (cmake/PenaltyWarnings.cmake)
       target_compile_options(${_target} PRIVATE -fsanitize=fuzzer-no-link)
     endif()

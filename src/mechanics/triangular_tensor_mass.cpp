@@ -1,5 +1,6 @@
 #include "penalty/mechanics/triangular_tensor_mass.hpp"
 
+#include "sofa_vector_ops.hpp"
 #include "triangle_edge_blocks.hpp"
 
 #include <cmath>
@@ -8,19 +9,8 @@ namespace penalty {
 
 namespace {
 
-/// M·v with SOFA's Mat::operator*(Vec) order: r_i = (M_i0 v_0 + M_i1 v_1) + M_i2 v_2.
-Vec3 times(const Mat3& m, const Vec3& v) {
-    Vec3 r;
-    for (int i = 0; i < 3; ++i) r[i] = m(i, 0) * v[0] + m(i, 1) * v[1] + m(i, 2) * v[2];
-    return r;
-}
-
-/// Mᵀ·v with SOFA's Mat::transposeMultiply order: r_i = (M_0i v_0 + M_1i v_1) + M_2i v_2.
-Vec3 transpose_times(const Mat3& m, const Vec3& v) {
-    Vec3 r;
-    for (int i = 0; i < 3; ++i) r[i] = m(0, i) * v[0] + m(1, i) * v[1] + m(2, i) * v[2];
-    return r;
-}
+using sofa_vec::times;            // M·v in SOFA's Mat::operator*(Vec) order
+using sofa_vec::transpose_times;  // Mᵀ·v in SOFA's order
 
 /// |v|² as SOFA's norm2: (x² + y²) + z².
 double squared_norm(const Vec3& v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; }

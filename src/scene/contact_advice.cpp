@@ -76,7 +76,7 @@ Side side_of(const Scene& scene, const CollisionModel& m) {
     return s;
 }
 
-std::string num(double x) {
+std::string three_digits(double x) {
     char buf[32];
     if (std::isinf(x)) return "inf";
     std::snprintf(buf, sizeof buf, "%.3g", x);
@@ -182,25 +182,26 @@ double largest_dt(const PairAdvice& a) {
 double smallest_ks(const PairAdvice& a) { return std::max(a.min_ks_energy, a.min_ks_implicit); }
 
 void describe_pair(std::ostringstream& o, const PairAdvice& a) {
-    o << "pair " << a.model1 << " - " << a.model2 << ": mass per contact point m = " << num(a.mass)
-      << " kg, reach D = " << num(a.reach) << " m, first seen at A = " << num(a.alarm)
-      << " m, spring ks = " << num(a.ks) << " N/m\n";
-    o << "  detection: dt <= A/v = " << num(a.max_dt_detection) << " s"
+    o << "pair " << a.model1 << " - " << a.model2 << ": mass per contact point m = " << three_digits(a.mass)
+      << " kg, reach D = " << three_digits(a.reach) << " m, first seen at A = " << three_digits(a.alarm)
+      << " m, spring ks = " << three_digits(a.ks) << " N/m\n";
+    o << "  detection: dt <= A/v = " << three_digits(a.max_dt_detection) << " s"
       << (a.dt <= a.max_dt_detection ? "" : "  (EXCEEDED)") << "\n";
-    o << "  energy: ks >= m v^2/D^2 = " << num(a.min_ks_energy) << " N/m"
+    o << "  energy: ks >= m v^2/D^2 = " << three_digits(a.min_ks_energy) << " N/m"
       << (a.ks >= a.min_ks_energy ? "" : "  (NOT MET)") << "\n";
     if (a.min_ks_implicit > 0)
-        o << "  implicit step: ks >= m (v dt - D)/(dt^2 D) = " << num(a.min_ks_implicit) << " N/m"
+        o << "  implicit step: ks >= m (v dt - D)/(dt^2 D) = " << three_digits(a.min_ks_implicit) << " N/m"
           << (a.ks >= a.min_ks_implicit ? "" : "  (NOT MET)") << "\n";
     if (a.explicit_contact) {
         o << "  solve: explicit contact (stored above the sides' solvers, spec 2.1): stable for dt <= 2 sqrt(m/ks) = "
-          << num(a.max_dt_explicit) << " s" << (a.dt <= a.max_dt_explicit ? "" : "  (EXCEEDED)") << "\n";
+          << three_digits(a.max_dt_explicit) << " s" << (a.dt <= a.max_dt_explicit ? "" : "  (EXCEEDED)") << "\n";
     } else {
         o << "  solve: implicit Euler (A-stable for any ks); CG needs about sqrt(1 + dt^2 ks/m) ln(2/tol) = "
-          << num(a.cg_iterations) << " iterations of its limit " << a.cg_limit
+          << three_digits(a.cg_iterations) << " iterations of its limit " << a.cg_limit
           << (a.cg_iterations <= a.cg_limit ? "" : "  (the solve will stop on its limit: raise iterations)") << "\n";
     }
-    o << "  => largest dt " << num(largest_dt(a)) << " s, smallest ks " << num(smallest_ks(a)) << " N/m\n";
+    o << "  => largest dt " << three_digits(largest_dt(a)) << " s, smallest ks " << three_digits(smallest_ks(a))
+      << " N/m\n";
 }
 
 }  // namespace
@@ -210,8 +211,8 @@ std::string contact_advice(const Scene& scene, std::optional<double> impact_spee
     std::ostringstream o;
     const std::vector<PairAdvice> pairs = contact_advice_pairs(scene, impact_speed);
     const double v = impact_speed ? *impact_speed : estimated_impact_speed(scene);
-    o << "contact advice (docs/no-tunnelling.md, \"Advice\"): dt = " << num(scene.dt())
-      << " s, impact speed v = " << num(v) << " m/s"
+    o << "contact advice (docs/no-tunnelling.md, \"Advice\"): dt = " << three_digits(scene.dt())
+      << " s, impact speed v = " << three_digits(v) << " m/s"
       << (impact_speed ? " (--impact-speed)"
                        : " (initial speed + sqrt(2 g H), H the scene's height; --impact-speed V to set it)")
       << "\n";
@@ -226,9 +227,9 @@ std::string contact_advice(const Scene& scene, std::optional<double> impact_spee
                                         [](const auto& x, const auto& y) { return smallest_ks(x) < smallest_ks(y); });
     const std::size_t unsafe =
         std::size_t(std::count_if(pairs.begin(), pairs.end(), [](const PairAdvice& a) { return !a.safe(); }));
-    o << "scene: largest dt " << num(largest_dt(*by_dt)) << " s (pair " << by_dt->model1 << " - " << by_dt->model2
-      << "), smallest contact stiffness ks " << num(smallest_ks(*by_ks)) << " N/m (pair " << by_ks->model1 << " - "
-      << by_ks->model2 << "); " << unsafe << " of " << pairs.size()
+    o << "scene: largest dt " << three_digits(largest_dt(*by_dt)) << " s (pair " << by_dt->model1 << " - "
+      << by_dt->model2 << "), smallest contact stiffness ks " << three_digits(smallest_ks(*by_ks)) << " N/m (pair "
+      << by_ks->model1 << " - " << by_ks->model2 << "); " << unsafe << " of " << pairs.size()
       << " model pairs may tunnel at the scene's dt and ks\n";
     // the pairs, the unsafe ones first, the most demanding first
     std::vector<const PairAdvice*> order;

@@ -14,7 +14,6 @@ namespace penalty::scene {
 namespace {
 
 using display::node_path;
-std::string num(double v) { return display::number(v); }
 
 /// The node whose solver integrates `n`: the first node from the root owning an ODE solver.
 const Node* integrating_node(const Node& n) {
@@ -40,11 +39,11 @@ void describe_node(const Scene& scene, const io::SceneNode& sn, int depth,
     // dt and gravity where they are set (the root always), inherited below
     const Node* n = scene.node_of(sn);
     const Node* parent = n ? n->parent() : nullptr;
-    if (n && (parent == nullptr || parent->dt() != n->dt())) out << ": dt " << num(n->dt()) << " s";
+    if (n && (parent == nullptr || parent->dt() != n->dt())) out << ": dt " << display::number(n->dt()) << " s";
     if (n && (parent == nullptr || parent->gravity() != n->gravity())) {
         const Vec3 g = n->gravity();
-        out << (parent && parent->dt() == n->dt() ? ": " : ", ") << "gravity (" << num(g.x()) << ", " << num(g.y())
-            << ", " << num(g.z()) << ") m/s^2";
+        out << (parent && parent->dt() == n->dt() ? ": " : ", ") << "gravity (" << display::number(g.x()) << ", "
+            << display::number(g.y()) << ", " << display::number(g.z()) << ") m/s^2";
     }
     out << "\n";
     const auto print = [&](const std::string& label, const std::string& what) {
@@ -117,7 +116,8 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
     const std::string method = intersection_method_short_name(sp.intersection);
     out << "contact pairs of collision pipeline '" << sp.name << "' (" << method;
     if (sp.intersection != IntersectionMethod::Discrete)
-        out << ", alarm " << num(params.alarm_distance) << " m, contact " << num(params.contact_distance) << " m";
+        out << ", alarm " << display::number(params.alarm_distance) << " m, contact "
+            << display::number(params.contact_distance) << " m";
     const std::string base = pipeline.response().base_response_name();
     out << ", response " << (base.empty() ? std::string("none") : base) << "):\n";
     std::map<std::string, int> excluded;

@@ -6,6 +6,10 @@
 
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <cstddef>
+#include <utility>
+
 namespace penalty {
 
 /// The TBB arena of a Simulation's concurrent solves, made at the first one.
@@ -15,6 +19,10 @@ struct Simulation::ThreadArena {
 };
 
 namespace detail {
+/// {min(a, b), max(a, b)}: a pair of surfaces as one key whatever their order.
+inline std::pair<std::size_t, std::size_t> ordered(std::size_t a, std::size_t b) {
+    return {std::min(a, b), std::max(a, b)};
+}
 /// f(n) for `n` and every node below it, depth first, children in order.
 template <class F>
 void for_each_node(Node& n, const F& f) {

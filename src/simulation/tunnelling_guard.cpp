@@ -18,9 +18,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-/// An unordered pair of surfaces, lower first.
-std::pair<std::size_t, std::size_t> ordered(std::size_t a, std::size_t b) { return {std::min(a, b), std::max(a, b)}; }
-
 }  // namespace
 
 /// What an undo restores: every state's positions, velocities and applied forces, and every live
@@ -263,7 +260,7 @@ bool TunnellingGuard::retry_stiffer(Simulation& sim, double h, const Snapshot& s
     std::vector<std::pair<std::size_t, std::size_t>> pairs;
     const auto add_pairs = [&] {
         for (const Crossing& c : ccd_.crossings()) {
-            const auto key = ordered(c.surface1, c.surface2);
+            const auto key = detail::ordered(c.surface1, c.surface2);
             if (std::find(pairs.begin(), pairs.end(), key) == pairs.end()) pairs.push_back(key);
         }
     };

@@ -70,9 +70,6 @@ bool implicit_contact(const ContactGraphEntry& e) {
     return false;
 }
 
-/// An unordered pair of surfaces, lower first.
-std::pair<std::size_t, std::size_t> ordered(std::size_t a, std::size_t b) { return {std::min(a, b), std::max(a, b)}; }
-
 /// u₀ = (x2 − x1)·n of contact c at the current positions; false when its DOFs are out of range.
 bool start_gap(const ContactGraphEntry& e, const PenaltyContact& c, double& u0) {
     const auto& x1 = e.point_states[0]->position;
@@ -160,7 +157,7 @@ std::size_t TunnellingGuard::stiffen_pairs(const std::vector<std::pair<std::size
             if (!usable(e)) continue;
             const std::optional<std::size_t> s1 = ccd_.surface_of(e.contact->model1());
             const std::optional<std::size_t> s2 = ccd_.surface_of(e.contact->model2());
-            if (!s1 || !s2 || std::find(pairs.begin(), pairs.end(), ordered(*s1, *s2)) == pairs.end()) continue;
+            if (!s1 || !s2 || std::find(pairs.begin(), pairs.end(), detail::ordered(*s1, *s2)) == pairs.end()) continue;
             PenaltyForceField& field = e.force_field->field();
             const bool implicit = implicit_contact(e);
             const double bound = implicit ? 0.0 : explicit_stiffness_bound(e, h);

@@ -228,4 +228,9 @@ bool is_rigid_template(const SceneComponent& c, std::string_view name) {
     io::throw_element_error(c, "template '" + std::string(name) + "' is not supported (Vec3d or Rigid3d)");
 }
 
+void require_vec3_template(const SceneComponent& c) {
+    if (is_rigid_template(c, c.template_name))
+        io::throw_element_error(c, "template '" + c.template_name + "' is not supported (Vec3d only)");
+}
+
 }  // namespace penalty::scene

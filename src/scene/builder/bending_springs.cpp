@@ -370,7 +370,7 @@ void build_triangular_quadratic_springs(SceneBuilder& b, const SceneComponent& c
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kBendingSpringComponents[] = {
     {.type = "QuadularBendingSprings",
      .family = F::force_field,
      .summary = "two springs across each edge shared by two quads",
@@ -410,6 +410,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> bending_spring_components() { return kComponents; }
+std::span<const ComponentSpec> bending_spring_components() { return kBendingSpringComponents; }
 
 }  // namespace penalty::scene::builder

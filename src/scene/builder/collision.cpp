@@ -364,9 +364,8 @@ void build_pipeline(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.add_pipeline_component(c);
     b.note_unread_attributes(c);
 }
-void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) { b.note_unread_attributes(c); }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kCollisionComponents[] = {
     {.type = "CollisionPipeline",
      .family = F::collision_pipeline,
      .summary = "collision pipeline (broad phase, narrow phase, response)",
@@ -383,24 +382,24 @@ constexpr ComponentSpec kComponents[] = {
      .family = F::sub_pipeline,
      .summary = "collision pipeline restricted to listed models",
      .attributes = kSubPipeline,
-     .build = note_only},
+     .build = note_unread_attributes_only},
     {.type = "BruteForceBroadPhase",
      .family = F::broad_phase,
      .summary = "broad phase over all model pairs",
-     .build = note_only},
+     .build = note_unread_attributes_only},
     {.type = "BVHNarrowPhase",
      .family = F::narrow_phase,
      .summary = "bounding-volume narrow phase",
-     .build = note_only},
+     .build = note_unread_attributes_only},
     {.type = "RayTraceNarrowPhase",
      .family = F::narrow_phase,
      .summary = "ray-cast narrow phase between TriangleOctreeCollisionModel surfaces",
-     .build = note_only},
+     .build = note_unread_attributes_only},
     {.type = "CollisionResponse",
      .family = F::contact_manager,
      .summary = "contact manager (response=PenalityContactForceField)",
      .attributes = kResponse,
-     .build = note_only},
+     .build = note_unread_attributes_only},
     {.type = "MinProximityIntersection",
      .family = F::intersection,
      .summary = "proximity intersection (MinProximity)",
@@ -470,7 +469,7 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> collision_components() { return kComponents; }
+std::span<const ComponentSpec> collision_components() { return kCollisionComponents; }
 
 }  // namespace builder
 

@@ -130,7 +130,7 @@ void build_fast_corotational(SceneBuilder& b, const SceneComponent& c, NodeBuild
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kCorotationalFemComponents[] = {
     {.type = "TetrahedralCorotationalFEMForceField",
      .family = F::force_field,
      .summary = "corotational tetrahedral FEM (small, large, polar)",
@@ -145,6 +145,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> corotational_fem_components() { return kComponents; }
+std::span<const ComponentSpec> corotational_fem_components() { return kCorotationalFemComponents; }
 
 }  // namespace penalty::scene::builder

@@ -84,7 +84,7 @@ void build_tetrahedron_diffusion(SceneBuilder& b, const SceneComponent& c, NodeB
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kDiffusionComponents[] = {
     {.type = "TetrahedronDiffusionFEMForceField",
      .family = F::force_field,
      .summary = "diffusion of a Vec1d scalar (temperature) over tetrahedra measured on a tagged Vec3d state",
@@ -94,6 +94,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> diffusion_components() { return kComponents; }
+std::span<const ComponentSpec> diffusion_components() { return kDiffusionComponents; }
 
 }  // namespace penalty::scene::builder

@@ -127,7 +127,7 @@ const SceneComponent* in_node(const SceneComponent& c, bool (*wanted)(std::strin
     return nullptr;
 }
 
-void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
+void note_unless_solver_reads(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.note_unread_attributes(c);
     if (!b.is_used(&c))
         b.role(c, [] {
@@ -148,52 +148,52 @@ void note_part(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
         });
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kDirectSolverComponents[] = {
     {.type = "SparseLDLSolver",
      .family = F::linear_solver,
      .summary = "direct LDLᵀ solver of the assembled system",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "AsyncSparseLDLSolver",
      .family = F::linear_solver,
      .summary = "direct LDLᵀ solver (penalty factorizes at each solve, synchronously)",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "EigenSimplicialLDLT",
      .family = F::linear_solver,
      .summary = "Eigen's sparse LDLᵀ of the assembled system",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "EigenSimplicialLLT",
      .family = F::linear_solver,
      .summary = "Eigen's sparse Cholesky LLᵀ of the assembled system",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "SparseCholeskySolver",
      .family = F::linear_solver,
      .summary = "sparse Cholesky LLᵀ (SOFA's CSparseSolvers plugin)",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "CholeskySolver",
      .family = F::linear_solver,
      .summary = "Cholesky LLᵀ, natural ordering",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "EigenSparseLU",
      .family = F::linear_solver,
      .summary = "Eigen's sparse LU of the assembled system",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "SparseLUSolver",
      .family = F::linear_solver,
      .summary = "sparse LU (SOFA's CSparseSolvers plugin)",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "EigenSparseQR",
      .family = F::linear_solver,
      .summary = "Eigen's sparse QR of the assembled system",
      .attributes = kDirectSolver,
-     .build = note_only},
+     .build = note_unless_solver_reads},
     {.type = "MatrixLinearSystem",
      .family = F::solver_part,
      .summary = "the assembled global matrix M, B, K (options)",
@@ -288,6 +288,6 @@ std::shared_ptr<DirectLinearSolver> read_direct_linear_solver(SceneBuilder& b, c
     return solver;
 }
 
-std::span<const ComponentSpec> direct_solver_components() { return kComponents; }
+std::span<const ComponentSpec> direct_solver_components() { return kDirectSolverComponents; }
 
 }  // namespace penalty::scene::builder

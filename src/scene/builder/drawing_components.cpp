@@ -68,7 +68,7 @@ void build_tubular_mapping(SceneBuilder&, const SceneComponent& c, NodeBuild&) {
     a.fail("output", "penalty maps a tube only onto a visual model (OglModel), not onto a MechanicalObject");
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kDrawingComponents[] = {
     {.type = "Edge2QuadTopologicalMapping",
      .family = F::topology_helper,
      .summary = "a beam's tube quads, for drawing (accepted onto a node without a MechanicalObject)",
@@ -83,6 +83,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> drawing_components() { return kComponents; }
+std::span<const ComponentSpec> drawing_components() { return kDrawingComponents; }
 
 }  // namespace penalty::scene::builder

@@ -13,12 +13,6 @@ using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
 
-/// Refuses a Rigid3d template (no example scene uses one with these loads).
-void require_vec3_template(const SceneComponent& c) {
-    if (is_rigid_template(c, c.template_name))
-        io::throw_element_error(c, "template '" + c.template_name + "' is not supported (Vec3d only)");
-}
-
 // ---- PlaneForceField ------------------------------------------------------------------------
 // Defaults: PlaneForceField's constructor (normal 0 1 0, d 0, stiffness 500, damping 5, maxForce 0,
 // bilateral false, localRange -1 -1). Negative stiffness, damping or maxForce: SOFA's init warns
@@ -161,7 +155,7 @@ void build_conical_force_field(SceneBuilder& b, const SceneComponent& c, NodeBui
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kExternalLoadComponents[] = {
     {.type = "PlaneForceField",
      .family = F::force_field,
      .summary = "pushes points (Vec3d) or frame centres (Rigid3d) back above a plane (penalty)",
@@ -181,6 +175,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> external_load_components() { return kComponents; }
+std::span<const ComponentSpec> external_load_components() { return kExternalLoadComponents; }
 
 }  // namespace penalty::scene::builder

@@ -209,7 +209,7 @@ void build_distance_from_target(SceneBuilder& b, const SceneComponent& c, NodeBu
     finish(b, c, info, "distances to targets");
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kFrameMappingComponents[] = {
     {.type = "SkinningMapping",
      .family = F::mapping,
      .summary = "Vec3d points blended from Rigid3d frames (skinning)",
@@ -229,6 +229,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> frame_mapping_components() { return kComponents; }
+std::span<const ComponentSpec> frame_mapping_components() { return kFrameMappingComponents; }
 
 }  // namespace penalty::scene::builder

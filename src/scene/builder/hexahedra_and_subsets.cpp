@@ -247,7 +247,7 @@ void build_subset_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kHexahedraAndSubsetComponents[] = {
     {.type = "HexahedralFEMForceField",
      .family = F::force_field,
      .summary = "corotational hexahedral FEM (SOFA's box stiffness, methods large and polar)",
@@ -272,6 +272,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> hexahedra_and_subset_components() { return kComponents; }
+std::span<const ComponentSpec> hexahedra_and_subset_components() { return kHexahedraAndSubsetComponents; }
 
 }  // namespace penalty::scene::builder

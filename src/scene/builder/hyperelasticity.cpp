@@ -62,7 +62,7 @@ void build_hyperelasticity(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kHyperelasticityComponents[] = {
     {.type = "TetrahedronHyperelasticityFEMForceField",
      .family = F::force_field,
      .summary = "hyperelastic tetrahedral FEM (ArrudaBoyce, StVenantKirchhoff, NeoHookean, MooneyRivlin, Ogden)",
@@ -72,6 +72,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> hyperelasticity_components() { return kComponents; }
+std::span<const ComponentSpec> hyperelasticity_components() { return kHyperelasticityComponents; }
 
 }  // namespace penalty::scene::builder

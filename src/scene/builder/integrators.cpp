@@ -209,7 +209,7 @@ void build_multi_step(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kIntegratorComponents[] = {
     {.type = "StaticSolver",
      .family = F::ode_solver,
      .summary = "static equilibrium by Newton-Raphson (velocities kept)",
@@ -237,6 +237,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> integrator_components() { return kComponents; }
+std::span<const ComponentSpec> integrator_components() { return kIntegratorComponents; }
 
 }  // namespace penalty::scene::builder

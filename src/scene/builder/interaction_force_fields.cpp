@@ -80,7 +80,7 @@ void build_interaction_ellipsoid(SceneBuilder& b, const SceneComponent& c, NodeB
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kInteractionForceFieldComponents[] = {
     {.type = "InteractionEllipsoidForceField",
      .family = F::force_field,
      .summary = "ellipsoids on a Rigid3d frame pushing Vec3d points",
@@ -90,6 +90,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> interaction_force_field_components() { return kComponents; }
+std::span<const ComponentSpec> interaction_force_field_components() { return kInteractionForceFieldComponents; }
 
 }  // namespace penalty::scene::builder

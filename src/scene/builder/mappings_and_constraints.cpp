@@ -278,7 +278,7 @@ void build_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kMappingAndConstraintComponents[] = {
     {.type = "IdentityMapping",
      .family = F::mapping,
      .summary = "identity mapping",
@@ -316,6 +316,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> mapping_and_constraint_components() { return kComponents; }
+std::span<const ComponentSpec> mapping_and_constraint_components() { return kMappingAndConstraintComponents; }
 
 }  // namespace penalty::scene::builder

@@ -350,7 +350,7 @@ void build_hexahedron_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kMassAndForceFieldComponents[] = {
     {.type = "Gravity",
      .family = F::gravity,
      .summary = "gravity of its node's context",
@@ -395,6 +395,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> mass_and_force_field_components() { return kComponents; }
+std::span<const ComponentSpec> mass_and_force_field_components() { return kMassAndForceFieldComponents; }
 
 }  // namespace penalty::scene::builder

@@ -232,7 +232,7 @@ void build_fixed_plane(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kMassAndRegionComponents[] = {
     {.type = "DiagonalMass",
      .family = F::mass,
      .summary = "lumped mass from the topology's elements",
@@ -258,6 +258,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> mass_and_region_components() { return kComponents; }
+std::span<const ComponentSpec> mass_and_region_components() { return kMassAndRegionComponents; }
 
 }  // namespace penalty::scene::builder

@@ -210,7 +210,7 @@ void build_rest_shape_springs(SceneBuilder& b, const SceneComponent& c, NodeBuil
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kMatrixMassAndRestSpringComponents[] = {
     {.type = "MeshMatrixMass",
      .family = F::mass,
      .summary = "mass matrix of a mesh (consistent or lumped)",
@@ -225,6 +225,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> matrix_mass_and_rest_spring_components() { return kComponents; }
+std::span<const ComponentSpec> matrix_mass_and_rest_spring_components() { return kMatrixMassAndRestSpringComponents; }
 
 }  // namespace penalty::scene::builder

@@ -161,7 +161,7 @@ void build_identity_multi_mapping(SceneBuilder& b, const SceneComponent& c, Node
     build_multi_mapping(b, c, info, true);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kMultiMappingComponents[] = {
     {.type = "CenterOfMassMapping",
      .family = F::mapping,
      .summary = "one Vec3d point at the mass-weighted centre of Rigid3d frames",
@@ -181,6 +181,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> multi_mapping_components() { return kComponents; }
+std::span<const ComponentSpec> multi_mapping_components() { return kMultiMappingComponents; }
 
 }  // namespace penalty::scene::builder

@@ -74,7 +74,7 @@ void build_nonuniform(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kNonuniformHexahedraComponents[] = {
     {.type = "NonUniformHexahedronFEMForceFieldAndMass",
      .family = F::mass,
      .summary = "hexahedral FEM and mass condensed from a sparse grid's finer levels",
@@ -84,6 +84,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> nonuniform_hexahedra_components() { return kComponents; }
+std::span<const ComponentSpec> nonuniform_hexahedra_components() { return kNonuniformHexahedraComponents; }
 
 }  // namespace penalty::scene::builder

@@ -215,7 +215,7 @@ void build_surface_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild&
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kPressureLoadComponents[] = {
     {.type = "TrianglePressureForceField",
      .family = F::force_field,
      .summary = "a pressure vector times each listed triangle's rest area",
@@ -240,6 +240,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> pressure_load_components() { return kComponents; }
+std::span<const ComponentSpec> pressure_load_components() { return kPressureLoadComponents; }
 
 }  // namespace penalty::scene::builder

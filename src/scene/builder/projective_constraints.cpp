@@ -342,7 +342,7 @@ void build_attach(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
                std::string(s1.state_name()));
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kProjectiveConstraintComponents[] = {
     {.type = "LineProjectiveConstraint",
      .family = F::constraint,
      .summary = "points kept on a line",
@@ -392,6 +392,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> projective_constraint_components() { return kComponents; }
+std::span<const ComponentSpec> projective_constraint_components() { return kProjectiveConstraintComponents; }
 
 }  // namespace penalty::scene::builder

@@ -91,7 +91,7 @@ void build_python_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     b.role(c, [o = &out] { return "mapping in Python onto this node's " + counted(o->num_dofs(), "point", "points"); });
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kPythonComponents[] = {
     {.type = "PythonForceField",
      .family = F::force_field,
      .summary = "force field written in Python (Sofa.Core.ForceFieldVec3d / ForceFieldRigid3d)",
@@ -106,6 +106,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> python_components() { return kComponents; }
+std::span<const ComponentSpec> python_components() { return kPythonComponents; }
 
 }  // namespace penalty::scene::builder

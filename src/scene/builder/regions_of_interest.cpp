@@ -339,7 +339,7 @@ void build_sphere_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
 #undef PENALTY_ROI_OUTPUT
 #undef PENALTY_ROI_DRAW
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kRegionOfInterestComponents[] = {
     {.type = "PlaneROI",
      .family = F::engine,
      .summary = "indices of the points and elements inside plane boxes",
@@ -354,6 +354,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> region_of_interest_components() { return kComponents; }
+std::span<const ComponentSpec> region_of_interest_components() { return kRegionOfInterestComponents; }
 
 }  // namespace penalty::scene::builder

@@ -136,7 +136,7 @@ void build_beam(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kRigidForceFieldComponents[] = {
     {.type = "JointSpringForceField",
      .family = F::force_field,
      .summary = "joint springs between Rigid3d frames",
@@ -151,6 +151,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> rigid_force_field_components() { return kComponents; }
+std::span<const ComponentSpec> rigid_force_field_components() { return kRigidForceFieldComponents; }
 
 }  // namespace penalty::scene::builder

@@ -301,6 +301,12 @@ private:
     int node_count_ = 0;
 };
 
+/// A component's build that only notes its attributes as unread (a component whose presence is
+/// all penalty needs, or one it accepts without simulating).
+inline void note_unread_attributes_only(SceneBuilder& b, const io::SceneComponent& c, NodeBuild&) {
+    b.note_unread_attributes(c);
+}
+
 /// The collision pipelines, once every node is built (src/scene/builder/collision.cpp).
 void build_collision_pipelines(SceneBuilder& builder);
 /// The tunnelling guard the pipelines' noTunnelling attributes (or BuildOptions::no_tunnelling)
@@ -312,6 +318,9 @@ void build_tunnelling_guard(SceneBuilder& builder);
 [[nodiscard]] std::string sofa_default_name(const io::SceneComponent& c);
 /// True for Rigid3d templates, false for Vec3d ones (and none); an error for others.
 [[nodiscard]] bool is_rigid_template(const io::SceneComponent& c, std::string_view name);
+/// Refuses a Rigid3d template ("template 'Rigid3d' is not supported (Vec3d only)") for the
+/// components penalty has on Vec3d points only.
+void require_vec3_template(const io::SceneComponent& c);
 /// `youngModulus` (poisson false: each > 0) or `poissonRatio` (each in [0, 0.5)): one value or one
 /// per element, `fallback` when absent. SOFA replaces an out-of-range value by its default with a
 /// warning (BaseLinearElasticityFEMForceField::checkYoungModulus / checkPoissonRatio); penalty

@@ -32,11 +32,6 @@ std::optional<std::vector<Vec3>> given_points(SceneBuilder& b, const Attributes&
     return a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
 }
 
-void require_vec3(const SceneComponent& c) {
-    if (is_rigid_template(c, c.template_name))
-        io::throw_element_error(c, "template '" + c.template_name + "' is not supported (Vec3d only)");
-}
-
 #define PENALTY_ROI_LIST(ELEMENTS, ELEMENT) \
     { ELEMENTS, K::elements, "(the node's topology)", "", ValueCheck::none, ELEMENT " tested (inline or a link)" }
 #define PENALTY_ROI_FLAG(NAME, DEFAULT, MEANING) \
@@ -88,7 +83,7 @@ constexpr AttributeSpec kMeshRoi[] = {
 
 void build_mesh_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     RoiSelection selection;
     RoiElements elements;
     std::size_t num_points = 0;
@@ -146,7 +141,7 @@ constexpr AttributeSpec kProximityRoi[] = {
 
 void build_proximity_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     ProximitySelection s;
     std::size_t num_points = 0;
     b.guarded(c, [&] {
@@ -196,7 +191,7 @@ const MeshTopology* nearest_topology(SceneBuilder& b, const NodeBuild& info) {
 
 void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     ValuesFromPositionsResult r;
     bool vectors = false;
     b.guarded(c, [&] {
@@ -248,7 +243,7 @@ void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeB
 #undef PENALTY_ROI_FLAG
 #undef PENALTY_OUTPUT
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kSelectionEngineComponents[] = {
     {.type = "MeshROI",
      .family = F::engine,
      .summary = "indices of the points and elements inside a closed triangle mesh",
@@ -268,6 +263,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> selection_engine_components() { return kComponents; }
+std::span<const ComponentSpec> selection_engine_components() { return kSelectionEngineComponents; }
 
 }  // namespace penalty::scene::builder

@@ -19,11 +19,6 @@ using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
 
-void require_vec3(const SceneComponent& c) {
-    if (is_rigid_template(c, c.template_name))
-        io::throw_element_error(c, "template '" + c.template_name + "' is not supported (Vec3d only)");
-}
-
 std::vector<Vec3> points_or_link(SceneBuilder& b, const Attributes& a, std::string_view attr) {
     if (!a.has(attr)) return {};
     return a.is_link(attr) ? b.linked_positions(a, attr) : a.points(attr);
@@ -53,7 +48,7 @@ constexpr AttributeSpec kClustering[] = {
 
 void build_clustering(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     for (const char* file : {"inFile", "outFile"})
         if (a.has(file)) a.fail(file, "cluster files are not supported: penalty computes the clusters");
     std::vector<std::vector<PointId>> clusters;
@@ -186,7 +181,7 @@ TargetPositions target_positions(SceneBuilder& b, const Attributes& a, std::size
 
 void build_position_based_dynamics(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     Vec3Object& state = b.vec3_state(c, info);
     TargetPositions targets = target_positions(b, a, state.num_dofs());
     const double stiffness = a.real("stiffness");
@@ -198,7 +193,7 @@ void build_position_based_dynamics(SceneBuilder& b, const SceneComponent& c, Nod
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kShapeMatchingComponents[] = {
     {.type = "ClusteringEngine",
      .family = F::data_engine,
      .summary = "overlapping clusters of points (farthest-point seeds, geodesic or Euclidean neighbourhoods)",
@@ -218,6 +213,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> shape_matching_components() { return kComponents; }
+std::span<const ComponentSpec> shape_matching_components() { return kShapeMatchingComponents; }
 
 }  // namespace penalty::scene::builder

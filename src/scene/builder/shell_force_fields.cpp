@@ -110,7 +110,7 @@ void build_quad_bending(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kShellForceFieldComponents[] = {
     {.type = "TriangularFEMForceFieldOptim",
      .family = F::force_field,
      .summary = "corotational membrane triangles (SOFA's fast variant)",
@@ -130,6 +130,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> shell_force_field_components() { return kComponents; }
+std::span<const ComponentSpec> shell_force_field_components() { return kShellForceFieldComponents; }
 
 }  // namespace penalty::scene::builder

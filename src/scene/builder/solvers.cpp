@@ -133,13 +133,12 @@ void build_implicit_solver(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
 
 /// Components another one reads (the CG by its ODE solver): their build only notes the
 /// attributes penalty does not read.
-void note_only(SceneBuilder& b, const SceneComponent& c, NodeBuild&) { b.note_unread_attributes(c); }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kSolverComponents[] = {
     {.type = "DefaultAnimationLoop",
      .family = F::animation_loop,
      .summary = "time loop: collision, then one solver step per solver node",
-     .build = note_only},
+     .build = note_unread_attributes_only},
     {.type = "EulerImplicitSolver",
      .family = F::ode_solver,
      .summary = "implicit Euler ODE solver",
@@ -154,11 +153,11 @@ constexpr ComponentSpec kComponents[] = {
      .family = F::linear_solver,
      .summary = "conjugate gradient linear solver",
      .attributes = kConjugateGradient,
-     .build = note_only},
+     .build = note_unread_attributes_only},
 };
 
 }  // namespace
 
-std::span<const ComponentSpec> solver_components() { return kComponents; }
+std::span<const ComponentSpec> solver_components() { return kSolverComponents; }
 
 }  // namespace penalty::scene::builder

@@ -261,7 +261,7 @@ void build_sparse_grid(SceneBuilder& b, const SceneComponent& c, NodeBuild& info
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kSparseGridComponents[] = {
     {.type = "SparseGridTopology",
      .family = F::topology,
      .summary = "sparse grid: the cells of a regular grid that meet or lie inside a closed surface",
@@ -297,6 +297,6 @@ std::vector<double> sparse_grid_mass_factors(const NodeBuild& info) {
     return info.sparse_grid->mass_coefficients(Attributes(*info.topology_component).boolean("fillWeighted"));
 }
 
-std::span<const ComponentSpec> sparse_grid_components() { return kComponents; }
+std::span<const ComponentSpec> sparse_grid_components() { return kSparseGridComponents; }
 
 }  // namespace penalty::scene::builder

@@ -406,7 +406,7 @@ void build_mechanical_object(SceneBuilder& b, const SceneComponent& c, NodeBuild
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kStateAndTopologyComponents[] = {
     {.type = "MechanicalObject",
      .family = F::state,
      .summary = "state (Vec3d, Rigid3d, or Vec1d for a distance mapping's output)",
@@ -426,6 +426,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> state_and_topology_components() { return kComponents; }
+std::span<const ComponentSpec> state_and_topology_components() { return kStateAndTopologyComponents; }
 
 }  // namespace penalty::scene::builder

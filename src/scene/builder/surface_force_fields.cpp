@@ -116,7 +116,7 @@ void build_triangular_bending_springs(SceneBuilder& b, const SceneComponent& c, 
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kSurfaceForceFieldComponents[] = {
     {.type = "TriangularFEMForceField",
      .family = F::force_field,
      .summary = "co-rotational triangle membrane FEM",
@@ -136,6 +136,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> surface_force_field_components() { return kComponents; }
+std::span<const ComponentSpec> surface_force_field_components() { return kSurfaceForceFieldComponents; }
 
 }  // namespace penalty::scene::builder

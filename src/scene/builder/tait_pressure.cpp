@@ -58,7 +58,7 @@ void build_tait_pressure(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kTaitPressureComponents[] = {
     {.type = "TaitSurfacePressureForceField",
      .family = F::force_field,
      .summary = "pressure of an enclosed fluid (Tait's equation of state), with injection",
@@ -68,6 +68,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> tait_pressure_components() { return kComponents; }
+std::span<const ComponentSpec> tait_pressure_components() { return kTaitPressureComponents; }
 
 }  // namespace penalty::scene::builder

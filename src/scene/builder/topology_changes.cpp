@@ -93,7 +93,7 @@ void build_trasher(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kTopologyChangeComponents[] = {
     {.type = "TopologicalChangeProcessor",
      .family = F::engine,
      .summary = "removes and adds elements of its topology at given times (SOFA's file format)",
@@ -113,6 +113,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> topology_change_components() { return kComponents; }
+std::span<const ComponentSpec> topology_change_components() { return kTopologyChangeComponents; }
 
 }  // namespace penalty::scene::builder

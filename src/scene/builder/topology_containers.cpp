@@ -376,7 +376,7 @@ constexpr std::string_view kModifier = "topology modifier: makes its node's cont
 constexpr std::string_view kAlgorithms =
     "geometry algorithms of a topology: used by topological changes and drawing (accepted, builds nothing)";
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kTopologyContainerComponents[] = {
     {.type = "PointSetTopologyContainer",
      .family = F::topology,
      .summary = "points only (static use)",
@@ -505,6 +505,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> topology_container_components() { return kComponents; }
+std::span<const ComponentSpec> topology_container_components() { return kTopologyContainerComponents; }
 
 }  // namespace penalty::scene::builder

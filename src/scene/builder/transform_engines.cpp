@@ -27,11 +27,6 @@ std::vector<Vec3> input_points(SceneBuilder& b, const Attributes& a, std::string
     return a.is_link(used) ? b.linked_positions(a, used) : a.points(used);
 }
 
-void require_vec3(const SceneComponent& c) {
-    if (is_rigid_template(c, c.template_name))
-        io::throw_element_error(c, "template '" + c.template_name + "' is not supported (Vec3d points only)");
-}
-
 void record_points(SceneBuilder& b, const SceneComponent& c, std::initializer_list<const char*> names,
                    const std::vector<Vec3>& points) {
     for (const char* name : names) {
@@ -54,7 +49,7 @@ constexpr AttributeSpec kTransformEngine[] = {
 
 void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     std::vector<Vec3> out;
     b.guarded(c, [&] {
         TransformEngineParameters p;
@@ -122,7 +117,7 @@ TransformPositionMethod position_method(const Attributes& a, SceneBuilder& b, Ei
 
 void build_transform_position(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     std::vector<Vec3> out;
     b.guarded(c, [&] {
         TransformPositionParameters p;
@@ -163,7 +158,7 @@ constexpr AttributeSpec kMergePoints[] = {
 
 void build_merge_points(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     const Attributes a(c);
-    require_vec3(c);
+    require_vec3_template(c);
     MergedPoints out;
     b.guarded(c, [&] {
         const auto points_of = [&](std::string_view name) {
@@ -242,7 +237,7 @@ void build_mesh_tetra_stuffing(SceneBuilder& b, const SceneComponent& c, NodeBui
     b.note_unread_attributes(c);
 }
 
-constexpr ComponentSpec kComponents[] = {
+constexpr ComponentSpec kTransformEngineComponents[] = {
     {.type = "MeshTetraStuffing",
      .family = F::data_engine,
      .summary = "fills a closed triangle surface with tetrahedra (isosurface stuffing)",
@@ -267,6 +262,6 @@ constexpr ComponentSpec kComponents[] = {
 
 }  // namespace
 
-std::span<const ComponentSpec> transform_engine_components() { return kComponents; }
+std::span<const ComponentSpec> transform_engine_components() { return kTransformEngineComponents; }
 
 }  // namespace penalty::scene::builder

@@ -69,8 +69,6 @@ std::unordered_map<const SceneComponent*, Built> built_objects(const Scene& scen
     return out;
 }
 
-std::string where(const SceneComponent& c) { return c.describe() + " (" + c.file + ":" + std::to_string(c.line) + ")"; }
-
 ElementType lumped_type(LumpedElementKind kind) {
     switch (kind) {
         case LumpedElementKind::edge:

@@ -7,6 +7,11 @@
 
 namespace penalty::scene {
 
+/// "Type 'name' (file:line)": a component in the topology wiring's messages.
+inline std::string where(const io::SceneComponent& c) {
+    return c.describe() + " (" + c.file + ":" + std::to_string(c.line) + ")";
+}
+
 struct TopologyWiring {
     SceneBuilder& builder;
     TopologyRuntime& runtime;

@@ -55,8 +55,6 @@ const SceneComponent* find_modifier(const SceneNode& node) {
     return nullptr;
 }
 
-std::string where(const SceneComponent& c) { return c.describe() + " (" + c.file + ":" + std::to_string(c.line) + ")"; }
-
 template <class F>
 void depth_first(const SceneNode& n, F&& f) {
     f(n);
