@@ -72,7 +72,7 @@ ParsedHead parse_request_head(std::string_view received) {
     std::size_t head_bytes = 0;
     for (std::size_t pos = 0;;) {
         const std::size_t lf = received.find('\n', pos);
-        if (lf == std::string_view::npos || lf >= kMaxHeadBytes) {
+        if (lf >= kMaxHeadBytes) {  // npos (no line end yet) included: npos > kMaxHeadBytes
             // The end of the head, if it ever comes, lies beyond byte kMaxHeadBytes.
             if (lf != std::string_view::npos || received.size() >= kMaxHeadBytes)
                 return refuse({431, "Request Header Fields Too Large"});

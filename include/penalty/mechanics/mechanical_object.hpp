@@ -100,6 +100,7 @@ public:
     using Deriv = typename DataTypes::Deriv;
     using State = MechanicalState<DataTypes>;
 
+    // NOLINTNEXTLINE(performance-unnecessary-value-param): a sink, moved into the dependent base's name
     explicit MechanicalObject(std::string object_name = "dofs") { this->name = std::move(object_name); }
 
     InitialTransform transform;  ///< applied once by init() to the positions
