@@ -96,11 +96,14 @@ CLI::Validator number_in(double lo, double hi, bool lo_open) {
         "NUMBER");
 }
 
+/// The build options' defaults, set once in scene::BuildOptions.
+const penalty::scene::BuildOptions kBuildDefaults{};
+
 struct RunArguments {
     std::string scene;
     std::int64_t steps = -1;
     double dt = 0.0;
-    int threads = 0;
+    int threads = kBuildDefaults.threads;
     std::vector<std::string> data_dirs;
     std::string vtk, states, stats, reference;
     std::string compare_trajectory;                     ///< --compare-trajectory DIR
@@ -112,16 +115,18 @@ struct RunArguments {
     std::int64_t vtk_every = 1, export_every = 1;
     double divergence_factor = 100.0;
     bool export_mapped = false;
-    bool exhaustive = false;
-    bool sofa_head_orders = true;
+    bool exhaustive = kBuildDefaults.exhaustive_detection;
+    bool sofa_head_orders = kBuildDefaults.sofa_head_orders;
     bool quiet = false;
     std::string summary_json;  // --summary-json FILE
     std::string view;          // --view DIR: the browser viewer (docs/viewer.md)
     std::int64_t view_every = 1;
     bool no_serve = false;
-    int port = 0;                    // 0: a free port
-    std::string no_tunnelling;       // --no-tunnelling MODE (docs/no-tunnelling.md); "": the scene's
-    std::string reduction = "sofa";  // --reduction sofa|blocked (docs/performance.md, "Blocked reductions")
+    int port = 0;               // 0: a free port
+    std::string no_tunnelling;  // --no-tunnelling MODE (docs/no-tunnelling.md); "": the scene's
+    std::string reduction = kBuildDefaults.blocked_reductions
+                                ? "blocked"
+                                : "sofa";  // --reduction sofa|blocked (docs/performance.md, "Blocked reductions")
 };
 
 /// A command-line value that is well-formed but not accepted (exit code 2).
