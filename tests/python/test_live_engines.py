@@ -51,3 +51,24 @@ def test_a_python_engine_over_a_moving_state_updates_only_when_read_after_a_chan
     assert engine.lowest.value == lowest and engine.counter == 1  # the positions did not change
     Sofa.Simulation.animate(root, root.dt.value)
     assert engine.lowest.value < lowest and engine.counter == 2
+
+
+def test_a_box_written_after_init_selects_from_the_moving_positions_as_sofa_head():
+    """A write of BoxROI.box builds the scene again (states kept); the engine then selects from the
+    current positions at its next read. SOFA HEAD (the same calls through `sofa-head-python`): the
+    indices and the positions below, bit for bit."""
+    module = scenario()
+    root = Sofa.Core.Node("root")
+    module.createScene(root)
+    Sofa.Simulation.init(root)
+    for _ in range(15):
+        Sofa.Simulation.animate(root, root.dt.value)
+    root.Box.box.box.value = [[-0.1, -0.6, -0.1, 2.1, -0.15, 0.6]]
+    for _ in range(10):
+        Sofa.Simulation.animate(root, root.dt.value)
+    assert root.Box.box.indices.value.tolist() == [0, 1, 2, 3, 4, 10, 11, 12, 13, 14]
+    assert root.Box.fix.indices.value.tolist() == [0, 1, 2, 3, 4, 10, 11, 12, 13, 14]
+    assert root.Box.dofs.position.value[0].tolist() == [7.151061276944174e-10, -0.2890780291116304,
+                                                        -8.366678893668382e-09]
+    assert root.Copy.copy.position.value[4].tolist() == [5.090570885566521, 0.31648131443453753,
+                                                         1.0342301784343284e-05]
