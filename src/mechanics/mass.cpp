@@ -160,13 +160,18 @@ void FixedProjectiveConstraint::init() {
     }
 }
 
+const std::vector<Index>& FixedProjectiveConstraint::read_indices() const {
+    if (index_source_) index_source_(indices_);
+    return indices_;
+}
+
 void FixedProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     if (fix_all_) {
         v.setZero();
         return;
     }
     const Index d = state_->deriv_size();
-    for (const Index i : indices_) v.segment(d * i, d).setZero();
+    for (const Index i : read_indices()) v.segment(d * i, d).setZero();
 }
 
 bool FixedProjectiveConstraint::list_discarded_rows(std::vector<Index>& rows) const {
@@ -175,12 +180,13 @@ bool FixedProjectiveConstraint::list_discarded_rows(std::vector<Index>& rows) co
         for (Index r = 0; r < Index(state_->scalar_size()); ++r) rows.push_back(r);
         return true;
     }
-    for (const Index i : indices_)
+    for (const Index i : read_indices())
         for (Index c = 0; c < d; ++c) rows.push_back(d * i + c);
     return true;
 }
 
 void FixedProjectiveConstraint::project_velocity() {
+    if (!project_velocity_) return;  // FixedProjectiveConstraint::projectVelocity: d_projectVelocity
     FlatVector v = state_->velocity_flat();
     project_response(v);
 }

@@ -214,11 +214,19 @@ const io::MeshData* Scene::loader_mesh(const io::SceneComponent& loader) const {
 }
 
 const std::vector<PointId>* Scene::engine_indices(const io::SceneComponent& engine, const std::string& data) const {
+    if (LiveEngine* live = live_->engine(engine)) {  // over moving positions: run on read (live_engines.cpp)
+        live->update_if_dirty();
+        if (const auto out = live->indices.find(data); out != live->indices.end()) return &out->second;
+    }
     const auto it = engine_indices_.find({&engine, data});
     return it == engine_indices_.end() ? nullptr : &it->second;
 }
 
 const io::MeshData* Scene::engine_mesh(const io::SceneComponent& engine, const std::string& data) const {
+    if (LiveEngine* live = live_->engine(engine)) {
+        live->update_if_dirty();
+        if (const auto out = live->meshes.find(data); out != live->meshes.end()) return &out->second;
+    }
     const auto it = engine_meshes_.find({&engine, data});
     return it == engine_meshes_.end() ? nullptr : &it->second;
 }

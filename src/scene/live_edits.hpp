@@ -1,6 +1,7 @@
 #pragma once
 // What a scene keeps of the writes of its Data after init (Scene::LiveEdits; live_writes.cpp).
 #include "penalty/scene/scene.hpp"
+#include "scene/live_engines.hpp"
 
 #include <map>
 #include <memory>
@@ -46,6 +47,17 @@ struct Scene::LiveEdits {
     /// of SpringForceField, live_quirks.cpp), by component path then Data name: every build of the
     /// component applies them.
     std::map<std::string, std::map<std::string, std::vector<double>>> spring_lists;
+    /// Engines over moving states, run on read, and their readers (live_engines.cpp); null when
+    /// the scene has none. A rebuild takes the fresh scene's.
+    std::unique_ptr<LiveEngines> engines;
+    /// Connects the readers of `scene`'s live engines once it is built (live_engines.cpp).
+    static void wire_engines(Scene& scene);
+    /// The states whose position follows a live engine take its output if it changed (a read).
+    void update_engines() const {
+        if (engines) engines->update_linked_states();
+    }
+    /// The live engine built from `c`, or null.
+    [[nodiscard]] LiveEngine* engine(const io::SceneComponent& c) const { return engines ? engines->find(c) : nullptr; }
 };
 
 }  // namespace penalty::scene

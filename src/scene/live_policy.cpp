@@ -69,6 +69,8 @@ constexpr Rule kNextStep[] = {
     {"FixedProjectiveConstraint", "fixAll", LiveWrite::next_step},
     {"FixedConstraint", "indices", LiveWrite::next_step},
     {"FixedConstraint", "fixAll", LiveWrite::next_step},
+    {"FixedProjectiveConstraint", "activate_projectVelocity", LiveWrite::next_step},  // read by projectVelocity
+    {"FixedConstraint", "activate_projectVelocity", LiveWrite::next_step},
     {"FixedPlaneProjectiveConstraint", "indices", LiveWrite::next_step},
     {"FixedPlaneProjectiveConstraint", "direction", LiveWrite::next_step},
     {"FixedPlaneProjectiveConstraint", "dmin", LiveWrite::next_step},

@@ -33,7 +33,9 @@ void Scene::step() {
     live_->stepping = true;  // the event listener may write Data: they wait for the next step
     try {
         if (topology_runtime_) topology_runtime_->begin_step(simulation_->time());  // AnimateBeginEvent
+        live_->update_engines();  // the step reads the states that follow an engine over moving states
         simulation_->step();
+        live_->update_engines();  // and so do the writers and Python after it
         if (topology_runtime_) topology_runtime_->end_step(simulation_->time());  // AnimateEndEvent
     } catch (...) {
         live_->stepping = false;

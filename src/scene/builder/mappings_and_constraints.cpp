@@ -251,6 +251,8 @@ void build_barycentric_mapping(SceneBuilder& b, const SceneComponent& c, NodeBui
 constexpr AttributeSpec kFixed[] = {
     {"indices", K::indices, "", "", ValueCheck::none, "fixed DOFs"},
     {"fixAll", K::boolean, "0", "", ValueCheck::none, "fix every DOF"},
+    {"activate_projectVelocity", K::boolean, "0", "", ValueCheck::none,
+     "also set the fixed DOFs' velocity to 0 after each step (0: they keep their velocity)"},
 };
 
 void build_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -268,6 +270,7 @@ void build_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         f.set_indices(std::move(idx));
         const bool all = a.boolean("fixAll");
         f.set_fix_all(all);
+        f.set_project_velocity(a.boolean("activate_projectVelocity"));
         b.add_init(1, c, [p = &f] { p->init(); });
         b.role(c, [p = &f, st = &s, all] {
             return all ? "fixes all " + counted(st->num_dofs(), "DOF", "DOFs")

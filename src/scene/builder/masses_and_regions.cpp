@@ -130,7 +130,8 @@ constexpr AttributeSpec kBoxRoi[] = {
     {"computeTetrahedra", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
     {"computeHexahedra", K::boolean, "1", "", ValueCheck::none, "0: that list is not tested"},
     {"strict", K::boolean, "1", "", ValueCheck::none, "1: all points of an element inside; 0: its centre"},
-    {"doUpdate", K::boolean, "1", "", ValueCheck::none, "penalty selects once, at build"},
+    {"doUpdate", K::boolean, "1", "", ValueCheck::none,
+     "1: selects again when `position` links a state's moving positions; 0: the selection of init stays"},
     {"indices", K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"},
     {"edgeIndices", K::indices, "", "", ValueCheck::none, "output"},
     {"triangleIndices", K::indices, "", "", ValueCheck::none, "output"},
@@ -147,6 +148,17 @@ constexpr AttributeSpec kBoxRoi[] = {
     {"drawHexahedra", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"drawSize", K::real, "0", "", ValueCheck::none, "drawing only"},
 };
+
+/// BoxROI's selection (BaseROI::doUpdate): the points inside a box, the elements by `test`.
+RoiSelection select_in_box_roi(const std::vector<Vec3>& points, const RoiElements& elements,
+                               const std::vector<AlignedBox>& boxes, const std::vector<OrientedBox>& oriented,
+                               ElementTest test) {
+    const auto inside = [&boxes, &oriented](const Vec3& p) {
+        return std::any_of(boxes.begin(), boxes.end(), [&p](const AlignedBox& box) { return box.contains(p); }) ||
+               std::any_of(oriented.begin(), oriented.end(), [&p](const OrientedBox& box) { return box.contains(p); });
+    };
+    return select_in_region(points, elements, inside, test);
+}
 
 void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
@@ -176,13 +188,20 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::base_roi, {.quad_alias = true});
-        const auto inside = [&boxes, &oriented](const Vec3& p) {
-            return std::any_of(boxes.begin(), boxes.end(), [&p](const AlignedBox& box) { return box.contains(p); }) ||
-                   std::any_of(oriented.begin(), oriented.end(),
-                               [&p](const OrientedBox& box) { return box.contains(p); });
-        };
-        selection = select_in_region(points, elements, inside,
-                                     a.boolean("strict") ? ElementTest::all_points : ElementTest::center);
+        const ElementTest test = a.boolean("strict") ? ElementTest::all_points : ElementTest::center;
+        selection = select_in_box_roi(points, elements, boxes, oriented, test);
+        // over a state's positions, which the solve writes: run again on read (live_engines.cpp)
+        const Vec3Object* input =
+            a.boolean("doUpdate") ? b.moving_input(a, a.has("position") ? "position" : "rest_position") : nullptr;
+        if (input != nullptr)
+            b.add_live_engine(c, *input,
+                              [boxes, oriented, elements, test](const std::vector<Vec3>& x, LiveEngine& engine) {
+                                  const RoiSelection s = select_in_box_roi(x, elements, boxes, oriented, test);
+                                  for (auto& [name, mesh] : roi_element_outputs(s, elements))
+                                      engine.meshes[name] = std::move(mesh);
+                                  engine.meshes["quadInROI"] = engine.meshes["quadsInROI"];  // alias
+                                  for (auto& [name, indices] : roi_index_outputs(s)) engine.indices[name] = indices;
+                              });
     });
     b.role(c, [n = boxes.size() + oriented.size(), num_points, selection, elements] {
         return describe_roi_selection(selection, num_points, elements, counted(n, "box", "boxes"));

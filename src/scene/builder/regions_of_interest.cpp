@@ -107,34 +107,47 @@ bool roi_link_resolves(const SceneComponent& c, std::string_view attr) {
     }
 }
 
-void record_roi_selection(SceneBuilder& b, const SceneComponent& c, RoiSelection s,
-                          std::initializer_list<const char*> aliases_of_indices) {
-    for (const char* alias : aliases_of_indices) b.record_engine_indices(c, alias, s.points);
-    b.record_engine_indices(c, "indices", std::move(s.points));
-    b.record_engine_indices(c, "edgeIndices", std::move(s.edges));
-    b.record_engine_indices(c, "triangleIndices", std::move(s.triangles));
-    b.record_engine_indices(c, "quadIndices", std::move(s.quads));
-    b.record_engine_indices(c, "tetrahedronIndices", std::move(s.tetrahedra));
-    b.record_engine_indices(c, "hexahedronIndices", std::move(s.hexahedra));
+std::vector<std::pair<std::string, std::vector<PointId>>> roi_index_outputs(
+    RoiSelection s, std::initializer_list<const char*> aliases_of_indices) {
+    std::vector<std::pair<std::string, std::vector<PointId>>> out;
+    for (const char* alias : aliases_of_indices) out.emplace_back(alias, s.points);
+    out.emplace_back("indices", std::move(s.points));
+    out.emplace_back("edgeIndices", std::move(s.edges));
+    out.emplace_back("triangleIndices", std::move(s.triangles));
+    out.emplace_back("quadIndices", std::move(s.quads));
+    out.emplace_back("tetrahedronIndices", std::move(s.tetrahedra));
+    out.emplace_back("hexahedronIndices", std::move(s.hexahedra));
+    return out;
 }
 
-void record_roi_elements_in(SceneBuilder& b, const SceneComponent& c, const RoiSelection& s, const RoiElements& e) {
+std::vector<std::pair<std::string, io::MeshData>> roi_element_outputs(const RoiSelection& s, const RoiElements& e) {
     const auto pick = [](const auto& all, const std::vector<PointId>& ids) {
         std::remove_cvref_t<decltype(all)> out;
         for (PointId i : ids) out.push_back(all[static_cast<std::size_t>(i)]);
         return out;
     };
-    io::MeshData edges, triangles, quads, tetrahedra, hexahedra;
-    edges.edges = pick(e.edges, s.edges);
-    triangles.triangles = pick(e.triangles, s.triangles);
-    quads.quads = pick(e.quads, s.quads);
-    tetrahedra.tetrahedra = pick(e.tetrahedra, s.tetrahedra);
-    hexahedra.hexahedra = pick(e.hexahedra, s.hexahedra);
-    b.record_engine_mesh(c, "edgesInROI", std::move(edges));
-    b.record_engine_mesh(c, "trianglesInROI", std::move(triangles));
-    b.record_engine_mesh(c, "quadsInROI", std::move(quads));
-    b.record_engine_mesh(c, "tetrahedraInROI", std::move(tetrahedra));
-    b.record_engine_mesh(c, "hexahedraInROI", std::move(hexahedra));
+    std::vector<std::pair<std::string, io::MeshData>> out(5);
+    out[0].first = "edgesInROI";
+    out[0].second.edges = pick(e.edges, s.edges);
+    out[1].first = "trianglesInROI";
+    out[1].second.triangles = pick(e.triangles, s.triangles);
+    out[2].first = "quadsInROI";
+    out[2].second.quads = pick(e.quads, s.quads);
+    out[3].first = "tetrahedraInROI";
+    out[3].second.tetrahedra = pick(e.tetrahedra, s.tetrahedra);
+    out[4].first = "hexahedraInROI";
+    out[4].second.hexahedra = pick(e.hexahedra, s.hexahedra);
+    return out;
+}
+
+void record_roi_selection(SceneBuilder& b, const SceneComponent& c, RoiSelection s,
+                          std::initializer_list<const char*> aliases_of_indices) {
+    for (auto& [name, indices] : roi_index_outputs(std::move(s), aliases_of_indices))
+        b.record_engine_indices(c, name, std::move(indices));
+}
+
+void record_roi_elements_in(SceneBuilder& b, const SceneComponent& c, const RoiSelection& s, const RoiElements& e) {
+    for (auto& [name, mesh] : roi_element_outputs(s, e)) b.record_engine_mesh(c, name, std::move(mesh));
 }
 
 std::string describe_roi_selection(const RoiSelection& s, std::size_t num_points, const RoiElements& e,

@@ -38,6 +38,14 @@ struct RoiListNames {
 /// of `names` and its flag.
 [[nodiscard]] RoiElements roi_elements(SceneBuilder& b, const Attributes& a, const NodeBuild& info, RoiContext context,
                                        RoiListNames names = {});
+/// The index outputs of a selection by Data name: `indices` (and `aliases` of it), `edgeIndices`,
+/// `triangleIndices`, `quadIndices`, `tetrahedronIndices`, `hexahedronIndices`.
+[[nodiscard]] std::vector<std::pair<std::string, std::vector<PointId>>> roi_index_outputs(
+    RoiSelection selection, std::initializer_list<const char*> aliases_of_indices = {});
+/// The element outputs of a selection by Data name (BaseROI's edgesInROI, trianglesInROI,
+/// quadsInROI, tetrahedraInROI, hexahedraInROI: the selected elements of `elements`, in order).
+[[nodiscard]] std::vector<std::pair<std::string, io::MeshData>> roi_element_outputs(const RoiSelection& selection,
+                                                                                    const RoiElements& elements);
 /// Records the outputs `indices`, `edgeIndices`, `triangleIndices`, `quadIndices`,
 /// `tetrahedronIndices`, `hexahedronIndices` of engine `c` (and `aliases` of `indices`).
 void record_roi_selection(SceneBuilder& b, const io::SceneComponent& c, RoiSelection selection,

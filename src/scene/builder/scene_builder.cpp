@@ -2,6 +2,7 @@
 // and SOFA's order inside a node; each component is built by the function its ComponentSpec
 // names (src/scene/builder/<family>.cpp).
 #include "scene/builder/scene_builder.hpp"
+#include "scene/live_edits.hpp"
 
 #include "penalty/io/data_path.hpp"
 #include "penalty/io/overrides.hpp"
@@ -67,6 +68,7 @@ void SceneBuilder::build() {
     wire_topological_changes();
     for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
     for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
+    Scene::LiveEdits::wire_engines(scene_);  // engines over moving states (live_engines.cpp)
     // What the engines computed and the loaders read, for the scene's live Data (live_data.hpp).
     scene_.engine_indices_ = std::move(engine_indices_);
     scene_.engine_meshes_ = std::move(engine_meshes_);

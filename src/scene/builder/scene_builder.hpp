@@ -12,6 +12,7 @@
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
 #include "scene/display.hpp"
+#include "scene/live_engines.hpp"
 
 #include <functional>
 #include <map>
@@ -172,6 +173,12 @@ public:
     /// The first point of each element of an engine's element output (SOFA's conversion of a link
     /// between Data of different types), empty when `t` names none.
     [[nodiscard]] std::vector<PointId> first_points_of_elements(const io::LinkTarget& t);
+    /// The Vec3d state whose positions attribute `attr` links (`@dofs.position`: a built
+    /// MechanicalObject's `position`, which the solve writes), or null (src/scene/live_engines.cpp).
+    [[nodiscard]] const Vec3Object* moving_input(const Attributes& a, std::string_view attr);
+    /// Makes engine `c` run again from `input`'s positions when a reader reads one of its outputs
+    /// after they changed (SOFA's DDGNode::updateIfDirty; src/scene/live_engines.cpp).
+    void add_live_engine(const io::SceneComponent& c, const Vec3Object& input, LiveEngine::Evaluate evaluate);
     /// Builds a data engine once: when a link first reads one of its outputs (SOFA evaluates
     /// engines on demand), else in its node's file order. Anything else: nothing.
     void build_data_engine(const io::SceneComponent& c);

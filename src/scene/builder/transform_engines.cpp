@@ -65,6 +65,11 @@ void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         if (p.inverse && (p.scale[0] == 0 || p.scale[1] == 0 || p.scale[2] == 0))
             a.fail("scale", "a zero factor has no inverse");
         out = transform_engine(input_points(b, a, "input_position", ""), p);
+        // over a state's positions, which the solve writes: run again on read (live_engines.cpp)
+        if (const Vec3Object* input = b.moving_input(a, "input_position"))
+            b.add_live_engine(c, *input, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
+                engine.meshes["output_position"].positions = transform_engine(x, p);
+            });
     });
     record_points(b, c, {"output_position"}, out);
     b.role(c, [n = out.size()] { return "transforms " + counted(n, "point", "points") + " (output_position)"; });

@@ -1,0 +1,96 @@
+#pragma once
+// Engines whose input points are a state's positions, which the solve writes
+// (`BoxROI position="@dofs.position"`, `TransformEngine input_position="@dofs.position"`), and the
+// Data that read their outputs while the scene runs (docs/python.md, "Engines over moving states").
+//
+// In SOFA each write of the positions marks the engine's input dirty (Data::endEdit →
+// DDGNode::setDirtyOutputs), and the engine runs again when one of its outputs is next read
+// (Data::getValue → DDGNode::updateIfDirty → DataEngine::update). An engine's outputs are a
+// function of its inputs alone, so penalty keeps, per such engine, the input points of its last
+// run: a read of an output compares the state's current positions with them and runs the engine
+// again when they differ. Each read then gives the value SOFA's lazy evaluation gives, and an
+// engine nobody reads never runs. A scene without such a link has no LiveEngine and pays nothing.
+#include "penalty/io/mesh.hpp"
+#include "penalty/io/scene_file.hpp"
+#include "penalty/mechanics/mechanical_object.hpp"
+#include "penalty/mechanics/topology.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace penalty::scene {
+
+/// One engine over the positions of a Vec3d state, run on read.
+class LiveEngine {
+public:
+    /// Computes the outputs (`indices`, `meshes`) from the input points.
+    using Evaluate = std::function<void(const std::vector<Vec3>& input, LiveEngine& engine)>;
+
+    LiveEngine(const io::SceneComponent& component, const Vec3Object& input, Evaluate evaluate)
+        : component_(&component), input_(&input), evaluate_(std::move(evaluate)) {}
+
+    [[nodiscard]] const io::SceneComponent& component() const { return *component_; }
+    [[nodiscard]] const Vec3Object& input() const { return *input_; }
+    /// SOFA's updateIfDirty: runs the engine when the input state's positions differ (bit for bit)
+    /// from those of its last run, or it never ran. True when it ran.
+    bool update_if_dirty();
+    /// How many times the engine ran: a reader keeps the count it last took.
+    [[nodiscard]] std::uint64_t runs() const { return runs_; }
+
+    /// The outputs by Data name, as the last run wrote them: index lists (BoxROI's `indices`), and
+    /// points or element lists (TransformEngine's `output_position`, BoxROI's `trianglesInROI`).
+    std::map<std::string, std::vector<PointId>, std::less<>> indices;
+    std::map<std::string, io::MeshData, std::less<>> meshes;
+
+private:
+    const io::SceneComponent* component_;
+    const Vec3Object* input_;
+    Evaluate evaluate_;
+    std::vector<Vec3> last_input_;
+    std::uint64_t runs_ = 0;
+};
+
+/// A Data that reads an output of a LiveEngine while the scene runs.
+struct LiveEngineReader {
+    LiveEngine* engine = nullptr;
+    std::string output;
+    std::uint64_t seen_runs = 0;  ///< the engine's runs() when this reader last took the output
+    /// Runs the engine if its input changed; true when the output is new to this reader.
+    bool pull() {
+        engine->update_if_dirty();
+        if (engine->runs() == seen_runs) return false;
+        seen_runs = engine->runs();
+        return true;
+    }
+};
+
+/// The engines of a scene that run on read, and the states whose positions follow one of them.
+struct LiveEngines {
+    std::vector<std::unique_ptr<LiveEngine>> engines;
+    std::map<const io::SceneComponent*, LiveEngine*> by_component;
+    /// A MechanicalObject whose `position` links an output of a LiveEngine
+    /// (`position="@transform.output_position"`): it takes the output when read.
+    struct LinkedState {
+        LiveEngineReader reader;
+        Vec3Object* state = nullptr;
+        std::string path;  ///< the state's SOFA path (errors)
+    };
+    std::vector<LinkedState> linked_states;
+
+    /// The engine built from `c`, or null.
+    [[nodiscard]] LiveEngine* find(const io::SceneComponent& c) const {
+        const auto it = by_component.find(&c);
+        return it == by_component.end() ? nullptr : it->second;
+    }
+    /// Gives each linked state the output of its engine when the engine ran since the state last
+    /// took it (SOFA: the state's position Data is dirty and is read). std::invalid_argument when an
+    /// output has another number of points than the state.
+    void update_linked_states();
+};
+
+}  // namespace penalty::scene
