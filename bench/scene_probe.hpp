@@ -6,6 +6,8 @@
 //
 // Environment:
 //   PENALTY_SCALING_SCENES=DIR   write each generated scene as DIR/<name>.scn (for `penalty run`)
+//   PENALTY_SCALING_SCENES_ONLY=1  with it: exit (0) once the first selected scene is written, running
+//                                nothing (bench/scaling-table.sh packs scenes so)
 //   PENALTY_BENCH_THREADS=N      BuildOptions::threads (default 0: TBB's default); 1 for callgrind
 //
 // Callgrind: `valgrind --tool=callgrind --instr-atstart=no --collect-atstart=no BENCH ...` runs
@@ -25,6 +27,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 
 #if __has_include(<valgrind/callgrind.h>)
@@ -41,7 +44,12 @@ inline void write_scene_if_asked(const std::string& name, const std::string& xml
     const char* dir = std::getenv("PENALTY_SCALING_SCENES");
     if (dir == nullptr || *dir == '\0') return;
     std::filesystem::create_directories(dir);
-    std::ofstream(std::filesystem::path(dir) / (name + ".scn")) << xml;
+    {
+        std::ofstream file(std::filesystem::path(dir) / (name + ".scn"));
+        file << xml;
+        if (!file) throw std::runtime_error("cannot write the scene " + name + ".scn into " + dir);
+    }
+    if (const char* only = std::getenv("PENALTY_SCALING_SCENES_ONLY"); only != nullptr && *only == '1') std::exit(0);
 }
 
 /// BuildOptions with threads from $PENALTY_BENCH_THREADS (0, TBB's default, when unset).

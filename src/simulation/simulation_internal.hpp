@@ -2,6 +2,7 @@
 /// @file
 /// What the Simulation's files share (private to the simulation stage).
 
+#include "map_back_plan.hpp"
 #include "penalty/simulation/simulation.hpp"
 
 #include <tbb/task_arena.h>
@@ -12,10 +13,12 @@
 
 namespace penalty {
 
-/// The TBB arena of a Simulation's concurrent solves, made at the first one.
+/// The TBB arena of a Simulation's concurrent solves and map back, made at the first one, and
+/// map back's plan (kept with the arena: only a step with more than one thread needs it).
 struct Simulation::ThreadArena {
     explicit ThreadArena(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
     tbb::task_arena arena;
+    detail::MapBackPlan map_back_plan;
 };
 
 namespace detail {

@@ -90,15 +90,29 @@ void Simulation::solve_in_arena(double dt) {
 }
 
 void Simulation::map_back() {
-    for_each_node(root_, [](Node& n) {
-        for (const auto& c : n.constraints()) {  // SOFA's MechanicalProjectPositionAndVelocityVisitor
-            c->project_position();
-            c->project_velocity();
-        }
-        if (n.mapping()) {
-            n.mapping()->apply_position();
-            n.mapping()->apply_velocity();
-        }
+    // SOFA's MechanicalProjectPositionAndVelocityVisitor and the propagation of positions and
+    // velocities, node by node depth first; with more than one thread, independent mappings at
+    // once (map_back_plan.hpp: the same bits)
+    const bool one_thread =
+        threads_ == 1 || tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) < 2;
+    if (one_thread) {
+        for_each_node(root_, [](Node& n) {
+            for (const auto& c : n.constraints()) {
+                c->project_position();
+                c->project_velocity();
+            }
+            if (n.mapping()) {
+                n.mapping()->apply_position();
+                n.mapping()->apply_velocity();
+            }
+        });
+        return;
+    }
+    if (!arena_) arena_ = std::make_unique<ThreadArena>(threads_);
+    ThreadArena& a = *arena_;
+    a.arena.execute([&] {
+        a.map_back_plan.update(root_);
+        a.map_back_plan.run(a.arena.max_concurrency() > 1);
     });
 }
 

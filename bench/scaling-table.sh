@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# Issue 54's scaling table: wall time of whole `penalty run`s at several thread counts, and whether
+# the states are the same bits at every thread count. Made to be carried to a many-core machine
+# in one call (the device tool: the pack is an ignored folder named in `carry`).
+#
+#   bench/scaling-table.sh pack PACK [BUILD [LABEL]]
+#       on the development machine: copies BUILD/bin/penalty (default build/release) and the shared
+#       libraries it loads (ldd, without the C library and the loader) into PACK/builds/LABEL
+#       (default: the short commit), and, once per pack, writes the scenes into PACK/scenes: the
+#       k = 8 bowl (penalty_bench_scaling), the soft body of 114 075 DOFs on the organ
+#       (penalty_bench_large_scenes n = 64) and SOFA's MeshSpringForceField and collisionMultiple
+#       (../shared/sofa/scenes, with their meshes). Pack a second build (before/after) into the
+#       same PACK: both run on the same machine in one call.
+#   bench/scaling-table.sh run PACK [THREADS...]        (default threads: 1 2 4 8 16)
+#       on the machine measured: each build × scene × thread count, one `penalty run` each, its
+#       states exported at the last step; prints one markdown row per build and scene: seconds at
+#       each thread count, the best speed-up over one thread, and "same bits" when every thread
+#       count's state files equal one thread's (DIFFERENT, naming the thread counts, otherwise).
+#
+# Steps (the issue's): bowl 200, MeshSpringForceField 300, collisionMultiple 300, soft body 20
+# (SCALING_SOFT_BODY_STEPS overrides; ~1 s a step on one core of the development machine).
+# SCALING_SCENES="bowl_k8 mesh_spring ..." runs a subset. Exit 0, 1 when states differ, 2 usage.
+set -euo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+mode="${1:-}"
+pack="${2:-}"
+usage() {
+    echo "usage: $0 pack PACK [BUILD [LABEL]] | run PACK [THREADS...]" >&2
+    exit 2
+}
+[[ -n "$pack" && ("$mode" == pack || "$mode" == run) ]] || usage
+
+scene_names=(bowl_k8 mesh_spring collision_multiple soft_body_100k)
+declare -A scene_file=([bowl_k8]=cubes_in_bowl_k8.scn [mesh_spring]=MeshSpringForceField.scn
+    [collision_multiple]=collisionMultiple.scn [soft_body_100k]=soft_body_on_organ_n64.scn)
+declare -A scene_steps=([bowl_k8]=200 [mesh_spring]=300 [collision_multiple]=300
+    [soft_body_100k]="${SCALING_SOFT_BODY_STEPS:-20}")
+
+copy_libraries() {  # binary, destination folder: what ldd resolves, less glibc and the loader
+    local binary="$1" dest="$2" lib
+    mkdir -p "$dest"
+    ldd "$binary" | awk '/=> \// { print $3 }' | while read -r lib; do
+        case "$(basename "$lib")" in
+            libc.so* | libm.so* | libpthread.so* | libdl.so* | librt.so* | ld-linux*) ;;
+            *) cp -L "$lib" "$dest/" ;;
+        esac
+    done
+}
+
+write_scenes() {  # build folder, destination folder
+    local build="$1" dest="$2" shared="$root/../shared/sofa"
+    mkdir -p "$dest/mesh"
+    # the benchmarks write the scene they would run and stop (bench/scene_probe.hpp)
+    PENALTY_SCALING_SCENES="$dest" PENALTY_SCALING_SCENES_ONLY=1 \
+        "$build/bench/penalty_bench_scaling" --benchmark_filter='k:8/' >/dev/null
+    PENALTY_SCALING_SCENES="$dest" PENALTY_SCALING_SCENES_ONLY=1 \
+        "$build/bench/penalty_bench_large_scenes" --benchmark_filter='n:64$' >/dev/null
+    local scene mesh
+    for scene in MeshSpringForceField collisionMultiple; do
+        [[ -f "$shared/scenes/$scene.scn" ]] || { echo "$0: no $shared/scenes/$scene.scn" >&2; exit 1; }
+        cp "$shared/scenes/$scene.scn" "$dest/"
+        for mesh in $(grep -o 'filename="mesh/[^"]*"' "$shared/scenes/$scene.scn" | sed 's/filename="//; s/"$//'); do
+            cp "$shared/$mesh" "$dest/mesh/"
+        done
+    done
+}
+
+if [[ "$mode" == pack ]]; then
+    build="${3:-$root/build/release}"
+    label="${4:-$(git -C "$root" rev-parse --short HEAD)}"
+    [[ -x "$build/bin/penalty" ]] || { echo "$0: no executable at $build/bin/penalty (build first)" >&2; exit 2; }
+    dest="$pack/builds/$label"
+    rm -rf "$dest"
+    mkdir -p "$dest/bin"
+    cp "$build/bin/penalty" "$dest/bin/"
+    copy_libraries "$build/bin/penalty" "$dest/lib"
+    [[ -d "$pack/scenes" ]] || write_scenes "$build" "$pack/scenes"
+    echo "packed $label ($(du -sh "$dest" | cut -f1)); scenes $(du -sh "$pack/scenes" | cut -f1)"
+    exit 0
+fi
+
+shift 2
+threads=("$@")
+[[ ${#threads[@]} -gt 0 ]] || threads=(1 2 4 8 16)
+[[ "${threads[0]}" == 1 ]] || threads=(1 "${threads[@]}")  # one thread: the reference of time and bits
+read -r -a selected <<<"${SCALING_SCENES:-${scene_names[*]}}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+status=0
+
+header="| build | scene | steps |"
+rule="|---|---|---:|"
+for t in "${threads[@]}"; do header+=" $t |"; rule+="---:|"; done
+echo "$header best speed-up | states |"
+echo "$rule---:|---|"
+for build in "$pack"/builds/*/; do
+    label="$(basename "$build")"
+    for name in "${selected[@]}"; do
+        scene="$pack/scenes/${scene_file[$name]}"
+        steps="${scene_steps[$name]}"
+        row="| $label | $name | $steps |"
+        one=""
+        best=""
+        differing=()
+        for t in "${threads[@]}"; do
+            out="$work/$label/$name/$t"
+            mkdir -p "$out"
+            start="$(date +%s.%N)"
+            if ! LD_LIBRARY_PATH="$build/lib" "$build/bin/penalty" run "$scene" --data-dir "$pack/scenes" \
+                --steps "$steps" --threads "$t" --quiet --export-states "$out" --export-every "$steps" \
+                >"$out.log" 2>&1; then
+                row+=" failed |"
+                echo "$label $name --threads $t failed:" >&2
+                tail -3 "$out.log" >&2
+                status=1
+                continue
+            fi
+            seconds="$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')"
+            row+=" $(printf '%.2f' "$seconds") s |"
+            if [[ "$t" == 1 ]]; then
+                one="$seconds"
+            else
+                diff -rq "$work/$label/$name/1" "$out" >/dev/null || differing+=("$t")
+                best="$(awk -v one="$one" -v s="$seconds" -v best="${best:-0}" \
+                    'BEGIN { v = one / s; print (v > best ? v : best) }')"
+            fi
+        done
+        row+=" $(printf '%.2f' "${best:-1}")× |"
+        if [[ ${#differing[@]} -eq 0 ]]; then
+            row+=" same bits |"
+        else
+            row+=" DIFFERENT at ${differing[*]} |"
+            status=1
+        fi
+        echo "$row"
+    done
+done
+exit "$status"
