@@ -187,6 +187,9 @@ void set_center(Vec3& x, const Vec3& value) { x = value; }
 void set_center(RigidFrame& x, const Vec3& value) { x.center = value; }
 }  // namespace
 
+// ParabolicProjectiveConstraint::projectVelocity: v = R·((X, Y)(r(t + dt)) − (X, Y)(r(t)))/dt. SOFA
+// assigns r = r(t + dt) inside its loop over the indices, so from the second index on both ends
+// are r(t + dt): R·(0, 0, 0) = 0 (unless every_index_velocity_).
 template <class DataTypes>
 void ParabolicProjectiveConstraint<DataTypes>::project_velocity() {
     const double t = clock_(), dt = dt_();
@@ -194,7 +197,9 @@ void ParabolicProjectiveConstraint<DataTypes>::project_velocity() {
     const auto [xp, yp] = local_at((t - begin_) / (end_ - begin_));
     const auto [xn, yn] = local_at((t + dt - begin_) / (end_ - begin_));
     const Vec3 world = sofa_quat::rotate(projection_, Vec3((xn - xp) / dt, (yn - yp) / dt, 0.0));
-    for (Index i : indices_) set_linear(state_->velocity[static_cast<std::size_t>(i)], world);
+    const Vec3 later = every_index_velocity_ ? world : sofa_quat::rotate(projection_, Vec3::Zero());
+    for (std::size_t k = 0; k < indices_.size(); ++k)
+        set_linear(state_->velocity[static_cast<std::size_t>(indices_[k])], k == 0 ? world : later);
 }
 
 template <class DataTypes>

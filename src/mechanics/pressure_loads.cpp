@@ -2,6 +2,7 @@
 
 #include "penalty/core/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penalty {
@@ -302,7 +303,19 @@ bool SurfacePressureForceField::in_box(const Vec3& x) const {
            x.z() <= hi.z();
 }
 
-// SurfacePressureForceField::computeMeshVolume.
+std::size_t SurfacePressureForceField::topology_changed() {
+    pressed_triangles_.clear();
+    last_x_.clear();
+    const auto past_end = [](const std::vector<Index>& ids, std::size_t count) {
+        return static_cast<std::size_t>(
+            std::count_if(ids.begin(), ids.end(), [count](Index id) { return static_cast<std::size_t>(id) >= count; }));
+    };
+    return past_end(params_.triangle_indices, topology_->triangles().size()) +
+           past_end(params_.quad_indices, topology_->quads().size());
+}
+
+// SurfacePressureForceField::computeMeshVolume (a listed index past the topology's end, which only
+// a topological change leaves, is skipped: topology_changed).
 double SurfacePressureForceField::mesh_volume(std::span<const Vec3> x) const {
     double volume = 0.0;
     const auto& triangles = topology_->triangles();
@@ -310,6 +323,7 @@ double SurfacePressureForceField::mesh_volume(std::span<const Vec3> x) const {
     for (std::size_t i = 0; i < nt; ++i) {
         const std::size_t id =
             params_.triangle_indices.empty() ? i : static_cast<std::size_t>(params_.triangle_indices[i]);
+        if (id >= triangles.size()) continue;
         const Triangle& t = triangles[id];
         volume += x[at(t[0])].cross(x[at(t[1])]).dot(x[at(t[2])]);
     }
@@ -317,6 +331,7 @@ double SurfacePressureForceField::mesh_volume(std::span<const Vec3> x) const {
     const std::size_t nq = params_.quad_indices.empty() ? quads.size() : params_.quad_indices.size();
     for (std::size_t i = 0; i < nq; ++i) {
         const std::size_t id = params_.quad_indices.empty() ? i : static_cast<std::size_t>(params_.quad_indices[i]);
+        if (id >= quads.size()) continue;
         const Quad& q = quads[id];
         volume += x[at(q[0])].cross(x[at(q[1])]).dot(x[at(q[2])]);
         volume += x[at(q[0])].cross(x[at(q[2])]).dot(x[at(q[3])]);
@@ -355,7 +370,8 @@ void SurfacePressureForceField::add_force(std::span<Vec3> f, std::span<const Vec
         sum[at(t[2])] += force;
     };
     if (!params_.triangle_indices.empty()) {
-        for (Index id : params_.triangle_indices) press_triangle(static_cast<std::size_t>(id));
+        for (Index id : params_.triangle_indices)
+            if (static_cast<std::size_t>(id) < triangles.size()) press_triangle(static_cast<std::size_t>(id));
     } else {
         for (std::size_t i = 0; i < triangles.size(); ++i) {
             const Triangle& t = triangles[i];
@@ -378,7 +394,8 @@ void SurfacePressureForceField::add_force(std::span<Vec3> f, std::span<const Vec
         sum[at(q[3])] += f2;
     };
     if (!params_.quad_indices.empty()) {
-        for (Index id : params_.quad_indices) press_quad(static_cast<std::size_t>(id));
+        for (Index id : params_.quad_indices)
+            if (static_cast<std::size_t>(id) < quads.size()) press_quad(static_cast<std::size_t>(id));
     } else {
         for (std::size_t i = 0; i < quads.size(); ++i) {
             const Quad& q = quads[i];

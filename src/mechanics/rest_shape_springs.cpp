@@ -150,10 +150,20 @@ void RestShapeSpringsForceField<DataTypes>::follow_points(std::vector<Index> poi
     points_changed_ = true;
 }
 
+template <class DataTypes>
+std::size_t RestShapeSpringsForceField<DataTypes>::springs_past_end() const {
+    const std::size_t dofs = this->state_->num_dofs(), anchors = anchor_count();
+    std::size_t out = 0;
+    for (std::size_t i = 0; i < indices_.size(); ++i) out += spring_in_range(i, dofs, anchors) ? 0 : 1;
+    return out;
+}
+
 // addForce's recomputeIndices (recompute_indices, the default): the same lists give the same
-// springs, so only a change of the points or of a state's size resolves them again.
+// springs, so only a change of the points or of a state's size resolves them again. Without
+// recompute_indices addForce keeps init's springs: nothing to do.
 template <class DataTypes>
 bool RestShapeSpringsForceField<DataTypes>::resolve_after_change() {
+    if (!recompute_indices_) return active_springs_;
     const std::size_t external = external_ != nullptr ? external_->num_dofs() : 0;
     if (!points_changed_ && this->state_->num_dofs() == resolved_dofs_ && external == resolved_external_dofs_)
         return active_springs_;
@@ -173,7 +183,9 @@ void RestShapeSpringsForceField<DataTypes>::add_force(std::span<Deriv> f, std::s
     resolve_after_change();
     const std::vector<Coord>& anchors = external_ != nullptr ? external_->position : this->state_->rest_position;
     double energy = 0.0;
+    const std::size_t dofs = this->state_->num_dofs();
     for (std::size_t i = 0; i < indices_.size(); ++i) {
+        if (!spring_in_range(i, dofs, anchors.size())) continue;  // without recompute_indices, after a change
         const auto p = static_cast<std::size_t>(indices_[i]);
         const auto a = static_cast<std::size_t>(anchor_indices_[i]);
         const double k = stiffness_of(i);
@@ -201,7 +213,9 @@ void RestShapeSpringsForceField<DataTypes>::add_force(std::span<Deriv> f, std::s
 template <class DataTypes>
 void RestShapeSpringsForceField<DataTypes>::add_dforce(std::span<Deriv> df, std::span<const Deriv> dx, double k_factor,
                                                        double /*b_factor*/) const {
+    const std::size_t dofs = this->state_->num_dofs(), anchors = anchor_count();
     for (std::size_t i = 0; i < indices_.size(); ++i) {
+        if (!spring_in_range(i, dofs, anchors)) continue;
         const auto p = static_cast<std::size_t>(indices_[i]);
         const double k = stiffness_of(i);
         if constexpr (std::is_same_v<DataTypes, Vec3Types>) {
@@ -219,7 +233,9 @@ void RestShapeSpringsForceField<DataTypes>::add_dforce(std::span<Deriv> df, std:
 template <class DataTypes>
 void RestShapeSpringsForceField<DataTypes>::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
     constexpr Index width = DataTypes::kDerivSize;
+    const std::size_t dofs = this->state_->num_dofs(), anchors = anchor_count();
     for (std::size_t i = 0; i < indices_.size(); ++i) {
+        if (!spring_in_range(i, dofs, anchors)) continue;
         const Index p = indices_[i];
         const double k = sofa_assembly_ ? stiffness_of(static_cast<std::size_t>(p)) : stiffness_of(i);
         for (Index c = 0; c < 3; ++c)
@@ -239,7 +255,9 @@ template <class DataTypes>
 bool RestShapeSpringsForceField<DataTypes>::list_dx_read(const BaseState& state,
                                                          std::vector<std::uint32_t>& rows) const {
     if (&state != this->state_) return true;
-    for (Index p : indices_) rows.push_back(static_cast<std::uint32_t>(p));
+    const std::size_t dofs = this->state_->num_dofs(), anchors = anchor_count();
+    for (std::size_t i = 0; i < indices_.size(); ++i)
+        if (spring_in_range(i, dofs, anchors)) rows.push_back(static_cast<std::uint32_t>(indices_[i]));
     return true;
 }
 

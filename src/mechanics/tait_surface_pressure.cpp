@@ -14,19 +14,26 @@ TaitSurfacePressureForceField::TaitSurfacePressureForceField(Vec3Object& state, 
                                                              TaitParameters p, ContextClock clock, ContextClock dt)
     : ForceField(state), topology_(&topology), p_(p), clock_(std::move(clock)), dt_(std::move(dt)) {}
 
-// TaitSurfacePressureForceField::init → updateFromTopology (computePressureTriangles, the rest volume).
-void TaitSurfacePressureForceField::init() {
+void TaitSurfacePressureForceField::take_pressure_triangles() {
     triangles_ = topology_->triangles();
     for (const Quad& q : topology_->quads()) {
         triangles_.push_back({q[0], q[1], q[2]});
         triangles_.push_back({q[2], q[3], q[0]});
     }
+}
+
+// TaitSurfacePressureForceField::init → updateFromTopology at the topology's first revision
+// (computePressureTriangles; volumeAfterTC, the rest volume, is the initialVolume).
+void TaitSurfacePressureForceField::init() {
+    take_pressure_triangles();
     for (const Triangle& t : triangles_)
         for (PointId v : t)
             if (v < 0 || std::size_t(v) >= state_->num_dofs())
                 throw_invalid_argument("TaitSurfacePressureForceField: surface point ", v, " out of range (",
                                        state_->num_dofs(), " points)");
     initial_volume_ = volume_of(state_->rest_position);
+    volume_after_change_ = initial_volume_;
+    initial_area_ = area_after_change_ = area_of(state_->rest_position);
     current_injected_ = p_.current_injected_volume;
     last_step_time_ = -1e300;
     volume_ = volume_of(state_->position);
@@ -46,6 +53,31 @@ double TaitSurfacePressureForceField::volume_of(std::span<const Vec3> x) const {
         volume6 += dot3(cross(a, b), c);
     }
     return volume6 / 6.0;
+}
+
+// computeMeshVolumeAndArea's area: Σ |(b − a)×(c − a)| / 2 (about the mean point, as SOFA).
+double TaitSurfacePressureForceField::area_of(std::span<const Vec3> x) const {
+    if (x.empty()) return 0;
+    Vec3 center = Vec3::Zero();
+    for (const Vec3& p : x) center += p;
+    center /= double(x.size());
+    double area2 = 0;
+    for (const Triangle& t : triangles_) {
+        const Vec3 a = x[std::size_t(t[0])] - center, b = x[std::size_t(t[1])] - center,
+                   c = x[std::size_t(t[2])] - center;
+        area2 += cross(b - a, c - a).norm();
+    }
+    return area2 / 2.0;
+}
+
+// updateFromTopology when the revision moved after init: the topology's surface again and its
+// rest volume as volumeAfterTC (initialVolume, from init, is kept).
+void TaitSurfacePressureForceField::topology_changed() {
+    take_pressure_triangles();
+    volume_after_change_ = volume_of(state_->rest_position);
+    area_after_change_ = area_of(state_->rest_position);
+    grad_v_.clear();
+    x_.clear();
 }
 
 // computePressureAndStiffness (its "too much volume variation" zeroing is overwritten at once in
@@ -83,7 +115,8 @@ void TaitSurfacePressureForceField::add_force(std::span<Vec3> f, std::span<const
     }
     const double v0 = initial_volume_ + current_injected_;
     volume_ = volume_of(x);
-    pressure_and_stiffness(volume_, v0);
+    // addForce's correction after a topological change (d_volumeAfterTC is set from init on: 0 until a change)
+    pressure_and_stiffness(volume_ - (volume_after_change_ - initial_volume_), v0);
     grad_v_.assign(x.size(), Vec3::Zero());
     for (const Triangle& t : triangles_) {
         const Vec3 n = cross(x[std::size_t(t[1])] - x[std::size_t(t[0])], x[std::size_t(t[2])] - x[std::size_t(t[0])]);
@@ -97,6 +130,7 @@ void TaitSurfacePressureForceField::add_force(std::span<Vec3> f, std::span<const
 // TaitSurfacePressureForceField::addDForce.
 void TaitSurfacePressureForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                                double /*b_factor*/) const {
+    if (x_.empty()) return;  // no add_force since a topological change
     double dv = 0;
     for (std::size_t i = 0; i < grad_v_.size(); ++i) dv += dot3(grad_v_[i], dx[i]);
     const double scale1 = k_factor * stiffness_ * dv;
@@ -120,6 +154,7 @@ Mat3 cross_matrix(const Vec3& u) {  // [u]× v = u × v
 }  // namespace
 
 void TaitSurfacePressureForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    if (x_.empty()) return;  // no add_force since a topological change
     const auto add = [&](std::size_t r, std::size_t c, const Mat3& m) {
         for (Index i = 0; i < 3; ++i)
             for (Index j = 0; j < 3; ++j)

@@ -183,20 +183,6 @@ TEST(SpringLoadFollowers, RestShapeSpringsWhoseListsAreEmptiedHoldEveryPointAsSo
     EXPECT_EQ(ff->points().size(), 26u);
 }
 
-TEST(SpringLoadFollowers, RestShapeSpringsWithoutRecomputedIndicesStillBlock) {
-    // recompute_indices="0": SOFA keeps init's springs, whose points may be past the end: no rule
-    const test::TetraCube cube = test::tetra_cube(1, 1.0);
-    auto s = test::build(slf_body(cube.points, cube.tetrahedra,
-                                  R"(<RestShapeSpringsForceField name="kept" points="0 7" recompute_indices="0"/>)"));
-    try {
-        s->remove_elements("volume", ElementType::tetrahedron, {0});
-        ADD_FAILURE() << "no error";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_THAT(e.what(), testing::HasSubstr("RestShapeSpringsForceField 'kept' (test.scn:"));
-    }
-    EXPECT_EQ(s->topology_container("volume").mesh().tetrahedra().size(), 5u);
-}
-
 /// A tetrahedral body (its own topology and modifier) and a fixed anchor state of 6 points, joined
 /// by `springs` (a SpringForceField at the root, `object1`/`object2` naming the ends).
 std::string slf_two_states(const std::vector<Vec3>& points, const std::vector<Tetrahedron>& tets,
@@ -406,8 +392,8 @@ TEST(SpringLoadFollowers, QuadPressureKeepsSofasStaleLastIndexOrTheFixedRule) {
 }
 
 TEST(SpringLoadFollowers, SurfacePressurePressesTheRemainingQuadsAsIfBuiltAfresh) {
-    // no topology data: addForce presses the topology's current quads; with explicit index lists
-    // (no topology data either) it blocks
+    // no topology data: addForce presses the topology's current quads (with index lists:
+    // test_load_followers.cpp)
     const SlfSheet sheet = slf_sheet();
     const std::string load = R"(<SurfacePressureForceField pressure="3" useTangentStiffness="1"/>)";
     auto s = test::build(slf_quad_sheet(sheet.points, sheet.quads, load));
@@ -418,15 +404,6 @@ TEST(SpringLoadFollowers, SurfacePressurePressesTheRemainingQuadsAsIfBuiltAfresh
     Vec3Object& x = slf_state(*s);
     auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(), load));
     slf_expect_same_forces(*ff, x, *slf_find<SurfacePressureForceField>(fresh->simulation().root()), slf_state(*fresh));
-
-    auto listed = test::build(slf_quad_sheet(
-        sheet.points, sheet.quads, R"(<SurfacePressureForceField name="listed" pressure="3" quadIndices="1 2"/>)"));
-    try {
-        listed->remove_elements("surface", ElementType::quad, {0});
-        ADD_FAILURE() << "no error";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_THAT(e.what(), testing::HasSubstr("SurfacePressureForceField 'listed' (test.scn:"));
-    }
 }
 
 }  // namespace

@@ -626,17 +626,13 @@ TEST(TopologicalChanges, WhatCannotFollowIsRefusedByName) {
   </Node>)");
     EXPECT_THAT(test::error_of(scene), HasSubstr("SubsetMapping 'attach' (test.scn:"));
     EXPECT_THAT(test::error_of(scene), HasSubstr("does not follow topological changes"));
-    // components without a rule: a force field keeping init's points (SOFA's m_indices without
-    // recompute_indices), a projective constraint with a target per point (SOFA's
+    // a component without a rule: a projective constraint with a target per point (SOFA's
     // PositionBasedDynamicsProjectiveConstraint has no topology data: its reinit does nothing)
     for (
-        const auto& [component, named] :
-        {std::pair<std::string, std::string>{
-             R"(<UniformMass totalMass="1"/><RestShapeSpringsForceField name="m" stiffness="10" recompute_indices="0"/>)",
-             "RestShapeSpringsForceField 'm' (test.scn:"},
-         {R"(<UniformMass totalMass="1"/><PositionBasedDynamicsProjectiveConstraint name="pbd" stiffness="0.5" position=")" +
-              test::points_text(cube.points) + "\"/>",
-          "PositionBasedDynamicsProjectiveConstraint 'pbd' (test.scn:"}}) {
+        const auto& [component, named] : {std::pair<std::string, std::string>{
+            R"(<UniformMass totalMass="1"/><PositionBasedDynamicsProjectiveConstraint name="pbd" stiffness="0.5" position=")" +
+                test::points_text(cube.points) + "\"/>",
+            "PositionBasedDynamicsProjectiveConstraint 'pbd' (test.scn:"}}) {
         const std::string text = tchg_body(cube.points, cube.tetrahedra, R"(<EulerImplicitSolver/><CGLinearSolver/>
   )" + component + R"(<TopologicalChangeProcessor filename=")" + file + R"("/>)");
         EXPECT_THAT(test::error_of(text), HasSubstr(named));

@@ -77,7 +77,9 @@ private:
 /// local X = x₃·r, Y = a X² + b X with a = −y₂/(x₃x₂ − x₂²), b = x₃y₂/(x₃x₂ − x₂²),
 /// r = (t − t_begin)/(t_end − t_begin);
 ///   position: P1 + R·(X, Y, 0) (Rigid3d: the centre only);
-///   velocity: R·((X, Y)(t + dt) − (X, Y)(t))/dt (Rigid3d: the linear part only);
+///   velocity: R·((X, Y)(t + dt) − (X, Y)(t))/dt for the first listed DOF, 0 for the others
+///             (SOFA's projectVelocity overwrites r with r(t + dt) inside its loop over the
+///             indices; set_every_index_velocity(true) fixes it) (Rigid3d: the linear part only);
 ///   response: zero at the listed DOFs inside the interval.
 template <class DataTypes>
 class ParabolicProjectiveConstraint final : public BaseProjectiveConstraint {
@@ -96,6 +98,9 @@ public:
     /// SOFA's d_indices, a TopologySubsetIndices (init's createTopologyHandler).
     [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
     void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
+    /// `velocityForEveryIndex` (beyond SOFA): every listed DOF gets the parabola's velocity
+    /// (false, SOFA: the first only, the others 0).
+    void set_every_index_velocity(bool every) { every_index_velocity_ = every; }
 
 private:
     [[nodiscard]] bool active(double t) const { return t >= begin_ && t <= end_; }
@@ -109,6 +114,7 @@ private:
     ContextClock dt_;  ///< the node's time step (s), SOFA's getContext()->getDt()
     Quat projection_ = Quat::Identity();
     Vec3 loc_p2_ = Vec3::Zero(), loc_p3_ = Vec3::Zero();
+    bool every_index_velocity_ = false;
 };
 
 /// FixedRotationProjectiveConstraint (Rigid3d): after each step the orientation of every DOF

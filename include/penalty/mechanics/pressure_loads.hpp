@@ -223,11 +223,13 @@ public:
     [[nodiscard]] double mesh_volume(std::span<const Vec3> x) const;
     /// After a topological change: SOFA's addForce reads the topology's current triangles and
     /// quads (no topology data); the tangent stiffness of the last add_force, on elements that may
-    /// be gone, is dropped until the next add_force.
-    void topology_changed() {
-        pressed_triangles_.clear();
-        last_x_.clear();
-    }
+    /// be gone, is dropped until the next add_force. triangleIndices and quadIndices are plain Data
+    /// in SOFA (no TopologySubsetData): they stay as given, each index naming the element now in
+    /// that slot (after a swap-and-pop, the moved last element). An index past the topology's end
+    /// (SOFA's getTriangle / getQuad return InvalidID and addForce reads x[InvalidID]: SOFA HEAD
+    /// crashes) presses nothing until an addition brings its slot back. Returns how many listed
+    /// indices are past the end now.
+    std::size_t topology_changed();
 
 private:
     bool in_box(const Vec3& p) const;

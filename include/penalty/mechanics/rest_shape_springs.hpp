@@ -50,6 +50,18 @@ public:
     /// (SOFA, the default): add_stiffness_triplets reproduces that; false: the matrix of addDForce.
     void set_sofa_assembly(bool sofa) { sofa_assembly_ = sofa; }
 
+    /// SOFA's recompute_indices (default true): addForce resolves the springs again from `points`
+    /// at each step (recomputeIndices). false: the springs of init stay (m_indices, by index, while
+    /// `points` follows the topology): after a topological change spring i acts on whatever point
+    /// is now at its index, anchored at that index's rest position (or its external point); a
+    /// spring whose point or anchor is past its state's end acts on nothing (SOFA HEAD reads and
+    /// writes past the vectors' ends there) until an addition brings the index back.
+    void set_recompute_indices(bool recompute) { recompute_indices_ = recompute; }
+    [[nodiscard]] bool recompute_indices() const { return recompute_indices_; }
+    /// How many springs have a point or an anchor past its state's end (only without
+    /// recompute_indices, after a topological change).
+    [[nodiscard]] std::size_t springs_past_end() const;
+
     /// Resolves the point lists and checks them against the states (std::invalid_argument).
     void init() override;
 
@@ -92,6 +104,14 @@ private:
     [[nodiscard]] double angular_stiffness_of(std::size_t spring) const {
         return angular_stiffness_[spring < angular_stiffness_.size() ? spring : 0];
     }
+    /// Spring i's point and anchor are inside their states (always, but without recompute_indices
+    /// after a change that shrank a state).
+    [[nodiscard]] bool spring_in_range(std::size_t i, std::size_t dofs, std::size_t anchors) const {
+        return std::size_t(indices_[i]) < dofs && std::size_t(anchor_indices_[i]) < anchors;
+    }
+    [[nodiscard]] std::size_t anchor_count() const {
+        return external_ != nullptr ? external_->num_dofs() : this->state_->rest_position.size();
+    }
     /// SOFA's recomputeIndices + checkOutOfBoundsIndices; false (nothing resolved) when SOFA
     /// deactivates the springs, with the reason in `why`.
     bool resolve(std::string& why);
@@ -113,6 +133,7 @@ private:
     }();
     const MechanicalObject<DataTypes>* external_ = nullptr;
     bool sofa_assembly_ = true;
+    bool recompute_indices_ = true;
     double energy_ = 0.0;
 };
 

@@ -10,6 +10,11 @@
 /// Injection (handleEvent, AnimateBeginEvent): at the start of each step the injected volume
 /// moves toward `injectedVolume` by at most maxInjectionRate·dt.
 /// E = −p0 V + B (V^{γ+1}/((γ+1) V0^γ) − V) (γ ≠ 1), of which f is minus the gradient (SOFA: none).
+/// After a topological change (updateFromTopology, when the topology's revision moved): the
+/// pressure triangles are taken again from the topology and V_TC, the volume of the new surface at
+/// the rest positions, is kept (volumeAfterTC); addForce then uses V − (V_TC − V_rest) in the
+/// equation of state (V0 unchanged: the rest volume of init plus the injected volume). Before any
+/// change V_TC = V_rest and the correction is exactly 0.
 
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
@@ -44,14 +49,30 @@ public:
     [[nodiscard]] const std::vector<Triangle>& triangles() const { return triangles_; }
     /// V of the pressure triangles at positions x (m³).
     [[nodiscard]] double volume_of(std::span<const Vec3> x) const;
+    /// SOFA's updateFromTopology after a topological change: computePressureTriangles from the
+    /// topology's current triangles and quads, volumeAfterTC and surfaceAreaAfterTC from the state's
+    /// rest positions (which followed the change). The state of the last add_force is dropped.
+    void topology_changed();
+    /// volumeAfterTC (m³): the rest volume of the surface after the last change (rest_volume()
+    /// before any).
+    [[nodiscard]] double volume_after_change() const { return volume_after_change_; }
+    /// surfaceAreaAfterTC (m²) and initialSurfaceArea: Σ |(b − a)×(c − a)| / 2 at the rest positions.
+    [[nodiscard]] double surface_area_after_change() const { return area_after_change_; }
+    [[nodiscard]] double rest_surface_area() const { return initial_area_; }
 
 private:
     void pressure_and_stiffness(double volume, double v0);
+    /// computePressureTriangles: the triangles, then each quad as (0, 1, 2) and (2, 3, 0).
+    void take_pressure_triangles();
+    /// computeMeshVolumeAndArea's area at positions x (m²).
+    [[nodiscard]] double area_of(std::span<const Vec3> x) const;
     const MeshTopology* topology_;
     TaitParameters p_;
     ContextClock clock_, dt_;
     std::vector<Triangle> triangles_;
     double initial_volume_ = 0, current_injected_ = 0;
+    double volume_after_change_ = 0;                   ///< volumeAfterTC (m³)
+    double initial_area_ = 0, area_after_change_ = 0;  ///< initialSurfaceArea, surfaceAreaAfterTC (m²)
     double volume_ = 0, pressure_ = 0, stiffness_ = 0, energy_ = 0;
     double last_step_time_ = -1e300;  ///< the step whose start updated the injection
     std::vector<Vec3> grad_v_;        ///< ∇V at the last add_force

@@ -105,7 +105,7 @@ constexpr AttributeSpec kRestShapeSprings[] = {
      "anchor of each point, in the external state"},
     {"pivot_points", K::numbers, "", "m", ValueCheck::none, "SOFA HEAD never reads it: ignored"},
     {"recompute_indices", K::boolean, "1", "", ValueCheck::none,
-     "the springs follow a topological change (0: the topology cannot change)"},
+     "the springs are resolved again at each step (0: init's springs stay, by index, through a topological change)"},
     {"drawSpring", K::boolean, "0", "", ValueCheck::none, "drawing only"},
     {"springColor", K::numbers, "0 1 0 1", "", ValueCheck::none, "drawing only"},
     {"topology", K::link, "(the node's topology)", "", ValueCheck::none, "whose point removals `points` follows"},
@@ -156,6 +156,7 @@ void configure_rest_springs(SceneBuilder& b, const SceneComponent& c, const Attr
         ff.set_active_directions(active);
     }
     ff.set_sofa_assembly(!a.boolean("assembleAsAddDForce"));
+    ff.set_recompute_indices(a.boolean("recompute_indices"));
     if (a.has("pivot_points"))
         b.warn(c.file + ":" + std::to_string(c.line) + ": " + c.describe() +
                ": pivot_points is ignored (SOFA HEAD stores it but never reads it)");

@@ -219,6 +219,9 @@ constexpr AttributeSpec kParabolic[] = {
     {"BeginTime", K::real, "0", "s", ValueCheck::none, "start of the motion"},
     {"EndTime", K::real, "0", "s", ValueCheck::none, "end of the motion"},
     kTopologyLink,
+    // beyond SOFA
+    {"velocityForEveryIndex", K::boolean, "0", "", ValueCheck::none,
+     "beyond SOFA: every listed DOF gets the parabola's velocity (SOFA's projectVelocity gives it to the first only)"},
 };
 
 void build_parabolic(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -233,11 +236,20 @@ void build_parabolic(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) 
     const std::vector<Index> idx = index_list(b, a, "indices", {});
     ContextClock clock = [sim = &b.simulation()] { return sim->time(); };
     ContextClock dt = [node = info.node] { return node->dt(); };
-    BaseProjectiveConstraint& f = rigid ? static_cast<BaseProjectiveConstraint&>(
-                                              info.node->add_constraint<ParabolicProjectiveConstraint<Rigid3Types>>(
-                                                  *typed_state<Rigid3Types>(s), idx, p1, p2, p3, begin, end, clock, dt))
-                                        : info.node->add_constraint<ParabolicProjectiveConstraint<Vec3Types>>(
-                                              *typed_state<Vec3Types>(s), idx, p1, p2, p3, begin, end, clock, dt);
+    const bool every_velocity = a.boolean("velocityForEveryIndex");
+    BaseProjectiveConstraint* built = nullptr;
+    if (rigid) {
+        auto& k = info.node->add_constraint<ParabolicProjectiveConstraint<Rigid3Types>>(
+            *typed_state<Rigid3Types>(s), idx, p1, p2, p3, begin, end, clock, dt);
+        k.set_every_index_velocity(every_velocity);
+        built = &k;
+    } else {
+        auto& k = info.node->add_constraint<ParabolicProjectiveConstraint<Vec3Types>>(
+            *typed_state<Vec3Types>(s), idx, p1, p2, p3, begin, end, clock, dt);
+        k.set_every_index_velocity(every_velocity);
+        built = &k;
+    }
+    BaseProjectiveConstraint& f = *built;
     finish(b, c, f,
            "moves " + counted(idx.size(), "DOF", "DOFs") + " on a parabola from " + num(begin) + " s to " + num(end) +
                " s");

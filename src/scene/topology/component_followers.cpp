@@ -16,7 +16,6 @@
 #include "penalty/mechanics/prescribed_motion_constraints.hpp"
 #include "penalty/mechanics/pressure_loads.hpp"
 #include "penalty/mechanics/projective_constraints.hpp"
-#include "penalty/mechanics/rest_shape_springs.hpp"
 #include "penalty/mechanics/topology_followers.hpp"
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
@@ -84,43 +83,6 @@ ElementType lumped_type(LumpedElementKind kind) {
     }
     return ElementType::edge;
 }
-
-/// SOFA's RestShapeSpringsForceField on a changing topology: `points` is a TopologySubsetIndices
-/// (bwdInit's d_points.createTopologyHandler: a removed point leaves the list, the last point's
-/// entries take its index); `stiffness`, `external_points` and an external rest shape are no
-/// topology data. Once the operation is done (the states followed) the springs are resolved again
-/// as addForce's recomputeIndices does; when SOFA's checkOutOfBoundsIndices then fails (external
-/// points that no longer match) the springs go off, as in SOFA, with a warning naming the component.
-template <class DataTypes>
-class RestShapeSpringsFollower final : public TopologyHandler {
-public:
-    RestShapeSpringsFollower(RestShapeSpringsForceField<DataTypes>& ff, const TopologyContainer& container,
-                             std::string name)
-        : ff_(&ff),
-          points_(
-              container, [f = &ff] { return f->point_list(); },
-              [f = &ff](std::vector<Index> i) { f->follow_points(std::move(i)); }),
-          name_(std::move(name)) {}
-    void handle_topology_changes(std::span<const TopologyChange> changes) override {
-        points_.handle_topology_changes(changes);
-        dirty_ = true;
-    }
-    void topology_change_done() override {
-        if (!dirty_) return;
-        dirty_ = false;
-        const bool was_active = ff_->active();
-        if (!ff_->resolve_after_change() && was_active)
-            std::cerr
-                << "warning: " << name_ << ": after the topological change " << ff_->inactive_reason()
-                << ": its springs are off, as SOFA's RestShapeSpringsForceField::checkOutOfBoundsIndices leaves them\n";
-    }
-
-private:
-    RestShapeSpringsForceField<DataTypes>* ff_;
-    SubsetIndicesFollower points_;
-    std::string name_;
-    bool dirty_ = false;
-};
 
 /// A pressure load's subset data (TrianglePressureForceField's trianglePressureMap, ...): the
 /// events forwarded to its handle_topology_changes; once the operation is done, the entries that
@@ -245,19 +207,9 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
                               {ElementType::point, ElementType::edge});
         return true;
     }
-    // RestShapeSpringsForceField: its points as a TopologySubsetIndices, resolved again as addForce
-    // does when recompute_indices (the default); without it SOFA keeps init's springs (the points
-    // past the state's end read outside it): no rule
-    if (type == "RestShapeSpringsForceField" && io::get_bool_or(c, "recompute_indices", true)) {
-        const auto follow_points = [&]<class D>(RestShapeSpringsForceField<D>* ff) {
-            container.add_handler(w.keep(std::make_unique<RestShapeSpringsFollower<D>>(*ff, container, where(c))),
-                                  {ElementType::point});
-            return true;
-        };
-        if (auto* ff = dynamic_cast<RestShapeSpringsForceField<Vec3Types>*>(f)) return follow_points(ff);
-        if (auto* ff = dynamic_cast<RestShapeSpringsForceField<Rigid3Types>*>(f)) return follow_points(ff);
-        return false;
-    }
+    if (type == "RestShapeSpringsForceField" || type == "SurfacePressureForceField" ||
+        type == "TaitSurfacePressureForceField")
+        return follow_surface_load_or_rest_springs(w, c, *f, t);  // load_followers.cpp
     // edgeInfo and triangleInfo TopologyData with creation and destruction callbacks, event by event
     if (type == "TriangularBiquadraticSpringsForceField") {
         auto* ff = dynamic_cast<TriangularBiquadraticSpringsForceField*>(f);
@@ -291,16 +243,6 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
         container.add_handler(
             w.keep(std::make_unique<PressureLoadFollower<QuadPressureForceField>>(*ff, container, where(c))),
             {ElementType::quad});
-        return true;
-    }
-    // SurfacePressureForceField: no topology data, addForce presses the topology's current
-    // triangles and quads; its triangleIndices / quadIndices lists are no topology data either
-    // (an index past the end reads outside the topology): no rule for them
-    if (type == "SurfacePressureForceField") {
-        auto* ff = dynamic_cast<SurfacePressureForceField*>(f);
-        if (ff == nullptr || !ff->parameters().triangle_indices.empty() || !ff->parameters().quad_indices.empty())
-            return false;
-        rebuild([ff] { ff->topology_changed(); }, {ElementType::triangle, ElementType::quad, ElementType::point});
         return true;
     }
     if (type == "EdgePressureForceField") {

@@ -26,6 +26,10 @@ struct TopologyWiring {
 
 /// Masses, force fields, constraints and mappings of the graph (component_followers.cpp).
 void wire_components(TopologyWiring& w);
+/// SurfacePressureForceField, TaitSurfacePressureForceField, RestShapeSpringsForceField `f` of
+/// component `c` on `t`, its topology (load_followers.cpp): false when it has no rule.
+bool follow_surface_load_or_rest_springs(TopologyWiring& w, const io::SceneComponent& c, BaseForceField& f,
+                                         DynamicTopology& t);
 /// Collision models (component_followers.cpp).
 void wire_collision_models(TopologyWiring& w);
 /// The topological mappings between dynamic topologies (topological_mappings.cpp).
