@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace penalty {
@@ -483,7 +484,7 @@ TEST(EulerImplicit, RayleighDampingFirstOrderTrapezoidalAndVdampingFollowTheForm
 TEST(Simulation, BadInputThrows) {
     Simulation sim;
     EXPECT_THROW(sim.root().set_dt(-1), std::invalid_argument);
-    EXPECT_THROW(sim.root().set_gravity(Vec3(NAN, 0, 0)), std::invalid_argument);
+    EXPECT_THROW(sim.root().set_gravity(Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)), std::invalid_argument);
     Node& n = sim.root().add_child("n");
     auto& x = n.add_state<Vec3Types>();
     x.position = {Vec3::Zero()};
