@@ -34,7 +34,7 @@ jobs="$(nproc)"
 log="$(mktemp)"
 trap 'rm -f "$log"' EXIT
 status=0
-printf '%s\n' "${files[@]}" | xargs -P "$jobs" -n 1 "$tool" -p "$build" --quiet >"$log" 2>&1 || status=$?
+printf '%s\n' "${files[@]}" | xargs -P "$jobs" -n 1 "$tool" -p "$build" --config-file="$root/.clang-tidy" --quiet >"$log" 2>&1 || status=$?
 findings="$(grep -E '(warning|error): ' "$log" | grep -v '^error: too many errors' | sort -u || true)"
 if [ "$status" != 0 ] || [ -n "$findings" ]; then
   grep -v -E '^[0-9]+ warnings? generated\.$' "$log" || true

@@ -101,6 +101,7 @@ public:
         node.key() = StoredKey(key);  // no ids cached
         node.mapped() = std::move(value);
         const iterator it = map_.insert(map_.end(), std::move(node));
+        // NOLINTNEXTLINE(bugprone-use-after-move): a node handle a failed insert leaves unchanged
         if (node.empty()) spare_.pop_back();  // inserted; else the key was there and node is unchanged
         return it;
     }
