@@ -64,6 +64,22 @@ const char* lumped_element_name(LumpedElementKind kind) {
     return "?";
 }
 
+ElementType element_type_of(LumpedElementKind kind) {
+    switch (kind) {
+        case LumpedElementKind::hexahedron:
+            return ElementType::hexahedron;
+        case LumpedElementKind::tetrahedron:
+            return ElementType::tetrahedron;
+        case LumpedElementKind::quad:
+            return ElementType::quad;
+        case LumpedElementKind::triangle:
+            return ElementType::triangle;
+        case LumpedElementKind::edge:
+            return ElementType::edge;
+    }
+    return ElementType::edge;
+}
+
 double lump_vertex_masses(const MeshTopology& t, LumpedElementKind kind, std::span<const Vec3> x, double density,
                           std::size_t num_points, std::vector<double>& masses) {
     masses.assign(num_points, 0.0);

@@ -310,21 +310,7 @@ double MeshMatrixMass::gravity_potential_energy(const Vec3& g) const {
 void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container,
                                              std::span<const TopologyChange> changes) {
     const ElementShares shares = shares_of(kind_);
-    const ElementType type = [&] {
-        switch (kind_) {
-            case LumpedElementKind::triangle:
-                return ElementType::triangle;
-            case LumpedElementKind::quad:
-                return ElementType::quad;
-            case LumpedElementKind::tetrahedron:
-                return ElementType::tetrahedron;
-            case LumpedElementKind::hexahedron:
-                return ElementType::hexahedron;
-            case LumpedElementKind::edge:
-                break;
-        }
-        return ElementType::edge;
-    }();
+    const ElementType type = element_type_of(kind_);
     // the element's measure from the current (or rest) positions, and its edges' indices
     const auto measure = [&](ElementId id) {
         const auto v = container.vertices(type, id);

@@ -11,6 +11,7 @@
 #include "penalty/mechanics/tait_surface_pressure.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/same_forces.hpp"
 #include "penalty_test/scene_text.hpp"
 #include "penalty_test/tetra_cube.hpp"
 
@@ -82,45 +83,6 @@ std::string lf_surface_scene(const std::vector<Vec3>& points, const std::vector<
            "\n</Node></Node>\n";
 }
 
-/// Positions displaced from the rest shape, the same in both states.
-void lf_displace(Vec3Object& a, Vec3Object& b) {
-    ASSERT_EQ(a.num_dofs(), b.num_dofs());
-    for (std::size_t i = 0; i < a.num_dofs(); ++i) {
-        const Vec3 d(0.01 * double(i % 3), -0.02 + 0.001 * double(i), 0.005 * double(i % 5));
-        a.position[i] = a.rest_position[i] + d;
-        b.position[i] = b.rest_position[i] + d;
-        a.dx[i] = b.dx[i] = Vec3(1.0 + double(i), -0.5, 0.25 * double(i % 4));
-    }
-}
-
-/// Forces, add_dforce and the assembled matrix of `a` and `b` at the same displaced positions: equal to the bit.
-void lf_expect_same_forces(BaseForceField& a, Vec3Object& xa, BaseForceField& b, Vec3Object& xb) {
-    lf_displace(xa, xb);
-    for (Vec3Object* s : {&xa, &xb}) {
-        std::fill(s->force.begin(), s->force.end(), Vec3::Zero());
-        std::fill(s->df.begin(), s->df.end(), Vec3::Zero());
-    }
-    a.accumulate_force();
-    b.accumulate_force();
-    a.accumulate_dforce(0.7, 0.0);
-    b.accumulate_dforce(0.7, 0.0);
-    EXPECT_EQ(xa.force, xb.force);
-    EXPECT_EQ(xa.df, xb.df);
-    double norm = 0;
-    for (const Vec3& f : xa.force) norm += f.norm();
-    EXPECT_GT(norm, 0.0);  // not vacuous
-    TripletList ta, tb;
-    a.add_stiffness(
-        ta, [](const BaseState*) { return Index{0}; }, 1.0);
-    b.add_stiffness(
-        tb, [](const BaseState*) { return Index{0}; }, 1.0);
-    const auto n = Index(3 * xa.num_dofs());
-    SparseMatrix ka(n, n), kb(n, n);
-    ka.setFromTriplets(ta.begin(), ta.end());
-    kb.setFromTriplets(tb.begin(), tb.end());
-    EXPECT_EQ(Eigen::MatrixXd(ka), Eigen::MatrixXd(kb));
-}
-
 TEST(LoadFollowers, SurfacePressureListsNameTheElementsNowInTheirSlotsAsSofa) {
     // SOFA's triangleIndices is plain Data: after removing triangles 5 and 17 (17 <- 47, 5 <- 46)
     // the list stays; 5 and 17 name the moved triangles, 46 and 47 are past the end (SOFA HEAD
@@ -148,7 +110,7 @@ TEST(LoadFollowers, SurfacePressureListsNameTheElementsNowInTheirSlotsAsSofa) {
     auto fresh = test::build(lf_surface_scene(
         x.rest_position, triangles, R"(<SurfacePressureForceField pressure="30" triangleIndices="1 5 17 20 33 40"/>)"));
     auto* ref = lf_find<SurfacePressureForceField>(fresh->simulation().root());
-    lf_expect_same_forces(*ff, x, *ref, lf_state(*fresh));
+    test::expect_same_forces(*ff, x, *ref, lf_state(*fresh));
     test::check_force_field_derivatives(
         *ff, x, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt});
     s->step();  // the body steps on (no read past the topology)
@@ -177,7 +139,7 @@ TEST(LoadFollowers, SurfacePressureKeepsItsDefaultVolumeThroughAChangeAsSofa) {
         test::build(lf_surface_scene(x.rest_position, s->topology_container("surface").mesh().triangles(),
                                      "<SurfacePressureForceField " + options + R"( triangleIndices="0 3 9 30" )" +
                                          "defaultVolume=\"" + volume.str() + "\"/>"));
-    lf_expect_same_forces(*ff, x, *lf_find<SurfacePressureForceField>(fresh->simulation().root()), lf_state(*fresh));
+    test::expect_same_forces(*ff, x, *lf_find<SurfacePressureForceField>(fresh->simulation().root()), lf_state(*fresh));
     EXPECT_EQ(ff->last_pressure(), lf_find<SurfacePressureForceField>(fresh->simulation().root())->last_pressure());
 }
 
@@ -296,8 +258,8 @@ TEST(LoadFollowers, RestShapeSpringsWithoutRecomputedIndicesKeepInitsSpringsByIn
         body(x.rest_position, s->topology_container("volume").mesh().tetrahedra(),
              R"(<RestShapeSpringsForceField points="0 2 6" stiffness="10 20 30" assembleAsAddDForce="1"/>)"));
     ff->set_sofa_assembly(false);  // stiffness by spring in both matrices
-    lf_expect_same_forces(*ff, x, *lf_find<RestShapeSpringsForceField<Vec3Types>>(fresh->simulation().root()),
-                          lf_state(*fresh));
+    test::expect_same_forces(*ff, x, *lf_find<RestShapeSpringsForceField<Vec3Types>>(fresh->simulation().root()),
+                             lf_state(*fresh));
     test::check_force_field_derivatives(*ff, x,
                                         {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-12, .force_vs_energy = 1e-7});
     ff->set_sofa_assembly(true);

@@ -10,6 +10,7 @@
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/same_forces.hpp"
 #include "penalty_test/scene_text.hpp"
 #include "penalty_test/tetra_cube.hpp"
 
@@ -51,41 +52,6 @@ std::string slf_list(const std::vector<Index>& v) {
     return out.str();
 }
 
-/// Forces, add_dforce and the assembled triplets of `a` and `b` (on states of the same size) at
-/// the same displaced positions: equal to the bit.
-void slf_expect_same_forces(BaseForceField& a, Vec3Object& xa, BaseForceField& b, Vec3Object& xb) {
-    ASSERT_EQ(xa.num_dofs(), xb.num_dofs());
-    for (std::size_t i = 0; i < xa.num_dofs(); ++i) {
-        const Vec3 d(0.01 * double(i % 3), -0.02 + 0.001 * double(i), 0.005 * double(i % 5));
-        xa.position[i] = xa.rest_position[i] + d;
-        xb.position[i] = xb.rest_position[i] + d;
-        xa.dx[i] = xb.dx[i] = Vec3(1.0 + double(i), -0.5, 0.25 * double(i % 4));
-    }
-    std::fill(xa.force.begin(), xa.force.end(), Vec3::Zero());
-    std::fill(xb.force.begin(), xb.force.end(), Vec3::Zero());
-    std::fill(xa.df.begin(), xa.df.end(), Vec3::Zero());
-    std::fill(xb.df.begin(), xb.df.end(), Vec3::Zero());
-    a.accumulate_force();
-    b.accumulate_force();
-    a.accumulate_dforce(0.7, 0.0);
-    b.accumulate_dforce(0.7, 0.0);
-    EXPECT_EQ(xa.force, xb.force);
-    EXPECT_EQ(xa.df, xb.df);
-    double norm = 0;
-    for (const Vec3& f : xa.force) norm += f.norm();
-    EXPECT_GT(norm, 0.0);  // not vacuous
-    TripletList ta, tb;
-    a.add_stiffness(
-        ta, [](const BaseState*) { return Index{0}; }, 1.0);
-    b.add_stiffness(
-        tb, [](const BaseState*) { return Index{0}; }, 1.0);
-    const auto n = Index(3 * xa.num_dofs());
-    SparseMatrix ka(n, n), kb(n, n);
-    ka.setFromTriplets(ta.begin(), ta.end());
-    kb.setFromTriplets(tb.begin(), tb.end());
-    EXPECT_EQ(Eigen::MatrixXd(ka), Eigen::MatrixXd(kb));
-}
-
 TEST(SpringLoadFollowers, RestShapeSpringsKeepTheirPointsAndStiffnessBySlotAsIfBuiltAfresh) {
     // tetrahedra 0 and 38 hold corners 0 and 26 alone: points 26 (the last) and 0 go, 25 takes
     // index 0. SOFA's TopologySubsetIndices::remove on "0 1 2 25 9 26 13": 26 leaves; 0 leaves and
@@ -114,7 +80,7 @@ TEST(SpringLoadFollowers, RestShapeSpringsKeepTheirPointsAndStiffnessBySlotAsIfB
             slf_body(x.rest_position, mesh.tetrahedra(), springs("points=\"" + slf_list(ff->point_list()) + "\"")));
         auto* ref = slf_find<RestShapeSpringsForceField<Vec3Types>>(fresh->simulation().root());
         ASSERT_NE(ref, nullptr);
-        slf_expect_same_forces(*ff, x, *ref, slf_state(*fresh));
+        test::expect_same_forces(*ff, x, *ref, slf_state(*fresh));
         if (assembly == "1") {
             const test::DerivativeTolerances tol{1e-7, 1e-14, 1e-7};
             (void)test::check_force_field_derivatives(*ff, x, tol);
@@ -349,7 +315,7 @@ TEST(SpringLoadFollowers, QuadPressureEntriesFollowTheirQuadsAsIfBuiltAfresh) {
         auto* ref = slf_find<QuadPressureForceField>(fresh->simulation().root());
         ASSERT_NE(ref, nullptr);
         EXPECT_EQ(ff->total_rest_area(), ref->total_rest_area());
-        slf_expect_same_forces(*ff, x, *ref, slf_state(*fresh));
+        test::expect_same_forces(*ff, x, *ref, slf_state(*fresh));
     }
 }
 
@@ -386,8 +352,8 @@ TEST(SpringLoadFollowers, QuadPressureKeepsSofasStaleLastIndexOrTheFixedRule) {
         auto fresh =
             test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(),
                                        R"(<QuadPressureForceField quadList="3 5 9 0 8 7" pressure="0 -2 0.5"/>)"));
-        slf_expect_same_forces(*ff, x, *slf_find<QuadPressureForceField>(fresh->simulation().root()),
-                               slf_state(*fresh));
+        test::expect_same_forces(*ff, x, *slf_find<QuadPressureForceField>(fresh->simulation().root()),
+                                 slf_state(*fresh));
     }
 }
 
@@ -403,7 +369,8 @@ TEST(SpringLoadFollowers, SurfacePressurePressesTheRemainingQuadsAsIfBuiltAfresh
     s->remove_elements("surface", ElementType::quad, {15, 0, 6});
     Vec3Object& x = slf_state(*s);
     auto fresh = test::build(slf_quad_sheet(x.rest_position, s->topology_container("surface").mesh().quads(), load));
-    slf_expect_same_forces(*ff, x, *slf_find<SurfacePressureForceField>(fresh->simulation().root()), slf_state(*fresh));
+    test::expect_same_forces(*ff, x, *slf_find<SurfacePressureForceField>(fresh->simulation().root()),
+                             slf_state(*fresh));
 }
 
 }  // namespace

@@ -21,6 +21,8 @@ enum class LumpedElementKind { hexahedron, tetrahedron, quad, triangle, edge };
 /// The kind used for `topology`; throws std::invalid_argument when it has no element.
 [[nodiscard]] LumpedElementKind lumped_element_kind(const MeshTopology& topology);
 [[nodiscard]] const char* lumped_element_name(LumpedElementKind kind);
+/// The topology element type of `kind` (the type its topological changes name).
+[[nodiscard]] ElementType element_type_of(LumpedElementKind kind);
 
 /// SOFA's DiagonalMass::computeVertexMass: each element of `kind` gives density × its measure
 /// (length, area, volume) / (its vertex count) to each of its vertices. `masses` is resized to

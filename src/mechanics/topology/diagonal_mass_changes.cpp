@@ -11,29 +11,9 @@
 
 namespace penalty {
 
-namespace {
-
-ElementType element_of(LumpedElementKind kind) {
-    switch (kind) {
-        case LumpedElementKind::edge:
-            return ElementType::edge;
-        case LumpedElementKind::triangle:
-            return ElementType::triangle;
-        case LumpedElementKind::quad:
-            return ElementType::quad;
-        case LumpedElementKind::tetrahedron:
-            return ElementType::tetrahedron;
-        case LumpedElementKind::hexahedron:
-            return ElementType::hexahedron;
-    }
-    return ElementType::edge;
-}
-
-}  // namespace
-
 void DiagonalMass::handle_topology_changes(const TopologyContainer& container,
                                            std::span<const TopologyChange> changes) {
-    const ElementType lumped = element_of(kind_);
+    const ElementType lumped = element_type_of(kind_);
     const auto& x0 = state_->rest_position;
     // the share of element `id`: mass = ρ·measure/N (DataTypes::Real), added or removed at each
     // vertex, and N·mass from the total

@@ -68,22 +68,6 @@ std::unordered_map<const SceneComponent*, Built> built_objects(const Scene& scen
     return out;
 }
 
-ElementType lumped_type(LumpedElementKind kind) {
-    switch (kind) {
-        case LumpedElementKind::edge:
-            return ElementType::edge;
-        case LumpedElementKind::triangle:
-            return ElementType::triangle;
-        case LumpedElementKind::quad:
-            return ElementType::quad;
-        case LumpedElementKind::tetrahedron:
-            return ElementType::tetrahedron;
-        case LumpedElementKind::hexahedron:
-            return ElementType::hexahedron;
-    }
-    return ElementType::edge;
-}
-
 /// A pressure load's subset data (TrianglePressureForceField's trianglePressureMap, ...): the
 /// events forwarded to its handle_topology_changes; once the operation is done, the entries that
 /// SOFA's stale last index left past the topology's end (SOFA HEAD reads past it and crashes)
@@ -117,16 +101,12 @@ private:
     bool dirty_ = false;
 };
 
-/// follow for a force field (its one force field), or false when its class has no rule here.
-bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
-    TopologyContainer& container = *t.container;
+/// The FEM force fields' followers (follow_force_field), or false.
+bool follow_fem(TopologyWiring& w, const std::string& type, BaseForceField* f, TopologyContainer& container) {
     const MeshTopology& mesh = container.mesh();
-    const std::string& type = c.type;
-    const auto rebuild = [&](std::function<void()> f, std::initializer_list<ElementType> types) {
-        container.add_handler(w.keep(std::make_unique<RebuildFollower>(std::move(f), types)), types);
+    const auto rebuild = [&](std::function<void()> fn, std::initializer_list<ElementType> types) {
+        container.add_handler(w.keep(std::make_unique<RebuildFollower>(std::move(fn), types)), types);
     };
-    if (b.force_fields.size() != 1) return false;
-    BaseForceField* f = b.force_fields[0];
     if (type == "TetrahedralCorotationalFEMForceField") {
         auto* ff = dynamic_cast<TetrahedralCorotationalFEMForceField*>(f);
         if (ff == nullptr || !ff->options().local_stiffness_factors.empty()) return false;
@@ -179,26 +159,55 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
                 {ElementType::triangle, ElementType::point});
         return true;
     }
-    if (type == "TriangularBendingSprings") {
-        auto* ff = dynamic_cast<SpringForceField*>(f);
-        auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
-        if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
-        const Attributes a(c);
-        container.add_handler(w.keep(std::make_unique<TriangularBendingSpringsFollower>(
-                                  *ff, container, *state, a.real("stiffness"), a.real("damping"))),
-                              {ElementType::edge, ElementType::point, ElementType::triangle});
-        return true;
-    }
-    if (type == "QuadularBendingSprings") {
-        auto* ff = dynamic_cast<SpringForceField*>(f);
-        auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
-        if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
-        const Attributes a(c);
-        container.add_handler(w.keep(std::make_unique<QuadularBendingSpringsFollower>(
-                                  *ff, container, *state, a.real("stiffness"), a.real("damping"))),
-                              {ElementType::edge, ElementType::point, ElementType::quad});
-        return true;
-    }
+    return false;
+}
+
+/// Triangular/QuadularBendingSprings: their springs follow the edges and `faces`.
+template <class Follower>
+bool follow_bending_springs(TopologyWiring& w, const SceneComponent& c, BaseForceField* f, TopologyContainer& container,
+                            ElementType faces) {
+    auto* ff = dynamic_cast<SpringForceField*>(f);
+    auto* state = ff != nullptr ? dynamic_cast<Vec3Object*>(ff->states()[0]) : nullptr;
+    if (ff == nullptr || state == nullptr || ff->states().size() != 1) return false;
+    const Attributes a(c);
+    container.add_handler(
+        w.keep(std::make_unique<Follower>(*ff, container, *state, a.real("stiffness"), a.real("damping"))),
+        {ElementType::edge, ElementType::point, faces});
+    return true;
+}
+
+/// A field whose edgeInfo and triangleInfo are TopologyData with creation and destruction
+/// callbacks, followed event by event.
+template <class Field>
+bool follow_edge_and_triangle_data(TopologyWiring& w, BaseForceField* f, TopologyContainer& container) {
+    auto* ff = dynamic_cast<Field*>(f);
+    if (ff == nullptr) return false;
+    container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<Field>>(*ff, container)),
+                          {ElementType::edge, ElementType::triangle});
+    return true;
+}
+
+/// A pressure load on the elements of `type` (a TopologySubsetIndices).
+template <class Load>
+bool follow_pressure_load(TopologyWiring& w, const SceneComponent& c, BaseForceField* f, TopologyContainer& container,
+                          ElementType type) {
+    auto* ff = dynamic_cast<Load*>(f);
+    if (ff == nullptr) return false;
+    ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
+    container.add_handler(w.keep(std::make_unique<PressureLoadFollower<Load>>(*ff, container, where(c))), {type});
+    return true;
+}
+
+/// follow for a force field (its one force field), or false when its class has no rule here.
+bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicTopology& t) {
+    TopologyContainer& container = *t.container;
+    const std::string& type = c.type;
+    if (b.force_fields.size() != 1) return false;
+    BaseForceField* f = b.force_fields[0];
+    if (type == "TriangularBendingSprings")
+        return follow_bending_springs<TriangularBendingSpringsFollower>(w, c, f, container, ElementType::triangle);
+    if (type == "QuadularBendingSprings")
+        return follow_bending_springs<QuadularBendingSpringsFollower>(w, c, f, container, ElementType::quad);
     // SOFA HEAD's SpringForceField::initializeTopologyHandler (applyRemovedPoints, applyRemovedEdges)
     if (type == "SpringForceField" || type == "MeshSpringForceField") {
         auto* ff = dynamic_cast<SpringForceField*>(f);
@@ -210,51 +219,17 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
     if (type == "RestShapeSpringsForceField" || type == "SurfacePressureForceField" ||
         type == "TaitSurfacePressureForceField")
         return follow_surface_load_or_rest_springs(w, c, *f, t);  // load_followers.cpp
-    // edgeInfo and triangleInfo TopologyData with creation and destruction callbacks, event by event
-    if (type == "TriangularBiquadraticSpringsForceField") {
-        auto* ff = dynamic_cast<TriangularBiquadraticSpringsForceField*>(f);
-        if (ff == nullptr) return false;
-        container.add_handler(
-            w.keep(std::make_unique<MemberTopologyHandler<TriangularBiquadraticSpringsForceField>>(*ff, container)),
-            {ElementType::edge, ElementType::triangle});
-        return true;
-    }
-    if (type == "TriangularQuadraticSpringsForceField") {
-        auto* ff = dynamic_cast<TriangularQuadraticSpringsForceField*>(f);
-        if (ff == nullptr) return false;
-        container.add_handler(
-            w.keep(std::make_unique<MemberTopologyHandler<TriangularQuadraticSpringsForceField>>(*ff, container)),
-            {ElementType::edge, ElementType::triangle});
-        return true;
-    }
-    if (type == "TrianglePressureForceField") {
-        auto* ff = dynamic_cast<TrianglePressureForceField*>(f);
-        if (ff == nullptr) return false;
-        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
-        container.add_handler(
-            w.keep(std::make_unique<PressureLoadFollower<TrianglePressureForceField>>(*ff, container, where(c))),
-            {ElementType::triangle});
-        return true;
-    }
-    if (type == "QuadPressureForceField") {
-        auto* ff = dynamic_cast<QuadPressureForceField*>(f);
-        if (ff == nullptr) return false;
-        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
-        container.add_handler(
-            w.keep(std::make_unique<PressureLoadFollower<QuadPressureForceField>>(*ff, container, where(c))),
-            {ElementType::quad});
-        return true;
-    }
-    if (type == "EdgePressureForceField") {
-        auto* ff = dynamic_cast<EdgePressureForceField*>(f);
-        if (ff == nullptr) return false;
-        ff->set_current_last_index(w.builder.options().sofa_quirk_fixes.fix_subset_data_last_index);
-        container.add_handler(
-            w.keep(std::make_unique<PressureLoadFollower<EdgePressureForceField>>(*ff, container, where(c))),
-            {ElementType::edge});
-        return true;
-    }
-    return false;
+    if (type == "TriangularBiquadraticSpringsForceField")
+        return follow_edge_and_triangle_data<TriangularBiquadraticSpringsForceField>(w, f, container);
+    if (type == "TriangularQuadraticSpringsForceField")
+        return follow_edge_and_triangle_data<TriangularQuadraticSpringsForceField>(w, f, container);
+    if (type == "TrianglePressureForceField")
+        return follow_pressure_load<TrianglePressureForceField>(w, c, f, container, ElementType::triangle);
+    if (type == "QuadPressureForceField")
+        return follow_pressure_load<QuadPressureForceField>(w, c, f, container, ElementType::quad);
+    if (type == "EdgePressureForceField")
+        return follow_pressure_load<EdgePressureForceField>(w, c, f, container, ElementType::edge);
+    return follow_fem(w, type, f, container);
 }
 
 /// One component's follower on `t` (its topology), or false when its class has no rule here.
@@ -265,7 +240,7 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         auto* m = dynamic_cast<DiagonalMass*>(b.masses[0]);
         if (m == nullptr) return false;
         container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<DiagonalMass>>(*m, container)),
-                              {ElementType::point, lumped_type(m->element_kind())});
+                              {ElementType::point, element_type_of(m->element_kind())});
         w.runtime.internal_updates.push_back([m] { m->update_internal_data(); });
         return true;
     }
@@ -273,7 +248,7 @@ bool follow(TopologyWiring& w, const SceneComponent& c, const Built& b, DynamicT
         auto* m = dynamic_cast<MeshMatrixMass*>(b.masses[0]);
         if (m == nullptr || m->element_kind() == LumpedElementKind::edge) return false;
         container.add_handler(w.keep(std::make_unique<MemberTopologyHandler<MeshMatrixMass>>(*m, container)),
-                              {ElementType::point, ElementType::edge, lumped_type(m->element_kind())});
+                              {ElementType::point, ElementType::edge, element_type_of(m->element_kind())});
         return true;
     }
     if (type == "UniformMass") return !io::get_bool_or(c, "preserveTotalMass", false);
