@@ -25,8 +25,8 @@ constexpr std::size_t kChunksPerThread = 4;  // detect() in parallel: chunks of 
 
 CollisionPipeline::CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt,
                                      ContactDetection detection)
-    : params_(std::move(params)),
-      opt_(opt),
+    : params_(params),
+      opt_(std::move(opt)),
       detection_(detection),
       broad_(std::make_unique<detail::BroadPhase>()),
       cache_(std::make_unique<detail::CandidateCache>()) {

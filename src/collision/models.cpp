@@ -250,7 +250,7 @@ void RigidSphereModel::validate() const {
 
 // ---------------------------------------------------------------------------------------------
 CylinderModel::CylinderModel(const Rigid3State& state, double default_radius, double default_height,
-                             Vec3 default_local_axis, CollisionModelParams params)
+                             const Vec3& default_local_axis, CollisionModelParams params)
     : CollisionModel(ModelType::Cylinder, std::move(params)),
       state_(&state),
       default_radius_(default_radius),

@@ -58,7 +58,7 @@ double first_coplanar_touch(const std::array<double, 4>& k, double from, const T
     if (n == 3 && cuts[2] < cuts[1]) std::swap(cuts[1], cuts[2]);  // at most two critical points
     cuts[std::size_t(n)] = 1.0;
     for (int i = 0; i < n; ++i) {
-        double lo = cuts[std::size_t(i)], hi = cuts[std::size_t(i + 1)];
+        double lo = cuts[std::size_t(i)], hi = cuts[std::size_t(i) + 1];
         const double flo = eval_cubic(k, lo), fhi = eval_cubic(k, hi);
         if ((flo > 0.0 && fhi > 0.0) || (flo < 0.0 && fhi < 0.0)) continue;
         if (flo == 0.0) {

@@ -27,7 +27,7 @@ std::vector<std::filesystem::path> data_search_dirs(const std::filesystem::path&
 std::filesystem::path resolve_data_file(std::string_view name, const std::filesystem::path& scene_dir,
                                         const std::vector<std::filesystem::path>& data_dirs) {
     if (name.empty()) throw LoadError("empty data file name");
-    const std::filesystem::path file{std::string(name)};
+    std::filesystem::path file{std::string(name)};
     if (file.is_absolute()) {
         const auto why = detail::unreadable_reason(file);
         if (!why) return file;
@@ -38,7 +38,7 @@ std::filesystem::path resolve_data_file(std::string_view name, const std::filesy
     // found there is reported as such rather than as "cannot find".
     std::string looked;
     for (const auto& dir : data_search_dirs(scene_dir, data_dirs)) {
-        const std::filesystem::path candidate = dir / file;
+        std::filesystem::path candidate = dir / file;
         const auto why = detail::unreadable_reason(candidate);
         if (!why) return candidate;
         if (*why != "does not exist")

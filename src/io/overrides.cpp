@@ -102,13 +102,22 @@ SceneElement* find_element(SceneFile& file, std::string_view path, std::string* 
     return node;
 }
 
+namespace {
+
+/// An override whose path names no element of the scene.
+[[noreturn]] void throw_unmatched(const std::string& label, const Override& o, const std::string& why) {
+    throw SceneError(label + ": --set '" + o.text + "': " + why);
+}
+
+}  // namespace
+
 void apply_overrides(SceneFile& file, const std::vector<Override>& overrides, const AttributeFilter& may_add,
                      const std::function<std::string(const SceneElement&)>& known_attributes) {
     const std::string label = file.root ? file.root->file : file.path.string();
     for (const Override& o : overrides) {
         std::string why;
         SceneElement* e = find_element(file, o.path, &why);
-        if (e == nullptr) throw SceneError(label + ": --set '" + o.text + "': " + why);
+        if (e == nullptr) throw_unmatched(label, o, why);
         if (o.attribute == "name")
             throw_element_error(*e, "--set '" + o.text + "': the name cannot be overridden (paths use it)");
         if (o.attribute == "template") {

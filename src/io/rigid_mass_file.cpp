@@ -54,7 +54,7 @@ RigidMassFile parse_rigid_mass_file(std::string_view text, const std::filesystem
             const std::vector<double> j = numbers(keyword, 9);
             Mat3 inertia;
             for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 3; ++c) inertia(r, c) = j[std::size_t(3 * r + c)];
+                for (int c = 0; c < 3; ++c) inertia(r, c) = j[3 * std::size_t(r) + std::size_t(c)];
             out.inertia = inertia;
         } else if (keyword == "vertexMass") {
             out.vertex_mass = numbers(keyword, 1)[0];

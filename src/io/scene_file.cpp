@@ -342,7 +342,7 @@ SceneFile parse_scene_file(const std::filesystem::path& path, const std::vector<
     return parse(text.data(), text.size(), path, path.string(), data_dirs);
 }
 
-SceneFile parse_scene_string(std::string_view xml, std::string file_label,
+SceneFile parse_scene_string(std::string_view xml, const std::string& file_label,
                              const std::vector<std::filesystem::path>& data_dirs) {
     return parse(xml.data(), xml.size(), {}, file_label, data_dirs);
 }

@@ -238,7 +238,7 @@ namespace {
 /// Rows p1 − p0, p2 − p0, p3 − p0.
 Mat3 edge_rows(const std::array<Vec3, 4>& p) {
     Mat3 a;
-    for (int k = 0; k < 3; ++k) a.row(k) = (p[static_cast<std::size_t>(k + 1)] - p[0]).transpose();
+    for (int k = 0; k < 3; ++k) a.row(k) = (p[static_cast<std::size_t>(k) + 1] - p[0]).transpose();
     return a;
 }
 }  // namespace
@@ -600,7 +600,7 @@ Mat3 tetrahedron_rotation(const std::array<Vec3, 4>& p, FemMethod method) {
     if (method == FemMethod::Small) return Mat3::Identity();
     if (method == FemMethod::Polar || method == FemMethod::Svd) {
         Mat3 edges;  // rows: p1 − p0, p2 − p0, p3 − p0 (TetrahedronFEMForceField::accumulateForcePolar)
-        for (int k = 0; k < 3; ++k) edges.row(k) = (p[static_cast<std::size_t>(k + 1)] - p[0]).transpose();
+        for (int k = 0; k < 3; ++k) edges.row(k) = (p[static_cast<std::size_t>(k) + 1] - p[0]).transpose();
         return polar_rotation(edges);
     }
     return frame_from_axes(p[1] - p[0], p[2] - p[0]);

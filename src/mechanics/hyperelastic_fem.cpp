@@ -59,7 +59,7 @@ void TetrahedronHyperelasticityFEMForceField::add_force(std::span<Vec3> f, std::
     for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
         Element& el = elements_[e];
         const auto& t = tetrahedra_[e];
-        const Vec3 x0 = x[static_cast<std::size_t>(t[0])];
+        const Vec3& x0 = x[static_cast<std::size_t>(t[0])];
         Mat3 def = Mat3::Zero();  // F = Σ (xⱼ − x₀) ⊗ gⱼ
         for (std::size_t j = 1; j < 4; ++j) def += (x[static_cast<std::size_t>(t[j])] - x0) * el.shape[j].transpose();
         const double jac = def.determinant();

@@ -180,8 +180,8 @@ Vec3 pivot_torque(const JointSpring& s, const Quat& q, int a) {
 }
 
 bool inside(const JointSpring& s, int a) {
-    return s.torsion[a] > s.limit_angles[static_cast<std::size_t>(2 * a)] &&
-           s.torsion[a] < s.limit_angles[static_cast<std::size_t>(2 * a + 1)];
+    return s.torsion[a] > s.limit_angles[2 * static_cast<std::size_t>(a)] &&
+           s.torsion[a] < s.limit_angles[2 * static_cast<std::size_t>(a) + 1];
 }
 
 }  // namespace
@@ -209,7 +209,7 @@ RigidDeriv JointSpringForceField::spring_force(JointSpring& s, const RigidFrame&
     const Vec3 constant = Vec3::Zero();  // SOFA's constant force (its `infile`, not supported)
     const Vec3 force = sofa_quat::rotate(s.ref, Vec3(constant + stretched)) + sofa_vec::scaled(dv, s.kd);
 
-    for (int i = 0; i < 3; ++i) s.kr[i] = free[static_cast<std::size_t>(3 + i)] ? s.soft_rotation : s.hard_rotation;
+    for (int i = 0; i < 3; ++i) s.kr[i] = free[3 + static_cast<std::size_t>(i)] ? s.soft_rotation : s.hard_rotation;
     Vec3 tau = Vec3::Zero();
     if (!free[3] && !free[4] && !free[5]) {  // clamped
         for (int i = 0; i < 3; ++i) tau[i] = s.torsion[i] * s.kr[i];
@@ -228,7 +228,7 @@ RigidDeriv JointSpringForceField::spring_force(JointSpring& s, const RigidFrame&
         while (psi > std::numbers::pi) psi -= 2 * std::numbers::pi;
         extra = sofa_vec::scaled(extra, psi);
         for (int i = 0; i < 3; ++i) {
-            if (free[static_cast<std::size_t>(3 + i)] && s.torsion[i] != s.lawful_torsion[i]) {
+            if (free[3 + static_cast<std::size_t>(i)] && s.torsion[i] != s.lawful_torsion[i]) {
                 s.kr[i] = s.bloc_rotation;
                 tau[i] = extra[i] * s.kr[i];
             } else {

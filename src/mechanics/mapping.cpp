@@ -384,6 +384,7 @@ void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const
     const double* weight = entry_weight_.data();
     Vec3* input = in.data();
     for (const std::uint32_t i : forced_rows_) {
+        // NOLINTNEXTLINE(performance-unnecessary-copy-initialization): kept in registers while `input` is written
         const Vec3 f = out[i];
         for (std::uint32_t k = begin[i]; k < begin[i + 1]; ++k) {
             const double w = weight[k];

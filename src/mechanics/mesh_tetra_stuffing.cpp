@@ -225,7 +225,7 @@ void Stuffing::trace_line(int start, int e) {
         else if ((d - hits[i - 1].t) < (hits[i].t - d)) in += hits[i].sign;
         else in -= hits[i - 1].sign;
         if (i < n) distance_[std::size_t(p)][std::size_t(e)] = hits[i].t - d;
-        if (i > 0) distance_[std::size_t(p)][std::size_t(e + 1)] = d - hits[i - 1].t;
+        if (i > 0) distance_[std::size_t(p)][std::size_t(e) + 1] = d - hits[i - 1].t;
     }
 }
 

@@ -191,24 +191,18 @@ void QuadBendingFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     stiffness_.resize(quads.size());
     for (std::size_t i = 0; i < quads.size(); ++i) {
         const Quad& q = quads[i];
-        const auto at = [&](int k) -> const Vec3& {
-            return x[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])];
-        };
+        const auto at = [&](int k) -> const Vec3& { return x[static_cast<std::size_t>(q[k])]; };
         const Vec3 centroid = (at(0) + at(2)) / 2;
         std::array<double, 20> d{};
-        for (int k = 0; k < 4; ++k) {
+        for (std::size_t k = 0; k < 4; ++k) {
             const Vec3 deform = at(k) - centroid;
-            for (int a = 0; a < 3; ++a)
-                d[static_cast<std::size_t>(5 * k + a)] = rest_offsets_[i][static_cast<std::size_t>(k)][a] - deform[a];
+            for (std::size_t a = 0; a < 3; ++a) d[5 * k + a] = rest_offsets_[i][k][a] - deform[a];
         }
         stiffness_[i] = element_stiffness(i, x);
         const std::array<double, 20> force = force_of(stiffness_[i], d);
-        for (int k = 0; k < 4; ++k) {
-            f[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])] +=
-                Vec3(force[static_cast<std::size_t>(5 * k)], force[static_cast<std::size_t>(5 * k + 1)],
-                     force[static_cast<std::size_t>(5 * k + 2)]);
-            for (int a = 0; a < 3; ++a)
-                energy_ += 0.5 * d[static_cast<std::size_t>(5 * k + a)] * force[static_cast<std::size_t>(5 * k + a)];
+        for (std::size_t k = 0; k < 4; ++k) {
+            f[static_cast<std::size_t>(q[k])] += Vec3(force[5 * k], force[5 * k + 1], force[5 * k + 2]);
+            for (std::size_t a = 0; a < 3; ++a) energy_ += 0.5 * d[5 * k + a] * force[5 * k + a];
         }
     }
 }
@@ -220,17 +214,13 @@ void QuadBendingFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
     for (std::size_t i = 0; i < quads.size(); ++i) {
         const Quad& q = quads[i];
         std::array<double, 20> d{};
-        for (int k = 0; k < 4; ++k)
-            for (int a = 0; a < 3; ++a)
-                d[static_cast<std::size_t>(5 * k + a)] =
-                    dx[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])][a];
+        for (std::size_t k = 0; k < 4; ++k)
+            for (std::size_t a = 0; a < 3; ++a) d[5 * k + a] = dx[static_cast<std::size_t>(q[k])][a];
         const std::array<double, 20> force = force_of(stiffness_at(i), d);
         const double h = 1;
-        for (int k = 0; k < 4; ++k) {
-            const Vec3 minus(-h * force[static_cast<std::size_t>(5 * k)],
-                             -h * force[static_cast<std::size_t>(5 * k + 1)],
-                             -h * force[static_cast<std::size_t>(5 * k + 2)]);
-            df[static_cast<std::size_t>(q[static_cast<std::size_t>(k)])] += minus * k_factor;
+        for (std::size_t k = 0; k < 4; ++k) {
+            const Vec3 minus(-h * force[5 * k], -h * force[5 * k + 1], -h * force[5 * k + 2]);
+            df[static_cast<std::size_t>(q[k])] += minus * k_factor;
         }
     }
 }

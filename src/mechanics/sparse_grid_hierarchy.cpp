@@ -10,7 +10,7 @@ SparseCellType SparseGridTopology::coarse_cell_of_children(int i, int j, int k, 
     for (int idx = 0; idx < 8; ++idx) {
         const int fx = 2 * i + (idx & 1), fy = 2 * j + ((idx & 2) >> 1), fz = 2 * k + ((idx & 4) >> 2);
         Index child = -1;
-        if (fx < fcx && fy < fcy && fz < fcz) child = kept_of_grid_cell_[std::size_t(fx + fcx * (fy + fcy * fz))];
+        if (fx < fcx && fy < fcy && fz < fcz) child = kept_of_grid_cell_[grid_cell_index(fx, fy, fz, fcx, fcy)];
         children[std::size_t(idx)] = child;
         if (child < 0) {
             inside = false;
@@ -44,7 +44,7 @@ SparseGridTopology SparseGridTopology::from_finer(std::shared_ptr<const SparseGr
                 std::array<Index, 8> children{};
                 const SparseCellType type = finer->coarse_cell_of_children(i, j, k, children);
                 if (type == SparseCellType::outside) continue;
-                const std::size_t w = std::size_t(i + cx * (j + cy * k));
+                const std::size_t w = grid_cell_index(i, j, k, cx, cy);
                 coarse.grid_types_[w] = type;
                 coarse.kept_of_grid_cell_[w] = Index(kept.size());
                 coarse.types_.push_back(type);

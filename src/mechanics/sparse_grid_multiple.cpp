@@ -7,7 +7,7 @@
 
 namespace penalty {
 
-SparseGridTopology SparseGridTopology::from_surfaces(std::array<int, 3> n, Vec3 min, Vec3 max,
+SparseGridTopology SparseGridTopology::from_surfaces(std::array<int, 3> n, const Vec3& min, const Vec3& max,
                                                      std::span<const WeightedSurface> surfaces, bool fill_weighted,
                                                      bool erase_previous, bool only_inside_cells) {
     if (surfaces.empty()) throw_invalid_argument("SparseGridMultipleTopology: no surface");

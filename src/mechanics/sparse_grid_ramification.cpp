@@ -221,7 +221,7 @@ SparseGridTopology SparseGridTopology::ramified_finest(SparseGridTopology voxels
     };
     const std::array<int, 3> n = grid.grid_.n();
     const int cx = n[0] - 1, cy = n[1] - 1, cz = n[2] - 1;
-    const auto kept = [&](int x, int y, int z) { return grid.kept_of_grid_cell_[std::size_t(x + cx * (y + cy * z))]; };
+    const auto kept = [&](int x, int y, int z) { return grid.kept_of_grid_cell_[grid_cell_index(x, y, z, cx, cy)]; };
     const auto link = [&](Index cell, Index neighbour, int direction) {
         if (neighbour == kNone || !connected(cell, neighbour, direction)) return;
         r->connexions[std::size_t(cell)].neighbors[std::size_t(direction)].push_back(neighbour);
@@ -276,7 +276,7 @@ SparseGridTopology SparseGridTopology::from_finer_ramified(std::shared_ptr<const
                 std::array<Index, 8> children{};
                 const SparseCellType type = finer->coarse_cell_of_children(i, j, k, children);
                 if (type == SparseCellType::outside) continue;
-                const std::size_t w = std::size_t(i + cx * (j + cy * k));
+                const std::size_t w = grid_cell_index(i, j, k, cx, cy);
                 coarse.grid_types_[w] = type;
                 coarse.kept_of_grid_cell_[w] = Index(cell_children.size());
                 cell_types.push_back(type);

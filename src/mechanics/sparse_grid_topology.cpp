@@ -81,7 +81,7 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
     for (int& count : n) count = std::max(count, 2);  // SparseGridTopology::init
     const RegularGridTopology grid(n, min, max);
     const int cx = n[0] - 1, cy = n[1] - 1, cz = n[2] - 1;
-    const auto cell_index = [&](int x, int y, int z) { return std::size_t(x + cx * (y + cy * z)); };
+    const auto cell_index = [&](int x, int y, int z) { return grid_cell_index(x, y, z, cx, cy); };
     std::vector<SparseCellType> types;
     types.assign(std::size_t(cx) * std::size_t(cy) * std::size_t(cz), SparseCellType::inside);
 
@@ -160,7 +160,7 @@ SparseGridTopology SparseGridTopology::from_surface(std::array<int, 3> n, Vec3 m
     return from_grid_types(n, min, max, std::move(types), only_inside_cells);
 }
 
-SparseGridTopology SparseGridTopology::from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max,
+SparseGridTopology SparseGridTopology::from_grid_types(std::array<int, 3> n, const Vec3& min, const Vec3& max,
                                                        std::vector<SparseCellType> types, bool only_inside_cells) {
     for (int& count : n) count = std::max(count, 2);
     SparseGridTopology sparse{RegularGridTopology(n, min, max)};
@@ -281,7 +281,7 @@ std::pair<Index, Vec3> SparseGridTopology::locate(const Vec3& p) const {
         if (auto found = locate_ramified(p)) return *found;
     if (const auto found = regular_cell(grid_, p)) {
         const auto& [c, fraction] = *found;
-        const auto w = std::size_t(c[0] + (grid_.n()[0] - 1) * (c[1] + (grid_.n()[1] - 1) * c[2]));
+        const auto w = grid_cell_index(c[0], c[1], c[2], grid_.n()[0] - 1, grid_.n()[1] - 1);
         if (kept_of_grid_cell_[w] != kNotKept) return {kept_of_grid_cell_[w], fraction};
     }
     const std::size_t best = nearest_boundary_hexahedron(hexahedra_, types_, points_, p);
@@ -302,8 +302,8 @@ std::optional<std::pair<Index, Vec3>> SparseGridTopology::locate_ramified(const 
     Index fine_cell = kNotKept;
     if (const auto found = regular_cell(finest.grid_, p)) {
         const auto& c = found->first;
-        fine_cell = finest.kept_of_grid_cell_[std::size_t(c[0] + (finest.grid_.n()[0] - 1) *
-                                                                     (c[1] + (finest.grid_.n()[1] - 1) * c[2]))];
+        fine_cell = finest.kept_of_grid_cell_[grid_cell_index(c[0], c[1], c[2], finest.grid_.n()[0] - 1,
+                                                              finest.grid_.n()[1] - 1)];
     }
     Vec3 fraction;
     const auto inside = fine_cell != kNotKept ? regular_cell(grid_, p) : std::nullopt;

@@ -208,7 +208,7 @@ Eigen::Matrix4d read_affine_transform_file(const std::filesystem::path& path) {
             if (values.size() != 12)
                 throw_invalid_argument(path.string(), ":", line_number, ": expected 12 numbers, found ", values.size());
             for (int i = 0; i < 3; ++i) {
-                for (int j = 0; j < 3; ++j) m(i, j) = values[std::size_t(3 * i + j)];
+                for (int j = 0; j < 3; ++j) m(i, j) = values[3 * std::size_t(i) + std::size_t(j)];
                 m(i, 3) = values[values.size() - 1 - std::size_t(i)];  // SOFA reads the translation backwards
             }
             return m;

@@ -92,7 +92,7 @@ double parse_number(std::string_view word, const std::filesystem::path& file, st
 
 // --- StateExporter ------------------------------------------------------------------------------
 
-StateExporter::StateExporter(std::filesystem::path directory, std::vector<const StateRecord*> states)
+StateExporter::StateExporter(const std::filesystem::path& directory, std::vector<const StateRecord*> states)
     : states_(std::move(states)) {
     for (std::size_t k = 0; k < states_.size(); ++k) {
         if (states_[k] == nullptr || states_[k]->state == nullptr)

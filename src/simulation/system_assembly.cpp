@@ -26,7 +26,7 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
         TripletList t;
         for (Eigen::Index j = 0; j < n; ++j) t.emplace_back(j, layout_->offsets[i] + j, 1.0);
         id.setFromTriplets(t.begin(), t.end());
-        p_rows[layout_->independent[i]] = std::move(id);
+        p_rows[layout_->independent[i]] = id;
     }
     for (BaseMapping* map : layout_->mappings) {
         const auto nin = static_cast<Eigen::Index>(map->from()->scalar_size());
@@ -44,7 +44,7 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
             j2.setFromTriplets(t2.begin(), t2.end());
             if (const auto it2 = p_rows.find(second); it2 != p_rows.end()) rows = ColMatrix(rows + j2 * it2->second);
         }
-        p_rows[map->to()] = std::move(rows);
+        p_rows[map->to()] = rows;
     }
     ColMatrix p(total, layout_->size);
     {

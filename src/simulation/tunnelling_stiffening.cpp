@@ -124,7 +124,8 @@ void TunnellingGuard::stiffen_contacts(double h) {
             const double bound = implicit ? 0.0 : explicit_stiffness_bound(e, h);
             const std::span<const PenaltyContact> contacts = field.contacts();
             for (std::size_t i = 0; i < contacts.size(); ++i) {
-                const PenaltyContact c = contacts[i];  // a copy: set_normal_law changes the field's
+                // NOLINTNEXTLINE(performance-unnecessary-copy-initialization): set_normal_law changes the field's
+                const PenaltyContact c = contacts[i];  // a copy
                 double u0 = 0.0;
                 if (!(c.ks > 0.0) || !start_gap(e, c, u0)) continue;
                 const double pen = c.dist - u0;
@@ -163,7 +164,8 @@ std::size_t TunnellingGuard::stiffen_pairs(const std::vector<std::pair<std::size
             const double bound = implicit ? 0.0 : explicit_stiffness_bound(e, h);
             const std::span<const PenaltyContact> contacts = field.contacts();
             for (std::size_t i = 0; i < contacts.size(); ++i) {
-                const PenaltyContact c = contacts[i];  // a copy: set_normal_law changes the field's
+                // NOLINTNEXTLINE(performance-unnecessary-copy-initialization): set_normal_law changes the field's
+                const PenaltyContact c = contacts[i];  // a copy
                 double u0 = 0.0;
                 if (!(c.ks > 0.0) || !start_gap(e, c, u0)) continue;
                 const double pen = c.dist - u0;

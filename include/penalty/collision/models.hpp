@@ -234,7 +234,7 @@ private:
 class CylinderModel final : public CollisionModel {
 public:
     CylinderModel(const Rigid3State& state, double default_radius = 0.5, double default_height = 2.0,
-                  Vec3 default_local_axis = Vec3::UnitY(), CollisionModelParams params = {});
+                  const Vec3& default_local_axis = Vec3::UnitY(), CollisionModelParams params = {});
 
     [[nodiscard]] std::size_t size() const override { return state_->size(); }
     [[nodiscard]] Aabb element_box(Index i) const override;

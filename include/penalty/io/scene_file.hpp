@@ -111,7 +111,7 @@ struct SceneFile {
 
 /// Parses scene text; `file_label` is used as the file name in messages; included files are
 /// looked for in `file_label`'s folder (the current folder for a bare name), then as above.
-[[nodiscard]] SceneFile parse_scene_string(std::string_view xml, std::string file_label,
+[[nodiscard]] SceneFile parse_scene_string(std::string_view xml, const std::string& file_label,
                                            const std::vector<std::filesystem::path>& data_dirs = {});
 
 /// Calls f(component) for every component of the tree, depth first, a node's components

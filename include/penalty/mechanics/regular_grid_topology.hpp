@@ -24,6 +24,12 @@
 
 namespace penalty {
 
+/// Index of cell (or point) (i, j, k) of a grid of cx × cy × … cells (points): i + cx (j + cy k),
+/// computed in std::size_t. i, j, k, cx, cy ≥ 0.
+[[nodiscard]] constexpr std::size_t grid_cell_index(int i, int j, int k, int cx, int cy) {
+    return std::size_t(i) + std::size_t(cx) * (std::size_t(j) + std::size_t(cy) * std::size_t(k));
+}
+
 class RegularGridTopology {
 public:
     /// Throws std::invalid_argument if any n < 1 or min, max or p0 is not finite. `p0`: SOFA's

@@ -47,7 +47,7 @@ public:
     /// SOFA's SparseGridTopology::buildFromRegularGridTypes: the cells of the regular grid (n, min,
     /// max) typed `types` (regular-grid order, x fastest): BOUNDARY cells (unless
     /// only_inside_cells) then INSIDE ones, points sorted by position.
-    static SparseGridTopology from_grid_types(std::array<int, 3> n, Vec3 min, Vec3 max,
+    static SparseGridTopology from_grid_types(std::array<int, 3> n, const Vec3& min, const Vec3& max,
                                               std::vector<SparseCellType> types, bool only_inside_cells = false);
     /// SOFA's SparseGridMultipleTopology::buildAsFinest (sparse_grid_multiple.cpp): each surface
     /// voxelised on the grid (n, min, max), then the cells assembled surface by surface
@@ -60,7 +60,7 @@ public:
         std::span<const Triangle> triangles;
         float stiffness = 1.0f, mass = 1.0f;
     };
-    static SparseGridTopology from_surfaces(std::array<int, 3> n, Vec3 min, Vec3 max,
+    static SparseGridTopology from_surfaces(std::array<int, 3> n, const Vec3& min, const Vec3& max,
                                             std::span<const WeightedSurface> surfaces, bool fill_weighted,
                                             bool erase_previous, bool only_inside_cells = false);
     /// SOFA's default box: the bounding box of `positions` grown by 1/100 of its size each side.

@@ -28,7 +28,7 @@ namespace penalty::output {
 /// created/written, std::invalid_argument for a null state or a state that is neither Vec3 nor Rigid3.
 class StateExporter {
 public:
-    StateExporter(std::filesystem::path directory, std::vector<const StateRecord*> states);
+    StateExporter(const std::filesystem::path& directory, std::vector<const StateRecord*> states);
     ~StateExporter();
     StateExporter(StateExporter&&) noexcept;
     StateExporter& operator=(StateExporter&&) noexcept;

@@ -44,8 +44,8 @@ struct LaneMaterial {
     const std::array<std::array<double, W>, 9>* normal;
     const std::array<std::array<double, W>, 3>* shear;
     [[gnu::always_inline]] const T& operator()(int i, int k) const {
-        const auto& entry =
-            i < 3 ? (*normal)[static_cast<std::size_t>(3 * i + k)] : (*shear)[static_cast<std::size_t>(i - 3)];
+        const auto& entry = i < 3 ? (*normal)[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)]
+                                  : (*shear)[static_cast<std::size_t>(i) - 3];
         return *reinterpret_cast<const T*>(entry.data());
     }
 };
