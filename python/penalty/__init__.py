@@ -332,7 +332,7 @@ def _load_options(data_dirs, dt, threads, exhaustive, overrides=None, function="
             _check.boolean(function, "exhaustive", exhaustive), format_overrides(overrides), list(fix_sofa_quirks))
 
 
-def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = False,
+def load_scene(path, data_dirs=(), *, dt=None, threads: int = 0, exhaustive: bool = _core.default_exhaustive_detection,
                overrides=None, argv=(), no_tunnelling=None, fix_sofa_quirks=(), reduction=None) -> Scene:
     """Builds a scene from a SOFA `.scn` file or a SofaPython3 `.py` script (its createScene(root)
     is called, then Sofa.Simulation.init). data_dirs are searched for mesh files after the scene's

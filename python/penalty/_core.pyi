@@ -188,6 +188,7 @@ class _collision_module:
 
 collision: _collision_module
 
+default_exhaustive_detection: bool
 max_dt: float
 max_threads: int
 min_dt: float

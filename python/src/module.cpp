@@ -6,6 +6,7 @@
 //   any other std::exception            -> RuntimeError
 #include "bindings.hpp"
 
+#include "penalty/core/fidelity.hpp"
 #include "penalty/io/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/scene/scene.hpp"
@@ -85,6 +86,8 @@ PYBIND11_MODULE(_core, m) {
     m.attr("max_threads") = penalty::kMaxThreads;     // --threads, load_scene(threads=)
     m.attr("min_dt") = penalty::scene::kMinTimeStep;  // --dt, load_scene(dt=) (s)
     m.attr("max_dt") = penalty::scene::kMaxTimeStep;
+    // load_scene(exhaustive=)'s default (penalty/core/fidelity.hpp)
+    m.attr("default_exhaustive_detection") = penalty::kFidelityDefaults.exhaustive_detection;
     penalty::python::bind_scene(m);
     penalty::python::bind_live(m);
     penalty::python::bind_linear_system(m);

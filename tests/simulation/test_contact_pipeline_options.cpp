@@ -167,6 +167,7 @@ std::size_t expect_identical(const MeshScene& a, const MeshScene& b, int step, b
 // test_contact_outputs_only.cpp has scenes where they are).
 void run_bvh_vs_exhaustive(bool newton, int threads) {
     ContactPipelineOptions exhaustive;
+    exhaustive.detection = ContactDetection::exhaustive;
     ContactPipelineOptions bvh;
     bvh.detection = ContactDetection::bvh;
     bvh.threads = threads;

@@ -18,6 +18,7 @@
 #include "penalty/collision/bvh.hpp"
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/sofa_traversal_order.hpp"
+#include "penalty/core/fidelity.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -161,7 +162,9 @@ class CollisionPipeline {
 public:
     /// Throws std::invalid_argument for invalid `params`, leaf_size 0 or rebuild_ratio < 1.
     explicit CollisionPipeline(IntersectionParams params, CollisionPipelineOptions opt = {},
-                               ContactDetection detection = ContactDetection::bvh);
+                               ContactDetection detection = kFidelityDefaults.exhaustive_detection
+                                                                ? ContactDetection::exhaustive
+                                                                : ContactDetection::bvh);
 
     /// Sets the models (and forgets the trees).
     void set_models(std::vector<CollisionModel*> models);

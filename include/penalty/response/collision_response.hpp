@@ -25,6 +25,7 @@
 /// A pair outside this list gets no contact and a warning (SOFA: "creation failed").
 
 #include "penalty/collision/intersection.hpp"
+#include "penalty/core/fidelity.hpp"
 #include "penalty/response/barycentric_penalty_contact.hpp"
 #include "penalty/response/stable_pair_map.hpp"
 
@@ -97,7 +98,7 @@ public:
     /// 2·kMinOutputsPerConcurrentFeed outputs together; the same results); pairs without
     /// outputs this step are destroyed (on_destroy runs first). The pairs' order is that of
     /// creation (on_create) and of pairs() (the force fields' order in the graph):
-    /// - sofa_stable_id_order (SOFA HEAD's, off by default): SOFA's two maps (StablePairMap)
+    /// - sofa_stable_id_order (SOFA HEAD's, on by default): SOFA's two maps (StablePairMap)
     ///   fed as SOFA feeds them: `detections` are the broad phase's pairs in its order
     ///   (CollisionPipeline::detect), each keyed in SOFA's outputs map when narrow_phase is set,
     ///   with or without outputs; new pairs are created in the outputs map's order, and pairs()
@@ -130,9 +131,9 @@ public:
     /// stable ids given to the models in the order comparisons first meet them; contacts are
     /// created in the first map's order (CollisionResponse::createNewContacts) and re-added to
     /// the graph at each step in the second's (SubCollisionPipeline::computeCollisionResponse).
-    /// Off (default): pairs are ordered by (model_rank(model1), model_rank(model2)), model_rank
-    /// standing for the models' addresses in scene order (unset: creation order).
-    bool sofa_stable_id_order = false;
+    /// On by default (kFidelityDefaults). Off: pairs are ordered by (model_rank(model1), model_rank(model2)),
+    /// model_rank standing for the models' addresses in scene order (unset: creation order).
+    bool sofa_stable_id_order = kFidelityDefaults.sofa_head_orders;
     std::function<std::size_t(const CollisionModel&)> model_rank;
 
     /// Hooks for the scene-graph glue: called after a pair's contact is created and before it

@@ -47,13 +47,13 @@ struct BuildOptions {
     int threads = 0;  ///< threads of the narrow phase and of independent solvers (0: TBB's default)
     /// Detection algorithm: BVH narrow phase (default) or SOFA's exhaustive pair loop; both give
     /// the same outputs in the same order.
-    bool exhaustive_detection = false;
+    bool exhaustive_detection = kFidelityDefaults.exhaustive_detection;
     /// SOFA HEAD's two summation and contact orders (on by default; `--no-sofa-head-orders`
     /// turns them off; docs/sofa-compatibility.md, "SOFA HEAD's orders"): the ODE solvers sum
     /// computeForce and addMBKv through SOFA's MappingGraph (OdeSolver::sofa_mapping_graph_order)
     /// and the contacts follow SOFA's stable-id maps (CollisionResponse::sofa_stable_id_order).
     /// Off: the visitors' summation order and contacts by the models' scene order.
-    bool sofa_head_orders = true;
+    bool sofa_head_orders = kFidelityDefaults.sofa_head_orders;
     /// Largest number of DOFs of a state or points of a grid: 10⁷ by default (a step costs about
     /// 1.5 kB per DOF, so this keeps a run within a 24 GB machine). The fuzz targets lower it.
     std::uint64_t max_dofs = 10'000'000;

@@ -11,8 +11,9 @@
 ///      every model pair of broad_phase() (i ≤ j in registration order; SOFA's filter
 ///      keep_model_pair; pairs the method does not support are skipped and listed in
 ///      skipped_pairs()), each pair in the intersector's registered order, either
-///      - ContactDetection::exhaustive (default): exhaustive_narrow_phase, all element pairs, or
-///      - ContactDetection::bvh: one Bvh per model (refitted each update for moving models,
+///      - ContactDetection::exhaustive: exhaustive_narrow_phase, all element pairs, or
+///      - ContactDetection::bvh (default, kFidelityDefaults): one Bvh per model (refitted each update for moving
+///      models,
 ///        built once for static ones), root-box pruning with SOFA's §3.8 margin, then
 ///        bvh_narrow_phase (parallel, TBB, `threads`: the pairs in parallel, and within a
 ///        pair). The outputs are bit-identical to the exhaustive path, pairs in the same order
@@ -62,6 +63,7 @@
 
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/intersection.hpp"
+#include "penalty/core/fidelity.hpp"
 #include "penalty/core/pointer_index.hpp"
 #include "penalty/response/collision_response.hpp"
 #include "penalty/simulation/penalty_interaction.hpp"
@@ -133,9 +135,10 @@ inline constexpr int kAutoNodeIdBase = 1 << 24;
 /// Most detection threads a ContactPipeline accepts (kMaxThreads, solver.hpp).
 inline constexpr int kMaxDetectionThreads = kMaxThreads;
 
-/// Options of ContactPipeline (the defaults keep the original behaviour).
+/// Options of ContactPipeline (defaults: kFidelityDefaults).
 struct ContactPipelineOptions {
-    ContactDetection detection = ContactDetection::exhaustive;
+    ContactDetection detection =
+        kFidelityDefaults.exhaustive_detection ? ContactDetection::exhaustive : ContactDetection::bvh;
     /// leaf_size, rebuild_ratio and narrow-phase chunking (bvh), depth and SOFA's output order.
     CollisionPipelineOptions bvh;
     /// Maximum TBB threads of the detection (bvh: its pairs and narrow phases) and of the
@@ -148,7 +151,7 @@ struct ContactPipelineOptions {
     /// once per step.
     bool register_stage = true;
     /// SOFA HEAD's contact order (CollisionResponse::sofa_stable_id_order); off: scene rank.
-    bool sofa_stable_id_order = false;
+    bool sofa_stable_id_order = kFidelityDefaults.sofa_head_orders;
     /// bvh: true: detections() lists every output of the intersection method. false: only those
     /// a contact may be made of (CollisionPipelineOptions::contact_outputs_only, set over
     /// `bvh`'s); the contacts, and so the trajectory, are the same.

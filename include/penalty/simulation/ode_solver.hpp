@@ -2,6 +2,7 @@
 /// @file
 /// ODE solvers (spec §10.2): SOFA's EulerImplicitSolver and EulerExplicitSolver over a SubtreeSystem.
 
+#include "penalty/core/fidelity.hpp"
 #include "penalty/simulation/cg_linear_solver.hpp"
 #include "penalty/simulation/subtree_system.hpp"
 
@@ -39,8 +40,9 @@ public:
     /// Sum the forces of computeForce, of the right-hand side's addMBKv and of the CG's products
     /// in the order of SOFA HEAD's MappingGraph (MappingGraphMechanicalOperations: force fields
     /// by component group, then the mappings' Jᵀ in reversed breadth-first order) instead of the
-    /// visitors' order (off by default: docs/sofa-compatibility.md, "SOFA HEAD's orders").
-    bool sofa_mapping_graph_order = false;
+    /// visitors' order (on by default, kFidelityDefaults: docs/sofa-compatibility.md, "SOFA HEAD's
+    /// orders").
+    bool sofa_mapping_graph_order = kFidelityDefaults.sofa_head_orders;
     /// Apply the contact fields of many small contact-point states in one pass over flat arrays
     /// (SubtreeSystem's fused contact block). The same bits either way; off: every product
     /// through the objects (tests compare the two).
