@@ -23,7 +23,7 @@ import json, sys
 commands, root = sys.argv[1], sys.argv[2]
 for entry in json.load(open(commands)):
     f = entry["file"]
-    library_batch = "/Unity/" in f and "/CMakeFiles/penalty_" in f and "/CMakeFiles/penalty_tests" not in f
+    library_batch = "/unity/penalty_" in f  # cmake/PenaltyLayer.cmake's batches
     own_source = f.startswith(root + "/src/") or f.startswith(root + "/apps/")
     if (library_batch or own_source) and "/generated/" not in f:
         print(f)

@@ -1,6 +1,8 @@
 #pragma once
 // Helpers for the io tests: committed data folder and temporary files with given contents.
 
+#include "penalty_test/paths.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,7 +13,7 @@
 namespace penalty::io::test {
 
 /// tests/io/data in the source tree.
-inline std::filesystem::path data_dir() { return std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "io" / "data"; }
+inline std::filesystem::path data_dir() { return penalty::test::source_dir() / "tests" / "io" / "data"; }
 
 /// A fresh file under the test temporary directory with exactly `contents`.
 inline std::filesystem::path write_temp(const std::string& name, const std::string& contents) {

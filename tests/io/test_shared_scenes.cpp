@@ -7,6 +7,7 @@
 #include "penalty/scene/components.hpp"
 
 #include <gtest/gtest.h>
+#include "penalty_test/paths.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -16,7 +17,7 @@
 namespace penalty::io {
 namespace {
 
-const std::filesystem::path kShared = PENALTY_SHARED_DIR;
+const std::filesystem::path kShared = penalty::test::shared_dir();
 
 struct Counts {
     std::size_t points, edges, triangles, quads, tetrahedra, hexahedra, radii;

@@ -7,6 +7,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include "penalty_test/paths.hpp"
 
 #include <cmath>
 #include <limits>
@@ -183,7 +184,7 @@ TEST(ReadStateFile, ReadsSofaLayoutWithVLinesAndBlankLines) {
 
 TEST(ReadStateFile, ReadsSofaReferenceFiles) {
     // SOFA's own regression reference (in the shared area, not in the repository).
-    const std::filesystem::path file = std::filesystem::path(PENALTY_SHARED_DIR) / "sofa" / "reference" /
+    const std::filesystem::path file = penalty::test::shared_dir() / "sofa" / "reference" /
                                        "CompositeCollisionPipeline_none.scn.reference_0_rigid_mstate.txt";
     if (!std::filesystem::exists(file)) GTEST_SKIP() << file << " not available";
     const auto samples = read_state_file(file);

@@ -7,6 +7,7 @@
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/component_defaults.hpp"
+#include "penalty_test/paths.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -228,7 +229,7 @@ namespace {
 // The fuzz dictionary (fuzz/scene.dict) lists the registry's tags and attributes, so that the
 // scene fuzzers reach every build function: it must not fall behind the registry.
 TEST(ComponentRegistry, FuzzDictionaryCoversTheRegistry) {
-    std::ifstream in(std::string(PENALTY_SOURCE_DIR) + "/fuzz/scene.dict");
+    std::ifstream in(penalty::test::source_dir() / "fuzz/scene.dict");
     ASSERT_TRUE(in) << "fuzz/scene.dict (scripts/update-fuzz-dictionary.py adds what it lacks)";
     std::ostringstream text;
     text << in.rdbuf();

@@ -9,6 +9,7 @@
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/component_defaults.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
@@ -152,7 +153,7 @@ TEST(FieldAndConstraintComponents, JointSpringsBetweenMappedFramesRun) {
 
 TEST(FieldAndConstraintComponents, NonUniformHexahedraOnAGridWithVirtualFinerLevels) {
     // the project's SOFA comparison scene: a box voxelised 4 times finer, condensed back
-    auto s = scene::load_scene(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data/nonuniform_hexahedra.scn");
+    auto s = scene::load_scene(penalty::test::source_dir() / "tests/scene/data/nonuniform_hexahedra.scn");
     const std::string text = scene::describe_scene(*s);
     EXPECT_THAT(text, HasSubstr("sparse grid 5 x 3 x 3 (from 2 virtual finer levels)"));
     EXPECT_THAT(text, HasSubstr("condensed from 2 virtual finer levels"));
@@ -188,7 +189,7 @@ TEST(FieldAndConstraintComponents, BoxRoiPositionLinkThatFindsNothingSelectsNoth
 TEST(FieldAndConstraintComponents, TaitPressureInflatesItsBoxWhileTheInjectionRamps) {
     // the project's SOFA comparison scene: 0.6 m³ injected at 12 m³/s (dt 0.01: 5 steps) into a
     // 2 m³ box; the quad box under a constant 20 Pa swells against its springs
-    auto s = scene::load_scene(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data/tait_pressure.scn");
+    auto s = scene::load_scene(penalty::test::source_dir() / "tests/scene/data/tait_pressure.scn");
     EXPECT_THAT(scene::describe_scene(*s), HasSubstr("fluid in 12 surface triangles, rest volume 2 m^3"));
     // the balloon, pinned at one corner, swings down while it swells: its diagonal lengthens
     const auto diagonal = [&] { return (vec3_dofs(*s, 0).position[6] - vec3_dofs(*s, 0).position[0]).norm(); };
@@ -203,7 +204,7 @@ TEST(FieldAndConstraintComponents, MeshLoaderScaleThatIsNotOneNumberIsOneAsInSof
     // read whole, so the scale stays 1 (TaitSurfacePressureForceField.scn relies on it)
     const auto box_top = [](const std::string& scale) {
         scene::BuildOptions options;
-        options.data_dirs.push_back(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data");
+        options.data_dirs.push_back(penalty::test::source_dir() / "tests/scene/data");
         auto s = build(R"(<Node name="root"><Node name="N"><EulerImplicitSolver/><CGLinearSolver/>
             <MeshOBJLoader name="loader" filename="box_3x1x1.obj" )" +
                            scale + R"(/>

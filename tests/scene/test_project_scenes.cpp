@@ -25,6 +25,7 @@
 #include "penalty/scene/scene.hpp"
 
 #include <gtest/gtest.h>
+#include "penalty_test/paths.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -42,7 +43,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kSource = PENALTY_SOURCE_DIR;
+const fs::path kSource = penalty::test::source_dir();
 const fs::path kScenes = kSource / "scenes";
 const fs::path kExpected = kSource / "tests" / "scene" / "expected";
 

@@ -11,6 +11,7 @@
 #include "penalty/scene/scene.hpp"
 #include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
@@ -104,8 +105,7 @@ TEST(Threads, AContactPipelineRefusesMoreThanItsMaximum) {
 // (5, 0, 0). Implicit Euler is exact on uniform acceleration: y_n = −g·h²·n(n+1)/2 after n steps
 // (g = 10 m/s², h = 0.1 s: y_n = −0.05·n(n+1) m).
 const std::string kFreeFall = [] {
-    std::ifstream in(std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "scene" / "data" /
-                     "free_fall_beside_a_marker.scn");
+    std::ifstream in(penalty::test::source_dir() / "tests" / "scene" / "data" / "free_fall_beside_a_marker.scn");
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
@@ -388,7 +388,7 @@ TEST(Numbers, AMagnitudeAbove1e100IsRefusedWhereItIsWritten) {
 /// parsed; each must end normally or with a documented error, never a crash or a sanitizer report
 /// (the ASan suite runs this too).
 TEST(FuzzRegressions, EveryFoundInputIsHandled) {
-    const std::filesystem::path dir = std::filesystem::path(PENALTY_SOURCE_DIR) / "fuzz" / "regressions";
+    const std::filesystem::path dir = penalty::test::source_dir() / "fuzz" / "regressions";
     int inputs = 0;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
         const std::filesystem::path p = entry.path();

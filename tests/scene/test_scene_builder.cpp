@@ -4,6 +4,7 @@
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
@@ -529,7 +530,7 @@ TEST(SceneBuilder, DescribeNamesUndetectedPairsDisabledResponsesAndExplicitConta
 // SOFA's regression reference (kept outside the repository, in ../shared): two rigid spheres
 // falling on fixed tori, 200 steps, compared by SOFA's criterion.
 TEST(SceneBuilder, CompositeCollisionPipelineNoneReproducesSofaReference) {
-    const std::filesystem::path shared = PENALTY_SHARED_DIR;
+    const std::filesystem::path shared = penalty::test::shared_dir();
     const auto scene_file = shared / "sofa/scenes/CompositeCollisionPipeline_none.scn";
     if (!std::filesystem::exists(scene_file)) GTEST_SKIP() << "no " << scene_file;
     scene::BuildOptions options;

@@ -3,6 +3,7 @@
 // never committed: the tests are skipped when the shared folder is absent.
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
@@ -32,7 +33,7 @@ void PrintTo(const SharedScene& scene, std::ostream* out) { *out << scene.file; 
 class SharedSceneRun : public ::testing::TestWithParam<SharedScene> {};
 
 TEST_P(SharedSceneRun, RunsAndStaysFinite) {
-    const std::filesystem::path shared = PENALTY_SHARED_DIR;
+    const std::filesystem::path shared = penalty::test::shared_dir();
     const auto file = shared / "sofa/scenes" / GetParam().file;
     if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
     scene::BuildOptions options;

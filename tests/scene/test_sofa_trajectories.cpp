@@ -10,6 +10,7 @@
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
@@ -49,7 +50,7 @@ void PrintTo(const TrajectoryCase& c, std::ostream* out) { *out << c.scene; }
 class SofaTrajectory : public ::testing::TestWithParam<TrajectoryCase> {};
 
 TEST_P(SofaTrajectory, StepByStepAgainstSofaHead) {
-    const fs::path shared = PENALTY_SHARED_DIR;
+    const fs::path shared = penalty::test::shared_dir();
     const std::string name = GetParam().scene;
     const fs::path scene_file = shared / "sofa/scenes" / (name + ".scn");
     const fs::path trajectory = shared / "sofa/trajectories" / name;

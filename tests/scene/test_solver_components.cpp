@@ -9,6 +9,7 @@
 #include "penalty/simulation/direct_linear_solver.hpp"
 #include "penalty/simulation/runge_kutta.hpp"
 #include "penalty/simulation/static_solver.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
@@ -24,8 +25,7 @@ using penalty::test::error_of;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const std::filesystem::path kSolverScenes =
-    std::filesystem::path(PENALTY_SOURCE_DIR) / "tests" / "scene" / "data" / "solvers";
+const std::filesystem::path kSolverScenes = penalty::test::source_dir() / "tests" / "scene" / "data" / "solvers";
 
 std::unique_ptr<scene::Scene> load_solver_scene(const std::string& name) {
     return scene::load_scene(kSolverScenes / name, {});

@@ -7,6 +7,7 @@
 #include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/cubes_in_bowl.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/same_bits.hpp"
 #include "penalty_test/sanitizer.hpp"
 #include "penalty_test/tunnelling_scenes.hpp"
@@ -216,7 +217,7 @@ TEST(TunnellingScenes, BowlWarnIsOffBitForBit) {
 // ---- SOFA's chainAll (a check on the shared scene; never committed) -------------------------------
 
 TEST(TunnellingScenes, SofaChainAllWarnIsOffBitForBit) {
-    const std::filesystem::path shared = PENALTY_SHARED_DIR "/sofa";
+    const std::filesystem::path shared = penalty::test::shared_dir() / "sofa";
     const std::filesystem::path file = shared / "examples/Demos/chainAll.scn";
     if (!std::filesystem::exists(file)) GTEST_SKIP() << "no " << file;
     scene::BuildOptions o;

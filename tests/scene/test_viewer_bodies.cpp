@@ -6,6 +6,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include "penalty_test/paths.hpp"
 
 #include <algorithm>
 #include <filesystem>
@@ -17,7 +18,7 @@ namespace {
 using output::ViewerShapeKind;
 using ::testing::ElementsAre;
 
-const std::filesystem::path kScenes = std::filesystem::path(PENALTY_SOURCE_DIR) / "scenes";
+const std::filesystem::path kScenes = penalty::test::source_dir() / "scenes";
 
 TEST(ViewerBodies, BuiltInSceneHasTheFloorTheCubeAndTheBall) {
     auto scene = build_scene(io::parse_scene_string(default_scene_xml(), "<built-in scene>"));

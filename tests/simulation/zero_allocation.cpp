@@ -19,6 +19,7 @@
 #include "penalty/collision/sofa_traversal_order.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/function_stage.hpp"
+#include "penalty_test/paths.hpp"
 
 #include <gtest/gtest.h>
 
@@ -102,7 +103,7 @@ struct Counts {
 Counts run_scene(const std::string& file, bool bvh) {
     scene::BuildOptions options;
     options.exhaustive_detection = !bvh;
-    auto scene = scene::load_scene(std::string(PENALTY_SOURCE_DIR) + "/scenes/" + file, options);
+    auto scene = scene::load_scene(penalty::test::source_dir() / "scenes" / file, options);
     Simulation& sim = scene->simulation();
     // the contact path: the scene's contact stages, counted on their own
     long in_hook = 0;
