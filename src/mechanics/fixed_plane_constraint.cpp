@@ -12,7 +12,7 @@ void FixedPlaneProjectiveConstraint::init() {
 // FixedPlaneProjectiveConstraint::projectResponse: u ← u − d (u·d) on the linear part.
 void FixedPlaneProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     const Eigen::Index stride = state_->deriv_size();
-    for (Index i : indices_) {
+    for (Index i : follow(indices_)) {
         auto u = v.segment<3>(stride * static_cast<Eigen::Index>(i));
         const Vec3 value = u;
         u = value - direction_ * value.dot(direction_);
@@ -21,7 +21,7 @@ void FixedPlaneProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd
 
 bool FixedPlaneProjectiveConstraint::list_discarded_rows(std::vector<Index>& rows) const {
     const Index stride = state_->deriv_size();
-    for (Index i : indices_)
+    for (Index i : follow(indices_))
         for (Index c = 0; c < 3; ++c)
             if (direction_[c] != 0.0) rows.push_back(stride * i + c);
     return true;

@@ -160,10 +160,7 @@ void FixedProjectiveConstraint::init() {
     }
 }
 
-const std::vector<Index>& FixedProjectiveConstraint::read_indices() const {
-    if (index_source_) index_source_(indices_);
-    return indices_;
-}
+const std::vector<Index>& FixedProjectiveConstraint::read_indices() const { return follow(indices_); }
 
 void FixedProjectiveConstraint::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     if (fix_all_) {

@@ -158,7 +158,7 @@ void PartialFixedProjectiveConstraint::project_response(Eigen::Ref<Eigen::Vector
     if (fix_all_) {
         for (Index i = 0; i < static_cast<Index>(v.size() / width); ++i) clear_fixed_components(v, i, width, fixed_);
     } else {
-        for (Index i : indices_) clear_fixed_components(v, i, width, fixed_);
+        for (Index i : follow(indices_)) clear_fixed_components(v, i, width, fixed_);
     }
 }
 
@@ -175,7 +175,7 @@ bool PartialFixedProjectiveConstraint::list_discarded_rows(std::vector<Index>& r
     if (fix_all_)
         for (Index i = 0; i < static_cast<Index>(state_->num_dofs()); ++i) append(i);
     else
-        for (Index i : indices_) append(i);
+        for (Index i : follow(indices_)) append(i);
     return true;
 }
 

@@ -3,6 +3,8 @@
 // readers (Scene::LiveEdits::wire_engines).
 #include "scene/live_engines.hpp"
 
+#include "penalty/mechanics/fixed_plane_constraint.hpp"
+#include "penalty/mechanics/followed_indices.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
@@ -11,34 +13,89 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
+#include <optional>
 #include <stdexcept>
 
 namespace penalty::scene {
 
 namespace {
 
+/// The engines penalty runs again on read (SOFA's DataEngine::update over an input linked to moving
+/// positions): the Data of their input points and the flag that switches re-runs off.
+/// BoxROI, SphereROI, MeshROI: BaseROI::doUpdate selects again only with `doUpdate` (BaseROI::init
+/// runs it once whatever the flag). PlaneROI::doUpdate, ProximityROI::doUpdate,
+/// TransformEngine::doUpdate, TransformPosition::doUpdate: always.
+constexpr LiveEngineKind kLiveEngineKinds[] = {
+    {"BoxROI", "position", "rest_position", "doUpdate"},
+    {"SphereROI", "position", "rest_position", "doUpdate"},
+    {"MeshROI", "position", "rest_position", "doUpdate"},
+    {"PlaneROI", "position", "rest_position", ""},
+    {"ProximityROI", "position", "rest_position", ""},
+    {"TransformEngine", "input_position", "", ""},
+    {"TransformPosition", "input_position", "inputPosition", ""},
+};
+
+/// The readers penalty follows: a projective constraint's `indices`, which SOFA reads at each
+/// projection and matrix application (FixedProjectiveConstraint::projectResponse,
+/// FixedPlaneProjectiveConstraint::projectResponse / applyConstraint,
+/// PartialFixedProjectiveConstraint::projectResponseT / applyConstraint: d_indices.getValue()).
+constexpr std::string_view kIndexFollowers[] = {
+    "FixedProjectiveConstraint",        "FixedConstraint",
+    "FixedPlaneProjectiveConstraint",   "FixedPlaneConstraint",
+    "PartialFixedProjectiveConstraint", "PartialFixedConstraint",
+};
+
 bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
     return a.size() == b.size() &&
            (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0);  // NOLINT(bugprone-*)
 }
 
-bool is_fixed_constraint(const io::SceneComponent& c) {
-    return c.type == "FixedProjectiveConstraint" || c.type == "FixedConstraint";
+/// True when `output` of `engine` is a list of points (`output_position`, `pointsInROI`), not
+/// indices or elements.
+bool is_point_output(const LiveEngine& engine, std::string_view output) {
+    return engine.meshes.count(output) != 0 &&
+           (output.find("osition") != std::string_view::npos || output.find("oints") != std::string_view::npos);
 }
 
-/// The FixedProjectiveConstraint built from `c` in `node`, or null.
-FixedProjectiveConstraint* built_fixed_constraint(const Scene& scene, const Node& node, const io::SceneComponent& c) {
+/// True when `c` is an engine that SOFA runs once only (BaseROI with doUpdate 0): it reads its
+/// inputs at init, as penalty's build does.
+bool runs_once(const io::SceneComponent& c) {
+    const LiveEngineKind* kind = find_live_engine_kind(c.type);
+    return kind != nullptr && !kind->update_flag.empty() && !Attributes(c).boolean(kind->update_flag);
+}
+
+bool follows_indices(const io::SceneComponent& c) {
+    return std::find(std::begin(kIndexFollowers), std::end(kIndexFollowers), c.type) != std::end(kIndexFollowers);
+}
+
+/// The projective constraint built from `c` in `node` whose indices can follow a source, or null.
+BaseProjectiveConstraint* built_index_follower(const Scene& scene, const Node& node, const io::SceneComponent& c) {
     for (const auto& k : node.constraints())
-        if (auto* f = dynamic_cast<FixedProjectiveConstraint*>(k.get()); f != nullptr && scene.component_of(f) == &c)
-            return f;
+        if (dynamic_cast<FollowedIndices*>(k.get()) != nullptr &&
+            scene.component_of(dynamic_cast<const void*>(k.get())) == &c)
+            return k.get();
     return nullptr;
 }
 
 }  // namespace
 
+const LiveEngineKind* find_live_engine_kind(std::string_view type) {
+    for (const LiveEngineKind& k : kLiveEngineKinds)
+        if (k.type == type) return &k;
+    return nullptr;
+}
+
+const std::vector<Vec3>& LivePoints::current() const {
+    if (state != nullptr) return state->position;
+    engine->update_if_dirty();
+    return engine->meshes.find(output)->second.positions;
+}
+
 bool LiveEngine::update_if_dirty() {
-    if (runs_ != 0 && same_bits(input_->position, last_input_)) return false;
-    last_input_ = input_->position;  // the buffer's capacity stays: no allocation once it has run
+    const std::vector<Vec3>& x = input_.current();
+    if (runs_ != 0 && same_bits(x, last_input_)) return false;
+    last_input_ = x;  // the buffer's capacity stays: no allocation once it has run
     evaluate_(last_input_, *this);
     ++runs_;
     return true;
@@ -58,30 +115,79 @@ void LiveEngines::update_linked_states() {
     }
 }
 
-const Vec3Object* SceneBuilder::moving_input(const Attributes& a, std::string_view attr) {
-    if (!a.has(attr) || !a.is_link(attr)) return nullptr;
+std::optional<LivePoints> SceneBuilder::moving_input(const Attributes& a, std::string_view attr) {
+    if (!a.has(attr) || !a.is_link(attr)) return std::nullopt;
     std::vector<io::LinkTarget> targets;
     try {
         targets = io::resolve_links(a.component(), attr);
     } catch (const io::SceneError&) {
-        return nullptr;  // the engine's own build reports it
+        return std::nullopt;  // the engine's own build reports it
     }
-    if (targets.size() != 1 || targets[0].component == nullptr || targets[0].data != "position") return nullptr;
+    if (targets.size() != 1 || targets[0].component == nullptr) return std::nullopt;
     const io::SceneComponent& source = *targets[0].component;
-    if (source.type != "MechanicalObject") return nullptr;
+    // a chain: the point output of an engine that runs on read (built first: its output was read)
+    if (LiveEngine* upstream = scene_.live_->engine(source)) {
+        upstream->update_if_dirty();
+        if (!is_point_output(*upstream, targets[0].data)) return std::nullopt;
+        return LivePoints{nullptr, upstream, targets[0].data};
+    }
+    if (targets[0].data != "position" || source.type != "MechanicalObject") return std::nullopt;
     const auto it = nodes_.find(source.node);
-    if (it == nodes_.end() || it->second.state_component != &source || it->second.node == nullptr) return nullptr;
-    return dynamic_cast<const Vec3Object*>(it->second.node->state());
+    if (it == nodes_.end() || it->second.state_component != &source || it->second.node == nullptr) return std::nullopt;
+    const auto* state = dynamic_cast<const Vec3Object*>(it->second.node->state());
+    if (state == nullptr) return std::nullopt;
+    return LivePoints{state, nullptr, {}};
 }
 
-void SceneBuilder::add_live_engine(const io::SceneComponent& c, const Vec3Object& input,
-                                   LiveEngine::Evaluate evaluate) {
+void SceneBuilder::add_live_engine(const Attributes& a, LiveEngine::Evaluate evaluate) {
+    const io::SceneComponent& c = a.component();
+    const LiveEngineKind* kind = find_live_engine_kind(c.type);
+    if (kind == nullptr) throw std::logic_error(c.type + " is not in kLiveEngineKinds");
+    if (!kind->update_flag.empty() && !a.boolean(kind->update_flag)) return;  // the selection of init stays
+    const std::string_view attr = !a.has(kind->input) && !kind->input_alias.empty() ? kind->input_alias : kind->input;
+    std::optional<LivePoints> input = moving_input(a, attr);
+    if (!input) return;
     std::unique_ptr<LiveEngines>& engines = scene_.live_->engines;
     if (!engines) engines = std::make_unique<LiveEngines>();
     LiveEngines& live = *engines;
-    live.engines.push_back(std::make_unique<LiveEngine>(c, input, std::move(evaluate)));
+    live.engines.push_back(std::make_unique<LiveEngine>(c, std::move(*input), std::move(evaluate)));
     live.by_component[&c] = live.engines.back().get();
 }
+
+namespace {
+
+/// Connects `c`'s `indices`, which link `t` of `engine`, to the engine when penalty follows that
+/// reader: true when it does.
+bool follow_index_reader(Scene& scene, const io::SceneComponent& c, const io::SceneAttribute& a,
+                         std::size_t num_targets, LiveEngine& engine, const std::string& output) {
+    const Node* node = scene.node_of(*c.node);
+    if (!follows_indices(c) || a.name != "indices" || num_targets != 1 || engine.indices.count(output) == 0 ||
+        node == nullptr)
+        return false;
+    BaseProjectiveConstraint* k = built_index_follower(scene, *node, c);
+    if (k == nullptr) return false;
+    const std::size_t size = k->state()->num_dofs();
+    // The constraint takes the output at its first read; a FixedPlaneProjectiveConstraint with
+    // dmin != dmax keeps the points between its planes that its init appended to the output of
+    // init until the engine runs again (SOFA: its Data is then dirty and takes its parent's value).
+    const bool appended = dynamic_cast<FixedPlaneProjectiveConstraint*>(k) != nullptr &&
+                          Attributes(c).real("dmin") != Attributes(c).real("dmax");
+    const std::uint64_t seen = appended ? engine.runs() : 0;
+    dynamic_cast<FollowedIndices&>(*k).set_index_source([reader = LiveEngineReader{&engine, output, seen}, size,
+                                                         what = c.describe()](std::vector<Index>& indices) mutable {
+        if (!reader.pull()) return;
+        const std::vector<PointId>& out = reader.engine->indices.find(reader.output)->second;
+        for (PointId i : out)
+            if (i < 0 || std::size_t(i) >= size)
+                throw std::invalid_argument(what + ": index " + std::to_string(i) + " of " +
+                                            reader.engine->component().describe() + " is out of range (" +
+                                            std::to_string(size) + " DOFs)");
+        indices.assign(out.begin(), out.end());
+    });
+    return true;
+}
+
+}  // namespace
 
 void Scene::LiveEdits::wire_engines(Scene& scene) {
     if (!scene.live_->engines) return;
@@ -98,29 +204,15 @@ void Scene::LiveEdits::wire_engines(Scene& scene) {
             for (const io::LinkTarget& t : targets) {
                 LiveEngine* engine = t.component != nullptr ? live.find(*t.component) : nullptr;
                 if (engine == nullptr || t.data.empty()) continue;
-                engine->update_if_dirty();  // its first run (the build's values): its outputs exist
+                engine->update_if_dirty();  // its first run (the positions after init): its outputs exist
+                if (const LiveEngine* self = live.find(c);
+                    self != nullptr && self->input().engine == engine && self->input().output == t.data)
+                    continue;                // a chain: the engine reads its input on each run
+                if (runs_once(c)) continue;  // SOFA reads it once too
+                if (follow_index_reader(scene, c, a, targets.size(), *engine, t.data)) continue;
                 const Node* node = scene.node_of(*c.node);
-                const bool index_output = engine->indices.count(t.data) != 0;
                 const bool point_output =
                     engine->meshes.count(t.data) != 0 && !engine->meshes.find(t.data)->second.positions.empty();
-                if (is_fixed_constraint(c) && a.name == "indices" && targets.size() == 1 && index_output &&
-                    node != nullptr) {
-                    if (FixedProjectiveConstraint* f = built_fixed_constraint(scene, *node, c)) {
-                        const std::size_t size = f->state()->num_dofs();
-                        f->set_index_source([reader = LiveEngineReader{engine, t.data, 0}, size,
-                                             what = c.describe()](std::vector<Index>& indices) mutable {
-                            if (!reader.pull()) return;
-                            const std::vector<PointId>& out = reader.engine->indices.find(reader.output)->second;
-                            for (PointId i : out)
-                                if (i < 0 || std::size_t(i) >= size)
-                                    throw std::invalid_argument(what + ": index " + std::to_string(i) + " of " +
-                                                                reader.engine->component().describe() +
-                                                                " is out of range (" + std::to_string(size) + " DOFs)");
-                            indices.assign(out.begin(), out.end());
-                        });
-                        continue;
-                    }
-                }
                 if (c.type == "MechanicalObject" && a.name == "position" && targets.size() == 1 && point_output &&
                     node != nullptr) {
                     if (auto* state = dynamic_cast<Vec3Object*>(node->state()); state != nullptr) {

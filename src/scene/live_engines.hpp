@@ -1,15 +1,19 @@
 #pragma once
 // Engines whose input points are a state's positions, which the solve writes
-// (`BoxROI position="@dofs.position"`, `TransformEngine input_position="@dofs.position"`), and the
-// Data that read their outputs while the scene runs (docs/python.md, "Engines over moving states").
+// (`BoxROI position="@dofs.position"`, `TransformEngine input_position="@dofs.position"`), or the
+// point output of another such engine (a chain: `BoxROI position="@transform.output_position"`),
+// and the Data that read their outputs while the scene runs (docs/python.md, "Engines over moving
+// states").
 //
 // In SOFA each write of the positions marks the engine's input dirty (Data::endEdit →
-// DDGNode::setDirtyOutputs), and the engine runs again when one of its outputs is next read
-// (Data::getValue → DDGNode::updateIfDirty → DataEngine::update). An engine's outputs are a
+// DDGNode::setDirtyOutputs, which goes on down a chain of engines), and the engine runs again when
+// one of its outputs is next read (Data::getValue → DDGNode::updateIfDirty → DataEngine::update,
+// which reads its inputs first and so runs the engines before it). An engine's outputs are a
 // function of its inputs alone, so penalty keeps, per such engine, the input points of its last
-// run: a read of an output compares the state's current positions with them and runs the engine
-// again when they differ. Each read then gives the value SOFA's lazy evaluation gives, and an
-// engine nobody reads never runs. A scene without such a link has no LiveEngine and pays nothing.
+// run: a read of an output reads the input (running the engine before it, if any) and runs the
+// engine again when the points differ (bit for bit). Each read then gives the value SOFA's lazy
+// evaluation gives, and an engine nobody reads never runs. A scene without such a link has no
+// LiveEngine and pays nothing.
 #include "penalty/io/mesh.hpp"
 #include "penalty/io/scene_file.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
@@ -25,19 +29,45 @@
 
 namespace penalty::scene {
 
-/// One engine over the positions of a Vec3d state, run on read.
+/// An engine kind penalty runs again on read: the Data of its input points (the first one the
+/// scene sets), and the flag that keeps the selection of init when 0 (BaseROI's `doUpdate`; empty:
+/// none). Each kind's builder gives the re-run function (SceneBuilder::add_live_engine), the same
+/// function as its build's.
+struct LiveEngineKind {
+    std::string_view type;
+    std::string_view input;
+    std::string_view input_alias;
+    std::string_view update_flag;
+};
+
+/// The engine kinds of `type` that run on read, or null (the table in live_engines.cpp).
+[[nodiscard]] const LiveEngineKind* find_live_engine_kind(std::string_view type);
+
+class LiveEngine;
+
+/// Where a live engine reads its input points: the positions of a Vec3d state, or a point output
+/// of another live engine (which runs first if its own input changed).
+struct LivePoints {
+    const Vec3Object* state = nullptr;
+    LiveEngine* engine = nullptr;
+    std::string output;  ///< the engine's output (`output_position`)
+    /// The points as of now.
+    [[nodiscard]] const std::vector<Vec3>& current() const;
+};
+
+/// One engine over moving points, run on read.
 class LiveEngine {
 public:
     /// Computes the outputs (`indices`, `meshes`) from the input points.
     using Evaluate = std::function<void(const std::vector<Vec3>& input, LiveEngine& engine)>;
 
-    LiveEngine(const io::SceneComponent& component, const Vec3Object& input, Evaluate evaluate)
-        : component_(&component), input_(&input), evaluate_(std::move(evaluate)) {}
+    LiveEngine(const io::SceneComponent& component, LivePoints input, Evaluate evaluate)
+        : component_(&component), input_(std::move(input)), evaluate_(std::move(evaluate)) {}
 
     [[nodiscard]] const io::SceneComponent& component() const { return *component_; }
-    [[nodiscard]] const Vec3Object& input() const { return *input_; }
-    /// SOFA's updateIfDirty: runs the engine when the input state's positions differ (bit for bit)
-    /// from those of its last run, or it never ran. True when it ran.
+    [[nodiscard]] const LivePoints& input() const { return input_; }
+    /// SOFA's updateIfDirty: runs the engine when its input points differ (bit for bit) from
+    /// those of its last run, or it never ran. True when it ran.
     bool update_if_dirty();
     /// How many times the engine ran: a reader keeps the count it last took.
     [[nodiscard]] std::uint64_t runs() const { return runs_; }
@@ -49,7 +79,7 @@ public:
 
 private:
     const io::SceneComponent* component_;
-    const Vec3Object* input_;
+    LivePoints input_;
     Evaluate evaluate_;
     std::vector<Vec3> last_input_;
     std::uint64_t runs_ = 0;

@@ -3,6 +3,7 @@
 /// SOFA's FixedPlaneProjectiveConstraint: removes the component along `direction` of the
 /// responses of chosen DOFs (Vec3d, or the linear part of Rigid3d).
 
+#include "penalty/mechanics/followed_indices.hpp"
 #include "penalty/mechanics/force_field.hpp"
 
 #include <span>
@@ -14,11 +15,13 @@ namespace penalty {
 /// u_i ← u_i − d (u_i·d), d = `direction` as written (SOFA does not normalise it: with |d| ≠ 1
 /// this is not a projection). Positions and velocities are not altered
 /// (FixedPlaneProjectiveConstraint::projectPosition / projectVelocity do nothing). An index listed
-/// twice is projected twice, as in SOFA.
-class FixedPlaneProjectiveConstraint final : public BaseProjectiveConstraint {
+/// twice is projected twice, as in SOFA. The indices may follow an engine's output while the
+/// scene runs (followed_indices.hpp; SOFA reads d_indices at each projection).
+class FixedPlaneProjectiveConstraint final : public BaseProjectiveConstraint, public FollowedIndices {
 public:
     FixedPlaneProjectiveConstraint(BaseState& state, const Vec3& direction) : state_(&state), direction_(direction) {}
     void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
+    /// The indices as of their last read (the index source is not called).
     [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
     [[nodiscard]] const Vec3& direction() const { return direction_; }
 
@@ -35,7 +38,7 @@ public:
 private:
     BaseState* state_;
     Vec3 direction_;
-    std::vector<Index> indices_;
+    mutable std::vector<Index> indices_;
 };
 
 /// FixedPlaneProjectiveConstraint::selectVerticesAlongPlane: the indices of the points with

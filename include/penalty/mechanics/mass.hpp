@@ -2,6 +2,7 @@
 /// @file
 /// SOFA's UniformMass (spec §10.4) for Vec3d and Rigid3d, and FixedProjectiveConstraint.
 
+#include "penalty/mechanics/followed_indices.hpp"
 #include "penalty/mechanics/force_field.hpp"
 
 #include <functional>
@@ -60,18 +61,13 @@ private:
 /// vectors get 0 at those DOFs; positions are not altered. Their velocity is set to 0 only with
 /// project_velocity (SOFA's `activate_projectVelocity`, default false: FixedProjectiveConstraint::
 /// projectVelocity returns at once, so a DOF keeps the velocity it had when it became fixed).
-class FixedProjectiveConstraint final : public BaseProjectiveConstraint {
+/// Its indices may follow an engine's output while the scene runs (followed_indices.hpp).
+class FixedProjectiveConstraint final : public BaseProjectiveConstraint, public FollowedIndices {
 public:
-    /// Called before each read of the indices; it may replace them. SOFA's Data link of `indices`
-    /// to an engine output that changes while the scene runs (`indices="@roi.indices"` over
-    /// moving points: DDGNode::updateIfDirty at each d_indices.getValue()).
-    using IndexSource = std::function<void(std::vector<Index>& indices)>;
-
     explicit FixedProjectiveConstraint(BaseState& state) : state_(&state) {}
     void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
     void set_fix_all(bool fix_all) { fix_all_ = fix_all; }
     void set_project_velocity(bool on) { project_velocity_ = on; }
-    void set_index_source(IndexSource source) { index_source_ = std::move(source); }
     /// The indices as of their last read (the index source is not called).
     [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
 
@@ -88,7 +84,6 @@ private:
     const std::vector<Index>& read_indices() const;
     BaseState* state_;
     mutable std::vector<Index> indices_;
-    IndexSource index_source_;
     bool fix_all_ = false;
     bool project_velocity_ = false;
 };

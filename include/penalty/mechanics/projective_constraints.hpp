@@ -10,6 +10,7 @@
 /// jacobian from the indices sorted: an index written twice leaves the indices after it
 /// unprojected in the responses (the jacobian's insertion loop stops matching), reproduced.
 
+#include "penalty/mechanics/followed_indices.hpp"
 #include "penalty/mechanics/force_field.hpp"
 
 #include <array>
@@ -143,8 +144,9 @@ private:
 /// PartialFixedProjectiveConstraint (Vec3d, Rigid3d): the components c of the listed DOFs (all
 /// with `fix_all`) with fixed_directions[c] get a zero response; their velocity too only with
 /// `project_velocity` (SOFA's d_projectVelocity, default false); positions are left. Rigid3d:
-/// six directions, linear then angular. An assembled system discards those rows.
-class PartialFixedProjectiveConstraint final : public BaseProjectiveConstraint {
+/// six directions, linear then angular. An assembled system discards those rows. The indices may
+/// follow an engine's output while the scene runs (followed_indices.hpp).
+class PartialFixedProjectiveConstraint final : public BaseProjectiveConstraint, public FollowedIndices {
 public:
     PartialFixedProjectiveConstraint(BaseState& state, std::vector<Index> indices, bool fix_all,
                                      std::vector<bool> fixed_directions, bool project_velocity)
@@ -158,13 +160,14 @@ public:
     void project_velocity() override;
     [[nodiscard]] bool list_discarded_rows(std::vector<Index>& rows) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
-    /// FixedProjectiveConstraint's d_indices (a TopologySubsetIndices), which it inherits.
+    /// FixedProjectiveConstraint's d_indices (a TopologySubsetIndices), which it inherits, as of
+    /// their last read (the index source is not called).
     [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
     void set_indices(std::vector<Index> indices) { indices_ = std::move(indices); }
 
 private:
     BaseState* state_;
-    std::vector<Index> indices_;
+    mutable std::vector<Index> indices_;
     bool fix_all_;
     std::vector<bool> fixed_;  ///< one per scalar of a Deriv
     bool project_velocity_;

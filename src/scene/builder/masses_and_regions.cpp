@@ -190,18 +190,13 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         elements = roi_elements(b, a, info, RoiContext::base_roi, {.quad_alias = true});
         const ElementTest test = a.boolean("strict") ? ElementTest::all_points : ElementTest::center;
         selection = select_in_box_roi(points, elements, boxes, oriented, test);
-        // over a state's positions, which the solve writes: run again on read (live_engines.cpp)
-        const Vec3Object* input =
-            a.boolean("doUpdate") ? b.moving_input(a, a.has("position") ? "position" : "rest_position") : nullptr;
-        if (input != nullptr)
-            b.add_live_engine(c, *input,
-                              [boxes, oriented, elements, test](const std::vector<Vec3>& x, LiveEngine& engine) {
-                                  const RoiSelection s = select_in_box_roi(x, elements, boxes, oriented, test);
-                                  for (auto& [name, mesh] : roi_element_outputs(s, elements))
-                                      engine.meshes[name] = std::move(mesh);
-                                  engine.meshes["quadInROI"] = engine.meshes["quadsInROI"];  // alias
-                                  for (auto& [name, indices] : roi_index_outputs(s)) engine.indices[name] = indices;
-                              });
+        // over moving positions (a state's, which the solve writes): run again on read (live_engines.cpp)
+        b.add_live_engine(a, [boxes, oriented, elements, test](const std::vector<Vec3>& x, LiveEngine& engine) {
+            const RoiSelection s = select_in_box_roi(x, elements, boxes, oriented, test);
+            for (auto& [name, mesh] : roi_element_outputs(s, elements)) engine.meshes[name] = std::move(mesh);
+            engine.meshes["quadInROI"] = engine.meshes["quadsInROI"];  // alias
+            for (auto& [name, indices] : roi_index_outputs(s)) engine.indices[name] = indices;
+        });
     });
     b.role(c, [n = boxes.size() + oriented.size(), num_points, selection, elements] {
         return describe_roi_selection(selection, num_points, elements, counted(n, "box", "boxes"));

@@ -215,6 +215,23 @@ std::vector<PointId> merged(const std::vector<PointId>& a, const std::vector<Poi
     return out;
 }
 
+/// PlaneROI::doUpdate: the union of the selections of each plane box.
+RoiSelection select_in_plane_roi(const std::vector<Vec3>& points, const RoiElements& elements,
+                                 const std::vector<double>& v) {
+    RoiSelection selection;
+    for (std::size_t i = 0; i < v.size(); i += 10) {
+        const PlaneRegion plane(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5]),
+                                Vec3(v[i + 6], v[i + 7], v[i + 8]), v[i + 9]);
+        const RoiSelection one = select_in_region(
+            points, elements, [&plane](const Vec3& p) { return plane.contains(p); }, ElementTest::all_points);
+        selection.points = merged(selection.points, one.points);
+        selection.edges = merged(selection.edges, one.edges);
+        selection.triangles = merged(selection.triangles, one.triangles);
+        selection.tetrahedra = merged(selection.tetrahedra, one.tetrahedra);
+    }
+    return selection;
+}
+
 void build_plane_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     RoiSelection selection;
@@ -228,16 +245,13 @@ void build_plane_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) 
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::plane_roi);
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::plane_roi, {.quads_and_hexahedra = false});
-        for (std::size_t i = 0; i < v.size(); i += 10) {
-            const PlaneRegion plane(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5]),
-                                    Vec3(v[i + 6], v[i + 7], v[i + 8]), v[i + 9]);
-            const RoiSelection one = select_in_region(
-                points, elements, [&plane](const Vec3& p) { return plane.contains(p); }, ElementTest::all_points);
-            selection.points = merged(selection.points, one.points);
-            selection.edges = merged(selection.edges, one.edges);
-            selection.triangles = merged(selection.triangles, one.triangles);
-            selection.tetrahedra = merged(selection.tetrahedra, one.tetrahedra);
-        }
+        selection = select_in_plane_roi(points, elements, v);
+        // over moving positions: run again on read (live_engines.cpp); no plane: the outputs stay
+        if (!v.empty())
+            b.add_live_engine(a, [elements, v](const std::vector<Vec3>& x, LiveEngine& engine) {
+                for (auto& [name, indices] : roi_index_outputs(select_in_plane_roi(x, elements, v)))
+                    engine.indices[name] = std::move(indices);
+            });
     });
     b.role(c, [selection, num_points, elements, num_planes] {
         return describe_roi_selection(selection, num_points, elements, counted(num_planes, "plane box", "plane boxes"));
@@ -260,7 +274,8 @@ constexpr AttributeSpec kSphereRoi[] = {
     {"triAngle", K::real, "0", "deg", ValueCheck::none, "> 0: keeps triangles with n.normal < cos"},
     {"angle", K::real, "0", "deg", ValueCheck::none, "alias of triAngle"},
     {"strict", K::boolean, "1", "", ValueCheck::none, "1: all points of an element inside; 0: its centre"},
-    {"doUpdate", K::boolean, "1", "", ValueCheck::none, "penalty selects once, at build"},
+    {"doUpdate", K::boolean, "1", "", ValueCheck::none,
+     "1: selects again when `position` links moving positions; 0: the selection of init stays"},
     PENALTY_ROI_POINTS,
     PENALTY_ROI_LISTS("edges", "edges"),
     PENALTY_ROI_LISTS("triangles", "triangles"),
@@ -291,6 +306,36 @@ constexpr AttributeSpec kSphereRoi[] = {
     {"drawSize", K::real, "1", "", ValueCheck::none, "drawing only"},
 };
 
+/// SphereROI's balls and element filters (SphereROI::roiDoUpdate), `direction` and `normal`
+/// normalised.
+struct SphereRoi {
+    std::vector<SphereRegion> spheres;
+    Vec3 direction;
+    Vec3 normal;
+    double edge_angle = 0;  ///< deg; > 0 filters the edges
+    double tri_angle = 0;   ///< deg; > 0 filters the triangles
+    ElementTest test = ElementTest::all_points;
+};
+
+RoiSelection select_in_sphere_roi(const std::vector<Vec3>& points, const RoiElements& elements, const SphereRoi& roi) {
+    ElementFilters filters;
+    if (roi.edge_angle > 0)
+        filters.edge = [&points, &roi](const Edge& e) {
+            return edge_passes_angle(points[std::size_t(e[0])], points[std::size_t(e[1])], roi.direction,
+                                     roi.edge_angle);
+        };
+    if (roi.tri_angle > 0)
+        filters.triangle = [&points, &roi](const Triangle& t) {
+            return triangle_passes_angle(points[std::size_t(t[0])], points[std::size_t(t[1])],
+                                         points[std::size_t(t[2])], roi.normal, roi.tri_angle);
+        };
+    const auto inside = [&roi](const Vec3& p) {
+        return std::any_of(roi.spheres.begin(), roi.spheres.end(),
+                           [&p](const SphereRegion& s) { return s.contains(p); });
+    };
+    return select_in_region(points, elements, inside, roi.test, filters);
+}
+
 void build_sphere_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     RoiSelection selection;
@@ -315,29 +360,20 @@ void build_sphere_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::base_roi);
         if (spheres.empty()) return;  // roiDoUpdate false: every output empty
-        const double edge_angle = a.real("edgeAngle");
-        const double tri_angle = a.has("triAngle") ? a.real("triAngle") : a.real("angle");
-        ElementFilters filters;
-        if (edge_angle > 0) {
-            Vec3 d = a.vector3("direction");
-            if (d.norm() > std::numeric_limits<double>::epsilon()) d /= d.norm();
-            filters.edge = [&points, d, edge_angle](const Edge& e) {
-                return edge_passes_angle(points[std::size_t(e[0])], points[std::size_t(e[1])], d, edge_angle);
-            };
-        }
-        if (tri_angle > 0) {
-            Vec3 n = a.vector3("normal");
-            if (n.norm() > std::numeric_limits<double>::epsilon()) n /= n.norm();
-            filters.triangle = [&points, n, tri_angle](const Triangle& t) {
-                return triangle_passes_angle(points[std::size_t(t[0])], points[std::size_t(t[1])],
-                                             points[std::size_t(t[2])], n, tri_angle);
-            };
-        }
-        const auto inside = [&spheres](const Vec3& p) {
-            return std::any_of(spheres.begin(), spheres.end(), [&p](const SphereRegion& s) { return s.contains(p); });
-        };
-        selection = select_in_region(points, elements, inside,
-                                     a.boolean("strict") ? ElementTest::all_points : ElementTest::center, filters);
+        SphereRoi roi{.spheres = std::move(spheres),
+                      .direction = a.vector3("direction"),
+                      .normal = a.vector3("normal"),
+                      .edge_angle = a.real("edgeAngle"),
+                      .tri_angle = a.has("triAngle") ? a.real("triAngle") : a.real("angle"),
+                      .test = a.boolean("strict") ? ElementTest::all_points : ElementTest::center};
+        if (roi.direction.norm() > std::numeric_limits<double>::epsilon()) roi.direction /= roi.direction.norm();
+        if (roi.normal.norm() > std::numeric_limits<double>::epsilon()) roi.normal /= roi.normal.norm();
+        selection = select_in_sphere_roi(points, elements, roi);
+        // over moving positions: run again on read (live_engines.cpp)
+        b.add_live_engine(a, [elements, roi](const std::vector<Vec3>& x, LiveEngine& engine) {
+            for (auto& [name, indices] : roi_index_outputs(select_in_sphere_roi(x, elements, roi), {"pointIndices"}))
+                engine.indices[name] = std::move(indices);
+        });
     });
     b.role(c, [selection, num_points, elements, num_spheres] {
         return describe_roi_selection(selection, num_points, elements, counted(num_spheres, "ball", "balls"));

@@ -173,12 +173,15 @@ public:
     /// The first point of each element of an engine's element output (SOFA's conversion of a link
     /// between Data of different types), empty when `t` names none.
     [[nodiscard]] std::vector<PointId> first_points_of_elements(const io::LinkTarget& t);
-    /// The Vec3d state whose positions attribute `attr` links (`@dofs.position`: a built
-    /// MechanicalObject's `position`, which the solve writes), or null (src/scene/live_engines.cpp).
-    [[nodiscard]] const Vec3Object* moving_input(const Attributes& a, std::string_view attr);
-    /// Makes engine `c` run again from `input`'s positions when a reader reads one of its outputs
-    /// after they changed (SOFA's DDGNode::updateIfDirty; src/scene/live_engines.cpp).
-    void add_live_engine(const io::SceneComponent& c, const Vec3Object& input, LiveEngine::Evaluate evaluate);
+    /// The moving points attribute `attr` links: a built Vec3d MechanicalObject's `position`
+    /// (`@dofs.position`, which the solve writes) or a point output of an engine that runs on read
+    /// (`@transform.output_position`); nullopt otherwise (src/scene/live_engines.cpp).
+    [[nodiscard]] std::optional<LivePoints> moving_input(const Attributes& a, std::string_view attr);
+    /// Makes engine `a.component()` (a kind of kLiveEngineKinds) run `evaluate` again when a reader
+    /// reads one of its outputs after its input points moved (SOFA's DDGNode::updateIfDirty);
+    /// nothing when its input does not link moving points or its `doUpdate` is 0
+    /// (src/scene/live_engines.cpp).
+    void add_live_engine(const Attributes& a, LiveEngine::Evaluate evaluate);
     /// Builds a data engine once: when a link first reads one of its outputs (SOFA evaluates
     /// engines on demand), else in its node's file order. Anything else: nothing.
     void build_data_engine(const io::SceneComponent& c);

@@ -1,12 +1,15 @@
 // Selection engines beyond the boxes, planes and balls (SOFA's Sofa/Component/Engine/Select):
 // MeshROI (points and elements inside a closed triangle mesh), ProximityROI (the N points nearest
 // a set of centres) and ValuesFromPositions (a scalar or vector field along a direction). Each
-// computes its outputs once, at build, and records them for links (`@roi.indices`, ...).
+// computes its outputs at build and records them for links (`@roi.indices`, ...); MeshROI and
+// ProximityROI over moving positions run again on read (live_engines.cpp).
 // Formulas: include/penalty/mechanics/selection_engines.hpp, docs/components/data_engines.md.
 #include "penalty/mechanics/selection_engines.hpp"
 #include "scene/builder/element_topology.hpp"
 #include "scene/builder/families.hpp"
 #include "scene/builder/regions_of_interest.hpp"
+
+#include <memory>
 
 namespace penalty::scene::builder {
 
@@ -63,7 +66,8 @@ constexpr AttributeSpec kMeshRoi[] = {
     PENALTY_ROI_FLAG("computeTetrahedra", "1", "0: that list is not tested"),
     PENALTY_ROI_FLAG("computeHexahedra", "1", "0: that list is not tested"),
     PENALTY_ROI_FLAG("strict", "0", "1: all points of an element inside; 0: all points, or else its centre"),
-    PENALTY_ROI_FLAG("doUpdate", "1", "penalty selects once, at build"),
+    PENALTY_ROI_FLAG("doUpdate", "1",
+                     "1: selects again when `position` links moving positions; 0: the selection of init stays"),
     {"box", K::numbers, "", "m", ValueCheck::none, "output: the ROI mesh's bounding box"},
     PENALTY_OUTPUT("indices"),
     PENALTY_OUTPUT("edgeIndices"),
@@ -105,13 +109,19 @@ void build_mesh_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
             read_element_list(b, a, "ROIedges", edges, &io::MeshData::edges, &MeshTopology::edges);
         }
         roi_triangles = triangles.size();
-        const MeshRegion region(std::move(roi_positions), std::move(triangles), a.boolean("computeMeshROI"));
+        auto region = std::make_shared<const MeshRegion>(std::move(roi_positions), std::move(triangles),
+                                                         a.boolean("computeMeshROI"));
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::base_roi);
-        selection = select_in_region(
-            points, elements, [&region](const Vec3& p) { return region.contains(p); },
-            a.boolean("strict") ? ElementTest::all_points : ElementTest::all_points_or_center);
+        const ElementTest test = a.boolean("strict") ? ElementTest::all_points : ElementTest::all_points_or_center;
+        const auto inside = [region](const Vec3& p) { return region->contains(p); };
+        selection = select_in_region(points, elements, inside, test);
+        // over moving positions: run again on read (live_engines.cpp); the ROI mesh stays
+        b.add_live_engine(a, [elements, inside, test](const std::vector<Vec3>& x, LiveEngine& engine) {
+            for (auto& [name, indices] : roi_index_outputs(select_in_region(x, elements, inside, test)))
+                engine.indices[name] = std::move(indices);
+        });
     });
     b.role(c, [selection, num_points, elements, roi_triangles] {
         return describe_roi_selection(selection, num_points, elements,
@@ -153,6 +163,16 @@ void build_proximity_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::plane_roi);
         num_points = points.size();
         s = proximity_roi(points, centers, radii, std::size_t(n));
+        // over moving positions: run again on read (live_engines.cpp); ProximityROI::doUpdate
+        // leaves its outputs as they are without centres, radii or N
+        if (!centers.empty() && !radii.empty() && n > 0)
+            b.add_live_engine(a, [centers, radii, n](const std::vector<Vec3>& x, LiveEngine& engine) {
+                ProximitySelection moved = proximity_roi(x, centers, radii, std::size_t(n));
+                engine.indices["indices"] = moved.indices;
+                engine.indices["pointIndices"] = std::move(moved.indices);
+                engine.indices["indicesOut"] = std::move(moved.indices_out);
+                engine.meshes["pointsInROI"].positions = std::move(moved.points);
+            });
     });
     b.role(c, [count = s.indices.size(), num_points] {
         return "selects " + std::to_string(count) + " of " + counted(num_points, "point", "points") +

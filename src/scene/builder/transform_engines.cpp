@@ -65,11 +65,10 @@ void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         if (p.inverse && (p.scale[0] == 0 || p.scale[1] == 0 || p.scale[2] == 0))
             a.fail("scale", "a zero factor has no inverse");
         out = transform_engine(input_points(b, a, "input_position", ""), p);
-        // over a state's positions, which the solve writes: run again on read (live_engines.cpp)
-        if (const Vec3Object* input = b.moving_input(a, "input_position"))
-            b.add_live_engine(c, *input, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
-                engine.meshes["output_position"].positions = transform_engine(x, p);
-            });
+        // over moving positions (a state's, which the solve writes): run again on read (live_engines.cpp)
+        b.add_live_engine(a, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
+            engine.meshes["output_position"].positions = transform_engine(x, p);
+        });
     });
     record_points(b, c, {"output_position"}, out);
     b.role(c, [n = out.size()] { return "transforms " + counted(n, "point", "points") + " (output_position)"; });
@@ -90,6 +89,8 @@ constexpr AttributeSpec kTransformPosition[] = {
     {"matrix", K::numbers, "(identity)", "", ValueCheck::none, "4x4 affine matrix, row by row (method affine)"},
     {"filename", K::text, "", "", ValueCheck::none, "the affine matrix (method fromFile): .tfm, .trm, .xfm, .txt"},
     {"fixedIndices", K::indices, "", "", ValueCheck::none, "points that keep their input position"},
+    {"output_position", K::points, "", "m", ValueCheck::none, "output (a written value is replaced)"},
+    {"outputPosition", K::points, "", "m", ValueCheck::none, "alias of output_position"},
     {"drawInput", K::boolean, "0", "", ValueCheck::none, "display only"},
     {"drawOutput", K::boolean, "0", "", ValueCheck::none, "display only"},
     {"pointSize", K::real, "1", "", ValueCheck::none, "display only"},
@@ -142,6 +143,11 @@ void build_transform_position(SceneBuilder& b, const SceneComponent& c, NodeBuil
         p.scale = a.vector3("scale");
         if (a.has("fixedIndices")) p.fixed_indices = b.indices(a, "fixedIndices");
         out = transform_position(input_points(b, a, "input_position", "inputPosition"), p);
+        b.add_live_engine(a, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
+            std::vector<Vec3> moved = transform_position(x, p);
+            engine.meshes["outputPosition"].positions = moved;  // alias
+            engine.meshes["output_position"].positions = std::move(moved);
+        });
     });
     record_points(b, c, {"output_position", "outputPosition"}, out);
     b.role(c, [n = out.size(), method = a.text("method")] {
