@@ -51,7 +51,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 12> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 13> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -77,6 +77,10 @@ constexpr std::array<SofaQuirkInfo, 12> kSofaQuirks{{
      "an "
      "error, not dropped with a warning as SOFA's *SetTopologyModifier::remove* do (command line or BuildOptions "
      "only)"},
+    {"incision_invalid_path", &SofaQuirkFixes::fix_incision_invalid_path,
+     "TopologicalChangeProcessor INCISE=: a segment whose path does not reach its end point across the surface is an "
+     "error, not skipped with the rest of its line as SOFA's processTopologicalChanges does (command line or "
+     "BuildOptions only)"},
     {"uniform_mass_lazy_write", &SofaQuirkFixes::fix_uniform_mass_lazy_write,
      "UniformMass: a totalMass or vertexMass written after init reaches the weight and the mass matrix at the same "
      "step, as a fresh scene, not the weight first with the old value as SOFA's lazy update callback does (command "

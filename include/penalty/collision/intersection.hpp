@@ -75,6 +75,11 @@ struct SofaQuirkFixes {
     /// TopologicalChangeProcessor files listing elements that no longer exist run on. true: such an
     /// index is an error naming the file and line, as any other bad change.
     bool fix_topology_removal_out_of_range = false;
+    /// A topology-change quirk: SOFA's TopologicalChangeProcessor::processTopologicalChanges logs
+    /// an error for an INCISE= segment whose path does not reach its end point across the surface
+    /// ("Invalid path in computeIntersectedPointsList") and skips the rest of the line. true: such
+    /// a segment is an error naming the file and line, and the line changes nothing.
+    bool fix_incision_invalid_path = false;
     /// A live-write quirk (docs/python.md): SOFA's UniformMass takes a totalMass or vertexMass
     /// written after init in its update callback (UniformMass::updateFromTotalMass /
     /// updateFromVertexMass), which runs at the first isComponentStateValid() of the next step:

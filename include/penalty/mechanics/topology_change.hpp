@@ -36,7 +36,18 @@ inline constexpr int kElementTypeCount = 6;
 
 /// The change an event reports (SOFA's TopologyChangeType: ...ADDED, ...REMOVED,
 /// POINTSRENUMBERING, ENDING_EVENT).
-enum class TopologyChangeKind : std::uint8_t { added, removed, renumbered, ending };
+/// `moved`: SOFA's POINTSMOVED, a state event only (TriangleSetTopologyModifier::movePointsProcess;
+/// SOFA's topology data ignore it).
+enum class TopologyChangeKind : std::uint8_t { added, removed, renumbered, ending, moved };
+
+/// SOFA's PointAncestorElem of a new point: the edge or triangle it lies in (by its vertices at
+/// the addition) and its local coordinates there (edge: [0] from vertex 0; triangle: [0], [1]
+/// along the edges from vertex 0, [2] along the unit normal).
+struct PointAncestorElement {
+    ElementType type = ElementType::point;
+    std::array<PointId, 3> vertices{};
+    std::array<double, 3> local{};
+};
 
 /// One event. Removal events are sent before the elements are removed (their indices are valid
 /// in the container then), addition events after the elements are appended.
@@ -55,6 +66,10 @@ struct TopologyChange {
     /// their barycentric coefficients (both may be empty).
     std::vector<std::vector<ElementId>> ancestors;
     std::vector<std::vector<double>> coefficients;
+    /// added points, when given: their ancestor elements; a state's coordinates (positions, rest
+    /// positions) then come from them (...SetGeometryAlgorithms::initPointAdded), its
+    /// derivatives stay weighted. moved points: `indices`, `ancestors`, `coefficients`.
+    std::vector<PointAncestorElement> ancestor_elements;
 
     /// Vertices of added element k.
     template <std::size_t N>

@@ -132,6 +132,14 @@ public:
     /// addPoints: appends `count` points (each one's value weighted from its ancestors, when given).
     void add_points(std::size_t count, const std::vector<std::vector<ElementId>>& ancestors = {},
                     const std::vector<std::vector<double>>& coefficients = {}, bool add_dof = true);
+    /// addPoints(n, srcElems): one point in each of `elements` (an edge or a triangle of this
+    /// container), weighted from its vertices; a state's coordinates placed as SOFA's
+    /// initPointAdded places them (src/mechanics/topology/topology_point_moves.cpp).
+    void add_points(const std::vector<PointAncestorElement>& elements);
+    /// TriangleSetTopologyModifier::movePointsProcess: each point of `ids` takes in every state
+    /// vector the weighted value of its ancestors; the topology data stay (SOFA's ignore it).
+    void move_points(const std::vector<PointId>& ids, const std::vector<std::vector<ElementId>>& ancestors,
+                     const std::vector<std::vector<double>>& coefficients);
     /// addEdges / addTriangles / ...: appends the elements and the lower elements they need
     /// (triangle edges, tetrahedron faces and edges, ...), as SOFA's add...Process. Throws
     /// std::invalid_argument (nothing changed) for a vertex out of range or repeated in an element.
@@ -176,7 +184,8 @@ private:
     void remove_warning(ElementType type, std::vector<ElementId>& indices);
     void remove_points_warning(std::vector<ElementId>& indices, bool remove_dof);
     void add_points_warning(std::size_t count, const std::vector<std::vector<ElementId>>& ancestors,
-                            const std::vector<std::vector<double>>& coefficients, bool add_dof);
+                            const std::vector<std::vector<double>>& coefficients, bool add_dof,
+                            const std::vector<PointAncestorElement>& elements = {});
     template <class Element>
     void add_warning(ElementType type, const std::vector<Element>& elements, ElementId first,
                      const std::vector<std::vector<ElementId>>& ancestors,

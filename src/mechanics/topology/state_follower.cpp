@@ -5,6 +5,7 @@
 #include "penalty/core/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace penalty {
 
@@ -73,6 +74,43 @@ void grow_weighted(std::vector<Value>& v, std::size_t old_size, const TopologyCh
     }
 }
 
+/// ...SetGeometryAlgorithms::initPointAdded for the coordinates of the added points: on an
+/// edge c0 + (c1 - c0) l0; in a triangle p0 + (p1 - p0) l0 + (p2 - p0) l1 + n l2 (n the unit
+/// normal (p1 - p0) x (p2 - p0)).
+void place_in_elements(std::vector<Vec3>& v, std::size_t old_size, const TopologyChange& change) {
+    for (std::size_t k = 0; k < change.ancestor_elements.size(); ++k) {
+        const PointAncestorElement& e = change.ancestor_elements[k];
+        const auto& l = e.local;
+        const Vec3 p0 = v[std::size_t(e.vertices[0])];
+        const Vec3 p1 = v[std::size_t(e.vertices[1])];
+        if (e.type == ElementType::edge) {
+            v[old_size + k] = p0 + (p1 - p0) * l[0];
+        } else if (e.type == ElementType::triangle) {
+            const Vec3 p2 = v[std::size_t(e.vertices[2])];
+            const Vec3 a = p1 - p0, b = p2 - p0;
+            Vec3 n(a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]);
+            const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            if (norm > 2.220446049250313e-16) n = Vec3(n[0] / norm, n[1] / norm, n[2] / norm);
+            v[old_size + k] = p0 + a * l[0] + b * l[1] + n * l[2];
+        }
+    }
+}
+template <class Value>
+void place_in_elements(std::vector<Value>&, std::size_t, const TopologyChange&) {}
+
+/// MechanicalObject::handleStateChange(POINTSMOVED): computeWeightedValue, point after point.
+template <class Value>
+void move_weighted(std::vector<Value>& v, const TopologyChange& change) {
+    if (v.empty()) return;
+    for (std::size_t k = 0; k < change.indices.size() && k < change.ancestors.size(); ++k) {
+        const auto& a = change.ancestors[k];
+        std::vector<double> c = change.coefficients.size() > k && !change.coefficients[k].empty()
+                                    ? change.coefficients[k]
+                                    : std::vector<double>(a.size(), 1.0 / double(a.size()));
+        v[std::size_t(change.indices[k])] = interpolate(v, a, c);
+    }
+}
+
 template <class Value>
 void renumber(std::vector<Value>& v, const std::vector<ElementId>& index) {
     if (v.size() < index.size()) return;
@@ -105,12 +143,21 @@ void StateTopologyFollower<DataTypes>::handle_state_change(const TopologyChange&
             break;
         case TopologyChangeKind::added:
             for (auto* v : {&s.position, &s.rest_position})
-                if (v->size() == n) grow_weighted(*v, n, change, retired_coords_);
+                if (v->size() == n) {
+                    grow_weighted(*v, n, change, retired_coords_);
+                    place_in_elements(*v, n, change);
+                }
             for (auto* v : {&s.velocity, &s.force, &s.external_force, &s.dx, &s.df})
                 if (v->size() == n) grow_weighted(*v, n, change, retired_derivs_);
             break;
         case TopologyChangeKind::renumbered:
             each([&](auto& v) { renumber(v, change.indices); });
+            break;
+        case TopologyChangeKind::moved:
+            for (const ElementId i : change.indices)
+                if (i < 0 || std::size_t(i) >= n)
+                    throw_invalid_argument("state '", s.name, "': cannot move point ", i, " of ", n);
+            each([&](auto& v) { move_weighted(v, change); });
             break;
         case TopologyChangeKind::ending:
             break;

@@ -21,6 +21,7 @@ bool TopologicalMappingFollower::forward_common(const TopologyChange& c) {
             output_->remove_points(c.indices, false);
             return true;
         case TopologyChangeKind::renumbered:
+        case TopologyChangeKind::moved:
             return false;
     }
     return false;

@@ -324,7 +324,8 @@ void TopologyContainer::remove_points_warning(std::vector<ElementId>& indices, b
 // PointSetTopologyModifier::addPointsWarning: the new points are the last `count`; the states
 // grow first (with `add_dof`), then the event joins the list.
 void TopologyContainer::add_points_warning(std::size_t count, const std::vector<std::vector<ElementId>>& ancestors,
-                                           const std::vector<std::vector<double>>& coefficients, bool add_dof) {
+                                           const std::vector<std::vector<double>>& coefficients, bool add_dof,
+                                           const std::vector<PointAncestorElement>& elements) {
     set_dirty(ElementType::point);
     TopologyChange c;
     c.kind = TopologyChangeKind::added;
@@ -333,6 +334,7 @@ void TopologyContainer::add_points_warning(std::size_t count, const std::vector<
     for (std::size_t i = 0; i < count; ++i) c.indices.push_back(ElementId(first + i));
     c.ancestors = ancestors;
     c.coefficients = coefficients;
+    c.ancestor_elements = elements;
     if (add_dof) {
         state_changes_.push_back(c);
         propagate_state_changes();

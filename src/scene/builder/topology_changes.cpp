@@ -14,7 +14,7 @@ using K = AttributeKind;
 using F = ComponentFamily;
 
 constexpr AttributeSpec kProcessor[] = {
-    {"filename", K::text, "", "", ValueCheck::none, "file of timed REMOVE= / ADD= commands (SOFA's format)"},
+    {"filename", K::text, "", "", ValueCheck::none, "file of timed REMOVE= / ADD= / INCISE= commands (SOFA's format)"},
     {"interval", K::real, "0", "s", ValueCheck::nonnegative, "useDataInputs: time between two removals (0: once)"},
     {"shift", K::real, "0", "s", ValueCheck::none, "added to the time before the file's times are compared"},
     {"loop", K::boolean, "0", "", ValueCheck::none, "read the file again from its start at its end"},
@@ -28,9 +28,12 @@ constexpr AttributeSpec kProcessor[] = {
     {"hexahedraToRemove", K::indices, "", "", ValueCheck::none, "useDataInputs: hexahedra (or a link)"},
     {"topology", K::link, "", "", ValueCheck::none, "the topology changed (default: the node's)"},
     {"listening", K::boolean, "1", "", ValueCheck::none, "no effect: always listening"},
-    {"saveIndicesAtInit", K::boolean, "0", "", ValueCheck::none, "INCISE= only (refused)"},
-    {"epsilonSnapPath", K::real, "0.1", "", ValueCheck::none, "INCISE= only (refused)"},
-    {"epsilonSnapBorder", K::real, "0.25", "", ValueCheck::none, "INCISE= only (refused)"},
+    {"saveIndicesAtInit", K::boolean, "0", "", ValueCheck::none,
+     "INCISE=: locate the cuts' points at init and follow them (refused with INCISE= lines)"},
+    {"epsilonSnapPath", K::real, "0.1", "", ValueCheck::none,
+     "INCISE= with saveIndicesAtInit only (SOFA's file mode snaps at 0.1)"},
+    {"epsilonSnapBorder", K::real, "0.25", "", ValueCheck::none,
+     "INCISE= with saveIndicesAtInit only (SOFA's file mode snaps at 0.25)"},
     {"draw", K::boolean, "0", "", ValueCheck::none, "drawing only"},
 };
 

@@ -127,6 +127,7 @@ void add_processor(TopologyWiring& w, const SceneComponent& c) {
     tcp->interval_ = a.real("interval");
     tcp->data_inputs_ = a.boolean("useDataInputs");
     tcp->refuse_out_of_range_ = w.builder.options().sofa_quirk_fixes.fix_topology_removal_out_of_range;
+    tcp->refuse_invalid_incision_ = w.builder.options().sofa_quirk_fixes.fix_incision_invalid_path;
     if (tcp->data_inputs_) {
         tcp->time_to_remove_ = a.real("timeToRemove");
         static constexpr std::pair<const char*, ElementType> kLists[] = {
@@ -159,6 +160,13 @@ void add_processor(TopologyWiring& w, const SceneComponent& c) {
         text << in.rdbuf();
         w.builder.guarded(c, [&] { tcp->file_.emplace(text.str(), path.string()); });
         for (const std::string& note : tcp->file_->notes()) w.builder.warn(note);
+        if (tcp->file_->has_incisions() && a.boolean("saveIndicesAtInit")) {
+            // SOFA's inciseWithSavedIndices snaps with the attributes (its file mode with 0.1, 0.25)
+            tcp->save_indices_at_init_ = true;
+            tcp->epsilon_snap_path_ = a.real("epsilonSnapPath");
+            tcp->epsilon_snap_border_ = a.real("epsilonSnapBorder");
+            w.builder.guarded(c, [&] { (void)tcp->file_->timed_incisions(); });
+        }
         check_changeable(w, c, target);
     }
     w.runtime.sources.push_back(std::move(tcp));

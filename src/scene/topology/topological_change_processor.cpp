@@ -103,8 +103,29 @@ void TopologyChangeFile::check() {
                                  "': as SOFA, the missing ones read as 0");
             ++i;
         } else if (cmd == "INCISE=") {
-            throw_invalid_argument(at(i), ": 'INCISE=' (cutting along a path) is not supported by penalty");
+            check_incision(i, in);
+            ++i;
         }
+    }
+    // a block (from one T= to the next) cuts or removes/adds, not both: penalty applies a step's
+    // REMOVE=/ADD= lines together before anything else
+    std::size_t block = 0;
+    bool cuts = false, edits = false;
+    for (std::size_t i = 0; i < lines_.size(); ++i) {
+        std::istringstream in(lines_[i]);
+        std::string cmd;
+        if (!(in >> cmd)) continue;
+        if (cmd == "T=") {
+            block = i;
+            cuts = edits = false;
+        }
+        cuts = cuts || cmd == "INCISE=";
+        edits = edits || cmd == "REMOVE=" || cmd == "ADD=";
+        if (cuts && edits)
+            throw_invalid_argument(at(i), ": the block of ", at(block),
+                                   " mixes INCISE= with REMOVE=/ADD= lines, which penalty does not order (put them "
+                                   "in blocks of their own)");
+        if (cmd == "INCISE=" || cmd == "REMOVE=" || cmd == "ADD=") ++i;
     }
 }
 
@@ -146,6 +167,16 @@ std::vector<TopologyChangeFile::Command> TopologyChangeFile::commands(const std:
         std::istringstream str(lines_[lines[k]]);
         std::string buff;
         str >> buff;
+        if (buff == "INCISE=") {
+            if (k + 1 >= lines.size()) break;  // its values lie in the next step's lines
+            Command c;
+            c.line = lines[k];
+            c.incise = true;
+            c.cut = incision_at(lines[k]);
+            out.push_back(std::move(c));
+            ++k;
+            continue;
+        }
         if (buff != "REMOVE=" && buff != "ADD=") continue;
         Command c;
         c.line = lines[k];
@@ -204,9 +235,11 @@ void TopologicalChangeProcessorSource::fail(std::size_t line, const std::string&
 // TopologicalChangeProcessor::handleEvent(AnimateBeginEvent).
 void TopologicalChangeProcessorSource::begin_step(double time) {
     if (data_inputs_) return remove_data_inputs(time);
+    if (save_indices_at_init_ && !saved_) save_incisions_once();
     const auto lines = file_->read_next(time + shift_, loop_);
     auto commands = file_->commands(lines);
     if (commands.empty()) return;
+    if (commands.front().incise) return incise(commands, time);  // a block cuts or edits (check())
     TopologyContainer& c = *target_->container;
     // every command checked first, against the counts the earlier ones leave
     try {

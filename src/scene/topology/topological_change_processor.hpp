@@ -3,9 +3,12 @@
 // topological_change_processor.cpp).
 #include "scene/topology/topology_runtime.hpp"
 
+#include "penalty/mechanics/triangle_incision.hpp"
+
 #include <array>
 #include <functional>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +25,8 @@ public:
         std::size_t line = 0;            ///< the command's line (0-based); its values are on the next
         std::optional<ElementType> add;  ///< ADD= of this type; none: REMOVE=
         std::vector<ElementId> values;   ///< indices (REMOVE=) or vertices (ADD=), missing ones 0
+        bool incise = false;             ///< INCISE=: `cut` holds its points
+        IncisionLine cut;
     };
     /// readNext: the lines to apply at `time` (SOFA's validLines), advancing the reading state.
     std::vector<std::size_t> read_next(double time, bool loop);
@@ -31,9 +36,19 @@ public:
     [[nodiscard]] std::string at(std::size_t line) const;
     /// Remarks for `penalty info` (counts SOFA completes with zeros).
     [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
+    /// True when the file has INCISE= lines.
+    [[nodiscard]] bool has_incisions() const { return has_incisions_; }
+    /// saveIndices: each INCISE= line with the time of the T= line just before it (blank lines
+    /// aside). Throws std::invalid_argument naming the line for an INCISE= line without one, or a
+    /// second INCISE= line in a block (SOFA would cut their merged points twice).
+    [[nodiscard]] std::vector<std::pair<double, IncisionLine>> timed_incisions() const;
 
 private:
     void check();
+    /// An INCISE= command at line i: `INCISE= n`, then n points (x y z, or triangle x y z).
+    void check_incision(std::size_t i, std::istringstream& in);
+    /// The points of the INCISE= command at line i (checked by check_incision).
+    [[nodiscard]] IncisionLine incision_at(std::size_t i) const;
     std::string read_line();
     std::string name_;
     std::vector<std::string> lines_;
@@ -42,6 +57,7 @@ private:
     bool eof_ = false;
     double next_time_ = 0, loop_time_ = 0;
     std::string cmd_;  ///< SOFA's `cmd`, kept from line to line
+    bool has_incisions_ = false;
 };
 
 class TopologicalChangeProcessorSource final : public TopologyChangeSource {
@@ -67,10 +83,25 @@ public:
     /// SofaQuirkFixes::fix_topology_removal_out_of_range: a removed element past the end is an
     /// error; false (SOFA): it is dropped with a warning on stderr.
     bool refuse_out_of_range_ = false;
+    /// INCISE=: SOFA's snapping thresholds (the file mode's processTopologicalChanges passes 0.1
+    /// and 0.25 whatever the attributes say), and SofaQuirkFixes::fix_incision_invalid_path (a
+    /// refused segment is an error; false (SOFA): the rest of its line is skipped with a warning).
+    double epsilon_snap_path_ = 0.1, epsilon_snap_border_ = 0.25;
+    bool refuse_invalid_incision_ = false;
+    /// saveIndicesAtInit: the cuts located at the first step (SOFA's init), then followed.
+    bool save_indices_at_init_ = false;
+    std::optional<std::vector<SavedIncision>> saved_;
 
 private:
     using Command = TopologyChangeFile::Command;
     void remove_data_inputs(double time);
+    /// The INCISE= commands of a step, in order (src/scene/topology/incision_commands.cpp): each
+    /// run first on a copy of the topology and its positions, then on the topology when it
+    /// succeeds, so that a bad line changes nothing.
+    void incise(const std::vector<Command>& commands, double time);
+    /// saveIndicesAtInit: the file's cuts located on the topology as it is (the first step).
+    void save_incisions_once();
+    [[nodiscard]] int saved_index(double time) const;
     [[noreturn]] void fail(std::size_t line, const std::string& what) const;
     /// Drops a removal's indices at or past `count` with a warning (SOFA's modifiers).
     void drop_out_of_range(Command& cmd, ElementType type, std::size_t count) const;

@@ -1,0 +1,103 @@
+// TopologicalChangeProcessor INCISE= lines in a built scene (tests/scene/data/incision_sheet.scn: a
+// 3 x 2 sheet with DiagonalMass, TriangularFEMForceField and TriangularBendingSprings, cut twice):
+// the states' sizes SOFA HEAD gives the same scene, a cut separating the sheet, and bad lines
+// refused by file and line with nothing changed.
+#include "penalty/mechanics/triangle_incision.hpp"
+#include "penalty/scene/scene.hpp"
+#include "penalty_test/scene_text.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace penalty {
+namespace {
+
+using ::testing::HasSubstr;
+
+const std::filesystem::path kIncisionData = std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data";
+
+/// incision_sheet.scn with its change file replaced by `changes` (a file written for the test),
+/// `attributes` added to the processor.
+std::string incision_scene(const std::string& changes, const std::string& attributes = "") {
+    std::ifstream in(kIncisionData / "incision_sheet.scn");
+    std::ostringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    const std::string from = R"(filename="incision_sheet.txt")";
+    const auto dir = std::filesystem::temp_directory_path() / "penalty_incision";
+    std::filesystem::create_directories(dir);
+    const auto file = dir / "changes.txt";
+    std::ofstream(file) << changes;
+    s.replace(s.find(from), from.size(), "filename=\"" + file.string() + "\" " + attributes);
+    return s;
+}
+
+std::size_t incision_points(scene::Scene& s) { return s.topology_container("surface").num_points(); }
+
+// SOFA HEAD on incision_sheet.scn (sofa-head, --every 1): 12 points, 18 after the step at
+// t = 0.05, 32 after the one at t = 0.1.
+TEST(IncisionScene, SheetIsCutAtTheFilesTimesWithSofasPointCounts) {
+    auto s = scene::load_scene(kIncisionData / "incision_sheet.scn");
+    const MeshTopology& m = s->topology_container("surface").mesh();
+    for (int k = 0; k < 5; ++k) s->step();
+    EXPECT_EQ(incision_points(*s), 12U);
+    EXPECT_EQ(count_connected_components(m.triangles(), incision_points(*s)), 1U);
+    s->step();  // t = 0.05: across the sheet, the left column falls off
+    EXPECT_EQ(incision_points(*s), 18U);
+    EXPECT_EQ(m.triangles().size(), 16U);
+    EXPECT_EQ(count_connected_components(m.triangles(), incision_points(*s)), 2U);
+    for (int k = 0; k < 5; ++k) s->step();  // t = 0.1: a cut of two segments inside the right part
+    EXPECT_EQ(incision_points(*s), 32U);
+    EXPECT_EQ(count_connected_components(m.triangles(), incision_points(*s)), 2U);
+    for (const auto& st : s->states()) EXPECT_EQ(st.state->num_dofs(), 32U);
+}
+
+TEST(IncisionScene, BadLinesAreRefusedByFileAndLineAndChangeNothing) {
+    // read at build
+    EXPECT_THAT(test::error_of(incision_scene("T= 0.01\n  INCISE= 2\n1.15 0.05 0 1.15 1.95\n")),
+                HasSubstr("changes.txt:3: 5 values for 'INCISE= 2': expected 6 (x y z per point) or 8"));
+    EXPECT_THAT(test::error_of(incision_scene("T= 0.01\n  INCISE= 1\n1.15 0.05 0\n")),
+                HasSubstr("changes.txt:2: 'INCISE=' needs the count of the cut's points (2 or more)"));
+    EXPECT_THAT(test::error_of(incision_scene("T= 0.01\n  INCISE= 2\n1.15 0.05 0 1.15 x 0\n")),
+                HasSubstr("changes.txt:3: 'x' is not a number"));
+    EXPECT_THAT(test::error_of(incision_scene("T= 0.01\n  INCISE= 2\n1.15 0.05 0 1.15 1.95 0\n  REMOVE= 1\n0\n")),
+                HasSubstr("mixes INCISE= with REMOVE=/ADD= lines"));
+    // when the step comes: a point in no triangle (the second segment's end), nothing cut
+    const std::string outside = incision_scene("T= 0.01\n  INCISE= 3\n1.15 0.05 0 1.15 1.95 0 5 1 0\n");
+    auto s = test::build(outside);
+    s->step();
+    try {
+        s->step();
+        ADD_FAILURE() << "no error";
+    } catch (const io::SceneError& e) {
+        EXPECT_THAT(e.what(), HasSubstr("TopologicalChangeProcessor"));
+        EXPECT_THAT(e.what(), HasSubstr("changes.txt:3: INCISE=: point 3 (5 1 0) is in no triangle"));
+    }
+    EXPECT_EQ(incision_points(*s), 12U);
+    EXPECT_EQ(s->topology_container("surface").mesh().triangles().size(), 12U);
+}
+
+// A segment that stays inside one triangle: SOFA's "Invalid path" skips the rest of its line (a
+// warning), and the next line cuts; with the fix, an error and nothing cut.
+TEST(IncisionScene, InvalidPathIsSkippedAsSofaOrRefusedWithTheFix) {
+    const std::string text =
+        incision_scene("T= 0.01\n  INCISE= 2\n0.6 0.2 0 0.8 0.3 0\nT= 0.02\n  INCISE= 2\n1.15 0.05 0 1.15 1.95 0\n");
+    auto s = test::build(text);
+    for (int k = 0; k < 2; ++k) s->step();
+    EXPECT_EQ(incision_points(*s), 12U);  // skipped
+    s->step();
+    EXPECT_EQ(incision_points(*s), 18U);  // the next line cuts
+    scene::BuildOptions fixed;
+    fixed.sofa_quirk_fixes.fix_incision_invalid_path = true;
+    auto t = test::build(text, fixed);
+    t->step();
+    EXPECT_THROW(t->step(), io::SceneError);
+    EXPECT_EQ(incision_points(*t), 12U);
+}
+
+}  // namespace
+}  // namespace penalty
