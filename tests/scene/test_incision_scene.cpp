@@ -4,6 +4,7 @@
 // refused by file and line with nothing changed.
 #include "penalty/mechanics/triangle_incision.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/paths.hpp"
 #include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
@@ -18,7 +19,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-const std::filesystem::path kIncisionData = std::filesystem::path(PENALTY_SOURCE_DIR) / "tests/scene/data";
+const std::filesystem::path kIncisionData = penalty::test::source_dir() / "tests/scene/data";
 
 /// incision_sheet.scn with its change file replaced by `changes` (a file written for the test),
 /// `attributes` added to the processor.
