@@ -233,6 +233,7 @@ std::string contact_advice(const Scene& scene, std::optional<double> impact_spee
       << " model pairs may tunnel at the scene's dt and ks\n";
     // the pairs, the unsafe ones first, the most demanding first
     std::vector<const PairAdvice*> order;
+    order.reserve(pairs.size());
     for (const PairAdvice& a : pairs) order.push_back(&a);
     std::stable_sort(order.begin(), order.end(), [](const PairAdvice* x, const PairAdvice* y) {
         if (x->safe() != y->safe()) return !x->safe();

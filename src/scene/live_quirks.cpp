@@ -29,7 +29,8 @@ std::vector<double> nonnegative_numbers(std::string_view text, const std::string
         char* end = nullptr;
         const double v = std::strtod(word.c_str(), &end);
         if (end == word.c_str() || *end != '\0' || !std::isfinite(v) || v < 0)
-            throw std::invalid_argument(what + ": expected numbers >= 0, found '" + word + "'");
+            throw std::invalid_argument(
+                std::string(what).append(": expected numbers >= 0, found '").append(word).append("'"));
         out.push_back(v);
     }
     if (out.empty()) throw std::invalid_argument(what + ": expected at least one number");

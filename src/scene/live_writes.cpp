@@ -55,7 +55,8 @@ std::vector<double> numbers_of(std::string_view text, const std::string& what) {
         char* end = nullptr;
         const double v = std::strtod(word.c_str(), &end);
         if (end == word.c_str() || *end != '\0' || !std::isfinite(v))
-            throw std::invalid_argument(what + ": expected finite numbers, found '" + word + "'");
+            throw std::invalid_argument(
+                std::string(what).append(": expected finite numbers, found '").append(word).append("'"));
         out.push_back(v);
     }
     return out;

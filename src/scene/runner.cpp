@@ -2,6 +2,7 @@
 
 #include "penalty/output/output_file.hpp"
 
+#include "penalty/io/error.hpp"
 #include "penalty/output/format.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/output/stats_csv.hpp"
@@ -371,6 +372,15 @@ void step_naming_failures(Scene& scene, std::int64_t k, double t) {
     } catch (const NonFiniteSolveError& e) {
         check_finite_states(scene, k, t);
         report_non_finite_solve(scene, k, t, e);
+    } catch (const io::LoadError& e) {
+        // Bad input met during the step (a topological change file naming elements that do not
+        // exist, an incision path outside the mesh): still bad input (exit 1), with the step named.
+        check_finite_states(scene, k, t);
+        throw io::LoadError("step " + std::to_string(k) + " (t = " + output::format_number(t) + " s): " + e.what());
+    } catch (const std::invalid_argument& e) {
+        check_finite_states(scene, k, t);
+        throw std::invalid_argument("step " + std::to_string(k) + " (t = " + output::format_number(t) +
+                                    " s): " + e.what());
     } catch (const std::exception& e) {
         // Any other error of the step: name the state that diverged first, if one did
         // (non-finite solves are NonFiniteSolveError, handled above).
@@ -622,6 +632,7 @@ std::vector<std::filesystem::path> reference_files(const std::filesystem::path& 
                                                    const std::filesystem::path& scene_file,
                                                    const std::vector<std::filesystem::path>& state_files) {
     std::vector<std::filesystem::path> out;
+    out.reserve(state_files.size());
     for (const auto& f : state_files)
         out.push_back(reference_dir / (scene_file.filename().string() + ".reference_" + f.filename().string()));
     return out;

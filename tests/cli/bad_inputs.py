@@ -303,6 +303,13 @@ case("info on a second mass", 1, ["bad.scn:14", "line 13"],
      scene=ball('<UniformMass name="mass" totalMass="1"/>', '<UniformMass name="mass" totalMass="1"/>\n        <UniformMass totalMass="1"/>'),
      args=["info"])
 
+# ---- bad input met during the run: still exit 1, naming the step, file, line and component -------
+SHEET = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scene", "data", "incision_sheet.scn"),
+             encoding="utf-8").read()
+case("incision point in no triangle (at the step)", 1, ["step ", "cut.txt:3", "TopologicalChangeProcessor", "no triangle"],
+     scene=edit(SHEET, 'filename="incision_sheet.txt"', 'filename="cut.txt"'),
+     files={"cut.txt": "T= 0.02\n  INCISE= 2\n1.15 0.05 0 9 9 0\n"}, args=["--steps", "5"])
+
 
 def run_case(index, c):
     d = os.path.join(work, f"case{index:03d}")

@@ -115,7 +115,7 @@ std::vector<SavedIncision> save_incisions(TopologyContainer& container, const st
     std::vector<SavedIncision> saved;
     for (const auto& [time, line] : lines) {
         auto it = std::find_if(saved.begin(), saved.end(),
-                               [&](const SavedIncision& s) { return std::fabs(time - s.time) < 1e-10; });
+                               [when = time](const SavedIncision& s) { return std::fabs(when - s.time) < 1e-10; });
         if (it == saved.end()) {
             saved.push_back({time, {}, {}, {}});
             it = saved.end() - 1;

@@ -89,7 +89,7 @@ bool split_point_edge(const SplitContext& c, std::size_t i, bool point_first) {
     const auto [id, tri] = c.triangle_with(edge, point);
     const int v = vertex_in_triangle(tri, point);
     if (v < 0) return false;
-    const auto at = [&](int k) { return tri[std::size_t((v + k) % 3)]; };
+    const auto at = [&v, &corners = tri](int k) { return corners[std::size_t((v + k) % 3)]; };
     if (point_first) {
         c.plan.add({at(0), on_edge, at(2)}, id);
         c.plan.add({at(0), at(1), on_edge}, id);

@@ -132,7 +132,7 @@ std::string describe_model(SceneBuilder& b, const CollisionModel& m, const std::
 
 /// Registers a built model (its role, its unread attributes) with the scene.
 void add_model(SceneBuilder& b, const SceneComponent& c, NodeBuild& info, std::unique_ptr<CollisionModel> model,
-               std::string shape = {}) {
+               const std::string& shape = {}) {
     b.note_unread_attributes(c);
     b.role(c, [&b, m = model.get(), shape] { return describe_model(b, *m, shape); });
     // The model's node for the same-node rule is its own (params().node); the node holding its

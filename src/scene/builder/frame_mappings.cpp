@@ -47,7 +47,7 @@ T& as_state(BaseState& s, const Attributes& a, std::string_view attr, const char
     return *typed;
 }
 
-void finish(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, std::string how) {
+void finish(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const std::string& how) {
     BaseMapping* mapping = info.node->mapping();
     b.add_init(0, c, [mapping] { mapping->init(); });
     b.role(c, [out = info.node->state(), how] {

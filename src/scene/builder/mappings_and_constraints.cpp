@@ -84,7 +84,7 @@ MappingEnds mapping_ends(SceneBuilder& b, const Attributes& a, const NodeBuild& 
 
 /// Registers the mapping's init (phase 0, top-down) and its `penalty info` line.
 void finish_mapping(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const MappingEnds& ends,
-                    std::string how) {
+                    const std::string& how) {
     BaseMapping* mapping = info.node->mapping();
     b.record_origin(mapping, c);
     b.add_init(0, c, [mapping] { mapping->init(); });

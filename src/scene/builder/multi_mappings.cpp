@@ -58,7 +58,7 @@ T* as(BaseState* s) {
     return dynamic_cast<T*>(s);
 }
 
-void finish(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, std::string how) {
+void finish(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const std::string& how) {
     BaseMapping* mapping = info.node->mapping();
     b.record_origin(mapping, c);
     b.add_init(0, c, [mapping] { mapping->init(); });

@@ -131,7 +131,7 @@ void build_transform_position(SceneBuilder& b, const SceneComponent& c, NodeBuil
             const std::vector<double> m = a.numbers("matrix");
             if (m.size() != 16) a.fail("matrix", "expected 16 numbers (a 4x4 matrix, row by row)");
             for (int r = 0; r < 4; ++r)
-                for (int k = 0; k < 4; ++k) p.matrix(r, k) = m[std::size_t(4 * r + k)];
+                for (int k = 0; k < 4; ++k) p.matrix(r, k) = m[4 * std::size_t(r) + std::size_t(k)];
         }
         p.method = position_method(a, b, p.matrix);
         p.origin = a.vector3("origin");

@@ -39,7 +39,7 @@ std::optional<ElementType> added_type(const std::string& keyword) {
 
 // ---- the file -----------------------------------------------------------------------------------
 
-TopologyChangeFile::TopologyChangeFile(std::string text, std::string name) : name_(std::move(name)) {
+TopologyChangeFile::TopologyChangeFile(const std::string& text, std::string name) : name_(std::move(name)) {
     // getline's pieces: a final newline gives one more (empty) line, read with the end of file
     std::size_t start = 0;
     for (;;) {

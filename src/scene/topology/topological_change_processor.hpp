@@ -19,7 +19,7 @@ class TopologyChangeFile {
 public:
     /// `name`: the file as errors name it. Throws std::invalid_argument naming name:line for a
     /// malformed command.
-    TopologyChangeFile(std::string text, std::string name);
+    TopologyChangeFile(const std::string& text, std::string name);
 
     struct Command {
         std::size_t line = 0;            ///< the command's line (0-based); its values are on the next
