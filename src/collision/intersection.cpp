@@ -358,7 +358,7 @@ bool has_vertex(const CollisionModel& m, Index e, Index v) {
     }
 }
 
-const void* state_of(const CollisionModel& m) {
+const void* model_state_address(const CollisionModel& m) {
     switch (m.type()) {
         case ModelType::Point:
             return &static_cast<const PointModel&>(m).state();
@@ -400,7 +400,8 @@ bool elements_may_collide(const CollisionModel& m1, Index e1, const CollisionMod
         return true;
     }
     // a mesh element vs a point of the same state that is one of its vertices
-    if (m2.type() == ModelType::Point && state_of(m1) == state_of(m2)) return !has_vertex(m1, e1, e2);
+    if (m2.type() == ModelType::Point && model_state_address(m1) == model_state_address(m2))
+        return !has_vertex(m1, e1, e2);
     return true;
 }
 

@@ -1,6 +1,7 @@
 // SOFA's RayTraceNarrowPhase (RayTraceNarrowPhase::addCollisionPair, findPairsVolume) and the
 // per-step data of TriangleOctreeCollisionModel (computeBoundingTree), re-implemented.
 #include "penalty/collision/ray_trace_narrow_phase.hpp"
+#include "mechanics/sofa_vector_ops.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,7 @@ namespace penalty {
 
 namespace {
 
-double dot3(const Vec3& a, const Vec3& b) { return a.x() * b.x() + a.y() * b.y() + a.z() * b.z(); }
+using sofa_vec::dot3;
 
 /// SOFA's Vec::normalize: divided by its norm when the norm exceeds machine epsilon, else kept.
 void normalize_like_sofa(Vec3& v) {

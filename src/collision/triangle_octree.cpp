@@ -1,6 +1,7 @@
 // SOFA's helper::TriangleOctree (TriangleOctreeRoot::buildOctree / fillOctree,
 // TriangleOctree::insert / trace / nearestTriangle), re-implemented: the cells, the order of the
 // walk and the arithmetic are SOFA's, so the triangle a ray finds is SOFA's.
+#include "mechanics/sofa_vector_ops.hpp"
 #include "penalty/collision/ray_trace_narrow_phase.hpp"
 
 #include <algorithm>
@@ -15,7 +16,7 @@ constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 constexpr double kFar = 1e9;  // the walk's "infinite" cell parameter (SOFA's INF)
 
 // SOFA's Vec dot and cross, left to right (no reassociation).
-double dot3(const Vec3& a, const Vec3& b) { return a.x() * b.x() + a.y() * b.y() + a.z() * b.z(); }
+using sofa_vec::dot3;
 Vec3 cross3(const Vec3& a, const Vec3& b) {
     return {a.y() * b.z() - a.z() * b.y(), a.z() * b.x() - a.x() * b.z(), a.x() * b.y() - a.y() * b.x()};
 }

@@ -28,7 +28,7 @@ void AttachProjectiveConstraint<DataTypes>::init() {
 
 namespace {
 
-double distance(const Vec3& a, const Vec3& b) {
+double sofa_distance(const Vec3& a, const Vec3& b) {
     const Vec3 d = a - b;
     return std::sqrt(sofa_vec::dot3(d, d));
 }
@@ -41,7 +41,7 @@ void AttachProjectiveConstraint<Vec3Types>::project_position() {
     for (std::size_t k = 0; k < pairs(); ++k) {
         const Vec3 x1 = object1_->position[static_cast<std::size_t>(p_.indices1[k])];
         Vec3& x2 = object2_->position[static_cast<std::size_t>(p_.indices2[k])];
-        if (p_.min_distance != -1 && distance(x2, x1) > p_.min_distance) {
+        if (p_.min_distance != -1 && sofa_distance(x2, x1) > p_.min_distance) {
             released_[k] = 1;
             continue;
         }
@@ -56,7 +56,7 @@ void AttachProjectiveConstraint<Rigid3Types>::project_position() {
     for (std::size_t k = 0; k < pairs(); ++k) {
         const RigidFrame x1 = object1_->position[static_cast<std::size_t>(p_.indices1[k])];
         RigidFrame& x2 = object2_->position[static_cast<std::size_t>(p_.indices2[k])];
-        if (p_.min_distance != -1.0 && distance(x2.center, x1.center) > p_.min_distance) {
+        if (p_.min_distance != -1.0 && sofa_distance(x2.center, x1.center) > p_.min_distance) {
             released_[k] = 1;
             continue;
         }

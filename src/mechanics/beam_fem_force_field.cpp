@@ -13,9 +13,7 @@ BeamFEMForceField::BeamFEMForceField(Rigid3Object& state, std::vector<std::array
 
 namespace {
 
-double in_element(const std::vector<double>& values, std::size_t i) {
-    return i < values.size() ? values[i] : values.front();
-}
+using sofa_vec::in_element;
 
 /// BeamFEMForceField::BeamInfo::init then computeStiffness (φy = φz = 0: SOFA's shear areas are 0).
 BeamFEMForceField::Stiffness beam_local_stiffness(double e, double nu, double length, double r, double r_in) {

@@ -267,7 +267,7 @@ void TetrahedronFEMForceField::init_elements(std::size_t first) {
 // ---- tetrahedron, method large, in SOFA's operation order ----------------------------------------
 namespace {
 using Displacement = Eigen::Matrix<double, 12, 1>;  // per vertex k, components 3k … 3k+2
-using StrainDisplacement = Eigen::Matrix<double, 12, 6>;
+using TetraStrainDisplacement = Eigen::Matrix<double, 12, 6>;
 using MaterialMatrix = Eigen::Matrix<double, 6, 6>;
 
 /// Rows (x̂, ŷ, ẑ): x̂ = (b − a)/|b − a|, ẑ = (x̂ × (c − a))/|x̂ × (c − a)|, ŷ = ẑ × x̂
@@ -293,8 +293,8 @@ double minor_sum(const Vec3& u, const Vec3& v) {
 /// s = −1 for k = 0, 2 and +1 for k = 1, 3; with g_yz, g_xz, g_xy the minor sums of their
 /// (y; z), (x; z), (x; y) coordinates: J(3k, xx) = J(3k+1, xy) = J(3k+2, zx) = s·g_yz,
 /// J(3k, xy) = J(3k+1, yy) = J(3k+2, yz) = −s·g_xz, J(3k, zx) = J(3k+1, yz) = J(3k+2, zz) = s·g_xy.
-StrainDisplacement strain_displacement(const std::array<Vec3, 4>& q) {
-    StrainDisplacement j = StrainDisplacement::Zero();
+TetraStrainDisplacement strain_displacement(const std::array<Vec3, 4>& q) {
+    TetraStrainDisplacement j = TetraStrainDisplacement::Zero();
     for (int k = 0; k < 4; ++k) {
         const Vec3& p1 = q[static_cast<std::size_t>((k + 1) % 4)];
         const Vec3& p2 = q[static_cast<std::size_t>((k + 2) % 4)];
@@ -330,7 +330,7 @@ MaterialMatrix material_over_volume(double young, double poisson, const std::arr
 }
 
 /// element_force_of for one element with its Eigen matrices.
-[[gnu::always_inline]] inline Displacement element_force(const StrainDisplacement& j, const MaterialMatrix& m,
+[[gnu::always_inline]] inline Displacement element_force(const TetraStrainDisplacement& j, const MaterialMatrix& m,
                                                          const Displacement& delta, std::optional<double> factor) {
     double in[12];
     for (int r = 0; r < 12; ++r) in[r] = delta[r];

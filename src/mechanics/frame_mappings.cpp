@@ -1,5 +1,7 @@
 #include "penalty/mechanics/frame_mappings.hpp"
 
+#include "sofa_vector_ops.hpp"
+
 #include "sofa_quaternion.hpp"
 
 #include <algorithm>
@@ -10,9 +12,9 @@ namespace penalty {
 
 namespace {
 
-Vec3 plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 times(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+using sofa_vec::minus;
+using sofa_vec::plus;
+using sofa_vec::times;
 /// Mat·v, rows summed left to right (type::Mat::operator*(Vec)).
 Vec3 product(const Mat3& m, const Vec3& v) {
     return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],

@@ -12,11 +12,11 @@ namespace penalty {
 namespace {
 
 // Deriv arithmetic, component by component as SOFA's Vec and RigidDeriv operators.
-Vec3 minus(const Vec3& a, const Vec3& b) { return a - b; }
+using sofa_vec::minus;
 RigidDeriv minus(const RigidDeriv& a, const RigidDeriv& b) { return {a.linear - b.linear, a.angular - b.angular}; }
-Vec3 plus(const Vec3& a, const Vec3& b) { return a + b; }
+using sofa_vec::plus;
 RigidDeriv plus(const RigidDeriv& a, const RigidDeriv& b) { return {a.linear + b.linear, a.angular + b.angular}; }
-Vec3 times(const Vec3& a, double s) { return a * s; }
+using sofa_vec::times;
 RigidDeriv times(const RigidDeriv& a, double s) { return {a.linear * s, a.angular * s}; }
 
 /// LinearMovement's interpolated position of one DOF (interpolatePosition), Vec3d.

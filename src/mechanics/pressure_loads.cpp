@@ -1,5 +1,7 @@
 #include "penalty/mechanics/pressure_loads.hpp"
 
+#include "sofa_vector_ops.hpp"
+
 #include "penalty/core/error.hpp"
 
 #include <algorithm>
@@ -11,12 +13,7 @@ namespace {
 
 std::size_t at(PointId i) { return static_cast<std::size_t>(i); }
 
-/// [v]ₓ: the matrix of w ↦ v × w.
-Mat3 cross_matrix(const Vec3& v) {
-    Mat3 m;
-    m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-    return m;
-}
+using sofa_vec::cross_matrix;
 
 template <class Element>
 void check_element_indices(const char* who, const char* what, const std::vector<Index>& ids,

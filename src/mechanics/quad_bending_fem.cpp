@@ -1,25 +1,25 @@
 #include "penalty/mechanics/quad_bending_fem.hpp"
 
+#include "sofa_vector_ops.hpp"
+
 #include <cmath>
 
 namespace penalty {
 
 namespace {
 
-double in_element(const std::vector<double>& values, std::size_t i) {
-    return i < values.size() ? values[i] : values.front();
-}
+using sofa_vec::in_element;
 
-using StrainDisplacement = Eigen::Matrix<double, 32, 20>;
+using QuadStrainDisplacement = Eigen::Matrix<double, 32, 20>;
 
 /// Node k's (m, n) corner signs in the element's [−1, 1]² (SOFA's idx 0..3).
-constexpr std::array<std::array<double, 2>, 4> kCorner{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}};
+constexpr std::array<std::array<double, 2>, 4> kQuadCorner{{{-1, -1}, {1, -1}, {1, 1}, {-1, 1}}};
 
 /// computeBendingStrainDisplacement at Gauss point (g1, g2).
-StrainDisplacement bending_strain(double g1, double g2, double l, double h) {
-    StrainDisplacement jb = StrainDisplacement::Zero();
+QuadStrainDisplacement bending_strain(double g1, double g2, double l, double h) {
+    QuadStrainDisplacement jb = QuadStrainDisplacement::Zero();
     for (int k = 0; k < 4; ++k) {
-        const double m = kCorner[static_cast<std::size_t>(k)][0], n = kCorner[static_cast<std::size_t>(k)][1];
+        const double m = kQuadCorner[static_cast<std::size_t>(k)][0], n = kQuadCorner[static_cast<std::size_t>(k)][1];
         const int r = 8 * k, c = 5 * k;
         jb(r, c) = jb(r + 2, c + 1) = m * (1 + n * g2) / (4 * l);
         jb(r + 1, c + 1) = jb(r + 2, c) = n * (1 + m * g1) / (4 * h);
@@ -28,10 +28,10 @@ StrainDisplacement bending_strain(double g1, double g2, double l, double h) {
 }
 
 /// computeShearStrainDisplacement (one Gauss point at the centre).
-StrainDisplacement shear_strain(double l, double h) {
-    StrainDisplacement js = StrainDisplacement::Zero();
+QuadStrainDisplacement shear_strain(double l, double h) {
+    QuadStrainDisplacement js = QuadStrainDisplacement::Zero();
     for (int k = 0; k < 4; ++k) {
-        const double m = kCorner[static_cast<std::size_t>(k)][0], n = kCorner[static_cast<std::size_t>(k)][1];
+        const double m = kQuadCorner[static_cast<std::size_t>(k)][0], n = kQuadCorner[static_cast<std::size_t>(k)][1];
         const int r = 8 * k, c = 5 * k;
         js(r + 3, c + 3) = js(r + 5, c + 4) = m / (4 * l);
         js(r + 4, c + 4) = js(r + 5, c + 3) = n / (4 * h);
@@ -90,7 +90,7 @@ QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(
     const double height = half_norm(x[static_cast<std::size_t>(q[3])] - x[static_cast<std::size_t>(q[0])]);
     const Material& c = material_[qi];
     const double g = std::sqrt(3.0) / 3;
-    const std::array<StrainDisplacement, 4> jb{
+    const std::array<QuadStrainDisplacement, 4> jb{
         bending_strain(g, g, length, height), bending_strain(-g, g, length, height),
         bending_strain(g, -g, length, height), bending_strain(-g, -g, length, height)};
     const double wb = 1;
@@ -99,7 +99,7 @@ QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(
         for (int j = 0; j < 4; ++j) {
             std::array<std::array<double, 4>, 4> part{};  // per Gauss point: (0,0), (0,1), (1,0), (1,1)
             for (std::size_t gp = 0; gp < 4; ++gp) {
-                const StrainDisplacement& b = jb[gp];
+                const QuadStrainDisplacement& b = jb[gp];
                 const auto bt = [&](int row, int col) { return b(col, row); };  // Jb_t
                 part[gp][0] = length * height *
                               (bt(5 * i, 8 * i) * c.cb00 * b(8 * j, 5 * j) +
@@ -123,7 +123,7 @@ QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(
                 kb(rows[e], cols[e]) = part[0][static_cast<std::size_t>(e)] + part[1][static_cast<std::size_t>(e)] +
                                        part[2][static_cast<std::size_t>(e)] + part[3][static_cast<std::size_t>(e)];
         }
-    const StrainDisplacement js = shear_strain(length, height);
+    const QuadStrainDisplacement js = shear_strain(length, height);
     const auto jt = [&](int row, int col) { return js(col, row); };  // Js_t
     const double ws = 2;
     Stiffness ks = Stiffness::Zero();

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace penalty::sofa_vec {
 
@@ -15,6 +16,21 @@ namespace penalty::sofa_vec {
 inline double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 /// a·s component by component (type::Vec::mulscalar).
 inline Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+inline Vec3 times(const Vec3& a, double s) { return scaled(a, s); }
+/// a + b and a − b component by component (type::Vec::operator+, operator−).
+inline Vec3 plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+inline Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+/// [v]×: the matrix of w ↦ v × w (type::crossProductMatrix).
+inline Mat3 cross_matrix(const Vec3& v) {
+    Mat3 m;
+    m << 0.0, -v[2], v[1], v[2], 0.0, -v[0], -v[1], v[0], 0.0;
+    return m;
+}
+/// Element i's value of a per-element list, or the first when the list is shorter (SOFA's lists
+/// of Young's moduli, thicknesses, ... given once for all elements).
+inline double in_element(const std::vector<double>& values, std::size_t i) {
+    return i < values.size() ? values[i] : values.front();
+}
 /// M·v, row i = M(i,0)v₀ + M(i,1)v₁ + M(i,2)v₂ (type::Mat::operator*(Vec)).
 inline Vec3 times(const Mat3& m, const Vec3& v) {
     return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],

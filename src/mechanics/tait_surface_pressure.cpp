@@ -146,11 +146,7 @@ void TaitSurfacePressureForceField::add_dforce(std::span<Vec3> df, std::span<con
 }
 
 namespace {
-Mat3 cross_matrix(const Vec3& u) {  // [u]× v = u × v
-    Mat3 m;
-    m << 0, -u[2], u[1], u[2], 0, -u[0], -u[1], u[0], 0;
-    return m;
-}
+using sofa_vec::cross_matrix;  // [u]× v = u × v
 }  // namespace
 
 void TaitSurfacePressureForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

@@ -1,5 +1,7 @@
 #include "penalty/mechanics/transform_engines.hpp"
 
+#include "sofa_vector_ops.hpp"
+
 #include "penalty/core/error.hpp"
 #include "sofa_quaternion.hpp"
 
@@ -68,7 +70,7 @@ Vec3 apply_step(const TransformStep& s, const Vec3& x) {
 }
 
 Vec3 component_product(const Vec3& a, const Vec3& b) { return {a[0] * b[0], a[1] * b[1], a[2] * b[2]}; }
-Vec3 plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+using sofa_vec::plus;
 
 }  // namespace
 

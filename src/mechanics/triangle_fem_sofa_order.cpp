@@ -7,9 +7,7 @@
 
 namespace penalty::triangle_fem_sofa {
 
-namespace {
-Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-}  // namespace
+using sofa_vec::minus;
 
 Mat3 rotation(const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 ex = sofa_vec::normalized(minus(b, a));

@@ -16,9 +16,7 @@ std::pair<Vec3, Vec3> triangle_frame(const Vec3& ab, const Vec3& ac) {
     return {sofa_vec::normalized(ab), sofa_vec::normalized(cross(n, ab))};
 }
 
-double in_element(const std::vector<double>& values, std::size_t i) {
-    return i < values.size() ? values[i] : values.front();
-}
+using sofa_vec::in_element;
 
 }  // namespace
 

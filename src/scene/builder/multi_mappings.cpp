@@ -58,7 +58,7 @@ T* as(BaseState* s) {
     return dynamic_cast<T*>(s);
 }
 
-void finish(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const std::string& how) {
+void finish_multi_mapping(SceneBuilder& b, const SceneComponent& c, const NodeBuild& info, const std::string& how) {
     BaseMapping* mapping = info.node->mapping();
     b.record_origin(mapping, c);
     b.add_init(0, c, [mapping] { mapping->init(); });
@@ -92,7 +92,7 @@ void build_center_of_mass_mapping(SceneBuilder& b, const SceneComponent& c, Node
             a.fail("input", "the input's node has no mass (SOFA's CenterOfMassMapping weighs the frames by it)");
         info.node->set_mapping<CenterOfMassMapping>(*frames, *to, *mass);
     });
-    finish(b, c, info, "the frames' centre of mass");
+    finish_multi_mapping(b, c, info, "the frames' centre of mass");
 }
 
 // ---- SubsetMultiMapping and IdentityMultiMapping --------------------------------------------
@@ -151,7 +151,7 @@ void build_multi_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
             a.fail("output", "must be a Vec3d or Rigid3d state");
         }
     });
-    finish(b, c, info, concatenate ? "the inputs one after the other" : "DOFs picked from the inputs");
+    finish_multi_mapping(b, c, info, concatenate ? "the inputs one after the other" : "DOFs picked from the inputs");
 }
 
 void build_subset_multi_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {

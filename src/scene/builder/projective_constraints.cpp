@@ -16,7 +16,7 @@ using io::SceneComponent;
 using K = AttributeKind;
 using F = ComponentFamily;
 
-constexpr AttributeSpec kTopologyLink = {
+constexpr AttributeSpec kProjectiveTopologyLink = {
     "topology", K::link,          "(the node's topology)",
     "",         ValueCheck::none, "read for topological changes only (penalty's are static)"};
 
@@ -60,24 +60,24 @@ constexpr AttributeSpec kLine[] = {
     {"indices", K::indices, "0", "", ValueCheck::none, "points kept on the line"},
     {"origin", K::vector3, "0 0 0", "m", ValueCheck::none, "a point of the line"},
     {"direction", K::vector3, "0 0 0", "", ValueCheck::none, "its direction (normalised; zero: x)"},
-    kTopologyLink,
+    kProjectiveTopologyLink,
 };
 constexpr AttributeSpec kPlane[] = {
     {"indices", K::indices, "0", "", ValueCheck::none, "points kept on the plane"},
     {"origin", K::vector3, "0 0 0", "m", ValueCheck::none, "a point of the plane"},
     {"normal", K::vector3, "0 0 0", "", ValueCheck::none, "its normal (normalised; zero: no constraint, as SOFA)"},
-    kTopologyLink,
+    kProjectiveTopologyLink,
 };
 constexpr AttributeSpec kDirection[] = {
     {"indices", K::indices, "0", "", ValueCheck::none, "points moving along the direction only"},
     {"direction", K::vector3, "0 0 0", "", ValueCheck::none, "the direction (normalised; zero: points fixed)"},
-    kTopologyLink,
+    kProjectiveTopologyLink,
 };
 constexpr AttributeSpec kPoint[] = {
     {"indices", K::indices, "0", "", ValueCheck::none, "points put at `point`"},
     {"point", K::vector3, "0 0 0", "m", ValueCheck::none, "their position"},
     {"fixAll", K::boolean, "0", "", ValueCheck::none, "every point of the state"},
-    kTopologyLink,
+    kProjectiveTopologyLink,
 };
 
 void build_line(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -128,7 +128,7 @@ constexpr AttributeSpec kPartialFixed[] = {
     {"fixedDirections", K::numbers, "(all 1)", "", ValueCheck::none,
      "1 per fixed component (3 for Vec3d, 6 for Rigid3d)"},
     {"projectVelocity", K::boolean, "0", "", ValueCheck::none, "also zero the fixed components of the velocity"},
-    kTopologyLink,
+    kProjectiveTopologyLink,
 };
 
 void build_partial_fixed(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -164,7 +164,7 @@ constexpr AttributeSpec kLinearMovement[] = {
      "a displacement (Vec3d: 3 numbers; Rigid3d: 6, rotation as Euler angles in rad) per key time"},
     {"relativeMovements", K::boolean, "1", "", ValueCheck::none, "movements relative to the initial positions"},
     {"showMovement", K::boolean, "0", "", ValueCheck::none, "display only"},
-    kTopologyLink,
+    kProjectiveTopologyLink,
 };
 
 template <class DataTypes>
@@ -218,7 +218,7 @@ constexpr AttributeSpec kParabolic[] = {
     {"P3", K::vector3, "0 0 0", "m", ValueCheck::none, "its end"},
     {"BeginTime", K::real, "0", "s", ValueCheck::none, "start of the motion"},
     {"EndTime", K::real, "0", "s", ValueCheck::none, "end of the motion"},
-    kTopologyLink,
+    kProjectiveTopologyLink,
     // beyond SOFA
     {"velocityForEveryIndex", K::boolean, "0", "", ValueCheck::none,
      "beyond SOFA: every listed DOF gets the parabola's velocity (SOFA's projectVelocity gives it to the first only)"},

@@ -64,7 +64,8 @@ private:
 
 /// The state a mapping's `input`/`output` links to (a MechanicalObject or a node), else the
 /// parent node's / the node's own.
-BaseState& mapping_end(SceneBuilder& b, const Attributes& a, std::string_view attr, const io::SceneNode* fallback) {
+BaseState& python_mapping_end(SceneBuilder& b, const Attributes& a, std::string_view attr,
+                              const io::SceneNode* fallback) {
     const io::SceneNode* target = fallback;
     if (a.has(attr)) {
         const io::LinkTarget t = a.link(attr);
@@ -80,8 +81,8 @@ void build_python_mapping(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
     const Attributes a(c);
     if (info.state_component == nullptr)
         io::throw_element_error(c, "needs a MechanicalObject in its node (its output)");
-    BaseState& in = mapping_end(b, a, "input", info.scene_node->parent);
-    BaseState& out = mapping_end(b, a, "output", info.scene_node);
+    BaseState& in = python_mapping_end(b, a, "input", info.scene_node->parent);
+    BaseState& out = python_mapping_end(b, a, "output", info.scene_node);
     if (&out != info.node->state()) a.fail("output", "must be the MechanicalObject of the mapping's own node");
     b.guarded(c, [&] {
         BaseMapping& m =
