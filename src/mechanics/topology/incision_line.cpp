@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 namespace penalty {
 
@@ -16,6 +17,25 @@ std::string describe(std::size_t k, const Vec3& p) {
     out.precision(17);
     out << "point " << k + 1 << " (" << p[0] << " " << p[1] << " " << p[2] << ")";
     return out.str();
+}
+
+/// One segment of a cut, the body of SOFA's INCISE= loop (TopologicalChangeProcessor::
+/// processTopologicalChanges): computeIntersectedObjectsList, SplitAlongPath, InciseAlongEdgeList.
+/// False when SOFA skips the segment (no path); `a_last` becomes the cut's last end point;
+/// `segment` names the segment in errors.
+bool cut_segment(TriangleIncision& incision, PointId& a_last, Vec3& a, Vec3& b, ElementId& ta, ElementId& tb,
+                 const std::string& segment, double epsilon_path, double epsilon_border) {
+    std::vector<IncisionPathElement> path;
+    if (!incision.intersected_objects(a_last, a, b, ta, tb, path)) return false;
+    std::vector<ElementId> new_edges;
+    if (incision.split_along_path(a_last, a, -1, b, path, new_edges, epsilon_path, epsilon_border) < 0)
+        throw_invalid_argument(segment, ": its path cannot be split (SOFA's SplitAlongPath refuses it)");
+    std::vector<PointId> new_points, end_points;
+    bool reach_border = false;
+    if (!incision.incise_along_edge_list(new_edges, new_points, end_points, reach_border))
+        throw_invalid_argument(segment, ": its edges cannot be duplicated (SOFA's InciseAlongEdgeList refuses them)");
+    if (!end_points.empty()) a_last = end_points.back();
+    return true;
 }
 
 }  // namespace
@@ -54,21 +74,12 @@ IncisionOutcome incise_line(TopologyContainer& container, const std::vector<Vec3
                                        ") continues a cut that ended on the border");
             a = positions[std::size_t(a_last)];
         }
-        std::vector<IncisionPathElement> path;
-        if (!incision.intersected_objects(a_last, a, b, ta, tb, path)) {
+        const std::string segment =
+            "segment " + std::to_string(k) + " (" + describe(k - 1, line.points[k - 1]) + " to " + describe(k, b) + ")";
+        if (!cut_segment(incision, a_last, a, b, ta, tb, segment, epsilon_path, epsilon_border)) {
             outcome.refused_segment = int(k);
             return outcome;
         }
-        std::vector<ElementId> new_edges;
-        if (incision.split_along_path(a_last, a, -1, b, path, new_edges, epsilon_path, epsilon_border) < 0)
-            throw_invalid_argument("segment ", k, " (", describe(k - 1, line.points[k - 1]), " to ", describe(k, b),
-                                   "): its path cannot be split (SOFA's SplitAlongPath refuses it)");
-        std::vector<PointId> new_points, end_points;
-        bool reach_border = false;
-        if (!incision.incise_along_edge_list(new_edges, new_points, end_points, reach_border))
-            throw_invalid_argument("segment ", k, " (", describe(k - 1, line.points[k - 1]), " to ", describe(k, b),
-                                   "): its edges cannot be duplicated (SOFA's InciseAlongEdgeList refuses them)");
-        if (!end_points.empty()) a_last = end_points.back();
         ta = tb;
         ++outcome.segments_cut;
     }
@@ -170,21 +181,11 @@ IncisionOutcome incise_saved(TopologyContainer& container, const std::vector<Vec
         }
         if (ta < 0 || tb < 0 || std::size_t(std::max(ta, tb)) >= container.count(ElementType::triangle))
             throw_invalid_argument("segment ", k, " (", describe(k, b), "): a saved point has no triangle any more");
-        std::vector<IncisionPathElement> path;
-        if (!incision.intersected_objects(a_last, a, b, ta, tb, path)) {
+        const std::string segment = "segment " + std::to_string(k) + " (" + describe(k, b) + ")";
+        if (!cut_segment(incision, a_last, a, b, ta, tb, segment, epsilon_path, epsilon_border)) {
             outcome.refused_segment = int(k);
             return outcome;
         }
-        std::vector<ElementId> new_edges;
-        if (incision.split_along_path(a_last, a, -1, b, path, new_edges, epsilon_path, epsilon_border) < 0)
-            throw_invalid_argument("segment ", k, " (", describe(k, b),
-                                   "): its path cannot be split (SOFA's SplitAlongPath refuses it)");
-        std::vector<PointId> new_points, end_points;
-        bool reach_border = false;
-        if (!incision.incise_along_edge_list(new_edges, new_points, end_points, reach_border))
-            throw_invalid_argument("segment ", k, " (", describe(k, b),
-                                   "): its edges cannot be duplicated (SOFA's InciseAlongEdgeList refuses them)");
-        if (!end_points.empty()) a_last = end_points.back();
         ta = tb;
         ++outcome.segments_cut;
         container.notify_ending_event();
