@@ -23,7 +23,9 @@ import json, sys
 commands, root = sys.argv[1], sys.argv[2]
 for entry in json.load(open(commands)):
     f = entry["file"]
-    library_batch = "/unity/penalty_" in f  # cmake/PenaltyLayer.cmake's batches
+    # cmake/PenaltyLayer.cmake's batches of the library's layers (<build>/unity/penalty_<layer>/),
+    # not the test suites' (<build>/unity/penalty_tests_<suite>/)
+    library_batch = "/unity/penalty_" in f and "/unity/penalty_tests" not in f
     own_source = f.startswith(root + "/src/") or f.startswith(root + "/apps/")
     if (library_batch or own_source) and "/generated/" not in f:
         print(f)
