@@ -13,7 +13,7 @@ using sofa_vec::scaled;
 
 namespace {
 
-double norm(const Vec3& v) { return std::sqrt(dot3(v, v)); }
+using sofa_vec::norm;
 
 /// EdgeSpring::setEdgeSpring on rest positions p.
 FastTriangularBendingSprings::Element make_element(std::span<const Vec3> p, std::array<Index, 4> vid,

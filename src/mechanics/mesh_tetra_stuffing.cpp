@@ -23,7 +23,7 @@ using sofa_vec::dot3;
 /// Directions of a lattice point's 14 edges: 0..5 the axis edges to the same grid (axis e/2,
 /// towards − for even e, + for odd e), 6..13 the diagonal edges to the other grid; e and e^1 are
 /// opposite. SOFA's EDGESHELL.
-constexpr int kDirections = 14;
+constexpr int kStuffingDirections = 14;
 
 /// A ray's crossing of a surface triangle (TriangleOctree::traceResult): parameter t along the
 /// ray (in edge lengths), then the crossing's sign: −1 entering (against the outward normal), +1 leaving.
@@ -107,8 +107,8 @@ private:
     Vec3 g0_, h0_;
     int h_first_ = 0;  ///< SOFA's ph0: index of H's first point
     std::vector<Vec3> points_;
-    std::vector<int> inside_;                                ///< > 0 inside, < 0 outside, 0 on the surface
-    std::vector<std::array<double, kDirections>> distance_;  ///< SOFA's eBDist
+    std::vector<int> inside_;                                        ///< > 0 inside, < 0 outside, 0 on the surface
+    std::vector<std::array<double, kStuffingDirections>> distance_;  ///< SOFA's eBDist
     std::map<std::pair<int, int>, int> cut_points_;
     std::vector<Tetrahedron> tetrahedra_;
     std::size_t invalid_splits_ = 0;
@@ -188,7 +188,7 @@ int Stuffing::neighbor(int p, int e) const {
 void Stuffing::classify_points() {
     const int n = int(points_.size());
     for (int p = 0; p < n; ++p)
-        for (int e = 0; e < kDirections; e += 2)  // a line is traced from its first point
+        for (int e = 0; e < kStuffingDirections; e += 2)  // a line is traced from its first point
             if (neighbor(p, e) != -1 && neighbor(p, e + 1) == -1) trace_line(p, e);
     for (int& in : inside_)
         if (in == 0) in = -1;  // uncertain points are outside
@@ -236,7 +236,7 @@ void Stuffing::snap_points() {
     for (int p = 0; p < n; ++p) {
         const bool in1 = inside_[std::size_t(p)] > 0;
         bool v = false;
-        for (int e = 0; e < kDirections && !v; ++e) {
+        for (int e = 0; e < kStuffingDirections && !v; ++e) {
             const int q = neighbor(p, e);
             if (q == -1 || in1 == (inside_[std::size_t(q)] > 0)) continue;
             const double dist = distance_[std::size_t(p)][std::size_t(e)];
@@ -267,7 +267,7 @@ void Stuffing::wrap_outside_points(std::set<int>& violated_inside, const std::se
             if (inside_[std::size_t(p)] == 0) continue;  // already on the surface
             double best = 0;
             int best_edge = -1;
-            for (int e = 0; e < kDirections; ++e) {
+            for (int e = 0; e < kStuffingDirections; ++e) {
                 const int q = neighbor(p, e);
                 if (q == -1 || inside_[std::size_t(q)] > 0 || violated[std::size_t(q)]) continue;
                 const double dist = distance_[std::size_t(p)][std::size_t(e)];
@@ -278,7 +278,7 @@ void Stuffing::wrap_outside_points(std::set<int>& violated_inside, const std::se
             if (best_edge == -1) continue;
             move_onto_surface(p, neighbor(p, best_edge), distance_[std::size_t(p)][std::size_t(best_edge)], violated);
             ++moved;
-            for (int e = 0; e < kDirections; ++e) {
+            for (int e = 0; e < kStuffingDirections; ++e) {
                 distance_[std::size_t(p)][std::size_t(e)] = 0;  // no crossing from p any more
                 const int q = neighbor(p, e);
                 if (q == -1) continue;
@@ -286,7 +286,7 @@ void Stuffing::wrap_outside_points(std::set<int>& violated_inside, const std::se
                 if (!violated[std::size_t(q)] || inside_[std::size_t(q)] <= 0) continue;
                 // is q still violated? (SOFA takes the threshold of p's edge e, not of q's edge)
                 bool still = false;
-                for (int e2 = 0; e2 < kDirections && !still; ++e2) {
+                for (int e2 = 0; e2 < kStuffingDirections && !still; ++e2) {
                     const int r = neighbor(q, e2);
                     if (r == -1 || inside_[std::size_t(r)] >= 0) continue;
                     const double dist = distance_[std::size_t(q)][std::size_t(e2)];
@@ -307,7 +307,7 @@ void Stuffing::wrap_inside_points(const std::set<int>& violated_inside, std::vec
         if (inside_[std::size_t(p)] == 0) continue;  // SOFA: "already wrapped" (an error message)
         double best = 0;
         int best_edge = -1;
-        for (int e = 0; e < kDirections; ++e) {
+        for (int e = 0; e < kStuffingDirections; ++e) {
             const int q = neighbor(p, e);
             if (q == -1 || inside_[std::size_t(q)] >= 0) continue;
             const double dist = distance_[std::size_t(p)][std::size_t(e)];
@@ -317,7 +317,7 @@ void Stuffing::wrap_inside_points(const std::set<int>& violated_inside, std::vec
         }
         if (best_edge == -1) continue;  // SOFA: "has no violated edges" (an error message)
         move_onto_surface(p, neighbor(p, best_edge), distance_[std::size_t(p)][std::size_t(best_edge)], violated);
-        for (int e = 0; e < kDirections; ++e) {
+        for (int e = 0; e < kStuffingDirections; ++e) {
             distance_[std::size_t(p)][std::size_t(e)] = 0;
             const int q = neighbor(p, e);
             if (q != -1) distance_[std::size_t(q)][std::size_t(e ^ 1)] = 0;
@@ -329,7 +329,7 @@ void Stuffing::make_cut_points() {
     const int n = int(points_.size());
     for (int p = 0; p < n; ++p) {
         if (inside_[std::size_t(p)] >= 0) continue;
-        for (int e = 0; e < kDirections; ++e) {
+        for (int e = 0; e < kStuffingDirections; ++e) {
             const int q = neighbor(p, e);
             if (q == -1 || inside_[std::size_t(q)] <= 0) continue;
             const int cut = int(points_.size());

@@ -149,7 +149,7 @@ double EdgePressureForceField::total_rest_length() const {
 
 namespace {
 /// isPointInPlane of the pressure loads: dmin < p·normal < dmax, for each point.
-std::vector<bool> points_between_planes(std::span<const Vec3> points, const Vec3& normal, double dmin, double dmax) {
+std::vector<bool> points_in_plane_slab(std::span<const Vec3> points, const Vec3& normal, double dmin, double dmax) {
     std::vector<bool> in(points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
         const double d = points[i].dot(normal);
@@ -162,7 +162,7 @@ std::vector<bool> points_between_planes(std::span<const Vec3> points, const Vec3
 std::vector<Index> edges_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
                                         double dmin, double dmax) {
     const std::vector<bool> in =
-        points_between_planes(points, normal, dmin, dmax);  // EdgePressureForceField::isPointInPlane
+        points_in_plane_slab(points, normal, dmin, dmax);  // EdgePressureForceField::isPointInPlane
     std::vector<Index> out;
     const auto& edges = topology.edges();
     for (std::size_t k = 0; k < edges.size(); ++k) {
@@ -236,7 +236,7 @@ double QuadPressureForceField::total_rest_area() const {
 std::vector<Index> quads_between_planes(const MeshTopology& topology, std::span<const Vec3> points, const Vec3& normal,
                                         double dmin, double dmax) {
     const std::vector<bool> in =
-        points_between_planes(points, normal, dmin, dmax);  // QuadPressureForceField::isPointInPlane
+        points_in_plane_slab(points, normal, dmin, dmax);  // QuadPressureForceField::isPointInPlane
     std::vector<Index> out;
     const auto& quads = topology.quads();
     for (std::size_t k = 0; k < quads.size(); ++k) {

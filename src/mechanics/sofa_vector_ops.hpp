@@ -41,6 +41,10 @@ inline Vec3 transpose_times(const Mat3& m, const Vec3& v) {
     return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
             m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
 }
+/// |v| = √(v·v) (type::Vec::norm).
+inline double norm(const Vec3& v) { return std::sqrt(dot3(v, v)); }
+/// a / s component by component (type::Vec::operator/).
+inline Vec3 divided(const Vec3& a, double s) { return {a[0] / s, a[1] / s, a[2] / s}; }
 /// a × b (type::cross).
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
@@ -70,9 +74,9 @@ inline Mat3 inverse(const Mat3& m) {
 /// v / |v|, each component divided by |v| = √(v·v); v itself when |v| ≤ machine epsilon
 /// (type::Vec::normalized → normalizeWithNorm).
 inline Vec3 normalized(const Vec3& v) {
-    const double norm = std::sqrt(dot3(v, v));
-    if (!(norm > std::numeric_limits<double>::epsilon())) return v;
-    return {v[0] / norm, v[1] / norm, v[2] / norm};
+    const double length = norm(v);
+    if (!(length > std::numeric_limits<double>::epsilon())) return v;
+    return divided(v, length);
 }
 
 }  // namespace penalty::sofa_vec

@@ -12,10 +12,8 @@ using edge_blocks::dot3;
 using edge_blocks::scaled;
 using edge_blocks::times;
 using edge_blocks::transpose_times;
-Vec3 cross3(const Vec3& a, const Vec3& b) {
-    return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec3 divided(const Vec3& a, double s) { return {a[0] / s, a[1] / s, a[2] / s}; }
+using sofa_vec::cross;
+using sofa_vec::divided;
 
 }  // namespace
 
@@ -86,7 +84,7 @@ void TriangularBiquadraticSpringsForceField::create_triangle(std::size_t ti) {
     td.rest_area = area;
     const Vec3& p0 = x0[static_cast<std::size_t>(t[0])];
     td.normal =
-        divided(cross3(x0[static_cast<std::size_t>(t[1])] - p0, x0[static_cast<std::size_t>(t[2])] - p0), 2 * area);
+        divided(cross(x0[static_cast<std::size_t>(t[1])] - p0, x0[static_cast<std::size_t>(t[2])] - p0), 2 * area);
     td.last_valid_normal = td.normal;
     double cotangent[3];
     for (int j = 0; j < 3; ++j) cotangent[j] = (square[(j + 1) % 3] + square[(j + 2) % 3] - square[j]) / (4 * area);
@@ -145,7 +143,7 @@ void TriangularBiquadraticSpringsForceField::add_force(std::span<Vec3> f, std::s
             }
             if (!parameters_.compressible) continue;
             // area term of a compressed triangle
-            td.normal = -cross3(td.dp[2], td.dp[1]);
+            td.normal = -cross(td.dp[2], td.dp[1]);
             td.area = std::sqrt(dot3(td.normal, td.normal)) / 2;
             td.j = td.area / td.rest_area;
             if (!(td.j < 1)) continue;
@@ -159,7 +157,7 @@ void TriangularBiquadraticSpringsForceField::add_force(std::span<Vec3> f, std::s
             }
             const double intensity = area_stiffness * jj * jj * jj;
             for (std::size_t j = 0; j < 3; ++j) {
-                td.area_vector[j] = divided(cross3(td.normal, td.dp[j]), 2);
+                td.area_vector[j] = divided(cross(td.normal, td.dp[j]), 2);
                 f[at(static_cast<int>(j))] -= scaled(td.area_vector[j], intensity);
             }
             energy_ += area_stiffness * td.rest_area * jj * jj * jj * jj / 4;
