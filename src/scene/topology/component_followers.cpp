@@ -155,6 +155,13 @@ bool follow_fem(TopologyWiring& w, const std::string& type, BaseForceField* f, T
     if (type == "TriangularFEMForceField" || type == "TriangleFEMForceField") {
         auto* ff = dynamic_cast<TriangularFEMForceField*>(f);
         if (ff == nullptr || !mesh.quads().empty()) return false;
+        if (type == "TriangularFEMForceField") {
+            // triangleInfo, a TopologyData: event by event (triangular_fem_changes.cpp)
+            container.add_handler(
+                w.keep(std::make_unique<MemberTopologyHandler<TriangularFEMForceField>>(*ff, container)),
+                {ElementType::triangle, ElementType::point});
+            return true;
+        }
         rebuild([ff, &mesh] { ff->set_triangles(mesh.triangles()), ff->init(); },
                 {ElementType::triangle, ElementType::point});
         return true;
