@@ -107,6 +107,15 @@ TEST(IncisionScene, BadLinesAreRefusedByFileAndLineAndChangeNothing) {
                 HasSubstr("changes.txt:3: 'x' is not a number"));
     EXPECT_THAT(test::error_of(incision_scene("T= 0.01\n  INCISE= 2\n1.15 0.05 0 1.15 1.95 0\n  REMOVE= 1\n0\n")),
                 HasSubstr("mixes INCISE= with REMOVE=/ADD= lines"));
+    EXPECT_THAT(test::error_of(incision_scene("T= 0.01\n  INCISE= 2\n1.15 0.05 0 1.15 1e200 0\n")),
+                HasSubstr("changes.txt:3: '1e200': magnitude above 1e100"));
+    // saveIndicesAtInit pairs an INCISE= line with the T= line right before it (SOFA's saveIndices)
+    const std::string two_cuts = "T= 0.01\n  INCISE= 2\n1.15 0.05 0 1.15 1.95 0\n  INCISE= 2\n2.1 0.1 0 2.1 1.9 0\n";
+    EXPECT_THAT(test::error_of(incision_scene(two_cuts, R"(saveIndicesAtInit="1")")),
+                HasSubstr("changes.txt:4: with saveIndicesAtInit an INCISE= line must follow its T= line"));
+    EXPECT_NO_THROW(test::build(incision_scene(two_cuts)));
+    EXPECT_NO_THROW(
+        test::build(incision_scene("T= 0.01\n\n  INCISE= 2\n1.15 0.05 0 1.15 1.95 0\n", R"(saveIndicesAtInit="1")")));
     // when the step comes: a point in no triangle (the second segment's end), nothing cut
     const std::string outside = incision_scene("T= 0.01\n  INCISE= 3\n1.15 0.05 0 1.15 1.95 0 5 1 0\n");
     auto s = test::build(outside);
