@@ -17,8 +17,8 @@ namespace {
 
 /// A 3 × 2 sheet whose last point (11) is (3, 1) and whose corner (3, 0) is point 3, only in
 /// triangle 4 (2, 3, 11); two fixed anchors (a state without solver), (3, 0, -0.05) and (1, 2, 0),
-/// pull sheet points `attached` (indices2) towards anchors `anchors` (indices1); triangle 4 is removed at t = 0.03 (point 3 goes with it,
-/// point 11 takes its index).
+/// pull sheet points `attached` (indices2) towards anchors `anchors` (indices1); triangle 4 is
+/// removed at t = 0.03 (point 3 goes with it, point 11 takes its index).
 std::string attached_sheet(const std::string& anchors, const std::string& attached) {
     const auto file = std::filesystem::temp_directory_path() / "penalty_attach_changes.txt";
     std::ofstream(file) << "T= 0.03\n  REMOVE= 1\n4\n";
