@@ -26,6 +26,13 @@ void AttachProjectiveConstraint<DataTypes>::init() {
     released_.assign(p_.indices2.size(), 0);
 }
 
+template <class DataTypes>
+std::size_t AttachProjectiveConstraint<DataTypes>::pairs_past_end() const {
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < pairs(); ++k) n += in_range(k) ? 0 : 1;
+    return n;
+}
+
 namespace {
 
 double sofa_distance(const Vec3& a, const Vec3& b) {
@@ -39,6 +46,7 @@ double sofa_distance(const Vec3& a, const Vec3& b) {
 template <>
 void AttachProjectiveConstraint<Vec3Types>::project_position() {
     for (std::size_t k = 0; k < pairs(); ++k) {
+        if (!in_range(k)) continue;
         const Vec3 x1 = object1_->position[static_cast<std::size_t>(p_.indices1[k])];
         Vec3& x2 = object2_->position[static_cast<std::size_t>(p_.indices2[k])];
         if (p_.min_distance != -1 && sofa_distance(x2, x1) > p_.min_distance) {
@@ -54,6 +62,7 @@ void AttachProjectiveConstraint<Vec3Types>::project_position() {
 template <>
 void AttachProjectiveConstraint<Rigid3Types>::project_position() {
     for (std::size_t k = 0; k < pairs(); ++k) {
+        if (!in_range(k)) continue;
         const RigidFrame x1 = object1_->position[static_cast<std::size_t>(p_.indices1[k])];
         RigidFrame& x2 = object2_->position[static_cast<std::size_t>(p_.indices2[k])];
         if (p_.min_distance != -1.0 && sofa_distance(x2.center, x1.center) > p_.min_distance) {
@@ -69,7 +78,7 @@ void AttachProjectiveConstraint<Rigid3Types>::project_position() {
 template <>
 void AttachProjectiveConstraint<Vec3Types>::project_velocity() {
     for (std::size_t k = 0; k < pairs(); ++k) {
-        if (released_[k]) continue;
+        if (released_[k] || !in_range(k)) continue;
         Vec3& v1 = object1_->velocity[static_cast<std::size_t>(p_.indices1[k])];
         Vec3& v2 = object2_->velocity[static_cast<std::size_t>(p_.indices2[k])];
         const Vec3 corr = (v2 - v1) * (0.5 * p_.velocity_factor * factor(k));
@@ -81,7 +90,7 @@ void AttachProjectiveConstraint<Vec3Types>::project_velocity() {
 template <>
 void AttachProjectiveConstraint<Rigid3Types>::project_velocity() {
     for (std::size_t k = 0; k < pairs(); ++k) {
-        if (released_[k]) continue;
+        if (released_[k] || !in_range(k)) continue;
         const RigidDeriv& v1 = object1_->velocity[static_cast<std::size_t>(p_.indices1[k])];
         RigidDeriv& v2 = object2_->velocity[static_cast<std::size_t>(p_.indices2[k])];
         v2.linear = v1.linear;
@@ -93,7 +102,7 @@ template <>
 void AttachProjectiveConstraint<Vec3Types>::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     const std::span<Vec3> r = as_derivs<Vec3Types>(v);  // object2's (the same state as object1 with twoWay)
     for (std::size_t k = 0; k < pairs(); ++k) {
-        if (released_[k]) continue;
+        if (released_[k] || !in_range(k)) continue;
         Vec3& r2 = r[static_cast<std::size_t>(p_.indices2[k])];
         if (!p_.two_way) {
             r2 = Vec3::Zero();
@@ -110,7 +119,7 @@ template <>
 void AttachProjectiveConstraint<Rigid3Types>::project_response(Eigen::Ref<Eigen::VectorXd> v) const {
     const std::span<RigidDeriv> r = as_derivs<Rigid3Types>(v);
     for (std::size_t k = 0; k < pairs(); ++k) {
-        if (released_[k]) continue;
+        if (released_[k] || !in_range(k)) continue;
         RigidDeriv& r2 = r[static_cast<std::size_t>(p_.indices2[k])];
         if (!p_.two_way) {
             if (!p_.free_rotations) r2 = RigidDeriv{};
@@ -135,7 +144,8 @@ bool AttachProjectiveConstraint<DataTypes>::list_discarded_rows(std::vector<Inde
     const Index width = DataTypes::kDerivSize;
     const Index constrained = (width == 6 && p_.free_rotations) ? 3 : width;
     for (Index i : p_.indices2)
-        for (Index c = 0; c < constrained; ++c) rows.push_back(width * i + c);
+        if (std::size_t(i) < object2_->num_dofs())  // past the end after a topological change: nothing
+            for (Index c = 0; c < constrained; ++c) rows.push_back(width * i + c);
     return true;
 }
 

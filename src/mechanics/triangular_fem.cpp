@@ -29,21 +29,6 @@ std::vector<Triangle> elements_of(const MeshTopology& topology, TriangleFemFlavo
     return topology.triangles();
 }
 
-/// J for a local triangle a = 0, b = (b_x, 0), c = (c_x, c_y), det = b_x·c_y
-/// (TriangleFEMUtils::computeStrainDisplacementLocal); false when |det| < machine epsilon.
-bool strain_displacement_local(TriangularFEMForceField::StrainDisplacement& j, const Vec3& b, const Vec3& c) {
-    const double det = b.x() * c.y();
-    if (std::abs(det) < std::numeric_limits<double>::epsilon()) return false;
-    const double inv = 1 / det;
-    j.setZero();
-    j(0, 0) = j(1, 2) = -c.y() * inv;
-    j(0, 2) = j(1, 1) = (c.x() - b.x()) * inv;
-    j(2, 0) = j(3, 2) = c.y() * inv;
-    j(2, 2) = j(3, 1) = -c.x() * inv;
-    j(4, 2) = j(5, 1) = b.x() * inv;
-    return true;
-}
-
 /// J of the world triangle (0, b, c) from its x, y coordinates, scaled by 1/|b × c|
 /// (TriangleFEMUtils::computeStrainDisplacementGlobal with a = 0); false when degenerate.
 bool strain_displacement_global(TriangularFEMForceField::StrainDisplacement& j, const Vec3& b, const Vec3& c) {
@@ -82,71 +67,72 @@ TriangularFEMForceField::TriangularFEMForceField(Vec3Object& state, const MeshTo
 }
 
 void TriangularFEMForceField::init() {
-    const char* kComponent = component_name(parameters_.flavor);
-    const bool triangular = parameters_.flavor == TriangleFemFlavor::TriangularFEM;
-    const auto& x0 = state_->rest_position;
     const std::size_t n = triangles_.size();
     rest_local_.resize(n);
     area_.resize(n);
     material_.resize(n);
     j_.resize(n);
-    rotation_.assign(n, Mat3::Identity());
-    for (std::size_t e = 0; e < n; ++e) {
-        for (const PointId v : triangles_[e])
-            if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument(kComponent, ": triangle ", e, " uses point ", v, " but the state has ",
-                                       x0.size(), " points");
-        const Vec3& a = x0[static_cast<std::size_t>(triangles_[e][0])];
-        const Vec3& b = x0[static_cast<std::size_t>(triangles_[e][1])];
-        const Vec3& c = x0[static_cast<std::size_t>(triangles_[e][2])];
-        bool ok = false;
-        if (!triangular) {
-            // TriangleFEMForceField::initLarge / initSmall, SOFA's operations (the rest local
-            // coordinates R·b − R·a, R·c − R·a)
-            if (parameters_.method == FemMethod::Large) {
-                const Mat3 r0 = triangle_fem_sofa::rotation(a, b, c);
-                rest_local_[e] = triangle_fem_sofa::rest_local_large(r0, a, b, c);
-                rotation_[e] = r0.transpose();
-            } else {
-                rest_local_[e] = {Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2]),
-                                  Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2])};
-            }
-            ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
-        } else if (parameters_.method == FemMethod::Large) {
-            // initLarge: rest coordinates in the rest frame R_0_1·(b − a), R_0_1·(c − a) (SOFA's
-            // Mat·Vec row sums), area = ½ r_bx·r_cy
+    rotation_.resize(n);
+    for (std::size_t e = 0; e < n; ++e) init_element(e);
+}
+
+void TriangularFEMForceField::init_element(std::size_t e) {
+    const char* kComponent = component_name(parameters_.flavor);
+    const bool triangular = parameters_.flavor == TriangleFemFlavor::TriangularFEM;
+    const auto& x0 = state_->rest_position;
+    rotation_[e] = Mat3::Identity();
+    for (const PointId v : triangles_[e])
+        if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
+            throw_invalid_argument(kComponent, ": triangle ", e, " uses point ", v, " but the state has ", x0.size(),
+                                   " points");
+    const Vec3& a = x0[static_cast<std::size_t>(triangles_[e][0])];
+    const Vec3& b = x0[static_cast<std::size_t>(triangles_[e][1])];
+    const Vec3& c = x0[static_cast<std::size_t>(triangles_[e][2])];
+    bool ok = false;
+    if (!triangular) {
+        // TriangleFEMForceField::initLarge / initSmall, SOFA's operations (the rest local
+        // coordinates R·b − R·a, R·c − R·a)
+        if (parameters_.method == FemMethod::Large) {
             const Mat3 r0 = triangle_fem_sofa::rotation(a, b, c);
-            rest_local_[e] = {sofa_vec::times(r0, Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2])),
-                              sofa_vec::times(r0, Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2]))};
+            rest_local_[e] = triangle_fem_sofa::rest_local_large(r0, a, b, c);
             rotation_[e] = r0.transpose();
-            ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
-            area_[e] = rest_local_[e][0].x() * rest_local_[e][1].y() * 0.5;
         } else {
-            // initSmall: world edge vectors, area = ½ |(b − a) × (c − a)|
-            rest_local_[e] = {b - a, c - a};
-            ok = triangular ? strain_displacement_global(j_[e], rest_local_[e][0], rest_local_[e][1])
-                            : strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
-            area_[e] = rest_local_[e][0].cross(rest_local_[e][1]).norm() * 0.5;
+            rest_local_[e] = {Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2]), Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2])};
         }
-        if (!ok) throw_invalid_argument(kComponent, ": triangle ", e, " is degenerate at rest (zero area)");
-        const double p = parameters_.poisson_ratio;
-        const double young = parameters_.young_modulus;
-        Mat3 d;
-        if (triangular) {
-            // TriangularFEMForceField::computeMaterialStiffness: plane stress times the rest area
-            d << 1, p, 0, p, 1, 0, 0, 0, (1.0 - p) * 0.5;
-            material_[e] = d * ((young / (1.0 - p * p)) * area_[e]);
+        ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
+    } else if (parameters_.method == FemMethod::Large) {
+        // initLarge: rest coordinates in the rest frame R_0_1·(b − a), R_0_1·(c − a) (SOFA's
+        // Mat·Vec row sums), area = ½ r_bx·r_cy
+        const Mat3 r0 = triangle_fem_sofa::rotation(a, b, c);
+        rest_local_[e] = {sofa_vec::times(r0, Vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2])),
+                          sofa_vec::times(r0, Vec3(c[0] - a[0], c[1] - a[1], c[2] - a[2]))};
+        rotation_[e] = r0.transpose();
+        ok = triangle_fem_sofa::strain_displacement_local(j_[e], rest_local_[e][0], rest_local_[e][1]);
+        area_[e] = rest_local_[e][0].x() * rest_local_[e][1].y() * 0.5;
+    } else {
+        // initSmall: world edge vectors, area = ½ |(b − a) × (c − a)|
+        rest_local_[e] = {b - a, c - a};
+        ok = strain_displacement_global(j_[e], rest_local_[e][0], rest_local_[e][1]);
+        area_[e] = rest_local_[e][0].cross(rest_local_[e][1]).norm() * 0.5;
+    }
+    if (!ok) throw_invalid_argument(kComponent, ": triangle ", e, " is degenerate at rest (zero area)");
+    const double p = parameters_.poisson_ratio;
+    const double young = parameters_.young_modulus;
+    Mat3 d;
+    if (triangular) {
+        // TriangularFEMForceField::computeMaterialStiffness: plane stress times the rest area
+        d << 1, p, 0, p, 1, 0, 0, 0, (1.0 - p) * 0.5;
+        material_[e] = d * ((young / (1.0 - p * p)) * area_[e]);
+    } else {
+        // TriangleFEMForceField::computeMaterialStiffnesses: times thickness·½|(b−a)×(c−a)|
+        area_[e] = triangle_fem_sofa::area(a, b, c);
+        const double volume = parameters_.thickness * area_[e];
+        if (parameters_.plane_strain) {
+            d << 1 - p, p, 0, p, 1 - p, 0, 0, 0, 0.5 - p;
+            material_[e] = d * (young / ((1 + p) * (1 - 2 * p)) * volume);
         } else {
-            // TriangleFEMForceField::computeMaterialStiffnesses: times thickness·½|(b−a)×(c−a)|
-            area_[e] = triangle_fem_sofa::area(a, b, c);
-            const double volume = parameters_.thickness * area_[e];
-            if (parameters_.plane_strain) {
-                d << 1 - p, p, 0, p, 1 - p, 0, 0, 0, 0.5 - p;
-                material_[e] = d * (young / ((1 + p) * (1 - 2 * p)) * volume);
-            } else {
-                d << 1, p, 0, p, 1, 0, 0, 0, 0.5 * (1 - p);
-                material_[e] = d * (young / (1 - p * p) * volume);
-            }
+            d << 1, p, 0, p, 1, 0, 0, 0, 0.5 * (1 - p);
+            material_[e] = d * (young / (1 - p * p) * volume);
         }
     }
 }

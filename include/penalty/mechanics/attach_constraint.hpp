@@ -17,6 +17,10 @@
 ///
 /// penalty projects a solver's vectors one state at a time (SubtreeSystem::project): object1 and
 /// object2 must be the same state when twoWay is set.
+///
+/// Topological changes: SOFA's indices1 and indices2 get no topology handler (init creates none):
+/// they keep their values, each naming the point now at its index. A pair whose index is past its
+/// state's end after a change (SOFA HEAD reads and writes past the state's vectors) acts on nothing.
 
 #include "penalty/mechanics/force_field.hpp"
 
@@ -48,8 +52,15 @@ public:
     [[nodiscard]] BaseState* state() const override { return object2_; }
     [[nodiscard]] std::size_t pairs() const { return std::min(p_.indices1.size(), p_.indices2.size()); }
     [[nodiscard]] bool released(std::size_t pair) const { return released_[pair] != 0; }
+    [[nodiscard]] BaseState* object1() const { return object1_; }
+    /// Pairs with an index past its state's end (after a topological change), which act on nothing.
+    [[nodiscard]] std::size_t pairs_past_end() const;
 
 private:
+    /// Both indices of pair k within their states.
+    [[nodiscard]] bool in_range(std::size_t k) const {
+        return std::size_t(p_.indices1[k]) < object1_->num_dofs() && std::size_t(p_.indices2[k]) < object2_->num_dofs();
+    }
     [[nodiscard]] double factor(std::size_t pair) const {
         return p_.constraint_factor.empty() ? 1.0 : p_.constraint_factor[pair];
     }

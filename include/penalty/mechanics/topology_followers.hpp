@@ -4,8 +4,7 @@
 /// (docs/topological-changes.md, "What follows"):
 ///  - RebuildFollower: a component whose per-element data is a function of each element's rest
 ///    shape alone (SOFA's TopologyData with a creation callback: TetrahedralCorotationalFEM-,
-///    TriangularFEM-, HexahedralFEMForceField; TetrahedronFEMForceField's reinit on
-///    handleTopologyChange; the collision models' updateFromTopology) is rebuilt from the
+///    HexahedralFEMForceField; the collision models' updateFromTopology) is rebuilt from the
 ///    container's final lists once an operation is done: the swap-and-pop order SOFA's data
 ///    follows is the container's, so the result is SOFA's;
 ///  - SubsetIndicesFollower: an index list over the points (TopologySubsetIndices:
@@ -14,7 +13,7 @@
 ///    (its rules differ from a rebuild: a spring is made only when an edge first gets two
 ///    triangles);
 ///  - MemberTopologyHandler: a component whose own member function follows the events
-///    (DiagonalMass::handle_topology_changes).
+///    (DiagonalMass, TetrahedronFEMForceField, TriangularFEMForceField: handle_topology_changes).
 
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/mechanics/topology_container.hpp"

@@ -31,10 +31,13 @@
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
+#include "penalty/mechanics/topology_change.hpp"
 
 #include <Eigen/Core>
 
 namespace penalty {
+
+class TopologyContainer;
 
 /// Which SOFA component the element follows (see the file comment).
 enum class TriangleFemFlavor { TriangularFEM, TriangleFEM };
@@ -69,12 +72,25 @@ public:
     [[nodiscard]] const std::vector<Triangle>& triangles() const { return triangles_; }
     /// Replaces the triangles (a topology follower, then init()).
     void set_triangles(std::vector<Triangle> triangles) { triangles_ = std::move(triangles); }
+    /// SOFA's TriangularFEMForceField triangleInfo, a TopologyData (init's createTopologyHandler,
+    /// creation callback createTriangleInformation): a removed triangle's data is swapped with the
+    /// last one's and popped (TopologyData::remove); a new triangle's data is computed when its
+    /// addition event arrives, from the state's rest positions at that moment
+    /// (initLarge/initSmall, computeMaterialStiffness); the other triangles keep theirs, also when
+    /// a vertex moves (movePointsProcess: SOFA's TopologyData ignore it). The triangles' vertices
+    /// follow the container (src/mechanics/topology/triangular_fem_changes.cpp).
+    void handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// Once the operation is done: the vertices of the triangles a change touched from the container.
+    void topology_change_done();
     /// Rest area A₀ of each triangle (m²).
     [[nodiscard]] const std::vector<double>& rest_areas() const { return area_; }
     [[nodiscard]] FemMethod method() const { return parameters_.method; }
     [[nodiscard]] const TriangleFemParameters& parameters() const { return parameters_; }
 
 private:
+    /// Triangle e's rest data (rest_local_, area_, material_, j_, rotation_) from the rest
+    /// positions; throws std::invalid_argument for a degenerate triangle or a point past the state.
+    void init_element(std::size_t e);
     /// One triangle's force: updates j_[e], rotation_[e]; returns ½ ε·σ (false: degenerate now).
     bool element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
     /// element_force of the TriangleFEM flavor, with SOFA's operations in SOFA's order
@@ -95,6 +111,15 @@ private:
     std::vector<StrainDisplacement> j_;  ///< J at the last add_force
     std::vector<Mat3> rotation_;         ///< Rᵀ (columns = local axes) at the last add_force
     double energy_ = 0.0;
+
+    /// What handle_topology_changes leaves for topology_change_done.
+    struct PendingTopologyChange {
+        const TopologyContainer* container = nullptr;
+        std::vector<std::size_t> slots;       ///< slots a swap filled
+        std::vector<PointId> renamed_points;  ///< removed points' indices (the last points take them)
+        bool all = false;                     ///< the points were renumbered: every triangle's vertices
+    };
+    PendingTopologyChange pending_;
 };
 
 }  // namespace penalty

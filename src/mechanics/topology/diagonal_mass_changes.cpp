@@ -28,7 +28,11 @@ void DiagonalMass::handle_topology_changes(const TopologyContainer& container,
     };
     for (const TopologyChange& c : changes) {
         if (c.element == ElementType::point) {
-            vertex_masses_edited_ = vertex_masses_edited_ || c.kind != TopologyChangeKind::ending;
+            // TopologyData's append, swap-and-pop or permutation writes d_vertexMass after the
+            // point callbacks (SOFA's topology data ignore a move)
+            const bool writes = c.kind == TopologyChangeKind::added || c.kind == TopologyChangeKind::removed ||
+                                c.kind == TopologyChangeKind::renumbered;
+            vertex_masses_edited_ = vertex_masses_edited_ || writes;
             if (c.kind == TopologyChangeKind::added) {
                 masses_.resize(masses_.size() + c.indices.size(), 0.0);  // applyPointCreation: m = 0
             } else if (c.kind == TopologyChangeKind::removed) {
@@ -38,8 +42,10 @@ void DiagonalMass::handle_topology_changes(const TopologyContainer& container,
             }
         } else if (c.element == lumped && c.kind == TopologyChangeKind::added) {
             for (const ElementId id : c.indices) apply(id, +1.0);
+            vertex_masses_edited_ = false;  // apply<Element>Creation ends with cleanTracker()
         } else if (c.element == lumped && c.kind == TopologyChangeKind::removed) {
             for (const ElementId id : c.indices) apply(id, -1.0);
+            vertex_masses_edited_ = false;  // apply<Element>Destruction ends with cleanTracker()
         }
     }
 }

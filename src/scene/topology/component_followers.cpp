@@ -3,6 +3,7 @@
 // file order. Anything else that uses a dynamic topology, or a state whose points it changes,
 // blocks it (TopologyRuntime::check_can_change names it).
 #include "penalty/collision/models.hpp"
+#include "penalty/mechanics/attach_constraint.hpp"
 #include "penalty/mechanics/corotational_fem.hpp"
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/fast_tetrahedral_corotational.hpp"
@@ -23,9 +24,11 @@
 #include "scene/topology/topology_changes.hpp"
 
 #include <array>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <set>
+#include <utility>
 
 namespace penalty::scene {
 
@@ -155,6 +158,13 @@ bool follow_fem(TopologyWiring& w, const std::string& type, BaseForceField* f, T
     if (type == "TriangularFEMForceField" || type == "TriangleFEMForceField") {
         auto* ff = dynamic_cast<TriangularFEMForceField*>(f);
         if (ff == nullptr || !mesh.quads().empty()) return false;
+        if (type == "TriangularFEMForceField") {
+            // triangleInfo, a TopologyData: event by event (triangular_fem_changes.cpp)
+            container.add_handler(
+                w.keep(std::make_unique<MemberTopologyHandler<TriangularFEMForceField>>(*ff, container)),
+                {ElementType::triangle, ElementType::point});
+            return true;
+        }
         rebuild([ff, &mesh] { ff->set_triangles(mesh.triangles()), ff->init(); },
                 {ElementType::triangle, ElementType::point});
         return true;
@@ -380,6 +390,55 @@ bool follow_spring_ends(TopologyWiring& w, const SceneComponent& c, const Built&
     return true;
 }
 
+/// After each change, warns when pairs of an AttachProjectiveConstraint name points past their
+/// state's end (they act on nothing: AttachProjectiveConstraint::in_range).
+class AttachRangeCheck final : public TopologyHandler {
+public:
+    AttachRangeCheck(std::function<std::size_t()> pairs_past_end, std::string name)
+        : pairs_past_end_(std::move(pairs_past_end)), name_(std::move(name)) {}
+    void handle_topology_changes(std::span<const TopologyChange>) override { dirty_ = true; }
+    void topology_change_done() override {
+        if (!std::exchange(dirty_, false)) return;
+        if (const std::size_t n = pairs_past_end_(); n > 0)
+            std::cerr << "warning: " << name_ << ": " << n
+                      << " attached pairs name points past their state's end after the topological change (SOFA's "
+                         "AttachProjectiveConstraint keeps its indices; SOFA HEAD then reads and writes past the "
+                         "state): they act on nothing\n";
+    }
+
+private:
+    std::function<std::size_t()> pairs_past_end_;
+    std::string name_;
+    bool dirty_ = false;
+};
+
+/// AttachProjectiveConstraint: SOFA's indices1 and indices2 are TopologySubsetIndices without a
+/// topology handler (AttachProjectiveConstraint::init creates none): nothing follows, each index
+/// names the point now at it. The topologies whose points either state follows check the pairs
+/// after each change (AttachRangeCheck). False for another component.
+bool follow_attach(TopologyWiring& w, const SceneComponent& c, const Built& b) {
+    if ((c.type != "AttachProjectiveConstraint" && c.type != "AttachConstraint") || b.constraints.size() != 1)
+        return false;
+    BaseProjectiveConstraint* k = b.constraints[0];
+    BaseState* object1 = nullptr;
+    std::function<std::size_t()> past_end;
+    if (auto* a = dynamic_cast<AttachProjectiveConstraint<Vec3Types>*>(k)) {
+        object1 = a->object1();
+        past_end = [a] { return a->pairs_past_end(); };
+    } else if (auto* r = dynamic_cast<AttachProjectiveConstraint<Rigid3Types>*>(k)) {
+        object1 = r->object1();
+        past_end = [r] { return r->pairs_past_end(); };
+    } else {
+        return false;
+    }
+    std::set<DynamicTopology*> topologies;
+    for (const BaseState* s : {static_cast<const BaseState*>(object1), static_cast<const BaseState*>(k->state())})
+        if (const auto f = w.followed_states.find(s); f != w.followed_states.end()) topologies.insert(f->second);
+    for (DynamicTopology* t : topologies)
+        t->container->add_handler(w.keep(std::make_unique<AttachRangeCheck>(past_end, where(c))), {ElementType::point});
+    return true;
+}
+
 /// A BarycentricMapping whose input state follows `t` (a tetrahedral or hexahedral container):
 /// SOFA's BarycentricMapping::handleTopologyChange → TopologyBarycentricMapper::
 /// processTopologicalChanges, clear() and init(out, in) with both states' current positions, i.e.
@@ -439,6 +498,7 @@ void wire_components(TopologyWiring& w) {
                 }
                 continue;
             }
+            if (follow_attach(w, c, b)) continue;
             if (by_topology == nullptr && by_state.empty()) continue;
             if (follow_spring_ends(w, c, b)) continue;
             const bool follows = by_topology != nullptr && follow(w, c, b, *by_topology);

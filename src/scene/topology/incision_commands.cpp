@@ -9,6 +9,8 @@
 #include "penalty/core/error.hpp"
 #include "penalty/mechanics/state_topology.hpp"
 
+#include "io/text.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -19,20 +21,16 @@ namespace penalty::scene {
 
 namespace {
 
-/// The numbers of a line; throws naming the first that is not a finite number.
+/// The numbers of a line, read as a scene's attributes are (io::detail::parse_double, within
+/// io::detail::kMaxMagnitude); throws naming the first that is not one.
 std::vector<double> numbers_of(const std::string& line, const std::string& at) {
     std::vector<double> out;
-    std::istringstream in(line);
-    for (std::string v; in >> v;) {
-        std::size_t used = 0;
-        double x = 0;
-        try {
-            x = std::stod(v, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != v.size() || !std::isfinite(x)) throw_invalid_argument(at, ": '", v, "' is not a number");
-        out.push_back(x);
+    for (const std::string_view v : io::detail::split_blanks(line)) {
+        const std::optional<double> x = io::detail::parse_double(v);
+        if (!x) throw_invalid_argument(at, ": '", v, "' is not a number");
+        if (const auto problem = io::detail::magnitude_problem(*x))
+            throw_invalid_argument(at, ": '", v, "': ", *problem);
+        out.push_back(*x);
     }
     return out;
 }
@@ -42,8 +40,7 @@ std::vector<double> numbers_of(const std::string& line, const std::string& at) {
 // `INCISE= n`, then a line of n points: x y z each (the coordinates form), or t x y z each (the
 // index form, t a triangle). SOFA's getValuesInLine accepts other counts with a warning and reads
 // them as it can; penalty refuses them.
-void TopologyChangeFile::check_incision(std::size_t i, std::istringstream& in) {
-    has_incisions_ = true;
+IncisionLine TopologyChangeFile::read_incision(std::size_t i, std::istringstream& in) const {
     long long n = -1;
     if (!(in >> n) || n < 2 || n > 10'000'000)
         throw_invalid_argument(at(i), ": 'INCISE=' needs the count of the cut's points (2 or more)");
@@ -53,58 +50,36 @@ void TopologyChangeFile::check_incision(std::size_t i, std::istringstream& in) {
     if (values.size() != 3 * count && values.size() != 4 * count)
         throw_invalid_argument(at(i + 1), ": ", values.size(), " values for 'INCISE= ", n, "': expected ", 3 * count,
                                " (x y z per point) or ", 4 * count, " (triangle x y z per point)");
-    if (values.size() == 4 * count)
-        for (std::size_t k = 0; k < count; ++k) {
+    const bool indexed = values.size() == 4 * count;
+    IncisionLine line;
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::size_t o = indexed ? 4 * k + 1 : 3 * k;
+        if (indexed) {
             const double t = values[4 * k];
             if (t < 0 || t != std::floor(t) || t > double(std::numeric_limits<ElementId>::max()))
                 throw_invalid_argument(at(i + 1), ": point ", k + 1, ": '", t, "' is not a triangle index");
+            line.triangles.push_back(ElementId(t));
         }
-}
-
-IncisionLine TopologyChangeFile::incision_at(std::size_t i) const {
-    std::istringstream in(lines_[i]);
-    std::string cmd;
-    long long n = 0;
-    in >> cmd >> n;
-    const std::vector<double> values = numbers_of(lines_[i + 1], at(i + 1));
-    IncisionLine line;
-    const bool indexed = values.size() == 4 * std::size_t(n);
-    const std::size_t per = indexed ? 4 : 3;
-    for (std::size_t k = 0; k + per <= values.size(); k += per) {
-        if (indexed) line.triangles.push_back(ElementId(values[k]));
-        const std::size_t o = indexed ? k + 1 : k;
         line.points.emplace_back(values[o], values[o + 1], values[o + 2]);
     }
     return line;
 }
 
+const IncisionLine& TopologyChangeFile::incision_at(std::size_t i) const {
+    const auto it = std::lower_bound(incisions_.begin(), incisions_.end(), i,
+                                     [](const IncisionRecord& r, std::size_t line) { return r.line < line; });
+    PENALTY_DEMAND(it != incisions_.end() && it->line == i);
+    return it->cut;
+}
+
 std::vector<std::pair<double, IncisionLine>> TopologyChangeFile::timed_incisions() const {
     std::vector<std::pair<double, IncisionLine>> out;
-    std::optional<std::size_t> block;  // the last T= line
-    bool cut_in_block = false;
-    std::size_t previous = lines_.size();  // the last non-blank line
-    for (std::size_t i = 0; i < lines_.size(); ++i) {
-        std::istringstream in(lines_[i]);
-        std::string cmd;
-        if (!(in >> cmd)) continue;
-        if (cmd == "T=") {
-            block = i;
-            cut_in_block = false;
-        } else if (cmd == "INCISE=") {
-            if (!block || previous != *block)
-                throw_invalid_argument(at(i), ": with saveIndicesAtInit an INCISE= line must follow its T= line");
-            if (cut_in_block)
-                throw_invalid_argument(at(i),
-                                       ": with saveIndicesAtInit a block has one INCISE= line (SOFA cuts "
-                                       "the points of a block's lines together, once per line)");
-            cut_in_block = true;
-            std::istringstream t(lines_[*block]);
-            std::string keyword;
-            double time = 0;
-            t >> keyword >> time;
-            out.emplace_back(time, incision_at(i));
-        }
-        previous = i;
+    out.reserve(incisions_.size());
+    for (const IncisionRecord& r : incisions_) {
+        // a second INCISE= line of a block follows the first one's points, not its T= line
+        if (!r.block_time)
+            throw_invalid_argument(at(r.line), ": with saveIndicesAtInit an INCISE= line must follow its T= line");
+        out.emplace_back(*r.block_time, r.cut);
     }
     return out;
 }

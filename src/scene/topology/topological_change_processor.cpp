@@ -14,6 +14,8 @@
 #include "penalty/core/error.hpp"
 #include "penalty/io/data_path.hpp"
 
+#include "io/text.hpp"
+
 #include <cfloat>
 #include <cmath>
 #include <fstream>
@@ -56,77 +58,76 @@ TopologyChangeFile::TopologyChangeFile(const std::string& text, std::string name
 
 std::string TopologyChangeFile::at(std::size_t line) const { return name_ + ":" + std::to_string(line + 1); }
 
-// Every command well formed: `T= time`, `REMOVE= n` then a line, `ADD= Type n` then a line of
-// n elements. (SOFA reads a missing index as 0; so does penalty, with a note.)
+// One pass over the lines: every command well formed (`T= time`, `REMOVE= n` then a line,
+// `ADD= Type n` then a line of n elements, `INCISE= n` then a line of n points), and each block
+// (from one T= to the next) either cuts or removes/adds: penalty applies a step's REMOVE=/ADD=
+// lines together before anything else, so it does not order them with cuts.
 void TopologyChangeFile::check() {
+    std::size_t block = 0;
+    std::optional<double> block_time;  // the last T= line's
+    bool cuts = false, edits = false;
+    std::size_t previous = lines_.size();  // the last non-blank line
     for (std::size_t i = 0; i < lines_.size(); ++i) {
         std::istringstream in(lines_[i]);
         std::string cmd;
         if (!(in >> cmd)) continue;
+        std::size_t last = i;  // the command's last line (its values)
         if (cmd == "T=") {
             double t = 0;
             if (!(in >> t) || !std::isfinite(t)) throw_invalid_argument(at(i), ": 'T=' needs a time");
-        } else if (cmd == "REMOVE=" || cmd == "ADD=") {
-            std::string type;
-            if (cmd == "ADD=") {
-                in >> type;
-                if (type == "PointInTriangle" || type == "PointsInTriangle")
-                    throw_invalid_argument(at(i), ": 'ADD= ", type, "' is not supported by penalty");
-                if (!added_type(type))
-                    throw_invalid_argument(at(i), ": 'ADD= ", type,
-                                           "': expected Edges, Triangles, Quads, Tetrahedra or Hexahedra");
-            }
-            long long n = -1;
-            if (!(in >> n) || n < 0 || n > 100'000'000) throw_invalid_argument(at(i), ": '", cmd, "' needs a count");
-            if (i + 1 >= lines_.size())
-                throw_invalid_argument(at(i), ": '", cmd, " ", n, "' has no line of indices after it");
-            std::istringstream values(lines_[i + 1]);
-            std::size_t found = 0;
-            for (std::string v; values >> v; ++found) {
-                std::size_t used = 0;
-                long long x = -1;
-                try {
-                    x = std::stoll(v, &used);
-                } catch (const std::exception&) {
-                    used = 0;
-                }
-                if (used != v.size() || x < 0 || x > std::numeric_limits<ElementId>::max())
-                    throw_invalid_argument(at(i + 1), ": '", v, "' is not an index");
-            }
-            const std::size_t per = cmd == "ADD=" ? std::size_t(vertices_per_element(*added_type(type))) : 1;
-            if (found > std::size_t(n) * per)
-                throw_invalid_argument(at(i + 1), ": ", found, " values for '", cmd, type.empty() ? "" : " ", type, " ",
-                                       n, "'");
-            if (found < std::size_t(n) * per)
-                notes_.push_back(at(i + 1) + ": " + std::to_string(found) + " values for '" + cmd +
-                                 (type.empty() ? "" : " " + type) + " " + std::to_string(n) +
-                                 "': as SOFA, the missing ones read as 0");
-            ++i;
-        } else if (cmd == "INCISE=") {
-            check_incision(i, in);
-            ++i;
-        }
-    }
-    // a block (from one T= to the next) cuts or removes/adds, not both: penalty applies a step's
-    // REMOVE=/ADD= lines together before anything else
-    std::size_t block = 0;
-    bool cuts = false, edits = false;
-    for (std::size_t i = 0; i < lines_.size(); ++i) {
-        std::istringstream in(lines_[i]);
-        std::string cmd;
-        if (!(in >> cmd)) continue;
-        if (cmd == "T=") {
             block = i;
+            block_time = t;
             cuts = edits = false;
+        } else if (cmd == "REMOVE=" || cmd == "ADD=") {
+            check_edit(i, cmd, in);
+            edits = true;
+            last = i + 1;
+        } else if (cmd == "INCISE=") {
+            // saveIndices pairs an INCISE= line with the non-blank line before it, when a T= line
+            const bool after_time = block_time.has_value() && previous == block;
+            incisions_.push_back({i, read_incision(i, in), after_time ? block_time : std::nullopt});
+            cuts = true;
+            last = i + 1;
         }
-        cuts = cuts || cmd == "INCISE=";
-        edits = edits || cmd == "REMOVE=" || cmd == "ADD=";
         if (cuts && edits)
             throw_invalid_argument(at(i), ": the block of ", at(block),
                                    " mixes INCISE= with REMOVE=/ADD= lines, which penalty does not order (put them "
                                    "in blocks of their own)");
-        if (cmd == "INCISE=" || cmd == "REMOVE=" || cmd == "ADD=") ++i;
+        previous = last;
+        i = last;
     }
+}
+
+// `REMOVE= n` then a line of n indices, `ADD= Type n` then a line of n elements. (SOFA reads a
+// missing index as 0; so does penalty, with a note.)
+void TopologyChangeFile::check_edit(std::size_t i, const std::string& cmd, std::istringstream& in) {
+    std::string type;
+    if (cmd == "ADD=") {
+        in >> type;
+        if (type == "PointInTriangle" || type == "PointsInTriangle")
+            throw_invalid_argument(at(i), ": 'ADD= ", type, "' is not supported by penalty");
+        if (!added_type(type))
+            throw_invalid_argument(at(i), ": 'ADD= ", type,
+                                   "': expected Edges, Triangles, Quads, Tetrahedra or Hexahedra");
+    }
+    long long n = -1;
+    if (!(in >> n) || n < 0 || n > 100'000'000) throw_invalid_argument(at(i), ": '", cmd, "' needs a count");
+    if (i + 1 >= lines_.size()) throw_invalid_argument(at(i), ": '", cmd, " ", n, "' has no line of indices after it");
+    std::size_t found = 0;
+    for (const std::string_view v : io::detail::split_blanks(lines_[i + 1])) {
+        const std::optional<std::int64_t> x = io::detail::parse_int(v);
+        if (!x || *x < 0 || *x > std::numeric_limits<ElementId>::max())
+            throw_invalid_argument(at(i + 1), ": '", v, "' is not an index");
+        ++found;
+    }
+    const std::size_t per = cmd == "ADD=" ? std::size_t(vertices_per_element(*added_type(type))) : 1;
+    if (found > std::size_t(n) * per)
+        throw_invalid_argument(at(i + 1), ": ", found, " values for '", cmd, type.empty() ? "" : " ", type, " ", n,
+                               "'");
+    if (found < std::size_t(n) * per)
+        notes_.push_back(at(i + 1) + ": " + std::to_string(found) + " values for '" + cmd +
+                         (type.empty() ? "" : " " + type) + " " + std::to_string(n) +
+                         "': as SOFA, the missing ones read as 0");
 }
 
 // getline on the file: a line, and the end of file once the last one is read.

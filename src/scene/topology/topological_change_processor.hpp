@@ -37,18 +37,26 @@ public:
     /// Remarks for `penalty info` (counts SOFA completes with zeros).
     [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
     /// True when the file has INCISE= lines.
-    [[nodiscard]] bool has_incisions() const { return has_incisions_; }
+    [[nodiscard]] bool has_incisions() const { return !incisions_.empty(); }
     /// saveIndices: each INCISE= line with the time of the T= line just before it (blank lines
-    /// aside). Throws std::invalid_argument naming the line for an INCISE= line without one, or a
-    /// second INCISE= line in a block (SOFA would cut their merged points twice).
+    /// aside). Throws std::invalid_argument naming the line for an INCISE= line without one (as a
+    /// second INCISE= line in a block: SOFA skips it with an error).
     [[nodiscard]] std::vector<std::pair<double, IncisionLine>> timed_incisions() const;
 
 private:
+    /// An INCISE= command as check() read it.
+    struct IncisionRecord {
+        std::size_t line = 0;              ///< the INCISE= line (0-based); its points are on the next
+        IncisionLine cut;                  ///< its points
+        std::optional<double> block_time;  ///< the time of the T= line right before it, if it is
+    };
     void check();
+    /// A REMOVE= or ADD= command at line i, its values on the next line.
+    void check_edit(std::size_t i, const std::string& cmd, std::istringstream& in);
     /// An INCISE= command at line i: `INCISE= n`, then n points (x y z, or triangle x y z).
-    void check_incision(std::size_t i, std::istringstream& in);
-    /// The points of the INCISE= command at line i (checked by check_incision).
-    [[nodiscard]] IncisionLine incision_at(std::size_t i) const;
+    [[nodiscard]] IncisionLine read_incision(std::size_t i, std::istringstream& in) const;
+    /// The points of the INCISE= command at line i.
+    [[nodiscard]] const IncisionLine& incision_at(std::size_t i) const;
     std::string read_line();
     std::string name_;
     std::vector<std::string> lines_;
@@ -56,8 +64,8 @@ private:
     std::size_t pos_ = 0;
     bool eof_ = false;
     double next_time_ = 0, loop_time_ = 0;
-    std::string cmd_;  ///< SOFA's `cmd`, kept from line to line
-    bool has_incisions_ = false;
+    std::string cmd_;                        ///< SOFA's `cmd`, kept from line to line
+    std::vector<IncisionRecord> incisions_;  ///< in the file's order
 };
 
 class TopologicalChangeProcessorSource final : public TopologyChangeSource {
