@@ -519,9 +519,13 @@ def _run_on_dask(todo, rows, client, workers, retries, report, out_dir):
     finally:
         if own_cluster is not None and isinstance(sys.exc_info()[1], KeyboardInterrupt):
             # Ctrl-C: the workers are being stopped on purpose; a nanny slow to stop its worker
-            # (a loaded machine) would log an ERROR with a traceback over the resume message
+            # (a loaded machine), or the client's thread reconnecting to a scheduler already gone,
+            # would log an ERROR with a traceback over the resume message. Every distributed
+            # logger: Dask's configuration gives some (distributed.client, ...) their own level.
             import logging
-            logging.getLogger("distributed").setLevel(logging.CRITICAL)
+            for name in ["distributed", *logging.root.manager.loggerDict]:
+                if name == "distributed" or name.startswith("distributed."):
+                    logging.getLogger(name).setLevel(logging.CRITICAL)
         if own_client is not None:
             own_client.close()
         if own_cluster is not None:
