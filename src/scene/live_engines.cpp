@@ -39,11 +39,17 @@ constexpr LiveEngineKind kLiveEngineKinds[] = {
 /// The readers penalty follows: a projective constraint's `indices`, which SOFA reads at each
 /// projection and matrix application (FixedProjectiveConstraint::projectResponse,
 /// FixedPlaneProjectiveConstraint::projectResponse / applyConstraint,
-/// PartialFixedProjectiveConstraint::projectResponseT / applyConstraint: d_indices.getValue()).
+/// PartialFixedProjectiveConstraint::projectResponseT / applyConstraint: d_indices.getValue()), and
+/// ConstantForceField's, which its addForce reads after its component state
+/// (isComponentStateValid runs the update callbacks of a changed d_indices).
 constexpr std::string_view kIndexFollowers[] = {
-    "FixedProjectiveConstraint",        "FixedConstraint",
-    "FixedPlaneProjectiveConstraint",   "FixedPlaneConstraint",
-    "PartialFixedProjectiveConstraint", "PartialFixedConstraint",
+    "FixedProjectiveConstraint",
+    "FixedConstraint",
+    "FixedPlaneProjectiveConstraint",
+    "FixedPlaneConstraint",
+    "PartialFixedProjectiveConstraint",
+    "PartialFixedConstraint",
+    "ConstantForceField",
 };
 
 bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -69,13 +75,20 @@ bool follows_indices(const io::SceneComponent& c) {
     return std::find(std::begin(kIndexFollowers), std::end(kIndexFollowers), c.type) != std::end(kIndexFollowers);
 }
 
-/// The projective constraint built from `c` in `node` whose indices can follow a source, or null.
-BaseProjectiveConstraint* built_index_follower(const Scene& scene, const Node& node, const io::SceneComponent& c) {
+/// The projective constraint or force field built from `c` in `node` whose indices can follow a
+/// source, with its state, or {null, null}.
+std::pair<FollowedIndices*, const BaseState*> built_index_follower(const Scene& scene, const Node& node,
+                                                                   const io::SceneComponent& c) {
+    const auto from = [&scene, &c](const auto& component) -> FollowedIndices* {
+        auto* followed = dynamic_cast<FollowedIndices*>(component.get());
+        return followed != nullptr && scene.component_of(dynamic_cast<const void*>(component.get())) == &c ? followed
+                                                                                                           : nullptr;
+    };
     for (const auto& k : node.constraints())
-        if (dynamic_cast<FollowedIndices*>(k.get()) != nullptr &&
-            scene.component_of(dynamic_cast<const void*>(k.get())) == &c)
-            return k.get();
-    return nullptr;
+        if (FollowedIndices* f = from(k)) return {f, k->state()};
+    for (const auto& ff : node.force_fields())
+        if (FollowedIndices* f = from(ff)) return {f, node.state()};
+    return {nullptr, nullptr};
 }
 
 }  // namespace
@@ -164,17 +177,17 @@ bool follow_index_reader(Scene& scene, const io::SceneComponent& c, const io::Sc
     if (!follows_indices(c) || a.name != "indices" || num_targets != 1 || engine.indices.count(output) == 0 ||
         node == nullptr)
         return false;
-    BaseProjectiveConstraint* k = built_index_follower(scene, *node, c);
-    if (k == nullptr) return false;
-    const std::size_t size = k->state()->num_dofs();
+    const auto [follower, state] = built_index_follower(scene, *node, c);
+    if (follower == nullptr || state == nullptr) return false;
+    const std::size_t size = state->num_dofs();
     // The constraint takes the output at its first read; a FixedPlaneProjectiveConstraint with
     // dmin != dmax keeps the points between its planes that its init appended to the output of
     // init until the engine runs again (SOFA: its Data is then dirty and takes its parent's value).
-    const bool appended = dynamic_cast<FixedPlaneProjectiveConstraint*>(k) != nullptr &&
+    const bool appended = dynamic_cast<FixedPlaneProjectiveConstraint*>(follower) != nullptr &&
                           Attributes(c).real("dmin") != Attributes(c).real("dmax");
     const std::uint64_t seen = appended ? engine.runs() : 0;
-    dynamic_cast<FollowedIndices&>(*k).set_index_source([reader = LiveEngineReader{&engine, output, seen}, size,
-                                                         what = c.describe()](std::vector<Index>& indices) mutable {
+    follower->set_index_source([reader = LiveEngineReader{&engine, output, seen}, size,
+                                what = c.describe()](std::vector<Index>& indices) mutable {
         if (!reader.pull()) return;
         const std::vector<PointId>& out = reader.engine->indices.find(reader.output)->second;
         for (PointId i : out)
