@@ -26,14 +26,16 @@ namespace {
 /// BoxROI, SphereROI, MeshROI: BaseROI::doUpdate selects again only with `doUpdate` (BaseROI::init
 /// runs it once whatever the flag). PlaneROI::doUpdate, ProximityROI::doUpdate,
 /// TransformEngine::doUpdate, TransformPosition::doUpdate: always.
+/// Followed besides the points (their builders read them through LiveEngine::followed): SphereROI's
+/// and ProximityROI's `centers`.
 constexpr LiveEngineKind kLiveEngineKinds[] = {
-    {"BoxROI", "position", "rest_position", "doUpdate"},
-    {"SphereROI", "position", "rest_position", "doUpdate"},
-    {"MeshROI", "position", "rest_position", "doUpdate"},
-    {"PlaneROI", "position", "rest_position", ""},
-    {"ProximityROI", "position", "rest_position", ""},
-    {"TransformEngine", "input_position", "", ""},
-    {"TransformPosition", "input_position", "inputPosition", ""},
+    {"BoxROI", "position", "rest_position", "doUpdate", ""},
+    {"SphereROI", "position", "rest_position", "doUpdate", "centers"},
+    {"MeshROI", "position", "rest_position", "doUpdate", ""},
+    {"PlaneROI", "position", "rest_position", "", ""},
+    {"ProximityROI", "position", "rest_position", "", "centers"},
+    {"TransformEngine", "input_position", "", "", ""},
+    {"TransformPosition", "input_position", "inputPosition", "", ""},
 };
 
 /// The readers penalty follows: a projective constraint's `indices`, which SOFA reads at each
@@ -71,6 +73,13 @@ bool runs_once(const io::SceneComponent& c) {
     return kind != nullptr && !kind->update_flag.empty() && !Attributes(c).boolean(kind->update_flag);
 }
 
+/// True when `self` reads `output` of `engine` at each of its runs (its points or a followed input).
+bool reads_on_each_run(const LiveEngine& self, const LiveEngine& engine, std::string_view output) {
+    const auto reads = [&engine, output](const LivePoints& p) { return p.engine == &engine && p.output == output; };
+    return reads(self.input()) || std::any_of(self.followed_inputs().begin(), self.followed_inputs().end(),
+                                              [&reads](const FollowedInput& f) { return reads(f.source); });
+}
+
 bool follows_indices(const io::SceneComponent& c) {
     return std::find(std::begin(kIndexFollowers), std::end(kIndexFollowers), c.type) != std::end(kIndexFollowers);
 }
@@ -101,20 +110,34 @@ const LiveEngineKind* find_live_engine_kind(std::string_view type) {
 
 const std::vector<Vec3>& LivePoints::current() const {
     if (state != nullptr) return state->position;
+    if (engine == nullptr) return points;
     engine->update_if_dirty();
     return engine->meshes.find(output)->second.positions;
 }
 
+const std::vector<Vec3>* LiveEngine::followed(std::string_view name) const {
+    for (const FollowedInput& f : followed_)
+        if (f.name == name) return &f.last;
+    return nullptr;
+}
+
 bool LiveEngine::update_if_dirty() {
+    // DataEngine::update reads every input (running the engines before it); it runs when one is dirty
     const std::vector<Vec3>& x = input_.current();
-    if (runs_ != 0 && same_bits(x, last_input_)) return false;
-    last_input_ = x;  // the buffer's capacity stays: no allocation once it has run
+    bool dirty = runs_ == 0 || !same_bits(x, last_input_);
+    for (const FollowedInput& f : followed_) dirty = !same_bits(f.source.current(), f.last) || dirty;
+    if (!dirty) return false;
+    last_input_ = x;  // the buffers' capacity stays: no allocation once it has run
+    for (FollowedInput& f : followed_) f.last = f.source.current();
     evaluate_(last_input_, *this);
     ++runs_;
     return true;
 }
 
 void LiveEngines::update_linked_states() {
+    for (const std::unique_ptr<LiveEngine>& engine : engines)
+        for (FollowedInput& f : engine->followed_inputs())
+            if (f.source.snapshot_of != nullptr) f.source.points = f.source.snapshot_of->position;
     for (LinkedState& s : linked_states) {
         if (!s.reader.pull()) continue;
         const auto it = s.reader.engine->meshes.find(s.reader.output);
@@ -142,28 +165,80 @@ std::optional<LivePoints> SceneBuilder::moving_input(const Attributes& a, std::s
     if (LiveEngine* upstream = scene_.live_->engine(source)) {
         upstream->update_if_dirty();
         if (!is_point_output(*upstream, targets[0].data)) return std::nullopt;
-        return LivePoints{nullptr, upstream, targets[0].data};
+        return LivePoints{nullptr, upstream, targets[0].data, {}};
     }
     if (targets[0].data != "position" || source.type != "MechanicalObject") return std::nullopt;
     const auto it = nodes_.find(source.node);
     if (it == nodes_.end() || it->second.state_component != &source || it->second.node == nullptr) return std::nullopt;
     const auto* state = dynamic_cast<const Vec3Object*>(it->second.node->state());
     if (state == nullptr) return std::nullopt;
-    return LivePoints{state, nullptr, {}};
+    return LivePoints{state, nullptr, {}, {}};
 }
 
-void SceneBuilder::add_live_engine(const Attributes& a, LiveEngine::Evaluate evaluate) {
+namespace {
+
+/// The names of a space-separated list (kLiveEngineKinds' `followed`).
+std::vector<std::string_view> listed_names(std::string_view list) {
+    std::vector<std::string_view> names;
+    while (!list.empty()) {
+        const std::size_t end = std::min(list.find(' '), list.size());
+        if (end != 0) names.push_back(list.substr(0, end));
+        list.remove_prefix(std::min(end + 1, list.size()));
+    }
+    return names;
+}
+
+/// True when link target `t` changes while the scene runs: a MechanicalObject's Data other than its
+/// rest positions (the solve and the controllers write them), or an output of a live engine.
+bool changes_while_running(const io::LinkTarget& t, const LiveEngines* live) {
+    if (t.component == nullptr) return false;
+    if (live != nullptr && live->find(*t.component) != nullptr) return true;
+    return t.component->type == "MechanicalObject" && !t.data.empty() && t.data != "rest_position" &&
+           t.data != "reset_position";
+}
+
+}  // namespace
+
+void SceneBuilder::add_live_engine(const Attributes& a, const std::vector<Vec3>& points,
+                                   LiveEngine::Evaluate evaluate) {
     const io::SceneComponent& c = a.component();
     const LiveEngineKind* kind = find_live_engine_kind(c.type);
     if (kind == nullptr) throw std::logic_error(c.type + " is not in kLiveEngineKinds");
     if (!kind->update_flag.empty() && !a.boolean(kind->update_flag)) return;  // the selection of init stays
     const std::string_view attr = !a.has(kind->input) && !kind->input_alias.empty() ? kind->input_alias : kind->input;
     std::optional<LivePoints> input = moving_input(a, attr);
-    if (!input) return;
+    std::vector<FollowedInput> followed;
+    for (const std::string_view name : listed_names(kind->followed))
+        if (std::optional<LivePoints> source = moving_input(a, name)) {
+            if (source->state != nullptr)  // read as of the step's start (FollowedInput)
+                source = LivePoints{nullptr, nullptr, {}, source->state->position, source->state};
+            followed.push_back({std::string(name), std::move(*source), {}});
+        }
+    // SOFA's DataEngine::addInput: any input linked to data that changes runs the engine again
+    for (const io::SceneAttribute& link : c.attributes) {
+        const bool is_followed = std::any_of(followed.begin(), followed.end(),
+                                             [&link](const FollowedInput& f) { return f.name == link.name; });
+        if (!io::is_link(link.value) || link.name == attr || is_followed) continue;
+        std::vector<io::LinkTarget> targets;
+        try {
+            targets = io::resolve_links(c, link.name);
+        } catch (const io::SceneError&) {
+            continue;  // the engine's own build reports it
+        }
+        for (const io::LinkTarget& t : targets)
+            if (changes_while_running(t, scene_.live_->engines.get()))
+                warn(c.file + ":" + std::to_string(link.line) + ": " + c.describe() + ": input '" + link.name +
+                     "' links " + t.component->describe() + "." + t.data +
+                     ", which changes while the scene runs: penalty reads it once, when the scene is built (SOFA "
+                     "runs the engine again when it changes)");
+    }
+    if (!input && followed.empty()) return;
+    if (!input) input = LivePoints{nullptr, nullptr, {}, points};
     std::unique_ptr<LiveEngines>& engines = scene_.live_->engines;
     if (!engines) engines = std::make_unique<LiveEngines>();
     LiveEngines& live = *engines;
-    live.engines.push_back(std::make_unique<LiveEngine>(c, std::move(*input), std::move(evaluate)));
+    live.engines.push_back(
+        std::make_unique<LiveEngine>(c, std::move(*input), std::move(followed), std::move(evaluate)));
     live.by_component[&c] = live.engines.back().get();
 }
 
@@ -218,10 +293,11 @@ void Scene::LiveEdits::wire_engines(Scene& scene) {
                 LiveEngine* engine = t.component != nullptr ? live.find(*t.component) : nullptr;
                 if (engine == nullptr || t.data.empty()) continue;
                 engine->update_if_dirty();  // its first run (the positions after init): its outputs exist
-                if (const LiveEngine* self = live.find(c);
-                    self != nullptr && self->input().engine == engine && self->input().output == t.data)
+                if (const LiveEngine* self = live.find(c); self != nullptr && reads_on_each_run(*self, *engine, t.data))
                     continue;                // a chain: the engine reads its input on each run
                 if (runs_once(c)) continue;  // SOFA reads it once too
+                // an engine that runs on read: its build followed the input or named it (add_live_engine)
+                if (find_live_engine_kind(c.type) != nullptr) continue;
                 if (follow_index_reader(scene, c, a, targets.size(), *engine, t.data)) continue;
                 const Node* node = scene.node_of(*c.node);
                 const bool point_output =

@@ -1,5 +1,7 @@
-// Readers of a live engine's output beyond the projective constraints (src/scene/live_engines.cpp):
-// a ConstantForceField whose `indices` link a BoxROI over moving positions takes them at each
+// Readers of a live engine's output beyond the projective constraints, and engines following
+// inputs beyond their points (src/scene/live_engines.cpp). A SphereROI whose centres link a ball's
+// moving positions selects the beam points the ball passes, the ball as of each step's start
+// while the step runs. A ConstantForceField whose `indices` link a BoxROI over moving positions takes them at each
 // addForce and runs SOFA's update callbacks when they change (ConstantForceField::updateFromIndices,
 // updateFromForcesVector, updateFromTotalForce): one `forces` value, spread over the count of init,
 // no longer fits a new count and the component is Invalid (no force); a `totalForce` is spread
@@ -10,7 +12,10 @@
 #include "penalty_test/falling_beam.hpp"
 #include "penalty_test/scene_text.hpp"
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include <string>
 #include <vector>
@@ -62,6 +67,67 @@ TEST(LiveEngineReaders, ConstantForceFieldSpreadsItsTotalForceOverTheFollowedInd
     EXPECT_EQ(points_in_box(*s), 14U);
     EXPECT_EQ(x[4], Vec3(1.9364712726168873, -0.27310608332049879, 9.3116151874950314e-05));
     EXPECT_EQ(x[19], Vec3(2.0237778737312744, 0.21906614328469079, 0.50009358434268136));
+}
+
+/// A ball moving down at 3 m/s (falling too) through the falling beam; a SphereROI around the ball
+/// (its `centers` link the ball's positions) fixes the beam points it passes. The ball's node
+/// comes first: SOFA resolves the link when it parses the ROI.
+std::string ball_through_beam(
+    const std::string& roi = R"(<SphereROI name="near" centers="@../Ball/ball.position" radii="0.45")") {
+    return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <DefaultAnimationLoop/>
+  <Node name="Ball">
+    <EulerImplicitSolver/>
+    <CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-12"/>
+    <MechanicalObject name="ball" position="1.5 1.5 0.25" velocity="0 -3 0"/>
+    <UniformMass totalMass="1"/>
+  </Node>
+  <Node name="Beam">
+    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
+    <CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-12"/>
+    <RegularGridTopology name="grid" nx="5" ny="2" nz="2" xmin="0" xmax="2" ymin="0" ymax="0.5" zmin="0" zmax="0.5"/>
+    <MechanicalObject name="dofs"/>
+    <UniformMass totalMass="1"/>
+    <MeshSpringForceField stiffness="200" damping="0.1"/>
+    )" + roi +
+           R"( position="@dofs.position"/>
+    <FixedProjectiveConstraint name="fix" indices="@near.indices"/>
+  </Node>
+</Node>)";
+}
+
+std::vector<double> selected(scene::Scene& s) { return s.data({"/Beam/near", false}, "indices").numbers; }
+
+TEST(LiveEngineInputs, SphereRoiCentresFollowAMovingStateAsSofaHead) {
+    auto s = test::build(ball_through_beam());
+    const std::vector<Vec3>& x = beam_positions(*s);
+    for (int k = 0; k < 20; ++k) s->step();
+    EXPECT_TRUE(selected(*s).empty());
+    s->step();  // the ball of step 20 selects nothing during step 21; after it, the ball of step 21 does
+    EXPECT_EQ(selected(*s), (std::vector<double>{8, 18}));
+    for (int k = 21; k < 25; ++k) s->step();
+    // SOFA HEAD (`sofa-head SCENE 60 OUT --every 1`): points 8 and 18 fixed from step 22 on
+    EXPECT_EQ(x[3], Vec3(1.5015902078448213, -0.30707244089876495, -9.810847472497861e-05));
+    EXPECT_EQ(x[8], Vec3(1.5000000009766248, 0.1936115125492473, -4.0504137247213631e-10));
+    EXPECT_EQ(x[18], Vec3(1.5000000009727388, 0.19361151254287695, 0.50000000041180759));
+    for (int k = 25; k < 40; ++k) s->step();
+    EXPECT_EQ(selected(*s), (std::vector<double>{3, 13}));  // SOFA HEAD's after step 40
+    for (int k = 40; k < 45; ++k) s->step();
+    EXPECT_EQ(x[3], Vec3(1.5601093311857408, -0.71423301141629258, -0.00042994337570550866));
+    EXPECT_EQ(x[8], Vec3(1.4927531262222593, -0.21813364377878525, 0.0001842778515713931));
+    EXPECT_EQ(x[18], Vec3(1.4927531237016609, -0.21813364346569203, 0.49981572268139601));
+}
+
+TEST(LiveEngineInputs, AnInputPenaltyDoesNotFollowIsNamedInAWarning) {
+    // a MeshROI's mesh linking the moving ball's positions: SOFA would select again, penalty
+    // reads it once
+    auto s = test::build(
+        ball_through_beam(R"(<MeshROI name="near" ROIposition="@../Ball/ball.position" ROItriangles="0 0 0")"));
+    EXPECT_THAT(s->warnings(), ::testing::Contains(::testing::HasSubstr(
+                                   "MeshROI 'near': input 'ROIposition' links MechanicalObject 'ball'.position, "
+                                   "which changes while the scene runs: penalty reads it once")));
+    auto followed = test::build(ball_through_beam());
+    EXPECT_THAT(followed->warnings(), ::testing::Not(::testing::Contains(::testing::HasSubstr("input 'centers'"))));
 }
 
 }  // namespace

@@ -64,9 +64,10 @@ void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         }
         if (p.inverse && (p.scale[0] == 0 || p.scale[1] == 0 || p.scale[2] == 0))
             a.fail("scale", "a zero factor has no inverse");
-        out = transform_engine(input_points(b, a, "input_position", ""), p);
+        const std::vector<Vec3> in = input_points(b, a, "input_position", "");
+        out = transform_engine(in, p);
         // over moving positions (a state's, which the solve writes): run again on read (live_engines.cpp)
-        b.add_live_engine(a, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
+        b.add_live_engine(a, in, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
             engine.meshes["output_position"].positions = transform_engine(x, p);
         });
     });
@@ -142,8 +143,9 @@ void build_transform_position(SceneBuilder& b, const SceneComponent& c, NodeBuil
         p.rotation_deg = a.vector3("rotation");
         p.scale = a.vector3("scale");
         if (a.has("fixedIndices")) p.fixed_indices = b.indices(a, "fixedIndices");
-        out = transform_position(input_points(b, a, "input_position", "inputPosition"), p);
-        b.add_live_engine(a, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
+        const std::vector<Vec3> in = input_points(b, a, "input_position", "inputPosition");
+        out = transform_position(in, p);
+        b.add_live_engine(a, in, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
             std::vector<Vec3> moved = transform_position(x, p);
             engine.meshes["outputPosition"].positions = moved;  // alias
             engine.meshes["output_position"].positions = std::move(moved);
