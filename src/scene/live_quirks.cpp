@@ -10,9 +10,7 @@
 #include "scene/live_edits.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,18 +21,7 @@ namespace {
 
 /// The numbers of a written list (SOFA's text form), each finite and >= 0.
 std::vector<double> nonnegative_numbers(std::string_view text, const std::string& what) {
-    std::vector<double> out;
-    std::istringstream in{std::string(text)};
-    for (std::string word; in >> word;) {
-        char* end = nullptr;
-        const double v = std::strtod(word.c_str(), &end);
-        if (end == word.c_str() || *end != '\0' || !std::isfinite(v) || v < 0)
-            throw std::invalid_argument(
-                std::string(what).append(": expected numbers >= 0, found '").append(word).append("'"));
-        out.push_back(v);
-    }
-    if (out.empty()) throw std::invalid_argument(what + ": expected at least one number");
-    return out;
+    return written_numbers(text, what, true);
 }
 
 UniformMass<Vec3Types>* as_vec3_uniform(BaseMass* m) { return dynamic_cast<UniformMass<Vec3Types>*>(m); }
