@@ -26,6 +26,8 @@ namespace {
 /// BoxROI, SphereROI, MeshROI: BaseROI::doUpdate selects again only with `doUpdate` (BaseROI::init
 /// runs it once whatever the flag). PlaneROI::doUpdate, ProximityROI::doUpdate,
 /// TransformEngine::doUpdate, TransformPosition::doUpdate: always.
+/// MergePoints::doUpdate: unless `noUpdate` (a flag written `!noUpdate`: the engine runs again
+/// unless it is 1). SubsetTopology::doUpdate: always.
 /// Followed besides the points (their builders read them through LiveEngine::followed): SphereROI's
 /// and ProximityROI's `centers`.
 constexpr LiveEngineKind kLiveEngineKinds[] = {
@@ -36,6 +38,8 @@ constexpr LiveEngineKind kLiveEngineKinds[] = {
     {"ProximityROI", "position", "rest_position", "", "centers"},
     {"TransformEngine", "input_position", "", "", ""},
     {"TransformPosition", "input_position", "inputPosition", "", ""},
+    {"MergePoints", "position1", "", "!noUpdate", "position2"},
+    {"SubsetTopology", "rest_position", "", "", ""},
 };
 
 /// The readers penalty follows: a projective constraint's `indices`, which SOFA reads at each
@@ -66,11 +70,19 @@ bool is_point_output(const LiveEngine& engine, std::string_view output) {
            (output.find("osition") != std::string_view::npos || output.find("oints") != std::string_view::npos);
 }
 
+/// False when `kind`'s flag keeps the outputs of init (BaseROI's `doUpdate` 0, MergePoints'
+/// `noUpdate` 1: a flag written `!name`).
+bool runs_again(const LiveEngineKind& kind, const Attributes& a) {
+    if (kind.update_flag.empty()) return true;
+    if (kind.update_flag.front() == '!') return !a.boolean(kind.update_flag.substr(1));
+    return a.boolean(kind.update_flag);
+}
+
 /// True when `c` is an engine that SOFA runs once only (BaseROI with doUpdate 0): it reads its
 /// inputs at init, as penalty's build does.
 bool runs_once(const io::SceneComponent& c) {
     const LiveEngineKind* kind = find_live_engine_kind(c.type);
-    return kind != nullptr && !kind->update_flag.empty() && !Attributes(c).boolean(kind->update_flag);
+    return kind != nullptr && !runs_again(*kind, Attributes(c));
 }
 
 /// True when `self` reads `output` of `engine` at each of its runs (its points or a followed input).
@@ -204,7 +216,7 @@ void SceneBuilder::add_live_engine(const Attributes& a, const std::vector<Vec3>&
     const io::SceneComponent& c = a.component();
     const LiveEngineKind* kind = find_live_engine_kind(c.type);
     if (kind == nullptr) throw std::logic_error(c.type + " is not in kLiveEngineKinds");
-    if (!kind->update_flag.empty() && !a.boolean(kind->update_flag)) return;  // the selection of init stays
+    if (!runs_again(*kind, a)) return;  // the selection of init stays
     const std::string_view attr = !a.has(kind->input) && !kind->input_alias.empty() ? kind->input_alias : kind->input;
     std::optional<LivePoints> input = moving_input(a, attr);
     std::vector<FollowedInput> followed;

@@ -30,7 +30,8 @@
 namespace penalty::scene {
 
 /// An engine kind penalty runs again on read: the Data of its input points (the first one the
-/// scene sets), the flag that keeps the selection of init when 0 (BaseROI's `doUpdate`; empty:
+/// scene sets), the flag that keeps the selection of init when 0 (BaseROI's `doUpdate`; `!name`: when
+/// 1, MergePoints' `noUpdate`; empty:
 /// none), and its other point inputs that penalty follows too (space-separated: SphereROI's
 /// `centers`), which the re-run reads through LiveEngine::followed. Each kind's builder gives the
 /// re-run function (SceneBuilder::add_live_engine), the same function as its build's.

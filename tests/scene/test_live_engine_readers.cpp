@@ -72,8 +72,8 @@ TEST(LiveEngineReaders, ConstantForceFieldSpreadsItsTotalForceOverTheFollowedInd
 /// A ball moving down at 3 m/s (falling too) through the falling beam; a SphereROI around the ball
 /// (its `centers` link the ball's positions) fixes the beam points it passes. The ball's node
 /// comes first: SOFA resolves the link when it parses the ROI.
-std::string ball_through_beam(
-    const std::string& roi = R"(<SphereROI name="near" centers="@../Ball/ball.position" radii="0.45")") {
+std::string ball_through_beam(const std::string& engines = R"(
+    <SphereROI name="near" centers="@../Ball/ball.position" radii="0.45" position="@dofs.position"/>)") {
     return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
   <DefaultAnimationLoop/>
   <Node name="Ball">
@@ -89,8 +89,8 @@ std::string ball_through_beam(
     <MechanicalObject name="dofs"/>
     <UniformMass totalMass="1"/>
     <MeshSpringForceField stiffness="200" damping="0.1"/>
-    )" + roi +
-           R"( position="@dofs.position"/>
+    )" + engines +
+           R"(
     <FixedProjectiveConstraint name="fix" indices="@near.indices"/>
   </Node>
 </Node>)";
@@ -121,13 +121,42 @@ TEST(LiveEngineInputs, SphereRoiCentresFollowAMovingStateAsSofaHead) {
 TEST(LiveEngineInputs, AnInputPenaltyDoesNotFollowIsNamedInAWarning) {
     // a MeshROI's mesh linking the moving ball's positions: SOFA would select again, penalty
     // reads it once
-    auto s = test::build(
-        ball_through_beam(R"(<MeshROI name="near" ROIposition="@../Ball/ball.position" ROItriangles="0 0 0")"));
+    auto s =
+        test::build(ball_through_beam(R"(<MeshROI name="near" ROIposition="@../Ball/ball.position" ROItriangles="0 0 0"
+                                   position="@dofs.position"/>)"));
     EXPECT_THAT(s->warnings(), ::testing::Contains(::testing::HasSubstr(
                                    "MeshROI 'near': input 'ROIposition' links MechanicalObject 'ball'.position, "
                                    "which changes while the scene runs: penalty reads it once")));
     auto followed = test::build(ball_through_beam());
     EXPECT_THAT(followed->warnings(), ::testing::Not(::testing::Contains(::testing::HasSubstr("input 'centers'"))));
+}
+
+TEST(LiveEngineInputs, SubsetTopologyAndMergePointsRunAgainAsSofaHead) {
+    // a SubsetTopology box over the moving positions fixes the points falling into it (the box of
+    // test_live_engines.cpp's BoxROI: SOFA HEAD gives the same trajectory); MergePoints follows
+    // the beam (position1) and the ball (position2)
+    auto s = test::build(ball_through_beam(
+        R"(<SubsetTopology name="near" rest_position="@dofs.position" box="-0.1 -0.6 -0.1  1.1 -0.2 0.6"/>
+    <MergePoints name="merge" position1="@dofs.position" position2="@../Ball/ball.position"/>)"));
+    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& ball =
+        dynamic_cast<const Vec3Object&>(*s->data({"/Ball/ball", false}, "position").state).position;
+    for (int k = 0; k < 25; ++k) s->step();
+    EXPECT_EQ(selected(*s), (std::vector<double>{0, 1, 2, 10, 11, 12}));
+    // SOFA HEAD (`sofa-head SCENE 60 OUT --every 1`), step 25
+    EXPECT_EQ(x[0], Vec3(-7.8282170945794033e-12, -0.30158536548834619, -2.4150902663972015e-09));
+    EXPECT_EQ(x[7], Vec3(1.0016991046387009, 0.19750674606352314, 0.0001805162700368692));
+    const auto merged = [&s] { return s->data({"/Beam/merge", false}, "points").numbers; };
+    std::vector<double> expected;
+    for (const std::vector<Vec3>* part : {&x, &ball})
+        for (const Vec3& p : *part) expected.insert(expected.end(), {p.x(), p.y(), p.z()});
+    EXPECT_EQ(merged(), expected);
+    EXPECT_EQ(ball[0], Vec3(1.5, 0.43117500000000036, 0.25));  // SOFA HEAD's merge.points[20]
+    for (int k = 25; k < 60; ++k) s->step();
+    EXPECT_EQ(selected(*s), (std::vector<double>{5, 6, 7, 15, 16, 17}));
+    EXPECT_EQ(x[0], Vec3(-0.0026380994641987403, -1.0412261741193267, 3.168945747275121e-05));
+    EXPECT_EQ(x[7], Vec3(1.0094664242227576, -0.56521358704675095, -0.00029354997531591439));
+    EXPECT_EQ(merged()[3 * 20 + 1], -2.095229999999996);
 }
 
 }  // namespace
