@@ -42,20 +42,27 @@ constexpr LiveEngineKind kLiveEngineKinds[] = {
     {"SubsetTopology", "rest_position", "", "", ""},
 };
 
-/// The readers penalty follows: a projective constraint's `indices`, which SOFA reads at each
-/// projection and matrix application (FixedProjectiveConstraint::projectResponse,
+/// The readers penalty follows, by type and Data: a projective constraint's `indices`, which SOFA
+/// reads at each projection and matrix application (FixedProjectiveConstraint::projectResponse,
 /// FixedPlaneProjectiveConstraint::projectResponse / applyConstraint,
-/// PartialFixedProjectiveConstraint::projectResponseT / applyConstraint: d_indices.getValue()), and
-/// ConstantForceField's, which its addForce reads after its component state
-/// (isComponentStateValid runs the update callbacks of a changed d_indices).
-constexpr std::string_view kIndexFollowers[] = {
-    "FixedProjectiveConstraint",
-    "FixedConstraint",
-    "FixedPlaneProjectiveConstraint",
-    "FixedPlaneConstraint",
-    "PartialFixedProjectiveConstraint",
-    "PartialFixedConstraint",
-    "ConstantForceField",
+/// PartialFixedProjectiveConstraint::projectResponseT / applyConstraint: d_indices.getValue());
+/// ConstantForceField's `indices`, which its addForce reads after its component state
+/// (isComponentStateValid runs the update callbacks of a changed d_indices);
+/// RestShapeSpringsForceField's `points`, which its addForce reads in recomputeIndices (with
+/// recompute_indices, the default).
+struct IndexFollower {
+    std::string_view type;
+    std::string_view data;
+};
+constexpr IndexFollower kIndexFollowers[] = {
+    {"FixedProjectiveConstraint", "indices"},
+    {"FixedConstraint", "indices"},
+    {"FixedPlaneProjectiveConstraint", "indices"},
+    {"FixedPlaneConstraint", "indices"},
+    {"PartialFixedProjectiveConstraint", "indices"},
+    {"PartialFixedConstraint", "indices"},
+    {"ConstantForceField", "indices"},
+    {"RestShapeSpringsForceField", "points"},
 };
 
 bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -92,8 +99,12 @@ bool reads_on_each_run(const LiveEngine& self, const LiveEngine& engine, std::st
                                               [&reads](const FollowedInput& f) { return reads(f.source); });
 }
 
-bool follows_indices(const io::SceneComponent& c) {
-    return std::find(std::begin(kIndexFollowers), std::end(kIndexFollowers), c.type) != std::end(kIndexFollowers);
+/// True when penalty follows `data` of `c` (kIndexFollowers); RestShapeSpringsForceField without
+/// recompute_indices reads its points at init only (SOFA's addForce keeps m_indices).
+bool follows_indices(const io::SceneComponent& c, std::string_view data) {
+    if (c.type == "RestShapeSpringsForceField" && !Attributes(c).boolean("recompute_indices")) return false;
+    return std::any_of(std::begin(kIndexFollowers), std::end(kIndexFollowers),
+                       [&c, data](const IndexFollower& f) { return f.type == c.type && f.data == data; });
 }
 
 /// The projective constraint or force field built from `c` in `node` whose indices can follow a
@@ -261,8 +272,7 @@ namespace {
 bool follow_index_reader(Scene& scene, const io::SceneComponent& c, const io::SceneAttribute& a,
                          std::size_t num_targets, LiveEngine& engine, const std::string& output) {
     const Node* node = scene.node_of(*c.node);
-    if (!follows_indices(c) || a.name != "indices" || num_targets != 1 || engine.indices.count(output) == 0 ||
-        node == nullptr)
+    if (!follows_indices(c, a.name) || num_targets != 1 || engine.indices.count(output) == 0 || node == nullptr)
         return false;
     const auto [follower, state] = built_index_follower(scene, *node, c);
     if (follower == nullptr || state == nullptr) return false;

@@ -5,7 +5,8 @@
 // addForce and runs SOFA's update callbacks when they change (ConstantForceField::updateFromIndices,
 // updateFromForcesVector, updateFromTotalForce): one `forces` value, spread over the count of init,
 // no longer fits a new count and the component is Invalid (no force); a `totalForce` is spread
-// again. The trajectories are SOFA HEAD's (2a278d8, `sofa-head SCENE 40 OUT --every 1`, %.17g), bit
+// again. A RestShapeSpringsForceField's `points` linking it hold the points still in the box. The
+// trajectories are SOFA HEAD's (2a278d8, `sofa-head SCENE 40 OUT --every 1`, %.17g), bit
 // for bit, on a cantilever whose free end sags out of the box (20, then 18, 16 and 14 points in it).
 #include "penalty/scene/live_data.hpp"
 #include "penalty/scene/scene.hpp"
@@ -24,14 +25,13 @@ namespace {
 
 using namespace penalty;
 
-/// The beam held at x = 0; a BoxROI around its points at init feeds a ConstantForceField `load`.
-std::string cantilever_pushed_in_box(const std::string& load) {
+/// The beam held at x = 0; a BoxROI around its points at init feeds `reader` (before the springs:
+/// SOFA's order of the sum).
+std::string cantilever_in_box(const std::string& reader) {
     return test::falling_beam(R"(    <FixedProjectiveConstraint indices="0 5 10 15"/>
 )",
                               R"(    <BoxROI name="box" box="-0.1 -0.05 -0.1  2.1 0.6 0.6" position="@dofs.position"/>
-    <ConstantForceField name="push" indices="@box.indices" )" +
-                                  load + R"(/>
-)");
+    )" + reader + "\n");
 }
 
 const std::vector<Vec3>& beam_positions(scene::Scene& s) {
@@ -41,7 +41,8 @@ const std::vector<Vec3>& beam_positions(scene::Scene& s) {
 std::size_t points_in_box(scene::Scene& s) { return s.data({"/Beam/box", false}, "indices").numbers.size(); }
 
 TEST(LiveEngineReaders, ConstantForceFieldWithOneForceIsInvalidOnceTheFollowedIndicesChangeCount) {
-    auto s = test::build(cantilever_pushed_in_box(R"(forces="0 -0.5 0")"));
+    auto s =
+        test::build(cantilever_in_box(R"(<ConstantForceField name="push" indices="@box.indices" forces="0 -0.5 0"/>)"));
     const std::vector<Vec3>& x = beam_positions(*s);
     for (int k = 0; k < 10; ++k) s->step();
     EXPECT_EQ(points_in_box(*s), 16U);
@@ -56,7 +57,8 @@ TEST(LiveEngineReaders, ConstantForceFieldWithOneForceIsInvalidOnceTheFollowedIn
 }
 
 TEST(LiveEngineReaders, ConstantForceFieldSpreadsItsTotalForceOverTheFollowedIndices) {
-    auto s = test::build(cantilever_pushed_in_box(R"(totalForce="0 -3 0")"));
+    auto s = test::build(
+        cantilever_in_box(R"(<ConstantForceField name="push" indices="@box.indices" totalForce="0 -3 0"/>)"));
     const std::vector<Vec3>& x = beam_positions(*s);
     for (int k = 0; k < 10; ++k) s->step();
     EXPECT_EQ(points_in_box(*s), 18U);
@@ -67,6 +69,23 @@ TEST(LiveEngineReaders, ConstantForceFieldSpreadsItsTotalForceOverTheFollowedInd
     EXPECT_EQ(points_in_box(*s), 14U);
     EXPECT_EQ(x[4], Vec3(1.9364712726168873, -0.27310608332049879, 9.3116151874950314e-05));
     EXPECT_EQ(x[19], Vec3(2.0237778737312744, 0.21906614328469079, 0.50009358434268136));
+}
+
+TEST(LiveEngineReaders, RestShapeSpringsFollowTheirPointsAsSofaHead) {
+    // the springs hold the points still in the box (RestShapeSpringsForceField::addForce's
+    // recomputeIndices reads d_points): 20 points, then 18, 16 and 14
+    auto s = test::build(
+        cantilever_in_box(R"(<RestShapeSpringsForceField name="hold" points="@box.indices" stiffness="2"/>)"));
+    const std::vector<Vec3>& x = beam_positions(*s);
+    for (int k = 0; k < 20; ++k) s->step();
+    EXPECT_EQ(points_in_box(*s), 16U);
+    // SOFA HEAD (`sofa-head SCENE 60 OUT --every 1`)
+    EXPECT_EQ(x[4], Vec3(1.9820579334367652, -0.10088942178378377, 5.7095533984223099e-05));
+    EXPECT_EQ(x[19], Vec3(2.012883411346932, 0.39831266726854264, 0.50002350350968461));
+    for (int k = 20; k < 60; ++k) s->step();
+    EXPECT_EQ(points_in_box(*s), 14U);
+    EXPECT_EQ(x[4], Vec3(1.9709751546824927, -0.14825648298057467, 8.7067048757523828e-05));
+    EXPECT_EQ(x[19], Vec3(2.0170193128708074, 0.34985607102764343, 0.50002690916138381));
 }
 
 /// A ball moving down at 3 m/s (falling too) through the falling beam; a SphereROI around the ball
