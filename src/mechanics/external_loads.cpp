@@ -188,7 +188,7 @@ void ConstantForceField::map_points() {
     for (const Index j : indices_) points_.push_back(parameters_.index_from_end ? size - 1 - j : j);
 }
 
-void ConstantForceField::take_followed_indices() {
+void ConstantForceField::run_update_callbacks() {
     // The three callbacks run in the order they were added; each writes the component state, so
     // the state of the last (updateFromForcesVector or updateFromTotalForce again) stands.
     const std::size_t count = indices_.size();
@@ -212,11 +212,17 @@ void ConstantForceField::take_followed_indices() {
                                        size, " points)");
 }
 
+void ConstantForceField::take_spread_forces(const ConstantForceField& before) {
+    if (parameters_.forces.size() != 1 || before.parameters_.forces != parameters_.forces) return;
+    point_forces_ = before.point_forces_;
+    run_update_callbacks();
+}
+
 void ConstantForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
     if (has_index_source()) {
         // d_componentState's read (isComponentStateValid) runs the callbacks when d_indices changed
         last_indices_ = indices_;
-        if (follow(indices_) != last_indices_) take_followed_indices();
+        if (follow(indices_) != last_indices_) run_update_callbacks();
     }
     // addForce: nothing while the component is Invalid; f_p(j) += F_j; getPotentialEnergy: E = −Σ F_j·x_p(j)
     energy_ = 0.0;

@@ -19,6 +19,7 @@
 #include <algorithm>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -69,6 +70,32 @@ TEST(LiveEngineReaders, ConstantForceFieldSpreadsItsTotalForceOverTheFollowedInd
     EXPECT_EQ(points_in_box(*s), 14U);
     EXPECT_EQ(x[4], Vec3(1.9364712726168873, -0.27310608332049879, 9.3116151874950314e-05));
     EXPECT_EQ(x[19], Vec3(2.0237778737312744, 0.21906614328469079, 0.50009358434268136));
+}
+
+/// A controller's write of ConstantForceField.indices after 5 steps (SofaPython3:
+/// `push.indices.value = [...]` before the 6th animate), then 15 more steps: the positions of
+/// points 4 and 9 after step 20.
+std::pair<Vec3, Vec3> after_indices_written(const std::string& indices) {
+    auto s = test::build(test::falling_beam(R"(    <FixedProjectiveConstraint indices="0 5 10 15"/>
+)",
+                                            R"(    <ConstantForceField name="push" indices="1 2 3 4" forces="0 -0.5 0"/>
+)"));
+    for (int k = 0; k < 5; ++k) s->step();
+    s->set_data({"/Beam/push", false}, "indices", indices);
+    for (int k = 5; k < 20; ++k) s->step();
+    const std::vector<Vec3>& x = beam_positions(*s);
+    return {x[4], x[9]};
+}
+
+TEST(LiveEngineReaders, ConstantForceFieldIndicesWrittenToAnotherCountMakeItInvalidAsSofaHead) {
+    // SOFA HEAD through SofaPython3: the 4 forces the single value became no longer fit 3 indices
+    // (no force from step 6 on); 4 other indices take them
+    const auto [x4, x9] = after_indices_written("1 2 3");
+    EXPECT_EQ(x4, Vec3(1.972799442348448, -0.14289252821982693, 0.0005097601067403427));
+    EXPECT_EQ(x9, Vec3(2.01715633371499, 0.35522759198573856, -0.0006835345480050041));
+    const auto [y4, y9] = after_indices_written("6 7 8 9");
+    EXPECT_EQ(y4, Vec3(1.9675128121263556, -0.16900840704631473, 0.004404641593635944));
+    EXPECT_EQ(y9, Vec3(2.0189759847405733, 0.32804872588104894, -0.0034089320536792953));
 }
 
 TEST(LiveEngineReaders, RestShapeSpringsFollowTheirPointsAsSofaHead) {

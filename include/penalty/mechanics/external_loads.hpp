@@ -99,7 +99,7 @@ struct ConstantForceFieldParameters {
 /// K = 0, B = 0; energy E = −Σ_j F_j·x_{p(j)} (getPotentialEnergy). Indices that follow an engine
 /// (`indices="@box.indices"` over moving positions) are taken at each addForce; a new count
 /// re-spreads one `forces` entry or `totalForce`, and makes SOFA's component Invalid (no force)
-/// when the forces, already spread over the old count, no longer fit (take_followed_indices).
+/// when the forces, already spread over the old count, no longer fit (run_update_callbacks).
 class ConstantForceField final : public ForceField<Vec3Types>, public FollowedIndices {
 public:
     /// Throws std::invalid_argument when neither forces nor total_force is given.
@@ -110,7 +110,7 @@ public:
     /// neither 1 nor the number of indices.
     void init() override;
     /// f_p(j) += F_j; with indices that follow a source (FollowedIndices), the source is read first
-    /// and a changed list re-runs SOFA's update callbacks (take_followed_indices).
+    /// and a changed list re-runs SOFA's update callbacks (run_update_callbacks).
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
     void add_stiffness_triplets(TripletList&, Index, double) const override {}
@@ -124,11 +124,16 @@ public:
     /// SOFA's component state: false (Invalid, no force) after followed indices changed to a count
     /// the per-index forces do not fit, or to none with `totalForce`.
     [[nodiscard]] bool valid() const { return valid_; }
+    /// A rebuild after a write of the scene's Data (indices written by a controller): SOFA's
+    /// d_forces keep what the callbacks made of one `forces` value (as many copies as the indices
+    /// had), so when this one's `forces` are `before`'s single value it takes `before`'s forces and
+    /// runs the callbacks with its own indices (another count: Invalid).
+    void take_spread_forces(const ConstantForceField& before);
 
 private:
     /// SOFA's callbacks updateFromIndices, updateFromForcesVector and updateFromTotalForce, run
     /// when the indices changed; the last one's state stands (Base::addUpdateCallback order).
-    void take_followed_indices();
+    void run_update_callbacks();
     /// points_ from indices_ (n − 1 − j with index_from_end).
     void map_points();
 
