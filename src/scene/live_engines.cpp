@@ -28,11 +28,13 @@ namespace {
 /// TransformEngine::doUpdate, TransformPosition::doUpdate: always.
 /// MergePoints::doUpdate: unless `noUpdate` (a flag written `!noUpdate`: the engine runs again
 /// unless it is 1). SubsetTopology::doUpdate: always.
-/// Followed besides the points (their builders read them through LiveEngine::followed): SphereROI's
-/// and ProximityROI's `centers`.
+/// Followed besides the points (their builders read them through LiveEngine::followed): ProximityROI's
+/// `centers` and MergePoints' `position2`, inputs of SOFA's engines (addInput: a change runs the engine
+/// again); SphereROI's `centers` (`~`: SOFA HEAD's SphereROI does not add them as an input, so they
+/// are read when the points run the engine again: a state's as of the step's start).
 constexpr LiveEngineKind kLiveEngineKinds[] = {
     {"BoxROI", "position", "rest_position", "doUpdate", ""},
-    {"SphereROI", "position", "rest_position", "doUpdate", "centers"},
+    {"SphereROI", "position", "rest_position", "doUpdate", "~centers"},
     {"MeshROI", "position", "rest_position", "doUpdate", ""},
     {"PlaneROI", "position", "rest_position", "", ""},
     {"ProximityROI", "position", "rest_position", "", "centers"},
@@ -148,7 +150,8 @@ bool LiveEngine::update_if_dirty() {
     // DataEngine::update reads every input (running the engines before it); it runs when one is dirty
     const std::vector<Vec3>& x = input_.current();
     bool dirty = runs_ == 0 || !same_bits(x, last_input_);
-    for (const FollowedInput& f : followed_) dirty = !same_bits(f.source.current(), f.last) || dirty;
+    for (const FollowedInput& f : followed_)
+        if (f.runs_engine) dirty = !same_bits(f.source.current(), f.last) || dirty;
     if (!dirty) return false;
     last_input_ = x;  // the buffers' capacity stays: no allocation once it has run
     for (FollowedInput& f : followed_) f.last = f.source.current();
@@ -231,12 +234,15 @@ void SceneBuilder::add_live_engine(const Attributes& a, const std::vector<Vec3>&
     const std::string_view attr = !a.has(kind->input) && !kind->input_alias.empty() ? kind->input_alias : kind->input;
     std::optional<LivePoints> input = moving_input(a, attr);
     std::vector<FollowedInput> followed;
-    for (const std::string_view name : listed_names(kind->followed))
+    for (std::string_view name : listed_names(kind->followed)) {
+        const bool read_on_run = name.front() == '~';  // not an input of SOFA's engine
+        if (read_on_run) name.remove_prefix(1);
         if (std::optional<LivePoints> source = moving_input(a, name)) {
-            if (source->state != nullptr)  // read as of the step's start (FollowedInput)
+            if (read_on_run && source->state != nullptr)  // read as of the step's start (FollowedInput)
                 source = LivePoints{nullptr, nullptr, {}, source->state->position, source->state};
-            followed.push_back({std::string(name), std::move(*source), {}});
+            followed.push_back({std::string(name), std::move(*source), {}, !read_on_run});
         }
+    }
     // SOFA's DataEngine::addInput: any input linked to data that changes runs the engine again
     for (const io::SceneAttribute& link : c.attributes) {
         const bool is_followed = std::any_of(followed.begin(), followed.end(),

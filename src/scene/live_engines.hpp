@@ -63,15 +63,17 @@ struct LivePoints {
     [[nodiscard]] const std::vector<Vec3>& current() const;
 };
 
-/// An input of a live engine besides its points that penalty follows (SphereROI's `centers`
-/// linking a moving state's `position`): SOFA's DataEngine::addInput, dirty when its parent is.
-/// A state's positions are read as of the start of the step while it runs (SOFA HEAD: a SphereROI
-/// whose centres follow a ball solved before the ROI's own solver selects, during the step, with
-/// the ball of the step's start), and as they are after it.
+/// An input of a live engine besides its points that penalty follows (ProximityROI's `centers`
+/// linking a moving state's `position`): SOFA's DataEngine::addInput, dirty when its parent is, so
+/// a change runs the engine again. A Data SOFA's engine reads without adding it as an input
+/// (SphereROI's `centers`) does not: it is read when the points run the engine, a state's positions
+/// as of the step's start while the step runs (SOFA HEAD: the engine ran when the points last
+/// moved, at the end of the previous step's solve) and as they are after it.
 struct FollowedInput {
     std::string name;  ///< the engine's Data
     LivePoints source;
-    std::vector<Vec3> last;  ///< the values of the engine's last run
+    std::vector<Vec3> last;   ///< the values of the engine's last run
+    bool runs_engine = true;  ///< an input of SOFA's engine: a change runs it again
 };
 
 /// One engine over moving points, run on read.

@@ -164,6 +164,17 @@ TEST(LiveEngineInputs, SphereRoiCentresFollowAMovingStateAsSofaHead) {
     EXPECT_EQ(x[18], Vec3(1.4927531237016609, -0.21813364346569203, 0.49981572268139601));
 }
 
+TEST(LiveEngineInputs, ProximityRoiCentresAreAnInputThatRunsItAgainAsSofaHead) {
+    // ProximityROI adds its centres as an input (unlike SphereROI): during step 15 the ball of
+    // step 15 (solved first) selects points 8 and 18 (SOFA HEAD, 60 steps bit for bit)
+    auto s = test::build(ball_through_beam(
+        R"(<ProximityROI name="near" centers="@../Ball/ball.position" radii="0.6" N="2" position="@dofs.position"/>)"));
+    const std::vector<Vec3>& x = beam_positions(*s);
+    for (int k = 0; k < 20; ++k) s->step();
+    EXPECT_EQ(x[8], Vec3(1.4999999999770972, 0.31575278129932699, -1.5991582076052593e-10));
+    EXPECT_EQ(x[18], Vec3(1.4999999999770972, 0.31575278129931661, 0.50000000015990542));
+}
+
 TEST(LiveEngineInputs, AnInputPenaltyDoesNotFollowIsNamedInAWarning) {
     // a MeshROI's mesh linking the moving ball's positions: SOFA would select again, penalty
     // reads it once
