@@ -157,17 +157,15 @@ ConstantForceField::ConstantForceField(Vec3Object& state, ConstantForceFieldPara
 void ConstantForceField::init() {
     const auto size = static_cast<Index>(state_->num_dofs());
     // ConstantForceField::init: no indices means every point
-    std::vector<Index> indices = parameters_.indices;
-    if (indices.empty())
-        for (Index i = 0; i < size; ++i) indices.push_back(i);
-    points_.clear();
-    for (const Index j : indices) {
+    indices_ = parameters_.indices;
+    if (indices_.empty())
+        for (Index i = 0; i < size; ++i) indices_.push_back(i);
+    for (const Index j : indices_)
         if (j < 0 || j >= size)
             throw_invalid_argument("ConstantForceField: index ", j, " is out of range (the state has ", size,
                                    " points)");
-        points_.push_back(parameters_.index_from_end ? size - 1 - j : j);
-    }
-    const auto count = indices.size();
+    map_points();
+    const auto count = indices_.size();
     point_forces_.clear();
     if (!parameters_.forces.empty()) {
         // updateFromForcesVector: one force for every index (computeForceFromSingleForce), or one per index
@@ -181,11 +179,54 @@ void ConstantForceField::init() {
         if (count == 0) throw_invalid_argument("ConstantForceField: 'totalForce' on a state without points");
         point_forces_.assign(count, Vec3(*parameters_.total_force / static_cast<double>(count)));
     }
+    valid_ = true;
+}
+
+void ConstantForceField::map_points() {
+    const auto size = static_cast<Index>(state_->num_dofs());
+    points_.clear();
+    for (const Index j : indices_) points_.push_back(parameters_.index_from_end ? size - 1 - j : j);
+}
+
+void ConstantForceField::run_update_callbacks() {
+    // The three callbacks run in the order they were added; each writes the component state, so
+    // the state of the last (updateFromForcesVector or updateFromTotalForce again) stands.
+    const std::size_t count = indices_.size();
+    if (!parameters_.forces.empty()) {
+        // updateFromForcesVector, twice: one force is spread over the indices
+        // (computeForceFromSingleForce), then the forces must number the indices
+        // (computeForceFromForcesVector). Spread over the count of init, they stay that many.
+        if (point_forces_.size() == 1) point_forces_.assign(count, Vec3(point_forces_.front()));
+        valid_ = point_forces_.size() == count;
+    } else {
+        // updateFromTotalForce: T / n for each index; none: Invalid, the forces stay
+        valid_ = count != 0;
+        if (valid_) point_forces_.assign(count, Vec3(*parameters_.total_force / static_cast<double>(count)));
+    }
+    map_points();
+    const auto size = static_cast<Index>(state_->num_dofs());
+    if (valid_)  // SOFA would write out of its force vector
+        for (const Index p : points_)
+            if (p < 0 || p >= size)
+                throw_invalid_argument("ConstantForceField: followed index ", p, " is out of range (the state has ",
+                                       size, " points)");
+}
+
+void ConstantForceField::take_spread_forces(const ConstantForceField& before) {
+    if (parameters_.forces.size() != 1 || before.parameters_.forces != parameters_.forces) return;
+    point_forces_ = before.point_forces_;
+    run_update_callbacks();
 }
 
 void ConstantForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
-    // addForce: f_p(j) += F_j; getPotentialEnergy: E = −Σ F_j·x_p(j)
+    if (has_index_source()) {
+        // d_componentState's read (isComponentStateValid) runs the callbacks when d_indices changed
+        last_indices_ = indices_;
+        if (follow(indices_) != last_indices_) run_update_callbacks();
+    }
+    // addForce: nothing while the component is Invalid; f_p(j) += F_j; getPotentialEnergy: E = −Σ F_j·x_p(j)
     energy_ = 0.0;
+    if (!valid_) return;
     for (std::size_t j = 0; j < points_.size(); ++j) {
         const auto p = static_cast<std::size_t>(points_[j]);
         f[p] += point_forces_[j];

@@ -180,6 +180,10 @@ bool RestShapeSpringsForceField<DataTypes>::resolve_after_change() {
 template <class DataTypes>
 void RestShapeSpringsForceField<DataTypes>::add_force(std::span<Deriv> f, std::span<const Coord> x,
                                                       std::span<const Deriv> /*v*/) {
+    if (recompute_indices_ && has_index_source()) {
+        last_points_ = points_;
+        if (follow(points_) != last_points_) points_changed_ = true;
+    }
     resolve_after_change();
     const std::vector<Coord>& anchors = external_ != nullptr ? external_->position : this->state_->rest_position;
     double energy = 0.0;

@@ -8,10 +8,15 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
 namespace penalty::scene {
+
+/// The numbers of a written Data (SOFA's text form), each finite (and >= 0, at least one, with
+/// `nonnegative`); std::invalid_argument naming `what` and the word otherwise (live_writes.cpp).
+std::vector<double> written_numbers(std::string_view text, const std::string& what, bool nonnegative);
 
 struct Scene::LiveEdits {
     /// A write already in the scene's text, taken by the next rebuild; `old` undoes it.

@@ -26,24 +26,45 @@ namespace {
 /// BoxROI, SphereROI, MeshROI: BaseROI::doUpdate selects again only with `doUpdate` (BaseROI::init
 /// runs it once whatever the flag). PlaneROI::doUpdate, ProximityROI::doUpdate,
 /// TransformEngine::doUpdate, TransformPosition::doUpdate: always.
+/// MergePoints::doUpdate: unless `noUpdate` (a flag written `!noUpdate`: the engine runs again
+/// unless it is 1). SubsetTopology::doUpdate: always.
+/// Followed besides the points (their builders read them through LiveEngine::followed): ProximityROI's
+/// `centers` and MergePoints' `position2`, inputs of SOFA's engines (addInput: a change runs the engine
+/// again); SphereROI's `centers` (`~`: SOFA HEAD's SphereROI does not add them as an input, so they
+/// are read when the points run the engine again: a state's as of the step's start).
 constexpr LiveEngineKind kLiveEngineKinds[] = {
-    {"BoxROI", "position", "rest_position", "doUpdate"},
-    {"SphereROI", "position", "rest_position", "doUpdate"},
-    {"MeshROI", "position", "rest_position", "doUpdate"},
-    {"PlaneROI", "position", "rest_position", ""},
-    {"ProximityROI", "position", "rest_position", ""},
-    {"TransformEngine", "input_position", "", ""},
-    {"TransformPosition", "input_position", "inputPosition", ""},
+    {"BoxROI", "position", "rest_position", "doUpdate", ""},
+    {"SphereROI", "position", "rest_position", "doUpdate", "~centers"},
+    {"MeshROI", "position", "rest_position", "doUpdate", ""},
+    {"PlaneROI", "position", "rest_position", "", ""},
+    {"ProximityROI", "position", "rest_position", "", "centers"},
+    {"TransformEngine", "input_position", "", "", ""},
+    {"TransformPosition", "input_position", "inputPosition", "", ""},
+    {"MergePoints", "position1", "", "!noUpdate", "position2"},
+    {"SubsetTopology", "rest_position", "", "", ""},
 };
 
-/// The readers penalty follows: a projective constraint's `indices`, which SOFA reads at each
-/// projection and matrix application (FixedProjectiveConstraint::projectResponse,
+/// The readers penalty follows, by type and Data: a projective constraint's `indices`, which SOFA
+/// reads at each projection and matrix application (FixedProjectiveConstraint::projectResponse,
 /// FixedPlaneProjectiveConstraint::projectResponse / applyConstraint,
-/// PartialFixedProjectiveConstraint::projectResponseT / applyConstraint: d_indices.getValue()).
-constexpr std::string_view kIndexFollowers[] = {
-    "FixedProjectiveConstraint",        "FixedConstraint",
-    "FixedPlaneProjectiveConstraint",   "FixedPlaneConstraint",
-    "PartialFixedProjectiveConstraint", "PartialFixedConstraint",
+/// PartialFixedProjectiveConstraint::projectResponseT / applyConstraint: d_indices.getValue());
+/// ConstantForceField's `indices`, which its addForce reads after its component state
+/// (isComponentStateValid runs the update callbacks of a changed d_indices);
+/// RestShapeSpringsForceField's `points`, which its addForce reads in recomputeIndices (with
+/// recompute_indices, the default).
+struct IndexFollower {
+    std::string_view type;
+    std::string_view data;
+};
+constexpr IndexFollower kIndexFollowers[] = {
+    {"FixedProjectiveConstraint", "indices"},
+    {"FixedConstraint", "indices"},
+    {"FixedPlaneProjectiveConstraint", "indices"},
+    {"FixedPlaneConstraint", "indices"},
+    {"PartialFixedProjectiveConstraint", "indices"},
+    {"PartialFixedConstraint", "indices"},
+    {"ConstantForceField", "indices"},
+    {"RestShapeSpringsForceField", "points"},
 };
 
 bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -58,24 +79,50 @@ bool is_point_output(const LiveEngine& engine, std::string_view output) {
            (output.find("osition") != std::string_view::npos || output.find("oints") != std::string_view::npos);
 }
 
+/// False when `kind`'s flag keeps the outputs of init (BaseROI's `doUpdate` 0, MergePoints'
+/// `noUpdate` 1: a flag written `!name`).
+bool runs_again(const LiveEngineKind& kind, const Attributes& a) {
+    if (kind.update_flag.empty()) return true;
+    if (kind.update_flag.front() == '!') return !a.boolean(kind.update_flag.substr(1));
+    return a.boolean(kind.update_flag);
+}
+
 /// True when `c` is an engine that SOFA runs once only (BaseROI with doUpdate 0): it reads its
 /// inputs at init, as penalty's build does.
 bool runs_once(const io::SceneComponent& c) {
     const LiveEngineKind* kind = find_live_engine_kind(c.type);
-    return kind != nullptr && !kind->update_flag.empty() && !Attributes(c).boolean(kind->update_flag);
+    return kind != nullptr && !runs_again(*kind, Attributes(c));
 }
 
-bool follows_indices(const io::SceneComponent& c) {
-    return std::find(std::begin(kIndexFollowers), std::end(kIndexFollowers), c.type) != std::end(kIndexFollowers);
+/// True when `self` reads `output` of `engine` at each of its runs (its points or a followed input).
+bool reads_on_each_run(const LiveEngine& self, const LiveEngine& engine, std::string_view output) {
+    const auto reads = [&engine, output](const LivePoints& p) { return p.engine == &engine && p.output == output; };
+    return reads(self.input()) || std::any_of(self.followed_inputs().begin(), self.followed_inputs().end(),
+                                              [&reads](const FollowedInput& f) { return reads(f.source); });
 }
 
-/// The projective constraint built from `c` in `node` whose indices can follow a source, or null.
-BaseProjectiveConstraint* built_index_follower(const Scene& scene, const Node& node, const io::SceneComponent& c) {
+/// True when penalty follows `data` of `c` (kIndexFollowers); RestShapeSpringsForceField without
+/// recompute_indices reads its points at init only (SOFA's addForce keeps m_indices).
+bool follows_indices(const io::SceneComponent& c, std::string_view data) {
+    if (c.type == "RestShapeSpringsForceField" && !Attributes(c).boolean("recompute_indices")) return false;
+    return std::any_of(std::begin(kIndexFollowers), std::end(kIndexFollowers),
+                       [&c, data](const IndexFollower& f) { return f.type == c.type && f.data == data; });
+}
+
+/// The projective constraint or force field built from `c` in `node` whose indices can follow a
+/// source, with its state, or {null, null}.
+std::pair<FollowedIndices*, const BaseState*> built_index_follower(const Scene& scene, const Node& node,
+                                                                   const io::SceneComponent& c) {
+    const auto from = [&scene, &c](const auto& component) -> FollowedIndices* {
+        auto* followed = dynamic_cast<FollowedIndices*>(component.get());
+        return followed != nullptr && scene.component_of(dynamic_cast<const void*>(component.get())) == &c ? followed
+                                                                                                           : nullptr;
+    };
     for (const auto& k : node.constraints())
-        if (dynamic_cast<FollowedIndices*>(k.get()) != nullptr &&
-            scene.component_of(dynamic_cast<const void*>(k.get())) == &c)
-            return k.get();
-    return nullptr;
+        if (FollowedIndices* f = from(k)) return {f, k->state()};
+    for (const auto& ff : node.force_fields())
+        if (FollowedIndices* f = from(ff)) return {f, node.state()};
+    return {nullptr, nullptr};
 }
 
 }  // namespace
@@ -88,20 +135,35 @@ const LiveEngineKind* find_live_engine_kind(std::string_view type) {
 
 const std::vector<Vec3>& LivePoints::current() const {
     if (state != nullptr) return state->position;
+    if (engine == nullptr) return points;
     engine->update_if_dirty();
     return engine->meshes.find(output)->second.positions;
 }
 
+const std::vector<Vec3>* LiveEngine::followed(std::string_view name) const {
+    for (const FollowedInput& f : followed_)
+        if (f.name == name) return &f.last;
+    return nullptr;
+}
+
 bool LiveEngine::update_if_dirty() {
+    // DataEngine::update reads every input (running the engines before it); it runs when one is dirty
     const std::vector<Vec3>& x = input_.current();
-    if (runs_ != 0 && same_bits(x, last_input_)) return false;
-    last_input_ = x;  // the buffer's capacity stays: no allocation once it has run
+    bool dirty = runs_ == 0 || !same_bits(x, last_input_);
+    for (const FollowedInput& f : followed_)
+        if (f.runs_engine) dirty = !same_bits(f.source.current(), f.last) || dirty;
+    if (!dirty) return false;
+    last_input_ = x;  // the buffers' capacity stays: no allocation once it has run
+    for (FollowedInput& f : followed_) f.last = f.source.current();
     evaluate_(last_input_, *this);
     ++runs_;
     return true;
 }
 
 void LiveEngines::update_linked_states() {
+    for (const std::unique_ptr<LiveEngine>& engine : engines)
+        for (FollowedInput& f : engine->followed_inputs())
+            if (f.source.snapshot_of != nullptr) f.source.points = f.source.snapshot_of->position;
     for (LinkedState& s : linked_states) {
         if (!s.reader.pull()) continue;
         const auto it = s.reader.engine->meshes.find(s.reader.output);
@@ -129,28 +191,83 @@ std::optional<LivePoints> SceneBuilder::moving_input(const Attributes& a, std::s
     if (LiveEngine* upstream = scene_.live_->engine(source)) {
         upstream->update_if_dirty();
         if (!is_point_output(*upstream, targets[0].data)) return std::nullopt;
-        return LivePoints{nullptr, upstream, targets[0].data};
+        return LivePoints{nullptr, upstream, targets[0].data, {}};
     }
     if (targets[0].data != "position" || source.type != "MechanicalObject") return std::nullopt;
     const auto it = nodes_.find(source.node);
     if (it == nodes_.end() || it->second.state_component != &source || it->second.node == nullptr) return std::nullopt;
     const auto* state = dynamic_cast<const Vec3Object*>(it->second.node->state());
     if (state == nullptr) return std::nullopt;
-    return LivePoints{state, nullptr, {}};
+    return LivePoints{state, nullptr, {}, {}};
 }
 
-void SceneBuilder::add_live_engine(const Attributes& a, LiveEngine::Evaluate evaluate) {
+namespace {
+
+/// The names of a space-separated list (kLiveEngineKinds' `followed`).
+std::vector<std::string_view> listed_names(std::string_view list) {
+    std::vector<std::string_view> names;
+    while (!list.empty()) {
+        const std::size_t end = std::min(list.find(' '), list.size());
+        if (end != 0) names.push_back(list.substr(0, end));
+        list.remove_prefix(std::min(end + 1, list.size()));
+    }
+    return names;
+}
+
+/// True when link target `t` changes while the scene runs: a MechanicalObject's Data other than its
+/// rest positions (the solve and the controllers write them), or an output of a live engine.
+bool changes_while_running(const io::LinkTarget& t, const LiveEngines* live) {
+    if (t.component == nullptr) return false;
+    if (live != nullptr && live->find(*t.component) != nullptr) return true;
+    return t.component->type == "MechanicalObject" && !t.data.empty() && t.data != "rest_position" &&
+           t.data != "reset_position";
+}
+
+}  // namespace
+
+void SceneBuilder::add_live_engine(const Attributes& a, const std::vector<Vec3>& points,
+                                   LiveEngine::Evaluate evaluate) {
     const io::SceneComponent& c = a.component();
     const LiveEngineKind* kind = find_live_engine_kind(c.type);
     if (kind == nullptr) throw std::logic_error(c.type + " is not in kLiveEngineKinds");
-    if (!kind->update_flag.empty() && !a.boolean(kind->update_flag)) return;  // the selection of init stays
+    if (!runs_again(*kind, a)) return;  // the selection of init stays
     const std::string_view attr = !a.has(kind->input) && !kind->input_alias.empty() ? kind->input_alias : kind->input;
     std::optional<LivePoints> input = moving_input(a, attr);
-    if (!input) return;
+    std::vector<FollowedInput> followed;
+    for (std::string_view name : listed_names(kind->followed)) {
+        const bool read_on_run = name.front() == '~';  // not an input of SOFA's engine
+        if (read_on_run) name.remove_prefix(1);
+        if (std::optional<LivePoints> source = moving_input(a, name)) {
+            if (read_on_run && source->state != nullptr)  // read as of the step's start (FollowedInput)
+                source = LivePoints{nullptr, nullptr, {}, source->state->position, source->state};
+            followed.push_back({std::string(name), std::move(*source), {}, !read_on_run});
+        }
+    }
+    // SOFA's DataEngine::addInput: any input linked to data that changes runs the engine again
+    for (const io::SceneAttribute& link : c.attributes) {
+        const bool is_followed = std::any_of(followed.begin(), followed.end(),
+                                             [&link](const FollowedInput& f) { return f.name == link.name; });
+        if (!io::is_link(link.value) || link.name == attr || is_followed) continue;
+        std::vector<io::LinkTarget> targets;
+        try {
+            targets = io::resolve_links(c, link.name);
+        } catch (const io::SceneError&) {
+            continue;  // the engine's own build reports it
+        }
+        for (const io::LinkTarget& t : targets)
+            if (changes_while_running(t, scene_.live_->engines.get()))
+                warn(c.file + ":" + std::to_string(link.line) + ": " + c.describe() + ": input '" + link.name +
+                     "' links " + t.component->describe() + "." + t.data +
+                     ", which changes while the scene runs: penalty reads it once, when the scene is built (SOFA "
+                     "runs the engine again when it changes)");
+    }
+    if (!input && followed.empty()) return;
+    if (!input) input = LivePoints{nullptr, nullptr, {}, points};
     std::unique_ptr<LiveEngines>& engines = scene_.live_->engines;
     if (!engines) engines = std::make_unique<LiveEngines>();
     LiveEngines& live = *engines;
-    live.engines.push_back(std::make_unique<LiveEngine>(c, std::move(*input), std::move(evaluate)));
+    live.engines.push_back(
+        std::make_unique<LiveEngine>(c, std::move(*input), std::move(followed), std::move(evaluate)));
     live.by_component[&c] = live.engines.back().get();
 }
 
@@ -161,20 +278,19 @@ namespace {
 bool follow_index_reader(Scene& scene, const io::SceneComponent& c, const io::SceneAttribute& a,
                          std::size_t num_targets, LiveEngine& engine, const std::string& output) {
     const Node* node = scene.node_of(*c.node);
-    if (!follows_indices(c) || a.name != "indices" || num_targets != 1 || engine.indices.count(output) == 0 ||
-        node == nullptr)
+    if (!follows_indices(c, a.name) || num_targets != 1 || engine.indices.count(output) == 0 || node == nullptr)
         return false;
-    BaseProjectiveConstraint* k = built_index_follower(scene, *node, c);
-    if (k == nullptr) return false;
-    const std::size_t size = k->state()->num_dofs();
+    const auto [follower, state] = built_index_follower(scene, *node, c);
+    if (follower == nullptr || state == nullptr) return false;
+    const std::size_t size = state->num_dofs();
     // The constraint takes the output at its first read; a FixedPlaneProjectiveConstraint with
     // dmin != dmax keeps the points between its planes that its init appended to the output of
     // init until the engine runs again (SOFA: its Data is then dirty and takes its parent's value).
-    const bool appended = dynamic_cast<FixedPlaneProjectiveConstraint*>(k) != nullptr &&
+    const bool appended = dynamic_cast<FixedPlaneProjectiveConstraint*>(follower) != nullptr &&
                           Attributes(c).real("dmin") != Attributes(c).real("dmax");
     const std::uint64_t seen = appended ? engine.runs() : 0;
-    dynamic_cast<FollowedIndices&>(*k).set_index_source([reader = LiveEngineReader{&engine, output, seen}, size,
-                                                         what = c.describe()](std::vector<Index>& indices) mutable {
+    follower->set_index_source([reader = LiveEngineReader{&engine, output, seen}, size,
+                                what = c.describe()](std::vector<Index>& indices) mutable {
         if (!reader.pull()) return;
         const std::vector<PointId>& out = reader.engine->indices.find(reader.output)->second;
         for (PointId i : out)
@@ -205,10 +321,11 @@ void Scene::LiveEdits::wire_engines(Scene& scene) {
                 LiveEngine* engine = t.component != nullptr ? live.find(*t.component) : nullptr;
                 if (engine == nullptr || t.data.empty()) continue;
                 engine->update_if_dirty();  // its first run (the positions after init): its outputs exist
-                if (const LiveEngine* self = live.find(c);
-                    self != nullptr && self->input().engine == engine && self->input().output == t.data)
+                if (const LiveEngine* self = live.find(c); self != nullptr && reads_on_each_run(*self, *engine, t.data))
                     continue;                // a chain: the engine reads its input on each run
                 if (runs_once(c)) continue;  // SOFA reads it once too
+                // an engine that runs on read: its build followed the input or named it (add_live_engine)
+                if (find_live_engine_kind(c.type) != nullptr) continue;
                 if (follow_index_reader(scene, c, a, targets.size(), *engine, t.data)) continue;
                 const Node* node = scene.node_of(*c.node);
                 const bool point_output =

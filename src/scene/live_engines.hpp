@@ -30,14 +30,17 @@
 namespace penalty::scene {
 
 /// An engine kind penalty runs again on read: the Data of its input points (the first one the
-/// scene sets), and the flag that keeps the selection of init when 0 (BaseROI's `doUpdate`; empty:
-/// none). Each kind's builder gives the re-run function (SceneBuilder::add_live_engine), the same
-/// function as its build's.
+/// scene sets), the flag that keeps the selection of init when 0 (BaseROI's `doUpdate`; `!name`: when
+/// 1, MergePoints' `noUpdate`; empty:
+/// none), and its other point inputs that penalty follows too (space-separated: SphereROI's
+/// `centers`), which the re-run reads through LiveEngine::followed. Each kind's builder gives the
+/// re-run function (SceneBuilder::add_live_engine), the same function as its build's.
 struct LiveEngineKind {
     std::string_view type;
     std::string_view input;
     std::string_view input_alias;
     std::string_view update_flag;
+    std::string_view followed;
 };
 
 /// The engine kinds of `type` that run on read, or null (the table in live_engines.cpp).
@@ -45,14 +48,32 @@ struct LiveEngineKind {
 
 class LiveEngine;
 
-/// Where a live engine reads its input points: the positions of a Vec3d state, or a point output
-/// of another live engine (which runs first if its own input changed).
+/// Where a live engine reads its input points: the positions of a Vec3d state, a point output of
+/// another live engine (which runs first if its own input changed), or, when neither (an engine
+/// live for another input), the points of the build.
 struct LivePoints {
     const Vec3Object* state = nullptr;
     LiveEngine* engine = nullptr;
-    std::string output;  ///< the engine's output (`output_position`)
+    std::string output;        ///< the engine's output (`output_position`)
+    std::vector<Vec3> points;  ///< neither: the points of the build, or those of `snapshot_of`
+    /// A state whose positions `points` copies at the start of each step and after it
+    /// (LiveEngines::update_linked_states): a followed input reads a state as of then.
+    const Vec3Object* snapshot_of = nullptr;
     /// The points as of now.
     [[nodiscard]] const std::vector<Vec3>& current() const;
+};
+
+/// An input of a live engine besides its points that penalty follows (ProximityROI's `centers`
+/// linking a moving state's `position`): SOFA's DataEngine::addInput, dirty when its parent is, so
+/// a change runs the engine again. A Data SOFA's engine reads without adding it as an input
+/// (SphereROI's `centers`) does not: it is read when the points run the engine, a state's positions
+/// as of the step's start while the step runs (SOFA HEAD: the engine ran when the points last
+/// moved, at the end of the previous step's solve) and as they are after it.
+struct FollowedInput {
+    std::string name;  ///< the engine's Data
+    LivePoints source;
+    std::vector<Vec3> last;   ///< the values of the engine's last run
+    bool runs_engine = true;  ///< an input of SOFA's engine: a change runs it again
 };
 
 /// One engine over moving points, run on read.
@@ -61,13 +82,22 @@ public:
     /// Computes the outputs (`indices`, `meshes`) from the input points.
     using Evaluate = std::function<void(const std::vector<Vec3>& input, LiveEngine& engine)>;
 
-    LiveEngine(const io::SceneComponent& component, LivePoints input, Evaluate evaluate)
-        : component_(&component), input_(std::move(input)), evaluate_(std::move(evaluate)) {}
+    LiveEngine(const io::SceneComponent& component, LivePoints input, std::vector<FollowedInput> followed,
+               Evaluate evaluate)
+        : component_(&component),
+          input_(std::move(input)),
+          followed_(std::move(followed)),
+          evaluate_(std::move(evaluate)) {}
 
     [[nodiscard]] const io::SceneComponent& component() const { return *component_; }
     [[nodiscard]] const LivePoints& input() const { return input_; }
-    /// SOFA's updateIfDirty: runs the engine when its input points differ (bit for bit) from
-    /// those of its last run, or it never ran. True when it ran.
+    [[nodiscard]] const std::vector<FollowedInput>& followed_inputs() const { return followed_; }
+    [[nodiscard]] std::vector<FollowedInput>& followed_inputs() { return followed_; }
+    /// The values of the followed input `name` for the run under way (the re-run function reads
+    /// them), or null when penalty does not follow it (the value of the build stands).
+    [[nodiscard]] const std::vector<Vec3>* followed(std::string_view name) const;
+    /// SOFA's updateIfDirty: runs the engine when its input points or a followed input differ
+    /// (bit for bit) from those of its last run, or it never ran. True when it ran.
     bool update_if_dirty();
     /// How many times the engine ran: a reader keeps the count it last took.
     [[nodiscard]] std::uint64_t runs() const { return runs_; }
@@ -80,6 +110,7 @@ public:
 private:
     const io::SceneComponent* component_;
     LivePoints input_;
+    std::vector<FollowedInput> followed_;
     Evaluate evaluate_;
     std::vector<Vec3> last_input_;
     std::uint64_t runs_ = 0;
@@ -117,9 +148,11 @@ struct LiveEngines {
         const auto it = by_component.find(&c);
         return it == by_component.end() ? nullptr : it->second;
     }
-    /// Gives each linked state the output of its engine when the engine ran since the state last
+    /// Takes the positions of the states the engines' followed inputs read (FollowedInput), then
+    /// gives each linked state the output of its engine when the engine ran since the state last
     /// took it (SOFA: the state's position Data is dirty and is read). std::invalid_argument when an
-    /// output has another number of points than the state.
+    /// output has another number of points than the state. Called before each step's solve and
+    /// after the step.
     void update_linked_states();
 };
 

@@ -5,14 +5,13 @@
 //     SpringForceField's per-spring lists after init.
 #include "penalty/scene/scene.hpp"
 
+#include "penalty/mechanics/external_loads.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "scene/live_edits.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -23,18 +22,7 @@ namespace {
 
 /// The numbers of a written list (SOFA's text form), each finite and >= 0.
 std::vector<double> nonnegative_numbers(std::string_view text, const std::string& what) {
-    std::vector<double> out;
-    std::istringstream in{std::string(text)};
-    for (std::string word; in >> word;) {
-        char* end = nullptr;
-        const double v = std::strtod(word.c_str(), &end);
-        if (end == word.c_str() || *end != '\0' || !std::isfinite(v) || v < 0)
-            throw std::invalid_argument(
-                std::string(what).append(": expected numbers >= 0, found '").append(word).append("'"));
-        out.push_back(v);
-    }
-    if (out.empty()) throw std::invalid_argument(what + ": expected at least one number");
-    return out;
+    return written_numbers(text, what, true);
 }
 
 UniformMass<Vec3Types>* as_vec3_uniform(BaseMass* m) { return dynamic_cast<UniformMass<Vec3Types>*>(m); }
@@ -116,6 +104,17 @@ void Scene::carry_live_quirks(Scene& fresh) const {
         const io::SceneComponent* c = component_of(old);
         if (!lagging || c == nullptr) continue;
         if (BaseMass* now = fresh.built_mass_of(component_path(*c))) set_lagging(now, *lagging);
+    }
+    // ConstantForceField: one `forces` value spread over N indices stays N forces (SOFA's d_forces
+    // after the update callbacks): written indices of another count make the component Invalid.
+    for (const auto& [built, c] : fresh.built_from_) {
+        if (c->type != "ConstantForceField") continue;
+        const std::string path = component_path(*c);
+        for (const auto& [old_built, old_c] : built_from_)
+            if (old_c->type == "ConstantForceField" && component_path(*old_c) == path)
+                // recorded as ConstantForceField* (build_constant_force_field)
+                static_cast<ConstantForceField*>(const_cast<void*>(built))
+                    ->take_spread_forces(*static_cast<const ConstantForceField*>(old_built));
     }
     // MeshSpringForceField: spring i takes value i of a written list, the last one past its end
     // (SpringForceField::updateSpringsFromTopologyIndices); rest lengths and the other list stay

@@ -15,6 +15,24 @@
 
 namespace penalty::scene {
 
+std::vector<double> written_numbers(std::string_view text, const std::string& what, bool nonnegative) {
+    std::vector<double> out;
+    std::istringstream in{std::string(text)};
+    for (std::string word; in >> word;) {
+        char* end = nullptr;
+        const double v = std::strtod(word.c_str(), &end);
+        if (end == word.c_str() || *end != '\0' || !std::isfinite(v) || (nonnegative && v < 0))
+            throw std::invalid_argument(
+                std::string(what)
+                    .append(nonnegative ? ": expected numbers >= 0, found '" : ": expected finite numbers, found '")
+                    .append(word)
+                    .append("'"));
+        out.push_back(v);
+    }
+    if (nonnegative && out.empty()) throw std::invalid_argument(what + ": expected at least one number");
+    return out;
+}
+
 namespace {
 
 void copy_element(const io::SceneElement& from, io::SceneElement& to) {
@@ -48,18 +66,7 @@ std::unique_ptr<io::SceneNode> clone_node(const io::SceneNode& from, const io::S
 
 /// The numbers of a state write (SOFA's text form).
 std::vector<double> numbers_of(std::string_view text, const std::string& what) {
-    std::vector<double> out;
-    std::istringstream in{std::string(text)};
-    std::string word;
-    while (in >> word) {
-        char* end = nullptr;
-        const double v = std::strtod(word.c_str(), &end);
-        if (end == word.c_str() || *end != '\0' || !std::isfinite(v))
-            throw std::invalid_argument(
-                std::string(what).append(": expected finite numbers, found '").append(word).append("'"));
-        out.push_back(v);
-    }
-    return out;
+    return written_numbers(text, what, false);
 }
 
 /// Swaps (or copies) the vectors of two states when both are MechanicalObject<Types>.

@@ -5,6 +5,7 @@
 // `sofa-head SCENE 60 OUT --every 1`, %.17g), bit for bit.
 #include "penalty/scene/live_data.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/falling_beam.hpp"
 #include "penalty_test/scene_text.hpp"
 
 #include <gtest/gtest.h>
@@ -17,21 +18,7 @@ namespace {
 
 using namespace penalty;
 
-/// A 5x2x2 grid of springs falling under gravity (as test_live_engines.cpp), with `engines`.
-std::string falling_beam(const std::string& engines) {
-    return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
-  <DefaultAnimationLoop/>
-  <Node name="Beam">
-    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
-    <CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-12"/>
-    <RegularGridTopology name="grid" nx="5" ny="2" nz="2" xmin="0" xmax="2" ymin="0" ymax="0.5" zmin="0" zmax="0.5"/>
-    <MechanicalObject name="dofs"/>
-    <UniformMass totalMass="1"/>
-    <MeshSpringForceField stiffness="200" damping="0.1"/>
-)" + engines +
-           R"(  </Node>
-</Node>)";
-}
+using test::falling_beam;
 
 /// A chain (a BoxROI over a TransformEngine over the positions) fixes points; a SphereROI over the
 /// positions feeds a FixedPlaneProjectiveConstraint that removes their vertical response.

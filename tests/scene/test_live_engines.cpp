@@ -5,6 +5,7 @@
 #include "penalty/mechanics/transform_engines.hpp"
 #include "penalty/scene/live_data.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty_test/falling_beam.hpp"
 #include "penalty_test/scene_text.hpp"
 
 #include <gmock/gmock.h>
@@ -24,20 +25,11 @@ using ::testing::HasSubstr;
 /// accelerating (FixedProjectiveConstraint keeps their velocity: activate_projectVelocity is 0),
 /// then leave the box at constant speed and fall again.
 std::string beam_falling_into_box(const std::string& do_update = "1") {
-    return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
-  <DefaultAnimationLoop/>
-  <Node name="Beam">
-    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
-    <CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-12"/>
-    <RegularGridTopology name="grid" nx="5" ny="2" nz="2" xmin="0" xmax="2" ymin="0" ymax="0.5" zmin="0" zmax="0.5"/>
-    <MechanicalObject name="dofs"/>
-    <UniformMass totalMass="1"/>
-    <MeshSpringForceField stiffness="200" damping="0.1"/>
-    <BoxROI name="box" box="-0.1 -0.6 -0.1  1.1 -0.2 0.6" position="@dofs.position" doUpdate=")" +
-           do_update + R"("/>
+    return test::falling_beam(
+        R"(    <BoxROI name="box" box="-0.1 -0.6 -0.1  1.1 -0.2 0.6" position="@dofs.position" doUpdate=")" +
+        do_update + R"("/>
     <FixedProjectiveConstraint name="fix" indices="@box.indices"/>
-  </Node>
-</Node>)";
+)");
 }
 
 const std::vector<Vec3>& moving_state_positions(scene::Scene& s, const std::string& path) {
@@ -137,14 +129,14 @@ TEST(LiveEngines, AReaderPenaltyCannotFollowIsNamedInTheWarnings) {
     <MechanicalObject name="dofs"/>
     <UniformMass totalMass="1"/>
     <BoxROI name="box" box="-0.1 -0.1 -0.1  1.1 0.6 0.6" position="@dofs.position"/>
-    <ConstantForceField name="push" indices="@box.indices" forces="0 1 0"/>
+    <RestShapeSpringsForceField name="hold" points="@box.indices" stiffness="10" recompute_indices="0"/>
   </Node>
 </Node>)";
     auto s = test::build(xml);
     const std::vector<std::string> w = s->warnings();
     EXPECT_NE(w.end(), std::find_if(w.begin(), w.end(), [](const std::string& text) {
                   return text.find(
-                             "ConstantForceField 'push': attribute 'indices' links BoxROI 'box'.indices, an "
+                             "RestShapeSpringsForceField 'hold': attribute 'points' links BoxROI 'box'.indices, an "
                              "engine over moving positions: penalty reads it once") != std::string::npos;
               }));
 }

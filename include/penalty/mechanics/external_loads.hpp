@@ -5,6 +5,7 @@
 /// K = ∂f/∂x (N/m, negative semi-definite here), f = −∂E/∂x where E is defined.
 /// The formulas, SOFA's quirks and the method each follows are in docs/components/external_loads.md.
 
+#include "penalty/mechanics/followed_indices.hpp"
 #include "penalty/mechanics/force_field.hpp"
 
 #include <array>
@@ -95,8 +96,11 @@ struct ConstantForceFieldParameters {
 ///   - `forces` given with one entry per index: F_j = forces[j];
 ///   - `forces` given with one entry: F_j = forces[0] for every index;
 ///   - else `total_force` T: F_j = T / (number of indices).
-/// K = 0, B = 0; energy E = −Σ_j F_j·x_{p(j)} (getPotentialEnergy).
-class ConstantForceField final : public ForceField<Vec3Types> {
+/// K = 0, B = 0; energy E = −Σ_j F_j·x_{p(j)} (getPotentialEnergy). Indices that follow an engine
+/// (`indices="@box.indices"` over moving positions) are taken at each addForce; a new count
+/// re-spreads one `forces` entry or `totalForce`, and makes SOFA's component Invalid (no force)
+/// when the forces, already spread over the old count, no longer fit (run_update_callbacks).
+class ConstantForceField final : public ForceField<Vec3Types>, public FollowedIndices {
 public:
     /// Throws std::invalid_argument when neither forces nor total_force is given.
     ConstantForceField(Vec3Object& state, ConstantForceFieldParameters parameters);
@@ -105,6 +109,8 @@ public:
     /// size; throws std::invalid_argument for an index out of range or a forces count that is
     /// neither 1 nor the number of indices.
     void init() override;
+    /// f_p(j) += F_j; with indices that follow a source (FollowedIndices), the source is read first
+    /// and a changed list re-runs SOFA's update callbacks (run_update_callbacks).
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
     void add_stiffness_triplets(TripletList&, Index, double) const override {}
@@ -115,12 +121,29 @@ public:
     [[nodiscard]] const std::vector<Vec3>& point_forces() const { return point_forces_; }
     /// Σ F_j (N).
     [[nodiscard]] Vec3 total_force() const;
+    /// SOFA's component state: false (Invalid, no force) after followed indices changed to a count
+    /// the per-index forces do not fit, or to none with `totalForce`.
+    [[nodiscard]] bool valid() const { return valid_; }
+    /// A rebuild after a write of the scene's Data (indices written by a controller): SOFA's
+    /// d_forces keep what the callbacks made of one `forces` value (as many copies as the indices
+    /// had), so when this one's `forces` are `before`'s single value it takes `before`'s forces and
+    /// runs the callbacks with its own indices (another count: Invalid).
+    void take_spread_forces(const ConstantForceField& before);
 
 private:
+    /// SOFA's callbacks updateFromIndices, updateFromForcesVector and updateFromTotalForce, run
+    /// when the indices changed; the last one's state stands (Base::addUpdateCallback order).
+    void run_update_callbacks();
+    /// points_ from indices_ (n − 1 − j with index_from_end).
+    void map_points();
+
     ConstantForceFieldParameters parameters_;
+    std::vector<Index> indices_;       ///< SOFA's d_indices (every point when none are given)
+    std::vector<Index> last_indices_;  ///< indices_ before the source's read (a change re-runs the callbacks)
     std::vector<Index> points_;
-    std::vector<Vec3> point_forces_;
+    std::vector<Vec3> point_forces_;  ///< SOFA's d_forces once its callbacks ran (one per index when valid)
     double energy_ = 0.0;
+    bool valid_ = true;
 };
 
 // ---- ConicalForceField --------------------------------------------------------------------------

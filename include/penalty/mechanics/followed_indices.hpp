@@ -21,6 +21,7 @@ public:
     void set_index_source(IndexSource source) { index_source_ = std::move(source); }
 
 protected:
+    [[nodiscard]] bool has_index_source() const { return static_cast<bool>(index_source_); }
     /// `indices` after the source, if any, replaced them.
     const std::vector<Index>& follow(std::vector<Index>& indices) const {
         if (index_source_) index_source_(indices);

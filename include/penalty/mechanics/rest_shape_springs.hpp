@@ -3,6 +3,7 @@
 /// SOFA's RestShapeSpringsForceField for Vec3d and Rigid3d: zero-length springs pulling points to
 /// their rest shape (the state's rest positions, or the current positions of an external state).
 
+#include "penalty/mechanics/followed_indices.hpp"
 #include "penalty/mechanics/force_field.hpp"
 
 #include <array>
@@ -24,7 +25,7 @@ namespace penalty {
 ///           (ka = angularStiffness[i], default 100; K's angular block −ka·I is exact at θ = 0).
 /// The anchor does not move with dx: K = −k·I (filtered) on p's diagonal only.
 template <class DataTypes>
-class RestShapeSpringsForceField final : public ForceField<DataTypes> {
+class RestShapeSpringsForceField final : public ForceField<DataTypes>, public FollowedIndices {
 public:
     using Coord = typename DataTypes::Coord;
     using Deriv = typename DataTypes::Deriv;
@@ -84,6 +85,8 @@ public:
     /// Why resolve_after_change turned the springs off (SOFA's message), or empty.
     [[nodiscard]] const std::string& inactive_reason() const { return inactive_reason_; }
 
+    /// With recompute_indices, a source of `points` (FollowedIndices: `points="@box.indices"` over
+    /// moving positions) is read first: SOFA's addForce reads d_points in recomputeIndices.
     void add_force(std::span<Deriv> f, std::span<const Coord> x, std::span<const Deriv> v) override;
     void add_dforce(std::span<Deriv> df, std::span<const Deriv> dx, double k_factor, double b_factor) const override;
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
@@ -117,6 +120,7 @@ private:
     bool resolve(std::string& why);
 
     std::vector<Index> points_;
+    std::vector<Index> last_points_;  ///< points_ before the source's read (a change resolves again)
     std::vector<Index> external_points_;
     bool points_changed_ = false;
     bool active_springs_ = true;

@@ -163,6 +163,28 @@ constexpr AttributeSpec kSubsetTopology[] = {
     {"drawSize", K::real, "1", "", ValueCheck::none, "drawing only"},
 };
 
+/// A live SubsetTopology's outputs (live_engines.hpp), as the build records them.
+void record_subset(SubsetOutput out, LiveEngine& engine) {
+    engine.indices["indices"] = std::move(out.indices);
+    engine.indices["edgeIndices"] = std::move(out.edge_indices);
+    engine.indices["triangleIndices"] = std::move(out.triangle_indices);
+    engine.indices["quadIndices"] = std::move(out.quad_indices);
+    engine.indices["tetrahedronIndices"] = std::move(out.tetrahedron_indices);
+    engine.indices["hexahedronIndices"] = std::move(out.hexahedron_indices);
+    engine.meshes["pointsInROI"].positions = std::move(out.points_in);
+    engine.meshes["pointsOutROI"].positions = std::move(out.points_out);
+    engine.meshes["edgesInROI"].edges = std::move(out.edges_in);
+    engine.meshes["edgesOutROI"].edges = std::move(out.edges_out);
+    engine.meshes["trianglesInROI"].triangles = std::move(out.triangles_in);
+    engine.meshes["trianglesOutROI"].triangles = std::move(out.triangles_out);
+    engine.meshes["quadsInROI"].quads = std::move(out.quads_in);
+    engine.meshes["quadsOutROI"].quads = std::move(out.quads_out);
+    engine.meshes["tetrahedraInROI"].tetrahedra = std::move(out.tetrahedra_in);
+    engine.meshes["tetrahedraOutROI"].tetrahedra = std::move(out.tetrahedra_out);
+    engine.meshes["hexahedraInROI"].hexahedra = std::move(out.hexahedra_in);
+    engine.meshes["hexahedraOutROI"].hexahedra = std::move(out.hexahedra_out);
+}
+
 /// SubsetTopology::init: rest_position from the scene, else the node's state, else its loader.
 std::vector<Vec3> subset_rest_positions(SceneBuilder& b, const Attributes& a, const NodeBuild& info) {
     if (a.has("rest_position"))
@@ -212,6 +234,14 @@ void build_subset_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
         if (a.has("tetrahedraInput")) in.tetrahedra_input = b.indices(a, "tetrahedraInput");
         in.local_indices = a.boolean("localIndices");
         out = select_subset(in, region);
+        // over moving positions: run again on read (live_engines.cpp; SubsetTopology::doUpdate always)
+        SubsetInput elements = in;
+        elements.positions.clear();
+        b.add_live_engine(a, in.positions, [elements, region](const std::vector<Vec3>& x, LiveEngine& engine) {
+            SubsetInput now = elements;
+            now.positions = x;
+            record_subset(select_subset(now, region), engine);
+        });
     });
     // outputs, read through links (@subset.pointsInROI, @subset.trianglesInROI, @subset.indices, ...)
     b.record_engine_indices(c, "indices", out.indices);

@@ -191,7 +191,7 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         const ElementTest test = a.boolean("strict") ? ElementTest::all_points : ElementTest::center;
         selection = select_in_box_roi(points, elements, boxes, oriented, test);
         // over moving positions (a state's, which the solve writes): run again on read (live_engines.cpp)
-        b.add_live_engine(a, [boxes, oriented, elements, test](const std::vector<Vec3>& x, LiveEngine& engine) {
+        b.add_live_engine(a, points, [boxes, oriented, elements, test](const std::vector<Vec3>& x, LiveEngine& engine) {
             const RoiSelection s = select_in_box_roi(x, elements, boxes, oriented, test);
             for (auto& [name, mesh] : roi_element_outputs(s, elements)) engine.meshes[name] = std::move(mesh);
             engine.meshes["quadInROI"] = engine.meshes["quadsInROI"];  // alias

@@ -49,6 +49,11 @@ std::vector<Element> roi_list(SceneBuilder& b, const Attributes& a, std::string_
 
 }  // namespace
 
+std::optional<std::vector<Vec3>> given_points(SceneBuilder& b, const Attributes& a, std::string_view name) {
+    if (!a.has(name)) return std::nullopt;
+    return a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
+}
+
 std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBuild& info, RoiContext context) {
     for (const char* attr : {"position", "rest_position"}) {
         if (!a.has(attr)) continue;
@@ -248,7 +253,7 @@ void build_plane_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) 
         selection = select_in_plane_roi(points, elements, v);
         // over moving positions: run again on read (live_engines.cpp); no plane: the outputs stay
         if (!v.empty())
-            b.add_live_engine(a, [elements, v](const std::vector<Vec3>& x, LiveEngine& engine) {
+            b.add_live_engine(a, points, [elements, v](const std::vector<Vec3>& x, LiveEngine& engine) {
                 for (auto& [name, indices] : roi_index_outputs(select_in_plane_roi(x, elements, v)))
                     engine.indices[name] = std::move(indices);
             });
@@ -343,7 +348,7 @@ void build_sphere_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
     std::size_t num_points = 0;
     std::size_t num_spheres = 0;
     b.guarded(c, [&] {
-        const std::vector<Vec3> centers = a.has("centers") ? a.points("centers") : std::vector<Vec3>{};
+        const std::vector<Vec3> centers = given_points(b, a, "centers").value_or(std::vector<Vec3>{});
         std::vector<double> radii = a.numbers("radii");
         for (double r : radii)
             if (!(r >= 0.0)) a.fail("radii", "must be >= 0");
@@ -369,9 +374,14 @@ void build_sphere_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
         if (roi.direction.norm() > std::numeric_limits<double>::epsilon()) roi.direction /= roi.direction.norm();
         if (roi.normal.norm() > std::numeric_limits<double>::epsilon()) roi.normal /= roi.normal.norm();
         selection = select_in_sphere_roi(points, elements, roi);
-        // over moving positions: run again on read (live_engines.cpp)
-        b.add_live_engine(a, [elements, roi](const std::vector<Vec3>& x, LiveEngine& engine) {
-            for (auto& [name, indices] : roi_index_outputs(select_in_sphere_roi(x, elements, roi), {"pointIndices"}))
+        // over moving positions or centres: run again on read (live_engines.cpp); moved centres keep
+        // their radii (SphereROI::roiDoUpdate reads both)
+        b.add_live_engine(a, points, [elements, roi](const std::vector<Vec3>& x, LiveEngine& engine) {
+            SphereRoi now = roi;
+            if (const std::vector<Vec3>* moved = engine.followed("centers"))
+                for (std::size_t i = 0; i < now.spheres.size() && i < moved->size(); ++i)
+                    now.spheres[i].center = (*moved)[i];
+            for (auto& [name, indices] : roi_index_outputs(select_in_sphere_roi(x, elements, now), {"pointIndices"}))
                 engine.indices[name] = std::move(indices);
         });
     });

@@ -6,6 +6,8 @@
 #include "penalty/mechanics/regions_of_interest.hpp"
 #include "scene/builder/scene_builder.hpp"
 
+#include <optional>
+
 namespace penalty::scene::builder {
 
 /// Where an ROI looks for its points and elements when the scene gives none.
@@ -30,6 +32,9 @@ struct RoiListNames {
 /// context's default (see RoiContext).
 [[nodiscard]] std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBuild& info,
                                            RoiContext context);
+/// The points of a data `name` (inline or a link), when the scene sets it (SphereROI's `centers`).
+[[nodiscard]] std::optional<std::vector<Vec3>> given_points(SceneBuilder& b, const Attributes& a,
+                                                            std::string_view name);
 /// True when every link of `attr` resolves. A region's `position` whose link finds nothing is
 /// SOFA's empty Data (a warning, no point tested), not a scene error (validate() lets it pass).
 [[nodiscard]] bool roi_link_resolves(const io::SceneComponent& c, std::string_view attr);

@@ -178,10 +178,11 @@ public:
     /// (`@transform.output_position`); nullopt otherwise (src/scene/live_engines.cpp).
     [[nodiscard]] std::optional<LivePoints> moving_input(const Attributes& a, std::string_view attr);
     /// Makes engine `a.component()` (a kind of kLiveEngineKinds) run `evaluate` again when a reader
-    /// reads one of its outputs after its input points moved (SOFA's DDGNode::updateIfDirty);
-    /// nothing when its input does not link moving points or its `doUpdate` is 0
-    /// (src/scene/live_engines.cpp).
-    void add_live_engine(const Attributes& a, LiveEngine::Evaluate evaluate);
+    /// reads one of its outputs after its input points, or an input it follows, moved (SOFA's
+    /// DDGNode::updateIfDirty); `points` are its input points at the build. Nothing when no such
+    /// input links moving points or its `doUpdate` is 0; a warning names each other input that
+    /// links data that changes while the scene runs (src/scene/live_engines.cpp).
+    void add_live_engine(const Attributes& a, const std::vector<Vec3>& points, LiveEngine::Evaluate evaluate);
     /// Builds a data engine once: when a link first reads one of its outputs (SOFA evaluates
     /// engines on demand), else in its node's file order. Anything else: nothing.
     void build_data_engine(const io::SceneComponent& c);

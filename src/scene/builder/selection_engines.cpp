@@ -29,12 +29,6 @@ const SceneComponent* local_loader(const NodeBuild& info) {
     return nullptr;
 }
 
-/// The points of a data `name` (inline or a link), when the scene sets it.
-std::optional<std::vector<Vec3>> given_points(SceneBuilder& b, const Attributes& a, std::string_view name) {
-    if (!a.has(name)) return std::nullopt;
-    return a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
-}
-
 #define PENALTY_ROI_LIST(ELEMENTS, ELEMENT) \
     { ELEMENTS, K::elements, "(the node's topology)", "", ValueCheck::none, ELEMENT " tested (inline or a link)" }
 #define PENALTY_ROI_FLAG(NAME, DEFAULT, MEANING) \
@@ -118,7 +112,7 @@ void build_mesh_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         const auto inside = [region](const Vec3& p) { return region->contains(p); };
         selection = select_in_region(points, elements, inside, test);
         // over moving positions: run again on read (live_engines.cpp); the ROI mesh stays
-        b.add_live_engine(a, [elements, inside, test](const std::vector<Vec3>& x, LiveEngine& engine) {
+        b.add_live_engine(a, points, [elements, inside, test](const std::vector<Vec3>& x, LiveEngine& engine) {
             for (auto& [name, indices] : roi_index_outputs(select_in_region(x, elements, inside, test)))
                 engine.indices[name] = std::move(indices);
         });
@@ -155,7 +149,7 @@ void build_proximity_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
     ProximitySelection s;
     std::size_t num_points = 0;
     b.guarded(c, [&] {
-        const std::vector<Vec3> centers = a.has("centers") ? a.points("centers") : std::vector<Vec3>{};
+        const std::vector<Vec3> centers = given_points(b, a, "centers").value_or(std::vector<Vec3>{});
         const std::vector<double> radii = a.numbers("radii");
         const std::int64_t n = a.integer("N");
         if (n < 0) a.fail("N", "must be >= 0");
@@ -166,8 +160,10 @@ void build_proximity_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& in
         // over moving positions: run again on read (live_engines.cpp); ProximityROI::doUpdate
         // leaves its outputs as they are without centres, radii or N
         if (!centers.empty() && !radii.empty() && n > 0)
-            b.add_live_engine(a, [centers, radii, n](const std::vector<Vec3>& x, LiveEngine& engine) {
-                ProximitySelection moved = proximity_roi(x, centers, radii, std::size_t(n));
+            b.add_live_engine(a, points, [centers, radii, n](const std::vector<Vec3>& x, LiveEngine& engine) {
+                const std::vector<Vec3>* moved_centers = engine.followed("centers");
+                ProximitySelection moved =
+                    proximity_roi(x, moved_centers != nullptr ? *moved_centers : centers, radii, std::size_t(n));
                 engine.indices["indices"] = moved.indices;
                 engine.indices["pointIndices"] = std::move(moved.indices);
                 engine.indices["indicesOut"] = std::move(moved.indices_out);

@@ -1,7 +1,8 @@
 // Data engines that transform or merge points (SOFA's Sofa/Component/Engine/Transform and
-// Generate): TransformEngine, TransformPosition, MergePoints, MeshTetraStuffing. Each reads its input points (inline or
-// a link, `@[-1].position`), computes its output once (the scenes are static: SOFA's engines recompute only when an
-// input changes) and records it as `output_position`, which a MechanicalObject, a topology or another engine reads
+// Generate): TransformEngine, TransformPosition, MergePoints, MeshTetraStuffing. Each reads its input
+// points (inline or a link, `@[-1].position`), computes its output at the build (over moving points,
+// TransformEngine, TransformPosition and MergePoints run again on read: live_engines.cpp) and
+// records it as `output_position`, which a MechanicalObject, a topology or another engine reads
 // through a link. Formulas: include/penalty/mechanics/transform_engines.hpp and
 // docs/components/data_engines.md.
 #include "penalty/mechanics/transform_engines.hpp"
@@ -64,9 +65,10 @@ void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         }
         if (p.inverse && (p.scale[0] == 0 || p.scale[1] == 0 || p.scale[2] == 0))
             a.fail("scale", "a zero factor has no inverse");
-        out = transform_engine(input_points(b, a, "input_position", ""), p);
+        const std::vector<Vec3> in = input_points(b, a, "input_position", "");
+        out = transform_engine(in, p);
         // over moving positions (a state's, which the solve writes): run again on read (live_engines.cpp)
-        b.add_live_engine(a, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
+        b.add_live_engine(a, in, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
             engine.meshes["output_position"].positions = transform_engine(x, p);
         });
     });
@@ -142,8 +144,9 @@ void build_transform_position(SceneBuilder& b, const SceneComponent& c, NodeBuil
         p.rotation_deg = a.vector3("rotation");
         p.scale = a.vector3("scale");
         if (a.has("fixedIndices")) p.fixed_indices = b.indices(a, "fixedIndices");
-        out = transform_position(input_points(b, a, "input_position", "inputPosition"), p);
-        b.add_live_engine(a, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
+        const std::vector<Vec3> in = input_points(b, a, "input_position", "inputPosition");
+        out = transform_position(in, p);
+        b.add_live_engine(a, in, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
             std::vector<Vec3> moved = transform_position(x, p);
             engine.meshes["outputPosition"].positions = moved;  // alias
             engine.meshes["output_position"].positions = std::move(moved);
@@ -161,7 +164,7 @@ constexpr AttributeSpec kMergePoints[] = {
     {"position1", K::points, "", "m", ValueCheck::none, "the first points (inline or a link)"},
     {"position2", K::points, "", "m", ValueCheck::none, "the second points"},
     {"mappingX2", K::indices, "", "", ValueCheck::none, "indices in position1 where position2's points go"},
-    {"noUpdate", K::boolean, "0", "", ValueCheck::none, "penalty computes the output once in any case"},
+    {"noUpdate", K::boolean, "0", "", ValueCheck::none, "1: the output of init stays when the inputs move"},
     {"indices1", K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"},
     {"indices2", K::indices, "", "", ValueCheck::none, "output (a written value is replaced)"},
     {"points", K::points, "", "m", ValueCheck::none, "output (a written value is replaced)"},
@@ -180,7 +183,16 @@ void build_merge_points(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
         const std::vector<Vec3> x2 = points_of("position2");
         std::vector<PointId> mapping;
         if (a.has("mappingX2")) mapping = b.indices(a, "mappingX2");
-        out = merge_points(x1, x2, std::move(mapping));
+        out = merge_points(x1, x2, mapping);
+        // over moving positions (position1, or position2 followed): run again on read
+        // (live_engines.cpp; MergePoints::doUpdate unless noUpdate)
+        b.add_live_engine(a, x1, [x2, mapping](const std::vector<Vec3>& x, LiveEngine& engine) {
+            const std::vector<Vec3>* moved = engine.followed("position2");
+            MergedPoints merged = merge_points(x, moved != nullptr ? *moved : x2, mapping);
+            engine.meshes["points"].positions = std::move(merged.points);
+            engine.indices["indices1"] = std::move(merged.indices1);
+            engine.indices["indices2"] = std::move(merged.indices2);
+        });
     });
     record_points(b, c, {"points"}, out.points);
     b.record_engine_indices(c, "indices1", out.indices1);
