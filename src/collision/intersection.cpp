@@ -51,7 +51,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 13> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 14> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -92,6 +92,10 @@ constexpr std::array<SofaQuirkInfo, 13> kSofaQuirks{{
     {"subset_data_last_index", &SofaQuirkFixes::fix_subset_data_last_index,
      "Edge/Triangle/QuadPressureForceField: a removal renames the entries of the topology's current last element, not "
      "those of SOFA's TopologySubsetData last index kept from init (command line or BuildOptions only)"},
+    {"triangle_fem_slot_data", &SofaQuirkFixes::fix_triangle_fem_slot_data,
+     "TriangleFEMForceField: after a topological change each triangle's rest data are made again from the rest "
+     "positions, as a fresh scene, not kept by slot from init as SOFA's (no topology data: a slot keeps the data of "
+     "the triangle first there) (command line or BuildOptions only)"},
 }};
 }  // namespace
 

@@ -101,6 +101,12 @@ struct SofaQuirkFixes {
     /// crashes SOFA HEAD (penalty drops it with a warning). true: the entries of the topology's
     /// current last element, as TopologySubsetIndices::getLastElementIndex.
     bool fix_subset_data_last_index = false;
+    /// A topology-change quirk: SOFA's TriangleFEMForceField keeps no topology data: init sizes its
+    /// per-triangle vectors (rest frames, material) and its loops read the topology's current
+    /// triangles, so after a change a slot keeps the data of the triangle first there, and a
+    /// triangle added past init's count is read past the vectors. true: the data are made again
+    /// for the changed triangles, as a fresh scene.
+    bool fix_triangle_fem_slot_data = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

@@ -82,7 +82,13 @@ public:
     void handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes);
     /// Once the operation is done: the vertices of the triangles a change touched from the container.
     void topology_change_done();
-    /// Rest area A₀ of each triangle (m²).
+    /// SOFA's TriangleFEMForceField after a change (it keeps no topology data): the triangles become
+    /// `triangles` (the topology's), each slot keeps the rest data it has; a slot past them gets its
+    /// data from the current rest positions (SOFA reads past its vectors there). Returns how many
+    /// slots got new data.
+    std::size_t take_triangles_keeping_slot_data(const std::vector<Triangle>& triangles);
+    /// Rest area A₀ of each triangle (m²), per slot (TriangleFEMForceField after a change: more
+    /// slots than triangles).
     [[nodiscard]] const std::vector<double>& rest_areas() const { return area_; }
     [[nodiscard]] FemMethod method() const { return parameters_.method; }
     [[nodiscard]] const TriangleFemParameters& parameters() const { return parameters_; }

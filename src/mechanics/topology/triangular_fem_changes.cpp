@@ -79,4 +79,20 @@ void TriangularFEMForceField::topology_change_done() {
         if (slot < triangles_.size()) triangles_[slot] = triangles[slot];
 }
 
+std::size_t TriangularFEMForceField::take_triangles_keeping_slot_data(const std::vector<Triangle>& triangles) {
+    // TriangleFEMForceField's loops run over the topology's triangles with init's vectors, which
+    // never shrink: rest_local_, area_, material_ keep their slots; j_ and rotation_ are made by
+    // add_force for the slots in use
+    triangles_ = triangles;
+    const std::size_t kept = rest_local_.size();
+    if (triangles_.size() <= kept) return 0;
+    rest_local_.resize(triangles_.size());
+    area_.resize(triangles_.size());
+    material_.resize(triangles_.size());
+    j_.resize(triangles_.size());
+    rotation_.resize(triangles_.size());
+    for (std::size_t e = kept; e < triangles_.size(); ++e) init_element(e);
+    return triangles_.size() - kept;
+}
+
 }  // namespace penalty

@@ -105,7 +105,8 @@ private:
 };
 
 /// The FEM force fields' followers (follow_force_field), or false.
-bool follow_fem(TopologyWiring& w, const std::string& type, BaseForceField* f, TopologyContainer& container) {
+bool follow_fem(TopologyWiring& w, const SceneComponent& c, BaseForceField* f, TopologyContainer& container) {
+    const std::string& type = c.type;
     const MeshTopology& mesh = container.mesh();
     const auto rebuild = [&](std::function<void()> fn, std::initializer_list<ElementType> types) {
         container.add_handler(w.keep(std::make_unique<RebuildFollower>(std::move(fn), types)), types);
@@ -165,8 +166,21 @@ bool follow_fem(TopologyWiring& w, const std::string& type, BaseForceField* f, T
                 {ElementType::triangle, ElementType::point});
             return true;
         }
-        rebuild([ff, &mesh] { ff->set_triangles(mesh.triangles()), ff->init(); },
-                {ElementType::triangle, ElementType::point});
+        if (w.builder.options().sofa_quirk_fixes.fix_triangle_fem_slot_data) {
+            rebuild([ff, &mesh] { ff->set_triangles(mesh.triangles()), ff->init(); },
+                    {ElementType::triangle, ElementType::point});
+            return true;
+        }
+        // SOFA's TriangleFEMForceField keeps no topology data: each slot keeps its data
+        rebuild(
+            [ff, &mesh, name = where(c)] {
+                if (const std::size_t n = ff->take_triangles_keeping_slot_data(mesh.triangles()); n > 0)
+                    std::cerr << "warning: " << name << ": " << n
+                              << " triangles past the count at init (SOFA's TriangleFEMForceField reads past its "
+                                 "vectors there): their data made from the rest positions (--fix-sofa-quirk "
+                                 "triangle_fem_slot_data makes every triangle's data again)\n";
+            },
+            {ElementType::triangle, ElementType::point});
         return true;
     }
     return false;
@@ -239,7 +253,7 @@ bool follow_force_field(TopologyWiring& w, const SceneComponent& c, const Built&
         return follow_pressure_load<QuadPressureForceField>(w, c, f, container, ElementType::quad);
     if (type == "EdgePressureForceField")
         return follow_pressure_load<EdgePressureForceField>(w, c, f, container, ElementType::edge);
-    return follow_fem(w, type, f, container);
+    return follow_fem(w, c, f, container);
 }
 
 /// One component's follower on `t` (its topology), or false when its class has no rule here.
