@@ -68,11 +68,7 @@ TriangularFEMForceField::TriangularFEMForceField(Vec3Object& state, const MeshTo
 
 void TriangularFEMForceField::init() {
     const std::size_t n = triangles_.size();
-    rest_local_.resize(n);
-    area_.resize(n);
-    material_.resize(n);
-    j_.resize(n);
-    rotation_.resize(n);
+    for_each_element_array([n](auto& v) { v.resize(n); });
     for (std::size_t e = 0; e < n; ++e) init_element(e);
 }
 

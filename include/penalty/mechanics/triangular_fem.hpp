@@ -94,6 +94,12 @@ public:
     [[nodiscard]] const TriangleFemParameters& parameters() const { return parameters_; }
 
 private:
+    /// f(v) for each per-triangle array (rest_local_, area_, material_, j_, rotation_): the data a
+    /// topological change resizes, swaps or permutes with the triangles.
+    template <class F>
+    void for_each_element_array(F&& f) {
+        f(rest_local_), f(area_), f(material_), f(j_), f(rotation_);
+    }
     /// Triangle e's rest data (rest_local_, area_, material_, j_, rotation_) from the rest
     /// positions; throws std::invalid_argument for a degenerate triangle or a point past the state.
     void init_element(std::size_t e);

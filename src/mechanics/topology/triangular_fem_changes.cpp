@@ -24,11 +24,7 @@ void TriangularFEMForceField::handle_topology_changes(const TopologyContainer& c
         if (c.is(TopologyChangeKind::removed, ElementType::triangle)) {
             // TopologyData::remove, indices in decreasing order (no destruction callback)
             topology_data_remove(triangles_, c.indices);
-            topology_data_remove(rest_local_, c.indices);
-            topology_data_remove(area_, c.indices);
-            topology_data_remove(material_, c.indices);
-            topology_data_remove(j_, c.indices);
-            topology_data_remove(rotation_, c.indices);
+            for_each_element_array([&c](auto& v) { topology_data_remove(v, c.indices); });
             for (const ElementId id : c.indices) pending_.slots.push_back(std::size_t(id));
         } else if (c.is(TopologyChangeKind::added, ElementType::triangle)) {
             // TopologyData::add: appended, then createTriangleInformation for each, in order
@@ -36,20 +32,12 @@ void TriangularFEMForceField::handle_topology_changes(const TopologyContainer& c
             for (std::size_t k = 0; k < c.indices.size(); ++k) {
                 triangles_.push_back(c.added_element<3>(k));
                 const std::size_t n = triangles_.size();
-                rest_local_.resize(n);
-                area_.resize(n);
-                material_.resize(n);
-                j_.resize(n);
-                rotation_.resize(n);
+                for_each_element_array([n](auto& v) { v.resize(n); });
                 init_element(n - 1);
             }
         } else if (c.is(TopologyChangeKind::renumbered, ElementType::triangle)) {
             topology_data_renumber(triangles_, c.indices);
-            topology_data_renumber(rest_local_, c.indices);
-            topology_data_renumber(area_, c.indices);
-            topology_data_renumber(material_, c.indices);
-            topology_data_renumber(j_, c.indices);
-            topology_data_renumber(rotation_, c.indices);
+            for_each_element_array([&c](auto& v) { topology_data_renumber(v, c.indices); });
         } else if (c.is(TopologyChangeKind::removed, ElementType::point)) {
             // the last points take the removed indices: their triangles are renamed
             pending_.renamed_points.insert(pending_.renamed_points.end(), c.indices.begin(), c.indices.end());
@@ -86,11 +74,7 @@ std::size_t TriangularFEMForceField::take_triangles_keeping_slot_data(const std:
     triangles_ = triangles;
     const std::size_t kept = rest_local_.size();
     if (triangles_.size() <= kept) return 0;
-    rest_local_.resize(triangles_.size());
-    area_.resize(triangles_.size());
-    material_.resize(triangles_.size());
-    j_.resize(triangles_.size());
-    rotation_.resize(triangles_.size());
+    for_each_element_array([n = triangles_.size()](auto& v) { v.resize(n); });
     for (std::size_t e = kept; e < triangles_.size(); ++e) init_element(e);
     return triangles_.size() - kept;
 }
