@@ -7,6 +7,8 @@
 #include "scene/builder/element_topology.hpp"
 #include "scene/builder/families.hpp"
 
+#include <utility>
+
 namespace penalty::scene::builder {
 
 namespace {
@@ -163,26 +165,35 @@ constexpr AttributeSpec kSubsetTopology[] = {
     {"drawSize", K::real, "1", "", ValueCheck::none, "drawing only"},
 };
 
-/// A live SubsetTopology's outputs (live_engines.hpp), as the build records them.
+/// SubsetTopology's outputs by SOFA's Data names, each named once: `indices(name, list)` for the
+/// index lists, `mesh(name, member of io::MeshData, list)` for the point and element lists.
+template <class Out, class Indices, class Mesh>
+void visit_subset_outputs(Out& out, Indices&& indices, Mesh&& mesh) {
+    indices("indices", out.indices);
+    indices("edgeIndices", out.edge_indices);
+    indices("triangleIndices", out.triangle_indices);
+    indices("quadIndices", out.quad_indices);
+    indices("tetrahedronIndices", out.tetrahedron_indices);
+    indices("hexahedronIndices", out.hexahedron_indices);
+    mesh("pointsInROI", &io::MeshData::positions, out.points_in);
+    mesh("pointsOutROI", &io::MeshData::positions, out.points_out);
+    mesh("edgesInROI", &io::MeshData::edges, out.edges_in);
+    mesh("edgesOutROI", &io::MeshData::edges, out.edges_out);
+    mesh("trianglesInROI", &io::MeshData::triangles, out.triangles_in);
+    mesh("trianglesOutROI", &io::MeshData::triangles, out.triangles_out);
+    mesh("quadsInROI", &io::MeshData::quads, out.quads_in);
+    mesh("quadsOutROI", &io::MeshData::quads, out.quads_out);
+    mesh("tetrahedraInROI", &io::MeshData::tetrahedra, out.tetrahedra_in);
+    mesh("tetrahedraOutROI", &io::MeshData::tetrahedra, out.tetrahedra_out);
+    mesh("hexahedraInROI", &io::MeshData::hexahedra, out.hexahedra_in);
+    mesh("hexahedraOutROI", &io::MeshData::hexahedra, out.hexahedra_out);
+}
+
+/// A live SubsetTopology's outputs (live_engines.hpp), under the names the build records.
 void record_subset(SubsetOutput out, LiveEngine& engine) {
-    engine.indices["indices"] = std::move(out.indices);
-    engine.indices["edgeIndices"] = std::move(out.edge_indices);
-    engine.indices["triangleIndices"] = std::move(out.triangle_indices);
-    engine.indices["quadIndices"] = std::move(out.quad_indices);
-    engine.indices["tetrahedronIndices"] = std::move(out.tetrahedron_indices);
-    engine.indices["hexahedronIndices"] = std::move(out.hexahedron_indices);
-    engine.meshes["pointsInROI"].positions = std::move(out.points_in);
-    engine.meshes["pointsOutROI"].positions = std::move(out.points_out);
-    engine.meshes["edgesInROI"].edges = std::move(out.edges_in);
-    engine.meshes["edgesOutROI"].edges = std::move(out.edges_out);
-    engine.meshes["trianglesInROI"].triangles = std::move(out.triangles_in);
-    engine.meshes["trianglesOutROI"].triangles = std::move(out.triangles_out);
-    engine.meshes["quadsInROI"].quads = std::move(out.quads_in);
-    engine.meshes["quadsOutROI"].quads = std::move(out.quads_out);
-    engine.meshes["tetrahedraInROI"].tetrahedra = std::move(out.tetrahedra_in);
-    engine.meshes["tetrahedraOutROI"].tetrahedra = std::move(out.tetrahedra_out);
-    engine.meshes["hexahedraInROI"].hexahedra = std::move(out.hexahedra_in);
-    engine.meshes["hexahedraOutROI"].hexahedra = std::move(out.hexahedra_out);
+    visit_subset_outputs(
+        out, [&engine](const char* name, auto& list) { engine.indices[name] = std::move(list); },
+        [&engine](const char* name, auto member, auto& list) { engine.meshes[name].*member = std::move(list); });
 }
 
 /// SubsetTopology::init: rest_position from the scene, else the node's state, else its loader.
@@ -244,29 +255,13 @@ void build_subset_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild& 
         });
     });
     // outputs, read through links (@subset.pointsInROI, @subset.trianglesInROI, @subset.indices, ...)
-    b.record_engine_indices(c, "indices", out.indices);
-    b.record_engine_indices(c, "edgeIndices", out.edge_indices);
-    b.record_engine_indices(c, "triangleIndices", out.triangle_indices);
-    b.record_engine_indices(c, "quadIndices", out.quad_indices);
-    b.record_engine_indices(c, "tetrahedronIndices", out.tetrahedron_indices);
-    b.record_engine_indices(c, "hexahedronIndices", out.hexahedron_indices);
-    const auto record = [&](const char* data, auto member, auto value) {
-        io::MeshData mesh;
-        mesh.*member = std::move(value);
-        b.record_engine_mesh(c, data, std::move(mesh));
-    };
-    record("pointsInROI", &io::MeshData::positions, out.points_in);
-    record("pointsOutROI", &io::MeshData::positions, out.points_out);
-    record("edgesInROI", &io::MeshData::edges, out.edges_in);
-    record("edgesOutROI", &io::MeshData::edges, out.edges_out);
-    record("trianglesInROI", &io::MeshData::triangles, out.triangles_in);
-    record("trianglesOutROI", &io::MeshData::triangles, out.triangles_out);
-    record("quadsInROI", &io::MeshData::quads, out.quads_in);
-    record("quadsOutROI", &io::MeshData::quads, out.quads_out);
-    record("tetrahedraInROI", &io::MeshData::tetrahedra, out.tetrahedra_in);
-    record("tetrahedraOutROI", &io::MeshData::tetrahedra, out.tetrahedra_out);
-    record("hexahedraInROI", &io::MeshData::hexahedra, out.hexahedra_in);
-    record("hexahedraOutROI", &io::MeshData::hexahedra, out.hexahedra_out);
+    visit_subset_outputs(
+        std::as_const(out), [&](const char* name, const auto& list) { b.record_engine_indices(c, name, list); },
+        [&](const char* name, auto member, const auto& list) {
+            io::MeshData mesh;
+            mesh.*member = list;
+            b.record_engine_mesh(c, name, std::move(mesh));
+        });
     b.role(c, [n = in.positions.size(), in_points = out.points_in.size(), border = out.border_count,
                elements = out.edges_in.size() + out.triangles_in.size() + out.quads_in.size() +
                           out.tetrahedra_in.size() + out.hexahedra_in.size()] {
