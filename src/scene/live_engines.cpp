@@ -203,17 +203,6 @@ std::optional<LivePoints> SceneBuilder::moving_input(const Attributes& a, std::s
 
 namespace {
 
-/// The names of a space-separated list (kLiveEngineKinds' `followed`).
-std::vector<std::string_view> listed_names(std::string_view list) {
-    std::vector<std::string_view> names;
-    while (!list.empty()) {
-        const std::size_t end = std::min(list.find(' '), list.size());
-        if (end != 0) names.push_back(list.substr(0, end));
-        list.remove_prefix(std::min(end + 1, list.size()));
-    }
-    return names;
-}
-
 /// True when link target `t` changes while the scene runs: a MechanicalObject's Data other than its
 /// rest positions (the solve and the controllers write them), or an output of a live engine.
 bool changes_while_running(const io::LinkTarget& t, const LiveEngines* live) {
@@ -234,7 +223,7 @@ void SceneBuilder::add_live_engine(const Attributes& a, const std::vector<Vec3>&
     const std::string_view attr = !a.has(kind->input) && !kind->input_alias.empty() ? kind->input_alias : kind->input;
     std::optional<LivePoints> input = moving_input(a, attr);
     std::vector<FollowedInput> followed;
-    for (std::string_view name : listed_names(kind->followed)) {
+    if (std::string_view name = kind->followed; !name.empty()) {
         const bool read_on_run = name.front() == '~';  // not an input of SOFA's engine
         if (read_on_run) name.remove_prefix(1);
         if (std::optional<LivePoints> source = moving_input(a, name)) {

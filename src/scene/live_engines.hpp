@@ -30,11 +30,11 @@
 namespace penalty::scene {
 
 /// An engine kind penalty runs again on read: the Data of its input points (the first one the
-/// scene sets), the flag that keeps the selection of init when 0 (BaseROI's `doUpdate`; `!name`: when
-/// 1, MergePoints' `noUpdate`; empty:
-/// none), and its other point inputs that penalty follows too (space-separated: SphereROI's
-/// `centers`), which the re-run reads through LiveEngine::followed. Each kind's builder gives the
-/// re-run function (SceneBuilder::add_live_engine), the same function as its build's.
+/// scene sets), the flag that keeps the selection of init (BaseROI's `doUpdate` when 0; written
+/// `!name`, MergePoints' `noUpdate`, when 1; empty: none), and the one other point input penalty
+/// follows too (SphereROI's `centers`; empty: none), which the re-run reads through
+/// LiveEngine::followed. Each kind's builder gives the re-run function
+/// (SceneBuilder::add_live_engine), the same function as its build's.
 struct LiveEngineKind {
     std::string_view type;
     std::string_view input;
