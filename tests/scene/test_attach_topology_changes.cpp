@@ -8,6 +8,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -20,7 +21,9 @@ namespace {
 /// pull sheet points `attached` (indices2) towards anchors `anchors` (indices1); triangle 4 is
 /// removed at t = 0.03 (point 3 goes with it, point 11 takes its index).
 std::string attached_sheet(const std::string& anchors, const std::string& attached) {
-    const auto file = std::filesystem::temp_directory_path() / "penalty_attach_changes.txt";
+    // one file a process: CTest runs this file's tests side by side
+    const auto file =
+        std::filesystem::temp_directory_path() / ("penalty_attach_changes_" + std::to_string(::getpid()) + ".txt");
     std::ofstream(file) << "T= 0.03\n  REMOVE= 1\n4\n";
     return R"(<Node name="root" gravity="0 0 -9.81" dt="0.01">
   <DefaultAnimationLoop/>

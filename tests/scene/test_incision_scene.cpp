@@ -12,6 +12,7 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -33,7 +34,8 @@ std::string incision_scene(const std::string& changes, const std::string& attrib
     text << in.rdbuf();
     std::string s = text.str();
     const std::string from = R"(filename="incision_sheet.txt")";
-    const auto dir = std::filesystem::temp_directory_path() / "penalty_incision";
+    // one folder a process: CTest runs this file's tests side by side, each with its own changes
+    const auto dir = std::filesystem::temp_directory_path() / ("penalty_incision_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     const auto file = dir / "changes.txt";
     std::ofstream(file) << changes;
