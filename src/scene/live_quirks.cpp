@@ -20,11 +20,6 @@ namespace penalty::scene {
 
 namespace {
 
-/// The numbers of a written list (SOFA's text form), each finite and >= 0.
-std::vector<double> nonnegative_numbers(std::string_view text, const std::string& what) {
-    return written_numbers(text, what, true);
-}
-
 UniformMass<Vec3Types>* as_vec3_uniform(BaseMass* m) { return dynamic_cast<UniformMass<Vec3Types>*>(m); }
 UniformMass<Rigid3Types>* as_rigid_uniform(BaseMass* m) { return dynamic_cast<UniformMass<Rigid3Types>*>(m); }
 
@@ -67,7 +62,7 @@ bool Scene::write_uniform_mass_quirk(io::SceneElement& element, const DataOwner&
         if (name == "vertexMass") {
             std::vector<double> v;
             try {
-                v = nonnegative_numbers(text, what);
+                v = written_numbers(text, what, /*nonnegative=*/true);
             } catch (const std::invalid_argument&) {
                 return false;  // a Rigid3Mass text (mass volume [inertia]): as a fresh scene
             }
@@ -90,7 +85,7 @@ bool Scene::write_spring_list_quirk(const io::SceneElement& element, const DataO
                                     std::string_view text, const std::string& what) {
     if (!owner.node && element.type == "MeshSpringForceField" && (name == "stiffness" || name == "damping") &&
         !options_.sofa_quirk_fixes.fix_mesh_spring_stiffness_write) {
-        live_->spring_lists[owner.path][std::string(name)] = nonnegative_numbers(text, what);
+        live_->spring_lists[owner.path][std::string(name)] = written_numbers(text, what, /*nonnegative=*/true);
         live_->rebuild = true;  // the springs take it at the next step (carry_live_quirks)
         return true;
     }
