@@ -15,6 +15,25 @@ namespace penalty::io::test {
 /// tests/io/data in the source tree.
 inline std::filesystem::path data_dir() { return penalty::test::source_dir() / "tests" / "io" / "data"; }
 
+/// tests/io/data/mesh/<name>.
+inline std::filesystem::path mesh_file(const char* name) { return data_dir() / "mesh" / name; }
+
+/// An XML VTK UnstructuredGrid (.vtu) with the given Points and Cells DataArrays.
+inline std::string vtu_text(const std::string& points, int n_points, const std::string& connectivity,
+                            const std::string& offsets, const std::string& types, int n_cells,
+                            const std::string& format = "ascii") {
+    return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
+           "<Piece NumberOfPoints=\"" +
+           std::to_string(n_points) + "\" NumberOfCells=\"" + std::to_string(n_cells) +
+           "\">\n"
+           "<Points><DataArray type=\"Float32\" NumberOfComponents=\"3\" format=\"" +
+           format + "\">" + points +
+           "</DataArray></Points>\n<Cells>\n<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">" +
+           connectivity + "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">" + offsets +
+           "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">" + types +
+           "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
 /// A fresh file under the test temporary directory with exactly `contents`.
 inline std::filesystem::path write_temp(const std::string& name, const std::string& contents) {
     const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "penalty_io_tests";

@@ -1,0 +1,57 @@
+// The broad phase (collision/broad_phase.cpp): SOFA's BruteForceBroadPhase order and filters.
+#include "pipeline_references.hpp"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <random>
+
+namespace penalty {
+namespace {
+
+using namespace test_pipeline;
+
+TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
+    std::mt19937 g(11);
+    Vec3State s = random_cloud(10, 1.0, g);
+    auto tm = test::make_torus(8, 6, 0.5, 0.2, Vec3::Zero(), g);
+    SphereModel a(s, 0.1, {}, mp("a", 0, true));             // self pair
+    TriangleModel t(tm->state, tm->topo, mp("t", 1, true));  // self pair (Triangle-Triangle NP)
+    PointModel p(tm->state, &tm->topo, mp("p", 1, true));    // same node as t: kept (self_collision)
+    SphereModel off(s, 0.1, {}, mp("off"));
+    off.params().active = false;
+    SphereModel ns1(s, 0.1, {}, mp("ns1", 5, true));
+    ns1.params().simulated = false;  // no self pair (non-simulated)
+    SphereModel ns2(s, 0.1, {}, mp("ns2"));
+    ns2.params().simulated = false;  // ns1-ns2 never pair
+    SphereModel g1(s, 0.1, {}, mp("g1", -1, false, {4, 7}));
+    SphereModel g2(s, 0.1, {}, mp("g2", -1, false, {7}));     // shares group 7 with g1
+    PointModel p2(tm->state, &tm->topo, mp("p2", 1, false));  // same node as t, self_collision off
+    std::vector<CollisionModel*> models = {&a, &t, &p, &off, &ns1, &ns2, &g1, &g2, &p2};
+    std::vector<ModelPair> pairs, unsupported;
+    broad_phase(IntersectionParams::new_proximity(), models, pairs, &unsupported);
+    std::vector<std::string> got;
+    for (const auto& q : pairs) got.push_back(q.model1->name() + "-" + q.model2->name());
+    // SOFA's BruteForceBroadPhase::addCollisionModel: per model j, the self pair first, then the
+    // earlier models in order; each pair (model j, earlier model) swapped only into registered
+    // order (Triangle before Sphere and Point, Sphere before Point), so two models of one type
+    // are keyed (later, earlier)
+    const std::vector<std::string> expected = {"a-a",    "t-t",    "t-a",    "p-p",    "a-p",   "t-p",  "ns1-a",
+                                               "t-ns1",  "ns1-p",  "ns2-a",  "t-ns2",  "ns2-p", "g1-a", "t-g1",
+                                               "g1-p",   "g1-ns1", "g1-ns2", "g2-a",   "t-g2",  "g2-p", "g2-ns1",
+                                               "g2-ns2", "a-p2",   "ns1-p2", "ns2-p2", "g1-p2", "g2-p2"};
+    EXPECT_EQ(got, expected);
+    EXPECT_TRUE(unsupported.empty());  // NewProximity detects every pair of these types
+    // MinProximity ignores Triangle-Triangle: the kept pair goes to `unsupported`, not `pairs`
+    broad_phase(IntersectionParams::min_proximity(), models, pairs, &unsupported);
+    ASSERT_EQ(unsupported.size(), 1u);
+    EXPECT_EQ(unsupported[0], (ModelPair{&t, &t}));
+    EXPECT_EQ(pairs.size(), expected.size() - 1);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Narrow phase: equality with the exhaustive loop
+
+}  // namespace
+}  // namespace penalty

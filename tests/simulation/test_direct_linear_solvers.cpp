@@ -1,0 +1,53 @@
+// The direct linear solvers inside the implicit Euler step.
+#include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/mesh_matrix_mass.hpp"
+#include "penalty/mechanics/rest_shape_springs.hpp"
+#include "penalty/mechanics/spring_force_field.hpp"
+#include "penalty/simulation/direct_linear_solver.hpp"
+#include "penalty/simulation/runge_kutta.hpp"
+#include "penalty/simulation/static_solver.hpp"
+#include "penalty_test/function_stage.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace penalty {
+namespace {
+
+TEST(DirectSolvers, TheImplicitEulerStepEqualsTheTightCgStep) {
+    // the same scene stepped with CG run to 1e-15 and with each direct solver
+    const auto run = [](std::shared_ptr<DirectLinearSolver> direct) {
+        Simulation sim;
+        Node& body = sim.root();
+        auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+        solver.rayleigh_stiffness = 0.1;
+        solver.rayleigh_mass = 0.05;
+        solver.cg.iterations = 1000;
+        solver.cg.tolerance = 1e-15;
+        solver.cg.threshold = 1e-30;
+        solver.direct_solver = std::move(direct);
+        auto& x = body.add_state<Vec3Types>("swing");
+        for (int i = 0; i < 4; ++i) x.position.emplace_back(0.25 * i, -0.1 * i * i, 0.05 * i);
+        body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.2);
+        auto& springs = body.add_force_field<SpringForceField>(x, x);
+        for (int i = 0; i < 3; ++i) springs.add_spring({i, i + 1, 500.0, 0.0, 0.2});
+        body.add_constraint<FixedProjectiveConstraint>(x).set_indices({0});
+        sim.init();
+        for (int s = 0; s < 10; ++s) sim.step();
+        return x.position;
+    };
+    const std::vector<Vec3> cg = run(nullptr);
+    for (FactorizationMethod method :
+         {FactorizationMethod::ldlt, FactorizationMethod::llt, FactorizationMethod::lu, FactorizationMethod::qr}) {
+        auto direct = std::make_shared<DirectLinearSolver>();
+        direct->method = method;
+        const std::vector<Vec3> x = run(direct);
+        for (std::size_t i = 0; i < x.size(); ++i)
+            EXPECT_LT((x[i] - cg[i]).norm(), 1e-12) << factorization_name(method) << " point " << i;
+        EXPECT_EQ(direct->factorizations(), 10);
+    }
+}
+
+}  // namespace
+}  // namespace penalty
