@@ -4,7 +4,7 @@
     scripts/update-fuzz-dictionary.py [PENALTY]   (default build/release/bin/penalty)
 
 Reads `penalty info --components` (the component registry, penalty/scene/components.hpp);
-tests/scene/test_component_registry.cpp fails while the dictionary lacks one of them.
+tests/scene/test_components.cpp fails while the dictionary lacks one of them.
 """
 import pathlib
 import re

@@ -17,9 +17,13 @@ namespace penalty::io {
 namespace {
 
 using test::data_dir;
+
 using test::message_of;
+
 using test::write_temp;
+
 using ::testing::ElementsAre;
+
 using ::testing::HasSubstr;
 
 std::filesystem::path tiny_path() { return data_dir() / "scenes" / "tiny.scn"; }
@@ -333,21 +337,6 @@ TEST(SceneValidation, NoIgnoredComponent) {
 
 // ---------------------------------------------------------------------------------------------
 // data path and component meshes
-
-TEST(DataPath, SceneFolderThenDataDirsThenEnvironment) {
-    const auto scene_dir = data_dir() / "scenes";
-    EXPECT_EQ(resolve_data_file("tiny.scn", scene_dir, {}), scene_dir / "tiny.scn");
-    EXPECT_EQ(resolve_data_file("mesh/tetra.obj", scene_dir, {"/nonexistent", data_dir()}),
-              data_dir() / "mesh" / "tetra.obj");
-    ::setenv(kDataPathEnvironmentVariable, ("/nonexistent2::" + data_dir().string()).c_str(), 1);
-    EXPECT_EQ(resolve_data_file("mesh/tetra.obj", scene_dir, {}), data_dir() / "mesh" / "tetra.obj");
-    EXPECT_EQ(message_of<LoadError>([&] { (void)resolve_data_file("mesh/none.obj", scene_dir, {"/nonexistent"}); }),
-              "cannot find data file 'mesh/none.obj'; looked in: " + scene_dir.string() +
-                  ", /nonexistent, /nonexistent2, " + data_dir().string());
-    ::unsetenv(kDataPathEnvironmentVariable);
-    EXPECT_EQ(message_of<LoadError>([&] { (void)resolve_data_file("/no/such/file.obj", scene_dir, {}); }),
-              "cannot find data file '/no/such/file.obj'");
-}
 
 TEST(SceneMeshes, LoadersApplyTheirOptions) {
     const SceneFile s = parse_scene_file(tiny_path());

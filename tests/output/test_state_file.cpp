@@ -17,27 +17,14 @@ namespace penalty::output {
 namespace {
 
 using test::read_text;
+
 using test::TempDir;
+
 using test::write_text;
+
 using ::testing::ElementsAre;
+
 using ::testing::HasSubstr;
-
-TEST(Format, NumbersAreShortestRoundTrip) {
-    EXPECT_EQ(format_number(-5.0), "-5");
-    EXPECT_EQ(format_number(0.0), "0");
-    EXPECT_EQ(format_number(0.1), "0.1");
-    EXPECT_EQ(format_number(1e-300), "1e-300");
-    EXPECT_EQ(format_number(-4.99544), "-4.99544");
-    EXPECT_EQ(format_number(1.0 / 3.0), "0.3333333333333333");
-    EXPECT_EQ(std::stod(format_number(1.0 / 3.0)), 1.0 / 3.0);
-}
-
-TEST(Format, SanitizeFileName) {
-    EXPECT_EQ(sanitize_file_name("dofs"), "dofs");
-    EXPECT_EQ(sanitize_file_name("my dofs/1:a"), "my_dofs_1_a");
-    EXPECT_EQ(sanitize_file_name("a-b.c_d"), "a-b.c_d");
-    EXPECT_EQ(sanitize_file_name(""), "state");
-}
 
 struct TwoStates {
     Vec3Object points{"dofs"};

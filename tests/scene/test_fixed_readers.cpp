@@ -7,7 +7,7 @@
 // products with rows kept from before the step differ, which shows the rows do change (a
 // FixedReaders that kept its rows from one solve to the next would fail the first check).
 // The systems here do not fuse their contact products: the fused block applies the contacts'
-// own mappings itself (test_fused_contact_products.cpp), and the stale products below, made
+// own mappings itself (test_fused_contact_block.cpp), and the stale products below, made
 // across a step (outside FixedReaders' contract), would read contact lists of another size.
 #include "penalty/io/scene_file.hpp"
 #include "penalty/scene/scene.hpp"

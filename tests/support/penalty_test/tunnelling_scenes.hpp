@@ -1,6 +1,6 @@
 #pragma once
 // The tunnelling guard's cases (docs/no-tunnelling.md), as SOFA scene text for scene::build_scene.
-// Header-only, standard library only; used by tests/scene/test_tunnelling_scenes.cpp and
+// Header-only, standard library only; used by tests/scene/test_tunnelling_guard.cpp and
 // bench/bench_tunnelling.cpp. Units: m, kg, s, N.
 //
 //   ball_on_sheet    a ball (a 1 kg particle with a SphereCollisionModel of radius 0.1) thrown

@@ -1,3 +1,5 @@
+// SpringForceField and MeshSpringForceField (mechanics/spring_force_field.cpp): force and sign, derivatives
+// against finite differences, SOFA's per-spring dforce to the bit, springs per element.
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 
@@ -131,86 +133,6 @@ TEST(MeshSpringForceField, SpringsPerElementAndStiffnessOverLength) {
     std::vector<Vec3> bad = {Vec3::Zero(), Vec3::Zero(), Vec3(0, 1, 0), Vec3(0, 0, 1)};
     EXPECT_THROW(mesh_springs(tet, bad, MeshSpringParameters::uniform(1, 0)), std::invalid_argument);
     EXPECT_THROW(mesh_springs(tet, x0, MeshSpringParameters::uniform(-1, 0)), std::invalid_argument);
-}
-
-TEST(UniformMass, VertexAndTotalMassRules) {
-    Vec3Object s;
-    s.position = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
-    s.velocity = {Vec3(1, 0, 0), Vec3::Zero(), Vec3::Zero(), Vec3(0, 2, 0)};
-    s.init();
-    UniformMass<Vec3Types> m(s);
-    EXPECT_THROW(m.init(), std::invalid_argument);
-    m.set_vertex_mass(3.0);
-    m.init();
-    EXPECT_EQ(m.vertex_mass(), 3.0);
-    m.set_total_mass(2.0);  // totalMass wins
-    m.init();
-    EXPECT_EQ(m.vertex_mass(), 0.5);
-    EXPECT_NEAR(m.kinetic_energy(), 0.5 * 0.5 * 5.0, 1e-15);
-    m.add_gravity_force(Vec3(0, -10, 0));
-    EXPECT_EQ(s.force[2], Vec3(0, -5, 0));
-    EXPECT_NEAR(m.gravity_potential_energy(Vec3(0, -10, 0)), 0.5 * 10 * 1.0, 1e-15);
-    EXPECT_THROW(m.set_total_mass(0.0), std::invalid_argument);
-    EXPECT_THROW(m.set_vertex_mass(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
-}
-
-TEST(UniformMass, Rigid3MassAndInertia) {
-    Rigid3Object s;
-    s.position.resize(1);
-    s.init();
-    UniformMass<Rigid3Types> m(s);
-    m.set_vertex_mass(2.0);
-    Mat3 j = Mat3::Identity();
-    j(2, 2) = 3.0;
-    m.set_inertia(j);
-    m.init();
-    s.dx[0].linear = Vec3(1, 0, 0);
-    s.dx[0].angular = Vec3(0, 0, 1);
-    m.add_mdx(0.5);
-    EXPECT_EQ(s.df[0].linear, Vec3(1, 0, 0));
-    EXPECT_EQ(s.df[0].angular, Vec3(0, 0, 3));
-    Eigen::VectorXd in(6), out(6);
-    in << 2, 0, 0, 0, 0, 6;
-    m.apply_inverse(in, out);
-    EXPECT_NEAR(out[0], 1.0, 1e-15);
-    EXPECT_NEAR(out[5], 1.0, 1e-15);
-    m.add_gravity_force(Vec3(0, -1, 0));
-    EXPECT_EQ(s.force[0].linear, Vec3(0, -2, 0));
-    EXPECT_EQ(s.force[0].angular, Vec3::Zero());
-    EXPECT_THROW(m.set_inertia(-Mat3::Identity()), std::invalid_argument);
-}
-
-TEST(MechanicalObject, InitialTransformScaleRotateTranslate) {
-    Vec3Object s;
-    s.position = {Vec3(1, 0, 0)};
-    s.transform.scale3d = Vec3(2, 1, 1);
-    s.transform.rotation_deg = Vec3(0, 0, 90);
-    s.transform.translation = Vec3(0, 0, 5);
-    s.init();
-    EXPECT_TRUE(s.position[0].isApprox(Vec3(0, 2, 5), 1e-14));
-    EXPECT_TRUE(s.rest_position[0].isApprox(Vec3(0, 2, 5), 1e-14));
-    // Given rest positions are not transformed (SOFA); velocities completed with the last one.
-    Vec3Object given;
-    given.position = {Vec3(1, 0, 0), Vec3(2, 0, 0)};
-    given.rest_position = {Vec3(1, 0, 0), Vec3(2, 0, 0)};
-    given.velocity = {Vec3(0, 3, 0)};
-    given.transform.translation = Vec3(0, 0, 1);
-    given.init();
-    EXPECT_EQ(given.position[1], Vec3(2, 0, 1));
-    EXPECT_EQ(given.rest_position[1], Vec3(2, 0, 0));
-    EXPECT_EQ(given.velocity[1], Vec3(0, 3, 0));
-    Vec3Object rest_only;
-    rest_only.rest_position = {Vec3(4, 5, 6)};
-    rest_only.init();
-    EXPECT_EQ(rest_only.position[0], Vec3(4, 5, 6));
-    Vec3Object bad;
-    bad.position = {Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)};
-    EXPECT_THROW(bad.init(), std::invalid_argument);
-    Rigid3Object r;
-    r.position.resize(1);
-    r.transform.rotation_deg = Vec3(90, 0, 0);
-    r.init();
-    EXPECT_TRUE((r.position[0].orientation * Vec3::UnitY()).isApprox(Vec3::UnitZ(), 1e-14));
 }
 
 }  // namespace
