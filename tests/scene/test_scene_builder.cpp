@@ -1,5 +1,6 @@
 // The scene builder: what each SOFA component becomes, error messages on bad scenes, the
 // built-in scene, and SOFA's regression reference for CompositeCollisionPipeline_none.scn.
+#include "builder_scenes.hpp"
 #include "penalty/io/error.hpp"
 #include "penalty/output/state_file.hpp"
 #include "penalty/scene/runner.hpp"
@@ -16,45 +17,17 @@
 
 namespace {
 
+using namespace penalty::test_builder_scenes;
+
 using namespace penalty;
+
 using penalty::scene::build_scene;
+
 using ::testing::HasSubstr;
 
 using penalty::test::build;
+
 using penalty::test::error_of;
-
-std::filesystem::path temp_dir(const std::string& name) {
-    const auto d =
-        std::filesystem::temp_directory_path() /
-        ("penalty_scene_test_" + name + "_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-    std::filesystem::remove_all(d);
-    return d;
-}
-
-// A cube of 8 springs-connected points (SOFA's tutorial cube) over a static floor of 2 triangles;
-// dx, dz keep the bottom points off the floor's diagonal edge x = z, where MinProximity rejects
-// Triangle–Point contacts (spec §12.1).
-const std::string kCubeOnFloor = R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
-  <CollisionPipeline/>
-  <BruteForceBroadPhase/>
-  <BVHNarrowPhase/>
-  <MinProximityIntersection alarmDistance="0.2" contactDistance="0.1"/>
-  <CollisionResponse response="PenalityContactForceField"/>
-  <Node name="Cube">
-    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
-    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
-    <MechanicalObject name="cube" position="0 0 0  1 0 0  0 1 0  1 1 0  0 0 1  1 0 1  0 1 1  1 1 1" dx="0.3" dy="0.15" dz="0.1"/>
-    <MeshTopology hexas="0 1 3 2 4 5 7 6"/>
-    <UniformMass totalMass="1"/>
-    <MeshSpringForceField stiffness="100" damping="1"/>
-    <PointCollisionModel name="cube_points"/>
-  </Node>
-  <Node name="Floor">
-    <MeshTopology position="-5 0 -5  5 0 -5  5 0 5  -5 0 5" triangles="0 2 1  0 3 2"/>
-    <MechanicalObject name="floor"/>
-    <TriangleCollisionModel name="floor_triangles" simulated="0" moving="0"/>
-  </Node>
-</Node>)";
 
 TEST(SceneBuilder, CubeOnFloorStatesRecordsAndContactPlacement) {
     auto s = build(kCubeOnFloor);
@@ -188,28 +161,6 @@ TEST(SceneBuilder, RigidBodyWithIdentityMappedCollisionSphere) {
     const auto exported = output::select_exported_states(s->states(), false);
     ASSERT_EQ(exported.size(), 1u);
     EXPECT_EQ(exported[0]->name, "rigid");
-}
-
-TEST(SceneBuilder, CompositePipelineRunsEachSubPipelineWithItsOwnMethod) {
-    const std::string xml = R"(<Node name="root">
-      <Node name="A"><MechanicalObject position="0 0 0"/><SphereCollisionModel name="a" simulated="0"/></Node>
-      <Node name="B"><MechanicalObject position="5 0 0"/><SphereCollisionModel name="b"/></Node>
-      <BruteForceBroadPhase name="bp"/><BVHNarrowPhase name="np"/>
-      <NewProximityIntersection name="i1" alarmDistance="2" contactDistance="1"/>
-      <MinProximityIntersection name="i2" alarmDistance="3" contactDistance="1"/>
-      <CollisionResponse name="r"/>
-      <SubCollisionPipeline name="p1" collisionModels="@A/a" broadPhaseDetection="@bp" narrowPhaseDetection="@np"
-        intersectionMethod="@i1" contactManager="@r"/>
-      <SubCollisionPipeline name="p2" collisionModels="@B/b" broadPhaseDetection="@bp" narrowPhaseDetection="@np"
-        intersectionMethod="@i2" contactManager="@r"/>
-      <CompositeCollisionPipeline subCollisionPipelines="@p1 @p2"/>
-    </Node>)";
-    auto s = build(xml);
-    ASSERT_EQ(s->pipelines().size(), 2u);
-    EXPECT_EQ(s->pipelines()[0].name, "p1");
-    EXPECT_EQ(s->pipelines()[0].intersection, IntersectionMethod::NewProximity);
-    EXPECT_EQ(s->pipelines()[1].intersection, IntersectionMethod::MinProximity);
-    EXPECT_DOUBLE_EQ(s->pipelines()[1].pipeline->intersection().alarm_distance, 3.0);
 }
 
 TEST(SceneBuilder, IncompletePipelineAndUnreadAttributesAreReported) {
@@ -360,196 +311,6 @@ TEST(SceneBuilder, ErrorsNameFileLineComponentAndAttribute) {
 </Node>)"),
         "test.scn:4: TriangleCollisionModel: TriangleModel 'TriangleCollisionModel': element 0: vertex index 5 out "
         "of range (state has 3 points)");
-}
-
-TEST(SceneBuilder, BuiltInSceneRunsAndMakesContacts) {
-    auto s = build_scene(io::parse_scene_string(scene::default_scene_xml(), "<built-in scene>"));
-    ASSERT_EQ(s->states().size(), 3u);
-    scene::RunOptions run;
-    run.steps = 200;
-    std::size_t max_pairs = 0;
-    const auto summary = scene::run_scene(*s, run, [&](std::int64_t, std::int64_t, const scene::RunSummary&) {
-        max_pairs = std::max(max_pairs, s->contacts().size());
-    });
-    EXPECT_GE(summary.max_contacts, 25u);  // the cube's 25 bottom points on the floor
-    EXPECT_EQ(max_pairs, 2u);              // floor–cube points, then ball–cube points too
-    EXPECT_LT(summary.max_penetration, 0.1);
-}
-
-TEST(SceneBuilder, RunnerWritesStatesEveryMStepsPlusTheLast) {
-    auto s = build(kCubeOnFloor);
-    scene::RunOptions run;
-    run.steps = 8;
-    run.export_every = 3;
-    run.states_directory = temp_dir("every");
-    run.stats_file = *run.states_directory / "stats.csv";
-    const auto summary = scene::run_scene(*s, run);
-    ASSERT_EQ(summary.state_files.size(), 1u);  // the floor is outside every solver subtree
-    EXPECT_EQ(summary.state_files[0].filename(), "0_cube_mstate.txt");
-    const auto samples = output::read_state_file(summary.state_files[0]);
-    ASSERT_EQ(samples.size(), 4u);  // steps 0, 3, 6 and the last, 7: T = 0, 0.03, 0.06, 0.07
-    EXPECT_DOUBLE_EQ(samples[0].time, 0.0);
-    EXPECT_NEAR(samples[1].time, 0.03, 1e-12);
-    EXPECT_NEAR(samples[2].time, 0.06, 1e-12);
-    EXPECT_NEAR(samples[3].time, 0.07, 1e-12);
-    EXPECT_EQ(samples[0].x.size(), 24u);
-    EXPECT_EQ(samples[0].x[1], double(0.15f));  // dy="0.15", read as a float as SOFA reads it
-    std::filesystem::remove_all(*run.states_directory);
-}
-
-TEST(SceneBuilder, RunnerReportsCgAndNewtonIterations) {
-    // Two free particles, one solver each; B runs Newton. Free fall is linear: CG on the
-    // diagonal system M dv = h f is exact after one update, and stops when iteration 2 finds a
-    // zero residual; SOFA's nb_iter counts the iterations started, so 2 per solve, 4 per step.
-    // Newton meets its tolerance at its second iterate (the first update is exact).
-    const std::string xml = R"(<Node name="root" dt="0.01">
-      <Node name="A"><EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-30"/>
-        <MechanicalObject name="a" position="0 0 0"/><UniformMass vertexMass="1"/></Node>
-      <Node name="B"><EulerImplicitSolver newton="1" newtonIterations="5"/><CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-30"/>
-        <MechanicalObject name="b" position="1 0 0"/><UniformMass vertexMass="1"/></Node>
-    </Node>)";
-    auto s = build(xml);
-    EXPECT_TRUE(s->uses_cg());
-    EXPECT_TRUE(s->uses_newton());
-    scene::RunOptions run;
-    run.steps = 4;
-    run.stats_file = temp_dir("solver_stats") / "stats.csv";
-    const auto summary = scene::run_scene(*s, run);
-    EXPECT_TRUE(summary.cg);
-    EXPECT_TRUE(summary.newton);
-    EXPECT_EQ(s->last_solver_stats().newton_iterations, 2);
-    EXPECT_FALSE(s->last_solver_stats().newton_unconverged);
-    EXPECT_EQ(s->last_solver_stats().cg_iterations, 4);
-    EXPECT_FALSE(s->last_solver_stats().cg_limit_reached);
-    EXPECT_DOUBLE_EQ(summary.mean_newton_iterations, 2.0);
-    EXPECT_EQ(summary.max_cg_iterations, 4);
-    EXPECT_EQ(summary.cg_limit_steps, 0);
-    EXPECT_EQ(summary.newton_unconverged_steps, 0);
-    const std::string text = scene::format_summary(summary);
-    EXPECT_THAT(text, HasSubstr("CG iterations per step: mean 4.0, max 4; iteration limit reached in 0 steps\n"));
-    EXPECT_THAT(text, HasSubstr("Newton iterations per step: mean 2.00, max 2; not converged in 0 steps\n"));
-    std::ifstream csv(*run.stats_file);
-    std::string header, row;
-    std::getline(csv, header);
-    std::getline(csv, row);
-    EXPECT_TRUE(header.ends_with(",cg_iterations,newton_iterations")) << header;
-    EXPECT_TRUE(row.ends_with(",4,2")) << row;
-    // A CG limit of 1 iteration on a coupled system is reached and counted.
-    auto stiff = build(R"(<Node name="root" dt="0.01">
-      <Node name="A"><EulerImplicitSolver/><CGLinearSolver iterations="1" tolerance="1e-12" threshold="1e-30"/>
-        <MechanicalObject name="a" position="0 0 0  1 0 0  0 1 0"/><MeshTopology triangles="0 1 2"/>
-        <UniformMass vertexMass="1"/><MeshSpringForceField stiffness="100"/></Node>
-    </Node>)");
-    run.steps = 3;
-    run.stats_file.reset();
-    const auto limited = scene::run_scene(*stiff, run);
-    EXPECT_EQ(limited.cg_limit_steps, 3);
-    EXPECT_FALSE(limited.newton);
-    EXPECT_THAT(scene::format_summary(limited), ::testing::Not(HasSubstr("Newton")));
-    std::filesystem::remove_all(run.stats_file ? run.stats_file->parent_path() : temp_dir("solver_stats"));
-}
-
-TEST(SceneBuilder, DivergenceStopsTheRunNamingStateAndStep) {
-    // A spring far too stiff for explicit Euler: the positions blow up to inf/NaN.
-    const std::string xml = R"(<Node name="root" dt="0.1" gravity="0 0 0">
-      <Node name="A"><EulerExplicitSolver/>
-        <MechanicalObject name="p" position="0 0 0  1.5 0 0" rest_position="0 0 0  1 0 0"/><MeshTopology edges="0 1"/>
-        <UniformMass vertexMass="0.001"/><MeshSpringForceField stiffness="1e6"/></Node>
-    </Node>)";
-    auto s = build(xml);
-    scene::RunOptions run;
-    run.steps = 2000;
-    try {
-        (void)scene::run_scene(*s, run);
-        FAIL() << "no divergence reported";
-    } catch (const std::runtime_error& e) {
-        EXPECT_THAT(e.what(), HasSubstr("simulation diverged at step "));
-        EXPECT_THAT(e.what(), HasSubstr("state '/A/p' DOF "));
-        EXPECT_THAT(e.what(), HasSubstr("try a smaller --dt"));
-    }
-}
-
-TEST(SceneBuilder, DescribeShowsWhatEachComponentBecameAndWhereContactsGo) {
-    const auto s = build(kCubeOnFloor);
-    const std::string text = scene::describe_scene(*s);
-    EXPECT_THAT(text, HasSubstr("Node / (root): dt 0.01 s, gravity (0, -9.81, 0) m/s^2\n"));
-    EXPECT_THAT(text, HasSubstr("  Node /Cube\n"));  // dt and gravity inherited: not repeated
-    EXPECT_THAT(text,
-                HasSubstr("Vec3d state, 8 DOFs, translated (0.3, 0.15, 0.1); integrated by the ODE solver of /Cube\n"));
-    EXPECT_THAT(text, HasSubstr("8 points, 12 edges, 6 quads, 1 hexahedron\n"));
-    EXPECT_THAT(text, HasSubstr("mass 0.125 kg per DOF, 1 kg in all\n"));
-    // 12 edges + 12 face diagonals + 4 cell diagonals of the hexahedron
-    EXPECT_THAT(text, HasSubstr("28 springs between the topology's vertex pairs"));
-    EXPECT_THAT(text,
-                HasSubstr("implicit Euler over this subtree (8 DOFs in 1 state), Rayleigh stiffness 0.1 mass 0.1\n"));
-    EXPECT_THAT(text, HasSubstr("at most 25 iterations, tolerance 1e-09, threshold 1e-09\n"));
-    EXPECT_THAT(text, HasSubstr("Vec3d state, 4 DOFs; static: in no solver's subtree, never moves\n"));
-    EXPECT_THAT(
-        text,
-        HasSubstr(
-            "2 triangles, static obstacle (simulated=0, moving=0), contactStiffness 10; pipeline CollisionPipeline\n"));
-    EXPECT_THAT(text, HasSubstr("collision pipeline: MinProximity (alarm 0.2 m, contact 0.1 m), 2 collision models, "
-                                "response PenalityContactForceField\n"));
-    EXPECT_THAT(text, HasSubstr("  floor_triangles (Triangle, /Floor) - cube_points (Point, /Cube): penalty contact in "
-                                "/Cube, implicit (solver of /Cube)\n"));
-    EXPECT_THAT(
-        text,
-        HasSubstr(
-            "  1 model pair kept by the broad phase, 1 can make penalty contacts; 1 excluded (both non-simulated); "
-            "1 excluded (same node without selfCollision)\n"));
-}
-
-TEST(SceneBuilder, DescribeNamesUndetectedPairsDisabledResponsesAndExplicitContacts) {
-    const auto s = build(R"(<Node name="root">
-  <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/>
-  <MinProximityIntersection alarmDistance="0.2" contactDistance="0.1"/>
-  <CollisionResponse response="PenalityContactForceField"/>
-  <RequiredPlugin name="plugins"/>
-  <Node name="A"><EulerImplicitSolver/><CGLinearSolver/>
-    <MeshTopology position="0 0 0  1 0 0  0 1 0" triangles="0 1 2"/><MechanicalObject/><UniformMass totalMass="1"/>
-    <TriangleCollisionModel name="ta"/><PointCollisionModel name="pa" contactResponse="nullptr"/></Node>
-  <Node name="B"><Gravity gravity="0 0 -1"/><EulerImplicitSolver/><CGLinearSolver/>
-    <MeshTopology position="0 0 1  1 0 1  0 1 1" triangles="0 1 2"/><MechanicalObject/><UniformMass totalMass="1"/>
-    <TriangleCollisionModel name="tb"/><PointCollisionModel name="pb"/></Node>
-</Node>)");
-    const std::string text = scene::describe_scene(*s);
-    EXPECT_THAT(text, HasSubstr("  Node /B: gravity (0, 0, -1) m/s^2\n"));
-    EXPECT_THAT(text, HasSubstr("RequiredPlugin 'plugins'"));
-    EXPECT_THAT(text, HasSubstr("ignored (plugin loading)\n"));
-    EXPECT_THAT(text,
-                HasSubstr("  ta (Triangle, /A) - tb (Triangle, /B): not detected: MinProximity ignores this pair"));
-    EXPECT_THAT(text,
-                HasSubstr("  ta (Triangle, /A) - pb (Point, /B): penalty contact in /, explicit (no solver above it"));
-    EXPECT_THAT(text, HasSubstr("  tb (Triangle, /B) - pa (Point, /A): detected; no response (nullptr): no contact\n"));
-    EXPECT_THAT(text, HasSubstr("  pa (Point, /A) - pb (Point, /B): detected; no response (nullptr): no contact\n"));
-    EXPECT_THAT(text, HasSubstr("  4 model pairs kept by the broad phase, 1 can make penalty contacts; 6 excluded "
-                                "(same node without selfCollision)\n"));
-    EXPECT_THAT(text, HasSubstr(" physics components, 0 loaders, 1 ignored\n"));
-}
-
-// SOFA's regression reference (kept outside the repository, in ../shared): two rigid spheres
-// falling on fixed tori, 200 steps, compared by SOFA's criterion.
-TEST(SceneBuilder, CompositeCollisionPipelineNoneReproducesSofaReference) {
-    const std::filesystem::path shared = penalty::test::shared_dir();
-    const auto scene_file = shared / "sofa/scenes/CompositeCollisionPipeline_none.scn";
-    if (!std::filesystem::exists(scene_file)) GTEST_SKIP() << "no " << scene_file;
-    scene::BuildOptions options;
-    options.data_dirs.push_back(shared / "sofa");
-    auto s = scene::load_scene(scene_file, options);
-    scene::RunOptions run;
-    run.steps = 200;
-    run.states_directory = temp_dir("reference");
-    const auto summary = scene::run_scene(*s, run);
-    ASSERT_EQ(summary.state_files.size(), 2u);
-    const auto refs = scene::reference_files(shared / "sofa/reference", scene_file, summary.state_files);
-    EXPECT_EQ(refs[0].filename(), "CompositeCollisionPipeline_none.scn.reference_0_rigid_mstate.txt");
-    const auto result = output::compare_with_reference(refs, summary.state_files, summary.values_per_dof);
-    EXPECT_TRUE(result.messages.empty()) << result.messages.front();
-    EXPECT_TRUE(result.passed());
-    // The reference holds 6 significant digits: 5.7e-6 is its rounding, far below SOFA's 1e-4.
-    EXPECT_LT(result.mean_error, 2e-5);
-    EXPECT_GT(summary.max_contacts, 0u);
-    std::filesystem::remove_all(*run.states_directory);
 }
 
 }  // namespace
