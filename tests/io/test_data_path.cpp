@@ -15,14 +15,7 @@ namespace penalty::io {
 namespace {
 
 using test::data_dir;
-
 using test::message_of;
-
-using test::write_temp;
-
-using ::testing::ElementsAre;
-
-using ::testing::HasSubstr;
 
 TEST(DataPath, SceneFolderThenDataDirsThenEnvironment) {
     const auto scene_dir = data_dir() / "scenes";

@@ -17,7 +17,6 @@ namespace {
 using test::data_dir;
 using test::mesh_file;
 using test::message_of;
-using test::vtu_text;
 using test::write_temp;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;

@@ -14,13 +14,10 @@
 namespace penalty::io {
 namespace {
 
-using test::data_dir;
 using test::mesh_file;
 using test::message_of;
-using test::vtu_text;
 using test::write_temp;
 using ::testing::ElementsAre;
-using ::testing::HasSubstr;
 
 TEST(GmshLoader, Version1MapsNodeNumbersAndKeepsElementTypes) {
     const MeshData m = load_gmsh(mesh_file("two_tets_v1.msh"));

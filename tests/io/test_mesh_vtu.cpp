@@ -13,8 +13,6 @@
 namespace penalty::io {
 namespace {
 
-using test::data_dir;
-using test::mesh_file;
 using test::message_of;
 using test::vtu_text;
 using test::write_temp;

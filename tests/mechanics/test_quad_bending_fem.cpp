@@ -14,8 +14,6 @@
 namespace penalty {
 namespace {
 
-using test::Cloth;
-
 // ---- QuadBendingFEMForceField -----------------------------------------------------------------
 struct QuadPlate {
     Vec3Object state;

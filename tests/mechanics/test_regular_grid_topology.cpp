@@ -19,8 +19,6 @@
 namespace penalty {
 namespace {
 
-using test::kuhn_tetrahedra;
-
 TEST(RegularGridTopology, IndexingSpringsAndBarycentricMapping) {
     RegularGridTopology g({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1));
     EXPECT_EQ(g.num_points(), 12u);

@@ -16,16 +16,6 @@
 namespace penalty::output {
 namespace {
 
-using test::read_text;
-
-using test::TempDir;
-
-using test::write_text;
-
-using ::testing::ElementsAre;
-
-using ::testing::HasSubstr;
-
 TEST(Format, NumbersAreShortestRoundTrip) {
     EXPECT_EQ(format_number(-5.0), "-5");
     EXPECT_EQ(format_number(0.0), "0");

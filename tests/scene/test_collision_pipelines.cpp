@@ -19,16 +19,6 @@ namespace {
 
 using namespace penalty::test_builder_scenes;
 
-using namespace penalty;
-
-using penalty::scene::build_scene;
-
-using ::testing::HasSubstr;
-
-using penalty::test::build;
-
-using penalty::test::error_of;
-
 TEST(SceneBuilder, CompositePipelineRunsEachSubPipelineWithItsOwnMethod) {
     const std::string xml = R"(<Node name="root">
       <Node name="A"><MechanicalObject position="0 0 0"/><SphereCollisionModel name="a" simulated="0"/></Node>

@@ -21,9 +21,8 @@ namespace {
 
 using namespace penalty;
 using namespace penalty::scene;
-using ::testing::HasSubstr;
-
 using penalty::test::default_number;
+using ::testing::HasSubstr;
 
 bool is_scene_dependent(std::string_view default_value) {
     return !default_value.empty() && default_value.front() == '(';

@@ -18,16 +18,6 @@ namespace {
 
 using namespace penalty::test_builder_scenes;
 
-using namespace penalty;
-
-using penalty::scene::build_scene;
-
-using ::testing::HasSubstr;
-
-using penalty::test::build;
-
-using penalty::test::error_of;
-
 TEST(SceneBuilder, BuiltInSceneRunsAndMakesContacts) {
     auto s = build_scene(io::parse_scene_string(scene::default_scene_xml(), "<built-in scene>"));
     ASSERT_EQ(s->states().size(), 3u);

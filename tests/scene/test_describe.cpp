@@ -19,16 +19,6 @@ namespace {
 
 using namespace penalty::test_builder_scenes;
 
-using namespace penalty;
-
-using penalty::scene::build_scene;
-
-using ::testing::HasSubstr;
-
-using penalty::test::build;
-
-using penalty::test::error_of;
-
 TEST(SceneBuilder, DescribeShowsWhatEachComponentBecameAndWhereContactsGo) {
     const auto s = build(kCubeOnFloor);
     const std::string text = scene::describe_scene(*s);

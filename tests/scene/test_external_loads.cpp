@@ -17,9 +17,8 @@
 namespace {
 
 using namespace penalty;
-using ::testing::HasSubstr;
-
 using penalty::test::build;
+using ::testing::HasSubstr;
 
 /// One node of particles at `positions` (vertexMass 0.5 kg each) under `gravity`, an implicit
 /// solver without Rayleigh damping (unless given), and the given components.

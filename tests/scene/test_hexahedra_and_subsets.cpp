@@ -18,10 +18,9 @@
 namespace {
 
 using namespace penalty;
-using ::testing::HasSubstr;
-
 using penalty::test::build;
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 const Vec3Object& vec3_state(const scene::Scene& s, std::size_t i) {
     return dynamic_cast<const Vec3Object&>(*s.states().at(i).state);

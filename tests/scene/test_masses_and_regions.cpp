@@ -14,10 +14,9 @@
 namespace {
 
 using namespace penalty;
-using ::testing::HasSubstr;
-
 using penalty::test::build;
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 TEST(AlignedBox, PointsOnTheFacesAreInsideAndCornersAreOrdered) {
     const AlignedBox box = AlignedBox::from_corners(Vec3(1, 1, 1), Vec3(0, 0, 0));

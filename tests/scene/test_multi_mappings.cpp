@@ -13,10 +13,9 @@
 namespace {
 
 using namespace penalty;
-using ::testing::HasSubstr;
-
 using penalty::test::build;
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 std::string multi_replaced(std::string xml, const std::string& what, const std::string& by) {
     xml.replace(xml.find(what), what.size(), by);

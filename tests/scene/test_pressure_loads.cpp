@@ -13,10 +13,9 @@
 namespace {
 
 using namespace penalty;
-using ::testing::HasSubstr;
-
 using penalty::test::build;
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 const Vec3Object& state_of(const scene::Scene& s, std::size_t i = 0) {
     return dynamic_cast<const Vec3Object&>(*s.states()[i].state);

@@ -19,16 +19,6 @@ namespace {
 
 using namespace penalty::test_builder_scenes;
 
-using namespace penalty;
-
-using penalty::scene::build_scene;
-
-using ::testing::HasSubstr;
-
-using penalty::test::build;
-
-using penalty::test::error_of;
-
 TEST(SceneBuilder, RunnerWritesStatesEveryMStepsPlusTheLast) {
     auto s = build(kCubeOnFloor);
     scene::RunOptions run;

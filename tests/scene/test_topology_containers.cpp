@@ -15,10 +15,9 @@
 namespace {
 
 using namespace penalty;
+using penalty::test::build;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
-
-using penalty::test::build;
 
 /// The topology of the only state of a one-body scene.
 const MeshTopology& topology_of(const scene::Scene& s) {
