@@ -14,7 +14,8 @@
 // no contact), then warmup_steps(n) steps (the body has landed on the organ and slides), then
 // timed_steps(n) steps are timed one by one (manual time = wall time of Scene::step() alone).
 // Threads: TBB's default or $PENALTY_BENCH_THREADS; $PENALTY_SCALING_SCENES=DIR writes
-// DIR/soft_body_on_organ_n<n>.scn; callgrind: bench/scene_probe.hpp.
+// DIR/soft_body_on_organ_n<n>.scn (n = 136: its body's mesh beside it, soft_body_on_organ_n136_body.vtk,
+// since a scene attribute holds at most 10⁶ values); callgrind: bench/scene_probe.hpp.
 //
 // Counters (per step, over the timed steps): dofs, tetrahedra, organ_triangles; contacts,
 // active (springs with pen > 0); cg_its; kinetic_j; detect_ms, response_ms, solve_ms (Scene::last_timings);
@@ -31,7 +32,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -64,9 +67,22 @@ void BM_SoftBodyOnOrgan(benchmark::State& state, Size size) {
         const auto t0 = Clock::now();
         const std::string name = "soft_body_on_organ_n" + std::to_string(size.cells);
         {
-            const std::string xml = organ::scene_xml(s);
+            // Above 10⁶ values an attribute cannot hold the body's lists: its mesh goes to a .vtk
+            // file beside the written scene ($PENALTY_SCALING_SCENES), else in the temporary folder.
+            BuildOptions options = bench::build_options();
+            std::filesystem::path mesh;
+            if (organ::body_needs_mesh_file(s)) {
+                const char* dir = std::getenv("PENALTY_SCALING_SCENES");
+                const std::filesystem::path folder = dir != nullptr && *dir != '\0'
+                                                         ? std::filesystem::path(dir)
+                                                         : std::filesystem::temp_directory_path();
+                std::filesystem::create_directories(folder);
+                mesh = folder / (name + "_body.vtk");
+                options.data_dirs.push_back(folder);
+            }
+            const std::string xml = organ::scene_xml(s, mesh, mesh.empty() ? "" : mesh.filename().string());
             bench::write_scene_if_asked(name, xml);
-            scene = build_scene(io::parse_scene_string(xml, name), bench::build_options());
+            scene = build_scene(io::parse_scene_string(xml, name), options);
         }
         build_seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         scene->step();  // in the air: the heap of the scene and the solve's scratch

@@ -19,8 +19,11 @@
 
 #include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -201,9 +204,34 @@ inline P3 body_translation(const Setup& s, const Mesh& organ) {
     return {top[0] - s.offset, top[1] + alarm_distance(s) + s.clearance, top[2]};
 }
 
+/// The body's mesh as a legacy ASCII VTK unstructured grid (SOFA's MeshVTKLoader): its points, then
+/// its tetrahedra (cell type 10) and surface triangles (type 5), in the orders scene_xml writes inline.
+inline void write_body_vtk(std::ostream& o, const Mesh& body) {
+    namespace d = cubes_in_bowl::detail;
+    o << "# vtk DataFile Version 2.0\nsoft body (tests/support/penalty_test/soft_body_on_organ.hpp)\nASCII\n"
+      << "DATASET UNSTRUCTURED_GRID\nPOINTS " << body.points.size() << " double\n";
+    for (const P3& p : body.points) o << d::num(p[0]) << ' ' << d::num(p[1]) << ' ' << d::num(p[2]) << '\n';
+    const std::size_t cells = body.tetrahedra.size() + body.triangles.size();
+    o << "CELLS " << cells << ' ' << 5 * body.tetrahedra.size() + 4 * body.triangles.size() << '\n';
+    for (const auto& t : body.tetrahedra) o << "4 " << t[0] << ' ' << t[1] << ' ' << t[2] << ' ' << t[3] << '\n';
+    for (const auto& t : body.triangles) o << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+    o << "CELL_TYPES " << cells << '\n';
+    for (std::size_t i = 0; i < body.tetrahedra.size(); ++i) o << "10\n";
+    for (std::size_t i = 0; i < body.triangles.size(); ++i) o << "5\n";
+}
+
+/// True when the body's lists are too long to be written inline: a scene attribute holds at most
+/// 10⁶ values (the positions from n = 136 on, 1 010 394 DOFs), so scene_xml needs a mesh file.
+inline bool body_needs_mesh_file(const Setup& s) {
+    return 3 * body_nodes(s) > 1'000'000 || 4 * body_tetrahedra(s) > 1'000'000;
+}
+
 /// The scene as SOFA .scn text. Nodes `Organ` (state `organ`, model `organ_triangles`) and
-/// `Body` (state `body`, model `body_triangles`).
-inline std::string scene_xml(const Setup& s) {
+/// `Body` (state `body`, model `body_triangles`). With `mesh_file` (a .vtk path), the body's mesh
+/// is written there (write_body_vtk) and read by a MeshVTKLoader whose `filename` is `mesh_name`
+/// (default: mesh_file as given): the same topology as the inline lists.
+inline std::string scene_xml(const Setup& s, const std::filesystem::path& mesh_file = {},
+                             const std::string& mesh_name = {}) {
     namespace d = cubes_in_bowl::detail;
     const Mesh organ = organ_mesh(s);
     const Mesh body = body_mesh(s);
@@ -229,13 +257,24 @@ inline std::string scene_xml(const Setup& s) {
       << "    <EulerImplicitSolver rayleighStiffness=\"" << d::num(s.rayleigh_stiffness) << "\" rayleighMass=\""
       << d::num(s.rayleigh_mass) << "\"/>\n"
       << "    <CGLinearSolver iterations=\"" << s.cg_iterations << "\" tolerance=\"" << d::num(s.cg_tolerance)
-      << "\" threshold=\"" << d::num(s.cg_threshold) << "\"/>\n    <MeshTopology position=\"";
-    d::write_points(o, body.points);
-    o << "\" tetrahedra=\"";
-    d::write_elements(o, body.tetrahedra);
-    o << "\" triangles=\"";
-    d::write_elements(o, body.triangles);
-    o << "\"/>\n    <MechanicalObject name=\"body\" translation=\"" << d::num(t[0]) << ' ' << d::num(t[1]) << ' '
+      << "\" threshold=\"" << d::num(s.cg_threshold) << "\"/>\n";
+    if (mesh_file.empty()) {
+        o << "    <MeshTopology position=\"";
+        d::write_points(o, body.points);
+        o << "\" tetrahedra=\"";
+        d::write_elements(o, body.tetrahedra);
+        o << "\" triangles=\"";
+        d::write_elements(o, body.triangles);
+        o << "\"/>\n";
+    } else {
+        std::ofstream file(mesh_file);
+        write_body_vtk(file, body);
+        if (!file) throw std::runtime_error("cannot write the body's mesh " + mesh_file.string());
+        o << "    <MeshVTKLoader name=\"body_mesh\" filename=\"" << (mesh_name.empty() ? mesh_file.string() : mesh_name)
+          << "\"/>\n"
+          << "    <MeshTopology src=\"@body_mesh\"/>\n";
+    }
+    o << "    <MechanicalObject name=\"body\" translation=\"" << d::num(t[0]) << ' ' << d::num(t[1]) << ' '
       << d::num(t[2]) << "\"/>\n"
       << "    <UniformMass totalMass=\"" << d::num(s.body_mass) << "\"/>\n"
       << "    <TetrahedronFEMForceField youngModulus=\"" << d::num(s.young_modulus) << "\" poissonRatio=\""
