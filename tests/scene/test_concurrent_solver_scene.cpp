@@ -4,7 +4,7 @@
 // own), so Simulation::step runs them concurrently on two threads (their 16 contacts each are
 // too few to detect the pairs or feed the contacts in parallel: CollisionPipeline::detect,
 // CollisionResponse::set_detections). The trajectory, the contacts and the CG counts must be
-// the bits of one thread (tests/simulation/test_concurrent_solvers.cpp checks that the solves
+// the bits of one thread (tests/simulation/test_solve_plan.cpp checks that the solves
 // do overlap).
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/response/penalty_force_field.hpp"

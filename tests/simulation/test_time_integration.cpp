@@ -296,22 +296,5 @@ TEST(FixedProjectiveConstraint, FixedDofsDoNotMove) {
     EXPECT_THROW(fixed.init(), std::invalid_argument);
 }
 
-TEST(Simulation, BadInputThrows) {
-    Simulation sim;
-    EXPECT_THROW(sim.root().set_dt(-1), std::invalid_argument);
-    EXPECT_THROW(sim.root().set_gravity(Vec3(std::numeric_limits<double>::quiet_NaN(), 0, 0)), std::invalid_argument);
-    Node& n = sim.root().add_child("n");
-    auto& x = n.add_state<Vec3Types>();
-    x.position = {Vec3::Zero()};
-    EXPECT_THROW(n.add_state<Vec3Types>(), std::invalid_argument);
-    auto& m = n.set_mass<UniformMass<Vec3Types>>(x);
-    EXPECT_THROW(m.set_vertex_mass(-1), std::invalid_argument);
-    EXPECT_THROW(sim.init(), std::invalid_argument);  // neither vertexMass nor totalMass
-    auto& s = n.set_ode_solver<EulerImplicitSolver>();
-    s.rayleigh_stiffness = -0.1;
-    m.set_vertex_mass(1);
-    EXPECT_THROW(sim.init(), std::invalid_argument);
-}
-
 }  // namespace
 }  // namespace penalty

@@ -4,7 +4,7 @@
 /// computeSpringForce) and the product df (addDForce / computeSpringDForce), scalar and in AVX
 /// lanes (KernelPath::avx). Each vector lane does the scalar reference's operations in their
 /// order, and the sums into f and df run spring by spring in spring order, so every path gives
-/// the same bits (tests/mechanics/test_vector_kernels.cpp). Internal (namespace detail).
+/// the same bits (tests/kernels/test_springs.cpp). Internal (namespace detail).
 #include "penalty/mechanics/spring_force_field.hpp"
 
 #include <array>

@@ -5,7 +5,7 @@
 /// operations (tetrahedron_large.hpp, and TetrahedronFEMForceField's scalar loops) in their order,
 /// with IEEE lane-wise operations and no fused multiply-add, so each result has the scalar loop's
 /// bits; the sums into f and df run element by element, vertex by vertex, in the scalar order
-/// (tests/mechanics/test_vector_kernels.cpp). Internal (namespace detail).
+/// (tests/kernels/test_tetrahedron_large_lanes.cpp). Internal (namespace detail).
 #include "kernels/lanes.hpp"
 #include "penalty/core/types.hpp"
 #include "penalty/mechanics/fem.hpp"

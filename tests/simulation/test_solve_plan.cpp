@@ -246,13 +246,5 @@ TEST_F(ConcurrentSolvers, ErrorIsTheFirstFailingSolverInPlanOrder) {
     EXPECT_TRUE(r.met);
 }
 
-TEST(Simulation, ThreadsOutsideTheRangeAreRefused) {
-    Simulation sim;
-    EXPECT_THROW(sim.set_threads(-1), std::invalid_argument);
-    EXPECT_THROW(sim.set_threads(kMaxThreads + 1), std::invalid_argument);
-    sim.set_threads(kMaxThreads);
-    EXPECT_EQ(sim.threads(), kMaxThreads);
-}
-
 }  // namespace
 }  // namespace penalty
