@@ -1,4 +1,5 @@
-// Collision models: flags and ownership, quad split, boxes, canCollideWith, input validation.
+// Collision models (collision/models.cpp): triangle and line flags and ownership, the quad split,
+// self-collision neighbours.
 #include "fixtures.hpp"
 
 #include <gtest/gtest.h>
