@@ -27,24 +27,16 @@
 namespace {
 
 using namespace penalty;
+
 using ::testing::HasSubstr;
 
 using penalty::test::build;
+using penalty::test::run_error;
 
 std::string build_error(const std::string& xml) {
     try {
         (void)build(xml);
     } catch (const io::LoadError& e) {
-        return e.what();
-    }
-    return "no error";
-}
-
-template <class E>
-std::string run_error(scene::Scene& s, scene::RunOptions options) {
-    try {
-        (void)scene::run_scene(s, options);
-    } catch (const E& e) {
         return e.what();
     }
     return "no error";
@@ -288,43 +280,6 @@ TEST(Divergence, EnergyCreatedFromNothingIsCaught) {
 }
 
 // ---- non-finite values inside a solve -------------------------------------------------------------
-
-TEST(NonFiniteSolve, AnOverflowAtTheFirstStepIsInvalidInputNamingTheComponentAndAttributes) {
-    // m·g = 1e200 N is finite, |b|² = (h·m·g)² overflows in the CG solve.
-    auto s = build(R"(<Node name="root" dt="0.01" gravity="0 -1e100 0">
-  <Node name="Ball">
-    <EulerImplicitSolver/>
-    <CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-9"/>
-    <MechanicalObject name="p" position="0 0 0"/>
-    <UniformMass name="mass" totalMass="1e100"/>
-  </Node>
-</Node>)");
-    const std::string message = run_error<io::LoadError>(*s, scene::RunOptions{});
-    EXPECT_THAT(message,
-                HasSubstr("test.scn:6: UniformMass 'mass': CGLinearSolver: the right-hand side is not finite"));
-    EXPECT_THAT(message, HasSubstr("the largest force (1e+200 N) is the gravity force m·g on state 'p'"));
-    EXPECT_THAT(message, HasSubstr("attribute 'totalMass' = 1e100, node / attribute 'gravity' = 0 -1e100 0"));
-}
-
-TEST(NonFiniteSolve, AnOverflowDuringTheRunIsADivergenceNamingTheForceField) {
-    // An explicit spring of 1e100 N/m stretched 1 m: the particle is thrown to 1e100 m, then
-    // 1e200 m, and the force k·Δx overflows while the states are still finite.
-    auto s = build(R"(<Node name="root" dt="1" gravity="0 0 0">
-  <Node name="A">
-    <EulerExplicitSolver/>
-    <MechanicalObject name="p" position="0 0 0  2 0 0" rest_position="0 0 0  1 0 0"/>
-    <MeshTopology edges="0 1"/>
-    <UniformMass vertexMass="1"/>
-    <MeshSpringForceField name="springs" stiffness="1e100"/>
-  </Node>
-</Node>)");
-    scene::RunOptions run;
-    run.steps = 20;
-    run.divergence_factor = 0.0;
-    const std::string message = run_error<output::NonFiniteValueError>(*s, run);
-    EXPECT_THAT(message, HasSubstr("simulation diverged at step "));
-    EXPECT_THAT(message, HasSubstr("from MeshSpringForceField 'springs' (test.scn:7)"));
-}
 
 // ---- a run of 0 steps -------------------------------------------------------------------------
 

@@ -2,6 +2,7 @@
 // Scenes written in a test as .scn text ("test.scn"): built, or the SceneError they raise.
 #include "penalty/io/error.hpp"
 #include "penalty/io/scene_file.hpp"
+#include "penalty/scene/runner.hpp"
 #include "penalty/scene/scene.hpp"
 
 #include <gtest/gtest.h>
@@ -25,6 +26,17 @@ inline std::string error_of(const std::string& xml) {
     }
     ADD_FAILURE() << "no SceneError for:\n" << xml;
     return {};
+}
+
+/// The message of the E that running `s` with `options` raises, or "no error".
+template <class E>
+std::string run_error(scene::Scene& s, const scene::RunOptions& options) {
+    try {
+        (void)scene::run_scene(s, options);
+    } catch (const E& e) {
+        return e.what();
+    }
+    return "no error";
 }
 
 }  // namespace penalty::test
