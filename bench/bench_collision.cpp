@@ -8,6 +8,7 @@
 #include "kernels/collision/candidate_filters.hpp"
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/models.hpp"
+#include "penalty/core/pair_key.hpp"
 #include "penalty/geometry/point_triangle.hpp"
 #include "penalty/geometry/segment_segment.hpp"
 
@@ -136,7 +137,7 @@ void BM_CandidateFilter(benchmark::State& state) {
     for (CollisionModel* m : std::initializer_list<CollisionModel*>{&tri, &pts, &sph, &a, &b}) m->update();
     std::vector<std::uint64_t> keys;
     for (std::size_t i = 0; i < 256; ++i)
-        for (std::size_t j = 0; j < kN; ++j) keys.push_back(std::uint64_t(i) << 32 | j);
+        for (std::size_t j = 0; j < kN; ++j) keys.push_back(pair_key::make(i, j));
     std::vector<std::uint64_t> kept;
     kept.reserve(keys.size());
     for (auto _ : state) {

@@ -121,7 +121,8 @@ struct PenaltySpheres {
     [[nodiscard]] std::vector<SpherePair> pairs() const {
         std::vector<SpherePair> out;
         for (const auto& d : pipe.detections())
-            for (const auto& o : d.outputs) out.emplace_back(std::min(o.elem1, o.elem2), std::max(o.elem1, o.elem2));
+            for (const auto& o : d.outputs)
+                out.emplace_back(std::min(o.elem1, o.elem2).value(), std::max(o.elem1, o.elem2).value());
         std::sort(out.begin(), out.end());
         return out;
     }

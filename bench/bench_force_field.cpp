@@ -50,7 +50,8 @@ BenchScene make_scene(std::size_t contacts, bool shuffled, PenaltyParameters par
     for (std::size_t i = 0; i < contacts; ++i) {
         const Vec3 normal = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
         // about half of the contacts penetrate
-        s.ff.add_contact(order1[i], order2[i], 0, 0, normal, unit(rng) + 0.0, 100.0, 0.3, 0.3, 0);
+        s.ff.add_contact(DofIndex(order1[i]), DofIndex(order2[i]), ElementIndex(0), ElementIndex(0), normal,
+                         unit(rng) + 0.0, 100.0, 0.3, 0.3, 0);
     }
     s.ff.renew_contacts();
     return s;

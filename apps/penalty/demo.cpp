@@ -37,7 +37,9 @@ void pressed_plates(const DemoOptions& options, std::ostream& out) {
     const Vec3List v(4, Vec3::Zero());
     Vec3List f1(4, Vec3::Zero()), f2(4, Vec3::Zero());
     PenaltyForceField ff;
-    for (Index i = 0; i < 4; ++i) ff.add_contact(i, i, i, i, Vec3::UnitZ(), 0.1, options.stiffness);
+    for (Index i = 0; i < 4; ++i)
+        ff.add_contact(DofIndex(i), DofIndex(i), ElementIndex(i), ElementIndex(i), Vec3::UnitZ(), 0.1,
+                       options.stiffness);
     ff.add_force(f1, f2, x1, x2, v, v);
 
     out << format("   ks = %g N/m, dist = 0.1 m, normal = (0, 0, 1) from body 1 to body 2\n", options.stiffness);
@@ -73,7 +75,8 @@ bool damped_frictional_drop(const DemoOptions& options, std::ostream& out) {
     PenaltyForceField ff(parameters);
     const double mass = 1.0, g = 9.81, dist = 0.05;
     Vec3List x1{Vec3::Zero()}, v1{Vec3::Zero()}, x2{Vec3(0, 0.2, 0)}, v2{Vec3(0.5, 0, 0)};
-    ff.add_contact(0, 0, 0, 0, Vec3::UnitY(), dist, options.stiffness, options.friction, options.friction);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), dist, options.stiffness,
+                   options.friction, options.friction);
     const double initial = mass * g * x2[0].y() + 0.5 * mass * v2[0].squaredNorm();
 
     out << format("   ks = %g N/m, c = %g N·s/m, mu = %g, dt = %g s\n", options.stiffness, options.damping,

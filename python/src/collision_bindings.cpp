@@ -134,8 +134,8 @@ py::dict outputs_dict(const ModelPairDetection& d) {
     py::array_t<double> p1({n, py::ssize_t(3)}), p2({n, py::ssize_t(3)}), normal({n, py::ssize_t(3)}), value(n);
     for (py::ssize_t i = 0; i < n; ++i) {
         const DetectionOutput& o = d.outputs[std::size_t(i)];
-        e1.mutable_at(i) = o.elem1;
-        e2.mutable_at(i) = o.elem2;
+        e1.mutable_at(i) = o.elem1.value();
+        e2.mutable_at(i) = o.elem2.value();
         id.mutable_at(i) = o.id;
         value.mutable_at(i) = o.value;
         for (int j = 0; j < 3; ++j) {

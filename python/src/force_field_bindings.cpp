@@ -125,7 +125,8 @@ void bind_force_field(py::module_& m) {
                 const auto old = broadcast_index(old_index, count, "old_index");
                 const auto span = span_of(n);
                 for (std::size_t i = 0; i < count; ++i)
-                    f.add_contact(i1[i], i2[i], e1[i], e2[i], span[i], d[i], k[i], ms[i], mv[i], old[i]);
+                    f.add_contact(DofIndex(i1[i]), DofIndex(i2[i]), ElementIndex(e1[i]), ElementIndex(e2[i]), span[i],
+                                  d[i], k[i], ms[i], mv[i], old[i]);
             },
             py::arg("m1"), py::arg("m2"), py::arg("normals"), py::arg("dist"), py::arg("ks"), py::kw_only(),
             py::arg("element1") = py::none(), py::arg("element2") = py::none(), py::arg("mu_s") = 0.0,

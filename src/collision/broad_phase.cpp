@@ -1,7 +1,6 @@
 // broad_phase() (SOFA's BruteForceBroadPhase filter) and BroadPhase, its pairs kept from step to
 // step with the near ones found by a sweep (broad_phase.hpp).
 #include "broad_phase.hpp"
-#include "penalty/core/pair_key.hpp"
 
 #include "narrow_phase.hpp"
 #include "penalty/core/error.hpp"
@@ -49,6 +48,10 @@ namespace {
 constexpr std::size_t kMaxPairsTestedOneByOne = 64;
 // near_'s sort: std::sort below this many pairs, the radix sort from there
 constexpr std::size_t kMinNearPairsForRadixSort = 256;
+// pair_of_models_'s key of the models at places a and b: (lower place, higher place)
+PairKey model_pair_key(std::size_t a, std::size_t b) {
+    return PairKey(ModelIndex(Index(std::min(a, b))), ModelIndex(Index(std::max(a, b))));
+}
 }  // namespace
 
 bool BroadPhase::ModelKey::describes(const CollisionModel& m) const {
@@ -81,9 +84,7 @@ bool BroadPhase::update(const IntersectionParams& params, const std::vector<Coll
         d.narrow_phase = false;
         d.outputs.clear();
         any_pair_writes_models_ = any_pair_writes_models_ || kernel_writes_models(params, *d.model1, *d.model2);
-        const std::uint64_t lower = std::min(indices_[k][0], indices_[k][1]);
-        const std::uint64_t higher = std::max(indices_[k][0], indices_[k][1]);
-        pair_of_models_.emplace(pair_key::make(lower, higher), k);
+        pair_of_models_.emplace(model_pair_key(indices_[k][0], indices_[k][1]), k);
     }
     near_.clear();
     near_last_.clear();
@@ -104,7 +105,7 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
         return;
     }
     const auto consider = [&](std::size_t a, std::size_t b) {  // models a <= b
-        const auto it = pair_of_models_.find(pair_key::make(a, b));
+        const auto it = pair_of_models_.find(model_pair_key(a, b));
         if (it == pair_of_models_.end()) return;  // filtered out by the broad phase
         const std::size_t k = it->second;
         if (within_margin(indices_[k][0], indices_[k][1])) near_.push_back(k);

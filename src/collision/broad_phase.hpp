@@ -11,6 +11,7 @@
 
 #include "penalty/collision/bvh.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
+#include "penalty/core/index_types.hpp"
 
 #include <array>
 #include <cstddef>
@@ -58,7 +59,7 @@ private:
     std::vector<ModelPair> unsupported_;
     std::vector<ModelKey> key_;
     bool any_pair_writes_models_ = false;
-    std::unordered_map<std::uint64_t, std::size_t> pair_of_models_;  ///< (lower place << 32 | higher) → pair
+    std::unordered_map<PairKey, std::size_t> pair_of_models_;  ///< (lower place, higher place) → pair
     std::vector<std::size_t> near_;       ///< this detection's pairs with a narrow phase, ascending
     std::vector<std::size_t> near_last_;  ///< the last detection's
     std::vector<std::uint8_t> is_near_;   ///< per pair: in near_

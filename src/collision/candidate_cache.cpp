@@ -115,7 +115,7 @@ void CandidateCache::track_motion(std::size_t i, const Bvh& tree, const Collisio
 
 PairCandidates* CandidateCache::entry(std::size_t i1, std::size_t i2) {
     if (motion_[i1].generation == 0 || motion_[i2].generation == 0) return nullptr;
-    return &pairs_[pair_key::make(i1, i2)];
+    return &pairs_[PairKey(ModelIndex(Index(i1)), ModelIndex(Index(i2)))];
 }
 
 void CandidateCache::count_kept_keys(const std::vector<std::size_t>& near,
@@ -195,7 +195,7 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
     // generation, and a pair whose boxes overlap now with m − 2·(s1 + s2) − tol overlaps with m
     // at every detection left in both generations. tol covers the rounding of the sums max + m
     // and of the bounds' changes (a few ulps of the magnitudes; 1e-12 of them here; a NaN
-    // bound makes no key sure). The flags are made in the first such test after a collection
+    // bound makes no key sure). The marks are made in the first such test after a collection
     // or a reordering, and the sure keys' box tests are skipped from then on.
     const std::size_t share_eighths = n_kept == 0 ? 0 : 8 * kept.overlapped_last / n_kept;
     const bool mostly_overlapping = share_eighths >= 7;
@@ -211,8 +211,15 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
         kept.sure.resize(n_kept);
     }
     std::uint8_t* sure = kept.sure.data();
-    // 0: no flags; 1: the flags are current; 2: made in this test
-    const int flags = !mostly_overlapping ? 0 : kept.sure_current ? 1 : 2;
+    // what the test does with the per-key "sure" marks
+    enum class SureMarks : std::uint8_t {
+        unused,   ///< not read, not written
+        current,  ///< current: a marked key is kept without its test
+        made,     ///< made in this test
+    };
+    const SureMarks marks = !mostly_overlapping ? SureMarks::unused
+                            : kept.sure_current ? SureMarks::current
+                                                : SureMarks::made;
     std::size_t sure_count = 0;
     const auto test_keys = [&](auto branch_free) {
         constexpr std::size_t kBlock = 64;
@@ -228,10 +235,10 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
                     count += boxes_overlap_branch_free(boxes1[pair_key::first(k)], boxes2[pair_key::second(k)], margin)
                                  ? 1
                                  : 0;
-                } else if (flags == 1) {
+                } else if (marks == SureMarks::current) {
                     if (sure[j] != 0 || boxes1[pair_key::first(k)].overlaps(boxes2[pair_key::second(k)], margin))
                         block[count++] = k;
-                } else if (flags == 2) {
+                } else if (marks == SureMarks::made) {
                     const Aabb& box1 = boxes1[pair_key::first(k)];
                     const Aabb& box2 = boxes2[pair_key::second(k)];
                     sure[j] = boxes_overlap_branch_free(box1, box2, sure_margin) ? 1 : 0;
@@ -246,8 +253,8 @@ void CandidateCache::test_kept_keys(const CachedPair& p, PairCandidates& kept, d
     };
     if (share_eighths == 0 || mostly_overlapping) {
         test_keys(std::false_type{});
-        if (flags == 1) counts.cache.sure_keys_skipped += kept.sure_count;
-        if (flags == 2) {
+        if (marks == SureMarks::current) counts.cache.sure_keys_skipped += kept.sure_count;
+        if (marks == SureMarks::made) {
             kept.sure_current = true;
             kept.sure_count = sure_count;
         }

@@ -13,6 +13,7 @@
 #include "penalty/collision/bvh.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/collision/sofa_traversal_order.hpp"
+#include "penalty/core/index_types.hpp"
 
 #include <cstddef>
 #include <cstdint>
@@ -107,8 +108,8 @@ private:
     static void test_kept_keys(const CachedPair& pair, PairCandidates& kept, double margin, Keys& now,
                                PairCounts& counts);
     std::vector<ModelMotion> motion_;
-    std::uint64_t generations_ = 0;  ///< generations begun, all models together (each one unique)
-    std::unordered_map<std::uint64_t, PairCandidates> pairs_;  ///< key: index 1 << 32 | index 2
+    std::uint64_t generations_ = 0;                      ///< generations begun, all models together (each one unique)
+    std::unordered_map<PairKey, PairCandidates> pairs_;  ///< key: (model place 1, model place 2)
 };
 
 /// The largest change of any box bound between two lists of the same size (stops above `limit`).

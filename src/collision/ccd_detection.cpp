@@ -206,7 +206,7 @@ void query_tree(const Bvh& tree, const Aabb& box, const F& f) {
 }  // namespace
 
 void ContinuousDetection::candidates(const Task& task, bool parallel, std::vector<std::uint64_t>& keys) const {
-    // keys (e1 << 32 | e2) of the features whose swept boxes overlap: the trees' dual traversal
+    // keys (PairKey(e1, e2).bits()) of the features whose swept boxes overlap: the trees' dual traversal
     // when both kinds have one, else every box of the list against the other's tree (or list)
     const Surface& s1 = *surfaces_[task.first];
     const Surface& s2 = *surfaces_[task.second];
@@ -263,19 +263,19 @@ void ContinuousDetection::find_tasks() {
     for (std::size_t u = 0; u < sweep_.size(); ++u) {
         const std::size_t a = sweep_[u];
         const Aabb& ba = surfaces_[a]->swept_box;
-        near_.push_back(pair_key::make(a, a));  // itself (self-collision, if kept)
+        near_.push_back(PairKey(std::uint32_t(a), std::uint32_t(a)));  // itself (self-collision, if kept)
         for (std::size_t w = u + 1; w < sweep_.size() && surfaces_[sweep_[w]]->swept_box.min.x() <= ba.max.x(); ++w) {
             const std::size_t b = sweep_[w];
             if (!ba.overlaps(surfaces_[b]->swept_box)) continue;
-            near_.push_back(pair_key::make(std::min(a, b), std::max(a, b)));
+            near_.push_back(PairKey::unordered(std::uint32_t(a), std::uint32_t(b)));
         }
     }
     std::sort(near_.begin(), near_.end());
-    for (std::uint64_t key : near_) {
+    for (const PairKey key : near_) {
         const auto it =
-            std::lower_bound(pair_tests_.begin(), pair_tests_.end(), std::pair<std::uint64_t, std::uint32_t>{key, 0u});
+            std::lower_bound(pair_tests_.begin(), pair_tests_.end(), std::pair<PairKey, std::uint32_t>{key, 0u});
         if (it == pair_tests_.end() || it->first != key) continue;
-        const std::size_t a = pair_key::first(key), b = pair_key::second(key);
+        const std::size_t a = key.first(), b = key.second();
         ++stats_.surface_pairs;
         tasks_of(a, b, it->second, [&](std::size_t first, std::size_t second, int k1, int k2, CrossingKind kind) {
             const Surface& s1 = *surfaces_[first];

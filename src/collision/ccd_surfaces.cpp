@@ -1,7 +1,7 @@
 // ContinuousDetection's surfaces: the models grouped by state, their features, the recorded start
 // of the motion and the swept-box trees (ccd_detection.hpp).
 #include "ccd_surfaces.hpp"
-#include "penalty/core/pair_key.hpp"
+#include "penalty/core/index_types.hpp"
 
 #include "penalty/collision/models.hpp"
 #include "penalty/core/error.hpp"
@@ -89,10 +89,7 @@ std::uint32_t swapped(std::uint32_t bits) {
            move(kSphereTriangleBA, kSphereTriangleAB) | (bits & kSphereSphere);
 }
 
-std::uint64_t edge_key(Index a, Index b) {
-    if (a > b) std::swap(a, b);
-    return pair_key::make(a, b);
-}
+PairKey edge_key(Index a, Index b) { return PairKey::unordered(std::uint32_t(a), std::uint32_t(b)); }
 
 }  // namespace
 
@@ -191,7 +188,7 @@ void ContinuousDetection::build_surfaces() {
     std::unordered_map<const void*, std::size_t> surface_of_state;
     std::unordered_map<const CollisionModel*, std::size_t>& surface_of_model = surface_of_;
     surface_of_model.clear();
-    std::unordered_map<std::uint64_t, std::uint32_t> tests;
+    std::unordered_map<PairKey, std::uint32_t> tests;  // (lower surface, higher surface) → tests
     const auto surface_for = [&](const CollisionModel& m) -> std::size_t {
         if (auto it = surface_of_model.find(&m); it != surface_of_model.end()) return it->second;
         const ModelState st = state_of(m);
@@ -214,13 +211,8 @@ void ContinuousDetection::build_surfaces() {
         const std::size_t a = surface_for(*p.model1), b = surface_for(*p.model2);
         if (a == std::size_t(-1) || b == std::size_t(-1)) continue;
         std::uint32_t bits = tests_of(p.model1->type(), p.model2->type(), pair_edge_edge_[k] != 0);
-        std::uint64_t key = 0;
-        if (a <= b) {
-            key = pair_key::make(a, b);
-        } else {
-            key = pair_key::make(b, a);
-            bits = swapped(bits);
-        }
+        const PairKey key = PairKey::unordered(std::uint32_t(a), std::uint32_t(b));
+        if (a > b) bits = swapped(bits);
         if (a == b) bits |= swapped(bits);  // within one surface both ways are one test
         if (bits != 0) tests[key] |= bits;
     }
@@ -230,7 +222,7 @@ void ContinuousDetection::build_surfaces() {
     for (auto& sp : surfaces_) {
         Surface& s = *sp;
         std::vector<char> is_vertex(s.state_size(), 0);
-        std::unordered_set<std::uint64_t> edge_seen;
+        std::unordered_set<PairKey> edge_seen;
         std::set<std::array<Index, 3>> triangle_seen;
         const auto add_vertex = [&](Index v, const CollisionModel* m) {
             if (v < 0 || std::size_t(v) >= is_vertex.size()) return;

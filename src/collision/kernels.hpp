@@ -47,15 +47,15 @@ struct KernelParts {
     /// Reads only the models and the element pair: never the output list or separation_tests.
     void (*writes)(PairCtx&) = nullptr;
     KernelFn reads = nullptr;
-    /// Optional: appends to `kept`, in order, the candidates of `keys` (element 1 << 32 |
-    /// element 2) that may give `reads` an output, decided by the kernel's own first tests with
+    /// Optional: appends to `kept`, in order, the candidates of `keys` (PairKey(element 1,
+    /// element 2).bits()) that may give `reads` an output, decided by the kernel's own first tests with
     /// the same operations (so every candidate dropped gives no output, and the outputs of the
     /// kept ones are those of all): cheaper a candidate than the kernel, for the kernels whose
     /// candidates mostly fail those tests: NewProximity's and MinProximity's Triangle–Point,
     /// Triangle–Sphere and Line–Line (filter_triangle_candidates, filter_line_line_candidates).
     void (*filter)(const IntersectionParams&, const CollisionModel& m1, const CollisionModel& m2,
                    std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept) = nullptr;
-    /// Optional: `reads` over every candidate of `keys` (element 1 << 32 | element 2), in order,
+    /// Optional: `reads` over every candidate of `keys` (PairKey(element 1, element 2).bits()), in order,
     /// the same operations with the pair's constants and its models' types taken once (for
     /// cheap kernels whose call per candidate costs a good part of their work: NewProximity
     /// Sphere–Point). Not for a pair within one node (elements_may_collide is not asked).
@@ -178,8 +178,8 @@ inline bool within(const PairCtx& c, const Vec3& d, double R, Guard g, double& l
 
 inline int push(PairCtx& c, std::int64_t id, const Vec3& p0, const Vec3& p1, const Vec3& n, double value) {
     DetectionOutput o;
-    o.elem1 = c.e1;
-    o.elem2 = c.e2;
+    o.elem1 = ElementIndex(c.e1);
+    o.elem2 = ElementIndex(c.e2);
     o.id = id;
     o.point = {p0, p1};
     o.normal = n;

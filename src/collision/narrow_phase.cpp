@@ -67,7 +67,7 @@ void run_kernel_writes(const IntersectionParams& params, CollisionModel& m1, Col
     }
 }
 
-// Intersects the candidates `all_keys` (element 1 << 32 | element 2) of m1 × m2 in their
+// Intersects the candidates `all_keys` (PairKey(element 1, element 2).bits()) of m1 × m2 in their
 // order: the kernel's filter first, if it has one (KernelParts::filter: drops candidates that
 // give no output), then its writes to the models, over all candidates in order, then its reads,
 // in parallel chunks concatenated in chunk order (the outputs of the sequential loop).
@@ -221,12 +221,12 @@ void keep_nearest_candidates(const IntersectionParams& params, CollisionModel& m
         evaluate_candidates(params, m1, m2, b.nearest_keys, serial, b, b.nearest_outputs, separation_tests,
                             deferred_writes);
         for (const DetectionOutput& o : b.nearest_outputs) {
-            const Vec3& q = point_of(o.elem2);
+            const Vec3& q = point_of(o.elem2.value());
             const double length = (q - o.point[0]).norm();
             const double scale =
                 1.0 + q.cwiseAbs().maxCoeff() + o.point[0].cwiseAbs().maxCoeff() + length + std::abs(o.value);
             const double reach = length + 1e-10 * scale;
-            b.bound[std::size_t(o.elem2)] = std::min(b.bound[std::size_t(o.elem2)], reach * reach);
+            b.bound[o.elem2.slot()] = std::min(b.bound[o.elem2.slot()], reach * reach);
         }
     });
     std::size_t kept = 0;
@@ -250,11 +250,11 @@ void keep_least_outputs(DetectionOutputList& out, std::size_t from, std::size_t 
     b.bound.assign(n2, std::numeric_limits<double>::infinity());
     for (std::size_t i = from; i < out.size(); ++i) {
         if (std::isnan(out[i].value)) return;
-        b.bound[std::size_t(out[i].elem2)] = std::min(b.bound[std::size_t(out[i].elem2)], out[i].value);
+        b.bound[out[i].elem2.slot()] = std::min(b.bound[out[i].elem2.slot()], out[i].value);
     }
     std::size_t kept = from;
     for (std::size_t i = from; i < out.size(); ++i)
-        if (out[i].value <= b.bound[std::size_t(out[i].elem2)]) {
+        if (out[i].value <= b.bound[out[i].elem2.slot()]) {
             if (kept != i) out[kept] = out[i];
             ++kept;
         }

@@ -16,7 +16,7 @@
 
 namespace penalty {
 
-/// Candidate element pairs, each a key element 1 << 32 | element 2.
+/// Candidate element pairs, each a key PairKey(element 1, element 2).bits().
 using Keys = std::vector<std::uint64_t>;
 
 struct NarrowPhaseScratch::Buffers {

@@ -101,8 +101,8 @@ void RayTraceNarrowPhase::find_pairs(OctreeSurface& a, OctreeSurface& b, Detecti
             const Index e2 = Index(hit.triangle);
             const Vec3 q = mb.p(e2, 0) * (1.0 - hit.u - hit.v) + mb.p(e2, 1) * hit.u + mb.p(e2, 2) * hit.v;
             DetectionOutput o;
-            o.elem1 = Index(j);
-            o.elem2 = e2;
+            o.elem1 = ElementIndex(Index(j));
+            o.elem2 = ElementIndex(e2);
             o.point = {p, q};
             o.normal = normal;
             o.value = -hit.t;

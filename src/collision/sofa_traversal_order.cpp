@@ -271,7 +271,9 @@ void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, Detectio
     const std::size_t n = outputs.size();
     if (n < 2) return;
     sofa_order_permutation(
-        t1, t2, n, [&](std::size_t i) { return std::pair<Index, Index>(outputs[i].elem1, outputs[i].elem2); }, scratch);
+        t1, t2, n,
+        [&](std::size_t i) { return std::pair<Index, Index>(outputs[i].elem1.value(), outputs[i].elem2.value()); },
+        scratch);
     scratch.sorted.clear();
     const std::vector<std::uint32_t>& perm = scratch.permutation;
     // the outputs are read in no memory order

@@ -63,8 +63,8 @@ void BarycentricPenaltyContact::set_detection_outputs(std::span<const DetectionO
     for (const KeptOutput& k : kept) {
         const DetectionOutput& o = outputs[k.output];
         double r1 = 0.0, r2 = 0.0;
-        const Index m1 = mapper1_->add_point(o.point[0], o.elem1, r1);
-        const Index m2 = mapper2_->add_point(o.point[1], o.elem2, r2);
+        const DofIndex m1 = mapper1_->add_point(o.point[0], o.elem1, r1);
+        const DofIndex m2 = mapper2_->add_point(o.point[1], o.elem2, r2);
         const double dist = d0 + r1 + r2;
         const double ks = combined_contact_stiffness_of_checked(parameters_.stiffness_law, p1.contact_stiffness,
                                                                 p2.contact_stiffness, dist);

@@ -63,13 +63,15 @@ IdentityContactMapper::IdentityContactMapper(const CollisionModel& model) : mode
     }
 }
 
-Index IdentityContactMapper::add_point(const Vec3& /*P: the element's own point*/, Index element, double& r) {
+DofIndex IdentityContactMapper::add_point(const Vec3& /*P: the element's own point*/, ElementIndex element_index,
+                                          double& r) {
+    const Index element = element_index.value();
     // check_element's test, with the model's size read from its state (a Point or Sphere model
     // has one element per point of its state): no virtual call per contact
     if (element < 0 || static_cast<std::size_t>(element) >= state_->size()) [[unlikely]]
         throw_bad_element(*model_, "IdentityContactMapper::add_point", element, Vec3::Zero());
     if (sphere_) r = sphere_->radius(element);
-    return element;
+    return DofIndex(element);  // the element's own DOF
 }
 
 ConstVec3Span IdentityContactMapper::velocities() const {
@@ -215,12 +217,13 @@ ContactBarycentricRow BarycentricContactMapper::compute_row(const Vec3& P, Index
     return row;
 }
 
-Index BarycentricContactMapper::add_point(const Vec3& P, Index element, double& /*r*/) {
+DofIndex BarycentricContactMapper::add_point(const Vec3& P, ElementIndex element_index, double& /*r*/) {
+    const Index element = element_index.value();
     check_element(*model_, "BarycentricContactMapper::add_point", element, P);
     rows_.push_back(compute_row(P, element));
     positions_.emplace_back(Vec3::Zero());
     velocities_.emplace_back(Vec3::Zero());
-    return Index(rows_.size()) - 1;
+    return DofIndex(Index(rows_.size()) - 1);
 }
 
 void BarycentricContactMapper::update() {
@@ -269,7 +272,8 @@ void RigidContactMapper::resize(std::size_t n) {
     rows_.reserve(n);
 }
 
-Index RigidContactMapper::add_point(const Vec3& P, Index element, double& r) {
+DofIndex RigidContactMapper::add_point(const Vec3& P, ElementIndex element_index, double& r) {
+    const Index element = element_index.value();
     check_element(*model_, "RigidContactMapper::add_point", element, P);
     const RigidFrame& fr = state_->position[std::size_t(element)];
     RigidPointRow& row = rows_.emplace_back();
@@ -278,7 +282,7 @@ Index RigidContactMapper::add_point(const Vec3& P, Index element, double& r) {
     positions_.emplace_back(Vec3::Zero());
     velocities_.emplace_back(Vec3::Zero());
     if (sphere_ && radius_rule_ == RigidSphereRadius::sofa_head) r = sphere_->radius(element);
-    return Index(rows_.size()) - 1;
+    return DofIndex(Index(rows_.size()) - 1);
 }
 
 void RigidContactMapper::update() {

@@ -72,8 +72,10 @@ void PenaltyForceField::clear(std::size_t reserve) {
     checked_size1_ = checked_size2_ = kUnchecked;
 }
 
-void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index index2, const Vec3& normal, double dist,
-                                    double ks, double mu_s, double mu_v, Index old_index) {
+void PenaltyForceField::add_contact(DofIndex dof1, DofIndex dof2, ElementIndex element1, ElementIndex element2,
+                                    const Vec3& normal, double dist, double ks, double mu_s, double mu_v,
+                                    Index old_index) {
+    const Index m1 = dof1.value(), m2 = dof2.value();
     // DOF indices >= 0, a finite unit normal (|‖n‖ − 1| <= 1e-6), a finite dist, finite ks, mu_s,
     // mu_v >= 0 (NaN fails every comparison below)
     const bool valid = m1 >= 0 && m2 >= 0 && normal.allFinite() && std::abs(normal.norm() - 1.0) <= 1e-6 &&
@@ -89,8 +91,8 @@ void PenaltyForceField::add_contact(Index m1, Index m2, Index index1, Index inde
                         .normal = normal,
                         .dist = dist,
                         .ks = ks,
-                        .index1 = index1,
-                        .index2 = index2,
+                        .index1 = element1.value(),
+                        .index2 = element2.value(),
                         .mu_s = mu_s,
                         .mu_v = mu_v};
     PenaltyContact& contact = contacts_.emplace_back(made);
@@ -129,7 +131,8 @@ void PenaltyForceField::renew_contacts() {
     clear(contacts_.size());
     for (std::size_t i = 0; i < previous_.size(); ++i) {
         const PenaltyContact& c = previous_[i];
-        add_contact(c.m1, c.m2, c.index1, c.index2, c.normal, c.dist, c.ks, c.mu_s, c.mu_v, static_cast<Index>(i + 1));
+        add_contact(DofIndex(c.m1), DofIndex(c.m2), ElementIndex(c.index1), ElementIndex(c.index2), c.normal, c.dist,
+                    c.ks, c.mu_s, c.mu_v, static_cast<Index>(i + 1));
     }
 }
 
@@ -434,15 +437,15 @@ std::vector<ContactSegment> PenaltyForceField::export_contacts(ConstVec3Span x1,
     return segments;
 }
 
-std::vector<GrabbedPoint> PenaltyForceField::grab_points(ContactSide tool_side, std::span<const Index> tool_dofs,
+std::vector<GrabbedPoint> PenaltyForceField::grab_points(ContactSide tool_side, std::span<const DofIndex> tool_dofs,
                                                          ConstVec3Span other_positions) const {
     std::vector<GrabbedPoint> grabbed;
     for (std::size_t i = 0; i < contacts_.size(); ++i) {
         const PenaltyContact& ct = contacts_[i];
-        const Index tool_dof = tool_side == ContactSide::first ? ct.m1 : ct.m2;
+        const DofIndex tool_dof(tool_side == ContactSide::first ? ct.m1 : ct.m2);
         const Index other_dof = tool_side == ContactSide::first ? ct.m2 : ct.m1;
-        const Index other_element = tool_side == ContactSide::first ? ct.index2 : ct.index1;
-        for (const Index dof : tool_dofs) {
+        const ElementIndex other_element(tool_side == ContactSide::first ? ct.index2 : ct.index1);
+        for (const DofIndex dof : tool_dofs) {
             if (dof != tool_dof) continue;
             if (static_cast<std::size_t>(other_dof) >= other_positions.size())
                 throw_invalid_argument("PenaltyForceField::grab_points(): contact ", i, ": other-side DOF ", other_dof,

@@ -69,9 +69,9 @@ TEST(TriangleFlags, NewProximityEachVertexAndEdgeContactsFromExactlyOneTriangle)
     std::vector<std::set<Index>> triangles_per_probe(probes.points.size());
     std::vector<int> count(probes.points.size(), 0);
     for (const auto& o : det.outputs) {
-        count[std::size_t(o.elem2)]++;
-        triangles_per_probe[std::size_t(o.elem2)].insert(o.elem1);
-        EXPECT_EQ(o.id, o.elem2);
+        count[o.elem2.slot()]++;
+        triangles_per_probe[o.elem2.slot()].insert(o.elem1.value());
+        EXPECT_EQ(o.id, o.elem2.value());
         EXPECT_NEAR(o.value, 0.05 - 0.02, 1e-12);
     }
     ASSERT_EQ(probes.points.size(), 6u + 12u);
@@ -82,12 +82,12 @@ TEST(TriangleFlags, NewProximityEachVertexAndEdgeContactsFromExactlyOneTriangle)
     params.quirks.fix_newproximity_triangle_sphere_edge_flags = true;
     const auto det2 = detect_model_pair(params, tri, sph);
     std::vector<int> count2(probes.points.size(), 0);
-    for (const auto& o : det2.outputs) count2[std::size_t(o.elem2)]++;
+    for (const auto& o : det2.outputs) count2[o.elem2.slot()]++;
     for (std::size_t i = 0; i < probes.points.size(); ++i) EXPECT_EQ(count2[i], 1) << "probe " << i;
     params.quirks.fix_newproximity_triangle_sphere_edge_flags = false;
     const auto det3 = detect_model_pair(params, tri, sph);
     std::vector<int> count3(probes.points.size(), 0);
-    for (const auto& o : det3.outputs) count3[std::size_t(o.elem2)]++;
+    for (const auto& o : det3.outputs) count3[o.elem2.slot()]++;
     int edge_miscount = 0;
     for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(count3[i], 1);
     for (std::size_t i = 6; i < probes.points.size(); ++i) edge_miscount += count3[i] != 1;
@@ -118,8 +118,8 @@ TEST(TriangleModel, QuadsSplitAsSofaWithZeroFlags) {
     params.alarm_distance = 0.2;  // the topology triangle (1,4,2) is out of range
     const auto det = detect_model_pair(params, tri, pts);
     ASSERT_EQ(det.outputs.size(), 1u);
-    EXPECT_EQ(det.outputs[0].elem2, 1);
-    EXPECT_EQ(det.outputs[0].elem1, 2);
+    EXPECT_EQ(det.outputs[0].elem2, ElementIndex(1));
+    EXPECT_EQ(det.outputs[0].elem1, ElementIndex(2));
 }
 
 TEST(TriangleModel, NonMovingModelKeepsFirstNormals) {
@@ -167,7 +167,7 @@ TEST(SelfCollision, TriangleIgnoresItsOwnVerticesInTheSameNode) {
     tri.params().self_collision = pts.params().self_collision = true;
     const auto det = detect_model_pair(IntersectionParams::new_proximity(), tri, pts);
     ASSERT_EQ(det.outputs.size(), 1u);
-    EXPECT_EQ(det.outputs[0].elem2, 3);
+    EXPECT_EQ(det.outputs[0].elem2, ElementIndex(3));
 }
 
 }  // namespace

@@ -378,7 +378,7 @@ TEST(NarrowPhase, SelfCollisionFiltersAreApplied) {
     ASSERT_NE(tp, nullptr);
     EXPECT_GT(tp->outputs.size(), 10u);
     for (const auto& o : tp->outputs)
-        for (auto v : sc.tri1->triangle(o.elem1)) ASSERT_NE(v, o.elem2);
+        for (auto v : sc.tri1->triangle(o.elem1.value())) ASSERT_NE(v, o.elem2.value());
 }
 
 TEST(NarrowPhase, PointAndLineSelfCollisionSkipTopologicalNeighbours) {
@@ -405,21 +405,21 @@ TEST(NarrowPhase, PointAndLineSelfCollisionSkipTopologicalNeighbours) {
     ASSERT_NE(pp, nullptr);
     ASSERT_EQ(pp->outputs.size(), std::size_t(n - 2));
     for (std::size_t k = 0; k < pp->outputs.size(); ++k) {
-        EXPECT_EQ(pp->outputs[k].elem1, Index(k + 2));
-        EXPECT_EQ(pp->outputs[k].elem2, Index(k));
+        EXPECT_EQ(pp->outputs[k].elem1, ElementIndex(Index(k + 2)));
+        EXPECT_EQ(pp->outputs[k].elem2, ElementIndex(Index(k)));
     }
     const ModelPairDetection* ll = find_pair(d, &lines, &lines);
     ASSERT_NE(ll, nullptr);
     EXPECT_GT(ll->outputs.size(), std::size_t(n / 2));
     for (const auto& o : ll->outputs) {
-        EXPECT_GE(o.elem1 - o.elem2, 2) << "edges sharing a vertex must be filtered";
+        EXPECT_GE(o.elem1.value() - o.elem2.value(), 2) << "edges sharing a vertex must be filtered";
     }
     // the line-point pair of the same state and node: a line never meets its own end points
     const ModelPairDetection* lp = find_pair(d, &lines, &pts);
     ASSERT_NE(lp, nullptr);
     for (const auto& o : lp->outputs) {
-        EXPECT_NE(lines.edge(o.elem1)[0], o.elem2);
-        EXPECT_NE(lines.edge(o.elem1)[1], o.elem2);
+        EXPECT_NE(lines.edge(o.elem1.value())[0], o.elem2.value());
+        EXPECT_NE(lines.edge(o.elem1.value())[1], o.elem2.value());
     }
 }
 
@@ -749,7 +749,7 @@ TEST(NarrowPhase, HundredThousandSpheresCompleteAndMatchSampledExhaustiveRows) {
         }
         DetectionOutputList mine;
         for (const auto& o : out)
-            if (o.elem1 == i || o.elem2 == i) mine.push_back(o);
+            if (o.elem1 == ElementIndex(i) || o.elem2 == ElementIndex(i)) mine.push_back(o);
         auto key = [](const DetectionOutput& o) { return std::tie(o.elem1, o.elem2, o.id); };
         std::sort(ref.begin(), ref.end(), [&](const auto& x, const auto& y) { return key(x) < key(y); });
         ASSERT_EQ(mine.size(), ref.size()) << "sphere " << i;

@@ -63,7 +63,7 @@ TEST(Quirk2, NewProximityTriangleSphereWrongEdgeFlags) {
     p.quirks.fix_newproximity_triangle_sphere_edge_flags = true;
     const auto det = detect_model_pair(p, tri, sph);
     ASSERT_EQ(det.outputs.size(), 1u);  // fixed: the owner reports the shared edge once
-    EXPECT_EQ(det.outputs[0].elem1, 1);
+    EXPECT_EQ(det.outputs[0].elem1, ElementIndex(1));
     EXPECT_NEAR(det.outputs[0].value, 0.2 - 0.5, 1e-15);
 }
 
@@ -256,7 +256,7 @@ TEST(IdRules, SphereIndexPointIndexAndIdBig) {
     for (const auto& o : detect_model_pair(IntersectionParams::min_proximity(), sph, pm).outputs) EXPECT_EQ(o.id, 0);
     const auto d = detect_model_pair(IntersectionParams::new_proximity(), sph, pm);
     ASSERT_EQ(d.outputs.size(), 3u);
-    for (const auto& o : d.outputs) EXPECT_EQ(o.id, o.elem2);
+    for (const auto& o : d.outputs) EXPECT_EQ(o.id, o.elem2.value());
     // Triangle–Triangle ids: 3·e1 + k and 3·size1 + 12·e2 + m
     auto m1 = test::triangle_mesh({{0, 0, 0.1}, {1, 0, 0.1}, {0, 1, 0.1}}, {{0, 1, 2}});
     auto m2 = test::triangle_mesh({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
@@ -276,7 +276,7 @@ TEST(LocalMinDistanceFilters, TriangleIsOneSidedUnlessBothSide) {
     auto p = IntersectionParams::local_min_distance();
     auto d = detect_model_pair(p, tri, pt);
     ASSERT_EQ(d.outputs.size(), 1u);
-    EXPECT_EQ(d.outputs[0].elem2, 0);
+    EXPECT_EQ(d.outputs[0].elem2, ElementIndex(0));
     tri.params().both_side = true;
     EXPECT_EQ(detect_model_pair(p, tri, pt).outputs.size(), 2u);
     tri.params().both_side = false;
@@ -302,8 +302,8 @@ TEST(LocalMinDistanceFilters, LineBetweenTwoTrianglesAcceptsOnlyTheOutsideCone) 
     auto p = IntersectionParams::local_min_distance();
     int above = 0, below = 0;
     for (const auto& o : detect_model_pair(p, line, pt).outputs) {
-        if (o.elem1 != ridge) continue;
-        (o.elem2 == 0 ? above : below)++;
+        if (o.elem1 != ElementIndex(ridge)) continue;
+        (o.elem2 == ElementIndex(0) ? above : below)++;
     }
     EXPECT_EQ(above, 1);
     EXPECT_EQ(below, 0);
@@ -319,7 +319,8 @@ TEST(LocalMinDistanceFilters, PointFilterNeedsALineModelInItsNode) {
     p.alarm_distance = 0.6;
     auto count_apex = [&]() {
         int n = 0;
-        for (const auto& o : detect_model_pair(p, apex, probe).outputs) n += (o.elem1 == 4 || o.elem2 == 4);
+        for (const auto& o : detect_model_pair(p, apex, probe).outputs)
+            n += (o.elem1 == ElementIndex(4) || o.elem2 == ElementIndex(4));
         return n;
     };
     EXPECT_EQ(count_apex(), 2);  // no line model in the node: filter skipped

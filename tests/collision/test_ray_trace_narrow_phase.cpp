@@ -134,14 +134,15 @@ TEST(RayTraceNarrowPhase, OverlappingToriAgainstTheBruteForceRules) {
         const auto& x2 = static_cast<const TriangleModel&>(*side.model2);
         for (const DetectionOutput& o : side.outputs) {
             ++outputs;
-            agreeing += reference.count({o.elem1, o.elem2, o.id}) ? 1 : 0;
+            agreeing += reference.count({o.elem1.value(), o.elem2.value(), o.id}) ? 1 : 0;
             // P is a vertex of element 1, Q on element 2 at −value along −normal
             EXPECT_NEAR(o.normal.norm(), 1.0, 1e-12);
             EXPECT_LT(o.value, 0.0);
             EXPECT_NEAR((o.point[1] - o.point[0]).norm(), -o.value, 1e-9);
             EXPECT_NEAR((o.point[1] - (o.point[0] + o.value * o.normal)).norm(), 0.0, 1e-9);
-            const Vec3 n2 = (x2.p(o.elem2, 1) - x2.p(o.elem2, 0)).cross(x2.p(o.elem2, 2) - x2.p(o.elem2, 0));
-            EXPECT_NEAR(n2.dot(o.point[1] - x2.p(o.elem2, 0)), 0.0, 1e-9);
+            const Index t2 = o.elem2.value();
+            const Vec3 n2 = (x2.p(t2, 1) - x2.p(t2, 0)).cross(x2.p(t2, 2) - x2.p(t2, 0));
+            EXPECT_NEAR(n2.dot(o.point[1] - x2.p(t2, 0)), 0.0, 1e-9);
         }
     }
     ASSERT_GT(expected, 20u);

@@ -87,8 +87,8 @@ TEST(SofaOrder, PairsOfElementsFirstThenPushedPairsLastPushedFirst) {
     DetectionOutputList out;
     for (auto it = expected.rbegin(); it != expected.rend(); ++it) {
         DetectionOutput o;
-        o.elem1 = it->first;
-        o.elem2 = it->second;
+        o.elem1 = ElementIndex(it->first);
+        o.elem2 = ElementIndex(it->second);
         o.value = double(out.size());
         out.push_back(o);
     }
@@ -99,8 +99,8 @@ TEST(SofaOrder, PairsOfElementsFirstThenPushedPairsLastPushedFirst) {
     sort_in_sofa_order(t1, t2, out, scratch);
     ASSERT_EQ(out.size(), 13u);
     for (std::size_t i = 0; i < expected.size(); ++i) {
-        EXPECT_EQ(out[i].elem1, expected[i].first) << i;
-        EXPECT_EQ(out[i].elem2, expected[i].second) << i;
+        EXPECT_EQ(out[i].elem1.value(), expected[i].first) << i;
+        EXPECT_EQ(out[i].elem2.value(), expected[i].second) << i;
     }
     EXPECT_EQ(out[11].value, 0.0);   // the first (3, 0)
     EXPECT_EQ(out[12].value, 99.0);  // the second (3, 0)
@@ -161,22 +161,21 @@ TEST(SofaOrder, PackedKeySortEqualsTheComparatorsOrderOnRandomOutputs) {
                     std::uniform_int_distribution<int> e1(0, n1 - 1), e2(0, n2 - 1);
                     for (int k = 0; k < count; ++k) {
                         DetectionOutput o;
-                        o.elem1 = Index(e1(g));
-                        o.elem2 = Index(e2(g));
+                        o.elem1 = ElementIndex(e1(g));
+                        o.elem2 = ElementIndex(e2(g));
                         o.value = double(k);  // the kernel order, to check stability
                         out.push_back(o);
                     }
                     DetectionOutputList expected = out;
                     std::stable_sort(expected.begin(), expected.end(),
                                      [&](const DetectionOutput& x, const DetectionOutput& y) {
-                                         return sofa_visits_before(t1, t2, x.elem1, x.elem2, y.elem1, y.elem2);
+                                         return sofa_visits_before(t1, t2, x.elem1.value(), x.elem2.value(),
+                                                                   y.elem1.value(), y.elem2.value());
                                      });
                     // sort_keys_in_sofa_order: the same order on the element pairs, each once (the
                     // candidate cache's keys), given in the outputs' random order
                     std::vector<std::uint64_t> keys, expected_keys;
-                    const auto key_of = [](const DetectionOutput& o) {
-                        return (std::uint64_t(std::uint32_t(o.elem1)) << 32) | std::uint64_t(std::uint32_t(o.elem2));
-                    };
+                    const auto key_of = [](const DetectionOutput& o) { return PairKey(o.elem1, o.elem2).bits(); };
                     std::set<std::uint64_t> seen;
                     for (const DetectionOutput& o : out)
                         if (seen.insert(key_of(o)).second) keys.push_back(key_of(o));

@@ -18,8 +18,8 @@ TEST(WorkedExample, A_NewProximityTriangleSphere) {
     ASSERT_EQ(det.model1, &tri);  // registered order Triangle–Sphere
     ASSERT_EQ(det.outputs.size(), 1u);
     const DetectionOutput& o = det.outputs[0];
-    EXPECT_EQ(o.elem1, 0);
-    EXPECT_EQ(o.elem2, 0);
+    EXPECT_EQ(o.elem1, ElementIndex(0));
+    EXPECT_EQ(o.elem2, ElementIndex(0));
     EXPECT_EQ(o.id, 0);
     EXPECT_NEAR((o.point[0] - Vec3(0.25, 0.25, 0)).norm(), 0.0, 1e-15);
     EXPECT_EQ(o.point[1], Vec3(0.25, 0.25, 0.8));

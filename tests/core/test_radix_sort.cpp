@@ -1,6 +1,7 @@
 // stable_radix_sort (core/radix_sort.hpp): the order of std::stable_sort by key, for keys of every
 // width up to 64 bits, with many equal keys, passes with one digit for all (skipped), and the
 // short and degenerate lists; the scratch is reused from call to call.
+#include "penalty/core/pair_key.hpp"
 #include "penalty/core/radix_sort.hpp"
 
 #include <gtest/gtest.h>
@@ -71,7 +72,11 @@ TEST(RadixSort, PlainKeysSortAsStdSort) {
     std::mt19937_64 rng(7);
     std::vector<std::uint64_t> v(3000), swap;
     std::vector<std::size_t> counts;
-    for (auto& k : v) k = (rng() % 700) << 32 | (rng() % 900);  // candidate keys: elem1 << 32 | elem2
+    for (auto& k : v) {  // candidate keys: PairKey(elem1, elem2).bits()
+        const auto elem1 = std::uint32_t(rng() % 700);
+        const auto elem2 = std::uint32_t(rng() % 900);
+        k = penalty::pair_key::make(elem1, elem2);
+    }
     std::vector<std::uint64_t> expected = v;
     std::sort(expected.begin(), expected.end());
     stable_radix_sort(v, swap, counts, [](std::uint64_t k) { return k; });

@@ -6,6 +6,7 @@
 #include "kernels/box_overlap.hpp"
 #include "kernels/collision/box_columns.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include <gtest/gtest.h>
 
@@ -118,7 +119,7 @@ TEST(BoxColumns, BvhCandidatesEqualEveryOverlappingPairForEveryLeafSize) {
         for (std::size_t i = 0; i < m1.size(); ++i)
             for (std::size_t j = 0; j < m2.size(); ++j)
                 if (m1.element_box(Index(i)).overlaps(m2.element_box(Index(j)), margin))
-                    keys.push_back((std::uint64_t(i) << 32) | j);
+                    keys.push_back(pair_key::make(i, j));
         return keys;
     };
     const std::vector<std::uint64_t> ab = expected_pairs(a, b);
@@ -169,7 +170,7 @@ TEST(BoxColumns, BvhCandidatesAreSortedOnEveryPathOfTheSort) {
         for (std::size_t i = 0; i < c.n1; ++i)
             for (std::size_t j = 0; j < c.n2; ++j)
                 if (a.element_box(Index(i)).overlaps(b.element_box(Index(j)), 0.0))
-                    expected.push_back((std::uint64_t(i) << 32) | j);
+                    expected.push_back(pair_key::make(i, j));
         ASSERT_GE(expected.size(), c.min_keys) << c.n1 << " x " << c.n2;
         ++paths;
         ASSERT_LE(expected.size(), c.max_keys) << c.n1 << " x " << c.n2;

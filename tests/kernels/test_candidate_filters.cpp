@@ -4,6 +4,7 @@
 // the AVX path keeps the scalar path's candidates.
 #include "fixtures.hpp"
 #include "kernels/collision/candidate_filters.hpp"
+#include "penalty/core/pair_key.hpp"
 
 #include <gtest/gtest.h>
 
@@ -71,7 +72,7 @@ std::vector<Vec3> feature_filter_points(std::mt19937& g, const Mesh& mesh, int n
     return q;
 }
 
-// The candidates e1 << 32 | e2 to which the kernel gives an output (all pairs, in order).
+// The candidates PairKey(e1, e2).bits() to which the kernel gives an output (all pairs, in order).
 std::vector<std::uint64_t> feature_filter_kernel_keeps(const IntersectionParams& params, CollisionModel& t,
                                                        CollisionModel& m2, std::size_t& total) {
     std::vector<std::uint64_t> keys;
@@ -82,7 +83,7 @@ std::vector<std::uint64_t> feature_filter_kernel_keeps(const IntersectionParams&
             ++total;
             out.clear();
             if (intersect_elements(params, t, Index(e1), m2, Index(e2), out) > 0)
-                keys.push_back(std::uint64_t(e1) << 32 | e2);
+                keys.push_back(pair_key::make(e1, e2));
         }
     return keys;
 }
@@ -90,7 +91,7 @@ std::vector<std::uint64_t> feature_filter_kernel_keeps(const IntersectionParams&
 std::vector<std::uint64_t> feature_filter_all_keys(std::size_t n1, std::size_t n2) {
     std::vector<std::uint64_t> keys;
     for (std::size_t e1 = 0; e1 < n1; ++e1)
-        for (std::size_t e2 = 0; e2 < n2; ++e2) keys.push_back(std::uint64_t(e1) << 32 | e2);
+        for (std::size_t e2 = 0; e2 < n2; ++e2) keys.push_back(pair_key::make(e1, e2));
     return keys;
 }
 
@@ -313,7 +314,7 @@ TEST(CandidateFilters, DegenerateTrianglesKeepNothingAndOtherModelKindsAndMethod
     const std::size_t first_degenerate = t.size() - 3;
     std::vector<std::uint64_t> keys;
     for (std::size_t e1 = first_degenerate; e1 < t.size(); ++e1)
-        for (std::size_t e2 = 0; e2 < points.size(); ++e2) keys.push_back(std::uint64_t(e1) << 32 | e2);
+        for (std::size_t e2 = 0; e2 < points.size(); ++e2) keys.push_back(pair_key::make(e1, e2));
     for (const KernelPath path : {KernelPath::scalar, KernelPath::avx}) {
         if (!kernel_path_supported(path)) continue;
         std::vector<std::uint64_t> kept;

@@ -79,14 +79,16 @@ TEST(SummarizeContacts, SumsFieldsAndTakesMaxPenetration) {
     b.position = {Vec3(0, -0.1, 0), Vec3(1, 0.5, 0)};
     b.init();
     PenaltyForceField field1;
-    field1.add_contact(0, 0, 0, 0, Vec3::UnitY(), 0.0, 100.0);  // pen = 0 − (−0.1) = 0.1
-    field1.add_contact(1, 1, 1, 1, Vec3::UnitY(), 0.0, 100.0);  // pen = −0.5: inactive
+    field1.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), 0.0,
+                       100.0);  // pen = 0 − (−0.1) = 0.1
+    field1.add_contact(DofIndex(1), DofIndex(1), ElementIndex(1), ElementIndex(1), Vec3::UnitY(), 0.0,
+                       100.0);  // pen = −0.5: inactive
     Vec3List f1(2, Vec3::Zero()), f2(2, Vec3::Zero());
     const Vec3List v(2, Vec3::Zero());
     field1.add_force(f1, f2, a.position, b.position, v, v);
     // field 2: one contact with dist 0.05 (m): pen = 0.05 − (−0.1) = 0.15
     PenaltyForceField field2;
-    field2.add_contact(0, 0, 0, 0, Vec3::UnitY(), 0.05, 10.0);
+    field2.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), 0.05, 10.0);
     field2.add_force(f1, f2, a.position, b.position, v, v);
     const std::vector<ContactRecord> contacts{{"c1", &field1, &a, &b}, {"c2", &field2, &a, &b}};
     const ContactSummary summary = summarize_contacts(contacts);

@@ -48,7 +48,7 @@ struct TwoBodies {
         surface_record = {"surface", "/Floor", &surface, nullptr, false, false, nullptr, {}};
         ball_record = {"ball", "/Ball", &ball, nullptr, false, true, nullptr, {0.25}};
         // pen = dist − (x2 − x1)·n = 0 − (−0.1 − 0)·1 = 0.1 m; ks = 100 N/m: force on side 2 = +10 N along y
-        field.add_contact(1, 0, 0, 0, Vec3::UnitY(), 0.0, 100.0);
+        field.add_contact(DofIndex(1), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), 0.0, 100.0);
         Vec3List f1(4, Vec3::Zero()), f2(1, Vec3::Zero());
         field.add_force(f1, f2, surface.position, ball_point.position, Vec3List(4, Vec3::Zero()),
                         Vec3List(1, Vec3::Zero()));

@@ -326,13 +326,15 @@ TEST(VtkSeriesWriter, ContactsPieceHasOneLinePerContact) {
     b.position = {Vec3(0, -0.1, 0), Vec3(1, 0.5, 0)};
     b.init();
     PenaltyForceField field1;
-    field1.add_contact(0, 0, 7, 8, Vec3::UnitY(), 0.0, 100.0);   // pen 0.1, force on b: +10 y
-    field1.add_contact(1, 1, 9, 10, Vec3::UnitY(), 0.0, 100.0);  // pen −0.5, inactive
+    field1.add_contact(DofIndex(0), DofIndex(0), ElementIndex(7), ElementIndex(8), Vec3::UnitY(), 0.0,
+                       100.0);  // pen 0.1, force on b: +10 y
+    field1.add_contact(DofIndex(1), DofIndex(1), ElementIndex(9), ElementIndex(10), Vec3::UnitY(), 0.0,
+                       100.0);  // pen −0.5, inactive
     Vec3List f1(2, Vec3::Zero()), f2(2, Vec3::Zero());
     const Vec3List v(2, Vec3::Zero());
     field1.add_force(f1, f2, a.position, b.position, v, v);
     PenaltyForceField field2;  // same states swapped, one contact; renewed once: age 1
-    field2.add_contact(1, 0, 3, 4, -Vec3::UnitX(), 0.0, 2.0);
+    field2.add_contact(DofIndex(1), DofIndex(0), ElementIndex(3), ElementIndex(4), -Vec3::UnitX(), 0.0, 2.0);
     field2.renew_contacts();
     const std::vector<ContactRecord> contacts{{"ab", &field1, &a, &b}, {"ba", &field2, &b, &a}};
 

@@ -113,7 +113,7 @@ TEST(BarycentricPenaltyContact, WorkedExampleD_DeduplicationEndToEnd) {
     DetectionOutputList out;
     for (int k = 0; k < 4; ++k) {
         DetectionOutput o;
-        o.elem1 = o.elem2 = k;
+        o.elem1 = o.elem2 = ElementIndex(k);
         o.id = ids[k];
         o.value = values[k];
         o.point = {s1.position[std::size_t(k)], s2.position[std::size_t(k)]};
@@ -227,7 +227,7 @@ TEST(BarycentricPenaltyContact, BadInputNamesModelAndElement) {
     SphereModel sph(ball, 0.5, {}, with_k("ball", 10));
     BarycentricPenaltyContact c(tri, sph, 0.5);
     DetectionOutput o;
-    o.elem1 = 4;  // no such triangle
+    o.elem1 = ElementIndex(4);  // no such triangle
     o.normal = Vec3(0, 0, 1);
     try {
         c.set_detection_outputs(std::span(&o, 1));

@@ -264,8 +264,8 @@ TEST(CollisionResponse, ContactsFedInParallelAreThoseOfOneThreadAndTheFirstError
     // outputs naming points that do not exist, in the second and fourth pairs: the second
     // pair's error, with one thread or two
     std::vector<ModelPairDetection> bad = detections;
-    bad[1].outputs[7].elem2 = 1000;
-    bad[3].outputs[2].elem2 = 2000;
+    bad[1].outputs[7].elem2 = ElementIndex(1000);
+    bad[3].outputs[2].elem2 = ElementIndex(2000);
     const FedContacts one_bad = feed(1, bad, s);
     EXPECT_NE(one_bad.error.find("'cloud1' (Point): element 1000 out of range"), std::string::npos) << one_bad.error;
     for (int round = 0; round < 20; ++round) {

@@ -7,10 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include <concepts>
 #include <limits>
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 namespace penalty {
@@ -20,6 +22,25 @@ using test::named;
 using test::rand_quat;
 using test::rand_unit;
 using test::rand_vec;
+
+// The response's index boundaries (core/index_types.hpp): a mapper takes an element and gives a
+// DOF, and a penalty contact is made of two DOFs and two elements, in that order; an integer, or
+// one kind where the other is expected, does not compile.
+template <class Element>
+concept MapsElement = requires(ContactMapper& mapper, const Vec3& P, Element e, double& r) {
+    { mapper.add_point(P, e, r) } -> std::same_as<DofIndex>;
+};
+static_assert(MapsElement<ElementIndex>);
+static_assert(!MapsElement<DofIndex> && !MapsElement<Index> && !MapsElement<int>);
+template <class Dof, class Element>
+concept MakesContact = requires(PenaltyForceField& field, Dof m, Element e, const Vec3& n) {
+    field.add_contact(m, m, e, e, n, 1.0, 1.0);
+};
+static_assert(MakesContact<DofIndex, ElementIndex>);
+static_assert(!MakesContact<ElementIndex, DofIndex> && !MakesContact<ElementIndex, ElementIndex>);
+static_assert(!MakesContact<DofIndex, DofIndex> && !MakesContact<Index, Index>);
+static_assert(std::is_same_v<decltype(DetectionOutput::elem1), ElementIndex>);
+static_assert(std::is_same_v<decltype(DetectionOutput::elem2), ElementIndex>);
 
 /// A Vec3 object with a triangle, a quad and a tetrahedron, and a Rigid3 object with 3 bodies.
 struct Scene {
@@ -132,7 +153,7 @@ TEST(ContactMapper, JacobianMatchesFiniteDifferencesAndAdjoint) {
             for (std::size_t k = 0; k < n; ++k) {
                 double r = 0.0;
                 const Index e = pick(g);
-                (void)mapper->add_point(point_near(s, *m, e, g), e, r);
+                (void)mapper->add_point(point_near(s, *m, e, g), ElementIndex(e), r);
             }
             mapper->update();
             const auto dq = random_flat(g, mapper->parent_scalar_size());
@@ -227,7 +248,7 @@ TEST(ContactMapper, BadElementOrNonFinitePointNamesTheModelAndTheElement) {
         const auto message_of = [&](const Vec3& P, Index e) -> std::string {
             try {
                 double r = 0.0;
-                (void)mapper->add_point(P, e, r);
+                (void)mapper->add_point(P, ElementIndex(e), r);
             } catch (const std::invalid_argument& error) {
                 return error.what();
             }
@@ -324,10 +345,10 @@ TEST(BarycentricPenaltyContact, ParentForcesAreMinusEnergyGradientIncludingTorqu
             std::uniform_int_distribution<Index> e1(0, Index(m1->size()) - 1), e2(0, Index(m2->size()) - 1);
             for (int k = 0; k < 5; ++k) {
                 DetectionOutput o;
-                o.elem1 = e1(g);
-                o.elem2 = e2(g);
+                o.elem1 = ElementIndex(e1(g));
+                o.elem2 = ElementIndex(e2(g));
                 o.id = k;
-                o.point = {point_near(s, *m1, o.elem1, g), point_near(s, *m2, o.elem2, g)};
+                o.point = {point_near(s, *m1, o.elem1.value(), g), point_near(s, *m2, o.elem2.value(), g)};
                 o.normal = rand_unit(g);
                 out.push_back(o);
             }

@@ -51,7 +51,8 @@ InclineSetup make_incline(double theta, double mu_s, double mu_v) {
                        .downhill = -Vec3(std::cos(theta), std::sin(theta), 0.0)};
     const double pen0 = setup.sim.mass * kGravity * std::cos(theta) / ks;
     setup.sim.x2[0] = -pen0 * setup.normal;  // dist = 0: pen = −(x2 − x1)·n
-    setup.sim.ff.add_contact(0, 0, 0, 0, setup.normal, 0.0, ks, mu_s, mu_v);
+    setup.sim.ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), setup.normal, 0.0, ks, mu_s,
+                             mu_v);
     return setup;
 }
 
@@ -129,18 +130,21 @@ TEST(PenaltyFriction, AnchorSurvivesThroughOldIndexAndIsDroppedWhenContactEnds) 
     // re-detected with old_index = 1: the same spring holds the particle
     PenaltyForceField carried = s.sim.ff;
     carried.clear();
-    carried.add_contact(c.m1, c.m2, c.index1, c.index2, c.normal, c.dist, c.ks, c.mu_s, c.mu_v, 1);
+    carried.add_contact(DofIndex(c.m1), DofIndex(c.m2), ElementIndex(c.index1), ElementIndex(c.index2), c.normal,
+                        c.dist, c.ks, c.mu_s, c.mu_v, 1);
     EXPECT_LT((evaluate(carried) - held).norm(), 1e-6 * held.norm());
     // re-detected as new (old_index = 0): a fresh anchor, no tangential force at rest
     PenaltyForceField fresh = s.sim.ff;
     fresh.clear();
-    fresh.add_contact(c.m1, c.m2, c.index1, c.index2, c.normal, c.dist, c.ks, c.mu_s, c.mu_v, 0);
+    fresh.add_contact(DofIndex(c.m1), DofIndex(c.m2), ElementIndex(c.index1), ElementIndex(c.index2), c.normal, c.dist,
+                      c.ks, c.mu_s, c.mu_v, 0);
     EXPECT_LT(evaluate(fresh).norm(), 1e-6);
     // re-detected with a rotated normal: the spring is re-projected with its length kept
     PenaltyForceField rotated = s.sim.ff;
     rotated.clear();
     const Vec3 tilted = (c.normal + 0.2 * s.downhill).normalized();
-    rotated.add_contact(c.m1, c.m2, c.index1, c.index2, tilted, c.dist, c.ks, c.mu_s, c.mu_v, 1);
+    rotated.add_contact(DofIndex(c.m1), DofIndex(c.m2), ElementIndex(c.index1), ElementIndex(c.index2), tilted, c.dist,
+                        c.ks, c.mu_s, c.mu_v, 1);
     const Vec3 f_rotated = evaluate(rotated);
     EXPECT_NEAR(f_rotated.dot(tilted), 0.0, 1e-9);
     EXPECT_NEAR(rotated.contacts()[0].shear.norm(), c.shear_start.norm(), 1e-12);
@@ -169,7 +173,7 @@ TEST_P(PenaltyDamping, BounceHasTheClosedFormRestitution) {
     ParticleAgainstFixedPoint sim{.ff = PenaltyForceField(parameters), .mass = mass, .gravity = Vec3::Zero()};
     sim.x2[0] = Vec3(0, 1.001, 0);
     sim.v2[0] = Vec3(0, -1, 0);
-    sim.ff.add_contact(0, 0, 0, 0, Vec3::UnitY(), 1.0, ks);
+    sim.ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), 1.0, ks);
 
     bool touched = false;
     int steps = 0;
@@ -199,7 +203,7 @@ TEST(PenaltyDamping, WithoutDampingTheBounceIsElastic) {
     ParticleAgainstFixedPoint sim{.ff = PenaltyForceField(parameters), .mass = 1.0, .gravity = Vec3::Zero()};
     sim.x2[0] = Vec3(0, 1.001, 0);
     sim.v2[0] = Vec3(0, -1, 0);
-    sim.ff.add_contact(0, 0, 0, 0, Vec3::UnitY(), 1.0, 1e4);
+    sim.ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), 1.0, 1e4);
     for (int i = 0; i < 60000; ++i) sim.step();
     EXPECT_GT(sim.v2[0].y(), 0.0);
     EXPECT_NEAR(sim.v2[0].y(), 1.0, 1e-3);

@@ -49,7 +49,8 @@ TEST_P(SofaUnitTestCases, ForceAndDerivativesMatchSofa) {
     Vec3List x{Vec3::Zero(), tc.x1};
     Vec3List v(2, Vec3::Zero());
     PenaltyForceField ff;
-    ff.add_contact(0, 1, 0, 0, (x[1] - x[0]).normalized(), tc.dist, tc.ks);
+    ff.add_contact(DofIndex(0), DofIndex(1), ElementIndex(0), ElementIndex(0), (x[1] - x[0]).normalized(), tc.dist,
+                   tc.ks);
 
     // same state on both sides: the same spans
     Vec3List f(2, Vec3::Zero());
@@ -90,7 +91,8 @@ TEST(PenaltyForceField, InactiveContactGivesNoForceNoEnergyNoStiffness) {
     Vec3List x{Vec3::Zero(), Vec3(2, 0, 0)};
     Vec3List v(2, Vec3::Zero()), f(2, Vec3::Zero());
     PenaltyForceField ff;
-    ff.add_contact(0, 1, 0, 0, Vec3::UnitX(), 2.0, 5.0);  // pen = 0 exactly: not active (strict)
+    ff.add_contact(DofIndex(0), DofIndex(1), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 2.0,
+                   5.0);  // pen = 0 exactly: not active (strict)
     ff.add_force(f, f, x, x, v, v);
     EXPECT_EQ(f[0], Vec3::Zero());
     EXPECT_EQ(f[1], Vec3::Zero());
@@ -104,7 +106,7 @@ TEST(PenaltyForceField, EnergyIsHalfKsPenSquared) {
     Vec3List x1{Vec3(0, 0, 0)}, x2{Vec3(0, 0.3, 0)};
     Vec3List v1(1, Vec3::Zero()), v2(1, Vec3::Zero()), f1(1, Vec3::Zero()), f2(1, Vec3::Zero());
     PenaltyForceField ff;
-    ff.add_contact(0, 0, 0, 0, Vec3::UnitY(), 1.0, 100.0);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), 1.0, 100.0);
     ff.add_force(f1, f2, x1, x2, v1, v2);
     EXPECT_DOUBLE_EQ(ff.contacts()[0].pen, 0.7);
     EXPECT_DOUBLE_EQ(ff.potential_energy(), 0.5 * 100.0 * 0.49);
@@ -145,7 +147,8 @@ RandomScene make_random_scene(std::mt19937& rng, std::size_t n1, std::size_t n2,
         double pen = pen_draw(rng);
         if (std::abs(pen) < 1e-3) continue;
         const double dist = pen + (s.x2[static_cast<std::size_t>(m2)] - s.x1[static_cast<std::size_t>(m1)]).dot(n);
-        s.ff.add_contact(m1, m2, m1, m2, n, dist, positive(rng), 0.0, 0.0, 0);
+        s.ff.add_contact(DofIndex(m1), DofIndex(m2), ElementIndex(m1), ElementIndex(m2), n, dist, positive(rng), 0.0,
+                         0.0, 0);
     }
     return s;
 }
@@ -289,7 +292,8 @@ TEST_P(RandomFiniteDifferences, StickingFrictionIsConservativeWithinAStep) {
         // re-add the same contacts with a huge mu so every active contact sticks
         PenaltyForceField ff(parameters);
         for (const PenaltyContact& c : base.ff.contacts())
-            ff.add_contact(c.m1, c.m2, c.index1, c.index2, c.normal, c.dist, c.ks, 1e6, 1e6, 0);
+            ff.add_contact(DofIndex(c.m1), DofIndex(c.m2), ElementIndex(c.index1), ElementIndex(c.index2), c.normal,
+                           c.dist, c.ks, 1e6, 1e6, 0);
         // step start at x0, then move: the tangential spring ξ = P·(u − u0) is stretched
         Vec3List f1(base.x1.size(), Vec3::Zero()), f2(base.x2.size(), Vec3::Zero());
         if (same_state) ff.add_force(f1, f1, base.x1, base.x1, base.v1, base.v1);
@@ -349,7 +353,8 @@ TEST(PenaltyForceField, SeparatedContactsGiveExactlyZero) {
     for (Index i = 0; i < 8; ++i) {
         const Vec3 n = Vec3(unit(rng), unit(rng), unit(rng)).normalized();
         const double gap = (x2[static_cast<std::size_t>(i)] - x1[static_cast<std::size_t>(7 - i)]).dot(n);
-        ff.add_contact(7 - i, i, 0, 0, n, gap - 0.01 - 0.1 * (unit(rng) + 1.0), 50.0, 0.5, 0.5);
+        ff.add_contact(DofIndex(7 - i), DofIndex(i), ElementIndex(0), ElementIndex(0), n,
+                       gap - 0.01 - 0.1 * (unit(rng) + 1.0), 50.0, 0.5, 0.5);
     }
     Vec3List f1(8, Vec3::Zero()), f2(8, Vec3::Zero());
     ff.add_force(f1, f2, x1, x2, v, v);
@@ -375,10 +380,10 @@ TEST(PenaltyForceField, TwoStateAndSameStateAssemblyAgree) {
     Vec3List z2(2, Vec3::Zero()), z4(4, Vec3::Zero());
     PenaltyForceField two, one;
     const Vec3 n = Vec3(0.1, 1, 0.2).normalized();
-    two.add_contact(0, 1, 0, 0, n, 1.0, 10.0);
-    two.add_contact(1, 0, 0, 0, n, 0.9, 20.0);
-    one.add_contact(0, 3, 0, 0, n, 1.0, 10.0);
-    one.add_contact(1, 2, 0, 0, n, 0.9, 20.0);
+    two.add_contact(DofIndex(0), DofIndex(1), ElementIndex(0), ElementIndex(0), n, 1.0, 10.0);
+    two.add_contact(DofIndex(1), DofIndex(0), ElementIndex(0), ElementIndex(0), n, 0.9, 20.0);
+    one.add_contact(DofIndex(0), DofIndex(3), ElementIndex(0), ElementIndex(0), n, 1.0, 10.0);
+    one.add_contact(DofIndex(1), DofIndex(2), ElementIndex(0), ElementIndex(0), n, 0.9, 20.0);
     Vec3List f1(2, Vec3::Zero()), f2(2, Vec3::Zero()), f(4, Vec3::Zero());
     two.add_force(f1, f2, x1, x2, z2, z2);
     one.add_force(f, f, merged, merged, z4, z4);
@@ -392,7 +397,7 @@ TEST(PenaltyForceField, StiffnessTripletsHonourOffsetsAndFactor) {
     Vec3List x1{Vec3(0, 0, 0)}, x2{Vec3(0, 0.5, 0)};
     Vec3List z(1, Vec3::Zero()), f1(1, Vec3::Zero()), f2(1, Vec3::Zero());
     PenaltyForceField ff;
-    ff.add_contact(0, 0, 0, 0, Vec3::UnitY(), 1.0, 8.0);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitY(), 1.0, 8.0);
     ff.add_force(f1, f2, x1, x2, z, z);
     TripletList triplets;
     ff.add_stiffness_triplets(triplets, 6, 12, 0.5);
@@ -413,20 +418,20 @@ TEST(PenaltyForceField, StiffnessTripletsHonourOffsetsAndFactor) {
 TEST(PenaltyForceField, AgeCarriesOverThroughOldIndexAsSofa) {
     PenaltyForceField ff;
     const Vec3 n = Vec3::UnitZ();
-    ff.add_contact(0, 0, 0, 0, n, 1, 1);  // A
-    ff.add_contact(1, 1, 1, 1, n, 1, 1);  // B
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), n, 1, 1);  // A
+    ff.add_contact(DofIndex(1), DofIndex(1), ElementIndex(1), ElementIndex(1), n, 1, 1);  // B
     EXPECT_EQ(ff.contacts()[0].age, 0);
     // step 1: B continues (old #2) and comes first, A is re-detected as new
     ff.clear(2);
-    ff.add_contact(1, 1, 1, 1, n, 1, 1, 0, 0, 2);
-    ff.add_contact(0, 0, 0, 0, n, 1, 1, 0, 0, 0);
+    ff.add_contact(DofIndex(1), DofIndex(1), ElementIndex(1), ElementIndex(1), n, 1, 1, 0, 0, 2);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), n, 1, 1, 0, 0, 0);
     ASSERT_EQ(ff.previous_contacts().size(), 2u);
     EXPECT_EQ(ff.contacts()[0].age, 1);
     EXPECT_EQ(ff.contacts()[1].age, 0);
     // step 2: both continue, order swapped back
     ff.clear(2);
-    ff.add_contact(0, 0, 0, 0, n, 1, 1, 0, 0, 2);
-    ff.add_contact(1, 1, 1, 1, n, 1, 1, 0, 0, 1);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), n, 1, 1, 0, 0, 2);
+    ff.add_contact(DofIndex(1), DofIndex(1), ElementIndex(1), ElementIndex(1), n, 1, 1, 0, 0, 1);
     EXPECT_EQ(ff.contacts()[0].age, 1);
     EXPECT_EQ(ff.contacts()[1].age, 2);
     // renew_contacts = clear + add_contact(old_index = i + 1)
@@ -435,9 +440,9 @@ TEST(PenaltyForceField, AgeCarriesOverThroughOldIndexAsSofa) {
     EXPECT_EQ(ff.contacts()[1].age, 3);
     // an old_index outside 1..previous size starts at 0
     ff.clear();
-    ff.add_contact(0, 0, 0, 0, n, 1, 1, 0, 0, 3);
-    ff.add_contact(0, 0, 0, 0, n, 1, 1, 0, 0, -1);
-    ff.add_contact(0, 0, 0, 0, n, 1, 1, 0, 0, 0);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), n, 1, 1, 0, 0, 3);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), n, 1, 1, 0, 0, -1);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), n, 1, 1, 0, 0, 0);
     EXPECT_EQ(ff.contacts()[0].age, 0);
     EXPECT_EQ(ff.contacts()[1].age, 0);
     EXPECT_EQ(ff.contacts()[2].age, 0);
@@ -449,7 +454,7 @@ TEST(PenaltyForceField, AgeCarriesOverThroughOldIndexAsSofa) {
 
 TEST(PenaltyForceField, InvalidParametersNameTheParameterAndTheContact) {
     PenaltyForceField ff;
-    ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0);
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 1.0, 1.0);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     auto message_of = [](auto&& call) -> std::string {
         try {
@@ -461,19 +466,42 @@ TEST(PenaltyForceField, InvalidParametersNameTheParameterAndTheContact) {
     };
     using ::testing::AllOf;
     using ::testing::HasSubstr;
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), 1.0, -2.0); }),
+    EXPECT_THAT(message_of([&] {
+                    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 1.0,
+                                   -2.0);
+                }),
                 AllOf(HasSubstr("contact 1"), HasSubstr("stiffness ks = -2")));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0, -0.1); }),
+    EXPECT_THAT(message_of([&] {
+                    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 1.0, 1.0,
+                                   -0.1);
+                }),
                 HasSubstr("mu_s = -0.1"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0, 0.0, nan); }),
+    EXPECT_THAT(message_of([&] {
+                    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 1.0, 1.0,
+                                   0.0, nan);
+                }),
                 HasSubstr("mu_v = nan"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3(nan, 0, 0), 1.0, 1.0); }), HasSubstr("normal (nan"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3(1, 1, 0), 1.0, 1.0); }), HasSubstr("unit vector"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(0, 0, 0, 0, Vec3::UnitX(), nan, 1.0); }), HasSubstr("dist = nan"));
-    EXPECT_THAT(message_of([&] { ff.add_contact(-1, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0); }), HasSubstr("m1 = -1"));
+    EXPECT_THAT(message_of([&] {
+                    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3(nan, 0, 0), 1.0,
+                                   1.0);
+                }),
+                HasSubstr("normal (nan"));
+    EXPECT_THAT(message_of([&] {
+                    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3(1, 1, 0), 1.0, 1.0);
+                }),
+                HasSubstr("unit vector"));
+    EXPECT_THAT(message_of([&] {
+                    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), nan, 1.0);
+                }),
+                HasSubstr("dist = nan"));
+    EXPECT_THAT(message_of([&] {
+                    ff.add_contact(DofIndex(-1), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 1.0,
+                                   1.0);
+                }),
+                HasSubstr("m1 = -1"));
     EXPECT_EQ(ff.size(), 1u);  // nothing was appended by the failed calls
 
-    ff.add_contact(0, 3, 0, 0, Vec3::UnitX(), 1.0, 1.0);
+    ff.add_contact(DofIndex(0), DofIndex(3), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 1.0, 1.0);
     Vec3List x(2, Vec3::Zero()), f(2, Vec3::Zero());
     EXPECT_THAT(message_of([&] { ff.add_force(f, f, x, x, x, x); }),
                 AllOf(HasSubstr("add_force"), HasSubstr("contact 1"), HasSubstr("m2 = 3"),
@@ -495,7 +523,7 @@ TEST(PenaltyForceField, InvalidParametersNameTheParameterAndTheContact) {
     bad = {};
     bad.damping = 1.0;
     PenaltyForceField damped(bad);
-    damped.add_contact(0, 0, 0, 0, Vec3::UnitX(), 1.0, 1.0);
+    damped.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3::UnitX(), 1.0, 1.0);
     Vec3List empty;
     EXPECT_THAT(message_of([&] { damped.add_force(f, f, x, x, empty, empty); }), HasSubstr("need velocities"));
 }
@@ -507,8 +535,9 @@ TEST(PenaltyForceField, ExportGivesSegmentsWithPenAgeAndForce) {
     Vec3List x1{Vec3(0, 0, 0), Vec3(5, 0, 0)}, x2{Vec3(0, 0.25, 0)};
     Vec3List v1(2, Vec3::Zero()), v2(1, Vec3::Zero()), f1(2, Vec3::Zero()), f2(1, Vec3::Zero());
     PenaltyForceField ff;
-    ff.add_contact(0, 0, 7, 9, Vec3::UnitY(), 1.0, 4.0);
-    ff.add_contact(1, 0, 8, 9, Vec3::UnitX(), 1.0, 4.0);  // (x2 − x1)·n = −5: pen = 6
+    ff.add_contact(DofIndex(0), DofIndex(0), ElementIndex(7), ElementIndex(9), Vec3::UnitY(), 1.0, 4.0);
+    ff.add_contact(DofIndex(1), DofIndex(0), ElementIndex(8), ElementIndex(9), Vec3::UnitX(), 1.0,
+                   4.0);  // (x2 − x1)·n = −5: pen = 6
     ff.renew_contacts();
     ff.add_force(f1, f2, x1, x2, v1, v2);
     const auto segments = ff.export_contacts(x1, x2);
@@ -527,23 +556,23 @@ TEST(PenaltyForceField, ExportGivesSegmentsWithPenAgeAndForce) {
 TEST(PenaltyForceField, GrabPointsReturnOtherSideInContactOrder) {
     Vec3List x1{Vec3(0, 0, 0), Vec3(1, 0, 0)}, x2{Vec3(0, 1, 0), Vec3(0, 2, 0), Vec3(0, 3, 0)};
     PenaltyForceField ff;
-    ff.add_contact(0, 2, 10, 20, Vec3::UnitY(), 1.0, 1.0);
-    ff.add_contact(1, 0, 11, 21, Vec3::UnitY(), 1.0, 1.0);
-    ff.add_contact(0, 1, 12, 22, Vec3::UnitY(), 1.0, 1.0);
-    const std::vector<Index> tool{0};
+    ff.add_contact(DofIndex(0), DofIndex(2), ElementIndex(10), ElementIndex(20), Vec3::UnitY(), 1.0, 1.0);
+    ff.add_contact(DofIndex(1), DofIndex(0), ElementIndex(11), ElementIndex(21), Vec3::UnitY(), 1.0, 1.0);
+    ff.add_contact(DofIndex(0), DofIndex(1), ElementIndex(12), ElementIndex(22), Vec3::UnitY(), 1.0, 1.0);
+    const std::vector<DofIndex> tool{DofIndex(0)};
     const auto grabbed = ff.grab_points(ContactSide::first, tool, x2);
     ASSERT_EQ(grabbed.size(), 2u);
     EXPECT_EQ(grabbed[0].position, x2[2]);
-    EXPECT_EQ(grabbed[0].element, 20);
+    EXPECT_EQ(grabbed[0].element, ElementIndex(20));
     EXPECT_EQ(grabbed[1].position, x2[1]);
-    EXPECT_EQ(grabbed[1].element, 22);
-    EXPECT_EQ(grabbed[1].tool_dof, 0);
-    const std::vector<Index> tool2{0, 2};
+    EXPECT_EQ(grabbed[1].element, ElementIndex(22));
+    EXPECT_EQ(grabbed[1].tool_dof, DofIndex(0));
+    const std::vector<DofIndex> tool2{DofIndex(0), DofIndex(2)};
     const auto from_second = ff.grab_points(ContactSide::second, tool2, x1);
     ASSERT_EQ(from_second.size(), 2u);
-    EXPECT_EQ(from_second[0].element, 10);
-    EXPECT_EQ(from_second[0].tool_dof, 2);
-    EXPECT_EQ(from_second[1].element, 11);
+    EXPECT_EQ(from_second[0].element, ElementIndex(10));
+    EXPECT_EQ(from_second[0].tool_dof, DofIndex(2));
+    EXPECT_EQ(from_second[1].element, ElementIndex(11));
     EXPECT_EQ(from_second[1].position, x1[1]);
 }
 

@@ -73,7 +73,8 @@ struct AssemblyScene {
         for (auto& p : block->position) p += Vec3(u(rng), u(rng), u(rng));
         // a contact pressed in: point 0 of the surface against rigid point 0
         contact_field.clear(1);
-        contact_field.add_contact(0, 0, 0, 0, Vec3(1, 0, 0), 1.5, 800.0);
+        contact_field.add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3(1, 0, 0), 1.5,
+                                  800.0);
         for (auto& v : block->velocity) v = Vec3(u(rng), u(rng), u(rng));
     }
 };
@@ -203,7 +204,8 @@ TEST(GlobalMatrixAssembly, TheSymbolicAnalysisIsKeptWhileThePatternIsTheSame) {
     sys.project(f);
     direct.solve(sys, 1.0, -0.02, -4e-4, f, x);
     EXPECT_EQ(direct.symbolic_analyses(), 1);
-    scene.contact_field.add_contact(1, 1, 1, 1, Vec3(1, 0, 0), 4.0, 800.0);  // active, its blocks at new places
+    scene.contact_field.add_contact(DofIndex(1), DofIndex(1), ElementIndex(1), ElementIndex(1), Vec3(1, 0, 0), 4.0,
+                                    800.0);  // active, its blocks at new places
     sys.compute_force(f);
     sys.project(f);
     direct.solve(sys, 1.0, -0.02, -4e-4, f, x);

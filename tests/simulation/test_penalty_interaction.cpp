@@ -29,7 +29,8 @@ TEST(PenaltyInteraction, WorkedExampleEImplicitWithPenaltyForceField) {
         // Detection at the start of the step: the projection onto the floor follows the sphere.
         floor.position[0] = Vec3(sphere.position[0].x(), 0.0, sphere.position[0].z());
         contact.field().clear(1);
-        contact.field().add_contact(0, 0, 0, 0, Vec3(0, 1, 0), 1.0, 100.0);
+        contact.field().add_contact(DofIndex(0), DofIndex(0), ElementIndex(0), ElementIndex(0), Vec3(0, 1, 0), 1.0,
+                                    100.0);
     });
     sim.init();
     const double v[5] = {0.0018811881188119, 0.0037251249877462, 0.0055139226303769, 0.0072304161118887,

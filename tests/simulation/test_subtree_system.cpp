@@ -234,8 +234,8 @@ struct SurfaceScene {
         contact.set_mapping<BarycentricMapping>(sx, cx).set_weights({{{2, 0.3}, {7, 0.7}}, {{40, 1.0}}});
         root.add_force_field<SpringForceField>(cx, bx).add_spring({0, 5, 300.0, 0.0, 0.4});
         surf.add_force_field<PenaltyInteraction>(sx, sx, field);
-        field.add_contact(3, 50, 0, 0, Vec3(0, 1, 0), 10.0, 100.0);
-        field.add_contact(20, 33, 0, 0, Vec3(1, 0, 0), 10.0, 80.0);
+        field.add_contact(DofIndex(3), DofIndex(50), ElementIndex(0), ElementIndex(0), Vec3(0, 1, 0), 10.0, 100.0);
+        field.add_contact(DofIndex(20), DofIndex(33), ElementIndex(0), ElementIndex(0), Vec3(1, 0, 0), 10.0, 80.0);
         if (opaque_reader) surf.add_force_field<OpaqueNoOpField>(sx);
         surface = &sx;
         sim.init();
@@ -308,7 +308,8 @@ struct ObstacleScene {
         field.clear();
         for (const auto& [vertex, row] : std::array<std::pair<Index, Index>, 3>{
                  {{0, (7 * k) % points}, {1, (7 * k + 150) % points}, {2, points - 1 - 3 * k}}})
-            field.add_contact(vertex, row, 0, 0, Vec3(0, 1, 0), 0.05, 500.0);
+            field.add_contact(DofIndex(vertex), DofIndex(row), ElementIndex(0), ElementIndex(0), Vec3(0, 1, 0), 0.05,
+                              500.0);
     }
 };
 

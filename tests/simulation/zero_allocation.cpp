@@ -17,6 +17,7 @@
 // through its allocator (malloc), outside the contact code's control.
 #include "penalty/collision/models.hpp"
 #include "penalty/collision/sofa_traversal_order.hpp"
+#include "penalty/core/pair_key.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/function_stage.hpp"
 #include "penalty_test/paths.hpp"
@@ -170,10 +171,10 @@ TEST(ZeroAllocationSofaOrder, SortsAllocateNothingOnceTheScratchHasGrown) {
         std::uniform_int_distribution<int> e1(0, 299), e2(0, 119);
         for (int k = 0; k < count; ++k) {
             DetectionOutput o;
-            o.elem1 = Index(e1(g));
-            o.elem2 = Index(e2(g));
+            o.elem1 = ElementIndex(e1(g));
+            o.elem2 = ElementIndex(e2(g));
             outputs.push_back(o);
-            keys.push_back((std::uint64_t(k) % 300) << 32 | std::uint64_t(k) % 120);  // distinct pairs
+            keys.push_back(pair_key::make(k % 300, k % 120));  // distinct pairs
         }
         const std::vector<std::uint64_t> unsorted_keys = keys;
         SofaOrderScratch scratch;

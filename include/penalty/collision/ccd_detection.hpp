@@ -36,6 +36,7 @@
 /// does not depend on the threads: crossings are sorted by (toi, task, feature pair).
 
 #include "penalty/collision/collision_pipeline.hpp"
+#include "penalty/core/index_types.hpp"
 #include "penalty/geometry/ccd.hpp"
 
 #include <array>
@@ -129,20 +130,20 @@ private:
     /// The (surface pair, kind) tasks of this detection: surfaces paired by a sweep over their
     /// swept boxes, the tests of each listed pair whose kinds' boxes overlap.
     void find_tasks();
-    /// A task's candidate feature pairs (e1 << 32 | e2), ascending.
+    /// A task's candidate feature pairs (PairKey(e1, e2).bits()), ascending.
     void candidates(const Task& task, bool parallel, std::vector<std::uint64_t>& keys) const;
     std::vector<ModelPair> pairs_;
     std::vector<char> pair_edge_edge_;  ///< per pair: edge–edge tested
     std::vector<std::unique_ptr<Surface>> surfaces_;
     std::unordered_map<const CollisionModel*, std::size_t> surface_of_;
-    /// (lower surface << 32 | higher surface) → its tests (detail::PairTest bits), ascending
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> pair_tests_;
+    /// (lower surface, higher surface) → its tests (detail::PairTest bits), ascending
+    std::vector<std::pair<PairKey, std::uint32_t>> pair_tests_;
     std::vector<Task> tasks_;
     std::vector<std::vector<Crossing>> task_crossings_;  ///< per task of the last detect()
     std::vector<std::size_t> task_candidates_;
     std::vector<std::vector<std::uint64_t>> task_keys_;  ///< per task: its candidates (capacity kept)
     std::vector<std::size_t> sweep_;                     ///< find_tasks' scratch
-    std::vector<std::uint64_t> near_;
+    std::vector<PairKey> near_;                          ///< find_tasks' scratch: (lower surface, higher surface)
     std::vector<Crossing> crossings_;
     ContinuousDetectionStats stats_;
     bool started_ = false;

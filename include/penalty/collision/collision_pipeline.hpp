@@ -86,7 +86,7 @@ private:
 };
 
 /// Candidate element pairs of (m1, m2) (registered order) found by the dual-tree traversal with
-/// the §3.8 margin, as keys (elem1 << 32 | elem2), sorted ascending. For m1 == m2 (same model,
+/// the §3.8 margin, as keys (PairKey(elem1, elem2).bits()), sorted ascending. For m1 == m2 (same model,
 /// same tree) only elem1 > elem2. Does not apply the self-collision element filters.
 [[nodiscard]] std::vector<std::uint64_t> bvh_candidates(const Bvh& t1, const Bvh& t2, bool same_model, double margin,
                                                         bool parallel = true);

@@ -3,6 +3,7 @@
 /// SOFA's DetectionOutput (spec §5.1): one proximity pair between element e1 of model 1 and
 /// element e2 of model 2 (models in the intersector's registered order).
 
+#include "penalty/core/index_types.hpp"
 #include "penalty/core/types.hpp"
 
 #include <array>
@@ -13,8 +14,8 @@ namespace penalty {
 
 /// One detected proximity. Plain data.
 struct DetectionOutput {
-    Index elem1 = 0;      ///< element index in model 1
-    Index elem2 = 0;      ///< element index in model 2
+    ElementIndex elem1;   ///< element of model 1
+    ElementIndex elem2;   ///< element of model 2
     std::int64_t id = 0;  ///< deduplication key: per id the response keeps the first minimal value
     /// point[0] on/for element 1, point[1] on/for element 2 (world, m). Which point (surface or
     /// centre) depends on the method and pair, see docs/collision.md.

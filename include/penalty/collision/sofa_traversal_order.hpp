@@ -121,7 +121,7 @@ struct SofaOrderScratch {
 void sort_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, DetectionOutputList& outputs,
                         SofaOrderScratch& scratch);
 
-/// Sorts element pairs given as keys (element 1 << 32 | element 2, each pair once) into SOFA's
+/// Sorts element pairs given as keys (PairKey(element 1, element 2).bits(), each pair once) into SOFA's
 /// visiting order, as sort_in_sofa_order sorts outputs.
 void sort_keys_in_sofa_order(const SofaCubeTree& t1, const SofaCubeTree& t2, std::span<std::uint64_t> keys,
                              SofaOrderScratch& scratch);

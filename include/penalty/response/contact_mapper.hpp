@@ -19,6 +19,7 @@
 /// apply_j: out = J·dq;  apply_jt: parent_f += Jᵀ·f.  By construction f·(J·dq) = (Jᵀ·f)·dq.
 
 #include "penalty/collision/models.hpp"
+#include "penalty/core/index_types.hpp"
 #include "penalty/core/types.hpp"
 #include "penalty/mechanics/mapping.hpp"
 
@@ -48,11 +49,11 @@ public:
 
     /// Forgets every contact point, reserving `n` (SOFA's resize before a step's addPoint calls).
     virtual void resize(std::size_t n) = 0;
-    /// Adds a contact point for `element` at world point P (m); returns its index in the contact
-    /// state. May set r (m): the part of the rest distance the mapper accounts for (sphere
-    /// radius), left untouched otherwise. Throws std::invalid_argument naming the model and the
-    /// element for an element out of range or a non-finite P.
-    virtual Index add_point(const Vec3& P, Index element, double& r) = 0;
+    /// Adds a contact point for `element` at world point P (m); returns its DOF in the contact
+    /// state (the DOF the penalty spring acts on). May set r (m): the part of the rest distance the mapper accounts for
+    /// (sphere radius), left untouched otherwise. Throws std::invalid_argument naming the model and the element for an
+    /// element out of range or a non-finite P.
+    virtual DofIndex add_point(const Vec3& P, ElementIndex element, double& r) = 0;
     /// Recomputes contact-point positions and velocities from the parent state (frozen weights
     /// / local points).
     virtual void update() = 0;
@@ -89,8 +90,9 @@ public:
     [[nodiscard]] ContactMapperKind kind() const override { return ContactMapperKind::identity; }
     [[nodiscard]] const CollisionModel& model() const override { return *model_; }
     void resize(std::size_t) override {}
-    /// Returns `element` (= DOF index); a sphere sets r = radius(element); P is ignored.
-    Index add_point(const Vec3& P, Index element, double& r) override;
+    /// Returns the DOF of the same number as `element` (a point's or sphere's element is its DOF);
+    /// a sphere sets r = radius(element); P is ignored.
+    DofIndex add_point(const Vec3& P, ElementIndex element, double& r) override;
     void update() override {}
     [[nodiscard]] ConstVec3Span positions() const override { return state_->position; }
     [[nodiscard]] ConstVec3Span velocities() const override;
@@ -125,7 +127,7 @@ public:
     ///               components of [u w u×w]⁻¹(P − x_q0), u = x_q1 − x_q0, w = x_q3 − x_q0, not
     ///               clamped; bilinear weights ((1−fx)(1−fy), fx(1−fy), fx·fy, (1−fx)fy).
     ///  Tetrahedron: (fx, fy, fz) = coord2bary·(P − x_p0), weights (1−fx−fy−fz, fx, fy, fz).
-    Index add_point(const Vec3& P, Index element, double& r) override;
+    DofIndex add_point(const Vec3& P, ElementIndex element, double& r) override;
     void update() override;
     [[nodiscard]] ConstVec3Span positions() const override { return positions_; }
     [[nodiscard]] ConstVec3Span velocities() const override { return velocities_; }
@@ -167,7 +169,7 @@ public:
     void resize(std::size_t n) override;
     /// L = R_e⁻¹(P − c_e); rigid sphere: r = radius(e) under sofa_head, untouched (0) under
     /// sofa_v26_06; cylinder: r untouched.
-    Index add_point(const Vec3& P, Index element, double& r) override;
+    DofIndex add_point(const Vec3& P, ElementIndex element, double& r) override;
     /// x = c + R·L, v = v_c + ω × (R·L) (rotated points R·L kept for apply_j / apply_jt).
     void update() override;
     [[nodiscard]] ConstVec3Span positions() const override { return positions_; }

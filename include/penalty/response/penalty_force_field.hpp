@@ -33,6 +33,7 @@
 ///                       Between steps ξ₀ = rotate(ξ_prev) + h·P·(v2 − v1): the motion of the
 ///                       previous step, as in DEM granular-history models (LAMMPS, Chrono DEM).
 
+#include "penalty/core/index_types.hpp"
 #include "penalty/core/types.hpp"
 
 #include <cstdint>
@@ -108,9 +109,9 @@ struct ContactSegment {
 /// Result of a grab query: a point of the other side in contact with a grabbed DOF
 /// (replaces SOFA's grabPoint).
 struct GrabbedPoint {
-    Vec3 position;   ///< current position of the other side's contact point (m)
-    Index element;   ///< collision element index on the other side
-    Index tool_dof;  ///< the grabbed DOF of the tool side
+    Vec3 position;         ///< current position of the other side's contact point (m)
+    ElementIndex element;  ///< collision element on the other side
+    DofIndex tool_dof;     ///< the grabbed DOF of the tool side
 };
 
 enum class ContactSide : std::uint8_t { first, second };
@@ -129,13 +130,14 @@ public:
     /// the list, reserving `reserve` entries.
     void clear(std::size_t reserve = 0);
 
-    /// Appends a contact with pen = 0. `old_index` is 1-based into the previous list (0 = new):
-    /// age = previous age + 1 when 1 ≤ old_index ≤ previous size, else 0 (SOFA); with friction the
-    /// tangential spring is carried over from that previous contact.
-    /// Throws std::invalid_argument for negative or non-finite stiffness / friction, a non-finite
-    /// dist, a NaN or non-unit normal (| |n| − 1 | > 1e-6), or a negative index.
-    void add_contact(Index m1, Index m2, Index index1, Index index2, const Vec3& normal, double dist, double ks,
-                     double mu_s = 0.0, double mu_v = 0.0, Index old_index = 0);
+    /// Appends a contact with pen = 0 between DOF m1 of state 1 and DOF m2 of state 2, made of
+    /// collision elements element1 and element2 (PenaltyContact::index1, index2). `old_index` is 1-based into the
+    /// previous list (0 = new): age = previous age + 1 when 1 ≤ old_index ≤ previous size, else 0 (SOFA); with friction
+    /// the tangential spring is carried over from that previous contact. Throws std::invalid_argument for negative or
+    /// non-finite stiffness / friction, a non-finite dist, a NaN or non-unit normal (| |n| − 1 | > 1e-6), or a negative
+    /// index.
+    void add_contact(DofIndex m1, DofIndex m2, ElementIndex element1, ElementIndex element2, const Vec3& normal,
+                     double dist, double ks, double mu_s = 0.0, double mu_v = 0.0, Index old_index = 0);
 
     /// Replaces the normal law of contact i, ks·(dist − u·n), by ks'·(dist' − u·n) for the rest
     /// of the step (beyond SOFA: the tunnelling guard's stiffening, tunnelling_guard.hpp). Throws
@@ -183,7 +185,7 @@ public:
 
     /// For every contact (in order) and every tool DOF (in order) whose DOF on `tool_side`
     /// equals it: the other side's contact-point position and element (SOFA's grabPoint).
-    [[nodiscard]] std::vector<GrabbedPoint> grab_points(ContactSide tool_side, std::span<const Index> tool_dofs,
+    [[nodiscard]] std::vector<GrabbedPoint> grab_points(ContactSide tool_side, std::span<const DofIndex> tool_dofs,
                                                         ConstVec3Span other_positions) const;
 
     [[nodiscard]] std::span<const PenaltyContact> contacts() const { return contacts_; }

@@ -30,15 +30,15 @@
 
 namespace penalty::detail {
 
-/// Appends to `kept`, in their order, the candidates (triangle e1 << 32 | element e2 of m2) of
+/// Appends to `kept`, in their order, the candidates (PairKey(triangle e1, element e2 of m2).bits()) of
 /// `keys` that pass the first tests (above) of params.method's Triangle kernel against m2's
 /// kind: a PointModel, a SphereModel or a RigidSphereModel. NewProximity or MinProximity;
 /// element indices must be in range. Throws std::invalid_argument for another method or kind.
 void keep_triangle_candidates(const IntersectionParams& params, const TriangleModel& t, const CollisionModel& m2,
                               std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept, KernelPath path);
 
-/// Appends to `kept`, in their order, the candidates (segment e1 of l1 << 32 | segment e2 of
-/// l2) of `keys` whose closest points pass params.method's Line–Line test (above): NewProximity
+/// Appends to `kept`, in their order, the candidates (PairKey(segment e1 of l1, segment e2
+/// of l2).bits()) of `keys` whose closest points pass params.method's Line–Line test (above): NewProximity
 /// or MinProximity (throws std::invalid_argument for another method).
 void keep_line_line_candidates(const IntersectionParams& params, const LineModel& l1, const LineModel& l2,
                                std::span<const std::uint64_t> keys, std::vector<std::uint64_t>& kept, KernelPath path);

@@ -49,7 +49,8 @@ public:
                 if (target == nullptr) continue;
                 const bool tool_first = d.model1 == tool_;
                 for (const DetectionOutput& o : d.outputs)
-                    if (o.value < distance_) add_item(*target, ElementId(tool_first ? o.elem2 : o.elem1), items);
+                    if (o.value < distance_)
+                        add_item(*target, ElementId((tool_first ? o.elem2 : o.elem1).value()), items);
             }
         }
         // every topology checked before any changes (a step's carving applies whole or not at all)
