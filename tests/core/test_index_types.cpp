@@ -44,9 +44,13 @@ static_assert(!std::equality_comparable_with<ElementIndex, Index>);
 static_assert(std::totally_ordered<ElementIndex> && std::totally_ordered<PairKey>);
 // no arithmetic, within a kind or with an integer
 template <class A, class B>
-concept Adds = requires(A a, B b) { a + b; };
+concept Adds = requires(A a, B b) {
+    a + b;
+};
 template <class A, class B>
-concept Subtracts = requires(A a, B b) { a - b; };
+concept Subtracts = requires(A a, B b) {
+    a - b;
+};
 static_assert(!Adds<ElementIndex, ElementIndex> && !Adds<ElementIndex, int> && !Adds<DofIndex, Index>);
 static_assert(!Subtracts<ElementIndex, ElementIndex> && !Subtracts<ModelIndex, int>);
 // zero cost: the integer's size, trivially copyable (memcpy, registers)
@@ -60,7 +64,8 @@ static_assert(std::is_constructible_v<PairKey, ModelIndex, ModelIndex>);
 static_assert(!std::is_constructible_v<PairKey, ModelIndex, ElementIndex>);
 static_assert(!std::is_convertible_v<PairKey, std::uint64_t> && !std::is_convertible_v<std::uint64_t, PairKey>);
 // constexpr
-static_assert(PairKey(1, 2).bits() == 0x0000000100000002ULL && PairKey(1, 2).first() == 1 && PairKey(1, 2).second() == 2);
+static_assert(PairKey(1, 2).bits() == 0x0000000100000002ULL && PairKey(1, 2).first() == 1 &&
+              PairKey(1, 2).second() == 2);
 static_assert(PairKey(0, 0xFFFFFFFFu) < PairKey(1, 0) && PairKey::unordered(9, 4) == PairKey(4, 9));
 
 // The integer of (first, second) as the packed keys had it, by arithmetic rather than a shift.
@@ -180,7 +185,8 @@ TEST(PairKey, HashesAsItsIntegerAndKeysHashTables) {
     for (const auto& [bits, i] : reference) ASSERT_EQ(position.at(PairKey::from_bits(bits)), i);
     // the same hash, the same bucket count: the tables place the keys alike
     ASSERT_EQ(position.bucket_count(), reference.bucket_count());
-    for (const auto& [bits, i] : reference) ASSERT_EQ(position.bucket(PairKey::from_bits(bits)), reference.bucket(bits));
+    for (const auto& [bits, i] : reference)
+        ASSERT_EQ(position.bucket(PairKey::from_bits(bits)), reference.bucket(bits));
 }
 
 TEST(StrongIndex, RoundTripsOrdersWithinItsKindAndHashesAsTheInteger) {
