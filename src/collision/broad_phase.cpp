@@ -13,7 +13,7 @@ namespace penalty {
 
 void broad_phase(const IntersectionParams& params, std::span<CollisionModel* const> models,
                  std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported,
-                 std::vector<std::array<std::size_t, 2>>* indices) {
+                 std::vector<std::array<ModelIndex, 2>>* indices) {
     pairs.clear();
     if (unsupported != nullptr) unsupported->clear();
     if (indices != nullptr) indices->clear();
@@ -35,7 +35,9 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
             }
             const bool keep_order = is_registered_order(a->type(), b->type());
             pairs.push_back(keep_order ? ModelPair{a, b} : ModelPair{b, a});
-            if (indices != nullptr) indices->push_back(keep_order ? std::array{j, i} : std::array{i, j});
+            const ModelIndex place_j(static_cast<Index>(j)), place_i(static_cast<Index>(i));
+            if (indices != nullptr)
+                indices->push_back(keep_order ? std::array{place_j, place_i} : std::array{place_i, place_j});
         }
     }
 }
@@ -49,9 +51,7 @@ constexpr std::size_t kMaxPairsTestedOneByOne = 64;
 // near_'s sort: std::sort below this many pairs, the radix sort from there
 constexpr std::size_t kMinNearPairsForRadixSort = 256;
 // pair_of_models_'s key of the models at places a and b: (lower place, higher place)
-PairKey model_pair_key(std::size_t a, std::size_t b) {
-    return PairKey(ModelIndex(Index(std::min(a, b))), ModelIndex(Index(std::max(a, b))));
-}
+PairKey model_pair_key(ModelIndex a, ModelIndex b) { return PairKey(std::min(a, b), std::max(a, b)); }
 }  // namespace
 
 bool BroadPhase::ModelKey::describes(const CollisionModel& m) const {
@@ -94,7 +94,7 @@ bool BroadPhase::update(const IntersectionParams& params, const std::vector<Coll
 
 void BroadPhase::find_near(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
                            const std::vector<Bvh>& trees,
-                           const std::function<bool(std::size_t, std::size_t)>& within_margin, SceneDetection& result) {
+                           const std::function<bool(ModelIndex, ModelIndex)>& within_margin, SceneDetection& result) {
     std::swap(near_, near_last_);
     near_.clear();
     if (pairs_.size() <= kMaxPairsTestedOneByOne) {
@@ -105,7 +105,7 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
         return;
     }
     const auto consider = [&](std::size_t a, std::size_t b) {  // models a <= b
-        const auto it = pair_of_models_.find(model_pair_key(a, b));
+        const auto it = pair_of_models_.find(model_pair_key(ModelIndex(Index(a)), ModelIndex(Index(b))));
         if (it == pair_of_models_.end()) return;  // filtered out by the broad phase
         const std::size_t k = it->second;
         if (within_margin(indices_[k][0], indices_[k][1])) near_.push_back(k);

@@ -31,11 +31,11 @@ public:
     /// places), ascending, into near(); near_last() keeps the previous ones; `result`'s
     /// narrow_phase flags and the outputs of pairs that left are updated.
     void find_near(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
-                   const std::vector<Bvh>& trees, const std::function<bool(std::size_t, std::size_t)>& within_margin,
+                   const std::vector<Bvh>& trees, const std::function<bool(ModelIndex, ModelIndex)>& within_margin,
                    SceneDetection& result);
     [[nodiscard]] const std::vector<ModelPair>& pairs() const { return pairs_; }
     /// Per pair: the places of its model1 and model2 in the models.
-    [[nodiscard]] const std::vector<std::array<std::size_t, 2>>& indices() const { return indices_; }
+    [[nodiscard]] const std::vector<std::array<ModelIndex, 2>>& indices() const { return indices_; }
     [[nodiscard]] const std::vector<ModelPair>& unsupported() const { return unsupported_; }
     [[nodiscard]] const std::vector<std::size_t>& near() const { return near_; }
     [[nodiscard]] const std::vector<std::size_t>& near_last() const { return near_last_; }
@@ -55,7 +55,7 @@ private:
     };
     void mark_near(SceneDetection& result);
     std::vector<ModelPair> pairs_;
-    std::vector<std::array<std::size_t, 2>> indices_;
+    std::vector<std::array<ModelIndex, 2>> indices_;
     std::vector<ModelPair> unsupported_;
     std::vector<ModelKey> key_;
     bool any_pair_writes_models_ = false;

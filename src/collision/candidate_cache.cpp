@@ -113,19 +113,19 @@ void CandidateCache::track_motion(std::size_t i, const Bvh& tree, const Collisio
     mm.steps = 0;
 }
 
-PairCandidates* CandidateCache::entry(std::size_t i1, std::size_t i2) {
-    if (motion_[i1].generation == 0 || motion_[i2].generation == 0) return nullptr;
-    return &pairs_[PairKey(ModelIndex(Index(i1)), ModelIndex(Index(i2)))];
+PairCandidates* CandidateCache::entry(ModelIndex i1, ModelIndex i2) {
+    if (motion_[i1.slot()].generation == 0 || motion_[i2.slot()].generation == 0) return nullptr;
+    return &pairs_[PairKey(i1, i2)];
 }
 
 void CandidateCache::count_kept_keys(const std::vector<std::size_t>& near,
-                                     const std::vector<std::array<std::size_t, 2>>& pair_indices,
+                                     const std::vector<std::array<ModelIndex, 2>>& pair_indices,
                                      const std::vector<PairCandidates*>& kept_of_pair) {
     for (const std::size_t k : near) {
         const PairCandidates* kept = kept_of_pair[k];
         if (kept == nullptr) continue;
-        ModelMotion& a = motion_[pair_indices[k][0]];
-        ModelMotion& b = motion_[pair_indices[k][1]];
+        ModelMotion& a = motion_[pair_indices[k][0].slot()];
+        ModelMotion& b = motion_[pair_indices[k][1].slot()];
         if (kept->generation1 != a.generation || kept->generation2 != b.generation) continue;
         for (ModelMotion* m : {&a, &b}) {
             m->kept_keys += kept->keys.size();

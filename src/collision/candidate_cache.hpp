@@ -87,11 +87,11 @@ public:
     void track_motion(std::size_t i, const Bvh& tree, const CollisionModel& model, double alarm_distance);
     /// The kept candidates of pair (i1, i2), made empty when new; nullptr when a model is
     /// untracked.
-    [[nodiscard]] PairCandidates* entry(std::size_t i1, std::size_t i2);
+    [[nodiscard]] PairCandidates* entry(ModelIndex i1, ModelIndex i2);
     /// The models' kept and overlapping keys of the pairs `near` (their entries `kept`, by pair)
     /// in their current generations.
     void count_kept_keys(const std::vector<std::size_t>& near,
-                         const std::vector<std::array<std::size_t, 2>>& pair_indices,
+                         const std::vector<std::array<ModelIndex, 2>>& pair_indices,
                          const std::vector<PairCandidates*>& kept);
     /// The outputs of `pair` from its kept candidates, collected again when a generation moved
     /// on: the traversal's candidates, so the traversal's outputs. Returns whether they are in

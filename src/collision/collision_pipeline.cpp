@@ -61,13 +61,13 @@ void CollisionPipeline::add_model(CollisionModel& model) {
     index_models();
 }
 
-std::size_t CollisionPipeline::model_index(const CollisionModel& m) const {
+ModelIndex CollisionPipeline::model_index(const CollisionModel& m) const {
     // binary search in (address, index) pairs: a scene with many models asks for two per pair
     const auto it =
         std::lower_bound(index_of_.begin(), index_of_.end(), std::pair<const CollisionModel*, std::size_t>(&m, 0));
     if (it == index_of_.end() || it->first != &m)
         throw_invalid_argument("CollisionPipeline: model '", m.name(), "' is not registered");
-    return it->second;
+    return ModelIndex(static_cast<Index>(it->second));
 }
 
 void CollisionPipeline::index_models() {
@@ -115,16 +115,16 @@ void CollisionPipeline::detect_pair(CollisionModel& m1, CollisionModel& m2, Dete
     counts.add_to(cache_stats_, candidates_evaluated_);
 }
 
-void CollisionPipeline::detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out, PairScratch& scratch,
+void CollisionPipeline::detect_pair_with(ModelIndex i1, ModelIndex i2, DetectionOutputList& out, PairScratch& scratch,
                                          detail::PairCounts& counts, detail::PairCandidates* kept,
                                          std::vector<std::uint64_t>* deferred_writes) {
     out.clear();
-    const bool in_sofa_order = detect_pair_unordered(i1, i2, out, scratch, counts, kept, deferred_writes);
+    const bool in_sofa_order = detect_pair_unordered(i1.slot(), i2.slot(), out, scratch, counts, kept, deferred_writes);
     if (!opt_.sofa_output_order || in_sofa_order || out.size() < 2) return;
-    sofa_trees_.sort_outputs(models_, i1, i2, out, scratch.sofa_order);
+    sofa_trees_.sort_outputs(models_, i1.slot(), i2.slot(), out, scratch.sofa_order);
 }
 
-detail::PairCandidates* CollisionPipeline::pair_candidates_entry(std::size_t i1, std::size_t i2) {
+detail::PairCandidates* CollisionPipeline::pair_candidates_entry(ModelIndex i1, ModelIndex i2) {
     if (detection_ != ContactDetection::bvh || !opt_.candidate_cache) return nullptr;
     return cache_->entry(i1, i2);
 }
@@ -158,7 +158,7 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
         counts.candidates += scratch.narrow.buffers().keys.size();
         return false;
     }
-    detail::PairCandidates& kept = kept_entry != nullptr ? *kept_entry : *pair_candidates_entry(i1, i2);
+    detail::PairCandidates& kept = kept_entry != nullptr ? *kept_entry : *pair_candidates_entry(ModelIndex(Index(i1)), ModelIndex(Index(i2)));
     const detail::CachedPair pair{params_, opt_, m1, t1, a, m2, t2, b, sofa_trees_, i1, i2, models_};
     return detail::CandidateCache::detect(pair, kept, scratch.narrow.buffers(), scratch.sofa_order, counts,
                                           deferred_writes, out);
@@ -174,7 +174,7 @@ const SceneDetection& CollisionPipeline::detect() {
         find_exhaustive_root_boxes();
     } else {
         broad_->find_near(
-            params_, models_, trees_, [this](std::size_t i1, std::size_t i2) { return roots_within_margin(i1, i2); },
+            params_, models_, trees_, [this](ModelIndex i1, ModelIndex i2) { return roots_within_margin(i1, i2); },
             result_);
     }
     if (opt_.narrow_phase_override) return opt_.narrow_phase_override->detect(result_);
@@ -337,7 +337,8 @@ void CollisionPipeline::detect_pairs_concurrently() {
     failure.rethrow_if_any();
 }
 
-bool CollisionPipeline::roots_within_margin(std::size_t i1, std::size_t i2) const {
+bool CollisionPipeline::roots_within_margin(ModelIndex place1, ModelIndex place2) const {
+    const std::size_t i1 = place1.slot(), i2 = place2.slot();
     // BruteForceBroadPhase::addCollisionModel skips empty models and keeps a pair when the
     // intersector's canIntersect passes on the root cubes (BaseProximityIntersection::
     // testIntersection(Cube&, Cube&): within box_margin on every axis; a model with itself

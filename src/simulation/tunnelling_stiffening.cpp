@@ -86,7 +86,8 @@ bool usable(const ContactGraphEntry& e) {
 
 }  // namespace
 
-double TunnellingGuard::contact_point_mass(const ContactGraphEntry& e, int side) {
+double TunnellingGuard::contact_point_mass(const ContactGraphEntry& e, ContactSide contact_side) {
+    const std::size_t side = contact_side == ContactSide::first ? 0 : 1;  // point_nodes, point_states
     constexpr double kInf = std::numeric_limits<double>::infinity();
     if (node_of_version_ != simulation_->root().structure_version()) {
         node_of_.clear();
@@ -96,9 +97,9 @@ double TunnellingGuard::contact_point_mass(const ContactGraphEntry& e, int side)
         node_of_version_ = simulation_->root().structure_version();
     }
     // the contact points' own node (an identity side), or their parent: the model's node
-    const Node* n = e.point_nodes[std::size_t(side)] != nullptr ? e.point_nodes[std::size_t(side)]->parent() : nullptr;
+    const Node* n = e.point_nodes[side] != nullptr ? e.point_nodes[side]->parent() : nullptr;
     if (n == nullptr) {
-        const auto it = node_of_.find(e.point_states[std::size_t(side)]);
+        const auto it = node_of_.find(e.point_states[side]);
         if (it == node_of_.end()) return kInf;
         n = it->second;
     }
@@ -110,7 +111,7 @@ double TunnellingGuard::contact_point_mass(const ContactGraphEntry& e, int side)
 }
 
 double TunnellingGuard::explicit_stiffness_bound(const ContactGraphEntry& e, double h) {
-    const double m1 = contact_point_mass(e, 0), m2 = contact_point_mass(e, 1);
+    const double m1 = contact_point_mass(e, ContactSide::first), m2 = contact_point_mass(e, ContactSide::second);
     const double m = !std::isfinite(m1) ? m2 : !std::isfinite(m2) ? m1 : m1 * m2 / (m1 + m2);
     return std::isfinite(m) && h > 0.0 ? m / (h * h) : 0.0;  // no mass known: no stiffening
 }

@@ -19,6 +19,7 @@
 #include "penalty/collision/intersection.hpp"
 #include "penalty/collision/sofa_traversal_order.hpp"
 #include "penalty/core/fidelity.hpp"
+#include "penalty/core/index_types.hpp"
 
 #include <cstdint>
 #include <memory>
@@ -55,7 +56,7 @@ struct ModelPair {
 /// `pairs` the places of its model1 and model2 in `models`.
 void broad_phase(const IntersectionParams& params, std::span<CollisionModel* const> models,
                  std::vector<ModelPair>& pairs, std::vector<ModelPair>* unsupported = nullptr,
-                 std::vector<std::array<std::size_t, 2>>* indices = nullptr);
+                 std::vector<std::array<ModelIndex, 2>>* indices = nullptr);
 
 /// Tuning of the narrow phase (none of it changes the output).
 struct NarrowPhaseOptions {
@@ -253,11 +254,11 @@ public:
     CollisionPipeline& operator=(CollisionPipeline&&) noexcept;
 
 private:
-    [[nodiscard]] std::size_t model_index(const CollisionModel& m) const;
+    [[nodiscard]] ModelIndex model_index(const CollisionModel& m) const;
     void index_models();  // index_of_ from models_
     /// ModelPairDetection::narrow_phase of models_[i1], models_[i2]: neither empty, root boxes
     /// within box_margin.
-    [[nodiscard]] bool roots_within_margin(std::size_t i1, std::size_t i2) const;
+    [[nodiscard]] bool roots_within_margin(ModelIndex i1, ModelIndex i2) const;
     /// The buffers of pair detections that run one after the other (detect() in parallel gives
     /// each chunk of pairs its own).
     struct PairScratch {
@@ -269,7 +270,7 @@ private:
     /// the trees. The models are models_[i1] and models_[i2]. `deferred_writes`: if not null,
     /// the kernel's writes to the models are not run but their candidates appended to it, in
     /// their order.
-    void detect_pair_with(std::size_t i1, std::size_t i2, DetectionOutputList& out, PairScratch& scratch,
+    void detect_pair_with(ModelIndex i1, ModelIndex i2, DetectionOutputList& out, PairScratch& scratch,
                           detail::PairCounts& counts, detail::PairCandidates* kept,
                           std::vector<std::uint64_t>* deferred_writes = nullptr);
     /// detect_pair without sorting into SOFA's output order. Returns true when `out` is in that
@@ -279,7 +280,7 @@ private:
                                              detail::PairCandidates* kept, std::vector<std::uint64_t>* deferred_writes);
     /// The pair's entry of the candidate cache when it applies to the pair (bvh, the cache on,
     /// both models tracked), made if new; nullptr otherwise.
-    [[nodiscard]] detail::PairCandidates* pair_candidates_entry(std::size_t i1, std::size_t i2);
+    [[nodiscard]] detail::PairCandidates* pair_candidates_entry(ModelIndex i1, ModelIndex i2);
     void record_pair_work(std::size_t k, std::size_t candidates);
     /// Whether detect() runs this detection's pairs in parallel (see detect()).
     [[nodiscard]] bool pairs_run_concurrently() const;

@@ -162,9 +162,9 @@ private:
     /// `factor` for a solve of length h (its force at the current positions kept; an explicit
     /// contact's bounded as in the file comment); returns how many changed.
     std::size_t stiffen_pairs(const std::vector<std::pair<std::size_t, std::size_t>>& pairs, double factor, double h);
-    /// The mass (kg) a contact point of side k of `e` carries: its parent body's mass per DOF
+    /// The mass (kg) a contact point of `side` of `e` carries: its parent body's mass per DOF
     /// (+inf for a state outside every solver's subtree).
-    double contact_point_mass(const ContactGraphEntry& e, int side);
+    double contact_point_mass(const ContactGraphEntry& e, ContactSide side);
     /// The largest stiffness an explicit contact of `e` may have in a solve of length h (N/m):
     /// m/h² with m the reduced mass of its sides (ω·h ≤ 1, half of symplectic Euler's limit).
     double explicit_stiffness_bound(const ContactGraphEntry& e, double h);
