@@ -158,7 +158,8 @@ bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, De
         counts.candidates += scratch.narrow.buffers().keys.size();
         return false;
     }
-    detail::PairCandidates& kept = kept_entry != nullptr ? *kept_entry : *pair_candidates_entry(ModelIndex(Index(i1)), ModelIndex(Index(i2)));
+    detail::PairCandidates& kept =
+        kept_entry != nullptr ? *kept_entry : *pair_candidates_entry(ModelIndex(Index(i1)), ModelIndex(Index(i2)));
     const detail::CachedPair pair{params_, opt_, m1, t1, a, m2, t2, b, sofa_trees_, i1, i2, models_};
     return detail::CandidateCache::detect(pair, kept, scratch.narrow.buffers(), scratch.sofa_order, counts,
                                           deferred_writes, out);
