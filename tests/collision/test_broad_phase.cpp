@@ -43,6 +43,19 @@ TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
                                                "g2-ns2", "a-p2",   "ns1-p2", "ns2-p2", "g1-p2", "g2-p2"};
     EXPECT_EQ(got, expected);
     EXPECT_TRUE(unsupported.empty());  // NewProximity detects every pair of these types
+    // `indices`: the places (ModelIndex) of each pair's model1 and model2 in `models`, swapped
+    // with the pair ("t-a": t is model 1, a model 0)
+    std::vector<std::array<ModelIndex, 2>> places;
+    broad_phase(IntersectionParams::new_proximity(), models, pairs, nullptr, &places);
+    ASSERT_EQ(places.size(), expected.size());
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        EXPECT_EQ(models[places[k][0].slot()], pairs[k].model1) << got[k];
+        EXPECT_EQ(models[places[k][1].slot()], pairs[k].model2) << got[k];
+    }
+    EXPECT_EQ(places[2][0], ModelIndex(1));
+    EXPECT_EQ(places[2][1], ModelIndex(0));
+    EXPECT_EQ(places[4][0], ModelIndex(0));  // "a-p": p (place 2) added later, swapped into registered order
+    EXPECT_EQ(places[4][1], ModelIndex(2));
     // MinProximity ignores Triangle-Triangle: the kept pair goes to `unsupported`, not `pairs`
     broad_phase(IntersectionParams::min_proximity(), models, pairs, &unsupported);
     ASSERT_EQ(unsupported.size(), 1u);
