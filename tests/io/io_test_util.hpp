@@ -1,6 +1,7 @@
 #pragma once
 // Helpers for the io tests: committed data folder and temporary files with given contents.
 
+#include "penalty/io/scene_file.hpp"
 #include "penalty_test/paths.hpp"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <initializer_list>
+#include <stdexcept>
 #include <string>
 
 namespace penalty::io::test {
@@ -32,6 +35,19 @@ inline std::string vtu_text(const std::string& points, int n_points, const std::
            connectivity + "</DataArray>\n<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">" + offsets +
            "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">" + types +
            "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+}
+
+/// tests/io/data/scenes/tiny.scn: the small scene of the parser's tests.
+inline std::filesystem::path tiny_path() { return data_dir() / "scenes" / "tiny.scn"; }
+
+/// The node at `path` (child names from the root) of a parsed scene; throws when one is missing.
+inline const SceneNode& node_at(const SceneFile& s, std::initializer_list<const char*> path) {
+    const SceneNode* n = s.root.get();
+    for (const char* name : path) {
+        n = n->child(name);
+        if (n == nullptr) throw std::runtime_error(std::string("no node ") + name);
+    }
+    return *n;
 }
 
 /// A fresh file under the test temporary directory with exactly `contents`.
