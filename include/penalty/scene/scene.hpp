@@ -315,6 +315,9 @@ private:
     void carry_live_quirks(Scene& fresh) const;
     /// A Data's value as a quirk holds it (a written spring list, a lagging vertexMass), or nullopt.
     [[nodiscard]] std::optional<DataValue> quirk_value(const io::SceneComponent& c, const DataField& f) const;
+    /// ConstantForceField's `forces`, `totalForce` and (none given) `indices` as SOFA's init and
+    /// update callbacks leave them, or nullopt (live_quirks.cpp).
+    [[nodiscard]] std::optional<DataValue> constant_force_data(const io::SceneComponent& c, const DataField& f) const;
     /// The mass built from the component at SOFA path `component`, or null.
     [[nodiscard]] BaseMass* built_mass_of(const std::string& component) const;
     /// The points and elements of a topology component as built (its node's topology), or nullopt.
