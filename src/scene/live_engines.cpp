@@ -206,6 +206,11 @@ std::optional<LivePoints> SceneBuilder::moving_input(const Attributes& a, std::s
     return LivePoints{state, nullptr, {}, {}};
 }
 
+const BoxRoiWrite* SceneBuilder::box_roi_write(const io::SceneComponent& c) const {
+    const auto it = scene_.live_->box_roi_writes.find(Scene::component_path(c));
+    return it == scene_.live_->box_roi_writes.end() ? nullptr : &it->second;
+}
+
 namespace {
 
 /// True when link target `t` changes while the scene runs: a MechanicalObject's Data other than its

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -131,6 +132,14 @@ struct LiveEngineReader {
         seen_runs = engine->runs();
         return true;
     }
+};
+
+/// A BoxROI whose `box` or `orientedBox` was written after init (SofaQuirkFixes::fix_box_roi_write
+/// off): SOFA's BoxROI::roiInit, which orders each box's corners and computes the oriented boxes,
+/// ran once, at init; the engine runs again on the written Data without it.
+struct BoxRoiWrite {
+    bool box_as_written = false;                  ///< `box` tested as written (no corner ordered)
+    std::optional<std::string> oriented_of_init;  ///< the `orientedBox` text of init (empty: none), still tested
 };
 
 /// The engines of a scene that run on read, and the states whose positions follow one of them.

@@ -95,6 +95,20 @@ bool Scene::write_spring_list_quirk(const io::SceneElement& element, const DataO
     return false;
 }
 
+void Scene::note_box_roi_write(const io::SceneElement& element, const DataOwner& owner, std::string_view name) {
+    if (owner.node || element.type != "BoxROI" || (name != "box" && name != "orientedBox") ||
+        options_.sofa_quirk_fixes.fix_box_roi_write)
+        return;
+    BoxRoiWrite& w = live_->box_roi_writes[owner.path];
+    if (name == "box") {
+        w.box_as_written = true;  // roiInit's ordering of the corners does not run again
+    } else if (!w.oriented_of_init) {
+        // computeOrientedBoxes does not run again: the boxes of init stay the ones tested
+        const io::SceneAttribute* init = element.find("orientedBox");
+        w.oriented_of_init = init != nullptr ? init->value : std::string();
+    }
+}
+
 void Scene::carry_live_quirks(Scene& fresh) const {
     // UniformMass: a weight still lagging behind a written mass stays so in the new build.
     for (BaseMass* old : masses_) {

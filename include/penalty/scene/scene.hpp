@@ -311,6 +311,12 @@ private:
                                   std::string_view text, const std::string& what);
     bool write_spring_list_quirk(const io::SceneElement& element, const DataOwner& owner, std::string_view name,
                                  std::string_view text, const std::string& what);
+    /// BoxROI's `box` / `orientedBox` written after init (SofaQuirkFixes::fix_box_roi_write):
+    /// notes what the next builds select with (LiveEdits::box_roi_writes); the write goes on.
+    void note_box_roi_write(const io::SceneElement& element, const DataOwner& owner, std::string_view name);
+    /// build_scene, with what the writes of `carried` (a scene being built again) keep for the
+    /// builder (BoxROI's written boxes).
+    static std::unique_ptr<Scene> build_from(io::SceneFile file, const BuildOptions& options, const LiveEdits* carried);
     /// What the quirks keep goes on in a rebuilt scene: a lagging weight, written spring lists.
     void carry_live_quirks(Scene& fresh) const;
     /// A Data's value as a quirk holds it (a written spring list, a lagging vertexMass), or nullopt.
