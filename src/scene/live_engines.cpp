@@ -34,9 +34,9 @@ namespace {
 /// that of init, MeshROI::roiInit), TransformEngine's `translation`, `rotation` and `scale`
 /// (TransformEngine's constructor; a Data linked to a state's positions takes its first point,
 /// BaseData::genericCopyValueFrom), TransformPosition's `translation`, `rotation`, `scale` and
-/// `origin` (its `normal`, which TransformPosition::init normalises once, is not followed). SphereROI's `centers` (`~`: SOFA HEAD's SphereROI does not add
-/// them as an input, so they are read when the points run the engine again: a state's as of the
-/// step's start).
+/// `origin` (its `normal`, which TransformPosition::init normalises once, is not followed). SphereROI's `centers` (`~`:
+/// SOFA HEAD's SphereROI does not add them as an input, so they are read when the points run the engine again: a
+/// state's as of the step's start).
 constexpr LiveEngineKind kLiveEngineKinds[] = {
     {"BoxROI", "position", "rest_position", "doUpdate", {}},
     {"SphereROI", "position", "rest_position", "doUpdate", {"~centers"}},

@@ -36,14 +36,16 @@ std::string mover(const std::string& node, const std::string& name, const std::s
 std::string beam_after(const std::string& movers, const std::string& extra) {
     return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
   <DefaultAnimationLoop/>
-)" + movers + R"(  <Node name="Beam">
+)" + movers +
+           R"(  <Node name="Beam">
     <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
     <CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-12"/>
     <RegularGridTopology name="grid" nx="5" ny="2" nz="2" xmin="0" xmax="2" ymin="0" ymax="0.5" zmin="0" zmax="0.5"/>
     <MechanicalObject name="dofs"/>
     <UniformMass totalMass="1"/>
     <MeshSpringForceField stiffness="200" damping="0.1"/>
-)" + extra + R"(  </Node>
+)" + extra +
+           R"(  </Node>
 </Node>)";
 }
 
@@ -161,7 +163,8 @@ TEST(LiveEngineFollowedInputs, TransformEngineFollowsItsMovingTranslationRotatio
     EXPECT_EQ(x[5], Vec3(0.05080221154582755, 0.4963185271876348, -7.533509006489922e-05));
     EXPECT_EQ(x[9], Vec3(2.0417561158790396, 0.28856930971653383, -1.8103288555184124e-05));
     EXPECT_EQ(x[19], Vec3(2.0417561158790396, 0.2885693097165339, 0.5000181032885543));
-    for (const std::string& w : s->warnings()) EXPECT_EQ(w.find("changes while the scene runs"), std::string::npos) << w;
+    for (const std::string& w : s->warnings())
+        EXPECT_EQ(w.find("changes while the scene runs"), std::string::npos) << w;
 }
 
 TEST(LiveEngineFollowedInputs, TransformPositionFollowsItsMovingTranslationRotationScaleAndOriginAsSofaHead) {

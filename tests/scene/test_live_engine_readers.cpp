@@ -178,7 +178,8 @@ TEST(LiveEngineInputs, ProximityRoiCentresAreAnInputThatRunsItAgainAsSofaHead) {
 TEST(LiveEngineInputs, AnInputPenaltyDoesNotFollowIsNamedInAWarning) {
     // a TransformPosition's normal linking the moving ball's positions (TransformPosition::init
     // normalises it once: penalty does not follow it): SOFA would run it again, penalty reads it once
-    auto s = test::build(ball_through_beam(R"(<SphereROI name="near" centers="1.5 0 0.25" radii="0.45" position="@dofs.position"/>
+    auto s = test::build(
+        ball_through_beam(R"(<SphereROI name="near" centers="1.5 0 0.25" radii="0.45" position="@dofs.position"/>
     <TransformPosition name="flat" method="projectOnPlane" normal="@../Ball/ball.position" input_position="@dofs.position"/>)"));
     EXPECT_THAT(s->warnings(), ::testing::Contains(::testing::HasSubstr(
                                    "TransformPosition 'flat': input 'normal' links MechanicalObject 'ball'.position, "

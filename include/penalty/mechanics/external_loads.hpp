@@ -153,7 +153,7 @@ private:
     std::vector<Index> indices_;       ///< SOFA's d_indices (every point when none are given)
     std::vector<Index> last_indices_;  ///< indices_ before the source's read (a change re-runs the callbacks)
     std::vector<Index> points_;
-    std::vector<Vec3> point_forces_;  ///< SOFA's d_forces once its callbacks ran (one per index when valid)
+    std::vector<Vec3> point_forces_;        ///< SOFA's d_forces once its callbacks ran (one per index when valid)
     Vec3 total_force_data_ = Vec3::Zero();  ///< SOFA's d_totalForce
     double energy_ = 0.0;
     bool valid_ = true;

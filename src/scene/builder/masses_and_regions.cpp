@@ -173,7 +173,7 @@ void read_box_roi_boxes(const Attributes& a, const BoxRoiWrite* written, std::ve
     for (std::size_t i = 0; i < v.size(); i += 6) {
         const Vec3 lo(v[i], v[i + 1], v[i + 2]), hi(v[i + 3], v[i + 4], v[i + 5]);
         boxes.push_back(written != nullptr && written->box_as_written ? AlignedBox{lo, hi}
-                                                                       : AlignedBox::from_corners(lo, hi));
+                                                                      : AlignedBox::from_corners(lo, hi));
     }
     std::vector<double> o = a.numbers("orientedBox");
     if (o.size() % 10 != 0 || (a.has("orientedBox") && o.empty()))
@@ -181,7 +181,8 @@ void read_box_roi_boxes(const Attributes& a, const BoxRoiWrite* written, std::ve
     if (written != nullptr && written->oriented_of_init) {
         SceneComponent init = a.component();  // the same file and line in an error
         std::erase_if(init.attributes, [](const io::SceneAttribute& x) { return x.name == "orientedBox"; });
-        if (!written->oriented_of_init->empty()) init.attributes.push_back({"orientedBox", *written->oriented_of_init, 0});
+        if (!written->oriented_of_init->empty())
+            init.attributes.push_back({"orientedBox", *written->oriented_of_init, 0});
         o = Attributes(init).numbers("orientedBox");
     }
     for (std::size_t i = 0; i < o.size(); i += 10) {

@@ -56,7 +56,6 @@ void take_followed(const LiveEngine& engine, std::string_view name, Vec3& value)
     if (moved != nullptr && !moved->empty()) value = moved->front();
 }
 
-
 // Defaults: TransformEngine's constructor.
 constexpr AttributeSpec kTransformEngine[] = {
     {"input_position", K::points, "", "m", ValueCheck::none, "points to transform (inline or a link)"},
