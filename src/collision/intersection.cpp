@@ -51,7 +51,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 14> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 15> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -89,6 +89,10 @@ constexpr std::array<SofaQuirkInfo, 14> kSofaQuirks{{
      "MeshSpringForceField: a stiffness or damping written after init gives each spring value / rest length as a "
      "fresh scene, not the written value for every spring as SOFA's SpringForceField lists do (command line or "
      "BuildOptions only)"},
+    {"box_roi_write", &SofaQuirkFixes::fix_box_roi_write,
+     "BoxROI: a box or orientedBox written after init selects as a fresh scene would (corners ordered, the oriented "
+     "boxes made from the written value), not with the box as written and the oriented boxes of init as SOFA's "
+     "roiInit, which runs once (command line or BuildOptions only)"},
     {"subset_data_last_index", &SofaQuirkFixes::fix_subset_data_last_index,
      "Edge/Triangle/QuadPressureForceField: a removal renames the entries of the topology's current last element, not "
      "those of SOFA's TopologySubsetData last index kept from init (command line or BuildOptions only)"},

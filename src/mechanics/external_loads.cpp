@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 namespace penalty {
 
@@ -180,6 +181,9 @@ void ConstantForceField::init() {
         point_forces_.assign(count, Vec3(*parameters_.total_force / static_cast<double>(count)));
     }
     valid_ = true;
+    callbacks_ran_ = false;
+    indices_changed_ = false;
+    total_force_data_ = parameters_.total_force.value_or(Vec3::Zero());
 }
 
 void ConstantForceField::map_points() {
@@ -203,6 +207,7 @@ void ConstantForceField::run_update_callbacks() {
         valid_ = count != 0;
         if (valid_) point_forces_.assign(count, Vec3(*parameters_.total_force / static_cast<double>(count)));
     }
+    if (valid_ && !parameters_.forces.empty()) total_force_data_ = total_force();  // computeForceFromForcesVector
     map_points();
     const auto size = static_cast<Index>(state_->num_dofs());
     if (valid_)  // SOFA would write out of its force vector
@@ -212,18 +217,33 @@ void ConstantForceField::run_update_callbacks() {
                                        size, " points)");
 }
 
-void ConstantForceField::take_spread_forces(const ConstantForceField& before) {
-    if (parameters_.forces.size() != 1 || before.parameters_.forces != parameters_.forces) return;
+void ConstantForceField::take_callback_state(const ConstantForceField& before) {
+    if (before.parameters_.forces != parameters_.forces || before.parameters_.total_force != parameters_.total_force)
+        return;  // a written force: this build's init is SOFA's callbacks on it
     point_forces_ = before.point_forces_;
-    run_update_callbacks();
+    total_force_data_ = before.total_force_data_;
+    valid_ = before.valid_;
+    callbacks_ran_ = before.callbacks_ran_;
+    indices_changed_ = before.indices_changed_ || indices_ != before.indices_;
+}
+
+std::vector<Vec3> ConstantForceField::forces_data() const {
+    return callbacks_ran_ ? point_forces_ : parameters_.forces;
 }
 
 void ConstantForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
-    if (has_index_source()) {
-        // d_componentState's read (isComponentStateValid) runs the callbacks when d_indices changed
-        last_indices_ = indices_;
-        if (follow(indices_) != last_indices_) run_update_callbacks();
+    // d_componentState's read (isComponentStateValid) runs the callbacks when a Data changed: the
+    // first time (init made the forces they make), and after d_indices changed
+    if (!callbacks_ran_) {
+        callbacks_ran_ = true;
+        if (valid_ && !parameters_.forces.empty()) total_force_data_ = total_force();
     }
+    bool changed = std::exchange(indices_changed_, false);
+    if (has_index_source()) {
+        last_indices_ = indices_;
+        changed = follow(indices_) != last_indices_ || changed;
+    }
+    if (changed) run_update_callbacks();
     // addForce: nothing while the component is Invalid; f_p(j) += F_j; getPotentialEnergy: E = −Σ F_j·x_p(j)
     energy_ = 0.0;
     if (!valid_) return;

@@ -10,11 +10,7 @@ namespace penalty {
 
 MeshRegion::MeshRegion(std::vector<Vec3> points, std::vector<Triangle> triangles, bool use_mesh)
     : points_(std::move(points)), triangles_(std::move(triangles)), use_mesh_(use_mesh) {
-    for (std::size_t t = 0; t < triangles_.size(); ++t)
-        for (const PointId i : triangles_[t])
-            if (i < 0 || std::size_t(i) >= points_.size())
-                throw_invalid_argument("MeshROI: ROI triangle ", t, " uses point ", i, " but the ROI mesh has ",
-                                       points_.size(), " points");
+    check_triangles();
     // MeshROI::computeBoundingBox: b[0..2] collect the largest coordinates and b[3..5] the least,
     // then each pair is swapped into (min, max)
     std::array<double, 6>& b = box_;
@@ -31,6 +27,21 @@ MeshRegion::MeshRegion(std::vector<Vec3> points, std::vector<Triangle> triangles
     }
     for (std::size_t k = 0; k < 3; ++k)
         if (b[k] > b[k + 3]) std::swap(b[k], b[k + 3]);
+}
+
+void MeshRegion::check_triangles() const {
+    for (std::size_t t = 0; t < triangles_.size(); ++t)
+        for (const PointId i : triangles_[t])
+            if (i < 0 || std::size_t(i) >= points_.size())
+                throw_invalid_argument("MeshROI: ROI triangle ", t, " uses point ", i, " but the ROI mesh has ",
+                                       points_.size(), " points");
+}
+
+MeshRegion MeshRegion::moved(std::vector<Vec3> points) const {
+    MeshRegion region = *this;
+    region.points_ = std::move(points);
+    region.check_triangles();
+    return region;
 }
 
 bool MeshRegion::in_box(const Vec3& p) const {

@@ -52,6 +52,9 @@ struct Scene::LiveEdits {
     /// of SpringForceField, live_quirks.cpp), by component path then Data name: every build of the
     /// component applies them.
     std::map<std::string, std::map<std::string, std::vector<double>>> spring_lists;
+    /// BoxROI's `box` / `orientedBox` written after init (live_quirks.cpp), by component path:
+    /// every build of the component selects with them.
+    std::map<std::string, BoxRoiWrite> box_roi_writes;
     /// Engines over moving states, run on read, and their readers (live_engines.cpp); null when
     /// the scene has none. A rebuild takes the fresh scene's.
     std::unique_ptr<LiveEngines> engines;

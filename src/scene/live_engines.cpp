@@ -28,20 +28,25 @@ namespace {
 /// TransformEngine::doUpdate, TransformPosition::doUpdate: always.
 /// MergePoints::doUpdate: unless `noUpdate` (a flag written `!noUpdate`: the engine runs again
 /// unless it is 1). SubsetTopology::doUpdate: always.
-/// Followed besides the points (their builders read them through LiveEngine::followed): ProximityROI's
-/// `centers` and MergePoints' `position2`, inputs of SOFA's engines (addInput: a change runs the engine
-/// again); SphereROI's `centers` (`~`: SOFA HEAD's SphereROI does not add them as an input, so they
-/// are read when the points run the engine again: a state's as of the step's start).
+/// Followed besides the points (their builders read them through LiveEngine::followed), inputs of
+/// SOFA's engines (addInput: a change runs the engine again): ProximityROI's `centers`,
+/// MergePoints' `position2`, MeshROI's `ROIposition` (MeshROI's constructor; its bounding box stays
+/// that of init, MeshROI::roiInit), TransformEngine's `translation`, `rotation` and `scale`
+/// (TransformEngine's constructor; a Data linked to a state's positions takes its first point,
+/// BaseData::genericCopyValueFrom), TransformPosition's `translation`, `rotation`, `scale` and
+/// `origin` (its `normal`, which TransformPosition::init normalises once, is not followed). SphereROI's `centers` (`~`:
+/// SOFA HEAD's SphereROI does not add them as an input, so they are read when the points run the engine again: a
+/// state's as of the step's start).
 constexpr LiveEngineKind kLiveEngineKinds[] = {
-    {"BoxROI", "position", "rest_position", "doUpdate", ""},
-    {"SphereROI", "position", "rest_position", "doUpdate", "~centers"},
-    {"MeshROI", "position", "rest_position", "doUpdate", ""},
-    {"PlaneROI", "position", "rest_position", "", ""},
-    {"ProximityROI", "position", "rest_position", "", "centers"},
-    {"TransformEngine", "input_position", "", "", ""},
-    {"TransformPosition", "input_position", "inputPosition", "", ""},
-    {"MergePoints", "position1", "", "!noUpdate", "position2"},
-    {"SubsetTopology", "rest_position", "", "", ""},
+    {"BoxROI", "position", "rest_position", "doUpdate", {}},
+    {"SphereROI", "position", "rest_position", "doUpdate", {"~centers"}},
+    {"MeshROI", "position", "rest_position", "doUpdate", {"ROIposition"}},
+    {"PlaneROI", "position", "rest_position", "", {}},
+    {"ProximityROI", "position", "rest_position", "", {"centers"}},
+    {"TransformEngine", "input_position", "", "", {"translation", "rotation", "scale"}},
+    {"TransformPosition", "input_position", "inputPosition", "", {"translation", "rotation", "scale", "origin"}},
+    {"MergePoints", "position1", "", "!noUpdate", {"position2"}},
+    {"SubsetTopology", "rest_position", "", "", {}},
 };
 
 /// The readers penalty follows, by type and Data: a projective constraint's `indices`, which SOFA
@@ -201,6 +206,11 @@ std::optional<LivePoints> SceneBuilder::moving_input(const Attributes& a, std::s
     return LivePoints{state, nullptr, {}, {}};
 }
 
+const BoxRoiWrite* SceneBuilder::box_roi_write(const io::SceneComponent& c) const {
+    const auto it = scene_.live_->box_roi_writes.find(Scene::component_path(c));
+    return it == scene_.live_->box_roi_writes.end() ? nullptr : &it->second;
+}
+
 namespace {
 
 /// True when link target `t` changes while the scene runs: a MechanicalObject's Data other than its
@@ -223,7 +233,8 @@ void SceneBuilder::add_live_engine(const Attributes& a, const std::vector<Vec3>&
     const std::string_view attr = !a.has(kind->input) && !kind->input_alias.empty() ? kind->input_alias : kind->input;
     std::optional<LivePoints> input = moving_input(a, attr);
     std::vector<FollowedInput> followed;
-    if (std::string_view name = kind->followed; !name.empty()) {
+    for (std::string_view name : kind->followed) {
+        if (name.empty()) break;
         const bool read_on_run = name.front() == '~';  // not an input of SOFA's engine
         if (read_on_run) name.remove_prefix(1);
         if (std::optional<LivePoints> source = moving_input(a, name)) {

@@ -19,10 +19,12 @@
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/mechanics/topology.hpp"
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,16 +33,18 @@ namespace penalty::scene {
 
 /// An engine kind penalty runs again on read: the Data of its input points (the first one the
 /// scene sets), the flag that keeps the selection of init (BaseROI's `doUpdate` when 0; written
-/// `!name`, MergePoints' `noUpdate`, when 1; empty: none), and the one other point input penalty
-/// follows too (SphereROI's `centers`; empty: none), which the re-run reads through
-/// LiveEngine::followed. Each kind's builder gives the re-run function
-/// (SceneBuilder::add_live_engine), the same function as its build's.
+/// `!name`, MergePoints' `noUpdate`, when 1; empty: none), and the other inputs penalty follows
+/// when they link moving data (MeshROI's `ROIposition`, TransformEngine's `translation`; empty
+/// entries end the list; written `~name` when SOFA's engine reads the Data without adding it as an
+/// input, SphereROI's `centers`), which the re-run reads through LiveEngine::followed. Each kind's
+/// builder gives the re-run function (SceneBuilder::add_live_engine), the same function as its
+/// build's.
 struct LiveEngineKind {
     std::string_view type;
     std::string_view input;
     std::string_view input_alias;
     std::string_view update_flag;
-    std::string_view followed;
+    std::array<std::string_view, 4> followed;
 };
 
 /// The engine kinds of `type` that run on read, or null (the table in live_engines.cpp).
@@ -128,6 +132,14 @@ struct LiveEngineReader {
         seen_runs = engine->runs();
         return true;
     }
+};
+
+/// A BoxROI whose `box` or `orientedBox` was written after init (SofaQuirkFixes::fix_box_roi_write
+/// off): SOFA's BoxROI::roiInit, which orders each box's corners and computes the oriented boxes,
+/// ran once, at init; the engine runs again on the written Data without it.
+struct BoxRoiWrite {
+    bool box_as_written = false;                  ///< `box` tested as written (no corner ordered)
+    std::optional<std::string> oriented_of_init;  ///< the `orientedBox` text of init (empty: none), still tested
 };
 
 /// The engines of a scene that run on read, and the states whose positions follow one of them.

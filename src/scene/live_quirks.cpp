@@ -11,7 +11,10 @@
 #include "scene/live_edits.hpp"
 
 #include <algorithm>
+#include <initializer_list>
 #include <optional>
+#include <span>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -92,6 +95,20 @@ bool Scene::write_spring_list_quirk(const io::SceneElement& element, const DataO
     return false;
 }
 
+void Scene::note_box_roi_write(const io::SceneElement& element, const DataOwner& owner, std::string_view name) {
+    if (owner.node || element.type != "BoxROI" || (name != "box" && name != "orientedBox") ||
+        options_.sofa_quirk_fixes.fix_box_roi_write)
+        return;
+    BoxRoiWrite& w = live_->box_roi_writes[owner.path];
+    if (name == "box") {
+        w.box_as_written = true;  // roiInit's ordering of the corners does not run again
+    } else if (!w.oriented_of_init) {
+        // computeOrientedBoxes does not run again: the boxes of init stay the ones tested
+        const io::SceneAttribute* init = element.find("orientedBox");
+        w.oriented_of_init = init != nullptr ? init->value : std::string();
+    }
+}
+
 void Scene::carry_live_quirks(Scene& fresh) const {
     // UniformMass: a weight still lagging behind a written mass stays so in the new build.
     for (BaseMass* old : masses_) {
@@ -109,7 +126,7 @@ void Scene::carry_live_quirks(Scene& fresh) const {
             if (old_c->type == "ConstantForceField" && component_path(*old_c) == path)
                 // recorded as ConstantForceField* (build_constant_force_field)
                 static_cast<ConstantForceField*>(const_cast<void*>(built))
-                    ->take_spread_forces(*static_cast<const ConstantForceField*>(old_built));
+                    ->take_callback_state(*static_cast<const ConstantForceField*>(old_built));
     }
     // MeshSpringForceField: spring i takes value i of a written list, the last one past its end
     // (SpringForceField::updateSpringsFromTopologyIndices); rest lengths and the other list stay
@@ -135,7 +152,52 @@ void Scene::carry_live_quirks(Scene& fresh) const {
     }
 }
 
+namespace {
+
+/// Numbers as SOFA writes them (%.17g), space-separated.
+std::string number_text(std::initializer_list<std::span<const double>> parts) {
+    std::ostringstream text;
+    text.precision(17);
+    bool first = true;
+    for (std::span<const double> part : parts)
+        for (double v : part) {
+            text << (first ? "" : " ") << v;
+            first = false;
+        }
+    return text.str();
+}
+
+std::string vec3_text(const std::vector<Vec3>& v) {
+    std::ostringstream text;
+    text.precision(17);
+    for (std::size_t i = 0; i < v.size(); ++i) text << (i ? " " : "") << v[i][0] << " " << v[i][1] << " " << v[i][2];
+    return text.str();
+}
+
+}  // namespace
+
+std::optional<DataValue> Scene::constant_force_data(const io::SceneComponent& c, const DataField& f) const {
+    // SOFA's Data as ConstantForceField's init and update callbacks leave them: `indices` every
+    // point when none are given (init), `forces` and `totalForce` what the callbacks made of the
+    // scene's values once they ran (the first addForce)
+    const bool own_indices = f.name == "indices" && !c.has("indices");
+    if (f.name != "forces" && f.name != "totalForce" && !own_indices) return std::nullopt;
+    for (const auto& [built, component] : built_from_) {
+        if (component != &c) continue;
+        const auto* ff = static_cast<const ConstantForceField*>(built);  // recorded as ConstantForceField*
+        if (f.name == "forces") return make_data_value(f, vec3_text(ff->forces_data()));
+        if (f.name == "totalForce") {
+            const Vec3 t = ff->total_force_data();
+            return make_data_value(f, number_text({std::span<const double>(t.data(), 3)}));
+        }
+        std::vector<double> indices(ff->indices().begin(), ff->indices().end());
+        return make_data_value(f, number_text({indices}));
+    }
+    return std::nullopt;
+}
+
 std::optional<DataValue> Scene::quirk_value(const io::SceneComponent& c, const DataField& f) const {
+    if (c.type == "ConstantForceField") return constant_force_data(c, f);
     if (c.type == "MeshSpringForceField") {
         const auto lists = live_->spring_lists.find(component_path(c));
         if (lists == live_->spring_lists.end()) return std::nullopt;

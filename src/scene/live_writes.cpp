@@ -251,6 +251,7 @@ void Scene::set_data(const DataOwner& owner, std::string_view name, std::string_
     if (write_spring_list_quirk(*e, owner, name, text, what)) return;  // a list: checked there
     check_write(*e, owner.node, f, text);
     if (write_uniform_mass_quirk(*e, owner, name, text, what)) return;
+    note_box_roi_write(*e, owner, name);
     if (owner.node) {
         auto* sn = static_cast<io::SceneNode*>(e);
         if (sn->parent != nullptr)
@@ -466,7 +467,7 @@ void Scene::rebuild(bool reset) {
         io::SceneFile copy;
         copy.path = file_.path;
         copy.root = clone_node(*file_.root, nullptr, live_->removed);
-        fresh = build_scene(std::move(copy), options_);
+        fresh = build_from(std::move(copy), options_, live_.get());
         carry_states(*fresh, reset);
         carry_live_quirks(*fresh);  // live_quirks.cpp
     } catch (...) {

@@ -212,6 +212,10 @@ void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overri
 }
 
 std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& options) {
+    return Scene::build_from(std::move(file), options, nullptr);
+}
+
+std::unique_ptr<Scene> Scene::build_from(io::SceneFile file, const BuildOptions& options, const LiveEdits* carried) {
     std::vector<std::string> notes = apply_sofa_renames(file);  // first: overrides name the new types' Data
     if (!options.overrides.empty()) apply_overrides(file, options.overrides);
     const std::vector<std::string> prefixes = read_number_prefixes(file, options.sofa_quirk_fixes);
@@ -222,6 +226,7 @@ std::unique_ptr<Scene> build_scene(io::SceneFile file, const BuildOptions& optio
     scene->file_ = std::move(file);
     scene->options_ = options;
     scene->options_.overrides.clear();  // applied to file_ already
+    if (carried != nullptr) scene->live_->box_roi_writes = carried->box_roi_writes;
     SceneBuilder(scene->file_, options, *scene).build();
     scene->build_warnings_.insert(scene->build_warnings_.end(), notes.begin(), notes.end());
     scene->install_contact_stage();

@@ -21,7 +21,7 @@ void Simulation::plan_node(Node& node) {
         plan_.push_back({&node, nullptr, {}});
         return;
     }
-    for (const auto& ff : node.force_fields()) plan_.push_back({nullptr, ff.get(), ff->states()});
+    node.for_each_force_field([this](BaseForceField& ff) { plan_.push_back({nullptr, &ff, ff.states()}); });
     for (const auto& child : node.children()) plan_node(*child);
 }
 

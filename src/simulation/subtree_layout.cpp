@@ -79,10 +79,10 @@ void collect(Node& node, SubtreeLayout& l) {
         l.masses.emplace_back(m, node.gravity());
         l.steps.push_back({.mass = m, .gravity = node.gravity()});
     }
-    for (const auto& ff : node.force_fields()) {
-        l.force_fields.push_back(ff.get());
-        l.steps.push_back({.force_field = ff.get()});
-    }
+    node.for_each_force_field([&l](BaseForceField& ff) {
+        l.force_fields.push_back(&ff);
+        l.steps.push_back({.force_field = &ff});
+    });
     for (const auto& c : node.constraints()) l.constraints.push_back(c.get());
     for (const auto& child : node.children()) collect(*child, l);
     // SOFA's bottom-up pass (MechanicalVisitor::processNodeBottomUp, post-order): a node's

@@ -176,13 +176,13 @@ TEST(LiveEngineInputs, ProximityRoiCentresAreAnInputThatRunsItAgainAsSofaHead) {
 }
 
 TEST(LiveEngineInputs, AnInputPenaltyDoesNotFollowIsNamedInAWarning) {
-    // a MeshROI's mesh linking the moving ball's positions: SOFA would select again, penalty
-    // reads it once
-    auto s =
-        test::build(ball_through_beam(R"(<MeshROI name="near" ROIposition="@../Ball/ball.position" ROItriangles="0 0 0"
-                                   position="@dofs.position"/>)"));
+    // a TransformPosition's normal linking the moving ball's positions (TransformPosition::init
+    // normalises it once: penalty does not follow it): SOFA would run it again, penalty reads it once
+    auto s = test::build(
+        ball_through_beam(R"(<SphereROI name="near" centers="1.5 0 0.25" radii="0.45" position="@dofs.position"/>
+    <TransformPosition name="flat" method="projectOnPlane" normal="@../Ball/ball.position" input_position="@dofs.position"/>)"));
     EXPECT_THAT(s->warnings(), ::testing::Contains(::testing::HasSubstr(
-                                   "MeshROI 'near': input 'ROIposition' links MechanicalObject 'ball'.position, "
+                                   "TransformPosition 'flat': input 'normal' links MechanicalObject 'ball'.position, "
                                    "which changes while the scene runs: penalty reads it once")));
     auto followed = test::build(ball_through_beam());
     EXPECT_THAT(followed->warnings(), ::testing::Not(::testing::Contains(::testing::HasSubstr("input 'centers'"))));

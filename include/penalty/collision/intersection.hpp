@@ -94,6 +94,12 @@ struct SofaQuirkFixes {
     /// value i (the last one past its end): every spring's ks (kd) becomes the written value, not
     /// value / rest length as MeshSpringForceField::init makes. true: as a fresh scene.
     bool fix_mesh_spring_stiffness_write = false;
+    /// A live-write quirk: BoxROI orders each box's corners (min below max) and computes its
+    /// oriented boxes once, in BoxROI::roiInit; a write after init re-runs the engine (the boxes
+    /// are inputs) with the `box` as written (a corner above the other selects nothing on that
+    /// axis) and the oriented boxes of init (computeOrientedBoxes is not run again). true: as a
+    /// fresh scene with the written value.
+    bool fix_box_roi_write = false;
     /// A topology-change quirk: SOFA's TopologySubsetData::remove (the pressure loads'
     /// edge/triangle/quadPressureMap) renames the entries of its m_lastElementIndex, the
     /// topology's last element at init plus the elements added since, never lowered by a

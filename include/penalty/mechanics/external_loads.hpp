@@ -124,11 +124,23 @@ public:
     /// SOFA's component state: false (Invalid, no force) after followed indices changed to a count
     /// the per-index forces do not fit, or to none with `totalForce`.
     [[nodiscard]] bool valid() const { return valid_; }
-    /// A rebuild after a write of the scene's Data (indices written by a controller): SOFA's
-    /// d_forces keep what the callbacks made of one `forces` value (as many copies as the indices
-    /// had), so when this one's `forces` are `before`'s single value it takes `before`'s forces and
-    /// runs the callbacks with its own indices (another count: Invalid).
-    void take_spread_forces(const ConstantForceField& before);
+    /// SOFA's `indices` Data after init: the given ones, or every point.
+    [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
+    /// SOFA's `forces` Data: the scene's value until the update callbacks first ran (the first
+    /// addForce: isComponentStateValid), then what they made of it (one force spread over the
+    /// indices, computeForceFromSingleForce; with `totalForce`, T / n each), kept while the
+    /// component is Invalid.
+    [[nodiscard]] std::vector<Vec3> forces_data() const;
+    /// SOFA's `totalForce` Data: the scene's value (0 0 0 when not given) until the callbacks first
+    /// ran; with `forces`, then Σ F_j summed in index order from 0 (computeForceFromForcesVector,
+    /// the last callback), kept while the component is Invalid.
+    [[nodiscard]] Vec3 total_force_data() const { return total_force_data_; }
+    /// A rebuild after a write of the scene's Data (indices written by a controller, another
+    /// component's Data): when this one's `forces` and `totalForce` are `before`'s, SOFA's component
+    /// keeps the Data its callbacks made (one `forces` value stays as many copies as the indices had)
+    /// and its state; new indices run the callbacks at the next addForce (another count of spread
+    /// forces: Invalid).
+    void take_callback_state(const ConstantForceField& before);
 
 private:
     /// SOFA's callbacks updateFromIndices, updateFromForcesVector and updateFromTotalForce, run
@@ -141,9 +153,12 @@ private:
     std::vector<Index> indices_;       ///< SOFA's d_indices (every point when none are given)
     std::vector<Index> last_indices_;  ///< indices_ before the source's read (a change re-runs the callbacks)
     std::vector<Index> points_;
-    std::vector<Vec3> point_forces_;  ///< SOFA's d_forces once its callbacks ran (one per index when valid)
+    std::vector<Vec3> point_forces_;        ///< SOFA's d_forces once its callbacks ran (one per index when valid)
+    Vec3 total_force_data_ = Vec3::Zero();  ///< SOFA's d_totalForce
     double energy_ = 0.0;
     bool valid_ = true;
+    bool callbacks_ran_ = false;    ///< the callbacks ran once (the first addForce)
+    bool indices_changed_ = false;  ///< a rebuild changed the indices: the next addForce runs the callbacks
 };
 
 // ---- ConicalForceField --------------------------------------------------------------------------

@@ -66,6 +66,12 @@ public:
     [[nodiscard]] virtual ForceFieldStates states() const = 0;
     /// True when the field acts between two distinct states.
     [[nodiscard]] bool is_interaction() const { return states().size() > 1; }
+    /// True for SOFA's interaction force fields (BaseInteractionForceField: SpringForceField and
+    /// the fields made of it, PairInteractionForceField, MixedInteractionForceField), on one state
+    /// or two: SOFA's node keeps them in its interactionForceField list, which the mechanical
+    /// visitors visit after its forceField list (BaseMechanicalVisitor::processNodeTopDown), so a
+    /// node sums its other force fields first (Node::for_each_force_field).
+    [[nodiscard]] virtual bool sofa_interaction() const { return false; }
     /// Appends to `rows` every DOF of `state` (one of states()) whose dx accumulate_dforce may
     /// read, in any order and possibly repeated, and returns true; false (the default): the field
     /// cannot tell, it may read any. The field writes force (accumulate_force) and df
@@ -111,6 +117,11 @@ protected:
 class Vec3InteractionForceField : public BaseForceField {
 public:
     Vec3InteractionForceField(Vec3Object& state1, Vec3Object& state2) : s1_(&state1), s2_(&state2) {}
+    /// True (SOFA's PairInteractionForceField, SpringForceField) unless set false for a field SOFA
+    /// derives from ForceField that penalty builds as springs (TriangularBendingSprings,
+    /// QuadularBendingSprings).
+    [[nodiscard]] bool sofa_interaction() const final { return sofa_interaction_; }
+    void set_sofa_interaction(bool interaction) { sofa_interaction_ = interaction; }
 
     virtual void add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
                            ConstVec3Span v2) = 0;
@@ -134,6 +145,7 @@ public:
 protected:
     Vec3Object* s1_;
     Vec3Object* s2_;
+    bool sofa_interaction_ = true;
 };
 
 /// Mass of one state: M (and gravity force M·g).

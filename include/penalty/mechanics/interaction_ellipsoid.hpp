@@ -40,6 +40,7 @@ public:
     /// Throws std::invalid_argument for a zero or non-finite radius, a non-finite value or a
     /// frame index out of the Rigid3d state (checked at init()).
     InteractionEllipsoidForceField(Vec3Object& points, Rigid3Object& frames, InteractionEllipsoidParameters parameters);
+    [[nodiscard]] bool sofa_interaction() const override { return true; }  // MixedInteractionForceField
 
     void init() override;
     void accumulate_force() override;

@@ -58,6 +58,7 @@ struct JointSpring {
 class JointSpringForceField final : public BaseForceField {
 public:
     JointSpringForceField(Rigid3Object& state1, Rigid3Object& state2, std::vector<JointSpring> springs);
+    [[nodiscard]] bool sofa_interaction() const override { return true; }  // PairInteractionForceField
     /// Checks the indices; takes the rest offsets from the positions where the spring asks
     /// (JointSpringForceField::bwdInit).
     void init() override;

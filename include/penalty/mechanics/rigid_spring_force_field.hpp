@@ -21,6 +21,7 @@ public:
     /// Springs between frames of `state1` (Spring::a) and `state2` (Spring::b); the same state twice
     /// for springs inside one.
     RigidSpringForceField(Rigid3Object& state1, Rigid3Object& state2, std::vector<Spring> springs);
+    [[nodiscard]] bool sofa_interaction() const override { return true; }  // SpringForceField<Rigid3>
     /// Checks the indices against the states and the coefficients (finite, >= 0).
     void init() override;
     void accumulate_force() override;

@@ -27,12 +27,17 @@ class MeshRegion {
 public:
     /// Throws std::invalid_argument for a triangle index past the points.
     MeshRegion(std::vector<Vec3> points, std::vector<Triangle> triangles, bool use_mesh);
+    /// The region over moved mesh points (MeshROI run again after its `ROIposition` changed): the
+    /// triangles and the box stay (MeshROI::roiInit computes the box once, at init). Throws
+    /// std::invalid_argument for a triangle index past the points.
+    [[nodiscard]] MeshRegion moved(std::vector<Vec3> points) const;
     [[nodiscard]] bool contains(const Vec3& p) const;
     /// xmin ymin zmin xmax ymax zmax (MeshROI's `box` output); zeros without points.
     [[nodiscard]] const std::array<double, 6>& box() const { return box_; }
 
 private:
     [[nodiscard]] bool in_box(const Vec3& p) const;
+    void check_triangles() const;
     std::vector<Vec3> points_;
     std::vector<Triangle> triangles_;
     bool use_mesh_;

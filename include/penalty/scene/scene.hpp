@@ -311,10 +311,19 @@ private:
                                   std::string_view text, const std::string& what);
     bool write_spring_list_quirk(const io::SceneElement& element, const DataOwner& owner, std::string_view name,
                                  std::string_view text, const std::string& what);
+    /// BoxROI's `box` / `orientedBox` written after init (SofaQuirkFixes::fix_box_roi_write):
+    /// notes what the next builds select with (LiveEdits::box_roi_writes); the write goes on.
+    void note_box_roi_write(const io::SceneElement& element, const DataOwner& owner, std::string_view name);
+    /// build_scene, with what the writes of `carried` (a scene being built again) keep for the
+    /// builder (BoxROI's written boxes).
+    static std::unique_ptr<Scene> build_from(io::SceneFile file, const BuildOptions& options, const LiveEdits* carried);
     /// What the quirks keep goes on in a rebuilt scene: a lagging weight, written spring lists.
     void carry_live_quirks(Scene& fresh) const;
     /// A Data's value as a quirk holds it (a written spring list, a lagging vertexMass), or nullopt.
     [[nodiscard]] std::optional<DataValue> quirk_value(const io::SceneComponent& c, const DataField& f) const;
+    /// ConstantForceField's `forces`, `totalForce` and (none given) `indices` as SOFA's init and
+    /// update callbacks leave them, or nullopt (live_quirks.cpp).
+    [[nodiscard]] std::optional<DataValue> constant_force_data(const io::SceneComponent& c, const DataField& f) const;
     /// The mass built from the component at SOFA path `component`, or null.
     [[nodiscard]] BaseMass* built_mass_of(const std::string& component) const;
     /// The points and elements of a topology component as built (its node's topology), or nullopt.

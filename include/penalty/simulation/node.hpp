@@ -17,6 +17,7 @@
 #include "penalty/mechanics/mechanical_object.hpp"
 
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <span>
@@ -130,6 +131,16 @@ public:
     void move_force_fields_to_end(std::span<BaseForceField* const> moved);
 
     [[nodiscard]] const std::vector<std::unique_ptr<BaseForceField>>& force_fields() const { return force_fields_; }
+    /// Calls fn(BaseForceField&) for each force field in SOFA's visiting order: the fields that
+    /// are not SOFA interaction force fields first, then those that are
+    /// (BaseForceField::sofa_interaction; BaseMechanicalVisitor::processNodeTopDown visits a
+    /// node's forceField list before its interactionForceField list), each group in list order.
+    template <class Fn>
+    void for_each_force_field(Fn&& fn) const {
+        for (const bool interaction : {false, true})
+            for (const auto& ff : force_fields_)
+                if (ff->sofa_interaction() == interaction) fn(*ff);
+    }
     [[nodiscard]] BaseMass* mass() const { return mass_.get(); }
     [[nodiscard]] BaseMapping* mapping() const { return mapping_.get(); }
     [[nodiscard]] const std::vector<std::unique_ptr<BaseProjectiveConstraint>>& constraints() const {

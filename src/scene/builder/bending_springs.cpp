@@ -81,6 +81,7 @@ void build_quadular_bending_springs(SceneBuilder& b, const SceneComponent& c, No
         });
         ff.set_null_length(kBendingSpringNullLength);  // QuadularBendingSprings::computeSpringForce
         ff.set_arithmetic(SpringArithmetic::quadular_bending_springs);
+        ff.set_sofa_interaction(false);  // SOFA's QuadularBendingSprings is a ForceField, not a SpringForceField
         b.role(c, [f = &ff] {
             return counted(f->springs().size(), "bending spring", "bending springs") +
                    " (two across each edge shared by two quads)";

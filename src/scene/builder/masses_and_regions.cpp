@@ -160,6 +160,39 @@ RoiSelection select_in_box_roi(const std::vector<Vec3>& points, const RoiElement
     return select_in_region(points, elements, inside, test);
 }
 
+/// BoxROI's boxes (BoxROI::roiInit): each `box`'s corners ordered, the default box only when
+/// neither `box` nor `orientedBox` is given, the oriented boxes from their three corners and depth.
+/// After a write (`written`, SofaQuirkFixes::fix_box_roi_write off), SOFA's roiInit does not run
+/// again: the written `box` is tested as written, the oriented boxes stay those of init.
+void read_box_roi_boxes(const Attributes& a, const BoxRoiWrite* written, std::vector<AlignedBox>& boxes,
+                        std::vector<OrientedBox>& oriented) {
+    const bool defaults = !a.has("box") && !a.has("orientedBox");
+    const std::vector<double> v = defaults ? std::vector<double>{0, 0, 0, 1, 1, 1} : a.numbers("box");
+    if (v.size() % 6 != 0 || (a.has("box") && v.empty()))
+        a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
+    for (std::size_t i = 0; i < v.size(); i += 6) {
+        const Vec3 lo(v[i], v[i + 1], v[i + 2]), hi(v[i + 3], v[i + 4], v[i + 5]);
+        boxes.push_back(written != nullptr && written->box_as_written ? AlignedBox{lo, hi}
+                                                                      : AlignedBox::from_corners(lo, hi));
+    }
+    std::vector<double> o = a.numbers("orientedBox");
+    if (o.size() % 10 != 0 || (a.has("orientedBox") && o.empty()))
+        a.fail("orientedBox", "expected 10 numbers per box (p0, p1, p2, depth), found " + std::to_string(o.size()));
+    if (written != nullptr && written->oriented_of_init) {
+        SceneComponent init = a.component();  // the same file and line in an error
+        std::erase_if(init.attributes, [](const io::SceneAttribute& x) { return x.name == "orientedBox"; });
+        if (!written->oriented_of_init->empty())
+            init.attributes.push_back({"orientedBox", *written->oriented_of_init, 0});
+        o = Attributes(init).numbers("orientedBox");
+    }
+    for (std::size_t i = 0; i < o.size(); i += 10) {
+        const Vec3 p0(o[i], o[i + 1], o[i + 2]), p1(o[i + 3], o[i + 4], o[i + 5]), p2(o[i + 6], o[i + 7], o[i + 8]);
+        if ((p1 - p0).cross(p2 - p0).norm() == 0)
+            a.fail("orientedBox", "box " + std::to_string(i / 10) + ": p0, p1 and p2 are aligned (no plane)");
+        oriented.emplace_back(p0, p1, p2, o[i + 9]);
+    }
+}
+
 void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     std::vector<AlignedBox> boxes;
@@ -168,23 +201,7 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     RoiElements elements;
     RoiSelection selection;
     b.guarded(c, [&] {
-        // BoxROI::roiInit: the default box only when neither `box` nor `orientedBox` is given
-        const bool defaults = !a.has("box") && !a.has("orientedBox");
-        const std::vector<double> v = defaults ? std::vector<double>{0, 0, 0, 1, 1, 1} : a.numbers("box");
-        if (v.size() % 6 != 0 || (a.has("box") && v.empty()))
-            a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
-        for (std::size_t i = 0; i < v.size(); i += 6)
-            boxes.push_back(
-                AlignedBox::from_corners(Vec3(v[i], v[i + 1], v[i + 2]), Vec3(v[i + 3], v[i + 4], v[i + 5])));
-        const std::vector<double> o = a.numbers("orientedBox");
-        if (o.size() % 10 != 0 || (a.has("orientedBox") && o.empty()))
-            a.fail("orientedBox", "expected 10 numbers per box (p0, p1, p2, depth), found " + std::to_string(o.size()));
-        for (std::size_t i = 0; i < o.size(); i += 10) {
-            const Vec3 p0(o[i], o[i + 1], o[i + 2]), p1(o[i + 3], o[i + 4], o[i + 5]), p2(o[i + 6], o[i + 7], o[i + 8]);
-            if ((p1 - p0).cross(p2 - p0).norm() == 0)
-                a.fail("orientedBox", "box " + std::to_string(i / 10) + ": p0, p1 and p2 are aligned (no plane)");
-            oriented.emplace_back(p0, p1, p2, o[i + 9]);
-        }
+        read_box_roi_boxes(a, b.box_roi_write(c), boxes, oriented);
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::base_roi, {.quad_alias = true});

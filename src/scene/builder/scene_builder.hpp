@@ -177,6 +177,8 @@ public:
     /// (`@dofs.position`, which the solve writes) or a point output of an engine that runs on read
     /// (`@transform.output_position`); nullopt otherwise (src/scene/live_engines.cpp).
     [[nodiscard]] std::optional<LivePoints> moving_input(const Attributes& a, std::string_view attr);
+    /// The written boxes of BoxROI `c` that its selection uses (Scene::note_box_roi_write), or null.
+    [[nodiscard]] const BoxRoiWrite* box_roi_write(const io::SceneComponent& c) const;
     /// Makes engine `a.component()` (a kind of kLiveEngineKinds) run `evaluate` again when a reader
     /// reads one of its outputs after its input points, or an input it follows, moved (SOFA's
     /// DDGNode::updateIfDirty); `points` are its input points at the build. Nothing when no such

@@ -2,7 +2,8 @@
 // MeshROI (points and elements inside a closed triangle mesh), ProximityROI (the N points nearest
 // a set of centres) and ValuesFromPositions (a scalar or vector field along a direction). Each
 // computes its outputs at build and records them for links (`@roi.indices`, ...); MeshROI and
-// ProximityROI over moving positions run again on read (live_engines.cpp).
+// ProximityROI over moving positions (MeshROI also over a moving ROI mesh, ProximityROI over
+// moving centres) run again on read (live_engines.cpp).
 // Formulas: include/penalty/mechanics/selection_engines.hpp, docs/components/data_engines.md.
 #include "penalty/mechanics/selection_engines.hpp"
 #include "scene/builder/element_topology.hpp"
@@ -10,6 +11,7 @@
 #include "scene/builder/regions_of_interest.hpp"
 
 #include <memory>
+#include <optional>
 
 namespace penalty::scene::builder {
 
@@ -111,9 +113,14 @@ void build_mesh_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         const ElementTest test = a.boolean("strict") ? ElementTest::all_points : ElementTest::all_points_or_center;
         const auto inside = [region](const Vec3& p) { return region->contains(p); };
         selection = select_in_region(points, elements, inside, test);
-        // over moving positions: run again on read (live_engines.cpp); the ROI mesh stays
-        b.add_live_engine(a, points, [elements, inside, test](const std::vector<Vec3>& x, LiveEngine& engine) {
-            for (auto& [name, indices] : roi_index_outputs(select_in_region(x, elements, inside, test)))
+        // over moving positions, or a ROI mesh whose points link moving ones: run again on read
+        // (live_engines.cpp); the moved ROI mesh keeps the bounding box of init (MeshROI::roiInit)
+        b.add_live_engine(a, points, [elements, region, test](const std::vector<Vec3>& x, LiveEngine& engine) {
+            std::optional<MeshRegion> moved;
+            if (const std::vector<Vec3>* roi = engine.followed("ROIposition")) moved = region->moved(*roi);
+            const MeshRegion& now = moved ? *moved : *region;
+            const auto in = [&now](const Vec3& p) { return now.contains(p); };
+            for (auto& [name, indices] : roi_index_outputs(select_in_region(x, elements, in, test)))
                 engine.indices[name] = std::move(indices);
         });
     });

@@ -101,6 +101,7 @@ void build_triangular_bending_springs(SceneBuilder& b, const SceneComponent& c, 
         const MeshTopology& topology = b.topology_of(a, info);
         auto* ff = &info.node->add_force_field<SpringForceField>(s);
         ff->set_null_length(kBendingSpringNullLength);
+        ff->set_sofa_interaction(false);  // SOFA's TriangularBendingSprings is a ForceField, not a SpringForceField
         b.record_origin(ff, c);
         // springs from the rest positions once the state is initialised (SOFA: init → reinit)
         b.add_init(1, c, [ff, &topology, &s, ks, kd] {

@@ -1,7 +1,9 @@
 // Data engines that transform or merge points (SOFA's Sofa/Component/Engine/Transform and
 // Generate): TransformEngine, TransformPosition, MergePoints, MeshTetraStuffing. Each reads its input
 // points (inline or a link, `@[-1].position`), computes its output at the build (over moving points,
-// TransformEngine, TransformPosition and MergePoints run again on read: live_engines.cpp) and
+// TransformEngine, TransformPosition and MergePoints run again on read, TransformEngine and
+// TransformPosition also when their translation, rotation or scale links moving points:
+// live_engines.cpp) and
 // records it as `output_position`, which a MechanicalObject, a topology or another engine reads
 // through a link. Formulas: include/penalty/mechanics/transform_engines.hpp and
 // docs/components/data_engines.md.
@@ -38,6 +40,22 @@ void record_points(SceneBuilder& b, const SceneComponent& c, std::initializer_li
 }
 
 // ---- TransformEngine ------------------------------------------------------------------------
+/// A Vec3 Data: inline, three numbers; linked to another Data, the first three numbers of its value
+/// (BaseData::genericCopyValueFrom: `translation="@mover.position"` takes the first point).
+Vec3 vector3_or_first(const Attributes& a, std::string_view name) {
+    if (!a.is_link(name)) return a.vector3(name);
+    const std::vector<double> v = a.numbers(name);
+    if (v.size() < 3) a.fail(name, "the linked Data has " + std::to_string(v.size()) + " numbers, expected 3 or more");
+    return Vec3(v[0], v[1], v[2]);
+}
+
+/// A followed Vec3 input of a live engine (kLiveEngineKinds) linked to a list of points takes the
+/// first (BaseData::genericCopyValueFrom copies the first 3 numbers; none: the value stays).
+void take_followed(const LiveEngine& engine, std::string_view name, Vec3& value) {
+    const std::vector<Vec3>* moved = engine.followed(name);
+    if (moved != nullptr && !moved->empty()) value = moved->front();
+}
+
 // Defaults: TransformEngine's constructor.
 constexpr AttributeSpec kTransformEngine[] = {
     {"input_position", K::points, "", "m", ValueCheck::none, "points to transform (inline or a link)"},
@@ -54,9 +72,9 @@ void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&
     std::vector<Vec3> out;
     b.guarded(c, [&] {
         TransformEngineParameters p;
-        p.translation = a.vector3("translation");
-        p.rotation_deg = a.vector3("rotation");
-        p.scale = a.vector3("scale");
+        p.translation = vector3_or_first(a, "translation");
+        p.rotation_deg = vector3_or_first(a, "rotation");
+        p.scale = vector3_or_first(a, "scale");
         p.inverse = a.boolean("inverse");
         if (a.has("quaternion")) {
             const std::vector<double> q = a.numbers("quaternion");
@@ -67,9 +85,14 @@ void build_transform_engine(SceneBuilder& b, const SceneComponent& c, NodeBuild&
             a.fail("scale", "a zero factor has no inverse");
         const std::vector<Vec3> in = input_points(b, a, "input_position", "");
         out = transform_engine(in, p);
-        // over moving positions (a state's, which the solve writes): run again on read (live_engines.cpp)
+        // over moving positions (a state's, which the solve writes), or a translation, rotation or
+        // scale linking moving points: run again on read (live_engines.cpp)
         b.add_live_engine(a, in, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
-            engine.meshes["output_position"].positions = transform_engine(x, p);
+            TransformEngineParameters now = p;
+            take_followed(engine, "translation", now.translation);
+            take_followed(engine, "rotation", now.rotation_deg);
+            take_followed(engine, "scale", now.scale);
+            engine.meshes["output_position"].positions = transform_engine(x, now);
         });
     });
     record_points(b, c, {"output_position"}, out);
@@ -136,18 +159,25 @@ void build_transform_position(SceneBuilder& b, const SceneComponent& c, NodeBuil
                 for (int k = 0; k < 4; ++k) p.matrix(r, k) = m[4 * std::size_t(r) + std::size_t(k)];
         }
         p.method = position_method(a, b, p.matrix);
-        p.origin = a.vector3("origin");
+        p.origin = vector3_or_first(a, "origin");
         p.normal = a.vector3("normal");
         if (p.method == TransformPositionMethod::project_on_plane && p.normal == Vec3::Zero())
             a.fail("normal", "method projectOnPlane needs a non-zero normal");
-        p.translation = a.vector3("translation");
-        p.rotation_deg = a.vector3("rotation");
-        p.scale = a.vector3("scale");
+        p.translation = vector3_or_first(a, "translation");
+        p.rotation_deg = vector3_or_first(a, "rotation");
+        p.scale = vector3_or_first(a, "scale");
         if (a.has("fixedIndices")) p.fixed_indices = b.indices(a, "fixedIndices");
         const std::vector<Vec3> in = input_points(b, a, "input_position", "inputPosition");
         out = transform_position(in, p);
+        // over moving positions, or a translation, rotation, scale or origin linking moving points:
+        // run again on read (live_engines.cpp)
         b.add_live_engine(a, in, [p](const std::vector<Vec3>& x, LiveEngine& engine) {
-            std::vector<Vec3> moved = transform_position(x, p);
+            TransformPositionParameters now = p;
+            take_followed(engine, "translation", now.translation);
+            take_followed(engine, "rotation", now.rotation_deg);
+            take_followed(engine, "scale", now.scale);
+            take_followed(engine, "origin", now.origin);
+            std::vector<Vec3> moved = transform_position(x, now);
             engine.meshes["outputPosition"].positions = moved;  // alias
             engine.meshes["output_position"].positions = std::move(moved);
         });
