@@ -2,8 +2,8 @@
 // within the magnitudes a scene may hold; blanks, trimming and the byte-order mark; the tokenizer's
 // line numbers and its messages naming file and line; files that cannot be read, refused before
 // reading.
+#include "io/text.hpp"
 #include "io_test_util.hpp"
-#include "src/io/text.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

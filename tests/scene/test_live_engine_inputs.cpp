@@ -60,7 +60,7 @@ std::vector<double> data_numbers(scene::Scene& s, const std::string& path, const
     return s.data({path, false}, data).numbers;
 }
 
-void run_steps(scene::Scene& s, int n) {
+void advance_steps(scene::Scene& s, int n) {
     for (int k = 0; k < n; ++k) s.step();
 }
 
@@ -82,24 +82,24 @@ TEST(LiveEngineFollowedInputs, MeshRoiFollowsItsMovingRoiMeshWithinTheBoxOfInitA
     auto s = test::build(moving_mesh_roi());
     const std::vector<Vec3>& x = falling_beam_positions(*s);
     EXPECT_EQ(data_numbers(*s, "/Beam/roi", "indices"), (std::vector<double>{0, 1, 10, 11}));
-    run_steps(*s, 22);
+    advance_steps(*s, 22);
     // the cube's xmin passed 0: points 0 and 10 fall from step 21 (read after the step, as
     // SofaPython3's `roi.indices.value`: from step 22, the step's solve having moved them in again)
     EXPECT_EQ(data_numbers(*s, "/Beam/roi", "indices"), (std::vector<double>{1, 11}));
-    run_steps(*s, 8);
+    advance_steps(*s, 8);
     EXPECT_EQ(x[0], Vec3(0.002973811463892745, 0.04618618665416311, 1.6279353273560143e-05));
     EXPECT_EQ(x[2], Vec3(0.9922380224820421, -0.06728780650474522, -0.0005239008526353311));
     EXPECT_EQ(x[11], Vec3(0.5, 0.0, 0.5));
     EXPECT_EQ(x[12], Vec3(0.9922380224820351, -0.0672878065047445, 0.5005239008526344));
-    run_steps(*s, 10);
+    advance_steps(*s, 10);
     // point 2 (0.98, -0.13, 0) is inside the moved cube (x in [0.19, 1.03]) but beyond the
     // bounding box of init (x <= 0.63), which MeshROI::isPointInROI tests first: not selected
     EXPECT_GT(x[2][0], 0.19);
     EXPECT_LT(x[2][0], 0.63 + 0.4);
     EXPECT_EQ(data_numbers(*s, "/Beam/roi", "indices"), (std::vector<double>{1, 11}));
-    run_steps(*s, 32);
+    advance_steps(*s, 32);
     EXPECT_TRUE(data_numbers(*s, "/Beam/roi", "indices").empty());  // xmin passed 0.5 (step 71; read: 72)
-    run_steps(*s, 8);
+    advance_steps(*s, 8);
     EXPECT_EQ(x[0], Vec3(0.2451121942493577, 0.3467339476787226, -5.551474373969886e-05));
     EXPECT_EQ(x[2], Vec3(0.7584581088956867, -0.5153243513537072, 0.000381625220826301));
     EXPECT_EQ(x[11], Vec3(0.5019482482389321, -0.08278320357385799, 0.49990120496605733));
@@ -146,7 +146,7 @@ TEST(LiveEngineFollowedInputs, TransformEngineFollowsItsMovingTranslationRotatio
     auto s = test::build(moving_transform());
     const std::vector<Vec3>& x = falling_beam_positions(*s);
     EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{5, 6, 7, 8, 9, 15, 16, 17, 18, 19}));
-    run_steps(*s, 30);
+    advance_steps(*s, 30);
     // SOFA HEAD: 9 and 19 fall from step 26, 8 and 18 from step 30; a read after the step selects
     // at the step's positions and translation (SofaPython3's `box.indices.value`), the next step's
     // solve at those of the movers' solve, which runs first
@@ -156,7 +156,7 @@ TEST(LiveEngineFollowedInputs, TransformEngineFollowsItsMovingTranslationRotatio
     EXPECT_EQ(x[5], Vec3(0.0, 0.5, 0.0));
     EXPECT_EQ(x[9], Vec3(2.000088317721722, 0.4994135634588918, -4.218604382555395e-05));
     EXPECT_EQ(x[19], Vec3(2.000088317721722, 0.4994135634588918, 0.5000421860438254));
-    run_steps(*s, 50);
+    advance_steps(*s, 50);
     // 7 and 17 fell from step 36, 6 and 16 from 46, 5 and 15 from 61 (SofaPython3's read: 0 10)
     EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{0, 10}));
     EXPECT_EQ(x[0], Vec3(0.00028571087820310486, -0.0009096917394247518, 0.00011873921641257834));
@@ -171,17 +171,17 @@ TEST(LiveEngineFollowedInputs, TransformPositionFollowsItsMovingTranslationRotat
     auto s = test::build(moving_transform_position());
     const std::vector<Vec3>& x = falling_beam_positions(*s);
     EXPECT_TRUE(data_numbers(*s, "/Beam/box2", "indices").empty());
-    run_steps(*s, 30);
+    advance_steps(*s, 30);
     EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"),
               (std::vector<double>{1, 2, 3, 4, 5, 6, 7, 11, 12, 13, 14, 15, 16, 17}));
     EXPECT_EQ(x[4], Vec3(1.9997543733854433, -0.0007841863398770553, 0.00010331201708163755));
     EXPECT_EQ(x[9], Vec3(2.000088317721722, 0.4994135634588918, -4.218604382555395e-05));
     EXPECT_EQ(x[14], Vec3(1.9997543733854433, -0.0007841863398770366, 0.4998966879829184));
-    run_steps(*s, 20);
+    advance_steps(*s, 20);
     // the bottom points x = 1.5, 2 scaled by 2 about (0, 0.5, 0): y' = 2y - 0.5 in [-0.9, -0.5]
     // (fixed, they keep their velocity: activate_projectVelocity 0)
     EXPECT_EQ(data_numbers(*s, "/Beam/box2", "indices"), (std::vector<double>{3, 4, 13, 14}));
-    run_steps(*s, 30);
+    advance_steps(*s, 30);
     EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{0, 10}));
     EXPECT_EQ(data_numbers(*s, "/Beam/box2", "indices"), (std::vector<double>{3, 4, 13, 14}));
     EXPECT_EQ(x[4], Vec3(1.9986479708238545, -0.017210242171736702, -0.00011382135639744103));
