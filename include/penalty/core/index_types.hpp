@@ -36,6 +36,7 @@ public:
     [[nodiscard]] constexpr std::size_t slot() const { return static_cast<std::size_t>(value_); }
 
     friend constexpr bool operator==(StrongIndex, StrongIndex) = default;
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the defaulted <=> (a false positive)
     friend constexpr auto operator<=>(StrongIndex, StrongIndex) = default;
     /// The number (messages, test failures).
     friend std::ostream& operator<<(std::ostream& out, StrongIndex index) { return out << index.value_; }
@@ -82,6 +83,7 @@ public:
 
     friend constexpr bool operator==(PairKey, PairKey) = default;
     /// The order of bits(): by first, then second.
+    // NOLINTNEXTLINE(modernize-use-nullptr): clang-tidy 14 flags the defaulted <=> (a false positive)
     friend constexpr auto operator<=>(PairKey, PairKey) = default;
     /// "(first, second)".
     friend std::ostream& operator<<(std::ostream& out, PairKey key) {
