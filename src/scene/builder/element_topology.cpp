@@ -60,7 +60,7 @@ void build_element_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild&
         if (!lists.hexahedra) mesh.hexahedra.clear();
         for (const char* name : {"position", "points"}) {
             if (!lists.nb_points && std::string_view(name) == "points") continue;
-            if (a.has(name)) mesh.positions = a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
+            if (a.has(name)) mesh.positions = b.point_data(a, name);
         }
         if (lists.edges) read_element_list(b, a, "edges", mesh.edges, &io::MeshData::edges, &MeshTopology::edges);
         if (lists.triangles)

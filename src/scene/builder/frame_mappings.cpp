@@ -194,9 +194,7 @@ void build_distance_from_target(SceneBuilder& b, const SceneComponent& c, NodeBu
         if (a.has("indices"))
             for (const PointId i : a.indices("indices")) indices.push_back(i);
         std::vector<Vec3> targets;
-        if (a.has("targetPositions"))
-            targets =
-                a.is_link("targetPositions") ? b.linked_positions(a, "targetPositions") : a.points("targetPositions");
+        if (a.has("targetPositions")) targets = b.point_data(a, "targetPositions");
         const std::string mode = a.text("geometricStiffness");
         int geometric = 2;
         if (mode == "None" || mode == "0") geometric = 0;

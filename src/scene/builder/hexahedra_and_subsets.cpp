@@ -198,8 +198,7 @@ void record_subset(SubsetOutput out, LiveEngine& engine) {
 
 /// SubsetTopology::init: rest_position from the scene, else the node's state, else its loader.
 std::vector<Vec3> subset_rest_positions(SceneBuilder& b, const Attributes& a, const NodeBuild& info) {
-    if (a.has("rest_position"))
-        return a.is_link("rest_position") ? b.linked_positions(a, "rest_position") : a.points("rest_position");
+    if (a.has("rest_position")) return b.point_data(a, "rest_position");
     if (const auto* v = dynamic_cast<const Vec3Object*>(info.node->state())) return v->rest_position;
     for (const auto& component : info.scene_node->components)
         if (component_category(component->type) == ComponentCategory::loader) return b.mesh_of(*component).positions;

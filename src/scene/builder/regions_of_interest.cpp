@@ -51,7 +51,7 @@ std::vector<Element> roi_list(SceneBuilder& b, const Attributes& a, std::string_
 
 std::optional<std::vector<Vec3>> given_points(SceneBuilder& b, const Attributes& a, std::string_view name) {
     if (!a.has(name)) return std::nullopt;
-    return a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
+    return b.point_data(a, name);
 }
 
 std::vector<Vec3> roi_points(SceneBuilder& b, const Attributes& a, const NodeBuild& info, RoiContext context) {

@@ -144,6 +144,10 @@ public:
     const io::MeshData& linked_mesh(const Attributes& a, std::string_view attr);
     /// Positions named by a data link (`@loader.position`, `@[-1].position`, `@../dofs.position`).
     std::vector<Vec3> linked_positions(const Attributes& a, std::string_view attr);
+    /// The points of `attr` (which the scene sets): inline, or through a data link (linked_positions).
+    std::vector<Vec3> point_data(const Attributes& a, std::string_view attr) {
+        return a.is_link(attr) ? linked_positions(a, attr) : a.points(attr);
+    }
     /// Records an index list an engine computed (BoxROI's `indices`), read through links `@engine.data`.
     void record_engine_indices(const io::SceneComponent& engine, const std::string& data,
                                std::vector<PointId> indices) {

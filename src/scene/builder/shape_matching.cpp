@@ -21,7 +21,7 @@ using F = ComponentFamily;
 
 std::vector<Vec3> points_or_link(SceneBuilder& b, const Attributes& a, std::string_view attr) {
     if (!a.has(attr)) return {};
-    return a.is_link(attr) ? b.linked_positions(a, attr) : a.points(attr);
+    return b.point_data(a, attr);
 }
 
 /// SOFA's getContext()->get(topo): the topology of the node, else of the nearest ancestor.

@@ -63,7 +63,7 @@ io::MeshData sparse_grid_surface(SceneBuilder& b, const Attributes& a) {
         if (!a.has("position"))
             io::throw_element_error(c, "needs fileTopology (a closed surface mesh) or position (the surface's points)");
         io::MeshData surface;
-        surface.positions = a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
+        surface.positions = b.point_data(a, "position");
         if (a.has("triangles")) surface.triangles = a.elements<3>("triangles");
         if (a.has("quads"))
             for (const auto& q : a.elements<4>("quads")) {

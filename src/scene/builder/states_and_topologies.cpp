@@ -277,7 +277,7 @@ std::vector<Vec3> linked_source_points(SceneBuilder& b, const Attributes& a) {
 
 void fill_vec3_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info, Vec3Object& s) {
     if (a.has("position")) {
-        s.position = a.is_link("position") ? b.linked_positions(a, "position") : a.points("position");
+        s.position = b.point_data(a, "position");
     } else if (a.has("src")) {
         s.position = linked_source_points(b, a);
     } else if (!info.topology_positions.empty()) {

@@ -27,7 +27,7 @@ std::vector<Vec3> input_points(SceneBuilder& b, const Attributes& a, std::string
     const std::string_view used = !a.has(name) && !alias.empty() && a.has(alias) ? alias : name;
     if (!a.has(used))
         io::throw_element_error(a.component(), "needs its input points: give `" + std::string(name) + "`");
-    return a.is_link(used) ? b.linked_positions(a, used) : a.points(used);
+    return b.point_data(a, used);
 }
 
 void record_points(SceneBuilder& b, const SceneComponent& c, std::initializer_list<const char*> names,
@@ -207,7 +207,7 @@ void build_merge_points(SceneBuilder& b, const SceneComponent& c, NodeBuild&) {
     b.guarded(c, [&] {
         const auto points_of = [&](std::string_view name) {
             if (!a.has(name)) return std::vector<Vec3>{};
-            return a.is_link(name) ? b.linked_positions(a, name) : a.points(name);
+            return b.point_data(a, name);
         };
         const std::vector<Vec3> x1 = points_of("position1");
         const std::vector<Vec3> x2 = points_of("position2");
@@ -269,8 +269,7 @@ void build_mesh_tetra_stuffing(SceneBuilder& b, const SceneComponent& c, NodeBui
         read_element_list(b, a, "inputTriangles", triangles, &io::MeshData::triangles, &MeshTopology::triangles);
         read_element_list(b, a, "inputQuads", quads, &io::MeshData::quads, &MeshTopology::quads);
         if (!a.has("inputPoints")) a.fail("inputPoints", "is needed (SOFA: empty input mesh)");
-        const std::vector<Vec3> points =
-            a.is_link("inputPoints") ? b.linked_positions(a, "inputPoints") : a.points("inputPoints");
+        const std::vector<Vec3> points = b.point_data(a, "inputPoints");
         if (triangles.empty() && quads.empty())
             a.fail("inputTriangles", "no triangles or quads (SOFA: empty input mesh)");
         out = mesh_tetra_stuffing(points, triangles, quads, p, b.options().max_dofs);
