@@ -11,7 +11,6 @@
 #include "scene/live_edits.hpp"
 
 #include <algorithm>
-#include <initializer_list>
 #include <optional>
 #include <span>
 #include <sstream>
@@ -155,23 +154,19 @@ void Scene::carry_live_quirks(Scene& fresh) const {
 namespace {
 
 /// Numbers as SOFA writes them (%.17g), space-separated.
-std::string number_text(std::initializer_list<std::span<const double>> parts) {
+std::string number_text(std::span<const double> values) {
     std::ostringstream text;
     text.precision(17);
-    bool first = true;
-    for (std::span<const double> part : parts)
-        for (double v : part) {
-            text << (first ? "" : " ") << v;
-            first = false;
-        }
+    for (std::size_t i = 0; i < values.size(); ++i) text << (i ? " " : "") << values[i];
     return text.str();
 }
 
-std::string vec3_text(const std::vector<Vec3>& v) {
-    std::ostringstream text;
-    text.precision(17);
-    for (std::size_t i = 0; i < v.size(); ++i) text << (i ? " " : "") << v[i][0] << " " << v[i][1] << " " << v[i][2];
-    return text.str();
+/// Points as SOFA writes a Vec3 list: their coordinates, space-separated.
+std::string vec3_text(const std::vector<Vec3>& points) {
+    std::vector<double> values;
+    values.reserve(3 * points.size());
+    for (const Vec3& p : points) values.insert(values.end(), {p.x(), p.y(), p.z()});
+    return number_text(values);
 }
 
 }  // namespace
@@ -188,10 +183,10 @@ std::optional<DataValue> Scene::constant_force_data(const io::SceneComponent& c,
         if (f.name == "forces") return make_data_value(f, vec3_text(ff->forces_data()));
         if (f.name == "totalForce") {
             const Vec3 t = ff->total_force_data();
-            return make_data_value(f, number_text({std::span<const double>(t.data(), 3)}));
+            return make_data_value(f, number_text(std::span<const double>(t.data(), 3)));
         }
         std::vector<double> indices(ff->indices().begin(), ff->indices().end());
-        return make_data_value(f, number_text({indices}));
+        return make_data_value(f, number_text(indices));
     }
     return std::nullopt;
 }
@@ -203,20 +198,13 @@ std::optional<DataValue> Scene::quirk_value(const io::SceneComponent& c, const D
         if (lists == live_->spring_lists.end()) return std::nullopt;
         const auto list = lists->second.find(f.name);
         if (list == lists->second.end()) return std::nullopt;
-        std::ostringstream text;
-        text.precision(17);
-        for (std::size_t i = 0; i < list->second.size(); ++i) text << (i ? " " : "") << list->second[i];
-        return make_data_value(f, text.str());
+        return make_data_value(f, number_text(list->second));
     }
     if (c.type == "UniformMass" && f.name == "vertexMass" && f.python_form == "float") {
         // SOFA's vertexMass Data holds the written or the old value until the update callback runs
         if (BaseMass* m = built_mass_of(component_path(c)))
-            if (const std::optional<double> lagging = lagging_of(m)) {
-                std::ostringstream text;
-                text.precision(17);
-                text << *lagging;
-                return make_data_value(f, text.str());
-            }
+            if (const std::optional<double> lagging = lagging_of(m))
+                return make_data_value(f, number_text(std::span<const double>(&*lagging, 1)));
     }
     return std::nullopt;
 }
