@@ -3,6 +3,7 @@
 // state keeps its values and its memory (Scene::apply_pending_writes).
 #include "penalty/scene/scene.hpp"
 
+#include "io/text.hpp"
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
 #include "scene/live_edits.hpp"
@@ -16,18 +17,17 @@
 namespace penalty::scene {
 
 std::vector<double> written_numbers(std::string_view text, const std::string& what, bool nonnegative) {
+    // each word a finite number as a scene's attribute reads it (io::detail::parse_double)
     std::vector<double> out;
-    std::istringstream in{std::string(text)};
-    for (std::string word; in >> word;) {
-        char* end = nullptr;
-        const double v = std::strtod(word.c_str(), &end);
-        if (end == word.c_str() || *end != '\0' || !std::isfinite(v) || (nonnegative && v < 0))
+    for (const std::string_view word : io::detail::split_blanks(text)) {
+        const std::optional<double> v = io::detail::parse_double(word);
+        if (!v || (nonnegative && *v < 0))
             throw std::invalid_argument(
                 std::string(what)
                     .append(nonnegative ? ": expected numbers >= 0, found '" : ": expected finite numbers, found '")
                     .append(word)
                     .append("'"));
-        out.push_back(v);
+        out.push_back(*v);
     }
     if (nonnegative && out.empty()) throw std::invalid_argument(what + ": expected at least one number");
     return out;
