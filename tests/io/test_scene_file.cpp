@@ -17,18 +17,10 @@ namespace penalty::io {
 namespace {
 
 using test::data_dir;
-
 using test::message_of;
-
-using test::write_temp;
-
-using ::testing::ElementsAre;
-
-using ::testing::HasSubstr;
-
 using test::node_at;
-
 using test::tiny_path;
+using ::testing::ElementsAre;
 
 // ---------------------------------------------------------------------------------------------
 // tree

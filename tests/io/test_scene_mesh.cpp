@@ -10,24 +10,16 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-
 namespace penalty::io {
 namespace {
 
 using test::data_dir;
-
 using test::message_of;
-
-using test::write_temp;
-
-using ::testing::ElementsAre;
-
-using ::testing::HasSubstr;
-
 using test::node_at;
-
 using test::tiny_path;
+using test::write_temp;
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
 
 TEST(SceneMeshes, LoadersApplyTheirOptions) {
     const SceneFile s = parse_scene_file(tiny_path());

@@ -17,13 +17,9 @@ namespace penalty::output {
 namespace {
 
 using test::read_text;
-
 using test::TempDir;
-
 using test::write_text;
-
 using ::testing::ElementsAre;
-
 using ::testing::HasSubstr;
 
 struct TwoStates {

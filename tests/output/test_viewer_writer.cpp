@@ -17,7 +17,6 @@ namespace {
 
 using test::TempDir;
 using ::testing::ElementsAre;
-using ::testing::ElementsAreArray;
 using ::testing::HasSubstr;
 
 template <class T>

@@ -18,7 +18,6 @@ namespace {
 
 using test::TempDir;
 using ::testing::ElementsAre;
-using ::testing::ElementsAreArray;
 using ::testing::HasSubstr;
 
 /// A parsed VTK XML file.

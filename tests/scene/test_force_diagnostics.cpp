@@ -26,11 +26,9 @@
 namespace {
 
 using namespace penalty;
-
-using ::testing::HasSubstr;
-
 using penalty::test::build;
 using penalty::test::run_error;
+using ::testing::HasSubstr;
 
 TEST(NonFiniteSolve, AnOverflowAtTheFirstStepIsInvalidInputNamingTheComponentAndAttributes) {
     // m·g = 1e200 N is finite, |b|² = (h·m·g)² overflows in the CG solve.

@@ -16,14 +16,10 @@
 namespace {
 
 using namespace penalty::test_engine_scenes;
-
 using namespace penalty;
-
-using ::testing::HasSubstr;
-
 using penalty::test::build;
-
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 TEST(FrameMappingComponents, DeformableOnRigidFrameMappingCarriesTheBody) {
     const std::string xml = R"(<Node name="root" dt="0.01" gravity="0 0 0">

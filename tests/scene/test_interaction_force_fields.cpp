@@ -13,13 +13,9 @@
 namespace {
 
 using namespace penalty::test_family_scenes;
-
 using namespace penalty;
-
 using penalty::test::build;
-
 using penalty::test::error_of;
-
 using ::testing::HasSubstr;
 
 TEST(InteractionEllipsoidComponent, PointsRestOnTheSphereAndTheFrameIsOnlyRead) {

@@ -27,11 +27,9 @@
 namespace {
 
 using namespace penalty;
-
-using ::testing::HasSubstr;
-
 using penalty::test::build;
 using penalty::test::run_error;
+using ::testing::HasSubstr;
 
 std::string build_error(const std::string& xml) {
     try {

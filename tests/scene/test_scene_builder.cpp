@@ -18,16 +18,11 @@
 namespace {
 
 using namespace penalty::test_builder_scenes;
-
 using namespace penalty;
 
-using penalty::scene::build_scene;
-
-using ::testing::HasSubstr;
-
 using penalty::test::build;
-
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 TEST(SceneBuilder, CubeOnFloorStatesRecordsAndContactPlacement) {
     auto s = build(kCubeOnFloor);

@@ -16,14 +16,10 @@
 namespace {
 
 using namespace penalty::test_engine_scenes;
-
 using namespace penalty;
-
-using ::testing::HasSubstr;
-
 using penalty::test::build;
-
 using penalty::test::error_of;
+using ::testing::HasSubstr;
 
 TEST(SelectionEngineComponents, MeshRoiSelectsThePointsInsideTheMesh) {
     auto s = build(with(kMeshRoi, "ATTR", ""));
