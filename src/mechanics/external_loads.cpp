@@ -168,19 +168,19 @@ void ConstantForceField::init() {
     map_points();
     const auto count = indices_.size();
     point_forces_.clear();
+    valid_ = true;
     if (!parameters_.forces.empty()) {
-        // updateFromForcesVector: one force for every index (computeForceFromSingleForce), or one per index
+        // updateFromForcesVector: one force for every index (computeForceFromSingleForce), or one per
+        // index; another count makes the component Invalid (computeForceFromForcesVector), the list
+        // staying as given
         if (parameters_.forces.size() == 1) point_forces_.assign(count, parameters_.forces.front());
-        else if (parameters_.forces.size() == count) point_forces_ = parameters_.forces;
-        else
-            throw_invalid_argument("ConstantForceField: ", parameters_.forces.size(), " forces for ", count,
-                                   " indices (give one force, or one per index)");
+        else point_forces_ = parameters_.forces;
+        valid_ = point_forces_.size() == count;
     } else {
         // computeForceFromTotalForce: T / n for each index
         if (count == 0) throw_invalid_argument("ConstantForceField: 'totalForce' on a state without points");
         point_forces_.assign(count, Vec3(*parameters_.total_force / static_cast<double>(count)));
     }
-    valid_ = true;
     callbacks_ran_ = false;
     indices_changed_ = false;
     total_force_data_ = parameters_.total_force.value_or(Vec3::Zero());
@@ -218,8 +218,13 @@ void ConstantForceField::run_update_callbacks() {
 }
 
 void ConstantForceField::take_callback_state(const ConstantForceField& before) {
-    if (before.parameters_.forces != parameters_.forces || before.parameters_.total_force != parameters_.total_force)
-        return;  // a written force: this build's init is SOFA's callbacks on it
+    if (before.parameters_.total_force != parameters_.total_force) return;  // written: SOFA's Data holds it
+    if (before.parameters_.forces != parameters_.forces) {
+        // written forces: this build's init is SOFA's callbacks on them, which write `totalForce`
+        // only when valid (computeForceFromForcesVector): until then it keeps its value
+        total_force_data_ = before.total_force_data_;
+        return;
+    }
     point_forces_ = before.point_forces_;
     total_force_data_ = before.total_force_data_;
     valid_ = before.valid_;

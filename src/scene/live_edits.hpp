@@ -55,6 +55,10 @@ struct Scene::LiveEdits {
     /// BoxROI's `box` / `orientedBox` written after init (live_quirks.cpp), by component path:
     /// every build of the component selects with them.
     std::map<std::string, BoxRoiWrite> box_roi_writes;
+    /// This scene is a build again, after writes while the scene ran (Scene::rebuild): written Data
+    /// SOFA takes without an error may leave a component Invalid (ConstantForceField's `forces`
+    /// and `indices` of different counts), where a scene file's are refused.
+    bool rebuilt = false;
     /// Engines over moving states, run on read, and their readers (live_engines.cpp); null when
     /// the scene has none. A rebuild takes the fresh scene's.
     std::unique_ptr<LiveEngines> engines;

@@ -226,7 +226,10 @@ std::unique_ptr<Scene> Scene::build_from(io::SceneFile file, const BuildOptions&
     scene->file_ = std::move(file);
     scene->options_ = options;
     scene->options_.overrides.clear();  // applied to file_ already
-    if (carried != nullptr) scene->live_->box_roi_writes = carried->box_roi_writes;
+    if (carried != nullptr) {
+        scene->live_->box_roi_writes = carried->box_roi_writes;
+        scene->live_->rebuilt = true;
+    }
     SceneBuilder(scene->file_, options, *scene).build();
     scene->build_warnings_.insert(scene->build_warnings_.end(), notes.begin(), notes.end());
     scene->install_contact_stage();

@@ -106,8 +106,11 @@ public:
     ConstantForceField(Vec3Object& state, ConstantForceFieldParameters parameters);
 
     /// Resolves the indices (every point when empty) and the per-index forces against the state's
-    /// size; throws std::invalid_argument for an index out of range or a forces count that is
-    /// neither 1 nor the number of indices.
+    /// size; throws std::invalid_argument for an index out of range. A `forces` count that is
+    /// neither 1 nor the number of indices makes the component Invalid (valid() false, no force),
+    /// as SOFA's update callbacks do (computeForceFromForcesVector): a scene builder refuses it in a
+    /// scene file, and accepts it after a write of `indices` or `forces` while the scene runs,
+    /// until a write makes the counts fit again.
     void init() override;
     /// f_p(j) += F_j; with indices that follow a source (FollowedIndices), the source is read first
     /// and a changed list re-runs SOFA's update callbacks (run_update_callbacks).
@@ -121,8 +124,9 @@ public:
     [[nodiscard]] const std::vector<Vec3>& point_forces() const { return point_forces_; }
     /// Σ F_j (N).
     [[nodiscard]] Vec3 total_force() const;
-    /// SOFA's component state: false (Invalid, no force) after followed indices changed to a count
-    /// the per-index forces do not fit, or to none with `totalForce`.
+    /// SOFA's component state: false (Invalid, no force) while the per-index forces do not fit the
+    /// count of the indices (followed or written indices of another count, a written `forces` list
+    /// of another count), or with `totalForce` and no index.
     [[nodiscard]] bool valid() const { return valid_; }
     /// SOFA's `indices` Data after init: the given ones, or every point.
     [[nodiscard]] const std::vector<Index>& indices() const { return indices_; }
@@ -139,7 +143,8 @@ public:
     /// component's Data): when this one's `forces` and `totalForce` are `before`'s, SOFA's component
     /// keeps the Data its callbacks made (one `forces` value stays as many copies as the indices had)
     /// and its state; new indices run the callbacks at the next addForce (another count of spread
-    /// forces: Invalid).
+    /// forces: Invalid). Written `forces` leave `totalForce` as it was until the callbacks, valid,
+    /// write the new sum.
     void take_callback_state(const ConstantForceField& before);
 
 private:

@@ -112,7 +112,16 @@ void build_constant_force_field(SceneBuilder& b, const SceneComponent& c, NodeBu
         if (a.has("topology")) static_cast<void>(a.link("topology"));
         auto* ff = &info.node->add_force_field<ConstantForceField>(s, std::move(p));
         b.record_origin(ff, c);
-        b.add_init(1, c, [ff] { ff->init(); });
+        // SOFA makes the component Invalid (no force) when the forces do not number the indices
+        // (ConstantForceField::computeForceFromForcesVector): refused in a scene file, taken after
+        // a write while the scene runs (until a write makes the counts fit again)
+        b.add_init(1, c, [ff, rebuilt = b.rebuilding()] {
+            ff->init();
+            if (!ff->valid() && !rebuilt)
+                throw std::invalid_argument("ConstantForceField: " + std::to_string(ff->forces_data().size()) +
+                                            " forces for " + std::to_string(ff->indices().size()) +
+                                            " indices (give one force, or one per index; SOFA applies no force)");
+        });
         b.role(c, [ff] {
             return "constant force on " + counted(ff->points().size(), "point", "points") + ", total " +
                    vec(ff->total_force()) + " N";

@@ -192,6 +192,8 @@ void SceneBuilder::build_data_engine(const SceneComponent& c) {
     spec->build(*this, c, node->second);
 }
 
+bool SceneBuilder::rebuilding() const { return scene_.live_->rebuilt; }
+
 const io::MeshData* SceneBuilder::engine_mesh(const SceneComponent& engine, const std::string& data) {
     build_data_engine(engine);
     const auto it = engine_meshes_.find({&engine, data});

@@ -183,6 +183,8 @@ public:
     [[nodiscard]] std::optional<LivePoints> moving_input(const Attributes& a, std::string_view attr);
     /// The written boxes of BoxROI `c` that its selection uses (Scene::note_box_roi_write), or null.
     [[nodiscard]] const BoxRoiWrite* box_roi_write(const io::SceneComponent& c) const;
+    /// True when this build is the scene's build again after writes while it ran (Scene::rebuild).
+    [[nodiscard]] bool rebuilding() const;
     /// Makes engine `a.component()` (a kind of kLiveEngineKinds) run `evaluate` again when a reader
     /// reads one of its outputs after its input points, or an input it follows, moved (SOFA's
     /// DDGNode::updateIfDirty); `points` are its input points at the build. Nothing when no such
