@@ -375,6 +375,16 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
         }
         if (name == "size") return numbers_value({double(s->num_dofs())}, 0);
     }
+    if (c.type == "BoxROI" && name == "box")
+        if (LiveEngine* live = live_->engine(c))
+            for (const FollowedInput& in : live->followed_inputs()) {
+                if (in.name != "box") continue;
+                // a list of points read as boxes: SOFA's BaseData::genericCopyValueFrom copies each
+                // point's three numbers into a box and leaves the three others 0
+                std::vector<double> numbers;
+                for (const Vec3& p : in.source.current()) numbers.insert(numbers.end(), {p.x(), p.y(), p.z(), 0, 0, 0});
+                return numbers_value(std::move(numbers), 6);
+            }
     if (const std::vector<PointId>* indices = engine_indices(c, name)) {
         std::vector<double> numbers(indices->begin(), indices->end());
         return numbers_value(std::move(numbers), 0);

@@ -29,7 +29,8 @@ namespace {
 /// MergePoints::doUpdate: unless `noUpdate` (a flag written `!noUpdate`: the engine runs again
 /// unless it is 1). SubsetTopology::doUpdate: always.
 /// Followed besides the points (their builders read them through LiveEngine::followed), inputs of
-/// SOFA's engines (addInput: a change runs the engine again): ProximityROI's `centers`,
+/// SOFA's engines (addInput: a change runs the engine again): BoxROI's `box` (BoxROI's constructor;
+/// a list of points converted to boxes as BaseData::genericCopyValueFrom does), ProximityROI's `centers`,
 /// MergePoints' `position2`, MeshROI's `ROIposition` (MeshROI's constructor; its bounding box stays
 /// that of init, MeshROI::roiInit), TransformEngine's `translation`, `rotation` and `scale`
 /// (TransformEngine's constructor; a Data linked to a state's positions takes its first point,
@@ -38,7 +39,7 @@ namespace {
 /// SOFA HEAD's SphereROI does not add them as an input, so they are read when the points run the engine again: a
 /// state's as of the step's start).
 constexpr LiveEngineKind kLiveEngineKinds[] = {
-    {"BoxROI", "position", "rest_position", "doUpdate", {}},
+    {"BoxROI", "position", "rest_position", "doUpdate", {"box"}},
     {"SphereROI", "position", "rest_position", "doUpdate", {"~centers"}},
     {"MeshROI", "position", "rest_position", "doUpdate", {"ROIposition"}},
     {"PlaneROI", "position", "rest_position", "", {}},
@@ -192,6 +193,9 @@ std::optional<LivePoints> SceneBuilder::moving_input(const Attributes& a, std::s
     }
     if (targets.size() != 1 || targets[0].component == nullptr) return std::nullopt;
     const io::SceneComponent& source = *targets[0].component;
+    // an engine read through the link before its turn in the file is built now (SOFA evaluates
+    // engines on demand); nothing for another component or a node not built yet
+    if (nodes_.count(source.node) != 0) build_data_engine(source);
     // a chain: the point output of an engine that runs on read (built first: its output was read)
     if (LiveEngine* upstream = scene_.live_->engine(source)) {
         upstream->update_if_dirty();

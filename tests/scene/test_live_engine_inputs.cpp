@@ -1,7 +1,7 @@
 // Engine inputs besides the points that follow moving data (src/scene/live_engines.cpp,
-// kLiveEngineKinds' `followed`): MeshROI's `ROIposition` (its bounding box stays that of init) and
-// TransformEngine's `translation`, `rotation` and `scale` linked to the positions of states that
-// move. The trajectories are SOFA HEAD's (2a278d8, `sofa-head SCENE 80 OUT --every 1`, %.17g),
+// kLiveEngineKinds' `followed`): MeshROI's `ROIposition` (its bounding box stays that of init),
+// TransformEngine's `translation`, `rotation` and `scale` and BoxROI's `box` linked to the positions
+// of states that move (or to an engine's output over them). The trajectories are SOFA HEAD's (2a278d8, `sofa-head SCENE 80 OUT --every 1`, %.17g),
 // bit for bit.
 #include "penalty/scene/live_data.hpp"
 #include "penalty/scene/scene.hpp"
@@ -206,6 +206,85 @@ TEST(LiveEngineFollowedInputs, TransformEngineOverFixedPointsRunsAgainWhenItsTra
     EXPECT_EQ(data_numbers(*s, "/Points/t", "output_position"), (std::vector<double>{2, 0, 3, 4, 0, 3}));
     s->step();  // the state linked to the output takes it before the step
     EXPECT_EQ(data_numbers(*s, "/Points/dofs", "position"), (std::vector<double>{2, 0, 3, 4, 0, 3}));
+}
+
+/// A falling beam in x in [-2, 0], y and z in [-0.5, 0] whose points in a BoxROI are fixed, the
+/// BoxROI's `box` linking `box_link`, after a tool node (`tool`: one or two points thrown under
+/// gravity); `extra` before the BoxROI.
+std::string box_following(const std::string& tool_points, const std::string& tool_velocities,
+                          const std::string& extra, const std::string& box_link) {
+    return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <DefaultAnimationLoop/>
+  <Node name="Tool">
+    <EulerImplicitSolver/>
+    <CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-12"/>
+    <MechanicalObject name="mo" position=")" +
+           tool_points + "\" velocity=\"" + tool_velocities + R"("/>
+    <UniformMass totalMass="1"/>
+  </Node>
+  <Node name="Beam">
+    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
+    <CGLinearSolver iterations="40" tolerance="1e-12" threshold="1e-12"/>
+    <RegularGridTopology name="grid" nx="5" ny="2" nz="2" xmin="-2" xmax="0" ymin="-0.5" ymax="0" zmin="-0.5" zmax="0"/>
+    <MechanicalObject name="dofs"/>
+    <UniformMass totalMass="1"/>
+    <MeshSpringForceField stiffness="200" damping="0.1"/>
+)" + extra +
+           "    <BoxROI name=\"box\" box=\"" + box_link + R"(" position="@dofs.position"/>
+    <FixedProjectiveConstraint name="fix" indices="@box.indices"/>
+  </Node>
+</Node>)";
+}
+
+TEST(LiveEngineFollowedInputs, BoxRoiFollowsABoxLinkedToAMovingStateAsSofaHead) {
+    // SOFA copies the tool's point p into a box (p, 0 0 0) (BaseData::genericCopyValueFrom), tested
+    // as copied: the box from p (thrown along -x, falling) to the origin fixes more and more points
+    auto s = test::build(box_following("-0.2 -0.3 -0.6", "-3 0 0", "", "@../Tool/mo.position"));
+    const std::vector<Vec3>& x = falling_beam_positions(*s);
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{9, 19}));
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "box"), (std::vector<double>{-0.2, -0.3, -0.6, 0, 0, 0}));
+    advance_steps(*s, 20);
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{8, 9, 18, 19}));
+    EXPECT_EQ(x[0], Vec3(-1.9328149226704778, -0.724929106736469, -0.5042394735035174));
+    EXPECT_EQ(x[8], Vec3(-0.49950227225507415, -0.04696605435570763, -0.500095840023197));
+    advance_steps(*s, 20);
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"),
+              (std::vector<double>{1, 2, 3, 7, 8, 9, 11, 12, 13, 17, 18, 19}));
+    EXPECT_EQ(x[0], Vec3(-1.7701725716717267, -1.078416599031002, -0.525255142698762));
+    EXPECT_EQ(x[5], Vec3(-1.9349952799689936, -0.6062417012797686, -0.5112545833189219));
+    EXPECT_EQ(x[10], Vec3(-1.7691156296754147, -1.09297345831004, -0.025659753821946078));
+    advance_steps(*s, 20);
+    // SOFA HEAD: 0 and 10 fixed from step 50, 5 and 15 from 56
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"),
+              (std::vector<double>{0, 1, 2, 3, 5, 6, 7, 8, 9, 10, 11, 12, 13, 15, 16, 17, 18, 19}));
+    EXPECT_EQ(x[0], Vec3(-1.5895920381433735, -1.4027426797263642, -0.5502559103401813));
+    EXPECT_EQ(x[5], Vec3(-1.8411013677331955, -0.9707962450086723, -0.5282942103437885));
+    EXPECT_EQ(x[8], Vec3(-0.49770049498249547, -0.1611863471035385, -0.5002204246487552));
+    EXPECT_EQ(x[10], Vec3(-1.588035825634158, -1.4274549730808748, -0.05098275342289702));
+    for (const std::string& w : s->warnings()) EXPECT_EQ(w.find("'box'"), std::string::npos) << w;
+}
+
+TEST(LiveEngineFollowedInputs, BoxRoiFollowsABoxLinkedToAnEngineOverAMovingStateAsSofaHead) {
+    // two tool points, shifted up by a TransformEngine: two boxes, the second moving along +x
+    auto s = test::build(box_following(
+        "-0.2 -0.3 -0.6  -1.9 -0.45 -0.3", "-3 0 0  2 0 0",
+        "    <TransformEngine name=\"shift\" input_position=\"@../Tool/mo.position\" translation=\"0 0.1 0\"/>\n",
+        "@shift.output_position"));
+    const std::vector<Vec3>& x = falling_beam_positions(*s);
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{9, 16, 17, 18, 19}));
+    advance_steps(*s, 20);
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{8, 9, 17, 18, 19}));  // 16 left
+    EXPECT_EQ(x[0], Vec3(-1.9951985172149458, -0.5425275543299295, -0.46402008467207834));
+    EXPECT_EQ(x[16], Vec3(-1.5000442687920108, -0.0012989941446841882, 0.00040253333500469754));
+    advance_steps(*s, 20);
+    EXPECT_EQ(x[1], Vec3(-1.4810001685543137, -0.5771524109232324, -0.44323238466588144));
+    EXPECT_EQ(x[16], Vec3(-1.5019939820784767, -0.03567381303134343, 0.011141670780721055));
+    advance_steps(*s, 20);
+    EXPECT_EQ(data_numbers(*s, "/Beam/box", "indices"), (std::vector<double>{0, 1, 2, 3, 6, 7, 8, 9, 17, 18, 19}));
+    EXPECT_EQ(x[0], Vec3(-1.963854203035718, -0.6662785860310719, -0.3936892567183473));
+    EXPECT_EQ(x[1], Vec3(-1.4675990323972454, -0.617987787724245, -0.4135891645861939));
+    EXPECT_EQ(x[10], Vec3(-1.95088213046114, -0.6006877499088575, 0.10164958316079896));
+    EXPECT_EQ(x[16], Vec3(-1.5018045395556763, -0.05865336155155473, 0.01824367248719639));
 }
 
 }  // namespace

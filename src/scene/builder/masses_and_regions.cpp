@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 
 namespace penalty::scene::builder {
@@ -160,15 +161,31 @@ RoiSelection select_in_box_roi(const std::vector<Vec3>& points, const RoiElement
     return select_in_region(points, elements, inside, test);
 }
 
+/// BoxROI's `box` linked to points (a Vec3d state's `position`, a point output of an engine):
+/// SOFA's conversion of a list of Vec3 to a list of Vec6 (BaseData::genericCopyValueFrom: per
+/// point, its three numbers then three zeros), tested as copied (the copy comes after
+/// BoxROI::roiInit, which ordered nothing: each box goes from the point to the origin, a box with
+/// a positive coordinate holding nothing on that axis).
+std::vector<AlignedBox> boxes_of_points(const std::vector<Vec3>& points) {
+    std::vector<AlignedBox> boxes;
+    boxes.reserve(points.size());
+    for (const Vec3& p : points) boxes.push_back(AlignedBox{p, Vec3::Zero()});
+    return boxes;
+}
+
 /// BoxROI's boxes (BoxROI::roiInit): each `box`'s corners ordered, the default box only when
 /// neither `box` nor `orientedBox` is given, the oriented boxes from their three corners and depth.
 /// After a write (`written`, SofaQuirkFixes::fix_box_roi_write off), SOFA's roiInit does not run
-/// again: the written `box` is tested as written, the oriented boxes stay those of init.
-void read_box_roi_boxes(const Attributes& a, const BoxRoiWrite* written, std::vector<AlignedBox>& boxes,
-                        std::vector<OrientedBox>& oriented) {
+/// again: the written `box` is tested as written, the oriented boxes stay those of init. A `box`
+/// linked to moving points (`linked`): boxes_of_points.
+void read_box_roi_boxes(const Attributes& a, const BoxRoiWrite* written, const LivePoints* linked,
+                        std::vector<AlignedBox>& boxes, std::vector<OrientedBox>& oriented) {
     const bool defaults = !a.has("box") && !a.has("orientedBox");
-    const std::vector<double> v = defaults ? std::vector<double>{0, 0, 0, 1, 1, 1} : a.numbers("box");
-    if (v.size() % 6 != 0 || (a.has("box") && v.empty()))
+    const std::vector<double> v = defaults  ? std::vector<double>{0, 0, 0, 1, 1, 1}
+                                  : linked ? std::vector<double>{}
+                                           : a.numbers("box");
+    if (linked != nullptr) boxes = boxes_of_points(linked->current());
+    else if (v.size() % 6 != 0 || (a.has("box") && v.empty()))
         a.fail("box", "expected 6 numbers per box, found " + std::to_string(v.size()));
     for (std::size_t i = 0; i < v.size(); i += 6) {
         const Vec3 lo(v[i], v[i + 1], v[i + 2]), hi(v[i + 3], v[i + 4], v[i + 5]);
@@ -201,15 +218,20 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     RoiElements elements;
     RoiSelection selection;
     b.guarded(c, [&] {
-        read_box_roi_boxes(a, b.box_roi_write(c), boxes, oriented);
+        // `box` linked to moving points (BoxROI's constructor: addInput(&d_alignedBoxes)): followed
+        const std::optional<LivePoints> linked = a.has("box") ? b.moving_input(a, "box") : std::nullopt;
+        read_box_roi_boxes(a, b.box_roi_write(c), linked ? &*linked : nullptr, boxes, oriented);
         const std::vector<Vec3> points = roi_points(b, a, info, RoiContext::base_roi);
         num_points = points.size();
         elements = roi_elements(b, a, info, RoiContext::base_roi, {.quad_alias = true});
         const ElementTest test = a.boolean("strict") ? ElementTest::all_points : ElementTest::center;
         selection = select_in_box_roi(points, elements, boxes, oriented, test);
-        // over moving positions (a state's, which the solve writes): run again on read (live_engines.cpp)
+        // over moving positions (a state's, which the solve writes) or a moving `box`: run again
+        // on read (live_engines.cpp)
         b.add_live_engine(a, points, [boxes, oriented, elements, test](const std::vector<Vec3>& x, LiveEngine& engine) {
-            const RoiSelection s = select_in_box_roi(x, elements, boxes, oriented, test);
+            const std::vector<Vec3>* box_points = engine.followed("box");
+            const RoiSelection s = select_in_box_roi(x, elements, box_points ? boxes_of_points(*box_points) : boxes,
+                                                     oriented, test);
             for (auto& [name, mesh] : roi_element_outputs(s, elements)) engine.meshes[name] = std::move(mesh);
             engine.meshes["quadInROI"] = engine.meshes["quadsInROI"];  // alias
             for (auto& [name, indices] : roi_index_outputs(s)) engine.indices[name] = indices;
