@@ -385,6 +385,16 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
                 for (const Vec3& p : in.source.current()) numbers.insert(numbers.end(), {p.x(), p.y(), p.z(), 0, 0, 0});
                 return numbers_value(std::move(numbers), 6);
             }
+    if (const auto refused = live_->refused_reals.find(&c); refused != live_->refused_reals.end() &&
+                                                            f.python_form == "ndarray:float64:1" &&
+                                                            live_->engine_reals.count({&c, name}) != 0)
+        throw std::invalid_argument(refused->second);
+    if (LiveEngine* live = live_->engine(c)) {
+        live->update_if_dirty();
+        if (const auto out = live->reals.find(name); out != live->reals.end()) return numbers_value(out->second, 0);
+    }
+    if (const auto reals = live_->engine_reals.find({&c, name}); reals != live_->engine_reals.end())
+        return numbers_value(reals->second, 0);
     if (const std::vector<PointId>* indices = engine_indices(c, name)) {
         std::vector<double> numbers(indices->begin(), indices->end());
         return numbers_value(std::move(numbers), 0);
@@ -400,7 +410,9 @@ std::optional<DataValue> Scene::live_value(const io::SceneComponent& c, const Da
         };
         // points: a loader's `position`, an engine's `output_position`, `outputPoints`, `pointsInROI`
         const bool point_list = f.python_form == "ndarray:float64:2";
-        if (point_list && (name.find("osition") != std::string::npos || name.find("oints") != std::string::npos))
+        // (ValuesFromPositions' `pointVectors`, `edgeVectors`, ...: a vector per point or element)
+        if (point_list && (name.find("osition") != std::string::npos || name.find("oints") != std::string::npos ||
+                           name.find("Vectors") != std::string::npos))
             return flatten(mesh->positions, 3);
         if (name.find("dge") != std::string::npos) return flatten(mesh->edges, 2);
         if (name.find("riangle") != std::string::npos) return flatten(mesh->triangles, 3);

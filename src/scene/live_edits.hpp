@@ -59,6 +59,11 @@ struct Scene::LiveEdits {
     /// SOFA takes without an error may leave a component Invalid (ConstantForceField's `forces`
     /// and `indices` of different counts), where a scene file's are refused.
     bool rebuilt = false;
+    /// Engine outputs that are lists of reals (ValuesFromPositions' `values`), by engine and Data,
+    /// as the build computed them (a live engine's own are LiveEngine::reals).
+    std::map<std::pair<const io::SceneComponent*, std::string>, std::vector<double>> engine_reals;
+    /// Engines whose lists of reals penalty does not compute as SOFA, with why (a read raises it).
+    std::map<const io::SceneComponent*, std::string> refused_reals;
     /// Engines over moving states, run on read, and their readers (live_engines.cpp); null when
     /// the scene has none. A rebuild takes the fresh scene's.
     std::unique_ptr<LiveEngines> engines;

@@ -27,7 +27,7 @@ namespace {
 /// runs it once whatever the flag). PlaneROI::doUpdate, ProximityROI::doUpdate,
 /// TransformEngine::doUpdate, TransformPosition::doUpdate: always.
 /// MergePoints::doUpdate: unless `noUpdate` (a flag written `!noUpdate`: the engine runs again
-/// unless it is 1). SubsetTopology::doUpdate: always.
+/// unless it is 1). SubsetTopology::doUpdate, ValuesFromPositions::doUpdate: always.
 /// Followed besides the points (their builders read them through LiveEngine::followed), inputs of
 /// SOFA's engines (addInput: a change runs the engine again): BoxROI's `box` (BoxROI's constructor;
 /// a list of points converted to boxes as BaseData::genericCopyValueFrom does), ProximityROI's `centers`,
@@ -35,7 +35,8 @@ namespace {
 /// that of init, MeshROI::roiInit), TransformEngine's `translation`, `rotation` and `scale`
 /// (TransformEngine's constructor; a Data linked to a state's positions takes its first point,
 /// BaseData::genericCopyValueFrom), TransformPosition's `translation`, `rotation`, `scale` and
-/// `origin` (its `normal`, which TransformPosition::init normalises once, is not followed). SphereROI's `centers` (`~`:
+/// `origin` (its `normal`, which TransformPosition::init normalises once, is not followed),
+/// ValuesFromPositions' `direction` (its constructor; a list of points gives its first). SphereROI's `centers` (`~`:
 /// SOFA HEAD's SphereROI does not add them as an input, so they are read when the points run the engine again: a
 /// state's as of the step's start).
 constexpr LiveEngineKind kLiveEngineKinds[] = {
@@ -48,6 +49,7 @@ constexpr LiveEngineKind kLiveEngineKinds[] = {
     {"TransformPosition", "input_position", "inputPosition", "", {"translation", "rotation", "scale", "origin"}},
     {"MergePoints", "position1", "", "!noUpdate", {"position2"}},
     {"SubsetTopology", "rest_position", "", "", {}},
+    {"ValuesFromPositions", "position", "rest_position", "", {"direction"}},
 };
 
 /// The readers penalty follows, by type and Data: a projective constraint's `indices`, which SOFA

@@ -110,6 +110,8 @@ public:
     /// points or element lists (TransformEngine's `output_position`, BoxROI's `trianglesInROI`).
     std::map<std::string, std::vector<PointId>, std::less<>> indices;
     std::map<std::string, io::MeshData, std::less<>> meshes;
+    /// Lists of reals (ValuesFromPositions' `values`, `edgeValues`, ...).
+    std::map<std::string, std::vector<double>, std::less<>> reals;
 
 private:
     const io::SceneComponent* component_;

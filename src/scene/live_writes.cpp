@@ -495,7 +495,9 @@ void Scene::rebuild(bool reset) {
     std::swap(engine_indices_, fresh->engine_indices_);
     std::swap(engine_meshes_, fresh->engine_meshes_);
     std::swap(loader_meshes_, fresh->loader_meshes_);
-    std::swap(live_->engines, fresh->live_->engines);        // their readers are the fresh components
+    std::swap(live_->engines, fresh->live_->engines);  // their readers are the fresh components
+    std::swap(live_->engine_reals, fresh->live_->engine_reals);
+    std::swap(live_->refused_reals, fresh->live_->refused_reals);
     std::swap(topology_runtime_, fresh->topology_runtime_);  // its handlers refer to the fresh components
     // States: the records keep their addresses when the list has the same states (the usual
     // case: a Data written), so that what points to them stays valid.

@@ -1,8 +1,8 @@
 // Engine inputs besides the points that follow moving data (src/scene/live_engines.cpp,
 // kLiveEngineKinds' `followed`): MeshROI's `ROIposition` (its bounding box stays that of init),
 // TransformEngine's `translation`, `rotation` and `scale` and BoxROI's `box` linked to the positions
-// of states that move (or to an engine's output over them). The trajectories are SOFA HEAD's (2a278d8, `sofa-head SCENE 80 OUT --every 1`, %.17g),
-// bit for bit.
+// of states that move (or to an engine's output over them). The trajectories are SOFA HEAD's (2a278d8, `sofa-head SCENE
+// 80 OUT --every 1`, %.17g), bit for bit.
 #include "penalty/scene/live_data.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/scene_text.hpp"
@@ -211,8 +211,8 @@ TEST(LiveEngineFollowedInputs, TransformEngineOverFixedPointsRunsAgainWhenItsTra
 /// A falling beam in x in [-2, 0], y and z in [-0.5, 0] whose points in a BoxROI are fixed, the
 /// BoxROI's `box` linking `box_link`, after a tool node (`tool`: one or two points thrown under
 /// gravity); `extra` before the BoxROI.
-std::string box_following(const std::string& tool_points, const std::string& tool_velocities,
-                          const std::string& extra, const std::string& box_link) {
+std::string box_following(const std::string& tool_points, const std::string& tool_velocities, const std::string& extra,
+                          const std::string& box_link) {
     return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
   <DefaultAnimationLoop/>
   <Node name="Tool">

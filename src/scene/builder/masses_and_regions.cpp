@@ -181,7 +181,7 @@ std::vector<AlignedBox> boxes_of_points(const std::vector<Vec3>& points) {
 void read_box_roi_boxes(const Attributes& a, const BoxRoiWrite* written, const LivePoints* linked,
                         std::vector<AlignedBox>& boxes, std::vector<OrientedBox>& oriented) {
     const bool defaults = !a.has("box") && !a.has("orientedBox");
-    const std::vector<double> v = defaults  ? std::vector<double>{0, 0, 0, 1, 1, 1}
+    const std::vector<double> v = defaults ? std::vector<double>{0, 0, 0, 1, 1, 1}
                                   : linked ? std::vector<double>{}
                                            : a.numbers("box");
     if (linked != nullptr) boxes = boxes_of_points(linked->current());
@@ -230,8 +230,8 @@ void build_box_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
         // on read (live_engines.cpp)
         b.add_live_engine(a, points, [boxes, oriented, elements, test](const std::vector<Vec3>& x, LiveEngine& engine) {
             const std::vector<Vec3>* box_points = engine.followed("box");
-            const RoiSelection s = select_in_box_roi(x, elements, box_points ? boxes_of_points(*box_points) : boxes,
-                                                     oriented, test);
+            const RoiSelection s =
+                select_in_box_roi(x, elements, box_points ? boxes_of_points(*box_points) : boxes, oriented, test);
             for (auto& [name, mesh] : roi_element_outputs(s, elements)) engine.meshes[name] = std::move(mesh);
             engine.meshes["quadInROI"] = engine.meshes["quadsInROI"];  // alias
             for (auto& [name, indices] : roi_index_outputs(s)) engine.indices[name] = indices;

@@ -194,6 +194,15 @@ void SceneBuilder::build_data_engine(const SceneComponent& c) {
 
 bool SceneBuilder::rebuilding() const { return scene_.live_->rebuilt; }
 
+void SceneBuilder::record_engine_reals(const SceneComponent& engine, const std::string& data,
+                                       std::vector<double> values) {
+    scene_.live_->engine_reals[{&engine, data}] = std::move(values);
+}
+
+void SceneBuilder::refuse_engine_reals(const SceneComponent& engine, std::string why) {
+    scene_.live_->refused_reals[&engine] = std::move(why);
+}
+
 const io::MeshData* SceneBuilder::engine_mesh(const SceneComponent& engine, const std::string& data) {
     build_data_engine(engine);
     const auto it = engine_meshes_.find({&engine, data});

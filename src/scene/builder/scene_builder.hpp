@@ -171,6 +171,12 @@ public:
     void record_engine_mesh(const io::SceneComponent& engine, const std::string& data, io::MeshData mesh) {
         engine_meshes_[{&engine, data}] = std::move(mesh);
     }
+    /// Records a list of reals an engine computed (ValuesFromPositions' `values`), read from the
+    /// scene's Data (Scene::data).
+    void record_engine_reals(const io::SceneComponent& engine, const std::string& data, std::vector<double> values);
+    /// Makes a read of `engine`'s lists of reals raise `why` (SOFA computes them from what penalty
+    /// does not reproduce).
+    void refuse_engine_reals(const io::SceneComponent& engine, std::string why);
     /// The mesh data recorded by `record_engine_mesh`, or null; a data engine (ComponentFamily::
     /// data_engine) not built yet is built first.
     [[nodiscard]] const io::MeshData* engine_mesh(const io::SceneComponent& engine, const std::string& data);

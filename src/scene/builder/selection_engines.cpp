@@ -1,9 +1,9 @@
 // Selection engines beyond the boxes, planes and balls (SOFA's Sofa/Component/Engine/Select):
 // MeshROI (points and elements inside a closed triangle mesh), ProximityROI (the N points nearest
 // a set of centres) and ValuesFromPositions (a scalar or vector field along a direction). Each
-// computes its outputs at build and records them for links (`@roi.indices`, ...); MeshROI and
-// ProximityROI over moving positions (MeshROI also over a moving ROI mesh, ProximityROI over
-// moving centres) run again on read (live_engines.cpp).
+// computes its outputs at build and records them for links (`@roi.indices`, ...); over moving
+// positions (MeshROI also over a moving ROI mesh, ProximityROI over moving centres) they run again
+// on read (live_engines.cpp).
 // Formulas: include/penalty/mechanics/selection_engines.hpp, docs/components/data_engines.md.
 #include "penalty/mechanics/selection_engines.hpp"
 #include "scene/builder/element_topology.hpp"
@@ -12,6 +12,8 @@
 
 #include <memory>
 #include <optional>
+#include <tuple>
+#include <utility>
 
 namespace penalty::scene::builder {
 
@@ -147,7 +149,7 @@ constexpr AttributeSpec kProximityRoi[] = {
     {"distance", K::numbers, "", "m", ValueCheck::none, "output (a written value is replaced)"},
     PENALTY_ROI_FLAG("drawSphere", "0", "drawing only"),
     PENALTY_ROI_FLAG("drawPoints", "0", "drawing only"),
-    {"drawSize", K::real, "0", "", ValueCheck::none, "drawing only"},
+    {"drawSize", K::real, "1", "", ValueCheck::none, "drawing only"},
 };
 
 void build_proximity_roi(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
@@ -212,6 +214,36 @@ const MeshTopology* nearest_topology(SceneBuilder& b, const NodeBuild& info) {
     return nullptr;
 }
 
+/// The interval ValuesFromPositions interpolates over, or why penalty cannot give it:
+/// ValuesFromPositions::doUpdate takes the first coordinates of the root context's bounding box's
+/// min and max (`*bbox.minBBoxPtr()`, `*bbox.maxBBoxPtr()`: x, whatever the direction). That box is
+/// the root node's `bbox` when the scene file gives it (Node::parse: bboxIsFixed), else what
+/// SOFA's visitors compute from every component's computeBBox at the time the engine runs (drawn
+/// states, FEM force fields and springs, fixed points, visual models: InitVisitor,
+/// UpdateBoundingBoxVisitor after init and after each step), which penalty does not reproduce.
+/// A script's root `bbox` is a Data written after the node was made, not parsed with it: SOFA's
+/// visitors compute it again (no bboxIsFixed).
+std::optional<std::pair<double, double>> scene_bbox_x(const SceneBuilder& b, std::string& why) {
+    const io::SceneNode& root = *b.file().root;
+    const io::SceneAttribute* bbox = root.find("bbox");
+    const bool script = root.file.ends_with(".py") || root.file.ends_with(".pyscn");
+    if (bbox == nullptr || script) {
+        why =
+            "scalar values over several inputValues are interpolated over the x extent of the scene's "
+            "bounding box (ValuesFromPositions::doUpdate reads the root context's bbox), which SOFA computes "
+            "from every component's computeBBox when the engine runs (drawn states, force fields, fixed "
+            "points, visual models); penalty does not compute it: give the root node of a scene file a fixed "
+            "bbox (<Node name=\"root\" bbox=\"xmin ymin zmin xmax ymax zmax\">; a script's root.bbox is not "
+            "fixed, SOFA computes it again)";
+        return std::nullopt;
+    }
+    const std::vector<double> v = io::get_doubles(root, "bbox");
+    if (v.size() != 6)
+        io::throw_element_error(root, "attribute 'bbox': expected 6 numbers (xmin ymin zmin xmax ymax zmax), found " +
+                                          std::to_string(v.size()));
+    return std::pair{v[0], v[3]};
+}
+
 void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     require_vec3_template(c);
@@ -231,25 +263,40 @@ void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeB
         read_element_list(b, a, "triangles", triangles, &io::MeshData::triangles, &MeshTopology::triangles);
         read_element_list(b, a, "tetrahedra", tetrahedra, &io::MeshData::tetrahedra, &MeshTopology::tetrahedra);
         const std::vector<double> input = a.numbers("inputValues");
-        // SOFA interpolates over the x extent of the root's bounding box (the whole scene's,
-        // visual models included); penalty takes the x extent of the engine's own points
+        const Vec3 direction = a.vector3("direction");
+        // the interval matters only for a scalar field over several values (valueFromPosition)
         double lo = 0.0, hi = 1.0;
+        std::string why;
         if (!vectors && input.size() > 1) {
-            if (points.empty()) a.fail("inputValues", "interpolated values need points");
-            lo = hi = points[0][0];
-            for (const Vec3& p : points) {
-                lo = std::min(lo, p[0]);
-                hi = std::max(hi, p[0]);
-            }
-            b.warn(c.describe() + ": scalar values interpolated over the x extent of its points [" + num(lo) + ", " +
-                   num(hi) + "]; SOFA uses the scene's bounding box (docs/differences-from-sofa.md)");
+            if (const auto x = scene_bbox_x(b, why)) std::tie(lo, hi) = *x;
+            else b.refuse_engine_reals(c, c.file + ":" + std::to_string(c.line) + ": " + c.describe() + ": " + why);
         }
-        r = values_from_positions(points, edges, triangles, tetrahedra, a.vector3("direction"), input, lo, hi, vectors);
+        r = values_from_positions(points, edges, triangles, tetrahedra, direction, input, lo, hi, vectors);
+        // over moving positions: run again on read (live_engines.cpp)
+        b.add_live_engine(a, points, [=](const std::vector<Vec3>& x, LiveEngine& engine) {
+            // a `direction` linked to moving points takes the first (BaseData::genericCopyValueFrom)
+            const std::vector<Vec3>* moved = engine.followed("direction");
+            const Vec3 dir = moved != nullptr && !moved->empty() ? moved->front() : direction;
+            ValuesFromPositionsResult out =
+                values_from_positions(x, edges, triangles, tetrahedra, dir, input, lo, hi, vectors);
+            engine.reals["values"] = std::move(out.point_values);
+            engine.reals["edgeValues"] = std::move(out.edge_values);
+            engine.reals["triangleValues"] = std::move(out.triangle_values);
+            engine.reals["tetrahedronValues"] = std::move(out.tetrahedron_values);
+            engine.meshes["pointVectors"].positions = std::move(out.point_vectors);
+            engine.meshes["edgeVectors"].positions = std::move(out.edge_vectors);
+            engine.meshes["triangleVectors"].positions = std::move(out.triangle_vectors);
+            engine.meshes["tetrahedronVectors"].positions = std::move(out.tetrahedron_vectors);
+        });
     });
     b.role(c, [n = vectors ? r.point_vectors.size() : r.point_values.size(), vectors] {
         return std::string(vectors ? "a vector" : "a scalar") + " per point and element (" +
                counted(n, "point", "points") + ")";
     });
+    b.record_engine_reals(c, "values", std::move(r.point_values));
+    b.record_engine_reals(c, "edgeValues", std::move(r.edge_values));
+    b.record_engine_reals(c, "triangleValues", std::move(r.triangle_values));
+    b.record_engine_reals(c, "tetrahedronValues", std::move(r.tetrahedron_values));
     const auto record_vectors = [&](const char* name, std::vector<Vec3> v) {
         io::MeshData m;
         m.positions = std::move(v);
