@@ -80,6 +80,9 @@ def test_a_scalar_field_without_a_fixed_scene_bbox_is_refused(tmp_path):
     with pytest.raises(ValueError, match=r"no_bbox.scn:\d+: ValuesFromPositions 'vfp': .*fixed bbox"):
         root.Beam.vfp.values.value
     assert root.Beam.vec.pointVectors.value.tolist() == [[1.0, 1.0, 0.0]] * 20  # a vector field needs no box
+    notes = penalty.load_scene(scene).info()["warnings"]
+    assert [n.split(": ")[1] for n in notes if "cannot be read" in n] == ["ValuesFromPositions 'vfp'",
+                                                                           "ValuesFromPositions 'still'"]
 
 
 def test_a_scripts_root_bbox_is_not_fixed():

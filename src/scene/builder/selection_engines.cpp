@@ -269,7 +269,11 @@ void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeB
         std::string why;
         if (!vectors && input.size() > 1) {
             if (const auto x = scene_bbox_x(b, why)) std::tie(lo, hi) = *x;
-            else b.refuse_engine_reals(c, c.file + ":" + std::to_string(c.line) + ": " + c.describe() + ": " + why);
+            else {
+                const std::string where = c.file + ":" + std::to_string(c.line) + ": " + c.describe() + ": ";
+                b.refuse_engine_reals(c, where + why);
+                b.warn(where + "its scalar outputs (values, edgeValues, ...) cannot be read: " + why);
+            }
         }
         r = values_from_positions(points, edges, triangles, tetrahedra, direction, input, lo, hi, vectors);
         // over moving positions: run again on read (live_engines.cpp)
