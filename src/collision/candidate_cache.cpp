@@ -118,19 +118,14 @@ PairCandidates* CandidateCache::entry(ModelIndex i1, ModelIndex i2) {
     return &pairs_[PairKey(i1, i2)];
 }
 
-void CandidateCache::count_kept_keys(const std::vector<std::size_t>& near,
-                                     const std::vector<std::array<ModelIndex, 2>>& pair_indices,
-                                     const std::vector<PairCandidates*>& kept_of_pair) {
-    for (const std::size_t k : near) {
-        const PairCandidates* kept = kept_of_pair[k];
-        if (kept == nullptr) continue;
-        ModelMotion& a = motion_[pair_indices[k][0].slot()];
-        ModelMotion& b = motion_[pair_indices[k][1].slot()];
-        if (kept->generation1 != a.generation || kept->generation2 != b.generation) continue;
-        for (ModelMotion* m : {&a, &b}) {
-            m->kept_keys += kept->keys.size();
-            m->overlapping_keys += kept->overlapped_last;
-        }
+void CandidateCache::count_kept_keys(const std::array<ModelIndex, 2>& places, const PairCandidates* kept) {
+    if (kept == nullptr) return;
+    ModelMotion& a = motion_[places[0].slot()];
+    ModelMotion& b = motion_[places[1].slot()];
+    if (kept->generation1 != a.generation || kept->generation2 != b.generation) return;
+    for (ModelMotion* m : {&a, &b}) {
+        m->kept_keys += kept->keys.size();
+        m->overlapping_keys += kept->overlapped_last;
     }
 }
 

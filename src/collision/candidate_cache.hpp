@@ -88,11 +88,9 @@ public:
     /// The kept candidates of pair (i1, i2), made empty when new; nullptr when a model is
     /// untracked.
     [[nodiscard]] PairCandidates* entry(ModelIndex i1, ModelIndex i2);
-    /// The models' kept and overlapping keys of the pairs `near` (their entries `kept`, by pair)
-    /// in their current generations.
-    void count_kept_keys(const std::vector<std::size_t>& near,
-                         const std::vector<std::array<ModelIndex, 2>>& pair_indices,
-                         const std::vector<PairCandidates*>& kept);
+    /// Adds to the models at `places` the kept and overlapping keys of their pair's entry `kept`
+    /// (nullptr: none) in their current generations.
+    void count_kept_keys(const std::array<ModelIndex, 2>& places, const PairCandidates* kept);
     /// The outputs of `pair` from its kept candidates, collected again when a generation moved
     /// on: the traversal's candidates, so the traversal's outputs. Returns whether they are in
     /// SOFA's order.
