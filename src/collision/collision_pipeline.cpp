@@ -129,6 +129,11 @@ detail::PairCandidates* CollisionPipeline::pair_candidates_entry(ModelIndex i1, 
     return cache_->entry(i1, i2);
 }
 
+void CollisionPipeline::follow_candidate_cache() {
+    if (detection_ == ContactDetection::bvh && opt_.candidate_cache) cache_->follow(broad_->near(), pair_kept_);
+    else pair_kept_.assign(broad_->near().size(), nullptr);
+}
+
 bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
                                               PairScratch& scratch, detail::PairCounts& counts,
                                               detail::PairCandidates* kept_entry,
@@ -254,9 +259,8 @@ void CollisionPipeline::detect_pairs_in_order() {
     // all): it runs the pairs of the broad phase's near().
     detail::PairCounts counts;
     const std::vector<detail::NearPair>& near = broad_->near();
-    pair_kept_.assign(near.size(), nullptr);
+    follow_candidate_cache();
     for (std::size_t p = 0; p < near.size(); ++p) {
-        pair_kept_[p] = pair_candidates_entry(near[p].places[0], near[p].places[1]);
         const std::size_t before = counts.candidates;
         detect_pair_with(near[p].places[0], near[p].places[1], result_[p].outputs, scratch_, counts, pair_kept_[p]);
         record_pair_work(p, counts.candidates - before);
@@ -270,11 +274,10 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // Triangle planes their separation tests read (a model's, shared by its pairs).
     // (bvh only: the pairs of the broad phase's near(), in order)
     const std::vector<detail::NearPair>& near = broad_->near();
-    pair_kept_.assign(near.size(), nullptr);
+    follow_candidate_cache();
     for (std::size_t p = 0; p < near.size(); ++p) {
         CollisionModel& m1 = *result_[p].model1;
         CollisionModel& m2 = *result_[p].model2;
-        pair_kept_[p] = pair_candidates_entry(near[p].places[0], near[p].places[1]);
         if (detail::reads_triangle_planes(detail::pair_kernel_parts(params_, m1, m2))) {
             static_cast<TriangleModel&>(m1).update_planes();
             static_cast<TriangleModel&>(m2).update_planes();

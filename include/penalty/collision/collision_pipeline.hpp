@@ -284,6 +284,9 @@ private:
     /// The pair's entry of the candidate cache when it applies to the pair (bvh, the cache on,
     /// both models tracked), made if new; nullptr otherwise.
     [[nodiscard]] detail::PairCandidates* pair_candidates_entry(ModelIndex i1, ModelIndex i2);
+    /// pair_kept_: the candidate cache's entries of the broad phase's near() (all nullptr when
+    /// the cache does not apply).
+    void follow_candidate_cache();
     /// Work of the near pair at `place` in the broad phase's near() (this detection's).
     void record_pair_work(std::size_t place, std::size_t candidates);
     /// result_: one entry per near pair, outputs empty (their capacity kept by place).
