@@ -1,5 +1,5 @@
-// broad_phase() (SOFA's BruteForceBroadPhase filter) and BroadPhase, its pairs kept from step to
-// step with the near ones found by a sweep (broad_phase.hpp).
+// broad_phase() (SOFA's BruteForceBroadPhase filter) and BroadPhase, each detection's near pairs
+// found by a sweep and filtered one by one (broad_phase.hpp).
 #include "broad_phase.hpp"
 
 #include "narrow_phase.hpp"
@@ -20,16 +20,15 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
     for (std::size_t i = 0; i < models.size(); ++i)
         if (models[i] == nullptr) throw_invalid_argument("broad_phase(): model ", i, " is null");
     // BruteForceBroadPhase::addCollisionModel: each model in turn, first with itself, then with
-    // every model added before it, the pair (new model, earlier model) swapped only when the
-    // intersector is registered the other way (so two models of one type are keyed (later,
-    // earlier), which decides the contact ids and the order of the contacts).
+    // every model added before it (detail::sofa_pair_order)
     for (std::size_t j = 0; j < models.size(); ++j) {
         for (std::size_t k = 0; k <= j; ++k) {
             const std::size_t i = k == 0 ? j : k - 1;  // j itself first, then 0 … j−1
             CollisionModel* a = models[j];
             CollisionModel* b = models[i];
-            if (!keep_model_pair(*a, *b)) continue;
-            if (!has_active_intersector(params, a->type(), b->type())) {
+            const detail::PairVerdict verdict = detail::judge_model_pair(params, *a, *b);
+            if (verdict == detail::PairVerdict::filtered_out) continue;
+            if (verdict == detail::PairVerdict::unsupported) {
                 if (unsupported != nullptr) unsupported->push_back({a, b});
                 continue;
             }
@@ -45,14 +44,22 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
 namespace detail {
 
 namespace {
-// find_near tests every pair's root boxes, in pair order, up to this many pairs; beyond, it
-// sweeps over the models' root boxes.
+// find_near tests every kept pair's root boxes, in pair order, up to this many pairs; beyond,
+// it sweeps over the models' root boxes.
 constexpr std::size_t kMaxPairsTestedOneByOne = 64;
 // near_'s sort: std::sort below this many pairs, the radix sort from there
 constexpr std::size_t kMinNearPairsForRadixSort = 256;
-// pair_of_models_'s key of the models at places a and b: (lower place, higher place)
-PairKey model_pair_key(ModelIndex a, ModelIndex b) { return PairKey(std::min(a, b), std::max(a, b)); }
 }  // namespace
+
+PairVerdict judge_model_pair(const IntersectionParams& params, const CollisionModel& later,
+                             const CollisionModel& earlier) {
+    if (!keep_model_pair(later, earlier)) return PairVerdict::filtered_out;
+    // the pair (new model, earlier model) is swapped only when the intersector is registered the
+    // other way (so two models of one type are keyed (later, earlier)), which decides the
+    // contact ids and the order of the contacts
+    if (!has_active_intersector(params, later.type(), earlier.type())) return PairVerdict::unsupported;
+    return PairVerdict::kept;
+}
 
 bool BroadPhase::ModelKey::describes(const CollisionModel& m) const {
     const CollisionModelParams& p = m.params();
@@ -60,56 +67,76 @@ bool BroadPhase::ModelKey::describes(const CollisionModel& m) const {
            self_collision == p.self_collision && both_side == p.both_side && node == p.node && group == p.group;
 }
 
-bool BroadPhase::update(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
-                        SceneDetection& result) {
+std::optional<NearPair> BroadPhase::kept_pair(const IntersectionParams& params,
+                                              const std::vector<CollisionModel*>& models, std::size_t j,
+                                              std::size_t i) {
+    const CollisionModel& a = *models[j];
+    const CollisionModel& b = *models[i];
+    if (judge_model_pair(params, a, b) != PairVerdict::kept) return std::nullopt;
+    const ModelIndex place_j(static_cast<Index>(j)), place_i(static_cast<Index>(i));
+    const bool keep_order = is_registered_order(a.type(), b.type());
+    return NearPair{sofa_pair_order(j, i), keep_order ? std::array{place_j, place_i} : std::array{place_i, place_j}};
+}
+
+bool BroadPhase::update(const IntersectionParams& params, const std::vector<CollisionModel*>& models) {
     bool same = key_.size() == models.size();
     for (std::size_t i = 0; same && i < models.size(); ++i) same = key_[i].describes(*models[i]);
     if (same) return false;
-    broad_phase(params, models, pairs_, &unsupported_, &indices_);
     key_.resize(models.size());
     for (std::size_t i = 0; i < models.size(); ++i) {
         const CollisionModel& m = *models[i];
         const CollisionModelParams& p = m.params();
         key_[i] = {&m, m.type(), p.active, p.simulated, p.self_collision, p.both_side, p.node, p.group};
     }
-    result.resize(pairs_.size());  // the remaining entries keep their output capacity
+    // one pass over every pair in broad_phase()'s order, nothing kept per pair
+    kept_pairs_ = 0;
+    unsupported_.clear();
     any_pair_writes_models_ = false;
-    pair_of_models_.clear();
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-        ModelPairDetection& d = result[k];
-        d.model1 = pairs_[k].model1;
-        d.model2 = pairs_[k].model2;
-        d.support = pair_support(params, d.model1->type(), d.model2->type());
-        d.skipped = false;
-        d.narrow_phase = false;
-        d.outputs.clear();
-        any_pair_writes_models_ = any_pair_writes_models_ || kernel_writes_models(params, *d.model1, *d.model2);
-        pair_of_models_.emplace(model_pair_key(indices_[k][0], indices_[k][1]), k);
+    for (std::size_t j = 0; j < models.size(); ++j) {
+        for (std::size_t k = 0; k <= j; ++k) {
+            const std::size_t i = k == 0 ? j : k - 1;  // j itself first, then 0 … j−1
+            CollisionModel& a = *models[j];
+            CollisionModel& b = *models[i];
+            const PairVerdict verdict = judge_model_pair(params, a, b);
+            if (verdict == PairVerdict::unsupported) unsupported_.push_back({&a, &b});
+            if (verdict != PairVerdict::kept) continue;
+            ++kept_pairs_;
+            const bool keep_order = is_registered_order(a.type(), b.type());
+            any_pair_writes_models_ = any_pair_writes_models_ || (keep_order ? kernel_writes_models(params, a, b)
+                                                                             : kernel_writes_models(params, b, a));
+        }
     }
     near_.clear();
-    near_last_.clear();
-    is_near_.assign(pairs_.size(), 0);
     return true;
 }
 
 void BroadPhase::find_near(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
                            const std::vector<Bvh>& trees,
-                           const std::function<bool(ModelIndex, ModelIndex)>& within_margin, SceneDetection& result) {
-    std::swap(near_, near_last_);
+                           const std::function<bool(ModelIndex, ModelIndex)>& within_margin, bool every_pair) {
     near_.clear();
-    if (pairs_.size() <= kMaxPairsTestedOneByOne) {
-        // few pairs: each one's test, in pair order, costs less than a sweep
-        for (std::size_t k = 0; k < pairs_.size(); ++k)
-            if (within_margin(indices_[k][0], indices_[k][1])) near_.push_back(k);
-        mark_near(result);
+    if (every_pair || kept_pairs_ <= kMaxPairsTestedOneByOne) {
+        // each pair's test, in pair order (few pairs: it costs less than a sweep)
+        for (std::size_t j = 0; j < models.size(); ++j) {
+            for (std::size_t k = 0; k <= j; ++k) {
+                const std::size_t i = k == 0 ? j : k - 1;
+                const std::optional<NearPair> p = kept_pair(params, models, j, i);
+                if (p && within_margin(p->places[0], p->places[1])) near_.push_back(*p);
+            }
+        }
         return;
     }
-    const auto consider = [&](std::size_t a, std::size_t b) {  // models a <= b
-        const auto it = pair_of_models_.find(model_pair_key(ModelIndex(Index(a)), ModelIndex(Index(b))));
-        if (it == pair_of_models_.end()) return;  // filtered out by the broad phase
-        const std::size_t k = it->second;
-        if (within_margin(indices_[k][0], indices_[k][1])) near_.push_back(k);
-    };
+    sweep(params, models, trees, [&](std::size_t a, std::size_t b) {  // models a <= b
+        const std::optional<NearPair> p = kept_pair(params, models, b, a);
+        if (p && within_margin(p->places[0], p->places[1])) near_.push_back(*p);
+    });
+    const auto order_of = [](const NearPair& p) { return p.order; };
+    if (near_.size() < kMinNearPairsForRadixSort)
+        std::sort(near_.begin(), near_.end(), [](const NearPair& x, const NearPair& y) { return x.order < y.order; });
+    else stable_radix_sort(near_, sort_swap_, sort_counts_, order_of);
+}
+
+void BroadPhase::sweep(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
+                       const std::vector<Bvh>& trees, const std::function<void(std::size_t, std::size_t)>& consider) {
     // The models roots_within_margin may pass: neither empty nor without a tree. The margin of
     // a pair is at most `reach` (box_margin's largest terms), so a pair whose root boxes are
     // apart by more than `reach` on the sweep's axis fails it (max + m <= max + reach, the sums
@@ -159,21 +186,6 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
         }
         sweep_active_.resize(kept);
         sweep_active_.push_back(s);
-    }
-    if (near_.size() < kMinNearPairsForRadixSort) std::sort(near_.begin(), near_.end());
-    else stable_radix_sort(near_, sweep_swap_, sweep_counts_, [](std::size_t k) { return std::uint64_t(k); });
-    mark_near(result);
-}
-
-void BroadPhase::mark_near(SceneDetection& result) {
-    for (const std::size_t k : near_last_) {
-        is_near_[k] = 0;
-        result[k].narrow_phase = false;
-        result[k].outputs.clear();
-    }
-    for (const std::size_t k : near_) {
-        is_near_[k] = 1;
-        result[k].narrow_phase = true;
     }
 }
 

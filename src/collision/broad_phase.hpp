@@ -1,13 +1,15 @@
 #pragma once
 /// @file
-/// The broad phase kept from step to step (private to the collision stage).
+/// The broad phase of a detection (private to the collision stage).
 ///
-/// broad_phase()'s pairs depend only on the models and the parameters its filters read
-/// (keep_model_pair, the intersectors, kernel_writes_models): they are made again only when one
-/// of those changed (update). Of those pairs, the BVH detection finds the ones whose root boxes
-/// are within the margin (find_near) by a sweep over the models' root boxes instead of testing
-/// every pair: a pile of n bodies has n²/2 pairs and about 6n near ones. The pairs, their order,
-/// their flags and outputs are those of the test of every pair.
+/// SOFA's BruteForceBroadPhase filters every model pair (broad_phase()) and hands the narrow phase
+/// those whose root boxes are within the margin. Kept here: only what the filter says about all
+/// pairs together (how many pass, the ones without an intersector, whether a kernel writes the
+/// models), counted again only when a model or a parameter the filter reads changed (update), and
+/// each detection's near pairs (find_near), found by a sweep over the models' root boxes and
+/// filtered one by one: a pile of n bodies has n²/2 pairs and about 6n near ones, so the broad
+/// phase's memory and time follow the near pairs, not the n² pairs. The near pairs, their order
+/// and keys are those of the test of every pair.
 
 #include "penalty/collision/bvh.hpp"
 #include "penalty/collision/collision_pipeline.hpp"
@@ -17,30 +19,42 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
-#include <unordered_map>
+#include <optional>
 #include <vector>
 
 namespace penalty::detail {
 
+/// The place of the pair of models j and i (i ≤ j) in broad_phase()'s order, filtered or not:
+/// each model j adds (j, j) then (j, 0) … (j, j − 1), so j(j + 1)/2 pairs come before its own.
+[[nodiscard]] constexpr std::uint64_t sofa_pair_order(std::size_t j, std::size_t i) {
+    return std::uint64_t(j) * (std::uint64_t(j) + 1) / 2 + (i == j ? 0 : std::uint64_t(i) + 1);
+}
+
+/// A model pair the broad phase kept and hands to the narrow phase.
+struct NearPair {
+    std::uint64_t order = 0;             ///< sofa_pair_order of its models' places
+    std::array<ModelIndex, 2> places{};  ///< of its model1 and model2 (registered order)
+};
+
+/// What SOFA's filter makes of the pair (models[j], models[i]), i ≤ j, as broad_phase() keys it.
+enum class PairVerdict : std::uint8_t { filtered_out, unsupported, kept };
+[[nodiscard]] PairVerdict judge_model_pair(const IntersectionParams& params, const CollisionModel& later,
+                                           const CollisionModel& earlier);
+
 class BroadPhase {
 public:
-    /// Makes the pairs again if a model or a filter's parameter changed since the last call;
-    /// returns whether it did (then `result` has one entry per pair, flags and outputs reset).
-    bool update(const IntersectionParams& params, const std::vector<CollisionModel*>& models, SceneDetection& result);
-    /// The pairs whose root boxes are within the margin (`within_margin(i1, i2)` on the models'
-    /// places), ascending, into near(); near_last() keeps the previous ones; `result`'s
-    /// narrow_phase flags and the outputs of pairs that left are updated.
+    /// Counts the pairs again if a model or a filter's parameter changed since the last call;
+    /// returns whether it did.
+    bool update(const IntersectionParams& params, const std::vector<CollisionModel*>& models);
+    /// This detection's near pairs, in broad_phase()'s order: the kept pairs passing
+    /// `within_margin(place1, place2)`. `every_pair`: each kept pair tested in order (the
+    /// exhaustive detection); else, beyond a few pairs, a sweep over the trees' root boxes.
     void find_near(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
                    const std::vector<Bvh>& trees, const std::function<bool(ModelIndex, ModelIndex)>& within_margin,
-                   SceneDetection& result);
-    [[nodiscard]] const std::vector<ModelPair>& pairs() const { return pairs_; }
-    /// Per pair: the places of its model1 and model2 in the models.
-    [[nodiscard]] const std::vector<std::array<ModelIndex, 2>>& indices() const { return indices_; }
+                   bool every_pair);
+    [[nodiscard]] const std::vector<NearPair>& near() const { return near_; }
     [[nodiscard]] const std::vector<ModelPair>& unsupported() const { return unsupported_; }
-    [[nodiscard]] const std::vector<std::size_t>& near() const { return near_; }
-    [[nodiscard]] const std::vector<std::size_t>& near_last() const { return near_last_; }
-    [[nodiscard]] bool is_near(std::size_t k) const { return is_near_[k] != 0; }
-    /// Some pair's kernel writes the models (pairs in order, or their writes deferred).
+    /// Some kept pair's kernel writes the models (pairs in order, or their writes deferred).
     [[nodiscard]] bool any_pair_writes_models() const { return any_pair_writes_models_; }
 
 private:
@@ -53,22 +67,23 @@ private:
         std::vector<int> group;
         [[nodiscard]] bool describes(const CollisionModel& m) const;
     };
-    void mark_near(SceneDetection& result);
-    std::vector<ModelPair> pairs_;
-    std::vector<std::array<ModelIndex, 2>> indices_;
-    std::vector<ModelPair> unsupported_;
+    /// The pair (j, i), i ≤ j, if kept.
+    [[nodiscard]] static std::optional<NearPair> kept_pair(const IntersectionParams& params,
+                                                           const std::vector<CollisionModel*>& models, std::size_t j,
+                                                           std::size_t i);
+    void sweep(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
+               const std::vector<Bvh>& trees, const std::function<void(std::size_t, std::size_t)>& consider);
     std::vector<ModelKey> key_;
+    std::size_t kept_pairs_ = 0;  ///< pairs passing the filter with an intersector
+    std::vector<ModelPair> unsupported_;
     bool any_pair_writes_models_ = false;
-    std::unordered_map<PairKey, std::size_t> pair_of_models_;  ///< (lower place, higher place) → pair
-    std::vector<std::size_t> near_;       ///< this detection's pairs with a narrow phase, ascending
-    std::vector<std::size_t> near_last_;  ///< the last detection's
-    std::vector<std::uint8_t> is_near_;   ///< per pair: in near_
+    std::vector<NearPair> near_;  ///< this detection's, in order
     // the sweep's scratch
     std::vector<std::size_t> sweep_;
     std::vector<std::size_t> sweep_active_;
     std::vector<Aabb> sweep_boxes_;
-    std::vector<std::size_t> sweep_swap_;  ///< near_'s radix sort: its other buffer and counts
-    std::vector<std::size_t> sweep_counts_;
+    std::vector<NearPair> sort_swap_;  ///< near_'s radix sort: its other buffer and counts
+    std::vector<std::size_t> sort_counts_;
 };
 
 }  // namespace penalty::detail

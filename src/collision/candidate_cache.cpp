@@ -41,7 +41,7 @@ double largest_bound_change(std::span<const Aabb> now, std::span<const Aabb> bef
 
 void CandidateCache::reset(std::size_t models) {
     motion_.assign(models, ModelMotion{});
-    pairs_.clear();
+    entries_.clear();
 }
 
 void CandidateCache::track_motion(std::size_t i, const Bvh& tree, const CollisionModel& model, double alarm_distance) {
@@ -113,24 +113,43 @@ void CandidateCache::track_motion(std::size_t i, const Bvh& tree, const Collisio
     mm.steps = 0;
 }
 
-PairCandidates* CandidateCache::entry(ModelIndex i1, ModelIndex i2) {
-    if (motion_[i1.slot()].generation == 0 || motion_[i2.slot()].generation == 0) return nullptr;
-    return &pairs_[PairKey(i1, i2)];
+void CandidateCache::follow(const std::vector<NearPair>& near, std::vector<PairCandidates*>& kept) {
+    // both lists in order: one merge
+    next_.clear();
+    auto last = entries_.begin();
+    for (const NearPair& p : near) {
+        while (last != entries_.end() && last->pair.order < p.order) ++last;
+        if (last != entries_.end() && last->pair.order == p.order && last->pair.places == p.places)
+            next_.push_back(std::move(*last));
+        else next_.push_back({p, PairCandidates{}});
+    }
+    entries_.swap(next_);
+    kept.assign(near.size(), nullptr);
+    for (std::size_t k = 0; k < near.size(); ++k) {
+        const NearPair& p = near[k];
+        if (motion_[p.places[0].slot()].generation != 0 && motion_[p.places[1].slot()].generation != 0)
+            kept[k] = &entries_[k].candidates;
+    }
 }
 
-void CandidateCache::count_kept_keys(const std::vector<std::size_t>& near,
-                                     const std::vector<std::array<ModelIndex, 2>>& pair_indices,
-                                     const std::vector<PairCandidates*>& kept_of_pair) {
-    for (const std::size_t k : near) {
-        const PairCandidates* kept = kept_of_pair[k];
-        if (kept == nullptr) continue;
-        ModelMotion& a = motion_[pair_indices[k][0].slot()];
-        ModelMotion& b = motion_[pair_indices[k][1].slot()];
-        if (kept->generation1 != a.generation || kept->generation2 != b.generation) continue;
-        for (ModelMotion* m : {&a, &b}) {
-            m->kept_keys += kept->keys.size();
-            m->overlapping_keys += kept->overlapped_last;
-        }
+PairCandidates* CandidateCache::entry(ModelIndex i1, ModelIndex i2) {
+    if (motion_[i1.slot()].generation == 0 || motion_[i2.slot()].generation == 0) return nullptr;
+    const std::uint64_t order = sofa_pair_order(std::max(i1, i2).slot(), std::min(i1, i2).slot());
+    const auto it = std::lower_bound(entries_.begin(), entries_.end(), order,
+                                     [](const Entry& e, std::uint64_t o) { return e.pair.order < o; });
+    if (it != entries_.end() && it->pair.order == order) return &it->candidates;
+    one_use_ = PairCandidates{};
+    return &one_use_;
+}
+
+void CandidateCache::count_kept_keys(const std::array<ModelIndex, 2>& places, const PairCandidates* kept) {
+    if (kept == nullptr) return;
+    ModelMotion& a = motion_[places[0].slot()];
+    ModelMotion& b = motion_[places[1].slot()];
+    if (kept->generation1 != a.generation || kept->generation2 != b.generation) return;
+    for (ModelMotion* m : {&a, &b}) {
+        m->kept_keys += kept->keys.size();
+        m->overlapping_keys += kept->overlapped_last;
     }
 }
 

@@ -8,6 +8,7 @@
 /// exactly the traversal's, so are the outputs. Each moving model's slack adapts to how long its
 /// generations last (track_motion).
 
+#include "broad_phase.hpp"
 #include "narrow_phase.hpp"
 
 #include "penalty/collision/bvh.hpp"
@@ -17,7 +18,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 namespace penalty::detail {
@@ -85,14 +85,16 @@ public:
     /// After model i's tree was refitted or built: a new generation when its boxes moved past
     /// their slack (the slack adapted), or the model left untracked for a while.
     void track_motion(std::size_t i, const Bvh& tree, const CollisionModel& model, double alarm_distance);
-    /// The kept candidates of pair (i1, i2), made empty when new; nullptr when a model is
-    /// untracked.
+    /// The entries of this detection's near pairs (`near`, in order): the last detection's entry
+    /// of a pair carried over, a new pair's empty, the others' dropped (the cache holds the near
+    /// pairs only). kept[p]: near[p]'s entry, or nullptr when one of its models is untracked.
+    void follow(const std::vector<NearPair>& near, std::vector<PairCandidates*>& kept);
+    /// The kept candidates of pair (i1, i2) (registered order) if it was near at the last
+    /// detection, else an empty entry of one use; nullptr when a model is untracked.
     [[nodiscard]] PairCandidates* entry(ModelIndex i1, ModelIndex i2);
-    /// The models' kept and overlapping keys of the pairs `near` (their entries `kept`, by pair)
-    /// in their current generations.
-    void count_kept_keys(const std::vector<std::size_t>& near,
-                         const std::vector<std::array<ModelIndex, 2>>& pair_indices,
-                         const std::vector<PairCandidates*>& kept);
+    /// Adds to the models at `places` the kept and overlapping keys of their pair's entry `kept`
+    /// (nullptr: none) in their current generations.
+    void count_kept_keys(const std::array<ModelIndex, 2>& places, const PairCandidates* kept);
     /// The outputs of `pair` from its kept candidates, collected again when a generation moved
     /// on: the traversal's candidates, so the traversal's outputs. Returns whether they are in
     /// SOFA's order.
@@ -107,9 +109,15 @@ private:
     /// Box-tests the kept keys with the pair's margin into buf.keys (their order kept).
     static void test_kept_keys(const CachedPair& pair, PairCandidates& kept, double margin, Keys& now,
                                PairCounts& counts);
+    struct Entry {
+        NearPair pair;
+        PairCandidates candidates;
+    };
     std::vector<ModelMotion> motion_;
-    std::uint64_t generations_ = 0;                      ///< generations begun, all models together (each one unique)
-    std::unordered_map<PairKey, PairCandidates> pairs_;  ///< key: (model place 1, model place 2)
+    std::uint64_t generations_ = 0;  ///< generations begun, all models together (each one unique)
+    std::vector<Entry> entries_;     ///< the last detection's near pairs', in order
+    std::vector<Entry> next_;        ///< follow()'s other buffer
+    PairCandidates one_use_;         ///< entry() of a pair that was not near
 };
 
 /// The largest change of any box bound between two lists of the same size (stops above `limit`).

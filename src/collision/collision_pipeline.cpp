@@ -129,6 +129,11 @@ detail::PairCandidates* CollisionPipeline::pair_candidates_entry(ModelIndex i1, 
     return cache_->entry(i1, i2);
 }
 
+void CollisionPipeline::follow_candidate_cache() {
+    if (detection_ == ContactDetection::bvh && opt_.candidate_cache) cache_->follow(broad_->near(), pair_kept_);
+    else pair_kept_.assign(broad_->near().size(), nullptr);
+}
+
 bool CollisionPipeline::detect_pair_unordered(std::size_t i1, std::size_t i2, DetectionOutputList& out,
                                               PairScratch& scratch, detail::PairCounts& counts,
                                               detail::PairCandidates* kept_entry,
@@ -169,33 +174,37 @@ const SceneDetection& CollisionPipeline::detect() {
     refit();
     if (opt_.sofa_output_order)
         sofa_trees_.build_all(models_);  // SOFA computes every model's bounding tree at each detection
-    const bool rebuilt = broad_->update(params_, models_, result_);
-    const std::size_t pairs = broad_->pairs().size();
-    if (detection_ == ContactDetection::exhaustive) {
-        find_exhaustive_root_boxes();
-    } else {
-        broad_->find_near(
-            params_, models_, trees_, [this](ModelIndex i1, ModelIndex i2) { return roots_within_margin(i1, i2); },
-            result_);
-    }
+    broad_->update(params_, models_);
+    const bool exhaustive = detection_ == ContactDetection::exhaustive;
+    if (exhaustive) find_exhaustive_root_boxes();
+    broad_->find_near(
+        params_, models_, trees_, [this](ModelIndex i1, ModelIndex i2) { return roots_within_margin(i1, i2); },
+        exhaustive);
+    list_near_pairs();
     if (opt_.narrow_phase_override) return opt_.narrow_phase_override->detect(result_);
     last_concurrent_ = pairs_run_concurrently();
-    pair_work_.resize(pairs);
+    pair_work_.resize(result_.size());
     if (last_concurrent_) detect_pairs_concurrently();
     else detect_pairs_in_order();
-    if (detection_ == ContactDetection::bvh) {
-        cache_->count_kept_keys(broad_->near(), broad_->indices(), pair_kept_);
-        // the pairs without narrow phase evaluated nothing (every one after a new broad phase,
-        // else those that just left near_)
-        if (rebuilt) {
-            for (std::size_t k = 0; k < pairs; ++k)
-                if (!broad_->is_near(k)) record_pair_work(k, 0);
-        } else {
-            for (const std::size_t k : broad_->near_last())
-                if (!broad_->is_near(k)) record_pair_work(k, 0);
-        }
-    }
+    if (!exhaustive)
+        for (std::size_t p = 0; p < pair_kept_.size(); ++p)
+            cache_->count_kept_keys(broad_->near()[p].places, pair_kept_[p]);
+    pair_work_last_.swap(pair_work_);
     return result_;
+}
+
+void CollisionPipeline::list_near_pairs() {
+    const std::vector<detail::NearPair>& near = broad_->near();
+    result_.resize(near.size());  // the remaining entries keep their output capacity
+    for (std::size_t p = 0; p < near.size(); ++p) {
+        ModelPairDetection& d = result_[p];
+        d.model1 = models_[near[p].places[0].slot()];
+        d.model2 = models_[near[p].places[1].slot()];
+        d.support = pair_support(params_, d.model1->type(), d.model2->type());
+        d.skipped = false;
+        d.narrow_phase = true;
+        d.outputs.clear();
+    }
 }
 
 void CollisionPipeline::find_exhaustive_root_boxes() {
@@ -208,9 +217,6 @@ void CollisionPipeline::find_exhaustive_root_boxes() {
         m.element_boxes(0, m.size(), boxes_.data());
         for (const Aabb& b : boxes_) root_boxes_[i].extend(b);
     }
-    const auto& indices = broad_->indices();
-    for (std::size_t k = 0; k < indices.size(); ++k)
-        result_[k].narrow_phase = roots_within_margin(indices[k][0], indices[k][1]);
 }
 
 bool CollisionPipeline::pairs_run_concurrently() const {
@@ -222,45 +228,42 @@ bool CollisionPipeline::pairs_run_concurrently() const {
     if (broad_->any_pair_writes_models() && !detail::model_writes_read_only_by_writes(params_)) return false;
     const bool always = opt_.pair_concurrency == PairConcurrency::always;
     std::size_t worth_a_task = 0, candidates = 0;
-    for (const std::size_t k : broad_->near()) {
+    // each near pair's candidates at the last detection, if it was near then (both lists in order)
+    auto last = pair_work_last_.begin();
+    for (std::size_t p = 0; p < result_.size(); ++p) {
         if (always) {
             ++worth_a_task;
             continue;
         }
-        const bool known = k < pair_work_.size() && pair_work_[k].model1 == broad_->pairs()[k].model1 &&
-                           pair_work_[k].model2 == broad_->pairs()[k].model2;
+        const std::uint64_t order = broad_->near()[p].order;
+        while (last != pair_work_last_.end() && last->order < order) ++last;
+        const bool known = last != pair_work_last_.end() && last->order == order && last->model1 == result_[p].model1 &&
+                           last->model2 == result_[p].model2;
         if (!known) continue;
-        candidates += pair_work_[k].candidates;
-        worth_a_task += pair_work_[k].candidates >= kMinCandidatesPerConcurrentPair ? 1 : 0;
+        candidates += last->candidates;
+        worth_a_task += last->candidates >= kMinCandidatesPerConcurrentPair ? 1 : 0;
     }
     if (always) return worth_a_task >= 2;
     return worth_a_task >= 2 && candidates >= std::max(kMinCandidatesForConcurrentPairs, moving_elements_);
 }
 
-void CollisionPipeline::record_pair_work(std::size_t k, std::size_t candidates) {
-    pair_work_[k] = {broad_->pairs()[k].model1, broad_->pairs()[k].model2, candidates};
+void CollisionPipeline::record_pair_work(std::size_t place, std::size_t candidates) {
+    pair_work_[place] = {broad_->near()[place].order, result_[place].model1, result_[place].model2, candidates};
 }
 
 void CollisionPipeline::detect_pairs_in_order() {
     // A pair whose root boxes are not within the margin has no element boxes within it (each
     // element box lies in its root box, and the test is monotone in the bounds): no candidates
-    // and no outputs, so the BVH detection neither traverses its trees nor looks its candidate
+    // and no outputs, so the detection neither traverses its trees nor looks its candidate
     // cache up (SOFA's BruteForceBroadPhase does not hand such a pair to the narrow phase at
-    // all): it runs the pairs of the broad phase's near(). Exhaustive detection runs every pair.
+    // all): it runs the pairs of the broad phase's near().
     detail::PairCounts counts;
-    const auto run = [&](std::size_t k, detail::PairCandidates* kept) {
+    const std::vector<detail::NearPair>& near = broad_->near();
+    follow_candidate_cache();
+    for (std::size_t p = 0; p < near.size(); ++p) {
         const std::size_t before = counts.candidates;
-        detect_pair_with(broad_->indices()[k][0], broad_->indices()[k][1], result_[k].outputs, scratch_, counts, kept);
-        record_pair_work(k, counts.candidates - before);
-    };
-    if (detection_ == ContactDetection::bvh) {
-        pair_kept_.resize(broad_->pairs().size());
-        for (const std::size_t k : broad_->near()) {
-            pair_kept_[k] = pair_candidates_entry(broad_->indices()[k][0], broad_->indices()[k][1]);
-            run(k, pair_kept_[k]);
-        }
-    } else {
-        for (std::size_t k = 0; k < broad_->pairs().size(); ++k) run(k, nullptr);
+        detect_pair_with(near[p].places[0], near[p].places[1], result_[p].outputs, scratch_, counts, pair_kept_[p]);
+        record_pair_work(p, counts.candidates - before);
     }
     counts.add_to(cache_stats_, candidates_evaluated_);
 }
@@ -269,12 +272,12 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // What the pairs would otherwise make or compute as they go, made first on this thread:
     // their candidate-cache entries (the map does not change while pairs run) and the
     // Triangle planes their separation tests read (a model's, shared by its pairs).
-    // (bvh only: the pairs of the broad phase's near(), ascending)
-    pair_kept_.resize(broad_->pairs().size());
-    for (const std::size_t k : broad_->near()) {
-        CollisionModel& m1 = *broad_->pairs()[k].model1;
-        CollisionModel& m2 = *broad_->pairs()[k].model2;
-        pair_kept_[k] = pair_candidates_entry(broad_->indices()[k][0], broad_->indices()[k][1]);
+    // (bvh only: the pairs of the broad phase's near(), in order)
+    const std::vector<detail::NearPair>& near = broad_->near();
+    follow_candidate_cache();
+    for (std::size_t p = 0; p < near.size(); ++p) {
+        CollisionModel& m1 = *result_[p].model1;
+        CollisionModel& m2 = *result_[p].model2;
         if (detail::reads_triangle_planes(detail::pair_kernel_parts(params_, m1, m2))) {
             static_cast<TriangleModel&>(m1).update_planes();
             static_cast<TriangleModel&>(m2).update_planes();
@@ -286,7 +289,7 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // chunk's buffers have the capacity its pairs need and a step allocates nothing. (A thread
     // waiting inside a pair, in a nested parallel traversal or evaluation, may start another
     // chunk: with the other chunk's buffers.) Errors: the first in pair order is rethrown.
-    const std::size_t n = broad_->near().size();
+    const std::size_t n = near.size();
     const std::size_t chunks =
         std::min(n, kChunksPerThread * std::size_t(std::max(1, tbb::this_task_arena::max_concurrency())));
     if (chunk_scratch_.size() < chunks) chunk_scratch_.resize(chunks);
@@ -294,8 +297,7 @@ void CollisionPipeline::detect_pairs_concurrently() {
     // writes alone (pairs_run_concurrently): each pair keeps its writes' candidates, run below
     // in pair order, as detect_pairs_in_order would have run them.
     const bool defer_writes = broad_->any_pair_writes_models();
-    if (defer_writes && deferred_writes_.size() < broad_->pairs().size())
-        deferred_writes_.resize(broad_->pairs().size());
+    if (defer_writes && deferred_writes_.size() < n) deferred_writes_.resize(n);
     std::mutex merge;
     detail::PairCounts total;
     FirstErrorInOrder failure;
@@ -305,17 +307,15 @@ void CollisionPipeline::detect_pairs_concurrently() {
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
                 detail::PairCounts counts;
                 for (std::size_t p = c * n / chunks; p < (c + 1) * n / chunks; ++p) {
-                    const std::size_t k = broad_->near()[p];
-                    ModelPairDetection& d = result_[k];
                     try {
                         const std::size_t before = counts.candidates;
-                        Keys* deferred = defer_writes ? &deferred_writes_[k] : nullptr;
+                        Keys* deferred = defer_writes ? &deferred_writes_[p] : nullptr;
                         if (deferred != nullptr) deferred->clear();
-                        detect_pair_with(broad_->indices()[k][0], broad_->indices()[k][1], d.outputs, chunk_scratch_[c],
-                                         counts, pair_kept_[k], deferred);
-                        record_pair_work(k, counts.candidates - before);
+                        detect_pair_with(near[p].places[0], near[p].places[1], result_[p].outputs, chunk_scratch_[c],
+                                         counts, pair_kept_[p], deferred);
+                        record_pair_work(p, counts.candidates - before);
                     } catch (...) {
-                        failure.record(k);
+                        failure.record(p);
                         break;
                     }
                 }
@@ -327,12 +327,11 @@ void CollisionPipeline::detect_pairs_concurrently() {
     total.add_to(cache_stats_, candidates_evaluated_);
     if (defer_writes) {
         // the writes of the pairs before the first that failed (all of them if none did)
-        for (const std::size_t k : broad_->near()) {
-            if (k >= failure.first_index()) break;
-            CollisionModel& m1 = *broad_->pairs()[k].model1;
-            CollisionModel& m2 = *broad_->pairs()[k].model2;
+        for (std::size_t p = 0; p < n && p < failure.first_index(); ++p) {
+            CollisionModel& m1 = *result_[p].model1;
+            CollisionModel& m2 = *result_[p].model2;
             const detail::KernelParts kernel = detail::pair_kernel_parts(params_, m1, m2);
-            if (kernel.writes != nullptr) detail::run_kernel_writes(params_, m1, m2, kernel, deferred_writes_[k]);
+            if (kernel.writes != nullptr) detail::run_kernel_writes(params_, m1, m2, kernel, deferred_writes_[p]);
         }
     }
     failure.rethrow_if_any();

@@ -89,6 +89,31 @@ inline void expect_identical(const SceneDetection& got, const SceneDetection& re
     }
 }
 
+/// A detection's pairs against broad_phase()'s, without the pipeline's root-box test: the listed
+/// pairs come in broad_phase()'s order, each with every pair's outputs of the exhaustive loop
+/// over its element pairs (detect_model_pair), and every pair not listed has none. Returns the
+/// number of pairs broad_phase() keeps.
+inline std::size_t expect_listed_pairs_hold_every_output(const SceneDetection& got, const IntersectionParams& params,
+                                                         const std::vector<CollisionModel*>& models) {
+    std::vector<ModelPair> pairs;
+    broad_phase(params, models, pairs);
+    std::size_t listed = 0;
+    for (const ModelPair& pair : pairs) {
+        const ModelPairDetection every = detect_model_pair(params, *pair.model1, *pair.model2);
+        const bool is_listed =
+            listed < got.size() && got[listed].model1 == pair.model1 && got[listed].model2 == pair.model2;
+        if (!is_listed) {
+            EXPECT_TRUE(every.outputs.empty()) << pair.model1->name() << "-" << pair.model2->name() << " not listed";
+            continue;
+        }
+        const ModelPairDetection& d = got[listed++];
+        EXPECT_TRUE(d.narrow_phase);
+        EXPECT_EQ(d.outputs.size(), every.outputs.size()) << d.model1->name() << "-" << d.model2->name();
+    }
+    EXPECT_EQ(listed, got.size()) << "listed pairs not in broad_phase()'s order";
+    return pairs.size();
+}
+
 inline std::size_t count_outputs(const SceneDetection& d) {
     std::size_t n = 0;
     for (const auto& p : d) n += p.outputs.size();

@@ -7,8 +7,10 @@
 /// with the exhaustive all-element-pairs loop (ContactDetection::exhaustive, the reference).
 ///
 /// Guarantees (tested: BVH against exhaustive):
-/// - the model pairs are those of broad_phase(), in its order, each keyed (model1, model2) in
-///   the intersector's registered order; every kept pair is listed, with or without outputs;
+/// - the model pairs are those of broad_phase() that SOFA's broad phase hands to the narrow
+///   phase (neither model empty, root boxes within the margin), in broad_phase()'s order, each
+///   keyed (model1, model2) in the intersector's registered order, with or without outputs (a
+///   kept pair whose root boxes are apart has none and is not listed);
 /// - the outputs of each pair are exactly those of exhaustive_narrow_phase, in the same order:
 ///   element pairs by (elem1, elem2) ascending, each pair's outputs in kernel order. The output
 ///   is therefore bit-identical for any number of threads and either detection.
@@ -36,7 +38,8 @@ struct PairCandidates;
 struct PairCounts;
 }  // namespace detail
 
-/// All outputs of one detection: one entry per pair kept by the broad phase, in its order.
+/// All outputs of one detection: one entry per pair the broad phase hands to the narrow phase,
+/// in broad_phase()'s order (ModelPairDetection::narrow_phase set in each).
 using SceneDetection = std::vector<ModelPairDetection>;
 
 /// A model pair kept by the broad phase, in registered order.
@@ -281,12 +284,18 @@ private:
     /// The pair's entry of the candidate cache when it applies to the pair (bvh, the cache on,
     /// both models tracked), made if new; nullptr otherwise.
     [[nodiscard]] detail::PairCandidates* pair_candidates_entry(ModelIndex i1, ModelIndex i2);
-    void record_pair_work(std::size_t k, std::size_t candidates);
+    /// pair_kept_: the candidate cache's entries of the broad phase's near() (all nullptr when
+    /// the cache does not apply).
+    void follow_candidate_cache();
+    /// Work of the near pair at `place` in the broad phase's near() (this detection's).
+    void record_pair_work(std::size_t place, std::size_t candidates);
+    /// result_: one entry per near pair, outputs empty (their capacity kept by place).
+    void list_near_pairs();
     /// Whether detect() runs this detection's pairs in parallel (see detect()).
     [[nodiscard]] bool pairs_run_concurrently() const;
     void detect_pairs_in_order();
     void detect_pairs_concurrently();
-    /// The exhaustive detection's root boxes (those the trees would give) and pair flags.
+    /// The exhaustive detection's root boxes (those the trees would give).
     void find_exhaustive_root_boxes();
 
     IntersectionParams params_;
@@ -303,17 +312,19 @@ private:
     PairScratch scratch_;                     // detect_pair's, and detect()'s when the pairs run in order
     std::vector<PairScratch> chunk_scratch_;  // detect()'s in parallel: one per chunk of pairs (kChunksPerThread)
     std::vector<detail::PairCandidates*> pair_kept_;  // scratch: per pair of near(), its cache entry or nullptr
-    /// What each pair evaluated at the last detection (pairs_run_concurrently's automatic rule).
+    /// What a near pair evaluated (pairs_run_concurrently's automatic rule).
     struct PairWork {
+        std::uint64_t order = 0;  ///< detail::NearPair::order
         const CollisionModel* model1 = nullptr;
         const CollisionModel* model2 = nullptr;
         std::size_t candidates = 0;
     };
-    std::vector<PairWork> pair_work_;
-    std::size_t moving_elements_ = 0;  // elements of the moving models the last refit() refitted
+    std::vector<PairWork> pair_work_;       // this detection's, per pair of near()
+    std::vector<PairWork> pair_work_last_;  // the last detection's, by order
+    std::size_t moving_elements_ = 0;       // elements of the moving models the last refit() refitted
     bool last_concurrent_ = false;
     std::vector<std::vector<std::uint64_t>>
-        deferred_writes_;           // per pair: its writes' candidates (detect_pairs_concurrently)
+        deferred_writes_;           // per pair of near(): its writes' candidates (detect_pairs_concurrently)
     SceneDetection result_;         // entries and their output lists keep their capacity
     std::vector<Aabb> boxes_;       // exhaustive: element boxes of model 2
     std::vector<Aabb> root_boxes_;  // exhaustive: each model's root box (union of its element boxes)

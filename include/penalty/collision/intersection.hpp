@@ -221,7 +221,7 @@ struct ModelPairDetection {
     /// SOFA's broad phase passes the pair to the narrow phase (BruteForceBroadPhase::
     /// addCollisionModel: neither model empty, root boxes within box_margin), which keys it in
     /// its outputs map even without outputs (CollisionResponse orders contacts by that map).
-    /// false: the root boxes are apart (CollisionPipeline::detect); then there are no outputs.
+    /// CollisionPipeline::detect lists only such pairs; false (no outputs) from other sources.
     bool narrow_phase = true;
     DetectionOutputList outputs;
 };
