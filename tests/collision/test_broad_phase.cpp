@@ -1,5 +1,6 @@
 // The broad phase (collision/broad_phase.cpp): SOFA's BruteForceBroadPhase order and filters.
 #include "pipeline_references.hpp"
+#include "src/collision/broad_phase.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -61,6 +62,50 @@ TEST(BroadPhase, FollowsBruteForceBroadPhaseOrderAndFilters) {
     ASSERT_EQ(unsupported.size(), 1u);
     EXPECT_EQ(unsupported[0], (ModelPair{&t, &t}));
     EXPECT_EQ(pairs.size(), expected.size() - 1);
+}
+
+TEST(BroadPhase, SofaPairOrderIsEachPairsPlaceAmongEveryPair) {
+    // nine models of three types, every pair kept: the k-th pair of broad_phase() is the pair of
+    // places j >= i with sofa_pair_order(j, i) == k, whichever model is model 1; filtering pairs
+    // out keeps the order of the others increasing
+    std::mt19937 g(5);
+    Vec3State s = random_cloud(4, 1.0, g);
+    auto tm = test::make_torus(6, 4, 0.5, 0.2, Vec3::Zero(), g);
+    std::vector<std::unique_ptr<CollisionModel>> owned;
+    std::vector<CollisionModel*> models;
+    const std::vector<std::string> names = {"s0", "t1", "p2", "s3", "t4", "p5", "s6", "t7", "p8"};
+    for (std::size_t m = 0; m < names.size(); ++m) {
+        const CollisionModelParams params = mp(names[m].c_str(), int(m), true);
+        if (m % 3 == 0) owned.push_back(std::make_unique<SphereModel>(s, 0.1, std::vector<double>{}, params));
+        else if (m % 3 == 1) owned.push_back(std::make_unique<TriangleModel>(tm->state, tm->topo, params));
+        else owned.push_back(std::make_unique<PointModel>(tm->state, &tm->topo, params));
+        models.push_back(owned.back().get());
+    }
+    std::vector<ModelPair> pairs;
+    std::vector<std::array<ModelIndex, 2>> places;
+    broad_phase(IntersectionParams::new_proximity(), models, pairs, nullptr, &places);
+    ASSERT_EQ(pairs.size(), 45u);
+    for (std::size_t k = 0; k < places.size(); ++k) {
+        const std::size_t j = std::max(places[k][0], places[k][1]).slot();
+        const std::size_t i = std::min(places[k][0], places[k][1]).slot();
+        EXPECT_EQ(detail::sofa_pair_order(j, i), k) << pairs[k].model1->name() << "-" << pairs[k].model2->name();
+    }
+    EXPECT_EQ(detail::sofa_pair_order(0, 0), 0u);
+    EXPECT_EQ(detail::sofa_pair_order(3, 3), 6u);  // after (0,0) (1,1) (1,0) (2,2) (2,0) (2,1)
+    EXPECT_EQ(detail::sofa_pair_order(3, 0), 7u);
+    EXPECT_EQ(detail::sofa_pair_order(100000, 99999), 5000150000u);  // past 32 bits
+    // groups filter pairs out: the orders of the kept ones still increase
+    owned[4]->params().group = {1};
+    owned[7]->params().group = {1};
+    broad_phase(IntersectionParams::new_proximity(), models, pairs, nullptr, &places);
+    ASSERT_EQ(pairs.size(), 44u);
+    for (std::size_t k = 1; k < places.size(); ++k) {
+        const auto order = [&](std::size_t q) {
+            return detail::sofa_pair_order(std::max(places[q][0], places[q][1]).slot(),
+                                           std::min(places[q][0], places[q][1]).slot());
+        };
+        EXPECT_LT(order(k - 1), order(k));
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
