@@ -38,6 +38,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -315,7 +316,8 @@ int view_command(const std::string& directory, int port, bool no_serve) {
 }
 
 int info_command(const std::string& scene_path, const std::vector<std::string>& data_dirs,
-                 const std::vector<std::string>& quirk_fixes, bool contact_advice, double impact_speed) {
+                 const std::vector<std::string>& quirk_fixes, bool contact_advice, double impact_speed,
+                 bool all_pairs) {
     penalty::scene::BuildOptions build;
     for (const auto& d : data_dirs) build.data_dirs.emplace_back(d);
     for (const std::string& name : quirk_fixes)
@@ -327,7 +329,8 @@ int info_command(const std::string& scene_path, const std::vector<std::string>& 
             *scene, impact_speed > 0 ? std::optional<double>(impact_speed) : std::nullopt);
         return kOk;
     }
-    std::cout << penalty::scene::describe_scene(*scene);
+    std::cout << penalty::scene::describe_scene(
+        *scene, all_pairs ? std::numeric_limits<std::size_t>::max() : penalty::scene::kDescribedPairLines);
     std::cout << "SOFA quirk fixes (--fix-sofa-quirk NAME, or fixSofaQuirks=\"NAME ...\" on an intersection method):\n";
     for (const penalty::SofaQuirkInfo& q : penalty::sofa_quirk_table())
         std::cout << "  " << q.name << (build.sofa_quirk_fixes.*q.member ? " [on for every pipeline]" : "") << ": "
@@ -553,6 +556,9 @@ int main(int argc, char** argv) {
     info->add_option("--impact-speed", info_impact_speed,
                      "With --contact-advice: the impact speed (m/s; default: estimated)")
         ->check(number_in(0.0, 1e6, true));
+    bool info_all_pairs = false;
+    info->add_flag("--all-pairs", info_all_pairs,
+                   "A line for every model pair (default: the first 200 of a pipeline, the others counted by kind)");
 
     // Listed for --help only: `penalty sweep ...` is handed to the Python module before parsing.
     app.add_subcommand("sweep",
@@ -600,7 +606,8 @@ int main(int argc, char** argv) {
         }
         if (*info && info_scene.empty()) throw UsageError("info: a scene file, or --components, or --component TYPE");
         if (*info)
-            return info_command(info_scene, info_data_dirs, info_quirk_fixes, info_contact_advice, info_impact_speed);
+            return info_command(info_scene, info_data_dirs, info_quirk_fixes, info_contact_advice, info_impact_speed,
+                                info_all_pairs);
         if (*view) return view_command(view_dir, view_port, view_no_serve);
         return penalty::apps::run_demo(options, std::cout);
     } catch (const UsageError& e) {

@@ -110,7 +110,7 @@ std::string exclusion_reason(const CollisionModel& a, const CollisionModel& b) {
     return "a shared collision group";
 }
 
-void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
+void describe_pipeline(const ScenePipeline& sp, std::size_t pair_lines, std::ostringstream& out) {
     const ContactPipeline& pipeline = *sp.pipeline;
     const IntersectionParams& params = pipeline.intersection();
     const std::string method = intersection_method_short_name(sp.intersection);
@@ -121,7 +121,9 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
     const std::string base = pipeline.response().base_response_name();
     out << ", response " << (base.empty() ? std::string("none") : base) << "):\n";
     std::map<std::string, int> excluded;
-    int kept = 0, contacting = 0;
+    // the pairs past the first pair_lines, counted by types and outcome
+    std::map<std::string, std::size_t> more;
+    std::size_t kept = 0, contacting = 0;
     for (std::size_t i = 0; i < sp.models.size(); ++i) {
         for (std::size_t j = i; j < sp.models.size(); ++j) {
             const SceneCollisionModel* a = sp.models[i];
@@ -133,6 +135,7 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
             ++kept;
             if (!is_registered_order(a->model->type(), b->model->type())) std::swap(a, b);
             std::string what = support_text(pair_support(params, a->model->type(), b->model->type()), params, method);
+            std::string kind;  // what, without the nodes
             if (what.empty()) {
                 const std::string name = pipeline.response().response_name(*a->model, *b->model);
                 const std::string key = name.substr(0, name.find('?'));
@@ -147,11 +150,24 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
                     what = "penalty contact in " + node_path(*host) + ", " +
                            (solver ? "implicit (solver of " + node_path(*solver) + ")"
                                    : std::string("explicit (no solver above it: forces from the start of the step)"));
-                    if (name != kPenaltyResponseName) what += ", response " + name;
+                    kind = solver ? "penalty contact, implicit" : "penalty contact, explicit";
+                    if (name != kPenaltyResponseName) {
+                        what += ", response " + name;
+                        kind += ", response " + name;
+                    }
                 }
+            }
+            if (kept > pair_lines) {
+                ++more[std::string(model_type_name(a->model->type())) + " - " + model_type_name(b->model->type()) +
+                       ": " + (kind.empty() ? what : kind)];
+                continue;
             }
             out << "  " << model_label(*a) << " - " << model_label(*b) << ": " << what << "\n";
         }
+    }
+    if (!more.empty()) {
+        out << "  ... and " << kept - pair_lines << " more model pairs (`penalty info --all-pairs` lists each):\n";
+        for (const auto& [what, n] : more) out << "    " << n << " \u00d7 " << what << "\n";
     }
     out << "  " << kept << " model pair" << (kept == 1 ? "" : "s") << " kept by the broad phase, " << contacting
         << " can make penalty contacts";
@@ -161,7 +177,7 @@ void describe_pipeline(const ScenePipeline& sp, std::ostringstream& out) {
 
 }  // namespace
 
-std::string describe_scene(const Scene& scene) {
+std::string describe_scene(const Scene& scene, std::size_t pair_lines) {
     const io::SceneFile& file = scene.file();
     const SceneCheck check = validate(file);
     std::ostringstream out;
@@ -170,7 +186,7 @@ std::string describe_scene(const Scene& scene) {
     if (file.root) describe_node(scene, *file.root, 0, ignored, out);
     out << check.physics.size() << " physics components, " << check.loaders.size() << " loaders, "
         << check.ignored.size() << " ignored\n";
-    for (const ScenePipeline& sp : scene.pipelines()) describe_pipeline(sp, out);
+    for (const ScenePipeline& sp : scene.pipelines()) describe_pipeline(sp, pair_lines, out);
     if (scene.pipelines().empty()) out << "no collision pipeline: no contact\n";
     for (const std::string& w : scene.warnings())
         if (w != check.summary) out << "note: " << w << "\n";

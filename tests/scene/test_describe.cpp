@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 namespace {
@@ -47,6 +48,52 @@ TEST(SceneBuilder, DescribeShowsWhatEachComponentBecameAndWhereContactsGo) {
         HasSubstr(
             "  1 model pair kept by the broad phase, 1 can make penalty contacts; 1 excluded (both non-simulated); "
             "1 excluded (same node without selfCollision)\n"));
+}
+
+TEST(SceneBuilder, DescribeCountsThePairsPastItsLinesByKind) {
+    // 25 sphere models, one node each under a solver node, and a static plane: 25·24/2 = 300
+    // sphere pairs (self pairs dropped: no selfCollision) + 25 with the plane. The first 200
+    // pairs get a line; the others are counted by types and outcome.
+    std::string spheres;
+    for (int i = 0; i < 25; ++i)
+        spheres += "<Node name=\"S" + std::to_string(i) + "\"><MechanicalObject position=\"" + std::to_string(i) +
+                   " 0 0\"/><UniformMass totalMass=\"1\"/><SphereCollisionModel radius=\"0.1\"/></Node>\n";
+    const auto s = build(R"(<Node name="root">
+  <CollisionPipeline/><BruteForceBroadPhase/><BVHNarrowPhase/>
+  <NewProximityIntersection alarmDistance="0.2" contactDistance="0.1"/>
+  <CollisionResponse response="PenalityContactForceField"/>
+  <Node name="Balls"><EulerImplicitSolver/><CGLinearSolver/>
+)" + spheres + R"(  </Node>
+  <Node name="Plane"><MeshTopology position="0 -1 0  1 -1 0  0 -1 1" triangles="0 1 2"/><MechanicalObject/>
+    <TriangleCollisionModel simulated="0" moving="0"/></Node>
+</Node>)");
+    const std::string text = scene::describe_scene(*s);
+    const auto lines_with = [&](const std::string& what) {
+        std::size_t n = 0;
+        for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+        return n;
+    };
+    EXPECT_EQ(lines_with(": penalty contact in /"), 200u);
+    EXPECT_THAT(text, HasSubstr("  ... and 125 more model pairs (`penalty info --all-pairs` lists each):\n"));
+    EXPECT_THAT(text, HasSubstr("  325 model pairs kept by the broad phase, 325 can make penalty contacts"));
+    const std::string all = scene::describe_scene(*s, std::numeric_limits<std::size_t>::max());
+    std::size_t every = 0;
+    for (std::size_t at = all.find(": penalty contact in /"); at != std::string::npos;
+         at = all.find(": penalty contact in /", at + 1))
+        ++every;
+    EXPECT_EQ(every, 325u);
+    EXPECT_THAT(all, Not(HasSubstr("more model pairs")));
+    // the counted pairs add up, each kind once: "N × Type - Type: outcome"
+    std::size_t counted = 0;
+    for (const std::string kind :
+         {"Sphere - Sphere: penalty contact, implicit", "Sphere - Sphere: penalty contact, explicit",
+          "Triangle - Sphere: penalty contact, implicit", "Triangle - Sphere: penalty contact, explicit"}) {
+        const std::size_t at = text.find(" \u00d7 " + kind + "\n");
+        if (at == std::string::npos) continue;
+        const std::size_t line = text.rfind('\n', at) + 1;
+        counted += std::stoul(text.substr(line, at - line));
+    }
+    EXPECT_EQ(counted, 125u);
 }
 
 TEST(SceneBuilder, DescribeNamesUndetectedPairsDisabledResponsesAndExplicitContacts) {

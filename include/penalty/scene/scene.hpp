@@ -390,9 +390,12 @@ void apply_overrides(io::SceneFile& file, const std::vector<std::string>& overri
 
 /// `penalty info`: the component tree of a built scene, one line per node (effective dt and
 /// gravity) and per component (what it became: Scene::role, or why it is ignored), then, per
-/// collision pipeline, every model pair its broad phase keeps with the pair's support by the
+/// collision pipeline, the model pairs its broad phase keeps with the pair's support by the
 /// intersection method, its response and where the contact goes (implicit in a solver's
 /// subtree, explicit, or nowhere), the model pairs SOFA's rules exclude, and the build notes.
-[[nodiscard]] std::string describe_scene(const Scene& scene);
+/// A pipeline's first `pair_lines` kept pairs get a line each; the others are counted by their
+/// types and outcome (a pile of n bodies keeps n²/2 pairs).
+inline constexpr std::size_t kDescribedPairLines = 200;
+[[nodiscard]] std::string describe_scene(const Scene& scene, std::size_t pair_lines = kDescribedPairLines);
 
 }  // namespace penalty::scene
