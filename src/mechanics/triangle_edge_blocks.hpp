@@ -2,11 +2,13 @@
 // What SOFA's TriangularQuadraticSpringsForceField and TriangularBiquadraticSpringsForceField share:
 // vector helpers with SOFA's type::Vec operation order (sofa_vector_ops.hpp), and the derivative
 // stored as one 3×3 block DfDx[k] per triangle edge k, for the pair (i, j) = (t_{k+1}, t_{k+2}).
+#include "penalty/core/error.hpp"
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
 #include "sofa_vector_ops.hpp"
 
 #include <array>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -16,6 +18,34 @@ using sofa_vec::dot3;
 using sofa_vec::scaled;
 using sofa_vec::times;
 using sofa_vec::transpose_times;
+
+/// The Lamé coefficients of both (updateLameCoefficients): λ = Eν/(1 − ν²), μ = E(1 − ν)/(1 − ν²)
+/// (Pa), after the parameters' checks: E finite and ≥ 0, ν finite with ν² ≠ 1, the damping ratio
+/// finite (std::invalid_argument naming `component` otherwise).
+struct LameCoefficients {
+    double lambda = 0.0;
+    double mu = 0.0;
+};
+[[nodiscard]] inline LameCoefficients checked_lame(const char* component, double young_modulus, double poisson_ratio,
+                                                   double damping_ratio) {
+    if (!std::isfinite(young_modulus) || young_modulus < 0)
+        throw_invalid_argument(component, ": youngModulus must be finite and >= 0, got ", young_modulus);
+    if (!std::isfinite(poisson_ratio) || poisson_ratio * poisson_ratio == 1.0)
+        throw_invalid_argument(component, ": poissonRatio must be finite and not +-1, got ", poisson_ratio);
+    if (!std::isfinite(damping_ratio))
+        throw_invalid_argument(component, ": dampingRatio must be finite, got ", damping_ratio);
+    const double e = young_modulus;
+    const double nu = poisson_ratio;
+    return {e * nu / (1 - nu * nu), e * (1 - nu) / (1 - nu * nu)};
+}
+
+/// std::invalid_argument naming `component` for a triangle's point past the state's `points`.
+inline void check_triangle_points(const char* component, const std::vector<Triangle>& triangles, std::size_t points) {
+    for (const Triangle& t : triangles)
+        for (const PointId v : t)
+            if (v < 0 || static_cast<std::size_t>(v) >= points)
+                throw_invalid_argument(component, ": point ", v, " out of range for a state of ", points, " points");
+}
 
 /// addDForce: δ = dx_i − dx_j, df_i += (DfDx[k] δ)·k_factor, df_j −= (DfDx[k]ᵀ δ)·k_factor.
 /// `data[t].dfdx` holds the three blocks of triangle t.

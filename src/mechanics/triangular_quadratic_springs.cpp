@@ -19,31 +19,17 @@ TriangularQuadraticSpringsForceField::TriangularQuadraticSpringsForceField(Vec3O
                                                                            const MeshTopology& topology,
                                                                            QuadraticSpringParameters p)
     : ForceField<Vec3Types>(state), topology_(&topology), parameters_(p) {
-    if (!std::isfinite(p.young_modulus) || p.young_modulus < 0)
-        throw_invalid_argument("TriangularQuadraticSpringsForceField: youngModulus must be finite and >= 0, got ",
-                               p.young_modulus);
-    if (!std::isfinite(p.poisson_ratio) || p.poisson_ratio * p.poisson_ratio == 1.0)
-        throw_invalid_argument("TriangularQuadraticSpringsForceField: poissonRatio must be finite and not +-1, got ",
-                               p.poisson_ratio);
-    if (!std::isfinite(p.damping_ratio))
-        throw_invalid_argument("TriangularQuadraticSpringsForceField: dampingRatio must be finite, got ",
-                               p.damping_ratio);
-    // updateLameCoefficients
-    const double e = p.young_modulus;
-    const double nu = p.poisson_ratio;
-    lambda_ = e * nu / (1 - nu * nu);
-    mu_ = e * (1 - nu) / (1 - nu * nu);
+    const edge_blocks::LameCoefficients lame = edge_blocks::checked_lame(
+        "TriangularQuadraticSpringsForceField", p.young_modulus, p.poisson_ratio, p.damping_ratio);
+    lambda_ = lame.lambda;
+    mu_ = lame.mu;
 }
 
 void TriangularQuadraticSpringsForceField::init() {
     const auto& edges = topology_->edges();
     const auto& tris = topology_->triangles();
     const std::vector<Vec3>& x0 = state_->rest_position;
-    for (const Triangle& t : tris)
-        for (const PointId v : t)
-            if (v < 0 || static_cast<std::size_t>(v) >= x0.size())
-                throw_invalid_argument("TriangularQuadraticSpringsForceField: point ", v,
-                                       " out of range for a state of ", x0.size(), " points");
+    edge_blocks::check_triangle_points("TriangularQuadraticSpringsForceField", tris, x0.size());
     // applyEdgeCreation of every edge, then applyTriangleCreation of every triangle in order
     rest_length_.assign(edges.size(), 0.0);
     edge_stiffness_.assign(edges.size(), 0.0);

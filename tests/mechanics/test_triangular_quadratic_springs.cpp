@@ -7,6 +7,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+#include <string>
+
 namespace penalty {
 namespace {
 
@@ -28,6 +31,34 @@ TEST(TriangularQuadraticSprings, RestCoefficientsOfOneRightTriangle) {
     for (const Vec3& f : s.force) EXPECT_EQ(f, Vec3::Zero());
     EXPECT_EQ(ff.potential_energy(), 0.0);
     EXPECT_THROW(TriangularQuadraticSpringsForceField(s, topo, {.poisson_ratio = 1.0}), std::invalid_argument);
+}
+
+TEST(TriangularQuadraticSprings, RefusalsNameTheComponentAndTheValue) {
+    Vec3Object s;
+    s.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+    s.init();
+    MeshTopology topo;
+    topo.set_triangles({{0, 1, 3}});
+    const auto message = [&](const QuadraticSpringParameters& p, bool init) {
+        try {
+            TriangularQuadraticSpringsForceField ff(s, topo, p);
+            if (init) ff.init();
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_EQ(message({.young_modulus = -1.0}, false),
+              "TriangularQuadraticSpringsForceField: youngModulus must be finite and >= 0, got -1");
+    EXPECT_EQ(message({.poisson_ratio = -1.0}, false),
+              "TriangularQuadraticSpringsForceField: poissonRatio must be finite and not +-1, got -1");
+    EXPECT_EQ(message({.damping_ratio = std::numeric_limits<double>::quiet_NaN()}, false),
+              "TriangularQuadraticSpringsForceField: dampingRatio must be finite, got nan");
+    EXPECT_EQ(message({}, true), "TriangularQuadraticSpringsForceField: point 3 out of range for a state of 3 points");
+    // the Lamé coefficients of E = 10, ν = 0.25: λ = 2.5/0.9375, μ = 7.5/0.9375
+    TriangularQuadraticSpringsForceField ff(s, topo, {.young_modulus = 10.0, .poisson_ratio = 0.25});
+    EXPECT_DOUBLE_EQ(ff.lambda(), 2.5 / 0.9375);
+    EXPECT_DOUBLE_EQ(ff.mu(), 7.5 / 0.9375);
 }
 
 /// The cloth of the derivative tests, stretched in x, squeezed in z and lifted: edges both longer
