@@ -106,7 +106,9 @@ TEST(BvhTraversal, LongTrianglesDropTheFarPointsAndKeepTheExhaustiveOutputs) {
         pipe.set_models(models);
         expect_identical(pipe.detect(), reference);
         // (the cache collects with its boxes grown by how far they may move: its planes keep all)
-        if (!cache) EXPECT_LT(pipe.candidates_evaluated(), box_pairs / 3);
+        if (!cache) {
+            EXPECT_LT(pipe.candidates_evaluated(), box_pairs / 3);
+        }
     }
 }
 
