@@ -16,13 +16,13 @@ namespace {
 
 /// A body of three points (2 kg each) with a barycentric-mapped contact point, and a
 /// free ball (0.5 kg) sprung to the contact point; a spring inside the body.
-struct AssemblyScene {
+struct SystemAssemblyScene {
     Simulation sim;
     Vec3Object* body = nullptr;
     Vec3Object* contact = nullptr;
     Vec3Object* ball = nullptr;
 
-    AssemblyScene() {
+    SystemAssemblyScene() {
         Node& root = sim.root();
         root.set_ode_solver<EulerImplicitSolver>();
         Node& body_node = root.add_child("body");
@@ -44,7 +44,7 @@ struct AssemblyScene {
 };
 
 TEST(SystemAssembly, TheStiffnessIsTheForcesDerivativeThroughTheMapping) {
-    AssemblyScene s;
+    SystemAssemblyScene s;
     SubtreeSystem sys(s.sim.root());
     ASSERT_EQ(sys.size(), 3 * 3 + 3);
     // the springs keep the derivative of their last force (SOFA's addForce computes dfdx)
@@ -84,7 +84,7 @@ TEST(SystemAssembly, TheStiffnessIsTheForcesDerivativeThroughTheMapping) {
 }
 
 TEST(SystemAssembly, TheMassIsTheDiagonalOfTheIndependentStatesAndTheSumIsLinear) {
-    AssemblyScene s;
+    SystemAssemblyScene s;
     SubtreeSystem sys(s.sim.root());
     sys.propagate_positions_and_velocities();
     Eigen::VectorXd f0;
