@@ -110,7 +110,9 @@ TEST(CcdSurfaces, TheStartIsWhereTheMotionWasRecorded) {
     EXPECT_EQ(ccd_surface_error([&] { (void)ccd.start_position(untested, 0); }),
               "ContinuousDetection::start_position: model 'untested' is not tested");
     const ModelPair with_null{&triangles, nullptr};
-    EXPECT_EQ(ccd_surface_error([&] { ccd.set_pairs({&with_null, 1}); }),
+    EXPECT_EQ(ccd_surface_error([&] {
+                  ccd.set_pairs({&with_null, 1});
+              }),
               "ContinuousDetection::set_pairs: a null model");
 }
 

@@ -26,8 +26,8 @@ void expect_close(const Vec3& got, const Vec3& expected, double tol) {
 TEST(KernelsBeyond, CylinderSphereFromTheSideTheCapAndInside) {
     // default cylinders at the origin and at x = 10: radius 0.5, height 2, axis y; spheres of
     // radius 0.2, three near the first cylinder, one near the second
-    Rigid3State frames = make_rigid_state(
-        {RigidFrame{Vec3::Zero(), Quat::Identity()}, RigidFrame{Vec3(10, 0, 0), Quat::Identity()}});
+    Rigid3State frames =
+        make_rigid_state({RigidFrame{Vec3::Zero(), Quat::Identity()}, RigidFrame{Vec3(10, 0, 0), Quat::Identity()}});
     CylinderModel cylinder(frames);
     Vec3State centres = make_state({{1, 0, 0}, {0, 1.5, 0}, {0.3, 0, 0}, {10.8, 0, 0}});
     SphereModel spheres(centres, 0.2, {}, test::named("spheres"));
@@ -63,8 +63,8 @@ TEST(KernelsBeyond, CylinderRigidSpherePointIsTheCentreOrTheSurfaceByMethod) {
     // a cylinder turned by 90° about z (axis −x): the rigid sphere at (1.5, 0, 0) faces its cap
     // at x = −1·(−1) = 1: distance 0.5; NewProximity reports the centre, MinProximity the
     // surface point c − n·r
-    Rigid3State frames = make_rigid_state(
-        {RigidFrame{Vec3::Zero(), Quat(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()))}});
+    Rigid3State frames =
+        make_rigid_state({RigidFrame{Vec3::Zero(), Quat(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()))}});
     CylinderModel cylinder(frames);
     Rigid3State ball = make_rigid_state({RigidFrame{Vec3(1.5, 0, 0), Quat::Identity()}});
     RigidSphereModel sphere(ball, 0.2);
@@ -131,9 +131,8 @@ TEST(KernelsBeyond, TetrahedronPointOutsideAndInsideInEveryMethod) {
     TetrahedronModel tetra(corners, topo, test::named("tetra"));
     Vec3State ps = make_state({{5, 5, 5}, {0.2, 0.2, -0.3}, {0.1, 0.2, 0.3}});
     PointModel points(ps, nullptr, test::named("points"));
-    for (const IntersectionParams& base :
-         {IntersectionParams::new_proximity(), IntersectionParams::min_proximity(),
-          IntersectionParams::local_min_distance(), IntersectionParams::discrete()}) {
+    for (const IntersectionParams& base : {IntersectionParams::new_proximity(), IntersectionParams::min_proximity(),
+                                           IntersectionParams::local_min_distance(), IntersectionParams::discrete()}) {
         const IntersectionParams p = beyond(base);
         const auto det = detect_model_pair(p, points, tetra);
         const bool discrete = p.method == IntersectionMethod::Discrete;  // A = C = 0: inside only

@@ -78,7 +78,6 @@ TEST(TriangleIncision, BadLinesAreRefusedBeforeAnythingChanges) {
     EXPECT_EQ(g.container->num_points(), 12U);
 }
 
-
 TEST(IncisionLine, TheRefusalsNameThePointTheTriangleAndTheTopology) {
     IncisionGrid g;
     IncisionLine outside;
@@ -95,7 +94,9 @@ TEST(IncisionLine, TheRefusalsNameThePointTheTriangleAndTheTopology) {
     TopologyContainer wire(wire_mesh, ElementType::edge, "wire");
     EXPECT_EQ(incision_line_error([&] { (void)incise_line(wire, g.state.position, outside, 0.1, 0.25); }),
               "an incision needs a triangle topology; 'wire' keeps edges");
-    EXPECT_EQ(incision_line_error([&] { (void)save_incisions(wire, g.state.position, {{1.0, outside}}); }),
+    EXPECT_EQ(incision_line_error([&] {
+                  (void)save_incisions(wire, g.state.position, {{1.0, outside}});
+              }),
               "an incision needs a triangle topology; 'wire' keeps edges");
     EXPECT_EQ(g.container->num_points(), 12U);
 }

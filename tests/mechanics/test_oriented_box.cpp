@@ -82,8 +82,8 @@ TEST(OrientedBox, ARotatedBoxAgreesWithItsLocalFrameOnSeededPoints) {
         const double s = q.dot(u);
         const double t = q.dot(v);
         const double h = q.dot(w);
-        const double margin = std::min({std::fabs(s), std::fabs(s - a), std::fabs(t), std::fabs(t - b),
-                                        std::fabs(std::fabs(h) - d / 2)});
+        const double margin =
+            std::min({std::fabs(s), std::fabs(s - a), std::fabs(t), std::fabs(t - b), std::fabs(std::fabs(h) - d / 2)});
         if (margin < 1e-9) continue;
         const bool expected = s >= 0 && s <= a && t >= 0 && t <= b && std::fabs(h) <= d / 2;
         EXPECT_EQ(box.contains(p), expected) << p.transpose();

@@ -141,7 +141,8 @@ TEST(ScalarMeshMatrixMass, OnlyTheLumpedMatrixIsInvertedAndTheStatesMustAgree) {
         mismatched.mass->init();
         ADD_FAILURE() << "no error";
     } catch (const std::invalid_argument& e) {
-        EXPECT_EQ(std::string(e.what()), "MeshMatrixMass<Vec1d,Vec3d>: the geometry state has 4 points, the state 3 values");
+        EXPECT_EQ(std::string(e.what()),
+                  "MeshMatrixMass<Vec1d,Vec3d>: the geometry state has 4 points, the state 3 values");
     }
 }
 

@@ -11,8 +11,8 @@
 namespace penalty {
 namespace {
 
-using test_topology::TcRecorder;
 using test_topology::tc_expect_consistent;
+using test_topology::TcRecorder;
 
 TEST(TopologyContainer, AddingATetrahedronCreatesItsFacesAndEdgesEachWithItsEventFirst) {
     MeshTopology mesh;
@@ -81,8 +81,8 @@ TEST(TopologyAddition, AQuadCreatesItsMissingEdgesInOrderThenItself) {
     EXPECT_EQ(mesh.edges()[4], (Edge{4, 5}));
     EXPECT_EQ(mesh.edges()[5], (Edge{5, 2}));
     EXPECT_EQ(mesh.edges()[6], (Edge{1, 4}));
-    EXPECT_EQ(log, (std::vector<std::string>{"h:added edges 4", "h:added edges 5", "h:added edges 6",
-                                             "h:added quads 1", "h:ending"}));
+    EXPECT_EQ(log, (std::vector<std::string>{"h:added edges 4", "h:added edges 5", "h:added edges 6", "h:added quads 1",
+                                             "h:ending"}));
     // the shared side is in both quads' shells
     EXPECT_EQ(mesh.quads_around_vertex()[1], (std::vector<std::int32_t>{0, 1}));
     EXPECT_EQ(mesh.quads_around_vertex()[4], (std::vector<std::int32_t>{1}));
@@ -100,13 +100,21 @@ TEST(TopologyAddition, BadElementsAreRefusedNamingTheContainerTheElementAndTheVe
         }
         return std::string("no error");
     };
-    EXPECT_EQ(message([&] { c.add_triangles({{0, 1, 2}, {0, 1, 9}}); }),
+    EXPECT_EQ(message([&] {
+                  c.add_triangles({{0, 1, 2}, {0, 1, 9}});
+              }),
               "TopologyContainer 'surface': new triangles 1 uses vertex 9: the container has 3 points");
-    EXPECT_EQ(message([&] { c.add_triangles({{0, 2, 2}}); }),
+    EXPECT_EQ(message([&] {
+                  c.add_triangles({{0, 2, 2}});
+              }),
               "TopologyContainer 'surface': new triangles 0 uses vertex 2 twice");
-    EXPECT_EQ(message([&] { c.add_edges({{0, -1}}); }),
+    EXPECT_EQ(message([&] {
+                  c.add_edges({{0, -1}});
+              }),
               "TopologyContainer 'surface': new edges 0 uses vertex -1: the container has 3 points");
-    EXPECT_EQ(message([&] { c.add_tetrahedra({{0, 1, 2, 3}}); }),
+    EXPECT_EQ(message([&] {
+                  c.add_tetrahedra({{0, 1, 2, 3}});
+              }),
               "TopologyContainer 'surface': a triangles container has no tetrahedra");
     // nothing changed
     EXPECT_EQ(mesh.triangles().size(), 1u);

@@ -94,11 +94,15 @@ TEST(TopologyPointMoves, BadPointsAreRefusedNamingTheContainerAndThePoint) {
                                            PointAncestorElement{ElementType::triangle, {0, 1, 7}, {0.1, 0.1, 0}}});
               }),
               "TopologyContainer 'cut': new point 1 has ancestor 7: the container has 3 points");
-    EXPECT_EQ(point_moves_error([&] { t.container->move_points({1, 2}, {{0}}, {{1.0}}); }),
+    EXPECT_EQ(point_moves_error([&] {
+                  t.container->move_points({1, 2}, {{0}}, {{1.0}});
+              }),
               "TopologyContainer 'cut': 2 moved points with 1 ancestor lists");
     EXPECT_EQ(point_moves_error([&] { t.container->move_points({3}, {{0}}, {{1.0}}); }),
               "TopologyContainer 'cut': cannot move point 3 of 3");
-    EXPECT_EQ(point_moves_error([&] { t.container->move_points({1}, {{0, -2}}, {{0.5, 0.5}}); }),
+    EXPECT_EQ(point_moves_error([&] {
+                  t.container->move_points({1}, {{0, -2}}, {{0.5, 0.5}});
+              }),
               "TopologyContainer 'cut': moved point 1 has ancestor -2: the container has 3 points");
     // nothing changed
     EXPECT_EQ(t.state.position.size(), 3u);

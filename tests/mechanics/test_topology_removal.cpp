@@ -13,8 +13,8 @@ namespace penalty {
 namespace {
 
 using test_topology::Ids;
-using test_topology::TcRecorder;
 using test_topology::tc_expect_consistent;
+using test_topology::TcRecorder;
 
 TEST(TopologyContainer, RemovingATriangleSwapsTheLastInAndRemovesItsIsolatedEdgesAndPoint) {
     MeshTopology mesh;
@@ -134,14 +134,14 @@ TEST(TopologyRemoval, AQuadRemovedWithoutItsIsolatedItemsLeavesItsEdgesAndPoints
         }
         // every remaining edge is a side of the remaining quad when the isolated ones went
         for (const Edge& e : mesh.edges()) {
-                const Quad& q = mesh.quads()[0];
-                int sides = 0;
-                for (int j = 0; j < 4; ++j) {
-                    const PointId a = q[std::size_t(j)], b = q[std::size_t((j + 1) % 4)];
-                    sides += (e[0] == a && e[1] == b) || (e[0] == b && e[1] == a) ? 1 : 0;
-                }
-                EXPECT_EQ(sides, 1) << e[0] << "-" << e[1];
+            const Quad& q = mesh.quads()[0];
+            int sides = 0;
+            for (int j = 0; j < 4; ++j) {
+                const PointId a = q[std::size_t(j)], b = q[std::size_t((j + 1) % 4)];
+                sides += (e[0] == a && e[1] == b) || (e[0] == b && e[1] == a) ? 1 : 0;
             }
+            EXPECT_EQ(sides, 1) << e[0] << "-" << e[1];
+        }
     }
 }
 

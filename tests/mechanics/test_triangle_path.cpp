@@ -58,7 +58,6 @@ TEST(TriangleIncision, PathThroughThreeTrianglesIsTheCrossedEdgesBetweenTheEndTr
     EXPECT_FALSE(incision.intersected_objects(-1, a, Vec3(0.8, 0.3, 0.0), t0, t0b, none));
 }
 
-
 TEST(TrianglePath, BarycentricCoordinatesAreExactAndAFlatTrianglesAreAThirdEach) {
     // compute3PointsBarycoefs on (0,0,0), (4,0,0), (0,2,0): (1, 0.5) is 1/2 of a, 1/4 of b and c
     const auto c = TriangleIncision::barycentric_of(Vec3(1, 0.5, 0), Vec3(0, 0, 0), Vec3(4, 0, 0), Vec3(0, 2, 0));

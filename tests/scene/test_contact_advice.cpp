@@ -30,7 +30,8 @@ std::string advice_scene(const std::string& solver, double v0 = 0.0, bool ball_s
     <TriangleCollisionModel name="floor_triangles" moving="0" simulated="0" contactStiffness="10"/>
   </Node>
   <Node name="Ball">
-    )" + solver + R"(
+    )" + solver +
+           R"(
     <MechanicalObject name="ball" position="0 1.8 0" velocity="0 )" +
            std::to_string(-v0) + R"( 0"/>
     <UniformMass totalMass="2"/>
@@ -40,7 +41,8 @@ std::string advice_scene(const std::string& solver, double v0 = 0.0, bool ball_s
 </Node>)";
 }
 
-const std::string kImplicit = R"(<EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-20"/>)";
+const std::string kImplicit =
+    R"(<EulerImplicitSolver/><CGLinearSolver iterations="25" tolerance="1e-9" threshold="1e-20"/>)";
 
 TEST(ContactAdvice, TheNumbersOfAFallingBallAreTheirClosedForms) {
     auto s = test::build(advice_scene(kImplicit));

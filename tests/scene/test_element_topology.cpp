@@ -43,14 +43,14 @@ TEST(ElementTopology, NbPointsIsRaisedToCoverTheElements) {
     const auto placed =
         build(element_body(R"(<EdgeSetTopologyContainer nbPoints="9" position="0 0 0  1 0 0  2 0 0" edges="0 1"/>)"));
     EXPECT_EQ(element_topology_of(*placed).num_points(), 3u);
-    EXPECT_EQ(error_of(element_body(R"(<EdgeSetTopologyContainer nbPoints="-1" edges="0 1"/>)")).rfind(
-                  "test.scn:3: EdgeSetTopologyContainer: attribute 'nbPoints': must be between 0 and ", 0),
+    EXPECT_EQ(error_of(element_body(R"(<EdgeSetTopologyContainer nbPoints="-1" edges="0 1"/>)"))
+                  .rfind("test.scn:3: EdgeSetTopologyContainer: attribute 'nbPoints': must be between 0 and ", 0),
               0u);
 }
 
 TEST(ElementTopology, TheAliasesTetrasAndHexasAreTheLists) {
-    const auto tetras = build(element_body(
-        R"(<TetrahedronSetTopologyContainer position="0 0 0  1 0 0  0 1 0  0 0 1" tetras="0 1 2 3"/>)"));
+    const auto tetras = build(
+        element_body(R"(<TetrahedronSetTopologyContainer position="0 0 0  1 0 0  0 1 0  0 0 1" tetras="0 1 2 3"/>)"));
     EXPECT_THAT(element_topology_of(*tetras).tetrahedra(), ElementsAre(Tetrahedron{0, 1, 2, 3}));
     const auto hexas = build(element_body(
         R"(<HexahedronSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0  0 0 1  1 0 1  1 1 1  0 1 1" hexas="0 1 2 3 4 5 6 7"/>)"));
@@ -118,7 +118,8 @@ TEST(ElementTopology, BadSourcesAndIndicesAreRefusedNamingTheAttribute) {
     // an index past the points
     const std::string past =
         error_of(element_body(R"(<TriangleSetTopologyContainer position="0 0 0  1 0 0  0 1 0" triangles="0 1 3"/>)"));
-    EXPECT_EQ(past, "test.scn:3: TriangleSetTopologyContainer: MeshTopology: triangles[0] uses vertex 3 but num_points is 3");
+    EXPECT_EQ(past,
+              "test.scn:3: TriangleSetTopologyContainer: MeshTopology: triangles[0] uses vertex 3 but num_points is 3");
 }
 
 }  // namespace

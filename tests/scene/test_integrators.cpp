@@ -25,7 +25,8 @@ std::string hanging_chain(const std::string& solver) {
     return R"(<Node name="root" dt="0.01" gravity="0 -10 0">
   <DefaultAnimationLoop/>
   <Node name="Chain">
-    )" + solver + R"(
+    )" + solver +
+           R"(
     <MeshTopology name="topo" position="0 0 0  0.3 -0.9 0.1  0.5 -1.6 0.4" edges="0 1  1 2"/>
     <MechanicalObject name="dofs"/>
     <UniformMass vertexMass="2"/>

@@ -23,7 +23,8 @@ using namespace penalty;
 io::SceneFile tolerance_scene(const std::string& value) {
     return io::parse_scene_string(R"(<Node name="root">
   <Node name="Body">
-    <CGLinearSolver name="cg" iterations="25" tolerance=")" + value + R"("/>
+    <CGLinearSolver name="cg" iterations="25" tolerance=")" +
+                                      value + R"("/>
   </Node>
 </Node>)",
                                   "prefix.scn");
@@ -44,9 +45,8 @@ std::pair<std::string, std::vector<std::string>> prefix_of(const std::string& va
 TEST(NumberPrefixQuirk, ReadsThePrefixThatAnIstreamReads) {
     // [sign] digits [. digits] [(e|E) [sign] digits], the longest such prefix
     const std::pair<const char*, const char*> cases[] = {
-        {"10-3", "10"},      {"0.2.5", "0.2"},      {"2.5e1kg", "2.5e1"}, {"+.5e+2x", "+.5e+2"},
-        {"1.N", "1."},       {"-7E-3 m", "-7E-3"},  {"3,5", "3"},         {"1e5e5", "1e5"},
-        {".25.", ".25"},     {"42abc12", "42"},
+        {"10-3", "10"},       {"0.2.5", "0.2"}, {"2.5e1kg", "2.5e1"}, {"+.5e+2x", "+.5e+2"}, {"1.N", "1."},
+        {"-7E-3 m", "-7E-3"}, {"3,5", "3"},     {"1e5e5", "1e5"},     {".25.", ".25"},       {"42abc12", "42"},
     };
     for (const auto& [text, read] : cases) {
         const auto [value, notes] = prefix_of(text);
@@ -121,8 +121,11 @@ TEST(NumberPrefixQuirk, ASceneOfSuchNumbersStepsAsSofaHeads) {
                                               {"TOTAL_MASS", "2.5e1kg"},
                                               {"STIFFNESS", "+.5e+2x"},
                                               {"DAMPING", "1.N"}}));
-    auto plain = test::build(quirky_numbers(
-        {{"RAYLEIGH_MASS", "0.2"}, {"TOLERANCE", "1e-12"}, {"TOTAL_MASS", "25"}, {"STIFFNESS", "50"}, {"DAMPING", "1"}}));
+    auto plain = test::build(quirky_numbers({{"RAYLEIGH_MASS", "0.2"},
+                                             {"TOLERANCE", "1e-12"},
+                                             {"TOTAL_MASS", "25"},
+                                             {"STIFFNESS", "50"},
+                                             {"DAMPING", "1"}}));
     EXPECT_EQ(quirky->warnings().size(), plain->warnings().size() + 5);
     for (int k = 0; k < 20; ++k) {
         quirky->step();
