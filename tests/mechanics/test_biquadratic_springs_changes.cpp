@@ -65,9 +65,8 @@ void a_removed_triangle_takes_its_shares(const Parameters& parameters) {
     const std::vector<TopologyChange> added{springs_change(TopologyChangeKind::added, ElementType::triangle, {1})};
     field.handle_topology_changes(*both.container, added);
     EXPECT_EQ(both.at(field.edge_stiffness(), 2, 3), second.at(alone.edge_stiffness(), 2, 3));
-    EXPECT_EQ(both.at(field.edge_stiffness(), 0, 2),
-              (both.at(before, 0, 2) - second.at(alone.edge_stiffness(), 0, 2)) +
-                  second.at(alone.edge_stiffness(), 0, 2));
+    EXPECT_EQ(both.at(field.edge_stiffness(), 0, 2), (both.at(before, 0, 2) - second.at(alone.edge_stiffness(), 0, 2)) +
+                                                         second.at(alone.edge_stiffness(), 0, 2));
     // EdgesRemoved {0}: the last edge's data in slot 0
     const std::size_t edges = field.edge_stiffness().size();
     const double last = field.edge_stiffness().back();
