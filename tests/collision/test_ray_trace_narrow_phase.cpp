@@ -1,6 +1,6 @@
-// SOFA's RayTraceNarrowPhase and TriangleOctree (docs/components/ray_trace_narrow_phase.md): the
-// ray test's closed form, the octree walk against the brute-force nearest hit, and the narrow
-// phase against a brute-force reference of the same rules, on tori the tests make.
+// SOFA's RayTraceNarrowPhase (docs/components/ray_trace_narrow_phase.md): the narrow phase
+// against a brute-force reference of the same rules, on tori the tests make (the ray test and the
+// octree walk: test_triangle_octree.cpp).
 #include "penalty/collision/ray_trace_narrow_phase.hpp"
 
 #include "detection_scenes.hpp"
@@ -13,76 +13,6 @@
 
 namespace penalty {
 namespace {
-
-std::vector<Triangle> triangles_of(const MeshTopology& topo) {
-    return {topo.triangles().begin(), topo.triangles().end()};
-}
-
-TEST(RayTriangleHit, ClosedFormOnTheUnitTriangle) {
-    const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
-    double t = 0, u = 0, v = 0;
-    ASSERT_TRUE(ray_triangle_hit(a, b, c, Vec3(0.2, 0.3, 2.0), Vec3(0, 0, -0.5), t, u, v));
-    EXPECT_DOUBLE_EQ(t, 4.0);  // the ray's parameter, in units of its direction
-    EXPECT_DOUBLE_EQ(u, 0.2);
-    EXPECT_DOUBLE_EQ(v, 0.3);
-    EXPECT_FALSE(ray_triangle_hit(a, b, c, Vec3(0.2, 0.3, 2.0), Vec3(0, 0, 1), t, u, v));   // behind
-    EXPECT_FALSE(ray_triangle_hit(a, b, c, Vec3(0.8, 0.3, 2.0), Vec3(0, 0, -1), t, u, v));  // u + v > 1
-    EXPECT_FALSE(ray_triangle_hit(a, b, c, Vec3(0.2, 0.3, 2.0), Vec3(1, 0, 0), t, u, v));   // parallel
-    EXPECT_FALSE(ray_triangle_hit(a, b, c, Vec3(0.2, 0.3, 0.0), Vec3(0, 0, -1), t, u, v));  // t = 0 < ε
-}
-
-TEST(TriangleOctree, WalkFindsTheNearestHitOfTheFirstCellWithOne) {
-    std::mt19937 g(20261129);
-    const auto torus = test::make_torus(24, 12, 3.0, 1.0, Vec3(0.5, -0.25, 0.3), g, 0.2);
-    const std::vector<Triangle> tris = triangles_of(torus->topo);
-    TriangleOctree tree;
-    tree.build(torus->state.position, tris);
-    ASSERT_GT(tree.node_count(), 8u);
-    std::uniform_real_distribution<double> coordinate(-4.5, 4.5);
-    std::normal_distribution<double> gauss(0.0, 1.0);
-    int rays_hitting = 0, found = 0, same = 0;
-    for (int r = 0; r < 3000; ++r) {
-        const Vec3 origin(coordinate(g), coordinate(g), coordinate(g) * 0.4);
-        const Vec3 direction(gauss(g), gauss(g), gauss(g));
-        const RayHit reference = tree.nearest_hit(origin, direction);
-        const RayHit hit = tree.trace(origin, direction);
-        if (reference.triangle < 0) {
-            EXPECT_LT(hit.triangle, 0) << "ray " << r;  // no triangle is hit: the walk finds none
-            continue;
-        }
-        ++rays_hitting;
-        if (hit.triangle < 0) continue;
-        ++found;
-        // a real hit, never nearer than the nearest
-        double t = 0, u = 0, v = 0;
-        const Triangle& tri = tris[std::size_t(hit.triangle)];
-        ASSERT_TRUE(ray_triangle_hit(torus->state.position[tri[0]], torus->state.position[tri[1]],
-                                     torus->state.position[tri[2]], origin, direction, t, u, v));
-        EXPECT_EQ(t, hit.t);
-        EXPECT_EQ(u, hit.u);
-        EXPECT_EQ(v, hit.v);
-        EXPECT_GE(hit.t, reference.t);
-        same += hit.t == reference.t ? 1 : 0;
-    }
-    ASSERT_GT(rays_hitting, 1000);
-    // every ray that hits the torus finds a triangle; nearly always the nearest one
-    EXPECT_EQ(found, rays_hitting);
-    EXPECT_GT(double(same) / rays_hitting, 0.99) << same << " of " << rays_hitting;
-}
-
-TEST(TriangleOctree, RaysAlongAnAxisWithNegativeZeroComponents) {
-    // SOFA's trace sets a zero direction component to +0 (its EPSILON): a −0 (the negation of a
-    // vertex normal (0, 0, −1)) must walk the same cells
-    const std::vector<Vec3> x = {Vec3(-1, -1, 1), Vec3(1, -1, 1), Vec3(0, 1, 1)};
-    const std::vector<Triangle> tris = {Triangle{0, 1, 2}};
-    TriangleOctree tree;
-    tree.build(x, tris);
-    for (const Vec3& d : {Vec3(-0.0, -0.0, 1.0), Vec3(0.0, -0.0, 1.0), Vec3(-0.0, 0.0, 1.0), Vec3(0.0, 0.0, 1.0)}) {
-        const RayHit hit = tree.trace(Vec3(-0.1, 0.05, 0.6), d);
-        EXPECT_EQ(hit.triangle, 0) << d.transpose();
-        EXPECT_DOUBLE_EQ(hit.t, 0.4);
-    }
-}
 
 /// The narrow phase's rules with the brute-force nearest hit in place of the octree walk.
 std::set<std::tuple<Index, Index, std::int64_t>> reference_outputs(const OctreeSurface& a, const OctreeSurface& b) {

@@ -1,7 +1,6 @@
 // DiagonalMass and BoxROI built from scene files, and links to BoxROI's indices.
 #include "penalty/io/error.hpp"
 #include "penalty/mechanics/diagonal_mass.hpp"
-#include "penalty/mechanics/regions.hpp"
 #include "penalty/scene/components.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/scene_text.hpp"
@@ -17,16 +16,6 @@ using namespace penalty;
 using penalty::test::build;
 using penalty::test::error_of;
 using ::testing::HasSubstr;
-
-TEST(AlignedBox, PointsOnTheFacesAreInsideAndCornersAreOrdered) {
-    const AlignedBox box = AlignedBox::from_corners(Vec3(1, 1, 1), Vec3(0, 0, 0));
-    EXPECT_EQ(box.min, Vec3(0, 0, 0));
-    EXPECT_EQ(box.max, Vec3(1, 1, 1));
-    const std::vector<Vec3> points{Vec3(0, 0, 0), Vec3(1, 1, 1.0000001), Vec3(0.5, 1, 0.5), Vec3(3, 3, 3),
-                                   Vec3(-1, 0, 0)};
-    const std::vector<AlignedBox> boxes{box, AlignedBox::from_corners(Vec3(2.5, 2.5, 2.5), Vec3(3, 3, 3))};
-    EXPECT_EQ(points_in_boxes(points, boxes), (std::vector<PointId>{0, 2, 3}));
-}
 
 // A 3×3×3 grid of unit cells' corners (2×2×2 hexahedra of volume 1), points i + 3j + 9k.
 const std::string kGrid = R"(<Node name="root" dt="0.01" gravity="0 -10 0">

@@ -140,35 +140,6 @@ TEST(MultiMappingComponents, MeshTopologyTakesTheInitialisedPointsOfAMechanicalO
         Vec3(0, 1, 5));
 }
 
-TEST(MultiMappingComponents, MappingsThatOnlyFeedDrawingAreAccepted) {
-    // an IdentityMapping without output in a node holding an OglModel and no MechanicalObject maps
-    // onto the visual model (SOFA's Mapping::create links "@./"): nothing simulated
-    const std::string xml = R"(<Node name="root" dt="0.01" gravity="0 -10 0">
-  <Node name="Beam"><EulerImplicitSolver/><CGLinearSolver iterations="50" tolerance="1e-12" threshold="1e-20"/>
-    <RegularGridTopology name="line" nx="4" ny="1" nz="1" xmin="0" xmax="3" ymin="0" ymax="0" zmin="0" zmax="0"/>
-    <MechanicalObject template="Rigid3" name="frames"/>
-    <UniformMass totalMass="1"/>
-    <Node name="Visu"><OglModel name="visual"/><IdentityMapping/></Node>
-    <Node name="Tube">
-      <OglModel name="surface"/>
-      <QuadSetTopologyContainer name="quads"/>
-      <Edge2QuadTopologicalMapping nbPointsOnEachCircle="8" radius="1" input="@../line" output="@quads"/>
-      <TubularMapping nbPointsOnEachCircle="8" radius="1" input="@../frames" output="@surface"/>
-    </Node>
-  </Node>
-</Node>)";
-    auto s = build(xml);
-    const Node& beam = multi_child(s->simulation().root(), 0);
-    EXPECT_EQ(multi_child(beam, 0).mapping(), nullptr);
-    EXPECT_EQ(multi_child(beam, 1).mapping(), nullptr);
-    // onto a MechanicalObject they are refused, naming the attribute
-    const std::string mechanical = multi_replaced(
-        multi_replaced(xml, R"(<OglModel name="surface"/>)", R"(<MechanicalObject name="surface"/>)"),
-        R"(<TubularMapping nbPointsOnEachCircle="8" radius="1" input="@../frames" output="@surface"/>)", "");
-    EXPECT_THAT(error_of(mechanical), HasSubstr("test.scn:10: Edge2QuadTopologicalMapping: attribute 'output': feeds "
-                                                "node '/Beam/Tube', which has a MechanicalObject"));
-}
-
 TEST(MultiMappingComponents, SimpleTesselatedTetraCutsATetrahedronInEight) {
     const std::string xml = R"(<Node name="root" dt="0.01" gravity="0 0 0">
   <Node name="Coarse">
