@@ -106,6 +106,31 @@ TEST(Integrators, NewtonDataAreReadWithSofasDefaults) {
     EXPECT_EQ(d.line_search_coefficient, 0.5);
 }
 
+TEST(Integrators, StaticSolversDeprecatedNewtonDataGoToItsNewtonSolver) {
+    // StaticSolver::init without a NewtonRaphsonSolver: each deprecated attribute given is copied
+    // into the Newton solver it makes; relative_residual_tolerance_threshold goes, as SOFA's, to
+    // relativeEstimateDifferenceThreshold (after relative_correction_tolerance_threshold)
+    auto s =
+        test::build(hanging_chain(R"(<StaticSolver newton_iterations="4" absolute_correction_tolerance_threshold="5e-3"
+        relative_correction_tolerance_threshold="4e-3" absolute_residual_tolerance_threshold="3e-3"
+        relative_residual_tolerance_threshold="2e-3"/>
+    <CGLinearSolver iterations="100" tolerance="1e-20" threshold="1e-20"/>)"));
+    const NewtonRaphsonParameters& p = static_solver_of(*s).newton;
+    EXPECT_EQ(p.max_iterations, 4);
+    EXPECT_EQ(p.absolute_estimate_difference, 5e-3);
+    EXPECT_EQ(p.absolute_residual, 3e-3);
+    EXPECT_EQ(p.relative_estimate_difference, 2e-3);
+    EXPECT_EQ(p.relative_successive, 1e-5);  // not set by any of them: SOFA's default
+    // one given alone leaves the others at SOFA's defaults
+    auto one = test::build(hanging_chain(R"(<StaticSolver newton_iterations="6"/>
+    <CGLinearSolver iterations="100" tolerance="1e-20" threshold="1e-20"/>)"));
+    EXPECT_EQ(static_solver_of(*one).newton.max_iterations, 6);
+    EXPECT_EQ(static_solver_of(*one).newton.absolute_residual, 1e-5);
+    EXPECT_EQ(test::error_of(hanging_chain(R"(<StaticSolver newton_iterations="-2"/>
+    <CGLinearSolver iterations="100" tolerance="1e-20" threshold="1e-20"/>)")),
+              "test.scn:4: StaticSolver: attribute 'newton_iterations': must be between 0 and 1000000");
+}
+
 TEST(Integrators, BadNewtonDataAreRefusedNamingTheAttribute) {
     const auto newton = [](const std::string& attributes) {
         return test::error_of(hanging_chain("<StaticSolver/>\n    <NewtonRaphsonSolver " + attributes +

@@ -82,20 +82,21 @@ constexpr AttributeSpec kStatic[] = {
 };
 
 void read_deprecated_newton(const Attributes& a, NewtonRaphsonParameters& p) {
+    // StaticSolver's NewtonRaphsonDeprecatedData: no default of their own, each copied into the
+    // NewtonRaphsonSolver's Data when given (SOFA maps relative_residual_tolerance_threshold onto
+    // relativeEstimateDifferenceThreshold too, StaticSolver::init)
     if (a.has("newton_iterations")) {
-        const auto v = a.integer("newton_iterations");
+        const auto v = a.integer_or("newton_iterations", p.max_iterations);
         if (v < 0 || v > kMaxIterations)
             a.fail("newton_iterations", "must be between 0 and " + std::to_string(kMaxIterations));
         p.max_iterations = int(v);
     }
-    if (a.has("absolute_correction_tolerance_threshold"))
-        p.absolute_estimate_difference = a.real("absolute_correction_tolerance_threshold");
-    if (a.has("relative_correction_tolerance_threshold"))
-        p.relative_estimate_difference = a.real("relative_correction_tolerance_threshold");
-    if (a.has("absolute_residual_tolerance_threshold"))
-        p.absolute_residual = a.real("absolute_residual_tolerance_threshold");
-    if (a.has("relative_residual_tolerance_threshold"))
-        p.relative_estimate_difference = a.real("relative_residual_tolerance_threshold");
+    p.absolute_estimate_difference =
+        a.real_or("absolute_correction_tolerance_threshold", p.absolute_estimate_difference);
+    p.relative_estimate_difference =
+        a.real_or("relative_correction_tolerance_threshold", p.relative_estimate_difference);
+    p.absolute_residual = a.real_or("absolute_residual_tolerance_threshold", p.absolute_residual);
+    p.relative_estimate_difference = a.real_or("relative_residual_tolerance_threshold", p.relative_estimate_difference);
 }
 
 /// The linear solver an ODE solver of `c`'s node uses: `linearSolver` link, else the node's.
