@@ -225,8 +225,10 @@ void TopologyContainer::remove_points_process(const std::vector<ElementId>& indi
     const std::size_t n = c.num_points;
     rename_vertices(mesh_->tetrahedra_, c.tetrahedra_around_vertex, indices, n, false);
     rename_vertices(mesh_->hexahedra_, c.hexahedra_around_vertex, indices, n, false);
-    if (keeps(ElementType::triangle)) rename_vertices(c.triangles, c.triangles_around_vertex, indices, n, true);
-    if (keeps(ElementType::quad)) rename_vertices(c.quads, c.quads_around_vertex, indices, n, true);
+    // (a level below triangles or quads has none: their shells, all empty, follow the count)
+    if (keeps(ElementType::triangle) || c.triangles.empty())
+        rename_vertices(c.triangles, c.triangles_around_vertex, indices, n, true);
+    if (keeps(ElementType::quad) || c.quads.empty()) rename_vertices(c.quads, c.quads_around_vertex, indices, n, true);
     if (!c.edges.empty()) {
         // EdgeSetTopologyModifier::removePointsProcess: an edge's first end if it is the last point, else its second.
         auto last = ElementId(n) - 1;
