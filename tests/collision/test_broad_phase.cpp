@@ -1,6 +1,6 @@
 // The broad phase (collision/broad_phase.cpp): SOFA's BruteForceBroadPhase order and filters.
+#include "collision/broad_phase.hpp"
 #include "pipeline_references.hpp"
-#include "src/collision/broad_phase.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
