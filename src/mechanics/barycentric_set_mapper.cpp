@@ -28,10 +28,18 @@ struct TetrahedronHashGrid {
     double per_length = 0.0;  ///< 1/m (m_convFactor)
     std::map<Cell, std::vector<std::size_t>> cells;
 
-    /// getGridIndices: ⌊p·(1/m)⌋ per axis.
+    /// getGridIndices: ⌊p·(1/m)⌋ per axis (std::invalid_argument for a point whose cell an int
+    /// cannot name: not finite, or farther than 2³¹ cells from the origin).
     [[nodiscard]] Cell cell_of(const Vec3& p) const {
-        return {int(std::floor(p[0] * per_length)), int(std::floor(p[1] * per_length)),
-                int(std::floor(p[2] * per_length))};
+        Cell c{};
+        for (std::size_t a = 0; a < 3; ++a) {
+            const double v = std::floor(p[Eigen::Index(a)] * per_length);
+            if (!(std::abs(v) < 2147483647.0))
+                throw_invalid_argument("BarycentricMapping: a point at (", p[0], ", ", p[1], ", ", p[2],
+                                       ") has no cell in SOFA's hash grid of cell ", cell_size, " m");
+            c[a] = int(v);
+        }
+        return c;
     }
 };
 
@@ -52,6 +60,9 @@ TetrahedronHashGrid hash_elements(const MeshTopology& topo, const std::vector<El
     }
     g.cell_size = sum;
     g.per_length = 1.0 / sum;
+    if (!std::isfinite(g.per_length) || !(g.cell_size > 0))
+        throw_invalid_argument("BarycentricMapping: the elements' mean edge length is ", g.cell_size,
+                               " (SOFA's hash grid needs a positive one)");
     // computeHashTable: every cell of each element's bounding box
     for (std::size_t t = 0; t < elements.size(); ++t) {
         Vec3 lo = x[std::size_t(elements[t][0])], hi = lo;
@@ -131,9 +142,6 @@ std::vector<BarycentricRow> map_on_set_elements(const MeshTopology& topo, const 
         if (std::size_t(e[0]) >= x.size() || std::size_t(e[1]) >= x.size())
             throw_invalid_argument("BarycentricMapping: an edge's vertex is out of range");
     const TetrahedronHashGrid grid = hash_elements(topo, elements, x);
-    if (!std::isfinite(grid.per_length) || grid.cell_size <= 0)
-        throw_invalid_argument("BarycentricMapping: the elements' mean edge length is ", grid.cell_size,
-                               " (SOFA's hash grid needs a positive one)");
     // checkDistanceFromElement: the first element of strictly least score wins
     struct Nearest {
         double distance = std::numeric_limits<double>::max();

@@ -188,6 +188,15 @@ TEST(BarycentricSetMapper, RefusesWhatItCannotMapNamingTheCause) {
     zero_edges.set_edges({{0, 0}});
     EXPECT_EQ(set_mapper_refusal(zero_edges, cube, false),
               "BarycentricMapping: the elements' mean edge length is 0 (SOFA's hash grid needs a positive one)");
+    // the cubes moved 10¹² m away: more unit cells from the origin than an int counts (SOFA's
+    // getGridIndices would overflow)
+    std::vector<Vec3> far = cube;
+    for (Vec3& p : far) p += Vec3(1e12, 0, 0);
+    MeshTopology far_tetra;
+    far_tetra.set_tetrahedra({{0, 1, 3, 4}});
+    EXPECT_EQ(set_mapper_refusal(far_tetra, far, false),
+              "BarycentricMapping: a point at (1000000000000, 0, 0) has no cell in SOFA's hash grid of cell "
+              "1.2071067811865475 m");
 }
 
 }  // namespace
