@@ -2,6 +2,8 @@
 // naming helpers they share.
 #include "scene/builder/scene_builder.hpp"
 
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -27,7 +29,14 @@ const AttributeSpec& Attributes::declared(std::string_view name) const {
 }
 
 void Attributes::check(const AttributeSpec& spec, double value) const {
-    const auto found = [&] { return io::get_string(component_, spec.name).value_or(""); };
+    // the attribute as written; a link, with the value it led to (shortest round-trip text)
+    const auto found = [&] {
+        const std::string text = io::get_string(component_, spec.name).value_or("");
+        if (text.empty() || text.front() != '@') return text;
+        std::array<char, 32> digits{};
+        const auto end = std::to_chars(digits.data(), digits.data() + digits.size(), value).ptr;
+        return std::string(digits.data(), end) + "' through '" + text;
+    };
     if (spec.check == ValueCheck::nonnegative && value < 0)
         io::throw_attribute_error(component_, spec.name, "must be >= 0, found '" + found() + "'");
     if (spec.check == ValueCheck::positive && !(value > 0))
