@@ -31,7 +31,7 @@ const AttributeSpec& Attributes::declared(std::string_view name) const {
 void Attributes::check(const AttributeSpec& spec, double value) const {
     // the attribute as written; a link, with the value it led to (shortest round-trip text)
     const auto found = [&] {
-        const std::string text = io::get_string(component_, spec.name).value_or("");
+        std::string text = io::get_string(component_, spec.name).value_or("");
         if (text.empty() || text.front() != '@') return text;
         std::array<char, 32> digits{};
         const auto end = std::to_chars(digits.data(), digits.data() + digits.size(), value).ptr;
