@@ -21,24 +21,15 @@ void broad_phase(const IntersectionParams& params, std::span<CollisionModel* con
         if (models[i] == nullptr) throw_invalid_argument("broad_phase(): model ", i, " is null");
     // BruteForceBroadPhase::addCollisionModel: each model in turn, first with itself, then with
     // every model added before it (detail::sofa_pair_order)
-    for (std::size_t j = 0; j < models.size(); ++j) {
-        for (std::size_t k = 0; k <= j; ++k) {
-            const std::size_t i = k == 0 ? j : k - 1;  // j itself first, then 0 … j−1
-            CollisionModel* a = models[j];
-            CollisionModel* b = models[i];
-            const detail::PairVerdict verdict = detail::judge_model_pair(params, *a, *b);
-            if (verdict == detail::PairVerdict::filtered_out) continue;
-            if (verdict == detail::PairVerdict::unsupported) {
-                if (unsupported != nullptr) unsupported->push_back({a, b});
-                continue;
-            }
-            const bool keep_order = is_registered_order(a->type(), b->type());
-            pairs.push_back(keep_order ? ModelPair{a, b} : ModelPair{b, a});
-            const ModelIndex place_j(static_cast<Index>(j)), place_i(static_cast<Index>(i));
-            if (indices != nullptr)
-                indices->push_back(keep_order ? std::array{place_j, place_i} : std::array{place_i, place_j});
-        }
-    }
+    detail::for_each_model_pair_in_order(models.size(), [&](std::size_t j, std::size_t i) {
+        const detail::PairVerdict verdict = detail::judge_model_pair(params, *models[j], *models[i]);
+        if (verdict == detail::PairVerdict::unsupported && unsupported != nullptr)
+            unsupported->push_back({models[j], models[i]});
+        if (verdict != detail::PairVerdict::kept) return;
+        const std::array<ModelIndex, 2> places = detail::registered_places(models, j, i);
+        pairs.push_back({models[places[0].slot()], models[places[1].slot()]});
+        if (indices != nullptr) indices->push_back(places);
+    });
 }
 
 namespace detail {
@@ -54,9 +45,6 @@ constexpr std::size_t kMinNearPairsForRadixSort = 256;
 PairVerdict judge_model_pair(const IntersectionParams& params, const CollisionModel& later,
                              const CollisionModel& earlier) {
     if (!keep_model_pair(later, earlier)) return PairVerdict::filtered_out;
-    // the pair (new model, earlier model) is swapped only when the intersector is registered the
-    // other way (so two models of one type are keyed (later, earlier)), which decides the
-    // contact ids and the order of the contacts
     if (!has_active_intersector(params, later.type(), earlier.type())) return PairVerdict::unsupported;
     return PairVerdict::kept;
 }
@@ -67,15 +55,20 @@ bool BroadPhase::ModelKey::describes(const CollisionModel& m) const {
            self_collision == p.self_collision && both_side == p.both_side && node == p.node && group == p.group;
 }
 
+std::array<ModelIndex, 2> registered_places(std::span<CollisionModel* const> models, std::size_t j, std::size_t i) {
+    // the pair (new model, earlier model) is swapped only when the intersector is registered the
+    // other way (so two models of one type are keyed (later, earlier)), which decides the
+    // contact ids and the order of the contacts
+    const ModelIndex place_j(static_cast<Index>(j)), place_i(static_cast<Index>(i));
+    return is_registered_order(models[j]->type(), models[i]->type()) ? std::array{place_j, place_i}
+                                                                     : std::array{place_i, place_j};
+}
+
 std::optional<NearPair> BroadPhase::kept_pair(const IntersectionParams& params,
                                               const std::vector<CollisionModel*>& models, std::size_t j,
                                               std::size_t i) {
-    const CollisionModel& a = *models[j];
-    const CollisionModel& b = *models[i];
-    if (judge_model_pair(params, a, b) != PairVerdict::kept) return std::nullopt;
-    const ModelIndex place_j(static_cast<Index>(j)), place_i(static_cast<Index>(i));
-    const bool keep_order = is_registered_order(a.type(), b.type());
-    return NearPair{sofa_pair_order(j, i), keep_order ? std::array{place_j, place_i} : std::array{place_i, place_j}};
+    if (judge_model_pair(params, *models[j], *models[i]) != PairVerdict::kept) return std::nullopt;
+    return NearPair{sofa_pair_order(j, i), registered_places(models, j, i)};
 }
 
 bool BroadPhase::update(const IntersectionParams& params, const std::vector<CollisionModel*>& models) {
@@ -92,20 +85,15 @@ bool BroadPhase::update(const IntersectionParams& params, const std::vector<Coll
     kept_pairs_ = 0;
     unsupported_.clear();
     any_pair_writes_models_ = false;
-    for (std::size_t j = 0; j < models.size(); ++j) {
-        for (std::size_t k = 0; k <= j; ++k) {
-            const std::size_t i = k == 0 ? j : k - 1;  // j itself first, then 0 … j−1
-            CollisionModel& a = *models[j];
-            CollisionModel& b = *models[i];
-            const PairVerdict verdict = judge_model_pair(params, a, b);
-            if (verdict == PairVerdict::unsupported) unsupported_.push_back({&a, &b});
-            if (verdict != PairVerdict::kept) continue;
-            ++kept_pairs_;
-            const bool keep_order = is_registered_order(a.type(), b.type());
-            any_pair_writes_models_ = any_pair_writes_models_ || (keep_order ? kernel_writes_models(params, a, b)
-                                                                             : kernel_writes_models(params, b, a));
-        }
-    }
+    for_each_model_pair_in_order(models.size(), [&](std::size_t j, std::size_t i) {
+        const PairVerdict verdict = judge_model_pair(params, *models[j], *models[i]);
+        if (verdict == PairVerdict::unsupported) unsupported_.push_back({models[j], models[i]});
+        if (verdict != PairVerdict::kept) return;
+        ++kept_pairs_;
+        const std::array<ModelIndex, 2> places = registered_places(models, j, i);
+        any_pair_writes_models_ = any_pair_writes_models_ ||
+                                  kernel_writes_models(params, *models[places[0].slot()], *models[places[1].slot()]);
+    });
     near_.clear();
     return true;
 }
@@ -116,13 +104,10 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
     near_.clear();
     if (every_pair || kept_pairs_ <= kMaxPairsTestedOneByOne) {
         // each pair's test, in pair order (few pairs: it costs less than a sweep)
-        for (std::size_t j = 0; j < models.size(); ++j) {
-            for (std::size_t k = 0; k <= j; ++k) {
-                const std::size_t i = k == 0 ? j : k - 1;
-                const std::optional<NearPair> p = kept_pair(params, models, j, i);
-                if (p && within_margin(p->places[0], p->places[1])) near_.push_back(*p);
-            }
-        }
+        for_each_model_pair_in_order(models.size(), [&](std::size_t j, std::size_t i) {
+            const std::optional<NearPair> p = kept_pair(params, models, j, i);
+            if (p && within_margin(p->places[0], p->places[1])) near_.push_back(*p);
+        });
         return;
     }
     sweep(params, models, trees, [&](std::size_t a, std::size_t b) {  // models a <= b

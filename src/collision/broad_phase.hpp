@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace penalty::detail {
@@ -28,6 +29,16 @@ namespace penalty::detail {
 /// each model j adds (j, j) then (j, 0) … (j, j − 1), so j(j + 1)/2 pairs come before its own.
 [[nodiscard]] constexpr std::uint64_t sofa_pair_order(std::size_t j, std::size_t i) {
     return std::uint64_t(j) * (std::uint64_t(j) + 1) / 2 + (i == j ? 0 : std::uint64_t(i) + 1);
+}
+
+/// Calls visit(j, i) for every pair of `n` models in broad_phase()'s order (sofa_pair_order
+/// ascending): for each model j, (j, j), then (j, 0) … (j, j − 1).
+template <class Visit>
+void for_each_model_pair_in_order(std::size_t n, Visit&& visit) {
+    for (std::size_t j = 0; j < n; ++j) {
+        visit(j, j);
+        for (std::size_t i = 0; i < j; ++i) visit(j, i);
+    }
 }
 
 /// A model pair the broad phase kept and hands to the narrow phase.
@@ -40,6 +51,10 @@ struct NearPair {
 enum class PairVerdict : std::uint8_t { filtered_out, unsupported, kept };
 [[nodiscard]] PairVerdict judge_model_pair(const IntersectionParams& params, const CollisionModel& later,
                                            const CollisionModel& earlier);
+/// The places j and i (i ≤ j) in the intersector's registered order: (j, i) unless the types are
+/// registered the other way (two models of one type stay (later, earlier)).
+[[nodiscard]] std::array<ModelIndex, 2> registered_places(std::span<CollisionModel* const> models, std::size_t j,
+                                                          std::size_t i);
 
 class BroadPhase {
 public:

@@ -186,9 +186,8 @@ const SceneDetection& CollisionPipeline::detect() {
     pair_work_.resize(result_.size());
     if (last_concurrent_) detect_pairs_concurrently();
     else detect_pairs_in_order();
-    if (!exhaustive)
-        for (std::size_t p = 0; p < pair_kept_.size(); ++p)
-            cache_->count_kept_keys(broad_->near()[p].places, pair_kept_[p]);
+    for (std::size_t p = 0; p < pair_kept_.size(); ++p)  // (none kept without the cache)
+        cache_->count_kept_keys(broad_->near()[p].places, pair_kept_[p]);
     pair_work_last_.swap(pair_work_);
     return result_;
 }
