@@ -244,6 +244,20 @@ std::optional<std::pair<double, double>> scene_bbox_x(const SceneBuilder& b, std
     return std::pair{v[0], v[3]};
 }
 
+/// ValuesFromPositions' outputs by their Data names: visit_reals(name, values) for the four
+/// scalar lists, visit_vectors(name, vectors) for the four vector lists (moved out of `r`).
+template <class Reals, class Vectors>
+void visit_values_outputs(ValuesFromPositionsResult& r, Reals&& visit_reals, Vectors&& visit_vectors) {
+    visit_reals("values", std::move(r.point_values));
+    visit_reals("edgeValues", std::move(r.edge_values));
+    visit_reals("triangleValues", std::move(r.triangle_values));
+    visit_reals("tetrahedronValues", std::move(r.tetrahedron_values));
+    visit_vectors("pointVectors", std::move(r.point_vectors));
+    visit_vectors("edgeVectors", std::move(r.edge_vectors));
+    visit_vectors("triangleVectors", std::move(r.triangle_vectors));
+    visit_vectors("tetrahedronVectors", std::move(r.tetrahedron_vectors));
+}
+
 void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeBuild& info) {
     const Attributes a(c);
     require_vec3_template(c);
@@ -283,33 +297,22 @@ void build_values_from_positions(SceneBuilder& b, const SceneComponent& c, NodeB
             const Vec3 dir = moved != nullptr && !moved->empty() ? moved->front() : direction;
             ValuesFromPositionsResult out =
                 values_from_positions(x, edges, triangles, tetrahedra, dir, input, lo, hi, vectors);
-            engine.reals["values"] = std::move(out.point_values);
-            engine.reals["edgeValues"] = std::move(out.edge_values);
-            engine.reals["triangleValues"] = std::move(out.triangle_values);
-            engine.reals["tetrahedronValues"] = std::move(out.tetrahedron_values);
-            engine.meshes["pointVectors"].positions = std::move(out.point_vectors);
-            engine.meshes["edgeVectors"].positions = std::move(out.edge_vectors);
-            engine.meshes["triangleVectors"].positions = std::move(out.triangle_vectors);
-            engine.meshes["tetrahedronVectors"].positions = std::move(out.tetrahedron_vectors);
+            visit_values_outputs(
+                out, [&](const char* name, std::vector<double> v) { engine.reals[name] = std::move(v); },
+                [&](const char* name, std::vector<Vec3> v) { engine.meshes[name].positions = std::move(v); });
         });
     });
     b.role(c, [n = vectors ? r.point_vectors.size() : r.point_values.size(), vectors] {
         return std::string(vectors ? "a vector" : "a scalar") + " per point and element (" +
                counted(n, "point", "points") + ")";
     });
-    b.record_engine_reals(c, "values", std::move(r.point_values));
-    b.record_engine_reals(c, "edgeValues", std::move(r.edge_values));
-    b.record_engine_reals(c, "triangleValues", std::move(r.triangle_values));
-    b.record_engine_reals(c, "tetrahedronValues", std::move(r.tetrahedron_values));
-    const auto record_vectors = [&](const char* name, std::vector<Vec3> v) {
-        io::MeshData m;
-        m.positions = std::move(v);
-        b.record_engine_mesh(c, name, std::move(m));
-    };
-    record_vectors("pointVectors", std::move(r.point_vectors));
-    record_vectors("edgeVectors", std::move(r.edge_vectors));
-    record_vectors("triangleVectors", std::move(r.triangle_vectors));
-    record_vectors("tetrahedronVectors", std::move(r.tetrahedron_vectors));
+    visit_values_outputs(
+        r, [&](const char* name, std::vector<double> v) { b.record_engine_reals(c, name, std::move(v)); },
+        [&](const char* name, std::vector<Vec3> v) {
+            io::MeshData m;
+            m.positions = std::move(v);
+            b.record_engine_mesh(c, name, std::move(m));
+        });
     b.note_unread_attributes(c);
 }
 
