@@ -34,7 +34,7 @@ struct TetrahedronHashGrid {
         Cell c{};
         for (std::size_t a = 0; a < 3; ++a) {
             const double v = std::floor(p[Eigen::Index(a)] * per_length);
-            if (!(std::abs(v) < 2147483647.0))
+            if (!(std::abs(v) < double(std::numeric_limits<int>::max())))
                 throw_invalid_argument("BarycentricMapping: a point at (", p[0], ", ", p[1], ", ", p[2],
                                        ") has no cell in SOFA's hash grid of cell ", cell_size, " m");
             c[a] = int(v);
