@@ -1,5 +1,7 @@
 #include "penalty/mechanics/corotational_fem.hpp"
 
+#include "tetrahedron_large_element.hpp"
+
 #include <cmath>
 
 namespace penalty {
@@ -29,11 +31,30 @@ double TetrahedralCorotationalFEMForceField::stiffness_factor(std::size_t e) con
     return factors.empty() ? 1.0 : factors[e * factors.size() / elements_.size()];
 }
 
+bool TetrahedralCorotationalFEMForceField::sofa_large() const {
+    return method_ == FemMethod::Large && !options_.update_stiffness && !options_.assembling;
+}
+
 void TetrahedralCorotationalFEMForceField::init() {
     material_ = isotropic_elasticity(young_, poisson_);
     LinearElementForceField<4>::init();
     rest_volume_.resize(elements_.size());
     for (std::size_t e = 0; e < elements_.size(); ++e) rest_volume_[e] = tetrahedron_volume(rest_local_[e]);
+    large_.clear();
+    if (!sofa_large()) return;
+    // TetrahedralCorotationalFEMForceField::reinit (LARGE): computeMaterialStiffness (E·factor,
+    // the volume of the world rest positions) and initLarge (frame, rest local coordinates, J) per
+    // element; K^e (the assembled stiffness) stays the common path's
+    large_.resize(elements_.size());
+    const auto& x0 = state_->rest_position;
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        std::array<Vec3, 4> x;
+        for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
+        const double young = options_.local_stiffness_factors.empty() ? young_ : young_ * stiffness_factor(e);
+        large_[e].material = detail::material_over_volume(young, poisson_, x);
+        rest_local_[e] = detail::large_rest_local(x, rotation_[e]);
+        large_[e].strain_displacement = detail::strain_displacement(rest_local_[e]);
+    }
 }
 
 Mat3 TetrahedralCorotationalFEMForceField::element_rotation(const std::array<Vec3, 4>& p) const {
@@ -66,6 +87,18 @@ TetrahedralCorotationalFEMForceField::ElementMatrix TetrahedralCorotationalFEMFo
 
 void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
                                                      std::span<const Vec3> v) {
+    if (sofa_large()) {
+        // accumulateForceLarge per element, in element order (energy: ½ δᵀF, beyond SOFA)
+        PENALTY_DEMAND(large_.size() == elements_.size());
+        energy_ = 0.0;
+        for (std::size_t e = 0; e < elements_.size(); ++e) {
+            double energy = 0.0;
+            rotation_[e] = detail::add_large_element_force(vertices(e), rest_local_[e], large_[e].strain_displacement,
+                                                           large_[e].material, x, f, energy);
+            energy_ += energy;
+        }
+        return;
+    }
     if (options_.update_stiffness && method_ != FemMethod::Small) {
         // accumulateForceLarge / accumulateForcePolar with updateStiffnessMatrix: J from the current
         // shape in the element frame, before the force (method small ignores the option).
@@ -88,6 +121,25 @@ void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::spa
         return;
     }
     LinearElementForceField<4>::add_force(f, x, v);
+}
+
+void TetrahedralCorotationalFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                                                      double b_factor) const {
+    if (!sofa_large()) {
+        LinearElementForceField<4>::add_dforce(df, dx, k_factor, b_factor);
+        return;
+    }
+    // applyStiffnessLarge per element, in element order: df −= Rᵀ·F(R·dx, kFactor)
+    PENALTY_DEMAND(large_.size() == elements_.size());
+    for (std::size_t e = 0; e < elements_.size(); ++e)
+        detail::add_large_element_dforce(vertices(e), rotation_[e], large_[e].strain_displacement, large_[e].material,
+                                         dx, df, k_factor);
+}
+
+std::array<std::size_t, 4> TetrahedralCorotationalFEMForceField::vertices(std::size_t e) const {
+    const Element& el = elements_[e];
+    return {static_cast<std::size_t>(el[0]), static_cast<std::size_t>(el[1]), static_cast<std::size_t>(el[2]),
+            static_cast<std::size_t>(el[3])};
 }
 
 }  // namespace penalty

@@ -118,12 +118,20 @@ void order_as_mapping_graph(Node& root, const std::vector<BaseMapping*>& mapping
             const ForceFieldStates acted_on = step.force_field->states();
             for (std::size_t i = 0; i < acted_on.size(); ++i) key.states[i] = acted_on[i];
             key.count = acted_on.size();
+            // a SOFA interaction field (PairInteractionForceField, MixedInteractionForceField)
+            // lists its two state links even when both name one state: its group is (s, s), not
+            // the group of the fields on s alone (getMechanicalStates)
+            if (key.count == 1 && step.force_field->sofa_interaction()) {
+                key.states[1] = key.states[0];
+                key.count = 2;
+            }
         }
         const std::size_t known = g.groups.size();
         const std::size_t group = g.group_index(key);
         if (group == known) {  // a new group: its node is state_count + group
             for (std::size_t i = 0; i < key.count; ++i) {
                 const BaseState* s = key.states[i];
+                if (i == 1 && s == key.states[0]) continue;  // one edge from a state listed twice
                 if (const std::size_t node = g.state_node.find(s); node != PointerIndex<BaseState>::npos)
                     edges.push_back({node, state_count + group});
                 g.first_group_of.emplace(s, group);

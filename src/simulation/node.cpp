@@ -107,15 +107,22 @@ BaseForceField& Node::add_force_field_ptr(std::unique_ptr<BaseForceField> ff) {
 }
 
 bool Node::remove_force_field(const BaseForceField* ff) {
-    if (!erase_owned(force_fields_, ff)) return false;
-    structure_changed();
-    return true;
+    const BaseForceField* const removed[] = {ff};
+    return remove_force_fields(removed) > 0;
 }
 
 std::size_t Node::remove_force_fields(std::span<const BaseForceField* const> removed) {
+    mass_place_ -= listed_before_mass(removed);
     const std::size_t erased = erase_owned(force_fields_, removed);
     if (erased > 0) structure_changed();
     return erased;
+}
+
+std::size_t Node::listed_before_mass(std::span<const BaseForceField* const> listed) const {
+    std::size_t before = 0;
+    for (std::size_t k = 0; k < std::min(mass_place_, force_fields_.size()); ++k)
+        if (std::find(listed.begin(), listed.end(), force_fields_[k].get()) != listed.end()) ++before;
+    return before;
 }
 
 void Node::move_force_fields_to_end(std::span<BaseForceField* const> moved) {
@@ -149,6 +156,7 @@ void Node::move_force_fields_to_end(std::span<BaseForceField* const> moved) {
         t.moved_places[i] = at;
     }
     t.reordered.clear();
+    mass_place_ -= listed_before_mass(moved);
     for (std::size_t k = 0; k < total; ++k)
         if (t.is_moved[k] == 0) t.reordered.push_back(std::move(force_fields_[k]));
     for (const std::size_t k : t.moved_places) t.reordered.push_back(std::move(force_fields_[k]));

@@ -54,8 +54,9 @@ struct LayoutBuildLists {
 };
 
 /// The subtree's states, masses, force fields, constraints and mappings, and the force steps in
-/// SOFA's visiting order (MechanicalComputeForceVisitor, MechanicalAddMBKdxVisitor).
-void collect(Node& node, SubtreeLayout& l) {
+/// SOFA's visiting order (MechanicalComputeForceVisitor, MechanicalAddMBKdxVisitor), or, for
+/// SOFA HEAD's MappingGraph (`mapping_graph_order`), each node's mass and force fields as written.
+void collect(Node& node, bool mapping_graph_order, SubtreeLayout& l) {
     if (BaseState* s = node.state()) {
         if (node.mapping()) {
             if (node.mapping()->to() != s)
@@ -73,18 +74,21 @@ void collect(Node& node, SubtreeLayout& l) {
     } else if (node.mapping()) {
         throw_invalid_argument("Node '", node.name(), "': a mapping needs the node's state as output");
     }
-    if (BaseMass* m = node.mass()) {
-        // a mass on a mapped state acts through the mapping, as SOFA's: its gravity force and
-        // M·dx go up by Jᵀ (the node's mapping step below), i.e. Jᵀ·M·J in the system
-        l.masses.emplace_back(m, node.gravity());
-        l.steps.push_back({.mass = m, .gravity = node.gravity()});
-    }
-    node.for_each_force_field([&l](BaseForceField& ff) {
-        l.force_fields.push_back(&ff);
-        l.steps.push_back({.force_field = &ff});
-    });
+    // the mass at its place among the force fields (SOFA's forceField list); a mass on a mapped
+    // state acts through the mapping, as SOFA's: its gravity force and M·dx go up by Jᵀ (the
+    // node's mapping step below), i.e. Jᵀ·M·J in the system
+    node.for_each_mass_and_force_field(
+        /*interaction_last=*/!mapping_graph_order,
+        [&](BaseMass& m) {
+            l.masses.emplace_back(&m, node.gravity());
+            l.steps.push_back({.mass = &m, .gravity = node.gravity()});
+        },
+        [&l](BaseForceField& ff) {
+            l.force_fields.push_back(&ff);
+            l.steps.push_back({.force_field = &ff});
+        });
     for (const auto& c : node.constraints()) l.constraints.push_back(c.get());
-    for (const auto& child : node.children()) collect(*child, l);
+    for (const auto& child : node.children()) collect(*child, mapping_graph_order, l);
     // SOFA's bottom-up pass (MechanicalVisitor::processNodeBottomUp, post-order): a node's
     // mapping adds Jᵀ·f into its parent once the node's own children have added theirs, and
     // siblings in child order, so a parent sums its children's forces first child first
@@ -132,7 +136,7 @@ void find_readers(SubtreeLayout& l, LayoutBuildLists& t) {
 }  // namespace
 
 void build_subtree_layout(Node& root, bool mapping_graph_order, SubtreeLayout& l) {
-    collect(root, l);
+    collect(root, mapping_graph_order, l);
     if (mapping_graph_order) order_as_mapping_graph(root, l.mappings, l.steps);
     thread_local LayoutBuildLists lists;
     LayoutBuildLists& t = lists;

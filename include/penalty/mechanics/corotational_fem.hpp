@@ -31,6 +31,7 @@ public:
 
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
     [[nodiscard]] const std::vector<Element>& tetrahedra() const { return elements_; }
     [[nodiscard]] const CorotationalFemOptions& options() const { return options_; }
     /// Element e's factor on Young's modulus (localStiffnessFactor[e·M/N], or 1).
@@ -45,6 +46,17 @@ private:
     /// K^e = factor · J D Jᵀ / (36 V⁰), J from the local coordinates `shape`, V⁰ the rest volume.
     [[nodiscard]] ElementMatrix stiffness_of_shape(const std::array<Vec3, 4>& shape, double rest_volume,
                                                    std::size_t e) const;
+
+    /// Method large without updateStiffnessMatrix and computeGlobalMatrix: SOFA's operations in
+    /// SOFA's order (src/mechanics/tetrahedron_large_element.hpp), the same bits as SOFA.
+    [[nodiscard]] bool sofa_large() const;
+    [[nodiscard]] std::array<std::size_t, 4> vertices(std::size_t e) const;
+    /// sofa_large(), per element as SOFA stores it (initLarge, computeMaterialStiffness).
+    struct LargeElement {
+        Eigen::Matrix<double, 12, 6> strain_displacement;  ///< J of the rest local coordinates, m²
+        Eigen::Matrix<double, 6, 6> material;              ///< D·factor/(36 V⁰), Pa/m³
+    };
+    std::vector<LargeElement> large_;
 
     CorotationalFemOptions options_;
     Eigen::Matrix<double, 6, 6> material_;  ///< isotropic_elasticity(E, ν), Pa

@@ -86,6 +86,7 @@ public:
         auto c = std::make_unique<C>(std::forward<Args>(args)...);
         auto& ref = *c;
         mass_ = std::move(c);
+        mass_place_ = force_fields_.size();
         structure_changed();
         return ref;
     }
@@ -141,6 +142,24 @@ public:
             for (const auto& ff : force_fields_)
                 if (ff->sofa_interaction() == interaction) fn(*ff);
     }
+    /// Calls mass_fn(BaseMass&) and field_fn(BaseForceField&) for the node's mass and force
+    /// fields in SOFA's order. SOFA's mass is also in its node's forceField list, at its place of
+    /// declaration (Mass::insertInNode adds it to both lists). With `interaction_last`, SOFA's
+    /// visitors' order: the non-interaction fields with the mass among them where it was set,
+    /// then the interaction fields (for_each_force_field). Without, the order in which SOFA HEAD's
+    /// MappingGraph lists them (Node::getObjects, the node's objects as written): every field in
+    /// list order with the mass at its place.
+    template <class MassFn, class FieldFn>
+    void for_each_mass_and_force_field(bool interaction_last, MassFn&& mass_fn, FieldFn&& field_fn) const {
+        for (std::size_t i = 0; i < force_fields_.size(); ++i) {
+            if (i == mass_place_ && mass_) mass_fn(*mass_);
+            if (!interaction_last || !force_fields_[i]->sofa_interaction()) field_fn(*force_fields_[i]);
+        }
+        if (mass_place_ >= force_fields_.size() && mass_) mass_fn(*mass_);
+        if (!interaction_last) return;
+        for (const auto& ff : force_fields_)
+            if (ff->sofa_interaction()) field_fn(*ff);
+    }
     [[nodiscard]] BaseMass* mass() const { return mass_.get(); }
     [[nodiscard]] BaseMapping* mapping() const { return mapping_.get(); }
     [[nodiscard]] const std::vector<std::unique_ptr<BaseProjectiveConstraint>>& constraints() const {
@@ -163,6 +182,8 @@ public:
 private:
     /// Bumps the root's structure version (see structure_version()).
     void structure_changed();
+    /// How many of `listed` are among the force fields before the mass (mass_place_).
+    [[nodiscard]] std::size_t listed_before_mass(std::span<const BaseForceField* const> listed) const;
     std::string name_;
     Node* parent_;
     int id_ = 0;
@@ -171,6 +192,9 @@ private:
     std::optional<double> dt_;
     std::unique_ptr<BaseState> state_;
     std::unique_ptr<BaseMass> mass_;
+    /// The mass's place in SOFA's forceField list: how many of force_fields_ come before it (set
+    /// by set_mass; a force field removed or moved to the end from before it lowers it).
+    std::size_t mass_place_ = 0;
     std::unique_ptr<BaseMapping> mapping_;
     std::vector<std::unique_ptr<BaseForceField>> force_fields_;
     std::vector<std::unique_ptr<BaseProjectiveConstraint>> constraints_;

@@ -1,0 +1,153 @@
+#pragma once
+/// @file
+/// One tetrahedron of SOFA's corotational method large, in SOFA's floating-point operations and
+/// order (private to the mechanics stage). SOFA writes the same arithmetic twice:
+/// TetrahedronFEMForceField (initLarge, computeMaterialStiffness, computeStrainDisplacement,
+/// accumulateForceLarge, computeForce, applyStiffnessCorotational) and
+/// TetrahedralCorotationalFEMForceField (initLarge, computeMaterialStiffness,
+/// computeStrainDisplacement, accumulateForceLarge, computeForce, applyStiffnessLarge): the
+/// same frame, rest coordinates, J, D/(36V) and sparse products. Both penalty fields use these
+/// functions, so a scene of either matches SOFA's trajectory to the last bit.
+#include "kernels/mechanics/tetrahedron_large.hpp"
+#include "sofa_vector_ops.hpp"
+
+#include "penalty/core/types.hpp"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <optional>
+#include <span>
+
+namespace penalty::detail {
+
+/// δ and F of one element: vertex k's components at 3k … 3k+2.
+using TetrahedronDisplacement = Eigen::Matrix<double, 12, 1>;
+/// J: row 3k+c for vertex k's component c, column the Voigt strain (xx, yy, zz, xy, yz, zx);
+/// cofactors of the rest local coordinates (6V times the shape-function gradients), m².
+using TetrahedronStrainDisplacement = Eigen::Matrix<double, 12, 6>;
+/// D/(36V), Pa/m³.
+using TetrahedronMaterial = Eigen::Matrix<double, 6, 6>;
+
+/// Rows (x̂, ŷ, ẑ): x̂ = (b − a)/|b − a|, ẑ = (x̂ × (c − a))/|x̂ × (c − a)|, ŷ = ẑ × x̂
+/// (computeRotationLarge; x̂ is normalised before the cross product).
+inline Mat3 large_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 x_axis = sofa_vec::normalized(b - a);
+    const Vec3 z_axis = sofa_vec::normalized(sofa_vec::cross(x_axis, c - a));
+    Mat3 r;
+    r.row(0) = x_axis;
+    r.row(1) = sofa_vec::cross(z_axis, x_axis);
+    r.row(2) = z_axis;
+    return r;
+}
+
+/// The 2×2 minors' combination u₁v₂ − v₁u₂ − u₀v₂ + v₀u₂ + u₀v₁ − v₀u₁ of the rows u, v of a
+/// 2×3 matrix, summed left to right (peudo_determinant_for_coef).
+inline double minor_sum(const Vec3& u, const Vec3& v) {
+    return u[1] * v[2] - v[1] * u[2] - u[0] * v[2] + v[0] * u[2] + u[0] * v[1] - v[0] * u[1];
+}
+
+/// J of a tetrahedron with local vertices q (computeStrainDisplacement): vertex k's rows come from
+/// the three other vertices in cyclic order (k+1, k+2, k+3), sign s = −1 for k = 0, 2 and +1 for
+/// k = 1, 3; with g_yz, g_xz, g_xy the minor sums of their (y; z), (x; z), (x; y) coordinates:
+/// J(3k, xx) = J(3k+1, xy) = J(3k+2, zx) = s·g_yz, J(3k, xy) = J(3k+1, yy) = J(3k+2, yz) = −s·g_xz,
+/// J(3k, zx) = J(3k+1, yz) = J(3k+2, zz) = s·g_xy.
+inline TetrahedronStrainDisplacement strain_displacement(const std::array<Vec3, 4>& q) {
+    TetrahedronStrainDisplacement j = TetrahedronStrainDisplacement::Zero();
+    for (int k = 0; k < 4; ++k) {
+        const Vec3& p1 = q[static_cast<std::size_t>((k + 1) % 4)];
+        const Vec3& p2 = q[static_cast<std::size_t>((k + 2) % 4)];
+        const Vec3& p3 = q[static_cast<std::size_t>((k + 3) % 4)];
+        const Vec3 xs(p1[0], p2[0], p3[0]), ys(p1[1], p2[1], p3[1]), zs(p1[2], p2[2], p3[2]);
+        const double sign = k % 2 == 0 ? -1.0 : 1.0;
+        const double yz = sign * minor_sum(ys, zs);
+        const double xz = -sign * minor_sum(xs, zs);
+        const double xy = sign * minor_sum(xs, ys);
+        const int r = 3 * k;
+        j(r, 0) = j(r + 1, 3) = j(r + 2, 5) = yz;
+        j(r, 3) = j(r + 1, 1) = j(r + 2, 4) = xz;
+        j(r, 5) = j(r + 1, 4) = j(r + 2, 2) = xy;
+    }
+    return j;
+}
+
+/// D/(36V) (computeMaterialStiffness): the matrix with 1 on the normal diagonal, ν/(1−ν) off it
+/// and (1−2ν)/(2(1−ν)) on the shear diagonal, times E(1−ν)/((1+ν)(1−2ν)), then divided by 36·V,
+/// V = |(x1−x0) × (x2−x0) · (x3−x0)|/6 at rest (geometry::Tetrahedron::volume of the world
+/// rest positions x).
+inline TetrahedronMaterial material_over_volume(double young, double poisson, const std::array<Vec3, 4>& x) {
+    TetrahedronMaterial d = TetrahedronMaterial::Zero();
+    const double coupling = poisson / (1 - poisson);
+    for (int i = 0; i < 3; ++i) {
+        for (int k = 0; k < 3; ++k) d(i, k) = i == k ? 1.0 : coupling;
+        d(i + 3, i + 3) = (1 - 2 * poisson) / (2 * (1 - poisson));
+    }
+    d *= (young * (1 - poisson)) / ((1 + poisson) * (1 - 2 * poisson));
+    const double volume = std::abs(sofa_vec::dot3(sofa_vec::cross(x[1] - x[0], x[2] - x[0]), x[3] - x[0]) / 6);
+    d /= volume * 36;
+    return d;
+}
+
+/// Rest local coordinates R₀x⁰_k − R₀x⁰_0 of the rest positions x (initLarge: each vertex
+/// rotated, then the differences), with their frame R₀ in `frame`.
+inline std::array<Vec3, 4> large_rest_local(const std::array<Vec3, 4>& x, Mat3& frame) {
+    frame = large_frame(x[0], x[1], x[2]);
+    std::array<Vec3, 4> local;
+    for (std::size_t k = 0; k < 4; ++k) local[k] = sofa_vec::times(frame, x[k]);
+    for (std::size_t k = 1; k < 4; ++k) local[k] -= local[0];
+    local[0].setZero();
+    return local;
+}
+
+/// element_force_of for one element with its Eigen matrices: F = J·(factor·(M·(Jᵀ·δ))).
+[[gnu::always_inline]] inline TetrahedronDisplacement large_element_force(const TetrahedronStrainDisplacement& j,
+                                                                         const TetrahedronMaterial& m,
+                                                                         const TetrahedronDisplacement& delta,
+                                                                         std::optional<double> factor) {
+    double in[12];
+    for (int r = 0; r < 12; ++r) in[r] = delta[r];
+    double out[12];
+    element_force_of<double>(j, m, in, factor ? &*factor : nullptr, out);
+    TetrahedronDisplacement force;
+    for (int r = 0; r < 12; ++r) force[r] = out[r];
+    return force;
+}
+
+/// accumulateForceLarge of one element with vertices `vertex`: its current frame (returned), the
+/// vertices rotated one by one, δ = rest − current local coordinates (only the entries J couples:
+/// vertex 0 is the origin, vertex 1 lies on x̂, vertex 2 in the x̂ŷ plane), F = J·M·Jᵀ·δ, and
+/// f[vertex k] += Rᵀ·F_k. `energy` gets ½ δᵀF (beyond SOFA: its energy report).
+inline Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
+                                    const TetrahedronStrainDisplacement& j, const TetrahedronMaterial& m,
+                                    std::span<const Vec3> x, std::span<Vec3> f, double& energy) {
+    const Mat3 r = large_frame(x[vertex[0]], x[vertex[1]], x[vertex[2]]);
+    std::array<Vec3, 4> deformed;
+    for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex[k]]);
+    TetrahedronDisplacement delta = TetrahedronDisplacement::Zero();
+    delta[3] = rest[1][0] - (deformed[1][0] - deformed[0][0]);
+    delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
+    delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
+    for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
+    const TetrahedronDisplacement force = large_element_force(j, m, delta, std::nullopt);
+    large_element_energy(delta, force, energy);
+    for (std::size_t k = 0; k < 4; ++k)
+        f[vertex[k]] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+    return r;
+}
+
+/// applyStiffnessCorotational / applyStiffnessLarge of one element of frame r:
+/// df[vertex k] −= Rᵀ·F_k with F = J·(k·(M·(Jᵀ·(R·dx)))).
+inline void add_large_element_dforce(const std::array<std::size_t, 4>& vertex, const Mat3& r,
+                                     const TetrahedronStrainDisplacement& j, const TetrahedronMaterial& m,
+                                     std::span<const Vec3> dx, std::span<Vec3> df, double k_factor) {
+    TetrahedronDisplacement local;
+    for (std::size_t k = 0; k < 4; ++k)
+        local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[vertex[k]]);
+    const TetrahedronDisplacement force = large_element_force(j, m, local, k_factor);
+    for (std::size_t k = 0; k < 4; ++k)
+        df[vertex[k]] -= sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+}
+
+}  // namespace penalty::detail
