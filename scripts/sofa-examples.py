@@ -10,7 +10,10 @@ For each `*.scn` below the folder (default ../shared/sofa/examples, relative to 
             (<folder>/../examples-states/<scene path without .scn>/<k>_<name>_mstate.txt.gz), the run is
             repeated for 101 steps (penalty exports the state at the start of each step) with
             `--compare-trajectory` and SOFA's criterion (mean over the states of sum_T sum_i |dx_i| / DOFs
-            <= 1e-4) decides;
+            <= 1e-4) decides; with --sofa-head EXE, a scene without shared states gets SOFA HEAD's, made by
+            `EXE SCENE 100 DIR` into --made-states (default build/sofa-head-states, kept from run to run),
+            unless SOFA HEAD fails to load it (a component not created, a node's init failed, a missing
+            file: the table says so);
   - first blocker: the component named by the first error (an unknown component, or the component
             whose attribute or build failed).
 Data files are looked for in the scene's folder, then <folder>/.. (which holds mesh/) and <folder>
@@ -26,12 +29,15 @@ usage: scripts/sofa-examples.py [FOLDER] [--penalty EXE] [--out FILE.md] [--time
   --check            exit 1 naming every scene of the expected list (tests/sofa_examples_expected.txt)
                      that no longer runs; the table is written only with --out
   --write-expected   rewrite the expected list with the scenes that run now
+  --sofa-head EXE    make SOFA HEAD's states of the scenes without shared ones (../shared/sofa-head/sofa-head)
 """
 import argparse
 import collections
 import concurrent.futures
+import glob
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -106,6 +112,45 @@ def run(cmd, timeout):
         return None, '', '', timeout
 
 
+# What in SOFA HEAD's log means its states are not the scene's: a component it did not create, a
+# node whose init failed, a file it did not find (SOFA then runs what is left).
+SOFA_LOAD_FAILURES = [(re.compile(r'Object type (\S+?)<\S*> was not created'), 'SOFA HEAD does not create {}'),
+                      (re.compile(r'Node initialization failed'), 'a node of SOFA HEAD failed its init'),
+                      (re.compile(r"File: '([^']+)' not found"), 'SOFA HEAD does not find {}')]
+
+
+def made_states(args, scene, name):
+    """SOFA HEAD's states after init and STEPS steps of `scene` (made once into --made-states):
+    (folder, None), or (None, why there are none)."""
+    target = os.path.join(args.made_states, os.path.splitext(name)[0])
+    refused = target + '.refused'
+    if os.path.isfile(refused):
+        with open(refused) as f:
+            return None, f.read().strip()
+    if not os.path.isdir(target):
+        os.makedirs(os.path.dirname(target), exist_ok=True)
+        partial = target + '.partial'
+        shutil.rmtree(partial, ignore_errors=True)
+        code, out, err, _ = run([args.sofa_head, scene, str(STEPS), partial], 10 * args.timeout)
+        why = None
+        for pattern, text in SOFA_LOAD_FAILURES:
+            m = pattern.search(out + err)
+            if m:
+                why = text.format(*m.groups())
+                break
+        if why is None and code != 0:
+            why = 'SOFA HEAD ' + ('took too long' if code is None else f'exits {code}')
+        if why is None and not glob.glob(os.path.join(partial, '*_mstate.txt')):
+            why = 'SOFA HEAD writes no state (no solver)'
+        if why is not None:
+            shutil.rmtree(partial, ignore_errors=True)
+            with open(refused, 'w') as f:
+                f.write(why + '\n')
+            return None, why
+        os.rename(partial, target)
+    return target, None
+
+
 def check_scene(args, scene):
     name = os.path.relpath(scene, args.folder)
     data = []
@@ -115,7 +160,11 @@ def check_scene(args, scene):
            'sofa': 'no reference', 'has_states': False, 'blocker': '', 'reason': '', 'uses': component_types(scene, args.data_dirs)}
 
     states = os.path.join(args.states, os.path.splitext(name)[0])
-    if os.path.isdir(states):
+    if not os.path.isdir(states) and args.sofa_head:
+        states, refusal = made_states(args, scene, name)
+        if refusal:
+            row['sofa'] = f'no reference ({refusal})'
+    if states and os.path.isdir(states):
         row['has_states'], row['sofa'] = True, 'no (does not run)'
 
     code, out, err, _ = run([args.penalty, 'info', scene] + data, args.timeout)
@@ -285,7 +334,9 @@ def write_table(args, rows, unknown, out):
         'files, never committed): each goes through `penalty info` and `penalty run --steps 100` with',
         '`--data-dir ../shared/sofa --data-dir ../shared/sofa/examples`. *Runs* means exit 0 (finite states);',
         '*matches SOFA* compares the states after init and after 100 steps with SOFA HEAD\'s',
-        '(`../shared/sofa/examples-states/`, about half of the scenes) under SOFA\'s criterion (mean absolute',
+        '(`../shared/sofa/examples-states/`, about half of the scenes' + (
+            '; the others\' made by running SOFA HEAD, `--sofa-head ../shared/sofa-head/sofa-head`, where it loads'
+            ' them' if args.sofa_head else '') + ') under SOFA\'s criterion (mean absolute',
         'error per DOF summed over the compared steps, averaged over the states, ≤ 1e-4; the figure is in',
         'parentheses). *First blocker* is the component named by the first error. Steps/s are wall-clock on',
         'the machine that ran the script (one thread, two scenes at a time). Regenerate with',
@@ -351,6 +402,10 @@ def main():
     p.add_argument('--data-dir', dest='data_dirs', action='append', default=None,
                    help='folders searched for data and included files (default: FOLDER/.. and FOLDER)')
     p.add_argument('--states', default=None, help="SOFA's states (default: FOLDER/../examples-states)")
+    p.add_argument('--sofa-head', default=None,
+                   help="SOFA HEAD's sofa-head: make the states of the scenes without shared ones")
+    p.add_argument('--made-states', default=os.path.join(REPO, 'build', 'sofa-head-states'),
+                   help='where --sofa-head keeps the states it made (default build/sofa-head-states)')
     p.add_argument('--out', default=None, help='the table (default docs/sofa-examples.md; with --check: none)')
     p.add_argument('--timeout', type=float, default=20.0, help='seconds per penalty command (default 20)')
     p.add_argument('--jobs', type=int, default=2, help='scenes at a time (default 2)')
