@@ -166,6 +166,9 @@ TEST(StatesAndTopologies, GridDataAreCheckedAndPartialFormsIgnoredWithANote) {
     EXPECT_EQ(error_of(grid(R"(xmin="0" ymin="0" zmin="0" xmax="1e39" ymax="1" zmax="1")")),
               "test.scn:5: RegularGridTopology: attribute 'xmax': '1e39' is beyond float range, and SOFA reads this "
               "attribute as a float (--fix-sofa-quirk regular_grid_float_bounds reads it in double)");
+    // five of the six bounds: ignored as one alone is
+    const auto five = build(grid(R"(n="2 1 1" xmin="3" ymin="0" zmin="0" xmax="4" ymax="0" max="2 0 0")"));
+    EXPECT_THAT(state_points(*five), ElementsAre(Vec3(0, 0, 0), Vec3(2, 0, 0)));
     // nx alone, xmin alone: ignored (n and min/max used), each with a note
     const auto partial = build(grid(R"(n="2 1 1" nx="5" xmin="3" max="2 0 0")"));
     EXPECT_THAT(state_points(*partial), ElementsAre(Vec3(0, 0, 0), Vec3(2, 0, 0)));

@@ -93,6 +93,9 @@ TEST(TopologyChanges, BadDataAreRefusedNamingTheAttribute) {
     EXPECT_EQ(
         error_of(changing_cloth(R"(<TopologyBoundingTrasher box="0 0 0 1 1"/>)")),
         "test.scn:8: TopologyBoundingTrasher: attribute 'box': expected 6 numbers: xmin ymin zmin xmax ymax zmax");
+    EXPECT_EQ(
+        error_of(changing_cloth(R"(<TopologyBoundingTrasher box="0 0 0 1 1 1 1"/>)")),
+        "test.scn:8: TopologyBoundingTrasher: attribute 'box': expected 6 numbers: xmin ymin zmin xmax ymax zmax");
 }
 
 TEST(TopologyChanges, AttributesTheyDoNotReadAreNoted) {
