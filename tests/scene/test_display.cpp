@@ -1,7 +1,7 @@
 // The formatting of `penalty info`'s lines (scene/display.cpp): numbers to six significant digits,
 // vectors, node paths of the graph and of the file, counted nouns and element counts (the kinds
 // present, in a fixed order).
-#include "src/scene/display.hpp"
+#include "../../src/scene/display.hpp"
 
 #include "penalty/io/scene_file.hpp"
 #include "penalty/mechanics/topology.hpp"
