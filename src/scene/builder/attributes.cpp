@@ -134,8 +134,11 @@ std::int64_t Attributes::integer(std::string_view name) const {
     return integer_or(name, std::int64_t(parse_default_number(declared(name))));
 }
 std::int64_t Attributes::integer_or(std::string_view name, std::int64_t fallback) const {
+    const AttributeSpec& a = declared(name);
     std::optional<io::SceneComponent> linked;
-    return io::get_int_or(value_source(name, linked), declared(name).name, fallback);
+    const std::int64_t v = io::get_int_or(value_source(name, linked), a.name, fallback);
+    check(a, double(v));
+    return v;
 }
 bool Attributes::boolean(std::string_view name) const {
     return boolean_or(name, parse_default_number(declared(name)) != 0.0);

@@ -25,8 +25,9 @@ constexpr AttributeSpec kModelCommon[] = {
     {"moving", K::boolean, "1", "", ValueCheck::none, "0: normals computed once"},
     {"simulated", K::boolean, "1", "", ValueCheck::none, "pairs of two non-simulated models are skipped"},
     {"selfCollision", K::boolean, "0", "", ValueCheck::none, "models of one node collide only if 1"},
-    {"proximity", K::real, "0", "m", ValueCheck::nonnegative, "older name of contactDistance"},
-    {"contactDistance", K::real, "(proximity)", "m", ValueCheck::nonnegative, "added to the method's distances"},
+    {"proximity", K::real, "0", "m", ValueCheck::nonnegative,
+     "alias of contactDistance; when both are written, proximity's value is used (SOFA's parse order)"},
+    {"contactDistance", K::real, "0", "m", ValueCheck::nonnegative, "added to the method's distances"},
     {"contactStiffness", K::real, "10", "N/m", ValueCheck::nonnegative, "k of the pair: k1 k2 / distance"},
     {"contactFriction", K::real, "0", "", ValueCheck::nonnegative, "summed into the pair's mu"},
     {"contactRestitution", K::real, "0", "", ValueCheck::nonnegative, "unused by the penalty response"},
@@ -67,8 +68,10 @@ CollisionModelParams model_params(const Attributes& a, const NodeBuild& info) {
     p.moving = a.boolean("moving");
     p.simulated = a.boolean("simulated");
     p.self_collision = a.boolean("selfCollision");
-    p.contact_distance = a.real("proximity");
-    p.contact_distance = a.real_or("contactDistance", p.contact_distance);
+    // `proximity` is an alias of contactDistance (CollisionModel's addAlias): Base::parse sets the
+    // Data once per written name in alphabetical order, so proximity wins when both are written
+    p.contact_distance = a.real("contactDistance");
+    p.contact_distance = a.real_or("proximity", p.contact_distance);
     p.contact_stiffness = a.real("contactStiffness");
     p.contact_friction = a.real("contactFriction");
     p.contact_restitution = a.real("contactRestitution");

@@ -56,6 +56,7 @@ public:
     [[nodiscard]] double real(std::string_view name) const;
     /// The value, or `fallback` (a default that depends on the scene); ValueCheck applied.
     [[nodiscard]] double real_or(std::string_view name, double fallback) const;
+    /// The value, or the spec's default / `fallback`; ValueCheck applied.
     [[nodiscard]] std::int64_t integer(std::string_view name) const;
     [[nodiscard]] std::int64_t integer_or(std::string_view name, std::int64_t fallback) const;
     [[nodiscard]] bool boolean(std::string_view name) const;
