@@ -20,7 +20,7 @@ namespace {
 using namespace penalty;
 namespace bowl = penalty::test::cubes_in_bowl;
 
-std::unique_ptr<scene::Scene> build(const bowl::Setup& s) {
+std::unique_ptr<scene::Scene> bowl_scene(const bowl::Setup& s) {
     return scene::build_scene(io::parse_scene_string(bowl::scene_xml(s), "cubes_in_bowl.scn"));
 }
 
@@ -33,7 +33,7 @@ bowl::Setup setup(int k) {
 TEST(CubesInBowl, BuildsOneStatePerCubeAndAStaticBowl) {
     for (const int k : {1, 3}) {
         const bowl::Setup s = setup(k);
-        const auto scene = build(s);
+        const auto scene = bowl_scene(s);
         int cubes = 0;
         std::size_t dofs = 0;
         for (const auto& r : scene->states()) {
@@ -93,7 +93,7 @@ TEST(CubesInBowl, BowlMeshIsTheCapWithInwardNormals) {
 // last moves depend on the order of its contacts); about 85 contact springs, 60 of them active.
 TEST(CubesInBowl, EightCubesComeToRestAsAPileInsideTheBowl) {
     const bowl::Setup s = setup(2);
-    const auto scene = build(s);
+    const auto scene = bowl_scene(s);
     const auto c = bowl::bowl_centre(s);
     const Vec3 centre(c[0], c[1], c[2]);
     const double R = bowl::bowl_radius(s);

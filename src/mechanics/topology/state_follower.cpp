@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace penalty {
 
@@ -51,7 +52,16 @@ RigidDeriv interpolate(const std::vector<RigidDeriv>& v, const std::vector<Eleme
     return out;
 }
 
-/// Grows `v` by the added points; a buffer too small is kept in `retired` (views of it stay valid).
+/// The value of a new point before its ancestors weigh in: SOFA's Coord() / Deriv(), zero (an
+/// Eigen vector's default constructor leaves it uninitialized).
+template <class Value>
+Value zero_value() {
+    if constexpr (std::is_same_v<Value, Vec3>) return Vec3::Zero();
+    else return Value{};
+}
+
+/// Grows `v` by the added points (zero, or weighted from their ancestors); a buffer too small is
+/// kept in `retired` (views of it stay valid).
 template <class Value>
 void grow_weighted(std::vector<Value>& v, std::size_t old_size, const TopologyChange& change,
                    std::vector<std::vector<Value>>& retired) {
@@ -63,7 +73,7 @@ void grow_weighted(std::vector<Value>& v, std::size_t old_size, const TopologyCh
         retired.push_back(std::move(v));
         v = std::move(bigger);
     }
-    v.resize(n);
+    v.resize(n, zero_value<Value>());
     for (std::size_t k = 0; k < change.ancestors.size(); ++k) {
         const auto& a = change.ancestors[k];
         if (a.empty()) continue;

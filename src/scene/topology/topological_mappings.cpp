@@ -43,8 +43,7 @@ void wire_topological_mappings(TopologyWiring& w) {
                 in->container->add_listener(w.keep(std::move(follower)));
                 in->outputs.push_back(out);
             } else {
-                in->blockers.push_back(c.describe() + " (" + c.file + ":" + std::to_string(c.line) +
-                                       "): its output does not follow yet");
+                in->blockers.push_back(where(c));  // its output has no rule to follow the input
             }
         }
         for (const auto& child : sn.children) self(self, *child);
