@@ -103,9 +103,9 @@ inline std::array<Vec3, 4> large_rest_local(const std::array<Vec3, 4>& x, Mat3& 
 
 /// element_force_of for one element with its Eigen matrices: F = J·(factor·(M·(Jᵀ·δ))).
 [[gnu::always_inline]] inline TetrahedronDisplacement large_element_force(const TetrahedronStrainDisplacement& j,
-                                                                         const TetrahedronMaterial& m,
-                                                                         const TetrahedronDisplacement& delta,
-                                                                         std::optional<double> factor) {
+                                                                          const TetrahedronMaterial& m,
+                                                                          const TetrahedronDisplacement& delta,
+                                                                          std::optional<double> factor) {
     double in[12];
     for (int r = 0; r < 12; ++r) in[r] = delta[r];
     double out[12];
@@ -143,8 +143,7 @@ inline void add_large_element_dforce(const std::array<std::size_t, 4>& vertex, c
                                      const TetrahedronStrainDisplacement& j, const TetrahedronMaterial& m,
                                      std::span<const Vec3> dx, std::span<Vec3> df, double k_factor) {
     TetrahedronDisplacement local;
-    for (std::size_t k = 0; k < 4; ++k)
-        local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[vertex[k]]);
+    for (std::size_t k = 0; k < 4; ++k) local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[vertex[k]]);
     const TetrahedronDisplacement force = large_element_force(j, m, local, k_factor);
     for (std::size_t k = 0; k < 4; ++k)
         df[vertex[k]] -= sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
