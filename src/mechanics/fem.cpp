@@ -529,7 +529,7 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];
         const auto& block = blocks[e / 4];
-        const detail::LaneRotation r{block, e % 4};
+        const detail::LaneRotation<detail::TetrahedronLargeLanes<4>> r{block, e % 4};
         for (std::size_t k = 0; k < 4; ++k)
             local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[static_cast<std::size_t>(el[k])]);
         const Displacement force = element_force(block, e % 4, local, k_factor);
