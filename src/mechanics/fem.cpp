@@ -453,7 +453,9 @@ void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
         throw_invalid_argument("TetrahedronFEMForceField: kernel path ", to_string(path),
                                " is not supported by this CPU");
     kernel_path_ = path;
-    if (method_ == FemMethod::Large) resize_large(elements_.size());  // the data in the path's width
+    // after init: the data move to the path's width (before, init gives them that width)
+    const bool initialised = std::visit([](const auto& blocks) { return !blocks.empty(); }, large_);
+    if (method_ == FemMethod::Large && initialised) resize_large(elements_.size());
 }
 
 void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
