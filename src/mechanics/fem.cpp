@@ -13,7 +13,8 @@
 #include <cstring>
 #include <limits>
 #include <optional>
-#include <tuple>
+#include <type_traits>
+#include <variant>
 
 namespace penalty {
 
@@ -69,9 +70,10 @@ template <int N>
 void LinearElementForceField<N>::init_from(std::size_t first) {
     const auto& x0 = state_->rest_position;
     const Eigen::Matrix<double, 6, 6> d = isotropic_elasticity(young_, poisson_);
+    const bool keep_rotations = keeps_rotations();
     ke_.resize(elements_.size());
     rest_local_.resize(elements_.size());
-    rotation_.resize(elements_.size(), Mat3::Identity());
+    if (keep_rotations) rotation_.resize(elements_.size(), Mat3::Identity());
     for (std::size_t e = first; e < elements_.size(); ++e) {
         std::array<Vec3, N> p;
         for (int k = 0; k < N; ++k) {
@@ -82,7 +84,7 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
             p[static_cast<std::size_t>(k)] = x0[static_cast<std::size_t>(v)];
         }
         const Mat3 r = method_ != FemMethod::Small ? element_rotation(p) : Mat3::Identity();
-        rotation_[e] = r;
+        if (keep_rotations) rotation_[e] = r;
         for (int k = 0; k < N; ++k)
             rest_local_[e][static_cast<std::size_t>(k)] = r * (p[static_cast<std::size_t>(k)] - p[0]);
         ke_[e] = compute_stiffness(rest_local_[e], d, e);
@@ -135,18 +137,21 @@ void LinearElementForceField<N>::add_dforce(std::span<Vec3> df, std::span<const 
 
 template <int N>
 void LinearElementForceField<N>::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
-        const auto& el = elements_[e];
-        for (int a = 0; a < N; ++a)
-            for (int b = 0; b < N; ++b) {
-                const Mat3 blk =
-                    -factor * rotation_[e].transpose() * ke_[e].template block<3, 3>(3 * a, 3 * b) * rotation_[e];
-                const Index ra = offset + 3 * el[static_cast<std::size_t>(a)];
-                const Index cb = offset + 3 * el[static_cast<std::size_t>(b)];
-                for (Index r = 0; r < 3; ++r)
-                    for (Index c = 0; c < 3; ++c) t.emplace_back(ra + r, cb + c, blk(r, c));
-            }
-    }
+    for (std::size_t e = 0; e < elements_.size(); ++e) add_element_triplets(t, offset, factor, e, rotation_[e]);
+}
+
+template <int N>
+void LinearElementForceField<N>::add_element_triplets(TripletList& t, Index offset, double factor, std::size_t e,
+                                                      const Mat3& r) const {
+    const auto& el = elements_[e];
+    for (int a = 0; a < N; ++a)
+        for (int b = 0; b < N; ++b) {
+            const Mat3 blk = -factor * r.transpose() * ke_[e].template block<3, 3>(3 * a, 3 * b) * r;
+            const Index ra = offset + 3 * el[static_cast<std::size_t>(a)];
+            const Index cb = offset + 3 * el[static_cast<std::size_t>(b)];
+            for (Index row = 0; row < 3; ++row)
+                for (Index c = 0; c < 3; ++c) t.emplace_back(ra + row, cb + c, blk(row, c));
+        }
 }
 
 template class LinearElementForceField<4>;
@@ -267,8 +272,10 @@ void TetrahedronFEMForceField::init_elements(std::size_t first) {
 // ---- tetrahedron, method large, in SOFA's operation order ----------------------------------------
 namespace {
 using Displacement = Eigen::Matrix<double, 12, 1>;  // per vertex k, components 3k … 3k+2
-using TetraStrainDisplacement = Eigen::Matrix<double, 12, 6>;
 using MaterialMatrix = Eigen::Matrix<double, 6, 6>;
+/// The block type of a visited alternative of detail::TetrahedronLargeBlocks.
+template <class Blocks>
+using BlockOf = typename std::remove_cvref_t<Blocks>::value_type;
 
 /// Rows (x̂, ŷ, ẑ): x̂ = (b − a)/|b − a|, ẑ = (x̂ × (c − a))/|x̂ × (c − a)|, ŷ = ẑ × x̂
 /// (TetrahedronFEMForceField::computeRotationLarge; x̂ is normalised before the cross product).
@@ -288,28 +295,24 @@ double minor_sum(const Vec3& u, const Vec3& v) {
     return u[1] * v[2] - v[1] * u[2] - u[0] * v[2] + v[0] * u[2] + u[0] * v[1] - v[0] * u[1];
 }
 
-/// J of a tetrahedron with local vertices q (TetrahedronFEMForceField::computeStrainDisplacement):
-/// vertex k's rows come from the three other vertices in cyclic order (k+1, k+2, k+3), sign
-/// s = −1 for k = 0, 2 and +1 for k = 1, 3; with g_yz, g_xz, g_xy the minor sums of their
-/// (y; z), (x; z), (x; y) coordinates: J(3k, xx) = J(3k+1, xy) = J(3k+2, zx) = s·g_yz,
-/// J(3k, xy) = J(3k+1, yy) = J(3k+2, yz) = −s·g_xz, J(3k, zx) = J(3k+1, yz) = J(3k+2, zz) = s·g_xy.
-TetraStrainDisplacement strain_displacement(const std::array<Vec3, 4>& q) {
-    TetraStrainDisplacement j = TetraStrainDisplacement::Zero();
-    for (int k = 0; k < 4; ++k) {
-        const Vec3& p1 = q[static_cast<std::size_t>((k + 1) % 4)];
-        const Vec3& p2 = q[static_cast<std::size_t>((k + 2) % 4)];
-        const Vec3& p3 = q[static_cast<std::size_t>((k + 3) % 4)];
+/// J of a tetrahedron with local vertices q (TetrahedronFEMForceField::computeStrainDisplacement)
+/// into lane `lane` of `block`: vertex k's rows come from the three other vertices in cyclic
+/// order (k+1, k+2, k+3), sign s = −1 for k = 0, 2 and +1 for k = 1, 3; with g_yz, g_xz, g_xy the
+/// minor sums of their (y; z), (x; z), (x; y) coordinates: J(3k, xx) = J(3k+1, xy) = J(3k+2, zx)
+/// = s·g_yz, J(3k, xy) = J(3k+1, yy) = J(3k+2, yz) = −s·g_xz, J(3k, zx) = J(3k+1, yz) =
+/// J(3k+2, zz) = s·g_xy (the block keeps the three values of each vertex; kCofactorOfEntry).
+template <class Block>
+void store_strain_displacement(const std::array<Vec3, 4>& q, Block& block, std::size_t lane) {
+    for (std::size_t k = 0; k < 4; ++k) {
+        const Vec3& p1 = q[(k + 1) % 4];
+        const Vec3& p2 = q[(k + 2) % 4];
+        const Vec3& p3 = q[(k + 3) % 4];
         const Vec3 xs(p1[0], p2[0], p3[0]), ys(p1[1], p2[1], p3[1]), zs(p1[2], p2[2], p3[2]);
         const double sign = k % 2 == 0 ? -1.0 : 1.0;
-        const double yz = sign * minor_sum(ys, zs);
-        const double xz = -sign * minor_sum(xs, zs);
-        const double xy = sign * minor_sum(xs, ys);
-        const int r = 3 * k;
-        j(r, 0) = j(r + 1, 3) = j(r + 2, 5) = yz;
-        j(r, 3) = j(r + 1, 1) = j(r + 2, 4) = xz;
-        j(r, 5) = j(r + 1, 4) = j(r + 2, 2) = xy;
+        block.cofactor[k][0][lane] = sign * minor_sum(ys, zs);
+        block.cofactor[k][1][lane] = -sign * minor_sum(xs, zs);
+        block.cofactor[k][2][lane] = sign * minor_sum(xs, ys);
     }
-    return j;
 }
 
 /// D/(36V) (TetrahedronFEMForceField::computeMaterialStiffness): the matrix with 1 on the normal
@@ -329,126 +332,120 @@ MaterialMatrix material_over_volume(double young, double poisson, const std::arr
     return d;
 }
 
-/// element_force_of for one element with its Eigen matrices.
-[[gnu::always_inline]] inline Displacement element_force(const TetraStrainDisplacement& j, const MaterialMatrix& m,
+/// element_force_of for element `lane` of `block`.
+template <class Block>
+[[gnu::always_inline]] inline Displacement element_force(const Block& block, std::size_t lane,
                                                          const Displacement& delta, std::optional<double> factor) {
     double in[12];
     for (int r = 0; r < 12; ++r) in[r] = delta[r];
     double out[12];
-    detail::element_force_of<double>(j, m, in, factor ? &*factor : nullptr, out);
+    detail::element_force_of<double>(detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+                                     detail::LaneMaterial<detail::OneLane, Block>{block, lane}, in,
+                                     factor ? &*factor : nullptr, out);
     Displacement force;
     for (int r = 0; r < 12; ++r) force[r] = out[r];
     return force;
 }
-
-/// Lane e % W of block e / W from data(e); `pad`: a lane 0 also gives its vertices to the block's
-/// other lanes (the missing elements of a last block read them).
-template <std::size_t W, class ElementData>
-void fill_lane(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t e, const ElementData& data,
-               bool pad) {
-    auto& block = blocks[e / W];
-    const std::size_t lane = e % W;
-    const auto& [j, m, rotation, element] = data(e);
-    for (std::size_t k = 0; k < 4; ++k) {
-        // strain_displacement: J(3k, xx) = g_yz, J(3k, xy) = g_xz, J(3k, zx) = g_xy
-        const auto row = static_cast<Index>(3 * k);
-        block.cofactor[k][0][lane] = j(row, 0);
-        block.cofactor[k][1][lane] = j(row, 3);
-        block.cofactor[k][2][lane] = j(row, 5);
-        const auto dof = static_cast<std::size_t>(element[k]);
-        block.vertex[k][lane] = dof;
-        if (pad && lane == 0)  // the missing elements of a last block read lane 0's vertices
-            for (std::size_t other = 1; other < W; ++other) block.vertex[k][other] = dof;
-    }
-    for (Index i = 0; i < 3; ++i) {
-        for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
-        block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
-        for (Index k = 0; k < 3; ++k) block.rotation[static_cast<std::size_t>(3 * i + k)][lane] = rotation(i, k);
-    }
-}
-
-/// Method large's element data W elements a block (lane e of block b: element W·b + e); data(e)
-/// gives element e's (J, D/(36V), R, vertices).
-template <std::size_t W, class ElementData>
-void fill_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t element_count,
-                      const ElementData& data) {
-    blocks.assign((element_count + W - 1) / W, detail::TetrahedronLargeLanes<W>{});
-    for (std::size_t e = 0; e < element_count; ++e) fill_lane(blocks, e, data, true);
-}
 }  // namespace
+
+Mat3 TetrahedronFEMForceField::large_rotation(std::size_t e) const {
+    return std::visit(
+        [&](const auto& blocks) {
+            using Block = BlockOf<decltype(blocks)>;
+            const detail::LaneRotation<Block> lane{blocks[e / Block::kLanes], e % Block::kLanes};
+            Mat3 r;
+            for (int i = 0; i < 3; ++i)
+                for (int k = 0; k < 3; ++k) r(i, k) = lane(i, k);
+            return r;
+        },
+        large_);
+}
+
+void TetrahedronFEMForceField::copy_large(std::size_t from, std::size_t to) {
+    std::visit(
+        [&](auto& blocks) {
+            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
+            detail::for_each_entry(blocks[to / kLanes], blocks[from / kLanes],
+                                   [&](auto& t, const auto& f) { t[to % kLanes] = f[from % kLanes]; });
+        },
+        large_);
+}
+
+bool TetrahedronFEMForceField::large_fits(std::size_t count) const {
+    const std::size_t lanes = kernel_path_ == KernelPath::avx512 ? 8 : 4;
+    return std::visit(
+        [&](const auto& blocks) {
+            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
+            return kLanes == lanes && blocks.size() == (count + kLanes - 1) / kLanes;
+        },
+        large_);
+}
+
+void TetrahedronFEMForceField::resize_large(std::size_t count) {
+    // the kernel path's width: eight lanes for avx512's product, else four; the data move to it
+    const bool wide = kernel_path_ == KernelPath::avx512;
+    if (wide != (large_.index() == 1)) {
+        detail::TetrahedronLargeBlocks moved{std::in_place_index<0>};
+        if (wide) moved.emplace<1>();
+        std::visit(
+            [](auto& to, const auto& from) {
+                using To = BlockOf<decltype(to)>;
+                using From = BlockOf<decltype(from)>;
+                const std::size_t lanes = from.size() * From::kLanes;
+                to.resize((lanes + To::kLanes - 1) / To::kLanes);
+                for (std::size_t e = 0; e < lanes; ++e)
+                    detail::for_each_entry(to[e / To::kLanes], from[e / From::kLanes],
+                                           [&](auto& t, const auto& f) { t[e % To::kLanes] = f[e % From::kLanes]; });
+            },
+            moved, large_);
+        large_ = std::move(moved);
+    }
+    std::visit(
+        [&](auto& blocks) {
+            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
+            blocks.resize((count + kLanes - 1) / kLanes);
+            if (count % kLanes == 0) return;
+            auto& last = blocks.back();
+            detail::for_each_entry(last, last, [&](auto& t, const auto&) {
+                std::fill(t.begin() + static_cast<std::ptrdiff_t>(count % kLanes), t.end(), 0.0);
+            });
+        },
+        large_);
+}
 
 void TetrahedronFEMForceField::init_large(std::size_t first) {
     // TetrahedronFEMForceField::reinit (LARGE): computeMaterialStiffness then initLarge per element
     const auto& x0 = state_->rest_position;
-    large_.resize(elements_.size());
-    for (std::size_t e = first; e < elements_.size(); ++e) {
-        std::array<Vec3, 4> x;
-        for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
-        const double factor =
-            young_factors_.empty() ? 1.0 : young_factors_[e * young_factors_.size() / elements_.size()];
-        const double young = young_factors_.empty() ? young_ : factor * young_;
-        large_[e].material = material_over_volume(young, poisson_, x);
-        if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
-        // rest local coordinates R₀x⁰_k − R₀x⁰_0 (each vertex rotated, then the differences)
-        const Mat3 r0 = large_frame(x[0], x[1], x[2]);
-        std::array<Vec3, 4> local;
-        for (std::size_t k = 0; k < 4; ++k) local[k] = sofa_vec::times(r0, x[k]);
-        for (std::size_t k = 1; k < 4; ++k) local[k] -= local[0];
-        local[0].setZero();
-        rest_local_[e] = local;
-        rotation_[e] = r0;
-        large_[e].strain_displacement = strain_displacement(local);
-    }
-    if (first != 0) return;  // refresh_lanes, by the caller
-    fill_lane_blocks(large_blocks_, elements_.size(), [this](std::size_t e) { return large_element_lanes(e); });
-    fill_eight_lane_blocks();
-}
-
-namespace {
-/// The lanes of `changed` elements refilled, blocks added or dropped for `count` elements, and
-/// the last block's missing elements as fill_lane_blocks leaves them (zero data, lane 0's vertices).
-template <std::size_t W, class ElementData>
-void refresh_lane_blocks(std::vector<detail::TetrahedronLargeLanes<W>>& blocks, std::size_t count,
-                         std::span<const std::size_t> changed, const ElementData& data) {
-    blocks.resize((count + W - 1) / W);
-    for (const std::size_t e : changed)
-        if (e < count) fill_lane(blocks, e, data, false);
-    if (blocks.empty()) return;
-    auto& last = blocks.back();
-    const std::size_t used = count - W * (blocks.size() - 1);
-    fill_lane(blocks, W * (blocks.size() - 1), data, true);  // lane 0, and its vertices in the missing lanes
-    for (std::size_t lane = 1; lane < used; ++lane)
-        for (std::size_t k = 0; k < 4; ++k)
-            last.vertex[k][lane] = static_cast<std::size_t>(std::get<3>(data(W * (blocks.size() - 1) + lane))[k]);
-    for (std::size_t lane = used; lane < W; ++lane) {
-        for (auto& c : last.cofactor)
-            for (auto& l : c) l[lane] = 0.0;
-        for (auto& l : last.material) l[lane] = 0.0;
-        for (auto& l : last.shear) l[lane] = 0.0;
-        for (auto& l : last.rotation) l[lane] = 0.0;
-    }
-}
-}  // namespace
-
-void TetrahedronFEMForceField::refresh_lanes(std::span<const std::size_t> changed) {
-    if (method_ != FemMethod::Large) return;
-    const auto data = [this](std::size_t e) { return large_element_lanes(e); };
-    refresh_lane_blocks(large_blocks_, elements_.size(), changed, data);
-    if (kernel_path_ == KernelPath::avx512) refresh_lane_blocks(large_blocks8_, elements_.size(), changed, data);
-}
-
-void TetrahedronFEMForceField::fill_eight_lane_blocks() {
-    if (kernel_path_ != KernelPath::avx512 || method_ != FemMethod::Large || large_.size() != elements_.size()) {
-        large_blocks8_ = {};
-        return;
-    }
-    fill_lane_blocks(large_blocks8_, elements_.size(), [this](std::size_t e) { return large_element_lanes(e); });
-}
-
-std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&,
-           const TetrahedronFEMForceField::Element&>
-TetrahedronFEMForceField::large_element_lanes(std::size_t e) const {
-    return std::tie(large_[e].strain_displacement, large_[e].material, rotation_[e], elements_[e]);
+    resize_large(elements_.size());
+    std::visit(
+        [&](auto& blocks) {
+            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
+            for (std::size_t e = first; e < elements_.size(); ++e) {
+                std::array<Vec3, 4> x;
+                for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
+                const double factor =
+                    young_factors_.empty() ? 1.0 : young_factors_[e * young_factors_.size() / elements_.size()];
+                const double young = young_factors_.empty() ? young_ : factor * young_;
+                auto& block = blocks[e / kLanes];
+                const std::size_t lane = e % kLanes;
+                const MaterialMatrix m = material_over_volume(young, poisson_, x);
+                for (Index i = 0; i < 3; ++i) {
+                    for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
+                    block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
+                }
+                if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
+                // rest local coordinates R₀x⁰_k − R₀x⁰_0 (each vertex rotated, then the differences)
+                const Mat3 r0 = large_frame(x[0], x[1], x[2]);
+                std::array<Vec3, 4> local;
+                for (std::size_t k = 0; k < 4; ++k) local[k] = sofa_vec::times(r0, x[k]);
+                for (std::size_t k = 1; k < 4; ++k) local[k] -= local[0];
+                local[0].setZero();
+                rest_local_[e] = local;
+                detail::store_lane_rotation(block, lane, r0);
+                store_strain_displacement(local, block, lane);
+            }
+        },
+        large_);
 }
 
 void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
@@ -456,7 +453,9 @@ void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
         throw_invalid_argument("TetrahedronFEMForceField: kernel path ", to_string(path),
                                " is not supported by this CPU");
     kernel_path_ = path;
-    fill_eight_lane_blocks();  // after init: the eight-lane blocks, with the current R, or none
+    // after init: the data move to the path's width (before, init gives them that width)
+    const bool initialised = std::visit([](const auto& blocks) { return !blocks.empty(); }, large_);
+    if (method_ == FemMethod::Large && initialised) resize_large(elements_.size());
 }
 
 void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
@@ -464,32 +463,32 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         LinearElementForceField<4>::add_force(f, x, v);
         return;
     }
-    PENALTY_DEMAND(large_.size() == elements_.size());
+    PENALTY_DEMAND(large_fits(elements_.size()));
     if (plasticity_.max_threshold > 0) {  // (tetrahedron_plasticity.cpp)
         add_force_plastic(f, x);
         return;
     }
-    energy_ = 0.0;
 #ifdef PENALTY_HAS_AVX_LANES
-    // avx, and avx512 (whose eight lanes are add_dforce's only): the scalar loop below never
-    // runs with eight-lane blocks, as set_kernel_path(scalar) empties them
     if (kernel_path_ != KernelPath::scalar) {
-        // frames, δ and F four elements at a time; the energy and f += Rᵀ·F element by element in
-        // order, as below
-        energy_ = detail::large_add_force_avx(large_blocks_, large_blocks8_, rest_local_, elements_, rotation_,
-                                              x.data(), f.data());
+        // avx, and avx512 (whose eight lanes are add_dforce's only): frames, δ and F four elements
+        // at a time; the energy and f += Rᵀ·F element by element in order, as below
+        energy_ = std::visit(
+            [&](auto& blocks) {
+                return detail::large_add_force_avx(std::span(blocks), rest_local_, elements_, x.data(), f.data());
+            },
+            large_);
         return;
     }
 #endif
+    energy_ = 0.0;
+    auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];
         const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
+        auto& block = blocks[e / 4];
         // TetrahedronFEMForceField::accumulateForceLarge: current frame, vertices rotated one by one
         const Mat3 r = large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
-        rotation_[e] = r;
-        auto& block_rotation = large_blocks_[e / 4].rotation;
-        for (Index i = 0; i < 3; ++i)
-            for (Index k = 0; k < 3; ++k) block_rotation[static_cast<std::size_t>(3 * i + k)][e % 4] = r(i, k);
+        detail::store_lane_rotation(block, e % 4, r);
         std::array<Vec3, 4> deformed;
         for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
         // δ = rest − current local coordinates; only the entries J couples are formed (vertex 0
@@ -500,8 +499,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
         delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
         for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
-        const Displacement force =
-            element_force(large_[e].strain_displacement, large_[e].material, delta, std::nullopt);
+        const Displacement force = element_force(block, e % 4, delta, std::nullopt);
         double energy = 0.0;
         detail::large_element_energy(delta, force, energy);
         energy_ += energy;
@@ -516,30 +514,39 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
         LinearElementForceField<4>::add_dforce(df, dx, k_factor, b_factor);
         return;
     }
+    PENALTY_DEMAND(large_fits(elements_.size()));
     // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
 #ifdef PENALTY_HAS_AVX_LANES
     if (kernel_path_ == KernelPath::avx512) {
-        PENALTY_DEMAND(large_blocks8_.size() == (elements_.size() + 7) / 8);
-        detail::large_dforce_avx512(large_blocks8_.data(), elements_.size(), df.data(), dx.data(), k_factor);
+        detail::large_dforce_avx512(std::get<1>(large_).data(), elements_, df.data(), dx.data(), k_factor);
         return;
     }
     if (kernel_path_ == KernelPath::avx) {
-        PENALTY_DEMAND(large_blocks_.size() == (elements_.size() + 3) / 4);
-        detail::large_dforce_avx(large_blocks_.data(), elements_.size(), df.data(), dx.data(), k_factor);
+        detail::large_dforce_avx(std::get<0>(large_).data(), elements_, df.data(), dx.data(), k_factor);
         return;
     }
 #endif
+    const auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
     Displacement local;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         const auto& el = elements_[e];
-        const Mat3& r = rotation_[e];
+        const auto& block = blocks[e / 4];
+        const detail::LaneRotation<detail::TetrahedronLargeLanes<4>> r{block, e % 4};
         for (std::size_t k = 0; k < 4; ++k)
             local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[static_cast<std::size_t>(el[k])]);
-        const Displacement force = element_force(large_[e].strain_displacement, large_[e].material, local, k_factor);
+        const Displacement force = element_force(block, e % 4, local, k_factor);
         for (std::size_t k = 0; k < 4; ++k)
             df[static_cast<std::size_t>(el[k])] -=
                 sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     }
+}
+
+void TetrahedronFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    if (method_ != FemMethod::Large) {
+        LinearElementForceField<4>::add_stiffness_triplets(t, offset, factor);
+        return;
+    }
+    for (std::size_t e = 0; e < elements_.size(); ++e) add_element_triplets(t, offset, factor, e, large_rotation(e));
 }
 
 Mat3 TetrahedronFEMForceField::element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const {

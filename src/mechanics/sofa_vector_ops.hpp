@@ -31,13 +31,16 @@ inline Mat3 cross_matrix(const Vec3& v) {
 inline double in_element(const std::vector<double>& values, std::size_t i) {
     return i < values.size() ? values[i] : values.front();
 }
-/// M·v, row i = M(i,0)v₀ + M(i,1)v₁ + M(i,2)v₂ (type::Mat::operator*(Vec)).
-inline Vec3 times(const Mat3& m, const Vec3& v) {
+/// M·v, row i = M(i,0)v₀ + M(i,1)v₁ + M(i,2)v₂ (type::Mat::operator*(Vec)). M: a Mat3, or any
+/// m(i, k) (an element's lane of TetrahedronFEMForceField's blocks).
+template <class Matrix>
+inline Vec3 times(const Matrix& m, const Vec3& v) {
     return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
             m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
 }
-/// Mᵀ·v, row i = M(0,i)v₀ + M(1,i)v₁ + M(2,i)v₂ (type::Mat::multTranspose).
-inline Vec3 transpose_times(const Mat3& m, const Vec3& v) {
+/// Mᵀ·v, row i = M(0,i)v₀ + M(1,i)v₁ + M(2,i)v₂ (type::Mat::multTranspose); M as for times.
+template <class Matrix>
+inline Vec3 transpose_times(const Matrix& m, const Vec3& v) {
     return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
             m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
 }

@@ -1,11 +1,14 @@
 // SOFA's plasticity of TetrahedronFEMForceField (method large): the force of each element as
 // TetrahedronFEMForceField::accumulateForceLarge and computeForce compute it with
 // plasticMaxThreshold > 0, in SOFA's operation order (fem.hpp, TetrahedronFEMForceField::Plasticity).
+#include "kernels/mechanics/tetrahedron_large.hpp"
 #include "penalty/mechanics/fem.hpp"
 
 #include "sofa_vector_ops.hpp"
 
 #include <cmath>
+#include <type_traits>
+#include <variant>
 
 namespace penalty {
 
@@ -35,8 +38,10 @@ Mat3 tetrahedron_large_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 
 /// F of computeForce with plasticity: Jᵀδ over J's non-zero terms, the plastic update, K·(Jᵀδ −
-/// εp) over K's non-zero terms, then J·(KJᵀD); each sum left to right as SOFA writes it.
-Eigen::Matrix<double, 12, 1> plastic_force(const Eigen::Matrix<double, 12, 6>& j, const Eigen::Matrix<double, 6, 6>& k,
+/// εp) over K's non-zero terms, then J·(KJᵀD); each sum left to right as SOFA writes it. j(r, c)
+/// and k(i, k) give J's and D/(36V)'s entries (an element's lane).
+template <class StrainDisplacementEntries, class MaterialEntries>
+Eigen::Matrix<double, 12, 1> plastic_force(const StrainDisplacementEntries& j, const MaterialEntries& k,
                                            const Eigen::Matrix<double, 12, 1>& d, std::array<double, 6>& plastic,
                                            const TetrahedronFEMForceField::Plasticity& p) {
     std::array<double, 6> e;
@@ -81,31 +86,33 @@ Eigen::Matrix<double, 12, 1> plastic_force(const Eigen::Matrix<double, 12, 6>& j
 void TetrahedronFEMForceField::add_force_plastic(std::span<Vec3> f, std::span<const Vec3> x) {
     if (plastic_strain_.size() != elements_.size()) plastic_strain_.assign(elements_.size(), std::array<double, 6>{});
     energy_ = 0.0;
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
-        const auto& el = elements_[e];
-        const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
-        const Mat3 r = tetrahedron_large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
-        rotation_[e] = r;
-        // the lane blocks the vector products read keep the same R
-        for (Index i = 0; i < 3; ++i)
-            for (Index k = 0; k < 3; ++k) {
-                large_blocks_[e / 4].rotation[std::size_t(3 * i + k)][e % 4] = r(i, k);
-                if (!large_blocks8_.empty()) large_blocks8_[e / 8].rotation[std::size_t(3 * i + k)][e % 8] = r(i, k);
+    std::visit(
+        [&](auto& blocks) {
+            using Block = typename std::remove_cvref_t<decltype(blocks)>::value_type;
+            for (std::size_t e = 0; e < elements_.size(); ++e) {
+                const auto& el = elements_[e];
+                const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
+                Block& block = blocks[e / Block::kLanes];
+                const std::size_t lane = e % Block::kLanes;
+                const Mat3 r = tetrahedron_large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
+                detail::store_lane_rotation(block, lane, r);  // the products' R
+                std::array<Vec3, 4> deformed;
+                for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
+                const auto& rest = rest_local_[e];
+                Eigen::Matrix<double, 12, 1> delta = Eigen::Matrix<double, 12, 1>::Zero();
+                delta[3] = rest[1][0] - (deformed[1][0] - deformed[0][0]);
+                delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
+                delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
+                for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
+                const Eigen::Matrix<double, 12, 1> force = plastic_force(
+                    detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+                    detail::LaneMaterial<detail::OneLane, Block>{block, lane}, delta, plastic_strain_[e], plasticity_);
+                energy_ += 0.5 * delta.dot(force);
+                for (std::size_t k = 0; k < 4; ++k)
+                    f[vertex(k)] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
             }
-        std::array<Vec3, 4> deformed;
-        for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
-        const auto& rest = rest_local_[e];
-        Eigen::Matrix<double, 12, 1> delta = Eigen::Matrix<double, 12, 1>::Zero();
-        delta[3] = rest[1][0] - (deformed[1][0] - deformed[0][0]);
-        delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
-        delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
-        for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
-        const Eigen::Matrix<double, 12, 1> force =
-            plastic_force(large_[e].strain_displacement, large_[e].material, delta, plastic_strain_[e], plasticity_);
-        energy_ += 0.5 * delta.dot(force);
-        for (std::size_t k = 0; k < 4; ++k)
-            f[vertex(k)] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
-    }
+        },
+        large_);
 }
 
 }  // namespace penalty

@@ -19,9 +19,10 @@
 
 #include <Eigen/Core>
 
+#include <array>
 #include <limits>
 #include <span>
-#include <tuple>
+#include <variant>
 
 namespace penalty {
 
@@ -103,13 +104,19 @@ protected:
         return element_rotation(p);
     }
 
+    /// Whether rotation_ holds each element's R (TetrahedronFEMForceField's method large keeps R
+    /// in its lane blocks instead, and rotation_ stays empty).
+    [[nodiscard]] virtual bool keeps_rotations() const { return true; }
+    /// Element e's −factor·Rᵀ K^e R blocks, with R = `r`, into `triplets`.
+    void add_element_triplets(TripletList& triplets, Index offset, double factor, std::size_t e, const Mat3& r) const;
+
     std::vector<Element> elements_;
     double young_, poisson_;
     FemMethod method_;
     const char* component_;
     std::vector<ElementMatrix> ke_;
     std::vector<std::array<Vec3, N>> rest_local_;
-    std::vector<Mat3> rotation_;  ///< R per element at the last add_force (identity for small)
+    std::vector<Mat3> rotation_;  ///< R per element at the last add_force (identity for small; see keeps_rotations)
     double energy_ = 0.0;
 };
 
@@ -117,22 +124,23 @@ class RegularGridTopology;
 class TopologyContainer;
 
 namespace detail {
-/// TetrahedronFEMForceField's method-large data of W elements side by side, for the vector
-/// products: lane e of every entry belongs to element W·block + e. The last block's missing
-/// elements have zero data and lane 0's vertices (computed, never added into df). Four lanes for
-/// the avx path; eight for the avx512 path's product, kept beside the four-lane blocks.
+/// TetrahedronFEMForceField's method-large data of W elements side by side: element e is lane
+/// e % W of block e / W. The vertices are the field's element list. The last block's lanes past
+/// the last element hold zero J and D (their vector results are never added).
 template <std::size_t W>
 struct alignas(8 * W) TetrahedronLargeLanes {
     static constexpr std::size_t kLanes = W;
     using Lanes = std::array<double, W>;
-    std::array<Lanes, 9> rotation{};                     ///< R(i, j) at 3i + j, from the last add_force
-    std::array<std::array<Lanes, 3>, 4> cofactor{};      ///< J's entries g_yz, g_xz, g_xy of each vertex
-    std::array<Lanes, 9> material{};                     ///< D/(36V)(i, k), i, k < 3, at 3i + k
-    std::array<Lanes, 3> shear{};                        ///< D/(36V)(i, i), i = 3 … 5
-    std::array<std::array<std::size_t, W>, 4> vertex{};  ///< DOF of vertex k of each lane
+    std::array<Lanes, 9> rotation{};                 ///< R(i, j) at 3i + j, from the last add_force
+    std::array<std::array<Lanes, 3>, 4> cofactor{};  ///< J's entries g_yz, g_xz, g_xy of each vertex
+    std::array<Lanes, 9> material{};                 ///< D/(36V)(i, k), i, k < 3, at 3i + k
+    std::array<Lanes, 3> shear{};                    ///< D/(36V)(i, i), i = 3 … 5
 };
-using TetrahedronLargeBlock = TetrahedronLargeLanes<4>;
-using TetrahedronLargeBlock8 = TetrahedronLargeLanes<8>;
+/// The one copy of the method-large data, in blocks of the kernel path's width: eight lanes for
+/// avx512 (its product reads a block an instruction), four for avx (the same) and scalar (one
+/// lane at a time).
+using TetrahedronLargeBlocks =
+    std::variant<std::vector<TetrahedronLargeLanes<4>>, std::vector<TetrahedronLargeLanes<8>>>;
 }  // namespace detail
 
 /// SOFA's TetrahedronFEMForceField (methods small, large, polar and svd). Polar
@@ -161,9 +169,11 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
     /// Instructions of method large's loops (default best_fem_kernel_path(); every path gives
-    /// the same bits; avx512 runs add_dforce in eight lanes and add_force in avx's four).
-    /// Throws std::invalid_argument if this machine cannot run `path`.
+    /// the same bits; avx512 runs add_dforce in eight lanes and add_force in avx's four). The
+    /// element data move to the path's block width. Throws std::invalid_argument if this machine
+    /// cannot run `path`.
     void set_kernel_path(KernelPath path);
     [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
@@ -172,7 +182,7 @@ public:
     /// (swap-and-pop), additions and point renumbering, equal to what init() computes on the
     /// changed mesh (SOFA's reinit()), in time proportional to the change.
     void handle_topology_changes(const TopologyContainer& container, std::span<const TopologyChange> changes);
-    /// After the whole change: the new elements' data, the renumbered vertices, the lane blocks.
+    /// After the whole change: the new elements' data and the renumbered vertices.
     void topology_change_done();
 
     /// SOFA's plasticity (TetrahedronFEMForceField::computeForce, plasticMaxThreshold > 0): per
@@ -205,20 +215,12 @@ protected:
     /// else R = stable_polar_rotation(F)·R₀ (R₀ = polar_rotation(A₀)).
     [[nodiscard]] Mat3 element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const override;
 
+    [[nodiscard]] bool keeps_rotations() const override { return method_ != FemMethod::Large; }
+
 private:
-    /// Method large, per element, as SOFA stores it (TetrahedronFEMForceField::initLarge).
-    struct LargeElement {
-        /// J: row 3k+c for vertex k's component c, column the Voigt strain (xx, yy, zz, xy, yz, zx);
-        /// cofactors of the rest local coordinates, m².
-        Eigen::Matrix<double, 12, 6> strain_displacement;
-        /// D/(36V): SOFA's material matrix divided by 36 times the rest volume, Pa/m³.
-        Eigen::Matrix<double, 6, 6> material;
-    };
     void init_large(std::size_t first = 0);
-    /// init() for elements [first, size) (the lane blocks: refresh_lanes).
+    /// init() for elements [first, size).
     void init_elements(std::size_t first);
-    /// The lane blocks of the `changed` elements refilled, resized to the element count.
-    void refresh_lanes(std::span<const std::size_t> changed);
     /// What a topological change leaves to topology_change_done().
     struct PendingTopologyChange {
         const TopologyContainer* container = nullptr;
@@ -229,18 +231,19 @@ private:
     };
     PendingTopologyChange pending_;
 
-    std::vector<Mat3> rest_edges_inverse_;                     ///< svd: A₀⁻¹ per element
-    std::vector<Mat3> rest_rotation_;                          ///< svd: R₀ per element
-    std::vector<LargeElement> large_;                          ///< large: J and D/(36V) per element
-    std::vector<detail::TetrahedronLargeBlock> large_blocks_;  ///< large: the same data and R, four elements a block
-    /// large, avx512 path only: the same data and R, eight elements a block (else empty)
-    std::vector<detail::TetrahedronLargeBlock8> large_blocks8_;
-    /// large_blocks8_ filled from large_, rotation_ and the elements (avx512), or emptied.
-    void fill_eight_lane_blocks();
-    /// Element e's data as the lane blocks take it: J, D/(36V), R and its vertices.
-    [[nodiscard]] std::tuple<const Eigen::Matrix<double, 12, 6>&, const Eigen::Matrix<double, 6, 6>&, const Mat3&,
-                             const Element&>
-    large_element_lanes(std::size_t e) const;
+    std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
+    std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
+    /// large: J, D/(36V) and R of every element, in blocks of the kernel path's width (lane
+    /// e % W of block e / W), read and written by every path
+    detail::TetrahedronLargeBlocks large_;
+    /// Element e's R, from its lane.
+    [[nodiscard]] Mat3 large_rotation(std::size_t e) const;
+    /// Element `to`'s lane given element `from`'s data (swap-and-pop).
+    void copy_large(std::size_t from, std::size_t to);
+    /// Blocks of the kernel path's width for `count` elements; the lanes past the last element zeroed.
+    void resize_large(std::size_t count);
+    /// Whether large_ holds `count` elements' blocks of the kernel path's width.
+    [[nodiscard]] bool large_fits(std::size_t count) const;
     KernelPath kernel_path_ = best_fem_kernel_path();
     /// add_force of method large with plasticity, SOFA's sums (tetrahedron_plasticity.cpp).
     void add_force_plastic(std::span<Vec3> f, std::span<const Vec3> x);

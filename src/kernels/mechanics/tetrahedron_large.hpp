@@ -4,8 +4,11 @@
 /// in SOFA's operation order: F = J·(factor·(M·(Jᵀ·δ))) over J's and M's non-zero entries, and the
 /// element energy ½ δᵀF. Templated on the value type: T = double is the scalar reference (one
 /// element), a vector of lanes (tetrahedron_large_lanes.cpp) does one element per lane with the
-/// same operations in the same order, hence the same bits. Internal (namespace detail).
+/// same operations in the same order, hence the same bits. J, M and R are read from the one lane
+/// layout, detail::TetrahedronLargeLanes (LaneStrainDisplacement, LaneMaterial, LaneRotation):
+/// one lane for the scalar loops, four or eight for the vector kernels. Internal (namespace detail).
 #include <array>
+#include <cstddef>
 
 namespace penalty::detail {
 /// Rows of J non-zero in Voigt column c (xx, yy, zz, xy, yz, zx), vertex by vertex and, within a
@@ -24,6 +27,71 @@ constexpr std::array<std::array<int, 3>, 3> kRowColumns{{{0, 3, 5}, {1, 3, 4}, {
 /// places them), by row component r % 3 and Voigt column c; −1 where J is 0.
 constexpr std::array<std::array<int, 6>, 3> kCofactorOfEntry{
     {{0, -1, -1, 1, -1, 2}, {-1, 1, -1, 0, 2, -1}, {-1, -1, 2, -1, 1, 0}}};
+
+/// The value type of one lane read alone (the scalar loops); the vector kernels name theirs the
+/// same way (a member typedef: a vector type given as a template argument loses its may_alias).
+struct OneLane {
+    using type = double;
+};
+
+/// The lanes first, first + 1, … of a block's entry (an array of lanes) as one Vector::type.
+template <class Vector, class Entry>
+[[gnu::always_inline]] inline const typename Vector::type& lanes_at(const Entry& entry, std::size_t first) {
+    return *reinterpret_cast<const typename Vector::type*>(entry.data() + first);
+}
+
+/// J(r, c) of a block's lanes from `first` on (kCofactorOfEntry; never asked where J is 0).
+template <class Vector, class Block>
+struct LaneStrainDisplacement {
+    const Block& block;
+    std::size_t first;
+    [[gnu::always_inline]] const typename Vector::type& operator()(int r, int c) const {
+        return lanes_at<Vector>(block.cofactor[static_cast<std::size_t>(r / 3)][static_cast<std::size_t>(
+                                    kCofactorOfEntry[static_cast<std::size_t>(r % 3)][static_cast<std::size_t>(c)])],
+                                first);
+    }
+};
+
+/// D/(36V)(i, k) of a block's lanes from `first` on: the normal block (i, k < 3) and the shear
+/// diagonal (i = k ≥ 3).
+template <class Vector, class Block>
+struct LaneMaterial {
+    const Block& block;
+    std::size_t first;
+    [[gnu::always_inline]] const typename Vector::type& operator()(int i, int k) const {
+        return lanes_at<Vector>(i < 3 ? block.material[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)]
+                                      : block.shear[static_cast<std::size_t>(i) - 3],
+                                first);
+    }
+};
+
+/// R(i, k) of lane `lane` of a block, read in place (sofa_vec::times and transpose_times).
+template <class Block>
+struct LaneRotation {
+    const Block& block;
+    std::size_t lane;
+    double operator()(int i, int k) const {
+        return block.rotation[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)][lane];
+    }
+};
+
+/// r(i, k) into lane `lane` of a block's R.
+template <class Block, class Matrix>
+void store_lane_rotation(Block& block, std::size_t lane, const Matrix& r) {
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k)
+            block.rotation[3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(k)][lane] = r(i, k);
+}
+
+/// f(to, from) for each entry (array of lanes) of two blocks of any widths, the same entry of each.
+template <class To, class From, class F>
+void for_each_entry(To& to, const From& from, const F& f) {
+    for (std::size_t i = 0; i < 9; ++i) f(to.rotation[i], from.rotation[i]);
+    for (std::size_t k = 0; k < 4; ++k)
+        for (std::size_t c = 0; c < 3; ++c) f(to.cofactor[k][c], from.cofactor[k][c]);
+    for (std::size_t i = 0; i < 9; ++i) f(to.material[i], from.material[i]);
+    for (std::size_t i = 0; i < 3; ++i) f(to.shear[i], from.shear[i]);
+}
 
 /// Σ over the non-zero rows r of column c, in kColumnRows order: j(r, c)·δ_r, the first term
 /// alone then each next one added (no leading 0 +). T is double (one element) or a vector of

@@ -22,6 +22,7 @@ void TetrahedronFEMForceField::handle_topology_changes(const TopologyContainer& 
                 pending_.rebuild = true;  // new ones moved
             if (pending_.rebuild) continue;
             const std::size_t n = elements_.size();
+            const bool lanes = method_ == FemMethod::Large && large_fits(n);
             const auto swap_pop = [&](auto& data, std::size_t i, std::size_t last) {
                 if (data.size() != n) return;  // not used by this method
                 if (i != last) data[i] = data[last];
@@ -35,7 +36,7 @@ void TetrahedronFEMForceField::handle_topology_changes(const TopologyContainer& 
                 swap_pop(ke_, i, last);
                 swap_pop(rest_local_, i, last);
                 swap_pop(rotation_, i, last);
-                swap_pop(large_, i, last);
+                if (lanes && i != last) copy_large(last, i);  // J, D/(36V) and R
                 swap_pop(rest_edges_inverse_, i, last);
                 swap_pop(rest_rotation_, i, last);
                 pending_.moved.push_back(i);
@@ -46,7 +47,7 @@ void TetrahedronFEMForceField::handle_topology_changes(const TopologyContainer& 
             shrink(ke_);
             shrink(rest_local_);
             shrink(rotation_);
-            shrink(large_);
+            if (lanes) resize_large(last);
             shrink(rest_edges_inverse_);
             shrink(rest_rotation_);
             elements_.resize(last);
@@ -85,11 +86,7 @@ void TetrahedronFEMForceField::topology_change_done() {
             for (const auto e : around[std::size_t(p)]) changed.push_back(std::size_t(e));
     for (const std::size_t e : changed)
         if (e < elements_.size()) elements_[e] = tetrahedra[e];
-    if (pending.first_new < elements_.size()) {
-        init_elements(pending.first_new);
-        for (std::size_t e = pending.first_new; e < elements_.size(); ++e) changed.push_back(e);
-    }
-    refresh_lanes(changed);
+    if (pending.first_new < elements_.size()) init_elements(pending.first_new);
 }
 
 }  // namespace penalty
