@@ -1,6 +1,7 @@
 #include "penalty/mechanics/fem.hpp"
 #include "kernels/mechanics/tetrahedron_large.hpp"
 #include "kernels/mechanics/tetrahedron_large_lanes.hpp"
+#include "tetrahedron_large_element.hpp"
 
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "sofa_vector_ops.hpp"
@@ -277,24 +278,6 @@ using MaterialMatrix = Eigen::Matrix<double, 6, 6>;
 template <class Blocks>
 using BlockOf = typename std::remove_cvref_t<Blocks>::value_type;
 
-/// Rows (x̂, ŷ, ẑ): x̂ = (b − a)/|b − a|, ẑ = (x̂ × (c − a))/|x̂ × (c − a)|, ŷ = ẑ × x̂
-/// (TetrahedronFEMForceField::computeRotationLarge; x̂ is normalised before the cross product).
-Mat3 large_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 x_axis = sofa_vec::normalized(b - a);
-    const Vec3 z_axis = sofa_vec::normalized(sofa_vec::cross(x_axis, c - a));
-    Mat3 r;
-    r.row(0) = x_axis;
-    r.row(1) = sofa_vec::cross(z_axis, x_axis);
-    r.row(2) = z_axis;
-    return r;
-}
-
-/// The 2×2 minors' combination u₁v₂ − v₁u₂ − u₀v₂ + v₀u₂ + u₀v₁ − v₀u₁ of the rows u, v of a
-/// 2×3 matrix, summed left to right (TetrahedronFEMForceField::peudo_determinant_for_coef).
-double minor_sum(const Vec3& u, const Vec3& v) {
-    return u[1] * v[2] - v[1] * u[2] - u[0] * v[2] + v[0] * u[2] + u[0] * v[1] - v[0] * u[1];
-}
-
 /// J of a tetrahedron with local vertices q (TetrahedronFEMForceField::computeStrainDisplacement)
 /// into lane `lane` of `block`: vertex k's rows come from the three other vertices in cyclic
 /// order (k+1, k+2, k+3), sign s = −1 for k = 0, 2 and +1 for k = 1, 3; with g_yz, g_xz, g_xy the
@@ -309,27 +292,10 @@ void store_strain_displacement(const std::array<Vec3, 4>& q, Block& block, std::
         const Vec3& p3 = q[(k + 3) % 4];
         const Vec3 xs(p1[0], p2[0], p3[0]), ys(p1[1], p2[1], p3[1]), zs(p1[2], p2[2], p3[2]);
         const double sign = k % 2 == 0 ? -1.0 : 1.0;
-        block.cofactor[k][0][lane] = sign * minor_sum(ys, zs);
-        block.cofactor[k][1][lane] = -sign * minor_sum(xs, zs);
-        block.cofactor[k][2][lane] = sign * minor_sum(xs, ys);
+        block.cofactor[k][0][lane] = sign * detail::minor_sum(ys, zs);
+        block.cofactor[k][1][lane] = -sign * detail::minor_sum(xs, zs);
+        block.cofactor[k][2][lane] = sign * detail::minor_sum(xs, ys);
     }
-}
-
-/// D/(36V) (TetrahedronFEMForceField::computeMaterialStiffness): the matrix with 1 on the normal
-/// diagonal, ν/(1−ν) off it and (1−2ν)/(2(1−ν)) on the shear diagonal, times
-/// E(1−ν)/((1+ν)(1−2ν)), then divided by 36·V, V = |(x1−x0) × (x2−x0) · (x3−x0)|/6 at rest.
-MaterialMatrix material_over_volume(double young, double poisson, const std::array<Vec3, 4>& x) {
-    MaterialMatrix d = MaterialMatrix::Zero();
-    const double coupling = poisson / (1 - poisson);
-    for (int i = 0; i < 3; ++i) {
-        for (int k = 0; k < 3; ++k) d(i, k) = i == k ? 1.0 : coupling;
-        d(i + 3, i + 3) = (1 - 2 * poisson) / (2 * (1 - poisson));
-    }
-    d *= (young * (1 - poisson)) / ((1 + poisson) * (1 - 2 * poisson));
-    const double volume =
-        std::abs(sofa_vec::dot3(sofa_vec::cross(x[1] - x[0], x[2] - x[0]), x[3] - x[0]) / 6);  // Tetrahedron::volume
-    d /= volume * 36;
-    return d;
 }
 
 /// element_force_of for element `lane` of `block`.
@@ -428,18 +394,14 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
                 const double young = young_factors_.empty() ? young_ : factor * young_;
                 auto& block = blocks[e / kLanes];
                 const std::size_t lane = e % kLanes;
-                const MaterialMatrix m = material_over_volume(young, poisson_, x);
+                const MaterialMatrix m = detail::material_over_volume(young, poisson_, x);
                 for (Index i = 0; i < 3; ++i) {
                     for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
                     block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
                 }
                 if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
-                // rest local coordinates R₀x⁰_k − R₀x⁰_0 (each vertex rotated, then the differences)
-                const Mat3 r0 = large_frame(x[0], x[1], x[2]);
-                std::array<Vec3, 4> local;
-                for (std::size_t k = 0; k < 4; ++k) local[k] = sofa_vec::times(r0, x[k]);
-                for (std::size_t k = 1; k < 4; ++k) local[k] -= local[0];
-                local[0].setZero();
+                Mat3 r0;
+                const std::array<Vec3, 4> local = detail::large_rest_local(x, r0);
                 rest_local_[e] = local;
                 detail::store_lane_rotation(block, lane, r0);
                 store_strain_displacement(local, block, lane);
@@ -487,7 +449,7 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
         auto& block = blocks[e / 4];
         // TetrahedronFEMForceField::accumulateForceLarge: current frame, vertices rotated one by one
-        const Mat3 r = large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
+        const Mat3 r = detail::large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
         detail::store_lane_rotation(block, e % 4, r);
         std::array<Vec3, 4> deformed;
         for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);

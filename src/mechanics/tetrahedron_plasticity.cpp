@@ -5,6 +5,7 @@
 #include "penalty/mechanics/fem.hpp"
 
 #include "sofa_vector_ops.hpp"
+#include "tetrahedron_large_element.hpp"
 
 #include <cmath>
 #include <type_traits>
@@ -24,18 +25,6 @@ void TetrahedronFEMForceField::set_plasticity(const Plasticity& p) {
 }
 
 namespace {
-
-/// TetrahedronFEMForceField::computeRotationLarge: rows x̂ = (b − a)/|b − a|, ẑ = (x̂ × (c − a))/|…|,
-/// ŷ = ẑ × x̂.
-Mat3 tetrahedron_large_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 x_axis = sofa_vec::normalized(b - a);
-    const Vec3 z_axis = sofa_vec::normalized(sofa_vec::cross(x_axis, c - a));
-    Mat3 r;
-    r.row(0) = x_axis;
-    r.row(1) = sofa_vec::cross(z_axis, x_axis);
-    r.row(2) = z_axis;
-    return r;
-}
 
 /// F of computeForce with plasticity: Jᵀδ over J's non-zero terms, the plastic update, K·(Jᵀδ −
 /// εp) over K's non-zero terms, then J·(KJᵀD); each sum left to right as SOFA writes it. j(r, c)
@@ -94,7 +83,7 @@ void TetrahedronFEMForceField::add_force_plastic(std::span<Vec3> f, std::span<co
                 const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
                 Block& block = blocks[e / Block::kLanes];
                 const std::size_t lane = e % Block::kLanes;
-                const Mat3 r = tetrahedron_large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
+                const Mat3 r = detail::large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
                 detail::store_lane_rotation(block, lane, r);  // the products' R
                 std::array<Vec3, 4> deformed;
                 for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
