@@ -122,7 +122,7 @@ inline std::array<Vec3, 4> large_rest_local(const std::array<Vec3, 4>& x, Mat3& 
 inline Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
                                     const TetrahedronStrainDisplacement& j, const TetrahedronMaterial& m,
                                     std::span<const Vec3> x, std::span<Vec3> f, double& energy) {
-    const Mat3 r = large_frame(x[vertex[0]], x[vertex[1]], x[vertex[2]]);
+    Mat3 r = large_frame(x[vertex[0]], x[vertex[1]], x[vertex[2]]);  // not const: returned
     std::array<Vec3, 4> deformed;
     for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex[k]]);
     TetrahedronDisplacement delta = TetrahedronDisplacement::Zero();
