@@ -50,8 +50,10 @@ void build_element_topology(SceneBuilder& b, const SceneComponent& c, NodeBuild&
     b.guarded(c, [&] {
         auto t = std::make_unique<MeshTopology>();
         io::MeshData mesh;
-        if (a.has("src")) mesh = linked_source(b, a);
-        else if (a.has("filename")) mesh = b.mesh_of(c);
+        // BaseMeshTopology::init loads `filename` after the Data links were read, and its load
+        // clears them: the file's lists win over src's (their missing lists are then derived)
+        if (a.has("filename")) mesh = b.mesh_of(c);
+        else if (a.has("src")) mesh = linked_source(b, a);
         // SOFA's `src` links only the Data the class declares.
         if (!lists.edges) mesh.edges.clear();
         if (!lists.triangles) mesh.triangles.clear();
