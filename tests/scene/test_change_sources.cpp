@@ -22,19 +22,7 @@ const Vec3Object& cs_state(const scene::Scene& s) { return dynamic_cast<const Ve
 
 /// The 2×2×2-cell tetrahedral cube (side 0.2 m) hanging from its x = 0 face, and `processor`.
 std::string cs_cube(const std::string& processor) {
-    const test::TetraCube cube = test::tetra_cube(2, 0.2);
-    return R"(<Node name="root" gravity="0 -9.81 0" dt="0.01"><DefaultAnimationLoop/><Node name="body">
-  <EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>
-  <CGLinearSolver iterations="200" tolerance="1e-20" threshold="1e-20"/>
-  <TetrahedronSetTopologyContainer name="volume" position=")" +
-           test::points_text(cube.points) + R"(" tetrahedra=")" + test::elements_text(cube.tetrahedra) + R"("/>
-  <TetrahedronSetTopologyModifier/>
-  <MechanicalObject name="dofs"/>
-  <DiagonalMass massDensity="1000"/>
-  <TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>
-  <FixedProjectiveConstraint indices="3 6 9 12 15 18 21 24"/>
-  )" + processor +
-           "\n</Node></Node>\n";
+    return test::fixed_tetra_cube_head("0 -9.81 0") + R"(  )" + processor + "\n</Node></Node>\n";
 }
 
 // SOFA HEAD (2a278d8), `sofa-head SCENE 15 OUT --every 1`: useDataInputs with

@@ -31,20 +31,8 @@ std::string tm_file(const std::string& name, const std::string& text) {
 /// The 2×2×2-cell tetrahedral cube (side 0.2 m) fixed at x = 0, a processor removing tetrahedra
 /// 0, 4 and 13 at t = 0.02, and a pressure of 50 Pa on its border (Tetra2Triangle with `options`).
 std::string tm_pressed_cube(const std::string& options) {
-    const test::TetraCube cube = test::tetra_cube(2, 0.2);
     const std::string file = tm_file("three.txt", "T= 0.02\n  REMOVE= 3\n0 4 13\n");
-    return R"(<Node name="root" gravity="0 0 0" dt="0.01"><DefaultAnimationLoop/><Node name="body">
-  <EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>
-  <CGLinearSolver iterations="200" tolerance="1e-20" threshold="1e-20"/>
-  <TetrahedronSetTopologyContainer name="volume" position=")" +
-           test::points_text(cube.points) + R"(" tetrahedra=")" + test::elements_text(cube.tetrahedra) + R"("/>
-  <TetrahedronSetTopologyModifier/>
-  <MechanicalObject name="dofs"/>
-  <DiagonalMass massDensity="1000"/>
-  <TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>
-  <FixedProjectiveConstraint indices="3 6 9 12 15 18 21 24"/>
-  <TopologicalChangeProcessor filename=")" +
-           file + R"("/>
+    return test::fixed_tetra_cube_head("0 0 0") + R"(  <TopologicalChangeProcessor filename=")" + file + R"("/>
   <Node name="border">
     <TriangleSetTopologyContainer name="surface"/>
     <TriangleSetTopologyModifier/>

@@ -81,4 +81,24 @@ std::string elements_text(const std::vector<std::array<PointId, N>>& e) {
     return out.str();
 }
 
+/// The scene text's first lines shared by the topological-change tests: a root of `gravity` (and
+/// dt 0.01) holding a node "body" with the 2×2×2-cell tetrahedral cube of side 0.2 m (a
+/// TetrahedronSetTopologyContainer "volume" and its modifier, "dofs", DiagonalMass 1000 kg/m³,
+/// TetrahedronFEMForceField large E = 2000 Pa, ν = 0.3) fixed at its x = 0 face, over eight lines
+/// (the caller writes the rest and closes both nodes).
+inline std::string fixed_tetra_cube_head(const std::string& gravity) {
+    const TetraCube cube = tetra_cube(2, 0.2);
+    return R"(<Node name="root" gravity=")" + gravity + R"(" dt="0.01"><DefaultAnimationLoop/><Node name="body">
+  <EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>
+  <CGLinearSolver iterations="200" tolerance="1e-20" threshold="1e-20"/>
+  <TetrahedronSetTopologyContainer name="volume" position=")" +
+           points_text(cube.points) + R"(" tetrahedra=")" + elements_text(cube.tetrahedra) + R"("/>
+  <TetrahedronSetTopologyModifier/>
+  <MechanicalObject name="dofs"/>
+  <DiagonalMass massDensity="1000"/>
+  <TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" method="large"/>
+  <FixedProjectiveConstraint indices="3 6 9 12 15 18 21 24"/>
+)";
+}
+
 }  // namespace penalty::test
