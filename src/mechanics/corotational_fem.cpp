@@ -93,8 +93,9 @@ void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::spa
         energy_ = 0.0;
         for (std::size_t e = 0; e < elements_.size(); ++e) {
             double energy = 0.0;
-            rotation_[e] = detail::add_large_element_force(vertices(e), rest_local_[e], large_[e].strain_displacement,
-                                                           large_[e].material, x, f, energy);
+            rotation_[e] =
+                detail::add_large_element_force(detail::large_vertices(elements_[e]), rest_local_[e],
+                                                large_[e].strain_displacement, large_[e].material, x, f, energy);
             energy_ += energy;
         }
         return;
@@ -132,14 +133,8 @@ void TetrahedralCorotationalFEMForceField::add_dforce(std::span<Vec3> df, std::s
     // applyStiffnessLarge per element, in element order: df −= Rᵀ·F(R·dx, kFactor)
     PENALTY_DEMAND(large_.size() == elements_.size());
     for (std::size_t e = 0; e < elements_.size(); ++e)
-        detail::add_large_element_dforce(vertices(e), rotation_[e], large_[e].strain_displacement, large_[e].material,
-                                         dx, df, k_factor);
-}
-
-std::array<std::size_t, 4> TetrahedralCorotationalFEMForceField::vertices(std::size_t e) const {
-    const Element& el = elements_[e];
-    return {static_cast<std::size_t>(el[0]), static_cast<std::size_t>(el[1]), static_cast<std::size_t>(el[2]),
-            static_cast<std::size_t>(el[3])};
+        detail::add_large_element_dforce(detail::large_vertices(elements_[e]), rotation_[e],
+                                         large_[e].strain_displacement, large_[e].material, dx, df, k_factor);
 }
 
 }  // namespace penalty

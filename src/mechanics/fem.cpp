@@ -13,7 +13,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <optional>
 #include <type_traits>
 #include <variant>
 
@@ -272,8 +271,7 @@ void TetrahedronFEMForceField::init_elements(std::size_t first) {
 
 // ---- tetrahedron, method large, in SOFA's operation order ----------------------------------------
 namespace {
-using Displacement = Eigen::Matrix<double, 12, 1>;  // per vertex k, components 3k … 3k+2
-using MaterialMatrix = Eigen::Matrix<double, 6, 6>;
+using MaterialMatrix = detail::TetrahedronMaterial;
 /// The block type of a visited alternative of detail::TetrahedronLargeBlocks.
 template <class Blocks>
 using BlockOf = typename std::remove_cvref_t<Blocks>::value_type;
@@ -298,20 +296,6 @@ void store_strain_displacement(const std::array<Vec3, 4>& q, Block& block, std::
     }
 }
 
-/// element_force_of for element `lane` of `block`.
-template <class Block>
-[[gnu::always_inline]] inline Displacement element_force(const Block& block, std::size_t lane,
-                                                         const Displacement& delta, std::optional<double> factor) {
-    double in[12];
-    for (int r = 0; r < 12; ++r) in[r] = delta[r];
-    double out[12];
-    detail::element_force_of<double>(detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
-                                     detail::LaneMaterial<detail::OneLane, Block>{block, lane}, in,
-                                     factor ? &*factor : nullptr, out);
-    Displacement force;
-    for (int r = 0; r < 12; ++r) force[r] = out[r];
-    return force;
-}
 }  // namespace
 
 Mat3 TetrahedronFEMForceField::large_rotation(std::size_t e) const {
@@ -444,29 +428,18 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
 #endif
     energy_ = 0.0;
     auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
+    using Block = detail::TetrahedronLargeLanes<4>;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
-        const auto& el = elements_[e];
-        const auto vertex = [&](std::size_t k) { return static_cast<std::size_t>(el[k]); };
-        auto& block = blocks[e / 4];
-        // TetrahedronFEMForceField::accumulateForceLarge: current frame, vertices rotated one by one
-        const Mat3 r = detail::large_frame(x[vertex(0)], x[vertex(1)], x[vertex(2)]);
-        detail::store_lane_rotation(block, e % 4, r);
-        std::array<Vec3, 4> deformed;
-        for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex(k)]);
-        // δ = rest − current local coordinates; only the entries J couples are formed (vertex 0
-        // is the origin, vertex 1 lies on x̂, vertex 2 in the x̂ŷ plane), the others are 0
-        const auto& rest = rest_local_[e];
-        Displacement delta = Displacement::Zero();
-        delta[3] = rest[1][0] - (deformed[1][0] - deformed[0][0]);
-        delta[6] = rest[2][0] - (deformed[2][0] - deformed[0][0]);
-        delta[7] = rest[2][1] - (deformed[2][1] - deformed[0][1]);
-        for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
-        const Displacement force = element_force(block, e % 4, delta, std::nullopt);
+        // TetrahedronFEMForceField::accumulateForceLarge (tetrahedron_large_element.hpp)
+        Block& block = blocks[e / 4];
+        const std::size_t lane = e % 4;
         double energy = 0.0;
-        detail::large_element_energy(delta, force, energy);
+        const Mat3 r =
+            detail::add_large_element_force(detail::large_vertices(elements_[e]), rest_local_[e],
+                                            detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+                                            detail::LaneMaterial<detail::OneLane, Block>{block, lane}, x, f, energy);
+        detail::store_lane_rotation(block, lane, r);
         energy_ += energy;
-        for (std::size_t k = 0; k < 4; ++k)
-            f[vertex(k)] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     }
 }
 
@@ -489,17 +462,13 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
     }
 #endif
     const auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
-    Displacement local;
+    using Block = detail::TetrahedronLargeLanes<4>;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
-        const auto& el = elements_[e];
-        const auto& block = blocks[e / 4];
-        const detail::LaneRotation<detail::TetrahedronLargeLanes<4>> r{block, e % 4};
-        for (std::size_t k = 0; k < 4; ++k)
-            local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[static_cast<std::size_t>(el[k])]);
-        const Displacement force = element_force(block, e % 4, local, k_factor);
-        for (std::size_t k = 0; k < 4; ++k)
-            df[static_cast<std::size_t>(el[k])] -=
-                sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+        const Block& block = blocks[e / 4];
+        const std::size_t lane = e % 4;
+        detail::add_large_element_dforce(detail::large_vertices(elements_[e]), detail::LaneRotation<Block>{block, lane},
+                                         detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+                                         detail::LaneMaterial<detail::OneLane, Block>{block, lane}, dx, df, k_factor);
     }
 }
 

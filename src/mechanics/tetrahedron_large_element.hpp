@@ -12,6 +12,7 @@
 #include "sofa_vector_ops.hpp"
 
 #include "penalty/core/types.hpp"
+#include "penalty/mechanics/topology.hpp"
 
 #include <Eigen/Core>
 
@@ -101,9 +102,18 @@ inline std::array<Vec3, 4> large_rest_local(const std::array<Vec3, 4>& x, Mat3& 
     return local;
 }
 
-/// element_force_of for one element with its Eigen matrices: F = J·(factor·(M·(Jᵀ·δ))).
-[[gnu::always_inline]] inline TetrahedronDisplacement large_element_force(const TetrahedronStrainDisplacement& j,
-                                                                          const TetrahedronMaterial& m,
+/// The four vertices of an element as indices into a state.
+inline std::array<std::size_t, 4> large_vertices(const Tetrahedron& element) {
+    return {static_cast<std::size_t>(element[0]), static_cast<std::size_t>(element[1]),
+            static_cast<std::size_t>(element[2]), static_cast<std::size_t>(element[3])};
+}
+
+/// element_force_of for one element: F = J·(factor·(M·(Jᵀ·δ))). j(r, c) and m(i, k) give J's
+/// and D/(36V)'s entries (Eigen matrices, or one lane of a block: LaneStrainDisplacement,
+/// LaneMaterial).
+template <class StrainDisplacementEntries, class MaterialEntries>
+[[gnu::always_inline]] inline TetrahedronDisplacement large_element_force(const StrainDisplacementEntries& j,
+                                                                          const MaterialEntries& m,
                                                                           const TetrahedronDisplacement& delta,
                                                                           std::optional<double> factor) {
     double in[12];
@@ -119,9 +129,10 @@ inline std::array<Vec3, 4> large_rest_local(const std::array<Vec3, 4>& x, Mat3& 
 /// vertices rotated one by one, δ = rest − current local coordinates (only the entries J couples:
 /// vertex 0 is the origin, vertex 1 lies on x̂, vertex 2 in the x̂ŷ plane), F = J·M·Jᵀ·δ, and
 /// f[vertex k] += Rᵀ·F_k. `energy` gets ½ δᵀF (beyond SOFA: its energy report).
-inline Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
-                                    const TetrahedronStrainDisplacement& j, const TetrahedronMaterial& m,
-                                    std::span<const Vec3> x, std::span<Vec3> f, double& energy) {
+template <class StrainDisplacementEntries, class MaterialEntries>
+Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
+                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
+                             std::span<Vec3> f, double& energy) {
     Mat3 r = large_frame(x[vertex[0]], x[vertex[1]], x[vertex[2]]);  // not const: returned
     std::array<Vec3, 4> deformed;
     for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex[k]]);
@@ -137,11 +148,12 @@ inline Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, co
     return r;
 }
 
-/// applyStiffnessCorotational / applyStiffnessLarge of one element of frame r:
-/// df[vertex k] −= Rᵀ·F_k with F = J·(k·(M·(Jᵀ·(R·dx)))).
-inline void add_large_element_dforce(const std::array<std::size_t, 4>& vertex, const Mat3& r,
-                                     const TetrahedronStrainDisplacement& j, const TetrahedronMaterial& m,
-                                     std::span<const Vec3> dx, std::span<Vec3> df, double k_factor) {
+/// applyStiffnessCorotational / applyStiffnessLarge of one element of frame r (a Mat3, or one
+/// lane of a block: LaneRotation): df[vertex k] −= Rᵀ·F_k with F = J·(k·(M·(Jᵀ·(R·dx)))).
+template <class Rotation, class StrainDisplacementEntries, class MaterialEntries>
+void add_large_element_dforce(const std::array<std::size_t, 4>& vertex, const Rotation& r,
+                              const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> dx,
+                              std::span<Vec3> df, double k_factor) {
     TetrahedronDisplacement local;
     for (std::size_t k = 0; k < 4; ++k) local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[vertex[k]]);
     const TetrahedronDisplacement force = large_element_force(j, m, local, k_factor);

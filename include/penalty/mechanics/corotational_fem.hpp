@@ -50,7 +50,6 @@ private:
     /// Method large without updateStiffnessMatrix and computeGlobalMatrix: SOFA's operations in
     /// SOFA's order (src/mechanics/tetrahedron_large_element.hpp), the same bits as SOFA.
     [[nodiscard]] bool sofa_large() const;
-    [[nodiscard]] std::array<std::size_t, 4> vertices(std::size_t e) const;
     /// sofa_large(), per element as SOFA stores it (initLarge, computeMaterialStiffness).
     struct LargeElement {
         Eigen::Matrix<double, 12, 6> strain_displacement;  ///< J of the rest local coordinates, m²
