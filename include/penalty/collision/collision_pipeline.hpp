@@ -289,7 +289,9 @@ private:
     void follow_candidate_cache();
     /// Work of the near pair at `place` in the broad phase's near() (this detection's).
     void record_pair_work(std::size_t place, std::size_t candidates);
-    /// result_: one entry per near pair, outputs empty (their capacity kept by place).
+    /// result_: one entry per near pair, outputs empty; a pair near at the last detection too
+    /// gets its own output list back (its capacity), the lists of the pairs no longer near are
+    /// freed.
     void list_near_pairs();
     /// Whether detect() runs this detection's pairs in parallel (see detect()).
     [[nodiscard]] bool pairs_run_concurrently() const;
@@ -312,20 +314,27 @@ private:
     PairScratch scratch_;                     // detect_pair's, and detect()'s when the pairs run in order
     std::vector<PairScratch> chunk_scratch_;  // detect()'s in parallel: one per chunk of pairs (kChunksPerThread)
     std::vector<detail::PairCandidates*> pair_kept_;  // scratch: per pair of near(), its cache entry or nullptr
-    /// What a near pair evaluated (pairs_run_concurrently's automatic rule).
-    struct PairWork {
+    /// A near pair as the next detection finds it again: its order and models.
+    struct ListedPair {
         std::uint64_t order = 0;  ///< detail::NearPair::order
         const CollisionModel* model1 = nullptr;
         const CollisionModel* model2 = nullptr;
+        [[nodiscard]] bool operator==(const ListedPair&) const = default;
+    };
+    /// What a near pair evaluated (pairs_run_concurrently's automatic rule).
+    struct PairWork {
+        ListedPair pair;
         std::size_t candidates = 0;
     };
-    std::vector<PairWork> pair_work_;       // this detection's, per pair of near()
-    std::vector<PairWork> pair_work_last_;  // the last detection's, by order
-    std::size_t moving_elements_ = 0;       // elements of the moving models the last refit() refitted
+    std::vector<PairWork> pair_work_;                  // this detection's, per pair of near()
+    std::vector<PairWork> pair_work_last_;             // the last detection's, by order
+    std::vector<ListedPair> listed_;                   // result_'s pairs, by order
+    std::vector<DetectionOutputList> listed_outputs_;  // list_near_pairs' scratch: the last pairs' lists
+    std::size_t moving_elements_ = 0;                  // elements of the moving models the last refit() refitted
     bool last_concurrent_ = false;
     std::vector<std::vector<std::uint64_t>>
         deferred_writes_;           // per pair of near(): its writes' candidates (detect_pairs_concurrently)
-    SceneDetection result_;         // entries and their output lists keep their capacity
+    SceneDetection result_;         // entries kept; each near pair's output list kept with it
     std::vector<Aabb> boxes_;       // exhaustive: element boxes of model 2
     std::vector<Aabb> root_boxes_;  // exhaustive: each model's root box (union of its element boxes)
 };
