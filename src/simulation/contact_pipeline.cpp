@@ -291,16 +291,13 @@ void ContactPipeline::order_graph_entries() {
 }
 
 void ContactPipeline::record_fed_outputs() {
-    // The outputs each live pair was fed by the last update (set_detections feeds every pair
-    // that has outputs).
-    for (const ModelPairDetection& d : collision_.detections()) {
-        if (d.outputs.empty()) continue;
-        for (std::size_t i = 0; i < entries_.size(); ++i) {
-            if (&entries_[i].contact->model1() == d.model1 && &entries_[i].contact->model2() == d.model2) {
-                step_start_[i].last_outputs = d.outputs;
-                break;
-            }
-        }
+    // The outputs each live pair was fed by the last update, its entry found by a hash lookup
+    // (a search of the entries per detection was quadratic in the live pairs).
+    entry_of_scratch_.clear();
+    for (std::size_t i = 0; i < entries_.size(); ++i) entry_of_scratch_.emplace(entries_[i].contact, i);
+    for (const auto& [contact, detection] : response_.fed()) {
+        const std::size_t i = entry_of_scratch_.find(contact);
+        if (i != PointerIndex<BarycentricPenaltyContact>::npos) step_start_[i].last_outputs = detection->outputs;
     }
 }
 

@@ -118,6 +118,10 @@ public:
     [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
     /// Whether the last set_detections fed its contacts in parallel.
     [[nodiscard]] bool last_feed_concurrent() const { return last_feed_concurrent_; }
+    /// The contacts the last set_detections fed, each with the detection it was fed.
+    [[nodiscard]] std::span<const std::pair<BarycentricPenaltyContact*, const ModelPairDetection*>> fed() const {
+        return feed_;
+    }
     [[nodiscard]] const ContactResponseParameters& base_parameters() const { return base_; }
 
     /// Critical time step sqrt(m/ks) of each live pair; `mass_of` gives the mass (kg) a contact
