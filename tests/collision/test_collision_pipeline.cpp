@@ -3,8 +3,8 @@
 // detection lists (BruteForceBroadPhase's root-cube test with the pair's margin, empty models,
 // a model with itself, inactive models), the closed-form outputs of a point pair through it,
 // models added after detections, detect_pair, the unsupported pairs, a narrow-phase override,
-// when the pairs run in parallel, and a static model's tree (built once, again when its size
-// changes). The outputs against the exhaustive loop and SOFA's order are test_narrow_phase.cpp's
+// each near pair's output list kept with it, when the pairs run in parallel, and a static model's tree (built once,
+// again when its size changes). The outputs against the exhaustive loop and SOFA's order are test_narrow_phase.cpp's
 // and test_sofa_traversal_order.cpp's.
 #include "pipeline_references.hpp"
 
@@ -178,6 +178,46 @@ TEST(CollisionPipeline, EmptyModelsAreNeverListedAndAModelWithItselfAlwaysIs) {
         EXPECT_EQ(got[0].model1, &a);
         EXPECT_EQ(got[0].model2, &a);
         EXPECT_TRUE(got[0].outputs.empty());
+    }
+}
+
+TEST(CollisionPipeline, EachNearPairKeepsItsOwnOutputListAndALeavingPairsListIsFreed) {
+    // a: 40 points within the alarm distance of b's point (40 outputs); (c, d) and (e, f): one
+    // output each, far away. A second detection with nothing moved: each pair writes into the
+    // list it had (the same storage). Then b leaves: (c, d) and (e, f) move up one place each,
+    // and neither may take the departed pair's list (its capacity of 40 outputs or more).
+    std::vector<Vec3> cloud;
+    for (int i = 0; i < 40; ++i) cloud.emplace_back(0.001 * i, 0.0, 0.0);
+    Vec3State sa = test::make_state(cloud);
+    Vec3State sb = test::make_state({Vec3(0.02, 0.03, 0.0)});
+    Vec3State sc = test::make_state({Vec3(10, 0, 0)});
+    Vec3State sd = test::make_state({Vec3(10.03, 0, 0)});
+    Vec3State se = test::make_state({Vec3(20, 0, 0)});
+    Vec3State sf = test::make_state({Vec3(20.03, 0, 0)});
+    PointModel a(sa, nullptr, mp("a", 0)), b(sb, nullptr, mp("b", 1)), c(sc, nullptr, mp("c", 2)),
+        d(sd, nullptr, mp("d", 3)), e(se, nullptr, mp("e", 4)), f(sf, nullptr, mp("f", 5));
+    CollisionPipeline pipe(proximity(), {}, ContactDetection::bvh);
+    pipe.set_models({&a, &b, &c, &d, &e, &f});
+    const auto outputs_of = [&](const CollisionModel* m) -> const DetectionOutputList& {
+        for (const ModelPairDetection& p : pipe.detections())
+            if (p.model1 == m || p.model2 == m) return p.outputs;
+        throw std::logic_error("pair not listed");
+    };
+    ASSERT_EQ(pipe.detect().size(), 3u);
+    ASSERT_EQ(outputs_of(&a).size(), 40u);
+    ASSERT_EQ(outputs_of(&c).size(), 1u);
+    ASSERT_EQ(outputs_of(&e).size(), 1u);
+    const DetectionOutput* storage_a = outputs_of(&a).data();
+    const DetectionOutput* storage_c = outputs_of(&c).data();
+    ASSERT_EQ(pipe.detect().size(), 3u);
+    EXPECT_EQ(outputs_of(&a).data(), storage_a);
+    EXPECT_EQ(outputs_of(&c).data(), storage_c);
+    sb.position[0] = Vec3(-10, 0, 0);
+    const SceneDetection& got = pipe.detect();
+    ASSERT_EQ(got.size(), 2u);
+    for (const ModelPairDetection& p : got) {
+        EXPECT_EQ(p.outputs.size(), 1u) << p.model1->name();
+        EXPECT_LT(p.outputs.capacity(), 40u) << p.model1->name();
     }
 }
 
