@@ -158,16 +158,27 @@ template class LinearElementForceField<4>;
 template class LinearElementForceField<8>;
 
 Mat3 polar_rotation(const Mat3& m) {
-    const auto one_norm = [](const Mat3& a) { return a.cwiseAbs().colwise().sum().maxCoeff(); };
-    const auto inf_norm = [](const Mat3& a) { return a.cwiseAbs().rowwise().sum().maxCoeff(); };
+    // helper::Decompose::polarDecomposition: Higham's iteration on Mk = Mᵀ, SOFA's sums left to
+    // right (oneNorm, infNorm, the determinant as a row·cofactor product)
+    const auto one_norm = [](const Mat3& a) {
+        double norm = 0.0;
+        for (int i = 0; i < 3; ++i) norm = std::max(norm, std::abs(a(0, i)) + std::abs(a(1, i)) + std::abs(a(2, i)));
+        return norm;
+    };
+    const auto inf_norm = [](const Mat3& a) {
+        double norm = 0.0;
+        for (int i = 0; i < 3; ++i) norm = std::max(norm, std::abs(a(i, 0)) + std::abs(a(i, 1)) + std::abs(a(i, 2)));
+        return norm;
+    };
+    const auto row = [](const Mat3& a, int i) { return Vec3(a(i, 0), a(i, 1), a(i, 2)); };
     Mat3 x = m.transpose();
     double x_one = one_norm(x), x_inf = inf_norm(x);
     for (int iteration = 0; iteration < 100; ++iteration) {
         Mat3 cofactor;
-        cofactor.row(0) = x.row(1).cross(x.row(2));
-        cofactor.row(1) = x.row(2).cross(x.row(0));
-        cofactor.row(2) = x.row(0).cross(x.row(1));
-        const double det = x.row(0).dot(cofactor.row(0));
+        cofactor.row(0) = sofa_vec::cross(row(x, 1), row(x, 2));
+        cofactor.row(1) = sofa_vec::cross(row(x, 2), row(x, 0));
+        cofactor.row(2) = sofa_vec::cross(row(x, 0), row(x, 1));
+        const double det = sofa_vec::dot3(row(x, 0), row(cofactor, 0));
         if (det == 0.0) break;
         const double gamma =
             std::sqrt(std::sqrt((one_norm(cofactor) * inf_norm(cofactor)) / (x_one * x_inf)) / std::abs(det));
@@ -239,20 +250,11 @@ Mat3 TetrahedronFEMForceField::element_rotation(const std::array<Vec3, 4>& p) co
     return tetrahedron_rotation(p, method_);
 }
 
-namespace {
-/// Rows p1 − p0, p2 − p0, p3 − p0.
-Mat3 edge_rows(const std::array<Vec3, 4>& p) {
-    Mat3 a;
-    for (int k = 0; k < 3; ++k) a.row(k) = (p[static_cast<std::size_t>(k) + 1] - p[0]).transpose();
-    return a;
-}
-}  // namespace
-
 void TetrahedronFEMForceField::init() { init_elements(0); }
 
 void TetrahedronFEMForceField::init_elements(std::size_t first) {
     LinearElementForceField<4>::init_from(first);
-    if (method_ == FemMethod::Large) init_large(first);
+    if (uses_lane_blocks()) init_large(first);
     if (method_ != FemMethod::Svd) return;
     // TetrahedronFEMForceField::initSVD: A₀⁻¹ and R₀ = polar(A₀) of the rest edges
     const auto& x0 = state_->rest_position;
@@ -261,10 +263,10 @@ void TetrahedronFEMForceField::init_elements(std::size_t first) {
     for (std::size_t e = first; e < elements_.size(); ++e) {
         std::array<Vec3, 4> p;
         for (std::size_t k = 0; k < 4; ++k) p[k] = x0[static_cast<std::size_t>(elements_[e][k])];
-        const Mat3 a0 = edge_rows(p);
+        const Mat3 a0 = detail::edge_rows(p[0], p[1], p[2], p[3]);
         if (a0.determinant() == 0.0)
             throw_invalid_argument(component_, ": tetrahedron ", e, " is flat at rest (method svd)");
-        rest_edges_inverse_[e] = a0.inverse();
+        rest_edges_inverse_[e] = sofa_vec::inverse(a0);  // Mat::invert
         rest_rotation_[e] = polar_rotation(a0);
     }
 }
@@ -364,7 +366,8 @@ void TetrahedronFEMForceField::resize_large(std::size_t count) {
 }
 
 void TetrahedronFEMForceField::init_large(std::size_t first) {
-    // TetrahedronFEMForceField::reinit (LARGE): computeMaterialStiffness then initLarge per element
+    // TetrahedronFEMForceField::reinit (LARGE, POLAR, SVD): computeMaterialStiffness then
+    // initLarge, initPolar or initSVD per element
     const auto& x0 = state_->rest_position;
     resize_large(elements_.size());
     std::visit(
@@ -385,7 +388,8 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
                 }
                 if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
                 Mat3 r0;
-                const std::array<Vec3, 4> local = detail::large_rest_local(x, r0);
+                const std::array<Vec3, 4> local =
+                    method_ == FemMethod::Large ? detail::large_rest_local(x, r0) : detail::polar_rest(x, r0);
                 rest_local_[e] = local;
                 detail::store_lane_rotation(block, lane, r0);
                 store_strain_displacement(local, block, lane);
@@ -401,15 +405,19 @@ void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
     kernel_path_ = path;
     // after init: the data move to the path's width (before, init gives them that width)
     const bool initialised = std::visit([](const auto& blocks) { return !blocks.empty(); }, large_);
-    if (method_ == FemMethod::Large && initialised) resize_large(elements_.size());
+    if (uses_lane_blocks() && initialised) resize_large(elements_.size());
 }
 
 void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
-    if (method_ != FemMethod::Large) {
+    if (!uses_lane_blocks()) {
         LinearElementForceField<4>::add_force(f, x, v);
         return;
     }
     PENALTY_DEMAND(large_fits(elements_.size()));
+    if (method_ != FemMethod::Large) {
+        add_force_polar(f, x);
+        return;
+    }
     if (plasticity_.max_threshold > 0) {  // (tetrahedron_plasticity.cpp)
         add_force_plastic(f, x);
         return;
@@ -443,9 +451,36 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     }
 }
 
+void TetrahedronFEMForceField::add_force_polar(std::span<Vec3> f, std::span<const Vec3> x) {
+    // TetrahedronFEMForceField::accumulateForcePolar / accumulateForceSVD
+    // (tetrahedron_large_element.hpp), element by element on every path (the product, add_dforce,
+    // is large's and runs in lanes)
+    energy_ = 0.0;
+    std::visit(
+        [&](auto& blocks) {
+            using Block = BlockOf<decltype(blocks)>;
+            for (std::size_t e = 0; e < elements_.size(); ++e) {
+                Block& block = blocks[e / Block::kLanes];
+                const std::size_t lane = e % Block::kLanes;
+                const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
+                const Mat3 r =
+                    method_ == FemMethod::Svd
+                        ? element_rotation_of({x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]}, e)
+                        : polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
+                double energy = 0.0;
+                detail::add_polar_element_force(
+                    vertex, rest_local_[e], r, detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+                    detail::LaneMaterial<detail::OneLane, Block>{block, lane}, x, f, energy);
+                detail::store_lane_rotation(block, lane, r);
+                energy_ += energy;
+            }
+        },
+        large_);
+}
+
 void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                           double b_factor) const {
-    if (method_ != FemMethod::Large) {
+    if (!uses_lane_blocks()) {
         LinearElementForceField<4>::add_dforce(df, dx, k_factor, b_factor);
         return;
     }
@@ -473,7 +508,7 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
 }
 
 void TetrahedronFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
-    if (method_ != FemMethod::Large) {
+    if (!uses_lane_blocks()) {
         LinearElementForceField<4>::add_stiffness_triplets(t, offset, factor);
         return;
     }
@@ -482,9 +517,9 @@ void TetrahedronFEMForceField::add_stiffness_triplets(TripletList& t, Index offs
 
 Mat3 TetrahedronFEMForceField::element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const {
     if (method_ != FemMethod::Svd) return element_rotation(p);
-    const Mat3 a = edge_rows(p);
+    const Mat3 a = detail::edge_rows(p[0], p[1], p[2], p[3]);
     const Mat3 f = a * rest_edges_inverse_[e];
-    if (f.determinant() < 1e-6) return stable_polar_rotation(f) * rest_rotation_[e];  // inverted or too flat
+    if (sofa_vec::determinant(f) < 1e-6) return stable_polar_rotation(f) * rest_rotation_[e];  // inverted or too flat
     return polar_rotation(a);
 }
 
@@ -536,11 +571,8 @@ Mat3 stable_polar_rotation(const Mat3& f) {
 
 Mat3 tetrahedron_rotation(const std::array<Vec3, 4>& p, FemMethod method) {
     if (method == FemMethod::Small) return Mat3::Identity();
-    if (method == FemMethod::Polar || method == FemMethod::Svd) {
-        Mat3 edges;  // rows: p1 − p0, p2 − p0, p3 − p0 (TetrahedronFEMForceField::accumulateForcePolar)
-        for (int k = 0; k < 3; ++k) edges.row(k) = (p[static_cast<std::size_t>(k) + 1] - p[0]).transpose();
-        return polar_rotation(edges);
-    }
+    if (method == FemMethod::Polar || method == FemMethod::Svd)
+        return polar_rotation(detail::edge_rows(p[0], p[1], p[2], p[3]));  // accumulateForcePolar's A
     return frame_from_axes(p[1] - p[0], p[2] - p[0]);
 }
 

@@ -1,7 +1,11 @@
 #pragma once
 /// @file
-/// One tetrahedron of SOFA's corotational method large, in SOFA's floating-point operations and
-/// order (private to the mechanics stage). SOFA writes the same arithmetic twice:
+/// One tetrahedron of SOFA's corotational methods large, polar and svd, in SOFA's floating-point
+/// operations and order (private to the mechanics stage). Polar and svd differ from large only
+/// in their frame (polar_rotation of the edge rows; svd's own choice for a flat or inverted
+/// element) and their rest coordinates (each vertex rotated, not relative to vertex 0:
+/// TetrahedronFEMForceField::initPolar, initSVD, accumulateForcePolar, accumulateForceSVD); their
+/// product is large's (applyStiffnessCorotational). SOFA writes large's arithmetic twice:
 /// TetrahedronFEMForceField (initLarge, computeMaterialStiffness, computeStrainDisplacement,
 /// accumulateForceLarge, computeForce, applyStiffnessCorotational) and
 /// TetrahedralCorotationalFEMForceField (initLarge, computeMaterialStiffness,
@@ -12,6 +16,7 @@
 #include "sofa_vector_ops.hpp"
 
 #include "penalty/core/types.hpp"
+#include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <Eigen/Core>
@@ -102,6 +107,25 @@ inline std::array<Vec3, 4> large_rest_local(const std::array<Vec3, 4>& x, Mat3& 
     return local;
 }
 
+/// Rows p1 − p0, p2 − p0, p3 − p0 of positions p (the matrix A of initPolar and
+/// accumulateForcePolar).
+inline Mat3 edge_rows(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& p3) {
+    Mat3 a;
+    a.row(0) = sofa_vec::minus(p1, p0);
+    a.row(1) = sofa_vec::minus(p2, p0);
+    a.row(2) = sofa_vec::minus(p3, p0);
+    return a;
+}
+
+/// Rest coordinates of methods polar and svd (initPolar, initSVD): R₀ = polar_rotation(A₀) of the rest positions x,
+/// returned in `frame`, and R₀x⁰_k for each vertex (not relative to vertex 0).
+inline std::array<Vec3, 4> polar_rest(const std::array<Vec3, 4>& x, Mat3& frame) {
+    frame = polar_rotation(edge_rows(x[0], x[1], x[2], x[3]));
+    std::array<Vec3, 4> rest;
+    for (std::size_t k = 0; k < 4; ++k) rest[k] = sofa_vec::times(frame, x[k]);
+    return rest;
+}
+
 /// The four vertices of an element as indices into a state.
 inline std::array<std::size_t, 4> large_vertices(const Tetrahedron& element) {
     return {static_cast<std::size_t>(element[0]), static_cast<std::size_t>(element[1]),
@@ -146,6 +170,27 @@ Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std
     for (std::size_t k = 0; k < 4; ++k)
         f[vertex[k]] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     return r;
+}
+
+/// accumulateForcePolar (and accumulateForceSVD) of one element with vertices `vertex` and frame
+/// r (polar_rotation(A), or SVD's choice): δ = rest − r·x_k for all twelve entries,
+/// F = J·M·Jᵀ·δ, and f[vertex k] += rᵀ·F_k. `energy` gets ½ δᵀF summed left to right (beyond
+/// SOFA: its energy report).
+template <class StrainDisplacementEntries, class MaterialEntries>
+void add_polar_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest, const Mat3& r,
+                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
+                             std::span<Vec3> f, double& energy) {
+    TetrahedronDisplacement delta;
+    for (std::size_t k = 0; k < 4; ++k) {
+        const Vec3 deformed = sofa_vec::times(r, x[vertex[k]]);
+        for (std::size_t c = 0; c < 3; ++c) delta[static_cast<Index>(3 * k + c)] = rest[k][c] - deformed[c];
+    }
+    const TetrahedronDisplacement force = large_element_force(j, m, delta, std::nullopt);
+    double work = delta[0] * force[0];
+    for (int i = 1; i < 12; ++i) work += delta[i] * force[i];
+    energy = 0.5 * work;
+    for (std::size_t k = 0; k < 4; ++k)
+        f[vertex[k]] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
 }
 
 /// applyStiffnessCorotational / applyStiffnessLarge of one element of frame r (a Mat3, or one

@@ -8,6 +8,7 @@
 #include "penalty/scene/live_data.hpp"
 #include "penalty/scene/scene.hpp"
 #include "penalty_test/scene_text.hpp"
+#include "penalty_test/twelve_tetrahedra_beam.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,24 +20,6 @@
 namespace {
 
 using namespace penalty;
-
-/// The beam [0,1]×[0,0.5]×[0,0.5]: 3×2×2 points, two cubes of six tetrahedra; `fem` the
-/// TetrahedronFEMForceField's extra attributes.
-std::string plastic_beam(const std::string& fem) {
-    return R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
-  <DefaultAnimationLoop/>
-  <Node name="Beam">
-    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
-    <CGLinearSolver iterations="100" tolerance="1e-12" threshold="1e-12"/>
-    <MeshTopology name="topo" position="0 0 0 0.5 0 0 1 0 0 0 0.5 0 0.5 0.5 0 1 0.5 0 0 0 0.5 0.5 0 0.5 1 0 0.5 0 0.5 0.5 0.5 0.5 0.5 1 0.5 0.5" tetrahedra="0 1 4 10 0 1 7 10 0 3 4 10 0 3 9 10 0 6 7 10 0 6 9 10 1 2 5 11 1 2 8 11 1 4 5 11 1 4 10 11 1 7 8 11 1 7 10 11"/>
-    <MechanicalObject name="dofs"/>
-    <UniformMass totalMass="2"/>
-    <TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.3" )" +
-           fem + R"(/>
-    <FixedProjectiveConstraint indices="0 3 6 9"/>
-  </Node>
-</Node>)";
-}
 
 const std::string kPlastic =
     R"(method="large" plasticYieldThreshold="0.001" plasticMaxThreshold="0.02" plasticCreep="0.5")";
@@ -83,7 +66,7 @@ const std::vector<Vec3>& plastic_beam_positions(scene::Scene& s) {
 }
 
 TEST(TetrahedronPlasticity, ABeamCreepsAsSofaHeadsBitForBit) {
-    auto s = test::build(plastic_beam(kPlastic));
+    auto s = test::build(test::twelve_tetrahedra_beam(kPlastic));
     for (int k = 0; k < 50; ++k) s->step();
     EXPECT_EQ(plastic_beam_positions(*s), kSofaPlastic50);
     for (int k = 0; k < 50; ++k) s->step();
@@ -94,7 +77,8 @@ TEST(TetrahedronPlasticity, ABeamCreepsAsSofaHeadsBitForBit) {
 
 TEST(TetrahedronPlasticity, WithoutAMaximumTheBeamIsSofasElasticOne) {
     // plasticMaxThreshold 0 (SOFA's default) turns plasticity off, whatever the other two say
-    auto s = test::build(plastic_beam(R"(method="large" plasticYieldThreshold="0.001" plasticCreep="0.5")"));
+    auto s =
+        test::build(test::twelve_tetrahedra_beam(R"(method="large" plasticYieldThreshold="0.001" plasticCreep="0.5")"));
     for (int k = 0; k < 100; ++k) s->step();
     EXPECT_EQ(plastic_beam_positions(*s), kSofaElastic100);
 }
@@ -102,8 +86,8 @@ TEST(TetrahedronPlasticity, WithoutAMaximumTheBeamIsSofasElasticOne) {
 TEST(TetrahedronPlasticity, TheStrainIsClampedToTheMaximumAlongItsDirection) {
     // with creep 1 and a large load every element's plastic strain goes to its clamp:
     // |εp| ≤ plasticMaxThreshold = 0.02, reached by the elements at the fixed end
-    auto s = test::build(
-        plastic_beam(R"(method="large" plasticYieldThreshold="0.0001" plasticMaxThreshold="0.02" plasticCreep="1")"));
+    auto s = test::build(test::twelve_tetrahedra_beam(
+        R"(method="large" plasticYieldThreshold="0.0001" plasticMaxThreshold="0.02" plasticCreep="1")"));
     for (int k = 0; k < 30; ++k) s->step();
     const TetrahedronFEMForceField* fem = nullptr;
     for (const auto& field : s->simulation().root().children()[0]->force_fields())
@@ -120,12 +104,13 @@ TEST(TetrahedronPlasticity, TheStrainIsClampedToTheMaximumAlongItsDirection) {
 }
 
 TEST(TetrahedronPlasticity, OtherMethodsAndNegativeThresholdsAreRefusedClearly) {
-    const std::string small = test::error_of(plastic_beam(R"(method="small" plasticMaxThreshold="0.02")"));
+    const std::string small =
+        test::error_of(test::twelve_tetrahedra_beam(R"(method="small" plasticMaxThreshold="0.02")"));
     EXPECT_EQ(small,
               "test.scn:9: TetrahedronFEMForceField: attribute 'plasticMaxThreshold': plasticity is supported "
               "with method large only");
-    const std::string negative =
-        test::error_of(plastic_beam(R"(method="large" plasticMaxThreshold="0.02" plasticCreep="-0.5")"));
+    const std::string negative = test::error_of(
+        test::twelve_tetrahedra_beam(R"(method="large" plasticMaxThreshold="0.02" plasticCreep="-0.5")"));
     EXPECT_EQ(negative, "test.scn:9: TetrahedronFEMForceField: attribute 'plasticCreep': must be >= 0, found '-0.5'");
 }
 

@@ -145,8 +145,8 @@ using TetrahedronLargeBlocks =
 
 /// SOFA's TetrahedronFEMForceField (methods small, large, polar and svd). Polar
 /// (TetrahedronFEMForceField::initPolar / accumulateForcePolar): R = polar_rotation(A) with A's
-/// rows the edges p1−p0, p2−p0, p3−p0; otherwise as large (rest frame from the rest edges,
-/// stiffness −Rᵀ K^e R). As SOFA, a topology without
+/// rows the edges p1−p0, p2−p0, p3−p0, rest coordinates R₀x⁰_k (each vertex rotated), the
+/// element force and product as large's below, in SOFA's operations too. As SOFA, a topology without
 /// tetrahedra but with hexahedra is split into 6 tetrahedra per hexahedron
 /// (tetrahedra_from_hexahedra, with the grid's cell counts for a RegularGridTopology and SOFA's
 /// fallback nx = 2, ny = 1 otherwise).
@@ -215,10 +215,16 @@ protected:
     /// else R = stable_polar_rotation(F)·R₀ (R₀ = polar_rotation(A₀)).
     [[nodiscard]] Mat3 element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const override;
 
-    [[nodiscard]] bool keeps_rotations() const override { return method_ != FemMethod::Large; }
+    [[nodiscard]] bool keeps_rotations() const override { return !uses_lane_blocks(); }
 
 private:
+    /// Methods large, polar and svd keep J, D/(36V) and R in lane blocks (large_) and compute in
+    /// SOFA's operations; small uses the common K^e path.
+    [[nodiscard]] bool uses_lane_blocks() const { return method_ != FemMethod::Small; }
     void init_large(std::size_t first = 0);
+    /// add_force of methods polar and svd (accumulateForcePolar, accumulateForceSVD), element by
+    /// element.
+    void add_force_polar(std::span<Vec3> f, std::span<const Vec3> x);
     /// init() for elements [first, size).
     void init_elements(std::size_t first);
     /// What a topological change leaves to topology_change_done().
@@ -233,8 +239,8 @@ private:
 
     std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
     std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
-    /// large: J, D/(36V) and R of every element, in blocks of the kernel path's width (lane
-    /// e % W of block e / W), read and written by every path
+    /// large, polar and svd: J, D/(36V) and R of every element, in blocks of the kernel path's width
+    /// (lane e % W of block e / W), read and written by every path
     detail::TetrahedronLargeBlocks large_;
     /// Element e's R, from its lane.
     [[nodiscard]] Mat3 large_rotation(std::size_t e) const;
