@@ -295,18 +295,12 @@ void PenaltyForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1
     const bool sofa_path = c == 0.0 && !friction;
     for (const PenaltyContact& ct : contacts_) {
         if (!(ct.pen > 0.0)) continue;  // SOFA: the active set of the last add_force
-        const Vec3& n = ct.normal;
-        const Vec3 du = dx2[ct.m2] - dx1[ct.m1];
         if (sofa_path) {
-            // PenalityContactForceField::addDForce, SOFA's operations in SOFA's order:
-            // dpen = −du·n, dfN = ks·dpen·kFactor, df1 += −n·dfN, df2 −= −n·dfN.
-            const double dpen = -(du[0] * n[0] + du[1] * n[1] + du[2] * n[2]);
-            const double dfn = ct.ks * dpen * k_factor;
-            const Vec3 dforce(-(n[0] * dfn), -(n[1] * dfn), -(n[2] * dfn));
-            df1[ct.m1] += dforce;
-            df2[ct.m2] -= dforce;
+            add_sofa_contact_dforce(ct.normal, ct.ks, dx1[ct.m1], dx2[ct.m2], k_factor, df1[ct.m1], df2[ct.m2]);
             continue;
         }
+        const Vec3& n = ct.normal;
+        const Vec3 du = dx2[ct.m2] - dx1[ct.m1];
         // df2 = −(kF·ks + bF·c)·n·(n·du)  [normal spring and dashpot]
         Vec3 ddf2 = -(k_factor * ct.ks + b_factor * c) * n.dot(du) * n;
         if (friction && ct.friction_state == FrictionState::sticking) {

@@ -4,6 +4,7 @@
 
 #include "penalty/core/error.hpp"
 #include "penalty/core/pointer_index.hpp"
+#include "penalty/simulation/penalty_interaction.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
@@ -94,6 +95,7 @@ void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
         if (!fusable || (mapping_of_side[0] == nullptr && mapping_of_side[1] == nullptr)) continue;
         FusedField entry;
         entry.field = field;
+        if (const auto* contact = dynamic_cast<const PenaltyInteraction*>(field)) entry.penalty = &contact->field();
         for (std::size_t side = 0; side < 2; ++side) {
             const Candidate* c = mapping_of_side[side];
             if (c == nullptr) {
@@ -132,7 +134,10 @@ void FusedContactBlock::mark_steps(SubtreeLayout& l, const std::vector<std::ptrd
         const bool dropped = s.fused >= 0 && (s.force_field != nullptr || !mappings_[std::size_t(s.fused)].live);
         if (!dropped) steps_.push_back(s);
     }
-    std::size_t points = 0, parent_dofs = 0;
+    std::size_t springs = 0, points = 0, parent_dofs = 0;
+    for (const FusedField& f : fields_)
+        if (f.penalty != nullptr) springs += f.penalty->size();
+    springs_.reserve(springs);
     for (const FusedMapping& m : mappings_) {
         if (m.live) points += m.to->num_dofs();
         parent_dofs = std::max(parent_dofs, m.from->num_dofs());
@@ -184,8 +189,38 @@ void FusedContactBlock::prepare() {
     ready_ = true;
 }
 
+void FusedContactBlock::make_springs() {
+    springs_.clear();
+    for (FusedField& f : fields_) {
+        f.flat_springs = false;
+        if (f.penalty == nullptr) continue;
+        const PenaltyParameters& p = f.penalty->parameters();
+        if (p.damping != 0.0 || p.friction != FrictionModel::ignored) continue;  // the field's own product
+        std::array<std::size_t, 2> size{};
+        for (std::size_t side = 0; side < 2; ++side) {
+            const FusedSide& s = f.sides[side];
+            size[side] = s.mapping < 0 ? s.state->dx.size() : mappings_[static_cast<std::size_t>(s.mapping)].count;
+        }
+        const std::span<const PenaltyContact> contacts = f.penalty->contacts();
+        // a contact outside its states: the field's add_dforce, which says so
+        const bool inside = std::all_of(contacts.begin(), contacts.end(), [&](const PenaltyContact& c) {
+            return c.m1 >= 0 && std::size_t(c.m1) < size[0] && c.m2 >= 0 && std::size_t(c.m2) < size[1];
+        });
+        if (!inside) continue;
+        f.first_spring = springs_.size();
+        for (const PenaltyContact& c : contacts)
+            if (c.pen > 0.0)  // the active set of the last add_force, as add_dforce
+                springs_.push_back(
+                    {static_cast<std::uint32_t>(c.m1), static_cast<std::uint32_t>(c.m2), c.normal, c.ks});
+        f.end_spring = springs_.size();
+        f.flat_springs = true;
+    }
+    springs_ready_ = true;
+}
+
 void FusedContactBlock::begin_product(double k, double b, bool parallel) {
     if (!ready_) prepare();
+    if (!springs_ready_) make_springs();
     // the fused fields read only their contact points' dx and write only their df (and external
     // scratch), which no other step reads or writes: run before the steps, same bits; the
     // unread mappings' Jᵀ is the additions of zeros, which give the same bits in any place
@@ -239,7 +274,15 @@ void FusedContactBlock::apply_fields(std::size_t begin, std::size_t end, double 
             dx[side] = ConstVec3Span(out_dx, m.count);
             df[side] = Vec3Span(out_df, m.count);
         }
-        f.field->add_dforce(df[0], df[1], dx[0], dx[1], k, b);
+        if (!f.flat_springs) {
+            f.field->add_dforce(df[0], df[1], dx[0], dx[1], k, b);
+            continue;
+        }
+        // PenaltyForceField::add_dforce's SOFA path over the field's active springs, in order
+        for (std::size_t i_spring = f.first_spring; i_spring < f.end_spring; ++i_spring) {
+            const FusedSpring& sp = springs_[i_spring];
+            add_sofa_contact_dforce(sp.normal, sp.ks, dx[0][sp.m1], dx[1][sp.m2], k, df[0][sp.m1], df[1][sp.m2]);
+        }
     }
 }
 

@@ -73,6 +73,7 @@ void SubtreeSystem::reset_forces() const {
 
 void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
     scratch_->external_work_zeroed = false;  // a new solve: another solver may have used the external states
+    fused_->forces_computed();               // the contacts' active sets are this evaluation's
     reset_forces();
     // computeForce: SOFA HEAD's MappingGraph order (mapping_graph_order) or its visitors' order
     for (const detail::ForceStep& s : layout_->steps) {

@@ -7,12 +7,15 @@
 //  - a pile of 8 FEM cubes in a static bowl (cubes_in_bowl, k = 2): the cube–bowl fields are in
 //    the cubes' solver (one side fused, the bowl's side external), the cube–cube fields above it
 //    (explicit, SOFA's §2.1), so their contact mappings are read by nobody in the solve;
+//  - the pile with damped contact springs (each field its own product) and with a force evaluation
+//    inside one FixedReaders (the flat spring list made again);
 //  - a spring cube sliding over static points, its bottom face a triangle surface carried by a
 //    BarycentricMapping (a fused mapping whose parent is a mapped state of selected rows), and
 //    spheres on its own corners (an identity side: that field is not fused and keeps its place).
 #include "penalty/io/scene_file.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty/simulation/penalty_interaction.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/cubes_in_bowl.hpp"
 #include "penalty_test/same_bits.hpp"
@@ -204,6 +207,68 @@ TEST(FusedContactProducts, RunsOfAPileAreTheSameBitsWithAndWithoutFusion) {
     }
     EXPECT_EQ(differing, 0) << "of " << compared;
     EXPECT_GT(compared, 200 * 64);
+}
+
+// Contact springs with normal damping (responseParams): their fields are fused, but each keeps
+// its own product (the flat spring list holds SOFA's path only); b ≠ 0 makes the damping count.
+TEST(FusedContactProducts, DampedContactFieldsKeepTheirOwnProductAndTheSameBits) {
+    bowl::Setup setup;
+    setup.k = 2;
+    std::string xml = bowl::scene_xml(setup);
+    const std::string response = R"(response="PenalityContactForceField")";
+    const std::size_t at = xml.find(response);
+    ASSERT_NE(at, std::string::npos);
+    xml.insert(at + response.size(), R"( responseParams="damping=2")");
+    const auto scene = scene::build_scene(io::parse_scene_string(xml, "damped_bowl.scn"));
+    Tally t;
+    compare_products(*scene, child(scene->simulation().root(), "Cubes"), 60, 20261130, t);
+    EXPECT_EQ(t.differing, 0) << "of " << t.compared;
+    EXPECT_GE(t.steps_with_fields, 40);
+}
+
+/// Contacts with pen > 0 over the contact fields of `system`.
+std::size_t active_contacts(const SubtreeSystem& system) {
+    std::size_t active = 0;
+    for (const BaseForceField* ff : system.force_fields())
+        if (const auto* contact = dynamic_cast<const PenaltyInteraction*>(ff))
+            active += contact->field().active_count();
+    return active;
+}
+
+// A force evaluation inside one FixedReaders (a Newton iterate's) changes the contacts' active
+// sets: the next fused product makes its spring list again and gives the objects' bits.
+TEST(FusedContactProducts, AForceEvaluationMakesTheSpringListAgain) {
+    const auto scene = cubes_in_bowl(2);
+    Node& cubes = child(scene->simulation().root(), "Cubes");
+    for (int step = 0; step < 40; ++step) scene->step();  // the cubes rest on the bowl
+    const SubtreeSystem fused(cubes, true, true), plain(cubes, true, false);
+    ASSERT_GT(fused.fused_contact_counts().force_fields, 0u);
+    std::mt19937 rng(20261130);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    Eigen::VectorXd dx(fused.size());
+    for (Eigen::Index i = 0; i < dx.size(); ++i) dx[i] = unit(rng);
+    const SubtreeSystem::FixedReaders fixed_f(fused);
+    const SubtreeSystem::FixedReaders fixed_p(plain);
+    const auto products_agree = [&] {
+        Eigen::VectorXd f, p;
+        fused.apply_mbk(dx, f, 1.02, -0.01, -1.01e-4, true);
+        plain.apply_mbk(dx, p, 1.02, -0.01, -1.01e-4, true);
+        long differing = 0;
+        for (Eigen::Index i = 0; i < f.size(); ++i) differing += test::same_bits(f[i], p[i]) ? 0 : 1;
+        return differing;
+    };
+    EXPECT_EQ(products_agree(), 0);
+    const std::size_t before = active_contacts(fused);
+    // the cubes 2 mm higher: some springs let go, some hold
+    for (const auto& body : cubes.children())
+        if (auto* state = dynamic_cast<Vec3Object*>(body->state()))
+            for (Vec3& x : state->position) x.y() += 0.002;
+    fused.propagate_positions_and_velocities();  // the contact points follow
+    Eigen::VectorXd force;
+    fused.compute_force(force);
+    EXPECT_LT(active_contacts(fused), before);
+    EXPECT_GT(active_contacts(fused), 0u);
+    EXPECT_EQ(products_agree(), 0);
 }
 
 }  // namespace

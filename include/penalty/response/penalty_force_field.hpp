@@ -116,6 +116,20 @@ struct GrabbedPoint {
 
 enum class ContactSide : std::uint8_t { first, second };
 
+/// One active contact's product on SOFA's path (PenalityContactForceField::addDForce, SOFA's
+/// operations in SOFA's order): dpen = −(dx2 − dx1)·n, dfN = ks·dpen·kFactor, df1 += −n·dfN,
+/// df2 −= −n·dfN. PenaltyForceField::add_dforce and the solver's flat contact products both
+/// call it.
+inline void add_sofa_contact_dforce(const Vec3& n, double ks, const Vec3& dx1, const Vec3& dx2, double k_factor,
+                                    Vec3& df1, Vec3& df2) {
+    const Vec3 du = dx2 - dx1;
+    const double dpen = -(du[0] * n[0] + du[1] * n[1] + du[2] * n[2]);
+    const double dfn = ks * dpen * k_factor;
+    const Vec3 dforce(-(n[0] * dfn), -(n[1] * dfn), -(n[2] * dfn));
+    df1 += dforce;
+    df2 -= dforce;
+}
+
 /// SOFA's PenalityContactForceField<Vec3> between state 1 and state 2 (which may be the same
 /// state: pass the same spans on both sides and the same offsets when assembling).
 class PenaltyForceField {
