@@ -23,7 +23,8 @@
 /// The springs of the fused contact fields on SOFA's path (no damping, no friction) are read by a
 /// product from one flat list of the active ones (FusedSpring, made once a force evaluation),
 /// not from each field's contact list: the same operations in the same order
-/// (add_sofa_contact_dforce), on a fifth of the memory a product reads.
+/// (add_sofa_contact_dforce), 40 bytes read per active spring instead of a 216-byte
+/// PenaltyContact per spring, active or not.
 
 #include "step_chains.hpp"
 #include "subtree_layout.hpp"
