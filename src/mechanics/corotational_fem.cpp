@@ -31,8 +31,9 @@ double TetrahedralCorotationalFEMForceField::stiffness_factor(std::size_t e) con
     return factors.empty() ? 1.0 : factors[e * factors.size() / elements_.size()];
 }
 
-bool TetrahedralCorotationalFEMForceField::sofa_large() const {
-    return method_ == FemMethod::Large && !options_.update_stiffness && !options_.assembling;
+bool TetrahedralCorotationalFEMForceField::sofa_operations() const {
+    // (method small ignores updateStiffnessMatrix)
+    return !options_.assembling && (method_ == FemMethod::Small || !options_.update_stiffness);
 }
 
 void TetrahedralCorotationalFEMForceField::init() {
@@ -41,10 +42,10 @@ void TetrahedralCorotationalFEMForceField::init() {
     rest_volume_.resize(elements_.size());
     for (std::size_t e = 0; e < elements_.size(); ++e) rest_volume_[e] = tetrahedron_volume(rest_local_[e]);
     large_.clear();
-    if (!sofa_large()) return;
-    // TetrahedralCorotationalFEMForceField::reinit (LARGE): computeMaterialStiffness (E·factor,
-    // the volume of the world rest positions) and initLarge (frame, rest local coordinates, J) per
-    // element; K^e (the assembled stiffness) stays the common path's
+    if (!sofa_operations()) return;
+    // TetrahedralCorotationalFEMForceField::reinit: computeMaterialStiffness (E·factor, the volume
+    // of the world rest positions) and initSmall, initLarge or initPolar (frame, rest coordinates,
+    // J) per element; K^e (the assembled stiffness) stays the common path's
     large_.resize(elements_.size());
     const auto& x0 = state_->rest_position;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
@@ -52,7 +53,9 @@ void TetrahedralCorotationalFEMForceField::init() {
         for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
         const double young = options_.local_stiffness_factors.empty() ? young_ : young_ * stiffness_factor(e);
         large_[e].material = detail::material_over_volume(young, poisson_, x);
-        rest_local_[e] = detail::large_rest_local(x, rotation_[e]);
+        if (method_ == FemMethod::Small) rest_local_[e] = x;  // initSmall: J of the world rest positions
+        else if (method_ == FemMethod::Polar) rest_local_[e] = detail::polar_rest(x, rotation_[e]);
+        else rest_local_[e] = detail::large_rest_local(x, rotation_[e]);
         large_[e].strain_displacement = detail::strain_displacement(rest_local_[e]);
     }
 }
@@ -87,15 +90,27 @@ TetrahedralCorotationalFEMForceField::ElementMatrix TetrahedralCorotationalFEMFo
 
 void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
                                                      std::span<const Vec3> v) {
-    if (sofa_large()) {
-        // accumulateForceLarge per element, in element order (energy: ½ δᵀF, beyond SOFA)
+    if (sofa_operations()) {
+        // accumulateForceSmall / Large / Polar per element, in element order (energy: ½ δᵀF,
+        // beyond SOFA)
         PENALTY_DEMAND(large_.size() == elements_.size());
         energy_ = 0.0;
         for (std::size_t e = 0; e < elements_.size(); ++e) {
+            const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
+            const LargeElement& element = large_[e];
             double energy = 0.0;
-            rotation_[e] =
-                detail::add_large_element_force(detail::large_vertices(elements_[e]), rest_local_[e],
-                                                large_[e].strain_displacement, large_[e].material, x, f, energy);
+            if (method_ == FemMethod::Small) {
+                detail::add_small_element_force(vertex, rest_local_[e], element.strain_displacement, element.material,
+                                                x, f, energy);
+            } else if (method_ == FemMethod::Polar) {
+                rotation_[e] =
+                    polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
+                detail::add_polar_element_force(vertex, rest_local_[e], rotation_[e], element.strain_displacement,
+                                                element.material, x, f, energy);
+            } else {
+                rotation_[e] = detail::add_large_element_force(vertex, rest_local_[e], element.strain_displacement,
+                                                               element.material, x, f, energy);
+            }
             energy_ += energy;
         }
         return;
@@ -126,15 +141,22 @@ void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::spa
 
 void TetrahedralCorotationalFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                                       double b_factor) const {
-    if (!sofa_large()) {
+    if (!sofa_operations()) {
         LinearElementForceField<4>::add_dforce(df, dx, k_factor, b_factor);
         return;
     }
-    // applyStiffnessLarge per element, in element order: df −= Rᵀ·F(R·dx, kFactor)
+    // applyStiffnessSmall / Large / Polar per element, in element order: df −= F(dx, kFactor),
+    // df −= Rᵀ·F(R·dx, kFactor)
     PENALTY_DEMAND(large_.size() == elements_.size());
-    for (std::size_t e = 0; e < elements_.size(); ++e)
-        detail::add_large_element_dforce(detail::large_vertices(elements_[e]), rotation_[e],
-                                         large_[e].strain_displacement, large_[e].material, dx, df, k_factor);
+    for (std::size_t e = 0; e < elements_.size(); ++e) {
+        const LargeElement& element = large_[e];
+        if (method_ == FemMethod::Small)
+            detail::add_small_element_dforce(detail::large_vertices(elements_[e]), element.strain_displacement,
+                                             element.material, dx, df, k_factor);
+        else
+            detail::add_large_element_dforce(detail::large_vertices(elements_[e]), rotation_[e],
+                                             element.strain_displacement, element.material, dx, df, k_factor);
+    }
 }
 
 }  // namespace penalty

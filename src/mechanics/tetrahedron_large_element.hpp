@@ -193,6 +193,36 @@ void add_polar_element_force(const std::array<std::size_t, 4>& vertex, const std
         f[vertex[k]] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
 }
 
+/// TetrahedralCorotationalFEMForceField::accumulateForceSmall of one element with vertices
+/// `vertex` and rest positions `rest` (world): δ₀ = 0, δ_k = ((x⁰_k − x⁰_0) − x_k) + x_0 for
+/// k = 1 … 3, F = J·M·Jᵀ·δ, f[vertex k] += F_k (no rotation). `energy` gets ½ δᵀF (beyond SOFA).
+template <class StrainDisplacementEntries, class MaterialEntries>
+void add_small_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
+                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
+                             std::span<Vec3> f, double& energy) {
+    TetrahedronDisplacement delta = TetrahedronDisplacement::Zero();
+    const Vec3& x0 = x[vertex[0]];
+    for (std::size_t k = 1; k < 4; ++k)
+        for (std::size_t c = 0; c < 3; ++c)
+            delta[static_cast<Index>(3 * k + c)] = rest[k][c] - rest[0][c] - x[vertex[k]][c] + x0[c];
+    const TetrahedronDisplacement force = large_element_force(j, m, delta, std::nullopt);
+    double work = delta[3] * force[3];
+    for (int i = 4; i < 12; ++i) work += delta[i] * force[i];
+    energy = 0.5 * work;
+    for (std::size_t k = 0; k < 4; ++k) f[vertex[k]] += force.segment<3>(3 * static_cast<Index>(k));
+}
+
+/// TetrahedralCorotationalFEMForceField::applyStiffnessSmall of one element: df[vertex k] += −F_k
+/// with F = J·(k·(M·(Jᵀ·dx))).
+template <class StrainDisplacementEntries, class MaterialEntries>
+void add_small_element_dforce(const std::array<std::size_t, 4>& vertex, const StrainDisplacementEntries& j,
+                              const MaterialEntries& m, std::span<const Vec3> dx, std::span<Vec3> df, double k_factor) {
+    TetrahedronDisplacement local;
+    for (std::size_t k = 0; k < 4; ++k) local.segment<3>(3 * static_cast<Index>(k)) = dx[vertex[k]];
+    const TetrahedronDisplacement force = large_element_force(j, m, local, k_factor);
+    for (std::size_t k = 0; k < 4; ++k) df[vertex[k]] -= force.segment<3>(3 * static_cast<Index>(k));
+}
+
 /// applyStiffnessCorotational / applyStiffnessLarge of one element of frame r (a Mat3, or one
 /// lane of a block: LaneRotation): df[vertex k] −= Rᵀ·F_k with F = J·(k·(M·(Jᵀ·(R·dx)))).
 template <class Rotation, class StrainDisplacementEntries, class MaterialEntries>

@@ -47,12 +47,14 @@ private:
     [[nodiscard]] ElementMatrix stiffness_of_shape(const std::array<Vec3, 4>& shape, double rest_volume,
                                                    std::size_t e) const;
 
-    /// Method large without updateStiffnessMatrix and computeGlobalMatrix: SOFA's operations in
-    /// SOFA's order (src/mechanics/tetrahedron_large_element.hpp), the same bits as SOFA.
-    [[nodiscard]] bool sofa_large() const;
-    /// sofa_large(), per element as SOFA stores it (initLarge, computeMaterialStiffness).
+    /// Without computeGlobalMatrix, and for large and polar without updateStiffnessMatrix: SOFA's
+    /// operations in SOFA's order (src/mechanics/tetrahedron_large_element.hpp), the same bits as
+    /// SOFA.
+    [[nodiscard]] bool sofa_operations() const;
+    /// sofa_operations(), per element as SOFA stores it (initSmall, initLarge or initPolar,
+    /// computeMaterialStiffness).
     struct LargeElement {
-        Eigen::Matrix<double, 12, 6> strain_displacement;  ///< J of the rest local coordinates, m²
+        Eigen::Matrix<double, 12, 6> strain_displacement;  ///< J of the rest coordinates, m²
         Eigen::Matrix<double, 6, 6> material;              ///< D·factor/(36 V⁰), Pa/m³
     };
     std::vector<LargeElement> large_;
