@@ -254,7 +254,7 @@ void TetrahedronFEMForceField::init() { init_elements(0); }
 
 void TetrahedronFEMForceField::init_elements(std::size_t first) {
     LinearElementForceField<4>::init_from(first);
-    if (uses_lane_blocks()) init_large(first);
+    init_large(first);
     if (method_ != FemMethod::Svd) return;
     // TetrahedronFEMForceField::initSVD: A₀⁻¹ and R₀ = polar(A₀) of the rest edges
     const auto& x0 = state_->rest_position;
@@ -366,8 +366,8 @@ void TetrahedronFEMForceField::resize_large(std::size_t count) {
 }
 
 void TetrahedronFEMForceField::init_large(std::size_t first) {
-    // TetrahedronFEMForceField::reinit (LARGE, POLAR, SVD): computeMaterialStiffness then
-    // initLarge, initPolar or initSVD per element
+    // TetrahedronFEMForceField::reinit: computeMaterialStiffness then initSmall, initLarge,
+    // initPolar or initSVD per element
     const auto& x0 = state_->rest_position;
     resize_large(elements_.size());
     std::visit(
@@ -387,9 +387,10 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
                     block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
                 }
                 if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
-                Mat3 r0;
-                const std::array<Vec3, 4> local =
-                    method_ == FemMethod::Large ? detail::large_rest_local(x, r0) : detail::polar_rest(x, r0);
+                Mat3 r0 = Mat3::Identity();                     // small: initSmall's J of the world rest positions
+                const std::array<Vec3, 4> local = method_ == FemMethod::Small   ? x
+                                                  : method_ == FemMethod::Large ? detail::large_rest_local(x, r0)
+                                                                                : detail::polar_rest(x, r0);
                 rest_local_[e] = local;
                 detail::store_lane_rotation(block, lane, r0);
                 store_strain_displacement(local, block, lane);
@@ -405,17 +406,13 @@ void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
     kernel_path_ = path;
     // after init: the data move to the path's width (before, init gives them that width)
     const bool initialised = std::visit([](const auto& blocks) { return !blocks.empty(); }, large_);
-    if (uses_lane_blocks() && initialised) resize_large(elements_.size());
+    if (initialised) resize_large(elements_.size());
 }
 
 void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) {
-    if (!uses_lane_blocks()) {
-        LinearElementForceField<4>::add_force(f, x, v);
-        return;
-    }
     PENALTY_DEMAND(large_fits(elements_.size()));
     if (method_ != FemMethod::Large) {
-        add_force_polar(f, x);
+        add_force_per_element(f, x);
         return;
     }
     if (plasticity_.max_threshold > 0) {  // (tetrahedron_plasticity.cpp)
@@ -451,10 +448,10 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
     }
 }
 
-void TetrahedronFEMForceField::add_force_polar(std::span<Vec3> f, std::span<const Vec3> x) {
-    // TetrahedronFEMForceField::accumulateForcePolar / accumulateForceSVD
-    // (tetrahedron_large_element.hpp), element by element on every path (the product, add_dforce,
-    // is large's and runs in lanes)
+void TetrahedronFEMForceField::add_force_per_element(std::span<Vec3> f, std::span<const Vec3> x) {
+    // TetrahedronFEMForceField::accumulateForceSmall / accumulateForcePolar / accumulateForceSVD
+    // (tetrahedron_large_element.hpp), element by element on every path (polar's and svd's
+    // product, add_dforce, is large's and runs in lanes)
     energy_ = 0.0;
     std::visit(
         [&](auto& blocks) {
@@ -463,14 +460,19 @@ void TetrahedronFEMForceField::add_force_polar(std::span<Vec3> f, std::span<cons
                 Block& block = blocks[e / Block::kLanes];
                 const std::size_t lane = e % Block::kLanes;
                 const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
+                const detail::LaneStrainDisplacement<detail::OneLane, Block> j{block, lane};
+                const detail::LaneMaterial<detail::OneLane, Block> m{block, lane};
+                double energy = 0.0;
+                if (method_ == FemMethod::Small) {
+                    detail::add_small_element_force(vertex, rest_local_[e], j, m, x, f, energy);
+                    energy_ += energy;
+                    continue;
+                }
                 const Mat3 r =
                     method_ == FemMethod::Svd
                         ? element_rotation_of({x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]}, e)
                         : polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
-                double energy = 0.0;
-                detail::add_polar_element_force(
-                    vertex, rest_local_[e], r, detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
-                    detail::LaneMaterial<detail::OneLane, Block>{block, lane}, x, f, energy);
+                detail::add_polar_element_force(vertex, rest_local_[e], r, j, m, x, f, energy);
                 detail::store_lane_rotation(block, lane, r);
                 energy_ += energy;
             }
@@ -480,11 +482,24 @@ void TetrahedronFEMForceField::add_force_polar(std::span<Vec3> f, std::span<cons
 
 void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                           double b_factor) const {
-    if (!uses_lane_blocks()) {
-        LinearElementForceField<4>::add_dforce(df, dx, k_factor, b_factor);
+    PENALTY_DEMAND(large_fits(elements_.size()));
+    if (method_ == FemMethod::Small) {
+        // TetrahedronFEMForceField::applyStiffnessSmall: df −= F(dx, kFactor), element by element
+        std::visit(
+            [&](const auto& blocks) {
+                using Block = BlockOf<decltype(blocks)>;
+                for (std::size_t e = 0; e < elements_.size(); ++e) {
+                    const Block& block = blocks[e / Block::kLanes];
+                    const std::size_t lane = e % Block::kLanes;
+                    detail::add_small_element_dforce(
+                        detail::large_vertices(elements_[e]),
+                        detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+                        detail::LaneMaterial<detail::OneLane, Block>{block, lane}, dx, df, k_factor);
+                }
+            },
+            large_);
         return;
     }
-    PENALTY_DEMAND(large_fits(elements_.size()));
     // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
 #ifdef PENALTY_HAS_AVX_LANES
     if (kernel_path_ == KernelPath::avx512) {
@@ -508,10 +523,6 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
 }
 
 void TetrahedronFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
-    if (!uses_lane_blocks()) {
-        LinearElementForceField<4>::add_stiffness_triplets(t, offset, factor);
-        return;
-    }
     for (std::size_t e = 0; e < elements_.size(); ++e) add_element_triplets(t, offset, factor, e, large_rotation(e));
 }
 

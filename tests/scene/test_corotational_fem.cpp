@@ -133,20 +133,8 @@ TEST(CorotationalFemComponent, MethodsSmallAndPolarAreSofaHeadBitForBit) {
     // the twelve-tetrahedra beam, SOFA HEAD's states (2a278d8, `sofa-head SCENE 100 OUT`, %.17g)
     // after 100 steps: initSmall / accumulateForceSmall / applyStiffnessSmall and initPolar /
     // accumulateForcePolar / applyStiffnessPolar in SOFA's order (tetrahedron_large_element.hpp)
-    const std::vector<Vec3> sofa_small_100 = {Vec3(0, 0, 0),
-                                              Vec3(0.48635881993514429, -0.05590999153962424, 0.0070228248685422247),
-                                              Vec3(0.98299023978026956, -0.11209727961967879, 0.018546035390200864),
-                                              Vec3(0, 0.5, 0),
-                                              Vec3(0.52173296262498559, 0.44760234400387372, 0.0043182600537491822),
-                                              Vec3(1.0247328987147111, 0.39001962413250812, 0.014356779954546312),
-                                              Vec3(0, 0, 0.5),
-                                              Vec3(0.47582716283267185, -0.053762933962119772, 0.50596490097027236),
-                                              Vec3(0.96881353075971632, -0.10930947952996005, 0.51703828920492989),
-                                              Vec3(0, 0.5, 0.5),
-                                              Vec3(0.51227120130816417, 0.45305719485749207, 0.50231347898594236),
-                                              Vec3(1.0138418631403046, 0.39545919192024998, 0.51329879773856668)};
     for (const auto& [method, sofa] :
-         {std::pair{"small", &sofa_small_100}, std::pair{"polar", &test::kSofaHeadPolarBeam100}}) {
+         {std::pair{"small", &test::kSofaHeadSmallBeam100}, std::pair{"polar", &test::kSofaHeadPolarBeam100}}) {
         SCOPED_TRACE(method);
         auto s = build(test::twelve_tetrahedra_beam(std::string("method=\"") + method + "\"",
                                                     "TetrahedralCorotationalFEMForceField"));

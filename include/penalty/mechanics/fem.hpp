@@ -215,16 +215,14 @@ protected:
     /// else R = stable_polar_rotation(F)·R₀ (R₀ = polar_rotation(A₀)).
     [[nodiscard]] Mat3 element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const override;
 
-    [[nodiscard]] bool keeps_rotations() const override { return !uses_lane_blocks(); }
+    [[nodiscard]] bool keeps_rotations() const override { return false; }
 
 private:
-    /// Methods large, polar and svd keep J, D/(36V) and R in lane blocks (large_) and compute in
-    /// SOFA's operations; small uses the common K^e path.
-    [[nodiscard]] bool uses_lane_blocks() const { return method_ != FemMethod::Small; }
+    /// J, D/(36V) and R of every element into the lane blocks (large_), by the method's init.
     void init_large(std::size_t first = 0);
-    /// add_force of methods polar and svd (accumulateForcePolar, accumulateForceSVD), element by
-    /// element.
-    void add_force_polar(std::span<Vec3> f, std::span<const Vec3> x);
+    /// add_force of methods small, polar and svd (accumulateForceSmall, accumulateForcePolar,
+    /// accumulateForceSVD), element by element.
+    void add_force_per_element(std::span<Vec3> f, std::span<const Vec3> x);
     /// init() for elements [first, size).
     void init_elements(std::size_t first);
     /// What a topological change leaves to topology_change_done().
@@ -239,7 +237,7 @@ private:
 
     std::vector<Mat3> rest_edges_inverse_;  ///< svd: A₀⁻¹ per element
     std::vector<Mat3> rest_rotation_;       ///< svd: R₀ per element
-    /// large, polar and svd: J, D/(36V) and R of every element, in blocks of the kernel path's width
+    /// J, D/(36V) and R of every element (R the identity for small), in blocks of the kernel path's width
     /// (lane e % W of block e / W), read and written by every path
     detail::TetrahedronLargeBlocks large_;
     /// Element e's R, from its lane.

@@ -22,7 +22,7 @@ void TetrahedronFEMForceField::handle_topology_changes(const TopologyContainer& 
                 pending_.rebuild = true;  // new ones moved
             if (pending_.rebuild) continue;
             const std::size_t n = elements_.size();
-            const bool lanes = uses_lane_blocks() && large_fits(n);
+            const bool lanes = large_fits(n);
             const auto swap_pop = [&](auto& data, std::size_t i, std::size_t last) {
                 if (data.size() != n) return;  // not used by this method
                 if (i != last) data[i] = data[last];
