@@ -7,8 +7,8 @@
 // draws docs/images/scaling.png; docs/performance.md ("Scaling: k×k×k cubes in a bowl") quotes it.
 //
 // Method. Per k: the scene is built and run kWarmupSteps steps untimed (1.5 s of simulated time:
-// the cubes have fallen, slid to the bottom and piled up; at k = 8 the kinetic energy is then
-// about 2 % of its peak of about 190 J), then timed_steps(k) steps are timed, one benchmark
+// the cubes have fallen, slid to the bottom and piled up; at k = 12 the kinetic energy is then
+// about 7 % of its peak of about 720 J and falling), then timed_steps(k) steps are timed, one benchmark
 // iteration per step (manual time = wall time of Scene::step() alone). Threads (narrow phase,
 // independent solvers): TBB's default, or $PENALTY_BENCH_THREADS (bench/scene_probe.hpp, which
 // also says how to count the timed steps' instructions with callgrind).
@@ -52,7 +52,15 @@ namespace {
 namespace bowl = penalty::test::cubes_in_bowl;
 
 constexpr int kSizes[] = {1, 2, 3, 4, 5, 6, 7, 8, 10, 12, 16};
-constexpr int kWarmupSteps = 300;  // 1.5 s at dt = 5 ms
+/// The pile's time step (s) and contact springs (N/m). The cubes_in_bowl defaults (5 ms, 5e3 N/m)
+/// hold piles up to k = 8; deeper piles press the lower springs past C and corners cross the
+/// bowl: at k = 12 the largest penetration passed C = 1 cm at step 125 and the kinetic energy,
+/// 258 J at step 225, grew to 5.1 kJ at step 375 (k = 16: 7.8 kJ, 114 nodes beyond the bowl).
+/// Stiffer springs at 5 ms diverged from the first steps (1e4 N/m: 12 kJ at step 100); at 2.5 ms
+/// and 1e4 N/m the k = 12 pile stays below 0.9 cm and settles (47 J at 1.5 s).
+constexpr double kTimeStep = 0.0025;
+constexpr double kSpringStiffness = 1e4;
+constexpr int kWarmupSteps = 600;  // 1.5 s at kTimeStep
 
 /// Timed steps for k: about 2000 cube-steps, at least 10 and at most 200.
 int timed_steps(int k) { return std::clamp(2000 / (k * k * k), 10, 200); }
@@ -60,6 +68,8 @@ int timed_steps(int k) { return std::clamp(2000 / (k * k * k), 10, 200); }
 bowl::Setup setup(int k) {
     bowl::Setup s;
     s.k = k;
+    s.dt = kTimeStep;
+    s.spring_stiffness = kSpringStiffness;
     return s;
 }
 
