@@ -80,39 +80,6 @@ HexahedralFEMForceField::ElementMatrix HexahedralFEMForceField::compute_stiffnes
     return k;
 }
 
-namespace {
-
-/// HexahedralFEMForceField::computeRotationLarge on the mean edges of p (initLarge,
-/// accumulateForceLarge): rows x̂ = h/|h|, ẑ = (x̂ × v)/|…|, ŷ = ẑ × x̂, with h and v the mean edges
-/// along x and y summed as written, (((p1 − p0) + p2) − p3 ...)·.25.
-Mat3 sofa_large_frame(const std::array<Vec3, 8>& p) {
-    Vec3 h, v;
-    for (int a = 0; a < 3; ++a) {
-        h[a] = (((((((p[1][a] - p[0][a]) + p[2][a]) - p[3][a]) + p[5][a]) - p[4][a]) + p[6][a]) - p[7][a]) * .25;
-        v[a] = (((((((p[3][a] - p[0][a]) + p[2][a]) - p[1][a]) + p[7][a]) - p[4][a]) + p[6][a]) - p[5][a]) * .25;
-    }
-    const Vec3 ex = sofa_vec::normalized(h);
-    const Vec3 ez = sofa_vec::normalized(sofa_vec::cross(ex, v));
-    const Vec3 ey = sofa_vec::cross(ez, ex);
-    Mat3 r;
-    r << ex[0], ex[1], ex[2], ey[0], ey[1], ey[2], ez[0], ez[1], ez[2];
-    return r;
-}
-
-/// F = K·D (type::Mat::operator*(Vec): each row summed from its first column).
-Eigen::Matrix<double, 24, 1> sofa_product(const HexahedralFEMForceField::ElementMatrix& k,
-                                          const Eigen::Matrix<double, 24, 1>& d) {
-    Eigen::Matrix<double, 24, 1> f;
-    for (int i = 0; i < 24; ++i) {
-        double r = k(i, 0) * d[0];
-        for (int j = 1; j < 24; ++j) r += k(i, j) * d[j];
-        f[i] = r;
-    }
-    return f;
-}
-
-}  // namespace
-
 void HexahedralFEMForceField::init() {
     LinearElementForceField<8>::init();
     rotated_rest_.clear();
@@ -121,7 +88,7 @@ void HexahedralFEMForceField::init() {
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         std::array<Vec3, 8> p;
         for (std::size_t w = 0; w < 8; ++w) p[w] = state_->rest_position[std::size_t(elements_[e][w])];
-        const Mat3 r0 = sofa_large_frame(p);
+        const Mat3 r0 = hexahedron_edge_frame(p);
         for (std::size_t w = 0; w < 8; ++w) rotated_rest_[e][w] = sofa_vec::times(r0, p[w]);
         rotation_[e] = r0;
     }
@@ -136,7 +103,7 @@ void HexahedralFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3>
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         std::array<Vec3, 8> p;
         for (std::size_t w = 0; w < 8; ++w) p[w] = x[std::size_t(elements_[e][w])];
-        const Mat3 r = sofa_large_frame(p);  // R_0_2 (rows = the element's axes)
+        const Mat3 r = hexahedron_edge_frame(p);  // R_0_2 (rows = the element's axes)
         rotation_[e] = r;
         const Mat3 to_world = r.transpose();  // SOFA's hexahedronInf.rotation
         Eigen::Matrix<double, 24, 1> d;
@@ -145,7 +112,7 @@ void HexahedralFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3>
             for (std::size_t a = 0; a < 3; ++a)
                 d[Eigen::Index(3 * w + a)] = rotated_rest_[e][w][Eigen::Index(a)] - deformed[Eigen::Index(a)];
         }
-        const Eigen::Matrix<double, 24, 1> force = sofa_product(ke_[e], d);
+        const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], d);
         for (std::size_t w = 0; w < 8; ++w) {
             const auto i = Eigen::Index(3 * w);
             f[std::size_t(elements_[e][w])] += sofa_vec::times(to_world, Vec3(force[i], force[i + 1], force[i + 2]));
@@ -168,7 +135,7 @@ void HexahedralFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec
             const Vec3 l = sofa_vec::scaled(sofa_vec::times(r, dx[std::size_t(elements_[e][w])]), k_factor);
             for (std::size_t a = 0; a < 3; ++a) local[Eigen::Index(3 * w + a)] = l[Eigen::Index(a)];
         }
-        const Eigen::Matrix<double, 24, 1> force = sofa_product(ke_[e], local);
+        const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], local);
         for (std::size_t w = 0; w < 8; ++w) {
             const auto i = Eigen::Index(3 * w);
             df[std::size_t(elements_[e][w])] -= sofa_vec::times(to_world, Vec3(force[i], force[i + 1], force[i + 2]));

@@ -257,8 +257,10 @@ private:
 };
 
 /// SOFA's HexahedronFEMForceField (methods small, large and polar), SOFA vertex order (see
-/// topology). Polar (initPolar / accumulateForcePolar): R = hexahedron_polar_frame of the element,
-/// rest frame from the rest positions, stiffness −Rᵀ K^e R, as large otherwise.
+/// topology), in SOFA's operations and order: K^e from computeElementStiffness's eight Gauss
+/// points on the rotated rest corners R₀·x⁰_w; the force D = R₀x⁰ − R·x, f += Rᵀ·K·D (small: R
+/// the identity, f += K·(x⁰ − x)); the product df −= (Rᵀ·K·R·dx)·kFactor. R is
+/// hexahedron_edge_frame (large) or hexahedron_polar_frame (polar) of the element.
 class HexahedronFEMForceField final : public LinearElementForceField<8> {
 public:
     HexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus, double poisson_ratio,
@@ -272,12 +274,22 @@ public:
     void set_stiffness_factors(std::vector<double> factors) { stiffness_factors_ = std::move(factors); }
     [[nodiscard]] const std::vector<double>& stiffness_factors() const { return stiffness_factors_; }
 
+    void init() override;
+    void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
+    void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+
 protected:
+    /// SOFA's computeElementStiffness on the element's rotated rest corners (the first argument,
+    /// the common path's local coordinates, is not used).
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local,
                                                   const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override;
 
 private:
+    /// R₀ of element e at rest (the identity for small).
+    [[nodiscard]] Mat3 rest_rotation(std::size_t e) const;
+    /// R₀·x⁰_w of element e's corners (SOFA's _rotatedInitialElements).
+    [[nodiscard]] std::array<Vec3, 8> rotated_rest_corners(std::size_t e) const;
     std::vector<double> stiffness_factors_;
 };
 
