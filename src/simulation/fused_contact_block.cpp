@@ -145,6 +145,9 @@ void FusedContactBlock::mark_steps(SubtreeLayout& l, const std::vector<std::ptrd
     rows_.reserve(points);  // today's sizes: no allocation in this step's products
     dx_.reserve(points);
     df_.reserve(points);
+    read_rows_.reserve(points);
+    point_read_.reserve(points);
+    unread_point_adds_.reserve(4 * points);
     zero_add_kind_.reserve(parent_dofs);
     zero_adds_.reserve(parent_dofs * unread_by_parent_.size());
 }
@@ -215,7 +218,53 @@ void FusedContactBlock::make_springs() {
         f.end_spring = springs_.size();
         f.flat_springs = true;
     }
+    // the points a product reads: those of the active springs, and every point of a field that
+    // keeps its own product
+    point_read_.assign(rows_.size(), 0);
+    for (const FusedField& f : fields_)
+        for (std::size_t side = 0; side < 2; ++side) {
+            if (f.sides[side].mapping < 0) continue;
+            const FusedMapping& m = mappings_[static_cast<std::size_t>(f.sides[side].mapping)];
+            if (!f.flat_springs) {
+                std::fill_n(point_read_.begin() + static_cast<std::ptrdiff_t>(m.first), m.count, std::uint8_t{1});
+                continue;
+            }
+            for (std::size_t i = f.first_spring; i < f.end_spring; ++i)
+                point_read_[m.first + (side == 0 ? springs_[i].m1 : springs_[i].m2)] = 1;
+        }
+    list_read_points();
     springs_ready_ = true;
+}
+
+void FusedContactBlock::list_read_points() {
+    read_rows_.clear();
+    unread_point_adds_.clear();
+    for (FusedMapping& m : mappings_) {
+        if (!m.live) continue;
+        m.first_read = read_rows_.size();
+        for (std::size_t row = 0; row < m.count; ++row) {
+            if (point_read_[m.first + row] != 0) {
+                read_rows_.push_back(static_cast<std::uint32_t>(row));
+                continue;
+            }
+            // w·(+0) into each entry's parent row: +0 for a finite weight not negative-signed, NaN
+            // for a weight not finite, nothing (−0) otherwise
+            for (const ContactBarycentricRow::Entry& e : rows_[m.first + row]) {
+                if (std::isfinite(e.weight) && std::signbit(e.weight)) continue;
+                unread_point_adds_.push_back(
+                    {&m.from->df[static_cast<std::size_t>(e.index)],
+                     std::isfinite(e.weight) ? 0.0 : std::numeric_limits<double>::quiet_NaN()});
+            }
+        }
+        m.read_count = read_rows_.size() - m.first_read;
+    }
+    // one addition per parent row (a second +0 or NaN changes nothing): NaN first among a row's
+    std::sort(unread_point_adds_.begin(), unread_point_adds_.end(), [](const ZeroAdd& a, const ZeroAdd& b) {
+        return a.target != b.target ? a.target < b.target : std::isnan(a.value) && !std::isnan(b.value);
+    });
+    unread_point_adds_.erase(std::unique(unread_point_adds_.begin(), unread_point_adds_.end(),
+                                         [](const ZeroAdd& a, const ZeroAdd& b) { return a.target == b.target; }),
+                             unread_point_adds_.end());
 }
 
 void FusedContactBlock::begin_product(double k, double b, bool parallel) {
@@ -224,12 +273,13 @@ void FusedContactBlock::begin_product(double k, double b, bool parallel) {
     // the fused fields read only their contact points' dx and write only their df (and external
     // scratch), which no other step reads or writes: run before the steps, same bits; the
     // unread mappings' Jᵀ is the additions of zeros, which give the same bits in any place
-    for (const ZeroAdd& z : zero_adds_) {
-        double* t = z.target->data();
-        t[0] += z.value;
-        t[1] += z.value;
-        t[2] += z.value;
-    }
+    for (const std::vector<ZeroAdd>* adds : {&zero_adds_, &unread_point_adds_})
+        for (const ZeroAdd& z : *adds) {
+            double* t = z.target->data();
+            t[0] += z.value;
+            t[1] += z.value;
+            t[2] += z.value;
+        }
     if (!parallel) {
         apply_fields(0, fields_.size(), k, b, nullptr);
         return;
@@ -266,8 +316,11 @@ void FusedContactBlock::apply_fields(std::size_t begin, std::size_t end, double 
             const ContactBarycentricRow* rows = rows_.data() + m.first;
             Vec3* out_dx = dx_.data() + m.first;
             Vec3* out_df = df_.data() + m.first;
-            // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df
-            for (std::size_t row = 0; row < m.count; ++row) {
+            // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df,
+            // at the points a product reads
+            const std::uint32_t* read = read_rows_.data() + m.first_read;
+            for (std::size_t i_read = 0; i_read < m.read_count; ++i_read) {
+                const std::uint32_t row = read[i_read];
                 out_dx[row] = rows[row].combine(in);
                 out_df[row].setZero();
             }
@@ -292,7 +345,8 @@ void FusedContactBlock::spread(std::size_t index) const {
     const std::span<Vec3> out(m.from->df);
     const ContactBarycentricRow* rows = rows_.data() + m.first;
     const Vec3* df = df_.data() + m.first;
-    for (std::size_t i = 0; i < m.count; ++i) rows[i].spread(out, df[i]);
+    const std::uint32_t* read = read_rows_.data() + m.first_read;
+    for (std::size_t i = 0; i < m.read_count; ++i) rows[read[i]].spread(out, df[read[i]]);
 }
 
 }  // namespace penalty::detail

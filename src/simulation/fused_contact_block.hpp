@@ -24,7 +24,10 @@
 /// product from one flat list of the active ones (FusedSpring, made once a force evaluation),
 /// not from each field's contact list: the same operations in the same order
 /// (add_sofa_contact_dforce), 40 bytes read per active spring instead of a 216-byte
-/// PenaltyContact per spring, active or not.
+/// PenaltyContact per spring, active or not. A contact point no active spring (and no field of
+/// its own product) reads has df +0 in every product, so its Jᵀ adds w·(+0): as for the unread
+/// mappings, one addition of +0 (or NaN) per parent row, before the other steps, stands for it,
+/// and J and Jᵀ run over the read points only (more than half of a pile's points are inactive).
 
 #include "step_chains.hpp"
 #include "subtree_layout.hpp"
@@ -85,6 +88,10 @@ private:
         /// Range of the mapping's contact points in rows_, dx_, df_ (this solve)
         std::size_t first = 0;
         std::size_t count = 0;
+        /// Its points a product reads: read_rows_[first_read, first_read + read_count), each an
+        /// index from `first` (made by make_springs)
+        std::size_t first_read = 0;
+        std::size_t read_count = 0;
     };
     struct FusedSide {
         std::ptrdiff_t mapping = -1;    ///< index in mappings_, or -1: external state
@@ -116,8 +123,12 @@ private:
     /// Copies the rows of the fused mappings (current under the FixedReaders), sizes the flat
     /// arrays and lists the unread mappings' zero additions.
     void prepare();
-    /// springs_: the active springs of the fields on SOFA's path, field by field, in order.
+    /// springs_: the active springs of the fields on SOFA's path, field by field, in order; the
+    /// points each live mapping's products read (read_rows_) and the zero additions of the others
+    /// (unread_point_adds_).
     void make_springs();
+    /// read_rows_ and unread_point_adds_ from the flags of point_read_ (one per row of rows_).
+    void list_read_points();
     /// J of the fused mappings, zeroed df, and fields [begin, end)'s add_dforce(k, b) (from
     /// springs_ for the fields that have them); an external
     /// side's df goes to `external_df[slot]` when given (grown to the state's size), else to the
@@ -143,6 +154,11 @@ private:
     std::vector<Vec3> dx_;
     std::vector<Vec3> df_;
     std::vector<FusedSpring> springs_;
+    std::vector<std::uint32_t> read_rows_;
+    std::vector<std::uint8_t> point_read_;  ///< make_springs' scratch: per row, read by a product
+    /// The additions of +0 (or NaN) that stand for the Jᵀ of the points no product reads, one per
+    /// parent row (made by make_springs).
+    std::vector<ZeroAdd> unread_point_adds_;
     std::size_t external_slots_ = 0;
     /// Per thread of the parallel begin_product: each external state's df scratch, by slot.
     tbb::enumerable_thread_specific<std::vector<std::vector<Vec3>>> external_scratch_;
