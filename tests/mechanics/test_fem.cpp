@@ -109,6 +109,8 @@ TEST(TetrahedronFEM, StiffnessMatchesFiniteDifferences) {
     const MeshTopology topo = kuhn_tetrahedra(g);
     check_fem_derivatives<TetrahedronFEMForceField>(topo, g.points(), FemMethod::Small, false);
     check_fem_derivatives<TetrahedronFEMForceField>(topo, g.points(), FemMethod::Large, true);
+    // svd: its own force (accumulateForceSVD), large's product (polar: TetrahedronFEMPolar)
+    check_fem_derivatives<TetrahedronFEMForceField>(topo, g.points(), FemMethod::Svd, true);
 }
 
 TEST(HexahedronFEM, StiffnessMatchesFiniteDifferences) {
