@@ -53,9 +53,7 @@ void TetrahedralCorotationalFEMForceField::init() {
         for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
         const double young = options_.local_stiffness_factors.empty() ? young_ : young_ * stiffness_factor(e);
         large_[e].material = detail::material_over_volume(young, poisson_, x);
-        if (method_ == FemMethod::Small) rest_local_[e] = x;  // initSmall: J of the world rest positions
-        else if (method_ == FemMethod::Polar) rest_local_[e] = detail::polar_rest(x, rotation_[e]);
-        else rest_local_[e] = detail::large_rest_local(x, rotation_[e]);
+        rest_local_[e] = detail::rest_coordinates(method_, x, rotation_[e]);
         large_[e].strain_displacement = detail::strain_displacement(rest_local_[e]);
     }
 }

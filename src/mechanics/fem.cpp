@@ -387,10 +387,8 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
                     block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
                 }
                 if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
-                Mat3 r0 = Mat3::Identity();                     // small: initSmall's J of the world rest positions
-                const std::array<Vec3, 4> local = method_ == FemMethod::Small   ? x
-                                                  : method_ == FemMethod::Large ? detail::large_rest_local(x, r0)
-                                                                                : detail::polar_rest(x, r0);
+                Mat3 r0;
+                const std::array<Vec3, 4> local = detail::rest_coordinates(method_, x, r0);
                 rest_local_[e] = local;
                 detail::store_lane_rotation(block, lane, r0);
                 store_strain_displacement(local, block, lane);
@@ -664,7 +662,7 @@ HexahedronFEMForceField::ElementMatrix HexahedronFEMForceField::compute_stiffnes
     // HexahedronFEMForceField::computeElementStiffness (GENERIC_STIFFNESS_MATRIX) on the element's
     // rotated rest corners (initSmall / initLarge / initPolar), eight Gauss points in SOFA's
     // order, then mirrored and times the stiffness factor
-    const std::array<Vec3, 8> n = rotated_rest_corners(e);
+    const std::array<Vec3, 8> n = rotated_rest_corners(e, rest_rotation(e));
     // computeMaterialStiffness: the matrix (1, ν/(1−ν), (1−2ν)/(2(1−ν))) times E(1−ν)/((1+ν)(1−2ν))
     const double nu = poisson_;
     const double scale = (young_ * (1 - nu)) / ((1 + nu) * (1 - 2 * nu));
@@ -704,9 +702,8 @@ Mat3 HexahedronFEMForceField::rest_rotation(std::size_t e) const {
     return method_ == FemMethod::Small ? Mat3::Identity() : element_rotation(p);
 }
 
-std::array<Vec3, 8> HexahedronFEMForceField::rotated_rest_corners(std::size_t e) const {
+std::array<Vec3, 8> HexahedronFEMForceField::rotated_rest_corners(std::size_t e, const Mat3& r0) const {
     // _rotatedInitialElements: R₀·x⁰_w, each corner on its own (R₀ the identity for small)
-    const Mat3 r0 = rest_rotation(e);
     std::array<Vec3, 8> n;
     for (std::size_t w = 0; w < 8; ++w)
         n[w] = sofa_vec::times(r0, state_->rest_position[static_cast<std::size_t>(elements_[e][w])]);
@@ -716,8 +713,8 @@ std::array<Vec3, 8> HexahedronFEMForceField::rotated_rest_corners(std::size_t e)
 void HexahedronFEMForceField::init() {
     LinearElementForceField<8>::init();  // K^e by compute_stiffness
     for (std::size_t e = 0; e < elements_.size(); ++e) {
-        rest_local_[e] = rotated_rest_corners(e);
         rotation_[e] = rest_rotation(e);
+        rest_local_[e] = rotated_rest_corners(e, rotation_[e]);
     }
 }
 

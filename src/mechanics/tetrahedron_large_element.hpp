@@ -126,6 +126,17 @@ inline std::array<Vec3, 4> polar_rest(const std::array<Vec3, 4>& x, Mat3& frame)
     return rest;
 }
 
+/// An element's rest coordinates and frame by its method, as SOFA's init stores them: initSmall's
+/// world rest positions (frame the identity), initLarge's local coordinates (large_rest_local),
+/// initPolar's and initSVD's rotated positions (polar_rest).
+inline std::array<Vec3, 4> rest_coordinates(FemMethod method, const std::array<Vec3, 4>& x, Mat3& frame) {
+    if (method == FemMethod::Small) {
+        frame = Mat3::Identity();
+        return x;
+    }
+    return method == FemMethod::Large ? large_rest_local(x, frame) : polar_rest(x, frame);
+}
+
 /// The four vertices of an element as indices into a state.
 inline std::array<std::size_t, 4> large_vertices(const Tetrahedron& element) {
     return {static_cast<std::size_t>(element[0]), static_cast<std::size_t>(element[1]),

@@ -288,8 +288,8 @@ protected:
 private:
     /// R₀ of element e at rest (the identity for small).
     [[nodiscard]] Mat3 rest_rotation(std::size_t e) const;
-    /// R₀·x⁰_w of element e's corners (SOFA's _rotatedInitialElements).
-    [[nodiscard]] std::array<Vec3, 8> rotated_rest_corners(std::size_t e) const;
+    /// R₀·x⁰_w of element e's corners for its rest rotation r0 (SOFA's _rotatedInitialElements).
+    [[nodiscard]] std::array<Vec3, 8> rotated_rest_corners(std::size_t e, const Mat3& r0) const;
     std::vector<double> stiffness_factors_;
 };
 
