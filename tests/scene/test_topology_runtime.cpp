@@ -185,7 +185,9 @@ TEST(TopologyRuntime, TopologiesAreFoundByPathNameOrNodeAndAmbiguousOrUnknownNam
 TEST(TopologyRuntime, AChangeIsRefusedByTheFirstComponentThatCannotFollowItAlsoThroughAMappingsOutput) {
     // a PlaneForceField on the body's state blocks the body's volume; in the edge node below the
     // surface it also blocks the edges, which the surface's changes reach (Triangle2Edge)
-    auto s = test::build(tr_root(tr_body(R"(<UniformMass totalMass="1"/>
+    // the body's surface (Tetra2Triangle) and its edges (Triangle2Edge), `wire_extra` in the edge node
+    const auto surface_and_edges = [](const std::string& wire_extra) {
+        return tr_root(tr_body(R"(<UniformMass totalMass="1"/>
   <Node name="border">
     <TriangleSetTopologyContainer name="surface"/>
     <TriangleSetTopologyModifier/>
@@ -194,9 +196,11 @@ TEST(TopologyRuntime, AChangeIsRefusedByTheFirstComponentThatCannotFollowItAlsoT
       <EdgeSetTopologyContainer name="edges"/>
       <EdgeSetTopologyModifier/>
       <Triangle2EdgeTopologicalMapping input="@../surface" output="@edges"/>
-      <PlaneForceField name="floor"/>
+      )" + wire_extra + R"(
     </Node>
-  </Node>)")));
+  </Node>)"));
+    };
+    auto s = test::build(surface_and_edges(R"(<PlaneForceField name="floor"/>)"));
     const std::uint64_t revision = s->topology_revision();
     EXPECT_EQ(tr_refusal([&] { s->remove_elements("volume", ElementType::tetrahedron, {3}); }),
               "topology '/body/volume' cannot change: PlaneForceField 'floor' (test.scn:14) does not follow "
@@ -215,17 +219,7 @@ TEST(TopologyRuntime, AChangeIsRefusedByTheFirstComponentThatCannotFollowItAlsoT
 
     // without the plane: the surface's removal reaches the edges (the removed triangle's three
     // edges are border edges now)
-    auto free = test::build(tr_root(tr_body(R"(<UniformMass totalMass="1"/>
-  <Node name="border">
-    <TriangleSetTopologyContainer name="surface"/>
-    <TriangleSetTopologyModifier/>
-    <Tetra2TriangleTopologicalMapping input="@../volume" output="@surface"/>
-    <Node name="wire">
-      <EdgeSetTopologyContainer name="edges"/>
-      <EdgeSetTopologyModifier/>
-      <Triangle2EdgeTopologicalMapping input="@../surface" output="@edges"/>
-    </Node>
-  </Node>)")));
+    auto free = test::build(surface_and_edges(""));
     const std::uint64_t before = free->topology_revision();
     free->remove_elements("surface", ElementType::triangle, {3});
     EXPECT_EQ(free->topology_container("edges").mesh().edges().size(), 3u);
