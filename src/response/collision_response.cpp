@@ -172,18 +172,16 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
     // SOFA's two maps, fed with SOFA's calls in SOFA's order: their stable ids decide the order
     // of creation and of the contact vector (stable_pair_map.hpp). Nothing else here may look a
     // key up in them: a comparison gives ids.
-    // NarrowPhaseDetection::beginNarrowPhase: the pairs kept from the last step lose their outputs.
-    for (auto& entry : outputs_map_) entry.second = nullptr;
-    // BVHNarrowPhase::addCollisionPair → NarrowPhaseDetection::getDetectionOutputs: every pair the
-    // broad phase passes (in its order, registered order within the pair), with or without
-    // outputs, inserted with the hint end().
-    for (const ModelPairDetection& d : detections) {
-        if (d.skipped || !d.narrow_phase || !d.model1 || !d.model2) continue;
-        outputs_map_.insert_at_end({d.model1, d.model2}, nullptr)->second = &d;
-    }
-    // NarrowPhaseDetection::endNarrowPhase: the pairs without outputs leave the map.
-    for (auto it = outputs_map_.begin(); it != outputs_map_.end();)
-        it = it->second == nullptr || it->second->outputs.empty() ? outputs_map_.erase(it) : std::next(it);
+    // NarrowPhaseDetection::beginNarrowPhase, then BVHNarrowPhase::addCollisionPair →
+    // getDetectionOutputs for every pair the broad phase passes (in its order, registered order
+    // within the pair), with or without outputs, inserted with the hint end(), then
+    // endNarrowPhase: the pairs without outputs leave the map.
+    refill_.clear();
+    for (const ModelPairDetection& d : detections)
+        if (!d.skipped && d.narrow_phase && d.model1 && d.model2)
+            refill_.emplace_back(ModelPair{d.model1, d.model2}, &d);
+    outputs_map_.refill_at_end(std::span<const std::pair<ModelPair, const ModelPairDetection*>>(refill_),
+                               [](const ModelPairDetection* d) { return d != nullptr && !d->outputs.empty(); });
     // CollisionResponse::createNewContacts, in the outputs map's order.
     feed_.clear();
     // the pairs refused a contact are searched only when there are some (a search of every
@@ -224,14 +222,11 @@ void CollisionResponse::set_detections(std::span<const ModelPairDetection> detec
         ordered_.push_back(std::move(refused_before ? *refused : pairs_.back()));
     }
     // CollisionResponse::removeInactiveContacts: contacts whose pair has no outputs now.
-    for (auto it = contact_map_.begin(); it != contact_map_.end();) {
-        if (outputs_map_.contains(it->first)) {
-            ++it;
-            continue;
-        }
-        if (on_destroy) on_destroy(*it->second);
-        it = contact_map_.erase(it);
-    }
+    contact_map_.erase_if([this](const auto& entry) {
+        if (outputs_map_.contains(entry.first)) return false;
+        if (on_destroy) on_destroy(*entry.second);
+        return true;
+    });
     if (on_destroy_done) on_destroy_done();  // the destroyed contacts are freed below (ordered_.clear())
     // CollisionResponse::createContacts: the contact vector in the contact map's order (the
     // order of the force fields in the graph), then the pairs without contact still detected.

@@ -12,6 +12,7 @@
 
 #include <map>
 #include <random>
+#include <span>
 #include <vector>
 
 namespace penalty {
@@ -153,6 +154,72 @@ TEST(StablePairMap, SameOrderAndIdsAsSofasCallsOnAStdMap) { same_order_and_ids_a
 
 TEST(StablePairMap, SameOrderAndIdsAsSofasCallsWithThousandsOfPointers) {
     same_order_and_ids_as_sofas_calls(3000, 20000);
+}
+
+// NarrowPhaseDetection's step (beginNarrowPhase, getDetectionOutputs' inserts with the hint
+// end(), endNarrowPhase) and CollisionResponse's removeInactiveContacts (contains on the outputs
+// map, erase in order) as SOFA calls them on std::maps, against refill_at_end and erase_if: the
+// same ids and order at every step. Steps of zero, one and a few pairs make and meet lone keys
+// (inserted into an empty map, without ids); the pairs are drawn from 20 objects of a window that
+// moves over 1 000, so new pointers keep coming and meet lone keys.
+TEST(StablePairMap, RefillAndEraseIfGiveTheIdsAndOrderOfSofasCallsOneByOne) {
+    constexpr int kCount = 1000;
+    std::vector<Obj> objs(kCount, Obj{0});
+    for (int i = 0; i < kCount; ++i) objs[std::size_t(i)].rank = i;
+    std::mt19937 rng(29);
+    SofaIds ref_output_ids, ref_contact_ids;
+    std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref_outputs(SofaLess{&ref_output_ids});
+    std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref_contacts(SofaLess{&ref_contact_ids});
+    Map outputs, contacts;
+    int lone_steps = 0, new_lone_keys = 0, removed = 0;
+    for (int step = 0; step < 3000; ++step) {
+        // this step's detections: (pair, has outputs), with repeated pairs now and then
+        std::vector<std::pair<std::pair<const Obj*, const Obj*>, int>> inserts;
+        const unsigned n = rng() % 4 == 0 ? rng() % 2 : rng() % 12;
+        const auto pick = [&] { return &objs[(unsigned(step) / 3 + rng() % 20) % kCount]; };
+        for (unsigned i = 0; i < n; ++i) {
+            const Obj* p = pick();
+            inserts.push_back({{p, pick()}, int(rng() % 3 == 0 ? 0 : 1 + step)});
+        }
+        if (ref_outputs.empty() && inserts.size() == 1) {
+            ++lone_steps;
+            new_lone_keys += !outputs.stable_id(inserts[0].first.first) || !outputs.stable_id(inserts[0].first.second);
+        }
+        for (auto& e : ref_outputs) e.second = 0;
+        for (const auto& [key, value] : inserts) ref_outputs.insert(ref_outputs.end(), {key, 0})->second = value;
+        for (auto it = ref_outputs.begin(); it != ref_outputs.end();)
+            it = it->second == 0 ? ref_outputs.erase(it) : std::next(it);
+        outputs.refill_at_end(std::span<const std::pair<Map::Key, int>>(inserts), [](int v) { return v != 0; });
+        // the contact map takes the outputs map's keys, then drops those that left it
+        for (const auto& [key, value] : ref_outputs) ref_contacts.insert({key, value});
+        for (const auto& [key, value] : outputs) contacts.insert(key, value);
+        for (auto it = ref_contacts.begin(); it != ref_contacts.end();) {
+            if (ref_outputs.contains(it->first)) {
+                ++it;
+            } else {
+                it = ref_contacts.erase(it);
+                ++removed;
+            }
+        }
+        contacts.erase_if([&](const auto& entry) { return !outputs.contains(entry.first); });
+        ASSERT_EQ(ranks_in_order(ref_outputs), ranks_in_order(outputs)) << "step " << step;
+        ASSERT_EQ(ranks_in_order(ref_contacts), ranks_in_order(contacts)) << "step " << step;
+        std::vector<int> ref_values, values;
+        for (const auto& [key, value] : ref_outputs) ref_values.push_back(value);
+        for (const auto& [key, value] : outputs) values.push_back(value);
+        ASSERT_EQ(ref_values, values) << "step " << step;
+        for (const Obj& o : objs) {
+            const auto r = ref_output_ids.of.find(&o);
+            ASSERT_EQ(r == ref_output_ids.of.end() ? std::nullopt : std::optional<unsigned>(r->second),
+                      outputs.stable_id(&o));
+            const auto c = ref_contact_ids.of.find(&o);
+            ASSERT_EQ(c == ref_contact_ids.of.end() ? std::nullopt : std::optional<unsigned>(c->second),
+                      contacts.stable_id(&o));
+        }
+    }
+    EXPECT_GT(lone_steps, 50);     // keys inserted into an empty map
+    EXPECT_GT(new_lone_keys, 10);  // with a pointer that had no id yet
+    EXPECT_GT(removed, 1000);      // and contacts removed
 }
 
 // A null pointer gets its id at its first comparison like any other (SOFA's ptr_stable_id keys

@@ -158,6 +158,8 @@ private:
     /// CollisionResponse::contactMap (pair → live contact): both helper::map_ptr_stable_compare.
     StablePairMap<CollisionModel, const ModelPairDetection*> outputs_map_;
     StablePairMap<CollisionModel, BarycentricPenaltyContact*> contact_map_;
+    using ModelPair = StablePairMap<CollisionModel, const ModelPairDetection*>::Key;
+    std::vector<std::pair<ModelPair, const ModelPairDetection*>> refill_;  ///< this step's outputs-map inserts
     void set_detections_by_rank(std::span<const ModelPairDetection> detections, double intersection_cd);
     /// set_detection_outputs of every fed contact (feed_), in parallel when worth it.
     void feed_contacts();
