@@ -1,7 +1,10 @@
 #include "penalty/simulation/contact_pipeline.hpp"
 
 #include "penalty/collision/models.hpp"
+#include "penalty/core/first_error.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -241,11 +244,37 @@ void ContactPipeline::respond() {
     }
     snapshot_valid_ = keep_step_start_;
     geometry_updates_ = 0;
-    // The springs and contact points are rebuilt: size the mapped contact states to them.
-    for (auto& e : entries_)
-        for (BaseMapping* m : e.mappings)
-            if (m) m->init();
+    init_contact_states();
     timings_.response_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+}
+
+void ContactPipeline::init_contact_states() {
+    // The springs and contact points are rebuilt: size the mapped contact states to them. Each
+    // entry's mappings write only their own contact states: in parallel (in the detection's
+    // arena) when the contacts were fed in parallel, the same bits either way.
+    const auto init_entry = [this](std::size_t i) {
+        for (BaseMapping* m : entries_[i].mappings)
+            if (m) m->init();
+    };
+    if (!response_.last_feed_concurrent()) {
+        for (std::size_t i = 0; i < entries_.size(); ++i) init_entry(i);
+        return;
+    }
+    FirstErrorInOrder failure;
+    run_detection([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries_.size(), 16),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                  try {
+                                      init_entry(i);
+                                  } catch (...) {
+                                      failure.record(i);
+                                      return;
+                                  }
+                              }
+                          });
+    });
+    failure.rethrow_if_any();
 }
 
 void ContactPipeline::order_graph_entries() {

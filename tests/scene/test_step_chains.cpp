@@ -6,6 +6,7 @@
 #include "penalty/io/scene_file.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/scene/scene.hpp"
+#include "penalty/simulation/contact_pipeline.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/cubes_in_bowl.hpp"
 #include "penalty_test/same_bits.hpp"
@@ -85,13 +86,21 @@ TEST(ConcurrentProducts, ProductsInChainsAreTheBitsOfOneThread) {
     EXPECT_EQ(differing, 0) << "of " << compared;
 }
 
+// The contacts are fed, and their contact states sized (ContactPipeline::init_contact_states),
+// in parallel at two threads and more.
 TEST(ConcurrentProducts, RunsAreTheSameBitsAtOneTwoAndEightThreads) {
     // Under the sanitizers one and eight threads only; the release suite compares all three.
     const std::vector<int> thread_counts = test::kUnderSanitizer ? std::vector<int>{1, 8} : std::vector<int>{1, 2, 8};
     std::vector<std::vector<double>> runs;
     for (const int threads : thread_counts) {
         auto scene = pile(threads);
-        for (int i = 0; i < kStepsToContact + 30; ++i) scene->step();
+        int concurrent_feeds = 0;
+        for (int i = 0; i < kStepsToContact + 30; ++i) {
+            scene->step();
+            concurrent_feeds += scene->pipelines().at(0).pipeline->response().last_feed_concurrent() ? 1 : 0;
+        }
+        if (threads == 1) EXPECT_EQ(concurrent_feeds, 0);
+        else EXPECT_GT(concurrent_feeds, 10) << threads << " threads";
         runs.push_back(flat_positions(*scene));
     }
     for (std::size_t r = 1; r < runs.size(); ++r) {

@@ -286,6 +286,8 @@ private:
     /// entries_ (and step_start_) in the response's pair order, and each host's contact force
     /// fields at the end of its list in that order, as SOFA re-adds them at every step.
     void order_graph_entries();
+    /// Every live contact's mapped contact states sized to its points (ContactPointMapping::init).
+    void init_contact_states();
 
     /// Per live pair (same index as entries_): what update_geometry restores before rebuilding.
     struct StepStart {
