@@ -48,7 +48,7 @@ const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
             if (plan_[i].solver_node != nullptr) {
                 find_run(i);
             } else {
-                plan_[i].run_end = i + 1;
+                find_explicit_run(i);
             }
         }
         plan_version_ = root_.structure_version();
@@ -104,8 +104,30 @@ void Simulation::find_run(std::size_t begin) {
     plan_[begin].run_worth_tasks = large >= 2;
 }
 
+void Simulation::find_explicit_run(std::size_t begin) {
+    // Explicit force fields next to each other in the plan whose states do not meet commute: each
+    // writes only the force and external force of its own states (run_action) and reads nothing
+    // another writes. A pile's contacts with a static obstacle are hundreds of such fields at
+    // the root (SOFA's interaction force fields above every solver, §2.1).
+    PointerIndex<BaseState>& met = explicit_run_states_;
+    std::vector<const BaseState*>& read = explicit_field_states_;
+    met.clear();
+    std::size_t end = begin;
+    for (; end < plan_.size() && plan_[end].solver_node == nullptr; ++end) {
+        read.clear();
+        for (BaseState* s : plan_[end].states) read.push_back(s);
+        plan_[end].explicit_field->list_read_states(read);
+        const bool meets = std::any_of(read.begin(), read.end(), [&](const BaseState* s) { return met.contains(s); });
+        if (meets) break;
+        for (const BaseState* s : read) met.emplace(s, 0);
+    }
+    plan_[begin].run_end = std::max(end, begin + 1);
+    plan_[begin].run_worth_tasks = plan_[begin].run_end - begin >= kMinExplicitFieldsPerConcurrentRun;
+}
+
 bool Simulation::run_concurrently(const std::vector<SolveAction>& plan, std::size_t begin) const {
     if (!plan[begin].run_worth_tasks) return false;
+    if (plan[begin].solver_node == nullptr) return true;  // explicit force fields
     for (std::size_t k = begin; k < plan[begin].run_end; ++k)
         if (plan[k].solver_node->ode_solver()->runs_in_plan_order()) return false;  // Newton turned on since
     return true;
@@ -115,11 +137,19 @@ std::vector<std::vector<const Node*>> Simulation::concurrent_solver_runs() {
     std::vector<std::vector<const Node*>> runs;
     const std::vector<SolveAction>& plan = solve_plan();
     for (std::size_t i = 0; i < plan.size(); i = plan[i].run_end) {
-        if (!run_concurrently(plan, i)) continue;
+        if (plan[i].solver_node == nullptr || !run_concurrently(plan, i)) continue;
         runs.emplace_back();
         for (std::size_t k = i; k < plan[i].run_end; ++k) runs.back().push_back(plan[k].solver_node);
     }
     return runs;
+}
+
+std::size_t Simulation::concurrent_explicit_fields() {
+    std::size_t fields = 0;
+    const std::vector<SolveAction>& plan = solve_plan();
+    for (std::size_t i = 0; i < plan.size(); i = plan[i].run_end)
+        if (plan[i].solver_node == nullptr && run_concurrently(plan, i)) fields += plan[i].run_end - i;
+    return fields;
 }
 
 void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::size_t begin, std::size_t end,
@@ -127,7 +157,9 @@ void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::s
     if (!arena_) arena_ = std::make_unique<ThreadArena>(threads_);
     FirstErrorInOrder failure;
     arena_->arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, 1),
+        // a task per solver; explicit force fields (a few contacts each) by groups
+        const std::size_t grain = plan[begin].solver_node != nullptr ? 1 : kExplicitFieldsPerTask;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, grain),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               for (std::size_t i = r.begin(); i != r.end(); ++i) {
                                   try {

@@ -1,7 +1,9 @@
 // Simulation::step runs solvers next to each other in the plan concurrently when their touched
 // states do not meet (OdeSolver::list_touched_states) and two of them have at least
 // kMinUnknownsPerConcurrentSolve unknowns: same bits as in plan order, the first failing solver's
-// error, and solvers that share a state (another solver's or a static one) kept in order.
+// error, and solvers that share a state (another solver's or a static one) kept in order. Explicit
+// force fields next to each other whose states do not meet run as tasks too
+// (Simulation::find_explicit_run).
 //
 // Whether two solves overlap in time is observed with a rendezvous force field: on its first
 // force evaluation it waits (up to a timeout) until another one has arrived. Concurrent solves
@@ -59,6 +61,23 @@ public:
     }
     void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
     void add_stiffness_triplets(TripletList&, Index, double) const override {}
+
+private:
+    Rendezvous* rendezvous_;
+    bool first_ = true;
+};
+
+/// The same between two states (an interaction field: the node lists it among the springs, in
+/// the order added).
+class RendezvousPairField final : public Vec3InteractionForceField {
+public:
+    RendezvousPairField(Vec3Object& s1, Vec3Object& s2, Rendezvous& rendezvous)
+        : Vec3InteractionForceField(s1, s2), rendezvous_(&rendezvous) {}
+    void add_force(Vec3Span, Vec3Span, ConstVec3Span, ConstVec3Span, ConstVec3Span, ConstVec3Span) override {
+        if (rendezvous_->armed && std::exchange(first_, false)) rendezvous_->arrive();
+    }
+    void add_dforce(Vec3Span, Vec3Span, ConstVec3Span, ConstVec3Span, double, double) const override {}
+    void add_stiffness_triplets(TripletList&, Index, Index, double) const override {}
 
 private:
     Rendezvous* rendezvous_;
@@ -244,6 +263,85 @@ TEST_F(ConcurrentSolvers, ErrorIsTheFirstFailingSolverInPlanOrder) {
         EXPECT_EQ(e.force_field(), &late) << e.what();
     }
     EXPECT_TRUE(r.met);
+}
+
+/// `pairs` pairs of one-point bodies under one implicit solver, each pair joined by a spring
+/// field at the root (explicit: no solver above it, SOFA's interaction fields above every
+/// solver). `chained`: a second field joins each pair's second body to the next pair's first, so
+/// every field meets the next one. A rendezvous field at the root before and after the springs,
+/// each between two bodies of its own.
+struct ExplicitPairs {
+    Simulation sim;
+    std::vector<Vec3Object*> states;
+
+    ExplicitPairs(int pairs, bool chained, Rendezvous& r) {
+        Node& bodies = sim.root().add_child("bodies");
+        auto& solver = bodies.set_ode_solver<EulerImplicitSolver>();
+        solver.cg.iterations = 20;
+        solver.cg.tolerance = 1e-12;
+        solver.cg.threshold = 1e-20;
+        for (int i = 0; i < 2 * pairs + 4; ++i) {
+            Node& n = bodies.add_child("body" + std::to_string(i));
+            Vec3Object& x = n.add_state<Vec3Types>();
+            x.position = {Vec3(0.3 * i, 0.01 * (i % 7), 0.5 * (i % 2))};
+            n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.5 + 0.01 * i);
+            states.push_back(&x);
+        }
+        const std::size_t extra = 2 * std::size_t(pairs);
+        sim.root().add_force_field<RendezvousPairField>(*states[extra], *states[extra + 1], r);
+        for (int p = 0; p < pairs; ++p) {
+            const std::size_t a = 2 * std::size_t(p), b = a + 1;
+            sim.root()
+                .add_force_field<SpringForceField>(*states[a], *states[b])
+                .add_spring({0, 0, 200.0 + p, 0.0, 0.4});
+            if (chained)
+                sim.root()
+                    .add_force_field<SpringForceField>(*states[b], *states[b + 1])
+                    .add_spring({0, 0, 50.0, 0.0, 0.3});
+        }
+        sim.root().add_force_field<RendezvousPairField>(*states[extra + 2], *states[extra + 3], r);
+    }
+
+    std::vector<Vec3> run(int threads, int steps) {
+        sim.set_threads(threads);
+        sim.init();
+        for (int s = 0; s < steps; ++s) sim.step();
+        std::vector<Vec3> out;
+        for (const Vec3Object* x : states) {
+            out.insert(out.end(), x->position.begin(), x->position.end());
+            out.insert(out.end(), x->velocity.begin(), x->velocity.end());
+        }
+        return out;
+    }
+};
+
+TEST_F(ConcurrentSolvers, ExplicitFieldsOnDisjointStatesMeetAndGiveTheBitsOfOneThread) {
+    constexpr int kPairs = 80;  // 82 explicit fields, above kMinExplicitFieldsPerConcurrentRun
+    Rendezvous in_order(200ms);
+    ExplicitPairs one(kPairs, false, in_order);
+    const std::vector<Vec3> sequential = one.run(1, 20);
+    EXPECT_FALSE(in_order.met);
+    EXPECT_EQ(one.sim.concurrent_explicit_fields(), 82u);  // the plan's runs (tasks need threads)
+
+    Rendezvous together(10s);
+    ExplicitPairs two(kPairs, false, together);
+    const std::vector<Vec3> concurrent = two.run(2, 20);
+    EXPECT_TRUE(together.met);
+    expect_same_bits(sequential, concurrent);
+    // the springs moved the bodies: the comparison is not of initial states
+    EXPECT_GT((two.states[0]->position[0] - Vec3(0.0, 0.0, 0.0)).norm(), 1e-3);
+}
+
+TEST_F(ConcurrentSolvers, ExplicitFieldsSharingStatesRunInOrder) {
+    // every field shares a body with the next: runs of one field, nothing as tasks
+    Rendezvous r(300ms);
+    ExplicitPairs chained(40, true, r);
+    const std::vector<Vec3> two = chained.run(2, 10);
+    EXPECT_FALSE(r.met);
+    EXPECT_EQ(chained.sim.concurrent_explicit_fields(), 0u);
+    Rendezvous r1(300ms);
+    ExplicitPairs one(40, true, r1);
+    expect_same_bits(one.run(1, 10), two);
 }
 
 }  // namespace

@@ -79,6 +79,10 @@ public:
     /// The runs of solvers that step() gives a task each when it has more than one thread, from
     /// the current graph: each the solver nodes of one run, in plan order.
     [[nodiscard]] std::vector<std::vector<const Node*>> concurrent_solver_runs();
+    /// The explicit force fields that step() runs as tasks when it has more than one thread:
+    /// those of the runs of at least kMinExplicitFieldsPerConcurrentRun fields whose states do not
+    /// meet (run_action of each writes only its own states: the same bits).
+    [[nodiscard]] std::size_t concurrent_explicit_fields();
     /// Registers a contact stage (at most once): step() runs the stages' detect() then their
     /// respond(), each in registration order. The stage unregisters itself before it dies.
     void add_contact_stage(ContactStage& stage);
@@ -122,11 +126,13 @@ private:
         Node* solver_node = nullptr;
         BaseForceField* explicit_field = nullptr;
         ForceFieldStates states;  ///< of explicit_field
-        /// The action after this one's run: a run is the solver actions from this one whose
-        /// touched states do not meet (one action when this one cannot run with others), found
-        /// with the plan; set on the first action of each run.
+        /// The action after this one's run: a run is the solver actions (or the explicit force
+        /// fields) from this one whose touched states do not meet (one action when this one
+        /// cannot run with others), found with the plan; set on the first action of each run.
         std::size_t run_end = 0;
-        bool run_worth_tasks = false;  ///< two solvers of the run have kMinUnknownsPerConcurrentSolve unknowns
+        /// two solvers of the run have kMinUnknownsPerConcurrentSolve unknowns, or the run has
+        /// kMinExplicitFieldsPerConcurrentRun explicit force fields
+        bool run_worth_tasks = false;
     };
     /// plan[begin] starts a run worth tasks and none of its solvers runs_in_plan_order now.
     [[nodiscard]] bool run_concurrently(const std::vector<SolveAction>& plan, std::size_t begin) const;
@@ -139,6 +145,11 @@ private:
     void run_action(const SolveAction& action, double dt);
     /// Sets plan_[begin].run_end and run_worth_tasks.
     void find_run(std::size_t begin);
+    /// The same for an explicit force field: the explicit fields from it whose states (and read
+    /// states) do not meet, worth tasks from kMinExplicitFieldsPerConcurrentRun fields.
+    void find_explicit_run(std::size_t begin);
+    static constexpr std::size_t kMinExplicitFieldsPerConcurrentRun = 64;
+    static constexpr std::size_t kExplicitFieldsPerTask = 16;
     /// plan[begin, end): solver actions whose touched states do not meet, concurrently.
     void solve_concurrently(const std::vector<SolveAction>& plan, std::size_t begin, std::size_t end, double dt);
     struct ThreadArena;
@@ -146,6 +157,8 @@ private:
     int threads_ = 0;
     std::unique_ptr<ThreadArena> arena_;  ///< made at the first concurrent solve
     std::vector<SolveAction> plan_;
+    PointerIndex<BaseState> explicit_run_states_;          ///< find_explicit_run's scratch
+    std::vector<const BaseState*> explicit_field_states_;  ///< find_explicit_run's scratch
     /// The states whose external force a step applies, cleared after each step (found with the
     /// plan): those of a solver's subtree, the outputs of mappings and the states of explicit
     /// force fields. The others (static obstacles) are never applied nor cleared: a floor of
