@@ -6,6 +6,7 @@
 #include "fused_contact_block.hpp"
 #include "kernels/prefetch.hpp"
 #include "penalty/core/error.hpp"
+#include "penalty/core/first_error.hpp"
 #include "step_chains.hpp"
 #include "subtree_layout.hpp"
 #include "subtree_scratch.hpp"
@@ -76,10 +77,36 @@ void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
     fused_->forces_computed();               // the contacts' active sets are this evaluation's
     reset_forces();
     // computeForce: SOFA HEAD's MappingGraph order (mapping_graph_order) or its visitors' order
-    for (const detail::ForceStep& s : layout_->steps) {
+    const auto add_force = [](const detail::ForceStep& s) {
         if (s.mass != nullptr) s.mass->add_gravity_force(s.gravity);
         else if (s.force_field != nullptr) s.force_field->accumulate_force();
         else s.mapping->apply_jt_force();
+    };
+    const std::vector<detail::ForceStep>& steps = layout_->steps;
+    const detail::StepChains& chains = layout_->chains;
+    if (chains_worth_tasks(chains, steps.size())) {
+        // In the product's chains on TBB's threads: a force step writes the forces of the states
+        // whose dforce the product's step writes, and reads positions, velocities and its chain's
+        // forces only: the same bits (step_chains.hpp). The error is that of the first failing
+        // step in the list's order, as the loop below would raise it (a chain's steps before its
+        // failing one see the same states either way).
+        ++scratch_->concurrent_force_evaluations;
+        FirstErrorInOrder failure;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t c = r.begin(); c != r.end(); ++c)
+                                  for (std::size_t i = chains.step_first[c]; i < chains.step_first[c + 1]; ++i) {
+                                      try {
+                                          add_force(steps[chains.steps_of[i]]);
+                                      } catch (...) {
+                                          failure.record(chains.steps_of[i]);
+                                          break;
+                                      }
+                                  }
+                          });
+        failure.rethrow_if_any();
+    } else {
+        for (const detail::ForceStep& s : steps) add_force(s);
     }
     f.resize(layout_->size);
     for (std::size_t i = 0; i < layout_->independent.size(); ++i)

@@ -28,7 +28,8 @@ struct SubtreeScratch {
     /// Every mapped state's read rows found under the current FixedReaders (its first product
     /// ran): the products after it may run in chains on several threads.
     bool rows_known = false;
-    std::size_t concurrent_products = 0;  ///< products whose chains ran on TBB's threads
+    std::size_t concurrent_products = 0;           ///< products whose chains ran on TBB's threads
+    std::size_t concurrent_force_evaluations = 0;  ///< compute_force calls likewise
     /// The blocked reductions' blocks (made when they are turned on) and their sums.
     ReductionBlocks reduction_blocks;
     std::vector<double> block_sums;

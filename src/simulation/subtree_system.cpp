@@ -54,6 +54,8 @@ SubtreeSystem::FusedContactCounts SubtreeSystem::fused_contact_counts() const {
 
 std::size_t SubtreeSystem::concurrent_products() const { return scratch_->concurrent_products; }
 
+std::size_t SubtreeSystem::concurrent_force_evaluations() const { return scratch_->concurrent_force_evaluations; }
+
 std::size_t SubtreeSystem::product_chains() const {
     return (fused_->empty() ? layout_->chains : fused_->chains()).size();
 }

@@ -86,6 +86,25 @@ TEST(ConcurrentProducts, ProductsInChainsAreTheBitsOfOneThread) {
     EXPECT_EQ(differing, 0) << "of " << compared;
 }
 
+// compute_force runs the same chains: its force vector, at the pile's state, is the bits of one
+// thread's.
+TEST(ConcurrentProducts, ForceEvaluationsInChainsAreTheBitsOfOneThread) {
+    auto scene = pile(1);
+    for (int i = 0; i < kStepsToContact; ++i) scene->step();
+    const SubtreeSystem system(cubes_node(*scene), true, true);
+    ASSERT_GE(system.product_chains(), 8u);
+    Eigen::VectorXd one, many;
+    tbb::task_arena(1).execute([&] { system.compute_force(one); });
+    EXPECT_EQ(system.concurrent_force_evaluations(), 0u);
+    tbb::task_arena(4).execute([&] { system.compute_force(many); });
+    EXPECT_EQ(system.concurrent_force_evaluations(), 1u) << "the forces were not computed in chains";
+    ASSERT_EQ(one.size(), many.size());
+    long differing = 0;
+    for (Eigen::Index i = 0; i < one.size(); ++i) differing += test::same_bits(one[i], many[i]) ? 0 : 1;
+    EXPECT_EQ(differing, 0) << "of " << one.size();
+    EXPECT_GT(one.norm(), 0.0);
+}
+
 // The contacts are fed, and their contact states sized (ContactPipeline::init_contact_states),
 // in parallel at two threads and more.
 TEST(ConcurrentProducts, RunsAreTheSameBitsAtOneTwoAndEightThreads) {

@@ -72,6 +72,8 @@ public:
     /// (src/simulation/step_chains.hpp), and how many chains a product under a FixedReaders has.
     [[nodiscard]] std::size_t concurrent_products() const;
     [[nodiscard]] std::size_t product_chains() const;
+    /// How many compute_force calls so far ran their force steps in the same chains.
+    [[nodiscard]] std::size_t concurrent_force_evaluations() const;
 
     [[nodiscard]] Eigen::Index size() const;
     /// True while every independent state has the size it had when the system was built (the
@@ -105,7 +107,8 @@ public:
     void add_to_positions(double h, const Eigen::VectorXd& v) const;
     /// Propagates positions and velocities to the mapped states (top-down).
     void propagate_positions_and_velocities() const;
-    /// f = external forces + gravity + Σ force fields, mapped forces brought up by Jᵀ.
+    /// f = external forces + gravity + Σ force fields, mapped forces brought up by Jᵀ (in the
+    /// products' chains on TBB's threads when they are worth tasks: the same bits).
     /// Throws NonFiniteSolveError naming the first non-finite contribution.
     void compute_force(Eigen::VectorXd& f) const;
     /// After an overflow in the solve with finite forces: evaluates each mass's gravity and each
