@@ -23,6 +23,32 @@ using detail::direction;
 using detail::state_dot;
 
 namespace {
+/// pass(i) for every independent state i of `l`, on TBB's threads in groups of states when the
+/// system is large and has several states and the arena several threads: each state's pass
+/// reads and writes only that state's part of the vectors (and its own dx, df, sum).
+template <class Pass>
+void for_each_state(const detail::SubtreeLayout& l, detail::SubtreeScratch& scratch, const Pass& pass) {
+    const std::size_t n = l.independent.size();
+    if (n >= 2 && l.size >= SubtreeSystem::kMinUnknownsForConcurrentStatePasses &&
+        tbb::this_task_arena::max_concurrency() > 1) {
+        ++scratch.concurrent_state_passes;
+        const auto grain = static_cast<std::size_t>(
+            std::max<Eigen::Index>(1, Eigen::Index(n) * SubtreeSystem::kUnknownsPerStatePassTask / l.size));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) pass(i);
+        });
+        return;
+    }
+    for (std::size_t i = 0; i < n; ++i) pass(i);
+}
+
+/// Σ sums[i] in order from 0.0: the single chain of SOFA's dot product over the states.
+double sum_in_order(const std::vector<double>& sums) {
+    double total = 0.0;
+    for (const double s : sums) total += s;
+    return total;
+}
+
 /// The one component a force step calls.
 const void* step_object(const detail::ForceStep& s) {
     return s.mass != nullptr          ? static_cast<const void*>(s.mass)
@@ -34,13 +60,13 @@ const void* step_object(const detail::ForceStep& s) {
 double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
     if (blocked_reductions_)
         return detail::blocked_dot(scratch_->reduction_blocks, a.data(), b.data(), scratch_->block_sums);
-    double total = 0.0;
-    for (std::size_t s = 0; s < layout_->independent.size(); ++s) {
+    std::vector<double>& sums = scratch_->state_sums;
+    for_each_state(*layout_, *scratch_, [&](std::size_t s) {
         const Eigen::Index begin = layout_->offsets[s];
         const Eigen::Index end = begin + layout_->sizes[s];
-        total += state_dot(a.data(), b.data(), begin, end, layout_->widths[s]);
-    }
-    return total;
+        sums[s] = state_dot(a.data(), b.data(), begin, end, layout_->widths[s]);
+    });
+    return sum_in_order(sums);
 }
 
 void SubtreeSystem::gather_velocity(Eigen::VectorXd& v) const {
@@ -136,13 +162,13 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
                                         Eigen::VectorXd& q, double m, double b, double k) const {
     PENALTY_DEMAND(r.size() == layout_->size && p.size() == layout_->size && &r != &p);
     // p = r or r + β·p (Eigen's p = r + β·p: each r_j + (β·p_j)), into p and the state's dx
-    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+    for_each_state(*layout_, *scratch_, [&](std::size_t i) {
         const auto n = layout_->sizes[i];
         const double* rs = r.data() + layout_->offsets[i];
         double* ps = p.data() + layout_->offsets[i];
         direction(first, beta, rs, ps, layout_->independent[i]->dx_flat().data(), n);
         layout_->independent[i]->df_flat().setZero();
-    }
+    });
     apply_mbk_to_states(m, b, k);
     q.resize(layout_->size);
     if (!layout_->constraints.empty()) {  // q is projected before p·q
@@ -156,14 +182,15 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
             q.segment(layout_->offsets[i], layout_->sizes[i]) = layout_->independent[i]->df_flat();
         return dot(p, q);
     }
-    double total = 0.0;  // dot(p, q), each state's sum as its part of q is copied
-    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+    // dot(p, q), each state's sum as its part of q is copied
+    std::vector<double>& sums = scratch_->state_sums;
+    for_each_state(*layout_, *scratch_, [&](std::size_t i) {
         const auto n = layout_->sizes[i];
         const Eigen::Index begin = layout_->offsets[i];
         q.segment(begin, n) = layout_->independent[i]->df_flat();
-        total += state_dot(p.data(), q.data(), begin, begin + n, layout_->widths[i]);
-    }
-    return total;
+        sums[i] = state_dot(p.data(), q.data(), begin, begin + n, layout_->widths[i]);
+    });
+    return sum_in_order(sums);
 }
 
 double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
@@ -177,8 +204,9 @@ double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p
     if (blocked_reductions_)
         return detail::blocked_update_and_residual(scratch_->reduction_blocks, alpha, ps, qs, xs, rs,
                                                    scratch_->block_sums);
-    double total = 0.0;  // dot(r, r), each state's sum over its DOFs as they are updated
-    for (std::size_t i = 0; i < layout_->independent.size(); ++i) {
+    // dot(r, r), each state's sum over its DOFs as they are updated
+    std::vector<double>& sums = scratch_->state_sums;
+    for_each_state(*layout_, *scratch_, [&](std::size_t i) {
         const Eigen::Index begin = layout_->offsets[i];
         const Eigen::Index end = begin + layout_->sizes[i];
         const auto width = layout_->widths[i];
@@ -192,16 +220,16 @@ double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p
                 }
                 sum += (rs[j] * rs[j] + rs[j + 1] * rs[j + 1]) + rs[j + 2] * rs[j + 2];
             }
-            total += sum;
-            continue;
+            sums[i] = sum;
+            return;
         }
         for (Eigen::Index j = begin; j < end; ++j) {
             xs[j] += alpha * ps[j];
             rs[j] -= alpha * qs[j];
         }
-        total += state_dot(rs, rs, begin, end, width);
-    }
-    return total;
+        sums[i] = state_dot(rs, rs, begin, end, width);
+    });
+    return sum_in_order(sums);
 }
 
 void MbkCgSystem::apply(const Eigen::VectorXd& p, Eigen::VectorXd& q) { system_.apply_mbk(p, q, m_, b_, k_, true); }

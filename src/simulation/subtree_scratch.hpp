@@ -30,6 +30,9 @@ struct SubtreeScratch {
     bool rows_known = false;
     std::size_t concurrent_products = 0;           ///< products whose chains ran on TBB's threads
     std::size_t concurrent_force_evaluations = 0;  ///< compute_force calls likewise
+    std::size_t concurrent_state_passes = 0;       ///< vector passes state by state on TBB's threads
+    /// Each independent state's part of a dot product, summed in order after a concurrent pass
+    std::vector<double> state_sums;
     /// The blocked reductions' blocks (made when they are turned on) and their sums.
     ReductionBlocks reduction_blocks;
     std::vector<double> block_sums;

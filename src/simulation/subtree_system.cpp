@@ -29,6 +29,7 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         scratch_->dx_rows[i].rows.reserve(dofs);
     }
     fused_->find(*layout_, fuse_contact_products);
+    scratch_->state_sums.resize(layout_->independent.size());
 }
 
 SubtreeSystem::~SubtreeSystem() = default;
@@ -55,6 +56,8 @@ SubtreeSystem::FusedContactCounts SubtreeSystem::fused_contact_counts() const {
 std::size_t SubtreeSystem::concurrent_products() const { return scratch_->concurrent_products; }
 
 std::size_t SubtreeSystem::concurrent_force_evaluations() const { return scratch_->concurrent_force_evaluations; }
+
+std::size_t SubtreeSystem::concurrent_state_passes() const { return scratch_->concurrent_state_passes; }
 
 std::size_t SubtreeSystem::product_chains() const {
     return (fused_->empty() ? layout_->chains : fused_->chains()).size();

@@ -6,9 +6,15 @@
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/simulation/solver.hpp"
 
+#include "penalty_test/same_bits.hpp"
+
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include <Eigen/Dense>
+
+#include <random>
 
 namespace penalty {
 namespace {
@@ -90,6 +96,75 @@ TEST(SubtreeProducts, AFixedPointsRowsAreProjectedOut) {
     sys.apply_mbk(p, sum, 1.5, 0.0, -0.4, true, true);
     EXPECT_EQ(sum.head<3>(), Eigen::Vector3d::Zero());
     EXPECT_LT((sum.tail<3>() - (free.tail<3>() + Eigen::Vector3d::Ones())).cwiseAbs().maxCoeff(), 1e-13);
+}
+
+// 400 bodies of 8 points under one solver (9 600 unknowns, above
+// kMinUnknownsForConcurrentStatePasses): dot, direction_and_mbk and update_and_residual run state
+// by state on two threads and give the bits of one thread; dot is SOFA's chain, each state's sum
+// added in order.
+TEST(SubtreeProducts, StatePassesOnThreadsAreTheBitsOfOneThreadAndSofasChain) {
+    const tbb::global_control two_workers(tbb::global_control::max_allowed_parallelism, 2);
+    Simulation sim;
+    sim.root().set_ode_solver<EulerImplicitSolver>();
+    std::vector<Vec3Object*> states;
+    for (int b = 0; b < 400; ++b) {
+        Node& n = sim.root().add_child("body" + std::to_string(b));
+        Vec3Object& x = n.add_state<Vec3Types>();
+        for (int i = 0; i < 8; ++i) x.position.push_back(Vec3(b, 0.3 * i, 0.01 * i * i));
+        n.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.5 + 0.001 * b);
+        auto& springs = n.add_force_field<SpringForceField>(x, x);
+        for (int i = 0; i + 1 < 8; ++i) springs.add_spring({i, i + 1, 40.0 + b, 0.1, 0.25});
+        states.push_back(&x);
+    }
+    sim.init();
+    SubtreeSystem sys(sim.root());
+    ASSERT_EQ(sys.size(), 9600);
+    std::mt19937 rng(61);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const auto random_vector = [&] {
+        Eigen::VectorXd v(sys.size());
+        for (Eigen::Index i = 0; i < v.size(); ++i) v[i] = unit(rng);
+        return v;
+    };
+    const Eigen::VectorXd r0 = random_vector(), p0 = random_vector(), x0 = random_vector();
+    struct Results {
+        double dot = 0, pq = 0, rr = 0;
+        Eigen::VectorXd p, q, x, r;
+    };
+    const auto run = [&](int threads) {
+        Results out;
+        tbb::task_arena(threads).execute([&] {
+            out.dot = sys.dot(r0, p0);
+            out.p = p0;
+            out.pq = sys.direction_and_mbk(r0, 0.37, false, out.p, out.q, 1.02, -0.01, -2e-4);
+            out.x = x0;
+            out.r = r0;
+            out.rr = sys.update_and_residual(0.61, out.p, out.q, out.x, out.r);
+        });
+        return out;
+    };
+    const Results one = run(1);
+    EXPECT_EQ(sys.concurrent_state_passes(), 0u);
+    const Results two = run(2);
+    EXPECT_EQ(sys.concurrent_state_passes(), 4u);  // dot, the direction, p·q, update
+    EXPECT_TRUE(test::same_bits(one.dot, two.dot));
+    EXPECT_TRUE(test::same_bits(one.pq, two.pq));
+    EXPECT_TRUE(test::same_bits(one.rr, two.rr));
+    long differing = 0;
+    for (Eigen::Index i = 0; i < sys.size(); ++i)
+        differing += !test::same_bits(one.p[i], two.p[i]) + !test::same_bits(one.q[i], two.q[i]) +
+                     !test::same_bits(one.x[i], two.x[i]) + !test::same_bits(one.r[i], two.r[i]);
+    EXPECT_EQ(differing, 0);
+    // SOFA's chain: each body's Σ ((a_x·b_x + a_y·b_y) + a_z·b_z), the bodies' sums added in order
+    double chain = 0.0;
+    for (Eigen::Index body = 0; body < 400; ++body) {
+        double sum = 0.0;
+        for (Eigen::Index j = 24 * body; j < 24 * body + 24; j += 3)
+            sum += (r0[j] * p0[j] + r0[j + 1] * p0[j + 1]) + r0[j + 2] * p0[j + 2];
+        chain += sum;
+    }
+    EXPECT_TRUE(test::same_bits(chain, two.dot));
+    EXPECT_NE(r0.dot(p0), two.dot);  // another order gives other bits here: the check can fail
 }
 
 }  // namespace

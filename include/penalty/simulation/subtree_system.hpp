@@ -52,6 +52,11 @@ public:
     static constexpr std::size_t kMinDofsForScratchRows = 2048;
     /// Fewest force steps a product needs to run its chains on TBB's threads (step_chains.hpp).
     static constexpr std::size_t kMinStepsForConcurrentProducts = 256;
+    /// The CG's vector passes (direction_and_mbk, update_and_residual, dot) run state by state on
+    /// TBB's threads, each state's sum added in order after (the same bits), from this many
+    /// unknowns in two states or more; a task takes kUnknownsPerStatePassTask unknowns or more.
+    static constexpr Eigen::Index kMinUnknownsForConcurrentStatePasses = 8192;
+    static constexpr Eigen::Index kUnknownsPerStatePassTask = 2048;
     [[nodiscard]] bool mapping_graph_order() const { return mapping_graph_order_; }
     [[nodiscard]] bool fuses_contact_products() const { return fuse_contact_products_; }
     /// Beyond SOFA (off by default): dot, direction_and_mbk and update_and_residual sum their dot
@@ -74,6 +79,9 @@ public:
     [[nodiscard]] std::size_t product_chains() const;
     /// How many compute_force calls so far ran their force steps in the same chains.
     [[nodiscard]] std::size_t concurrent_force_evaluations() const;
+    /// How many vector passes (dot, direction_and_mbk, update_and_residual) ran state by state on
+    /// TBB's threads (kMinUnknownsForConcurrentStatePasses).
+    [[nodiscard]] std::size_t concurrent_state_passes() const;
 
     [[nodiscard]] Eigen::Index size() const;
     /// True while every independent state has the size it had when the system was built (the
