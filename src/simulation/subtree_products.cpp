@@ -256,17 +256,18 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
     // (fused: only the mappings and steps the fused block does not apply, in the same order)
     const std::vector<std::size_t>& maps = fused ? fused_->unfused_mappings() : layout_->all_mappings;
     const std::vector<detail::ForceStep>& steps = fused ? fused_->steps() : layout_->steps;
-    // In chains on TBB's threads once every mapped state's read rows are known (the first
-    // product under a FixedReaders finds them, on this thread): the same bits (step_chains.hpp).
+    // In chains on TBB's threads under a FixedReaders: the same bits (step_chains.hpp). The first
+    // product finds each mapped state's read rows in its chain, with its thread's row lists.
     const detail::StepChains& chains = fused ? fused_->chains() : layout_->chains;
-    const bool concurrent = scratch_->readers_fixed && scratch_->rows_known && chains_worth_tasks(chains, steps.size());
+    const bool concurrent = scratch_->readers_fixed && chains_worth_tasks(chains, steps.size());
     if (concurrent) {
         ++scratch_->concurrent_products;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()),
                           [&](const tbb::blocked_range<std::size_t>& r) {
+                              detail::RowLists& lists = scratch_->task_row_lists.local();
                               for (std::size_t c = r.begin(); c != r.end(); ++c) {
                                   for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i)
-                                      map_dx(chains.mappings_of[i]);
+                                      map_dx(chains.mappings_of[i], lists);
                                   for (std::size_t i = chains.mapping_first[c]; i < chains.mapping_first[c + 1]; ++i)
                                       zero_mapped_df(chains.mappings_of[i]);
                               }
@@ -286,7 +287,7 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
     const std::size_t ahead = prefetch::kObjectsAhead;
     for (std::size_t j = 0; j < maps.size(); ++j) {
         if (j + ahead < maps.size()) prefetch::first_word(layout_->dx_readers[maps[j + ahead]].mapping);
-        map_dx(maps[j]);
+        map_dx(maps[j], scratch_->row_lists);
     }
     for (std::size_t j = 0; j < maps.size(); ++j) {
         if (j + ahead < maps.size()) prefetch::first_word(layout_->mapped[maps[j + ahead]]);
@@ -298,7 +299,6 @@ void SubtreeSystem::apply_mbk_to_states(double m, double b, double k) const {
         if (i + ahead < steps.size()) prefetch::first_word(step_object(steps[i + ahead]));
         apply_step(steps[i], m, b, k, fused);
     }
-    if (scratch_->readers_fixed) scratch_->rows_known = true;
 }
 
 void SubtreeSystem::zero_mapped_df(std::size_t index) const {

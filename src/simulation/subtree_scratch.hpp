@@ -6,6 +6,8 @@
 
 #include "blocked_reductions.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -19,16 +21,20 @@ struct DxRows {
     bool found = false;  ///< `restricted` and `rows` found under the current FixedReaders
 };
 
+/// The row lists of list_rows_read and find_read_rows.
+struct RowLists {
+    std::vector<std::uint32_t> listed;  ///< the rows the readers list
+    std::vector<std::uint8_t> read;     ///< one flag per DOF
+};
+
 struct SubtreeScratch {
     std::vector<DxRows> dx_rows;
-    std::vector<std::uint8_t> dx_read;       ///< find_read_rows' scratch: one flag per DOF
-    std::vector<std::uint32_t> listed_rows;  ///< list_rows_read's scratch
-    bool external_work_zeroed = false;       ///< the external states' dx and df zeroed since the last compute_force
-    bool readers_fixed = false;              ///< a FixedReaders lives
-    /// Every mapped state's read rows found under the current FixedReaders (its first product
-    /// ran): the products after it may run in chains on several threads.
-    bool rows_known = false;
-    std::size_t concurrent_products = 0;           ///< products whose chains ran on TBB's threads
+    RowLists row_lists;  ///< the calling thread's
+    /// Each TBB thread's, for the products that find their rows in chains.
+    tbb::enumerable_thread_specific<RowLists> task_row_lists;
+    bool external_work_zeroed = false;    ///< the external states' dx and df zeroed since the last compute_force
+    bool readers_fixed = false;           ///< a FixedReaders lives
+    std::size_t concurrent_products = 0;  ///< products whose chains ran on TBB's threads
     std::size_t concurrent_force_evaluations = 0;  ///< compute_force calls likewise
     std::size_t concurrent_state_passes = 0;       ///< vector passes state by state on TBB's threads
     /// Each independent state's part of a dot product, summed in order after a concurrent pass

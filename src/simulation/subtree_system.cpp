@@ -25,7 +25,7 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         if (!r.selective) continue;
         // find_read_rows' scratch at its largest: no allocation in a product
         const std::size_t dofs = r.mapping->to()->num_dofs();
-        scratch_->dx_read.reserve(std::max(scratch_->dx_read.capacity(), dofs));
+        scratch_->row_lists.read.reserve(std::max(scratch_->row_lists.read.capacity(), dofs));
         scratch_->dx_rows[i].rows.reserve(dofs);
     }
     fused_->find(*layout_, fuse_contact_products);
@@ -99,8 +99,8 @@ Index SubtreeSystem::offset(const BaseState* s) const {
 }
 
 bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<const BaseForceField*>& force_fields,
-                                   const std::vector<const BaseMapping*>& mappings) const {
-    std::vector<std::uint32_t>& listed = scratch_->listed_rows;
+                                   const std::vector<const BaseMapping*>& mappings,
+                                   std::vector<std::uint32_t>& listed) const {
     listed.clear();
     for (const BaseForceField* ff : force_fields)
         if (!ff->list_dx_read(state, listed)) return false;
@@ -114,9 +114,9 @@ bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<con
 void SubtreeSystem::clear_external_scratch(bool forces) const {
     for (std::size_t i = 0; i < layout_->external.size(); ++i) {
         BaseState& s = *layout_->external[i];
-        const bool listed =
-            s.is_static() && s.num_dofs() >= kMinDofsForScratchRows &&
-            list_rows_read(s, layout_->external_readers[i].force_fields, layout_->external_readers[i].mappings);
+        const bool listed = s.is_static() && s.num_dofs() >= kMinDofsForScratchRows &&
+                            list_rows_read(s, layout_->external_readers[i].force_fields,
+                                           layout_->external_readers[i].mappings, scratch_->row_lists.listed);
         BaseState::ScratchRows& record = forces ? s.static_force_rows : s.static_work_rows;
         const auto width = static_cast<Eigen::Index>(s.deriv_size());
         const auto clear = [&](FlatVector v) {
@@ -137,11 +137,11 @@ void SubtreeSystem::clear_external_scratch(bool forces) const {
         if (!s.is_static()) continue;
         record.known = listed;
         record.dofs = s.num_dofs();
-        if (listed) record.rows.swap(scratch_->listed_rows);
+        if (listed) record.rows.swap(scratch_->row_lists.listed);
     }
 }
 
-void SubtreeSystem::find_read_rows(std::size_t index) const {
+void SubtreeSystem::find_read_rows(std::size_t index, detail::RowLists& lists) const {
     const detail::DxReaders& r = layout_->dx_readers[index];
     detail::DxRows& out = scratch_->dx_rows[index];
     out.restricted = false;
@@ -149,18 +149,18 @@ void SubtreeSystem::find_read_rows(std::size_t index) const {
     if (!r.selective) return;
     const BaseState& state = *r.mapping->to();
     const std::size_t dofs = state.num_dofs();
-    if (!list_rows_read(state, r.force_fields, r.mappings)) return;
-    scratch_->dx_read.assign(dofs, 0);
-    for (const std::uint32_t row : scratch_->listed_rows) scratch_->dx_read[row] = 1;
+    if (!list_rows_read(state, r.force_fields, r.mappings, lists.listed)) return;
+    lists.read.assign(dofs, 0);
+    for (const std::uint32_t row : lists.listed) lists.read[row] = 1;
     out.rows.clear();
     for (std::size_t i = 0; i < dofs; ++i)
-        if (scratch_->dx_read[i] != 0) out.rows.push_back(static_cast<std::uint32_t>(i));
+        if (lists.read[i] != 0) out.rows.push_back(static_cast<std::uint32_t>(i));
     out.restricted = out.rows.size() != dofs;
 }
 
-void SubtreeSystem::map_dx(std::size_t index) const {
+void SubtreeSystem::map_dx(std::size_t index, detail::RowLists& lists) const {
     const detail::DxRows& rows = scratch_->dx_rows[index];
-    if (!(scratch_->readers_fixed && rows.found)) find_read_rows(index);
+    if (!(scratch_->readers_fixed && rows.found)) find_read_rows(index, lists);
     BaseMapping& mapping = *layout_->dx_readers[index].mapping;
     if (rows.restricted) mapping.apply_dx_rows(rows.rows);
     else mapping.apply_dx();
@@ -170,13 +170,11 @@ SubtreeSystem::FixedReaders::FixedReaders(const SubtreeSystem& system) : system_
     PENALTY_DEMAND(!system_.scratch_->readers_fixed);
     for (detail::DxRows& r : system_.scratch_->dx_rows) r.found = false;
     system_.scratch_->readers_fixed = true;
-    system_.scratch_->rows_known = false;
     system_.fused_->invalidate();
 }
 
 SubtreeSystem::FixedReaders::~FixedReaders() {
     system_.scratch_->readers_fixed = false;
-    system_.scratch_->rows_known = false;
     for (detail::DxRows& r : system_.scratch_->dx_rows) r.found = false;
 }
 

@@ -1,7 +1,8 @@
 // SubtreeSystem's products in chains on TBB's threads (src/simulation/step_chains.hpp): a pile of
 // 125 FEM cubes in a bowl under one solver has about 300 force steps a product (more than
 // SubtreeSystem::kMinStepsForConcurrentProducts) in 125 chains of disjoint written states, so
-// under a FixedReaders the products after the first run concurrently. Every result must be the bits of the same product
+// under a FixedReaders its products run concurrently (the first one finding each mapped state's
+// read rows in its chain). Every result must be the bits of the same product
 // on one thread, and a whole run the same state files at 1, 2 and 8 threads.
 #include "penalty/io/scene_file.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
@@ -67,20 +68,31 @@ TEST(ConcurrentProducts, ProductsInChainsAreTheBitsOfOneThread) {
         Eigen::VectorXd dx(system.size());
         for (Eigen::Index i = 0; i < dx.size(); ++i) dx[i] = unit(rng);
         const double m = 1.02, b = -0.01, k = -1.01e-4;  // an implicit-Euler operator
-        Eigen::VectorXd one, many;
-        const SubtreeSystem::FixedReaders fixed(system);
-        tbb::task_arena(1).execute([&] {
-            Eigen::VectorXd first;
-            system.apply_mbk(dx, first, m, b, k, true);  // finds the read rows
-            system.apply_mbk(dx, one, m, b, k, true);
-        });
-        const std::size_t before = system.concurrent_products();
-        tbb::task_arena(4).execute([&] { system.apply_mbk(dx, many, m, b, k, true); });
-        EXPECT_EQ(system.concurrent_products(), before + 1) << "the product did not run in chains";
+        Eigen::VectorXd one, many, first_many;
+        {
+            const SubtreeSystem::FixedReaders fixed(system);
+            tbb::task_arena(1).execute([&] {
+                Eigen::VectorXd first;
+                system.apply_mbk(dx, first, m, b, k, true);  // finds the read rows
+                system.apply_mbk(dx, one, m, b, k, true);
+            });
+            const std::size_t before = system.concurrent_products();
+            tbb::task_arena(4).execute([&] { system.apply_mbk(dx, many, m, b, k, true); });
+            EXPECT_EQ(system.concurrent_products(), before + 1) << "the product did not run in chains";
+        }
+        {
+            // a new solve's first product finds the read rows in its chains, each with its
+            // thread's row lists
+            const SubtreeSystem::FixedReaders fixed(system);
+            const std::size_t before = system.concurrent_products();
+            tbb::task_arena(4).execute([&] { system.apply_mbk(dx, first_many, m, b, k, true); });
+            EXPECT_EQ(system.concurrent_products(), before + 1) << "the first product did not run in chains";
+        }
         ASSERT_EQ(one.size(), many.size());
+        ASSERT_EQ(one.size(), first_many.size());
         for (Eigen::Index i = 0; i < one.size(); ++i) {
-            ++compared;
-            differing += test::same_bits(one[i], many[i]) ? 0 : 1;
+            compared += 2;
+            differing += (test::same_bits(one[i], many[i]) ? 0 : 1) + (test::same_bits(one[i], first_many[i]) ? 0 : 1);
         }
     }
     EXPECT_EQ(differing, 0) << "of " << compared;

@@ -28,6 +28,7 @@ struct StepChains;
 struct SubtreeLayout;
 struct SubtreeScratch;
 struct DxReaders;
+struct RowLists;
 class FusedContactBlock;
 }  // namespace detail
 
@@ -181,16 +182,15 @@ private:
     /// may have written those); the rows read now become the record. The same values as whole
     /// vectors zeroed.
     void clear_external_scratch(bool forces) const;
-    /// Lists into the scratch's listed_rows the DOFs of `state` that the force fields and
-    /// mappings read (BaseForceField::list_dx_read, BaseMapping::list_inputs_read); false when
-    /// one cannot tell.
+    /// Lists into `listed` the DOFs of `state` that the force fields and mappings read
+    /// (BaseForceField::list_dx_read, BaseMapping::list_inputs_read); false when one cannot tell.
     bool list_rows_read(const BaseState& state, const std::vector<const BaseForceField*>& force_fields,
-                        const std::vector<const BaseMapping*>& mappings) const;
+                        const std::vector<const BaseMapping*>& mappings, std::vector<std::uint32_t>& listed) const;
     /// The rows mapping `index` maps in this product (the scratch's dx_rows[index]): those its
-    /// readers read, when they can all tell.
-    void find_read_rows(std::size_t index) const;
+    /// readers read, when they can all tell; `lists` is the calling thread's scratch.
+    void find_read_rows(std::size_t index, detail::RowLists& lists) const;
     /// to.dx = J from.dx for mapping `index`, only the rows its readers read when they can tell.
-    void map_dx(std::size_t index) const;
+    void map_dx(std::size_t index, detail::RowLists& lists) const;
     /// Zeroes the df of mapping `index`'s output (the rows its readers read, when known).
     void zero_mapped_df(std::size_t index) const;
     /// One force step of a product: a mass's m·M·dx, a field's k·K·dx + b·B·dx, a mapping's Jᵀ,
