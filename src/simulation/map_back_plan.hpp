@@ -31,6 +31,8 @@ class MapBackPlan {
 public:
     /// Rebuilds the plan when the graph's structure changed since the last build.
     void update(Node& root);
+    /// Whether the plan is that of the graph's structure now.
+    [[nodiscard]] bool current(const Node& root) const { return version_ == root.structure_version(); }
     /// Every step; the waves' steps as tasks where worth it (concurrent: the calling arena has
     /// two threads or more). An exception is the one the depth-first pass raises first.
     void run(bool concurrent) const;

@@ -83,6 +83,9 @@ public:
     /// those of the runs of at least kMinExplicitFieldsPerConcurrentRun fields whose states do not
     /// meet (run_action of each writes only its own states: the same bits).
     [[nodiscard]] std::size_t concurrent_explicit_fields();
+    /// Steps so far whose map-back plan was built on a TBB thread beside the solve plan (the
+    /// graph's structure had changed and the step has several threads).
+    [[nodiscard]] std::size_t concurrent_map_back_builds() const { return concurrent_map_back_builds_; }
     /// Registers a contact stage (at most once): step() runs the stages' detect() then their
     /// respond(), each in registration order. The stage unregisters itself before it dies.
     void add_contact_stage(ContactStage& stage);
@@ -157,6 +160,7 @@ private:
     int threads_ = 0;
     std::unique_ptr<ThreadArena> arena_;  ///< made at the first concurrent solve
     std::vector<SolveAction> plan_;
+    std::size_t concurrent_map_back_builds_ = 0;
     PointerIndex<BaseState> explicit_run_states_;          ///< find_explicit_run's scratch
     std::vector<const BaseState*> explicit_field_states_;  ///< find_explicit_run's scratch
     /// The states whose external force a step applies, cleared after each step (found with the
