@@ -8,6 +8,7 @@
 #include <tbb/global_control.h>
 #include <tbb/task_group.h>
 
+#include <optional>
 #include <stdexcept>
 
 namespace penalty {
@@ -81,20 +82,24 @@ void Simulation::solve_in_arena(double dt) {
                             tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism) > 1 &&
                             (arena_ ? arena_->arena.max_concurrency() : tbb::this_task_arena::max_concurrency()) > 1;
     // When the graph's structure changed, map_back's plan (which reads the structure only) is
-    // built on a TBB thread while this one builds the solve plan and the solvers' systems.
-    tbb::task_group map_back_build;
-    if (concurrent && arena_ && !arena_->map_back_plan.current(root_)) {
+    // built on a TBB thread while this one builds the solve plan and the solvers' systems, if
+    // the last plan had waves worth tasks (a pile's contact points: a small scene's task would
+    // cost more than its build).
+    std::optional<tbb::task_group> map_back_build;
+    if (concurrent && arena_ && !arena_->map_back_plan.current(root_) &&
+        arena_->map_back_plan.steps() >= detail::kMinStepsForConcurrentMapBack) {
         ++concurrent_map_back_builds_;
-        map_back_build.run([this] { arena_->map_back_plan.update(root_); });
+        map_back_build.emplace();
+        map_back_build->run([this] { arena_->map_back_plan.update(root_); });
     }
     const std::vector<SolveAction>* planned = nullptr;
     try {
         planned = &solve_plan();
     } catch (...) {
-        map_back_build.wait();
+        if (map_back_build) map_back_build->wait();
         throw;
     }
-    map_back_build.wait();
+    if (map_back_build) map_back_build->wait();
     const std::vector<SolveAction>& plan = *planned;
     for (std::size_t i = 0; i < plan.size(); i = plan[i].run_end) {
         if (concurrent && run_concurrently(plan, i)) {

@@ -160,8 +160,9 @@ TEST(StablePairMap, SameOrderAndIdsAsSofasCallsWithThousandsOfPointers) {
 // end(), endNarrowPhase) and CollisionResponse's removeInactiveContacts (contains on the outputs
 // map, erase in order) as SOFA calls them on std::maps, against refill_at_end and erase_if: the
 // same ids and order at every step. Steps of zero, one and a few pairs make and meet lone keys
-// (inserted into an empty map, without ids); the pairs are drawn from 20 objects of a window that
-// moves over 1 000, so new pointers keep coming and meet lone keys.
+// (inserted into an empty map, without ids), steps of 64 pairs or more the radix sort's path; the
+// pairs are drawn from 20 objects of a window that moves over 1 000, so new pointers keep coming
+// and meet lone keys.
 TEST(StablePairMap, RefillAndEraseIfGiveTheIdsAndOrderOfSofasCallsOneByOne) {
     constexpr int kCount = 1000;
     std::vector<Obj> objs(kCount, Obj{0});
@@ -171,11 +172,13 @@ TEST(StablePairMap, RefillAndEraseIfGiveTheIdsAndOrderOfSofasCallsOneByOne) {
     std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref_outputs(SofaLess{&ref_output_ids});
     std::map<std::pair<const Obj*, const Obj*>, int, SofaLess> ref_contacts(SofaLess{&ref_contact_ids});
     Map outputs, contacts;
-    int lone_steps = 0, new_lone_keys = 0, removed = 0;
+    int lone_steps = 0, new_lone_keys = 0, removed = 0, large_steps = 0;
     for (int step = 0; step < 3000; ++step) {
         // this step's detections: (pair, has outputs), with repeated pairs now and then
         std::vector<std::pair<std::pair<const Obj*, const Obj*>, int>> inserts;
-        const unsigned n = rng() % 4 == 0 ? rng() % 2 : rng() % 12;
+        // mostly a few pairs (sorted by insertion), now and then 64 to 127 (a radix sort)
+        const unsigned n = rng() % 4 == 0 ? rng() % 2 : rng() % 8 == 0 ? 64 + rng() % 64 : rng() % 12;
+        large_steps += n >= 64 ? 1 : 0;
         const auto pick = [&] { return &objs[(unsigned(step) / 3 + rng() % 20) % kCount]; };
         for (unsigned i = 0; i < n; ++i) {
             const Obj* p = pick();
@@ -219,6 +222,7 @@ TEST(StablePairMap, RefillAndEraseIfGiveTheIdsAndOrderOfSofasCallsOneByOne) {
     }
     EXPECT_GT(lone_steps, 50);     // keys inserted into an empty map
     EXPECT_GT(new_lone_keys, 10);  // with a pointer that had no id yet
+    EXPECT_GT(large_steps, 200);   // steps of 64 pairs or more, repeated pairs among them
     EXPECT_GT(removed, 1000);      // and contacts removed
 }
 

@@ -158,10 +158,17 @@ public:
             k.second_id = id_of(k.second);
             entries_.emplace_back(k, value);
         }
-        const int id_bits = std::max(1, int(std::bit_width(ids_.size())));
-        stable_radix_sort(entries_, swap_, counts_, [id_bits](const value_type& e) {
-            return (std::uint64_t(e.first.first_id) << id_bits) | e.first.second_id;
-        });
+        if (entries_.size() < kMinEntriesForRadixSort) {
+            // an insertion sort: stable, and without the radix sort's counters to clear
+            for (std::size_t i = 1; i < entries_.size(); ++i)
+                for (std::size_t j = i; j > 0 && entries_[j].first.order() < entries_[j - 1].first.order(); --j)
+                    std::swap(entries_[j], entries_[j - 1]);
+        } else {
+            const int id_bits = std::max(1, int(std::bit_width(ids_.size())));
+            stable_radix_sort(entries_, swap_, counts_, [id_bits](const value_type& e) {
+                return (std::uint64_t(e.first.first_id) << id_bits) | e.first.second_id;
+            });
+        }
         std::size_t kept = 0;
         for (std::size_t i = 0; i < entries_.size(); ++i) {
             const bool last_of_key =
@@ -193,6 +200,9 @@ public:
     }
 
 private:
+    /// refill_at_end sorts fewer entries by insertion (a few model pairs: a radix pass clears
+    /// 2 048 counters).
+    static constexpr std::size_t kMinEntriesForRadixSort = 64;
     /// helper::ptr_stable_id: the id of a pointer, given at its first request, 0, 1, 2 … (a null
     /// pointer too).
     unsigned id_of(const T* p) { return static_cast<unsigned>(ids_.emplace(p, ids_.size()).first); }
