@@ -35,6 +35,29 @@ inline double state_dot(const double* a, const double* b, Eigen::Index begin, Ei
     return sum;
 }
 
+/// One state's part of SubtreeSystem::update_and_residual over the scalars [begin, end) of DOFs
+/// `width` wide: x_j += α·p_j, r_j −= α·q_j (Eigen's x_j + (α·p_j), r_j − (α·q_j)), then the
+/// state's r·r as state_dot sums it (a Vec3 DOF's sum right after its update).
+inline double update_state(double alpha, const double* p, const double* q, double* x, double* r, Eigen::Index begin,
+                           Eigen::Index end, Eigen::Index width) {
+    if (width == 3) {
+        double sum = 0.0;
+        for (Eigen::Index j = begin; j < end; j += 3) {
+            for (Eigen::Index c = j; c < j + 3; ++c) {
+                x[c] += alpha * p[c];
+                r[c] -= alpha * q[c];
+            }
+            sum += (r[j] * r[j] + r[j + 1] * r[j + 1]) + r[j + 2] * r[j + 2];
+        }
+        return sum;
+    }
+    for (Eigen::Index j = begin; j < end; ++j) {
+        x[j] += alpha * p[j];
+        r[j] -= alpha * q[j];
+    }
+    return state_dot(r, r, begin, end, width);
+}
+
 /// p_j = r_j (first) or r_j + β·p_j, into p and dx, for j < n: three vectors apart (segments
 /// of distinct vectors), so the compiler may run the lanes together; each value gets the same
 /// operations as in the loop over j alone.

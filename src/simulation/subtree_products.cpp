@@ -61,10 +61,10 @@ double SubtreeSystem::dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) co
     if (blocked_reductions_)
         return detail::blocked_dot(scratch_->reduction_blocks, a.data(), b.data(), scratch_->block_sums);
     std::vector<double>& sums = scratch_->state_sums;
-    for_each_state(*layout_, *scratch_, [&](std::size_t s) {
-        const Eigen::Index begin = layout_->offsets[s];
-        const Eigen::Index end = begin + layout_->sizes[s];
-        sums[s] = state_dot(a.data(), b.data(), begin, end, layout_->widths[s]);
+    const detail::SubtreeLayout& l = *layout_;
+    for_each_state(l, *scratch_, [&sums, &l, a_data = a.data(), b_data = b.data()](std::size_t s) {
+        const Eigen::Index begin = l.offsets[s];
+        sums[s] = state_dot(a_data, b_data, begin, begin + l.sizes[s], l.widths[s]);
     });
     return sum_in_order(sums);
 }
@@ -162,12 +162,13 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
                                         Eigen::VectorXd& q, double m, double b, double k) const {
     PENALTY_DEMAND(r.size() == layout_->size && p.size() == layout_->size && &r != &p);
     // p = r or r + β·p (Eigen's p = r + β·p: each r_j + (β·p_j)), into p and the state's dx
-    for_each_state(*layout_, *scratch_, [&](std::size_t i) {
-        const auto n = layout_->sizes[i];
-        const double* rs = r.data() + layout_->offsets[i];
-        double* ps = p.data() + layout_->offsets[i];
-        direction(first, beta, rs, ps, layout_->independent[i]->dx_flat().data(), n);
-        layout_->independent[i]->df_flat().setZero();
+    const detail::SubtreeLayout& l = *layout_;
+    const double* r_data = r.data();
+    double* p_data = p.data();
+    for_each_state(l, *scratch_, [&l, r_data, p_data, first, beta](std::size_t i) {
+        const Eigen::Index begin = l.offsets[i];
+        direction(first, beta, r_data + begin, p_data + begin, l.independent[i]->dx_flat().data(), l.sizes[i]);
+        l.independent[i]->df_flat().setZero();
     });
     apply_mbk_to_states(m, b, k);
     q.resize(layout_->size);
@@ -184,11 +185,13 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
     }
     // dot(p, q), each state's sum as its part of q is copied
     std::vector<double>& sums = scratch_->state_sums;
-    for_each_state(*layout_, *scratch_, [&](std::size_t i) {
-        const auto n = layout_->sizes[i];
-        const Eigen::Index begin = layout_->offsets[i];
-        q.segment(begin, n) = layout_->independent[i]->df_flat();
-        sums[i] = state_dot(p.data(), q.data(), begin, begin + n, layout_->widths[i]);
+    double* q_data = q.data();
+    for_each_state(l, *scratch_, [&sums, &l, p_data, q_data](std::size_t i) {
+        const Eigen::Index begin = l.offsets[i];
+        const Eigen::Index n = l.sizes[i];
+        const double* df = l.independent[i]->df_flat().data();
+        std::copy(df, df + n, q_data + begin);
+        sums[i] = state_dot(p_data, q_data, begin, begin + n, l.widths[i]);
     });
     return sum_in_order(sums);
 }
@@ -206,28 +209,10 @@ double SubtreeSystem::update_and_residual(double alpha, const Eigen::VectorXd& p
                                                    scratch_->block_sums);
     // dot(r, r), each state's sum over its DOFs as they are updated
     std::vector<double>& sums = scratch_->state_sums;
-    for_each_state(*layout_, *scratch_, [&](std::size_t i) {
-        const Eigen::Index begin = layout_->offsets[i];
-        const Eigen::Index end = begin + layout_->sizes[i];
-        const auto width = layout_->widths[i];
-        // x += α·p, r −= α·q (Eigen's: x_j + (α·p_j), r_j − (α·q_j)), then the DOF's r·r
-        if (width == 3) {
-            double sum = 0.0;
-            for (Eigen::Index j = begin; j < end; j += 3) {
-                for (Eigen::Index c = j; c < j + 3; ++c) {
-                    xs[c] += alpha * ps[c];
-                    rs[c] -= alpha * qs[c];
-                }
-                sum += (rs[j] * rs[j] + rs[j + 1] * rs[j + 1]) + rs[j + 2] * rs[j + 2];
-            }
-            sums[i] = sum;
-            return;
-        }
-        for (Eigen::Index j = begin; j < end; ++j) {
-            xs[j] += alpha * ps[j];
-            rs[j] -= alpha * qs[j];
-        }
-        sums[i] = state_dot(rs, rs, begin, end, width);
+    const detail::SubtreeLayout& l = *layout_;
+    for_each_state(l, *scratch_, [&sums, &l, alpha, ps, qs, xs, rs](std::size_t i) {
+        const Eigen::Index begin = l.offsets[i];
+        sums[i] = detail::update_state(alpha, ps, qs, xs, rs, begin, begin + l.sizes[i], l.widths[i]);
     });
     return sum_in_order(sums);
 }
