@@ -99,6 +99,19 @@ private:
     std::chrono::milliseconds delay_;
 };
 
+/// `steps` steps of `sim` at `threads` threads; then the positions and velocities of `states`.
+std::vector<Vec3> run_states(Simulation& sim, const std::vector<Vec3Object*>& states, int threads, int steps) {
+    sim.set_threads(threads);
+    sim.init();
+    for (int s = 0; s < steps; ++s) sim.step();
+    std::vector<Vec3> out;
+    for (const Vec3Object* x : states) {
+        out.insert(out.end(), x->position.begin(), x->position.end());
+        out.insert(out.end(), x->velocity.begin(), x->velocity.end());
+    }
+    return out;
+}
+
 /// One chain per entry of `points` (its number of points) of masses under gravity, each in its own node with its own
 /// implicit solver: neighbours joined by springs (ks 500, rest 1), point 0 hanging from a static
 /// anchor by a spring when `anchored` (one anchor state per body, or one for all when
@@ -144,17 +157,7 @@ struct Chains {
         for (std::size_t b = 0; b < nodes.size(); ++b) nodes[b]->add_force_field<RendezvousField>(*states[b], r);
     }
 
-    std::vector<Vec3> run(int threads, int steps) {
-        sim.set_threads(threads);
-        sim.init();
-        for (int s = 0; s < steps; ++s) sim.step();
-        std::vector<Vec3> out;
-        for (const Vec3Object* x : states) {
-            out.insert(out.end(), x->position.begin(), x->position.end());
-            out.insert(out.end(), x->velocity.begin(), x->velocity.end());
-        }
-        return out;
-    }
+    std::vector<Vec3> run(int threads, int steps) { return run_states(sim, states, threads, steps); }
 };
 
 void expect_same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
@@ -302,17 +305,7 @@ struct ExplicitPairs {
         sim.root().add_force_field<RendezvousPairField>(*states[extra + 2], *states[extra + 3], r);
     }
 
-    std::vector<Vec3> run(int threads, int steps) {
-        sim.set_threads(threads);
-        sim.init();
-        for (int s = 0; s < steps; ++s) sim.step();
-        std::vector<Vec3> out;
-        for (const Vec3Object* x : states) {
-            out.insert(out.end(), x->position.begin(), x->position.end());
-            out.insert(out.end(), x->velocity.begin(), x->velocity.end());
-        }
-        return out;
-    }
+    std::vector<Vec3> run(int threads, int steps) { return run_states(sim, states, threads, steps); }
 };
 
 TEST_F(ConcurrentSolvers, ExplicitFieldsOnDisjointStatesMeetAndGiveTheBitsOfOneThread) {
