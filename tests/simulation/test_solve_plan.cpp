@@ -310,6 +310,7 @@ struct ExplicitPairs {
 
 TEST_F(ConcurrentSolvers, ExplicitFieldsOnDisjointStatesMeetAndGiveTheBitsOfOneThread) {
     constexpr int kPairs = 80;  // 82 explicit fields, above kMinExplicitFieldsPerConcurrentRun
+    static_assert(kPairs + 2 >= Simulation::kMinExplicitFieldsPerConcurrentRun);
     Rendezvous in_order(200ms);
     ExplicitPairs one(kPairs, false, in_order);
     const std::vector<Vec3> sequential = one.run(1, 20);

@@ -83,6 +83,9 @@ public:
     /// those of the runs of at least kMinExplicitFieldsPerConcurrentRun fields whose states do not
     /// meet (run_action of each writes only its own states: the same bits).
     [[nodiscard]] std::size_t concurrent_explicit_fields();
+    /// Fewest explicit force fields in a run for tasks, and the fields a task takes.
+    static constexpr std::size_t kMinExplicitFieldsPerConcurrentRun = 64;
+    static constexpr std::size_t kExplicitFieldsPerTask = 16;
     /// Steps so far whose map-back plan was built on a TBB thread beside the solve plan (the
     /// graph's structure had changed and the step has several threads).
     [[nodiscard]] std::size_t concurrent_map_back_builds() const { return concurrent_map_back_builds_; }
@@ -151,8 +154,6 @@ private:
     /// The same for an explicit force field: the explicit fields from it whose states (and read
     /// states) do not meet, worth tasks from kMinExplicitFieldsPerConcurrentRun fields.
     void find_explicit_run(std::size_t begin);
-    static constexpr std::size_t kMinExplicitFieldsPerConcurrentRun = 64;
-    static constexpr std::size_t kExplicitFieldsPerTask = 16;
     /// plan[begin, end): solver actions whose touched states do not meet, concurrently.
     void solve_concurrently(const std::vector<SolveAction>& plan, std::size_t begin, std::size_t end, double dt);
     struct ThreadArena;
