@@ -13,13 +13,16 @@
 #       same PACK: both run on the same machine in one call.
 #   bench/scaling-table.sh run PACK [THREADS...]        (default threads: 1 2 4 8 16)
 #       on the machine measured: each build × scene × thread count, one `penalty run` each, its
-#       states exported at the last step; prints one markdown row per build and scene: seconds at
-#       each thread count, the best speed-up over one thread, and "same bits" when every thread
+#       states exported at the last step; prints one markdown row per build and scene: the steps'
+#       wall seconds at each thread count (the whole run's, loading included, in parentheses), the
+#       best speed-up of the steps over one thread, and "same bits" when every thread
 #       count's state files equal one thread's (DIFFERENT, naming the thread counts, otherwise).
 #
-# Steps (the issue's): bowl 200, MeshSpringForceField 300, collisionMultiple 300, soft body 20
-# (SCALING_SOFT_BODY_STEPS overrides; ~1 s a step on one core of the development machine).
-# SCALING_SCENES="bowl_k8 mesh_spring ..." runs a subset. Exit 0, 1 when states differ, 2 usage.
+# Steps (the issue's): bowl 200, MeshSpringForceField 300, collisionMultiple 300, soft body 40
+# (SCALING_SOFT_BODY_STEPS overrides; ~0.3 s a step on one core of the development machine), the soft
+# body again with --reduction blocked (soft_body_100k_blocked).
+# SCALING_SCENES="bowl_k8 mesh_spring ..." runs a subset; SCALING_KEEP_LOGS=DIR keeps each run's
+# summary (its phases' times a step) as DIR/LABEL_SCENE_THREADS.log. Exit 0, 1 when states differ, 2 usage.
 set -euo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -31,11 +34,16 @@ usage() {
 }
 [[ -n "$pack" && ("$mode" == pack || "$mode" == run) ]] || usage
 
-scene_names=(bowl_k8 mesh_spring collision_multiple soft_body_100k)
+scene_names=(bowl_k8 mesh_spring collision_multiple soft_body_100k soft_body_100k_blocked)
 declare -A scene_file=([bowl_k8]=cubes_in_bowl_k8.scn [mesh_spring]=MeshSpringForceField.scn
-    [collision_multiple]=collisionMultiple.scn [soft_body_100k]=soft_body_on_organ_n64.scn)
+    [collision_multiple]=collisionMultiple.scn [soft_body_100k]=soft_body_on_organ_n64.scn
+    [soft_body_100k_blocked]=soft_body_on_organ_n64.scn)
 declare -A scene_steps=([bowl_k8]=200 [mesh_spring]=300 [collision_multiple]=300
-    [soft_body_100k]="${SCALING_SOFT_BODY_STEPS:-20}")
+    [soft_body_100k]="${SCALING_SOFT_BODY_STEPS:-40}"
+    [soft_body_100k_blocked]="${SCALING_SOFT_BODY_STEPS:-40}")
+# options beyond the scene's: the soft body's one state again with the CG's dot products in blocks
+# (--reduction blocked; a build without the option prints "no --reduction" for that row)
+declare -A scene_options=([soft_body_100k_blocked]="--reduction blocked")
 
 copy_libraries() {  # binary, destination folder: what ldd resolves, less glibc and the loader
     local binary="$1" dest="$2" lib
@@ -55,7 +63,7 @@ write_scenes() {  # build folder, destination folder
     PENALTY_SCALING_SCENES="$dest" PENALTY_SCALING_SCENES_ONLY=1 \
         "$build/bench/penalty_bench_scaling" --benchmark_filter='k:8/' >/dev/null
     PENALTY_SCALING_SCENES="$dest" PENALTY_SCALING_SCENES_ONLY=1 \
-        "$build/bench/penalty_bench_large_scenes" --benchmark_filter='n:64$' >/dev/null
+        "$build/bench/penalty_bench_large_scenes" --benchmark_filter='n:64/' >/dev/null
     local scene mesh
     for scene in MeshSpringForceField collisionMultiple; do
         [[ -f "$shared/scenes/$scene.scn" ]] || { echo "$0: no $shared/scenes/$scene.scn" >&2; exit 1; }
@@ -99,7 +107,13 @@ for build in "$pack"/builds/*/; do
     for name in "${selected[@]}"; do
         scene="$pack/scenes/${scene_file[$name]}"
         steps="${scene_steps[$name]}"
+        read -r -a options <<<"${scene_options[$name]:-}"
         row="| $label | $name | $steps |"
+        if [[ ${#options[@]} -gt 0 ]] && ! LD_LIBRARY_PATH="$build/lib" "$build/bin/penalty" run --help |
+            grep -q -- "${options[0]}"; then
+            echo "$row no ${options[0]} |"
+            continue
+        fi
         one=""
         best=""
         differing=()
@@ -109,6 +123,7 @@ for build in "$pack"/builds/*/; do
             start="$(date +%s.%N)"
             if ! LD_LIBRARY_PATH="$build/lib" "$build/bin/penalty" run "$scene" --data-dir "$pack/scenes" \
                 --steps "$steps" --threads "$t" --quiet --export-states "$out" --export-every "$steps" \
+                ${options[@]+"${options[@]}"} \
                 >"$out.log" 2>&1; then
                 row+=" failed |"
                 echo "$label $name --threads $t failed:" >&2
@@ -116,8 +131,14 @@ for build in "$pack"/builds/*/; do
                 status=1
                 continue
             fi
-            seconds="$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')"
-            row+=" $(printf '%.2f' "$seconds") s |"
+            whole="$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')"
+            # the steps' wall time from penalty's summary ("steps: N ... in S s wall"), without the
+            # scene's loading, which is serial (~1 s for the soft body's 9 MB scene)
+            [[ -z "${SCALING_KEEP_LOGS:-}" ]] ||
+                { mkdir -p "$SCALING_KEEP_LOGS" && cp "$out.log" "$SCALING_KEEP_LOGS/${label}_${name}_$t.log"; }
+            seconds="$(sed -n 's/^steps: .* in \([0-9.]*\) s wall.*/\1/p' "$out.log")"
+            [[ -n "$seconds" ]] || seconds="$whole"
+            row+=" $(printf '%.2f' "$seconds") s ($(printf '%.2f' "$whole")) |"
             if [[ "$t" == 1 ]]; then
                 one="$seconds"
             else
