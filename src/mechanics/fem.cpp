@@ -16,6 +16,8 @@
 #include <type_traits>
 #include <variant>
 
+#include <tbb/task_arena.h>
+
 namespace penalty {
 
 Eigen::Matrix<double, 6, 6> isotropic_elasticity(double e, double nu) {
@@ -255,6 +257,7 @@ void TetrahedronFEMForceField::init() { init_elements(0); }
 void TetrahedronFEMForceField::init_elements(std::size_t first) {
     LinearElementForceField<4>::init_from(first);
     init_large(first);
+    product_scatter_.clear();  // made again at the next concurrent product
     if (method_ != FemMethod::Svd) return;
     // TetrahedronFEMForceField::initSVD: A₀⁻¹ and R₀ = polar(A₀) of the rest edges
     const auto& x0 = state_->rest_position;
@@ -417,33 +420,52 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         add_force_plastic(f, x);
         return;
     }
+    if (product_chunks(tbb::this_task_arena::max_concurrency()) > 1) {
+        concurrent_large_force(f, x);  // (tetrahedron_fem_concurrent.cpp)
+        return;
+    }
+    energy_ = large_force(0, elements_.size(), f, x, {}, nullptr);
+}
+
+double TetrahedronFEMForceField::large_force(std::size_t first, std::size_t end, std::span<Vec3> f,
+                                             std::span<const Vec3> x, const detail::DeferredTerms& deferred,
+                                             double* energies) {
+    const detail::ElementRange range{first, end};
 #ifdef PENALTY_HAS_AVX_LANES
     if (kernel_path_ != KernelPath::scalar) {
         // avx, and avx512 (whose eight lanes are add_dforce's only): frames, δ and F four elements
         // at a time; the energy and f += Rᵀ·F element by element in order, as below
-        energy_ = std::visit(
+        return std::visit(
             [&](auto& blocks) {
-                return detail::large_add_force_avx(std::span(blocks), rest_local_, elements_, x.data(), f.data());
+                return detail::large_add_force_avx(std::span(blocks), rest_local_, elements_, range, x.data(), f.data(),
+                                                   deferred, energies);
             },
             large_);
-        return;
     }
 #endif
-    energy_ = 0.0;
+    double total = 0.0;
     auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
     using Block = detail::TetrahedronLargeLanes<4>;
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
+    for (std::size_t e = first; e < end; ++e) {
         // TetrahedronFEMForceField::accumulateForceLarge (tetrahedron_large_element.hpp)
         Block& block = blocks[e / 4];
         const std::size_t lane = e % 4;
         double energy = 0.0;
-        const Mat3 r =
-            detail::add_large_element_force(detail::large_vertices(elements_[e]), rest_local_[e],
-                                            detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
-                                            detail::LaneMaterial<detail::OneLane, Block>{block, lane}, x, f, energy);
+        Mat3 r;
+        const auto vertex = detail::large_vertices(elements_[e]);
+        const std::array<Vec3, 4> terms = detail::large_element_force_terms(
+            vertex, rest_local_[e], detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+            detail::LaneMaterial<detail::OneLane, Block>{block, lane}, x, energy, r);
         detail::store_lane_rotation(block, lane, r);
-        energy_ += energy;
+        if (energies) energies[e] = energy;
+        else total += energy;
+        const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
+        for (std::size_t k = 0; k < 4; ++k) {
+            if ((mask >> k) & 1U) deferred.terms[4 * e + k] = terms[k];
+            else f[vertex[k]] += terms[k];
+        }
     }
+    return total;
 }
 
 void TetrahedronFEMForceField::add_force_per_element(std::span<Vec3> f, std::span<const Vec3> x) {
@@ -499,24 +521,44 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
         return;
     }
     // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
+    if (product_chunks(tbb::this_task_arena::max_concurrency()) > 1) {
+        concurrent_large_dforce(df, dx, k_factor);  // (tetrahedron_fem_concurrent.cpp)
+        return;
+    }
+    large_dforce(0, elements_.size(), df, dx, k_factor, {});
+}
+
+void TetrahedronFEMForceField::large_dforce(std::size_t first, std::size_t end, std::span<Vec3> df,
+                                            std::span<const Vec3> dx, double k_factor,
+                                            const detail::DeferredTerms& deferred) const {
+    const detail::ElementRange range{first, end};
 #ifdef PENALTY_HAS_AVX_LANES
     if (kernel_path_ == KernelPath::avx512) {
-        detail::large_dforce_avx512(std::get<1>(large_).data(), elements_, df.data(), dx.data(), k_factor);
+        detail::large_dforce_avx512(std::get<1>(large_).data(), elements_, range, df.data(), dx.data(), k_factor,
+                                    deferred);
         return;
     }
     if (kernel_path_ == KernelPath::avx) {
-        detail::large_dforce_avx(std::get<0>(large_).data(), elements_, df.data(), dx.data(), k_factor);
+        detail::large_dforce_avx(std::get<0>(large_).data(), elements_, range, df.data(), dx.data(), k_factor,
+                                 deferred);
         return;
     }
 #endif
     const auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
     using Block = detail::TetrahedronLargeLanes<4>;
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
+    for (std::size_t e = range.first; e < range.end; ++e) {
         const Block& block = blocks[e / 4];
         const std::size_t lane = e % 4;
-        detail::add_large_element_dforce(detail::large_vertices(elements_[e]), detail::LaneRotation<Block>{block, lane},
-                                         detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
-                                         detail::LaneMaterial<detail::OneLane, Block>{block, lane}, dx, df, k_factor);
+        const detail::LaneRotation<Block> r{block, lane};
+        const detail::LaneStrainDisplacement<detail::OneLane, Block> j{block, lane};
+        const detail::LaneMaterial<detail::OneLane, Block> m{block, lane};
+        const auto vertex = detail::large_vertices(elements_[e]);
+        const std::array<Vec3, 4> terms = detail::large_element_dforce_terms(vertex, r, j, m, dx, k_factor);
+        const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
+        for (std::size_t k = 0; k < 4; ++k) {
+            if ((mask >> k) & 1U) deferred.terms[4 * e + k] = terms[k];
+            else df[vertex[k]] -= terms[k];
+        }
     }
 }
 

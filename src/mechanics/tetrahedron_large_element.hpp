@@ -160,15 +160,16 @@ template <class StrainDisplacementEntries, class MaterialEntries>
     return force;
 }
 
-/// accumulateForceLarge of one element with vertices `vertex`: its current frame (returned), the
+/// accumulateForceLarge of one element with vertices `vertex`: its current frame (into r), the
 /// vertices rotated one by one, δ = rest − current local coordinates (only the entries J couples:
 /// vertex 0 is the origin, vertex 1 lies on x̂, vertex 2 in the x̂ŷ plane), F = J·M·Jᵀ·δ, and
-/// f[vertex k] += Rᵀ·F_k. `energy` gets ½ δᵀF (beyond SOFA: its energy report).
+/// the terms Rᵀ·F_k (returned) of f[vertex k] += Rᵀ·F_k. `energy` gets ½ δᵀF (beyond SOFA: its
+/// energy report).
 template <class StrainDisplacementEntries, class MaterialEntries>
-Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
-                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
-                             std::span<Vec3> f, double& energy) {
-    Mat3 r = large_frame(x[vertex[0]], x[vertex[1]], x[vertex[2]]);  // not const: returned
+std::array<Vec3, 4> large_element_force_terms(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
+                                              const StrainDisplacementEntries& j, const MaterialEntries& m,
+                                              std::span<const Vec3> x, double& energy, Mat3& r) {
+    r = large_frame(x[vertex[0]], x[vertex[1]], x[vertex[2]]);
     std::array<Vec3, 4> deformed;
     for (std::size_t k = 0; k < 4; ++k) deformed[k] = sofa_vec::times(r, x[vertex[k]]);
     TetrahedronDisplacement delta = TetrahedronDisplacement::Zero();
@@ -178,8 +179,20 @@ Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std
     for (int c = 0; c < 3; ++c) delta[9 + c] = rest[3][c] - (deformed[3][c] - deformed[0][c]);
     const TetrahedronDisplacement force = large_element_force(j, m, delta, std::nullopt);
     large_element_energy(delta, force, energy);
+    std::array<Vec3, 4> terms;
     for (std::size_t k = 0; k < 4; ++k)
-        f[vertex[k]] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+        terms[k] = sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+    return terms;
+}
+
+/// The same element's f[vertex k] += Rᵀ·F_k; returns R.
+template <class StrainDisplacementEntries, class MaterialEntries>
+Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
+                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
+                             std::span<Vec3> f, double& energy) {
+    Mat3 r;
+    const std::array<Vec3, 4> terms = large_element_force_terms(vertex, rest, j, m, x, energy, r);
+    for (std::size_t k = 0; k < 4; ++k) f[vertex[k]] += terms[k];
     return r;
 }
 
@@ -235,16 +248,27 @@ void add_small_element_dforce(const std::array<std::size_t, 4>& vertex, const St
 }
 
 /// applyStiffnessCorotational / applyStiffnessLarge of one element of frame r (a Mat3, or one
-/// lane of a block: LaneRotation): df[vertex k] −= Rᵀ·F_k with F = J·(k·(M·(Jᵀ·(R·dx)))).
+/// lane of a block: LaneRotation): the terms Rᵀ·F_k with F = J·(k·(M·(Jᵀ·(R·dx)))), k = 0 … 3.
+template <class Rotation, class StrainDisplacementEntries, class MaterialEntries>
+std::array<Vec3, 4> large_element_dforce_terms(const std::array<std::size_t, 4>& vertex, const Rotation& r,
+                                               const StrainDisplacementEntries& j, const MaterialEntries& m,
+                                               std::span<const Vec3> dx, double k_factor) {
+    TetrahedronDisplacement local;
+    for (std::size_t k = 0; k < 4; ++k) local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[vertex[k]]);
+    const TetrahedronDisplacement force = large_element_force(j, m, local, k_factor);
+    std::array<Vec3, 4> terms;
+    for (std::size_t k = 0; k < 4; ++k)
+        terms[k] = sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+    return terms;
+}
+
+/// The same element's df[vertex k] −= Rᵀ·F_k.
 template <class Rotation, class StrainDisplacementEntries, class MaterialEntries>
 void add_large_element_dforce(const std::array<std::size_t, 4>& vertex, const Rotation& r,
                               const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> dx,
                               std::span<Vec3> df, double k_factor) {
-    TetrahedronDisplacement local;
-    for (std::size_t k = 0; k < 4; ++k) local.segment<3>(3 * static_cast<Index>(k)) = sofa_vec::times(r, dx[vertex[k]]);
-    const TetrahedronDisplacement force = large_element_force(j, m, local, k_factor);
-    for (std::size_t k = 0; k < 4; ++k)
-        df[vertex[k]] -= sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+    const std::array<Vec3, 4> terms = large_element_dforce_terms(vertex, r, j, m, dx, k_factor);
+    for (std::size_t k = 0; k < 4; ++k) df[vertex[k]] -= terms[k];
 }
 
 }  // namespace penalty::detail

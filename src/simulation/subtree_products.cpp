@@ -42,6 +42,34 @@ void for_each_state(const detail::SubtreeLayout& l, detail::SubtreeScratch& scra
     for (std::size_t i = 0; i < n; ++i) pass(i);
 }
 
+/// pass(i, begin, end) over the unknowns [begin, end) of every independent state i, in pieces of
+/// whole DOFs of about kUnknownsPerStatePassTask: an elementwise pass (no sum), on TBB's threads
+/// when the system is large and the arena has several threads, a large state split too.
+template <class Pass>
+void for_each_piece(const detail::SubtreeLayout& l, detail::SubtreeScratch& scratch, const Pass& pass) {
+    const std::size_t n = l.independent.size();
+    if (l.size < SubtreeSystem::kMinUnknownsForConcurrentStatePasses || tbb::this_task_arena::max_concurrency() < 2) {
+        for (std::size_t i = 0; i < n; ++i) pass(i, Eigen::Index(0), l.sizes[i]);
+        return;
+    }
+    auto& pieces = scratch.state_pieces;
+    pieces.clear();
+    for (std::size_t i = 0; i < n; ++i) {
+        const Eigen::Index width = std::max<Eigen::Index>(1, l.widths[i]);
+        const Eigen::Index step = std::max<Eigen::Index>(1, SubtreeSystem::kUnknownsPerStatePassTask / width) * width;
+        for (Eigen::Index begin = 0; begin < l.sizes[i]; begin += step)
+            pieces.push_back({i, begin, std::min(begin + step, l.sizes[i])});
+    }
+    ++scratch.concurrent_state_passes;
+    const auto grain = static_cast<std::size_t>(
+        std::max<Eigen::Index>(1, Eigen::Index(pieces.size()) * SubtreeSystem::kUnknownsPerStatePassTask / l.size));
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pieces.size(), grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t k = r.begin(); k != r.end(); ++k)
+                              pass(pieces[k].state, pieces[k].begin, pieces[k].end);
+                      });
+}
+
 /// Σ sums[i] in order from 0.0: the single chain of SOFA's dot product over the states.
 double sum_in_order(const std::vector<double>& sums) {
     double total = 0.0;
@@ -165,11 +193,13 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
     const detail::SubtreeLayout& l = *layout_;
     const double* r_data = r.data();
     double* p_data = p.data();
-    for_each_state(l, *scratch_, [&l, r_data, p_data, first, beta](std::size_t i) {
-        const Eigen::Index begin = l.offsets[i];
-        direction(first, beta, r_data + begin, p_data + begin, l.independent[i]->dx_flat().data(), l.sizes[i]);
-        l.independent[i]->df_flat().setZero();
-    });
+    for_each_piece(
+        l, *scratch_, [&l, r_data, p_data, first, beta](std::size_t i, Eigen::Index begin, Eigen::Index end) {
+            const Eigen::Index at = l.offsets[i] + begin;
+            direction(first, beta, r_data + at, p_data + at, l.independent[i]->dx_flat().data() + begin, end - begin);
+            double* df = l.independent[i]->df_flat().data();
+            std::fill(df + begin, df + end, 0.0);
+        });
     apply_mbk_to_states(m, b, k);
     q.resize(layout_->size);
     if (!layout_->constraints.empty()) {  // q is projected before p·q
@@ -179,8 +209,11 @@ double SubtreeSystem::direction_and_mbk(const Eigen::VectorXd& r, double beta, b
         return dot(p, q);
     }
     if (blocked_reductions_) {
-        for (std::size_t i = 0; i < layout_->independent.size(); ++i)
-            q.segment(layout_->offsets[i], layout_->sizes[i]) = layout_->independent[i]->df_flat();
+        double* q_data = q.data();
+        for_each_piece(l, *scratch_, [&l, q_data](std::size_t i, Eigen::Index begin, Eigen::Index end) {
+            const double* df = l.independent[i]->df_flat().data();
+            std::copy(df + begin, df + end, q_data + l.offsets[i] + begin);
+        });
         return dot(p, q);
     }
     // dot(p, q), each state's sum as its part of q is copied

@@ -39,6 +39,13 @@ struct SubtreeScratch {
     std::size_t concurrent_state_passes = 0;       ///< vector passes state by state on TBB's threads
     /// Each independent state's part of a dot product, summed in order after a concurrent pass
     std::vector<double> state_sums;
+    /// A piece of a state's unknowns [begin, end) (for_each_piece's tasks).
+    struct StatePiece {
+        std::size_t state;
+        Eigen::Index begin;
+        Eigen::Index end;
+    };
+    std::vector<StatePiece> state_pieces;
     /// The blocked reductions' blocks (made when they are turned on) and their sums.
     ReductionBlocks reduction_blocks;
     std::vector<double> block_sums;

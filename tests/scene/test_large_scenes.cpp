@@ -160,6 +160,35 @@ TEST(SoftBodyOnOrgan, BodyMeshFileGivesTheInlineScenesStatesToTheBit) {
     std::filesystem::remove(mesh);
 }
 
+// A body of 24 576 tetrahedra (16 335 DOFs in one state): its FEM force and product and the CG's
+// vector passes split within the state on TBB's threads. The body's states after landing are
+// the same bits at 1, 2 and 8 threads, in SOFA's reductions and in blocked ones.
+TEST(SoftBodyOnOrgan, OneLargeStateOnThreadsGivesTheBitsOfOneThread) {
+    organ::Setup s = small_setup();
+    s.cells = 32;
+    ASSERT_GE(organ::body_tetrahedra(s), 8192);  // TetrahedronFEMForceField::kMinElementsForConcurrentProduct
+    for (const bool blocked : {false, true}) {
+        std::vector<Vec3> one;
+        for (const int threads : {1, 2, 8}) {
+            scene::BuildOptions o;
+            o.threads = threads;
+            o.blocked_reductions = blocked;
+            const auto sc =
+                scene::build_scene(io::parse_scene_string(organ::scene_xml(s), "soft_body_on_organ.scn"), o);
+            for (int step = 0; step < 25; ++step) sc->step();
+            const std::vector<Vec3>& x = body_state(*sc).position;
+            if (threads == 1) {
+                ASSERT_GT(output::summarize_contacts(sc->contacts()).active_contacts, 0u);  // it has landed
+                one = x;
+                continue;
+            }
+            ASSERT_EQ(x.size(), one.size());
+            EXPECT_EQ(std::memcmp(x.data(), one.data(), x.size() * sizeof(Vec3)), 0)
+                << threads << " threads" << (blocked ? ", blocked reductions" : "");
+        }
+    }
+}
+
 TEST(CubesInBowl, LargestBenchmarkSizeBuilds) {
     bowl::Setup s;
     s.k = 16;

@@ -14,6 +14,7 @@
 
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/kernel_path.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 #include "penalty/mechanics/topology_change.hpp"
 
@@ -206,6 +207,16 @@ public:
     /// computeMaterialStiffness); empty: E for all.
     void set_young_factors(std::vector<double> factors) { young_factors_ = std::move(factors); }
 
+    /// From this many elements, method large's product runs on TBB's threads when the arena has
+    /// more than one (concurrent_large_dforce): the same bits as one thread.
+    static constexpr std::size_t kMinElementsForConcurrentProduct = 8192;
+    /// The concurrent product's chunks: this many a thread of the arena, of at least
+    /// kMinElementsPerProductChunk elements.
+    static constexpr std::size_t kProductChunksPerThread = 2;
+    static constexpr std::size_t kMinElementsPerProductChunk = 2048;
+    /// The concurrent product's split of the last product (its chunk_count() 0 before one ran).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
+
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local,
                                                   const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
@@ -225,6 +236,30 @@ private:
     void add_force_per_element(std::span<Vec3> f, std::span<const Vec3> x);
     /// init() for elements [first, size).
     void init_elements(std::size_t first);
+    /// Method large's product df −= Rᵀ·F(R·dx, k) over elements [first, end), by the kernel path;
+    /// the terms `deferred` marks stored instead of subtracted.
+    void large_dforce(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                      const detail::DeferredTerms& deferred) const;
+    /// Method large's addForce over elements [first, end): f += Rᵀ·F and each element's frame
+    /// into its lane, the terms `deferred` marks stored instead of added; returns the energy
+    /// summed in element order, or 0 with element e's into energies[e] (not null).
+    double large_force(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
+                       const detail::DeferredTerms& deferred, double* energies);
+    /// large_force on TBB's threads, as concurrent_large_dforce, the energies summed in order after.
+    void concurrent_large_force(std::span<Vec3> f, std::span<const Vec3> x);
+    /// product_scatter_ for `chunks` chunks of the elements as they are now.
+    void prepare_scatter(std::size_t chunks) const;
+    /// The product on TBB's threads (tetrahedron_fem_concurrent.cpp): product_scatter_'s chunks
+    /// as tasks, each subtracting its own vertices' terms and storing the others, then the stored
+    /// ones subtracted in element order.
+    void concurrent_large_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const;
+    /// How the product would split over `threads` threads (0 chunks: it runs on one).
+    [[nodiscard]] std::size_t product_chunks(int threads) const;
+    /// The concurrent product's split, made again when the chunk count or the elements change
+    /// (topological changes clear it), and the deferred terms' storage.
+    mutable detail::OrderedScatter product_scatter_;
+    mutable std::vector<Vec3> product_terms_;
+    std::vector<double> element_energies_;  ///< concurrent_large_force's, summed in order after
     /// What a topological change leaves to topology_change_done().
     struct PendingTopologyChange {
         const TopologyContainer* container = nullptr;

@@ -7,10 +7,18 @@
 /// same operations in the same order, hence the same bits. J, M and R are read from the one lane
 /// layout, detail::TetrahedronLargeLanes (LaneStrainDisplacement, LaneMaterial, LaneRotation):
 /// one lane for the scalar loops, four or eight for the vector kernels. Internal (namespace detail).
+#include "penalty/mechanics/ordered_scatter.hpp"
+
 #include <array>
 #include <cstddef>
 
 namespace penalty::detail {
+/// Elements first … end − 1 of an element loop.
+struct ElementRange {
+    std::size_t first = 0;
+    std::size_t end = 0;
+};
+
 /// Rows of J non-zero in Voigt column c (xx, yy, zz, xy, yz, zx), vertex by vertex and, within a
 /// vertex, component by component: a row 3k + comp is non-zero only in the columns coupling comp.
 constexpr std::array<int, 6> kColumnRowCount{4, 4, 4, 8, 8, 8};

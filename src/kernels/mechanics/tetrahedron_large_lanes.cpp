@@ -103,10 +103,11 @@ template <class Block>
 
 template <std::size_t W>
 double large_add_force_avx(std::span<TetrahedronLargeLanes<W>> blocks, std::span<const std::array<Vec3, 4>> rest_local,
-                           Elements elements, const Vec3* x, Vec3* f) {
+                           Elements elements, ElementRange range, const Vec3* x, Vec3* f, const DeferredTerms& deferred,
+                           double* energies) {
     double total = 0.0;
-    for (std::size_t first = 0; first < elements.size(); first += 4) {
-        const std::size_t lanes = std::min<std::size_t>(4, elements.size() - first);
+    for (std::size_t first = range.first; first < range.end; first += 4) {
+        const std::size_t lanes = std::min<std::size_t>(4, range.end - first);
         Lanes4 rest[6];
         for (std::size_t lane = 0; lane < 4; ++lane) {
             const auto& local = rest_local[first + (lane < lanes ? lane : 0)];
@@ -121,29 +122,57 @@ double large_add_force_avx(std::span<TetrahedronLargeLanes<W>> blocks, std::span
                               rest, delta, force, back, energy);
         for (std::size_t lane = 0; lane < lanes; ++lane) {
             const std::size_t e = first + lane;
-            total += energy[lane];
+            if (energies) energies[e] = energy[lane];
+            else total += energy[lane];
+            const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
             for (std::size_t k = 0; k < 4; ++k) {
-                Vec3& target = f[static_cast<std::size_t>(elements[e][k])];
-                for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] += back[k][c][lane];
+                if ((mask >> k) & 1U) {
+                    Vec3& term = deferred.terms[4 * e + k];
+                    for (std::size_t c = 0; c < 3; ++c) term[static_cast<Index>(c)] = back[k][c][lane];
+                } else {
+                    Vec3& target = f[static_cast<std::size_t>(elements[e][k])];
+                    for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] += back[k][c][lane];
+                }
             }
         }
     }
     return total;
 }
-template double large_add_force_avx<4>(std::span<Block4>, std::span<const std::array<Vec3, 4>>, Elements, const Vec3*,
-                                       Vec3*);
-template double large_add_force_avx<8>(std::span<Block8>, std::span<const std::array<Vec3, 4>>, Elements, const Vec3*,
-                                       Vec3*);
+template double large_add_force_avx<4>(std::span<Block4>, std::span<const std::array<Vec3, 4>>, Elements, ElementRange,
+                                       const Vec3*, Vec3*, const DeferredTerms&, double*);
+template double large_add_force_avx<8>(std::span<Block8>, std::span<const std::array<Vec3, 4>>, Elements, ElementRange,
+                                       const Vec3*, Vec3*, const DeferredTerms&, double*);
+
+/// The product's last part for the lanes of elements first … first + lanes − 1: df −= Rᵀ·F_k
+/// element by element, vertex by vertex, but for the terms that `deferred` marks (bit k of
+/// element e, when not null), which go to terms[e·4 + k] instead.
+template <class LanesW>
+[[gnu::always_inline]] inline void store_or_subtract(const LanesW (&back)[4][3], const std::array<PointId, 4>* vertices,
+                                                     std::size_t lanes, Vec3* df, const DeferredTerms& deferred,
+                                                     std::size_t first) {
+    for (std::size_t e = 0; e < lanes; ++e) {
+        const unsigned mask = deferred.mask ? deferred.mask[first + e] : 0U;
+        for (std::size_t v = 0; v < 4; ++v) {
+            if ((mask >> v) & 1U) {
+                Vec3& term = deferred.terms[4 * (first + e) + v];
+                for (std::size_t c = 0; c < 3; ++c) term[static_cast<Index>(c)] = back[v][c][e];
+            } else {
+                Vec3& target = df[static_cast<std::size_t>(vertices[e][v])];
+                for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] -= back[v][c][e];
+            }
+        }
+    }
+}
 
 /// TetrahedronFEMForceField::add_dforce (method large) for four elements at once, one per lane:
 /// each lane does its element's operations of the scalar loop (R·dx per vertex, element_force_of,
 /// Rᵀ·F per vertex), in the same order, with IEEE lane-wise operations and no fused multiply-add,
 /// so each lane's F has the scalar loop's bits; df −= Rᵀ·F is then done element by element,
-/// vertex by vertex, in the scalar loop's order.
-[[gnu::target("avx")]] void large_dforce_avx(const Block4* blocks, Elements elements, Vec3* df, const Vec3* dx,
-                                             double k_factor) {
+/// vertex by vertex, in the scalar loop's order (the deferred terms stored, see the header).
+[[gnu::target("avx")]] void large_dforce_avx(const Block4* blocks, Elements elements, ElementRange range, Vec3* df,
+                                             const Vec3* dx, double k_factor, const DeferredTerms& deferred) {
     const Lanes4 k = {k_factor, k_factor, k_factor, k_factor};
-    for (std::size_t first = 0; first < elements.size(); first += 4) {
+    for (std::size_t first = range.first; first < range.end; first += 4) {
         const Block4& block = blocks[first / 4];
         std::array<std::array<PointId, 4>, 4> tail;
         const std::array<PointId, 4>* vertices = lane_vertices<4>(elements, first, tail);
@@ -165,22 +194,18 @@ template double large_add_force_avx<8>(std::span<Block8>, std::span<const std::a
         for (std::size_t v = 0; v < 4; ++v)
             for (std::size_t i = 0; i < 3; ++i)
                 back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
-        const std::size_t lanes = std::min<std::size_t>(4, elements.size() - first);
-        for (std::size_t e = 0; e < lanes; ++e)
-            for (std::size_t v = 0; v < 4; ++v) {
-                Vec3& target = df[static_cast<std::size_t>(vertices[e][v])];
-                for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] -= back[v][c][e];
-            }
+        store_or_subtract(back, vertices, std::min<std::size_t>(4, range.end - first), df, deferred, first);
     }
 }
 
 /// large_dforce_avx for eight elements at once (KernelPath::avx512): the same operations per lane
 /// and the same order of the df updates. (Its own function, not one template with the four-lane
 /// one: GCC unrolled and spilled the template's four-lane instance differently, 7–10 % slower.)
-[[gnu::target("avx512f")]] void large_dforce_avx512(const Block8* blocks, Elements elements, Vec3* df, const Vec3* dx,
-                                                    double k_factor) {
+[[gnu::target("avx512f")]] void large_dforce_avx512(const Block8* blocks, Elements elements, ElementRange range,
+                                                    Vec3* df, const Vec3* dx, double k_factor,
+                                                    const DeferredTerms& deferred) {
     const Lanes8 k = {k_factor, k_factor, k_factor, k_factor, k_factor, k_factor, k_factor, k_factor};
-    for (std::size_t first = 0; first < elements.size(); first += 8) {
+    for (std::size_t first = range.first; first < range.end; first += 8) {
         const Block8& block = blocks[first / 8];
         std::array<std::array<PointId, 4>, 8> tail;
         const std::array<PointId, 4>* vertices = lane_vertices<8>(elements, first, tail);
@@ -202,12 +227,7 @@ template double large_add_force_avx<8>(std::span<Block8>, std::span<const std::a
         for (std::size_t v = 0; v < 4; ++v)
             for (std::size_t i = 0; i < 3; ++i)
                 back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
-        const std::size_t lanes = std::min<std::size_t>(8, elements.size() - first);
-        for (std::size_t e = 0; e < lanes; ++e)
-            for (std::size_t v = 0; v < 4; ++v) {
-                Vec3& target = df[static_cast<std::size_t>(vertices[e][v])];
-                for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] -= back[v][c][e];
-            }
+        store_or_subtract(back, vertices, std::min<std::size_t>(8, range.end - first), df, deferred, first);
     }
 }
 

@@ -8,6 +8,7 @@
 /// element by element, vertex by vertex, in the scalar order
 /// (tests/kernels/test_tetrahedron_large_lanes.cpp). Internal (namespace detail).
 #include "kernels/lanes.hpp"
+#include "kernels/mechanics/tetrahedron_large.hpp"
 #include "penalty/core/types.hpp"
 #include "penalty/mechanics/fem.hpp"
 
@@ -17,20 +18,25 @@
 #ifdef PENALTY_HAS_AVX_LANES
 namespace penalty::detail {
 
-/// TetrahedronFEMForceField::addForce (method large) on every element, four at a time (a
-/// four-lane block, or half an eight-lane one): each element's frame R (into its lane of
-/// `blocks`), δ from the rotated vertices and `rest_local`, F = J·M·Jᵀδ, then f += Rᵀ·F element by
-/// element. Returns the elements' energy ½ δᵀF summed in element order.
+/// TetrahedronFEMForceField::addForce (method large) on the elements of `range` (as
+/// large_dforce_avx's), four at a time (a four-lane block, or half an eight-lane one): each
+/// element's frame R (into its lane of `blocks`), δ from the rotated vertices and `rest_local`,
+/// F = J·M·Jᵀ·δ, then f += Rᵀ·F element by element, but for the terms `deferred` marks, which
+/// are stored. Returns the elements' energy ½ δᵀF summed in element order, or 0 with each
+/// element's energy into energies[e] when `energies` is not null.
 template <std::size_t W>
 double large_add_force_avx(std::span<TetrahedronLargeLanes<W>> blocks, std::span<const std::array<Vec3, 4>> rest_local,
-                           std::span<const std::array<PointId, 4>> elements, const Vec3* x, Vec3* f);
+                           std::span<const std::array<PointId, 4>> elements, ElementRange range, const Vec3* x, Vec3* f,
+                           const DeferredTerms& deferred, double* energies);
 
 /// TetrahedronFEMForceField::applyStiffnessCorotational (method large): df −= Rᵀ·F(R·dx, k_factor)
-/// for every element, four (large_dforce_avx) or eight (large_dforce_avx512) an instruction.
+/// for the elements of `range` (its first a multiple of the width, its end too or the element
+/// count), four (large_dforce_avx) or eight (large_dforce_avx512) an instruction; the terms
+/// `deferred` marks are stored instead (the product on several threads, OrderedScatter).
 void large_dforce_avx(const TetrahedronLargeLanes<4>* blocks, std::span<const std::array<PointId, 4>> elements,
-                      Vec3* df, const Vec3* dx, double k_factor);
+                      ElementRange range, Vec3* df, const Vec3* dx, double k_factor, const DeferredTerms& deferred);
 void large_dforce_avx512(const TetrahedronLargeLanes<8>* blocks, std::span<const std::array<PointId, 4>> elements,
-                         Vec3* df, const Vec3* dx, double k_factor);
+                         ElementRange range, Vec3* df, const Vec3* dx, double k_factor, const DeferredTerms& deferred);
 
 }  // namespace penalty::detail
 #endif

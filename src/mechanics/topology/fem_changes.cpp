@@ -86,6 +86,7 @@ void TetrahedronFEMForceField::topology_change_done() {
             for (const auto e : around[std::size_t(p)]) changed.push_back(std::size_t(e));
     for (const std::size_t e : changed)
         if (e < elements_.size()) elements_[e] = tetrahedra[e];
+    product_scatter_.clear();  // the moved and renumbered elements' vertices
     if (pending.first_new < elements_.size()) init_elements(pending.first_new);
 }
 

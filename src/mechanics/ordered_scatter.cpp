@@ -1,0 +1,103 @@
+#include "penalty/mechanics/ordered_scatter.hpp"
+
+#include "penalty/core/error.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace penalty::detail {
+namespace {
+constexpr std::size_t kDeferredVerticesPerTask = 1024;
+constexpr std::uint32_t kNoChunk = std::numeric_limits<std::uint32_t>::max();
+}  // namespace
+
+void OrderedScatter::clear() {
+    element_count_ = 0;
+    per_element_ = 0;
+    requested_chunks_ = 0;
+    chunk_first_.clear();
+    deferred_mask_.clear();
+    deferred_vertex_.clear();
+    deferred_first_.clear();
+    deferred_term_.clear();
+}
+
+void OrderedScatter::build_flat(std::span<const PointId> vertices, std::size_t per_element, std::size_t chunks,
+                                std::size_t alignment) {
+    clear();
+    PENALTY_DEMAND(per_element > 0 && per_element <= 8 && vertices.size() % per_element == 0 && chunks > 0 &&
+                   alignment > 0 && vertices.size() <= std::numeric_limits<std::uint32_t>::max());
+    const std::size_t count = vertices.size() / per_element;
+    if (count == 0) return;
+    PENALTY_DEMAND(*std::min_element(vertices.begin(), vertices.end()) >= 0);
+    const auto vertex_count = static_cast<std::size_t>(*std::max_element(vertices.begin(), vertices.end())) + 1;
+    // chunks of `size` elements, a multiple of the alignment, the last one shorter
+    const std::size_t per_chunk = (count + chunks - 1) / chunks;
+    const std::size_t size = (per_chunk + alignment - 1) / alignment * alignment;
+    for (std::size_t first = 0; first < count; first += size) chunk_first_.push_back(first);
+    chunk_first_.push_back(count);
+    // each vertex's owner: the chunk of its first element; the other chunks' terms deferred
+    std::vector<std::uint32_t> owner(vertex_count, kNoChunk);
+    std::vector<std::uint32_t> deferred_count(vertex_count, 0);
+    deferred_mask_.assign(count, 0);
+    for (std::size_t c = 0; c + 1 < chunk_first_.size(); ++c)
+        for (std::size_t e = chunk_first_[c]; e < chunk_first_[c + 1]; ++e)
+            for (std::size_t k = 0; k < per_element; ++k) {
+                const auto v = static_cast<std::size_t>(vertices[per_element * e + k]);
+                if (owner[v] == kNoChunk) owner[v] = static_cast<std::uint32_t>(c);
+                if (owner[v] == c) continue;
+                deferred_mask_[e] = static_cast<std::uint8_t>(deferred_mask_[e] | (1U << k));
+                ++deferred_count[v];
+            }
+    // the deferred terms by vertex (a counting sort, stable: element order within a vertex)
+    std::vector<std::uint32_t> slot(vertex_count, 0);
+    deferred_first_.push_back(0);
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+        if (deferred_count[v] == 0) continue;
+        slot[v] = deferred_first_.back();
+        deferred_vertex_.push_back(static_cast<PointId>(v));
+        deferred_first_.push_back(deferred_first_.back() + deferred_count[v]);
+    }
+    deferred_term_.resize(deferred_first_.back());
+    for (std::size_t e = 0; e < count; ++e)
+        for (std::size_t k = 0; k < per_element; ++k)
+            if ((deferred_mask_[e] >> k) & 1U) {
+                const auto v = static_cast<std::size_t>(vertices[per_element * e + k]);
+                deferred_term_[slot[v]++] = static_cast<std::uint32_t>(per_element * e + k);
+            }
+    element_count_ = count;
+    per_element_ = per_element;
+    requested_chunks_ = chunks;
+}
+
+template <bool Add>
+void OrderedScatter::apply_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const {
+    if (deferred_vertex_.empty()) return;
+    PENALTY_DEMAND(static_cast<std::size_t>(deferred_vertex_.back()) < out.size() &&
+                   terms.size() >= per_element_ * element_count_);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, deferred_vertex_.size(), kDeferredVerticesPerTask),
+                      [out, terms, this](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                              Vec3& target = out[static_cast<std::size_t>(deferred_vertex_[i])];
+                              for (std::uint32_t t = deferred_first_[i]; t < deferred_first_[i + 1]; ++t) {
+                                  if constexpr (Add)
+                                      target += terms[deferred_term_[t]];
+                                  else
+                                      target -= terms[deferred_term_[t]];
+                              }
+                          }
+                      });
+}
+
+void OrderedScatter::subtract_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const {
+    apply_deferred<false>(terms, out);
+}
+
+void OrderedScatter::add_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const {
+    apply_deferred<true>(terms, out);
+}
+
+}  // namespace penalty::detail
