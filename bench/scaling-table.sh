@@ -102,50 +102,72 @@ rule="|---|---|---:|"
 for t in "${threads[@]}"; do header+=" $t |"; rule+="---:|"; done
 echo "$header best speed-up | states |"
 echo "$rule---:|---|"
-for build in "$pack"/builds/*/; do
-    label="$(basename "$build")"
-    for name in "${selected[@]}"; do
-        scene="$pack/scenes/${scene_file[$name]}"
-        steps="${scene_steps[$name]}"
-        read -r -a options <<<"${scene_options[$name]:-}"
-        row="| $label | $name | $steps |"
+
+# One `penalty run` of scene $name at $t threads with build $build (label $label): its cell of the
+# table into cell[$label|$t] and its steps' seconds into seconds_of[$label|$t] (empty if it failed).
+declare -A cell seconds_of
+measure() {
+    local out="$work/$label/$name/$t" start whole seconds
+    mkdir -p "$out"
+    start="$(date +%s.%N)"
+    if ! LD_LIBRARY_PATH="$build/lib" "$build/bin/penalty" run "$pack/scenes/${scene_file[$name]}" \
+        --data-dir "$pack/scenes" --steps "$steps" --threads "$t" --quiet --export-states "$out" \
+        --export-every "$steps" ${options[@]+"${options[@]}"} >"$out.log" 2>&1; then
+        cell[$label|$t]="failed"
+        seconds_of[$label|$t]=""
+        echo "$label $name --threads $t failed:" >&2
+        tail -3 "$out.log" >&2
+        status=1
+        return
+    fi
+    whole="$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')"
+    [[ -z "${SCALING_KEEP_LOGS:-}" ]] ||
+        { mkdir -p "$SCALING_KEEP_LOGS" && cp "$out.log" "$SCALING_KEEP_LOGS/${label}_${name}_$t.log"; }
+    # the steps' wall time from penalty's summary ("steps: N ... in S s wall"), without the
+    # scene's loading, which is serial (~1 s for the soft body's 9 MB scene)
+    seconds="$(sed -n 's/^steps: .* in \([0-9.]*\) s wall.*/\1/p' "$out.log")"
+    [[ -n "$seconds" ]] || seconds="$whole"
+    cell[$label|$t]="$(printf '%.2f' "$seconds") s ($(printf '%.2f' "$whole"))"
+    seconds_of[$label|$t]="$seconds"
+}
+
+# Scene by scene, thread count by thread count, the builds one after the other: a slow phase of
+# the machine falls on every build alike.
+builds=("$pack"/builds/*/)
+for name in "${selected[@]}"; do
+    steps="${scene_steps[$name]}"
+    read -r -a options <<<"${scene_options[$name]:-}"
+    runnable=()
+    for build in "${builds[@]}"; do
+        label="$(basename "$build")"
         if [[ ${#options[@]} -gt 0 ]] && ! LD_LIBRARY_PATH="$build/lib" "$build/bin/penalty" run --help |
             grep -q -- "${options[0]}"; then
+            continue
+        fi
+        runnable+=("$build")
+    done
+    for t in "${threads[@]}"; do
+        for build in "${runnable[@]}"; do
+            label="$(basename "$build")"
+            measure
+        done
+    done
+    for build in "${builds[@]}"; do
+        label="$(basename "$build")"
+        row="| $label | $name | $steps |"
+        if [[ ! " ${runnable[*]} " == *" $build "* ]]; then
             echo "$row no ${options[0]} |"
             continue
         fi
-        one=""
+        one="${seconds_of[$label|1]}"
         best=""
         differing=()
         for t in "${threads[@]}"; do
-            out="$work/$label/$name/$t"
-            mkdir -p "$out"
-            start="$(date +%s.%N)"
-            if ! LD_LIBRARY_PATH="$build/lib" "$build/bin/penalty" run "$scene" --data-dir "$pack/scenes" \
-                --steps "$steps" --threads "$t" --quiet --export-states "$out" --export-every "$steps" \
-                ${options[@]+"${options[@]}"} \
-                >"$out.log" 2>&1; then
-                row+=" failed |"
-                echo "$label $name --threads $t failed:" >&2
-                tail -3 "$out.log" >&2
-                status=1
-                continue
-            fi
-            whole="$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { print b - a }')"
-            # the steps' wall time from penalty's summary ("steps: N ... in S s wall"), without the
-            # scene's loading, which is serial (~1 s for the soft body's 9 MB scene)
-            [[ -z "${SCALING_KEEP_LOGS:-}" ]] ||
-                { mkdir -p "$SCALING_KEEP_LOGS" && cp "$out.log" "$SCALING_KEEP_LOGS/${label}_${name}_$t.log"; }
-            seconds="$(sed -n 's/^steps: .* in \([0-9.]*\) s wall.*/\1/p' "$out.log")"
-            [[ -n "$seconds" ]] || seconds="$whole"
-            row+=" $(printf '%.2f' "$seconds") s ($(printf '%.2f' "$whole")) |"
-            if [[ "$t" == 1 ]]; then
-                one="$seconds"
-            else
-                diff -rq "$work/$label/$name/1" "$out" >/dev/null || differing+=("$t")
-                best="$(awk -v one="$one" -v s="$seconds" -v best="${best:-0}" \
-                    'BEGIN { v = one / s; print (v > best ? v : best) }')"
-            fi
+            row+=" ${cell[$label|$t]} |"
+            [[ "$t" != 1 && -n "${seconds_of[$label|$t]}" && -n "$one" ]] || continue
+            diff -rq "$work/$label/$name/1" "$work/$label/$name/$t" >/dev/null || differing+=("$t")
+            best="$(awk -v one="$one" -v s="${seconds_of[$label|$t]}" -v best="${best:-0}" \
+                'BEGIN { v = one / s; print (v > best ? v : best) }')"
         done
         row+=" $(printf '%.2f' "${best:-1}")× |"
         if [[ ${#differing[@]} -eq 0 ]]; then
