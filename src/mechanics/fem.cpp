@@ -420,7 +420,8 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
         add_force_plastic(f, x);
         return;
     }
-    if (product_chunks(tbb::this_task_arena::max_concurrency()) > 1) {
+    if (elements_.size() >= kMinElementsForConcurrentProduct &&
+        product_chunks(tbb::this_task_arena::max_concurrency()) > 1) {
         concurrent_large_force(f, x);  // (tetrahedron_fem_concurrent.cpp)
         return;
     }
@@ -521,7 +522,8 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
         return;
     }
     // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
-    if (product_chunks(tbb::this_task_arena::max_concurrency()) > 1) {
+    if (elements_.size() >= kMinElementsForConcurrentProduct &&
+        product_chunks(tbb::this_task_arena::max_concurrency()) > 1) {
         concurrent_large_dforce(df, dx, k_factor);  // (tetrahedron_fem_concurrent.cpp)
         return;
     }

@@ -83,10 +83,8 @@ void OrderedScatter::apply_deferred(std::span<const Vec3> terms, std::span<Vec3>
                           for (std::size_t i = range.begin(); i < range.end(); ++i) {
                               Vec3& target = out[static_cast<std::size_t>(deferred_vertex_[i])];
                               for (std::uint32_t t = deferred_first_[i]; t < deferred_first_[i + 1]; ++t) {
-                                  if constexpr (Add)
-                                      target += terms[deferred_term_[t]];
-                                  else
-                                      target -= terms[deferred_term_[t]];
+                                  if constexpr (Add) target += terms[deferred_term_[t]];
+                                  else target -= terms[deferred_term_[t]];
                               }
                           }
                       });

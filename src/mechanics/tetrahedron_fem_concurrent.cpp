@@ -50,9 +50,8 @@ void TetrahedronFEMForceField::concurrent_large_dforce(std::span<Vec3> df, std::
                                                        double k_factor) const {
     prepare_scatter(product_chunks(tbb::this_task_arena::max_concurrency()));
     const detail::DeferredTerms deferred{product_scatter_.deferred_mask(), product_terms_.data()};
-    for_each_chunk(product_scatter_, [&](std::size_t first, std::size_t end) {
-        large_dforce(first, end, df, dx, k_factor, deferred);
-    });
+    for_each_chunk(product_scatter_,
+                   [&](std::size_t first, std::size_t end) { large_dforce(first, end, df, dx, k_factor, deferred); });
     product_scatter_.subtract_deferred(product_terms_, df);
 }
 

@@ -45,20 +45,15 @@ std::vector<Vec3> split_scatter(const detail::OrderedScatter& scatter, const std
         const auto [first, end] = scatter.chunk(c);
         for (std::size_t e = first; e < end; ++e)
             for (std::size_t k = 0; k < 4; ++k) {
-                if ((scatter.deferred_mask()[e] >> k) & 1U)
-                    stored[4 * e + k] = terms[4 * e + k];
-                else if (Add)
-                    out[static_cast<std::size_t>(elements[e][k])] += terms[4 * e + k];
-                else
-                    out[static_cast<std::size_t>(elements[e][k])] -= terms[4 * e + k];
+                if ((scatter.deferred_mask()[e] >> k) & 1U) stored[4 * e + k] = terms[4 * e + k];
+                else if (Add) out[static_cast<std::size_t>(elements[e][k])] += terms[4 * e + k];
+                else out[static_cast<std::size_t>(elements[e][k])] -= terms[4 * e + k];
             }
     }
     tbb::task_arena arena(4);
     arena.execute([&] {
-        if (Add)
-            scatter.add_deferred(stored, out);
-        else
-            scatter.subtract_deferred(stored, out);
+        if (Add) scatter.add_deferred(stored, out);
+        else scatter.subtract_deferred(stored, out);
     });
     return out;
 }

@@ -46,7 +46,9 @@ public:
     /// The chunk count build() was asked for (chunk_count() can be lower: whole aligned chunks).
     [[nodiscard]] std::size_t requested_chunks() const { return requested_chunks_; }
     /// Elements [first, end) of chunk c.
-    [[nodiscard]] std::array<std::size_t, 2> chunk(std::size_t c) const { return {chunk_first_[c], chunk_first_[c + 1]}; }
+    [[nodiscard]] std::array<std::size_t, 2> chunk(std::size_t c) const {
+        return {chunk_first_[c], chunk_first_[c + 1]};
+    }
     /// Bit k of element e: its term k is deferred (the kernel stores it at e·N + k).
     [[nodiscard]] const std::uint8_t* deferred_mask() const { return deferred_mask_.data(); }
     /// How many terms are deferred.
@@ -66,9 +68,9 @@ private:
     std::size_t element_count_ = 0;
     std::size_t per_element_ = 0;
     std::size_t requested_chunks_ = 0;
-    std::vector<std::size_t> chunk_first_;     ///< chunk c: elements [chunk_first_[c], chunk_first_[c + 1])
-    std::vector<std::uint8_t> deferred_mask_;  ///< per element
-    std::vector<PointId> deferred_vertex_;     ///< the vertices with deferred terms, increasing
+    std::vector<std::size_t> chunk_first_;       ///< chunk c: elements [chunk_first_[c], chunk_first_[c + 1])
+    std::vector<std::uint8_t> deferred_mask_;    ///< per element
+    std::vector<PointId> deferred_vertex_;       ///< the vertices with deferred terms, increasing
     std::vector<std::uint32_t> deferred_first_;  ///< their terms: [deferred_first_[i], deferred_first_[i + 1])
     std::vector<std::uint32_t> deferred_term_;   ///< e·N + k, each vertex's in element order
 };
