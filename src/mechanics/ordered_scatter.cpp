@@ -7,12 +7,32 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 namespace penalty::detail {
 namespace {
 constexpr std::size_t kDeferredVerticesPerTask = 1024;
 constexpr std::uint32_t kNoChunk = std::numeric_limits<std::uint32_t>::max();
 }  // namespace
+
+std::size_t OrderedScatter::chunks_for(std::size_t elements, int threads) {
+    if (threads < 2 || elements < kMinElements) return 0;
+    return std::min(kChunksPerThread * static_cast<std::size_t>(threads), elements / kMinElementsPerChunk);
+}
+
+bool OrderedScatter::worth_threads(std::size_t elements) {
+    return elements >= kMinElements && chunks_for(elements, tbb::this_task_arena::max_concurrency()) > 1;
+}
+
+void OrderedScatter::for_each_chunk(const std::function<void(std::size_t, std::size_t)>& pass) const {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, chunk_count(), 1),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t c = range.begin(); c < range.end(); ++c) pass(chunk_first_[c], chunk_first_[c + 1]);
+        },
+        tbb::simple_partitioner{});
+}
 
 void OrderedScatter::clear() {
     element_count_ = 0;

@@ -20,7 +20,7 @@
 namespace penalty {
 namespace {
 
-/// 13 × 12 × 9 cells, 8 424 tetrahedra: above TetrahedronFEMForceField::kMinElementsForConcurrentProduct.
+/// 13 × 12 × 9 cells, 8 424 tetrahedra: above detail::OrderedScatter::kMinElements.
 const RegularGridTopology& grid() {
     static const RegularGridTopology g({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
     return g;
@@ -73,7 +73,7 @@ TEST(TetrahedronFemConcurrent, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
     std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(5));
     MeshTopology random_order;
     random_order.set_tetrahedra(shuffled);
-    ASSERT_GE(spatial.tetrahedra().size(), TetrahedronFEMForceField::kMinElementsForConcurrentProduct);
+    ASSERT_GE(spatial.tetrahedra().size(), detail::OrderedScatter::kMinElements);
     for (const MeshTopology* mesh : {&spatial, static_cast<const MeshTopology*>(&random_order)})
         for (const KernelPath path : paths_here()) {
             Vec3Object state;
@@ -90,8 +90,8 @@ TEST(TetrahedronFemConcurrent, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
                 const std::string where = std::string(to_string(path)) + ", " + std::to_string(threads) + " threads" +
                                           (mesh == &spatial ? "" : ", shuffled");
                 const std::size_t chunks =
-                    std::min(TetrahedronFEMForceField::kProductChunksPerThread * std::size_t(threads),
-                             mesh->tetrahedra().size() / TetrahedronFEMForceField::kMinElementsPerProductChunk);
+                    std::min(detail::OrderedScatter::kChunksPerThread * std::size_t(threads),
+                             mesh->tetrahedra().size() / detail::OrderedScatter::kMinElementsPerChunk);
                 EXPECT_GT(chunks, 1U);
                 EXPECT_EQ(many.chunks, chunks) << where;
                 EXPECT_GT(many.deferred, 0U) << where;

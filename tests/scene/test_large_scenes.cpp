@@ -166,7 +166,7 @@ TEST(SoftBodyOnOrgan, BodyMeshFileGivesTheInlineScenesStatesToTheBit) {
 TEST(SoftBodyOnOrgan, OneLargeStateOnThreadsGivesTheBitsOfOneThread) {
     organ::Setup s = small_setup();
     s.cells = 32;
-    ASSERT_GE(organ::body_tetrahedra(s), 8192);  // TetrahedronFEMForceField::kMinElementsForConcurrentProduct
+    ASSERT_GE(organ::body_tetrahedra(s), 8192);  // detail::OrderedScatter::kMinElements
     for (const bool blocked : {false, true}) {
         std::vector<Vec3> one;
         for (const int threads : {1, 2, 8}) {

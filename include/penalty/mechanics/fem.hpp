@@ -207,13 +207,9 @@ public:
     /// computeMaterialStiffness); empty: E for all.
     void set_young_factors(std::vector<double> factors) { young_factors_ = std::move(factors); }
 
-    /// From this many elements, method large's product runs on TBB's threads when the arena has
-    /// more than one (concurrent_large_dforce): the same bits as one thread.
-    static constexpr std::size_t kMinElementsForConcurrentProduct = 8192;
-    /// The concurrent product's chunks: this many a thread of the arena, of at least
-    /// kMinElementsPerProductChunk elements.
-    static constexpr std::size_t kProductChunksPerThread = 2;
-    static constexpr std::size_t kMinElementsPerProductChunk = 2048;
+    /// Method large's force and product run on TBB's threads from OrderedScatter::kMinElements
+    /// elements when the arena has more than one (tetrahedron_fem_concurrent.cpp): the same bits as
+    /// one thread.
     /// The concurrent product's split of the last product (its chunk_count() 0 before one ran).
     [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 
@@ -247,14 +243,12 @@ private:
                        const detail::DeferredTerms& deferred, double* energies);
     /// large_force on TBB's threads, as concurrent_large_dforce, the energies summed in order after.
     void concurrent_large_force(std::span<Vec3> f, std::span<const Vec3> x);
-    /// product_scatter_ for `chunks` chunks of the elements as they are now.
-    void prepare_scatter(std::size_t chunks) const;
+    /// product_scatter_ for the elements as they are now and the arena's threads.
+    void prepare_scatter() const;
     /// The product on TBB's threads (tetrahedron_fem_concurrent.cpp): product_scatter_'s chunks
     /// as tasks, each subtracting its own vertices' terms and storing the others, then the stored
     /// ones subtracted in element order.
     void concurrent_large_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const;
-    /// How the product would split over `threads` threads (0 chunks: it runs on one).
-    [[nodiscard]] std::size_t product_chunks(int threads) const;
     /// The concurrent product's split, made again when the chunk count or the elements change
     /// (topological changes clear it), and the deferred terms' storage.
     mutable detail::OrderedScatter product_scatter_;
@@ -325,7 +319,26 @@ private:
     [[nodiscard]] Mat3 rest_rotation(std::size_t e) const;
     /// R₀·x⁰_w of element e's corners for its rest rotation r0 (SOFA's _rotatedInitialElements).
     [[nodiscard]] std::array<Vec3, 8> rotated_rest_corners(std::size_t e, const Mat3& r0) const;
+    /// add_force over elements [first, end) (element e's frame into rotation_[e]), the terms
+    /// `deferred` marks stored instead of added; returns the energy summed in element order, or 0
+    /// with element e's into energies[e] (not null).
+    double force_range(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
+                       const detail::DeferredTerms& deferred, double* energies);
+    /// add_dforce over elements [first, end), the terms `deferred` marks stored.
+    void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                      const detail::DeferredTerms& deferred) const;
+    /// product_scatter_ for the elements as they are now and the arena's threads.
+    void prepare_scatter() const;
     std::vector<double> stiffness_factors_;
+    /// From OrderedScatter::kMinElements elements on several threads: the split, its stored terms
+    /// (8e + w) and each element's energy (the force's, summed in element order after).
+    mutable detail::OrderedScatter product_scatter_;
+    mutable std::vector<Vec3> product_terms_;
+    std::vector<double> element_energies_;
+
+public:
+    /// The split of the last force or product on threads (chunk_count() 0 before one ran).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 };
 
 extern template class LinearElementForceField<4>;

@@ -8,6 +8,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -32,6 +33,17 @@ struct DeferredTerms {
 /// cell: 7 %, 34 % and 49 % in 4, 16 and 32 chunks). The chunking changes no bit.
 class OrderedScatter {
 public:
+    /// An element force field's product runs on threads from kMinElements elements, in
+    /// kChunksPerThread chunks a thread of the arena of at least kMinElementsPerChunk elements.
+    static constexpr std::size_t kMinElements = 8192;
+    static constexpr std::size_t kChunksPerThread = 2;
+    static constexpr std::size_t kMinElementsPerChunk = 2048;
+    /// The chunks of `elements` elements on `threads` threads: 0 or 1 (the loop on one thread)
+    /// below kMinElements elements or with one thread.
+    [[nodiscard]] static std::size_t chunks_for(std::size_t elements, int threads);
+    /// Whether `elements` elements' products run on threads in the calling arena (chunks_for > 1).
+    [[nodiscard]] static bool worth_threads(std::size_t elements);
+
     /// `chunks` chunks (fewer if there are few elements), each a multiple of `alignment` elements
     /// but the last. O(elements).
     template <std::size_t N>
@@ -40,7 +52,17 @@ public:
         build_flat(std::span<const PointId>(elements.empty() ? nullptr : elements.front().data(), N * elements.size()),
                    N, chunks, alignment);
     }
+    /// build() unless it was last built for as many elements and chunks (a caller whose elements
+    /// change clears it); returns whether it built.
+    template <std::size_t N>
+    bool prepare(std::span<const std::array<PointId, N>> elements, std::size_t chunks, std::size_t alignment) {
+        if (element_count_ == elements.size() && requested_chunks_ == chunks) return false;
+        build(elements, chunks, alignment);
+        return true;
+    }
     void clear();
+    /// pass(first, end) for the elements [first, end) of each chunk, one TBB task a chunk.
+    void for_each_chunk(const std::function<void(std::size_t, std::size_t)>& pass) const;
     [[nodiscard]] std::size_t element_count() const { return element_count_; }
     [[nodiscard]] std::size_t chunk_count() const { return chunk_first_.empty() ? 0 : chunk_first_.size() - 1; }
     /// The chunk count build() was asked for (chunk_count() can be lower: whole aligned chunks).
