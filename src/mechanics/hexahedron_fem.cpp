@@ -188,16 +188,12 @@ double HexahedronFEMForceField::force_range(std::size_t first, std::size_t end, 
         for (std::size_t w = 0; w < 8; ++w) {
             const Vec3 fw = force.segment<3>(static_cast<Index>(3 * w));
             const Vec3 term = small ? fw : sofa_vec::transpose_times(r, fw);
-            if ((mask >> w) & 1U)
-                deferred.terms[8 * e + w] = term;
-            else
-                f[static_cast<std::size_t>(elements_[e][w])] += term;
+            if ((mask >> w) & 1U) deferred.terms[8 * e + w] = term;
+            else f[static_cast<std::size_t>(elements_[e][w])] += term;
         }
         const double energy = 0.5 * d.dot(force);
-        if (energies)
-            energies[e] = energy;
-        else
-            total += energy;
+        if (energies) energies[e] = energy;
+        else total += energy;
     }
     return total;
 }
@@ -230,10 +226,8 @@ void HexahedronFEMForceField::dforce_range(std::size_t first, std::size_t end, s
         for (std::size_t w = 0; w < 8; ++w) {
             const Vec3 term = sofa_vec::scaled(
                 sofa_vec::transpose_times(r, Vec3(force.segment<3>(static_cast<Index>(3 * w)))), k_factor);
-            if ((mask >> w) & 1U)
-                deferred.terms[8 * e + w] = term;
-            else
-                df[static_cast<std::size_t>(elements_[e][w])] -= term;
+            if ((mask >> w) & 1U) deferred.terms[8 * e + w] = term;
+            else df[static_cast<std::size_t>(elements_[e][w])] -= term;
         }
     }
 }

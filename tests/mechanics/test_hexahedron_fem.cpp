@@ -6,8 +6,9 @@
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
+#include "penalty_test/element_products_on_threads.hpp"
+
 #include <gtest/gtest.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstring>
@@ -19,45 +20,20 @@ namespace penalty {
 namespace {
 
 /// 21 × 20 × 20 cells: 8 400 hexahedra.
-const RegularGridTopology& grid() {
+const RegularGridTopology& hexahedron_grid() {
     static const RegularGridTopology g({22, 21, 21}, Vec3::Zero(), Vec3(2.1, 2.0, 2.0));
     return g;
 }
 
-struct Outcome {
-    std::vector<Vec3> force, product;
-    double energy = 0.0;
-    std::size_t chunks = 0, deferred = 0;
-};
+using test::ElementProducts;
+using test::same_vectors_bits;
 
-bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
-
-Outcome run(HexahedronFEMForceField& fem, const Vec3Object& state, int threads) {
-    std::mt19937 rng(17);
-    std::uniform_real_distribution<double> u(-1.0, 1.0);
-    std::vector<Vec3> x = state.rest_position;
-    for (Vec3& p : x) p += 0.03 * Vec3(u(rng), u(rng), u(rng));
-    std::vector<Vec3> dx(x.size()), v(x.size(), Vec3::Zero());
-    for (Vec3& d : dx) d = Vec3(u(rng), u(rng), u(rng));
-    Outcome out;
-    out.force.assign(x.size(), Vec3::Zero());
-    out.product.resize(x.size());
-    for (Vec3& d : out.product) d = Vec3(u(rng), u(rng), u(rng));
-    tbb::task_arena arena(threads);
-    arena.execute([&] {
-        fem.add_force(out.force, x, v);
-        fem.add_dforce(out.product, dx, -0.61, 0.0);
-    });
-    out.energy = fem.potential_energy();
-    out.chunks = fem.product_scatter().chunk_count();
-    out.deferred = fem.product_scatter().deferred_terms();
-    return out;
+ElementProducts run_hexahedra(HexahedronFEMForceField& fem, const Vec3Object& state, int threads) {
+    return test::element_products_on_threads(fem, state, threads, 0.03, -0.61);
 }
 
 TEST(HexahedronFem, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
-    const MeshTopology& in_order = grid().mesh();
+    const MeshTopology& in_order = hexahedron_grid().mesh();
     ASSERT_GE(in_order.hexahedra().size(), detail::OrderedScatter::kMinElements);
     std::vector<Hexahedron> shuffled = in_order.hexahedra();
     std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(9));
@@ -66,22 +42,22 @@ TEST(HexahedronFem, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
     for (const MeshTopology* mesh : {&in_order, static_cast<const MeshTopology*>(&random_order)})
         for (const FemMethod method : {FemMethod::Small, FemMethod::Large, FemMethod::Polar}) {
             Vec3Object state;
-            state.position = grid().points();
+            state.position = hexahedron_grid().points();
             state.init();
             HexahedronFEMForceField fem(state, *mesh, 2e4, 0.3, method);
             fem.init();
-            const Outcome one = run(fem, state, 1);
+            const ElementProducts one = run_hexahedra(fem, state, 1);
             EXPECT_EQ(one.chunks, 0U);
             EXPECT_GT(one.energy, 0.0);
             for (const int threads : {2, 8}) {
-                const Outcome many = run(fem, state, threads);
-                const std::string where = std::to_string(int(method)) + ", " + std::to_string(threads) +
-                                          " threads" + (mesh == &in_order ? "" : ", shuffled");
+                const ElementProducts many = run_hexahedra(fem, state, threads);
+                const std::string where = std::to_string(int(method)) + ", " + std::to_string(threads) + " threads" +
+                                          (mesh == &in_order ? "" : ", shuffled");
                 EXPECT_EQ(many.chunks, detail::OrderedScatter::chunks_for(mesh->hexahedra().size(), threads)) << where;
                 EXPECT_GT(many.chunks, 1U) << where;
                 EXPECT_GT(many.deferred, 0U) << where;
-                EXPECT_TRUE(same_bits(many.force, one.force)) << where;
-                EXPECT_TRUE(same_bits(many.product, one.product)) << where;
+                EXPECT_TRUE(same_vectors_bits(many.force, one.force)) << where;
+                EXPECT_TRUE(same_vectors_bits(many.product, one.product)) << where;
                 EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
             }
         }

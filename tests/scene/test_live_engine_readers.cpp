@@ -35,7 +35,7 @@ std::string cantilever_in_box(const std::string& reader) {
     )" + reader + "\n");
 }
 
-const std::vector<Vec3>& beam_positions(scene::Scene& s) {
+const std::vector<Vec3>& reader_beam_positions(scene::Scene& s) {
     return dynamic_cast<const Vec3Object&>(*s.data({"/Beam/dofs", false}, "position").state).position;
 }
 
@@ -44,7 +44,7 @@ std::size_t points_in_box(scene::Scene& s) { return s.data({"/Beam/box", false},
 TEST(LiveEngineReaders, ConstantForceFieldWithOneForceIsInvalidOnceTheFollowedIndicesChangeCount) {
     auto s =
         test::build(cantilever_in_box(R"(<ConstantForceField name="push" indices="@box.indices" forces="0 -0.5 0"/>)"));
-    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& x = reader_beam_positions(*s);
     for (int k = 0; k < 10; ++k) s->step();
     EXPECT_EQ(points_in_box(*s), 16U);
     // SOFA HEAD: the 20 forces of init no longer fit (updateFromForcesVector: Invalid, no force)
@@ -60,7 +60,7 @@ TEST(LiveEngineReaders, ConstantForceFieldWithOneForceIsInvalidOnceTheFollowedIn
 TEST(LiveEngineReaders, ConstantForceFieldSpreadsItsTotalForceOverTheFollowedIndices) {
     auto s = test::build(
         cantilever_in_box(R"(<ConstantForceField name="push" indices="@box.indices" totalForce="0 -3 0"/>)"));
-    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& x = reader_beam_positions(*s);
     for (int k = 0; k < 10; ++k) s->step();
     EXPECT_EQ(points_in_box(*s), 18U);
     // SOFA HEAD: T / 18 on each point in the box, then T / 16, T / 14 (updateFromTotalForce)
@@ -83,7 +83,7 @@ std::pair<Vec3, Vec3> after_indices_written(const std::string& indices) {
     for (int k = 0; k < 5; ++k) s->step();
     s->set_data({"/Beam/push", false}, "indices", indices);
     for (int k = 5; k < 20; ++k) s->step();
-    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& x = reader_beam_positions(*s);
     return {x[4], x[9]};
 }
 
@@ -103,7 +103,7 @@ TEST(LiveEngineReaders, RestShapeSpringsFollowTheirPointsAsSofaHead) {
     // recomputeIndices reads d_points): 20 points, then 18, 16 and 14
     auto s = test::build(
         cantilever_in_box(R"(<RestShapeSpringsForceField name="hold" points="@box.indices" stiffness="2"/>)"));
-    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& x = reader_beam_positions(*s);
     for (int k = 0; k < 20; ++k) s->step();
     EXPECT_EQ(points_in_box(*s), 16U);
     // SOFA HEAD (`sofa-head SCENE 60 OUT --every 1`)
@@ -146,7 +146,7 @@ std::vector<double> selected(scene::Scene& s) { return s.data({"/Beam/near", fal
 
 TEST(LiveEngineInputs, SphereRoiCentresFollowAMovingStateAsSofaHead) {
     auto s = test::build(ball_through_beam());
-    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& x = reader_beam_positions(*s);
     for (int k = 0; k < 20; ++k) s->step();
     EXPECT_TRUE(selected(*s).empty());
     s->step();  // the ball of step 20 selects nothing during step 21; after it, the ball of step 21 does
@@ -169,7 +169,7 @@ TEST(LiveEngineInputs, ProximityRoiCentresAreAnInputThatRunsItAgainAsSofaHead) {
     // step 15 (solved first) selects points 8 and 18 (SOFA HEAD, 60 steps bit for bit)
     auto s = test::build(ball_through_beam(
         R"(<ProximityROI name="near" centers="@../Ball/ball.position" radii="0.6" N="2" position="@dofs.position"/>)"));
-    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& x = reader_beam_positions(*s);
     for (int k = 0; k < 20; ++k) s->step();
     EXPECT_EQ(x[8], Vec3(1.4999999999770972, 0.31575278129932699, -1.5991582076052593e-10));
     EXPECT_EQ(x[18], Vec3(1.4999999999770972, 0.31575278129931661, 0.50000000015990542));
@@ -195,7 +195,7 @@ TEST(LiveEngineInputs, SubsetTopologyAndMergePointsRunAgainAsSofaHead) {
     auto s = test::build(ball_through_beam(
         R"(<SubsetTopology name="near" rest_position="@dofs.position" box="-0.1 -0.6 -0.1  1.1 -0.2 0.6"/>
     <MergePoints name="merge" position1="@dofs.position" position2="@../Ball/ball.position"/>)"));
-    const std::vector<Vec3>& x = beam_positions(*s);
+    const std::vector<Vec3>& x = reader_beam_positions(*s);
     const std::vector<Vec3>& ball =
         dynamic_cast<const Vec3Object&>(*s->data({"/Ball/ball", false}, "position").state).position;
     for (int k = 0; k < 25; ++k) s->step();
