@@ -457,11 +457,7 @@ double TetrahedronFEMForceField::large_force(std::size_t first, std::size_t end,
         detail::store_lane_rotation(block, lane, r);
         if (energies) energies[e] = energy;
         else total += energy;
-        const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
-        for (std::size_t k = 0; k < 4; ++k) {
-            if ((mask >> k) & 1U) deferred.terms[4 * e + k] = terms[k];
-            else f[vertex[k]] += terms[k];
-        }
+        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { f[vertex[k]] += term; });
     }
     return total;
 }
@@ -552,11 +548,7 @@ void TetrahedronFEMForceField::large_dforce(std::size_t first, std::size_t end, 
         const detail::LaneMaterial<detail::OneLane, Block> m{block, lane};
         const auto vertex = detail::large_vertices(elements_[e]);
         const std::array<Vec3, 4> terms = detail::large_element_dforce_terms(vertex, r, j, m, dx, k_factor);
-        const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
-        for (std::size_t k = 0; k < 4; ++k) {
-            if ((mask >> k) & 1U) deferred.terms[4 * e + k] = terms[k];
-            else df[vertex[k]] -= terms[k];
-        }
+        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
     }
 }
 

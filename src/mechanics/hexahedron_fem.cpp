@@ -10,8 +10,6 @@
 #include <array>
 #include <cmath>
 
-#include <tbb/task_arena.h>
-
 namespace penalty {
 
 // ---- hexahedron, in SOFA's operations ------------------------------------------------------------
@@ -154,12 +152,12 @@ void HexahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3>
         energy_ = force_range(0, elements_.size(), f, x, {}, nullptr);
         return;
     }
-    prepare_scatter();
-    const detail::DeferredTerms deferred{product_scatter_.deferred_mask(), product_terms_.data()};
+    product_scatter_.prepare(std::span<const Element>(elements_), 1);
+    const detail::DeferredTerms deferred = product_scatter_.deferred();
     element_energies_.resize(elements_.size());
     product_scatter_.for_each_chunk(
         [&](std::size_t first, std::size_t end) { force_range(first, end, f, x, deferred, element_energies_.data()); });
-    product_scatter_.add_deferred(product_terms_, f);
+    product_scatter_.add_deferred(f);
     energy_ = 0.0;  // in element order
     for (const double e : element_energies_) energy_ += e;
 }
@@ -184,13 +182,14 @@ double HexahedronFEMForceField::force_range(std::size_t first, std::size_t end, 
                     rest_local_[e][w][static_cast<Index>(c)] - deformed[static_cast<Index>(c)];
         }
         const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], d);
-        const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
+        std::array<Vec3, 8> terms;
         for (std::size_t w = 0; w < 8; ++w) {
             const Vec3 fw = force.segment<3>(static_cast<Index>(3 * w));
-            const Vec3 term = small ? fw : sofa_vec::transpose_times(r, fw);
-            if ((mask >> w) & 1U) deferred.terms[8 * e + w] = term;
-            else f[static_cast<std::size_t>(elements_[e][w])] += term;
+            terms[w] = small ? fw : sofa_vec::transpose_times(r, fw);
         }
+        detail::store_or_apply(deferred, e, terms, [&](std::size_t w, const Vec3& term) {
+            f[static_cast<std::size_t>(elements_[e][w])] += term;
+        });
         const double energy = 0.5 * d.dot(force);
         if (energies) energies[e] = energy;
         else total += energy;
@@ -203,11 +202,11 @@ void HexahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec
         dforce_range(0, elements_.size(), df, dx, k_factor, {});
         return;
     }
-    prepare_scatter();
-    const detail::DeferredTerms deferred{product_scatter_.deferred_mask(), product_terms_.data()};
+    product_scatter_.prepare(std::span<const Element>(elements_), 1);
+    const detail::DeferredTerms deferred = product_scatter_.deferred();
     product_scatter_.for_each_chunk(
         [&](std::size_t first, std::size_t end) { dforce_range(first, end, df, dx, k_factor, deferred); });
-    product_scatter_.subtract_deferred(product_terms_, df);
+    product_scatter_.subtract_deferred(df);
 }
 
 void HexahedronFEMForceField::dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df,
@@ -222,21 +221,14 @@ void HexahedronFEMForceField::dforce_range(std::size_t first, std::size_t end, s
             local.segment<3>(static_cast<Index>(3 * w)) =
                 sofa_vec::times(r, dx[static_cast<std::size_t>(elements_[e][w])]);
         const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], local);
-        const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
-        for (std::size_t w = 0; w < 8; ++w) {
-            const Vec3 term = sofa_vec::scaled(
-                sofa_vec::transpose_times(r, Vec3(force.segment<3>(static_cast<Index>(3 * w)))), k_factor);
-            if ((mask >> w) & 1U) deferred.terms[8 * e + w] = term;
-            else df[static_cast<std::size_t>(elements_[e][w])] -= term;
-        }
+        std::array<Vec3, 8> terms;
+        for (std::size_t w = 0; w < 8; ++w)
+            terms[w] = sofa_vec::scaled(sofa_vec::transpose_times(r, Vec3(force.segment<3>(static_cast<Index>(3 * w)))),
+                                        k_factor);
+        detail::store_or_apply(deferred, e, terms, [&](std::size_t w, const Vec3& term) {
+            df[static_cast<std::size_t>(elements_[e][w])] -= term;
+        });
     }
-}
-
-void HexahedronFEMForceField::prepare_scatter() const {
-    const std::size_t chunks =
-        detail::OrderedScatter::chunks_for(elements_.size(), tbb::this_task_arena::max_concurrency());
-    if (product_scatter_.prepare(std::span<const Element>(elements_), chunks, 1))
-        product_terms_.resize(8 * elements_.size());
 }
 
 Mat3 hexahedron_edge_frame(const std::array<Vec3, 8>& p) {

@@ -21,8 +21,10 @@ std::size_t OrderedScatter::chunks_for(std::size_t elements, int threads) {
     return std::min(kChunksPerThread * static_cast<std::size_t>(threads), elements / kMinElementsPerChunk);
 }
 
+int OrderedScatter::arena_threads() { return tbb::this_task_arena::max_concurrency(); }
+
 bool OrderedScatter::worth_threads(std::size_t elements) {
-    return elements >= kMinElements && chunks_for(elements, tbb::this_task_arena::max_concurrency()) > 1;
+    return elements >= kMinElements && chunks_for(elements, arena_threads()) > 1;
 }
 
 void OrderedScatter::for_each_chunk(const std::function<void(std::size_t, std::size_t)>& pass) const {
@@ -36,13 +38,13 @@ void OrderedScatter::for_each_chunk(const std::function<void(std::size_t, std::s
 
 void OrderedScatter::clear() {
     element_count_ = 0;
-    per_element_ = 0;
     requested_chunks_ = 0;
     chunk_first_.clear();
     deferred_mask_.clear();
     deferred_vertex_.clear();
     deferred_first_.clear();
     deferred_term_.clear();
+    terms_ = {};
 }
 
 void OrderedScatter::build_flat(std::span<const PointId> vertices, std::size_t per_element, std::size_t chunks,
@@ -88,16 +90,16 @@ void OrderedScatter::build_flat(std::span<const PointId> vertices, std::size_t p
                 const auto v = static_cast<std::size_t>(vertices[per_element * e + k]);
                 deferred_term_[slot[v]++] = static_cast<std::uint32_t>(per_element * e + k);
             }
+    terms_.resize(vertices.size());
     element_count_ = count;
-    per_element_ = per_element;
     requested_chunks_ = chunks;
 }
 
 template <bool Add>
-void OrderedScatter::apply_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const {
+void OrderedScatter::apply_deferred(std::span<Vec3> out) const {
     if (deferred_vertex_.empty()) return;
-    PENALTY_DEMAND(static_cast<std::size_t>(deferred_vertex_.back()) < out.size() &&
-                   terms.size() >= per_element_ * element_count_);
+    PENALTY_DEMAND(static_cast<std::size_t>(deferred_vertex_.back()) < out.size());
+    const Vec3* terms = terms_.data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, deferred_vertex_.size(), kDeferredVerticesPerTask),
                       [out, terms, this](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t i = range.begin(); i < range.end(); ++i) {
@@ -110,12 +112,8 @@ void OrderedScatter::apply_deferred(std::span<const Vec3> terms, std::span<Vec3>
                       });
 }
 
-void OrderedScatter::subtract_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const {
-    apply_deferred<false>(terms, out);
-}
+void OrderedScatter::subtract_deferred(std::span<Vec3> out) const { apply_deferred<false>(out); }
 
-void OrderedScatter::add_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const {
-    apply_deferred<true>(terms, out);
-}
+void OrderedScatter::add_deferred(std::span<Vec3> out) const { apply_deferred<true>(out); }
 
 }  // namespace penalty::detail

@@ -8,36 +8,27 @@
 
 #include "kernels/mechanics/tetrahedron_large.hpp"
 
-#include <tbb/task_arena.h>
-
 namespace penalty {
 
 void TetrahedronFEMForceField::concurrent_large_dforce(std::span<Vec3> df, std::span<const Vec3> dx,
                                                        double k_factor) const {
-    prepare_scatter();
-    const detail::DeferredTerms deferred{product_scatter_.deferred_mask(), product_terms_.data()};
+    // the chunks' first elements on a lane block's boundary (eight lanes, four dividing it)
+    product_scatter_.prepare(std::span<const Element>(elements_), 8);
+    const detail::DeferredTerms deferred = product_scatter_.deferred();
     product_scatter_.for_each_chunk(
         [&](std::size_t first, std::size_t end) { large_dforce(first, end, df, dx, k_factor, deferred); });
-    product_scatter_.subtract_deferred(product_terms_, df);
+    product_scatter_.subtract_deferred(df);
 }
 
 void TetrahedronFEMForceField::concurrent_large_force(std::span<Vec3> f, std::span<const Vec3> x) {
-    prepare_scatter();
-    const detail::DeferredTerms deferred{product_scatter_.deferred_mask(), product_terms_.data()};
+    product_scatter_.prepare(std::span<const Element>(elements_), 8);
+    const detail::DeferredTerms deferred = product_scatter_.deferred();
     element_energies_.resize(elements_.size());
     product_scatter_.for_each_chunk(
         [&](std::size_t first, std::size_t end) { large_force(first, end, f, x, deferred, element_energies_.data()); });
-    product_scatter_.add_deferred(product_terms_, f);
+    product_scatter_.add_deferred(f);
     energy_ = 0.0;  // ½ δᵀF of each element, in element order
     for (const double e : element_energies_) energy_ += e;
-}
-
-void TetrahedronFEMForceField::prepare_scatter() const {
-    // the chunks' first elements on a lane block's boundary (eight lanes, four dividing it)
-    const std::size_t chunks =
-        detail::OrderedScatter::chunks_for(elements_.size(), tbb::this_task_arena::max_concurrency());
-    if (product_scatter_.prepare(std::span<const Element>(elements_), chunks, 8))
-        product_terms_.resize(4 * elements_.size());
 }
 
 }  // namespace penalty

@@ -53,13 +53,14 @@ void for_each_piece(const detail::SubtreeLayout& l, detail::SubtreeScratch& scra
         return;
     }
     auto& pieces = scratch.state_pieces;
-    pieces.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-        const Eigen::Index width = std::max<Eigen::Index>(1, l.widths[i]);
-        const Eigen::Index step = std::max<Eigen::Index>(1, SubtreeSystem::kUnknownsPerStatePassTask / width) * width;
-        for (Eigen::Index begin = 0; begin < l.sizes[i]; begin += step)
-            pieces.push_back({i, begin, std::min(begin + step, l.sizes[i])});
-    }
+    if (pieces.empty())  // once: the layout's states and sizes are fixed
+        for (std::size_t i = 0; i < n; ++i) {
+            const Eigen::Index width = std::max<Eigen::Index>(1, l.widths[i]);
+            const Eigen::Index step =
+                std::max<Eigen::Index>(1, SubtreeSystem::kUnknownsPerStatePassTask / width) * width;
+            for (Eigen::Index begin = 0; begin < l.sizes[i]; begin += step)
+                pieces.push_back({i, begin, std::min(begin + step, l.sizes[i])});
+        }
     ++scratch.concurrent_state_passes;
     const auto grain = static_cast<std::size_t>(
         std::max<Eigen::Index>(1, Eigen::Index(pieces.size()) * SubtreeSystem::kUnknownsPerStatePassTask / l.size));

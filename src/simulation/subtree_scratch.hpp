@@ -39,7 +39,8 @@ struct SubtreeScratch {
     std::size_t concurrent_state_passes = 0;       ///< vector passes state by state on TBB's threads
     /// Each independent state's part of a dot product, summed in order after a concurrent pass
     std::vector<double> state_sums;
-    /// A piece of a state's unknowns [begin, end) (for_each_piece's tasks).
+    /// A piece of a state's unknowns [begin, end) (for_each_piece's tasks, listed at its first
+    /// concurrent pass).
     struct StatePiece {
         std::size_t state;
         Eigen::Index begin;

@@ -36,24 +36,28 @@ bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
 }
 
 /// out after the scatter split by `scatter`, its chunks run last to first (any order must do),
-/// the deferred terms applied on four threads; Add: += (a force), else −= (a product).
+/// each element's terms through store_or_apply, the stored terms applied on four threads; Add: +=
+/// (a force), else −= (a product). The storage starts as NaN: a term applied that was not stored
+/// shows.
 template <bool Add>
-std::vector<Vec3> split_scatter(const detail::OrderedScatter& scatter, const std::vector<Element4>& elements,
+std::vector<Vec3> split_scatter(detail::OrderedScatter& scatter, const std::vector<Element4>& elements,
                                 const std::vector<Vec3>& terms, std::vector<Vec3> out) {
-    std::vector<Vec3> stored(terms.size(), Vec3::Constant(std::nan("")));
+    const detail::DeferredTerms deferred = scatter.deferred();
+    std::fill(deferred.terms, deferred.terms + terms.size(), Vec3::Constant(std::nan("")));
     for (std::size_t c = scatter.chunk_count(); c-- > 0;) {
         const auto [first, end] = scatter.chunk(c);
-        for (std::size_t e = first; e < end; ++e)
-            for (std::size_t k = 0; k < 4; ++k) {
-                if ((scatter.deferred_mask()[e] >> k) & 1U) stored[4 * e + k] = terms[4 * e + k];
-                else if (Add) out[static_cast<std::size_t>(elements[e][k])] += terms[4 * e + k];
-                else out[static_cast<std::size_t>(elements[e][k])] -= terms[4 * e + k];
-            }
+        for (std::size_t e = first; e < end; ++e) {
+            const std::array<Vec3, 4> element_terms{terms[4 * e], terms[4 * e + 1], terms[4 * e + 2], terms[4 * e + 3]};
+            detail::store_or_apply(deferred, e, element_terms, [&](std::size_t k, const Vec3& term) {
+                if (Add) out[static_cast<std::size_t>(elements[e][k])] += term;
+                else out[static_cast<std::size_t>(elements[e][k])] -= term;
+            });
+        }
     }
     tbb::task_arena arena(4);
     arena.execute([&] {
-        if (Add) scatter.add_deferred(stored, out);
-        else scatter.subtract_deferred(stored, out);
+        if (Add) scatter.add_deferred(out);
+        else scatter.subtract_deferred(out);
     });
     return out;
 }

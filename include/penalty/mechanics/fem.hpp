@@ -208,9 +208,8 @@ public:
     void set_young_factors(std::vector<double> factors) { young_factors_ = std::move(factors); }
 
     /// Method large's force and product run on TBB's threads from OrderedScatter::kMinElements
-    /// elements when the arena has more than one (tetrahedron_fem_concurrent.cpp): the same bits as
-    /// one thread.
-    /// The concurrent product's split of the last product (its chunk_count() 0 before one ran).
+    /// elements when the arena has more than one (tetrahedron_fem_concurrent.cpp), with the bits
+    /// of one thread. Their split as the last of them made it (chunk_count() 0 before one ran).
     [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 
 protected:
@@ -243,16 +242,13 @@ private:
                        const detail::DeferredTerms& deferred, double* energies);
     /// large_force on TBB's threads, as concurrent_large_dforce, the energies summed in order after.
     void concurrent_large_force(std::span<Vec3> f, std::span<const Vec3> x);
-    /// product_scatter_ for the elements as they are now and the arena's threads.
-    void prepare_scatter() const;
     /// The product on TBB's threads (tetrahedron_fem_concurrent.cpp): product_scatter_'s chunks
     /// as tasks, each subtracting its own vertices' terms and storing the others, then the stored
     /// ones subtracted in element order.
     void concurrent_large_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const;
-    /// The concurrent product's split, made again when the chunk count or the elements change
-    /// (topological changes clear it), and the deferred terms' storage.
+    /// The concurrent force's and product's split and stored terms, made again when the chunk
+    /// count or the elements change (init and topological changes clear it).
     mutable detail::OrderedScatter product_scatter_;
-    mutable std::vector<Vec3> product_terms_;
     std::vector<double> element_energies_;  ///< concurrent_large_force's, summed in order after
     /// What a topological change leaves to topology_change_done().
     struct PendingTopologyChange {
@@ -306,6 +302,9 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    /// From OrderedScatter::kMinElements elements on several threads, the force and product run
+    /// on TBB's threads with the bits of one thread; their split as the last of them made it.
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 
 protected:
     /// SOFA's computeElementStiffness on the element's rotated rest corners (the first argument,
@@ -327,18 +326,11 @@ private:
     /// add_dforce over elements [first, end), the terms `deferred` marks stored.
     void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                       const detail::DeferredTerms& deferred) const;
-    /// product_scatter_ for the elements as they are now and the arena's threads.
-    void prepare_scatter() const;
     std::vector<double> stiffness_factors_;
-    /// From OrderedScatter::kMinElements elements on several threads: the split, its stored terms
-    /// (8e + w) and each element's energy (the force's, summed in element order after).
+    /// From OrderedScatter::kMinElements elements on several threads: the split with its stored
+    /// terms (init clears it), and each element's energy (the force's, summed in element order).
     mutable detail::OrderedScatter product_scatter_;
-    mutable std::vector<Vec3> product_terms_;
     std::vector<double> element_energies_;
-
-public:
-    /// The split of the last force or product on threads (chunk_count() 0 before one ran).
-    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 };
 
 extern template class LinearElementForceField<4>;

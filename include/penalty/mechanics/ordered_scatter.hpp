@@ -21,6 +21,18 @@ struct DeferredTerms {
     Vec3* terms = nullptr;
 };
 
+/// Element e's N terms: each stored where `deferred` marks it, else apply(k, term) (the loop's
+/// out[vertex k] += or −= term).
+template <std::size_t N, class Apply>
+void store_or_apply(const DeferredTerms& deferred, std::size_t e, const std::array<Vec3, N>& terms,
+                    const Apply& apply) {
+    const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
+    for (std::size_t k = 0; k < N; ++k) {
+        if ((mask >> k) & 1U) deferred.terms[N * e + k] = terms[k];
+        else apply(k, terms[k]);
+    }
+}
+
 /// The scatter `for e, for k: out[vertex(e, k)] −= term(e, k)` (or +=) of an element loop (e ascending, k
 /// the element's vertex slot) split into chunks of consecutive elements that run on different
 /// threads, with every vertex's subtractions in the loop's order, hence its bits:
@@ -45,20 +57,19 @@ public:
     [[nodiscard]] static bool worth_threads(std::size_t elements);
 
     /// `chunks` chunks (fewer if there are few elements), each a multiple of `alignment` elements
-    /// but the last. O(elements).
+    /// but the last, and room for every term. O(elements).
     template <std::size_t N>
     void build(std::span<const std::array<PointId, N>> elements, std::size_t chunks, std::size_t alignment) {
         static_assert(N <= 8, "the deferred terms of an element are one byte's bits");
         build_flat(std::span<const PointId>(elements.empty() ? nullptr : elements.front().data(), N * elements.size()),
                    N, chunks, alignment);
     }
-    /// build() unless it was last built for as many elements and chunks (a caller whose elements
-    /// change clears it); returns whether it built.
+    /// build() for the chunks_for of the calling arena's threads, unless it was last built for as
+    /// many elements and chunks (a caller whose elements change clears it).
     template <std::size_t N>
-    bool prepare(std::span<const std::array<PointId, N>> elements, std::size_t chunks, std::size_t alignment) {
-        if (element_count_ == elements.size() && requested_chunks_ == chunks) return false;
-        build(elements, chunks, alignment);
-        return true;
+    void prepare(std::span<const std::array<PointId, N>> elements, std::size_t alignment) {
+        const std::size_t chunks = chunks_for(elements.size(), arena_threads());
+        if (element_count_ != elements.size() || requested_chunks_ != chunks) build(elements, chunks, alignment);
     }
     void clear();
     /// pass(first, end) for the elements [first, end) of each chunk, one TBB task a chunk.
@@ -73,28 +84,32 @@ public:
     }
     /// Bit k of element e: its term k is deferred (the kernel stores it at e·N + k).
     [[nodiscard]] const std::uint8_t* deferred_mask() const { return deferred_mask_.data(); }
+    /// The mask and where the chunks store the deferred terms (room for every term e·N + k).
+    [[nodiscard]] DeferredTerms deferred() { return {deferred_mask_.data(), terms_.data()}; }
     /// How many terms are deferred.
     [[nodiscard]] std::size_t deferred_terms() const { return deferred_term_.size(); }
 
-    /// out[v] −= terms[i] for each vertex v's deferred terms i in element order, the vertices on
-    /// TBB's threads.
-    void subtract_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const;
-    /// The same with out[v] += terms[i] (a force loop's scatter).
-    void add_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const;
+    /// out[v] −= term for each vertex v's stored terms in element order, the vertices on TBB's
+    /// threads.
+    void subtract_deferred(std::span<Vec3> out) const;
+    /// The same with out[v] += term (a force loop's scatter).
+    void add_deferred(std::span<Vec3> out) const;
 
 private:
+    /// The calling arena's threads (TBB's max_concurrency).
+    [[nodiscard]] static int arena_threads();
     void build_flat(std::span<const PointId> vertices, std::size_t per_element, std::size_t chunks,
                     std::size_t alignment);
     template <bool Add>
-    void apply_deferred(std::span<const Vec3> terms, std::span<Vec3> out) const;
+    void apply_deferred(std::span<Vec3> out) const;
     std::size_t element_count_ = 0;
-    std::size_t per_element_ = 0;
     std::size_t requested_chunks_ = 0;
     std::vector<std::size_t> chunk_first_;       ///< chunk c: elements [chunk_first_[c], chunk_first_[c + 1])
     std::vector<std::uint8_t> deferred_mask_;    ///< per element
     std::vector<PointId> deferred_vertex_;       ///< the vertices with deferred terms, increasing
     std::vector<std::uint32_t> deferred_first_;  ///< their terms: [deferred_first_[i], deferred_first_[i + 1])
     std::vector<std::uint32_t> deferred_term_;   ///< e·N + k, each vertex's in element order
+    std::vector<Vec3> terms_;                    ///< the stored terms, at e·N + k
 };
 
 }  // namespace penalty::detail
