@@ -101,6 +101,30 @@ template <class Block>
 }
 }  // namespace
 
+/// The last part of a force (Add: f += Rᵀ·F_k) or product (df −= Rᵀ·F_k) for the lanes of
+/// elements first … first + lanes − 1, element by element, vertex by vertex, but for the terms
+/// that `deferred` marks (bit k of element e, when not null), which go to terms[e·4 + k] instead.
+template <bool Add, class LanesW>
+[[gnu::always_inline]] inline void store_or_apply_lanes(const LanesW (&back)[4][3],
+                                                        const std::array<PointId, 4>* vertices, std::size_t lanes,
+                                                        Vec3* out, const DeferredTerms& deferred, std::size_t first) {
+    for (std::size_t e = 0; e < lanes; ++e) {
+        const unsigned mask = deferred.mask ? deferred.mask[first + e] : 0U;
+        for (std::size_t v = 0; v < 4; ++v) {
+            if ((mask >> v) & 1U) {
+                Vec3& term = deferred.terms[4 * (first + e) + v];
+                for (std::size_t c = 0; c < 3; ++c) term[static_cast<Index>(c)] = back[v][c][e];
+            } else {
+                Vec3& target = out[static_cast<std::size_t>(vertices[e][v])];
+                for (std::size_t c = 0; c < 3; ++c) {
+                    if constexpr (Add) target[static_cast<Index>(c)] += back[v][c][e];
+                    else target[static_cast<Index>(c)] -= back[v][c][e];
+                }
+            }
+        }
+    }
+}
+
 template <std::size_t W>
 double large_add_force_avx(std::span<TetrahedronLargeLanes<W>> blocks, std::span<const std::array<Vec3, 4>> rest_local,
                            Elements elements, ElementRange range, const Vec3* x, Vec3* f, const DeferredTerms& deferred,
@@ -118,23 +142,13 @@ double large_add_force_avx(std::span<TetrahedronLargeLanes<W>> blocks, std::span
         }
         Lanes4 delta[12], force[12], back[4][3], energy;
         std::array<std::array<PointId, 4>, 4> tail;
-        large_force_lanes_avx(blocks[first / W], W == 4 ? 0 : first % W, lane_vertices<4>(elements, first, tail), x,
-                              rest, delta, force, back, energy);
+        const std::array<PointId, 4>* vertices = lane_vertices<4>(elements, first, tail);
+        large_force_lanes_avx(blocks[first / W], W == 4 ? 0 : first % W, vertices, x, rest, delta, force, back, energy);
         for (std::size_t lane = 0; lane < lanes; ++lane) {
-            const std::size_t e = first + lane;
-            if (energies) energies[e] = energy[lane];
+            if (energies) energies[first + lane] = energy[lane];
             else total += energy[lane];
-            const unsigned mask = deferred.mask ? deferred.mask[e] : 0U;
-            for (std::size_t k = 0; k < 4; ++k) {
-                if ((mask >> k) & 1U) {
-                    Vec3& term = deferred.terms[4 * e + k];
-                    for (std::size_t c = 0; c < 3; ++c) term[static_cast<Index>(c)] = back[k][c][lane];
-                } else {
-                    Vec3& target = f[static_cast<std::size_t>(elements[e][k])];
-                    for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] += back[k][c][lane];
-                }
-            }
         }
+        store_or_apply_lanes<true>(back, vertices, lanes, f, deferred, first);
     }
     return total;
 }
@@ -142,27 +156,6 @@ template double large_add_force_avx<4>(std::span<Block4>, std::span<const std::a
                                        const Vec3*, Vec3*, const DeferredTerms&, double*);
 template double large_add_force_avx<8>(std::span<Block8>, std::span<const std::array<Vec3, 4>>, Elements, ElementRange,
                                        const Vec3*, Vec3*, const DeferredTerms&, double*);
-
-/// The product's last part for the lanes of elements first … first + lanes − 1: df −= Rᵀ·F_k
-/// element by element, vertex by vertex, but for the terms that `deferred` marks (bit k of
-/// element e, when not null), which go to terms[e·4 + k] instead.
-template <class LanesW>
-[[gnu::always_inline]] inline void store_or_subtract(const LanesW (&back)[4][3], const std::array<PointId, 4>* vertices,
-                                                     std::size_t lanes, Vec3* df, const DeferredTerms& deferred,
-                                                     std::size_t first) {
-    for (std::size_t e = 0; e < lanes; ++e) {
-        const unsigned mask = deferred.mask ? deferred.mask[first + e] : 0U;
-        for (std::size_t v = 0; v < 4; ++v) {
-            if ((mask >> v) & 1U) {
-                Vec3& term = deferred.terms[4 * (first + e) + v];
-                for (std::size_t c = 0; c < 3; ++c) term[static_cast<Index>(c)] = back[v][c][e];
-            } else {
-                Vec3& target = df[static_cast<std::size_t>(vertices[e][v])];
-                for (std::size_t c = 0; c < 3; ++c) target[static_cast<Index>(c)] -= back[v][c][e];
-            }
-        }
-    }
-}
 
 /// TetrahedronFEMForceField::add_dforce (method large) for four elements at once, one per lane:
 /// each lane does its element's operations of the scalar loop (R·dx per vertex, element_force_of,
@@ -194,7 +187,7 @@ template <class LanesW>
         for (std::size_t v = 0; v < 4; ++v)
             for (std::size_t i = 0; i < 3; ++i)
                 back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
-        store_or_subtract(back, vertices, std::min<std::size_t>(4, range.end - first), df, deferred, first);
+        store_or_apply_lanes<false>(back, vertices, std::min<std::size_t>(4, range.end - first), df, deferred, first);
     }
 }
 
@@ -227,7 +220,7 @@ template <class LanesW>
         for (std::size_t v = 0; v < 4; ++v)
             for (std::size_t i = 0; i < 3; ++i)
                 back[v][i] = r[i] * force[3 * v] + r[3 + i] * force[3 * v + 1] + r[6 + i] * force[3 * v + 2];
-        store_or_subtract(back, vertices, std::min<std::size_t>(8, range.end - first), df, deferred, first);
+        store_or_apply_lanes<false>(back, vertices, std::min<std::size_t>(8, range.end - first), df, deferred, first);
     }
 }
 
