@@ -167,5 +167,48 @@ TEST(SubtreeProducts, StatePassesOnThreadsAreTheBitsOfOneThreadAndSofasChain) {
     EXPECT_NE(r0.dot(p0), two.dot);  // another order gives other bits here: the check can fail
 }
 
+// One body of 4 000 points (12 000 unknowns in one state): the CG's passes without a sum (the
+// direction, df cleared, the blocked mode's copy of q) split the state into pieces on two threads,
+// with the bits of one thread; the sums stay the state's single chain.
+TEST(SubtreeProducts, ALargeStatesPassesWithoutASumSplitIntoPieces) {
+    const tbb::global_control two_workers(tbb::global_control::max_allowed_parallelism, 2);
+    Simulation sim;
+    sim.root().set_ode_solver<EulerImplicitSolver>();
+    Vec3Object& x = sim.root().add_state<Vec3Types>();
+    for (int i = 0; i < 4000; ++i) x.position.push_back(Vec3(0.01 * i, 0.3 * (i % 7), 0.001 * i * (i % 3)));
+    sim.root().set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(0.7);
+    auto& springs = sim.root().add_force_field<SpringForceField>(x, x);
+    for (int i = 0; i + 1 < 4000; ++i) springs.add_spring({i, i + 1, 50.0 + i % 11, 0.1, 0.02});
+    sim.init();
+    for (const bool blocked : {false, true}) {
+        SubtreeSystem sys(sim.root());
+        sys.set_blocked_reductions(blocked);
+        ASSERT_EQ(sys.size(), 12000);
+        ASSERT_GE(sys.size(), SubtreeSystem::kMinUnknownsForConcurrentStatePasses);
+        std::mt19937 rng(67);
+        std::uniform_real_distribution<double> unit(-1.0, 1.0);
+        Eigen::VectorXd r0(sys.size()), p0(sys.size());
+        for (Eigen::Index i = 0; i < r0.size(); ++i) r0[i] = unit(rng), p0[i] = unit(rng);
+        const auto run = [&](int threads, Eigen::VectorXd& p, Eigen::VectorXd& q) {
+            p = p0;
+            double pq = 0.0;
+            tbb::task_arena(threads).execute(
+                [&] { pq = sys.direction_and_mbk(r0, 0.37, false, p, q, 1.02, -0.01, -2e-4); });
+            return pq;
+        };
+        Eigen::VectorXd p1, q1, p2, q2;
+        const double one = run(1, p1, q1);
+        EXPECT_EQ(sys.concurrent_state_passes(), 0u);
+        const double two = run(2, p2, q2);
+        // the direction's pieces, and in blocked mode q's copy
+        EXPECT_EQ(sys.concurrent_state_passes(), blocked ? 2u : 1u);
+        EXPECT_TRUE(test::same_bits(one, two)) << blocked;
+        long differing = 0;
+        for (Eigen::Index i = 0; i < sys.size(); ++i)
+            differing += !test::same_bits(p1[i], p2[i]) + !test::same_bits(q1[i], q2[i]);
+        EXPECT_EQ(differing, 0) << blocked;
+    }
+}
+
 }  // namespace
 }  // namespace penalty
