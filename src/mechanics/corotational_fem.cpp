@@ -2,11 +2,16 @@
 
 #include "tetrahedron_large_element.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cmath>
 
 namespace penalty {
 
 namespace {
+constexpr std::size_t kElementsPerTask = 1024;  // updateStiffnessMatrix's K^e on threads
+
 /// |(p1−p0)·((p2−p0)×(p3−p0))| / 6 (sofa::geometry::Tetrahedron::volume, unsigned), m³.
 double tetrahedron_volume(const std::array<Vec3, 4>& p) {
     return std::abs((p[1] - p[0]).dot((p[2] - p[0]).cross(p[3] - p[0]))) / 6.0;
@@ -92,39 +97,30 @@ void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::spa
         // accumulateForceSmall / Large / Polar per element, in element order (energy: ½ δᵀF,
         // beyond SOFA)
         PENALTY_DEMAND(large_.size() == elements_.size());
-        energy_ = 0.0;
-        for (std::size_t e = 0; e < elements_.size(); ++e) {
-            const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
-            const LargeElement& element = large_[e];
-            double energy = 0.0;
-            if (method_ == FemMethod::Small) {
-                detail::add_small_element_force(vertex, rest_local_[e], element.strain_displacement, element.material,
-                                                x, f, energy);
-            } else if (method_ == FemMethod::Polar) {
-                rotation_[e] =
-                    polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
-                detail::add_polar_element_force(vertex, rest_local_[e], rotation_[e], element.strain_displacement,
-                                                element.material, x, f, energy);
-            } else {
-                rotation_[e] = detail::add_large_element_force(vertex, rest_local_[e], element.strain_displacement,
-                                                               element.material, x, f, energy);
-            }
-            energy_ += energy;
-        }
+        energy_ = force_in_order</*Add=*/true>(
+            f, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+                return sofa_force(first, end, f, x, deferred, energies);
+            });
         return;
     }
     if (options_.update_stiffness && method_ != FemMethod::Small) {
         // accumulateForceLarge / accumulateForcePolar with updateStiffnessMatrix: J from the current
         // shape in the element frame, before the force (method small ignores the option).
         PENALTY_DEMAND(rest_volume_.size() == elements_.size());
-        for (std::size_t e = 0; e < elements_.size(); ++e) {
-            std::array<Vec3, 4> p;
-            for (std::size_t k = 0; k < 4; ++k) p[k] = x[static_cast<std::size_t>(elements_[e][k])];
-            const Mat3 r = element_rotation(p);
-            std::array<Vec3, 4> shape;
-            for (std::size_t k = 0; k < 4; ++k) shape[k] = r * (p[k] - p[0]);
-            ke_[e] = stiffness_of_shape(shape, rest_volume_[e], e);
-        }
+        const auto update = [&](std::size_t first, std::size_t end) {
+            for (std::size_t e = first; e < end; ++e) {
+                std::array<Vec3, 4> p;
+                for (std::size_t k = 0; k < 4; ++k) p[k] = x[static_cast<std::size_t>(elements_[e][k])];
+                const Mat3 r = element_rotation(p);
+                std::array<Vec3, 4> shape;
+                for (std::size_t k = 0; k < 4; ++k) shape[k] = r * (p[k] - p[0]);
+                ke_[e] = stiffness_of_shape(shape, rest_volume_[e], e);
+            }
+        };
+        if (detail::OrderedScatter::worth_threads(elements_.size()))  // (each element its own K^e)
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, elements_.size(), kElementsPerTask),
+                              [&](const tbb::blocked_range<std::size_t>& r) { update(r.begin(), r.end()); });
+        else update(0, elements_.size());
     }
     if (method_ == FemMethod::Polar && options_.assembling) {
         // accumulateForcePolar with computeGlobalMatrix: SOFA logs "TODO ... polar method" and adds
@@ -146,15 +142,48 @@ void TetrahedralCorotationalFEMForceField::add_dforce(std::span<Vec3> df, std::s
     // applyStiffnessSmall / Large / Polar per element, in element order: df −= F(dx, kFactor),
     // df −= Rᵀ·F(R·dx, kFactor)
     PENALTY_DEMAND(large_.size() == elements_.size());
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
+    scatter_in_order</*Add=*/false>(
+        df, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            for (std::size_t e = first; e < end; ++e) {
+                const LargeElement& element = large_[e];
+                const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
+                const std::array<Vec3, 4> terms =
+                    method_ == FemMethod::Small
+                        ? detail::small_element_dforce_terms(vertex, element.strain_displacement, element.material, dx,
+                                                             k_factor)
+                        : detail::large_element_dforce_terms(vertex, rotation_[e], element.strain_displacement,
+                                                             element.material, dx, k_factor);
+                detail::store_or_apply(deferred, e, terms,
+                                       [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
+            }
+        });
+}
+
+double TetrahedralCorotationalFEMForceField::sofa_force(std::size_t first, std::size_t end, std::span<Vec3> f,
+                                                        std::span<const Vec3> x, const detail::DeferredTerms& deferred,
+                                                        double* energies) {
+    double total = 0.0;
+    for (std::size_t e = first; e < end; ++e) {
+        const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
         const LargeElement& element = large_[e];
-        if (method_ == FemMethod::Small)
-            detail::add_small_element_dforce(detail::large_vertices(elements_[e]), element.strain_displacement,
-                                             element.material, dx, df, k_factor);
-        else
-            detail::add_large_element_dforce(detail::large_vertices(elements_[e]), rotation_[e],
-                                             element.strain_displacement, element.material, dx, df, k_factor);
+        double energy = 0.0;
+        std::array<Vec3, 4> terms;
+        if (method_ == FemMethod::Small) {
+            terms = detail::small_element_force_terms(vertex, rest_local_[e], element.strain_displacement,
+                                                      element.material, x, energy);
+        } else if (method_ == FemMethod::Polar) {
+            rotation_[e] = polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
+            terms = detail::polar_element_force_terms(vertex, rest_local_[e], rotation_[e], element.strain_displacement,
+                                                      element.material, x, energy);
+        } else {
+            terms = detail::large_element_force_terms(vertex, rest_local_[e], element.strain_displacement,
+                                                      element.material, x, energy, rotation_[e]);
+        }
+        if (energies) energies[e] = energy;
+        else total += energy;
+        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { f[vertex[k]] += term; });
     }
+    return total;
 }
 
 }  // namespace penalty

@@ -6,7 +6,12 @@
 #include "penalty/mechanics/fem.hpp"
 #include "sofa_vector_ops.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace penalty {
 
@@ -18,6 +23,7 @@ using sofa_vec::times;
 using sofa_vec::transpose_times;
 
 constexpr auto kLocalEdges = MeshTopology::kTetraEdges;  // SOFA's edgesInTetrahedronArray
+constexpr std::size_t kEdgesPerTask = 4096;              // the edges zeroed on threads
 
 /// a·b, entry (i, j) = a(i,0)b(0,j) + a(i,1)b(1,j) + a(i,2)b(2,j) (type::operator*(Mat<3,3>, Mat<3,3>)).
 Mat3 product(const Mat3& a, const Mat3& b) {
@@ -154,6 +160,10 @@ void FastTetrahedralCorotationalForceField::init() {
     rest_.reserve(tetrahedra.size());
     for (std::size_t t = 0; t < tetrahedra.size(); ++t) rest_.push_back(rest_information(t));
     edge_dfdx_.assign(topology_->edges().size(), Mat3::Zero());
+    // made again for these elements at the next force or product on threads
+    force_scatter_.clear();
+    edge_scatter_.clear();
+    product_scatter_.clear();
 }
 
 Mat3 FastTetrahedralCorotationalForceField::rotation_of(const RestTetrahedron& r, const std::array<Vec3, 6>& d) const {
@@ -184,9 +194,54 @@ Mat3 FastTetrahedralCorotationalForceField::rotation_of(const RestTetrahedron& r
 
 void FastTetrahedralCorotationalForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
                                                       std::span<const Vec3>) {
+    // addForce, then updateMatrix's E_e = Σ R L_j Rᵀ over the tetrahedra on edge e in
+    // tetrahedron order (SOFA builds them at the next addDForce from these rotations), in one
+    // pass: each tetrahedron's terms right after its rotation
     PENALTY_DEMAND(rest_.size() == topology_->tetrahedra().size());
+    const std::span<const Tetrahedron> tetrahedra(topology_->tetrahedra());
+    if (!detail::OrderedScatter::worth_threads(tetrahedra.size())) {
+        for (Mat3& e : edge_dfdx_) e.setZero();
+        force_range(0, tetrahedra.size(), f, x, {}, [&](std::size_t i, std::size_t j, const Mat3& term) {
+            edge_dfdx_[static_cast<std::size_t>(rest_[i].edge[j])] += term;
+        });
+        return;
+    }
+    // On TBB's threads: chunks of tetrahedra; a vertex's (an edge's) first chunk adds its terms,
+    // the others' are stored and added in tetrahedron order after (OrderedScatter), the same
+    // chunks for both.
+    force_scatter_.prepare(tetrahedra, 1);
+    if (edge_scatter_.element_count() != tetrahedra.size() ||
+        edge_scatter_.requested_chunks() != force_scatter_.requested_chunks()) {
+        std::vector<std::array<PointId, 6>> edges_of(rest_.size());
+        for (std::size_t i = 0; i < rest_.size(); ++i)
+            for (std::size_t j = 0; j < 6; ++j) edges_of[i][j] = rest_[i].edge[j];
+        edge_scatter_.build(std::span<const std::array<PointId, 6>>(edges_of), force_scatter_.requested_chunks(), 1);
+        deferred_edge_terms_.resize(edge_scatter_.deferred_terms());
+    }
+    PENALTY_DEMAND(edge_scatter_.chunk_count() == force_scatter_.chunk_count());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, edge_dfdx_.size(), kEdgesPerTask),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t e = r.begin(); e < r.end(); ++e) edge_dfdx_[e].setZero();
+                      });
+    const detail::DeferredTerms deferred = force_scatter_.deferred();
+    const std::uint8_t* edge_deferred = edge_scatter_.deferred_mask();
+    force_scatter_.for_each_chunk([&](std::size_t first, std::size_t end) {
+        force_range(first, end, f, x, deferred, [&](std::size_t i, std::size_t j, const Mat3& term) {
+            if ((edge_deferred[i] >> j) & 1U) deferred_edge_terms_[edge_scatter_.deferred_slot(i, j)] = term;
+            else edge_dfdx_[static_cast<std::size_t>(rest_[i].edge[j])] += term;
+        });
+    });
+    force_scatter_.add_deferred(f);
+    edge_scatter_.for_each_deferred_slot(
+        [&](std::size_t edge, std::size_t slot) { edge_dfdx_[edge] += deferred_edge_terms_[slot]; });
+}
+
+template <class EdgeTerm>
+void FastTetrahedralCorotationalForceField::force_range(std::size_t first, std::size_t end, std::span<Vec3> f,
+                                                        std::span<const Vec3> x, const detail::DeferredTerms& deferred,
+                                                        const EdgeTerm& edge_term_of) {
     const auto& tetrahedra = topology_->tetrahedra();
-    for (std::size_t i = 0; i < tetrahedra.size(); ++i) {
+    for (std::size_t i = first; i < end; ++i) {
         RestTetrahedron& r = rest_[i];
         const Tetrahedron& tet = tetrahedra[i];
         std::array<Vec3, 4> vertex;
@@ -203,34 +258,39 @@ void FastTetrahedralCorotationalForceField::add_force(std::span<Vec3> f, std::sp
             force[static_cast<std::size_t>(kLocalEdges[j][1])] += times(r.edge_block[j], u);
             force[static_cast<std::size_t>(kLocalEdges[j][0])] -= transpose_times(r.edge_block[j], u);
         }
-        for (std::size_t j = 0; j < 4; ++j) f[static_cast<std::size_t>(tet[j])] += times(rot, force[j]);
-    }
-    rebuild_edge_stiffness();  // SOFA: updateMatrix, rebuilt at the next addDForce from these rotations
-}
-
-void FastTetrahedralCorotationalForceField::rebuild_edge_stiffness() {
-    // addDForce (updateMatrix): E_e = Σ R L_j Rᵀ over the tetrahedra on edge e (rotation = Rᵀ),
-    // (R L_j Rᵀ)ᵀ when the local edge runs against the global one
-    for (Mat3& e : edge_dfdx_) e.setZero();
-    for (const RestTetrahedron& r : rest_)
+        std::array<Vec3, 4> terms;
+        for (std::size_t j = 0; j < 4; ++j) terms[j] = times(rot, force[j]);
+        detail::store_or_apply(deferred, i, terms,
+                               [&](std::size_t j, const Vec3& term) { f[static_cast<std::size_t>(tet[j])] += term; });
+        // updateMatrix: R L_j Rᵀ (rotation = Rᵀ), transposed when the local edge runs against the
+        // global one
         for (std::size_t j = 0; j < 6; ++j) {
             const Mat3 tmp = product(r.edge_block[j], r.rotation);
-            Mat3& e = edge_dfdx_[static_cast<std::size_t>(r.edge[j])];
-            if (r.edge_orientation[j] == 1.0) e += transpose_product(r.rotation, tmp);
-            else e += transpose_product(tmp, r.rotation);
+            edge_term_of(
+                i, j,
+                r.edge_orientation[j] == 1.0 ? transpose_product(r.rotation, tmp) : transpose_product(tmp, r.rotation));
         }
+    }
 }
 
 void FastTetrahedralCorotationalForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                                        double) const {
+    // df_b += E_e·δ, df_a −= E_eᵀ·δ with δ = (dx_b − dx_a)·k, edge by edge: the terms
+    // (−E_eᵀ·δ, E_e·δ) added (a − t and a + (−t) are the same bits)
     const auto& edges = topology_->edges();
     PENALTY_DEMAND(edge_dfdx_.size() == edges.size());
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-        const auto a = static_cast<std::size_t>(edges[i][0]), b = static_cast<std::size_t>(edges[i][1]);
-        const Vec3 delta = (dx[b] - dx[a]) * k_factor;
-        df[b] += times(edge_dfdx_[i], delta);
-        df[a] -= transpose_times(edge_dfdx_[i], delta);
-    }
+    detail::scatter_in_order</*Add=*/true>(
+        product_scatter_, std::span<const Edge>(edges), df, 1,
+        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            for (std::size_t i = first; i < end; ++i) {
+                const auto a = static_cast<std::size_t>(edges[i][0]), b = static_cast<std::size_t>(edges[i][1]);
+                const Vec3 delta = (dx[b] - dx[a]) * k_factor;
+                const std::array<Vec3, 2> terms{-transpose_times(edge_dfdx_[i], delta), times(edge_dfdx_[i], delta)};
+                detail::store_or_apply(deferred, i, terms, [&](std::size_t k, const Vec3& term) {
+                    df[static_cast<std::size_t>(edges[i][k])] += term;
+                });
+            }
+        });
 }
 
 void FastTetrahedralCorotationalForceField::add_stiffness_triplets(TripletList& triplets, Index offset,

@@ -71,6 +71,7 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
     const auto& x0 = state_->rest_position;
     const Eigen::Matrix<double, 6, 6> d = isotropic_elasticity(young_, poisson_);
     const bool keep_rotations = keeps_rotations();
+    product_scatter_.clear();  // made again for these elements at the next product on threads
     ke_.resize(elements_.size());
     rest_local_.resize(elements_.size());
     if (keep_rotations) rotation_.resize(elements_.size(), Mat3::Identity());
@@ -94,45 +95,64 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
 template <int N>
 void LinearElementForceField<N>::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
     PENALTY_DEMAND(ke_.size() == elements_.size());
-    energy_ = 0.0;
-    Eigen::Matrix<double, 3 * N, 1> u;
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
-        const auto& el = elements_[e];
-        std::array<Vec3, N> p;
-        for (int k = 0; k < N; ++k)
-            p[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
-        if (method_ != FemMethod::Small) {
-            rotation_[e] = element_rotation_of(p, e);
-            for (int k = 0; k < N; ++k)
-                u.template segment<3>(3 * k) = rotation_[e] * (p[static_cast<std::size_t>(k)] - p[0]) -
-                                               rest_local_[e][static_cast<std::size_t>(k)];
-        } else {
-            for (int k = 0; k < N; ++k)
-                u.template segment<3>(3 * k) =
-                    p[static_cast<std::size_t>(k)] -
-                    state_->rest_position[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
-        }
-        const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
-        energy_ += 0.5 * u.dot(fl);
-        for (int k = 0; k < N; ++k)
-            f[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -=
-                rotation_[e].transpose() * fl.template segment<3>(3 * k);
-    }
+    // u = R·(p_k − p_0) − r_k (small: p_k − x⁰_k), f_k −= Rᵀ·(K^e·u)_k, energy ½ uᵀK^e u
+    energy_ = force_in_order</*Add=*/false>(
+        f, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+            double total = 0.0;
+            Eigen::Matrix<double, 3 * N, 1> u;
+            for (std::size_t e = first; e < end; ++e) {
+                const auto& el = elements_[e];
+                std::array<Vec3, N> p;
+                for (int k = 0; k < N; ++k)
+                    p[static_cast<std::size_t>(k)] = x[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+                if (method_ != FemMethod::Small) {
+                    rotation_[e] = element_rotation_of(p, e);
+                    for (int k = 0; k < N; ++k)
+                        u.template segment<3>(3 * k) = rotation_[e] * (p[static_cast<std::size_t>(k)] - p[0]) -
+                                                       rest_local_[e][static_cast<std::size_t>(k)];
+                } else {
+                    for (int k = 0; k < N; ++k)
+                        u.template segment<3>(3 * k) =
+                            p[static_cast<std::size_t>(k)] -
+                            state_->rest_position[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+                }
+                const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
+                const double energy = 0.5 * u.dot(fl);
+                if (energies) energies[e] = energy;
+                else total += energy;
+                std::array<Vec3, N> terms;
+                for (int k = 0; k < N; ++k)
+                    terms[static_cast<std::size_t>(k)] = rotation_[e].transpose() * fl.template segment<3>(3 * k);
+                detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
+                    f[static_cast<std::size_t>(el[k])] -= term;
+                });
+            }
+            return total;
+        });
 }
 
 template <int N>
 void LinearElementForceField<N>::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                             double) const {
-    Eigen::Matrix<double, 3 * N, 1> u;
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
-        const auto& el = elements_[e];
-        for (int k = 0; k < N; ++k)
-            u.template segment<3>(3 * k) = rotation_[e] * dx[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
-        const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
-        for (int k = 0; k < N; ++k)
-            df[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])] -=
-                k_factor * (rotation_[e].transpose() * fl.template segment<3>(3 * k));
-    }
+    // df_k −= k·(Rᵀ·(K^e·(R·dx))_k)
+    scatter_in_order</*Add=*/false>(
+        df, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            Eigen::Matrix<double, 3 * N, 1> u;
+            for (std::size_t e = first; e < end; ++e) {
+                const auto& el = elements_[e];
+                for (int k = 0; k < N; ++k)
+                    u.template segment<3>(3 * k) =
+                        rotation_[e] * dx[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+                const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
+                std::array<Vec3, N> terms;
+                for (int k = 0; k < N; ++k)
+                    terms[static_cast<std::size_t>(k)] =
+                        k_factor * (rotation_[e].transpose() * fl.template segment<3>(3 * k));
+                detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
+                    df[static_cast<std::size_t>(el[k])] -= term;
+                });
+            }
+        });
 }
 
 template <int N>
@@ -255,7 +275,6 @@ void TetrahedronFEMForceField::init() { init_elements(0); }
 void TetrahedronFEMForceField::init_elements(std::size_t first) {
     LinearElementForceField<4>::init_from(first);
     init_large(first);
-    product_scatter_.clear();  // made again at the next concurrent product
     if (method_ != FemMethod::Svd) return;
     // TetrahedronFEMForceField::initSVD: A₀⁻¹ and R₀ = polar(A₀) of the rest edges
     const auto& x0 = state_->rest_position;
@@ -411,18 +430,21 @@ void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
 void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
     PENALTY_DEMAND(large_fits(elements_.size()));
     if (method_ != FemMethod::Large) {
-        add_force_per_element(f, x);
+        energy_ = force_in_order</*Add=*/true>(
+            f, 8, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+                return force_per_element(first, end, f, x, deferred, energies);
+            });
         return;
     }
     if (plasticity_.max_threshold > 0) {  // (tetrahedron_plasticity.cpp)
         add_force_plastic(f, x);
         return;
     }
-    if (method_ == FemMethod::Large && detail::OrderedScatter::worth_threads(elements_.size())) {
-        concurrent_large_force(f, x);  // (tetrahedron_fem_concurrent.cpp)
-        return;
-    }
-    energy_ = large_force(0, elements_.size(), f, x, {}, nullptr);
+    // the chunks' first elements on a lane block's boundary (eight lanes, four dividing it)
+    energy_ = force_in_order</*Add=*/true>(
+        f, 8, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+            return large_force(first, end, f, x, deferred, energies);
+        });
 }
 
 double TetrahedronFEMForceField::large_force(std::size_t first, std::size_t end, std::span<Vec3> f,
@@ -462,34 +484,40 @@ double TetrahedronFEMForceField::large_force(std::size_t first, std::size_t end,
     return total;
 }
 
-void TetrahedronFEMForceField::add_force_per_element(std::span<Vec3> f, std::span<const Vec3> x) {
+double TetrahedronFEMForceField::force_per_element(std::size_t first, std::size_t end, std::span<Vec3> f,
+                                                   std::span<const Vec3> x, const detail::DeferredTerms& deferred,
+                                                   double* energies) {
     // TetrahedronFEMForceField::accumulateForceSmall / accumulateForcePolar / accumulateForceSVD
     // (tetrahedron_large_element.hpp), element by element on every path (polar's and svd's
     // product, add_dforce, is large's and runs in lanes)
-    energy_ = 0.0;
-    std::visit(
+    return std::visit(
         [&](auto& blocks) {
             using Block = BlockOf<decltype(blocks)>;
-            for (std::size_t e = 0; e < elements_.size(); ++e) {
+            double total = 0.0;
+            for (std::size_t e = first; e < end; ++e) {
                 Block& block = blocks[e / Block::kLanes];
                 const std::size_t lane = e % Block::kLanes;
                 const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
                 const detail::LaneStrainDisplacement<detail::OneLane, Block> j{block, lane};
                 const detail::LaneMaterial<detail::OneLane, Block> m{block, lane};
                 double energy = 0.0;
+                std::array<Vec3, 4> terms;
                 if (method_ == FemMethod::Small) {
-                    detail::add_small_element_force(vertex, rest_local_[e], j, m, x, f, energy);
-                    energy_ += energy;
-                    continue;
+                    terms = detail::small_element_force_terms(vertex, rest_local_[e], j, m, x, energy);
+                } else {
+                    const Mat3 r =
+                        method_ == FemMethod::Svd
+                            ? element_rotation_of({x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]}, e)
+                            : polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
+                    terms = detail::polar_element_force_terms(vertex, rest_local_[e], r, j, m, x, energy);
+                    detail::store_lane_rotation(block, lane, r);
                 }
-                const Mat3 r =
-                    method_ == FemMethod::Svd
-                        ? element_rotation_of({x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]}, e)
-                        : polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
-                detail::add_polar_element_force(vertex, rest_local_[e], r, j, m, x, f, energy);
-                detail::store_lane_rotation(block, lane, r);
-                energy_ += energy;
+                if (energies) energies[e] = energy;
+                else total += energy;
+                detail::store_or_apply(deferred, e, terms,
+                                       [&](std::size_t k, const Vec3& term) { f[vertex[k]] += term; });
             }
+            return total;
         },
         large_);
 }
@@ -497,29 +525,34 @@ void TetrahedronFEMForceField::add_force_per_element(std::span<Vec3> f, std::spa
 void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                           double /*b_factor*/) const {
     PENALTY_DEMAND(large_fits(elements_.size()));
-    if (method_ == FemMethod::Small) {
-        // TetrahedronFEMForceField::applyStiffnessSmall: df −= F(dx, kFactor), element by element
-        std::visit(
-            [&](const auto& blocks) {
-                using Block = BlockOf<decltype(blocks)>;
-                for (std::size_t e = 0; e < elements_.size(); ++e) {
-                    const Block& block = blocks[e / Block::kLanes];
-                    const std::size_t lane = e % Block::kLanes;
-                    detail::add_small_element_dforce(
-                        detail::large_vertices(elements_[e]),
-                        detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
-                        detail::LaneMaterial<detail::OneLane, Block>{block, lane}, dx, df, k_factor);
-                }
-            },
-            large_);
-        return;
-    }
-    // TetrahedronFEMForceField::applyStiffnessCorotational: df −= Rᵀ·F(R·dx, kFactor)
-    if (method_ == FemMethod::Large && detail::OrderedScatter::worth_threads(elements_.size())) {
-        concurrent_large_dforce(df, dx, k_factor);  // (tetrahedron_fem_concurrent.cpp)
-        return;
-    }
-    large_dforce(0, elements_.size(), df, dx, k_factor, {});
+    scatter_in_order</*Add=*/false>(df, 8,
+                                    [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+                                        // TetrahedronFEMForceField::applyStiffnessSmall: df −= F(dx, kFactor);
+                                        // applyStiffnessCorotational (large, polar, svd): df −= Rᵀ·F(R·dx, kFactor)
+                                        if (method_ == FemMethod::Small)
+                                            small_dforce(first, end, df, dx, k_factor, deferred);
+                                        else large_dforce(first, end, df, dx, k_factor, deferred);
+                                    });
+}
+
+void TetrahedronFEMForceField::small_dforce(std::size_t first, std::size_t end, std::span<Vec3> df,
+                                            std::span<const Vec3> dx, double k_factor,
+                                            const detail::DeferredTerms& deferred) const {
+    std::visit(
+        [&](const auto& blocks) {
+            using Block = BlockOf<decltype(blocks)>;
+            for (std::size_t e = first; e < end; ++e) {
+                const Block& block = blocks[e / Block::kLanes];
+                const std::size_t lane = e % Block::kLanes;
+                const auto vertex = detail::large_vertices(elements_[e]);
+                const std::array<Vec3, 4> terms = detail::small_element_dforce_terms(
+                    vertex, detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
+                    detail::LaneMaterial<detail::OneLane, Block>{block, lane}, dx, k_factor);
+                detail::store_or_apply(deferred, e, terms,
+                                       [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
+            }
+        },
+        large_);
 }
 
 void TetrahedronFEMForceField::large_dforce(std::size_t first, std::size_t end, std::span<Vec3> df,

@@ -143,23 +143,14 @@ void HexahedronFEMForceField::init() {
         rotation_[e] = rest_rotation(e);
         rest_local_[e] = rotated_rest_corners(e, rotation_[e]);
     }
-    product_scatter_.clear();  // made again for these elements at the next force on threads
 }
 
 void HexahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
     PENALTY_DEMAND(ke_.size() == elements_.size());
-    if (!detail::OrderedScatter::worth_threads(elements_.size())) {
-        energy_ = force_range(0, elements_.size(), f, x, {}, nullptr);
-        return;
-    }
-    product_scatter_.prepare(std::span<const Element>(elements_), 1);
-    const detail::DeferredTerms deferred = product_scatter_.deferred();
-    element_energies_.resize(elements_.size());
-    product_scatter_.for_each_chunk(
-        [&](std::size_t first, std::size_t end) { force_range(first, end, f, x, deferred, element_energies_.data()); });
-    product_scatter_.add_deferred(f);
-    energy_ = 0.0;  // in element order
-    for (const double e : element_energies_) energy_ += e;
+    energy_ = force_in_order</*Add=*/true>(
+        f, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+            return force_range(first, end, f, x, deferred, energies);
+        });
 }
 
 double HexahedronFEMForceField::force_range(std::size_t first, std::size_t end, std::span<Vec3> f,
@@ -198,15 +189,10 @@ double HexahedronFEMForceField::force_range(std::size_t first, std::size_t end, 
 }
 
 void HexahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
-    if (!detail::OrderedScatter::worth_threads(elements_.size())) {
-        dforce_range(0, elements_.size(), df, dx, k_factor, {});
-        return;
-    }
-    product_scatter_.prepare(std::span<const Element>(elements_), 1);
-    const detail::DeferredTerms deferred = product_scatter_.deferred();
-    product_scatter_.for_each_chunk(
-        [&](std::size_t first, std::size_t end) { dforce_range(first, end, df, dx, k_factor, deferred); });
-    product_scatter_.subtract_deferred(df);
+    scatter_in_order</*Add=*/false>(df, 1,
+                                    [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+                                        dforce_range(first, end, df, dx, k_factor, deferred);
+                                    });
 }
 
 void HexahedronFEMForceField::dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df,

@@ -41,6 +41,8 @@ void OrderedScatter::clear() {
     requested_chunks_ = 0;
     chunk_first_.clear();
     deferred_mask_.clear();
+    deferred_before_.clear();
+    per_element_ = 0;
     deferred_vertex_.clear();
     deferred_first_.clear();
     deferred_term_.clear();
@@ -90,7 +92,13 @@ void OrderedScatter::build_flat(std::span<const PointId> vertices, std::size_t p
                 const auto v = static_cast<std::size_t>(vertices[per_element * e + k]);
                 deferred_term_[slot[v]++] = static_cast<std::uint32_t>(per_element * e + k);
             }
-    terms_.resize(vertices.size());
+    deferred_before_.resize(count);
+    std::uint32_t before = 0;
+    for (std::size_t e = 0; e < count; ++e) {
+        deferred_before_[e] = before;
+        before += static_cast<std::uint32_t>(__builtin_popcount(deferred_mask_[e]));
+    }
+    per_element_ = per_element;
     element_count_ = count;
     requested_chunks_ = chunks;
 }
@@ -99,6 +107,7 @@ template <bool Add>
 void OrderedScatter::apply_deferred(std::span<Vec3> out) const {
     if (deferred_vertex_.empty()) return;
     PENALTY_DEMAND(static_cast<std::size_t>(deferred_vertex_.back()) < out.size());
+    PENALTY_DEMAND(terms_.size() == per_element_ * element_count_);  // (deferred() made them)
     const Vec3* terms = terms_.data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, deferred_vertex_.size(), kDeferredVerticesPerTask),
                       [out, terms, this](const tbb::blocked_range<std::size_t>& range) {
@@ -110,6 +119,18 @@ void OrderedScatter::apply_deferred(std::span<Vec3> out) const {
                               }
                           }
                       });
+}
+
+void OrderedScatter::for_each_deferred_slot(const std::function<void(std::size_t, std::size_t)>& apply) const {
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, deferred_vertex_.size(), kDeferredVerticesPerTask),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                const auto vertex = static_cast<std::size_t>(deferred_vertex_[i]);
+                for (std::uint32_t t = deferred_first_[i]; t < deferred_first_[i + 1]; ++t)
+                    apply(vertex, deferred_slot(deferred_term_[t] / per_element_, deferred_term_[t] % per_element_));
+            }
+        });
 }
 
 void OrderedScatter::subtract_deferred(std::span<Vec3> out) const { apply_deferred<false>(out); }

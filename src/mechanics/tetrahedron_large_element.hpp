@@ -185,25 +185,14 @@ std::array<Vec3, 4> large_element_force_terms(const std::array<std::size_t, 4>& 
     return terms;
 }
 
-/// The same element's f[vertex k] += Rᵀ·F_k; returns R.
-template <class StrainDisplacementEntries, class MaterialEntries>
-Mat3 add_large_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
-                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
-                             std::span<Vec3> f, double& energy) {
-    Mat3 r;
-    const std::array<Vec3, 4> terms = large_element_force_terms(vertex, rest, j, m, x, energy, r);
-    for (std::size_t k = 0; k < 4; ++k) f[vertex[k]] += terms[k];
-    return r;
-}
-
 /// accumulateForcePolar (and accumulateForceSVD) of one element with vertices `vertex` and frame
 /// r (polar_rotation(A), or SVD's choice): δ = rest − r·x_k for all twelve entries,
-/// F = J·M·Jᵀ·δ, and f[vertex k] += rᵀ·F_k. `energy` gets ½ δᵀF summed left to right (beyond
-/// SOFA: its energy report).
+/// F = J·M·Jᵀ·δ, and the terms rᵀ·F_k (returned) of f[vertex k] += rᵀ·F_k. `energy` gets ½ δᵀF
+/// summed left to right (beyond SOFA: its energy report).
 template <class StrainDisplacementEntries, class MaterialEntries>
-void add_polar_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest, const Mat3& r,
-                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
-                             std::span<Vec3> f, double& energy) {
+std::array<Vec3, 4> polar_element_force_terms(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
+                                              const Mat3& r, const StrainDisplacementEntries& j,
+                                              const MaterialEntries& m, std::span<const Vec3> x, double& energy) {
     TetrahedronDisplacement delta;
     for (std::size_t k = 0; k < 4; ++k) {
         const Vec3 deformed = sofa_vec::times(r, x[vertex[k]]);
@@ -213,17 +202,20 @@ void add_polar_element_force(const std::array<std::size_t, 4>& vertex, const std
     double work = delta[0] * force[0];
     for (int i = 1; i < 12; ++i) work += delta[i] * force[i];
     energy = 0.5 * work;
+    std::array<Vec3, 4> terms;
     for (std::size_t k = 0; k < 4; ++k)
-        f[vertex[k]] += sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+        terms[k] = sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
+    return terms;
 }
 
 /// TetrahedralCorotationalFEMForceField::accumulateForceSmall of one element with vertices
 /// `vertex` and rest positions `rest` (world): δ₀ = 0, δ_k = ((x⁰_k − x⁰_0) − x_k) + x_0 for
-/// k = 1 … 3, F = J·M·Jᵀ·δ, f[vertex k] += F_k (no rotation). `energy` gets ½ δᵀF (beyond SOFA).
+/// k = 1 … 3, F = J·M·Jᵀ·δ, and the terms F_k (returned) of f[vertex k] += F_k (no rotation).
+/// `energy` gets ½ δᵀF (beyond SOFA).
 template <class StrainDisplacementEntries, class MaterialEntries>
-void add_small_element_force(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
-                             const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> x,
-                             std::span<Vec3> f, double& energy) {
+std::array<Vec3, 4> small_element_force_terms(const std::array<std::size_t, 4>& vertex, const std::array<Vec3, 4>& rest,
+                                              const StrainDisplacementEntries& j, const MaterialEntries& m,
+                                              std::span<const Vec3> x, double& energy) {
     TetrahedronDisplacement delta = TetrahedronDisplacement::Zero();
     const Vec3& x0 = x[vertex[0]];
     for (std::size_t k = 1; k < 4; ++k)
@@ -233,18 +225,23 @@ void add_small_element_force(const std::array<std::size_t, 4>& vertex, const std
     double work = delta[3] * force[3];
     for (int i = 4; i < 12; ++i) work += delta[i] * force[i];
     energy = 0.5 * work;
-    for (std::size_t k = 0; k < 4; ++k) f[vertex[k]] += force.segment<3>(3 * static_cast<Index>(k));
+    std::array<Vec3, 4> terms;
+    for (std::size_t k = 0; k < 4; ++k) terms[k] = force.segment<3>(3 * static_cast<Index>(k));
+    return terms;
 }
 
-/// TetrahedralCorotationalFEMForceField::applyStiffnessSmall of one element: df[vertex k] += −F_k
-/// with F = J·(k·(M·(Jᵀ·dx))).
+/// TetrahedralCorotationalFEMForceField::applyStiffnessSmall of one element: the terms F_k
+/// (returned) of df[vertex k] −= F_k, with F = J·(k·(M·(Jᵀ·dx))).
 template <class StrainDisplacementEntries, class MaterialEntries>
-void add_small_element_dforce(const std::array<std::size_t, 4>& vertex, const StrainDisplacementEntries& j,
-                              const MaterialEntries& m, std::span<const Vec3> dx, std::span<Vec3> df, double k_factor) {
+std::array<Vec3, 4> small_element_dforce_terms(const std::array<std::size_t, 4>& vertex,
+                                               const StrainDisplacementEntries& j, const MaterialEntries& m,
+                                               std::span<const Vec3> dx, double k_factor) {
     TetrahedronDisplacement local;
     for (std::size_t k = 0; k < 4; ++k) local.segment<3>(3 * static_cast<Index>(k)) = dx[vertex[k]];
     const TetrahedronDisplacement force = large_element_force(j, m, local, k_factor);
-    for (std::size_t k = 0; k < 4; ++k) df[vertex[k]] -= force.segment<3>(3 * static_cast<Index>(k));
+    std::array<Vec3, 4> terms;
+    for (std::size_t k = 0; k < 4; ++k) terms[k] = force.segment<3>(3 * static_cast<Index>(k));
+    return terms;
 }
 
 /// applyStiffnessCorotational / applyStiffnessLarge of one element of frame r (a Mat3, or one
@@ -260,15 +257,6 @@ std::array<Vec3, 4> large_element_dforce_terms(const std::array<std::size_t, 4>&
     for (std::size_t k = 0; k < 4; ++k)
         terms[k] = sofa_vec::transpose_times(r, force.segment<3>(3 * static_cast<Index>(k)));
     return terms;
-}
-
-/// The same element's df[vertex k] −= Rᵀ·F_k.
-template <class Rotation, class StrainDisplacementEntries, class MaterialEntries>
-void add_large_element_dforce(const std::array<std::size_t, 4>& vertex, const Rotation& r,
-                              const StrainDisplacementEntries& j, const MaterialEntries& m, std::span<const Vec3> dx,
-                              std::span<Vec3> df, double k_factor) {
-    const std::array<Vec3, 4> terms = large_element_dforce_terms(vertex, r, j, m, dx, k_factor);
-    for (std::size_t k = 0; k < 4; ++k) df[vertex[k]] -= terms[k];
 }
 
 }  // namespace penalty::detail

@@ -1,11 +1,13 @@
 // TetrahedralCorotationalFEMForceField (SOFA's corotational tetrahedra): a single tetrahedron under
 // uniaxial stretch against linear elasticity (each method), rotation invariance, the stiffness
 // against finite differences, the updated strain-displacement matrix in closed form,
-// localStiffnessFactor, the polar + computeGlobalMatrix quirk, and equality with
-// TetrahedronFEMForceField at the default options.
+// localStiffnessFactor, the polar + computeGlobalMatrix quirk, equality with
+// TetrahedronFEMForceField at the default options, and the force and product on threads (the
+// bits of one thread).
 #include "penalty/mechanics/corotational_fem.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
@@ -13,7 +15,9 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cstring>
 #include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -295,6 +299,44 @@ TEST(TetrahedralCorotationalFem, RefusesDegenerateTetrahedraAndBadMaterial) {
     CornerTetrahedron u;
     EXPECT_THROW(TetrahedralCorotationalFEMForceField(u.state, u.tetrahedra, kYoung, 0.5), std::invalid_argument);
     EXPECT_THROW(TetrahedralCorotationalFEMForceField(u.state, u.tetrahedra, -1.0, 0.3), std::invalid_argument);
+}
+
+TEST(TetrahedralCorotationalFem, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // 13 × 12 × 9 cells, 8 424 tetrahedra (above OrderedScatter::kMinElements), in the grid's
+    // order and shuffled; SOFA's operations (small, large, polar) and the common path
+    // (updateStiffnessMatrix: each K^e from the current shape)
+    const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
+    const MeshTopology spatial = test::kuhn_tetrahedra(grid);
+    ASSERT_GE(spatial.tetrahedra().size(), detail::OrderedScatter::kMinElements);
+    std::vector<Tetrahedron> shuffled = spatial.tetrahedra();
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(4));
+    const CorotationalFemOptions options[] = {{.method = FemMethod::Small},
+                                              {.method = FemMethod::Large},
+                                              {.method = FemMethod::Polar},
+                                              {.method = FemMethod::Large, .update_stiffness = true},
+                                              {.method = FemMethod::Polar, .update_stiffness = true}};
+    for (const bool shuffle : {false, true})
+        for (const CorotationalFemOptions& o : options) {
+            Vec3Object state;
+            state.position = grid.points();
+            state.init();
+            TetrahedralCorotationalFEMForceField fem(state, shuffle ? shuffled : spatial.tetrahedra(), 3e4, 0.35, o);
+            fem.init();
+            const test::ElementProducts one = test::element_products_on_threads(fem, state, 1, 0.02, -0.37);
+            EXPECT_EQ(one.chunks, 0U);
+            EXPECT_GT(one.energy, 0.0);
+            for (const int threads : {2, 3, 8}) {
+                const test::ElementProducts many = test::element_products_on_threads(fem, state, threads, 0.02, -0.37);
+                const std::string where = "method " + std::to_string(static_cast<int>(o.method)) +
+                                          (o.update_stiffness ? ", updated stiffness, " : ", ") +
+                                          std::to_string(threads) + " threads" + (shuffle ? ", shuffled" : "");
+                EXPECT_GT(many.chunks, 1U) << where;
+                EXPECT_GT(many.deferred, 0U) << where;
+                EXPECT_TRUE(test::same_vectors_bits(many.force, one.force)) << where;
+                EXPECT_TRUE(test::same_vectors_bits(many.product, one.product)) << where;
+                EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+            }
+        }
 }
 
 }  // namespace

@@ -2,18 +2,23 @@
 // and the assembled matrix against finite differences of the force (at a rigidly moved rest
 // shape for the corotational methods, anywhere for the linear one), the assembled matrix against
 // add_dforce at a deformed shape, zero force under a rigid motion (and not without rotation), and
-// the linear method's force equal to TetrahedronFEMForceField's small method.
+// the linear method's force equal to TetrahedronFEMForceField's small method, and the force, edge
+// stiffness and product on threads the bits of one thread.
 #include "penalty/mechanics/fast_tetrahedral_corotational.hpp"
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <cstring>
 #include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -149,6 +154,49 @@ TEST(FastTetrahedralCorotational, EdgesOfTheTopologyCarryTheStiffness) {
     one.set_tetrahedra({{0, 1, 2, 3}});
     FastTetrahedralCorotationalForceField degenerate(flat, one, {});
     EXPECT_THROW(degenerate.init(), std::invalid_argument);
+}
+
+TEST(FastTetrahedralCorotational, ForceEdgeStiffnessAndProductOnThreadsAreTheBitsOfOneThread) {
+    // 13 × 12 × 9 cells: 8 424 tetrahedra and more edges (above OrderedScatter::kMinElements),
+    // numbered in space or shuffled (the edges then numbered in another order too)
+    const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
+    const MeshTopology spatial = test::kuhn_tetrahedra(grid);
+    std::vector<Tetrahedron> shuffled = spatial.tetrahedra();
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(8));
+    MeshTopology random_order;
+    random_order.set_tetrahedra(shuffled);
+    ASSERT_GE(spatial.tetrahedra().size(), detail::OrderedScatter::kMinElements);
+    const auto same_matrices_bits = [](const std::vector<Mat3>& a, const std::vector<Mat3>& b) {
+        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Mat3)) == 0;
+    };
+    for (const MeshTopology* mesh : {&spatial, static_cast<const MeshTopology*>(&random_order)})
+        for (const FastTetrahedralRotation rotation : kAllRotations) {
+            Vec3Object state;
+            state.position = grid.points();
+            state.init();
+            FastTetrahedralCorotationalForceField field(
+                state, *mesh, {.young_modulus = {3e4}, .poisson_ratio = {0.35}, .rotation = rotation});
+            field.init();
+            const test::ElementProducts one = test::element_products_on_threads(field, state, 1, 0.02, -0.37);
+            const std::vector<Mat3> one_edges = field.edge_stiffness();
+            EXPECT_EQ(one.chunks, 0U);
+            EXPECT_EQ(field.force_scatter().chunk_count(), 0U);
+            EXPECT_GT(std::count_if(one_edges.begin(), one_edges.end(), [](const Mat3& e) { return e.norm() > 0; }),
+                      std::ptrdiff_t(one_edges.size() / 2));
+            for (const int threads : {2, 3, 8}) {
+                const test::ElementProducts many =
+                    test::element_products_on_threads(field, state, threads, 0.02, -0.37);
+                const std::string where = "rotation " + std::to_string(static_cast<int>(rotation)) + ", " +
+                                          std::to_string(threads) + " threads" + (mesh == &spatial ? "" : ", shuffled");
+                EXPECT_GT(many.chunks, 1U) << where;  // the product's split of the edges
+                EXPECT_GT(many.deferred, 0U) << where;
+                EXPECT_GT(field.force_scatter().chunk_count(), 1U) << where;
+                EXPECT_GT(field.force_scatter().deferred_terms(), 0U) << where;
+                EXPECT_TRUE(test::same_vectors_bits(many.force, one.force)) << where;
+                EXPECT_TRUE(same_matrices_bits(field.edge_stiffness(), one_edges)) << where;
+                EXPECT_TRUE(test::same_vectors_bits(many.product, one.product)) << where;
+            }
+        }
 }
 
 }  // namespace

@@ -119,6 +119,37 @@ TEST(OrderedScatter, ChunksInAnyOrderGiveEachVertexTheLoopsBits) {
     }
 }
 
+TEST(OrderedScatter, DeferredSlotsNumberTheStoredTermsInElementOrderAndVisitEachVertexsInOrder) {
+    // a caller storing its own terms (FastTetrahedralCorotationalForceField's edge matrices):
+    // the slots are 0, 1, … in element order, and for_each_deferred_slot gives each vertex its
+    // slots in element order, each slot once
+    std::mt19937 rng(13);
+    const std::vector<Element4> elements = random_elements(2003, 300, rng);
+    detail::OrderedScatter scatter;
+    scatter.build(std::span<const Element4>(elements), 5, 1);
+    ASSERT_GT(scatter.deferred_terms(), 0U);
+    std::size_t next = 0;
+    std::vector<std::vector<std::size_t>> expected(300);  // per vertex, its slots in element order
+    for (std::size_t e = 0; e < elements.size(); ++e)
+        for (std::size_t k = 0; k < 4; ++k)
+            if ((scatter.deferred_mask()[e] >> k) & 1U) {
+                EXPECT_EQ(scatter.deferred_slot(e, k), next) << e << ' ' << k;
+                expected[static_cast<std::size_t>(elements[e][k])].push_back(next++);
+            }
+    ASSERT_EQ(next, scatter.deferred_terms());
+    std::vector<std::vector<std::size_t>> visited(300);
+    std::vector<int> visits(next, 0);
+    tbb::task_arena arena(1);  // (the visits of a vertex are in order on any thread count)
+    arena.execute([&] {
+        scatter.for_each_deferred_slot([&](std::size_t vertex, std::size_t slot) {
+            visited[vertex].push_back(slot);
+            ++visits[slot];
+        });
+    });
+    EXPECT_EQ(visited, expected);
+    EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), std::ptrdiff_t(next));
+}
+
 TEST(OrderedScatter, AMeshNumberedInSpaceDefersFewTerms) {
     // a Kuhn grid of 24 × 24 × 24 points, 72 006 tetrahedra numbered cell by cell
     const RegularGridTopology grid({24, 24, 24}, Vec3::Zero(), Vec3::Ones());

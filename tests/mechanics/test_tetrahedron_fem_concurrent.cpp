@@ -1,7 +1,7 @@
-// TetrahedronFEMForceField's method-large force and product on TBB's threads
-// (src/mechanics/tetrahedron_fem_concurrent.cpp): f, df, the energy and the frames the product
-// reads are the bits of one thread, on every kernel path this CPU runs, for elements numbered in
-// space or shuffled, and after the elements change.
+// TetrahedronFEMForceField's force and product on TBB's threads (src/mechanics/fem.cpp, through
+// LinearElementForceField::scatter_in_order): f, df, the energy and the frames the product reads
+// are the bits of one thread, for every method, on every kernel path this CPU runs, for elements
+// numbered in space or shuffled, and after the elements change.
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
@@ -98,10 +98,38 @@ TEST(TetrahedronFemConcurrent, NewElementsMakeTheSplitAgain) {
     EXPECT_FALSE(same_vectors_bits(one.product, before.product));  // the order of the sums changed
 }
 
-TEST(TetrahedronFemConcurrent, FewElementsOrOtherMethodsRunOnOneThread) {
+TEST(TetrahedronFemConcurrent, EveryOtherMethodOnThreadsGivesTheBitsOfOneThread) {
+    // small (its own product), polar and svd (their frames element by element, large's product)
+    const MeshTopology spatial = test::kuhn_tetrahedra(tetrahedron_grid());
+    for (const FemMethod method : {FemMethod::Small, FemMethod::Polar, FemMethod::Svd})
+        for (const KernelPath path : paths_here()) {
+            Vec3Object state;
+            state.position = tetrahedron_grid().points();
+            state.init();
+            TetrahedronFEMForceField fem(state, spatial, 3e4, 0.35, method);
+            fem.set_kernel_path(path);
+            fem.init();
+            const ElementProducts one = run_tetrahedra(fem, state, 1);
+            EXPECT_EQ(one.chunks, 0U);
+            EXPECT_GT(one.energy, 0.0);
+            for (const int threads : {2, 8}) {
+                const ElementProducts many = run_tetrahedra(fem, state, threads);
+                const std::string where = std::string(to_string(path)) + ", method " +
+                                          std::to_string(static_cast<int>(method)) + ", " + std::to_string(threads) +
+                                          " threads";
+                EXPECT_GT(many.chunks, 1U) << where;
+                EXPECT_GT(many.deferred, 0U) << where;
+                EXPECT_TRUE(same_vectors_bits(many.force, one.force)) << where;
+                EXPECT_TRUE(same_vectors_bits(many.product, one.product)) << where;
+                EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+            }
+        }
+}
+
+TEST(TetrahedronFemConcurrent, FewElementsRunOnOneThread) {
     const RegularGridTopology small({4, 4, 4}, Vec3::Zero(), Vec3::Ones());
     const MeshTopology mesh = test::kuhn_tetrahedra(small);
-    for (const FemMethod method : {FemMethod::Large, FemMethod::Small}) {
+    for (const FemMethod method : {FemMethod::Large, FemMethod::Small, FemMethod::Polar, FemMethod::Svd}) {
         Vec3Object state;
         state.position = small.points();
         state.init();
@@ -109,13 +137,6 @@ TEST(TetrahedronFemConcurrent, FewElementsOrOtherMethodsRunOnOneThread) {
         fem.init();
         EXPECT_EQ(run_tetrahedra(fem, state, 4).chunks, 0U);
     }
-    const MeshTopology large = test::kuhn_tetrahedra(tetrahedron_grid());
-    Vec3Object state;
-    state.position = tetrahedron_grid().points();
-    state.init();
-    TetrahedronFEMForceField small_method(state, large, 3e4, 0.35, FemMethod::Small);
-    small_method.init();
-    EXPECT_EQ(run_tetrahedra(small_method, state, 4).chunks, 0U);
 }
 
 }  // namespace

@@ -58,6 +58,11 @@ private:
         Eigen::Matrix<double, 6, 6> material;              ///< D·factor/(36 V⁰), Pa/m³
     };
     std::vector<LargeElement> large_;
+    /// sofa_operations()'s force over elements [first, end) (element e's frame into rotation_[e]),
+    /// the terms `deferred` marks stored instead of added; returns the energy summed in element
+    /// order, or 0 with element e's into energies[e] (not null).
+    double sofa_force(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
+                      const detail::DeferredTerms& deferred, double* energies);
 
     CorotationalFemOptions options_;
     Eigen::Matrix<double, 6, 6> material_;  ///< isotropic_elasticity(E, ν), Pa

@@ -20,6 +20,7 @@
 /// and diagonal blocks −Σ R D_i Rᵀ. No potential energy (SOFA's getPotentialEnergy returns 0).
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
@@ -66,16 +67,34 @@ public:
     /// E_e per global edge, built from the rotations of the last add_force.
     [[nodiscard]] const std::vector<Mat3>& edge_stiffness() const { return edge_dfdx_; }
     [[nodiscard]] FastTetrahedralRotation rotation_method() const { return p_.rotation; }
+    /// The force's split of the tetrahedra (for their vertices; the same chunks for their edges'
+    /// E_e) and the product's of the edges, as the last force and product on threads made them
+    /// (chunk_count() 0 before one ran).
+    [[nodiscard]] const detail::OrderedScatter& force_scatter() const { return force_scatter_; }
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 
 private:
     [[nodiscard]] RestTetrahedron rest_information(std::size_t t) const;
     [[nodiscard]] Mat3 rotation_of(const RestTetrahedron& r, const std::array<Vec3, 6>& edge) const;
-    void rebuild_edge_stiffness();
+    /// The force over tetrahedra [first, end) (each one's rotation into rest_), the terms
+    /// `deferred` marks stored instead of added, and edge_term(t, j, term) with each
+    /// tetrahedron's term of E_e for its local edge j, after its force.
+    template <class EdgeTerm>
+    void force_range(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
+                     const detail::DeferredTerms& deferred, const EdgeTerm& edge_term);
 
     const MeshTopology* topology_;
     FastTetrahedralCorotationalParameters p_;
     std::vector<RestTetrahedron> rest_;
     std::vector<Mat3> edge_dfdx_;  ///< SOFA's edgeInfo
+    /// From OrderedScatter::kMinElements tetrahedra (edges) on several threads, the force and
+    /// E_e (the product) run on TBB's threads with the bits of one thread: the tetrahedra's
+    /// split for their vertices, the same chunks' split for their edges with its stored terms,
+    /// and the edges' split (init clears them).
+    detail::OrderedScatter force_scatter_;
+    detail::OrderedScatter edge_scatter_;
+    std::vector<Mat3> deferred_edge_terms_;  ///< at edge_scatter_.deferred_slot
+    mutable detail::OrderedScatter product_scatter_;
 };
 
 }  // namespace penalty

@@ -89,8 +89,36 @@ public:
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
     [[nodiscard]] double potential_energy() const override { return energy_; }
     [[nodiscard]] const std::vector<ElementMatrix>& element_stiffness() const { return ke_; }
+    /// From OrderedScatter::kMinElements elements on several threads, the force and the product
+    /// run on TBB's threads with the bits of one thread; their split as the last of them made it
+    /// (chunk_count() 0 before one ran or when they ran on one thread).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 
 protected:
+    /// pass(first, end, deferred) over every element, whose terms go to out[vertex] (+= when
+    /// Add, else −=), in element order: one call with no term deferred below
+    /// OrderedScatter::kMinElements elements or on one thread, else chunks of consecutive elements
+    /// (each first element a multiple of `alignment`) on TBB's threads, the terms `deferred` marks
+    /// applied in element order after (detail::OrderedScatter): the bits of one thread.
+    template <bool Add, class Pass>
+    void scatter_in_order(std::span<Vec3> out, std::size_t alignment, const Pass& pass) const {
+        detail::scatter_in_order<Add>(product_scatter_, std::span<const Element>(elements_), out, alignment, pass);
+    }
+    /// scatter_in_order of a force pass, pass(first, end, deferred, energies), that returns its
+    /// elements' energy summed in element order, or 0 with element e's into energies[e] (not
+    /// null): returns every element's energy summed in element order.
+    template <bool Add, class Pass>
+    double force_in_order(std::span<Vec3> f, std::size_t alignment, const Pass& pass) {
+        if (!detail::OrderedScatter::worth_threads(elements_.size()))
+            return pass(std::size_t{0}, elements_.size(), detail::DeferredTerms{}, nullptr);
+        element_energies_.resize(elements_.size());
+        scatter_in_order<Add>(f, alignment, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& d) {
+            pass(first, end, d, element_energies_.data());
+        });
+        double total = 0.0;
+        for (const double e : element_energies_) total += e;
+        return total;
+    }
     /// init() for elements [first, size): the others keep their data (topological changes).
     void init_from(std::size_t first);
     /// Element stiffness K^e (SPD, 3N×3N) from local rest coordinates.
@@ -119,6 +147,10 @@ protected:
     std::vector<std::array<Vec3, N>> rest_local_;
     std::vector<Mat3> rotation_;  ///< R per element at the last add_force (identity for small; see keeps_rotations)
     double energy_ = 0.0;
+    /// scatter_in_order's split and stored terms, made again when the chunk count or the element
+    /// count changes (a field whose elements change in place clears it).
+    mutable detail::OrderedScatter product_scatter_;
+    std::vector<double> element_energies_;  ///< force_in_order's, summed in element order after
 };
 
 class RegularGridTopology;
@@ -207,11 +239,6 @@ public:
     /// computeMaterialStiffness); empty: E for all.
     void set_young_factors(std::vector<double> factors) { young_factors_ = std::move(factors); }
 
-    /// Method large's force and product run on TBB's threads from OrderedScatter::kMinElements
-    /// elements when the arena has more than one (tetrahedron_fem_concurrent.cpp), with the bits
-    /// of one thread. Their split as the last of them made it (chunk_count() 0 before one ran).
-    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
-
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local,
                                                   const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
@@ -227,8 +254,12 @@ private:
     /// J, D/(36V) and R of every element into the lane blocks (large_), by the method's init.
     void init_large(std::size_t first = 0);
     /// add_force of methods small, polar and svd (accumulateForceSmall, accumulateForcePolar,
-    /// accumulateForceSVD), element by element.
-    void add_force_per_element(std::span<Vec3> f, std::span<const Vec3> x);
+    /// accumulateForceSVD) over elements [first, end), element by element, as large_force.
+    double force_per_element(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
+                             const detail::DeferredTerms& deferred, double* energies);
+    /// Method small's product (applyStiffnessSmall) over elements [first, end), as large_dforce.
+    void small_dforce(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                      const detail::DeferredTerms& deferred) const;
     /// init() for elements [first, size).
     void init_elements(std::size_t first);
     /// Method large's product df −= Rᵀ·F(R·dx, k) over elements [first, end), by the kernel path;
@@ -240,16 +271,6 @@ private:
     /// summed in element order, or 0 with element e's into energies[e] (not null).
     double large_force(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
                        const detail::DeferredTerms& deferred, double* energies);
-    /// large_force on TBB's threads, as concurrent_large_dforce, the energies summed in order after.
-    void concurrent_large_force(std::span<Vec3> f, std::span<const Vec3> x);
-    /// The product on TBB's threads (tetrahedron_fem_concurrent.cpp): product_scatter_'s chunks
-    /// as tasks, each subtracting its own vertices' terms and storing the others, then the stored
-    /// ones subtracted in element order.
-    void concurrent_large_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const;
-    /// The concurrent force's and product's split and stored terms, made again when the chunk
-    /// count or the elements change (init and topological changes clear it).
-    mutable detail::OrderedScatter product_scatter_;
-    std::vector<double> element_energies_;  ///< concurrent_large_force's, summed in order after
     /// What a topological change leaves to topology_change_done().
     struct PendingTopologyChange {
         const TopologyContainer* container = nullptr;
@@ -302,9 +323,6 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
-    /// From OrderedScatter::kMinElements elements on several threads, the force and product run
-    /// on TBB's threads with the bits of one thread; their split as the last of them made it.
-    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 
 protected:
     /// SOFA's computeElementStiffness on the element's rotated rest corners (the first argument,
@@ -327,10 +345,6 @@ private:
     void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                       const detail::DeferredTerms& deferred) const;
     std::vector<double> stiffness_factors_;
-    /// From OrderedScatter::kMinElements elements on several threads: the split with its stored
-    /// terms (init clears it), and each element's energy (the force's, summed in element order).
-    mutable detail::OrderedScatter product_scatter_;
-    std::vector<double> element_energies_;
 };
 
 extern template class LinearElementForceField<4>;

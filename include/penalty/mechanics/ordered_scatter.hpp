@@ -84,10 +84,24 @@ public:
     }
     /// Bit k of element e: its term k is deferred (the kernel stores it at e·N + k).
     [[nodiscard]] const std::uint8_t* deferred_mask() const { return deferred_mask_.data(); }
-    /// The mask and where the chunks store the deferred terms (room for every term e·N + k).
-    [[nodiscard]] DeferredTerms deferred() { return {deferred_mask_.data(), terms_.data()}; }
+    /// The mask and where the chunks store the deferred terms (room for every term e·N + k, made
+    /// at the first call after a build).
+    [[nodiscard]] DeferredTerms deferred() {
+        terms_.resize(per_element_ * element_count_);
+        return {deferred_mask_.data(), terms_.data()};
+    }
     /// How many terms are deferred.
     [[nodiscard]] std::size_t deferred_terms() const { return deferred_term_.size(); }
+    /// For a caller that stores the deferred terms itself, one after another (terms too large to
+    /// keep a slot for every term, as terms_ does): the slot of element e's deferred term k, in
+    /// [0, deferred_terms()), numbered in element order.
+    [[nodiscard]] std::size_t deferred_slot(std::size_t e, std::size_t k) const {
+        const unsigned below = deferred_mask_[e] & ((1U << k) - 1U);
+        return deferred_before_[e] + static_cast<std::size_t>(__builtin_popcount(below));
+    }
+    /// apply(vertex, slot) for each vertex's deferred terms in element order, the vertices on TBB's
+    /// threads (deferred_slot's numbering).
+    void for_each_deferred_slot(const std::function<void(std::size_t, std::size_t)>& apply) const;
 
     /// out[v] −= term for each vertex v's stored terms in element order, the vertices on TBB's
     /// threads.
@@ -104,12 +118,33 @@ private:
     void apply_deferred(std::span<Vec3> out) const;
     std::size_t element_count_ = 0;
     std::size_t requested_chunks_ = 0;
-    std::vector<std::size_t> chunk_first_;       ///< chunk c: elements [chunk_first_[c], chunk_first_[c + 1])
-    std::vector<std::uint8_t> deferred_mask_;    ///< per element
+    std::vector<std::size_t> chunk_first_;        ///< chunk c: elements [chunk_first_[c], chunk_first_[c + 1])
+    std::vector<std::uint8_t> deferred_mask_;     ///< per element
+    std::vector<std::uint32_t> deferred_before_;  ///< per element: the deferred terms of the elements before it
+    std::size_t per_element_ = 0;
     std::vector<PointId> deferred_vertex_;       ///< the vertices with deferred terms, increasing
     std::vector<std::uint32_t> deferred_first_;  ///< their terms: [deferred_first_[i], deferred_first_[i + 1])
     std::vector<std::uint32_t> deferred_term_;   ///< e·N + k, each vertex's in element order
     std::vector<Vec3> terms_;                    ///< the stored terms, at e·N + k
 };
+
+/// pass(first, end, deferred) over `elements`, whose terms go to out[vertex] (+= when Add, else
+/// −=) in element order: one call with no term deferred below OrderedScatter::kMinElements
+/// elements or on one thread, else `scatter`'s chunks of consecutive elements (each first element
+/// a multiple of `alignment`) on TBB's threads, the terms `deferred` marks applied in element
+/// order after: the bits of one thread.
+template <bool Add, std::size_t N, class Pass>
+void scatter_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, std::span<Vec3> out,
+                      std::size_t alignment, const Pass& pass) {
+    if (!OrderedScatter::worth_threads(elements.size())) {
+        pass(std::size_t{0}, elements.size(), DeferredTerms{});
+        return;
+    }
+    scatter.prepare(elements, alignment);
+    const DeferredTerms deferred = scatter.deferred();
+    scatter.for_each_chunk([&](std::size_t first, std::size_t end) { pass(first, end, deferred); });
+    if constexpr (Add) scatter.add_deferred(out);
+    else scatter.subtract_deferred(out);
+}
 
 }  // namespace penalty::detail
