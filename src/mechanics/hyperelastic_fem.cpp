@@ -28,6 +28,7 @@ void TetrahedronHyperelasticityFEMForceField::init() {
     // gⱼ = ±(p_{j+2} − p_{j+1}) × (p_{j+3} − p_{j+1}) / 6V, sign − for j even
     const auto& x0 = state_->rest_position;
     elements_.assign(tetrahedra_.size(), Element{});
+    scatter_.clear();  // made again for these tetrahedra at the next force on threads
     for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
         std::array<Vec3, 4> p;
         for (std::size_t k = 0; k < 4; ++k) {
@@ -55,8 +56,18 @@ void TetrahedronHyperelasticityFEMForceField::init() {
 void TetrahedronHyperelasticityFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
                                                         std::span<const Vec3>) {
     PENALTY_DEMAND(elements_.size() == tetrahedra_.size());
-    energy_ = 0;
-    for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
+    energy_ = detail::force_in_order</*Add=*/false>(
+        scatter_, std::span<const Tetrahedron>(tetrahedra_), f, 1, element_energies_,
+        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+            return force_range(first, end, f, x, deferred, energies);
+        });
+}
+
+double TetrahedronHyperelasticityFEMForceField::force_range(std::size_t first, std::size_t end, std::span<Vec3> f,
+                                                            std::span<const Vec3> x,
+                                                            const detail::DeferredTerms& deferred, double* energies) {
+    double total = 0.0;
+    for (std::size_t e = first; e < end; ++e) {
         Element& el = elements_[e];
         const auto& t = tetrahedra_[e];
         const Vec3& x0 = x[static_cast<std::size_t>(t[0])];
@@ -65,9 +76,14 @@ void TetrahedronHyperelasticityFEMForceField::add_force(std::span<Vec3> f, std::
         const double jac = def.determinant();
         const Mat3 c = def.transpose() * def;
         const Mat3 s = law_.second_piola(c, jac);
-        energy_ += el.rest_volume * law_.energy_density(c, jac);
-        for (std::size_t k = 0; k < 4; ++k)
-            f[static_cast<std::size_t>(t[k])] -= el.rest_volume * (def * (s * el.shape[k]));
+        const double energy = el.rest_volume * law_.energy_density(c, jac);
+        if (energies) energies[e] = energy;
+        else total += energy;
+        // f_k −= V₀·F·S·g_k
+        std::array<Vec3, 4> terms;
+        for (std::size_t k = 0; k < 4; ++k) terms[k] = el.rest_volume * (def * (s * el.shape[k]));
+        detail::store_or_apply(deferred, e, terms,
+                               [&](std::size_t k, const Vec3& term) { f[static_cast<std::size_t>(t[k])] -= term; });
         // ∂fₖ/∂xₗ: column m = −V₀[(gₖ·S·gₗ) eₘ + F dS[dC] gₖ], dC = (Fᵀeₘ) ⊗ gₗ + gₗ ⊗ (Fᵀeₘ)
         // (updateTangentMatrix's M and N)
         for (std::size_t l = 0; l < 4; ++l) {
@@ -84,19 +100,29 @@ void TetrahedronHyperelasticityFEMForceField::add_force(std::span<Vec3> f, std::
             }
         }
     }
+    return total;
 }
 
 void TetrahedronHyperelasticityFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                                          double) const {
-    for (std::size_t e = 0; e < tetrahedra_.size(); ++e) {
-        const auto& t = tetrahedra_[e];
-        for (std::size_t k = 0; k < 4; ++k) {
-            Vec3 sum = Vec3::Zero();
-            for (std::size_t l = 0; l < 4; ++l)
-                sum += elements_[e].stiffness[4 * k + l] * dx[static_cast<std::size_t>(t[l])];
-            df[static_cast<std::size_t>(t[k])] += k_factor * sum;
-        }
-    }
+    // df_k += k·Σ_l K_kl·dx_l
+    detail::scatter_in_order</*Add=*/true>(
+        scatter_, std::span<const Tetrahedron>(tetrahedra_), df, 1,
+        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            for (std::size_t e = first; e < end; ++e) {
+                const auto& t = tetrahedra_[e];
+                std::array<Vec3, 4> terms;
+                for (std::size_t k = 0; k < 4; ++k) {
+                    Vec3 sum = Vec3::Zero();
+                    for (std::size_t l = 0; l < 4; ++l)
+                        sum += elements_[e].stiffness[4 * k + l] * dx[static_cast<std::size_t>(t[l])];
+                    terms[k] = k_factor * sum;
+                }
+                detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
+                    df[static_cast<std::size_t>(t[k])] += term;
+                });
+            }
+        });
 }
 
 void TetrahedronHyperelasticityFEMForceField::add_stiffness_triplets(TripletList& triplets, Index offset,

@@ -1,18 +1,23 @@
 // TetrahedronHyperelasticityFEMForceField and its five materials: S = 2∂W/∂C and dS[H] against
 // finite differences, f = −∂E/∂x and df = K·dx (and the assembled matrix) on a deformed block,
-// closed forms (stress-free rest, St Venant-Kirchhoff under a stretch, linear elasticity at rest).
+// closed forms (stress-free rest, St Venant-Kirchhoff under a stretch, linear elasticity at rest),
+// and the force and product on threads (the bits of one thread).
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/hyperelastic_fem.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
 #include "hyperelastic_laws.hpp"
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
+#include <algorithm>
+#include <cstring>
 #include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -100,6 +105,37 @@ TEST(TetrahedronHyperelasticity, BadParametersAreRejected) {
     std::vector<Tetrahedron> flat{{0, 1, 2, 1}};
     TetrahedronHyperelasticityFEMForceField degenerate(b.state, flat, {HyperelasticMaterial::NeoHookean, {1, 1}});
     EXPECT_THROW(degenerate.init(), std::invalid_argument);
+}
+
+TEST(TetrahedronHyperelasticity, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // 13 × 12 × 9 cells, 8 424 tetrahedra (above OrderedScatter::kMinElements), in the grid's
+    // order and shuffled, every material
+    const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
+    const MeshTopology spatial = test::kuhn_tetrahedra(grid);
+    ASSERT_GE(spatial.tetrahedra().size(), detail::OrderedScatter::kMinElements);
+    std::vector<Tetrahedron> shuffled = spatial.tetrahedra();
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(6));
+    for (const bool shuffle : {false, true})
+        for (const HyperelasticLaw& law : every_law()) {
+            Vec3Object state;
+            state.position = grid.points();
+            state.init();
+            TetrahedronHyperelasticityFEMForceField fem(state, shuffle ? shuffled : spatial.tetrahedra(), law);
+            fem.init();
+            const test::ElementProducts one = test::element_products_on_threads(fem, state, 1, 0.02, -0.37);
+            EXPECT_EQ(one.chunks, 0U);
+            EXPECT_NE(one.energy, 0.0);
+            for (const int threads : {2, 3, 8}) {
+                const test::ElementProducts many = test::element_products_on_threads(fem, state, threads, 0.02, -0.37);
+                const std::string where = std::string(material_name(law.material)) + ", " + std::to_string(threads) +
+                                          " threads" + (shuffle ? ", shuffled" : "");
+                EXPECT_GT(many.chunks, 1U) << where;
+                EXPECT_GT(many.deferred, 0U) << where;
+                EXPECT_TRUE(test::same_vectors_bits(many.force, one.force)) << where;
+                EXPECT_TRUE(test::same_vectors_bits(many.product, one.product)) << where;
+                EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+            }
+        }
 }
 
 }  // namespace

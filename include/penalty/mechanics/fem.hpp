@@ -95,29 +95,16 @@ public:
     [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return product_scatter_; }
 
 protected:
-    /// pass(first, end, deferred) over every element, whose terms go to out[vertex] (+= when
-    /// Add, else −=), in element order: one call with no term deferred below
-    /// OrderedScatter::kMinElements elements or on one thread, else chunks of consecutive elements
-    /// (each first element a multiple of `alignment`) on TBB's threads, the terms `deferred` marks
-    /// applied in element order after (detail::OrderedScatter): the bits of one thread.
+    /// detail::scatter_in_order and detail::force_in_order over the elements (on threads from
+    /// OrderedScatter::kMinElements elements, with the bits of one thread).
     template <bool Add, class Pass>
     void scatter_in_order(std::span<Vec3> out, std::size_t alignment, const Pass& pass) const {
         detail::scatter_in_order<Add>(product_scatter_, std::span<const Element>(elements_), out, alignment, pass);
     }
-    /// scatter_in_order of a force pass, pass(first, end, deferred, energies), that returns its
-    /// elements' energy summed in element order, or 0 with element e's into energies[e] (not
-    /// null): returns every element's energy summed in element order.
     template <bool Add, class Pass>
     double force_in_order(std::span<Vec3> f, std::size_t alignment, const Pass& pass) {
-        if (!detail::OrderedScatter::worth_threads(elements_.size()))
-            return pass(std::size_t{0}, elements_.size(), detail::DeferredTerms{}, nullptr);
-        element_energies_.resize(elements_.size());
-        scatter_in_order<Add>(f, alignment, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& d) {
-            pass(first, end, d, element_energies_.data());
-        });
-        double total = 0.0;
-        for (const double e : element_energies_) total += e;
-        return total;
+        return detail::force_in_order<Add>(product_scatter_, std::span<const Element>(elements_), f, alignment,
+                                           element_energies_, pass);
     }
     /// init() for elements [first, size): the others keep their data (topological changes).
     void init_from(std::size_t first);

@@ -24,6 +24,7 @@
 ///    spectral derivative of C^(α₁/2 − 1), SOFA's relative tolerance 1e-8 for equal eigenvalues).
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
@@ -68,6 +69,9 @@ public:
     /// The tetrahedra after a topological change (then init(): the rest data of every element).
     void set_tetrahedra(std::vector<Tetrahedron> tetrahedra) { tetrahedra_ = std::move(tetrahedra); }
     [[nodiscard]] const HyperelasticLaw& law() const { return law_; }
+    /// From OrderedScatter::kMinElements tetrahedra on several threads, the force and the product
+    /// run on TBB's threads with the bits of one thread; their split as the last of them made it.
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
 
 private:
     struct Element {
@@ -80,6 +84,13 @@ private:
     HyperelasticLaw law_;
     std::vector<Element> elements_;
     double energy_ = 0;
+    /// The force over tetrahedra [first, end) with each one's ∂fₖ/∂xₗ, the terms `deferred` marks
+    /// stored instead of subtracted; returns the energy summed in element order, or 0 with
+    /// element e's into energies[e] (not null).
+    double force_range(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
+                       const detail::DeferredTerms& deferred, double* energies);
+    mutable detail::OrderedScatter scatter_;  ///< made again when the tetrahedra change (init clears it)
+    std::vector<double> element_energies_;    ///< the force's on threads, summed in element order
 };
 
 }  // namespace penalty

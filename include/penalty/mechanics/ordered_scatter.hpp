@@ -147,4 +147,22 @@ void scatter_in_order(OrderedScatter& scatter, std::span<const std::array<PointI
     else scatter.subtract_deferred(out);
 }
 
+/// scatter_in_order of a force pass, pass(first, end, deferred, energies), that returns its
+/// elements' energy summed in element order, or 0 with element e's into energies[e] (not null;
+/// `energies` is resized for it): returns every element's energy summed in element order.
+template <bool Add, std::size_t N, class Pass>
+double force_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, std::span<Vec3> f,
+                      std::size_t alignment, std::vector<double>& energies, const Pass& pass) {
+    if (!OrderedScatter::worth_threads(elements.size()))
+        return pass(std::size_t{0}, elements.size(), DeferredTerms{}, nullptr);
+    energies.resize(elements.size());
+    scatter_in_order<Add>(scatter, elements, f, alignment,
+                          [&](std::size_t first, std::size_t end, const DeferredTerms& deferred) {
+                              pass(first, end, deferred, energies.data());
+                          });
+    double total = 0.0;
+    for (const double e : energies) total += e;
+    return total;
+}
+
 }  // namespace penalty::detail
