@@ -3,6 +3,8 @@
 #include "sofa_vector_ops.hpp"
 #include "triangle_fem_sofa_order.hpp"
 
+#include <array>
+
 #include <cmath>
 #include <limits>
 
@@ -70,6 +72,7 @@ void TriangularFEMForceField::init() {
     const std::size_t n = triangles_.size();
     for_each_element_array([n](auto& v) { v.resize(n); });
     for (std::size_t e = 0; e < n; ++e) init_element(e);
+    scatter_.clear();  // made again for these triangles at the next product on threads
 }
 
 void TriangularFEMForceField::init_element(std::size_t e) {
@@ -214,12 +217,13 @@ Eigen::Matrix<double, 6, 6> TriangularFEMForceField::local_stiffness(std::size_t
     return -(j_[e] * material_[e] * j_[e].transpose());
 }
 
-void TriangularFEMForceField::add_dforce_sofa_order(std::span<Vec3> df, std::span<const Vec3> dx,
-                                                    double k_factor) const {
+void TriangularFEMForceField::dforce_range_sofa_order(std::size_t first, std::size_t end, std::span<Vec3> df,
+                                                      std::span<const Vec3> dx, double k_factor,
+                                                      const detail::DeferredTerms& deferred) const {
     // TriangleFEMForceField::applyStiffnessLarge / applyStiffnessSmall (h = 1): dx in the element
     // frame (large), local x, y only; df += (R_2_0·(−F_x, −F_y, 0))·k
     const bool large = parameters_.method == FemMethod::Large;
-    for (std::size_t e = 0; e < triangles_.size(); ++e) {
+    for (std::size_t e = first; e < end; ++e) {
         const Mat3& to_world = rotation_[e];
         const Mat3 to_local = to_world.transpose();
         triangle_fem_sofa::Displacement local_dx;
@@ -231,22 +235,24 @@ void TriangularFEMForceField::add_dforce_sofa_order(std::span<Vec3> df, std::spa
         }
         const triangle_fem_sofa::Displacement nodal =
             triangle_fem_sofa::stiffness_forces(large, j_[e], material_[e], local_dx);
+        std::array<Vec3, 3> terms;
         for (std::size_t k = 0; k < 3; ++k) {
             const auto i = static_cast<Eigen::Index>(2 * k);
             const Vec3 local(-nodal[i], -nodal[i + 1], 0.0);
             const Vec3 world = large ? sofa_vec::times(to_world, local) : local;
-            df[static_cast<std::size_t>(triangles_[e][k])] += sofa_vec::scaled(world, k_factor);
+            terms[k] = sofa_vec::scaled(world, k_factor);
         }
+        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
+            df[static_cast<std::size_t>(triangles_[e][k])] += term;
+        });
     }
 }
 
-void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
-    if (uses_sofa_order()) {
-        add_dforce_sofa_order(df, dx, k_factor);
-        return;
-    }
+void TriangularFEMForceField::dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df,
+                                           std::span<const Vec3> dx, double k_factor,
+                                           const detail::DeferredTerms& deferred) const {
     // applyStiffnessLarge / applyStiffnessSmall: dx in the element frame, local x, y only
-    for (std::size_t e = 0; e < triangles_.size(); ++e) {
+    for (std::size_t e = first; e < end; ++e) {
         const Mat3& to_world = rotation_[e];
         const Mat3 to_local = to_world.transpose();
         Eigen::Matrix<double, 6, 1> local_dx;
@@ -257,11 +263,27 @@ void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec
         }
         const Vec3 stress = material_[e] * (j_[e].transpose() * local_dx);
         const Eigen::Matrix<double, 6, 1> nodal = j_[e] * stress;
+        std::array<Vec3, 3> terms;
         for (std::size_t k = 0; k < 3; ++k) {
             const auto i = static_cast<Eigen::Index>(2 * k);
-            df[static_cast<std::size_t>(triangles_[e][k])] += (to_world * Vec3(-nodal[i], -nodal[i + 1], 0)) * k_factor;
+            terms[k] = (to_world * Vec3(-nodal[i], -nodal[i + 1], 0)) * k_factor;
         }
+        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
+            df[static_cast<std::size_t>(triangles_[e][k])] += term;
+        });
     }
+}
+
+void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
+    // on TBB's threads from OrderedScatter::kMinElements triangles, with the bits of one thread
+    // (the force stays on one thread: SOFA's pass stops at a null determinant, and so the
+    // elements after it keep their frames)
+    detail::scatter_in_order</*Add=*/true>(
+        scatter_, std::span<const Triangle>(triangles_), df, 1,
+        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            if (uses_sofa_order()) dforce_range_sofa_order(first, end, df, dx, k_factor, deferred);
+            else dforce_range(first, end, df, dx, k_factor, deferred);
+        });
 }
 
 void TriangularFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

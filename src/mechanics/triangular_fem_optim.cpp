@@ -2,6 +2,8 @@
 
 #include "sofa_vector_ops.hpp"
 
+#include <array>
+
 namespace penalty {
 
 using sofa_vec::cross;
@@ -30,6 +32,7 @@ void TriangularFEMForceFieldOptim::init() {
     const std::vector<Vec3>& x0 = state_->rest_position;
     const std::vector<Vec3>& x = state_->position;
     rest_.assign(triangles.size(), RestTriangle{});
+    scatter_.clear();  // made again for these triangles at the next force on threads
     frame_.assign(triangles.size(), Frame{});
     for (std::size_t i = 0; i < triangles.size(); ++i) {
         const Triangle& t = triangles[i];
@@ -61,55 +64,68 @@ void TriangularFEMForceFieldOptim::init() {
 // TriangularFEMForceFieldOptim::addForce.
 void TriangularFEMForceFieldOptim::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
     const auto& triangles = topology_->triangles();
-    energy_ = 0;
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-        const Triangle& t = triangles[i];
-        const RestTriangle& r = rest_[i];
-        const Vec3& a = x[static_cast<std::size_t>(t[0])];
-        const Vec3 ab = x[static_cast<std::size_t>(t[1])] - a, ac = x[static_cast<std::size_t>(t[2])] - a;
-        const auto [mu, gamma] = mu_gamma(i);
-        const auto [fx, fy] = triangle_frame(ab, ac);
-        frame_[i] = {fx, fy};
-        const double dbx = r.bx - dot3(fx, ab), dcx = r.cx - dot3(fx, ac), dcy = r.cy - dot3(fy, ac);
-        const Vec3 strain(r.cy * dbx, r.bx * dcy, r.bx * dcx - r.cx * dbx);
-        const double gamma_xy = gamma * (strain[0] + strain[1]);
-        Vec3 stress(mu * strain[0] + gamma_xy, mu * strain[1] + gamma_xy, 0.5 * mu * strain[2]);
-        stress = scaled(stress, r.ss_factor);
-        const Vec3 fb =
-            scaled(fx, r.cy * stress[0] - r.cx * stress[2]) + scaled(fy, r.cy * stress[2] - r.cx * stress[1]);
-        const Vec3 fc = scaled(fx, r.bx * stress[2]) + scaled(fy, r.bx * stress[1]);
-        const Vec3 fa = -fb - fc;
-        f[static_cast<std::size_t>(t[0])] += fa;
-        f[static_cast<std::size_t>(t[1])] += fb;
-        f[static_cast<std::size_t>(t[2])] += fc;
-        energy_ += 0.5 * dot3(stress, strain);
-    }
+    PENALTY_DEMAND(rest_.size() == triangles.size() && frame_.size() == triangles.size());
+    energy_ = detail::force_in_order</*Add=*/true>(
+        scatter_, std::span<const Triangle>(triangles), f, 1, element_energies_,
+        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+            double total = 0.0;
+            for (std::size_t i = first; i < end; ++i) {
+                const Triangle& t = triangles[i];
+                const RestTriangle& r = rest_[i];
+                const Vec3& a = x[static_cast<std::size_t>(t[0])];
+                const Vec3 ab = x[static_cast<std::size_t>(t[1])] - a, ac = x[static_cast<std::size_t>(t[2])] - a;
+                const auto [mu, gamma] = mu_gamma(i);
+                const auto [fx, fy] = triangle_frame(ab, ac);
+                frame_[i] = {fx, fy};
+                const double dbx = r.bx - dot3(fx, ab), dcx = r.cx - dot3(fx, ac), dcy = r.cy - dot3(fy, ac);
+                const Vec3 strain(r.cy * dbx, r.bx * dcy, r.bx * dcx - r.cx * dbx);
+                const double gamma_xy = gamma * (strain[0] + strain[1]);
+                Vec3 stress(mu * strain[0] + gamma_xy, mu * strain[1] + gamma_xy, 0.5 * mu * strain[2]);
+                stress = scaled(stress, r.ss_factor);
+                const Vec3 fb =
+                    scaled(fx, r.cy * stress[0] - r.cx * stress[2]) + scaled(fy, r.cy * stress[2] - r.cx * stress[1]);
+                const Vec3 fc = scaled(fx, r.bx * stress[2]) + scaled(fy, r.bx * stress[1]);
+                const std::array<Vec3, 3> terms{-fb - fc, fb, fc};
+                detail::store_or_apply(deferred, i, terms, [&](std::size_t k, const Vec3& term) {
+                    f[static_cast<std::size_t>(t[k])] += term;
+                });
+                const double energy = 0.5 * dot3(stress, strain);
+                if (energies) energies[i] = energy;
+                else total += energy;
+            }
+            return total;
+        });
 }
 
 // TriangularFEMForceFieldOptim::addDForce.
 void TriangularFEMForceFieldOptim::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                               double /*b_factor*/) const {
     const auto& triangles = topology_->triangles();
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-        const Triangle& t = triangles[i];
-        const RestTriangle& r = rest_[i];
-        const Frame& fr = frame_[i];
-        const auto [mu, gamma] = mu_gamma(i);
-        const Vec3& da = dx[static_cast<std::size_t>(t[0])];
-        const Vec3 dab = dx[static_cast<std::size_t>(t[1])] - da, dac = dx[static_cast<std::size_t>(t[2])] - da;
-        const double dbx = dot3(fr.x, dab), dby = dot3(fr.y, dab), dcx = dot3(fr.x, dac), dcy = dot3(fr.y, dac);
-        const Vec3 dstrain(r.cy * dbx, r.bx * dcy - r.cx * dby, r.bx * dcx - r.cx * dbx + r.cy * dby);
-        const double gamma_xy = gamma * (dstrain[0] + dstrain[1]);
-        Vec3 dstress(mu * dstrain[0] + gamma_xy, mu * dstrain[1] + gamma_xy, 0.5 * mu * dstrain[2]);
-        dstress = scaled(dstress, r.ss_factor * k_factor);
-        const Vec3 dfb =
-            scaled(fr.x, r.cy * dstress[0] - r.cx * dstress[2]) + scaled(fr.y, r.cy * dstress[2] - r.cx * dstress[1]);
-        const Vec3 dfc = scaled(fr.x, r.bx * dstress[2]) + scaled(fr.y, r.bx * dstress[1]);
-        const Vec3 dfa = -dfb - dfc;
-        df[static_cast<std::size_t>(t[0])] -= dfa;
-        df[static_cast<std::size_t>(t[1])] -= dfb;
-        df[static_cast<std::size_t>(t[2])] -= dfc;
-    }
+    PENALTY_DEMAND(rest_.size() == triangles.size() && frame_.size() == triangles.size());
+    detail::scatter_in_order</*Add=*/false>(
+        scatter_, std::span<const Triangle>(triangles), df, 1,
+        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            for (std::size_t i = first; i < end; ++i) {
+                const Triangle& t = triangles[i];
+                const RestTriangle& r = rest_[i];
+                const Frame& fr = frame_[i];
+                const auto [mu, gamma] = mu_gamma(i);
+                const Vec3& da = dx[static_cast<std::size_t>(t[0])];
+                const Vec3 dab = dx[static_cast<std::size_t>(t[1])] - da, dac = dx[static_cast<std::size_t>(t[2])] - da;
+                const double dbx = dot3(fr.x, dab), dby = dot3(fr.y, dab), dcx = dot3(fr.x, dac), dcy = dot3(fr.y, dac);
+                const Vec3 dstrain(r.cy * dbx, r.bx * dcy - r.cx * dby, r.bx * dcx - r.cx * dbx + r.cy * dby);
+                const double gamma_xy = gamma * (dstrain[0] + dstrain[1]);
+                Vec3 dstress(mu * dstrain[0] + gamma_xy, mu * dstrain[1] + gamma_xy, 0.5 * mu * dstrain[2]);
+                dstress = scaled(dstress, r.ss_factor * k_factor);
+                const Vec3 dfb = scaled(fr.x, r.cy * dstress[0] - r.cx * dstress[2]) +
+                                 scaled(fr.y, r.cy * dstress[2] - r.cx * dstress[1]);
+                const Vec3 dfc = scaled(fr.x, r.bx * dstress[2]) + scaled(fr.y, r.bx * dstress[1]);
+                const std::array<Vec3, 3> terms{-dfb - dfc, dfb, dfc};
+                detail::store_or_apply(deferred, i, terms, [&](std::size_t k, const Vec3& term) {
+                    df[static_cast<std::size_t>(t[k])] -= term;
+                });
+            }
+        });
 }
 
 // The matrix of add_dforce (TriangularFEMForceFieldOptim::buildStiffnessMatrix's blocks): per

@@ -1,13 +1,18 @@
 // TriangularFEMForceField (SOFA's co-rotational membrane): closed forms for one stretched
-// triangle, rigid-motion invariance, derivatives against finite differences.
+// triangle, rigid-motion invariance, derivatives against finite differences, the product on
+// threads (the bits of one thread).
 #include "penalty/mechanics/triangular_fem.hpp"
 
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
+#include <cstring>
 #include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -201,6 +206,29 @@ TEST(TriangularFEM, BadInputThrows) {
     out_of_range.set_triangles({{0, 1, 5}});
     TriangularFEMForceField bad_index(s, out_of_range, 10.0, 0.3);
     EXPECT_THROW(bad_index.init(), std::invalid_argument);
+}
+
+TEST(TriangularFEMForceField, ProductOnThreadsIsTheBitsOfOneThread) {
+    // both flavors and methods (SOFA's operations for TriangleFEM and large, the others' for
+    // TriangularFEM small); the force runs on one thread (SOFA's pass stops at a null determinant)
+    const TriangleFemParameters parameters[] = {{.method = FemMethod::Large},
+                                                {.method = FemMethod::Small},
+                                                {.method = FemMethod::Large, .flavor = TriangleFemFlavor::TriangleFEM},
+                                                {.method = FemMethod::Small, .flavor = TriangleFemFlavor::TriangleFEM}};
+    for (const bool shuffle : {false, true})
+        for (const TriangleFemParameters& p : parameters) {
+            const test::TriangleSheet sheet(shuffle);
+            ASSERT_GE(sheet.topology.triangles().size(), detail::OrderedScatter::kMinElements);
+            Vec3Object state;
+            state.position = sheet.points;
+            state.init();
+            TriangularFEMForceField fem(state, sheet.topology, p);
+            fem.init();
+            test::expect_threads_give_one_threads_bits(
+                fem, state,
+                std::string(p.flavor == TriangleFemFlavor::TriangleFEM ? "TriangleFEM" : "TriangularFEM") +
+                    (p.method == FemMethod::Large ? " large" : " small") + (shuffle ? ", shuffled" : ""));
+        }
 }
 
 }  // namespace

@@ -1,15 +1,21 @@
 // TriangularFEMForceFieldOptim: a uniform stretch of a right triangle in closed form, derivatives at a
-// rigidly placed rest shape and near it.
+// rigidly placed rest shape and near it, the force and product on threads (the bits of one
+// thread).
 #include "penalty/mechanics/fast_triangular_bending_springs.hpp"
 #include "penalty/mechanics/quad_bending_fem.hpp"
 #include "penalty/mechanics/triangular_fem_optim.hpp"
 
 #include "penalty_test/cloth.hpp"
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -57,6 +63,19 @@ TEST(TriangularFEMForceFieldOptim, DerivativesAtARigidlyPlacedRestAndNearIt) {
     c.state.position[4] += Vec3(0.001, 0.0005, -0.0007);
     static_cast<void>(test::check_force_field_derivatives(
         ff, c.state, {.dforce_vs_fd = 5e-3, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt}));
+}
+
+TEST(TriangularFEMForceFieldOptim, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    for (const bool shuffle : {false, true}) {
+        const test::TriangleSheet sheet(shuffle);
+        ASSERT_GE(sheet.topology.triangles().size(), detail::OrderedScatter::kMinElements);
+        Vec3Object state;
+        state.position = sheet.points;
+        state.init();
+        TriangularFEMForceFieldOptim fem(state, sheet.topology, {.young_modulus = {3e4}, .poisson_ratio = {0.3}});
+        fem.init();
+        test::expect_threads_give_one_threads_bits(fem, state, shuffle ? "shuffled" : "in order");
+    }
 }
 
 }  // namespace

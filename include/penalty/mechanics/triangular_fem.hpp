@@ -92,6 +92,9 @@ public:
     [[nodiscard]] const std::vector<double>& rest_areas() const { return area_; }
     [[nodiscard]] FemMethod method() const { return parameters_.method; }
     [[nodiscard]] const TriangleFemParameters& parameters() const { return parameters_; }
+    /// From OrderedScatter::kMinElements triangles on several threads, the product runs on TBB's
+    /// threads with the bits of one thread; its split as the last of them made it.
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
 
 private:
     /// f(v) for each per-triangle array (rest_local_, area_, material_, j_, rotation_): the data a
@@ -110,8 +113,13 @@ private:
     /// TriangleFEMForceField, and TriangularFEMForceField "large": SOFA's TriangleFEMUtils operations.
     [[nodiscard]] bool uses_sofa_order() const;
     bool element_force_sofa_order(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
-    /// add_dforce of the TriangleFEM flavor, with SOFA's operations in SOFA's order.
-    void add_dforce_sofa_order(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) const;
+    /// add_dforce over triangles [first, end) of the TriangleFEM flavor, with SOFA's operations in
+    /// SOFA's order, the terms `deferred` marks stored instead of added.
+    void dforce_range_sofa_order(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx,
+                                 double k_factor, const detail::DeferredTerms& deferred) const;
+    /// The same for the other triangles (TriangularFEMForceField small).
+    void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
+                      const detail::DeferredTerms& deferred) const;
     /// −[J Dₐ Jᵀ] (6×6, local x, y per vertex) of triangle e at the last add_force.
     [[nodiscard]] Eigen::Matrix<double, 6, 6> local_stiffness(std::size_t e) const;
 
@@ -123,6 +131,9 @@ private:
     std::vector<StrainDisplacement> j_;  ///< J at the last add_force
     std::vector<Mat3> rotation_;         ///< Rᵀ (columns = local axes) at the last add_force
     double energy_ = 0.0;
+    /// The product's split from OrderedScatter::kMinElements triangles on several threads (made
+    /// again when the triangles change).
+    mutable detail::OrderedScatter scatter_;
 
     /// What handle_topology_changes leaves for topology_change_done.
     struct PendingTopologyChange {

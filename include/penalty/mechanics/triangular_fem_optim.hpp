@@ -14,6 +14,7 @@
 /// energy of which f is the gradient when the frame is held.
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
@@ -42,6 +43,9 @@ public:
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
     [[nodiscard]] double potential_energy() const override { return energy_; }
     [[nodiscard]] const std::vector<RestTriangle>& rest_triangles() const { return rest_; }
+    /// From OrderedScatter::kMinElements triangles on several threads, the force and the product
+    /// run on TBB's threads with the bits of one thread; their split as the last of them made it.
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
 
 private:
     struct Frame {
@@ -53,6 +57,8 @@ private:
     std::vector<RestTriangle> rest_;
     std::vector<Frame> frame_;  ///< SOFA's TriangleState::frame, updated by add_force
     double energy_ = 0;
+    mutable detail::OrderedScatter scatter_;  ///< made again when the triangles change (init clears it)
+    std::vector<double> element_energies_;    ///< the force's on threads, summed in triangle order
 };
 
 }  // namespace penalty

@@ -52,6 +52,7 @@ void TriangularFEMForceField::topology_change_done() {
     const MeshTopology& mesh = pending_.container->mesh();
     PendingTopologyChange pending = std::move(pending_);
     pending_ = {};
+    scatter_.clear();  // the triangles change in place: the split is made again
     const auto& triangles = mesh.triangles();
     PENALTY_DEMAND(triangles.size() == triangles_.size());
     if (pending.all) {
@@ -72,6 +73,7 @@ std::size_t TriangularFEMForceField::take_triangles_keeping_slot_data(const std:
     // never shrink: rest_local_, area_, material_ keep their slots; j_ and rotation_ are made by
     // add_force for the slots in use
     triangles_ = triangles;
+    scatter_.clear();
     const std::size_t kept = rest_local_.size();
     if (triangles_.size() <= kept) return 0;
     for_each_element_array([n = triangles_.size()](auto& v) { v.resize(n); });

@@ -1,15 +1,21 @@
 #pragma once
 /// @file
 /// One force and one product of an element force field in an arena of a given thread count, for
-/// the tests that compare thread counts to the bit (OrderedScatter's users).
+/// the tests that compare thread counts to the bit (OrderedScatter's users), and a sheet of
+/// triangles large enough to run on threads.
 
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/mechanics/ordered_scatter.hpp"
 
+#include "penalty_test/grid_meshes.hpp"
+
+#include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace penalty::test {
@@ -51,5 +57,39 @@ ElementProducts element_products_on_threads(Field& field, const Vec3Object& stat
     out.deferred = field.product_scatter().deferred_terms();
     return out;
 }
+
+/// add_force and add_dforce of `field` at 2, 3 and 8 threads split into chunks, with deferred
+/// terms, and the bits of one thread (force, product, energy); `what` names the case.
+template <class Field>
+void expect_threads_give_one_threads_bits(Field& field, const Vec3Object& state, const std::string& what) {
+    const ElementProducts one = element_products_on_threads(field, state, 1, 0.01, -0.37);
+    EXPECT_EQ(one.chunks, 0U) << what;
+    for (const int threads : {2, 3, 8}) {
+        const ElementProducts many = element_products_on_threads(field, state, threads, 0.01, -0.37);
+        const std::string where = what + ", " + std::to_string(threads) + " threads";
+        EXPECT_GT(many.chunks, 1U) << where;
+        EXPECT_GT(many.deferred, 0U) << where;
+        EXPECT_TRUE(same_vectors_bits(many.force, one.force)) << where;
+        EXPECT_TRUE(same_vectors_bits(many.product, one.product)) << where;
+        EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+    }
+}
+
+/// A 64 × 64-quad sheet over x, y ∈ [−1, 1], 8 192 triangles (OrderedScatter::kMinElements),
+/// curved (z = 0.1·x²), in the grid's order or shuffled.
+struct TriangleSheet {
+    std::vector<Vec3> points;
+    MeshTopology topology;
+    explicit TriangleSheet(bool shuffle) {
+        grid_mesh(
+            64, 1.0, [](const GridVertex& v) { return 0.1 * v.x * v.x; }, points, topology);
+        for (Vec3& p : points) std::swap(p[1], p[2]);  // (the small-strain TriangleFEM reads x, y)
+        if (shuffle) {
+            std::vector<Triangle> triangles = topology.triangles();
+            std::shuffle(triangles.begin(), triangles.end(), std::mt19937(12));
+            topology.set_triangles(std::move(triangles));
+        }
+    }
+};
 
 }  // namespace penalty::test
