@@ -17,6 +17,12 @@
 // DIR/soft_body_on_organ_n<n>.scn (n = 136: its body's mesh beside it, soft_body_on_organ_n136_body.vtk,
 // since a scene attribute holds at most 10⁶ values); callgrind: bench/scene_probe.hpp.
 //
+// BM_SoftBodyElasticity/FIELD: the n = 64 body with another tetrahedral force field
+// (TetrahedralCorotationalFEMForceField, FastTetrahedralCorotationalForceField,
+// TetrahedronHyperelasticityFEMForceField: St Venant-Kirchhoff). BM_Cloth/FIELD: a cloth of
+// 200 × 200 quads (80 000 triangles, 121 203 DOFs) pinned at two corners, falling, with
+// TriangularFEMForceFieldOptim or TriangularFEMForceField; 5 steps, then 20 timed.
+//
 // Counters (per step, over the timed steps): dofs, tetrahedra, organ_triangles; contacts,
 // active (springs with pen > 0); cg_its; kinetic_j; detect_ms, response_ms, solve_ms (Scene::last_timings);
 // ns_per_dof_cg_it = solve time / (DOFs × CG iterations); sunk (body nodes deeper inside the
@@ -52,20 +58,30 @@ struct Size {
 };
 constexpr Size kSizes[] = {{16, 32, 40, 60}, {32, 48, 40, 40}, {64, 64, 40, 10}, {136, 96, 20, 3}};
 
-organ::Setup setup(const Size& size) {
+organ::Setup setup(const Size& size, organ::Elasticity elasticity = organ::Elasticity::tetrahedron_fem) {
     organ::Setup s;
     s.cells = size.cells;
     s.organ_subdivisions = size.organ_subdivisions;
+    s.elasticity = elasticity;
     return s;
 }
 
-void BM_SoftBodyOnOrgan(benchmark::State& state, Size size) {
-    const organ::Setup s = setup(size);
+/// The n = 64 body with another elastic force field (BM_SoftBodyElasticity).
+struct ElasticityCase {
+    const char* name;
+    organ::Elasticity elasticity;
+};
+constexpr ElasticityCase kElasticities[] = {
+    {"TetrahedralCorotationalFEMForceField", organ::Elasticity::tetrahedral_corotational},
+    {"FastTetrahedralCorotationalForceField", organ::Elasticity::fast_tetrahedral_corotational},
+    {"TetrahedronHyperelasticityFEMForceField", organ::Elasticity::hyperelastic}};
+
+void BM_SoftBodyOnOrgan(benchmark::State& state, Size size, organ::Elasticity elasticity, std::string name) {
+    const organ::Setup s = setup(size, elasticity);
     std::unique_ptr<Scene> scene;
     double heap_without_contacts = 0, build_seconds = 0;
     try {
         const auto t0 = Clock::now();
-        const std::string name = "soft_body_on_organ_n" + std::to_string(size.cells);
         {
             // Above 10⁶ values an attribute cannot hold the body's lists: its mesh goes to a .vtk
             // file beside the written scene ($PENALTY_SCALING_SCENES), else in the temporary folder.
@@ -112,14 +128,69 @@ void BM_SoftBodyOnOrgan(benchmark::State& state, Size size) {
     state.counters["build_s"] = build_seconds;
 }
 
+/// A square cloth of n × n quads (2n² triangles, 1 m², 1 kg) pinned at two corners, falling
+/// under gravity with the triangle force field `field` (E = 3 kPa, ν = 0.3): the triangle FEMs'
+/// large scene (no contact).
+std::string cloth_xml(int n, const std::string& field) {
+    std::string points, triangles;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            points += std::to_string(double(i) / n) + " 0 " + std::to_string(double(j) / n) + "  ";
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+            triangles += std::to_string(a) + ' ' + std::to_string(b) + ' ' + std::to_string(d) + "  " +
+                         std::to_string(a) + ' ' + std::to_string(d) + ' ' + std::to_string(c) + "  ";
+        }
+    return "<?xml version=\"1.0\"?>\n<Node name=\"root\" dt=\"0.01\" gravity=\"0 -9.81 0\">\n"
+           "  <DefaultAnimationLoop/>\n  <Node name=\"Cloth\">\n"
+           "    <EulerImplicitSolver rayleighStiffness=\"0.1\" rayleighMass=\"0.1\"/>\n"
+           "    <CGLinearSolver iterations=\"50\" tolerance=\"1e-9\" threshold=\"1e-12\"/>\n"
+           "    <MeshTopology position=\"" +
+           points + "\" triangles=\"" + triangles +
+           "\"/>\n    <MechanicalObject name=\"cloth\"/>\n    <UniformMass totalMass=\"1\"/>\n    <" + field +
+           " youngModulus=\"3000\" poissonRatio=\"0.3\"/>\n    <FixedConstraint indices=\"0 " + std::to_string(n) +
+           "\"/>\n  </Node>\n</Node>\n";
+}
+
+void BM_Cloth(benchmark::State& state, std::string field) {
+    constexpr int kQuads = 200;  // 80 000 triangles, 121 203 DOFs
+    std::unique_ptr<Scene> scene;
+    try {
+        const std::string name = "cloth_" + field;
+        const std::string xml = cloth_xml(kQuads, field);
+        bench::write_scene_if_asked(name, xml);
+        scene = build_scene(io::parse_scene_string(xml, name), bench::build_options());
+        for (int i = 0; i < 5; ++i) scene->step();
+    } catch (const std::exception& e) {
+        state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
+        for (auto _ : state) {
+        }
+        return;
+    }
+    bench::StepSums sums;
+    if (!bench::run_timed_steps(state, *scene, sums)) return;
+    state.counters["triangles"] = 2.0 * kQuads * kQuads;
+    state.counters["cg_its"] = sums.mean(sums.cg);
+}
+
 [[maybe_unused]] const bool registered = [] {
+    const auto timed = [](benchmark::internal::Benchmark* b, int steps) {
+        b->Iterations(steps)->UseManualTime()->MeasureProcessCPUTime()->Unit(benchmark::kMillisecond);
+    };
     for (const Size& size : kSizes)
-        benchmark::RegisterBenchmark(("BM_SoftBodyOnOrgan/n:" + std::to_string(size.cells)).c_str(), BM_SoftBodyOnOrgan,
-                                     size)
-            ->Iterations(size.timed_steps)
-            ->UseManualTime()
-            ->MeasureProcessCPUTime()
-            ->Unit(benchmark::kMillisecond);
+        timed(benchmark::RegisterBenchmark(("BM_SoftBodyOnOrgan/n:" + std::to_string(size.cells)).c_str(),
+                                           BM_SoftBodyOnOrgan, size, organ::Elasticity::tetrahedron_fem,
+                                           "soft_body_on_organ_n" + std::to_string(size.cells)),
+              size.timed_steps);
+    // the other tetrahedral force fields on the n = 64 body (196 608 tetrahedra)
+    for (const ElasticityCase& c : kElasticities)
+        timed(benchmark::RegisterBenchmark(("BM_SoftBodyElasticity/" + std::string(c.name)).c_str(), BM_SoftBodyOnOrgan,
+                                           kSizes[2], c.elasticity, "soft_body_" + std::string(c.name)),
+              kSizes[2].timed_steps);
+    for (const char* field : {"TriangularFEMForceFieldOptim", "TriangularFEMForceField"})
+        timed(benchmark::RegisterBenchmark(("BM_Cloth/" + std::string(field)).c_str(), BM_Cloth, std::string(field)),
+              20);
     return true;
 }();
 

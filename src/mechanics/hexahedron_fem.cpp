@@ -1,6 +1,6 @@
 /// HexahedronFEMForceField (include/penalty/mechanics/fem.hpp), in SOFA's operations and order;
 /// from OrderedScatter::kMinElements elements its force and product on TBB's threads with the
-/// bits of one thread (as TetrahedronFEMForceField's, tetrahedron_fem_concurrent.cpp).
+/// bits of one thread (LinearElementForceField::scatter_in_order).
 #include "penalty/mechanics/fem.hpp"
 
 #include "sofa_vector_ops.hpp"

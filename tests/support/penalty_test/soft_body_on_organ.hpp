@@ -30,7 +30,12 @@
 namespace penalty::test::soft_body_on_organ {
 
 /// What scene_xml() builds. Units: m, kg, s, Pa.
+/// The body's elastic force field (its young_modulus and poisson_ratio; the hyperelastic one St
+/// Venant-Kirchhoff with the Lamé coefficients of E and ν).
+enum class Elasticity { tetrahedron_fem, tetrahedral_corotational, fast_tetrahedral_corotational, hyperelastic };
+
 struct Setup {
+    Elasticity elasticity = Elasticity::tetrahedron_fem;
     int cells = 16;              ///< n: cells along x and z; n/8 along y (a multiple of 8)
     double body_length = 0.12;   ///< edge of the slab along x and z (m); thickness length/8
     double body_mass = 0.216;    ///< kg (1000 kg/m³)
@@ -227,6 +232,28 @@ inline bool body_needs_mesh_file(const Setup& s) {
 }
 
 /// The scene as SOFA .scn text. Nodes `Organ` (state `organ`, model `organ_triangles`) and
+/// The body's elastic force field element (Setup::elasticity).
+inline std::string elasticity_xml(const Setup& s) {
+    namespace d = cubes_in_bowl::detail;
+    const std::string material =
+        "youngModulus=\"" + d::num(s.young_modulus) + "\" poissonRatio=\"" + d::num(s.poisson_ratio) + "\"";
+    switch (s.elasticity) {
+        case Elasticity::tetrahedral_corotational:
+            return "    <TetrahedralCorotationalFEMForceField " + material + " method=\"large\"/>\n";
+        case Elasticity::fast_tetrahedral_corotational:
+            return "    <FastTetrahedralCorotationalForceField " + material + " method=\"polar\"/>\n";
+        case Elasticity::hyperelastic: {
+            // Lamé: μ = E/(2(1+ν)), λ = Eν/((1+ν)(1−2ν))
+            const double e = s.young_modulus, nu = s.poisson_ratio;
+            return "    <TetrahedronHyperelasticityFEMForceField materialName=\"StVenantKirchhoff\" ParameterSet=\"" +
+                   d::num(e / (2 * (1 + nu))) + " " + d::num(e * nu / ((1 + nu) * (1 - 2 * nu))) + "\"/>\n";
+        }
+        case Elasticity::tetrahedron_fem:
+            break;
+    }
+    return "    <TetrahedronFEMForceField " + material + " method=\"large\"/>\n";
+}
+
 /// `Body` (state `body`, model `body_triangles`). With `mesh_file` (a .vtk path), the body's mesh
 /// is written there (write_body_vtk) and read by a MeshVTKLoader whose `filename` is `mesh_name`
 /// (default: mesh_file as given): the same topology as the inline lists.
@@ -277,10 +304,8 @@ inline std::string scene_xml(const Setup& s, const std::filesystem::path& mesh_f
     o << "    <MechanicalObject name=\"body\" translation=\"" << d::num(t[0]) << ' ' << d::num(t[1]) << ' '
       << d::num(t[2]) << "\"/>\n"
       << "    <UniformMass totalMass=\"" << d::num(s.body_mass) << "\"/>\n"
-      << "    <TetrahedronFEMForceField youngModulus=\"" << d::num(s.young_modulus) << "\" poissonRatio=\""
-      << d::num(s.poisson_ratio) << "\" method=\"large\"/>\n"
-      << "    <TriangleCollisionModel name=\"body_triangles\" contactStiffness=\"" << d::num(contact_stiffness(s))
-      << "\"/>\n  </Node>\n</Node>\n";
+      << elasticity_xml(s) << "    <TriangleCollisionModel name=\"body_triangles\" contactStiffness=\""
+      << d::num(contact_stiffness(s)) << "\"/>\n  </Node>\n</Node>\n";
     return o.str();
 }
 
