@@ -19,7 +19,8 @@
 //
 // BM_SoftBodyElasticity/FIELD: the n = 64 body with another tetrahedral force field
 // (TetrahedralCorotationalFEMForceField, FastTetrahedralCorotationalForceField,
-// TetrahedronHyperelasticityFEMForceField: St Venant-Kirchhoff). BM_Cloth/FIELD: a cloth of
+// TetrahedronHyperelasticityFEMForceField: St Venant-Kirchhoff; MeshSpringForceField: the edges'
+// springs). BM_Cloth/FIELD: a cloth of
 // 200 × 200 quads (80 000 triangles, 121 203 DOFs) pinned at two corners, falling, with
 // TriangularFEMForceFieldOptim or TriangularFEMForceField; 5 steps, then 20 timed.
 //
@@ -74,7 +75,8 @@ struct ElasticityCase {
 constexpr ElasticityCase kElasticities[] = {
     {"TetrahedralCorotationalFEMForceField", organ::Elasticity::tetrahedral_corotational},
     {"FastTetrahedralCorotationalForceField", organ::Elasticity::fast_tetrahedral_corotational},
-    {"TetrahedronHyperelasticityFEMForceField", organ::Elasticity::hyperelastic}};
+    {"TetrahedronHyperelasticityFEMForceField", organ::Elasticity::hyperelastic},
+    {"MeshSpringForceField", organ::Elasticity::mesh_springs}};
 
 void BM_SoftBodyOnOrgan(benchmark::State& state, Size size, organ::Elasticity elasticity, std::string name) {
     const organ::Setup s = setup(size, elasticity);

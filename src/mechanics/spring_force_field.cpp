@@ -22,6 +22,7 @@ void SpringForceField::add_spring(const Spring& s) {
     if (s.a > kLargestIndex || s.b > kLargestIndex)
         throw_invalid_argument("SpringForceField: spring index (", s.a, ", ", s.b, ") larger than any state");
     springs_.push_back(s);
+    ends_.clear();  // (on one thread until init makes them again)
     end_offsets_.push_back({static_cast<std::ptrdiff_t>(s.a) * std::ptrdiff_t(sizeof(Vec3)),
                             static_cast<std::ptrdiff_t>(s.b) * std::ptrdiff_t(sizeof(Vec3))});
 }
@@ -34,6 +35,13 @@ void SpringForceField::init() {
         }
     }
     dfdx_.assign(springs_.size(), StiffnessColumns{});
+    // each spring's ends for the split on threads (springs inside one state)
+    ends_.clear();
+    scatter_.clear();
+    if (s1_ == s2_ && springs_.size() >= detail::OrderedScatter::kMinElements) {
+        ends_.reserve(springs_.size());
+        for (const Spring& s : springs_) ends_.push_back({static_cast<PointId>(s.a), static_cast<PointId>(s.b)});
+    }
 }
 
 void SpringForceField::set_kernel_path(KernelPath path) {
@@ -50,19 +58,42 @@ ForceFieldStates SpringForceField::states() const {
     return {s1_, s2_};
 }
 
+bool SpringForceField::runs_on_threads() const {
+    // springs inside one state: one output, split by OrderedScatter over the springs' ends
+    return s1_ == s2_ && ends_.size() == springs_.size() && detail::OrderedScatter::worth_threads(springs_.size());
+}
+
 void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
                                  ConstVec3Span v2) {
     dfdx_.resize(springs_.size());
-    energy_ = 0.0;
-    detail::spring_forces(kernel_path_, arithmetic_, springs_, null_length_, f1.data(), f2.data(), x1.data(), x2.data(),
-                          v1.data(), v2.data(), dfdx_.data(), energy_);
+    const auto pass = [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+        double energy = 0.0;
+        detail::spring_forces(kernel_path_, arithmetic_, springs_, {first, end, deferred, energies}, null_length_,
+                              f1.data(), f2.data(), x1.data(), x2.data(), v1.data(), v2.data(), dfdx_.data(), energy);
+        return energy;
+    };
+    if (!runs_on_threads()) {
+        energy_ = pass(0, springs_.size(), {}, nullptr);
+        return;
+    }
+    // the chunks' first springs on the avx path's blocks of four
+    energy_ = detail::force_in_order</*Add=*/true>(scatter_, std::span<const std::array<PointId, 2>>(ends_), f1, 4,
+                                                   spring_energies_, pass);
 }
 
 void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
                                   double /*b_factor*/) const {
     PENALTY_DEMAND(dfdx_.size() == springs_.size() && end_offsets_.size() == springs_.size());
-    detail::spring_dforces(kernel_path_, arithmetic_, springs_, end_offsets_.data(), dfdx_.data(), df1.data(),
-                           df2.data(), dx1.data(), dx2.data(), k_factor);
+    const auto pass = [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+        detail::spring_dforces(kernel_path_, arithmetic_, springs_, {first, end, deferred, nullptr},
+                               end_offsets_.data(), dfdx_.data(), df1.data(), df2.data(), dx1.data(), dx2.data(),
+                               k_factor);
+    };
+    if (!runs_on_threads()) {
+        pass(0, springs_.size(), {});
+        return;
+    }
+    detail::scatter_in_order</*Add=*/true>(scatter_, std::span<const std::array<PointId, 2>>(ends_), df1, 4, pass);
 }
 
 void SpringForceField::add_stiffness_triplets(TripletList& t, Index o1, Index o2, double factor) const {

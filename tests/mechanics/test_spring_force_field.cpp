@@ -1,14 +1,21 @@
 // SpringForceField and MeshSpringForceField (mechanics/spring_force_field.cpp): force and sign, derivatives
-// against finite differences, SOFA's per-spring dforce to the bit, springs per element.
+// against finite differences, SOFA's per-spring dforce to the bit, springs per element, the force
+// and product on threads (the bits of one thread, every kernel path, both arithmetics).
 #include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 
 #include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/grid_meshes.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -133,6 +140,101 @@ TEST(MeshSpringForceField, SpringsPerElementAndStiffnessOverLength) {
     std::vector<Vec3> bad = {Vec3::Zero(), Vec3::Zero(), Vec3(0, 1, 0), Vec3(0, 0, 1)};
     EXPECT_THROW(mesh_springs(tet, bad, MeshSpringParameters::uniform(1, 0)), std::invalid_argument);
     EXPECT_THROW(mesh_springs(tet, x0, MeshSpringParameters::uniform(-1, 0)), std::invalid_argument);
+}
+
+TEST(SpringForceField, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // the springs of a 14 × 13 × 10-point Kuhn grid's tetrahedra (more than
+    // OrderedScatter::kMinElements), in mesh order and shuffled, inside one state
+    const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
+    const MeshTopology mesh = test::kuhn_tetrahedra(grid);
+    const std::vector<Spring> in_order = mesh_springs(mesh, grid.points(), MeshSpringParameters::uniform(100.0, 0.5));
+    ASSERT_GE(in_order.size(), detail::OrderedScatter::kMinElements);
+    std::vector<Spring> shuffled = in_order;
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(3));
+    const auto same_bits = [](const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+        return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
+    };
+    struct Products {
+        std::vector<Vec3> force, product;
+        double energy = 0.0;
+        std::size_t chunks = 0, deferred = 0;
+    };
+    std::vector<KernelPath> paths{KernelPath::scalar};
+    if (kernel_path_supported(KernelPath::avx)) paths.push_back(KernelPath::avx);
+    for (const std::vector<Spring>* springs : {&in_order, static_cast<const std::vector<Spring>*>(&shuffled)})
+        for (const SpringArithmetic arithmetic :
+             {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs})
+            for (const KernelPath path : paths) {
+                Vec3Object s;
+                s.position = grid.points();
+                s.init();
+                std::mt19937 rng(11);
+                std::uniform_real_distribution<double> u(-1.0, 1.0);
+                for (Vec3& p : s.position) p += 0.03 * Vec3(u(rng), u(rng), u(rng));
+                for (Vec3& v : s.velocity) v = Vec3(u(rng), u(rng), u(rng));
+                for (Vec3& d : s.dx) d = Vec3(u(rng), u(rng), u(rng));
+                SpringForceField ff(s);
+                ff.set_arithmetic(arithmetic);
+                ff.set_kernel_path(path);
+                for (const Spring& spring : *springs) ff.add_spring(spring);
+                ff.init();
+                const auto run = [&](int threads) {
+                    Products out;
+                    std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
+                    std::fill(s.df.begin(), s.df.end(), Vec3(0.25, -0.5, 1.0));
+                    tbb::task_arena(threads).execute([&] {
+                        ff.accumulate_force();
+                        ff.accumulate_dforce(-0.37, 0.0);
+                    });
+                    out.force.assign(s.force.begin(), s.force.end());
+                    out.product.assign(s.df.begin(), s.df.end());
+                    out.energy = ff.potential_energy();
+                    out.chunks = ff.product_scatter().chunk_count();
+                    out.deferred = ff.product_scatter().deferred_terms();
+                    return out;
+                };
+                const Products one = run(1);
+                EXPECT_EQ(one.chunks, 0U);
+                EXPECT_GT(one.energy, 0.0);
+                for (const int threads : {2, 3, 8}) {
+                    const Products many = run(threads);
+                    const std::string where =
+                        std::string(to_string(path)) + ", arithmetic " + std::to_string(static_cast<int>(arithmetic)) +
+                        ", " + std::to_string(threads) + " threads" + (springs == &in_order ? "" : ", shuffled");
+                    EXPECT_GT(many.chunks, 1U) << where;
+                    EXPECT_GT(many.deferred, 0U) << where;
+                    EXPECT_TRUE(same_bits(many.force, one.force)) << where;
+                    EXPECT_TRUE(same_bits(many.product, one.product)) << where;
+                    EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+                }
+            }
+}
+
+TEST(SpringForceField, SpringsBetweenTwoStatesOrAddedAfterInitRunOnOneThread) {
+    const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
+    const std::vector<Spring> springs =
+        mesh_springs(test::kuhn_tetrahedra(grid), grid.points(), MeshSpringParameters::uniform(100.0, 0.5));
+    Vec3Object a, b;
+    a.position = b.position = grid.points();
+    a.init();
+    b.init();
+    SpringForceField between(a, b), inside(a);
+    for (const Spring& s : springs) {
+        between.add_spring(s);
+        inside.add_spring(s);
+    }
+    between.init();
+    inside.init();
+    inside.add_spring(springs.front());  // after init: the ends for the split are made again at init
+    tbb::task_arena(4).execute([&] {
+        between.accumulate_force();
+        inside.accumulate_force();
+    });
+    EXPECT_EQ(between.product_scatter().chunk_count(), 0U);
+    EXPECT_EQ(inside.product_scatter().chunk_count(), 0U);
+    inside.init();
+    tbb::task_arena(4).execute([&] { inside.accumulate_force(); });
+    EXPECT_GT(inside.product_scatter().chunk_count(), 1U);
 }
 
 }  // namespace

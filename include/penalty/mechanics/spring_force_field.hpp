@@ -5,6 +5,7 @@
 
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/kernel_path.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
@@ -62,10 +63,15 @@ public:
         springs_.clear();
         end_offsets_.clear();
         dfdx_.clear();
+        ends_.clear();  // (on one thread until init makes them again)
+        scatter_.clear();
     }
     /// Checks the indices against the state sizes.
     void init() override;
     [[nodiscard]] const std::vector<Spring>& springs() const { return springs_; }
+    /// The split of the springs on threads as the last force or product on threads made it
+    /// (chunk_count() 0 before one ran); see runs_on_threads.
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
     /// Springs with d <= `length` (m) give no force and no stiffness (SpringForceField: 1e-9;
     /// TriangularBendingSprings::addForce: 1e-4).
     void set_null_length(double length) { null_length_ = length; }
@@ -94,6 +100,14 @@ private:
     /// made by add_spring: the vector product's addresses without a multiplication, and 16
     /// bytes a spring to stream instead of the Spring's 40.
     std::vector<std::array<std::ptrdiff_t, 2>> end_offsets_;
+    /// From OrderedScatter::kMinElements springs inside one state, with more than one thread:
+    /// add_force and add_dforce on TBB's threads with the bits of one thread (chunks of springs,
+    /// an end's terms from its first chunk applied at once, the others stored and added in
+    /// spring order after; the energies summed in spring order). init makes ends_.
+    [[nodiscard]] bool runs_on_threads() const;
+    std::vector<std::array<PointId, 2>> ends_;  ///< (a, b) per spring, for scatter_
+    mutable detail::OrderedScatter scatter_;
+    std::vector<double> spring_energies_;
     double energy_ = 0.0;
     double null_length_ = 1e-9;
     SpringArithmetic arithmetic_ = SpringArithmetic::spring_force_field;

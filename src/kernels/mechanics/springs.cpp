@@ -2,6 +2,8 @@
 
 #include "kernels/lanes.hpp"
 
+#include "penalty/core/error.hpp"
+
 #include <cmath>
 
 namespace penalty::detail {
@@ -12,10 +14,26 @@ namespace {
 /// with f/d computed as f·(1/d) and each entry ((ks − t)·U_j)·U_k (QuadularBendingSprings:
 /// (ks − t)·((u_j/d)·(u_k/d))). A spring no longer than the null length gets no force and a zero
 /// m. The energy ½·ks·e² is added spring by spring, in order.
+/// f1[a] += t, f2[b] −= t of spring i, or, where `deferred` marks them, t and −t stored at 2i
+/// and 2i + 1 (added after; x − t and x + (−t) are the same bits).
+inline void add_spring_terms(const DeferredTerms& deferred, std::size_t i, Vec3& end_a, Vec3& end_b, const Vec3& t) {
+    const unsigned mask = deferred.mask ? deferred.mask[i] : 0U;
+    if (mask & 1U) deferred.terms[2 * i] = t;
+    else end_a += t;
+    if (mask & 2U) deferred.terms[2 * i + 1] = -t;
+    else end_b -= t;
+}
+
+/// A spring's energy: added to `energy`, or stored at energies[i] (not null).
+inline void add_energy(double* energies, std::size_t i, double e, double& energy) {
+    if (energies) energies[i] = e;
+    else energy += e;
+}
+
 template <class Stiffness>
 void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_t begin, std::size_t end,
                   double null_length, Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
-                  const Vec3* v2, Stiffness* dfdx, double& energy) {
+                  const Vec3* v2, Stiffness* dfdx, double& energy, const DeferredTerms& deferred, double* energies) {
     for (std::size_t i = begin; i < end; ++i) {
         const Spring& s = springs[i];
         const auto a = static_cast<std::size_t>(s.a);
@@ -24,19 +42,19 @@ void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_
         const double d = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
         if (d <= null_length) {
             dfdx[i] = Stiffness{};
+            if (energies) energies[i] = 0.0;  // (the sum's terms are ≥ 0: adding +0 changes no bit)
             continue;
         }
         const double inverse_length = 1.0 / d;
         const Vec3 n(u[0] * inverse_length, u[1] * inverse_length, u[2] * inverse_length);
         const double elongation = d - s.rest_length;
-        energy += elongation * elongation * s.ks / 2;
+        add_energy(energies, i, elongation * elongation * s.ks / 2, energy);
         const Vec3 relative_velocity = v2[b] - v1[a];
         const double elongation_velocity =
             n[0] * relative_velocity[0] + n[1] * relative_velocity[1] + n[2] * relative_velocity[2];
         const double intensity = s.ks * elongation + s.kd * elongation_velocity;
         const Vec3 force(n[0] * intensity, n[1] * intensity, n[2] * intensity);
-        f1[a] += force;
-        f2[b] -= force;
+        add_spring_terms(deferred, i, f1[a], f2[b], force);
         const double t = intensity * inverse_length;
         auto& m = dfdx[i].column;  // m(j, k) is m[k][j]
         if (arithmetic == SpringArithmetic::quadular_bending_springs) {
@@ -56,18 +74,19 @@ void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_
 }
 
 #ifdef PENALTY_HAS_AVX_LANES
-/// spring_force on the first count − count % 4 springs, four springs in the four lanes: lane k
+/// spring_force on springs [begin, end) but the last (end − begin) % 4, four springs in the four lanes: lane k
 /// does spring_force's operations for spring i + k, in its order (target avx, no fused
 /// multiply-add), so every bit is the scalar loop's; then the forces and the energy are added
 /// spring by spring in spring order, and each spring's m is stored as its three padded columns.
 /// Returns the number of springs done.
 template <SpringArithmetic Arithmetic, class Stiffness>
-[[gnu::target("avx")]] std::size_t spring_force_avx(const Spring* springs, std::size_t count, double null_length,
-                                                    Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
-                                                    const Vec3* v2, Stiffness* dfdx, double& energy) {
+[[gnu::target("avx")]] std::size_t spring_force_avx(const Spring* springs, std::size_t begin, std::size_t end,
+                                                    double null_length, Vec3* f1, Vec3* f2, const Vec3* x1,
+                                                    const Vec3* x2, const Vec3* v1, const Vec3* v2, Stiffness* dfdx,
+                                                    double& energy, const DeferredTerms& deferred, double* energies) {
     const __m256d one = _mm256_set1_pd(1.0), two = _mm256_set1_pd(2.0), null = _mm256_set1_pd(null_length);
-    std::size_t i = 0;
-    for (; i + 4 <= count; i += 4) {
+    std::size_t i = begin;
+    for (; i + 4 <= end; i += 4) {
         const Spring* s = springs + i;
         std::size_t a[4], b[4];
         for (int k = 0; k < 4; ++k) {
@@ -105,12 +124,13 @@ template <SpringArithmetic Arithmetic, class Stiffness>
         _mm256_store_pd(fy, _mm256_mul_pd(ny, intensity));
         _mm256_store_pd(fz, _mm256_mul_pd(nz, intensity));
         _mm256_store_pd(e, spring_energy);
-        for (int k = 0; k < 4; ++k) {
-            if (!(live_lanes & (1 << k))) continue;
-            energy += e[k];
-            const Vec3 force(fx[k], fy[k], fz[k]);
-            f1[a[k]] += force;
-            f2[b[k]] -= force;
+        for (std::size_t k = 0; k < 4; ++k) {
+            if (!(live_lanes & (1 << k))) {
+                if (energies) energies[i + k] = 0.0;
+                continue;
+            }
+            add_energy(energies, i + k, e[k], energy);
+            add_spring_terms(deferred, i + k, f1[a[k]], f2[b[k]], Vec3(fx[k], fy[k], fz[k]));
         }
         const __m256d t = _mm256_mul_pd(intensity, inverse_length);
         const __m256d c = _mm256_sub_pd(ks, t);
@@ -148,10 +168,10 @@ template <SpringArithmetic Arithmetic, class Stiffness>
 /// `Arithmetic` (see SpringArithmetic). The loop reads raw pointers held in locals, so that the
 /// stores into df do not force the compiler to reload the spring list's bounds per spring; each
 /// floating-point operation and its order are those of the straightforward loop.
-template <SpringArithmetic Arithmetic, class Stiffness>
-void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t count, Vec3* df1, Vec3* df2,
-                   const Vec3* dx1, const Vec3* dx2, double k_factor) {
-    for (std::size_t i = 0; i < count; ++i) {
+template <SpringArithmetic Arithmetic, bool Deferring, class Stiffness>
+void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t begin, std::size_t end, Vec3* df1,
+                   Vec3* df2, const Vec3* dx1, const Vec3* dx2, double k_factor, const DeferredTerms& deferred) {
+    for (std::size_t i = begin; i < end; ++i) {
         const auto a = static_cast<std::size_t>(springs[i].a);
         const auto b = static_cast<std::size_t>(springs[i].b);
         const Vec3 dx = dx2[b] - dx1[a];
@@ -165,8 +185,12 @@ void spring_dforce(const Spring* springs, const Stiffness* dfdx, std::size_t cou
             // SOFA's computeSpringDForce: (dfdx·(dx_b − dx_a))·kFactor, rows summed left to right.
             for (int r = 0; r < 3; ++r) d[r] = (m(r, 0) * dx[0] + m(r, 1) * dx[1] + m(r, 2) * dx[2]) * k_factor;
         }
-        df1[a] += d;
-        df2[b] -= d;
+        if constexpr (Deferring) {
+            add_spring_terms(deferred, i, df1[a], df2[b], d);
+        } else {
+            df1[a] += d;
+            df2[b] -= d;
+        }
     }
 }
 
@@ -185,12 +209,13 @@ inline double* at(Vec3* base, std::ptrdiff_t offset) {
 /// differences dx_b − dx_a are formed in every lane (broadcast operands); df is updated spring by
 /// spring in spring order (x and y in one 128-bit add, z alone). `ends`: the springs' ends as
 /// byte offsets (SpringForceField::end_offsets_).
-template <SpringArithmetic Arithmetic, class Stiffness>
+template <SpringArithmetic Arithmetic, bool Deferring, class Stiffness>
 [[gnu::target("avx")]] void spring_dforce_avx(const std::array<std::ptrdiff_t, 2>* ends, const Stiffness* dfdx,
-                                              std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2,
-                                              double k_factor) {
+                                              std::size_t begin, std::size_t end, Vec3* df1, Vec3* df2, const Vec3* dx1,
+                                              const Vec3* dx2, double k_factor, const DeferredTerms& deferred) {
     const __m256d k = _mm256_set1_pd(k_factor);
-    for (std::size_t i = 0; i < count; ++i) {
+    const __m128d sign = _mm_set1_pd(-0.0);
+    for (std::size_t i = begin; i < end; ++i) {
         const std::ptrdiff_t a = ends[i][0];  // read once: the stores into df may alias
         const std::ptrdiff_t b = ends[i][1];
         const double* dxa = at(dx1, a);
@@ -212,58 +237,82 @@ template <SpringArithmetic Arithmetic, class Stiffness>
         }
         const __m128d d_xy = _mm256_castpd256_pd128(d);
         const __m128d d_z = _mm256_extractf128_pd(d, 1);
-        double* fa = at(df1, a);
-        _mm_storeu_pd(fa, _mm_add_pd(_mm_loadu_pd(fa), d_xy));
-        _mm_store_sd(fa + 2, _mm_add_sd(_mm_load_sd(fa + 2), d_z));
-        double* fb = at(df2, b);
-        _mm_storeu_pd(fb, _mm_sub_pd(_mm_loadu_pd(fb), d_xy));
-        _mm_store_sd(fb + 2, _mm_sub_sd(_mm_load_sd(fb + 2), d_z));
+        // df_a += d, df_b −= d; where `deferred` marks them, d and −d (the sign flipped) stored
+        const unsigned mask = Deferring ? deferred.mask[i] : 0U;
+        if (mask & 1U) {
+            double* t = deferred.terms[2 * i].data();
+            _mm_storeu_pd(t, d_xy);
+            _mm_store_sd(t + 2, d_z);
+        } else {
+            double* fa = at(df1, a);
+            _mm_storeu_pd(fa, _mm_add_pd(_mm_loadu_pd(fa), d_xy));
+            _mm_store_sd(fa + 2, _mm_add_sd(_mm_load_sd(fa + 2), d_z));
+        }
+        if (mask & 2U) {
+            double* t = deferred.terms[2 * i + 1].data();
+            _mm_storeu_pd(t, _mm_xor_pd(d_xy, sign));
+            _mm_store_sd(t + 2, _mm_xor_pd(d_z, sign));
+        } else {
+            double* fb = at(df2, b);
+            _mm_storeu_pd(fb, _mm_sub_pd(_mm_loadu_pd(fb), d_xy));
+            _mm_store_sd(fb + 2, _mm_sub_sd(_mm_load_sd(fb + 2), d_z));
+        }
     }
 }
 #endif
 
 template <SpringArithmetic Arithmetic, class Stiffness>
 void spring_dforce_on(KernelPath path, const Spring* springs, const std::array<std::ptrdiff_t, 2>* ends,
-                      const Stiffness* dfdx, std::size_t count, Vec3* df1, Vec3* df2, const Vec3* dx1, const Vec3* dx2,
-                      double k_factor) {
+                      const Stiffness* dfdx, std::size_t begin, std::size_t end, Vec3* df1, Vec3* df2, const Vec3* dx1,
+                      const Vec3* dx2, double k_factor, const DeferredTerms& deferred) {
+    // (the one-thread loop without the deferred mask's tests)
 #ifdef PENALTY_HAS_AVX_LANES
     if (path == KernelPath::avx) {
-        spring_dforce_avx<Arithmetic>(ends, dfdx, count, df1, df2, dx1, dx2, k_factor);
+        if (deferred.mask)
+            spring_dforce_avx<Arithmetic, true>(ends, dfdx, begin, end, df1, df2, dx1, dx2, k_factor, deferred);
+        else spring_dforce_avx<Arithmetic, false>(ends, dfdx, begin, end, df1, df2, dx1, dx2, k_factor, deferred);
         return;
     }
 #endif
     (void)path;
     (void)ends;
-    spring_dforce<Arithmetic>(springs, dfdx, count, df1, df2, dx1, dx2, k_factor);
+    if (deferred.mask)
+        spring_dforce<Arithmetic, true>(springs, dfdx, begin, end, df1, df2, dx1, dx2, k_factor, deferred);
+    else spring_dforce<Arithmetic, false>(springs, dfdx, begin, end, df1, df2, dx1, dx2, k_factor, deferred);
 }
 }  // namespace
 
-void spring_forces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs, double null_length,
-                   Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1, const Vec3* v2,
-                   SpringStiffnessColumns* dfdx, double& energy) {
-    std::size_t done = 0;
+void spring_forces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs, SpringRange range,
+                   double null_length, Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
+                   const Vec3* v2, SpringStiffnessColumns* dfdx, double& energy) {
+    PENALTY_DEMAND(range.first <= range.end && range.end <= springs.size());
+    std::size_t done = range.first;
 #ifdef PENALTY_HAS_AVX_LANES
     if (path == KernelPath::avx) {
         done = arithmetic == SpringArithmetic::quadular_bending_springs
                    ? spring_force_avx<SpringArithmetic::quadular_bending_springs>(
-                         springs.data(), springs.size(), null_length, f1, f2, x1, x2, v1, v2, dfdx, energy)
-                   : spring_force_avx<SpringArithmetic::spring_force_field>(springs.data(), springs.size(), null_length,
-                                                                            f1, f2, x1, x2, v1, v2, dfdx, energy);
+                         springs.data(), range.first, range.end, null_length, f1, f2, x1, x2, v1, v2, dfdx, energy,
+                         range.deferred, range.energies)
+                   : spring_force_avx<SpringArithmetic::spring_force_field>(springs.data(), range.first, range.end,
+                                                                            null_length, f1, f2, x1, x2, v1, v2, dfdx,
+                                                                            energy, range.deferred, range.energies);
     }
 #endif
     (void)path;
-    spring_force(arithmetic, springs.data(), done, springs.size(), null_length, f1, f2, x1, x2, v1, v2, dfdx, energy);
+    spring_force(arithmetic, springs.data(), done, range.end, null_length, f1, f2, x1, x2, v1, v2, dfdx, energy,
+                 range.deferred, range.energies);
 }
 
-void spring_dforces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs,
+void spring_dforces(KernelPath path, SpringArithmetic arithmetic, std::span<const Spring> springs, SpringRange range,
                     const std::array<std::ptrdiff_t, 2>* ends, const SpringStiffnessColumns* dfdx, Vec3* df1, Vec3* df2,
                     const Vec3* dx1, const Vec3* dx2, double k_factor) {
+    PENALTY_DEMAND(range.first <= range.end && range.end <= springs.size());
     if (arithmetic == SpringArithmetic::quadular_bending_springs)
-        spring_dforce_on<SpringArithmetic::quadular_bending_springs>(path, springs.data(), ends, dfdx, springs.size(),
-                                                                     df1, df2, dx1, dx2, k_factor);
+        spring_dforce_on<SpringArithmetic::quadular_bending_springs>(
+            path, springs.data(), ends, dfdx, range.first, range.end, df1, df2, dx1, dx2, k_factor, range.deferred);
     else
-        spring_dforce_on<SpringArithmetic::spring_force_field>(path, springs.data(), ends, dfdx, springs.size(), df1,
-                                                               df2, dx1, dx2, k_factor);
+        spring_dforce_on<SpringArithmetic::spring_force_field>(path, springs.data(), ends, dfdx, range.first, range.end,
+                                                               df1, df2, dx1, dx2, k_factor, range.deferred);
 }
 
 }  // namespace penalty::detail

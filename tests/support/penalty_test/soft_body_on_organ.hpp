@@ -31,8 +31,15 @@ namespace penalty::test::soft_body_on_organ {
 
 /// What scene_xml() builds. Units: m, kg, s, Pa.
 /// The body's elastic force field (its young_modulus and poisson_ratio; the hyperelastic one St
-/// Venant-Kirchhoff with the Lamé coefficients of E and ν).
-enum class Elasticity { tetrahedron_fem, tetrahedral_corotational, fast_tetrahedral_corotational, hyperelastic };
+/// Venant-Kirchhoff with the Lamé coefficients of E and ν; the springs of its tetrahedra's edges
+/// with tetrasStiffness E·h, h the cell edge).
+enum class Elasticity {
+    tetrahedron_fem,
+    tetrahedral_corotational,
+    fast_tetrahedral_corotational,
+    hyperelastic,
+    mesh_springs
+};
 
 struct Setup {
     Elasticity elasticity = Elasticity::tetrahedron_fem;
@@ -248,6 +255,9 @@ inline std::string elasticity_xml(const Setup& s) {
             return "    <TetrahedronHyperelasticityFEMForceField materialName=\"StVenantKirchhoff\" ParameterSet=\"" +
                    d::num(e / (2 * (1 + nu))) + " " + d::num(e * nu / ((1 + nu) * (1 - 2 * nu))) + "\"/>\n";
         }
+        case Elasticity::mesh_springs:
+            return "    <MeshSpringForceField tetrasStiffness=\"" + d::num(s.young_modulus * s.body_length / s.cells) +
+                   "\" tetrasDamping=\"0\"/>\n";
         case Elasticity::tetrahedron_fem:
             break;
     }
