@@ -107,9 +107,7 @@ void BM_SoftBodyOnOrgan(benchmark::State& state, Size size, organ::Elasticity el
         heap_without_contacts = bench::live_heap_bytes();
         for (int i = 0; i < size.warmup_steps; ++i) scene->step();
     } catch (const std::exception& e) {
-        state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
-        for (auto _ : state) {
-        }
+        bench::skip(state, "build or warm-up failed: " + std::string(e.what()));
         return;
     }
     bench::StepSums sums;
@@ -165,9 +163,7 @@ void BM_Cloth(benchmark::State& state, std::string field) {
         scene = build_scene(io::parse_scene_string(xml, name), bench::build_options());
         for (int i = 0; i < 5; ++i) scene->step();
     } catch (const std::exception& e) {
-        state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
-        for (auto _ : state) {
-        }
+        bench::skip(state, "build or warm-up failed: " + std::string(e.what()));
         return;
     }
     bench::StepSums sums;

@@ -87,9 +87,7 @@ void BM_CubesInBowl(benchmark::State& state, int k) {
         heap_without_contacts = bench::live_heap_bytes();
         for (int i = 1; i < kWarmupSteps; ++i) scene->step();
     } catch (const std::exception& e) {
-        state.SkipWithError(("build or warm-up failed: " + std::string(e.what())).c_str());
-        for (auto _ : state) {
-        }
+        bench::skip(state, "build or warm-up failed: " + std::string(e.what()));
         return;
     }
     bench::StepSums sums;

@@ -39,6 +39,13 @@
 
 namespace penalty::bench {
 
+/// Marks the benchmark skipped with `why` (Google Benchmark still wants its loop run).
+inline void skip(benchmark::State& state, const std::string& why) {
+    state.SkipWithError(why.c_str());
+    for (auto _ : state) {
+    }
+}
+
 /// Writes `xml` as $PENALTY_SCALING_SCENES/<name>.scn when that variable is set.
 inline void write_scene_if_asked(const std::string& name, const std::string& xml) {
     const char* dir = std::getenv("PENALTY_SCALING_SCENES");
