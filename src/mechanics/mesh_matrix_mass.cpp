@@ -4,12 +4,20 @@
 #include "penalty/mechanics/topology_container.hpp"
 #include "penalty/mechanics/topology_data.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
 #include <stdexcept>
 
 namespace penalty {
+
+namespace {
+constexpr std::size_t kVerticesPerTask = 4096;  // add_mdx's vertex terms on threads
+}  // namespace
 
 namespace {
 
@@ -162,6 +170,7 @@ double MeshMatrixMass::compute_masses() {
 
 // MeshMatrixMass::init → checkTopology, massInitialization.
 void MeshMatrixMass::init() {
+    scatter_.clear();  // made again for the topology's edges at the next product on threads
     kind_ = lumped_element_kind(*topology_);
     lumping_coefficient_ = kind_ == LumpedElementKind::edge && !edge_elements_ ? 0.0 : shares_of(kind_).lumping;
     const std::size_t elements = element_count();
@@ -236,15 +245,31 @@ void MeshMatrixMass::add_mdx(double factor) {
             df[i] += dx[i] * vertex_masses_[i] * lumping_coefficient_ * factor;
         return;
     }
-    for (std::size_t i = 0; i < vertex_masses_.size(); ++i) df[i] += dx[i] * vertex_masses_[i] * factor;
     const std::vector<Edge>& edges = topology_->edges();
-    for (std::size_t j = 0; j < edges.size(); ++j) {
-        const double m = edge_masses_[j] * factor;
-        const auto a = static_cast<std::size_t>(edges[j][0]);
-        const auto b = static_cast<std::size_t>(edges[j][1]);
-        df[a] += dx[b] * m;
-        df[b] += dx[a] * m;
-    }
+    PENALTY_DEMAND(edge_masses_.size() == edges.size());
+    // From OrderedScatter::kMinElements edges on several threads: the vertices' terms on TBB's
+    // threads, then the edges' split in chunks (each vertex's sum in edge order: the bits of one
+    // thread)
+    const auto vertices = [&](std::size_t first, std::size_t end) {
+        for (std::size_t i = first; i < end; ++i) df[i] += dx[i] * vertex_masses_[i] * factor;
+    };
+    if (detail::OrderedScatter::worth_threads(edges.size()))
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_masses_.size(), kVerticesPerTask),
+                          [&](const tbb::blocked_range<std::size_t>& r) { vertices(r.begin(), r.end()); });
+    else vertices(0, vertex_masses_.size());
+    detail::scatter_in_order</*Add=*/true>(
+        scatter_, std::span<const Edge>(edges), df, 1,
+        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            for (std::size_t j = first; j < end; ++j) {
+                const double m = edge_masses_[j] * factor;
+                const auto a = static_cast<std::size_t>(edges[j][0]);
+                const auto b = static_cast<std::size_t>(edges[j][1]);
+                const std::array<Vec3, 2> terms{dx[b] * m, dx[a] * m};
+                detail::store_or_apply(deferred, j, terms, [&](std::size_t k, const Vec3& term) {
+                    df[static_cast<std::size_t>(edges[j][k])] += term;
+                });
+            }
+        });
 }
 
 // MeshMatrixMass::accFromF (lumped): a_i = f_i / (m_i·c).
@@ -309,6 +334,7 @@ double MeshMatrixMass::gravity_potential_energy(const Vec3& g) const {
 // later element takes the density at its index (SOFA's).
 void MeshMatrixMass::handle_topology_changes(const TopologyContainer& container,
                                              std::span<const TopologyChange> changes) {
+    scatter_.clear();  // the edges change
     const ElementShares shares = shares_of(kind_);
     const ElementType type = element_type_of(kind_);
     // the element's measure from the current (or rest) positions, and its edges' indices

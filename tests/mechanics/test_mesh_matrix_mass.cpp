@@ -1,14 +1,21 @@
 // MeshMatrixMass: the matrices against integrals computed here by quadrature, SOFA's data
-// semantics (totalMass, massDensity, vertexMass, lumping), and add_mdx / energies against M.
+// semantics (totalMass, massDensity, vertexMass, lumping), and add_mdx / energies against M;
+// add_mdx on threads the bits of one thread.
 #include "penalty/mechanics/mesh_matrix_mass.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
 
+#include "penalty_test/grid_meshes.hpp"
 #include "penalty_test/point_state.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <Eigen/Dense>
 
+#include <cstring>
 #include <numeric>
+#include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -259,6 +266,37 @@ TEST(MeshMatrixMass, EdgesHaveNoMassInSofaAndTheBarsMassWithEdgeElements) {
     EXPECT_NEAR(mm(0, 3), 2.0 * 3 / 6, 1e-15);
     EXPECT_NEAR(mm(3, 6), 2.0 * 4 / 6, 1e-15);
     EXPECT_NEAR(bar.total_mass(), 14.0, 1e-13);
+}
+
+TEST(MeshMatrixMass, AddMdxOnThreadsIsTheBitsOfOneThread) {
+    // a 14 × 13 × 10-point Kuhn grid: more than OrderedScatter::kMinElements edges
+    const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
+    const MeshTopology mesh = test::kuhn_tetrahedra(grid);
+    ASSERT_GE(mesh.edges().size(), detail::OrderedScatter::kMinElements);
+    Vec3Object s;
+    s.position = grid.points();
+    s.init();
+    MeshMatrixMass m(s, mesh);
+    m.set_mass_density({1000.0});
+    m.init();
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (Vec3& d : s.dx) d = Vec3(u(rng), u(rng), u(rng));
+    std::vector<Vec3> start(s.dx.size());
+    for (Vec3& d : start) d = Vec3(u(rng), u(rng), u(rng));
+    const auto product = [&](int threads) {
+        s.df.assign(start.begin(), start.end());
+        tbb::task_arena(threads).execute([&] { m.add_mdx(-0.37); });
+        return std::vector<Vec3>(s.df.begin(), s.df.end());
+    };
+    const std::vector<Vec3> one = product(1);
+    EXPECT_EQ(m.product_scatter().chunk_count(), 0U);
+    for (const int threads : {2, 3, 8}) {
+        const std::vector<Vec3> many = product(threads);
+        EXPECT_GT(m.product_scatter().chunk_count(), 1U) << threads;
+        EXPECT_GT(m.product_scatter().deferred_terms(), 0U) << threads;
+        EXPECT_EQ(std::memcmp(many.data(), one.data(), one.size() * sizeof(Vec3)), 0) << threads << " threads";
+    }
 }
 
 }  // namespace

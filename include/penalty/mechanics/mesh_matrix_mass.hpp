@@ -5,6 +5,7 @@
 
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 #include "penalty/mechanics/topology_change.hpp"
 
@@ -80,6 +81,9 @@ public:
     [[nodiscard]] double gravity_potential_energy(const Vec3& gravity) const override;
     [[nodiscard]] BaseState* state() const override { return state_; }
     [[nodiscard]] const MeshTopology& topology() const { return *topology_; }
+    /// From OrderedScatter::kMinElements edges on several threads, add_mdx runs on TBB's threads
+    /// with the bits of one thread; its split of the edges as the last of them made it.
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
     /// SOFA's totalMass after init (and the topological changes since).
     [[nodiscard]] double total_mass() const override { return total_; }
     /// SOFA's topology callbacks of vertexMass and edgeMass, event by event (the .cpp's last part).
@@ -93,6 +97,8 @@ private:
     [[nodiscard]] std::size_t element_count() const;
     Vec3Object* state_;
     const MeshTopology* topology_;
+    /// add_mdx's split of the edges on threads (init and topological changes clear it).
+    mutable detail::OrderedScatter scatter_;
     std::optional<std::vector<double>> given_density_;
     std::optional<double> given_total_;
     std::optional<std::vector<double>> given_vertex_masses_;
