@@ -260,6 +260,18 @@ void MeshMatrixMass::add_mdx(double factor) {
     detail::scatter_in_order</*Add=*/true>(
         scatter_, std::span<const Edge>(edges), df, 1,
         [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+            if (deferred.mask == nullptr) {  // one thread: no mask to test (a few flops an edge)
+                for (std::size_t j = first; j < end; ++j) {
+                    const double m = edge_masses_[j] * factor;
+                    const auto a = static_cast<std::size_t>(edges[j][0]);
+                    const auto b = static_cast<std::size_t>(edges[j][1]);
+                    for (int c = 0; c < 3; ++c) {  // (Eigen's dx·m then +=, component by component)
+                        df[a][c] += dx[b][c] * m;
+                        df[b][c] += dx[a][c] * m;
+                    }
+                }
+                return;
+            }
             for (std::size_t j = first; j < end; ++j) {
                 const double m = edge_masses_[j] * factor;
                 const auto a = static_cast<std::size_t>(edges[j][0]);
