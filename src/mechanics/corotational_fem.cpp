@@ -142,21 +142,19 @@ void TetrahedralCorotationalFEMForceField::add_dforce(std::span<Vec3> df, std::s
     // applyStiffnessSmall / Large / Polar per element, in element order: df −= F(dx, kFactor),
     // df −= Rᵀ·F(R·dx, kFactor)
     PENALTY_DEMAND(large_.size() == elements_.size());
-    scatter_in_order</*Add=*/false>(
-        df, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
-            for (std::size_t e = first; e < end; ++e) {
-                const LargeElement& element = large_[e];
-                const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
-                const std::array<Vec3, 4> terms =
-                    method_ == FemMethod::Small
-                        ? detail::small_element_dforce_terms(vertex, element.strain_displacement, element.material, dx,
-                                                             k_factor)
-                        : detail::large_element_dforce_terms(vertex, rotation_[e], element.strain_displacement,
-                                                             element.material, dx, k_factor);
-                detail::store_or_apply(deferred, e, terms,
-                                       [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
-            }
-        });
+    scatter_in_order</*Add=*/false>(df, 1, [&](std::size_t first, std::size_t end, const auto& deferred) {
+        for (std::size_t e = first; e < end; ++e) {
+            const LargeElement& element = large_[e];
+            const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
+            const std::array<Vec3, 4> terms =
+                method_ == FemMethod::Small
+                    ? detail::small_element_dforce_terms(vertex, element.strain_displacement, element.material, dx,
+                                                         k_factor)
+                    : detail::large_element_dforce_terms(vertex, rotation_[e], element.strain_displacement,
+                                                         element.material, dx, k_factor);
+            detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
+        }
+    });
 }
 
 double TetrahedralCorotationalFEMForceField::sofa_force(std::size_t first, std::size_t end, std::span<Vec3> f,

@@ -201,9 +201,10 @@ void FastTetrahedralCorotationalForceField::add_force(std::span<Vec3> f, std::sp
     const std::span<const Tetrahedron> tetrahedra(topology_->tetrahedra());
     if (!detail::OrderedScatter::worth_threads(tetrahedra.size())) {
         for (Mat3& e : edge_dfdx_) e.setZero();
-        force_range(0, tetrahedra.size(), f, x, {}, [&](std::size_t i, std::size_t j, const Mat3& term) {
-            edge_dfdx_[static_cast<std::size_t>(rest_[i].edge[j])] += term;
-        });
+        force_range(0, tetrahedra.size(), f, x, detail::NoDeferredTerms{},
+                    [&](std::size_t i, std::size_t j, const Mat3& term) {
+                        edge_dfdx_[static_cast<std::size_t>(rest_[i].edge[j])] += term;
+                    });
         return;
     }
     // On TBB's threads: chunks of tetrahedra; a vertex's (an edge's) first chunk adds its terms,
@@ -236,9 +237,9 @@ void FastTetrahedralCorotationalForceField::add_force(std::span<Vec3> f, std::sp
         [&](std::size_t edge, std::size_t slot) { edge_dfdx_[edge] += deferred_edge_terms_[slot]; });
 }
 
-template <class EdgeTerm>
+template <class Deferred, class EdgeTerm>
 void FastTetrahedralCorotationalForceField::force_range(std::size_t first, std::size_t end, std::span<Vec3> f,
-                                                        std::span<const Vec3> x, const detail::DeferredTerms& deferred,
+                                                        std::span<const Vec3> x, const Deferred& deferred,
                                                         const EdgeTerm& edge_term_of) {
     const auto& tetrahedra = topology_->tetrahedra();
     for (std::size_t i = first; i < end; ++i) {
@@ -281,7 +282,7 @@ void FastTetrahedralCorotationalForceField::add_dforce(std::span<Vec3> df, std::
     PENALTY_DEMAND(edge_dfdx_.size() == edges.size());
     detail::scatter_in_order</*Add=*/true>(
         product_scatter_, std::span<const Edge>(edges), df, 1,
-        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+        [&](std::size_t first, std::size_t end, const auto& deferred) {
             for (std::size_t i = first; i < end; ++i) {
                 const auto a = static_cast<std::size_t>(edges[i][0]), b = static_cast<std::size_t>(edges[i][1]);
                 const Vec3 delta = (dx[b] - dx[a]) * k_factor;

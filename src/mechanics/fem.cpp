@@ -97,7 +97,7 @@ void LinearElementForceField<N>::add_force(std::span<Vec3> f, std::span<const Ve
     PENALTY_DEMAND(ke_.size() == elements_.size());
     // u = R·(p_k − p_0) − r_k (small: p_k − x⁰_k), f_k −= Rᵀ·(K^e·u)_k, energy ½ uᵀK^e u
     energy_ = force_in_order</*Add=*/false>(
-        f, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+        f, 1, [&](std::size_t first, std::size_t end, const auto& deferred, double* energies) {
             double total = 0.0;
             Eigen::Matrix<double, 3 * N, 1> u;
             for (std::size_t e = first; e < end; ++e) {
@@ -135,24 +135,23 @@ template <int N>
 void LinearElementForceField<N>::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                             double) const {
     // df_k −= k·(Rᵀ·(K^e·(R·dx))_k)
-    scatter_in_order</*Add=*/false>(
-        df, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
-            Eigen::Matrix<double, 3 * N, 1> u;
-            for (std::size_t e = first; e < end; ++e) {
-                const auto& el = elements_[e];
-                for (int k = 0; k < N; ++k)
-                    u.template segment<3>(3 * k) =
-                        rotation_[e] * dx[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
-                const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
-                std::array<Vec3, N> terms;
-                for (int k = 0; k < N; ++k)
-                    terms[static_cast<std::size_t>(k)] =
-                        k_factor * (rotation_[e].transpose() * fl.template segment<3>(3 * k));
-                detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
-                    df[static_cast<std::size_t>(el[k])] -= term;
-                });
-            }
-        });
+    scatter_in_order</*Add=*/false>(df, 1, [&](std::size_t first, std::size_t end, const auto& deferred) {
+        Eigen::Matrix<double, 3 * N, 1> u;
+        for (std::size_t e = first; e < end; ++e) {
+            const auto& el = elements_[e];
+            for (int k = 0; k < N; ++k)
+                u.template segment<3>(3 * k) =
+                    rotation_[e] * dx[static_cast<std::size_t>(el[static_cast<std::size_t>(k)])];
+            const Eigen::Matrix<double, 3 * N, 1> fl = ke_[e] * u;
+            std::array<Vec3, N> terms;
+            for (int k = 0; k < N; ++k)
+                terms[static_cast<std::size_t>(k)] =
+                    k_factor * (rotation_[e].transpose() * fl.template segment<3>(3 * k));
+            detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
+                df[static_cast<std::size_t>(el[k])] -= term;
+            });
+        }
+    });
 }
 
 template <int N>

@@ -258,28 +258,17 @@ void MeshMatrixMass::add_mdx(double factor) {
                           [&](const tbb::blocked_range<std::size_t>& r) { vertices(r.begin(), r.end()); });
     else vertices(0, vertex_masses_.size());
     detail::scatter_in_order</*Add=*/true>(
-        scatter_, std::span<const Edge>(edges), df, 1,
-        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
-            if (deferred.mask == nullptr) {  // one thread: no mask to test (a few flops an edge)
-                for (std::size_t j = first; j < end; ++j) {
-                    const double m = edge_masses_[j] * factor;
-                    const auto a = static_cast<std::size_t>(edges[j][0]);
-                    const auto b = static_cast<std::size_t>(edges[j][1]);
-                    for (int c = 0; c < 3; ++c) {  // (Eigen's dx·m then +=, component by component)
-                        df[a][c] += dx[b][c] * m;
-                        df[b][c] += dx[a][c] * m;
-                    }
-                }
-                return;
-            }
+        scatter_, std::span<const Edge>(edges), df, 1, [&](std::size_t first, std::size_t end, const auto& deferred) {
             for (std::size_t j = first; j < end; ++j) {
                 const double m = edge_masses_[j] * factor;
                 const auto a = static_cast<std::size_t>(edges[j][0]);
                 const auto b = static_cast<std::size_t>(edges[j][1]);
-                const std::array<Vec3, 2> terms{dx[b] * m, dx[a] * m};
-                detail::store_or_apply(deferred, j, terms, [&](std::size_t k, const Vec3& term) {
-                    df[static_cast<std::size_t>(edges[j][k])] += term;
-                });
+                // (dx·m component by component, as Eigen's product: Eigen's expression is not
+                // always inlined here)
+                const std::array<Vec3, 2> terms{Vec3(dx[b][0] * m, dx[b][1] * m, dx[b][2] * m),
+                                                Vec3(dx[a][0] * m, dx[a][1] * m, dx[a][2] * m)};
+                detail::store_or_apply(deferred, j, terms,
+                                       [&](std::size_t k, const Vec3& term) { df[k == 0 ? a : b] += term; });
             }
         });
 }

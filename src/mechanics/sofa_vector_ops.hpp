@@ -13,13 +13,19 @@
 namespace penalty::sofa_vec {
 
 /// a·b = a₀b₀ + a₁b₁ + a₂b₂ (type::Vec::operator*).
-inline double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+[[gnu::always_inline]] inline double dot3(const Vec3& a, const Vec3& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 /// a·s component by component (type::Vec::mulscalar).
-inline Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-inline Vec3 times(const Vec3& a, double s) { return scaled(a, s); }
+[[gnu::always_inline]] inline Vec3 scaled(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+[[gnu::always_inline]] inline Vec3 times(const Vec3& a, double s) { return scaled(a, s); }
 /// a + b and a − b component by component (type::Vec::operator+, operator−).
-inline Vec3 plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-inline Vec3 minus(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+[[gnu::always_inline]] inline Vec3 plus(const Vec3& a, const Vec3& b) {
+    return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+[[gnu::always_inline]] inline Vec3 minus(const Vec3& a, const Vec3& b) {
+    return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 /// [v]×: the matrix of w ↦ v × w (type::crossProductMatrix).
 inline Mat3 cross_matrix(const Vec3& v) {
     Mat3 m;
@@ -34,13 +40,13 @@ inline double in_element(const std::vector<double>& values, std::size_t i) {
 /// M·v, row i = M(i,0)v₀ + M(i,1)v₁ + M(i,2)v₂ (type::Mat::operator*(Vec)). M: a Mat3, or any
 /// m(i, k) (an element's lane of TetrahedronFEMForceField's blocks).
 template <class Matrix>
-inline Vec3 times(const Matrix& m, const Vec3& v) {
+[[gnu::always_inline]] inline Vec3 times(const Matrix& m, const Vec3& v) {
     return {m(0, 0) * v[0] + m(0, 1) * v[1] + m(0, 2) * v[2], m(1, 0) * v[0] + m(1, 1) * v[1] + m(1, 2) * v[2],
             m(2, 0) * v[0] + m(2, 1) * v[1] + m(2, 2) * v[2]};
 }
 /// Mᵀ·v, row i = M(0,i)v₀ + M(1,i)v₁ + M(2,i)v₂ (type::Mat::multTranspose); M as for times.
 template <class Matrix>
-inline Vec3 transpose_times(const Matrix& m, const Vec3& v) {
+[[gnu::always_inline]] inline Vec3 transpose_times(const Matrix& m, const Vec3& v) {
     return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
             m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
 }
@@ -60,7 +66,7 @@ inline double norm(const Vec3& v) { return std::sqrt(dot3(v, v)); }
 /// a / s component by component (type::Vec::operator/).
 inline Vec3 divided(const Vec3& a, double s) { return {a[0] / s, a[1] / s, a[2] / s}; }
 /// a × b (type::cross).
-inline Vec3 cross(const Vec3& a, const Vec3& b) {
+[[gnu::always_inline]] inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
 /// det M = m00·m11·m22 + m10·m21·m02 + m20·m01·m12 − m00·m21·m12 − m10·m01·m22 − m20·m11·m02,

@@ -217,9 +217,10 @@ Eigen::Matrix<double, 6, 6> TriangularFEMForceField::local_stiffness(std::size_t
     return -(j_[e] * material_[e] * j_[e].transpose());
 }
 
+template <class Deferred>
 void TriangularFEMForceField::dforce_range_sofa_order(std::size_t first, std::size_t end, std::span<Vec3> df,
                                                       std::span<const Vec3> dx, double k_factor,
-                                                      const detail::DeferredTerms& deferred) const {
+                                                      const Deferred& deferred) const {
     // TriangleFEMForceField::applyStiffnessLarge / applyStiffnessSmall (h = 1): dx in the element
     // frame (large), local x, y only; df += (R_2_0·(−F_x, −F_y, 0))·k
     const bool large = parameters_.method == FemMethod::Large;
@@ -248,9 +249,9 @@ void TriangularFEMForceField::dforce_range_sofa_order(std::size_t first, std::si
     }
 }
 
+template <class Deferred>
 void TriangularFEMForceField::dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df,
-                                           std::span<const Vec3> dx, double k_factor,
-                                           const detail::DeferredTerms& deferred) const {
+                                           std::span<const Vec3> dx, double k_factor, const Deferred& deferred) const {
     // applyStiffnessLarge / applyStiffnessSmall: dx in the element frame, local x, y only
     for (std::size_t e = first; e < end; ++e) {
         const Mat3& to_world = rotation_[e];
@@ -278,12 +279,12 @@ void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec
     // on TBB's threads from OrderedScatter::kMinElements triangles, with the bits of one thread
     // (the force stays on one thread: SOFA's pass stops at a null determinant, and so the
     // elements after it keep their frames)
-    detail::scatter_in_order</*Add=*/true>(
-        scatter_, std::span<const Triangle>(triangles_), df, 1,
-        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
-            if (uses_sofa_order()) dforce_range_sofa_order(first, end, df, dx, k_factor, deferred);
-            else dforce_range(first, end, df, dx, k_factor, deferred);
-        });
+    detail::scatter_in_order</*Add=*/true>(scatter_, std::span<const Triangle>(triangles_), df, 1,
+                                           [&](std::size_t first, std::size_t end, const auto& deferred) {
+                                               if (uses_sofa_order())
+                                                   dforce_range_sofa_order(first, end, df, dx, k_factor, deferred);
+                                               else dforce_range(first, end, df, dx, k_factor, deferred);
+                                           });
 }
 
 void TriangularFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

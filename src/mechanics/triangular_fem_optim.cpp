@@ -67,7 +67,7 @@ void TriangularFEMForceFieldOptim::add_force(std::span<Vec3> f, std::span<const 
     PENALTY_DEMAND(rest_.size() == triangles.size() && frame_.size() == triangles.size());
     energy_ = detail::force_in_order</*Add=*/true>(
         scatter_, std::span<const Triangle>(triangles), f, 1, element_energies_,
-        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+        [&](std::size_t first, std::size_t end, const auto& deferred, double* energies) {
             double total = 0.0;
             for (std::size_t i = first; i < end; ++i) {
                 const Triangle& t = triangles[i];
@@ -104,7 +104,7 @@ void TriangularFEMForceFieldOptim::add_dforce(std::span<Vec3> df, std::span<cons
     PENALTY_DEMAND(rest_.size() == triangles.size() && frame_.size() == triangles.size());
     detail::scatter_in_order</*Add=*/false>(
         scatter_, std::span<const Triangle>(triangles), df, 1,
-        [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred) {
+        [&](std::size_t first, std::size_t end, const auto& deferred) {
             for (std::size_t i = first; i < end; ++i) {
                 const Triangle& t = triangles[i];
                 const RestTriangle& r = rest_[i];

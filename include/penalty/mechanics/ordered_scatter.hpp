@@ -21,6 +21,18 @@ struct DeferredTerms {
     Vec3* terms = nullptr;
 };
 
+/// The one-thread loop's deferred terms: none. store_or_apply applies every term, with no mask
+/// to test (a pass written for `const auto&` gets this path compiled apart); it converts to an
+/// empty DeferredTerms for a pass that takes one.
+struct NoDeferredTerms {
+    operator DeferredTerms() const { return {}; }  // NOLINT(google-explicit-constructor)
+};
+
+template <std::size_t N, class Apply>
+void store_or_apply(NoDeferredTerms, std::size_t, const std::array<Vec3, N>& terms, const Apply& apply) {
+    for (std::size_t k = 0; k < N; ++k) apply(k, terms[k]);
+}
+
 /// Element e's N terms: each stored where `deferred` marks it, else apply(k, term) (the loop's
 /// out[vertex k] += or −= term).
 template <std::size_t N, class Apply>
@@ -129,7 +141,7 @@ private:
 };
 
 /// pass(first, end, deferred) over `elements`, whose terms go to out[vertex] (+= when Add, else
-/// −=) in element order: one call with no term deferred below OrderedScatter::kMinElements
+/// −=) in element order: one call with NoDeferredTerms below OrderedScatter::kMinElements
 /// elements or on one thread, else `scatter`'s chunks of consecutive elements (each first element
 /// a multiple of `alignment`) on TBB's threads, the terms `deferred` marks applied in element
 /// order after: the bits of one thread.
@@ -137,7 +149,7 @@ template <bool Add, std::size_t N, class Pass>
 void scatter_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, std::span<Vec3> out,
                       std::size_t alignment, const Pass& pass) {
     if (!OrderedScatter::worth_threads(elements.size())) {
-        pass(std::size_t{0}, elements.size(), DeferredTerms{});
+        pass(std::size_t{0}, elements.size(), NoDeferredTerms{});
         return;
     }
     scatter.prepare(elements, alignment);
@@ -154,7 +166,7 @@ template <bool Add, std::size_t N, class Pass>
 double force_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, std::span<Vec3> f,
                       std::size_t alignment, std::vector<double>& energies, const Pass& pass) {
     if (!OrderedScatter::worth_threads(elements.size()))
-        return pass(std::size_t{0}, elements.size(), DeferredTerms{}, nullptr);
+        return pass(std::size_t{0}, elements.size(), NoDeferredTerms{}, nullptr);
     energies.resize(elements.size());
     scatter_in_order<Add>(scatter, elements, f, alignment,
                           [&](std::size_t first, std::size_t end, const DeferredTerms& deferred) {

@@ -114,12 +114,15 @@ private:
     [[nodiscard]] bool uses_sofa_order() const;
     bool element_force_sofa_order(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
     /// add_dforce over triangles [first, end) of the TriangleFEM flavor, with SOFA's operations in
-    /// SOFA's order, the terms `deferred` marks stored instead of added.
+    /// SOFA's order, the terms `deferred` marks stored instead of added (detail::DeferredTerms, or
+    /// detail::NoDeferredTerms on one thread).
+    template <class Deferred>
     void dforce_range_sofa_order(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx,
-                                 double k_factor, const detail::DeferredTerms& deferred) const;
+                                 double k_factor, const Deferred& deferred) const;
     /// The same for the other triangles (TriangularFEMForceField small).
+    template <class Deferred>
     void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
-                      const detail::DeferredTerms& deferred) const;
+                      const Deferred& deferred) const;
     /// −[J Dₐ Jᵀ] (6×6, local x, y per vertex) of triangle e at the last add_force.
     [[nodiscard]] Eigen::Matrix<double, 6, 6> local_stiffness(std::size_t e) const;
 
