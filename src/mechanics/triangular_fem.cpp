@@ -4,7 +4,6 @@
 #include "triangle_fem_sofa_order.hpp"
 
 #include <array>
-
 #include <cmath>
 #include <limits>
 

@@ -77,8 +77,9 @@ private:
     [[nodiscard]] RestTetrahedron rest_information(std::size_t t) const;
     [[nodiscard]] Mat3 rotation_of(const RestTetrahedron& r, const std::array<Vec3, 6>& edge) const;
     /// The force over tetrahedra [first, end) (each one's rotation into rest_), the terms
-    /// `deferred` marks stored instead of added (detail::NoDeferredTerms on one thread), and edge_term(t, j, term) with
-    /// each tetrahedron's term of E_e for its local edge j, after its force.
+    /// `deferred` marks stored instead of added (detail::NoDeferredTerms on one thread), and
+    /// edge_term(t, j, term) with each tetrahedron's term of E_e for its local edge j, after its
+    /// force.
     template <class Deferred, class EdgeTerm>
     void force_range(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
                      const Deferred& deferred, const EdgeTerm& edge_term);

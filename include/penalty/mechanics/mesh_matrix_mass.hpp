@@ -98,7 +98,7 @@ private:
     Vec3Object* state_;
     const MeshTopology* topology_;
     /// add_mdx's split of the edges on threads (init and topological changes clear it).
-    mutable detail::OrderedScatter scatter_;
+    detail::OrderedScatter scatter_;
     std::optional<std::vector<double>> given_density_;
     std::optional<double> given_total_;
     std::optional<std::vector<double>> given_vertex_masses_;

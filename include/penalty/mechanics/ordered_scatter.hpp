@@ -69,7 +69,7 @@ public:
     [[nodiscard]] static bool worth_threads(std::size_t elements);
 
     /// `chunks` chunks (fewer if there are few elements), each a multiple of `alignment` elements
-    /// but the last, and room for every term. O(elements).
+    /// but the last. O(elements).
     template <std::size_t N>
     void build(std::span<const std::array<PointId, N>> elements, std::size_t chunks, std::size_t alignment) {
         static_assert(N <= 8, "the deferred terms of an element are one byte's bits");

@@ -8,12 +8,6 @@
 
 namespace penalty::detail {
 namespace {
-/// SOFA's SpringForceField::computeSpringForce for springs [begin, end), operation by operation
-/// (the rounding of every step is SOFA's): u = x_b − x_a, d = |u|, U = u·(1/d), elongation
-/// e = d − l0, intensity f = ks·e + kd·(U·(v_b − v_a)), force f·U, dF/dX = (ks − f/d)·U·Uᵀ + f/d·I
-/// with f/d computed as f·(1/d) and each entry ((ks − t)·U_j)·U_k (QuadularBendingSprings:
-/// (ks − t)·((u_j/d)·(u_k/d))). A spring no longer than the null length gets no force and a zero
-/// m. The energy ½·ks·e² is added spring by spring, in order.
 /// f1[a] += t, f2[b] −= t of spring i, or, where `deferred` marks them, t and −t stored at 2i
 /// and 2i + 1 (added after; x − t and x + (−t) are the same bits).
 inline void add_spring_terms(const DeferredTerms& deferred, std::size_t i, Vec3& end_a, Vec3& end_b, const Vec3& t) {
@@ -30,6 +24,13 @@ inline void add_energy(double* energies, std::size_t i, double e, double& energy
     else energy += e;
 }
 
+/// SOFA's SpringForceField::computeSpringForce for springs [begin, end), operation by operation
+/// (the rounding of every step is SOFA's): u = x_b − x_a, d = |u|, U = u·(1/d), elongation
+/// e = d − l0, intensity f = ks·e + kd·(U·(v_b − v_a)), force f·U, dF/dX = (ks − f/d)·U·Uᵀ + f/d·I
+/// with f/d computed as f·(1/d) and each entry ((ks − t)·U_j)·U_k (QuadularBendingSprings:
+/// (ks − t)·((u_j/d)·(u_k/d))). A spring no longer than the null length gets no force and a zero
+/// m. The energy ½·ks·e² is added spring by spring, in order (or stored per spring:
+/// add_energy).
 template <class Stiffness>
 void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_t begin, std::size_t end,
                   double null_length, Vec3* f1, Vec3* f2, const Vec3* x1, const Vec3* x2, const Vec3* v1,
@@ -74,11 +75,11 @@ void spring_force(SpringArithmetic arithmetic, const Spring* springs, std::size_
 }
 
 #ifdef PENALTY_HAS_AVX_LANES
-/// spring_force on springs [begin, end) but the last (end − begin) % 4, four springs in the four lanes: lane k
-/// does spring_force's operations for spring i + k, in its order (target avx, no fused
-/// multiply-add), so every bit is the scalar loop's; then the forces and the energy are added
-/// spring by spring in spring order, and each spring's m is stored as its three padded columns.
-/// Returns the number of springs done.
+/// spring_force on springs [begin, end) but the last (end − begin) % 4, four springs in the four
+/// lanes: lane k does spring_force's operations for spring i + k, in its order (target avx, no
+/// fused multiply-add), so every bit is the scalar loop's; then the forces and the energy are
+/// added spring by spring in spring order, and each spring's m is stored as its three padded
+/// columns. Returns the first spring not done.
 template <SpringArithmetic Arithmetic, class Stiffness>
 [[gnu::target("avx")]] std::size_t spring_force_avx(const Spring* springs, std::size_t begin, std::size_t end,
                                                     double null_length, Vec3* f1, Vec3* f2, const Vec3* x1,
