@@ -72,7 +72,8 @@ TEST(TriangularFEMForceFieldOptim, ForceAndProductOnThreadsAreTheBitsOfOneThread
         Vec3Object state;
         state.position = sheet.points;
         state.init();
-        TriangularFEMForceFieldOptim fem(state, sheet.topology, {.young_modulus = {3e4}, .poisson_ratio = {0.3}});
+        TriangularFEMForceFieldOptim fem(state, sheet.topology,
+                                         {.young_modulus = {3e4}, .poisson_ratio = {0.3}, .rest_scale = {}});
         fem.init();
         test::expect_threads_give_one_threads_bits(fem, state, shuffle ? "shuffled" : "in order");
     }

@@ -38,7 +38,7 @@ std::string attribute_scene(const std::string& mass, const std::string& other) {
 double attribute_step_y(const std::string& mass, const std::string& other) {
     auto s = build(attribute_scene(mass, other));
     s->step();
-    return dynamic_cast<const Vec3Object*>(s->states().front().state)->position[0].y();
+    return dynamic_cast<const Vec3Object&>(*s->states().front().state).position[0].y();
 }
 
 double attribute_expected_y(double m) { return 0.01 * (0.01 * m * -10.0 / (m + 0.01 * 0.01 * 100.0)); }

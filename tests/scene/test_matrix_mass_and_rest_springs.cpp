@@ -69,7 +69,7 @@ std::string rest_spring_scene(const std::string& springs) {
 double rest_spring_step_y(const std::string& springs) {
     auto s = build(rest_spring_scene(springs));
     s->step();
-    return dynamic_cast<const Vec3Object*>(s->states().front().state)->position[0].y();
+    return dynamic_cast<const Vec3Object&>(*s->states().front().state).position[0].y();
 }
 
 TEST(MatrixMassAndRestSprings, ARestSpringHoldsThePointThroughAnImplicitStep) {
