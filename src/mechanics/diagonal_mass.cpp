@@ -1,5 +1,6 @@
 #include "penalty/mechanics/diagonal_mass.hpp"
 #include "penalty/mechanics/element_measures.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 
 #include <cmath>
 #include <numeric>
@@ -7,6 +8,8 @@
 namespace penalty {
 
 namespace {
+
+constexpr std::size_t kDofsPerTask = 4096;  // add_mdx on threads (a large state)
 
 void check_nonnegative(double value, const char* parameter) {
     if (!std::isfinite(value) || value < 0.0)
@@ -170,11 +173,17 @@ void DiagonalMass::add_gravity_force(const Vec3& g) {
 
 // DiagonalMass::addMDx: df_i += dx_i·m_i (times factor when factor ≠ 1).
 void DiagonalMass::add_mdx(double factor) {
-    if (factor == 1.0) {
-        for (std::size_t i = 0; i < masses_.size(); ++i) state_->df[i] += state_->dx[i] * masses_[i];
-    } else {
-        for (std::size_t i = 0; i < masses_.size(); ++i) state_->df[i] += (state_->dx[i] * masses_[i]) * factor;
-    }
+    // (each DOF its own: on TBB's threads for a large state, the same bits)
+    Vec3* df = state_->df.data();
+    const Vec3* dx = state_->dx.data();
+    const double* m = masses_.data();
+    detail::for_each_range(masses_.size(), kDofsPerTask, [=](std::size_t first, std::size_t end) {
+        if (factor == 1.0) {
+            for (std::size_t i = first; i < end; ++i) df[i] += dx[i] * m[i];
+        } else {
+            for (std::size_t i = first; i < end; ++i) df[i] += (dx[i] * m[i]) * factor;
+        }
+    });
 }
 
 // DiagonalMass::accFromF: a_i = f_i / m_i.

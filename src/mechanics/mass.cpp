@@ -2,6 +2,8 @@
 
 #include "sofa_vector_ops.hpp"
 
+#include "penalty/mechanics/ordered_scatter.hpp"
+
 #include <Eigen/Dense>
 
 #include <cmath>
@@ -9,6 +11,8 @@
 namespace penalty {
 
 namespace {
+constexpr std::size_t kDofsPerTask = 4096;  // add_mdx on threads (a large state)
+
 void check_mass(double m, const char* parameter) {
     if (!std::isfinite(m) || m <= 0.0)
         throw_invalid_argument("UniformMass: ", parameter, " must be finite and > 0, got ", m);
@@ -63,11 +67,13 @@ template <>
 void UniformMass<Vec3Types>::add_mdx(double factor) {
     lagging_weight_mass_.reset();  // SOFA's update callback has run (set_lagging_weight_mass)
     // df += dx·(m·factor), the scale computed once (the same double for every DOF)
+    // (each DOF its own: on TBB's threads for a large state, the same bits)
     const double scale = mass_ * factor;
     Vec3* df = state_->df.data();
     const Vec3* dx = state_->dx.data();
-    const std::size_t n = state_->df.size();
-    for (std::size_t i = 0; i < n; ++i) df[i] += dx[i] * scale;
+    detail::for_each_range(state_->df.size(), kDofsPerTask, [=](std::size_t first, std::size_t end) {
+        for (std::size_t i = first; i < end; ++i) df[i] += dx[i] * scale;
+    });
 }
 template <>
 void UniformMass<Rigid3Types>::add_mdx(double factor) {

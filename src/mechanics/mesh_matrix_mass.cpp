@@ -4,9 +4,6 @@
 #include "penalty/mechanics/topology_container.hpp"
 #include "penalty/mechanics/topology_data.hpp"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-
 #include <array>
 #include <cmath>
 #include <limits>
@@ -247,16 +244,13 @@ void MeshMatrixMass::add_mdx(double factor) {
     }
     const std::vector<Edge>& edges = topology_->edges();
     PENALTY_DEMAND(edge_masses_.size() == edges.size());
-    // From OrderedScatter::kMinElements edges on several threads: the vertices' terms on TBB's
-    // threads, then the edges' split in chunks (each vertex's sum in edge order: the bits of one
+    // On several threads, from OrderedScatter::kMinElements vertices or edges: the vertices' terms
+    // in ranges, then the edges' split in chunks (each vertex's sum in edge order: the bits of one
     // thread)
     const auto vertices = [&](std::size_t first, std::size_t end) {
         for (std::size_t i = first; i < end; ++i) df[i] += dx[i] * vertex_masses_[i] * factor;
     };
-    if (detail::OrderedScatter::worth_threads(edges.size()))
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertex_masses_.size(), kVerticesPerTask),
-                          [&](const tbb::blocked_range<std::size_t>& r) { vertices(r.begin(), r.end()); });
-    else vertices(0, vertex_masses_.size());
+    detail::for_each_range(vertex_masses_.size(), kVerticesPerTask, vertices);
     detail::scatter_in_order</*Add=*/true>(
         scatter_, std::span<const Edge>(edges), df, 1, [&](std::size_t first, std::size_t end, const auto& deferred) {
             for (std::size_t j = first; j < end; ++j) {

@@ -36,6 +36,12 @@ void OrderedScatter::for_each_chunk(const std::function<void(std::size_t, std::s
         tbb::simple_partitioner{});
 }
 
+void for_each_range_on_threads(std::size_t count, std::size_t per_task,
+                               const std::function<void(std::size_t, std::size_t)>& pass) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, per_task),
+                      [&pass](const tbb::blocked_range<std::size_t>& r) { pass(r.begin(), r.end()); });
+}
+
 void OrderedScatter::clear() {
     element_count_ = 0;
     requested_chunks_ = 0;

@@ -1,8 +1,15 @@
 #include "penalty/mechanics/diagonal_mass.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
+#include "penalty/mechanics/regular_grid_topology.hpp"
 
+#include "penalty_test/grid_meshes.hpp"
 #include "penalty_test/point_state.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include <cstring>
+#include <random>
 
 namespace penalty {
 namespace {
@@ -170,6 +177,39 @@ TEST(DiagonalMass, MechanicsUseTheVertexMasses) {
         EXPECT_EQ(triplets[k].row(), Index(6 + k));
         EXPECT_EQ(triplets[k].col(), Index(6 + k));
         EXPECT_DOUBLE_EQ(triplets[k].value(), -2.0 * mass[k / 3]);
+    }
+}
+
+// A large state's M·dx on threads (each DOF its own range's), with factor 1 and another: the bits
+// of one thread.
+TEST(DiagonalMass, AddMdxOnThreadsIsTheBitsOfOneThread) {
+    const RegularGridTopology grid({24, 22, 20}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
+    ASSERT_GE(grid.points().size(), detail::OrderedScatter::kMinElements);
+    const MeshTopology mesh = test::kuhn_tetrahedra(grid);
+    Vec3Object s;
+    s.position = grid.points();
+    s.init();
+    DiagonalMass m(s, mesh);
+    m.set_mass_density(1000.0);
+    m.init();
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (Vec3& d : s.dx) d = Vec3(u(rng), u(rng), u(rng));
+    std::vector<Vec3> start(s.dx.size());
+    for (Vec3& d : start) d = Vec3(u(rng), u(rng), u(rng));
+    for (const double factor : {1.0, -0.37}) {
+        const auto product = [&](int threads) {
+            s.df.assign(start.begin(), start.end());
+            tbb::task_arena(threads).execute([&] { m.add_mdx(factor); });
+            return std::vector<Vec3>(s.df.begin(), s.df.end());
+        };
+        const std::vector<Vec3> one = product(1);
+        EXPECT_NE(std::memcmp(one.data(), start.data(), one.size() * sizeof(Vec3)), 0);
+        for (const int threads : {2, 8}) {
+            const std::vector<Vec3> many = product(threads);
+            EXPECT_EQ(std::memcmp(many.data(), one.data(), one.size() * sizeof(Vec3)), 0)
+                << threads << " threads, factor " << factor;
+        }
     }
 }
 

@@ -1,11 +1,14 @@
 // UniformMass (mechanics/mass.cpp): SOFA's vertex and total mass rules; a Rigid3 mass and inertia.
 #include "penalty/mechanics/mass.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -57,6 +60,33 @@ TEST(UniformMass, Rigid3MassAndInertia) {
     EXPECT_EQ(s.force[0].linear, Vec3(0, -2, 0));
     EXPECT_EQ(s.force[0].angular, Vec3::Zero());
     EXPECT_THROW(m.set_inertia(-Mat3::Identity()), std::invalid_argument);
+}
+
+// A large state's M·dx on threads (each DOF its own range's): the bits of one thread.
+TEST(UniformMass, AddMdxOnThreadsIsTheBitsOfOneThread) {
+    Vec3Object s;
+    std::mt19937 rng(22);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    s.position.resize(detail::OrderedScatter::kMinElements + 777);
+    for (Vec3& x : s.position) x = Vec3(u(rng), u(rng), u(rng));
+    s.init();
+    UniformMass<Vec3Types> m(s);
+    m.set_total_mass(3.7);
+    m.init();
+    for (Vec3& d : s.dx) d = Vec3(u(rng), u(rng), u(rng));
+    std::vector<Vec3> start(s.dx.size());
+    for (Vec3& d : start) d = Vec3(u(rng), u(rng), u(rng));
+    const auto product = [&](int threads) {
+        s.df.assign(start.begin(), start.end());
+        tbb::task_arena(threads).execute([&] { m.add_mdx(-0.37); });
+        return std::vector<Vec3>(s.df.begin(), s.df.end());
+    };
+    const std::vector<Vec3> one = product(1);
+    EXPECT_NE(std::memcmp(one.data(), start.data(), one.size() * sizeof(Vec3)), 0);
+    for (const int threads : {2, 8}) {
+        const std::vector<Vec3> many = product(threads);
+        EXPECT_EQ(std::memcmp(many.data(), one.data(), one.size() * sizeof(Vec3)), 0) << threads << " threads";
+    }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -113,7 +114,9 @@ TEST(OrderedScatter, ChunksInAnyOrderGiveEachVertexTheLoopsBits) {
                     deferred += is_deferred ? 1 : 0;
                 }
         EXPECT_EQ(scatter.deferred_terms(), deferred);
-        if (chunks > 1) EXPECT_GT(deferred, terms.size() / 4) << chunks;  // random elements share vertices
+        if (chunks > 1) {
+            EXPECT_GT(deferred, terms.size() / 4) << chunks;  // random elements share vertices
+        }
         EXPECT_TRUE(same_bits(split_scatter<false>(scatter, elements, terms, start), loop)) << chunks;
         EXPECT_TRUE(same_bits(split_scatter<true>(scatter, elements, terms, start), loop_added)) << chunks;
     }
@@ -180,6 +183,37 @@ TEST(OrderedScatter, FewElementsMakeFewerChunksAndNoneMakeNone) {
     scatter.build(std::span<const Element4>(), 16, 8);
     EXPECT_EQ(scatter.chunk_count(), 0U);
     EXPECT_EQ(scatter.element_count(), 0U);
+}
+
+// for_each_range: one call over [0, count) below kMinElements items or on one thread, else ranges
+// of at most per_task items on TBB's threads, which cover every item once.
+TEST(OrderedScatter, ForEachRangeIsOneCallOrRangesThatCoverEachItemOnce) {
+    constexpr std::size_t kPerTask = 1000;
+    for (const int threads : {1, 4})
+        for (const std::size_t count :
+             {detail::OrderedScatter::kMinElements - 1, detail::OrderedScatter::kMinElements + 1001}) {
+            std::vector<std::atomic<int>> seen(count);
+            std::atomic<int> calls{0};
+            std::atomic<std::size_t> longest{0};
+            tbb::task_arena(threads).execute([&] {
+                detail::for_each_range(count, kPerTask, [&](std::size_t first, std::size_t end) {
+                    ++calls;
+                    std::size_t seen_longest = longest.load();
+                    while (end - first > seen_longest && !longest.compare_exchange_weak(seen_longest, end - first)) {
+                    }
+                    for (std::size_t i = first; i < end; ++i) ++seen[i];
+                });
+            });
+            EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](const std::atomic<int>& n) { return n.load() == 1; }))
+                << threads << " threads, " << count << " items";
+            if (threads > 1 && count >= detail::OrderedScatter::kMinElements) {
+                EXPECT_GE(calls.load(), static_cast<int>(count / kPerTask)) << count;
+                EXPECT_LE(longest.load(), kPerTask) << count;
+            } else {
+                EXPECT_EQ(calls.load(), 1) << threads << " threads, " << count << " items";
+                EXPECT_EQ(longest.load(), count);
+            }
+        }
 }
 
 }  // namespace

@@ -140,6 +140,23 @@ private:
     std::vector<Vec3> terms_;                    ///< the stored terms, at e·N + k
 };
 
+/// pass(first, end) for ranges of `per_task` covering [0, count), on TBB's threads.
+void for_each_range_on_threads(std::size_t count, std::size_t per_task,
+                               const std::function<void(std::size_t, std::size_t)>& pass);
+
+/// pass(first, end) over [0, count) in one call, or, from OrderedScatter::kMinElements items with
+/// more than one thread in the calling arena, in ranges of `per_task` on TBB's threads: for a loop
+/// whose iterations write apart (a diagonal mass's df[i] += m_i·dx[i]), the bits of one call.
+template <class Pass>
+void for_each_range(std::size_t count, std::size_t per_task, const Pass& pass) {
+    if (!OrderedScatter::worth_threads(count)) {
+        pass(std::size_t{0}, count);
+        return;
+    }
+    // (a std::function of one reference: no allocation)
+    for_each_range_on_threads(count, per_task, [&pass](std::size_t first, std::size_t end) { pass(first, end); });
+}
+
 /// pass(first, end, deferred) over `elements`, whose terms go to out[vertex] (+= when Add, else
 /// −=) in element order: one call with NoDeferredTerms below OrderedScatter::kMinElements
 /// elements or on one thread, else `scatter`'s chunks of consecutive elements (each first element
