@@ -219,9 +219,12 @@ void FusedContactBlock::make_springs() {
         f.flat_springs = true;
     }
     // the points a product reads: those of the active springs, and every point of a field that
-    // keeps its own product
+    // keeps its own product; a field's springs go on threads when no two read one point of a
+    // mapped side (each mapping is its field's alone: a point seen twice is one field's twice)
+    const bool threads = tbb::this_task_arena::max_concurrency() > 1;
     point_read_.assign(rows_.size(), 0);
-    for (const FusedField& f : fields_)
+    for (FusedField& f : fields_) {
+        f.on_threads = threads && f.flat_springs && f.end_spring - f.first_spring >= kMinItemsOnThreads;
         for (std::size_t side = 0; side < 2; ++side) {
             if (f.sides[side].mapping < 0) continue;
             const FusedMapping& m = mappings_[static_cast<std::size_t>(f.sides[side].mapping)];
@@ -229,11 +232,55 @@ void FusedContactBlock::make_springs() {
                 std::fill_n(point_read_.begin() + static_cast<std::ptrdiff_t>(m.first), m.count, std::uint8_t{1});
                 continue;
             }
-            for (std::size_t i = f.first_spring; i < f.end_spring; ++i)
-                point_read_[m.first + (side == 0 ? springs_[i].m1 : springs_[i].m2)] = 1;
+            for (std::size_t i = f.first_spring; i < f.end_spring; ++i) {
+                std::uint8_t& read = point_read_[m.first + (side == 0 ? springs_[i].m1 : springs_[i].m2)];
+                if (read != 0) f.on_threads = false;
+                read = 1;
+            }
         }
+    }
     list_read_points();
+    gather_row_.clear();
+    gather_first_.assign(1, 0);
+    gather_terms_.clear();
+    for (FusedMapping& m : mappings_) {
+        m.gathered = false;
+        if (threads && m.live && m.read_count >= kMinItemsOnThreads) make_gathers(m);
+    }
     springs_ready_ = true;
+}
+
+void FusedContactBlock::make_gathers(FusedMapping& m) {
+    // the mapping's Jᵀ adds rows[point][e].weight·df[point] into from.df[rows[point][e].index],
+    // point by point in read order, entry by entry: each parent row's terms in that order
+    const ContactBarycentricRow* rows = rows_.data() + m.first;
+    const std::uint32_t* read = read_rows_.data() + m.first_read;
+    if (gather_cursor_.size() < m.from->num_dofs()) gather_cursor_.resize(m.from->num_dofs(), 0);
+    m.first_gather = gather_row_.size();
+    for (std::size_t i = 0; i < m.read_count; ++i)
+        for (const ContactBarycentricRow::Entry& e : rows[read[i]]) {
+            PENALTY_DEMAND(e.index >= 0 && static_cast<std::size_t>(e.index) < m.from->num_dofs());
+            std::uint32_t& count = gather_cursor_[static_cast<std::size_t>(e.index)];
+            if (count++ == 0) gather_row_.push_back(static_cast<std::uint32_t>(e.index));
+        }
+    m.gather_count = gather_row_.size() - m.first_gather;
+    // each parent row's first term, then its cursor
+    const std::size_t first_term = gather_terms_.size();
+    std::size_t end = first_term;
+    gather_first_.pop_back();  // (the end sentinel, pushed again below)
+    for (std::size_t j = m.first_gather; j < gather_row_.size(); ++j) {
+        std::uint32_t& cursor = gather_cursor_[gather_row_[j]];
+        gather_first_.push_back(static_cast<std::uint32_t>(end));
+        end += cursor;
+        cursor = gather_first_.back();
+    }
+    gather_first_.push_back(static_cast<std::uint32_t>(end));
+    gather_terms_.resize(end);
+    for (std::size_t i = 0; i < m.read_count; ++i)
+        for (const ContactBarycentricRow::Entry& e : rows[read[i]])
+            gather_terms_[gather_cursor_[static_cast<std::size_t>(e.index)]++] = {e.weight, read[i]};
+    for (std::size_t j = m.first_gather; j < gather_row_.size(); ++j) gather_cursor_[gather_row_[j]] = 0;
+    m.gathered = true;
 }
 
 void FusedContactBlock::list_read_points() {
@@ -273,13 +320,8 @@ void FusedContactBlock::begin_product(double k, double b, bool parallel) {
     // the fused fields read only their contact points' dx and write only their df (and external
     // scratch), which no other step reads or writes: run before the steps, same bits; the
     // unread mappings' Jᵀ is the additions of zeros, which give the same bits in any place
-    for (const std::vector<ZeroAdd>* adds : {&zero_adds_, &unread_point_adds_})
-        for (const ZeroAdd& z : *adds) {
-            double* t = z.target->data();
-            t[0] += z.value;
-            t[1] += z.value;
-            t[2] += z.value;
-        }
+    add_zeros(zero_adds_);
+    add_zeros(unread_point_adds_);
     if (!parallel) {
         apply_fields(0, fields_.size(), k, b, nullptr);
         return;
@@ -291,11 +333,87 @@ void FusedContactBlock::begin_product(double k, double b, bool parallel) {
                       });
 }
 
+void FusedContactBlock::add_zeros(const std::vector<ZeroAdd>& adds) {
+    const auto add = [&adds](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            double* t = adds[i].target->data();
+            t[0] += adds[i].value;
+            t[1] += adds[i].value;
+            t[2] += adds[i].value;
+        }
+    };
+    if (adds.size() < kMinItemsOnThreads || tbb::this_task_arena::max_concurrency() < 2) {
+        add(0, adds.size());
+        return;
+    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, adds.size(), kItemsPerTask),
+                      [&add](const tbb::blocked_range<std::size_t>& r) { add(r.begin(), r.end()); });
+}
+
+std::array<std::size_t, 2> FusedContactBlock::on_threads() const {
+    std::array<std::size_t, 2> counts{};
+    for (const FusedField& f : fields_) counts[0] += f.on_threads ? 1 : 0;
+    for (const FusedMapping& m : mappings_) counts[1] += m.gathered ? 1 : 0;
+    return counts;
+}
+
+void FusedContactBlock::apply_field_on_threads(const FusedField& f, double k) {
+    // J and the zeroed df at the read points of each mapped side (each point its own row)
+    for (const FusedSide& s : f.sides) {
+        if (s.mapping < 0) continue;
+        const FusedMapping& m = mappings_[static_cast<std::size_t>(s.mapping)];
+        const std::span<const Vec3> in(m.from->dx);
+        const ContactBarycentricRow* rows = rows_.data() + m.first;
+        Vec3* out_dx = dx_.data() + m.first;
+        Vec3* out_df = df_.data() + m.first;
+        const std::uint32_t* read = read_rows_.data() + m.first_read;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m.read_count, kItemsPerTask),
+                          [=](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                                  out_dx[read[i]] = rows[read[i]].combine(in);
+                                  out_df[read[i]].setZero();
+                              }
+                          });
+    }
+    // the springs in ranges: a mapped side's point is one spring's (make_springs), an external
+    // side's df is the task thread's scratch, which nobody reads
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(f.first_spring, f.end_spring, kItemsPerTask),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          std::vector<std::vector<Vec3>>& scratch = external_scratch_.local();
+                          if (scratch.size() < external_slots_) scratch.resize(external_slots_);
+                          std::array<Vec3*, 2> df{};
+                          std::array<const Vec3*, 2> dx{};
+                          for (std::size_t side = 0; side < 2; ++side) {
+                              const FusedSide& s = f.sides[side];
+                              if (s.mapping >= 0) {
+                                  const FusedMapping& m = mappings_[static_cast<std::size_t>(s.mapping)];
+                                  dx[side] = dx_.data() + m.first;
+                                  df[side] = df_.data() + m.first;
+                                  continue;
+                              }
+                              std::vector<Vec3>& external = scratch[s.external_slot];
+                              if (external.size() < s.state->df.size())
+                                  external.resize(s.state->df.size(), Vec3::Zero());
+                              dx[side] = s.state->dx.data();
+                              df[side] = external.data();
+                          }
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                              const FusedSpring& sp = springs_[i];
+                              add_sofa_contact_dforce(sp.normal, sp.ks, dx[0][sp.m1], dx[1][sp.m2], k, df[0][sp.m1],
+                                                      df[1][sp.m2]);
+                          }
+                      });
+}
+
 void FusedContactBlock::apply_fields(std::size_t begin, std::size_t end, double k, double b,
                                      std::vector<std::vector<Vec3>>* external_df) {
     if (external_df != nullptr && external_df->size() < external_slots_) external_df->resize(external_slots_);
     for (std::size_t i = begin; i < end; ++i) {
         const FusedField& f = fields_[i];
+        if (f.on_threads) {
+            apply_field_on_threads(f, k);
+            continue;
+        }
         std::array<Vec3Span, 2> df;
         std::array<ConstVec3Span, 2> dx;
         for (std::size_t side = 0; side < 2; ++side) {
@@ -345,6 +463,18 @@ void FusedContactBlock::spread(std::size_t index) const {
     const std::span<Vec3> out(m.from->df);
     const ContactBarycentricRow* rows = rows_.data() + m.first;
     const Vec3* df = df_.data() + m.first;
+    if (m.gathered) {  // each parent row's terms in the rows' order (make_gathers), rows on threads
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(m.first_gather, m.first_gather + m.gather_count, kItemsPerTask),
+            [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t j = r.begin(); j < r.end(); ++j) {
+                    Vec3& target = out[gather_row_[j]];
+                    for (std::uint32_t t = gather_first_[j]; t < gather_first_[j + 1]; ++t)
+                        target += gather_terms_[t].weight * df[gather_terms_[t].point];
+                }
+            });
+        return;
+    }
     const std::uint32_t* read = read_rows_.data() + m.first_read;
     for (std::size_t i = 0; i < m.read_count; ++i) rows[read[i]].spread(out, df[read[i]]);
 }

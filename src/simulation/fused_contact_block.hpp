@@ -28,6 +28,11 @@
 /// its own product) reads has df +0 in every product, so its Jᵀ adds w·(+0): as for the unread
 /// mappings, one addition of +0 (or NaN) per parent row, before the other steps, stands for it,
 /// and J and Jᵀ run over the read points only (more than half of a pile's points are inactive).
+/// A large field (a soft body on an organ: one field of thousands of springs) runs on TBB's
+/// threads inside: its points' J, then its springs in ranges when each spring has its own
+/// contact points (an external side's df to the task thread's scratch, which nobody reads); a
+/// large mapping's Jᵀ gathers each parent row's terms in the rows' order (the same additions in
+/// the same order per parent row), the parent rows on threads: the same bits.
 
 #include "step_chains.hpp"
 #include "subtree_layout.hpp"
@@ -77,6 +82,14 @@ public:
     /// steps() and unfused_mappings() in chains (step_chains.hpp), made by find().
     [[nodiscard]] const StepChains& chains() const { return chains_; }
     [[nodiscard]] std::size_t field_count() const { return fields_.size(); }
+    /// A field's springs, a mapping's read points or its Jᵀ's parent terms, or the zero additions
+    /// run on TBB's threads from this many (and more than one thread in the calling arena), in
+    /// tasks of kItemsPerTask.
+    static constexpr std::size_t kMinItemsOnThreads = 4096;
+    static constexpr std::size_t kItemsPerTask = 1024;
+    /// How many fields' springs and mappings' Jᵀ run on threads (made by the last product's
+    /// make_springs).
+    [[nodiscard]] std::array<std::size_t, 2> on_threads() const;
 
 private:
     struct FusedMapping {
@@ -92,6 +105,12 @@ private:
         /// index from `first` (made by make_springs)
         std::size_t first_read = 0;
         std::size_t read_count = 0;
+        /// Its Jᵀ as gathers (make_springs, kMinItemsOnThreads terms or more): the parent rows
+        /// gather_row_[first_gather, first_gather + gather_count), row j's terms
+        /// gather_terms_[gather_first_[j], gather_first_[j + 1]) in the rows' order.
+        bool gathered = false;
+        std::size_t first_gather = 0;
+        std::size_t gather_count = 0;
     };
     struct FusedSide {
         std::ptrdiff_t mapping = -1;    ///< index in mappings_, or -1: external state
@@ -107,6 +126,9 @@ private:
         bool flat_springs = false;
         std::size_t first_spring = 0;
         std::size_t end_spring = 0;
+        /// Its points' J and its springs on TBB's threads (make_springs): flat springs,
+        /// kMinItemsOnThreads or more, no contact point of a mapped side read by two.
+        bool on_threads = false;
     };
     /// One active spring of a fused field: its contact points' rows in the field's two sides, its
     /// normal (side 1 toward side 2) and ks (N/m).
@@ -120,6 +142,11 @@ private:
         Vec3* target = nullptr;
         double value = 0.0;
     };
+    /// One term of a gathered Jᵀ: parent row += weight·df[point] (point: the mapping's row).
+    struct GatherTerm {
+        double weight = 0.0;
+        std::uint32_t point = 0;
+    };
     /// Copies the rows of the fused mappings (current under the FixedReaders), sizes the flat
     /// arrays and lists the unread mappings' zero additions.
     void prepare();
@@ -129,6 +156,13 @@ private:
     void make_springs();
     /// read_rows_ and unread_point_adds_ from the flags of point_read_ (one per row of rows_).
     void list_read_points();
+    /// The gathers of mapping m's Jᵀ over its read points (a counting sort by parent row, stable).
+    void make_gathers(FusedMapping& m);
+    /// Field f's J, zeroed df and springs with its points and springs in ranges on TBB's threads
+    /// (f.on_threads).
+    void apply_field_on_threads(const FusedField& f, double k);
+    /// The zero additions `adds` (each target once), on TBB's threads when many.
+    static void add_zeros(const std::vector<ZeroAdd>& adds);
     /// J of the fused mappings, zeroed df, and fields [begin, end)'s add_dforce(k, b) (from
     /// springs_ for the fields that have them); an external
     /// side's df goes to `external_df[slot]` when given (grown to the state's size), else to the
@@ -159,6 +193,10 @@ private:
     /// The additions of +0 (or NaN) that stand for the Jᵀ of the points no product reads, one per
     /// parent row (made by make_springs).
     std::vector<ZeroAdd> unread_point_adds_;
+    std::vector<std::uint32_t> gather_row_;    ///< the gathered mappings' parent rows
+    std::vector<std::uint32_t> gather_first_;  ///< per parent row: its first term; one more at the end
+    std::vector<GatherTerm> gather_terms_;
+    std::vector<std::uint32_t> gather_cursor_;  ///< make_gathers' scratch: per parent row, 0 between calls
     std::size_t external_slots_ = 0;
     /// Per thread of the parallel begin_product: each external state's df scratch, by slot.
     tbb::enumerable_thread_specific<std::vector<std::vector<Vec3>>> external_scratch_;

@@ -50,7 +50,12 @@ const std::vector<BaseState*>& SubtreeSystem::mapped_states() const { return lay
 
 SubtreeSystem::FusedContactCounts SubtreeSystem::fused_contact_counts() const {
     const auto counts = fused_->counts();
-    return {.force_fields = counts[0], .read_mappings = counts[1], .unread_mappings = counts[2]};
+    const auto on_threads = fused_->on_threads();
+    return {.force_fields = counts[0],
+            .read_mappings = counts[1],
+            .unread_mappings = counts[2],
+            .fields_on_threads = on_threads[0],
+            .gathered_mappings = on_threads[1]};
 }
 
 std::size_t SubtreeSystem::concurrent_products() const { return scratch_->concurrent_products; }

@@ -11,7 +11,10 @@
 //    inside one FixedReaders (the flat spring list made again);
 //  - a spring cube sliding over static points, its bottom face a triangle surface carried by a
 //    BarycentricMapping (a fused mapping whose parent is a mapped state of selected rows), and
-//    spheres on its own corners (an identity side: that field is not fused and keeps its place).
+//    spheres on its own corners (an identity side: that field is not fused and keeps its place);
+//  - a spring cube resting on a bed of 6 400 static points: one contact field of thousands of
+//    springs, whose J and springs run in ranges on TBB's threads and whose mapping's Jᵀ runs as
+//    gathers by parent row (FusedContactBlock::kMinItemsOnThreads).
 #include "penalty/io/scene_file.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/scene/scene.hpp"
@@ -22,8 +25,10 @@
 #include "penalty_test/sliding_cube.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <random>
 #include <sstream>
@@ -269,6 +274,124 @@ TEST(FusedContactProducts, AForceEvaluationMakesTheSpringListAgain) {
     EXPECT_LT(active_contacts(fused), before);
     EXPECT_GT(active_contacts(fused), 0u);
     EXPECT_EQ(products_agree(), 0);
+}
+
+// A 0.4 m spring cube whose bottom face, a triangle grid of `quads` × `quads` squares carried by
+// a BarycentricMapping (node "Body/Surface"), rests 5 mm above a bed of `points` × `points` static
+// points (MinProximity, C = 1 cm: every point under a triangle's inside is an active contact, one
+// spring each, 0.3 N/m: the bed carries the cube's weight at ~5 mm). The points sit off the
+// grid's lines and diagonals (MinProximity drops a projection on a triangle's edge).
+std::string cube_on_a_bed_of_points_xml(int quads, int points) {
+    std::ostringstream s;
+    s << R"(<Node name="root" dt="0.005" gravity="0 -9.81 0">
+  <CollisionPipeline/>
+  <BruteForceBroadPhase/>
+  <BVHNarrowPhase/>
+  <MinProximityIntersection alarmDistance="0.02" contactDistance="0.01"/>
+  <CollisionResponse response="PenalityContactForceField"/>
+  <Node name="Body">
+    <EulerImplicitSolver rayleighStiffness="0.1" rayleighMass="0.1"/>
+    <CGLinearSolver iterations="25" tolerance="1e-12" threshold="1e-15"/>
+    <MechanicalObject position="0 0.005 0  0.4 0.005 0  0 0.405 0  0.4 0.405 0  0 0.005 0.4  0.4 0.005 0.4  0 0.405 0.4  0.4 0.405 0.4"
+                      velocity="0.01 0 0  0.01 0 0  0.01 0 0  0.01 0 0  0.01 0 0  0.01 0 0  0.01 0 0  0.01 0 0"/>
+    <MeshTopology hexas="0 1 3 2 4 5 7 6"/>
+    <UniformMass totalMass="1"/>
+    <MeshSpringForceField stiffness="500" damping="1"/>
+    <Node name="Surface">
+      <MeshTopology position=")";
+    const double h = 0.4 / quads;
+    for (int k = 0; k <= quads; ++k)
+        for (int i = 0; i <= quads; ++i) s << h * i << " 0.005 " << h * k << "  ";
+    s << R"(" triangles=")";
+    const auto v = [quads](int i, int k) { return (quads + 1) * k + i; };
+    for (int k = 0; k < quads; ++k)  // facing down (−y)
+        for (int i = 0; i < quads; ++i)
+            s << v(i, k) << ' ' << v(i + 1, k) << ' ' << v(i, k + 1) << "  " << v(i + 1, k) << ' ' << v(i + 1, k + 1)
+              << ' ' << v(i, k + 1) << "  ";
+    s << R"("/>
+      <MechanicalObject/>
+      <TriangleCollisionModel contactStiffness="0.0548"/>
+      <BarycentricMapping/>
+    </Node>
+  </Node>
+  <Node name="Bed">
+    <MechanicalObject position=")";
+    const double spacing = 0.4 / points;
+    for (int k = 0; k < points; ++k)
+        for (int i = 0; i < points; ++i) s << spacing * (i + 0.3) << " 0 " << spacing * (k + 0.3) << "  ";
+    s << R"("/>
+    <PointCollisionModel simulated="0" moving="0" contactStiffness="0.0548"/>
+  </Node>
+</Node>
+)";
+    return s.str();
+}
+
+std::unique_ptr<scene::Scene> cube_on_a_bed_of_points(int threads) {
+    scene::BuildOptions o;
+    o.threads = threads;
+    return scene::build_scene(io::parse_scene_string(cube_on_a_bed_of_points_xml(40, 80), "bed_of_points.scn"), o);
+}
+
+// The field's springs and its J on threads, its mapping's Jᵀ as gathers: the products through the
+// objects, bit for bit, with the block on 4 threads and on 1.
+TEST(FusedContactProducts, ALargeFieldOnThreadsGivesTheProductsThroughTheObjects) {
+    const auto scene = cube_on_a_bed_of_points(4);
+    Node& body = child(scene->simulation().root(), "Body");
+    for (int step = 0; step < 3; ++step) scene->step();
+    const SubtreeSystem fused(body, true, true), plain(body, true, false);
+    ASSERT_EQ(fused.fused_contact_counts().force_fields, 1u);
+    ASSERT_GE(active_contacts(fused), 4096u);  // FusedContactBlock::kMinItemsOnThreads
+    std::mt19937 rng(20261201);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    long compared = 0, differing = 0;
+    for (const int threads : {4, 1, 2}) {
+        tbb::task_arena(threads).execute([&] {
+            Eigen::VectorXd dx(fused.size());
+            for (Eigen::Index i = 0; i < dx.size(); ++i) dx[i] = unit(rng);
+            const SubtreeSystem::FixedReaders fixed_f(fused);
+            const SubtreeSystem::FixedReaders fixed_p(plain);
+            Eigen::VectorXd f, p, fa = dx, pa = dx;
+            fused.apply_mbk(dx, f, 1.02, -0.01, -1.01e-4, true);
+            plain.apply_mbk(dx, p, 1.02, -0.01, -1.01e-4, true);
+            fused.apply_mbk(dx, fa, -0.1, 0.0, 0.05, false, /*accumulate=*/true);
+            plain.apply_mbk(dx, pa, -0.1, 0.0, 0.05, false, true);
+            for (const auto& [x, y] : {std::pair{&f, &p}, {&fa, &pa}})
+                for (Eigen::Index i = 0; i < x->size(); ++i) {
+                    ++compared;
+                    differing += test::same_bits((*x)[i], (*y)[i]) ? 0 : 1;
+                }
+            const SubtreeSystem::FusedContactCounts counts = fused.fused_contact_counts();
+            EXPECT_EQ(counts.fields_on_threads, threads > 1 ? 1u : 0u) << threads << " threads";
+            EXPECT_EQ(counts.gathered_mappings, threads > 1 ? 1u : 0u) << threads << " threads";
+        });
+    }
+    EXPECT_EQ(differing, 0) << "of " << compared;
+    EXPECT_EQ(compared, 3 * 2 * fused.size());
+}
+
+// Whole runs: the cube's states after 20 steps are the same bits on 1, 2 and 8 threads.
+TEST(FusedContactProducts, RunsWithALargeFieldOnThreadsAreTheBitsOfOneThread) {
+    std::vector<Vec3> one;
+    for (const int threads : {1, 2, 8}) {
+        const auto scene = cube_on_a_bed_of_points(threads);
+        Node& body = child(scene->simulation().root(), "Body");
+        for (int step = 0; step < 20; ++step) scene->step();
+        const auto& x = dynamic_cast<const Vec3Object&>(*body.state()).position;
+        const auto* solver = dynamic_cast<const EulerImplicitSolver*>(body.ode_solver());
+        ASSERT_NE(solver, nullptr);
+        ASSERT_NE(solver->system_cache().current(), nullptr);
+        const SubtreeSystem::FusedContactCounts counts = solver->system_cache().current()->fused_contact_counts();
+        EXPECT_EQ(counts.fields_on_threads, threads > 1 ? 1u : 0u) << threads << " threads";
+        EXPECT_EQ(counts.gathered_mappings, threads > 1 ? 1u : 0u) << threads << " threads";
+        EXPECT_GT(x[0].y(), 0.0);  // carried by the bed
+        if (threads == 1) {
+            one = x;
+            continue;
+        }
+        ASSERT_EQ(x.size(), one.size());
+        EXPECT_EQ(std::memcmp(x.data(), one.data(), x.size() * sizeof(Vec3)), 0) << threads << " threads";
+    }
 }
 
 }  // namespace

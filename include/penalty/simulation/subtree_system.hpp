@@ -67,11 +67,15 @@ public:
     [[nodiscard]] bool blocked_reductions() const { return blocked_reductions_; }
     /// What the fused contact block applies: contact force fields, the barycentric contact
     /// mappings they read, and the barycentric contact mappings nobody reads (all 0: none
-    /// qualifies, or fusion is off).
+    /// qualifies, or fusion is off); of those, as the last fused product found them, the fields
+    /// whose springs ran on TBB's threads and the mappings whose Jᵀ ran as gathers on them
+    /// (FusedContactBlock::kMinItemsOnThreads springs or read points and more than one thread).
     struct FusedContactCounts {
         std::size_t force_fields = 0;
         std::size_t read_mappings = 0;
         std::size_t unread_mappings = 0;
+        std::size_t fields_on_threads = 0;
+        std::size_t gathered_mappings = 0;
     };
     [[nodiscard]] FusedContactCounts fused_contact_counts() const;
     /// How many products so far ran their force steps in chains on TBB's threads
