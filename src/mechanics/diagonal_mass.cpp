@@ -178,10 +178,15 @@ void DiagonalMass::add_mdx(double factor) {
     const Vec3* dx = state_->dx.data();
     const double* m = masses_.data();
     detail::for_each_range(masses_.size(), kDofsPerTask, [=](std::size_t first, std::size_t end) {
-        if (factor == 1.0) {
-            for (std::size_t i = first; i < end; ++i) df[i] += dx[i] * m[i];
+        // (locals: a store through df could otherwise alias the closure's copies, read again each time)
+        Vec3* const out = df;
+        const Vec3* const in = dx;
+        const double* const mass = m;
+        const double f = factor;
+        if (f == 1.0) {
+            for (std::size_t i = first; i < end; ++i) out[i] += in[i] * mass[i];
         } else {
-            for (std::size_t i = first; i < end; ++i) df[i] += (dx[i] * m[i]) * factor;
+            for (std::size_t i = first; i < end; ++i) out[i] += (in[i] * mass[i]) * f;
         }
     });
 }

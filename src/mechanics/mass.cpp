@@ -72,7 +72,11 @@ void UniformMass<Vec3Types>::add_mdx(double factor) {
     Vec3* df = state_->df.data();
     const Vec3* dx = state_->dx.data();
     detail::for_each_range(state_->df.size(), kDofsPerTask, [=](std::size_t first, std::size_t end) {
-        for (std::size_t i = first; i < end; ++i) df[i] += dx[i] * scale;
+        // (locals: a store through df could otherwise alias the closure's copies, read again each time)
+        Vec3* const out = df;
+        const Vec3* const in = dx;
+        const double s = scale;
+        for (std::size_t i = first; i < end; ++i) out[i] += in[i] * s;
     });
 }
 template <>

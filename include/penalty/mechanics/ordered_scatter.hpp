@@ -149,7 +149,8 @@ void for_each_range_on_threads(std::size_t count, std::size_t per_task,
 /// whose iterations write apart (a diagonal mass's df[i] += m_i·dx[i]), the bits of one call.
 template <class Pass>
 void for_each_range(std::size_t count, std::size_t per_task, const Pass& pass) {
-    if (!OrderedScatter::worth_threads(count)) {
+    // (a small loop, a body's few DOFs, tests its size here: no call)
+    if (count < OrderedScatter::kMinElements || !OrderedScatter::worth_threads(count)) {
         pass(std::size_t{0}, count);
         return;
     }
