@@ -174,7 +174,7 @@ DivergenceBound::DivergenceBound(const Scene& scene, double factor) : factor_(fa
 void DivergenceBound::check_energy(const Scene& scene, std::int64_t step, double time) {
     const double kinetic = scene.kinetic_energy();
     const double stored = scene.stored_energy();
-    const double energy = kinetic + scene.potential_energy();  // potential_energy() holds `stored`
+    const double energy = kinetic + scene.potential_energy_from(stored);
     if (!stored_energy_known_) {
         initial_energy_ += stored;  // evaluated at the initial positions
         energy_scale_ += std::abs(stored);

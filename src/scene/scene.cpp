@@ -99,27 +99,50 @@ bool Scene::uses_newton() const {
                        [](const EulerImplicitSolver* s) { return s->newton.enabled; });
 }
 
+namespace {
+/// name == first + "-" + second.
+bool is_pair_name(std::string_view name, std::string_view first, std::string_view second) {
+    return name.size() == first.size() + 1 + second.size() && name.starts_with(first) && name[first.size()] == '-' &&
+           name.ends_with(second);
+}
+}  // namespace
+
 void Scene::refresh_contacts() {
-    // Same live pairs as the list (same force fields and point states, same order)? Then the
-    // records stand (no allocation while the pairs stay).
+    // Same live pairs as the list (same force fields, point states and models, same order)? Then
+    // the records stand (no allocation while the pairs stay).
     std::size_t n = 0;
     bool same = true;
     for (const ScenePipeline& p : pipelines_) {
         for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
             if (e.contact == nullptr || e.force_field == nullptr) continue;
             same = same && n < contacts_.size() && contacts_[n].field == &e.force_field->field() &&
-                   contacts_[n].state1 == e.point_states[0] && contacts_[n].state2 == e.point_states[1];
+                   contacts_[n].state1 == e.point_states[0] && contacts_[n].state2 == e.point_states[1] &&
+                   is_pair_name(contacts_[n].name, e.contact->model1().name(), e.contact->model2().name());
             ++n;
         }
     }
     if (same && n == contacts_.size()) return;
+    // a pile's pairs change at most steps, but most stay: their records (and names) are moved
+    previous_contacts_.swap(contacts_);
+    previous_contact_of_.clear();
+    for (std::size_t i = 0; i < previous_contacts_.size(); ++i)
+        previous_contact_of_.emplace(previous_contacts_[i].field, i);
     contacts_.clear();
     for (const ScenePipeline& p : pipelines_) {
         for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
             if (e.contact == nullptr || e.force_field == nullptr) continue;
+            const PenaltyForceField* field = &e.force_field->field();
+            const std::size_t at = previous_contact_of_.find(field);
+            // (the name checked too: a new pair's objects may have a destroyed pair's addresses)
+            if (at != PointerIndex<PenaltyForceField>::npos && previous_contacts_[at].state1 == e.point_states[0] &&
+                previous_contacts_[at].state2 == e.point_states[1] &&
+                is_pair_name(previous_contacts_[at].name, e.contact->model1().name(), e.contact->model2().name())) {
+                contacts_.push_back(std::move(previous_contacts_[at]));
+                continue;
+            }
             output::ContactRecord r;
             r.name = e.contact->model1().name() + "-" + e.contact->model2().name();
-            r.field = &e.force_field->field();
+            r.field = field;
             r.state1 = e.point_states[0];
             r.state2 = e.point_states[1];
             contacts_.push_back(std::move(r));
@@ -157,8 +180,10 @@ double force_field_energy(const Node& node) {
 }
 }  // namespace
 
-double Scene::potential_energy() const {
-    double e = stored_energy();
+double Scene::potential_energy() const { return potential_energy_from(stored_energy()); }
+
+double Scene::potential_energy_from(double stored) const {
+    double e = stored;
     for (std::size_t i = 0; i < masses_.size(); ++i)
         e += masses_[i]->gravity_potential_energy(mass_nodes_[i]->gravity());
     return e;

@@ -8,7 +8,9 @@
 #include "builder_scenes.hpp"
 
 #include "penalty/mechanics/state.hpp"
+#include "penalty/output/contact_records.hpp"
 #include "penalty/simulation/ode_solver.hpp"
+#include "penalty_test/cubes_in_bowl.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -65,6 +67,45 @@ TEST(Scene, ContactsAreTheLivePairsNamedAfterTheirModelsAndKeptWhileThePairsStay
     ASSERT_EQ(entries.size(), 1u);
     EXPECT_EQ(s->contacts()[0].state1, entries[0].point_states[0]);
     EXPECT_EQ(s->contacts()[0].state2, entries[0].point_states[1]);
+}
+
+// A pile whose pairs come and go: after every step the records are the pipelines' live pairs as
+// output::contact_records makes them (names, fields, point states, in order), those of the pairs
+// that stayed moved from the last list.
+TEST(Scene, ContactsFollowPairsThatComeAndGo) {
+    test::cubes_in_bowl::Setup setup;
+    setup.k = 2;
+    auto s = scene::build_scene(io::parse_scene_string(test::cubes_in_bowl::scene_xml(setup), "bowl.scn"));
+    int changed = 0, kept = 0;
+    std::vector<const PenaltyForceField*> last;
+    for (int step = 0; step < 150; ++step) {
+        s->step();
+        std::vector<output::ContactRecord> expected;
+        for (const auto& p : s->pipelines())
+            for (output::ContactRecord& r : output::contact_records(*p.pipeline)) expected.push_back(std::move(r));
+        ASSERT_EQ(s->contacts().size(), expected.size()) << "step " << step;
+        std::vector<const PenaltyForceField*> fields;
+        for (std::size_t i = 0; i < expected.size(); ++i) {
+            const output::ContactRecord& r = s->contacts()[i];
+            EXPECT_EQ(r.name, expected[i].name) << "step " << step << ", pair " << i;
+            EXPECT_EQ(r.field, expected[i].field) << "step " << step << ", pair " << i;
+            EXPECT_EQ(r.state1, expected[i].state1) << "step " << step << ", pair " << i;
+            EXPECT_EQ(r.state2, expected[i].state2) << "step " << step << ", pair " << i;
+            fields.push_back(r.field);
+        }
+        if (fields != last && !last.empty()) {
+            ++changed;
+            kept += std::any_of(fields.begin(), fields.end(),
+                                [&](const PenaltyForceField* f) {
+                                    return std::find(last.begin(), last.end(), f) != last.end();
+                                })
+                        ? 1
+                        : 0;
+        }
+        last = fields;
+    }
+    EXPECT_GE(changed, 5);  // the cubes land, bounce and touch one another
+    EXPECT_GE(kept, 5);     // with pairs that stayed
 }
 
 TEST(Scene, StepRecordsTheImplicitSolversStatisticsAndPhaseTimes) {
@@ -125,6 +166,8 @@ TEST(Scene, EnergiesAreTheClosedFormsOfTheMassesAndTheirNodesGravity) {
     // −Σ m g·x: 2·10·1 + 2·10·1 (Ball), −3·10·1 (Floor), 5·1.6·2 (Moon)
     EXPECT_DOUBLE_EQ(s->potential_energy(), 40.0 - 30.0 + 16.0);
     EXPECT_EQ(s->stored_energy(), 0.0);  // no force field
+    EXPECT_EQ(s->potential_energy_from(0.0), s->potential_energy());
+    EXPECT_DOUBLE_EQ(s->potential_energy_from(2.5), 40.0 - 30.0 + 16.0 + 2.5);  // a stored part first
     // the masses a step moves (not the floor's) dropped through the box along their gravity:
     // 4 kg·10·3 m + 5 kg·1.6·3 m
     EXPECT_DOUBLE_EQ(s->gravity_energy_scale(Vec3(0, 0, 0), Vec3(1, 3, 2)), 120.0 + 24.0);

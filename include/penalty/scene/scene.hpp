@@ -12,6 +12,7 @@
 /// depth-first order, which is the model order SOFA's broad phase uses.
 
 #include "penalty/collision/collision_model.hpp"
+#include "penalty/core/pointer_index.hpp"
 #include "penalty/io/scene_file.hpp"
 #include "penalty/io/scene_mesh.hpp"
 #include "penalty/mechanics/topology_container.hpp"
@@ -166,6 +167,10 @@ public:
     [[nodiscard]] double potential_energy() const;
     /// The force fields' part of potential_energy() (J).
     [[nodiscard]] double stored_energy() const;
+    /// potential_energy() from its stored_energy(): `stored` plus each mass's gravity potential,
+    /// added in mass order (J; the same bits as potential_energy() when `stored` is
+    /// stored_energy()).
+    [[nodiscard]] double potential_energy_from(double stored) const;
     /// Σ m·|g|·h (J) over the masses of the states a step moves (in an ODE solver's subtree):
     /// the energy of dropping every moving body through the box [lo, hi] along its gravity, with
     /// h = Σ_j |ĝ_j|·(hi_j − lo_j) the box's extent along ĝ (or its diagonal when that extent is
@@ -290,6 +295,10 @@ private:
     std::vector<EulerImplicitSolver*> implicit_solvers_;
     std::vector<std::string> implicit_solver_paths_;  ///< node path of each implicit solver
     std::vector<output::ContactRecord> contacts_;
+    /// refresh_contacts' scratch: the last records, each field's among them (a pair that stays
+    /// keeps its name: no string made again)
+    std::vector<output::ContactRecord> previous_contacts_;
+    PointerIndex<PenaltyForceField> previous_contact_of_;
     std::unique_ptr<TunnellingGuard> guard_;
     // live Data (live_writes.cpp)
     struct LiveEdits;
