@@ -334,12 +334,14 @@ void FusedContactBlock::begin_product(double k, double b, bool parallel) {
 }
 
 void FusedContactBlock::add_zeros(const std::vector<ZeroAdd>& adds) {
-    const auto add = [&adds](std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-            double* t = adds[i].target->data();
-            t[0] += adds[i].value;
-            t[1] += adds[i].value;
-            t[2] += adds[i].value;
+    const ZeroAdd* const list = adds.data();
+    const auto add = [list](std::size_t begin, std::size_t end) {
+        for (const ZeroAdd* z = list + begin; z != list + end; ++z) {
+            double* t = z->target->data();
+            const double value = z->value;
+            t[0] += value;
+            t[1] += value;
+            t[2] += value;
         }
     };
     if (adds.size() < kMinItemsOnThreads || tbb::this_task_arena::max_concurrency() < 2) {
