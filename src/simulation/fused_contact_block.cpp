@@ -359,23 +359,28 @@ std::array<std::size_t, 2> FusedContactBlock::on_threads() const {
     return counts;
 }
 
+void FusedContactBlock::map_read_points(const FusedMapping& m, std::size_t begin, std::size_t end) {
+    // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df, at
+    // the points a product reads
+    const std::span<const Vec3> in(m.from->dx);
+    const ContactBarycentricRow* rows = rows_.data() + m.first;
+    Vec3* out_dx = dx_.data() + m.first;
+    Vec3* out_df = df_.data() + m.first;
+    const std::uint32_t* read = read_rows_.data() + m.first_read;
+    for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t row = read[i];
+        out_dx[row] = rows[row].combine(in);
+        out_df[row].setZero();
+    }
+}
+
 void FusedContactBlock::apply_field_on_threads(const FusedField& f, double k) {
     // J and the zeroed df at the read points of each mapped side (each point its own row)
     for (const FusedSide& s : f.sides) {
         if (s.mapping < 0) continue;
         const FusedMapping& m = mappings_[static_cast<std::size_t>(s.mapping)];
-        const std::span<const Vec3> in(m.from->dx);
-        const ContactBarycentricRow* rows = rows_.data() + m.first;
-        Vec3* out_dx = dx_.data() + m.first;
-        Vec3* out_df = df_.data() + m.first;
-        const std::uint32_t* read = read_rows_.data() + m.first_read;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m.read_count, kItemsPerTask),
-                          [=](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                                  out_dx[read[i]] = rows[read[i]].combine(in);
-                                  out_df[read[i]].setZero();
-                              }
-                          });
+                          [&](const tbb::blocked_range<std::size_t>& r) { map_read_points(m, r.begin(), r.end()); });
     }
     // the springs in ranges: a mapped side's point is one spring's (make_springs), an external
     // side's df is the task thread's scratch, which nobody reads
@@ -432,20 +437,9 @@ void FusedContactBlock::apply_fields(std::size_t begin, std::size_t end, double 
                 continue;
             }
             const FusedMapping& m = mappings_[static_cast<std::size_t>(s.mapping)];
-            const std::span<const Vec3> in(m.from->dx);
-            const ContactBarycentricRow* rows = rows_.data() + m.first;
-            Vec3* out_dx = dx_.data() + m.first;
-            Vec3* out_df = df_.data() + m.first;
-            // ContactPointMapping::apply_dx (the mapper's apply_j) and the zeroing of the mapped df,
-            // at the points a product reads
-            const std::uint32_t* read = read_rows_.data() + m.first_read;
-            for (std::size_t i_read = 0; i_read < m.read_count; ++i_read) {
-                const std::uint32_t row = read[i_read];
-                out_dx[row] = rows[row].combine(in);
-                out_df[row].setZero();
-            }
-            dx[side] = ConstVec3Span(out_dx, m.count);
-            df[side] = Vec3Span(out_df, m.count);
+            map_read_points(m, 0, m.read_count);
+            dx[side] = ConstVec3Span(dx_.data() + m.first, m.count);
+            df[side] = Vec3Span(df_.data() + m.first, m.count);
         }
         if (!f.flat_springs) {
             f.field->add_dforce(df[0], df[1], dx[0], dx[1], k, b);

@@ -158,6 +158,8 @@ private:
     void list_read_points();
     /// The gathers of mapping m's Jᵀ over its read points (a counting sort by parent row, stable).
     void make_gathers(FusedMapping& m);
+    /// J and the zeroed df of mapping m at its read points [begin, end) (read_rows_ order).
+    void map_read_points(const FusedMapping& m, std::size_t begin, std::size_t end);
     /// Field f's J, zeroed df and springs with its points and springs in ranges on TBB's threads
     /// (f.on_threads).
     void apply_field_on_threads(const FusedField& f, double k);
