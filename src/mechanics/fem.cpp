@@ -3,6 +3,8 @@
 #include "kernels/mechanics/tetrahedron_large_lanes.hpp"
 #include "tetrahedron_large_element.hpp"
 
+#include "penalty/core/first_error.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "sofa_vector_ops.hpp"
 
@@ -17,6 +19,10 @@
 #include <variant>
 
 namespace penalty {
+
+namespace {
+constexpr std::size_t kElementsPerInitTask = 1024;  // init_from on TBB's threads (a large mesh)
+}  // namespace
 
 Eigen::Matrix<double, 6, 6> isotropic_elasticity(double e, double nu) {
     const double lambda = e * nu / ((1 + nu) * (1 - 2 * nu));
@@ -75,7 +81,9 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
     ke_.resize(elements_.size());
     rest_local_.resize(elements_.size());
     if (keep_rotations) rotation_.resize(elements_.size(), Mat3::Identity());
-    for (std::size_t e = first; e < elements_.size(); ++e) {
+    // each element its own rotation, rest shape and K^e (a large mesh's on TBB's threads); the
+    // error raised is the first element's in order
+    const auto init_element = [&](std::size_t e) {
         std::array<Vec3, N> p;
         for (int k = 0; k < N; ++k) {
             const PointId v = elements_[e][static_cast<std::size_t>(k)];
@@ -89,7 +97,20 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
         for (int k = 0; k < N; ++k)
             rest_local_[e][static_cast<std::size_t>(k)] = r * (p[static_cast<std::size_t>(k)] - p[0]);
         ke_[e] = compute_stiffness(rest_local_[e], d, e);
-    }
+    };
+    FirstErrorInOrder failure;
+    detail::for_each_range(elements_.size() - std::min(first, elements_.size()), kElementsPerInitTask,
+                           [&](std::size_t begin, std::size_t end) {
+                               for (std::size_t e = first + begin; e < first + end; ++e) {
+                                   try {
+                                       init_element(e);
+                                   } catch (...) {
+                                       failure.record(e);
+                                       return;
+                                   }
+                               }
+                           });
+    failure.rethrow_if_any();
 }
 
 template <int N>

@@ -6,10 +6,13 @@
 #include "mechanics/topology/mesh_cache.hpp"
 
 #include "penalty/core/error.hpp"
+#include "penalty/core/index_types.hpp"
 
 #include <algorithm>
-#include <map>
+#include <array>
+#include <cstdint>
 #include <mutex>
+#include <unordered_set>
 
 namespace penalty {
 
@@ -48,19 +51,31 @@ void check_range(const std::vector<Element>& elements, std::size_t n, const char
 
 Edge sorted_edge(PointId a, PointId b) { return a < b ? Edge{a, b} : Edge{b, a}; }
 
-/// Adds the sorted edge (a, b) to `edges` unless already known (first occurrence wins).
+/// The edges seen so far, each as its unordered pair's key (a hash set: O(1) a lookup, where an
+/// ordered map took O(log n) and made a large mesh's load grow as n log n).
+using KnownEdges = std::unordered_set<std::uint64_t>;
+
+/// Adds the edge {a, b} to `edges` unless already known (first occurrence wins).
 /// `stored` is what is pushed (the sorted pair, or the oriented pair for triangle edges).
-void add_edge(std::map<Edge, std::int32_t>& known, std::vector<Edge>& edges, PointId a, PointId b, const Edge& stored) {
-    const Edge key = sorted_edge(a, b);
-    if (known.find(key) == known.end()) {
-        known.emplace(key, static_cast<std::int32_t>(edges.size()));
+void add_edge(KnownEdges& known, std::vector<Edge>& edges, PointId a, PointId b, const Edge& stored) {
+    if (known.insert(PairKey::unordered(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)).bits()).second)
         edges.push_back(stored);
-    }
 }
+
+/// A hash of an element's vertex list (the faces seen so far).
+struct VertexListHash {
+    template <std::size_t N>
+    std::size_t operator()(const std::array<PointId, N>& v) const {
+        std::uint64_t h = 0x9e3779b97f4a7c15ULL;
+        for (const PointId p : v) h = (h ^ static_cast<std::uint32_t>(p)) * 0xff51afd7ed558ccdULL;
+        return static_cast<std::size_t>(h ^ (h >> 32));
+    }
+};
 
 std::vector<Edge> edges_from_volumes(const std::vector<Tetrahedron>& tetras, const std::vector<Hexahedron>& hexas) {
     std::vector<Edge> edges;
-    std::map<Edge, std::int32_t> known;
+    KnownEdges known;
+    known.reserve(2 * tetras.size() + 3 * hexas.size());
     for (const auto& t : tetras) {
         for (const auto& le : MeshTopology::kTetraEdges) {
             const PointId a = t[le[0]];
@@ -80,7 +95,8 @@ std::vector<Edge> edges_from_volumes(const std::vector<Tetrahedron>& tetras, con
 
 std::vector<Edge> edges_from_surface(const std::vector<Triangle>& triangles, const std::vector<Quad>& quads) {
     std::vector<Edge> edges;
-    std::map<Edge, std::int32_t> known;
+    KnownEdges known;
+    known.reserve(2 * triangles.size() + 2 * quads.size());
     for (const auto& t : triangles) {
         for (int j = 0; j < 3; ++j) {
             const PointId a = t[(j + 1) % 3];
@@ -102,14 +118,15 @@ std::vector<Edge> edges_from_surface(const std::vector<Triangle>& triangles, con
 /// first; a face is new unless the same face with the opposite orientation was already stored.
 std::vector<Triangle> triangles_from_tetrahedra(const std::vector<Tetrahedron>& tetras) {
     std::vector<Triangle> triangles;
-    std::map<Triangle, std::int32_t> known;
+    std::unordered_set<Triangle, VertexListHash> known;
+    known.reserve(4 * tetras.size());
     for (const auto& t : tetras) {
         for (const auto& f : MeshTopology::kTetraFaces) {
             Triangle v{t[f[0]], t[f[1]], t[f[2]]};
             while (v[0] > v[1] || v[0] > v[2]) v = Triangle{v[1], v[2], v[0]};
             const Triangle opposite{v[0], v[2], v[1]};
             if (known.find(opposite) == known.end()) {
-                known.emplace(v, static_cast<std::int32_t>(triangles.size()));
+                known.insert(v);
                 triangles.push_back(v);
             }
         }
@@ -121,16 +138,16 @@ std::vector<Triangle> triangles_from_tetrahedra(const std::vector<Tetrahedron>& 
 /// both orientations of a stored face are remembered, so shared faces are stored once.
 std::vector<Quad> quads_from_hexahedra(const std::vector<Hexahedron>& hexas) {
     std::vector<Quad> quads;
-    std::map<Quad, std::int32_t> known;
+    std::unordered_set<Quad, VertexListHash> known;
+    known.reserve(6 * hexas.size());
     for (const auto& h : hexas) {
         for (const auto& f : MeshTopology::kHexaFaces) {
             Quad v{h[f[0]], h[f[1]], h[f[2]], h[f[3]]};
             while (v[0] > v[1] || v[0] > v[2] || v[0] > v[3]) v = Quad{v[1], v[2], v[3], v[0]};
             const Quad reversed{v[0], v[3], v[2], v[1]};
             if (known.find(reversed) == known.end()) {
-                const auto index = static_cast<std::int32_t>(quads.size());
-                known.emplace(reversed, index);
-                known.emplace(v, index);
+                known.insert(reversed);
+                known.insert(v);
                 quads.push_back(v);
             }
         }

@@ -11,6 +11,7 @@
 #include "penalty_test/element_products_on_threads.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cstring>
@@ -136,6 +137,45 @@ TEST(TetrahedronFemConcurrent, FewElementsRunOnOneThread) {
         TetrahedronFEMForceField fem(state, mesh, 3e4, 0.35, method);
         fem.init();
         EXPECT_EQ(run_tetrahedra(fem, state, 4).chunks, 0U);
+    }
+}
+
+// init on TBB's threads (LinearElementForceField::init_from): each element's K^e the bits of one
+// thread's; with degenerate elements, the error raised names the first of them in element order.
+TEST(TetrahedronFemConcurrent, InitOnThreadsIsTheBitsOfOneThreadAndRaisesTheFirstElementsError) {
+    const MeshTopology mesh = test::kuhn_tetrahedra(tetrahedron_grid());
+    ASSERT_GE(mesh.tetrahedra().size(), detail::OrderedScatter::kMinElements);
+    Vec3Object state;
+    state.position = tetrahedron_grid().points();
+    state.init();
+    std::vector<TetrahedronFEMForceField::ElementMatrix> one;
+    for (const int threads : {1, 2, 8}) {
+        TetrahedronFEMForceField fem(state, mesh, 3e4, 0.35, FemMethod::Large);
+        tbb::task_arena(threads).execute([&] { fem.init(); });
+        const auto& k = fem.element_stiffness();
+        ASSERT_EQ(k.size(), mesh.tetrahedra().size());
+        if (threads == 1) {
+            one = k;
+            continue;
+        }
+        EXPECT_EQ(std::memcmp(k.data(), one.data(), k.size() * sizeof(k[0])), 0) << threads << " threads";
+    }
+    // tetrahedra 7000 and 3000 flattened (a vertex repeated): "tetrahedron 3000", on any thread count
+    std::vector<Tetrahedron> flattened = mesh.tetrahedra();
+    for (const std::size_t e : {std::size_t{7000}, std::size_t{3000}}) flattened[e][3] = flattened[e][0];
+    MeshTopology bad;
+    bad.set_tetrahedra(flattened);
+    for (const int threads : {1, 8}) {
+        TetrahedronFEMForceField fem(state, bad, 3e4, 0.35, FemMethod::Large);
+        std::string message;
+        tbb::task_arena(threads).execute([&] {
+            try {
+                fem.init();
+            } catch (const std::invalid_argument& e) {
+                message = e.what();
+            }
+        });
+        EXPECT_NE(message.find("tetrahedron 3000 is degenerate"), std::string::npos) << threads << ": " << message;
     }
 }
 
