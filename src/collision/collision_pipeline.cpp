@@ -319,17 +319,15 @@ void CollisionPipeline::detect_pairs_concurrently() {
             for (std::size_t c = r.begin(); c != r.end(); ++c) {
                 detail::PairCounts counts;
                 for (std::size_t p = c * n / chunks; p < (c + 1) * n / chunks; ++p) {
-                    try {
+                    const bool done = failure.run(p, [&] {
                         const std::size_t before = counts.candidates;
                         Keys* deferred = defer_writes ? &deferred_writes_[p] : nullptr;
                         if (deferred != nullptr) deferred->clear();
                         detect_pair_with(near[p].places[0], near[p].places[1], result_[p].outputs, chunk_scratch_[c],
                                          counts, pair_kept_[p], deferred);
                         record_pair_work(p, counts.candidates - before);
-                    } catch (...) {
-                        failure.record(p);
-                        break;
-                    }
+                    });
+                    if (!done) break;
                 }
                 const std::lock_guard lock(merge);
                 counts.add_to(total.cache, total.candidates);

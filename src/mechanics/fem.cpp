@@ -101,14 +101,8 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
     FirstErrorInOrder failure;
     detail::for_each_range(elements_.size() - std::min(first, elements_.size()), kElementsPerInitTask,
                            [&](std::size_t begin, std::size_t end) {
-                               for (std::size_t e = first + begin; e < first + end; ++e) {
-                                   try {
-                                       init_element(e);
-                                   } catch (...) {
-                                       failure.record(e);
-                                       return;
-                                   }
-                               }
+                               for (std::size_t e = first + begin; e < first + end; ++e)
+                                   if (!failure.run(e, [&] { init_element(e); })) return;
                            });
     failure.rethrow_if_any();
 }

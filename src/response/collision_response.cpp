@@ -325,17 +325,11 @@ void CollisionResponse::feed_contacts() {
         return;
     }
     FirstErrorInOrder failure;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, feed_.size(), 1),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                              try {
-                                  feed_[i].first->set_detection_outputs(feed_[i].second->outputs);
-                              } catch (...) {
-                                  failure.record(i);
-                                  return;
-                              }
-                          }
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, feed_.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i)
+                if (!failure.run(i, [&] { feed_[i].first->set_detection_outputs(feed_[i].second->outputs); })) return;
+        });
     failure.rethrow_if_any();
 }
 

@@ -264,14 +264,8 @@ void ContactPipeline::init_contact_states() {
     run_detection([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, entries_.size(), 16),
                           [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                                  try {
-                                      init_entry(i);
-                                  } catch (...) {
-                                      failure.record(i);
-                                      return;
-                                  }
-                              }
+                              for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                  if (!failure.run(i, [&] { init_entry(i); })) return;
                           });
     });
     failure.rethrow_if_any();

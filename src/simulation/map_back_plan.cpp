@@ -104,12 +104,7 @@ void MapBackPlan::run(bool concurrent) const {
         for (std::size_t k = begin; k < end; ++k) {
             const std::size_t i = by_wave_[k];
             if (i >= stop) continue;
-            try {
-                run_step(i);
-            } catch (...) {
-                failure.record(i);
-                return;
-            }
+            if (!failure.run(i, [&] { run_step(i); })) return;
         }
     };
     for (std::size_t w = 0; w + 1 < wave_first_.size(); ++w) {

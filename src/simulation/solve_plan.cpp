@@ -161,13 +161,9 @@ void Simulation::solve_concurrently(const std::vector<SolveAction>& plan, std::s
         const std::size_t grain = plan[begin].solver_node != nullptr ? 1 : kExplicitFieldsPerTask;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(begin, end, grain),
                           [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                                  try {
-                                      run_action(plan[i], dt);
-                                  } catch (...) {
-                                      failure.record(i);
-                                  }
-                              }
+                              // (every action runs: they are independent)
+                              for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                  failure.run(i, [&] { run_action(plan[i], dt); });
                           });
     });
     // The error of the first failing solver in plan order, as a sequential run would raise it.

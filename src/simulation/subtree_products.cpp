@@ -147,18 +147,12 @@ void SubtreeSystem::compute_force(Eigen::VectorXd& f) const {
         // failing one see the same states either way).
         ++scratch_->concurrent_force_evaluations;
         FirstErrorInOrder failure;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chains.size()),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t c = r.begin(); c != r.end(); ++c)
-                                  for (std::size_t i = chains.step_first[c]; i < chains.step_first[c + 1]; ++i) {
-                                      try {
-                                          add_force(steps[chains.steps_of[i]]);
-                                      } catch (...) {
-                                          failure.record(chains.steps_of[i]);
-                                          break;
-                                      }
-                                  }
-                          });
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, chains.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t c = r.begin(); c != r.end(); ++c)
+                    for (std::size_t i = chains.step_first[c]; i < chains.step_first[c + 1]; ++i)
+                        if (!failure.run(chains.steps_of[i], [&] { add_force(steps[chains.steps_of[i]]); })) break;
+            });
         failure.rethrow_if_any();
     } else {
         for (const detail::ForceStep& s : steps) add_force(s);

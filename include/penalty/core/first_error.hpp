@@ -22,6 +22,18 @@ public:
             error_ = std::current_exception();
         }
     }
+    /// Runs fn() as item `index`: true, or false with the exception it threw recorded (the
+    /// calling task then stops: its items after this one are not run).
+    template <class Fn>
+    bool run(std::size_t index, Fn&& fn) {
+        try {
+            fn();
+            return true;
+        } catch (...) {
+            record(index);
+            return false;
+        }
+    }
     /// The least index recorded (the largest std::size_t if none).
     [[nodiscard]] std::size_t first_index() const { return index_; }
     /// Rethrows the recorded exception of least index, if any.
