@@ -4,6 +4,7 @@
 
 #include "penalty/io/overrides.hpp"
 #include "penalty/mechanics/mass.hpp"
+#include "penalty/output/contact_records.hpp"
 #include "penalty/scene/components.hpp"
 #include "scene/builder/scene_builder.hpp"
 #include "scene/live_edits.hpp"
@@ -99,14 +100,6 @@ bool Scene::uses_newton() const {
                        [](const EulerImplicitSolver* s) { return s->newton.enabled; });
 }
 
-namespace {
-/// name == first + "-" + second.
-bool is_pair_name(std::string_view name, std::string_view first, std::string_view second) {
-    return name.size() == first.size() + 1 + second.size() && name.starts_with(first) && name[first.size()] == '-' &&
-           name.ends_with(second);
-}
-}  // namespace
-
 void Scene::refresh_contacts() {
     // Same live pairs as the list (same force fields, point states and models, same order)? Then
     // the records stand (no allocation while the pairs stay).
@@ -115,9 +108,7 @@ void Scene::refresh_contacts() {
     for (const ScenePipeline& p : pipelines_) {
         for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
             if (e.contact == nullptr || e.force_field == nullptr) continue;
-            same = same && n < contacts_.size() && contacts_[n].field == &e.force_field->field() &&
-                   contacts_[n].state1 == e.point_states[0] && contacts_[n].state2 == e.point_states[1] &&
-                   is_pair_name(contacts_[n].name, e.contact->model1().name(), e.contact->model2().name());
+            same = same && n < contacts_.size() && output::is_record_of(contacts_[n], e);
             ++n;
         }
     }
@@ -131,21 +122,12 @@ void Scene::refresh_contacts() {
     for (const ScenePipeline& p : pipelines_) {
         for (const ContactGraphEntry& e : p.pipeline->graph_entries()) {
             if (e.contact == nullptr || e.force_field == nullptr) continue;
-            const PenaltyForceField* field = &e.force_field->field();
-            const std::size_t at = previous_contact_of_.find(field);
-            // (the name checked too: a new pair's objects may have a destroyed pair's addresses)
-            if (at != PointerIndex<PenaltyForceField>::npos && previous_contacts_[at].state1 == e.point_states[0] &&
-                previous_contacts_[at].state2 == e.point_states[1] &&
-                is_pair_name(previous_contacts_[at].name, e.contact->model1().name(), e.contact->model2().name())) {
+            const std::size_t at = previous_contact_of_.find(&e.contact->force_field());
+            if (at != PointerIndex<PenaltyForceField>::npos && output::is_record_of(previous_contacts_[at], e)) {
                 contacts_.push_back(std::move(previous_contacts_[at]));
                 continue;
             }
-            output::ContactRecord r;
-            r.name = e.contact->model1().name() + "-" + e.contact->model2().name();
-            r.field = field;
-            r.state1 = e.point_states[0];
-            r.state2 = e.point_states[1];
-            contacts_.push_back(std::move(r));
+            contacts_.push_back(output::contact_record(e));
         }
     }
 }

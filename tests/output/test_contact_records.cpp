@@ -89,5 +89,28 @@ TEST(ContactRecords, OneRecordPerLivePairNamedByItsModelsInTheGraphsOrder) {
     EXPECT_EQ(after[0].state2, scene.spheres[0]);
 }
 
+// is_record_of: a record is its entry's only with the same field, point states and name; a name
+// of other models, or a longer one that starts with the right one, is not.
+TEST(ContactRecords, ARecordIsItsEntrysWhenFieldStatesAndNameMatch) {
+    TwoSpheresOnFloor scene;
+    scene.sim.init();
+    scene.sim.step();
+    const auto& entries = scene.pipeline->graph_entries();
+    ASSERT_EQ(entries.size(), 2u);
+    const ContactRecord record = contact_record(entries[0]);
+    EXPECT_TRUE(is_record_of(record, entries[0]));
+    EXPECT_FALSE(is_record_of(record, entries[1]));
+    const std::string own = record.name, other = "floor-" + entries[1].contact->model2().name();
+    for (const std::string& name :
+         std::vector<std::string>{own + "s", own.substr(0, own.size() - 1), "floor_" + own.substr(6), "", other}) {
+        ContactRecord renamed = record;
+        renamed.name = name;
+        EXPECT_FALSE(is_record_of(renamed, entries[0])) << name;
+    }
+    ContactRecord other_states = record;
+    std::swap(other_states.state1, other_states.state2);
+    EXPECT_FALSE(is_record_of(other_states, entries[0]));
+}
+
 }  // namespace
 }  // namespace penalty::output
