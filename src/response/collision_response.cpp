@@ -112,6 +112,14 @@ void apply_response_params(std::string_view params, ContactResponseParameters& p
     p.validate();
 }
 
+void check_response_name(std::string_view name) {
+    const auto [key, params] = split_name(name);
+    if (!key.empty() && key != kPenaltyResponseName && key != "nullptr")
+        throw_invalid_argument("unknown response '", key, "' (available: ", kPenaltyResponseName, ", nullptr)");
+    ContactResponseParameters check;
+    apply_response_params(params, check, nullptr);
+}
+
 CollisionResponse::CollisionResponse(std::string response, std::string response_params,
                                      const ContactResponseParameters& base)
     : response_(std::move(response)), response_params_(std::move(response_params)), base_(base) {

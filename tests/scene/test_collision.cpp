@@ -86,7 +86,7 @@ TEST(CollisionComponents, ModelsReadSofasCollisionModelData) {
     EXPECT_FALSE(model_named(*s, "corners").params().active);
     // SOFA's defaults, and the type as the name of an unnamed model
     auto d = build(R"(<Node name="root"><MechanicalObject position="0 0 0"/><PointCollisionModel proximity="0.2"
-      selfCollision="1" bothSide="1" contactFriction="0.3" contactRestitution="0.4" contactResponse="X"/></Node>)");
+      selfCollision="1" bothSide="1" contactFriction="0.3" contactRestitution="0.4" contactResponse="PenalityContactForceField?damping=2"/></Node>)");
     const CollisionModelParams& p = d->collision_models()[0].model->params();
     EXPECT_EQ(p.name, "PointCollisionModel");
     EXPECT_EQ(p.contact_distance, 0.2);  // proximity alone
@@ -95,7 +95,7 @@ TEST(CollisionComponents, ModelsReadSofasCollisionModelData) {
     EXPECT_TRUE(p.both_side);
     EXPECT_EQ(p.contact_friction, 0.3);
     EXPECT_EQ(p.contact_restitution, 0.4);
-    EXPECT_EQ(p.contact_response, "X");
+    EXPECT_EQ(p.contact_response, "PenalityContactForceField?damping=2");
     EXPECT_TRUE(p.group.empty());
 }
 
@@ -119,10 +119,10 @@ TEST(CollisionComponents, EachModelSaysWhatItIsInPenaltyInfo) {
               "4 points, static obstacle (simulated=0, moving=0), contactStiffness 10, inactive; pipeline "
               "CollisionPipeline");
     auto lone = build(R"(<Node name="root"><MechanicalObject position="0 0 0  1 0 0"/>
-      <MeshTopology edges="0 1"/><LineCollisionModel simulated="0" selfCollision="1" contactResponse="R"/>
+      <MeshTopology edges="0 1"/><LineCollisionModel simulated="0" selfCollision="1" contactResponse="nullptr"/>
       <PointCollisionModel moving="0"/></Node>)");
     EXPECT_EQ(lone->role(*lone->collision_models()[0].component),
-              "1 edge, not simulated, contactStiffness 10, self-collision, contactResponse R; in no collision "
+              "1 edge, not simulated, contactStiffness 10, self-collision, contactResponse nullptr; in no collision "
               "pipeline: never collides");
     EXPECT_EQ(lone->role(*lone->collision_models()[1].component),
               "2 points, simulated, not moving, contactStiffness 10; in no collision pipeline: never collides");
@@ -192,6 +192,27 @@ TEST(CollisionComponents, BadIntersectionDataAreRefusedNamingTheAttribute) {
               "test.scn:3: LocalMinDistance: attribute 'zeroDistanceNormal': expected fallbackX, drop or sofaNaN");
     EXPECT_THAT(error_of(with_method(R"(<NewProximityIntersection alarmDistance="-1"/>)")),
                 HasSubstr("test.scn:3: NewProximityIntersection: attribute 'alarmDistance'"));
+}
+
+/// A model's own response is checked when the model is built, not when its first contact is made
+/// (that was an error at the step, exit 5: a fuzz finding, fuzz/regressions/unknown_model_response.scn).
+TEST(CollisionComponents, AModelsUnknownResponseIsRefusedNamingTheAttribute) {
+    const auto with_response = [](const std::string& response) {
+        return "<Node name=\"root\">\n  <MechanicalObject position=\"0 0 0\"/>\n  <PointCollisionModel name=\"p\" "
+               "contactResponse=\"" +
+               response + "\"/>\n</Node>\n";
+    };
+    EXPECT_EQ(error_of(with_response("FrictionContactConstraint")),
+              "test.scn:3: PointCollisionModel 'p': attribute 'contactResponse': unknown response "
+              "'FrictionContactConstraint' (available: PenalityContactForceField, nullptr)");
+    EXPECT_EQ(error_of(with_response("PenalityContactForceField?damping=-1")),
+              "test.scn:3: PointCollisionModel 'p': attribute 'contactResponse': PenaltyParameters: damping = -1 "
+              "must be finite and >= 0");
+    EXPECT_EQ(error_of(with_response("PenalityContactForceField?friction=sticky")),
+              "test.scn:3: PointCollisionModel 'p': attribute 'contactResponse': responseParams: parameter "
+              "'friction': 'sticky' (expected ignored or coulomb)");
+    for (const char* fine : {"", "nullptr", "PenalityContactForceField", "PenalityContactForceField?damping=2"})
+        EXPECT_EQ(model_named(*build(with_response(fine)), "p").params().contact_response, fine);
 }
 
 TEST(CollisionComponents, ModelsRefuseAStateOfTheWrongKindAndBadRadii) {

@@ -50,6 +50,12 @@ inline constexpr std::string_view kPenaltyResponseName = "PenalityContactForceFi
 void apply_response_params(std::string_view params, ContactResponseParameters& parameters,
                            std::vector<std::string>* unknown = nullptr);
 
+/// Checks a response name as a collision model's `contactResponse` writes it ("key" or
+/// "key?params"): the key must be PenalityContactForceField, "nullptr" or empty, and the
+/// parameters valid. Throws std::invalid_argument naming what is wrong (a model's name used to be
+/// checked only when its first contact was created, at the step).
+void check_response_name(std::string_view name);
+
 /// One live model pair.
 struct ContactPairEntry {
     const CollisionModel* model1 = nullptr;

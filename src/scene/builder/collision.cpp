@@ -76,6 +76,11 @@ CollisionModelParams model_params(const Attributes& a, const NodeBuild& info) {
     p.contact_friction = a.real("contactFriction");
     p.contact_restitution = a.real("contactRestitution");
     p.contact_response = a.text("contactResponse");
+    try {
+        check_response_name(p.contact_response);
+    } catch (const std::invalid_argument& e) {
+        a.fail("contactResponse", e.what());
+    }
     for (PointId g : a.indices("group")) p.group.push_back(g);
     p.node = info.node_id;
     p.both_side = a.boolean("bothSide");
