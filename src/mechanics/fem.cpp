@@ -404,10 +404,14 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
     // initPolar or initSVD per element
     const auto& x0 = state_->rest_position;
     resize_large(elements_.size());
+    // each element its own lanes, K^e and rest shape; a large mesh's in ranges on TBB's threads,
+    // whole lane blocks a range (only a block that `first` splits is written by two ranges, each
+    // its own lanes)
     std::visit(
         [&](auto& blocks) {
             constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
-            for (std::size_t e = first; e < elements_.size(); ++e) {
+            static_assert(kElementsPerInitTask % kLanes == 0);
+            const auto init_element = [&](std::size_t e) {
                 std::array<Vec3, 4> x;
                 for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
                 const double factor =
@@ -426,7 +430,12 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
                 rest_local_[e] = local;
                 detail::store_lane_rotation(block, lane, r0);
                 store_strain_displacement(local, block, lane);
-            }
+            };
+            const std::size_t from = std::min(first, elements_.size());
+            detail::for_each_range(elements_.size() - from, kElementsPerInitTask,
+                                   [&](std::size_t begin, std::size_t end) {
+                                       for (std::size_t e = from + begin; e < from + end; ++e) init_element(e);
+                                   });
         },
         large_);
 }

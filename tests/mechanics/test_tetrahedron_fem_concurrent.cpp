@@ -140,26 +140,38 @@ TEST(TetrahedronFemConcurrent, FewElementsRunOnOneThread) {
     }
 }
 
-// init on TBB's threads (LinearElementForceField::init_from): each element's K^e the bits of one
-// thread's; with degenerate elements, the error raised names the first of them in element order.
+// init on TBB's threads (LinearElementForceField::init_from, then the lane blocks of
+// TetrahedronFEMForceField::init_large): each element's K^e, and the force and product that read
+// the lanes (on one thread), the bits of one thread's init, for every method and kernel path;
+// with degenerate elements, the error raised names the first of them in element order.
 TEST(TetrahedronFemConcurrent, InitOnThreadsIsTheBitsOfOneThreadAndRaisesTheFirstElementsError) {
     const MeshTopology mesh = test::kuhn_tetrahedra(tetrahedron_grid());
     ASSERT_GE(mesh.tetrahedra().size(), detail::OrderedScatter::kMinElements);
     Vec3Object state;
     state.position = tetrahedron_grid().points();
     state.init();
-    std::vector<TetrahedronFEMForceField::ElementMatrix> one;
-    for (const int threads : {1, 2, 8}) {
-        TetrahedronFEMForceField fem(state, mesh, 3e4, 0.35, FemMethod::Large);
-        tbb::task_arena(threads).execute([&] { fem.init(); });
-        const auto& k = fem.element_stiffness();
-        ASSERT_EQ(k.size(), mesh.tetrahedra().size());
-        if (threads == 1) {
-            one = k;
-            continue;
+    for (const FemMethod method : {FemMethod::Large, FemMethod::Small, FemMethod::Polar, FemMethod::Svd})
+        for (const KernelPath path : paths_here()) {
+            SCOPED_TRACE(testing::Message() << "method " << static_cast<int>(method) << ", path " << to_string(path));
+            std::vector<TetrahedronFEMForceField::ElementMatrix> one;
+            ElementProducts one_products;
+            for (const int threads : {1, 2, 8}) {
+                TetrahedronFEMForceField fem(state, mesh, 3e4, 0.35, method);
+                fem.set_kernel_path(path);
+                tbb::task_arena(threads).execute([&] { fem.init(); });
+                const auto& k = fem.element_stiffness();
+                ASSERT_EQ(k.size(), mesh.tetrahedra().size());
+                const ElementProducts products = run_tetrahedra(fem, state, 1);
+                if (threads == 1) {
+                    one = k;
+                    one_products = products;
+                    continue;
+                }
+                EXPECT_EQ(std::memcmp(k.data(), one.data(), k.size() * sizeof(k[0])), 0) << threads << " threads";
+                EXPECT_TRUE(same_vectors_bits(products.force, one_products.force)) << threads << " threads";
+                EXPECT_TRUE(same_vectors_bits(products.product, one_products.product)) << threads << " threads";
+            }
         }
-        EXPECT_EQ(std::memcmp(k.data(), one.data(), k.size() * sizeof(k[0])), 0) << threads << " threads";
-    }
     // tetrahedra 7000 and 3000 flattened (a vertex repeated): "tetrahedron 3000", on any thread count
     std::vector<Tetrahedron> flattened = mesh.tetrahedra();
     for (const std::size_t e : {std::size_t{7000}, std::size_t{3000}}) flattened[e][3] = flattened[e][0];
