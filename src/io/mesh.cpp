@@ -2,6 +2,7 @@
 
 #include "io/text.hpp"
 #include "io/vtk_cells.hpp"
+#include "penalty/core/vertex_list_hash.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -9,10 +10,10 @@
 #include <limits>
 #include <map>
 #include <numbers>
-#include <set>
 #include <sstream>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace penalty::io {
 
@@ -537,7 +538,8 @@ std::array<PointId, N> sorted(std::array<PointId, N> a) {
 
 template <std::size_t N, class Elements, class Faces>
 void add_missing(std::vector<std::array<PointId, N>>& target, const Elements& elements, const Faces& faces) {
-    std::set<std::array<PointId, N>> known;
+    std::unordered_set<std::array<PointId, N>, VertexListHash> known;  // (the first occurrence kept: SOFA's order)
+    known.reserve(target.size() + elements.size() * faces.size());
     for (const auto& t : target) known.insert(sorted(t));
     for (const auto& e : elements) {
         for (const auto& f : faces) {

@@ -1,11 +1,13 @@
 #include "penalty/mechanics/spring_force_field.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
-#include <set>
+#include <unordered_set>
 #include <utility>
 
 #include "kernels/mechanics/springs.hpp"
+#include "penalty/core/index_types.hpp"
 
 namespace penalty {
 
@@ -120,9 +122,13 @@ MeshSpringParameters MeshSpringParameters::uniform(double k, double d) {
 }
 
 namespace {
+/// The vertex pairs with a spring so far, each as its unordered pair's key (a hash set: the
+/// springs in the elements' order, the first occurrence of a pair kept, as SOFA's std::set loop).
+using KnownPairs = std::unordered_set<std::uint64_t>;
+
 template <class Element>
 void add_element_springs(const std::vector<Element>& elements, double ks, double kd, std::span<const Vec3> x0,
-                         std::set<std::pair<PointId, PointId>>& seen, std::vector<Spring>& out) {
+                         KnownPairs& seen, std::vector<Spring>& out) {
     if (ks == 0.0 && kd == 0.0) return;
     if (!std::isfinite(ks) || ks < 0 || !std::isfinite(kd) || kd < 0)
         throw_invalid_argument("MeshSpringForceField: stiffness and damping must be finite and >= 0, got ", ks, ", ",
@@ -132,8 +138,10 @@ void add_element_springs(const std::vector<Element>& elements, double ks, double
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = i + 1; j < n; ++j) {
                 const PointId a = e[i], b = e[j];
-                const auto key = a < b ? std::make_pair(a, b) : std::make_pair(b, a);
-                if (!seen.insert(key).second) continue;
+                if (!seen.insert(
+                             PairKey::unordered(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)).bits())
+                         .second)
+                    continue;
                 if (static_cast<std::size_t>(std::max(a, b)) >= x0.size())
                     throw_invalid_argument("MeshSpringForceField: vertex ", std::max(a, b), " has no rest position");
                 const double l = (x0[static_cast<std::size_t>(b)] - x0[static_cast<std::size_t>(a)]).norm();
@@ -147,7 +155,7 @@ void add_element_springs(const std::vector<Element>& elements, double ks, double
 
 std::vector<Spring> mesh_springs(const MeshTopology& topo, std::span<const Vec3> x0, const MeshSpringParameters& p) {
     std::vector<Spring> out;
-    std::set<std::pair<PointId, PointId>> seen;
+    KnownPairs seen;
     add_element_springs(topo.edges(), p.lines_stiffness, p.lines_damping, x0, seen, out);
     add_element_springs(topo.triangles(), p.triangles_stiffness, p.triangles_damping, x0, seen, out);
     add_element_springs(topo.quads(), p.quads_stiffness, p.quads_damping, x0, seen, out);

@@ -7,6 +7,7 @@
 
 #include "penalty/core/error.hpp"
 #include "penalty/core/index_types.hpp"
+#include "penalty/core/vertex_list_hash.hpp"
 
 #include <algorithm>
 #include <array>
@@ -61,16 +62,6 @@ void add_edge(KnownEdges& known, std::vector<Edge>& edges, PointId a, PointId b,
     if (known.insert(PairKey::unordered(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)).bits()).second)
         edges.push_back(stored);
 }
-
-/// A hash of an element's vertex list (the faces seen so far).
-struct VertexListHash {
-    template <std::size_t N>
-    std::size_t operator()(const std::array<PointId, N>& v) const {
-        std::uint64_t h = 0x9e3779b97f4a7c15ULL;
-        for (const PointId p : v) h = (h ^ static_cast<std::uint32_t>(p)) * 0xff51afd7ed558ccdULL;
-        return static_cast<std::size_t>(h ^ (h >> 32));
-    }
-};
 
 std::vector<Edge> edges_from_volumes(const std::vector<Tetrahedron>& tetras, const std::vector<Hexahedron>& hexas) {
     std::vector<Edge> edges;
