@@ -2,16 +2,19 @@
 // and of a spring grid, about 10^4 DOFs each, reported per step and per DOF; and the product the
 // CG repeats (add_dforce) alone, for SphereModel's FEM grid and a spring set of
 // MeshSpringForceField's size, with the flops it does (docs/performance.md, "How far from the
-// machine's limits", against penalty_bench_machine's rates).
+// machine's limits", against penalty_bench_machine's rates); and a large RestShapeSpringsForceField's
+// product (a soft robot held at rest on every point) on 1 and 2 threads.
 
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
+#include "penalty/mechanics/rest_shape_springs.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
 #include <benchmark/benchmark.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -127,6 +130,30 @@ void BM_SpringDForce(benchmark::State& state) {
         benchmark::Counter(count * kSpringDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// A RestShapeSpringsForceField on every point of a state of 10^5 points (the first argument),
+// its product in an arena of the second argument's threads: ranges of springs on TBB's threads,
+// each point's row its own (the same bits at any count).
+void BM_RestShapeSpringsDForce(benchmark::State& state) {
+    const auto n = static_cast<std::size_t>(state.range(0));
+    Vec3Object x;
+    x.position.resize(n);
+    for (std::size_t i = 0; i < n; ++i)
+        x.position[i] = Vec3(std::sin(double(i)), 0.3 * double(i % 7), std::cos(double(i)));
+    x.init();
+    RestShapeSpringsForceField<Vec3Types> springs(x);
+    springs.set_stiffness({1e3});
+    springs.init();
+    std::vector<Vec3> df(n, Vec3::Zero()), dx(n);
+    for (std::size_t i = 0; i < n; ++i) dx[i] = Vec3(1e-3 * double(i % 5), -1e-3, 2e-3);
+    tbb::task_arena arena(static_cast<int>(state.range(1)));
+    for (auto _ : state) {
+        arena.execute([&] { springs.add_dforce(df, dx, -0.25, 0.0); });
+        benchmark::DoNotOptimize(df.data());
+    }
+    state.counters["springs"] = double(n);
+    state.counters["threads"] = double(state.range(1));
+}
+
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }
 void BM_SpringGridStep(benchmark::State& state) { run(state, Model::SpringGrid); }
 
@@ -138,3 +165,5 @@ BENCHMARK(BM_SpringGridStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
 // second argument: the KernelPath (0 scalar, 1 avx, 2 avx512), side by side in one run
 BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);
+// 10^5 and 10^6 points on 1 and 2 threads, side by side in one run
+BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);

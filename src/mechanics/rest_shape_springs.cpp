@@ -1,12 +1,25 @@
 #include "penalty/mechanics/rest_shape_springs.hpp"
 
+#include "penalty/mechanics/ordered_scatter.hpp"
+
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace penalty {
 
 namespace {
+
+/// The springs of a large field run in ranges of kSpringsPerTask on TBB's threads (when no point
+/// has two), from OrderedScatter::kMinElements springs with more than one thread in the arena.
+constexpr std::size_t kSpringsPerTask = 2048;
+bool springs_on_threads(std::size_t count) {
+    return count >= detail::OrderedScatter::kMinElements && detail::OrderedScatter::worth_threads(count);
+}
 
 void check_stiffness(const std::vector<double>& values, const char* parameter) {
     for (double v : values)
@@ -127,6 +140,9 @@ bool RestShapeSpringsForceField<DataTypes>::resolve(std::string& why) {
     // without an external rest shape SOFA's addForce anchors spring i at point i's rest position
     anchor_indices_ = external_ != nullptr ? std::move(anchors) : points;
     indices_ = std::move(points);
+    std::vector<std::uint8_t> seen(n, 0);
+    distinct_points_ = std::all_of(indices_.begin(), indices_.end(),
+                                   [&](Index i) { return std::exchange(seen[std::size_t(i)], 1) == 0; });
     return true;
 }
 
@@ -186,17 +202,17 @@ void RestShapeSpringsForceField<DataTypes>::add_force(std::span<Deriv> f, std::s
     }
     resolve_after_change();
     const std::vector<Coord>& anchors = external_ != nullptr ? external_->position : this->state_->rest_position;
-    double energy = 0.0;
     const std::size_t dofs = this->state_->num_dofs();
-    for (std::size_t i = 0; i < indices_.size(); ++i) {
-        if (!spring_in_range(i, dofs, anchors.size())) continue;  // without recompute_indices, after a change
+    // f_p −= k·(x_p − a) (the filtered directions), energy ½k|x_p − a|²; Rigid: and the angular
+    // spring of the rotation x_p·a⁻¹, −ka·angle·axis, ½ka·angle²|axis|²
+    const auto spring_force = [&](std::size_t i) {
         const auto p = static_cast<std::size_t>(indices_[i]);
         const auto a = static_cast<std::size_t>(anchor_indices_[i]);
         const double k = stiffness_of(i);
         if constexpr (std::is_same_v<DataTypes, Vec3Types>) {
             const Vec3 d = filtered(Vec3(x[p] - anchors[a]), active_, 0);
             f[p] -= d * k;
-            energy += 0.5 * k * d.squaredNorm();
+            return 0.5 * k * d.squaredNorm();
         } else {
             const Vec3 d = filtered(Vec3(x[p].center - anchors[a].center), active_, 0);
             f[p].linear -= d * k;
@@ -208,8 +224,24 @@ void RestShapeSpringsForceField<DataTypes>::add_force(std::span<Deriv> f, std::s
             axis = filtered(axis, active_, 3);
             const double ka = angular_stiffness_of(i);
             f[p].angular -= axis * angle * ka;
-            energy += 0.5 * k * d.squaredNorm() + 0.5 * ka * angle * angle * axis.squaredNorm();
+            return 0.5 * k * d.squaredNorm() + 0.5 * ka * angle * angle * axis.squaredNorm();
         }
+    };
+    const std::size_t count = indices_.size();
+    double energy = 0.0;
+    if (!distinct_points_ || !springs_on_threads(count)) {
+        for (std::size_t i = 0; i < count; ++i)
+            if (spring_in_range(i, dofs, anchors.size()))  // (without recompute_indices, after a change)
+                energy += spring_force(i);
+    } else {
+        // each spring its own point's row; the energy summed in spring order after, as the loop
+        spring_energy_.resize(count);
+        detail::for_each_range(count, kSpringsPerTask, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i)
+                spring_energy_[i] = spring_in_range(i, dofs, anchors.size()) ? spring_force(i) : 0.0;
+        });
+        for (std::size_t i = 0; i < count; ++i)
+            if (spring_in_range(i, dofs, anchors.size())) energy += spring_energy_[i];
     }
     energy_ = energy;
 }
@@ -218,17 +250,22 @@ template <class DataTypes>
 void RestShapeSpringsForceField<DataTypes>::add_dforce(std::span<Deriv> df, std::span<const Deriv> dx, double k_factor,
                                                        double /*b_factor*/) const {
     const std::size_t dofs = this->state_->num_dofs(), anchors = anchor_count();
-    for (std::size_t i = 0; i < indices_.size(); ++i) {
-        if (!spring_in_range(i, dofs, anchors)) continue;
-        const auto p = static_cast<std::size_t>(indices_[i]);
-        const double k = stiffness_of(i);
-        if constexpr (std::is_same_v<DataTypes, Vec3Types>) {
-            df[p] -= filtered(dx[p], active_, 0) * k * k_factor;
-        } else {
-            df[p].linear -= filtered(dx[p].linear, active_, 0) * k * k_factor;
-            df[p].angular -= filtered(dx[p].angular, active_, 3) * angular_stiffness_of(i) * k_factor;
+    // df_p −= k·kFactor·dx_p (the filtered directions); Rigid: and −ka·kFactor·dω_p
+    const auto springs = [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            if (!spring_in_range(i, dofs, anchors)) continue;
+            const auto p = static_cast<std::size_t>(indices_[i]);
+            const double k = stiffness_of(i);
+            if constexpr (std::is_same_v<DataTypes, Vec3Types>) {
+                df[p] -= filtered(dx[p], active_, 0) * k * k_factor;
+            } else {
+                df[p].linear -= filtered(dx[p].linear, active_, 0) * k * k_factor;
+                df[p].angular -= filtered(dx[p].angular, active_, 3) * angular_stiffness_of(i) * k_factor;
+            }
         }
-    }
+    };
+    if (distinct_points_) detail::for_each_range(indices_.size(), kSpringsPerTask, springs);  // each its own row
+    else springs(0, indices_.size());
 }
 
 // addKToMatrix (sofa_assembly_ false) or SOFA HEAD's buildStiffnessMatrix (true): −k on the

@@ -1,5 +1,6 @@
 // RestShapeSpringsForceField: finite differences of force and stiffness, SOFA's assembled
-// matrix (buildStiffnessMatrix's indexing), rigid torques in closed form, external rest shapes.
+// matrix (buildStiffnessMatrix's indexing), rigid torques in closed form, external rest shapes,
+// and a large field's springs on TBB's threads (the bits of one thread).
 #include "penalty/mechanics/rest_shape_springs.hpp"
 
 #include "penalty_test/force_field_derivatives.hpp"
@@ -9,7 +10,14 @@
 
 #include <Eigen/Dense>
 
+#include <tbb/task_arena.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <numeric>
+#include <random>
+#include <vector>
 
 namespace penalty {
 namespace {
@@ -166,6 +174,106 @@ TEST(RestShapeSprings, BadValuesAreRefused) {
     EXPECT_THROW(ff.set_stiffness({std::nan("")}), std::invalid_argument);
     ff.set_points({0, 4});
     EXPECT_THROW(ff.init(), std::invalid_argument);
+}
+
+/// add_force onto zero and add_dforce onto a fixed df of a field in an arena of `threads`:
+/// the force, the energy and the product.
+template <class DataTypes, class Deriv = typename DataTypes::Deriv>
+struct SpringsRun {
+    std::vector<Deriv> force, product;
+    double energy = 0.0;
+};
+template <class DataTypes>
+SpringsRun<DataTypes> run_springs(RestShapeSpringsForceField<DataTypes>& ff, MechanicalObject<DataTypes>& s,
+                                  const std::vector<typename DataTypes::Deriv>& dx, int threads) {
+    SpringsRun<DataTypes> out;
+    tbb::task_arena(threads).execute([&] {
+        out.force.assign(s.num_dofs(), typename DataTypes::Deriv{});
+        ff.add_force(out.force, s.position, s.velocity);
+        out.energy = ff.potential_energy();
+        out.product = dx;  // (any df: the product adds into it)
+        ff.add_dforce(out.product, dx, -0.37, 0.0);
+    });
+    return out;
+}
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0;
+}
+
+// 20 000 springs on points listed in a shuffled order, each its own stiffness, some directions
+// off: on 2 and 8 threads (ranges of springs) the force, energy and product are one thread's
+// bits; a point listed twice keeps the loop on one thread, with the same sums as before.
+TEST(RestShapeSprings, ALargeFieldOnThreadsGivesTheBitsOfOneThread) {
+    constexpr std::size_t n = 20'000;
+    std::mt19937 random(17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<Index> points(n);
+    std::iota(points.begin(), points.end(), Index{0});
+    std::shuffle(points.begin(), points.end(), random);
+    std::vector<double> stiffness(n);
+    for (double& k : stiffness) k = 50.0 + 40.0 * u(random);
+    {
+        Vec3Object s;
+        s.position.resize(n);
+        for (Vec3& x : s.position) x = Vec3(u(random), u(random), u(random));
+        s.init();
+        for (Vec3& x : s.position) x += 0.05 * Vec3(u(random), u(random), u(random));
+        std::vector<Vec3> dx(n);
+        for (Vec3& d : dx) d = Vec3(u(random), u(random), u(random));
+        for (const bool repeated : {false, true}) {
+            std::vector<Index> listed = points;
+            if (repeated) listed[n / 2] = listed[7];  // point listed[7] twice
+            RestShapeSpringsForceField<Vec3Types> ff(s);
+            ff.set_points(listed);
+            ff.set_stiffness(stiffness);
+            ff.set_active_directions({true, false, true});
+            ff.init();
+            const auto one = run_springs(ff, s, dx, 1);
+            EXPECT_GT(one.energy, 0.0);
+            EXPECT_EQ(one.force[static_cast<std::size_t>(points[1])][1], 0.0);  // y is off
+            for (const int threads : {2, 8}) {
+                const auto many = run_springs(ff, s, dx, threads);
+                EXPECT_TRUE(same_bits(many.force, one.force)) << threads << " threads, repeated " << repeated;
+                EXPECT_TRUE(same_bits(many.product, one.product)) << threads << " threads, repeated " << repeated;
+                EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << threads << " threads";
+            }
+            if (repeated) {  // the twice-listed point gets both springs: twice the force in x
+                const auto p = static_cast<std::size_t>(listed[7]);
+                const double k7 = stiffness[7], kr = stiffness[n / 2];
+                EXPECT_NEAR(one.force[p][0], -(k7 + kr) * (s.position[p][0] - s.rest_position[p][0]), 1e-9);
+            }
+        }
+    }
+    {
+        Rigid3Object s;
+        s.position.resize(n);
+        for (auto& x : s.position) x.center = Vec3(u(random), u(random), u(random));
+        s.init();
+        s.rest_position = s.position;
+        for (auto& x : s.position) {
+            x.center += 0.05 * Vec3(u(random), u(random), u(random));
+            x.orientation = Quat(Eigen::AngleAxisd(0.5 * u(random), Vec3(u(random), u(random), 1.0).normalized()));
+        }
+        std::vector<RigidDeriv> dx(n);
+        for (auto& d : dx) {
+            d.linear = Vec3(u(random), u(random), u(random));
+            d.angular = Vec3(u(random), u(random), u(random));
+        }
+        RestShapeSpringsForceField<Rigid3Types> ff(s);
+        ff.set_points(points);
+        ff.set_stiffness(stiffness);
+        ff.set_angular_stiffness(stiffness);
+        ff.init();
+        const auto one = run_springs(ff, s, dx, 1);
+        EXPECT_GT(one.energy, 0.0);
+        for (const int threads : {2, 8}) {
+            const auto many = run_springs(ff, s, dx, threads);
+            EXPECT_TRUE(same_bits(many.force, one.force)) << threads << " threads";
+            EXPECT_TRUE(same_bits(many.product, one.product)) << threads << " threads";
+            EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << threads << " threads";
+        }
+    }
 }
 
 }  // namespace

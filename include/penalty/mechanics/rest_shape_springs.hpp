@@ -127,6 +127,10 @@ private:
     std::string inactive_reason_;
     std::size_t resolved_dofs_ = 0, resolved_external_dofs_ = 0;  ///< the states' sizes at the last resolution
     std::vector<Index> indices_;                                  ///< resolved points
+    /// No point has two springs (resolve): the springs then run in ranges on threads, each
+    /// writing only its own point's row.
+    bool distinct_points_ = false;
+    std::vector<double> spring_energy_;  ///< add_force on threads: each spring's, summed in order after
     std::vector<Index> anchor_indices_;  ///< resolved anchors (in the external state, or = indices_)
     std::vector<double> stiffness_{100.0};
     std::vector<double> angular_stiffness_;
