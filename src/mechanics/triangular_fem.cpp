@@ -3,7 +3,9 @@
 #include "sofa_vector_ops.hpp"
 #include "triangle_fem_sofa_order.hpp"
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -135,8 +137,8 @@ void TriangularFEMForceField::init_element(std::size_t e) {
     }
 }
 
-bool TriangularFEMForceField::element_force_sofa_order(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x,
-                                                       double& energy) {
+bool TriangularFEMForceField::element_terms_sofa_order(std::size_t e, std::span<const Vec3> x,
+                                                       ElementForce& out) const {
     const auto [ia, ib, ic] = triangles_[e];
     const Vec3& pa = x[static_cast<std::size_t>(ia)];
     const Vec3& pb = x[static_cast<std::size_t>(ib)];
@@ -151,21 +153,17 @@ bool TriangularFEMForceField::element_force_sofa_order(std::size_t e, std::span<
         db = sofa_vec::times(r, ab);
         dc = sofa_vec::times(r, ac);
     }
-    StrainDisplacement j;
     Vec3 strain, stress;
     triangle_fem_sofa::Displacement nodal;
-    if (!triangle_fem_sofa::element_forces(large, rest_local_[e], db, dc, material_[e], j, strain, stress, nodal))
+    if (!triangle_fem_sofa::element_forces(large, rest_local_[e], db, dc, material_[e], out.j, strain, stress, nodal))
         return false;
-    const Mat3 to_world = r.transpose();  // R_2_0
+    out.to_world = r.transpose();  // R_2_0 (small: the identity, init's)
     for (std::size_t k = 0; k < 3; ++k) {
         const auto i = static_cast<Eigen::Index>(2 * k);
         const Vec3 local(nodal[i], nodal[i + 1], 0.0);
-        Vec3& target = f[static_cast<std::size_t>(triangles_[e][k])];
-        target += large ? sofa_vec::times(to_world, local) : local;
+        out.terms[k] = large ? sofa_vec::times(out.to_world, local) : local;
     }
-    j_[e] = j;
-    if (large) rotation_[e] = to_world;
-    energy += 0.5 * strain.dot(stress);
+    out.energy = 0.5 * strain.dot(stress);
     return true;
 }
 
@@ -175,41 +173,90 @@ bool TriangularFEMForceField::uses_sofa_order() const {
     return parameters_.flavor == TriangleFemFlavor::TriangleFEM || parameters_.method == FemMethod::Large;
 }
 
-bool TriangularFEMForceField::element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy) {
-    if (uses_sofa_order()) return element_force_sofa_order(e, f, x, energy);
+bool TriangularFEMForceField::element_terms(std::size_t e, std::span<const Vec3> x, ElementForce& out) const {
+    if (uses_sofa_order()) return element_terms_sofa_order(e, x, out);
     const auto [ia, ib, ic] = triangles_[e];
     const Vec3& pa = x[static_cast<std::size_t>(ia)];
     const Vec3& pb = x[static_cast<std::size_t>(ib)];
     const Vec3& pc = x[static_cast<std::size_t>(ic)];
     const auto& [rb, rc] = rest_local_[e];
     Eigen::Matrix<double, 6, 1> displacement;
-    StrainDisplacement j;
-    const Mat3 to_world = Mat3::Identity();
+    out.to_world = Mat3::Identity();
     {
         // TriangularFEMForceField small: accumulateForceSmall / computeDisplacementSmall, world
         // x, y of the edges
         const Vec3 db = pb - pa;
         const Vec3 dc = pc - pa;
         displacement << 0, 0, rb.x() - db.x(), rb.y() - db.y(), rc.x() - dc.x(), rc.y() - dc.y();
-        if (!strain_displacement_global(j, db, dc)) return false;
+        if (!strain_displacement_global(out.j, db, dc)) return false;
     }
-    const Vec3 strain = j.transpose() * displacement;  // (εxx, εyy, γxy)
-    const Vec3 stress = material_[e] * strain;         // area-weighted σ (N/m)
-    const Eigen::Matrix<double, 6, 1> nodal = j * stress;
-    f[static_cast<std::size_t>(ia)] += to_world * Vec3(nodal[0], nodal[1], 0);
-    f[static_cast<std::size_t>(ib)] += to_world * Vec3(nodal[2], nodal[3], 0);
-    f[static_cast<std::size_t>(ic)] += to_world * Vec3(nodal[4], nodal[5], 0);
-    j_[e] = j;
-    rotation_[e] = to_world;
-    energy += 0.5 * strain.dot(stress);
+    const Vec3 strain = out.j.transpose() * displacement;  // (εxx, εyy, γxy)
+    const Vec3 stress = material_[e] * strain;             // area-weighted σ (N/m)
+    const Eigen::Matrix<double, 6, 1> nodal = out.j * stress;
+    for (std::size_t k = 0; k < 3; ++k) {
+        const auto i = static_cast<Eigen::Index>(2 * k);
+        out.terms[k] = out.to_world * Vec3(nodal[i], nodal[i + 1], 0);
+    }
+    out.energy = 0.5 * strain.dot(stress);
     return true;
 }
 
-void TriangularFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+void TriangularFEMForceField::add_force_in_order(std::span<Vec3> f, std::span<const Vec3> x) {
     energy_ = 0.0;
-    for (std::size_t e = 0; e < triangles_.size(); ++e)
-        // SOFA logs a null determinant and stops this pass (accumulateForceLarge's catch: break)
-        if (!element_force(e, f, x, energy_)) break;
+    ElementForce element;
+    for (std::size_t e = 0; e < triangles_.size(); ++e) {
+        if (!element_terms(e, x, element)) break;
+        for (std::size_t k = 0; k < 3; ++k) f[static_cast<std::size_t>(triangles_[e][k])] += element.terms[k];
+        j_[e] = element.j;
+        rotation_[e] = element.to_world;
+        energy_ += element.energy;
+    }
+}
+
+void TriangularFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+    // each triangle f_k += its term, J and frame kept for the product, energy Σ ½ ε·σ in order;
+    // SOFA logs a null determinant and stops the pass (accumulateForceLarge's catch: break): the
+    // triangles after it keep their J and frame and add nothing
+    const std::size_t count = triangles_.size();
+    if (!detail::OrderedScatter::worth_threads(count)) {
+        add_force_in_order(f, x);
+        return;
+    }
+    // On TBB's threads, as if no triangle were degenerate: J and frames into the next buffers, the
+    // terms in element order (detail::force_in_order). A degenerate triangle found: f as it was,
+    // and the loop above on one thread.
+    force_before_.assign(f.begin(), f.end());
+    next_j_.resize(count);
+    next_rotation_.resize(count);
+    std::atomic<bool> degenerate{false};
+    const double energy = detail::force_in_order</*Add=*/true>(
+        scatter_, std::span<const Triangle>(triangles_), f, 1, energies_,
+        [&](std::size_t first, std::size_t end, const auto& deferred, double* energies) {
+            double total = 0.0;
+            ElementForce element;
+            for (std::size_t e = first; e < end; ++e) {
+                if (!element_terms(e, x, element)) {
+                    degenerate.store(true, std::memory_order_relaxed);
+                    return 0.0;
+                }
+                detail::store_or_apply(deferred, e, element.terms, [&](std::size_t k, const Vec3& term) {
+                    f[static_cast<std::size_t>(triangles_[e][k])] += term;
+                });
+                next_j_[e] = element.j;
+                next_rotation_[e] = element.to_world;
+                if (energies != nullptr) energies[e] = element.energy;
+                else total += element.energy;
+            }
+            return total;
+        });
+    if (degenerate.load()) {
+        std::copy(force_before_.begin(), force_before_.end(), f.begin());
+        add_force_in_order(f, x);
+        return;
+    }
+    j_.swap(next_j_);
+    rotation_.swap(next_rotation_);
+    energy_ = energy;
 }
 
 Eigen::Matrix<double, 6, 6> TriangularFEMForceField::local_stiffness(std::size_t e) const {

@@ -7,6 +7,7 @@
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -210,7 +211,7 @@ TEST(TriangularFEM, BadInputThrows) {
 
 TEST(TriangularFEMForceField, ProductOnThreadsIsTheBitsOfOneThread) {
     // both flavors and methods (SOFA's operations for TriangleFEM and large, the others' for
-    // TriangularFEM small); the force runs on one thread (SOFA's pass stops at a null determinant)
+    // TriangularFEM small); the force and the product on TBB's threads
     const TriangleFemParameters parameters[] = {{.method = FemMethod::Large},
                                                 {.method = FemMethod::Small},
                                                 {.method = FemMethod::Large, .flavor = TriangleFemFlavor::TriangleFEM},
@@ -229,6 +230,77 @@ TEST(TriangularFEMForceField, ProductOnThreadsIsTheBitsOfOneThread) {
                 std::string(p.flavor == TriangleFemFlavor::TriangleFEM ? "TriangleFEM" : "TriangularFEM") +
                     (p.method == FemMethod::Large ? " large" : " small") + (shuffle ? ", shuffled" : ""));
         }
+}
+
+// A triangle degenerate at x (its three corners at one point, and so its neighbours): SOFA's pass
+// stops at the first (accumulateForceLarge's catch: break), the triangles after it keeping their
+// J and frames and adding nothing. On threads the pass runs as if none were, finds one, puts f
+// back and runs the loop on one thread: force, energy and the product after it (which reads the
+// kept frames) are one thread's bits, and a vertex of only later triangles gets no force.
+TEST(TriangularFEMForceField, ADegenerateTriangleOnThreadsStopsThePassAsOnOneThread) {
+    const TriangleFemParameters parameters[] = {{.method = FemMethod::Large},
+                                                {.method = FemMethod::Small},
+                                                {.method = FemMethod::Large, .flavor = TriangleFemFlavor::TriangleFEM},
+                                                {.method = FemMethod::Small, .flavor = TriangleFemFlavor::TriangleFEM}};
+    const test::TriangleSheet sheet(false);
+    const std::vector<Triangle>& triangles = sheet.topology.triangles();
+    constexpr std::size_t kCollapsed = 4000;
+    std::vector<Vec3> x = sheet.points;
+    for (Vec3& p : x) p *= 1.01;  // stretched: every triangle has a force
+    for (const PointId v : triangles[kCollapsed])
+        x[static_cast<std::size_t>(v)] = x[static_cast<std::size_t>(triangles[kCollapsed][0])];
+    // the first degenerate triangle, and a vertex of none before it
+    std::vector<std::size_t> first_triangle(x.size(), triangles.size());
+    for (std::size_t e = triangles.size(); e-- > 0;)
+        for (const PointId v : triangles[e]) first_triangle[static_cast<std::size_t>(v)] = e;
+    std::size_t stop = triangles.size();
+    for (std::size_t e = 0; e < triangles.size() && stop == triangles.size(); ++e) {
+        const auto& t = triangles[e];
+        if (x[std::size_t(t[0])] == x[std::size_t(t[1])] || x[std::size_t(t[1])] == x[std::size_t(t[2])] ||
+            x[std::size_t(t[0])] == x[std::size_t(t[2])])
+            stop = e;
+    }
+    ASSERT_LE(stop, kCollapsed);
+    ASSERT_GT(stop, detail::OrderedScatter::kMinElements / 4);  // inside the sheet: not a chunk's first
+    const auto later = static_cast<std::size_t>(
+        std::find_if(first_triangle.begin(), first_triangle.end(), [&](std::size_t e) { return e > stop + 100; }) -
+        first_triangle.begin());
+    ASSERT_LT(later, x.size());
+    std::mt19937 random(3);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::vector<Vec3> dx(x.size()), v(x.size(), Vec3::Zero());
+    for (Vec3& d : dx) d = Vec3(u(random), u(random), u(random));
+    for (const TriangleFemParameters& p : parameters) {
+        const std::string what =
+            std::string(p.flavor == TriangleFemFlavor::TriangleFEM ? "TriangleFEM" : "TriangularFEM") +
+            (p.method == FemMethod::Large ? " large" : " small");
+        Vec3Object state;
+        state.position = sheet.points;
+        state.init();
+        test::ElementProducts one;
+        for (const int threads : {1, 2, 8}) {
+            TriangularFEMForceField fem(state, sheet.topology, p);
+            fem.init();
+            test::ElementProducts run;
+            run.force.assign(x.size(), Vec3::Zero());
+            run.product.assign(x.size(), Vec3::Zero());
+            tbb::task_arena(threads).execute([&] {
+                fem.add_force(run.force, x, v);
+                fem.add_dforce(run.product, dx, -0.37, 0.0);
+            });
+            run.energy = fem.potential_energy();
+            if (threads == 1) {
+                one = run;
+                EXPECT_EQ(one.force[later], Vec3::Zero()) << what;  // the pass stopped before its triangles
+                EXPECT_NE(one.force[static_cast<std::size_t>(triangles[0][0])], Vec3::Zero()) << what;
+                continue;
+            }
+            const std::string where = what + ", " + std::to_string(threads) + " threads";
+            EXPECT_TRUE(test::same_vectors_bits(run.force, one.force)) << where;
+            EXPECT_TRUE(test::same_vectors_bits(run.product, one.product)) << where;
+            EXPECT_EQ(std::memcmp(&run.energy, &one.energy, sizeof(double)), 0) << where;
+        }
+    }
 }
 
 }  // namespace

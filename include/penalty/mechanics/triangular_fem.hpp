@@ -35,6 +35,9 @@
 
 #include <Eigen/Core>
 
+#include <array>
+#include <vector>
+
 namespace penalty {
 
 class TopologyContainer;
@@ -106,13 +109,24 @@ private:
     /// Triangle e's rest data (rest_local_, area_, material_, j_, rotation_) from the rest
     /// positions; throws std::invalid_argument for a degenerate triangle or a point past the state.
     void init_element(std::size_t e);
-    /// One triangle's force: updates j_[e], rotation_[e]; returns ½ ε·σ (false: degenerate now).
-    bool element_force(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
-    /// element_force of the TriangleFEM flavor, with SOFA's operations in SOFA's order
-    /// (src/mechanics/triangle_fem_sofa_order.hpp: the same bits as SOFA).
+    /// One triangle's force at x: the terms f_k += terms[k] of its vertices, J and the frame Rᵀ
+    /// the product reads, ½ ε·σ.
+    struct ElementForce {
+        std::array<Vec3, 3> terms;
+        StrainDisplacement j;
+        Mat3 to_world;
+        double energy = 0.0;
+    };
+    /// Triangle e's force at x into `out`; false for a triangle degenerate now (`out` then holds
+    /// nothing of it).
+    bool element_terms(std::size_t e, std::span<const Vec3> x, ElementForce& out) const;
     /// TriangleFEMForceField, and TriangularFEMForceField "large": SOFA's TriangleFEMUtils operations.
     [[nodiscard]] bool uses_sofa_order() const;
-    bool element_force_sofa_order(std::size_t e, std::span<Vec3> f, std::span<const Vec3> x, double& energy);
+    /// element_terms of those, with SOFA's operations in SOFA's order
+    /// (src/mechanics/triangle_fem_sofa_order.hpp: the same bits as SOFA).
+    bool element_terms_sofa_order(std::size_t e, std::span<const Vec3> x, ElementForce& out) const;
+    /// add_force's loop on one thread, triangle by triangle, stopping at a degenerate one (SOFA's).
+    void add_force_in_order(std::span<Vec3> f, std::span<const Vec3> x);
     /// add_dforce over triangles [first, end) of the TriangleFEM flavor, with SOFA's operations in
     /// SOFA's order, the terms `deferred` marks stored instead of added (detail::DeferredTerms, or
     /// detail::NoDeferredTerms on one thread).
@@ -134,6 +148,13 @@ private:
     std::vector<StrainDisplacement> j_;  ///< J at the last add_force
     std::vector<Mat3> rotation_;         ///< Rᵀ (columns = local axes) at the last add_force
     double energy_ = 0.0;
+    /// add_force on threads (from OrderedScatter::kMinElements triangles): J and the frames of
+    /// the pass, swapped with j_ and rotation_ when no triangle was degenerate; f before the
+    /// pass, for the loop on one thread when one was; each triangle's energy, summed in order.
+    std::vector<StrainDisplacement> next_j_;
+    std::vector<Mat3> next_rotation_;
+    std::vector<Vec3> force_before_;
+    std::vector<double> energies_;
     /// The product's split from OrderedScatter::kMinElements triangles on several threads (made
     /// again when the triangles change).
     mutable detail::OrderedScatter scatter_;
