@@ -17,6 +17,7 @@
 #include <cstring>
 #include <numeric>
 #include <random>
+#include <type_traits>
 #include <vector>
 
 namespace penalty {
@@ -188,7 +189,8 @@ SpringsRun<DataTypes> run_springs(RestShapeSpringsForceField<DataTypes>& ff, Mec
                                   const std::vector<typename DataTypes::Deriv>& dx, int threads) {
     SpringsRun<DataTypes> out;
     tbb::task_arena(threads).execute([&] {
-        out.force.assign(s.num_dofs(), typename DataTypes::Deriv{});
+        if constexpr (std::is_same_v<DataTypes, Vec3Types>) out.force.assign(s.num_dofs(), Vec3::Zero());
+        else out.force.assign(s.num_dofs(), RigidDeriv{});  // (zero: its members are)
         ff.add_force(out.force, s.position, s.velocity);
         out.energy = ff.potential_energy();
         out.product = dx;  // (any df: the product adds into it)
