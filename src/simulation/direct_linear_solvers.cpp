@@ -5,6 +5,7 @@
 #include <Eigen/SparseLU>
 #include <Eigen/SparseQR>
 
+#include <string>
 #include <variant>
 
 namespace penalty {
@@ -124,6 +125,13 @@ void DirectLinearSolver::solve(const SubtreeSystem& system, double m, double b, 
     assemble_mbk_matrix(system, m, b, k, assembly, workspace_, matrix_);
     if (assembly.apply_projective_constraints) apply_projective_constraints(system, matrix_);
     matrix_.makeCompressed();
+    // a system without a stored entry (no mass, stiffness nor constraint in the subtree) is
+    // singular; Eigen's SparseLU would never return on it (memInit: a zero-sized estimate retried)
+    if (matrix_.rows() > 0 && matrix_.nonZeros() == 0)
+        throw NonFiniteSolveError(std::string("direct linear solver (") + std::string(factorization_name(method)) +
+                                      "): the system matrix is zero (no mass, stiffness nor constraint on its " +
+                                      std::to_string(matrix_.rows()) + " unknowns)",
+                                  nullptr, nullptr, nullptr);
     if (!factorization_ || factorization_->method != method || factorization_->ordering != ordering)
         factorization_ = std::make_unique<Factorization>(method, ordering);
     Factorization& f = *factorization_;

@@ -11,6 +11,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -46,6 +48,35 @@ TEST(DirectSolvers, TheImplicitEulerStepEqualsTheTightCgStep) {
         for (std::size_t i = 0; i < x.size(); ++i)
             EXPECT_LT((x[i] - cg[i]).norm(), 1e-12) << factorization_name(method) << " point " << i;
         EXPECT_EQ(direct->factorizations(), 10);
+    }
+}
+
+// A solver over a state with neither mass nor force field assembles a matrix without a stored
+// entry: every direct method reports a singular system (NonFiniteSolveError) at the first step.
+// Eigen's SparseLU, given it, never returned (a fuzz finding: fuzz/regressions/
+// zero_system_sparse_lu.scn).
+TEST(DirectSolvers, AZeroSystemIsReportedSingularByEveryMethod) {
+    for (FactorizationMethod method :
+         {FactorizationMethod::ldlt, FactorizationMethod::llt, FactorizationMethod::lu, FactorizationMethod::qr}) {
+        Simulation sim;
+        Node& body = sim.root();
+        auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+        auto direct = std::make_shared<DirectLinearSolver>();
+        direct->method = method;
+        solver.direct_solver = direct;
+        auto& x = body.add_state<Vec3Types>("massless");
+        for (int i = 0; i < 8; ++i) x.position.emplace_back(0.1 * i, 0.0, 0.0);
+        sim.init();
+        try {
+            sim.step();
+            ADD_FAILURE() << factorization_name(method) << ": no error";
+        } catch (const NonFiniteSolveError& e) {
+            EXPECT_NE(
+                std::string(e.what()).find("the system matrix is zero (no mass, stiffness nor constraint on its 24 "
+                                           "unknowns)"),
+                std::string::npos)
+                << e.what();
+        }
     }
 }
 
