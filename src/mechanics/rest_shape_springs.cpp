@@ -15,11 +15,8 @@ namespace penalty {
 namespace {
 
 /// The springs of a large field run in ranges of kSpringsPerTask on TBB's threads (when no point
-/// has two), from OrderedScatter::kMinElements springs with more than one thread in the arena.
+/// has two; detail::for_each_range decides from how many).
 constexpr std::size_t kSpringsPerTask = 2048;
-bool springs_on_threads(std::size_t count) {
-    return count >= detail::OrderedScatter::kMinElements && detail::OrderedScatter::worth_threads(count);
-}
 
 void check_stiffness(const std::vector<double>& values, const char* parameter) {
     for (double v : values)
@@ -229,7 +226,7 @@ void RestShapeSpringsForceField<DataTypes>::add_force(std::span<Deriv> f, std::s
     };
     const std::size_t count = indices_.size();
     double energy = 0.0;
-    if (!distinct_points_ || !springs_on_threads(count)) {
+    if (!distinct_points_ || !detail::ranges_on_threads(count)) {
         for (std::size_t i = 0; i < count; ++i)
             if (spring_in_range(i, dofs, anchors.size()))  // (without recompute_indices, after a change)
                 energy += spring_force(i);
