@@ -7,6 +7,7 @@
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
 #include "penalty_test/element_products_on_threads.hpp"
+#include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -49,7 +50,7 @@ TEST(HexahedronFem, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
             const ElementProducts one = run_hexahedra(fem, state, 1);
             EXPECT_EQ(one.chunks, 0U);
             EXPECT_GT(one.energy, 0.0);
-            for (const int threads : {2, 8}) {
+            for (const int threads : test::thread_counts_to_compare({2, 8})) {
                 const ElementProducts many = run_hexahedra(fem, state, threads);
                 const std::string where = std::to_string(int(method)) + ", " + std::to_string(threads) + " threads" +
                                           (mesh == &in_order ? "" : ", shuffled");

@@ -10,6 +10,7 @@
 #include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
+#include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -125,7 +126,7 @@ TEST(TetrahedronHyperelasticity, ForceAndProductOnThreadsAreTheBitsOfOneThread) 
             const test::ElementProducts one = test::element_products_on_threads(fem, state, 1, 0.02, -0.37);
             EXPECT_EQ(one.chunks, 0U);
             EXPECT_NE(one.energy, 0.0);
-            for (const int threads : {2, 3, 8}) {
+            for (const int threads : test::thread_counts_to_compare({2, 3, 8})) {
                 const test::ElementProducts many = test::element_products_on_threads(fem, state, threads, 0.02, -0.37);
                 const std::string where = std::string(material_name(law.material)) + ", " + std::to_string(threads) +
                                           " threads" + (shuffle ? ", shuffled" : "");

@@ -9,6 +9,7 @@
 #include "penalty_test/grid_meshes.hpp"
 
 #include "penalty_test/element_products_on_threads.hpp"
+#include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -60,7 +61,7 @@ TEST(TetrahedronFemConcurrent, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
             const ElementProducts one = run_tetrahedra(fem, state, 1);
             EXPECT_EQ(one.chunks, 0U);  // one thread: the loop itself
             EXPECT_GT(one.energy, 0.0);
-            for (const int threads : {2, 3, 8}) {
+            for (const int threads : test::thread_counts_to_compare({2, 3, 8})) {
                 const ElementProducts many = run_tetrahedra(fem, state, threads);
                 const std::string where = std::string(to_string(path)) + ", " + std::to_string(threads) + " threads" +
                                           (mesh == &spatial ? "" : ", shuffled");
@@ -113,7 +114,7 @@ TEST(TetrahedronFemConcurrent, EveryOtherMethodOnThreadsGivesTheBitsOfOneThread)
             const ElementProducts one = run_tetrahedra(fem, state, 1);
             EXPECT_EQ(one.chunks, 0U);
             EXPECT_GT(one.energy, 0.0);
-            for (const int threads : {2, 8}) {
+            for (const int threads : test::thread_counts_to_compare({2, 8})) {
                 const ElementProducts many = run_tetrahedra(fem, state, threads);
                 const std::string where = std::string(to_string(path)) + ", method " +
                                           std::to_string(static_cast<int>(method)) + ", " + std::to_string(threads) +
@@ -155,7 +156,7 @@ TEST(TetrahedronFemConcurrent, InitOnThreadsIsTheBitsOfOneThreadAndRaisesTheFirs
             SCOPED_TRACE(testing::Message() << "method " << static_cast<int>(method) << ", path " << to_string(path));
             std::vector<TetrahedronFEMForceField::ElementMatrix> one;
             ElementProducts one_products;
-            for (const int threads : {1, 2, 8}) {
+            for (const int threads : test::thread_counts_to_compare({1, 2, 8})) {
                 TetrahedronFEMForceField fem(state, mesh, 3e4, 0.35, method);
                 fem.set_kernel_path(path);
                 tbb::task_arena(threads).execute([&] { fem.init(); });

@@ -22,6 +22,7 @@
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/cubes_in_bowl.hpp"
 #include "penalty_test/same_bits.hpp"
+#include "penalty_test/sanitizer.hpp"
 #include "penalty_test/sliding_cube.hpp"
 
 #include <gtest/gtest.h>
@@ -373,7 +374,7 @@ TEST(FusedContactProducts, ALargeFieldOnThreadsGivesTheProductsThroughTheObjects
 // Whole runs: the cube's states after 20 steps are the same bits on 1, 2 and 8 threads.
 TEST(FusedContactProducts, RunsWithALargeFieldOnThreadsAreTheBitsOfOneThread) {
     std::vector<Vec3> one;
-    for (const int threads : {1, 2, 8}) {
+    for (const int threads : test::thread_counts_to_compare({1, 2, 8})) {
         const auto scene = cube_on_a_bed_of_points(threads);
         Node& body = child(scene->simulation().root(), "Body");
         for (int step = 0; step < 20; ++step) scene->step();

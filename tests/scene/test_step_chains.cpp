@@ -121,7 +121,7 @@ TEST(ConcurrentProducts, ForceEvaluationsInChainsAreTheBitsOfOneThread) {
 // in parallel at two threads and more, and the map-back plan is built beside the solve plan.
 TEST(ConcurrentProducts, RunsAreTheSameBitsAtOneTwoAndEightThreads) {
     // Under the sanitizers one and eight threads only; the release suite compares all three.
-    const std::vector<int> thread_counts = test::kUnderSanitizer ? std::vector<int>{1, 8} : std::vector<int>{1, 2, 8};
+    const std::vector<int> thread_counts = test::thread_counts_to_compare({1, 2, 8});
     std::vector<std::vector<double>> runs;
     for (const int threads : thread_counts) {
         auto scene = pile(threads);
