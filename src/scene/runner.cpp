@@ -372,6 +372,12 @@ void step_naming_failures(Scene& scene, std::int64_t k, double t) {
     } catch (const NonFiniteSolveError& e) {
         check_finite_states(scene, k, t);
         report_non_finite_solve(scene, k, t, e);
+    } catch (const SingularSystemError& e) {
+        // a scene without a mass under a direct solver: bad input, naming the solver's component
+        if (const io::SceneComponent* c = scene.component_of(e.solver()))
+            io::throw_element_error(*c, "step " + std::to_string(k) + ": " + e.what());
+        throw std::invalid_argument("step " + std::to_string(k) + " (t = " + output::format_number(t) +
+                                    " s): " + e.what());
     } catch (const io::LoadError& e) {
         // Bad input met during the step (a topological change file naming elements that do not
         // exist, an incision path outside the mesh): still bad input (exit 1), with the step named.

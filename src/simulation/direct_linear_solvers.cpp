@@ -1,4 +1,5 @@
 #include "penalty/simulation/direct_linear_solver.hpp"
+#include "penalty/simulation/solve_error.hpp"
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseCholesky>
@@ -128,10 +129,10 @@ void DirectLinearSolver::solve(const SubtreeSystem& system, double m, double b, 
     // a system without a stored entry (no mass, stiffness nor constraint in the subtree) is
     // singular; Eigen's SparseLU would never return on it (memInit: a zero-sized estimate retried)
     if (matrix_.rows() > 0 && matrix_.nonZeros() == 0)
-        throw NonFiniteSolveError(std::string("direct linear solver (") + std::string(factorization_name(method)) +
-                                      "): the system matrix is zero (no mass, stiffness nor constraint on its " +
-                                      std::to_string(matrix_.rows()) + " unknowns)",
-                                  nullptr, nullptr, nullptr);
+        throw SingularSystemError(std::string("direct linear solver (") + std::string(factorization_name(method)) +
+                                      "): the system matrix is zero: its " + std::to_string(matrix_.rows()) +
+                                      " unknowns have no mass, stiffness nor constraint (give their states a mass)",
+                                  this);
     if (!factorization_ || factorization_->method != method || factorization_->ordering != ordering)
         factorization_ = std::make_unique<Factorization>(method, ordering);
     Factorization& f = *factorization_;

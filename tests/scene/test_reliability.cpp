@@ -281,6 +281,25 @@ TEST(Divergence, EnergyCreatedFromNothingIsCaught) {
 
 // ---- a run of 0 steps -------------------------------------------------------------------------
 
+TEST(Divergence, ADirectSolverOverStatesWithoutMassIsASceneErrorNamingTheSolver) {
+    // no mass, no force field: the assembled system is zero. Not a divergence (no smaller dt
+    // helps): bad input naming the direct solver's component and line. A mass makes it run.
+    const std::string body = R"(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <Node name="Cube">
+    <EulerImplicitSolver/>
+    <EigenSparseLU name="lu"/>
+    <MechanicalObject name="cube" position="0 0 0  1 0 0  0 1 0"/>
+)";
+    auto massless = build(body + "  </Node>\n</Node>");
+    scene::RunOptions run;
+    run.steps = 3;
+    EXPECT_EQ(run_error<io::SceneError>(*massless, run),
+              "test.scn:4: EigenSparseLU 'lu': step 0: direct linear solver (LU): the system matrix is zero: its 9 "
+              "unknowns have no mass, stiffness nor constraint (give their states a mass)");
+    auto with_mass = build(body + "    <UniformMass totalMass=\"1\"/>\n  </Node>\n</Node>");
+    EXPECT_NO_THROW((void)scene::run_scene(*with_mass, run));
+}
+
 TEST(ZeroSteps, TheStateFilesHoldTheInitialState) {
     auto s = build(kFreeFall);
     const auto dir = std::filesystem::temp_directory_path() / "penalty_zero_steps";

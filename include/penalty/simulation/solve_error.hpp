@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// The error a solve raises when a value is not finite.
+/// The errors a solve raises: a value that is not finite (the run diverged, or a parameter
+/// overflows), and a system with nothing to solve (a defect of the scene).
 
 #include <stdexcept>
 #include <string>
@@ -28,6 +29,18 @@ private:
     const BaseForceField* force_field_;
     const BaseMass* mass_;
     const BaseState* state_;
+};
+
+/// A direct solver's system matrix without a stored entry: the states it solves have no mass, no
+/// stiffness and no constraint. Not a divergence (no time step helps): the scene lacks a mass.
+/// `solver` is the DirectLinearSolver that raised it (the scene names its component).
+class SingularSystemError : public std::invalid_argument {
+public:
+    SingularSystemError(const std::string& what, const void* solver) : std::invalid_argument(what), solver_(solver) {}
+    [[nodiscard]] const void* solver() const { return solver_; }
+
+private:
+    const void* solver_;
 };
 
 }  // namespace penalty

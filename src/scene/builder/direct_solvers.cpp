@@ -234,6 +234,7 @@ std::shared_ptr<DirectLinearSolver> read_direct_linear_solver(SceneBuilder& b, c
     solver->reuse_symbolic = a.boolean("precomputeSymbolicDecomposition");
     if (!a.boolean("enableAssembly")) a.fail("enableAssembly", "0 is not supported (penalty assembles the system)");
     b.mark_used(&linear);
+    b.record_origin(solver.get(), linear);  // (a SingularSystemError names it)
     // the linear system: the link, else one of the solver's node, else MatrixLinearSystem's defaults
     const SceneComponent* system = nullptr;
     if (a.has("linearSystem")) {
