@@ -3,11 +3,11 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <unordered_set>
 #include <utility>
 
 #include "kernels/mechanics/springs.hpp"
 #include "penalty/core/index_types.hpp"
+#include "penalty/core/vertex_list_hash.hpp"
 
 namespace penalty {
 
@@ -122,9 +122,9 @@ MeshSpringParameters MeshSpringParameters::uniform(double k, double d) {
 }
 
 namespace {
-/// The vertex pairs with a spring so far, each as its unordered pair's key (a hash set: the
-/// springs in the elements' order, the first occurrence of a pair kept, as SOFA's std::set loop).
-using KnownPairs = std::unordered_set<std::uint64_t>;
+/// The vertex pairs with a spring so far, each (smaller, larger) (a hash set: the springs in the
+/// elements' order, the first occurrence of a pair kept, as SOFA's std::set loop).
+using KnownPairs = VertexListSet<PointId, 2>;
 
 template <class Element>
 void add_element_springs(const std::vector<Element>& elements, double ks, double kd, std::span<const Vec3> x0,
@@ -138,10 +138,7 @@ void add_element_springs(const std::vector<Element>& elements, double ks, double
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = i + 1; j < n; ++j) {
                 const PointId a = e[i], b = e[j];
-                if (!seen.insert(
-                             PairKey::unordered(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)).bits())
-                         .second)
-                    continue;
+                if (!seen.insert({std::min(a, b), std::max(a, b)})) continue;
                 if (static_cast<std::size_t>(std::max(a, b)) >= x0.size())
                     throw_invalid_argument("MeshSpringForceField: vertex ", std::max(a, b), " has no rest position");
                 const double l = (x0[static_cast<std::size_t>(b)] - x0[static_cast<std::size_t>(a)]).norm();
@@ -156,6 +153,10 @@ void add_element_springs(const std::vector<Element>& elements, double ks, double
 std::vector<Spring> mesh_springs(const MeshTopology& topo, std::span<const Vec3> x0, const MeshSpringParameters& p) {
     std::vector<Spring> out;
     KnownPairs seen;
+    // the distinct pairs are the mesh's edges when it lists them (a loader's mesh does); else a
+    // guess (the set grows when there are more)
+    seen.reserve(!topo.edges().empty() ? topo.edges().size()
+                                       : (3 * topo.triangles().size() + 6 * topo.tetrahedra().size()) / 4);
     add_element_springs(topo.edges(), p.lines_stiffness, p.lines_damping, x0, seen, out);
     add_element_springs(topo.triangles(), p.triangles_stiffness, p.triangles_damping, x0, seen, out);
     add_element_springs(topo.quads(), p.quads_stiffness, p.quads_damping, x0, seen, out);

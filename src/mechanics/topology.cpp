@@ -13,7 +13,6 @@
 #include <array>
 #include <cstdint>
 #include <mutex>
-#include <unordered_set>
 
 namespace penalty {
 
@@ -52,15 +51,13 @@ void check_range(const std::vector<Element>& elements, std::size_t n, const char
 
 Edge sorted_edge(PointId a, PointId b) { return a < b ? Edge{a, b} : Edge{b, a}; }
 
-/// The edges seen so far, each as its unordered pair's key (a hash set: O(1) a lookup, where an
-/// ordered map took O(log n) and made a large mesh's load grow as n log n).
-using KnownEdges = std::unordered_set<std::uint64_t>;
+/// The edges seen so far, each as (smaller, larger) (core/vertex_list_hash.hpp).
+using KnownEdges = VertexListSet<PointId, 2>;
 
 /// Adds the edge {a, b} to `edges` unless already known (first occurrence wins).
 /// `stored` is what is pushed (the sorted pair, or the oriented pair for triangle edges).
 void add_edge(KnownEdges& known, std::vector<Edge>& edges, PointId a, PointId b, const Edge& stored) {
-    if (known.insert(PairKey::unordered(static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b)).bits()).second)
-        edges.push_back(stored);
+    if (known.insert(sorted_edge(a, b))) edges.push_back(stored);
 }
 
 std::vector<Edge> edges_from_volumes(const std::vector<Tetrahedron>& tetras, const std::vector<Hexahedron>& hexas) {
@@ -109,14 +106,14 @@ std::vector<Edge> edges_from_surface(const std::vector<Triangle>& triangles, con
 /// first; a face is new unless the same face with the opposite orientation was already stored.
 std::vector<Triangle> triangles_from_tetrahedra(const std::vector<Tetrahedron>& tetras) {
     std::vector<Triangle> triangles;
-    std::unordered_set<Triangle, VertexListHash> known;
-    known.reserve(4 * tetras.size());
+    VertexListSet<PointId, 3> known;
+    known.reserve(2 * tetras.size());  // (a closed volume mesh: about two faces a tetrahedron)
     for (const auto& t : tetras) {
         for (const auto& f : MeshTopology::kTetraFaces) {
             Triangle v{t[f[0]], t[f[1]], t[f[2]]};
             while (v[0] > v[1] || v[0] > v[2]) v = Triangle{v[1], v[2], v[0]};
             const Triangle opposite{v[0], v[2], v[1]};
-            if (known.find(opposite) == known.end()) {
+            if (!known.contains(opposite)) {
                 known.insert(v);
                 triangles.push_back(v);
             }
@@ -129,14 +126,14 @@ std::vector<Triangle> triangles_from_tetrahedra(const std::vector<Tetrahedron>& 
 /// both orientations of a stored face are remembered, so shared faces are stored once.
 std::vector<Quad> quads_from_hexahedra(const std::vector<Hexahedron>& hexas) {
     std::vector<Quad> quads;
-    std::unordered_set<Quad, VertexListHash> known;
-    known.reserve(6 * hexas.size());
+    VertexListSet<PointId, 4> known;
+    known.reserve(2 * 3 * hexas.size());  // (each face and its reverse; three faces a hexahedron)
     for (const auto& h : hexas) {
         for (const auto& f : MeshTopology::kHexaFaces) {
             Quad v{h[f[0]], h[f[1]], h[f[2]], h[f[3]]};
             while (v[0] > v[1] || v[0] > v[2] || v[0] > v[3]) v = Quad{v[1], v[2], v[3], v[0]};
             const Quad reversed{v[0], v[3], v[2], v[1]};
-            if (known.find(reversed) == known.end()) {
+            if (!known.contains(reversed)) {
                 known.insert(reversed);
                 known.insert(v);
                 quads.push_back(v);
