@@ -143,9 +143,15 @@ std::vector<Quad> quads_from_hexahedra(const std::vector<Hexahedron>& hexas) {
     return quads;
 }
 
+/// Each vertex's elements in increasing index; each list allocated once at its size (counted
+/// first: growing millions of small lists by push_back was a tenth of a large mesh's load).
 template <class Element>
 std::vector<std::vector<std::int32_t>> around_vertex(const std::vector<Element>& elements, std::size_t n) {
+    std::vector<std::uint32_t> count(n, 0);
+    for (const auto& e : elements)
+        for (const PointId p : e) ++count[static_cast<std::size_t>(p)];
     std::vector<std::vector<std::int32_t>> around(n);
+    for (std::size_t v = 0; v < n; ++v) around[v].reserve(count[v]);
     for (std::size_t i = 0; i < elements.size(); ++i) {
         for (const PointId p : elements[i]) around[static_cast<std::size_t>(p)].push_back(static_cast<std::int32_t>(i));
     }
@@ -255,24 +261,31 @@ const MeshTopology::Cache& MeshTopology::cache() const {
 
         // trianglesAroundEdge: a triangle on the left of the edge (edge[0] == t[j+1], i.e. the
         // triangle runs along the edge's direction) goes to the front, otherwise to the back.
-        // Entries inserted at the front end up in reverse insertion order, before the others.
-        std::vector<std::vector<std::int32_t>> front(c.edges.size());
-        std::vector<std::vector<std::int32_t>> back(c.edges.size());
-        for (std::size_t i = 0; i < c.triangles.size(); ++i) {
-            const Triangle& t = c.triangles[i];
+        // Entries inserted at the front end up in reverse insertion order, before the others:
+        // counted first, the front ones then written from their end back, the others after them.
+        const auto on_left = [&](std::size_t i, int j, std::size_t e) {
+            return c.edges[e][0] == c.triangles[i][static_cast<std::size_t>((j + 1) % 3)];
+        };
+        std::vector<std::uint32_t> front(c.edges.size(), 0);
+        std::vector<std::uint32_t> back(c.edges.size(), 0);
+        for (std::size_t i = 0; i < c.triangles.size(); ++i)
+            for (int j = 0; j < 3; ++j) {
+                const std::int32_t e = c.edges_in_triangle[i][static_cast<std::size_t>(j)];
+                if (e >= 0) ++(on_left(i, j, std::size_t(e)) ? front : back)[std::size_t(e)];
+            }
+        c.triangles_around_edge.assign(c.edges.size(), {});
+        for (std::size_t e = 0; e < c.edges.size(); ++e) {
+            c.triangles_around_edge[e].resize(front[e] + back[e]);
+            back[e] = front[e];  // the next back entry's place; front[e]: one past the next front one's
+        }
+        for (std::size_t i = 0; i < c.triangles.size(); ++i)
             for (int j = 0; j < 3; ++j) {
                 const std::int32_t e = c.edges_in_triangle[i][static_cast<std::size_t>(j)];
                 if (e < 0) continue;
                 const auto ue = static_cast<std::size_t>(e);
-                (c.edges[ue][0] == t[(j + 1) % 3] ? front : back)[ue].push_back(static_cast<std::int32_t>(i));
+                auto& list = c.triangles_around_edge[ue];
+                list[on_left(i, j, ue) ? --front[ue] : back[ue]++] = static_cast<std::int32_t>(i);
             }
-        }
-        c.triangles_around_edge.assign(c.edges.size(), {});
-        for (std::size_t e = 0; e < c.edges.size(); ++e) {
-            auto& list = c.triangles_around_edge[e];
-            list.assign(front[e].rbegin(), front[e].rend());
-            list.insert(list.end(), back[e].begin(), back[e].end());
-        }
         c.quads_around_edge.assign(c.edges.size(), {});
         for (std::size_t i = 0; i < c.quads.size(); ++i) {
             for (int j = 0; j < 4; ++j) {

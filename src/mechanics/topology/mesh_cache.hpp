@@ -30,6 +30,7 @@ struct MeshTopology::Cache {
 inline void refresh_vertices_around(MeshTopology::Cache& c, std::size_t v) {
     auto& out = c.vertices_around_vertex[v];
     out.clear();
+    out.reserve(c.edges_around_vertex[v].size());
     for (const std::int32_t e : c.edges_around_vertex[v]) {
         const Edge& edge = c.edges[static_cast<std::size_t>(e)];
         out.push_back(edge[0] == static_cast<PointId>(v) ? edge[1] : edge[0]);
