@@ -8,6 +8,7 @@
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "sofa_vector_ops.hpp"
 
+#include <tbb/task_arena.h>
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -78,7 +79,13 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
     const Eigen::Matrix<double, 6, 6> d = isotropic_elasticity(young_, poisson_);
     const bool keep_rotations = keeps_rotations();
     product_scatter_.clear();  // made again for these elements at the next product on threads
-    ke_.resize(elements_.size());
+    const bool stiffness_now = element_stiffness_at_init();
+    if (stiffness_now) {
+        ke_.resize(elements_.size());
+    } else {
+        ke_.clear();  // (made again, for every element, when next asked for)
+        stiffness_rest_.resize(elements_.size());
+    }
     rest_local_.resize(elements_.size());
     if (keep_rotations) rotation_.resize(elements_.size(), Mat3::Identity());
     // each element its own rotation, rest shape and K^e (a large mesh's on TBB's threads); the
@@ -96,7 +103,12 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
         if (keep_rotations) rotation_[e] = r;
         for (int k = 0; k < N; ++k)
             rest_local_[e][static_cast<std::size_t>(k)] = r * (p[static_cast<std::size_t>(k)] - p[0]);
-        ke_[e] = compute_stiffness(rest_local_[e], d, e);
+        if (stiffness_now) {
+            ke_[e] = compute_stiffness(rest_local_[e], d, e);
+        } else {
+            check_rest_element(rest_local_[e], e);
+            stiffness_rest_[e] = rest_local_[e];
+        }
     };
     FirstErrorInOrder failure;
     detail::for_each_range(elements_.size() - std::min(first, elements_.size()), kElementsPerInitTask,
@@ -105,6 +117,26 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
                                    if (!failure.run(e, [&] { init_element(e); })) return;
                            });
     failure.rethrow_if_any();
+}
+
+template <int N>
+const std::vector<typename LinearElementForceField<N>::ElementMatrix>& LinearElementForceField<N>::element_stiffness()
+    const {
+    const std::lock_guard lock(stiffness_mutex_);
+    const std::size_t n = elements_.size();
+    if (ke_.size() != n && stiffness_rest_.size() == n) {
+        // on demand: init's compute_stiffness of the same rest coordinates and material (the
+        // element checks passed at init); isolated, so that a thread waiting here for the ranges
+        // takes no outer task that could ask again
+        const Eigen::Matrix<double, 6, 6> d = isotropic_elasticity(young_, poisson_);
+        ke_.resize(n);
+        tbb::this_task_arena::isolate([&] {
+            detail::for_each_range(n, kElementsPerInitTask, [&](std::size_t begin, std::size_t end) {
+                for (std::size_t e = begin; e < end; ++e) ke_[e] = compute_stiffness(stiffness_rest_[e], d, e);
+            });
+        });
+    }
+    return ke_;
 }
 
 template <int N>
@@ -171,6 +203,7 @@ void LinearElementForceField<N>::add_dforce(std::span<Vec3> df, std::span<const 
 
 template <int N>
 void LinearElementForceField<N>::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    (void)element_stiffness();  // (made on demand: add_element_triplets reads it)
     for (std::size_t e = 0; e < elements_.size(); ++e) add_element_triplets(t, offset, factor, e, rotation_[e]);
 }
 
@@ -244,14 +277,28 @@ TetrahedronFEMForceField::TetrahedronFEMForceField(Vec3Object& state, const Regu
     : LinearElementForceField<4>(state, tetrahedra_of(grid.mesh(), grid.cells_x(), grid.cells_y()), young, poisson,
                                  method, "TetrahedronFEMForceField") {}
 
-TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffness(
-    const std::array<Vec3, 4>& p, const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const {
+namespace {
+/// The columns p1 − p0, p2 − p0, p3 − p0 of a tetrahedron's rest coordinates p;
+/// std::invalid_argument naming element e when it is degenerate.
+Mat3 checked_rest_edges(const std::array<Vec3, 4>& p, std::size_t e, const char* component) {
     Mat3 m;
     m << p[1] - p[0], p[2] - p[0], p[3] - p[0];
     const double det = m.determinant();
     const double scale = std::max({(p[1] - p[0]).norm(), (p[2] - p[0]).norm(), (p[3] - p[0]).norm()});
     if (!std::isfinite(det) || std::abs(det) <= 1e-12 * scale * scale * scale)
-        throw_invalid_argument(component_, ": tetrahedron ", e, " is degenerate (volume ", det / 6, ")");
+        throw_invalid_argument(component, ": tetrahedron ", e, " is degenerate (volume ", det / 6, ")");
+    return m;
+}
+}  // namespace
+
+void TetrahedronFEMForceField::check_rest_element(const std::array<Vec3, 4>& p, std::size_t e) const {
+    (void)checked_rest_edges(p, e, component_);
+}
+
+TetrahedronFEMForceField::ElementMatrix TetrahedronFEMForceField::compute_stiffness(
+    const std::array<Vec3, 4>& p, const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const {
+    const Mat3 m = checked_rest_edges(p, e, component_);
+    const double det = m.determinant();
     const Mat3 inv = m.inverse();  // rows: gradients of N1, N2, N3
     const std::array<Vec3, 4> gradients{(-(inv.row(0) + inv.row(1) + inv.row(2))).transpose(), inv.row(0).transpose(),
                                         inv.row(1).transpose(), inv.row(2).transpose()};
@@ -609,6 +656,7 @@ void TetrahedronFEMForceField::large_dforce(std::size_t first, std::size_t end, 
 }
 
 void TetrahedronFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    (void)element_stiffness();  // (made on demand: add_element_triplets reads it)
     for (std::size_t e = 0; e < elements_.size(); ++e) add_element_triplets(t, offset, factor, e, large_rotation(e));
 }
 

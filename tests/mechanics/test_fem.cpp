@@ -9,6 +9,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 #include <set>
@@ -303,6 +304,52 @@ TEST(TetrahedronFEM, LargeMethodIsTheRotatedElementStiffnessTimesTheLocalDisplac
     const double energy = 0.5 * displacement.dot(local);
     EXPECT_GT(energy, 0.1);
     EXPECT_NEAR(ff.potential_energy(), energy, 1e-12 * energy);
+}
+
+// TetrahedronFEMForceField's products read its lane blocks, so K^e is made when first asked for
+// (element_stiffness(), add_stiffness_triplets), from the rest coordinates init kept: the bits
+// of the K^e made at init, which a localStiffnessFactor field still does (a factor of 1 leaves
+// them as they are), for every method, on a grid with jittered rest positions (every frame a
+// real rotation); a degenerate element is still refused at init.
+TEST(TetrahedronFEM, ElementStiffnessMadeOnDemandIsTheOneInitMakes) {
+    const RegularGridTopology grid({4, 4, 3}, Vec3::Zero(), Vec3(1.2, 1.1, 0.7));
+    const MeshTopology mesh = kuhn_tetrahedra(grid);
+    std::mt19937 random(20261201);
+    std::uniform_real_distribution<double> jitter(-0.04, 0.04);
+    Vec3Object state;
+    state.position = grid.points();
+    for (Vec3& x : state.position) x += Vec3(jitter(random), jitter(random), jitter(random));
+    state.init();
+    for (const FemMethod method : {FemMethod::Large, FemMethod::Small, FemMethod::Polar, FemMethod::Svd}) {
+        TetrahedronFEMForceField on_demand(state, mesh, 2e4, 0.33, method);
+        TetrahedronFEMForceField at_init(state, mesh, 2e4, 0.33, method);
+        at_init.set_young_factors({1.0});
+        on_demand.init();
+        at_init.init();
+        TripletList a, b;
+        on_demand.add_stiffness_triplets(a, 3, -0.7);  // (the first ask: makes K^e)
+        at_init.add_stiffness_triplets(b, 3, -0.7);
+        ASSERT_EQ(a.size(), b.size());
+        for (std::size_t i = 0; i < a.size(); ++i)
+            ASSERT_TRUE(a[i].row() == b[i].row() && a[i].col() == b[i].col() &&
+                        std::memcmp(&a[i].value(), &b[i].value(), sizeof(double)) == 0)
+                << static_cast<int>(method) << ": triplet " << i;
+        const auto& k = on_demand.element_stiffness();
+        ASSERT_EQ(k.size(), mesh.tetrahedra().size());
+        EXPECT_EQ(std::memcmp(k.data(), at_init.element_stiffness().data(), k.size() * sizeof(k[0])), 0)
+            << static_cast<int>(method);
+    }
+    std::vector<Tetrahedron> flattened = mesh.tetrahedra();
+    flattened[5][3] = flattened[5][1];
+    MeshTopology bad;
+    bad.set_tetrahedra(flattened);
+    TetrahedronFEMForceField degenerate(state, bad, 2e4, 0.33, FemMethod::Large);
+    try {
+        degenerate.init();
+        ADD_FAILURE() << "no error at init";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("tetrahedron 5 is degenerate"), std::string::npos) << e.what();
+    }
 }
 
 TEST(TetrahedronFEM, StablePolarRotationOfDegenerateMatrices) {

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <limits>
+#include <mutex>
 #include <span>
 #include <variant>
 
@@ -88,7 +89,12 @@ public:
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
     void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
     [[nodiscard]] double potential_energy() const override { return energy_; }
-    [[nodiscard]] const std::vector<ElementMatrix>& element_stiffness() const { return ke_; }
+    /// Each element's K^e (3N×3N; empty before init()). Made at init when the products read it;
+    /// TetrahedronFEMForceField's products read its lane blocks instead, and it makes K^e when
+    /// first asked for (here or by add_stiffness_triplets: a direct solver), from the rest
+    /// coordinates init kept for it: the same matrices, without their 1 152 bytes a tetrahedron
+    /// in a scene that never assembles them.
+    [[nodiscard]] const std::vector<ElementMatrix>& element_stiffness() const;
     /// From OrderedScatter::kMinElements elements on several threads, the force and the product
     /// run on TBB's threads with the bits of one thread; their split as the last of them made it
     /// (chunk_count() 0 before one ran or when they ran on one thread).
@@ -123,6 +129,11 @@ protected:
     /// Whether rotation_ holds each element's R (TetrahedronFEMForceField's method large keeps R
     /// in its lane blocks instead, and rotation_ stays empty).
     [[nodiscard]] virtual bool keeps_rotations() const { return true; }
+    /// Whether init makes ke_ (the products read it); else element_stiffness() makes it.
+    [[nodiscard]] virtual bool element_stiffness_at_init() const { return true; }
+    /// Where K^e is made on demand: compute_stiffness's checks of an element's rest coordinates
+    /// (a degenerate element raised at init all the same).
+    virtual void check_rest_element(const std::array<Vec3, N>& /*rest_local*/, std::size_t /*e*/) const {}
     /// Element e's −factor·Rᵀ K^e R blocks, with R = `r`, into `triplets`.
     void add_element_triplets(TripletList& triplets, Index offset, double factor, std::size_t e, const Mat3& r) const;
 
@@ -130,7 +141,13 @@ protected:
     double young_, poisson_;
     FemMethod method_;
     const char* component_;
-    std::vector<ElementMatrix> ke_;
+    /// K^e per element: made at init, or when first asked for (element_stiffness_at_init()
+    /// false: empty until then, and emptied by an init)
+    mutable std::vector<ElementMatrix> ke_;
+    /// K^e's rest coordinates, when made on demand (init's, which a subclass may overwrite in
+    /// rest_local_ with its own)
+    std::vector<std::array<Vec3, N>> stiffness_rest_;
+    mutable std::mutex stiffness_mutex_;  ///< element_stiffness()'s making of ke_
     std::vector<std::array<Vec3, N>> rest_local_;
     std::vector<Mat3> rotation_;  ///< R per element at the last add_force (identity for small; see keeps_rotations)
     double energy_ = 0.0;
@@ -236,6 +253,9 @@ protected:
     [[nodiscard]] Mat3 element_rotation_of(const std::array<Vec3, 4>& p, std::size_t e) const override;
 
     [[nodiscard]] bool keeps_rotations() const override { return false; }
+    /// K^e on demand, unless localStiffnessFactor scales it (made at init then, as SOFA's)
+    [[nodiscard]] bool element_stiffness_at_init() const override { return !young_factors_.empty(); }
+    void check_rest_element(const std::array<Vec3, 4>& rest_local, std::size_t e) const override;
 
 private:
     /// J, D/(36V) and R of every element into the lane blocks (large_), by the method's init.

@@ -34,6 +34,7 @@ void TetrahedronFEMForceField::handle_topology_changes(const TopologyContainer& 
                 --last;
                 swap_pop(elements_, i, last);
                 swap_pop(ke_, i, last);
+                swap_pop(stiffness_rest_, i, last);
                 swap_pop(rest_local_, i, last);
                 swap_pop(rotation_, i, last);
                 if (lanes && i != last) copy_large(last, i);  // J, D/(36V) and R
@@ -45,6 +46,7 @@ void TetrahedronFEMForceField::handle_topology_changes(const TopologyContainer& 
                 if (data.size() == n) data.resize(last);
             };
             shrink(ke_);
+            shrink(stiffness_rest_);
             shrink(rest_local_);
             shrink(rotation_);
             if (lanes) resize_large(last);
