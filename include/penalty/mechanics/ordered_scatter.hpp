@@ -144,9 +144,6 @@ private:
 void for_each_range_on_threads(std::size_t count, std::size_t per_task,
                                const std::function<void(std::size_t, std::size_t)>& pass);
 
-/// pass(first, end) over [0, count) in one call, or, from OrderedScatter::kMinElements items with
-/// more than one thread in the calling arena, in ranges of `per_task` on TBB's threads: for a loop
-/// whose iterations write apart (a diagonal mass's df[i] += m_i·dx[i]), the bits of one call.
 /// Whether for_each_range runs `count` items in ranges on threads in the calling arena (from
 /// OrderedScatter::kMinElements items, more than one thread): a caller that keeps per-item
 /// results for an ordered sum only then (RestShapeSpringsForceField's energies) asks this.
@@ -155,6 +152,9 @@ void for_each_range_on_threads(std::size_t count, std::size_t per_task,
     return count >= OrderedScatter::kMinElements && OrderedScatter::worth_threads(count);
 }
 
+/// pass(first, end) over [0, count) in one call, or, from OrderedScatter::kMinElements items with
+/// more than one thread in the calling arena, in ranges of `per_task` on TBB's threads: for a loop
+/// whose iterations write apart (a diagonal mass's df[i] += m_i·dx[i]), the bits of one call.
 template <class Pass>
 void for_each_range(std::size_t count, std::size_t per_task, const Pass& pass) {
     if (!ranges_on_threads(count)) {
