@@ -82,6 +82,7 @@ void LinearElementForceField<N>::init_from(std::size_t first) {
     const bool stiffness_now = element_stiffness_at_init();
     if (stiffness_now) {
         ke_.resize(elements_.size());
+        stiffness_rest_.clear();  // (only for K^e on demand)
     } else {
         ke_.clear();  // (made again, for every element, when next asked for)
         stiffness_rest_.resize(elements_.size());
