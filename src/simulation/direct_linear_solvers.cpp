@@ -153,10 +153,14 @@ void DirectLinearSolver::solve(const SubtreeSystem& system, double m, double b, 
     ++factorizations_;
     if (!ok) {
         f.outer.clear();  // analyse again at the next solve
-        throw NonFiniteSolveError(std::string("direct linear solver (") + std::string(factorization_name(method)) +
-                                      "): the factorization failed (a singular matrix: a DOF without mass, stiffness "
-                                      "nor constraint?)",
-                                  nullptr, nullptr, nullptr);
+        // a finite matrix that does not factorize is singular: a defect of the scene, as a zero one
+        const bool finite = Eigen::Map<const Eigen::VectorXd>(matrix_.valuePtr(), matrix_.nonZeros()).allFinite();
+        const std::string what = std::string("direct linear solver (") + std::string(factorization_name(method)) +
+                                 "): the factorization failed: ";
+        if (finite)
+            throw SingularSystemError(
+                what + "the system matrix is singular (a DOF without mass, stiffness nor constraint?)", this);
+        throw NonFiniteSolveError(what + "the system matrix is not finite", nullptr, nullptr, nullptr);
     }
     if (!x.allFinite())
         throw NonFiniteSolveError(std::string("direct linear solver (") + std::string(factorization_name(method)) +

@@ -80,5 +80,35 @@ TEST(DirectSolvers, AZeroSystemIsReportedSingularByEveryMethod) {
     }
 }
 
+// A finite matrix that does not factorize is singular as well: massless points joined by springs
+// of zero stiffness store zeros, which the factorizations that need a pivot refuse. A scene
+// defect (SingularSystemError naming the solver), not a divergence; a non-finite matrix stays a
+// NonFiniteSolveError (tests of the divergence checks).
+TEST(DirectSolvers, AFiniteMatrixThatDoesNotFactorizeIsReportedSingular) {
+    for (FactorizationMethod method : {FactorizationMethod::ldlt, FactorizationMethod::llt, FactorizationMethod::lu}) {
+        Simulation sim;
+        Node& body = sim.root();
+        auto& solver = body.set_ode_solver<EulerImplicitSolver>();
+        auto direct = std::make_shared<DirectLinearSolver>();
+        direct->method = method;
+        solver.direct_solver = direct;
+        auto& x = body.add_state<Vec3Types>("massless");
+        for (int i = 0; i < 4; ++i) x.position.emplace_back(0.1 * i, 0.0, 0.0);
+        auto& springs = body.add_force_field<SpringForceField>(x, x);
+        springs.add_spring({0, 1, 0.0, 0.0, 0.1});
+        springs.add_spring({2, 3, 0.0, 0.0, 0.1});
+        sim.init();
+        try {
+            sim.step();
+            ADD_FAILURE() << factorization_name(method) << ": no error";
+        } catch (const SingularSystemError& e) {
+            EXPECT_EQ(e.solver(), direct.get());
+            EXPECT_NE(std::string(e.what()).find("the factorization failed: the system matrix is singular"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+}
+
 }  // namespace
 }  // namespace penalty
