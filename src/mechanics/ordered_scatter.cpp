@@ -110,15 +110,16 @@ void OrderedScatter::build_flat(std::span<const PointId> vertices, std::size_t p
 }
 
 template <bool Add>
-void OrderedScatter::apply_deferred(std::span<Vec3> out) const {
+void OrderedScatter::apply_deferred(ScatterTarget out) const {
     if (deferred_vertex_.empty()) return;
-    PENALTY_DEMAND(static_cast<std::size_t>(deferred_vertex_.back()) < out.size());
+    PENALTY_DEMAND(static_cast<std::size_t>(deferred_vertex_.back()) < out.low.size() + out.high.size());
     PENALTY_DEMAND(terms_.size() == per_element_ * element_count_);  // (deferred() made them)
     const Vec3* terms = terms_.data();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, deferred_vertex_.size(), kDeferredVerticesPerTask),
                       [out, terms, this](const tbb::blocked_range<std::size_t>& range) {
                           for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                              Vec3& target = out[static_cast<std::size_t>(deferred_vertex_[i])];
+                              const auto v = static_cast<std::size_t>(deferred_vertex_[i]);
+                              Vec3& target = v < out.low.size() ? out.low[v] : out.high[v - out.low.size()];
                               for (std::uint32_t t = deferred_first_[i]; t < deferred_first_[i + 1]; ++t) {
                                   if constexpr (Add) target += terms[deferred_term_[t]];
                                   else target -= terms[deferred_term_[t]];
@@ -139,8 +140,8 @@ void OrderedScatter::for_each_deferred_slot(const std::function<void(std::size_t
         });
 }
 
-void OrderedScatter::subtract_deferred(std::span<Vec3> out) const { apply_deferred<false>(out); }
+void OrderedScatter::subtract_deferred(ScatterTarget out) const { apply_deferred<false>(out); }
 
-void OrderedScatter::add_deferred(std::span<Vec3> out) const { apply_deferred<true>(out); }
+void OrderedScatter::add_deferred(ScatterTarget out) const { apply_deferred<true>(out); }
 
 }  // namespace penalty::detail

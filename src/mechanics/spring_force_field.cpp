@@ -37,12 +37,17 @@ void SpringForceField::init() {
         }
     }
     dfdx_.assign(springs_.size(), StiffnessColumns{});
-    // each spring's ends for the split on threads (springs inside one state)
+    // each spring's ends for the split on threads; between two states the second state's
+    // points are numbered after the first's (detail::ScatterTarget)
     ends_.clear();
     scatter_.clear();
-    if (s1_ == s2_ && springs_.size() >= detail::OrderedScatter::kMinElements) {
+    second_state_first_ = s1_ == s2_ ? 0 : s1_->num_dofs();
+    const std::size_t points = second_state_first_ + s2_->num_dofs();
+    if (springs_.size() >= detail::OrderedScatter::kMinElements &&
+        points <= static_cast<std::size_t>(std::numeric_limits<PointId>::max())) {
         ends_.reserve(springs_.size());
-        for (const Spring& s : springs_) ends_.push_back({static_cast<PointId>(s.a), static_cast<PointId>(s.b)});
+        for (const Spring& s : springs_)
+            ends_.push_back({static_cast<PointId>(s.a), static_cast<PointId>(second_state_first_ + std::size_t(s.b))});
     }
 }
 
@@ -60,9 +65,15 @@ ForceFieldStates SpringForceField::states() const {
     return {s1_, s2_};
 }
 
-bool SpringForceField::runs_on_threads() const {
-    // springs inside one state: one output, split by OrderedScatter over the springs' ends
-    return s1_ == s2_ && ends_.size() == springs_.size() && detail::OrderedScatter::worth_threads(springs_.size());
+bool SpringForceField::runs_on_threads(std::size_t first_state_points) const {
+    // split by OrderedScatter over the springs' ends (the first state as init numbered it)
+    return ends_.size() == springs_.size() && (s1_ == s2_ || first_state_points == second_state_first_) &&
+           detail::OrderedScatter::worth_threads(springs_.size());
+}
+
+detail::ScatterTarget SpringForceField::scatter_target(Vec3Span out1, Vec3Span out2) const {
+    if (s1_ == s2_) return {out1};
+    return {out1, out2};
 }
 
 void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, ConstVec3Span x2, ConstVec3Span v1,
@@ -74,13 +85,13 @@ void SpringForceField::add_force(Vec3Span f1, Vec3Span f2, ConstVec3Span x1, Con
                               f1.data(), f2.data(), x1.data(), x2.data(), v1.data(), v2.data(), dfdx_.data(), energy);
         return energy;
     };
-    if (!runs_on_threads()) {
+    if (!runs_on_threads(f1.size())) {
         energy_ = pass(0, springs_.size(), {}, nullptr);
         return;
     }
     // the chunks' first springs on the avx path's blocks of four
-    energy_ = detail::force_in_order</*Add=*/true>(scatter_, std::span<const std::array<PointId, 2>>(ends_), f1, 4,
-                                                   spring_energies_, pass);
+    energy_ = detail::force_in_order</*Add=*/true>(scatter_, std::span<const std::array<PointId, 2>>(ends_),
+                                                   scatter_target(f1, f2), 4, spring_energies_, pass);
 }
 
 void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1, ConstVec3Span dx2, double k_factor,
@@ -91,11 +102,12 @@ void SpringForceField::add_dforce(Vec3Span df1, Vec3Span df2, ConstVec3Span dx1,
                                end_offsets_.data(), dfdx_.data(), df1.data(), df2.data(), dx1.data(), dx2.data(),
                                k_factor);
     };
-    if (!runs_on_threads()) {
+    if (!runs_on_threads(df1.size())) {
         pass(0, springs_.size(), {});
         return;
     }
-    detail::scatter_in_order</*Add=*/true>(scatter_, std::span<const std::array<PointId, 2>>(ends_), df1, 4, pass);
+    detail::scatter_in_order</*Add=*/true>(scatter_, std::span<const std::array<PointId, 2>>(ends_),
+                                           scatter_target(df1, df2), 4, pass);
 }
 
 void SpringForceField::add_stiffness_triplets(TripletList& t, Index o1, Index o2, double factor) const {

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
 
@@ -144,7 +145,8 @@ TEST(MeshSpringForceField, SpringsPerElementAndStiffnessOverLength) {
 
 TEST(SpringForceField, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
     // the springs of a 14 × 13 × 10-point Kuhn grid's tetrahedra (more than
-    // OrderedScatter::kMinElements), in mesh order and shuffled, inside one state
+    // OrderedScatter::kMinElements), in mesh order and shuffled, inside one state and between two
+    // (the second a copy of the grid moved by 1.5 m: the same springs, 1.5 m longer)
     const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
     const MeshTopology mesh = test::kuhn_tetrahedra(grid);
     const std::vector<Spring> in_order = mesh_springs(mesh, grid.points(), MeshSpringParameters::uniform(100.0, 0.5));
@@ -155,62 +157,83 @@ TEST(SpringForceField, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
         return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
     };
     struct Products {
-        std::vector<Vec3> force, product;
+        std::vector<Vec3> force, product;  ///< the first state's, then the second's
         double energy = 0.0;
         std::size_t chunks = 0, deferred = 0;
     };
     std::vector<KernelPath> paths{KernelPath::scalar};
     if (kernel_path_supported(KernelPath::avx)) paths.push_back(KernelPath::avx);
-    for (const std::vector<Spring>* springs : {&in_order, static_cast<const std::vector<Spring>*>(&shuffled)})
-        for (const SpringArithmetic arithmetic :
-             {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs})
-            for (const KernelPath path : paths) {
-                Vec3Object s;
-                s.position = grid.points();
-                s.init();
-                std::mt19937 rng(11);
-                std::uniform_real_distribution<double> u(-1.0, 1.0);
-                for (Vec3& p : s.position) p += 0.03 * Vec3(u(rng), u(rng), u(rng));
-                for (Vec3& v : s.velocity) v = Vec3(u(rng), u(rng), u(rng));
-                for (Vec3& d : s.dx) d = Vec3(u(rng), u(rng), u(rng));
-                SpringForceField ff(s);
-                ff.set_arithmetic(arithmetic);
-                ff.set_kernel_path(path);
-                for (const Spring& spring : *springs) ff.add_spring(spring);
-                ff.init();
-                const auto run = [&](int threads) {
-                    Products out;
-                    std::fill(s.force.begin(), s.force.end(), Vec3::Zero());
-                    std::fill(s.df.begin(), s.df.end(), Vec3(0.25, -0.5, 1.0));
-                    tbb::task_arena(threads).execute([&] {
-                        ff.accumulate_force();
-                        ff.accumulate_dforce(-0.37, 0.0);
-                    });
-                    out.force.assign(s.force.begin(), s.force.end());
-                    out.product.assign(s.df.begin(), s.df.end());
-                    out.energy = ff.potential_energy();
-                    out.chunks = ff.product_scatter().chunk_count();
-                    out.deferred = ff.product_scatter().deferred_terms();
-                    return out;
-                };
-                const Products one = run(1);
-                EXPECT_EQ(one.chunks, 0U);
-                EXPECT_GT(one.energy, 0.0);
-                for (const int threads : {2, 3, 8}) {
-                    const Products many = run(threads);
-                    const std::string where =
-                        std::string(to_string(path)) + ", arithmetic " + std::to_string(static_cast<int>(arithmetic)) +
-                        ", " + std::to_string(threads) + " threads" + (springs == &in_order ? "" : ", shuffled");
-                    EXPECT_GT(many.chunks, 1U) << where;
-                    EXPECT_GT(many.deferred, 0U) << where;
-                    EXPECT_TRUE(same_bits(many.force, one.force)) << where;
-                    EXPECT_TRUE(same_bits(many.product, one.product)) << where;
-                    EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+    for (const bool two_states : {false, true})
+        for (const std::vector<Spring>* springs : {&in_order, static_cast<const std::vector<Spring>*>(&shuffled)})
+            for (const SpringArithmetic arithmetic :
+                 {SpringArithmetic::spring_force_field, SpringArithmetic::quadular_bending_springs})
+                for (const KernelPath path : paths) {
+                    std::mt19937 rng(11);
+                    std::uniform_real_distribution<double> u(-1.0, 1.0);
+                    Vec3Object s1, s2;
+                    for (Vec3Object* s : {&s1, &s2}) {
+                        s->position = grid.points();
+                        if (s == &s2)
+                            for (Vec3& p : s->position) p += Vec3(1.5, 0.0, 0.0);
+                        s->init();
+                        for (Vec3& p : s->position) p += 0.03 * Vec3(u(rng), u(rng), u(rng));
+                        for (Vec3& v : s->velocity) v = Vec3(u(rng), u(rng), u(rng));
+                        for (Vec3& d : s->dx) d = Vec3(u(rng), u(rng), u(rng));
+                    }
+                    std::optional<SpringForceField> ff;
+                    if (two_states) ff.emplace(s1, s2);
+                    else ff.emplace(s1);
+                    ff->set_arithmetic(arithmetic);
+                    ff->set_kernel_path(path);
+                    for (const Spring& spring : *springs) ff->add_spring(spring);
+                    ff->init();
+                    const auto run = [&](int threads) {
+                        Products out;
+                        for (Vec3Object* s : {&s1, &s2}) {
+                            std::fill(s->force.begin(), s->force.end(), Vec3::Zero());
+                            std::fill(s->df.begin(), s->df.end(), Vec3(0.25, -0.5, 1.0));
+                        }
+                        tbb::task_arena(threads).execute([&] {
+                            ff->accumulate_force();
+                            ff->accumulate_dforce(-0.37, 0.0);
+                        });
+                        for (const Vec3Object* s : {&s1, &s2}) {
+                            out.force.insert(out.force.end(), s->force.begin(), s->force.end());
+                            out.product.insert(out.product.end(), s->df.begin(), s->df.end());
+                        }
+                        out.energy = ff->potential_energy();
+                        out.chunks = ff->product_scatter().chunk_count();
+                        out.deferred = ff->product_scatter().deferred_terms();
+                        return out;
+                    };
+                    const Products one = run(1);
+                    EXPECT_EQ(one.chunks, 0U);
+                    EXPECT_GT(one.energy, 0.0);
+                    if (two_states) {
+                        // both states take forces and products
+                        const std::size_t n = s1.num_dofs();
+                        const auto nonzero = [](auto begin, auto end) {
+                            return std::any_of(begin, end, [](const Vec3& f) { return f.norm() > 0.0; });
+                        };
+                        EXPECT_TRUE(nonzero(one.force.begin(), one.force.begin() + std::ptrdiff_t(n)));
+                        EXPECT_TRUE(nonzero(one.force.begin() + std::ptrdiff_t(n), one.force.end()));
+                    }
+                    for (const int threads : {2, 3, 8}) {
+                        const Products many = run(threads);
+                        const std::string where =
+                            std::string(to_string(path)) + ", arithmetic " +
+                            std::to_string(static_cast<int>(arithmetic)) + ", " + std::to_string(threads) + " threads" +
+                            (springs == &in_order ? "" : ", shuffled") + (two_states ? ", two states" : ", one state");
+                        EXPECT_GT(many.chunks, 1U) << where;
+                        EXPECT_GT(many.deferred, 0U) << where;
+                        EXPECT_TRUE(same_bits(many.force, one.force)) << where;
+                        EXPECT_TRUE(same_bits(many.product, one.product)) << where;
+                        EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+                    }
                 }
-            }
 }
 
-TEST(SpringForceField, SpringsBetweenTwoStatesOrAddedAfterInitRunOnOneThread) {
+TEST(SpringForceField, SpringsAddedAfterInitOrAResizedFirstStateRunOnOneThread) {
     const RegularGridTopology grid({14, 13, 10}, Vec3::Zero(), Vec3(1.3, 1.2, 0.9));
     const std::vector<Spring> springs =
         mesh_springs(test::kuhn_tetrahedra(grid), grid.points(), MeshSpringParameters::uniform(100.0, 0.5));
@@ -230,11 +253,23 @@ TEST(SpringForceField, SpringsBetweenTwoStatesOrAddedAfterInitRunOnOneThread) {
         between.accumulate_force();
         inside.accumulate_force();
     });
-    EXPECT_EQ(between.product_scatter().chunk_count(), 0U);
+    EXPECT_GT(between.product_scatter().chunk_count(), 1U);
     EXPECT_EQ(inside.product_scatter().chunk_count(), 0U);
     inside.init();
     tbb::task_arena(4).execute([&] { inside.accumulate_force(); });
     EXPECT_GT(inside.product_scatter().chunk_count(), 1U);
+    // the first state grown after init: its points no longer end where the split numbered the
+    // second state's, so the field runs on one thread (and its scatter is not rebuilt)
+    SpringForceField grown(a, b);
+    for (const Spring& s : springs) grown.add_spring(s);
+    grown.init();
+    a.resize(a.num_dofs() + 1);
+    for (Vec3& p : b.position) p += Vec3(0.1, 0.0, 0.0);  // (stretched: a force to compute)
+    std::fill(a.force.begin(), a.force.end(), Vec3::Zero());
+    std::fill(b.force.begin(), b.force.end(), Vec3::Zero());
+    tbb::task_arena(4).execute([&] { grown.accumulate_force(); });
+    EXPECT_EQ(grown.product_scatter().chunk_count(), 0U);
+    EXPECT_GT(grown.potential_energy(), 0.0);
 }
 
 }  // namespace

@@ -45,6 +45,17 @@ void store_or_apply(const DeferredTerms& deferred, std::size_t e, const std::arr
     }
 }
 
+/// Where an OrderedScatter's deferred terms go: out[v]; or, for an interaction force field
+/// between two states whose vertices the scatter numbers one after the other (the second state's
+/// vertex v as low.size() + v), low[v] for v < low.size() and high[v − low.size()] after.
+struct ScatterTarget {
+    ScatterTarget(std::span<Vec3> out) : low(out) {}     // NOLINT(google-explicit-constructor)
+    ScatterTarget(std::vector<Vec3>& out) : low(out) {}  // NOLINT(google-explicit-constructor)
+    ScatterTarget(std::span<Vec3> first_state, std::span<Vec3> second_state) : low(first_state), high(second_state) {}
+    std::span<Vec3> low;
+    std::span<Vec3> high;
+};
+
 /// The scatter `for e, for k: out[vertex(e, k)] −= term(e, k)` (or +=) of an element loop (e ascending, k
 /// the element's vertex slot) split into chunks of consecutive elements that run on different
 /// threads, with every vertex's subtractions in the loop's order, hence its bits:
@@ -117,9 +128,9 @@ public:
 
     /// out[v] −= term for each vertex v's stored terms in element order, the vertices on TBB's
     /// threads.
-    void subtract_deferred(std::span<Vec3> out) const;
+    void subtract_deferred(ScatterTarget out) const;
     /// The same with out[v] += term (a force loop's scatter).
-    void add_deferred(std::span<Vec3> out) const;
+    void add_deferred(ScatterTarget out) const;
 
 private:
     /// The calling arena's threads (TBB's max_concurrency).
@@ -127,7 +138,7 @@ private:
     void build_flat(std::span<const PointId> vertices, std::size_t per_element, std::size_t chunks,
                     std::size_t alignment);
     template <bool Add>
-    void apply_deferred(std::span<Vec3> out) const;
+    void apply_deferred(ScatterTarget out) const;
     std::size_t element_count_ = 0;
     std::size_t requested_chunks_ = 0;
     std::vector<std::size_t> chunk_first_;        ///< chunk c: elements [chunk_first_[c], chunk_first_[c + 1])
@@ -171,7 +182,7 @@ void for_each_range(std::size_t count, std::size_t per_task, const Pass& pass) {
 /// a multiple of `alignment`) on TBB's threads, the terms `deferred` marks applied in element
 /// order after: the bits of one thread.
 template <bool Add, std::size_t N, class Pass>
-void scatter_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, std::span<Vec3> out,
+void scatter_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, ScatterTarget out,
                       std::size_t alignment, const Pass& pass) {
     if (!OrderedScatter::worth_threads(elements.size())) {
         pass(std::size_t{0}, elements.size(), NoDeferredTerms{});
@@ -188,7 +199,7 @@ void scatter_in_order(OrderedScatter& scatter, std::span<const std::array<PointI
 /// elements' energy summed in element order, or 0 with element e's into energies[e] (not null;
 /// `energies` is resized for it): returns every element's energy summed in element order.
 template <bool Add, std::size_t N, class Pass>
-double force_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, std::span<Vec3> f,
+double force_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements, ScatterTarget f,
                       std::size_t alignment, std::vector<double>& energies, const Pass& pass) {
     if (!OrderedScatter::worth_threads(elements.size()))
         return pass(std::size_t{0}, elements.size(), NoDeferredTerms{}, nullptr);

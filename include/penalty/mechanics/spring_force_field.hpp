@@ -100,12 +100,18 @@ private:
     /// made by add_spring: the vector product's addresses without a multiplication, and 16
     /// bytes a spring to stream instead of the Spring's 40.
     std::vector<std::array<std::ptrdiff_t, 2>> end_offsets_;
-    /// From OrderedScatter::kMinElements springs inside one state, with more than one thread:
-    /// add_force and add_dforce on TBB's threads with the bits of one thread (chunks of springs,
-    /// an end's terms from its first chunk applied at once, the others stored and added in
-    /// spring order after; the energies summed in spring order). init makes ends_.
-    [[nodiscard]] bool runs_on_threads() const;
-    std::vector<std::array<PointId, 2>> ends_;  ///< (a, b) per spring, for scatter_
+    /// From OrderedScatter::kMinElements springs, inside one state or between two, with more than
+    /// one thread: add_force and add_dforce on TBB's threads with the bits of one thread (chunks
+    /// of springs, an end's terms from its first chunk applied at once, the others stored and
+    /// added in spring order after; the energies summed in spring order). init makes ends_;
+    /// `first_state_points`: the first state's size now (two states: as init numbered them).
+    [[nodiscard]] bool runs_on_threads(std::size_t first_state_points) const;
+    /// Where the deferred terms go: out1 (one state), or out1 then out2 (two).
+    [[nodiscard]] detail::ScatterTarget scatter_target(Vec3Span out1, Vec3Span out2) const;
+    /// (a, b) per spring, for scatter_; between two states b is numbered after the first
+    /// state's second_state_first_ points.
+    std::vector<std::array<PointId, 2>> ends_;
+    std::size_t second_state_first_ = 0;
     mutable detail::OrderedScatter scatter_;
     std::vector<double> spring_energies_;
     double energy_ = 0.0;
