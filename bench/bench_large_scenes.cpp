@@ -23,6 +23,8 @@
 // springs). BM_Cloth/FIELD: a cloth of
 // 200 × 200 quads (80 000 triangles, 121 203 DOFs) pinned at two corners, falling, with
 // TriangularFEMForceFieldOptim or TriangularFEMForceField; 5 steps, then 20 timed.
+// BM_ClothWithBending/TriangularFEMForceFieldOptim: the same cloth with FastTriangularBendingSprings
+// too (119 600 bending elements, one per interior edge).
 //
 // Counters (per step, over the timed steps): dofs, tetrahedra, organ_triangles; contacts,
 // active (springs with pen > 0); cg_its; kinetic_j; detect_ms, response_ms, solve_ms (Scene::last_timings);
@@ -129,9 +131,10 @@ void BM_SoftBodyOnOrgan(benchmark::State& state, Size size, organ::Elasticity el
 }
 
 /// A square cloth of n × n quads (2n² triangles, 1 m², 1 kg) pinned at two corners, falling
-/// under gravity with the triangle force field `field` (E = 3 kPa, ν = 0.3): the triangle FEMs'
-/// large scene (no contact).
-std::string cloth_xml(int n, const std::string& field) {
+/// under gravity with the triangle force field `field` (E = 3 kPa, ν = 0.3), and, if `bending`,
+/// FastTriangularBendingSprings (bendingStiffness 1e-4): the triangle FEMs' large scene (no
+/// contact).
+std::string cloth_xml(int n, const std::string& field, bool bending) {
     std::string points, triangles;
     for (int j = 0; j <= n; ++j)
         for (int i = 0; i <= n; ++i)
@@ -149,16 +152,17 @@ std::string cloth_xml(int n, const std::string& field) {
            "    <MeshTopology position=\"" +
            points + "\" triangles=\"" + triangles +
            "\"/>\n    <MechanicalObject name=\"cloth\"/>\n    <UniformMass totalMass=\"1\"/>\n    <" + field +
-           " youngModulus=\"3000\" poissonRatio=\"0.3\"/>\n    <FixedConstraint indices=\"0 " + std::to_string(n) +
-           "\"/>\n  </Node>\n</Node>\n";
+           " youngModulus=\"3000\" poissonRatio=\"0.3\"/>\n" +
+           (bending ? "    <FastTriangularBendingSprings bendingStiffness=\"1e-4\"/>\n" : "") +
+           "    <FixedConstraint indices=\"0 " + std::to_string(n) + "\"/>\n  </Node>\n</Node>\n";
 }
 
-void BM_Cloth(benchmark::State& state, std::string field) {
+void BM_Cloth(benchmark::State& state, std::string field, bool bending) {
     constexpr int kQuads = 200;  // 80 000 triangles, 121 203 DOFs
     std::unique_ptr<Scene> scene;
     try {
-        const std::string name = "cloth_" + field;
-        const std::string xml = cloth_xml(kQuads, field);
+        const std::string name = "cloth_" + field + (bending ? "_bending" : "");
+        const std::string xml = cloth_xml(kQuads, field, bending);
         bench::write_scene_if_asked(name, xml);
         scene = build_scene(io::parse_scene_string(xml, name), bench::build_options());
         for (int i = 0; i < 5; ++i) scene->step();
@@ -187,8 +191,12 @@ void BM_Cloth(benchmark::State& state, std::string field) {
                                            kSizes[2], c.elasticity, "soft_body_" + std::string(c.name)),
               kSizes[2].timed_steps);
     for (const char* field : {"TriangularFEMForceFieldOptim", "TriangularFEMForceField"})
-        timed(benchmark::RegisterBenchmark(("BM_Cloth/" + std::string(field)).c_str(), BM_Cloth, std::string(field)),
+        timed(benchmark::RegisterBenchmark(("BM_Cloth/" + std::string(field)).c_str(), BM_Cloth, std::string(field),
+                                           false),
               20);
+    timed(benchmark::RegisterBenchmark("BM_ClothWithBending/TriangularFEMForceFieldOptim", BM_Cloth,
+                                       std::string("TriangularFEMForceFieldOptim"), true),
+          20);
     return true;
 }();
 

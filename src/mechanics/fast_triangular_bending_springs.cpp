@@ -3,6 +3,7 @@
 #include "sofa_vector_ops.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <optional>
 
 namespace penalty {
@@ -77,33 +78,72 @@ void FastTriangularBendingSprings::init() {
             // else: SOFA leaves the element as it was (the other triangle's pass may have made it)
         }
     elements_.clear();
+    points_.clear();
     for (const auto& e : per_edge)
-        if (e) elements_.push_back(*e);
+        if (e) {
+            elements_.push_back(*e);
+            points_.push_back({PointId(e->vid[0]), PointId(e->vid[1]), PointId(e->vid[2]), PointId(e->vid[3])});
+        }
+    scatter_.clear();
 }
 
-// EdgeSpring::addForce: R = Σ α_k x_k, f_k −= (R λ) α_k, E += ½ λ R·R.
+// EdgeSpring::addForce: R = Σ α_k x_k, f_k −= (R λ) α_k, E += ½ λ R·R; from
+// OrderedScatter::kMinElements elements on TBB's threads with the bits of one thread.
 void FastTriangularBendingSprings::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
-    energy_ = 0;
-    for (const Element& e : elements_) {
-        const auto at = [&](int k) { return static_cast<std::size_t>(e.vid[static_cast<std::size_t>(k)]); };
-        const Vec3 r = scaled(x[at(0)], e.alpha[0]) + scaled(x[at(1)], e.alpha[1]) + scaled(x[at(2)], e.alpha[2]) +
-                       scaled(x[at(3)], e.alpha[3]);
-        const Vec3 rl = scaled(r, e.lambda);
-        for (int k = 0; k < 4; ++k) f[at(k)] -= scaled(rl, e.alpha[static_cast<std::size_t>(k)]);
-        energy_ += dot3(r, r) * e.lambda * 0.5;
-    }
+    const auto pass = [&](std::size_t first, std::size_t end, const auto& deferred, double* energies) {
+        double energy = 0.0;
+        for (std::size_t i = first; i < end; ++i) {
+            const Element& e = elements_[i];
+            const auto at = [&](std::size_t k) { return static_cast<std::size_t>(e.vid[k]); };
+            const Vec3 r = scaled(x[at(0)], e.alpha[0]) + scaled(x[at(1)], e.alpha[1]) + scaled(x[at(2)], e.alpha[2]) +
+                           scaled(x[at(3)], e.alpha[3]);
+            const Vec3 rl = scaled(r, e.lambda);
+            const std::array<Vec3, 4> terms = {scaled(rl, e.alpha[0]), scaled(rl, e.alpha[1]), scaled(rl, e.alpha[2]),
+                                               scaled(rl, e.alpha[3])};
+            detail::store_or_apply(deferred, i, terms, [&](std::size_t k, const Vec3& t) { f[at(k)] -= t; });
+            const double element_energy = dot3(r, r) * e.lambda * 0.5;
+            if (energies != nullptr) energies[i] = element_energy;
+            else energy += element_energy;
+        }
+        return energy;
+    };
+    energy_ = detail::force_in_order</*Add=*/false>(scatter_, std::span<const std::array<PointId, 4>>(points_), f, 1,
+                                                    energies_, pass);
 }
 
 // EdgeSpring::addDForce (LOCAL_OPTIM): d_k = ((dx_k λ) k) α_k, df_j −= d_k α_j for j, then k.
+// Vertex j takes four subtractions an element: on threads, a deferred vertex's four terms are
+// stored together (at OrderedScatter::deferred_slot) and subtracted in element order after.
 void FastTriangularBendingSprings::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                               double /*b_factor*/) const {
-    for (const Element& e : elements_) {
-        std::array<Vec3, 4> d;
-        for (std::size_t k = 0; k < 4; ++k)
-            d[k] = scaled(scaled(scaled(dx[static_cast<std::size_t>(e.vid[k])], e.lambda), k_factor), e.alpha[k]);
-        for (std::size_t j = 0; j < 4; ++j)
-            for (std::size_t k = 0; k < 4; ++k) df[static_cast<std::size_t>(e.vid[j])] -= scaled(d[k], e.alpha[j]);
+    const auto pass = [&](std::size_t first, std::size_t end, const std::uint8_t* deferred_mask) {
+        for (std::size_t i = first; i < end; ++i) {
+            const Element& e = elements_[i];
+            std::array<Vec3, 4> d;
+            for (std::size_t k = 0; k < 4; ++k)
+                d[k] = scaled(scaled(scaled(dx[static_cast<std::size_t>(e.vid[k])], e.lambda), k_factor), e.alpha[k]);
+            const unsigned mask = deferred_mask != nullptr ? deferred_mask[i] : 0U;
+            for (std::size_t j = 0; j < 4; ++j) {
+                if ((mask >> j) & 1U) {
+                    VertexTerms& stored = deferred_terms_[scatter_.deferred_slot(i, j)];
+                    for (std::size_t k = 0; k < 4; ++k) stored[k] = scaled(d[k], e.alpha[j]);
+                    continue;
+                }
+                Vec3& out = df[static_cast<std::size_t>(e.vid[j])];
+                for (std::size_t k = 0; k < 4; ++k) out -= scaled(d[k], e.alpha[j]);
+            }
+        }
+    };
+    if (!detail::OrderedScatter::worth_threads(elements_.size())) {
+        pass(0, elements_.size(), nullptr);
+        return;
     }
+    scatter_.prepare(std::span<const std::array<PointId, 4>>(points_), 1);
+    deferred_terms_.resize(scatter_.deferred_terms());
+    scatter_.for_each_chunk([&](std::size_t first, std::size_t end) { pass(first, end, scatter_.deferred_mask()); });
+    scatter_.for_each_deferred_slot([&](std::size_t vertex, std::size_t slot) {
+        for (const Vec3& t : deferred_terms_[slot]) df[vertex] -= t;
+    });
 }
 
 void FastTriangularBendingSprings::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

@@ -1,10 +1,12 @@
 // FastTriangularBendingSprings (flat rest, linear force): one element per interior edge, the element
-// weights of two right triangles in closed form, exact derivatives everywhere.
+// weights of two right triangles in closed form, exact derivatives everywhere, the force and
+// product on threads (the bits of one thread).
 #include "penalty/mechanics/fast_triangular_bending_springs.hpp"
 #include "penalty/mechanics/quad_bending_fem.hpp"
 #include "penalty/mechanics/triangular_fem_optim.hpp"
 
 #include "penalty_test/cloth.hpp"
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -65,6 +67,22 @@ TEST(FastTriangularBendingSprings, DerivativesAreExactAnywhere) {
     const auto d = test::check_force_field_derivatives(
         ff, c.state, {.dforce_vs_fd = 1e-7, .assembled_vs_dforce = 1e-13, .force_vs_energy = 1e-7});
     EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 0.1);
+}
+
+TEST(FastTriangularBendingSprings, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // a curved sheet of 8 192 triangles (about 12 000 interior edges, more than
+    // OrderedScatter::kMinElements), in the grid's order and shuffled: each vertex's four
+    // subtractions an element of the product stored together and replayed in element order
+    for (const bool shuffle : {false, true}) {
+        const test::TriangleSheet sheet(shuffle);
+        Vec3Object state;
+        state.position = sheet.points;
+        state.init();
+        FastTriangularBendingSprings springs(state, sheet.topology, 3.0, 1e-6);
+        springs.init();
+        ASSERT_GE(springs.elements().size(), detail::OrderedScatter::kMinElements);
+        test::expect_threads_give_one_threads_bits(springs, state, shuffle ? "shuffled" : "in order");
+    }
 }
 
 }  // namespace

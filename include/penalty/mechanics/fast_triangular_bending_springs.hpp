@@ -13,6 +13,7 @@
 /// element whose |AB|² or |CD|² at rest is at most minDistValidity² is not created.
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
@@ -38,10 +39,19 @@ public:
     [[nodiscard]] double potential_energy() const override { return energy_; }
     [[nodiscard]] const std::vector<Element>& elements() const { return elements_; }
 
+    /// The split of the elements on threads (from OrderedScatter::kMinElements elements and more
+    /// than one thread; chunk_count() 0 before a force or product ran on threads).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
+
 private:
+    using VertexTerms = std::array<Vec3, 4>;  ///< a vertex's four subtractions of one element's product
     const MeshTopology* topology_;
     double stiffness_, min_dist_;
     std::vector<Element> elements_;
+    std::vector<std::array<PointId, 4>> points_;  ///< each element's vid, for scatter_
+    mutable detail::OrderedScatter scatter_;
+    mutable std::vector<VertexTerms> deferred_terms_;  ///< the product's, at OrderedScatter::deferred_slot
+    std::vector<double> energies_;                     ///< add_force's per element on threads
     double energy_ = 0;
 };
 
