@@ -3,9 +3,11 @@
 // CG repeats (add_dforce) alone, for SphereModel's FEM grid and a spring set of
 // MeshSpringForceField's size, with the flops it does (docs/performance.md, "How far from the
 // machine's limits", against penalty_bench_machine's rates); and a large RestShapeSpringsForceField's
-// product (a soft robot held at rest on every point) on 1 and 2 threads.
+// product (a soft robot held at rest on every point) and a large BarycentricMapping's J and Jᵀ
+// on 1 and 2 threads.
 
 #include "penalty/mechanics/fem.hpp"
+#include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mass.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "penalty/mechanics/rest_shape_springs.hpp"
@@ -154,6 +156,36 @@ void BM_RestShapeSpringsDForce(benchmark::State& state) {
     state.counters["threads"] = double(state.range(1));
 }
 
+// A BarycentricMapping of the first argument's rows (four entries each, on a parent of half as
+// many points), J·dx then Jᵀ·f with every row forced (the full gather), in an arena of the second
+// argument's threads: ranges of rows and of inputs on TBB's threads.
+void BM_BarycentricMappingProducts(benchmark::State& state) {
+    const auto rows = static_cast<std::size_t>(state.range(0));
+    const std::size_t inputs = rows / 2;
+    Vec3Object in, out;
+    in.position.resize(inputs);
+    for (std::size_t i = 0; i < inputs; ++i) in.position[i] = Vec3(std::sin(double(i)), 0.1 * double(i % 9), 1.0);
+    in.init();
+    std::vector<BarycentricRow> weights(rows);
+    for (std::size_t i = 0; i < rows; ++i)
+        for (std::size_t k = 0; k < 4; ++k) weights[i].push(Index((i / 2 + 37 * k) % inputs), 0.25 + 0.01 * double(k));
+    BarycentricMapping map(in, out);
+    map.set_rows(std::move(weights));
+    map.init();
+    for (std::size_t i = 0; i < inputs; ++i) in.dx[i] = Vec3(1e-3 * double(i % 5), -1e-3, 2e-3);
+    for (std::size_t i = 0; i < rows; ++i) out.df[i] = Vec3(0.5, -1.0 + 1e-4 * double(i % 11), 0.25);
+    tbb::task_arena arena(static_cast<int>(state.range(1)));
+    for (auto _ : state) {
+        arena.execute([&] {
+            map.apply_dx();
+            map.apply_jt_df();
+        });
+        benchmark::DoNotOptimize(in.df.data());
+    }
+    state.counters["rows"] = double(rows);
+    state.counters["threads"] = double(state.range(1));
+}
+
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }
 void BM_SpringGridStep(benchmark::State& state) { run(state, Model::SpringGrid); }
 
@@ -167,3 +199,4 @@ BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);
 // 10^5 and 10^6 points on 1 and 2 threads, side by side in one run
 BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarycentricMappingProducts)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);

@@ -3,6 +3,8 @@
 #include "barycentric_tetrahedra.hpp"
 #include "sofa_vector_ops.hpp"
 
+#include "penalty/mechanics/ordered_scatter.hpp"
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -270,7 +272,10 @@ void BarycentricMapping::map_on_hexahedra(const MeshTopology& topo, std::span<co
 }
 
 void BarycentricMapping::apply(std::span<Vec3> out, std::span<const Vec3> in) {
-    for (std::size_t i = 0; i < rows_.size(); ++i) out[i] = rows_[i].combine(in);
+    // each output row its own: in ranges on TBB's threads from OrderedScatter::kMinElements rows
+    detail::for_each_range(rows_.size(), kRowsPerTask, [&](std::size_t first, std::size_t end) {
+        for (std::size_t i = first; i < end; ++i) out[i] = rows_[i].combine(in);
+    });
 }
 namespace {
 /// BarycentricRow::combine on flattened entries [first, last): s = 0, s += w_k·in[i_k] in k order.
@@ -294,8 +299,10 @@ void BarycentricMapping::apply_j(std::span<Vec3> out, std::span<const Vec3> in) 
     const double* weight = entry_weight_.data();
     const Vec3* input = in.data();
     Vec3* output = out.data();
-    const std::size_t rows = rows_.size();
-    for (std::size_t i = 0; i < rows; ++i) output[i] = combine_flat(index, weight, begin[i], begin[i + 1], input);
+    detail::for_each_range(rows_.size(), kRowsPerTask, [=](std::size_t first, std::size_t end) {
+        for (std::size_t i = first; i < end; ++i)
+            output[i] = combine_flat(index, weight, begin[i], begin[i + 1], input);
+    });
 }
 
 void BarycentricMapping::apply_j_rows(std::span<Vec3> out, std::span<const Vec3> in,
@@ -328,12 +335,15 @@ void BarycentricMapping::apply_jt(std::span<Vec3> in, std::span<const Vec3> out)
     // still receives its terms in (row, entry) order), and gather inputs that start at −0 in full.
     const std::size_t rows = rows_.size();
     forced_rows_.clear();
-    for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t i = 0; i < rows && forced_rows_.size() * kSparseJtRatio <= rows; ++i) {
         const Vec3& f = out[i];
         if (f[0] != 0.0 || f[1] != 0.0 || f[2] != 0.0) forced_rows_.push_back(static_cast<std::uint32_t>(i));
     }
+    // (the list stops growing once it is too long for the scatter: the full gather follows)
     if (forced_rows_.size() * kSparseJtRatio > rows) {
-        gather_jt(in, out, 0, input_begin_.empty() ? 0 : input_begin_.size() - 1);
+        // each input point its own gather: in ranges on TBB's threads from OrderedScatter::kMinElements
+        detail::for_each_range(input_begin_.empty() ? 0 : input_begin_.size() - 1, kRowsPerTask,
+                               [&](std::size_t first, std::size_t end) { gather_jt(in, out, first, end); });
         return;
     }
     scatter_forced_rows(in, out, nullptr);

@@ -1,10 +1,12 @@
 #include "penalty/mechanics/mapping.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
 #include "penalty_test/finite_difference.hpp"
 #include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <array>
@@ -12,6 +14,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <span>
 
 namespace penalty {
 namespace {
@@ -211,6 +214,57 @@ TEST(Mapping, BarycentricProductsAreBitwiseTheRowOperations) {
     map.apply_jt_df();
     for (std::size_t j = 0; j < expected.size(); ++j)
         for (int c = 0; c < 3; ++c) EXPECT_EQ(in.df[j][c], expected[j][c]) << j;  // bitwise
+}
+
+TEST(Mapping, BarycentricProductsOfALargeMappingOnThreadsAreTheRowOperations) {
+    // 20 000 rows of four entries over 10 000 inputs (both above OrderedScatter::kMinElements):
+    // apply, apply_j and apply_jt's full gather run in ranges on TBB's threads; at 1, 2 and 8
+    // threads each gives the bits of BarycentricRow::combine and ::spread in row order.
+    constexpr std::size_t kInputs = 10'000, kRows = 20'000;
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<Index> input(0, Index(kInputs) - 1);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Vec3Object in, out;
+    in.position.resize(kInputs);
+    for (auto& p : in.position) p = Vec3(u(rng), u(rng), u(rng));
+    in.init();
+    std::vector<BarycentricRow> rows(kRows);
+    for (BarycentricRow& row : rows)
+        for (int k = 0; k < 4; ++k) row.push(input(rng), u(rng));
+    BarycentricMapping map(in, out);
+    map.set_rows(rows);
+    map.init();
+    for (auto& d : in.dx) d = Vec3(u(rng), u(rng), u(rng));
+    std::vector<Vec3> forces(kRows), start_df(kInputs);
+    for (auto& f : forces) f = Vec3(u(rng), u(rng), u(rng));  // every row forced: the full gather
+    for (auto& f : start_df) f = Vec3(u(rng), u(rng), u(rng));
+    std::vector<Vec3> positions(kRows), products(kRows), spread = start_df;
+    for (std::size_t i = 0; i < kRows; ++i) {
+        positions[i] = rows[i].combine(in.position);
+        products[i] = rows[i].combine(in.dx);
+        rows[i].spread(spread, forces[i]);
+    }
+    const auto all_same_bits = [](std::span<const Vec3> a, const std::vector<Vec3>& b) {
+        return a.size() == b.size() &&
+               std::equal(a.begin(), a.end(), b.begin(), [](const Vec3& x, const Vec3& y) { return same_bits(x, y); });
+    };
+    for (const int threads : {1, 2, 8}) {
+        std::fill(out.position.begin(), out.position.end(), Vec3::Zero());
+        std::fill(out.dx.begin(), out.dx.end(), Vec3::Zero());
+        std::copy(forces.begin(), forces.end(), out.df.begin());
+        std::copy(start_df.begin(), start_df.end(), in.df.begin());
+        bool on_threads = false;
+        tbb::task_arena(threads).execute([&] {
+            on_threads = detail::ranges_on_threads(kRows) && detail::ranges_on_threads(kInputs);
+            map.apply_position();
+            map.apply_dx();
+            map.apply_jt_df();
+        });
+        EXPECT_EQ(on_threads, threads > 1) << threads;
+        EXPECT_TRUE(all_same_bits(out.position, positions)) << threads;
+        EXPECT_TRUE(all_same_bits(out.dx, products)) << threads;
+        EXPECT_TRUE(all_same_bits(in.df, spread)) << threads;
+    }
 }
 
 /// Bitwise equality of two doubles, the sign of a zero included.

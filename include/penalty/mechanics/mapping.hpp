@@ -272,6 +272,10 @@ public:
     /// Checks the input indices against the input size, then sizes and computes the output.
     void init() override;
 
+    /// apply and apply_j (each output row its own) and apply_jt's full gather (each input point
+    /// its own) run in ranges of kRowsPerTask on TBB's threads from OrderedScatter::kMinElements
+    /// rows or inputs and more than one thread (detail::for_each_range): the bits of one thread.
+    static constexpr std::size_t kRowsPerTask = 2048;
     void apply(std::span<Vec3> out, std::span<const Vec3> in) override;
     void apply_j(std::span<Vec3> out, std::span<const Vec3> in) const override;
     /// in += Jᵀ·out; when few rows of out are non-zero, only those rows (the same bits, see
