@@ -3,9 +3,10 @@
 // CG repeats (add_dforce) alone, for SphereModel's FEM grid and a spring set of
 // MeshSpringForceField's size, with the flops it does (docs/performance.md, "How far from the
 // machine's limits", against penalty_bench_machine's rates); and a large RestShapeSpringsForceField's
-// product (a soft robot held at rest on every point) and a large BarycentricMapping's J and Jᵀ
-// on 1 and 2 threads.
+// product (a soft robot held at rest on every point), a large BarycentricMapping's J and Jᵀ,
+// springs between two states and a cable of beams on 1 and 2 threads.
 
+#include "penalty/mechanics/beam_fem_force_field.hpp"
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mass.hpp"
@@ -132,6 +133,69 @@ void BM_SpringDForce(benchmark::State& state) {
         benchmark::Counter(count * kSpringDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The springs of an n × n × (n + 1) grid's tetrahedra (first argument) between two copies of it,
+// 1 cm apart, their force and product in an arena of the second
+// argument's threads: OrderedScatter over both states' points (the same bits at any count).
+void BM_SpringsBetweenTwoStates(benchmark::State& state) {
+    const int n = static_cast<int>(state.range(0));
+    RegularGridTopology grid({n, n, n + 1}, Vec3(0, 0, 0), Vec3(1, 1, 1));
+    Vec3Object a, b;
+    a.position = grid.points();
+    b.position = grid.points();
+    for (Vec3& p : b.position) p += Vec3(0.01, 0.0, 0.0);
+    a.init();
+    b.init();
+    SpringForceField springs(a, b);
+    // the springs of the grid's tetrahedra in element order (MeshSpringForceField's): neighbours in
+    // the list are neighbours in space, so few ends are deferred
+    for (const Spring& s :
+         mesh_springs(test::kuhn_tetrahedra(grid), grid.points(), MeshSpringParameters::uniform(1e3, 0.0)))
+        springs.add_spring(s);
+    springs.init();
+    for (std::size_t i = 0; i < a.dx.size(); ++i) a.dx[i] = Vec3(1e-3 * double(i % 5), -1e-3, 2e-3);
+    tbb::task_arena arena(static_cast<int>(state.range(1)));
+    for (auto _ : state) {
+        arena.execute([&] {
+            springs.accumulate_force();
+            springs.accumulate_dforce(-0.25, 0.0);
+        });
+        benchmark::DoNotOptimize(a.df.data());
+    }
+    state.counters["springs"] = double(springs.springs().size());
+    state.counters["threads"] = double(state.range(1));
+}
+
+// A cable of BeamFEMForceField beams (first argument), bent and twisted a little, its force and
+// product in an arena of the second argument's threads (OrderedScatter over the frames).
+void BM_BeamCable(benchmark::State& state) {
+    const auto n = static_cast<std::size_t>(state.range(0));
+    Rigid3Object frames;
+    for (std::size_t i = 0; i <= n; ++i) {
+        const double t = double(i);
+        frames.position.push_back(RigidFrame{Vec3(0.01 * t, 0.001 * std::sin(t), 0.0),
+                                             Quat(Eigen::AngleAxisd(0.01 * std::sin(0.1 * t), Vec3::UnitY()))});
+    }
+    frames.init();
+    for (std::size_t i = 0; i <= n; ++i) frames.position[i].center.z() = 1e-4 * std::cos(double(i));
+    std::vector<std::array<Index, 2>> beams;
+    for (std::size_t i = 0; i < n; ++i) beams.push_back({Index(i), Index(i + 1)});
+    BeamParameters p;
+    p.radius = 0.002;
+    BeamFEMForceField cable(frames, std::move(beams), p);
+    cable.init();
+    for (RigidDeriv& d : frames.dx) d = {Vec3(1e-3, -1e-3, 2e-3), Vec3(1e-2, 0.0, -1e-2)};
+    tbb::task_arena arena(static_cast<int>(state.range(1)));
+    for (auto _ : state) {
+        arena.execute([&] {
+            cable.accumulate_force();
+            cable.accumulate_dforce(-0.25, 0.0);
+        });
+        benchmark::DoNotOptimize(frames.df.data());
+    }
+    state.counters["beams"] = double(n);
+    state.counters["threads"] = double(state.range(1));
+}
+
 // A RestShapeSpringsForceField on every point of a state of 10^5 points (the first argument),
 // its product in an arena of the second argument's threads: ranges of springs on TBB's threads,
 // each point's row its own (the same bits at any count).
@@ -199,4 +263,6 @@ BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);
 // 10^5 and 10^6 points on 1 and 2 threads, side by side in one run
 BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SpringsBetweenTwoStates)->ArgsProduct({{30}, {1, 2}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BeamCable)->ArgsProduct({{100'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarycentricMappingProducts)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);

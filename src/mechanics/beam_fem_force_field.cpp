@@ -4,6 +4,7 @@
 #include "sofa_vector_ops.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace penalty {
@@ -87,58 +88,106 @@ void BeamFEMForceField::init() {
         k_.push_back(beam_local_stiffness(in_element(p_.young_modulus, i), in_element(p_.poisson_ratio, i), length,
                                           p_.radius, p_.radius_inner));
     }
+    ends_.clear();
+    for (const auto& [a, b] : beams_) ends_.push_back({static_cast<PointId>(a), static_cast<PointId>(b)});
+    scatter_.clear();
     frame_.assign(beams_.size(), Quat::Identity());
     for (std::size_t i = 0; i < beams_.size(); ++i)
         frame_[i] = sofa_quat::normalized(state_->position[static_cast<std::size_t>(beams_[i][0])].orientation);
 }
 
-// BeamFEMForceField::accumulateForceLarge per beam, in edge order.
-void BeamFEMForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x,
-                                  std::span<const RigidDeriv> /*v*/) {
-    const std::vector<RigidFrame>& x0 = state_->rest_position;
-    energy_ = 0;
-    for (std::size_t i = 0; i < beams_.size(); ++i) {
-        const auto a = static_cast<std::size_t>(beams_[i][0]), b = static_cast<std::size_t>(beams_[i][1]);
-        frame_[i] = sofa_quat::normalized(x[a].orientation);
-        const Vec3 rest = sofa_quat::inverse_rotate(x0[a].orientation, Vec3(x0[b].center - x0[a].center));
-        const Vec3 now = sofa_quat::inverse_rotate(x[a].orientation, Vec3(x[b].center - x[a].center));
-        const Vec3 u = now - rest;
-        const Quat dq0 = sofa_quat::normalized(q_diff(x0[b].orientation, x0[a].orientation));
-        const Quat dq = sofa_quat::normalized(q_diff(x[b].orientation, x[a].orientation));
-        const Vec3 theta = sofa_quat::to_rotation_vector(sofa_quat::normalized(q_diff(dq, dq0)));
-        Eigen::Matrix<double, 12, 1> d;
-        d << 0, 0, 0, 0, 0, 0, u[0], u[1], u[2], theta[0], theta[1], theta[2];
-        const Eigen::Matrix<double, 12, 1> force = times(k_[i], d);
-        energy_ += 0.5 * d.dot(force);
-        const Quat& q = x[a].orientation;
-        const Vec3 fa1 = sofa_quat::rotate(q, force.segment<3>(0)), fa2 = sofa_quat::rotate(q, force.segment<3>(3));
-        const Vec3 fb1 = sofa_quat::rotate(q, force.segment<3>(6)), fb2 = sofa_quat::rotate(q, force.segment<3>(9));
-        f[a].linear += -fa1;
-        f[a].angular += -fa2;
-        f[b].linear += -fb1;
-        f[b].angular += -fb2;
+template <class Pass>
+void BeamFEMForceField::run_in_order(const Pass& pass) const {
+    if (!detail::OrderedScatter::worth_threads(beams_.size())) {
+        pass(std::size_t{0}, beams_.size(), nullptr);
+        return;
+    }
+    scatter_.prepare(std::span<const std::array<PointId, 2>>(ends_), 1);
+    deferred_terms_.resize(scatter_.deferred_terms());
+    scatter_.for_each_chunk([&](std::size_t first, std::size_t end) { pass(first, end, scatter_.deferred_mask()); });
+}
+
+void BeamFEMForceField::add_deferred(std::span<RigidDeriv> out) const {
+    if (!detail::OrderedScatter::worth_threads(beams_.size())) return;
+    scatter_.for_each_deferred_slot([&](std::size_t frame, std::size_t slot) {
+        out[frame].linear += deferred_terms_[slot][0];
+        out[frame].angular += deferred_terms_[slot][1];
+    });
+}
+
+void BeamFEMForceField::add_end_terms(std::span<RigidDeriv> out, std::size_t beam, unsigned deferred,
+                                      const std::array<EndTerms, 2>& terms) const {
+    for (std::size_t end = 0; end < 2; ++end) {
+        if ((deferred >> end) & 1U) {
+            deferred_terms_[scatter_.deferred_slot(beam, end)] = terms[end];
+            continue;
+        }
+        RigidDeriv& target = out[static_cast<std::size_t>(beams_[beam][end])];
+        target.linear += terms[end][0];
+        target.angular += terms[end][1];
     }
 }
 
-// BeamFEMForceField::applyStiffnessLarge: df += (−R k Rᵀ dx)·k_factor per beam.
+// BeamFEMForceField::accumulateForceLarge per beam, in edge order; from
+// OrderedScatter::kMinElements beams on TBB's threads with the bits of one thread (an end's
+// force and torque stored together where the scatter defers it, added in beam order after; the
+// energies summed in beam order).
+void BeamFEMForceField::add_force(std::span<RigidDeriv> f, std::span<const RigidFrame> x,
+                                  std::span<const RigidDeriv> /*v*/) {
+    const std::vector<RigidFrame>& x0 = state_->rest_position;
+    const bool on_threads = detail::OrderedScatter::worth_threads(beams_.size());
+    energies_.resize(on_threads ? beams_.size() : 0);
+    double energy = 0.0;
+    run_in_order([&](std::size_t first, std::size_t last, const std::uint8_t* deferred_mask) {
+        for (std::size_t i = first; i < last; ++i) {
+            const auto a = static_cast<std::size_t>(beams_[i][0]), b = static_cast<std::size_t>(beams_[i][1]);
+            frame_[i] = sofa_quat::normalized(x[a].orientation);
+            const Vec3 rest = sofa_quat::inverse_rotate(x0[a].orientation, Vec3(x0[b].center - x0[a].center));
+            const Vec3 now = sofa_quat::inverse_rotate(x[a].orientation, Vec3(x[b].center - x[a].center));
+            const Vec3 u = now - rest;
+            const Quat dq0 = sofa_quat::normalized(q_diff(x0[b].orientation, x0[a].orientation));
+            const Quat dq = sofa_quat::normalized(q_diff(x[b].orientation, x[a].orientation));
+            const Vec3 theta = sofa_quat::to_rotation_vector(sofa_quat::normalized(q_diff(dq, dq0)));
+            Eigen::Matrix<double, 12, 1> d;
+            d << 0, 0, 0, 0, 0, 0, u[0], u[1], u[2], theta[0], theta[1], theta[2];
+            const Eigen::Matrix<double, 12, 1> force = times(k_[i], d);
+            const double beam_energy = 0.5 * d.dot(force);
+            if (on_threads) energies_[i] = beam_energy;
+            else energy += beam_energy;
+            const Quat& q = x[a].orientation;
+            const Vec3 fa1 = sofa_quat::rotate(q, force.segment<3>(0)), fa2 = sofa_quat::rotate(q, force.segment<3>(3));
+            const Vec3 fb1 = sofa_quat::rotate(q, force.segment<3>(6)), fb2 = sofa_quat::rotate(q, force.segment<3>(9));
+            add_end_terms(f, i, deferred_mask != nullptr ? deferred_mask[i] : 0U, {{{-fa1, -fa2}, {-fb1, -fb2}}});
+        }
+    });
+    add_deferred(f);
+    if (on_threads)
+        for (const double e : energies_) energy += e;
+    energy_ = energy;
+}
+
+// BeamFEMForceField::applyStiffnessLarge: df += (−R k Rᵀ dx)·k_factor per beam (on threads as
+// add_force).
 void BeamFEMForceField::add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor,
                                    double /*b_factor*/) const {
-    for (std::size_t i = 0; i < beams_.size(); ++i) {
-        const auto a = static_cast<std::size_t>(beams_[i][0]), b = static_cast<std::size_t>(beams_[i][1]);
-        const Quat q = sofa_quat::normalized(frame_[i]);
-        Eigen::Matrix<double, 12, 1> d;
-        d.segment<3>(0) = sofa_quat::inverse_rotate(q, dx[a].linear);
-        d.segment<3>(3) = sofa_quat::inverse_rotate(q, dx[a].angular);
-        d.segment<3>(6) = sofa_quat::inverse_rotate(q, dx[b].linear);
-        d.segment<3>(9) = sofa_quat::inverse_rotate(q, dx[b].angular);
-        const Eigen::Matrix<double, 12, 1> local = times(k_[i], d);
-        const Vec3 fa1 = sofa_quat::rotate(q, local.segment<3>(0)), fa2 = sofa_quat::rotate(q, local.segment<3>(3));
-        const Vec3 fb1 = sofa_quat::rotate(q, local.segment<3>(6)), fb2 = sofa_quat::rotate(q, local.segment<3>(9));
-        df[a].linear += sofa_vec::scaled(-fa1, k_factor);
-        df[a].angular += sofa_vec::scaled(-fa2, k_factor);
-        df[b].linear += sofa_vec::scaled(-fb1, k_factor);
-        df[b].angular += sofa_vec::scaled(-fb2, k_factor);
-    }
+    run_in_order([&](std::size_t first, std::size_t last, const std::uint8_t* deferred_mask) {
+        for (std::size_t i = first; i < last; ++i) {
+            const auto a = static_cast<std::size_t>(beams_[i][0]), b = static_cast<std::size_t>(beams_[i][1]);
+            const Quat q = sofa_quat::normalized(frame_[i]);
+            Eigen::Matrix<double, 12, 1> d;
+            d.segment<3>(0) = sofa_quat::inverse_rotate(q, dx[a].linear);
+            d.segment<3>(3) = sofa_quat::inverse_rotate(q, dx[a].angular);
+            d.segment<3>(6) = sofa_quat::inverse_rotate(q, dx[b].linear);
+            d.segment<3>(9) = sofa_quat::inverse_rotate(q, dx[b].angular);
+            const Eigen::Matrix<double, 12, 1> local = times(k_[i], d);
+            const Vec3 fa1 = sofa_quat::rotate(q, local.segment<3>(0)), fa2 = sofa_quat::rotate(q, local.segment<3>(3));
+            const Vec3 fb1 = sofa_quat::rotate(q, local.segment<3>(6)), fb2 = sofa_quat::rotate(q, local.segment<3>(9));
+            add_end_terms(df, i, deferred_mask != nullptr ? deferred_mask[i] : 0U,
+                          {{{sofa_vec::scaled(-fa1, k_factor), sofa_vec::scaled(-fa2, k_factor)},
+                            {sofa_vec::scaled(-fb1, k_factor), sofa_vec::scaled(-fb2, k_factor)}}});
+        }
+    });
+    add_deferred(df);
 }
 
 // BeamFEMForceField::buildStiffnessMatrix: −(R k Rᵀ) blockwise; with useSymmetricAssembly the

@@ -1,16 +1,22 @@
 // BeamFEMForceField: SOFA's local stiffness in closed form, a cantilever's tip deflection PL³/3EI
 // and rotation PL²/2EI (Euler–Bernoulli beams are exact at the nodes under end loads), axial and
 // torsional compliance, a stress-free rigid motion, and the derivatives: K = ∂f/∂x by finite
-// differences at rest (any rigid placement), f = −∂E/∂x in the centres, assembled = add_dforce.
+// differences at rest (any rigid placement), f = −∂E/∂x in the centres, assembled = add_dforce;
+// the force and product on threads (the bits of one thread).
 #include "penalty/mechanics/beam_fem_force_field.hpp"
 
 #include "penalty_test/rigid_derivatives.hpp"
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
+#include <random>
+#include <string>
 
 namespace penalty {
 namespace {
@@ -163,6 +169,63 @@ TEST(BeamFEMForceField, ForceIsMinusTheEnergyGradientInTheCentres) {
     };
     const Eigen::VectorXd g = test::finite_gradient(Eigen::VectorXd::Zero(3), energy, 1e-7);
     EXPECT_TRUE(test::near_relative(Eigen::VectorXd(-g), Eigen::VectorXd(f.segment<3>(6)), 1e-6));
+}
+
+TEST(BeamFEMForceField, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // 10 000 beams (more than OrderedScatter::kMinElements) along a bent chain, listed in order and
+    // shuffled, the frames moved and turned a little: force, energy and product at 2, 3 and 8
+    // threads, each end's force and torque of a deferred end added in beam order after.
+    constexpr int kBeams = 10'000;
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    using BeamList = std::vector<std::array<Index, 2>>;
+    const BeamList in_order = chain(kBeams);
+    BeamList shuffled = in_order;
+    std::shuffle(shuffled.begin(), shuffled.end(), rng);
+    for (const BeamList* list : {&in_order, static_cast<const BeamList*>(&shuffled)}) {
+        Rigid3Object s = beam_frames(kBeams, 0.01, Vec3(1, 0.2, 0));
+        for (RigidFrame& frame : s.position) {
+            frame.center += 1e-4 * Vec3(u(rng), u(rng), u(rng));
+            frame.orientation = Quat(Eigen::AngleAxisd(0.02 * u(rng), Vec3(u(rng), u(rng), 1.0).normalized()));
+        }
+        std::vector<RigidDeriv> dx(s.position.size());
+        for (RigidDeriv& d : dx) d = {Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng))};
+        BeamFEMForceField beams(s, *list, steel_rod());
+        beams.init();
+        struct Products {
+            std::vector<RigidDeriv> force, product;
+            double energy = 0.0;
+            std::size_t chunks = 0, deferred = 0;
+        };
+        const auto run = [&](int threads) {
+            Products out;
+            out.force.assign(s.position.size(), RigidDeriv{});
+            out.product.assign(s.position.size(), RigidDeriv{Vec3(0.25, -0.5, 1.0), Vec3(-1.0, 0.5, 0.125)});
+            tbb::task_arena(threads).execute([&] {
+                beams.add_force(out.force, s.position, s.velocity);
+                beams.add_dforce(out.product, dx, -0.37, 0.0);
+            });
+            out.energy = beams.potential_energy();
+            out.chunks = beams.product_scatter().chunk_count();
+            out.deferred = beams.product_scatter().deferred_terms();
+            return out;
+        };
+        const auto same_bits = [](const std::vector<RigidDeriv>& a, const std::vector<RigidDeriv>& b) {
+            return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(RigidDeriv)) == 0;
+        };
+        const Products one = run(1);
+        EXPECT_EQ(one.chunks, 0U);
+        EXPECT_GT(one.energy, 0.0);
+        for (const int threads : {2, 3, 8}) {
+            const Products many = run(threads);
+            const std::string where = std::to_string(threads) + " threads" + (list == &in_order ? "" : ", shuffled");
+            EXPECT_GT(many.chunks, 1U) << where;
+            EXPECT_GT(many.deferred, 0U) << where;
+            EXPECT_TRUE(same_bits(many.force, one.force)) << where;
+            EXPECT_TRUE(same_bits(many.product, one.product)) << where;
+            EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
+        }
+    }
 }
 
 TEST(BeamFEMForceField, RefusesBadBeams) {

@@ -16,6 +16,7 @@
 /// (the corotational stiffness without the geometric terms, as SOFA). No damping matrix.
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 
 #include <array>
 #include <vector>
@@ -45,11 +46,30 @@ public:
     [[nodiscard]] std::size_t beam_count() const { return beams_.size(); }
     [[nodiscard]] const Stiffness& local_stiffness(std::size_t beam) const { return k_[beam]; }
 
+    /// The split of the beams on threads (from OrderedScatter::kMinElements beams and more than
+    /// one thread; chunk_count() 0 before a force or product ran on threads).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
+
 private:
+    using EndTerms = std::array<Vec3, 2>;  ///< what a beam adds to one end: force (N), torque (N·m)
+    /// pass(first, last, deferred mask) over the beams: one call, or the scatter's chunks on TBB's
+    /// threads (the mask marks the ends whose terms are stored).
+    template <class Pass>
+    void run_in_order(const Pass& pass) const;
+    /// Beam `beam`'s terms added to its ends' rows of `out`, or stored where `deferred` marks them.
+    void add_end_terms(std::span<RigidDeriv> out, std::size_t beam, unsigned deferred,
+                       const std::array<EndTerms, 2>& terms) const;
+    /// The stored terms added frame by frame in beam order (after run_in_order on threads).
+    void add_deferred(std::span<RigidDeriv> out) const;
+
     std::vector<std::array<Index, 2>> beams_;
     BeamParameters p_;
     std::vector<Stiffness> k_;
-    std::vector<Quat> frame_;  ///< SOFA's beamQuat: q_a normalised at the last add_force
+    std::vector<Quat> frame_;                   ///< SOFA's beamQuat: q_a normalised at the last add_force
+    std::vector<std::array<PointId, 2>> ends_;  ///< beams_ as the scatter's elements
+    mutable detail::OrderedScatter scatter_;
+    mutable std::vector<EndTerms> deferred_terms_;  ///< at OrderedScatter::deferred_slot
+    std::vector<double> energies_;                  ///< add_force's per beam on threads
     double energy_ = 0;
 };
 
