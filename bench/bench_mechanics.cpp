@@ -3,8 +3,8 @@
 // CG repeats (add_dforce) alone, for SphereModel's FEM grid and a spring set of
 // MeshSpringForceField's size, with the flops it does (docs/performance.md, "How far from the
 // machine's limits", against penalty_bench_machine's rates); and a large RestShapeSpringsForceField's
-// product (a soft robot held at rest on every point), a large BarycentricMapping's J and Jᵀ,
-// springs between two states and a cable of beams on 1 and 2 threads.
+// product (a soft robot held at rest on every point), a large BarycentricMapping's J and Jᵀ and
+// RigidMapping's apply and J, springs between two states and a cable of beams on 1 and 2 threads.
 
 #include "penalty/mechanics/beam_fem_force_field.hpp"
 #include "penalty/mechanics/fem.hpp"
@@ -250,6 +250,33 @@ void BM_BarycentricMappingProducts(benchmark::State& state) {
     state.counters["threads"] = double(state.range(1));
 }
 
+// A RigidMapping of the first argument's points on one frame (a rigid body's collision surface),
+// its positions (apply) then J·v in an arena of the second argument's threads: ranges of points.
+void BM_RigidMappingProducts(benchmark::State& state) {
+    const auto n = static_cast<std::size_t>(state.range(0));
+    Rigid3Object frame;
+    frame.position = {RigidFrame{Vec3(0.1, 0.2, 0.3), Quat(Eigen::AngleAxisd(0.4, Vec3(1, 2, 3).normalized()))}};
+    frame.init();
+    frame.velocity[0] = {Vec3(0.1, -0.2, 0.05), Vec3(0.3, 0.1, -0.2)};
+    Vec3Object points;
+    RigidMapping map(frame, points);
+    std::vector<Vec3> local(n);
+    for (std::size_t i = 0; i < n; ++i)
+        local[i] = Vec3(std::sin(double(i)), std::cos(double(i)), 0.001 * double(i % 97));
+    map.set_points(std::move(local));
+    map.init();
+    tbb::task_arena arena(static_cast<int>(state.range(1)));
+    for (auto _ : state) {
+        arena.execute([&] {
+            map.apply_position();
+            map.apply_velocity();
+        });
+        benchmark::DoNotOptimize(points.velocity.data());
+    }
+    state.counters["points"] = double(n);
+    state.counters["threads"] = double(state.range(1));
+}
+
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }
 void BM_SpringGridStep(benchmark::State& state) { run(state, Model::SpringGrid); }
 
@@ -266,3 +293,4 @@ BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}}
 BENCHMARK(BM_SpringsBetweenTwoStates)->ArgsProduct({{30}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BeamCable)->ArgsProduct({{100'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BarycentricMappingProducts)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_RigidMappingProducts)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);

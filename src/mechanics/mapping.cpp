@@ -105,12 +105,17 @@ void RigidMapping::init() {
 
 void RigidMapping::apply(std::span<Vec3> out, std::span<const RigidFrame> in) {
     PENALTY_DEMAND(out.size() == rows_.size());
-    for (std::size_t i = 0; i < rows_.size(); ++i)
-        out[i] = rows_[i].place(in[static_cast<std::size_t>(rows_[i].frame)]);
+    // each point (its output and its rotated point) its own: in ranges on TBB's threads from
+    // OrderedScatter::kMinElements points
+    detail::for_each_range(rows_.size(), kPointsPerTask, [&](std::size_t first, std::size_t end) {
+        for (std::size_t i = first; i < end; ++i) out[i] = rows_[i].place(in[static_cast<std::size_t>(rows_[i].frame)]);
+    });
 }
 void RigidMapping::apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const {
-    for (std::size_t i = 0; i < rows_.size(); ++i)
-        out[i] = rows_[i].velocity(in[static_cast<std::size_t>(rows_[i].frame)]);
+    detail::for_each_range(rows_.size(), kPointsPerTask, [&](std::size_t first, std::size_t end) {
+        for (std::size_t i = first; i < end; ++i)
+            out[i] = rows_[i].velocity(in[static_cast<std::size_t>(rows_[i].frame)]);
+    });
 }
 void RigidMapping::apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> out) const {
     for (std::size_t i = 0; i < rows_.size(); ++i)

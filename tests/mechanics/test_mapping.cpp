@@ -142,6 +142,61 @@ TEST(Mapping, RigidMappingAdjointAndFiniteDifferences) {
     for (std::size_t i = 0; i < local.size(); ++i) EXPECT_TRUE(map2.points()[i].local.isApprox(local[i], 1e-12));
 }
 
+TEST(Mapping, RigidMappingOfManyPointsOnThreadsIsTheRowOperations) {
+    // 20 000 points on three frames (above OrderedScatter::kMinElements): apply and apply_j in
+    // ranges on TBB's threads; at 1, 2 and 8 threads each gives the bits of RigidPointRow::place
+    // and ::velocity, and apply_jt the frames' sums in point order.
+    constexpr std::size_t kPoints = 20'000;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const auto random = [&] { return Vec3(u(rng), u(rng), u(rng)); };
+    Rigid3Object in;
+    Vec3Object out;
+    for (int f = 0; f < 3; ++f)
+        in.position.push_back({random(), Quat(Eigen::AngleAxisd(u(rng), random().normalized()))});
+    in.init();
+    for (RigidDeriv& v : in.velocity) v = {random(), random()};
+    std::vector<Vec3> local(kPoints);
+    std::vector<Index> frames(kPoints);
+    for (std::size_t i = 0; i < kPoints; ++i) {
+        local[i] = random();
+        frames[i] = Index(i * 7 % 3);
+    }
+    RigidMapping map(in, out);
+    map.set_points(local, frames);
+    map.init();
+    std::vector<RigidPointRow> rows = map.points();
+    std::vector<Vec3> positions(kPoints), velocities(kPoints), forces(kPoints);
+    std::vector<RigidDeriv> spread(3);
+    for (std::size_t i = 0; i < kPoints; ++i) {
+        positions[i] = rows[i].place(in.position[std::size_t(frames[i])]);
+        velocities[i] = rows[i].velocity(in.velocity[std::size_t(frames[i])]);
+        forces[i] = random();
+        rows[i].spread(spread[std::size_t(frames[i])], forces[i]);
+    }
+    const auto all_same_bits = [](std::span<const Vec3> a, const std::vector<Vec3>& b) {
+        return a.size() == b.size() &&
+               std::equal(a.begin(), a.end(), b.begin(), [](const Vec3& x, const Vec3& y) { return same_bits(x, y); });
+    };
+    for (const int threads : {1, 2, 8}) {
+        std::fill(out.position.begin(), out.position.end(), Vec3::Zero());
+        std::fill(out.velocity.begin(), out.velocity.end(), Vec3::Zero());
+        std::copy(forces.begin(), forces.end(), out.df.begin());
+        std::fill(in.df.begin(), in.df.end(), RigidDeriv{});
+        tbb::task_arena(threads).execute([&] {
+            map.apply_position();
+            map.apply_velocity();
+            map.apply_jt_df();
+        });
+        EXPECT_TRUE(all_same_bits(out.position, positions)) << threads;
+        EXPECT_TRUE(all_same_bits(out.velocity, velocities)) << threads;
+        for (std::size_t f = 0; f < 3; ++f) {
+            EXPECT_TRUE(same_bits(in.df[f].linear, spread[f].linear)) << threads << ' ' << f;
+            EXPECT_TRUE(same_bits(in.df[f].angular, spread[f].angular)) << threads << ' ' << f;
+        }
+    }
+}
+
 TEST(Mapping, BarycentricOnTetrahedra) {
     Vec3Object in, out;
     in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(1, 1, 1)};

@@ -225,6 +225,10 @@ public:
     /// Checks the frame indices against the input size, then sizes and computes the output.
     void init() override;
 
+    /// apply and apply_j (each point its own) run in ranges of kPointsPerTask on TBB's threads
+    /// from OrderedScatter::kMinElements points and more than one thread (the bits of one
+    /// thread); apply_jt, the points' sums into their frames in point order, runs on one.
+    static constexpr std::size_t kPointsPerTask = 2048;
     void apply(std::span<Vec3> out, std::span<const RigidFrame> in) override;
     void apply_j(std::span<Vec3> out, std::span<const RigidDeriv> in) const override;
     void apply_jt(std::span<RigidDeriv> in, std::span<const Vec3> out) const override;
