@@ -21,6 +21,12 @@ namespace {
 
 using test::same_bits;
 
+/// Every vector of `a` the bits of `b`'s, the signs of zeros included.
+bool all_same_bits(std::span<const Vec3> a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() &&
+           std::equal(a.begin(), a.end(), b.begin(), [](const Vec3& x, const Vec3& y) { return same_bits(x, y); });
+}
+
 std::mt19937 mapping_rng(7);
 double uni() { return std::uniform_real_distribution<double>(-1, 1)(mapping_rng); }
 Vec3 rand_vec() { return Vec3(uni(), uni(), uni()); }
@@ -174,10 +180,6 @@ TEST(Mapping, RigidMappingOfManyPointsOnThreadsIsTheRowOperations) {
         forces[i] = random();
         rows[i].spread(spread[std::size_t(frames[i])], forces[i]);
     }
-    const auto all_same_bits = [](std::span<const Vec3> a, const std::vector<Vec3>& b) {
-        return a.size() == b.size() &&
-               std::equal(a.begin(), a.end(), b.begin(), [](const Vec3& x, const Vec3& y) { return same_bits(x, y); });
-    };
     for (const int threads : {1, 2, 8}) {
         std::fill(out.position.begin(), out.position.end(), Vec3::Zero());
         std::fill(out.velocity.begin(), out.velocity.end(), Vec3::Zero());
@@ -299,10 +301,6 @@ TEST(Mapping, BarycentricProductsOfALargeMappingOnThreadsAreTheRowOperations) {
         products[i] = rows[i].combine(in.dx);
         rows[i].spread(spread, forces[i]);
     }
-    const auto all_same_bits = [](std::span<const Vec3> a, const std::vector<Vec3>& b) {
-        return a.size() == b.size() &&
-               std::equal(a.begin(), a.end(), b.begin(), [](const Vec3& x, const Vec3& y) { return same_bits(x, y); });
-    };
     for (const int threads : {1, 2, 8}) {
         std::fill(out.position.begin(), out.position.end(), Vec3::Zero());
         std::fill(out.dx.begin(), out.dx.end(), Vec3::Zero());
