@@ -97,22 +97,12 @@ void BeamFEMForceField::init() {
 }
 
 template <class Pass>
-void BeamFEMForceField::run_in_order(const Pass& pass) const {
-    if (!detail::OrderedScatter::worth_threads(beams_.size())) {
-        pass(std::size_t{0}, beams_.size(), nullptr);
-        return;
-    }
-    scatter_.prepare(std::span<const std::array<PointId, 2>>(ends_), 1);
-    deferred_terms_.resize(scatter_.deferred_terms());
-    scatter_.for_each_chunk([&](std::size_t first, std::size_t end) { pass(first, end, scatter_.deferred_mask()); });
-}
-
-void BeamFEMForceField::add_deferred(std::span<RigidDeriv> out) const {
-    if (!detail::OrderedScatter::worth_threads(beams_.size())) return;
-    scatter_.for_each_deferred_slot([&](std::size_t frame, std::size_t slot) {
-        out[frame].linear += deferred_terms_[slot][0];
-        out[frame].angular += deferred_terms_[slot][1];
-    });
+void BeamFEMForceField::scatter_ends_in_order(std::span<RigidDeriv> out, const Pass& pass) const {
+    detail::scatter_stored_in_order(scatter_, std::span<const std::array<PointId, 2>>(ends_), deferred_terms_, pass,
+                                    [&](std::size_t frame, const EndTerms& terms) {
+                                        out[frame].linear += terms[0];
+                                        out[frame].angular += terms[1];
+                                    });
 }
 
 void BeamFEMForceField::add_end_terms(std::span<RigidDeriv> out, std::size_t beam, unsigned deferred,
@@ -138,7 +128,7 @@ void BeamFEMForceField::add_force(std::span<RigidDeriv> f, std::span<const Rigid
     const bool on_threads = detail::OrderedScatter::worth_threads(beams_.size());
     energies_.resize(on_threads ? beams_.size() : 0);
     double energy = 0.0;
-    run_in_order([&](std::size_t first, std::size_t last, const std::uint8_t* deferred_mask) {
+    const auto pass = [&](std::size_t first, std::size_t last, const std::uint8_t* deferred_mask) {
         for (std::size_t i = first; i < last; ++i) {
             const auto a = static_cast<std::size_t>(beams_[i][0]), b = static_cast<std::size_t>(beams_[i][1]);
             frame_[i] = sofa_quat::normalized(x[a].orientation);
@@ -159,8 +149,8 @@ void BeamFEMForceField::add_force(std::span<RigidDeriv> f, std::span<const Rigid
             const Vec3 fb1 = sofa_quat::rotate(q, force.segment<3>(6)), fb2 = sofa_quat::rotate(q, force.segment<3>(9));
             add_end_terms(f, i, deferred_mask != nullptr ? deferred_mask[i] : 0U, {{{-fa1, -fa2}, {-fb1, -fb2}}});
         }
-    });
-    add_deferred(f);
+    };
+    scatter_ends_in_order(f, pass);
     if (on_threads)
         for (const double e : energies_) energy += e;
     energy_ = energy;
@@ -170,7 +160,7 @@ void BeamFEMForceField::add_force(std::span<RigidDeriv> f, std::span<const Rigid
 // add_force).
 void BeamFEMForceField::add_dforce(std::span<RigidDeriv> df, std::span<const RigidDeriv> dx, double k_factor,
                                    double /*b_factor*/) const {
-    run_in_order([&](std::size_t first, std::size_t last, const std::uint8_t* deferred_mask) {
+    const auto pass = [&](std::size_t first, std::size_t last, const std::uint8_t* deferred_mask) {
         for (std::size_t i = first; i < last; ++i) {
             const auto a = static_cast<std::size_t>(beams_[i][0]), b = static_cast<std::size_t>(beams_[i][1]);
             const Quat q = sofa_quat::normalized(frame_[i]);
@@ -186,8 +176,8 @@ void BeamFEMForceField::add_dforce(std::span<RigidDeriv> df, std::span<const Rig
                           {{{sofa_vec::scaled(-fa1, k_factor), sofa_vec::scaled(-fa2, k_factor)},
                             {sofa_vec::scaled(-fb1, k_factor), sofa_vec::scaled(-fb2, k_factor)}}});
         }
-    });
-    add_deferred(df);
+    };
+    scatter_ends_in_order(df, pass);
 }
 
 // BeamFEMForceField::buildStiffnessMatrix: −(R k Rᵀ) blockwise; with useSymmetricAssembly the

@@ -134,16 +134,10 @@ void FastTriangularBendingSprings::add_dforce(std::span<Vec3> df, std::span<cons
             }
         }
     };
-    if (!detail::OrderedScatter::worth_threads(elements_.size())) {
-        pass(0, elements_.size(), nullptr);
-        return;
-    }
-    scatter_.prepare(std::span<const std::array<PointId, 4>>(points_), 1);
-    deferred_terms_.resize(scatter_.deferred_terms());
-    scatter_.for_each_chunk([&](std::size_t first, std::size_t end) { pass(first, end, scatter_.deferred_mask()); });
-    scatter_.for_each_deferred_slot([&](std::size_t vertex, std::size_t slot) {
-        for (const Vec3& t : deferred_terms_[slot]) df[vertex] -= t;
-    });
+    detail::scatter_stored_in_order(scatter_, std::span<const std::array<PointId, 4>>(points_), deferred_terms_, pass,
+                                    [&](std::size_t vertex, const VertexTerms& terms) {
+                                        for (const Vec3& t : terms) df[vertex] -= t;
+                                    });
 }
 
 void FastTriangularBendingSprings::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

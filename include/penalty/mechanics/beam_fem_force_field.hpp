@@ -52,15 +52,14 @@ public:
 
 private:
     using EndTerms = std::array<Vec3, 2>;  ///< what a beam adds to one end: force (N), torque (N·m)
-    /// pass(first, last, deferred mask) over the beams: one call, or the scatter's chunks on TBB's
-    /// threads (the mask marks the ends whose terms are stored).
+    /// pass(first, last, deferred mask) over the beams into `out`: one call, or the scatter's
+    /// chunks on TBB's threads, the ends the mask marks stored and added in beam order after
+    /// (detail::scatter_stored_in_order).
     template <class Pass>
-    void run_in_order(const Pass& pass) const;
+    void scatter_ends_in_order(std::span<RigidDeriv> out, const Pass& pass) const;
     /// Beam `beam`'s terms added to its ends' rows of `out`, or stored where `deferred` marks them.
     void add_end_terms(std::span<RigidDeriv> out, std::size_t beam, unsigned deferred,
                        const std::array<EndTerms, 2>& terms) const;
-    /// The stored terms added frame by frame in beam order (after run_in_order on threads).
-    void add_deferred(std::span<RigidDeriv> out) const;
 
     std::vector<std::array<Index, 2>> beams_;
     BeamParameters p_;

@@ -195,6 +195,26 @@ void scatter_in_order(OrderedScatter& scatter, std::span<const std::array<PointI
     else scatter.subtract_deferred(out);
 }
 
+/// scatter_in_order for terms that are not one Vec3 a vertex slot (a vertex's several subtractions
+/// of one element, a frame's force and torque), which the caller stores: pass(first, end, mask)
+/// applies element e's slot k, or, where bit k of mask[e] is set (mask null: on one thread, none),
+/// stores it at stored[scatter.deferred_slot(e, k)]; apply(vertex, stored term) then adds each
+/// stored term to its vertex in element order (the vertices on TBB's threads): the bits of one
+/// thread.
+template <std::size_t N, class Terms, class Pass, class Apply>
+void scatter_stored_in_order(OrderedScatter& scatter, std::span<const std::array<PointId, N>> elements,
+                             std::vector<Terms>& stored, const Pass& pass, const Apply& apply) {
+    if (!OrderedScatter::worth_threads(elements.size())) {
+        pass(std::size_t{0}, elements.size(), static_cast<const std::uint8_t*>(nullptr));
+        return;
+    }
+    scatter.prepare(elements, 1);
+    stored.resize(scatter.deferred_terms());
+    const std::uint8_t* mask = scatter.deferred_mask();
+    scatter.for_each_chunk([&](std::size_t first, std::size_t end) { pass(first, end, mask); });
+    scatter.for_each_deferred_slot([&](std::size_t vertex, std::size_t slot) { apply(vertex, stored[slot]); });
+}
+
 /// scatter_in_order of a force pass, pass(first, end, deferred, energies), that returns its
 /// elements' energy summed in element order, or 0 with element e's into energies[e] (not null;
 /// `energies` is resized for it): returns every element's energy summed in element order.
