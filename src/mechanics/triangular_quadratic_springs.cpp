@@ -38,6 +38,7 @@ void TriangularQuadraticSpringsForceField::init() {
     for (std::size_t e = 0; e < edges.size(); ++e) create_edge(e);
     triangles_.assign(tris.size(), TriangleData{});
     for (std::size_t ti = 0; ti < tris.size(); ++ti) create_triangle(ti);
+    scatter_.clear();
 }
 
 // applyEdgeCreation: the rest length (Edge::length = √|x_1 − x_0|²), stiffness 0.
@@ -83,9 +84,9 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
     const auto& tris = topology_->triangles();
     const auto& edges_in_triangle = topology_->edges_in_triangle();
     const bool angular = parameters_.use_angular_springs;
-    energy_ = 0.0;
-    // edge springs (addForce, first loop)
-    for (std::size_t e = 0; e < edges.size(); ++e) {
+    // edge springs (addForce, first loop): f_v1 += F, f_v0 −= F; from OrderedScatter::kMinElements
+    // edges or triangles, each loop on TBB's threads with the bits of one thread
+    energy_ = scatter_.edge_loop(edges, f, [&](std::size_t e) {
         const auto v0 = static_cast<std::size_t>(edges[e][0]);
         const auto v1 = static_cast<std::size_t>(edges[e][1]);
         const Vec3 dp = x[v0] - x[v1];
@@ -94,11 +95,10 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
         length_[e] = length;
         delta_[e] = length - rest_length_[e] + parameters_.damping_ratio * dot3(dv, dp) / length;
         const double intensity = edge_stiffness_[e] * delta_[e] / length;
-        f[v1] += scaled(dp, intensity);
-        f[v0] -= scaled(dp, intensity);
-        energy_ += edge_stiffness_[e] * delta_[e] * delta_[e] / 2;
-    }
-    for (std::size_t ti = 0; ti < tris.size(); ++ti) {
+        return detail::EdgeTerms{scaled(dp, intensity), scaled(dp, intensity),
+                                 edge_stiffness_[e] * delta_[e] * delta_[e] / 2};
+    });
+    energy_ = scatter_.triangle_loop(tris, f, energy_, [&](std::size_t ti, auto& terms) {
         TriangleData& td = triangles_[ti];
         const Triangle& t = tris[ti];
         const auto& te = edges_in_triangle[ti];
@@ -114,9 +114,9 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
                 const Vec3 scaled_dp = scaled(dp, intensity);
                 const double length = length_[edge_of(j)];
                 const Vec3 force(scaled_dp[0] / length, scaled_dp[1] / length, scaled_dp[2] / length);
-                f[at(l)] += force;
-                f[at(k)] -= force;
-                energy_ += td.gamma[static_cast<std::size_t>(j)] * delta_[edge_of(k)] * delta_[edge_of(l)];
+                terms.add(static_cast<std::size_t>(l), force);   // f_l += F
+                terms.add(static_cast<std::size_t>(k), -force);  // f_k −= F
+                terms.add_energy(td.gamma[static_cast<std::size_t>(j)] * delta_[edge_of(k)] * delta_[edge_of(l)]);
             }
         }
         // addDForce's DfDx[k] (SOFA computes it at the first addDForce after addForce, from the
@@ -162,13 +162,13 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
                 m(u, u) += diagonal;
             }
         }
-    }
+    });
 }
 
 void TriangularQuadraticSpringsForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                                       double /*b_factor*/) const {
     PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
-    edge_blocks::add_dforce(topology_->triangles(), triangles_, df, dx, k_factor);
+    edge_blocks::add_dforce(scatter_, topology_->triangles(), triangles_, df, dx, k_factor);
 }
 
 void TriangularQuadraticSpringsForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

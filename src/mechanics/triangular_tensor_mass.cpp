@@ -44,6 +44,7 @@ void TriangularTensorMassForceField::init() {
                 throw_invalid_argument("TriangularTensorMassForceField: point ", v, " out of range for a state of ",
                                        rest_.size(), " points");
     tensors_.assign(edges.size(), Mat3::Zero());
+    scatter_.clear();
     // TriangularTensorMassForceField::applyTriangleCreation, triangles in order
     for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
         const Triangle& t = triangles[ti];
@@ -85,11 +86,12 @@ void TriangularTensorMassForceField::init() {
     }
 }
 
+// f_v1 += D δ, f_v0 −= Dᵀ δ with δ = u_v1 − u_v0 (u = x − x₀), E −= ½ (u_v1·f1 − u_v0·f0); from
+// OrderedScatter::kMinElements edges on TBB's threads with the bits of one thread.
 void TriangularTensorMassForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
     PENALTY_DEMAND(tensors_.size() == topology_->edges().size());
     const auto& edges = topology_->edges();
-    energy_ = 0.0;
-    for (std::size_t i = 0; i < edges.size(); ++i) {
+    energy_ = scatter_.edge_loop(edges, f, [&](std::size_t i) {
         const auto v0 = static_cast<std::size_t>(edges[i][0]);
         const auto v1 = static_cast<std::size_t>(edges[i][1]);
         const Vec3 u0 = x[v0] - rest_[v0];
@@ -97,10 +99,8 @@ void TriangularTensorMassForceField::add_force(std::span<Vec3> f, std::span<cons
         const Vec3 delta = u1 - u0;
         const Vec3 f1 = times(tensors_[i], delta);
         const Vec3 f0 = transpose_times(tensors_[i], delta);
-        f[v1] += f1;
-        f[v0] -= f0;
-        energy_ -= 0.5 * (u1.dot(f1) - u0.dot(f0));
-    }
+        return detail::EdgeTerms{f1, f0, -(0.5 * (u1.dot(f1) - u0.dot(f0)))};  // (E − e is E + (−e))
+    });
 }
 
 void TriangularTensorMassForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
@@ -108,15 +108,15 @@ void TriangularTensorMassForceField::add_dforce(std::span<Vec3> df, std::span<co
     PENALTY_DEMAND(tensors_.size() == topology_->edges().size());
     const auto& edges = topology_->edges();
     // TriangularTensorMassForceField::addDForce: (D δ)·k and (Dᵀ δ)·k
-    for (std::size_t i = 0; i < edges.size(); ++i) {
+    (void)scatter_.edge_loop(edges, df, [&](std::size_t i) {
         const auto v0 = static_cast<std::size_t>(edges[i][0]);
         const auto v1 = static_cast<std::size_t>(edges[i][1]);
         const Vec3 delta = dx[v1] - dx[v0];
         const Vec3 a = times(tensors_[i], delta);
         const Vec3 b = transpose_times(tensors_[i], delta);
-        df[v1] += Vec3(a[0] * k_factor, a[1] * k_factor, a[2] * k_factor);
-        df[v0] -= Vec3(b[0] * k_factor, b[1] * k_factor, b[2] * k_factor);
-    }
+        return detail::EdgeTerms{Vec3(a[0] * k_factor, a[1] * k_factor, a[2] * k_factor),
+                                 Vec3(b[0] * k_factor, b[1] * k_factor, b[2] * k_factor), 0.0};
+    });
 }
 
 void TriangularTensorMassForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

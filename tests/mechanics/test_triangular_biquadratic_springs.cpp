@@ -5,6 +5,7 @@
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 
 #include "penalty_test/cloth.hpp"
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -115,6 +116,23 @@ TEST(TriangularBiquadraticSprings, CompressedForceIsMinusTheEnergyGradient) {
     SparseMatrix k(n, n);
     k.setFromTriplets(t.begin(), t.end());
     EXPECT_TRUE(test::near_relative(Eigen::MatrixXd(k), k_dforce, 1e-12));
+}
+
+TEST(TriangularBiquadraticSprings, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // a curved sheet of 8 192 triangles and about 12 000 edges (OrderedScatter::kMinElements or
+    // more), in the grid's order and shuffled, perturbed so that some triangles are compressed
+    // (the area term): each vertex's terms of the edge loop, the triangle loop and the product
+    // in the loops' order, the energy summed edge by edge then term by term
+    for (const bool shuffle : {false, true}) {
+        const test::TriangleSheet sheet(shuffle);
+        Vec3Object state;
+        state.position = sheet.points;
+        state.init();
+        TriangularBiquadraticSpringsForceField springs(state, sheet.topology, {.young_modulus = 500.0});
+        springs.init();
+        ASSERT_GE(sheet.topology.triangles().size(), detail::OrderedScatter::kMinElements);
+        test::expect_threads_give_one_threads_bits(springs, state, shuffle ? "shuffled" : "in order");
+    }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
 
 #include "penalty_test/cloth.hpp"
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -122,6 +123,23 @@ TEST(TriangularQuadraticSprings, ForceDerivativesMatchFiniteDifferences) {
         const auto d = test::check_force_field_derivatives(ff, s, {1e-6, 1e-12, 1e-6});
         EXPECT_GT(d.force.norm(), 0.1) << (angular ? "angular" : "edges only");
     }
+}
+
+TEST(TriangularQuadraticSprings, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // a curved sheet of 8 192 triangles (OrderedScatter::kMinElements), in the grid's order and
+    // shuffled, with and without angular springs
+    for (const bool angular : {true, false})
+        for (const bool shuffle : {false, true}) {
+            const test::TriangleSheet sheet(shuffle);
+            Vec3Object state;
+            state.position = sheet.points;
+            state.init();
+            TriangularQuadraticSpringsForceField springs(state, sheet.topology,
+                                                         {.young_modulus = 500.0, .use_angular_springs = angular});
+            springs.init();
+            test::expect_threads_give_one_threads_bits(
+                springs, state, std::string(shuffle ? "shuffled" : "in order") + (angular ? ", angular" : ""));
+        }
 }
 
 }  // namespace

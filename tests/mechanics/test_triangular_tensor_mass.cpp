@@ -4,6 +4,7 @@
 #include "penalty/mechanics/triangular_tensor_mass.hpp"
 
 #include "penalty_test/cloth.hpp"
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -87,6 +88,21 @@ TEST(TriangularTensorMass, ForceDerivativesMatchFiniteDifferences) {
     const auto d = test::check_force_field_derivatives(ff, c.state, {1e-6, 1e-12, 1e-6});
     EXPECT_GT(d.force.norm(), 0.1);
     EXPECT_GT(d.k_dforce.norm(), 1.0);
+}
+
+TEST(TriangularTensorMass, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // the edges of a curved sheet of 8 192 triangles (about 12 000, OrderedScatter::kMinElements
+    // or more), in the grid's order and shuffled
+    for (const bool shuffle : {false, true}) {
+        const test::TriangleSheet sheet(shuffle);
+        Vec3Object state;
+        state.position = sheet.points;
+        state.init();
+        TriangularTensorMassForceField tensors(state, sheet.topology, {.young_modulus = 500.0, .poisson_ratio = 0.3});
+        tensors.init();
+        ASSERT_GE(sheet.topology.edges().size(), detail::OrderedScatter::kMinElements);
+        test::expect_threads_give_one_threads_bits(tensors, state, shuffle ? "shuffled" : "in order");
+    }
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 /// (t_{k+1}, t_{k+2}), from the positions and lengths of the last add_force: the exact Hessian
 /// without angular springs; with them SOFA's is off by one term (exact_angular_stiffness).
 
+#include "penalty/mechanics/edge_triangle_scatter.hpp"
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
 #include "penalty/mechanics/topology_change.hpp"
@@ -56,6 +57,9 @@ public:
     /// SOFA's TopologyData callbacks of edgeInfo and triangleInfo, event by event
     /// (src/mechanics/topology/biquadratic_springs_changes.cpp).
     void handle_topology_changes(const class TopologyContainer& container, std::span<const TopologyChange> changes);
+    /// How the product's loop over the triangles is split on threads (OrderedScatter::kMinElements
+    /// or more, more than one thread: chunks and deferred terms; else none).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_.triangle_scatter(); }
 
 private:
     struct TriangleData {
@@ -76,6 +80,7 @@ private:
     std::vector<double> delta_;           ///< δ_e
     std::vector<TriangleData> triangles_;
     double energy_ = 0.0;
+    mutable detail::EdgeTriangleScatter scatter_;  ///< the loops on threads
 };
 
 }  // namespace penalty

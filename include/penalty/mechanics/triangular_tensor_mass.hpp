@@ -13,6 +13,7 @@
 /// with δ = u_v1 − u_v0, f_v1 += D_e δ and f_v0 −= D_eᵀ δ (addForce); K is constant
 /// (addDForce). The velocities are not read (no damping).
 
+#include "penalty/mechanics/edge_triangle_scatter.hpp"
 #include "penalty/mechanics/force_field.hpp"
 #include "penalty/mechanics/topology.hpp"
 
@@ -42,6 +43,9 @@ public:
     [[nodiscard]] const std::vector<Mat3>& edge_tensors() const { return tensors_; }
     [[nodiscard]] double lambda() const { return lambda_; }
     [[nodiscard]] double mu() const { return mu_; }
+    /// How the product's loop over the edges is split on threads (OrderedScatter::kMinElements
+    /// or more, more than one thread: chunks and deferred terms; else none).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_.edge_scatter(); }
 
 private:
     const MeshTopology* topology_;
@@ -50,6 +54,7 @@ private:
     std::vector<Mat3> tensors_;  ///< D_e per edge of the topology
     std::vector<Vec3> rest_;     ///< x⁰ (SOFA's _initialPoints)
     double energy_ = 0.0;
+    mutable detail::EdgeTriangleScatter scatter_;  ///< the loops on threads
 };
 
 }  // namespace penalty

@@ -49,6 +49,7 @@ void TriangularBiquadraticSpringsForceField::handle_topology_changes(const Topol
     follow_edge_and_triangle_data(
         container, changes, {&rest_square_length_, &edge_stiffness_, &square_length_, &delta_}, edge_stiffness_,
         triangles_, [this](std::size_t e) { create_edge(e); }, [this](std::size_t t) { create_triangle(t); });
+    scatter_.clear();
 }
 
 void TriangularQuadraticSpringsForceField::handle_topology_changes(const TopologyContainer& container,
@@ -56,6 +57,7 @@ void TriangularQuadraticSpringsForceField::handle_topology_changes(const Topolog
     follow_edge_and_triangle_data(
         container, changes, {&rest_length_, &edge_stiffness_, &length_, &delta_}, edge_stiffness_, triangles_,
         [this](std::size_t e) { create_edge(e); }, [this](std::size_t t) { create_triangle(t); });
+    scatter_.clear();
 }
 
 }  // namespace penalty
