@@ -51,6 +51,7 @@ void QuadBendingFEMForceField::init() {
     const std::vector<Vec3>& x0 = state_->rest_position;
     material_.clear();
     rest_offsets_.clear();
+    scatter_.clear();
     const double t = p_.thickness;
     for (std::size_t i = 0; i < quads.size(); ++i) {
         const Quad& q = quads[i];
@@ -184,45 +185,65 @@ std::array<double, 20> QuadBendingFEMForceField::force_of(const Stiffness& k, co
     return f;
 }
 
-// accumulateForceSmall per quad (computeDisplacementSmall, computeForce).
+// accumulateForceSmall per quad (computeDisplacementSmall, computeForce); from
+// OrderedScatter::kMinElements quads on TBB's threads with the bits of one thread.
 void QuadBendingFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> /*v*/) {
     const auto& quads = topology_->quads();
-    energy_ = 0;
     stiffness_.resize(quads.size());
-    for (std::size_t i = 0; i < quads.size(); ++i) {
-        const Quad& q = quads[i];
-        const auto at = [&](int k) -> const Vec3& { return x[static_cast<std::size_t>(q[k])]; };
-        const Vec3 centroid = (at(0) + at(2)) / 2;
-        std::array<double, 20> d{};
-        for (std::size_t k = 0; k < 4; ++k) {
-            const Vec3 deform = at(k) - centroid;
-            for (std::size_t a = 0; a < 3; ++a) d[5 * k + a] = rest_offsets_[i][k][a] - deform[a];
+    const bool on_threads = detail::OrderedScatter::worth_threads(quads.size());
+    if (on_threads) energy_terms_.resize(quads.size());
+    energy_ = 0;
+    const auto pass = [&](std::size_t first, std::size_t end, const auto& deferred) {
+        for (std::size_t i = first; i < end; ++i) {
+            const Quad& q = quads[i];
+            const auto at = [&](int k) -> const Vec3& { return x[static_cast<std::size_t>(q[k])]; };
+            const Vec3 centroid = (at(0) + at(2)) / 2;
+            std::array<double, 20> d{};
+            for (std::size_t k = 0; k < 4; ++k) {
+                const Vec3 deform = at(k) - centroid;
+                for (std::size_t a = 0; a < 3; ++a) d[5 * k + a] = rest_offsets_[i][k][a] - deform[a];
+            }
+            stiffness_[i] = element_stiffness(i, x);
+            const std::array<double, 20> force = force_of(stiffness_[i], d);
+            std::array<Vec3, 4> terms;
+            for (std::size_t k = 0; k < 4; ++k) terms[k] = Vec3(force[5 * k], force[5 * k + 1], force[5 * k + 2]);
+            detail::store_or_apply(deferred, i, terms,
+                                   [&](std::size_t k, const Vec3& t) { f[static_cast<std::size_t>(q[k])] += t; });
+            // E += ½ d·F, term by term in the loop's order
+            for (std::size_t k = 0; k < 4; ++k)
+                for (std::size_t a = 0; a < 3; ++a) {
+                    const double e = 0.5 * d[5 * k + a] * force[5 * k + a];
+                    if (on_threads) energy_terms_[i][3 * k + a] = e;
+                    else energy_ += e;
+                }
         }
-        stiffness_[i] = element_stiffness(i, x);
-        const std::array<double, 20> force = force_of(stiffness_[i], d);
-        for (std::size_t k = 0; k < 4; ++k) {
-            f[static_cast<std::size_t>(q[k])] += Vec3(force[5 * k], force[5 * k + 1], force[5 * k + 2]);
-            for (std::size_t a = 0; a < 3; ++a) energy_ += 0.5 * d[5 * k + a] * force[5 * k + a];
-        }
-    }
+    };
+    detail::scatter_in_order</*Add=*/true>(scatter_, std::span<const Quad>(quads), f, 1, pass);
+    if (on_threads)
+        for (const auto& terms : energy_terms_)
+            for (const double e : terms) energy_ += e;
 }
 
 // applyStiffnessSmall with h = 1: df_k += (−F_k)·k_factor, F = K(x)·dx, x the state's positions.
 void QuadBendingFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                           double /*b_factor*/) const {
     const auto& quads = topology_->quads();
-    for (std::size_t i = 0; i < quads.size(); ++i) {
-        const Quad& q = quads[i];
-        std::array<double, 20> d{};
-        for (std::size_t k = 0; k < 4; ++k)
-            for (std::size_t a = 0; a < 3; ++a) d[5 * k + a] = dx[static_cast<std::size_t>(q[k])][a];
-        const std::array<double, 20> force = force_of(stiffness_at(i), d);
-        const double h = 1;
-        for (std::size_t k = 0; k < 4; ++k) {
-            const Vec3 minus(-h * force[5 * k], -h * force[5 * k + 1], -h * force[5 * k + 2]);
-            df[static_cast<std::size_t>(q[k])] += minus * k_factor;
+    const auto pass = [&](std::size_t first, std::size_t end, const auto& deferred) {
+        for (std::size_t i = first; i < end; ++i) {
+            const Quad& q = quads[i];
+            std::array<double, 20> d{};
+            for (std::size_t k = 0; k < 4; ++k)
+                for (std::size_t a = 0; a < 3; ++a) d[5 * k + a] = dx[static_cast<std::size_t>(q[k])][a];
+            const std::array<double, 20> force = force_of(stiffness_at(i), d);
+            const double h = 1;
+            std::array<Vec3, 4> terms;
+            for (std::size_t k = 0; k < 4; ++k)
+                terms[k] = Vec3(-h * force[5 * k], -h * force[5 * k + 1], -h * force[5 * k + 2]) * k_factor;
+            detail::store_or_apply(deferred, i, terms,
+                                   [&](std::size_t k, const Vec3& t) { df[static_cast<std::size_t>(q[k])] += t; });
         }
-    }
+    };
+    detail::scatter_in_order</*Add=*/true>(scatter_, std::span<const Quad>(quads), df, 1, pass);
 }
 
 void QuadBendingFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

@@ -5,6 +5,7 @@
 #include "penalty/mechanics/triangular_fem_optim.hpp"
 
 #include "penalty_test/cloth.hpp"
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -88,6 +89,33 @@ TEST(QuadBendingFEMForceField, DerivativesOfTheFlatPlate) {
     Eigen::VectorXd fz(9);
     for (Eigen::Index i = 0; i < 9; ++i) fz[i] = plate.state.force[static_cast<std::size_t>(i)].z();
     EXPECT_TRUE(test::near_relative(Eigen::VectorXd(-g), fz, 1e-3));
+}
+
+TEST(QuadBendingFEMForceField, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
+    // a 91 × 91-quad plate (8 281 quads, OrderedScatter::kMinElements or more), slightly curved,
+    // its quads in the grid's order and shuffled: each vertex's four-slot additions and the
+    // energy's twelve terms a quad in the loop's order
+    constexpr int n = 91;
+    for (const bool shuffle : {false, true}) {
+        Vec3Object state;
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) state.position.emplace_back(0.02 * i, 0.01 * j, 1e-4 * (i - j) * (i + j) / n);
+        state.init();
+        std::vector<Quad> quads;
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const int a = j * (n + 1) + i;
+                quads.push_back({a, a + 1, a + n + 2, a + n + 1});
+            }
+        if (shuffle) std::shuffle(quads.begin(), quads.end(), std::mt19937(13));
+        MeshTopology topology;
+        topology.set_quads(std::move(quads));
+        QuadBendingParameters p;
+        p.thickness = 0.01;
+        QuadBendingFEMForceField plate(state, topology, p);
+        plate.init();
+        test::expect_threads_give_one_threads_bits(plate, state, shuffle ? "shuffled" : "in order");
+    }
 }
 
 TEST(QuadBendingFEMForceField, RefusesDegenerateQuads) {

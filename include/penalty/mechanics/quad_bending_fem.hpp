@@ -18,6 +18,7 @@
 /// its own addDForce; penalty assembles the matrix of add_dforce (docs/differences-from-sofa.md).
 
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
@@ -44,6 +45,9 @@ public:
     [[nodiscard]] double potential_energy() const override { return energy_; }
     /// SOFA's computeElementStiffness of quad `q` at positions x.
     [[nodiscard]] Stiffness element_stiffness(std::size_t q, std::span<const Vec3> x) const;
+    /// How the loops over the quads are split on threads (OrderedScatter::kMinElements or more,
+    /// more than one thread: chunks and deferred terms; else none).
+    [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
 
 private:
     struct Material {
@@ -61,6 +65,9 @@ private:
     std::vector<Stiffness> stiffness_;
     [[nodiscard]] Stiffness stiffness_at(std::size_t q) const;
     double energy_ = 0;
+    mutable detail::OrderedScatter scatter_;  ///< the loops on threads
+    /// add_force on threads: each quad's twelve energy terms, summed in the loop's order after
+    std::vector<std::array<double, 12>> energy_terms_;
 };
 
 }  // namespace penalty
