@@ -22,7 +22,8 @@
 // TetrahedronHyperelasticityFEMForceField: St Venant-Kirchhoff; MeshSpringForceField: the edges'
 // springs). BM_Cloth/FIELD: a cloth of
 // 200 × 200 quads (80 000 triangles, 121 203 DOFs) pinned at two corners, falling, with
-// TriangularFEMForceFieldOptim or TriangularFEMForceField; 5 steps, then 20 timed.
+// TriangularFEMForceFieldOptim, TriangularFEMForceField, TriangularBiquadraticSpringsForceField,
+// TriangularQuadraticSpringsForceField or TriangularTensorMassForceField; 5 steps, then 20 timed.
 // BM_ClothWithBending/TriangularFEMForceFieldOptim: the same cloth with FastTriangularBendingSprings
 // too (119 600 bending elements, one per interior edge).
 //
@@ -190,7 +191,9 @@ void BM_Cloth(benchmark::State& state, std::string field, bool bending) {
         timed(benchmark::RegisterBenchmark(("BM_SoftBodyElasticity/" + std::string(c.name)).c_str(), BM_SoftBodyOnOrgan,
                                            kSizes[2], c.elasticity, "soft_body_" + std::string(c.name)),
               kSizes[2].timed_steps);
-    for (const char* field : {"TriangularFEMForceFieldOptim", "TriangularFEMForceField"})
+    for (const char* field :
+         {"TriangularFEMForceFieldOptim", "TriangularFEMForceField", "TriangularBiquadraticSpringsForceField",
+          "TriangularQuadraticSpringsForceField", "TriangularTensorMassForceField"})
         timed(benchmark::RegisterBenchmark(("BM_Cloth/" + std::string(field)).c_str(), BM_Cloth, std::string(field),
                                            false),
               20);
