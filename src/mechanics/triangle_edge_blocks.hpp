@@ -49,28 +49,37 @@ inline void check_triangle_points(const char* component, const std::vector<Trian
 }
 
 /// addDForce: δ = dx_i − dx_j, df_i += (DfDx[k] δ)·k_factor, df_j −= (DfDx[k]ᵀ δ)·k_factor, edge
-/// k's pair (i, j) = (t_{k+1}, t_{k+2}); `data[t].dfdx` holds the three blocks of triangle t. On
-/// `scatter`'s threads from OrderedScatter::kMinElements triangles, with the bits of one thread.
+/// k's pair (i, j) = (t_{k+1}, t_{k+2}); `data[t].dfdx` holds the three blocks of triangle t. From
+/// OrderedScatter::kMinElements triangles with more than one thread, in `scatter`'s chunks with
+/// the bits of the loop; else the loop itself (one thread: no sink between the terms and df).
 template <class PerTriangle>
 void add_dforce(detail::EdgeTriangleScatter& scatter, const std::vector<Triangle>& triangles,
                 const std::vector<PerTriangle>& data, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) {
+    if (!detail::OrderedScatter::worth_threads(triangles.size())) {
+        for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
+            const Triangle& t = triangles[ti];
+            for (int k = 0; k < 3; ++k) {
+                const auto i = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
+                const auto j = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 2) % 3)]);
+                const Vec3 delta = dx[i] - dx[j];
+                const Mat3& m = data[ti].dfdx[static_cast<std::size_t>(k)];
+                df[i] += scaled(times(m, delta), k_factor);
+                df[j] -= scaled(transpose_times(m, delta), k_factor);
+            }
+        }
+        return;
+    }
+    // the same terms, vertex slots (k + 1, k + 2) of each edge k
     (void)scatter.triangle_loop(triangles, df, 0.0, [&](std::size_t ti, auto& terms) {
         const Triangle& t = triangles[ti];
-        std::array<Vec3, 3> to_i, from_j;  // edge k's (DfDx δ)·k_factor and (DfDxᵀ δ)·k_factor
         for (std::size_t k = 0; k < 3; ++k) {
-            const Vec3 delta =
-                dx[static_cast<std::size_t>(t[(k + 1) % 3])] - dx[static_cast<std::size_t>(t[(k + 2) % 3])];
+            const std::size_t i = (k + 1) % 3;
+            const std::size_t j = (k + 2) % 3;
+            const Vec3 delta = dx[static_cast<std::size_t>(t[i])] - dx[static_cast<std::size_t>(t[j])];
             const Mat3& m = data[ti].dfdx[k];
-            to_i[k] = scaled(times(m, delta), k_factor);
-            from_j[k] = scaled(transpose_times(m, delta), k_factor);
+            terms.add(i, scaled(times(m, delta), k_factor));
+            terms.subtract(j, scaled(transpose_times(m, delta), k_factor));
         }
-        // vertex s is edge s − 1's i and edge s + 1's j: its two terms in edge order
-        terms.add(0, -from_j[1]);
-        terms.add(0, to_i[2]);
-        terms.add(1, to_i[0]);
-        terms.add(1, -from_j[2]);
-        terms.add(2, -from_j[0]);
-        terms.add(2, to_i[1]);
     });
 }
 

@@ -126,8 +126,8 @@ void TriangularBiquadraticSpringsForceField::add_force(std::span<Vec3> f, std::s
                 const double intensity = delta_of(k) * td.gamma[static_cast<std::size_t>(l)] +
                                          delta_of(l) * td.gamma[static_cast<std::size_t>(k)];
                 const Vec3 force = scaled(-td.dp[static_cast<std::size_t>(j)], intensity);
-                terms.add(static_cast<std::size_t>(l), force);   // f_l += F
-                terms.add(static_cast<std::size_t>(k), -force);  // f_k −= F
+                terms.add(static_cast<std::size_t>(l), force);
+                terms.subtract(static_cast<std::size_t>(k), force);
                 terms.add_energy(td.gamma[static_cast<std::size_t>(j)] * delta_of(k) * delta_of(l) / 2);
             }
             if (!parameters_.compressible) return;
@@ -147,7 +147,7 @@ void TriangularBiquadraticSpringsForceField::add_force(std::span<Vec3> f, std::s
             const double intensity = area_stiffness * jj * jj * jj;
             for (std::size_t j = 0; j < 3; ++j) {
                 td.area_vector[j] = divided(cross(td.normal, td.dp[j]), 2);
-                terms.add(j, -scaled(td.area_vector[j], intensity));  // f_j −= A_j·intensity
+                terms.subtract(j, scaled(td.area_vector[j], intensity));
             }
             terms.add_energy(area_stiffness * td.rest_area * jj * jj * jj * jj / 4);
         });

@@ -114,8 +114,8 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
                 const Vec3 scaled_dp = scaled(dp, intensity);
                 const double length = length_[edge_of(j)];
                 const Vec3 force(scaled_dp[0] / length, scaled_dp[1] / length, scaled_dp[2] / length);
-                terms.add(static_cast<std::size_t>(l), force);   // f_l += F
-                terms.add(static_cast<std::size_t>(k), -force);  // f_k −= F
+                terms.add(static_cast<std::size_t>(l), force);
+                terms.subtract(static_cast<std::size_t>(k), force);
                 terms.add_energy(td.gamma[static_cast<std::size_t>(j)] * delta_[edge_of(k)] * delta_[edge_of(l)]);
             }
         }

@@ -107,16 +107,29 @@ void TriangularTensorMassForceField::add_dforce(std::span<Vec3> df, std::span<co
                                                 double /*b_factor*/) const {
     PENALTY_DEMAND(tensors_.size() == topology_->edges().size());
     const auto& edges = topology_->edges();
-    // TriangularTensorMassForceField::addDForce: (D δ)·k and (Dᵀ δ)·k
-    (void)scatter_.edge_loop(edges, df, [&](std::size_t i) {
+    // TriangularTensorMassForceField::addDForce: (D δ)·k and (Dᵀ δ)·k; from
+    // OrderedScatter::kMinElements edges with more than one thread, in the scatter's chunks with
+    // the bits of the loop, else the loop itself (one thread: no terms between the loop and df)
+    const auto terms = [&](std::size_t i) {
+        const Vec3 delta = dx[static_cast<std::size_t>(edges[i][1])] - dx[static_cast<std::size_t>(edges[i][0])];
+        const Vec3 a = times(tensors_[i], delta);
+        const Vec3 b = transpose_times(tensors_[i], delta);
+        return detail::EdgeTerms{Vec3(a[0] * k_factor, a[1] * k_factor, a[2] * k_factor),
+                                 Vec3(b[0] * k_factor, b[1] * k_factor, b[2] * k_factor), 0.0};
+    };
+    if (detail::OrderedScatter::worth_threads(edges.size())) {
+        (void)scatter_.edge_loop(edges, df, terms);
+        return;
+    }
+    for (std::size_t i = 0; i < edges.size(); ++i) {
         const auto v0 = static_cast<std::size_t>(edges[i][0]);
         const auto v1 = static_cast<std::size_t>(edges[i][1]);
         const Vec3 delta = dx[v1] - dx[v0];
         const Vec3 a = times(tensors_[i], delta);
         const Vec3 b = transpose_times(tensors_[i], delta);
-        return detail::EdgeTerms{Vec3(a[0] * k_factor, a[1] * k_factor, a[2] * k_factor),
-                                 Vec3(b[0] * k_factor, b[1] * k_factor, b[2] * k_factor), 0.0};
-    });
+        df[v1] += Vec3(a[0] * k_factor, a[1] * k_factor, a[2] * k_factor);
+        df[v0] -= Vec3(b[0] * k_factor, b[1] * k_factor, b[2] * k_factor);
+    }
 }
 
 void TriangularTensorMassForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

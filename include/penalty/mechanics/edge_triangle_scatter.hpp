@@ -38,9 +38,9 @@ public:
     template <class TermsOf>
     double edge_loop(std::span<const Edge> edges, std::span<Vec3> out, const TermsOf& terms_of);
     /// For each triangle t in order: terms_of(t, sink) gives the triangle's terms to `sink`:
-    /// sink.add(k, term) adds `term` to out[t[k]] (a subtraction as the addition of the negated
-    /// term: x − y is x + (−y), the same bits), each vertex's terms in the loop's order, at most
-    /// three a vertex; sink.add_energy(e) adds an energy term, at most four a triangle. Returns
+    /// sink.add(k, term) and sink.subtract(k, term) add `term` to out[t[k]] or subtract it, each
+    /// vertex's terms in the loop's order, at most three a vertex; sink.add_energy(e) adds an
+    /// energy term, at most four a triangle. Returns
     /// `energy` plus the energy terms, one after another in triangle order.
     template <class TermsOf>
     double triangle_loop(std::span<const Triangle> triangles, std::span<Vec3> out, double energy,
@@ -103,17 +103,18 @@ template <class TermsOf>
 double EdgeTriangleScatter::triangle_loop(std::span<const Triangle> triangles, std::span<Vec3> out, double energy,
                                           const TermsOf& terms_of) {
     if (!OrderedScatter::worth_threads(triangles.size())) {
-        struct Direct {
-            std::span<Vec3> out;
-            const Triangle* t;
-            double* energy;
-            void add(std::size_t k, const Vec3& term) { out[static_cast<std::size_t>((*t)[k])] += term; }
-            void add_energy(double e) { *energy += e; }
+        struct Direct {  // (the triangle's vertices and the running energy held by value: in registers)
+            Vec3* out;
+            Triangle t;
+            double energy;
+            void add(std::size_t k, const Vec3& term) { out[t[k]] += term; }
+            void subtract(std::size_t k, const Vec3& term) { out[t[k]] -= term; }
+            void add_energy(double e) { energy += e; }
         };
-        Direct sink{out, nullptr, &energy};
         for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
-            sink.t = &triangles[ti];
+            Direct sink{out.data(), triangles[ti], energy};
             terms_of(ti, sink);
+            energy = sink.energy;
         }
         return energy;
     }
@@ -130,6 +131,14 @@ double EdgeTriangleScatter::triangle_loop(std::span<const Triangle> triangles, s
                 s.terms[s.count++] = term;
             } else {
                 out[static_cast<std::size_t>((*t)[k])] += term;
+            }
+        }
+        void subtract(std::size_t k, const Vec3& term) {
+            if ((mask >> k) & 1U) {
+                SlotTerms& s = *slots[k];
+                s.terms[s.count++] = -term;  // (x − y is x + (−y): the same bits)
+            } else {
+                out[static_cast<std::size_t>((*t)[k])] -= term;
             }
         }
         void add_energy(double e) { energies->terms[energies->count++] = e; }
