@@ -8,6 +8,8 @@
 #include "penalty/mechanics/triangular_biquadratic_springs.hpp"
 #include "penalty/mechanics/triangular_quadratic_springs.hpp"
 
+#include "penalty_test/element_products_on_threads.hpp"
+
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -84,6 +86,53 @@ TEST(BiquadraticSpringsChanges, ARemovedTriangleTakesItsSharesFromItsEdges) {
 TEST(BiquadraticSpringsChanges, TheQuadraticSpringsFollowTheSameRules) {
     a_removed_triangle_takes_its_shares<TriangularQuadraticSpringsForceField>(
         QuadraticSpringParameters{.young_modulus = 10.0, .poisson_ratio = 0.25});
+}
+
+/// Forwards a container's changes to a field (as the scene's wiring does).
+template <class Field>
+struct FieldFollower final : TopologyHandler {
+    Field& field;
+    const TopologyContainer& container;
+    FieldFollower(Field& f, const TopologyContainer& c) : field(f), container(c) {}
+    void handle_topology_changes(std::span<const TopologyChange> changes) override {
+        field.handle_topology_changes(container, changes);
+    }
+};
+
+template <class Field, class Parameters>
+void threads_after_a_change_give_one_threads_bits(const Parameters& parameters) {
+    // a sheet of 8 192 triangles on threads, then 64 of its triangles removed and added back:
+    // as many triangles and edges as before, in another order, so the chunks and deferred terms
+    // must be made again (a field's scatter is cleared by the change)
+    test::TriangleSheet sheet(false);
+    Vec3Object state;
+    state.position = sheet.points;
+    state.init();
+    TopologyContainer container(sheet.topology, ElementType::triangle, "sheet");
+    Field field(state, sheet.topology, parameters);
+    field.init();
+    FieldFollower<Field> follower(field, container);
+    container.add_handler(follower, {ElementType::edge, ElementType::triangle});
+    test::expect_threads_give_one_threads_bits(field, state, "before the change");
+    const std::size_t edges = sheet.topology.edges().size();
+    std::vector<ElementId> removed;
+    std::vector<Triangle> again;
+    for (ElementId t = 100; t < 8192; t += 127) {
+        removed.push_back(t);
+        again.push_back(sheet.topology.triangles()[std::size_t(t)]);
+    }
+    container.remove_triangles(removed, /*remove_isolated_edges=*/true, /*remove_isolated_points=*/false);
+    container.add_triangles(again);
+    ASSERT_EQ(sheet.topology.triangles().size(), 8192U);
+    ASSERT_EQ(sheet.topology.edges().size(), edges);
+    test::expect_threads_give_one_threads_bits(field, state, "after the change");
+}
+
+TEST(BiquadraticSpringsChanges, OnThreadsAfterAChangeTheBitsOfOneThread) {
+    threads_after_a_change_give_one_threads_bits<TriangularBiquadraticSpringsForceField>(
+        BiquadraticSpringParameters{.young_modulus = 500.0});
+    threads_after_a_change_give_one_threads_bits<TriangularQuadraticSpringsForceField>(
+        QuadraticSpringParameters{.young_modulus = 500.0});
 }
 
 }  // namespace
