@@ -8,6 +8,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -376,23 +377,39 @@ void BarycentricMapping::apply_jt_df_rows(std::span<const std::uint32_t> rows) {
 void BarycentricMapping::scatter_forced_rows(std::span<Vec3> in, std::span<const Vec3> out,
                                              const std::uint8_t* counted) const {
     // Inputs starting at −0 in some component: their full gather, computed before the scatter
-    // (from their value before it) and stored after it.
-    negative_zero_inputs_.clear();
-    negative_zero_sums_.clear();
-    for (const std::uint32_t j : used_inputs_) {
-        // −0 is the one double with the bits 0x8000000000000000 (v == 0 with the sign bit set):
-        // one branch per input instead of two per component, whose outcome (is it 0?) the
-        // predictor often missed
+    // (from their value before it) and stored after it. −0 is the one double with the bits
+    // 0x8000000000000000 (v == 0 with the sign bit set): one branch per input instead of two per
+    // component, whose outcome (is it 0?) the predictor often missed.
+    const auto starts_at_negative_zero = [&in](std::uint32_t j) {
         const Vec3& v = in[j];
         constexpr std::uint64_t kNegativeZero = std::uint64_t{1} << 63;
         const std::uint64_t x = std::bit_cast<std::uint64_t>(v[0]) ^ kNegativeZero;
         const std::uint64_t y = std::bit_cast<std::uint64_t>(v[1]) ^ kNegativeZero;
         const std::uint64_t z = std::bit_cast<std::uint64_t>(v[2]) ^ kNegativeZero;
-        const bool negative_zero = std::min(std::min(x, y), z) == 0;
-        if (!negative_zero) continue;
-        negative_zero_inputs_.push_back(j);
-        negative_zero_sums_.push_back(gathered_jt(in, out, j, counted));
+        return std::min(std::min(x, y), z) == 0;
+    };
+    // On TBB's threads from OrderedScatter::kMinElements inputs, a first pass only asks whether
+    // any input starts at −0 (seldom: the list below follows only then)
+    bool any_negative_zero = true;
+    if (detail::ranges_on_threads(used_inputs_.size())) {
+        std::atomic<bool> found{false};
+        detail::for_each_range(used_inputs_.size(), kRowsPerTask, [&](std::size_t first, std::size_t end) {
+            for (std::size_t i = first; i < end; ++i)
+                if (starts_at_negative_zero(used_inputs_[i])) {
+                    found.store(true, std::memory_order_relaxed);
+                    return;
+                }
+        });
+        any_negative_zero = found.load();
     }
+    negative_zero_inputs_.clear();
+    negative_zero_sums_.clear();
+    if (any_negative_zero)
+        for (const std::uint32_t j : used_inputs_) {
+            if (!starts_at_negative_zero(j)) continue;
+            negative_zero_inputs_.push_back(j);
+            negative_zero_sums_.push_back(gathered_jt(in, out, j, counted));
+        }
     // BarycentricRow::spread of the forced rows, in row order
     const std::uint32_t* begin = row_begin_.data();
     const std::uint32_t* index = entry_index_.data();

@@ -320,6 +320,41 @@ TEST(Mapping, BarycentricProductsOfALargeMappingOnThreadsAreTheRowOperations) {
     }
 }
 
+TEST(Mapping, BarycentricSparseJtOfALargeMappingOnThreadsIsTheFullSpread) {
+    // a collision surface's Jᵀ: 20 000 rows over 10 000 inputs, 150 rows forced (the scatter of
+    // the forced rows), the inputs' search for a −0 start in ranges on TBB's threads; with no
+    // input at −0 and with 40 of them, at 1, 2 and 8 threads each input gets the bits of
+    // BarycentricRow::spread over every row in order (the unforced rows' +0 terms included)
+    constexpr std::size_t kInputs = 10'000, kRows = 20'000;
+    std::mt19937 rng(9);
+    std::uniform_int_distribution<Index> input(0, Index(kInputs) - 1);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    Vec3Object in, out;
+    in.position.resize(kInputs, Vec3::Zero());
+    in.init();
+    std::vector<BarycentricRow> rows(kRows);
+    for (BarycentricRow& row : rows)
+        for (int k = 0; k < 3; ++k) row.push(input(rng), u(rng));
+    BarycentricMapping map(in, out);
+    map.set_rows(rows);
+    map.init();
+    std::vector<Vec3> forces(kRows, Vec3::Zero());
+    for (std::size_t i = 0; i < kRows; i += kRows / 150) forces[i] = Vec3(u(rng), 0.0, u(rng));
+    for (const std::size_t negative_zeros : {0, 40}) {
+        std::vector<Vec3> start_df(kInputs);
+        for (auto& f : start_df) f = Vec3(u(rng), u(rng), u(rng));
+        for (std::size_t n = 0; n < negative_zeros; ++n) start_df[(n * 7919) % kInputs] = Vec3(-0.0, 0.25, -0.0);
+        std::vector<Vec3> spread = start_df;
+        for (std::size_t i = 0; i < kRows; ++i) rows[i].spread(spread, forces[i]);
+        for (const int threads : {1, 2, 8}) {
+            std::copy(forces.begin(), forces.end(), out.df.begin());
+            std::copy(start_df.begin(), start_df.end(), in.df.begin());
+            tbb::task_arena(threads).execute([&] { map.apply_jt_df(); });
+            EXPECT_TRUE(all_same_bits(in.df, spread)) << negative_zeros << " inputs at -0, " << threads << " threads";
+        }
+    }
+}
+
 /// Bitwise equality of two doubles, the sign of a zero included.
 
 TEST(Mapping, BarycentricJtOfFewForcedRowsIsBitwiseTheFullSpread) {
