@@ -221,8 +221,10 @@ void BM_RestShapeSpringsDForce(benchmark::State& state) {
 }
 
 // A BarycentricMapping of the first argument's rows (four entries each, on a parent of half as
-// many points), J·dx then Jᵀ·f with every row forced (the full gather), in an arena of the second
-// argument's threads: ranges of rows and of inputs on TBB's threads.
+// many points), J·dx then Jᵀ·f with every third argument's row forced (1: every row, the full
+// gather; 100: a collision surface with few contacts, the forced rows' scatter after a search of
+// the inputs for a −0 start), in an arena of the second argument's threads: ranges of rows and of
+// inputs on TBB's threads.
 void BM_BarycentricMappingProducts(benchmark::State& state) {
     const auto rows = static_cast<std::size_t>(state.range(0));
     const std::size_t inputs = rows / 2;
@@ -237,7 +239,9 @@ void BM_BarycentricMappingProducts(benchmark::State& state) {
     map.set_rows(std::move(weights));
     map.init();
     for (std::size_t i = 0; i < inputs; ++i) in.dx[i] = Vec3(1e-3 * double(i % 5), -1e-3, 2e-3);
-    for (std::size_t i = 0; i < rows; ++i) out.df[i] = Vec3(0.5, -1.0 + 1e-4 * double(i % 11), 0.25);
+    const auto forced_every = static_cast<std::size_t>(state.range(2));
+    for (std::size_t i = 0; i < rows; ++i)
+        out.df[i] = i % forced_every == 0 ? Vec3(0.5, -1.0 + 1e-4 * double(i % 11), 0.25) : Vec3::Zero();
     tbb::task_arena arena(static_cast<int>(state.range(1)));
     for (auto _ : state) {
         arena.execute([&] {
@@ -292,5 +296,7 @@ BENCHMARK(BM_SpringDForce)->Arg(6);
 BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SpringsBetweenTwoStates)->ArgsProduct({{30}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_BeamCable)->ArgsProduct({{100'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_BarycentricMappingProducts)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BarycentricMappingProducts)
+    ->ArgsProduct({{100'000, 1'000'000}, {1, 2}, {1, 100}})
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_RigidMappingProducts)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
