@@ -161,8 +161,11 @@ QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::element_stiffness(
     return kb + ks;
 }
 
-QuadBendingFEMForceField::Stiffness QuadBendingFEMForceField::stiffness_at(std::size_t q) const {
-    return q < stiffness_.size() ? stiffness_[q] : element_stiffness(q, state_->position);
+const QuadBendingFEMForceField::Stiffness& QuadBendingFEMForceField::stiffness_at(std::size_t q,
+                                                                                  Stiffness& scratch) const {
+    if (q < stiffness_.size()) return stiffness_[q];
+    scratch = element_stiffness(q, state_->position);
+    return scratch;
 }
 
 // computeForce: the translations' rows, each the sum of its non-zero terms in SOFA's order.
@@ -229,12 +232,13 @@ void QuadBendingFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
                                           double /*b_factor*/) const {
     const auto& quads = topology_->quads();
     const auto pass = [&](std::size_t first, std::size_t end, const auto& deferred) {
+        Stiffness scratch;
         for (std::size_t i = first; i < end; ++i) {
             const Quad& q = quads[i];
             std::array<double, 20> d{};
             for (std::size_t k = 0; k < 4; ++k)
                 for (std::size_t a = 0; a < 3; ++a) d[5 * k + a] = dx[static_cast<std::size_t>(q[k])][a];
-            const std::array<double, 20> force = force_of(stiffness_at(i), d);
+            const std::array<double, 20> force = force_of(stiffness_at(i, scratch), d);
             const double h = 1;
             std::array<Vec3, 4> terms;
             for (std::size_t k = 0; k < 4; ++k)
@@ -248,8 +252,9 @@ void QuadBendingFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
 
 void QuadBendingFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
     const auto& quads = topology_->quads();
+    Stiffness scratch;
     for (std::size_t i = 0; i < quads.size(); ++i) {
-        const Stiffness k = stiffness_at(i);
+        const Stiffness& k = stiffness_at(i, scratch);
         const Quad& q = quads[i];
         for (int m = 0; m < 4; ++m)
             for (int n = 0; n < 4; ++n)

@@ -63,7 +63,9 @@ private:
     /// K of each quad at the positions of the last add_force (SOFA recomputes it from the same
     /// positions at each addDForce: the same numbers).
     std::vector<Stiffness> stiffness_;
-    [[nodiscard]] Stiffness stiffness_at(std::size_t q) const;
+    /// K of quad q: the stored one, or, before the first add_force, made at the state's positions
+    /// into `scratch`.
+    [[nodiscard]] const Stiffness& stiffness_at(std::size_t q, Stiffness& scratch) const;
     double energy_ = 0;
     mutable detail::OrderedScatter scatter_;  ///< the loops on threads
     /// add_force on threads: each quad's twelve energy terms, summed in the loop's order after
