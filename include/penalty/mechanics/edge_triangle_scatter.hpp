@@ -40,8 +40,8 @@ public:
     /// For each triangle t in order: terms_of(t, sink) gives the triangle's terms to `sink`:
     /// sink.add(k, term) and sink.subtract(k, term) add `term` to out[t[k]] or subtract it, each
     /// vertex's terms in the loop's order, at most three a vertex; sink.add_energy(e) adds an
-    /// energy term, at most four a triangle. Returns
-    /// `energy` plus the energy terms, one after another in triangle order.
+    /// energy term, at most four a triangle. Returns `energy` plus the energy terms, one after
+    /// another in triangle order.
     template <class TermsOf>
     double triangle_loop(std::span<const Triangle> triangles, std::span<Vec3> out, double energy,
                          const TermsOf& terms_of);
@@ -103,12 +103,12 @@ template <class TermsOf>
 double EdgeTriangleScatter::triangle_loop(std::span<const Triangle> triangles, std::span<Vec3> out, double energy,
                                           const TermsOf& terms_of) {
     if (!OrderedScatter::worth_threads(triangles.size())) {
-        struct Direct {  // (the triangle's vertices and the running energy held by value: in registers)
+        struct Direct {  // each term straight into out
             Vec3* out;
             Triangle t;
             double energy;
-            void add(std::size_t k, const Vec3& term) { out[t[k]] += term; }
-            void subtract(std::size_t k, const Vec3& term) { out[t[k]] -= term; }
+            void add(std::size_t k, const Vec3& term) { out[static_cast<std::size_t>(t[k])] += term; }
+            void subtract(std::size_t k, const Vec3& term) { out[static_cast<std::size_t>(t[k])] -= term; }
             void add_energy(double e) { energy += e; }
         };
         for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
