@@ -526,6 +526,7 @@ def _run_on_dask(todo, rows, client, workers, retries, report, out_dir):
             for name in ["distributed", *logging.root.manager.loggerDict]:
                 if name == "distributed" or name.startswith("distributed."):
                     logging.getLogger(name).setLevel(logging.CRITICAL)
+            _drop_cancelled_client_tasks_from_last_resort()
         if own_client is not None:
             own_client.close()
         if own_cluster is not None:
@@ -533,6 +534,35 @@ def _run_on_dask(todo, rows, client, workers, retries, report, out_dir):
         if out_dir is not None:  # a worker that died during this sweep left its partial files
             for spec in todo:
                 remove_partial_files(out_dir, spec["task"])
+
+
+class _CancelledDaskTaskFilter:
+    """A logging filter that drops the record of a Dask task cancelled inside `distributed` (the
+    client's reconnection to a scheduler stopped by Ctrl-C, cancelled by the client's close).
+    distributed's log_errors names its logger after the caller's module (asyncio.events, not a
+    distributed logger), so a process without logging handlers printed it, a bare traceback, through
+    logging.lastResort after the resume message."""
+
+    def filter(self, record) -> bool:
+        import asyncio
+        exc = record.exc_info[1] if record.exc_info else None
+        if not isinstance(exc, asyncio.CancelledError):
+            return True
+        tb = exc.__traceback__
+        while tb is not None:
+            if f"{os.sep}distributed{os.sep}" in tb.tb_frame.f_code.co_filename:
+                return False
+            tb = tb.tb_next
+        return True
+
+
+def _drop_cancelled_client_tasks_from_last_resort():
+    """After Ctrl-C: _CancelledDaskTaskFilter on logging.lastResort (the handler of a process that
+    configured none), once."""
+    import logging
+    last_resort = logging.lastResort
+    if last_resort is not None and not any(isinstance(f, _CancelledDaskTaskFilter) for f in last_resort.filters):
+        last_resort.addFilter(_CancelledDaskTaskFilter())
 
 
 def _progress_reporter(progress, total):

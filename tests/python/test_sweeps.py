@@ -318,6 +318,41 @@ def test_ctrl_c_on_a_sweep_exits_cleanly_with_the_resume_command(tmp_path, delay
     assert f"penalty sweep {SCENE} --grid" in stderr and f"--out {out}" in stderr
 
 
+def test_a_cancelled_dask_client_task_is_kept_off_the_last_resort_handler():
+    # After Ctrl-C, distributed's log_errors logged the client's cancelled reconnection under the
+    # caller's module (asyncio.events): a process without handlers printed a bare traceback through
+    # logging.lastResort after the resume message, on a loaded machine (python.sweeps failed so).
+    import asyncio
+    import logging
+
+    def record_of(filename):
+        namespace = {"asyncio": asyncio}
+        exec(compile("def reconnect():\n    raise asyncio.CancelledError()\n", filename, "exec"), namespace)
+        try:
+            namespace["reconnect"]()
+        except asyncio.CancelledError:
+            return logging.LogRecord("asyncio.events", logging.ERROR, __file__, 1, "", None, sys.exc_info())
+
+    keep = sweeps._CancelledDaskTaskFilter()
+    inside = os.path.join(os.sep, "usr", "lib", "python3", "dist-packages", "distributed", "client.py")
+    assert not keep.filter(record_of(inside))
+    assert keep.filter(record_of(os.path.join(os.sep, "home", "user", "my_script.py")))  # the user's own
+    try:
+        raise ValueError("a worker's error")
+    except ValueError:
+        assert keep.filter(logging.LogRecord("distributed.client", logging.ERROR, __file__, 1, "x", None,
+                                             sys.exc_info()))
+    assert keep.filter(logging.LogRecord("distributed", logging.WARNING, __file__, 1, "no exception", None, None))
+    before = list(logging.lastResort.filters)
+    try:
+        sweeps._drop_cancelled_client_tasks_from_last_resort()
+        sweeps._drop_cancelled_client_tasks_from_last_resort()  # once
+        added = [f for f in logging.lastResort.filters if f not in before]
+        assert len(added) == 1 and isinstance(added[0], sweeps._CancelledDaskTaskFilter)
+    finally:
+        logging.lastResort.filters[:] = before
+
+
 def _listening_sockets(pids):
     """(address, port) of every TCP socket in LISTEN state owned by one of `pids`."""
     import ipaddress
