@@ -200,9 +200,6 @@ struct Traversal {
     }
 };
 
-// find_near_pairs tests every pair's root boxes, in pair order, up to this many pairs; beyond,
-// it sweeps over the models' root boxes.
-
 // How collect_candidates sorts its keys (PairKey(elem1, elem2).bits(), unique): fewer than
 // kMinKeysForRadixSort by comparisons (std::sort); fewer than kMinKeysForCountingSort (or fewer
 // than a quarter of the first model's elements) by the radix sort of the packed indices; more by
