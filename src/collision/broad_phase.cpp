@@ -6,6 +6,10 @@
 #include "penalty/core/error.hpp"
 #include "penalty/core/radix_sort.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <limits>
 
@@ -110,10 +114,7 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
         });
         return;
     }
-    sweep(params, models, trees, [&](std::size_t a, std::size_t b) {  // models a <= b
-        const std::optional<NearPair> p = kept_pair(params, models, b, a);
-        if (p && within_margin(p->places[0], p->places[1])) near_.push_back(*p);
-    });
+    sweep(params, models, trees, within_margin);
     const auto order_of = [](const NearPair& p) { return p.order; };
     if (near_.size() < kMinNearPairsForRadixSort)
         std::sort(near_.begin(), near_.end(), [](const NearPair& x, const NearPair& y) { return x.order < y.order; });
@@ -121,7 +122,8 @@ void BroadPhase::find_near(const IntersectionParams& params, const std::vector<C
 }
 
 void BroadPhase::sweep(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
-                       const std::vector<Bvh>& trees, const std::function<void(std::size_t, std::size_t)>& consider) {
+                       const std::vector<Bvh>& trees,
+                       const std::function<bool(ModelIndex, ModelIndex)>& within_margin) {
     // The models roots_within_margin may pass: neither empty nor without a tree. The margin of
     // a pair is at most `reach` (box_margin's largest terms), so a pair whose root boxes are
     // apart by more than `reach` on the sweep's axis fails it (max + m <= max + reach, the sums
@@ -143,8 +145,6 @@ void BroadPhase::sweep(const IntersectionParams& params, const std::vector<Colli
     const double reach = params.method == IntersectionMethod::Discrete
                              ? params.alarm_distance
                              : params.alarm_distance + largest_contact_distance + largest_contact_distance;
-    // a model with itself (roots_within_margin passes it when neither is empty)
-    for (const std::size_t i : sweep_) consider(i, i);
     // sweep and prune on the axis where the boxes' centres spread most
     int axis = 0;
     (high - low).maxCoeff(&axis);
@@ -155,23 +155,34 @@ void BroadPhase::sweep(const IntersectionParams& params, const std::vector<Colli
     // the root boxes of the sweep's models in sweep order (compact: the inner loop reads them)
     sweep_boxes_.clear();
     for (const std::size_t i : sweep_) sweep_boxes_.push_back(trees[i].root_box());
-    sweep_active_.clear();  // places in sweep_boxes_
-    for (std::size_t s = 0; s < sweep_boxes_.size(); ++s) {
-        const Aabb& box = sweep_boxes_[s];
-        const double lo = box.min[axis];
-        std::size_t kept = 0;
-        for (const std::size_t t : sweep_active_) {
-            const Aabb& other = sweep_boxes_[t];
-            if (other.max[axis] + reach < lo) continue;  // apart from this box and every later one
-            sweep_active_[kept++] = t;
-            // apart by more than `reach` on some axis: the exact test fails too
-            if (!box.overlaps(other, reach)) continue;
-            const std::size_t i = sweep_[s], j = sweep_[t];
-            consider(std::min(i, j), std::max(i, j));
+    // Each model with itself (roots_within_margin passes it when neither is empty), then with
+    // the later models of the sweep whose lower bound lies within `reach` of its upper bound
+    // (the boxes apart by more on some axis fail the exact test too): each pair once, pure
+    // tests, so the models go in ranges on TBB's threads, their pairs sorted by order after.
+    const std::size_t n = sweep_.size();
+    const auto scan = [&](std::size_t begin, std::size_t end, std::vector<NearPair>& out) {
+        const auto keep = [&](std::size_t i, std::size_t j) {  // models i <= j
+            const std::optional<NearPair> p = kept_pair(params, models, j, i);
+            if (p && within_margin(p->places[0], p->places[1])) out.push_back(*p);
+        };
+        for (std::size_t s = begin; s < end; ++s) {
+            const std::size_t i = sweep_[s];
+            keep(i, i);
+            const Aabb& box = sweep_boxes_[s];
+            const double upper = box.max[axis] + reach;
+            for (std::size_t t = s + 1; t < n && !(upper < sweep_boxes_[t].min[axis]); ++t)
+                if (box.overlaps(sweep_boxes_[t], reach)) keep(std::min(i, sweep_[t]), std::max(i, sweep_[t]));
         }
-        sweep_active_.resize(kept);
-        sweep_active_.push_back(s);
+    };
+    if (n < 2 * kModelsPerSweepTask || tbb::this_task_arena::max_concurrency() < 2) {
+        scan(0, n, near_);
+        return;
     }
+    for (std::vector<NearPair>& list : sweep_lists_) list.clear();
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, kModelsPerSweepTask),
+        [&](const tbb::blocked_range<std::size_t>& r) { scan(r.begin(), r.end(), sweep_lists_.local()); });
+    for (const std::vector<NearPair>& list : sweep_lists_) near_.insert(near_.end(), list.begin(), list.end());
 }
 
 }  // namespace detail

@@ -15,6 +15,8 @@
 #include "penalty/collision/collision_pipeline.hpp"
 #include "penalty/core/index_types.hpp"
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -86,8 +88,12 @@ private:
     [[nodiscard]] static std::optional<NearPair> kept_pair(const IntersectionParams& params,
                                                            const std::vector<CollisionModel*>& models, std::size_t j,
                                                            std::size_t i);
+    /// Appends to near_ the kept pairs passing `within_margin` among the models whose root boxes
+    /// a sweep finds within reach of each other, in no order (find_near sorts them).
     void sweep(const IntersectionParams& params, const std::vector<CollisionModel*>& models,
-               const std::vector<Bvh>& trees, const std::function<void(std::size_t, std::size_t)>& consider);
+               const std::vector<Bvh>& trees, const std::function<bool(ModelIndex, ModelIndex)>& within_margin);
+    /// The sweep's models go to TBB's threads in ranges of this many, from twice as many.
+    static constexpr std::size_t kModelsPerSweepTask = 64;
     std::vector<ModelKey> key_;
     std::size_t kept_pairs_ = 0;  ///< pairs passing the filter with an intersector
     std::vector<ModelPair> unsupported_;
@@ -95,8 +101,8 @@ private:
     std::vector<NearPair> near_;  ///< this detection's, in order
     // the sweep's scratch
     std::vector<std::size_t> sweep_;
-    std::vector<std::size_t> sweep_active_;
     std::vector<Aabb> sweep_boxes_;
+    tbb::enumerable_thread_specific<std::vector<NearPair>> sweep_lists_;  ///< each thread's pairs
     std::vector<NearPair> sort_swap_;  ///< near_'s radix sort: its other buffer and counts
     std::vector<std::size_t> sort_counts_;
 };
