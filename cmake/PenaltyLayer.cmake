@@ -3,7 +3,8 @@
 # of <sources> by their path from the project's root (the target gets that root as an include folder). CMake's own unity
 # batches include the sources by absolute path, so a checkout in another folder (a worktree, a
 # fresh clone) compiles different text and ccache (base_dir) finds none of its batches; these
-# are the same text in any checkout. A batch is rewritten only when its text changes.
+# are the same text in any checkout. A batch is rewritten only when its text changes; a batch
+# file the layout no longer has is removed.
 function(penalty_unity_batches out target size)
   set(_dir "${CMAKE_BINARY_DIR}/unity/${target}")
   set(_batches)
@@ -25,6 +26,14 @@ function(penalty_unity_batches out target size)
       math(EXPR _index "${_index} + 1")
     endif()
   endforeach()
+  # Batches of an earlier layout (fewer sources, another batch size) are not compiled: remove them.
+  file(GLOB _written "${_dir}/unity_*.cpp")
+  if(_batches)
+    list(REMOVE_ITEM _written ${_batches})
+  endif()
+  if(_written)
+    file(REMOVE ${_written})
+  endif()
   set(${out} ${_batches} PARENT_SCOPE)
 endfunction()
 
