@@ -9,7 +9,7 @@ namespace penalty {
 
 namespace {
 
-constexpr std::size_t kDofsPerTask = 4096;  // add_mdx on threads (a large state)
+constexpr std::size_t kDiagonalMassDofsPerTask = 4096;  // add_mdx on threads (a large state)
 
 void check_nonnegative(double value, const char* parameter) {
     if (!std::isfinite(value) || value < 0.0)
@@ -177,7 +177,7 @@ void DiagonalMass::add_mdx(double factor) {
     Vec3* df = state_->df.data();
     const Vec3* dx = state_->dx.data();
     const double* m = masses_.data();
-    detail::for_each_range(masses_.size(), kDofsPerTask, [=](std::size_t first, std::size_t end) {
+    detail::for_each_range(masses_.size(), kDiagonalMassDofsPerTask, [=](std::size_t first, std::size_t end) {
         // (locals: a store through df could otherwise alias the closure's copies, read again each time)
         Vec3* const out = df;
         const Vec3* const in = dx;

@@ -11,7 +11,7 @@
 namespace penalty {
 
 namespace {
-constexpr std::size_t kDofsPerTask = 4096;  // add_mdx on threads (a large state)
+constexpr std::size_t kUniformMassDofsPerTask = 4096;  // add_mdx on threads (a large state)
 
 void check_mass(double m, const char* parameter) {
     if (!std::isfinite(m) || m <= 0.0)
@@ -71,7 +71,7 @@ void UniformMass<Vec3Types>::add_mdx(double factor) {
     const double scale = mass_ * factor;
     Vec3* df = state_->df.data();
     const Vec3* dx = state_->dx.data();
-    detail::for_each_range(state_->df.size(), kDofsPerTask, [=](std::size_t first, std::size_t end) {
+    detail::for_each_range(state_->df.size(), kUniformMassDofsPerTask, [=](std::size_t first, std::size_t end) {
         // (locals: a store through df could otherwise alias the closure's copies, read again each time)
         Vec3* const out = df;
         const Vec3* const in = dx;

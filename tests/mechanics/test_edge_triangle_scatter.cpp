@@ -3,6 +3,8 @@
 // the bits of the loop written out: each vertex's terms and the energy's in the loop's order.
 #include "penalty/mechanics/edge_triangle_scatter.hpp"
 
+#include "penalty_test/same_bits.hpp"
+
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
@@ -17,9 +19,7 @@ namespace {
 
 constexpr PointId kVertices = 6000;
 
-bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
+using test::same_bits;
 
 Vec3 random_vec(std::mt19937& rng) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -5,6 +5,7 @@
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
 #include "penalty_test/grid_meshes.hpp"
+#include "penalty_test/same_bits.hpp"
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -12,7 +13,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstring>
 #include <random>
 #include <vector>
 
@@ -33,9 +33,7 @@ std::vector<Element4> random_elements(std::size_t count, PointId vertices, std::
     return elements;
 }
 
-bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
-}
+using test::same_bits;
 
 /// out after the scatter split by `scatter`, its chunks run last to first (any order must do),
 /// each element's terms through store_or_apply, the stored terms applied on four threads; Add: +=

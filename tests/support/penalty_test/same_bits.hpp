@@ -8,6 +8,8 @@
 
 #include <bit>
 #include <cstdint>
+#include <cstring>
+#include <vector>
 
 namespace penalty::test {
 
@@ -15,6 +17,10 @@ inline bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(
 
 inline bool same_bits(const Vec3& a, const Vec3& b) {
     return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
+}
+
+inline bool same_bits(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
 
 }  // namespace penalty::test
