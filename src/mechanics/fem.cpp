@@ -1,6 +1,7 @@
 #include "penalty/mechanics/fem.hpp"
 #include "kernels/mechanics/tetrahedron_large.hpp"
 #include "kernels/mechanics/tetrahedron_large_lanes.hpp"
+#include "tetrahedron_large_blocks.hpp"
 #include "tetrahedron_large_element.hpp"
 
 #include "penalty/core/first_error.hpp"
@@ -354,97 +355,18 @@ void TetrahedronFEMForceField::init_elements(std::size_t first) {
 }
 
 // ---- tetrahedron, method large, in SOFA's operation order ----------------------------------------
-namespace {
-using MaterialMatrix = detail::TetrahedronMaterial;
-/// The block type of a visited alternative of detail::TetrahedronLargeBlocks.
-template <class Blocks>
-using BlockOf = typename std::remove_cvref_t<Blocks>::value_type;
-
-/// J of a tetrahedron with local vertices q (TetrahedronFEMForceField::computeStrainDisplacement)
-/// into lane `lane` of `block`: vertex k's rows come from the three other vertices in cyclic
-/// order (k+1, k+2, k+3), sign s = −1 for k = 0, 2 and +1 for k = 1, 3; with g_yz, g_xz, g_xy the
-/// minor sums of their (y; z), (x; z), (x; y) coordinates: J(3k, xx) = J(3k+1, xy) = J(3k+2, zx)
-/// = s·g_yz, J(3k, xy) = J(3k+1, yy) = J(3k+2, yz) = −s·g_xz, J(3k, zx) = J(3k+1, yz) =
-/// J(3k+2, zz) = s·g_xy (the block keeps the three values of each vertex; kCofactorOfEntry).
-template <class Block>
-void store_strain_displacement(const std::array<Vec3, 4>& q, Block& block, std::size_t lane) {
-    for (std::size_t k = 0; k < 4; ++k) {
-        const Vec3& p1 = q[(k + 1) % 4];
-        const Vec3& p2 = q[(k + 2) % 4];
-        const Vec3& p3 = q[(k + 3) % 4];
-        const Vec3 xs(p1[0], p2[0], p3[0]), ys(p1[1], p2[1], p3[1]), zs(p1[2], p2[2], p3[2]);
-        const double sign = k % 2 == 0 ? -1.0 : 1.0;
-        block.cofactor[k][0][lane] = sign * detail::minor_sum(ys, zs);
-        block.cofactor[k][1][lane] = -sign * detail::minor_sum(xs, zs);
-        block.cofactor[k][2][lane] = sign * detail::minor_sum(xs, ys);
-    }
-}
-
-}  // namespace
-
-Mat3 TetrahedronFEMForceField::large_rotation(std::size_t e) const {
-    return std::visit(
-        [&](const auto& blocks) {
-            using Block = BlockOf<decltype(blocks)>;
-            const detail::LaneRotation<Block> lane{blocks[e / Block::kLanes], e % Block::kLanes};
-            Mat3 r;
-            for (int i = 0; i < 3; ++i)
-                for (int k = 0; k < 3; ++k) r(i, k) = lane(i, k);
-            return r;
-        },
-        large_);
-}
+Mat3 TetrahedronFEMForceField::large_rotation(std::size_t e) const { return detail::large_block_rotation(large_, e); }
 
 void TetrahedronFEMForceField::copy_large(std::size_t from, std::size_t to) {
-    std::visit(
-        [&](auto& blocks) {
-            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
-            detail::for_each_entry(blocks[to / kLanes], blocks[from / kLanes],
-                                   [&](auto& t, const auto& f) { t[to % kLanes] = f[from % kLanes]; });
-        },
-        large_);
+    detail::copy_large_element(large_, from, to);
 }
 
 bool TetrahedronFEMForceField::large_fits(std::size_t count) const {
-    const std::size_t lanes = kernel_path_ == KernelPath::avx512 ? 8 : 4;
-    return std::visit(
-        [&](const auto& blocks) {
-            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
-            return kLanes == lanes && blocks.size() == (count + kLanes - 1) / kLanes;
-        },
-        large_);
+    return detail::large_blocks_fit(large_, count, kernel_path_);
 }
 
 void TetrahedronFEMForceField::resize_large(std::size_t count) {
-    // the kernel path's width: eight lanes for avx512's product, else four; the data move to it
-    const bool wide = kernel_path_ == KernelPath::avx512;
-    if (wide != (large_.index() == 1)) {
-        detail::TetrahedronLargeBlocks moved{std::in_place_index<0>};
-        if (wide) moved.emplace<1>();
-        std::visit(
-            [](auto& to, const auto& from) {
-                using To = BlockOf<decltype(to)>;
-                using From = BlockOf<decltype(from)>;
-                const std::size_t lanes = from.size() * From::kLanes;
-                to.resize((lanes + To::kLanes - 1) / To::kLanes);
-                for (std::size_t e = 0; e < lanes; ++e)
-                    detail::for_each_entry(to[e / To::kLanes], from[e / From::kLanes],
-                                           [&](auto& t, const auto& f) { t[e % To::kLanes] = f[e % From::kLanes]; });
-            },
-            moved, large_);
-        large_ = std::move(moved);
-    }
-    std::visit(
-        [&](auto& blocks) {
-            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
-            blocks.resize((count + kLanes - 1) / kLanes);
-            if (count % kLanes == 0) return;
-            auto& last = blocks.back();
-            detail::for_each_entry(last, last, [&](auto& t, const auto&) {
-                std::fill(t.begin() + static_cast<std::ptrdiff_t>(count % kLanes), t.end(), 0.0);
-            });
-        },
-        large_);
+    detail::resize_large_blocks(large_, count, kernel_path_);
 }
 
 void TetrahedronFEMForceField::init_large(std::size_t first) {
@@ -455,37 +377,22 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
     // each element its own lanes, K^e and rest shape; a large mesh's in ranges on TBB's threads,
     // whole lane blocks a range (only a block that `first` splits is written by two ranges, each
     // its own lanes)
-    std::visit(
-        [&](auto& blocks) {
-            constexpr std::size_t kLanes = BlockOf<decltype(blocks)>::kLanes;
-            static_assert(kElementsPerInitTask % kLanes == 0);
-            const auto init_element = [&](std::size_t e) {
-                std::array<Vec3, 4> x;
-                for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
-                const double factor =
-                    young_factors_.empty() ? 1.0 : young_factors_[e * young_factors_.size() / elements_.size()];
-                const double young = young_factors_.empty() ? young_ : factor * young_;
-                auto& block = blocks[e / kLanes];
-                const std::size_t lane = e % kLanes;
-                const MaterialMatrix m = detail::material_over_volume(young, poisson_, x);
-                for (Index i = 0; i < 3; ++i) {
-                    for (Index k = 0; k < 3; ++k) block.material[static_cast<std::size_t>(3 * i + k)][lane] = m(i, k);
-                    block.shear[static_cast<std::size_t>(i)][lane] = m(i + 3, i + 3);
-                }
-                if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
-                Mat3 r0;
-                const std::array<Vec3, 4> local = detail::rest_coordinates(method_, x, r0);
-                rest_local_[e] = local;
-                detail::store_lane_rotation(block, lane, r0);
-                store_strain_displacement(local, block, lane);
-            };
-            const std::size_t from = std::min(first, elements_.size());
-            detail::for_each_range(elements_.size() - from, kElementsPerInitTask,
-                                   [&](std::size_t begin, std::size_t end) {
-                                       for (std::size_t e = from + begin; e < from + end; ++e) init_element(e);
-                                   });
-        },
-        large_);
+    static_assert(kElementsPerInitTask % 8 == 0);
+    const auto init_element = [&](std::size_t e) {
+        std::array<Vec3, 4> x;
+        for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
+        const double factor =
+            young_factors_.empty() ? 1.0 : young_factors_[e * young_factors_.size() / elements_.size()];
+        const double young = young_factors_.empty() ? young_ : factor * young_;
+        if (!young_factors_.empty()) ke_[e] *= factor;  // the assembled K^e (linear in E)
+        Mat3 r0;
+        rest_local_[e] = detail::rest_coordinates(method_, x, r0);
+        detail::store_large_element(large_, e, detail::material_over_volume(young, poisson_, x), rest_local_[e], r0);
+    };
+    const std::size_t from = std::min(first, elements_.size());
+    detail::for_each_range(elements_.size() - from, kElementsPerInitTask, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t e = from + begin; e < from + end; ++e) init_element(e);
+    });
 }
 
 void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
@@ -521,76 +428,18 @@ void TetrahedronFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3
 double TetrahedronFEMForceField::large_force(std::size_t first, std::size_t end, std::span<Vec3> f,
                                              std::span<const Vec3> x, const detail::DeferredTerms& deferred,
                                              double* energies) {
-    const detail::ElementRange range{first, end};
-#ifdef PENALTY_HAS_AVX_LANES
-    if (kernel_path_ != KernelPath::scalar) {
-        // avx, and avx512 (whose eight lanes are add_dforce's only): frames, δ and F four elements
-        // at a time; the energy and f += Rᵀ·F element by element in order, as below
-        return std::visit(
-            [&](auto& blocks) {
-                return detail::large_add_force_avx(std::span(blocks), rest_local_, elements_, range, x.data(), f.data(),
-                                                   deferred, energies);
-            },
-            large_);
-    }
-#endif
-    double total = 0.0;
-    auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
-    using Block = detail::TetrahedronLargeLanes<4>;
-    for (std::size_t e = first; e < end; ++e) {
-        // TetrahedronFEMForceField::accumulateForceLarge (tetrahedron_large_element.hpp)
-        Block& block = blocks[e / 4];
-        const std::size_t lane = e % 4;
-        double energy = 0.0;
-        Mat3 r;
-        const auto vertex = detail::large_vertices(elements_[e]);
-        const std::array<Vec3, 4> terms = detail::large_element_force_terms(
-            vertex, rest_local_[e], detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
-            detail::LaneMaterial<detail::OneLane, Block>{block, lane}, x, energy, r);
-        detail::store_lane_rotation(block, lane, r);
-        if (energies) energies[e] = energy;
-        else total += energy;
-        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { f[vertex[k]] += term; });
-    }
-    return total;
+    return detail::large_blocks_force(large_, kernel_path_, rest_local_, elements_, {first, end}, f, x, deferred,
+                                      energies);
 }
 
 double TetrahedronFEMForceField::force_per_element(std::size_t first, std::size_t end, std::span<Vec3> f,
                                                    std::span<const Vec3> x, const detail::DeferredTerms& deferred,
                                                    double* energies) {
-    // TetrahedronFEMForceField::accumulateForceSmall / accumulateForcePolar / accumulateForceSVD
-    // (tetrahedron_large_element.hpp), element by element on every path (polar's and svd's
-    // product, add_dforce, is large's and runs in lanes)
-    return std::visit(
-        [&](auto& blocks) {
-            using Block = BlockOf<decltype(blocks)>;
-            double total = 0.0;
-            for (std::size_t e = first; e < end; ++e) {
-                Block& block = blocks[e / Block::kLanes];
-                const std::size_t lane = e % Block::kLanes;
-                const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
-                const detail::LaneStrainDisplacement<detail::OneLane, Block> j{block, lane};
-                const detail::LaneMaterial<detail::OneLane, Block> m{block, lane};
-                double energy = 0.0;
-                std::array<Vec3, 4> terms;
-                if (method_ == FemMethod::Small) {
-                    terms = detail::small_element_force_terms(vertex, rest_local_[e], j, m, x, energy);
-                } else {
-                    const Mat3 r =
-                        method_ == FemMethod::Svd
-                            ? element_rotation_of({x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]}, e)
-                            : polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
-                    terms = detail::polar_element_force_terms(vertex, rest_local_[e], r, j, m, x, energy);
-                    detail::store_lane_rotation(block, lane, r);
-                }
-                if (energies) energies[e] = energy;
-                else total += energy;
-                detail::store_or_apply(deferred, e, terms,
-                                       [&](std::size_t k, const Vec3& term) { f[vertex[k]] += term; });
-            }
-            return total;
-        },
-        large_);
+    const detail::ElementRotationOf svd_rotation = [this](const std::array<Vec3, 4>& p, std::size_t e) {
+        return element_rotation_of(p, e);
+    };
+    return detail::per_element_blocks_force(large_, method_, rest_local_, elements_, {first, end}, f, x, deferred,
+                                            energies, method_ == FemMethod::Svd ? &svd_rotation : nullptr);
 }
 
 void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
@@ -609,51 +458,13 @@ void TetrahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Ve
 void TetrahedronFEMForceField::small_dforce(std::size_t first, std::size_t end, std::span<Vec3> df,
                                             std::span<const Vec3> dx, double k_factor,
                                             const detail::DeferredTerms& deferred) const {
-    std::visit(
-        [&](const auto& blocks) {
-            using Block = BlockOf<decltype(blocks)>;
-            for (std::size_t e = first; e < end; ++e) {
-                const Block& block = blocks[e / Block::kLanes];
-                const std::size_t lane = e % Block::kLanes;
-                const auto vertex = detail::large_vertices(elements_[e]);
-                const std::array<Vec3, 4> terms = detail::small_element_dforce_terms(
-                    vertex, detail::LaneStrainDisplacement<detail::OneLane, Block>{block, lane},
-                    detail::LaneMaterial<detail::OneLane, Block>{block, lane}, dx, k_factor);
-                detail::store_or_apply(deferred, e, terms,
-                                       [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
-            }
-        },
-        large_);
+    detail::small_blocks_dforce(large_, elements_, {first, end}, df, dx, k_factor, deferred);
 }
 
 void TetrahedronFEMForceField::large_dforce(std::size_t first, std::size_t end, std::span<Vec3> df,
                                             std::span<const Vec3> dx, double k_factor,
                                             const detail::DeferredTerms& deferred) const {
-    const detail::ElementRange range{first, end};
-#ifdef PENALTY_HAS_AVX_LANES
-    if (kernel_path_ == KernelPath::avx512) {
-        detail::large_dforce_avx512(std::get<1>(large_).data(), elements_, range, df.data(), dx.data(), k_factor,
-                                    deferred);
-        return;
-    }
-    if (kernel_path_ == KernelPath::avx) {
-        detail::large_dforce_avx(std::get<0>(large_).data(), elements_, range, df.data(), dx.data(), k_factor,
-                                 deferred);
-        return;
-    }
-#endif
-    const auto& blocks = std::get<0>(large_);  // four lanes off the avx512 path
-    using Block = detail::TetrahedronLargeLanes<4>;
-    for (std::size_t e = range.first; e < range.end; ++e) {
-        const Block& block = blocks[e / 4];
-        const std::size_t lane = e % 4;
-        const detail::LaneRotation<Block> r{block, lane};
-        const detail::LaneStrainDisplacement<detail::OneLane, Block> j{block, lane};
-        const detail::LaneMaterial<detail::OneLane, Block> m{block, lane};
-        const auto vertex = detail::large_vertices(elements_[e]);
-        const std::array<Vec3, 4> terms = detail::large_element_dforce_terms(vertex, r, j, m, dx, k_factor);
-        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
-    }
+    detail::large_blocks_dforce(large_, kernel_path_, elements_, {first, end}, df, dx, k_factor, deferred);
 }
 
 void TetrahedronFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
