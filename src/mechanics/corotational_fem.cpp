@@ -1,5 +1,6 @@
 #include "penalty/mechanics/corotational_fem.hpp"
 
+#include "tetrahedron_large_blocks.hpp"
 #include "tetrahedron_large_element.hpp"
 
 #include <tbb/blocked_range.h>
@@ -46,21 +47,31 @@ void TetrahedralCorotationalFEMForceField::init() {
     LinearElementForceField<4>::init();
     rest_volume_.resize(elements_.size());
     for (std::size_t e = 0; e < elements_.size(); ++e) rest_volume_[e] = tetrahedron_volume(rest_local_[e]);
-    large_.clear();
-    if (!sofa_operations()) return;
+    if (!sofa_operations()) {
+        detail::resize_large_blocks(blocks_, 0, kernel_path_);
+        return;
+    }
     // TetrahedralCorotationalFEMForceField::reinit: computeMaterialStiffness (E·factor, the volume
     // of the world rest positions) and initSmall, initLarge or initPolar (frame, rest coordinates,
     // J) per element; K^e (the assembled stiffness) stays the common path's
-    large_.resize(elements_.size());
+    detail::resize_large_blocks(blocks_, elements_.size(), kernel_path_);
     const auto& x0 = state_->rest_position;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
         std::array<Vec3, 4> x;
         for (std::size_t k = 0; k < 4; ++k) x[k] = x0[static_cast<std::size_t>(elements_[e][k])];
         const double young = options_.local_stiffness_factors.empty() ? young_ : young_ * stiffness_factor(e);
-        large_[e].material = detail::material_over_volume(young, poisson_, x);
-        rest_local_[e] = detail::rest_coordinates(method_, x, rotation_[e]);
-        large_[e].strain_displacement = detail::strain_displacement(rest_local_[e]);
+        Mat3 r0;
+        rest_local_[e] = detail::rest_coordinates(method_, x, r0);
+        detail::store_large_element(blocks_, e, detail::material_over_volume(young, poisson_, x), rest_local_[e], r0);
     }
+}
+
+void TetrahedralCorotationalFEMForceField::set_kernel_path(KernelPath path) {
+    if (!kernel_path_supported(path))
+        throw_invalid_argument(component_, ": kernel path ", to_string(path), " is not supported by this CPU");
+    kernel_path_ = path;
+    // after init: the data move to the path's width (before, init gives them that width)
+    if (sofa_operations()) detail::resize_large_blocks(blocks_, elements_.size(), kernel_path_);
 }
 
 Mat3 TetrahedralCorotationalFEMForceField::element_rotation(const std::array<Vec3, 4>& p) const {
@@ -96,10 +107,15 @@ void TetrahedralCorotationalFEMForceField::add_force(std::span<Vec3> f, std::spa
     if (sofa_operations()) {
         // accumulateForceSmall / Large / Polar per element, in element order (energy: ½ δᵀF,
         // beyond SOFA)
-        PENALTY_DEMAND(large_.size() == elements_.size());
+        // (the chunks' first elements on a lane block's boundary: eight lanes, four dividing it)
+        PENALTY_DEMAND(detail::large_blocks_fit(blocks_, elements_.size(), kernel_path_));
         energy_ = force_in_order</*Add=*/true>(
-            f, 1, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
-                return sofa_force(first, end, f, x, deferred, energies);
+            f, 8, [&](std::size_t first, std::size_t end, const detail::DeferredTerms& deferred, double* energies) {
+                if (method_ == FemMethod::Small || method_ == FemMethod::Polar)
+                    return detail::per_element_blocks_force(blocks_, method_, rest_local_, elements_, {first, end}, f,
+                                                            x, deferred, energies, nullptr);
+                return detail::large_blocks_force(blocks_, kernel_path_, rest_local_, elements_, {first, end}, f, x,
+                                                  deferred, energies);
             });
         return;
     }
@@ -141,47 +157,22 @@ void TetrahedralCorotationalFEMForceField::add_dforce(std::span<Vec3> df, std::s
     }
     // applyStiffnessSmall / Large / Polar per element, in element order: df −= F(dx, kFactor),
     // df −= Rᵀ·F(R·dx, kFactor)
-    PENALTY_DEMAND(large_.size() == elements_.size());
-    scatter_in_order</*Add=*/false>(df, 1, [&](std::size_t first, std::size_t end, const auto& deferred) {
-        for (std::size_t e = first; e < end; ++e) {
-            const LargeElement& element = large_[e];
-            const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
-            const std::array<Vec3, 4> terms =
-                method_ == FemMethod::Small
-                    ? detail::small_element_dforce_terms(vertex, element.strain_displacement, element.material, dx,
-                                                         k_factor)
-                    : detail::large_element_dforce_terms(vertex, rotation_[e], element.strain_displacement,
-                                                         element.material, dx, k_factor);
-            detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
-        }
+    PENALTY_DEMAND(detail::large_blocks_fit(blocks_, elements_.size(), kernel_path_));
+    scatter_in_order</*Add=*/false>(df, 8, [&](std::size_t first, std::size_t end, const auto& deferred) {
+        if (method_ == FemMethod::Small)
+            detail::small_blocks_dforce(blocks_, elements_, {first, end}, df, dx, k_factor, deferred);
+        else detail::large_blocks_dforce(blocks_, kernel_path_, elements_, {first, end}, df, dx, k_factor, deferred);
     });
 }
 
-double TetrahedralCorotationalFEMForceField::sofa_force(std::size_t first, std::size_t end, std::span<Vec3> f,
-                                                        std::span<const Vec3> x, const detail::DeferredTerms& deferred,
-                                                        double* energies) {
-    double total = 0.0;
-    for (std::size_t e = first; e < end; ++e) {
-        const std::array<std::size_t, 4> vertex = detail::large_vertices(elements_[e]);
-        const LargeElement& element = large_[e];
-        double energy = 0.0;
-        std::array<Vec3, 4> terms;
-        if (method_ == FemMethod::Small) {
-            terms = detail::small_element_force_terms(vertex, rest_local_[e], element.strain_displacement,
-                                                      element.material, x, energy);
-        } else if (method_ == FemMethod::Polar) {
-            rotation_[e] = polar_rotation(detail::edge_rows(x[vertex[0]], x[vertex[1]], x[vertex[2]], x[vertex[3]]));
-            terms = detail::polar_element_force_terms(vertex, rest_local_[e], rotation_[e], element.strain_displacement,
-                                                      element.material, x, energy);
-        } else {
-            terms = detail::large_element_force_terms(vertex, rest_local_[e], element.strain_displacement,
-                                                      element.material, x, energy, rotation_[e]);
-        }
-        if (energies) energies[e] = energy;
-        else total += energy;
-        detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { f[vertex[k]] += term; });
+void TetrahedralCorotationalFEMForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {
+    if (!sofa_operations()) {
+        LinearElementForceField<4>::add_stiffness_triplets(t, offset, factor);
+        return;
     }
-    return total;
+    (void)element_stiffness();  // (add_element_triplets reads it)
+    for (std::size_t e = 0; e < elements_.size(); ++e)
+        add_element_triplets(t, offset, factor, e, detail::large_block_rotation(blocks_, e));
 }
 
 }  // namespace penalty

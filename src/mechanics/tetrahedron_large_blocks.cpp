@@ -146,10 +146,9 @@ double large_blocks_force(TetrahedronLargeBlocks& blocks, KernelPath path,
 }
 
 double per_element_blocks_force(TetrahedronLargeBlocks& blocks, FemMethod method,
-                                std::span<const std::array<Vec3, 4>> rest_local,
-                                std::span<const Tetrahedron> elements, ElementRange range, std::span<Vec3> f,
-                                std::span<const Vec3> x, const DeferredTerms& deferred, double* energies,
-                                const ElementRotationOf* rotation_of) {
+                                std::span<const std::array<Vec3, 4>> rest_local, std::span<const Tetrahedron> elements,
+                                ElementRange range, std::span<Vec3> f, std::span<const Vec3> x,
+                                const DeferredTerms& deferred, double* energies, const ElementRotationOf* rotation_of) {
     // accumulateForceSmall / accumulateForcePolar / accumulateForceSVD
     // (tetrahedron_large_element.hpp), element by element on every path (polar's and svd's
     // product is large's and runs in lanes)
@@ -223,9 +222,9 @@ void small_blocks_dforce(const TetrahedronLargeBlocks& blocks, std::span<const T
                 const Block& block = b[e / Block::kLanes];
                 const std::size_t lane = e % Block::kLanes;
                 const auto vertex = large_vertices(elements[e]);
-                const std::array<Vec3, 4> terms = small_element_dforce_terms(
-                    vertex, LaneStrainDisplacement<OneLane, Block>{block, lane},
-                    LaneMaterial<OneLane, Block>{block, lane}, dx, k_factor);
+                const std::array<Vec3, 4> terms =
+                    small_element_dforce_terms(vertex, LaneStrainDisplacement<OneLane, Block>{block, lane},
+                                               LaneMaterial<OneLane, Block>{block, lane}, dx, k_factor);
                 store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) { df[vertex[k]] -= term; });
             }
         },

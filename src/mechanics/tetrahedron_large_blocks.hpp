@@ -53,10 +53,9 @@ using ElementRotationOf = std::function<Mat3(const std::array<Vec3, 4>&, std::si
 /// `rotation_of`, else polar_rotation of the edge rows) over `range`, element by element: polar's
 /// frame into the element's lane; the energy as large_blocks_force.
 double per_element_blocks_force(TetrahedronLargeBlocks& blocks, FemMethod method,
-                                std::span<const std::array<Vec3, 4>> rest_local,
-                                std::span<const Tetrahedron> elements, ElementRange range, std::span<Vec3> f,
-                                std::span<const Vec3> x, const DeferredTerms& deferred, double* energies,
-                                const ElementRotationOf* rotation_of);
+                                std::span<const std::array<Vec3, 4>> rest_local, std::span<const Tetrahedron> elements,
+                                ElementRange range, std::span<Vec3> f, std::span<const Vec3> x,
+                                const DeferredTerms& deferred, double* energies, const ElementRotationOf* rotation_of);
 
 /// df −= Rᵀ·F(R·dx, k_factor) (applyStiffnessCorotational, applyStiffnessLarge / Polar) over
 /// `range` (its first a multiple of eight), by the kernel path: eight elements an instruction

@@ -31,10 +31,8 @@ namespace penalty::detail {
 
 /// δ and F of one element: vertex k's components at 3k … 3k+2.
 using TetrahedronDisplacement = Eigen::Matrix<double, 12, 1>;
-/// J: row 3k+c for vertex k's component c, column the Voigt strain (xx, yy, zz, xy, yz, zx);
-/// cofactors of the rest local coordinates (6V times the shape-function gradients), m².
-using TetrahedronStrainDisplacement = Eigen::Matrix<double, 12, 6>;
-/// D/(36V), Pa/m³.
+/// D/(36V), Pa/m³. (J, the 12×6 strain-displacement matrix of cofactors, is kept as its twelve
+/// distinct values in the lane blocks: tetrahedron_large_blocks.hpp, store_large_element.)
 using TetrahedronMaterial = Eigen::Matrix<double, 6, 6>;
 
 /// Rows (x̂, ŷ, ẑ): x̂ = (b − a)/|b − a|, ẑ = (x̂ × (c − a))/|x̂ × (c − a)|, ŷ = ẑ × x̂
@@ -53,30 +51,6 @@ inline Mat3 large_frame(const Vec3& a, const Vec3& b, const Vec3& c) {
 /// 2×3 matrix, summed left to right (peudo_determinant_for_coef).
 inline double minor_sum(const Vec3& u, const Vec3& v) {
     return u[1] * v[2] - v[1] * u[2] - u[0] * v[2] + v[0] * u[2] + u[0] * v[1] - v[0] * u[1];
-}
-
-/// J of a tetrahedron with local vertices q (computeStrainDisplacement): vertex k's rows come from
-/// the three other vertices in cyclic order (k+1, k+2, k+3), sign s = −1 for k = 0, 2 and +1 for
-/// k = 1, 3; with g_yz, g_xz, g_xy the minor sums of their (y; z), (x; z), (x; y) coordinates:
-/// J(3k, xx) = J(3k+1, xy) = J(3k+2, zx) = s·g_yz, J(3k, xy) = J(3k+1, yy) = J(3k+2, yz) = −s·g_xz,
-/// J(3k, zx) = J(3k+1, yz) = J(3k+2, zz) = s·g_xy.
-inline TetrahedronStrainDisplacement strain_displacement(const std::array<Vec3, 4>& q) {
-    TetrahedronStrainDisplacement j = TetrahedronStrainDisplacement::Zero();
-    for (int k = 0; k < 4; ++k) {
-        const Vec3& p1 = q[static_cast<std::size_t>((k + 1) % 4)];
-        const Vec3& p2 = q[static_cast<std::size_t>((k + 2) % 4)];
-        const Vec3& p3 = q[static_cast<std::size_t>((k + 3) % 4)];
-        const Vec3 xs(p1[0], p2[0], p3[0]), ys(p1[1], p2[1], p3[1]), zs(p1[2], p2[2], p3[2]);
-        const double sign = k % 2 == 0 ? -1.0 : 1.0;
-        const double yz = sign * minor_sum(ys, zs);
-        const double xz = -sign * minor_sum(xs, zs);
-        const double xy = sign * minor_sum(xs, ys);
-        const int r = 3 * k;
-        j(r, 0) = j(r + 1, 3) = j(r + 2, 5) = yz;
-        j(r, 3) = j(r + 1, 1) = j(r + 2, 4) = xz;
-        j(r, 5) = j(r + 1, 4) = j(r + 2, 2) = xy;
-    }
-    return j;
 }
 
 /// D/(36V) (computeMaterialStiffness): the matrix with 1 on the normal diagonal, ν/(1−ν) off it

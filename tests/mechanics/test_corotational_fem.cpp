@@ -10,6 +10,7 @@
 #include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 #include "penalty_test/grid_meshes.hpp"
+#include "penalty_test/same_bits.hpp"
 #include "penalty_test/sanitizer.hpp"
 
 #include <gtest/gtest.h>
@@ -248,29 +249,54 @@ TEST(TetrahedralCorotationalFem, LocalStiffnessFactorScalesYoungsModulusOfElemen
     EXPECT_EQ(scaled.stiffness_factor(n - 1), 0.5);
 }
 
-TEST(TetrahedralCorotationalFem, DefaultOptionsGiveTetrahedronFemForces) {
-    // with its default options the component computes what TetrahedronFEMForceField computes
+TEST(TetrahedralCorotationalFem, DefaultOptionsGiveTetrahedronFemBitsOnEveryKernelPath) {
+    // with its default options the component computes what TetrahedronFEMForceField computes: the
+    // same element data and loops (tetrahedron_large_blocks.hpp), so the same force, energy and
+    // product to the bit, on each kernel path, and every path the scalar one's bits
+    std::vector<KernelPath> paths{KernelPath::scalar};
+    for (const KernelPath path : {KernelPath::avx, KernelPath::avx512})
+        if (kernel_path_supported(path)) paths.push_back(path);
     for (FemMethod method : kMethods) {
-        Block a, b;
-        TetrahedralCorotationalFEMForceField corotational(a.state, a.topo.tetrahedra(), 500, 0.4, {.method = method});
-        TetrahedronFEMForceField tetrahedron(b.state, b.topo, 500, 0.4, method);
-        corotational.init();
-        tetrahedron.init();
-        std::mt19937 rng(11);
-        std::uniform_real_distribution<double> u(-0.2, 0.2);
-        for (std::size_t i = 0; i < a.state.position.size(); ++i) {
-            a.state.position[i] += Vec3(u(rng), u(rng), u(rng));
-            b.state.position[i] = a.state.position[i];
+        std::vector<Vec3> first_force, first_product;
+        for (const KernelPath path : paths) {
+            Block a, b;
+            TetrahedralCorotationalFEMForceField corotational(a.state, a.topo.tetrahedra(), 500, 0.4,
+                                                              {.method = method});
+            TetrahedronFEMForceField tetrahedron(b.state, b.topo, 500, 0.4, method);
+            corotational.set_kernel_path(path);
+            tetrahedron.set_kernel_path(path);
+            corotational.init();
+            tetrahedron.init();
+            EXPECT_EQ(corotational.kernel_path(), path);
+            std::mt19937 rng(11);
+            std::uniform_real_distribution<double> u(-0.2, 0.2);
+            for (std::size_t i = 0; i < a.state.position.size(); ++i) {
+                a.state.position[i] += Vec3(u(rng), u(rng), u(rng));
+                b.state.position[i] = a.state.position[i];
+            }
+            corotational.accumulate_force();
+            tetrahedron.accumulate_force();
+            std::vector<Vec3> dx(a.state.num_dofs());
+            for (auto& v : dx) v = Vec3(u(rng), u(rng), u(rng));
+            std::vector<Vec3> df_a(dx.size(), Vec3::Zero()), df_b(dx.size(), Vec3::Zero());
+            corotational.add_dforce(df_a, dx, -0.37, 0.0);
+            tetrahedron.add_dforce(df_b, dx, -0.37, 0.0);
+            const std::string where = "method " + std::to_string(int(method)) + ", path " + to_string(path);
+            EXPECT_GT(std::max_element(a.state.force.begin(), a.state.force.end(),
+                                       [](const Vec3& l, const Vec3& r) { return l.norm() < r.norm(); })
+                          ->norm(),
+                      1.0)
+                << where;
+            EXPECT_TRUE(test::same_bits(a.state.force, b.state.force)) << where;
+            EXPECT_TRUE(test::same_bits(df_a, df_b)) << where;
+            EXPECT_TRUE(test::same_bits(corotational.potential_energy(), tetrahedron.potential_energy())) << where;
+            if (first_force.empty()) {
+                first_force = a.state.force;
+                first_product = df_a;
+            }
+            EXPECT_TRUE(test::same_bits(a.state.force, first_force)) << where;
+            EXPECT_TRUE(test::same_bits(df_a, first_product)) << where;
         }
-        corotational.accumulate_force();
-        tetrahedron.accumulate_force();
-        double scale = 0, diff = 0;
-        for (std::size_t i = 0; i < a.state.force.size(); ++i) {
-            scale = std::max(scale, b.state.force[i].norm());
-            diff = std::max(diff, (a.state.force[i] - b.state.force[i]).norm());
-        }
-        EXPECT_GT(scale, 1.0);
-        EXPECT_LT(diff, 1e-12 * scale) << "method " << int(method);
     }
 }
 

@@ -32,7 +32,13 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    void add_stiffness_triplets(TripletList& triplets, Index offset, double factor) const override;
     [[nodiscard]] const std::vector<Element>& tetrahedra() const { return elements_; }
+    /// Instructions of the loops of SOFA's operations (TetrahedronFEMForceField::set_kernel_path's:
+    /// default best_fem_kernel_path(), every path the same bits). Throws std::invalid_argument if
+    /// this machine cannot run `path`.
+    void set_kernel_path(KernelPath path);
+    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
     [[nodiscard]] const CorotationalFemOptions& options() const { return options_; }
     /// Element e's factor on Young's modulus (localStiffnessFactor[e·M/N], or 1).
     [[nodiscard]] double stiffness_factor(std::size_t e) const;
@@ -41,6 +47,8 @@ protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 4>& rest_local,
                                                   const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 4>& p) const override;
+    /// SOFA's operations keep R in the lane blocks (blocks_), the common path in rotation_.
+    [[nodiscard]] bool keeps_rotations() const override { return !sofa_operations(); }
 
 private:
     /// K^e = factor · J D Jᵀ / (36 V⁰), J from the local coordinates `shape`, V⁰ the rest volume.
@@ -48,21 +56,14 @@ private:
                                                    std::size_t e) const;
 
     /// Without computeGlobalMatrix, and for large and polar without updateStiffnessMatrix: SOFA's
-    /// operations in SOFA's order (src/mechanics/tetrahedron_large_element.hpp), the same bits as
-    /// SOFA.
+    /// operations in SOFA's order, TetrahedronFEMForceField's (src/mechanics/tetrahedron_large_blocks.hpp),
+    /// the same bits as SOFA.
     [[nodiscard]] bool sofa_operations() const;
-    /// sofa_operations(), per element as SOFA stores it (initSmall, initLarge or initPolar,
-    /// computeMaterialStiffness).
-    struct LargeElement {
-        Eigen::Matrix<double, 12, 6> strain_displacement;  ///< J of the rest coordinates, m²
-        Eigen::Matrix<double, 6, 6> material;              ///< D·factor/(36 V⁰), Pa/m³
-    };
-    std::vector<LargeElement> large_;
-    /// sofa_operations()'s force over elements [first, end) (element e's frame into rotation_[e]),
-    /// the terms `deferred` marks stored instead of added; returns the energy summed in element
-    /// order, or 0 with element e's into energies[e] (not null).
-    double sofa_force(std::size_t first, std::size_t end, std::span<Vec3> f, std::span<const Vec3> x,
-                      const detail::DeferredTerms& deferred, double* energies);
+    /// sofa_operations(): J of the rest coordinates (initSmall, initLarge or initPolar), D·factor/(36 V⁰)
+    /// (computeMaterialStiffness) and R of the last add_force, per element in the lanes of the
+    /// kernel path's blocks; empty otherwise.
+    detail::TetrahedronLargeBlocks blocks_;
+    KernelPath kernel_path_ = best_fem_kernel_path();
 
     CorotationalFemOptions options_;
     Eigen::Matrix<double, 6, 6> material_;  ///< isotropic_elasticity(E, ν), Pa
