@@ -53,7 +53,7 @@ void TetrahedralCorotationalFEMForceField::init() {
     }
     // TetrahedralCorotationalFEMForceField::reinit: computeMaterialStiffness (E·factor, the volume
     // of the world rest positions) and initSmall, initLarge or initPolar (frame, rest coordinates,
-    // J) per element; K^e (the assembled stiffness) stays the common path's
+    // J) per element; K^e (the assembled stiffness) is the common path's, made when first asked for
     detail::resize_large_blocks(blocks_, elements_.size(), kernel_path_);
     const auto& x0 = state_->rest_position;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
@@ -78,15 +78,20 @@ Mat3 TetrahedralCorotationalFEMForceField::element_rotation(const std::array<Vec
     return tetrahedron_rotation(p, method_);
 }
 
-TetrahedralCorotationalFEMForceField::ElementMatrix TetrahedralCorotationalFEMForceField::compute_stiffness(
-    const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>&, std::size_t e) const {
+void TetrahedralCorotationalFEMForceField::check_rest_element(const std::array<Vec3, 4>& rest_local,
+                                                              std::size_t e) const {
     const double volume = tetrahedron_volume(rest_local);
     const double scale = std::max({(rest_local[1] - rest_local[0]).norm(), (rest_local[2] - rest_local[0]).norm(),
                                    (rest_local[3] - rest_local[0]).norm()});
     // SOFA divides by the volume (infinite stiffness); penalty refuses the element.
     if (!std::isfinite(volume) || volume <= 1e-12 / 6 * scale * scale * scale)
         throw_invalid_argument(component_, ": tetrahedron ", e, " is degenerate (volume ", volume, ")");
-    return stiffness_of_shape(rest_local, volume, e);
+}
+
+TetrahedralCorotationalFEMForceField::ElementMatrix TetrahedralCorotationalFEMForceField::compute_stiffness(
+    const std::array<Vec3, 4>& rest_local, const Eigen::Matrix<double, 6, 6>&, std::size_t e) const {
+    check_rest_element(rest_local, e);
+    return stiffness_of_shape(rest_local, tetrahedron_volume(rest_local), e);
 }
 
 TetrahedralCorotationalFEMForceField::ElementMatrix TetrahedralCorotationalFEMForceField::stiffness_of_shape(

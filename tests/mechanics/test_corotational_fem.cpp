@@ -300,6 +300,39 @@ TEST(TetrahedralCorotationalFem, DefaultOptionsGiveTetrahedronFemBitsOnEveryKern
     }
 }
 
+TEST(TetrahedralCorotationalFem, ElementStiffnessOnSofasPathIsMadeWhenAskedAsTheCommonPathMakesItAtInit) {
+    // on SOFA's path no product reads K^e: it is made by the first element_stiffness() (an
+    // assembling solver's add_stiffness_triplets), the matrices computeGlobalMatrix's path makes
+    // at init, to the bit; the assembled matrix is the product's and the force's Jacobian
+    for (const FemMethod method : kMethods) {
+        Block a, b;
+        std::mt19937 rng(17);
+        std::uniform_real_distribution<double> u(-0.03, 0.03);
+        for (std::size_t i = 0; i < a.state.rest_position.size(); ++i) {
+            a.state.rest_position[i] += Vec3(u(rng), u(rng), u(rng));
+            b.state.rest_position[i] = a.state.rest_position[i];
+        }
+        a.state.position = a.state.rest_position;
+        b.state.position = b.state.rest_position;
+        const std::vector<double> factors{1.0, 3.0};
+        TetrahedralCorotationalFEMForceField on_demand(a.state, a.topo.tetrahedra(), 700, 0.3,
+                                                       {.method = method, .local_stiffness_factors = factors});
+        TetrahedralCorotationalFEMForceField at_init(
+            b.state, b.topo.tetrahedra(), 700, 0.3,
+            {.method = method, .local_stiffness_factors = factors, .assembling = true});
+        on_demand.init();
+        at_init.init();
+        const auto& k = on_demand.element_stiffness();
+        ASSERT_EQ(k.size(), a.topo.tetrahedra().size());
+        EXPECT_EQ(std::memcmp(k.data(), at_init.element_stiffness().data(), k.size() * sizeof(k[0])), 0) << int(method);
+        // at rest (stress-free: the rotation derivative SOFA leaves out is 0 there)
+        const test::DerivativeTolerances tol{
+            .dforce_vs_fd = 1e-6, .assembled_vs_dforce = 1e-12, .force_vs_energy = std::nullopt};
+        const test::ForceFieldDerivatives d = test::check_force_field_derivatives(on_demand, a.state, tol);
+        EXPECT_GT(d.k_fd.cwiseAbs().maxCoeff(), 10.0) << int(method);
+    }
+}
+
 TEST(TetrahedralCorotationalFem, PolarWithComputeGlobalMatrixAddsNoForceButKeepsItsStiffness) {
     // SOFA's accumulateForcePolar with computeGlobalMatrix only logs an error (reproduced).
     CornerTetrahedron t;

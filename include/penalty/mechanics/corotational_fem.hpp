@@ -49,6 +49,11 @@ protected:
     [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 4>& p) const override;
     /// SOFA's operations keep R in the lane blocks (blocks_), the common path in rotation_.
     [[nodiscard]] bool keeps_rotations() const override { return !sofa_operations(); }
+    /// K^e at init for the common path's products; on SOFA's path only an assembling solver reads
+    /// it (add_stiffness_triplets), which makes it when first asked for (element_stiffness()).
+    [[nodiscard]] bool element_stiffness_at_init() const override { return !sofa_operations(); }
+    /// A degenerate rest tetrahedron (volume ≤ 1e-12/6 of its longest edge cubed) is refused.
+    void check_rest_element(const std::array<Vec3, 4>& rest_local, std::size_t e) const override;
 
 private:
     /// K^e = factor · J D Jᵀ / (36 V⁰), J from the local coordinates `shape`, V⁰ the rest volume.
