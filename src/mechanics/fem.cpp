@@ -1,6 +1,4 @@
 #include "penalty/mechanics/fem.hpp"
-#include "kernels/mechanics/tetrahedron_large.hpp"
-#include "kernels/mechanics/tetrahedron_large_lanes.hpp"
 #include "tetrahedron_large_blocks.hpp"
 #include "tetrahedron_large_element.hpp"
 
@@ -15,9 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
-#include <type_traits>
 #include <variant>
 
 namespace penalty {
