@@ -7,6 +7,7 @@
 // RigidMapping's apply and J, springs between two states and a cable of beams on 1 and 2 threads.
 
 #include "penalty/mechanics/beam_fem_force_field.hpp"
+#include "penalty/mechanics/corotational_fem.hpp"
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/mapping.hpp"
 #include "penalty/mechanics/mass.hpp"
@@ -71,15 +72,18 @@ constexpr double kFemLargeDForceFlops = 282.0;
 // Flops of one spring in SpringForceField::add_dforce: u = dx_b − dx_a 3, K·u 15, ·k 3, df += 3, df −= 3.
 constexpr double kSpringDForceFlops = 27.0;
 
-// n³ grid points over SphereModel's cube (n = 5: its 5 × 5 × 5 grid), SOFA's grid tetrahedra.
-void BM_TetraFemLargeDForce(benchmark::State& state) {
+// The product of a method-large tetrahedral field over n³ grid points on SphereModel's cube (n = 5:
+// its 5 × 5 × 5 grid), SOFA's grid tetrahedra, on kernel path range(1); `make_field(state, grid)`
+// adds the field to the node.
+template <class MakeField>
+void tetra_large_dforce(benchmark::State& state, const MakeField& make_field) {
     const int n = static_cast<int>(state.range(0));
     RegularGridTopology grid({n, n, n}, Vec3(-3.5, -3.5, -3.5), Vec3(3.5, 3.5, 3.5));
     Simulation sim;
     Node& body = sim.root().add_child("block");
     auto& x = body.add_state<Vec3Types>();
     x.position = grid.points();
-    auto& fem = body.add_force_field<TetrahedronFEMForceField>(x, grid, 25.0, 0.3, FemMethod::Large);
+    auto& fem = make_field(body, x, grid);
     const auto path = static_cast<KernelPath>(state.range(1));
     if (!kernel_path_supported(path)) {
         state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
@@ -103,6 +107,23 @@ void BM_TetraFemLargeDForce(benchmark::State& state) {
     state.counters["elements"] = elements;
     state.counters["flops"] =
         benchmark::Counter(elements * kFemLargeDForceFlops, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_TetraFemLargeDForce(benchmark::State& state) {
+    tetra_large_dforce(
+        state, [](Node & body, Vec3Object & x, const RegularGridTopology& grid) -> auto& {
+            return body.add_force_field<TetrahedronFEMForceField>(x, grid, 25.0, 0.3, FemMethod::Large);
+        });
+}
+
+// TetrahedralCorotationalFEMForceField (its SOFA path) on TetrahedronFEMForceField's tetrahedra of
+// the same grid: the same element operations.
+void BM_TetraCorotationalLargeDForce(benchmark::State& state) {
+    tetra_large_dforce(
+        state, [](Node & body, Vec3Object & x, const RegularGridTopology& grid) -> auto& {
+            const TetrahedronFEMForceField split(x, grid, 25.0, 0.3, FemMethod::Large);
+            return body.add_force_field<TetrahedralCorotationalFEMForceField>(x, split.tetrahedra(), 25.0, 0.3);
+        });
 }
 
 // The springs of an n × n × (n + 1) grid (regular_grid_springs, diagonals included); n = 6: 2 306
@@ -291,6 +312,7 @@ BENCHMARK(BM_TetraFemBlockStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SpringGridStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
 // second argument: the KernelPath (0 scalar, 1 avx, 2 avx512), side by side in one run
 BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
+BENCHMARK(BM_TetraCorotationalLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);
 // 10^5 and 10^6 points on 1 and 2 threads, side by side in one run
 BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
