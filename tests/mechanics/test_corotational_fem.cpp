@@ -254,8 +254,15 @@ TEST(TetrahedralCorotationalFem, DefaultOptionsGiveTetrahedronFemBitsOnEveryKern
     // same element data and loops (tetrahedron_large_blocks.hpp), so the same force, energy and
     // product to the bit, on each kernel path, and every path the scalar one's bits
     std::vector<KernelPath> paths{KernelPath::scalar};
-    for (const KernelPath path : {KernelPath::avx, KernelPath::avx512})
-        if (kernel_path_supported(path)) paths.push_back(path);
+    for (const KernelPath path : {KernelPath::avx, KernelPath::avx512}) {
+        if (kernel_path_supported(path)) {
+            paths.push_back(path);
+        } else {  // a path this CPU cannot run is refused, naming the component
+            CornerTetrahedron t;
+            TetrahedralCorotationalFEMForceField ff(t.state, t.tetrahedra, kYoung, kPoisson);
+            EXPECT_THROW(ff.set_kernel_path(path), std::invalid_argument);
+        }
+    }
     for (FemMethod method : kMethods) {
         std::vector<Vec3> first_force, first_product;
         for (const KernelPath path : paths) {

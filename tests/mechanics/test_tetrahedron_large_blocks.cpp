@@ -111,17 +111,20 @@ TEST(TetrahedronLargeBlocks, AnElementsLaneHoldsItsCofactorsMaterialAndFrameAcro
                     for (int i = 0; i < 3; ++i)
                         for (int k = 0; k < 3; ++k) EXPECT_EQ(m(i, k), mesh.material[e](i, k));
                     for (int i = 3; i < 6; ++i) EXPECT_EQ(m(i, i), mesh.material[e](i, i));
-                    // the lanes past the last element are 0
-                    const auto& last = b.back();
-                    for (std::size_t lane = 11 % Block::kLanes; lane < Block::kLanes && 11 % Block::kLanes != 0;
-                         ++lane) {
-                        EXPECT_EQ(last.shear[0][lane], 0.0);
-                        EXPECT_EQ(last.cofactor[3][2][lane], 0.0);
-                        EXPECT_EQ(last.rotation[4][lane], 0.0);
-                    }
                 },
                 blocks);
         }
+        // the lanes past the last element are 0 (11 elements: lanes 3 … W − 1 of the last block)
+        std::visit(
+            [](const auto& b) {
+                const auto& last = b.back();
+                for (std::size_t lane = 11 % last.kLanes; lane < last.kLanes; ++lane) {
+                    EXPECT_EQ(last.shear[0][lane], 0.0);
+                    EXPECT_EQ(last.cofactor[3][2][lane], 0.0);
+                    EXPECT_EQ(last.rotation[4][lane], 0.0);
+                }
+            },
+            blocks);
         // a swap-and-pop: element 10's data into element 3's lane
         detail::copy_large_element(blocks, 10, 3);
         EXPECT_TRUE(detail::large_block_rotation(blocks, 3) == mesh.frame[10]);
