@@ -2,7 +2,7 @@
 # Compiles each test suite (tests/<suite>/test_*.cpp) and each library layer (src/<folder>/**.cpp
 # with src/kernels/<folder>/*.cpp) as ONE translation unit, syntax only, and prints every name two
 # files of a suite or layer both define in their anonymous namespaces. The builds compile the
-# suites in unity batches of twelve files (PENALTY_UNITY_TESTS) and the layers in batches of eight
+# suites in unity batches of 24 files (PENALTY_UNITY_TESTS) and the layers in batches of eight
 # (PENALTY_UNITY_LIBRARY): a clash breaks the build only when both files land in one batch, which
 # adding any file can cause.
 # Usage: scripts/check-test-unity.sh [suite-or-layer...]   exit 1 when one does not compile as one unit
