@@ -16,12 +16,17 @@ using detail::for_each_node;
 
 void Simulation::plan_node(Node& node) {
     // The first node with an ODE solver on a path integrates its whole subtree; at a node without
-    // solver, each force field is explicit, then the children.
+    // solver, each interaction force field (SOFA's BaseInteractionForceField) is explicit, then
+    // the children (SOFA's SolveVisitor::processNodeTopDown visits only the node's
+    // interactionForceField list there: a plain ForceField at such a node acts on a state no
+    // solver integrates and is never evaluated).
     if (node.ode_solver() != nullptr) {
         plan_.push_back({&node, nullptr, {}});
         return;
     }
-    node.for_each_force_field([this](BaseForceField& ff) { plan_.push_back({nullptr, &ff, ff.states()}); });
+    node.for_each_force_field([this](BaseForceField& ff) {
+        if (ff.sofa_interaction()) plan_.push_back({nullptr, &ff, ff.states()});
+    });
     for (const auto& child : node.children()) plan_node(*child);
 }
 

@@ -13,6 +13,9 @@
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/mechanics/state.hpp"
 
+#include <functional>
+#include <map>
+
 namespace {
 
 using namespace penalty::test_builder_scenes;
@@ -228,6 +231,138 @@ TEST(MassesAndForceFields, BadDataAreRefusedNamingTheAttribute) {
     EXPECT_EQ(fem.plasticity().yield_threshold, double(0.0001f));
     EXPECT_EQ(fem.plasticity().creep, double(0.9f));
     EXPECT_EQ(fem.plasticity().max_threshold, 0.1);
+}
+
+// Which force fields are SOFA's interaction force fields (BaseInteractionForceField), as SOFA HEAD
+// (2a278d8) lists its categories: BaseObject::getCategories of each component made in a node with
+// a MechanicalObject holds "InteractionForceField" for exactly these (SpringForceField and the
+// fields made of it, TriangleBendingSprings and QuadBendingSprings among them); SOFA's
+// TriangularBendingSprings and QuadularBendingSprings are plain ForceFields. It decides the
+// summation order of a node's fields (Node::for_each_force_field) and which fields of a node
+// without solver are explicit: SOFA's SolveVisitor evaluates only the interaction fields there.
+const std::string kEveryForceField = R"()" + std::string(R"SCN(<Node name="root" dt="0.01" gravity="0 -9.81 0">
+  <DefaultAnimationLoop/>
+  <Node name="Tetra">
+    <TetrahedronSetTopologyContainer position="0 0 0  1 0 0  0 1 0  0 0 1  1 1 1" tetrahedra="0 1 2 3  1 2 3 4"/>
+    <MechanicalObject name="tetra"/>
+    <TetrahedronFEMForceField youngModulus="2000" poissonRatio="0.35" method="large"/>
+    <TetrahedralCorotationalFEMForceField youngModulus="2000" poissonRatio="0.35"/>
+    <FastTetrahedralCorotationalForceField youngModulus="2000" poissonRatio="0.35"/>
+    <TetrahedronHyperelasticityFEMForceField materialName="StVenantKirchhoff" ParameterSet="1000 100"/>
+  </Node>
+  <Node name="Triangles">
+    <TriangleSetTopologyContainer position="0 0 0  1 0 0  0 1 0  1 1 0.2" triangles="0 1 2  1 3 2"/>
+    <MechanicalObject name="cloth"/>
+    <TriangularFEMForceField youngModulus="60" poissonRatio="0.3"/>
+    <TriangularFEMForceFieldOptim youngModulus="60" poissonRatio="0.3"/>
+    <TriangleFEMForceField youngModulus="60" poissonRatio="0.3"/>
+    <TriangularBendingSprings stiffness="10"/>
+    <FastTriangularBendingSprings bendingStiffness="10"/>
+    <TriangularBiquadraticSpringsForceField youngModulus="60" poissonRatio="0.3"/>
+    <TriangularQuadraticSpringsForceField youngModulus="60" poissonRatio="0.3"/>
+    <TriangularTensorMassForceField youngModulus="60" poissonRatio="0.3"/>
+    <TrianglePressureForceField pressure="0 0 1" triangleList="0"/>
+    <TriangleBendingSprings stiffness="10"/>
+    <MeshSpringForceField stiffness="30"/>
+    <SpringForceField spring="0 3 10 0.1 1.2"/>
+    <ConstantForceField indices="0" forces="0 1 0"/>
+    <PlaneForceField normal="0 1 0" d="-1" stiffness="100"/>
+    <RestShapeSpringsForceField stiffness="10"/>
+    <ConicalForceField coneCenter="0 2 0" coneHeight="0 -1 0" coneAngle="10" stiffness="100"/>
+    <SurfacePressureForceField pressure="1"/>
+    <TaitSurfacePressureForceField p0="1" B="1" gamma="1"/>
+  </Node>
+  <Node name="Quads">
+    <QuadSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0  2 0 0  2 1 0" quads="0 1 2 3  1 4 5 2"/>
+    <MechanicalObject name="sheet"/>
+    <QuadBendingSprings stiffness="10"/>
+    <QuadularBendingSprings stiffness="10"/>
+    <QuadPressureForceField pressure="0 0 1" quadList="0"/>
+    <QuadBendingFEMForceField youngModulus="60" poissonRatio="0.3" thickness="0.1"/>
+  </Node>
+  <Node name="Hexa">
+    <HexahedronSetTopologyContainer position="0 0 0  1 0 0  1 1 0  0 1 0  0 0 1  1 0 1  1 1 1  0 1 1" hexahedra="0 1 2 3 4 5 6 7"/>
+    <MechanicalObject name="hexa"/>
+    <HexahedronFEMForceField youngModulus="3000" poissonRatio="0.3" method="large"/>
+    <HexahedralFEMForceField youngModulus="3000" poissonRatio="0.3"/>
+  </Node>
+  <Node name="Grid">
+    <RegularGridTopology n="2 2 2" min="0 0 0" max="1 1 1"/>
+    <MechanicalObject name="grid"/>
+    <RegularGridSpringForceField stiffness="200"/>
+  </Node>
+  <Node name="Edges">
+    <EdgeSetTopologyContainer position="0 0 0  1 0 0  2 0 0" edges="0 1  1 2"/>
+    <MechanicalObject name="wire"/>
+    <EdgePressureForceField pressure="0 1 0" normal="0 0 1"/>
+  </Node>
+</Node>)SCN") + R"()";
+
+TEST(MassesAndForceFields, InteractionFieldsAreSofasInteractionForceFields) {
+    const std::map<std::string, bool> sofa_interaction = {
+        {"TetrahedronFEMForceField", false},
+        {"TetrahedralCorotationalFEMForceField", false},
+        {"FastTetrahedralCorotationalForceField", false},
+        {"TetrahedronHyperelasticityFEMForceField", false},
+        {"TriangularFEMForceField", false},
+        {"TriangularFEMForceFieldOptim", false},
+        {"TriangleFEMForceField", false},
+        {"TriangularBendingSprings", false},
+        {"FastTriangularBendingSprings", false},
+        {"TriangularBiquadraticSpringsForceField", false},
+        {"TriangularQuadraticSpringsForceField", false},
+        {"TriangularTensorMassForceField", false},
+        {"TrianglePressureForceField", false},
+        {"TriangleBendingSprings", true},
+        {"MeshSpringForceField", true},
+        {"SpringForceField", true},
+        {"ConstantForceField", false},
+        {"PlaneForceField", false},
+        {"RestShapeSpringsForceField", false},
+        {"ConicalForceField", false},
+        {"SurfacePressureForceField", false},
+        {"TaitSurfacePressureForceField", false},
+        {"QuadBendingSprings", true},
+        {"QuadularBendingSprings", false},
+        {"QuadPressureForceField", false},
+        {"QuadBendingFEMForceField", false},
+        {"HexahedronFEMForceField", false},
+        {"HexahedralFEMForceField", false},
+        {"RegularGridSpringForceField", true},
+        {"EdgePressureForceField", false},
+    };
+    auto s = build(kEveryForceField);
+    std::map<std::string, bool> found;
+    std::function<void(const Node&)> visit = [&](const Node& n) {
+        for (const auto& ff : n.force_fields()) {
+            const io::SceneComponent* c = s->component_of(ff.get());
+            ASSERT_NE(c, nullptr);
+            found[c->type] = ff->sofa_interaction();
+            // `penalty info` says which are never evaluated (no solver in this scene)
+            EXPECT_EQ(s->role(*c).find("never evaluated: no ODE solver above it") != std::string::npos,
+                      !ff->sofa_interaction())
+                << c->type << ": " << s->role(*c);
+        }
+        for (const auto& child : n.children()) visit(*child);
+    };
+    visit(s->simulation().root());
+    EXPECT_EQ(found, sofa_interaction);
+
+    // No node has a solver: the interaction fields are explicit, the others never evaluated;
+    // nothing moves, and the steps run.
+    const auto state_of = [&](const std::string& node_name) -> const Vec3Object& {
+        for (const auto& child : s->simulation().root().children())
+            if (child->name() == node_name) return dynamic_cast<const Vec3Object&>(*child->state());
+        throw std::runtime_error("no node " + node_name);
+    };
+    const Vec3Object& cloth = state_of("Triangles");
+    const std::vector<Vec3> start = cloth.position;
+    for (int step = 0; step < 3; ++step) s->step();
+    EXPECT_EQ(cloth.position, start);
+    // the cloth's springs are explicit: their forces reach its external force; the tetrahedra's
+    // state is read by plain fields only, which nothing evaluates: static
+    EXPECT_FALSE(cloth.is_static());
+    EXPECT_TRUE(state_of("Tetra").is_static());
 }
 
 }  // namespace

@@ -3,7 +3,8 @@
 // kMinUnknownsPerConcurrentSolve unknowns: same bits as in plan order, the first failing solver's
 // error, and solvers that share a state (another solver's or a static one) kept in order. Explicit
 // force fields next to each other whose states do not meet run as tasks too
-// (Simulation::find_explicit_run).
+// (Simulation::find_explicit_run). At a node without solver only SOFA's interaction force fields
+// are explicit (SolveVisitor::processNodeTopDown); a plain force field there is never evaluated.
 //
 // Whether two solves overlap in time is observed with a rendezvous force field: on its first
 // force evaluation it waits (up to a timeout) until another one has arrived. Concurrent solves
@@ -336,6 +337,69 @@ TEST_F(ConcurrentSolvers, ExplicitFieldsSharingStatesRunInOrder) {
     Rendezvous r1(300ms);
     ExplicitPairs one(40, true, r1);
     expect_same_bits(one.run(1, 10), two);
+}
+
+/// Counts its force evaluations (a plain ForceField: SOFA's ForceField<Vec3>).
+class CountingField final : public ForceField<Vec3Types> {
+public:
+    explicit CountingField(Vec3Object& state) : ForceField(state) {}
+    void add_force(std::span<Vec3> f, std::span<const Vec3>, std::span<const Vec3>) override {
+        ++evaluations;
+        f[0].y() += 1.0;
+    }
+    void add_dforce(std::span<Vec3>, std::span<const Vec3>, double, double) const override {}
+    void add_stiffness_triplets(TripletList&, Index, double) const override {}
+    int evaluations = 0;
+};
+
+/// The same between two states (SOFA's PairInteractionForceField unless set otherwise).
+class CountingPairField final : public Vec3InteractionForceField {
+public:
+    CountingPairField(Vec3Object& s1, Vec3Object& s2) : Vec3InteractionForceField(s1, s2) {}
+    void add_force(Vec3Span f1, Vec3Span, ConstVec3Span, ConstVec3Span, ConstVec3Span, ConstVec3Span) override {
+        ++evaluations;
+        f1[0].y() += 1.0;
+    }
+    void add_dforce(Vec3Span, Vec3Span, ConstVec3Span, ConstVec3Span, double, double) const override {}
+    void add_stiffness_triplets(TripletList&, Index, Index, double) const override {}
+    int evaluations = 0;
+};
+
+TEST(SolvePlan, OnlyInteractionFieldsOfNodesWithoutSolverAreExplicit) {
+    // SOFA's SolveVisitor::processNodeTopDown: at a node without ODE solver it evaluates the
+    // node's interactionForceField list only (into externalForce); a plain ForceField there (a
+    // TriangularFEMForceField of a shape no solver moves) is never evaluated.
+    Simulation sim;
+    Node& free_node = sim.root().add_child("no_solver");
+    Vec3Object& a = free_node.add_state<Vec3Types>();
+    a.position = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
+    Node& other = sim.root().add_child("other");
+    Vec3Object& b = other.add_state<Vec3Types>();
+    b.position = {Vec3(0, 2, 0)};
+    Node& lone = sim.root().add_child("lone");
+    Vec3Object& c = lone.add_state<Vec3Types>();
+    c.position = {Vec3(0, 3, 0)};
+
+    auto& plain = free_node.add_force_field<CountingField>(a);
+    auto& pair = free_node.add_force_field<CountingPairField>(a, b);
+    // a pair field SOFA derives from ForceField (TriangularBendingSprings): not explicit either
+    auto& plain_pair = lone.add_force_field<CountingPairField>(c, c);
+    plain_pair.set_sofa_interaction(false);
+    auto& lone_plain = lone.add_force_field<CountingField>(c);
+
+    sim.init();
+    for (int step = 0; step < 3; ++step) sim.step();
+    EXPECT_EQ(plain.evaluations, 0);
+    EXPECT_EQ(pair.evaluations, 3);
+    EXPECT_EQ(plain_pair.evaluations, 0);
+    EXPECT_EQ(lone_plain.evaluations, 0);
+    // states only plain fields read are static (no solve writes their scratch); the pair's are not
+    EXPECT_FALSE(a.is_static());
+    EXPECT_FALSE(b.is_static());
+    EXPECT_TRUE(c.is_static());
+    // nothing moved: no solver
+    EXPECT_EQ(a.position[0], Vec3(0, 0, 0));
+    EXPECT_EQ(c.position[0], Vec3(0, 3, 0));
 }
 
 }  // namespace
