@@ -14,6 +14,7 @@
 #include "penalty/mechanics/regular_grid_topology.hpp"
 #include "penalty/mechanics/rest_shape_springs.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
+#include "penalty/mechanics/triangular_fem.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
@@ -302,6 +303,42 @@ void BM_RigidMappingProducts(benchmark::State& state) {
     state.counters["threads"] = double(state.range(1));
 }
 
+// TriangularFEMForceField "large" (SOFA's order): the product of a crumpled m×m sheet of
+// 2(m − 1)² triangles (m = 28: 1 458, the size of SOFA's square3.msh examples).
+void BM_TriangularFemLargeDForce(benchmark::State& state) {
+    const auto m = static_cast<std::size_t>(state.range(0));
+    Simulation sim;
+    Node& sheet = sim.root().add_child("sheet");
+    auto& x = sheet.add_state<Vec3Types>();
+    MeshTopology topology;
+    std::vector<Triangle> triangles;
+    for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t j = 0; j < m; ++j) x.position.emplace_back(double(i), double(j), 0.0);
+    for (std::size_t i = 0; i + 1 < m; ++i)
+        for (std::size_t j = 0; j + 1 < m; ++j) {
+            const auto v = [m](std::size_t a, std::size_t b) { return static_cast<PointId>(a * m + b); };
+            triangles.push_back({v(i, j), v(i + 1, j), v(i + 1, j + 1)});
+            triangles.push_back({v(i, j), v(i + 1, j + 1), v(i, j + 1)});
+        }
+    topology.set_num_points(m * m);
+    topology.set_triangles(std::move(triangles));
+    auto& fem = sheet.add_force_field<TriangularFEMForceField>(x, topology, 60.0, 0.3, FemMethod::Large);
+    sim.init();
+    // crumpled, so that the frames are not the identity
+    for (std::size_t i = 0; i < x.position.size(); ++i)
+        x.position[i] += 0.2 * Vec3(std::sin(double(i)), std::cos(double(3 * i)), std::sin(double(7 * i)));
+    std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
+    fem.add_force(f, x.position, x.velocity);
+    for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 7), -1e-3, 2e-3);
+    for (auto _ : state) {
+        fem.add_dforce(df, dx, -0.25, 0.0);
+        benchmark::DoNotOptimize(df.data());
+    }
+    state.counters["elements"] = double(fem.triangles().size());
+    state.counters["ns_per_element"] = benchmark::Counter(
+        double(fem.triangles().size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }
 void BM_SpringGridStep(benchmark::State& state) { run(state, Model::SpringGrid); }
 
@@ -314,6 +351,7 @@ BENCHMARK(BM_SpringGridStep)->Arg(8)->Arg(15)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_TetraCorotationalLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);
+BENCHMARK(BM_TriangularFemLargeDForce)->Arg(28)->Arg(200);
 // 10^5 and 10^6 points on 1 and 2 threads, side by side in one run
 BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SpringsBetweenTwoStates)->ArgsProduct({{30}, {1, 2}})->Unit(benchmark::kMicrosecond);

@@ -1,5 +1,6 @@
 #include "penalty/mechanics/triangular_fem.hpp"
 
+#include "kernels/mechanics/triangle_fem_large.hpp"
 #include "sofa_vector_ops.hpp"
 #include "triangle_fem_sofa_order.hpp"
 
@@ -70,6 +71,7 @@ TriangularFEMForceField::TriangularFEMForceField(Vec3Object& state, const MeshTo
 }
 
 void TriangularFEMForceField::init() {
+    blocks_current_ = false;
     const std::size_t n = triangles_.size();
     for_each_element_array([n](auto& v) { v.resize(n); });
     for (std::size_t e = 0; e < n; ++e) init_element(e);
@@ -214,6 +216,7 @@ void TriangularFEMForceField::add_force_in_order(std::span<Vec3> f, std::span<co
 }
 
 void TriangularFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3>) {
+    blocks_current_ = false;  // new frames and J
     // each triangle f_k += its term, J and frame kept for the product, energy Σ ½ ε·σ in order;
     // SOFA logs a null determinant and stops the pass (accumulateForceLarge's catch: break): the
     // triangles after it keep their J and frame and add nothing
@@ -267,27 +270,21 @@ template <class Deferred>
 void TriangularFEMForceField::dforce_range_sofa_order(std::size_t first, std::size_t end, std::span<Vec3> df,
                                                       std::span<const Vec3> dx, double k_factor,
                                                       const Deferred& deferred) const {
-    // TriangleFEMForceField::applyStiffnessLarge / applyStiffnessSmall (h = 1): dx in the element
-    // frame (large), local x, y only; df += (R_2_0·(−F_x, −F_y, 0))·k
-    const bool large = parameters_.method == FemMethod::Large;
+    // TriangleFEMForceField::applyStiffnessSmall (h = 1): world x, y of dx; df += (−F_x, −F_y, 0)·k
+    // (method large: detail::triangle_fem_large_dforce)
     for (std::size_t e = first; e < end; ++e) {
-        const Mat3& to_world = rotation_[e];
-        const Mat3 to_local = to_world.transpose();
-        triangle_fem_sofa::Displacement local_dx;
+        triangle_fem_sofa::Displacement world_dx;
         for (std::size_t k = 0; k < 3; ++k) {
             const Vec3& d = dx[static_cast<std::size_t>(triangles_[e][k])];
-            const Vec3 l = large ? sofa_vec::times(to_local, d) : d;
-            local_dx[static_cast<Eigen::Index>(2 * k)] = l[0];
-            local_dx[static_cast<Eigen::Index>(2 * k + 1)] = l[1];
+            world_dx[static_cast<Eigen::Index>(2 * k)] = d[0];
+            world_dx[static_cast<Eigen::Index>(2 * k + 1)] = d[1];
         }
         const triangle_fem_sofa::Displacement nodal =
-            triangle_fem_sofa::stiffness_forces(large, j_[e], material_[e], local_dx);
+            triangle_fem_sofa::stiffness_forces(false, j_[e], material_[e], world_dx);
         std::array<Vec3, 3> terms;
         for (std::size_t k = 0; k < 3; ++k) {
             const auto i = static_cast<Eigen::Index>(2 * k);
-            const Vec3 local(-nodal[i], -nodal[i + 1], 0.0);
-            const Vec3 world = large ? sofa_vec::times(to_world, local) : local;
-            terms[k] = sofa_vec::scaled(world, k_factor);
+            terms[k] = sofa_vec::scaled(Vec3(-nodal[i], -nodal[i + 1], 0.0), k_factor);
         }
         detail::store_or_apply(deferred, e, terms, [&](std::size_t k, const Vec3& term) {
             df[static_cast<std::size_t>(triangles_[e][k])] += term;
@@ -325,9 +322,18 @@ void TriangularFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec
     // on TBB's threads from OrderedScatter::kMinElements triangles, with the bits of one thread
     // (the force stays on one thread: SOFA's pass stops at a null determinant, and so the
     // elements after it keep their frames)
+    const bool large_sofa_order = uses_sofa_order() && parameters_.method == FemMethod::Large;
+    if (large_sofa_order && !blocks_current_) {
+        detail::fill_triangle_fem_large_blocks(large_blocks_, triangles_, rotation_, j_, material_);
+        blocks_current_ = true;
+    }
     detail::scatter_in_order</*Add=*/true>(scatter_, std::span<const Triangle>(triangles_), df, 1,
                                            [&](std::size_t first, std::size_t end, const auto& deferred) {
-                                               if (uses_sofa_order())
+                                               if (large_sofa_order)
+                                                   detail::triangle_fem_large_dforce(kernel_path_, large_blocks_, first,
+                                                                                     end, df.data(), dx.data(),
+                                                                                     k_factor, deferred);
+                                               else if (uses_sofa_order())
                                                    dforce_range_sofa_order(first, end, df, dx, k_factor, deferred);
                                                else dforce_range(first, end, df, dx, k_factor, deferred);
                                            });
@@ -350,6 +356,17 @@ void TriangularFEMForceField::add_stiffness_triplets(TripletList& t, Index offse
                     for (Index j = 0; j < 3; ++j) t.emplace_back(ra + i, cb + j, blk(i, j));
             }
     }
+}
+
+void TriangularFEMForceField::set_kernel_path(KernelPath path) {
+    if (path == KernelPath::avx512)
+        throw_invalid_argument(
+            "TriangularFEMForceField: kernel path avx512 is TetrahedronFEMForceField's only; "
+            "triangles run scalar or avx");
+    if (!kernel_path_supported(path))
+        throw_invalid_argument("TriangularFEMForceField: kernel path ", to_string(path),
+                               " is not supported by this CPU");
+    kernel_path_ = path;
 }
 
 }  // namespace penalty

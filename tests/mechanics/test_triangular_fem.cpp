@@ -1,6 +1,7 @@
 // TriangularFEMForceField (SOFA's co-rotational membrane): closed forms for one stretched
 // triangle, rigid-motion invariance, derivatives against finite differences, the product on
 // threads (the bits of one thread).
+#include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
 
 #include "penalty_test/element_products_on_threads.hpp"
@@ -207,6 +208,59 @@ TEST(TriangularFEM, BadInputThrows) {
     out_of_range.set_triangles({{0, 1, 5}});
     TriangularFEMForceField bad_index(s, out_of_range, 10.0, 0.3);
     EXPECT_THROW(bad_index.init(), std::invalid_argument);
+}
+
+TEST(TriangularFEMForceField, LargeProductFollowsEachForceEvaluationOnEveryKernelPath) {
+    // the product reads the frames and J of the last add_force (packed for the kernel): after a
+    // second force evaluation at other positions it is a fresh field's product there, and the
+    // scalar and AVX paths give the same bits
+    std::vector<KernelPath> paths = {KernelPath::scalar};
+    if (kernel_path_supported(KernelPath::avx)) paths.push_back(KernelPath::avx);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.2, 0.2);
+    std::vector<Vec3> moved;
+    for (const TriangleFemFlavor flavor : {TriangleFemFlavor::TriangularFEM, TriangleFemFlavor::TriangleFEM}) {
+        const TriangleFemParameters p{.young_modulus = 1000.0, .poisson_ratio = 0.3, .flavor = flavor};
+        std::vector<std::vector<Vec3>> products;
+        for (const KernelPath path : paths) {
+            Membrane m(FemMethod::Large);
+            m.ff = std::make_unique<TriangularFEMForceField>(m.state, m.topology, p);
+            m.ff->init();
+            m.ff->set_kernel_path(path);
+            EXPECT_EQ(m.ff->kernel_path(), path);
+            const auto product = [&] {
+                m.state.dx.assign(m.state.position.size(), Vec3::Zero());
+                for (std::size_t i = 0; i < m.state.dx.size(); ++i)
+                    m.state.dx[i] = Vec3(0.01 * double(i), -0.02, 0.005 * double(i % 3));
+                m.state.df.assign(m.state.position.size(), Vec3::Zero());
+                m.ff->accumulate_dforce(-0.5, 0.0);
+                return m.state.df;
+            };
+            m.force();
+            const std::vector<Vec3> at_rest = product();
+            if (moved.empty())
+                for (const Vec3& x : m.state.position) moved.push_back(x + Vec3(u(rng), u(rng), u(rng)));
+            m.state.position = moved;
+            m.force();
+            const std::vector<Vec3> after = product();
+            EXPECT_NE(after, at_rest);  // new frames and J
+            Membrane fresh(FemMethod::Large);
+            fresh.ff = std::make_unique<TriangularFEMForceField>(fresh.state, fresh.topology, p);
+            fresh.ff->init();
+            fresh.ff->set_kernel_path(KernelPath::scalar);
+            fresh.state.position = moved;
+            fresh.force();
+            fresh.state.dx = m.state.dx;
+            fresh.state.df.assign(moved.size(), Vec3::Zero());
+            fresh.ff->accumulate_dforce(-0.5, 0.0);
+            EXPECT_EQ(0, std::memcmp(after.data(), fresh.state.df.data(), after.size() * sizeof(Vec3)))
+                << to_string(path);
+            products.push_back(after);
+        }
+        for (const auto& other : products)
+            EXPECT_EQ(0, std::memcmp(other.data(), products[0].data(), other.size() * sizeof(Vec3)));
+    }
+    EXPECT_THROW(Membrane(FemMethod::Large).ff->set_kernel_path(KernelPath::avx512), std::invalid_argument);
 }
 
 TEST(TriangularFEMForceField, ProductOnThreadsIsTheBitsOfOneThread) {

@@ -30,17 +30,39 @@
 
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/topology.hpp"
 #include "penalty/mechanics/topology_change.hpp"
 
 #include <Eigen/Core>
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 namespace penalty {
 
 class TopologyContainer;
+
+namespace detail {
+
+/// The method-large product's data of four triangles, packed for it (src/kernels/mechanics/
+/// triangle_fem_large.hpp): triangle 4b + l in lane l of block b, made from the frames, J and Dₐ
+/// of the last force evaluation (or init, or a topological change) before the next product.
+struct TriangleFemLargeBlock {
+    static constexpr std::size_t kWidth = 4;
+    using Lanes = std::array<double, kWidth>;
+    /// J's entries the product reads, in this order (the others are zero in a local J)
+    enum JEntry : std::uint8_t { j00, j20, j11, j31, j51, j02, j12, j22, j32, j42, kJEntries };
+    /// Dₐ's entries the product reads
+    enum MaterialEntry : std::uint8_t { d00, d01, d10, d11, d22, kMaterialEntries };
+    alignas(32) std::array<Lanes, 9> frame{};                    ///< Rᵀ(r, c) at 3r + c
+    alignas(32) std::array<Lanes, kJEntries> j{};                ///< J (6×3, strain-displacement)
+    alignas(32) std::array<Lanes, kMaterialEntries> material{};  ///< Dₐ (N/m)
+    std::array<std::array<std::int32_t, kWidth>, 3> vertex{};    ///< the triangle's vertices a, b, c
+};
+
+}  // namespace detail
 
 /// Which SOFA component the element follows (see the file comment).
 enum class TriangleFemFlavor { TriangularFEM, TriangleFEM };
@@ -74,7 +96,10 @@ public:
 
     [[nodiscard]] const std::vector<Triangle>& triangles() const { return triangles_; }
     /// Replaces the triangles (a topology follower, then init()).
-    void set_triangles(std::vector<Triangle> triangles) { triangles_ = std::move(triangles); }
+    void set_triangles(std::vector<Triangle> triangles) {
+        triangles_ = std::move(triangles);
+        blocks_current_ = false;
+    }
     /// SOFA's TriangularFEMForceField triangleInfo, a TopologyData (init's createTopologyHandler,
     /// creation callback createTriangleInformation): a removed triangle's data is swapped with the
     /// last one's and popped (TopologyData::remove); a new triangle's data is computed when its
@@ -98,6 +123,11 @@ public:
     /// From OrderedScatter::kMinElements triangles on several threads, the product runs on TBB's
     /// threads with the bits of one thread; its split as the last of them made it.
     [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_; }
+    /// Instructions of the method-large product (default best_kernel_path(); every path gives the
+    /// same bits). Throws std::invalid_argument if this machine cannot run `path`, or for avx512
+    /// (no such path here).
+    void set_kernel_path(KernelPath path);
+    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
 private:
     /// f(v) for each per-triangle array (rest_local_, area_, material_, j_, rotation_): the data a
@@ -127,9 +157,10 @@ private:
     bool element_terms_sofa_order(std::size_t e, std::span<const Vec3> x, ElementForce& out) const;
     /// add_force's loop on one thread, triangle by triangle, stopping at a degenerate one (SOFA's).
     void add_force_in_order(std::span<Vec3> f, std::span<const Vec3> x);
-    /// add_dforce over triangles [first, end) of the TriangleFEM flavor, with SOFA's operations in
-    /// SOFA's order, the terms `deferred` marks stored instead of added (detail::DeferredTerms, or
-    /// detail::NoDeferredTerms on one thread).
+    /// add_dforce over triangles [first, end) of the TriangleFEM flavor with method small, with
+    /// SOFA's operations in SOFA's order, the terms `deferred` marks stored instead of added
+    /// (detail::DeferredTerms, or detail::NoDeferredTerms on one thread). Method large, either
+    /// flavor: detail::triangle_fem_large_dforce on large_blocks_.
     template <class Deferred>
     void dforce_range_sofa_order(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx,
                                  double k_factor, const Deferred& deferred) const;
@@ -158,6 +189,12 @@ private:
     /// The product's split from OrderedScatter::kMinElements triangles on several threads (made
     /// again when the triangles change).
     mutable detail::OrderedScatter scatter_;
+    /// Method large's product data packed in blocks (detail::TriangleFemLargeBlock), made by the
+    /// first product after a change of the frames, J, Dₐ or triangles (blocks_current_ false:
+    /// init, add_force, a topological change).
+    mutable std::vector<detail::TriangleFemLargeBlock> large_blocks_;
+    mutable bool blocks_current_ = false;
+    KernelPath kernel_path_ = best_kernel_path();
 
     /// What handle_topology_changes leaves for topology_change_done.
     struct PendingTopologyChange {

@@ -19,6 +19,7 @@ namespace penalty {
 
 void TriangularFEMForceField::handle_topology_changes(const TopologyContainer& container,
                                                       std::span<const TopologyChange> changes) {
+    blocks_current_ = false;
     pending_.container = &container;
     for (const TopologyChange& c : changes) {
         if (c.is(TopologyChangeKind::removed, ElementType::triangle)) {
@@ -48,6 +49,7 @@ void TriangularFEMForceField::handle_topology_changes(const TopologyContainer& c
 }
 
 void TriangularFEMForceField::topology_change_done() {
+    blocks_current_ = false;
     if (pending_.container == nullptr) return;
     const MeshTopology& mesh = pending_.container->mesh();
     PendingTopologyChange pending = std::move(pending_);
@@ -69,6 +71,7 @@ void TriangularFEMForceField::topology_change_done() {
 }
 
 std::size_t TriangularFEMForceField::take_triangles_keeping_slot_data(const std::vector<Triangle>& triangles) {
+    blocks_current_ = false;
     // TriangleFEMForceField's loops run over the topology's triangles with init's vectors, which
     // never shrink: rest_local_, area_, material_ keep their slots; j_ and rotation_ are made by
     // add_force for the slots in use
