@@ -73,6 +73,18 @@ constexpr double kFemLargeDForceFlops = 282.0;
 // Flops of one spring in SpringForceField::add_dforce: u = dx_b − dx_a 3, K·u 15, ·k 3, df += 3, df −= 3.
 constexpr double kSpringDForceFlops = 27.0;
 
+/// The force at x once, then the timed products (m = 0, k = −0.25) of a fixed dx.
+template <class Field>
+void time_products(benchmark::State& state, Field& fem, const Vec3Object& x) {
+    std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
+    fem.add_force(f, x.position, x.velocity);
+    for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 7), -1e-3, 2e-3);
+    for (auto _ : state) {
+        fem.add_dforce(df, dx, -0.25, 0.0);
+        benchmark::DoNotOptimize(df.data());
+    }
+}
+
 // The product of a method-large tetrahedral field over n³ grid points on SphereModel's cube (n = 5:
 // its 5 × 5 × 5 grid), SOFA's grid tetrahedra, on kernel path range(1); `make_field(state, grid)`
 // adds the field to the node.
@@ -97,13 +109,7 @@ void tetra_large_dforce(benchmark::State& state, const MakeField& make_field) {
     // a deformed state, so that the rotations are not the identity
     for (std::size_t i = 0; i < x.position.size(); ++i)
         x.position[i] += 0.1 * Vec3(std::sin(double(i)), std::cos(double(i)), 0.5);
-    std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
-    fem.add_force(f, x.position, x.velocity);
-    for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 7), -1e-3, 2e-3);
-    for (auto _ : state) {
-        fem.add_dforce(df, dx, -0.25, 0.0);
-        benchmark::DoNotOptimize(df.data());
-    }
+    time_products(state, fem, x);
     const double elements = double(fem.tetrahedra().size());
     state.counters["elements"] = elements;
     state.counters["flops"] =
@@ -327,13 +333,7 @@ void BM_TriangularFemLargeDForce(benchmark::State& state) {
     // crumpled, so that the frames are not the identity
     for (std::size_t i = 0; i < x.position.size(); ++i)
         x.position[i] += 0.2 * Vec3(std::sin(double(i)), std::cos(double(3 * i)), std::sin(double(7 * i)));
-    std::vector<Vec3> f(x.position.size(), Vec3::Zero()), df(x.position.size(), Vec3::Zero()), dx(x.position.size());
-    fem.add_force(f, x.position, x.velocity);
-    for (std::size_t i = 0; i < dx.size(); ++i) dx[i] = Vec3(1e-3 * double(i % 7), -1e-3, 2e-3);
-    for (auto _ : state) {
-        fem.add_dforce(df, dx, -0.25, 0.0);
-        benchmark::DoNotOptimize(df.data());
-    }
+    time_products(state, fem, x);
     state.counters["elements"] = double(fem.triangles().size());
     state.counters["ns_per_element"] = benchmark::Counter(
         double(fem.triangles().size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
