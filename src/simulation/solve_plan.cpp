@@ -26,6 +26,7 @@ void Simulation::plan_node(Node& node) {
     }
     node.for_each_force_field([this](BaseForceField& ff) {
         if (ff.sofa_interaction()) plan_.push_back({nullptr, &ff, ff.states()});
+        else unevaluated_.push_back(&ff);
     });
     for (const auto& child : node.children()) plan_node(*child);
 }
@@ -33,6 +34,7 @@ void Simulation::plan_node(Node& node) {
 const std::vector<Simulation::SolveAction>& Simulation::solve_plan() {
     if (plan_version_ != root_.structure_version()) {
         plan_.clear();
+        unevaluated_.clear();
         plan_node(root_);
         applied_states_.clear();
         applied_index_.clear();
@@ -75,6 +77,11 @@ void Simulation::run_action(const SolveAction& action, double dt) {
         s->external_force_flat() = s->force_flat();
         s->force_flat().setZero();
     }
+}
+
+const std::vector<const BaseForceField*>& Simulation::unevaluated_force_fields() {
+    solve_plan();
+    return unevaluated_;
 }
 
 void Simulation::find_run(std::size_t begin) {

@@ -393,6 +393,8 @@ TEST(SolvePlan, OnlyInteractionFieldsOfNodesWithoutSolverAreExplicit) {
     EXPECT_EQ(pair.evaluations, 3);
     EXPECT_EQ(plain_pair.evaluations, 0);
     EXPECT_EQ(lone_plain.evaluations, 0);
+    // the ones it skips, depth first (what `penalty info` marks "never evaluated")
+    EXPECT_EQ(sim.unevaluated_force_fields(), (std::vector<const BaseForceField*>{&plain, &plain_pair, &lone_plain}));
     // states only plain fields read are static (no solve writes their scratch); the pair's are not
     EXPECT_FALSE(a.is_static());
     EXPECT_FALSE(b.is_static());

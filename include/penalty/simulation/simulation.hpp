@@ -83,6 +83,10 @@ public:
     /// those of the runs of at least kMinExplicitFieldsPerConcurrentRun fields whose states do not
     /// meet (run_action of each writes only its own states: the same bits).
     [[nodiscard]] std::size_t concurrent_explicit_fields();
+    /// The force fields step() never evaluates, from the current graph: the plain ones (not
+    /// BaseForceField::sofa_interaction) of nodes with no ODE solver on their path from the root,
+    /// which SOFA's SolveVisitor skips too. Depth first.
+    [[nodiscard]] const std::vector<const BaseForceField*>& unevaluated_force_fields();
     /// Fewest explicit force fields in a run for tasks, and the fields a task takes.
     static constexpr std::size_t kMinExplicitFieldsPerConcurrentRun = 64;
     static constexpr std::size_t kExplicitFieldsPerTask = 16;
@@ -161,6 +165,7 @@ private:
     int threads_ = 0;
     std::unique_ptr<ThreadArena> arena_;  ///< made at the first concurrent solve
     std::vector<SolveAction> plan_;
+    std::vector<const BaseForceField*> unevaluated_;  ///< made with plan_ (unevaluated_force_fields)
     std::size_t concurrent_map_back_builds_ = 0;
     PointerIndex<BaseState> explicit_run_states_;          ///< find_explicit_run's scratch
     std::vector<const BaseState*> explicit_field_states_;  ///< find_explicit_run's scratch

@@ -67,7 +67,11 @@ void SceneBuilder::build() {
     warn_degenerate_triangles();
     wire_topological_changes();
     for (const auto& [c, describe] : roles_) scene_.roles_[c] = describe();
-    note_unevaluated_force_fields(sim.root(), false);
+    for (const BaseForceField* ff : sim.unevaluated_force_fields())
+        if (const SceneComponent* c = scene_.component_of(ff); c != nullptr && scene_.roles_.count(c))
+            scene_.roles_[c] +=
+                "; never evaluated: no ODE solver above it (SOFA's solve visits only the interaction "
+                "force fields of such a node)";
     for (const auto& [sn, info] : nodes_) scene_.nodes_[sn] = info.node;
     Scene::LiveEdits::wire_engines(scene_);  // engines over moving states (live_engines.cpp)
     // What the engines computed and the loaders read, for the scene's live Data (live_data.hpp).
@@ -400,21 +404,6 @@ void SceneBuilder::warn_degenerate_triangles() {
              std::to_string(tri->size()) + " triangles have zero area (first: triangle " + std::to_string(first) +
              "); they make no reliable contact");
     }
-}
-
-/// A plain force field (not SOFA's interaction force field) in a node with no ODE solver on its
-/// path from the root is never evaluated (Simulation::plan_node, SOFA's SolveVisitor): `penalty
-/// info` says so on its line.
-void SceneBuilder::note_unevaluated_force_fields(const Node& node, bool under_solver) {
-    under_solver = under_solver || node.ode_solver() != nullptr;
-    if (!under_solver)
-        for (const auto& ff : node.force_fields())
-            if (!ff->sofa_interaction())
-                if (const SceneComponent* c = scene_.component_of(ff.get()); c != nullptr && scene_.roles_.count(c))
-                    scene_.roles_[c] +=
-                        "; never evaluated: no ODE solver above it (SOFA's solve visits only the "
-                        "interaction force fields of such a node)";
-    for (const auto& child : node.children()) note_unevaluated_force_fields(*child, under_solver);
 }
 
 }  // namespace penalty::scene

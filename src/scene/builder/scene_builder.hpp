@@ -295,7 +295,6 @@ private:
     void build_unread_data_engines();
     void record_sphere_radii();
     void warn_degenerate_triangles();
-    void note_unevaluated_force_fields(const Node& node, bool under_solver);
 
     const io::SceneFile& file_;
     const BuildOptions& options_;
