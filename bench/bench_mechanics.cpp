@@ -309,6 +309,33 @@ void BM_RigidMappingProducts(benchmark::State& state) {
     state.counters["threads"] = double(state.range(1));
 }
 
+// HexahedronFEMForceField method large: the product over an n³-point grid of (n − 1)³ hexahedra
+// (n = 8: 343, HexahedronFEMForceField.scn's size), on kernel path range(1) (0 scalar, 1 avx).
+void BM_HexahedronFemLargeDForce(benchmark::State& state) {
+    const int n = static_cast<int>(state.range(0));
+    const auto path = static_cast<KernelPath>(state.range(1));
+    if (!kernel_path_supported(path)) {
+        state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
+        for (auto _ : state) {
+        }
+        return;
+    }
+    RegularGridTopology grid({n, n, n}, Vec3(-3.5, -3.5, -3.5), Vec3(3.5, 3.5, 3.5));
+    Simulation sim;
+    Node& body = sim.root().add_child("block");
+    auto& x = body.add_state<Vec3Types>();
+    x.position = grid.points();
+    auto& fem = body.add_force_field<HexahedronFEMForceField>(x, grid.mesh(), 25.0, 0.3, FemMethod::Large);
+    fem.set_kernel_path(path);
+    sim.init();
+    for (std::size_t i = 0; i < x.position.size(); ++i)
+        x.position[i] += 0.1 * Vec3(std::sin(double(i)), std::cos(double(i)), 0.5);
+    time_products(state, fem, x);
+    state.counters["ns_per_element"] =
+        benchmark::Counter(double(fem.element_stiffness().size()),
+                           benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 // TriangularFEMForceField "large" (SOFA's order): the product of a crumpled m×m sheet of
 // 2(m − 1)² triangles (m = 28: 1 458, the size of SOFA's square3.msh examples).
 void BM_TriangularFemLargeDForce(benchmark::State& state) {
@@ -352,6 +379,7 @@ BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_TetraCorotationalLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);
 BENCHMARK(BM_TriangularFemLargeDForce)->Arg(28)->Arg(200);
+BENCHMARK(BM_HexahedronFemLargeDForce)->ArgsProduct({{8, 20}, {0, 1}});
 // 10^5 and 10^6 points on 1 and 2 threads, side by side in one run
 BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_SpringsBetweenTwoStates)->ArgsProduct({{30}, {1, 2}})->Unit(benchmark::kMicrosecond);

@@ -67,9 +67,7 @@ void TetrahedralCorotationalFEMForceField::init() {
 }
 
 void TetrahedralCorotationalFEMForceField::set_kernel_path(KernelPath path) {
-    if (!kernel_path_supported(path))
-        throw_invalid_argument(component_, ": kernel path ", to_string(path), " is not supported by this CPU");
-    kernel_path_ = path;
+    kernel_path_ = checked_kernel_path(path, component_, /*has_avx512=*/true);
     // after init: the data move to the path's width (before, init gives them that width)
     if (sofa_operations()) detail::resize_large_blocks(blocks_, elements_.size(), kernel_path_);
 }

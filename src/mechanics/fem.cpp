@@ -392,10 +392,7 @@ void TetrahedronFEMForceField::init_large(std::size_t first) {
 }
 
 void TetrahedronFEMForceField::set_kernel_path(KernelPath path) {
-    if (!kernel_path_supported(path))
-        throw_invalid_argument("TetrahedronFEMForceField: kernel path ", to_string(path),
-                               " is not supported by this CPU");
-    kernel_path_ = path;
+    kernel_path_ = checked_kernel_path(path, "TetrahedronFEMForceField", /*has_avx512=*/true);
     // after init: the data move to the path's width (before, init gives them that width)
     const bool initialised = std::visit([](const auto& blocks) { return !blocks.empty(); }, large_);
     if (initialised) resize_large(elements_.size());

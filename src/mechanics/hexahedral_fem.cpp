@@ -1,5 +1,6 @@
 #include "penalty/mechanics/hexahedral_fem.hpp"
 
+#include "kernels/mechanics/hexahedron_stiffness.hpp"
 #include "sofa_vector_ops.hpp"
 
 #include <cmath>
@@ -112,13 +113,17 @@ void HexahedralFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3>
             for (std::size_t a = 0; a < 3; ++a)
                 d[Eigen::Index(3 * w + a)] = rotated_rest_[e][w][Eigen::Index(a)] - deformed[Eigen::Index(a)];
         }
-        const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], d);
+        const Eigen::Matrix<double, 24, 1> force = detail::hexahedron_stiffness_times(kernel_path_, ke_[e], d);
         for (std::size_t w = 0; w < 8; ++w) {
             const auto i = Eigen::Index(3 * w);
             f[std::size_t(elements_[e][w])] += sofa_vec::times(to_world, Vec3(force[i], force[i + 1], force[i + 2]));
         }
         energy_ += 0.5 * d.dot(force);
     }
+}
+
+void HexahedralFEMForceField::set_kernel_path(KernelPath path) {
+    kernel_path_ = checked_kernel_path(path, "HexahedralFEMForceField", /*has_avx512=*/false);
 }
 
 void HexahedralFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
@@ -135,7 +140,7 @@ void HexahedralFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec
             const Vec3 l = sofa_vec::scaled(sofa_vec::times(r, dx[std::size_t(elements_[e][w])]), k_factor);
             for (std::size_t a = 0; a < 3; ++a) local[Eigen::Index(3 * w + a)] = l[Eigen::Index(a)];
         }
-        const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], local);
+        const Eigen::Matrix<double, 24, 1> force = detail::hexahedron_stiffness_times(kernel_path_, ke_[e], local);
         for (std::size_t w = 0; w < 8; ++w) {
             const auto i = Eigen::Index(3 * w);
             df[std::size_t(elements_[e][w])] -= sofa_vec::times(to_world, Vec3(force[i], force[i + 1], force[i + 2]));

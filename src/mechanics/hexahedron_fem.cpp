@@ -3,6 +3,7 @@
 /// bits of one thread (LinearElementForceField::scatter_in_order).
 #include "penalty/mechanics/fem.hpp"
 
+#include "kernels/mechanics/hexahedron_stiffness.hpp"
 #include "sofa_vector_ops.hpp"
 
 #include <Eigen/Dense>
@@ -172,7 +173,7 @@ double HexahedronFEMForceField::force_range(std::size_t first, std::size_t end, 
                 d[static_cast<Index>(3 * w + c)] =
                     rest_local_[e][w][static_cast<Index>(c)] - deformed[static_cast<Index>(c)];
         }
-        const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], d);
+        const Eigen::Matrix<double, 24, 1> force = detail::hexahedron_stiffness_times(kernel_path_, ke_[e], d);
         std::array<Vec3, 8> terms;
         for (std::size_t w = 0; w < 8; ++w) {
             const Vec3 fw = force.segment<3>(static_cast<Index>(3 * w));
@@ -186,6 +187,10 @@ double HexahedronFEMForceField::force_range(std::size_t first, std::size_t end, 
         else total += energy;
     }
     return total;
+}
+
+void HexahedronFEMForceField::set_kernel_path(KernelPath path) {
+    kernel_path_ = checked_kernel_path(path, "HexahedronFEMForceField", /*has_avx512=*/false);
 }
 
 void HexahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {
@@ -206,7 +211,7 @@ void HexahedronFEMForceField::dforce_range(std::size_t first, std::size_t end, s
         for (std::size_t w = 0; w < 8; ++w)
             local.segment<3>(static_cast<Index>(3 * w)) =
                 sofa_vec::times(r, dx[static_cast<std::size_t>(elements_[e][w])]);
-        const Eigen::Matrix<double, 24, 1> force = sofa_vec::mat_vec(ke_[e], local);
+        const Eigen::Matrix<double, 24, 1> force = detail::hexahedron_stiffness_times(kernel_path_, ke_[e], local);
         std::array<Vec3, 8> terms;
         for (std::size_t w = 0; w < 8; ++w)
             terms[w] = sofa_vec::scaled(sofa_vec::transpose_times(r, Vec3(force.segment<3>(static_cast<Index>(3 * w)))),

@@ -52,12 +52,7 @@ void SpringForceField::init() {
 }
 
 void SpringForceField::set_kernel_path(KernelPath path) {
-    if (path == KernelPath::avx512)
-        throw_invalid_argument(
-            "SpringForceField: kernel path avx512 is TetrahedronFEMForceField's only; springs run scalar or avx");
-    if (!kernel_path_supported(path))
-        throw_invalid_argument("SpringForceField: kernel path ", to_string(path), " is not supported by this CPU");
-    kernel_path_ = path;
+    kernel_path_ = checked_kernel_path(path, "SpringForceField", /*has_avx512=*/false);
 }
 
 ForceFieldStates SpringForceField::states() const {

@@ -359,14 +359,7 @@ void TriangularFEMForceField::add_stiffness_triplets(TripletList& t, Index offse
 }
 
 void TriangularFEMForceField::set_kernel_path(KernelPath path) {
-    if (path == KernelPath::avx512)
-        throw_invalid_argument(
-            "TriangularFEMForceField: kernel path avx512 is TetrahedronFEMForceField's only; "
-            "triangles run scalar or avx");
-    if (!kernel_path_supported(path))
-        throw_invalid_argument("TriangularFEMForceField: kernel path ", to_string(path),
-                               " is not supported by this CPU");
-    kernel_path_ = path;
+    kernel_path_ = checked_kernel_path(path, "TriangularFEMForceField", /*has_avx512=*/false);
 }
 
 }  // namespace penalty

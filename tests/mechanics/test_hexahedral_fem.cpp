@@ -3,6 +3,7 @@
 #include "penalty/mechanics/hexahedral_fem.hpp"
 #include "penalty/mechanics/regular_grid_topology.hpp"
 
+#include "penalty_test/element_products_on_threads.hpp"
 #include "penalty_test/force_field_derivatives.hpp"
 
 #include <gtest/gtest.h>
@@ -253,6 +254,20 @@ TEST(HexahedronElementMass, CellFactorsScaleTheElementMatrixAndTheParticleMasses
     }
     m.set_mass_factors({1.0});
     EXPECT_THROW(m.init(), std::invalid_argument);  // one factor per hexahedron
+}
+
+// Method large's K·d on the scalar and AVX paths (kernels/mechanics/hexahedron_stiffness): force,
+// product and energy the same bits; avx512 (eight lanes) is refused.
+TEST(HexahedralFEM, KernelPathsGiveTheSameBits) {
+    const RegularGridTopology grid({5, 4, 4}, Vec3::Zero(), Vec3(0.4, 0.3, 0.3));
+    Vec3Object state;
+    state.position = grid.points();
+    state.init();
+    HexahedralFEMForceField fem(state, grid.mesh(), 2e4, 0.3, FemMethod::Large);
+    fem.init();
+    EXPECT_EQ(fem.kernel_path(), best_kernel_path());
+    EXPECT_THROW(fem.set_kernel_path(KernelPath::avx512), std::invalid_argument);
+    test::expect_kernel_paths_give_the_same_bits(fem, state, "method large");
 }
 
 }  // namespace

@@ -64,5 +64,21 @@ TEST(HexahedronFem, ForceAndProductOnThreadsAreTheBitsOfOneThread) {
         }
 }
 
+// The element products' K·d on the scalar and AVX paths (kernels/mechanics/hexahedron_stiffness):
+// force, product and energy the same bits for each method; avx512 (eight lanes) is refused.
+TEST(HexahedronFem, KernelPathsGiveTheSameBits) {
+    const RegularGridTopology grid({5, 4, 4}, Vec3::Zero(), Vec3(0.4, 0.3, 0.3));
+    for (const FemMethod method : {FemMethod::Small, FemMethod::Large, FemMethod::Polar}) {
+        Vec3Object state;
+        state.position = grid.points();
+        state.init();
+        HexahedronFEMForceField fem(state, grid.mesh(), 2e4, 0.3, method);
+        fem.init();
+        EXPECT_EQ(fem.kernel_path(), best_kernel_path());
+        EXPECT_THROW(fem.set_kernel_path(KernelPath::avx512), std::invalid_argument);
+        test::expect_kernel_paths_give_the_same_bits(fem, state, "method " + std::to_string(int(method)));
+    }
+}
+
 }  // namespace
 }  // namespace penalty

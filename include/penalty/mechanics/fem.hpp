@@ -330,6 +330,11 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    /// Instructions of the element products' K·d (detail::hexahedron_stiffness_times; default
+    /// best_kernel_path(), every path the same bits). Throws std::invalid_argument if this machine
+    /// cannot run `path`, or for avx512 (no such path here).
+    void set_kernel_path(KernelPath path);
+    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
 protected:
     /// SOFA's computeElementStiffness on the element's rotated rest corners (the first argument,
@@ -352,6 +357,7 @@ private:
     void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                       const detail::DeferredTerms& deferred) const;
     std::vector<double> stiffness_factors_;
+    KernelPath kernel_path_ = best_kernel_path();
 };
 
 extern template class LinearElementForceField<4>;

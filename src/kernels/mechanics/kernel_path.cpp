@@ -1,6 +1,7 @@
 #include "penalty/mechanics/kernel_path.hpp"
 
 #include "kernels/lanes.hpp"
+#include "penalty/core/error.hpp"
 
 namespace penalty {
 
@@ -40,6 +41,15 @@ KernelPath best_fem_kernel_path() {
 #else
     return best_kernel_path();
 #endif
+}
+
+KernelPath checked_kernel_path(KernelPath path, const char* component, bool has_avx512) {
+    if (path == KernelPath::avx512 && !has_avx512)
+        throw_invalid_argument(component, ": kernel path avx512 is TetrahedronFEMForceField's only; ", component,
+                               " runs scalar or avx");
+    if (!kernel_path_supported(path))
+        throw_invalid_argument(component, ": kernel path ", to_string(path), " is not supported by this CPU");
+    return path;
 }
 
 const char* to_string(KernelPath path) {

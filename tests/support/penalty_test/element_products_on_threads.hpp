@@ -4,6 +4,7 @@
 /// the tests that compare thread counts to the bit (OrderedScatter's users), and a sheet of
 /// triangles large enough to run on threads.
 
+#include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/mechanical_object.hpp"
 #include "penalty/mechanics/ordered_scatter.hpp"
 
@@ -73,6 +74,23 @@ void expect_threads_give_one_threads_bits(Field& field, const Vec3Object& state,
         EXPECT_TRUE(same_vectors_bits(many.product, one.product)) << where;
         EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
     }
+}
+
+/// add_force and add_dforce of `field` (one thread) on each kernel path this machine runs, the
+/// bits of the scalar path's (force, product, energy), and not all zero; `what` names the case.
+template <class Field>
+void expect_kernel_paths_give_the_same_bits(Field& field, const Vec3Object& state, const std::string& what) {
+    field.set_kernel_path(KernelPath::scalar);
+    const ElementProducts scalar = element_products_on_threads(field, state, 1, 0.03, -0.61);
+    EXPECT_GT(scalar.energy, 0.0) << what;
+    EXPECT_TRUE(std::any_of(scalar.force.begin(), scalar.force.end(), [](const Vec3& f) { return f != Vec3::Zero(); }))
+        << what;
+    if (!kernel_path_supported(KernelPath::avx)) GTEST_SKIP() << "this CPU has no AVX";
+    field.set_kernel_path(KernelPath::avx);
+    const ElementProducts avx = element_products_on_threads(field, state, 1, 0.03, -0.61);
+    EXPECT_TRUE(same_vectors_bits(avx.force, scalar.force)) << what;
+    EXPECT_TRUE(same_vectors_bits(avx.product, scalar.product)) << what;
+    EXPECT_EQ(std::memcmp(&avx.energy, &scalar.energy, sizeof(double)), 0) << what;
 }
 
 /// A 64 × 64-quad sheet over x, y ∈ [−1, 1], 8 192 triangles (OrderedScatter::kMinElements),
