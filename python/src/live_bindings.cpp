@@ -370,7 +370,7 @@ void add_live_methods(py::class_<PyScene>& cls) {
                  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(value);
                  if (!a) throw py::type_error(path + "." + name + ": expected an array of numbers");
                  const std::vector<double> values(a.data(), a.data() + a.size());
-                 Scene::write_state(*node->state(), name, values, c->describe() + ": data '" + name + "'");
+                 s.scene->write_state(*node->state(), name, values, c->describe() + ": data '" + name + "'");
              })
         .def("_reinit",
              [](PyScene& s, const std::string& path, bool node) {

@@ -51,7 +51,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 15> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 16> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -66,6 +66,10 @@ constexpr std::array<SofaQuirkInfo, 15> kSofaQuirks{{
     {"mechanical_object_float_short_forms", &SofaQuirkFixes::fix_mechanical_object_float_short_forms,
      "MechanicalObject: dx dy dz, rx ry rz, scale, sx sy sz read in double, not rounded to float as SOFA's parse does "
      "(command line or BuildOptions only: the scene is read before any intersection component)"},
+    {"rigid_orientation_as_written", &SofaQuirkFixes::fix_rigid_orientation_as_written,
+     "Rigid3 MechanicalObject: orientation quaternions normalized when read and when written after init, not kept "
+     "as written as SOFA's (a non-unit one maps the frame's points by a matrix that is not a rotation) (command line "
+     "or BuildOptions only)"},
     {"regular_grid_float_bounds", &SofaQuirkFixes::fix_regular_grid_float_bounds,
      "RegularGridTopology: xmin..zmax and scale read in double, not rounded to float as SOFA's parse does "
      "(command line or BuildOptions only)"},

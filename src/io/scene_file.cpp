@@ -501,8 +501,7 @@ std::vector<RigidFrame> get_rigid_list(const SceneElement& e, std::string_view a
         if (!(norm > 0.0)) {
             throw_attribute_error(e, attr, "rigid frame " + std::to_string(i / 7) + " has a zero quaternion");
         }
-        f.orientation.normalize();
-        out.push_back(f);
+        out.push_back(f);  // as written, as SOFA's RigidCoord reads it (not normalized)
     }
     return out;
 }

@@ -117,7 +117,6 @@ void MechanicalObject<Rigid3Types>::init() {
         if (!position[i].orientation.coeffs().allFinite() || position[i].orientation.norm() < 1e-12) {
             throw_invalid_argument("MechanicalObject '", name, "': position[", i, "] has an invalid quaternion");
         }
-        position[i].orientation.normalize();
     }
     if (!transform.is_identity() && !initialized_) {
         const Quat q = transform.rotation();

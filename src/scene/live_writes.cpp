@@ -308,7 +308,7 @@ void Scene::release_held_gravity() {
 void Scene::set_gravity_write_delay(bool delay) { live_->gravity_write_delay = delay; }
 
 void Scene::write_state(BaseState& s, std::string_view name, const std::vector<double>& values,
-                        const std::string& what) {
+                        const std::string& what) const {
     const std::size_t n = s.num_dofs();
     if (auto* v = dynamic_cast<Vec3Object*>(&s)) {
         std::vector<Vec3>& list = name == "position"        ? v->position
@@ -346,8 +346,8 @@ void Scene::write_state(BaseState& s, std::string_view name, const std::vector<d
         for (std::size_t i = 0; i < list.size(); ++i) {
             const double* x = values.data() + 7 * i;
             list[i].center = Vec3(x[0], x[1], x[2]);
-            list[i].orientation = Quat(x[6], x[3], x[4], x[5]);
-            list[i].orientation.normalize();
+            list[i].orientation = Quat(x[6], x[3], x[4], x[5]);  // as written (SOFA), unless fixed:
+            if (options_.sofa_quirk_fixes.fix_rigid_orientation_as_written) list[i].orientation.normalize();
         }
         return;
     }

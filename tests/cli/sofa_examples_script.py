@@ -71,6 +71,42 @@ r = subprocess.run([sys.executable, script, examples, '--penalty', penalty, '--c
 check(r.returncode == 1, f'--check with a failing scene: exit {r.returncode}')
 check("FAIL unknown.scn no longer runs: FancyForceField" in r.stderr, f'--check message: {r.stderr}')
 
+# --sofa-head: SOFA HEAD's states made for the scenes without shared ones. A fake SOFA HEAD writes
+# penalty's states and logs what SOFA HEAD logs for a component it does not create: a scene whose
+# only such components are old names SOFA HEAD no longer knows at all (BoxConstraint: both drop
+# it) is compared with those states; one with another such component has no reference.
+head_examples = os.path.join(work, 'head-examples')
+os.makedirs(head_examples)
+cube_text = open(os.path.join(repo, 'tests', 'cli', 'cube_on_floor.scn')).read()
+first_node = cube_text.index('<Node', cube_text.index('<Node') + 1)
+for name, extra in (('dropped', '<BoxConstraint box="0 0 0 1 1 1"/>\n'), ('refused', '')):
+    with open(os.path.join(head_examples, name + '.scn'), 'w') as f:
+        f.write(cube_text[:first_node] + extra + cube_text[first_node:])
+fake_head = os.path.join(work, 'fake-sofa-head')
+with open(fake_head, 'w') as f:
+    f.write(f"""#!{sys.executable}
+import os, subprocess, sys
+scene, steps, out = sys.argv[1:4]
+kind = 'BoxConstraint' if 'dropped' in scene else 'FancyThing'
+print(f'[ERROR]   [InfoComponent(Not created ({{kind}}))] Object type {{kind}}<> was not created')
+print('[ERROR]   [SceneLoaderXML] Node initialization failed.')
+subprocess.run([{penalty!r}, 'run', scene, '--steps', str(int(steps) + 1), '--quiet', '--export-states', out,
+                '--export-every', steps], check=True, capture_output=True)
+""")
+os.chmod(fake_head, 0o755)
+made = os.path.join(work, 'made-states')
+table = os.path.join(work, 'head-table.md')
+r = subprocess.run([sys.executable, script, head_examples, '--penalty', penalty, '--out', table, '--sofa-head', fake_head,
+                    '--made-states', made, '--jobs', '1'], capture_output=True, text=True)
+check(r.returncode == 0, f'--sofa-head: exit {r.returncode}: {r.stderr}')
+text = open(table).read() if os.path.isfile(table) else ''
+row = next((l for l in text.splitlines() if l.startswith('| dropped.scn |')), '')
+check(row.startswith('| dropped.scn | yes | yes |') and '| yes (0) |' in row, f'a component both drop: {row}')
+row = next((l for l in text.splitlines() if l.startswith('| refused.scn |')), '')
+check('| no reference (SOFA HEAD does not create FancyThing) |' in row, f'a component SOFA HEAD refuses: {row}')
+check(os.path.isfile(os.path.join(made, 'refused.refused')) and os.path.isdir(os.path.join(made, 'dropped')),
+      'made states kept: the refusal and the states')
+
 for f in failures:
     print('FAIL:', f)
 if failures:

@@ -11,6 +11,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 namespace penalty {
@@ -138,6 +139,35 @@ TEST(LiveQuirks, AMeshSpringStiffnessWriteIsAPerSpringListAsSofaHead) {
     fixed->set_data({"/S/ff", false}, "stiffness", "40");
     fixed->step();
     EXPECT_EQ(lq_vx(*fixed), (std::vector<double>{0, -0.2, 0, -0.2, 0, -0.2}));
+}
+
+// SOFA HEAD 2a278d8 + SofaPython3 87be1a3: a Rigid3d MechanicalObject at "0 0 0 0 0 0.7 0.7" has
+// [0, 0, 0, 0, 0, 0.7, 0.7] after init, and [1, 2, 3, 0, 0, 3, 4] after that position is written:
+// SOFA normalizes neither (nor does its integration change the norm: the example scene
+// DeformableOnRigidFrameMapping.scn, whose frame is written so, follows SOFA HEAD only so). The
+// fix `rigid_orientation_as_written` normalizes both.
+TEST(LiveQuirks, ARigidOrientationStaysAsWrittenAsSofaHead) {
+    const std::string text = R"(<Node name="root" dt="0.01" gravity="0 0 0"><Node name="R">
+  <EulerImplicitSolver rayleighStiffness="0" rayleighMass="0"/>
+  <CGLinearSolver iterations="10" tolerance="1e-30" threshold="1e-30"/>
+  <MechanicalObject name="frame" template="Rigid3d" position="0 0 0 0 0 0.7 0.7" velocity="0 0 0 1 2 3"/>
+  <UniformMass totalMass="1"/></Node></Node>)";
+    for (const bool fixed : {false, true}) {
+        scene::BuildOptions o;
+        o.sofa_quirk_fixes.fix_rigid_orientation_as_written = fixed;
+        auto s = test::build(text, o);
+        const auto& r = dynamic_cast<const Rigid3Object&>(*s->states().at(0).state);
+        const double written = fixed ? std::sqrt(0.5) : 0.7;
+        EXPECT_DOUBLE_EQ(r.position[0].orientation.z(), written) << fixed;
+        EXPECT_DOUBLE_EQ(r.position[0].orientation.w(), written) << fixed;
+        for (int step = 0; step < 5; ++step) s->step();
+        EXPECT_GT(std::abs(r.position[0].orientation.z() - written), 1e-3) << fixed;  // it turned,
+        EXPECT_NEAR(r.position[0].orientation.norm(), fixed ? 1.0 : 0.7 * std::sqrt(2.0), 1e-14)
+            << fixed;  // its norm kept
+        s->set_data({"/R/frame", false}, "position", "1 2 3 0 0 3 4");
+        EXPECT_EQ(r.position[0].orientation.z(), fixed ? 0.6 : 3.0) << fixed;
+        EXPECT_EQ(r.position[0].orientation.w(), fixed ? 0.8 : 4.0) << fixed;
+    }
 }
 
 }  // namespace

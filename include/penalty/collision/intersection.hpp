@@ -62,6 +62,12 @@ struct SofaQuirkFixes {
     /// `scale="0.7"` scales by 0.699999988079071. true: read them in double, as the long forms
     /// `translation`, `rotation`, `scale3d`. Read when a scene is built (BuildOptions).
     bool fix_mechanical_object_float_short_forms = false;
+    /// Found by the trajectory comparison (a fix of the scene loader, as the one above): SOFA
+    /// keeps a Rigid3 MechanicalObject's orientation quaternions as written (RigidCoord's parse;
+    /// neither init nor a write after init normalizes them, and its integration premultiplies by
+    /// a unit quaternion, so the norm stays): `0 0 0.7 0.7` maps a frame's points by a matrix
+    /// that is not a rotation. true: normalized when read and when written after init.
+    bool fix_rigid_orientation_as_written = false;
     /// Found by the trajectory comparison (a fix of the scene loader, as the one above):
     /// RegularGridTopology::parse reads `xmin` ... `zmax` (and `scale`) with getAttributeAsFloat.
     /// true: read them in double, as `min` and `max`.

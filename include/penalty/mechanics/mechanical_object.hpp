@@ -157,6 +157,9 @@ template <>
 void MechanicalObject<Rigid3Types>::add_to_position(double, const Eigen::Ref<const Eigen::VectorXd>&);
 template <>
 void MechanicalObject<Vec3Types>::init();
+/// Checks the frames (finite centres, finite non-zero quaternions) and applies the initial
+/// transform; the orientations stay as given, as SOFA's (not normalized: a non-unit quaternion
+/// maps a frame's points by a matrix that is not a rotation, and the integration keeps its norm).
 template <>
 void MechanicalObject<Rigid3Types>::init();
 template <>

@@ -225,11 +225,12 @@ public:
     ///         line, component and attribute; std::invalid_argument for a refused write, saying why.
     void set_data(const DataOwner& owner, std::string_view name, std::string_view text);
     /// Writes state vector `name` (position, velocity, force, rest_position, externalForce) of `s`
-    /// from numbers: 3 per Vec3d DOF, 7 per Rigid3d frame (quaternions normalised), 6 per Rigid3d
-    /// derivative. @throws std::invalid_argument naming `what` for another count (a state keeps
-    /// its size after init).
-    static void write_state(BaseState& s, std::string_view name, const std::vector<double>& values,
-                            const std::string& what);
+    /// from numbers: 3 per Vec3d DOF, 7 per Rigid3d frame (quaternions as written, as SOFA's;
+    /// normalized with the fix `rigid_orientation_as_written`), 6 per Rigid3d derivative.
+    /// @throws std::invalid_argument naming `what` for another count (a state keeps its size after
+    /// init).
+    void write_state(BaseState& s, std::string_view name, const std::vector<double>& values,
+                     const std::string& what) const;
     /// SOFA's reinit() of a component (a node: init() of every component below it): the writes of
     /// its Data that wait for it take effect (the scene is built again, states kept).
     void reinit(const DataOwner& owner);

@@ -247,6 +247,10 @@ InitialTransform read_transform(const Attributes& a, const SofaQuirkFixes& quirk
 void fill_rigid_state(SceneBuilder& b, const Attributes& a, const NodeBuild& info, Rigid3Object& s) {
     if (a.has("position")) s.position = a.frames("position");
     if (a.has("rest_position")) s.rest_position = a.frames("rest_position");
+    // SOFA keeps each quaternion as written; the fix `rigid_orientation_as_written` normalizes them
+    if (b.options().sofa_quirk_fixes.fix_rigid_orientation_as_written)
+        for (auto* frames : {&s.position, &s.rest_position})
+            for (RigidFrame& f : *frames) f.orientation.normalize();
     if (a.has("velocity")) {
         const std::vector<double> v = a.numbers("velocity");
         if (v.size() % 6 != 0) a.fail("velocity", "expected a multiple of 6 numbers");
