@@ -106,8 +106,11 @@ TEST(TetrahedronLargeBlocks, AnElementsLaneHoldsItsCofactorsMaterialAndFrameAcro
                     const detail::LaneMaterial<detail::OneLane, Block> m{b[e / Block::kLanes], e % Block::kLanes};
                     const double scale = expected.cwiseAbs().maxCoeff();
                     for (int r = 0; r < 12; ++r)
-                        for (int c = 0; c < 6; ++c)
-                            if (expected(r, c) != 0.0) EXPECT_NEAR(j(r, c), expected(r, c), 1e-14 * scale);
+                        for (int c = 0; c < 6; ++c) {
+                            if (expected(r, c) != 0.0) {
+                                EXPECT_NEAR(j(r, c), expected(r, c), 1e-14 * scale);
+                            }
+                        }
                     for (int i = 0; i < 3; ++i)
                         for (int k = 0; k < 3; ++k) EXPECT_EQ(m(i, k), mesh.material[e](i, k));
                     for (int i = 3; i < 6; ++i) EXPECT_EQ(m(i, i), mesh.material[e](i, i));

@@ -225,6 +225,7 @@ bool TriangleIncision::intersected_points(PointId last_point, const Vec3& a, con
         const bool on_vertex = coord_t == 0.0 || coord_t == 1.0;
         if (on_vertex) {
             shell = m.triangles_around_vertex()[std::size_t(coord_t == 0.0 ? e0 : e1)];
+            if (shell.empty()) return false;  // (a vertex of the current triangle has it in its shell)
             triangle = shell[0];
             if (shell.size() <= 1) {
                 on_boundary = true;
