@@ -310,7 +310,7 @@ def python_section(args):
     uses = python_example_components(folders)
     if not uses:
         return []
-    known = registry(args)
+    known = args.components
 
     def status(t):
         if t not in known:
