@@ -50,17 +50,6 @@ template <class Matrix>
     return {m(0, 0) * v[0] + m(1, 0) * v[1] + m(2, 0) * v[2], m(0, 1) * v[0] + m(1, 1) * v[1] + m(2, 1) * v[2],
             m(0, 2) * v[0] + m(1, 2) * v[1] + m(2, 2) * v[2]};
 }
-/// K·d for an N×N matrix (type::Mat::operator*(Vec)): each row summed from its first column.
-template <int N>
-inline Eigen::Matrix<double, N, 1> mat_vec(const Eigen::Matrix<double, N, N>& k, const Eigen::Matrix<double, N, 1>& d) {
-    Eigen::Matrix<double, N, 1> f;
-    for (int i = 0; i < N; ++i) {
-        double r = k(i, 0) * d[0];
-        for (int j = 1; j < N; ++j) r += k(i, j) * d[j];
-        f[i] = r;
-    }
-    return f;
-}
 /// |v| = √(v·v) (type::Vec::norm).
 inline double norm(const Vec3& v) { return std::sqrt(dot3(v, v)); }
 /// a / s component by component (type::Vec::operator/).

@@ -32,7 +32,7 @@ enum class KernelPath {
 /// `path`, for a field's set_kernel_path: std::invalid_argument naming `component` when this
 /// machine cannot run it, or when it is avx512 and the component's loops have no eight-lane path
 /// (`has_avx512` false).
-KernelPath checked_kernel_path(KernelPath path, const char* component, bool has_avx512);
+[[nodiscard]] KernelPath checked_kernel_path(KernelPath path, const char* component, bool has_avx512);
 
 /// "scalar", "avx" or "avx512".
 [[nodiscard]] const char* to_string(KernelPath path);

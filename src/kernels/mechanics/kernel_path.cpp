@@ -45,7 +45,7 @@ KernelPath best_fem_kernel_path() {
 
 KernelPath checked_kernel_path(KernelPath path, const char* component, bool has_avx512) {
     if (path == KernelPath::avx512 && !has_avx512)
-        throw_invalid_argument(component, ": kernel path avx512 is TetrahedronFEMForceField's only; ", component,
+        throw_invalid_argument(component, ": kernel path avx512 is the corotational tetrahedra's only; ", component,
                                " runs scalar or avx");
     if (!kernel_path_supported(path))
         throw_invalid_argument(component, ": kernel path ", to_string(path), " is not supported by this CPU");
