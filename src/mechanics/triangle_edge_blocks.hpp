@@ -2,6 +2,7 @@
 // What SOFA's TriangularQuadraticSpringsForceField and TriangularBiquadraticSpringsForceField share:
 // vector helpers with SOFA's type::Vec operation order (sofa_vector_ops.hpp), and the derivative
 // stored as one 3×3 block DfDx[k] per triangle edge k, for the pair (i, j) = (t_{k+1}, t_{k+2}).
+#include "kernels/mechanics/triangle_edge_blocks.hpp"
 #include "penalty/core/error.hpp"
 #include "penalty/mechanics/edge_triangle_scatter.hpp"
 #include "penalty/mechanics/force_field.hpp"
@@ -48,41 +49,6 @@ inline void check_triangle_points(const char* component, const std::vector<Trian
                 throw_invalid_argument(component, ": point ", v, " out of range for a state of ", points, " points");
 }
 
-/// addDForce: δ = dx_i − dx_j, df_i += (DfDx[k] δ)·k_factor, df_j −= (DfDx[k]ᵀ δ)·k_factor, edge
-/// k's pair (i, j) = (t_{k+1}, t_{k+2}); `data[t].dfdx` holds the three blocks of triangle t. From
-/// OrderedScatter::kMinElements triangles with more than one thread, in `scatter`'s chunks with
-/// the bits of the loop; else the loop itself (one thread: no sink between the terms and df).
-template <class PerTriangle>
-void add_dforce(detail::EdgeTriangleScatter& scatter, const std::vector<Triangle>& triangles,
-                const std::vector<PerTriangle>& data, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor) {
-    if (!detail::OrderedScatter::worth_threads(triangles.size())) {
-        for (std::size_t ti = 0; ti < triangles.size(); ++ti) {
-            const Triangle& t = triangles[ti];
-            for (int k = 0; k < 3; ++k) {
-                const auto i = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 1) % 3)]);
-                const auto j = static_cast<std::size_t>(t[static_cast<std::size_t>((k + 2) % 3)]);
-                const Vec3 delta = dx[i] - dx[j];
-                const Mat3& m = data[ti].dfdx[static_cast<std::size_t>(k)];
-                df[i] += scaled(times(m, delta), k_factor);
-                df[j] -= scaled(transpose_times(m, delta), k_factor);
-            }
-        }
-        return;
-    }
-    // the same terms, vertex slots (k + 1, k + 2) of each edge k
-    (void)scatter.triangle_loop(triangles, df, 0.0, [&](std::size_t ti, auto& terms) {
-        const Triangle& t = triangles[ti];
-        for (std::size_t k = 0; k < 3; ++k) {
-            const std::size_t i = (k + 1) % 3;
-            const std::size_t j = (k + 2) % 3;
-            const Vec3 delta = dx[static_cast<std::size_t>(t[i])] - dx[static_cast<std::size_t>(t[j])];
-            const Mat3& m = data[ti].dfdx[k];
-            terms.add(i, scaled(times(m, delta), k_factor));
-            terms.subtract(j, scaled(transpose_times(m, delta), k_factor));
-        }
-    });
-}
-
 /// The stiffness of one edge block D between vertex rows i and j (3·vertex + offset):
 /// ∂f_i/∂x_i = D, ∂f_i/∂x_j = −D, ∂f_j/∂x_i = −Dᵀ, ∂f_j/∂x_j = Dᵀ.
 inline void add_edge_block_triplets(TripletList& t, Index ri, Index rj, const Mat3& m) {
@@ -110,3 +76,41 @@ void add_stiffness_triplets(const std::vector<Triangle>& triangles, const std::v
 }
 
 }  // namespace penalty::edge_blocks
+
+namespace penalty::detail {
+
+/// addDForce: δ = dx_i − dx_j, df_i += (DfDx[k] δ)·k_factor, df_j −= (DfDx[k]ᵀ δ)·k_factor, edge
+/// k's pair (i, j) = (t_{k+1}, t_{k+2}); `data[t].dfdx` holds the three blocks of triangle t.
+/// From OrderedScatter::kMinElements triangles with more than one thread, in `scatter`'s chunks
+/// with the bits of the loop; else the loop itself, by the kernel (detail::triangle_edge_dforce,
+/// on `path`'s instructions) over the blocks packed again after each change (invalidate()).
+template <class PerTriangle>
+void EdgeBlockProduct::add_dforce(KernelPath path, EdgeTriangleScatter& scatter, const std::vector<Triangle>& triangles,
+                                  const std::vector<PerTriangle>& data, std::span<Vec3> df, std::span<const Vec3> dx,
+                                  double k_factor) {
+    PENALTY_DEMAND(data.size() == triangles.size());
+    if (!OrderedScatter::worth_threads(triangles.size())) {
+        if (!current_) {
+            size_triangle_edge_blocks(blocks_, triangles.size());
+            for (std::size_t ti = 0; ti < triangles.size(); ++ti)
+                set_triangle_edge_lane(blocks_, ti, triangles[ti], data[ti].dfdx);
+            current_ = true;
+        }
+        triangle_edge_dforce(path, blocks_, triangles.size(), df.data(), dx.data(), k_factor);
+        return;
+    }
+    // the same terms, vertex slots (k + 1, k + 2) of each edge k
+    (void)scatter.triangle_loop(triangles, df, 0.0, [&](std::size_t ti, auto& terms) {
+        const Triangle& t = triangles[ti];
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::size_t i = (k + 1) % 3;
+            const std::size_t j = (k + 2) % 3;
+            const Vec3 delta = dx[static_cast<std::size_t>(t[i])] - dx[static_cast<std::size_t>(t[j])];
+            const Mat3& m = data[ti].dfdx[k];
+            terms.add(i, sofa_vec::scaled(sofa_vec::times(m, delta), k_factor));
+            terms.subtract(j, sofa_vec::scaled(sofa_vec::transpose_times(m, delta), k_factor));
+        }
+    });
+}
+
+}  // namespace penalty::detail

@@ -39,6 +39,7 @@ void TriangularQuadraticSpringsForceField::init() {
     triangles_.assign(tris.size(), TriangleData{});
     for (std::size_t ti = 0; ti < tris.size(); ++ti) create_triangle(ti);
     scatter_.clear();
+    product_.invalidate();
 }
 
 // applyEdgeCreation: the rest length (Edge::length = √|x_1 − x_0|²), stiffness 0.
@@ -80,6 +81,7 @@ void TriangularQuadraticSpringsForceField::create_triangle(std::size_t ti) {
 void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::span<const Vec3> x,
                                                      std::span<const Vec3> v) {
     PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
+    product_.invalidate();  // DfDx[k] computed again below
     const auto& edges = topology_->edges();
     const auto& tris = topology_->triangles();
     const auto& edges_in_triangle = topology_->edges_in_triangle();
@@ -168,7 +170,11 @@ void TriangularQuadraticSpringsForceField::add_force(std::span<Vec3> f, std::spa
 void TriangularQuadraticSpringsForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                                       double /*b_factor*/) const {
     PENALTY_DEMAND(triangles_.size() == topology_->triangles().size());
-    edge_blocks::add_dforce(scatter_, topology_->triangles(), triangles_, df, dx, k_factor);
+    product_.add_dforce(kernel_path_, scatter_, topology_->triangles(), triangles_, df, dx, k_factor);
+}
+
+void TriangularQuadraticSpringsForceField::set_kernel_path(KernelPath path) {
+    kernel_path_ = checked_kernel_path(path, "TriangularQuadraticSpringsForceField", /*has_avx512=*/false);
 }
 
 void TriangularQuadraticSpringsForceField::add_stiffness_triplets(TripletList& t, Index offset, double factor) const {

@@ -3,10 +3,12 @@
 /// The edge and triangle loops of the triangle spring fields (TriangularQuadraticSprings,
 /// TriangularBiquadraticSprings, TriangularTensorMass) on TBB's threads with the bits of one
 /// thread (OrderedScatter). Internal (namespace detail): those fields hold one.
+#include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/ordered_scatter.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -63,6 +65,34 @@ private:
     std::vector<SlotTerms> stored_;                    ///< a deferred triangle vertex's terms
     std::vector<double> edge_energies_;
     std::vector<EnergyTerms> triangle_energies_;
+};
+
+/// Four triangles' edge blocks D_k and vertices, in lanes (the product's kernel:
+/// src/kernels/mechanics/triangle_edge_blocks.hpp); a last block's unused lanes hold zeros and
+/// vertex 0.
+struct TriangleEdgeBlock {
+    static constexpr std::size_t kWidth = 4;
+    using Lanes = std::array<double, kWidth>;
+    alignas(32) std::array<Lanes, 27> dfdx{};                  ///< edge k's D(r, c) at 9k + 3r + c
+    std::array<std::array<std::int32_t, kWidth>, 3> vertex{};  ///< the triangle's vertices t_0, t_1, t_2
+};
+
+/// The product of the fields whose stiffness is one 3×3 block per triangle edge
+/// (TriangularQuadraticSprings, TriangularBiquadraticSprings): addDForce, defined in
+/// src/mechanics/triangle_edge_blocks.hpp. One thread: the kernel over the blocks packed again
+/// after each change (invalidate()); on threads: `scatter`'s triangle loop.
+class EdgeBlockProduct {
+public:
+    /// The blocks changed (a force evaluation, init): packed again at the next one-thread product.
+    void invalidate() { current_ = false; }
+    template <class PerTriangle>
+    void add_dforce(KernelPath path, EdgeTriangleScatter& scatter, const std::vector<Triangle>& triangles,
+                    const std::vector<PerTriangle>& data, std::span<Vec3> df, std::span<const Vec3> dx,
+                    double k_factor);
+
+private:
+    std::vector<TriangleEdgeBlock> blocks_;
+    bool current_ = false;
 };
 
 template <class TermsOf>

@@ -14,6 +14,7 @@
 
 #include "penalty/mechanics/edge_triangle_scatter.hpp"
 #include "penalty/mechanics/force_field.hpp"
+#include "penalty/mechanics/kernel_path.hpp"
 #include "penalty/mechanics/topology.hpp"
 #include "penalty/mechanics/topology_change.hpp"
 
@@ -60,6 +61,11 @@ public:
     /// How the product's loop over the triangles is split on threads (OrderedScatter::kMinElements
     /// or more, more than one thread: chunks and deferred terms; else none).
     [[nodiscard]] const detail::OrderedScatter& product_scatter() const { return scatter_.triangle_scatter(); }
+    /// Instructions of the one-thread product (detail::triangle_edge_dforce; default
+    /// best_kernel_path(), every path the same bits). Throws std::invalid_argument if this machine
+    /// cannot run `path`, or for avx512 (no such path here).
+    void set_kernel_path(KernelPath path);
+    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
 private:
     struct TriangleData {
@@ -81,6 +87,8 @@ private:
     std::vector<TriangleData> triangles_;
     double energy_ = 0.0;
     mutable detail::EdgeTriangleScatter scatter_;  ///< the loops on threads
+    mutable detail::EdgeBlockProduct product_;     ///< the one-thread product's blocks
+    KernelPath kernel_path_ = best_kernel_path();
 };
 
 }  // namespace penalty

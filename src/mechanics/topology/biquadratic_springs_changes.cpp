@@ -50,6 +50,7 @@ void TriangularBiquadraticSpringsForceField::handle_topology_changes(const Topol
         container, changes, {&rest_square_length_, &edge_stiffness_, &square_length_, &delta_}, edge_stiffness_,
         triangles_, [this](std::size_t e) { create_edge(e); }, [this](std::size_t t) { create_triangle(t); });
     scatter_.clear();
+    product_.invalidate();
 }
 
 void TriangularQuadraticSpringsForceField::handle_topology_changes(const TopologyContainer& container,
@@ -58,6 +59,7 @@ void TriangularQuadraticSpringsForceField::handle_topology_changes(const Topolog
         container, changes, {&rest_length_, &edge_stiffness_, &length_, &delta_}, edge_stiffness_, triangles_,
         [this](std::size_t e) { create_edge(e); }, [this](std::size_t t) { create_triangle(t); });
     scatter_.clear();
+    product_.invalidate();
 }
 
 }  // namespace penalty

@@ -33,11 +33,11 @@ inline bool same_vectors_bits(const std::vector<Vec3>& a, const std::vector<Vec3
 }
 
 /// add_force at x = rest + `perturbation`·(random in [−1, 1]³) onto zero, then add_dforce of a
-/// random dx with `k_factor` onto a random df, in an arena of `threads` threads (the random draws
-/// the same for every call).
+/// random dx with `k_factor` onto a random df (none when !with_product), in an arena of `threads`
+/// threads (the random draws the same for every call).
 template <class Field>
 ElementProducts element_products_on_threads(Field& field, const Vec3Object& state, int threads, double perturbation,
-                                            double k_factor) {
+                                            double k_factor, bool with_product = true) {
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::vector<Vec3> x = state.rest_position;
@@ -51,7 +51,7 @@ ElementProducts element_products_on_threads(Field& field, const Vec3Object& stat
     tbb::task_arena arena(threads);
     arena.execute([&] {
         field.add_force(out.force, x, v);
-        field.add_dforce(out.product, dx, k_factor, 0.0);
+        if (with_product) field.add_dforce(out.product, dx, k_factor, 0.0);
     });
     out.energy = field.potential_energy();
     out.chunks = field.product_scatter().chunk_count();
@@ -74,6 +74,21 @@ void expect_threads_give_one_threads_bits(Field& field, const Vec3Object& state,
         EXPECT_TRUE(same_vectors_bits(many.product, one.product)) << where;
         EXPECT_EQ(std::memcmp(&many.energy, &one.energy, sizeof(double)), 0) << where;
     }
+}
+
+/// The product follows each force evaluation (data a kernel packs is made again): `field`'s
+/// product after a force at one perturbation, a product, and a force at another is the bits of a
+/// `fresh` field's after the same two forces with no product between (a field may keep history
+/// from one force to the next), and not the first product; `what` names the case.
+template <class Field>
+void expect_product_follows_each_force_evaluation(Field& field, Field& fresh, const Vec3Object& state,
+                                                  const std::string& what) {
+    const ElementProducts first = element_products_on_threads(field, state, 1, 0.01, -0.37);
+    const ElementProducts second = element_products_on_threads(field, state, 1, 0.05, -0.37);
+    (void)element_products_on_threads(fresh, state, 1, 0.01, -0.37, /*with_product=*/false);
+    const ElementProducts expected = element_products_on_threads(fresh, state, 1, 0.05, -0.37);
+    EXPECT_FALSE(same_vectors_bits(second.product, first.product)) << what;
+    EXPECT_TRUE(same_vectors_bits(second.product, expected.product)) << what;
 }
 
 /// add_force and add_dforce of `field` (one thread) on each kernel path this machine runs, the
