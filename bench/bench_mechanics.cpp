@@ -15,6 +15,7 @@
 #include "penalty/mechanics/rest_shape_springs.hpp"
 #include "penalty/mechanics/spring_force_field.hpp"
 #include "penalty/mechanics/triangular_fem.hpp"
+#include "penalty/mechanics/triangular_quadratic_springs.hpp"
 #include "penalty/simulation/solver.hpp"
 #include "penalty_test/grid_meshes.hpp"
 
@@ -336,14 +337,9 @@ void BM_HexahedronFemLargeDForce(benchmark::State& state) {
                            benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-// TriangularFEMForceField "large" (SOFA's order): the product of a crumpled m×m sheet of
-// 2(m − 1)² triangles (m = 28: 1 458, the size of SOFA's square3.msh examples).
-void BM_TriangularFemLargeDForce(benchmark::State& state) {
-    const auto m = static_cast<std::size_t>(state.range(0));
-    Simulation sim;
-    Node& sheet = sim.root().add_child("sheet");
-    auto& x = sheet.add_state<Vec3Types>();
-    MeshTopology topology;
+// An m×m sheet of 2(m − 1)² triangles (m = 28: 1 458, the size of SOFA's square3.msh examples),
+// its points in `x`, its triangles in `topology`.
+void sheet_of_triangles(std::size_t m, Vec3Object& x, MeshTopology& topology) {
     std::vector<Triangle> triangles;
     for (std::size_t i = 0; i < m; ++i)
         for (std::size_t j = 0; j < m; ++j) x.position.emplace_back(double(i), double(j), 0.0);
@@ -355,15 +351,57 @@ void BM_TriangularFemLargeDForce(benchmark::State& state) {
         }
     topology.set_num_points(m * m);
     topology.set_triangles(std::move(triangles));
-    auto& fem = sheet.add_force_field<TriangularFEMForceField>(x, topology, 60.0, 0.3, FemMethod::Large);
-    sim.init();
-    // crumpled, so that the frames are not the identity
+}
+
+/// Crumpled, so that the frames are not the identity and every edge is stretched or compressed.
+void crumple(Vec3Object& x) {
     for (std::size_t i = 0; i < x.position.size(); ++i)
         x.position[i] += 0.2 * Vec3(std::sin(double(i)), std::cos(double(3 * i)), std::sin(double(7 * i)));
+}
+
+// TriangularFEMForceField "large" (SOFA's order): the product of the crumpled sheet.
+void BM_TriangularFemLargeDForce(benchmark::State& state) {
+    Simulation sim;
+    Node& sheet = sim.root().add_child("sheet");
+    auto& x = sheet.add_state<Vec3Types>();
+    MeshTopology topology;
+    sheet_of_triangles(static_cast<std::size_t>(state.range(0)), x, topology);
+    auto& fem = sheet.add_force_field<TriangularFEMForceField>(x, topology, 60.0, 0.3, FemMethod::Large);
+    sim.init();
+    crumple(x);
     time_products(state, fem, x);
     state.counters["elements"] = double(fem.triangles().size());
     state.counters["ns_per_element"] = benchmark::Counter(
         double(fem.triangles().size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+// TriangularQuadraticSpringsForceField with angular springs (one 3×3 block per triangle edge,
+// the product of TriangularBiquadraticSprings too): the product of the crumpled sheet, one
+// thread, on kernel path range(1) (0 scalar, 1 avx).
+void BM_TriangleEdgeBlocksDForce(benchmark::State& state) {
+    Simulation sim;
+    Node& sheet = sim.root().add_child("sheet");
+    auto& x = sheet.add_state<Vec3Types>();
+    MeshTopology topology;
+    sheet_of_triangles(static_cast<std::size_t>(state.range(0)), x, topology);
+    auto& springs = sheet.add_force_field<TriangularQuadraticSpringsForceField>(
+        x, topology, QuadraticSpringParameters{.young_modulus = 60.0, .use_angular_springs = true});
+    sim.init();
+    crumple(x);
+    const auto path = static_cast<KernelPath>(state.range(1));
+    if (!kernel_path_supported(path)) {
+        state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
+        for (auto _ : state) {
+        }
+        return;
+    }
+    springs.set_kernel_path(path);
+    tbb::task_arena one(1);  // the one-thread product (the kernel's)
+    one.execute([&] { time_products(state, springs, x); });
+    state.counters["elements"] = double(topology.triangles().size());
+    state.counters["ns_per_element"] =
+        benchmark::Counter(double(topology.triangles().size()),
+                           benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }
@@ -379,6 +417,7 @@ BENCHMARK(BM_TetraFemLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_TetraCorotationalLargeDForce)->ArgsProduct({{5}, {0, 1, 2}});
 BENCHMARK(BM_SpringDForce)->Arg(6);
 BENCHMARK(BM_TriangularFemLargeDForce)->Arg(28)->Arg(200);
+BENCHMARK(BM_TriangleEdgeBlocksDForce)->ArgsProduct({{28, 200}, {0, 1}});
 BENCHMARK(BM_HexahedronFemLargeDForce)->ArgsProduct({{8, 20}, {0, 1}});
 // 10^5 and 10^6 points on 1 and 2 threads, side by side in one run
 BENCHMARK(BM_RestShapeSpringsDForce)->ArgsProduct({{100'000, 1'000'000}, {1, 2}})->Unit(benchmark::kMicrosecond);

@@ -131,8 +131,10 @@ TEST(TriangleEdgeBlocks, AvxPathIsTheScalarPathToTheBit) {
         const EdgeCase c = make_case(rng, 1 + rng() % 40, 2 + rng() % 30, special);
         const double k = n % 7 == 0 ? -0.0 : std::uniform_real_distribution<double>(-2, 2)(rng);
         const std::vector<Vec3> scalar = edge_block_cases::kernel_product(c, KernelPath::scalar, k);
-        EXPECT_TRUE(edge_block_cases::same_bits(scalar, edge_block_cases::kernel_product(c, KernelPath::avx, k))) << "case " << n;
-        EXPECT_TRUE(edge_block_cases::same_bits(scalar, edge_block_cases::kernel_product(c, KernelPath::avx512, k))) << "case " << n;  // runs avx
+        EXPECT_TRUE(edge_block_cases::same_bits(scalar, edge_block_cases::kernel_product(c, KernelPath::avx, k)))
+            << "case " << n;
+        EXPECT_TRUE(edge_block_cases::same_bits(scalar, edge_block_cases::kernel_product(c, KernelPath::avx512, k)))
+            << "case " << n;  // runs avx
         for (const Vec3& v : scalar) non_finite += v.allFinite() ? 0 : 1;
     }
     EXPECT_GT(non_finite, 100);  // the special values reached the results

@@ -54,13 +54,11 @@ void dforce_scalar(const Block& b, std::size_t l, Vec3* df, const Vec3* dx, doub
         const __m256d d0 = _mm256_sub_pd(a.x, c.x), d1 = _mm256_sub_pd(a.y, c.y), d2 = _mm256_sub_pd(a.z, c.z);
         const Block::Lanes* m = &b.dfdx[9 * e];
         for (std::size_t r = 0; r < 3; ++r) {
-            _mm256_store_pd(to_i[e][r],
-                            mul(add(add(mul(lanes(m[3 * r]), d0), mul(lanes(m[3 * r + 1]), d1)),
-                                    mul(lanes(m[3 * r + 2]), d2)),
-                                k));
             _mm256_store_pd(
-                from_j[e][r],
-                mul(add(add(mul(lanes(m[r]), d0), mul(lanes(m[3 + r]), d1)), mul(lanes(m[6 + r]), d2)), k));
+                to_i[e][r],
+                mul(add(add(mul(lanes(m[3 * r]), d0), mul(lanes(m[3 * r + 1]), d1)), mul(lanes(m[3 * r + 2]), d2)), k));
+            _mm256_store_pd(from_j[e][r],
+                            mul(add(add(mul(lanes(m[r]), d0), mul(lanes(m[3 + r]), d1)), mul(lanes(m[6 + r]), d2)), k));
         }
     }
     for (std::size_t l = 0; l < kWidth; ++l)
