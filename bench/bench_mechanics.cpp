@@ -86,6 +86,15 @@ void time_products(benchmark::State& state, Field& fem, const Vec3Object& x) {
     }
 }
 
+/// The benchmark skipped with a message when this CPU cannot run `path`.
+bool skipped_unsupported(benchmark::State& state, KernelPath path) {
+    if (kernel_path_supported(path)) return false;
+    state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
+    for (auto _ : state) {
+    }
+    return true;
+}
+
 // The product of a method-large tetrahedral field over n³ grid points on SphereModel's cube (n = 5:
 // its 5 × 5 × 5 grid), SOFA's grid tetrahedra, on kernel path range(1); `make_field(state, grid)`
 // adds the field to the node.
@@ -99,12 +108,7 @@ void tetra_large_dforce(benchmark::State& state, const MakeField& make_field) {
     x.position = grid.points();
     auto& fem = make_field(body, x, grid);
     const auto path = static_cast<KernelPath>(state.range(1));
-    if (!kernel_path_supported(path)) {
-        state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
-        for (auto _ : state) {
-        }
-        return;
-    }
+    if (skipped_unsupported(state, path)) return;
     fem.set_kernel_path(path);
     sim.init();
     // a deformed state, so that the rotations are not the identity
@@ -315,12 +319,7 @@ void BM_RigidMappingProducts(benchmark::State& state) {
 void BM_HexahedronFemLargeDForce(benchmark::State& state) {
     const int n = static_cast<int>(state.range(0));
     const auto path = static_cast<KernelPath>(state.range(1));
-    if (!kernel_path_supported(path)) {
-        state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
-        for (auto _ : state) {
-        }
-        return;
-    }
+    if (skipped_unsupported(state, path)) return;
     RegularGridTopology grid({n, n, n}, Vec3(-3.5, -3.5, -3.5), Vec3(3.5, 3.5, 3.5));
     Simulation sim;
     Node& body = sim.root().add_child("block");
@@ -389,12 +388,7 @@ void BM_TriangleEdgeBlocksDForce(benchmark::State& state) {
     sim.init();
     crumple(x);
     const auto path = static_cast<KernelPath>(state.range(1));
-    if (!kernel_path_supported(path)) {
-        state.SkipWithError((std::string("kernel path ") + to_string(path) + " not supported by this CPU").c_str());
-        for (auto _ : state) {
-        }
-        return;
-    }
+    if (skipped_unsupported(state, path)) return;
     springs.set_kernel_path(path);
     tbb::task_arena one(1);  // the one-thread product (the kernel's)
     one.execute([&] { time_products(state, springs, x); });

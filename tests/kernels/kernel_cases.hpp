@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 #include "penalty/mechanics/fem.hpp"
 #include "penalty/mechanics/kernel_path.hpp"
@@ -32,6 +33,25 @@ inline double product_entry(std::mt19937& rng) {
             return std::ldexp(std::uniform_real_distribution<double>(-1, 1)(rng), -40);
         default:
             return std::uniform_real_distribution<double>(-3, 3)(rng);
+    }
+}
+
+/// With `special`, one draw in `period` a subnormal, one −∞ and one a NaN (`value` set, true);
+/// else false, and the caller draws an ordinary value.
+inline bool draw_special(std::mt19937& rng, bool special, unsigned period, double& value) {
+    if (!special) return false;
+    switch (rng() % period) {
+        case 0:
+            value = std::numeric_limits<double>::denorm_min() * double(1 + rng() % 1000);
+            return true;
+        case 1:
+            value = -std::numeric_limits<double>::infinity();
+            return true;
+        case 2:
+            value = std::numeric_limits<double>::quiet_NaN();
+            return true;
+        default:
+            return false;
     }
 }
 

@@ -23,17 +23,8 @@ using detail::HexahedronVector;
 /// An entry of K or d: product_entry's (zeros of both signs, tiny and ordinary values), and with
 /// `special`, subnormals, infinities and NaNs now and then.
 double entry(std::mt19937& rng, bool special) {
-    if (special) switch (rng() % 16) {
-            case 0:
-                return std::numeric_limits<double>::denorm_min() * double(1 + rng() % 1000);
-            case 1:
-                return -std::numeric_limits<double>::infinity();
-            case 2:
-                return std::numeric_limits<double>::quiet_NaN();
-            default:
-                break;
-        }
-    return product_entry(rng);
+    double value = 0.0;
+    return draw_special(rng, special, 16, value) ? value : product_entry(rng);
 }
 
 /// SOFA's Mat<L,C>·Vec<C>: r_i = m_i0·v_0, then r_i += m_ij·v_j for j = 1 … C − 1.

@@ -31,16 +31,8 @@ struct EdgeCase {
 /// A block entry: stiffness-like values of every sign, and with `special` now and then a
 /// subnormal, an infinity or a NaN.
 double block_entry(std::mt19937& rng, bool special) {
-    if (special) switch (rng() % 24) {
-            case 0:
-                return std::numeric_limits<double>::denorm_min() * double(1 + rng() % 1000);
-            case 1:
-                return -std::numeric_limits<double>::infinity();
-            case 2:
-                return std::numeric_limits<double>::quiet_NaN();
-            default:
-                break;
-        }
+    double value = 0.0;
+    if (draw_special(rng, special, 24, value)) return value;
     return rng() % 10 == 0 ? -0.0 : std::uniform_real_distribution<double>(-50, 50)(rng);
 }
 
