@@ -86,6 +86,13 @@ void time_products(benchmark::State& state, Field& fem, const Vec3Object& x) {
     }
 }
 
+/// The counters of an element product: its elements and the time a product takes per element.
+void count_elements(benchmark::State& state, std::size_t elements) {
+    state.counters["elements"] = double(elements);
+    state.counters["ns_per_element"] = benchmark::Counter(
+        double(elements), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 /// The benchmark skipped with a message when this CPU cannot run `path`.
 bool skipped_unsupported(benchmark::State& state, KernelPath path) {
     if (kernel_path_supported(path)) return false;
@@ -331,9 +338,7 @@ void BM_HexahedronFemLargeDForce(benchmark::State& state) {
     for (std::size_t i = 0; i < x.position.size(); ++i)
         x.position[i] += 0.1 * Vec3(std::sin(double(i)), std::cos(double(i)), 0.5);
     time_products(state, fem, x);
-    state.counters["ns_per_element"] =
-        benchmark::Counter(double(fem.element_stiffness().size()),
-                           benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    count_elements(state, fem.element_stiffness().size());
 }
 
 // An m×m sheet of 2(m − 1)² triangles (m = 28: 1 458, the size of SOFA's square3.msh examples),
@@ -369,9 +374,7 @@ void BM_TriangularFemLargeDForce(benchmark::State& state) {
     sim.init();
     crumple(x);
     time_products(state, fem, x);
-    state.counters["elements"] = double(fem.triangles().size());
-    state.counters["ns_per_element"] = benchmark::Counter(
-        double(fem.triangles().size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    count_elements(state, fem.triangles().size());
 }
 
 // TriangularQuadraticSpringsForceField with angular springs (one 3×3 block per triangle edge,
@@ -392,10 +395,7 @@ void BM_TriangleEdgeBlocksDForce(benchmark::State& state) {
     springs.set_kernel_path(path);
     tbb::task_arena one(1);  // the one-thread product (the kernel's)
     one.execute([&] { time_products(state, springs, x); });
-    state.counters["elements"] = double(topology.triangles().size());
-    state.counters["ns_per_element"] =
-        benchmark::Counter(double(topology.triangles().size()),
-                           benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+    count_elements(state, topology.triangles().size());
 }
 
 void BM_TetraFemBlockStep(benchmark::State& state) { run(state, Model::TetraFem); }

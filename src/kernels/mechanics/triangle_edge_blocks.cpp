@@ -78,7 +78,9 @@ void dforce_scalar(const Block& b, std::size_t l, Vec3* df, const Vec3* dx, doub
 }  // namespace triangle_edge_kernel
 
 void size_triangle_edge_blocks(std::vector<TriangleEdgeBlock>& blocks, std::size_t count) {
-    blocks.assign((count + TriangleEdgeBlock::kWidth - 1) / TriangleEdgeBlock::kWidth, TriangleEdgeBlock{});
+    // every lane is set after, but the last block's unused ones: only that block is cleared
+    blocks.resize((count + TriangleEdgeBlock::kWidth - 1) / TriangleEdgeBlock::kWidth);
+    if (!blocks.empty()) blocks.back() = TriangleEdgeBlock{};
 }
 
 void set_triangle_edge_lane(std::vector<TriangleEdgeBlock>& blocks, std::size_t e, const Triangle& t,

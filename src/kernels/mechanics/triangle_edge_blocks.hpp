@@ -24,7 +24,7 @@
 
 namespace penalty::detail {
 
-/// Sizes `blocks` for `count` triangles, every lane zero (then set each triangle's lane).
+/// Sizes `blocks` for `count` triangles, the last block's lanes zero (then set each triangle's lane).
 void size_triangle_edge_blocks(std::vector<TriangleEdgeBlock>& blocks, std::size_t count);
 /// Triangle e's vertices and its three edges' blocks D_k into its lane.
 void set_triangle_edge_lane(std::vector<TriangleEdgeBlock>& blocks, std::size_t e, const Triangle& t,
