@@ -142,7 +142,8 @@ TEST(TriangularBiquadraticSprings, KernelPathsGiveTheSameBits) {
     Vec3Object state;
     state.position = sheet.points;
     state.init();
-    TriangularBiquadraticSpringsForceField springs(state, sheet.topology, {.young_modulus = 500.0});
+    const BiquadraticSpringParameters parameters{.young_modulus = 500.0};
+    TriangularBiquadraticSpringsForceField springs(state, sheet.topology, parameters);
     springs.init();
     EXPECT_EQ(springs.kernel_path(), best_kernel_path());
     EXPECT_THROW(springs.set_kernel_path(KernelPath::avx512), std::invalid_argument);
@@ -151,8 +152,8 @@ TEST(TriangularBiquadraticSprings, KernelPathsGiveTheSameBits) {
     std::vector<KernelPath> paths = {KernelPath::scalar};
     if (kernel_path_supported(KernelPath::avx)) paths.push_back(KernelPath::avx);
     for (const KernelPath path : paths) {
-        TriangularBiquadraticSpringsForceField field(state, sheet.topology, {.young_modulus = 500.0});
-        TriangularBiquadraticSpringsForceField fresh(state, sheet.topology, {.young_modulus = 500.0});
+        TriangularBiquadraticSpringsForceField field(state, sheet.topology, parameters);
+        TriangularBiquadraticSpringsForceField fresh(state, sheet.topology, parameters);
         field.init();
         fresh.init();
         field.set_kernel_path(path);

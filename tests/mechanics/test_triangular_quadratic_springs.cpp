@@ -149,8 +149,8 @@ TEST(TriangularQuadraticSprings, KernelPathsGiveTheSameBits) {
     Vec3Object state;
     state.position = sheet.points;
     state.init();
-    TriangularQuadraticSpringsForceField springs(state, sheet.topology,
-                                                 {.young_modulus = 500.0, .use_angular_springs = true});
+    const QuadraticSpringParameters parameters{.young_modulus = 500.0, .use_angular_springs = true};
+    TriangularQuadraticSpringsForceField springs(state, sheet.topology, parameters);
     springs.init();
     EXPECT_EQ(springs.kernel_path(), best_kernel_path());
     EXPECT_THROW(springs.set_kernel_path(KernelPath::avx512), std::invalid_argument);
@@ -159,10 +159,8 @@ TEST(TriangularQuadraticSprings, KernelPathsGiveTheSameBits) {
     std::vector<KernelPath> paths = {KernelPath::scalar};
     if (kernel_path_supported(KernelPath::avx)) paths.push_back(KernelPath::avx);
     for (const KernelPath path : paths) {
-        TriangularQuadraticSpringsForceField field(state, sheet.topology,
-                                                   {.young_modulus = 500.0, .use_angular_springs = true});
-        TriangularQuadraticSpringsForceField fresh(state, sheet.topology,
-                                                   {.young_modulus = 500.0, .use_angular_springs = true});
+        TriangularQuadraticSpringsForceField field(state, sheet.topology, parameters);
+        TriangularQuadraticSpringsForceField fresh(state, sheet.topology, parameters);
         field.init();
         fresh.init();
         field.set_kernel_path(path);
