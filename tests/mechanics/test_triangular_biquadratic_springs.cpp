@@ -136,29 +136,10 @@ TEST(TriangularBiquadraticSprings, ForceAndProductOnThreadsAreTheBitsOfOneThread
 }
 
 TEST(TriangularBiquadraticSprings, KernelPathsGiveTheSameBits) {
-    // the one-thread product on the scalar and the AVX path (detail::triangle_edge_dforce): the
-    // curved sheet's force, product and energy the same bits
-    const test::TriangleSheet sheet(/*shuffle=*/true);
-    Vec3Object state;
-    state.position = sheet.points;
-    state.init();
-    const BiquadraticSpringParameters parameters{.young_modulus = 500.0};
-    TriangularBiquadraticSpringsForceField springs(state, sheet.topology, parameters);
-    springs.init();
-    EXPECT_EQ(springs.kernel_path(), best_kernel_path());
-    EXPECT_THROW(springs.set_kernel_path(KernelPath::avx512), std::invalid_argument);
-    test::expect_kernel_paths_give_the_same_bits(springs, state, "TriangularBiquadraticSprings");
-    // the packed blocks follow each force evaluation, on every path
-    std::vector<KernelPath> paths = {KernelPath::scalar};
-    if (kernel_path_supported(KernelPath::avx)) paths.push_back(KernelPath::avx);
-    for (const KernelPath path : paths) {
-        TriangularBiquadraticSpringsForceField field(state, sheet.topology, parameters);
-        TriangularBiquadraticSpringsForceField fresh(state, sheet.topology, parameters);
-        field.init();
-        fresh.init();
-        field.set_kernel_path(path);
-        test::expect_product_follows_each_force_evaluation(field, fresh, state, "TriangularBiquadraticSprings");
-    }
+    // the one-thread product (detail::triangle_edge_dforce) on the curved sheet: scalar and AVX
+    // paths the same bits, the packed blocks following each force evaluation
+    test::expect_sheet_kernel_paths<TriangularBiquadraticSpringsForceField>(
+        BiquadraticSpringParameters{.young_modulus = 500.0}, "TriangularBiquadraticSprings");
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstring>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -124,5 +125,32 @@ struct TriangleSheet {
         }
     }
 };
+
+/// A triangle field (Field(state, topology, parameters)) on the shuffled sheet, one thread: the
+/// field starts on best_kernel_path() and refuses avx512; its scalar and AVX paths give the same
+/// force, product and energy; and on every path its product follows each force evaluation (the
+/// packed data made again). `what` names the field.
+template <class Field, class Parameters>
+void expect_sheet_kernel_paths(const Parameters& parameters, const std::string& what) {
+    const TriangleSheet sheet(/*shuffle=*/true);
+    Vec3Object state;
+    state.position = sheet.points;
+    state.init();
+    std::vector<KernelPath> paths = {KernelPath::scalar};
+    if (kernel_path_supported(KernelPath::avx)) paths.push_back(KernelPath::avx);
+    for (const KernelPath path : paths) {
+        Field field(state, sheet.topology, parameters);
+        Field fresh(state, sheet.topology, parameters);
+        field.init();
+        fresh.init();
+        EXPECT_EQ(field.kernel_path(), best_kernel_path()) << what;
+        EXPECT_THROW(field.set_kernel_path(KernelPath::avx512), std::invalid_argument) << what;
+        field.set_kernel_path(path);
+        expect_product_follows_each_force_evaluation(field, fresh, state, what + ", " + to_string(path));
+    }
+    Field field(state, sheet.topology, parameters);
+    field.init();
+    expect_kernel_paths_give_the_same_bits(field, state, what);
+}
 
 }  // namespace penalty::test
