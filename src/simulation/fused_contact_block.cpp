@@ -44,7 +44,35 @@ struct FindTables {
 constexpr std::size_t kNone = PointerIndex<BaseState>::npos;
 }  // namespace
 
+void FusedContactBlock::clear() {
+    mappings_.clear();
+    fields_.clear();
+    steps_.clear();
+    unfused_mappings_.clear();
+    unread_by_parent_.clear();
+    zero_adds_.clear();
+    rows_.clear();
+    dx_.clear();
+    df_.clear();
+    springs_.clear();
+    read_rows_.clear();
+    point_read_.clear();
+    unread_point_adds_.clear();
+    gather_row_.clear();
+    gather_first_.clear();
+    gather_terms_.clear();
+    gather_cursor_.clear();  // (every cursor 0 again)
+    external_slots_ = 0;
+    chains_.step_first.clear();
+    chains_.steps_of.clear();
+    chains_.mapping_first.clear();
+    chains_.mappings_of.clear();
+    ready_ = false;
+    springs_ready_ = false;
+}
+
 void FusedContactBlock::find(SubtreeLayout& l, bool fuse) {
+    clear();
     thread_local FindTables tables;
     FindTables& t = tables;
     t.clear(l.mappings.size());

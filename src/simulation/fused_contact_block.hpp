@@ -54,7 +54,8 @@ namespace penalty::detail {
 class FusedContactBlock {
 public:
     /// Finds the fields and mappings of `layout` to fuse (none when !fuse) and marks the layout's
-    /// steps that are fused (ForceStep::fused).
+    /// steps that are fused (ForceStep::fused); what an earlier find() found is cleared first,
+    /// the lists keeping their capacity.
     void find(SubtreeLayout& layout, bool fuse);
     [[nodiscard]] bool empty() const { return mappings_.empty(); }
     /// Fused fields, read fused mappings, unread fused mappings.
@@ -92,6 +93,8 @@ public:
     [[nodiscard]] std::array<std::size_t, 2> on_threads() const;
 
 private:
+    /// Empties every list (keeping its capacity) and flag for a find() again.
+    void clear();
     struct FusedMapping {
         std::size_t mapping_index = 0;  ///< in SubtreeLayout::mappings
         Vec3Object* from = nullptr;

@@ -17,6 +17,7 @@ struct ChainTables {
     std::vector<std::uint32_t> chain_of_root;  // per state id: its chain, or kNone
     std::vector<std::uint32_t> step_chain;     // per step: its chain
     std::vector<std::uint32_t> mapping_chain;  // per pass mapping: its chain
+    std::vector<std::size_t> next;             // group_by_chain's cursors
     static constexpr std::uint32_t kNone = ~std::uint32_t{0};
 
     std::uint32_t id(const BaseState* s) {
@@ -50,12 +51,12 @@ const BaseState* written_state(const ForceStep& s) {
 
 /// Lists `items`' indices grouped by chain, each group in ascending order (a counting sort).
 void group_by_chain(const std::vector<std::uint32_t>& chain_of, std::uint32_t chains, std::vector<std::size_t>& first,
-                    std::vector<std::uint32_t>& of) {
+                    std::vector<std::uint32_t>& of, std::vector<std::size_t>& next) {
     first.assign(chains + 1, 0);
     for (const std::uint32_t c : chain_of) ++first[c + 1];
     std::partial_sum(first.begin(), first.end(), first.begin());
     of.resize(chain_of.size());
-    std::vector<std::size_t> next(first.begin(), first.end() - 1);
+    next.assign(first.begin(), first.end() - 1);
     for (std::size_t i = 0; i < chain_of.size(); ++i) of[next[chain_of[i]]++] = static_cast<std::uint32_t>(i);
 }
 }  // namespace
@@ -99,8 +100,8 @@ void find_step_chains(const SubtreeLayout& layout, const std::vector<ForceStep>&
     t.mapping_chain.resize(mapped.size());
     for (std::size_t i = 0; i < mapped.size(); ++i)
         t.mapping_chain[i] = t.chain(layout.mappings[mapped[i]]->to(), count);
-    group_by_chain(t.step_chain, count, chains.step_first, chains.steps_of);
-    group_by_chain(t.mapping_chain, count, chains.mapping_first, chains.mappings_of);
+    group_by_chain(t.step_chain, count, chains.step_first, chains.steps_of, t.next);
+    group_by_chain(t.mapping_chain, count, chains.mapping_first, chains.mappings_of, t.next);
     // mappings_of holds places in `mapped`: the layout's indices
     for (std::uint32_t& m : chains.mappings_of) m = static_cast<std::uint32_t>(mapped[m]);
 }

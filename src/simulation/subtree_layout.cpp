@@ -64,8 +64,8 @@ void collect(Node& node, bool mapping_graph_order, SubtreeLayout& l) {
             l.mapped.push_back(s);
             l.mappings.push_back(node.mapping());
         } else {
+            l.independent_index.emplace(s, l.independent.size());
             l.offsets.push_back(l.size);
-            l.offset_of[s] = l.size;
             l.independent.push_back(s);
             l.sizes.push_back(static_cast<Index>(s->scalar_size()));
             l.widths.push_back(static_cast<Index>(s->deriv_size()));
@@ -113,15 +113,22 @@ void find_readers(SubtreeLayout& l, LayoutBuildLists& t) {
             if (t.known.emplace(from, 0).second) l.external.push_back(from);
         }
     }
-    for (const BaseState* s : l.external) {
-        ExternalReaders& r = l.external_readers.emplace_back();
-        if (const auto* on = t.fields_acting_on(s)) r.force_fields = *on;
-        if (const auto* from = t.mappings_reading(s)) r.mappings = *from;
+    // the reader entries of an earlier build refilled (their lists keep their capacity)
+    const auto refill = [](auto& list, const auto* from) {
+        if (from != nullptr) list.assign(from->begin(), from->end());
+        else list.clear();
+    };
+    l.external_readers.resize(l.external.size());
+    for (std::size_t i = 0; i < l.external.size(); ++i) {
+        ExternalReaders& r = l.external_readers[i];
+        refill(r.force_fields, t.fields_acting_on(l.external[i]));
+        refill(r.mappings, t.mappings_reading(l.external[i]));
     }
+    l.dx_readers.resize(l.mappings.size());
     for (std::size_t i = 0; i < l.mappings.size(); ++i) {
         BaseMapping* m = l.mappings[i];
         PENALTY_DEMAND(m->to() == l.mapped[i]);
-        DxReaders& r = l.dx_readers.emplace_back();
+        DxReaders& r = l.dx_readers[i];
         r.mapping = m;
         // (a mass on the mapped state reads every row's dx)
         r.selective = m->maps_selected_rows() && std::none_of(l.masses.begin(), l.masses.end(), [&](const auto& e) {
@@ -129,13 +136,31 @@ void find_readers(SubtreeLayout& l, LayoutBuildLists& t) {
                       });
         // the force fields acting on the mapped state and the mappings reading it, in the
         // subtree's order
-        if (const auto* on = t.fields_acting_on(m->to())) r.force_fields = *on;
-        if (const auto* from = t.mappings_reading(m->to())) r.mappings = *from;
+        refill(r.force_fields, t.fields_acting_on(m->to()));
+        refill(r.mappings, t.mappings_reading(m->to()));
     }
 }
 }  // namespace
 
+void SubtreeLayout::clear() {
+    independent.clear();
+    offsets.clear();
+    sizes.clear();
+    widths.clear();
+    independent_index.clear();
+    size = 0;
+    mapped.clear();
+    mappings.clear();
+    all_mappings.clear();
+    external.clear();
+    masses.clear();
+    force_fields.clear();
+    constraints.clear();
+    steps.clear();
+}
+
 void build_subtree_layout(Node& root, bool mapping_graph_order, SubtreeLayout& l) {
+    l.clear();
     collect(root, mapping_graph_order, l);
     if (mapping_graph_order) order_as_mapping_graph(root, l.mappings, l.steps);
     thread_local LayoutBuildLists lists;

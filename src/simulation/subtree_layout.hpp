@@ -6,13 +6,13 @@
 /// structure changes (SubtreeSystemCache), only read by the solve; the numbers a product needs
 /// from one call to the next are in SubtreeScratch.
 
+#include "penalty/core/pointer_index.hpp"
 #include "penalty/simulation/node.hpp"
 
 #include <Eigen/Core>
 
 #include <cstddef>
 #include <cstdint>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -73,8 +73,14 @@ struct SubtreeLayout {
     /// them for every state and iteration; a size change makes the cache build again)
     std::vector<Index> sizes;
     std::vector<Index> widths;
-    std::unordered_map<const BaseState*, Index> offset_of;
+    PointerIndex<BaseState> independent_index;  ///< each independent state's place in `independent`
     Eigen::Index size = 0;
+    /// The scalar offset of `s` in the flat vectors, or `size` when it is not independent.
+    [[nodiscard]] Index offset_of(const BaseState* s) const {
+        const std::size_t i = independent_index.find(s);
+        return i == PointerIndex<BaseState>::npos ? static_cast<Index>(size) : offsets[i];
+    }
+    [[nodiscard]] bool is_independent(const BaseState* s) const { return independent_index.contains(s); }
     // mapped states and their mappings, pre-order: parents before children (J·dx)
     std::vector<BaseState*> mapped;
     std::vector<BaseMapping*> mappings;
@@ -93,10 +99,15 @@ struct SubtreeLayout {
     std::vector<ForceStep> steps;
     /// steps and all_mappings in chains (find_step_chains).
     StepChains chains;
+
+    /// Empties the layout for another build, keeping the capacity of every list, and the reader
+    /// entries with their lists (build_subtree_layout sizes and refills them): a pile of bodies
+    /// builds its solver's layout again at nearly every step, as contacts come and go.
+    void clear();
 };
 
-/// Builds the layout of the subtree of `root`; std::invalid_argument for a mapping whose output
-/// is not its node's state and for a mass on a mapped state.
+/// Builds the layout of the subtree of `root` (into `layout`, cleared first); std::invalid_argument for a mapping whose
+/// output is not its node's state and for a mass on a mapped state.
 void build_subtree_layout(Node& root, bool mapping_graph_order, SubtreeLayout& layout);
 
 /// The order of SOFA HEAD's MappingGraph (EulerImplicitSolver::solve →

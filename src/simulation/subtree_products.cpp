@@ -349,15 +349,15 @@ bool SubtreeSystem::chains_worth_tasks(const detail::StepChains& chains, std::si
 
 void SubtreeSystem::project(Eigen::VectorXd& v) const {
     for (BaseProjectiveConstraint* c : layout_->constraints) {
-        const auto it = layout_->offset_of.find(c->state());
-        if (it == layout_->offset_of.end()) continue;  // constraints on mapped states are not supported
-        c->project_response(v.segment(it->second, static_cast<Eigen::Index>(c->state()->scalar_size())));
+        if (!layout_->is_independent(c->state())) continue;  // constraints on mapped states are not supported
+        c->project_response(
+            v.segment(layout_->offset_of(c->state()), static_cast<Eigen::Index>(c->state()->scalar_size())));
     }
 }
 
 void SubtreeSystem::apply_inverse_mass(const Eigen::VectorXd& in, Eigen::VectorXd& out) const {
     for (const auto& [mass, g] : layout_->masses)
-        if (layout_->offset_of.find(mass->state()) == layout_->offset_of.end())
+        if (!layout_->is_independent(mass->state()))
             throw_invalid_argument("EulerExplicitSolver: state '", mass->state()->state_name(),
                                    "' is mapped: a mass on a mapped state needs an implicit solver");
     out.setZero(layout_->size);

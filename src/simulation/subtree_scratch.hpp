@@ -50,6 +50,26 @@ struct SubtreeScratch {
     /// The blocked reductions' blocks (made when they are turned on) and their sums.
     ReductionBlocks reduction_blocks;
     std::vector<double> block_sums;
+
+    /// Back to a new system's numbers for a layout of `mapped` mapped and `independent`
+    /// independent states, keeping the capacity of the lists (a build again of the system).
+    void reset(std::size_t mapped, std::size_t independent) {
+        dx_rows.resize(mapped);
+        for (DxRows& r : dx_rows) {
+            r.restricted = false;
+            r.rows.clear();
+            r.found = false;
+        }
+        external_work_zeroed = false;
+        concurrent_products = 0;
+        concurrent_force_evaluations = 0;
+        concurrent_state_passes = 0;
+        state_sums.assign(independent, 0.0);
+        state_pieces.clear();
+        reduction_blocks.segments.clear();
+        reduction_blocks.first.assign(1, 0);
+        block_sums.clear();
+    }
 };
 
 }  // namespace penalty::detail

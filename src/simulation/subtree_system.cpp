@@ -15,11 +15,17 @@ namespace penalty {
 SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_contact_products)
     : layout_(std::make_unique<detail::SubtreeLayout>()),
       scratch_(std::make_unique<detail::SubtreeScratch>()),
-      fused_(std::make_unique<detail::FusedContactBlock>()),
-      mapping_graph_order_(mapping_graph_order),
-      fuse_contact_products_(fuse_contact_products) {
+      fused_(std::make_unique<detail::FusedContactBlock>()) {
+    build(root, mapping_graph_order, fuse_contact_products);
+}
+
+void SubtreeSystem::build(Node& root, bool mapping_graph_order, bool fuse_contact_products) {
+    PENALTY_DEMAND(!scratch_->readers_fixed);
+    mapping_graph_order_ = mapping_graph_order;
+    fuse_contact_products_ = fuse_contact_products;
+    blocked_reductions_ = false;
     detail::build_subtree_layout(root, mapping_graph_order, *layout_);
-    scratch_->dx_rows.resize(layout_->dx_readers.size());
+    scratch_->reset(layout_->dx_readers.size(), layout_->independent.size());
     for (std::size_t i = 0; i < layout_->dx_readers.size(); ++i) {
         const detail::DxReaders& r = layout_->dx_readers[i];
         if (!r.selective) continue;
@@ -29,7 +35,6 @@ SubtreeSystem::SubtreeSystem(Node& root, bool mapping_graph_order, bool fuse_con
         scratch_->dx_rows[i].rows.reserve(dofs);
     }
     fused_->find(*layout_, fuse_contact_products);
-    scratch_->state_sums.resize(layout_->independent.size());
 }
 
 SubtreeSystem::~SubtreeSystem() = default;
@@ -79,15 +84,24 @@ bool SubtreeSystem::offsets_valid() const {
 
 SubtreeSystem& SubtreeSystemCache::get(Node& node, bool mapping_graph_order, bool fuse_contact_products) {
     const std::uint64_t version = node.structure_version();
-    if (!system_ || node_ != &node || version_ != version || !system_->offsets_valid() ||
-        system_->mapping_graph_order() != mapping_graph_order ||
-        system_->fuses_contact_products() != fuse_contact_products) {
-        system_.reset();  // the old system first: its pointers may dangle
-        system_.emplace(node, mapping_graph_order, fuse_contact_products);
-        node_ = &node;
-        version_ = version;
-        ++builds_;
+    if (system_ && node_ == &node && version_ == version && system_->offsets_valid() &&
+        system_->mapping_graph_order() == mapping_graph_order &&
+        system_->fuses_contact_products() == fuse_contact_products)
+        return *system_;
+    // Built again in place: the layout, scratch and fused block keep their lists' capacity (a
+    // pile of bodies builds its system again at nearly every step: new lists each time were a
+    // quarter of the build, in allocations and first-touch page faults).
+    try {
+        if (system_) system_->build(node, mapping_graph_order, fuse_contact_products);
+        else system_.emplace(node, mapping_graph_order, fuse_contact_products);
+    } catch (...) {
+        system_.reset();  // a half-built layout is never used
+        node_ = nullptr;
+        throw;
     }
+    node_ = &node;
+    version_ = version;
+    ++builds_;
     return *system_;
 }
 
@@ -98,10 +112,7 @@ void SubtreeSystem::append_states(std::vector<const BaseState*>& out) const {
     for (const BaseForceField* ff : layout_->force_fields) ff->list_read_states(out);
 }
 
-Index SubtreeSystem::offset(const BaseState* s) const {
-    const auto it = layout_->offset_of.find(s);
-    return it == layout_->offset_of.end() ? static_cast<Index>(layout_->size) : it->second;
-}
+Index SubtreeSystem::offset(const BaseState* s) const { return layout_->offset_of(s); }
 
 bool SubtreeSystem::list_rows_read(const BaseState& state, const std::vector<const BaseForceField*>& force_fields,
                                    const std::vector<const BaseMapping*>& mappings,

@@ -12,7 +12,9 @@ namespace penalty {
 
 SparseMatrix SubtreeSystem::assemble(double m, double k) const {
     // Extended index space: independent scalars, then mapped scalars; P maps system DOFs to it.
-    std::unordered_map<const BaseState*, Index> ext_offset(layout_->offset_of.begin(), layout_->offset_of.end());
+    std::unordered_map<const BaseState*, Index> ext_offset;
+    for (std::size_t i = 0; i < layout_->independent.size(); ++i)
+        ext_offset[layout_->independent[i]] = layout_->offsets[i];
     Index total = layout_->size;
     for (BaseState* s : layout_->mapped) {
         ext_offset[s] = total;
@@ -64,7 +66,7 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
     };
     for (BaseForceField* ff : layout_->force_fields) ff->add_stiffness(kt, offs, k);
     for (const auto& entry : layout_->masses)  // masses on mapped states: Pᵀ·(m·M)·P with the stiffness
-        if (layout_->offset_of.find(entry.first->state()) == layout_->offset_of.end())
+        if (!layout_->is_independent(entry.first->state()))
             entry.first->add_mass_triplets(kt, offs(entry.first->state()), m);
     kt.erase(
         std::remove_if(kt.begin(), kt.end(), [&](const Triplet& t) { return t.row() >= total || t.col() >= total; }),
@@ -73,7 +75,7 @@ SparseMatrix SubtreeSystem::assemble(double m, double k) const {
     kext.setFromTriplets(kt.begin(), kt.end());
     TripletList mt;
     for (const auto& entry : layout_->masses)
-        if (layout_->offset_of.find(entry.first->state()) != layout_->offset_of.end())
+        if (layout_->is_independent(entry.first->state()))
             entry.first->add_mass_triplets(mt, offset(entry.first->state()), m);
     ColMatrix mm(layout_->size, layout_->size);
     mm.setFromTriplets(mt.begin(), mt.end());

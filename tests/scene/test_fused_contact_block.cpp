@@ -232,6 +232,62 @@ TEST(FusedContactProducts, DampedContactFieldsKeepTheirOwnProductAndTheSameBits)
     EXPECT_GE(t.steps_with_fields, 40);
 }
 
+// The solver's system built again in place (SubtreeSystemCache: the layout, scratch and fused
+// block refilled, their lists keeping what an earlier, larger pile left in them) against a system
+// built new on the same graph, after each step of a pile whose pairs come and go: the same size,
+// fused counts, forces and products, bit for bit.
+TEST(FusedContactProducts, ASystemBuiltAgainInPlaceGivesTheBitsOfANewOne) {
+    const auto scene = cubes_in_bowl(2);
+    Node& cubes = child(scene->simulation().root(), "Cubes");
+    const auto* solver = dynamic_cast<const EulerImplicitSolver*>(cubes.ode_solver());
+    ASSERT_NE(solver, nullptr);
+    std::mt19937 rng(20261202);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    long compared = 0, differing = 0;
+    std::size_t largest_fused = 0, smaller_after_larger = 0;
+    for (int step = 0; step < 150; ++step) {
+        scene->step();
+        const SubtreeSystem* kept = solver->system_cache().current();
+        ASSERT_NE(kept, nullptr);
+        const SubtreeSystem fresh(cubes, true, true);
+        ASSERT_EQ(kept->size(), fresh.size());
+        ASSERT_EQ(kept->mappings().size(), fresh.mappings().size());
+        ASSERT_EQ(kept->force_fields().size(), fresh.force_fields().size());
+        const auto kc = kept->fused_contact_counts(), fc = fresh.fused_contact_counts();
+        EXPECT_EQ(kc.force_fields, fc.force_fields);
+        EXPECT_EQ(kc.read_mappings, fc.read_mappings);
+        EXPECT_EQ(kc.unread_mappings, fc.unread_mappings);
+        EXPECT_EQ(kept->product_chains(), fresh.product_chains());
+        const std::size_t fused = kc.read_mappings + kc.unread_mappings;
+        smaller_after_larger += fused < largest_fused ? 1 : 0;
+        largest_fused = std::max(largest_fused, fused);
+        Eigen::VectorXd fk, ff;
+        kept->compute_force(fk);
+        fresh.compute_force(ff);
+        const Eigen::VectorXd dx = Eigen::VectorXd::NullaryExpr(fresh.size(), [&] { return unit(rng); });
+        Eigen::VectorXd qk, qf;
+        {
+            const SubtreeSystem::FixedReaders fixed_k(*kept);
+            const SubtreeSystem::FixedReaders fixed_f(fresh);
+            kept->apply_mbk(dx, qk, 1.02, -0.01, -1.01e-4, true);
+            fresh.apply_mbk(dx, qf, 1.02, -0.01, -1.01e-4, true);
+        }
+        for (const auto& [x, y] : {std::pair{&fk, &ff}, {&qk, &qf}}) {
+            ASSERT_EQ(x->size(), y->size());
+            for (Eigen::Index i = 0; i < x->size(); ++i) {
+                ++compared;
+                differing += test::same_bits((*x)[i], (*y)[i]) ? 0 : 1;
+            }
+        }
+    }
+    EXPECT_EQ(differing, 0) << "of " << compared;
+    // built again at many steps, some of them smaller than an earlier build (lists longer than
+    // needed, left by the larger one)
+    EXPECT_GE(solver->system_cache().builds(), 20);
+    EXPECT_GT(largest_fused, 0u);
+    EXPECT_GE(smaller_after_larger, 5u);
+}
+
 /// Contacts with pen > 0 over the contact fields of `system`.
 std::size_t active_contacts(const SubtreeSystem& system) {
     std::size_t active = 0;

@@ -171,6 +171,10 @@ public:
     [[nodiscard]] double total_energy() const;
 
 private:
+    friend class SubtreeSystemCache;
+    /// Builds the layout, scratch and fused block of the subtree of `root` again, in place (the
+    /// lists keep their capacity); std::invalid_argument as the constructor.
+    void build(Node& root, bool mapping_graph_order, bool fuse_contact_products);
     /// After a non-finite total force: evaluates the contributions again one at a time (external
     /// forces, each mass's gravity, each force field) and throws naming the first non-finite one.
     [[noreturn]] void throw_non_finite_force() const;
@@ -205,7 +209,7 @@ private:
     /// thread in the calling arena.
     [[nodiscard]] bool chains_worth_tasks(const detail::StepChains& chains, std::size_t steps) const;
 
-    std::unique_ptr<detail::SubtreeLayout> layout_;     ///< built by the constructor, then only read
+    std::unique_ptr<detail::SubtreeLayout> layout_;     ///< made by build(), then only read
     std::unique_ptr<detail::SubtreeScratch> scratch_;   ///< the products' numbers from call to call
     std::unique_ptr<detail::FusedContactBlock> fused_;  ///< the contact products on flat arrays
     bool mapping_graph_order_ = false;
