@@ -287,11 +287,10 @@ TEST(SolverAllocation, RigidBallOnFloorContactPathAllocatesNothing) {
     EXPECT_EQ(scene.count_steps_without_hook(model, body, solver), 0);
 }
 
-/// Heap allocations of building the system of a body with `points` mapped points, each tied by
-/// a spring to its own static anchor (so, as a pile's contact points, each is a mapped state read
-/// by a field acting on an outside state), after the same build has run twice on this thread.
-long allocations_of_a_system_build(int points) {
-    Simulation sim;
+/// A body with `points` mapped points in `sim`, each tied by a spring to its own static anchor (so,
+/// as a pile's contact points, each is a mapped state read by a field acting on an outside state);
+/// returns the body's node, whose solver's system the tests below build.
+Node& body_with_mapped_points(Simulation& sim, int points) {
     Node& body = sim.root().add_child("body");
     body.set_ode_solver<EulerImplicitSolver>();
     auto& x = body.add_state<Vec3Types>("body");
@@ -307,6 +306,14 @@ long allocations_of_a_system_build(int points) {
         point.add_force_field<SpringForceField>(mapped, anchor).add_spring({0, 0, 100.0, 0.0, 1.0});
     }
     sim.init();
+    return body;
+}
+
+/// Heap allocations of building a new system of body_with_mapped_points(`points`), after the same
+/// build has run twice on this thread.
+long allocations_of_a_system_build(int points) {
+    Simulation sim;
+    Node& body = body_with_mapped_points(sim, points);
     for (int warm = 0; warm < 2; ++warm) {
         const SubtreeSystem system(body, true, true);
         EXPECT_EQ(system.mappings().size(), std::size_t(points));
@@ -314,30 +321,16 @@ long allocations_of_a_system_build(int points) {
     return allocations_in([&] { const SubtreeSystem system(body, true, true); });
 }
 
-/// Heap allocations of the cache building the system of the scene of allocations_of_a_system_build
-/// (`points` mapped points) again in place, after a component was added and removed (the graph is
-/// the same, its structure version not): build_subtree_layout, the scratch and the fused block
-/// refill the lists of the first build.
+/// Heap allocations of the cache building the system of body_with_mapped_points(`points`) again in
+/// place, after a component was added and removed (the graph is the same, its structure version
+/// not): build_subtree_layout, the scratch and the fused block refill the lists of the first build.
 long allocations_of_a_build_in_place(int points, int& builds) {
     Simulation sim;
-    Node& body = sim.root().add_child("body");
-    body.set_ode_solver<EulerImplicitSolver>();
-    auto& x = body.add_state<Vec3Types>("body");
-    x.position = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
-    body.set_mass<UniformMass<Vec3Types>>(x).set_vertex_mass(1.0);
-    for (int i = 0; i < points; ++i) {
-        auto& anchor = sim.root().add_child("anchor" + std::to_string(i)).add_state<Vec3Types>("anchor");
-        anchor.position = {Vec3(i, 1, 0)};
-        Node& point = body.add_child("point" + std::to_string(i));
-        auto& mapped = point.add_state<Vec3Types>("point");
-        mapped.position = {Vec3(0, 0, 0), Vec3(1, 0, 0)};
-        point.set_mapping<IdentityMapping>(x, mapped);
-        point.add_force_field<SpringForceField>(mapped, anchor).add_spring({0, 0, 100.0, 0.0, 1.0});
-    }
-    sim.init();
+    Node& body = body_with_mapped_points(sim, points);
     SubtreeSystemCache cache;
     (void)cache.get(body, true, true);
-    auto& extra = body.add_force_field<SpringForceField>(x, x);
+    auto& extra = body.add_force_field<SpringForceField>(dynamic_cast<Vec3Object&>(*body.state()),
+                                                         dynamic_cast<Vec3Object&>(*body.state()));
     EXPECT_TRUE(body.remove_force_field(&extra));
     const long n = allocations_in([&] { (void)cache.get(body, true, true); });
     builds = cache.builds();
