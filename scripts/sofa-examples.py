@@ -456,6 +456,10 @@ def main():
     args.components = registry(args)
     scenes = sorted(os.path.join(d, f) for d, _, files in os.walk(args.folder) for f in files if f.endswith('.scn'))
     start = time.monotonic()
+    if args.sofa_head:
+        # SOFA HEAD unpacks itself at its first start: once here, before the scenes run two at a
+        # time (a second start during the unpack finds the binary before its libraries, exit 127)
+        run([args.sofa_head], 10 * args.timeout)
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         rows = list(pool.map(lambda s: check_scene(args, s), scenes))
     elapsed = time.monotonic() - start
