@@ -349,9 +349,9 @@ bool SubtreeSystem::chains_worth_tasks(const detail::StepChains& chains, std::si
 
 void SubtreeSystem::project(Eigen::VectorXd& v) const {
     for (BaseProjectiveConstraint* c : layout_->constraints) {
-        if (!layout_->is_independent(c->state())) continue;  // constraints on mapped states are not supported
-        c->project_response(
-            v.segment(layout_->offset_of(c->state()), static_cast<Eigen::Index>(c->state()->scalar_size())));
+        const std::size_t i = layout_->independent_index.find(c->state());
+        if (i == PointerIndex<BaseState>::npos) continue;  // constraints on mapped states are not supported
+        c->project_response(v.segment(layout_->offsets[i], static_cast<Eigen::Index>(c->state()->scalar_size())));
     }
 }
 
