@@ -43,34 +43,23 @@ py::object state_array(const DataValue& v, py::handle owner, bool writeable) {
         return a;
     };
     using scene::StateVector;
-    if (auto* x = dynamic_cast<Vec3Object*>(s)) {
+    // a Vec3 or Vec1 state's vectors ((n, 1) for Vec1, as SofaPython3's Vec1d)
+    const auto vector_of = [&](auto& x) -> py::object {
         switch (v.state_vector) {
             case StateVector::position:
-                return view_of(x->position);
+                return view_of(x.position);
             case StateVector::velocity:
-                return view_of(x->velocity);
+                return view_of(x.velocity);
             case StateVector::force:
-                return view_of(x->force);
+                return view_of(x.force);
             case StateVector::rest_position:
-                return view_of(x->rest_position);
+                return view_of(x.rest_position);
             default:
-                return view_of(x->external_force);
+                return view_of(x.external_force);
         }
-    }
-    if (auto* x = dynamic_cast<Vec1Object*>(s)) {  // (n, 1), as SofaPython3's Vec1d
-        switch (v.state_vector) {
-            case StateVector::position:
-                return view_of(x->position);
-            case StateVector::velocity:
-                return view_of(x->velocity);
-            case StateVector::force:
-                return view_of(x->force);
-            case StateVector::rest_position:
-                return view_of(x->rest_position);
-            default:
-                return view_of(x->external_force);
-        }
-    }
+    };
+    if (auto* x = dynamic_cast<Vec3Object*>(s)) return vector_of(*x);
+    if (auto* x = dynamic_cast<Vec1Object*>(s)) return vector_of(*x);
     auto* r = dynamic_cast<Rigid3Object*>(s);
     switch (v.state_vector) {
         case StateVector::velocity:

@@ -55,7 +55,7 @@ double box_volume(const std::array<Vec3, 8>& p) {
 // ---- HexahedralFEMForceField ------------------------------------------------------------------
 HexahedralFEMForceField::HexahedralFEMForceField(Vec3Object& state, const MeshTopology& topology, double young,
                                                  double poisson, FemMethod method)
-    : LinearElementForceField<8>(state, topology.hexahedra(), young, poisson, method, "HexahedralFEMForceField") {
+    : HexahedronElementForceField(state, topology.hexahedra(), young, poisson, method, "HexahedralFEMForceField") {
     if (method == FemMethod::Small) throw_invalid_argument("HexahedralFEMForceField: method must be large or polar");
 }
 
@@ -120,10 +120,6 @@ void HexahedralFEMForceField::add_force(std::span<Vec3> f, std::span<const Vec3>
         }
         energy_ += 0.5 * d.dot(force);
     }
-}
-
-void HexahedralFEMForceField::set_kernel_path(KernelPath path) {
-    kernel_path_ = checked_kernel_path(path, "HexahedralFEMForceField", /*has_avx512=*/false);
 }
 
 void HexahedralFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,

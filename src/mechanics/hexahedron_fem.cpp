@@ -189,8 +189,8 @@ double HexahedronFEMForceField::force_range(std::size_t first, std::size_t end, 
     return total;
 }
 
-void HexahedronFEMForceField::set_kernel_path(KernelPath path) {
-    kernel_path_ = checked_kernel_path(path, "HexahedronFEMForceField", /*has_avx512=*/false);
+void HexahedronElementForceField::set_kernel_path(KernelPath path) {
+    kernel_path_ = checked_kernel_path(path, component_, /*has_avx512=*/false);
 }
 
 void HexahedronFEMForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double) const {

@@ -309,17 +309,32 @@ private:
     std::vector<std::array<double, 6>> plastic_strain_;
 };
 
+/// What SOFA's two hexahedron fields (HexahedronFEMForceField, HexahedralFEMForceField) share
+/// beyond LinearElementForceField<8>: the instructions of their element products' K·d.
+class HexahedronElementForceField : public LinearElementForceField<8> {
+public:
+    using LinearElementForceField<8>::LinearElementForceField;
+    /// Instructions of the element products' K·d (detail::hexahedron_stiffness_times; default
+    /// best_kernel_path(), every path the same bits). Throws std::invalid_argument if this machine
+    /// cannot run `path`, or for avx512 (no such path here).
+    void set_kernel_path(KernelPath path);
+    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
+
+protected:
+    KernelPath kernel_path_ = best_kernel_path();
+};
+
 /// SOFA's HexahedronFEMForceField (methods small, large and polar), SOFA vertex order (see
 /// topology), in SOFA's operations and order: K^e from computeElementStiffness's eight Gauss
 /// points on the rotated rest corners R₀·x⁰_w; the force D = R₀x⁰ − R·x, f += Rᵀ·K·D (small: R
 /// the identity, f += K·(x⁰ − x)); the product df −= (Rᵀ·K·R·dx)·kFactor. R is
 /// hexahedron_edge_frame (large) or hexahedron_polar_frame (polar) of the element.
-class HexahedronFEMForceField final : public LinearElementForceField<8> {
+class HexahedronFEMForceField final : public HexahedronElementForceField {
 public:
     HexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus, double poisson_ratio,
                             FemMethod method = FemMethod::Large)
-        : LinearElementForceField<8>(state, topology.hexahedra(), young_modulus, poisson_ratio, method,
-                                     "HexahedronFEMForceField") {}
+        : HexahedronElementForceField(state, topology.hexahedra(), young_modulus, poisson_ratio, method,
+                                      "HexahedronFEMForceField") {}
 
     /// Per-element factors on the element stiffness (SOFA's SparseGridTopology::getStiffnessCoef:
     /// 0.5 for a sparse grid's boundary cells when fillWeighted); empty: 1 for every element.
@@ -330,11 +345,6 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
-    /// Instructions of the element products' K·d (detail::hexahedron_stiffness_times; default
-    /// best_kernel_path(), every path the same bits). Throws std::invalid_argument if this machine
-    /// cannot run `path`, or for avx512 (no such path here).
-    void set_kernel_path(KernelPath path);
-    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
 protected:
     /// SOFA's computeElementStiffness on the element's rotated rest corners (the first argument,
@@ -357,7 +367,6 @@ private:
     void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                       const detail::DeferredTerms& deferred) const;
     std::vector<double> stiffness_factors_;
-    KernelPath kernel_path_ = best_kernel_path();
 };
 
 extern template class LinearElementForceField<4>;

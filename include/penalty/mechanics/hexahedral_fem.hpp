@@ -20,7 +20,7 @@ namespace penalty {
 /// SOFA's HexahedralFEMForceField: methods Large (frame from the mean edges, as
 /// HexahedronFEMForceField) and Polar (HexahedralFEMForceField::computeRotationPolar: polar factor of
 /// the matrix whose rows are the mean edges along x, y and z).
-class HexahedralFEMForceField final : public LinearElementForceField<8> {
+class HexahedralFEMForceField final : public HexahedronElementForceField {
 public:
     HexahedralFEMForceField(Vec3Object& state, const MeshTopology& topology, double young_modulus, double poisson_ratio,
                             FemMethod method = FemMethod::Large);
@@ -35,11 +35,6 @@ public:
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     /// Method large as SOFA's addDForce: X = (R·dx)·k, F = K·X, df −= Rᵀ·F; polar: the common path.
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
-    /// Instructions of the element products' K·d (detail::hexahedron_stiffness_times; default
-    /// best_kernel_path(), every path the same bits). Throws std::invalid_argument if this machine
-    /// cannot run `path`, or for avx512 (no such path here).
-    void set_kernel_path(KernelPath path);
-    [[nodiscard]] KernelPath kernel_path() const { return kernel_path_; }
 
 protected:
     [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local,
@@ -48,7 +43,6 @@ protected:
 
 private:
     std::vector<std::array<Vec3, 8>> rotated_rest_;  ///< R₀·x⁰_w per element (method large)
-    KernelPath kernel_path_ = best_kernel_path();
 };
 
 /// The mass of SOFA's HexahedralFEMForceFieldAndMass and HexahedronFEMForceFieldAndMass (density ρ,
