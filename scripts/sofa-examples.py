@@ -54,7 +54,9 @@ def rel(path):
 
 
 def penalty_error(stderr):
-    """The text after 'penalty: error: ' of the last such line (or the last line of stderr)."""
+    """The text after 'penalty: error: ' of the last such line (or the last line of stderr), its
+    paths relative to the checkout (the commands get absolute ones: they run in SCRATCH)."""
+    stderr = stderr.replace(os.path.dirname(REPO) + os.sep, '..' + os.sep)
     lines = [l for l in stderr.splitlines() if l.strip()]
     for line in reversed(lines):
         if line.startswith('penalty: error: '):
@@ -104,10 +106,15 @@ def component_types(scene, search_dirs, depth=0):
     return types
 
 
+# The folder the commands run in: a scene's exporters write relative to it (MeshExporter,
+# VisualModelOBJExporter in Hexa2TetraTopologicalMapping_export.scn), never into the checkout.
+SCRATCH = None
+
+
 def run(cmd, timeout):
     start = time.monotonic()
     try:
-        r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=SCRATCH)
         return r.returncode, r.stdout, r.stderr, time.monotonic() - start
     except subprocess.TimeoutExpired:
         return None, '', '', timeout
@@ -437,6 +444,13 @@ def main():
                    help="folders of SOFA's Python example scripts (default ../sp3-src/examples and "
                         "../sofa-src/examples where they exist)")
     args = p.parse_args()
+    for key in ('folder', 'penalty', 'states', 'sofa_head', 'made_states', 'out', 'expected'):
+        if getattr(args, key):
+            setattr(args, key, os.path.abspath(getattr(args, key)))
+    args.data_dirs = args.data_dirs and [os.path.abspath(d) for d in args.data_dirs]
+    args.py_examples = args.py_examples and [os.path.abspath(d) for d in args.py_examples]
+    global SCRATCH
+    SCRATCH = tempfile.mkdtemp(prefix='sofa-examples-')
     if args.py_examples is None:
         args.py_examples = [os.path.join(REPO, '..', 'sp3-src', 'examples'),
                             os.path.join(REPO, '..', 'sofa-src', 'examples')]
@@ -496,4 +510,9 @@ def main():
 
 
 if __name__ == '__main__':
-    sys.exit(main())
+    try:
+        code = main()
+    finally:
+        if SCRATCH:
+            shutil.rmtree(SCRATCH, ignore_errors=True)
+    sys.exit(code)
