@@ -92,13 +92,16 @@ print(f'[ERROR]   [InfoComponent(Not created ({{kind}}))] Object type {{kind}}<>
 print('[ERROR]   [SceneLoaderXML] Node initialization failed.')
 subprocess.run([{penalty!r}, 'run', scene, '--steps', str(int(steps) + 1), '--quiet', '--export-states', out,
                 '--export-every', steps], check=True, capture_output=True)
+open('exported.vtk', 'w').write('a MeshExporter writes into the folder SOFA runs in')
 """)
 os.chmod(fake_head, 0o755)
 made = os.path.join(work, 'made-states')
 table = os.path.join(work, 'head-table.md')
 r = subprocess.run([sys.executable, script, head_examples, '--penalty', penalty, '--out', table, '--sofa-head', fake_head,
-                    '--made-states', made, '--jobs', '1'], capture_output=True, text=True)
+                    '--made-states', made, '--jobs', '1'], capture_output=True, text=True, cwd=work)
 check(r.returncode == 0, f'--sofa-head: exit {r.returncode}: {r.stderr}')
+check(not os.path.exists(os.path.join(work, 'exported.vtk')),
+      "a scene's exported file written into the folder the script runs in (not its scratch folder)")
 text = open(table).read() if os.path.isfile(table) else ''
 row = next((l for l in text.splitlines() if l.startswith('| dropped.scn |')), '')
 check(row.startswith('| dropped.scn | yes | yes |') and '| yes (0) |' in row, f'a component both drop: {row}')
