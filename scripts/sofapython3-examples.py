@@ -87,7 +87,8 @@ def main():
     p.add_argument("--penalty", default=os.path.join(REPO, "build", "release", "bin", "penalty"))
     p.add_argument("--no-sofa", action="store_true")
     args = p.parse_args()
-    scripts = args.scripts
+    args.penalty = os.path.abspath(args.penalty)
+    scripts = [os.path.abspath(s) for s in args.scripts]
     if not scripts:
         examples = os.environ.get("SOFAPYTHON3_EXAMPLES", "/work/sp3-src/examples")
         benchmarks = os.environ.get("SOFA_BENCHMARKS", "/work/sofa-src/examples/Benchmark/Performance")
@@ -105,7 +106,7 @@ def main():
             ours = os.path.join(tmp, "penalty")
             code, out, err = run([args.penalty, "run", script, "--steps", str(args.steps + 1), "--quiet",
                                   "--data-dir", os.path.join(SHARED, "sofa"), "--export-states", ours,
-                                  "--export-every", "1"])
+                                  "--export-every", "1"], cwd=tmp)
             run_cell = "exit 0" if code == 0 else f"exit {code}: {last_line(err or out)}"
             source = open(script, encoding="utf-8", errors="replace").read()
             if "__main__" in source:
@@ -117,7 +118,7 @@ def main():
             if not args.no_sofa and code == 0 and os.path.exists(SOFA_HEAD):
                 theirs = os.path.join(tmp, "sofa")
                 scode, sout, serr = run([SOFA_HEAD, script, str(args.steps), theirs, "--every", "1"],
-                                        env=dict(os.environ, PYTHONIOENCODING="utf-8"))
+                                        env=dict(os.environ, PYTHONIOENCODING="utf-8"), cwd=tmp)
                 if scode != 0:
                     sofa_cell = f"SOFA fails: {last_line(serr or sout)}"
                 else:
