@@ -103,4 +103,13 @@ p = run("run", scene, "--steps", "2", "--quiet", "--summary-json", os.path.join(
 check(("cannot write" in p.stderr or "cannot open" in p.stderr) and "x.json" in p.stderr,
       "an unwritable --summary-json is exit 5 naming the file", p.stderr)
 
+# Every option the component list names (e.g. "penalty run writes VTK with --vtk DIR") is one of
+# `penalty run` or `penalty info`: a summary never sends a user to an option that does not exist.
+p = run("info", "--components", expect=0)
+named = set(re.findall(r"(?<![\w-])--[a-z][a-z0-9-]*", p.stdout))
+helps = run("run", "--help", expect=0).stdout + run("info", "--help", expect=0).stdout
+offered = set(re.findall(r"(?<![\w-])--[a-z][a-z0-9-]*", helps))
+check(named and named <= offered, f"the component list names only real options ({sorted(named)})",
+      f"not options: {sorted(named - offered)}")
+
 print("CLI option checks passed")
