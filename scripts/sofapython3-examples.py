@@ -98,7 +98,7 @@ def main():
                                    os.path.join(REPO, "build", "release", "python")])
     env = dict(os.environ, PYTHONPATH=python_path, PENALTY_GUI_ITERATIONS=str(args.steps), MPLBACKEND="Agg",
                PENALTY_DATA_PATH=os.path.join(SHARED, "sofa"))
-    print(f"| script | `penalty run` | `python3 script.py` | SOFA's criterion (largest \\|dx\\|) |")
+    print("| script | `penalty run` | `python3 script.py` | SOFA's criterion (largest \\|dx\\|) |")
     print("| --- | --- | --- | --- |")
     for script in scripts:
         name = os.path.relpath(script, os.path.dirname(os.path.dirname(script)))
