@@ -55,7 +55,7 @@ def rel(path):
 
 def penalty_error(stderr):
     """The text after 'penalty: error: ' of the last such line (or the last line of stderr), its
-    paths relative to the checkout (the commands get absolute ones: they run in SCRATCH)."""
+    paths relative to the checkout (the commands get absolute ones: they run in folders of their own)."""
     stderr = stderr.replace(os.path.dirname(REPO) + os.sep, '..' + os.sep)
     lines = [l for l in stderr.splitlines() if l.strip()]
     for line in reversed(lines):
@@ -106,18 +106,17 @@ def component_types(scene, search_dirs, depth=0):
     return types
 
 
-# The folder the commands run in: a scene's exporters write relative to it (MeshExporter,
-# VisualModelOBJExporter in Hexa2TetraTopologicalMapping_export.scn), never into the checkout.
-SCRATCH = None
-
-
 def run(cmd, timeout):
+    """Runs `cmd` in a folder of its own, removed after: a scene's exporters write relative to it
+    (MeshExporter, VisualModelOBJExporter in Hexa2TetraTopologicalMapping_export.scn), never into
+    the checkout nor into another scene's folder."""
     start = time.monotonic()
-    try:
-        r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=SCRATCH)
-        return r.returncode, r.stdout, r.stderr, time.monotonic() - start
-    except subprocess.TimeoutExpired:
-        return None, '', '', timeout
+    with tempfile.TemporaryDirectory(prefix='sofa-examples-') as folder:
+        try:
+            r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=folder)
+            return r.returncode, r.stdout, r.stderr, time.monotonic() - start
+        except subprocess.TimeoutExpired:
+            return None, '', '', timeout
 
 
 # What in SOFA HEAD's log means its states are not the scene's: a component it did not create, a
@@ -449,8 +448,6 @@ def main():
             setattr(args, key, os.path.abspath(getattr(args, key)))
     args.data_dirs = args.data_dirs and [os.path.abspath(d) for d in args.data_dirs]
     args.py_examples = args.py_examples and [os.path.abspath(d) for d in args.py_examples]
-    global SCRATCH
-    SCRATCH = tempfile.mkdtemp(prefix='sofa-examples-')
     if args.py_examples is None:
         args.py_examples = [os.path.join(REPO, '..', 'sp3-src', 'examples'),
                             os.path.join(REPO, '..', 'sofa-src', 'examples')]
@@ -510,9 +507,4 @@ def main():
 
 
 if __name__ == '__main__':
-    try:
-        code = main()
-    finally:
-        if SCRATCH:
-            shutil.rmtree(SCRATCH, ignore_errors=True)
-    sys.exit(code)
+    sys.exit(main())
