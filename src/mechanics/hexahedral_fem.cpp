@@ -158,8 +158,13 @@ Mat3 HexahedralFEMForceField::element_rotation(const std::array<Vec3, 8>& p) con
 
 // ---- HexahedronElementMass ----------------------------------------------------------------------
 HexahedronElementMass::HexahedronElementMass(Vec3Object& state, std::vector<Hexahedron> hexahedra, double density,
-                                             bool lumped, const char* component)
-    : state_(&state), hexahedra_(std::move(hexahedra)), density_(density), lumped_(lumped), component_(component) {
+                                             bool lumped, const char* component, HexahedronMassFormula formula)
+    : state_(&state),
+      hexahedra_(std::move(hexahedra)),
+      density_(density),
+      lumped_(lumped),
+      component_(component),
+      formula_(formula) {
     if (!std::isfinite(density) || density <= 0)
         throw_invalid_argument(component, ": density must be finite and > 0, got ", density);
 }
@@ -174,9 +179,10 @@ void HexahedronElementMass::init() {
     element_weights_.assign(hexahedra_.size(), 0.0);
     particle_masses_.assign(x0.size(), 0.0);
     lumped_masses_.assign(lumped_ ? x0.size() : 0, 0.0);
-    // the reference integral of node i (SOFA's integrateVolume / integrateMass with |signs| = 1):
-    // 1/8 + 3/24 + 3/72 + 1/216 = 8/27
-    constexpr double kNodeIntegral = 8.0 / 27.0;
+    // the reference integral of node i (SOFA's integrateVolume / integrateMass with |signs| = 1),
+    // summed in SOFA's order: 8/27 but for its last bit
+    constexpr double kNodeIntegral =
+        1.0 / 72.0 + 1.0 / 72.0 + 1.0 / 216.0 + 1.0 / 24.0 + 1.0 / 8.0 + 1.0 / 72.0 + 1.0 / 24.0 + 1.0 / 24.0;
     for (std::size_t e = 0; e < hexahedra_.size(); ++e) {
         std::array<Vec3, 8> p;
         for (std::size_t k = 0; k < 8; ++k) {
@@ -187,11 +193,19 @@ void HexahedronElementMass::init() {
             p[k] = x0[static_cast<std::size_t>(v)];
         }
         const double factor = mass_factors_.empty() ? 1.0 : mass_factors_[e];
-        const double element_mass = box_volume(p) * factor * density_;
-        element_weights_[e] = element_mass * kNodeIntegral;
+        const double volume = box_volume(p);
+        const double element_mass = volume * factor * density_;
+        // HexahedronFEMForceFieldAndMass::computeElementMass: V·(∫·ρ), then times c;
+        // HexahedralFEMForceFieldAndMass's: (V·ρ)·∫
+        element_weights_[e] = formula_ == HexahedronMassFormula::hexahedron
+                                  ? (volume * (kNodeIntegral * density_)) * factor
+                                  : (volume * density_) * kNodeIntegral;
         for (const PointId v : hexahedra_[e]) {
             particle_masses_[static_cast<std::size_t>(v)] += element_mass * 0.125;
-            if (lumped_) lumped_masses_[static_cast<std::size_t>(v)] += 8.0 * element_weights_[e];  // row sum: 8 blocks
+            // the row sum, entry by entry (8 blocks) into the running sum, as SOFA's
+            if (lumped_)
+                for (int block = 0; block < 8; ++block)
+                    lumped_masses_[static_cast<std::size_t>(v)] += element_weights_[e];
         }
     }
 }
@@ -201,11 +215,12 @@ void HexahedronElementMass::multiply_add(std::span<Vec3> y, std::span<const Vec3
         for (std::size_t i = 0; i < lumped_masses_.size(); ++i) y[i] += (x[i] * lumped_masses_[i]) * factor;
         return;
     }
-    // M^e x_e = w_e (Σ_k x_k) on each of its 8 vertices
+    // M^e x_e = Σ_k w_e·x_k on each of its 8 vertices, summed as SOFA's 24×24 product (addMDx)
     for (std::size_t e = 0; e < hexahedra_.size(); ++e) {
+        const double w = element_weights_[e];
         Vec3 sum = Vec3::Zero();
-        for (const PointId v : hexahedra_[e]) sum += x[static_cast<std::size_t>(v)];
-        const Vec3 f = (sum * element_weights_[e]) * factor;
+        for (const PointId v : hexahedra_[e]) sum += x[static_cast<std::size_t>(v)] * w;
+        const Vec3 f = sum * factor;
         for (const PointId v : hexahedra_[e]) y[static_cast<std::size_t>(v)] += f;
     }
 }

@@ -256,6 +256,60 @@ TEST(HexahedronElementMass, CellFactorsScaleTheElementMatrixAndTheParticleMasses
     EXPECT_THROW(m.init(), std::invalid_argument);  // one factor per hexahedron
 }
 
+// SOFA's arithmetic to the bit (HexahedronFEMForceFieldAndMass::computeElementMass and addMDx,
+// HexahedralFEMForceFieldAndMass's): the node integral summed term by term (not 8/27, which differs
+// in its last bit), V·(∫·ρ)·c or (V·ρ)·∫, M·dx as the 24×24 product Σ_k w·dx_k, the lumped row
+// sum added entry by entry. A 10-iteration CG amplified the last bits to SOFA's criterion 1.3e-4
+// in SparseGridRamificationTopology.scn.
+TEST(HexahedronElementMass, SofaArithmeticToTheBit) {
+    const double terms[] = {1.0 / 72.0, 1.0 / 72.0, 1.0 / 216.0, 1.0 / 24.0,
+                            1.0 / 8.0,  1.0 / 72.0, 1.0 / 24.0,  1.0 / 24.0};
+    double integral = 0.0;
+    for (const double t : terms) integral += t;
+    ASSERT_NE(integral, 8.0 / 27.0);  // the quirk the test is about
+    const RegularGridTopology g({2, 2, 2}, Vec3(0, 0, 0), Vec3(0.3, 0.7, 1.1));
+    const std::vector<Hexahedron> hexahedra = g.mesh().hexahedra();
+    const Hexahedron& h = hexahedra.at(0);
+    const double rho = 3.0, c = 0.375, factor = -0.7;
+    for (const auto formula : {HexahedronMassFormula::hexahedron, HexahedronMassFormula::hexahedral}) {
+        for (const bool lumped : {false, true}) {
+            Vec3Object s;
+            s.position = g.points();
+            s.init();
+            HexahedronElementMass m(s, hexahedra, rho, lumped, "test", formula);
+            if (formula == HexahedronMassFormula::hexahedron) m.set_mass_factors({c});
+            m.init();
+            const double volume = 0.3 * 0.7 * 1.1;  // (each edge length is exact in the grid's points)
+            std::array<Vec3, 8> p;
+            for (std::size_t k = 0; k < 8; ++k) p[k] = s.rest_position[std::size_t(h[k])];
+            const double v = (p[1] - p[0]).norm() * (p[3] - p[0]).norm() * (p[4] - p[0]).norm();
+            EXPECT_NEAR(v, volume, 1e-15);
+            const double w =
+                formula == HexahedronMassFormula::hexahedron ? (v * (integral * rho)) * c : (v * rho) * integral;
+            ASSERT_EQ(m.element_weights()[0], w);
+            std::mt19937 rng(11);
+            std::uniform_real_distribution<double> u(-1, 1);
+            for (auto& x : s.dx) x = Vec3(u(rng), u(rng), u(rng));
+            std::fill(s.df.begin(), s.df.end(), Vec3::Zero());
+            m.add_mdx(factor);
+            Vec3 sum = Vec3::Zero();
+            for (const PointId k : h) sum += s.dx[std::size_t(k)] * w;
+            Vec3 plain = Vec3::Zero();  // w·Σdx would not pass: the data tell the two orders apart
+            for (const PointId k : h) plain += s.dx[std::size_t(k)];
+            const bool reassociation_differs = (plain * w) * factor != sum * factor;
+            for (std::size_t i = 0; i < s.df.size(); ++i) {
+                double lumped_mass = 0.0;
+                for (int block = 0; block < 8; ++block) lumped_mass += w;
+                const Vec3 expected = lumped ? Vec3((s.dx[i] * lumped_mass) * factor) : Vec3(sum * factor);
+                for (int a = 0; a < 3; ++a) EXPECT_EQ(s.df[i][a], expected[a]) << i << " " << a;
+            }
+            if (!lumped) {
+                EXPECT_TRUE(reassociation_differs);
+            }
+        }
+    }
+}
+
 // Method large's K·d on the scalar and AVX paths (kernels/mechanics/hexahedron_stiffness): force,
 // product and energy the same bits; avx512 (eight lanes) is refused.
 TEST(HexahedralFEM, KernelPathsGiveTheSameBits) {

@@ -47,18 +47,26 @@ private:
 
 /// The mass of SOFA's HexahedralFEMForceFieldAndMass and HexahedronFEMForceFieldAndMass (density ρ,
 /// kg/m³), on the rest positions. Per hexahedron, V = |x⁰₁ − x⁰₀|·|x⁰₃ − x⁰₀|·|x⁰₄ − x⁰₀| and:
-///  - element mass matrix M^e = c·ρ·V·(8/27)·(1₈ 1₈ᵀ ⊗ I₃): SOFA's computeElementMass evaluates the
-///    integral of node i for every pair (i, j), so every 3×3 block is the same (a SOFA quirk,
-///    reproduced: Σ M^e = 512/27·ρV per direction, not ρV); c is the cell's mass coefficient (1,
-///    or SparseGridTopology::getMassCoef: 0.5 for a boundary cell when fillWeighted);
+///  - element mass matrix M^e = w·(1₈ 1₈ᵀ ⊗ I₃), w = c·ρ·V·∫ with ∫ = 8/27: SOFA's
+///    computeElementMass evaluates the integral of node i for every pair (i, j), so every 3×3 block
+///    is the same (a SOFA quirk, reproduced: Σ M^e = 512/27·ρV per direction, not ρV); c is the
+///    cell's mass coefficient (1, or SparseGridTopology::getMassCoef: 0.5 for a boundary cell when
+///    fillWeighted). In SOFA's operations, to the bit: ∫ summed term by term as integrateMass
+///    (1/72 + 1/72 + 1/216 + 1/24 + 1/8 + 1/72 + 1/24 + 1/24, not 8/27 in its last bit), w = V·(∫·ρ)·c
+///    (HexahedronFEMForceFieldAndMass) or (V·ρ)·∫ (HexahedralFEMForceFieldAndMass, HexahedronMassFormula),
+///    M·dx as addMDx's 24×24 product (Σ_k w·dx_k), the lumped row sums entry by entry;
 ///  - particle masses m_k = Σ_e c·ρ·V/8 over the hexahedra of k: the gravity force m_k·g
 ///    (…AndMass::addForce adds it with the elastic force);
 ///  - lumped (`lumpedMass`): M = diag(row sums of M^e);
 ///  - M⁻¹ is not available (SOFA's accFromF is not implemented): explicit solvers are refused.
+/// Whose element mass: HexahedronFEMForceFieldAndMass (V·(∫·ρ)·c) or HexahedralFEMForceFieldAndMass
+/// ((V·ρ)·∫): the same value but for the last bits.
+enum class HexahedronMassFormula { hexahedron, hexahedral };
+
 class HexahedronElementMass final : public BaseMass {
 public:
     HexahedronElementMass(Vec3Object& state, std::vector<Hexahedron> hexahedra, double density, bool lumped,
-                          const char* component);
+                          const char* component, HexahedronMassFormula formula = HexahedronMassFormula::hexahedron);
 
     /// Per-hexahedron factors c on the element mass matrix and the particle masses
     /// (SparseGridTopology::getMassCoef); empty: 1. Set before init().
@@ -90,6 +98,7 @@ private:
     double density_;
     bool lumped_;
     const char* component_;
+    HexahedronMassFormula formula_;
     std::vector<double> mass_factors_;
     std::vector<double> element_weights_;
     std::vector<double> particle_masses_;

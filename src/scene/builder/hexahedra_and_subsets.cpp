@@ -92,9 +92,9 @@ void build_hexahedral_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
 
 /// The element mass of an "AndMass" component, on the hexahedra of `topology`.
 void add_element_mass(SceneBuilder& b, const SceneComponent& c, const Attributes& a, NodeBuild& info, Vec3Object& s,
-                      const MeshTopology& topology, std::vector<double> mass_factors) {
+                      const MeshTopology& topology, std::vector<double> mass_factors, HexahedronMassFormula formula) {
     auto* mass = &info.node->set_mass<HexahedronElementMass>(s, topology.hexahedra(), a.real("density"),
-                                                             a.boolean("lumpedMass"), "HexahedronElementMass");
+                                                             a.boolean("lumpedMass"), "HexahedronElementMass", formula);
     mass->set_mass_factors(std::move(mass_factors));
     b.record_mass(*mass, *info.node, c);
     b.add_init(1, c, [mass] { mass->init(); });
@@ -126,7 +126,8 @@ void build_fem_and_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             b.record_origin(ff, c);
             b.add_init(1, c, [ff] { ff->init(); });
         }
-        add_element_mass(b, c, a, info, s, topology, std::move(mass_factors));
+        add_element_mass(b, c, a, info, s, topology, std::move(mass_factors),
+                         Hexahedral ? HexahedronMassFormula::hexahedral : HexahedronMassFormula::hexahedron);
         b.role(c, [count, law, density = a.real("density"), lumped = a.boolean("lumpedMass")] {
             return hexa_text(count, law) + "; element mass, density " + num(density) + (lumped ? " (lumped)" : "");
         });
