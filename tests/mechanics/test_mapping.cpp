@@ -108,6 +108,37 @@ TEST(Mapping, IdentityVec3) {
     EXPECT_EQ(out.position[2], in.position[2]);
 }
 
+// SOFA's MechanicalObject::init stores a state's own positions as its rest positions before the
+// mapping's init maps the positions (applyRestPosition off): a force field on the mapped state
+// reads the state's own (SubsetMapping.scn: a grid of float bounds on a finer parent's points).
+TEST(Mapping, OwnPositionsStayTheRestPositionsOfTheMappedState) {
+    Vec3Object in;
+    in.position = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 1, 0)};
+    in.init();
+    Vec3Object own;
+    own.position = {Vec3(1.0 + 1e-9, 0, 0), Vec3(2, 1, 1e-9)};  // near input points 1 and 2
+    BarycentricMapping subset(in, own);
+    subset.set_weights({{{1, 1.0}}, {{2, 1.0}}});
+    subset.init();
+    EXPECT_EQ(own.position[0], in.position[1]);
+    EXPECT_EQ(own.position[1], in.position[2]);
+    EXPECT_EQ(own.rest_position[0], Vec3(1.0 + 1e-9, 0, 0));
+    EXPECT_EQ(own.rest_position[1], Vec3(2, 1, 1e-9));
+    ASSERT_EQ(own.velocity.size(), 2u);
+    // without positions of its own (or with another count) the rest positions are the mapped ones
+    for (const std::size_t count : {std::size_t{0}, std::size_t{1}}) {
+        Vec3Object out;
+        out.position.assign(count, Vec3(5, 5, 5));
+        BarycentricMapping map(in, out);
+        map.set_weights({{{1, 1.0}}, {{2, 1.0}}});
+        map.init();
+        ASSERT_EQ(out.rest_position.size(), 2u);
+        EXPECT_EQ(out.rest_position[0], in.position[1]);
+        EXPECT_EQ(out.rest_position[1], in.position[2]);
+        EXPECT_EQ(out.position[1], in.position[2]);
+    }
+}
+
 TEST(Mapping, IdentityRigidToVec3TakesCentres) {
     Rigid3Object in;
     Vec3Object out;

@@ -93,12 +93,20 @@ public:
 
     [[nodiscard]] BaseState* from() const override { return in_; }
     [[nodiscard]] BaseState* to() const override { return out_; }
+    /// A state with positions of its own, one per output (a grid, a loader, its `position`), keeps
+    /// them as its rest positions, as SOFA's MechanicalObject::init, which runs before the mapping's
+    /// init maps the positions only (Mapping::init, applyRestPosition off); a state without them
+    /// takes the mapped positions as rest positions.
     void init() override {
+        const bool own_positions = out_->position.size() == output_size();
+        if (own_positions) out_->init();
         out_->position.resize(output_size());
         apply(out_->position, in_->position);
-        out_->rest_position = out_->position;
-        out_->velocity.resize(output_size());
-        out_->init();
+        if (!own_positions) {
+            out_->rest_position = out_->position;
+            out_->velocity.resize(output_size());
+            out_->init();
+        }
         apply_velocity();
     }
     void apply_position() override { apply(out_->position, in_->position); }
