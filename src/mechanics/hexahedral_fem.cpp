@@ -176,6 +176,9 @@ void HexahedronElementMass::init() {
     if (!mass_factors_.empty() && mass_factors_.size() != hexahedra_.size())
         throw_invalid_argument(component_, ": ", mass_factors_.size(), " mass factors for ", hexahedra_.size(),
                                " hexahedra");
+    if (rotated_rest_source_ != nullptr && rotated_rest_source_->rotated_rest_count() != hexahedra_.size())
+        throw_invalid_argument(component_, ": its force field has ", rotated_rest_source_->rotated_rest_count(),
+                               " initialized hexahedra, the mass ", hexahedra_.size());
     element_weights_.assign(hexahedra_.size(), 0.0);
     particle_masses_.assign(x0.size(), 0.0);
     lumped_masses_.assign(lumped_ ? x0.size() : 0, 0.0);
@@ -194,12 +197,14 @@ void HexahedronElementMass::init() {
         }
         const double factor = mass_factors_.empty() ? 1.0 : mass_factors_[e];
         const double volume = box_volume(p);
-        const double element_mass = volume * factor * density_;
+        const double element_mass = volume * factor * density_;  // (particle masses: the rest positions)
+        const double matrix_volume =
+            rotated_rest_source_ != nullptr ? box_volume(rotated_rest_source_->rotated_rest(e)) : volume;
         // HexahedronFEMForceFieldAndMass::computeElementMass: V·(∫·ρ), then times c;
         // HexahedralFEMForceFieldAndMass's: (V·ρ)·∫
         element_weights_[e] = formula_ == HexahedronMassFormula::hexahedron
-                                  ? (volume * (kNodeIntegral * density_)) * factor
-                                  : (volume * density_) * kNodeIntegral;
+                                  ? (matrix_volume * (kNodeIntegral * density_)) * factor
+                                  : (matrix_volume * density_) * kNodeIntegral;
         for (const PointId v : hexahedra_[e]) {
             particle_masses_[static_cast<std::size_t>(v)] += element_mass * 0.125;
             // the row sum, entry by entry (8 blocks) into the running sum, as SOFA's

@@ -310,6 +310,45 @@ TEST(HexahedronElementMass, SofaArithmeticToTheBit) {
     }
 }
 
+// HexahedronFEMForceFieldAndMass::computeElementMass measures the element on the force field's
+// _rotatedInitialElements (R₀·x⁰), the particle masses on the rest positions: on a rotated body
+// the two volumes differ in their last bits (NonUniformHexahedronFEMForceFieldAndMass.scn's
+// "uniform" body, ry = 25, parted from SOFA at step 1 by 4e-16 before).
+TEST(HexahedronElementMass, ElementMatrixOnTheForceFieldsRotatedRestCorners) {
+    const RegularGridTopology g({2, 2, 2}, Vec3(0, 0, 0), Vec3(0.3, 0.7, 1.1));
+    const Mat3 r = Eigen::AngleAxisd(0.4363323129985824, Vec3(0.2, 1, 0.3).normalized()).toRotationMatrix();
+    Vec3Object s;
+    for (const Vec3& p : g.points()) s.position.push_back(r * p + Vec3(0.1, -0.2, 0.3));
+    s.init();
+    HexahedronFEMForceField fem(s, g.mesh(), 1e4, 0.3, FemMethod::Large);
+    fem.init();
+    const double rho = 3.0, c = 0.625;
+    const std::vector<Hexahedron> hexahedra = g.mesh().hexahedra();
+    const auto volume = [](const std::array<Vec3, 8>& p) {
+        return (p[1] - p[0]).norm() * (p[3] - p[0]).norm() * (p[4] - p[0]).norm();
+    };
+    std::array<Vec3, 8> rest;
+    for (std::size_t k = 0; k < 8; ++k) rest[k] = s.rest_position[std::size_t(hexahedra[0][k])];
+    const double integral =
+        1.0 / 72.0 + 1.0 / 72.0 + 1.0 / 216.0 + 1.0 / 24.0 + 1.0 / 8.0 + 1.0 / 72.0 + 1.0 / 24.0 + 1.0 / 24.0;
+    const double rotated_volume = volume(fem.rotated_rest(0));
+    ASSERT_NE(rotated_volume, volume(rest));  // the data tell the two volumes apart
+    HexahedronElementMass m(s, hexahedra, rho, false, "test");
+    m.set_mass_factors({c});
+    m.set_rotated_rest_source(&fem);
+    m.init();
+    EXPECT_EQ(m.element_weights()[0], (rotated_volume * (integral * rho)) * c);
+    for (const double pm : m.particle_masses()) EXPECT_EQ(pm, ((volume(rest) * c) * rho) * 0.125);
+    // a force field on other hexahedra is refused
+    const RegularGridTopology two({3, 2, 2}, Vec3(0, 0, 0), Vec3(2, 1, 1));
+    Vec3Object s2;
+    s2.position = two.points();
+    s2.init();
+    HexahedronElementMass other(s2, two.mesh().hexahedra(), rho, false, "test");
+    other.set_rotated_rest_source(&fem);
+    EXPECT_THROW(other.init(), std::invalid_argument);
+}
+
 // Method large's K·d on the scalar and AVX paths (kernels/mechanics/hexahedron_stiffness): force,
 // product and energy the same bits; avx512 (eight lanes) is refused.
 TEST(HexahedralFEM, KernelPathsGiveTheSameBits) {

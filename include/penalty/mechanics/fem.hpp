@@ -345,6 +345,9 @@ public:
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
     void add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor, double b_factor) const override;
+    /// R₀·x⁰_w of element e's corners (SOFA's _rotatedInitialElements), once init() ran.
+    [[nodiscard]] const std::array<Vec3, 8>& rotated_rest(std::size_t e) const { return rest_local_.at(e); }
+    [[nodiscard]] std::size_t rotated_rest_count() const { return rest_local_.size(); }
 
 protected:
     /// SOFA's computeElementStiffness on the element's rotated rest corners (the first argument,

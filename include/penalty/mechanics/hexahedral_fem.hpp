@@ -45,6 +45,10 @@ private:
     std::vector<std::array<Vec3, 8>> rotated_rest_;  ///< R₀·x⁰_w per element (method large)
 };
 
+/// Whose element mass: HexahedronFEMForceFieldAndMass (V·(∫·ρ)·c) or HexahedralFEMForceFieldAndMass
+/// ((V·ρ)·∫): the same value but for the last bits.
+enum class HexahedronMassFormula { hexahedron, hexahedral };
+
 /// The mass of SOFA's HexahedralFEMForceFieldAndMass and HexahedronFEMForceFieldAndMass (density ρ,
 /// kg/m³), on the rest positions. Per hexahedron, V = |x⁰₁ − x⁰₀|·|x⁰₃ − x⁰₀|·|x⁰₄ − x⁰₀| and:
 ///  - element mass matrix M^e = w·(1₈ 1₈ᵀ ⊗ I₃), w = c·ρ·V·∫ with ∫ = 8/27: SOFA's
@@ -54,15 +58,12 @@ private:
 ///    fillWeighted). In SOFA's operations, to the bit: ∫ summed term by term as integrateMass
 ///    (1/72 + 1/72 + 1/216 + 1/24 + 1/8 + 1/72 + 1/24 + 1/24, not 8/27 in its last bit), w = V·(∫·ρ)·c
 ///    (HexahedronFEMForceFieldAndMass) or (V·ρ)·∫ (HexahedralFEMForceFieldAndMass, HexahedronMassFormula),
-///    M·dx as addMDx's 24×24 product (Σ_k w·dx_k), the lumped row sums entry by entry;
+///    M·dx as addMDx's 24×24 product (Σ_k w·dx_k), the lumped row sums entry by entry, and, with
+///    set_rotated_rest_source, V of M^e on the force field's rotated rest corners;
 ///  - particle masses m_k = Σ_e c·ρ·V/8 over the hexahedra of k: the gravity force m_k·g
 ///    (…AndMass::addForce adds it with the elastic force);
 ///  - lumped (`lumpedMass`): M = diag(row sums of M^e);
 ///  - M⁻¹ is not available (SOFA's accFromF is not implemented): explicit solvers are refused.
-/// Whose element mass: HexahedronFEMForceFieldAndMass (V·(∫·ρ)·c) or HexahedralFEMForceFieldAndMass
-/// ((V·ρ)·∫): the same value but for the last bits.
-enum class HexahedronMassFormula { hexahedron, hexahedral };
-
 class HexahedronElementMass final : public BaseMass {
 public:
     HexahedronElementMass(Vec3Object& state, std::vector<Hexahedron> hexahedra, double density, bool lumped,
@@ -71,6 +72,11 @@ public:
     /// Per-hexahedron factors c on the element mass matrix and the particle masses
     /// (SparseGridTopology::getMassCoef); empty: 1. Set before init().
     void set_mass_factors(std::vector<double> factors) { mass_factors_ = std::move(factors); }
+    /// The element volumes of the mass matrix from `fem`'s rotated rest corners, as
+    /// HexahedronFEMForceFieldAndMass::computeElementMass reads _rotatedInitialElements (the
+    /// particle masses keep the rest positions); `fem` on the same hexahedra, initialized before
+    /// this mass. Null: the rest positions.
+    void set_rotated_rest_source(const HexahedronFEMForceField* fem) { rotated_rest_source_ = fem; }
     void init() override;
 
     void add_gravity_force(const Vec3& gravity) override;
@@ -100,6 +106,7 @@ private:
     const char* component_;
     HexahedronMassFormula formula_;
     std::vector<double> mass_factors_;
+    const HexahedronFEMForceField* rotated_rest_source_ = nullptr;
     std::vector<double> element_weights_;
     std::vector<double> particle_masses_;
     std::vector<double> lumped_masses_;  ///< per DOF (same in x, y, z), when lumped

@@ -92,10 +92,12 @@ void build_hexahedral_fem(SceneBuilder& b, const SceneComponent& c, NodeBuild& i
 
 /// The element mass of an "AndMass" component, on the hexahedra of `topology`.
 void add_element_mass(SceneBuilder& b, const SceneComponent& c, const Attributes& a, NodeBuild& info, Vec3Object& s,
-                      const MeshTopology& topology, std::vector<double> mass_factors, HexahedronMassFormula formula) {
+                      const MeshTopology& topology, std::vector<double> mass_factors, HexahedronMassFormula formula,
+                      const HexahedronFEMForceField* rotated_rest_source) {
     auto* mass = &info.node->set_mass<HexahedronElementMass>(s, topology.hexahedra(), a.real("density"),
                                                              a.boolean("lumpedMass"), "HexahedronElementMass", formula);
     mass->set_mass_factors(std::move(mass_factors));
+    mass->set_rotated_rest_source(rotated_rest_source);
     b.record_mass(*mass, *info.node, c);
     b.add_init(1, c, [mass] { mass->init(); });
 }
@@ -110,7 +112,9 @@ void build_fem_and_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
         const bool sparse = info.sparse_grid && !a.has("topology");
         std::size_t count = topology.hexahedra().size();
         std::vector<double> mass_factors;
-        // SOFA's …AndMass::init: the force field first, then the masses (from the rest positions)
+        const HexahedronFEMForceField* rotated_rest_source = nullptr;
+        // SOFA's …AndMass::init: the force field first, then the masses (from the rest positions;
+        // HexahedronFEMForceFieldAndMass's element matrices from its rotated rest corners)
         if constexpr (Hexahedral) {
             auto* ff =
                 &info.node->add_force_field<HexahedralFEMForceField>(s, topology, law.young, law.poisson, law.method);
@@ -123,11 +127,13 @@ void build_fem_and_mass(SceneBuilder& b, const SceneComponent& c, NodeBuild& inf
             // getStiffnessCoef and getMassCoef, both 0.5 for a boundary cell when fillWeighted)
             if (sparse) sparse_grid_stiffness_factors(*ff, info);
             if (!ff->stiffness_factors().empty()) mass_factors = sparse_grid_mass_factors(info);
+            rotated_rest_source = ff;
             b.record_origin(ff, c);
             b.add_init(1, c, [ff] { ff->init(); });
         }
         add_element_mass(b, c, a, info, s, topology, std::move(mass_factors),
-                         Hexahedral ? HexahedronMassFormula::hexahedral : HexahedronMassFormula::hexahedron);
+                         Hexahedral ? HexahedronMassFormula::hexahedral : HexahedronMassFormula::hexahedron,
+                         rotated_rest_source);
         b.role(c, [count, law, density = a.real("density"), lumped = a.boolean("lumpedMass")] {
             return hexa_text(count, law) + "; element mass, density " + num(density) + (lumped ? " (lumped)" : "");
         });
