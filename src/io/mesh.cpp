@@ -509,23 +509,14 @@ MeshData parse_trian(std::string_view text, const std::filesystem::path& path) {
 // ---------------------------------------------------------------------------------------------
 // post-processing
 
-Mat3 euler_degrees_to_matrix(const Vec3& rotation_degrees) {
-    const Vec3 a = rotation_degrees * (std::numbers::pi / 180.0);
-    const Quat q = Eigen::AngleAxisd(a.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(a.y(), Vec3::UnitY()) *
-                   Eigen::AngleAxisd(a.x(), Vec3::UnitX());
-    return q.toRotationMatrix();
-}
-
 void apply_transform(std::vector<Vec3>& points, const Vec3& translation, const Vec3& rotation_degrees,
-                     const Vec3& scale3d) {
-    if (translation.isZero(0.0) && rotation_degrees.isZero(0.0) && scale3d == Vec3::Ones()) return;
-    // M = R * diag(scale): the linear part of SOFA's T * R * S matrix
-    const Mat3 m = euler_degrees_to_matrix(rotation_degrees) * scale3d.asDiagonal();
-    for (Vec3& p : points) p = m * p + translation;
+                     const Vec3& scale3d, LoaderKind kind) {
+    place_loaded_points(points, translation, rotation_degrees, scale3d, kind);
 }
 
-void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees, const Vec3& scale3d) {
-    apply_transform(mesh.positions, translation, rotation_degrees, scale3d);
+void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees, const Vec3& scale3d,
+                     LoaderKind kind) {
+    place_loaded_points(mesh.positions, translation, rotation_degrees, scale3d, kind);
 }
 
 namespace {

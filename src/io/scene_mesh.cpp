@@ -167,7 +167,8 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
     if (is_topology_file) return mesh;
 
     // SOFA MeshLoader order: transform of the points, then element post-processing
-    apply_transform(mesh, translation, rotation, scale3d);
+    apply_transform(mesh, translation, rotation, scale3d,
+                    is_sphere_loader ? LoaderKind::sphere_loader : LoaderKind::mesh_loader);
     if (is_mesh_loader) {
         if (flip && c.type != "MeshGmshLoader") flip_normals(mesh);
         if (triangulate) triangulate_quads(mesh);

@@ -225,11 +225,16 @@ Mat3 sofa_reference_rotation(const Vec3& degrees) {
 
 TEST(Transform, EulerAnglesFollowSofaOrder) {
     // x is applied first: (0,1,0) -Rx(90)-> (0,0,1) -Ry(90)-> (1,0,0)
-    const Mat3 r = euler_degrees_to_matrix(Vec3(90, 90, 0));
-    EXPECT_LT((r * Vec3(0, 1, 0) - Vec3(1, 0, 0)).norm(), 1e-15);
+    const auto rotated = [](const Vec3& angles, const Vec3& p) {
+        std::vector<Vec3> points{p};
+        apply_transform(points, Vec3::Zero(), angles, Vec3::Ones(), LoaderKind::sphere_loader);
+        return points[0];
+    };
+    EXPECT_LT((rotated(Vec3(90, 90, 0), Vec3(0, 1, 0)) - Vec3(1, 0, 0)).norm(), 1e-15);
     for (const Vec3& angles : {Vec3(33, 0, 0), Vec3(0, 10, 0), Vec3(0, 0, 64), Vec3(180, 0, 0), Vec3(12, -47, 131)}) {
-        EXPECT_LT((euler_degrees_to_matrix(angles) - sofa_reference_rotation(angles)).norm(), 1e-15)
-            << angles.transpose();
+        const Mat3 reference = sofa_reference_rotation(angles);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_LT((rotated(angles, Vec3::Unit(c)) - reference.col(c)).norm(), 1e-15) << angles.transpose();
     }
 }
 

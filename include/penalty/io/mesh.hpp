@@ -11,6 +11,7 @@
 
 #include "penalty/core/types.hpp"
 #include "penalty/io/error.hpp"
+#include "penalty/mechanics/loader_placement.hpp"
 #include "penalty/mechanics/topology.hpp"
 
 #include <filesystem>
@@ -110,18 +111,16 @@ struct MeshData {
 [[nodiscard]] MeshData parse_off(std::string_view text, const std::filesystem::path& path);
 [[nodiscard]] MeshData parse_trian(std::string_view text, const std::filesystem::path& path);
 
-/// SOFA's Euler angles (Quat::createQuaterFromEuler, default order): angles (a, b, c) in
-/// degrees about x, y, z; the rotation is R = Rz(c) * Ry(b) * Rx(a) (x applied first).
-[[nodiscard]] Mat3 euler_degrees_to_matrix(const Vec3& rotation_degrees);
-
-/// SOFA MeshLoader transform of every point: p' = translation + R(rotation) * (scale3d ∘ p),
-/// i.e. scale first, then rotation (euler_degrees_to_matrix), then translation.
-/// Sphere radii are not changed (SOFA's SphereLoader does not scale them either).
-void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees, const Vec3& scale3d);
+/// SOFA's placement of a loader's points (place_loaded_points, loader_placement.hpp): scale
+/// first, then the rotation (Euler degrees, R = Rz·Ry·Rx), then the translation, in SOFA's
+/// operations (a MeshLoader's reinit run twice). Sphere radii are not changed (SOFA's
+/// SphereLoader does not scale them either).
+void apply_transform(MeshData& mesh, const Vec3& translation, const Vec3& rotation_degrees, const Vec3& scale3d,
+                     LoaderKind kind = LoaderKind::mesh_loader);
 
 /// Same transform on a plain list of points.
 void apply_transform(std::vector<Vec3>& points, const Vec3& translation, const Vec3& rotation_degrees,
-                     const Vec3& scale3d);
+                     const Vec3& scale3d, LoaderKind kind = LoaderKind::mesh_loader);
 
 /// SOFA MeshLoader `createSubelements`: in this order, appends the missing boundary quads of
 /// the hexahedra (faces (0,3,2,1), (4,5,6,7), (0,1,5,4), (1,2,6,5), (2,3,7,6), (3,0,4,7)), the
