@@ -51,7 +51,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 16> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 17> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -104,6 +104,10 @@ constexpr std::array<SofaQuirkInfo, 16> kSofaQuirks{{
      "TriangleFEMForceField: after a topological change each triangle's rest data are made again from the rest "
      "positions, as a fresh scene, not kept by slot from init as SOFA's (no topology data: a slot keeps the data of "
      "the triangle first there) (command line or BuildOptions only)"},
+    {"sphere_loader_src_transform", &SofaQuirkFixes::fix_sphere_loader_src_transform,
+     "MechanicalObject src=\"@SphereLoader\": the state keeps its own translation, rotation and scale3d, not the "
+     "loader's, which SOFA's src link copies so that the loaded points are moved twice (command line or "
+     "BuildOptions only)"},
 }};
 }  // namespace
 

@@ -75,6 +75,34 @@ TEST(StatesAndTopologies, ShortFormsInDoubleWithTheQuirkFix) {
     EXPECT_THAT(state_points(*d), ElementsAre(Vec3(0, 0, 0), Vec3(1.4, 0, 0)));
 }
 
+// SOFA HEAD (sofa-head on scenes/sphere_pairs.scn, which had src="@loader" under a SphereLoader
+// with translation="-1 0 0": its bed at x = -2.2, not -1.2): BaseComponent::setSrc links the
+// loader's auto-linked Data into the state's of the same name or alias it does not set, and a
+// SphereLoader's translation, rotation and scale (scale3d) are auto-linked, so the state moves
+// the loaded points again. A state's own transform stays; the fix keeps the loader's alone.
+TEST(StatesAndTopologies, SrcOnASphereLoaderTakesItsTransformAsSofaHead) {
+    const std::filesystem::path dir = temp_dir("sphere_loader_src");
+    std::filesystem::create_directories(dir);
+    {
+        std::ofstream out(dir / "two.sph");
+        out << "sph 1.0\nnums 2\nsphe 1 0.5 0 0 0.1\nsphe 2 1 0 0 0.1\n";
+    }
+    const std::string loader = "<SphereLoader name=\"loader\" filename=\"" + (dir / "two.sph").string() +
+                               "\" translation=\"-1 0 0\" scale=\"2 2 2\"/>\n";
+    // the loader: 2x − 1; the state again: 2(2x − 1) − 1
+    const auto twice = build(solved_node(loader + R"(<MechanicalObject src="@loader"/>)"));
+    EXPECT_THAT(state_points(*twice), ElementsAre(Vec3(-1, 0, 0), Vec3(1, 0, 0)));
+    const auto own = build(solved_node(loader + R"(<MechanicalObject src="@loader" translation="0 1 0"/>)"));
+    EXPECT_THAT(state_points(*own), ElementsAre(Vec3(0, 1, 0), Vec3(2, 1, 0)));  // scale 2, its own translation
+    const auto linked = build(solved_node(loader + R"(<MechanicalObject position="@loader.position"/>)"));
+    EXPECT_THAT(state_points(*linked), ElementsAre(Vec3(0, 0, 0), Vec3(1, 0, 0)));
+    scene::BuildOptions o;
+    ASSERT_TRUE(enable_sofa_quirk_fix(o.sofa_quirk_fixes, "sphere_loader_src_transform"));
+    const auto fixed = build(solved_node(loader + R"(<MechanicalObject src="@loader"/>)"), o);
+    EXPECT_THAT(state_points(*fixed), ElementsAre(Vec3(0, 0, 0), Vec3(1, 0, 0)));
+    std::filesystem::remove_all(dir);
+}
+
 TEST(StatesAndTopologies, AShortFormThatIsNotOneNumberIsItsDefaultWithANote) {
     const auto s = build(solved_node(R"(<MechanicalObject position="1 0 0  2 0 0" dx="0.1 0.2" dy="3"/>)"));
     EXPECT_THAT(state_points(*s), ElementsAre(Vec3(1, 3, 0), Vec3(2, 3, 0)));

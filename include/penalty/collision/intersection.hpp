@@ -119,6 +119,12 @@ struct SofaQuirkFixes {
     /// triangle added past init's count is read past the vectors. true: the data are made again
     /// for the changed triangles, as a fresh scene.
     bool fix_triangle_fem_slot_data = false;
+    /// A scene-loader quirk: a MechanicalObject's `src="@loader"` links every Data of the loader
+    /// whose name (or alias) it shares and does not set itself (BaseComponent::setSrc); a
+    /// SphereLoader's `translation`, `rotation` and `scale` (alias `scale3d`) are auto-linked (a
+    /// MeshLoader's are not), so the state moves its loaded points again by the loader's
+    /// transform. true: the state keeps its own transform (none unless it sets one).
+    bool fix_sphere_loader_src_transform = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

@@ -237,6 +237,16 @@ InitialTransform read_transform(const Attributes& a, const SofaQuirkFixes& quirk
             v[k] = short_form(a, std::string(prefix) + char('x' + k), fallback, in_double, notes);
         return v;
     };
+    // BaseComponent::setSrc: a SphereLoader's translation, rotation and scale (alias scale3d) are
+    // auto-linked into the state's Data of those names it does not set
+    if (!quirks.fix_sphere_loader_src_transform && a.has("src"))
+        if (const io::LinkTarget t = a.link("src"); t.component != nullptr && t.component->type == "SphereLoader") {
+            const Attributes loader(*t.component);
+            if (!a.has("translation") && loader.has("translation")) tr.translation = loader.vector3("translation");
+            if (!a.has("rotation") && loader.has("rotation")) tr.rotation_deg = loader.vector3("rotation");
+            if (!a.has("scale3d") && (loader.has("scale3d") || loader.has("scale")))
+                tr.scale3d = loader.vector3(loader.has("scale3d") ? "scale3d" : "scale");
+        }
     if (a.has("scale")) tr.scale3d = Vec3::Constant(short_form(a, "scale", 1.0, in_double, notes));
     if (any_of("s")) tr.scale3d = three("s", 1.0);
     if (any_of("r")) tr.rotation_deg = three("r", 0.0);
