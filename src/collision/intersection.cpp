@@ -51,7 +51,7 @@ const char* pair_support_name(PairSupport s) {
 }
 
 namespace {
-constexpr std::array<SofaQuirkInfo, 17> kSofaQuirks{{
+constexpr std::array<SofaQuirkInfo, 18> kSofaQuirks{{
     {"minproximity_line_sphere_mirror", &SofaQuirkFixes::fix_minproximity_line_sphere_mirror,
      "MinProximity Line-Sphere: closest point on the segment, not mirrored about its midpoint (spec 14.1)"},
     {"newproximity_triangle_sphere_edge_flags", &SofaQuirkFixes::fix_newproximity_triangle_sphere_edge_flags,
@@ -108,6 +108,9 @@ constexpr std::array<SofaQuirkInfo, 17> kSofaQuirks{{
      "MechanicalObject src=\"@SphereLoader\": the state keeps its own translation, rotation and scale3d, not the "
      "loader's, which SOFA's src link copies so that the loaded points are moved twice (command line or "
      "BuildOptions only)"},
+    {"mesh_loader_float_scale", &SofaQuirkFixes::fix_mesh_loader_float_scale,
+     "mesh loaders (MeshOBJLoader, MeshGmshLoader, ..., GridMeshCreator): scale read in double, not rounded to float "
+     "as SOFA's MeshLoader::parse does (command line or BuildOptions only)"},
 }};
 }  // namespace
 

@@ -73,27 +73,35 @@ MeshData grid_mesh_creator(const SceneComponent& c) {
 
 }  // namespace
 
-double mesh_loader_scale(const SceneComponent& c, bool* read_whole) {
+double mesh_loader_scale(const SceneComponent& c, bool* read_whole, bool in_double) {
     if (read_whole != nullptr) *read_whole = true;
     const auto text = get_string(c, "scale");
     if (!text) return 1.0;
     const char* begin = text->c_str();
     char* end = nullptr;
-    const double value = std::strtod(begin, &end);  // SOFA: strtof (docs/sofa-compatibility.md, known difference 11)
+    const double value = std::strtod(begin, &end);
     if (end != begin + text->size()) {
         if (read_whole != nullptr) *read_whole = false;
         return 1.0;
     }
-    return value;
+    if (in_double) return value;
+    // MeshLoader::parse: BaseObjectDescription::getAttributeAsFloat (strtof)
+    const float as_float = std::strtof(begin, nullptr);
+    if (!std::isfinite(as_float))
+        throw_attribute_error(c, "scale",
+                              "'" + *text +
+                                  "' is beyond float range, and SOFA reads this attribute as a float "
+                                  "(--fix-sofa-quirk mesh_loader_float_scale reads it in double)");
+    return double(as_float);
 }
 
 MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& scene_dir,
-                         const std::vector<std::filesystem::path>& data_dirs) {
+                         const std::vector<std::filesystem::path>& data_dirs, bool scale_in_double) {
     const bool is_mesh_loader = c.type == "MeshOBJLoader" || c.type == "MeshGmshLoader" || c.type == "MeshVTKLoader" ||
                                 c.type == "MeshOffLoader" || c.type == "MeshTrianLoader";
     const bool is_sphere_loader = c.type == "SphereLoader";
     if (c.type == "GridMeshCreator") {
-        const Vec3 scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * get_double_or(c, "scale", 1.0);
+        const Vec3 scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * mesh_loader_scale(c, nullptr, scale_in_double);
         MeshData mesh = grid_mesh_creator(c);
         apply_transform(mesh, get_vec3_or(c, "translation", Vec3::Zero()), get_vec3_or(c, "rotation", Vec3::Zero()),
                         scale3d);
@@ -129,7 +137,7 @@ MeshData load_scene_mesh(const SceneComponent& c, const std::filesystem::path& s
     const Vec3 rotation = get_vec3_or(c, "rotation", Vec3::Zero());
     Vec3 scale3d = Vec3::Ones();
     if (is_mesh_loader) {
-        scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * mesh_loader_scale(c);
+        scale3d = get_vec3_or(c, "scale3d", Vec3::Ones()) * mesh_loader_scale(c, nullptr, scale_in_double);
     } else if (is_sphere_loader) {
         if (c.has("scale") && c.has("scale3d"))
             throw_attribute_error(c, "scale3d", "'scale' and its alias 'scale3d' are both set");

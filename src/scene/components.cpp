@@ -25,7 +25,7 @@ constexpr AttributeSpec kMeshLoaderAttributes[] = {
     {"rotation", K::vector3, "0 0 0", "deg", ValueCheck::none, "Euler angles, X then Y then Z"},
     {"scale3d", K::vector3, "1 1 1", "", ValueCheck::none, "per-axis scale, times `scale`"},
     {"scale", K::text, "1", "", ValueCheck::none,
-     "uniform scale; not one number: 1, as SOFA's MeshLoader::parse, with a note"},
+     "uniform scale, read as a float (SOFA's MeshLoader::parse); not one number: 1, with a note"},
     {"triangulate", K::boolean, "0", "", ValueCheck::none, "split quads into triangles"},
     {"transformation", K::numbers, "(identity)", "", ValueCheck::none, "4x4 matrix; only the identity"},
     {"onlyAttachedPoints", K::boolean, "0", "", ValueCheck::none, "only 0"},

@@ -125,6 +125,10 @@ struct SofaQuirkFixes {
     /// MeshLoader's are not), so the state moves its loaded points again by the loader's
     /// transform. true: the state keeps its own transform (none unless it sets one).
     bool fix_sphere_loader_src_transform = false;
+    /// A scene-loader quirk (as mechanical_object_float_short_forms): MeshLoader::parse reads a
+    /// mesh loader's `scale` with getAttributeAsFloat (strtof), so `scale="0.1"` scales by
+    /// 0.10000000149011612. true: read it in double, as `scale3d`.
+    bool fix_mesh_loader_float_scale = false;
     /// §14.8 zero-distance normal policy.
     ZeroDistanceNormal zero_distance_normal = ZeroDistanceNormal::FallbackX;
 };

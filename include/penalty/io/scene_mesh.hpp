@@ -30,12 +30,16 @@ namespace penalty::io {
 ///         `file:line: MeshOBJLoader 'loader': attribute 'filename': <file error>`).
 /// The scalar `scale` of a mesh loader as SOFA's MeshLoader::parse reads it
 /// (BaseObjectDescription::getAttributeAsFloat): a text that is not read whole ("0.25 0.25 0.25")
-/// gives the default 1 (SOFA logs an error and goes on). Read in double where SOFA reads a float
-/// (docs/sofa-compatibility.md, known difference 11). `read_whole`, when given, tells whether the
-/// text was one number. Absent: 1.
-[[nodiscard]] double mesh_loader_scale(const SceneComponent& component, bool* read_whole = nullptr);
+/// gives the default 1 (SOFA logs an error and goes on). Rounded to float as SOFA's strtof
+/// (0.1 → 0.10000000149011612), in double when `in_double` (the SOFA quirk fix
+/// mesh_loader_float_scale); a value beyond float range is an error naming the attribute.
+/// `read_whole`, when given, tells whether the text was one number. Absent: 1.
+[[nodiscard]] double mesh_loader_scale(const SceneComponent& component, bool* read_whole = nullptr,
+                                       bool in_double = false);
 
+/// `scale_in_double`: a mesh loader's `scale` in double (mesh_loader_scale's `in_double`).
 [[nodiscard]] MeshData load_scene_mesh(const SceneComponent& component, const std::filesystem::path& scene_dir,
-                                       const std::vector<std::filesystem::path>& data_dirs);
+                                       const std::vector<std::filesystem::path>& data_dirs,
+                                       bool scale_in_double = false);
 
 }  // namespace penalty::io

@@ -110,7 +110,10 @@ void SceneBuilder::record_implicit_solver(EulerImplicitSolver& s, const Node& n)
 const io::MeshData& SceneBuilder::mesh_of(const SceneComponent& loader) {
     auto it = meshes_.find(&loader);
     if (it == meshes_.end()) {
-        it = meshes_.emplace(&loader, io::load_scene_mesh(loader, scene_dir_, options_.data_dirs)).first;
+        it = meshes_
+                 .emplace(&loader, io::load_scene_mesh(loader, scene_dir_, options_.data_dirs,
+                                                       options_.sofa_quirk_fixes.fix_mesh_loader_float_scale))
+                 .first;
         std::string file;
         // (GridMeshCreator reads no file: SOFA's scenes give it filename="nofile")
         if (const auto name = io::get_string(loader, "filename"); name && loader.type != "GridMeshCreator")
