@@ -404,9 +404,11 @@ void SurfacePressureForceField::add_force(std::span<Vec3> f, std::span<const Vec
     last_x_.assign(x.begin(), x.end());
 }
 
-// SurfacePressureForceField::addDForce: per pressed triangle (a, b, c) and each corner,
-// d f = p/6·([bc]ₓ da − [ac]ₓ db + [ab]ₓ dc) with bc = c − b, ac = c − a, ab = b − a at the last
-// add_force (the DcrossDA, DcrossDB, DcrossDC blocks).
+// SurfacePressureForceField::addDForce, in SOFA's operations: per pressed triangle (a, b, c), the
+// blocks p/6·[bc]ₓ, p/6·[ca]ₓ, p/6·[ab]ₓ (DcrossDA, DcrossDB, DcrossDC, each entry times p/6) of the
+// last add_force, bc = c − b, ca = a − c, ab = b − a; each corner's df += (block·dx_a)·k,
+// += (block·dx_b)·k, += (block·dx_c)·k in turn (SOFA's derivTriNormalValues of the corner, in
+// triangle order).
 void SurfacePressureForceField::add_dforce(std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                                            double) const {
     if (!params_.use_tangent_stiffness) return;
@@ -416,9 +418,12 @@ void SurfacePressureForceField::add_dforce(std::span<Vec3> df, std::span<const V
         const Vec3& a = last_x_[at(t[0])];
         const Vec3& b = last_x_[at(t[1])];
         const Vec3& c = last_x_[at(t[2])];
-        const Vec3 d = ((c - b).cross(dx[at(t[0])]) - (c - a).cross(dx[at(t[1])]) + (b - a).cross(dx[at(t[2])])) *
-                       (stiffness_scale_ * k_factor);
-        for (PointId p : t) df[at(p)] += d;
+        const Vec3 terms[3] = {
+            sofa_vec::scaled(sofa_vec::times(cross_matrix(c - b) * stiffness_scale_, dx[at(t[0])]), k_factor),
+            sofa_vec::scaled(sofa_vec::times(cross_matrix(a - c) * stiffness_scale_, dx[at(t[1])]), k_factor),
+            sofa_vec::scaled(sofa_vec::times(cross_matrix(b - a) * stiffness_scale_, dx[at(t[2])]), k_factor)};
+        for (PointId p : t)
+            for (const Vec3& term : terms) df[at(p)] += term;
     }
 }
 

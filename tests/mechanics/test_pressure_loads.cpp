@@ -264,6 +264,48 @@ TEST(SurfacePressureForceField, TangentStiffnessMatchesFiniteDifferencesAndForce
     EXPECT_LT((d.k_dforce - d.k_dforce.transpose()).cwiseAbs().maxCoeff(), 1e-12);
 }
 
+// SOFA's addTriangleSurfacePressure stores, for each corner, the blocks (p/6)·[bc]ₓ, (p/6)·[ca]ₓ,
+// (p/6)·[ab]ₓ (each entry times p/6) and addDForce adds (block·dx)·k three times; this scalar
+// transcription is what SurfacePressureForceField.scn's bits (SOFA HEAD's, every step) rest on.
+// The cross-product form ([bc]ₓdx_a + [ca]ₓdx_b + [ab]ₓdx_c)·(p/6·k) rounds otherwise here.
+TEST(SurfacePressureForceField, DForceInSofasOperationsToTheBit) {
+    Vec3Object s;
+    s.position = {Vec3(0.1, 0.7, 0.3), Vec3(1.3, 0.2, -0.4), Vec3(0.3, 1.1, 0.9)};
+    s.init();
+    MeshTopology topo;
+    topo.set_triangles({{0, 1, 2}});
+    SurfacePressureParameters params;
+    params.pressure = 5e4 / 3;
+    SurfacePressureForceField ff(s, topo, params, 0.01);
+    ff.init();
+    (void)force_of(ff, s);
+    const std::vector<Vec3> dx = {Vec3(0.3, -0.7, 0.11), Vec3(-0.13, 0.17, 0.19), Vec3(0.23, 0.29, -0.31)};
+    const double k = -1.0 / 300;
+    std::vector<Vec3> df(3, Vec3::Zero());
+    ff.add_dforce(df, dx, k, 0.0);
+
+    const std::vector<Vec3>& x = s.position;
+    const double q = params.pressure / 6.0;
+    const Vec3 edges[3] = {x[2] - x[1], x[0] - x[2], x[1] - x[0]};  // bc, ca, ab
+    std::vector<Vec3> expected(3, Vec3::Zero());
+    for (int corner = 0; corner < 3; ++corner)
+        for (int v = 0; v < 3; ++v) {
+            const Vec3& e = edges[v];
+            const double m[3][3] = {
+                {0.0 * q, -e[2] * q, e[1] * q}, {e[2] * q, 0.0 * q, -e[0] * q}, {-e[1] * q, e[0] * q, 0.0 * q}};
+            Vec3 product;
+            for (int r = 0; r < 3; ++r) product[r] = m[r][0] * dx[v][0] + m[r][1] * dx[v][1] + m[r][2] * dx[v][2];
+            expected[corner] += Vec3(product[0] * k, product[1] * k, product[2] * k);
+        }
+    const Vec3 cross_form = (edges[0].cross(dx[0]) + edges[1].cross(dx[1]) + edges[2].cross(dx[2])) * (q * k);
+    bool cross_form_differs = false;
+    for (int corner = 0; corner < 3; ++corner) {
+        EXPECT_EQ(df[corner], expected[corner]) << "corner " << corner;
+        cross_form_differs = cross_form_differs || cross_form != expected[corner];
+    }
+    EXPECT_TRUE(cross_form_differs);  // these numbers tell the two orders apart
+}
+
 TEST(SurfacePressureForceField, TangentStiffnessOfAnOpenSurfaceIsNotSymmetric) {
     Vec3Object s = tetrahedron_state();
     const MeshTopology topo = tetrahedron_surface();
