@@ -87,6 +87,12 @@ void add_gauss_point(HexahedronFEMForceField::ElementMatrix& k, const Mat3& j_in
 HexahedronFEMForceField::ElementMatrix HexahedronFEMForceField::compute_stiffness(const std::array<Vec3, 8>&,
                                                                                   const Eigen::Matrix<double, 6, 6>&,
                                                                                   std::size_t e) const {
+    if (!given_stiffness_.empty()) {
+        if (e >= given_stiffness_.size())
+            throw_invalid_argument(component_, ": no given stiffness for hexahedron ", e, " (", given_stiffness_.size(),
+                                   " given)");
+        return given_stiffness_[e];
+    }
     // HexahedronFEMForceField::computeElementStiffness (GENERIC_STIFFNESS_MATRIX) on the element's
     // rotated rest corners (initSmall / initLarge / initPolar), eight Gauss points in SOFA's
     // order, then mirrored and times the stiffness factor

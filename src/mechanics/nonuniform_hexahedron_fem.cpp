@@ -134,22 +134,6 @@ CondensedHexahedra condense_hexahedra(const SparseGridTopology& grid, int levels
     return out;
 }
 
-// ---- force field ------------------------------------------------------------------------------
-CondensedHexahedronFEMForceField::CondensedHexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology,
-                                                                   std::vector<HexahedronMatrix> stiffness,
-                                                                   double young_modulus, double poisson_ratio)
-    : LinearElementForceField<8>(state, topology.hexahedra(), young_modulus, poisson_ratio, FemMethod::Large,
-                                 "NonUniformHexahedronFEMForceFieldAndMass"),
-      given_(std::move(stiffness)) {}
-
-CondensedHexahedronFEMForceField::ElementMatrix CondensedHexahedronFEMForceField::compute_stiffness(
-    const std::array<Vec3, 8>& /*rest_local*/, const Eigen::Matrix<double, 6, 6>& /*d*/, std::size_t e) const {
-    if (e >= given_.size())
-        throw_invalid_argument(component_, ": no condensed stiffness for hexahedron ", e, " (", given_.size(),
-                               " given)");
-    return given_[e];
-}
-
 // ---- mass -------------------------------------------------------------------------------------
 HexahedronMatrixMass::HexahedronMatrixMass(Vec3Object& state, std::vector<Hexahedron> hexahedra,
                                            std::vector<HexahedronMatrix> element_mass,

@@ -6,6 +6,7 @@
 #include "penalty/mechanics/nonuniform_hexahedron_fem.hpp"
 
 #include "penalty_test/force_field_derivatives.hpp"
+#include "penalty_test/point_state.hpp"
 
 #include <gtest/gtest.h>
 
@@ -96,6 +97,56 @@ TEST(NonUniformHexahedronFEM, AFullCellCondensesToTheClassicalElement) {
     EXPECT_THROW(static_cast<void>(condense_hexahedra(coarse, 2, 1000.0, 0.3, 7.0, false)), std::invalid_argument);
 }
 
+// NonUniformHexahedronFEMForceFieldAndMass is a HexahedronFEMForceField whose init puts the
+// condensed matrices in place of computeElementStiffness's: with given matrices equal to the
+// computed ones, the force and the product are HexahedronFEMForceField's to the bit (SOFA's
+// accumulateForceLarge and addDForce; the generic corotational path of the other FEMs rounds
+// otherwise, which parted NonUniformHexahedronFEMForceFieldAndMass.scn from SOFA HEAD at step 1).
+TEST(NonUniformHexahedronFEM, GivenStiffnessRunsHexahedronFEMForceFieldsOperations) {
+    const auto fine = fine_cube();
+    const SparseGridTopology coarse = SparseGridTopology::from_finer(fine, true);
+    const MeshTopology topology = coarse.mesh();
+    const auto make_state = [&] {
+        Vec3Object s;
+        s.position = coarse.points();
+        s.init();
+        return s;
+    };
+    Vec3Object computed_state = make_state(), given_state = make_state();
+    HexahedronFEMForceField computed(computed_state, topology, 500.0, 0.3);
+    computed.init();
+    HexahedronFEMForceField given(given_state, topology, 500.0, 0.3);
+    given.set_element_stiffness(computed.element_stiffness());
+    given.init();
+    // turned and stretched: every element's frame and force away from rest
+    const Quat q(Eigen::AngleAxisd(0.7, Vec3(1, 2, 0.5).normalized()));
+    for (Vec3Object* s : {&computed_state, &given_state})
+        for (std::size_t i = 0; i < s->position.size(); ++i)
+            s->position[i] = q * Vec3(s->position[i].x() * 1.1, s->position[i].y(), s->position[i].z() * 0.93);
+    const std::vector<Vec3> f_computed = test::force_of(computed, computed_state);
+    const std::vector<Vec3> f_given = test::force_of(given, given_state);
+    ASSERT_EQ(f_computed.size(), f_given.size());
+    double largest = 0;
+    for (std::size_t i = 0; i < f_computed.size(); ++i) {
+        EXPECT_EQ(f_computed[i], f_given[i]) << "point " << i;
+        largest = std::max(largest, f_computed[i].norm());
+    }
+    EXPECT_GT(largest, 1.0);
+    for (Vec3Object* s : {&computed_state, &given_state}) {
+        for (std::size_t i = 0; i < s->dx.size(); ++i) s->dx[i] = Vec3(0.1 * double(i % 5), -0.3, 0.2 * double(i % 3));
+        std::fill(s->df.begin(), s->df.end(), Vec3::Zero());
+    }
+    computed.accumulate_dforce(-0.01, 0.0);
+    given.accumulate_dforce(-0.01, 0.0);
+    for (std::size_t i = 0; i < computed_state.df.size(); ++i)
+        EXPECT_EQ(computed_state.df[i], given_state.df[i]) << "point " << i;
+    // one matrix per hexahedron
+    Vec3Object short_state = make_state();
+    HexahedronFEMForceField too_few(short_state, topology, 500.0, 0.3);
+    too_few.set_element_stiffness({computed.element_stiffness().front()});
+    EXPECT_THROW(too_few.init(), std::invalid_argument);
+}
+
 TEST(NonUniformHexahedronFEM, AssembledMatricesEqualTheProducts) {
     const auto fine = fine_cube();
     const SparseGridTopology coarse = SparseGridTopology::from_finer(fine, true);
@@ -104,7 +155,8 @@ TEST(NonUniformHexahedronFEM, AssembledMatricesEqualTheProducts) {
     s.position = coarse.points();
     s.init();
     const MeshTopology topology = coarse.mesh();
-    CondensedHexahedronFEMForceField ff(s, topology, m.stiffness, 500.0, 0.3);
+    HexahedronFEMForceField ff(s, topology, 500.0, 0.3);
+    ff.set_element_stiffness(m.stiffness);
     ff.init();
     // at rest (rigidly turned), the corotational field's df = K dx is exact
     const Quat q(Eigen::AngleAxisd(0.5, Vec3(1, 1, 0).normalized()));

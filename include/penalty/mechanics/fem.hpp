@@ -341,6 +341,11 @@ public:
     /// Set before init().
     void set_stiffness_factors(std::vector<double> factors) { stiffness_factors_ = std::move(factors); }
     [[nodiscard]] const std::vector<double>& stiffness_factors() const { return stiffness_factors_; }
+    /// Element stiffness matrices given instead of computeElementStiffness's, one per hexahedron
+    /// in its rotated rest frame: NonUniformHexahedronFEMForceFieldAndMass's, condensed from a
+    /// sparse grid's finer levels (its init computes them in place of HexahedronFEMForceField's;
+    /// the force and the product are HexahedronFEMForceField's). Set before init().
+    void set_element_stiffness(std::vector<ElementMatrix> stiffness) { given_stiffness_ = std::move(stiffness); }
 
     void init() override;
     void add_force(std::span<Vec3> f, std::span<const Vec3> x, std::span<const Vec3> v) override;
@@ -370,6 +375,7 @@ private:
     void dforce_range(std::size_t first, std::size_t end, std::span<Vec3> df, std::span<const Vec3> dx, double k_factor,
                       const detail::DeferredTerms& deferred) const;
     std::vector<double> stiffness_factors_;
+    std::vector<ElementMatrix> given_stiffness_;
 };
 
 extern template class LinearElementForceField<4>;

@@ -13,7 +13,7 @@
 ///   - one level up, a cell's matrix is Σ over its children i of T_iᵀ K_i T_i with T_i SOFA's
 ///     FINE_TO_COARSE trilinear interpolation of the child's corners from the parent's
 ///     (addFineToCoarse, its sums in SOFA's order), up to the grid's own cells.
-/// The force field is HexahedronFEMForceField's corotational "large" scheme with these K; the mass
+/// The force field is HexahedronFEMForceField with these K (set_element_stiffness), SOFA's own; the mass
 /// applies M per element in world axes (HexahedronFEMForceFieldAndMass::addMDx), or their
 /// absolute row sums when lumped; gravity acts on particle masses Σ_e ρ·c_e·V_e/8 of the grid's
 /// own cells (c_e: the cell's mass coefficient, V_e from the state's rest positions).
@@ -37,25 +37,6 @@ struct CondensedHexahedra {
 [[nodiscard]] CondensedHexahedra condense_hexahedra(const SparseGridTopology& grid, int levels, double young_modulus,
                                                     double poisson_ratio, double density, bool fill_weighted,
                                                     const Vec3& scale = Vec3::Ones());
-
-/// The corotational hexahedral FEM with given element stiffness matrices (in the elements' rest
-/// frames, which for a grid's cells are the grid's axes).
-class CondensedHexahedronFEMForceField final : public LinearElementForceField<8> {
-public:
-    CondensedHexahedronFEMForceField(Vec3Object& state, const MeshTopology& topology,
-                                     std::vector<HexahedronMatrix> stiffness, double young_modulus,
-                                     double poisson_ratio);
-
-protected:
-    [[nodiscard]] ElementMatrix compute_stiffness(const std::array<Vec3, 8>& rest_local,
-                                                  const Eigen::Matrix<double, 6, 6>& d, std::size_t e) const override;
-    [[nodiscard]] Mat3 element_rotation(const std::array<Vec3, 8>& p) const override {
-        return hexahedron_edge_frame(p);
-    }
-
-private:
-    std::vector<HexahedronMatrix> given_;
-};
 
 /// The mass of NonUniformHexahedronFEMForceFieldAndMass: element matrices M_e (world axes),
 /// lumped or not, and particle masses for gravity. With `use_mass` false (SOFA's useMass), the

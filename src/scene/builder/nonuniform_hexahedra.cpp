@@ -54,8 +54,8 @@ void build_nonuniform(SceneBuilder& b, const SceneComponent& c, NodeBuild& info)
     b.guarded(c, [&] {
         CondensedHexahedra m =
             condense_hexahedra(grid, int(levels), young, poisson, mp.density, fill, s.transform.scale3d);
-        auto* ff = &info.node->add_force_field<CondensedHexahedronFEMForceField>(
-            s, *info.topology, std::move(m.stiffness), young, poisson);
+        auto* ff = &info.node->add_force_field<HexahedronFEMForceField>(s, *info.topology, young, poisson);
+        ff->set_element_stiffness(std::move(m.stiffness));
         b.record_origin(ff, c);
         auto* mass = &info.node->set_mass<HexahedronMatrixMass>(s, grid.hexahedra(), std::move(m.mass),
                                                                 grid.coefficients(fill), mp);
